@@ -1,0 +1,1 @@
+"""Bundled data: frame definitions (``frames``) and synthetic ground motions (``records``)."""
