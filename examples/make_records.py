@@ -1,0 +1,78 @@
+"""Write the bundled synthetic ground motions into ``records/`` (deterministic).
+
+Run from the repository root::
+
+    python examples/make_records.py            # writes records/*.csv
+    python examples/make_records.py --check    # regenerates in memory and compares with records/
+
+Each record is a synthetic motion of seed 000 §4.1 (modulated white noise) or its Kanai–Tajimi
+variant, with a fixed seed, scaled to a horizontal PGA of 3 m/s² (the vertical component with the
+same factor). ``main()`` returns the motions so that tests can compare them with the files.
+"""
+
+import dataclasses
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.records import GroundMotion, kanai_tajimi, modulated_white_noise, write_motion
+
+COMMAND = "python examples/make_records.py"
+PGA = 3.0  # [m/s²] the transient study's PGA (seed 004 §5)
+RECORDS_DIR = Path(__file__).resolve().parents[1] / "records"
+
+# file stem -> (generator, keyword arguments incl. seed); every value is written to the header
+RECIPES = {
+    "synthetic-wn-40s": (
+        modulated_white_noise,
+        dict(duration=40.0, S0=1.25e-4, dt_ord=0.05, dt=0.01, vertical_ratio=2 / 3, seed=40001),
+    ),
+    "synthetic-kt-20s": (
+        kanai_tajimi,
+        dict(
+            duration=20.0,
+            omega_g=15.6,
+            zeta_g=0.6,
+            S0=1.25e-4,
+            dt=0.01,
+            modulate=True,
+            vertical_ratio=2 / 3,
+            seed=20002,
+        ),
+    ),
+}
+
+
+def make(stem: str) -> GroundMotion:
+    """The bundled record ``stem``, generated afresh."""
+    generator, kwargs = RECIPES[stem]
+    motion = generator(name=stem, **kwargs).scaled_to_pga(PGA)
+    return dataclasses.replace(motion, meta={**motion.meta, "command": COMMAND, "pga_target": PGA})
+
+
+def main(out_dir: Path | None = RECORDS_DIR, write: bool = True) -> dict[str, GroundMotion]:
+    """Generate every bundled record; write ``<out_dir>/<stem>.csv`` when ``write``."""
+    motions = {stem: make(stem) for stem in RECIPES}
+    if write:
+        out_dir = Path(out_dir)
+        out_dir.mkdir(parents=True, exist_ok=True)
+        for stem, motion in motions.items():
+            seed = RECIPES[stem][1]["seed"]
+            write_motion(motion, out_dir / f"{stem}.csv", command=COMMAND, seed=seed)
+    return motions
+
+
+if __name__ == "__main__":
+    if "--check" in sys.argv:
+        from nsdyn.records import read_motion
+
+        for stem, motion in main(write=False).items():
+            stored = read_motion(RECORDS_DIR / f"{stem}.csv")
+            same = np.array_equal(stored.a_hor, motion.a_hor) and np.array_equal(
+                stored.a_ver, motion.a_ver
+            )
+            print(f"{stem}: {'identical' if same else 'DIFFERS'}")
+    else:
+        for stem, motion in main().items():
+            print(f"{RECORDS_DIR / (stem + '.csv')}: {motion}")
