@@ -132,8 +132,8 @@ def _direction(v, law, eps):
 
 
 @njit(cache=True)
-def _assemble(t, x, P, s, ds, stuck, a0, B, Crow, b, want_jac):
-    """Fill a0 (n,), B (n, m), constraint rows Crow (m, n), b (m,) for given directions.
+def _assemble(t, x, P, s, ds, stuck, a0, Bt, Crow, b, want_jac):
+    """Fill a0 (n,), Bt = B^T (m, n), constraint rows Crow (m, n), b (m,) for given directions.
 
     Returns m (number of unknowns). Rows/columns: contacts first, then stuck isolators in order.
     """
@@ -154,13 +154,13 @@ def _assemble(t, x, P, s, ds, stuck, a0, B, Crow, b, want_jac):
     a0 -= MiC @ qd
     alpha, beta, kappa = fp[F_ALPHA], fp[F_BETA], fp[F_KAPPA]
     for k in range(nc):
-        B[:, k] = MiRt[:, k]
+        Bt[k, :] = MiRt[:, k]
         Crow[k, :] = R[k, :]
         b[k] = 2.0 * alpha * beta * (R[k, :] @ qd) + alpha * alpha * (R[k, :] @ q)
     m = nc
     for i in range(ni):
         if stuck[i]:
-            B[:, m] = -MiDt[:, i]
+            Bt[m, :] = -MiDt[:, i]
             Crow[m, :] = D[i, :]
             b[m] = kappa * (D[i, :] @ qd)
             m += 1
@@ -168,7 +168,7 @@ def _assemble(t, x, P, s, ds, stuck, a0, B, Crow, b, want_jac):
             if frozen:
                 a0 -= MiDt[:, i] * (mu[i] * s[i] * lam0[i])
             else:
-                B[:, i] -= MiDt[:, i] * (mu[i] * s[i])
+                Bt[i, :] -= MiDt[:, i] * (mu[i] * s[i])
     return m
 
 
@@ -179,7 +179,7 @@ def _solve(t, x, P, s, ds, stuck, qdd, y, work_B, work_C, work_b, a0):
     if m == 0:
         qdd[:] = a0
         return 0, True
-    G = work_C[:m, :] @ work_B[:, :m]
+    G = work_C[:m, :] @ work_B[:m, :].T
     rhs_ = -(work_C[:m, :] @ a0 + work_b[:m])
     yy, ok = _small_solve(G, rhs_, m)
     if not ok:
@@ -188,7 +188,7 @@ def _solve(t, x, P, s, ds, stuck, qdd, y, work_B, work_C, work_b, a0):
         yy = np.linalg.pinv(G) @ rhs_
         ok = np.all(np.isfinite(yy))
     y[:m] = yy
-    qdd[:] = a0 + work_B[:, :m] @ yy
+    qdd[:] = a0 + work_B[:m, :].T @ yy
     return m, ok
 
 
@@ -199,7 +199,7 @@ def _workspace(P):
     mm = max(mmax, 1)
     return (
         np.zeros(n),
-        np.zeros((n, mm)),
+        np.zeros((mm, n)),
         np.zeros((mm, n)),
         np.zeros(mm),
         np.zeros(mm),
@@ -346,9 +346,9 @@ def jac(t, x, P, J):
             for cidx in range(n):
                 Jv[r, cidx] -= MiDt[r, i] * c * D[i, cidx]
     if m > 0:
-        G = Cr[:m, :] @ B[:, :m]
+        G = Cr[:m, :] @ B[:m, :].T
         Ginv = np.linalg.pinv(G)
-        BG = B[:, :m] @ Ginv  # (n, m)
+        BG = np.ascontiguousarray(np.ascontiguousarray(B[:m, :].T) @ Ginv)  # (n, m)
         # projector (I - B G^-1 C) applied to Jq and Jv
         Jq = Jq - BG @ (Cr[:m, :] @ Jq)
         Jv = Jv - BG @ (Cr[:m, :] @ Jv)
@@ -378,3 +378,35 @@ def sliding_velocities(x, P):
     """Sliding velocities v_i = D_i qd of all isolators."""
     n = P[I_MIK].shape[0]
     return P[I_D] @ x[n:]
+
+
+@njit(cache=True)
+def evaluate_many(t, X, P, QDD, LAM, TAU, MODES):
+    """:func:`evaluate` along a history: t (nt,), X (nt, 2n) -> QDD (nt, n), LAM (nt, nc),
+    TAU (nt, ni), MODES (nt, ni). Returns the number of states where the solve failed."""
+    n = P[I_MIK].shape[0]
+    nc = P[I_R].shape[0]
+    ni = P[I_D].shape[0]
+    qdd = np.empty(n)
+    lam = np.empty(nc)
+    tau = np.empty(ni)
+    modes = np.empty(ni, dtype=np.int64)
+    bad = 0
+    for k in range(t.shape[0]):
+        ok = evaluate(t[k], X[k], P, qdd, lam, tau, modes)
+        if not ok:
+            bad += 1
+        QDD[k] = qdd
+        LAM[k] = lam
+        TAU[k] = tau
+        MODES[k] = modes
+    return bad
+
+
+@njit(cache=True)
+def ground_many(t, P):
+    """Ground acceleration [u_hor, u_ver] (without g) at many times, shape (nt, 2)."""
+    out = np.empty((t.shape[0], 2))
+    for k in range(t.shape[0]):
+        out[k, 0], out[k, 1] = ground_accel(t[k], P)
+    return out

@@ -1,0 +1,162 @@
+"""Scenes: one TOML file naming the frame, isolation, fidelity, ground motion and solver.
+
+Example (every table and field is optional; missing ones take the defaults below)::
+
+    [scene]
+    name = "office isolated"
+    frame = "office-11"        # bundled frame name or path to a frame TOML
+    fidelity = "cb"            # fixed | rigid | cb | full
+    f_max = 5.0                # Craig-Bampton cut-off [Hz]
+
+    [isolation]                # seed 004 eq (16) and §3-§4
+    k_lam = 5.0e4
+    c = 1.0e4
+    mu = 0.03
+    law = "arctan"             # arctan | switch | none
+    eps = 7500.0
+
+    [motion]
+    record = "synthetic-wn-40s"  # bundled record name or path
+    pga = 3.0                  # scale the horizontal PGA to this [m/s^2] (optional)
+    vertical = true            # use the vertical component when the record has one
+    t_end = 40.0               # stop here [s] (optional)
+
+    [solver]
+    method = "radau"
+    rtol = 1e-6
+    atol = 1e-8
+    dt_out = 0.02              # output step [s] (default: the record's dt)
+    uplift = "raise"           # raise | warn
+"""
+
+from __future__ import annotations
+
+import copy
+import tomllib
+from pathlib import Path
+
+from .system import FIDELITIES, build_system, isolation_from_config
+
+DEFAULT_SCENE = {
+    "scene": {"name": "office-11 isolated", "frame": "office-11", "fidelity": "cb", "f_max": 5.0},
+    "isolation": {"k_lam": 5.0e4, "c": 1.0e4, "mu": 0.03, "law": "arctan", "eps": 7500.0},
+    "motion": {"record": "synthetic-wn-40s", "pga": 3.0, "vertical": True},
+    "solver": {"method": "radau", "rtol": 1e-6, "atol": 1e-8, "dt_out": 0.02, "uplift": "raise"},
+}
+
+_FIELDS = {
+    "scene": {"name": str, "frame": str, "fidelity": str, "f_max": float},
+    "motion": {
+        "record": str,
+        "pga": float,
+        "vertical": bool,
+        "t_end": float,
+        "units": str,
+        "dt": float,
+    },
+    "solver": {
+        "method": str,
+        "rtol": float,
+        "atol": float,
+        "dt": float,
+        "dt_out": float,
+        "uplift": str,
+    },
+}
+
+
+class SceneError(ValueError):
+    """A scene file or option is invalid; the message names the file and field."""
+
+
+def _check(cfg: dict, source: str) -> dict:
+    for table in cfg:
+        if table not in DEFAULT_SCENE:
+            raise SceneError(
+                f"{source}: [{table}]: unknown table; expected some of {sorted(DEFAULT_SCENE)}"
+            )
+    for table, fields in _FIELDS.items():
+        for key, val in cfg.get(table, {}).items():
+            if key not in fields:
+                raise SceneError(
+                    f"{source}: {table}.{key}: unknown field; expected some of {sorted(fields)}"
+                )
+            typ = fields[key]
+            ok = (
+                isinstance(val, bool)
+                if typ is bool
+                else isinstance(val, int | float) and not isinstance(val, bool)
+                if typ is float
+                else isinstance(val, str)
+            )
+            if not ok:
+                raise SceneError(f"{source}: {table}.{key}: expected {typ.__name__}, got {val!r}")
+            if typ is float and val <= 0 and key != "t_end":
+                raise SceneError(f"{source}: {table}.{key}: expected a positive number, got {val}")
+    sc = cfg.get("scene", {})
+    if "fidelity" in sc and sc["fidelity"] not in FIDELITIES:
+        raise SceneError(
+            f"{source}: scene.fidelity: expected one of {list(FIDELITIES)}, got {sc['fidelity']!r}"
+        )
+    up = cfg.get("solver", {}).get("uplift")
+    if up is not None and up not in ("raise", "warn"):
+        raise SceneError(f"{source}: solver.uplift: expected 'raise' or 'warn', got {up!r}")
+    return cfg
+
+
+def merge(base: dict, override: dict) -> dict:
+    out = copy.deepcopy(base)
+    for table, vals in override.items():
+        out.setdefault(table, {}).update(vals)
+    return out
+
+
+def load_scene(path: str | Path | None = None, overrides: dict | None = None) -> dict:
+    """The default scene, updated by a TOML file and then by ``overrides`` (validated)."""
+    cfg = copy.deepcopy(DEFAULT_SCENE)
+    source = "<default scene>"
+    if path is not None:
+        source = str(path)
+        p = Path(path)
+        if not p.is_file():
+            raise SceneError(f"{source}: no such scene file")
+        try:
+            user = tomllib.loads(p.read_text())
+        except tomllib.TOMLDecodeError as e:
+            raise SceneError(f"{source}: not valid TOML: {e}") from None
+        _check(user, source)
+        cfg = merge(cfg, user)
+    if overrides:
+        _check(overrides, "command line")
+        cfg = merge(cfg, overrides)
+    cfg["_source"] = source
+    return cfg
+
+
+def build_scene(cfg: dict):
+    """(system, motion) for a loaded scene."""
+    from .frame import load_frame
+    from .records import read_motion
+
+    source = cfg.get("_source", "<scene>")
+    sc, mo = cfg["scene"], cfg["motion"]
+    frame = load_frame(sc["frame"])
+    fidelity = sc.get("fidelity", "cb")
+    try:
+        iso = isolation_from_config(cfg.get("isolation", {}), source)
+    except ValueError as e:
+        raise SceneError(str(e)) from None
+    system = build_system(frame, iso, fidelity=fidelity, f_max=float(sc.get("f_max", 5.0)))
+    kw = {}
+    if "units" in mo:
+        kw["units"] = mo["units"]
+    if "dt" in mo:
+        kw["dt"] = mo["dt"]
+    motion = read_motion(mo["record"], **kw)
+    if not mo.get("vertical", True):
+        motion = motion.with_vertical(None)
+    if "pga" in mo:
+        motion = motion.scaled_to_pga(float(mo["pga"]))
+    if "t_end" in mo:
+        motion = motion.window(motion.t0, float(mo["t_end"]))
+    return system, motion
