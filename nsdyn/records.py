@@ -1180,8 +1180,17 @@ def write_motion(
 def default_shared_dir() -> Path | None:
     """``$NSDYN_SHARED`` or ``shared/`` beside the repository, if it exists (else None)."""
     env = os.environ.get("NSDYN_SHARED")
-    candidate = Path(env) if env else Path(__file__).resolve().parents[2] / "shared"
-    return candidate if candidate.is_dir() else None
+    if env:
+        return Path(env) if Path(env).is_dir() else None
+    # a source checkout beside shared/, or the working directory of one (installed package)
+    for candidate in (
+        Path(__file__).resolve().parents[2] / "shared",
+        Path.cwd().resolve().parent / "shared",
+        Path.cwd().resolve() / "shared",
+    ):
+        if candidate.is_dir():
+            return candidate
+    return None
 
 
 def _records_dir(shared_dir: str | os.PathLike | None) -> Path:

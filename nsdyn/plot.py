@@ -1,0 +1,98 @@
+"""Figures. All matplotlib use lives here and is imported lazily inside the functions.
+
+Figures are built with ``matplotlib.figure.Figure`` (no pyplot, no global state), so saving
+them uses the Agg canvas whatever the interactive backend is.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from nsdyn.frame import Frame, rotation
+
+__all__ = ["deformed_shape", "plot_mode_shapes"]
+
+N_SUB = 8  # points per element when drawing deformed (Hermite-interpolated) members
+SHAPE_SCALE = 0.08  # largest drawn displacement as a fraction of the frame's size
+
+
+def deformed_shape(frame: Frame, u: np.ndarray, scale: float, n_sub: int = N_SUB) -> np.ndarray:
+    """Deformed member centre lines, shape (ne, n_sub + 1, 2).
+
+    Axial displacement is interpolated linearly and transverse displacement with the
+    element's cubic Hermite shape functions, so the drawing is the finite-element solution
+    itself, not a polyline through the nodes.
+    """
+    u = np.asarray(u, float)
+    el = frame.elements
+    p0, p1 = frame.nodes[el[:, 0]], frame.nodes[el[:, 1]]
+    d = p1 - p0
+    L = np.hypot(d[:, 0], d[:, 1])
+    c, s = d[:, 0] / L, d[:, 1] / L
+    ue = u[frame.element_dofs()]  # (ne, 6) global
+    ul = np.einsum("eij,ej->ei", rotation(c, s), ue)  # local u1 v1 th1 u2 v2 th2
+    xi = np.linspace(0.0, 1.0, n_sub + 1)
+    n1, n2 = 1 - 3 * xi**2 + 2 * xi**3, xi - 2 * xi**2 + xi**3
+    n3, n4 = 3 * xi**2 - 2 * xi**3, -(xi**2) + xi**3
+    ax = ul[:, [0]] * (1 - xi) + ul[:, [3]] * xi
+    tr = (
+        ul[:, [1]] * n1
+        + ul[:, [2]] * L[:, None] * n2
+        + ul[:, [4]] * n3
+        + ul[:, [5]] * L[:, None] * n4
+    )
+    base = p0[:, None, :] + xi[None, :, None] * d[:, None, :]
+    dx = scale * (ax * c[:, None] - tr * s[:, None])
+    dy = scale * (ax * s[:, None] + tr * c[:, None])
+    return base + np.stack([dx, dy], axis=-1)
+
+
+def plot_mode_shapes(frame: Frame, f_hz, Phi: np.ndarray, n: int = 4, ax=None):
+    """Draw the first ``n`` mode shapes of ``frame`` side by side.
+
+    Parameters
+    ----------
+    frame : Frame
+    f_hz : array, shape (m,)
+        Frequencies [Hz] of the columns of ``Phi``.
+    Phi : ndarray, shape (n_dof, m)
+        Mode shapes in full-dof order (e.g. from :func:`nsdyn.reduction.fixed_base_modes`).
+    n : int
+        Number of modes to draw (at most m).
+    ax : Axes or sequence of Axes, optional
+        Where to draw; default a new figure with ``n`` panels.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    n = min(n, Phi.shape[1])
+    if ax is None:
+        fig = Figure(figsize=(2.4 * n + 0.6, 5.2), layout="constrained")
+        axes = np.atleast_1d(fig.subplots(1, n, sharey=True))
+    else:
+        axes = np.atleast_1d(np.asarray(ax, dtype=object))
+        if len(axes) < n:
+            raise ValueError(f"need {n} axes, got {len(axes)}")
+        fig = axes[0].figure
+    size = float(np.ptp(frame.nodes, axis=0).max())
+    undeformed = deformed_shape(frame, np.zeros(frame.n_dof), 0.0, n_sub=1)
+    for k in range(n):
+        a = axes[k]
+        phi = Phi[:, k]
+        trans = np.abs(np.stack([phi[0::3], phi[1::3]])).max()
+        scale = SHAPE_SCALE * size / trans if trans > 0 else 0.0
+        for line in undeformed:
+            a.plot(line[:, 0], line[:, 1], color="0.8", lw=0.8)
+        for line in deformed_shape(frame, phi, scale):
+            a.plot(line[:, 0], line[:, 1], color="C0", lw=1.4)
+        base = frame.nodes[frame.base_nodes]
+        a.plot(base[:, 0], base[:, 1], "k^", ms=6)
+        a.set_title(f"mode {k + 1}: {f_hz[k]:.3g} Hz", fontsize=9)
+        a.set_aspect("equal", adjustable="datalim")
+        a.set_xlabel("x [m]")
+    axes[0].set_ylabel("y [m]")
+    fig.suptitle(f"{frame.name}: fixed-base mode shapes", fontsize=10)
+    return fig

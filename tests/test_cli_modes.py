@@ -1,0 +1,77 @@
+"""``nsdyn modes``: JSON contract, readable output, figure, and user-error exit codes.
+
+Expected dof counts are seed 004's published numbers (435 full, 13 at f_max = 5 Hz).
+"""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from nsdyn.cli import COMMANDS, main
+
+
+def test_modes_json_office(capsys):
+    assert main(["modes", "office-11", "--json"]) == 0
+    out = capsys.readouterr().out
+    s = json.loads(out)  # the whole of stdout is one JSON object
+    assert s["n_dof"] == 435 and s["n_reduced"] == 13
+    for key in ("frequencies_hz", "mode_types", "total_mass_kg", "f_bis_hz"):
+        assert key in s
+    assert len(s["frequencies_hz"]) == len(s["mode_types"]) == 10
+    assert s["frequencies_hz"][:4] == pytest.approx([0.46, 1.27, 1.98, 2.98], rel=0.03)
+    assert s["mode_types"][:4] == ["lateral"] * 4
+    assert s["f_bis_hz"] == pytest.approx(0.060, abs=0.003)
+
+
+def test_modes_options_change_counts_and_f_bis(capsys):
+    # f_bis scales with sqrt(K_lam) (seed eq. 28): 4x K_lam doubles it.
+    main(["modes", "office-11", "--json"])
+    a = json.loads(capsys.readouterr().out)
+    main(["modes", "office-11", "--json", "--fmax", "10", "--klam", "2e5"])
+    b = json.loads(capsys.readouterr().out)
+    assert b["n_reduced"] > a["n_reduced"]
+    assert b["f_bis_hz"] == pytest.approx(2 * a["f_bis_hz"], rel=1e-12)
+
+
+def test_modes_table_and_png(tmp_path, capsys):
+    out_dir = tmp_path / "figs"
+    assert main(["modes", "portal", "--out", str(out_dir)]) == 0
+    text = capsys.readouterr().out
+    assert "21 dofs" in text and "f_bis" in text and "lateral" in text
+    files = list(out_dir.iterdir())
+    assert [f.name for f in files] == ["modes-portal.png"]  # no temp file left behind
+    assert files[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_missing_file_exits_2_with_one_line(tmp_path, capsys):
+    bad = tmp_path / "nowhere.toml"
+    assert main(["modes", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "nowhere.toml" in err and "Traceback" not in err
+
+
+def test_invalid_file_exits_2_naming_field(tmp_path, capsys):
+    p = tmp_path / "broken.toml"
+    p.write_text('[frame]\nname = "x"\nkind = "regular"\nbays = [6.0]\n')
+    assert main(["modes", str(p), "--json"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert "broken.toml: frame.storey_heights" in captured.err
+
+
+def test_unknown_bundled_name_lists_known_ones(capsys):
+    assert main(["modes", "office-12"]) == 2
+    assert "office-11" in capsys.readouterr().err
+
+
+def test_bad_option_is_a_usage_error():
+    with pytest.raises(SystemExit) as ei:
+        main(["modes", "office-11", "--fmax", "-1"])
+    assert ei.value.code == 2
+
+
+def test_subcommand_table():
+    assert "modes" in COMMANDS
+    assert callable(COMMANDS["modes"].run) and callable(COMMANDS["modes"].configure)
