@@ -32,7 +32,21 @@ DEFAULT_KLAM = 5.0e4  # N/m, laminated-bearing lateral stiffness (seed 004 eq. 1
 N_LIST = 10  # fixed-base modes listed by `modes`
 N_DRAW = 4  # mode shapes drawn by `modes`
 EXIT_USER_ERROR = 2  # bad input the user can fix (same as argparse usage errors)
+EXIT_NUMERICS = 3  # the numerics failed (step underflow, Newton divergence, uplift, ...)
 USER_ERRORS: tuple[type[BaseException], ...] = (FrameFileError, OSError)
+
+
+def _user_errors() -> tuple[type[BaseException], ...]:
+    from nsdyn.records import RecordFileError
+    from nsdyn.scene import SceneError
+
+    return (*USER_ERRORS, SceneError, RecordFileError)
+
+
+def _numerics_errors() -> tuple[type[BaseException], ...]:
+    from nsdyn.integrate import IntegrationError, UpliftError
+
+    return (IntegrationError, UpliftError)
 
 
 @dataclass(frozen=True)
@@ -152,6 +166,135 @@ def run_modes(args: argparse.Namespace) -> int:
     return 0
 
 
+# --------------------------------------------------------------------------- run
+
+
+def configure_run(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "scene", nargs="?", default=None, help="scene TOML (default: the bundled default scene)"
+    )
+    p.add_argument("--frame", help="bundled frame name or frame TOML path")
+    p.add_argument("--record", help="bundled record name or path to a ground-motion file")
+    p.add_argument("--pga", type=_positive_float, metavar="MPS2", help="scale to this PGA")
+    p.add_argument("--fixed-base", action="store_true", help="the fixed-base linear frame")
+    p.add_argument("--fidelity", choices=["fixed", "rigid", "cb", "full"])
+    p.add_argument("--fmax", type=_positive_float, metavar="HZ", help="Craig–Bampton cut-off")
+    p.add_argument("--friction", choices=["arctan", "switch", "none"], help="friction law")
+    p.add_argument("--method", help="integrator: radau, dopri5, genalpha, hht, event")
+    p.add_argument("--t-end", type=_positive_float, metavar="S", help="stop at this time")
+    p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR", help="output directory")
+    p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
+    p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
+    p.add_argument(
+        "--resume", action="store_true", help="continue an interrupted run from its checkpoint"
+    )
+
+
+def _scene_overrides(args: argparse.Namespace) -> dict:
+    o: dict = {}
+    if args.frame:
+        o.setdefault("scene", {})["frame"] = args.frame
+    if args.fidelity:
+        o.setdefault("scene", {})["fidelity"] = args.fidelity
+    if args.fixed_base:
+        o.setdefault("scene", {})["fidelity"] = "fixed"
+    if args.fmax:
+        o.setdefault("scene", {})["f_max"] = args.fmax
+    if args.record:
+        o.setdefault("motion", {})["record"] = args.record
+    if args.pga:
+        o.setdefault("motion", {})["pga"] = args.pga
+    if args.t_end:
+        o.setdefault("motion", {})["t_end"] = args.t_end
+    if args.method:
+        o.setdefault("solver", {})["method"] = args.method
+    return o
+
+
+def run_run(args: argparse.Namespace) -> int:
+    from nsdyn.scene import build_scene, load_scene
+    from nsdyn.transient import output_grid, simulate
+
+    cfg = load_scene(args.scene, _scene_overrides(args))
+    if args.friction:
+        cfg.setdefault("isolation", {})["law"] = args.friction
+    system, motion = build_scene(cfg)
+    sv = cfg["solver"]
+    method = sv.get("method", "radau")
+    if method == "event" and system.isolation is not None:
+        system = system.with_isolation(law="switch")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    stem = "run"
+    ckpt = out / f".{stem}-checkpoint.npz"
+    if not args.resume:
+        ckpt.unlink(missing_ok=True)
+    quiet = args.json
+
+    def progress(t, t_end, wall):
+        if not quiet and wall > 1.0:
+            print(f"  t = {t:7.2f} / {t_end:.2f} s   ({wall:5.1f} s)", file=sys.stderr)
+
+    res = simulate(
+        system,
+        motion,
+        method=method,
+        rtol=sv.get("rtol", 1e-6),
+        atol=sv.get("atol", 1e-8),
+        dt=sv.get("dt"),
+        t_eval=output_grid(motion, sv.get("dt_out")),
+        uplift=sv.get("uplift", "raise"),
+        progress=progress,
+        checkpoint=ckpt,
+    )
+    ckpt.unlink(missing_ok=True)
+    s = res.summary()
+    s["record"] = motion.name
+    s["pga_mps2"] = float(motion.pga)
+    hist = out / f"{stem}-histories.npz"
+    fd, tmp = tempfile.mkstemp(dir=out, suffix=".npz.tmp")
+    os.close(fd)
+    np.savez(
+        tmp,
+        t=res.t,
+        x=res.x,
+        x_iso=res.response.x_iso,
+        top_drift=res.response.top_drift,
+        normal_forces=res.response.lam,
+        friction_forces=res.response.tau,
+    )
+    os.replace(tmp, hist)
+    s["histories"] = str(hist)
+    if not args.no_figures:
+        from nsdyn.plot import plot_transient
+
+        fig_path = out / f"{stem}.png"
+        _write_atomic(plot_transient(res), fig_path)
+        s["figure"] = str(fig_path)
+    if args.json:
+        print(json.dumps(s))
+        return 0
+    print(f"model   {s['model']}   record {s['record']} (PGA {s['pga_mps2']:.2f} m/s²)")
+    print(f"method  {s['method']}: {s['n_steps']} steps, run {s['wall_s']:.3f} s", end="")
+    print(f" (+ JIT compile/load {s['compile_s']:.1f} s)")
+    rows = [
+        ("peak isolator displacement x_iso", f"{s['x_iso_max_m']:.4f} m"),
+        ("peak interstorey drift ratio", f"{s['idr_max']:.3e}"),
+        ("peak absolute floor acceleration", f"{s['floor_acc_max_mps2']:.3f} m/s²"),
+        ("peak roof drift x_top - x_iso", f"{s['roof_drift_max_m']:.4f} m"),
+        ("minimum normal force", f"{s['min_normal_force_N']:.4g} N"),
+        ("share of time all isolators stick", f"{s['stick_fraction']:.2f}"),
+        ("energy balance closure error", f"{s['energy_closure']:.2e}"),
+        ("uplift", "none" if not s["uplift"] else str(s["uplift"])),
+    ]
+    for k, v in rows:
+        print(f"  {k:36s} {v}")
+    print(f"histories: {hist}")
+    if "figure" in s:
+        print(f"figure:    {s['figure']}")
+    return 0
+
+
 # --------------------------------------------------------------------------- table
 
 COMMANDS: dict[str, Command] = {
@@ -159,6 +302,11 @@ COMMANDS: dict[str, Command] = {
         help="fixed-base modes, dof counts (full and Craig–Bampton), mass and f_bis",
         configure=configure_modes,
         run=run_modes,
+    ),
+    "run": Command(
+        help="transient earthquake run of a scene (default: office-11 isolated, synthetic record)",
+        configure=configure_run,
+        run=run_run,
     ),
 }
 
@@ -180,9 +328,12 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return int(args._run(args))
-    except USER_ERRORS as exc:
+    except _user_errors() as exc:
         print(f"nsdyn {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_USER_ERROR
+    except _numerics_errors() as exc:
+        print(f"nsdyn {args.command}: numerical failure: {exc}", file=sys.stderr)
+        return EXIT_NUMERICS
 
 
 if __name__ == "__main__":

@@ -159,6 +159,10 @@ def response(system, t, X, P) -> Response:
         a_rel = QDD @ T[dofs].T  # (nt, n_nodes)
         acc.append(float(np.max(np.abs(a_rel + G[:, :1]))))
     x_iso = q @ system.D.T
+    # an isolator "sticks" in a stick mode or, for the smooth law, while |v| <= eta
+    v = X[:, n:] @ system.D.T
+    eta = P[ks.I_FPAR][ks.F_ETA]
+    MODES = np.where(np.abs(v) <= eta, 0, MODES)
     energy = energy_balance(system, t, X, P, LAM, TAU, G)
     return Response(
         t=t,

@@ -306,3 +306,20 @@ def test_fixed_base_statespace_matches_modal_model(frame):
     sys = fixed_base_statespace(fb)
     wn = np.sort(np.abs(np.asarray(sys.poles())))[::2]
     assert np.allclose(wn, np.sort(fb.info["omega"]), rtol=1e-8)
+
+
+def test_office_frame_static_shares_and_isolation_frequency():
+    # Seed 004: the symmetric office frame carries M_s g equally on its two isolators, and
+    # its rigid-superstructure isolation frequency is eq (28), ~0.06 Hz (seed §6).
+    from nsdyn.frame import load_frame
+
+    office = load_frame("office-11")
+    s = build_system(office, Isolation(), fidelity="cb", f_max=5.0)
+    assert s.n == 13  # seed §2: 13 generalised dofs at f_max = 5 Hz
+    _, lam = s.static_equilibrium()
+    assert lam.sum() == pytest.approx(office.total_mass * G, rel=1e-10)
+    assert lam[0] == pytest.approx(lam[1], rel=1e-9)
+    r = build_system(office, Isolation(mu=0.0, law="none"), fidelity="rigid")
+    Q = r.Q
+    w2 = np.linalg.eigvals(np.linalg.solve(Q.T @ r.M @ Q, Q.T @ r.K @ Q)).real
+    assert np.sqrt(w2.min()) / (2 * np.pi) == pytest.approx(0.060, abs=0.003)
