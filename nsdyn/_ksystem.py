@@ -179,8 +179,19 @@ def _solve(t, x, P, s, ds, stuck, qdd, y, work_B, work_C, work_b, a0):
     if m == 0:
         qdd[:] = a0
         return 0, True
-    G = work_C[:m, :] @ work_B[:m, :].T
-    rhs_ = -(work_C[:m, :] @ a0 + work_b[:m])
+    n = a0.shape[0]
+    G = np.empty((m, m))
+    rhs_ = np.empty(m)
+    for i in range(m):
+        acc = work_b[i]
+        for r in range(n):
+            acc += work_C[i, r] * a0[r]
+        rhs_[i] = -acc
+        for j in range(m):
+            g = 0.0
+            for r in range(n):
+                g += work_C[i, r] * work_B[j, r]
+            G[i, j] = g
     yy, ok = _small_solve(G, rhs_, m)
     if not ok:
         # redundant constraints (e.g. two isolators sticking on one rigid base): the split of
@@ -188,7 +199,11 @@ def _solve(t, x, P, s, ds, stuck, qdd, y, work_B, work_C, work_b, a0):
         yy = np.linalg.pinv(G) @ rhs_
         ok = np.all(np.isfinite(yy))
     y[:m] = yy
-    qdd[:] = a0 + work_B[:m, :].T @ yy
+    for r in range(n):
+        acc = a0[r]
+        for k in range(m):
+            acc += work_B[k, r] * yy[k]
+        qdd[r] = acc
     return m, ok
 
 
@@ -346,12 +361,13 @@ def jac(t, x, P, J):
             for cidx in range(n):
                 Jv[r, cidx] -= MiDt[r, i] * c * D[i, cidx]
     if m > 0:
-        G = Cr[:m, :] @ B[:m, :].T
+        Cm = np.ascontiguousarray(Cr[:m, :])
+        G = Cm @ np.ascontiguousarray(B[:m, :].T)
         Ginv = np.linalg.pinv(G)
         BG = np.ascontiguousarray(np.ascontiguousarray(B[:m, :].T) @ Ginv)  # (n, m)
         # projector (I - B G^-1 C) applied to Jq and Jv
-        Jq = Jq - BG @ (Cr[:m, :] @ Jq)
-        Jv = Jv - BG @ (Cr[:m, :] @ Jv)
+        Jq = Jq - BG @ (Cm @ Jq)
+        Jv = Jv - BG @ (Cm @ Jv)
         alpha, beta, kappa = fp[F_ALPHA], fp[F_BETA], fp[F_KAPPA]
         # - B G^-1 d b
         for k in range(nc):

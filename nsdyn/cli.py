@@ -303,12 +303,23 @@ COMMANDS: dict[str, Command] = {
         configure=configure_modes,
         run=run_modes,
     ),
+    "sweep": Command(
+        help="frequency-amplitude diagrams of periodic solutions (shooting + continuation)",
+        configure=lambda p: _lazy("nsdyn.sweep").configure(p),
+        run=lambda a: _lazy("nsdyn.sweep").run(a),
+    ),
     "run": Command(
         help="transient earthquake run of a scene (default: office-11 isolated, synthetic record)",
         configure=configure_run,
         run=run_run,
     ),
 }
+
+
+def _lazy(module: str):
+    import importlib
+
+    return importlib.import_module(module)
 
 
 def build_parser() -> argparse.ArgumentParser:

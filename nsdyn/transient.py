@@ -128,8 +128,11 @@ def simulate(
         if bounds[-1] == bounds[-2]:
             bounds[-1] += 1
     h0 = None
+    modes = None
     for a, b in zip(bounds[:-1], bounds[1:], strict=True):
         x_start = xs[-1][-1]
+        if modes is not None and method == "event":
+            solver_options["modes0"] = modes
         sol = integrate.solve(
             P,
             x_start,
@@ -143,6 +146,7 @@ def simulate(
             **solver_options,
         )
         h0 = getattr(sol, "h_last", None)
+        modes = getattr(sol, "modes", None)
         n_steps += sol.n_steps
         wall += sol.wall_s
         compile_s += getattr(sol, "compile_s", 0.0)

@@ -1,0 +1,556 @@
+"""``nsdyn sweep``: frequency-amplitude diagrams of periodic solutions (seed 004 Figs 9-11).
+
+For each excitation amplitude ``A`` the isolated model of a scene is driven by
+``u''_hor = A sin(2 pi f t)`` and its periodic solutions are continued over ``f`` (shooting,
+with the stepped-sweep fallback; :mod:`nsdyn.periodic`). Amplitudes run in parallel
+processes (any ``concurrent.futures.Executor``); each writes a checkpoint after every point so
+an interrupted sweep resumes where it stopped. Results: one CSV row per point and a PNG with
+IDR, absolute floor acceleration and isolator displacement against f, the fixed-base linear
+frequency response dashed for comparison.
+
+Register in :mod:`nsdyn.cli` with ``Command(help=sweep.HELP, configure=sweep.configure,
+run=sweep.run)`` (or call :func:`add_parser` on an argparse subparsers object).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import math
+import os
+import sys
+import tempfile
+import time
+from concurrent.futures import Executor, ProcessPoolExecutor
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+HELP = "frequency-amplitude diagrams of periodic solutions (shooting + continuation)"
+DEFAULT_OUT = "nsdyn-sweep"
+DEFAULT_AMPLITUDES = "0.1,0.5,1,2"  # m/s^2, seed Fig. 9
+CHECKPOINT_EVERY_S = 2.0  # shortest interval between checkpoint writes [s]
+CSV_COLUMNS = (
+    "f",
+    "A",
+    "IDR",
+    "a",
+    "x_iso",
+    "stick_all_period",
+    "stable",
+    "max_multiplier_modulus",
+    "method",
+    "newton_iterations",
+    "residual",
+    "converged",
+    "n_steps",
+    "uplift",
+    "note",
+)
+EXIT_USER_ERROR = 2
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    """What a curve depends on besides the scene (part of the checkpoint's identity)."""
+
+    fmin: float = 0.01
+    fmax: float = 10.0
+    points: int = 150
+    continuation: str = "sequential"
+    fallback: bool = True
+
+
+# ---- command line ---------------------------------------------------------------------------
+def _amplitude_list(s: str) -> list[float]:
+    try:
+        vals = [float(v) for v in s.split(",") if v.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected numbers separated by commas, got {s!r}"
+        ) from None
+    if not vals or any(not (v > 0 and math.isfinite(v)) for v in vals):
+        raise argparse.ArgumentTypeError(f"expected positive amplitudes [m/s^2], got {s!r}")
+    return vals
+
+
+def _positive(s: str) -> float:
+    try:
+        v = float(s)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {s!r}") from None
+    if not v > 0:
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {s!r}")
+    return v
+
+
+def _count(s: str) -> int:
+    try:
+        v = int(s)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {s!r}") from None
+    if v < 2:
+        raise argparse.ArgumentTypeError(f"expected at least 2, got {s!r}")
+    return v
+
+
+def configure(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "scene", nargs="?", default=None, help="scene TOML (default: the bundled default scene)"
+    )
+    p.add_argument(
+        "--amplitudes",
+        type=_amplitude_list,
+        default=_amplitude_list(DEFAULT_AMPLITUDES),
+        metavar="A1,A2,...",
+        help=f"excitation amplitudes A_hor [m/s^2] (default {DEFAULT_AMPLITUDES})",
+    )
+    p.add_argument("--fmin", type=_positive, default=0.01, metavar="HZ", help="default 0.01")
+    p.add_argument("--fmax", type=_positive, default=10.0, metavar="HZ", help="default 10")
+    p.add_argument(
+        "--points", type=_count, default=150, help="log-spaced frequencies (default 150)"
+    )
+    p.add_argument(
+        "--continuation",
+        choices=["sequential", "arclength"],
+        default="sequential",
+        help="sequential (seed) or pseudo-arclength (passes folds); default sequential",
+    )
+    p.add_argument("--fidelity", choices=["rigid", "cb", "full"], help="override the scene's")
+    p.add_argument("--no-fallback", action="store_true", help="skip points shooting misses")
+    p.add_argument("--workers", type=int, default=None, metavar="N", help="parallel processes")
+    p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR", help="output directory")
+    p.add_argument("--restart", action="store_true", help="ignore checkpoints, start afresh")
+    p.add_argument("--no-figures", action="store_true", help="skip the PNG")
+    p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Add the ``sweep`` subcommand to an argparse ``subparsers`` object."""
+    p = subparsers.add_parser("sweep", help=HELP, description=HELP)
+    configure(p)
+    p.set_defaults(_run=run)
+    return p
+
+
+# ---- checkpoints ----------------------------------------------------------------------------
+def _umask_mode() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+def _atomic_write_text(path: Path, text: str) -> None:
+    """Write to a temporary file next to ``path``, then rename it over ``path``."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}-", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", newline="") as fh:
+            fh.write(text)
+        os.chmod(tmp, _umask_mode())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def point_to_dict(p) -> dict:
+    """JSON-able record of an :class:`nsdyn.periodic.OrbitPoint` (without its orbit)."""
+    mu = np.asarray(p.multipliers)
+    return {
+        "f": p.f,
+        "x0": np.asarray(p.x0).tolist(),
+        "method": p.method,
+        "converged": bool(p.converged),
+        "iterations": int(p.iterations),
+        "residual": float(p.residual) if math.isfinite(p.residual) else None,
+        "mu_re": mu.real.tolist(),
+        "mu_im": mu.imag.tolist(),
+        "n_steps": int(p.n_steps),
+        "note": p.note,
+        "quantities": {
+            k: (v if v is None else bool(v) if isinstance(v, bool | np.bool_) else float(v))
+            for k, v in p.quantities.items()
+        },
+        "s": None if not math.isfinite(p.s) else p.s,
+        "dlogf_ds": None if not math.isfinite(p.dlogf_ds) else p.dlogf_ds,
+    }
+
+
+def point_from_dict(d: dict):
+    from .periodic import OrbitPoint
+
+    nan = float("nan")
+    return OrbitPoint(
+        f=float(d["f"]),
+        x0=np.asarray(d["x0"], dtype=float),
+        method=d["method"],
+        converged=bool(d["converged"]),
+        iterations=int(d["iterations"]),
+        residual=nan if d["residual"] is None else float(d["residual"]),
+        multipliers=np.asarray(d["mu_re"]) + 1j * np.asarray(d["mu_im"]),
+        n_steps=int(d["n_steps"]),
+        note=d["note"],
+        quantities=dict(d["quantities"]),
+        s=nan if d["s"] is None else float(d["s"]),
+        dlogf_ds=nan if d["dlogf_ds"] is None else float(d["dlogf_ds"]),
+    )
+
+
+def _identity(cfg: dict, amplitude: float, settings: SweepSettings) -> dict:
+    scene = {k: v for k, v in cfg.items() if not k.startswith("_") and k not in ("motion",)}
+    return {"scene": scene, "amplitude": amplitude, "settings": asdict(settings)}
+
+
+def checkpoint_path(out_dir: Path, amplitude: float) -> Path:
+    return Path(out_dir) / f".sweep-A{amplitude:g}.ckpt.json"
+
+
+def load_checkpoint(path: Path, identity: dict) -> list | None:
+    """Points of a checkpoint written for the same scene, amplitude and settings, else None."""
+    try:
+        data = json.loads(Path(path).read_text())
+    except (OSError, ValueError):
+        return None
+    if data.get("identity") != json.loads(json.dumps(identity)):
+        return None
+    return [point_from_dict(d) for d in data.get("points", [])]
+
+
+# ---- one amplitude (runs in a worker process) -----------------------------------------------
+def amplitude_job(
+    cfg: dict,
+    amplitude: float,
+    settings: SweepSettings,
+    out_dir: str,
+    restart: bool = False,
+    quiet: bool = False,
+) -> dict:
+    """Continue the periodic solutions at one amplitude; resumable through its checkpoint.
+
+    Returns a picklable summary: CSV rows, bifurcations and timings (no state arrays).
+    """
+    from .periodic import frequency_response
+    from .scene import build_scene
+
+    t0 = time.perf_counter()
+    system, _motion = build_scene(cfg)
+    ident = _identity(cfg, amplitude, settings)
+    ckpt = checkpoint_path(Path(out_dir), amplitude)
+    start = None if restart else load_checkpoint(ckpt, ident)
+    n_resumed = len(start or [])
+    pts_done: list = list(start or [])
+    last_write = [time.perf_counter()]
+
+    def save(points, complete=False):
+        data = {
+            "identity": ident,
+            "complete": complete,
+            "points": [point_to_dict(p) for p in points],
+        }
+        _atomic_write_text(ckpt, json.dumps(data))
+        last_write[0] = time.perf_counter()
+
+    def progress(pt, k, n):
+        pts_done.append(pt)
+        if time.perf_counter() - last_write[0] > CHECKPOINT_EVERY_S:
+            save(pts_done)
+        if not quiet:
+            q = pt.quantities
+            print(
+                f"[A={amplitude:g}] {k:4d}/{n} f={pt.f:8.4f} Hz {pt.method:9s} "
+                f"it={pt.iterations:2d} x_iso={q.get('x_iso', math.nan):.2e} "
+                f"({q.get('wall_s', 0.0):.2f} s)",
+                file=sys.stderr,
+                flush=True,
+            )
+
+    curve = frequency_response(
+        system,
+        amplitude,
+        fmin=settings.fmin,
+        fmax=settings.fmax,
+        points=settings.points,
+        continuation=settings.continuation,
+        fallback=settings.fallback,
+        progress=progress,
+        start=start,
+    )
+    save(curve.points, complete=True)
+    walls = np.array([p.quantities.get("wall_s", np.nan) for p in curve.points])
+    fs = np.array([p.f for p in curve.points])
+    new = np.arange(len(curve.points)) >= n_resumed
+    return {
+        "A": amplitude,
+        "model": system.name,
+        "rows": curve.rows(),
+        "bifurcations": curve.bifurcations,
+        "resumed_points": n_resumed,
+        "wall_s": time.perf_counter() - t0,
+        "wall_below_0.1Hz_s": float(np.nansum(walls[new & (fs < 0.1)])),
+        "wall_above_0.1Hz_s": float(np.nansum(walls[new & (fs >= 0.1)])),
+        "frame": system.frame,
+        "f_max": system.f_max,
+    }
+
+
+def sweep_amplitudes(
+    cfg: dict,
+    amplitudes,
+    settings: SweepSettings,
+    out_dir: str | Path,
+    *,
+    executor: Executor | None = None,
+    workers: int | None = None,
+    restart: bool = False,
+    quiet: bool = False,
+) -> list[dict]:
+    """Run :func:`amplitude_job` for every amplitude, in parallel on ``executor``.
+
+    Default: a local process pool with ``workers`` processes (one per amplitude, at most the
+    CPU count); ``workers=1`` runs in this process. Any ``concurrent.futures.Executor`` works
+    (e.g. Dask's ``client.get_executor()``).
+    """
+    amplitudes = [float(a) for a in amplitudes]
+    args = [(cfg, a, settings, str(out_dir), restart, quiet) for a in amplitudes]
+    if executor is None:
+        n = workers or min(len(amplitudes), os.cpu_count() or 1)
+        if n <= 1:
+            return [amplitude_job(*a) for a in args]
+        with ProcessPoolExecutor(max_workers=n) as ex:
+            return _run_all(ex, args)
+    return _run_all(executor, args)
+
+
+def _run_all(ex: Executor, args) -> list[dict]:
+    futs = [ex.submit(amplitude_job, *a) for a in args]
+    return [f.result() for f in futs]
+
+
+# ---- outputs --------------------------------------------------------------------------------
+def _fmt(v) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, bool | np.bool_):
+        return "true" if v else "false"
+    if isinstance(v, float | np.floating):
+        return "" if not math.isfinite(v) else f"{v:.9g}"
+    return str(v)
+
+
+def write_csv(path: Path, results: list[dict]) -> None:
+    """One row per point, all amplitudes (atomic write)."""
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(CSV_COLUMNS)
+    for r in sorted(results, key=lambda r: r["A"]):
+        for row in r["rows"]:
+            w.writerow([_fmt(row[c]) for c in CSV_COLUMNS])
+    _atomic_write_text(Path(path), buf.getvalue())
+
+
+def plot_sweep(results: list[dict], fixed: dict | None = None):
+    """Figure with IDR, a and x_iso against f (log-log), one colour per amplitude.
+
+    Isolated-base periodic solutions solid (unstable points x, sweep-fallback points o);
+    ``fixed`` maps an amplitude to :func:`nsdyn.periodic.fixed_base_response` (dashed).
+    x_iso is drawn where the isolators slip at some time of the period (as in the seed);
+    points with uplift (a negative normal force: outside the contact model) are omitted.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(3, 1, figsize=(7.5, 9.5), sharex=True)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for k, r in enumerate(sorted(results, key=lambda r: r["A"])):
+        col = colors[k % len(colors)]
+        rows = r["rows"]
+        f = np.array([x["f"] for x in rows])
+        idr = np.array([x["IDR"] for x in rows])
+        acc = np.array([x["a"] for x in rows])
+        xi = np.array([x["x_iso"] for x in rows], dtype=float)
+        stick = np.array([x["stick_all_period"] is True for x in rows])
+        uplift = np.array([x["uplift"] is True for x in rows])
+        idr, acc, xi = (np.where(uplift, np.nan, v) for v in (idr, acc, xi))
+        unstable = np.array([x["stable"] is False for x in rows])
+        sweep = np.array([x["method"] == "sweep" for x in rows])
+        lab = f"A = {r['A']:g} m/s²"
+        for ax, y in ((axes[0], idr), (axes[1], acc)):
+            ax.loglog(f, y, "-", color=col, lw=1.3, label=lab)
+            ax.loglog(f[unstable], y[unstable], "x", color=col, ms=5)
+            ax.loglog(f[sweep], y[sweep], "o", mfc="none", color=col, ms=4)
+        xs = np.where(stick, np.nan, xi)
+        axes[2].loglog(f, xs, "-", color=col, lw=1.3, label=lab)
+        axes[2].loglog(f[sweep], xs[sweep], "o", mfc="none", color=col, ms=4)
+        if fixed is not None and r["A"] in fixed:
+            fb = fixed[r["A"]]
+            axes[0].loglog(fb["f"], fb["idr"], "--", color=col, lw=0.8)
+            axes[1].loglog(fb["f"], fb["acc"], "--", color=col, lw=0.8)
+    axes[0].set_ylabel("IDR [-]")
+    axes[1].set_ylabel("a [m/s²]")
+    axes[2].set_ylabel("x̄_iso [m] (slip only)")
+    axes[2].set_xlabel("f_hor [Hz]")
+    axes[0].set_title("periodic solutions (solid), fixed base (dashed); x unstable, o sweep")
+    for ax in axes:
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def _save_figure(fig, path: Path) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-", suffix=".png")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fig.savefig(fh, format="png", dpi=120)
+        os.chmod(tmp, _umask_mode())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def summarise(r: dict) -> dict:
+    """Per-amplitude numbers for the report. Maxima skip points with uplift (the bilateral
+    contact model is outside its validity there) and unconverged points."""
+    rows = r["rows"]
+    f = np.array([x["f"] for x in rows])
+    stick = np.array([x["stick_all_period"] is True for x in rows])
+    uplift = np.array([x["uplift"] is True for x in rows])
+    good = np.array([bool(x["converged"]) for x in rows]) & ~uplift
+    slip_f = f[~stick & good]
+    stick_above = None  # lowest frequency above which every point sticks the whole period
+    if stick.any():
+        k = len(stick)
+        while k > 0 and stick[k - 1]:
+            k -= 1
+        stick_above = float(f[k]) if k < len(f) else None
+
+    def peak(key):
+        v = np.array([x[key] for x in rows], dtype=float)[good]
+        return float(np.nanmax(v)) if v.size and np.isfinite(v).any() else None
+
+    return {
+        "A": r["A"],
+        "points": len(rows),
+        "resumed_points": r["resumed_points"],
+        "fallback_points": int(sum(x["method"] == "sweep" for x in rows)),
+        "unconverged_points": int(sum(not x["converged"] for x in rows)),
+        "uplift_points": int(uplift.sum()),
+        "unstable_points": int(sum(x["stable"] is False for x in rows)),
+        "stick_all_period_above_hz": stick_above,
+        "slip_frequency_range_hz": (
+            [float(slip_f.min()), float(slip_f.max())] if slip_f.size else None
+        ),
+        "idr_max": peak("IDR"),
+        "a_max_mps2": peak("a"),
+        "x_iso_max_m": peak("x_iso"),
+        "bifurcations": r["bifurcations"],
+        "wall_s": r["wall_s"],
+        "wall_below_0.1Hz_s": r["wall_below_0.1Hz_s"],
+        "wall_above_0.1Hz_s": r["wall_above_0.1Hz_s"],
+    }
+
+
+def run(args: argparse.Namespace) -> int:
+    from .periodic import fixed_base_response, log_frequencies
+    from .scene import SceneError, load_scene
+
+    overrides = {"scene": {"fidelity": args.fidelity}} if args.fidelity else None
+    try:
+        cfg = load_scene(args.scene, overrides)
+    except SceneError as e:
+        print(f"nsdyn sweep: {e}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    if cfg["scene"].get("fidelity", "cb") == "fixed":
+        print(
+            "nsdyn sweep: the fixed-base model is linear; use an isolated fidelity", file=sys.stderr
+        )
+        return EXIT_USER_ERROR
+    if cfg.get("isolation", {}).get("law", "arctan") == "switch":
+        print(
+            "nsdyn sweep: shooting needs the smooth arctan law (or none), not 'switch'",
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
+    if not args.fmax > args.fmin:
+        print(
+            f"nsdyn sweep: --fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})",
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
+    settings = SweepSettings(
+        args.fmin, args.fmax, args.points, args.continuation, not args.no_fallback
+    )
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    results = sweep_amplitudes(
+        cfg,
+        args.amplitudes,
+        settings,
+        out,
+        workers=args.workers,
+        restart=args.restart,
+        quiet=args.json,
+    )
+    csv_path = out / "sweep.csv"
+    write_csv(csv_path, results)
+    report = {
+        "model": results[0]["model"],
+        "csv": str(csv_path),
+        "settings": asdict(settings),
+        "wall_s": time.perf_counter() - t0,
+        "amplitudes": [summarise(r) for r in results],
+    }
+    if not args.no_figures:
+        freqs = log_frequencies(args.fmin, args.fmax, 300)
+        frame, fm = results[0]["frame"], results[0]["f_max"] or 5.0
+        fixed = {r["A"]: fixed_base_response(frame, r["A"], freqs, f_max=fm) for r in results}
+        fig_path = out / "sweep.png"
+        _save_figure(plot_sweep(results, fixed), fig_path)
+        report["figure"] = str(fig_path)
+    if args.json:
+        print(json.dumps(report, default=float))
+        return 0
+    print(
+        f"model {report['model']}: {settings.points} frequencies "
+        f"{settings.fmin:g}-{settings.fmax:g} Hz, {settings.continuation} continuation"
+    )
+    print(
+        "   A [m/s²]  points  fallback  uplift  unstable  stick above [Hz]  x_iso max [m]  wall [s]"
+    )
+
+    def g(v, fmt):
+        return "-" if v is None else format(v, fmt)
+
+    for s in report["amplitudes"]:
+        print(
+            f"   {s['A']:8.3g}  {s['points']:6d}  {s['fallback_points']:8d}  "
+            f"{s['uplift_points']:6d}  {s['unstable_points']:8d}  "
+            f"{g(s['stick_all_period_above_hz'], '.3g'):>16s}  {g(s['x_iso_max_m'], '.4g'):>13s}  "
+            f"{s['wall_s']:8.1f}"
+        )
+    if any(s["uplift_points"] for s in report["amplitudes"]):
+        print("   (uplift: a normal force < 0 somewhere in the period; maxima skip those points)")
+    print(f"csv:    {csv_path}")
+    if "figure" in report:
+        print(f"figure: {report['figure']}")
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Stand-alone entry (``python -m nsdyn.sweep ...``) until the CLI registers the command."""
+    p = argparse.ArgumentParser(prog="nsdyn sweep", description=HELP)
+    configure(p)
+    return run(p.parse_args(argv))
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
