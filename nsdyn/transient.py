@@ -145,7 +145,7 @@ def simulate(
             uplift=uplift,
             **solver_options,
         )
-        h0 = getattr(sol, "h_last", None)
+        # a fresh initial-step estimate per chunk (reusing the last step failed at restarts)
         modes = getattr(sol, "modes", None)
         n_steps += sol.n_steps
         wall += sol.wall_s
