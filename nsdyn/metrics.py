@@ -54,7 +54,10 @@ class Response:
 
     @property
     def floor_acc_max(self) -> float:
-        return float(np.max(self.floor_acc_by_level))
+        """Peak absolute floor acceleration over the construction levels above the base
+        (level 0, the isolation level, is kept in ``floor_acc_by_level`` only)."""
+        a = self.floor_acc_by_level
+        return float(np.max(a[1:] if a.size > 1 else a))
 
     @property
     def roof_drift_max(self) -> float:
