@@ -308,6 +308,11 @@ COMMANDS: dict[str, Command] = {
         configure=lambda p: _lazy("nsdyn.sweep").configure(p),
         run=lambda a: _lazy("nsdyn.sweep").run(a),
     ),
+    "bench": Command(
+        help="work-precision, fidelity and stability benchmarks (speed against accuracy)",
+        configure=lambda p: _lazy("nsdyn.bench").configure(p),
+        run=lambda a: _lazy("nsdyn.bench").run(a),
+    ),
     "run": Command(
         help="transient earthquake run of a scene (default: office-11 isolated, synthetic record)",
         configure=configure_run,
