@@ -42,15 +42,15 @@ def main(out: str | Path = "nsdyn-out/transient-study", quick: bool = False) -> 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     frame = load_frame("office-11")
-    motions = {
-        k: m.scaled_to_pga(PGA) for k, m in kobe_records(shared, component="000").items()
-    }
+    motions = {k: m.scaled_to_pga(PGA) for k, m in kobe_records(shared, component="000").items()}
     if quick:
         motions = {k: m.window(m.t0, m.t0 + 15.0) for k, m in motions.items()}
     iso = build_system(frame, ISO, fidelity="cb", f_max=5.0)
     fixed = build_system(frame, fidelity="fixed", f_max=5.0)
     variants = {
-        "switch": build_system(frame, Isolation(**{**ISO.__dict__, "law": "switch"}), fidelity="cb"),
+        "switch": build_system(
+            frame, Isolation(**{**ISO.__dict__, "law": "switch"}), fidelity="cb"
+        ),
         "rigid": build_system(frame, ISO, fidelity="rigid"),
         "frozen": build_system(
             frame, Isolation(**{**ISO.__dict__, "frozen_normal": True}), fidelity="cb"
