@@ -177,7 +177,11 @@ def configure_run(p: argparse.ArgumentParser) -> None:
     p.add_argument("--record", help="bundled record name or path to a ground-motion file")
     p.add_argument("--pga", type=_positive_float, metavar="MPS2", help="scale to this PGA")
     p.add_argument("--fixed-base", action="store_true", help="the fixed-base linear frame")
-    p.add_argument("--fidelity", choices=["fixed", "rigid", "cb", "full"])
+    p.add_argument(
+        "--fidelity",
+        choices=["fixed", "rigid", "cb", "full", "auto"],
+        help="model fidelity; 'auto' asks the model advisor and prints its choice and evidence",
+    )
     p.add_argument("--fmax", type=_positive_float, metavar="HZ", help="Craig–Bampton cut-off")
     p.add_argument("--friction", choices=["arctan", "switch", "none"], help="friction law")
     p.add_argument("--method", help="integrator: radau, dopri5, genalpha, hht, event")
@@ -194,7 +198,7 @@ def _scene_overrides(args: argparse.Namespace) -> dict:
     o: dict = {}
     if args.frame:
         o.setdefault("scene", {})["frame"] = args.frame
-    if args.fidelity:
+    if args.fidelity and args.fidelity != "auto":
         o.setdefault("scene", {})["fidelity"] = args.fidelity
     if args.fixed_base:
         o.setdefault("scene", {})["fidelity"] = "fixed"
@@ -219,6 +223,18 @@ def run_run(args: argparse.Namespace) -> int:
     if args.friction:
         cfg.setdefault("isolation", {})["law"] = args.friction
     system, motion = build_scene(cfg)
+    if args.fidelity == "auto":
+        from nsdyn.advisor import advise
+        from nsdyn.system import build_system
+
+        advice = advise(system.frame, motion, isolation=system.isolation)
+        print(advice.report(), file=sys.stderr)
+        system = build_system(
+            system.frame,
+            system.isolation,
+            fidelity=advice.fidelity,
+            f_max=advice.f_max or 5.0,
+        )
     sv = cfg["solver"]
     method = sv.get("method", "radau")
     if method == "event" and system.isolation is not None:

@@ -1,0 +1,55 @@
+"""`nsdyn run` end to end: JSON keys promised in the README, and the advisor's choice."""
+
+import json
+
+from nsdyn.cli import main
+
+KEYS = {
+    "x_iso_max_m",
+    "idr_max",
+    "idr_by_storey",
+    "floor_acc_max_mps2",
+    "roof_drift_max_m",
+    "min_normal_force_N",
+    "uplift",
+    "n_steps",
+    "wall_s",
+}
+
+
+def test_run_json_has_the_documented_keys(tmp_path, capsys):
+    rc = main(["run", "--t-end", "2", "--json", "--no-figures", "--out", str(tmp_path)])
+    assert rc == 0
+    s = json.loads(capsys.readouterr().out)
+    assert KEYS <= set(s)
+    # 11 storeys in office-11 (seed §2); normal forces stay compressive in 2 s at PGA 3
+    assert len(s["idr_by_storey"]) == 11
+    assert s["min_normal_force_N"] > 0 and s["uplift"] == []
+    assert not list(tmp_path.glob(".*checkpoint*"))  # the checkpoint is removed when done
+
+
+def test_run_fidelity_auto_prints_its_choice(tmp_path, capsys):
+    rc = main(
+        [
+            "run",
+            "--fidelity",
+            "auto",
+            "--t-end",
+            "2",
+            "--json",
+            "--no-figures",
+            "--out",
+            str(tmp_path),
+        ]
+    )
+    assert rc == 0
+    captured = capsys.readouterr()
+    assert "advised model:" in captured.err
+    assert json.loads(captured.out)["fidelity"] in ("fixed", "rigid", "cb", "full")
+
+
+def test_bad_scene_exits_2_with_file_and_field(tmp_path, capsys):
+    bad = tmp_path / "s.toml"
+    bad.write_text('[scene]\nfidelity = "medium"\n')
+    assert main(["run", str(bad)]) == 2
+    assert "scene.fidelity" in capsys.readouterr().err
