@@ -116,7 +116,7 @@ def next_kink(t, P):
     return tk
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def all_finite(a):
     for i in range(a.shape[0]):
         if not np.isfinite(a[i]):
@@ -135,7 +135,7 @@ def scaled_rms(e, y0, y1, atol, rtol):
     return np.sqrt(s / n)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def feval(t, x, P, out, qdd, lam, tau, modes):
     """out = [qd, qdd] at (t, x), also normal forces ``lam``, friction ``tau`` and ``modes``.
 

@@ -40,6 +40,8 @@ I_GPAR = 11  # ground params, see G_*
 I_AH = 12  # horizontal ground acceleration samples (N,)
 I_AV = 13  # vertical ground acceleration samples (N,)
 I_MODE = 14  # int64 (ni,) prescribed isolator modes for LAW_MODES (+1/-1 slip, 0 stick)
+I_WORK = 15  # float64 scratch of the kernels, length work_size(n, nc, ni)
+N_P = 16  # entries of P
 
 F_EPS, F_ETA, F_ALPHA, F_BETA, F_KAPPA, F_G = 0, 1, 2, 3, 4, 5
 N_FPAR = 6
@@ -60,7 +62,7 @@ MODE_STICK = 0
 MAX_SWITCH_PASSES = 8  # passes to settle stick/transition in the switch band
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def ground_accel(t, P):
     """Ground acceleration [u_hor, u_ver] (without g) at time ``t``."""
     gp = P[I_GPAR]
@@ -84,26 +86,24 @@ def ground_accel(t, P):
 
 
 @njit(cache=True)
-def _small_solve(G, b, m):
-    """Solve G y = b (m x m, m small) by Gaussian elimination with partial pivoting.
+def _lu_small(A, y, m):
+    """Solve A[:m, :m] y = y[:m] in place (Gaussian elimination, partial pivoting).
 
-    Returns (y, ok). ``ok`` is False when G is (numerically) singular.
+    ``A`` is overwritten by its factors. Returns False when A is (numerically) singular.
     """
-    A = G[:m, :m].copy()
-    y = b[:m].copy()
     scale = 0.0
     for i in range(m):
         for j in range(m):
             scale = max(scale, abs(A[i, j]))
     if scale == 0.0 and m > 0:
-        return y, False
+        return False
     for k in range(m):
         p = k
         for i in range(k + 1, m):
             if abs(A[i, k]) > abs(A[p, k]):
                 p = i
         if abs(A[p, k]) <= 1e-14 * scale:
-            return y, False
+            return False
         if p != k:
             for j in range(m):
                 A[k, j], A[p, j] = A[p, j], A[k, j]
@@ -118,10 +118,19 @@ def _small_solve(G, b, m):
         for j in range(k + 1, m):
             s -= A[k, j] * y[j]
         y[k] = s / A[k, k]
-    return y, True
+    return True
 
 
 @njit(cache=True)
+def _small_solve(G, b, m):
+    """Solve G y = b (m x m, m small); returns (y, ok), ok False when G is singular."""
+    A = G[:m, :m].copy()
+    y = b[:m].copy()
+    ok = _lu_small(A, y, m)
+    return y, ok
+
+
+@njit(cache=True, inline="always")
 def _direction(v, law, eps):
     """Friction direction s(v) and its slope ds/dv for the smooth laws."""
     if law == LAW_ARCTAN:
@@ -131,8 +140,55 @@ def _direction(v, law, eps):
     return 0.0, 0.0
 
 
+# ---- scratch space ------------------------------------------------------------------------
+# The kernels evaluate the right-hand side ~1e5 times per run; they allocate nothing but work
+# in P[I_WORK], a float64 buffer sized by :func:`work_size` (so one P must not be used by two
+# threads at once; processes each have their own copy).
+
+
 @njit(cache=True)
-def _assemble(t, x, P, s, ds, stuck, a0, Bt, Crow, b, want_jac):
+def work_size(n, nc, ni):
+    """Length of the scratch buffer P[I_WORK] for n dofs, nc contacts, ni isolators."""
+    mm = max(nc + ni, 1)
+    return n + 2 * mm * n + 5 * mm + 4 * ni + 2 * mm * mm
+
+
+@njit(cache=True, inline="always")
+def _views(P):
+    """(a0, B, Cr, b, y, rhs, s, ds, v, stuck, G, G2) carved out of P[I_WORK]."""
+    W = P[I_WORK]
+    n = P[I_MIK].shape[0]
+    ni = P[I_D].shape[0]
+    mm = max(P[I_R].shape[0] + ni, 1)
+    o = 0
+    a0 = W[o : o + n]
+    o += n
+    B = W[o : o + mm * n].reshape((mm, n))
+    o += mm * n
+    Cr = W[o : o + mm * n].reshape((mm, n))
+    o += mm * n
+    b = W[o : o + mm]
+    o += mm
+    y = W[o : o + mm]
+    o += mm
+    rhs_ = W[o : o + mm]
+    o += mm
+    s = W[o : o + ni]
+    o += ni
+    ds = W[o : o + ni]
+    o += ni
+    v = W[o : o + ni]
+    o += ni
+    stuck = W[o : o + ni]  # 1.0: stuck, 0.0: sliding
+    o += ni
+    G = W[o : o + mm * mm].reshape((mm, mm))
+    o += mm * mm
+    G2 = W[o : o + mm * mm].reshape((mm, mm))
+    return a0, B, Cr, b, y, rhs_, s, ds, v, stuck, G, G2
+
+
+@njit(cache=True, inline="always")
+def _assemble(t, x, P, s, stuck, a0, Bt, Crow, b):
     """Fill a0 (n,), Bt = B^T (m, n), constraint rows Crow (m, n), b (m,) for given directions.
 
     Returns m (number of unknowns). Rows/columns: contacts first, then stuck isolators in order.
@@ -143,82 +199,116 @@ def _assemble(t, x, P, s, ds, stuck, a0, Bt, Crow, b, want_jac):
     n = MiK.shape[0]
     nc = R.shape[0]
     ni = D.shape[0]
-    q = x[:n]
-    qd = x[n:]
     uh, uv = ground_accel(t, P)
     uv += fp[F_G]
     frozen = ip[K_FROZEN] == 1
     for r in range(n):
-        a0[r] = -Gam[r, 0] * uh - Gam[r, 1] * uv
-    a0 -= MiK @ q
-    a0 -= MiC @ qd
+        acc = -Gam[r, 0] * uh - Gam[r, 1] * uv
+        for c in range(n):
+            acc -= MiK[r, c] * x[c] + MiC[r, c] * x[n + c]
+        a0[r] = acc
     alpha, beta, kappa = fp[F_ALPHA], fp[F_BETA], fp[F_KAPPA]
     for k in range(nc):
-        Bt[k, :] = MiRt[:, k]
-        Crow[k, :] = R[k, :]
-        b[k] = 2.0 * alpha * beta * (R[k, :] @ qd) + alpha * alpha * (R[k, :] @ q)
+        rq = 0.0
+        rv = 0.0
+        for c in range(n):
+            Bt[k, c] = MiRt[c, k]
+            Crow[k, c] = R[k, c]
+            rq += R[k, c] * x[c]
+            rv += R[k, c] * x[n + c]
+        b[k] = 2.0 * alpha * beta * rv + alpha * alpha * rq
     m = nc
     for i in range(ni):
-        if stuck[i]:
-            Bt[m, :] = -MiDt[:, i]
-            Crow[m, :] = D[i, :]
-            b[m] = kappa * (D[i, :] @ qd)
+        if stuck[i] != 0.0:
+            dv = 0.0
+            for c in range(n):
+                Bt[m, c] = -MiDt[c, i]
+                Crow[m, c] = D[i, c]
+                dv += D[i, c] * x[n + c]
+            b[m] = kappa * dv
             m += 1
         elif s[i] != 0.0 and mu[i] != 0.0:
             if frozen:
-                a0 -= MiDt[:, i] * (mu[i] * s[i] * lam0[i])
+                f = mu[i] * s[i] * lam0[i]
+                for c in range(n):
+                    a0[c] -= MiDt[c, i] * f
             else:
-                Bt[i, :] -= MiDt[:, i] * (mu[i] * s[i])
+                f = mu[i] * s[i]
+                for c in range(n):
+                    Bt[i, c] -= MiDt[c, i] * f
     return m
 
 
-@njit(cache=True)
-def _solve(t, x, P, s, ds, stuck, qdd, y, work_B, work_C, work_b, a0):
-    """Accelerations and multipliers for fixed directions ``s`` and stuck set. Returns (m, ok)."""
-    m = _assemble(t, x, P, s, ds, stuck, a0, work_B, work_C, work_b, False)
-    if m == 0:
-        qdd[:] = a0
-        return 0, True
+@njit(cache=True, inline="always")
+def _solve(t, x, P, qdd, ws):
+    """Accelerations and multipliers y for the directions s and stuck set in ``ws``.
+
+    Returns (m, ok): the number of unknowns and False if the constraint system is singular.
+    """
+    a0, B, Cr, b, y, rhs_, s, ds, v, stuck, G, G2 = ws
+    m = _assemble(t, x, P, s, stuck, a0, B, Cr, b)
     n = a0.shape[0]
-    G = np.empty((m, m))
-    rhs_ = np.empty(m)
-    for i in range(m):
-        acc = work_b[i]
+    if m == 0:
         for r in range(n):
-            acc += work_C[i, r] * a0[r]
+            qdd[r] = a0[r]
+        return 0, True
+    for i in range(m):
+        acc = b[i]
+        for r in range(n):
+            acc += Cr[i, r] * a0[r]
         rhs_[i] = -acc
         for j in range(m):
             g = 0.0
             for r in range(n):
-                g += work_C[i, r] * work_B[j, r]
+                g += Cr[i, r] * B[j, r]
             G[i, j] = g
-    yy, ok = _small_solve(G, rhs_, m)
+            G2[i, j] = g
+        y[i] = rhs_[i]
+    ok = _lu_small(G2, y, m)
     if not ok:
         # redundant constraints (e.g. two isolators sticking on one rigid base): the split of
-        # the constraint forces is indeterminate; take the minimum-norm one
-        yy = np.linalg.pinv(G) @ rhs_
+        # the constraint forces is indeterminate; take the minimum-norm one (allocates; rare)
+        yy = np.linalg.pinv(np.ascontiguousarray(G[:m, :m])) @ rhs_[:m]
         ok = np.all(np.isfinite(yy))
-    y[:m] = yy
+        y[:m] = yy
     for r in range(n):
         acc = a0[r]
         for k in range(m):
-            acc += work_B[k, r] * yy[k]
+            acc += B[k, r] * y[k]
         qdd[r] = acc
     return m, ok
 
 
-@njit(cache=True)
-def _workspace(P):
+@njit(cache=True, inline="always")
+def _directions(x, P, ws):
+    """Set s, ds, stuck in ``ws`` from the law and the sliding velocities of state ``x``."""
+    a0, B, Cr, b, y, rhs_, s, ds, v, stuck, G, G2 = ws
+    D = P[I_D]
+    ni = D.shape[0]
     n = P[I_MIK].shape[0]
-    mmax = P[I_R].shape[0] + P[I_D].shape[0]
-    mm = max(mmax, 1)
-    return (
-        np.zeros(n),
-        np.zeros((mm, n)),
-        np.zeros((mm, n)),
-        np.zeros(mm),
-        np.zeros(mm),
-    )
+    fp = P[I_FPAR]
+    law = P[I_IPAR][K_LAW]
+    for i in range(ni):
+        vi = 0.0
+        for c in range(n):
+            vi += D[i, c] * x[n + c]
+        v[i] = vi
+        s[i] = 0.0
+        ds[i] = 0.0
+        stuck[i] = 0.0
+        if law == LAW_ARCTAN:
+            s[i], ds[i] = _direction(vi, law, fp[F_EPS])
+        elif law == LAW_MODES:
+            pm = P[I_MODE][i]
+            if pm == MODE_STICK:
+                stuck[i] = 1.0
+            else:
+                s[i] = float(pm)
+        elif law == LAW_SWITCH:
+            if abs(vi) > fp[F_ETA]:
+                s[i] = 1.0 if vi > 0 else -1.0
+            else:
+                stuck[i] = 1.0
 
 
 @njit(cache=True)
@@ -232,41 +322,18 @@ def evaluate(t, x, P, qdd, lam, tau, modes):
     tau : ndarray, shape (ni,)       -- out: friction force of each isolator (acting on the
                                         structure as -D_i^T tau_i), stick or slip
     modes : int64 ndarray, (ni,)     -- out: +1/-1 slip direction, 0 stick
-    Returns ok (False if the constraint system is singular).
+    Returns ok (False if the constraint system is singular). Allocation-free (uses P[I_WORK]).
     """
-    D = P[I_D]
-    ni = D.shape[0]
+    ni = P[I_D].shape[0]
     nc = P[I_R].shape[0]
-    n = P[I_MIK].shape[0]
-    fp = P[I_FPAR]
     law = P[I_IPAR][K_LAW]
     frozen = P[I_IPAR][K_FROZEN] == 1
     mu = P[I_MU]
     lam0 = P[I_LAM0]
-    a0, B, Cr, b, y = _workspace(P)
-    s = np.zeros(ni)
-    ds = np.zeros(ni)
-    stuck = np.zeros(ni, dtype=np.bool_)
-    qd = x[n:]
-    v = D @ qd
-    if law == LAW_ARCTAN:
-        for i in range(ni):
-            s[i], ds[i] = _direction(v[i], law, fp[F_EPS])
-    elif law == LAW_MODES:
-        pm = P[I_MODE]
-        for i in range(ni):
-            if pm[i] == MODE_STICK:
-                stuck[i] = True
-            else:
-                s[i] = float(pm[i])
-    elif law == LAW_SWITCH:
-        eta = fp[F_ETA]
-        for i in range(ni):
-            if abs(v[i]) > eta:
-                s[i] = 1.0 if v[i] > 0 else -1.0
-            else:
-                stuck[i] = True
-    m, ok = _solve(t, x, P, s, ds, stuck, qdd, y, B, Cr, b, a0)
+    ws = _views(P)
+    y, s, stuck = ws[4], ws[6], ws[9]
+    _directions(x, P, ws)
+    m, ok = _solve(t, x, P, qdd, ws)
     if law == LAW_SWITCH:
         # Leine's switch model: inside the band, stick while |tau| <= mu lamf, else transition
         # with the friction saturated in the direction of the would-be stick force.
@@ -274,21 +341,21 @@ def evaluate(t, x, P, qdd, lam, tau, modes):
             changed = False
             kk = nc
             for i in range(ni):
-                if stuck[i]:
+                if stuck[i] != 0.0:
                     lf = lam0[i] if frozen else y[i] if i < nc else 0.0
                     if abs(y[kk]) > mu[i] * lf:
-                        stuck[i] = False
+                        stuck[i] = 0.0
                         s[i] = 1.0 if y[kk] > 0 else -1.0
                         changed = True
                     kk += 1
             if not changed:
                 break
-            m, ok = _solve(t, x, P, s, ds, stuck, qdd, y, B, Cr, b, a0)
+            m, ok = _solve(t, x, P, qdd, ws)
     for k in range(nc):
         lam[k] = y[k]
     kk = nc
     for i in range(ni):
-        if stuck[i]:
+        if stuck[i] != 0.0:
             tau[i] = y[kk]
             modes[i] = MODE_STICK
             kk += 1
@@ -321,6 +388,8 @@ def jac(t, x, P, J):
 
     For the arctan law it is exact; for the switch laws it is the Jacobian of the vector
     field with the present stick/slip modes frozen (piecewise linear there).
+    With ``Jx = [Jq Jv]`` the unconstrained part (``-MiK``, ``-MiC`` and the arctan slope),
+    ``qdd_x = (I - B G^-1 C) Jx - B G^-1 b_x``.
     """
     MiK, MiC = P[I_MIK], P[I_MIC]
     R, D, MiDt = P[I_R], P[I_D], P[I_MIDT]
@@ -335,58 +404,89 @@ def jac(t, x, P, J):
     tau = np.empty(ni)
     modes = np.empty(ni, dtype=np.int64)
     evaluate(t, x, P, qdd, lam, tau, modes)
-    s = np.zeros(ni)
-    ds = np.zeros(ni)
-    stuck = np.zeros(ni, dtype=np.bool_)
-    v = D @ x[n:]
-    for i in range(ni):
-        if law == LAW_ARCTAN:
-            s[i], ds[i] = _direction(v[i], law, fp[F_EPS])
-        elif law != LAW_NONE:
+    ws = _views(P)
+    a0, B, Cr, b, y, rhs_, s, ds, v, stuck, G, G2 = ws
+    # directions with the modes evaluate() settled on (switch law: after its passes)
+    _directions(x, P, ws)
+    if law != LAW_ARCTAN and law != LAW_NONE:
+        for i in range(ni):
+            s[i] = 0.0
+            stuck[i] = 0.0
             if modes[i] == MODE_STICK:
-                stuck[i] = True
+                stuck[i] = 1.0
             else:
                 s[i] = float(modes[i])
-    a0, B, Cr, b, y = _workspace(P)
-    m = _assemble(t, x, P, s, ds, stuck, a0, B, Cr, b, True)
-    # d a0 + dB y: position part -MiK, velocity part -MiC + E
-    Jq = -MiK.copy()
-    Jv = -MiC.copy()
-    for i in range(ni):
-        if stuck[i] or ds[i] == 0.0 or mu[i] == 0.0:
-            continue
-        lf = lam0[i] if frozen else (lam[i] if i < nc else 0.0)
-        c = mu[i] * ds[i] * lf
-        for r in range(n):
-            for cidx in range(n):
-                Jv[r, cidx] -= MiDt[r, i] * c * D[i, cidx]
-    if m > 0:
-        Cm = np.ascontiguousarray(Cr[:m, :])
-        G = Cm @ np.ascontiguousarray(B[:m, :].T)
-        Ginv = np.linalg.pinv(G)
-        BG = np.ascontiguousarray(np.ascontiguousarray(B[:m, :].T) @ Ginv)  # (n, m)
-        # projector (I - B G^-1 C) applied to Jq and Jv
-        Jq = Jq - BG @ (Cm @ Jq)
-        Jv = Jv - BG @ (Cm @ Jv)
-        alpha, beta, kappa = fp[F_ALPHA], fp[F_BETA], fp[F_KAPPA]
-        # - B G^-1 d b
-        for k in range(nc):
-            for cidx in range(n):
-                for r in range(n):
-                    Jq[r, cidx] -= BG[r, k] * alpha * alpha * R[k, cidx]
-                    Jv[r, cidx] -= BG[r, k] * 2.0 * alpha * beta * R[k, cidx]
-        kk = nc
-        for i in range(ni):
-            if stuck[i]:
-                for cidx in range(n):
-                    for r in range(n):
-                        Jv[r, cidx] -= BG[r, kk] * kappa * D[i, cidx]
-                kk += 1
-    J[:, :] = 0.0
+    m = _assemble(t, x, P, s, stuck, a0, B, Cr, b)
+    for i in range(2 * n):
+        for j in range(2 * n):
+            J[i, j] = 0.0
     for r in range(n):
         J[r, n + r] = 1.0
-    J[n:, :n] = Jq
-    J[n:, n:] = Jv
+        for c in range(n):
+            J[n + r, c] = -MiK[r, c]
+            J[n + r, n + c] = -MiC[r, c]
+    for i in range(ni):
+        if stuck[i] != 0.0 or ds[i] == 0.0 or mu[i] == 0.0:
+            continue
+        lf = lam0[i] if frozen else (lam[i] if i < nc else 0.0)
+        cf = mu[i] * ds[i] * lf
+        for r in range(n):
+            for c in range(n):
+                J[n + r, n + c] -= MiDt[r, i] * cf * D[i, c]
+    if m == 0:
+        return
+    for i in range(m):
+        for j in range(m):
+            g = 0.0
+            for r in range(n):
+                g += Cr[i, r] * B[j, r]
+            G[i, j] = g
+    # BG = B^T G^-1 (n, m): solve G^T BG^T = B row by row of B^T
+    BG = np.empty((n, m))
+    Gt = np.empty((m, m))
+    col = np.empty(m)
+    for r in range(n):
+        for i in range(m):
+            col[i] = B[i, r]
+            for j in range(m):
+                Gt[i, j] = G[j, i]
+        if not _lu_small(Gt, col, m):
+            Gp = np.linalg.pinv(np.ascontiguousarray(G[:m, :m]))
+            for rr in range(n):
+                for k in range(m):
+                    acc = 0.0
+                    for j in range(m):
+                        acc += B[j, rr] * Gp[j, k]
+                    BG[rr, k] = acc
+            break
+        for k in range(m):
+            BG[r, k] = col[k]
+    # projector (I - B G^-1 C) on the unconstrained rows: J[n:, :] -= BG (C J[n:, :])
+    CJ = np.empty((m, 2 * n))
+    for k in range(m):
+        for c in range(2 * n):
+            acc = 0.0
+            for r in range(n):
+                acc += Cr[k, r] * J[n + r, c]
+            CJ[k, c] = acc
+    alpha, beta, kappa = fp[F_ALPHA], fp[F_BETA], fp[F_KAPPA]
+    # b_x: contacts alpha^2 R (q) and 2 alpha beta R (qd); stuck isolators kappa D (qd)
+    for k in range(nc):
+        for c in range(n):
+            CJ[k, c] += alpha * alpha * R[k, c]
+            CJ[k, n + c] += 2.0 * alpha * beta * R[k, c]
+    kk = nc
+    for i in range(ni):
+        if stuck[i] != 0.0:
+            for c in range(n):
+                CJ[kk, n + c] += kappa * D[i, c]
+            kk += 1
+    for r in range(n):
+        for c in range(2 * n):
+            acc = 0.0
+            for k in range(m):
+                acc += BG[r, k] * CJ[k, c]
+            J[n + r, c] -= acc
 
 
 @njit(cache=True)

@@ -1,6 +1,8 @@
 """Packing of system matrices and excitation into the kernel parameter tuple ``P``.
 
 The layout is defined in :mod:`nsdyn._ksystem`. This module is the only place that builds it.
+The last entry is the kernels' scratch buffer: tuples derived with :func:`with_ground` or
+:func:`with_law` share it with their parent (fine for sequential use; not across threads).
 """
 
 from __future__ import annotations
@@ -157,6 +159,7 @@ def pack(
         ah,
         av,
         md,
+        np.zeros(ks.work_size(n, nc, ni)),
     )
 
 
@@ -173,4 +176,4 @@ def with_law(P: tuple, law: str, modes=None) -> tuple:
     ipar = P[ks.I_IPAR].copy()
     ipar[ks.K_LAW] = LAWS[law]
     md = P[ks.I_MODE].copy() if modes is None else np.asarray(modes, np.int64).copy()
-    return P[: ks.I_IPAR] + (ipar,) + P[ks.I_IPAR + 1 : ks.I_MODE] + (md,)
+    return P[: ks.I_IPAR] + (ipar,) + P[ks.I_IPAR + 1 : ks.I_MODE] + (md,) + P[ks.I_MODE + 1 :]

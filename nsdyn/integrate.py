@@ -473,10 +473,10 @@ def _make_options(
 
 
 def _normalise_params(P) -> tuple:
-    if not isinstance(P, tuple) or len(P) != ks.I_MODE + 1:
+    if not isinstance(P, tuple) or len(P) != ks.N_P:
         raise TypeError(
             f"P: expected the kernel parameter tuple of nsdyn._params.pack (length "
-            f"{ks.I_MODE + 1}), got {type(P).__name__}"
+            f"{ks.N_P}), got {type(P).__name__}"
         )
     out = []
     for k, a in enumerate(P):

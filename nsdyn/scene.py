@@ -23,8 +23,8 @@ Example (every table and field is optional; missing ones take the defaults below
 
     [solver]
     method = "radau"
-    rtol = 1e-6
-    atol = 1e-8
+    rtol = 1e-4
+    atol = [1e-8, 1e-4]        # one number, or [displacements m, velocities m/s]
     dt_out = 0.02              # output step [s] (default: the record's dt)
     uplift = "raise"           # raise | warn
 """
@@ -41,7 +41,13 @@ DEFAULT_SCENE = {
     "scene": {"name": "office-11 isolated", "frame": "office-11", "fidelity": "cb", "f_max": 5.0},
     "isolation": {"k_lam": 5.0e4, "c": 1.0e4, "mu": 0.03, "law": "arctan", "eps": 7500.0},
     "motion": {"record": "synthetic-wn-40s", "pga": 3.0, "vertical": True},
-    "solver": {"method": "radau", "rtol": 1e-6, "atol": 1e-8, "dt_out": 0.02, "uplift": "raise"},
+    "solver": {
+        "method": "radau",
+        "rtol": 1e-4,
+        "atol": [1e-8, 1e-4],
+        "dt_out": 0.02,
+        "uplift": "raise",
+    },
 }
 
 _FIELDS = {
@@ -57,7 +63,7 @@ _FIELDS = {
     "solver": {
         "method": str,
         "rtol": float,
-        "atol": float,
+        "atol": "tolerance",
         "dt": float,
         "dt_out": float,
         "uplift": str,
@@ -82,6 +88,17 @@ def _check(cfg: dict, source: str) -> dict:
                     f"{source}: {table}.{key}: unknown field; expected some of {sorted(fields)}"
                 )
             typ = fields[key]
+            if typ == "tolerance":
+                pair = isinstance(val, list) and len(val) == 2
+                vals = val if pair else [val]
+                if not (pair or not isinstance(val, list)) or not all(
+                    isinstance(v, int | float) and not isinstance(v, bool) and v > 0 for v in vals
+                ):
+                    raise SceneError(
+                        f"{source}: {table}.{key}: expected a positive number or a pair "
+                        f"[displacements, velocities] of positive numbers, got {val!r}"
+                    )
+                continue
             ok = (
                 isinstance(val, bool)
                 if typ is bool
