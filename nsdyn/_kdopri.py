@@ -99,21 +99,10 @@ def dopri5(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mod
     t_end = t_eval[-1]
     rinfo[ki.R_T] = t
 
-    ok = ki.feval(t, y, P, K[0], qdd, lam, tau, modes)
-    stats[ki.S_NFEV] += 1
-    if not (ki.all_finite(y) and ki.all_finite(K[0])):
-        stats[ki.S_STATUS] = ki.ST_NONFINITE
-        return stats, rinfo
-    if not ok:
-        stats[ki.S_STATUS] = ki.ST_SINGULAR
-        return stats, rinfo
-    lam_old[:] = lam
-    iout = 0
-    while iout < nt and t_eval[iout] <= t:
-        X[iout] = y
-        iout += 1
-    stats[ki.S_NOUT] = iout
-    if ki.check_contacts(t, t, lam, lam, upl_t, uplift_mode, stats, rinfo):
+    iout = ki.start(
+        t, y, P, K[0], qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo
+    )
+    if iout < 0:
         return stats, rinfo
 
     if h0 > 0.0:

@@ -369,21 +369,10 @@ def event_switch(
         stats[ki.S_STATUS] = ki.ST_EVENTS
         return stats, rinfo
     stats[ki.S_NEVENT] = 0  # the initial mode choice is not an event
-    ok = ki.feval(t, y, P, f, qdd, lam, tau, modes)
-    stats[ki.S_NFEV] += 1
-    if not ki.all_finite(f):
-        stats[ki.S_STATUS] = ki.ST_NONFINITE
-        return stats, rinfo
-    if not ok:
-        stats[ki.S_STATUS] = ki.ST_SINGULAR
-        return stats, rinfo
-    lam_old[:] = lam
-    iout = 0
-    while iout < nt and t_eval[iout] <= t:
-        X[iout] = y
-        iout += 1
-    stats[ki.S_NOUT] = iout
-    if ki.check_contacts(t, t, lam, lam, upl_t, uplift_mode, stats, rinfo):
+    iout = ki.start(
+        t, y, P, f, qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo
+    )
+    if iout < 0:
         return stats, rinfo
     if iout >= nt:
         return stats, rinfo

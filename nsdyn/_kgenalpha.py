@@ -182,23 +182,12 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, am, af, beta, gamma, max_steps, upli
     rinfo[ki.R_T] = t
     rinfo[ki.R_H] = dt
     rinfo[ki.R_HNEXT] = dt
-    ok = ki.feval(t, x0, P, fe, qdd, lam, tau, modes)
-    stats[ki.S_NFEV] += 1
-    if not (ki.all_finite(x0) and ki.all_finite(fe)):
-        stats[ki.S_STATUS] = ki.ST_NONFINITE
-        return stats, rinfo
-    if not ok:
-        stats[ki.S_STATUS] = ki.ST_SINGULAR
+    iout = ki.start(
+        t, x0, P, fe, qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo
+    )
+    if iout < 0:
         return stats, rinfo
     a[:] = qdd
-    lam_old[:] = lam
-    iout = 0
-    while iout < nt and t_eval[iout] <= t:
-        X[iout] = x0
-        iout += 1
-    stats[ki.S_NOUT] = iout
-    if ki.check_contacts(t, t, lam, lam, upl_t, uplift_mode, stats, rinfo):
-        return stats, rinfo
     have_lu = False
     h_lu = 0.0
     k = 0

@@ -243,6 +243,33 @@ def check_contacts(t_old, t_new, lam_old, lam_new, upl_t, uplift_mode, stats, ri
 
 
 @njit(cache=True)
+def start(t, y, P, f, qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo):
+    """The common start of every integrator at (t, y): f = f(t, y) (with lam, tau, modes),
+    the outputs at t_eval <= t written to X, lam_old = lam, and the contact check.
+
+    Returns the index of the first output still to write, or -1 when the run stops here
+    (status set in ``stats``: non-finite start, singular constraints, or uplift).
+    """
+    ok = feval(t, y, P, f, qdd, lam, tau, modes)
+    stats[S_NFEV] += 1
+    if not (all_finite(y) and all_finite(f)):
+        stats[S_STATUS] = ST_NONFINITE
+        return -1
+    if not ok:
+        stats[S_STATUS] = ST_SINGULAR
+        return -1
+    lam_old[:] = lam
+    iout = 0
+    while iout < t_eval.shape[0] and t_eval[iout] <= t:
+        X[iout] = y
+        iout += 1
+    stats[S_NOUT] = iout
+    if check_contacts(t, t, lam, lam, upl_t, uplift_mode, stats, rinfo):
+        return -1
+    return iout
+
+
+@njit(cache=True)
 def initial_step(t0, y0, f0, t_end, max_step, order, rtol, atol, P, y1, f1, qdd, lam, tau, modes):
     """Starting step size (Hairer, Norsett & Wanner I, sec. II.4; as scipy's
     ``select_initial_step``). Costs one right-hand side evaluation."""

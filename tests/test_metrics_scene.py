@@ -68,3 +68,15 @@ def test_scene_errors_name_file_and_field(tmp_path):
         load_scene(bad)
     with pytest.raises(SceneError, match="no such scene file"):
         load_scene(tmp_path / "missing.toml")
+
+
+def test_scene_atol_is_a_number_or_a_pair(tmp_path):
+    ok = tmp_path / "ok.toml"
+    ok.write_text("[solver]\natol = [1e-9, 1e-5]\n")
+    assert load_scene(ok)["solver"]["atol"] == [1e-9, 1e-5]
+    ok.write_text("[solver]\natol = 1e-7\n")
+    assert load_scene(ok)["solver"]["atol"] == 1e-7
+    for bad in ("[1e-8, 1e-4, 1e-3]", "[1e-8, -1.0]", "'tight'", "[]"):
+        ok.write_text(f"[solver]\natol = {bad}\n")
+        with pytest.raises(SceneError, match=r"ok.toml: solver.atol: expected a positive number"):
+            load_scene(ok)
