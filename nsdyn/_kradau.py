@@ -405,12 +405,13 @@ def radau_step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ct
         factor = min(MAX_FACTOR, safety * _predict_factor(h, h_abs_old, en, en_old))
         if not recompute_jac and factor < KEEP_STEP:
             factor = 1.0
-        else:
-            ctl[C_LUH] = 0.0
+        # the LU factors stay valid while J does and the step size is unchanged (a step cut
+        # to the next kink may well be the same as the last one)
         if recompute_jac:
             ki.jeval(t_new, ynew, P, J)
             stats[ki.S_NJEV] += 1
             ctl[C_CURJ] = 1.0
+            ctl[C_LUH] = 0.0
         else:
             ctl[C_CURJ] = 0.0
         ctl[C_HOLD] = h
