@@ -256,7 +256,7 @@ def run_run(args: argparse.Namespace) -> int:
         motion,
         method=method,
         rtol=sv["rtol"],
-        atol=tuple(sv["atol"]) if isinstance(sv["atol"], list) else sv["atol"],
+        atol=tuple(sv["atol"]) if isinstance(sv.get("atol"), list) else sv.get("atol"),
         dt=sv.get("dt"),
         t_eval=output_grid(motion, sv.get("dt_out")),
         uplift=sv.get("uplift", "raise"),
