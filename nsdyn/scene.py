@@ -24,8 +24,8 @@ Example (every table and field is optional; missing ones take the defaults below
     [solver]
     method = "radau"
     rtol = 1e-4
-    atol = [1e-8, 1e-4]        # one number, or [displacements m, velocities m/s]; default
-                               # [1e-8, 1e-4], [1e-8, 1e-6] for method "event"
+    atol = [1e-8, 1e-6]        # one number, or [displacements m, velocities m/s];
+                               # default [1e-8, 1e-6], [1e-8, 1e-7] for method "event"
     dt_out = 0.02              # output step [s] (default: the record's dt)
     uplift = "raise"           # raise | warn
 """
