@@ -28,7 +28,7 @@ CHUNK_S = 5.0  # seconds of simulated time per chunk (progress / checkpoint gran
 # The base level is the sensitive output: it carries the undamped kHz modes of the stiff base
 # diaphragm, rung by every kink of a sampled record. A velocity atol of 1e-4 leaves them to
 # Radau's damping (x_iso, IDR and the accelerations of the storeys above still within 1e-4,
-# ~1.8x fewer steps) but the base-level peak acceleration is then wrong by a factor of up to 6.
+# ~1.8x fewer steps) but the base-level peak acceleration is then wrong by a factor of up to 4.
 # The event-driven switch model locates stick at v = 0 and its base-level jolts need 1e-7 (at
 # 1e-4 it missed half of the stick phases on KJMA and doubled the peak floor acceleration; at
 # 1e-6 the base-level peak was 3.5 % off on the bundled record).
