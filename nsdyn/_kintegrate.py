@@ -153,6 +153,20 @@ def feval(t, x, P, out, qdd, lam, tau, modes):
     return ok
 
 
+@njit(cache=True, inline="always")
+def feval_inline(t, x, P, out, qdd, lam, tau, modes):
+    """:func:`feval` with the system kernel inlined (for the hottest call site only)."""
+    n = qdd.shape[0]
+    if not (all_finite(x) and np.isfinite(t)):
+        out[:] = np.nan
+        return False
+    ok = ks.evaluate_inline(t, x, P, qdd, lam, tau, modes)
+    for i in range(n):
+        out[i] = x[n + i]
+        out[n + i] = qdd[i]
+    return ok
+
+
 @njit(cache=True)
 def jeval(t, x, P, J):
     """Analytic Jacobian at (t, x) into J; NaN-filled (False) for a non-finite state."""

@@ -214,7 +214,7 @@ def _newton(P, t, y, h, ws, ctl, stats):
         for i in range(3):
             for j in range(n2):
                 ys[j] = y[j] + Z[i, j]
-            ok = ki.feval(t + C[i] * h, ys, P, F[i], qdd, lam, tau, modes)
+            ok = ki.feval_inline(t + C[i] * h, ys, P, F[i], qdd, lam, tau, modes)
             if not ok:
                 singular = True
         stats[ki.S_NFEV] += 3
