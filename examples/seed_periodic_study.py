@@ -12,11 +12,23 @@ with shooting and the stepped-sweep fallback (:mod:`nsdyn.periodic`), amplitudes
 
 Run ``python examples/seed_periodic_study.py [OUT_DIR]``; ``main()`` returns the numbers
 reported in the README (curves, findings, timings) without plotting.
+
+``python examples/seed_periodic_study.py --timing [--amplitude 0.5 --repeats 3]`` measures the
+speed of one amplitude's curve instead (:func:`timing`): the sweep's worker
+(:func:`nsdyn.sweep.amplitude_job`, 150 points 0.01-10 Hz, sequential, one process) repeated
+after compilation, wall time per point below and above 0.1 Hz, the share of points made by
+the stepped-sweep fallback, and the kernels' compile and cache-load times measured apart in
+fresh processes.
 """
 
 from __future__ import annotations
 
+import argparse
+import json
+import os
+import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -25,11 +37,18 @@ import numpy as np
 from nsdyn.frame import base_isolation_frequency
 from nsdyn.periodic import fixed_base_response
 from nsdyn.scene import load_scene
-from nsdyn.sweep import SweepSettings, summarise, sweep_amplitudes
+from nsdyn.sweep import (
+    SweepSettings,
+    _atomic_write_text,
+    amplitude_job,
+    summarise,
+    sweep_amplitudes,
+)
 
 AMPLITUDES = (0.1, 0.5, 1.0, 2.0)  # m/s^2, seed Fig. 9
 POINTS = 150
 FMIN, FMAX = 0.01, 10.0
+F_LOW = 0.1  # Hz: below, periods of 10-100 s (up to 5000 steps each)
 
 
 def _arrays(result: dict) -> dict:
@@ -146,6 +165,115 @@ def main(out_dir: str = "nsdyn-out/seed-periodic", workers: int | None = None) -
     }
 
 
+# ---- speed of one curve ---------------------------------------------------------------------
+_FIRST_POINT = """
+import json, time
+t0 = time.perf_counter()
+from nsdyn import periodic as pr
+from nsdyn.scene import build_scene, load_scene
+system, _ = build_scene(load_scene(None))
+problem = pr.frame_problem(system, {A})
+t1 = time.perf_counter()
+pr.continue_sequential(problem, [1.0])  # first point: compiles or loads the kernels
+t2 = time.perf_counter()
+pr.continue_sequential(problem, [1.0])
+t3 = time.perf_counter()
+print(json.dumps({{"setup_s": t1 - t0, "first_s": t2 - t1, "again_s": t3 - t2}}))
+"""
+
+
+def _first_point(amplitude: float, cache_dir: str | None) -> dict:
+    """Times of a fresh process's first and second curve point (``cache_dir``: an empty numba
+    cache, so the kernels compile; None: numba's own cache, so they load)."""
+    env = dict(os.environ)
+    if cache_dir is not None:
+        env["NUMBA_CACHE_DIR"] = cache_dir
+    env["PYTHONPATH"] = os.pathsep.join(
+        p for p in (str(Path(__file__).resolve().parents[1]), env.get("PYTHONPATH")) if p
+    )
+    code = _FIRST_POINT.format(A=float(amplitude))
+    out = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    )
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def timing(amplitude: float = 0.5, repeats: int = 3, points: int = POINTS) -> dict:
+    """Wall time of one amplitude's curve after compilation (median of ``repeats``).
+
+    Each repeat is the sweep's worker (:func:`nsdyn.sweep.amplitude_job`: scene build,
+    sequential continuation with the fallback, checkpoints) from scratch in this process.
+    Compilation is measured apart, in fresh processes: the first point's time minus a second
+    point's, with an empty numba cache (compile) and with numba's cache (load).
+    """
+    cfg = load_scene(None)
+    settings = SweepSettings(FMIN, FMAX, points, "sequential", True)
+    with tempfile.TemporaryDirectory() as cache:
+        cold = _first_point(amplitude, cache)
+    _first_point(amplitude, None)  # fills numba's cache if it is empty
+    warm = _first_point(amplitude, None)
+    runs = []
+    with tempfile.TemporaryDirectory() as tmp:
+        amplitude_job(cfg, amplitude, SweepSettings(1.0, 2.0, 2), tmp, True, True)  # warm-up
+        for _ in range(repeats):
+            c0 = time.process_time()
+            r = amplitude_job(cfg, amplitude, settings, tmp, restart=True, quiet=True)
+            cpu = time.process_time() - c0
+            rows = r["rows"]
+            f = np.array([x["f"] for x in rows])
+            runs.append(
+                {
+                    "wall_s": r["wall_s"],
+                    "cpu_s": cpu,
+                    "below_s": r["wall_below_0.1Hz_s"],
+                    "above_s": r["wall_above_0.1Hz_s"],
+                    "n_below": int(np.sum(f < F_LOW)),
+                    "n_above": int(np.sum(f >= F_LOW)),
+                    "fallback": int(sum(x["method"] == "sweep" for x in rows)),
+                    "points": len(rows),
+                }
+            )
+    med = {k: float(np.median([r[k] for r in runs])) for k in runs[0]}
+    return {
+        "amplitude": amplitude,
+        "points": points,
+        "repeats": repeats,
+        "runs": runs,
+        "wall_s_median": med["wall_s"],
+        "wall_s_range": [min(r["wall_s"] for r in runs), max(r["wall_s"] for r in runs)],
+        "cpu_s_median": med["cpu_s"],
+        "per_point_below_0.1Hz_s": med["below_s"] / max(med["n_below"], 1),
+        "per_point_above_0.1Hz_s": med["above_s"] / max(med["n_above"], 1),
+        "points_below_0.1Hz": int(med["n_below"]),
+        "fallback_share": med["fallback"] / med["points"],
+        "compile_s": cold["first_s"] - cold["again_s"],
+        "cache_load_s": warm["first_s"] - warm["again_s"],
+        "process_setup_s": warm["setup_s"],
+    }
+
+
+def print_timing(t: dict) -> None:
+    lo, hi = t["wall_s_range"]
+    print(
+        f"one curve: A = {t['amplitude']:g} m/s^2, {t['points']} points {FMIN:g}-{FMAX:g} Hz, "
+        f"sequential, one process; median of {t['repeats']} after compilation"
+    )
+    print(f"  wall per curve            {t['wall_s_median']:8.1f} s   (range {lo:.1f}-{hi:.1f})")
+    print(f"  CPU time per curve        {t['cpu_s_median']:8.1f} s   (this process)")
+    print(
+        f"  per point below {F_LOW:g} Hz     {t['per_point_below_0.1Hz_s']:8.3f} s   "
+        f"({t['points_below_0.1Hz']} points)"
+    )
+    print(
+        f"  per point above {F_LOW:g} Hz     {t['per_point_above_0.1Hz_s']:8.3f} s   "
+        f"({t['points'] - t['points_below_0.1Hz']} points)"
+    )
+    print(f"  fallback (stepped sweep)  {100 * t['fallback_share']:8.1f} %")
+    print(f"  kernel compilation        {t['compile_s']:8.1f} s   (empty numba cache)")
+    print(f"  kernel cache load         {t['cache_load_s']:8.1f} s   (per process)")
+    print(f"  scene build + imports     {t['process_setup_s']:8.1f} s   (per process)")
+
+
 def _plot(out: dict, path: Path) -> None:
     import matplotlib
 
@@ -197,11 +325,19 @@ def _plot(out: dict, path: Path) -> None:
 
 
 if __name__ == "__main__":
-    import json
-
-    out_dir = sys.argv[1] if len(sys.argv) > 1 else "nsdyn-out/seed-periodic"
-    out = main(out_dir)
-    _plot(out, Path(out_dir) / "seed-periodic-figs9-11.png")
+    ap = argparse.ArgumentParser(description="seed 004 §6: periodic study (Figs 9-11)")
+    ap.add_argument("out_dir", nargs="?", default="nsdyn-out/seed-periodic")
+    ap.add_argument("--timing", action="store_true", help="time one amplitude's curve only")
+    ap.add_argument("--amplitude", type=float, default=0.5, help="--timing: A [m/s^2]")
+    ap.add_argument("--repeats", type=int, default=3, help="--timing: repeats (median)")
+    args = ap.parse_args()
+    if args.timing:
+        t = timing(args.amplitude, args.repeats)
+        print_timing(t)
+        _atomic_write_text(Path(args.out_dir) / "timing.json", json.dumps(t, indent=1))
+        raise SystemExit(0)
+    out = main(args.out_dir)
+    _plot(out, Path(args.out_dir) / "seed-periodic-figs9-11.png")
     print(
         json.dumps(
             {"findings": out["findings"], "timing": out["timing"], "summaries": out["summaries"]},

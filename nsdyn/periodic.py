@@ -453,6 +453,7 @@ def steady_state_sweep(
     est = math.inf
     status = STATUS_NOT_STEADY
     X = None
+    x_start = x  # start of the period held in X
     k = 0
     done = 0
     for k in range(1, kmax + 1):
@@ -461,6 +462,7 @@ def steady_state_sweep(
             status = pm.status
             break
         X = pm.X
+        x_start = x
         done += 1
         amp_z, amp_v = _amplitudes(problem, X)
         dx = np.abs(pm.xT - x)
@@ -479,6 +481,7 @@ def steady_state_sweep(
         if steady
         else f"{STATUS_MESSAGES[int(status)]} ({k} periods, estimate {est:.1e})"
     )
+    x = x_start  # x0 and the monodromy belong to the period returned in X
     M = None
     if monodromy and status in (kp.STATUS_OK, STATUS_NOT_STEADY) and X is not None:
         pm = period_map(problem, x, f, n_steps=N, disc=disc, sens=True)
@@ -757,6 +760,7 @@ def _point_from_sweep(problem, sw: SweepResult, why: str) -> OrbitPoint:
     else:
         q = dict.fromkeys(("idr", "acc", "x_iso", "v_slip_max", "min_normal_force"), math.nan)
         q["stick_all_period"] = None
+        q["uplift"] = None  # unknown: no period was integrated
     note = "; ".join(
         n for n in (f"shooting failed: {why}", f"sweep: {sw.message}", _uplift_note(q)) if n
     )
