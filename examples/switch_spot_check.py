@@ -56,7 +56,7 @@ from nsdyn._params import Harmonic
 from nsdyn.integrate import solve, warmup
 from nsdyn.metrics import output_dofs, response
 from nsdyn.scene import build_scene, load_scene
-from nsdyn.sweep import _atomic_write_text
+from nsdyn.sweep import _atomic_write_text, _fmt
 
 AMPLITUDES = (0.1, 0.5, 1.0, 2.0)  # m/s^2, seed Fig. 9
 # near f_bis (0.060 Hz), between f_bis and f1, at f1 = 0.463 Hz, 1 Hz, at f2 and f3 (1.26,
@@ -332,16 +332,6 @@ COLUMNS = (
     "events_per_period",
     "switch_wall_s",
 )
-
-
-def _fmt(v) -> str:
-    if v is None:
-        return ""
-    if isinstance(v, bool | np.bool_):
-        return "true" if v else "false"
-    if isinstance(v, float | np.floating):
-        return "" if not math.isfinite(v) else f"{v:.9g}"
-    return str(v)
 
 
 def write_csv(path: Path, rows: list[dict]) -> None:
