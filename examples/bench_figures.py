@@ -1,58 +1,103 @@
-"""Redraw the work-precision and fidelity charts from the CSV tables of ``nsdyn bench``.
+"""Redraw the benchmark charts from the CSV tables of ``nsdyn bench``; collect the README's.
 
-    python examples/bench_figures.py [DIR]     # DIR: where `nsdyn bench` wrote (nsdyn-out/bench)
+    python examples/bench_figures.py [DIR] [--figures FIG_DIR]
 
-No integration is rerun: the figures and the speed ratios at matched accuracy come from
-``accuracy.csv``, ``accuracy-reference.csv`` and ``fidelity.csv``. ``main`` returns the ratios
-(the numbers quoted in the README) so they can be checked or reused.
+``DIR`` is where ``nsdyn bench`` wrote (default ``nsdyn-out/bench``); the README's PNGs go to
+``FIG_DIR`` (default ``examples/figures``). No integration is rerun: the accuracy, fidelity,
+speed and periodic charts are redrawn from their CSVs, the stability chart (its drift
+histories are not in a CSV) is copied. Prints the tables the README quotes (speed, periodic,
+fidelity) and the speed ratios at matched accuracy; ``main`` returns them.
 """
 
 from __future__ import annotations
 
+import argparse
 import csv
-import sys
+import math
+import shutil
 from pathlib import Path
 
 from nsdyn import bench
 
-NUMERIC = {
-    "value",
-    "err_x",
-    "err_idr",
-    "err_xpeak",
-    "err_acc",
-    "wall_s",
-    "n_timed",
+FIGURES = Path(__file__).resolve().parent / "figures"
+INTEGER = {
     "n_steps",
-    "nfev",
-    "x_iso_max_m",
-    "idr_max",
-    "floor_acc_max_mps2",
-    "energy_closure",
-    "window_s",
-    "repeats",
-    "compile_s",
+    "n_timed",
     "n_dof",
+    "nfev",
+    "scipy_n_steps",
+    "scipy_n_timed",
+    "iterations",
+    "periods",
+    "n_per_period",
+    "repeats",
 }
+TEXT = {"record", "label", "role", "method", "law", "setting", "status", "message", "model"}
+TEXT |= {"reference", "ratio_bound", "quick", "atol", "scene"}
+
+
+def _value(key: str, v: str):
+    if key in TEXT:
+        return v
+    if v == "":
+        return float("nan")
+    try:
+        x = float(v)
+    except ValueError:
+        return v
+    if key in INTEGER and math.isfinite(x):
+        return int(x)
+    return x
 
 
 def read_rows(path: Path) -> list[dict]:
-    """CSV rows with the numeric columns as floats (empty cells become NaN)."""
-    rows = []
+    """CSV rows with the numeric columns as numbers (empty cells become NaN)."""
     with open(path, newline="") as fh:
-        for r in csv.DictReader(fh):
-            rows.append(
-                {k: (float(v) if v else float("nan")) if k in NUMERIC else v for k, v in r.items()}
-            )
+        return [{k: _value(k, v) for k, v in r.items()} for r in csv.DictReader(fh)]
+
+
+def speed_result(out: Path) -> dict:
+    """``speed_bench``'s result (table, rows, meta) from ``speed-table.csv`` and ``speed.csv``."""
+    rows = read_rows(out / "speed.csv")
+    table = read_rows(out / "speed-table.csv")
+    ns = next(r for r in rows if r["role"] == "nsdyn")
+    t0 = table[0]
+    meta = {
+        "model": t0.get("model") or bench.speed_scene(3.0)[1].name,
+        "rtol": t0.get("rtol", ns["rtol"]),
+        "atol_q": t0.get("atol_q", ns["atol_q"]),
+        "atol_v": t0.get("atol_v", ns["atol_v"]),
+        "dt_out": t0.get("dt_out") or bench.speed_scene(3.0)[3]["dt_out"],
+        "pga": t0.get("pga", bench.PGA),
+        "repeats": t0.get("repeats") or ns["n_timed"] // 2,
+        "compile_s": t0["compile_s"],
+        "cold_compile_s": t0.get("cold_compile_s", float("nan")),
+    }
+    return {"rows": rows, "table": table, "meta": meta}
+
+
+def periodic_result(out: Path) -> dict:
+    """``periodic_bench``'s result (rows, references, meta) from ``periodic.csv``."""
+    rows = read_rows(out / "periodic.csv")
+    refs = {}
     for r in rows:
-        for k in ("n_steps", "n_timed", "n_dof"):
-            if k in r and r[k] == r[k]:
-                r[k] = int(r[k])
-    return rows
+        if r["label"] != "reference" or r["status"] != "ok":
+            continue
+        cell = (r["A_mps2"], r["f_hz"])
+        chk = next(
+            c for c in rows if c["label"] == "reference-check" and (c["A_mps2"], c["f_hz"]) == cell
+        )
+        refs[cell] = {
+            "reference": {"x_iso": r["x_bar_iso_m"], "idr": r["idr"]},
+            "check": {"err_xbar": chk["err_xbar"], "err_idr": chk["err_idr"]},
+            "closure": r["closure"],
+        }
+    meta = {"model": rows[0].get("model") or "office-11 cb", "compile_s": rows[0]["compile_s"]}
+    return {"rows": rows, "references": refs, "meta": meta}
 
 
-def main(out_dir: str | Path = bench.DEFAULT_OUT) -> dict:
-    out = Path(out_dir)
+def main(out_dir: str | Path = bench.DEFAULT_OUT, fig_dir: str | Path = FIGURES) -> dict:
+    out, figs = Path(out_dir), Path(fig_dir)
     result: dict = {}
     acc = out / "accuracy.csv"
     if acc.exists():
@@ -65,20 +110,46 @@ def main(out_dir: str | Path = bench.DEFAULT_OUT) -> dict:
         }
         records = list(dict.fromkeys(r["record"] for r in rows))
         window = rows[0]["window_s"]
-        bench._save_figure(
-            bench._plot_accuracy(rows, floors, records, window), out / "accuracy.png"
-        )
+        fig = bench._plot_accuracy(rows, floors, records, window)
+        bench._save_figure(fig, figs / "accuracy.png")
         result["ratios"] = {rec: bench.matched_ratios(rows, rec) for rec in records}
         result["floors"] = floors
     fid = out / "fidelity.csv"
     if fid.exists():
-        bench._save_figure(bench._plot_fidelity(read_rows(fid)), out / "fidelity.png")
-        result["fidelity"] = True
+        rows = read_rows(fid)
+        bench._save_figure(bench._plot_fidelity(rows), figs / "fidelity.png")
+        result["fidelity"] = rows
+    if (out / "speed-table.csv").exists():
+        res = speed_result(out)
+        bench._save_figure(bench._plot_speed(res["rows"], res["table"]), figs / "speed.png")
+        result["speed"] = bench.speed_markdown(res)
+    if (out / "periodic.csv").exists():
+        res = periodic_result(out)
+        bench._save_figure(bench._plot_periodic(res["rows"]), figs / "periodic.png")
+        result["periodic"] = bench.periodic_markdown(res)
+    if (out / "stability.png").exists():
+        figs.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(out / "stability.png", figs / "stability.png")
+    result["figures"] = sorted(str(p) for p in figs.glob("*.png"))
     return result
 
 
 if __name__ == "__main__":
-    res = main(sys.argv[1] if len(sys.argv) > 1 else bench.DEFAULT_OUT)
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("dir", nargs="?", default=str(bench.DEFAULT_OUT))
+    ap.add_argument("--figures", default=str(FIGURES), metavar="FIG_DIR")
+    a = ap.parse_args()
+    res = main(a.dir, a.figures)
+    for key in ("speed", "periodic"):
+        if key in res:
+            print(res[key], end="\n\n")
+    for r in res.get("fidelity", []):
+        print(
+            f"{r['record']:14s} {r['model']:16s} {r['n_dof']:4d} x_iso {r['err_xpeak']:9.2e} "
+            f"IDR {r['err_idr']:9.2e} acc {r['err_acc']:9.2e} wall {r['wall_s']:9.3f} s "
+            f"{r['status']}"
+        )
     for rec, qs in res.get("ratios", {}).items():
         for name, q in qs.items():
             print(f"{rec}: {name} at err_x = {q['err_x']:.2g}: {q['ratio']:.3g}x")
+    print("\n".join(res["figures"]))

@@ -1,11 +1,14 @@
-"""Benchmarks: work-precision of the integrators, the fidelity ladder, stability maps.
+"""Benchmarks: work-precision of the integrators, the fidelity ladder, stability maps, the
+transient speed table and the work-precision of periodic solutions.
 
-``nsdyn bench accuracy | fidelity | stability | all [--quick] [--out DIR] [--repeats N]``
+``nsdyn bench accuracy | fidelity | stability | speed | periodic | all [--quick] [--out DIR]
+[--repeats N]``
 
 The scene of every benchmark is the office-11 frame on friction isolators (K_lam = 5e4 N/m,
-c = 1e4 N s/m, mu = 0.03; arctan law with eps = 7500 s/m unless a map varies it) under the
-bundled synthetic records, 20 s windows scaled to a horizontal PGA of 3 m/s^2 (vertical
-component kept, as in the default scene).
+c = 1e4 N s/m, mu = 0.03; arctan law with eps = 7500 s/m unless a map varies it). Accuracy,
+fidelity and stability use the bundled synthetic records, 20 s windows scaled to a horizontal
+PGA of 3 m/s^2 (vertical component kept, as in the default scene); speed uses the default
+scene itself and the Kobe records; periodic a harmonic ground acceleration.
 
 Timing
     ``wall_s`` is the integration alone (``TransientResult.wall_s``: JIT compilation or cache
@@ -31,11 +34,35 @@ Baseline
     against the numba kernel to round-off in the tests.
 
 Fidelity (``fidelity.csv``, ``fidelity.png``)
-    The ladder rigid, CB-5/10/15/20/50/100 under a low-frequency record (the white noise
-    low-passed at 2 Hz) and a broadband one (the Kanai-Tajimi record, f95 = 19 Hz), all with
-    radau at rtol 1e-6; relative errors of the peaks of x_iso, IDR and absolute floor
-    acceleration against CB-100, against wall time. The full model is attempted (see
-    FULL_ATTEMPT) and its outcome recorded.
+    The ladder rigid, CB-5/10/15/20/50/100, full (435 dofs) under a low-frequency record (the
+    white noise low-passed at 2 Hz) and a broadband one (the Kanai-Tajimi record, f95 = 19 Hz),
+    all with radau at the transient defaults (what ``nsdyn run`` uses); relative errors of the
+    peaks of x_iso, IDR and absolute floor acceleration against the full model, against wall
+    time. Why the full model needs those tolerances: :func:`acceleration_roundoff`.
+
+Speed (``speed.csv``, ``speed-table.csv``, ``speed.png``)
+    The default scene (:mod:`nsdyn.scene`: office frame, CB-5, isolated, arctan eps 7500, the
+    bundled 40 s record at PGA 3 m/s^2, radau at the scene's tolerances, output every dt_out)
+    and, when ``shared/records`` is found, the four Kobe 1995 records at the same PGA, first
+    40 s. Per record: nsdyn's steps, wall time (median of 2 x ``repeats`` runs, half before and
+    half after SciPy's) and errors of the x_iso history and the peak IDR against radau at
+    SPEED_REF_RTOL, itself checked against SPEED_CHECK_RTOL; then SciPy Radau on the NumPy
+    equations at the loosest rtol of SCIPY_RTOLS (atol scaled with it) whose x_iso error is
+    no larger (:func:`scipy_match`), timed once or as the median of 3 when shorter than
+    LONG_RUN_S, and the ratio of the two wall times. nsdyn lands its steps on the record's
+    samples (the input is piecewise linear); SciPy steps across them: part of the ratio is
+    that, not compiled code. Compilation is reported apart (``integrate.warmup`` in this
+    process; ``--cold-compile``: with an empty numba cache in a fresh process).
+
+Periodic (``periodic.csv``, ``periodic.png``)
+    CB-5 under ``A sin(2 pi f t)`` at the (A, f) cells of PERIODIC_CELLS; each point starts
+    from the orbit at the previous frequency of a 150-point log grid (a sequential
+    continuation's guess). Shooting (:func:`nsdyn.periodic.shoot`, SDIRK2 / SDIRK3 with a
+    multiple of the default steps per period) and the steady-state sweep
+    (:func:`nsdyn.periodic.steady_state_sweep`, its tolerance varied, default steps and 4x):
+    relative errors of x_bar_iso and the peak IDR against the reference orbit (shooting,
+    SDIRK3, 16x steps, its quantities from a densely sampled radau period:
+    :func:`dense_orbit_quantities`), checked by 32x steps, against the wall time of a point.
 
 Stability (``stability-*.csv``, ``stability.png``)
     Largest stable fixed step of dopri5 / radau / genalpha / hht / newmark (rigid and CB-5) as
@@ -46,7 +73,7 @@ Stability (``stability-*.csv``, ``stability.png``)
     Constraint drift max |R q| with alpha = 0 and 2 pi; cold-start shooting over (f, A).
 
 Plotting lives in the ``_plot_*`` functions at the end (matplotlib imported lazily); they
-belong in :mod:`nsdyn.plot` once that module's owner takes them.
+are candidates for :mod:`nsdyn.plot`.
 """
 
 from __future__ import annotations
@@ -129,11 +156,15 @@ MATCH_ERROR = 1e-4  # err_x the speed ratios are quoted at (cheapest run reachin
 UNRESOLVED_FACTOR = 3.0  # charted errors below this x the reference check's are drawn hollow
 
 # ---- fidelity ---------------------------------------------------------------------------------
-# The ladder, cheapest first; the last rung is the reference. The full 435-dof model is
-# attempted too (FULL_ATTEMPT) but no nsdyn integrator currently runs it through a record at a
-# bearable cost (radau: two 870x870 LUs per step change, hours; genalpha / fixed-step radau:
-# Newton fails at the friction kink), so the reference is the richest Craig-Bampton model and
-# CB-50 -> CB-100 shows how far the ladder has converged.
+# The ladder, cheapest first; the last rung that runs is the reference. Every rung runs with
+# radau at the transient defaults (nsdyn.transient: rtol 1e-4, atol (1e-8 m, 1e-6 m/s)), what
+# `nsdyn run` uses, so costs compare like with like and are the costs a user pays. The full
+# 435-dof model needs them: its acceleration carries a float64 round-off of ~1e-6 m/s^2 (the
+# base-diaphragm stiffness 1e11 against the tiny rotational inertia of the base nodes;
+# max |M^-1 K*| ~ 6e13), which at rtol 1e-6 / atol 1e-8 exceeds what the Newton iterations of
+# genalpha (dt 1e-3: it failed at t = 1.5 s) and radau (h ~ 1e-3 s) can resolve, and at rtol
+# 1e-6 radau needs ~80 s per simulated second. See acceleration_roundoff() and
+# newton_noise_floor().
 LADDER = [
     ("rigid", None),
     ("cb", 5.0),
@@ -142,14 +173,14 @@ LADDER = [
     ("cb", 20.0),
     ("cb", 50.0),
     ("cb", 100.0),
+    ("full", None),
 ]
 QUICK_LADDER = [("rigid", None), ("cb", 5.0), ("cb", 10.0)]
 FIDELITY_METHOD = "radau"  # one integrator for every rung
-FIDELITY_RTOL = 1e-6  # time-integration error ~1e-6, far below the fidelity errors
-FLOOR_RTOL = 1e-8  # the floor check: FLOOR_RUNG at FIDELITY_RTOL vs at FLOOR_RTOL
+FIDELITY_RTOL = None  # None: the transient defaults (DEFAULT_RTOL, default_atol("radau"))
+FLOOR_RTOL = 1e-8  # the floor check: FLOOR_RUNG at the ladder's tolerances vs at FLOOR_RTOL
 FLOOR_RUNG = ("cb", 20.0)
 QUICK_FLOOR_RUNG = ("cb", 5.0)
-FULL_ATTEMPT = ("genalpha", 1e-3)  # method, dt: the full model's attempt (not in --quick)
 
 # ---- stability --------------------------------------------------------------------------------
 STAB_WINDOW = (0.0, 3.0)  # s, record window of the step-size maps (the PGA is at 2.8 s)
@@ -310,6 +341,7 @@ class BenchRun:
     idr_max: float = float("nan")
     floor_acc_max: float = float("nan")
     energy_closure: float = float("nan")
+    errors: dict = field(default_factory=dict)  # run_errors against a reference, if measured
 
     @property
     def ok(self) -> bool:
@@ -345,16 +377,18 @@ def run_nsdyn(
     label: str | None = None,
     rtol: float | None = None,
     dt: float | None = None,
+    atol=None,
     repeats: int = REPEATS,
     keep_state: bool = False,
     **options,
 ) -> BenchRun:
     """Run :func:`nsdyn.transient.simulate` ``repeats`` times; failures become a status.
 
-    ``dt`` with an adaptive method (radau, dopri5) steps with that fixed dt (no error
-    control). A failure reported by the integrator (``IntegrationError``) ends the run with
-    ``status`` = its reason; a "successful" run whose history holds NaN/inf or whose energy
-    balance does not close is flagged by the benchmark itself.
+    ``atol`` defaults to ``ATOL_FACTOR * rtol`` (a number or a pair (displacements,
+    velocities) may be given). ``dt`` with an adaptive method (radau, dopri5) steps with that
+    fixed dt (no error control). A failure reported by the integrator (``IntegrationError``)
+    ends the run with ``status`` = its reason; a "successful" run whose history holds NaN/inf
+    or whose energy balance does not close is flagged by the benchmark itself.
     """
     from .integrate import METHODS, IntegrationError
     from .transient import simulate
@@ -369,7 +403,7 @@ def run_nsdyn(
             kw["adaptive"] = False
     else:
         kw["rtol"] = rtol
-        kw["atol"] = rtol * ATOL_FACTOR
+        kw["atol"] = rtol * ATOL_FACTOR if atol is None else atol
     res = None
     for _ in range(max(1, repeats)):
         try:
@@ -389,40 +423,87 @@ def run_nsdyn(
     return br
 
 
+class _OverBudget(Exception):
+    """A SciPy run exceeded its wall-time budget."""
+
+
 def run_scipy_radau(
-    system, motion, rtol: float, *, repeats: int = REPEATS, label: str = "scipy-radau"
+    system,
+    motion,
+    rtol: float,
+    *,
+    repeats: int = REPEATS,
+    label: str = "scipy-radau",
+    atol=None,
+    t_eval: np.ndarray | None = None,
+    budget_s: float | None = None,
 ) -> BenchRun:
-    """:func:`scipy.integrate.solve_ivp` (Radau) on :func:`numpy_equations`; same outputs."""
-    from scipy.integrate import solve_ivp
+    """:func:`scipy.integrate.solve_ivp` (Radau) on :func:`numpy_equations`; same outputs.
+
+    ``atol`` defaults to ``ATOL_FACTOR * rtol``; a pair (displacements, velocities) is expanded
+    as nsdyn does. ``t_eval`` defaults to the record's sample times. A run still going after
+    ``budget_s`` seconds of wall time is stopped (status "budget").
+    """
+    from scipy.integrate import Radau, solve_ivp
 
     from .metrics import response
     from .transient import output_grid
 
+    steps = [0]
+
+    class CountingRadau(Radau):
+        """SciPy's Radau, counting accepted steps (one call per step, no other change)."""
+
+        def _step_impl(self):
+            ok, msg = super()._step_impl()
+            steps[0] += ok
+            return ok, msg
+
     br = BenchRun(label, "scipy", "arctan", "rtol", float(rtol))
     fun, jac = numpy_equations(system, motion)
     x0, _ = system.static_equilibrium()
-    t_eval = output_grid(motion)
+    t_eval = output_grid(motion) if t_eval is None else np.asarray(t_eval, dtype=float)
+    a = np.asarray(rtol * ATOL_FACTOR if atol is None else atol, dtype=float)
+    atol_arr = np.repeat(a, system.n) if a.shape == (2,) else a
     sol = None
     for _ in range(max(1, repeats)):
+        steps[0] = 0
         t0 = time.perf_counter()
-        s = solve_ivp(
-            fun,
-            (t_eval[0], t_eval[-1]),
-            x0,
-            method="Radau",
-            t_eval=t_eval,
-            rtol=rtol,
-            atol=rtol * ATOL_FACTOR,
-            jac=jac,
-        )
+        f = fun
+        if budget_s is not None:
+            calls = [0]
+
+            def f(t, x, _t0=t0, _calls=calls):
+                _calls[0] += 1
+                if _calls[0] % 1000 == 0 and time.perf_counter() - _t0 > budget_s:
+                    raise _OverBudget
+                return fun(t, x)
+
+        try:
+            s = solve_ivp(
+                f,
+                (t_eval[0], t_eval[-1]),
+                x0,
+                method=CountingRadau,
+                t_eval=t_eval,
+                rtol=rtol,
+                atol=atol_arr,
+                jac=jac,
+            )
+        except _OverBudget:
+            br.walls.append(time.perf_counter() - t0)
+            br.status = "budget"
+            br.message = f"stopped after {budget_s:g} s of wall time"
+            return br
         br.walls.append(time.perf_counter() - t0)
         if s.status != 0:
             br.status, br.message = "scipy_failed", s.message
             return br
-        sol = sol or s
+        if sol is None:
+            sol, br.n_steps = s, int(steps[0])
         if br.walls[-1] > LONG_RUN_S:
             break
-    br.n_steps, br.nfev = int(sol.t.size), int(sol.nfev)
+    br.nfev = int(sol.nfev)
     X = np.ascontiguousarray(sol.y.T)
     return _fill_from_response(br, sol.t, X, response(system, sol.t, X, system.params(motion)))
 
@@ -763,6 +844,79 @@ def fidelity_motions(window_s: float) -> dict:
     }
 
 
+def acceleration_roundoff(system, motion, t: float, x: np.ndarray) -> np.ndarray:
+    """|qdd_float64 - qdd_exact| at (t, x): the kernel's accelerations against the same
+    formulas (:func:`numpy_equations`) evaluated in long double from the same float64 data.
+
+    This is the noise floor below which no Newton iteration on the accelerations can
+    converge. Arctan law with live normal forces and two contacts (every rung of the ladder).
+    """
+    from . import _ksystem as ks
+
+    L = np.longdouble
+    n = system.n
+    P = system.params(motion)
+    f = np.empty(2 * n)
+    ks.rhs(float(t), np.ascontiguousarray(x, dtype=float), P, f)
+    MiK, MiC, Gam = (P[k].astype(L) for k in (ks.I_MIK, ks.I_MIC, ks.I_GAM))
+    R, MiRt, D, MiDt = (P[k].astype(L) for k in (ks.I_R, ks.I_MIRT, ks.I_D, ks.I_MIDT))
+    fp = P[ks.I_FPAR]
+    eps, alpha, beta, g = (L(fp[k]) for k in (ks.F_EPS, ks.F_ALPHA, ks.F_BETA, ks.F_G))
+    ah, av = ks.ground_accel(float(t), P)
+    q, qd = np.asarray(x[:n]).astype(L), np.asarray(x[n:]).astype(L)
+    a0 = -(Gam @ np.array([L(ah), L(av) + g])) - MiK @ q - MiC @ qd
+    s = (L(2) / L(np.pi)) * np.arctan(eps * (D @ qd))
+    B = MiRt - MiDt * (P[ks.I_MU].astype(L) * s)
+    G = R @ B
+    r = -(R @ a0 + L(2) * alpha * beta * (R @ qd) + alpha**2 * (R @ q))
+    det = G[0, 0] * G[1, 1] - G[0, 1] * G[1, 0]
+    lam = np.array([G[1, 1] * r[0] - G[0, 1] * r[1], G[0, 0] * r[1] - G[1, 0] * r[0]]) / det
+    return np.abs(f[n:] - (a0 + B @ lam).astype(float))
+
+
+def newton_noise_floor(
+    x: np.ndarray, da: np.ndarray, rtol: float, atol, h: float = 1e-3, method: str = "radau"
+) -> float:
+    """An acceleration error ``da`` as a multiple of a Newton iteration's convergence
+    threshold: above 1, Newton cannot certify convergence whatever the step's Jacobian.
+
+    ``radau``: one simplified-Newton update of the real stage moves the velocities by about
+    ``(h / mu) da`` and the positions by ``(h / mu)^2 da`` (``mu`` the real eigenvalue of the
+    inverse Radau IIA matrix), scaled by ``atol + rtol |x|``, RMS-averaged; threshold
+    ``max(10 eps / rtol, min(0.03, rtol^0.5))`` (:mod:`nsdyn._kradau`).
+    ``genalpha`` (rho_inf 0.8, fixed step ``h``): the update is ``gamma h da`` and
+    ``beta h^2 da``, same scaling; threshold NEWTON_TOL of :mod:`nsdyn._kgenalpha`.
+    """
+    n = da.size
+    aq, av = _atol_pair(atol)
+    if method == "radau":
+        from ._kradau import MU_REAL
+
+        gv = h / MU_REAL
+        gq = gv * gv
+        tol = max(10.0 * np.finfo(float).eps / rtol, min(0.03, rtol**0.5))
+    elif method == "genalpha":
+        from ._kgenalpha import FAMILY_GENALPHA, NEWTON_TOL, parameters
+
+        _, _, beta, gamma = parameters(FAMILY_GENALPHA, 0.8)
+        gq, gv, tol = beta * h * h, gamma * h, NEWTON_TOL
+    else:
+        raise ValueError(f"method: expected 'radau' or 'genalpha', got {method!r}")
+    sq = gq * da / (aq + rtol * np.abs(x[:n]))
+    sv = gv * da / (av + rtol * np.abs(x[n:]))
+    return float(np.sqrt((np.sum(sq**2) + np.sum(sv**2)) / (2 * n))) / tol
+
+
+def fidelity_tolerances() -> tuple[float, object]:
+    """(rtol, atol) of every rung: FIDELITY_RTOL with atol ATOL_FACTOR * rtol, or the
+    transient defaults when FIDELITY_RTOL is None."""
+    from .transient import DEFAULT_RTOL, default_atol
+
+    if FIDELITY_RTOL is None:
+        return DEFAULT_RTOL, default_atol(FIDELITY_METHOD)
+    return FIDELITY_RTOL, FIDELITY_RTOL * ATOL_FACTOR
+
+
 def fidelity_bench(
     *,
     quick: bool = False,
@@ -770,74 +924,80 @@ def fidelity_bench(
     out: Path | None = DEFAULT_OUT,
     figures: bool = True,
     quiet: bool = False,
-    full_attempt: bool | None = None,
+    ladder: list | None = None,
 ) -> dict:
     """Error of each rung of the model ladder against the reference rung, against its cost.
 
-    Every rung runs with the same integrator (radau, rtol FIDELITY_RTOL), so costs compare
-    like with like; the time-integration error is bounded by FLOOR_RUNG at FLOOR_RTOL (row
-    ``<rung> rtol 1e-08``, drawn as the floor). The full model is attempted with FULL_ATTEMPT
-    (``full_attempt``, default: not in --quick); its row records the outcome.
+    Every rung runs with the same integrator and tolerances (:func:`fidelity_tolerances`), so
+    costs compare like with like; the time-integration error is bounded by FLOOR_RUNG at
+    FLOOR_RTOL (row ``<rung> rtol 1e-08``, drawn as the floor). The reference of a record is
+    the last rung of the ladder that ran through it (the full model unless it failed; its row
+    then records why).
     """
     from .system import build_system
 
     repeats = (1 if quick else REPEATS) if repeats is None else repeats
     window = QUICK_WINDOW_S if quick else WINDOW_S
-    ladder = QUICK_LADDER if quick else LADDER
+    ladder = (QUICK_LADDER if quick else LADDER) if ladder is None else ladder
     floor_rung = _rung_name(*(QUICK_FLOOR_RUNG if quick else FLOOR_RUNG))
-    full_attempt = (not quick) if full_attempt is None else full_attempt
-    compile_s = _warmup([FIDELITY_METHOD] + ([FULL_ATTEMPT[0]] if full_attempt else []))
+    rtol, atol = fidelity_tolerances()
+    compile_s = _warmup([FIDELITY_METHOD])
     frame = bench_frame()
     iso = bench_isolation("arctan")
     systems = {}
     for fid, fm in ladder:
         systems[_rung_name(fid, fm)] = build_system(frame, iso, fidelity=fid, f_max=fm or 5.0)
-    ref_name = _rung_name(*ladder[-1])
+    if floor_rung not in systems:
+        fid, fm = QUICK_FLOOR_RUNG if quick else FLOOR_RUNG
+        systems_floor = build_system(frame, iso, fidelity=fid, f_max=fm)
+    else:
+        systems_floor = systems[floor_rung]
     rows = []
     for rec, motion in fidelity_motions(window).items():
         runs = {}
         for name, system in systems.items():
             _log(f"[fidelity] {rec}: {name} (n = {system.n})", quiet)
             runs[name] = run_nsdyn(
-                system, motion, FIDELITY_METHOD, label=name, rtol=FIDELITY_RTOL, repeats=repeats
+                system,
+                motion,
+                FIDELITY_METHOD,
+                label=name,
+                rtol=rtol,
+                atol=atol,
+                repeats=repeats,
             )
-        ref = runs[ref_name]
+        ok = [name for name in systems if runs[name].ok]
+        ref_name = ok[-1] if ok else ""
+        ref = runs[ref_name] if ok else None
         for name, system in systems.items():
             br = runs[name]
-            e = run_errors(br, ref) if ref.ok else _nan_errors()
+            e = run_errors(br, ref) if ref is not None else _nan_errors()
             rows.append(_row(br, record=rec, model=name, n_dof=system.n, reference=ref_name, **e))
         _log(f"[fidelity] {rec}: {floor_rung} at rtol {FLOOR_RTOL:g} (floor check)", quiet)
         tight = run_nsdyn(
-            systems[floor_rung],
-            motion,
-            FIDELITY_METHOD,
-            label=floor_rung,
-            rtol=FLOOR_RTOL,
-            repeats=1,
+            systems_floor, motion, FIDELITY_METHOD, label=floor_rung, rtol=FLOOR_RTOL, repeats=1
         )
-        e = run_errors(runs[floor_rung], tight) if tight.ok else _nan_errors()
+        loose = runs.get(floor_rung) or run_nsdyn(
+            systems_floor, motion, FIDELITY_METHOD, rtol=rtol, atol=atol, repeats=1
+        )
+        e = run_errors(loose, tight) if tight.ok else _nan_errors()
         rows.append(
             _row(
                 tight,
                 record=rec,
                 model=f"{floor_rung} rtol {FLOOR_RTOL:g}",
-                n_dof=systems[floor_rung].n,
-                reference=f"floor: {floor_rung} at rtol {FIDELITY_RTOL:g} vs {FLOOR_RTOL:g}",
+                n_dof=systems_floor.n,
+                reference=f"floor: {floor_rung} at rtol {rtol:g} vs {FLOOR_RTOL:g}",
                 **e,
             )
         )
-        if full_attempt:
-            method, dt = FULL_ATTEMPT
-            full = build_system(frame, iso, fidelity="full")
-            _log(f"[fidelity] {rec}: full (n = {full.n}) with {method}, dt = {dt:g}", quiet)
-            br = run_nsdyn(full, motion, method, label="full", dt=dt, repeats=1)
-            e = run_errors(br, ref) if ref.ok else _nan_errors()
-            rows.append(_row(br, record=rec, model="full", n_dof=full.n, reference=ref_name, **e))
     meta = {
         "window_s": window,
         "repeats": repeats,
         "compile_s": compile_s,
         "quick": quick,
+        "rtol": rtol,
+        "atol": str(atol),
     }
     for r in rows:
         r.update(meta)
@@ -874,6 +1034,8 @@ _FID_FIELDS = [
     "repeats",
     "compile_s",
     "quick",
+    "rtol",
+    "atol",
     "message",
 ]
 
@@ -1180,6 +1342,697 @@ _BOUND_FIELDS = [
 ]
 
 
+# ---- 4. transient speed table -----------------------------------------------------------------
+SPEED_T_END = 40.0  # s: the first 40 s of every record (the bundled one is 40 s long)
+SPEED_REPEATS = 5  # timed repeats of the nsdyn run (median)
+QUICK_SPEED_REPEATS = 3
+QUICK_SPEED_T_END = QUICK_WINDOW_S  # --quick: the bundled record's first 3 s (holds its PGA)
+SPEED_KOBE_COMPONENT = "000"
+SPEED_REF_RTOL = 1e-9  # reference: radau at this rtol, atol ATOL_FACTOR * rtol
+SPEED_CHECK_RTOL = 1e-10  # its convergence check: radau 10x tighter
+# SciPy's rtol grid (loosest first; the scene's rtol is added). atol keeps the scene's ratio to
+# rtol: (1e-8 m, 1e-6 m/s) at rtol 1e-4 becomes (1e-10, 1e-8) at rtol 1e-6.
+SCIPY_RTOLS = [1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9]
+SCIPY_BUDGET_S = 1800.0  # a SciPy run still going after this is stopped (ratio: lower bound)
+QUICK_SCIPY_RTOLS = [1e-6]  # --quick: the scene's rtol and this one only
+QUICK_SCIPY_BUDGET_S = 60.0
+SCIPY_REPEATS = 3  # timed runs of the matched SciPy setting when one takes < LONG_RUN_S
+
+
+def speed_scene(t_end: float | None = None):
+    """``(cfg, system, motion, solver)`` of the default scene, as ``nsdyn run`` builds them.
+
+    ``t_end`` cuts the record as ``nsdyn run --t-end`` does. ``solver``: method, rtol, atol
+    (the scene's, else :func:`nsdyn.transient.default_atol`) and dt_out.
+    """
+    from .scene import build_scene, load_scene
+    from .transient import default_atol
+
+    cfg = load_scene(None, {"motion": {"t_end": float(t_end)}} if t_end else None)
+    system, motion = build_scene(cfg)
+    sv = cfg["solver"]
+    method = sv.get("method", "radau")
+    if method != "radau" or system.isolation is None or system.isolation.law != "arctan":
+        raise ValueError("the speed table compares Radau runs of the arctan law")
+    atol = sv.get("atol")
+    atol = tuple(atol) if isinstance(atol, list) else atol
+    solver = {
+        "method": method,
+        "rtol": float(sv["rtol"]),
+        "atol": default_atol(method) if atol is None else atol,
+        "dt_out": sv.get("dt_out"),
+    }
+    return cfg, system, motion, solver
+
+
+def speed_motions(motion, pga: float, *, quick: bool = False, shared_dir=None) -> dict:
+    """The scene's record and, unless ``quick``, the four Kobe records (when the shared
+    records directory is found), each scaled to ``pga``, first SPEED_T_END seconds."""
+    from .records import RecordFileError, default_shared_dir, kobe_records
+
+    out = {motion.name: motion}
+    if quick:
+        return out
+    shared = default_shared_dir() if shared_dir is None else Path(shared_dir)
+    if shared is None:
+        return out
+    try:
+        kobe = kobe_records(shared, SPEED_KOBE_COMPONENT)
+    except (OSError, RecordFileError) as e:
+        _log(f"[speed] Kobe records not used: {e}")
+        return out
+    for name, m in kobe.items():
+        m = m.scaled_to_pga(pga)
+        out[name] = m.window(m.t0, m.t0 + min(SPEED_T_END, m.duration))
+    return out
+
+
+def _scaled_atol(atol, rtol: float, rtol0: float):
+    a = np.asarray(atol, dtype=float) * (rtol / rtol0)
+    return tuple(float(v) for v in a) if a.ndim else float(a)
+
+
+def _atol_pair(atol) -> tuple[float, float]:
+    a = np.atleast_1d(np.asarray(atol, dtype=float))
+    return float(a[0]), float(a[-1])
+
+
+def scipy_match(
+    system,
+    motion,
+    t_eval,
+    ref: BenchRun,
+    target: float,
+    solver: dict,
+    *,
+    budget_s,
+    rtols=SCIPY_RTOLS,
+    quiet=False,
+) -> tuple[list, BenchRun | None]:
+    """SciPy Radau on the rtol grid until the loosest setting with err_x <= ``target``.
+
+    Starts at the scene's tolerances, jumps to the rtol a linear error model (error ~ rtol)
+    predicts, steps tighter until the target is met, then looser while it still is: the
+    answer meets the target and the next looser grid rtol does not. Returns (every run,
+    loosest matching run or None). A run stopped by ``budget_s`` ends the search.
+    """
+    grid = sorted(set(rtols) | {solver["rtol"]}, reverse=True)
+    runs: dict[int, BenchRun] = {}
+
+    def attempt(i: int) -> BenchRun:
+        if i not in runs:
+            rt = grid[i]
+            _log(f"[speed] {getattr(motion, 'name', '')}: scipy-radau rtol {rt:g}", quiet)
+            br = run_scipy_radau(
+                system,
+                motion,
+                rt,
+                repeats=1,
+                atol=_scaled_atol(solver["atol"], rt, solver["rtol"]),
+                t_eval=t_eval,
+                budget_s=budget_s,
+            )
+            br.errors = run_errors(br, ref)
+            runs[i] = br
+        return runs[i]
+
+    def matched(br: BenchRun) -> bool:
+        return br.ok and br.errors["err_x"] <= target
+
+    i = grid.index(solver["rtol"])
+    br = attempt(i)
+    if not matched(br) and br.status != "budget":
+        j = i + 1
+        e = br.errors["err_x"]
+        if br.ok and np.isfinite(e) and e > 0:
+            r_pred = grid[i] * target / e
+            j = max(i + 1, next((k for k, r in enumerate(grid) if r <= r_pred), len(grid) - 1))
+        while j < len(grid):
+            br = attempt(j)
+            if matched(br) or br.status == "budget" or j == len(grid) - 1:
+                break
+            j += 1
+        i = j
+    best = None
+    if matched(runs[i]):
+        while i > 0 and matched(attempt(i - 1)):
+            i -= 1
+        best = runs[i]
+    return [runs[k] for k in sorted(runs)], best
+
+
+def cold_compile_s(methods=("radau",)) -> float:
+    """Seconds :func:`nsdyn.integrate.warmup` takes in a fresh process with an empty numba
+    cache: the JIT compilation a first run pays once (later processes load the cache)."""
+    import subprocess
+
+    code = (
+        "import json\nfrom nsdyn import integrate\n"
+        f"print(json.dumps(integrate.warmup({list(methods)!r})))"
+    )
+    with tempfile.TemporaryDirectory(prefix="nsdyn-numba-") as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        root = str(Path(__file__).resolve().parents[1])
+        env["PYTHONPATH"] = os.pathsep.join(p for p in (root, env.get("PYTHONPATH")) if p)
+        res = subprocess.run(
+            [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+        )
+    return float(sum(json.loads(res.stdout.strip().splitlines()[-1]).values()))
+
+
+def _speed_row(run: BenchRun, record: str, role: str, **extra) -> dict:
+    row = _row(run, record=record, role=role, **run.errors)
+    row.update(extra)
+    return row
+
+
+def speed_bench(
+    *,
+    quick: bool = False,
+    repeats: int | None = None,
+    out: Path | None = DEFAULT_OUT,
+    figures: bool = True,
+    quiet: bool = False,
+    shared_dir=None,
+    cold_compile: bool = False,
+) -> dict:
+    """The transient speed table: nsdyn radau at the default scene's tolerances against SciPy
+    Radau on the NumPy equations at matched accuracy, per record (module docstring, "Speed").
+
+    Returns ``{"rows", "table", "files", "meta"}``; writes ``speed.csv`` (every run),
+    ``speed-table.csv`` (one row per record) and ``speed.png`` to ``out`` (None: nothing).
+    """
+    from .transient import output_grid
+
+    repeats = (QUICK_SPEED_REPEATS if quick else SPEED_REPEATS) if repeats is None else repeats
+    cfg, system, motion, solver = speed_scene(QUICK_SPEED_T_END if quick else None)
+    compile_s = _warmup([solver["method"]])
+    cold_s = cold_compile_s([solver["method"]]) if cold_compile else float("nan")
+    budget = QUICK_SCIPY_BUDGET_S if quick else SCIPY_BUDGET_S
+    pga = float(cfg["motion"].get("pga", PGA))
+    motions = speed_motions(motion, pga, quick=quick, shared_dir=shared_dir)
+    atol_q, atol_v = _atol_pair(solver["atol"])
+    rows, table = [], []
+    for name, m in motions.items():
+        t_eval = output_grid(m, solver["dt_out"])
+        _log(f"[speed] {name}: reference radau rtol {SPEED_REF_RTOL:g}, check", quiet)
+        kw = dict(repeats=1, t_eval=t_eval)
+        ref = run_nsdyn(system, m, "radau", label="reference", rtol=SPEED_REF_RTOL, **kw)
+        if not ref.ok:
+            raise RuntimeError(f"speed reference ({name}) failed: {ref.status}: {ref.message}")
+        chk = run_nsdyn(system, m, "radau", label="reference-check", rtol=SPEED_CHECK_RTOL, **kw)
+        chk.errors = run_errors(chk, ref)
+        ref.errors = _nan_errors()
+        _log(f"[speed] {name}: nsdyn radau at the scene's tolerances ({repeats} runs)", quiet)
+        ns = run_nsdyn(
+            system,
+            m,
+            "radau",
+            label="nsdyn-radau",
+            rtol=solver["rtol"],
+            atol=solver["atol"],
+            repeats=repeats,
+            t_eval=t_eval,
+        )
+        ns.errors = run_errors(ns, ref)
+        runs, best = [], None
+        if ns.ok:
+            runs, best = scipy_match(
+                system,
+                m,
+                t_eval,
+                ref,
+                ns.errors["err_x"],
+                solver,
+                budget_s=budget,
+                rtols=QUICK_SCIPY_RTOLS if quick else SCIPY_RTOLS,
+                quiet=quiet,
+            )
+        # time nsdyn again after SciPy's runs (the machine's load drifts over minutes): the
+        # median of the runs before and after
+        more_ns = run_nsdyn(
+            system,
+            m,
+            "radau",
+            rtol=solver["rtol"],
+            atol=solver["atol"],
+            repeats=repeats,
+            t_eval=t_eval,
+        )
+        if more_ns.ok:
+            ns.walls.extend(more_ns.walls)
+        if best is not None and not quick and best.wall_s < LONG_RUN_S and SCIPY_REPEATS > 1:
+            more = run_scipy_radau(
+                system,
+                m,
+                best.value,
+                repeats=SCIPY_REPEATS - 1,
+                atol=_scaled_atol(solver["atol"], best.value, solver["rtol"]),
+                t_eval=t_eval,
+            )
+            if more.ok:
+                best.walls.extend(more.walls)
+        same = next((r for r in runs if r.value == solver["rtol"]), None)
+        done = [
+            (ref, "reference", (ref.value * ATOL_FACTOR,) * 2),
+            (chk, "reference-check", (chk.value * ATOL_FACTOR,) * 2),
+            (ns, "nsdyn", (atol_q, atol_v)),
+        ]
+        for r in runs:
+            role = "scipy-matched" if r is best else "scipy-search"
+            done.append(
+                (r, role, _atol_pair(_scaled_atol(solver["atol"], r.value, solver["rtol"])))
+            )
+        for r, role, (aq, av) in done:
+            rows.append(
+                _speed_row(r, name, role, rtol=r.value, atol_q=aq, atol_v=av, window_s=m.duration)
+            )
+        if best is not None:
+            ratio, bound = best.wall_s / ns.wall_s, ""
+        else:  # no SciPy run reached the error: its longest (failed) try bounds the ratio
+            longest = max((r.wall_s for r in runs), default=float("nan"))
+            ratio, bound = longest / ns.wall_s, ">"
+        table.append(
+            {
+                "record": name,
+                "window_s": float(m.duration),
+                "n_steps": ns.n_steps,
+                "wall_s": ns.wall_s,
+                "n_timed": len(ns.walls),
+                "err_x": ns.errors["err_x"],
+                "err_idr": ns.errors["err_idr"],
+                "ref_check_err_x": chk.errors["err_x"],
+                "ref_check_err_idr": chk.errors["err_idr"],
+                "scipy_rtol": best.value if best else float("nan"),
+                "scipy_wall_s": best.wall_s if best else float("nan"),
+                "scipy_n_timed": len(best.walls) if best else 0,
+                "scipy_n_steps": best.n_steps if best else 0,
+                "scipy_err_x": best.errors["err_x"] if best else float("nan"),
+                "scipy_err_idr": best.errors["err_idr"] if best else float("nan"),
+                "ratio": ratio,
+                "ratio_bound": bound,
+                "scipy_same_tol_wall_s": same.wall_s if same else float("nan"),
+                "scipy_same_tol_err_x": same.errors["err_x"] if same else float("nan"),
+                "scipy_same_tol_err_idr": same.errors["err_idr"] if same else float("nan"),
+                "status": ns.status,
+            }
+        )
+    meta = {
+        "scene": cfg.get("_source", "<default scene>"),
+        "model": system.name,
+        "rtol": solver["rtol"],
+        "atol_q": atol_q,
+        "atol_v": atol_v,
+        "dt_out": solver["dt_out"],
+        "pga": pga,
+        "repeats": repeats,
+        "compile_s": compile_s,
+        "cold_compile_s": cold_s,
+        "quick": quick,
+    }
+    for r in rows:
+        r.update({k: meta[k] for k in ("compile_s", "cold_compile_s", "quick")})
+    for r in table:
+        r.update({k: v for k, v in meta.items() if k != "scene"})
+    files = {}
+    if out is not None:
+        out = Path(out)
+        files["csv"] = str(write_csv_atomic(out / "speed.csv", rows, _SPEED_FIELDS))
+        files["table_csv"] = str(write_csv_atomic(out / "speed-table.csv", table))
+        if figures:
+            files["figure"] = str(_save_figure(_plot_speed(rows, table), out / "speed.png"))
+    return {"rows": rows, "table": table, "files": files, "meta": meta}
+
+
+_SPEED_FIELDS = [
+    "record",
+    "role",
+    "label",
+    "method",
+    "rtol",
+    "atol_q",
+    "atol_v",
+    "status",
+    "err_x",
+    "err_idr",
+    "err_xpeak",
+    "err_acc",
+    "wall_s",
+    "n_timed",
+    "n_steps",
+    "nfev",
+    "x_iso_max_m",
+    "idr_max",
+    "floor_acc_max_mps2",
+    "window_s",
+    "compile_s",
+    "cold_compile_s",
+    "quick",
+    "message",
+]
+
+
+def speed_markdown(res: dict) -> str:
+    """The speed table as markdown (the README's), with its settings."""
+    meta = res["meta"]
+    lines = [
+        f"{meta['model']}, radau at rtol {meta['rtol']:g}, atol ({meta['atol_q']:g} m, "
+        f"{meta['atol_v']:g} m/s), output every {meta['dt_out']:g} s; PGA {meta['pga']:g} m/s²; "
+        f"wall = median of {2 * meta['repeats']} runs after compilation ({meta['repeats']} "
+        "before SciPy's runs, as many after); errors against radau at "
+        f"rtol {SPEED_REF_RTOL:g} (reference check: rtol {SPEED_CHECK_RTOL:g}).",
+        "",
+        "| record | window | steps | wall [s] | err x_iso | err IDR | reference check "
+        "x_iso / IDR | SciPy rtol | SciPy steps | SciPy wall [s] | SciPy err x_iso | "
+        "SciPy err IDR | SciPy / nsdyn |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for t in res["table"]:
+        sc = (
+            f"{t['scipy_rtol']:.0e} | {t['scipy_n_steps']} | {t['scipy_wall_s']:.3g}"
+            f"{'' if t['scipy_n_timed'] > 1 else ' (1 run)'} | {t['scipy_err_x']:.1e} | "
+            f"{t['scipy_err_idr']:.1e}"
+            if np.isfinite(t["scipy_rtol"])
+            else "none reached it | | | |"
+        )
+        lines.append(
+            f"| {t['record']} | {t['window_s']:g} s | {t['n_steps']} | {t['wall_s']:.3f} | "
+            f"{t['err_x']:.1e} | {t['err_idr']:.1e} | {t['ref_check_err_x']:.0e} / "
+            f"{t['ref_check_err_idr']:.0e} | {sc} | {t['ratio_bound']}{t['ratio']:.0f}× |"
+        )
+    comp = f"compilation (integrate.warmup, this process): {meta['compile_s']:.2f} s"
+    if np.isfinite(meta["cold_compile_s"]):
+        comp += f"; with an empty numba cache: {meta['cold_compile_s']:.0f} s"
+    lines += ["", comp]
+    same = [t for t in res["table"] if np.isfinite(t["scipy_same_tol_wall_s"])]
+    if same:
+        lines.append(
+            "SciPy at nsdyn's own tolerances: "
+            + "; ".join(
+                f"{t['record']} {t['scipy_same_tol_wall_s']:.3g} s, err x_iso "
+                f"{t['scipy_same_tol_err_x']:.1e}"
+                for t in same
+            )
+        )
+    return "\n".join(lines)
+
+
+# ---- 5. periodic work-precision ---------------------------------------------------------------
+# (A [m/s^2], f [Hz]) cells: f_bis, the first fixed-base mode, between the 2nd and 3rd, and
+# above the 4th, where the isolators stick all period. A = 2 m/s^2 at 0.06 Hz is left out: an
+# isolator lifts off there (negative normal force), outside the no-uplift model.
+PERIODIC_CELLS = [
+    (0.5, 0.06),
+    (0.5, 0.46),
+    (0.5, 1.5),
+    (0.5, 4.0),
+    (2.0, 0.46),
+    (2.0, 1.5),
+    (2.0, 4.0),
+]
+QUICK_PERIODIC_CELLS = [(0.5, 0.46), (2.0, 4.0)]
+# every point starts from the orbit at the previous frequency of a 150-point log grid over
+# 0.01-10 Hz, as in a sequential continuation (`nsdyn sweep` defaults)
+PERIODIC_GUESS_RATIO = 10.0 ** (3.0 / 149.0)
+# (label, kind, SDIRK tableau, setting, values): "steps" multiplies the default steps per
+# period (Discretisation: n_min 200, dt_max 0.02 s); "tol" is the sweep's steady-state tol
+PERIODIC_PLAN = [
+    ("shooting sdirk2", "shoot", "sdirk2", "steps", [0.25, 0.5, 1, 2, 4, 8]),
+    ("shooting sdirk3", "shoot", "sdirk3", "steps", [0.25, 0.5, 1, 2, 4]),
+    ("sweep sdirk2", "sweep", "sdirk2", "tol", [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7]),
+    ("sweep sdirk2 4x steps", "sweep", "sdirk2", "tol", [1e-3, 1e-5, 1e-7]),
+]
+QUICK_PERIODIC_PLAN = [
+    ("shooting sdirk2", "shoot", "sdirk2", "steps", [0.5, 2]),
+    ("sweep sdirk2", "sweep", "sdirk2", "tol", [1e-3, 1e-5]),
+]
+PERIODIC_SWEEP_STEPS = {"sweep sdirk2": 1.0, "sweep sdirk2 4x steps": 4.0}
+# reference orbit: shooting with (tableau, x default steps, tol); its quantities are those of
+# the continuous orbit through it: radau over one period, sampled PERIODIC_SAMPLES times (the
+# methods' own values are peaks over their step points, so their sampling error counts)
+PERIODIC_REF = ("sdirk3", 16, 1e-9)
+PERIODIC_CHECK = ("sdirk3", 32, 1e-9)  # the check: twice the steps, same dense evaluation
+PERIODIC_RADAU_RTOL = 1e-10
+PERIODIC_SAMPLES = 16384
+PERIODIC_REPEATS = 3  # timed runs per point (median) when one takes < PERIODIC_REPEAT_BELOW_S
+PERIODIC_REPEAT_BELOW_S = 2.0
+
+
+def periodic_disc(method: str, factor: float, tol: float | None = None):
+    """The default :class:`nsdyn.periodic.Discretisation` with ``factor`` x the steps."""
+    from dataclasses import replace
+
+    from .periodic import Discretisation
+
+    d = Discretisation()
+    return replace(
+        d,
+        method=method,
+        n_min=max(1, int(round(d.n_min * factor))),
+        dt_max=d.dt_max / factor,
+        n_max=max(1, int(round(d.n_max * factor))),
+    )
+
+
+def _orbit_errors(q: dict, ref: dict) -> dict:
+    if not q or not np.isfinite(q.get("x_iso", np.nan)):
+        return {"err_xbar": float("nan"), "err_idr": float("nan")}
+    return {"err_xbar": _rel(q["x_iso"], ref["x_iso"]), "err_idr": _rel(q["idr"], ref["idr"])}
+
+
+def _periodic_point(problem, f, guess, kind, disc, tol, repeats):
+    """One point by shooting or by the steady-state sweep: (row fields, orbit quantities)."""
+    from . import periodic as pe
+
+    walls = []
+    for _ in range(max(1, repeats)):
+        t0 = time.perf_counter()
+        if kind == "shoot":
+            r = pe.shoot(problem, f, guess, disc=disc, **({} if tol is None else {"tol": tol}))
+        else:
+            r = pe.steady_state_sweep(problem, f, guess, tol=tol, disc=disc, monodromy=False)
+        walls.append(time.perf_counter() - t0)
+        if walls[-1] > PERIODIC_REPEAT_BELOW_S:
+            break
+    if kind == "shoot":
+        ok, X = r.converged, r.X
+        fields = {"iterations": r.iterations, "residual": r.residual, "message": r.message}
+    else:
+        ok, X = r.steady, (r.X if r.periods_done > 0 else None)
+        fields = {"periods": r.periods, "residual": r.estimate, "message": r.message}
+    q = pe.orbit_quantities(problem, f, X) if ok and X is not None else {}
+    status = "ok" if ok else ("failed" if kind == "shoot" else "not_steady")
+    if q.get("uplift"):
+        status = "uplift"
+    fields.update(
+        status=status,
+        n_per_period=int(r.n_steps),
+        wall_s=float(np.median(walls)),
+        n_timed=len(walls),
+        x_bar_iso_m=q.get("x_iso", float("nan")),
+        idr=q.get("idr", float("nan")),
+    )
+    return fields, q, r
+
+
+def dense_orbit_quantities(problem, f: float, x0: np.ndarray, samples: int = PERIODIC_SAMPLES):
+    """Quantities of the continuous orbit through ``x0`` (minimal coordinates): one period of
+    radau (rtol PERIODIC_RADAU_RTOL) in the coordinates q with the Baumgarte contacts, sampled
+    ``samples`` times. Returns (quantities, closure, wall_s); ``closure`` is |x(T) - x(0)|
+    relative to the orbit's excursion (per block, the larger): small when x0 is periodic."""
+    from . import periodic as pe
+    from .integrate import solve
+
+    sysm, Q, m = problem.system, problem.Q, problem.m
+    xq = np.concatenate([Q @ x0[:m], Q @ x0[m:]])
+    t = np.linspace(0.0, 1.0 / f, int(samples) + 1)
+    P, _ = problem.at(f)
+    sol = solve(P, xq, t, method="radau", rtol=PERIODIC_RADAU_RTOL, atol=PERIODIC_RADAU_RTOL * 1e-2)
+    Xz = np.hstack([sol.x[:, : sysm.n] @ Q, sol.x[:, sysm.n :] @ Q])
+    amp = pe._amplitudes(problem, Xz)
+    d = np.abs(Xz[-1] - Xz[0])
+    closure = max(float(d[:m].max()) / amp[0], float(d[m:].max()) / amp[1])
+    return pe.orbit_quantities(problem, f, Xz), closure, sol.wall_s
+
+
+def periodic_bench(
+    *,
+    quick: bool = False,
+    repeats: int | None = None,
+    out: Path | None = DEFAULT_OUT,
+    figures: bool = True,
+    quiet: bool = False,
+) -> dict:
+    """Work-precision of periodic solutions: shooting (steps per period) and the steady-state
+    sweep (its tolerance) on CB-5, errors of x_bar_iso and peak IDR against a tight shooting
+    reference, against the wall time of one point (module docstring, "Periodic").
+
+    Returns ``{"rows", "references", "files", "meta"}``; writes ``periodic.csv`` and
+    ``periodic.png`` to ``out`` (None: nothing).
+    """
+    from . import periodic as pe
+    from .system import build_system
+
+    repeats = (1 if quick else PERIODIC_REPEATS) if repeats is None else repeats
+    cells = QUICK_PERIODIC_CELLS if quick else PERIODIC_CELLS
+    plan = QUICK_PERIODIC_PLAN if quick else PERIODIC_PLAN
+    system = build_system(bench_frame(), bench_isolation(), fidelity="cb", f_max=5.0)
+    t0 = time.perf_counter()
+    warm = pe.frame_problem(system, 1.0)
+    pe.period_map(warm, warm.x_ref, 1.0, n_steps=4)  # compile or load the period-map kernel
+    compile_s = time.perf_counter() - t0 + _warmup(["radau"])
+    rows, refs = [], {}
+    for A, f in cells:
+        problem = pe.frame_problem(system, A)
+        f_prev = f / PERIODIC_GUESS_RATIO
+        d4 = periodic_disc("sdirk3", 4)
+        g = pe.shoot(problem, f_prev, pe._warm_start(problem, f_prev, None, d4), disc=d4)
+        guess = g.x0 if g.converged else problem.x_ref.copy()
+        cell = {"A_mps2": A, "f_hz": f}
+        _log(f"[periodic] A = {A:g} m/s2, f = {f:g} Hz: reference and check", quiet)
+        found = {}
+        for label, (meth, k, tol) in (
+            ("reference", PERIODIC_REF),
+            ("reference-check", PERIODIC_CHECK),
+        ):
+            fields, _, res = _periodic_point(
+                problem, f, guess, "shoot", periodic_disc(meth, k), tol, 1
+            )
+            row = {**cell, "label": label, "method": "shoot", "setting": "steps", "value": k}
+            if fields["status"] == "ok":
+                q, closure, w = dense_orbit_quantities(problem, f, res.x0)
+                fields.update(x_bar_iso_m=q["x_iso"], idr=q["idr"], closure=closure)
+                fields["message"] += f"; dense radau evaluation {w:.2g} s"
+                found[label] = q
+            rows.append({**row, **fields})
+        if "reference" not in found:
+            _log(f"[periodic] A = {A:g}, f = {f:g}: reference failed", quiet)
+            continue
+        ref_q = found["reference"]
+        agree = _orbit_errors(found.get("reference-check", {}), ref_q)
+        rows[-1].update(agree)
+        refs[(A, f)] = {"reference": ref_q, "check": agree, "closure": rows[-2]["closure"]}
+        for label, kind, meth, setting, values in plan:
+            for v in values:
+                _log(f"[periodic] A = {A:g}, f = {f:g}: {label} {setting} = {v:g}", quiet)
+                if kind == "shoot":
+                    disc, tol = periodic_disc(meth, v), None
+                else:
+                    disc, tol = periodic_disc(meth, PERIODIC_SWEEP_STEPS.get(label, 1.0)), v
+                fields, q, _ = _periodic_point(problem, f, guess, kind, disc, tol, repeats)
+                rows.append(
+                    {
+                        **cell,
+                        "label": label,
+                        "method": kind,
+                        "setting": setting,
+                        "value": v,
+                        **fields,
+                        **_orbit_errors(q, ref_q),
+                    }
+                )
+    meta = {"repeats": repeats, "compile_s": compile_s, "quick": quick, "model": system.name}
+    for r in rows:
+        r.update({k: meta[k] for k in ("repeats", "compile_s", "quick", "model")})
+    files = {}
+    if out is not None:
+        out = Path(out)
+        files["csv"] = str(write_csv_atomic(out / "periodic.csv", rows, _PER_FIELDS))
+        if figures:
+            files["figure"] = str(_save_figure(_plot_periodic(rows), out / "periodic.png"))
+    return {"rows": rows, "references": refs, "files": files, "meta": meta}
+
+
+_PER_FIELDS = [
+    "A_mps2",
+    "f_hz",
+    "label",
+    "method",
+    "setting",
+    "value",
+    "status",
+    "err_xbar",
+    "err_idr",
+    "wall_s",
+    "n_timed",
+    "n_per_period",
+    "iterations",
+    "periods",
+    "residual",
+    "closure",
+    "x_bar_iso_m",
+    "idr",
+    "repeats",
+    "compile_s",
+    "quick",
+    "model",
+    "message",
+]
+
+
+def periodic_markdown(res: dict) -> str:
+    """The references (with their checks) and the per-setting summary as markdown."""
+    ref, chk = PERIODIC_REF, PERIODIC_CHECK
+    lines = [
+        f"{res['meta']['model']}; reference orbit: shooting {ref[0]} with {ref[1]}x the "
+        f"default steps per period (tol {ref[2]:g}); its x̄_iso and IDR from radau (rtol "
+        f"{PERIODIC_RADAU_RTOL:g}) over one period, {PERIODIC_SAMPLES} samples; check: the "
+        f"same with {chk[1]}x the steps; closure: |x(T) - x(0)| of the radau period.",
+        "",
+        "| A [m/s²] | f [Hz] | x̄_iso [m] | peak IDR | check x̄_iso / IDR | closure |",
+        "|---|---|---|---|---|---|",
+    ]
+    for (A, f), r in res["references"].items():
+        q, c = r["reference"], r["check"]
+        lines.append(
+            f"| {A:g} | {f:g} | {q['x_iso']:.4g} | {q['idr']:.4g} | {c['err_xbar']:.0e} / "
+            f"{c['err_idr']:.0e} | {r['closure']:.0e} |"
+        )
+    lines += [
+        "",
+        "| method | setting | points (failed) | worst err x̄_iso | worst err IDR | "
+        "median wall per point [s] | longest [s] |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for r in periodic_summary(res["rows"]):
+        setting = f"{r['value']:g}x steps" if r["setting"] == "steps" else f"tol {r['value']:g}"
+        lines.append(
+            f"| {r['label']} | {setting} | {r['points']} ({r['failed']}) | "
+            f"{r['max_err_xbar']:.1e} | {r['max_err_idr']:.1e} | {r['median_wall_s']:.3g} | "
+            f"{r['max_wall_s']:.3g} |"
+        )
+    lines += ["", f"compilation / cache load: {res['meta']['compile_s']:.2f} s"]
+    return "\n".join(lines)
+
+
+def periodic_summary(rows: list[dict]) -> list[dict]:
+    """Per method and setting over all cells: the worst errors, the median and the largest
+    wall time per point, and how many points failed."""
+    out = []
+    keys = list(
+        dict.fromkeys((r["label"], r["value"]) for r in rows if "reference" not in r["label"])
+    )
+    for label, v in keys:
+        mine = [r for r in rows if r["label"] == label and r["value"] == v]
+        ok = [r for r in mine if r["status"] == "ok"]
+        out.append(
+            {
+                "label": label,
+                "setting": mine[0]["setting"],
+                "value": v,
+                "points": len(mine),
+                "failed": len(mine) - len(ok),
+                "max_err_xbar": max((r["err_xbar"] for r in ok), default=float("nan")),
+                "max_err_idr": max((r["err_idr"] for r in ok), default=float("nan")),
+                "median_wall_s": float(np.median([r["wall_s"] for r in ok]))
+                if ok
+                else float("nan"),
+                "max_wall_s": max((r["wall_s"] for r in ok), default=float("nan")),
+            }
+        )
+    return out
+
+
 # ---- figures (matplotlib imported lazily; candidates for nsdyn.plot) ---------------------------
 _STYLE = {
     "radau": ("C0", "o", "-"),
@@ -1304,7 +2157,8 @@ def _plot_fidelity(rows):
             )
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel(f"wall time [s] ({FIDELITY_METHOD}, rtol {FIDELITY_RTOL:g}, median)")
+        tol = f"rtol {ladder[0]['rtol']:g}, atol {ladder[0]['atol']}" if ladder else ""
+        ax.set_xlabel(f"wall time [s] ({FIDELITY_METHOD}, {tol}, median)", fontsize=8)
         ax.set_ylabel(f"relative error of the peak vs {ref}")
         ax.set_title(f"{rec} record", fontsize=9)
         ax.grid(True, which="both", lw=0.3)
@@ -1424,7 +2278,146 @@ def _plot_stability(eps_bound, a_bound, cells, drift_hist, shoot_rows):
     return fig
 
 
+def _plot_speed(rows, table):
+    """Left: err_x against wall time per record (SciPy's rtol search as a line, nsdyn at the
+    scene's tolerances as a star); right: the wall times at matched accuracy and their ratio."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(11.0, 4.4))
+    ax, bx = fig.subplots(1, 2)
+    recs = [t["record"] for t in table]
+    for k, rec in enumerate(recs):
+        c = f"C{k}"
+        sc = sorted(
+            (r["rtol"], r["wall_s"], r["err_x"])
+            for r in rows
+            if r["record"] == rec
+            and r["role"].startswith("scipy")
+            and r["status"] == "ok"
+            and r["err_x"] > 0
+        )[::-1]
+        if sc:
+            ax.plot([p[1] for p in sc], [p[2] for p in sc], "x:", color=c, ms=5)
+            for rt, w, e in sc:
+                ax.annotate(
+                    f"{rt:.0e}",
+                    (w, e),
+                    fontsize=6,
+                    color=c,
+                    xytext=(3, 2),
+                    textcoords="offset points",
+                )
+        ns = next(r for r in rows if r["record"] == rec and r["role"] == "nsdyn")
+        if ns["status"] == "ok" and ns["err_x"] > 0:
+            ax.plot(ns["wall_s"], ns["err_x"], "*", color=c, ms=11, mec="k", mew=0.5, label=rec)
+        chk = next(r for r in rows if r["record"] == rec and r["role"] == "reference-check")
+        if np.isfinite(chk.get("err_x", np.nan)) and chk["err_x"] > 0:
+            ax.axhline(chk["err_x"], color=c, ls="-", lw=0.5, alpha=0.5)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("wall time [s] (after compilation)")
+    ax.set_ylabel("relative error of the x_iso history")
+    ax.set_title(
+        "★ nsdyn radau (scene tolerances); × SciPy Radau (rtol labelled); thin: reference check",
+        fontsize=8,
+    )
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend(fontsize=7)
+    y = np.arange(len(recs))
+    wn = [t["wall_s"] for t in table]
+    ws = [t["scipy_wall_s"] if np.isfinite(t["scipy_wall_s"]) else np.nan for t in table]
+    bx.barh(y + 0.2, wn, height=0.38, color="C0", label="nsdyn radau")
+    bx.barh(y - 0.2, ws, height=0.38, color="0.6", label="SciPy Radau, same or smaller error")
+    for k, t in enumerate(table):
+        x = np.nanmax([wn[k], ws[k]])
+        bx.text(x * 1.15, k, f"{t['ratio_bound']}{t['ratio']:.0f}×", va="center", fontsize=8)
+    bx.set_yticks(y, recs, fontsize=8)
+    bx.set_ylim(-1.5, len(recs) - 0.3)  # room for the legend below the bars
+    bx.set_xscale("log")
+    bx.set_xlabel("wall time [s] at matched x_iso error")
+    bx.set_xlim(right=bx.get_xlim()[1] * 4)
+    bx.legend(fontsize=7, loc="lower right")
+    bx.grid(True, which="both", axis="x", lw=0.3)
+    fig.tight_layout()
+    return fig
+
+
+_PER_STYLE = {
+    "shooting sdirk2": ("C0", "o"),
+    "shooting sdirk3": ("C2", "s"),
+    "sweep sdirk2": ("C3", "^"),
+    "sweep sdirk2 4x steps": ("C1", "v"),
+}
+
+
+def _plot_periodic(rows):
+    """Errors of x_bar_iso (top) and peak IDR (bottom) against the wall time of one point, one
+    column per frequency; solid/dashed: the two amplitudes; dotted: the reference check."""
+    from matplotlib.figure import Figure
+
+    freqs = sorted({r["f_hz"] for r in rows})
+    amps = sorted({r["A_mps2"] for r in rows})
+    lss = ["-", "--", "-.", ":"]
+    fig = Figure(figsize=(3.4 * len(freqs), 6.4))
+    axs = fig.subplots(2, len(freqs), squeeze=False)
+    for j, f in enumerate(freqs):
+        for i, (col, name) in enumerate((("err_xbar", "x̄_iso"), ("err_idr", "peak IDR"))):
+            ax = axs[i, j]
+            for ia, A in enumerate(amps):
+                mine = [r for r in rows if r["f_hz"] == f and r["A_mps2"] == A]
+                for label, (c, mk) in _PER_STYLE.items():
+                    pts = [
+                        (r["wall_s"], r[col])
+                        for r in mine
+                        if r["label"] == label and r["status"] == "ok" and r.get(col, 0) > 0
+                    ]
+                    if pts:
+                        lab = f"{label}, A = {A:g} m/s²"
+                        ax.plot(
+                            *zip(*pts, strict=True),
+                            ls=lss[ia % 4],
+                            marker=mk,
+                            color=c,
+                            ms=4,
+                            lw=1,
+                            label=lab,
+                        )
+                chk = [r for r in mine if r["label"] == "reference-check"]
+                if chk and chk[0].get(col, 0) > 0:
+                    ax.axhline(chk[0][col], color="0.5", ls=":", lw=0.8)
+                bad = [r for r in mine if r["status"] != "ok" and "reference" not in r["label"]]
+                for r in bad:
+                    ax.annotate(
+                        f"{r['label'].split()[0]} {r['value']:g}: {r['status']}",
+                        (0.02, 0.02 + 0.05 * bad.index(r)),
+                        xycoords="axes fraction",
+                        fontsize=5,
+                    )
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.grid(True, which="both", lw=0.3)
+            if i == 1:
+                ax.set_xlabel("wall time per point [s]")
+            if j == 0:
+                ax.set_ylabel(f"relative error of {name}")
+            if i == 0:
+                ax.set_title(f"f = {f:g} Hz", fontsize=9)
+    from matplotlib.ticker import NullFormatter
+
+    handles = {}
+    for ax in axs.flat:
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        for h, lab in zip(*ax.get_legend_handles_labels(), strict=True):
+            handles.setdefault(lab, h)
+    fig.legend(list(handles.values()), list(handles), fontsize=7, loc="lower center", ncol=4)
+    fig.tight_layout(rect=(0, 0.06 + 0.025 * (len(handles) // 5), 1, 1))
+    return fig
+
+
 # ---- command line -----------------------------------------------------------------------------
+ALL_BENCHES = ["accuracy", "fidelity", "stability", "speed", "periodic"]
+
+
 def _positive_int(s: str) -> int:
     try:
         v = int(s)
@@ -1439,9 +2432,10 @@ def configure(p: argparse.ArgumentParser) -> None:
     """Arguments of ``nsdyn bench``."""
     p.add_argument(
         "what",
-        choices=["accuracy", "fidelity", "stability", "all"],
+        choices=["accuracy", "fidelity", "stability", "speed", "periodic", "all"],
         help="accuracy: work-precision chart; fidelity: model ladder; stability: step-size, "
-        "drift and shooting maps",
+        "drift and shooting maps; speed: transient speed table against SciPy; periodic: "
+        "work-precision of shooting and the steady-state sweep",
     )
     p.add_argument("--quick", action="store_true", help="short windows and few points (CI)")
     p.add_argument("--out", default=str(DEFAULT_OUT), metavar="DIR", help="output directory")
@@ -1457,6 +2451,11 @@ def configure(p: argparse.ArgumentParser) -> None:
         default="wn,kt",
         metavar="LIST",
         help="accuracy: comma-separated records among wn (white noise), kt (Kanai-Tajimi)",
+    )
+    p.add_argument(
+        "--cold-compile",
+        action="store_true",
+        help="speed: also time the JIT compilation with an empty numba cache (a few minutes)",
     )
     p.add_argument("--no-figures", action="store_true", help="write the CSV tables only")
     p.add_argument("--json", action="store_true", help="print one JSON summary and nothing else")
@@ -1588,7 +2587,7 @@ def run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return 2
-    whats = ["accuracy", "fidelity", "stability"] if args.what == "all" else [args.what]
+    whats = ALL_BENCHES if args.what == "all" else [args.what]
     summary = {}
     for what in whats:
         if what == "accuracy":
@@ -1613,6 +2612,36 @@ def run(args: argparse.Namespace) -> int:
             }
             if not args.json:
                 _print_fidelity(res)
+        elif what == "speed":
+            res = speed_bench(
+                quick=args.quick,
+                repeats=args.repeats,
+                out=out,
+                figures=figures,
+                quiet=quiet,
+                cold_compile=getattr(args, "cold_compile", False),
+            )
+            summary["speed"] = {"table": res["table"], "meta": res["meta"], "files": res["files"]}
+            if not args.json:
+                print(speed_markdown(res))
+                for k, v in res["files"].items():
+                    print(f"{k}: {v}")
+        elif what == "periodic":
+            res = periodic_bench(
+                quick=args.quick, repeats=args.repeats, out=out, figures=figures, quiet=quiet
+            )
+            summary["periodic"] = {
+                "summary": periodic_summary(res["rows"]),
+                "references": [
+                    {"A_mps2": A, "f_hz": f, **{k: v for k, v in r.items() if k != "reference"}}
+                    for (A, f), r in res["references"].items()
+                ],
+                "files": res["files"],
+            }
+            if not args.json:
+                print(periodic_markdown(res))
+                for k, v in res["files"].items():
+                    print(f"{k}: {v}")
         else:
             res = stability_bench(quick=args.quick, out=out, figures=figures, quiet=quiet)
             summary["stability"] = {
