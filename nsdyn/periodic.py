@@ -725,10 +725,9 @@ def orbit_quantities(problem: PeriodicProblem, f: float, X: np.ndarray) -> dict:
 # ---- continuation ---------------------------------------------------------------------------
 def _uplift_note(q: dict) -> str:
     if q.get("uplift"):
-        return (
-            f"uplift: min normal force {q['min_normal_force']:.3g} N < 0 (the bilateral "
-            "contact model is outside its validity)"
-        )
+        fmin = q.get("min_normal_force", math.nan)
+        what = f"min normal force {fmin:.3g} N < 0" if np.isfinite(fmin) else "a normal force <= 0"
+        return f"uplift: {what} (the bilateral contact model is outside its validity)"
     return ""
 
 
@@ -751,18 +750,41 @@ def _point_from_shoot(problem, res: ShootingResult, method: str, note: str = "")
     )
 
 
+def uplift_probe(problem: PeriodicProblem, f: float, x0: np.ndarray) -> tuple[bool | None, str]:
+    """Does a contact lift off within one period from ``x0`` (minimal coordinates)?
+
+    Adaptive radau in the coordinates q (Baumgarte contacts, normal forces checked at every
+    step), for points whose fixed-step period could not be integrated. Returns (True: a
+    normal force reached zero, False: none did, None: radau failed too; a note saying which).
+    """
+    from .integrate import IntegrationError, UpliftError, solve
+
+    Q, m = problem.Q, problem.m
+    xq = np.concatenate([Q @ x0[:m], Q @ x0[m:]])
+    P, _ = problem.at(f)
+    t = np.linspace(0.0, 1.0 / f, 65)
+    try:
+        solve(P, xq, t, method="radau", uplift="raise")
+    except UpliftError as e:
+        return True, f"radau probe from the period's start: uplift at t = {e.t:.4g} s"
+    except IntegrationError as e:
+        return None, f"radau probe from the period's start failed at t = {e.t:.4g} s: {e.reason}"
+    return False, "radau probe from the period's start: no uplift over one period"
+
+
 def _point_from_sweep(problem, sw: SweepResult, why: str) -> OrbitPoint:
     """A point from the stepped sweep; its 'residual' is the estimated distance to the steady
     state. Quantities are NaN when not even one period could be integrated."""
     mu = floquet_multipliers(sw.monodromy) if sw.monodromy is not None else np.zeros(0)
+    probe = ""
     if sw.periods_done > 0:
         q = orbit_quantities(problem, sw.f, sw.X)
     else:
         q = dict.fromkeys(("idr", "acc", "x_iso", "v_slip_max", "min_normal_force"), math.nan)
         q["stick_all_period"] = None
-        q["uplift"] = None  # unknown: no period was integrated
+        q["uplift"], probe = uplift_probe(problem, sw.f, sw.x0)
     note = "; ".join(
-        n for n in (f"shooting failed: {why}", f"sweep: {sw.message}", _uplift_note(q)) if n
+        n for n in (f"shooting failed: {why}", f"sweep: {sw.message}", probe, _uplift_note(q)) if n
     )
     return OrbitPoint(
         sw.f,

@@ -295,6 +295,31 @@ def test_unfinished_sweep_returns_the_start_of_its_last_period(smooth_frame):
     assert np.allclose(pm.monodromy, sw.monodromy, rtol=1e-10, atol=1e-12)
 
 
+def test_point_whose_period_cannot_be_integrated_reports_its_uplift():
+    # The office frame near f_bis (0.06 Hz): at A = 2 m/s^2 the fixed-step period fails in the
+    # stage Newton before one period is done, because a contact lifts off (its normal force
+    # reaches zero; the radau probe, which checks every step, finds the instant); at
+    # A = 0.5 m/s^2 the converged orbit keeps every normal force positive and the probe from
+    # its start agrees. The point must carry that verdict, not "unknown".
+    from nsdyn import bench
+
+    system = build_system(bench.bench_frame(), bench.bench_isolation(), fidelity="cb", f_max=5.0)
+    f = 0.06
+    strong = pr.frame_problem(system, 2.0)
+    sw = pr.steady_state_sweep(strong, f, strong.x_ref.copy(), monodromy=False)
+    assert sw.periods_done == 0 and not sw.steady
+    point = pr._point_from_sweep(strong, sw, "test")
+    assert point.quantities["uplift"] is True
+    assert "uplift at t = " in point.note and "outside its validity" in point.note
+    assert 0.0 < float(point.note.split("uplift at t = ")[1].split()[0]) < 1.0 / f
+    weak = pr.frame_problem(system, 0.5)
+    res = pr.shoot(weak, f, weak.x_ref.copy())
+    assert res.converged
+    q = pr.orbit_quantities(weak, f, res.X)
+    assert q["min_normal_force"] > 0 and q["uplift"] is False
+    assert pr.uplift_probe(weak, f, res.x0)[0] is False
+
+
 def test_sweep_command_writes_csv_and_resumes_from_its_checkpoint(tmp_path, capsys):
     # `nsdyn sweep` on a small scene: one CSV row per point with the documented columns, a
     # checkpoint per amplitude, and a second run that resumes (computes no point again) and
