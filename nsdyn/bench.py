@@ -2105,8 +2105,12 @@ def _plot_accuracy(rows, floors, records, window):
             ax.set_ylabel(f"relative error, {name} (hollow: < {UNRESOLVED_FACTOR:g}x check)")
             ax.set_title(f"{RECORDS[rec]}, {window:g} s, PGA {PGA:g} m/s², CB-5", fontsize=9)
             ax.grid(True, which="both", lw=0.3)
-    axs[0, 0].legend(fontsize=7)
-    fig.tight_layout()
+    handles = {}
+    for ax in axs.flat:  # one legend below the panels: inside, it hid the slow methods' lines
+        for h, lab in zip(*ax.get_legend_handles_labels(), strict=True):
+            handles.setdefault(lab, h)
+    fig.legend(list(handles.values()), list(handles), fontsize=7, loc="lower center", ncol=5)
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
     return fig
 
 
