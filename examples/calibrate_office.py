@@ -36,6 +36,7 @@ import numpy as np  # noqa: E402
 import scipy.linalg as sla  # noqa: E402
 from scipy.optimize import least_squares  # noqa: E402
 
+from nsdyn.atomic import atomic_open
 from nsdyn.frame import Frame, base_isolation_frequency, frame_from_dict  # noqa: E402
 from nsdyn.reduction import fixed_base_modes, kinetic_energy_shares  # noqa: E402
 
@@ -240,9 +241,8 @@ def main(argv: list[str] | None = None) -> dict:
         report(res)
     if args.write:
         text = to_toml(data)
-        tmp = TOML.with_suffix(".toml.tmp")
-        tmp.write_text(text)
-        os.replace(tmp, TOML)
+        with atomic_open(TOML) as fh:
+            fh.write(text)
         print(f"wrote {TOML}", file=sys.stderr)
     return res
 

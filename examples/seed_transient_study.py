@@ -15,12 +15,11 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from nsdyn.atomic import atomic_open
 from nsdyn.frame import load_frame
 from nsdyn.records import default_shared_dir, kobe_records
 from nsdyn.system import Isolation, build_system
@@ -79,10 +78,8 @@ def main(out: str | Path = "nsdyn-out/transient-study", quick: bool = False) -> 
             )
         results[name] = r
         histories[name] = h
-    fd, tmp = tempfile.mkstemp(dir=out, suffix=".json.tmp")
-    with os.fdopen(fd, "w") as fh:
+    with atomic_open(out / "study_transient.json") as fh:
         json.dump(results, fh, indent=1)
-    os.replace(tmp, out / "study_transient.json")
     return {"results": results, "histories": histories, "frame": frame}
 
 

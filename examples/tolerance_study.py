@@ -16,12 +16,11 @@ from __future__ import annotations
 
 import argparse
 import csv
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from nsdyn.atomic import atomic_open
 from nsdyn.frame import load_frame
 from nsdyn.records import default_shared_dir, kobe_records, read_motion
 from nsdyn.system import Isolation, build_system
@@ -89,13 +88,10 @@ def main(out: Path, quick: bool) -> list[dict]:
                 f"a_base {row['err_acc_base']:.1e}",
                 flush=True,
             )
-    out.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=out, suffix=".csv.tmp")
-    with os.fdopen(fd, "w", newline="") as fh:
+    with atomic_open(out / "tolerance_study.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
-    os.replace(tmp, out / "tolerance_study.csv")
     print("\n| setting | steps | x_iso history | peak IDR | peak floor acc. | base-level acc. |")
     print("|---|---|---|---|---|---|")
     for label, *_ in SETTINGS:

@@ -13,15 +13,14 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import sys
-import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from nsdyn.atomic import atomic_open, save_figure
 from nsdyn.frame import FrameFileError, base_isolation_frequency, load_frame
 
 __all__ = ["COMMANDS", "Command", "build_parser", "main"]
@@ -69,16 +68,8 @@ def _positive_float(s: str) -> float:
 
 
 def _write_atomic(fig, path: Path) -> None:
-    """Save ``fig`` as PNG to a temporary file next to ``path``, then rename it."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-", suffix=".png")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fig.savefig(fh, format="png", dpi=120)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    """Save ``fig`` as PNG to ``path`` atomically."""
+    save_figure(fig, path, dpi=120)
 
 
 # --------------------------------------------------------------------------- modes
@@ -268,18 +259,16 @@ def run_run(args: argparse.Namespace) -> int:
     s["record"] = motion.name
     s["pga_mps2"] = float(motion.pga)
     hist = out / f"{stem}-histories.npz"
-    fd, tmp = tempfile.mkstemp(dir=out, suffix=".npz.tmp")
-    os.close(fd)
-    np.savez(
-        tmp,
-        t=res.t,
-        x=res.x,
-        x_iso=res.response.x_iso,
-        top_drift=res.response.top_drift,
-        normal_forces=res.response.lam,
-        friction_forces=res.response.tau,
-    )
-    os.replace(tmp, hist)
+    with atomic_open(hist, "wb") as fh:
+        np.savez(
+            fh,
+            t=res.t,
+            x=res.x,
+            x_iso=res.response.x_iso,
+            top_drift=res.response.top_drift,
+            normal_forces=res.response.lam,
+            friction_forces=res.response.tau,
+        )
     s["histories"] = str(hist)
     if not args.no_figures:
         from nsdyn.plot import plot_transient

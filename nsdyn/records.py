@@ -43,7 +43,6 @@ import json
 import math
 import os
 import re
-import tempfile
 import warnings
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -53,6 +52,8 @@ from typing import Any
 
 import numpy as np
 from scipy import integrate, linalg, signal
+
+from .atomic import atomic_open
 
 __all__ = [
     "G_STANDARD",
@@ -1160,15 +1161,8 @@ def write_motion(
         lines += [
             f"{t[k]:.10g},{_fmt(motion.a_hor[k])},{_fmt(motion.a_ver[k])}" for k in range(motion.n)
         ]
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
-            f.write("\n".join(lines) + "\n")
-        os.chmod(tmp, 0o644)  # mkstemp creates 0600; a data file should be readable by all
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    with atomic_open(path, "w", encoding="utf-8", newline="\n") as f:
+        f.write("\n".join(lines) + "\n")
     return path
 
 

@@ -7,8 +7,6 @@ interrupted run resumes) and returns the histories with the metrics of :mod:`nsd
 
 from __future__ import annotations
 
-import os
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -16,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from . import integrate
+from .atomic import atomic_open
 from .metrics import Response, response
 from .system import IsolatedSystem
 
@@ -75,17 +74,8 @@ class TransientResult:
 
 
 def _atomic_save(path: Path, **arrays) -> None:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".npz.tmp")
-    os.close(fd)
-    try:
-        with open(tmp, "wb") as fh:
-            np.savez(fh, **arrays)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
+    with atomic_open(path, "wb") as fh:
+        np.savez(fh, **arrays)
 
 
 def output_grid(motion, dt_out: float | None = None, t_end: float | None = None) -> np.ndarray:

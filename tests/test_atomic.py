@@ -1,0 +1,34 @@
+"""Atomic output: a failed write leaves the previous file and no temporary file behind; a
+finished one has the permissions of any new file under the umask."""
+
+import os
+import stat
+
+import pytest
+
+from nsdyn.atomic import FILE_MODE, atomic_open
+
+
+def test_failed_write_keeps_the_old_file_and_leaves_no_temporary(tmp_path):
+    path = tmp_path / "table.csv"
+    path.write_text("old\n")
+    with pytest.raises(RuntimeError, match="disk full"):
+        with atomic_open(path) as fh:
+            fh.write("half a ta")
+            raise RuntimeError("disk full")
+    assert path.read_text() == "old\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["table.csv"]
+
+
+def test_finished_write_replaces_the_file_with_umask_permissions(tmp_path):
+    path = tmp_path / "sub" / "h.npz"  # the directory is created
+    with atomic_open(path, "wb") as fh:
+        fh.write(b"\x00\x01")
+    assert path.read_bytes() == b"\x00\x01"
+    mask = os.umask(0)
+    os.umask(mask)
+    assert stat.S_IMODE(path.stat().st_mode) == FILE_MODE == 0o666 & ~mask
+    assert sorted(p.name for p in path.parent.iterdir()) == ["h.npz"]
+    with pytest.raises(ValueError, match="mode"):
+        with atomic_open(path, "a"):
+            pass
