@@ -801,10 +801,16 @@ def _point_from_sweep(problem, sw: SweepResult, why: str) -> OrbitPoint:
     )
 
 
-def refined(disc: Discretisation, factor: int = REFINE_FACTOR) -> Discretisation:
-    """The same discretisation with ``factor`` times more steps per period."""
+def refined(disc: Discretisation, factor: float = REFINE_FACTOR) -> Discretisation:
+    """The same discretisation with ``factor`` times the steps per period (``factor`` < 1:
+    fewer; at least one step)."""
+    if not (factor > 0 and math.isfinite(factor)):
+        raise ValueError(f"factor: expected a positive number, got {factor!r}")
     return replace(
-        disc, n_min=disc.n_min * factor, dt_max=disc.dt_max / factor, n_max=disc.n_max * factor
+        disc,
+        n_min=max(1, int(round(disc.n_min * factor))),
+        dt_max=disc.dt_max / factor,
+        n_max=max(1, int(round(disc.n_max * factor))),
     )
 
 
