@@ -91,6 +91,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .atomic import atomic_open, save_figure
+
 __all__ = [
     "BenchRun",
     "Reference",
@@ -540,17 +542,11 @@ def write_csv_atomic(path: Path, rows: list[dict], fieldnames: list[str] | None 
         fieldnames = []
         for r in rows:
             fieldnames.extend(k for k in r if k not in fieldnames)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-", suffix=".csv")
-    try:
-        with os.fdopen(fd, "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=fieldnames, extrasaction="ignore")
-            w.writeheader()
-            for r in rows:
-                w.writerow({k: _csv_value(r.get(k, "")) for k in fieldnames})
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    with atomic_open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=fieldnames, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: _csv_value(r.get(k, "")) for k in fieldnames})
     return path
 
 
@@ -561,16 +557,7 @@ def _csv_value(v):
 
 
 def _save_figure(fig, path: Path) -> Path:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-", suffix=".png")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fig.savefig(fh, format="png", dpi=110)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    return save_figure(fig, path, dpi=110)
 
 
 def _log(msg: str, quiet: bool = False) -> None:
@@ -1780,18 +1767,9 @@ PERIODIC_REPEAT_BELOW_S = 2.0
 
 def periodic_disc(method: str, factor: float, tol: float | None = None):
     """The default :class:`nsdyn.periodic.Discretisation` with ``factor`` x the steps."""
-    from dataclasses import replace
+    from .periodic import Discretisation, refined
 
-    from .periodic import Discretisation
-
-    d = Discretisation()
-    return replace(
-        d,
-        method=method,
-        n_min=max(1, int(round(d.n_min * factor))),
-        dt_max=d.dt_max / factor,
-        n_max=max(1, int(round(d.n_max * factor))),
-    )
+    return refined(Discretisation(method=method), factor)
 
 
 def _orbit_errors(q: dict, ref: dict) -> dict:
