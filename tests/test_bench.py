@@ -275,3 +275,46 @@ def test_full_model_roundoff_reaches_the_newton_tolerance(frame, cb5):
         assert res["full"][0] > 100 * res["cb5"][0]
         assert res["full"][1] > 1.0 > 20 * res["full"][2], method
         assert res["cb5"][1] < 0.1, method
+
+
+def test_bench_fidelity_quick_end_to_end(tmp_path):
+    """``nsdyn bench fidelity --quick``: the richest rung that ran is the reference; the rigid
+    superstructure is further from it than CB-5 in every peak (it has no drift at all); and
+    the integration floor (CB-5 at the ladder's tolerances against rtol 1e-8) is 10x below
+    CB-5's model error, so the chart shows the models, not the integrator."""
+    out = tmp_path / "bench"
+    assert bench.main(["fidelity", "--quick", "--out", str(out), "--json"]) == 0
+    rows = list(csv.DictReader(open(out / "fidelity.csv")))
+    ladder = [bench._rung_name(*r) for r in bench.QUICK_LADDER]
+    for rec in ("low-frequency", "broadband"):
+        mine = {r["model"]: r for r in rows if r["record"] == rec}
+        assert all(mine[m]["status"] == "ok" for m in ladder)
+        assert {mine[m]["reference"] for m in ladder} == {ladder[-1]}
+        rigid, cb5 = mine["rigid"], mine["cb-5"]
+        floor = mine[f"cb-5 rtol {bench.FLOOR_RTOL:g}"]
+        assert float(rigid["err_idr"]) == pytest.approx(1.0)  # a rigid body has no drift
+        for key in ("err_xpeak", "err_idr", "err_acc"):
+            assert float(rigid[key]) > float(cb5[key]) > 10 * float(floor[key])
+    assert (out / "fidelity.png").exists() and not list(out.glob(".*"))
+
+
+def test_bench_stability_quick_end_to_end(tmp_path):
+    """``nsdyn bench stability --quick``: no cell returns unflagged garbage; dopri5 beyond its
+    step on the stiff CB-5 model is reported (flagged by the integrator or caught by the
+    energy check); and on the rigid model with Baumgarte alpha = 1e3 its largest stable step
+    is the largest scanned step below 3.306/alpha, the linear stability limit of the
+    Dormand-Prince tableau on the negative real axis (Hairer & Wanner, Solving ODEs II,
+    Sec. IV.2) for the constraint's double eigenvalue -alpha."""
+    res = bench.stability_bench(quick=True, out=tmp_path / "bench", figures=False, quiet=True)
+    assert res["unflagged_garbage"] == []
+    bound = {
+        (b["map"], b["model"], b["method"], b.get(b["map"])): b
+        for b in res["eps_boundary"] + res["alpha_boundary"]
+    }
+    stiff = bound[("eps", "cb-5", "dopri5", 1e4)]
+    assert stiff["dt_max_stable"] < 1e-3
+    assert stiff["failure_above"].split(":")[0] in ("flagged", "checked")
+    assert bound[("eps", "cb-5", "genalpha", 1e2)]["dt_max_stable"] == bench.STAB_DT[0]
+    alpha = 1e3
+    limit = max(dt for dt in bench.STAB_DT if dt <= 3.306 / alpha)
+    assert bound[("alpha", "rigid", "dopri5", alpha)]["dt_max_stable"] == pytest.approx(limit)
