@@ -43,7 +43,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import io
 import math
 import sys
 import time
@@ -53,10 +52,11 @@ import numpy as np
 
 from nsdyn import periodic as pr
 from nsdyn._params import Harmonic
+from nsdyn.atomic import atomic_open
 from nsdyn.integrate import solve, warmup
 from nsdyn.metrics import output_dofs, response
 from nsdyn.scene import build_scene, load_scene
-from nsdyn.sweep import _atomic_write_text, _fmt
+from nsdyn.sweep import format_csv_value
 
 AMPLITUDES = (0.1, 0.5, 1.0, 2.0)  # m/s^2, seed Fig. 9
 # near f_bis (0.060 Hz), between f_bis and f1, at f1 = 0.463 Hz, 1 Hz, at f2 and f3 (1.26,
@@ -335,12 +335,11 @@ COLUMNS = (
 
 
 def write_csv(path: Path, rows: list[dict]) -> None:
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    w.writerow(COLUMNS)
-    for r in rows:
-        w.writerow([_fmt(r.get(c)) for c in COLUMNS])
-    _atomic_write_text(Path(path), buf.getvalue())
+    with atomic_open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(COLUMNS)
+        for r in rows:
+            w.writerow([format_csv_value(r.get(c)) for c in COLUMNS])
 
 
 def print_table(rows: list[dict], file=sys.stdout) -> None:

@@ -639,6 +639,7 @@ class Curve:
                     "A": self.amplitude,
                     "IDR": q.get("idr", math.nan),
                     "a": q.get("acc", math.nan),
+                    "a_floors": q.get("acc_floors", math.nan),
                     "x_iso": q.get("x_iso", math.nan),
                     "stick_all_period": q.get("stick_all_period", ""),
                     "stable": "" if p.stable is None else p.stable,
@@ -660,11 +661,12 @@ def orbit_quantities(problem: PeriodicProblem, f: float, X: np.ndarray) -> dict:
     """Maximum over one period (and all levels) of the seed's Fig. 9 quantities.
 
     ``idr``: interstorey drift ratio (column lines, all storeys); ``acc``: absolute horizontal
-    floor acceleration (all nodes of every level, base included); ``x_iso``: half the peak-to-peak
-    isolator slip ``D q`` (largest isolator); ``stick_all_period``: every isolator's friction
-    stays below ``STICK_UTILISATION`` of its limit over the whole period (arctan law: ``|v| <=
-    tan(0.45 pi) / eps``, the creep branch). For the Duffing problem: ``amp`` (half the peak-to-
-    peak displacement) only.
+    floor acceleration (all nodes of every level, base included); ``acc_floors``: the same over
+    the levels above the isolators (``nsdyn run``'s ``floor_acc_max``); ``x_iso``: half the
+    peak-to-peak isolator slip ``D q`` (largest isolator); ``stick_all_period``: every
+    isolator's friction stays below ``STICK_UTILISATION`` of its limit over the whole period
+    (arctan law: ``|v| <= tan(0.45 pi) / eps``, the creep branch). For the Duffing problem:
+    ``amp`` (half the peak-to-peak displacement) only.
     """
     m = problem.m
     if problem.prob == kp.PROB_DUFFING:
@@ -697,9 +699,9 @@ def orbit_quantities(problem: PeriodicProblem, f: float, X: np.ndarray) -> dict:
     U = np.einsum("lcj,tj->tlc", cache["Tj"], X[:, :m])
     drift = np.abs(np.diff(U, axis=1)) / od["heights"][None, :, None]
     idr = float(drift.max()) if drift.size else 0.0
-    acc = 0.0
-    for Tl in cache["Tl"]:
-        acc = max(acc, float(np.max(np.abs(QDD @ Tl.T + G[:, :1]))))
+    acc_levels = [float(np.max(np.abs(QDD @ Tl.T + G[:, :1]))) for Tl in cache["Tl"]]
+    acc = max(acc_levels, default=0.0)
+    acc_floors = max(acc_levels[1:], default=0.0)
     q = Xf[:, :n]
     xi = q @ sysm.D.T
     x_iso = float(0.5 * np.max(xi.max(axis=0) - xi.min(axis=0))) if xi.size else 0.0
@@ -714,6 +716,7 @@ def orbit_quantities(problem: PeriodicProblem, f: float, X: np.ndarray) -> dict:
     return {
         "idr": idr,
         "acc": acc,
+        "acc_floors": acc_floors,
         "x_iso": x_iso,
         "stick_all_period": stick,
         "v_slip_max": float(np.max(np.abs(v))) if v.size else 0.0,
@@ -780,7 +783,8 @@ def _point_from_sweep(problem, sw: SweepResult, why: str) -> OrbitPoint:
     if sw.periods_done > 0:
         q = orbit_quantities(problem, sw.f, sw.X)
     else:
-        q = dict.fromkeys(("idr", "acc", "x_iso", "v_slip_max", "min_normal_force"), math.nan)
+        keys = ("idr", "acc", "acc_floors", "x_iso", "v_slip_max", "min_normal_force")
+        q = dict.fromkeys(keys, math.nan)
         q["stick_all_period"] = None
         q["uplift"], probe = uplift_probe(problem, sw.f, sw.x0)
     note = "; ".join(

@@ -39,6 +39,7 @@ CSV_COLUMNS = (
     "A",
     "IDR",
     "a",
+    "a_floors",
     "x_iso",
     "stick_all_period",
     "stable",
@@ -341,7 +342,8 @@ def _run_all(ex: Executor, args) -> list[dict]:
 
 
 # ---- outputs --------------------------------------------------------------------------------
-def _fmt(v) -> str:
+def format_csv_value(v) -> str:
+    """A CSV cell as the sweep writes it: empty for None/NaN, true/false, floats to 9 digits."""
     if v is None:
         return ""
     if isinstance(v, bool | np.bool_):
@@ -358,7 +360,7 @@ def write_csv(path: Path, results: list[dict]) -> None:
     w.writerow(CSV_COLUMNS)
     for r in sorted(results, key=lambda r: r["A"]):
         for row in r["rows"]:
-            w.writerow([_fmt(row[c]) for c in CSV_COLUMNS])
+            w.writerow([format_csv_value(row[c]) for c in CSV_COLUMNS])
     _atomic_write_text(Path(path), buf.getvalue())
 
 
@@ -451,6 +453,7 @@ def summarise(r: dict) -> dict:
         ),
         "idr_max": peak("IDR"),
         "a_max_mps2": peak("a"),
+        "a_floors_max_mps2": peak("a_floors"),
         "x_iso_max_m": peak("x_iso"),
         "bifurcations": r["bifurcations"],
         "wall_s": r["wall_s"],

@@ -357,6 +357,8 @@ def test_sweep_command_writes_csv_and_resumes_from_its_checkpoint(tmp_path, caps
     assert tuple(rows[0].keys()) == sweep.CSV_COLUMNS
     assert len(rows) == 8 and {r["A"] for r in rows} == {"0.5", "2"}
     assert all(r["method"] in ("shooting", "sweep") and r["converged"] == "true" for r in rows)
+    # a_floors leaves out the isolation level (level 0) of a's maximum over all levels
+    assert all(0 < float(r["a_floors"]) <= float(r["a"]) for r in rows)
     for A in (0.5, 2.0):
         assert sweep.checkpoint_path(out, A).exists()
     assert sweep.main(argv) == 0
