@@ -18,6 +18,7 @@ import shutil
 from pathlib import Path
 
 from nsdyn import bench
+from nsdyn.atomic import save_figure
 
 FIGURES = Path(__file__).resolve().parent / "figures"
 INTEGER = {
@@ -110,22 +111,22 @@ def main(out_dir: str | Path = bench.DEFAULT_OUT, fig_dir: str | Path = FIGURES)
         }
         records = list(dict.fromkeys(r["record"] for r in rows))
         window = rows[0]["window_s"]
-        fig = bench._plot_accuracy(rows, floors, records, window)
-        bench._save_figure(fig, figs / "accuracy.png")
+        fig = bench.accuracy_figure(rows, floors, records, window)
+        save_figure(fig, figs / "accuracy.png")
         result["ratios"] = {rec: bench.matched_ratios(rows, rec) for rec in records}
         result["floors"] = floors
     fid = out / "fidelity.csv"
     if fid.exists():
         rows = read_rows(fid)
-        bench._save_figure(bench._plot_fidelity(rows), figs / "fidelity.png")
+        save_figure(bench.fidelity_figure(rows), figs / "fidelity.png")
         result["fidelity"] = rows
     if (out / "speed-table.csv").exists():
         res = speed_result(out)
-        bench._save_figure(bench._plot_speed(res["rows"], res["table"]), figs / "speed.png")
+        save_figure(bench.speed_figure(res["rows"], res["table"]), figs / "speed.png")
         result["speed"] = bench.speed_markdown(res)
     if (out / "periodic.csv").exists():
         res = periodic_result(out)
-        bench._save_figure(bench._plot_periodic(res["rows"]), figs / "periodic.png")
+        save_figure(bench.periodic_figure(res["rows"]), figs / "periodic.png")
         result["periodic"] = bench.periodic_markdown(res)
     if (out / "stability.png").exists():
         figs.mkdir(parents=True, exist_ok=True)

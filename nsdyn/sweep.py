@@ -364,61 +364,6 @@ def write_csv(path: Path, results: list[dict]) -> None:
     _atomic_write_text(Path(path), buf.getvalue())
 
 
-def plot_sweep(results: list[dict], fixed: dict | None = None):
-    """Figure with IDR, a and x_iso against f (log-log), one colour per amplitude.
-
-    Isolated-base periodic solutions solid (unstable points x, sweep-fallback points o);
-    ``fixed`` maps an amplitude to :func:`nsdyn.periodic.fixed_base_response` (dashed).
-    x_iso is drawn where the isolators slip at some time of the period (as in the seed);
-    points with uplift (a negative normal force: outside the contact model) are omitted.
-    """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(3, 1, figsize=(7.5, 9.5), sharex=True)
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for k, r in enumerate(sorted(results, key=lambda r: r["A"])):
-        col = colors[k % len(colors)]
-        rows = r["rows"]
-        f = np.array([x["f"] for x in rows])
-        idr = np.array([x["IDR"] for x in rows])
-        acc = np.array([x["a"] for x in rows])
-        xi = np.array([x["x_iso"] for x in rows], dtype=float)
-        stick = np.array([x["stick_all_period"] is True for x in rows])
-        uplift = np.array([x["uplift"] is True for x in rows])
-        idr, acc, xi = (np.where(uplift, np.nan, v) for v in (idr, acc, xi))
-        unstable = np.array([x["stable"] is False for x in rows])
-        sweep = np.array([x["method"] == "sweep" for x in rows])
-        lab = f"A = {r['A']:g} m/s²"
-        for ax, y in ((axes[0], idr), (axes[1], acc)):
-            ax.loglog(f, y, "-", color=col, lw=1.3, label=lab)
-            ax.loglog(f[unstable], y[unstable], "x", color=col, ms=5)
-            ax.loglog(f[sweep], y[sweep], "o", mfc="none", color=col, ms=4)
-        xs = np.where(stick, np.nan, xi)
-        axes[2].loglog(f, xs, "-", color=col, lw=1.3, label=lab)
-        axes[2].loglog(f[sweep], xs[sweep], "o", mfc="none", color=col, ms=4)
-        if fixed is not None and r["A"] in fixed:
-            fb = fixed[r["A"]]
-            axes[0].loglog(fb["f"], fb["idr"], "--", color=col, lw=0.8)
-            axes[1].loglog(fb["f"], fb["acc"], "--", color=col, lw=0.8)
-    axes[0].set_ylabel("IDR [-]")
-    axes[1].set_ylabel("a [m/s²]")
-    axes[2].set_ylabel("x̄_iso [m] (slip only)")
-    axes[2].set_xlabel("f_hor [Hz]")
-    axes[0].set_title("periodic solutions (solid), fixed base (dashed); x unstable, o sweep")
-    for ax in axes:
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0].legend(fontsize=8)
-    fig.tight_layout()
-    return fig
-
-
-def _save_figure(fig, path: Path) -> None:
-    save_figure(fig, path, dpi=120)
-
-
 def summarise(r: dict) -> dict:
     """Per-amplitude numbers for the report. Maxima skip points with uplift (the bilateral
     contact model is outside its validity there) and unconverged points."""
@@ -524,7 +469,9 @@ def run(args: argparse.Namespace) -> int:
         frame, fm = results[0]["frame"], results[0]["f_max"] or 5.0
         fixed = {r["A"]: fixed_base_response(frame, r["A"], freqs, f_max=fm) for r in results}
         fig_path = out / "sweep.png"
-        _save_figure(plot_sweep(results, fixed), fig_path)
+        from .plot import sweep_figure
+
+        save_figure(sweep_figure(results, fixed), fig_path, dpi=120)
         report["figure"] = str(fig_path)
     if args.json:
         print(json.dumps(report, default=float))

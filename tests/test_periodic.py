@@ -377,12 +377,14 @@ def test_sweep_command_writes_csv_and_resumes_from_its_checkpoint(tmp_path, caps
     # --steps-factor 2: twice the steps per period (exactly: Discretisation.steps), so the
     # checkpoint of the default run is not reused; --tableau sdirk3 changes the tableau only
     fine = out.parent / "fine"
-    argv2 = [a if a != str(out) else str(fine) for a in argv] + ["--steps-factor", "2"]
+    argv2 = [a if a != str(out) else str(fine) for a in argv if a != "--no-figures"]
+    argv2 += ["--steps-factor", "2"]
     assert sweep.main(argv2 + ["--tableau", "sdirk3"]) == 0
     report = json.loads(capsys.readouterr().out)
     assert report["settings"]["steps_factor"] == 2.0 and report["settings"]["tableau"] == "sdirk3"
     rows2 = list(csv.DictReader((fine / "sweep.csv").open()))
     assert [int(r["n_steps"]) for r in rows2] == [2 * int(r["n_steps"]) for r in rows]
+    assert (fine / "sweep.png").stat().st_size > 0 and not list(fine.glob(".*.tmp"))
     # the default sdirk2 and sdirk3 agree to the discretisation error of the coarse default
     for r, r2 in zip(rows, rows2, strict=True):
         assert float(r2["x_iso"]) == pytest.approx(float(r["x_iso"]), rel=2e-2, abs=1e-9)
