@@ -34,12 +34,12 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn.atomic import atomic_open
 from nsdyn.frame import base_isolation_frequency
 from nsdyn.periodic import fixed_base_response
 from nsdyn.scene import load_scene
 from nsdyn.sweep import (
     SweepSettings,
-    _atomic_write_text,
     amplitude_job,
     summarise,
     sweep_amplitudes,
@@ -334,7 +334,8 @@ if __name__ == "__main__":
     if args.timing:
         t = timing(args.amplitude, args.repeats)
         print_timing(t)
-        _atomic_write_text(Path(args.out_dir) / "timing.json", json.dumps(t, indent=1))
+        with atomic_open(Path(args.out_dir) / "timing.json") as fh:
+            json.dump(t, fh, indent=1)
         raise SystemExit(0)
     out = main(args.out_dir)
     _plot(out, Path(args.out_dir) / "seed-periodic-figs9-11.png")

@@ -7,6 +7,7 @@ any, in place and no temporary file behind.
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -28,19 +29,28 @@ def atomic_open(path: str | Path, mode: str = "w", **kwargs) -> Iterator:
     """``open(path, mode)`` for writing, atomically.
 
     Yields a file object on a temporary file in ``path``'s directory (created if missing);
-    on a clean exit the file gets :data:`FILE_MODE` and is renamed over ``path``; on an error
-    it is removed. ``mode``: ``"w"`` or ``"wb"``; ``kwargs`` go to :func:`open` (encoding,
-    newline).
+    on a clean exit it is renamed over ``path`` with that file's permissions if it existed,
+    else :data:`FILE_MODE`; on an error it is removed. ``mode``: ``"w"`` or ``"wb"``;
+    ``kwargs`` go to :func:`open` (encoding, newline).
     """
     if mode not in ("w", "wb"):
         raise ValueError(f"mode: expected 'w' or 'wb', got {mode!r}")
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
+    try:  # a file being replaced keeps its permissions
+        file_mode = stat.S_IMODE(path.stat().st_mode)
+    except OSError:
+        file_mode = FILE_MODE
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}-", suffix=".tmp")
     try:
-        with os.fdopen(fd, mode, **kwargs) as fh:
+        try:
+            fh = os.fdopen(fd, mode, **kwargs)
+        except BaseException:
+            os.close(fd)
+            raise
+        with fh:
             yield fh
-        os.chmod(tmp, FILE_MODE)
+        os.chmod(tmp, file_mode)
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)

@@ -286,7 +286,10 @@ def floquet_multipliers(monodromy: np.ndarray) -> np.ndarray:
     return mu[np.argsort(-np.abs(mu), kind="stable")]
 
 
-def _amplitudes(problem: PeriodicProblem, X: np.ndarray) -> tuple[float, float]:
+def orbit_amplitudes(problem: PeriodicProblem, X: np.ndarray) -> tuple[float, float]:
+    """Largest excursion of the displacement and of the velocity block of ``X`` (samples in
+    minimal coordinates) from the static state, each at least AMP_FLOOR: the scales of the
+    shooting residual and closure tests."""
     m = problem.m
     dX = np.abs(X - problem.x_ref[None, :])
     return max(float(dX[:, :m].max()), AMP_FLOOR), max(float(dX[:, m:].max()), AMP_FLOOR)
@@ -323,7 +326,7 @@ def _evaluate(problem, x, f, N, disc):
     pm = period_map(problem, x, f, n_steps=N, disc=disc, sens=True, store=True)
     if pm.status != kp.STATUS_OK:
         return pm, None, np.inf
-    amp = _amplitudes(problem, pm.X)
+    amp = orbit_amplitudes(problem, pm.X)
     W = _weights(problem, amp)
     H = pm.xT - x
     return pm, W, float(np.max(np.abs(W * H)))
@@ -464,7 +467,7 @@ def steady_state_sweep(
         X = pm.X
         x_start = x
         done += 1
-        amp_z, amp_v = _amplitudes(problem, X)
+        amp_z, amp_v = orbit_amplitudes(problem, X)
         dx = np.abs(pm.xT - x)
         delta = max(dx[:m].max() / amp_z, dx[m:].max() / amp_v)
         rho = delta / d_old if math.isfinite(d_old) and d_old > 0 else math.inf
@@ -701,7 +704,7 @@ def orbit_quantities(problem: PeriodicProblem, f: float, X: np.ndarray) -> dict:
     idr = float(drift.max()) if drift.size else 0.0
     acc_levels = [float(np.max(np.abs(QDD @ Tl.T + G[:, :1]))) for Tl in cache["Tl"]]
     acc = max(acc_levels, default=0.0)
-    acc_floors = max(acc_levels[1:], default=0.0)
+    acc_floors = max(acc_levels[1:] if len(acc_levels) > 1 else acc_levels, default=0.0)
     q = Xf[:, :n]
     xi = q @ sysm.D.T
     x_iso = float(0.5 * np.max(xi.max(axis=0) - xi.min(axis=0))) if xi.size else 0.0
@@ -786,7 +789,9 @@ def _point_from_sweep(problem, sw: SweepResult, why: str) -> OrbitPoint:
         keys = ("idr", "acc", "acc_floors", "x_iso", "v_slip_max", "min_normal_force")
         q = dict.fromkeys(keys, math.nan)
         q["stick_all_period"] = None
-        q["uplift"], probe = uplift_probe(problem, sw.f, sw.x0)
+        q["uplift"] = None  # unknown unless the frame's probe decides
+        if problem.prob == kp.PROB_FRAME:
+            q["uplift"], probe = uplift_probe(problem, sw.f, sw.x0)
     note = "; ".join(
         n for n in (f"shooting failed: {why}", f"sweep: {sw.message}", probe, _uplift_note(q)) if n
     )
@@ -849,7 +854,9 @@ def _append(pts: list, pt: OrbitPoint, keep_orbits: bool) -> None:
     pts.append(pt)
 
 
-def _warm_start(problem, f, x0, disc, periods=WARMUP_PERIODS):
+def warm_start(problem, f, x0, disc, periods=WARMUP_PERIODS):
+    """A shooting guess at ``f``: ``periods`` periods integrated from ``x0`` (None: the static
+    state), stopping early if a period cannot be integrated."""
     x = problem.x_ref.copy() if x0 is None else np.array(x0, dtype=float)
     for _ in range(periods):
         pm = period_map(problem, x, f, disc=disc, sens=False)
@@ -894,7 +901,7 @@ def continue_sequential(
         if pts:
             guesses.append(pts[-1].x0)
         else:
-            guesses.append(_warm_start(problem, f, x0, disc))
+            guesses.append(warm_start(problem, f, x0, disc))
         tp = time.perf_counter()
         pt, _ = _solve_point(problem, f, guesses, disc, tol, max_iter, fallback)
         if pt is None:
@@ -963,7 +970,7 @@ def continue_arclength(
     pts: list[OrbitPoint] = list(start or [])
     d = problem.dim
     if not pts:
-        xg = _warm_start(problem, fmin, x0, disc)
+        xg = warm_start(problem, fmin, x0, disc)
         pt, res = _solve_point(problem, fmin, [xg], disc, tol, max_iter, fallback, "arclength")
         if pt is None:
             raise RuntimeError(f"no periodic solution found at f = {fmin:g} Hz")
@@ -987,7 +994,7 @@ def continue_arclength(
             break
         if last.X is None:  # resumed point: its orbit for the scaling
             last.X = period_map(problem, last.x0, last.f, disc=disc, sens=False, store=True).X
-        amp = _amplitudes(problem, last.X)
+        amp = orbit_amplitudes(problem, last.X)
         W = state_weight * _weights(problem, amp)
         N = disc.steps(1.0 / last.f)
         if need_restart or J_last is None:

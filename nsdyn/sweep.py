@@ -92,8 +92,8 @@ def _positive(s: str) -> float:
         v = float(s)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a number, got {s!r}") from None
-    if not v > 0:
-        raise argparse.ArgumentTypeError(f"expected a positive number, got {s!r}")
+    if not (v > 0 and math.isfinite(v)):
+        raise argparse.ArgumentTypeError(f"expected a positive finite number, got {s!r}")
     return v
 
 
@@ -133,7 +133,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         "--tableau",
         choices=["sdirk2", "sdirk3"],
         default="sdirk2",
-        help="SDIRK integrating each period (default sdirk2; sdirk3: more accurate IDR)",
+        help="SDIRK integrating each period (default sdirk2; sdirk3 pays off with "
+        "--steps-factor 2 or more)",
     )
     p.add_argument(
         "--steps-factor",
@@ -495,7 +496,10 @@ def run(args: argparse.Namespace) -> int:
             f"{s['wall_s']:8.1f}"
         )
     if any(s["uplift_points"] for s in report["amplitudes"]):
-        print("   (uplift: a normal force < 0 somewhere in the period; maxima skip those points)")
+        print(
+            "   (uplift: a normal force <= 0 somewhere in the period, or from the period's start"
+            " where no period could be integrated; maxima skip those points)"
+        )
     print(f"csv:    {csv_path}")
     if "figure" in report:
         print(f"figure: {report['figure']}")

@@ -32,3 +32,16 @@ def test_finished_write_replaces_the_file_with_umask_permissions(tmp_path):
     with pytest.raises(ValueError, match="mode"):
         with atomic_open(path, "a"):
             pass
+    # a file being replaced keeps its permissions
+    os.chmod(path, 0o600)
+    with atomic_open(path, "wb") as fh:
+        fh.write(b"\x02")
+    assert stat.S_IMODE(path.stat().st_mode) == 0o600 and path.read_bytes() == b"\x02"
+    # a bad argument to open() leaves neither a temporary file nor an open descriptor
+    n_fd = len(os.listdir("/proc/self/fd")) if os.path.isdir("/proc/self/fd") else None
+    with pytest.raises(ValueError):
+        with atomic_open(path, "wb", encoding="utf-8"):
+            pass
+    assert sorted(p.name for p in path.parent.iterdir()) == ["h.npz"]
+    if n_fd is not None:
+        assert len(os.listdir("/proc/self/fd")) == n_fd

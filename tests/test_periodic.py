@@ -132,10 +132,10 @@ def test_monodromy_is_the_derivative_of_the_period_map(smooth_frame):
     # inexact monodromy (an O(1) discrepancy) cannot do, and be small at delta = 1e-5.
     f, N = 1.0, 100
     prob = pr.frame_problem(smooth_frame, 2.0)
-    x0 = pr._warm_start(prob, f, None, pr.Discretisation(), periods=3)
+    x0 = pr.warm_start(prob, f, None, pr.Discretisation(), periods=3)
     pm = pr.period_map(prob, x0, f, n_steps=N, store=True)
     assert pm.status == 0
-    W = pr._weights(prob, pr._amplitudes(prob, pm.X))
+    W = pr._weights(prob, pr.orbit_amplitudes(prob, pm.X))
     d = prob.dim
     Ms = W[:, None] * pm.monodromy / W[None, :]
 
@@ -495,7 +495,7 @@ def test_switch_and_arctan_steady_states_approach_den_hartogs_solution():
         diff = []
         for eps in (1e2, 1e3, 1e4):
             prob = pr.frame_problem(_coulomb_oscillator(m, c, k, mu, "arctan", eps), A)
-            res = pr.shoot(prob, f, pr._warm_start(prob, f, None, disc, periods=5), disc=disc)
+            res = pr.shoot(prob, f, pr.warm_start(prob, f, None, disc, periods=5), disc=disc)
             assert res.converged, res.message
             diff.append(abs(0.5 * np.ptp(res.X[:, 0]) - X) / X)
         assert diff[0] / diff[1] > 3 and diff[1] / diff[2] > 3
