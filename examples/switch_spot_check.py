@@ -100,8 +100,7 @@ def arctan_points(system, A: float, freqs, grid_points: int) -> dict:
 def arctan_orbit(problem, pt):
     """The arctan orbit of ``pt`` on the shooting grid: times and full states [q, qd]."""
     pm = pr.period_map(problem, pt.x0, pt.f, sens=False, store=True)
-    Q, m = problem.Q, problem.m
-    X = np.hstack([pm.X[:, :m] @ Q.T, pm.X[:, m:] @ Q.T])
+    X = problem.to_full(pm.X)
     t = np.linspace(0.0, 1.0 / pt.f, pm.n_steps + 1)
     return t, X
 

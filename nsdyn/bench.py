@@ -1830,12 +1830,12 @@ def dense_orbit_quantities(problem, f: float, x0: np.ndarray, samples: int = PER
     from . import periodic as pe
     from .integrate import solve
 
-    sysm, Q, m = problem.system, problem.Q, problem.m
-    xq = np.concatenate([Q @ x0[:m], Q @ x0[m:]])
+    m = problem.m
     t = np.linspace(0.0, 1.0 / f, int(samples) + 1)
     P, _ = problem.at(f)
+    xq = problem.to_full(x0)
     sol = solve(P, xq, t, method="radau", rtol=PERIODIC_RADAU_RTOL, atol=PERIODIC_RADAU_RTOL * 1e-2)
-    Xz = np.hstack([sol.x[:, : sysm.n] @ Q, sol.x[:, sysm.n :] @ Q])
+    Xz = problem.to_minimal(sol.x)
     amp = pe.orbit_amplitudes(problem, Xz)
     d = np.abs(Xz[-1] - Xz[0])
     closure = max(float(d[:m].max()) / amp[0], float(d[m:].max()) / amp[1])

@@ -67,11 +67,6 @@ def _positive_float(s: str) -> float:
     return v
 
 
-def _write_atomic(fig, path: Path) -> None:
-    """Save ``fig`` as PNG to ``path`` atomically."""
-    save_figure(fig, path, dpi=120)
-
-
 # --------------------------------------------------------------------------- modes
 
 
@@ -133,7 +128,7 @@ def run_modes(args: argparse.Namespace) -> int:
         from nsdyn.plot import plot_mode_shapes
 
         path = Path(out) / f"modes-{frame.name}.png"
-        _write_atomic(plot_mode_shapes(frame, f, Phi, n=N_DRAW), path)
+        save_figure(plot_mode_shapes(frame, f, Phi, n=N_DRAW), path)
         s["figure"] = str(path)
     if args.json:
         print(json.dumps(s))
@@ -274,7 +269,7 @@ def run_run(args: argparse.Namespace) -> int:
         from nsdyn.plot import plot_transient
 
         fig_path = out / f"{stem}.png"
-        _write_atomic(plot_transient(res), fig_path)
+        save_figure(plot_transient(res), fig_path)
         s["figure"] = str(fig_path)
     if args.json:
         print(json.dumps(s))

@@ -150,6 +150,18 @@ class PeriodicProblem:
     def dim(self) -> int:
         return self.x_ref.size
 
+    def to_full(self, X: np.ndarray) -> np.ndarray:
+        """Minimal-coordinate states ``[z, zd]`` (shape (..., 2m)) as full states
+        ``[q, qd] = [Q z, Q zd]`` (shape (..., 2n))."""
+        Q, m = self.Q, self.m
+        return np.concatenate([X[..., :m] @ Q.T, X[..., m:] @ Q.T], axis=-1)
+
+    def to_minimal(self, X: np.ndarray) -> np.ndarray:
+        """Full states ``[q, qd]`` as ``[Q^T q, Q^T qd]`` (Q has orthonormal columns: exact on
+        the contact manifold R q = 0, its projection elsewhere)."""
+        Q, n = self.Q, self.Q.shape[0]
+        return np.concatenate([X[..., :n] @ Q, X[..., n:] @ Q], axis=-1)
+
     def at(self, f: float) -> tuple[tuple, np.ndarray]:
         """Kernel arguments (P, pf) for forcing frequency ``f`` [Hz]."""
         if self.prob == kp.PROB_FRAME:
@@ -687,9 +699,8 @@ def orbit_quantities(problem: PeriodicProblem, f: float, X: np.ndarray) -> dict:
         cache["Tl"] = [T[d] for d in od["levels_x"]]
     N = X.shape[0] - 1
     t = np.linspace(0.0, 1.0 / f, N + 1)
-    Q = problem.Q
-    n = Q.shape[0]
-    Xf = np.ascontiguousarray(np.hstack([X[:, :m] @ Q.T, X[:, m:] @ Q.T]))
+    n = problem.Q.shape[0]
+    Xf = np.ascontiguousarray(problem.to_full(X))
     P, _ = problem.at(f)
     nc, ni = sysm.n_contacts, sysm.n_isolators
     QDD = np.empty((N + 1, n))
@@ -765,12 +776,10 @@ def uplift_probe(problem: PeriodicProblem, f: float, x0: np.ndarray) -> tuple[bo
     """
     from .integrate import IntegrationError, UpliftError, solve
 
-    Q, m = problem.Q, problem.m
-    xq = np.concatenate([Q @ x0[:m], Q @ x0[m:]])
     P, _ = problem.at(f)
     t = np.linspace(0.0, 1.0 / f, 65)
     try:
-        solve(P, xq, t, method="radau", uplift="raise")
+        solve(P, problem.to_full(x0), t, method="radau", uplift="raise")
     except UpliftError as e:
         return True, f"radau probe from the period's start: uplift at t = {e.t:.4g} s"
     except IntegrationError as e:

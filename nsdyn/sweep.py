@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import io
 import json
 import math
 import os
@@ -356,13 +355,12 @@ def format_csv_value(v) -> str:
 
 def write_csv(path: Path, results: list[dict]) -> None:
     """One row per point, all amplitudes (atomic write)."""
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    w.writerow(CSV_COLUMNS)
-    for r in sorted(results, key=lambda r: r["A"]):
-        for row in r["rows"]:
-            w.writerow([format_csv_value(row[c]) for c in CSV_COLUMNS])
-    _atomic_write_text(Path(path), buf.getvalue())
+    with atomic_open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(CSV_COLUMNS)
+        for r in sorted(results, key=lambda r: r["A"]):
+            for row in r["rows"]:
+                w.writerow([format_csv_value(row[c]) for c in CSV_COLUMNS])
 
 
 def summarise(r: dict) -> dict:

@@ -22,8 +22,8 @@ CHUNK_S = 5.0  # seconds of simulated time per chunk (progress / checkpoint gran
 # Default tolerances of an earthquake run (m for displacements, m/s for velocities): every
 # output converged, at 5-9x fewer steps than rtol 1e-6, atol 1e-8. Measured on the office frame
 # (CB-5) under the bundled 40 s record and the four Kobe records at PGA 3 m/s^2 against runs at
-# rtol 1e-8 (README, "Speed"): x_iso history within 1e-6, peak IDR within 1e-7, peak floor
-# acceleration within 1e-4, the base-level acceleration within 1.1e-3.
+# rtol 1e-8 (README, "Tolerances and accuracy"): x_iso history within 1e-6, peak IDR within
+# 1e-7, peak floor acceleration within 1e-4, the base-level acceleration within 1.1e-3.
 # The base level is the sensitive output: it carries the undamped kHz modes of the stiff base
 # diaphragm, rung by every kink of a sampled record. A velocity atol of 1e-4 leaves them to
 # Radau's damping (x_iso, IDR and the accelerations of the storeys above still within 1e-4,

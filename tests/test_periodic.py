@@ -295,6 +295,19 @@ def test_unfinished_sweep_returns_the_start_of_its_last_period(smooth_frame):
     assert np.allclose(pm.monodromy, sw.monodromy, rtol=1e-10, atol=1e-12)
 
 
+def test_minimal_and_full_states_round_trip(frame):
+    # q = Q z with orthonormal Q (a null-space basis of R): Q^T Q = I, so to_minimal inverts
+    # to_full exactly (round-off), and full states satisfy the contacts R q = 0, R qd = 0.
+    prob = pr.frame_problem(build_system(frame, Isolation(), fidelity="cb"), 1.0)
+    Z = np.random.default_rng(0).standard_normal((5, prob.dim))
+    X = prob.to_full(Z)
+    n = prob.Q.shape[0]
+    R = prob.system.R
+    assert np.allclose(prob.to_minimal(X), Z, rtol=0, atol=1e-13)
+    assert np.abs(X[:, :n] @ R.T).max() < 1e-12 and np.abs(X[:, n:] @ R.T).max() < 1e-12
+    assert np.allclose(prob.to_full(Z[0]), X[0], rtol=0, atol=0)
+
+
 def test_point_whose_period_cannot_be_integrated_reports_its_uplift():
     # The office frame near f_bis (0.06 Hz): at A = 2 m/s^2 the fixed-step period fails in the
     # stage Newton before one period is done, because a contact lifts off (its normal force
