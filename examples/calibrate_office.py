@@ -36,9 +36,14 @@ import numpy as np  # noqa: E402
 import scipy.linalg as sla  # noqa: E402
 from scipy.optimize import least_squares  # noqa: E402
 
-from nsdyn.atomic import atomic_open
-from nsdyn.frame import Frame, base_isolation_frequency, frame_from_dict  # noqa: E402
-from nsdyn.reduction import fixed_base_modes, kinetic_energy_shares  # noqa: E402
+from nsdyn.atomic import atomic_open  # noqa: E402
+from nsdyn.structure import (  # noqa: E402
+    Frame,
+    base_isolation_frequency,
+    fixed_base_modes,
+    frame_from_dict,
+    kinetic_energy_shares,
+)
 
 TARGET_HZ = np.array([0.46, 1.27, 1.98, 2.98])  # seed 004 Sect. 2
 K_LAM = 5.0e4  # N/m, seed eq. 16
@@ -152,7 +157,7 @@ def fit() -> np.ndarray:
 
 def evaluate(frame: Frame) -> dict:
     """The calibration targets as achieved by ``frame``."""
-    from nsdyn.reduction import mode_type
+    from nsdyn.structure import mode_type
 
     K, M = frame.assemble()
     f, Phi = fixed_base_modes(K, M, frame.boundary_dofs, f_max=20.0)

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn.records import GroundMotion, kanai_tajimi, modulated_white_noise, write_motion
+from nsdyn.ground import GroundMotion, kanai_tajimi, modulated_white_noise, write_motion
 
 COMMAND = "python examples/make_records.py"
 PGA = 3.0  # [m/s²] the transient study's PGA (seed 004 §5)
@@ -65,14 +65,17 @@ def main(out_dir: Path | None = RECORDS_DIR, write: bool = True) -> dict[str, Gr
 
 if __name__ == "__main__":
     if "--check" in sys.argv:
-        from nsdyn.records import read_motion
+        from nsdyn.ground import read_motion
 
         for stem, motion in main(write=False).items():
             stored = read_motion(RECORDS_DIR / f"{stem}.csv")
-            same = np.array_equal(stored.a_hor, motion.a_hor) and np.array_equal(
-                stored.a_ver, motion.a_ver
-            )
-            print(f"{stem}: {'identical' if same else 'DIFFERS'}")
+            # numpy's vectorised exp may differ from libm's by an ulp on some CPUs, so compare
+            # to a few ulps of the PGA (the file format itself round-trips bit for bit)
+            tol = 16 * np.spacing(stored.pga)
+            dev = max(np.max(np.abs(stored.a_hor - motion.a_hor)),
+                      np.max(np.abs(stored.a_ver - motion.a_ver)))  # fmt: skip
+            verdict = "identical" if dev == 0 else f"within {dev / np.spacing(stored.pga):.0f} ulp"
+            print(f"{stem}: {verdict if dev <= tol else 'DIFFERS'}")
     else:
         for stem, motion in main().items():
             print(f"{RECORDS_DIR / (stem + '.csv')}: {motion}")

@@ -15,7 +15,7 @@ reported in the README (curves, findings, timings) without plotting.
 
 ``python examples/seed_periodic_study.py --timing [--amplitude 0.5 --repeats 3]`` measures the
 speed of one amplitude's curve instead (:func:`timing`): the sweep's worker
-(:func:`nsdyn.sweep.amplitude_job`, 150 points 0.01-10 Hz, sequential, one process) repeated
+(:func:`nsdyn.studies.sweep.amplitude_job`, 150 points 0.01-10 Hz, sequential, one process) repeated
 after compilation, wall time per point below and above 0.1 Hz, the share of points made by
 the stepped-sweep fallback, and the kernels' compile and cache-load times measured apart in
 fresh processes.
@@ -35,10 +35,10 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open
-from nsdyn.frame import base_isolation_frequency
+from nsdyn.models.isolated.scene import load_scene
 from nsdyn.periodic import fixed_base_response
-from nsdyn.scene import load_scene
-from nsdyn.sweep import (
+from nsdyn.structure import base_isolation_frequency
+from nsdyn.studies.sweep import (
     SweepSettings,
     amplitude_job,
     summarise,
@@ -170,7 +170,7 @@ _FIRST_POINT = """
 import json, time
 t0 = time.perf_counter()
 from nsdyn import periodic as pr
-from nsdyn.scene import build_scene, load_scene
+from nsdyn.models.isolated.scene import build_scene, load_scene
 system, _ = build_scene(load_scene(None))
 problem = pr.frame_problem(system, {A})
 t1 = time.perf_counter()
@@ -201,7 +201,7 @@ def _first_point(amplitude: float, cache_dir: str | None) -> dict:
 def timing(amplitude: float = 0.5, repeats: int = 3, points: int = POINTS) -> dict:
     """Wall time of one amplitude's curve after compilation (median of ``repeats``).
 
-    Each repeat is the sweep's worker (:func:`nsdyn.sweep.amplitude_job`: scene build,
+    Each repeat is the sweep's worker (:func:`nsdyn.studies.sweep.amplitude_job`: scene build,
     sequential continuation with the fallback, checkpoints) from scratch in this process.
     Compilation is measured apart, in fresh processes: the first point's time minus a second
     point's, with an empty numba cache (compile) and with numba's cache (load).

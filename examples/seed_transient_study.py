@@ -20,10 +20,10 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open
-from nsdyn.frame import load_frame
-from nsdyn.records import default_shared_dir, kobe_records
-from nsdyn.system import Isolation, build_system
-from nsdyn.transient import simulate
+from nsdyn.ground import default_shared_dir, kobe_records
+from nsdyn.models.isolated.system import Isolation, build_system
+from nsdyn.solve.transient import simulate
+from nsdyn.structure import load_frame
 
 PGA = 3.0  # m/s^2, seed §5
 ISO = Isolation(k_lam=5.0e4, c=1.0e4, mu=0.03, law="arctan", eps=7500.0)  # seed eq (16)

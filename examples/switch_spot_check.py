@@ -12,15 +12,15 @@ For every amplitude A:
    shooting with the stepped-sweep fallback) on the log grid of ``nsdyn sweep`` with the spot
    frequencies inserted, so each spot point lies on the branch the sweep follows;
 2. switch model: the same system with ``law="switch"`` integrated by the event-driven switch
-   integrator (``nsdyn.integrate.solve(method="event")``, true stick) under the
-   :class:`~nsdyn._params.Harmonic` ground, one period per call, from the arctan orbit's state
+   integrator (``nsdyn.solve.integrate.solve(method="event")``, true stick) under the
+   :class:`~nsdyn.models.isolated.params.Harmonic` ground, one period per call, from the arctan orbit's state
    at t = 0 (``--from-rest``: from the static equilibrium) until the Poincare map is
    stationary: the change of the isolator-slip and column-joint displacement histories from
    one period to the next, relative to their ranges, and its geometric extrapolation (as in
    :func:`nsdyn.periodic.steady_state_sweep`, with the slower of the last two contraction
    rates) must both fall below ``--tol``;
 3. both orbits are sampled at the shooting grid (:class:`nsdyn.periodic.Discretisation`) and
-   measured by :func:`nsdyn.metrics.response`: x_iso (half the peak-to-peak isolator slip,
+   measured by :func:`nsdyn.models.isolated.metrics.response`: x_iso (half the peak-to-peak isolator slip,
    largest isolator), max IDR, max absolute floor acceleration a over every level (base
    included, as in ``nsdyn sweep``) and over the levels above the isolators, and whether the
    isolators stick the whole period (arctan: the sweep's creep criterion; switch: no slip
@@ -50,13 +50,13 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn import Harmonic
 from nsdyn import periodic as pr
-from nsdyn._params import Harmonic
 from nsdyn.atomic import atomic_open
-from nsdyn.integrate import solve, warmup
-from nsdyn.metrics import output_dofs, response
-from nsdyn.scene import build_scene, load_scene
-from nsdyn.sweep import format_csv_value
+from nsdyn.models.isolated.metrics import output_dofs, response
+from nsdyn.models.isolated.scene import build_scene, load_scene
+from nsdyn.solve.integrate import solve, warmup
+from nsdyn.studies.sweep import format_csv_value
 
 AMPLITUDES = (0.1, 0.5, 1.0, 2.0)  # m/s^2, seed Fig. 9
 # near f_bis (0.060 Hz), between f_bis and f1, at f1 = 0.463 Hz, 1 Hz, at f2 and f3 (1.26,

@@ -21,10 +21,10 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open
-from nsdyn.frame import load_frame
-from nsdyn.records import default_shared_dir, kobe_records, read_motion
-from nsdyn.system import Isolation, build_system
-from nsdyn.transient import DEFAULT_RTOL, FAST_ATOL, default_atol, simulate
+from nsdyn.ground import default_shared_dir, kobe_records, read_motion
+from nsdyn.models.isolated.system import Isolation, build_system
+from nsdyn.solve.transient import DEFAULT_RTOL, FAST_ATOL, default_atol, simulate
+from nsdyn.structure import load_frame
 
 REF = dict(rtol=1e-8, atol=1e-10)
 SETTINGS = [  # (label, friction law, method, rtol, atol)

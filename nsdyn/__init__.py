@@ -1,3 +1,138 @@
-"""nsdyn — non-smooth structural dynamics of friction base-isolated frames."""
+"""nsdyn — non-smooth structural dynamics of friction base-isolated frames.
+
+The public API, by pipeline stage (structure → ground → models → solve → periodic → studies).
+Names load lazily on first use, so ``import nsdyn`` stays cheap for the command line::
+
+    import nsdyn
+    frame = nsdyn.load_frame("office-11")
+    system = nsdyn.build_system(frame, nsdyn.Isolation(mu=0.03), fidelity="cb", f_max=5.0)
+    res = nsdyn.simulate(system, nsdyn.read_motion("synthetic-wn-40s").scaled_to_pga(3.0))
+"""
+
+from __future__ import annotations
+
+import importlib
 
 __version__ = "0.1.0"
+
+# public name -> module that defines it ("module:attr" where the names differ)
+_API = {
+    # structure
+    "Frame": "nsdyn.structure",
+    "FrameFileError": "nsdyn.structure",
+    "Section": "nsdyn.structure",
+    "base_isolation_frequency": "nsdyn.structure",
+    "load_frame": "nsdyn.structure",
+    "regular_frame": "nsdyn.structure",
+    "CBModel": "nsdyn.structure",
+    "craig_bampton": "nsdyn.structure",
+    "fixed_base_modes": "nsdyn.structure",
+    # ground
+    "G_EARTH": "nsdyn.ground",
+    "Harmonic": "nsdyn.ground",
+    "Table": "nsdyn.ground",
+    "GroundMotion": "nsdyn.ground",
+    "RecordFileError": "nsdyn.ground",
+    "UnitWarning": "nsdyn.ground",
+    "bundled_records": "nsdyn.ground",
+    "kanai_tajimi": "nsdyn.ground",
+    "kobe_records": "nsdyn.ground",
+    "modulated_white_noise": "nsdyn.ground",
+    "read_motion": "nsdyn.ground",
+    "sine_pulse": "nsdyn.ground",
+    "write_motion": "nsdyn.ground",
+    # models: the isolated frame
+    "Isolation": "nsdyn.models.isolated.system",
+    "IsolatedSystem": "nsdyn.models.isolated.system",
+    "build_system": "nsdyn.models.isolated.system",
+    "system_from_matrices": "nsdyn.models.isolated.builders",
+    "shear_building": "nsdyn.models.isolated.builders",
+    "MatrixError": "nsdyn.models.isolated.builders",
+    "build_scene_run": "nsdyn.models.isolated.scene",
+    "linear_statespace": "nsdyn.models.isolated.statespace",
+    "fixed_base_statespace": "nsdyn.models.isolated.statespace",
+    "Response": "nsdyn.models.isolated.metrics",
+    "SceneError": "nsdyn.models.isolated.scene",
+    "load_scene": "nsdyn.models.isolated.scene",
+    "build_scene": "nsdyn.models.isolated.scene",
+    "HarmonicForce": "nsdyn.ground",
+    "ForceTable": "nsdyn.ground",
+    "Pulse": "nsdyn.ground.pulses",
+    "one_sine": "nsdyn.ground.pulses",
+    "one_cosine": "nsdyn.ground.pulses",
+    "n_cycle_sine": "nsdyn.ground.pulses",
+    "ricker": "nsdyn.ground.pulses",
+    "rectangular": "nsdyn.ground.pulses",
+    # models: rocking blocks and frames (seeds 001, 003)
+    "RockingBlock": "nsdyn.models.rocking.block",
+    "RockingFrame": "nsdyn.models.rocking.frame",
+    "CompliantBlock": "nsdyn.models.rocking.compliant",
+    "RockingResult": "nsdyn.models.rocking.results",
+    "simulate_rocking": "nsdyn.models.rocking.block",
+    "simulate_compliant": "nsdyn.models.rocking.compliant",
+    "housner_restitution": "nsdyn.models.rocking.block",
+    "overturning_spectrum": "nsdyn.models.rocking.spectra",
+    "OverturningSpectrum": "nsdyn.models.rocking.spectra",
+    # models: rigid cylinder on a Winkler foundation (seed 000)
+    "CylinderParams": "nsdyn.models.cylinder",
+    "CylinderResult": "nsdyn.models.cylinder",
+    "simulate_cylinder": "nsdyn.models.cylinder:simulate",
+    "CylinderSimulationError": "nsdyn.models.cylinder:SimulationError",
+    "design_foundation": "nsdyn.models.cylinder",
+    "compare_foundations": "nsdyn.models.cylinder",
+    "cylinder_earthquake": "nsdyn.models.cylinder:earthquake",
+    # solve
+    "METHODS": "nsdyn.solve.integrate",
+    "IntegrationError": "nsdyn.solve.integrate",
+    "UpliftError": "nsdyn.solve.integrate",
+    "UpliftWarning": "nsdyn.solve.integrate",
+    "Solution": "nsdyn.solve.integrate",
+    "solve": "nsdyn.solve.integrate",
+    "TransientResult": "nsdyn.solve.transient",
+    "simulate": "nsdyn.solve.transient",
+    # periodic
+    "Discretisation": "nsdyn.periodic",
+    "PeriodicProblem": "nsdyn.periodic",
+    "frame_problem": "nsdyn.periodic",
+    "shoot": "nsdyn.periodic",
+    "ShootingResult": "nsdyn.periodic",
+    "floquet_multipliers": "nsdyn.periodic",
+    "steady_state_sweep": "nsdyn.periodic",
+    "continue_sequential": "nsdyn.periodic",
+    "continue_arclength": "nsdyn.periodic",
+    "frequency_response": "nsdyn.periodic",
+    "OrbitPoint": "nsdyn.periodic",
+    "Curve": "nsdyn.periodic",
+    # studies
+    "load_study": "nsdyn.studies",
+    "Study": "nsdyn.studies",
+    "run_study": "nsdyn.studies",
+    "StudyRun": "nsdyn.studies",
+    "dask_executor": "nsdyn.studies",
+    "run_scene_summary": "nsdyn.studies",
+    "fit_lognormal": "nsdyn.studies",
+    "fit_lognormal_counts": "nsdyn.studies",
+    "LognormalFragility": "nsdyn.studies",
+    "pareto_front": "nsdyn.studies",
+    "design_points": "nsdyn.studies",
+    "percentile_table": "nsdyn.studies",
+    "run_analyses": "nsdyn.studies",
+    "advise": "nsdyn.studies.advisor",
+    "Advice": "nsdyn.studies.advisor",
+}
+
+__all__ = sorted(_API) + ["__version__"]
+
+
+def __getattr__(name: str):
+    where = _API.get(name)
+    if where is None:
+        raise AttributeError(f"module 'nsdyn' has no attribute {name!r}")
+    module, _, attr = where.partition(":")  # "module:attr" where the public name differs
+    value = getattr(importlib.import_module(module), attr or name)
+    globals()[name] = value  # later lookups skip this hook
+    return value
+
+
+def __dir__() -> list[str]:
+    return __all__

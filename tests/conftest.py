@@ -1,7 +1,6 @@
 """Shared factories of standard test systems (frames), used by tests of several modules.
 
-Factories are plain functions (importable from tests as ``from conftest import ...``) and are
-also exposed as fixtures returning the function (``make_cantilever``, ``make_portal``) or a
+Factories are plain functions exposed as fixtures returning the function (``make_cantilever``, ``make_portal``) or a
 ready object (``office``, ``office_km``).
 """
 
@@ -17,7 +16,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from nsdyn.frame import Frame, Section, load_frame, regular_frame  # noqa: E402
+from nsdyn.structure import Frame, Section, load_frame, regular_frame  # noqa: E402
 
 # A slender steel-like bar: L / radius of gyration = 10 / sqrt(1e-5 / 1e-2) ~ 316, so the
 # first axial frequency lies far above the first two bending frequencies.
@@ -68,6 +67,12 @@ def portal(
         floor_mass,
         [0.02],
     )
+
+
+@pytest.fixture
+def cantilever_props() -> dict:
+    """The slender bar's section and length (:data:`CANTILEVER`)."""
+    return dict(CANTILEVER)
 
 
 @pytest.fixture

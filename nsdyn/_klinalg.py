@@ -1,0 +1,100 @@
+"""Small dense LU with partial pivoting, shared by the numba kernels of every family.
+
+``P A = L U`` factored in place (unit-diagonal L below, U on and above the diagonal, row
+swaps in ``piv``), then ``A x = b`` solved by forward and back substitution. Real or complex
+matrices (numba compiles one version per type); vectors or blocks of columns on the right.
+"""
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def lu_factor(A, piv, rtol=0.0):
+    """In-place LU of the square ``A`` with row pivots ``piv``.
+
+    Returns False on a pivot that is zero, non-finite, or (``rtol > 0``) at most ``rtol``
+    times the largest entry of ``A``.
+    """
+    n = A.shape[0]
+    floor = 0.0
+    if rtol > 0.0:
+        for i in range(n):
+            for j in range(n):
+                floor = max(floor, abs(A[i, j]))
+        floor *= rtol
+    for k in range(n):
+        p = k
+        amax = abs(A[k, k])
+        for i in range(k + 1, n):
+            a = abs(A[i, k])
+            if a > amax:
+                amax = a
+                p = i
+        piv[k] = p
+        if amax == 0.0 or not np.isfinite(amax) or amax <= floor:
+            return False
+        if p != k:
+            for j in range(n):
+                tmp = A[k, j]
+                A[k, j] = A[p, j]
+                A[p, j] = tmp
+        inv = 1.0 / A[k, k]
+        for i in range(k + 1, n):
+            f = A[i, k] * inv
+            A[i, k] = f
+            if f != 0.0:
+                for j in range(k + 1, n):
+                    A[i, j] -= f * A[k, j]
+    return True
+
+
+@njit(cache=True)
+def lu_solve(LU, piv, b):
+    """Solve ``A x = b`` in place (``b`` a vector) with the factors of :func:`lu_factor`."""
+    n = LU.shape[0]
+    for k in range(n):
+        p = piv[k]
+        if p != k:
+            tmp = b[k]
+            b[k] = b[p]
+            b[p] = tmp
+    for i in range(n):
+        s = b[i]
+        for j in range(i):
+            s -= LU[i, j] * b[j]
+        b[i] = s
+    for i in range(n - 1, -1, -1):
+        s = b[i]
+        for j in range(i + 1, n):
+            s -= LU[i, j] * b[j]
+        b[i] = s / LU[i, i]
+
+
+@njit(cache=True)
+def lu_solve_columns(LU, piv, B):
+    """Solve ``A X = B`` in place for a block of columns ``B`` (shape (n, k))."""
+    n = LU.shape[0]
+    k = B.shape[1]
+    for i in range(n):
+        p = piv[i]
+        if p != i:
+            for c in range(k):
+                tmp = B[i, c]
+                B[i, c] = B[p, c]
+                B[p, c] = tmp
+    for i in range(n):
+        for j in range(i):
+            f = LU[i, j]
+            if f != 0.0:
+                for c in range(k):
+                    B[i, c] -= f * B[j, c]
+    for i in range(n - 1, -1, -1):
+        for j in range(i + 1, n):
+            f = LU[i, j]
+            if f != 0.0:
+                for c in range(k):
+                    B[i, c] -= f * B[j, c]
+        inv = 1.0 / LU[i, i]
+        for c in range(k):
+            B[i, c] *= inv

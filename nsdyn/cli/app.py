@@ -1,0 +1,118 @@
+"""Command line: ``nsdyn SUBCOMMAND ...``.
+
+Each subcommand is two functions, ``configure(parser)`` adding its arguments and
+``run(args) -> int`` doing the work, registered in :data:`COMMANDS`. To add one, write the
+pair and add a :class:`Command` entry; :func:`main` builds the parser from the table.
+
+Errors the user can fix (bad frame file, unwritable output directory) print one line to
+stderr and exit with status 2; no traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from nsdyn.cli.args import EXIT_NUMERICS, EXIT_USER_ERROR
+
+__all__ = ["COMMANDS", "Command", "build_parser", "main"]
+
+
+def _user_errors() -> tuple[type[BaseException], ...]:
+    from nsdyn.ground import RecordFileError
+    from nsdyn.models.scenefile import SceneError
+    from nsdyn.structure import FrameFileError
+
+    return (FrameFileError, OSError, SceneError, RecordFileError)
+
+
+def _numerics_errors() -> tuple[type[BaseException], ...]:
+    from nsdyn.solve.integrate import IntegrationError, UpliftError
+
+    return (IntegrationError, UpliftError)
+
+
+@dataclass(frozen=True)
+class Command:
+    """A subcommand: one-line help, argument set-up, and the function that runs it."""
+
+    help: str
+    configure: Callable[[argparse.ArgumentParser], None]
+    run: Callable[[argparse.Namespace], int]
+
+
+# --------------------------------------------------------------------------- table
+
+
+def _lazy(module: str, attr: str) -> Callable:
+    """``module.attr``, imported on first call (keeps ``nsdyn --help`` fast)."""
+    return lambda arg: getattr(importlib.import_module(module), attr)(arg)
+
+
+COMMANDS: dict[str, Command] = {
+    "modes": Command(
+        help="fixed-base modes, dof counts (full and Craig–Bampton), mass and f_bis",
+        configure=_lazy("nsdyn.cli.modes", "configure"),
+        run=_lazy("nsdyn.cli.modes", "run"),
+    ),
+    "sweep": Command(
+        help="frequency-amplitude diagrams of periodic solutions (shooting + continuation)",
+        configure=_lazy("nsdyn.cli.sweep", "configure"),
+        run=_lazy("nsdyn.cli.sweep", "run"),
+    ),
+    "bench": Command(
+        help="work-precision, fidelity and stability benchmarks (speed against accuracy)",
+        configure=_lazy("nsdyn.cli.bench", "configure"),
+        run=_lazy("nsdyn.cli.bench", "run"),
+    ),
+    "spectrum": Command(
+        help="overturning spectrum of a rocking block or frame: minimum overturning pulse "
+        "amplitude against pulse frequency (bracketing + bisection)",
+        configure=_lazy("nsdyn.cli.spectrum", "configure"),
+        run=_lazy("nsdyn.cli.spectrum", "run"),
+    ),
+    "study": Command(
+        help="many runs of a scene over parameters and records (local processes or Dask), "
+        "resumable; design searches, percentiles, fragility curves",
+        configure=_lazy("nsdyn.cli.study", "configure"),
+        run=_lazy("nsdyn.cli.study", "run"),
+    ),
+    "run": Command(
+        help="transient run of a scene: isolated frame (default: office-11 on isolators, "
+        "synthetic record), rocking block/frame, contact body or cylinder",
+        configure=_lazy("nsdyn.cli.run", "configure"),
+        run=_lazy("nsdyn.cli.run", "run"),
+    ),
+}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="nsdyn", description="Non-smooth dynamics of friction base-isolated frames."
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name, cmd in COMMANDS.items():
+        p = sub.add_parser(name, help=cmd.help, description=cmd.help)
+        cmd.configure(p)
+        p.set_defaults(_run=cmd.run)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``nsdyn`` script; returns the exit status."""
+    args = build_parser().parse_args(argv)
+    try:
+        return int(args._run(args))
+    except _user_errors() as exc:
+        print(f"nsdyn {args.command}: error: {exc}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    except _numerics_errors() as exc:
+        print(f"nsdyn {args.command}: numerical failure: {exc}", file=sys.stderr)
+        return EXIT_NUMERICS
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,52 @@
+"""Argument types and exit codes shared by the subcommands (argparse lives only in nsdyn.cli)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+EXIT_USER_ERROR = 2  # bad input the user can fix (same as argparse usage errors)
+EXIT_NUMERICS = 3  # the numerics failed (step underflow, Newton divergence, uplift, ...)
+
+
+def positive_float(s: str) -> float:
+    """A positive number (``inf`` allowed, e.g. ``--fmax inf``)."""
+    try:
+        v = float(s)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {s!r}") from None
+    if not v > 0:
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {s!r}")
+    return v
+
+
+def positive_finite(s: str) -> float:
+    """A positive finite number."""
+    v = positive_float(s)
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"expected a positive finite number, got {s!r}")
+    return v
+
+
+def count(s: str) -> int:
+    """An integer of at least 2."""
+    try:
+        v = int(s)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {s!r}") from None
+    if v < 2:
+        raise argparse.ArgumentTypeError(f"expected at least 2, got {s!r}")
+    return v
+
+
+def amplitude_list(s: str) -> list[float]:
+    """Comma-separated positive amplitudes [m/s²]."""
+    try:
+        vals = [float(v) for v in s.split(",") if v.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected numbers separated by commas, got {s!r}"
+        ) from None
+    if not vals or any(not (v > 0 and math.isfinite(v)) for v in vals):
+        raise argparse.ArgumentTypeError(f"expected positive amplitudes [m/s^2], got {s!r}")
+    return vals

@@ -1,0 +1,165 @@
+"""``nsdyn bench``: the benchmarks' command-line arguments, dispatch and printed summaries
+(the benchmarks themselves are in :mod:`nsdyn.bench`).
+
+``nsdyn bench NAME | all [--quick] [--out DIR] [--repeats N] [--records LIST] [--cold-compile]
+[--no-figures] [--json]`` runs benchmark NAME of :data:`nsdyn.bench.BENCHMARKS` (``all``: each
+in the table's order) through its ``run_bench(out_dir, quick, **options)``, passing only the
+options its ``OPTIONS`` lists, then prints its ``report`` (or its summary) and the files it
+wrote, or with ``--json`` one JSON object ``{name: summary}`` and nothing else.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.bench.common import DEFAULT_OUT, RECORDS, REPEATS
+
+__all__ = ["configure", "main", "run"]
+
+# one line per benchmark for the help of the NAME argument
+HELP = {
+    "accuracy": "work-precision chart",
+    "fidelity": "model ladder",
+    "stability": "step-size, drift and shooting maps",
+    "speed": "transient speed table against SciPy",
+    "periodic": "work-precision of shooting and the steady-state sweep",
+    "rocking": "rocking bodies",
+    "contact": "planar contact bodies",
+    "cylinder": "the cylinder",
+    "studies": "study throughput: local process pool against a Dask local cluster",
+}
+EXIT_USER_ERROR = 2  # bad arguments, or a benchmark asked for by name that is not available
+EXIT_UNAVAILABLE = 1  # `all`: a benchmark module exists but does not import
+
+
+def _positive_int(s: str) -> int:
+    try:
+        v = int(s)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {s!r}") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"expected >= 1, got {s!r}")
+    return v
+
+
+def configure(p: argparse.ArgumentParser) -> None:
+    """Arguments of ``nsdyn bench``."""
+    from nsdyn.bench import BENCHMARKS
+
+    p.add_argument(
+        "what",
+        choices=[*BENCHMARKS, "all"],
+        help="; ".join(f"{name}: {HELP.get(name, BENCHMARKS[name])}" for name in BENCHMARKS)
+        + "; all: each in this order",
+    )
+    p.add_argument("--quick", action="store_true", help="short windows and few points (CI)")
+    p.add_argument("--out", default=str(DEFAULT_OUT), metavar="DIR", help="output directory")
+    p.add_argument(
+        "--repeats",
+        type=_positive_int,
+        default=None,
+        metavar="N",
+        help=f"timed repeats per point, median quoted (default {REPEATS}; --quick: 1)",
+    )
+    p.add_argument(
+        "--records",
+        default="wn,kt",
+        metavar="LIST",
+        help="accuracy: comma-separated records among wn (white noise), kt (Kanai-Tajimi)",
+    )
+    p.add_argument(
+        "--cold-compile",
+        action="store_true",
+        help="speed: also time the JIT compilation with an empty numba cache (a few minutes)",
+    )
+    p.add_argument("--no-figures", action="store_true", help="write the CSV tables only")
+    p.add_argument("--json", action="store_true", help="print one JSON summary and nothing else")
+
+
+def _jsonable(obj):
+    if isinstance(obj, dict):
+        return {str(k): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_jsonable(v) for v in obj]
+    if isinstance(obj, float | np.floating):
+        return float(obj) if np.isfinite(obj) else None
+    if isinstance(obj, np.integer):
+        return int(obj)
+    return obj
+
+
+def _files(res) -> list[tuple[str, str]]:
+    """(key, path) of each file a result lists under "files" (a dict or a list of paths)."""
+    files = res.get("files", {}) if isinstance(res, dict) else {}
+    if isinstance(files, dict):
+        return [(str(k), str(v)) for k, v in files.items()]
+    return [("file", str(v)) for v in files]
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``nsdyn bench``; returns the exit status (0 ok, 1 a benchmark of ``all`` does not
+    import, 2 bad arguments or a benchmark asked for by name is not available)."""
+    from nsdyn.bench import BENCHMARKS, BenchmarkUnavailable, load_benchmark
+
+    records = tuple(r.strip() for r in args.records.split(",") if r.strip())
+    bad = [r for r in records if r not in RECORDS]
+    if bad or not records:
+        print(
+            f"nsdyn bench: error: --records: expected some of {sorted(RECORDS)}, got {bad}",
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
+    options = {
+        "repeats": args.repeats,
+        "records": records,
+        "figures": not args.no_figures,
+        "quiet": args.json,
+        "cold_compile": getattr(args, "cold_compile", False),
+    }
+    whats = list(BENCHMARKS) if args.what == "all" else [args.what]
+    summary, status = {}, 0
+    for what in whats:
+        try:
+            module = load_benchmark(what)
+        except BenchmarkUnavailable as e:
+            print(f"nsdyn bench: {e}", file=sys.stderr)
+            if args.what != "all":
+                return EXIT_USER_ERROR
+            summary[what] = {"status": "unavailable", "reason": str(e)}
+            status = status if e.absent else EXIT_UNAVAILABLE
+            continue
+        taken = {k: options[k] for k in getattr(module, "OPTIONS", ()) if k in options}
+        res = module.run_bench(Path(args.out), args.quick, **taken)
+        summarise = getattr(module, "summarise", None)
+        summary[what] = summarise(res) if summarise is not None else res
+        if not args.json:
+            report = getattr(module, "report", None)
+            if report is not None:
+                print(report(res))
+            else:
+                print(json.dumps(_jsonable(summary[what]), indent=2))
+            for k, v in _files(res):
+                print(f"{k}: {v}")
+    if args.json:
+        print(json.dumps(_jsonable(summary)))
+    return status
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``nsdyn bench ...`` on its own (tests call it with an argument list)."""
+    import nsdyn.bench
+
+    parser = argparse.ArgumentParser(
+        prog="nsdyn bench", description=nsdyn.bench.__doc__.splitlines()[0]
+    )
+    configure(parser)
+    return run(parser.parse_args(argv))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

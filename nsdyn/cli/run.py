@@ -1,0 +1,202 @@
+"""``nsdyn run``: a transient run of a scene of any model family."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.atomic import atomic_open, save_figure
+from nsdyn.cli.args import positive_float as _positive_float
+
+DEFAULT_OUT = "nsdyn-out"  # output directory
+
+
+def configure(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "scene", nargs="?", default=None, help="scene TOML (default: the bundled default scene)"
+    )
+    p.add_argument("--frame", help="bundled frame name or frame TOML path")
+    p.add_argument("--record", help="bundled record name or path to a ground-motion file")
+    p.add_argument("--pga", type=_positive_float, metavar="MPS2", help="scale to this PGA")
+    p.add_argument("--fixed-base", action="store_true", help="the fixed-base linear frame")
+    p.add_argument(
+        "--fidelity",
+        choices=["fixed", "rigid", "cb", "full", "auto"],
+        help="model fidelity; 'auto' asks the model advisor and prints its choice and evidence",
+    )
+    p.add_argument("--fmax", type=_positive_float, metavar="HZ", help="Craig–Bampton cut-off")
+    p.add_argument("--friction", choices=["arctan", "switch", "none"], help="friction law")
+    p.add_argument("--method", help="integrator: radau, dopri5, genalpha, hht, event")
+    p.add_argument("--t-end", type=_positive_float, metavar="S", help="stop at this time")
+    p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR", help="output directory")
+    p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
+    p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
+    p.add_argument(
+        "--resume", action="store_true", help="continue an interrupted run from its checkpoint"
+    )
+
+
+def _scene_overrides(args: argparse.Namespace) -> dict:
+    o: dict = {}
+    if args.frame:
+        o.setdefault("scene", {})["frame"] = args.frame
+    if args.fidelity and args.fidelity != "auto":
+        o.setdefault("scene", {})["fidelity"] = args.fidelity
+    if args.fixed_base:
+        o.setdefault("scene", {})["fidelity"] = "fixed"
+    if args.fmax:
+        o.setdefault("scene", {})["f_max"] = args.fmax
+    if args.record:
+        o.setdefault("motion", {})["record"] = args.record
+    if args.pga:
+        o.setdefault("motion", {})["pga"] = args.pga
+    if args.t_end:
+        o.setdefault("motion", {})["t_end"] = args.t_end
+    if args.method:
+        o.setdefault("solver", {})["method"] = args.method
+    return o
+
+
+_ISOLATED_ONLY = ("frame", "fidelity", "fixed_base", "fmax", "friction", "resume")
+
+
+def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
+    """``nsdyn run`` on a scene of another model family (``[scene] kind``)."""
+    import importlib
+
+    from nsdyn.models.scenefile import SceneError
+
+    bad = [f"--{k.replace('_', '-')}" for k in _ISOLATED_ONLY if getattr(args, k, None)]
+    if bad:
+        raise SceneError(f"{args.scene}: {', '.join(bad)} apply to isolated-frame scenes only")
+    for table, vals in _scene_overrides(args).items():
+        cfg.setdefault(table, {}).update(vals)
+    mod = importlib.import_module(f"nsdyn.models.{kind}.scene")
+    s = mod.run_scene(
+        cfg,
+        source=str(args.scene),
+        out_dir=Path(args.out),
+        figures=not args.no_figures,
+        quiet=args.json,
+    )
+    if args.json:
+        print(json.dumps(s))
+        return 0
+    print(mod.format_summary(s))
+    return 0
+
+
+def run(args: argparse.Namespace) -> int:
+    from nsdyn.models.isolated.scene import build_scene_run, load_scene
+    from nsdyn.models.scenefile import read_toml, scene_kind
+
+    if args.scene is not None:
+        raw = read_toml(args.scene)
+        kind = scene_kind(raw, str(args.scene))
+        if kind != "isolated":
+            return _run_other_kind(args, kind, raw)
+    from nsdyn.solve.transient import output_grid, simulate
+
+    cfg = load_scene(args.scene, _scene_overrides(args))
+    if args.friction:
+        cfg.setdefault("isolation", {})["law"] = args.friction
+    system, motion, duration = build_scene_run(cfg)
+    if args.fidelity == "auto" and system.frame is None:
+        from nsdyn.models.scenefile import SceneError
+
+        raise SceneError(
+            f"{args.scene}: --fidelity auto: the model advisor chooses among a frame's models; "
+            "this scene's [structure] has no frame"
+        )
+    if args.fidelity == "auto":
+        from nsdyn.models.isolated.system import build_system
+        from nsdyn.studies.advisor import advise
+
+        advice = advise(system.frame, motion, isolation=system.isolation)
+        print(advice.report(), file=sys.stderr)
+        system = build_system(
+            system.frame,
+            system.isolation,
+            fidelity=advice.fidelity,
+            f_max=advice.f_max or 5.0,
+        )
+    sv = cfg["solver"]
+    method = sv.get("method", "radau")
+    if method == "event" and system.isolation is not None:
+        system = system.with_isolation(law="switch")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    stem = "run"
+    ckpt = out / f".{stem}-checkpoint.npz"
+    if not args.resume:
+        ckpt.unlink(missing_ok=True)
+    quiet = args.json
+
+    def progress(t, t_end, wall):
+        if not quiet and wall > 1.0:
+            print(f"  t = {t:7.2f} / {t_end:.2f} s   ({wall:5.1f} s)", file=sys.stderr)
+
+    res = simulate(
+        system,
+        motion,
+        method=method,
+        rtol=sv["rtol"],
+        atol=tuple(sv["atol"]) if isinstance(sv.get("atol"), list) else sv.get("atol"),
+        dt=sv.get("dt"),
+        t_eval=output_grid(motion, sv.get("dt_out"), **duration),
+        uplift=sv.get("uplift", "raise"),
+        progress=progress,
+        checkpoint=ckpt,
+    )
+    ckpt.unlink(missing_ok=True)
+    s = res.summary()
+    s["record"] = getattr(motion, "name", s["excitation"])
+    if hasattr(motion, "pga"):
+        s["pga_mps2"] = float(motion.pga)
+    hist = out / f"{stem}-histories.npz"
+    with atomic_open(hist, "wb") as fh:
+        np.savez(
+            fh,
+            t=res.t,
+            x=res.x,
+            x_iso=res.response.x_iso,
+            top_drift=res.response.top_drift,
+            normal_forces=res.response.lam,
+            friction_forces=res.response.tau,
+        )
+    s["histories"] = str(hist)
+    if not args.no_figures:
+        from nsdyn.plot import plot_transient
+
+        fig_path = out / f"{stem}.png"
+        save_figure(plot_transient(res), fig_path)
+        s["figure"] = str(fig_path)
+    if args.json:
+        print(json.dumps(s))
+        return 0
+    pga = f" (PGA {s['pga_mps2']:.2f} m/s²)" if "pga_mps2" in s else ""
+    print(f"model   {s['model']}   excitation {s['record']}{pga}")
+    print(f"method  {s['method']}: {s['n_steps']} steps, run {s['wall_s']:.3f} s", end="")
+    print(f" (+ JIT compile/load {s['compile_s']:.1f} s)")
+    rows = [  # (label, key, format): metrics the model does not define are absent
+        ("duration / output step", "t_end_s", lambda v: f"{v:g} s / {s['dt_out_s']:g} s"),
+        ("peak isolator displacement x_iso", "x_iso_max_m", lambda v: f"{v:.4f} m"),
+        ("peak interstorey drift ratio", "idr_max", lambda v: f"{v:.3e}"),
+        ("peak absolute floor acceleration", "floor_acc_max_mps2", lambda v: f"{v:.3f} m/s²"),
+        ("peak roof drift x_top - x_iso", "roof_drift_max_m", lambda v: f"{v:.4f} m"),
+        ("minimum normal force", "min_normal_force_N", lambda v: f"{v:.4g} N"),
+        ("share of time all isolators stick", "stick_fraction", lambda v: f"{v:.2f}"),
+        ("energy balance closure error", "energy_closure", lambda v: f"{v:.2e}"),
+        ("uplift", "uplift", lambda v: "none" if not v else str(v)),
+    ]
+    for label, key, fmt in rows:
+        if key in s:
+            print(f"  {label:36s} {fmt(s[key])}")
+    print(f"histories: {hist}")
+    if "figure" in s:
+        print(f"figure:    {s['figure']}")
+    return 0

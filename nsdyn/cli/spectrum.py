@@ -1,0 +1,103 @@
+"""``nsdyn spectrum``: overturning spectrum of a rocking block or frame scene.
+
+For each pulse frequency ω_p/p (log-spaced) the minimum pulse amplitude a_p/(g tan α) that
+overturns the body is bracketed and bisected
+(:func:`nsdyn.models.rocking.spectra.overturning_spectrum`);
+frequencies run in parallel processes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.atomic import atomic_open, save_figure
+from nsdyn.cli.args import count, positive_finite
+
+SHAPES = ("sine", "cosine", "ricker", "rect")
+DEFAULT_OUT = "nsdyn-out"
+
+
+def configure(p: argparse.ArgumentParser) -> None:
+    p.add_argument("scene", help="rocking scene TOML ([scene] kind = 'rocking', model block|frame)")
+    p.add_argument("--shape", choices=SHAPES, default="sine", help="pulse shape (default sine)")
+    p.add_argument("--n", type=count, default=40, help="frequencies (default 40)")
+    p.add_argument("--wmin", type=positive_finite, default=1.0, help="smallest ω_p/p (default 1)")
+    p.add_argument("--wmax", type=positive_finite, default=20.0, help="largest ω_p/p (default 20)")
+    p.add_argument(
+        "--rtol", type=positive_finite, default=1e-4, help="bisection width (default 1e-4)"
+    )
+    p.add_argument("--workers", type=int, default=None, metavar="N", help="parallel processes")
+    p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR", help="output directory")
+    p.add_argument("--no-figures", action="store_true", help="skip the PNG")
+    p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
+
+
+def run(args: argparse.Namespace) -> int:
+    from concurrent.futures import ProcessPoolExecutor
+
+    from nsdyn.models.rocking.scene import build_model
+    from nsdyn.models.rocking.spectra import overturning_spectrum
+    from nsdyn.models.scenefile import SceneError, read_toml, scene_kind
+
+    src = str(args.scene)
+    cfg = read_toml(args.scene)
+    if scene_kind(cfg, src) != "rocking":
+        raise SceneError(f"{src}: scene.kind: overturning spectra need a 'rocking' scene")
+    if cfg.get("scene", {}).get("model", "block") == "compliant":
+        raise SceneError(f"{src}: scene.model: spectra are computed for 'block' or 'frame'")
+    if not args.wmax > args.wmin:
+        raise SceneError(f"--wmax ({args.wmax:g}) must exceed --wmin ({args.wmin:g})")
+    if args.workers is not None and args.workers < 1:
+        raise SceneError(f"--workers: expected a positive integer, got {args.workers}")
+    model = build_model(cfg, src)
+    ratios = np.geomspace(args.wmin, args.wmax, args.n)
+    with ProcessPoolExecutor(args.workers) as ex:
+        sp = overturning_spectrum(model, ratios, args.shape, rtol=args.rtol, executor=ex)
+    out = Path(args.out)
+    stem = f"spectrum-{Path(src).stem}-{args.shape}"
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(["omega_ratio", "a_min_ratio", "mode", "safe_lo_ratio", "safe_hi_ratio"])
+    for row in zip(sp.omega_ratio, sp.a_min_ratio, sp.mode, sp.safe_lo_ratio, sp.safe_hi_ratio,
+                   strict=True):  # fmt: skip
+        w.writerow([repr(float(v)) if not isinstance(v, np.integer) else int(v) for v in row])
+    csv_path = out / f"{stem}.csv"
+    with atomic_open(csv_path, "w") as fh:
+        fh.write(buf.getvalue())
+    report = {
+        "scene": src,
+        "shape": args.shape,
+        "alpha_rad": sp.alpha,
+        "p_rad_s": sp.p,
+        "n_runs": sp.n_runs,
+        "wall_s": sp.wall_s,
+        "csv": str(csv_path),
+        "omega_ratio": sp.omega_ratio.tolist(),
+        "a_min_ratio": [None if math.isnan(v) else float(v) for v in sp.a_min_ratio],
+        "mode": sp.mode.tolist(),
+    }
+    if not args.no_figures:
+        from nsdyn.models.rocking.figures import spectrum_figure
+
+        fig_path = out / f"{stem}.png"
+        save_figure(spectrum_figure({f"{Path(src).stem} ({args.shape})": sp}), fig_path)
+        report["figure"] = str(fig_path)
+    if args.json:
+        print(json.dumps(report))
+        return 0
+    print(f"{src}: {args.shape} pulses, α = {sp.alpha:.4f} rad, p = {sp.p:.4f} rad/s")
+    print(f"{args.n} frequencies, {sp.n_runs} runs, {sp.wall_s:.2f} s")
+    print("  ω_p/p    a_min/(g tan α)  mode")
+    for x, a, m in zip(sp.omega_ratio, sp.a_min_ratio, sp.mode, strict=True):
+        print(f"  {x:7.3f}  {a:15.5g}  {m:4d}")
+    print(f"csv:    {csv_path}")
+    if "figure" in report:
+        print(f"figure: {report['figure']}")
+    return 0

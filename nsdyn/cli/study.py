@@ -1,0 +1,128 @@
+"""``nsdyn study``: many runs of a scene over parameters and records, resumable, on local
+processes or Dask; then the study's analyses (design search, percentiles, fragility)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import signal
+import sys
+from contextlib import nullcontext
+from pathlib import Path
+
+DEFAULT_OUT = "nsdyn-study"  # output directory (a subdirectory per study name)
+EXIT_INTERRUPTED = 130  # stopped by SIGINT/SIGTERM; rerun to resume
+
+
+def _count(s: str) -> int:
+    try:
+        v = int(s)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {s!r}") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"expected at least 1, got {s!r}")
+    return v
+
+
+def configure(p: argparse.ArgumentParser) -> None:
+    p.add_argument("study", help="study TOML")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--dask", metavar="ADDR", help="Dask scheduler, e.g. tcp://host:8786")
+    where.add_argument(
+        "--dask-local", type=_count, metavar="N", help="start a Dask LocalCluster of N workers"
+    )
+    where.add_argument(
+        "--workers", type=_count, metavar="N", help="local process pool size (default: CPUs)"
+    )
+    p.add_argument("--out", metavar="DIR", help=f"output directory (default {DEFAULT_OUT}/NAME)")
+    p.add_argument("--fresh", action="store_true", help="discard earlier results and start over")
+    p.add_argument("--retry-failed", action="store_true", help="rerun tasks recorded as failed")
+    p.add_argument("--parquet", action="store_true", help="also write results.parquet (pyarrow)")
+    p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
+    p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
+
+
+def _on_sigterm(signum, frame):
+    raise KeyboardInterrupt
+
+
+def _format(name: str, run: dict, an: dict) -> str:
+    lines = [
+        f"study {name}: {run['n_tasks']} tasks, {run['n_run']} run now, "
+        f"{run['n_skipped']} from before, {run['n_failed']} failed "
+        f"({run['wall_s']:.1f} s on {run['workers']} workers, batches of {run['batch']})",
+        f"table: {run['table']}",
+    ]
+    d = an.get("design")
+    if d:
+        lines.append(
+            f"design: {d['n_feasible']} of {d['n_designs']} designs feasible, "
+            f"{len(d['pareto'])} on the Pareto front"
+        )
+        for label in ("chosen", "reference"):
+            row = d.get(label)
+            if row:
+                lines.append(
+                    f"  {label:9s} "
+                    + ", ".join(
+                        f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"
+                        for k, v in row.items()
+                    )
+                )
+    f = an.get("fragility")
+    if f:
+        for r in f["fits"]:
+            if "theta" in r:
+                lines.append(
+                    f"fragility {f['edp']} > {r['limit']}: theta = {r['theta']:.4g} "
+                    f"(se of ln theta {r['se_ln_theta']:.3f}), beta = {r['beta']:.3f} "
+                    f"(se {r['se_beta']:.3f}), {r['n_exceed']}/{r['n']} exceed"
+                )
+            else:
+                lines.append(f"fragility {f['edp']} > {r['limit']}: {r['error']}")
+    for part in ("design", "percentiles", "fragility"):
+        if an.get(part, {}).get("figure"):
+            lines.append(f"figure: {an[part]['figure']}")
+    return "\n".join(lines)
+
+
+def run(args: argparse.Namespace) -> int:
+    from nsdyn.studies.analyses import run_analyses
+    from nsdyn.studies.execute import dask_executor, run_study, stderr_progress
+    from nsdyn.studies.study import load_study
+
+    study = load_study(args.study)
+    out = Path(args.out) if args.out else Path(DEFAULT_OUT) / study.name.replace("/", "_")
+    if args.dask or args.dask_local:
+        ctx = dask_executor(args.dask, args.dask_local)
+    else:
+        ctx = nullcontext(None)
+    old = signal.signal(signal.SIGTERM, _on_sigterm)
+    try:
+        with ctx as executor:
+            res = run_study(
+                study,
+                out,
+                executor=executor,
+                workers=args.workers,
+                fresh=args.fresh,
+                retry_failed=args.retry_failed,
+                progress=None if args.json else stderr_progress,
+            )
+    except KeyboardInterrupt:
+        print(
+            f"nsdyn study: interrupted; finished tasks are kept in {out}, rerun to resume",
+            file=sys.stderr,
+        )
+        return EXIT_INTERRUPTED
+    finally:
+        signal.signal(signal.SIGTERM, old)
+    summary = res.as_dict()
+    if args.parquet:
+        summary["parquet"] = str(res.table.to_parquet(out / "results.parquet"))
+    an = run_analyses(study, res.table, out, figures=not args.no_figures)
+    if args.json:
+        print(json.dumps({"study": study.name, "run": summary, "analysis": an}))
+        return 0
+    print(_format(study.name, summary, an))
+    return 0

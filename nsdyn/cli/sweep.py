@@ -1,0 +1,170 @@
+"""``nsdyn sweep``: frequency–amplitude curves of a scene (the work is in nsdyn.studies.sweep)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from dataclasses import asdict
+from pathlib import Path
+
+from nsdyn.atomic import save_figure
+from nsdyn.cli.args import EXIT_USER_ERROR
+from nsdyn.cli.args import amplitude_list as _amplitude_list
+from nsdyn.cli.args import count as _count
+from nsdyn.cli.args import positive_finite as _positive
+from nsdyn.studies.sweep import (
+    DEFAULT_AMPLITUDES,
+    DEFAULT_OUT,
+    SweepSettings,
+    summarise,
+    sweep_amplitudes,
+    write_csv,
+)
+
+
+def configure(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "scene", nargs="?", default=None, help="scene TOML (default: the bundled default scene)"
+    )
+    p.add_argument(
+        "--amplitudes",
+        type=_amplitude_list,
+        default=_amplitude_list(DEFAULT_AMPLITUDES),
+        metavar="A1,A2,...",
+        help=f"excitation amplitudes A_hor [m/s^2] (default {DEFAULT_AMPLITUDES})",
+    )
+    p.add_argument("--fmin", type=_positive, default=0.01, metavar="HZ", help="default 0.01")
+    p.add_argument("--fmax", type=_positive, default=10.0, metavar="HZ", help="default 10")
+    p.add_argument(
+        "--points", type=_count, default=150, help="log-spaced frequencies (default 150)"
+    )
+    p.add_argument(
+        "--continuation",
+        choices=["sequential", "arclength"],
+        default="sequential",
+        help="sequential (seed) or pseudo-arclength (passes folds); default sequential",
+    )
+    p.add_argument(
+        "--tableau",
+        choices=["sdirk2", "sdirk3"],
+        default="sdirk2",
+        help="SDIRK integrating each period (default sdirk2; sdirk3 pays off with "
+        "--steps-factor 2 or more)",
+    )
+    p.add_argument(
+        "--steps-factor",
+        type=_positive,
+        default=1.0,
+        metavar="K",
+        help="K x the default steps per period (200 at least, one per 0.02 s); error ~ 1/K^2 "
+        "with sdirk2 (default 1)",
+    )
+    p.add_argument("--fidelity", choices=["rigid", "cb", "full"], help="override the scene's")
+    p.add_argument("--no-fallback", action="store_true", help="skip points shooting misses")
+    p.add_argument("--workers", type=int, default=None, metavar="N", help="parallel processes")
+    p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR", help="output directory")
+    p.add_argument("--restart", action="store_true", help="ignore checkpoints, start afresh")
+    p.add_argument("--no-figures", action="store_true", help="skip the PNG")
+    p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
+
+
+def run(args: argparse.Namespace) -> int:
+    from nsdyn.models.isolated.scene import SceneError, load_scene
+    from nsdyn.periodic import fixed_base_response, log_frequencies
+
+    overrides = {"scene": {"fidelity": args.fidelity}} if args.fidelity else None
+    try:
+        cfg = load_scene(args.scene, overrides)
+    except SceneError as e:
+        print(f"nsdyn sweep: {e}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    if cfg["scene"].get("fidelity", "cb") == "fixed":
+        print(
+            "nsdyn sweep: the fixed-base model is linear; use an isolated fidelity", file=sys.stderr
+        )
+        return EXIT_USER_ERROR
+    if cfg.get("isolation", {}).get("law", "arctan") == "switch":
+        print(
+            "nsdyn sweep: shooting needs the smooth arctan law (or none), not 'switch'",
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
+    if not args.fmax > args.fmin:
+        print(
+            f"nsdyn sweep: --fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})",
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
+    settings = SweepSettings(
+        args.fmin,
+        args.fmax,
+        args.points,
+        args.continuation,
+        not args.no_fallback,
+        args.tableau,
+        args.steps_factor,
+    )
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    results = sweep_amplitudes(
+        cfg,
+        args.amplitudes,
+        settings,
+        out,
+        workers=args.workers,
+        restart=args.restart,
+        quiet=args.json,
+    )
+    csv_path = out / "sweep.csv"
+    write_csv(csv_path, results)
+    report = {
+        "model": results[0]["model"],
+        "csv": str(csv_path),
+        "settings": asdict(settings),
+        "wall_s": time.perf_counter() - t0,
+        "amplitudes": [summarise(r) for r in results],
+    }
+    if not args.no_figures:
+        freqs = log_frequencies(args.fmin, args.fmax, 300)
+        frame, fm = results[0]["frame"], results[0]["f_max"] or 5.0
+        fixed = None  # the fixed-base reference needs a frame
+        if frame is not None:
+            fixed = {r["A"]: fixed_base_response(frame, r["A"], freqs, f_max=fm) for r in results}
+        fig_path = out / "sweep.png"
+        from nsdyn.plot import sweep_figure
+
+        save_figure(sweep_figure(results, fixed), fig_path, dpi=120)
+        report["figure"] = str(fig_path)
+    if args.json:
+        print(json.dumps(report, default=float))
+        return 0
+    print(
+        f"model {report['model']}: {settings.points} frequencies "
+        f"{settings.fmin:g}-{settings.fmax:g} Hz, {settings.continuation} continuation"
+    )
+    print(
+        "   A [m/s²]  points  fallback  uplift  unstable  stick above [Hz]  x_iso max [m]  wall [s]"
+    )
+
+    def g(v, fmt):
+        return "-" if v is None else format(v, fmt)
+
+    for s in report["amplitudes"]:
+        print(
+            f"   {s['A']:8.3g}  {s['points']:6d}  {s['fallback_points']:8d}  "
+            f"{s['uplift_points']:6d}  {s['unstable_points']:8d}  "
+            f"{g(s['stick_all_period_above_hz'], '.3g'):>16s}  {g(s['x_iso_max_m'], '.4g'):>13s}  "
+            f"{s['wall_s']:8.1f}"
+        )
+    if any(s["uplift_points"] for s in report["amplitudes"]):
+        print(
+            "   (uplift: a normal force <= 0 somewhere in the period, or from the period's start"
+            " where no period could be integrated; maxima skip those points)"
+        )
+    print(f"csv:    {csv_path}")
+    if "figure" in report:
+        print(f"figure: {report['figure']}")
+    return 0

@@ -1,0 +1,57 @@
+"""Ground: the excitations every model is driven by.
+
+Ground motions (``GroundMotion``: ü_hor(t), ü_ver(t) in m/s² on t_k = t0 + k Δt), their readers
+and writers, the bundled and shared record libraries, synthesis (modulated white noise,
+Kanai–Tajimi, sine pulses) and the analytic excitations (``Harmonic``, ``Table``) the kernels
+evaluate directly.
+"""
+
+from nsdyn.ground.excitation import G_EARTH, ForceTable, Harmonic, HarmonicForce, Table
+from nsdyn.ground.library import bundled_records, default_shared_dir, kobe_records
+from nsdyn.ground.motion import G_STANDARD, GroundMotion, RecordFileError, UnitWarning, unit_factor
+from nsdyn.ground.readers import (
+    read_at2,
+    read_jma,
+    read_motion,
+    read_multi_column,
+    read_single_column,
+    read_two_column,
+    write_motion,
+)
+from nsdyn.ground.synthesis import (
+    harmonic,
+    kanai_tajimi,
+    kanai_tajimi_psd,
+    modulated_white_noise,
+    shinozuka_envelope,
+    sine_pulse,
+)
+
+__all__ = [
+    "ForceTable",
+    "HarmonicForce",
+    "G_EARTH",
+    "G_STANDARD",
+    "GroundMotion",
+    "Harmonic",
+    "RecordFileError",
+    "Table",
+    "UnitWarning",
+    "bundled_records",
+    "default_shared_dir",
+    "harmonic",
+    "kanai_tajimi",
+    "kanai_tajimi_psd",
+    "kobe_records",
+    "modulated_white_noise",
+    "read_at2",
+    "read_jma",
+    "read_motion",
+    "read_multi_column",
+    "read_single_column",
+    "read_two_column",
+    "shinozuka_envelope",
+    "sine_pulse",
+    "unit_factor",
+    "write_motion",
+]

@@ -1,0 +1,232 @@
+"""Plain-text record files, line by line: numbers, comments, headers, tables and time columns.
+
+A record file is a header of comment or title lines followed by numbers. Numbers are read in
+Fortran notation too (``1.5D-3``; fields that run together, ``-0.12345-0.23456``, are split).
+A time column t_k is accepted when it increases and is uniform: every step within STEP_RTOL of
+the median step h, and every stamp within GRID_RTOL Δt of the grid t_0 + k Δt with
+Δt = (t_{n−1} − t_0)/(n − 1), rounded to DT_DIGITS significant digits.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from nsdyn.ground.motion import RecordFileError, header_units
+
+STEP_RTOL = 0.05  # each time step of a time column within 5 % of the median step
+GRID_RTOL = 0.01  # every time stamp within 1 % of a step of the uniform grid t0 + k dt
+DT_RTOL = 1e-3  # dt stated in a header vs dt of the time column
+DT_DIGITS = 12  # significant digits kept of a dt fitted to a printed time column
+
+COMMENT_PREFIXES = ("#", "%", ";", "!", "//")
+NUM = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][+-]?\d+)?"
+_FORTRAN_RUN = re.compile(rf"(?:{NUM})+")
+_FORTRAN_ONE = re.compile(r"[+-]?(?:\d+\.\d*|\.\d+)(?:[EeDd][+-]?\d+)?")
+
+
+def to_float(tok: str) -> float:
+    return float(tok.replace("D", "E").replace("d", "e"))
+
+
+def is_comment(s: str) -> bool:
+    return s.startswith(COMMENT_PREFIXES)
+
+
+def strip_comment(s: str) -> str:
+    for p in COMMENT_PREFIXES:
+        if s.startswith(p):
+            return s[len(p) :].strip()
+    return s
+
+
+def header_value(header: list[str], pattern: str) -> str | None:
+    m = re.search(pattern, "\n".join(header), re.I | re.M)
+    return m.group(1).strip() if m else None
+
+
+def header_info(header: list[str]) -> dict[str, Any]:
+    """What a (comment-stripped) header states: units, dt, npts, t0, name, columns, seed, …"""
+    info: dict[str, Any] = {"units": header_units(header)}
+    dt = header_value(header, rf"^\s*dt\s*[:=]\s*({NUM})\s*$") or header_value(
+        header, rf"\bdt\s*[:=]\s*({NUM})"
+    )
+    if dt is not None:
+        info["dt"] = to_float(dt)
+    else:
+        rate = header_value(header, rf"\bsampling\s+(?:rate|freq\w*)\s*[:=]\s*({NUM})\s*hz")
+        if rate is not None:
+            info["dt"] = 1.0 / to_float(rate)
+    npts = header_value(header, r"\bnpts\s*[:=]\s*(\d+)")
+    if npts is not None:
+        info["npts"] = int(npts)
+    t0 = header_value(header, rf"^\s*t0\s*[:=]\s*({NUM})\s*$")
+    if t0 is not None:
+        info["t0"] = to_float(t0)
+    for key in ("name", "command", "seed", "source"):
+        value = header_value(header, rf"^\s*{key}\s*:\s*(.+)$")
+        if value is not None:
+            info[key] = value
+    meta = header_value(header, r"^\s*meta\s*:\s*(\{.*\})\s*$")
+    if meta is not None:
+        try:
+            info["meta"] = json.loads(meta)
+        except json.JSONDecodeError:
+            pass
+    columns = header_value(header, r"\bcolumns\s*:\s*([^;\n]+)")
+    if columns is not None:
+        info["columns"] = [c.lower() for c in re.split(r"[\s,]+", columns) if c]
+    return info
+
+
+def read_text(path: str | os.PathLike) -> str:
+    try:
+        return Path(path).read_text(encoding="latin-1")
+    except IsADirectoryError:
+        raise RecordFileError(path, None, "is a directory, expected a record file") from None
+
+
+def parse_values(lines: list[tuple[int, str]], source: str) -> tuple[np.ndarray, int]:
+    """All numbers of free-format value lines (AT2, JMA blocks), in order; Fortran fields that run
+    together ("-0.12345-0.23456") are split. Returns (values, number of the last data line)."""
+    values: list[float] = []
+    last = lines[0][0] if lines else 0
+    for lineno, s in lines:
+        if not s or is_comment(s):
+            continue
+        last = lineno
+        for tok in s.replace(",", " ").split():
+            try:
+                x = to_float(tok)
+            except ValueError:
+                if _FORTRAN_RUN.fullmatch(tok):
+                    parts = _FORTRAN_ONE.findall(tok)
+                    if "".join(parts) == tok:
+                        values.extend(to_float(p) for p in parts)
+                        continue
+                raise RecordFileError(
+                    source, lineno, f"expected numbers, found {tok!r} in {s!r}"
+                ) from None
+            if not math.isfinite(x):
+                raise RecordFileError(source, lineno, f"expected a finite number, found {tok!r}")
+            values.append(x)
+    return np.asarray(values, dtype=np.float64), last
+
+
+def numbered(text: str) -> list[tuple[int, str]]:
+    return [(i, s.strip()) for i, s in enumerate(text.splitlines(), start=1)]
+
+
+@dataclass
+class Table:
+    header: list[str]  # comment-stripped header lines
+    names: list[str] | None  # lower-case column names, if the file gives them
+    data: np.ndarray  # (n, m)
+    linenos: np.ndarray  # (n,) file line of each row
+
+
+def parse_table(text: str, source: str) -> Table:
+    header: list[str] = []
+    names: list[str] | None = None
+    rows: list[list[float]] = []
+    linenos: list[int] = []
+    ncol = 0
+    last_line = 0
+    for lineno, s in numbered(text):
+        last_line = lineno
+        if not s:
+            continue
+        if is_comment(s):
+            if not rows:
+                header.append(strip_comment(s))
+            continue
+        toks = s.replace(",", " ").split()
+        try:
+            vals = [to_float(tok) for tok in toks]
+        except ValueError:
+            if rows:
+                raise RecordFileError(
+                    source, lineno, f"expected {ncol} numbers per line, found {s!r}"
+                ) from None
+            header.append(s)
+            if all(re.fullmatch(r"[A-Za-z][\w()\[\]/^.-]*", tok) for tok in toks):
+                names = [tok.lower() for tok in toks]
+            continue
+        if not rows:
+            ncol = len(vals)
+        elif len(vals) != ncol:
+            raise RecordFileError(
+                source, lineno, f"expected {ncol} numbers per line, found {len(vals)}: {s!r}"
+            )
+        for tok, x in zip(toks, vals, strict=True):
+            if not math.isfinite(x):
+                raise RecordFileError(source, lineno, f"expected a finite number, found {tok!r}")
+        rows.append(vals)
+        linenos.append(lineno)
+    if not rows:
+        raise RecordFileError(source, max(last_line, 1), "expected numeric data, found none")
+    info_names = header_info(header).get("columns")
+    if info_names is not None and len(info_names) == ncol:
+        names = info_names
+    if names is not None and len(names) != ncol:
+        names = None
+    return Table(header, names, np.asarray(rows, dtype=np.float64), np.asarray(linenos))
+
+
+def looks_like_time(col: np.ndarray) -> bool:
+    """A first column is time if it mostly increases (an accelerogram's does about half the time);
+    a glitch in it is then reported by :func:`check_time` rather than taken for data."""
+    return col.size >= 3 and col[-1] > col[0] and float(np.mean(np.diff(col) > 0.0)) >= 0.75
+
+
+def check_time(t: np.ndarray, linenos: np.ndarray, source: str) -> float:
+    """Validate a time column (increasing, uniform) and return its dt."""
+    if t.size < 2:
+        raise RecordFileError(source, int(linenos[0]), "expected at least two time samples")
+    d = np.diff(t)
+    bad = np.flatnonzero(d <= 0.0)
+    if bad.size:
+        k = int(bad[0]) + 1
+        raise RecordFileError(
+            source, int(linenos[k]), f"expected time > {t[k - 1]:.10g} s, found {t[k]:.10g} s"
+        )
+    h = float(np.median(d))
+    bad = np.flatnonzero(np.abs(d - h) > STEP_RTOL * h)
+    if bad.size:
+        k = int(bad[0]) + 1
+        raise RecordFileError(
+            source,
+            int(linenos[k]),
+            f"expected a uniform time step {h:.6g} s (±{STEP_RTOL:.0%}), found "
+            f"{d[k - 1]:.6g} s (t = {t[k - 1]:.10g} → {t[k]:.10g} s)",
+        )
+    dt = (float(t[-1]) - float(t[0])) / (t.size - 1)
+    dev = np.abs(t - (t[0] + dt * np.arange(t.size)))
+    bad = np.flatnonzero(dev > GRID_RTOL * dt)
+    if bad.size:
+        k = int(bad[0])
+        raise RecordFileError(
+            source,
+            int(linenos[k]),
+            f"expected t = {t[0] + k * dt:.10g} s on the uniform grid (dt = {dt:.6g} s), "
+            f"found {t[k]:.10g} s",
+        )
+    return float(f"{dt:.{DT_DIGITS}g}")
+
+
+def column_index(spec: int | str, names: list[str] | None, ncol: int, source: str) -> int:
+    if isinstance(spec, str):
+        if names is None or spec.lower() not in names:
+            raise RecordFileError(source, None, f"expected a column named {spec!r}; has {names}")
+        return names.index(spec.lower())
+    idx = int(spec)
+    if not -ncol <= idx < ncol:
+        raise RecordFileError(source, None, f"expected column index < {ncol}, got {spec}")
+    return idx % ncol

@@ -1,0 +1,211 @@
+"""Analytic and tabulated excitations that the kernels evaluate themselves: ground or force.
+
+Ground accelerations (load ``-M Gamma [ü_hor, ü_ver + g]``, Gamma the influence vectors):
+
+- ``Harmonic``: ``ü_hor(t) = A_hor sin(2π f_hor t + phase)`` plus an optional vertical
+  ``ü_ver(t) = A_ver sin(2π f_ver t + phase_ver)`` [m/s², Hz, rad];
+- ``Table``: uniformly sampled accelerations, linearly interpolated, zero outside the table;
+- a recorded or synthesised :class:`nsdyn.ground.GroundMotion` (``as_arrays()``).
+
+Forces (load ``b F(t)``, with the load vector ``b = Σ_k w_k e_{dof_k}`` over chosen dofs):
+
+- ``HarmonicForce``: ``F(t) = F sin(2π f t + phase)`` [N, Hz, rad];
+- ``ForceTable``: a sampled force history [N] (linear interpolation, zero outside), also from
+  a ground record scaled to a force (``ForceTable.from_motion(motion, dofs, scale)``).
+
+A harmonic excitation has no natural end: a transient run needs its duration (``t_end`` or
+``n_periods``); tables and records end with their last sample (:func:`natural_end`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+G_EARTH = 9.81  # m/s², gravity acting on the models (records in g use G_STANDARD)
+
+
+def _finite(name: str, v) -> float:
+    v = float(v)
+    if not math.isfinite(v):
+        raise ValueError(f"{name}: expected a finite number, got {v}")
+    return v
+
+
+@dataclass(frozen=True)
+class Harmonic:
+    """Harmonic ground acceleration ``A_hor sin(2π f_hor t + phase)`` (+ optional vertical).
+
+    Attributes
+    ----------
+    A_hor, f_hor : float       amplitude [m/s²] and frequency [Hz] of the horizontal component
+    A_ver, f_ver : float       the same for the vertical component (default none)
+    phase, phase_ver : float   phases [rad] at t = 0 (sin: the excitation starts at zero)
+    """
+
+    A_hor: float
+    f_hor: float
+    A_ver: float = 0.0
+    f_ver: float = 0.0
+    phase: float = 0.0
+    phase_ver: float = 0.0
+
+    def __post_init__(self) -> None:
+        for k in ("A_hor", "f_hor", "A_ver", "f_ver", "phase", "phase_ver"):
+            _finite(f"Harmonic.{k}", getattr(self, k))
+
+    @property
+    def period(self) -> float:
+        """Period of the horizontal component [s] (inf for f_hor = 0)."""
+        return 1.0 / self.f_hor if self.f_hor else math.inf
+
+
+@dataclass(frozen=True)
+class Table:
+    """Sampled ground acceleration (uniform ``dt``, linear interpolation, zero outside)."""
+
+    t0: float
+    dt: float
+    a_hor: np.ndarray
+    a_ver: np.ndarray | None = None
+
+    @property
+    def duration(self) -> float:
+        return self.dt * max(len(self.a_hor) - 1, 0)
+
+
+def _load_dofs(dofs, weights) -> tuple[tuple[int, ...], tuple[float, ...]]:
+    d = np.atleast_1d(np.asarray(dofs))
+    if d.size == 0 or d.ndim != 1 or not np.issubdtype(d.dtype, np.integer):
+        raise ValueError(f"dofs: expected one or more integer dof indices, got {dofs!r}")
+    if np.any(d < 0) or len(set(d.tolist())) != d.size:
+        raise ValueError(f"dofs: expected distinct non-negative indices, got {d.tolist()}")
+    if weights is None:
+        w = np.ones(d.size)
+    else:
+        w = np.atleast_1d(np.asarray(weights, dtype=float))
+        if w.shape != d.shape or not np.all(np.isfinite(w)):
+            raise ValueError(
+                f"weights: expected {d.size} finite numbers (one per dof), got {weights!r}"
+            )
+    return tuple(int(k) for k in d), tuple(float(x) for x in w)
+
+
+class _ForceLoad:
+    """Load vector ``b`` of a force excitation: weight ``w_k`` at dof ``dofs[k]``."""
+
+    dofs: tuple
+    weights: tuple
+
+    def load_vector(self, n: int) -> np.ndarray:
+        """``b`` (n,): the force F(t) acts as ``b F(t)`` on the equations of motion."""
+        if max(self.dofs) >= n:
+            raise ValueError(
+                f"{type(self).__name__}.dofs: index {max(self.dofs)} out of range for a "
+                f"system with {n} dofs"
+            )
+        b = np.zeros(n)
+        b[list(self.dofs)] = self.weights
+        return b
+
+
+@dataclass(frozen=True)
+class HarmonicForce(_ForceLoad):
+    """Harmonic force ``F sin(2π f t + phase)`` [N] at ``dofs`` (load ``b F(t)``).
+
+    ``weights`` (one per dof, default 1) distribute it: ``b = Σ_k weights_k e_{dofs_k}``.
+    """
+
+    F: float
+    f: float
+    dofs: tuple
+    weights: tuple | None = None
+    phase: float = 0.0
+
+    def __post_init__(self) -> None:
+        for k in ("F", "f", "phase"):
+            _finite(f"HarmonicForce.{k}", getattr(self, k))
+        d, w = _load_dofs(self.dofs, self.weights)
+        object.__setattr__(self, "dofs", d)
+        object.__setattr__(self, "weights", w)
+
+    @property
+    def period(self) -> float:
+        return 1.0 / self.f if self.f else math.inf
+
+    def channel(self) -> Harmonic:
+        """The time function F(t) as the kernels evaluate it."""
+        return Harmonic(self.F, self.f, phase=self.phase)
+
+    def at_frequency(self, f: float, F: float | None = None) -> HarmonicForce:
+        """The same load at another frequency (and amplitude)."""
+        return HarmonicForce(self.F if F is None else F, f, self.dofs, self.weights, self.phase)
+
+
+@dataclass(frozen=True)
+class ForceTable(_ForceLoad):
+    """Sampled force history ``F`` [N] at ``dofs`` (uniform ``dt``, linear interpolation,
+    zero outside); load ``b F(t)`` as for :class:`HarmonicForce`."""
+
+    t0: float
+    dt: float
+    F: np.ndarray
+    dofs: tuple
+    weights: tuple | None = None
+    name: str = "force"
+
+    def __post_init__(self) -> None:
+        F = np.ascontiguousarray(self.F, dtype=float).reshape(-1)
+        if F.size == 0 or not np.all(np.isfinite(F)):
+            raise ValueError("ForceTable.F: expected a non-empty array of finite forces [N]")
+        if not (math.isfinite(self.dt) and self.dt > 0):
+            raise ValueError(f"ForceTable.dt: expected a positive step [s], got {self.dt}")
+        _finite("ForceTable.t0", self.t0)
+        d, w = _load_dofs(self.dofs, self.weights)
+        object.__setattr__(self, "F", F)
+        object.__setattr__(self, "dofs", d)
+        object.__setattr__(self, "weights", w)
+
+    @property
+    def duration(self) -> float:
+        return self.dt * (self.F.size - 1)
+
+    @property
+    def t(self) -> np.ndarray:
+        return self.t0 + self.dt * np.arange(self.F.size)
+
+    def channel(self) -> Table:
+        return Table(float(self.t0), float(self.dt), self.F)
+
+    @classmethod
+    def from_motion(cls, motion, dofs, scale: float, weights=None) -> ForceTable:
+        """A ground record's horizontal acceleration as a force ``scale * a_hor(t)`` [N].
+
+        ``scale`` [N per m/s², e.g. ``-m`` for the effective earthquake force on a mass m]
+        has no default: the force's size is the caller's choice.
+        """
+        t0, dt, ah, _ = motion.as_arrays()
+        name = f"{getattr(motion, 'name', 'record')} x {scale:g} N/(m/s²)"
+        return cls(
+            float(t0), float(dt), _finite("scale", scale) * np.asarray(ah), dofs, weights, name
+        )
+
+
+FORCES = (HarmonicForce, ForceTable)  # the force excitations (load b F(t))
+
+
+def is_force(excitation) -> bool:
+    """True for a force excitation (load ``b F(t)``), False for a ground acceleration."""
+    return isinstance(excitation, FORCES)
+
+
+def natural_end(excitation) -> float | None:
+    """Last instant of an excitation with one (a table or record), None for a harmonic one."""
+    if excitation is None or isinstance(excitation, Harmonic | HarmonicForce):
+        return None
+    t0 = float(getattr(excitation, "t0", 0.0))
+    if hasattr(excitation, "duration"):
+        return t0 + float(excitation.duration)
+    return None

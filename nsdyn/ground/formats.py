@@ -1,0 +1,282 @@
+"""The record file layouts nsdyn reads, each parsed into a :class:`GroundMotion` and its units.
+
+* PEER AT2 (NGA-West2, PEER 1999 and old PEER headers): ``NPTS`` values at step ``DT``;
+* tables: one column ü_k (Δt from the header or the caller), two columns (t_k, ü_k), several
+  columns (a time column found by name or as an increasing first column; horizontal and
+  vertical acceleration columns chosen by index or name) — also the CSV nsdyn writes;
+* JMA text: ``;`` comments and a ``dt peak`` line before free-format values, or JMA CSV.
+
+Each sample is converted to m/s² by the factor of the file's units (ü = factor · value).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from nsdyn.ground._text import (
+    DT_RTOL,
+    NUM,
+    check_time,
+    column_index,
+    header_info,
+    is_comment,
+    looks_like_time,
+    numbered,
+    parse_table,
+    parse_values,
+    strip_comment,
+    to_float,
+)
+from nsdyn.ground.motion import GroundMotion, RecordFileError, header_units, resolve_units
+
+HEADER_SEARCH_LINES = 12  # an AT2 "NPTS, DT" line must lie within the first lines
+_TIME_NAMES = {"t", "time", "time_s", "t_s", "time(s)", "t[s]", "t(s)", "time[s]", "sec", "seconds"}
+_VERTICAL_NAMES = {"a_ver", "ver", "vertical", "ud", "up", "z", "a_z", "vert", "accel_ver"}
+
+
+@dataclass(frozen=True)
+class ReadOptions:
+    """What the caller fixed; None leaves it to the file (see :func:`nsdyn.ground.read_motion`)."""
+
+    units: str | None = None  # units on file: "g", "cm/s2" (gal), "m/s2"
+    dt: float | None = None  # sampling interval [s]
+    column: int | str | None = None  # horizontal column: index over all columns, or a name
+    vertical: int | str | None = None  # vertical column of the same table: index or name
+    name: str | None = None  # record name
+
+
+# --------------------------------------------------------------------------------------------
+# PEER AT2
+# --------------------------------------------------------------------------------------------
+
+_AT2_NGA_NPTS = re.compile(r"NPTS\s*[=:]\s*(\d+)", re.I)
+_AT2_NGA_DT = re.compile(rf"\bDT\s*[=:]\s*({NUM})", re.I)
+_AT2_OLD = re.compile(rf"^\s*(\d+)\s*,?\s+({NUM})\s*,?\s*NPTS\s*,\s*DT", re.I)
+
+
+def at2_header_line(lines: list[tuple[int, str]]) -> int | None:
+    for k, (_, s) in enumerate(lines[:HEADER_SEARCH_LINES]):
+        if re.search(r"\bNPTS\b", s, re.I) and re.search(r"\bDT\b", s, re.I):
+            return k
+    return None
+
+
+def parse_at2(text: str, source: str, opt: ReadOptions) -> tuple[GroundMotion, str]:
+    """PEER AT2. Header: title lines, then one line with NPTS and DT in either layout
+
+    * NGA-West2 / PEER 1999: ``NPTS=  5372, DT=   .0100 SEC,`` (spacing free, also
+      hand-edited ``NPTS =   7500 , DT =   .020 SEC ,``);
+    * old PEER: ``4096    0.0100    NPTS, DT``;
+
+    then NPTS values, any number per line (E or F format). Units from the header
+    ("IN UNITS OF G", "The units are (g)"). The line holding NPTS may be anywhere in the first
+    ``HEADER_SEARCH_LINES`` lines; everything before it is header.
+    """
+    lines = numbered(text)
+    k = at2_header_line(lines)
+    if k is None:
+        raise RecordFileError(
+            source,
+            1,
+            f"expected a PEER AT2 header line with NPTS and DT within the first "
+            f"{HEADER_SEARCH_LINES} lines ('NPTS= n, DT= dt SEC' or 'n dt NPTS, DT')",
+        )
+    lineno, s = lines[k]
+    m_n, m_dt = _AT2_NGA_NPTS.search(s), _AT2_NGA_DT.search(s)
+    m_old = _AT2_OLD.search(s)
+    if m_n and m_dt:
+        npts, dt = int(m_n.group(1)), to_float(m_dt.group(1))
+    elif m_old:
+        npts, dt = int(m_old.group(1)), to_float(m_old.group(2))
+    else:
+        raise RecordFileError(
+            source, lineno, f"expected 'NPTS= n, DT= dt SEC' or 'n dt NPTS, DT', found {s!r}"
+        )
+    if not dt > 0.0:
+        raise RecordFileError(source, lineno, f"expected DT > 0, found {dt}")
+    header = [h for _, h in lines[: k + 1]]
+    if any(re.search(r"\b(VELOCITY|DISPLACEMENT)\b", h, re.I) for h in header[:4]) and not any(
+        re.search(r"\bACCEL", h, re.I) for h in header[:4]
+    ):
+        raise RecordFileError(source, 1, "expected an acceleration record (header says otherwise)")
+    values, last = parse_values(lines[k + 1 :], source)
+    if values.size != npts:
+        raise RecordFileError(
+            source,
+            last,
+            f"header (line {lineno}) states NPTS = {npts}, found {values.size} values",
+        )
+    unit_name, factor = resolve_units(opt.units, header_units(header), source)
+    title = header[1] if len(header) > 2 else header[0]
+    motion = GroundMotion(
+        t0=0.0,
+        dt=dt,
+        a_hor=values * factor,
+        name=opt.name or Path(source).stem,
+        source=source,
+        meta={"format": "at2", "file_units": unit_name, "title": title, "header": header},
+    )
+    return motion, unit_name
+
+
+# --------------------------------------------------------------------------------------------
+# Tables: single column, two columns (t, a), several columns
+# --------------------------------------------------------------------------------------------
+
+
+def parse_table_motion(
+    text: str, source: str, layout: str, opt: ReadOptions
+) -> tuple[GroundMotion, str]:
+    """layout: "single-column" (a; dt from header or argument), "two-column" (t, a),
+    "multi-column" (time column detected by name or as an increasing first column; the rest
+    acceleration columns, ``column`` picks the horizontal one — an index counted over all the
+    file's columns, or a name — and a column named a_ver/UD/UP/… becomes the vertical one)."""
+    tab = parse_table(text, source)
+    info = header_info(tab.header)
+    data, names = tab.data, tab.names
+    n, ncol = data.shape
+    first = int(tab.linenos[0])
+    if layout == "single-column" and ncol != 1:
+        raise RecordFileError(source, first, f"expected 1 column, found {ncol}")
+    if layout == "two-column" and ncol != 2:
+        raise RecordFileError(source, first, f"expected 2 columns (t, a), found {ncol}")
+
+    tcol: int | None = None
+    if names is not None and names[0] in _TIME_NAMES:
+        tcol = 0
+    elif layout == "two-column" or (ncol >= 2 and looks_like_time(data[:, 0])):
+        tcol = 0
+
+    if "npts" in info and info["npts"] != n:
+        raise RecordFileError(
+            source, int(tab.linenos[-1]), f"header states npts = {info['npts']}, found {n} rows"
+        )
+
+    if tcol is not None:
+        t = data[:, tcol]
+        dt_file = check_time(t, tab.linenos, source)
+        for label, value in (("header", info.get("dt")), ("argument", opt.dt)):
+            if value is not None and abs(value - dt_file) > DT_RTOL * dt_file:
+                raise RecordFileError(
+                    source,
+                    first,
+                    f"dt = {value:g} s ({label}) but the time column has {dt_file:g} s",
+                )
+        dt_used = opt.dt if opt.dt is not None else info.get("dt", dt_file)
+        t0 = info.get("t0", float(t[0]))
+    else:
+        dt_used = opt.dt if opt.dt is not None else info.get("dt")
+        if dt_used is None:
+            raise RecordFileError(
+                source,
+                first,
+                "expected a sampling interval: the file has no time column and its header "
+                "states no dt; pass dt=",
+            )
+        t0 = info.get("t0", 0.0)
+
+    acc_cols = [j for j in range(ncol) if j != tcol]
+    if not acc_cols:
+        raise RecordFileError(source, first, "expected an acceleration column besides time")
+    vcol: int | None = None
+    if opt.vertical is not None:
+        vcol = column_index(opt.vertical, names, ncol, source)
+    elif names is not None:
+        named = [j for j in acc_cols if names[j] in _VERTICAL_NAMES]
+        vcol = named[0] if named else None
+    if opt.column is not None:
+        hcol = column_index(opt.column, names, ncol, source)
+    else:
+        hcol = next((j for j in acc_cols if j != vcol), acc_cols[0])
+    if hcol == tcol:
+        raise RecordFileError(source, first, f"column {hcol} is the time column")
+
+    unit_name, factor = resolve_units(opt.units, info.get("units"), source)
+    a_ver = data[:, vcol] * factor if vcol is not None and vcol != hcol else None
+    meta: dict[str, Any] = dict(info.get("meta", {}))
+    meta.update(
+        {
+            "format": layout,
+            "file_units": unit_name,
+            "column": hcol,
+            "vertical_column": vcol if a_ver is not None else None,
+            "columns": names,
+            "header": tab.header,
+        }
+    )
+    if tab.header:
+        meta.setdefault("title", tab.header[0])
+    for key in ("command", "seed"):
+        if key in info:
+            meta.setdefault(key, info[key])
+    motion = GroundMotion(
+        t0=t0,
+        dt=dt_used,
+        a_hor=data[:, hcol] * factor,
+        a_ver=a_ver,
+        name=opt.name or info.get("name") or Path(source).stem,
+        source=source,
+        meta=meta,
+    )
+    return motion, unit_name
+
+
+# --------------------------------------------------------------------------------------------
+# JMA-style text
+# --------------------------------------------------------------------------------------------
+
+
+def parse_jma(text: str, source: str, opt: ReadOptions) -> tuple[GroundMotion, str]:
+    """Two JMA-style layouts.
+
+    * ``;``-comment layout (the JMA Kobe NS file of Mechanics_Apps): ``;`` comment lines (units
+      "acc. in cm/s/s", "dt=0.02"), then one line ``dt peak`` (the peak is nominal and only kept
+      in meta), then the values, any number per line.
+    * JMA CSV: ``KEY = value`` header lines (``SAMPLING RATE= 100Hz``, ``UNIT = gal``), a
+      ``NS,EW,UD`` names line, then comma-separated columns. Read as a table; UD is the vertical.
+    """
+    lines = numbered(text)
+    body = [(i, s) for i, s in lines if s and not is_comment(s)]
+    first = next((s for _, s in lines if s), "")
+    if not first.startswith(";"):
+        return parse_table_motion(text, source, "multi-column", opt)
+    header = [strip_comment(s) for _, s in lines if s.startswith(";")]
+    if not body:
+        raise RecordFileError(source, len(lines), "expected a 'dt peak' line and data, found none")
+    lineno, s = body[0]
+    toks = s.replace(",", " ").split()
+    try:
+        dt_line, peak = (to_float(x) for x in toks)
+    except ValueError:
+        raise RecordFileError(
+            source, lineno, f"expected 'dt peak' (two numbers), found {s!r}"
+        ) from None
+    if not dt_line > 0.0:
+        raise RecordFileError(source, lineno, f"expected dt > 0, found {dt_line}")
+    stated_dt = header_info(header).get("dt")
+    if stated_dt is not None and abs(stated_dt - dt_line) > DT_RTOL * dt_line:
+        raise RecordFileError(
+            source, lineno, f"dt = {dt_line:g} s here but the comment says dt = {stated_dt:g} s"
+        )
+    values, _ = parse_values(body[1:], source)
+    if values.size == 0:
+        raise RecordFileError(source, lineno, "expected acceleration values after 'dt peak'")
+    unit_name, factor = resolve_units(opt.units, header_units(header), source)
+    motion = GroundMotion(
+        t0=0.0,
+        dt=opt.dt if opt.dt is not None else dt_line,
+        a_hor=values * factor,
+        name=opt.name or Path(source).stem,
+        source=source,
+        meta={
+            "format": "jma",
+            "file_units": unit_name,
+            "nominal_peak": peak,
+            "title": header[0] if header else "",
+            "header": header,
+        },
+    )
+    return motion, unit_name

@@ -1,0 +1,367 @@
+"""The ground-motion record: one uniformly sampled base acceleration and its transformations.
+
+A ground motion is the base acceleration ü_g(t) = [ü_hor(t), ü_ver(t)] in m/s², sampled on a uniform
+grid t_k = t0 + k Δt, k = 0 … n−1. The structure is loaded by −M Γ ü with ü = [ü_hor, ü_ver + g];
+gravity is *not* part of ``a_ver``. Derived quantities:
+
+    PGA = max_k |ü_hor(t_k)|,
+    v(t_k) = Σ_{j<k} Δt (ü_j + ü_{j+1}) / 2   (trapezoidal rule from rest), u(t_k) likewise from v.
+
+Transformations each return a new record: scaling by one factor c = PGA_target / PGA (both
+components, ü → c ü), least-squares polynomial baseline correction (on v or on ü), resampling
+(polyphase band-limited or linear) and windowing.
+
+Units on disk: "g" (9.80665 m/s²), "cm/s2" (= gal), "mm/s2" or "m/s2"; in memory always m/s².
+A record file's stated units are found by the patterns of ``_UNIT_PATTERNS``; a PGA outside
+[PGA_MIN_PLAUSIBLE, PGA_MAX_PLAUSIBLE] after conversion warns of a probable unit mistake.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import re
+import warnings
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+from scipy import integrate, signal
+
+G_STANDARD = 9.80665  # standard gravity [m/s²], used to convert records in g
+PGA_MAX_PLAUSIBLE = 30.0  # [m/s²] above this a record is probably in cm/s² (or m/s² read as g)
+PGA_MIN_PLAUSIBLE = 0.01  # [m/s²] below this a record is probably in g read as m/s²
+
+
+class RecordFileError(ValueError):
+    """A record file that cannot be read; names the file, the line and what was expected."""
+
+    def __init__(self, source: str | os.PathLike, line: int | None, message: str):
+        self.source = str(source)
+        self.line = line
+        self.reason = message
+        where = f"{self.source}:{line}" if line is not None else self.source
+        super().__init__(f"{where}: {message}")
+
+
+class UnitWarning(UserWarning):
+    """The units of a record were assumed, or its PGA looks like the wrong unit."""
+
+
+# --------------------------------------------------------------------------------------------
+# The record
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class GroundMotion:
+    """Uniformly sampled base acceleration.
+
+    Attributes
+    ----------
+    t0 : float
+        Time of the first sample [s].
+    dt : float
+        Sampling interval [s], uniform.
+    a_hor : ndarray, shape (n,)
+        Horizontal ground acceleration [m/s²].
+    a_ver : ndarray, shape (n,) or None
+        Vertical ground acceleration [m/s²], without gravity; None when the record has none.
+    name : str
+        Short name (a bundled record's name, a file stem, a station).
+    source : str
+        Path of the file it was read from, or a description of how it was made.
+    meta : dict
+        Anything else (units on file, header, seed, scale factor, …).
+    """
+
+    t0: float
+    dt: float
+    a_hor: np.ndarray
+    a_ver: np.ndarray | None = None
+    name: str = "motion"
+    source: str = ""
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        a_hor = np.ascontiguousarray(self.a_hor, dtype=np.float64)
+        if a_hor.ndim != 1 or a_hor.size < 1:
+            raise ValueError(f"a_hor must be 1-D and non-empty, got shape {a_hor.shape}")
+        if not np.all(np.isfinite(a_hor)):
+            raise ValueError("a_hor holds NaN or inf")
+        dt = float(self.dt)
+        if not (math.isfinite(dt) and dt > 0.0):
+            raise ValueError(f"dt must be positive and finite, got {self.dt!r}")
+        object.__setattr__(self, "a_hor", a_hor)
+        object.__setattr__(self, "dt", dt)
+        object.__setattr__(self, "t0", float(self.t0))
+        if self.a_ver is not None:
+            a_ver = np.ascontiguousarray(self.a_ver, dtype=np.float64)
+            if a_ver.shape != a_hor.shape:
+                raise ValueError(f"a_ver has shape {a_ver.shape}, a_hor has {a_hor.shape}")
+            if not np.all(np.isfinite(a_ver)):
+                raise ValueError("a_ver holds NaN or inf")
+            object.__setattr__(self, "a_ver", a_ver)
+
+    def __repr__(self) -> str:
+        ver = "yes" if self.a_ver is not None else "no"
+        return (
+            f"GroundMotion(name={self.name!r}, n={self.n}, dt={self.dt:g} s, "
+            f"duration={self.duration:g} s, pga={self.pga:.4g} m/s², vertical={ver})"
+        )
+
+    # ---- derived quantities ---------------------------------------------------------------
+    @property
+    def n(self) -> int:
+        """Number of samples."""
+        return int(self.a_hor.size)
+
+    @property
+    def t(self) -> np.ndarray:
+        """Sample times t0 + k dt [s], shape (n,)."""
+        return self.t0 + self.dt * np.arange(self.n)
+
+    @property
+    def duration(self) -> float:
+        """(n − 1) dt [s]."""
+        return (self.n - 1) * self.dt
+
+    @property
+    def pga(self) -> float:
+        """Horizontal peak ground acceleration max |a_hor| [m/s²]."""
+        return float(np.max(np.abs(self.a_hor)))
+
+    @property
+    def pga_ver(self) -> float | None:
+        """Vertical peak max |a_ver| [m/s²], or None without a vertical component."""
+        return None if self.a_ver is None else float(np.max(np.abs(self.a_ver)))
+
+    def velocity(self, component: str = "hor") -> np.ndarray:
+        """Ground velocity [m/s] by the trapezoidal rule from rest, shape (n,)."""
+        return integrate.cumulative_trapezoid(self._component(component), dx=self.dt, initial=0.0)
+
+    def displacement(self, component: str = "hor") -> np.ndarray:
+        """Ground displacement [m]: trapezoidal rule applied twice from rest, shape (n,)."""
+        return integrate.cumulative_trapezoid(self.velocity(component), dx=self.dt, initial=0.0)
+
+    def as_arrays(self) -> tuple[float, float, np.ndarray, np.ndarray]:
+        """``(t0, dt, a_hor, a_ver)`` for numba kernels: float64 C-contiguous, a_ver zeros if None.
+
+        The arrays are the record's own (not copies); do not modify them.
+        """
+        a_ver = self.a_ver if self.a_ver is not None else np.zeros_like(self.a_hor)
+        return self.t0, self.dt, self.a_hor, a_ver
+
+    # ---- transformations (each returns a new record) --------------------------------------
+    def _component(self, component: str) -> np.ndarray:
+        if component == "hor":
+            return self.a_hor
+        if component == "ver":
+            if self.a_ver is None:
+                raise ValueError(f"{self.name!r} has no vertical component")
+            return self.a_ver
+        raise ValueError(f"component must be 'hor' or 'ver', got {component!r}")
+
+    def _replace(self, **changes: Any) -> GroundMotion:
+        meta = dict(self.meta)
+        meta.update(changes.pop("meta_update", {}))
+        return dataclasses.replace(self, meta=meta, **changes)
+
+    def scaled_to_pga(self, target: float, component: str = "hor") -> GroundMotion:
+        """Scale both components by one factor so that max |a_component| = target [m/s²].
+
+        The vertical component stays proportional to the horizontal one.
+        """
+        peak = float(np.max(np.abs(self._component(component))))
+        if peak == 0.0:
+            raise ValueError(f"{self.name!r}: the {component} component is zero; cannot scale")
+        factor = float(target) / peak
+        a_ver = None if self.a_ver is None else self.a_ver * factor
+        total = factor * float(self.meta.get("scale_factor", 1.0))
+        return self._replace(
+            a_hor=self.a_hor * factor, a_ver=a_ver, meta_update={"scale_factor": total}
+        )
+
+    def baseline_corrected(self, order: int = 1, on: str = "velocity") -> GroundMotion:
+        """Least-squares polynomial baseline correction of each component.
+
+        ``on="velocity"`` (default, the usual correction): integrate a to v (trapezoidal rule, from
+        rest), fit a polynomial p of degree ``order`` ≥ 1 to v(τ) by least squares (τ = t − t0),
+        and subtract p'(τ) from a. ``order=1`` removes a constant acceleration offset, i.e. a linear
+        drift in velocity (exactly: the trapezoidal rule integrates a constant exactly);
+        ``order=2`` a linear acceleration trend (a parabolic velocity drift).
+
+        ``on="acceleration"``: fit p of degree ``order`` ≥ 0 to a itself and subtract p
+        (``order=0`` removes the mean).
+        """
+        if on == "velocity" and order < 1:
+            raise ValueError("on='velocity' needs order >= 1 (order 0 changes nothing in a)")
+        if on not in ("velocity", "acceleration"):
+            raise ValueError(f"on must be 'velocity' or 'acceleration', got {on!r}")
+        if order < 0 or order >= self.n:
+            raise ValueError(f"order must be in 0 … n−1 = {self.n - 1}, got {order}")
+        span = max(self.duration, self.dt)
+        x = np.arange(self.n) / max(self.n - 1, 1)  # τ / duration, well conditioned
+        P = np.polynomial.Polynomial
+
+        def correct(a: np.ndarray) -> np.ndarray:
+            if on == "acceleration":
+                return a - P.fit(x, a, order, domain=[0.0, 1.0], window=[0.0, 1.0])(x)
+            v = integrate.cumulative_trapezoid(a, dx=self.dt, initial=0.0)
+            p = P.fit(x, v, order, domain=[0.0, 1.0], window=[0.0, 1.0])
+            return a - p.deriv()(x) / span
+
+        a_ver = None if self.a_ver is None else correct(self.a_ver)
+        return self._replace(
+            a_hor=correct(self.a_hor),
+            a_ver=a_ver,
+            meta_update={"baseline": f"polynomial order {order} on {on}"},
+        )
+
+    def resampled(self, dt: float, method: str = "band-limited") -> GroundMotion:
+        """Resample onto t0 + k dt (k dt ≤ duration).
+
+        ``method="band-limited"`` (default): polyphase FIR resampling (scipy.signal.resample_poly,
+        Kaiser window β = 5, passband ripple ≈ 2e-3) by the rational factor old dt / new dt
+        (denominator ≤ 1000), with its built-in anti-alias low-pass at the lower Nyquist
+        frequency; the ends are extended by odd reflection so value and slope stay continuous.
+        ``method="linear"``: linear interpolation (no anti-aliasing; error ≤ max|a''| dt_old²/8).
+        """
+        dt = float(dt)
+        if not dt > 0.0:
+            raise ValueError(f"dt must be positive, got {dt}")
+        n_new = int(math.floor(self.duration / dt * (1.0 + 1e-12) + 1e-9)) + 1
+        if method == "linear":
+            tau_new = dt * np.arange(n_new)
+            tau_old = self.dt * np.arange(self.n)
+
+            def res(a: np.ndarray) -> np.ndarray:
+                return np.interp(tau_new, tau_old, a)
+
+        elif method == "band-limited":
+            ratio = Fraction(self.dt / dt).limit_denominator(1000)
+            if abs(float(ratio) - self.dt / dt) > 1e-9 * (self.dt / dt):
+                raise ValueError(
+                    f"dt ratio {self.dt}/{dt} is not a ratio of integers ≤ 1000; "
+                    "use method='linear'"
+                )
+            up, down = ratio.numerator, ratio.denominator
+
+            def res(a: np.ndarray) -> np.ndarray:
+                out = signal.resample_poly(a, up, down, padtype="antireflect")
+                if out.size < n_new:  # cannot happen for exact ratios; guard anyway
+                    out = np.pad(out, (0, n_new - out.size), mode="edge")
+                return out[:n_new]
+
+        else:
+            raise ValueError(f"method must be 'band-limited' or 'linear', got {method!r}")
+        a_ver = None if self.a_ver is None else res(self.a_ver)
+        return self._replace(
+            dt=dt, a_hor=res(self.a_hor), a_ver=a_ver, meta_update={"resampled": method}
+        )
+
+    def window(self, t_start: float, t_end: float) -> GroundMotion:
+        """The samples with t_start ≤ t ≤ t_end (absolute times; t0 becomes the first kept t)."""
+        eps = 1e-9
+        i0 = max(0, math.ceil((t_start - self.t0) / self.dt - eps))
+        i1 = min(self.n - 1, math.floor((t_end - self.t0) / self.dt + eps))
+        if i1 < i0:
+            raise ValueError(f"window [{t_start}, {t_end}] holds no sample of {self.name!r}")
+        a_ver = None if self.a_ver is None else self.a_ver[i0 : i1 + 1].copy()
+        return self._replace(
+            t0=self.t0 + i0 * self.dt, a_hor=self.a_hor[i0 : i1 + 1].copy(), a_ver=a_ver
+        )
+
+    def with_vertical(self, a_ver: np.ndarray | float | None) -> GroundMotion:
+        """Set the vertical component: an array of shape (n,), a ratio r (a_ver = r a_hor, fully
+        correlated), or None to remove it."""
+        if a_ver is None:
+            return self._replace(a_ver=None)
+        if np.isscalar(a_ver):
+            ratio = float(a_ver)  # type: ignore[arg-type]
+            return self._replace(a_ver=ratio * self.a_hor, meta_update={"vertical_ratio": ratio})
+        return self._replace(a_ver=np.asarray(a_ver, dtype=np.float64))
+
+
+# --------------------------------------------------------------------------------------------
+# Units
+# --------------------------------------------------------------------------------------------
+
+
+def unit_factor(units: str) -> tuple[str, float]:
+    """``(canonical name, factor to m/s²)`` for "g", "cm/s2" (gal) or "m/s2" and their spellings
+    ("gal", "cm/s^2", "cm/sec^2", "cm/s/s", "m/s^2", "mm/s2", …)."""
+    s = units.strip().lower().replace(" ", "").replace("sec", "s").replace("**", "^")
+    s = s.replace("^", "").replace("²", "2")
+    if s in ("g", "(g)"):
+        return "g", G_STANDARD
+    if s in ("gal", "gals", "cm/s2", "cm/s/s", "cms-2"):
+        return "cm/s2", 0.01
+    if s in ("m/s2", "m/s/s", "ms-2"):
+        return "m/s2", 1.0
+    if s in ("mm/s2", "mm/s/s"):
+        return "mm/s2", 1e-3
+    raise ValueError(f"unknown acceleration unit {units!r}; use 'g', 'cm/s2' (gal) or 'm/s2'")
+
+
+_UNIT_PATTERNS = [
+    re.compile(r"\bunits?\s*[:=]\s*\(?\s*([A-Za-z][\w/^*²]*)", re.I),  # units: g / UNIT = gal
+    re.compile(r"\bacc(?:eleration|\.)?\s+in\s+\(?\s*([A-Za-z][\w/^*²]*)", re.I),  # Acc. in cm/s/s
+    re.compile(r"\bin\s+units\s+of\s+\(?\s*([A-Za-z][\w/^*²]*)", re.I),  # IN UNITS OF G
+    re.compile(r"\bunits\s+are\s+\(?\s*([A-Za-z][\w/^*²]*)", re.I),  # The units are (g)
+]
+
+
+def header_units(header: list[str]) -> str | None:
+    """Units stated in a header, by the patterns above in priority order; None if not stated."""
+    text = "\n".join(header)
+    for pattern in _UNIT_PATTERNS:
+        for m in pattern.finditer(text):
+            try:
+                return unit_factor(m.group(1).rstrip("."))[0]
+            except ValueError:
+                continue
+    return None
+
+
+def check_pga(motion: GroundMotion) -> None:
+    """Warn (UnitWarning) when the PGA lies outside the plausible range of m/s²."""
+    pga = motion.pga
+    if pga > PGA_MAX_PLAUSIBLE:
+        warnings.warn(
+            f"{motion.source}: PGA = {pga:.4g} m/s² > {PGA_MAX_PLAUSIBLE:g} m/s²; the file is "
+            "probably in cm/s² (gal) read as m/s², or in m/s² read as g: pass units=",
+            UnitWarning,
+            stacklevel=3,
+        )
+    elif pga < PGA_MIN_PLAUSIBLE:
+        warnings.warn(
+            f"{motion.source}: PGA = {pga:.4g} m/s² < {PGA_MIN_PLAUSIBLE:g} m/s²; the file is "
+            "probably in g read as m/s² (or the record is empty): pass units=",
+            UnitWarning,
+            stacklevel=3,
+        )
+
+
+def resolve_units(explicit: str | None, stated: str | None, source: str) -> tuple[str, float]:
+    """``(unit name, factor to m/s²)``: the argument, else the header's, else m/s² (warns)."""
+    if explicit is not None:
+        name, factor = unit_factor(explicit)
+        if stated is not None and stated != name:
+            warnings.warn(
+                f"{source}: units={explicit!r} given, but the header states {stated!r}; "
+                f"using {name!r}",
+                UnitWarning,
+                stacklevel=4,
+            )
+        return name, factor
+    if stated is not None:
+        return unit_factor(stated)
+    warnings.warn(
+        f"{source}: the file does not state its units; assuming m/s² (pass units=)",
+        UnitWarning,
+        stacklevel=4,
+    )
+    return "m/s2", 1.0

@@ -1,0 +1,259 @@
+"""Reading and writing ground-motion files: the front door ``read_motion`` and ``write_motion``.
+
+``read_motion`` takes a file or the name of a bundled record, detects the layout (see
+:mod:`nsdyn.ground.formats`), converts to m/s² and attaches a vertical component from a column,
+another file (same Δt; cut or zero-padded to n samples) or a ratio r (ü_ver = r ü_hor).
+``write_motion`` writes the CSV that ``read_motion`` reads back bit for bit: columns
+t_k = t0 + k Δt, ü_hor[, ü_ver] in m/s², every value as its shortest round-trip repr.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn._bundled import RECORDS
+from nsdyn.atomic import atomic_open
+from nsdyn.ground._text import DT_RTOL, is_comment, numbered, read_text
+from nsdyn.ground.formats import (
+    ReadOptions,
+    at2_header_line,
+    parse_at2,
+    parse_jma,
+    parse_table_motion,
+)
+from nsdyn.ground.motion import GroundMotion, RecordFileError, check_pga
+
+_FORMATS = ("auto", "at2", "jma", "two-column", "single-column", "multi-column")
+
+
+def _resolve(path_or_name: str | os.PathLike) -> tuple[str, str]:
+    """(source label, text) of a file path or a bundled record name."""
+    path = Path(path_or_name)
+    if path.is_file():
+        return str(path), read_text(path)
+    name = str(path_or_name)
+    stem = name[:-4] if name.endswith(".csv") else name
+    if "/" not in stem and os.sep not in stem:
+        item = RECORDS.find(stem)
+        if item is not None:
+            return f"nsdyn.data.records/{stem}.csv", item.read_text(encoding="latin-1")
+    if path.exists():
+        raise RecordFileError(path, None, "expected a record file")
+    raise FileNotFoundError(
+        f"{name!r} is neither a file nor a bundled record; bundled: {RECORDS.names()}"
+    )
+
+
+def _detect_format(source: str, text: str) -> str:
+    suffix = Path(source).suffix.lower()
+    if suffix in (".hdf5", ".h5"):
+        return "hdf5"
+    lines = numbered(text)
+    k = at2_header_line(lines)
+    if suffix == ".at2" or (k is not None and not is_comment(lines[k][1])):
+        return "at2"
+    first = next((s for _, s in lines if s), "")
+    if first.startswith(";") or re.search(r"sampling\s+rate\s*=", text[:2000], re.I):
+        return "jma"
+    return "multi-column"
+
+
+def _split_vertical(vertical) -> tuple[int | str | None, Path | None, float | None]:
+    """(column of the same table, another file, ratio) from read_motion's ``vertical``."""
+    if vertical is None or vertical is False:
+        return None, None, None
+    if isinstance(vertical, (int, np.integer)) and not isinstance(vertical, bool):
+        return int(vertical), None, None
+    if isinstance(vertical, (float, np.floating)):
+        return None, None, float(vertical)
+    if isinstance(vertical, os.PathLike) or Path(str(vertical)).is_file():
+        return None, Path(vertical), None
+    return str(vertical), None, None  # a column name
+
+
+def read_motion(
+    path_or_name: str | os.PathLike,
+    *,
+    fmt: str = "auto",
+    units: str | None = None,
+    dt: float | None = None,
+    column: int | str | None = None,
+    vertical: int | str | float | os.PathLike | None = None,
+    name: str | None = None,
+) -> GroundMotion:
+    """Read a ground motion from a file or by bundled name.
+
+    Parameters
+    ----------
+    path_or_name : path or str
+        A file, or the name of a bundled record (``bundled_records()``), e.g. "synthetic-wn-40s".
+    fmt : {"auto", "at2", "jma", "two-column", "single-column", "multi-column"}
+        "auto": AT2 if the file has an NPTS/DT header line (or ends in .AT2); JMA if it starts with
+        a ``;`` comment or has a "SAMPLING RATE=" line; otherwise a table ("multi-column", which
+        also covers one and two columns and the CSV files written by :func:`write_motion`).
+    units : {"g", "cm/s2" (gal), "m/s2"} or None
+        Units on file. None: as the header states; if it states none, m/s² with a UnitWarning.
+    dt : float, optional
+        Sampling interval [s] for files without a time column or header dt.
+    column : int or str, optional
+        The horizontal column of a table: an index over all the file's columns (time included)
+        or a column name. Default: the first acceleration column that is not a vertical one.
+    vertical : int, str, float or path, optional
+        Vertical component: a column (index or name) of the same table; a float ratio r
+        (a_ver = r a_hor); or another file, read with the same ``units``, whose dt must match
+        and whose samples are zero-padded or cut to this record's length. Default: a table column
+        named a_ver/ver/UD/UP/z, else none.
+    name : str, optional
+        Record name (default: the header's ``name:`` or the file stem).
+
+    Raises
+    ------
+    RecordFileError
+        Naming the file, the line and what was expected, for non-numeric rows, NaN/inf,
+        non-uniform time, empty files, NPTS mismatch, missing dt.
+
+    Warns
+    -----
+    UnitWarning
+        Units not stated and not given; units given against the header; PGA outside
+        [0.01, 30] m/s² after conversion.
+    """
+    if fmt not in _FORMATS:
+        raise ValueError(f"fmt must be one of {_FORMATS}, got {fmt!r}")
+    source, text = _resolve(path_or_name)
+    kind = _detect_format(source, text) if fmt == "auto" else fmt
+    if kind == "hdf5":
+        raise RecordFileError(
+            source,
+            None,
+            "HDF5 records are not read by nsdyn (it would need h5py and hdf5plugin, which are not "
+            "dependencies); export the record to text first",
+        )
+    in_file_vertical, vertical_file, vertical_ratio = _split_vertical(vertical)
+    opt = ReadOptions(units=units, dt=dt, column=column, vertical=in_file_vertical, name=name)
+    if kind == "at2":
+        if column not in (None, 0) or in_file_vertical is not None:
+            raise ValueError("an AT2 file has one component: use vertical=<another file>")
+        motion, unit_name = parse_at2(text, source, opt)
+        if dt is not None and abs(dt - motion.dt) > DT_RTOL * motion.dt:
+            raise RecordFileError(source, None, f"dt = {dt} given, header states {motion.dt}")
+    elif kind == "jma":
+        motion, unit_name = parse_jma(text, source, opt)
+    else:
+        motion, unit_name = parse_table_motion(text, source, kind, opt)
+    check_pga(motion)
+    if vertical_ratio is not None:
+        return motion.with_vertical(vertical_ratio)
+    if vertical_file is None:
+        return motion
+    other = read_motion(vertical_file, units=units)
+    if abs(other.dt - motion.dt) > DT_RTOL * motion.dt:
+        raise RecordFileError(
+            other.source, None, f"vertical dt = {other.dt:g} s, horizontal dt = {motion.dt:g} s"
+        )
+    a_ver = np.zeros(motion.n)
+    m = min(motion.n, other.n)
+    a_ver[:m] = other.a_hor[:m]
+    return motion._replace(
+        a_ver=a_ver, meta_update={"vertical_source": other.source, "vertical_n": other.n}
+    )
+
+
+def _fmt(x: float) -> str:
+    return repr(float(x))  # shortest string that reads back to the same float
+
+
+def write_motion(
+    motion: GroundMotion,
+    path: str | os.PathLike,
+    *,
+    command: str | None = None,
+    seed: int | str | None = None,
+) -> Path:
+    """Write ``motion`` as CSV (columns t, a_hor[, a_ver] in m/s²) with a ``#`` header holding
+    name, units, t0, dt, npts, command, seed and the JSON meta. Values are written with the
+    shortest round-trip repr, so :func:`read_motion` returns them bit for bit. Atomic: written to
+    a temporary file in the same directory, then renamed."""
+    path = Path(path)
+    command = command if command is not None else motion.meta.get("command", "")
+    seed = seed if seed is not None else motion.meta.get("seed", "")
+    meta = {k: v for k, v in motion.meta.items() if k != "header"}
+    meta.update(command=command, seed=seed)
+    columns = "t a_hor a_ver" if motion.a_ver is not None else "t a_hor"
+    head = [
+        "nsdyn ground motion",
+        f"name: {motion.name}",
+        "units: m/s2",
+        f"t0: {_fmt(motion.t0)}",
+        f"dt: {_fmt(motion.dt)}",
+        f"npts: {motion.n}",
+        f"command: {command}",
+        f"seed: {seed}",
+        f"source: {motion.source}",
+        f"meta: {json.dumps(meta, default=str, sort_keys=True)}",
+        f"columns: {columns}",
+    ]
+    lines = [f"# {h}" for h in head]
+    t = motion.t
+    if motion.a_ver is None:
+        lines += [f"{t[k]:.10g},{_fmt(motion.a_hor[k])}" for k in range(motion.n)]
+    else:
+        lines += [
+            f"{t[k]:.10g},{_fmt(motion.a_hor[k])},{_fmt(motion.a_ver[k])}" for k in range(motion.n)
+        ]
+    with atomic_open(path, "w", encoding="utf-8", newline="\n") as f:
+        f.write("\n".join(lines) + "\n")
+    return path
+
+
+def read_at2(path: str | os.PathLike, *, units: str | None = None, name: str | None = None):
+    """Read a PEER AT2 file (NGA-West2, PEER 1999 or old PEER header). Returns a GroundMotion."""
+    return read_motion(path, fmt="at2", units=units, name=name)
+
+
+def read_two_column(
+    path: str | os.PathLike, *, units: str | None = None, dt: float | None = None, name=None
+) -> GroundMotion:
+    """Two columns ``t a`` (whitespace or commas; ``#``/``%``/``;`` comments). The time column must
+    be increasing and uniform (each step within 5 % of the median, each stamp within 1 % of a step
+    of the grid); ``dt``, if given, is checked against it."""
+    return read_motion(path, fmt="two-column", units=units, dt=dt, name=name)
+
+
+def read_single_column(
+    path: str | os.PathLike, dt: float | None = None, *, units: str | None = None, name=None
+) -> GroundMotion:
+    """One acceleration value per line; ``dt`` from the argument or the header (``dt = …``)."""
+    return read_motion(path, fmt="single-column", units=units, dt=dt, name=name)
+
+
+def read_multi_column(
+    path: str | os.PathLike,
+    *,
+    column: int | str | None = None,
+    vertical: int | str | None = None,
+    dt: float | None = None,
+    units: str | None = None,
+    name: str | None = None,
+) -> GroundMotion:
+    """Several columns; see :func:`read_motion` for ``column`` and ``vertical``."""
+    return read_motion(
+        path, fmt="multi-column", units=units, dt=dt, column=column, vertical=vertical, name=name
+    )
+
+
+def read_jma(
+    path: str | os.PathLike,
+    *,
+    units: str | None = None,
+    column: int | str | None = None,
+    vertical: int | str | None = None,
+    name: str | None = None,
+) -> GroundMotion:
+    """Read a JMA-style text record (``;`` comments + ``dt peak`` line, or JMA CSV)."""
+    return read_motion(path, fmt="jma", units=units, column=column, vertical=vertical, name=name)

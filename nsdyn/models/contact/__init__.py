@@ -1,0 +1,17 @@
+"""Planar rigid bodies on the ground with frictional unilateral contacts: slide, rock, hop, tip.
+
+Body (x, y, theta) with Signorini contacts at its base corners, Newton (or Housner) impacts and
+Coulomb friction mu(v) = mu_d + (mu_s - mu_d) exp(-C |v|); solved event-driven (acceleration-level
+LCP by Lemke's method between events, impacts at velocity level) or by Moreau-Jean time stepping.
+"""
+
+from nsdyn.models.contact.body import RigidBody
+from nsdyn.models.contact.event import simulate_event
+from nsdyn.models.contact.excite import BaseMotion
+from nsdyn.models.contact.friction import FrictionLaw
+from nsdyn.models.contact.moreau import simulate_moreau
+from nsdyn.models.contact.onset import onset_mode
+from nsdyn.models.contact.results import ContactResult
+
+__all__ = ["BaseMotion", "ContactResult", "FrictionLaw", "RigidBody", "onset_mode",
+           "simulate_event", "simulate_moreau"]  # fmt: skip

@@ -1,0 +1,114 @@
+"""Moreau-Jean time stepping of the body (numba kernel).
+
+Per step [t_k, t_k + h] (theta-method, impulses P = h lam at velocity level):
+
+    q_m   = q_k + h/2 v_k,                 active set  {i : g_i(q_m) <= G_ACT L}
+    v_f   = v_k + h M^-1 f(t_k + theta h)  (+ the ground velocity jumps in the step)
+    v_k+1 = v_f + M^-1 (W_N^T P_N + W_T^T P_T)
+    q_k+1 = q_k + h ((1 - theta) v_k + theta v_k+1)
+
+with Newton's law at velocity level on the active contacts,
+0 <= W_N v_k+1 + e_n W_N v_k  _|_  P_N >= 0, and Coulomb's law on the impulses
+(|P_T| <= mu(v_T,k) P_N, sliding opposite to v_T,k+1) solved as one LCP (``_kgeom``).  Impacts
+and their accumulations are simply absorbed into the steps; the scheme is first order.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from nsdyn.models.contact._kgeom import (
+    OVERTURNED,
+    body_mode,
+    contact_rows,
+    ground_acc,
+    mu_of,
+    solve_contacts,
+)
+
+G_ACT = 1e-9  # a contact is active when its predicted gap is below G_ACT * L
+
+
+@njit(cache=True)
+def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v,
+           jumps, stride, g_tol, v_tol):  # fmt: skip
+    """Run ``nsteps`` steps of size ``h`` from (t0, q0, v0).
+
+    par = [m, g, mu_s, mu_d, C (-1: infinity), theta_ov, L].  jumps: (nj, 2) rows (t, ground
+    velocity jump).  Every ``stride`` steps the state and body mode are stored.
+
+    Returns
+    -------
+    t (nout,), q (nout, 3), v (nout, 3), mode (nout,), n_done (steps taken), status
+    (0 done, 1 overturned, -1 LCP failure, -2 non-finite state), t_stop
+    """
+    nc = verts.shape[0]
+    m = par[0]
+    grav = par[1]
+    L = par[6]
+    nout = nsteps // stride + 1
+    t_o = np.zeros(nout)
+    q_o = np.zeros((nout, 3))
+    v_o = np.zeros((nout, 3))
+    md_o = np.zeros(nout, np.int64)
+    q = q0.copy()
+    v = v0.copy()
+    t_o[0] = t0
+    q_o[0] = q
+    v_o[0] = v
+    md_o[0] = body_mode(q, v, verts, g_tol, v_tol, par[5])
+    io = 1
+    sig = np.zeros(nc)
+    status = 0
+    k = 0
+    t = t0
+    while k < nsteps:
+        t = t0 + k * h
+        vk = v.copy()
+        for j in range(jumps.shape[0]):
+            if jumps[j, 0] >= t and jumps[j, 0] < t + h and not (k > 0 and jumps[j, 0] == t):
+                vk[0] -= jumps[j, 1]
+        qm = q + 0.5 * h * vk
+        g, Wn, Wt, bn, bt, gd, vt = contact_rows(qm, vk, verts)
+        ah, av = ground_acc(t + theta * h, ex, tab_h, tab_v)
+        f = np.array([-m * ah, -m * (grav + av), 0.0])
+        vf = vk + h * minv * f
+        na = 0
+        for i in range(nc):
+            if g[i] <= G_ACT * L:
+                na += 1
+        idx = np.empty(na, np.int64)
+        j = 0
+        for i in range(nc):
+            if g[i] <= G_ACT * L:
+                idx[j] = i
+                j += 1
+        mu = np.empty(nc)
+        for i in range(nc):
+            mu[i] = mu_of(vt[i], par[2], par[3], par[4])
+        bN = Wn @ vf + e_n * (Wn @ vk)
+        bT = Wt @ vf
+        PN, PT, wN, slack, st = solve_contacts(Wn, Wt, minv, bN, bT, mu, sig, idx)
+        if st != 0:
+            status = -1
+            break
+        v = vf + minv * (Wn.T @ PN + Wt.T @ PT)
+        q = q + h * ((1.0 - theta) * vk + theta * v)
+        k += 1
+        t = t0 + k * h
+        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
+            status = -2
+            break
+        over = abs(q[2]) >= par[5]
+        if k % stride == 0 or over:
+            if io < nout:
+                t_o[io] = t
+                q_o[io] = q
+                v_o[io] = v
+                md_o[io] = OVERTURNED if over else body_mode(q, v, verts, g_tol, v_tol, par[5])
+                io += 1
+        if over:
+            status = 1
+            break
+    return t_o[:io], q_o[:io], v_o[:io], md_o[:io], k, status, t

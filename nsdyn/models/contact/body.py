@@ -1,0 +1,154 @@
+"""Planar rigid body: convex polygon geometry, mass properties and its base contacts.
+
+A body is a convex polygon of uniform density (vertices counter-clockwise).  Mass properties of
+a polygon with vertices p_k (Green's theorem, c_k = p_k x p_{k+1}):
+
+    A = 1/2 sum c_k,   centroid = sum (p_k + p_{k+1}) c_k / (6 A),
+    J_O = rho/12 sum c_k (p_k.p_k + p_k.p_{k+1} + p_{k+1}.p_{k+1}),  J = J_O - m |centroid|^2.
+
+The contacts are the base vertices (the lowest ones in the resting pose, on the ground line).
+Rocking about a base corner ends in overturning when the adjacent edge lies on the ground, i.e.
+at the tilt theta_ov = pi - phi (phi: interior angle at that corner); for a rectangle of width 2b
+and height 2h: alpha = atan(b/h), R = sqrt(b^2 + h^2), p^2 = m g R / J_O = 3 g / (4 R).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+BASE_TOL = 1e-9  # relative height tolerance for a vertex to belong to the base
+COLLINEAR_TOL = 1e-12  # relative cross-product below which three vertices are collinear
+
+
+def _check_polygon(verts: np.ndarray, field: str) -> np.ndarray:
+    """Counter-clockwise convex polygon, or ValueError naming ``field`` and the offending vertex."""
+    p = np.asarray(verts, dtype=float)
+    if p.ndim != 2 or p.shape[1] != 2 or p.shape[0] < 3:
+        raise ValueError(f"{field}: expected an (n, 2) array of n >= 3 vertices, got shape "
+                         f"{p.shape}")  # fmt: skip
+    if not np.all(np.isfinite(p)):
+        raise ValueError(f"{field}: vertices must be finite numbers")
+    n = len(p)
+    area2 = float(np.sum(p[:, 0] * np.roll(p[:, 1], -1) - np.roll(p[:, 0], -1) * p[:, 1]))
+    size = float(np.ptp(p, axis=0).max())
+    if abs(area2) <= COLLINEAR_TOL * size**2:
+        raise ValueError(f"{field}: polygon has zero area")
+    if area2 < 0:
+        p = p[::-1].copy()
+    for k in range(n):
+        a, b, c = p[k - 1], p[k], p[(k + 1) % n]
+        cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
+        if cross < -COLLINEAR_TOL * size**2:
+            raise ValueError(f"{field}: polygon is not convex at vertex {k} {tuple(b)} "
+                             "(expected a convex polygon, vertices in order)")  # fmt: skip
+        if abs(cross) <= COLLINEAR_TOL * size**2:
+            raise ValueError(f"{field}: vertex {k} {tuple(b)} is collinear with its neighbours "
+                             "or repeated (remove it)")  # fmt: skip
+    # a simple polygon turns once: the turning angles sum to 2 pi
+    e = np.roll(p, -1, axis=0) - p
+    ang = np.arctan2(e[:, 1], e[:, 0])
+    turn = np.sum((np.roll(ang, -1) - ang + np.pi) % (2 * np.pi) - np.pi)
+    if abs(turn - 2 * np.pi) > 1e-6:
+        raise ValueError(f"{field}: polygon is self-intersecting (expected a convex polygon)")
+    return p
+
+
+@dataclass(frozen=True)
+class RigidBody:
+    """A convex polygonal rigid body of uniform density resting on its lowest edge or vertex.
+
+    Attributes
+    ----------
+    verts : (n, 2) vertices relative to the centre of mass, counter-clockwise [m]
+    mass : m [kg];  J : moment of inertia about the centre of mass [kg m^2]
+    base : (nb,) indices of the base (contact) vertices
+    """
+
+    verts: np.ndarray
+    mass: float
+    J: float
+    base: np.ndarray
+
+    @classmethod
+    def polygon(cls, vertices, mass: float = 1.0, J: float | None = None) -> RigidBody:
+        """Body from a convex polygon (any position; shifted to its centroid).
+
+        ``J`` defaults to the uniform-density value.  Raises ValueError naming ``vertices``,
+        ``mass`` or ``J`` on bad input.
+        """
+        m = float(mass)
+        if not (m > 0 and math.isfinite(m)):
+            raise ValueError(f"mass: expected a positive number [kg], got {mass!r}")
+        p = _check_polygon(vertices, "vertices")
+        q = np.roll(p, -1, axis=0)
+        cr = p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]
+        area = 0.5 * cr.sum()
+        cen = ((p + q) * cr[:, None]).sum(axis=0) / (6 * area)
+        rho = m / area
+        j_o = rho / 12 * np.sum(cr * (np.sum(p * p, 1) + np.sum(p * q, 1) + np.sum(q * q, 1)))
+        j_c = j_o - m * float(cen @ cen)
+        if J is not None:
+            j_c = float(J)
+            if not (j_c > 0 and math.isfinite(j_c)):
+                raise ValueError(f"J: expected a positive moment of inertia [kg m^2], got {J!r}")
+        v = p - cen
+        ymin = v[:, 1].min()
+        size = float(np.ptp(v, axis=0).max())
+        base = np.flatnonzero(v[:, 1] <= ymin + BASE_TOL * size)
+        return cls(v, m, float(j_c), base)
+
+    @classmethod
+    def rectangle(cls, width: float, height: float, mass: float = 1.0) -> RigidBody:
+        """Rectangle of full ``width`` 2b and ``height`` 2h [m] (uniform density)."""
+        for name, val in (("width", width), ("height", height)):
+            if not (isinstance(val, int | float) and val > 0 and math.isfinite(val)):
+                raise ValueError(f"{name}: expected a positive size [m], got {val!r}")
+        b, h = width / 2, height / 2
+        return cls.polygon([(-b, -h), (b, -h), (b, h), (-b, h)], mass)
+
+    @property
+    def contacts(self) -> np.ndarray:
+        """(nb, 2) base vertices relative to the centre of mass."""
+        return np.ascontiguousarray(self.verts[self.base])
+
+    @property
+    def minv(self) -> np.ndarray:
+        """(3,) diagonal of M^-1 = diag(1/m, 1/m, 1/J)."""
+        return np.array([1 / self.mass, 1 / self.mass, 1 / self.J])
+
+    @property
+    def y0(self) -> float:
+        """Height of the centre of mass above the ground when resting on the base."""
+        return -float(self.verts[self.base, 1].min())
+
+    @property
+    def width(self) -> float:
+        """Base width (distance between the outermost base vertices) [m]."""
+        xb = self.verts[self.base, 0]
+        return float(xb.max() - xb.min())
+
+    @property
+    def theta_ov(self) -> float:
+        """Tilt at which the body lies on an edge adjacent to an outer base corner [rad]."""
+        n = len(self.verts)
+        out = []
+        for k in (self.base[np.argmin(self.verts[self.base, 0])],
+                  self.base[np.argmax(self.verts[self.base, 0])]):  # fmt: skip
+            a, b, c = self.verts[k - 1], self.verts[k], self.verts[(k + 1) % n]
+            u, w = a - b, c - b
+            phi = math.acos(float(u @ w) / float(np.linalg.norm(u) * np.linalg.norm(w)))
+            out.append(math.pi - phi)
+        return min(out)
+
+    def corner_geometry(self, side: int = 1) -> tuple[float, float, float]:
+        """(R, alpha, J_O) of rocking about the outer base corner on ``side`` (+1 right, -1 left):
+        R the distance from the corner to the centre of mass, alpha the angle of that line from
+        the vertical, J_O = J + m R^2."""
+        xb = self.verts[self.base, 0]
+        k = self.base[np.argmax(xb) if side > 0 else np.argmin(xb)]
+        dx, dy = -self.verts[k]
+        R = math.hypot(dx, dy)
+        return R, math.atan2(abs(dx), dy), self.J + self.mass * R * R

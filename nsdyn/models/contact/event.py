@@ -1,0 +1,200 @@
+"""Event-driven simulation of a rigid body on the ground: smooth phases, mode switches, impacts.
+
+Smooth phases are integrated by ``_kevent.integrate`` with the reactions of the acceleration-level
+LCP.  At an event the mode is rebuilt from the state (``_settle``):
+
+1. contacts on the ground that approach (g = 0, gd < 0) undergo an impact, solved at velocity
+   level by the impulse LCP (``_kgeom.solve_contacts``) with Newton's law
+   0 <= gd+ + e_n gd-  _|_  P_N >= 0 and Coulomb's law on the impulses; ``impact="housner"``
+   uses the perfectly plastic, sticking impact, which for a rocking rectangle conserves the
+   angular momentum about the striking corner, i.e. Housner's thetad+ = (1 - 1.5 sin^2 alpha)
+   thetad-;
+2. contacts with g = 0, gd = 0 are closed, sticking if v_T = 0, slipping with sigma = sign v_T;
+3. the acceleration-level LCP opens closed contacts that accelerate away (lam_N = 0, w_N > 0)
+   and makes sticking ones slip (in the direction of their tangential acceleration) when the
+   cone cannot hold them; 4. positions and velocities are projected onto the closed constraints.
+
+A ground velocity jump (displacement-driven start) changes the body's ground-frame velocity by
+-[u_g'] and is resolved as an impact of the same kind.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from nsdyn.ground import G_EARTH
+from nsdyn.models.contact import _kevent as ke
+from nsdyn.models.contact._kgeom import body_mode, contact_rows, mu_of, solve_contacts
+from nsdyn.models.contact.body import RigidBody
+from nsdyn.models.contact.excite import BaseMotion
+from nsdyn.models.contact.friction import FrictionLaw
+from nsdyn.models.contact.results import ContactResult
+
+G_ON = 1e-8  # a contact touches when g <= G_ON * L
+V_ON = 1e-8  # ... and is at rest (normal / tangential) when |velocity| <= V_ON * sqrt(g L)
+V_PLASTIC = 1e-6  # impacts slower than V_PLASTIC * sqrt(g L) are plastic (ends accumulations)
+MODE_G_TOL = 1e-6  # output classification: on the ground when g <= MODE_G_TOL * L
+MODE_V_TOL = 1e-6  # ... slipping when |v_T| > MODE_V_TOL * sqrt(g L)
+MAX_SETTLE = 8  # mode-rebuild iterations at one event
+EVENT_NAMES = {1: "touchdown", 2: "lift-off", 3: "stick-slip", 4: "slip-stop", 5: "overturn"}
+FAIL = {-1: "step size underflow", -2: "too many steps", -3: "contact LCP has no solution"}
+
+
+def initial_state(body: RigidBody, theta0: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """(q, v) at rest on the base, tilted by ``theta0`` about the outer corner it rocks on
+    (theta0 > 0 rotates counter-clockwise about the left corner)."""
+    c = body.contacts
+    k = int(np.argmin(c[:, 0])) if theta0 >= 0 else int(np.argmax(c[:, 0]))
+    r = c[k]
+    cs, sn = math.cos(theta0), math.sin(theta0)
+    # the pivot stays at its resting position (r_x, 0)
+    x = r[0] - (cs * r[0] - sn * r[1])
+    y = -(sn * r[0] + cs * r[1])
+    return np.array([x, y, theta0]), np.zeros(3)
+
+
+def _params(body: RigidBody, fr: FrictionLaw, g: float) -> np.ndarray:
+    L = float(np.ptp(body.verts, axis=0).max())
+    return np.array([body.mass, g, fr.mu_s, fr.mu_d, fr.cdec, body.theta_ov, L])
+
+
+def impact(body, par, q, v, e_n, near):
+    """Velocity after the impact of the contacts ``near`` (Newton restitution ``e_n``)."""
+    verts, minv = body.contacts, body.minv
+    g, Wn, Wt, bn, bt, gd, vt = contact_rows(q, v, verts)
+    nc = len(verts)
+    mu = np.array([mu_of(vt[i], par[2], par[3], par[4]) for i in range(nc)])
+    bN = gd + e_n * np.minimum(gd, 0.0)
+    idx = np.flatnonzero(near).astype(np.int64)
+    PN, PT, wN, _, st = solve_contacts(Wn, Wt, minv, bN, vt, mu, np.zeros(nc), idx)
+    if st != 0:
+        raise RuntimeError("impact LCP has no solution")
+    return v + minv * (Wn.T @ PN + Wt.T @ PT)
+
+
+def _settle(body, par, mo, t, y, e_n, closed, sig):
+    """Rebuild the contact mode at an event (impacts first); returns (y, n_impacts)."""
+    verts, minv = body.contacts, body.minv
+    L, vs = par[6], math.sqrt(par[1] * par[6])
+    q, v = y[:3].copy(), y[3:].copy()
+    n_imp = 0
+    g, Wn, Wt, bn, bt, gd, vt = contact_rows(q, v, verts)
+    near = g <= G_ON * L
+    if np.any(near & (gd < -V_ON * vs)):
+        e = e_n if np.min(gd[near]) < -V_PLASTIC * vs else 0.0
+        v = impact(body, par, q, v, e, near)
+        n_imp = 1
+        g, Wn, Wt, bn, bt, gd, vt = contact_rows(q, v, verts)
+    closed[:] = near & (gd <= V_ON * vs)
+    sig[:] = np.where(closed & (np.abs(vt) > V_ON * vs), np.sign(vt), 0.0)
+    cl = closed.astype(np.float64)
+    for _ in range(MAX_SETTLE):
+        yy = np.concatenate([q, v])
+        dy, ind, lamN, lamT, st = ke.rhs(t, yy, sig, cl, verts, minv, par, mo.ex, mo.tab_h,
+                                         mo.tab_v)  # fmt: skip
+        if st != 0:
+            raise RuntimeError(f"event-driven: contact LCP has no solution at t = {t:.9g} s")
+        nc = len(verts)
+        changed = False
+        for i in range(nc):
+            if cl[i] and ind[i] < 0:
+                cl[i], sig[i], changed = 0.0, 0.0, True
+            elif cl[i] and sig[i] == 0 and ind[nc + i] < 0:
+                aT = Wt[i] @ dy[3:] + bt[i]
+                sig[i], changed = (1.0 if aT > 0 else -1.0), True
+        if not changed:
+            break
+    closed[:] = cl > 0
+    # project onto the closed constraints (positions, then velocities)
+    c_idx = np.flatnonzero(closed)
+    if len(c_idx):
+        A = Wn[c_idx] * minv
+        q -= A.T @ np.linalg.lstsq(A @ Wn[c_idx].T, g[c_idx], rcond=1e-12)[0]
+        g, Wn, Wt, bn, bt, gd, vt = contact_rows(q, v, verts)
+        rows = [Wn[i] for i in c_idx] + [Wt[i] for i in c_idx if sig[i] == 0]
+        C = np.array(rows)
+        v -= (C * minv).T @ np.linalg.lstsq((C * minv) @ C.T, C @ v, rcond=1e-12)[0]
+    return np.concatenate([q, v]), n_imp
+
+
+def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | None = None, *,
+                   t_end: float, e_n: float = 0.0, impact_law: str = "newton",
+                   theta0: float = 0.0, q0=None, v0=None, rtol: float = 1e-9,
+                   atol: float = 1e-12, dt_out: float = 0.005, max_events: int = 20000,
+                   g: float = G_EARTH) -> ContactResult:  # fmt: skip
+    """Event-driven simulation from rest (tilted by ``theta0``) or from (q0, v0).
+
+    ``impact_law``: ``"newton"`` (restitution ``e_n``) or ``"housner"`` (plastic, sticking).
+    Raises RuntimeError with the time on step underflow, LCP failure or too many events.
+    """
+    if impact_law not in ("newton", "housner"):
+        raise ValueError(f"impact_law: expected 'newton' or 'housner', got {impact_law!r}")
+    if not 0.0 <= e_n <= 1.0:
+        raise ValueError(f"e_n: expected a restitution coefficient in [0, 1], got {e_n!r}")
+    e = 0.0 if impact_law == "housner" else float(e_n)
+    mo = motion or BaseMotion.none()
+    par = _params(body, friction, g)
+    verts, minv = body.contacts, body.minv
+    nc = len(verts)
+    q, v = initial_state(body, theta0)
+    if q0 is not None:
+        q = np.asarray(q0, float).copy()
+    if v0 is not None:
+        v = np.asarray(v0, float).copy()
+    t_out = np.arange(0.0, t_end + 0.5 * dt_out, dt_out)
+    y_out = np.full((len(t_out), 6), np.nan)
+    jumps = [tuple(j) for j in mo.jumps if 0.0 <= j[0] <= t_end]
+    closed = np.zeros(nc, bool)
+    sig = np.zeros(nc)
+    t = 0.0
+    y = np.concatenate([q, v])
+    for tj, dv in jumps:
+        if tj == 0.0:
+            y[3] -= dv
+    y, n_imp = _settle(body, par, mo, t, y, e, closed, sig)
+    iout = 0
+    events: list = []
+    h = 1e-3 * math.sqrt(par[6] / g)
+    n_steps = n_rhs = 0
+    t_over = None
+    while t < t_end:
+        nxt = min([t_end] + [tj for tj, _ in jumps if tj > t])
+        t, y, h, code, which, iout, ns, nr = ke.integrate(
+            t, y, nxt, h, sig, closed.astype(np.float64), verts, minv, par, mo.ex, mo.tab_h,
+            mo.tab_v, rtol, atol, t_out, y_out, iout, 1_000_000)  # fmt: skip
+        n_steps += ns
+        n_rhs += nr
+        if code < 0:
+            raise RuntimeError(f"event-driven: {FAIL[code]} at t = {t:.9g} s")
+        if code == ke.EV_OVER:
+            t_over = t
+            events.append((t, "overturn", -1))
+            break
+        if code == ke.EV_END:
+            for tj, dv in jumps:
+                if tj == t:
+                    y[3] -= dv
+                    events.append((t, "ground velocity jump", -1))
+        else:
+            events.append((t, EVENT_NAMES[code], which % nc))
+        if len(events) > max_events:
+            raise RuntimeError(f"event-driven: more than {max_events} events by t = {t:.9g} s "
+                               "(impact accumulation or chattering)")  # fmt: skip
+        y, k = _settle(body, par, mo, t, y, e, closed, sig)
+        n_imp += k
+        h = max(h, 1e-6 * math.sqrt(par[6] / g))
+    ok = ~np.isnan(y_out[:, 0])
+    t_s, q_s, v_s = t_out[ok], y_out[ok, :3], y_out[ok, 3:]
+    mode = np.array([body_mode(q_s[i], v_s[i], verts, MODE_G_TOL * par[6],
+                               MODE_V_TOL * math.sqrt(g * par[6]), par[5])
+                     for i in range(len(t_s))], dtype=np.int64)  # fmt: skip
+    if t_over is not None:
+        t_s = np.append(t_s, t_over)
+        q_s = np.vstack([q_s, y[:3]])
+        v_s = np.vstack([v_s, y[3:]])
+        mode = np.append(mode, 5)
+    base_mid = body.contacts.mean(axis=0)
+    return ContactResult(t_s, q_s, v_s, mode, "event", base_mid, body.theta_ov, n_imp, t_over,
+                         events, n_steps, n_rhs)  # fmt: skip

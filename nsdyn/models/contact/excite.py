@@ -1,0 +1,113 @@
+"""Base motion of the body: ground accelerations for the kernels plus ground velocity jumps.
+
+The body is written in the frame of the ground, which loads it with -m a_h(t) horizontally and
+-m a_v(t) vertically.  A displacement-driven ground u_g(t) gives a_h = u_g'' where smooth, and a
+velocity jump [u_g'] at a kink (a displacement sine A sin(w t) switched on at t = 0 jumps by A w);
+in the ground frame the body's velocity jumps by -[u_g'], which the contacts resolve as an impact
+(impulsive start).  A smooth start multiplies the sine by a ramp sin^2(pi t / (2 T_r)).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from nsdyn.ground import GroundMotion, Harmonic, Table
+
+N_PER_PERIOD = 4000  # samples per period of a tabulated displacement-driven sine
+
+
+@dataclass(frozen=True)
+class BaseMotion:
+    """Kernel form of a base excitation.
+
+    Attributes
+    ----------
+    ex : (8,) [kind, t0, dt, amp, omega, t_on, t_off, phase] (see ``_kgeom.ground_acc``)
+    tab_h, tab_v : sampled accelerations [m/s^2] (tab_v empty or of the length of tab_h)
+    jumps : (nj, 2) rows (t, ground velocity jump [m/s])
+    u_g : optional callable t -> ground displacement, for absolute positions in plots
+    """
+
+    ex: np.ndarray
+    tab_h: np.ndarray
+    tab_v: np.ndarray
+    jumps: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    name: str = "base motion"
+
+    @classmethod
+    def none(cls) -> BaseMotion:
+        """No excitation (free motion)."""
+        return cls(np.array([0.0, 0, 1, 0, 0, 0, 0, 0]), np.zeros(0), np.zeros(0), name="none")
+
+    @classmethod
+    def sine_acceleration(cls, amp: float, omega: float, t_on: float = 0.0,
+                          t_off: float = math.inf, phase: float = 0.0) -> BaseMotion:  # fmt: skip
+        """a_h = amp sin(omega (t - t_on) + phase) on [t_on, t_off] [m/s^2, rad/s]."""
+        ex = np.array([1.0, 0, 1, amp, omega, t_on, min(t_off, 1e300), phase])
+        return cls(ex, np.zeros(0), np.zeros(0), name="sine acceleration")
+
+    @classmethod
+    def constant(cls, a: float, t_on: float = 0.0) -> BaseMotion:
+        """Constant base acceleration ``a`` [m/s^2] from ``t_on``."""
+        return cls.sine_acceleration(a, 0.0, t_on, math.inf, math.pi / 2)
+
+    @classmethod
+    def from_motion(cls, motion, vertical: bool = True) -> BaseMotion:
+        """From a :class:`GroundMotion`, ``Table`` or ``Harmonic`` of ``nsdyn.ground``."""
+        if isinstance(motion, GroundMotion):
+            t0, dt, ah, av = motion.as_arrays()
+            av = np.asarray(av, float) if (vertical and av is not None) else np.zeros(0)
+            ex = np.array([0.0, t0, dt, 0, 0, 0, 0, 0])
+            return cls(ex, np.ascontiguousarray(ah, float), np.ascontiguousarray(av),
+                       name=getattr(motion, "name", "record"))  # fmt: skip
+        if isinstance(motion, Table):
+            av = motion.a_ver if (vertical and motion.a_ver is not None) else np.zeros(0)
+            ex = np.array([0.0, motion.t0, motion.dt, 0, 0, 0, 0, 0])
+            return cls(ex, np.asarray(motion.a_hor, float), np.asarray(av, float), name="table")
+        if isinstance(motion, Harmonic):
+            if motion.A_ver:
+                raise ValueError("motion: a vertical harmonic is not supported by contact models")
+            return cls.sine_acceleration(motion.A_hor, 2 * math.pi * motion.f_hor)
+        raise ValueError(f"motion: expected a GroundMotion, Table or Harmonic, got "
+                         f"{type(motion).__name__}")  # fmt: skip
+
+    @classmethod
+    def displacement_sine(
+        cls, A: float, period: float, n_cycles: int = 5, start: str = "impulsive",
+        t_ramp: float | None = None,
+    ) -> BaseMotion:  # fmt: skip
+        """Ground displacement u_g = A sin(2 pi t / T) for ``n_cycles`` periods.
+
+        ``start="impulsive"``: switched on and off abruptly (velocity jumps +-A w at both ends);
+        ``start="smooth"``: the sine times sin^2 ramps of length ``t_ramp`` (default one period)
+        at both ends, tabulated at ``N_PER_PERIOD`` samples per period.
+        """
+        if start not in ("impulsive", "smooth"):
+            raise ValueError(f"start: expected 'impulsive' or 'smooth', got {start!r}")
+        w = 2 * math.pi / period
+        t_end = n_cycles * period
+        if start == "impulsive":
+            ex = np.array([1.0, 0, 1, -A * w * w, w, 0.0, t_end, 0.0])
+            jumps = np.array([[0.0, A * w], [t_end, -A * w * math.cos(w * t_end)]])
+            return cls(ex, np.zeros(0), np.zeros(0), jumps, "displacement sine (impulsive)")
+        tr = period if t_ramp is None else float(t_ramp)
+        dt = period / N_PER_PERIOD
+        t = np.arange(0.0, t_end + dt / 2, dt)
+        u = A * np.sin(w * t) * _ramp(t, tr, t_end)
+        a = np.gradient(np.gradient(u, dt), dt)
+        a[0] = a[-1] = 0.0
+        ex = np.array([0.0, 0.0, dt, 0, 0, 0, 0, 0])
+        return cls(ex, a, np.zeros(0), np.zeros((0, 2)), "displacement sine (smooth)")
+
+
+def _ramp(t: np.ndarray, tr: float, t_end: float) -> np.ndarray:
+    """sin^2 ramp up on [0, tr] and down on [t_end - tr, t_end]."""
+    r = np.ones_like(t)
+    up = t < tr
+    r[up] = np.sin(0.5 * math.pi * t[up] / tr) ** 2
+    dn = t > t_end - tr
+    r[dn] = np.sin(0.5 * math.pi * (t_end - t[dn]) / tr) ** 2
+    return r

@@ -1,0 +1,36 @@
+"""Figures of contact runs (Figure objects, no pyplot state): mode history and body snapshots."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from nsdyn.models.contact.results import MODE_NAMES
+
+
+def history_figure(res, body, title: str = "", n_snap: int = 8) -> Figure:
+    """Tilt, slide and mode against time, and snapshots of the body (ground frame)."""
+    fig = Figure(figsize=(9, 7), layout="constrained")
+    ax = fig.subplots(4, 1, height_ratios=[2, 2, 1, 2])
+    ax[0].plot(res.t, res.q[:, 2], lw=1)
+    ax[0].set_ylabel("tilt θ [rad]")
+    ax[1].plot(res.t, 1e3 * res.slide, lw=1)
+    ax[1].set_ylabel("slide [mm]")
+    ax[2].step(res.t, res.mode, where="post", lw=1)
+    ax[2].set_yticks(range(len(MODE_NAMES)), MODE_NAMES, fontsize=7)
+    ax[2].set_xlabel("t [s]")
+    for a in ax[:3]:
+        a.grid(alpha=0.3)
+    idx = np.linspace(0, len(res.t) - 1, n_snap).astype(int)
+    span = float(np.ptp(body.verts[:, 0])) * 1.6
+    for k, i in enumerate(idx):
+        x, y, th = res.q[i]
+        c, s = np.cos(th), np.sin(th)
+        p = body.verts @ np.array([[c, s], [-s, c]]) + [x + k * span, y]
+        ax[3].fill(p[:, 0], p[:, 1], alpha=0.5)
+        ax[3].text(k * span, -0.15 * span, f"{res.t[i]:.2f} s", ha="center", fontsize=7)
+    ax[3].axhline(0, color="k", lw=1)
+    ax[3].set_aspect("equal")
+    ax[3].axis("off")
+    fig.suptitle(title)
+    return fig

@@ -1,0 +1,228 @@
+"""``nsdyn run`` on contact scenes: read and check the TOML, run, write NPZ/PNG, summarise.
+
+Scene (``[scene] kind = "contact"``)::
+
+    [scene]
+    kind = "contact"
+    name = "seed 002 A5"
+    [body]                     # a rectangle (width, height) or a convex polygon (vertices)
+    width = 1.1                # [m]
+    height = 1.0               # [m]
+    vertices = [[x, y], ...]   # instead of width/height
+    mass = 1250.0              # [kg]
+    [friction]
+    mu_s = 0.57
+    mu_d = 0.29                # default mu_s
+    C = 0.0                    # mu(v) = mu_d + (mu_s - mu_d) exp(-C |v|); omit: jump law
+    [impact]
+    e_n = 0.0                  # Newton restitution
+    law = "newton"             # newton | housner
+    [motion]                   # a record, a displacement sine or nothing (free motion)
+    record = "path/or/bundled-name"
+    pga = 1.6                  # [m/s^2] scale the record / the sine's acceleration amplitude
+    period = 2.18              # displacement sine u = A sin(2 pi t / T), A = pga (T / 2 pi)^2
+    n_cycles = 5
+    start = "impulsive"        # impulsive | smooth
+    t_end = 15.0               # [s]
+    theta0 = 0.0               # initial tilt [rad]
+    [solver]
+    method = "event"           # event | moreau
+    h = 1e-3                   # Moreau-Jean step [s]
+    theta = 0.5                # Moreau-Jean theta
+    rtol = 1e-9                # event-driven tolerance
+    dt_out = 0.005             # [s]
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.atomic import atomic_open
+from nsdyn.ground import read_motion
+from nsdyn.models.scenefile import SceneError, number, unknown_key
+
+_FIELDS = {
+    "scene": {"kind", "name"},
+    "body": {"width", "height", "vertices", "mass"},
+    "friction": {"mu_s", "mu_d", "C"},
+    "impact": {"e_n", "law"},
+    "motion": {"record", "pga", "period", "n_cycles", "start", "t_end", "theta0"},
+    "solver": {"method", "h", "theta", "rtol", "dt_out"},
+}
+METHODS = ("event", "moreau")  # solver.method
+T_END = 5.0  # default duration of free motion [s]
+
+
+def _check(cfg: dict, source: str) -> None:
+    for table, vals in cfg.items():
+        if table not in _FIELDS:
+            raise unknown_key(source, "", table, _FIELDS)
+        if not isinstance(vals, dict):
+            raise SceneError(f"{source}: {table}: expected a table")
+        for key in vals:
+            if key not in _FIELDS[table]:
+                raise unknown_key(source, f"{table}.", key, _FIELDS[table])
+
+
+def build(cfg: dict, source: str):
+    """(body, friction law, base motion, t_end, options) of a parsed scene."""
+    from nsdyn.models.contact.body import RigidBody
+    from nsdyn.models.contact.excite import BaseMotion
+    from nsdyn.models.contact.friction import FrictionLaw
+
+    _check(cfg, source)
+    b = cfg.get("body", {})
+    mass = number(source, "body.mass", b.get("mass", 1.0))
+    try:
+        if "vertices" in b:
+            body = RigidBody.polygon(b["vertices"], mass)
+        else:
+            for key in ("width", "height"):
+                if key not in b:
+                    raise SceneError(f"{source}: body.{key}: missing (a positive size in m, "
+                                     "or body.vertices)")  # fmt: skip
+            w = number(source, "body.width", b["width"])
+            body = RigidBody.rectangle(w, number(source, "body.height", b["height"]), mass)
+    except (ValueError, TypeError) as e:
+        if isinstance(e, SceneError):
+            raise
+        raise SceneError(f"{source}: body.{e}") from None
+    f = cfg.get("friction", {})
+    if "mu_s" not in f:
+        raise SceneError(f"{source}: friction.mu_s: missing (static friction coefficient)")
+    mu_s = number(source, "friction.mu_s", f["mu_s"], allow_zero=True)
+    mu_d = number(source, "friction.mu_d", f.get("mu_d", mu_s), allow_zero=True)
+    C = number(source, "friction.C", f["C"], allow_zero=True) if "C" in f else math.inf
+    try:
+        law = FrictionLaw(mu_s, mu_d, C)
+    except ValueError as e:
+        raise SceneError(f"{source}: friction.{e}") from None
+    im = cfg.get("impact", {})
+    e_n = number(source, "impact.e_n", im.get("e_n", 0.0), allow_zero=True)
+    if e_n > 1:
+        raise SceneError(f"{source}: impact.e_n: expected 0 <= e_n <= 1, got {e_n}")
+    impact_law = im.get("law", "newton")
+    if impact_law not in ("newton", "housner"):
+        raise SceneError(f"{source}: impact.law: expected 'newton' or 'housner', "
+                         f"got {impact_law!r}")  # fmt: skip
+    mo = cfg.get("motion", {})
+    t_end = number(source, "motion.t_end", mo["t_end"]) if "t_end" in mo else None
+    theta0 = number(source, "motion.theta0", mo.get("theta0", 0.0), positive=False)
+    if "record" in mo and "period" in mo:
+        raise SceneError(f"{source}: motion.period: give a record or a sine period, not both")
+    if "record" in mo:
+        rec = str(mo["record"])
+        p = Path(rec)
+        if not p.is_absolute() and not p.exists() and Path(source).parent.joinpath(rec).exists():
+            p = Path(source).parent / rec
+        try:
+            gm = read_motion(p if p.exists() else rec)
+        except Exception as e:
+            raise SceneError(f"{source}: motion.record: cannot read {rec!r}: {e}") from None
+        if "pga" in mo:
+            gm = gm.scaled_to_pga(number(source, "motion.pga", mo["pga"]))
+        motion = BaseMotion.from_motion(gm)
+        t_end = t_end or gm.t0 + gm.duration
+        what = gm.name
+    elif "period" in mo:
+        T = number(source, "motion.period", mo["period"])
+        pga = number(source, "motion.pga", mo.get("pga", 1.6))
+        n = mo.get("n_cycles", 5)
+        if not isinstance(n, int) or isinstance(n, bool) or n < 1:
+            raise SceneError(f"{source}: motion.n_cycles: expected an integer >= 1, got {n!r}")
+        start = mo.get("start", "impulsive")
+        if start not in ("impulsive", "smooth"):
+            raise SceneError(f"{source}: motion.start: expected 'impulsive' or 'smooth', "
+                             f"got {start!r}")  # fmt: skip
+        A = pga * (T / (2 * math.pi)) ** 2
+        motion = BaseMotion.displacement_sine(A, T, n, start)
+        t_end = t_end or n * T + 2.0
+        what = f"displacement sine A = {A * 1e3:.0f} mm, T = {T:g} s ({start})"
+    else:
+        if "pga" in mo:
+            raise SceneError(f"{source}: motion.pga: needs motion.record or motion.period")
+        motion, what = None, "free motion"
+        t_end = t_end or T_END
+    sv = cfg.get("solver", {})
+    method = sv.get("method", "event")
+    if method not in METHODS:
+        raise SceneError(f"{source}: solver.method: expected one of {list(METHODS)}, "
+                         f"got {method!r}")  # fmt: skip
+    opts = {
+        "method": method,
+        "h": number(source, "solver.h", sv.get("h", 1e-3)),
+        "theta": number(source, "solver.theta", sv.get("theta", 0.5)),
+        "rtol": number(source, "solver.rtol", sv.get("rtol", 1e-9)),
+        "dt_out": number(source, "solver.dt_out", sv.get("dt_out", 0.005)),
+        "e_n": e_n,
+        "impact_law": impact_law,
+        "theta0": theta0,
+        "what": what,
+    }
+    if not 0.5 <= opts["theta"] <= 1:
+        raise SceneError(f"{source}: solver.theta: expected 0.5 <= theta <= 1")
+    return body, law, motion, t_end, opts
+
+
+def simulate(body, law, motion, t_end, opts):
+    """Run the scene's solver; returns a ContactResult."""
+    from nsdyn.models.contact.event import simulate_event
+    from nsdyn.models.contact.moreau import simulate_moreau
+
+    if opts["method"] == "moreau":
+        return simulate_moreau(body, law, motion, t_end=t_end, h=opts["h"], theta=opts["theta"],
+                               e_n=opts["e_n"], theta0=opts["theta0"],
+                               dt_out=max(opts["dt_out"], opts["h"]))  # fmt: skip
+    return simulate_event(body, law, motion, t_end=t_end, e_n=opts["e_n"],
+                          impact_law=opts["impact_law"], theta0=opts["theta0"],
+                          rtol=opts["rtol"], atol=opts["rtol"] * 1e-3,
+                          dt_out=opts["dt_out"])  # fmt: skip
+
+
+def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:
+    """Run a contact scene; writes ``contact.npz`` (and ``contact.png``) into ``out_dir``."""
+    body, law, motion, t_end, opts = build(cfg, source)
+    name = cfg.get("scene", {}).get("name", Path(source).stem)
+    say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
+    say(f"contact: {name}: {opts['what']}, {opts['method']}, t_end = {t_end:g} s")
+    w0 = time.perf_counter()
+    simulate(body, law, motion, min(t_end, 0.02), opts)  # compile / load the kernels
+    compile_s = time.perf_counter() - w0
+    w0 = time.perf_counter()
+    res = simulate(body, law, motion, t_end, opts)
+    wall = time.perf_counter() - w0
+    out_dir = Path(out_dir)
+    files = [str(out_dir / "contact.npz")]
+    with atomic_open(out_dir / "contact.npz", "wb") as fh:
+        np.savez(fh, t=res.t, q=res.q, v=res.v, mode=res.mode, slide=res.slide)
+    if figures:
+        from nsdyn.atomic import save_figure
+        from nsdyn.models.contact.figures import history_figure
+
+        png = out_dir / "contact.png"
+        save_figure(history_figure(res, body, title=name), png)
+        files.append(str(png))
+    s = res.summary()
+    s.update({"kind": "contact", "name": name, "motion": opts["what"], "t_end": t_end,
+              "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
+    say(f"contact: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
+    return s
+
+
+def format_summary(s: dict) -> str:
+    """A short human table of a contact run."""
+    lines = []
+    for k in ("name", "motion", "solver", "first_motion", "max_slide", "max_tilt", "n_hops",
+              "n_impacts", "overturned", "t_overturn", "wall_s", "compile_s"):  # fmt: skip
+        v = s.get(k)
+        if v is not None:
+            lines.append(f"  {k:16s} {v:.6g}" if isinstance(v, float) else f"  {k:16s} {v}")
+    for m, v in s.get("time_in_mode", {}).items():
+        lines.append(f"  {'t_' + m:16s} {v:.4g} s")
+    lines.extend(f"  {'file':16s} {f}" for f in s.get("files", []))
+    return "\n".join(lines)

@@ -1,0 +1,408 @@
+"""Numba kernel: equations of motion of the rigid cylinder, restrained or sliding on its base.
+
+State y = (w, q₀..q₃, ẇ, ω_x, ω_y, ω_z, E_in, E_d, u_x, u_y, u̇_x, u̇_y, E_f): base-centre height
+above the undeformed ground, unit quaternion of the body, their rates (ω in world axes), the work
+of the ground (inertial) load, the energy dissipated by the dashpots, the horizontal slip u of
+the base centre relative to the ground, its rate, and the energy dissipated by friction.
+With ρ = H e₃ (base centre → centre of mass), J = I_t 𝟙 + (I_a − I_t) e₃e₃ᵀ, a horizontal base
+force f at the base centre and x = (ü_x, ü_y, ẅ, ω̇), Newton and Euler about the accelerating base
+centre give the symmetric positive 6×6 system
+
+    m ü + m e_h·(ω̇ × ρ)                    = f − m a_g,h − m (ω×(ω×ρ))_h
+    m ẅ + m e_z·(ω̇ × ρ)                    = F − mg − m a_gz − m e_z·(ω×(ω×ρ))
+    m Σ ρ×e_i ẍ_i + (J + m(|ρ|²𝟙 − ρρᵀ)) ω̇ = M − mg ρ×e_z − ω×Jω − m ρ×a_g − m ρ×(ω×(ω×ρ))
+
+with q̇ = ½ (0, ω) ⊗ q, Ė_in = −m a_g·v_rel (v_rel = u̇ + ẇ e_z + ω×ρ), Ė_d = D, Ė_f = −f·u̇.
+F and M = (m_a e₁ + m_b e₂) × e_z come from ``_kfound.resultants``.
+
+Base friction (mode in ``fr`` = (mode, d_x, d_y)): *stick* (and the restrained base, μ < 0):
+ü = 0 and f = f_req = m a_c,h, the lower-right 4×4 block is solved; *slip*: Coulomb
+f = −μ N d with N = max(F, 0) and d = u̇/|u̇| (the stored d while |u̇| < ``V_DIR``, i.e. at the
+start of a slip), the full 6×6 system is solved. Mode changes are events of ``integrate``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from nsdyn._kdp5 import (
+    A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64, A65,
+    A71, A73, A74, A75, A76, C2, C3, C4, C5, E1, E3, E4, E5, E6, E7,
+    FAC_MAX, FAC_MIN, SAFETY,
+)  # fmt: skip
+from nsdyn.models.cylinder._kfound import contact_moments, resultants
+
+NY = 16  # state size
+IU, IUD, IEF = 11, 13, 15  # indices of u, u̇ and E_f in the state
+NAUX = 9  # aux: F, M_x, M_y, A, V_spring, D, E_mech, f_x, f_y
+NOUT = 1 + NY + 6 + NAUX  # history row: t, y, (ü_x, ü_y, ẅ, ω̇), aux
+V_DIR = 1e-12  # [m/s] below this slip speed the stored slip direction is used
+STICK, SLIP = 0, 1  # friction modes
+
+# status codes
+OK, UNDERFLOW, NONFINITE, TOPPLED, MAXSTEPS = 0, 1, 2, 3, 4
+
+
+@njit(cache=True)
+def rotation(q: np.ndarray, R: np.ndarray) -> None:
+    """R = rotation matrix of the quaternion q (normalised here)."""
+    n = math.sqrt(q[0] ** 2 + q[1] ** 2 + q[2] ** 2 + q[3] ** 2)
+    w, x, y, z = q[0] / n, q[1] / n, q[2] / n, q[3] / n
+    R[0, 0] = 1 - 2 * (y * y + z * z)
+    R[0, 1] = 2 * (x * y - w * z)
+    R[0, 2] = 2 * (x * z + w * y)
+    R[1, 0] = 2 * (x * y + w * z)
+    R[1, 1] = 1 - 2 * (x * x + z * z)
+    R[1, 2] = 2 * (y * z - w * x)
+    R[2, 0] = 2 * (x * z - w * y)
+    R[2, 1] = 2 * (y * z + w * x)
+    R[2, 2] = 1 - 2 * (x * x + y * y)
+
+
+@njit(cache=True)
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.array(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    )
+
+
+@njit(cache=True)
+def solve_spd(M: np.ndarray, b: np.ndarray, o: int) -> np.ndarray:
+    """x with M[o:, o:] x = b[o:], M symmetric positive definite (Cholesky, no pivoting)."""
+    n = b.shape[0] - o
+    L = np.zeros((n, n))
+    for i in range(n):
+        for j in range(i + 1):
+            s = M[o + i, o + j]
+            for k in range(j):
+                s -= L[i, k] * L[j, k]
+            if i == j:
+                L[i, i] = math.sqrt(s)
+            else:
+                L[i, j] = s / L[j, j]
+    z = np.empty(n)
+    for i in range(n):
+        s = b[o + i]
+        for k in range(i):
+            s -= L[i, k] * z[k]
+        z[i] = s / L[i, i]
+    x = np.empty(n)
+    for i in range(n - 1, -1, -1):
+        s = z[i]
+        for k in range(i + 1, n):
+            s -= L[k, i] * x[k]
+        x[i] = s / L[i, i]
+    return x
+
+
+@njit(cache=True)
+def rhs(
+    y: np.ndarray, ag: np.ndarray, p: np.ndarray, fr: np.ndarray, dy: np.ndarray, aux: np.ndarray
+) -> None:
+    """dy = f(y) under ground acceleration ag (3,); p = (m, H, r, I_t, I_a, k, c, g, bonded, μ)
+    with μ < 0 for a restrained base; fr = (mode, d_x, d_y) of the base friction."""
+    m, H, r, It, Ia, k, c, g = p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]
+    bonded = p[8] > 0.5
+    mu = p[9]
+    slip = mu >= 0.0 and fr[0] > 0.5
+    R = np.empty((3, 3))
+    rotation(y[1:5], R)
+    nq = math.sqrt(y[1] ** 2 + y[2] ** 2 + y[3] ** 2 + y[4] ** 2)
+    q0, q1, q2, q3 = y[1] / nq, y[2] / nq, y[3] / nq, y[4] / nq
+    w, wd = y[0], y[5]
+    om = y[6:9].copy()
+    ud = y[IUD : IUD + 2].copy()
+    e3 = R[:, 2].copy()
+    gx, gy = R[2, 0], R[2, 1]
+    gxd = om[0] * R[1, 0] - om[1] * R[0, 0]  # ω·(e₁ × e_z)
+    gyd = om[0] * R[1, 1] - om[1] * R[0, 1]
+    fnd = np.empty(6)
+    resultants(w, gx, gy, wd, gxd, gyd, r, k, c, bonded, fnd)
+    F = fnd[0]
+    mw = fnd[1] * R[:, 0] + fnd[2] * R[:, 1]
+    Mf = np.array([mw[1], -mw[0], 0.0])  # mw × e_z
+    rho = H * e3
+    Jom = It * om + (Ia - It) * e3 * (e3[0] * om[0] + e3[1] * om[1] + e3[2] * om[2])
+    cen = cross(om, cross(om, rho))
+    # columns ρ × e_x, ρ × e_y, ρ × e_z
+    rxe = np.array([[0.0, -rho[2], rho[1]], [rho[2], 0.0, -rho[0]], [-rho[1], rho[0], 0.0]])
+    Mm = np.zeros((6, 6))
+    rr = rho[0] ** 2 + rho[1] ** 2 + rho[2] ** 2
+    for a in range(3):
+        Mm[a, a] = m
+        for i in range(3):
+            Mm[a, 3 + i] = m * rxe[i, a]
+            Mm[3 + i, a] = m * rxe[i, a]
+    for i in range(3):
+        for j in range(3):
+            Jij = (Ia - It) * e3[i] * e3[j] + (It + m * rr if i == j else 0.0)
+            Mm[3 + i, 3 + j] = Jij - m * rho[i] * rho[j]
+    b = np.empty(6)
+    b[0] = -m * ag[0] - m * cen[0]
+    b[1] = -m * ag[1] - m * cen[1]
+    b[2] = F - m * g - m * ag[2] - m * cen[2]
+    t1 = cross(om, Jom)
+    t2 = cross(rho, ag)
+    t3 = cross(rho, cen)
+    for i in range(3):
+        b[3 + i] = Mf[i] - m * g * rxe[i, 2] - t1[i] - m * t2[i] - m * t3[i]
+    acc = np.zeros(6)
+    if slip:
+        s = math.sqrt(ud[0] ** 2 + ud[1] ** 2)
+        if s > V_DIR:
+            dx, dyy = ud[0] / s, ud[1] / s
+        else:
+            dx, dyy = fr[1], fr[2]
+        N = max(F, 0.0)
+        fx, fy = -mu * N * dx, -mu * N * dyy
+        b[0] += fx
+        b[1] += fy
+        acc[:] = solve_spd(Mm, b, 0)
+    else:
+        acc[2:] = solve_spd(Mm, b, 2)
+        # force that keeps ü = 0: the horizontal rows with ü = 0
+        fx = -b[0] + Mm[0, 3] * acc[3] + Mm[0, 4] * acc[4] + Mm[0, 5] * acc[5]
+        fy = -b[1] + Mm[1, 3] * acc[3] + Mm[1, 4] * acc[4] + Mm[1, 5] * acc[5]
+    dy[0] = wd
+    dy[1] = -0.5 * (om[0] * q1 + om[1] * q2 + om[2] * q3)
+    dy[2] = 0.5 * (q0 * om[0] + om[1] * q3 - om[2] * q2)
+    dy[3] = 0.5 * (q0 * om[1] + om[2] * q1 - om[0] * q3)
+    dy[4] = 0.5 * (q0 * om[2] + om[0] * q2 - om[1] * q1)
+    dy[5] = acc[2]
+    dy[6] = acc[3]
+    dy[7] = acc[4]
+    dy[8] = acc[5]
+    vrel = cross(om, rho)
+    vrel[0] += ud[0]
+    vrel[1] += ud[1]
+    vrel[2] += wd
+    dy[9] = -m * (ag[0] * vrel[0] + ag[1] * vrel[1] + ag[2] * vrel[2])
+    dy[10] = fnd[5]
+    dy[IU] = ud[0]
+    dy[IU + 1] = ud[1]
+    dy[IUD] = acc[0]
+    dy[IUD + 1] = acc[1]
+    dy[IEF] = -(fx * ud[0] + fy * ud[1])
+    aux[0] = F
+    aux[1] = Mf[0]
+    aux[2] = Mf[1]
+    aux[3] = fnd[3]
+    aux[4] = fnd[4]
+    aux[5] = fnd[5]
+    T = 0.5 * m * (vrel[0] ** 2 + vrel[1] ** 2 + vrel[2] ** 2)
+    T += 0.5 * (om[0] * Jom[0] + om[1] * Jom[1] + om[2] * Jom[2])
+    aux[6] = T + m * g * (w + H * e3[2]) + fnd[4]
+    aux[7] = fx
+    aux[8] = fy
+
+
+@njit(cache=True)
+def contact_kind(y: np.ndarray, r: float) -> int:
+    """0 lifted off, 1 partial contact, 2 full contact (tensionless foundation)."""
+    R = np.empty((3, 3))
+    rotation(y[1:5], R)
+    mom = np.empty(11)
+    return contact_moments(y[0], R[2, 0], R[2, 1], r, False, mom)
+
+
+@njit(cache=True)
+def friction_event(y: np.ndarray, yn: np.ndarray, fr: np.ndarray, aux: np.ndarray, mu: float):
+    """Mode change due at the end yn of a step from y (aux: rhs at yn in the current mode).
+
+    0 none; 1 stick → slip (|f_req| > μN); 2 the slip velocity turned by more than 90° within
+    the step (it passed through zero: stop, or reverse in 1D).
+    """
+    if mu < 0.0:
+        return 0
+    if fr[0] < 0.5:
+        return 1 if math.hypot(aux[7], aux[8]) > mu * max(aux[0], 0.0) else 0
+    s = math.hypot(y[IUD], y[IUD + 1])
+    if s > V_DIR:
+        dx, dyy = y[IUD] / s, y[IUD + 1] / s
+    else:
+        dx, dyy = fr[1], fr[2]
+    return 2 if yn[IUD] * dx + yn[IUD + 1] * dyy <= 0.0 else 0
+
+
+@njit(cache=True)
+def set_mode(y, a, p, fr, k1, aux) -> None:
+    """Stick if the force that keeps the base still is within the friction cone, else slip
+    starting in the direction opposite to that force; k1 = rhs(y) in the chosen mode."""
+    fr[0] = STICK
+    rhs(y, a, p, fr, k1, aux)
+    fmag = math.hypot(aux[7], aux[8])
+    if fmag > p[9] * max(aux[0], 0.0):
+        fr[0] = SLIP
+        fr[1] = -aux[7] / fmag
+        fr[2] = -aux[8] / fmag
+        rhs(y, a, p, fr, k1, aux)
+
+
+@njit(cache=True)
+def store(hist: np.ndarray, i: int, t: float, y: np.ndarray, ag, p, fr, dy, aux) -> None:
+    rhs(y, ag, p, fr, dy, aux)
+    hist[i, 0] = t
+    hist[i, 1 : 1 + NY] = y
+    hist[i, 1 + NY] = dy[IUD]
+    hist[i, 2 + NY] = dy[IUD + 1]
+    hist[i, 3 + NY : 7 + NY] = dy[5:9]
+    hist[i, 7 + NY :] = aux
+
+
+@njit(cache=True)
+def integrate(
+    t0: float,
+    dt: float,
+    ag: np.ndarray,
+    y0: np.ndarray,
+    p: np.ndarray,
+    rtol: float,
+    atol: np.ndarray,
+    h_kink: float,
+    h_min: float,
+    max_steps: int,
+    cos_topple: float,
+    hist: np.ndarray,
+    stats: np.ndarray,
+) -> int:
+    """Integrate over the samples of ag (n, 3); hist (n, NOUT) rows at the sample times.
+
+    Steps never cross a sample time (the record is piecewise linear). A step whose end has
+    another contact kind (tensionless) or is due a friction-mode change is halved until no
+    longer than ``h_kink`` (bisection onto the event), then the mode is switched; a slip that
+    stops has its residual velocity (|u̇| ≲ h_kink |ü|) set to zero and the kinetic energy
+    removed booked in E_f. stats = (t reached, accepted, rejected, event halvings, rhs calls,
+    slip starts). Returns the status.
+    """
+    n = ag.shape[0]
+    y = y0.copy()
+    tensionless = p[8] < 0.5
+    r = p[2]
+    mu = p[9]
+    nerr = 9 if mu < 0.0 else 13
+    dy = np.empty(NY)
+    aux = np.empty(NAUX)
+    fr = np.zeros(3)
+    k1 = np.empty(NY)
+    k2 = np.empty(NY)
+    k3 = np.empty(NY)
+    k4 = np.empty(NY)
+    k5 = np.empty(NY)
+    k6 = np.empty(NY)
+    k7 = np.empty(NY)
+    yt = np.empty(NY)
+    yn = np.empty(NY)
+    a = np.empty(3)
+    if mu >= 0.0:
+        set_mode(y, ag[0], p, fr, k1, aux)
+    else:
+        rhs(y, ag[0], p, fr, k1, aux)
+    slips = int(fr[0])
+    store(hist, 0, t0, y, ag[0], p, fr, dy, aux)
+    nfev = 2
+    h = min(dt, 1e-3)
+    acc = 0
+    rej = 0
+    kinks = 0
+    t = t0
+    status = OK
+    for i in range(n - 1):
+        ta = t0 + i * dt
+        tb = ta + dt
+        slope = (ag[i + 1] - ag[i]) / dt
+        t = ta
+        while tb - t > 1e-12 * dt:
+            hs = min(h, tb - t)
+            trunc = hs < h
+            a[:] = ag[i] + slope * (t + C2 * hs - ta)
+            yt[:] = y + hs * A21 * k1
+            rhs(yt, a, p, fr, k2, aux)
+            a[:] = ag[i] + slope * (t + C3 * hs - ta)
+            yt[:] = y + hs * (A31 * k1 + A32 * k2)
+            rhs(yt, a, p, fr, k3, aux)
+            a[:] = ag[i] + slope * (t + C4 * hs - ta)
+            yt[:] = y + hs * (A41 * k1 + A42 * k2 + A43 * k3)
+            rhs(yt, a, p, fr, k4, aux)
+            a[:] = ag[i] + slope * (t + C5 * hs - ta)
+            yt[:] = y + hs * (A51 * k1 + A52 * k2 + A53 * k3 + A54 * k4)
+            rhs(yt, a, p, fr, k5, aux)
+            a[:] = ag[i] + slope * (t + hs - ta)
+            yt[:] = y + hs * (A61 * k1 + A62 * k2 + A63 * k3 + A64 * k4 + A65 * k5)
+            rhs(yt, a, p, fr, k6, aux)
+            yn[:] = y + hs * (A71 * k1 + A73 * k3 + A74 * k4 + A75 * k5 + A76 * k6)
+            rhs(yn, a, p, fr, k7, aux)
+            nfev += 6
+            err = 0.0
+            for j in range(NY):
+                if j == 9 or j == 10 or j == IEF:
+                    continue  # energy quadratures: not under error control
+                e = hs * (
+                    E1 * k1[j] + E3 * k3[j] + E4 * k4[j] + E5 * k5[j] + E6 * k6[j] + E7 * k7[j]
+                )
+                sc = atol[j] + rtol * max(abs(y[j]), abs(yn[j]))
+                err += (e / sc) ** 2
+            err = math.sqrt(err / nerr)
+            if not (err == err) or not np.all(np.isfinite(yn)):
+                if hs > h_min:
+                    h = 0.25 * hs
+                    rej += 1
+                    continue
+                stats[0] = t
+                status = NONFINITE
+                break
+            if err <= 1.0:
+                if tensionless and hs > h_kink and contact_kind(y, r) != contact_kind(yn, r):
+                    h = 0.5 * hs
+                    kinks += 1
+                    continue
+                ev = friction_event(y, yn, fr, aux, mu)
+                if ev != 0 and hs > h_kink:
+                    h = 0.5 * hs
+                    kinks += 1
+                    continue
+                t += hs
+                nq = math.sqrt(yn[1] ** 2 + yn[2] ** 2 + yn[3] ** 2 + yn[4] ** 2)
+                for j in range(1, 5):
+                    yn[j] /= nq
+                y[:] = yn
+                k1[:] = k7
+                acc += 1
+                if ev == 2:  # the slip stopped: drop the residual velocity, book its energy
+                    e_before = aux[6]
+                    y[IUD] = 0.0
+                    y[IUD + 1] = 0.0
+                    rhs(y, a, p, fr, dy, aux)
+                    y[IEF] += e_before - aux[6]
+                if ev != 0:
+                    set_mode(y, a, p, fr, k1, aux)
+                    slips += int(fr[0])
+                    nfev += 2
+                fac = min(FAC_MAX, SAFETY * err ** (-0.2)) if err > 0.0 else FAC_MAX
+                hn = hs * fac
+                h = max(h, hn) if trunc else hn
+                if 1.0 - 2.0 * (y[2] ** 2 + y[3] ** 2) < cos_topple:
+                    status = TOPPLED
+                    break
+            else:
+                rej += 1
+                h = hs * max(FAC_MIN, SAFETY * err ** (-0.2))
+            if h < h_min:
+                status = UNDERFLOW
+                break
+            if acc + rej > max_steps:
+                status = MAXSTEPS
+                break
+        if status != OK:
+            break
+        store(hist, i + 1, tb, y, ag[i + 1], p, fr, dy, aux)
+        nfev += 1
+    stats[0] = t
+    stats[1] = acc
+    stats[2] = rej
+    stats[3] = kinks
+    stats[4] = nfev
+    stats[5] = slips
+    return status

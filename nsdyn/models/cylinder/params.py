@@ -1,0 +1,104 @@
+"""Parameters of the rigid cylinder on a Winkler foundation, checked on construction.
+
+Solid homogeneous cylinder of radius r, height 2H, mass m: centroidal inertia about a diameter
+I_t = m(3r² + 4H²)/12 and about the axis I_a = m r²/2 (either may be given instead). The
+foundation carries springs k [N/m³] and dashpots c [N s/m³] per unit base area; ``foundation``
+is ``"tensionless"`` (springs push only: uplift), ``"bonded"`` (they pull too) or ``"fixed"``
+(rigid ground, the body moves with it). ``mu`` (Coulomb friction coefficient) lets the base
+centre slide horizontally on a Winkler foundation; ``None`` keeps it restrained (the source
+study's assumption).
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+FOUNDATIONS = ("tensionless", "bonded", "fixed")  # foundation cases of the model
+G_STD = 9.81  # gravity used by the source study [m/s²]
+
+
+def _positive(name: str, v: float, allow_zero: bool = False) -> None:
+    ok = math.isfinite(v) and (v > 0 or (allow_zero and v == 0))
+    if not ok:
+        what = "a non-negative" if allow_zero else "a positive"
+        raise ValueError(f"{name}: expected {what} finite number, got {v!r}")
+
+
+@dataclass(frozen=True)
+class CylinderParams:
+    """Cylinder (r, H, m, inertia) and foundation (k, c, case). Lengths m, masses kg."""
+
+    r: float = 1.0
+    H: float = 4.0
+    m: float = 1.0
+    k: float = 9814.0
+    c: float = 103.6
+    foundation: str = "tensionless"
+    g: float = G_STD
+    I_t: float | None = None  # centroidal inertia about a diameter (default: solid cylinder)
+    I_a: float | None = None  # inertia about the axis (default: solid cylinder)
+    mu: float | None = None  # base friction coefficient; None: base restrained horizontally
+
+    def __post_init__(self) -> None:
+        for name in ("r", "H", "m", "k", "g"):
+            _positive(name, float(getattr(self, name)))
+        _positive("c", float(self.c), allow_zero=True)
+        for name in ("I_t", "I_a"):
+            v = getattr(self, name)
+            if v is not None:
+                _positive(name, float(v))
+        if self.mu is not None:
+            _positive("mu", float(self.mu), allow_zero=True)
+            if self.foundation == "fixed":
+                raise ValueError(
+                    "mu: a fixed base cannot slide; give a stiff Winkler foundation instead"
+                )
+        if self.foundation not in FOUNDATIONS:
+            close = difflib.get_close_matches(str(self.foundation), FOUNDATIONS, n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise ValueError(
+                f"foundation: expected one of {list(FOUNDATIONS)}, got {self.foundation!r}{hint}"
+            )
+
+    @property
+    def It(self) -> float:
+        """Centroidal moment of inertia about a diameter [kg m²]."""
+        if self.I_t is not None:
+            return float(self.I_t)
+        return self.m * (3.0 * self.r**2 + 4.0 * self.H**2) / 12.0
+
+    @property
+    def Ia(self) -> float:
+        """Moment of inertia about the axis [kg m²]."""
+        return float(self.I_a) if self.I_a is not None else 0.5 * self.m * self.r**2
+
+    @property
+    def area(self) -> float:
+        """Base area πr²."""
+        return math.pi * self.r**2
+
+    @property
+    def I_base(self) -> float:
+        """Second moment of the base disc about a diameter, πr⁴/4."""
+        return 0.25 * math.pi * self.r**4
+
+    def with_(self, **changes) -> CylinderParams:
+        """A copy with some fields changed (checked again)."""
+        return replace(self, **changes)
+
+    @property
+    def sliding(self) -> bool:
+        """True when the base may slide (a friction coefficient is given)."""
+        return self.mu is not None
+
+    def kernel_array(self) -> np.ndarray:
+        """(m, H, r, I_t, I_a, k, c, g, bonded, μ) for the kernel; μ = −1: restrained base."""
+        bonded = 1.0 if self.foundation == "bonded" else 0.0
+        mu = -1.0 if self.mu is None else float(self.mu)
+        return np.array(
+            [self.m, self.H, self.r, self.It, self.Ia, self.k, self.c, self.g, bonded, mu], float
+        )

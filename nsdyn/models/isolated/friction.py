@@ -1,0 +1,58 @@
+"""Friction of the isolators: the laws, their default parameters, and the one definition of stick.
+
+Friction force of isolator i with normal force λ_i and sliding velocity v_i = D_i q̇ (seed 004):
+
+    arctan law (eq 7):   F_i = μ_i λ_i s_i,  s_i = (2/π) arctan(ε v_i)
+    switch model (eqs 4–6, Leine): slip |v_i| > η: s_i = sign(v_i);
+                         stick |v_i| ≤ η and |τ_i| ≤ μ_i λ_i: τ_i is a constraint force
+                         (D_i q̈ + κ D_i q̇ = 0) solved with the normal forces.
+
+**Stick**, for every consumer (run metrics, periodic orbits, sweeps, spot checks):
+
+- switch model / event-driven runs: the isolator is in its stick mode, or inside the band
+  |v| ≤ η;
+- arctan law, which has no stick phase: the friction force stays below ``STICK_UTILISATION``
+  of its limit, |s(v)| ≤ 0.9 ⇔ |v| ≤ tan(0.45 π)/ε — an isolator that Coulomb friction would
+  hold creeps at v = tan(πF/(2μλ))/ε, so its force stays below the limit, while a sliding one
+  has |s| → 1.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from nsdyn.models.isolated.defaults import EPS, ETA, MU  # noqa: F401  (re-exported)
+
+STICK_UTILISATION = 0.9  # arctan law: "stick" while |s(v)| <= this (friction below 90 %)
+
+LAW_NAMES = ("none", "arctan", "switch")  # laws a user chooses ("modes" is internal)
+
+
+def arctan_direction(v, eps: float = EPS):
+    """s(v) = (2/π) arctan(ε v): the arctan law's friction direction, |s| < 1."""
+    return (2.0 / math.pi) * np.arctan(eps * np.asarray(v, dtype=float))
+
+
+def stick_velocity(law: str, eps: float = EPS, eta: float = ETA) -> float:
+    """Largest |v| [m/s] at which an isolator under ``law`` counts as sticking."""
+    if law == "arctan":
+        return math.tan(0.5 * math.pi * STICK_UTILISATION) / eps
+    if law in ("switch", "modes"):
+        return eta
+    if law == "none":
+        return 0.0
+    raise ValueError(f"friction law: expected one of {list(LAW_NAMES)}, got {law!r}")
+
+
+def sticks(v, law: str, eps: float = EPS, eta: float = ETA, modes=None) -> np.ndarray:
+    """Boolean array: which isolators stick, from their sliding velocities ``v`` (any shape).
+
+    ``modes`` (same shape, 0 = stick, ±1 = slip), when the law decides them (switch model,
+    event-driven runs), count as well: a stick mode is stick whatever the velocity.
+    """
+    s = np.abs(np.asarray(v, dtype=float)) <= stick_velocity(law, eps, eta)
+    if modes is not None and law != "arctan":
+        s |= np.asarray(modes) == 0
+    return s

@@ -1,0 +1,223 @@
+"""Scenes: one TOML file naming the frame, isolation, fidelity, ground motion and solver.
+
+Example (every table and field is optional; missing ones take the defaults below)::
+
+    [scene]
+    name = "office isolated"
+    frame = "office-11"        # bundled frame name or path to a frame TOML
+    fidelity = "cb"            # fixed | rigid | cb | full
+    f_max = 5.0                # Craig-Bampton cut-off [Hz]
+
+    [isolation]                # seed 004 eq (16) and §3-§4
+    k_lam = 5.0e4
+    c = 1.0e4
+    mu = 0.03
+    law = "arctan"             # arctan | switch | none
+    eps = 7500.0
+
+    [motion]
+    record = "synthetic-wn-40s"  # bundled record name or path
+    pga = 3.0                  # scale the horizontal PGA to this [m/s^2] (optional)
+    vertical = true            # use the vertical component when the record has one
+    t_end = 40.0               # stop here [s] (optional)
+
+    [solver]
+    method = "radau"
+    rtol = 1e-4
+    atol = [1e-8, 1e-6]        # one number, or [displacements m, velocities m/s];
+                               # default [1e-8, 1e-6], [1e-8, 1e-7] for method "event"
+    dt_out = 0.02              # output step [s] (default: the record's dt)
+    uplift = "raise"           # raise | warn
+
+A structure without a frame (``[structure] kind = "shear" | "matrices"``), a harmonic ground
+motion (``[motion] kind = "harmonic"``) or a force (``[force]``) are described in
+:mod:`nsdyn.models.isolated.scene_structure`.
+"""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+
+from nsdyn.models.isolated.defaults import C_DAMPER, EPS, F_MAX, K_LAM, MU
+from nsdyn.models.isolated.scene_structure import (
+    build_structure,
+    check_user_isolation,
+    force_excitation,
+    harmonic_motion,
+    structure_kind,
+)
+from nsdyn.models.isolated.system import FIDELITIES, build_system, isolation_from_config
+from nsdyn.models.isolated.tolerances import RUN_RTOL
+from nsdyn.models.scenefile import SceneError, read_toml, unknown_key
+
+DEFAULT_SCENE = {
+    "scene": {"name": "office-11 isolated", "frame": "office-11", "fidelity": "cb", "f_max": F_MAX},
+    "isolation": {"k_lam": K_LAM, "c": C_DAMPER, "mu": MU, "law": "arctan", "eps": EPS},
+    "motion": {"record": "synthetic-wn-40s", "pga": 3.0, "vertical": True},
+    "solver": {
+        "method": "radau",
+        "rtol": RUN_RTOL,
+        "dt_out": 0.02,
+        "uplift": "raise",
+    },
+}
+
+_FIELDS = {
+    "scene": {"kind": str, "name": str, "frame": str, "fidelity": str, "f_max": float},
+    "motion": {
+        "record": str,
+        "pga": float,
+        "vertical": bool,
+        "t_end": float,
+        "units": str,
+        "dt": float,
+    },
+    "solver": {
+        "method": str,
+        "rtol": float,
+        "atol": "tolerance",
+        "dt": float,
+        "dt_out": float,
+        "uplift": str,
+    },
+}
+
+
+_EXTRA_TABLES = ("structure", "force")  # scene_structure's tables
+
+
+def _check(cfg: dict, source: str) -> dict:
+    tables = sorted([*DEFAULT_SCENE, *_EXTRA_TABLES])
+    for table in cfg:
+        if table not in tables:
+            raise SceneError(f"{source}: [{table}]: unknown table; expected some of {tables}")
+    structure_kind(cfg, source)
+    for table, fields in _FIELDS.items():
+        if table == "motion" and cfg.get("motion", {}).get("kind") == "harmonic":
+            harmonic_motion(cfg["motion"], source)  # checks its own fields
+            continue
+        for key, val in cfg.get(table, {}).items():
+            if key not in fields:
+                raise unknown_key(source, f"{table}.", key, fields)
+            typ = fields[key]
+            if typ == "tolerance":
+                pair = isinstance(val, list) and len(val) == 2
+                vals = val if pair else [val]
+                if not (pair or not isinstance(val, list)) or not all(
+                    isinstance(v, int | float) and not isinstance(v, bool) and v > 0 for v in vals
+                ):
+                    raise SceneError(
+                        f"{source}: {table}.{key}: expected a positive number or a pair "
+                        f"[displacements, velocities] of positive numbers, got {val!r}"
+                    )
+                continue
+            ok = (
+                isinstance(val, bool)
+                if typ is bool
+                else isinstance(val, int | float) and not isinstance(val, bool)
+                if typ is float
+                else isinstance(val, str)
+            )
+            if not ok:
+                raise SceneError(f"{source}: {table}.{key}: expected {typ.__name__}, got {val!r}")
+            if typ is float and val <= 0 and key != "t_end":
+                raise SceneError(f"{source}: {table}.{key}: expected a positive number, got {val}")
+    sc = cfg.get("scene", {})
+    if "fidelity" in sc and sc["fidelity"] not in FIDELITIES:
+        raise SceneError(
+            f"{source}: scene.fidelity: expected one of {list(FIDELITIES)}, got {sc['fidelity']!r}"
+        )
+    up = cfg.get("solver", {}).get("uplift")
+    if up is not None and up not in ("raise", "warn"):
+        raise SceneError(f"{source}: solver.uplift: expected 'raise' or 'warn', got {up!r}")
+    return cfg
+
+
+def merge(base: dict, override: dict) -> dict:
+    out = copy.deepcopy(base)
+    for table, vals in override.items():
+        out.setdefault(table, {}).update(vals)
+    return out
+
+
+def load_scene(path: str | Path | None = None, overrides: dict | None = None) -> dict:
+    """The default scene, updated by a TOML file and then by ``overrides`` (validated)."""
+    cfg = copy.deepcopy(DEFAULT_SCENE)
+    source = "<default scene>"
+    if path is not None:
+        source = str(path)
+        user = read_toml(path)
+        _check(user, source)
+        if "force" in user and "motion" in user:
+            raise SceneError(f"{source}: [force] and [motion]: one excitation per scene")
+        if structure_kind(user, source) is not None:
+            check_user_isolation(user, source)
+            cfg["isolation"] = {}  # the user's isolators only (no frame defaults)
+            cfg["scene"] = {}  # frame, fidelity, f_max and name belong to the frame
+        if "force" in user or user.get("motion", {}).get("kind") == "harmonic":
+            cfg["motion"] = {}  # no default record under another excitation
+        cfg = merge(cfg, user)
+    if overrides:
+        _check(overrides, "command line")
+        cfg = merge(cfg, overrides)
+    cfg["_source"] = source
+    return cfg
+
+
+def build_scene(cfg: dict):
+    """(system, excitation) for a loaded scene (see :func:`build_scene_run` for its duration)."""
+    system, excitation, _ = build_scene_run(cfg)
+    return system, excitation
+
+
+def build_scene_run(cfg: dict):
+    """(system, excitation, duration) for a loaded scene; ``duration`` holds ``t_end`` or
+    ``n_periods`` for an excitation without a natural end (empty for a record)."""
+    from nsdyn.ground import read_motion
+
+    source = cfg.get("_source", "<scene>")
+    sc, mo = cfg["scene"], cfg.get("motion", {})
+    try:
+        iso = isolation_from_config(cfg.get("isolation", {}), source)
+    except ValueError as e:
+        raise SceneError(str(e)) from None
+    if structure_kind(cfg, source) is not None:
+        if "fidelity" in sc or "f_max" in sc:
+            raise SceneError(
+                f"{source}: scene.fidelity / scene.f_max: the model ladder is a frame's; a "
+                "[structure] is used as given"
+            )
+        system = build_structure(cfg, iso, source)
+    else:
+        from nsdyn.structure import load_frame
+
+        frame = load_frame(sc["frame"])
+        fidelity = sc.get("fidelity", "cb")
+        system = build_system(frame, iso, fidelity=fidelity, f_max=float(sc.get("f_max", F_MAX)))
+    if "force" in cfg:
+        extra = {k: v for k, v in mo.items() if k != "t_end"}
+        if extra:
+            raise SceneError(
+                f"{source}: motion.{sorted(extra)[0]}: the scene's excitation is its [force]"
+            )
+        force, duration = force_excitation(cfg["force"], source, mo)
+        return system, force, duration
+    if mo.get("kind") == "harmonic":
+        h, duration = harmonic_motion(mo, source)
+        return system, h, duration
+    if "record" not in mo:
+        raise SceneError(f"{source}: motion.record: required (or kind = 'harmonic', or [force])")
+    kw = {}
+    if "units" in mo:
+        kw["units"] = mo["units"]
+    if "dt" in mo:
+        kw["dt"] = mo["dt"]
+    motion = read_motion(mo["record"], **kw)
+    if not mo.get("vertical", True):
+        motion = motion.with_vertical(None)
+    if "pga" in mo:
+        motion = motion.scaled_to_pga(float(mo["pga"]))
+    if "t_end" in mo:
+        motion = motion.window(motion.t0, float(mo["t_end"]))
+    return system, motion, {}

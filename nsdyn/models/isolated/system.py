@@ -1,0 +1,421 @@
+"""The base-isolated structure: constrained equations of motion and the model ladder.
+
+Seed 004, eqs (1)-(15) and (23)-(27). Generalised coordinates ``q`` are measured relative to the
+ground; the load is ``-M Gamma u''`` with ``u'' = [u''_hor, u''_ver + g]``. With isolator ``i``
+sliding by ``D_i q`` and resting on a contact whose gap is ``R_i q = 0``::
+
+    M qdd + C* qd + K* q = -M Gamma u'' + R^T lam - D^T diag(mu s) lamf - D_stuck^T tau
+    K* = K + D^T diag(K_lam) D + K_diaphragm,   C* = C + D^T diag(c) D            (eq 2)
+    R qdd + 2 alpha beta R qd + alpha^2 R q = 0                                     (eqs 13-14)
+
+``lam`` are the normal forces (compressive positive); the friction direction ``s`` follows the
+arctan law (eq 7) or Leine's switch model (eqs 4-6, a true stick phase in which the friction
+force ``tau`` is a constraint force). Every fidelity of the ladder is one instance of this form:
+
+=========  ==========================================  ============================
+fidelity   coordinates q                               superstructure matrices
+=========  ==========================================  ============================
+fixed      fixed-interface modal coordinates (f<=fmax)  diag(omega^2), I, modal damping
+rigid      x, y, theta of the base (rigid body)         rigid-body mass from the FE M
+cb         [q_b, eta] Craig-Bampton at f_max            CB-reduced K, M, C
+full       [q_b, eta] with every fixed-interface mode   the full FE model, exactly
+=========  ==========================================  ============================
+
+Every model carries ``T`` mapping ``q`` to the full FE displacement field, so response metrics
+are recovered the same way for all fidelities.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+import scipy.linalg as sla
+
+from nsdyn.ground.excitation import G_EARTH
+from nsdyn.models.isolated import _kernel as ks
+from nsdyn.models.isolated.defaults import ALPHA, BETA, C_DAMPER, EPS, ETA, K_LAM, MU
+from nsdyn.models.isolated.params import pack
+
+FIDELITIES = ("fixed", "rigid", "cb", "full")
+
+
+@dataclass(frozen=True)
+class Isolation:
+    """Isolator parameters (one value for all isolators or one per isolator).
+
+    Defaults are the seed's design values (eq 16) and friction settings (§3-§4).
+    """
+
+    k_lam: float | tuple = K_LAM  # N/m, laminated rubber bearing, per isolator
+    c: float | tuple = C_DAMPER  # N s/m, viscous damper, per isolator
+    mu: float | tuple = MU  # friction coefficient
+    law: str = "arctan"  # "arctan", "switch" or "none"
+    eps: float = EPS  # arctan sharpness [s/m]
+    eta: float = ETA  # switch band half-width [m/s]
+    frozen_normal: bool = False  # friction uses the static normal force (seed's modified model)
+    alpha: float = ALPHA  # Baumgarte alpha [1/s]
+    beta: float = BETA  # Baumgarte beta [-]
+    kappa: float | None = None  # stick velocity stabilisation [1/s], default 2 alpha beta
+    diaphragm_EA: float = 1.0e11  # N, axial stiffness x length of the base diaphragm beam
+    diaphragm_EI: float = 1.0e11  # N m^2, bending stiffness of the base diaphragm beam
+    g: float = G_EARTH
+
+    def per_isolator(self, name: str, n: int) -> np.ndarray:
+        v = np.atleast_1d(np.asarray(getattr(self, name), dtype=float))
+        if v.size == 1:
+            return np.full(n, float(v[0]))
+        if v.size != n:
+            raise ValueError(f"isolation.{name}: expected 1 or {n} values, got {v.size}")
+        return v
+
+
+@dataclass
+class IsolatedSystem:
+    """One fidelity of the isolated (or fixed-base) structure in the common form.
+
+    Attributes
+    ----------
+    M, C, K : ndarray, shape (n, n)     superstructure + isolator springs/dampers (+ diaphragm)
+    Gamma : ndarray, shape (n, 2)       load influence: load = -M Gamma [u_hor, u_ver + g]
+    R : ndarray, shape (nc, n)          contact rows (vertical gap of each isolator)
+    D : ndarray, shape (ni, n)          sliding rows (horizontal slip of each isolator)
+    T : ndarray, shape (n_full, n)      maps q to the full FE displacement field
+    normal_force : ndarray (ni,), optional   frozen normal forces of models without contacts
+                                        (:mod:`nsdyn.models.isolated.builders`)
+    """
+
+    name: str
+    fidelity: str
+    M: np.ndarray
+    C: np.ndarray
+    K: np.ndarray
+    Gamma: np.ndarray
+    R: np.ndarray
+    D: np.ndarray
+    T: np.ndarray
+    isolation: Isolation | None
+    frame: object = None
+    f_max: float | None = None
+    info: dict = field(default_factory=dict)
+    _static: tuple | None = field(default=None, repr=False)
+    normal_force: np.ndarray | None = None
+
+    @property
+    def n(self) -> int:
+        return self.M.shape[0]
+
+    @property
+    def n_contacts(self) -> int:
+        return self.R.shape[0]
+
+    @property
+    def n_isolators(self) -> int:
+        return self.D.shape[0]
+
+    @property
+    def total_mass(self) -> float:
+        """Translational mass seen by a horizontal ground motion: Gamma_h^T M Gamma_h."""
+        if self.fidelity == "fixed":
+            return float(self.info["total_mass"])
+        gh = self.Gamma[:, 0]
+        return float(gh @ self.M @ gh)
+
+    def with_isolation(self, **changes) -> IsolatedSystem:
+        """A copy with isolator or friction settings changed (matrices rebuilt if needed)."""
+        if self.isolation is None:
+            raise ValueError("a fixed-base model has no isolation to change")
+        iso = replace(self.isolation, **changes)
+        if self.frame is None:  # built from matrices: the builder kept its arguments
+            return self.info["rebuild"](isolation=iso)
+        return build_system(self.frame, iso, fidelity=self.fidelity, f_max=self.f_max)
+
+    # ---- static state -------------------------------------------------------------------
+    def static_equilibrium(self) -> tuple[np.ndarray, np.ndarray]:
+        """State under gravity with the contacts active (KKT solve) and its normal forces.
+
+        Solves ``K* q - R^T lam = -M Gamma [0, g]``, ``R q = 0``. Friction carries no force at
+        rest (the isolator springs hold the horizontal position). Returns (x0, lam0).
+        """
+        if self._static is None:
+            g = self.isolation.g if self.isolation is not None else G_EARTH
+            f = -self.M @ self.Gamma[:, 1] * g
+            Q = self.Q
+            Kz = Q.T @ self.K @ Q
+            try:
+                z = sla.solve(Kz, Q.T @ f, assume_a="sym")
+            except (sla.LinAlgError, ValueError):
+                z = np.linalg.lstsq(Kz, Q.T @ f, rcond=None)[0]
+            q = Q @ z
+            if self.n_contacts:
+                # R^T lam = K q - f  (least squares; exact since the residual lies in range R^T)
+                lam = np.linalg.lstsq(self.R.T, self.K @ q - f, rcond=None)[0]
+            else:
+                lam = np.zeros(0)
+            self._static = (np.concatenate([q, np.zeros(self.n)]), lam)
+        x0, lam0 = self._static
+        return x0.copy(), lam0.copy()
+
+    # ---- kernel parameters ----------------------------------------------------------------
+    def params(self, ground=None, *, law: str | None = None, **overrides) -> tuple:
+        """Kernel tuple of this model under ``ground`` (:mod:`nsdyn.models.isolated.params`)."""
+        iso = self.isolation
+        if iso is None:
+            return pack(self.M, self.C, self.K, self.Gamma, ground=ground, g=G_EARTH)
+        _, lam0 = self.static_equilibrium()
+        ni = self.n_isolators
+        frozen = iso.frozen_normal
+        if self.normal_force is not None:  # no contacts: the given (frozen) normal forces
+            lam0, frozen = self.normal_force, True
+        kw = dict(
+            law=law or iso.law,
+            eps=iso.eps,
+            eta=iso.eta,
+            alpha=iso.alpha,
+            beta=iso.beta,
+            kappa=iso.kappa,
+            g=iso.g,
+            frozen_normal=frozen,
+        )
+        kw.update(overrides)
+        return pack(
+            self.M,
+            self.C,
+            self.K,
+            self.Gamma,
+            self.R,
+            self.D,
+            iso.per_isolator("mu", ni),
+            lam0[:ni],
+            ground=ground,
+            **kw,
+        )
+
+    def evaluate(self, t: float, x: np.ndarray, ground=None, P=None) -> dict:
+        """Accelerations, normal forces, friction forces and isolator modes at one state."""
+        P = self.params(ground) if P is None else P
+        qdd = np.zeros(self.n)
+        lam = np.zeros(self.n_contacts)
+        tau = np.zeros(self.n_isolators)
+        modes = np.zeros(self.n_isolators, dtype=np.int64)
+        ok = ks.evaluate(float(t), np.ascontiguousarray(x, dtype=float), P, qdd, lam, tau, modes)
+        if not ok:
+            raise FloatingPointError(f"singular constraint system at t = {t:g} s")
+        return {"qdd": qdd, "lam": lam, "tau": tau, "modes": modes}
+
+    # ---- minimal coordinates (eqs 23-27) -------------------------------------------------
+    @property
+    def Q(self) -> np.ndarray:
+        """Null-space basis of R (orthonormal columns): q = Q z satisfies R q = 0 (eq 24).
+
+        When every contact row picks a single coordinate (the Craig-Bampton and full models:
+        y1, y2), Q is the identity with those columns removed, so z = [x1 th1 x2 th2 q_r] as
+        in the seed.
+        """
+        if "Q" not in self.info:
+            R = self.R
+            picks = [np.flatnonzero(r) for r in R]
+            if not picks:
+                Q = np.eye(self.n)
+            elif all(len(p) == 1 for p in picks):
+                keep = np.setdiff1d(np.arange(self.n), [p[0] for p in picks])
+                Q = np.eye(self.n)[:, keep]
+            else:
+                Q = sla.null_space(R)
+            self.info["Q"] = Q
+        return self.info["Q"]
+
+    def minimal_accelerations(self, t, z, zd, ground=None, P=None) -> np.ndarray:
+        """zdd on the constraint manifold: Q^T qdd(Q z, Q zd) (equal to seed eq 27)."""
+        Q = self.Q
+        x = np.concatenate([Q @ z, Q @ zd])
+        return Q.T @ self.evaluate(t, x, ground, P)["qdd"]
+
+
+# ---- builders ---------------------------------------------------------------------------
+
+
+def _diaphragm_stiffness(xa: float, xb: float, EA: float, EI: float) -> np.ndarray:
+    """Stiffness (6x6) of a horizontal Bernoulli-Euler beam between base nodes (x, y, th)."""
+    L = abs(xb - xa)
+    ka = EA / L
+    k = np.zeros((6, 6))
+    k[np.ix_([0, 3], [0, 3])] = ka * np.array([[1, -1], [-1, 1]])
+    b = (
+        EI
+        / L**3
+        * np.array(
+            [
+                [12, 6 * L, -12, 6 * L],
+                [6 * L, 4 * L * L, -6 * L, 2 * L * L],
+                [-12, -6 * L, 12, -6 * L],
+                [6 * L, 2 * L * L, -6 * L, 4 * L * L],
+            ]
+        )
+    )
+    k[np.ix_([1, 2, 4, 5], [1, 2, 4, 5])] = b
+    return k
+
+
+def _isolator_rows(n: int, base_x: list[int], base_y: list[int]) -> tuple[np.ndarray, np.ndarray]:
+    ni = len(base_x)
+    D = np.zeros((ni, n))
+    R = np.zeros((ni, n))
+    for i in range(ni):
+        D[i, base_x[i]] = 1.0
+        R[i, base_y[i]] = 1.0
+    return R, D
+
+
+def _add_isolators(K, C, D, iso: Isolation):
+    ni = D.shape[0]
+    K = K + D.T @ np.diag(iso.per_isolator("k_lam", ni)) @ D
+    C = C + D.T @ np.diag(iso.per_isolator("c", ni)) @ D
+    return K, C
+
+
+def rigid_body_modes(frame) -> np.ndarray:
+    """Full-field rigid-body displacement vectors [r_x, r_y, r_theta] (rotation about the
+    midpoint of the base nodes at base level), shape (n_dof, 3)."""
+    nodes = np.asarray(frame.nodes, dtype=float)
+    base = np.asarray(frame.base_nodes)
+    xm = nodes[base, 0].mean()
+    ym = nodes[base, 1].mean()
+    nn = nodes.shape[0]
+    G = np.zeros((3 * nn, 3))
+    G[0::3, 0] = 1.0
+    G[1::3, 1] = 1.0
+    G[0::3, 2] = -(nodes[:, 1] - ym)
+    G[1::3, 2] = nodes[:, 0] - xm
+    G[2::3, 2] = 1.0
+    return G
+
+
+def build_system(
+    frame,
+    isolation: Isolation | None = None,
+    *,
+    fidelity: str = "cb",
+    f_max: float = 5.0,
+    lumped: bool = False,
+) -> IsolatedSystem:
+    """Build one fidelity of the model ladder from a frame and isolation settings.
+
+    Parameters
+    ----------
+    frame : nsdyn.structure.frame.Frame
+    isolation : Isolation, optional      ignored for ``fidelity="fixed"``; default seed values
+    fidelity : {"fixed", "rigid", "cb", "full"}
+    f_max : float                        Craig-Bampton / modal cut-off [Hz] ("cb", "fixed")
+    """
+    from nsdyn.structure import craig_bampton
+
+    if fidelity not in FIDELITIES:
+        raise ValueError(f"fidelity: expected one of {FIDELITIES}, got {fidelity!r}")
+    iso = Isolation() if isolation is None else isolation
+    Kf, Mf = frame.assemble(lumped=lumped)
+    Kf = Kf.toarray() if hasattr(Kf, "toarray") else np.asarray(Kf)
+    Mf = Mf.toarray() if hasattr(Mf, "toarray") else np.asarray(Mf)
+    r_full = frame.influence()
+    total_mass = float(r_full[:, 0] @ Mf @ r_full[:, 0])
+    nodes = np.asarray(frame.nodes, dtype=float)
+    base = list(np.asarray(frame.base_nodes))
+    nb_nodes = len(base)
+    info = {"total_mass": total_mass, "n_full": Kf.shape[0]}
+
+    if fidelity == "rigid":
+        Tr = rigid_body_modes(frame)
+        M = Tr.T @ Mf @ Tr
+        n = 3
+        Gamma = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])
+        xm = nodes[base, 0].mean()
+        R = np.zeros((nb_nodes, n))
+        D = np.zeros((nb_nodes, n))
+        for i, b in enumerate(base):
+            R[i] = [0.0, 1.0, nodes[b, 0] - xm]
+            D[i] = [1.0, 0.0, -(nodes[b, 1] - nodes[base, 1].mean())]
+        K, C = _add_isolators(np.zeros((n, n)), np.zeros((n, n)), D, iso)
+        name = f"{getattr(frame, 'name', 'frame')} rigid"
+        return IsolatedSystem(name, "rigid", M, C, K, Gamma, R, D, Tr, iso, frame, None, info)
+
+    fm = np.inf if fidelity == "full" else f_max
+    cb = craig_bampton(Kf, Mf, frame.boundary_dofs, fm, frame.zeta)
+    nb = cb.n_b
+    info["omega"] = cb.omega
+    info["zeta"] = cb.zeta
+    info["n_modes"] = len(cb.omega)
+
+    if fidelity == "fixed":
+        M = np.eye(len(cb.omega))
+        K = np.diag(cb.omega**2)
+        C = np.diag(2 * cb.zeta * cb.omega)
+        Gamma = cb.M[nb:, :] @ cb.Gamma  # modal participation of the ground load (M = I)
+        T = cb.T[:, nb:]
+        n = M.shape[0]
+        name = f"{getattr(frame, 'name', 'frame')} fixed-base ({n} modes <= {f_max:g} Hz)"
+        return IsolatedSystem(
+            name,
+            "fixed",
+            M,
+            C,
+            K,
+            Gamma,
+            np.zeros((0, n)),
+            np.zeros((0, n)),
+            T,
+            None,
+            frame,
+            f_max,
+            info,
+        )
+
+    n = cb.M.shape[0]
+    K = cb.K.copy()
+    C = cb.C.copy()
+    # boundary order in q: x1, y1, th1, x2, y2, th2, ...
+    base_x = [3 * i for i in range(nb_nodes)]
+    base_y = [3 * i + 1 for i in range(nb_nodes)]
+    # stiff base diaphragm between consecutive base nodes (no new nodes)
+    for i in range(nb_nodes - 1):
+        idx = np.arange(3 * i, 3 * i + 6)
+        xa, xb = nodes[base[i], 0], nodes[base[i + 1], 0]
+        K[np.ix_(idx, idx)] += _diaphragm_stiffness(xa, xb, iso.diaphragm_EA, iso.diaphragm_EI)
+    R, D = _isolator_rows(n, base_x, base_y)
+    K, C = _add_isolators(K, C, D, iso)
+    name = f"{getattr(frame, 'name', 'frame')} {fidelity} (n={n})"
+    return IsolatedSystem(
+        name, fidelity, cb.M.copy(), C, K, cb.Gamma.copy(), R, D, cb.T, iso, frame, fm, info
+    )
+
+
+def isolation_from_config(cfg: dict, source: str = "<config>") -> Isolation:
+    """Isolation settings from a TOML table (e.g. a scene's ``[isolation]``), validated."""
+    allowed = {f for f in Isolation.__dataclass_fields__}
+    unknown = set(cfg) - allowed
+    if unknown:
+        raise ValueError(
+            f"{source}: isolation: unknown field(s) {sorted(unknown)}; expected some of "
+            f"{sorted(allowed)}"
+        )
+    out = {}
+    for k, v in cfg.items():
+        if k == "law":
+            if v not in ("arctan", "switch", "none"):
+                raise ValueError(
+                    f"{source}: isolation.law: expected 'arctan', 'switch' or 'none', got {v!r}"
+                )
+            out[k] = v
+        elif k == "frozen_normal":
+            if not isinstance(v, bool):
+                raise ValueError(f"{source}: isolation.frozen_normal: expected true/false")
+            out[k] = v
+        else:
+            vals = v if isinstance(v, list) else [v]
+            if not vals or not all(
+                isinstance(a, int | float) and not isinstance(a, bool) for a in vals
+            ):
+                raise ValueError(f"{source}: isolation.{k}: expected a number or list of numbers")
+            if any(a < 0 for a in vals):
+                raise ValueError(f"{source}: isolation.{k}: expected non-negative, got {v}")
+            out[k] = tuple(float(a) for a in vals) if isinstance(v, list) else float(v)
+    return Isolation(**out)

@@ -1,0 +1,485 @@
+"""Numba kernel: a rigid block (or an equivalent one-dof rocking frame) rocking on rigid ground.
+
+Equation of motion on pivot side ``s = sgn(theta)`` (Housner; ``g_e = 1 + ü_v / g``)::
+
+    exact:       theta'' = -p² [g_e sin(s alpha - theta) + (ü_h / g) cos(s alpha - theta)]
+    linearised:  theta'' = -p² [g_e (s alpha - theta) + ü_h / g]
+
+integrated by Dormand–Prince 5(4) with error control on ``(theta, theta')`` scaled by
+``(alpha, p alpha)``. Every accepted step is scanned at ``N_SCAN`` points of its dense output for
+
+- impact: ``s theta`` reaches 0 -> root by Illinois on the dense output, then
+  ``theta'+ = r theta'-``, ``s -> -s`` (Housner's angular-momentum balance gives r);
+- a peak: ``s theta'`` changes from + to -, located the same way;
+- overturning: ``|theta|`` reaches ``theta_fall``.
+
+From rest the block lifts off when ``|ü_h| / g > g_e tan(alpha)`` (``alpha`` when linearised),
+located by bisection in time; it lifts towards ``s = -sgn(ü_h)``.
+
+Zeno rule: an impact that leaves ``|theta'+| <= v_rest`` puts the block at rest (theta = 0,
+theta' = 0) at the impact time, after which the uplift condition is checked again at once.
+The truncated tail of the geometric impact sequence lasts at most ``2 v_rest / (p² alpha (1-r))``
+for free rocking (ground below threshold), and the number of impacts stays finite.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from nsdyn import _kdp5 as dp
+from nsdyn.models.rocking._kground import GK_NONE, ground, next_breakpoint, rest_step
+
+# ---- parameter vector ``par`` ----------------------------------------------------------------
+P_P2 = 0  # p² [1/s²]
+P_ALPHA = 1  # slenderness alpha [rad]
+P_R = 2  # coefficient of restitution (angular velocity ratio)
+P_LINEAR = 3  # 1: linearised equation, 0: exact
+P_G = 4  # gravity [m/s²]
+P_TOL = 5  # relative error tolerance of the integrator
+P_HMAX = 6  # largest step [s]
+P_VREST = 7  # Zeno rest threshold on |theta'| after an impact [rad/s]
+P_THFALL = 8  # |theta| at which the block counts as overturned [rad]
+N_PAR = 9
+
+# ---- info vector ----------------------------------------------------------------------------
+I_NIMP = 0  # impacts recorded
+I_NPEAK = 1  # peaks recorded
+I_TOVER = 2  # overturning time (nan if none)
+I_OUTCOME = 3  # OUT_* code
+I_TREST = 4  # last time the block came to rest after rocking (nan if never)
+I_NSTEP = 5  # accepted steps
+I_NREJ = 6  # rejected steps
+I_MAXTH = 7  # max |theta|
+I_NOUT = 8  # output samples filled
+I_NUPL = 9  # number of lift-offs from rest
+I_TUPL = 10  # first lift-off time (nan if none)
+I_TFAIL = 11  # time of a failure (status != 0)
+I_NRHS = 12  # right-hand-side evaluations
+N_INFO = 13
+
+ST_OK = 0  # finished
+ST_TOO_MANY = 1  # impact buffer full (too many events)
+ST_UNDERFLOW = 2  # step size underflow
+ST_NONFINITE = 3  # non-finite state
+ST_FLIGHT = 4  # vertical ground acceleration below -g: free flight is not modelled
+
+OUT_REST = 0  # at rest at the end (never lifted off, or came to rest)
+OUT_ROCKING = 1  # still rocking at the end
+OUT_OVERTURNED = 2  # overturned
+
+N_SCAN = 8  # dense-output samples scanned per step for events
+ROOT_ITERS = 100  # Illinois iterations at most
+ROOT_TOL = 1e-15  # root tolerance in the step fraction sigma
+H_MIN = 1e-13  # step-size underflow threshold [s] (relative to 1 + |t|)
+UPLIFT_BISECT = 80  # bisection iterations locating a lift-off time
+
+
+@njit(cache=True)
+def accel(t, left, th, s, par, gk, gp, tab_h, tab_v):
+    """theta'' on pivot side ``s``."""
+    ah, av = ground(t, left, gk, gp, tab_h, tab_v)
+    g = par[P_G]
+    ge = 1.0 + av / g
+    phi = s * par[P_ALPHA] - th
+    if par[P_LINEAR] > 0.5:
+        return -par[P_P2] * (ge * phi + ah / g)
+    return -par[P_P2] * (ge * math.sin(phi) + ah / g * math.cos(phi))
+
+
+@njit(cache=True)
+def uplift_side(t, left, par, gk, gp, tab_h, tab_v):
+    """Side (+1/-1) the ground lifts a resting block onto, 0 if none, -2 if g + ü_v <= 0."""
+    ah, av = ground(t, left, gk, gp, tab_h, tab_v)
+    g = par[P_G]
+    ge = 1.0 + av / g
+    if ge <= 0.0:
+        return -2
+    thr = par[P_ALPHA] if par[P_LINEAR] > 0.5 else math.tan(par[P_ALPHA])
+    if abs(ah) / g > ge * thr:
+        return -1 if ah > 0.0 else 1
+    return 0
+
+
+@njit(cache=True)
+def _root(rc, comp, sgn, off, a, b, fa, fb):
+    """Illinois root of ``sgn * y_comp(sigma) - off`` on [a, b] with fa > 0 >= fb."""
+    side = 0
+    for _ in range(ROOT_ITERS):
+        if b - a <= ROOT_TOL:
+            break
+        m = (a * fb - b * fa) / (fb - fa)
+        if not (a < m < b):
+            m = 0.5 * (a + b)
+        fm = sgn * dp.dense(rc, comp, m) - off
+        if fm > 0.0:
+            a, fa = m, fm
+            if side == 1:
+                fb *= 0.5
+            side = 1
+        else:
+            b, fb = m, fm
+            if side == -1:
+                fa *= 0.5
+            side = -1
+            if fm == 0.0:
+                break
+    return b
+
+
+@njit(cache=True)
+def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks, info):
+    """Integrate from ``y0 = (theta, theta')`` at ``t0`` to ``t_end``; returns an ST_* status.
+
+    ``out`` (n_out, 2): theta, theta' at ``t0 + k out_dt`` (filled up to ``info[I_NOUT]``);
+    ``imp`` (n_imp_max, 3): impact time, theta' before, theta' after; ``peaks`` (n_pk_max, 2):
+    time and theta of each extremum of |theta|; ``info`` (N_INFO,): see the I_* indices.
+    """
+    p2 = par[P_P2]
+    alpha = par[P_ALPHA]
+    r = par[P_R]
+    tol = par[P_TOL]
+    hmax = par[P_HMAX]
+    vrest = par[P_VREST]
+    thfall = par[P_THFALL]
+    g = par[P_G]
+    sc0 = alpha
+    sc1 = math.sqrt(p2) * alpha
+    n_out = out.shape[0]
+    n_tab = tab_h.size
+    for i in range(N_INFO):
+        info[i] = 0.0
+    info[I_TOVER] = np.nan
+    info[I_TREST] = np.nan
+    info[I_TUPL] = np.nan
+    info[I_TFAIL] = np.nan
+    k = np.zeros((7, 2))
+    rc = np.zeros((5, 2))
+    t = t0
+    th = y0[0]
+    thd = y0[1]
+    rocking = not (th == 0.0 and thd == 0.0)
+    s = 1.0
+    if th != 0.0:
+        s = 1.0 if th > 0.0 else -1.0
+    elif thd != 0.0:
+        s = 1.0 if thd > 0.0 else -1.0
+    h = min(hmax, 0.01 / math.sqrt(p2))
+    fsal = False
+    check_now = True
+    n_imp = 0
+    n_pk = 0
+    k_out = 0
+    n_step = 0
+    n_rej = 0
+    n_rhs = 0
+    n_upl = 0
+    maxth = abs(th)
+    status = ST_OK
+    overturned = False
+    t_stop = t_end * (1.0 - 1e-15) - 1e-300
+    while t < t_stop:
+        if not rocking:
+            side = 0
+            if check_now:
+                side = uplift_side(t, False, par, gk, gp, tab_h, tab_v)
+            check_now = True
+            if side == -2:
+                status = ST_FLIGHT
+                info[I_TFAIL] = t
+                break
+            if side == 0:
+                if gk == GK_NONE:
+                    t_next = t_end
+                else:
+                    t_next = min(t + rest_step(t, gk, gp, n_tab), next_breakpoint(t, gk, gp, n_tab))
+                    t_next = min(t_next, t_end)
+                side2 = uplift_side(t_next, True, par, gk, gp, tab_h, tab_v)
+                if side2 == 0:
+                    while k_out < n_out and t0 + k_out * out_dt <= t_next:
+                        out[k_out, 0] = 0.0
+                        out[k_out, 1] = 0.0
+                        k_out += 1
+                    t = t_next
+                    continue
+                a = t
+                b = t_next
+                for _ in range(UPLIFT_BISECT):
+                    m = 0.5 * (a + b)
+                    if uplift_side(m, False, par, gk, gp, tab_h, tab_v) != 0:
+                        b = m
+                    else:
+                        a = m
+                    if b - a <= 1e-14 * (1.0 + abs(b)):
+                        break
+                t = b
+                side = uplift_side(t, False, par, gk, gp, tab_h, tab_v)
+                if side == 0:
+                    side = side2
+                if side == -2:
+                    status = ST_FLIGHT
+                    info[I_TFAIL] = t
+                    break
+                while k_out < n_out and t0 + k_out * out_dt <= t:
+                    out[k_out, 0] = 0.0
+                    out[k_out, 1] = 0.0
+                    k_out += 1
+            rocking = True
+            s = float(side)
+            th = 0.0
+            thd = 0.0
+            n_upl += 1
+            if n_upl == 1:
+                info[I_TUPL] = t
+            fsal = False
+            h = min(hmax, 0.01 / math.sqrt(p2))
+            continue
+
+        # ---- one Dormand-Prince step on side s ------------------------------------------------
+        tbp = next_breakpoint(t, gk, gp, n_tab)
+        hh = min(h, hmax)
+        h_before = hh
+        at_bp = False
+        if t + hh >= tbp:
+            hh = tbp - t
+            at_bp = True
+        if t + hh >= t_end:
+            hh = t_end - t
+            at_bp = True
+        if not fsal:
+            k[0, 0] = thd
+            k[0, 1] = accel(t, False, th, s, par, gk, gp, tab_h, tab_v)
+            n_rhs += 1
+        y20 = th + hh * dp.A21 * k[0, 0]
+        y21 = thd + hh * dp.A21 * k[0, 1]
+        k[1, 0] = y21
+        k[1, 1] = accel(t + dp.C2 * hh, False, y20, s, par, gk, gp, tab_h, tab_v)
+        y30 = th + hh * (dp.A31 * k[0, 0] + dp.A32 * k[1, 0])
+        y31 = thd + hh * (dp.A31 * k[0, 1] + dp.A32 * k[1, 1])
+        k[2, 0] = y31
+        k[2, 1] = accel(t + dp.C3 * hh, False, y30, s, par, gk, gp, tab_h, tab_v)
+        y40 = th + hh * (dp.A41 * k[0, 0] + dp.A42 * k[1, 0] + dp.A43 * k[2, 0])
+        y41 = thd + hh * (dp.A41 * k[0, 1] + dp.A42 * k[1, 1] + dp.A43 * k[2, 1])
+        k[3, 0] = y41
+        k[3, 1] = accel(t + dp.C4 * hh, False, y40, s, par, gk, gp, tab_h, tab_v)
+        y50 = th + hh * (dp.A51 * k[0, 0] + dp.A52 * k[1, 0] + dp.A53 * k[2, 0] + dp.A54 * k[3, 0])
+        y51 = thd + hh * (dp.A51 * k[0, 1] + dp.A52 * k[1, 1] + dp.A53 * k[2, 1] + dp.A54 * k[3, 1])
+        k[4, 0] = y51
+        k[4, 1] = accel(t + dp.C5 * hh, False, y50, s, par, gk, gp, tab_h, tab_v)
+        y60 = th + hh * (
+            dp.A61 * k[0, 0]
+            + dp.A62 * k[1, 0]
+            + dp.A63 * k[2, 0]
+            + dp.A64 * k[3, 0]
+            + dp.A65 * k[4, 0]
+        )
+        y61 = thd + hh * (
+            dp.A61 * k[0, 1]
+            + dp.A62 * k[1, 1]
+            + dp.A63 * k[2, 1]
+            + dp.A64 * k[3, 1]
+            + dp.A65 * k[4, 1]
+        )
+        k[5, 0] = y61
+        k[5, 1] = accel(t + hh, at_bp, y60, s, par, gk, gp, tab_h, tab_v)
+        y10 = th + hh * (
+            dp.A71 * k[0, 0]
+            + dp.A73 * k[2, 0]
+            + dp.A74 * k[3, 0]
+            + dp.A75 * k[4, 0]
+            + dp.A76 * k[5, 0]
+        )
+        y11 = thd + hh * (
+            dp.A71 * k[0, 1]
+            + dp.A73 * k[2, 1]
+            + dp.A74 * k[3, 1]
+            + dp.A75 * k[4, 1]
+            + dp.A76 * k[5, 1]
+        )
+        k[6, 0] = y11
+        k[6, 1] = accel(t + hh, at_bp, y10, s, par, gk, gp, tab_h, tab_v)
+        n_rhs += 6
+        err = 0.0
+        for i in range(2):
+            ei = (
+                hh
+                * (
+                    dp.E1 * k[0, i]
+                    + dp.E3 * k[2, i]
+                    + dp.E4 * k[3, i]
+                    + dp.E5 * k[4, i]
+                    + dp.E6 * k[5, i]
+                )
+                + hh * dp.E7 * k[6, i]
+            )
+            if i == 0:
+                sci = tol * (sc0 + max(abs(th), abs(y10)))
+            else:
+                sci = tol * (sc1 + max(abs(thd), abs(y11)))
+            err += (ei / sci) ** 2
+        err = math.sqrt(0.5 * err)
+        if not math.isfinite(err):
+            if hh <= H_MIN * (1.0 + abs(t)):
+                status = ST_NONFINITE
+                info[I_TFAIL] = t
+                break
+            h = 0.2 * hh
+            n_rej += 1
+            fsal = True
+            continue
+        if err > 1.0:
+            h = dp.new_step(hh, err)
+            n_rej += 1
+            fsal = True
+            if h <= H_MIN * (1.0 + abs(t)):
+                status = ST_UNDERFLOW
+                info[I_TFAIL] = t
+                break
+            continue
+        n_step += 1
+        # dense output coefficients
+        for i in range(2):
+            y0i = th if i == 0 else thd
+            y1i = y10 if i == 0 else y11
+            rc[0, i] = y0i
+            rc[1, i] = y1i - y0i
+            rc[2, i] = hh * k[0, i] - rc[1, i]
+            rc[3, i] = rc[1, i] - hh * k[6, i] - rc[2, i]
+            rc[4, i] = (
+                hh
+                * (
+                    dp.D1 * k[0, i]
+                    + dp.D3 * k[2, i]
+                    + dp.D4 * k[3, i]
+                    + dp.D5 * k[4, i]
+                    + dp.D6 * k[5, i]
+                )
+                + hh * dp.D7 * k[6, i]
+            )
+
+        # ---- events: impact (s theta -> 0) or overturning (s theta -> theta_fall) -------------
+        event = 0
+        sig = 1.0
+        sg_prev = 0.0
+        g_prev = s * th
+        for j in range(1, N_SCAN + 1):
+            sg = j / N_SCAN
+            gj = s * dp.dense(rc, 0, sg)
+            if gj >= thfall:
+                sig = _root(rc, 0, -s, -thfall, sg_prev, sg, thfall - g_prev, thfall - gj)
+                event = 2
+                break
+            if gj < 0.0:
+                a = sg_prev
+                fa = g_prev
+                if fa <= 0.0:  # starts on the ground: find where it is airborne first
+                    m = sg
+                    fa = -1.0
+                    for _ in range(50):
+                        m *= 0.5
+                        fm = s * dp.dense(rc, 0, m)
+                        if fm > 0.0:
+                            a = m
+                            fa = fm
+                            break
+                if fa <= 0.0:
+                    sig = 0.0
+                    event = 3  # no flight at all: the block stays on the ground
+                else:
+                    sig = _root(rc, 0, s, 0.0, a, sg, fa, gj)
+                    event = 1
+                break
+            sg_prev = sg
+            g_prev = gj
+
+        # ---- peaks of |theta| (s theta' from + to -) up to sig --------------------------------
+        if sig > 0.0:
+            v_prev = s * dp.dense(rc, 1, 0.0)
+            sp = 0.0
+            for j in range(1, N_SCAN + 1):
+                sg = sig * j / N_SCAN
+                vj = s * dp.dense(rc, 1, sg)
+                if v_prev > 0.0 and vj <= 0.0:
+                    sk = _root(rc, 1, s, 0.0, sp, sg, v_prev, vj)
+                    thk = dp.dense(rc, 0, sk)
+                    if n_pk < peaks.shape[0]:
+                        peaks[n_pk, 0] = t + sk * hh
+                        peaks[n_pk, 1] = thk
+                        n_pk += 1
+                    maxth = max(maxth, abs(thk))
+                v_prev = vj
+                sp = sg
+        t_ev = t + sig * hh
+        while k_out < n_out and t0 + k_out * out_dt <= t_ev:
+            sk = (t0 + k_out * out_dt - t) / hh
+            out[k_out, 0] = dp.dense(rc, 0, sk)
+            out[k_out, 1] = dp.dense(rc, 1, sk)
+            k_out += 1
+        maxth = max(maxth, abs(dp.dense(rc, 0, sig)))
+
+        if event == 2:
+            info[I_TOVER] = t_ev
+            overturned = True
+            t = t_ev
+            break
+        if event == 1 or event == 3:
+            thd_m = dp.dense(rc, 1, sig)
+            t = t_ev
+            th = 0.0
+            fsal = False
+            h = min(dp.new_step(hh, err), hmax)
+            if event == 3:
+                rocking = False
+                check_now = False
+                thd = 0.0
+                info[I_TREST] = t
+                continue
+            if n_imp >= imp.shape[0]:
+                status = ST_TOO_MANY
+                info[I_TFAIL] = t
+                break
+            thd = r * thd_m
+            imp[n_imp, 0] = t
+            imp[n_imp, 1] = thd_m
+            imp[n_imp, 2] = thd
+            n_imp += 1
+            s = -s
+            if abs(thd) <= vrest:
+                rocking = False
+                check_now = True
+                thd = 0.0
+                info[I_TREST] = t
+                continue
+            ah, av = ground(t, False, gk, gp, tab_h, tab_v)
+            dec = p2 * ((1.0 + av / g) * math.sin(alpha) - abs(ah) / g * math.cos(alpha))
+            if dec > 0.0:
+                h = min(h, abs(thd) / dec)  # half the estimated flight time 2|theta'|/dec
+            continue
+        t = t + hh
+        th = y10
+        thd = y11
+        if at_bp:
+            fsal = False
+        else:
+            k[0, 0] = k[6, 0]
+            k[0, 1] = k[6, 1]
+            fsal = True
+        h = min(dp.new_step(hh, err), hmax)
+        if at_bp:  # a step shortened to meet a breakpoint says little about the next one
+            h = min(max(h, h_before), hmax)
+
+    if status == ST_OK and not overturned and not rocking:
+        while k_out < n_out and t0 + k_out * out_dt <= t_end * (1.0 + 1e-15):
+            out[k_out, 0] = 0.0
+            out[k_out, 1] = 0.0
+            k_out += 1
+    info[I_NIMP] = n_imp
+    info[I_NPEAK] = n_pk
+    info[I_OUTCOME] = OUT_OVERTURNED if overturned else (OUT_ROCKING if rocking else OUT_REST)
+    info[I_NSTEP] = n_step
+    info[I_NREJ] = n_rej
+    info[I_MAXTH] = maxth
+    info[I_NOUT] = k_out
+    info[I_NUPL] = n_upl
+    info[I_NRHS] = n_rhs
+    return status

@@ -1,0 +1,208 @@
+"""Numba kernel: a planar rigid block on tensionless spring–damper supports at its base corners.
+
+State ``y = [x, y, phi, x', y', phi', e_0, e_1]``: the centre of gravity relative to the moving
+ground (phi counter-clockwise; the rocking angle is theta = -phi) and the stretches e_j of the
+horizontal (no-slip) springs. Corner j (body point
+``(s_j B, -H)``, s_j = -1, +1) at ``c_j = (x, y) + Rot(phi) (s_j B, -H)``; penetration
+``d_j = -c_jy``. While ``d_j > 0``::
+
+    N_j = max(0, k d_j + c d_j')                          (vertical, tensionless)
+    T_j = -(k_t e_j + c_t c_jx'),   e_j' = c_jx'            (horizontal, no slip)
+
+and in flight ``e_j' = -omega_v e_j`` (the spring relaxes, so a corner lands unstretched: a
+spring that reappeared stretched would create energy).
+    m x''   = sum T_j - m ü_h
+    m y''   = sum N_j - m (g + ü_v)
+    I phi'' = sum (r_j x F_j),  r_j = c_j - (x, y)
+
+integrated by adaptive Dormand–Prince 5(4) (stops at excitation breakpoints; error control
+resolves the contact transitions), output by cubic Hermite interpolation within each step.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from nsdyn import _kdp5 as dp
+from nsdyn.models.rocking._kground import ground, next_breakpoint
+
+Q_M = 0  # mass [kg]
+Q_I = 1  # moment of inertia about the centre of gravity [kg m²]
+Q_B = 2  # half-width [m]
+Q_H = 3  # half-height [m]
+Q_K = 4  # vertical support stiffness per corner [N/m]
+Q_C = 5  # vertical support damping per corner [N s/m]
+Q_KT = 6  # horizontal (no-slip) stiffness per corner [N/m]
+Q_CT = 7  # horizontal damping per corner [N s/m]
+Q_G = 8  # gravity [m/s²]
+Q_TOL = 9  # relative tolerance
+Q_HMAX = 10  # largest step [s]
+Q_WV = 11  # relaxation rate of a lifted corner's horizontal spring [1/s]
+N_Q = 12
+
+J_NSTEP = 0  # accepted steps
+J_NREJ = 1  # rejected steps
+J_NOUT = 2  # output samples filled
+J_TFAIL = 3  # failure time
+N_J = 4
+
+ST_OK = 0  # finished
+ST_UNDERFLOW = 2  # step-size underflow
+ST_NONFINITE = 3  # non-finite state
+H_MIN = 1e-14  # step-size underflow threshold [s] (relative to 1 + |t|)
+
+
+@njit(cache=True)
+def rhs(t, left, y, q, gk, gp, tab_h, tab_v, dy):
+    """dy = f(t, y) of the block on corner supports (q[Q_WV] is the in-flight relaxation rate)."""
+    ah, av = ground(t, left, gk, gp, tab_h, tab_v)
+    m = q[Q_M]
+    cph = math.cos(y[2])
+    sph = math.sin(y[2])
+    fx = -m * ah
+    fy = -m * (q[Q_G] + av)
+    mz = 0.0
+    for j in range(2):
+        sj = -1.0 if j == 0 else 1.0
+        bx = sj * q[Q_B]
+        by = -q[Q_H]
+        rx = cph * bx - sph * by
+        ry = sph * bx + cph * by
+        cy = y[1] + ry
+        vx = y[3] - y[5] * ry
+        if cy < 0.0:
+            vy = y[4] + y[5] * rx
+            n = q[Q_K] * (-cy) + q[Q_C] * (-vy)
+            if n < 0.0:
+                n = 0.0
+            tx = -(q[Q_KT] * y[6 + j] + q[Q_CT] * vx)
+            fx += tx
+            fy += n
+            mz += rx * n - ry * tx
+            dy[6 + j] = vx
+        else:
+            dy[6 + j] = -q[Q_WV] * y[6 + j]
+    dy[0] = y[3]
+    dy[1] = y[4]
+    dy[2] = y[5]
+    dy[3] = fx / m
+    dy[4] = fy / m
+    dy[5] = mz / q[Q_I]
+
+
+@njit(cache=True)
+def integrate(q, atol, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, info):
+    """Integrate from ``y0`` (8,) at ``t0`` to ``t_end``; ``out`` (n_out, 8) on the grid
+    ``t0 + k out_dt``; returns an ST_* status, counters in ``info``."""
+    n = 8
+    k = np.zeros((7, n))
+    y = y0.copy()
+    yt = np.zeros(n)
+    y1 = np.zeros(n)
+    rc = np.zeros((5, n))
+    tol = q[Q_TOL]
+    hmax = q[Q_HMAX]
+    n_out = out.shape[0]
+    n_tab = tab_h.size
+    t = t0
+    h = min(hmax, 1e-4)
+    k_out = 0
+    n_step = 0
+    n_rej = 0
+    fsal = False
+    status = ST_OK
+    info[J_TFAIL] = np.nan
+    while k_out < n_out and t0 + k_out * out_dt <= t:
+        out[k_out, :] = y
+        k_out += 1
+    while t < t_end * (1.0 - 1e-15):
+        tbp = next_breakpoint(t, gk, gp, n_tab)
+        hh = min(h, hmax)
+        at_bp = False
+        if t + hh >= tbp:
+            hh = tbp - t
+            at_bp = True
+        if t + hh >= t_end:
+            hh = t_end - t
+            at_bp = True
+        if not fsal:
+            rhs(t, False, y, q, gk, gp, tab_h, tab_v, k[0])
+        for i in range(n):
+            yt[i] = y[i] + hh * dp.A21 * k[0, i]
+        rhs(t + dp.C2 * hh, False, yt, q, gk, gp, tab_h, tab_v, k[1])
+        for i in range(n):
+            yt[i] = y[i] + hh * (dp.A31 * k[0, i] + dp.A32 * k[1, i])
+        rhs(t + dp.C3 * hh, False, yt, q, gk, gp, tab_h, tab_v, k[2])
+        for i in range(n):
+            yt[i] = y[i] + hh * (dp.A41 * k[0, i] + dp.A42 * k[1, i] + dp.A43 * k[2, i])
+        rhs(t + dp.C4 * hh, False, yt, q, gk, gp, tab_h, tab_v, k[3])
+        for i in range(n):
+            yt[i] = y[i] + hh * (
+                dp.A51 * k[0, i] + dp.A52 * k[1, i] + dp.A53 * k[2, i] + dp.A54 * k[3, i]
+            )
+        rhs(t + dp.C5 * hh, False, yt, q, gk, gp, tab_h, tab_v, k[4])
+        for i in range(n):
+            yt[i] = y[i] + hh * (
+                dp.A61 * k[0, i]
+                + dp.A62 * k[1, i]
+                + dp.A63 * k[2, i]
+                + dp.A64 * k[3, i]
+                + dp.A65 * k[4, i]
+            )
+        rhs(t + hh, at_bp, yt, q, gk, gp, tab_h, tab_v, k[5])
+        for i in range(n):
+            y1[i] = y[i] + hh * (
+                dp.A71 * k[0, i]
+                + dp.A73 * k[2, i]
+                + dp.A74 * k[3, i]
+                + dp.A75 * k[4, i]
+                + dp.A76 * k[5, i]
+            )
+        rhs(t + hh, at_bp, y1, q, gk, gp, tab_h, tab_v, k[6])
+        err = 0.0
+        for i in range(n):
+            ei = hh * (
+                dp.E1 * k[0, i] + dp.E3 * k[2, i] + dp.E4 * k[3, i]
+                + dp.E5 * k[4, i] + dp.E6 * k[5, i] + dp.E7 * k[6, i]
+            )  # fmt: skip
+            sci = atol[i] + tol * max(abs(y[i]), abs(y1[i]))
+            err += (ei / sci) ** 2
+        err = math.sqrt(err / n)
+        if not math.isfinite(err) or err > 1.0:
+            h = dp.new_step(hh, err) if math.isfinite(err) else 0.2 * hh
+            n_rej += 1
+            fsal = True
+            if h <= H_MIN * (1.0 + abs(t)):
+                status = ST_UNDERFLOW if math.isfinite(err) else ST_NONFINITE
+                info[J_TFAIL] = t
+                break
+            continue
+        n_step += 1
+        if k_out < n_out and t0 + k_out * out_dt <= t + hh:
+            for i in range(n):
+                rc[0, i] = y[i]
+                rc[1, i] = y1[i] - y[i]
+                rc[2, i] = hh * k[0, i] - rc[1, i]
+                rc[3, i] = rc[1, i] - hh * k[6, i] - rc[2, i]
+                rc[4, i] = 0.0
+            while k_out < n_out and t0 + k_out * out_dt <= t + hh:
+                s = (t0 + k_out * out_dt - t) / hh
+                s1 = 1.0 - s
+                for i in range(n):
+                    out[k_out, i] = rc[0, i] + s * (rc[1, i] + s1 * (rc[2, i] + s * rc[3, i]))
+                k_out += 1
+        t += hh
+        for i in range(n):
+            y[i] = y1[i]
+        if at_bp:
+            fsal = False
+        else:
+            for i in range(n):
+                k[0, i] = k[6, i]
+            fsal = True
+        h = min(dp.new_step(hh, err), hmax)
+    info[J_NSTEP] = n_step
+    info[J_NREJ] = n_rej
+    info[J_NOUT] = k_out
+    return status

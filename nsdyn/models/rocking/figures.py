@@ -1,0 +1,58 @@
+"""Figures of the rocking family (matplotlib Figure API, no pyplot state): time histories,
+overturning spectra and effective restitution against ground stiffness."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+
+def history_figure(t, theta, alpha: float, title: str = "", impacts=None) -> Figure:
+    """theta(t) / alpha with the overturning limits and impact instants."""
+    fig = Figure(figsize=(7.0, 3.2), layout="constrained")
+    ax = fig.add_subplot()
+    ax.plot(t, np.asarray(theta) / alpha, lw=1.0)
+    ax.axhline(1.0, color="0.6", lw=0.6, ls="--")
+    ax.axhline(-1.0, color="0.6", lw=0.6, ls="--")
+    if impacts is not None and len(impacts):
+        ax.plot(impacts[:, 0], np.zeros(len(impacts)), "|", color="C3", ms=6, label="impacts")
+        ax.legend(loc="upper right", fontsize=8)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("θ / α")
+    ax.set_title(title, fontsize=10)
+    return fig
+
+
+def spectrum_figure(spectra: dict, title: str = "") -> Figure:
+    """Minimum overturning amplitude a_p / (g tan alpha) against omega_p / p; ``spectra`` maps a
+    label to an :class:`~nsdyn.models.rocking.spectra.OverturningSpectrum`."""
+    fig = Figure(figsize=(6.5, 4.0), layout="constrained")
+    ax = fig.add_subplot()
+    for k, (label, sp) in enumerate(spectra.items()):
+        x = sp.omega_ratio
+        ax.plot(x, sp.a_min_ratio, "-", color=f"C{k}", label=f"{label}: minimum")
+        if np.any(np.isfinite(sp.safe_lo_ratio)):
+            ax.fill_between(x, sp.safe_lo_ratio, sp.safe_hi_ratio, color=f"C{k}", alpha=0.2,
+                            lw=0, label=f"{label}: safe band above")  # fmt: skip
+        m1 = sp.mode == 1
+        ax.plot(x[m1], sp.a_min_ratio[m1], "o", ms=3, color=f"C{k}", mfc="white")
+    ax.set_xlabel("ω_p / p")
+    ax.set_ylabel("a_p / (g tan α)")
+    ax.set_title(title or "overturning (open marks: with an impact)", fontsize=10)
+    ax.legend(fontsize=8)
+    return fig
+
+
+def restitution_figure(ratios, r_eff: dict, r_housner: float, r_seed=None) -> Figure:
+    """Effective restitution of the block on corner supports against omega_v / p."""
+    fig = Figure(figsize=(6.0, 3.6), layout="constrained")
+    ax = fig.add_subplot()
+    for label, r in r_eff.items():
+        ax.semilogx(ratios, r, "o-", ms=4, label=label)
+    ax.axhline(r_housner, color="k", lw=0.8, ls="--", label=f"Housner {r_housner:.3f}")
+    if r_seed is not None:
+        ax.axhline(r_seed, color="C3", lw=0.8, ls=":", label=f"seed 001 model 1: {r_seed:.3f}")
+    ax.set_xlabel("ω_v / p (vertical contact frequency / rocking frequency parameter)")
+    ax.set_ylabel("effective r")
+    ax.legend(fontsize=8)
+    return fig

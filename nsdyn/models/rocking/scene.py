@@ -1,0 +1,247 @@
+"""``nsdyn run`` on rocking scenes: read and check the TOML, run, write NPZ/PNG, summarise.
+
+Scene (``[scene] kind = "rocking"``; sizes are the full width 2B and height 2H [m])::
+
+    [scene]
+    kind = "rocking"
+    name = "seed 001 cask"
+    model = "block"            # block | frame | compliant
+
+    [block]                    # every model: the block or the frame's columns
+    width = 2.0                # 2B [m]
+    height = 4.0               # 2H [m]
+    r = 0.82                   # restitution (default Housner's / the frame's)
+    linear = false             # linearised equation
+    mass = 124800.0            # [kg]
+    gamma = 5.0                # frame only: m_beam / (2 m_column)
+    omega_v_over_p = 300.0     # compliant only: vertical contact frequency / p
+    zeta = 2.0                 # compliant only: contact damping ratio
+
+    [motion]                   # a record, a pulse, or nothing (free rocking)
+    record = "path/or/bundled-name"
+    pga = 3.0                  # scale the record (or the pulse amplitude) [m/s²]
+    vertical = true            # keep the record's vertical component
+    pulse = "sine"             # sine | cosine | ricker | rect
+    a_p_g = 0.4                # pulse amplitude [g] (or a_p [m/s²])
+    omega_p = 12.57            # [rad/s] (or f_p [Hz])
+    n_cycles = 1
+    ver_ratio = 0.0
+    t_end = 6.0                # [s]
+    theta0_over_alpha = 0.0    # initial tilt
+
+    [solver]
+    tol = 1e-9
+    dt_out = 0.005
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.atomic import atomic_open
+from nsdyn.ground import G_EARTH, read_motion
+from nsdyn.ground.pulses import SHAPES, Pulse
+from nsdyn.models.scenefile import SceneError, number, unknown_key
+
+MODELS = ("block", "frame", "compliant")  # [scene] model
+_FIELDS = {
+    "scene": {"kind", "name", "model"},
+    "block": {"width", "height", "r", "linear", "mass", "gamma", "omega_v_over_p", "zeta"},
+    "motion": {
+        "record",
+        "pga",
+        "vertical",
+        "pulse",
+        "a_p",
+        "a_p_g",
+        "omega_p",
+        "f_p",
+        "n_cycles",
+        "ver_ratio",
+        "t_end",
+        "theta0_over_alpha",
+        "t_start",
+    },  # fmt: skip
+    "solver": {"tol", "dt_out", "method"},
+}
+T_END = 10.0  # default duration without a record [s]
+METHODS = ("dopri5",)  # the rocking integrator (event-located Dormand-Prince 5(4))
+
+
+def _check(cfg: dict, source: str) -> None:
+    for table, vals in cfg.items():
+        if table not in _FIELDS:
+            raise unknown_key(source, "", table, _FIELDS)
+        if not isinstance(vals, dict):
+            raise SceneError(f"{source}: {table}: expected a table")
+        for key in vals:
+            if key not in _FIELDS[table]:
+                raise unknown_key(source, f"{table}.", key, _FIELDS[table])
+
+
+def build_model(cfg: dict, source: str):
+    """The block, frame or compliant block of a parsed scene."""
+    from nsdyn.models.rocking.block import RockingBlock
+    from nsdyn.models.rocking.compliant import CompliantBlock
+    from nsdyn.models.rocking.frame import RockingFrame
+
+    _check(cfg, source)
+    model = cfg.get("scene", {}).get("model", "block")
+    if model not in MODELS:
+        raise SceneError(f"{source}: scene.model: expected one of {list(MODELS)}, got {model!r}")
+    b = cfg.get("block", {})
+    for key in ("width", "height"):
+        if key not in b:
+            raise SceneError(f"{source}: block.{key}: missing (a positive size in m)")
+    w = number(source, "block.width", b["width"])
+    h = number(source, "block.height", b["height"])
+    mass = number(source, "block.mass", b.get("mass", 1.0))
+    r = None
+    if "r" in b:
+        r = number(source, "block.r", b["r"])
+        if not (0.0 < r <= 1.0):
+            raise SceneError(f"{source}: block.r: expected 0 < r <= 1, got {b['r']!r}")
+    linear = b.get("linear", False)
+    if not isinstance(linear, bool):
+        raise SceneError(f"{source}: block.linear: expected true or false, got {linear!r}")
+    if model == "frame":
+        gamma = number(source, "block.gamma", b.get("gamma", 0.0), allow_zero=True)
+        return RockingFrame(w / 2, h / 2, gamma, r, linear, G_EARTH, mass)
+    if model == "compliant":
+        if r is not None or linear:
+            raise SceneError(f"{source}: block.r / block.linear: not used by the compliant model")
+        from nsdyn.models.rocking.block import RockingBlock as _B
+
+        ratio = number(source, "block.omega_v_over_p", b.get("omega_v_over_p", 300.0))
+        zeta = number(source, "block.zeta", b.get("zeta", 2.0), allow_zero=True)
+        return CompliantBlock.from_frequency(w / 2, h / 2, mass, ratio * _B(w / 2, h / 2).p, zeta)
+    return RockingBlock(w / 2, h / 2, r, linear, G_EARTH, mass)
+
+
+def build_motion(cfg: dict, source: str):
+    """(excitation or None, t_end, theta0_over_alpha, description) of a parsed scene."""
+    mo = cfg.get("motion", {})
+    t_end = number(source, "motion.t_end", mo["t_end"]) if "t_end" in mo else None
+    th0 = number(source, "motion.theta0_over_alpha", mo.get("theta0_over_alpha", 0.0),
+                 positive=False)  # fmt: skip
+    if "record" in mo:
+        rec = str(mo["record"])
+        path = Path(rec)
+        if (
+            not path.is_absolute()
+            and not path.exists()
+            and Path(source).parent.joinpath(rec).exists()
+        ):
+            path = Path(source).parent / rec
+        try:
+            motion = read_motion(path if path.exists() else rec)
+        except Exception as e:
+            raise SceneError(f"{source}: motion.record: cannot read {rec!r}: {e}") from None
+        if mo.get("vertical", True) is False and motion.a_ver is not None:
+            motion = motion.with_vertical(None)
+        if "pga" in mo:
+            motion = motion.scaled_to_pga(number(source, "motion.pga", mo["pga"]))
+        t_end = t_end or motion.t0 + motion.duration
+        return motion, t_end, th0, motion.name
+    if "pulse" in mo:
+        shape = mo["pulse"]
+        if shape not in SHAPES:
+            raise SceneError(f"{source}: motion.pulse: expected one of {sorted(SHAPES)}, "
+                             f"got {shape!r}")  # fmt: skip
+        if "a_p" in mo:
+            a_p = number(source, "motion.a_p", mo["a_p"], positive=False)
+        elif "a_p_g" in mo:
+            a_p = G_EARTH * number(source, "motion.a_p_g", mo["a_p_g"], positive=False)
+        else:
+            raise SceneError(f"{source}: motion.a_p_g: missing (pulse amplitude in g, or a_p)")
+        if "pga" in mo:
+            a_p = math.copysign(number(source, "motion.pga", mo["pga"]), a_p)
+        if "omega_p" in mo:
+            w = number(source, "motion.omega_p", mo["omega_p"])
+        elif "f_p" in mo:
+            w = 2 * math.pi * number(source, "motion.f_p", mo["f_p"])
+        else:
+            raise SceneError(f"{source}: motion.omega_p: missing (pulse frequency in rad/s)")
+        n = mo.get("n_cycles", 1)
+        if not isinstance(n, int) or isinstance(n, bool) or n < 1:
+            raise SceneError(f"{source}: motion.n_cycles: expected an integer >= 1, got {n!r}")
+        ratio = number(source, "motion.ver_ratio", mo.get("ver_ratio", 0.0), positive=False)
+        t_s = number(source, "motion.t_start", mo.get("t_start", 0.0), allow_zero=True)
+        pulse = Pulse(shape, a_p, w, n, t_s, ratio)
+        return pulse, t_end or max(T_END, 3 * pulse.duration), th0, f"{shape} pulse"
+    if "pga" in mo:
+        raise SceneError(f"{source}: motion.pga: needs a motion.record or a motion.pulse")
+    return None, t_end or T_END, th0, "free rocking"
+
+
+def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:
+    """Run a rocking scene; writes ``rocking.npz`` (and ``rocking.png``) into ``out_dir``."""
+    from nsdyn.models.rocking import block as blk
+    from nsdyn.models.rocking.compliant import CompliantBlock, simulate_compliant
+
+    model = build_model(cfg, source)
+    exc, t_end, th0, what = build_motion(cfg, source)
+    sv = cfg.get("solver", {})
+    method = sv.get("method", "dopri5")
+    if method not in METHODS:
+        raise SceneError(f"{source}: solver.method: rocking scenes use {list(METHODS)}, "
+                         f"got {method!r}")  # fmt: skip
+    tol = number(source, "solver.tol", sv.get("tol", blk.TOL))
+    dt_out = number(source, "solver.dt_out", sv["dt_out"]) if "dt_out" in sv else None
+    name = cfg.get("scene", {}).get("name", Path(source).stem)
+    say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
+    say(f"rocking: {name}: {type(model).__name__}, {what}, t_end = {t_end:g} s")
+    out_dir = Path(out_dir)
+    w0 = time.perf_counter()
+    if isinstance(model, CompliantBlock):
+        from nsdyn.models.rocking import compliant as cm
+
+        simulate_compliant(model, t_end=1e-3, dt_out=1e-3)
+        compile_s = time.perf_counter() - w0
+        res = simulate_compliant(model, exc, t_end=t_end, theta0=th0 * model.alpha,
+                                 tol=min(tol * 10, 1e-6), dt_out=dt_out or cm.DT_OUT)  # fmt: skip
+        s = res.summary()
+        arrays = {"t": res.t, "y": res.y, "theta": res.theta, "thetad": res.thetad,
+                  "peaks": res.peaks()}  # fmt: skip
+        s["r_housner"] = blk.housner_restitution(model.alpha)
+    else:
+        compile_s = blk.warmup()
+        res = blk.simulate_rocking(model, exc, t_end=t_end, theta0=th0 * model.alpha,
+                                   tol=tol, dt_out=dt_out)  # fmt: skip
+        s = res.summary()
+        arrays = {"t": res.t, "theta": res.theta, "thetad": res.thetad, "energy": res.energy(),
+                  "impacts": res.impacts, "peaks": res.peaks}  # fmt: skip
+    wall = time.perf_counter() - w0 - compile_s
+    files = [str(out_dir / "rocking.npz")]
+    with atomic_open(out_dir / "rocking.npz", "wb") as fh:
+        np.savez(fh, **arrays)
+    if figures:
+        from nsdyn.atomic import save_figure
+        from nsdyn.models.rocking.figures import history_figure
+
+        png = out_dir / "rocking.png"
+        save_figure(history_figure(arrays["t"], arrays["theta"], model.alpha, title=name), png)
+        files.append(str(png))
+    s.update({"kind": "rocking", "model": cfg.get("scene", {}).get("model", "block"),
+              "name": name, "motion": what, "t_end": t_end, "alpha": model.alpha,
+              "p": model.p, "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
+    say(f"rocking: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
+    return s
+
+
+def format_summary(s: dict) -> str:
+    """A short human table of a rocking run."""
+    keys = ("name", "model", "motion", "alpha", "p", "r", "outcome", "max_theta_over_alpha",
+            "n_impacts", "t_overturn", "t_rest", "r_housner", "wall_s", "compile_s")  # fmt: skip
+    lines = []
+    for k in keys:
+        if k in s and s[k] is not None:
+            v = s[k]
+            lines.append(f"  {k:22s} {v:.6g}" if isinstance(v, float) else f"  {k:22s} {v}")
+    lines.extend(f"  {'file':22s} {f}" for f in s.get("files", []))
+    return "\n".join(lines)

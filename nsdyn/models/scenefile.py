@@ -1,0 +1,66 @@
+"""Scene files shared by every model family: TOML reading, field checking, the scene kind.
+
+A scene is a TOML file whose ``[scene] kind`` names the model family that runs it
+(``isolated`` when absent — the frame on friction isolators). Each family has a
+``nsdyn.models.<kind>.scene`` module with a ``run_scene(cfg, out_dir, figures) -> dict``
+that returns the JSON summary of ``nsdyn run``; this module gives them one way to read and
+check files, so every family reports bad input the same way: file, table.field, expected form,
+and the nearest valid key for a misspelt one.
+"""
+
+from __future__ import annotations
+
+import difflib
+import tomllib
+from collections.abc import Mapping
+from pathlib import Path
+
+KINDS = ("isolated", "rocking", "contact", "cylinder")  # [scene] kind -> nsdyn.models.<kind>
+
+
+class SceneError(ValueError):
+    """A scene file or option is invalid; the message names the file and field."""
+
+
+def read_toml(path: str | Path) -> dict:
+    """The parsed TOML file, or :class:`SceneError` naming the file and the syntax error."""
+    p = Path(path)
+    if not p.is_file():
+        raise SceneError(f"{path}: no such scene file")
+    try:
+        return tomllib.loads(p.read_text())
+    except tomllib.TOMLDecodeError as e:
+        raise SceneError(f"{path}: not valid TOML: {e}") from None
+    except UnicodeDecodeError as e:
+        raise SceneError(f"{path}: not a text file: {e}") from None
+
+
+def unknown_key(source: str, where: str, key: str, valid) -> SceneError:
+    """Error for a key not in ``valid``, suggesting the closest valid key if there is one."""
+    valid = sorted(valid)
+    close = difflib.get_close_matches(key, valid, n=1)
+    hint = f"; did you mean {close[0]!r}?" if close else ""
+    return SceneError(f"{source}: {where}{key}: unknown field{hint} expected some of {valid}")
+
+
+def scene_kind(cfg: Mapping, source: str = "<scene>") -> str:
+    """The model family of a parsed scene (``[scene] kind``, default ``isolated``)."""
+    kind = cfg.get("scene", {}).get("kind", "isolated")
+    if kind not in KINDS:
+        close = difflib.get_close_matches(str(kind), KINDS, n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise SceneError(f"{source}: scene.kind: expected one of {list(KINDS)}, got {kind!r}{hint}")
+    return kind
+
+
+def number(source: str, name: str, val, *, positive: bool = True, allow_zero: bool = False):
+    """``val`` as a float, or :class:`SceneError` naming ``source: name`` and the form wanted."""
+    if isinstance(val, bool) or not isinstance(val, int | float):
+        raise SceneError(f"{source}: {name}: expected a number, got {val!r}")
+    v = float(val)
+    if v != v or v in (float("inf"), float("-inf")):
+        raise SceneError(f"{source}: {name}: expected a finite number, got {val!r}")
+    if positive and not (v > 0 or (allow_zero and v == 0)):
+        what = "a non-negative" if allow_zero else "a positive"
+        raise SceneError(f"{source}: {name}: expected {what} number, got {val!r}")
+    return v

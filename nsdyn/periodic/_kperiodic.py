@@ -1,0 +1,371 @@
+"""Numba kernels for periodic solutions: fixed-step SDIRK period map with its exact derivative.
+
+The problems (right-hand sides and Jacobians) are in :mod:`nsdyn.periodic._kproblems`.
+
+One step of a stiffly accurate singly diagonally implicit Runge-Kutta method (tableau ``A``,
+``c``, diagonal ``gamma``) solves the stage equations
+
+    Y_i = x_n + h sum_{j<i} a_ij F_j + h gamma F(t_n + c_i h, Y_i),   x_{n+1} = Y_s
+
+by Newton's method. The period map ``x_N = phi(x_0; T)`` with ``h = T / N`` is differentiated
+*exactly as a discrete map* ("internal numerical differentiation", Bock 1981): differentiating
+the stage equations at the converged stages gives
+
+    (I - h gamma J_i) S_i = S_n + h sum_{j<i} a_ij J_j S_j                      (d/dx_0)
+    (I - h gamma J_i) w_i = w_n + (1/N) sum_{j<=i} a_ij F_j + h sum_{j<i} a_ij J_j w_j   (d/dT)
+
+with the forcing phase ``(n + c_j)/N`` independent of T. So the monodromy is the derivative of
+the map actually iterated, and Newton on the shooting residual converges quadratically.
+"""
+
+import numpy as np
+from numba import njit
+
+from nsdyn._klinalg import lu_factor, lu_solve_columns
+from nsdyn.periodic._kproblems import (  # noqa: F401  (problem ids and Z layout re-exported)
+    LU_RTOL,
+    N_Z,
+    PROB_DUFFING,
+    PROB_FRAME,
+    Z_CZ,
+    Z_DQ,
+    Z_G0,
+    Z_GD,
+    Z_KZ,
+    Z_L0,
+    Z_MU,
+    Z_Q,
+    Z_QG,
+    Z_QMIDT,
+    Z_QMIRT,
+    Z_QT,
+    Z_RAV,
+    Z_RAZ,
+    Z_RG,
+    f_eval,
+    j_eval,
+)
+
+STATUS_OK = 0
+STATUS_STAGE = 1  # a stage Newton iteration did not converge
+STATUS_SINGULAR = 2  # singular constraint system or iteration matrix
+STATUS_NONFINITE = 3  # state became inf/nan
+
+STAGE_MAXIT = 25  # Newton iterations per stage
+STAGE_SLOW = 0.1  # contraction factor above which the iteration matrix is refreshed
+STAGE_HALVINGS = 10  # backtracking halvings of a damped stage Newton update
+STAGE_FULL_STEP = 1e4  # updates below this many tolerances are taken without line search
+STAGE_STAGNATION = 1e3  # accept a stalled iteration this close to the tolerance (round-off)
+MAX_SUBSTEPS = 64  # a failing step is retried as 2, 4, ... substeps, at most this many
+
+
+@njit(cache=True)
+def _gemm_acc(C, A, B, alpha):
+    """C += alpha A B for square matrices (plain loops: small, and quick to compile)."""
+    d = A.shape[0]
+    for i in range(d):
+        for k in range(d):
+            a = alpha * A[i, k]
+            if a != 0.0:
+                for j in range(B.shape[1]):
+                    C[i, j] += a * B[k, j]
+
+
+@njit(cache=True)
+def _iteration_matrix(J, hg, LU, piv):
+    """LU of the scaled iteration matrix Dr (I - hg J) Dc, Dr = diag(1, hg), Dc = diag(1, 1/hg).
+
+    For a mechanical state [positions, velocities] the scaled matrix is
+    [[I, -I], [hg^2 K, I + hg C]]-like: well conditioned where the unscaled one (stiff
+    boundary modes, K ~ 1e10) has a condition number ~ 1e12 that spoils the derivatives.
+    """
+    d = J.shape[0]
+    half = d // 2
+    for i in range(d):
+        ri = hg if i >= half else 1.0
+        for j in range(d):
+            cj = 1.0 / hg if j >= half else 1.0
+            LU[i, j] = -hg * J[i, j] * ri * cj
+        LU[i, i] += 1.0  # ri * cj = 1 on the diagonal
+    return lu_factor(LU, piv, LU_RTOL)
+
+
+@njit(cache=True)
+def _solve_scaled(LU, piv, B, hg):
+    """Solve (I - hg J) X = B in place with the scaled factors of :func:`_iteration_matrix`."""
+    d = B.shape[0]
+    half = d // 2
+    for i in range(half, d):
+        for k in range(B.shape[1]):
+            B[i, k] *= hg
+    lu_solve_columns(LU, piv, B)
+    for i in range(half, d):
+        for k in range(B.shape[1]):
+            B[i, k] /= hg
+
+
+# ---- one step and the period map ----------------------------------------------------------
+@njit(cache=True)
+def _block_scales(x, Y, half, rtol, atol):
+    """Tolerance per block (positions, velocities): atol + rtol * max(|x|, |Y|) in the block.
+
+    Fixed during a stage solve, so the line-search merit is one function of Y.
+    """
+    ymz = 0.0
+    ymv = 0.0
+    for k in range(Y.shape[0]):
+        a = max(abs(x[k]), abs(Y[k]))
+        if k < half:
+            ymz = max(ymz, a)
+        else:
+            ymv = max(ymv, a)
+    return atol + rtol * ymz, atol + rtol * ymv
+
+
+@njit(cache=True)
+def _block_err(v, half, sz, sv):
+    """Max-norm of ``v`` in units of the block tolerances."""
+    e = 0.0
+    for k in range(v.shape[0]):
+        e = max(e, abs(v[k]) / (sz if k < half else sv))
+    return e
+
+
+@njit(cache=True)
+def _res_norm(res, half, sz, sv):
+    """Weighted 2-norm of a stage residual (line-search merit)."""
+    acc = 0.0
+    for k in range(res.shape[0]):
+        e = res[k, 0] / (sz if k < half else sv)
+        acc += e * e
+    return np.sqrt(acc)
+
+
+@njit(cache=True)
+def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
+    """One SDIRK step of size ``h`` from (t, x) into ``out = (xn, Sn, wn)`` (the state and its
+    derivatives). ``problem = (prob, P, Z, pf)``, ``method = (A, c, rtol, atol)``,
+    ``work = (J, LU, piv, hg_lu, Fprev)``.
+
+    ``J``/``LU``/``piv`` hold the latest Jacobian and the factors of the iteration matrix for
+    ``hg_lu[0]``; they are updated in place. ``hT = dh/dT``. Stage Newton: damped (Armijo
+    backtracking on the weighted residual), the iteration matrix refreshed whenever the
+    contraction is slow. Returns (status, n_fev).
+    """
+    prob, P, Z, pf = problem
+    A, c, rtol, atol = method
+    J, LU, piv, hg_lu, Fprev = work
+    xn, Sn, wn = out
+    d = x.shape[0]
+    half = d // 2
+    s = c.shape[0]
+    gam = A[0, 0]
+    hg = h * gam
+    nfev = 0
+    if hg_lu[0] != hg:
+        if not _iteration_matrix(J, hg, LU, piv):
+            return STATUS_SINGULAR, nfev
+        hg_lu[0] = hg
+    Fs = np.zeros((s, d))
+    if want_sens:
+        SY = np.zeros((s, d, d))
+        Js = np.zeros((s, d, d))
+    else:
+        SY = np.zeros((1, 1, 1))
+        Js = np.zeros((1, 1, 1))
+    wY = np.zeros((s, d))
+    Y = np.empty(d)
+    Yt = np.empty(d)
+    Fi = np.empty(d)
+    r = np.empty(d)
+    res = np.empty((d, 1))
+    rest = np.empty((d, 1))
+    for i in range(s):
+        ti = t + c[i] * h
+        for k in range(d):
+            acc = 0.0
+            for j in range(i):
+                acc += A[i, j] * Fs[j, k]
+            r[k] = x[k] + h * acc
+            Y[k] = x[k] + c[i] * h * Fprev[k]  # explicit predictor
+        if not f_eval(prob, ti, Y, P, Z, pf, Fi):
+            return STATUS_SINGULAR, nfev
+        nfev += 1
+        for k in range(d):
+            res[k, 0] = -(Y[k] - r[k] - hg * Fi[k])
+        sz, sv = _block_scales(x, Y, half, rtol, atol)
+        rnorm = _res_norm(res, half, sz, sv)
+        converged = False
+        err_old = 1e300
+        for it in range(STAGE_MAXIT):
+            dY = res.copy()
+            _solve_scaled(LU, piv, dY, hg)
+            err = _block_err(dY[:, 0], half, sz, sv)
+            if not np.isfinite(err):
+                return STATUS_NONFINITE, nfev
+            theta = err / err_old
+            if (
+                err <= 1.0
+                or (it > 0 and theta < 1.0 and err * theta / (1.0 - theta) <= 1.0)
+                or (it > 1 and theta > STAGE_SLOW and err <= STAGE_STAGNATION)
+            ):
+                for k in range(d):
+                    Y[k] += dY[k, 0]
+                converged = True
+                break
+            # damped update far from the solution: backtrack on the weighted residual (close
+            # to it the residual is at its round-off floor and the full step is taken)
+            alpha = 1.0
+            for _ in range(STAGE_HALVINGS):
+                for k in range(d):
+                    Yt[k] = Y[k] + alpha * dY[k, 0]
+                ok = f_eval(prob, ti, Yt, P, Z, pf, Fi)
+                nfev += 1
+                for k in range(d):
+                    rest[k, 0] = -(Yt[k] - r[k] - hg * Fi[k])
+                rt = _res_norm(rest, half, sz, sv)
+                if ok and (rt < rnorm or err * alpha <= STAGE_FULL_STEP):
+                    break
+                alpha *= 0.5
+            Y[:] = Yt
+            res[:, :] = rest
+            rnorm = rt
+            if alpha < 1.0 or (it > 0 and theta > STAGE_SLOW):
+                j_eval(prob, ti, Y, P, Z, pf, Fi, J)
+                if not _iteration_matrix(J, hg, LU, piv):
+                    return STATUS_SINGULAR, nfev
+            err_old = err * alpha
+        if not converged:
+            return STATUS_STAGE, nfev
+        # converged stage: slope and Jacobian there (the exact derivative needs them; they
+        # also give the iteration matrix of the next stage)
+        if not j_eval(prob, ti, Y, P, Z, pf, Fi, J):
+            return STATUS_SINGULAR, nfev
+        nfev += 1
+        if not _iteration_matrix(J, hg, LU, piv):
+            return STATUS_SINGULAR, nfev
+        Fs[i] = Fi
+        if want_sens:
+            Js[i] = J
+            Rm = S.copy()
+            rw = np.empty((d, 1))
+            for k in range(d):
+                acc = 0.0
+                for j in range(i + 1):
+                    acc += A[i, j] * Fs[j, k]
+                rw[k, 0] = w[k] + hT * acc
+            for j in range(i):
+                if A[i, j] != 0.0:
+                    _gemm_acc(Rm, Js[j], SY[j], h * A[i, j])
+                    haj = h * A[i, j]
+                    for k in range(d):
+                        acc = 0.0
+                        for l in range(d):
+                            acc += Js[j, k, l] * wY[j, l]
+                        rw[k, 0] += haj * acc
+            _solve_scaled(LU, piv, Rm, hg)
+            _solve_scaled(LU, piv, rw, hg)
+            SY[i] = Rm
+            wY[i] = rw[:, 0]
+    Fprev[:] = Fs[s - 1]
+    xn[:] = Y  # stiffly accurate: x_{n+1} = Y_s
+    if want_sens:
+        Sn[:, :] = SY[s - 1]
+        wn[:] = wY[s - 1]
+    return STATUS_OK, nfev
+
+
+@njit(cache=True)
+def period_map(prob, x0, T, N, P, Z, pf, A, c, want_sens, store, rtol, atol):
+    """Integrate one period ``T`` in ``N`` SDIRK steps from ``x0`` (at t = 0).
+
+    A step whose stages do not converge is retried once with a fresh Jacobian, then as 2, 4,
+    ... ``MAX_SUBSTEPS`` substeps (the derivative is that of the substepped map). Returns
+    (xT, S, w, X, status, n_fev, n_sub): S = d xT / d x0 (zeros(1, 1) unless ``want_sens``),
+    w = d xT / d T, X the states at the N + 1 step points (when ``store``), n_sub the number of
+    steps that needed substeps.
+    """
+    d = x0.shape[0]
+    h = T / N
+    x = x0.copy()
+    S = np.eye(d) if want_sens else np.zeros((1, 1))
+    w = np.zeros(d)
+    xs = x.copy()
+    Ss = S.copy()
+    ws = w.copy()
+    xn = np.empty(d)
+    Sn = S.copy()
+    wn = np.zeros(d)
+    X = np.zeros((N + 1, d)) if store else np.zeros((1, d))
+    if store:
+        X[0] = x
+    J = np.zeros((d, d))
+    LU = np.zeros((d, d))
+    piv = np.zeros(d, dtype=np.int64)
+    hg_lu = np.zeros(1)
+    Fprev = np.zeros(d)
+    problem = (prob, P, Z, pf)
+    method = (A, c, rtol, atol)
+    work = (J, LU, piv, hg_lu, Fprev)
+    Fsave = np.zeros(d)
+    if not j_eval(prob, 0.0, x, P, Z, pf, Fprev, J):
+        return x, S, w, X, STATUS_SINGULAR, 1, 0
+    n_fev = 1
+    n_sub = 0
+    for n in range(N):
+        tn = n * h
+        Fsave[:] = Fprev
+        ksub = 1
+        refreshed = False
+        while True:
+            # one attempt: ksub substeps of h / ksub from (tn, x)
+            hs = h / ksub
+            xs[:] = x
+            if want_sens:
+                Ss[:, :] = S
+                ws[:] = w
+            status = STATUS_OK
+            for j in range(ksub):
+                status, nf = dirk_step(
+                    tn + j * hs,
+                    hs,
+                    hs / T,
+                    xs,
+                    Ss,
+                    ws,
+                    want_sens,
+                    problem,
+                    method,
+                    work,
+                    (xn, Sn, wn),
+                )
+                n_fev += nf
+                if status != STATUS_OK:
+                    break
+                xs[:] = xn
+                if want_sens:
+                    Ss[:, :] = Sn
+                    ws[:] = wn
+            if status == STATUS_OK or status == STATUS_SINGULAR:
+                break
+            Fprev[:] = Fsave
+            if not refreshed:
+                # retry with a fresh Jacobian at x
+                refreshed = True
+                j_eval(prob, tn, x, P, Z, pf, Fprev, J)
+                hg_lu[0] = 0.0
+                continue
+            ksub *= 2
+            if ksub > MAX_SUBSTEPS:
+                break
+            if ksub == 2:
+                n_sub += 1
+        if status != STATUS_OK:
+            return x, S, w, X, status, n_fev, n_sub
+        x[:] = xs
+        if want_sens:
+            S[:, :] = Ss
+            w[:] = ws
+        if store:
+            X[n + 1] = x
+    return x, S, w, X, STATUS_OK, n_fev, n_sub

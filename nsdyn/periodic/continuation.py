@@ -1,0 +1,352 @@
+"""Continuation of periodic orbits in the forcing frequency f, for any periodic model.
+
+A curve of solutions of ``H(x0, f) = phi_T(x0; f) - x0 = 0`` (``T = 1 / f``) is followed
+
+- sequentially (seed 004 §6): at each frequency of a grid, Newton from the secant
+  extrapolation in ``log f`` of the last two points, then from the last point;
+- by pseudo-arclength (Keller) in ``y = (x0, p = log f)``: predictor ``y + ds t`` along the
+  unit tangent ``t`` of ``[dH/dx0, dH/dp] t = 0`` (``dH/dx0 = Phi - I``,
+  ``dH/dp = -T dphi_T/dT``), corrector Newton on the bordered system
+
+      [Phi - I, dH/dp; t^T W^2] dy = -[H; <t, y - y_pred>_W],
+
+  which passes folds (where ``dp/ds -> 0``). ``W`` scales the state per block by the orbit
+  amplitude (times ``state_weight``, AUTO's theta) and ``p`` by 1.
+
+Where shooting fails, the point is found by the stepped sweep (plain time integration until the
+Poincare map is stationary, :mod:`nsdyn.periodic.sweeps`); every point records the method that
+produced it and, for the sweep, why shooting failed. Only the period map, orbit quantities and
+validity notes of a :class:`nsdyn.periodic.protocol.PeriodicModel` are used, so any model
+family supplying one gets continuation and bifurcation detection.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from nsdyn.periodic.bifurcation import detect_bifurcations
+from nsdyn.periodic.curve import Curve, OrbitPoint, _point_from_shoot, _point_from_sweep
+from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation, refined
+from nsdyn.periodic.protocol import STATUS_MESSAGES, STATUS_OK, PeriodicModel
+from nsdyn.periodic.shooting import (
+    SHOOT_MAXIT,
+    SHOOT_TOL,
+    ShootingResult,
+    _evaluate,
+    _weights,
+    orbit_amplitudes,
+    shoot,
+)
+from nsdyn.periodic.sweeps import steady_state_sweep, warm_start
+
+ARC_MAXIT = 8  # corrector iterations per arclength step
+ARC_GOOD = 3  # corrector iterations at or below which the step grows
+ARC_GROW, ARC_SHRINK = 1.5, 0.5  # step factors
+ARC_DS_MIN = 1e-5  # smallest arclength step before falling back to the sweep
+ARC_DS_MAX = 0.5  # largest step (scaled state units: relative change of the orbit)
+ARC_COS_MIN = 0.7  # smallest cosine between successive tangents (branch-jump guard)
+ARC_STATE_WEIGHT = 0.1  # weight of the (amplitude-scaled) state in the arclength norm
+ARC_MAX_CORRECTION = 1.0  # corrector iterates stay within this many ds of the predictor
+ARC_MAX_STEPS_FACTOR = 20  # at most this many x the requested points along a curve
+ARC_PHASE_TOL = 1e-6  # corrector: largest |<t, y - y_pred>_W| at convergence
+
+
+def log_frequencies(fmin: float = 0.01, fmax: float = 10.0, points: int = 150) -> np.ndarray:
+    """``points`` frequencies [Hz] spaced evenly in log f from ``fmin`` to ``fmax``."""
+    return np.geomspace(fmin, fmax, points)
+
+
+def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="shooting"):
+    """Shooting from each guess in turn; if the period could not even be integrated, once more
+    with ``REFINE_FACTOR`` times more steps; then the sweep from the first guess."""
+    why = "no initial guess"
+    integration_failed = False
+    for g in guesses:
+        res = shoot(problem, f, g, tol=tol, max_iter=max_iter, disc=disc)
+        if res.converged:
+            return _point_from_shoot(problem, res, method), res
+        why = res.message
+        integration_failed |= res.monodromy is None
+    if integration_failed and guesses:
+        disc = refined(disc)
+        res = shoot(problem, f, guesses[0], tol=tol, max_iter=max_iter, disc=disc)
+        if res.converged:
+            note = f"{REFINE_FACTOR}x steps per period ({why})"
+            return _point_from_shoot(problem, res, method, note), res
+        why = f"{why}; with {REFINE_FACTOR}x steps: {res.message}"
+    if not fallback:
+        return None, None
+    sw = steady_state_sweep(problem, f, guesses[0] if guesses else None, disc=disc)
+    return _point_from_sweep(problem, sw, why), None
+
+
+def _append(pts: list, pt: OrbitPoint, keep_orbits: bool, progress=None, total: int = 0) -> None:
+    """Append ``pt`` and report it to ``progress(pt, count, total)``; the previous point's
+    orbit is dropped unless ``keep_orbits``."""
+    if pts and not keep_orbits:
+        pts[-1].X = None
+    pts.append(pt)
+    if progress is not None:
+        progress(pt, len(pts), total)
+
+
+def continue_sequential(
+    problem: PeriodicModel,
+    freqs,
+    x0: np.ndarray | None = None,
+    *,
+    disc: Discretisation | None = None,
+    tol: float = SHOOT_TOL,
+    max_iter: int = SHOOT_MAXIT,
+    fallback: bool = True,
+    progress=None,
+    start: list[OrbitPoint] | None = None,
+    keep_orbits: bool = False,
+) -> Curve:
+    """Seed's sequential continuation: shoot at each frequency from the previous solution.
+
+    The guess is the secant extrapolation (in log f) of the last two points, then the last
+    point itself; if both fail, the stepped sweep produces the point (``fallback``).
+    ``start`` resumes a curve (points already computed are kept, frequencies up to the last
+    one skipped). Only the last point keeps its orbit ``X`` unless ``keep_orbits``.
+    """
+    disc = disc or Discretisation()
+    freqs = np.asarray(freqs, dtype=float)
+    pts: list[OrbitPoint] = list(start or [])
+    t0 = time.perf_counter()
+    for f in freqs:
+        if pts and f <= pts[-1].f * (1 + 1e-12):
+            continue
+        guesses = []
+        if len(pts) >= 2:
+            a, b = pts[-2], pts[-1]
+            r = (math.log(f) - math.log(b.f)) / (math.log(b.f) - math.log(a.f))
+            guesses.append(b.x0 + r * (b.x0 - a.x0))
+        if pts:
+            guesses.append(pts[-1].x0)
+        else:
+            guesses.append(warm_start(problem, f, x0, disc))
+        tp = time.perf_counter()
+        pt, _ = _solve_point(problem, f, guesses, disc, tol, max_iter, fallback)
+        if pt is None:
+            continue
+        pt.quantities["wall_s"] = time.perf_counter() - tp
+        _append(pts, pt, keep_orbits, progress, len(freqs))
+    info = {"continuation": "sequential", "wall_s": time.perf_counter() - t0}
+    return Curve(problem.amplitude, pts, detect_bifurcations(pts), info)
+
+
+def _tangent(Jx, Jp, W, t_prev):
+    """Unit tangent of H(x, p) = 0 (scaled norm) oriented along ``t_prev``."""
+    d = Jx.shape[0]
+    Wf = np.concatenate([W, [1.0]])
+    Aug = np.zeros((d + 1, d + 1))
+    Aug[:d, :d] = Jx
+    Aug[:d, d] = Jp
+    Aug[d, :] = t_prev * Wf * Wf
+    rhs = np.zeros(d + 1)
+    rhs[d] = 1.0
+    t = np.linalg.solve(Aug, rhs)
+    t /= np.linalg.norm(Wf * t)
+    if (t * Wf * Wf) @ t_prev < 0:
+        t = -t
+    return t
+
+
+def _along_p(d: int) -> np.ndarray:
+    """The tangent (0, ..., 0, 1): straight up in log f."""
+    t = np.zeros(d + 1)
+    t[d] = 1.0
+    return t
+
+
+def continue_arclength(
+    problem: PeriodicModel,
+    fmin: float,
+    fmax: float,
+    *,
+    points: int = 150,
+    x0: np.ndarray | None = None,
+    disc: Discretisation | None = None,
+    tol: float = SHOOT_TOL,
+    max_iter: int = SHOOT_MAXIT,
+    fallback: bool = True,
+    progress=None,
+    start: list[OrbitPoint] | None = None,
+    state_weight: float = ARC_STATE_WEIGHT,
+    keep_orbits: bool = False,
+) -> Curve:
+    """Pseudo-arclength continuation in ``(x0, p = log f)`` from ``fmin`` to ``fmax``.
+
+    Unknowns are scaled per block by the orbit amplitude at the last point and the state by
+    ``state_weight`` (AUTO's theta), so the step ``ds`` measures a weighted relative change of
+    the orbit plus a change of log f: a small weight lets the steps follow log f where the
+    curve is monotone in f (the isolated frame's orbits vary a lot with f) while folds, where
+    dp/ds -> 0, are still passed. The step in log f is
+    capped at ``log(fmax/fmin) / (points - 1)`` (at least ``points`` points on the curve);
+    it grows after easy corrector solves and halves after failures; below ``ARC_DS_MIN`` the
+    next frequency is taken by the stepped sweep and continuation restarts from it.
+    """
+    disc = disc or Discretisation()
+    pmin, pmax = math.log(fmin), math.log(fmax)
+    dp_max = (pmax - pmin) / max(points - 1, 1)
+    t0 = time.perf_counter()
+    pts: list[OrbitPoint] = list(start or [])
+    d = problem.dim
+
+    def add(pt, tp=None):
+        if tp is not None:
+            pt.quantities["wall_s"] = time.perf_counter() - tp
+        _append(pts, pt, keep_orbits, progress, points)
+
+    if not pts:
+        xg = warm_start(problem, fmin, x0, disc)
+        pt, res = _solve_point(problem, fmin, [xg], disc, tol, max_iter, fallback, "arclength")
+        if pt is None:
+            raise RuntimeError(f"no periodic solution found at f = {fmin:g} Hz")
+        pt.s = 0.0
+        add(pt)
+    s_acc = pts[-1].s if np.isfinite(pts[-1].s) else 0.0
+    t_prev = _along_p(d)
+    ds = dp_max
+    max_steps = ARC_MAX_STEPS_FACTOR * points
+    steps = 0
+    need_restart = True  # tangent must be computed from scratch at the last point
+    J_last = None
+    while steps < max_steps:
+        steps += 1
+        last = pts[-1]
+        p_last = math.log(last.f)
+        if p_last >= pmax - 1e-12 or p_last < pmin - 0.5 * (pmax - pmin):
+            break
+        if last.X is None:  # resumed point: its orbit for the scaling
+            last.X = problem.period_map(last.x0, last.f, disc=disc, sens=False, store=True).X
+        amp = orbit_amplitudes(problem, last.X)
+        W = state_weight * _weights(problem, amp)
+        Wf = np.concatenate([W, [1.0]])
+        N = disc.steps(1.0 / last.f)
+        if need_restart or J_last is None:
+            res0 = shoot(problem, last.f, last.x0, tol=tol, max_iter=max_iter, disc=disc, n_steps=N)
+            if not res0.converged:
+                # continue from a sweep point: step on with the sweep
+                f_next = min(math.exp(p_last + dp_max), fmax)
+                pt, _ = _solve_point(
+                    problem, f_next, [last.x0], disc, tol, max_iter, fallback, "arclength"
+                )
+                if pt is None:
+                    break
+                pt.s = s_acc = s_acc + abs(math.log(f_next) - p_last)
+                add(pt)
+                continue
+            J_last = (res0.monodromy - np.eye(d), res0.dxdT * (-1.0 / last.f), res0.x0)
+            need_restart = False
+        Jx, Jp, xl = J_last
+        tan = _tangent(Jx, Jp, W, t_prev)
+        last.dlogf_ds = float(tan[d])
+        # step size: cap the change of log f
+        ds_cap = dp_max / max(abs(tan[d]), 1e-12)
+        ds = min(ds, ds_cap, ARC_DS_MAX)
+        tp = time.perf_counter()
+        ok, msg, its = False, "", 0
+        y0 = np.concatenate([xl, [p_last]])
+        while ds >= ARC_DS_MIN:
+            y_pred = y0 + ds * tan
+            if y_pred[d] > pmax and tan[d] > 0:
+                # last step: land on fmax exactly (natural-parameter corrector there)
+                y_end = y0 + ((pmax - p_last) / tan[d]) * tan
+                res = shoot(
+                    problem, fmax, y_end[:d], tol=tol, max_iter=max_iter, disc=disc, n_steps=N
+                )
+                if res.converged:
+                    pt = _point_from_shoot(problem, res, "arclength")
+                    y = np.concatenate([res.x0, [pmax]])
+                    s_acc += float(np.linalg.norm(Wf * (y - y0)))
+                    pt.s = s_acc
+                    add(pt, tp)
+                    ok = True
+                    break
+                msg = res.message
+                ds *= ARC_SHRINK
+                continue
+            ok, y, res, its, rr, msg = _corrector(problem, y_pred, tan, W, N, disc, tol, ds)
+            if ok:
+                Jx_n = res.monodromy - np.eye(d)
+                Jp_n = res.dxdT * (-1.0 / math.exp(y[d]))
+                tan_new = _tangent(Jx_n, Jp_n, W, tan)
+                cosang = float((tan_new * Wf * Wf) @ tan)
+                if cosang >= ARC_COS_MIN:
+                    break
+                ok = False
+                turn = math.degrees(math.acos(max(-1.0, min(1.0, cosang))))
+                msg = f"tangent turned by {turn:.0f} deg"
+            ds *= ARC_SHRINK
+        if ok and pts[-1].f >= fmax * (1 - 1e-12):
+            break
+        if not ok:
+            # fallback: stepped sweep to the next frequency, then restart
+            f_next = min(math.exp(p_last + dp_max), fmax)
+            why = f"arclength corrector failed down to ds = {ARC_DS_MIN:.0e}: {msg}"
+            if not fallback:
+                break
+            sw = steady_state_sweep(problem, f_next, last.x0, disc=disc)
+            pt = _point_from_sweep(problem, sw, why)
+            pt.s = s_acc = s_acc + abs(math.log(f_next) - p_last)
+            add(pt, tp)
+            need_restart = True
+            t_prev = _along_p(d)
+            ds = dp_max
+            continue
+        pt = _point_from_shoot(problem, res, "arclength")
+        pt.f = math.exp(y[d])
+        s_acc += float(np.linalg.norm(Wf * (y - y0)))
+        pt.s = s_acc
+        pt.dlogf_ds = float(tan_new[d])
+        add(pt, tp)
+        J_last = (Jx_n, Jp_n, y[:d].copy())
+        t_prev = tan_new
+        ds = ds * ARC_GROW if its <= ARC_GOOD else ds
+    info = {"continuation": "arclength", "wall_s": time.perf_counter() - t0, "steps": steps}
+    return Curve(problem.amplitude, pts, detect_bifurcations(pts), info)
+
+
+def _corrector(problem, y_pred, tan, W, N, disc, tol, ds):
+    """Newton on [H(x, p); <t, y - y_pred>_W] = 0 (Keller's pseudo-arclength).
+
+    Iterates that leave the ball of radius ``ARC_MAX_CORRECTION * ds`` around the predictor
+    are rejected (the step is then halved): a converged point far away would be on another
+    part of the curve.
+    """
+    d = problem.dim
+    Wf = np.concatenate([W, [1.0]])
+    Wf2 = Wf**2
+    y = y_pred.copy()
+    res = None
+    for it in range(ARC_MAXIT + 1):
+        f = math.exp(y[d])
+        pm, _, r = _evaluate(problem, y[:d], f, N, disc)
+        if pm.status != STATUS_OK:
+            return False, y, None, it, np.inf, STATUS_MESSAGES[pm.status]
+        H = pm.xT - y[:d]
+        g = float((tan * Wf2) @ (y - y_pred))
+        res = ShootingResult(f, y[:d].copy(), r <= tol, it, r, pm.monodromy, pm.dxdT, pm.X, N)
+        if r <= tol and abs(g) <= ARC_PHASE_TOL:
+            return True, y, res, it, r, "converged"
+        if it == ARC_MAXIT:
+            break
+        Aug = np.zeros((d + 1, d + 1))
+        Aug[:d, :d] = pm.monodromy - np.eye(d)
+        Aug[:d, d] = pm.dxdT * (-1.0 / f)
+        Aug[d, :] = tan * Wf2
+        try:
+            dy = np.linalg.solve(Aug, -np.concatenate([H, [g]]))
+        except np.linalg.LinAlgError:
+            return False, y, None, it, r, "singular bordered Newton matrix"
+        y = y + dy
+        dist = float(np.linalg.norm(Wf * (y - y_pred)))
+        if dist > ARC_MAX_CORRECTION * ds:
+            return False, y, None, it + 1, r, f"corrector left the predictor by {dist / ds:.1f} ds"
+    msg = f"no convergence in {ARC_MAXIT} corrector iterations (residual {r:.1e})"
+    return False, y, res, ARC_MAXIT, r, msg

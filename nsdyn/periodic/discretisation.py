@@ -1,0 +1,80 @@
+"""How one forcing period is discretised: the SDIRK tableau and the number of fixed steps.
+
+A period ``T`` is integrated with ``N = clip(ceil(T / dt_max), n_min, n_max)`` equal steps
+``h = T / N`` of a stiffly accurate, L-stable singly diagonally implicit Runge-Kutta method
+
+    Y_i = x_n + h sum_j a_ij F(t_n + c_i h, Y_j),   a_ij = 0 for j > i,   a_ii = gamma,
+    x_{n+1} = Y_s                                   (stiffly accurate: b = last row of A)
+
+whose stage equations are solved by Newton's method to ``rtol`` / ``atol``. The tableaux are
+backward Euler (order 1) and Alexander's (1977) SDIRK2 and SDIRK3 (Hairer & Wanner IV.6).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+STAGE_RTOL = 1e-9  # stage Newton tolerance (relative)
+STAGE_ATOL = 1e-13  # stage Newton tolerance (absolute, m and m/s)
+REFINE_FACTOR = 4  # more steps per period when a period cannot be integrated
+
+
+def _sdirk2():
+    """Alexander (1977), 2 stages, order 2, gamma = 1 - 1/sqrt(2)."""
+    g = 1.0 - math.sqrt(0.5)
+    return np.array([[g, 0.0], [1.0 - g, g]]), np.array([g, 1.0])
+
+
+def _sdirk3():
+    """Alexander (1977), 3 stages, order 3, gamma = 0.4358665215 (Hairer-Wanner IV.6)."""
+    g = 0.43586652150845899942
+    b1 = -(6 * g * g - 16 * g + 1) / 4
+    b2 = (6 * g * g - 20 * g + 5) / 4
+    A = np.array([[g, 0, 0], [(1 - g) / 2, g, 0], [b1, b2, g]])
+    return A, np.array([g, (1 + g) / 2, 1.0])
+
+
+TABLEAUX = {
+    "euler": lambda: (np.array([[1.0]]), np.array([1.0])),  # backward Euler, order 1
+    "sdirk2": _sdirk2,
+    "sdirk3": _sdirk3,
+}
+ORDER = {"euler": 1, "sdirk2": 2, "sdirk3": 3}
+
+
+@dataclass(frozen=True)
+class Discretisation:
+    """Fixed-step integration of one period: ``N = clip(ceil(T / dt_max), n_min, n_max)``."""
+
+    method: str = "sdirk2"
+    n_min: int = 200  # steps per period at least (high frequencies)
+    dt_max: float = 0.02  # s, longest step (low frequencies: resolves the 0.5-5 Hz modes)
+    n_max: int = 20000
+    rtol: float = STAGE_RTOL
+    atol: float = STAGE_ATOL
+
+    def steps(self, T: float) -> int:
+        """Number of steps ``N`` for the period ``T`` [s]."""
+        return int(min(self.n_max, max(self.n_min, math.ceil(T / self.dt_max - 1e-9))))
+
+    def tableau(self) -> tuple[np.ndarray, np.ndarray]:
+        """The Butcher matrix ``A`` (s, s) and nodes ``c`` (s,) of ``method``."""
+        if self.method not in TABLEAUX:
+            raise ValueError(f"method: expected one of {sorted(TABLEAUX)}, got {self.method!r}")
+        return TABLEAUX[self.method]()
+
+
+def refined(disc: Discretisation, factor: float = REFINE_FACTOR) -> Discretisation:
+    """The same discretisation with ``factor`` times the steps per period (``factor`` < 1:
+    fewer; at least one step)."""
+    if not (factor > 0 and math.isfinite(factor)):
+        raise ValueError(f"factor: expected a positive number, got {factor!r}")
+    return replace(
+        disc,
+        n_min=max(1, int(round(disc.n_min * factor))),
+        dt_max=disc.dt_max / factor,
+        n_max=max(1, int(round(disc.n_max * factor))),
+    )

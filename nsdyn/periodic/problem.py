@@ -1,0 +1,318 @@
+"""Harmonically forced problems for the periodic solvers: the isolated frame and Duffing.
+
+Seed 004 §6, eqs (23)-(27). Under ``u''_hor = A sin(2 pi f t)`` (``u''_ver = 0``, gravity
+kept) or a force ``b A sin(2 pi f t)`` (``load=HarmonicForce(...)``: its dofs, weights and
+phase) the isolated structure (a frame, or a system built from matrices) moves on the
+contact manifold ``R q = 0`` (``Q = I`` without contacts); with ``Q`` an orthonormal
+null-space basis of ``R`` the minimal coordinates are ``z = Q^T q`` (``q = Q z``) and
+
+    zdd = Q^T qdd(Q z, Q zd),     x = [z, zd]                                      (eq 27)
+
+with the products ``Q^T M^-1 K Q``, ``R M^-1 K Q``, ... precomputed once
+(:func:`manifold_matrices`). The test problem is the Duffing oscillator
+
+    x'' + 2 zeta w0 x' + w0^2 x + gamma x^3 = F cos(2 pi f t).
+
+:class:`PeriodicProblem` integrates one period of either with the fixed-step SDIRK kernels of
+:mod:`nsdyn.periodic._kperiodic` and satisfies :class:`nsdyn.periodic.protocol.PeriodicModel`;
+it also computes the seed's Fig. 9 quantities on an orbit.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from nsdyn.ground.excitation import Harmonic, HarmonicForce
+from nsdyn.models.isolated import _kernel as ks
+from nsdyn.models.isolated.friction import sticks
+from nsdyn.models.isolated.params import KernelParams, pack, with_ground
+from nsdyn.periodic import _kperiodic as kp
+from nsdyn.periodic.discretisation import Discretisation
+from nsdyn.periodic.protocol import PeriodMap
+
+DUFFING_W = 4  # index of the forcing circular frequency w in pf = [zeta, w0, gamma, F, w]
+PROBE_SAMPLES = 65  # output times of the radau uplift probe over one period
+
+_DUMMY_P = None
+
+
+def _dummy_params() -> tuple:
+    """A kernel tuple of the right type for problems that do not use it (Duffing)."""
+    global _DUMMY_P
+    if _DUMMY_P is None:
+        _DUMMY_P = pack(np.eye(1), np.zeros((1, 1)), np.zeros((1, 1)), np.zeros((1, 2)))
+    return _DUMMY_P
+
+
+_DUMMY_Z = tuple(np.zeros((1, 1)) for _ in range(kp.N_Z))
+
+
+@dataclass
+class PeriodicProblem:
+    """A harmonically forced system whose period map the kernels integrate.
+
+    ``x_ref`` is the unforced reference state (the static gravity equilibrium of a frame);
+    the state is ``[z, zd]`` with ``m`` position coordinates. ``Z`` holds the precomputed
+    manifold matrices of :mod:`nsdyn.periodic._kperiodic` (``Z[0] = Q``).
+    """
+
+    prob: int
+    P: tuple
+    Z: tuple
+    pf: np.ndarray
+    x_ref: np.ndarray
+    amplitude: float
+    system: object = None
+    name: str = ""
+    _cache: dict = field(default_factory=dict, repr=False)
+    load: HarmonicForce | None = None  # force excitation (None: ground acceleration)
+
+    @property
+    def Q(self) -> np.ndarray:
+        return self.Z[kp.Z_Q]
+
+    @property
+    def m(self) -> int:
+        return self.x_ref.size // 2
+
+    @property
+    def dim(self) -> int:
+        return self.x_ref.size
+
+    def to_full(self, X: np.ndarray) -> np.ndarray:
+        """Minimal-coordinate states ``[z, zd]`` (shape (..., 2m)) as full states
+        ``[q, qd] = [Q z, Q zd]`` (shape (..., 2n))."""
+        Q, m = self.Q, self.m
+        return np.concatenate([X[..., :m] @ Q.T, X[..., m:] @ Q.T], axis=-1)
+
+    def to_minimal(self, X: np.ndarray) -> np.ndarray:
+        """Full states ``[q, qd]`` as ``[Q^T q, Q^T qd]`` (Q has orthonormal columns: exact on
+        the contact manifold R q = 0, its projection elsewhere)."""
+        Q, n = self.Q, self.Q.shape[0]
+        return np.concatenate([X[..., :n] @ Q, X[..., n:] @ Q], axis=-1)
+
+    def at(self, f: float) -> tuple[tuple, np.ndarray]:
+        """Kernel arguments (P, pf) for forcing frequency ``f`` [Hz]."""
+        if self.prob == kp.PROB_FRAME:
+            if self.load is not None:
+                return with_ground(self.P, self.load.at_frequency(f, self.amplitude)), self.pf
+            return with_ground(self.P, Harmonic(self.amplitude, f)), self.pf
+        pf = self.pf.copy()
+        pf[DUFFING_W] = 2 * np.pi * f
+        return self.P, pf
+
+    def period_map(
+        self,
+        x0: np.ndarray,
+        f: float,
+        *,
+        n_steps: int | None = None,
+        disc: Discretisation | None = None,
+        sens: bool = True,
+        store: bool = False,
+    ) -> PeriodMap:
+        """Integrate one forcing period from ``x0`` (t = 0) with ``n_steps`` SDIRK steps."""
+        disc = disc or Discretisation()
+        T = 1.0 / f
+        N = disc.steps(T) if n_steps is None else int(n_steps)
+        A, c = disc.tableau()
+        P, pf = self.at(f)
+        xT, S, w, X, status, nfev, nsub = kp.period_map(
+            self.prob,
+            np.ascontiguousarray(x0, dtype=float),
+            T,
+            N,
+            P,
+            self.Z,
+            pf,
+            A,
+            c,
+            sens,
+            store,
+            disc.rtol,
+            disc.atol,
+        )
+        return PeriodMap(
+            xT,
+            S if sens else None,
+            w if sens else None,
+            X if store else None,
+            int(status),
+            N,
+            int(nfev),
+            int(nsub),
+        )
+
+    def orbit_quantities(self, f: float, X: np.ndarray) -> dict:
+        """Maximum over one period (and all levels) of the seed's Fig. 9 quantities.
+
+        ``idr``: interstorey drift ratio (column lines, all storeys; NaN for a model without
+        storey heights; ``acc`` NaN without levels); ``acc``: absolute
+        horizontal floor acceleration (all nodes of every level, base included);
+        ``acc_floors``: the same over the levels above the isolators (``nsdyn run``'s
+        ``floor_acc_max``); ``x_iso``: half the peak-to-peak isolator slip ``D q`` (largest
+        isolator); ``stick_all_period``: every isolator sticks over the whole period as
+        :mod:`nsdyn.models.isolated.friction` defines it for the arctan law (friction below
+        ``STICK_UTILISATION`` of its limit; False for other laws). For the Duffing problem:
+        ``amp`` (half the peak-to-peak displacement) and ``x_max`` only.
+        """
+        m = self.m
+        if self.prob == kp.PROB_DUFFING:
+            x = X[:, 0]
+            return {"amp": 0.5 * float(x.max() - x.min()), "x_max": float(np.abs(x).max())}
+        sysm = self.system
+        cache = self._cache
+        if "od" not in cache:
+            from nsdyn.models.isolated.metrics import output_rows
+
+            od = output_rows(sysm)
+            cache["od"] = od
+            cache["Tj"] = None if od["joints"] is None else od["joints"] @ self.Q  # (l, c, m)
+            cache["Tl"] = od["levels"]
+        N = X.shape[0] - 1
+        t = np.linspace(0.0, 1.0 / f, N + 1)
+        n = self.Q.shape[0]
+        Xf = np.ascontiguousarray(self.to_full(X))
+        P, _ = self.at(f)
+        nc, ni = sysm.n_contacts, sysm.n_isolators
+        QDD = np.empty((N + 1, n))
+        LAM = np.empty((N + 1, nc))
+        TAU = np.empty((N + 1, ni))
+        MODES = np.empty((N + 1, ni), dtype=np.int64)
+        ks.evaluate_many(t, Xf, P, QDD, LAM, TAU, MODES)
+        G = ks.ground_many(t, P)
+        ug = np.zeros((N + 1, 1)) if self.load is not None else G[:, :1]
+        od = cache["od"]
+        idr = math.nan
+        if cache["Tj"] is not None and od["heights"] is not None:
+            U = np.einsum("lcj,tj->tlc", cache["Tj"], X[:, :m])
+            drift = np.abs(np.diff(U, axis=1)) / np.asarray(od["heights"])[None, :, None]
+            idr = float(drift.max()) if drift.size else 0.0
+        acc_levels = [float(np.max(np.abs(QDD @ Tl.T + ug))) for Tl in cache["Tl"]]
+        acc = max(acc_levels, default=math.nan)
+        acc_floors = max(acc_levels[1:] if len(acc_levels) > 1 else acc_levels, default=math.nan)
+        q = Xf[:, :n]
+        xi = q @ sysm.D.T
+        x_iso = float(0.5 * np.max(xi.max(axis=0) - xi.min(axis=0))) if xi.size else 0.0
+        v = Xf[:, n:] @ sysm.D.T
+        kpar = KernelParams(P)
+        stick = kpar.law == "arctan" and bool(np.all(sticks(v, "arctan", kpar.eps)))
+        return {
+            "idr": idr,
+            "acc": acc,
+            "acc_floors": acc_floors,
+            "x_iso": x_iso,
+            "stick_all_period": stick,
+            "v_slip_max": float(np.max(np.abs(v))) if v.size else 0.0,
+            "min_normal_force": float(LAM.min()) if LAM.size else math.nan,
+            "uplift": bool(LAM.size and LAM.min() <= 0.0),
+        }
+
+    def quantities_without_orbit(self, f: float, x0: np.ndarray) -> tuple[dict, str]:
+        """NaN quantities for a point whose period from ``x0`` could not be integrated; for
+        a frame, ``uplift`` and the note come from :func:`uplift_probe`."""
+        keys = ("idr", "acc", "acc_floors", "x_iso", "v_slip_max", "min_normal_force")
+        q = dict.fromkeys(keys, math.nan)
+        q["stick_all_period"] = None
+        q["uplift"] = None  # unknown unless the frame's probe decides
+        probe = ""
+        if self.prob == kp.PROB_FRAME:
+            q["uplift"], probe = uplift_probe(self, f, x0)
+        return q, probe
+
+    def validity_note(self, quantities: dict) -> str:
+        """A contact lifts off (normal force <= 0): the bilateral contacts no longer hold."""
+        if quantities.get("uplift"):
+            fmin = quantities.get("min_normal_force", math.nan)
+            what = (
+                f"min normal force {fmin:.3g} N < 0" if np.isfinite(fmin) else "a normal force <= 0"
+            )
+            return f"uplift: {what} (the bilateral contact model is outside its validity)"
+        return ""
+
+
+def orbit_quantities(problem: PeriodicProblem, f: float, X: np.ndarray) -> dict:
+    """The quantities of the orbit ``X`` (see :meth:`PeriodicProblem.orbit_quantities`)."""
+    return problem.orbit_quantities(f, X)
+
+
+def uplift_probe(problem: PeriodicProblem, f: float, x0: np.ndarray) -> tuple[bool | None, str]:
+    """Does a contact lift off within one period from ``x0`` (minimal coordinates)?
+
+    Adaptive radau in the coordinates q (Baumgarte contacts, normal forces checked at every
+    step), for points whose fixed-step period could not be integrated. Returns (True: a
+    normal force reached zero, False: none did, None: radau failed too; a note saying which).
+    """
+    from nsdyn.solve.integrate import IntegrationError, UpliftError, solve
+
+    P, _ = problem.at(f)
+    t = np.linspace(0.0, 1.0 / f, PROBE_SAMPLES)
+    try:
+        solve(P, problem.to_full(x0), t, method="radau", uplift="raise")
+    except UpliftError as e:
+        return True, f"radau probe from the period's start: uplift at t = {e.t:.4g} s"
+    except IntegrationError as e:
+        return None, f"radau probe from the period's start failed at t = {e.t:.4g} s: {e.reason}"
+    return False, "radau probe from the period's start: no uplift over one period"
+
+
+def manifold_matrices(system, P: tuple) -> tuple:
+    """The tuple Z of :mod:`nsdyn.periodic._kperiodic` (products on q = Q z precomputed once)."""
+    Q = np.ascontiguousarray(system.Q)
+    kpar = KernelParams(P)
+    mats = kpar.matrices()
+    MiK, MiC, Gam = mats["MiK"], mats["MiC"], mats["Gamma"]
+    R, MiRt, D, MiDt = mats["R"], mats["MiRt"], mats["D"], mats["MiDt"]
+    ni = D.shape[0]
+    parts = [None] * kp.N_Z
+    parts[kp.Z_Q], parts[kp.Z_QT] = Q, Q.T
+    parts[kp.Z_KZ], parts[kp.Z_CZ] = Q.T @ MiK @ Q, Q.T @ MiC @ Q
+    parts[kp.Z_QG] = Q.T @ Gam
+    parts[kp.Z_QMIRT], parts[kp.Z_QMIDT] = Q.T @ MiRt, Q.T @ MiDt
+    parts[kp.Z_RAZ], parts[kp.Z_RAV] = R @ MiK @ Q, R @ MiC @ Q
+    parts[kp.Z_RG] = R @ Gam
+    parts[kp.Z_G0], parts[kp.Z_GD] = R @ MiRt, R @ MiDt
+    parts[kp.Z_DQ] = D @ Q
+    parts[kp.Z_MU] = kpar.mu.reshape(1, ni)  # friction coefficients
+    parts[kp.Z_L0] = kpar.lam_static.reshape(1, ni)
+    return tuple(np.ascontiguousarray(a, dtype=float) for a in parts)
+
+
+def frame_problem(
+    system, amplitude: float, *, law: str | None = None, load: HarmonicForce | None = None
+) -> PeriodicProblem:
+    """The isolated ``system`` under ``u''_hor = amplitude sin(2 pi f t)`` on z = Q^T q, or
+    under the force ``amplitude sin(2 pi f t + phase)`` on ``load``'s dofs (its own F and f
+    are replaced by ``amplitude`` and each frequency of the continuation).
+
+    Only smooth friction laws ("arctan", "none") give a differentiable period map.
+    """
+    if system.isolation is None:
+        raise ValueError("shooting needs an isolated model; the fixed base is linear (use FRFs)")
+    law = law or system.isolation.law
+    if law not in ("arctan", "none"):
+        raise ValueError(f"shooting needs a smooth friction law ('arctan' or 'none'), got {law!r}")
+    if load is not None and not isinstance(load, HarmonicForce):
+        raise TypeError(f"load: expected a HarmonicForce, got {type(load).__name__}")
+    exc = Harmonic(amplitude, 1.0) if load is None else load.at_frequency(1.0, amplitude)
+    P = system.params(exc, law=law)
+    Z = manifold_matrices(system, P)
+    Q = Z[kp.Z_Q]
+    x_static, _ = system.static_equilibrium()
+    z0 = Q.T @ x_static[: system.n]
+    x_ref = np.concatenate([z0, np.zeros_like(z0)])
+    return PeriodicProblem(
+        kp.PROB_FRAME, P, Z, np.zeros(5), x_ref, float(amplitude), system, system.name, load=load
+    )
+
+
+def duffing_problem(zeta: float, w0: float, gamma: float, F: float) -> PeriodicProblem:
+    """``x'' + 2 zeta w0 x' + w0^2 x + gamma x^3 = F cos(2 pi f t)`` (test problem)."""
+    pf = np.array([zeta, w0, gamma, F, 1.0], dtype=float)
+    Z = (np.eye(1),) * 2 + _DUMMY_Z[2:]
+    return PeriodicProblem(
+        kp.PROB_DUFFING, _dummy_params(), Z, pf, np.zeros(2), float(F), None, "duffing"
+    )

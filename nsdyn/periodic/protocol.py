@@ -1,0 +1,106 @@
+"""What shooting, steady-state sweeps and continuation ask of a model: the period map.
+
+A harmonically forced model with period ``T = 1 / f`` supplies the period map
+
+    x0  ->  phi_T(x0; f),     Phi = d phi_T / d x0  (monodromy),     w = d phi_T / d T
+
+on a state ``x = [z, zd]`` of two equal blocks (positions, velocities; ``dim`` entries in all).
+Everything else is model-independent: shooting solves ``H(x0, f) = phi_T(x0; f) - x0 = 0``
+with ``dH/dx0 = Phi - I``; the Floquet multipliers ``rho`` are the eigenvalues of ``Phi``;
+pseudo-arclength continuation needs ``dH/dlog f = -T w``; residuals are scaled per block by the
+orbit's largest excursion from the reference state ``x_ref``. A model family reuses
+:mod:`nsdyn.periodic.shooting`, :mod:`nsdyn.periodic.sweeps` and
+:mod:`nsdyn.periodic.continuation` by supplying an object satisfying :class:`PeriodicModel`
+(the isolated frame's and the Duffing oscillator's is
+:class:`nsdyn.periodic.problem.PeriodicProblem`).
+
+A period map reports a status: ``STATUS_OK`` (0) or a failure code of
+:data:`STATUS_MESSAGES` (the codes of the fixed-step kernels).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol, runtime_checkable
+
+import numpy as np
+
+from nsdyn.periodic import _kperiodic as kp
+
+if TYPE_CHECKING:
+    from nsdyn.periodic.discretisation import Discretisation
+
+STATUS_OK = kp.STATUS_OK  # the period was integrated
+STATUS_NOT_STEADY = 4  # sweep: no steady state within the allowed periods
+STATUS_MESSAGES = {
+    STATUS_NOT_STEADY: "no steady state within the allowed periods",
+    kp.STATUS_OK: "ok",
+    kp.STATUS_STAGE: "a stage Newton iteration did not converge (try more steps per period)",
+    kp.STATUS_SINGULAR: "singular constraint system or iteration matrix",
+    kp.STATUS_NONFINITE: "the state became inf/nan (try more steps per period)",
+}
+
+
+@dataclass
+class PeriodMap:
+    """One period integrated from ``x0``: end state, derivatives, orbit, status."""
+
+    xT: np.ndarray  # (dim,) state after one period
+    monodromy: np.ndarray | None  # (dim, dim) d xT / d x0
+    dxdT: np.ndarray | None  # (dim,) d xT / d T
+    X: np.ndarray | None  # (N + 1, dim) states at the step points
+    status: int
+    n_steps: int
+    n_fev: int
+    n_sub: int  # steps that had to be split into substeps
+
+
+@runtime_checkable
+class PeriodicModel(Protocol):
+    """A harmonically forced model as seen by shooting, sweeps and continuation.
+
+    Attributes
+    ----------
+    x_ref : ndarray, shape (dim,)
+        Unforced reference state ``[z, zd]`` (a static equilibrium): the default start and the
+        origin of the orbit amplitudes that scale every residual.
+    amplitude : float
+        Forcing amplitude (recorded on the curves).
+    dim : int
+        Length of the state (even: positions then velocities).
+    """
+
+    x_ref: np.ndarray
+    amplitude: float
+
+    @property
+    def dim(self) -> int: ...
+
+    def period_map(
+        self,
+        x0: np.ndarray,
+        f: float,
+        *,
+        n_steps: int | None = ...,
+        disc: Discretisation | None = ...,
+        sens: bool = ...,
+        store: bool = ...,
+    ) -> PeriodMap:
+        """One period ``T = 1 / f`` from ``x0`` at t = 0 with ``n_steps`` steps (default None:
+        ``disc.steps(T)``; ``disc`` None: the default :class:`Discretisation`); ``sens``
+        (default True): also ``monodromy`` and ``dxdT``; ``store`` (default False): also
+        ``X``."""
+        ...
+
+    def orbit_quantities(self, f: float, X: np.ndarray) -> dict:
+        """Response quantities of the orbit ``X`` (shape (N + 1, dim), one period)."""
+        ...
+
+    def quantities_without_orbit(self, f: float, x0: np.ndarray) -> tuple[dict, str]:
+        """The quantities (NaN or None where unknown) of a point whose period from ``x0`` could
+        not be integrated, and a note on why (may be empty)."""
+        ...
+
+    def validity_note(self, quantities: dict) -> str:
+        """A remark when ``quantities`` show the model outside its validity, else ``""``."""
+        ...

@@ -1,0 +1,161 @@
+"""Shooting for periodic orbits: the period map, Newton's method on it, Floquet multipliers.
+
+Seed 004 §6, eqs (18)-(22). A periodic solution of period ``T = 1 / f`` solves
+
+    H(x0, f) = phi_T(x0; f) - x0 = 0                                               (eq 19)
+
+with ``phi_T`` the period map of a :class:`nsdyn.periodic.protocol.PeriodicModel`. Newton's
+method (eqs 20-22) uses ``dH/dx0 = Phi - I`` where the monodromy ``Phi`` is the exact
+derivative of the discrete period map actually integrated, with an Armijo line search on
+``|W H|``, ``W`` the per-block inverse orbit amplitudes. The eigenvalues ``rho`` of ``Phi``
+are the Floquet multipliers: the orbit is stable when all ``|rho| < 1``.
+
+Stability caveat: the discrete map damps the undamped kHz boundary modes of the isolated frame
+(L-stability, ``R(inf) = 0``); the exact flow would keep multipliers of modulus 1 for them.
+The reported multipliers are those of the discretised map.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from nsdyn.periodic.discretisation import Discretisation
+from nsdyn.periodic.protocol import STATUS_MESSAGES, STATUS_OK, PeriodicModel, PeriodMap
+
+SHOOT_TOL = 1e-6  # relative shooting residual for convergence (per block, to the orbit range)
+SHOOT_MAXIT = 12  # Newton iterations per shooting solve
+SHOOT_STALL = 10.0  # a stalled Newton (no descent) counts as converged below this x tol
+LS_HALVINGS = 6  # line-search step halvings before giving up
+LS_ALPHA = 1e-4  # Armijo constant of the line search
+AMP_FLOOR = 1e-12  # smallest orbit amplitude used for scaling [m, m/s]
+
+
+def period_map(problem: PeriodicModel, x0: np.ndarray, f: float, **options) -> PeriodMap:
+    """One forcing period of ``problem`` from ``x0`` (t = 0): ``problem.period_map(x0, f,
+    **options)`` with the options ``n_steps``, ``disc``, ``sens``, ``store`` of
+    :meth:`nsdyn.periodic.protocol.PeriodicModel.period_map`."""
+    return problem.period_map(x0, f, **options)
+
+
+def floquet_multipliers(monodromy: np.ndarray) -> np.ndarray:
+    """Eigenvalues ``rho`` of the monodromy (dim, dim), sorted by decreasing modulus."""
+    rho = np.linalg.eigvals(monodromy)
+    return rho[np.argsort(-np.abs(rho), kind="stable")]
+
+
+def orbit_amplitudes(problem: PeriodicModel, X: np.ndarray) -> tuple[float, float]:
+    """Largest excursion of the displacement and of the velocity block of ``X`` (samples in
+    minimal coordinates) from the static state, each at least AMP_FLOOR: the scales of the
+    shooting residual and closure tests."""
+    m = problem.dim // 2
+    dX = np.abs(X - problem.x_ref[None, :])
+    return max(float(dX[:, :m].max()), AMP_FLOOR), max(float(dX[:, m:].max()), AMP_FLOOR)
+
+
+def _weights(problem: PeriodicModel, amp: tuple[float, float]) -> np.ndarray:
+    """Per-entry scaling ``W`` (dim,) of a state difference: 1 / amplitude of its block."""
+    m = problem.dim // 2
+    return np.concatenate([np.full(m, 1.0 / amp[0]), np.full(m, 1.0 / amp[1])])
+
+
+@dataclass
+class ShootingResult:
+    """Outcome of one shooting solve at frequency ``f``."""
+
+    f: float
+    x0: np.ndarray
+    converged: bool
+    iterations: int
+    residual: float
+    monodromy: np.ndarray | None
+    dxdT: np.ndarray | None
+    X: np.ndarray | None
+    n_steps: int
+    message: str = ""
+    history: list = field(default_factory=list)
+
+    @property
+    def multipliers(self) -> np.ndarray:
+        return floquet_multipliers(self.monodromy)
+
+
+def _evaluate(problem, x, f, N, disc):
+    """Period map from ``x`` with sensitivities and orbit, its scaling ``W`` and the scaled
+    residual ``max |W (phi_T(x) - x)|`` (inf when the period could not be integrated)."""
+    pm = problem.period_map(x, f, n_steps=N, disc=disc, sens=True, store=True)
+    if pm.status != STATUS_OK:
+        return pm, None, np.inf
+    amp = orbit_amplitudes(problem, pm.X)
+    W = _weights(problem, amp)
+    H = pm.xT - x
+    return pm, W, float(np.max(np.abs(W * H)))
+
+
+def shoot(
+    problem: PeriodicModel,
+    f: float,
+    x0: np.ndarray | None = None,
+    *,
+    tol: float = SHOOT_TOL,
+    max_iter: int = SHOOT_MAXIT,
+    disc: Discretisation | None = None,
+    n_steps: int | None = None,
+) -> ShootingResult:
+    """Newton's method with an Armijo line search on ``H(x0) = phi_T(x0) - x0`` (eqs 19-22).
+
+    The residual is ``max_i |H_i| / range_i`` with ``range`` the orbit's largest excursion from
+    the reference state in the position and velocity blocks. ``iterations`` counts Newton
+    updates (a linear system converges after one).
+    """
+    disc = disc or Discretisation()
+    N = disc.steps(1.0 / f) if n_steps is None else int(n_steps)
+    x = problem.x_ref.copy() if x0 is None else np.array(x0, dtype=float)
+    pm, W, r = _evaluate(problem, x, f, N, disc)
+    hist = [r]
+    if pm.status != STATUS_OK:
+        why = f"initial period: {STATUS_MESSAGES[pm.status]}"
+        return ShootingResult(f, x, False, 0, r, None, None, None, N, why, hist)
+    it = 0
+    msg = ""
+    while r > tol:
+        if it >= max_iter:
+            msg = f"no convergence in {max_iter} Newton iterations (residual {r:.2e})"
+            break
+        H = pm.xT - x
+        Jn = pm.monodromy - np.eye(x.size)
+        try:
+            dx = np.linalg.solve(Jn, -H)
+        except np.linalg.LinAlgError:
+            msg = "singular Newton matrix Phi - I (a multiplier at +1: fold or creep mode)"
+            break
+        if not np.all(np.isfinite(dx)):
+            msg = "Newton step not finite"
+            break
+        merit = float(np.linalg.norm(W * H))
+        alpha = 1.0
+        accepted = False
+        for _ in range(LS_HALVINGS + 1):
+            xt = x + alpha * dx
+            pt, Wt, rt = _evaluate(problem, xt, f, N, disc)
+            if pt.status == STATUS_OK:
+                mt = float(np.linalg.norm(W * (pt.xT - xt)))
+                if mt <= (1.0 - LS_ALPHA * alpha) * merit or rt <= tol:
+                    accepted = True
+                    break
+            alpha *= 0.5
+        if not accepted:
+            if r <= SHOOT_STALL * tol:
+                # no descent left: the residual sits on the round-off floor of the map
+                msg = f"converged (stalled at the period map's round-off, residual {r:.1e})"
+                return ShootingResult(f, x, True, it, r, pm.monodromy, pm.dxdT, pm.X, N, msg, hist)
+            msg = f"line search failed after {LS_HALVINGS} halvings (residual {r:.2e})"
+            break
+        x, pm, W, r = xt, pt, Wt, rt
+        it += 1
+        hist.append(r)
+    ok = r <= tol
+    return ShootingResult(
+        f, x, ok, it, r, pm.monodromy, pm.dxdT, pm.X, N, msg if not ok else "converged", hist
+    )

@@ -1,0 +1,270 @@
+"""Shared numba pieces of the integrators: status codes, norms, dense LU, contact monitor.
+
+The steppers live in :mod:`nsdyn.solve._kdopri` (explicit Dormand-Prince 5(4)),
+:mod:`nsdyn.solve._kradau` (Radau IIA order 5), :mod:`nsdyn.solve._kgenalpha`
+(generalized-alpha family) and :mod:`nsdyn.solve._kevent` (event-driven switch model on the
+Radau stepper). Each integrates the first-order system of the isolated frame::
+
+    xd = f(t, x) = [qd, qdd(t, q, qd)],   x = [q, qd]
+
+(accelerations, normal forces lam and friction forces tau from the system kernel
+:mod:`nsdyn.models.isolated._kernel`), runs its whole time loop inside numba and calls the
+system kernels as module globals (never as arguments: a jitted function passed as an
+argument defeats numba's on-disk cache).
+
+Every stepper reports through two small arrays: ``stats`` (int64, layout ``S_*``) and
+``rinfo`` (float64, layout ``R_*``); the front door :mod:`nsdyn.solve.integrate` turns them
+into a ``Solution``.
+"""
+
+from pathlib import Path
+
+import numpy as np
+from numba import njit
+
+from nsdyn._klinalg import lu_factor, lu_solve  # noqa: F401  (the integrators' LU)
+from nsdyn._numba_cache import guard_family
+from nsdyn.models.isolated import _kernel as ks
+
+# integrator kernel modules (numba-cached, in this folder); their compiled code also depends on
+# the isolated frame's system kernel, which they inline
+KERNEL_MODULES = ("_kcommon", "_kdopri", "_kradau", "_kgenalpha", "_kevent")
+
+# stale caches across files: the system kernel and the shared LU are compiled into ours
+_NSDYN = Path(__file__).resolve().parents[1]
+guard_family(__file__, [_NSDYN / "models" / "isolated" / "_kernel.py", _NSDYN / "_klinalg.py"])
+
+# ---- status codes (kernel -> front door; messages in nsdyn.solve.integrate.MESSAGES) -------------
+ST_SUCCESS = 0  # reached the last output time
+ST_STEP_UNDERFLOW = -1  # step size fell below the floor
+ST_MAX_STEPS = -2  # step budget exhausted
+ST_NONFINITE = -3  # NaN/inf in the state or right-hand side
+ST_SINGULAR = -4  # constraint system (contacts + stuck isolators) singular
+ST_NEWTON = -5  # fixed-step Newton iteration diverged / did not converge
+ST_UPLIFT = -6  # a normal force reached zero (uplift) with uplift="raise"
+ST_LU_SINGULAR = -7  # iteration matrix singular
+ST_EVENTS = -8  # too many switching events at (nearly) one instant, or event buffer full
+
+# ---- integer statistics, float info ---------------------------------------------------------
+S_STATUS, S_NSTEP, S_NREJ, S_NFEV, S_NJEV, S_NLU, S_NOUT, S_NEVENT, S_CONTACT = range(9)
+N_STATS = 9
+R_T, R_H, R_RES = 0, 1, 2  # time of stop, last step size, last Newton residual
+R_HNEXT = 3  # step size to continue with (next proposed step; dt for fixed steps)
+N_RINFO = 4
+
+UPLIFT_RAISE, UPLIFT_WARN = 0, 1
+
+# ---- tuning constants --------------------------------------------------------------------------
+MIN_STEP = 1e-12  # s, absolute floor of the step size (plus 10 ulp of t)
+NEWTON_DIV_RATE = 1.0  # contraction rate above which a Newton iteration counts as diverging
+
+
+@njit(cache=True)
+def step_floor(t):
+    """Smallest admissible step at time ``t``: MIN_STEP or 10 ulp of t, whichever is larger."""
+    return max(MIN_STEP, 10.0 * 2.220446049250313e-16 * abs(t))
+
+
+@njit(cache=True)
+def next_kink(t, P):
+    """First sample time of a tabulated ground record strictly after ``t`` (inf if none).
+
+    The record is interpolated linearly, so the right-hand side has a kink at every sample:
+    adaptive steps end on them (as SUNDIALS' tstop / diffrax's jump_ts) instead of being
+    rejected and shrunk around each one.
+    """
+    if P[ks.I_IPAR][ks.K_GROUND] != ks.GROUND_TABLE:
+        return np.inf
+    npts = P[ks.I_AH].shape[0]
+    if npts == 0:
+        return np.inf
+    gp = P[ks.I_GPAR]
+    t0 = gp[ks.G_T0]
+    dt = gp[ks.G_DT]
+    k = np.floor((t - t0) / dt) + 1.0
+    if k < 0.0:
+        k = 0.0
+    tk = t0 + k * dt
+    if tk <= t + 1e-9 * dt:
+        k += 1.0
+        tk = t0 + k * dt
+    if k > npts - 1:
+        return np.inf
+    return tk
+
+
+@njit(cache=True, inline="always")
+def all_finite(a):
+    for i in range(a.shape[0]):
+        if not np.isfinite(a[i]):
+            return False
+    return True
+
+
+@njit(cache=True)
+def scaled_rms(e, y0, y1, atol, rtol):
+    """RMS norm of ``e / (atol + rtol max(|y0|, |y1|))``."""
+    n = e.shape[0]
+    s = 0.0
+    for i in range(n):
+        sc = atol[i] + rtol * max(abs(y0[i]), abs(y1[i]))
+        s += (e[i] / sc) ** 2
+    return np.sqrt(s / n)
+
+
+@njit(cache=True, inline="always")
+def _finite_input(t, x, out):
+    """False (out NaN-filled) for a non-finite state or time: the system kernel never sees
+    NaN (its pinv fallback raises on NaN)."""
+    if all_finite(x) and np.isfinite(t):
+        return True
+    out[:] = np.nan
+    return False
+
+
+@njit(cache=True, inline="always")
+def _first_order(x, qdd, out):
+    """out = [qd, qdd] from the state x = [q, qd] and the accelerations."""
+    n = qdd.shape[0]
+    for i in range(n):
+        out[i] = x[n + i]
+        out[n + i] = qdd[i]
+
+
+@njit(cache=True, inline="always")
+def feval(t, x, P, out, qdd, lam, tau, modes):
+    """out = [qd, qdd] at (t, x), also normal forces ``lam``, friction ``tau`` and ``modes``.
+
+    Returns the kernel's ok flag (False: singular constraint system or non-finite input).
+    """
+    if not _finite_input(t, x, out):
+        return False
+    ok = ks.evaluate(t, x, P, qdd, lam, tau, modes)
+    _first_order(x, qdd, out)
+    return ok
+
+
+@njit(cache=True, inline="always")
+def feval_inline(t, x, P, out, qdd, lam, tau, modes):
+    """:func:`feval` with the system kernel inlined (for the hottest call site only: inlining
+    it everywhere multiplies the compile time)."""
+    if not _finite_input(t, x, out):
+        return False
+    ok = ks.evaluate_inline(t, x, P, qdd, lam, tau, modes)
+    _first_order(x, qdd, out)
+    return ok
+
+
+@njit(cache=True)
+def jeval(t, x, P, J):
+    """Analytic Jacobian at (t, x) into J; NaN-filled (False) for a non-finite state."""
+    if not all_finite(x):
+        J[:, :] = np.nan
+        return False
+    ks.jac(t, x, P, J)
+    return True
+
+
+@njit(cache=True)
+def check_contacts(t_old, t_new, lam_old, lam_new, upl_t, uplift_mode, stats, rinfo):
+    """Record the first uplift (lam_k <= 0) of every contact; True if the run must stop.
+
+    The uplift instant is interpolated linearly in lam between the two step ends.
+    """
+    stop = False
+    t_first = np.inf
+    for k in range(lam_new.shape[0]):
+        if lam_new[k] <= 0.0 and np.isnan(upl_t[k]):
+            lo = lam_old[k]
+            tk = t_new
+            if lo > 0.0 and t_new > t_old:
+                tk = t_old + (t_new - t_old) * lo / (lo - lam_new[k])
+            upl_t[k] = tk
+            if uplift_mode == UPLIFT_RAISE and tk < t_first:
+                t_first = tk
+                stats[S_STATUS] = ST_UPLIFT
+                stats[S_CONTACT] = k
+                rinfo[R_T] = tk
+                stop = True
+    return stop
+
+
+@njit(cache=True)
+def advance(t, t_new, y, ynew, lam_old, lam, iout, upl_t, uplift_mode, stats, rinfo):
+    """Bookkeeping of an accepted step [t, t_new] whose outputs up to ``iout`` are written:
+    the contact check, then y = ynew, lam_old = lam and the time reached (unless stopped).
+
+    Returns True when the run must stop (uplift with ``uplift="raise"``).
+    """
+    stats[S_NOUT] = iout
+    stop = check_contacts(t, t_new, lam_old, lam, upl_t, uplift_mode, stats, rinfo)
+    if not stop:
+        rinfo[R_T] = t_new
+    y[:] = ynew
+    lam_old[:] = lam
+    return stop
+
+
+@njit(cache=True)
+def start(t, y, P, f, qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo):
+    """The common start of every integrator at (t, y): f = f(t, y) (with lam, tau, modes),
+    the outputs at t_eval <= t written to X, lam_old = lam, and the contact check.
+
+    Returns the index of the first output still to write, or -1 when the run stops here
+    (status set in ``stats``: non-finite start, singular constraints, or uplift).
+    """
+    ok = feval(t, y, P, f, qdd, lam, tau, modes)
+    stats[S_NFEV] += 1
+    if not (all_finite(y) and all_finite(f)):
+        stats[S_STATUS] = ST_NONFINITE
+        return -1
+    if not ok:
+        stats[S_STATUS] = ST_SINGULAR
+        return -1
+    lam_old[:] = lam
+    iout = 0
+    while iout < t_eval.shape[0] and t_eval[iout] <= t:
+        X[iout] = y
+        iout += 1
+    stats[S_NOUT] = iout
+    if check_contacts(t, t, lam, lam, upl_t, uplift_mode, stats, rinfo):
+        return -1
+    return iout
+
+
+@njit(cache=True)
+def initial_step(t0, y0, f0, t_end, max_step, order, rtol, atol, P, y1, f1, qdd, lam, tau, modes):
+    """Starting step size (Hairer, Norsett & Wanner I, sec. II.4; as scipy's
+    ``select_initial_step``). Costs one right-hand side evaluation."""
+    n = y0.shape[0]
+    length = abs(t_end - t0)
+    if length == 0.0:
+        return 0.0
+    d0 = 0.0
+    d1 = 0.0
+    for i in range(n):
+        sc = atol[i] + abs(y0[i]) * rtol
+        d0 += (y0[i] / sc) ** 2
+        d1 += (f0[i] / sc) ** 2
+    d0 = np.sqrt(d0 / n)
+    d1 = np.sqrt(d1 / n)
+    if d0 < 1e-5 or d1 < 1e-5:
+        h0 = 1e-6
+    else:
+        h0 = 0.01 * d0 / d1
+    h0 = min(h0, length)
+    for i in range(n):
+        y1[i] = y0[i] + h0 * f0[i]
+    feval(t0 + h0, y1, P, f1, qdd, lam, tau, modes)
+    d2 = 0.0
+    for i in range(n):
+        sc = atol[i] + abs(y0[i]) * rtol
+        d2 += ((f1[i] - f0[i]) / sc) ** 2
+    d2 = np.sqrt(d2 / n) / h0
+    if not np.isfinite(d2):
+        return max(MIN_STEP, h0 * 1e-3)
+    if d1 <= 1e-15 and d2 <= 1e-15:
+        h1 = max(1e-6, h0 * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / (order + 1))
+    return min(100.0 * h0, h1, length, max_step)

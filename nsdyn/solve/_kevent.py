@@ -1,0 +1,452 @@
+"""Event-driven switch model: modes held fixed between switching instants (Radau stepper).
+
+Between events every isolator ``i`` is in a fixed mode (``P[I_MODE][i]``, law LAW_MODES):
+slip +1/-1 (friction mu_i lamf_i opposing that direction) or stick 0 (D_i qdd + kappa D_i qd
+= 0, friction tau_i a constraint force). The vector field is then smooth (linear in x), and
+the switching functions are
+
+    slip  s:  g_i = s v_i                        slip -> stick/reversal when it crosses 0
+    stick  :  g_i = mu_i lamf_i - |tau_i|        stick -> slip (direction sign tau_i)
+
+At a slip isolator's zero crossing the stick is accepted if the stick force evaluated with
+mode 0 obeys |tau_i| <= mu_i lamf_i, else the slip continues with the reversed direction
+(sign of that force). Each isolator has its own state; isolators reaching their switching
+surface within EVENT_TTOL of each other switch together.
+
+Stepper: Radau IIA (:mod:`nsdyn.solve._kradau`) because the isolated frames are stiff (undamped kHz
+Craig-Bampton boundary modes). Roots are bracketed by scanning g at a few points of the dense
+output of each step (a stuck structure has no local error, so its steps grow while the stick
+forces follow the excitation; the front door also caps the step by the excitation), located
+by the Illinois method on the dense output (cubic in the step; for the stick function each
+iterate evaluates the constraint forces), and the step is redone to land exactly on the root.
+A new slip opposes the sliding velocity when it is resolved (|v| > V_SLIP_ATOL atol), else it
+follows the stick force; a slipping isolator held at v ~ 0 by a stuck one on the same rigid
+base (a ~ 0) is not a stick candidate, and sign changes at round-off level are ignored.
+For slip -> stick the landing is polished by Newton corrections dt = -g/g' (g' = s a_i,
+exact) with redone steps until |dt| <= EVENT_TTOL, so the isolator sticks with a residual
+velocity at the integrator's accuracy. After each event the stepper restarts (fresh Jacobian,
+no step history). A sign change and its reversal within one step are not seen: limit
+``max_step`` if the excitation can do that.
+"""
+
+import numpy as np
+from numba import njit
+
+from nsdyn.models.isolated import _kernel as ks
+from nsdyn.solve import _kcommon as ki
+from nsdyn.solve import _kradau as kr
+
+EVENT_TTOL = 1e-12  # s, time tolerance of the event location (and simultaneity window)
+ROOT_MAXITER = 200  # Illinois iterations
+SLIP_SAMPLES = 8  # dense-output samples per step scanned for a slip sign change (cheap)
+STICK_SAMPLES = 4  # samples per step for a stick sign change (one force evaluation each)
+POLISH_MAX = 4  # Newton corrections of a slip -> stick landing
+STICK_RTOL = 1e-12  # relative slack of the stick test |tau| <= mu lamf
+SETTLE_PASSES = 16  # passes to reach a consistent mode set at an event
+BURST_DT = 1e-9  # s, events closer than this count as one burst
+MAX_BURST = 50  # events in one burst before reporting chattering (ST_EVENTS)
+MODE_AUTO = 2  # initial mode: decide from the initial state
+V_AUTO = 1e-12  # m/s, |v| at or below which the initial mode is decided by the stick test
+V_NOISE = 1e-12  # m/s, sliding speeds this small are round-off (an isolator locked by another)
+A_NOISE = 1e-9  # m/s^2, sliding accelerations this small are round-off
+V_SLIP_ATOL = 10.0  # |v| > this x atol (velocities) counts as motion when choosing a direction
+
+
+@njit(cache=True)
+def _lamf(i, lam, P):
+    if P[ks.I_IPAR][ks.K_FROZEN] == 1:
+        return P[ks.I_LAM0][i]
+    if i < lam.shape[0]:
+        return lam[i]
+    return 0.0
+
+
+@njit(cache=True)
+def _dot_row(D, i, y, off):
+    s = 0.0
+    for j in range(D.shape[1]):
+        s += D[i, j] * y[off + j]
+    return s
+
+
+@njit(cache=True)
+def _g_stick(i, lam, tau, P):
+    return P[ks.I_MU][i] * _lamf(i, lam, P) - abs(tau[i])
+
+
+@njit(cache=True)
+def _g_dense(kind, i, sgn, x, y, Qd, t, h, P, ew):
+    """Switching function of isolator i on the dense output at t + x h.
+
+    ``ew = (ys, fs, qdd, lam, tau, modes)``: scratch state and right-hand side, then the
+    outputs of the system kernel (lam, tau are left at t + x h for the stick function)."""
+    ys, fs, qdd, lam, tau, modes = ew
+    D = P[ks.I_D]
+    n = D.shape[1]
+    if kind == 0:
+        v = 0.0
+        for j in range(n):
+            k = n + j
+            v += D[i, j] * (y[k] + x * (Qd[k, 0] + x * (Qd[k, 1] + x * Qd[k, 2])))
+        return sgn * v
+    kr.dense(y, Qd, x, ys)
+    ki.feval(t + x * h, ys, P, fs, qdd, lam, tau, modes)
+    return _g_stick(i, lam, tau, P)
+
+
+@njit(cache=True)
+def _root(kind, i, sgn, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
+    """Illinois on x in [a, b] for g(a) = fa >= 0 > fb = g(b). Returns x with g(x) <= 0."""
+    xtol = EVENT_TTOL / h
+    side = 0
+    for _ in range(ROOT_MAXITER):
+        if b - a <= xtol:
+            break
+        c = (a * fb - b * fa) / (fb - fa)
+        if not (a < c < b):
+            c = 0.5 * (a + b)
+        fc = _g_dense(kind, i, sgn, c, y, Qd, t, h, P, ew)
+        if kind == 1:
+            stats[ki.S_NFEV] += 1
+        if fc > 0.0:
+            a, fa = c, fc
+            if side == 1:
+                fb *= 0.5
+            side = 1
+        elif fc < 0.0:
+            b, fb = c, fc
+            if side == -1:
+                fa *= 0.5
+            side = -1
+        else:
+            return c
+    return b
+
+
+@njit(cache=True)
+def _detect(t, h, y, ynew, Qd, P, ew, stats):
+    """Earliest switching instant in the step [t, t + h]: returns (x, isolator, kind), x = 2
+    when none. The switching functions are scanned at SLIP_SAMPLES / STICK_SAMPLES points of
+    the dense output (a stuck, locked structure has no local error, so its steps grow large
+    while the stick forces follow the excitation) and the first bracket is refined by
+    Illinois. Leaves lam, tau at the step end."""
+    ys, fs, qdd, lam, tau, modes = ew
+    D = P[ks.I_D]
+    n = D.shape[1]
+    pm = P[ks.I_MODE]
+    x_best = 2.0
+    i_best = -1
+    k_best = 0
+    any_stick = False
+    for i in range(D.shape[0]):
+        if pm[i] == 0:
+            any_stick = True
+            continue
+        sg = float(pm[i])
+        xa = 0.0
+        ga = sg * _dot_row(D, i, y, n)
+        for k in range(1, SLIP_SAMPLES + 1):
+            xb = k / SLIP_SAMPLES
+            if xb >= x_best:
+                break
+            if k == SLIP_SAMPLES:
+                gb = sg * _dot_row(D, i, ynew, n)
+            else:
+                gb = _g_dense(0, i, sg, xb, y, Qd, t, h, P, ew)
+            # a genuine crossing, not round-off around v = 0 (a slipping isolator held at
+            # v = 0 by a stuck one on the same rigid base)
+            if gb < 0.0 and (gb < -V_NOISE or ga > V_NOISE):
+                xr = _root(0, i, sg, xa, xb, max(ga, 0.0), gb, y, Qd, t, h, P, ew, stats)
+                if xr < x_best:
+                    x_best, i_best, k_best = xr, i, 0
+                break
+            xa, ga = xb, gb
+    if any_stick:
+        # g at the step start, then at the samples (one evaluation each, shared by isolators)
+        ni = D.shape[0]
+        g0 = np.empty(ni)
+        ki.feval(t, y, P, fs, qdd, lam, tau, modes)
+        stats[ki.S_NFEV] += 1
+        for i in range(ni):
+            g0[i] = _g_stick(i, lam, tau, P)
+        xa = 0.0
+        for k in range(1, STICK_SAMPLES + 1):
+            xb = k / STICK_SAMPLES
+            if xb >= x_best:
+                break
+            kr.dense(y, Qd, xb, ys)
+            ki.feval(t + xb * h, ys, P, fs, qdd, lam, tau, modes)
+            stats[ki.S_NFEV] += 1
+            found = False
+            for i in range(ni):
+                if pm[i] != 0:
+                    continue
+                gb = _g_stick(i, lam, tau, P)
+                if gb < 0.0:
+                    xr = _root(1, i, 0.0, xa, xb, max(g0[i], 0.0), gb, y, Qd, t, h, P, ew, stats)
+                    if xr < x_best:
+                        x_best, i_best, k_best = xr, i, 1
+                    found = True
+                    kr.dense(y, Qd, xb, ys)
+                    ki.feval(t + xb * h, ys, P, fs, qdd, lam, tau, modes)
+                    stats[ki.S_NFEV] += 1
+                g0[i] = gb
+            if found:
+                break
+            xa = xb
+        # restore the step-end forces for the contact monitor
+        ki.feval(t + h, ynew, P, fs, qdd, lam, tau, modes)
+        stats[ki.S_NFEV] += 1
+    return x_best, i_best, k_best
+
+
+@njit(cache=True)
+def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
+    """Consistent mode set at an event (t, y); records the changes in ``log = (ev_t, ev_i,
+    ev_m)``. Returns ok (False: the event buffer is full).
+
+    A slipping isolator reaching v = 0 (the trigger, or any other decelerating to v = 0
+    within EVENT_TTOL; not one held at v ~ 0 by a stuck isolator on the same rigid base,
+    whose acceleration is ~ 0) is tried in stick; a stuck isolator whose stick force leaves
+    the friction cone slips. A new slip direction opposes the velocity when |v| > v_tol
+    (Coulomb), else it follows the stick force it replaces.
+    """
+    qdd, lam, tau, modes = ew[2:]
+    ev_t, ev_i, ev_m = log
+    pm = P[ks.I_MODE]
+    D = P[ks.I_D]
+    mu = P[ks.I_MU]
+    n = D.shape[1]
+    ni = D.shape[0]
+    old = pm.copy()
+    ki.feval(t, y, P, f, qdd, lam, tau, modes)
+    stats[ki.S_NFEV] += 1
+    for i in range(ni):
+        v = _dot_row(D, i, y, n)
+        if pm[i] == MODE_AUTO:
+            pm[i] = 0
+        elif pm[i] != 0:
+            s = float(pm[i])
+            ga = s * _dot_row(D, i, qdd, 0)
+            if i == trigger or (-ga > A_NOISE and s * v <= EVENT_TTOL * -ga):
+                if abs(v) > v_tol:
+                    pm[i] = 1 if v > 0.0 else -1
+                else:
+                    pm[i] = 0
+        elif i == trigger or _g_stick(i, lam, tau, P) < 0.0:
+            if abs(v) > v_tol:
+                pm[i] = 1 if v > 0.0 else -1
+            else:
+                pm[i] = 1 if tau[i] >= 0.0 else -1
+    for _ in range(SETTLE_PASSES):
+        ki.feval(t, y, P, f, qdd, lam, tau, modes)
+        stats[ki.S_NFEV] += 1
+        changed = False
+        for i in range(ni):
+            if pm[i] == 0 and abs(tau[i]) > mu[i] * _lamf(i, lam, P) * (1.0 + STICK_RTOL):
+                v = _dot_row(D, i, y, n)
+                if abs(v) > v_tol:
+                    pm[i] = 1 if v > 0.0 else -1
+                else:
+                    pm[i] = 1 if tau[i] >= 0.0 else -1
+                changed = True
+        if not changed:
+            break
+    for i in range(ni):
+        if pm[i] != old[i]:
+            k = stats[ki.S_NEVENT]
+            if k >= ev_t.shape[0]:
+                return False
+            ev_t[k] = t
+            ev_i[k] = i
+            ev_m[k] = pm[i]
+            stats[ki.S_NEVENT] += 1
+    return True
+
+
+@njit(cache=True)
+def _initial_modes(P, y, modes0):
+    pm = P[ks.I_MODE]
+    D = P[ks.I_D]
+    n = D.shape[1]
+    for i in range(D.shape[0]):
+        m = modes0[i]
+        if m == MODE_AUTO:
+            v = _dot_row(D, i, y, n)
+            if abs(v) > V_AUTO:
+                m = 1 if v > 0.0 else -1
+        pm[i] = m
+
+
+@njit(cache=True)
+def _switch_at(t, y, P, f, ws, ew, trigger, v_tol, log, ctl, h_resume, max_step, burst, stats):
+    """Switch the modes at an event (t, y) and restart the stepper there: consistent modes
+    (:func:`_settle`), f = f(t, y) and the Jacobian with them, no step history, the step
+    ``min(h_resume, max_step)``. ``burst = [t, count]`` of the current burst of events.
+
+    Returns False (status ST_EVENTS) when the event buffer is full or the events chatter
+    (MAX_BURST events with gaps of at most BURST_DT).
+    """
+    if not _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
+        stats[ki.S_STATUS] = ki.ST_EVENTS
+        return False
+    ki.feval(t, y, P, f, ew[2], ew[3], ew[4], ew[5])
+    ki.jeval(t, y, P, ws[0])
+    stats[ki.S_NFEV] += 1
+    stats[ki.S_NJEV] += 1
+    kr.restart(ctl)
+    ctl[kr.C_CURJ] = 1.0
+    ctl[kr.C_H] = min(h_resume, max_step)
+    if t - burst[0] <= BURST_DT:
+        burst[1] += 1.0
+    else:
+        burst[1] = 0.0
+    burst[0] = t
+    if burst[1] >= MAX_BURST:
+        stats[ki.S_STATUS] = ki.ST_EVENTS
+        return False
+    return True
+
+
+@njit(cache=True)
+def event_switch(
+    P, x0, t_eval, atol, rtol, h0, max_step, max_steps, modes0, uplift_mode, X, upl_t, log
+):
+    """Event-driven switch-model integration; same outputs as :func:`nsdyn.solve._kradau.radau`.
+
+    ``P`` must have law LAW_MODES; ``P[I_MODE]`` is overwritten with the live modes.
+    ``modes0`` (ni,): +1/-1/0, or MODE_AUTO (slip along v if |v| > V_AUTO, else stick test).
+    Events are written to ``log = (ev_t, ev_i, ev_m)`` (time, isolator, new mode); their count
+    is ``stats[S_NEVENT]``.
+    """
+    n2 = x0.shape[0]
+    n = n2 // 2
+    D = P[ks.I_D]
+    ni = D.shape[0]
+    nt = t_eval.shape[0]
+    pm = P[ks.I_MODE]
+    stats, rinfo, ws, y, f, lam_old = kr.setup(P, x0, t_eval, upl_t.shape[0])
+    ynew, fnew, Qd, lam = ws[15], ws[16], ws[17], ws[19]
+    # scratch state and right-hand side for the switching functions, the kernel outputs
+    ew = (ws[12], np.empty(n2), ws[18], lam, ws[20], ws[21])
+    # velocities above this are resolved motion (new slips oppose them), below: stick test
+    v_tol = V_SLIP_ATOL * np.max(atol[n:])
+    t = t_eval[0]
+    t_end = t_eval[-1]
+    if not ki.all_finite(y):
+        stats[ki.S_STATUS] = ki.ST_NONFINITE
+        return stats, rinfo
+    _initial_modes(P, y, modes0)
+    auto = False
+    for i in range(ni):
+        if pm[i] == MODE_AUTO:
+            auto = True
+    if auto and not _settle(t, y, P, f, ew, -1, V_AUTO, log, stats):
+        stats[ki.S_STATUS] = ki.ST_EVENTS
+        return stats, rinfo
+    stats[ki.S_NEVENT] = 0  # the initial mode choice is not an event
+    iout, ctl = kr.start(
+        P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats, rinfo
+    )
+    if iout < 0 or iout >= nt:
+        return stats, rinfo
+    t_target = np.inf  # pending event instant to land on
+    ev_iso = -1  # isolator of the pending event
+    ev_kind = 0  # 0: slip -> (stick or reversal), 1: stick -> slip
+    polish = 0
+    h_resume = ctl[kr.C_H]  # step size to resume with after an event
+    burst = np.array([-np.inf, 0.0])  # start and length of the current burst of events
+    while iout < nt:
+        t_lim = min(t_end, t_target, ki.next_kink(t, P))
+        st = kr.radau_step(
+            P, t, y, f, t_lim, False, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo
+        )
+        if st != ki.ST_SUCCESS:
+            stats[ki.S_STATUS] = st
+            rinfo[ki.R_T] = t
+            break
+        t_new = ctl[kr.C_TNEW]
+        h = ctl[kr.C_HSTEP]
+        switch = False
+        redo = False
+        if t_new == t_target:
+            # landed on a located event: polish a slip -> stick landing, then switch
+            if ev_kind == 0 and polish < POLISH_MAX:
+                sg = float(pm[ev_iso])
+                g = sg * _dot_row(D, ev_iso, ynew, n)
+                gd = sg * _dot_row(D, ev_iso, fnew, n)
+                dt = -g / gd if gd < 0.0 else 0.0
+                if dt > EVENT_TTOL and dt >= ki.step_floor(t_new):
+                    t_target = t_new + dt  # not there yet: one more small step
+                    polish += 1
+                elif dt < -EVENT_TTOL and dt > -h:
+                    redo = True  # overshot: land earlier
+                    t_target = t_new + dt
+                    polish += 1
+                else:
+                    switch = True
+            else:
+                switch = True
+        else:
+            # bracket the switching functions over the step, earliest root wins
+            x_best, i_best, k_best = _detect(t, h, y, ynew, Qd, P, ew, stats)
+            if i_best >= 0:
+                ev_iso = i_best
+                ev_kind = k_best
+                polish = 0
+                if ctl[kr.C_H] > 0.0 and not np.isfinite(t_target):
+                    h_resume = max(h, ctl[kr.C_H])
+                t_star = t + x_best * h
+                if t_new - t_star <= EVENT_TTOL:
+                    switch = True
+                    t_target = t_new
+                elif t_star - t <= max(EVENT_TTOL, ki.step_floor(t)):
+                    # event at the step start: discard the step and switch at t
+                    stats[ki.S_NSTEP] -= 1
+                    stats[ki.S_NREJ] += 1
+                    ok = _switch_at(
+                        t,
+                        y,
+                        P,
+                        f,
+                        ws,
+                        ew,
+                        ev_iso,
+                        v_tol,
+                        log,
+                        ctl,
+                        h_resume,
+                        max_step,
+                        burst,
+                        stats,
+                    )
+                    if not ok:
+                        break
+                    t_target = np.inf
+                    continue
+                else:
+                    redo = True
+                    t_target = t_star
+        if redo:
+            # discard the step, redo it from t to land on t_target
+            stats[ki.S_NSTEP] -= 1
+            stats[ki.S_NREJ] += 1
+            ctl[kr.C_HPREV] = 0.0
+            ctl[kr.C_H] = t_target - t
+            continue
+        iout, stop = kr.accept(
+            t, y, f, ctl, ws, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats, rinfo
+        )
+        t = t_new
+        if stop:
+            break
+        if switch:
+            ok = _switch_at(
+                t, y, P, f, ws, ew, ev_iso, v_tol, log, ctl, h_resume, max_step, burst, stats
+            )
+            lam_old[:] = lam
+            if not ok:
+                break
+            t_target = np.inf
+    rinfo[ki.R_HNEXT] = ctl[kr.C_H]
+    return stats, rinfo

@@ -1,0 +1,282 @@
+"""The integration methods by name: option checking, one runner per method, compilation.
+
+Every method integrates the first-order system of the isolated frame (seed 004, eqs 8-15)::
+
+    xd = f(t, x) = [qd, qdd(t, q, qd)],   x = [q, qd]
+
+with its whole time loop in a numba kernel (:mod:`nsdyn.solve._kradau`,
+:mod:`nsdyn.solve._kdopri`, :mod:`nsdyn.solve._kgenalpha`, :mod:`nsdyn.solve._kevent`). A
+runner turns the checked options into that kernel's arguments; :data:`METHODS` maps each name
+to its runner, and :func:`warmup` compiles (or loads) the kernels on a tiny system. The front
+door is :func:`nsdyn.solve.integrate.solve`.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from nsdyn.ground.excitation import Harmonic
+from nsdyn.models.isolated.params import KernelParams, pack, with_law
+from nsdyn.solve import _kcommon as ki
+from nsdyn.solve import _kdopri, _kevent, _kgenalpha, _kradau
+
+__all__ = ["METHODS", "Method", "make_options", "warmup"]
+
+MAX_EVENTS = 100_000  # switching events recorded by method "event"
+EVENT_STEPS_PER_PERIOD = 8  # "event": largest step = 1/8 period of a harmonic excitation
+EVENT_SAMPLES_PER_STEP = 4  # "event": largest step = 4 samples of a ground record
+# default spectral radius at infinity of the generalized-alpha family (numerical damping of
+# the unresolved kHz boundary modes: each step multiplies them by about rho_inf)
+DEFAULT_RHO_INF = {"genalpha": 0.8, "hht": 0.8, "newmark": 1.0}
+
+
+@dataclass(frozen=True)
+class Options:
+    """Checked options of one run (see :func:`make_options`)."""
+
+    rtol: float
+    atol: np.ndarray
+    dt: float
+    h0: float
+    adaptive: bool
+    max_step: float
+    max_steps: int
+    uplift_mode: int
+    rho_inf: float | None
+    modes0: np.ndarray | None
+
+
+@dataclass(frozen=True)
+class Method:
+    """An integration method:
+    ``run(P, x0, t_eval, opts, X, upl_t) -> (stats, rinfo, events, modes)``."""
+
+    name: str
+    kernel: str  # warmup key of the numba kernel it uses
+    fixed_step: bool  # needs dt
+    run: Callable
+
+
+def make_options(
+    x0, method, rtol, atol, dt, h0, adaptive, max_step, max_steps, uplift, rho_inf, modes0
+) -> Options:
+    """Check the options of a run with ``method`` from state ``x0`` (length 2n).
+
+    ``atol`` may be a number, a pair (atol_q, atol_v) or 2n values. Raises ValueError naming
+    the option and the expected form.
+    """
+    n2 = x0.size
+    a = np.asarray(atol, dtype=float)
+    if a.ndim == 0:
+        atol_arr = np.full(n2, float(a))
+    elif a.shape == (2,):  # (displacements, velocities)
+        atol_arr = np.repeat(a, n2 // 2)
+    elif a.shape == (n2,):
+        atol_arr = a.copy()
+    else:
+        raise ValueError(
+            f"atol: expected a number, a pair (atol_q, atol_v) or {n2} values, got shape {a.shape}"
+        )
+    if not (rtol > 0 and np.all(atol_arr >= 0)) or not np.all(np.isfinite(atol_arr)):
+        raise ValueError(f"tolerances: expected rtol > 0 and atol >= 0, got {rtol}, {atol}")
+    if uplift not in ("raise", "warn"):
+        raise ValueError(f"uplift: expected 'raise' or 'warn', got {uplift!r}")
+    if (method.fixed_step or not adaptive) and (dt is None or not dt > 0):
+        raise ValueError(
+            f"method {method.name!r} with a fixed step needs dt > 0 (e.g. dt=1e-3), got {dt}"
+        )
+    if dt is not None and adaptive and not method.fixed_step:
+        raise ValueError(
+            f"dt is the fixed step of fixed-step runs; for the adaptive {method.name!r} pass "
+            "adaptive=False to step with dt, or h0= for the first step"
+        )
+    if method.name == "event" and not adaptive:
+        raise ValueError("method 'event' is adaptive only (its steps land on the events)")
+    if not max_steps >= 1:
+        raise ValueError(f"max_steps: expected >= 1, got {max_steps}")
+    if not max_step > 0:
+        raise ValueError(f"max_step: expected > 0, got {max_step}")
+    return Options(
+        rtol=float(rtol),
+        atol=atol_arr,
+        dt=float(dt) if dt is not None else 0.0,
+        h0=float(h0) if h0 is not None else 0.0,
+        adaptive=bool(adaptive),
+        max_step=float(max_step),
+        max_steps=int(max_steps),
+        uplift_mode=ki.UPLIFT_RAISE if uplift == "raise" else ki.UPLIFT_WARN,
+        rho_inf=None if rho_inf is None else float(rho_inf),
+        modes0=None if modes0 is None else np.asarray(modes0, dtype=np.int64),
+    )
+
+
+# ---- runners -------------------------------------------------------------------------------
+
+
+def _one_step_runner(kernel):
+    """Runner of a one-step method with error control (dopri5, radau); ``adaptive=False``
+    steps with ``dt`` instead."""
+
+    def run(P, x0, t_eval, o: Options, X, upl_t):
+        fixed = not o.adaptive
+        h0 = o.dt if fixed else o.h0
+        stats, rinfo = kernel(
+            P,
+            x0,
+            t_eval,
+            o.atol,
+            o.rtol,
+            h0,
+            o.max_step,
+            o.max_steps,
+            fixed,
+            o.uplift_mode,
+            X,
+            upl_t,
+        )
+        return stats, rinfo, [], None
+
+    return run
+
+
+def _genalpha_runner(name, family):
+    def run(P, x0, t_eval, o: Options, X, upl_t):
+        rho = DEFAULT_RHO_INF[name] if o.rho_inf is None else o.rho_inf
+        coef = _kgenalpha.parameters(family, rho)
+        stats, rinfo = _kgenalpha.genalpha(
+            P, x0, t_eval, o.atol, o.rtol, o.dt, coef, o.max_steps, o.uplift_mode, X, upl_t
+        )
+        return stats, rinfo, [], None
+
+    return run
+
+
+def _event_max_step(kp: KernelParams) -> float:
+    """Step cap of the event method from the excitation: a stuck structure has no local error,
+    so only this cap makes the scan of the stick forces follow the ground motion."""
+    g = kp.ground
+    if kp.harmonic:
+        f = max(abs(g["f_hor"]) if g["A_hor"] else 0.0, abs(g["f_ver"]) if g["A_ver"] else 0.0)
+        return 1.0 / (EVENT_STEPS_PER_PERIOD * f) if f > 0 else np.inf
+    if g["n_samples"]:
+        return EVENT_SAMPLES_PER_STEP * g["dt"]
+    return np.inf
+
+
+def _run_event(P, x0, t_eval, o: Options, X, upl_t):
+    kp = KernelParams(P)
+    ni = kp.n_isolators
+    if o.modes0 is None:
+        modes0 = np.full(ni, _kevent.MODE_AUTO, dtype=np.int64)
+    else:
+        modes0 = np.ascontiguousarray(o.modes0, dtype=np.int64).reshape(-1)
+        if modes0.size != ni or not np.all(np.isin(modes0, (-1, 0, 1))):
+            raise ValueError(f"modes0: expected {ni} values in (-1, 0, 1), got {o.modes0}")
+    Pm = with_law(P, "modes", modes0)  # private copy of the live mode array
+    max_step = min(o.max_step, _event_max_step(kp))
+    log = (
+        np.zeros(MAX_EVENTS),
+        np.zeros(MAX_EVENTS, dtype=np.int64),
+        np.zeros(MAX_EVENTS, dtype=np.int64),
+    )
+    stats, rinfo = _kevent.event_switch(
+        Pm,
+        x0,
+        t_eval,
+        o.atol,
+        o.rtol,
+        o.h0,
+        max_step,
+        o.max_steps,
+        modes0,
+        o.uplift_mode,
+        X,
+        upl_t,
+        log,
+    )
+    ev_t, ev_i, ev_m = log
+    events = [(float(ev_t[k]), int(ev_i[k]), int(ev_m[k])) for k in range(int(stats[ki.S_NEVENT]))]
+    return stats, rinfo, events, KernelParams(Pm).modes.copy()
+
+
+METHODS: dict[str, Method] = {
+    "radau": Method("radau", "radau", False, _one_step_runner(_kradau.radau)),
+    "dopri5": Method("dopri5", "dopri5", False, _one_step_runner(_kdopri.dopri5)),
+    "event": Method("event", "event", False, _run_event),
+    "genalpha": Method(
+        "genalpha", "genalpha", True, _genalpha_runner("genalpha", _kgenalpha.FAMILY_GENALPHA)
+    ),
+    "hht": Method("hht", "genalpha", True, _genalpha_runner("hht", _kgenalpha.FAMILY_HHT)),
+    "newmark": Method(
+        "newmark", "genalpha", True, _genalpha_runner("newmark", _kgenalpha.FAMILY_NEWMARK)
+    ),
+}
+
+
+# ---- compilation -----------------------------------------------------------------------------
+
+_COMPILED: dict[str, float] = {}  # kernel name -> seconds its compilation took
+
+
+def _tiny_problem():
+    """A two-dof Coulomb block (x slides on a contact at y) under harmonic ground motion."""
+    M = np.eye(2)
+    K = np.diag([4.0, 0.0])
+    P = pack(
+        M,
+        np.zeros((2, 2)),
+        K,
+        np.eye(2),
+        R=[[0.0, 1.0]],
+        D=[[1.0, 0.0]],
+        mu=0.2,
+        lam_static=[9.81],
+        law="arctan",
+        eps=50.0,
+        ground=Harmonic(1.0, 1.0),
+    )
+    x0 = np.array([0.1, 0.0, 0.0, 0.0])
+    return P, x0
+
+
+def compiled(kernel: str) -> bool:
+    """True when the numba kernel ``kernel`` (a ``Method.kernel``) is ready in this process."""
+    return kernel in _COMPILED
+
+
+def warmup(methods=None) -> dict[str, float]:
+    """Compile (or load from numba's cache) the integrator kernels on a tiny system.
+
+    Parameters
+    ----------
+    methods : iterable of str, optional     method names (default: every kernel)
+
+    Returns
+    -------
+    dict kernel name -> seconds spent now (0.0 when it was already compiled in this process).
+    """
+    names = list(METHODS) if methods is None else list(methods)
+    kernels = {}
+    for name in names:
+        m = METHODS[name]
+        kernels.setdefault(m.kernel, m)
+    out = {}
+    P, x0 = _tiny_problem()
+    t_eval = np.linspace(0.0, 0.02, 3)
+    for kname, m in kernels.items():
+        if kname in _COMPILED:
+            out[kname] = 0.0
+            continue
+        t0 = time.perf_counter()
+        dt = 1e-3 if m.fixed_step else None
+        opts = make_options(x0, m, 1e-6, 1e-8, dt, None, True, np.inf, 1000, "warn", None, None)
+        X = np.zeros((t_eval.size, x0.size))
+        upl_t = np.full(KernelParams(P).n_contacts, np.nan)
+        m.run(P, x0, t_eval, opts, X, upl_t)
+        _COMPILED[kname] = time.perf_counter() - t0
+        out[kname] = _COMPILED[kname]
+    return out

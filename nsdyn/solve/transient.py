@@ -1,0 +1,260 @@
+"""Transient earthquake runs: one call from a model and a ground motion to response metrics.
+
+``simulate(system, motion)`` integrates the isolated frame under the ground acceleration
+``u''(t)`` (seed 004, eqs 8-15)::
+
+    M qdd + C qd + K q = -M Gamma [u''_hor, u''_ver + g] + R^T lam - D^T tau
+
+from the static gravity equilibrium with the contacts active (qd = 0 and
+``K q - R^T lam = -M Gamma [0, g]``, ``R q = 0``) or a given state, in chunks (progress after
+each chunk, optional checkpoint file so an interrupted run resumes), and returns the histories
+with the metrics of :mod:`nsdyn.models.isolated.metrics`. The excitation may also be a force
+``b F(t)`` (:class:`nsdyn.ground.HarmonicForce`, :class:`nsdyn.ground.ForceTable`).
+
+The run ends where the excitation does (a record or table) or where the caller says: an
+excitation without a natural end (harmonic) needs ``t_end`` or ``n_periods`` — no default
+duration is guessed. Outputs are the record's samples, or ``HARMONIC_SAMPLES`` per period.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.atomic import atomic_open
+from nsdyn.ground.excitation import is_force, natural_end
+from nsdyn.models.isolated.metrics import Response, response
+from nsdyn.models.isolated.system import IsolatedSystem
+from nsdyn.models.isolated.tolerances import FAST_ATOL, RUN_RTOL, run_atol
+from nsdyn.solve import integrate
+
+# the run defaults live in nsdyn.models.isolated.tolerances; the old names stay importable
+DEFAULT_RTOL = RUN_RTOL
+default_atol = run_atol
+__all__ = [
+    "DEFAULT_RTOL",
+    "FAST_ATOL",
+    "TransientResult",
+    "default_atol",
+    "describe",
+    "output_grid",
+    "simulate",
+]
+
+CHUNK_S = 5.0  # seconds of simulated time per chunk (progress / checkpoint granularity)
+HARMONIC_SAMPLES = 100  # output instants per period of a harmonic excitation (default dt_out)
+
+
+@dataclass
+class TransientResult:
+    """Histories and metrics of one transient run."""
+
+    system: IsolatedSystem
+    t: np.ndarray
+    x: np.ndarray
+    response: Response
+    method: str
+    n_steps: int
+    wall_s: float
+    compile_s: float
+    stats: dict = field(default_factory=dict)
+    uplift: list = field(default_factory=list)
+    excitation: str = ""
+
+    def summary(self) -> dict:
+        out = self.response.summary()
+        out.update(
+            {
+                "model": self.system.name,
+                "fidelity": self.system.fidelity,
+                "excitation": self.excitation,
+                "t_end_s": float(self.t[-1]),
+                "dt_out_s": float(self.t[1] - self.t[0]) if self.t.size > 1 else 0.0,
+                "method": self.method,
+                "uplift": [{"t_s": float(t), "contact": int(k)} for t, k in self.uplift],
+                "n_steps": int(self.n_steps),
+                "wall_s": float(self.wall_s),
+                "compile_s": float(self.compile_s),
+            }
+        )
+        return out
+
+
+def _atomic_save(path: Path, **arrays) -> None:
+    with atomic_open(path, "wb") as fh:
+        np.savez(fh, **arrays)
+
+
+def _period(motion) -> float | None:
+    p = getattr(motion, "period", None)
+    return float(p) if p is not None and np.isfinite(p) else None
+
+
+def output_grid(
+    motion, dt_out: float | None = None, t_end: float | None = None, n_periods=None
+) -> np.ndarray:
+    """Output times from the excitation's start: the record's samples (or every ``dt_out``;
+    ``HARMONIC_SAMPLES`` per period of a harmonic one) up to ``t_end``, ``n_periods``
+    periods, or the record's end. ValueError when nothing fixes the end or the step."""
+    t0 = float(getattr(motion, "t0", 0.0))
+    T = _period(motion)
+    if n_periods is not None:
+        if t_end is not None:
+            raise ValueError("give t_end or n_periods, not both")
+        if T is None:
+            raise ValueError("n_periods: the excitation is not periodic; give t_end [s]")
+        if not n_periods > 0:
+            raise ValueError(f"n_periods: expected a positive number, got {n_periods}")
+        t_end = t0 + float(n_periods) * T
+    if t_end is None:
+        t_end = natural_end(motion)
+        if t_end is None:
+            raise ValueError(
+                f"{type(motion).__name__} has no natural end: give the duration, t_end=... [s] "
+                "or n_periods=..."
+            )
+    dt = dt_out or getattr(motion, "dt", None) or (T / HARMONIC_SAMPLES if T else None)
+    if dt is None or not dt > 0:
+        raise ValueError("dt_out: expected a positive output step [s] for this excitation")
+    if not float(t_end) > t0:
+        raise ValueError(f"t_end: expected a time after the start {t0:g} s, got {t_end}")
+    n = int(np.floor((float(t_end) - t0) / float(dt) + 1e-9)) + 1
+    return t0 + float(dt) * np.arange(n)
+
+
+def describe(excitation) -> str:
+    """One line naming an excitation (for summaries)."""
+    if excitation is None:
+        return "none (free vibration)"
+    kind = "force" if is_force(excitation) else "ground"
+    name = getattr(excitation, "name", None)
+    return f"{kind}: {name}" if name else f"{kind}: {excitation!r}"[:200]
+
+
+def simulate(
+    system: IsolatedSystem,
+    motion,
+    *,
+    method: str = "radau",
+    rtol: float = RUN_RTOL,
+    atol: float | tuple | None = None,
+    dt: float | None = None,
+    t_eval: np.ndarray | None = None,
+    t_end: float | None = None,
+    n_periods: float | None = None,
+    dt_out: float | None = None,
+    x0: np.ndarray | None = None,
+    uplift: str = "raise",
+    progress=None,
+    checkpoint: str | Path | None = None,
+    chunk_s: float = CHUNK_S,
+    **solver_options,
+) -> TransientResult:
+    """Integrate ``system`` under ``motion`` from its static equilibrium (or ``x0``).
+
+    Parameters
+    ----------
+    motion                  ground motion (GroundMotion, Harmonic, Table), force excitation
+                            (HarmonicForce, ForceTable) or None (free vibration from ``x0``)
+    t_end, n_periods        end of the run [s] or in periods (required for a harmonic
+                            excitation or none; default for a record: its end)
+    dt_out                  output step [s] (default: the record's dt, period / 100)
+    x0 : ndarray (2n,)      initial state [q, qd] (default: the static equilibrium)
+    method : str            a name in :data:`nsdyn.solve.integrate.METHODS`
+    rtol, atol              tolerances (adaptive methods; ``atol`` a number or a pair
+                            (displacements, velocities), default
+                            :func:`nsdyn.models.isolated.tolerances.run_atol`);
+                            ``dt`` for fixed-step methods
+    t_eval : ndarray        output times (instead of t_end / n_periods / dt_out)
+    uplift : {"raise", "warn"}
+    progress : callable(t_done, t_end, wall_s), optional
+    checkpoint : path, optional   resume from / save to this file after each chunk
+    """
+    if t_eval is None:
+        t_eval = output_grid(motion, dt_out, t_end, n_periods)
+    elif t_end is not None or n_periods is not None or dt_out is not None:
+        raise ValueError("give t_eval or t_end / n_periods / dt_out, not both")
+    else:
+        t_eval = np.asarray(t_eval, dtype=float)
+    if atol is None:
+        atol = run_atol(method)
+    P = system.params(motion)
+    if x0 is None:
+        x0, _ = system.static_equilibrium()
+    else:
+        x0 = np.asarray(x0, dtype=float).reshape(-1)
+        if x0.size != 2 * system.n:
+            raise ValueError(f"x0: expected [q, qd] of length {2 * system.n}, got {x0.size}")
+    ts, xs = [t_eval[:1]], [x0[None, :]]
+    k0 = 0
+    ckpt = Path(checkpoint) if checkpoint else None
+    if ckpt is not None and ckpt.exists():
+        data = np.load(ckpt)
+        if data["t"].size and np.allclose(data["t"], t_eval[: data["t"].size]):
+            ts, xs = [data["t"]], [data["x"]]
+            k0 = data["t"].size - 1
+    n_steps = 0
+    wall = 0.0
+    compile_s = 0.0
+    uplifts: list = []
+    stats: dict = {}
+    t_end = float(t_eval[-1])
+    wall0 = time.perf_counter()
+    # chunk boundaries on the output grid
+    bounds = [k0]
+    while bounds[-1] < t_eval.size - 1:
+        t_next = t_eval[bounds[-1]] + chunk_s
+        bounds.append(min(int(np.searchsorted(t_eval, t_next - 1e-12)), t_eval.size - 1))
+        if bounds[-1] == bounds[-2]:
+            bounds[-1] += 1
+    h0 = None
+    modes = None
+    for a, b in zip(bounds[:-1], bounds[1:], strict=True):
+        x_start = xs[-1][-1]
+        if modes is not None and method == "event":
+            solver_options["modes0"] = modes
+        kw = dict(method=method, rtol=rtol, atol=atol, dt=dt, uplift=uplift, **solver_options)
+        try:
+            # continue with the step the previous chunk would have taken next
+            sol = integrate.solve(P, x_start, t_eval[a : b + 1], h0=h0, **kw)
+        except integrate.IntegrationError as err:
+            if h0 is None or err.reason != "step_underflow":
+                raise
+            # a restart with the carried-over step can underflow where a fresh initial-step
+            # estimate does not: retry the chunk once from scratch (same state, same model)
+            sol = integrate.solve(P, x_start, t_eval[a : b + 1], h0=None, **kw)
+        h0 = sol.h_last if np.isfinite(sol.h_last) and sol.h_last > 0 and dt is None else None
+        modes = getattr(sol, "modes", None)
+        n_steps += sol.n_steps
+        wall += sol.wall_s
+        compile_s += getattr(sol, "compile_s", 0.0)
+        uplifts.extend(getattr(sol, "uplift", []) or [])
+        for key in ("nfev", "njev", "n_lu", "n_rejected", "n_events"):
+            stats[key] = stats.get(key, 0) + int(getattr(sol, key, 0) or 0)
+        ts.append(sol.t[1:])
+        xs.append(sol.x[1:])
+        if ckpt is not None:
+            _atomic_save(ckpt, t=np.concatenate(ts), x=np.concatenate(xs))
+        if progress is not None:
+            progress(float(sol.t[-1]), t_end, time.perf_counter() - wall0)
+    t = np.concatenate(ts)
+    x = np.concatenate(xs)
+    law = "switch" if method == "event" else None
+    Pm = system.params(motion, law=law) if law and system.isolation is not None else P
+    resp = response(system, t, x, Pm)
+    return TransientResult(
+        system,
+        t,
+        x,
+        resp,
+        method,
+        n_steps,
+        wall,
+        compile_s,
+        stats,
+        sorted(set(uplifts)),
+        describe(motion),
+    )

@@ -1,0 +1,391 @@
+"""Plane frames of 2D Bernoulli–Euler beam elements: geometry, sections, levels and assembly.
+
+The undamped, unsupported superstructure obeys
+
+    M q'' + K q = f,        q = [x_0, y_0, th_0, x_1, y_1, th_1, ...],
+
+with three dofs per node (horizontal and vertical displacement, rotation), so node ``n``
+owns dofs ``3 n + (0, 1, 2)``. ``K`` and ``M`` are assembled from element matrices
+(axial bar + cubic Hermite bending, :mod:`nsdyn.structure.elements`) and nodal added
+translational masses. No support is applied here: the base nodes' dofs form the boundary set
+that the reduction and the isolation model act on, and ``K`` keeps its three rigid-body modes.
+
+Frames are built by :func:`regular_frame` (bays x storeys, meshed with ``n_v`` elements
+per column segment and ``n_h`` per beam) or listed node by node, and are read from TOML
+files by :func:`nsdyn.structure.load_frame`; see ``frames/office-11.toml`` and
+``frames/portal.toml``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from nsdyn.structure.elements import element_matrices
+
+DOFS_PER_NODE = 3  # x, y, theta
+GEOM_RTOL = 1e-9  # relative tolerance for "same elevation" / "vertical member" tests
+
+
+@dataclass(frozen=True)
+class Section:
+    """Cross-section of a member: modulus ``E`` [Pa], area ``A`` [m^2], second moment
+    ``I`` [m^4] and mass per length ``rho_A`` [kg/m] (steel plus any attached mass)."""
+
+    E: float
+    A: float
+    I: float
+    rho_A: float
+
+
+def _frozen(a, dtype) -> np.ndarray:
+    a = np.array(a, dtype=dtype)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class Frame:
+    """A plane frame: geometry, members, added masses and modal damping ratios.
+
+    Attributes
+    ----------
+    name : str
+    nodes : ndarray, shape (nn, 2)
+        Node coordinates (x, y) [m]; y is up.
+    elements : ndarray of int, shape (ne, 2)
+        Start and end node of each element.
+    E, A, I, rho_A : ndarray, shape (ne,)
+        Per-element modulus [Pa], area [m^2], second moment [m^4], mass per length [kg/m].
+    node_mass : ndarray, shape (nn,)
+        Added translational mass at each node [kg] (acts in x and y, not in rotation).
+    base_nodes : ndarray of int, shape (nb,)
+        Nodes at the isolation interface, left to right. Their dofs, node by node
+        ``x1, y1, th1, x2, y2, th2, ...``, form the boundary set (:attr:`boundary_dofs`).
+    zeta : ndarray, shape (nz,)
+        Modal damping ratios of the fixed-base modes in frequency order. Modes beyond the
+        list get the LAST listed ratio (see :func:`nsdyn.structure.reduction.damping_ratios`).
+    level_nodes : tuple of ndarray of int
+        Nodes at each construction level; index 0 is the base level.
+    level_heights : ndarray, shape (n_levels,)
+        Elevation of each level [m].
+    column_joints : ndarray of int, shape (n_levels, n_columns), or None
+        Column-line joint node at each level (row 0 = base), used for storey drifts.
+        None when the column lines are not regular.
+
+    When ``level_heights`` / ``level_nodes`` are not given (frames listed node by node),
+    the levels are the base elevation plus every elevation carrying a horizontal member,
+    and the column joints are the nodes there that touch a vertical member.
+    Arrays are stored read-only.
+    """
+
+    name: str
+    nodes: np.ndarray
+    elements: np.ndarray
+    E: np.ndarray
+    A: np.ndarray
+    I: np.ndarray
+    rho_A: np.ndarray
+    node_mass: np.ndarray
+    base_nodes: np.ndarray
+    zeta: np.ndarray
+    level_nodes: tuple = field(default=())
+    level_heights: np.ndarray = field(default=None)
+    column_joints: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        nodes = _frozen(self.nodes, float)
+        elements = _frozen(self.elements, np.int64)
+        if nodes.ndim != 2 or nodes.shape[1] != 2 or len(nodes) < 2:
+            raise ValueError(f"nodes must have shape (nn, 2), got {nodes.shape}")
+        if elements.ndim != 2 or elements.shape[1] != 2 or len(elements) < 1:
+            raise ValueError(f"elements must have shape (ne, 2), got {elements.shape}")
+        nn, ne = len(nodes), len(elements)
+        if elements.min() < 0 or elements.max() >= nn:
+            raise ValueError(f"element node index out of range 0..{nn - 1}")
+        obj = object.__setattr__
+        obj(self, "nodes", nodes)
+        obj(self, "elements", elements)
+        for key in ("E", "A", "I", "rho_A"):
+            v = _frozen(np.broadcast_to(np.asarray(getattr(self, key), float), (ne,)), float)
+            bad = v < 0 if key == "rho_A" else v <= 0
+            if np.any(bad) or not np.all(np.isfinite(v)):
+                raise ValueError(f"element {key} must be positive and finite")
+            obj(self, key, v)
+        nm = _frozen(np.broadcast_to(np.asarray(self.node_mass, float), (nn,)), float)
+        if np.any(nm < 0):
+            raise ValueError("node_mass must be >= 0")
+        obj(self, "node_mass", nm)
+        base = _frozen(np.atleast_1d(self.base_nodes), np.int64)
+        if base.ndim != 1 or len(np.unique(base)) != len(base) or len(base) == 0:
+            raise ValueError("base_nodes must be a non-empty list of distinct nodes")
+        if base.min() < 0 or base.max() >= nn:
+            raise ValueError(f"base node index out of range 0..{nn - 1}")
+        obj(self, "base_nodes", base)
+        zeta = _frozen(np.atleast_1d(self.zeta), float)
+        if zeta.ndim != 1 or len(zeta) == 0 or np.any(zeta < 0):
+            raise ValueError("zeta must be a non-empty list of ratios >= 0")
+        obj(self, "zeta", zeta)
+        if np.any(self.lengths <= 0):
+            raise ValueError("elements must have positive length")
+        if self.level_heights is None or len(self.level_nodes) == 0:
+            lh, ln, cj = _derive_levels(nodes, elements, base)
+            obj(self, "level_heights", lh)
+            obj(self, "level_nodes", ln)
+            if self.column_joints is None:
+                obj(self, "column_joints", cj)
+        else:
+            obj(self, "level_heights", _frozen(self.level_heights, float))
+            obj(self, "level_nodes", tuple(_frozen(n, np.int64) for n in self.level_nodes))
+        if self.column_joints is not None:
+            obj(self, "column_joints", _frozen(self.column_joints, np.int64))
+
+    # ---- sizes and dof maps
+    @property
+    def n_nodes(self) -> int:
+        return len(self.nodes)
+
+    @property
+    def n_dof(self) -> int:
+        return DOFS_PER_NODE * len(self.nodes)
+
+    @property
+    def boundary_dofs(self) -> np.ndarray:
+        """Dofs of the base nodes, ``x1, y1, th1, x2, y2, th2, ...``, shape (3 nb,)."""
+        return (DOFS_PER_NODE * self.base_nodes[:, None] + np.arange(3)).ravel()
+
+    @property
+    def internal_dofs(self) -> np.ndarray:
+        """All dofs not in :attr:`boundary_dofs`, ascending."""
+        return np.setdiff1d(np.arange(self.n_dof), self.boundary_dofs)
+
+    def dofs(self, nodes, component: int | str) -> np.ndarray:
+        """Global dof index of ``component`` (0/'x', 1/'y', 2/'theta') at ``nodes``."""
+        comp = {"x": 0, "y": 1, "theta": 2, "th": 2}.get(component, component)
+        return DOFS_PER_NODE * np.asarray(nodes, dtype=np.int64) + int(comp)
+
+    # ---- geometry
+    @property
+    def lengths(self) -> np.ndarray:
+        d = self.nodes[self.elements[:, 1]] - self.nodes[self.elements[:, 0]]
+        return np.hypot(d[:, 0], d[:, 1])
+
+    @property
+    def storey_heights(self) -> np.ndarray:
+        return np.diff(self.level_heights)
+
+    @property
+    def n_levels(self) -> int:
+        return len(self.level_heights)
+
+    @property
+    def height(self) -> float:
+        return float(self.level_heights[-1] - self.level_heights[0])
+
+    # ---- mass
+    @property
+    def total_mass(self) -> float:
+        """Element mass plus added nodal mass [kg]."""
+        return float(np.sum(self.rho_A * self.lengths) + np.sum(self.node_mass))
+
+    # ---- matrices
+    def element_dofs(self) -> np.ndarray:
+        """Global dofs of each element, shape (ne, 6)."""
+        e = DOFS_PER_NODE * self.elements
+        return np.concatenate([e[:, :1] + np.arange(3), e[:, 1:] + np.arange(3)], axis=1)
+
+    def assemble(self, lumped: bool = False, sparse: bool = True):
+        """Global stiffness and mass matrices ``(K, M)`` of the free (unsupported) frame.
+
+        Parameters
+        ----------
+        lumped : bool
+            HRZ-lumped instead of consistent element mass
+            (see :func:`nsdyn.structure.elements.beam_mass`).
+        sparse : bool
+            Return ``scipy.sparse.csr_array`` (default) or dense ndarrays.
+
+        Returns
+        -------
+        K, M : shape (n_dof, n_dof), symmetric; M positive definite.
+        """
+        ke, me = element_matrices(self, lumped=lumped)
+        dofs = self.element_dofs()
+        rows = np.repeat(dofs, 6, axis=1).ravel()
+        cols = np.tile(dofs, (1, 6)).ravel()
+        n = self.n_dof
+        K = sp.coo_array((ke.ravel(), (rows, cols)), shape=(n, n)).tocsr()
+        nm = np.zeros(n)
+        nm[0::3] = self.node_mass
+        nm[1::3] = self.node_mass
+        M = (sp.coo_array((me.ravel(), (rows, cols)), shape=(n, n)) + sp.diags_array(nm)).tocsr()
+        K = ((K + K.T) / 2).tocsr()
+        M = ((M + M.T) / 2).tocsr()
+        if not sparse:
+            return K.toarray(), M.toarray()
+        return K, M
+
+    def influence(self) -> np.ndarray:
+        """Rigid-body influence vectors ``r``, shape (n_dof, 2): column 0 is 1 at every x
+        dof (horizontal ground motion), column 1 is 1 at every y dof (vertical)."""
+        r = np.zeros((self.n_dof, 2))
+        r[0::3, 0] = 1.0
+        r[1::3, 1] = 1.0
+        return r
+
+    def storey_drift(self, u: np.ndarray) -> np.ndarray:
+        """Inter-storey drift ratio of each column line.
+
+        Parameters
+        ----------
+        u : ndarray, shape (n_dof,) or (n_dof, nt)
+            Displacements relative to the ground.
+
+        Returns
+        -------
+        ndarray, shape (n_storeys, n_columns) or (n_storeys, n_columns, nt)
+        """
+        if self.column_joints is None:
+            raise ValueError(f"frame {self.name!r} has no regular column lines")
+        x = np.asarray(u)[DOFS_PER_NODE * self.column_joints]
+        h = self.storey_heights.reshape((-1, 1) + (1,) * (x.ndim - 2))
+        return np.diff(x, axis=0) / h
+
+
+def base_isolation_frequency(frame: Frame, k_lam: float) -> float:
+    """Base-isolation frequency [Hz] of the frame as a rigid body on its isolators.
+
+    ``f_bis = sqrt(n_b K_lam / M_s) / (2 pi)`` with one laminated bearing of lateral
+    stiffness ``k_lam`` [N/m] under each base node (seed 004 eq. 28, n_b = 2).
+    """
+    return float(np.sqrt(len(frame.base_nodes) * k_lam / frame.total_mass) / (2 * np.pi))
+
+
+def _derive_levels(nodes, elements, base):
+    """Levels of a frame listed node by node: base elevation plus every beam elevation."""
+    scale = max(float(np.ptp(nodes[:, 1])), float(np.ptp(nodes[:, 0])), 1.0)
+    tol = GEOM_RTOL * scale
+    d = nodes[elements[:, 1]] - nodes[elements[:, 0]]
+    horizontal = np.abs(d[:, 1]) <= tol
+    vertical = np.abs(d[:, 0]) <= tol
+    ys = [float(nodes[base, 1].min())] + nodes[elements[horizontal].ravel(), 1].tolist()
+    heights: list[float] = []
+    for y in sorted(ys):
+        if not heights or y - heights[-1] > tol:
+            heights.append(y)
+    level_nodes = tuple(
+        _frozen(np.flatnonzero(np.abs(nodes[:, 1] - y) <= tol), np.int64) for y in heights
+    )
+    col_nodes = set(elements[vertical].ravel().tolist())
+    joints = []
+    for ln in level_nodes:
+        j = [n for n in ln.tolist() if n in col_nodes]
+        joints.append(sorted(j, key=lambda n: nodes[n, 0]))
+    ok = len(joints) > 1 and all(len(j) == len(joints[0]) and len(j) > 0 for j in joints)
+    cj = _frozen(joints, np.int64) if ok else None
+    return _frozen(heights, float), level_nodes, cj
+
+
+def regular_frame(
+    name: str,
+    bays: Sequence[float],
+    storey_heights: Sequence[float],
+    n_v: int,
+    n_h: int,
+    columns: Section | Sequence[Section],
+    beams: Section | Sequence[Section],
+    floor_mass: float | Sequence[float] = 0.0,
+    zeta: float | Sequence[float] = 0.05,
+) -> Frame:
+    """Regular moment frame: ``len(bays)`` bays by ``len(storey_heights)`` storeys.
+
+    Each column segment is meshed into ``n_v`` elements, each beam into ``n_h``. There is
+    a beam at every level above the base and none at the base, whose column feet are the
+    base nodes. ``columns`` is one :class:`Section` or one per storey (bottom up);
+    ``beams`` one or one per level above the base. ``floor_mass`` [kg] (one value or one
+    per level above the base) is spread over that level's beam nodes by tributary length.
+
+    Nodes are numbered level by level: the base nodes first (left to right), then for each
+    storey the intermediate column nodes (column by column, bottom up) followed by that
+    level's beam-line nodes left to right.
+    """
+    bays = np.asarray(bays, float)
+    hs = np.asarray(storey_heights, float)
+    ns, nc = len(hs), len(bays) + 1
+    if ns < 1 or len(bays) < 1 or np.any(hs <= 0) or np.any(bays <= 0):
+        raise ValueError("need at least one bay and one storey, all of positive size")
+    if n_v < 1 or n_h < 1:
+        raise ValueError("n_v and n_h must be >= 1")
+    col_secs = _per(columns, ns, "columns")
+    beam_secs = _per(beams, ns, "beams")
+    fm = np.broadcast_to(np.asarray(floor_mass, float), (ns,))
+    xcol = np.concatenate([[0.0], np.cumsum(bays)])
+    ylev = np.concatenate([[0.0], np.cumsum(hs)])
+
+    nodes: list[tuple[float, float]] = [(x, 0.0) for x in xcol]
+    node_mass: list[float] = [0.0] * nc
+    elems: list[tuple[int, int]] = []
+    secs: list[Section] = []
+    joints = [list(range(nc))]
+    level_nodes = [list(range(nc))]
+    for s in range(ns):
+        y0, y1 = ylev[s], ylev[s + 1]
+        # intermediate column nodes
+        inner = []
+        for c in range(nc):
+            ids = []
+            for k in range(1, n_v):
+                ids.append(len(nodes))
+                nodes.append((xcol[c], y0 + (y1 - y0) * k / n_v))
+                node_mass.append(0.0)
+            inner.append(ids)
+        # beam line at level s + 1, left to right
+        xs = [xcol[b] + bays[b] * k / n_h for b in range(len(bays)) for k in range(n_h)]
+        xs = np.array([*xs, xcol[-1]])
+        line = list(range(len(nodes), len(nodes) + len(xs)))
+        nodes.extend((x, y1) for x in xs)
+        node_mass.extend([0.0] * len(xs))
+        mid = (xs[1:] + xs[:-1]) / 2
+        trib = np.diff(np.concatenate([[xs[0]], mid, [xs[-1]]]))  # tributary lengths
+        for n, t in zip(line, trib, strict=True):
+            node_mass[n] += fm[s] * t / xcol[-1]
+        colj = line[::n_h]
+        joints.append(colj)
+        level_nodes.append(line)
+        for c in range(nc):
+            chain = [joints[s][c], *inner[c], colj[c]]
+            for a, b in zip(chain[:-1], chain[1:], strict=True):
+                elems.append((a, b))
+                secs.append(col_secs[s])
+        for a, b in zip(line[:-1], line[1:], strict=True):
+            elems.append((a, b))
+            secs.append(beam_secs[s])
+    return Frame(
+        name=name,
+        nodes=np.array(nodes),
+        elements=np.array(elems),
+        E=[q.E for q in secs],
+        A=[q.A for q in secs],
+        I=[q.I for q in secs],
+        rho_A=[q.rho_A for q in secs],
+        node_mass=np.array(node_mass),
+        base_nodes=np.arange(nc),
+        zeta=np.atleast_1d(np.asarray(zeta, float)),
+        level_nodes=tuple(np.array(n) for n in level_nodes),
+        level_heights=ylev,
+        column_joints=np.array(joints),
+    )
+
+
+def _per(secs, n, what) -> list[Section]:
+    if isinstance(secs, Section):
+        return [secs] * n
+    secs = list(secs)
+    if len(secs) == 1:
+        return secs * n
+    if len(secs) != n:
+        raise ValueError(f"{what}: expected 1 or {n} sections, got {len(secs)}")
+    return secs

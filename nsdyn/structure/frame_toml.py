@@ -1,0 +1,317 @@
+"""Frame files: strict reading of a plane frame from TOML, and the frames bundled with nsdyn.
+
+A file holds one ``[frame]`` table, either ``kind = "regular"`` (bays, storey heights, mesh
+``n_v``/``n_h``, column and beam sections E [Pa], A [m²], I [m⁴], ρA [kg/m], floor masses [kg],
+modal damping ratios 0 ≤ ζ < 1) built by :func:`nsdyn.structure.frame.regular_frame`, or
+``kind = "explicit"`` (nodes, elements with section indices, base nodes, node masses). Every
+error names the file, the dotted field and what was expected (:class:`FrameFileError`).
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from nsdyn._bundled import FRAMES
+from nsdyn.structure.frame import Frame, Section, regular_frame
+
+
+class FrameFileError(ValueError):
+    """A frame file is missing, unreadable or invalid. The message names the file, the
+    field (dotted path) and what was expected."""
+
+
+class _Reader:
+    """Strict typed access to a parsed TOML table; errors name file and dotted field."""
+
+    def __init__(self, file: str):
+        self.file = file
+
+    def fail(self, path: str, expected: str, got: Any = None, raw: bool = False) -> None:
+        got_s = got if raw else _describe(got)
+        msg = f"{self.file}: {path}: expected {expected}"
+        if got is not None or raw:
+            msg += f", got {got_s}"
+        raise FrameFileError(msg)
+
+    def table(self, tbl: Mapping, key: str, path: str) -> Mapping:
+        if key not in tbl:
+            self.fail(path, "a table", "nothing (missing)", raw=True)
+        v = tbl[key]
+        if not isinstance(v, Mapping):
+            self.fail(path, "a table", v)
+        return v
+
+    def known(self, tbl: Mapping, allowed: set[str], path: str) -> None:
+        for k in tbl:
+            if k not in allowed:
+                where = f"{path}.{k}" if path else k
+                self.fail(where, f"no such field (allowed: {', '.join(sorted(allowed))})", k)
+
+    def string(self, tbl, key, path):
+        if key not in tbl:
+            self.fail(path, "a string", "nothing (missing)", raw=True)
+        v = tbl[key]
+        if not isinstance(v, str) or not v:
+            self.fail(path, "a non-empty string", v)
+        return v
+
+    def integer(self, tbl, key, path, minimum=None):
+        if key not in tbl:
+            self.fail(path, "an integer", "nothing (missing)", raw=True)
+        v = tbl[key]
+        if isinstance(v, bool) or not isinstance(v, int) or (minimum is not None and v < minimum):
+            what = "an integer" if minimum is None else f"an integer >= {minimum}"
+            self.fail(path, what, v)
+        return v
+
+    def number_or_list(self, tbl, key, path, n, positive=True, nonneg=False):
+        """A single number (broadcast to n) or a list of exactly n numbers."""
+        kind = "positive number" if positive else "number >= 0" if nonneg else "number"
+        expected = f"a {kind} or a list of {n} {kind}s"
+        if key not in tbl:
+            self.fail(path, expected, "nothing (missing)", raw=True)
+        v = tbl[key]
+        if _is_number(v):
+            vals = [float(v)] * n
+        elif isinstance(v, list):
+            if len(v) != n or not all(_is_number(x) for x in v):
+                self.fail(path, expected, v)
+            vals = [float(x) for x in v]
+        else:
+            self.fail(path, expected, v)
+        self._check_sign(vals, path, expected, v, positive, nonneg)
+        return vals
+
+    def number_list(self, tbl, key, path, n=None, positive=True, nonneg=False, min_len=1):
+        kind = "positive numbers" if positive else "numbers >= 0" if nonneg else "numbers"
+        expected = f"a list of {n} {kind}" if n is not None else f"a non-empty list of {kind}"
+        if key not in tbl:
+            self.fail(path, expected, "nothing (missing)", raw=True)
+        v = tbl[key]
+        if (
+            not isinstance(v, list)
+            or not all(_is_number(x) for x in v)
+            or (n is not None and len(v) != n)
+            or len(v) < min_len
+        ):
+            self.fail(path, expected, v)
+        vals = [float(x) for x in v]
+        self._check_sign(vals, path, expected, v, positive, nonneg)
+        return vals
+
+    def _check_sign(self, vals, path, expected, v, positive, nonneg):
+        arr = np.asarray(vals, float)
+        if not np.all(np.isfinite(arr)):
+            self.fail(path, expected, v)
+        if positive and np.any(arr <= 0) or nonneg and np.any(arr < 0):
+            bad = next(x for x in vals if (x <= 0 if positive else x < 0))
+            self.fail(path, expected, f"{_describe(v)} (contains {bad:g})", raw=True)
+
+
+def _is_number(x) -> bool:
+    return isinstance(x, int | float) and not isinstance(x, bool)
+
+
+def _describe(v) -> str:
+    if isinstance(v, list):
+        return f"a list of {len(v)}"
+    if isinstance(v, Mapping):
+        return "a table"
+    if isinstance(v, bool):
+        return f"boolean {str(v).lower()}"
+    if isinstance(v, str):
+        return f"string {v!r}"
+    return repr(v)
+
+
+_SECTION_KEYS = ("E", "A", "I", "rho_A")
+_REGULAR_KEYS = {
+    "name",
+    "kind",
+    "description",
+    "bays",
+    "storey_heights",
+    "n_v",
+    "n_h",
+    "columns",
+    "beams",
+    "floor_mass",
+    "zeta",
+}
+_EXPLICIT_KEYS = {
+    "name",
+    "kind",
+    "description",
+    "nodes",
+    "elements",
+    "sections",
+    "base_nodes",
+    "node_mass",
+    "zeta",
+}
+
+
+def _sections_per(rd: _Reader, frame: Mapping, key: str, n: int) -> list[Section]:
+    path = f"frame.{key}"
+    tbl = rd.table(frame, key, path)
+    rd.known(tbl, set(_SECTION_KEYS), path)
+    cols = {}
+    for k in _SECTION_KEYS:
+        cols[k] = rd.number_or_list(
+            tbl, k, f"{path}.{k}", n, positive=k != "rho_A", nonneg=k == "rho_A"
+        )
+    return [Section(*(cols[k][i] for k in _SECTION_KEYS)) for i in range(n)]
+
+
+def _zeta(rd: _Reader, frame: Mapping) -> list[float]:
+    z = rd.number_list(frame, "zeta", "frame.zeta", positive=False, nonneg=True)
+    if any(x >= 1 for x in z):
+        rd.fail("frame.zeta", "damping ratios in [0, 1)", z)
+    return z
+
+
+def frame_from_dict(data: Mapping, file: str = "<dict>") -> Frame:
+    """Build a :class:`Frame` from parsed TOML data (``{"frame": {...}}``), strictly.
+
+    Raises :class:`FrameFileError` naming ``file``, the dotted field and what was expected.
+    """
+    rd = _Reader(file)
+    rd.known(data, {"frame"}, "")
+    frame = rd.table(data, "frame", "frame")
+    name = rd.string(frame, "name", "frame.name")
+    kind = frame.get("kind", "regular")
+    if kind not in ("regular", "explicit"):
+        rd.fail("frame.kind", "'regular' or 'explicit'", kind)
+    if "description" in frame and not isinstance(frame["description"], str):
+        rd.fail("frame.description", "a string", frame["description"])
+    if kind == "regular":
+        rd.known(frame, _REGULAR_KEYS, "frame")
+        bays = rd.number_list(frame, "bays", "frame.bays")
+        hs = rd.number_list(frame, "storey_heights", "frame.storey_heights")
+        n = len(hs)
+        n_v = rd.integer(frame, "n_v", "frame.n_v", minimum=1)
+        n_h = rd.integer(frame, "n_h", "frame.n_h", minimum=1)
+        cols = _sections_per(rd, frame, "columns", n)
+        beams = _sections_per(rd, frame, "beams", n)
+        fm = rd.number_or_list(frame, "floor_mass", "frame.floor_mass", n, False, True)
+        zeta = _zeta(rd, frame)
+        return regular_frame(name, bays, hs, n_v, n_h, cols, beams, fm, zeta)
+
+    rd.known(frame, _EXPLICIT_KEYS, "frame")
+    raw_nodes = frame.get("nodes")
+    if (
+        not isinstance(raw_nodes, list)
+        or len(raw_nodes) < 2
+        or not all(
+            isinstance(p, list) and len(p) == 2 and all(_is_number(c) for c in p) for p in raw_nodes
+        )
+    ):
+        rd.fail("frame.nodes", "a list of >= 2 [x, y] pairs", raw_nodes)
+    nodes = np.array(raw_nodes, float)
+    nn = len(nodes)
+    raw_secs = frame.get("sections")
+    if not isinstance(raw_secs, list) or not raw_secs:
+        rd.fail("frame.sections", "a non-empty array of tables [[frame.sections]]", raw_secs)
+    secs = []
+    for i, s in enumerate(raw_secs):
+        p = f"frame.sections[{i}]"
+        if not isinstance(s, Mapping):
+            rd.fail(p, "a table with E, A, I, rho_A", s)
+        rd.known(s, set(_SECTION_KEYS), p)
+        vals = [
+            rd.number_or_list(s, k, f"{p}.{k}", 1, positive=k != "rho_A", nonneg=k == "rho_A")[0]
+            for k in _SECTION_KEYS
+        ]
+        secs.append(Section(*vals))
+    raw_el = frame.get("elements")
+    ok = isinstance(raw_el, list) and len(raw_el) > 0
+    el, sid = [], []
+    for e in raw_el if ok else []:
+        good = (
+            isinstance(e, list)
+            and len(e) in (2, 3)
+            and all(isinstance(c, int) and not isinstance(c, bool) for c in e)
+        )
+        if not good or not (0 <= e[0] < nn and 0 <= e[1] < nn and e[0] != e[1]):
+            ok = False
+            break
+        s = e[2] if len(e) == 3 else 0
+        if not 0 <= s < len(secs):
+            ok = False
+            break
+        el.append(e[:2])
+        sid.append(s)
+    if not ok:
+        rd.fail(
+            "frame.elements",
+            f"a list of [node_i, node_j] or [node_i, node_j, section] with nodes in "
+            f"0..{nn - 1} and section in 0..{len(secs) - 1}",
+            raw_el,
+        )
+    raw_base = frame.get("base_nodes")
+    if (
+        not isinstance(raw_base, list)
+        or not raw_base
+        or not all(isinstance(b, int) and not isinstance(b, bool) and 0 <= b < nn for b in raw_base)
+        or len(set(raw_base)) != len(raw_base)
+    ):
+        rd.fail("frame.base_nodes", f"a list of distinct node indices in 0..{nn - 1}", raw_base)
+    node_mass = (
+        rd.number_or_list(frame, "node_mass", "frame.node_mass", nn, False, True)
+        if "node_mass" in frame
+        else np.zeros(nn)
+    )
+    zeta = _zeta(rd, frame)
+    S = [secs[i] for i in sid]
+    try:
+        return Frame(
+            name=name,
+            nodes=nodes,
+            elements=np.array(el),
+            E=[s.E for s in S],
+            A=[s.A for s in S],
+            I=[s.I for s in S],
+            rho_A=[s.rho_A for s in S],
+            node_mass=node_mass,
+            base_nodes=np.array(raw_base),
+            zeta=zeta,
+        )
+    except ValueError as exc:
+        raise FrameFileError(f"{file}: frame: {exc}") from None
+
+
+def bundled_frames() -> list[str]:
+    """Names of the frames shipped with nsdyn (``frames/*.toml``)."""
+    return FRAMES.names()
+
+
+def load_frame(name_or_path: str | Path) -> Frame:
+    """Load a frame from a TOML file, or a bundled frame by bare name (``"office-11"``).
+
+    A string without a path separator and without the ``.toml`` suffix is a bundled name;
+    anything else is a file path. Raises :class:`FrameFileError` for a missing file, an
+    unknown bundled name (listing the known ones), bad TOML or invalid fields.
+    """
+    s = str(name_or_path)
+    is_path = isinstance(name_or_path, Path) or "/" in s or "\\" in s or s.endswith(".toml")
+    if is_path:
+        path = Path(s)
+        if not path.is_file():
+            raise FrameFileError(f"{s}: no such frame file")
+        text, fname = path.read_bytes(), path.name
+    else:
+        f = FRAMES.find(s)
+        if f is None:
+            known = ", ".join(bundled_frames()) or "(none found)"
+            raise FrameFileError(f"{s}: no bundled frame of that name (bundled: {known})")
+        text, fname = f.read_bytes(), f"{s}.toml"
+    try:
+        data = tomllib.loads(text.decode("utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise FrameFileError(f"{fname}: not valid TOML: {exc}") from None
+    return frame_from_dict(data, fname)

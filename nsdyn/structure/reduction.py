@@ -1,0 +1,305 @@
+"""Craig–Bampton reduction of a linear superstructure.
+
+Partition the full dofs into boundary ``b`` (the base nodes) and internal ``i`` ones,
+
+    q = [q_b; q_i] ≈ T [q_b; eta],   T = [[I, 0], [Psi, Phi]],
+    Psi = -K_ii^-1 K_ib             (constraint modes: static response to unit q_b),
+    K_ii Phi = M_ii Phi diag(omega^2),  Phi^T M_ii Phi = I  (fixed-interface modes),
+
+keeping the fixed-interface modes with ``omega / 2 pi <= f_max`` (Craig & Bampton, "Coupling
+of substructures for dynamic analyses", AIAA J. 6(7):1313-1319, 1968). The reduced matrices
+are ``K = T^T K T`` (block diagonal: the condensed boundary stiffness and diag(omega^2)) and
+``M = T^T M T``. With ``f_max = inf`` all modes are kept and the reduced model is the full
+model in another basis.
+
+Relative coordinates: the ground-motion load on the full model is ``-M r u''`` with ``r`` the
+rigid-translation influence vectors. Because ``K r = 0`` (free frame), ``K_ib r_b + K_ii r_i =
+0``, i.e. ``Psi r_b = r_i``: rigid motion lies exactly in the span of the constraint modes, so
+``T Gamma = r`` with ``Gamma = [r_b; 0]`` and the reduced load ``-T^T M r u'' = -M_red Gamma
+u''`` is exact. :func:`craig_bampton` asserts this.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from nsdyn.structure.frame import Frame
+
+__all__ = [
+    "CBModel",
+    "craig_bampton",
+    "damping_ratios",
+    "fixed_base_modes",
+    "kinetic_energy_shares",
+    "mode_type",
+    "reduce_frame",
+]
+
+DENSE_MAX = 2000  # above this many internal dofs, use sparse shift-invert Lanczos
+RIGID_RTOL = 1e-6  # tolerance of the check T Gamma == r (relative to max |r|)
+EIGSH_K0 = 20  # first batch of modes requested from eigsh; doubled until f_max is passed
+
+
+@dataclass(frozen=True, eq=False)
+class CBModel:
+    """A Craig–Bampton reduced model ``M q'' + C q' + K q = -M Gamma u''``.
+
+    Attributes
+    ----------
+    T : ndarray, shape (n_full, n_red)
+        Maps reduced ``q = [q_b, eta]`` to full dofs (in full-dof order).
+    K, M, C : ndarray, shape (n_red, n_red)
+        Reduced stiffness, mass and damping (dense).
+    Gamma : ndarray, shape (n_red, 2)
+        Reduced horizontal / vertical influence vectors, ``[r_b; 0]``.
+    boundary : ndarray of int, shape (n_b,)
+        Full-dof indices of the boundary dofs; ``q[:n_b]`` are these dofs.
+    n_b : int
+    omega : ndarray, shape (n_modes,)
+        Fixed-interface circular frequencies [rad/s] of the kept modes.
+    zeta : ndarray, shape (n_modes,)
+        Their damping ratios.
+    f_max : float
+        Cut-off frequency [Hz] (``inf``: all modes).
+    """
+
+    T: np.ndarray
+    K: np.ndarray
+    M: np.ndarray
+    C: np.ndarray
+    Gamma: np.ndarray
+    boundary: np.ndarray
+    n_b: int
+    omega: np.ndarray
+    zeta: np.ndarray
+    f_max: float
+
+    @property
+    def n_red(self) -> int:
+        return self.K.shape[0]
+
+    @property
+    def n_modes(self) -> int:
+        return len(self.omega)
+
+    @property
+    def f_hz(self) -> np.ndarray:
+        """Kept fixed-interface frequencies [Hz]."""
+        return self.omega / (2 * np.pi)
+
+    def expand(self, q: np.ndarray) -> np.ndarray:
+        """Full displacements ``T q``; ``q`` shape (n_red,) or (n_red, nt)."""
+        return self.T @ q
+
+
+def damping_ratios(zeta: float | Sequence[float], n: int) -> np.ndarray:
+    """Damping ratios of the first ``n`` modes: the listed ones in order, and the LAST
+    listed ratio for every mode beyond the list."""
+    z = np.atleast_1d(np.asarray(zeta, float))
+    if z.size == 0:
+        raise ValueError("zeta must list at least one ratio")
+    out = np.full(n, z[-1])
+    m = min(n, z.size)
+    out[:m] = z[:m]
+    return out
+
+
+def _dense(A) -> np.ndarray:
+    return A.toarray() if sp.issparse(A) else np.asarray(A, float)
+
+
+def _partition(K, M, boundary):
+    n = K.shape[0]
+    b = np.asarray(boundary, dtype=np.int64)
+    if b.ndim != 1 or len(np.unique(b)) != len(b) or (len(b) and (b.min() < 0 or b.max() >= n)):
+        raise ValueError("boundary must list distinct dof indices of the model")
+    i = np.setdiff1d(np.arange(n), b)
+    K = sp.csr_array(K) if sp.issparse(K) else np.asarray(K, float)
+    M = sp.csr_array(M) if sp.issparse(M) else np.asarray(M, float)
+    return K, M, b, i
+
+
+def _sub(A, r, c):
+    return A[r][:, c] if sp.issparse(A) else A[np.ix_(r, c)]
+
+
+def _interior_modes(Kii, Mii, f_max, n_modes):
+    """Lowest eigenpairs of ``Kii phi = w^2 Mii phi``, mass-normalised, by f_max / count."""
+    n = Kii.shape[0]
+    w2_max = (2 * np.pi * f_max) ** 2 if f_max is not None and np.isfinite(f_max) else np.inf
+    if n <= DENSE_MAX or (n_modes is None and not np.isfinite(w2_max)):
+        lam, V = sla.eigh(_dense(Kii), _dense(Mii))
+    else:
+        Kii, Mii = sp.csc_array(Kii), sp.csc_array(Mii)
+        k = min(n - 1, EIGSH_K0 if n_modes is None else n_modes)
+        while True:
+            lam, V = spla.eigsh(Kii, k=k, M=Mii, sigma=0.0, which="LM")
+            order = np.argsort(lam)
+            lam, V = lam[order], V[:, order]
+            done_count = n_modes is not None and len(lam) >= n_modes
+            if (done_count or lam[-1] > w2_max) or k >= n - 1:
+                break
+            k = min(n - 1, 2 * k)
+    keep = lam <= w2_max
+    if n_modes is not None:
+        keep &= np.arange(len(lam)) < n_modes
+    lam, V = lam[keep], V[:, keep]
+    # mass-normalise (eigh already does; eigsh too, but be explicit and robust)
+    mnorm = np.sqrt(np.einsum("ij,ij->j", V, Mii @ V))
+    V = V / mnorm
+    return np.sqrt(np.clip(lam, 0.0, None)), V
+
+
+def fixed_base_modes(K, M, boundary, n_modes: int | None = None, f_max: float | None = None):
+    """Fixed-base (boundary-clamped) modes of the full model.
+
+    Parameters
+    ----------
+    K, M : sparse or ndarray, shape (n, n)
+    boundary : array of int
+        Dofs held at zero.
+    n_modes : int, optional
+        Keep at most this many (lowest) modes.
+    f_max : float, optional
+        Keep modes with frequency <= f_max [Hz]. With neither limit, all modes.
+
+    Returns
+    -------
+    f_hz : ndarray, shape (m,)
+        Frequencies in ascending order.
+    Phi : ndarray, shape (n, m)
+        Mass-normalised mode shapes in full-dof order, zero at the boundary dofs.
+    """
+    K, M, b, i = _partition(K, M, boundary)
+    omega, V = _interior_modes(_sub(K, i, i), _sub(M, i, i), f_max, n_modes)
+    Phi = np.zeros((K.shape[0], V.shape[1]))
+    Phi[i] = V
+    return omega / (2 * np.pi), Phi
+
+
+def craig_bampton(
+    K,
+    M,
+    boundary,
+    f_max: float,
+    zeta: float | Sequence[float],
+    r: np.ndarray | None = None,
+) -> CBModel:
+    """Craig–Bampton reduction (Craig & Bampton, AIAA J. 6(7):1313-1319, 1968).
+
+    Parameters
+    ----------
+    K, M : sparse or ndarray, shape (n, n)
+        Stiffness and mass of the unsupported structure (rigid-body modes in ``K``'s null
+        space are what makes ``Gamma = [r_b; 0]`` exact).
+    boundary : array of int, shape (n_b,)
+        Full-dof indices of the boundary (interface) dofs, in the order they take in ``q_b``.
+    f_max : float
+        Keep fixed-interface modes with frequency <= f_max [Hz]; ``np.inf`` keeps all.
+    zeta : float or sequence of float
+        Damping ratios of the fixed-interface modes in frequency order; modes beyond the
+        list get the last listed ratio (:func:`damping_ratios`).
+    r : ndarray, shape (n, 2), optional
+        Full influence vectors (columns horizontal, vertical). Default: boundary dofs are
+        node triples ``(x, y, theta)``, i.e. ``r_b`` = 1 at every 1st / 2nd boundary dof.
+
+    Returns
+    -------
+    CBModel
+        ``C`` is zero on the boundary block and ``diag(2 zeta_j omega_j)`` on the modal
+        block: modal damping belongs to the fixed-base modes of the superstructure, and
+        rigid/boundary motion (e.g. sliding on the isolators) is not damped by the
+        superstructure (a mass-proportional term would wrongly damp the sliding itself).
+
+    Notes
+    -----
+    ``T @ Gamma == r`` (rigid translation is spanned by the constraint modes because
+    ``Psi r_b = r_i``) is asserted, so the reduced earthquake load is exact.
+    """
+    K, M, b, i = _partition(K, M, boundary)
+    n, nb = K.shape[0], len(b)
+    Kii, Kib = _sub(K, i, i), _sub(K, i, b)
+    if sp.issparse(Kii):
+        lu = spla.splu(sp.csc_array(Kii))
+        Psi = -lu.solve(_dense(Kib))
+    else:
+        Psi = -sla.solve(Kii, Kib, assume_a="sym")
+    omega, Phi = _interior_modes(Kii, _sub(M, i, i), f_max, None)
+    nm = len(omega)
+    T = np.zeros((n, nb + nm))
+    T[b, np.arange(nb)] = 1.0
+    T[np.ix_(i, np.arange(nb))] = Psi
+    T[np.ix_(i, nb + np.arange(nm))] = Phi
+    Kr = T.T @ (K @ T)
+    Mr = T.T @ (M @ T)
+    Kr = (Kr + Kr.T) / 2
+    Mr = (Mr + Mr.T) / 2
+    z = damping_ratios(zeta, nm)
+    C = np.zeros_like(Kr)
+    C[nb:, nb:] = np.diag(2 * z * omega)
+
+    if r is None:
+        r = np.zeros((n, 2))
+        r[b[0::3], 0] = 1.0
+        r[b[1::3], 1] = 1.0
+        check_full = False
+    else:
+        r = np.asarray(r, float)
+        check_full = True
+    Gamma = np.zeros((nb + nm, r.shape[1]))
+    Gamma[:nb] = r[b]
+    TG = T @ Gamma
+    scale = max(1.0, float(np.abs(r).max()))
+    if check_full:
+        err = float(np.abs(TG - r).max())
+        assert err <= RIGID_RTOL * scale, f"Psi r_b != r_i (max error {err:.3g})"
+    else:  # T Gamma must be a rigid-body motion: K T Gamma = 0
+        kn = float(np.abs(K @ TG).max())
+        kscale = float(abs(K).max()) * float(np.abs(TG).max())
+        assert kn <= RIGID_RTOL * kscale, f"T Gamma is not a rigid motion ({kn:.3g})"
+    return CBModel(
+        T=T,
+        K=Kr,
+        M=Mr,
+        C=C,
+        Gamma=Gamma,
+        boundary=b,
+        n_b=nb,
+        omega=omega,
+        zeta=z,
+        f_max=float(f_max),
+    )
+
+
+def reduce_frame(frame: Frame, f_max: float, lumped: bool = False) -> CBModel:
+    """Craig–Bampton model of ``frame`` with its base nodes as the boundary."""
+    K, M = frame.assemble(lumped=lumped)
+    return craig_bampton(K, M, frame.boundary_dofs, f_max, frame.zeta, r=frame.influence())
+
+
+def kinetic_energy_shares(phi: np.ndarray, M, frame: Frame) -> np.ndarray:
+    """Share of a mode's kinetic energy ``phi^T M phi`` in x, y and rotation dofs.
+
+    Returns ndarray, shape (3,) (or (3, m) for ``phi`` of shape (n, m)), summing to 1.
+    """
+    phi = np.asarray(phi, float)
+    if phi.shape[0] != frame.n_dof:
+        raise ValueError(
+            f"phi has {phi.shape[0]} rows, frame {frame.name!r} has {frame.n_dof} dofs"
+        )
+    e = phi * (M @ phi)
+    parts = np.stack([e[0::3].sum(axis=0), e[1::3].sum(axis=0), e[2::3].sum(axis=0)])
+    return parts / parts.sum(axis=0)
+
+
+def mode_type(phi: np.ndarray, M, frame: Frame) -> str:
+    """``"lateral"`` if the x dofs hold more kinetic energy than the y dofs, else
+    ``"vertical"`` (mass-weighted share, :func:`kinetic_energy_shares`)."""
+    sx, sy, _ = kinetic_energy_shares(phi, M, frame)
+    return "lateral" if sx >= sy else "vertical"

@@ -1,0 +1,253 @@
+"""The ``[analysis.*]`` tables of a study file: checking them, running them on the table.
+
+``[analysis.design]``        variables (default: the grid parameters), objectives (default
+                             IDR and floor acceleration), constraints {field = upper bound}
+                             (default the 400 mm seismic gap on x_iso_max_m, seed 004 §5),
+                             aggregate over records (mean | median | max), reference design
+                             {parameter = value} to compare with (e.g. the seed's eq (16)).
+``[analysis.percentiles]``   quantities, by (default: the grid parameters), percentiles.
+``[analysis.fragility]``     im (a parameter or result column, e.g. "motion.pga"), edp
+                             (a result column) and limits (P[edp > limit | im]); without
+                             limits a boolean edp column is the outcome; confidence.
+
+Outputs in the study directory: design.csv, percentiles.csv, fragility.csv and, with figures,
+pareto.png, fragility.png, distributions.png.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.atomic import save_figure
+from nsdyn.models.scenefile import SceneError, number, unknown_key
+from nsdyn.studies.design import (
+    AGGREGATES,
+    DEFAULT_PERCENTILES,
+    compromise,
+    design_points,
+    find_design,
+    percentile_table,
+)
+from nsdyn.studies.fragility import CONFIDENCE, fit_lognormal
+from nsdyn.studies.table import Table
+
+SEISMIC_GAP_M = 0.4  # seed 004 §5: the isolator displacement may not exceed 400 mm
+DEFAULT_OBJECTIVES = ("idr_max", "floor_acc_max_mps2")  # seed 004 §5 objectives
+ISOLATED_RESULTS = (  # scalar fields of the isolated frame's summary
+    "x_iso_max_m",
+    "idr_max",
+    "floor_acc_max_mps2",
+    "roof_drift_max_m",
+    "min_normal_force_N",
+    "stick_fraction",
+    "energy_closure",
+    "n_steps",
+    "wall_s",
+    "compile_s",
+    "pga_mps2",
+    "record",
+    "model",
+    "fidelity",
+    "method",
+    "kind",
+)
+FIELDS = {
+    "design": ("variables", "objectives", "constraints", "aggregate", "reference"),
+    "percentiles": ("quantities", "by", "percentiles"),
+    "fragility": ("im", "edp", "limits", "confidence"),
+}
+
+
+def _columns(study) -> tuple[set[str], set[str] | None]:
+    """(parameter columns, result columns or None when the scene kind's are unknown)."""
+    params = {p.name for p in study.parameters} | {"record", "sample"}
+    if study.kind != "isolated":
+        return params, None
+    results = set(ISOLATED_RESULTS)
+    if study.keep is not None:
+        results = set(study.keep)
+    return params, results
+
+
+def _check_column(source: str, where: str, name, study, *, result: bool) -> None:
+    params, results = _columns(study)
+    if not isinstance(name, str):
+        raise SceneError(f"{source}: {where}: expected a column name, got {name!r}")
+    if result and results is None:
+        return  # a scene kind whose result fields are known only after a run
+    valid = params | results if result else params
+    if name not in valid:
+        close = difflib.get_close_matches(name, sorted(valid), n=1)
+        hint = f"; did you mean {close[0]!r}?" if close else ""
+        raise SceneError(f"{source}: {where}: unknown column {name!r}{hint}")
+
+
+def _names(source: str, where: str, val) -> list[str]:
+    if not isinstance(val, list) or not all(isinstance(v, str) for v in val):
+        raise SceneError(f"{source}: {where}: expected a list of column names, got {val!r}")
+    return val
+
+
+def check_analysis(study) -> None:
+    """Check ``study.analysis`` (SceneError naming the field)."""
+    src, an = study.source, study.analysis
+    if not isinstance(an, dict):
+        raise SceneError(f"{src}: analysis: expected tables [analysis.design] ...")
+    for name, spec in an.items():
+        if name not in FIELDS:
+            raise unknown_key(src, "analysis.", name, FIELDS)
+        for key in spec:
+            if key not in FIELDS[name]:
+                raise unknown_key(src, f"analysis.{name}.", key, FIELDS[name])
+    d = an.get("design")
+    if d is not None:
+        for v in _names(src, "analysis.design.variables", d.get("variables", [])):
+            _check_column(src, "analysis.design.variables", v, study, result=False)
+        for v in _names(src, "analysis.design.objectives", d.get("objectives", [])):
+            _check_column(src, "analysis.design.objectives", v, study, result=True)
+        for k, g in d.get("constraints", {}).items():
+            _check_column(src, "analysis.design.constraints", k, study, result=True)
+            number(src, f"analysis.design.constraints.{k}", g)
+        if d.get("aggregate", "mean") not in AGGREGATES:
+            raise SceneError(
+                f"{src}: analysis.design.aggregate: expected one of {list(AGGREGATES)}"
+            )
+        for k in d.get("reference", {}):
+            _check_column(src, "analysis.design.reference", k, study, result=False)
+    p = an.get("percentiles")
+    if p is not None:
+        for v in _names(src, "analysis.percentiles.quantities", p.get("quantities", [])):
+            _check_column(src, "analysis.percentiles.quantities", v, study, result=True)
+        for v in _names(src, "analysis.percentiles.by", p.get("by", [])):
+            _check_column(src, "analysis.percentiles.by", v, study, result=False)
+        for i, q in enumerate(p.get("percentiles", [])):
+            if (
+                not 0
+                <= number(src, f"analysis.percentiles.percentiles[{i}]", q, allow_zero=True)
+                <= 100
+            ):
+                raise SceneError(f"{src}: analysis.percentiles.percentiles: expected 0..100")
+    f = an.get("fragility")
+    if f is not None:
+        for key in ("im", "edp"):
+            if key not in f:
+                raise SceneError(f"{src}: analysis.fragility.{key}: missing (required)")
+            _check_column(src, f"analysis.fragility.{key}", f[key], study, result=True)
+        lim = f.get("limits", [])
+        if not isinstance(lim, list):
+            raise SceneError(f"{src}: analysis.fragility.limits: expected a list of numbers")
+        for i, v in enumerate(lim):
+            number(src, f"analysis.fragility.limits[{i}]", v)
+        c = number(src, "analysis.fragility.confidence", f.get("confidence", CONFIDENCE))
+        if not c < 1:
+            raise SceneError(f"{src}: analysis.fragility.confidence: expected in (0, 1)")
+
+
+def _grid_names(study) -> list[str]:
+    return [p.name for p in study.parameters if not p.random]
+
+
+def _write_rows(rows: list[dict], path: Path) -> None:
+    Table(rows).write_csv(path) if rows else None
+
+
+def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
+    from nsdyn.studies.figures import pareto_figure
+
+    variables = spec.get("variables") or _grid_names(study)
+    objectives = spec.get("objectives") or list(DEFAULT_OBJECTIVES)
+    constraints = spec.get("constraints", {"x_iso_max_m": SEISMIC_GAP_M})
+    points = design_points(table, variables, objectives, constraints, spec.get("aggregate", "mean"))
+    _write_rows([p.row() for p in points], out / "design.csv")
+    chosen = compromise(points, objectives)
+    ref = find_design(points, spec["reference"]) if spec.get("reference") else None
+    res = {
+        "n_designs": len(points),
+        "n_feasible": sum(p.feasible for p in points),
+        "pareto": [p.row() for p in points if p.pareto],
+        "chosen": None if chosen is None else chosen.row(),
+        "reference": None if ref is None else ref.row(),
+        "table": str(out / "design.csv"),
+    }
+    if ref is not None:
+        res["reference_dominated_by"] = [
+            p.values
+            for p in points
+            if p.feasible
+            and all(p.objectives[k] <= ref.objectives[k] for k in objectives)
+            and any(p.objectives[k] < ref.objectives[k] for k in objectives)
+        ]
+    if figures and len(objectives) >= 2:
+        fig = pareto_figure(points, objectives[:2], chosen, ref, title=study.name)
+        res["figure"] = str(save_figure(fig, out / "pareto.png"))
+    return res
+
+
+def _fragility(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
+    from nsdyn.studies.figures import fragility_figure
+
+    ok = table.ok()
+    im = ok.column(spec["im"])
+    edp = ok.column(spec["edp"])
+    m = np.isfinite(im) & np.isfinite(edp) & (im > 0)
+    limits = spec.get("limits") or [None]
+    fits, rows = [], []
+    for lim in limits:
+        exceeded = edp[m] > lim if lim is not None else edp[m] > 0.5
+        try:
+            fit = fit_lognormal(im[m], exceeded)
+        except ValueError as e:
+            rows.append({"limit": lim, "error": str(e)})
+            fits.append((lim, None, im[m], exceeded))
+            continue
+        rows.append({"limit": lim} | fit.as_dict())
+        fits.append((lim, fit, im[m], exceeded))
+    _write_rows(rows, out / "fragility.csv")
+    res = {"im": spec["im"], "edp": spec["edp"], "fits": rows, "table": str(out / "fragility.csv")}
+    if figures:
+        conf = spec.get("confidence", CONFIDENCE)
+        fig = fragility_figure(fits, spec["im"], spec["edp"], conf, title=study.name)
+        res["figure"] = str(save_figure(fig, out / "fragility.png"))
+    return res
+
+
+def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True) -> dict:
+    """Every ``[analysis.*]`` of the study on its table; CSVs (and PNGs) in ``out_dir``."""
+    from nsdyn.studies.figures import distribution_figure
+
+    out = Path(out_dir)
+    an = study.analysis
+    res: dict = {}
+    if "design" in an:
+        res["design"] = _design(study, table, an["design"], out, figures)
+    if "percentiles" in an:
+        spec = an["percentiles"]
+        q = spec.get("quantities") or list(study.keep or DEFAULT_OBJECTIVES)
+        by = spec.get("by", _grid_names(study))
+        pct = tuple(spec.get("percentiles", DEFAULT_PERCENTILES))
+        rows = percentile_table(table, q, by, pct)
+        _write_rows(rows, out / "percentiles.csv")
+        res["percentiles"] = {"rows": rows, "table": str(out / "percentiles.csv")}
+        if figures and rows:
+            fig = distribution_figure(table.ok(), q, title=study.name)
+            res["percentiles"]["figure"] = str(save_figure(fig, out / "distributions.png"))
+    if "fragility" in an:
+        res["fragility"] = _fragility(study, table, an["fragility"], out, figures)
+    return _finite(res)
+
+
+def _finite(obj):
+    """JSON-safe: NaN and inf become None."""
+    if isinstance(obj, dict):
+        return {k: _finite(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_finite(v) for v in obj]
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    if isinstance(obj, np.floating | np.integer | np.bool_):
+        return _finite(obj.item())
+    return obj

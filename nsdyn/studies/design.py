@@ -1,0 +1,163 @@
+"""Design search over a study table: objectives per design, constraint, Pareto front, choice;
+percentile tables over record sets.
+
+A design is one combination of the design variables (e.g. K_lam, c, μ; seed 004 §5). Over the
+records of a design, each objective f_k (e.g. peak IDR, peak absolute floor acceleration) is
+aggregated (mean, median or max over records) and each constraint g (e.g. the peak isolator
+displacement against the 400 mm seismic gap) is taken at its worst record:
+
+    feasible  ⇔  max_records g ≤ g_max  for every constraint.
+
+Design p dominates q if f_k(p) ≤ f_k(q) for all k and < for one; the Pareto front is the set of
+feasible designs no feasible design dominates. One design is singled out as the compromise:
+the front's minimiser of Σ_k f_k / min_front f_k (each objective relative to its best
+feasible value, so objectives of different units weigh alike).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from nsdyn.studies.table import Table
+
+AGGREGATES = ("mean", "median", "max")
+DEFAULT_PERCENTILES = (16.0, 50.0, 84.0)  # median and the ±1σ band of a lognormal spread
+MATCH_RTOL = 1e-9  # a reference design matches a grid point to this relative tolerance
+
+
+@dataclass
+class DesignPoint:
+    """One design: its variable values, aggregated objectives, worst constraints."""
+
+    values: dict
+    objectives: dict
+    constraints: dict
+    n_records: int
+    n_failed: int
+    feasible: bool = False
+    pareto: bool = False
+    extra: dict = field(default_factory=dict)
+
+    def row(self) -> dict:
+        return (
+            dict(self.values)
+            | dict(self.objectives)
+            | {f"{k}_worst": v for k, v in self.constraints.items()}
+            | {
+                "n_records": self.n_records,
+                "n_failed": self.n_failed,
+                "feasible": self.feasible,
+                "pareto": self.pareto,
+            }
+        )
+
+
+def _groups(table: Table, by: list[str]) -> dict[tuple, list[int]]:
+    groups: dict[tuple, list[int]] = {}
+    for i, r in enumerate(table.rows):
+        groups.setdefault(tuple(r.get(b) for b in by), []).append(i)
+    return groups
+
+
+def _agg(x: np.ndarray, how: str) -> float:
+    if x.size == 0 or not np.all(np.isfinite(x)):
+        return float("nan")
+    return float({"mean": np.mean, "median": np.median, "max": np.max}[how](x))
+
+
+def design_points(
+    table: Table,
+    variables: list[str],
+    objectives: list[str],
+    constraints: dict[str, float],
+    aggregate: str = "mean",
+) -> list[DesignPoint]:
+    """Designs of ``table`` (grouped by ``variables``), aggregated, feasibility and front set.
+
+    A design with a failed task has NaN objectives and is neither feasible nor on the front.
+    """
+    if aggregate not in AGGREGATES:
+        raise ValueError(f"aggregate: expected one of {AGGREGATES}, got {aggregate!r}")
+    ok = np.array([r.get("status") == "ok" for r in table.rows], dtype=bool)
+    cols = {k: table.column(k) for k in list(objectives) + list(constraints)}
+    points = []
+    for vals, idx in _groups(table, variables).items():
+        idx = np.asarray(idx)
+        good = idx[ok[idx]]
+        n_failed = int(idx.size - good.size)
+        obj = {k: _agg(cols[k][good], aggregate) if not n_failed else np.nan for k in objectives}
+        con = {k: _agg(cols[k][good], "max") if not n_failed else np.nan for k in constraints}
+        feasible = not n_failed and all(con[k] <= g for k, g in constraints.items())
+        feasible = feasible and all(np.isfinite(v) for v in obj.values())
+        points.append(
+            DesignPoint(
+                dict(zip(variables, vals, strict=True)), obj, con, int(idx.size), n_failed, feasible
+            )
+        )
+    F = np.array([[p.objectives[k] for k in objectives] for p in points]).reshape(len(points), -1)
+    feas = np.array([p.feasible for p in points], dtype=bool)
+    for i in pareto_front(F, feas):
+        points[i].pareto = True
+    return points
+
+
+def pareto_front(F: np.ndarray, mask: np.ndarray | None = None) -> np.ndarray:
+    """Indices of the rows of ``F`` (n, k; minimised) that no other (masked-in) row dominates."""
+    F = np.asarray(F, dtype=float)
+    mask = np.ones(F.shape[0], dtype=bool) if mask is None else np.asarray(mask, dtype=bool)
+    idx = np.flatnonzero(mask)
+    keep = []
+    for i in idx:
+        others = F[idx]
+        dom = np.all(others <= F[i], axis=1) & np.any(others < F[i], axis=1)
+        if not dom.any():
+            keep.append(i)
+    return np.asarray(keep, dtype=int)
+
+
+def compromise(points: list[DesignPoint], objectives: list[str]) -> DesignPoint | None:
+    """The front's design minimising Σ_k f_k / min_front f_k (None if nothing is feasible)."""
+    front = [p for p in points if p.pareto]
+    if not front:
+        return None
+    best = {k: min(p.objectives[k] for p in front) for k in objectives}
+    scale = {k: best[k] if best[k] > 0 else 1.0 for k in objectives}
+    return min(front, key=lambda p: sum(p.objectives[k] / scale[k] for k in objectives))
+
+
+def find_design(points: list[DesignPoint], values: dict) -> DesignPoint | None:
+    """The design whose variables equal ``values`` (numbers to MATCH_RTOL), if any."""
+
+    def same(a, b) -> bool:
+        if isinstance(a, int | float) and isinstance(b, int | float):
+            return abs(a - b) <= MATCH_RTOL * max(abs(a), abs(b), 1e-300)
+        return a == b
+
+    for p in points:
+        if all(same(p.values.get(k), v) for k, v in values.items()):
+            return p
+    return None
+
+
+def percentile_table(
+    table: Table, quantities: list[str], by: list[str], q=DEFAULT_PERCENTILES
+) -> list[dict]:
+    """Per group of ``by``: runs, and the ``q`` percentiles and mean of each quantity over the
+    group's successful runs (records, samples)."""
+    out = []
+    ok = np.array([r.get("status") == "ok" for r in table.rows], dtype=bool)
+    cols = {k: table.column(k) for k in quantities}
+    for vals, idx in _groups(table, by).items():
+        idx = np.asarray(idx)
+        good = idx[ok[idx]]
+        row = dict(zip(by, vals, strict=True)) | {"n": int(good.size)}
+        for k in quantities:
+            x = cols[k][good]
+            x = x[np.isfinite(x)]
+            for p in q:
+                row[f"{k}_p{p:g}"] = float(np.percentile(x, p)) if x.size else float("nan")
+            row[f"{k}_mean"] = float(x.mean()) if x.size else float("nan")
+        out.append(row)
+    return out

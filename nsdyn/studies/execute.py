@@ -1,0 +1,231 @@
+"""Running a study on any ``concurrent.futures.Executor``: batches, progress, resume, failures.
+
+``run_study(study, out_dir)`` expands the study into tasks, drops those whose key is already in
+the output directory's table, submits the rest in batches (:mod:`nsdyn.studies.tasks`) and
+writes each returned batch as a part of the table at once (:mod:`nsdyn.studies.table`).
+The executor is a local process pool unless one is given — e.g. ``client.get_executor()`` of a
+Dask ``distributed.Client`` (:func:`dask_executor` starts a ``LocalCluster`` or connects to a
+scheduler). A task that raises is a ``failed`` row. A batch whose worker died (a broken
+process pool, a Dask ``KilledWorker``) is split and its tasks resubmitted one by one, on a new
+pool if the pool was ours; a task that takes its worker down twice is a ``failed`` row.
+
+Progress (stderr, every PROGRESS_S): tasks done / total, failed, skipped (already in the
+table), elapsed wall time and the time left, estimated as
+``elapsed / tasks_done_this_run * tasks_left``.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from collections.abc import Callable, Iterator
+from concurrent.futures import FIRST_COMPLETED, Executor, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+
+from nsdyn.studies.scenes import run_batch
+from nsdyn.studies.study import Study
+from nsdyn.studies.table import ResultsStore, Table
+from nsdyn.studies.tasks import Task, batch_size, batches, expand
+
+PROGRESS_S = 2.0  # seconds between progress lines
+DASK_HINT = 'Dask is an optional extra: pip install "nsdyn[dask]"'
+
+
+@dataclass
+class StudyRun:
+    """What a run of a study did and the table it left."""
+
+    table: Table
+    n_tasks: int
+    n_run: int
+    n_skipped: int
+    n_failed: int
+    wall_s: float
+    workers: int
+    batch: int
+    out_dir: Path
+
+    def as_dict(self) -> dict:
+        return {
+            "n_tasks": self.n_tasks,
+            "n_run": self.n_run,
+            "n_skipped": self.n_skipped,
+            "n_failed": self.n_failed,
+            "wall_s": self.wall_s,
+            "workers": self.workers,
+            "batch": self.batch,
+            "table": str(self.out_dir / "results.csv"),
+        }
+
+
+def _failed_rows(tasks: list[Task], why: str) -> list[dict]:
+    return [t.columns() | {"status": "failed", "error": why, "task_s": float("nan")} for t in tasks]
+
+
+class _Progress:
+    def __init__(self, name: str, total: int, skipped: int, report: Callable | None):
+        self.name, self.total, self.skipped = name, total, skipped
+        self.done = self.failed = 0
+        self.t0 = self.last = time.perf_counter()
+        self.report = report
+
+    def add(self, rows: list[dict]) -> None:
+        self.done += len(rows)
+        self.failed += sum(r.get("status") != "ok" for r in rows)
+
+    def line(self) -> str:
+        el = time.perf_counter() - self.t0
+        left = self.total - self.skipped - self.done
+        eta = f"~{el / self.done * left:.0f} s left" if self.done else "time left unknown"
+        return (
+            f"study {self.name}: {self.skipped + self.done}/{self.total} done "
+            f"({self.failed} failed, {self.skipped} from before), {el:.1f} s, {eta}"
+        )
+
+    def tick(self, force: bool = False) -> None:
+        now = time.perf_counter()
+        if self.report is not None and (force or now - self.last >= PROGRESS_S):
+            self.last = now
+            self.report(self.line())
+
+
+def _n_workers(executor: Executor) -> int:
+    n = getattr(executor, "_max_workers", None)  # ProcessPoolExecutor, ThreadPoolExecutor
+    client = getattr(executor, "_client", None)  # distributed's ClientExecutor
+    if client is not None:
+        n = sum(client.nthreads().values())
+    return int(n or os.cpu_count() or 1)
+
+
+def run_study(
+    study: Study,
+    out_dir: str | Path,
+    *,
+    executor: Executor | None = None,
+    workers: int | None = None,
+    fresh: bool = False,
+    retry_failed: bool = False,
+    progress: Callable[[str], None] | None = None,
+) -> StudyRun:
+    """Run the tasks of ``study`` missing from ``out_dir``'s table; return the whole table.
+
+    Parameters
+    ----------
+    executor : concurrent.futures.Executor, optional
+        Default: a ``ProcessPoolExecutor(workers)`` owned (and replaced if broken) by this call.
+    workers : int, optional       processes of the default pool (default: CPU count)
+    fresh : bool                  forget earlier results in ``out_dir``
+    retry_failed : bool           rerun tasks recorded as failed
+    progress : callable(str), optional   receives a progress line every PROGRESS_S
+    """
+    out = Path(out_dir)
+    tasks = expand(study)
+    store = ResultsStore(out, [p.name for p in study.parameters])
+    store.clean_temporaries()
+    if fresh:
+        store.reset()
+    done = store.read()
+    todo = [
+        t
+        for t in tasks
+        if t.key not in done or (retry_failed and done[t.key].get("status") != "ok")
+    ]
+    own = executor is None
+    if own:
+        workers = workers or os.cpu_count() or 1
+        executor = ProcessPoolExecutor(max_workers=workers) if todo else None
+    n_workers = workers if own else _n_workers(executor)
+    size = batch_size(len(todo), n_workers, study.batch)
+    prog = _Progress(study.name, len(tasks), len(tasks) - len(todo), progress)
+    t0 = time.perf_counter()
+    try:
+        pending = {executor.submit(run_batch, b): (b, False) for b in batches(todo, size)}
+        while pending:
+            finished, _ = wait(pending, timeout=PROGRESS_S, return_when=FIRST_COMPLETED)
+            resubmit: list[Task] = []
+            broken = False
+            for f in finished:
+                b, retried = pending.pop(f)
+                try:
+                    rows = f.result()
+                except Exception as e:  # the worker, not the task, failed
+                    broken |= isinstance(e, BrokenProcessPool)
+                    why = " ".join(f"worker lost: {type(e).__name__}: {e}".split())[:400]
+                    if retried:
+                        rows = _failed_rows(b, why)
+                    else:
+                        resubmit += b
+                        continue
+                store.append(rows)
+                prog.add(rows)
+            if broken and own:
+                # every future of a broken pool fails: take them all back, start a new pool
+                for f, (b, retried) in list(pending.items()):
+                    if retried:
+                        continue
+                    pending.pop(f)
+                    resubmit += b
+                executor.shutdown(wait=False, cancel_futures=True)
+                executor = ProcessPoolExecutor(max_workers=workers)
+            elif broken:
+                raise RuntimeError("the given process pool broke; rerun the study to resume")
+            for t in resubmit:
+                pending[executor.submit(run_batch, [t])] = ([t], True)
+            prog.tick()
+    finally:
+        if own and executor is not None:
+            executor.shutdown(wait=False, cancel_futures=True)
+    prog.tick(force=True)
+    order = {t.key: t.index for t in tasks}
+    table = store.compact(order)
+    return StudyRun(
+        table=table,
+        n_tasks=len(tasks),
+        n_run=prog.done,
+        n_skipped=prog.skipped,
+        n_failed=sum(r.get("status") != "ok" for r in table.rows),
+        wall_s=time.perf_counter() - t0,
+        workers=n_workers,
+        batch=size,
+        out_dir=out,
+    )
+
+
+@contextmanager
+def dask_executor(
+    address: str | None = None, n_local: int | None = None, *, processes: bool = True
+) -> Iterator[Executor]:
+    """A ``concurrent.futures.Executor`` on Dask: the scheduler at ``address``, or a
+    ``LocalCluster`` of ``n_local`` single-threaded workers (threads if not ``processes``)."""
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise OSError(DASK_HINT) from None
+    cluster = None
+    if address is None:
+        cluster = LocalCluster(
+            n_workers=n_local or 1,
+            threads_per_worker=1,
+            processes=processes,
+            dashboard_address=None,
+        )
+        client = Client(cluster)
+    else:
+        try:
+            client = Client(address, timeout="10s")
+        except (OSError, TimeoutError) as e:
+            raise OSError(f"no Dask scheduler at {address}: {e}") from None
+    try:
+        yield client.get_executor(pure=False)
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def stderr_progress(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)

@@ -1,0 +1,191 @@
+"""Lognormal fragility curves: maximum-likelihood fit on binary outcomes, confidence band.
+
+The fragility of a limit state is
+
+    P[EDP > limit | IM = x] = Φ((ln x − ln θ) / β)
+
+(θ the median capacity in IM units, β the log-standard deviation). Writing it as a probit
+regression ``P = Φ(a + b u)``, ``u = ln x``, ``a = −ln θ / β``, ``b = 1 / β``, the
+log-likelihood of outcomes y_i ∈ {0, 1} (or of z_j exceedances in n_j runs at level x_j: the
+"fit to exceedance fractions" of multiple-stripe analysis, the same likelihood grouped)
+
+    ℓ(a, b) = Σ_j [ z_j ln Φ(η_j) + (n_j − z_j) ln Φ(−η_j) ],   η_j = a + b u_j
+
+is maximised by Fisher scoring with the expected information
+
+    I(a, b) = Σ_j n_j w_j [1, u_j]ᵀ[1, u_j],   w = φ(η)² / (Φ(η) Φ(−η)).
+
+Cov(a, b) ≈ I⁻¹ at the estimate; the delta method gives the standard errors of ln θ and β
+and the pointwise band ``Φ(η(x) ± z_{1−α/2} sd η(x))``, ``var η(x) = [1, ln x] Cov [1, ln x]ᵀ``.
+Data that separate perfectly (every run below some level survives, every run above fails)
+have no finite maximum: the fit refuses them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import special, stats
+
+MAX_ITER = 100  # Fisher-scoring iterations
+STEP_TOL = 1e-10  # convergence: Newton step in (a, b), relative to 1 + |(a, b)|
+MAX_B = 1e4  # b = 1/beta beyond this: the data separate perfectly (beta -> 0)
+CONFIDENCE = 0.95  # default level of the confidence band
+
+
+@dataclass(frozen=True)
+class LognormalFragility:
+    """A fitted fragility curve and its uncertainty."""
+
+    theta: float  # median IM at which P = 1/2
+    beta: float  # log-standard deviation
+    se_ln_theta: float  # standard error of ln theta
+    se_beta: float  # standard error of beta
+    cov_ab: np.ndarray  # (2, 2) covariance of the probit coefficients (a, b)
+    n: int  # runs
+    n_exceed: int  # runs past the limit
+    log_likelihood: float
+
+    def probability(self, x) -> np.ndarray:
+        """P[EDP > limit | IM = x]."""
+        return special.ndtr((np.log(np.asarray(x, dtype=float)) - math.log(self.theta)) / self.beta)
+
+    def band(self, x, confidence: float = CONFIDENCE) -> tuple[np.ndarray, np.ndarray]:
+        """Pointwise (lower, upper) confidence band of the curve at ``x``."""
+        u = np.log(np.asarray(x, dtype=float))
+        a, b = -math.log(self.theta) / self.beta, 1.0 / self.beta
+        eta = a + b * u
+        J = np.stack([np.ones_like(u), u], axis=-1)
+        sd = np.sqrt(np.einsum("...i,ij,...j->...", J, self.cov_ab, J))
+        zc = stats.norm.ppf(0.5 + confidence / 2)
+        return special.ndtr(eta - zc * sd), special.ndtr(eta + zc * sd)
+
+    def as_dict(self) -> dict:
+        return {
+            "theta": self.theta,
+            "beta": self.beta,
+            "se_ln_theta": self.se_ln_theta,
+            "se_beta": self.se_beta,
+            "n": self.n,
+            "n_exceed": self.n_exceed,
+            "log_likelihood": self.log_likelihood,
+        }
+
+
+def _loglik(eta: np.ndarray, n: np.ndarray, z: np.ndarray) -> float:
+    return float(np.sum(z * special.log_ndtr(eta) + (n - z) * special.log_ndtr(-eta)))
+
+
+def fisher_information(a: float, b: float, im, n) -> np.ndarray:
+    """Expected information of (a, b) for ``n`` runs at each IM level ``im``."""
+    u = np.log(np.asarray(im, dtype=float))
+    eta = a + b * u
+    p, q = special.ndtr(eta), special.ndtr(-eta)
+    phi = np.exp(-0.5 * eta**2) / math.sqrt(2 * math.pi)
+    w = np.asarray(n, dtype=float) * phi**2 / np.maximum(p * q, 1e-300)
+    X = np.stack([np.ones_like(u), u], axis=1)
+    return X.T @ (w[:, None] * X)
+
+
+def fit_lognormal_counts(im, n_runs, n_exceed) -> LognormalFragility:
+    """Maximum-likelihood fragility from ``n_exceed`` of ``n_runs`` past the limit at ``im``."""
+    x = np.asarray(im, dtype=float)
+    n = np.asarray(n_runs, dtype=float)
+    z = np.asarray(n_exceed, dtype=float)
+    if x.shape != n.shape or x.shape != z.shape or x.ndim != 1:
+        raise ValueError("im, n_runs, n_exceed: expected 1-D arrays of one length")
+    if not np.all(x > 0) or not np.all(np.isfinite(x)):
+        raise ValueError("im: expected positive finite intensity measures")
+    if np.any(z < 0) or np.any(z > n):
+        raise ValueError("n_exceed: expected 0 <= n_exceed <= n_runs")
+    N, Z = int(n.sum()), int(z.sum())
+    if Z == 0 or Z == N:
+        raise ValueError(f"fragility: {Z} of {N} runs exceed the limit; need some of each")
+    u = np.log(x)
+    if u[z < n].max() <= u[z > 0].min():  # (quasi-)complete separation: no finite maximum
+        raise ValueError(
+            "fragility: the outcomes separate perfectly in IM (every run below some level "
+            "survives, every run above fails): beta -> 0, no finite maximum-likelihood fit"
+        )
+    # start: a moment estimate (theta at the weighted median of u, beta from its spread)
+    sd = math.sqrt(max(float(np.average((u - np.average(u, weights=n)) ** 2, weights=n)), 1e-6))
+    frac = np.clip(Z / N, 0.05, 0.95)
+    b = 1.0 / sd
+    a = stats.norm.ppf(frac) - b * float(np.average(u, weights=n))
+    ll = _loglik(a + b * u, n, z)
+    for _ in range(MAX_ITER):
+        eta = a + b * u
+        p, q = special.ndtr(eta), special.ndtr(-eta)
+        phi = np.exp(-0.5 * eta**2) / math.sqrt(2 * math.pi)
+        r = phi * (z - n * p) / np.maximum(p * q, 1e-300)
+        score = np.array([r.sum(), (r * u).sum()])
+        try:
+            step = np.linalg.solve(fisher_information(a, b, x, n), score)
+        except np.linalg.LinAlgError:
+            raise ValueError(
+                "fragility: singular information (too few distinct IM levels)"
+            ) from None
+        t = 1.0
+        while t > 1e-8:  # halve until the likelihood does not drop
+            a1, b1 = a + t * step[0], b + t * step[1]
+            ll1 = _loglik(a1 + b1 * u, n, z)
+            if b1 > 0 and ll1 >= ll - 1e-12 * abs(ll):
+                break
+            t /= 2
+        a, b, ll = a1, b1, ll1
+        if b > MAX_B:
+            raise ValueError(
+                "fragility: the outcomes separate perfectly in IM (beta -> 0); "
+                "no finite maximum-likelihood fit"
+            )
+        if t * np.linalg.norm(step) < STEP_TOL * (1 + math.hypot(a, b)):
+            break
+    else:
+        raise ValueError(f"fragility: Fisher scoring did not converge in {MAX_ITER} iterations")
+    cov = np.linalg.inv(fisher_information(a, b, x, n))
+    # ln theta = -a/b, beta = 1/b: gradients for the delta method
+    g_lt = np.array([-1.0 / b, a / b**2])
+    g_beta = np.array([0.0, -1.0 / b**2])
+    return LognormalFragility(
+        theta=math.exp(-a / b),
+        beta=1.0 / b,
+        se_ln_theta=float(math.sqrt(g_lt @ cov @ g_lt)),
+        se_beta=float(math.sqrt(g_beta @ cov @ g_beta)),
+        cov_ab=cov,
+        n=N,
+        n_exceed=Z,
+        log_likelihood=ll,
+    )
+
+
+def fit_lognormal(im, exceeded) -> LognormalFragility:
+    """Maximum-likelihood fragility from one outcome per run (``exceeded``: bool per ``im``)."""
+    x = np.asarray(im, dtype=float)
+    y = np.asarray(exceeded, dtype=bool)
+    if x.shape != y.shape:
+        raise ValueError(f"im {x.shape} and exceeded {y.shape}: expected one outcome per run")
+    levels, inv = np.unique(x, return_inverse=True)
+    n = np.bincount(inv, minlength=levels.size)
+    z = np.bincount(inv, weights=y.astype(float), minlength=levels.size)
+    return fit_lognormal_counts(levels, n, z)
+
+
+def exceedance_fractions(im, exceeded, n_bins: int = 8) -> tuple[np.ndarray, ...]:
+    """Observed (IM, fraction exceeding, runs) in ``n_bins`` log-spaced IM bins (for plots);
+    distinct IM levels (stripes) are kept as they are when there are at most ``n_bins``."""
+    x = np.asarray(im, dtype=float)
+    y = np.asarray(exceeded, dtype=float)
+    levels = np.unique(x)
+    if levels.size <= n_bins:
+        inv = np.searchsorted(levels, x)
+        centres = levels
+    else:
+        edges = np.geomspace(x.min(), x.max() * (1 + 1e-12), n_bins + 1)
+        inv = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, n_bins - 1)
+        centres = np.sqrt(edges[:-1] * edges[1:])
+    n = np.bincount(inv, minlength=centres.size)
+    z = np.bincount(inv, weights=y, minlength=centres.size)
+    m = n > 0
+    return centres[m], z[m] / n[m], n[m]

@@ -1,0 +1,203 @@
+"""One scene run of any kind, as a study task: the summary dict, no figures, no files kept.
+
+``run_scene_summary(cfg, source)`` dispatches on ``[scene] kind``:
+
+* ``isolated``: the frame on friction isolators, built and simulated in this process with the
+  scene's solver settings (what ``nsdyn run --json --no-figures`` prints, without the
+  histories file). The structural reduction (Craig–Bampton of the frame, seconds) does not
+  depend on the isolator springs and dampers, so each process keeps it per (frame, fidelity,
+  f_max, diaphragm) and adds the isolators of each task, ``K* = K_s + Dᵀ diag(k_lam) D``,
+  ``C* = C_s + Dᵀ diag(c) D`` — the same assembly ``build_system`` does;
+* other kinds: ``nsdyn.models.<kind>.scene.run_scene(cfg, source=…, out_dir=<temporary>,
+  figures=False, quiet=True)``.
+
+A record may be simulated (``[motion] simulated = {generator, seed, duration, dt}``, seed
+000's modulated white noise or Kanai–Tajimi): it is synthesised in the worker from its seed,
+and written to the temporary directory for kinds that read files.
+
+``run_batch(tasks)`` runs tasks one after another and returns one row per task; a task that
+raises gives a row with ``status = "failed"`` and the error, and the batch goes on.
+"""
+
+from __future__ import annotations
+
+import copy
+import importlib
+import json
+import math
+import tempfile
+import threading
+import time
+from dataclasses import replace
+from functools import lru_cache
+from pathlib import Path
+
+from nsdyn.models.scenefile import SceneError, scene_kind
+
+ERROR_CHARS = 400  # longest error text kept in a failed row
+MOTION_CACHE = 32  # parsed records kept per process
+_systems: dict = {}  # (frame, fidelity, f_max, diaphragm) -> isolator-free system
+_lock = threading.Lock()  # the system cache is shared by the threads of a threaded worker
+
+
+@lru_cache(maxsize=MOTION_CACHE)
+def _read(record: str, units: str | None, dt: float | None):
+    from nsdyn.ground import read_motion
+
+    kw = {k: v for k, v in (("units", units), ("dt", dt)) if v is not None}
+    return read_motion(record, **kw)
+
+
+def simulated_motion(spec: dict):
+    """The simulated record of a ``[motion] simulated`` table."""
+    from nsdyn.ground import kanai_tajimi, modulated_white_noise
+
+    gen = spec.get("generator", "modulated_white_noise")
+    name = f"{gen}-seed{spec['seed']}"
+    if gen == "kanai_tajimi":
+        return kanai_tajimi(
+            spec["duration"], seed=spec["seed"], dt=spec["dt"], vertical_ratio=2 / 3, name=name
+        )
+    return modulated_white_noise(spec["duration"], dt=spec["dt"], seed=spec["seed"], name=name)
+
+
+def scene_motion(cfg: dict):
+    """The ground motion of a scene's ``[motion]`` table (record or simulated; vertical, pga,
+    t_end applied as ``nsdyn run`` applies them)."""
+    mo = cfg["motion"]
+    if "simulated" in mo:
+        motion = simulated_motion(mo["simulated"])
+    else:
+        motion = _read(str(mo["record"]), mo.get("units"), mo.get("dt"))
+    if not mo.get("vertical", True):
+        motion = motion.with_vertical(None)
+    if "pga" in mo:
+        motion = motion.scaled_to_pga(float(mo["pga"]))
+    if "t_end" in mo:
+        motion = motion.window(motion.t0, float(mo["t_end"]))
+    return motion
+
+
+def _isolated_system(cfg: dict, source: str):
+    from nsdyn.models.isolated.system import (
+        Isolation,
+        _add_isolators,
+        build_system,
+        isolation_from_config,
+    )
+    from nsdyn.structure import load_frame
+
+    sc = cfg["scene"]
+    try:
+        iso = isolation_from_config(cfg.get("isolation", {}), source)
+    except ValueError as e:
+        raise SceneError(str(e)) from None
+    fidelity = sc.get("fidelity", "cb")
+    f_max = float(sc.get("f_max", 5.0))
+    key = (sc["frame"], fidelity, f_max, iso.diaphragm_EA, iso.diaphragm_EI)
+    with _lock:
+        base = _systems.get(key)
+        if base is None:
+            bare = Isolation(
+                k_lam=0.0, c=0.0, diaphragm_EA=iso.diaphragm_EA, diaphragm_EI=iso.diaphragm_EI
+            )
+            base = build_system(load_frame(sc["frame"]), bare, fidelity=fidelity, f_max=f_max)
+            _systems[key] = base
+    if base.isolation is None:  # fixed base
+        return base
+    K, C = _add_isolators(base.K, base.C, base.D, iso)
+    return replace(base, K=K, C=C, isolation=iso, _static=None)
+
+
+def _run_isolated(cfg: dict, source: str) -> dict:
+    from nsdyn.solve.transient import output_grid, simulate
+
+    system = _isolated_system(cfg, source)
+    motion = scene_motion(cfg)
+    sv = cfg["solver"]
+    method = sv.get("method", "radau")
+    if method == "event" and system.isolation is not None:
+        system = replace(system, isolation=replace(system.isolation, law="switch"), _static=None)
+    atol = sv.get("atol")
+    res = simulate(
+        system,
+        motion,
+        method=method,
+        rtol=sv["rtol"],
+        atol=tuple(atol) if isinstance(atol, list) else atol,
+        dt=sv.get("dt"),
+        t_eval=output_grid(motion, sv.get("dt_out")),
+        uplift=sv.get("uplift", "raise"),
+    )
+    s = res.summary()
+    s.update(kind="isolated", record=motion.name, pga_mps2=float(motion.pga))
+    return s
+
+
+def _run_other(kind: str, cfg: dict, source: str) -> dict:
+    mod = importlib.import_module(f"nsdyn.models.{kind}.scene")
+    cfg = copy.deepcopy(cfg)
+    with tempfile.TemporaryDirectory(prefix="nsdyn-task-") as tmp:
+        sim = cfg.get("motion", {}).pop("simulated", None)
+        if sim is not None:
+            from nsdyn.ground import write_motion
+
+            cfg["motion"]["record"] = str(
+                write_motion(simulated_motion(sim), Path(tmp) / "rec.csv")
+            )
+        s = mod.run_scene(cfg, source=source, out_dir=Path(tmp), figures=False, quiet=True)
+    return {k: v for k, v in s.items() if not (isinstance(v, str) and v.startswith(tmp))}
+
+
+def run_scene_summary(cfg: dict, source: str) -> dict:
+    """Run the scene ``cfg`` of any kind and return its JSON summary (no figures, no files)."""
+    kind = scene_kind(cfg, source)
+    if kind == "isolated":
+        return _run_isolated(cfg, source)
+    return _run_other(kind, cfg, source)
+
+
+def _cell(v):
+    """A table cell: numbers, strings and booleans as they are; anything else as JSON."""
+    if v is None or isinstance(v, bool | int | str):
+        return v
+    if isinstance(v, float):
+        return v
+    if hasattr(v, "item") and getattr(v, "ndim", 1) == 0:
+        return v.item()
+    return json.dumps(v)
+
+
+def result_columns(summary: dict, keep) -> dict:
+    """The kept fields of a summary: ``keep`` (any type, non-scalars as JSON) or every scalar."""
+    if keep is None:
+        return {
+            k: _cell(v)
+            for k, v in summary.items()
+            if v is None or isinstance(v, bool | int | float | str)
+        }
+    return {k: _cell(summary.get(k)) for k in keep}
+
+
+def run_task(task) -> dict:
+    """One row: the task's input columns, ``status``, ``error``, ``task_s`` and its results."""
+    row = task.columns()
+    t0 = time.perf_counter()
+    try:
+        s = run_scene_summary(task.cfg, task.source)
+        row.update(result_columns(s, task.keep))
+        row["status"], row["error"] = "ok", ""
+    except Exception as e:  # a failing task is a result, not the end of the study
+        msg = " ".join(f"{type(e).__name__}: {e}".split())
+        row["status"], row["error"] = "failed", msg[:ERROR_CHARS]
+    row["task_s"] = time.perf_counter() - t0
+    return row
+
+
+def run_batch(tasks: list) -> list[dict]:
+    """Rows of ``tasks`` run in order (the function executors call)."""
+    return [run_task(t) for t in tasks]
+
+
+def is_number(v) -> bool:
+    return isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)

@@ -1,0 +1,393 @@
+"""Study files: one TOML describing many runs of a scene, read and checked.
+
+A study is the Cartesian product
+
+    tasks = (grid values of every listed parameter) x (``samples`` joint random draws)
+            x (records)
+
+run on a base scene (any kind ``nsdyn run`` knows). Example::
+
+    [study]
+    name = "isolator design"
+    scene = "../scenes/office.toml"   # optional; default: the isolated frame's default scene
+    keep = ["x_iso_max_m", "idr_max", "floor_acc_max_mps2"]   # default: every scalar field
+    samples = 0                       # joint draws of the random parameters
+    seed = 1                          # seed of those draws
+    batch = 0                         # tasks per batch (0: automatic)
+
+    [base.motion]                     # scene tables merged over the scene file
+    t_end = 20.0
+
+    [parameters]
+    "isolation.k_lam" = [2.5e4, 5e4, 1e5]          # values
+    "isolation.mu" = { linspace = [0.01, 0.05, 5] } # or logspace = [a, b, n]
+    "motion.pga" = { uniform = [1.0, 6.0] }         # random: uniform, loguniform,
+                                                    # normal = [m, s], lognormal = [median, beta]
+    [records]
+    names = ["synthetic-wn-40s"]      # bundled names or files (relative to the study file)
+    folder = "records/"               # every file in it matching glob (default "*")
+    set = "kobe"                      # "kobe": the four 1995 Kobe records (shared records)
+    simulated = { n = 20, seed = 7, duration = 30.0 }   # seed 000 modulated white noise
+
+    [analysis.design]    ...          # see nsdyn.studies.analyses
+
+Every error names the file and the field and, for a misspelt key, the nearest valid one.
+"""
+
+from __future__ import annotations
+
+import copy
+import difflib
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from nsdyn.models.scenefile import SceneError, number, read_toml, scene_kind, unknown_key
+
+STUDY_TABLES = ("study", "base", "parameters", "records", "analysis")
+STUDY_FIELDS = {"name": str, "scene": str, "keep": list, "samples": int, "seed": int, "batch": int}
+RECORD_FIELDS = ("names", "folder", "glob", "set", "simulated")
+SIMULATED_FIELDS = {"n": int, "seed": int, "duration": float, "dt": float, "generator": str}
+GENERATORS = ("modulated_white_noise", "kanai_tajimi")
+RECORD_SETS = ("kobe", "bundled")
+GRID_FORMS = ("values", "linspace", "logspace")
+RANDOM_FORMS = ("uniform", "loguniform", "normal", "lognormal")
+# dotted scene fields a parameter may vary for scene kinds whose schema the study cannot see
+CONTRACT_FIELDS = ("motion.record", "motion.pga", "motion.t_end", "solver.method")
+MAX_TASKS = 1_000_000  # refuse studies larger than this (a typo in a grid)
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One varied scene field: ``name`` = "table.field"; grid ``values`` or a random law."""
+
+    name: str
+    values: tuple = ()
+    law: str | None = None  # one of RANDOM_FORMS for a random parameter
+    args: tuple = ()
+
+    @property
+    def random(self) -> bool:
+        return self.law is not None
+
+
+@dataclass(frozen=True)
+class RecordSpec:
+    """One ground motion of a study: a file/bundled name, or a simulated record and its seed."""
+
+    name: str
+    path: str | None = None
+    simulated: dict | None = None
+
+    def identity(self) -> dict:
+        return {"name": self.name, "path": self.path, "simulated": self.simulated}
+
+
+@dataclass
+class Study:
+    """A checked study: base scene, parameters, records and analyses."""
+
+    source: str
+    name: str
+    kind: str
+    base: dict  # the scene cfg all tasks start from
+    parameters: list[Parameter]
+    records: list[RecordSpec]
+    keep: list[str] | None = None
+    samples: int = 0
+    seed: int = 0
+    batch: int = 0
+    analysis: dict = field(default_factory=dict)
+
+    @property
+    def n_tasks(self) -> int:
+        n = max(1, len(self.records))
+        for p in self.parameters:
+            if not p.random:
+                n *= len(p.values)
+        return n * (self.samples if any(p.random for p in self.parameters) else 1)
+
+
+def _err(source: str, where: str, msg: str) -> SceneError:
+    return SceneError(f"{source}: {where}: {msg}")
+
+
+def _check_type(source: str, where: str, val, typ):
+    if typ is int:
+        ok = isinstance(val, int) and not isinstance(val, bool)
+        if not ok or val < 0:
+            raise _err(source, where, f"expected a non-negative integer, got {val!r}")
+        return val
+    if typ is float:
+        return number(source, where, val)
+    if not isinstance(val, typ) or isinstance(val, bool) and typ is not bool:
+        raise _err(source, where, f"expected {typ.__name__}, got {val!r}")
+    return val
+
+
+def _known_fields(kind: str, base: dict) -> set[str]:
+    """Dotted fields a parameter may name: the base scene's own, plus the kind's schema."""
+    known = {f"{t}.{k}" for t, vals in base.items() if isinstance(vals, dict) for k in vals}
+    known |= set(CONTRACT_FIELDS)
+    if kind == "isolated":
+        from nsdyn.models.isolated.scene import _FIELDS
+        from nsdyn.models.isolated.system import Isolation
+
+        known |= {f"{t}.{k}" for t, fields in _FIELDS.items() for k in fields}
+        known |= {f"isolation.{k}" for k in Isolation.__dataclass_fields__}
+    return known
+
+
+def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter:
+    where = f"parameters.{name}"
+    if name not in known:
+        close = difflib.get_close_matches(name, sorted(known), n=1, cutoff=0.6)
+        hint = f"; did you mean {close[0]!r}?" if close else ""
+        raise SceneError(
+            f"{source}: {where}: unknown scene field{hint} (expected 'table.field', e.g. "
+            f"'isolation.mu' or 'motion.pga')"
+        )
+    if isinstance(spec, list):
+        spec = {"values": spec}
+    if not isinstance(spec, dict) or len(spec) != 1:
+        raise _err(
+            source,
+            where,
+            "expected a list of values or one of { values | linspace | logspace | "
+            f"{' | '.join(RANDOM_FORMS)} = [...] }}, got {spec!r}",
+        )
+    ((form, args),) = spec.items()
+    if form not in GRID_FORMS + RANDOM_FORMS:
+        raise unknown_key(source, f"{where}.", form, GRID_FORMS + RANDOM_FORMS)
+    if not isinstance(args, list) or not args:
+        raise _err(source, f"{where}.{form}", f"expected a non-empty list, got {args!r}")
+    if form == "values":
+        kinds = {type(v) for v in args}
+        if not (kinds <= {int, float} or kinds <= {str} or kinds <= {bool}):
+            raise _err(source, f"{where}.values", f"expected numbers or strings, got {args!r}")
+        return Parameter(name, values=tuple(args))
+    nums = [number(source, f"{where}.{form}[{i}]", a, positive=False) for i, a in enumerate(args)]
+    if form in ("linspace", "logspace"):
+        if len(nums) != 3 or nums[2] != int(nums[2]) or nums[2] < 1:
+            raise _err(source, f"{where}.{form}", f"expected [first, last, count], got {args!r}")
+        a, b, n = nums[0], nums[1], int(nums[2])
+        if form == "logspace":
+            if not (a > 0 and b > 0):
+                raise _err(source, f"{where}.logspace", f"expected positive ends, got {args!r}")
+            vals = [a * (b / a) ** (i / (n - 1)) if n > 1 else a for i in range(n)]
+        else:
+            vals = [a + (b - a) * i / (n - 1) if n > 1 else a for i in range(n)]
+        return Parameter(name, values=tuple(vals))
+    if len(nums) != 2:
+        raise _err(source, f"{where}.{form}", f"expected two numbers, got {args!r}")
+    a, b = nums
+    bad = {
+        "uniform": not a < b,
+        "loguniform": not 0 < a < b,
+        "normal": not b > 0,
+        "lognormal": not (a > 0 and b > 0),
+    }[form]
+    if bad:
+        what = {
+            "uniform": "[low, high] with low < high",
+            "loguniform": "[low, high] with 0 < low < high",
+            "normal": "[mean, std] with std > 0",
+            "lognormal": "[median, beta] both positive",
+        }[form]
+        raise _err(source, f"{where}.{form}", f"expected {what}, got {args!r}")
+    return Parameter(name, law=form, args=(a, b))
+
+
+def _resolve_path(study_dir: Path, p: str) -> Path:
+    q = Path(p).expanduser()
+    return q if q.is_absolute() else study_dir / q
+
+
+def _parse_records(source: str, study_dir: Path, rec: dict, kind: str, base: dict) -> list:
+    for key in rec:
+        if key not in RECORD_FIELDS:
+            raise unknown_key(source, "records.", key, RECORD_FIELDS)
+    out: list[RecordSpec] = []
+    names = rec.get("names", [])
+    if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+        raise _err(source, "records.names", f"expected a list of strings, got {names!r}")
+    for n in names:
+        from nsdyn.ground import bundled_records
+
+        path = _resolve_path(study_dir, n)
+        if path.is_file():
+            out.append(RecordSpec(Path(n).stem, path=str(path)))
+        elif n in bundled_records():
+            out.append(RecordSpec(n, path=n))
+        else:
+            close = difflib.get_close_matches(n, bundled_records(), n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise _err(
+                source,
+                "records.names",
+                f"{n!r} is neither a file (looked for {path}) nor a bundled record{hint}",
+            )
+    if "folder" in rec:
+        folder = _resolve_path(study_dir, _check_type(source, "records.folder", rec["folder"], str))
+        pattern = _check_type(source, "records.glob", rec.get("glob", "*"), str)
+        if not folder.is_dir():
+            raise _err(source, "records.folder", f"no such directory: {folder}")
+        files = sorted(p for p in folder.glob(pattern) if p.is_file())
+        if not files:
+            raise _err(source, "records.folder", f"no file matches {pattern!r} in {folder}")
+        out += [RecordSpec(p.stem, path=str(p)) for p in files]
+    elif "glob" in rec:
+        raise _err(source, "records.glob", "applies to records.folder only")
+    if "set" in rec:
+        s = rec["set"]
+        if s not in RECORD_SETS:
+            raise _err(source, "records.set", f"expected one of {list(RECORD_SETS)}, got {s!r}")
+        out += _record_set(source, s)
+    if "simulated" in rec:
+        out += _simulated(source, rec["simulated"])
+    seen = set()
+    for r in out:
+        if r.name in seen:
+            raise _err(source, "records", f"record name {r.name!r} appears twice")
+        seen.add(r.name)
+    if not out and "record" not in base.get("motion", {}) and kind != "isolated":
+        raise _err(source, "records", "no records and the scene names none")
+    return out
+
+
+def _record_set(source: str, s: str) -> list[RecordSpec]:
+    from nsdyn.ground import bundled_records, default_shared_dir
+
+    if s == "bundled":
+        return [RecordSpec(n, path=n) for n in bundled_records()]
+    shared = default_shared_dir()
+    d = (
+        None
+        if shared is None
+        else next((c for c in (shared / "records", shared) if (c / "raw").is_dir()), None)
+    )
+    if d is None:
+        raise _err(source, "records.set", "'kobe' needs the shared records (set NSDYN_SHARED)")
+    return [
+        RecordSpec("KJMA", path=str(d / "raw" / "kobe_kjma_000.AT2")),
+        RecordSpec("Shin-Osaka", path=str(d / "converted" / "kobe_shi000_fema_p695.txt")),
+        RecordSpec("Nishi-Akashi", path=str(d / "converted" / "kobe_nis000_fema_p695.txt")),
+        RecordSpec("unidentified", path=str(d / "raw" / "kobe_unidentified_osm.dat")),
+    ]
+
+
+def _simulated(source: str, sim) -> list[RecordSpec]:
+    import numpy as np
+
+    if not isinstance(sim, dict):
+        raise _err(
+            source, "records.simulated", f"expected a table {{n = ..., seed = ...}}, got {sim!r}"
+        )
+    for key in sim:
+        if key not in SIMULATED_FIELDS:
+            raise unknown_key(source, "records.simulated.", key, SIMULATED_FIELDS)
+    for key in ("n", "seed"):
+        if key not in sim:
+            raise _err(source, f"records.simulated.{key}", "missing (required)")
+    spec = {
+        k: _check_type(source, f"records.simulated.{k}", v, SIMULATED_FIELDS[k])
+        for k, v in sim.items()
+    }
+    gen = spec.get("generator", GENERATORS[0])
+    if gen not in GENERATORS:
+        raise _err(source, "records.simulated.generator", f"expected one of {list(GENERATORS)}")
+    seeds = np.random.SeedSequence(spec["seed"]).generate_state(spec["n"])
+    base = {"generator": gen, "duration": spec.get("duration", 20.0), "dt": spec.get("dt", 0.01)}
+    width = len(str(max(spec["n"] - 1, 0)))
+    return [
+        RecordSpec(f"{gen[:2]}-{i:0{width}d}", simulated={**base, "seed": int(s)})
+        for i, s in enumerate(seeds)
+    ]
+
+
+def _merge(base: dict, over: dict) -> dict:
+    out = copy.deepcopy(base)
+    for table, vals in over.items():
+        out.setdefault(table, {}).update(vals)
+    return out
+
+
+def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict) -> tuple[str, dict]:
+    """(kind, base cfg): the scene file (or the default scene) with [base] merged over it."""
+    if not isinstance(base_over, dict) or not all(isinstance(v, dict) for v in base_over.values()):
+        raise _err(source, "base", "expected scene tables, e.g. [base.motion] t_end = 20.0")
+    scene_path = None
+    if "scene" in st:
+        scene_path = _resolve_path(study_dir, st["scene"])
+        if not scene_path.is_file():
+            raise _err(source, "study.scene", f"no such scene file: {scene_path}")
+        raw = read_toml(scene_path)
+    else:
+        raw = {}
+    merged = _merge(raw, base_over)
+    kind = scene_kind(merged, source)
+    if kind == "isolated":
+        from nsdyn.models.isolated.scene import _check, load_scene
+
+        _check(base_over, f"{source}: [base]")
+        from nsdyn.models.isolated.system import isolation_from_config
+
+        cfg = load_scene(scene_path, base_over)
+        cfg.pop("_source", None)
+        try:
+            isolation_from_config(cfg.get("isolation", {}), source)
+        except ValueError as e:
+            raise SceneError(str(e)) from None
+        return kind, cfg
+    return kind, merged
+
+
+def load_study(path: str | Path) -> Study:
+    """Read and check a study file (:class:`SceneError` naming the file and field)."""
+    source = str(path)
+    raw = read_toml(path)
+    study_dir = Path(path).resolve().parent
+    for table in raw:
+        if table not in STUDY_TABLES:
+            raise unknown_key(source, "", table, STUDY_TABLES)
+    st = raw.get("study", {})
+    for key, val in st.items():
+        if key not in STUDY_FIELDS:
+            raise unknown_key(source, "study.", key, STUDY_FIELDS)
+        _check_type(source, f"study.{key}", val, STUDY_FIELDS[key])
+    keep = st.get("keep")
+    if keep is not None and not all(isinstance(k, str) for k in keep):
+        raise _err(source, "study.keep", f"expected a list of field names, got {keep!r}")
+    kind, base = _base_scene(source, study_dir, st, raw.get("base", {}))
+    params_raw = raw.get("parameters", {})
+    known = _known_fields(kind, base)
+    params = [_parse_parameter(source, k, v, known) for k, v in params_raw.items()]
+    records = _parse_records(source, study_dir, raw.get("records", {}), kind, base)
+    if records and "motion.record" in params_raw:
+        raise _err(source, "parameters.motion.record", "give records in [records], not both")
+    samples = st.get("samples", 0)
+    if any(p.random for p in params) and samples < 1:
+        raise _err(source, "study.samples", "random parameters need samples >= 1")
+    study = Study(
+        source=source,
+        name=st.get("name", Path(path).stem),
+        kind=kind,
+        base=base,
+        parameters=params,
+        records=records,
+        keep=keep,
+        samples=samples,
+        seed=st.get("seed", 0),
+        batch=st.get("batch", 0),
+        analysis=raw.get("analysis", {}),
+    )
+    if study.n_tasks > MAX_TASKS:
+        raise _err(source, "parameters", f"{study.n_tasks} tasks (more than {MAX_TASKS})")
+    from nsdyn.studies.analyses import check_analysis
+
+    check_analysis(study)
+    return study
+
+
+def is_finite_number(v) -> bool:
+    return isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)

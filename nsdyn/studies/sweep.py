@@ -1,0 +1,320 @@
+"""Amplitude sweeps: frequency-amplitude diagrams of periodic solutions (seed 004 Figs 9-11).
+
+For each excitation amplitude ``A`` the isolated model of a scene (a frame, a shear building
+or a system from matrices) is driven by ``u''_hor = A sin(2 pi f t)`` (or, for a scene whose
+``[force]`` is harmonic, by that force with amplitude ``A`` [N]) and its periodic solutions
+are continued over ``f`` (shooting, with the stepped-sweep fallback; :mod:`nsdyn.periodic`).
+Amplitudes run in parallel processes (any ``concurrent.futures.Executor``); each writes a
+checkpoint after every point so an interrupted sweep resumes where it stopped. Results: one
+CSV row per point and a PNG with IDR, absolute floor acceleration and isolator displacement
+against f, the fixed-base linear frequency response (frames) dashed for comparison.
+
+The command line (``nsdyn sweep``) is :mod:`nsdyn.cli.sweep`.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import sys
+import time
+from concurrent.futures import Executor, ProcessPoolExecutor
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.atomic import atomic_open
+
+DEFAULT_OUT = "nsdyn-sweep"
+DEFAULT_AMPLITUDES = "0.1,0.5,1,2"  # m/s^2, seed Fig. 9
+CHECKPOINT_EVERY_S = 2.0  # shortest interval between checkpoint writes [s]
+CSV_COLUMNS = (
+    "f",
+    "A",
+    "IDR",
+    "a",
+    "a_floors",
+    "x_iso",
+    "stick_all_period",
+    "stable",
+    "max_multiplier_modulus",
+    "method",
+    "newton_iterations",
+    "residual",
+    "converged",
+    "n_steps",
+    "uplift",
+    "note",
+)
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    """What a curve depends on besides the scene (part of the checkpoint's identity)."""
+
+    fmin: float = 0.01
+    fmax: float = 10.0
+    points: int = 150
+    continuation: str = "sequential"
+    fallback: bool = True
+    tableau: str = "sdirk2"  # SDIRK of the period integration (periodic.TABLEAUX)
+    steps_factor: float = 1.0  # x the default steps per period (periodic.Discretisation)
+
+    def discretisation(self):
+        """The :class:`nsdyn.periodic.Discretisation` these settings ask for."""
+        from nsdyn.periodic import Discretisation, refined
+
+        return refined(Discretisation(method=self.tableau), self.steps_factor)
+
+
+# ---- checkpoints ----------------------------------------------------------------------------
+def _atomic_write_text(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` atomically."""
+    with atomic_open(path, "w", newline="") as fh:
+        fh.write(text)
+
+
+def point_to_dict(p) -> dict:
+    """JSON-able record of an :class:`nsdyn.periodic.OrbitPoint` (without its orbit)."""
+    mu = np.asarray(p.multipliers)
+    return {
+        "f": p.f,
+        "x0": np.asarray(p.x0).tolist(),
+        "method": p.method,
+        "converged": bool(p.converged),
+        "iterations": int(p.iterations),
+        "residual": float(p.residual) if math.isfinite(p.residual) else None,
+        "mu_re": mu.real.tolist(),
+        "mu_im": mu.imag.tolist(),
+        "n_steps": int(p.n_steps),
+        "note": p.note,
+        "quantities": {
+            k: (v if v is None else bool(v) if isinstance(v, bool | np.bool_) else float(v))
+            for k, v in p.quantities.items()
+        },
+        "s": None if not math.isfinite(p.s) else p.s,
+        "dlogf_ds": None if not math.isfinite(p.dlogf_ds) else p.dlogf_ds,
+    }
+
+
+def point_from_dict(d: dict):
+    from nsdyn.periodic import OrbitPoint
+
+    nan = float("nan")
+    return OrbitPoint(
+        f=float(d["f"]),
+        x0=np.asarray(d["x0"], dtype=float),
+        method=d["method"],
+        converged=bool(d["converged"]),
+        iterations=int(d["iterations"]),
+        residual=nan if d["residual"] is None else float(d["residual"]),
+        multipliers=np.asarray(d["mu_re"]) + 1j * np.asarray(d["mu_im"]),
+        n_steps=int(d["n_steps"]),
+        note=d["note"],
+        quantities=dict(d["quantities"]),
+        s=nan if d["s"] is None else float(d["s"]),
+        dlogf_ds=nan if d["dlogf_ds"] is None else float(d["dlogf_ds"]),
+    )
+
+
+def _identity(cfg: dict, amplitude: float, settings: SweepSettings) -> dict:
+    scene = {k: v for k, v in cfg.items() if not k.startswith("_") and k not in ("motion",)}
+    return {"scene": scene, "amplitude": amplitude, "settings": asdict(settings)}
+
+
+def checkpoint_path(out_dir: Path, amplitude: float) -> Path:
+    return Path(out_dir) / f".sweep-A{amplitude:g}.ckpt.json"
+
+
+def load_checkpoint(path: Path, identity: dict) -> list | None:
+    """Points of a checkpoint written for the same scene, amplitude and settings, else None."""
+    try:
+        data = json.loads(Path(path).read_text())
+    except (OSError, ValueError):
+        return None
+    if data.get("identity") != json.loads(json.dumps(identity)):
+        return None
+    return [point_from_dict(d) for d in data.get("points", [])]
+
+
+# ---- one amplitude (runs in a worker process) -----------------------------------------------
+def amplitude_job(
+    cfg: dict,
+    amplitude: float,
+    settings: SweepSettings,
+    out_dir: str,
+    restart: bool = False,
+    quiet: bool = False,
+) -> dict:
+    """Continue the periodic solutions at one amplitude; resumable through its checkpoint.
+
+    Returns a picklable summary: CSV rows, bifurcations and timings (no state arrays).
+    """
+    from nsdyn.ground.excitation import HarmonicForce
+    from nsdyn.models.isolated.scene import build_scene
+    from nsdyn.periodic import frequency_response
+
+    t0 = time.perf_counter()
+    system, excitation = build_scene(cfg)
+    # a scene driven by a harmonic force sweeps that force (amplitudes in N), else u''_hor
+    load = excitation if isinstance(excitation, HarmonicForce) else None
+    ident = _identity(cfg, amplitude, settings)
+    ckpt = checkpoint_path(Path(out_dir), amplitude)
+    start = None if restart else load_checkpoint(ckpt, ident)
+    n_resumed = len(start or [])
+    pts_done: list = list(start or [])
+    last_write = [time.perf_counter()]
+
+    def save(points, complete=False):
+        data = {
+            "identity": ident,
+            "complete": complete,
+            "points": [point_to_dict(p) for p in points],
+        }
+        _atomic_write_text(ckpt, json.dumps(data))
+        last_write[0] = time.perf_counter()
+
+    def progress(pt, k, n):
+        pts_done.append(pt)
+        if time.perf_counter() - last_write[0] > CHECKPOINT_EVERY_S:
+            save(pts_done)
+        if not quiet:
+            q = pt.quantities
+            print(
+                f"[A={amplitude:g}] {k:4d}/{n} f={pt.f:8.4f} Hz {pt.method:9s} "
+                f"it={pt.iterations:2d} x_iso={q.get('x_iso', math.nan):.2e} "
+                f"({q.get('wall_s', 0.0):.2f} s)",
+                file=sys.stderr,
+                flush=True,
+            )
+
+    curve = frequency_response(
+        system,
+        amplitude,
+        fmin=settings.fmin,
+        fmax=settings.fmax,
+        points=settings.points,
+        continuation=settings.continuation,
+        fallback=settings.fallback,
+        disc=settings.discretisation(),
+        progress=progress,
+        start=start,
+        load=load,
+    )
+    save(curve.points, complete=True)
+    walls = np.array([p.quantities.get("wall_s", np.nan) for p in curve.points])
+    fs = np.array([p.f for p in curve.points])
+    new = np.arange(len(curve.points)) >= n_resumed
+    return {
+        "A": amplitude,
+        "model": system.name,
+        "rows": curve.rows(),
+        "bifurcations": curve.bifurcations,
+        "resumed_points": n_resumed,
+        "wall_s": time.perf_counter() - t0,
+        "wall_below_0.1Hz_s": float(np.nansum(walls[new & (fs < 0.1)])),
+        "wall_above_0.1Hz_s": float(np.nansum(walls[new & (fs >= 0.1)])),
+        "frame": system.frame,
+        "f_max": system.f_max,
+    }
+
+
+def sweep_amplitudes(
+    cfg: dict,
+    amplitudes,
+    settings: SweepSettings,
+    out_dir: str | Path,
+    *,
+    executor: Executor | None = None,
+    workers: int | None = None,
+    restart: bool = False,
+    quiet: bool = False,
+) -> list[dict]:
+    """Run :func:`amplitude_job` for every amplitude, in parallel on ``executor``.
+
+    Default: a local process pool with ``workers`` processes (one per amplitude, at most the
+    CPU count); ``workers=1`` runs in this process. Any ``concurrent.futures.Executor`` works
+    (e.g. Dask's ``client.get_executor()``).
+    """
+    amplitudes = [float(a) for a in amplitudes]
+    args = [(cfg, a, settings, str(out_dir), restart, quiet) for a in amplitudes]
+    if executor is None:
+        n = workers or min(len(amplitudes), os.cpu_count() or 1)
+        if n <= 1:
+            return [amplitude_job(*a) for a in args]
+        with ProcessPoolExecutor(max_workers=n) as ex:
+            return _run_all(ex, args)
+    return _run_all(executor, args)
+
+
+def _run_all(ex: Executor, args) -> list[dict]:
+    futs = [ex.submit(amplitude_job, *a) for a in args]
+    return [f.result() for f in futs]
+
+
+# ---- outputs --------------------------------------------------------------------------------
+def format_csv_value(v) -> str:
+    """A CSV cell as the sweep writes it: empty for None/NaN, true/false, floats to 9 digits."""
+    if v is None:
+        return ""
+    if isinstance(v, bool | np.bool_):
+        return "true" if v else "false"
+    if isinstance(v, float | np.floating):
+        return "" if not math.isfinite(v) else f"{v:.9g}"
+    return str(v)
+
+
+def write_csv(path: Path, results: list[dict]) -> None:
+    """One row per point, all amplitudes (atomic write)."""
+    with atomic_open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(CSV_COLUMNS)
+        for r in sorted(results, key=lambda r: r["A"]):
+            for row in r["rows"]:
+                w.writerow([format_csv_value(row[c]) for c in CSV_COLUMNS])
+
+
+def summarise(r: dict) -> dict:
+    """Per-amplitude numbers for the report. Maxima skip points with uplift (the bilateral
+    contact model is outside its validity there) and unconverged points."""
+    rows = r["rows"]
+    f = np.array([x["f"] for x in rows])
+    stick = np.array([x["stick_all_period"] is True for x in rows])
+    uplift = np.array([x["uplift"] is True for x in rows])
+    good = np.array([bool(x["converged"]) for x in rows]) & ~uplift
+    slip_f = f[~stick & good]
+    stick_above = None  # lowest frequency above which every point sticks the whole period
+    if stick.any():
+        k = len(stick)
+        while k > 0 and stick[k - 1]:
+            k -= 1
+        stick_above = float(f[k]) if k < len(f) else None
+
+    def peak(key):
+        v = np.array([x[key] for x in rows], dtype=float)[good]
+        return float(np.nanmax(v)) if v.size and np.isfinite(v).any() else None
+
+    return {
+        "A": r["A"],
+        "points": len(rows),
+        "resumed_points": r["resumed_points"],
+        "fallback_points": int(sum(x["method"] == "sweep" for x in rows)),
+        "unconverged_points": int(sum(not x["converged"] for x in rows)),
+        "uplift_points": int(uplift.sum()),
+        "unstable_points": int(sum(x["stable"] is False for x in rows)),
+        "stick_all_period_above_hz": stick_above,
+        "slip_frequency_range_hz": (
+            [float(slip_f.min()), float(slip_f.max())] if slip_f.size else None
+        ),
+        "idr_max": peak("IDR"),
+        "a_max_mps2": peak("a"),
+        "a_floors_max_mps2": peak("a_floors"),
+        "x_iso_max_m": peak("x_iso"),
+        "bifurcations": r["bifurcations"],
+        "wall_s": r["wall_s"],
+        "wall_below_0.1Hz_s": r["wall_below_0.1Hz_s"],
+        "wall_above_0.1Hz_s": r["wall_above_0.1Hz_s"],
+    }

@@ -1,0 +1,178 @@
+"""Expansion of a study into tasks, the key of each task, and batches of tasks.
+
+A task is one scene run: the base scene with one value of every parameter and one record.
+Its key is the first ``KEY_HEX`` hex digits of
+
+    sha256(canonical JSON of {format, kind, scene cfg, record identity, record file digest})
+
+so the key changes whenever anything the run depends on changes (a parameter, a base field, a
+record file's bytes) and never otherwise: the results table is keyed by it and a resumed study
+runs exactly the tasks whose keys it lacks. Random parameters are drawn here, in the main
+process, from ``numpy.random.default_rng(study.seed)``; the drawn values enter the key.
+
+Order: grid values (first parameter slowest) x samples x records (fastest), so the records of
+one design sit next to each other; batches are consecutive runs of that order.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import itertools
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.studies.study import RecordSpec, Study
+
+TABLE_FORMAT = 1  # bump when the meaning of a task's inputs changes (invalidates old keys)
+KEY_HEX = 16  # hex digits of the task key (64 bits: collisions negligible below 1e8 tasks)
+BATCHES_PER_WORKER = 6  # automatic batching: about this many batches per worker (balance)
+MAX_AUTO_BATCH = 64  # automatic batching: at most this many tasks per batch (loss on a kill)
+_DIGEST_CHUNK = 1 << 20  # bytes per read when hashing record files
+
+
+@dataclass(frozen=True)
+class Task:
+    """One run: ``cfg`` is the complete scene; ``params`` the varied fields' values."""
+
+    index: int
+    key: str
+    kind: str
+    cfg: dict
+    params: dict
+    sample: int = -1
+    record: RecordSpec | None = None
+    source: str = "<study>"
+    keep: tuple | None = None
+    extra: dict = field(default_factory=dict)
+
+    def columns(self) -> dict:
+        """The input columns of this task's row."""
+        row = {"index": self.index, "key": self.key, "record": self.record_name}
+        if self.sample >= 0:
+            row["sample"] = self.sample
+        row.update(self.params)
+        return row
+
+    @property
+    def record_name(self) -> str:
+        if self.record is not None:
+            return self.record.name
+        return str(self.cfg.get("motion", {}).get("record", ""))
+
+
+def file_digest(path: str | Path) -> str:
+    """sha256 of a file's bytes (hex)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        while chunk := fh.read(_DIGEST_CHUNK):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def _canonical(obj) -> str:
+    return json.dumps(obj, sort_keys=True, separators=(",", ":"), allow_nan=True, default=str)
+
+
+def task_key(kind: str, cfg: dict, record: dict | None) -> str:
+    """The hash of a task's inputs (see the module docstring)."""
+    payload = {"format": TABLE_FORMAT, "kind": kind, "cfg": cfg, "record": record}
+    return hashlib.sha256(_canonical(payload).encode()).hexdigest()[:KEY_HEX]
+
+
+def _draw(study: Study) -> list[dict]:
+    """``samples`` joint draws of the random parameters (empty dicts if there are none)."""
+    rand = [p for p in study.parameters if p.random]
+    if not rand:
+        return [{}]
+    rng = np.random.default_rng(study.seed)
+    cols = {}
+    for p in rand:
+        a, b = p.args
+        n = study.samples
+        if p.law == "uniform":
+            v = rng.uniform(a, b, n)
+        elif p.law == "loguniform":
+            v = np.exp(rng.uniform(math.log(a), math.log(b), n))
+        elif p.law == "normal":
+            v = rng.normal(a, b, n)
+        else:  # lognormal: median a, log-standard deviation b
+            v = a * np.exp(b * rng.standard_normal(n))
+        cols[p.name] = [float(x) for x in v]
+    return [{k: cols[k][i] for k in cols} for i in range(study.samples)]
+
+
+def _set(cfg: dict, dotted: str, value) -> None:
+    table, key = dotted.split(".", 1)
+    cfg.setdefault(table, {})[key] = value
+
+
+def expand(study: Study) -> list[Task]:
+    """Every task of ``study`` in table order, keys computed."""
+    grid = [p for p in study.parameters if not p.random]
+    draws = _draw(study)
+    records: list[RecordSpec | None] = list(study.records) or [None]
+    digests = {}
+    for r in records:
+        if r is not None and r.path is not None and Path(r.path).is_file():
+            digests[r.name] = file_digest(r.path)
+    tasks = []
+    keep = tuple(study.keep) if study.keep is not None else None
+    for values in itertools.product(*[p.values for p in grid]):
+        for s, draw in enumerate(draws):
+            for rec in records:
+                cfg = copy.deepcopy(study.base)
+                params = dict(zip([p.name for p in grid], values, strict=True))
+                params.update(draw)
+                for name, v in params.items():
+                    _set(cfg, name, v)
+                ident = None
+                if rec is not None:
+                    ident = rec.identity() | {"sha256": digests.get(rec.name)}
+                    ident["path"] = None if rec.name in digests else rec.path  # bytes, not place
+                    if rec.path is not None:
+                        _set(cfg, "motion.record", rec.path)
+                    else:
+                        cfg.setdefault("motion", {}).pop("record", None)
+                        cfg["motion"]["simulated"] = dict(rec.simulated)
+                key = task_key(study.kind, _without_path(cfg, rec, digests), ident)
+                tasks.append(
+                    Task(
+                        index=len(tasks),
+                        key=key,
+                        kind=study.kind,
+                        cfg=cfg,
+                        params=params,
+                        sample=s if draw else -1,
+                        record=rec,
+                        source=study.source,
+                        keep=keep,
+                    )
+                )
+    return tasks
+
+
+def _without_path(cfg: dict, rec: RecordSpec | None, digests: dict) -> dict:
+    """The cfg as hashed: a record file enters by its digest, so moving a folder keeps keys."""
+    if rec is None or rec.name not in digests:
+        return cfg
+    out = copy.deepcopy(cfg)
+    out["motion"]["record"] = f"sha256:{digests[rec.name]}"
+    return out
+
+
+def batch_size(n_tasks: int, n_workers: int, requested: int = 0) -> int:
+    """Tasks per batch: ``requested`` if positive, else about BATCHES_PER_WORKER per worker."""
+    if requested > 0:
+        return requested
+    per = math.ceil(n_tasks / max(1, n_workers * BATCHES_PER_WORKER))
+    return int(min(MAX_AUTO_BATCH, max(1, per)))
+
+
+def batches(tasks: list[Task], size: int) -> list[list[Task]]:
+    """Consecutive runs of ``size`` tasks."""
+    return [tasks[i : i + size] for i in range(0, len(tasks), size)]

@@ -1,0 +1,100 @@
+"""The benchmark registry and ``nsdyn bench``'s dispatch: modules load on use, an absent or
+broken module is named as such, each ``run_bench`` receives only the options it names."""
+
+from __future__ import annotations
+
+import inspect
+import json
+import sys
+
+import pytest
+
+import nsdyn.bench as registry
+from nsdyn.cli import bench as command
+
+BUILT_IN = ["accuracy", "fidelity", "stability", "speed", "periodic"]
+
+FAKE = """
+CALLS = []
+
+
+OPTIONS = ("quiet",)
+
+
+def run_bench(out_dir, quick, *, quiet=False):
+    CALLS.append({"out_dir": str(out_dir), "quick": quick, "quiet": quiet})
+    return {"files": [f"{out_dir}/fake.csv"], "peak": 1.5, "quiet": quiet}
+"""
+
+
+@pytest.fixture
+def fake_modules(tmp_path, monkeypatch):
+    """A working benchmark module, one that raises on import, and the names to register."""
+    (tmp_path / "fake_bench_ok.py").write_text(FAKE)
+    (tmp_path / "fake_bench_broken.py").write_text("raise RuntimeError('half written')\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    for m in ("fake_bench_ok", "fake_bench_broken"):
+        monkeypatch.delitem(sys.modules, m, raising=False)
+    return {
+        "fake": "fake_bench_ok",
+        "gone": "nsdyn.bench.no_such_benchmark",
+        "broken": "fake_bench_broken",
+    }
+
+
+def test_built_in_benchmarks_run_first_in_order_and_accept_their_options():
+    """``all`` runs the table in order: the five built-in benchmarks first; each module's
+    run_bench takes (out_dir, quick), and every option its OPTIONS lists is a keyword of the
+    benchmark function it calls (so the command line never passes an unknown one)."""
+    assert list(registry.BENCHMARKS)[: len(BUILT_IN)] == BUILT_IN
+    for name in BUILT_IN:
+        module = registry.load_benchmark(name)
+        params = list(inspect.signature(module.run_bench).parameters)
+        assert params[:2] == ["out_dir", "quick"]
+        bench_fn = getattr(module, f"{name}_bench")
+        assert set(module.OPTIONS) <= set(inspect.signature(bench_fn).parameters), name
+
+
+def test_unavailable_benchmarks_are_named(fake_modules, monkeypatch):
+    """An absent module and a module that fails to import raise BenchmarkUnavailable naming
+    the module (and the import error); an unknown name is a KeyError listing the names."""
+    monkeypatch.setattr(registry, "BENCHMARKS", fake_modules)
+    assert registry.load_benchmark("fake").run_bench
+    with pytest.raises(registry.BenchmarkUnavailable) as e:
+        registry.load_benchmark("gone")
+    assert e.value.absent and "nsdyn.bench.no_such_benchmark does not exist" in str(e.value)
+    with pytest.raises(registry.BenchmarkUnavailable) as e:
+        registry.load_benchmark("broken")
+    assert not e.value.absent
+    assert "failed to import" in str(e.value) and "half written" in str(e.value)
+    with pytest.raises(KeyError, match="expected one of"):
+        registry.load_benchmark("nonsense")
+
+
+def test_all_reports_unavailable_modules_and_passes_only_named_options(
+    fake_modules, monkeypatch, tmp_path, capsys
+):
+    """``nsdyn bench all --json``: the working module runs once with the options it lists
+    (quiet, not repeats or records); the absent one is skipped and said so (exit 0); a
+    module that does not import makes the exit status 1; a benchmark asked for by name that
+    is absent exits with 2 and says why. A result's files may be a list of paths."""
+    monkeypatch.setattr(registry, "BENCHMARKS", {k: fake_modules[k] for k in ("fake", "gone")})
+    assert command.main(["all", "--quick", "--json", "--out", str(tmp_path)]) == 0
+    captured = capsys.readouterr()
+    summary = json.loads(captured.out)
+    assert summary["fake"] == {"files": [f"{tmp_path}/fake.csv"], "peak": 1.5, "quiet": True}
+    assert summary["gone"]["status"] == "unavailable"
+    assert "benchmark 'gone' is not available" in captured.err
+    calls = sys.modules["fake_bench_ok"].CALLS
+    assert calls == [{"out_dir": str(tmp_path), "quick": True, "quiet": True}]
+
+    # without --json: the summary (no report function) and the files it lists
+    assert command.main(["fake", "--out", str(tmp_path)]) == 0
+    printed = capsys.readouterr().out
+    assert '"peak": 1.5' in printed and f"file: {tmp_path}/fake.csv" in printed
+
+    monkeypatch.setattr(registry, "BENCHMARKS", fake_modules)
+    assert command.main(["all", "--json", "--out", str(tmp_path)]) == 1
+    assert "fake_bench_broken failed to import" in capsys.readouterr().err
+    assert command.main(["gone", "--out", str(tmp_path)]) == 2
+    assert "does not exist" in capsys.readouterr().err

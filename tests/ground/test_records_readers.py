@@ -1,0 +1,269 @@
+"""Reading and writing ground-motion files: AT2, tables, JMA, bad files, units, round trip.
+
+Expected values are the numbers written into each test file (exact up to the stated unit
+factor), or exact identities (a written record reads back bit for bit).
+"""
+
+import dataclasses
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from nsdyn.ground import (
+    G_STANDARD,
+    RecordFileError,
+    UnitWarning,
+    modulated_white_noise,
+    read_at2,
+    read_jma,
+    read_motion,
+    read_multi_column,
+    read_single_column,
+    read_two_column,
+    write_motion,
+)
+
+
+def write(tmp_path: Path, name: str, text: str, newline: str = "\n") -> Path:
+    path = tmp_path / name
+    path.write_bytes(text.replace("\n", newline).encode("latin-1"))
+    return path
+
+
+# ------------------------------------------------------------------------------------------
+# Readers
+# ------------------------------------------------------------------------------------------
+
+AT2_VALUES = np.array([0.1, -0.2, 0.3, -0.4, 0.5, 0.25, -0.125])
+
+
+def at2_body(fmt: str = "{:15.7E}", per_line: int = 5) -> str:
+    vals = [fmt.format(v) for v in AT2_VALUES]
+    return "\n".join("".join(vals[i : i + per_line]) for i in range(0, len(vals), per_line))
+
+
+@pytest.mark.filterwarnings("error")  # no UnitWarning either
+@pytest.mark.parametrize(
+    ("header", "newline"),
+    [
+        # NGA-West2: NPTS=, DT= ... SEC, trailing comma and blanks, CRLF
+        (
+            "PEER NGA STRONG MOTION DATABASE RECORD\nTest, 1/1/2000, STA, 0\n"
+            "ACCELERATION TIME SERIES IN UNITS OF G\n"
+            "NPTS=      7, DT=   .0100 SEC,                          ",
+            "\r\n",
+        ),
+        # hand-edited spacing, as in KJM000/KJM090 of PROVENANCE.md
+        (
+            "PEER NGA STRONG MOTION DATABASE RECORD\nKobe Japan, 1/16/1995, KJMA, 0\n"
+            "ACCELERATION TIME SERIES IN UNITS OF G\nNPTS =   7 , DT =   .010 SEC ,    ",
+            "\n",
+        ),
+        # PEER 1999
+        (
+            "PEER STRONG MOTION DATABASE RECORD. PROCESSING BY PACIFIC ENGINEERING.\n"
+            "IMPERIAL VALLEY 5/19/40 0439, EL CENTRO ARRAY #9, 180\n"
+            "ACCELERATION TIME HISTORY IN UNITS OF G. FILTER POINTS: HP=0.2 Hz LP=15.0 Hz\n"
+            "NPTS=     7, DT= .01000 SEC",
+            "\n",
+        ),
+        # old PEER: numbers before the labels
+        (
+            "PEER NGA STRONG MOTION DATABASE RECORD\nKOBE 01/16/95 2046, NISHI-AKASHI, 090\n"
+            "ACCELERATION TIME HISTORY IN UNITS OF G\n7    0.0100    NPTS, DT",
+            "\n",
+        ),
+        # OpenSees "Peknold" variant: 3 free-text lines, 8F10.5 values
+        (
+            "Data for El Centro 1940 North South Component (Peknold Version)\n"
+            "7 points at equal spacing of 0.01 sec\nThe units are (g)\nNPTS=     7, DT= .01000 SEC",
+            "\n",
+        ),
+    ],
+)
+def test_at2_header_variants(tmp_path, header, newline):
+    path = write(tmp_path, "rec.AT2", header + "\n" + at2_body() + "\n", newline)
+    m = read_at2(path)
+    assert m.n == 7 and m.dt == 0.01 and m.t0 == 0.0
+    assert m.meta["file_units"] == "g"
+    np.testing.assert_allclose(m.a_hor, AT2_VALUES * G_STANDARD, rtol=1e-15)
+    assert read_motion(path).a_hor.tobytes() == m.a_hor.tobytes()  # auto detects AT2
+
+
+@pytest.mark.filterwarnings("error")  # no UnitWarning either
+def test_at2_fixed_width_fields_that_run_together(tmp_path):
+    # 8F10.5 with values of 10 characters: "-0.12345-0.23456" has no blank between the fields
+    text = (
+        "title\nname\nUNITS OF G\nNPTS=  4, DT= 0.02 SEC\n  -0.12345-0.23456   0.34567   1.00000\n"
+    )
+    m = read_motion(write(tmp_path, "ff.at2", text), units="g")
+    np.testing.assert_allclose(m.a_hor / G_STANDARD, [-0.12345, -0.23456, 0.34567, 1.0], rtol=1e-15)
+
+
+@pytest.mark.filterwarnings("error")  # no UnitWarning either
+def test_two_column(tmp_path):
+    t = 2.5 + 0.02 * np.arange(6)
+    a = np.array([0.0, 0.1, -0.2, 0.15, -0.05, 0.0])
+    text = "".join(f"{ti:.4f}\t{ai:.6e}\n" for ti, ai in zip(t, a, strict=True))
+    m = read_two_column(write(tmp_path, "tc.dat", text), units="g")
+    assert (m.n, m.dt, m.t0) == (6, 0.02, 2.5)
+    np.testing.assert_allclose(m.a_hor, a * G_STANDARD, rtol=1e-15)
+    np.testing.assert_allclose(m.t, t, rtol=0, atol=1e-12)
+
+
+@pytest.mark.filterwarnings("error")  # no UnitWarning either
+def test_single_column_with_dt(tmp_path):
+    path = write(tmp_path, "sc.txt", "# acc in m/s2\n0.5\n-1.5\n2.0\n")
+    m = read_single_column(path, dt=0.005, units="m/s2")
+    assert (m.n, m.dt) == (3, 0.005)
+    np.testing.assert_array_equal(m.a_hor, [0.5, -1.5, 2.0])
+    with pytest.raises(RecordFileError, match="pass dt="):
+        read_single_column(path, units="m/s2")
+
+
+@pytest.mark.filterwarnings("error")  # no UnitWarning either
+def test_multi_column_choose_column_and_header_dt_units(tmp_path):
+    # the layout of the benchmark files: % comments, dt and units in the text, no time column
+    text = (
+        "%1995 Kobe. First column NS, second EW, third UD.\n"
+        "% Acc. in cm/sec^2 and dt=0.005 sec.\n"
+        "1.0E+00\t\t-2.0E+00\t3.0E-01\n4.0E+00\t\t5.0E+00\t-6.0E-01\n0\t\t0\t0\n"
+    )
+    path = write(tmp_path, "mc.txt", text, "\r\n")
+    m0 = read_motion(path)
+    assert (m0.n, m0.dt, m0.meta["file_units"]) == (3, 0.005, "cm/s2")
+    np.testing.assert_allclose(m0.a_hor, [0.01, 0.04, 0.0], rtol=1e-15)
+    assert m0.a_ver is None
+    m1 = read_multi_column(path, column=1, vertical=2)
+    np.testing.assert_allclose(m1.a_hor, [-0.02, 0.05, 0.0], rtol=1e-15)
+    np.testing.assert_allclose(m1.a_ver, [0.003, -0.006, 0.0], rtol=1e-15)
+
+
+@pytest.mark.filterwarnings("error")  # no UnitWarning either
+def test_multi_column_with_time_and_names(tmp_path):
+    text = "t,a_x,a_y,a_ver\n0.0,1,2,3\n0.1,4,5,6\n0.2,7,8,9\n"
+    path = write(tmp_path, "named.csv", text)
+    m = read_motion(path, units="m/s2", column="a_y")
+    assert m.dt == 0.1
+    np.testing.assert_array_equal(m.a_hor, [2, 5, 8])
+    np.testing.assert_array_equal(m.a_ver, [3, 6, 9])  # a column named a_ver is the vertical
+
+
+@pytest.mark.filterwarnings("error")  # no UnitWarning either
+def test_jma_semicolon_layout(tmp_path):
+    # the layout of raw/kobe_jma_ns_gal_tum.txt: ';' comments, 'dt peak' line, 5 values per line
+    text = (
+        ";Recorded at Kobe station, dt=0.02, time window = 60s, acc. in cm/s/s\n"
+        ";NS  component, Peak given in unit [g]\n0.02 0.50\n"
+        " -0.3289795     -0.3588867     -0.4187012     -0.3588867     -100.0\n"
+        "  250.5      -1.0\n"
+    )
+    m = read_jma(write(tmp_path, "KOBE_NS", text))
+    assert (m.n, m.dt, m.meta["file_units"], m.meta["nominal_peak"]) == (7, 0.02, "cm/s2", 0.5)
+    assert m.pga == pytest.approx(2.505, rel=1e-15)  # 250.5 gal; "unit [g]" is the peak's unit
+
+
+@pytest.mark.filterwarnings("error")  # no UnitWarning either
+def test_jma_csv_layout(tmp_path):
+    # JMA's CSV: KEY= value header, NS,EW,UD names, comma-separated columns
+    text = (
+        " SITE CODE= 6A0\n LAT.=   34.68\n LON.=  135.18\n SAMPLING RATE= 100Hz\n UNIT  = gal\n"
+        " INITIAL TIME = 1995 01 17 05 46 48\n NS,EW,UD\n  -0.5,  1.0,  0.25\n"
+        "  100.0, -200.0, 50.0\n  0.0, 0.0, 0.0\n"
+    )
+    m = read_motion(write(tmp_path, "jma.csv", text))
+    assert (m.n, m.dt, m.meta["format"]) == (3, 0.01, "multi-column")
+    np.testing.assert_allclose(m.a_hor, [-0.005, 1.0, 0.0], rtol=1e-15)
+    np.testing.assert_allclose(m.a_ver, [0.0025, 0.5, 0.0], rtol=1e-15)
+    np.testing.assert_allclose(read_motion(m.source, column="EW").a_hor, [0.01, -2.0, 0.0])
+
+
+# ------------------------------------------------------------------------------------------
+# Bad files: RecordFileError names the file and the line
+# ------------------------------------------------------------------------------------------
+
+AT2_HEAD = "PEER NGA\nX, 0\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    4, DT= .0100 SEC\n"
+
+
+@pytest.mark.parametrize(
+    ("name", "text", "line", "expected"),
+    [
+        ("nonnum.txt", "0.0 1.0\n0.1 2.0\n0.2 abc\n", 3, "expected 2 numbers"),
+        ("nan.txt", "# dt = 0.01\n1.0\nnan\n2.0\n", 3, "finite"),
+        ("inf.txt", "0.0 1.0\n0.1 inf\n", 2, "finite"),
+        ("cols.txt", "0.0 1.0\n0.1 2.0 3.0\n", 2, "expected 2 numbers"),
+        ("gap.txt", "0.00 1\n0.01 2\n0.02 3\n0.04 4\n0.05 5\n", 4, "uniform time step"),
+        ("back.txt", "0.00 1\n0.01 2\n0.02 3\n0.015 4\n0.03 5\n0.04 6\n", 4, "expected time >"),
+        ("empty.txt", "# only a header\n\n", 2, "expected numeric data"),
+        ("short.AT2", AT2_HEAD + "  .1E-01  .2E-01  .3E-01\n", 5, "NPTS = 4, found 3"),
+        ("nohdr.AT2", "a\nb\nc\n.1 .2\n", 1, "NPTS and DT"),
+        ("badat2.AT2", AT2_HEAD + "  .1E-01  .2E-01\n  .3E-01  x.4\n", 6, "expected numbers"),
+        ("npts.txt", "# units: g; dt = 0.01 s; npts = 5\n0.0 1\n0.01 2\n0.02 3\n", 4, "npts = 5"),
+    ],
+)
+def test_bad_files_raise_with_line(tmp_path, name, text, line, expected):
+    path = write(tmp_path, name, text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UnitWarning)
+        with pytest.raises(RecordFileError) as info:
+            read_motion(path, units="g")
+    err = info.value
+    assert err.line == line and expected in str(err)
+    assert str(err).startswith(f"{path}:{line}: ")
+
+
+def test_two_column_format_requires_time(tmp_path):
+    path = write(tmp_path, "x.txt", "1.0 0.5\n0.5 0.1\n2.0 0.3\n")
+    with pytest.raises(RecordFileError, match=r"x.txt:2: expected time >"):
+        read_two_column(path, units="g")
+
+
+def test_missing_file_names_bundled():
+    with pytest.raises(FileNotFoundError, match="bundled"):
+        read_motion("no-such-record")
+
+
+# ------------------------------------------------------------------------------------------
+# Units
+# ------------------------------------------------------------------------------------------
+
+
+def test_unit_warnings(tmp_path):
+    gal = write(tmp_path, "gal.txt", "0.0 500.0\n0.01 -300.0\n0.02 0.0\n")  # a record in cm/s²
+    with pytest.warns(UnitWarning, match="does not state its units"):
+        with pytest.warns(UnitWarning, match="probably in cm/s"):
+            read_motion(gal)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        m = read_motion(gal, units="gal")
+    assert m.pga == pytest.approx(5.0, rel=1e-15)
+    tiny = write(tmp_path, "g.txt", "0.0 0.004\n0.01 -0.003\n0.02 0.0\n")  # 0.004 g as m/s²
+    with pytest.warns(UnitWarning, match="probably in g"):
+        read_motion(tiny, units="m/s2")
+    stated = write(tmp_path, "s.txt", "# units: g\n0.0 0.3\n0.01 -0.2\n0.02 0.1\n")
+    with pytest.warns(UnitWarning, match="header states 'g'"):
+        read_motion(stated, units="m/s2")
+
+
+# ------------------------------------------------------------------------------------------
+# Writing, bundled records
+# ------------------------------------------------------------------------------------------
+
+
+@pytest.mark.filterwarnings("error")  # no UnitWarning either
+@pytest.mark.parametrize("vertical", [True, False])
+def test_write_read_roundtrip_exact(tmp_path, vertical):
+    m = modulated_white_noise(5.0, seed=3, vertical_ratio=2 / 3 if vertical else None)
+    m = dataclasses.replace(m.scaled_to_pga(3.0).window(1.234, 4.5), name="rt")
+    path = write_motion(m, tmp_path / "rt.csv", command="pytest", seed=3)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rt.csv"]  # no temp file left
+    r = read_motion(path)
+    assert (r.name, r.t0, r.dt, r.n) == (m.name, m.t0, m.dt, m.n)
+    assert r.a_hor.tobytes() == m.a_hor.tobytes()
+    assert (r.a_ver is None) == (not vertical)
+    if vertical:
+        assert r.a_ver.tobytes() == m.a_ver.tobytes()
+    assert r.meta["seed"] == 3 and r.meta["command"] == "pytest"
+    assert r.meta["scale_factor"] == m.meta["scale_factor"]

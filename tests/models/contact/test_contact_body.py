@@ -1,0 +1,58 @@
+"""Geometry, mass properties (textbook formulas) and bad-input errors of the body."""
+
+import math
+
+import numpy as np
+import pytest
+
+from nsdyn.models.contact.body import RigidBody
+from nsdyn.models.contact.friction import FrictionLaw
+
+
+def test_rectangle_mass_properties_match_closed_forms():
+    b = RigidBody.rectangle(1.1, 1.0, 2.0)
+    assert b.J == pytest.approx(2.0 * (1.1**2 + 1.0**2) / 12, rel=1e-12)  # m (a^2 + c^2) / 12
+    R, alpha, J_O = b.corner_geometry()
+    assert R == pytest.approx(math.hypot(0.55, 0.5))
+    assert alpha == pytest.approx(math.atan(1.1 / 1.0))
+    assert J_O == pytest.approx(4 / 3 * 2.0 * R**2)  # J_O = 4/3 m R^2
+    assert len(b.base) == 2 and b.theta_ov == pytest.approx(math.pi / 2)
+
+
+def test_polygon_through_same_code_and_orientation():
+    sq = [(0, 0), (0, 1), (1, 1), (1, 0)]  # clockwise: reordered
+    b = RigidBody.polygon(sq, 3.0)
+    assert b.J == pytest.approx(3.0 * 2 / 12)
+    hexa = [(math.cos(k * math.pi / 3), math.sin(k * math.pi / 3)) for k in range(6)]
+    h = RigidBody.polygon(hexa, 1.0)
+    # regular hexagon of circumradius 1 resting on a vertex: J = 5/12 m R^2
+    assert h.J == pytest.approx(5 / 12, rel=1e-12)
+    trap = RigidBody.polygon([(-1, 0), (1, 0), (0.5, 1), (-0.5, 1)])
+    assert len(trap.base) == 2 and trap.theta_ov == pytest.approx(math.pi - math.atan2(1, 0.5))
+
+
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [
+        ({"vertices": [(0, 0), (2, 0), (1, 0.3), (1, 2)]}, "vertices: polygon is not convex"),
+        ({"vertices": [(0, 0), (1, 1), (1, 0), (0, 1)]}, "vertices"),
+        ({"vertices": [(0, 0), (1, 0), (1, 1), (0, 1)], "mass": -1.0}, "mass"),
+        ({"vertices": [(0, 0), (1, 0)]}, "vertices"),
+    ],
+)
+def test_bad_polygons_name_the_field(kwargs, field):
+    with pytest.raises(ValueError, match=field):
+        RigidBody.polygon(**kwargs)
+
+
+def test_bad_friction_and_sizes():
+    with pytest.raises(ValueError, match="mu_d"):
+        FrictionLaw(0.3, 0.4)
+    with pytest.raises(ValueError, match="mu_s"):
+        FrictionLaw(-0.1)
+    with pytest.raises(ValueError, match="width"):
+        RigidBody.rectangle(-1.0, 1.0)
+    law = FrictionLaw(0.4, 0.2, 3.0)  # seed 002 eq. 7
+    assert law.mu(0.0) == pytest.approx(0.4)
+    assert law.mu(1.0) == pytest.approx(0.2 + 0.2 * math.exp(-3.0))
+    assert np.all(FrictionLaw(0.4, 0.2, 0.0).mu([0, 1, 5]) == 0.4)  # C = 0: mu = mu_s

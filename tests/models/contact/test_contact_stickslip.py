@@ -1,0 +1,104 @@
+"""A wide block on a harmonically accelerated base against the closed-form stick-slip solution
+(Coulomb friction, mu_s > mu_d; piecewise integration of u'' = -a_g - mu_d g sign(u') with the
+stick condition |a_g| <= mu_s g, e.g. Den Hartog 1931 / Shenton 1996 for the slide mode), and
+the first-order convergence of Moreau-Jean to the event-driven answer."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from nsdyn.models.contact.body import RigidBody
+from nsdyn.models.contact.event import simulate_event
+from nsdyn.models.contact.excite import BaseMotion
+from nsdyn.models.contact.friction import FrictionLaw
+from nsdyn.models.contact.moreau import simulate_moreau
+
+G = 9.81
+A, W = 0.6 * G, 2 * math.pi  # base acceleration a_g = A sin(W t)
+MU_S, MU_D = 0.4, 0.3
+
+
+def closed_form(t_end):
+    """(transition times, u(t) callable) of the stick-slip motion relative to the base."""
+    ag = lambda t: A * math.sin(W * t)  # noqa: E731
+    pieces = []  # (t_a, t_b, s, u_a, ud_a) ; s = 0 stick
+    t, u, ud, s = 0.0, 0.0, 0.0, 0
+    trans = []
+    while t < t_end:
+        if s == 0:  # stick until |a_g| reaches mu_s g
+            f = lambda x: abs(ag(x)) - MU_S * G  # noqa: E731
+            grid = np.arange(t + 1e-9, t_end, 1e-3)
+            hit = [x for x in grid if f(x) > 0]
+            tb = t_end if not hit else brentq(f, hit[0] - 1e-3, hit[0])
+            pieces.append((t, tb, 0, u, 0.0))
+            if tb >= t_end:
+                break
+            s = -1 if ag(tb) > 0 else 1
+            t = tb
+            trans.append(t)
+            continue
+        ta, ua, uda = t, u, ud
+
+        def vel(x, ta=ta, uda=uda, s=s):
+            return uda + A / W * (math.cos(W * x) - math.cos(W * ta)) - s * MU_D * G * (x - ta)
+
+        grid = np.arange(ta + 1e-6, t_end, 1e-3)
+        hit = [x for x in grid if s * vel(x) <= 0]
+        tb = t_end if not hit else brentq(vel, max(ta + 1e-9, hit[0] - 1e-3), hit[0])
+        pieces.append((ta, tb, s, ua, uda))
+        u = _pos(tb, ta, ua, uda, s)
+        ud = 0.0
+        t = tb
+        trans.append(t)
+        s = 0 if abs(ag(t)) <= MU_S * G else (-1 if ag(t) > 0 else 1)
+
+    def u_of(x):
+        for ta, tb, s, ua, uda in pieces:
+            if ta <= x <= tb:
+                return ua if s == 0 else _pos(x, ta, ua, uda, s)
+        return pieces[-1][3]
+
+    return np.array(trans[:-1] if trans and trans[-1] >= t_end else trans), u_of
+
+
+def _pos(x, ta, ua, uda, s):
+    return (
+        ua
+        + (uda - A / W * math.cos(W * ta)) * (x - ta)
+        + A / W**2 * (math.sin(W * x) - math.sin(W * ta))
+        - 0.5 * s * MU_D * G * (x - ta) ** 2
+    )
+
+
+BODY = RigidBody.rectangle(4.0, 0.5, 10.0)  # b/h = 8 > mu: slides without rocking
+LAW = FrictionLaw(MU_S, MU_D)  # jump law (C = infinity)
+MOTION = BaseMotion.sine_acceleration(A, W)
+
+
+def test_event_driven_matches_closed_form_stick_slip():
+    t_end = 3.0
+    trans, u_of = closed_form(t_end)
+    res = simulate_event(BODY, LAW, MOTION, t_end=t_end, dt_out=1e-3)
+    ev = np.array([t for t, name, _ in res.events if name in ("stick-slip", "slip-stop")])
+    # both corners switch together: one transition time per body event
+    ev = ev[np.r_[True, np.diff(ev) > 1e-6]]
+    assert len(ev) == len(trans) >= 4
+    np.testing.assert_allclose(ev, trans, atol=1e-6)  # event location on dense output
+    u_ref = np.array([u_of(t) for t in res.t])
+    assert np.abs(res.q[:, 0] - u_ref).max() < 1e-5 * np.abs(u_ref).max()
+    assert np.abs(res.q[:, 2]).max() < 1e-12  # no rocking
+
+
+def test_moreau_jean_converges_first_order_to_event_driven():
+    t_end = 2.0
+    ref = simulate_event(BODY, LAW, MOTION, t_end=t_end, dt_out=0.01, rtol=1e-11, atol=1e-13)
+    hs = np.array([4e-3, 2e-3, 1e-3, 5e-4])
+    errs = []
+    for h in hs:
+        mj = simulate_moreau(BODY, LAW, MOTION, t_end=t_end, h=h, dt_out=0.01)
+        n = min(len(mj.t), len(ref.t))
+        errs.append(np.abs(mj.q[:n, 0] - ref.q[:n, 0]).max())
+    order = np.polyfit(np.log(hs), np.log(errs), 1)[0]
+    assert order == pytest.approx(1.0, abs=0.3)

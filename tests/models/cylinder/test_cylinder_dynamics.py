@@ -1,0 +1,117 @@
+"""Dynamics of the cylinder: linear rocking, uplift, symmetry, energy, failures.
+
+Independent sources: the linearised rocking equation (I_t + mH²)θ̈ + cI_bθ̇ + (kI_b − mgH)θ = 0
+(seed 000 eq. 4.9, its frequency and damping ratio are the design targets); Winkler statics
+(settlement mg/(πr²k)); the tensionless law coincides with the bonded one while the whole base
+is compressed (definition); mirror symmetry (a load in a vertical plane of symmetry cannot
+drive motion out of it); the energy balance E(t) − E(0) = W_ground − E_damped (work–energy).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from nsdyn.models.cylinder.design import design_foundation, static_settlement, uplift_onset
+from nsdyn.models.cylinder.params import CylinderParams
+from nsdyn.models.cylinder.simulate import SimulationError, earthquake, simulate
+
+P = CylinderParams()  # seed 000: H = 4 m, r = 1 m, m = 1 kg, 3 Hz / 10 %
+
+
+def _peaks(t, x):
+    i = np.where((x[1:-1] > x[:-2]) & (x[1:-1] >= x[2:]))[0] + 1
+    return t[i], x[i]
+
+
+@pytest.mark.parametrize("foundation", ["bonded", "tensionless"])
+def test_small_rocking_has_design_frequency_and_damping(foundation):
+    k, c = design_foundation(3.0, 0.10, P.r, P.H, P.m)
+    p = P.with_(k=k, c=c, foundation=foundation)
+    th_u, _ = uplift_onset(p)
+    dt = 2e-4
+    res = simulate(p, np.zeros((int(1.2 / dt), 3)), dt, theta0=0.2 * th_u, azimuth0=0.7,
+                   rtol=1e-10)  # fmt: skip
+    assert res.contact_fraction.min() == 1.0  # never lifts
+    # signed tilt along the initial lean direction
+    e3 = res.e3
+    x = e3[:, 0] * math.cos(0.7) + e3[:, 1] * math.sin(0.7)
+    tp, xp = _peaks(res.t, x)
+    assert len(xp) >= 3
+    Td = np.mean(np.diff(tp[:3]))
+    dec = np.log(xp[0] / xp[1])
+    zeta = dec / math.sqrt(4 * math.pi**2 + dec**2)
+    f_n = 1.0 / (Td * math.sqrt(1 - zeta**2))
+    assert f_n == pytest.approx(3.0, rel=2e-3)
+    assert zeta == pytest.approx(0.10, rel=1e-2)
+
+
+def test_settles_to_static_settlement_from_unloaded_contact():
+    p = P.with_(foundation="tensionless")
+    dt = 1e-3
+    res = simulate(p, np.zeros((1001, 3)), dt, w0=0.0)
+    assert res.w[-1] == pytest.approx(-static_settlement(p), rel=1e-6)
+    assert res.F[-1] == pytest.approx(p.m * p.g, rel=1e-6)
+
+
+def test_bonded_equals_tensionless_while_nothing_lifts():
+    dt, ag = earthquake(7, duration=6.0, s0_units="m2s3")
+    ag = 0.5 * ag  # the source intensity in m²/s³: far from uplift
+    rt = simulate(P.with_(foundation="tensionless"), ag, dt, rtol=1e-9)
+    rb = simulate(P.with_(foundation="bonded"), ag, dt, rtol=1e-9)
+    assert rt.contact_fraction.min() == 1.0
+    np.testing.assert_allclose(rt.q, rb.q, atol=1e-13)
+    np.testing.assert_allclose(rt.w, rb.w, rtol=0, atol=1e-12 * static_settlement(P))
+
+
+@pytest.mark.parametrize("azimuth", [0.0, math.pi / 4])
+def test_planar_excitation_gives_planar_motion(azimuth):
+    dt, ag = earthquake(3, duration=6.0, s0_units="m2s3")
+    a = 9.81 * ag[:, 0]  # strong enough to lift most of the base
+    ag = np.stack([a * math.cos(azimuth), a * math.sin(azimuth), 9.81 * ag[:, 2]], axis=1)
+    res = simulate(P, ag, dt)
+    assert res.contact_fraction.min() < 0.5  # large uplift
+    e3 = res.e3
+    off = -e3[:, 0] * math.sin(azimuth) + e3[:, 1] * math.cos(azimuth)
+    assert np.max(np.abs(off)) < 1e-12 * np.max(np.abs(e3[:, :2]))
+    n = np.array([math.cos(azimuth), math.sin(azimuth), 0.0])
+    assert np.max(np.abs(res.omega @ n)) < 1e-12 * np.max(np.abs(res.omega))
+
+
+@pytest.mark.parametrize("foundation", ["tensionless", "bonded"])
+def test_energy_balance_closes(foundation):
+    dt, ag = earthquake(2, duration=8.0)
+    res = simulate(P.with_(foundation=foundation), ag, dt, rtol=1e-8)
+    if foundation == "tensionless":
+        assert res.contact_fraction.min() < 0.3
+    assert res.E_d[-1] > 0
+    assert res.energy_error < 1e-5
+
+
+def test_two_component_excitation_rolls_the_tilt_direction():
+    """Under two independent horizontal components the lean direction wanders (rolling)."""
+    dt, ag = earthquake(1, duration=10.0)
+    res = simulate(P, ag, dt)
+    big = res.tilt > 0.3 * res.tilt.max()
+    phi = np.unwrap(res.tilt_dir[big])
+    assert np.ptp(phi) > math.pi  # the axis leans towards more than half of the compass
+
+
+def test_bad_input_and_failures_raise():
+    with pytest.raises(ValueError, match="^k:"):
+        CylinderParams(k=0.0)
+    with pytest.raises(ValueError, match="^H:"):
+        CylinderParams(H=-1.0)
+    with pytest.raises(ValueError, match="did you mean 'bonded'"):
+        CylinderParams(foundation="bondet")
+    with pytest.raises(ValueError, match="^ag:"):
+        simulate(P, np.zeros((10, 2)), 0.01)
+    bad = np.zeros((10, 3))
+    bad[5, 0] = np.nan
+    with pytest.raises(ValueError, match="non-finite"):
+        simulate(P, bad, 0.01)
+    # a very stiff foundation cannot be resolved within a small step budget
+    with pytest.raises(SimulationError, match=r"at t = .* s: step budget"):
+        simulate(P.with_(k=1e14, c=0.0), np.full((3, 3), 50.0), 0.5, max_steps=2000)

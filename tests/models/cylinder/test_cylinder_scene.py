@@ -1,0 +1,96 @@
+"""Cylinder scenes: checked input, ``run_scene`` end to end, ``nsdyn run --json``, the study.
+
+Sources: the scene contract of ``nsdyn run`` (summary keys, NPZ/PNG written); the source
+study's design values (k = 9814 N/m³, c = 103.6 N s/m³, seed 000 §4.4.3) read back from the
+summary; the study's finding that uplift lowers the wall stresses (seed 000 §4.4.3: peak τ_max
+of the unbonded model below the bonded one).
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import pytest
+
+from nsdyn.models.cylinder.params import CylinderParams
+from nsdyn.models.cylinder.scene import build, format_summary, run_scene
+from nsdyn.models.cylinder.study import compare_foundations
+from nsdyn.models.scenefile import SceneError, read_toml
+
+ROOT = Path(__file__).resolve().parents[3]
+SCENE = ROOT / "examples" / "scenes" / "cylinder-uplift.toml"
+
+
+@pytest.fixture
+def cfg():
+    return read_toml(SCENE)
+
+
+@pytest.mark.parametrize(
+    "table, key, value, match",
+    [
+        ("foundation", "k", 0.0, "foundation.k: expected a positive"),
+        ("cylinder", "H", -4.0, "cylinder.H: expected a positive"),
+        ("foundation", "case", "glued", "foundation.case: expected one of"),
+        ("motion", "seeed", 3, "motion.seeed: unknown field; did you mean 'seed'"),
+        ("solver", "method", "rk4", "solver.method"),
+    ],
+)
+def test_bad_input_names_the_field(cfg, table, key, value, match):
+    bad = copy.deepcopy(cfg)
+    if table == "foundation" and key == "k":
+        for k in ("f_rock", "zeta"):
+            bad["foundation"].pop(k)
+    bad.setdefault(table, {})[key] = value
+    with pytest.raises(SceneError, match=match) as e:
+        build(bad, str(SCENE))
+    assert str(SCENE) in str(e.value)
+
+
+def test_run_scene_end_to_end(cfg, tmp_path):
+    cfg["motion"]["t_end"] = 4.0
+    s = run_scene(cfg, source=str(SCENE), out_dir=tmp_path, figures=True, quiet=True)
+    assert s["kind"] == "cylinder" and s["wall_s"] >= 0 and s["compile_s"] >= 0
+    assert s["k"] == pytest.approx(9814.0, abs=0.5) and s["c"] == pytest.approx(103.6, abs=0.05)
+    assert s["t_end"] == pytest.approx(4.0)
+    assert Path(s["histories"]).is_file() and Path(s["figure"]).is_file()
+    assert s["energy_error"] < 1e-5
+    json.dumps(s)
+    assert "max tilt" in format_summary(s)
+
+
+def test_cli_run_json(tmp_path, capsys):
+    from nsdyn.cli import main
+
+    rc = main(["run", str(SCENE), "--json", "--out", str(tmp_path), "--t-end", "2"])
+    assert rc in (0, None)
+    s = json.loads(capsys.readouterr().out)
+    assert s["kind"] == "cylinder" and s["t_end"] == pytest.approx(2.0)
+
+
+def test_comparison_over_earthquakes_with_any_executor():
+    """Thread pool as the executor; uplift lowers the median peak shear stress (seed 000)."""
+    with ThreadPoolExecutor(2) as ex:
+        out = compare_foundations(4, CylinderParams(), executor=ex, duration=12.0, batch=2)
+    st = out["stats"]
+    assert set(st) == {"tensionless", "bonded", "fixed"} and st["bonded"]["n"] == 4
+    assert st["bonded"]["uplift"]["p95"] == 0.0 and st["tensionless"]["uplift"]["median"] > 0.5
+    assert st["tensionless"]["tau_max"]["median"] < st["bonded"]["tau_max"]["median"]
+    assert st["tensionless"]["tilt"]["median"] > 5 * st["bonded"]["tilt"]["median"]
+
+
+def test_example_reproduces_source_design_and_ordering():
+    """examples/cylinder_uplift.py: k, c of seed 000 §4.4.3; uplift only when tensionless."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "examples"))
+    from cylinder_uplift import main
+
+    r = main(seed=2, duration=10.0)
+    assert r["k"] == pytest.approx(9814.0, abs=0.5) and r["c"] == pytest.approx(103.6, abs=0.05)
+    assert r["M_u"] == pytest.approx(9.81 / 4, rel=1e-12)  # mgr/4
+    assert r["bonded"]["uplift"] == 0.0 and r["tensionless"]["uplift"] > 0.5
+    assert r["tensionless"]["tau_max"] < r["bonded"]["tau_max"]

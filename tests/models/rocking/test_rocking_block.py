@@ -1,0 +1,232 @@
+"""Housner's rigid block: closed forms, energy relations, lift-off, impacts, overturning, Zeno."""
+
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+from scipy.optimize import brentq
+
+from nsdyn.ground.pulses import Pulse, one_sine, rectangular
+from nsdyn.models.rocking import RockingBlock, simulate_rocking
+
+COLUMN = RockingBlock(0.15, 0.6)  # seed 003 Table 2 column 2 (2H = 1.2 m, 2B = 0.3 m)
+
+
+def _quarter_exact(theta_m: float, alpha: float, p: float) -> float:
+    """Time from theta = 0 to the peak theta_m by quadrature of the exact energy relation
+    theta'² / (2 p²) = cos(alpha - theta_m) - cos(alpha - theta) (Housner 1963), with
+    theta = theta_m (1 - u²) removing the 1/sqrt singularity at the peak."""
+
+    def f(u):
+        th = theta_m * (1.0 - u * u)
+        den = 4.0 * math.sin(alpha - 0.5 * (th + theta_m)) * math.sin(0.5 * theta_m * u * u)
+        return 2.0 * theta_m * u / (p * math.sqrt(den))
+
+    return quad(f, 0.0, 1.0, epsabs=1e-14, epsrel=1e-13, limit=200)[0]
+
+
+def test_free_rocking_period_linearised_housner_closed_form():
+    """Linearised free rocking: quarter period (1/p) acosh(1 / (1 - theta_m / alpha))
+    (Housner 1963); each half-cycle between impacts uses the peak between them."""
+    blk = RockingBlock(0.15, 0.6, linear=True)
+    a, p = blk.alpha, blk.p
+    res = simulate_rocking(blk, t_end=8.0, theta0=0.6 * a, dt_out=0)
+    t_imp = res.impacts[:, 0]
+    assert t_imp[0] == pytest.approx(math.acosh(1.0 / (1.0 - 0.6)) / p, rel=1e-8)
+    pk = np.abs(res.peaks[:, 1])  # the release point is not a located peak: pk[n] follows impact n
+    for n in range(8):
+        half = 2.0 * math.acosh(1.0 / (1.0 - pk[n] / a)) / p
+        assert t_imp[n + 1] - t_imp[n] == pytest.approx(half, rel=1e-7)
+
+
+def test_free_rocking_period_exact_quadrature_of_energy_relation():
+    """Exact equation: times between impacts equal twice the quadrature of the energy relation
+    from theta = 0 to the peak in between."""
+    a, p = COLUMN.alpha, COLUMN.p
+    res = simulate_rocking(COLUMN, t_end=6.0, theta0=0.8 * a, dt_out=0)
+    t_imp = res.impacts[:, 0]
+    assert t_imp[0] == pytest.approx(_quarter_exact(0.8 * a, a, p), rel=1e-8)
+    pk = np.abs(res.peaks[:, 1])
+    for n in range(6):
+        assert t_imp[n + 1] - t_imp[n] == pytest.approx(2 * _quarter_exact(pk[n], a, p), rel=1e-7)
+
+
+@pytest.mark.parametrize("linear", [False, True])
+def test_peak_after_each_impact_from_energy_relation(linear):
+    """Peak after an impact from energy conservation with the post-impact velocity:
+    exact cos(alpha - th) - cos(alpha) = th'+² / 2p²; linearised alpha th - th²/2 = th'+² / 2p²."""
+    blk = RockingBlock(0.2, 0.8, r=0.85, linear=linear)
+    a, p = blk.alpha, blk.p
+    res = simulate_rocking(blk, t_end=6.0, theta0=0.7 * a, dt_out=0)
+    v = res.impacts[:10, 2]
+    if linear:
+        expected = a - np.sqrt(a**2 - v**2 / p**2)
+    else:
+        expected = a - np.arccos(np.cos(a) + v**2 / (2 * p**2))
+    np.testing.assert_allclose(np.abs(res.peaks[:10, 1]), expected, rtol=1e-8)
+    # the velocity arriving at each impact from the preceding peak (first: the release angle)
+    pk = np.r_[0.7 * a, np.abs(res.peaks[:9, 1])]
+    if linear:
+        v_in = p * np.sqrt(2 * a * pk - pk**2)
+    else:
+        v_in = p * np.sqrt(2 * (np.cos(a - pk) - np.cos(a)))
+    np.testing.assert_allclose(np.abs(res.impacts[:10, 1]), v_in, rtol=1e-8)
+
+
+def test_energy_constant_between_impacts_and_r2_loss_at_each():
+    """Free rocking conserves energy between impacts; at an impact (theta = 0, all energy
+    kinetic) the energy drops by the factor r² (Housner: kinetic energy ratio r²)."""
+    blk = COLUMN
+    res = simulate_rocking(blk, t_end=4.0, theta0=0.5 * blk.alpha, dt_out=1e-3)
+    e = res.energy()
+    t_imp = res.impacts[:, 0]
+    seg = np.searchsorted(t_imp, res.t, side="right")
+    levels = []
+    for k in range(6):
+        ek = e[seg == k]
+        assert np.ptp(ek) <= 1e-8 * ek.mean()
+        levels.append(ek.mean())
+    ratios = np.array(levels[1:]) / np.array(levels[:-1])
+    np.testing.assert_allclose(ratios, blk.restitution**2, rtol=1e-7)
+
+
+def test_uplift_threshold_g_tan_alpha():
+    """Lift-off from rest only when |ü_h| > g tan(alpha) (Housner): a one-sine pulse just
+    below does nothing, just above lifts at sin(w t) = g tan(alpha) / a_p; with a vertical
+    component a_v = rho a_h the threshold becomes (g + a_v) tan(alpha)."""
+    blk = COLUMN
+    ga = blk.g * math.tan(blk.alpha)
+    w = 12.57
+    below = simulate_rocking(blk, one_sine(0.999 * ga, w), t_end=1.0)
+    assert below.n_uplifts == 0 and below.outcome == "rest" and np.all(below.theta == 0)
+    ap = 1.5 * ga
+    above = simulate_rocking(blk, one_sine(ap, w), t_end=1.0)
+    assert above.n_uplifts >= 1
+    assert above.t_uplift == pytest.approx(math.asin(ga / ap) / w, abs=1e-10)
+    rho = 0.5
+    up = simulate_rocking(blk, one_sine(ap, w, ver_ratio=rho), t_end=1.0)
+    t_u = math.asin(ga / (ap * (1 - rho * math.tan(blk.alpha)))) / w
+    assert up.t_uplift == pytest.approx(t_u, abs=1e-10)
+
+
+def test_impact_times_converge_with_tolerance():
+    """Impact times under a pulse approach the tight-tolerance solution as tol decreases
+    (Dormand-Prince 5(4): error roughly proportional to tol)."""
+    exc = one_sine(0.4 * 9.81, 12.57)
+    ref = simulate_rocking(COLUMN, exc, t_end=5.0, tol=1e-13, dt_out=0).impacts[:8, 0]
+    errs = []
+    for tol in (1e-5, 1e-7, 1e-9, 1e-11):
+        t_imp = simulate_rocking(COLUMN, exc, t_end=5.0, tol=tol, dt_out=0).impacts[:8, 0]
+        errs.append(np.max(np.abs(t_imp - ref)))
+    assert all(e2 < e1 for e1, e2 in zip(errs, errs[1:], strict=False))
+    assert errs[-1] < 1e-8
+
+
+def test_overturning_rectangular_pulse_linearised_housner_criterion():
+    """Linearised block under a rectangular pulse of duration t1 overturns iff
+    a / (g alpha) >= 1 / (1 - exp(-p t1)) (Housner 1963)."""
+    blk = RockingBlock(0.2, 1.0, linear=True)
+    t1 = 0.8 / blk.p
+    a_c = blk.g * blk.alpha / (1.0 - math.exp(-blk.p * t1))
+    hi = simulate_rocking(blk, rectangular(-1.002 * a_c, t1), t_end=15.0)
+    lo = simulate_rocking(blk, rectangular(-0.998 * a_c, t1), t_end=15.0)
+    assert hi.overturned and math.isfinite(hi.t_overturn)
+    assert not lo.overturned and lo.n_impacts >= 1
+
+
+def test_overturning_long_constant_pulse_exact_criterion():
+    """Exact equation, constant acceleration a for t1: with theta1 reached at t1 from the first
+    integral theta'²/2p² = (a/g)(sin a - sin(a - th)) + cos a - cos(a - th), the block
+    overturns iff (a/g)(sin alpha - sin(alpha - theta1)) >= 1 - cos(alpha) (energy to pass
+    theta = alpha after the pulse); a_crit found by brentq over quadratures."""
+    blk = RockingBlock(0.25, 1.0)
+    al, p, g = blk.alpha, blk.p, blk.g
+    t1 = 1.2 / p
+
+    def theta1(a):
+        def dt_du(u, th1):  # theta = th1 u², d theta = 2 th1 u du, rate ~ u near 0
+            th = th1 * u * u
+            e = (a / g) * (math.sin(al) - math.sin(al - th)) + math.cos(al) - math.cos(al - th)
+            return 2.0 * th1 * u / (p * math.sqrt(2.0 * e))
+
+        return brentq(lambda th1: quad(dt_du, 0.0, 1.0, args=(th1,), epsrel=1e-12)[0] - t1,
+                      1e-6, 1.5, xtol=1e-14)  # fmt: skip
+
+    def margin(a):
+        return (a / g) * (math.sin(al) - math.sin(al - theta1(a))) - (1 - math.cos(al))
+
+    a_c = brentq(margin, 1.05 * g * math.tan(al), 3 * g * math.tan(al), xtol=1e-12)
+    hi = simulate_rocking(blk, rectangular(-1.003 * a_c, t1), t_end=12.0, dt_out=0)
+    lo = simulate_rocking(blk, rectangular(-0.997 * a_c, t1), t_end=12.0, dt_out=0)
+    assert hi.overturned and not lo.overturned
+
+
+def _zeno_rest_time_linear(blk, theta0, v_rest):
+    """Closed-form rest time of linearised free rocking: first quarter period plus the sum of
+    flight times 2 acosh(1 / sqrt(1 - v_k² / p² alpha²)) / p of the geometric impact velocities
+    v_k = r^k v_1 until v_k <= v_rest."""
+    a, p, r = blk.alpha, blk.p, blk.restitution
+    t = math.acosh(1.0 / (1.0 - theta0 / a)) / p
+    v = r * p * math.sqrt(2 * a * theta0 - theta0**2)
+    while v > v_rest:
+        t += 2.0 * math.acosh(1.0 / math.sqrt(1.0 - (v / (p * a)) ** 2)) / p
+        v *= r
+    return t
+
+
+@pytest.mark.parametrize("r", [0.7, 0.95])
+def test_zeno_free_rocking_comes_to_rest_at_accumulation_time(r):
+    """Impacts accumulate (Zeno); the block comes to rest at the closed-form accumulation time
+    with a finite number of impacts and stays at rest."""
+    blk = RockingBlock(0.2, 1.0, r=r, linear=True)
+    v_rest = 1e-6 * blk.p * blk.alpha
+    res = simulate_rocking(blk, t_end=60.0, theta0=0.5 * blk.alpha, dt_out=0.01)
+    assert res.outcome == "rest"
+    assert res.t_rest == pytest.approx(_zeno_rest_time_linear(blk, 0.5 * blk.alpha, v_rest),
+                                       abs=1e-6)  # fmt: skip
+    n_expected = math.ceil(math.log(v_rest / (r * blk.p * blk.alpha * math.sqrt(0.75)))
+                           / math.log(r))  # fmt: skip
+    assert abs(res.n_impacts - n_expected) <= 1
+    assert np.all(res.theta[res.t > res.t_rest + 0.01] == 0.0)
+
+
+def test_perfectly_elastic_block_keeps_rocking():
+    """r = 1: no loss, the amplitude never decays (energy conservation)."""
+    blk = RockingBlock(0.2, 1.0, r=1.0)
+    res = simulate_rocking(blk, t_end=20.0, theta0=0.3 * blk.alpha)
+    assert res.outcome == "rocking"
+    np.testing.assert_allclose(np.abs(res.peaks[:, 1]), 0.3 * blk.alpha, rtol=1e-6)
+
+
+def test_pulse_closed_forms_match_kernel_samples():
+    """The kernel evaluates the same closed forms as nsdyn.ground.pulses (one formula each)."""
+    from nsdyn.models.rocking._kground import GK_PULSE, ground
+
+    t = np.linspace(-0.1, 2.0, 97)
+    for pl in (Pulse("sine", 2.0, 7.0, 2), Pulse("cosine", -1.5, 9.0), Pulse("ricker", 3.0, 11.0),
+               Pulse("rect", 1.0, 5.0, 1, 0.2, 0.3)):  # fmt: skip
+        ref = pl.accel(t)
+        got = np.array([ground(ti, False, GK_PULSE, pl.code(), ref, ref) for ti in t])
+        np.testing.assert_allclose(got[:, 0], ref, atol=1e-14)
+        np.testing.assert_allclose(got[:, 1], pl.ver_ratio * ref, atol=1e-14)
+
+
+def test_numba_disabled_gives_the_same_closed_form():
+    """NUMBA_DISABLE_JIT=1: the pure-interpreter kernel reproduces Housner's first impact time."""
+    code = (
+        "import math\n"
+        "from nsdyn.models.rocking import RockingBlock, simulate_rocking\n"
+        "b = RockingBlock(0.2, 1.0, linear=True)\n"
+        "r = simulate_rocking(b, t_end=1.5, theta0=0.5 * b.alpha, dt_out=0)\n"
+        "print(abs(r.impacts[0, 0] - math.acosh(2.0) / b.p))\n"
+    )
+    env = dict(os.environ, NUMBA_DISABLE_JIT="1")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         timeout=120, check=True)  # fmt: skip
+    assert float(out.stdout.strip()) < 1e-9

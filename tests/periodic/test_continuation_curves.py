@@ -1,0 +1,176 @@
+"""Continuation: pseudo-arclength through folds, the stepped-sweep fallback, the sweep command.
+
+References are independent of the code under test: first-order harmonic balance of the Duffing
+equation (folds and backbone), and shooting itself as the reference for the sweep fallback.
+"""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from nsdyn import periodic as pr
+
+
+def _harmonic_balance_folds(w0, zeta, gamma, F):
+    """Fold points of x'' + 2 zeta w0 x' + w0^2 x + gamma x^3 = F cos(w t), first-order HB.
+
+    x = a cos(w t + phi) gives (Nayfeh & Mook 1979, §4.1)
+        G(u, w) = [(k + 3 gamma u / 4)^2 + d^2] u - F^2 = 0,  u = a^2, k = w0^2 - w^2,
+        d = 2 zeta w0 w.
+    A fold is a double root in u: dG/du = (k + 3 gamma u/4)^2 + d^2 + (3 gamma u/2)(k + 3 gamma
+    u/4) = 0. With G = 0 this gives e := k + 3 gamma u / 4 = -2 F^2 / (3 gamma u^2), hence
+        w^2 = w0^2 + 3 gamma u / 4 - e,   and   (2 zeta w0 w)^2 = F^2 / u - e^2,
+    one equation in u whose roots are the two folds. Returns [(w, a), ...].
+    """
+
+    def e(u):
+        return -2 * F**2 / (3 * gamma * u**2)
+
+    def w2(u):
+        return w0**2 + 0.75 * gamma * u - e(u)
+
+    def g(u):
+        return 4 * zeta**2 * w0**2 * w2(u) - (F**2 / u - e(u) ** 2)
+
+    us = np.geomspace(1e-3, 10.0, 4000)
+    gv = np.array([g(u) for u in us])
+    roots = [brentq(g, us[i], us[i + 1]) for i in np.flatnonzero(np.diff(np.sign(gv)))]
+    return [(math.sqrt(w2(u)), math.sqrt(u)) for u in roots]
+
+
+def test_arclength_passes_the_duffing_folds():
+    # Hardening Duffing, weakly nonlinear (gamma a^2 ~ 0.3: the third harmonic is ~1 % of the
+    # fundamental, so first-order harmonic balance is accurate to ~1 %). Pseudo-arclength must
+    # turn at both folds (sequential continuation cannot), the folds must show as a real
+    # multiplier through +1, and the middle branch must be unstable.
+    w0, zeta, gamma, F = 1.0, 0.02, 0.3, 0.045
+    folds = _harmonic_balance_folds(w0, zeta, gamma, F)
+    assert len(folds) == 2
+    prob = pr.duffing_problem(zeta, w0, gamma, F)
+    disc = pr.Discretisation(n_min=256, dt_max=1e9)
+    c = pr.continue_arclength(prob, 0.9 / (2 * np.pi), 1.25 / (2 * np.pi), points=40, disc=disc)
+    w = 2 * np.pi * c.column("f")
+    assert w[-1] == pytest.approx(1.25, rel=1e-9)
+    turns = sorted(2 * np.pi * b["f"] for b in c.bifurcations if b["by"] == "turning point")
+    by_rho = sorted(2 * np.pi * b["f"] for b in c.bifurcations if b["by"] == "multipliers")
+    ref = sorted(wf for wf, _ in folds)
+    assert len(turns) == 2 and len(by_rho) == 2
+    for wt, wm, wr in zip(turns, by_rho, ref, strict=True):
+        assert wt == pytest.approx(wr, rel=0.01)
+        assert wm == pytest.approx(wr, rel=0.02)  # linear interpolation of rho across a fold
+    # unstable points lie on the middle branch (between the folds in w)
+    unstable = [p for p in c.points if p.stable is False]
+    assert unstable
+    for p in unstable:
+        assert ref[0] * 0.99 <= 2 * np.pi * p.f <= ref[1] * 1.01
+    # backbone: at the largest amplitude, w^2 = w0^2 + (3/4) gamma a^2 (within 1 %)
+    amp = c.column("amp")
+    k = int(np.argmax(amp))
+    assert w[k] ** 2 == pytest.approx(w0**2 + 0.75 * gamma * amp[k] ** 2, rel=0.01)
+
+
+def test_fallback_sweep_is_used_and_recorded_when_shooting_fails(smooth_frame):
+    # Shooting is made to fail (no Newton iterations allowed): every point must come from the
+    # stepped sweep, say why, and agree with the shooting solution (reference run) to the
+    # steady-state tolerance.
+    A = 2.0
+    freqs = [1.0, 1.6]
+    prob = pr.frame_problem(smooth_frame, A)
+    ref = pr.continue_sequential(prob, freqs)
+    assert all(p.method == "shooting" for p in ref.points)
+    c = pr.continue_sequential(prob, freqs, max_iter=0)
+    assert [p.method for p in c.points] == ["sweep", "sweep"]
+    for p, r in zip(c.points, ref.points, strict=True):
+        assert p.converged  # the steady-state test passed
+        assert "no convergence in 0 Newton iterations" in p.note
+        assert "steady after" in p.note
+        for key in ("idr", "acc", "x_iso"):
+            assert p.quantities[key] == pytest.approx(r.quantities[key], rel=1e-4)
+        assert p.stable == r.stable
+    rows = c.rows()
+    assert rows[0]["method"] == "sweep" and "shooting failed" in rows[0]["note"]
+
+
+def test_unfinished_sweep_returns_the_start_of_its_last_period(smooth_frame):
+    # Definition: SweepResult.x0 is the state at the start of the period returned in X (and the
+    # monodromy belongs to that period), also when the sweep stops before a steady state.
+    prob = pr.frame_problem(smooth_frame, 2.0)
+    sw = pr.steady_state_sweep(prob, 1.0, max_periods=3, tol=1e-14)
+    assert not sw.steady and sw.periods_done == 3
+    assert np.array_equal(sw.x0, sw.X[0])
+    pm = pr.period_map(prob, sw.x0, 1.0, sens=True)
+    assert np.allclose(pm.monodromy, sw.monodromy, rtol=1e-10, atol=1e-12)
+
+
+def test_sweep_command_writes_csv_and_resumes_from_its_checkpoint(tmp_path, capsys):
+    # `nsdyn sweep` on a small scene: one CSV row per point with the documented columns, a
+    # checkpoint per amplitude, and a second run that resumes (computes no point again) and
+    # reproduces the same rows.
+    import csv
+    import json
+    from concurrent.futures import ThreadPoolExecutor
+
+    from nsdyn.cli import main as nsdyn_main
+    from nsdyn.models.isolated.scene import load_scene
+    from nsdyn.studies import sweep
+
+    scene = tmp_path / "portal.toml"
+    scene.write_text('[scene]\nframe = "portal"\nfidelity = "cb"\nf_max = 20.0\n')
+    out = tmp_path / "out"
+    argv = [
+        "sweep",
+        str(scene),
+        "--amplitudes",
+        "0.5,2",
+        "--fmin",
+        "1",
+        "--fmax",
+        "4",
+        "--points",
+        "4",
+        "--out",
+        str(out),
+        "--workers",
+        "1",
+        "--no-figures",
+        "--json",
+    ]
+    assert nsdyn_main(argv) == 0
+    first = json.loads(capsys.readouterr().out)
+    rows = list(csv.DictReader((out / "sweep.csv").open()))
+    assert tuple(rows[0].keys()) == sweep.CSV_COLUMNS
+    assert len(rows) == 8 and {r["A"] for r in rows} == {"0.5", "2"}
+    assert all(r["method"] in ("shooting", "sweep") and r["converged"] == "true" for r in rows)
+    # a_floors leaves out the isolation level (level 0) of a's maximum over all levels
+    assert all(0 < float(r["a_floors"]) <= float(r["a"]) for r in rows)
+    for A in (0.5, 2.0):
+        assert sweep.checkpoint_path(out, A).exists()
+    assert nsdyn_main(argv) == 0
+    second = json.loads(capsys.readouterr().out)
+    assert [a["resumed_points"] for a in second["amplitudes"]] == [4, 4]
+    assert list(csv.DictReader((out / "sweep.csv").open())) == rows
+    assert [a["points"] for a in first["amplitudes"]] == [4, 4]
+    # any concurrent.futures.Executor runs the amplitudes
+    cfg = load_scene(scene)
+    settings = sweep.SweepSettings(1.0, 4.0, 3, "sequential", True)
+    with ThreadPoolExecutor(2) as ex:
+        res = sweep.sweep_amplitudes(
+            cfg, [0.5, 2.0], settings, tmp_path / "ex", executor=ex, quiet=True
+        )
+    assert [r["A"] for r in res] == [0.5, 2.0] and all(len(r["rows"]) == 3 for r in res)
+    # --steps-factor 2: twice the steps per period (exactly: Discretisation.steps), so the
+    # checkpoint of the default run is not reused; --tableau sdirk3 changes the tableau only
+    fine = out.parent / "fine"
+    argv2 = [a if a != str(out) else str(fine) for a in argv if a != "--no-figures"]
+    argv2 += ["--steps-factor", "2"]
+    assert nsdyn_main(argv2 + ["--tableau", "sdirk3"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["settings"]["steps_factor"] == 2.0 and report["settings"]["tableau"] == "sdirk3"
+    rows2 = list(csv.DictReader((fine / "sweep.csv").open()))
+    assert [int(r["n_steps"]) for r in rows2] == [2 * int(r["n_steps"]) for r in rows]
+    assert (fine / "sweep.png").stat().st_size > 0 and not list(fine.glob(".*.tmp"))
+    # the default sdirk2 and sdirk3 agree to the discretisation error of the coarse default
+    for r, r2 in zip(rows, rows2, strict=True):
+        assert float(r2["x_iso"]) == pytest.approx(float(r["x_iso"]), rel=2e-2, abs=1e-9)

@@ -1,0 +1,96 @@
+"""Design search: Pareto front against brute force, feasibility, compromise, percentiles.
+
+Sources: the definition of dominance (minimised objectives) checked by an independent double
+loop; percentiles against numpy on the group's values.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from nsdyn.studies.design import (
+    compromise,
+    design_points,
+    find_design,
+    pareto_front,
+    percentile_table,
+)
+from nsdyn.studies.table import Table
+
+
+def _dominated(F, i, idx):
+    return any(
+        all(F[j, k] <= F[i, k] for k in range(F.shape[1]))
+        and any(F[j, k] < F[i, k] for k in range(F.shape[1]))
+        for j in idx
+        if j != i
+    )
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 6), st.integers(0, 6)), min_size=1, max_size=25))
+def test_pareto_front_is_the_non_dominated_set(pts):
+    F = np.array(pts, dtype=float)
+    got = set(pareto_front(F).tolist())
+    want = {i for i in range(len(F)) if not _dominated(F, i, range(len(F)))}
+    assert got == want
+
+
+def _table():
+    # designs (mu, c) over 3 records; objectives f1 = mu-ish, f2 = 1/mu-ish; x_iso decreases
+    rows, rng = [], np.random.default_rng(0)
+    for mu in (0.01, 0.03, 0.05):
+        for c in (1e4, 2e4):
+            for rec in ("a", "b", "c"):
+                rows.append(
+                    {
+                        "record": rec,
+                        "isolation.mu": mu,
+                        "isolation.c": c,
+                        "status": "ok",
+                        "idr_max": mu * (1 + 0.1 * rng.random()) + c * 1e-7,
+                        "floor_acc_max_mps2": 0.01 / mu + c * 1e-6,
+                        "x_iso_max_m": 0.008 / mu,
+                    }
+                )
+    rows[0]["status"] = "failed"  # one failed run: its design is not judged
+    return Table(rows, ["isolation.mu", "isolation.c"])
+
+
+def test_design_points_constraint_front_and_choice():
+    t = _table()
+    objs = ["idr_max", "floor_acc_max_mps2"]
+    pts = design_points(t, ["isolation.mu", "isolation.c"], objs, {"x_iso_max_m": 0.4})
+    assert len(pts) == 6 and all(p.n_records == 3 for p in pts)
+    by = {(p.values["isolation.mu"], p.values["isolation.c"]): p for p in pts}
+    assert by[(0.01, 1e4)].n_failed == 1 and not by[(0.01, 1e4)].feasible
+    assert not by[(0.01, 2e4)].feasible  # x_iso = 0.8 m > 0.4 m gap
+    assert by[(0.03, 1e4)].feasible and by[(0.05, 1e4)].feasible
+    # c = 2e4 raises both objectives: dominated by c = 1e4 at the same mu
+    front = {k for k, p in by.items() if p.pareto}
+    assert front == {(0.03, 1e4), (0.05, 1e4)}
+    f = [r["idr_max"] for r in t.rows if r["isolation.mu"] == 0.03 and r["isolation.c"] == 1e4]
+    assert by[(0.03, 1e4)].objectives["idr_max"] == pytest.approx(np.mean(f), rel=1e-14)
+    chosen = compromise(pts, objs)
+    assert chosen.pareto
+    assert find_design(pts, {"isolation.mu": 0.03, "isolation.c": 1e4}) is by[(0.03, 1e4)]
+
+
+def test_percentile_table_matches_numpy():
+    t = _table()
+    rows = percentile_table(t, ["idr_max"], ["isolation.mu"], q=(16, 50, 84))
+    assert [r["isolation.mu"] for r in rows] == [0.01, 0.03, 0.05]
+    for r in rows:
+        v = np.array(
+            [
+                x["idr_max"]
+                for x in t.rows
+                if x["isolation.mu"] == r["isolation.mu"] and x["status"] == "ok"
+            ]
+        )
+        assert r["n"] == v.size
+        for q in (16, 50, 84):
+            assert r[f"idr_max_p{q}"] == pytest.approx(np.percentile(v, q), rel=1e-14)

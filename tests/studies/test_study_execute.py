@@ -1,0 +1,190 @@
+"""Running studies: resume after a kill, failures recorded, the same table on any executor,
+and the study's scene runner equal to ``nsdyn run``'s.
+
+Sources: the resume contract of nsdyn.studies.execute (every task once, finished tasks not
+rerun); determinism of the integrators (the same inputs give the same floats in any process);
+``build_system`` as the definition of the isolated model the cached runner must reproduce.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from nsdyn.studies import execute
+from nsdyn.studies.execute import run_study
+from nsdyn.studies.scenes import _isolated_system, run_scene_summary
+from nsdyn.studies.study import load_study
+from nsdyn.studies.table import PARTS, RESULTS, TIMING_COLUMNS, read_csv
+from nsdyn.studies.tasks import expand
+
+SMALL = """
+[study]
+name = "small"
+batch = {batch}
+keep = ["x_iso_max_m", "floor_acc_max_mps2", "n_steps", "wall_s"]
+
+[base.scene]
+fidelity = "rigid"
+
+[base.motion]
+pga = 3.0
+t_end = {t_end}
+
+[parameters]
+"isolation.mu" = {mu}
+"solver.method" = {methods}
+
+[records]
+names = ["synthetic-wn-40s"]
+simulated = {{ n = {n_sim}, seed = 3, duration = {t_end} }}
+"""
+
+
+def _study(tmp_path, name="s.toml", **kw):
+    spec = dict(batch=2, t_end=4.0, mu="[0.02, 0.05]", methods='["radau"]', n_sim=1) | kw
+    p = tmp_path / name
+    p.write_text(textwrap.dedent(SMALL.format(**spec)))
+    return p
+
+
+def _comparable(rows):
+    return [{k: v for k, v in r.items() if k not in TIMING_COLUMNS} for r in rows]
+
+
+def test_failing_task_is_recorded_not_fatal(tmp_path):
+    study = load_study(_study(tmp_path, methods='["radau", "no-such-method"]'))
+    res = run_study(study, tmp_path / "out", executor=ThreadPoolExecutor(1))
+    rows = res.table.rows
+    assert len(rows) == study.n_tasks == 8
+    bad = [r for r in rows if r["solver.method"] == "no-such-method"]
+    good = [r for r in rows if r["solver.method"] == "radau"]
+    assert all(r["status"] == "failed" and "method: expected one of" in r["error"] for r in bad)
+    assert all(r["status"] == "ok" and r["x_iso_max_m"] > 0 for r in good)
+    assert res.n_failed == 4
+    # a rerun runs nothing (failures count as done) unless asked to retry them
+    again = run_study(study, tmp_path / "out", executor=ThreadPoolExecutor(1))
+    assert again.n_run == 0 and again.n_skipped == 8
+    retry = run_study(study, tmp_path / "out", executor=ThreadPoolExecutor(1), retry_failed=True)
+    assert retry.n_run == 4 and len(retry.table) == 8
+
+
+def test_lost_worker_batch_is_split_and_retried(tmp_path, monkeypatch):
+    # an executor-level failure (not a task's exception) on a batch of several tasks: the
+    # tasks are resubmitted one by one and all finish
+    real = execute.run_batch
+
+    def flaky(tasks):
+        if len(tasks) > 1:
+            raise RuntimeError("worker vanished")
+        return real(tasks)
+
+    monkeypatch.setattr(execute, "run_batch", flaky)
+    study = load_study(_study(tmp_path, batch=4))
+    res = run_study(study, tmp_path / "out", executor=ThreadPoolExecutor(2))
+    assert [r["status"] for r in res.table.rows] == ["ok"] * study.n_tasks
+
+
+def test_study_runner_equals_build_system_and_nsdyn_run(tmp_path):
+    # the per-process cache adds the isolators to a reduction built once: same matrices as
+    # build_system, hence the same run as `nsdyn run` (cb: the reduction is the costly part)
+    from nsdyn.models.isolated.scene import build_scene, load_scene
+    from nsdyn.solve.transient import output_grid, simulate
+
+    over = {
+        "scene": {"fidelity": "cb"},
+        "isolation": {"k_lam": 8e4, "c": 2e4, "mu": 0.04},
+        "motion": {"t_end": 3.0},
+    }
+    cfg = load_scene(None, over)
+    system, motion = build_scene(cfg)
+    cached = _isolated_system(cfg, "test")
+    for name in ("M", "K", "C", "Gamma", "R", "D", "T"):
+        np.testing.assert_array_equal(getattr(cached, name), getattr(system, name), err_msg=name)
+    assert cached.isolation == system.isolation
+    sv = cfg["solver"]
+    ref = simulate(
+        system, motion, rtol=sv["rtol"], t_eval=output_grid(motion, sv["dt_out"])
+    ).summary()
+    got = run_scene_summary(cfg, "test")
+    for k in ("x_iso_max_m", "idr_max", "floor_acc_max_mps2", "n_steps"):
+        assert got[k] == ref[k], k
+
+
+def test_same_table_on_process_pool_and_dask_local_cluster(tmp_path):
+    pytest.importorskip("distributed")
+    study = load_study(_study(tmp_path, mu="[0.02, 0.04, 0.06]"))
+    run_scene_summary(expand(study)[0].cfg, "warm-up")  # compiled before the pool forks
+    with ProcessPoolExecutor(2) as pool:
+        a = run_study(study, tmp_path / "pool", executor=pool)
+    with execute.dask_executor(n_local=2, processes=False) as ex:
+        b = run_study(study, tmp_path / "dask", executor=ex)
+    assert a.n_failed == b.n_failed == 0 and len(a.table) == study.n_tasks
+    assert _comparable(a.table.rows) == _comparable(b.table.rows)
+    assert _comparable(read_csv(tmp_path / "pool" / RESULTS)) == _comparable(a.table.rows)
+
+
+def _rows_in(out: Path) -> list[dict]:
+    rows = []
+    for f in sorted((out / PARTS).glob("part-*.csv")):
+        rows += read_csv(f)
+    return rows
+
+
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM])
+def test_killed_study_resumes_with_every_row_once(tmp_path, sig):
+    # 120 short tasks in batches of 1 on one worker process; killed once a few batches are in
+    study_path = _study(
+        tmp_path, batch=1, t_end=8.0, mu="[0.01, 0.02, 0.03, 0.04, 0.05, 0.06]", n_sim=19
+    )
+    study = load_study(study_path)
+    out = tmp_path / "out"
+    code = (
+        "import sys; from nsdyn.cli import main; "
+        f"sys.exit(main(['study', {str(study_path)!r}, '--out', {str(out)!r}, "
+        "'--workers', '1', '--json', '--no-figures']))"
+    )
+    proc = subprocess.Popen(
+        [sys.executable, "-c", code], start_new_session=True, stderr=subprocess.PIPE
+    )
+    deadline = time.monotonic() + 300
+    while len(_rows_in(out)) < 3 if (out / PARTS).is_dir() else True:
+        assert proc.poll() is None, proc.stderr.read().decode()
+        assert time.monotonic() < deadline
+        time.sleep(0.01)
+    if sig == signal.SIGKILL:  # the study and its worker, as a machine going down would
+        os.killpg(proc.pid, signal.SIGKILL)
+    else:
+        os.kill(proc.pid, signal.SIGTERM)
+    rc = proc.wait(timeout=120)
+    try:  # leftovers of the killed study's own process group (its pool worker)
+        os.killpg(proc.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+    if sig == signal.SIGTERM:
+        assert rc == 130, proc.stderr.read().decode()
+    before = {r["key"]: r for r in _rows_in(out)}
+    assert 3 <= len(before) < study.n_tasks  # killed mid-way
+    res = run_study(study, out, workers=2)
+    keys = [r["key"] for r in res.table.rows]
+    assert sorted(keys) == sorted(t.key for t in expand(study))  # every task exactly once
+    assert len(set(keys)) == len(keys) == study.n_tasks
+    assert res.n_skipped == len(before) and res.n_run == study.n_tasks - len(before)
+    assert [r["index"] for r in res.table.rows] == list(range(study.n_tasks))
+    on_file = read_csv(out / RESULTS)
+    assert [r["key"] for r in on_file] == keys
+    assert not list((out / PARTS).glob("*"))  # parts merged, temporaries gone
+    for r in res.table.rows:  # rows finished before the kill kept as they were
+        if r["key"] in before:
+            assert _comparable([r]) == _comparable([before[r["key"]]])
+    assert json.dumps(res.as_dict())

@@ -1,0 +1,125 @@
+"""Study files: expansion and keys, and clear errors for bad files (file, field, nearest key).
+
+Source of the expected behaviour: the study-file format in nsdyn.studies.study and the
+scene-file error convention of nsdyn.models.scenefile (one line naming file and field).
+"""
+
+from __future__ import annotations
+
+import textwrap
+
+import pytest
+
+from nsdyn.cli import main
+from nsdyn.models.scenefile import SceneError
+from nsdyn.studies.study import load_study
+from nsdyn.studies.tasks import expand
+
+GOOD = """
+[study]
+name = "grid"
+samples = 3
+seed = 5
+
+[base.scene]
+fidelity = "rigid"
+
+[base.motion]
+t_end = 2.0
+
+[parameters]
+"isolation.mu" = [0.02, 0.05]
+"isolation.k_lam" = { logspace = [2.5e4, 1e5, 3] }
+"motion.pga" = { uniform = [1.0, 4.0] }
+
+[records]
+names = ["synthetic-wn-40s"]
+simulated = { n = 2, seed = 9, duration = 4.0 }
+"""
+
+
+def _write(tmp_path, text: str, name: str = "s.toml"):
+    p = tmp_path / name
+    p.write_text(textwrap.dedent(text))
+    return p
+
+
+def test_expansion_counts_orders_and_keys(tmp_path):
+    study = load_study(_write(tmp_path, GOOD))
+    tasks = expand(study)
+    # 2 mu x 3 k_lam x 3 draws x 3 records
+    assert len(tasks) == study.n_tasks == 2 * 3 * 3 * 3
+    assert [t.index for t in tasks] == list(range(len(tasks)))
+    assert len({t.key for t in tasks}) == len(tasks)  # every task its own key
+    k = sorted({t.params["isolation.k_lam"] for t in tasks})
+    assert k == pytest.approx([2.5e4, 5e4, 1e5], rel=1e-12)  # geometric grid
+    pga = [t.params["motion.pga"] for t in tasks]
+    assert all(1.0 <= v <= 4.0 for v in pga)
+    # the same file expands to the same keys (draws are seeded); another seed changes them
+    assert [t.key for t in expand(load_study(tmp_path / "s.toml"))] == [t.key for t in tasks]
+    other = load_study(_write(tmp_path, GOOD.replace("seed = 5", "seed = 6"), "o.toml"))
+    assert {t.key for t in expand(other)}.isdisjoint({t.key for t in tasks})
+
+
+def test_key_follows_record_bytes_not_place(tmp_path):
+    from nsdyn.ground import read_motion, write_motion
+
+    m = read_motion("synthetic-kt-20s").window(0.0, 2.0)
+    for d in ("a", "b"):
+        write_motion(m, tmp_path / d / "rec.csv")
+    text = GOOD.replace('names = ["synthetic-wn-40s"]', 'names = ["{d}/rec.csv"]')
+
+    def keys(d: str, name: str) -> list[str]:
+        tasks = expand(load_study(_write(tmp_path, text.replace("{d}", d), name)))
+        return [t.key for t in tasks if t.record.name == "rec"]
+
+    ka, kb = keys("a", "a.toml"), keys("b", "b.toml")
+    assert len(ka) == 18 and ka == kb  # same bytes in another folder: same keys
+    write_motion(m.scaled_to_pga(2 * m.pga), tmp_path / "b" / "rec.csv")
+    assert set(keys("b", "c.toml")).isdisjoint(ka)  # other bytes: other keys
+
+
+@pytest.mark.parametrize(
+    ("change", "needle"),
+    [
+        (('"isolation.mu"', '"isolation.muu"'), "did you mean 'isolation.mu'"),
+        (('"isolation.k_lam"', '"isolaton.k_lam"'), "did you mean 'isolation.k_lam'"),
+        (("samples = 3", 'samples = "three"'), "study.samples: expected a non-negative integer"),
+        (("[0.02, 0.05]", '[0.02, "high"]'), "parameters.isolation.mu.values: expected numbers"),
+        (("uniform = [1.0, 4.0]", "uniform = [4.0, 1.0]"), "low < high"),
+        (("logspace = [2.5e4, 1e5, 3]", "logspace = [2.5e4, 1e5]"), "[first, last, count]"),
+        (('"synthetic-wn-40s"', '"synthetic-wn-04s"'), "did you mean 'synthetic-wn-40s'"),
+        (('"synthetic-wn-40s"', '"no-such-record"'), "neither a file"),
+        (("[records]", "[record]"), "did you mean 'records'"),
+        (("seed = 9,", "seeed = 9,"), "records.simulated.seeed: unknown field; did you mean"),
+        (('fidelity = "rigid"', 'fidelity = "rigidd"'), "scene.fidelity"),
+        (("seed = 5", "sede = 5"), "did you mean 'seed'"),
+    ],
+)
+def test_bad_study_files_name_file_and_field(tmp_path, change, needle):
+    path = _write(tmp_path, GOOD.replace(*change))
+    with pytest.raises(SceneError) as e:
+        load_study(path)
+    msg = str(e.value)
+    assert msg.startswith(str(path)) and needle in msg, msg
+    assert "\n" not in msg
+
+
+def test_bad_analysis_and_missing_pieces(tmp_path):
+    bad = GOOD + '\n[analysis.fragility]\nim = "motion.pga"\nedp = "idr_maxx"\n'
+    with pytest.raises(SceneError, match="did you mean 'idr_max'"):
+        load_study(_write(tmp_path, bad))
+    with pytest.raises(SceneError, match="analysis.fragility.edp: missing"):
+        load_study(_write(tmp_path, GOOD + '\n[analysis.fragility]\nim = "motion.pga"\n'))
+    with pytest.raises(SceneError, match="random parameters need samples"):
+        load_study(_write(tmp_path, GOOD.replace("samples = 3", "samples = 0")))
+    with pytest.raises(SceneError, match="study.scene: no such scene file"):
+        load_study(_write(tmp_path, GOOD.replace('name = "grid"', 'scene = "nope.toml"')))
+
+
+def test_cli_bad_file_one_line_exit_2(tmp_path, capsys):
+    path = _write(tmp_path, GOOD.replace('"isolation.mu"', '"isolation.muu"'))
+    assert main(["study", str(path), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "did you mean 'isolation.mu'" in err[0]
+    assert main(["study", str(tmp_path / "missing.toml")]) == 2
