@@ -11,7 +11,7 @@ Names load lazily on first use, so ``import nsdyn`` stays cheap for the command 
 
 from __future__ import annotations
 
-import importlib
+from nsdyn._lazy import exports
 
 __version__ = "0.1.0"
 
@@ -73,6 +73,14 @@ _API = {
     "housner_restitution": "nsdyn.models.rocking.block",
     "overturning_spectrum": "nsdyn.models.rocking.spectra",
     "OverturningSpectrum": "nsdyn.models.rocking.spectra",
+    # models: planar rigid bodies with frictional contacts (seed 002)
+    "RigidBody": "nsdyn.models.contact",
+    "FrictionLaw": "nsdyn.models.contact",
+    "BaseMotion": "nsdyn.models.contact",
+    "ContactResult": "nsdyn.models.contact",
+    "simulate_event": "nsdyn.models.contact",
+    "simulate_moreau": "nsdyn.models.contact",
+    "onset_mode": "nsdyn.models.contact",
     # models: rigid cylinder on a Winkler foundation (seed 000)
     "CylinderParams": "nsdyn.models.cylinder",
     "CylinderResult": "nsdyn.models.cylinder",
@@ -102,6 +110,12 @@ _API = {
     "continue_arclength": "nsdyn.periodic",
     "frequency_response": "nsdyn.periodic",
     "OrbitPoint": "nsdyn.periodic",
+    "PeriodicModel": "nsdyn.periodic",
+    "SwitchProblem": "nsdyn.periodic",
+    "SwitchShootingResult": "nsdyn.periodic",
+    "switch_problem": "nsdyn.periodic",
+    "shoot_switch": "nsdyn.periodic",
+    "switch_response": "nsdyn.periodic",
     "Curve": "nsdyn.periodic",
     # studies
     "load_study": "nsdyn.studies",
@@ -124,15 +138,4 @@ _API = {
 __all__ = sorted(_API) + ["__version__"]
 
 
-def __getattr__(name: str):
-    where = _API.get(name)
-    if where is None:
-        raise AttributeError(f"module 'nsdyn' has no attribute {name!r}")
-    module, _, attr = where.partition(":")  # "module:attr" where the public name differs
-    value = getattr(importlib.import_module(module), attr or name)
-    globals()[name] = value  # later lookups skip this hook
-    return value
-
-
-def __dir__() -> list[str]:
-    return __all__
+__getattr__, __dir__ = exports(globals(), _API)

@@ -126,6 +126,7 @@ BENCHMARKS: dict[str, str] = {
     "contact": "nsdyn.bench.contact",
     "cylinder": "nsdyn.bench.cylinder",
     "studies": "nsdyn.bench.studies",
+    "switch_shooting": "nsdyn.bench.switch_shooting",
 }
 
 

@@ -17,7 +17,9 @@ as the median of 3 when shorter than LONG_RUN_S, and the ratio of the two wall t
 ``ratio = wall_SciPy / wall_nsdyn``. nsdyn lands its steps on the record's samples (the input
 is piecewise linear); SciPy steps across them: part of the ratio is that, not compiled code.
 Compilation is reported apart (``integrate.warmup`` in this process; ``--cold-compile``: with
-an empty numba cache in a fresh process).
+an empty numba cache in a fresh process, and the wall time of ``nsdyn run --t-end 1 --json`` in
+fresh processes, median of START_REPEATS, with an empty cache each time (a first run) and with
+the cache a previous run filled (every later run)).
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ from nsdyn.bench import common
 from nsdyn.bench.baseline import run_scipy_radau
 
 __all__ = [
+    "cli_start_s",
     "cold_compile_s",
     "report",
     "run_bench",
@@ -62,6 +65,8 @@ SCIPY_RTOLS = [1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8,
 SCIPY_BUDGET_S = 1800.0  # a SciPy run still going after this is stopped (ratio: lower bound)
 QUICK_SCIPY_RTOLS = [1e-6, 1e-7]  # --quick: the scene's rtol and these
 QUICK_SCIPY_BUDGET_S = 60.0
+START_REPEATS = 3  # fresh processes per start-time measurement (median)
+START_T_END = 1.0  # s: the simulated window of the start-time run (compilation dominates)
 SCIPY_REPEATS = 3  # timed runs of the matched SciPy setting when one takes < LONG_RUN_S
 
 # columns of the CSV tables, in order
@@ -208,6 +213,46 @@ def cold_compile_s(methods=("radau",)) -> float:
     return float(sum(json.loads(res.stdout.strip().splitlines()[-1]).values()))
 
 
+def _cli_env(cache: str) -> dict:
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+    root = str(Path(__file__).resolve().parents[2])
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (root, env.get("PYTHONPATH")) if p)
+    return env
+
+
+def cli_start_s(repeats: int = START_REPEATS) -> dict:
+    """Wall seconds of ``nsdyn run --t-end START_T_END --json`` in fresh processes: ``cold``
+    with an empty numba cache each time (what a first run pays), ``cached`` once a run has
+    filled the cache (every later start). Returns medians and the single runs."""
+    import subprocess
+    import time
+
+    cmd = [sys.executable, "-m", "nsdyn.cli", "run", "--t-end", f"{START_T_END:g}", "--json"]
+    cmd += ["--no-figures"]
+
+    def once(cache: str) -> float:
+        with tempfile.TemporaryDirectory(prefix="nsdyn-start-") as out:
+            t0 = time.perf_counter()
+            subprocess.run(
+                [*cmd, "--out", out], env=_cli_env(cache), capture_output=True, check=True
+            )
+            return time.perf_counter() - t0
+
+    cold = []
+    for _ in range(repeats):
+        with tempfile.TemporaryDirectory(prefix="nsdyn-numba-") as cache:
+            cold.append(once(cache))
+    with tempfile.TemporaryDirectory(prefix="nsdyn-numba-") as cache:
+        once(cache)  # fills the cache
+        cached = [once(cache) for _ in range(repeats)]
+    return {
+        "cold_s": float(np.median(cold)),
+        "cached_s": float(np.median(cached)),
+        "cold_runs_s": cold,
+        "cached_runs_s": cached,
+    }
+
+
 def _speed_row(run: common.BenchRun, record: str, role: str, **extra) -> dict:
     row = common.bench_row(run, record=record, role=role, **run.errors)
     row.update(extra)
@@ -236,6 +281,7 @@ def speed_bench(
     cfg, system, motion, solver = speed_scene(QUICK_SPEED_T_END if quick else None)
     compile_s = common.warmup([solver["method"]])
     cold_s = cold_compile_s([solver["method"]]) if cold_compile else float("nan")
+    starts = cli_start_s() if cold_compile else {"cold_s": float("nan"), "cached_s": float("nan")}
     budget = QUICK_SCIPY_BUDGET_S if quick else SCIPY_BUDGET_S
     pga = float(cfg["motion"].get("pga", common.PGA))
     motions = speed_motions(motion, pga, quick=quick, shared_dir=shared_dir)
@@ -358,6 +404,8 @@ def speed_bench(
         "repeats": repeats,
         "compile_s": compile_s,
         "cold_compile_s": cold_s,
+        "cli_cold_start_s": starts["cold_s"],
+        "cli_cached_start_s": starts["cached_s"],
         "quick": quick,
     }
     for r in rows:
@@ -409,6 +457,12 @@ def speed_markdown(res: dict) -> str:
     comp = f"compilation (integrate.warmup, this process): {meta['compile_s']:.2f} s"
     if np.isfinite(meta["cold_compile_s"]):
         comp += f"; with an empty numba cache: {meta['cold_compile_s']:.0f} s"
+    if np.isfinite(meta.get("cli_cold_start_s", float("nan"))):
+        comp += (
+            f"; `nsdyn run --t-end {START_T_END:g} --json` start (median of {START_REPEATS} "
+            f"fresh processes): first run {meta['cli_cold_start_s']:.1f} s, cached "
+            f"{meta['cli_cached_start_s']:.1f} s"
+        )
     lines += ["", comp]
     same = [t for t in res["table"] if np.isfinite(t["scipy_same_tol_wall_s"])]
     if same:

@@ -4,19 +4,22 @@ Each subcommand is two functions, ``configure(parser)`` adding its arguments and
 ``run(args) -> int`` doing the work, registered in :data:`COMMANDS`. To add one, write the
 pair and add a :class:`Command` entry; :func:`main` builds the parser from the table.
 
-Errors the user can fix (bad frame file, unwritable output directory) print one line to
-stderr and exit with status 2; no traceback.
+Errors the user can fix (bad frame file, unwritable output directory, an argument out of
+range) print one line to stderr and exit with status 2; no traceback. SIGINT or SIGTERM stops
+a command with one line and status 130: every file is written atomically, so what is on disk
+is complete, and a rerun resumes from the command's checkpoint where it has one.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import signal
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from nsdyn.cli.args import EXIT_NUMERICS, EXIT_USER_ERROR
+from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, EXIT_USER_ERROR
 
 __all__ = ["COMMANDS", "Command", "build_parser", "main"]
 
@@ -89,8 +92,33 @@ COMMANDS: dict[str, Command] = {
 }
 
 
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line on stderr and status 2."""
+
+    def error(self, message: str):
+        print(f"{self.prog}: error: {message} (see {self.prog} --help)", file=sys.stderr)
+        raise SystemExit(EXIT_USER_ERROR)
+
+
+def _on_sigterm(signum, frame):
+    raise KeyboardInterrupt
+
+
+def _caused_by_interrupt(exc: BaseException) -> bool:
+    """True if a KeyboardInterrupt is in ``exc``'s chain of causes (numba's dispatcher turns
+    an exception raised by a signal handler during a kernel into SystemError from it)."""
+    seen: set[int] = set()
+    e: BaseException | None = exc
+    while e is not None and id(e) not in seen:
+        if isinstance(e, KeyboardInterrupt):
+            return True
+        seen.add(id(e))
+        e = e.__cause__ or e.__context__
+    return False
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="nsdyn", description="Non-smooth dynamics of friction base-isolated frames."
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -103,15 +131,34 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``nsdyn`` script; returns the exit status."""
-    args = build_parser().parse_args(argv)
+    args = build_parser().parse_args(argv)  # a usage error: one line, SystemExit(2)
+    try:  # SIGTERM stops a command the way Ctrl-C does (atomic files; checkpoints kept)
+        old = signal.signal(signal.SIGTERM, _on_sigterm)
+    except ValueError:  # not the main thread: leave signals alone
+        old = None
     try:
-        return int(args._run(args))
+        try:
+            return int(args._run(args))
+        except SystemError as exc:  # a signal raised inside a jitted kernel surfaces wrapped
+            if not _caused_by_interrupt(exc):
+                raise
+            raise KeyboardInterrupt from exc
+    except KeyboardInterrupt:
+        print(
+            f"nsdyn {args.command}: interrupted; files on disk are complete, "
+            "rerun the same command to resume",
+            file=sys.stderr,
+        )
+        return EXIT_INTERRUPTED
     except _user_errors() as exc:
         print(f"nsdyn {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_USER_ERROR
     except _numerics_errors() as exc:
         print(f"nsdyn {args.command}: numerical failure: {exc}", file=sys.stderr)
         return EXIT_NUMERICS
+    finally:
+        if old is not None:
+            signal.signal(signal.SIGTERM, old)
 
 
 if __name__ == "__main__":

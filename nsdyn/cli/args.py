@@ -7,6 +7,7 @@ import math
 
 EXIT_USER_ERROR = 2  # bad input the user can fix (same as argparse usage errors)
 EXIT_NUMERICS = 3  # the numerics failed (step underflow, Newton divergence, uplift, ...)
+EXIT_INTERRUPTED = 130  # stopped by SIGINT/SIGTERM (128 + SIGINT); rerun to resume
 
 
 def positive_float(s: str) -> float:
@@ -36,6 +37,17 @@ def count(s: str) -> int:
         raise argparse.ArgumentTypeError(f"expected an integer, got {s!r}") from None
     if v < 2:
         raise argparse.ArgumentTypeError(f"expected at least 2, got {s!r}")
+    return v
+
+
+def positive_int(s: str) -> int:
+    """An integer of at least 1 (a number of workers, repeats, ...)."""
+    try:
+        v = int(s)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {s!r}") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {s!r}")
     return v
 
 

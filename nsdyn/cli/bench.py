@@ -32,6 +32,7 @@ HELP = {
     "contact": "planar contact bodies",
     "cylinder": "the cylinder",
     "studies": "study throughput: local process pool against a Dask local cluster",
+    "switch_shooting": "shooting on the switch model against arctan shooting and event-driven runs",
 }
 EXIT_USER_ERROR = 2  # bad arguments, or a benchmark asked for by name that is not available
 EXIT_UNAVAILABLE = 1  # `all`: a benchmark module exists but does not import

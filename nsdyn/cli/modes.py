@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import save_figure
+from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
 from nsdyn.models.isolated.defaults import F_MAX as DEFAULT_FMAX
 from nsdyn.models.isolated.defaults import K_LAM as DEFAULT_KLAM
@@ -31,7 +32,7 @@ def configure(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--klam",
-        type=_positive_float,
+        type=_positive_finite,
         default=DEFAULT_KLAM,
         metavar="N_PER_M",
         help=f"lateral stiffness of one laminated bearing for f_bis (default {DEFAULT_KLAM:g})",

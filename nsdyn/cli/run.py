@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -90,6 +91,31 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     return 0
 
 
+def prepare_kernels(method: str) -> float:
+    """Compile (or load from numba's cache) the integrator and metrics kernels of a run,
+    saying on stderr what is compiling while it does (a first run, or after an upgrade) and
+    how long it took. Returns the seconds spent."""
+    from nsdyn.solve.methods import METHODS, is_cached, warmup, warmup_metrics
+
+    m = METHODS.get(method)
+    if m is None:  # the run reports the unknown method with the valid names
+        return 0.0
+    cold = not (is_cached(m.kernel) and is_cached("metrics"))
+    if cold:
+        print(
+            f"compiling the {method} integrator (first run only, cached afterwards)…",
+            file=sys.stderr,
+            flush=True,
+        )
+    t0 = time.perf_counter()
+    warmup([method])
+    warmup_metrics()
+    spent = time.perf_counter() - t0
+    if cold:
+        print(f"  compiled in {spent:.1f} s", file=sys.stderr, flush=True)
+    return spent
+
+
 def run(args: argparse.Namespace) -> int:
     from nsdyn.models.isolated.scene import build_scene_run, load_scene
     from nsdyn.models.scenefile import read_toml, scene_kind
@@ -140,6 +166,7 @@ def run(args: argparse.Namespace) -> int:
         if not quiet and wall > 1.0:
             print(f"  t = {t:7.2f} / {t_end:.2f} s   ({wall:5.1f} s)", file=sys.stderr)
 
+    compile_s = prepare_kernels(method)
     res = simulate(
         system,
         motion,
@@ -154,6 +181,7 @@ def run(args: argparse.Namespace) -> int:
     )
     ckpt.unlink(missing_ok=True)
     s = res.summary()
+    s["compile_s"] = float(s["compile_s"]) + compile_s
     s["record"] = getattr(motion, "name", s["excitation"])
     if hasattr(motion, "pga"):
         s["pga_mps2"] = float(motion.pga)

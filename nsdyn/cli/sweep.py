@@ -10,7 +10,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 from nsdyn.atomic import save_figure
-from nsdyn.cli.args import EXIT_USER_ERROR
+from nsdyn.cli.args import EXIT_USER_ERROR, positive_int
 from nsdyn.cli.args import amplitude_list as _amplitude_list
 from nsdyn.cli.args import count as _count
 from nsdyn.cli.args import positive_finite as _positive
@@ -61,9 +61,18 @@ def configure(p: argparse.ArgumentParser) -> None:
         help="K x the default steps per period (200 at least, one per 0.02 s); error ~ 1/K^2 "
         "with sdirk2 (default 1)",
     )
+    p.add_argument(
+        "--friction",
+        choices=["arctan", "switch"],
+        default=None,
+        help="friction law of the periodic orbits: the smooth arctan law, or the switch model "
+        "with true stick (exact period map with saltation matrices); default: the scene's",
+    )
     p.add_argument("--fidelity", choices=["rigid", "cb", "full"], help="override the scene's")
     p.add_argument("--no-fallback", action="store_true", help="skip points shooting misses")
-    p.add_argument("--workers", type=int, default=None, metavar="N", help="parallel processes")
+    p.add_argument(
+        "--workers", type=positive_int, default=None, metavar="N", help="parallel processes"
+    )
     p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR", help="output directory")
     p.add_argument("--restart", action="store_true", help="ignore checkpoints, start afresh")
     p.add_argument("--no-figures", action="store_true", help="skip the PNG")
@@ -85,9 +94,10 @@ def run(args: argparse.Namespace) -> int:
             "nsdyn sweep: the fixed-base model is linear; use an isolated fidelity", file=sys.stderr
         )
         return EXIT_USER_ERROR
-    if cfg.get("isolation", {}).get("law", "arctan") == "switch":
+    friction = args.friction or cfg.get("isolation", {}).get("law", "arctan")
+    if friction == "switch" and args.continuation == "arclength":
         print(
-            "nsdyn sweep: shooting needs the smooth arctan law (or none), not 'switch'",
+            "nsdyn sweep: the switch model is continued sequentially (no arclength)",
             file=sys.stderr,
         )
         return EXIT_USER_ERROR
@@ -105,6 +115,7 @@ def run(args: argparse.Namespace) -> int:
         not args.no_fallback,
         args.tableau,
         args.steps_factor,
+        "switch" if friction == "switch" else "arctan",
     )
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

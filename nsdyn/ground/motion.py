@@ -28,7 +28,15 @@ from fractions import Fraction
 from typing import Any
 
 import numpy as np
-from scipy import integrate, signal
+
+
+def _cumulative_trapezoid(y, dx: float, initial: float = 0.0):
+    """scipy.integrate.cumulative_trapezoid, imported on first use (scipy's integrate and signal
+    modules cost ~0.4 s at start-up, which every command line call would pay)."""
+    from scipy.integrate import cumulative_trapezoid
+
+    return cumulative_trapezoid(y, dx=dx, initial=initial)
+
 
 G_STANDARD = 9.80665  # standard gravity [m/s²], used to convert records in g
 PGA_MAX_PLAUSIBLE = 30.0  # [m/s²] above this a record is probably in cm/s² (or m/s² read as g)
@@ -140,11 +148,11 @@ class GroundMotion:
 
     def velocity(self, component: str = "hor") -> np.ndarray:
         """Ground velocity [m/s] by the trapezoidal rule from rest, shape (n,)."""
-        return integrate.cumulative_trapezoid(self._component(component), dx=self.dt, initial=0.0)
+        return _cumulative_trapezoid(self._component(component), dx=self.dt, initial=0.0)
 
     def displacement(self, component: str = "hor") -> np.ndarray:
         """Ground displacement [m]: trapezoidal rule applied twice from rest, shape (n,)."""
-        return integrate.cumulative_trapezoid(self.velocity(component), dx=self.dt, initial=0.0)
+        return _cumulative_trapezoid(self.velocity(component), dx=self.dt, initial=0.0)
 
     def as_arrays(self) -> tuple[float, float, np.ndarray, np.ndarray]:
         """``(t0, dt, a_hor, a_ver)`` for numba kernels: float64 C-contiguous, a_ver zeros if None.
@@ -209,7 +217,7 @@ class GroundMotion:
         def correct(a: np.ndarray) -> np.ndarray:
             if on == "acceleration":
                 return a - P.fit(x, a, order, domain=[0.0, 1.0], window=[0.0, 1.0])(x)
-            v = integrate.cumulative_trapezoid(a, dx=self.dt, initial=0.0)
+            v = _cumulative_trapezoid(a, dx=self.dt, initial=0.0)
             p = P.fit(x, v, order, domain=[0.0, 1.0], window=[0.0, 1.0])
             return a - p.deriv()(x) / span
 
@@ -250,6 +258,8 @@ class GroundMotion:
             up, down = ratio.numerator, ratio.denominator
 
             def res(a: np.ndarray) -> np.ndarray:
+                from scipy import signal  # imported here: scipy.signal costs ~0.3 s at start-up
+
                 out = signal.resample_poly(a, up, down, padtype="antireflect")
                 if out.size < n_new:  # cannot happen for exact ratios; guard anyway
                     out = np.pad(out, (0, n_new - out.size), mode="edge")

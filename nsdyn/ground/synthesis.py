@@ -36,7 +36,6 @@ import math
 from typing import Any
 
 import numpy as np
-from scipy import linalg, signal
 
 from nsdyn.ground.motion import GroundMotion
 
@@ -165,6 +164,8 @@ def _kt_stationary(
     B = np.array([[0.0], [-1.0]])
     C = np.array([[-(omega_g**2), -2.0 * zeta_g * omega_g]])
     Qc = 2.0 * math.pi * S0 * (B @ B.T)
+    from scipy import linalg, signal  # on first use: costly to import at start-up
+
     F = linalg.expm(np.block([[-A, Qc], [np.zeros((2, 2)), A.T]]) * dt)
     Phi = F[2:, 2:].T
     Qd = Phi @ F[:2, 2:]

@@ -8,7 +8,8 @@ Modules, bottom up: ``discretisation`` (steps and SDIRK tableau per period), ``p
 (what the solvers ask of a model: :class:`PeriodicModel`), ``problem`` (the isolated frame and
 the Duffing oscillator as such models), ``shooting``, ``sweeps`` (steady states by time
 integration), ``bifurcation``, ``curve`` (points and curves), ``continuation`` (sequential and
-pseudo-arclength, any :class:`PeriodicModel`), ``response`` (the frame's front door).
+pseudo-arclength, any :class:`PeriodicModel`), ``response`` (the frame's front door),
+``switch`` (the switch model with true stick: exact period map with saltation matrices).
 """
 
 from pathlib import Path
@@ -43,6 +44,13 @@ from nsdyn.periodic.shooting import (
     shoot,
 )
 from nsdyn.periodic.sweeps import SS_RHO_CAP, SweepResult, steady_state_sweep, warm_start
+from nsdyn.periodic.switch import (
+    SwitchProblem,
+    SwitchShootingResult,
+    shoot_switch,
+    switch_problem,
+    switch_response,
+)
 
 __all__ = [
     "ORDER",
@@ -57,6 +65,8 @@ __all__ = [
     "PeriodicProblem",
     "ShootingResult",
     "SweepResult",
+    "SwitchProblem",
+    "SwitchShootingResult",
     "continue_arclength",
     "continue_sequential",
     "detect_bifurcations",
@@ -74,6 +84,9 @@ __all__ = [
     "refined",
     "shoot",
     "steady_state_sweep",
+    "switch_problem",
+    "switch_response",
+    "shoot_switch",
     "uplift_probe",
     "warm_start",
 ]

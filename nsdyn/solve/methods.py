@@ -20,11 +20,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from nsdyn.ground.excitation import Harmonic
+from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.params import KernelParams, pack, with_law
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve import _kdopri, _kevent, _kgenalpha, _kradau
 
-__all__ = ["METHODS", "Method", "make_options", "warmup"]
+__all__ = ["METHODS", "Method", "is_cached", "make_options", "warmup", "warmup_metrics"]
 
 MAX_EVENTS = 100_000  # switching events recorded by method "event"
 EVENT_STEPS_PER_PERIOD = 8  # "event": largest step = 1/8 period of a harmonic excitation
@@ -204,7 +205,7 @@ def _run_event(P, x0, t_eval, o: Options, X, upl_t):
 
 
 METHODS: dict[str, Method] = {
-    "radau": Method("radau", "radau", False, _one_step_runner(_kradau.radau)),
+    "radau": Method("radau", "radau", False, _one_step_runner(_kradau.radau)),  # default
     "dopri5": Method("dopri5", "dopri5", False, _one_step_runner(_kdopri.dopri5)),
     "event": Method("event", "event", False, _run_event),
     "genalpha": Method(
@@ -280,3 +281,57 @@ def warmup(methods=None) -> dict[str, float]:
         _COMPILED[kname] = time.perf_counter() - t0
         out[kname] = _COMPILED[kname]
     return out
+
+
+# the top-level numba dispatcher of each kernel (its on-disk cache entry stands for the kernel)
+_ENTRY = {
+    "radau": _kradau.radau,
+    "dopri5": _kdopri.dopri5,
+    "genalpha": _kgenalpha.genalpha,
+    "event": _kevent.event_switch,
+    "metrics": ks.evaluate_many,
+}
+
+
+def is_cached(kernel: str) -> bool:
+    """True when ``kernel`` (a ``Method.kernel`` or ``"metrics"``) is compiled in this process
+    or numba's on-disk cache holds it for this source, so that a run only loads it.
+
+    False when it will be compiled (a first run, or the source changed), or when the cache
+    cannot be inspected (numba internals differ): the caller then announces a compilation.
+    """
+    if kernel in _COMPILED:
+        return True
+    disp = _ENTRY.get(kernel)
+    if disp is None or not hasattr(disp, "signatures"):  # NUMBA_DISABLE_JIT: nothing to compile
+        return True
+    if disp.signatures:
+        return True
+    try:
+        return bool(disp._cache._cache_file._load_index())  # {} when absent or stale
+    except Exception:  # noqa: BLE001  (a private numba API: any failure means "unknown")
+        return False
+
+
+def warmup_metrics() -> float:
+    """Compile (or load) the kernels of the response metrics (``evaluate_many``,
+    ``ground_many``) on the tiny system; seconds spent now (0.0 when already done)."""
+    if "metrics" in _COMPILED:
+        return 0.0
+    t0 = time.perf_counter()
+    P, x0 = _tiny_problem()
+    kp = KernelParams(P)
+    t = np.zeros(1)
+    X = x0[None, :].copy()
+    ks.evaluate_many(
+        t,
+        X,
+        P,
+        np.empty((1, kp.n)),
+        np.empty((1, kp.n_contacts)),
+        np.empty((1, kp.n_isolators)),
+        np.empty((1, kp.n_isolators), dtype=np.int64),
+    )
+    ks.ground_many(t, P)
+    _COMPILED["metrics"] = time.perf_counter() - t0
+    return _COMPILED["metrics"]

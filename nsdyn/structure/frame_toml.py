@@ -9,6 +9,7 @@ error names the file, the dotted field and what was expected (:class:`FrameFileE
 
 from __future__ import annotations
 
+import difflib
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -50,7 +51,10 @@ class _Reader:
         for k in tbl:
             if k not in allowed:
                 where = f"{path}.{k}" if path else k
-                self.fail(where, f"no such field (allowed: {', '.join(sorted(allowed))})", k)
+                close = difflib.get_close_matches(str(k), sorted(allowed), n=1)
+                hint = f"; did you mean {close[0]!r}?" if close else ""
+                allow = ", ".join(sorted(allowed))
+                self.fail(where, f"no such field{hint} (allowed: {allow})", k)
 
     def string(self, tbl, key, path):
         if key not in tbl:

@@ -3,28 +3,29 @@ model advisor (the cheapest fidelity that answers a question), and distributed s
 (parameter grids × records on a process pool or Dask, resumable, with design searches,
 percentile tables and fragility curves).
 
-Importing this package loads neither Dask nor pyarrow (optional extras).
+Importing this package loads neither Dask nor pyarrow (optional extras), nor anything else:
+the names below load on first use.
 """
 
-from nsdyn.studies.analyses import run_analyses
-from nsdyn.studies.design import design_points, pareto_front, percentile_table
-from nsdyn.studies.execute import StudyRun, dask_executor, run_study
-from nsdyn.studies.fragility import LognormalFragility, fit_lognormal, fit_lognormal_counts
-from nsdyn.studies.scenes import run_scene_summary
-from nsdyn.studies.study import Study, load_study
+from nsdyn._lazy import exports
 
-__all__ = [
-    "LognormalFragility",
-    "Study",
-    "StudyRun",
-    "dask_executor",
-    "design_points",
-    "fit_lognormal",
-    "fit_lognormal_counts",
-    "load_study",
-    "pareto_front",
-    "percentile_table",
-    "run_analyses",
-    "run_scene_summary",
-    "run_study",
-]
+_API = {
+    "LognormalFragility": "nsdyn.studies.fragility",
+    "Study": "nsdyn.studies.study",
+    "StudyRun": "nsdyn.studies.execute",
+    "dask_executor": "nsdyn.studies.execute",
+    "design_points": "nsdyn.studies.design",
+    "fit_lognormal": "nsdyn.studies.fragility",
+    "fit_lognormal_counts": "nsdyn.studies.fragility",
+    "load_study": "nsdyn.studies.study",
+    "pareto_front": "nsdyn.studies.design",
+    "percentile_table": "nsdyn.studies.design",
+    "run_analyses": "nsdyn.studies.analyses",
+    "run_scene_summary": "nsdyn.studies.scenes",
+    "run_study": "nsdyn.studies.execute",
+}
+
+__all__ = sorted(_API)
+
+
+__getattr__, __dir__ = exports(globals(), _API)

@@ -225,7 +225,8 @@ def _parse_records(source: str, study_dir: Path, rec: dict, kind: str, base: dic
             raise _err(
                 source,
                 "records.names",
-                f"{n!r} is neither a file (looked for {path}) nor a bundled record{hint}",
+                f"{n!r} is neither a file (looked for {path}) nor a bundled record{hint}; "
+                f"bundled: {bundled_records()}",
             )
     if "folder" in rec:
         folder = _resolve_path(study_dir, _check_type(source, "records.folder", rec["folder"], str))
@@ -250,7 +251,7 @@ def _parse_records(source: str, study_dir: Path, rec: dict, kind: str, base: dic
         if r.name in seen:
             raise _err(source, "records", f"record name {r.name!r} appears twice")
         seen.add(r.name)
-    if not out and "record" not in base.get("motion", {}) and kind != "isolated":
+    if not out and not base.get("motion") and kind != "isolated":
         raise _err(source, "records", "no records and the scene names none")
     return out
 
@@ -293,6 +294,12 @@ def _simulated(source: str, sim) -> list[RecordSpec]:
         k: _check_type(source, f"records.simulated.{k}", v, SIMULATED_FIELDS[k])
         for k, v in sim.items()
     }
+    if spec["n"] < 1:
+        raise _err(source, "records.simulated.n", f"expected an integer >= 1, got {spec['n']}")
+    for k in ("duration", "dt"):
+        if k in spec and not spec[k] > 0:
+            raise _err(source, f"records.simulated.{k}", f"expected a positive number [s], "
+                       f"got {spec[k]!r}")  # fmt: skip
     gen = spec.get("generator", GENERATORS[0])
     if gen not in GENERATORS:
         raise _err(source, "records.simulated.generator", f"expected one of {list(GENERATORS)}")

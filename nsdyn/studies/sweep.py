@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open
+from nsdyn.models.scenefile import SceneError
 
 DEFAULT_OUT = "nsdyn-sweep"
 DEFAULT_AMPLITUDES = "0.1,0.5,1,2"  # m/s^2, seed Fig. 9
@@ -47,6 +48,7 @@ CSV_COLUMNS = (
     "converged",
     "n_steps",
     "uplift",
+    "law",
     "note",
 )
 
@@ -62,6 +64,7 @@ class SweepSettings:
     fallback: bool = True
     tableau: str = "sdirk2"  # SDIRK of the period integration (periodic.TABLEAUX)
     steps_factor: float = 1.0  # x the default steps per period (periodic.Discretisation)
+    friction: str = "arctan"  # "arctan" (the scene's smooth law) or "switch" (true stick)
 
     def discretisation(self):
         """The :class:`nsdyn.periodic.Discretisation` these settings ask for."""
@@ -92,7 +95,13 @@ def point_to_dict(p) -> dict:
         "n_steps": int(p.n_steps),
         "note": p.note,
         "quantities": {
-            k: (v if v is None else bool(v) if isinstance(v, bool | np.bool_) else float(v))
+            k: (
+                v
+                if v is None or isinstance(v, str)
+                else bool(v)
+                if isinstance(v, bool | np.bool_)
+                else float(v)
+            )
             for k, v in p.quantities.items()
         },
         "s": None if not math.isfinite(p.s) else p.s,
@@ -191,9 +200,7 @@ def amplitude_job(
                 flush=True,
             )
 
-    curve = frequency_response(
-        system,
-        amplitude,
+    options = dict(
         fmin=settings.fmin,
         fmax=settings.fmax,
         points=settings.points,
@@ -204,14 +211,25 @@ def amplitude_job(
         start=start,
         load=load,
     )
+    if settings.friction == "switch":
+        from nsdyn.periodic.switch import switch_response
+
+        curve = switch_response(system, amplitude, **options)
+        law = "switch"
+    else:
+        curve = frequency_response(system, amplitude, **options)
+        law = system.isolation.law
     save(curve.points, complete=True)
+    rows = curve.rows()
+    for row in rows:
+        row["law"] = law
     walls = np.array([p.quantities.get("wall_s", np.nan) for p in curve.points])
     fs = np.array([p.f for p in curve.points])
     new = np.arange(len(curve.points)) >= n_resumed
     return {
         "A": amplitude,
         "model": system.name,
-        "rows": curve.rows(),
+        "rows": rows,
         "bifurcations": curve.bifurcations,
         "resumed_points": n_resumed,
         "wall_s": time.perf_counter() - t0,
@@ -220,6 +238,40 @@ def amplitude_job(
         "frame": system.frame,
         "f_max": system.f_max,
     }
+
+
+class CheckpointMismatch(SceneError):
+    """An interrupted sweep's checkpoint was written with other settings: resuming would mix
+    two curves, discarding it would lose the work; the user decides (same settings or
+    ``--restart``)."""
+
+
+def refuse_foreign_checkpoints(cfg: dict, amplitudes, settings, out_dir) -> None:
+    """Raise :class:`CheckpointMismatch` for an unfinished checkpoint of other settings.
+
+    A finished sweep's checkpoint of other settings is simply replaced by the new sweep (its
+    curve is complete in its CSV); an unfinished one is never mixed nor silently discarded.
+    """
+    for a in amplitudes:
+        path = checkpoint_path(out_dir, float(a))
+        try:
+            data = json.loads(Path(path).read_text())
+        except (OSError, ValueError):
+            continue
+        ident = json.loads(json.dumps(_identity(cfg, float(a), settings)))
+        if data.get("complete") is False and data.get("identity") != ident:
+            old = data.get("identity") or {}
+            diff = sorted(
+                k
+                for part in ("scene", "settings")
+                for k in set(old.get(part) or {}) | set(ident[part])
+                if (old.get(part) or {}).get(k) != ident[part].get(k)
+            )
+            raise CheckpointMismatch(
+                f"{path}: checkpoint of an interrupted sweep at A = {float(a):g} with other "
+                f"settings (differing: {', '.join(diff) or 'scene'}); rerun with the same "
+                "settings to resume it, or pass --restart to discard it"
+            )
 
 
 def sweep_amplitudes(
@@ -240,6 +292,8 @@ def sweep_amplitudes(
     (e.g. Dask's ``client.get_executor()``).
     """
     amplitudes = [float(a) for a in amplitudes]
+    if not restart:
+        refuse_foreign_checkpoints(cfg, amplitudes, settings, out_dir)
     args = [(cfg, a, settings, str(out_dir), restart, quiet) for a in amplitudes]
     if executor is None:
         n = workers or min(len(amplitudes), os.cpu_count() or 1)

@@ -128,7 +128,10 @@ class Table:
 def read_csv(path: str | Path) -> list[dict]:
     """Rows of a results CSV, values parsed (int, float, bool, text; empty -> None)."""
     with open(path, newline="") as fh:
-        return [{k: _parse(v) for k, v in row.items() if v != ""} for row in csv.DictReader(fh)]
+        return [
+            {k: v if k == "key" else _parse(v) for k, v in row.items() if v != ""}
+            for row in csv.DictReader(fh)
+        ]
 
 
 def _better(new: dict, old: dict) -> bool:

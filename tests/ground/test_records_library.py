@@ -29,7 +29,7 @@ needs_shared = pytest.mark.skipif(
 REPRO_ULPS = 16  # a regenerated bundled record matches its file to 16 ulps of its PGA
 
 
-@pytest.mark.filterwarnings("error")  # no UnitWarning either
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
 def test_bundled_records_by_name():
     names = bundled_records()
     assert {"synthetic-wn-40s", "synthetic-kt-20s"} <= set(names)
@@ -127,7 +127,7 @@ def test_provenance_table_covers_every_file():
     assert files == {key.split("#")[0] for key in PROVENANCE}
 
 
-@pytest.mark.filterwarnings("error")  # no UnitWarning either
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
 @needs_shared
 @pytest.mark.parametrize("key", sorted(PROVENANCE))
 def test_shared_record(key):
@@ -147,7 +147,7 @@ def test_shared_hdf5_gives_a_clear_error():
             read_motion(p)
 
 
-@pytest.mark.filterwarnings("error")  # no UnitWarning either
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
 @needs_shared
 def test_kobe_records():
     # PROVENANCE.md: KJMA = raw/kobe_kjma_*.AT2 (NGA RSN1106, 0.834 / 0.630 g, UP 0.339 g);

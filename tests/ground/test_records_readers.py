@@ -44,7 +44,7 @@ def at2_body(fmt: str = "{:15.7E}", per_line: int = 5) -> str:
     return "\n".join("".join(vals[i : i + per_line]) for i in range(0, len(vals), per_line))
 
 
-@pytest.mark.filterwarnings("error")  # no UnitWarning either
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
 @pytest.mark.parametrize(
     ("header", "newline"),
     [
@@ -92,7 +92,7 @@ def test_at2_header_variants(tmp_path, header, newline):
     assert read_motion(path).a_hor.tobytes() == m.a_hor.tobytes()  # auto detects AT2
 
 
-@pytest.mark.filterwarnings("error")  # no UnitWarning either
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
 def test_at2_fixed_width_fields_that_run_together(tmp_path):
     # 8F10.5 with values of 10 characters: "-0.12345-0.23456" has no blank between the fields
     text = (
@@ -102,7 +102,7 @@ def test_at2_fixed_width_fields_that_run_together(tmp_path):
     np.testing.assert_allclose(m.a_hor / G_STANDARD, [-0.12345, -0.23456, 0.34567, 1.0], rtol=1e-15)
 
 
-@pytest.mark.filterwarnings("error")  # no UnitWarning either
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
 def test_two_column(tmp_path):
     t = 2.5 + 0.02 * np.arange(6)
     a = np.array([0.0, 0.1, -0.2, 0.15, -0.05, 0.0])
@@ -113,7 +113,7 @@ def test_two_column(tmp_path):
     np.testing.assert_allclose(m.t, t, rtol=0, atol=1e-12)
 
 
-@pytest.mark.filterwarnings("error")  # no UnitWarning either
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
 def test_single_column_with_dt(tmp_path):
     path = write(tmp_path, "sc.txt", "# acc in m/s2\n0.5\n-1.5\n2.0\n")
     m = read_single_column(path, dt=0.005, units="m/s2")
@@ -123,7 +123,7 @@ def test_single_column_with_dt(tmp_path):
         read_single_column(path, units="m/s2")
 
 
-@pytest.mark.filterwarnings("error")  # no UnitWarning either
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
 def test_multi_column_choose_column_and_header_dt_units(tmp_path):
     # the layout of the benchmark files: % comments, dt and units in the text, no time column
     text = (
@@ -141,7 +141,7 @@ def test_multi_column_choose_column_and_header_dt_units(tmp_path):
     np.testing.assert_allclose(m1.a_ver, [0.003, -0.006, 0.0], rtol=1e-15)
 
 
-@pytest.mark.filterwarnings("error")  # no UnitWarning either
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
 def test_multi_column_with_time_and_names(tmp_path):
     text = "t,a_x,a_y,a_ver\n0.0,1,2,3\n0.1,4,5,6\n0.2,7,8,9\n"
     path = write(tmp_path, "named.csv", text)
@@ -151,7 +151,7 @@ def test_multi_column_with_time_and_names(tmp_path):
     np.testing.assert_array_equal(m.a_ver, [3, 6, 9])  # a column named a_ver is the vertical
 
 
-@pytest.mark.filterwarnings("error")  # no UnitWarning either
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
 def test_jma_semicolon_layout(tmp_path):
     # the layout of raw/kobe_jma_ns_gal_tum.txt: ';' comments, 'dt peak' line, 5 values per line
     text = (
@@ -165,7 +165,7 @@ def test_jma_semicolon_layout(tmp_path):
     assert m.pga == pytest.approx(2.505, rel=1e-15)  # 250.5 gal; "unit [g]" is the peak's unit
 
 
-@pytest.mark.filterwarnings("error")  # no UnitWarning either
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
 def test_jma_csv_layout(tmp_path):
     # JMA's CSV: KEY= value header, NS,EW,UD names, comma-separated columns
     text = (
@@ -252,7 +252,7 @@ def test_unit_warnings(tmp_path):
 # ------------------------------------------------------------------------------------------
 
 
-@pytest.mark.filterwarnings("error")  # no UnitWarning either
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
 @pytest.mark.parametrize("vertical", [True, False])
 def test_write_read_roundtrip_exact(tmp_path, vertical):
     m = modulated_white_noise(5.0, seed=3, vertical_ratio=2 / 3 if vertical else None)

@@ -19,6 +19,7 @@ STAGES = [
     "_numba_cache",
     "_klinalg",
     "_kdp5",
+    "_lazy",
     "_bundled",
     "structure",
     "ground",

@@ -10,7 +10,7 @@ Dormand-Prince 5(4) with error control advances y; every accepted step the event
 (normalised, positive while the mode holds) are checked and a sign change is located on the
 cubic Hermite dense output by the Illinois method:
 
-    open contact:       g_i / L                       (touchdown)
+    open contact:       g_i / L + G_TOUCH             (touchdown)
     closed contact:     lam_N / (m g) - w_N / g       (lift-off)
     sticking contact:   S_TOL - s / g  (s: LCP slip tendency)  (stick -> slip)
     slipping contact:   sigma v_T / sqrt(g L)         (slip stops or reverses)
@@ -34,10 +34,12 @@ H_MIN_REL = 1e-14  # step underflow: h < H_MIN_REL * max(1, |t|)
 ROOT_ITERS = 60  # Illinois iterations to locate an event
 ROOT_TOL = 1e-13  # relative event-time tolerance
 S_TOL = 1e-10  # slip tendency (in g) that ends sticking (above the LCP's round-off)
+G_SINK = 1e-6  # an open contact this far below the ground (in L) is a failure, not a state
+G_TOUCH = 1e-13  # open contacts touch down at g = -G_TOUCH L (a start at g = -0 still sees it)
 
 # event codes
 EV_END, EV_TOUCH, EV_LIFT, EV_SLIP, EV_STOP, EV_OVER = 0, 1, 2, 3, 4, 5
-EV_UNDERFLOW, EV_MAXSTEPS, EV_LCP = -1, -2, -3
+EV_UNDERFLOW, EV_MAXSTEPS, EV_LCP, EV_SINK = -1, -2, -3, -4
 
 
 @njit(cache=True)
@@ -85,7 +87,7 @@ def rhs(t, y, sig, closed, verts, minv, par, ex, tab_h, tab_v):
             else:
                 ind[nc + i] = sig[i] * vt[i] / vs
         else:
-            ind[i] = g[i] / L
+            ind[i] = g[i] / L + G_TOUCH
             ind[nc + i] = 1.0
     ind[2 * nc] = par[5] - abs(q[2])
     return dy, ind, lamN, lamT, status
@@ -103,10 +105,12 @@ def _hermite(t0, h, y0, f0, y1, f1, t):
 
 @njit(cache=True)
 def integrate(t, y, t_end, h, sig, closed, verts, minv, par, ex, tab_h, tab_v,
-              rtol, atol, t_out, y_out, iout, max_steps):  # fmt: skip
+              rtol, atol, t_out, y_out, iout, max_steps, h_max):  # fmt: skip
     """Integrate from (t, y) until the first event or ``t_end``.
 
     Writes the dense-output samples at ``t_out[iout:]`` up to the stop into ``y_out``.
+    ``h_max`` bounds the step: a body at rest has y' = 0 and a zero error estimate, so without
+    it the steps would stride over the excitation (and the stick-slip / lift-off it causes).
 
     Returns
     -------
@@ -123,7 +127,7 @@ def integrate(t, y, t_end, h, sig, closed, verts, minv, par, ex, tab_h, tab_v,
     while nsteps < max_steps:
         if t >= t_end:
             return t, y, h, EV_END, -1, iout, nsteps, nrhs
-        h = min(h, t_end - t)
+        h = min(h, t_end - t, h_max)
         if h < H_MIN_REL * max(1.0, abs(t)):
             return t, y, h, EV_UNDERFLOW, -1, iout, nsteps, nrhs
         k[0] = f0
@@ -194,6 +198,8 @@ def integrate(t, y, t_end, h, sig, closed, verts, minv, par, ex, tab_h, tab_v,
                 if closed[i] and g[i] > 1e-9 * par[6]:
                     first = i
                     break
+                if not closed[i] and g[i] < -G_SINK * par[6]:  # a touchdown went unseen
+                    return t + h, y1, h, EV_SINK, i, iout, nsteps, nrhs
         t_stop = t_ev if first >= 0 else t + h
         y_stop = y1 if (first < 0 or t_ev == t + h) else _hermite(t, h, y, f0, y1, f1, t_ev)
         while iout < t_out.shape[0] and t_out[iout] <= t_stop:

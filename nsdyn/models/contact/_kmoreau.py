@@ -28,6 +28,7 @@ from nsdyn.models.contact._kgeom import (
 )
 
 G_ACT = 1e-9  # a contact is active when its predicted gap is below G_ACT * L
+JUMP_EPS = 1e-9  # a jump within JUMP_EPS h of a step's end belongs to the next step
 
 
 @njit(cache=True)
@@ -36,7 +37,7 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
     """Run ``nsteps`` steps of size ``h`` from (t0, q0, v0).
 
     par = [m, g, mu_s, mu_d, C (-1: infinity), theta_ov, L].  jumps: (nj, 2) rows (t, ground
-    velocity jump).  Every ``stride`` steps the state and body mode are stored.
+    velocity jump), sorted by t.  Every ``stride`` steps the state and body mode are stored.
 
     Returns
     -------
@@ -63,12 +64,15 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
     status = 0
     k = 0
     t = t0
+    jn = 0
     while k < nsteps:
         t = t0 + k * h
         vk = v.copy()
-        for j in range(jumps.shape[0]):
-            if jumps[j, 0] >= t and jumps[j, 0] < t + h and not (k > 0 and jumps[j, 0] == t):
-                vk[0] -= jumps[j, 1]
+        # each jump once, in the step containing it (a count, not a float test on t = t0 + k h)
+        while jn < jumps.shape[0] and jumps[jn, 0] < t + h * (1.0 - JUMP_EPS):
+            if jumps[jn, 0] >= t0:
+                vk[0] -= jumps[jn, 1]
+            jn += 1
         qm = q + 0.5 * h * vk
         g, Wn, Wt, bn, bt, gd, vt = contact_rows(qm, vk, verts)
         ah, av = ground_acc(t + theta * h, ex, tab_h, tab_v)

@@ -12,7 +12,12 @@ LCP.  At an event the mode is rebuilt from the state (``_settle``):
 2. contacts with g = 0, gd = 0 are closed, sticking if v_T = 0, slipping with sigma = sign v_T;
 3. the acceleration-level LCP opens closed contacts that accelerate away (lam_N = 0, w_N > 0)
    and makes sticking ones slip (in the direction of their tangential acceleration) when the
-   cone cannot hold them; 4. positions and velocities are projected onto the closed constraints.
+   cone cannot hold them; 4. positions and velocities are projected onto the closed constraints
+   (positions also lift open contacts that round-off left at g < 0, so their touchdown
+   indicator starts non-negative).
+
+An impact slower than V_PLASTIC sqrt(g L) ends an accumulation: the corners that separate from
+it slower than that stay closed, and the acceleration LCP decides whether they lift off.
 
 A ground velocity jump (displacement-driven start) changes the body's ground-frame velocity by
 -[u_g'] and is resolved as an impact of the same kind.
@@ -38,8 +43,14 @@ V_PLASTIC = 1e-6  # impacts slower than V_PLASTIC * sqrt(g L) are plastic (ends 
 MODE_G_TOL = 1e-6  # output classification: on the ground when g <= MODE_G_TOL * L
 MODE_V_TOL = 1e-6  # ... slipping when |v_T| > MODE_V_TOL * sqrt(g L)
 MAX_SETTLE = 8  # mode-rebuild iterations at one event
+H_PER_PERIOD = 40  # a sine excitation is sampled by at least this many steps per period
 EVENT_NAMES = {1: "touchdown", 2: "lift-off", 3: "stick-slip", 4: "slip-stop", 5: "overturn"}
-FAIL = {-1: "step size underflow", -2: "too many steps", -3: "contact LCP has no solution"}
+FAIL = {
+    -1: "step size underflow",
+    -2: "too many steps",
+    -3: "contact LCP has no solution",
+    -4: "an open contact sank below the ground (missed touchdown)",
+}
 
 
 def initial_state(body: RigidBody, theta0: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -82,12 +93,15 @@ def _settle(body, par, mo, t, y, e_n, closed, sig):
     n_imp = 0
     g, Wn, Wt, bn, bt, gd, vt = contact_rows(q, v, verts)
     near = g <= G_ON * L
+    v_close = V_ON * vs
     if np.any(near & (gd < -V_ON * vs)):
-        e = e_n if np.min(gd[near]) < -V_PLASTIC * vs else 0.0
-        v = impact(body, par, q, v, e, near)
+        slow = np.min(gd[near]) >= -V_PLASTIC * vs
+        v = impact(body, par, q, v, 0.0 if slow else e_n, near)
         n_imp = 1
         g, Wn, Wt, bn, bt, gd, vt = contact_rows(q, v, verts)
-    closed[:] = near & (gd <= V_ON * vs)
+        if slow:  # end of an impact accumulation: the corners that barely separate stay closed
+            v_close = V_PLASTIC * vs
+    closed[:] = near & (gd <= v_close)
     sig[:] = np.where(closed & (np.abs(vt) > V_ON * vs), np.sign(vt), 0.0)
     cl = closed.astype(np.float64)
     for _ in range(MAX_SETTLE):
@@ -109,14 +123,26 @@ def _settle(body, par, mo, t, y, e_n, closed, sig):
     closed[:] = cl > 0
     # project onto the closed constraints (positions, then velocities)
     c_idx = np.flatnonzero(closed)
+    p_idx = np.flatnonzero(closed | (near & (g < 0.0)))  # open contacts are lifted to g = 0
+    if len(p_idx):
+        A = Wn[p_idx] * minv
+        q -= A.T @ np.linalg.lstsq(A @ Wn[p_idx].T, g[p_idx], rcond=1e-12)[0]
     if len(c_idx):
-        A = Wn[c_idx] * minv
-        q -= A.T @ np.linalg.lstsq(A @ Wn[c_idx].T, g[c_idx], rcond=1e-12)[0]
         g, Wn, Wt, bn, bt, gd, vt = contact_rows(q, v, verts)
         rows = [Wn[i] for i in c_idx] + [Wt[i] for i in c_idx if sig[i] == 0]
         C = np.array(rows)
         v -= (C * minv).T @ np.linalg.lstsq((C * minv) @ C.T, C @ v, rcond=1e-12)[0]
     return np.concatenate([q, v]), n_imp
+
+
+def _h_max(mo: BaseMotion) -> float:
+    """Largest step that still samples the excitation: a record's dt, a sine's period / 40."""
+    h = math.inf
+    if len(mo.tab_h):
+        h = float(mo.ex[2])
+    if mo.ex[0] == 1.0 and mo.ex[4] > 0:
+        h = min(h, 2 * math.pi / float(mo.ex[4]) / H_PER_PERIOD)
+    return h
 
 
 def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | None = None, *,
@@ -157,13 +183,14 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
     iout = 0
     events: list = []
     h = 1e-3 * math.sqrt(par[6] / g)
+    h_max = _h_max(mo)
     n_steps = n_rhs = 0
     t_over = None
     while t < t_end:
         nxt = min([t_end] + [tj for tj, _ in jumps if tj > t])
         t, y, h, code, which, iout, ns, nr = ke.integrate(
             t, y, nxt, h, sig, closed.astype(np.float64), verts, minv, par, mo.ex, mo.tab_h,
-            mo.tab_v, rtol, atol, t_out, y_out, iout, 1_000_000)  # fmt: skip
+            mo.tab_v, rtol, atol, t_out, y_out, iout, 1_000_000, h_max)  # fmt: skip
         n_steps += ns
         n_rhs += nr
         if code < 0:

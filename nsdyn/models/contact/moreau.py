@@ -46,7 +46,7 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
     L = par[6]
     t, qs, vs, md, k, status, t_stop = km.moreau(
         q, v, 0.0, h, n, theta, e_n, body.contacts, body.minv, par, mo.ex, mo.tab_h, mo.tab_v,
-        np.ascontiguousarray(mo.jumps, dtype=np.float64).reshape(-1, 2), stride,
+        _sorted_jumps(mo.jumps), stride,
         MODE_G_TOL * L, MODE_V_TOL * math.sqrt(g * L))  # fmt: skip
     if status < 0:
         raise RuntimeError(f"Moreau-Jean: {STATUS[status]} at t = {t_stop:.9g} s")
@@ -54,6 +54,12 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
                         0, t_stop if status == 1 else None, [], k, k)  # fmt: skip
     res.n_impacts = _count_impacts(res, body, L)
     return res
+
+
+def _sorted_jumps(jumps) -> np.ndarray:
+    """(nj, 2) ground velocity jumps sorted by time, C-contiguous for the kernel."""
+    j = np.asarray(jumps, dtype=np.float64).reshape(-1, 2)
+    return np.ascontiguousarray(j[np.argsort(j[:, 0], kind="stable")])
 
 
 def _count_impacts(res: ContactResult, body: RigidBody, L: float) -> int:

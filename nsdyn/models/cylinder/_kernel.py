@@ -17,8 +17,13 @@ F and M = (m_a e₁ + m_b e₂) × e_z come from ``_kfound.resultants``.
 
 Base friction (mode in ``fr`` = (mode, d_x, d_y)): *stick* (and the restrained base, μ < 0):
 ü = 0 and f = f_req = m a_c,h, the lower-right 4×4 block is solved; *slip*: Coulomb
-f = −μ N d with N = max(F, 0) and d = u̇/|u̇| (the stored d while |u̇| < ``V_DIR``, i.e. at the
-start of a slip), the full 6×6 system is solved. Mode changes are events of ``integrate``.
+f = −μ N d with N = max(F, 0) and d = u̇/|u̇|, the full 6×6 system is solved. The reference d_r
+of ``fr`` is the slip direction at the start of the step (at the start of the slip: opposite to
+the stick force). Slower than ``V_REG``, d = (u̇ + λ V_REG d_r)/|·| with λ = 1 − |u̇|/V_REG:
+the direction of a 2D Coulomb slip turns at a rate ∝ 1/|u̇| (stiff as |u̇| → 0), and the blend
+bounds that rate while moving the force by at most V_REG of velocity. Where u̇ has turned past
+90° from d_r inside a step, d = d_r: the force stays continuous within a step, and a passage of
+u̇ through zero is an event of ``integrate``, not a jump for the error control.
 """
 
 from __future__ import annotations
@@ -29,17 +34,47 @@ import numpy as np
 from numba import njit
 
 from nsdyn._kdp5 import (
-    A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64, A65,
-    A71, A73, A74, A75, A76, C2, C3, C4, C5, E1, E3, E4, E5, E6, E7,
-    FAC_MAX, FAC_MIN, SAFETY,
-)  # fmt: skip
+    A21,
+    A31,
+    A32,
+    A41,
+    A42,
+    A43,
+    A51,
+    A52,
+    A53,
+    A54,
+    A61,
+    A62,
+    A63,
+    A64,
+    A65,
+    A71,
+    A73,
+    A74,
+    A75,
+    A76,
+    C2,
+    C3,
+    C4,
+    C5,
+    E1,
+    E3,
+    E4,
+    E5,
+    E6,
+    E7,
+    FAC_MAX,
+    FAC_MIN,
+    SAFETY,
+)
 from nsdyn.models.cylinder._kfound import contact_moments, resultants
 
 NY = 16  # state size
 IU, IUD, IEF = 11, 13, 15  # indices of u, u̇ and E_f in the state
 NAUX = 9  # aux: F, M_x, M_y, A, V_spring, D, E_mech, f_x, f_y
 NOUT = 1 + NY + 6 + NAUX  # history row: t, y, (ü_x, ü_y, ẅ, ω̇), aux
-V_DIR = 1e-12  # [m/s] below this slip speed the stored slip direction is used
+V_REG = 1e-4  # [m/s] below this slip speed the direction blends into the slip's initial one
 STICK, SLIP = 0, 1  # friction modes
 
 # status codes
@@ -99,6 +134,50 @@ def solve_spd(M: np.ndarray, b: np.ndarray, o: int) -> np.ndarray:
 
 
 @njit(cache=True)
+def mass(e3: np.ndarray, p: np.ndarray, Mm: np.ndarray) -> None:
+    """Mm = 6×6 mass matrix of x = (ü_x, ü_y, ẅ, ω̇) for the body axis e3."""
+    m, H, It, Ia = p[0], p[1], p[3], p[4]
+    rho = H * e3
+    # columns ρ × e_x, ρ × e_y, ρ × e_z
+    rxe = np.array([[0.0, -rho[2], rho[1]], [rho[2], 0.0, -rho[0]], [-rho[1], rho[0], 0.0]])
+    rr = rho[0] ** 2 + rho[1] ** 2 + rho[2] ** 2
+    Mm[:, :] = 0.0
+    for a in range(3):
+        Mm[a, a] = m
+        for i in range(3):
+            Mm[a, 3 + i] = m * rxe[i, a]
+            Mm[3 + i, a] = m * rxe[i, a]
+    for i in range(3):
+        for j in range(3):
+            Jij = (Ia - It) * e3[i] * e3[j] + (It + m * rr if i == j else 0.0)
+            Mm[3 + i, 3 + j] = Jij - m * rho[i] * rho[j]
+
+
+@njit(cache=True)
+def stop_slip(y: np.ndarray, p: np.ndarray) -> None:
+    """Bring the slip velocity to zero by a horizontal impulse P at the base centre:
+    M Δv = (P, 0), Δu̇ = −u̇, so P = −(M⁻¹)_hh⁻¹ u̇; dissipates ½ u̇ᵀ((M⁻¹)_hh)⁻¹u̇ ≥ 0."""
+    R = np.empty((3, 3))
+    rotation(y[1:5], R)
+    Mm = np.empty((6, 6))
+    mass(R[:, 2].copy(), p, Mm)
+    G = np.empty((6, 2))  # columns of M⁻¹ for unit impulses along x and y
+    for j in range(2):
+        e = np.zeros(6)
+        e[j] = 1.0
+        G[:, j] = solve_spd(Mm, e, 0)
+    det = G[0, 0] * G[1, 1] - G[0, 1] * G[1, 0]
+    ux, uy = y[IUD], y[IUD + 1]
+    px = -(G[1, 1] * ux - G[0, 1] * uy) / det
+    py = -(-G[1, 0] * ux + G[0, 0] * uy) / det
+    y[IUD] = 0.0
+    y[IUD + 1] = 0.0
+    y[5] += G[2, 0] * px + G[2, 1] * py
+    for i in range(3):
+        y[6 + i] += G[3 + i, 0] * px + G[3 + i, 1] * py
+
+
+@njit(cache=True)
 def rhs(
     y: np.ndarray, ag: np.ndarray, p: np.ndarray, fr: np.ndarray, dy: np.ndarray, aux: np.ndarray
 ) -> None:
@@ -127,19 +206,9 @@ def rhs(
     rho = H * e3
     Jom = It * om + (Ia - It) * e3 * (e3[0] * om[0] + e3[1] * om[1] + e3[2] * om[2])
     cen = cross(om, cross(om, rho))
-    # columns ρ × e_x, ρ × e_y, ρ × e_z
+    Mm = np.empty((6, 6))
+    mass(e3, p, Mm)
     rxe = np.array([[0.0, -rho[2], rho[1]], [rho[2], 0.0, -rho[0]], [-rho[1], rho[0], 0.0]])
-    Mm = np.zeros((6, 6))
-    rr = rho[0] ** 2 + rho[1] ** 2 + rho[2] ** 2
-    for a in range(3):
-        Mm[a, a] = m
-        for i in range(3):
-            Mm[a, 3 + i] = m * rxe[i, a]
-            Mm[3 + i, a] = m * rxe[i, a]
-    for i in range(3):
-        for j in range(3):
-            Jij = (Ia - It) * e3[i] * e3[j] + (It + m * rr if i == j else 0.0)
-            Mm[3 + i, 3 + j] = Jij - m * rho[i] * rho[j]
     b = np.empty(6)
     b[0] = -m * ag[0] - m * cen[0]
     b[1] = -m * ag[1] - m * cen[1]
@@ -151,10 +220,13 @@ def rhs(
         b[3 + i] = Mf[i] - m * g * rxe[i, 2] - t1[i] - m * t2[i] - m * t3[i]
     acc = np.zeros(6)
     if slip:
-        s = math.sqrt(ud[0] ** 2 + ud[1] ** 2)
-        if s > V_DIR:
-            dx, dyy = ud[0] / s, ud[1] / s
-        else:
+        lam = max(0.0, 1.0 - math.sqrt(ud[0] ** 2 + ud[1] ** 2) / V_REG)
+        vx = ud[0] + lam * V_REG * fr[1]
+        vy = ud[1] + lam * V_REG * fr[2]
+        s = math.sqrt(vx * vx + vy * vy)
+        if vx * fr[1] + vy * fr[2] > 0.0:
+            dx, dyy = vx / s, vy / s
+        else:  # u̇ turned past 90° from the reference within the step: an event follows
             dx, dyy = fr[1], fr[2]
         N = max(F, 0.0)
         fx, fy = -mu * N * dx, -mu * N * dyy
@@ -209,8 +281,8 @@ def contact_kind(y: np.ndarray, r: float) -> int:
 
 
 @njit(cache=True)
-def friction_event(y: np.ndarray, yn: np.ndarray, fr: np.ndarray, aux: np.ndarray, mu: float):
-    """Mode change due at the end yn of a step from y (aux: rhs at yn in the current mode).
+def friction_event(yn: np.ndarray, fr: np.ndarray, aux: np.ndarray, mu: float) -> int:
+    """Mode change due at the end yn of a step (aux: rhs at yn in the current mode).
 
     0 none; 1 stick → slip (|f_req| > μN); 2 the slip velocity turned by more than 90° within
     the step (it passed through zero: stop, or reverse in 1D).
@@ -219,12 +291,7 @@ def friction_event(y: np.ndarray, yn: np.ndarray, fr: np.ndarray, aux: np.ndarra
         return 0
     if fr[0] < 0.5:
         return 1 if math.hypot(aux[7], aux[8]) > mu * max(aux[0], 0.0) else 0
-    s = math.hypot(y[IUD], y[IUD + 1])
-    if s > V_DIR:
-        dx, dyy = y[IUD] / s, y[IUD + 1] / s
-    else:
-        dx, dyy = fr[1], fr[2]
-    return 2 if yn[IUD] * dx + yn[IUD + 1] * dyy <= 0.0 else 0
+    return 2 if yn[IUD] * fr[1] + yn[IUD + 1] * fr[2] <= 0.0 else 0
 
 
 @njit(cache=True)
@@ -273,9 +340,9 @@ def integrate(
     Steps never cross a sample time (the record is piecewise linear). A step whose end has
     another contact kind (tensionless) or is due a friction-mode change is halved until no
     longer than ``h_kink`` (bisection onto the event), then the mode is switched; a slip that
-    stops has its residual velocity (|u̇| ≲ h_kink |ü|) set to zero and the kinetic energy
-    removed booked in E_f. stats = (t reached, accepted, rejected, event halvings, rhs calls,
-    slip starts). Returns the status.
+    stops has its residual velocity (|u̇| ≲ h_kink |ü|) removed by a base impulse
+    (``stop_slip``) and the kinetic energy it takes booked in E_f. stats = (t reached,
+    accepted, rejected, event halvings, rhs calls, slip starts). Returns the status.
     """
     n = ag.shape[0]
     y = y0.copy()
@@ -317,6 +384,11 @@ def integrate(
         while tb - t > 1e-12 * dt:
             hs = min(h, tb - t)
             trunc = hs < h
+            if fr[0] > 0.5:  # slip: reference direction = direction of u̇ at the step start
+                s = math.hypot(y[IUD], y[IUD + 1])
+                if s >= V_REG:
+                    fr[1] = y[IUD] / s
+                    fr[2] = y[IUD + 1] / s
             a[:] = ag[i] + slope * (t + C2 * hs - ta)
             yt[:] = y + hs * A21 * k1
             rhs(yt, a, p, fr, k2, aux)
@@ -358,7 +430,7 @@ def integrate(
                     h = 0.5 * hs
                     kinks += 1
                     continue
-                ev = friction_event(y, yn, fr, aux, mu)
+                ev = friction_event(yn, fr, aux, mu)
                 if ev != 0 and hs > h_kink:
                     h = 0.5 * hs
                     kinks += 1
@@ -370,10 +442,9 @@ def integrate(
                 y[:] = yn
                 k1[:] = k7
                 acc += 1
-                if ev == 2:  # the slip stopped: drop the residual velocity, book its energy
+                if ev == 2:  # the slip stopped: impulse onto u̇ = 0, its energy loss booked
                     e_before = aux[6]
-                    y[IUD] = 0.0
-                    y[IUD + 1] = 0.0
+                    stop_slip(y, p)
                     rhs(y, a, p, fr, dy, aux)
                     y[IEF] += e_before - aux[6]
                 if ev != 0:

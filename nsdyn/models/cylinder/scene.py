@@ -1,10 +1,17 @@
 """``nsdyn run`` on cylinder scenes: read and check the TOML, run, write histories and figures.
 
 Tables: ``[cylinder]`` r, H, m (I_t, I_a); ``[foundation]`` case and either k, c or the design
-targets f_rock [Hz], zeta; ``[motion]`` a simulated earthquake (seed, duration, dt, s0_units) or
-a ``record`` file (``record_y`` for the second horizontal component), optional ``pga`` (peak
-horizontal acceleration after scaling) and ``t_end``; ``[solver]`` rtol, method; ``[output]``
-z_section (height of the stress section, default H).
+targets f_rock [Hz], zeta, and ``sliding = true`` with ``mu`` for a base that slides with Coulomb
+friction; ``[motion]`` a simulated earthquake (seed, duration, dt, s0_units) or a ``record`` file
+(``record_y``, ``record_z``: second horizontal and vertical components), optional ``pga``
+(peak horizontal acceleration after scaling) and ``t_end``; ``[solver]`` rtol, method;
+``[output]`` z_section (height of the stress section, default H); ``[star]`` case = "base" or
+"<q>*<factor>" with q one of k, c, H, r: one quantity of the scene scaled after the design, the
+rest kept (the source study's one-at-a-time star, e.g. "k*2", "c*4", "H*0.5").
+
+The summary holds scalars only (besides ``stress_peaks``), so a study can keep and analyse every
+field: peaks of tilt, uplift ratio, rim lift, base shear, overturning moment, slip, the wall
+stresses max σ₁, min σ₃, max τ_max (over the points A–E, divided by mg/πr²) and the energies.
 """
 
 from __future__ import annotations
@@ -34,11 +41,23 @@ from nsdyn.models.scenefile import SceneError, number, unknown_key
 TABLES = {
     "scene": {"kind", "name"},
     "cylinder": {"r", "H", "m", "I_t", "I_a"},
-    "foundation": {"case", "k", "c", "f_rock", "zeta"},
-    "motion": {"seed", "duration", "dt", "s0_units", "record", "record_y", "pga", "t_end"},
+    "foundation": {"case", "k", "c", "f_rock", "zeta", "sliding", "mu"},
+    "motion": {
+        "seed",
+        "duration",
+        "dt",
+        "s0_units",
+        "record",
+        "record_y",
+        "record_z",
+        "pga",
+        "t_end",
+    },  # fmt: skip
     "solver": {"rtol", "method"},
     "output": {"z_section"},
+    "star": {"case"},
 }
+STAR_QUANTITIES = ("k", "c", "H", "r")  # quantities a star case may scale
 METHODS = ("dopri5",)  # integrators of this family
 
 
@@ -51,6 +70,40 @@ def _check_keys(cfg: dict, source: str) -> None:
         for key in body:
             if key not in TABLES[table]:
                 raise unknown_key(source, f"{table}.", key, TABLES[table])
+
+
+def _friction(fd: dict, case: str, source: str) -> float | None:
+    """μ of a sliding base, or None (restrained) — from ``[foundation] sliding``, ``mu``."""
+    sliding = fd.get("sliding", False)
+    if not isinstance(sliding, bool):
+        raise SceneError(f"{source}: foundation.sliding: expected true or false, got {sliding!r}")
+    if not sliding:
+        if "mu" in fd:
+            raise SceneError(f"{source}: foundation.mu: applies with sliding = true only")
+        return None
+    if "mu" not in fd:
+        raise SceneError(f"{source}: foundation.mu: missing (friction coefficient of sliding)")
+    if case == "fixed":
+        raise SceneError(f"{source}: foundation.sliding: a fixed base cannot slide")
+    return number(source, "foundation.mu", fd["mu"], allow_zero=True)
+
+
+def _star(p: CylinderParams, st: dict, source: str) -> CylinderParams:
+    """``p`` with one quantity scaled by the ``[star] case`` "q*factor" ("base": unchanged)."""
+    case = st.get("case", "base")
+    if case == "base":
+        return p
+    form = f'expected "base" or "<q>*<factor>" with q in {list(STAR_QUANTITIES)}'
+    if not isinstance(case, str) or case.count("*") != 1:
+        raise SceneError(f"{source}: star.case: {form}, got {case!r}")
+    q, fac = (x.strip() for x in case.split("*"))
+    try:
+        fac = float(fac)
+    except ValueError:
+        fac = math.nan
+    if q not in STAR_QUANTITIES or not (math.isfinite(fac) and fac > 0):
+        raise SceneError(f"{source}: star.case: {form} and a positive factor, got {case!r}")
+    return p.with_(**{q: getattr(p, q) * fac})
 
 
 def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np.ndarray, dict]:
@@ -77,7 +130,8 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
     else:
         k = number(source, "foundation.k", fd.get("k", base.k))
         c = number(source, "foundation.c", fd.get("c", base.c), allow_zero=True)
-    p = base.with_(k=k, c=c, foundation=case)
+    p = _star(base.with_(k=k, c=c, foundation=case), cfg.get("star", {}), source)
+    p = p.with_(mu=_friction(fd, case, source))
     mo = cfg.get("motion", {})
     if "record" in mo:
         from nsdyn.ground import read_motion
@@ -85,11 +139,14 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         try:
             mx = read_motion(mo["record"])
             my = read_motion(mo["record_y"]) if "record_y" in mo else None
+            mz = read_motion(mo["record_z"]) if "record_z" in mo else None
+            dt, ag = from_motions(mx, my, mz)
         except (OSError, ValueError) as e:
             raise SceneError(f"{source}: motion.record: {e}") from None
-        dt, ag = from_motions(mx, my)
     else:
         seed = mo.get("seed", 0)
+        if isinstance(seed, float) and seed.is_integer():
+            seed = int(seed)  # a seed from a study's linspace
         if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
             raise SceneError(
                 f"{source}: motion.seed: expected a non-negative integer, got {seed!r}"
@@ -138,6 +195,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     wall = time.perf_counter() - tic
     th_u, M_u = uplift_onset(p)
     peaks = peak_stresses(res, opts["z_s"])
+    star = cfg.get("star", {}).get("case", "base")
     summary = {
         "kind": "cylinder",
         "name": name,
@@ -154,8 +212,22 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         "max_rim_lift": float(max(res.rim_lift.max(), 0.0)),
         "max_base_shear": float(np.hypot(*res.base_shear.T).max()),
         "max_overturning": float(res.overturning.max()),
+        "max_sigma_1": peaks["sigma_1"],
+        "min_sigma_3": peaks["sigma_3"],
+        "max_tau_max": peaks["tau_max"],
         "stress_peaks": peaks,
+        "H": p.H,
+        "r": p.r,
+        "star": star,
+        "sliding": p.sliding,
+        "mu": p.mu,
+        "max_slip": float(res.slip.max()),
+        "final_slip": float(res.slip[-1]),
+        "slip_starts": res.stats.get("slip_starts", 0),
+        "dissipated_dampers": float(res.E_d[-1]),
+        "dissipated_friction": float(res.E_f[-1]),
         "energy_error": res.energy_error if p.foundation != "fixed" else 0.0,
+        "toppled": res.toppled_at is not None,
         "toppled_at": res.toppled_at,
         "steps": res.stats.get("accepted", 0),
         "wall_s": wall,
@@ -166,7 +238,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         np.savez(fh, t=res.t, ag=res.ag, w=res.w, q=res.q, omega=res.omega, tilt=res.tilt,
                  tilt_dir=res.tilt_dir, contact_fraction=res.contact_fraction,
                  rim_lift=res.rim_lift, F=res.F, M=res.M, E_mech=res.E_mech, E_in=res.E_in,
-                 E_d=res.E_d)  # fmt: skip
+                 E_d=res.E_d, u=res.u, ud=res.ud, f_base=res.f_base, E_f=res.E_f)  # fmt: skip
     summary["histories"] = str(npz)
     if figures and p.foundation != "fixed":
         from nsdyn.models.cylinder.figures import motion_figure
@@ -187,8 +259,13 @@ def format_summary(s: dict) -> str:
         ("max rim lift [m]", s["max_rim_lift"]),
         ("max base shear [N]", s["max_base_shear"]),
         ("max overturning [N m]", s["max_overturning"]),
-        ("max tau_max / sigma_st", s["stress_peaks"]["tau_max"]),
+        ("max tau_max / sigma_st", s["max_tau_max"]),
         ("energy closure error", s["energy_error"]),
+    ]
+    if s.get("sliding"):
+        rows += [("max slip [m] (mu)", f"{s['max_slip']:.4g} ({s['mu']:g})"),
+                 ("friction energy [J]", s["dissipated_friction"])]  # fmt: skip
+    rows += [
         ("wall [s] (compile)", f"{s['wall_s']:.3f} ({s['compile_s']:.2f})"),
     ]
     lines += [f"  {k:<24} {v:.4g}" if isinstance(v, float) else f"  {k:<24} {v}" for k, v in rows]

@@ -280,15 +280,22 @@ def earthquake(
     return dt, S0_UNITS[s0_units] * np.stack([m1.a_hor, m2.a_hor, m1.a_ver], axis=1)
 
 
-def from_motions(mx: GroundMotion, my: GroundMotion | None = None) -> tuple[float, np.ndarray]:
-    """(dt, ag) from one or two horizontal records (vertical from ``mx``'s a_ver, if any)."""
-    n = mx.n if my is None else min(mx.n, my.n)
-    if my is not None and abs(my.dt - mx.dt) > 1e-12 * mx.dt:
-        raise ValueError(f"my.dt: expected the step of mx ({mx.dt}), got {my.dt}")
+def from_motions(
+    mx: GroundMotion, my: GroundMotion | None = None, mz: GroundMotion | None = None
+) -> tuple[float, np.ndarray]:
+    """(dt, ag) from one or two horizontal records and a vertical one (``mz``'s a_hor; without
+    it ``mx``'s a_ver, if any), cut to the shortest; the steps must agree."""
+    others = {"my": my, "mz": mz}
+    n = min([mx.n] + [m.n for m in others.values() if m is not None])
+    for name, m in others.items():
+        if m is not None and abs(m.dt - mx.dt) > 1e-12 * mx.dt:
+            raise ValueError(f"{name}.dt: expected the step of mx ({mx.dt}), got {m.dt}")
     ag = np.zeros((n, 3))
     ag[:, 0] = mx.a_hor[:n]
     if my is not None:
         ag[:, 1] = my.a_hor[:n]
-    if mx.a_ver is not None:
+    if mz is not None:
+        ag[:, 2] = mz.a_hor[:n]
+    elif mx.a_ver is not None:
         ag[:, 2] = mx.a_ver[:n]
     return mx.dt, ag

@@ -1,14 +1,24 @@
 """The isolated frame (seed 004): a frame on friction isolators, every fidelity one system.
 
 ``M q̈ + C* q̇ + K* q = −M Γ ü + Rᵀλ − Σ D_iᵀ μ_i s_i λ_i``, ``R q̈ + 2αβ R q̇ + α² R q = 0``.
+
+The names below load on first use, so that light modules (``defaults``, ``friction``) can be
+imported by the command line without compiling or importing the kernels.
 """
 
-from nsdyn.models.isolated.system import (
-    FIDELITIES,
-    IsolatedSystem,
-    Isolation,
-    build_system,
-    rigid_body_modes,
-)
+from nsdyn._lazy import exports
 
-__all__ = ["FIDELITIES", "IsolatedSystem", "Isolation", "build_system", "rigid_body_modes"]
+_API = {
+    "FIDELITIES": "nsdyn.models.isolated.system",
+    "IsolatedSystem": "nsdyn.models.isolated.system",
+    "Isolation": "nsdyn.models.isolated.system",
+    "build_system": "nsdyn.models.isolated.system",
+    "rigid_body_modes": "nsdyn.models.isolated.system",
+    "shear_building": "nsdyn.models.isolated.builders",
+    "system_from_matrices": "nsdyn.models.isolated.builders",
+}
+
+__all__ = sorted(_API)
+
+
+__getattr__, __dir__ = exports(globals(), _API)

@@ -47,7 +47,12 @@ from nsdyn.models.isolated.scene_structure import (
     harmonic_motion,
     structure_kind,
 )
-from nsdyn.models.isolated.system import FIDELITIES, build_system, isolation_from_config
+from nsdyn.models.isolated.system import (
+    FIDELITIES,
+    Isolation,
+    build_system,
+    isolation_from_config,
+)
 from nsdyn.models.isolated.tolerances import RUN_RTOL
 from nsdyn.models.scenefile import SceneError, read_toml, unknown_key
 
@@ -85,6 +90,36 @@ _FIELDS = {
 
 
 _EXTRA_TABLES = ("structure", "force")  # scene_structure's tables
+_ISO_POSITIVE = ("eps", "eta", "alpha", "diaphragm_EA", "diaphragm_EI", "g")  # > 0 (not just >= 0)
+_ISO_TEXT = ("law", "frozen_normal")  # the [isolation] fields that are not numbers
+
+
+def _check_isolation(iso, source: str) -> None:
+    """``[isolation]``: known fields (nearest one suggested), numbers >= 0, slopes > 0."""
+    if not isinstance(iso, dict):
+        raise SceneError(f"{source}: [isolation]: expected a table")
+    fields = sorted(Isolation.__dataclass_fields__)
+    for key, val in iso.items():
+        if key not in fields:
+            raise unknown_key(source, "isolation.", key, fields)
+        if key in _ISO_TEXT:
+            continue
+        vals = val if isinstance(val, list) else [val]
+        ok = bool(vals) and all(
+            isinstance(v, int | float) and not isinstance(v, bool) and abs(v) < float("inf")
+            for v in vals
+        )
+        if not ok:
+            raise SceneError(
+                f"{source}: isolation.{key}: expected a finite number (or one per isolator), "
+                f"got {val!r}"
+            )
+        if key in _ISO_POSITIVE and any(v <= 0 for v in vals):
+            raise SceneError(f"{source}: isolation.{key}: expected a positive number, got {val!r}")
+        if any(v < 0 for v in vals):
+            raise SceneError(
+                f"{source}: isolation.{key}: expected a non-negative number, got {val!r}"
+            )
 
 
 def _check(cfg: dict, source: str) -> dict:
@@ -93,6 +128,8 @@ def _check(cfg: dict, source: str) -> dict:
         if table not in tables:
             raise SceneError(f"{source}: [{table}]: unknown table; expected some of {tables}")
     structure_kind(cfg, source)
+    if "isolation" in cfg:
+        _check_isolation(cfg["isolation"], source)
     for table, fields in _FIELDS.items():
         if table == "motion" and cfg.get("motion", {}).get("kind") == "harmonic":
             harmonic_motion(cfg["motion"], source)  # checks its own fields
@@ -213,7 +250,10 @@ def build_scene_run(cfg: dict):
         kw["units"] = mo["units"]
     if "dt" in mo:
         kw["dt"] = mo["dt"]
-    motion = read_motion(mo["record"], **kw)
+    try:
+        motion = read_motion(mo["record"], **kw)
+    except (OSError, ValueError) as e:  # a missing file, an unknown name, a bad record
+        raise SceneError(f"{source}: motion.record: {e}") from None
     if not mo.get("vertical", True):
         motion = motion.with_vertical(None)
     if "pga" in mo:

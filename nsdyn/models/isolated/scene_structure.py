@@ -97,6 +97,12 @@ def structure_kind(cfg: dict, source: str) -> str | None:
     for key in _REQUIRED[kind]:
         if key not in st:
             raise SceneError(f"{source}: structure.{key}: required for kind = {kind!r}")
+    for key, val in st.items():
+        if key != "kind" and not _all_numbers(val):
+            raise SceneError(
+                f"{source}: structure.{key}: expected a number or a (nested) list of finite "
+                f"numbers, got {val!r}"
+            )
     if kind == "matrices" and ("weight" in st) == ("contact_rows" in st):
         raise SceneError(
             f"{source}: structure.weight / structure.contact_rows: give exactly one (frozen "
@@ -105,6 +111,13 @@ def structure_kind(cfg: dict, source: str) -> str | None:
     if "frame" in cfg.get("scene", {}):
         raise SceneError(f"{source}: scene.frame: not used with a [structure] table; remove one")
     return kind
+
+
+def _all_numbers(val) -> bool:
+    """True if ``val`` is a finite number or a non-empty (nested) list of them."""
+    if isinstance(val, list):
+        return bool(val) and all(_all_numbers(v) for v in val)
+    return isinstance(val, int | float) and not isinstance(val, bool) and abs(val) < float("inf")
 
 
 def check_user_isolation(user: dict, source: str) -> None:

@@ -179,13 +179,10 @@ def build_motion(cfg: dict, source: str):
     return None, t_end or T_END, th0, "free rocking"
 
 
-def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:
-    """Run a rocking scene; writes ``rocking.npz`` (and ``rocking.png``) into ``out_dir``."""
+def build_solver(cfg: dict, source: str) -> tuple[float, float | None]:
+    """(tol, dt_out or None) of a parsed scene's ``[solver]``, checked."""
     from nsdyn.models.rocking import block as blk
-    from nsdyn.models.rocking.compliant import CompliantBlock, simulate_compliant
 
-    model = build_model(cfg, source)
-    exc, t_end, th0, what = build_motion(cfg, source)
     sv = cfg.get("solver", {})
     method = sv.get("method", "dopri5")
     if method not in METHODS:
@@ -193,6 +190,17 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
                          f"got {method!r}")  # fmt: skip
     tol = number(source, "solver.tol", sv.get("tol", blk.TOL))
     dt_out = number(source, "solver.dt_out", sv["dt_out"]) if "dt_out" in sv else None
+    return tol, dt_out
+
+
+def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:
+    """Run a rocking scene; writes ``rocking.npz`` (and ``rocking.png``) into ``out_dir``."""
+    from nsdyn.models.rocking import block as blk
+    from nsdyn.models.rocking.compliant import CompliantBlock, simulate_compliant
+
+    model = build_model(cfg, source)
+    exc, t_end, th0, what = build_motion(cfg, source)
+    tol, dt_out = build_solver(cfg, source)
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"rocking: {name}: {type(model).__name__}, {what}, t_end = {t_end:g} s")

@@ -1,0 +1,213 @@
+"""Benchmark: periodic orbits of the Coulomb model -- error against time per point.
+
+For the office frame (CB-5, seed isolation, A = 0.5 m/s^2) and a single-dof viscous + Coulomb
+oscillator under base excitation ``A sin(2 pi f t)``, each frequency's periodic orbit is found
+by
+
+- arctan shooting (:func:`nsdyn.periodic.shoot` on :func:`nsdyn.periodic.frame_problem`) at
+  several sharpness values eps (the law's smoothing error shrinks like 1/eps);
+- switch-model shooting (:func:`nsdyn.periodic.switch.shoot_switch`: exact flow between
+  events, saltation matrices, true stick);
+- long event-driven integration of the switch model (``nsdyn.simulate(method="event")``)
+  from rest for ``PERIODS`` periods (the seed's footnote-3 check).
+
+Error of a point: ``|x_iso / x_iso_ref - 1|`` (half the peak-to-peak isolator slip; where the
+reference sticks all period, ``|x_iso| / x_ref`` with ``x_ref`` the largest reference slip of
+the curve), the reference being switch shooting at ``REF_TOL`` with ``REF_SAMPLES`` samples.
+Time per point: wall time of the solve (warm start included, compilation excluded: every
+kernel runs once before timing). Medians over the frequencies are charted.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.atomic import atomic_open, save_figure
+
+EPS_LIST = (500.0, 2000.0, 7500.0)  # s/m, arctan sharpness values compared
+A_FRAME = 0.5  # m/s^2, frame amplitude (seed Fig. 11)
+FRAME_FREQS = (0.06, 0.2, 0.463, 1.0, 1.26, 2.0, 2.95)  # Hz
+FRAME_FREQS_QUICK = (0.463, 1.26)
+OSC = dict(m=1.0, f_n=1.0, zeta=0.05, mu=0.1, A=2.0)  # oscillator (SI), base amplitude A
+OSC_FREQS = (0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.0)
+OSC_FREQS_QUICK = (0.5, 0.9, 1.5)
+PERIODS = 40  # event-driven integration length [periods] (oscillator)
+PERIODS_FRAME = 12  # ... frame (quick: 6)
+REF_TOL = 1e-10  # reference shooting tolerance
+REF_SAMPLES = 2000  # samples of the reference orbit per period
+EVENT_SAMPLES = 400  # output samples per period of the event-driven runs
+
+
+def _oscillator(law: str, eps: float = 7500.0):
+    from nsdyn.models.isolated.builders import system_from_matrices
+    from nsdyn.models.isolated.system import Isolation
+
+    w = 2 * math.pi * OSC["f_n"]
+    iso = Isolation(k_lam=0.0, c=0.0, mu=OSC["mu"], law=law, eps=eps)
+    m = OSC["m"]
+    return system_from_matrices(
+        [[m]],
+        [[2 * OSC["zeta"] * w * m]],
+        [[m * w * w]],
+        iso_dofs=[0],
+        influence=[1.0],
+        isolation=iso,
+        weight=m * iso.g,
+        levels=[[0]],
+        name="1-dof Coulomb oscillator",
+    )
+
+
+def _frame(law: str, eps: float = 7500.0):
+    from nsdyn.models.isolated.scene import build_scene, load_scene
+
+    system, _ = build_scene(load_scene(None))
+    return system.with_isolation(law=law, eps=eps)
+
+
+def _x_iso(system, Xfull: np.ndarray) -> float:
+    xi = Xfull[:, : system.n] @ system.D.T
+    return float(0.5 * np.max(xi.max(axis=0) - xi.min(axis=0)))
+
+
+def _points(make, A: float, freqs, periods: int) -> list[dict]:
+    """All methods at all frequencies of one system."""
+    from nsdyn.ground.excitation import Harmonic
+    from nsdyn.periodic import frame_problem, shoot, warm_start
+    from nsdyn.periodic.switch import shoot_switch, switch_problem
+    from nsdyn.solve.transient import simulate
+
+    rows = []
+    sw_sys = make("switch")
+    sw = switch_problem(sw_sys, A)
+    arcs = {eps: frame_problem(make("arctan", eps), A) for eps in EPS_LIST}
+    # compile / load every kernel once before timing
+    shoot_switch(sw, freqs[0], tol=1e-3)
+    shoot(arcs[EPS_LIST[0]], freqs[0], tol=1e-3)
+    simulate(sw_sys, Harmonic(A, freqs[0]), method="event", n_periods=0.1)
+    for f in freqs:
+        T = 1.0 / f
+        ref = shoot_switch(sw, f, warm_start(sw, f, None, None), tol=REF_TOL)
+        pm = sw.period_map(ref.x0, f, n_steps=REF_SAMPLES, sens=False, store=True)
+        x_ref = _x_iso(sw_sys, sw.to_full(pm.X))
+        found = []
+        t0 = time.perf_counter()
+        res = shoot_switch(sw, f, warm_start(sw, f, None, None))
+        wall = time.perf_counter() - t0
+        found.append(("switch shooting", math.nan, wall, res.converged, sw, res))
+        for eps, pb in arcs.items():
+            t0 = time.perf_counter()
+            r = shoot(pb, f, warm_start(pb, f, None, None))
+            wall = time.perf_counter() - t0
+            found.append(("arctan shooting", eps, wall, r.converged, pb, r))
+        for name, eps, wall, ok, pb, r in found:
+            x = _x_iso(sw_sys, pb.to_full(r.X)) if r.X is not None else math.nan
+            rows.append(
+                dict(f=f, method=name, eps=eps, wall_s=wall, converged=ok, x_iso=x, x_ref=x_ref)
+            )
+        t_ev = np.linspace(0.0, periods * T, periods * EVENT_SAMPLES + 1)
+        t0 = time.perf_counter()
+        run = simulate(sw_sys, Harmonic(A, f), method="event", t_eval=t_ev)
+        wall = time.perf_counter() - t0
+        x = _x_iso(sw_sys, run.x[-EVENT_SAMPLES - 1 :])
+        rows.append(
+            dict(
+                f=f,
+                method=f"event-driven, {periods} periods",
+                eps=math.nan,
+                wall_s=wall,
+                converged=True,
+                x_iso=x,
+                x_ref=x_ref,
+            )
+        )
+    scale = max(r["x_ref"] for r in rows)
+    for r in rows:
+        big = r["x_ref"] > 1e-6 * scale
+        r["error"] = abs(r["x_iso"] / r["x_ref"] - 1) if big else abs(r["x_iso"]) / scale
+    return rows
+
+
+def _figure(tables: dict):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, len(tables), figsize=(6 * len(tables), 4.5), squeeze=False)
+    for ax, (name, rows) in zip(axes[0], tables.items(), strict=False):
+        keys = sorted({(r["method"], r["eps"]) for r in rows}, key=str)
+        for method, eps in keys:
+            sel = [
+                r
+                for r in rows
+                if r["method"] == method
+                and r["eps"] is eps
+                or (r["method"] == method and r["eps"] == eps)
+            ]
+            w = np.median([r["wall_s"] for r in sel])
+            e = np.median([max(r["error"], 1e-16) for r in sel])
+            label = method if not math.isfinite(eps) else f"{method}, eps = {eps:g}"
+            ax.loglog(w, e, "o", ms=8, label=label)
+        ax.set_xlabel("time per point [s] (median over frequencies)")
+        ax.set_ylabel("relative error of x_iso (median)")
+        ax.set_title(name)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def run_bench(out_dir: Path, quick: bool) -> dict:
+    """Error against time per point for both systems; writes switch_shooting.csv and .png."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    tables = {
+        "1-dof viscous + Coulomb oscillator": _points(
+            _oscillator, OSC["A"], OSC_FREQS_QUICK if quick else OSC_FREQS, PERIODS
+        ),
+        f"office frame CB-5, A = {A_FRAME:g} m/s^2": _points(
+            _frame,
+            A_FRAME,
+            FRAME_FREQS_QUICK if quick else FRAME_FREQS,
+            PERIODS_FRAME // 2 if quick else PERIODS_FRAME,
+        ),
+    }
+    cols = ("system", "f", "method", "eps", "wall_s", "converged", "x_iso", "x_ref", "error")
+    csv_path = out_dir / "switch_shooting.csv"
+    with atomic_open(csv_path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(cols)
+        for name, rows in tables.items():
+            for r in rows:
+                w.writerow([name] + [r[c] for c in cols[1:]])
+    png = out_dir / "switch_shooting.png"
+    save_figure(_figure(tables), png, dpi=110)
+    summary = {}
+    for name, rows in tables.items():
+        for method in sorted({(r["method"], r["eps"]) for r in rows}, key=str):
+            sel = [
+                r
+                for r in rows
+                if (r["method"], r["eps"]) == method
+                or (r["method"] == method[0] and math.isnan(r["eps"]) and math.isnan(method[1]))
+            ]
+            key = method[0] if math.isnan(method[1]) else f"{method[0]} eps={method[1]:g}"
+            summary[f"{name} | {key}"] = {
+                "median_wall_s": float(np.median([r["wall_s"] for r in sel])),
+                "median_error": float(np.median([r["error"] for r in sel])),
+                "converged": int(sum(bool(r["converged"]) for r in sel)),
+                "points": len(sel),
+            }
+    return {
+        "csv": str(csv_path),
+        "png": str(png),
+        "wall_s": time.perf_counter() - t0,
+        "methods": summary,
+    }

@@ -1,0 +1,427 @@
+"""Periodic orbits of the switch model (true Coulomb stick): its exact period map and shooting.
+
+Seed 004 §6 (eqs 19-27) on minimal coordinates ``x = [z, zd]``, ``q = Q z``, with Leine's
+switch model with true stiction (footnote 3). With every isolator's mode held (slip +1/-1,
+stick 0: the system kernel's law LAW_MODES, stick a constraint force) the equations are
+
+    x' = A_k x + g0_k + gs_k sin(w t) + gc_k cos(w t)
+
+(``k`` the mode set; linear because the friction force ``mu s lamf`` and the stick force are
+linear in the state for fixed modes). ``A_k`` and the forcing columns are read off the system
+kernel (Jacobian ``blockdiag(Q^T) ks.jac blockdiag(Q)``, right-hand side at ``x = 0`` at
+three forcing phases), the stick and normal forces likewise from ``ks.evaluate``. The period
+map of :mod:`nsdyn.periodic._kswitch` integrates this exactly (matrix exponentials) and
+multiplies flows and saltation matrices into the exact monodromy; Newton shooting, the
+stepped sweep and sequential continuation are those of the smooth case
+(:class:`SwitchProblem` satisfies :class:`nsdyn.periodic.protocol.PeriodicModel`).
+
+A grazing orbit (a slip phase shrinking to zero length: at a switch ``n^T f- -> 0``, or a
+switching function touching zero without crossing) has a saltation matrix that blows up; the
+period map reports the smallest normalised ``|n^T f-|`` or touch depth of the period and
+points with it below ``GRAZE_TOL`` carry a note.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from nsdyn.ground.excitation import Harmonic, HarmonicForce
+from nsdyn.models.isolated import _kernel as ks
+from nsdyn.models.isolated.params import with_law
+from nsdyn.periodic import _kswitch as kw
+from nsdyn.periodic.discretisation import Discretisation
+from nsdyn.periodic.protocol import STATUS_MESSAGES, PeriodMap
+from nsdyn.periodic.shooting import SHOOT_MAXIT, SHOOT_TOL, ShootingResult, shoot
+
+MAX_ISOLATORS = 6  # 3^ni mode sets are tabulated
+GRAZE_TOL = 1e-3  # normalised |n^T f-| (or touch depth) below which an orbit counts as grazing
+SWITCH_N_MIN = 128  # samples (steps) per period at least: event bracketing and orbit output
+SWITCH_DT_MAX = 0.02  # s, longest step (the default Discretisation's, same samples)
+V_ZERO = 1e-13  # m/s, |v| at the period start below which the stick test decides the mode
+LAW_NAME = "switch"  # what every point of this model reports as its law
+METHOD_NAME = "exact flow + saltation matrices"  # how the period map is computed
+
+SWITCH_STATUS = {
+    kw.STATUS_SINGULAR: "singular Pade denominator in the matrix exponential",
+    kw.STATUS_NONFINITE: "the state became inf/nan",
+    kw.STATUS_EVENTS: f"more than {kw.MAX_STEP_EVENTS} switching events in one step (chattering)",
+}
+for _code, _msg in SWITCH_STATUS.items():
+    STATUS_MESSAGES.setdefault(_code, _msg)
+
+
+@dataclass
+class SwitchPeriodMap(PeriodMap):
+    """A :class:`PeriodMap` of the switch model with its switching events."""
+
+    events: list = field(default_factory=list)  # (t, isolator, new mode, |n^T f-| normalised)
+    graze: float = math.inf  # smallest grazing measure of the period
+    modes: np.ndarray | None = None  # (N + 1,) mode-set index at each sample
+
+
+def mode_sets(ni: int) -> np.ndarray:
+    """All mode sets (3^ni, ni) in the order of :func:`nsdyn.periodic._kswitch.mode_index`."""
+    K = 3**ni
+    out = np.empty((K, ni), dtype=np.int64)
+    for k in range(K):
+        r = k
+        for i in range(ni):
+            out[k, i] = r % 3 - 1
+            r //= 3
+    return out
+
+
+def _tables(system, P: tuple, Q: np.ndarray) -> tuple:
+    """Per mode set: A_k with the forcing columns (K, D, D) at w = 0, and the rows V, TAU, LF."""
+    n, m = Q.shape
+    d = 2 * m
+    Dd = d + 3
+    ni = system.n_isolators
+    L = np.zeros((2 * n, d))
+    L[:n, :m] = Q
+    L[n:, m:] = Q
+    sets = mode_sets(ni)
+    K = sets.shape[0]
+    A0 = np.zeros((K, Dd, Dd))
+    TAU = np.zeros((K, ni, Dd))
+    LF = np.zeros((K, ni, Dd))
+    frozen = int(P[ks.I_IPAR][ks.K_FROZEN]) == 1
+    lam0 = P[ks.I_LAM0]
+    nc = system.n_contacts
+    J = np.zeros((2 * n, 2 * n))
+    out = np.zeros(2 * n)
+    qdd, lam, tau, md = ks.outputs(P)
+    times = (0.0, 0.25, 0.5)  # forcing at f = 1 Hz: (sin, cos) = (0, 1), (1, 0), (0, -1)
+    for k in range(K):
+        Pk = with_law(P, "modes", sets[k])
+        ks.jac(0.0, np.zeros(2 * n), Pk, J)
+        A0[k, :d, :d] = L.T @ J @ L
+        g = []
+        fr = []
+        for t in times:
+            ks.rhs(t, np.zeros(2 * n), Pk, out)
+            g.append(L.T @ out)
+            ks.evaluate(t, np.zeros(2 * n), Pk, qdd, lam, tau, md)
+            fr.append((tau.copy(), lam.copy()))
+        g0 = 0.5 * (g[0] + g[2])
+        A0[k, :d, d], A0[k, :d, d + 1], A0[k, :d, d + 2] = g0, g[1] - g0, g[0] - g0
+        for rows, j in ((TAU, 0), (LF, 1)):
+            v0, v1, v2 = (fr[s][j] for s in range(3))
+            c0 = 0.5 * (v0 + v2)
+            cols = np.column_stack([c0, v1 - c0, v0 - c0])
+            if j == 1:
+                cols = np.vstack([cols, np.zeros((max(ni - nc, 0), 3))])[:ni]
+            rows[k, :, d:] = cols
+        for jj in range(d):
+            ks.evaluate(0.0, L[:, jj].copy(), Pk, qdd, lam, tau, md)
+            TAU[k, :, jj] = tau - fr[0][0]
+            lcol = np.zeros(ni)
+            lcol[: min(nc, ni)] = (lam - fr[0][1])[: min(nc, ni)]
+            LF[k, :, jj] = lcol
+        if frozen:
+            LF[k] = 0.0
+            LF[k, :, d] = lam0
+    V = np.zeros((ni, Dd))
+    V[:, m:d] = system.D @ Q
+    return A0, V, TAU, LF
+
+
+@dataclass
+class SwitchProblem:
+    """The isolated system with the switch model under harmonic forcing, on ``z = Q^T q``.
+
+    ``A0`` (K, D, D): augmented matrices of the 3^ni mode sets with the forcing frequency
+    entries zero; ``V``, ``TAU``, ``LF``: sliding velocity, friction force and friction
+    normal-force rows (see :mod:`nsdyn.periodic._kswitch`).
+    """
+
+    system: object
+    amplitude: float
+    Q: np.ndarray
+    x_ref: np.ndarray
+    A0: np.ndarray
+    V: np.ndarray
+    TAU: np.ndarray
+    LF: np.ndarray
+    mu: np.ndarray
+    P: tuple  # kernel tuple at f = 1 Hz (law "modes")
+    load: HarmonicForce | None = None
+    name: str = ""
+    _cache: dict = field(default_factory=dict, repr=False)
+
+    law = LAW_NAME
+
+    @property
+    def dim(self) -> int:
+        return self.x_ref.size
+
+    @property
+    def m(self) -> int:
+        return self.x_ref.size // 2
+
+    def to_full(self, X: np.ndarray) -> np.ndarray:
+        """Minimal states ``[z, zd]`` as full states ``[Q z, Q zd]``."""
+        Q, m = self.Q, self.m
+        return np.concatenate([X[..., :m] @ Q.T, X[..., m:] @ Q.T], axis=-1)
+
+    def to_minimal(self, X: np.ndarray) -> np.ndarray:
+        """Full states ``[q, qd]`` as ``[Q^T q, Q^T qd]``."""
+        Q, n = self.Q, self.Q.shape[0]
+        return np.concatenate([X[..., :n] @ Q, X[..., n:] @ Q], axis=-1)
+
+    def matrices(self, f: float) -> np.ndarray:
+        """Augmented matrices (K, D, D) at forcing frequency ``f`` [Hz]."""
+        AB = self.A0.copy()
+        d = self.dim
+        w = 2.0 * math.pi * f
+        AB[:, d + 1, d + 2] = w
+        AB[:, d + 2, d + 1] = -w
+        return AB
+
+    def steps(self, T: float, disc: Discretisation | None) -> int:
+        """Samples per period: the discretisation's count, at least ``SWITCH_N_MIN``."""
+        if disc is not None:
+            return max(SWITCH_N_MIN, disc.steps(T))
+        return max(SWITCH_N_MIN, math.ceil(T / SWITCH_DT_MAX - 1e-9))
+
+    def period_map(
+        self,
+        x0: np.ndarray,
+        f: float,
+        *,
+        n_steps: int | None = None,
+        disc: Discretisation | None = None,
+        sens: bool = True,
+        store: bool = False,
+    ) -> SwitchPeriodMap:
+        """One period ``T = 1 / f`` from ``x0`` at t = 0, exact between events; ``n_steps``
+        samples (default :meth:`steps`). ``dxdT`` is None (no pseudo-arclength)."""
+        T = 1.0 / f
+        N = self.steps(T, disc) if n_steps is None else int(n_steps)
+        ev = (np.zeros(kw.MAX_EVENTS), np.zeros(kw.MAX_EVENTS, np.int64))
+        ev = ev + (np.zeros(kw.MAX_EVENTS, np.int64), np.zeros(kw.MAX_EVENTS))
+        xT, Phi, X, MK, status, nev, graze = kw.period_map(
+            self.matrices(f),
+            self.V,
+            self.TAU,
+            self.LF,
+            self.mu,
+            np.ascontiguousarray(x0, dtype=float),
+            2.0 * math.pi * f,
+            T,
+            N,
+            V_ZERO,
+            sens,
+            store,
+            *ev,
+        )
+        k = min(int(nev), kw.MAX_EVENTS)
+        events = [
+            (float(ev[0][j]), int(ev[1][j]), int(ev[2][j]), float(ev[3][j])) for j in range(k)
+        ]
+        return SwitchPeriodMap(
+            xT.copy(),
+            Phi if sens else None,
+            None,
+            X if store else None,
+            int(status),
+            N,
+            int(nev),
+            0,
+            events,
+            float(graze),
+            MK,
+        )
+
+    # ---- response quantities ------------------------------------------------------------
+    def accelerations(self, f: float, X: np.ndarray, MK: np.ndarray) -> np.ndarray:
+        """Minimal accelerations zdd (N + 1, m) of the orbit samples ``X`` in modes ``MK``."""
+        N = X.shape[0] - 1
+        t = np.linspace(0.0, 1.0 / f, N + 1)
+        w = 2.0 * math.pi * f
+        d, m = self.dim, self.m
+        Y = np.column_stack([X, np.ones(N + 1), np.sin(w * t), np.cos(w * t)])
+        A = self.A0[MK, m:d, :]  # (N + 1, m, D) (the w entries are in other rows)
+        return np.einsum("tmj,tj->tm", A, Y)
+
+    def orbit_quantities(self, f: float, X: np.ndarray) -> dict:
+        """The seed's Fig. 9 quantities of the orbit ``X`` (as for the arctan problem), the
+        switching events of the period from ``X[0]``, its grazing measure and the law."""
+        pm = self.period_map(X[0], f, n_steps=X.shape[0] - 1, sens=False, store=False)
+        MK = pm.modes
+        sysm = self.system
+        cache = self._cache
+        if "od" not in cache:
+            from nsdyn.models.isolated.metrics import output_rows
+
+            od = output_rows(sysm)
+            cache["od"] = od
+            cache["Tj"] = None if od["joints"] is None else od["joints"] @ self.Q
+        od, m = cache["od"], self.m
+        QDD = self.accelerations(f, X, MK) @ self.Q.T
+        N = X.shape[0] - 1
+        t = np.linspace(0.0, 1.0 / f, N + 1)
+        if self.load is None:
+            ug = (self.amplitude * np.sin(2.0 * math.pi * f * t))[:, None]
+        else:
+            ug = np.zeros((N + 1, 1))
+        idr = math.nan
+        if cache["Tj"] is not None and od["heights"] is not None:
+            U = np.einsum("lcj,tj->tlc", cache["Tj"], X[:, :m])
+            drift = np.abs(np.diff(U, axis=1)) / np.asarray(od["heights"])[None, :, None]
+            idr = float(drift.max()) if drift.size else 0.0
+        acc_levels = [float(np.max(np.abs(QDD @ Tl.T + ug))) for Tl in od["levels"]]
+        acc = max(acc_levels, default=math.nan)
+        acc_floors = max(acc_levels[1:] if len(acc_levels) > 1 else acc_levels, default=math.nan)
+        Xf = self.to_full(X)
+        n = self.Q.shape[0]
+        xi = Xf[:, :n] @ sysm.D.T
+        v = Xf[:, n:] @ sysm.D.T
+        stuck = np.all(mode_sets(sysm.n_isolators)[MK] == 0)
+        lam = self._normal_forces(f, X, MK)
+        q = {
+            "idr": idr,
+            "acc": acc,
+            "acc_floors": acc_floors,
+            "x_iso": float(0.5 * np.max(xi.max(axis=0) - xi.min(axis=0))) if xi.size else 0.0,
+            "stick_all_period": bool(stuck and not pm.events),
+            "v_slip_max": float(np.max(np.abs(v))) if v.size else 0.0,
+            "min_normal_force": float(lam.min()) if lam.size else math.nan,
+            "uplift": bool(lam.size and lam.min() <= 0.0),
+            "events": len(pm.events),
+            "graze": pm.graze,
+            "law": LAW_NAME,
+            "map": METHOD_NAME,
+        }
+        return q
+
+    def _normal_forces(self, f, X, MK) -> np.ndarray:
+        """Friction normal forces at the samples (contacts; frozen ones are constant)."""
+        if self.system.n_contacts == 0:
+            return np.zeros(0)
+        N = X.shape[0] - 1
+        t = np.linspace(0.0, 1.0 / f, N + 1)
+        w = 2.0 * math.pi * f
+        Y = np.column_stack([X, np.ones(N + 1), np.sin(w * t), np.cos(w * t)])
+        return np.einsum("tij,tj->ti", self.LF[MK], Y)
+
+    def quantities_without_orbit(self, f: float, x0: np.ndarray) -> tuple[dict, str]:
+        """NaN quantities for a point whose period could not be integrated."""
+        keys = ("idr", "acc", "acc_floors", "x_iso", "v_slip_max", "min_normal_force", "graze")
+        q = dict.fromkeys(keys, math.nan)
+        q.update(stick_all_period=None, uplift=None, law=LAW_NAME, map=METHOD_NAME)
+        return q, ""
+
+    def validity_note(self, quantities: dict) -> str:
+        """Uplift (a normal force <= 0) or a grazing orbit (its multipliers are unreliable)."""
+        notes = []
+        if quantities.get("uplift"):
+            fmin = quantities.get("min_normal_force", math.nan)
+            notes.append(
+                f"uplift: min normal force {fmin:.3g} N <= 0 (the bilateral contact model is "
+                "outside its validity)"
+            )
+        g = quantities.get("graze", math.inf)
+        if g is not None and g < GRAZE_TOL:
+            notes.append(grazing_note(g))
+        return "; ".join(notes)
+
+
+def grazing_note(graze: float) -> str:
+    """The remark on a grazing orbit."""
+    return (
+        f"grazing: a switching function touches zero (normalised |n^T f-| = {graze:.1e} < "
+        f"{GRAZE_TOL:g}); a slip phase is about to vanish or appear, the saltation matrix and "
+        "the multipliers are unreliable here"
+    )
+
+
+def switch_problem(system, amplitude: float, *, load: HarmonicForce | None = None) -> SwitchProblem:
+    """The isolated ``system`` with the switch model (true stick) under
+    ``u''_hor = amplitude sin(2 pi f t)``, or under the force ``amplitude sin(2 pi f t +
+    phase)`` on ``load``'s dofs. Any isolated system: a frame model, a shear building, a system
+    from matrices (frozen normal forces or contacts)."""
+    if system.isolation is None:
+        raise ValueError("shooting needs an isolated model; the fixed base is linear (use FRFs)")
+    if load is not None and not isinstance(load, HarmonicForce):
+        raise TypeError(f"load: expected a HarmonicForce, got {type(load).__name__}")
+    ni = system.n_isolators
+    if ni > MAX_ISOLATORS:
+        raise ValueError(
+            f"switch shooting tabulates 3^ni mode sets: at most {MAX_ISOLATORS} isolators, got {ni}"
+        )
+    exc = Harmonic(amplitude, 1.0) if load is None else load.at_frequency(1.0, amplitude)
+    P = system.params(exc, law="switch")
+    P = with_law(P, "modes", np.zeros(ni, dtype=np.int64))
+    Q = np.ascontiguousarray(system.Q, dtype=float)
+    A0, V, TAU, LF = _tables(system, P, Q)
+    x_static, _ = system.static_equilibrium()
+    z0 = Q.T @ x_static[: system.n]
+    x_ref = np.concatenate([z0, np.zeros_like(z0)])
+    mu = np.ascontiguousarray(P[ks.I_MU], dtype=float)
+    return SwitchProblem(
+        system, float(amplitude), Q, x_ref, A0, V, TAU, LF, mu, P, load, system.name
+    )
+
+
+@dataclass
+class SwitchShootingResult(ShootingResult):
+    """A :class:`ShootingResult` with the switching events and grazing measure of the orbit."""
+
+    events: list = field(default_factory=list)
+    graze: float = math.inf
+
+    @property
+    def grazing(self) -> bool:
+        return self.graze < GRAZE_TOL
+
+
+def shoot_switch(
+    problem: SwitchProblem,
+    f: float,
+    x0: np.ndarray | None = None,
+    *,
+    tol: float = SHOOT_TOL,
+    max_iter: int = SHOOT_MAXIT,
+    disc: Discretisation | None = None,
+    n_steps: int | None = None,
+) -> SwitchShootingResult:
+    """Newton shooting on the switch model (:func:`nsdyn.periodic.shoot`, same line search and
+    failure policy) and the events of the final orbit; a grazing orbit is said so in
+    ``message`` (converged or not)."""
+    res = shoot(problem, f, x0, tol=tol, max_iter=max_iter, disc=disc, n_steps=n_steps)
+    pm = problem.period_map(res.x0, f, n_steps=res.n_steps, sens=False)
+    out = SwitchShootingResult(**vars(res), events=pm.events, graze=pm.graze)
+    if out.grazing:
+        out.message = f"{out.message}; {grazing_note(pm.graze)}"
+    return out
+
+
+def switch_response(
+    system,
+    amplitude: float,
+    *,
+    fmin: float = 0.01,
+    fmax: float = 10.0,
+    points: int = 150,
+    continuation: str = "sequential",
+    load: HarmonicForce | None = None,
+    **options,
+):
+    """Frequency-response curve of the switch model: sequential continuation
+    (:func:`nsdyn.periodic.continue_sequential`, shooting with the stepped-sweep fallback) on
+    ``points`` log-spaced frequencies. ``options`` go to ``continue_sequential``."""
+    from nsdyn.periodic.continuation import continue_sequential, log_frequencies
+
+    if continuation != "sequential":
+        raise ValueError(
+            f"continuation: the switch model is continued sequentially, not "
+            f"{continuation!r} (its period map has no d/dT)"
+        )
+    problem = switch_problem(system, amplitude, load=load)
+    curve = continue_sequential(problem, log_frequencies(fmin, fmax, points), **options)
+    curve.info.update(law=LAW_NAME, map=METHOD_NAME)
+    return curve

@@ -1,0 +1,137 @@
+"""Catalogue of numerical failures: each one provoked on a small system with a tiny budget.
+
+Contract: a failure is reported, never silent — an exception (or a result flagged as failed)
+whose message gives the time (or frequency) reached, the reason and what to try. Rows:
+step budget / underflow (stiff problem on an explicit method), Newton divergence (fixed step
+over a discontinuous friction law), non-finite state (a record that turns NaN), uplift (a
+rigid block tipping), shooting non-convergence (a Newton budget of one iteration on a friction
+orbit), Zeno accumulation of impacts (a rocking block coming to rest), overturning, and the
+cylinder's step budget. Related rows elsewhere: tests/solve/test_integrate.py
+(test_dopri5_reports_stiffness_instead_of_grinding, test_fixed_step_newton_failure_is_reported,
+test_nan_in_ground_record_is_reported, test_uplift_of_a_rocking_block),
+tests/models/rocking/test_rocking_block.py (Zeno, overturning criteria),
+tests/models/cylinder/test_cylinder_dynamics.py (step budget).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+from nsdyn import Harmonic, Table
+from nsdyn.models.isolated.params import pack
+from nsdyn.models.isolated.statespace import demo_frame
+from nsdyn.models.isolated.system import Isolation, build_system
+from nsdyn.solve.integrate import IntegrationError, UpliftError, solve
+
+G = 9.81
+M_C, MU_C, K_C = 2.0, 0.3, 2.0 * (2 * np.pi) ** 2  # 1 Hz Coulomb oscillator
+
+
+def _coulomb(law: str, eps: float = 7500.0, ground=None) -> tuple:
+    """One mass on a friction isolator (q = [x, y], contact y = 0 carries m g)."""
+    return pack(np.eye(2) * M_C, np.zeros((2, 2)), np.diag([K_C, 0.0]), np.eye(2),
+                R=[[0.0, 1.0]], D=[[1.0, 0.0]], mu=MU_C, lam_static=[M_C * G], law=law,
+                eps=eps, g=G, ground=ground)  # fmt: skip
+
+
+def _time_in(msg: str) -> float:
+    m = re.search(r"t = ([-+0-9.eE]+)", msg)
+    assert m, f"no time in {msg!r}"
+    return float(m.group(1))
+
+
+def test_step_budget_on_a_stiff_problem_names_time_reason_and_remedy():
+    # eps = 1e6 s/m: the arctan friction law is stiff; dopri5 with 2000 steps cannot cross 1 s
+    P = _coulomb("arctan", eps=1e6, ground=Harmonic(5.0, 1.0))
+    with pytest.raises(IntegrationError) as ei:
+        solve(P, np.zeros(4), np.linspace(0.0, 1.0, 11), method="dopri5", max_steps=2000)
+    e = ei.value
+    assert e.reason in ("max_steps", "step_underflow")
+    assert 0.0 < e.t < 1.0 and _time_in(str(e)) == pytest.approx(e.t, rel=1e-5)
+    assert "'radau'" in str(e)  # what to try
+
+
+def test_newton_divergence_names_time_step_and_remedy():
+    P = _coulomb("switch", ground=Harmonic(5.0, 1.0))
+    with pytest.raises(IntegrationError) as ei:
+        solve(P, np.zeros(4), np.linspace(0.0, 2.0, 5), method="genalpha", dt=0.05)
+    e = ei.value
+    assert e.reason == "newton_divergence" and 0.0 < e.t < 2.0
+    assert "dt = 0.05" in str(e) and "smaller dt" in str(e)
+
+
+@pytest.mark.parametrize("method", ["radau", "dopri5"])
+def test_non_finite_state_names_time_and_cause(method):
+    a = np.full(201, 1.0)
+    a[100:] = np.nan  # the record turns NaN at t = 1 s
+    P = _coulomb("arctan", eps=100.0, ground=Table(0.0, 0.01, a))
+    with pytest.raises(IntegrationError) as ei:
+        solve(P, np.zeros(4), np.linspace(0, 2, 21), method=method)
+    e = ei.value
+    assert 0.9 <= e.t <= 1.0 and "NaN" in str(e)
+
+
+def test_uplift_names_contact_time_and_option():
+    # rigid superstructure on two contacts, high friction, strong sine: it tips about one edge
+    s = build_system(demo_frame(), Isolation(mu=0.8, eps=1000.0), fidelity="rigid")
+    x0, _ = s.static_equilibrium()
+    with pytest.raises(UpliftError) as ei:
+        solve(s.params(Harmonic(6.0, 1.0)), x0, np.linspace(0.0, 1.0, 101))
+    e = ei.value
+    assert 0.0 < e.t < 0.5 and "contact" in str(e)
+    assert _time_in(str(e)) == pytest.approx(e.t, rel=1e-4)
+    assert "warn" in str(e)  # the option that continues through uplift
+
+
+def test_shooting_non_convergence_is_flagged_with_residual():
+    from nsdyn import periodic as pr
+
+    s = build_system(demo_frame(), Isolation(mu=0.05, eps=50.0), fidelity="rigid")
+    prob = pr.frame_problem(s, 2.0)
+    res = pr.shoot(prob, 0.5, max_iter=1, tol=1e-14)
+    assert not res.converged
+    assert res.f == 0.5  # the frequency it is reported for
+    assert "no convergence in 1 Newton iterations" in res.message and "residual" in res.message
+
+
+def test_zeno_accumulation_comes_to_rest_at_a_reported_time():
+    from nsdyn.models.rocking.block import RockingBlock, simulate_rocking
+
+    blk = RockingBlock(0.2, 1.0, r=0.8, linear=True)
+    res = simulate_rocking(blk, t_end=60.0, theta0=0.5 * blk.alpha, dt_out=0.01)
+    # impacts accumulate (period ratio r per impact): a finite rest time, a finite count
+    assert res.outcome == "rest" and math.isfinite(res.t_rest) and 0 < res.t_rest < 60.0
+    assert 3 <= res.n_impacts < 200
+    assert np.all(res.theta[res.t > res.t_rest + 0.01] == 0.0)
+
+
+def test_overturning_is_reported_with_its_time():
+    # Housner (1963), linearised block, rectangular pulse of duration t1: overturns iff
+    # a / (g alpha) >= 1 / (1 - exp(-p t1)); 2 % above that threshold it must overturn
+    from nsdyn.ground.pulses import Pulse
+    from nsdyn.models.rocking.block import RockingBlock, simulate_rocking
+
+    blk = RockingBlock(0.2, 1.0, linear=True)
+    t1 = 0.8 / blk.p
+    a_c = blk.g * blk.alpha / (1.0 - math.exp(-blk.p * t1))
+    pulse = Pulse("rect", -1.02 * a_c, math.pi / t1, 1, 0.0, 0.0)
+    res = simulate_rocking(blk, pulse, t_end=15.0)
+    assert res.overturned and math.isfinite(res.t_overturn) and 0 < res.t_overturn < 15.0
+    assert res.outcome == "overturned"
+
+
+def test_cylinder_step_budget_names_time_and_reason():
+    from nsdyn.models.cylinder import CylinderParams
+    from nsdyn.models.cylinder.simulate import SimulationError, simulate
+
+    P = CylinderParams()
+    with pytest.raises(SimulationError) as ei:
+        simulate(P.with_(k=1e14, c=0.0), np.full((3, 3), 50.0), 0.5, max_steps=2000)
+    assert re.search(r"at t = .* s: step budget", str(ei.value))
+
+
+N_FAILURES = 9  # rows above that provoke a failure (non-finite counted once)
