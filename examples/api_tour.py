@@ -70,7 +70,9 @@ def main(t_end: float = 10.0) -> dict:
         "dofs": dofs,
         "lam0": lam0,
         "total_weight": frame.total_mass * 9.81,
-        "minimal_agrees": bool(np.allclose(cb.Q @ zdd, ev["qdd"], atol=1e-9 * np.abs(ev["qdd"]).max())),
+        "minimal_agrees": bool(
+            np.allclose(cb.Q @ zdd, ev["qdd"], atol=1e-9 * np.abs(ev["qdd"]).max())
+        ),
         "summary": s,
     }
 

@@ -13,16 +13,16 @@ For every amplitude A:
    frequencies inserted, so each spot point lies on the branch the sweep follows;
 2. switch model: the same system with ``law="switch"`` integrated by the event-driven switch
    integrator (``nsdyn.solve.integrate.solve(method="event")``, true stick) under the
-   :class:`~nsdyn.models.isolated.params.Harmonic` ground, one period per call, from the arctan orbit's state
-   at t = 0 (``--from-rest``: from the static equilibrium) until the Poincare map is
+   :class:`nsdyn.Harmonic` ground, one period per call, from the arctan orbit's state at
+   t = 0 (``--from-rest``: from the static equilibrium) until the Poincare map is
    stationary: the change of the isolator-slip and column-joint displacement histories from
    one period to the next, relative to their ranges, and its geometric extrapolation (as in
    :func:`nsdyn.periodic.steady_state_sweep`, with the slower of the last two contraction
    rates) must both fall below ``--tol``;
 3. both orbits are sampled at the shooting grid (:class:`nsdyn.periodic.Discretisation`) and
-   measured by :func:`nsdyn.models.isolated.metrics.response`: x_iso (half the peak-to-peak isolator slip,
-   largest isolator), max IDR, max absolute floor acceleration a over every level (base
-   included, as in ``nsdyn sweep``) and over the levels above the isolators, and whether the
+   measured by :func:`nsdyn.models.isolated.metrics.response`: x_iso (half the peak-to-peak
+   isolator slip, largest isolator), max IDR, max absolute floor acceleration a over every
+   level (base included, as in ``nsdyn sweep``) and over the levels above the isolators, and whether the
    isolators stick the whole period (arctan: the sweep's creep criterion; switch: no slip
    mode during the last period).
 

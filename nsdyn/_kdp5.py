@@ -1,5 +1,5 @@
-"""Dormand–Prince 5(4) tableau, error weights and dense output, shared by the explicit numba
-kernels of the model families (rocking bodies, the cylinder).
+"""Dormand–Prince 5(4) tableau, stages, error estimate and dense output, shared by the explicit
+numba kernels of the model families (rocking bodies, the cylinder).
 
 Stages ``k_i = f(t + c_i h, y + h sum_j a_ij k_j)``, solution ``y1 = y + h sum_i b_i k_i``
 (``b = a_7j``, first same as last), error ``h sum_i e_i k_i`` (5th minus 4th order), and the
@@ -28,6 +28,52 @@ D6, D7 = -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0
 SAFETY = 0.9  # step-size controller safety factor
 FAC_MIN = 0.2  # smallest step shrink factor
 FAC_MAX = 5.0  # largest step growth factor
+C = (0.0, C2, C3, C4, C5, 1.0, 1.0)  # time of stage j (k_j) as a fraction of the step
+
+
+@njit(cache=True)
+def stage(y, k, h, j, out):
+    """``out = y + h sum_m a_(j+1)m k_m``: the state at which stage ``k_j`` (j = 1..6) is
+    evaluated, from the stages ``k`` (7, n) before it; j = 6 gives the solution ``y1``."""
+    for i in range(y.shape[0]):
+        if j == 1:
+            out[i] = y[i] + h * A21 * k[0, i]
+        elif j == 2:
+            out[i] = y[i] + h * (A31 * k[0, i] + A32 * k[1, i])
+        elif j == 3:
+            out[i] = y[i] + h * (A41 * k[0, i] + A42 * k[1, i] + A43 * k[2, i])
+        elif j == 4:
+            out[i] = y[i] + h * (A51 * k[0, i] + A52 * k[1, i] + A53 * k[2, i] + A54 * k[3, i])
+        elif j == 5:
+            out[i] = y[i] + h * (
+                A61 * k[0, i] + A62 * k[1, i] + A63 * k[2, i] + A64 * k[3, i] + A65 * k[4, i]
+            )
+        else:
+            out[i] = y[i] + h * (
+                A71 * k[0, i] + A73 * k[2, i] + A74 * k[3, i] + A75 * k[4, i] + A76 * k[5, i]
+            )
+
+
+@njit(cache=True)
+def error(k, h, i):
+    """Component ``i`` of the local error estimate ``h sum_m e_m k_m`` of a step of size h."""
+    return h * (
+        E1 * k[0, i] + E3 * k[2, i] + E4 * k[3, i] + E5 * k[4, i] + E6 * k[5, i] + E7 * k[6, i]
+    )
+
+
+@njit(cache=True)
+def dense_coefficients(y, y1, k, h, rc):
+    """The coefficients ``rc`` (5, n) of the continuous extension over the step ``y -> y1``."""
+    for i in range(y.shape[0]):
+        rc[0, i] = y[i]
+        rc[1, i] = y1[i] - y[i]
+        rc[2, i] = h * k[0, i] - rc[1, i]
+        rc[3, i] = rc[1, i] - h * k[6, i] - rc[2, i]
+        rc[4, i] = (
+            h * (D1 * k[0, i] + D3 * k[2, i] + D4 * k[3, i] + D5 * k[4, i] + D6 * k[5, i])
+            + h * D7 * k[6, i]
+        )
 
 
 @njit(cache=True)

@@ -1,7 +1,7 @@
 """Shared factories of standard test systems (frames), used by tests of several modules.
 
-Factories are plain functions exposed as fixtures returning the function (``make_cantilever``, ``make_portal``) or a
-ready object (``office``, ``office_km``).
+Factories are plain functions exposed as fixtures returning the function (``make_cantilever``,
+``make_portal``) or a ready object (``office``, ``office_km``).
 """
 
 from __future__ import annotations
@@ -15,6 +15,12 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
+from hypothesis import settings  # noqa: E402
+
+# no per-example deadline: the first example of a test may import SciPy modules or load numba
+# caches, and the shared machines are noisy; correctness, not speed, is what the tests check
+settings.register_profile("nsdyn", deadline=None)
+settings.load_profile("nsdyn")
 
 from nsdyn.structure import Frame, Section, load_frame, regular_frame  # noqa: E402
 

@@ -127,6 +127,7 @@ BENCHMARKS: dict[str, str] = {
     "cylinder": "nsdyn.bench.cylinder",
     "studies": "nsdyn.bench.studies",
     "switch_shooting": "nsdyn.bench.switch_shooting",
+    "full-model": "nsdyn.bench.full_model",
 }
 
 

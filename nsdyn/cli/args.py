@@ -29,26 +29,26 @@ def positive_finite(s: str) -> float:
     return v
 
 
-def count(s: str) -> int:
-    """An integer of at least 2."""
+def _int_at_least(s: str, lowest: int) -> int:
     try:
         v = int(s)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected an integer, got {s!r}") from None
-    if v < 2:
-        raise argparse.ArgumentTypeError(f"expected at least 2, got {s!r}")
+    if v < lowest:
+        raise argparse.ArgumentTypeError(
+            f"expected at least {lowest} (an integer >= {lowest}), got {s!r}"
+        )
     return v
+
+
+def count(s: str) -> int:
+    """An integer of at least 2."""
+    return _int_at_least(s, 2)
 
 
 def positive_int(s: str) -> int:
     """An integer of at least 1 (a number of workers, repeats, ...)."""
-    try:
-        v = int(s)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer, got {s!r}") from None
-    if v < 1:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {s!r}")
-    return v
+    return _int_at_least(s, 1)
 
 
 def amplitude_list(s: str) -> list[float]:

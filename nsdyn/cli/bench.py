@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.bench.common import DEFAULT_OUT, RECORDS, REPEATS
+from nsdyn.cli.args import EXIT_USER_ERROR, positive_int
 
 __all__ = ["configure", "main", "run"]
 
@@ -33,19 +34,9 @@ HELP = {
     "cylinder": "the cylinder",
     "studies": "study throughput: local process pool against a Dask local cluster",
     "switch_shooting": "shooting on the switch model against arctan shooting and event-driven runs",
+    "full-model": "the 435-dof frame with the low-rank generalized-α against radau",
 }
-EXIT_USER_ERROR = 2  # bad arguments, or a benchmark asked for by name that is not available
 EXIT_UNAVAILABLE = 1  # `all`: a benchmark module exists but does not import
-
-
-def _positive_int(s: str) -> int:
-    try:
-        v = int(s)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer, got {s!r}") from None
-    if v < 1:
-        raise argparse.ArgumentTypeError(f"expected >= 1, got {s!r}")
-    return v
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -62,7 +53,7 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", default=str(DEFAULT_OUT), metavar="DIR", help="output directory")
     p.add_argument(
         "--repeats",
-        type=_positive_int,
+        type=positive_int,
         default=None,
         metavar="N",
         help=f"timed repeats per point, median quoted (default {REPEATS}; --quick: 1)",

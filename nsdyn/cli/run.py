@@ -116,6 +116,41 @@ def prepare_kernels(method: str) -> float:
     return spent
 
 
+def _check_method(method: str, cfg: dict) -> None:
+    """``solver.method`` must name an integrator (a SceneError naming the field otherwise)."""
+    from nsdyn.models.scenefile import SceneError
+    from nsdyn.solve.methods import METHODS
+
+    if method not in METHODS:
+        source = cfg.get("_source", "<scene>")
+        raise SceneError(
+            f"{source}: solver.method: unknown integrator {method!r}; expected one of "
+            f"{sorted(METHODS)}"
+        )
+
+
+def _run_identity(cfg: dict, args: argparse.Namespace) -> dict:
+    """What a run's checkpoint depends on: the whole scene (after the command-line overrides)."""
+    scene = {k: v for k, v in cfg.items() if not k.startswith("_")}
+    return json.loads(json.dumps({"scene": scene, "fidelity": args.fidelity}, default=str))
+
+
+def _refuse_foreign_checkpoint(path: Path, ident: dict) -> None:
+    """A checkpoint written for other settings is never continued (it would mix two runs)."""
+    from nsdyn.models.scenefile import SceneError
+
+    try:
+        old = json.loads(path.read_text())
+    except (OSError, ValueError):
+        old = None
+    if old != ident:
+        raise SceneError(
+            f"{path.parent}: the checkpoint there was written by a run with other settings "
+            "(or by an older nsdyn); rerun with the same scene and options to resume it, or "
+            "without --resume to start afresh"
+        )
+
+
 def run(args: argparse.Namespace) -> int:
     from nsdyn.models.isolated.scene import build_scene_run, load_scene
     from nsdyn.models.scenefile import read_toml, scene_kind
@@ -152,14 +187,22 @@ def run(args: argparse.Namespace) -> int:
         )
     sv = cfg["solver"]
     method = sv.get("method", "radau")
+    _check_method(method, cfg)
     if method == "event" and system.isolation is not None:
         system = system.with_isolation(law="switch")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     stem = "run"
     ckpt = out / f".{stem}-checkpoint.npz"
+    identity = out / f".{stem}-checkpoint.json"
+    ident = _run_identity(cfg, args)
     if not args.resume:
         ckpt.unlink(missing_ok=True)
+        identity.unlink(missing_ok=True)
+    elif ckpt.is_file():
+        _refuse_foreign_checkpoint(identity, ident)
+    with atomic_open(identity, "w") as fh:
+        fh.write(json.dumps(ident, sort_keys=True))
     quiet = args.json
 
     def progress(t, t_end, wall):
@@ -180,6 +223,7 @@ def run(args: argparse.Namespace) -> int:
         checkpoint=ckpt,
     )
     ckpt.unlink(missing_ok=True)
+    identity.unlink(missing_ok=True)
     s = res.summary()
     s["compile_s"] = float(s["compile_s"]) + compile_s
     s["record"] = getattr(motion, "name", s["excitation"])

@@ -10,18 +10,9 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
+from nsdyn.cli.args import EXIT_INTERRUPTED, positive_int
+
 DEFAULT_OUT = "nsdyn-study"  # output directory (a subdirectory per study name)
-EXIT_INTERRUPTED = 130  # stopped by SIGINT/SIGTERM; rerun to resume
-
-
-def _count(s: str) -> int:
-    try:
-        v = int(s)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer, got {s!r}") from None
-    if v < 1:
-        raise argparse.ArgumentTypeError(f"expected at least 1, got {s!r}")
-    return v
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -29,10 +20,13 @@ def configure(p: argparse.ArgumentParser) -> None:
     where = p.add_mutually_exclusive_group()
     where.add_argument("--dask", metavar="ADDR", help="Dask scheduler, e.g. tcp://host:8786")
     where.add_argument(
-        "--dask-local", type=_count, metavar="N", help="start a Dask LocalCluster of N workers"
+        "--dask-local",
+        type=positive_int,
+        metavar="N",
+        help="start a Dask LocalCluster of N workers",
     )
     where.add_argument(
-        "--workers", type=_count, metavar="N", help="local process pool size (default: CPUs)"
+        "--workers", type=positive_int, metavar="N", help="local process pool size (default: CPUs)"
     )
     p.add_argument("--out", metavar="DIR", help=f"output directory (default {DEFAULT_OUT}/NAME)")
     p.add_argument("--fresh", action="store_true", help="discard earlier results and start over")

@@ -43,6 +43,19 @@ def unknown_key(source: str, where: str, key: str, valid) -> SceneError:
     return SceneError(f"{source}: {where}{key}: unknown field{hint} expected some of {valid}")
 
 
+def check_fields(cfg: Mapping, fields: Mapping, source: str) -> None:
+    """:class:`SceneError` for a table of ``cfg`` not in ``fields`` (table -> its valid keys),
+    one that is not a table, or a key its table does not have."""
+    for table, vals in cfg.items():
+        if table not in fields:
+            raise unknown_key(source, "", table, fields)
+        if not isinstance(vals, dict):
+            raise SceneError(f"{source}: [{table}]: expected a table")
+        for key in vals:
+            if key not in fields[table]:
+                raise unknown_key(source, f"{table}.", key, fields[table])
+
+
 def scene_kind(cfg: Mapping, source: str = "<scene>") -> str:
     """The model family of a parsed scene (``[scene] kind``, default ``isolated``)."""
     kind = cfg.get("scene", {}).get("kind", "isolated")

@@ -127,31 +127,37 @@ def _holds(tau, limit):
 
 
 @njit(cache=True)
+def _release(y, modes, TAU, LF, mu):
+    """In place: every stuck isolator whose stick force leaves the friction cone slips along
+    that force, repeated until nothing changes (a release changes the others' stick forces)."""
+    ni = modes.shape[0]
+    for _ in range(2 * ni + 2):
+        k = mode_index(modes)
+        changed = False
+        for i in range(ni):
+            if modes[i] == 0:
+                tau = TAU[k, i] @ y
+                if not _holds(tau, mu[i] * (LF[k, i] @ y)):
+                    modes[i] = 1 if tau >= 0.0 else -1
+                    changed = True
+        if not changed:
+            break
+
+
+@njit(cache=True)
 def settle(y, modes, trigger, kind, V, TAU, LF, mu):
     """Consistent modes after isolator ``trigger`` reached its switching surface (kind 0:
     slip -> v = 0; 1: stick -> friction limit). A slip reaching v = 0 sticks if the stick force
     stays within the cone, else reverses; a stick slips along its stick force; then every stuck
     isolator whose stick force leaves the cone slips (repeated until nothing changes)."""
     new = modes.copy()
-    ni = modes.shape[0]
     if kind == 0:
         new[trigger] = 0
     else:
         k = mode_index(new)
         tau = TAU[k, trigger] @ y
         new[trigger] = 1 if tau >= 0.0 else -1
-    for _ in range(2 * ni + 2):
-        k = mode_index(new)
-        changed = False
-        for i in range(ni):
-            if new[i] == 0:
-                tau = TAU[k, i] @ y
-                lf = LF[k, i] @ y
-                if not _holds(tau, mu[i] * lf):
-                    new[i] = 1 if tau >= 0.0 else -1
-                    changed = True
-        if not changed:
-            break
+    _release(y, new, TAU, LF, mu)
     return new
 
 
@@ -164,17 +170,7 @@ def initial_modes(y, V, TAU, LF, mu, v_zero):
         v = V[i] @ y
         if abs(v) > v_zero:
             modes[i] = 1 if v > 0.0 else -1
-    for _ in range(2 * ni + 2):
-        k = mode_index(modes)
-        changed = False
-        for i in range(ni):
-            if modes[i] == 0:
-                tau = TAU[k, i] @ y
-                if not _holds(tau, mu[i] * (LF[k, i] @ y)):
-                    modes[i] = 1 if tau >= 0.0 else -1
-                    changed = True
-        if not changed:
-            break
+    _release(y, modes, TAU, LF, mu)
     return modes
 
 

@@ -52,9 +52,12 @@ ARC_STATE_WEIGHT = 0.1  # weight of the (amplitude-scaled) state in the arclengt
 ARC_MAX_CORRECTION = 1.0  # corrector iterates stay within this many ds of the predictor
 ARC_MAX_STEPS_FACTOR = 20  # at most this many x the requested points along a curve
 ARC_PHASE_TOL = 1e-6  # corrector: largest |<t, y - y_pred>_W| at convergence
+F_MIN = 0.01  # default lowest forcing frequency of a curve [Hz]
+F_MAX = 10.0  # default highest forcing frequency of a curve [Hz]
+POINTS = 150  # default number of points of a curve
 
 
-def log_frequencies(fmin: float = 0.01, fmax: float = 10.0, points: int = 150) -> np.ndarray:
+def log_frequencies(fmin: float = F_MIN, fmax: float = F_MAX, points: int = POINTS) -> np.ndarray:
     """``points`` frequencies [Hz] spaced evenly in log f from ``fmin`` to ``fmax``."""
     return np.geomspace(fmin, fmax, points)
 
@@ -139,6 +142,30 @@ def continue_sequential(
     return Curve(problem.amplitude, pts, detect_bifurcations(pts), info)
 
 
+def continue_range(
+    problem: PeriodicModel,
+    *,
+    fmin: float = F_MIN,
+    fmax: float = F_MAX,
+    points: int = POINTS,
+    continuation: str = "sequential",
+    **options,
+) -> Curve:
+    """The periodic orbits of ``problem`` from ``fmin`` to ``fmax`` [Hz].
+
+    ``continuation``: "sequential" (seed: ``points`` log-spaced frequencies, previous solution
+    as the guess) or "arclength" (pseudo-arclength in (x0, log f), passes folds, at least
+    ``points`` points). ``options`` go to :func:`continue_sequential` /
+    :func:`continue_arclength` (``disc``, ``tol``, ``max_iter``, ``fallback``, ``progress``,
+    ``start``, ...).
+    """
+    if continuation == "sequential":
+        return continue_sequential(problem, log_frequencies(fmin, fmax, points), **options)
+    if continuation == "arclength":
+        return continue_arclength(problem, fmin, fmax, points=points, **options)
+    raise ValueError(f"continuation: expected 'sequential' or 'arclength', got {continuation!r}")
+
+
 def _tangent(Jx, Jp, W, t_prev):
     """Unit tangent of H(x, p) = 0 (scaled norm) oriented along ``t_prev``."""
     d = Jx.shape[0]
@@ -168,7 +195,7 @@ def continue_arclength(
     fmin: float,
     fmax: float,
     *,
-    points: int = 150,
+    points: int = POINTS,
     x0: np.ndarray | None = None,
     disc: Discretisation | None = None,
     tol: float = SHOOT_TOL,

@@ -31,7 +31,7 @@ from nsdyn.models.isolated.friction import sticks
 from nsdyn.models.isolated.params import KernelParams, pack, with_ground
 from nsdyn.periodic import _kperiodic as kp
 from nsdyn.periodic.discretisation import Discretisation
-from nsdyn.periodic.protocol import PeriodMap
+from nsdyn.periodic.protocol import MinimalStates, PeriodMap
 
 DUFFING_W = 4  # index of the forcing circular frequency w in pf = [zeta, w0, gamma, F, w]
 PROBE_SAMPLES = 65  # output times of the radau uplift probe over one period
@@ -51,7 +51,7 @@ _DUMMY_Z = tuple(np.zeros((1, 1)) for _ in range(kp.N_Z))
 
 
 @dataclass
-class PeriodicProblem:
+class PeriodicProblem(MinimalStates):
     """A harmonically forced system whose period map the kernels integrate.
 
     ``x_ref`` is the unforced reference state (the static gravity equilibrium of a frame);
@@ -73,26 +73,6 @@ class PeriodicProblem:
     @property
     def Q(self) -> np.ndarray:
         return self.Z[kp.Z_Q]
-
-    @property
-    def m(self) -> int:
-        return self.x_ref.size // 2
-
-    @property
-    def dim(self) -> int:
-        return self.x_ref.size
-
-    def to_full(self, X: np.ndarray) -> np.ndarray:
-        """Minimal-coordinate states ``[z, zd]`` (shape (..., 2m)) as full states
-        ``[q, qd] = [Q z, Q zd]`` (shape (..., 2n))."""
-        Q, m = self.Q, self.m
-        return np.concatenate([X[..., :m] @ Q.T, X[..., m:] @ Q.T], axis=-1)
-
-    def to_minimal(self, X: np.ndarray) -> np.ndarray:
-        """Full states ``[q, qd]`` as ``[Q^T q, Q^T qd]`` (Q has orthonormal columns: exact on
-        the contact manifold R q = 0, its projection elsewhere)."""
-        Q, n = self.Q, self.Q.shape[0]
-        return np.concatenate([X[..., :n] @ Q, X[..., n:] @ Q], axis=-1)
 
     def at(self, f: float) -> tuple[tuple, np.ndarray]:
         """Kernel arguments (P, pf) for forcing frequency ``f`` [Hz]."""

@@ -55,6 +55,35 @@ class PeriodMap:
     n_sub: int  # steps that had to be split into substeps
 
 
+class MinimalStates:
+    """Sizes and full-state maps of a problem on minimal coordinates ``q = Q z``: states
+    ``x = [z, zd]`` of length ``dim = 2 m``, ``Q`` (n, m) with orthonormal columns. Needs the
+    attributes ``x_ref`` and ``Q``."""
+
+    x_ref: np.ndarray
+    Q: np.ndarray
+
+    @property
+    def dim(self) -> int:
+        return self.x_ref.size
+
+    @property
+    def m(self) -> int:
+        return self.x_ref.size // 2
+
+    def to_full(self, X: np.ndarray) -> np.ndarray:
+        """Minimal-coordinate states ``[z, zd]`` (shape (..., 2m)) as full states
+        ``[q, qd] = [Q z, Q zd]`` (shape (..., 2n))."""
+        Q, m = self.Q, self.m
+        return np.concatenate([X[..., :m] @ Q.T, X[..., m:] @ Q.T], axis=-1)
+
+    def to_minimal(self, X: np.ndarray) -> np.ndarray:
+        """Full states ``[q, qd]`` as ``[Q^T q, Q^T qd]`` (Q has orthonormal columns: exact on
+        the contact manifold R q = 0, its projection elsewhere)."""
+        Q, n = self.Q, self.Q.shape[0]
+        return np.concatenate([X[..., :n] @ Q, X[..., n:] @ Q], axis=-1)
+
+
 @runtime_checkable
 class PeriodicModel(Protocol):
     """A harmonically forced model as seen by shooting, sweeps and continuation.

@@ -12,41 +12,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from nsdyn.periodic.continuation import continue_arclength, continue_sequential, log_frequencies
+from nsdyn.periodic.continuation import continue_range
 from nsdyn.periodic.curve import Curve
 from nsdyn.periodic.problem import frame_problem
 
 
-def frequency_response(
-    system,
-    amplitude: float,
-    *,
-    fmin: float = 0.01,
-    fmax: float = 10.0,
-    points: int = 150,
-    continuation: str = "sequential",
-    load=None,
-    **options,
-) -> Curve:
+def frequency_response(system, amplitude: float, *, load=None, **options) -> Curve:
     """Periodic responses of an isolated ``system`` to ``amplitude sin(2 pi f t)``: a ground
     acceleration [m/s²], or with ``load`` (a :class:`nsdyn.ground.HarmonicForce` naming the
-    dofs, weights and phase) a force [N].
-
-    ``continuation``: "sequential" (seed: ``points`` log-spaced frequencies, previous solution
-    as the guess) or "arclength" (pseudo-arclength in (x0, log f), passes folds, at least
-    ``points`` points). ``options`` go to :func:`continue_sequential` /
-    :func:`continue_arclength` (``disc``, ``tol``, ``max_iter``, ``fallback``, ``progress``,
-    ``start``, ...).
+    dofs, weights and phase) a force [N]; ``options`` (``fmin``, ``fmax``, ``points``,
+    ``continuation`` and those of the continuation) as for
+    :func:`nsdyn.periodic.continuation.continue_range`.
     """
-    problem = frame_problem(system, amplitude, load=load)
-    if continuation == "sequential":
-        c = continue_sequential(problem, log_frequencies(fmin, fmax, points), **options)
-    elif continuation == "arclength":
-        c = continue_arclength(problem, fmin, fmax, points=points, **options)
-    else:
-        raise ValueError(
-            f"continuation: expected 'sequential' or 'arclength', got {continuation!r}"
-        )
+    c = continue_range(frame_problem(system, amplitude, load=load), **options)
     c.info["model"] = system.name
     return c
 

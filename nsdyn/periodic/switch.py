@@ -33,8 +33,8 @@ from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.params import with_law
 from nsdyn.periodic import _kswitch as kw
 from nsdyn.periodic.discretisation import Discretisation
-from nsdyn.periodic.protocol import STATUS_MESSAGES, PeriodMap
-from nsdyn.periodic.shooting import SHOOT_MAXIT, SHOOT_TOL, ShootingResult, shoot
+from nsdyn.periodic.protocol import STATUS_MESSAGES, MinimalStates, PeriodMap
+from nsdyn.periodic.shooting import ShootingResult, shoot
 
 MAX_ISOLATORS = 6  # 3^ni mode sets are tabulated
 GRAZE_TOL = 1e-3  # normalised |n^T f-| (or touch depth) below which an orbit counts as grazing
@@ -130,7 +130,7 @@ def _tables(system, P: tuple, Q: np.ndarray) -> tuple:
 
 
 @dataclass
-class SwitchProblem:
+class SwitchProblem(MinimalStates):
     """The isolated system with the switch model under harmonic forcing, on ``z = Q^T q``.
 
     ``A0`` (K, D, D): augmented matrices of the 3^ni mode sets with the forcing frequency
@@ -153,24 +153,6 @@ class SwitchProblem:
     _cache: dict = field(default_factory=dict, repr=False)
 
     law = LAW_NAME
-
-    @property
-    def dim(self) -> int:
-        return self.x_ref.size
-
-    @property
-    def m(self) -> int:
-        return self.x_ref.size // 2
-
-    def to_full(self, X: np.ndarray) -> np.ndarray:
-        """Minimal states ``[z, zd]`` as full states ``[Q z, Q zd]``."""
-        Q, m = self.Q, self.m
-        return np.concatenate([X[..., :m] @ Q.T, X[..., m:] @ Q.T], axis=-1)
-
-    def to_minimal(self, X: np.ndarray) -> np.ndarray:
-        """Full states ``[q, qd]`` as ``[Q^T q, Q^T qd]``."""
-        Q, n = self.Q, self.Q.shape[0]
-        return np.concatenate([X[..., :n] @ Q, X[..., n:] @ Q], axis=-1)
 
     def matrices(self, f: float) -> np.ndarray:
         """Augmented matrices (K, D, D) at forcing frequency ``f`` [Hz]."""
@@ -380,19 +362,12 @@ class SwitchShootingResult(ShootingResult):
 
 
 def shoot_switch(
-    problem: SwitchProblem,
-    f: float,
-    x0: np.ndarray | None = None,
-    *,
-    tol: float = SHOOT_TOL,
-    max_iter: int = SHOOT_MAXIT,
-    disc: Discretisation | None = None,
-    n_steps: int | None = None,
+    problem: SwitchProblem, f: float, x0: np.ndarray | None = None, **options
 ) -> SwitchShootingResult:
-    """Newton shooting on the switch model (:func:`nsdyn.periodic.shoot`, same line search and
-    failure policy) and the events of the final orbit; a grazing orbit is said so in
-    ``message`` (converged or not)."""
-    res = shoot(problem, f, x0, tol=tol, max_iter=max_iter, disc=disc, n_steps=n_steps)
+    """Newton shooting on the switch model (:func:`nsdyn.periodic.shoot` with its ``options``
+    ``tol``, ``max_iter``, ``disc``, ``n_steps``: same line search and failure policy) and the
+    events of the final orbit; a grazing orbit is said so in ``message`` (converged or not)."""
+    res = shoot(problem, f, x0, **options)
     pm = problem.period_map(res.x0, f, n_steps=res.n_steps, sens=False)
     out = SwitchShootingResult(**vars(res), events=pm.events, graze=pm.graze)
     if out.grazing:
@@ -401,20 +376,13 @@ def shoot_switch(
 
 
 def switch_response(
-    system,
-    amplitude: float,
-    *,
-    fmin: float = 0.01,
-    fmax: float = 10.0,
-    points: int = 150,
-    continuation: str = "sequential",
-    load: HarmonicForce | None = None,
-    **options,
+    system, amplitude: float, *, continuation: str = "sequential", load=None, **options
 ):
     """Frequency-response curve of the switch model: sequential continuation
     (:func:`nsdyn.periodic.continue_sequential`, shooting with the stepped-sweep fallback) on
-    ``points`` log-spaced frequencies. ``options`` go to ``continue_sequential``."""
-    from nsdyn.periodic.continuation import continue_sequential, log_frequencies
+    ``points`` log-spaced frequencies; ``fmin``, ``fmax``, ``points`` and ``options`` as for
+    :func:`nsdyn.periodic.continuation.continue_range`."""
+    from nsdyn.periodic.continuation import continue_range
 
     if continuation != "sequential":
         raise ValueError(
@@ -422,6 +390,6 @@ def switch_response(
             f"{continuation!r} (its period map has no d/dT)"
         )
     problem = switch_problem(system, amplitude, load=load)
-    curve = continue_sequential(problem, log_frequencies(fmin, fmax, points), **options)
+    curve = continue_range(problem, continuation=continuation, **options)
     curve.info.update(law=LAW_NAME, map=METHOD_NAME)
     return curve

@@ -28,7 +28,15 @@ from nsdyn.models.isolated import _kernel as ks
 
 # integrator kernel modules (numba-cached, in this folder); their compiled code also depends on
 # the isolated frame's system kernel, which they inline
-KERNEL_MODULES = ("_kcommon", "_kdopri", "_kradau", "_kgenalpha", "_kevent")
+KERNEL_MODULES = (
+    "_kcommon",
+    "_kdopri",
+    "_kradau",
+    "_kgenalpha",
+    "_kevent",
+    "_kimpact",
+    "_kunilateral",
+)
 
 # stale caches across files: the system kernel and the shared LU are compiled into ours
 _NSDYN = Path(__file__).resolve().parents[1]

@@ -139,6 +139,8 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
     k_best = 0
     any_stick = False
     for i in range(D.shape[0]):
+        if ks.contact_open(P, i):
+            continue  # in flight (unilateral runs): no friction, no friction event
         if pm[i] == 0:
             any_stick = True
             continue
@@ -179,7 +181,7 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
             stats[ki.S_NFEV] += 1
             found = False
             for i in range(ni):
-                if pm[i] != 0:
+                if pm[i] != 0 or ks.contact_open(P, i):
                     continue
                 gb = _g_stick(i, lam, tau, P)
                 if gb < 0.0:
@@ -223,6 +225,8 @@ def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
     stats[ki.S_NFEV] += 1
     for i in range(ni):
         v = _dot_row(D, i, y, n)
+        if ks.contact_open(P, i):
+            continue  # in flight: its mode waits for the landing
         if pm[i] == MODE_AUTO:
             pm[i] = 0
         elif pm[i] != 0:
@@ -243,6 +247,8 @@ def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
         stats[ki.S_NFEV] += 1
         changed = False
         for i in range(ni):
+            if ks.contact_open(P, i):
+                continue
             if pm[i] == 0 and abs(tau[i]) > mu[i] * _lamf(i, lam, P) * (1.0 + STICK_RTOL):
                 v = _dot_row(D, i, y, n)
                 if abs(v) > v_tol:

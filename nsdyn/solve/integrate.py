@@ -40,9 +40,14 @@ method resolve part of that ringing. Earthquake runs (:func:`nsdyn.solve.transie
 ``rtol = 1e-4, atol = (1e-8, 1e-6)`` instead, measured to keep every response output within
 1e-3 of a much tighter run at ~7x fewer steps (see :mod:`nsdyn.solve.transient`).
 
-Contact monitoring: every accepted step checks the normal forces; ``lam_k <= 0`` is an uplift
-(``uplift="raise"`` stops with :class:`UpliftError`; ``"warn"`` records the first instant per
-contact in ``Solution.uplift`` and continues).
+Contact assumptions (``contact=``): ``"detect"`` (default) checks the normal forces after
+every accepted step; ``lam_k <= 0`` is an uplift (``uplift="raise"`` stops with
+:class:`UpliftError`; ``"warn"`` records the first instant per contact in ``Solution.uplift``
+and continues). ``"bilateral"`` lets the normal forces go negative (seed 004's assumption: the
+isolators hold the structure down) and only records where they do. ``"unilateral"`` integrates
+lift-off, flight and landing (:mod:`nsdyn.solve._kunilateral`; methods ``event`` and ``radau``):
+contact events in ``Solution.contact_events``, the contact states at the outputs in
+``Solution.open_contacts``.
 """
 
 from __future__ import annotations
@@ -55,9 +60,20 @@ import numpy as np
 
 from nsdyn.models.isolated.params import KernelParams
 from nsdyn.solve import _kcommon as ki
-from nsdyn.solve.methods import METHODS, _tiny_problem, compiled, make_options, warmup
+from nsdyn.solve.methods import (
+    METHODS,
+    _tiny_problem,
+    compiled,
+    make_options,
+    run_unilateral,
+    warmup,
+    warmup_unilateral,
+)
+
+CONTACTS = ("bilateral", "detect", "unilateral")  # contact assumptions, see the module text
 
 __all__ = [
+    "CONTACTS",
     "METHODS",
     "MESSAGES",
     "IntegrationError",
@@ -176,6 +192,13 @@ class Solution:
                                    run; ``dt`` for fixed-step methods)
     modes : ndarray of int, optional  isolator modes at the end (method "event"; pass as
                                    ``modes0`` to a follow-up run)
+    contact : str                  the contact assumption of the run (``CONTACTS``)
+    contact_events : list of (t, contact, kind, v_n, impulse)   unilateral runs: "lift-off"
+                                   or "landing", normal velocity R_k qd before [m/s], landing
+                                   impulse [N s]
+    open_contacts : ndarray of int (nt, nc), optional  unilateral: 1 where a contact is open
+    open_end : ndarray of int (nc,), optional   unilateral: states at the end (``open0``)
+    impact_energy : float          unilateral: kinetic energy change of the landings [J] (<= 0)
     """
 
     t: np.ndarray
@@ -196,6 +219,11 @@ class Solution:
     compile_s: float = 0.0
     h_last: float = 0.0
     modes: np.ndarray | None = None
+    contact: str = "detect"
+    contact_events: list = field(default_factory=list)
+    open_contacts: np.ndarray | None = None
+    open_end: np.ndarray | None = None
+    impact_energy: float = 0.0
 
     @property
     def q(self) -> np.ndarray:
@@ -228,6 +256,9 @@ def solve(
     modes0=None,
     uplift: str = "raise",
     on_failure: str = "raise",
+    contact: str = "detect",
+    restitution: float = 0.0,
+    open0=None,
 ) -> Solution:
     """Integrate the constrained equations of motion and sample the state at ``t_eval``.
 
@@ -250,6 +281,10 @@ def solve(
     uplift : {"raise", "warn"}   what a normal force lam <= 0 does
     on_failure : {"raise", "return"}  raise :class:`IntegrationError` (:class:`UpliftError`)
                                  or return the partial solution with ``success = False``
+    contact : {"bilateral", "detect", "unilateral"}   contact assumption (module text);
+                                 ``uplift`` applies to ``"detect"`` only
+    restitution : float          unilateral: Newton's coefficient e of a landing (0: plastic)
+    open0 : array of int (nc,)   unilateral: initial contact states, 1 open (default closed)
 
     Returns
     -------
@@ -269,24 +304,66 @@ def solve(
     t_eval = np.ascontiguousarray(t_eval, dtype=float).reshape(-1)
     if t_eval.size < 1 or np.any(np.diff(t_eval) < 0) or not np.all(np.isfinite(t_eval)):
         raise ValueError("t_eval: expected a non-empty, finite, non-decreasing array of times")
+    if contact not in CONTACTS:
+        raise ValueError(f"contact: expected one of {list(CONTACTS)}, got {contact!r}")
+    if contact != "detect":
+        uplift = "warn"  # recorded, never stopping (bilateral) / handled by the kernel
     opts = make_options(
         x0, m, rtol, atol, dt, h0, adaptive, max_step, max_steps, uplift, rho_inf, modes0
     )
     compile_s = 0.0
-    if not compiled(m.kernel):
-        compile_s = warmup([method])[m.kernel]
     X = np.zeros((t_eval.size, 2 * n))
     upl_t = np.full(kp.n_contacts, np.nan)
-    t_start = time.perf_counter()
-    stats, rinfo, events, modes = m.run(P, x0, t_eval, opts, X, upl_t)
+    extra = None
+    if contact == "unilateral":
+        compile_s = warmup_unilateral()
+        t_start = time.perf_counter()
+        stats, rinfo, events, modes, extra = run_unilateral(
+            P, x0, t_eval, opts, X, upl_t, method, float(restitution), open0
+        )
+    else:
+        if not compiled(m.kernel):
+            compile_s = warmup([method])[m.kernel]
+        t_start = time.perf_counter()
+        stats, rinfo, events, modes = m.run(P, x0, t_eval, opts, X, upl_t)
     wall = time.perf_counter() - t_start
-    return _finish(
-        m, opts, kp.law, t_eval, X, upl_t, stats, rinfo, events, modes, wall, compile_s, on_failure
+    sol = _finish(
+        m,
+        opts,
+        kp.law,
+        t_eval,
+        X,
+        upl_t,
+        stats,
+        rinfo,
+        events,
+        modes,
+        wall,
+        compile_s,
+        on_failure,
+        warn_uplift=contact == "detect",
+        extra=extra,
     )
+    sol.contact = contact
+    return sol
 
 
 def _finish(
-    m, opts, law, t_eval, X, upl_t, stats, rinfo, events, modes, wall, compile_s, on_failure
+    m,
+    opts,
+    law,
+    t_eval,
+    X,
+    upl_t,
+    stats,
+    rinfo,
+    events,
+    modes,
+    wall,
+    compile_s,
+    on_failure,
+    warn_uplift=True,
+    extra=None,
 ):
     status = int(stats[ki.S_STATUS])
     nout = int(stats[ki.S_NOUT])
@@ -327,7 +404,12 @@ def _finish(
         h_last=float(rinfo[ki.R_HNEXT]),
         modes=modes,
     )
-    if uplift_list and opts.uplift_mode == ki.UPLIFT_WARN:
+    if extra is not None:
+        sol.contact_events = extra.contact_events
+        sol.open_contacts = extra.open_out[:nout]
+        sol.open_end = extra.open_end
+        sol.impact_energy = extra.impact_energy
+    if uplift_list and opts.uplift_mode == ki.UPLIFT_WARN and warn_uplift:
         where = ", ".join(f"contact {k} at t = {tk:.6g} s" for tk, k in uplift_list)
         warnings.warn(
             f"uplift ({where}): normal forces reached zero, outside the no-uplift model",

@@ -21,11 +21,20 @@ import numpy as np
 
 from nsdyn.ground.excitation import Harmonic
 from nsdyn.models.isolated import _kernel as ks
-from nsdyn.models.isolated.params import KernelParams, pack, with_law
+from nsdyn.models.isolated.params import KernelParams, pack, with_law, with_open
 from nsdyn.solve import _kcommon as ki
-from nsdyn.solve import _kdopri, _kevent, _kgenalpha, _kradau
+from nsdyn.solve import _kdopri, _kevent, _kgenalpha, _kradau, _kunilateral
 
-__all__ = ["METHODS", "Method", "is_cached", "make_options", "warmup", "warmup_metrics"]
+__all__ = [
+    "METHODS",
+    "Method",
+    "is_cached",
+    "make_options",
+    "warmup",
+    "warmup_metrics",
+    "run_unilateral",
+    "warmup_unilateral",
+]
 
 MAX_EVENTS = 100_000  # switching events recorded by method "event"
 EVENT_STEPS_PER_PERIOD = 8  # "event": largest step = 1/8 period of a harmonic excitation
@@ -335,3 +344,97 @@ def warmup_metrics() -> float:
     ks.ground_many(t, P)
     _COMPILED["metrics"] = time.perf_counter() - t0
     return _COMPILED["metrics"]
+
+
+# ---- generalized-alpha with the linear part factored once (nsdyn.solve.sparse) ---------------
+from nsdyn.solve import sparse as _sparse  # noqa: E402  (registers after the numba methods)
+
+METHODS[_sparse.METHOD] = Method(_sparse.METHOD, _sparse.METHOD, True, _sparse.run)
+
+
+# ---- unilateral contact: lift-off, flight and landing (nsdyn.solve._kunilateral) -------------
+
+MAX_CONTACT_EVENTS = 100_000  # lift-offs and landings recorded by a unilateral run
+UNILATERAL_METHODS = ("event", "radau")  # event: switch model; radau: the law packed in P
+CONTACT_KINDS = {_kunilateral.KIND_LIFT: "lift-off", _kunilateral.KIND_LAND: "landing"}
+
+
+@dataclass
+class UnilateralRun:
+    """What a unilateral run adds to a method's outputs."""
+
+    contact_events: list  # (t, contact, "lift-off" | "landing", R_k qd before, impulse)
+    open_out: np.ndarray  # (nt, nc) contact states at the outputs, 1 open
+    open_end: np.ndarray  # (nc,) contact states at the end (``open0`` of a follow-up run)
+    impact_energy: float  # kinetic energy change of all landings [J] (<= 0)
+
+
+def run_unilateral(P, x0, t_eval, o: Options, X, upl_t, method: str, e_rest: float, open0):
+    """Integrate with unilateral contacts (:func:`_kunilateral.event_unilateral`): method
+    ``"event"`` with the switch model's stick/slip events, ``"radau"`` with the law of ``P``.
+    Returns (stats, rinfo, events, modes, UnilateralRun)."""
+    if method not in UNILATERAL_METHODS:
+        raise ValueError(
+            f"contact 'unilateral': method expected one of {list(UNILATERAL_METHODS)}, got "
+            f"{method!r}"
+        )
+    if not 0.0 <= e_rest <= 1.0:
+        raise ValueError(f"restitution: expected 0 <= e <= 1, got {e_rest}")
+    kp = KernelParams(P)
+    if kp.frozen_normal:
+        raise ValueError(
+            "contact 'unilateral' needs the normal forces as multipliers (frozen_normal=False)"
+        )
+    ni = kp.n_isolators
+    friction = method == "event"
+    if o.modes0 is None:
+        modes0 = np.full(ni, _kevent.MODE_AUTO, dtype=np.int64)
+    else:
+        modes0 = np.ascontiguousarray(o.modes0, dtype=np.int64).reshape(-1)
+    max_step = o.max_step
+    if friction:
+        P = with_law(P, "modes", modes0)
+        max_step = min(max_step, _event_max_step(kp))
+    P = with_open(P, open0)  # private copy of the live contact states
+    log = (
+        np.zeros(MAX_EVENTS),
+        np.zeros(MAX_EVENTS, dtype=np.int64),
+        np.zeros(MAX_EVENTS, dtype=np.int64),
+    )
+    clog = np.zeros((MAX_CONTACT_EVENTS, _kunilateral.CLOG_COLS))
+    cnt = np.zeros(1, dtype=np.int64)
+    dT = np.zeros(1)
+    open_out = np.zeros((t_eval.size, kp.n_contacts), dtype=np.int64)
+    stats, rinfo = _kunilateral.event_unilateral(
+        P, x0, t_eval, o.atol, o.rtol, o.h0, max_step, o.max_steps, modes0, friction,
+        float(e_rest), X, upl_t, open_out, log, clog, cnt, dT,
+    )  # fmt: skip
+    ev_t, ev_i, ev_m = log
+    events = [(float(ev_t[k]), int(ev_i[k]), int(ev_m[k])) for k in range(int(stats[ki.S_NEVENT]))]
+    cev = [
+        (float(r[0]), int(r[1]), CONTACT_KINDS[int(r[2])], float(r[3]), float(r[4]))
+        for r in clog[: int(cnt[0])]
+    ]
+    kpm = KernelParams(P)
+    extra = UnilateralRun(cev, open_out, kpm.open_contacts.copy(), float(dT[0]))
+    return stats, rinfo, events, kpm.modes.copy() if friction else None, extra
+
+
+def warmup_unilateral() -> float:
+    """Compile (or load) the unilateral kernel on the tiny system; seconds spent now."""
+    if "unilateral" in _COMPILED:
+        return 0.0
+    t0 = time.perf_counter()
+    P, x0 = _tiny_problem()
+    t_eval = np.linspace(0.0, 0.02, 3)
+    for method in UNILATERAL_METHODS:
+        m = METHODS[method]
+        opts = make_options(x0, m, 1e-6, 1e-8, None, None, True, np.inf, 1000, "warn", None, None)
+        X = np.zeros((t_eval.size, x0.size))
+        upl_t = np.full(KernelParams(P).n_contacts, np.nan)
+        run_unilateral(P, x0, t_eval, opts, X, upl_t, method, 0.0, None)
+    _COMPILED["unilateral"] = time.perf_counter() - t0
+    return _COMPILED["unilateral"]
+
+
+_ENTRY["unilateral"] = _kunilateral.event_unilateral

@@ -63,9 +63,45 @@ class TransientResult:
     stats: dict = field(default_factory=dict)
     uplift: list = field(default_factory=list)
     excitation: str = ""
+    contact: str = "detect"
+    contact_events: list = field(default_factory=list)  # unilateral: (t, k, kind, v_n, impulse)
+    open_contacts: np.ndarray | None = None  # unilateral: (nt, nc), 1 where a contact is open
+    impact_energy: float = 0.0  # unilateral: kinetic energy change of the landings [J]
+
+    def contact_summary(self) -> dict:
+        """The contact assumption and what it says: ``would_lift_off`` (a normal force < 0
+        somewhere: outside a bilateral model's validity) or, for unilateral runs, lift-offs,
+        landings, flight time per contact, peak landing velocity and impulse."""
+        lam = self.response.lam
+        out: dict = {"contact": self.contact}
+        if lam.shape[-1]:
+            out["would_lift_off"] = bool(lam.size and lam.min() < 0.0)
+        if self.contact != "unilateral":
+            return out
+        lands = [e for e in self.contact_events if e[2] == "landing"]
+        flight = np.zeros(lam.shape[-1])
+        if self.open_contacts is not None and self.t.size > 1:
+            dt = np.diff(self.t)
+            flight = (self.open_contacts[:-1] * dt[:, None]).sum(axis=0)
+        out.update(
+            {
+                "would_lift_off": bool(self.contact_events),
+                "lift_offs": sum(e[2] == "lift-off" for e in self.contact_events),
+                "landings": len(lands),
+                "flight_time_s": flight.tolist(),
+                "max_landing_velocity_mps": max((abs(e[3]) for e in lands), default=0.0),
+                "max_landing_impulse_Ns": max((e[4] for e in lands), default=0.0),
+                "impact_energy_J": float(self.impact_energy),
+                "first_lift_off_s": min(
+                    (e[0] for e in self.contact_events if e[2] == "lift-off"), default=None
+                ),
+            }
+        )
+        return out
 
     def summary(self) -> dict:
         out = self.response.summary()
+        out.update(self.contact_summary())
         out.update(
             {
                 "model": self.system.name,
@@ -148,6 +184,8 @@ def simulate(
     dt_out: float | None = None,
     x0: np.ndarray | None = None,
     uplift: str = "raise",
+    contact: str | None = None,
+    restitution: float = 0.0,
     progress=None,
     checkpoint: str | Path | None = None,
     chunk_s: float = CHUNK_S,
@@ -169,7 +207,12 @@ def simulate(
                             :func:`nsdyn.models.isolated.tolerances.run_atol`);
                             ``dt`` for fixed-step methods
     t_eval : ndarray        output times (instead of t_end / n_periods / dt_out)
-    uplift : {"raise", "warn"}
+    uplift : {"raise", "warn"}   what a normal force reaching zero does (contact "detect")
+    contact : {"bilateral", "detect", "unilateral"}, optional   contact assumption (default:
+                            the system's ``isolation.contact``; see
+                            :mod:`nsdyn.solve.integrate`); "unilateral" with methods
+                            ``event`` or ``radau``
+    restitution : float     unilateral: Newton's coefficient of a landing (0: plastic)
     progress : callable(t_done, t_end, wall_s), optional
     checkpoint : path, optional   resume from / save to this file after each chunk
     """
@@ -179,6 +222,8 @@ def simulate(
         raise ValueError("give t_eval or t_end / n_periods / dt_out, not both")
     else:
         t_eval = np.asarray(t_eval, dtype=float)
+    if contact is None:
+        contact = getattr(system.isolation, "contact", "detect")
     if atol is None:
         atol = run_atol(method)
     P = system.params(motion)
@@ -212,10 +257,20 @@ def simulate(
             bounds[-1] += 1
     h0 = None
     modes = None
+    open_end = None
+    cevents: list = []
+    opens: list = []  # unilateral: contact states at the outputs, per chunk
+    impact = 0.0
+    if contact != "detect":
+        solver_options.update(contact=contact)
+    if contact == "unilateral":
+        solver_options.update(restitution=restitution)
     for a, b in zip(bounds[:-1], bounds[1:], strict=True):
         x_start = xs[-1][-1]
         if modes is not None and method == "event":
             solver_options["modes0"] = modes
+        if open_end is not None:
+            solver_options["open0"] = open_end
         kw = dict(method=method, rtol=rtol, atol=atol, dt=dt, uplift=uplift, **solver_options)
         try:
             # continue with the step the previous chunk would have taken next
@@ -228,6 +283,11 @@ def simulate(
             sol = integrate.solve(P, x_start, t_eval[a : b + 1], h0=None, **kw)
         h0 = sol.h_last if np.isfinite(sol.h_last) and sol.h_last > 0 and dt is None else None
         modes = getattr(sol, "modes", None)
+        if contact == "unilateral":
+            open_end = sol.open_end
+            cevents.extend(sol.contact_events)
+            opens.append(sol.open_contacts[1:] if opens else sol.open_contacts)
+            impact += sol.impact_energy
         n_steps += sol.n_steps
         wall += sol.wall_s
         compile_s += getattr(sol, "compile_s", 0.0)
@@ -244,7 +304,10 @@ def simulate(
     x = np.concatenate(xs)
     law = "switch" if method == "event" else None
     Pm = system.params(motion, law=law) if law and system.isolation is not None else P
-    resp = response(system, t, x, Pm)
+    open_hist = np.concatenate(opens) if contact == "unilateral" else None
+    if open_hist is not None and open_hist.shape[0] != t.size:
+        open_hist = None  # resumed from a checkpoint: the states before it are not kept
+    resp = response(system, t, x, Pm, open_hist, impact)
     return TransientResult(
         system,
         t,
@@ -257,4 +320,8 @@ def simulate(
         stats,
         sorted(set(uplifts)),
         describe(motion),
+        contact,
+        cevents,
+        open_hist,
+        impact,
     )

@@ -92,6 +92,12 @@ def _names(source: str, where: str, val) -> list[str]:
     return val
 
 
+def _check_columns(source: str, where: str, val, study, *, result: bool) -> None:
+    """``val`` a list of column names of ``study`` (results if ``result``, else parameters)."""
+    for name in _names(source, where, val):
+        _check_column(source, where, name, study, result=result)
+
+
 def check_analysis(study) -> None:
     """Check ``study.analysis`` (SceneError naming the field)."""
     src, an = study.source, study.analysis
@@ -105,10 +111,9 @@ def check_analysis(study) -> None:
                 raise unknown_key(src, f"analysis.{name}.", key, FIELDS[name])
     d = an.get("design")
     if d is not None:
-        for v in _names(src, "analysis.design.variables", d.get("variables", [])):
-            _check_column(src, "analysis.design.variables", v, study, result=False)
-        for v in _names(src, "analysis.design.objectives", d.get("objectives", [])):
-            _check_column(src, "analysis.design.objectives", v, study, result=True)
+        where = "analysis.design."
+        _check_columns(src, where + "variables", d.get("variables", []), study, result=False)
+        _check_columns(src, where + "objectives", d.get("objectives", []), study, result=True)
         for k, g in d.get("constraints", {}).items():
             _check_column(src, "analysis.design.constraints", k, study, result=True)
             number(src, f"analysis.design.constraints.{k}", g)
@@ -120,10 +125,9 @@ def check_analysis(study) -> None:
             _check_column(src, "analysis.design.reference", k, study, result=False)
     p = an.get("percentiles")
     if p is not None:
-        for v in _names(src, "analysis.percentiles.quantities", p.get("quantities", [])):
-            _check_column(src, "analysis.percentiles.quantities", v, study, result=True)
-        for v in _names(src, "analysis.percentiles.by", p.get("by", [])):
-            _check_column(src, "analysis.percentiles.by", v, study, result=False)
+        where = "analysis.percentiles."
+        _check_columns(src, where + "quantities", p.get("quantities", []), study, result=True)
+        _check_columns(src, where + "by", p.get("by", []), study, result=False)
         for i, q in enumerate(p.get("percentiles", [])):
             if (
                 not 0

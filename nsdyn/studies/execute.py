@@ -23,7 +23,7 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Executor, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 from nsdyn.studies.scenes import run_batch
@@ -50,16 +50,10 @@ class StudyRun:
     out_dir: Path
 
     def as_dict(self) -> dict:
-        return {
-            "n_tasks": self.n_tasks,
-            "n_run": self.n_run,
-            "n_skipped": self.n_skipped,
-            "n_failed": self.n_failed,
-            "wall_s": self.wall_s,
-            "workers": self.workers,
-            "batch": self.batch,
-            "table": str(self.out_dir / "results.csv"),
-        }
+        """The counts and timings, and the path of the table (JSON-serialisable)."""
+        counts = {f.name: getattr(self, f.name) for f in fields(self)}
+        del counts["table"], counts["out_dir"]
+        return counts | {"table": str(self.out_dir / "results.csv")}
 
 
 def _failed_rows(tasks: list[Task], why: str) -> list[dict]:

@@ -40,26 +40,14 @@ def pareto_figure(points, objectives, chosen=None, reference=None, title: str = 
     ax.scatter(*xy[feas & ~front].T, s=16, c="tab:blue", label="feasible")
     order = np.argsort(xy[front, 0])
     ax.plot(*xy[front][order].T, "o-", c="tab:red", ms=5, label="Pareto front")
-    if reference is not None:
-        ax.plot(
-            reference.objectives[k1],
-            reference.objectives[k2],
-            "s",
-            mfc="none",
-            mec="k",
-            ms=11,
-            label=f"reference ({_design_text(reference.values)})",
-        )
-    if chosen is not None:
-        ax.plot(
-            chosen.objectives[k1],
-            chosen.objectives[k2],
-            "*",
-            c="gold",
-            mec="k",
-            ms=14,
-            label=f"compromise ({_design_text(chosen.values)})",
-        )
+    for point, name, style in (
+        (reference, "reference", dict(marker="s", mfc="none", ms=11)),
+        (chosen, "compromise", dict(marker="*", c="gold", ms=14)),
+    ):
+        if point is not None:
+            x, y = point.objectives[k1], point.objectives[k2]
+            label = f"{name} ({_design_text(point.values)})"
+            ax.plot(x, y, ls="none", mec="k", label=label, **style)
     ax.set_xlabel(_label(k1))
     ax.set_ylabel(_label(k2))
     ax.set_title(title or "design search")

@@ -24,7 +24,7 @@ have no finite maximum: the fit refuses them.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 from scipy import special, stats
@@ -63,15 +63,8 @@ class LognormalFragility:
         return special.ndtr(eta - zc * sd), special.ndtr(eta + zc * sd)
 
     def as_dict(self) -> dict:
-        return {
-            "theta": self.theta,
-            "beta": self.beta,
-            "se_ln_theta": self.se_ln_theta,
-            "se_beta": self.se_beta,
-            "n": self.n,
-            "n_exceed": self.n_exceed,
-            "log_likelihood": self.log_likelihood,
-        }
+        """The scalar fields (all but ``cov_ab``)."""
+        return {f.name: getattr(self, f.name) for f in fields(self) if f.name != "cov_ab"}
 
 
 def _loglik(eta: np.ndarray, n: np.ndarray, z: np.ndarray) -> float:

@@ -109,11 +109,26 @@ def _isolated_system(cfg: dict, source: str):
     return replace(base, K=K, C=C, isolation=iso, _static=None)
 
 
+def _custom_excitation(cfg: dict) -> bool:
+    """A [structure] scene, a force, or a harmonic motion: built as ``nsdyn run`` builds it."""
+    return (
+        "structure" in cfg
+        or "force" in cfg
+        or cfg.get("motion", {}).get("kind", "record") != "record"
+    )
+
+
 def _run_isolated(cfg: dict, source: str) -> dict:
     from nsdyn.solve.transient import output_grid, simulate
 
-    system = _isolated_system(cfg, source)
-    motion = scene_motion(cfg)
+    duration: dict = {}
+    if _custom_excitation(cfg):
+        from nsdyn.models.isolated.scene import build_scene_run
+
+        system, motion, duration = build_scene_run({**cfg, "_source": source})
+    else:
+        system = _isolated_system(cfg, source)
+        motion = scene_motion(cfg)
     sv = cfg["solver"]
     method = sv.get("method", "radau")
     if method == "event" and system.isolation is not None:
@@ -126,11 +141,13 @@ def _run_isolated(cfg: dict, source: str) -> dict:
         rtol=sv["rtol"],
         atol=tuple(atol) if isinstance(atol, list) else atol,
         dt=sv.get("dt"),
-        t_eval=output_grid(motion, sv.get("dt_out")),
+        t_eval=output_grid(motion, sv.get("dt_out"), **duration),
         uplift=sv.get("uplift", "raise"),
     )
     s = res.summary()
-    s.update(kind="isolated", record=motion.name, pga_mps2=float(motion.pga))
+    s.update(kind="isolated")
+    if hasattr(motion, "pga"):  # a record (a harmonic or a force has no PGA)
+        s.update(record=motion.name, pga_mps2=float(motion.pga))
     return s
 
 

@@ -98,3 +98,12 @@ def test_all_reports_unavailable_modules_and_passes_only_named_options(
     assert "fake_bench_broken failed to import" in capsys.readouterr().err
     assert command.main(["gone", "--out", str(tmp_path)]) == 2
     assert "does not exist" in capsys.readouterr().err
+
+
+def test_every_registered_benchmark_loads_with_the_common_entry_point():
+    """Each name of the table (the families' benchmarks too) imports, and its run_bench takes
+    (out_dir, quick) as the command line calls it."""
+    for name in registry.BENCHMARKS:
+        module = registry.load_benchmark(name)
+        params = list(inspect.signature(module.run_bench).parameters)
+        assert params[:2] == ["out_dir", "quick"], name

@@ -86,9 +86,6 @@ CLI_ROWS = [
 ]
 
 CLI_XFAIL: dict[str, str] = {
-    "run-method": "nsdyn/cli/run.py passes solver.method unchecked to nsdyn.solve.simulate; its "
-    "ValueError ('method: expected one of [...]') escapes as a traceback with no file/field "
-    "instead of a SceneError naming the scene's solver.method (exit 2)",
 }
 
 

@@ -147,12 +147,6 @@ def test_run_interrupted_resumes_without_loss_or_repeat(tmp_path, monkeypatch, c
     _no_temporaries(out)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="nsdyn/solve/transient.py resumes any checkpoint whose time grid matches, and "
-    "nsdyn/cli/run.py stores no identity of the scene in it: a checkpoint written at "
-    "--pga 3 is continued silently at --pga 4 (mixed histories) instead of being refused",
-)
 def test_run_checkpoint_from_other_settings_is_refused(tmp_path, capsys, reference_run):
     out = tmp_path / "out"
     proc = _spawn([*RUN_ARGS, "--out", str(out)], tmp_path)

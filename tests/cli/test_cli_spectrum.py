@@ -19,8 +19,9 @@ SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
 
 
 def test_spectrum_command_writes_a_physical_spectrum(tmp_path, capsys):
-    argv = ["spectrum", str(SCENES / "rocking-seed003-column.toml"), "--n", "3", "--wmin", "1.5",
-            "--wmax", "6", "--rtol", "1e-3", "--workers", "1", "--out", str(tmp_path), "--json"]  # fmt: skip
+    scene = str(SCENES / "rocking-seed003-column.toml")
+    argv = ["spectrum", scene, "--n", "3", "--wmin", "1.5", "--wmax", "6", "--rtol", "1e-3",
+            "--workers", "1", "--out", str(tmp_path), "--json"]  # fmt: skip
     assert main(argv) == 0
     rep = json.loads(capsys.readouterr().out)
     a = np.array(rep["a_min_ratio"], dtype=float)

@@ -44,7 +44,7 @@ import numpy as np
 
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import read_motion
-from nsdyn.models.scenefile import SceneError, number, unknown_key
+from nsdyn.models.scenefile import SceneError, check_fields, number
 
 _FIELDS = {
     "scene": {"kind", "name"},
@@ -58,24 +58,13 @@ METHODS = ("event", "moreau")  # solver.method
 T_END = 5.0  # default duration of free motion [s]
 
 
-def _check(cfg: dict, source: str) -> None:
-    for table, vals in cfg.items():
-        if table not in _FIELDS:
-            raise unknown_key(source, "", table, _FIELDS)
-        if not isinstance(vals, dict):
-            raise SceneError(f"{source}: {table}: expected a table")
-        for key in vals:
-            if key not in _FIELDS[table]:
-                raise unknown_key(source, f"{table}.", key, _FIELDS[table])
-
-
 def build(cfg: dict, source: str):
     """(body, friction law, base motion, t_end, options) of a parsed scene."""
     from nsdyn.models.contact.body import RigidBody
     from nsdyn.models.contact.excite import BaseMotion
     from nsdyn.models.contact.friction import FrictionLaw
 
-    _check(cfg, source)
+    check_fields(cfg, _FIELDS, source)
     b = cfg.get("body", {})
     mass = number(source, "body.mass", b.get("mass", 1.0))
     try:

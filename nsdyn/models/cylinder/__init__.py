@@ -4,9 +4,13 @@ Base centre restrained horizontally, free vertically; unit-quaternion rotations;
 bonded, tensionless (contact = circular segment, closed-form resultants) or fixed.
 """
 
+from pathlib import Path
+
 from nsdyn._numba_cache import guard_family
 
-guard_family(__file__)  # the kernels call each other across files
+# the kernels call each other across files, the shared Dormand–Prince steps and the dense LU
+_NSDYN = Path(__file__).resolve().parents[2]
+guard_family(__file__, [_NSDYN / "_kdp5.py", _NSDYN / "_klinalg.py"])
 
 # ruff: noqa: E402
 

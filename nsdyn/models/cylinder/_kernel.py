@@ -33,41 +33,8 @@ import math
 import numpy as np
 from numba import njit
 
-from nsdyn._kdp5 import (
-    A21,
-    A31,
-    A32,
-    A41,
-    A42,
-    A43,
-    A51,
-    A52,
-    A53,
-    A54,
-    A61,
-    A62,
-    A63,
-    A64,
-    A65,
-    A71,
-    A73,
-    A74,
-    A75,
-    A76,
-    C2,
-    C3,
-    C4,
-    C5,
-    E1,
-    E3,
-    E4,
-    E5,
-    E6,
-    E7,
-    FAC_MAX,
-    FAC_MIN,
-    SAFETY,
-)
+from nsdyn import _kdp5 as dp
+from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn.models.cylinder._kfound import contact_moments, resultants
 
 NY = 16  # state size
@@ -105,31 +72,15 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def solve_spd(M: np.ndarray, b: np.ndarray, o: int) -> np.ndarray:
-    """x with M[o:, o:] x = b[o:], M symmetric positive definite (Cholesky, no pivoting)."""
-    n = b.shape[0] - o
-    L = np.zeros((n, n))
-    for i in range(n):
-        for j in range(i + 1):
-            s = M[o + i, o + j]
-            for k in range(j):
-                s -= L[i, k] * L[j, k]
-            if i == j:
-                L[i, i] = math.sqrt(s)
-            else:
-                L[i, j] = s / L[j, j]
-    z = np.empty(n)
-    for i in range(n):
-        s = b[o + i]
-        for k in range(i):
-            s -= L[i, k] * z[k]
-        z[i] = s / L[i, i]
-    x = np.empty(n)
-    for i in range(n - 1, -1, -1):
-        s = z[i]
-        for k in range(i + 1, n):
-            s -= L[k, i] * x[k]
-        x[i] = s / L[i, i]
+def solve_block(M: np.ndarray, b: np.ndarray, o: int) -> np.ndarray:
+    """x with M[o:, o:] x = b[o:] (dense LU; nan if the block is singular or not finite)."""
+    A = M[o:, o:].copy()
+    x = b[o:].copy()
+    piv = np.empty(x.shape[0], np.int64)
+    if not lu_factor(A, piv):
+        x[:] = np.nan
+        return x
+    lu_solve(A, piv, x)
     return x
 
 
@@ -165,7 +116,7 @@ def stop_slip(y: np.ndarray, p: np.ndarray) -> None:
     for j in range(2):
         e = np.zeros(6)
         e[j] = 1.0
-        G[:, j] = solve_spd(Mm, e, 0)
+        G[:, j] = solve_block(Mm, e, 0)
     det = G[0, 0] * G[1, 1] - G[0, 1] * G[1, 0]
     ux, uy = y[IUD], y[IUD + 1]
     px = -(G[1, 1] * ux - G[0, 1] * uy) / det
@@ -199,7 +150,7 @@ def rhs(
     gxd = om[0] * R[1, 0] - om[1] * R[0, 0]  # ω·(e₁ × e_z)
     gyd = om[0] * R[1, 1] - om[1] * R[0, 1]
     fnd = np.empty(6)
-    resultants(w, gx, gy, wd, gxd, gyd, r, k, c, bonded, fnd)
+    resultants(np.array([w, gx, gy, wd, gxd, gyd]), r, k, c, bonded, fnd)
     F = fnd[0]
     mw = fnd[1] * R[:, 0] + fnd[2] * R[:, 1]
     Mf = np.array([mw[1], -mw[0], 0.0])  # mw × e_z
@@ -232,9 +183,9 @@ def rhs(
         fx, fy = -mu * N * dx, -mu * N * dyy
         b[0] += fx
         b[1] += fy
-        acc[:] = solve_spd(Mm, b, 0)
+        acc[:] = solve_block(Mm, b, 0)
     else:
-        acc[2:] = solve_spd(Mm, b, 2)
+        acc[2:] = solve_block(Mm, b, 2)
         # force that keeps ü = 0: the horizontal rows with ü = 0
         fx = -b[0] + Mm[0, 3] * acc[3] + Mm[0, 4] * acc[4] + Mm[0, 5] * acc[5]
         fy = -b[1] + Mm[1, 3] * acc[3] + Mm[1, 4] * acc[4] + Mm[1, 5] * acc[5]
@@ -353,20 +304,13 @@ def integrate(
     dy = np.empty(NY)
     aux = np.empty(NAUX)
     fr = np.zeros(3)
-    k1 = np.empty(NY)
-    k2 = np.empty(NY)
-    k3 = np.empty(NY)
-    k4 = np.empty(NY)
-    k5 = np.empty(NY)
-    k6 = np.empty(NY)
-    k7 = np.empty(NY)
-    yt = np.empty(NY)
-    yn = np.empty(NY)
+    k = np.empty((7, NY))  # Dormand-Prince stages
+    yn = np.empty(NY)  # a stage's state; after the last stage the step's solution
     a = np.empty(3)
     if mu >= 0.0:
-        set_mode(y, ag[0], p, fr, k1, aux)
+        set_mode(y, ag[0], p, fr, k[0], aux)
     else:
-        rhs(y, ag[0], p, fr, k1, aux)
+        rhs(y, ag[0], p, fr, k[0], aux)
     slips = int(fr[0])
     store(hist, 0, t0, y, ag[0], p, fr, dy, aux)
     nfev = 2
@@ -389,33 +333,17 @@ def integrate(
                 if s >= V_REG:
                     fr[1] = y[IUD] / s
                     fr[2] = y[IUD + 1] / s
-            a[:] = ag[i] + slope * (t + C2 * hs - ta)
-            yt[:] = y + hs * A21 * k1
-            rhs(yt, a, p, fr, k2, aux)
-            a[:] = ag[i] + slope * (t + C3 * hs - ta)
-            yt[:] = y + hs * (A31 * k1 + A32 * k2)
-            rhs(yt, a, p, fr, k3, aux)
-            a[:] = ag[i] + slope * (t + C4 * hs - ta)
-            yt[:] = y + hs * (A41 * k1 + A42 * k2 + A43 * k3)
-            rhs(yt, a, p, fr, k4, aux)
-            a[:] = ag[i] + slope * (t + C5 * hs - ta)
-            yt[:] = y + hs * (A51 * k1 + A52 * k2 + A53 * k3 + A54 * k4)
-            rhs(yt, a, p, fr, k5, aux)
-            a[:] = ag[i] + slope * (t + hs - ta)
-            yt[:] = y + hs * (A61 * k1 + A62 * k2 + A63 * k3 + A64 * k4 + A65 * k5)
-            rhs(yt, a, p, fr, k6, aux)
-            yn[:] = y + hs * (A71 * k1 + A73 * k3 + A74 * k4 + A75 * k5 + A76 * k6)
-            rhs(yn, a, p, fr, k7, aux)
+            for j in range(1, 7):  # the last stage is evaluated at the solution yn
+                a[:] = ag[i] + slope * (t + dp.C[j] * hs - ta)
+                dp.stage(y, k, hs, j, yn)
+                rhs(yn, a, p, fr, k[j], aux)
             nfev += 6
             err = 0.0
             for j in range(NY):
                 if j == 9 or j == 10 or j == IEF:
                     continue  # energy quadratures: not under error control
-                e = hs * (
-                    E1 * k1[j] + E3 * k3[j] + E4 * k4[j] + E5 * k5[j] + E6 * k6[j] + E7 * k7[j]
-                )
                 sc = atol[j] + rtol * max(abs(y[j]), abs(yn[j]))
-                err += (e / sc) ** 2
+                err += (dp.error(k, hs, j) / sc) ** 2
             err = math.sqrt(err / nerr)
             if not (err == err) or not np.all(np.isfinite(yn)):
                 if hs > h_min:
@@ -440,7 +368,7 @@ def integrate(
                 for j in range(1, 5):
                     yn[j] /= nq
                 y[:] = yn
-                k1[:] = k7
+                k[0] = k[6]
                 acc += 1
                 if ev == 2:  # the slip stopped: impulse onto u̇ = 0, its energy loss booked
                     e_before = aux[6]
@@ -448,18 +376,17 @@ def integrate(
                     rhs(y, a, p, fr, dy, aux)
                     y[IEF] += e_before - aux[6]
                 if ev != 0:
-                    set_mode(y, a, p, fr, k1, aux)
+                    set_mode(y, a, p, fr, k[0], aux)
                     slips += int(fr[0])
                     nfev += 2
-                fac = min(FAC_MAX, SAFETY * err ** (-0.2)) if err > 0.0 else FAC_MAX
-                hn = hs * fac
+                hn = dp.new_step(hs, err)
                 h = max(h, hn) if trunc else hn
                 if 1.0 - 2.0 * (y[2] ** 2 + y[3] ** 2) < cos_topple:
                     status = TOPPLED
                     break
             else:
                 rej += 1
-                h = hs * max(FAC_MIN, SAFETY * err ** (-0.2))
+                h = dp.new_step(hs, err)
             if h < h_min:
                 status = UNDERFLOW
                 break

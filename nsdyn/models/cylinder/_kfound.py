@@ -98,20 +98,10 @@ def contact_moments(w: float, gx: float, gy: float, r: float, bonded: bool, mom:
 
 
 @njit(cache=True)
-def resultants(
-    w: float,
-    gx: float,
-    gy: float,
-    wd: float,
-    gxd: float,
-    gyd: float,
-    r: float,
-    k: float,
-    c: float,
-    bonded: bool,
-    out: np.ndarray,
-) -> int:
-    """out = (F, m_a, m_b, A, V, D): force, base-axis moments ∫ρp, area, energy, dissipation."""
+def resultants(z: np.ndarray, r: float, k: float, c: float, bonded: bool, out: np.ndarray) -> int:
+    """out = (F, m_a, m_b, A, V, D): force, base-axis moments ∫ρp, area, energy, dissipation,
+    at the base state z = (w, g_a, g_b, ẇ, ġ_a, ġ_b); returns the contact kind."""
+    w, gx, gy, wd, gxd, gyd = z[0], z[1], z[2], z[3], z[4], z[5]
     mom = np.empty(11)
     kind = contact_moments(w, gx, gy, r, bonded, mom)
     A, Sa, Sb, Iaa, Iab, Ibb = mom[0], mom[1], mom[2], mom[3], mom[4], mom[5]
@@ -134,20 +124,9 @@ def quad(x: float, y: float, Iaa: float, Iab: float, Ibb: float) -> float:
 
 
 @njit(cache=True)
-def resultants_jac(
-    w: float,
-    gx: float,
-    gy: float,
-    wd: float,
-    gxd: float,
-    gyd: float,
-    r: float,
-    k: float,
-    c: float,
-    bonded: bool,
-    jac: np.ndarray,
-) -> None:
-    """jac[i, j] = ∂(F, m_a, m_b)_i / ∂(w, g_a, g_b, ẇ, ġ_a, ġ_b)_j (3×6), exact."""
+def resultants_jac(z: np.ndarray, r: float, k: float, c: float, bonded: bool, jac: np.ndarray):
+    """jac[i, j] = ∂(F, m_a, m_b)_i / ∂z_j (3×6) at z = (w, g_a, g_b, ẇ, ġ_a, ġ_b), exact."""
+    w, gx, gy, wd, gxd, gyd = z[0], z[1], z[2], z[3], z[4], z[5]
     mom = np.empty(11)
     kind = contact_moments(w, gx, gy, r, bonded, mom)
     A, Sa, Sb, Iaa, Iab, Ibb = mom[0], mom[1], mom[2], mom[3], mom[4], mom[5]

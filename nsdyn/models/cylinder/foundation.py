@@ -16,6 +16,7 @@ from nsdyn.models.cylinder import _kfound
 from nsdyn.models.cylinder.params import CylinderParams
 
 KIND_NAMES = ("lifted", "partial", "full")  # contact kinds 0, 1, 2
+Pair = tuple[float, float]
 
 
 def segment_integrals(d: float, r: float) -> tuple[float, float, float, float]:
@@ -25,26 +26,31 @@ def segment_integrals(d: float, r: float) -> tuple[float, float, float, float]:
     return tuple(float(v) for v in out)
 
 
-def resultants(
+def _kernel_args(
     w: float,
-    g: tuple[float, float],
-    wd: float = 0.0,
-    gd: tuple[float, float] = (0.0, 0.0),
+    g: Pair,
+    wd: float,
+    gd: Pair,
     *,
     r: float,
     k: float,
     c: float = 0.0,
     bonded: bool = False,
-) -> dict:
+) -> tuple:
+    """(z, r, k, c, bonded) for ``_kfound``: base state z = (w, g_a, g_b, ẇ, ġ_a, ġ_b), disc
+    radius, stiffness and damping per area, bonded (else tensionless)."""
+    z = np.array([w, g[0], g[1], wd, gd[0], gd[1]], dtype=float)
+    return z, float(r), float(k), float(c), bool(bonded)
+
+
+def resultants(w: float, g: Pair, wd: float = 0.0, gd: Pair = (0.0, 0.0), **foundation) -> dict:
     """Foundation force, base-axis moments m = ∫ρ p dA, contact area, stored energy, dissipation.
 
-    ``g`` = (e₁·e_z, e₂·e_z): world-vertical components of the base axes; ``gd`` their rates.
+    ``g`` = (e₁·e_z, e₂·e_z): world-vertical components of the base axes; ``gd`` their rates;
+    ``foundation``: the keywords ``r``, ``k`` (required), ``c`` (0) and ``bonded`` (False).
     """
     out = np.empty(6)
-    kind = _kfound.resultants(
-        float(w), float(g[0]), float(g[1]), float(wd), float(gd[0]), float(gd[1]),
-        float(r), float(k), float(c), bool(bonded), out,
-    )  # fmt: skip
+    kind = _kfound.resultants(*_kernel_args(w, g, wd, gd, **foundation), out)
     return {
         "F": float(out[0]),
         "m": (float(out[1]), float(out[2])),
@@ -55,23 +61,11 @@ def resultants(
     }
 
 
-def jacobian(
-    w: float,
-    g: tuple[float, float],
-    wd: float = 0.0,
-    gd: tuple[float, float] = (0.0, 0.0),
-    *,
-    r: float,
-    k: float,
-    c: float = 0.0,
-    bonded: bool = False,
-) -> np.ndarray:
-    """∂(F, m_a, m_b)/∂(w, g_a, g_b, ẇ, ġ_a, ġ_b), shape (3, 6), analytic."""
+def jacobian(w: float, g: Pair, wd: float = 0.0, gd: Pair = (0.0, 0.0), **foundation) -> np.ndarray:
+    """∂(F, m_a, m_b)/∂(w, g_a, g_b, ẇ, ġ_a, ġ_b), shape (3, 6), analytic (arguments as for
+    :func:`resultants`)."""
     jac = np.empty((3, 6))
-    _kfound.resultants_jac(
-        float(w), float(g[0]), float(g[1]), float(wd), float(gd[0]), float(gd[1]),
-        float(r), float(k), float(c), bool(bonded), jac,
-    )  # fmt: skip
+    _kfound.resultants_jac(*_kernel_args(w, g, wd, gd, **foundation), jac)
     return jac
 
 

@@ -36,7 +36,7 @@ from nsdyn.models.cylinder.simulate import (
     simulate,
 )
 from nsdyn.models.cylinder.stresses import peak_stresses
-from nsdyn.models.scenefile import SceneError, number, unknown_key
+from nsdyn.models.scenefile import SceneError, check_fields, number
 
 TABLES = {
     "scene": {"kind", "name"},
@@ -59,17 +59,6 @@ TABLES = {
 }
 STAR_QUANTITIES = ("k", "c", "H", "r")  # quantities a star case may scale
 METHODS = ("dopri5",)  # integrators of this family
-
-
-def _check_keys(cfg: dict, source: str) -> None:
-    for table, body in cfg.items():
-        if table not in TABLES:
-            raise unknown_key(source, "", table, TABLES)
-        if not isinstance(body, dict):
-            raise SceneError(f"{source}: [{table}]: expected a table")
-        for key in body:
-            if key not in TABLES[table]:
-                raise unknown_key(source, f"{table}.", key, TABLES[table])
 
 
 def _friction(fd: dict, case: str, source: str) -> float | None:
@@ -108,7 +97,7 @@ def _star(p: CylinderParams, st: dict, source: str) -> CylinderParams:
 
 def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np.ndarray, dict]:
     """(params, dt, ag (n, 3), solver options) from a parsed scene; :class:`SceneError` if bad."""
-    _check_keys(cfg, source)
+    check_fields(cfg, TABLES, source)
     cy = cfg.get("cylinder", {})
     geo = {
         k: number(source, f"cylinder.{k}", cy[k]) for k in ("r", "H", "m", "I_t", "I_a") if k in cy

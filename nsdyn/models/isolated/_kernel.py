@@ -14,6 +14,10 @@ value when frozen), ``tau_j`` the friction force of a stuck isolator (a constrai
 ``ug`` are the excitation channels: ground accelerations, or a force history f with
 ``Gamma[:, 0] = -M^-1 b`` (load ``b f``; :mod:`nsdyn.models.isolated.params` packs either).
 
+An open contact ``k`` (``P[I_OPEN][k] = 1``, unilateral runs in flight) leaves the
+constraint set: ``lam_k = 0`` (its row of ``G`` is the identity), and isolator ``k`` carries
+no friction and cannot stick.
+
 Everything the kernels need is packed in one tuple ``P`` (built by ``params.pack``; layout
 fixed by the ``I_*`` indices below): free functions over arrays, cached, no callbacks.
 
@@ -42,7 +46,8 @@ I_AH = 12  # horizontal ground acceleration samples (N,)
 I_AV = 13  # vertical ground acceleration samples (N,)
 I_MODE = 14  # int64 (ni,) prescribed isolator modes for LAW_MODES (+1/-1 slip, 0 stick)
 I_WORK = 15  # float64 scratch of the kernels, length work_size(n, nc, ni)
-N_P = 16  # entries of P
+I_OPEN = 16  # int64 (nc,) contact state: 1 open (lifted off: row, friction dropped), 0 closed
+N_P = 17  # entries of P
 
 F_EPS, F_ETA, F_ALPHA, F_BETA, F_KAPPA, F_G = 0, 1, 2, 3, 4, 5
 N_FPAR = 6
@@ -85,6 +90,12 @@ def ground_accel(t, P):
         return 0.0, 0.0
     w = s - k
     return (1.0 - w) * a_h[k] + w * a_h[k + 1], (1.0 - w) * a_v[k] + w * a_v[k + 1]
+
+
+@njit(cache=True, inline="always")
+def contact_open(P, k):
+    """True when contact ``k`` exists and is open (in flight): no normal force, no friction."""
+    return k < P[I_OPEN].shape[0] and P[I_OPEN][k] != 0
 
 
 @njit(cache=True)
@@ -202,12 +213,13 @@ def _assemble(t, x, P, s, stuck, a0, Bt, Crow, b):
     for k in range(nc):
         rq = 0.0
         rv = 0.0
+        op = contact_open(P, k)  # open: zero row and column (lam_k = 0 from G[k, k] = 1)
         for c in range(n):
-            Bt[k, c] = MiRt[c, k]
-            Crow[k, c] = R[k, c]
+            Bt[k, c] = 0.0 if op else MiRt[c, k]
+            Crow[k, c] = 0.0 if op else R[k, c]
             rq += R[k, c] * x[c]
             rv += R[k, c] * x[n + c]
-        b[k] = 2.0 * alpha * beta * rv + alpha * alpha * rq
+        b[k] = 0.0 if op else 2.0 * alpha * beta * rv + alpha * alpha * rq
     m = nc
     for i in range(ni):
         if stuck[i] != 0.0:
@@ -255,6 +267,9 @@ def _solve(t, x, P, qdd, ws):
             G[i, j] = g
             G2[i, j] = g
         y[i] = rhs_[i]
+    for k in range(P[I_R].shape[0]):
+        if contact_open(P, k):
+            G[k, k] = G2[k, k] = 1.0
     ok = _lu_small(G2, y, m)
     if not ok:
         # redundant constraints (e.g. two isolators sticking on one rigid base): the split of
@@ -287,6 +302,8 @@ def _directions(x, P, ws):
         s[i] = 0.0
         ds[i] = 0.0
         stuck[i] = 0.0
+        if contact_open(P, i):
+            continue  # in flight: no friction
         if law == LAW_ARCTAN:
             s[i], ds[i] = _direction(vi, law, fp[F_EPS])
         elif law == LAW_MODES:
@@ -415,6 +432,8 @@ def jac(t, x, P, J):
         for i in range(ni):
             s[i] = 0.0
             stuck[i] = 0.0
+            if contact_open(P, i):
+                continue
             if modes[i] == MODE_STICK:
                 stuck[i] = 1.0
             else:
@@ -444,6 +463,9 @@ def jac(t, x, P, J):
             for r in range(n):
                 g += Cr[i, r] * B[j, r]
             G[i, j] = g
+    for k in range(nc):
+        if contact_open(P, k):
+            G[k, k] = 1.0
     # BG = B^T G^-1 (n, m): solve G^T BG^T = B row by row of B^T
     BG = np.empty((n, m))
     Gt = np.empty((m, m))
@@ -476,6 +498,8 @@ def jac(t, x, P, J):
     # b_x: contacts alpha^2 R (q) and 2 alpha beta R (qd); stuck isolators kappa D (qd)
     for k in range(nc):
         for c in range(n):
+            if contact_open(P, k):
+                break
             CJ[k, c] += alpha * alpha * R[k, c]
             CJ[k, n + c] += 2.0 * alpha * beta * R[k, c]
     kk = nc

@@ -19,7 +19,8 @@ the level dofs of a system built from matrices). With q relative to the ground:
       W_in   = -int qd^T M Gamma_e [e_hor, e_ver + g] dt  (excitation and gravity; a
                force b F(t) enters as Gamma_e[:, 0] = -M^-1 b, so W_in = int qd^T b F dt)
       W_visc =  int qd^T C* qd dt,   W_fric = int sum_i tau_i v_i dt,
-      W_con  =  int qd^T R^T lam dt   (Baumgarte drift work, ~0)
+      W_con  =  int qd^T R^T lam dt   (Baumgarte drift work, ~0; plus the kinetic energy
+               change of the landings of a unilateral run, <= 0)
 
   integrated by the trapezoidal rule on the output grid; the closure error is reported
   relative to the input energy.
@@ -33,7 +34,7 @@ import numpy as np
 
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.friction import sticks
-from nsdyn.models.isolated.params import KernelParams
+from nsdyn.models.isolated.params import KernelParams, with_open
 
 
 @dataclass
@@ -149,7 +150,7 @@ def _trapz(y, t):
     return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(t))) if t.size > 1 else 0.0
 
 
-def energy_balance(system, t, X, P, LAM, TAU, G) -> dict:
+def energy_balance(system, t, X, P, LAM, TAU, G, impact_energy: float = 0.0) -> dict:
     """Energy terms of the relative-frame balance (see module docstring)."""
     n = system.n
     q, qd = X[:, :n], X[:, n:]
@@ -165,7 +166,7 @@ def energy_balance(system, t, X, P, LAM, TAU, G) -> dict:
     p_fric = np.sum(TAU * v, axis=1) if TAU.size else np.zeros(t.size)
     p_con = np.sum((qd @ system.R.T) * LAM, axis=1) if LAM.size else np.zeros(t.size)
     W_in, W_visc = _trapz(p_in, t), _trapz(p_visc, t)
-    W_fric, W_con = _trapz(p_fric, t), _trapz(p_con, t)
+    W_fric, W_con = _trapz(p_fric, t), _trapz(p_con, t) + impact_energy
     dE = float(E[-1] - E[0])
     scale = max(abs(W_in), W_visc + abs(W_fric), abs(dE), 1e-300)
     return {
@@ -178,11 +179,13 @@ def energy_balance(system, t, X, P, LAM, TAU, G) -> dict:
     }
 
 
-def response(system, t, X, P) -> Response:
+def response(system, t, X, P, open_contacts=None, impact_energy: float = 0.0) -> Response:
     """Metrics of a history ``X`` (nt, 2n) of ``system`` computed with kernel tuple ``P``.
 
     ``P`` must use a law that decides the friction modes itself (arctan or switch); for an
-    event-driven run pass the switch law.
+    event-driven run pass the switch law. ``open_contacts`` (nt, nc), 1 where a contact is
+    open (a unilateral run in flight: no normal force, no friction there);
+    ``impact_energy`` the kinetic energy change of its landings [J].
     """
     t = np.ascontiguousarray(t, dtype=float)
     X = np.ascontiguousarray(X, dtype=float)
@@ -192,7 +195,16 @@ def response(system, t, X, P) -> Response:
     LAM = np.empty((nt, nc))
     TAU = np.empty((nt, ni))
     MODES = np.empty((nt, ni), dtype=np.int64)
-    ks.evaluate_many(t, X, P, QDD, LAM, TAU, MODES)
+    if open_contacts is None or not np.any(open_contacts):
+        ks.evaluate_many(t, X, P, QDD, LAM, TAU, MODES)
+    else:  # one evaluation per contact pattern, with its own open set
+        pats, which = np.unique(np.asarray(open_contacts, np.int64), axis=0, return_inverse=True)
+        which = np.asarray(which).reshape(-1)
+        for j, pat in enumerate(pats):
+            sel = np.flatnonzero(which == j)
+            out = [np.empty((sel.size, a.shape[1]), a.dtype) for a in (QDD, LAM, TAU, MODES)]
+            ks.evaluate_many(t[sel], np.ascontiguousarray(X[sel]), with_open(P, pat), *out)
+            QDD[sel], LAM[sel], TAU[sel], MODES[sel] = out
     G = ks.ground_many(t, P)
     kpar = KernelParams(P)
     ug_hor = np.zeros((nt, 1)) if kpar.force else G[:, :1]  # ground acceleration (0: force)
@@ -214,7 +226,7 @@ def response(system, t, X, P) -> Response:
     # stick as nsdyn.models.isolated.friction defines it, for every law
     v = X[:, n:] @ system.D.T
     MODES = np.where(sticks(v, kpar.law, kpar.eps, kpar.eta, MODES), 0, MODES)
-    energy = energy_balance(system, t, X, P, LAM, TAU, G)
+    energy = energy_balance(system, t, X, P, LAM, TAU, G, impact_energy)
     return Response(
         t=t,
         x_iso=x_iso,

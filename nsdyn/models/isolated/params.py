@@ -153,6 +153,7 @@ def pack(
         av,
         md,
         np.zeros(ks.work_size(n, nc, ni)),
+        np.zeros(nc, dtype=np.int64),  # every contact closed
     )
 
 
@@ -183,6 +184,16 @@ def with_law(P: tuple, law: str, modes=None) -> tuple:
     return P[: ks.I_IPAR] + (ipar,) + P[ks.I_IPAR + 1 : ks.I_MODE] + (md,) + P[ks.I_MODE + 1 :]
 
 
+def with_open(P: tuple, open_contacts=None) -> tuple:
+    """The same system with its own copy of the contact states (1 open / in flight, 0 closed;
+    default all closed): unilateral runs change them as contacts lift off and land."""
+    nc = P[ks.I_R].shape[0]
+    op = np.zeros(nc, np.int64) if open_contacts is None else np.asarray(open_contacts, np.int64)
+    if op.shape != (nc,) or not np.all(np.isin(op, (0, 1))):
+        raise ValueError(f"open contacts: expected {nc} values in (0, 1), got {open_contacts}")
+    return P[: ks.I_OPEN] + (op.copy(),) + P[ks.I_OPEN + 1 :]
+
+
 _LAW_OF_CODE = {code: name for name, code in LAWS.items()}
 
 
@@ -205,7 +216,7 @@ class KernelParams:
                 "P: expected the kernel parameter tuple of nsdyn.models.isolated.params.pack "
                 f"(length {ks.N_P}), got {type(P).__name__}"
             )
-        ints = (ks.I_IPAR, ks.I_MODE)
+        ints = (ks.I_IPAR, ks.I_MODE, ks.I_OPEN)
         return tuple(
             np.ascontiguousarray(a, dtype=np.int64 if k in ints else float) for k, a in enumerate(P)
         )
@@ -224,6 +235,7 @@ class KernelParams:
     mu = property(lambda self: self.P[ks.I_MU], doc="friction coefficients (ni,)")
     lam_static = property(lambda self: self.P[ks.I_LAM0], doc="static normal forces (ni,)")
     modes = property(lambda self: self.P[ks.I_MODE], doc="prescribed modes (ni,), 0 = stick")
+    open_contacts = property(lambda self: self.P[ks.I_OPEN], doc="contact states (nc,), 1 open")
     force = property(
         lambda self: int(self.P[ks.I_IPAR][ks.K_LOAD]) == ks.LOAD_FORCE,
         doc="True when channel 0 is a force history (load b F), False for a ground motion",

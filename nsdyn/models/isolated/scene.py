@@ -14,6 +14,10 @@ Example (every table and field is optional; missing ones take the defaults below
     mu = 0.03
     law = "arctan"             # arctan | switch | none
     eps = 7500.0
+    contact = "detect"         # bilateral | detect | unilateral: when a normal force would
+                               # turn negative, the isolator holds on (seed 004; flagged),
+                               # the run stops (solver.uplift = "raise") or flags it, or the
+                               # isolator lifts off and lands (methods event / radau)
 
     [motion]
     record = "synthetic-wn-40s"  # bundled record name or path
@@ -48,6 +52,7 @@ from nsdyn.models.isolated.scene_structure import (
     structure_kind,
 )
 from nsdyn.models.isolated.system import (
+    CONTACTS,
     FIDELITIES,
     Isolation,
     build_system,
@@ -91,7 +96,7 @@ _FIELDS = {
 
 _EXTRA_TABLES = ("structure", "force")  # scene_structure's tables
 _ISO_POSITIVE = ("eps", "eta", "alpha", "diaphragm_EA", "diaphragm_EI", "g")  # > 0 (not just >= 0)
-_ISO_TEXT = ("law", "frozen_normal")  # the [isolation] fields that are not numbers
+_ISO_TEXT = ("law", "frozen_normal", "contact")  # the [isolation] fields that are not numbers
 
 
 def _check_isolation(iso, source: str) -> None:
@@ -102,6 +107,10 @@ def _check_isolation(iso, source: str) -> None:
     for key, val in iso.items():
         if key not in fields:
             raise unknown_key(source, "isolation.", key, fields)
+        if key == "contact" and val not in CONTACTS:
+            raise SceneError(
+                f"{source}: isolation.contact: expected one of {list(CONTACTS)}, got {val!r}"
+            )
         if key in _ISO_TEXT:
             continue
         vals = val if isinstance(val, list) else [val]

@@ -38,6 +38,9 @@ from nsdyn.models.isolated.defaults import ALPHA, BETA, C_DAMPER, EPS, ETA, K_LA
 from nsdyn.models.isolated.params import pack
 
 FIDELITIES = ("fixed", "rigid", "cb", "full")
+# what a normal force reaching zero means: the isolators hold the structure down (bilateral,
+# seed 004), the run stops / flags it (detect), or the isolator lifts off and lands (unilateral)
+CONTACTS = ("bilateral", "detect", "unilateral")
 
 
 @dataclass(frozen=True)
@@ -60,6 +63,13 @@ class Isolation:
     diaphragm_EA: float = 1.0e11  # N, axial stiffness x length of the base diaphragm beam
     diaphragm_EI: float = 1.0e11  # N m^2, bending stiffness of the base diaphragm beam
     g: float = G_EARTH
+    contact: str = "detect"  # bilateral | detect | unilateral (CONTACTS: lift-off assumption)
+
+    def __post_init__(self) -> None:
+        if self.contact not in CONTACTS:
+            raise ValueError(
+                f"isolation.contact: expected one of {list(CONTACTS)}, got {self.contact!r}"
+            )
 
     def per_isolator(self, name: str, n: int) -> np.ndarray:
         v = np.atleast_1d(np.asarray(getattr(self, name), dtype=float))
@@ -399,7 +409,13 @@ def isolation_from_config(cfg: dict, source: str = "<config>") -> Isolation:
         )
     out = {}
     for k, v in cfg.items():
-        if k == "law":
+        if k == "contact":
+            if v not in CONTACTS:
+                raise ValueError(
+                    f"{source}: isolation.contact: expected one of {list(CONTACTS)}, got {v!r}"
+                )
+            out[k] = v
+        elif k == "law":
             if v not in ("arctan", "switch", "none"):
                 raise ValueError(
                     f"{source}: isolation.law: expected 'arctan', 'switch' or 'none', got {v!r}"

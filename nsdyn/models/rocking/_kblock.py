@@ -28,7 +28,13 @@ import numpy as np
 from numba import njit
 
 from nsdyn import _kdp5 as dp
-from nsdyn.models.rocking._kground import GK_NONE, ground, next_breakpoint, rest_step
+from nsdyn.models.rocking._kground import (
+    GK_NONE,
+    ground,
+    next_breakpoint,
+    rest_step,
+    step_to_breakpoint,
+)
 
 # ---- parameter vector ``par`` ----------------------------------------------------------------
 P_P2 = 0  # p² [1/s²]
@@ -155,6 +161,8 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
     info[I_TFAIL] = np.nan
     k = np.zeros((7, 2))
     rc = np.zeros((5, 2))
+    y = np.zeros(2)  # (theta, theta') at the start of a step
+    y1 = np.zeros(2)  # a stage's state; after the last stage the step's solution
     t = t0
     th = y0[0]
     thd = y0[1]
@@ -236,87 +244,23 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
             continue
 
         # ---- one Dormand-Prince step on side s ------------------------------------------------
-        tbp = next_breakpoint(t, gk, gp, n_tab)
-        hh = min(h, hmax)
-        h_before = hh
-        at_bp = False
-        if t + hh >= tbp:
-            hh = tbp - t
-            at_bp = True
-        if t + hh >= t_end:
-            hh = t_end - t
-            at_bp = True
+        h_before = min(h, hmax)
+        hh, at_bp = step_to_breakpoint(t, h_before, t_end, gk, gp, n_tab)
+        y[0] = th
+        y[1] = thd
         if not fsal:
             k[0, 0] = thd
             k[0, 1] = accel(t, False, th, s, par, gk, gp, tab_h, tab_v)
             n_rhs += 1
-        y20 = th + hh * dp.A21 * k[0, 0]
-        y21 = thd + hh * dp.A21 * k[0, 1]
-        k[1, 0] = y21
-        k[1, 1] = accel(t + dp.C2 * hh, False, y20, s, par, gk, gp, tab_h, tab_v)
-        y30 = th + hh * (dp.A31 * k[0, 0] + dp.A32 * k[1, 0])
-        y31 = thd + hh * (dp.A31 * k[0, 1] + dp.A32 * k[1, 1])
-        k[2, 0] = y31
-        k[2, 1] = accel(t + dp.C3 * hh, False, y30, s, par, gk, gp, tab_h, tab_v)
-        y40 = th + hh * (dp.A41 * k[0, 0] + dp.A42 * k[1, 0] + dp.A43 * k[2, 0])
-        y41 = thd + hh * (dp.A41 * k[0, 1] + dp.A42 * k[1, 1] + dp.A43 * k[2, 1])
-        k[3, 0] = y41
-        k[3, 1] = accel(t + dp.C4 * hh, False, y40, s, par, gk, gp, tab_h, tab_v)
-        y50 = th + hh * (dp.A51 * k[0, 0] + dp.A52 * k[1, 0] + dp.A53 * k[2, 0] + dp.A54 * k[3, 0])
-        y51 = thd + hh * (dp.A51 * k[0, 1] + dp.A52 * k[1, 1] + dp.A53 * k[2, 1] + dp.A54 * k[3, 1])
-        k[4, 0] = y51
-        k[4, 1] = accel(t + dp.C5 * hh, False, y50, s, par, gk, gp, tab_h, tab_v)
-        y60 = th + hh * (
-            dp.A61 * k[0, 0]
-            + dp.A62 * k[1, 0]
-            + dp.A63 * k[2, 0]
-            + dp.A64 * k[3, 0]
-            + dp.A65 * k[4, 0]
-        )
-        y61 = thd + hh * (
-            dp.A61 * k[0, 1]
-            + dp.A62 * k[1, 1]
-            + dp.A63 * k[2, 1]
-            + dp.A64 * k[3, 1]
-            + dp.A65 * k[4, 1]
-        )
-        k[5, 0] = y61
-        k[5, 1] = accel(t + hh, at_bp, y60, s, par, gk, gp, tab_h, tab_v)
-        y10 = th + hh * (
-            dp.A71 * k[0, 0]
-            + dp.A73 * k[2, 0]
-            + dp.A74 * k[3, 0]
-            + dp.A75 * k[4, 0]
-            + dp.A76 * k[5, 0]
-        )
-        y11 = thd + hh * (
-            dp.A71 * k[0, 1]
-            + dp.A73 * k[2, 1]
-            + dp.A74 * k[3, 1]
-            + dp.A75 * k[4, 1]
-            + dp.A76 * k[5, 1]
-        )
-        k[6, 0] = y11
-        k[6, 1] = accel(t + hh, at_bp, y10, s, par, gk, gp, tab_h, tab_v)
+        for j in range(1, 7):  # the last stage is evaluated at the solution y1
+            dp.stage(y, k, hh, j, y1)
+            k[j, 0] = y1[1]
+            k[j, 1] = accel(t + dp.C[j] * hh, at_bp and j >= 5, y1[0], s, par, gk, gp, tab_h, tab_v)
         n_rhs += 6
         err = 0.0
         for i in range(2):
-            ei = (
-                hh
-                * (
-                    dp.E1 * k[0, i]
-                    + dp.E3 * k[2, i]
-                    + dp.E4 * k[3, i]
-                    + dp.E5 * k[4, i]
-                    + dp.E6 * k[5, i]
-                )
-                + hh * dp.E7 * k[6, i]
-            )
-            if i == 0:
-                sci = tol * (sc0 + max(abs(th), abs(y10)))
-            else:
-                sci = tol * (sc1 + max(abs(thd), abs(y11)))
-            err += (ei / sci) ** 2
+            sci = tol * ((sc0 if i == 0 else sc1) + max(abs(y[i]), abs(y1[i])))
+            err += (dp.error(k, hh, i) / sci) ** 2
         err = math.sqrt(0.5 * err)
         if not math.isfinite(err):
             if hh <= H_MIN * (1.0 + abs(t)):
@@ -337,25 +281,7 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
                 break
             continue
         n_step += 1
-        # dense output coefficients
-        for i in range(2):
-            y0i = th if i == 0 else thd
-            y1i = y10 if i == 0 else y11
-            rc[0, i] = y0i
-            rc[1, i] = y1i - y0i
-            rc[2, i] = hh * k[0, i] - rc[1, i]
-            rc[3, i] = rc[1, i] - hh * k[6, i] - rc[2, i]
-            rc[4, i] = (
-                hh
-                * (
-                    dp.D1 * k[0, i]
-                    + dp.D3 * k[2, i]
-                    + dp.D4 * k[3, i]
-                    + dp.D5 * k[4, i]
-                    + dp.D6 * k[5, i]
-                )
-                + hh * dp.D7 * k[6, i]
-            )
+        dp.dense_coefficients(y, y1, k, hh, rc)
 
         # ---- events: impact (s theta -> 0) or overturning (s theta -> theta_fall) -------------
         event = 0
@@ -456,8 +382,8 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
                 h = min(h, abs(thd) / dec)  # half the estimated flight time 2|theta'|/dec
             continue
         t = t + hh
-        th = y10
-        thd = y11
+        th = y1[0]
+        thd = y1[1]
         if at_bp:
             fsal = False
         else:

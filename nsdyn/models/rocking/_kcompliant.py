@@ -25,7 +25,7 @@ import numpy as np
 from numba import njit
 
 from nsdyn import _kdp5 as dp
-from nsdyn.models.rocking._kground import ground, next_breakpoint
+from nsdyn.models.rocking._kground import ground, step_to_breakpoint
 
 Q_M = 0  # mass [kg]
 Q_I = 1  # moment of inertia about the centre of gravity [kg m²]
@@ -98,8 +98,7 @@ def integrate(q, atol, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, info):
     n = 8
     k = np.zeros((7, n))
     y = y0.copy()
-    yt = np.zeros(n)
-    y1 = np.zeros(n)
+    y1 = np.zeros(n)  # a stage's state; after the last stage the step's solution
     rc = np.zeros((5, n))
     tol = q[Q_TOL]
     hmax = q[Q_HMAX]
@@ -117,57 +116,16 @@ def integrate(q, atol, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, info):
         out[k_out, :] = y
         k_out += 1
     while t < t_end * (1.0 - 1e-15):
-        tbp = next_breakpoint(t, gk, gp, n_tab)
-        hh = min(h, hmax)
-        at_bp = False
-        if t + hh >= tbp:
-            hh = tbp - t
-            at_bp = True
-        if t + hh >= t_end:
-            hh = t_end - t
-            at_bp = True
+        hh, at_bp = step_to_breakpoint(t, min(h, hmax), t_end, gk, gp, n_tab)
         if not fsal:
             rhs(t, False, y, q, gk, gp, tab_h, tab_v, k[0])
-        for i in range(n):
-            yt[i] = y[i] + hh * dp.A21 * k[0, i]
-        rhs(t + dp.C2 * hh, False, yt, q, gk, gp, tab_h, tab_v, k[1])
-        for i in range(n):
-            yt[i] = y[i] + hh * (dp.A31 * k[0, i] + dp.A32 * k[1, i])
-        rhs(t + dp.C3 * hh, False, yt, q, gk, gp, tab_h, tab_v, k[2])
-        for i in range(n):
-            yt[i] = y[i] + hh * (dp.A41 * k[0, i] + dp.A42 * k[1, i] + dp.A43 * k[2, i])
-        rhs(t + dp.C4 * hh, False, yt, q, gk, gp, tab_h, tab_v, k[3])
-        for i in range(n):
-            yt[i] = y[i] + hh * (
-                dp.A51 * k[0, i] + dp.A52 * k[1, i] + dp.A53 * k[2, i] + dp.A54 * k[3, i]
-            )
-        rhs(t + dp.C5 * hh, False, yt, q, gk, gp, tab_h, tab_v, k[4])
-        for i in range(n):
-            yt[i] = y[i] + hh * (
-                dp.A61 * k[0, i]
-                + dp.A62 * k[1, i]
-                + dp.A63 * k[2, i]
-                + dp.A64 * k[3, i]
-                + dp.A65 * k[4, i]
-            )
-        rhs(t + hh, at_bp, yt, q, gk, gp, tab_h, tab_v, k[5])
-        for i in range(n):
-            y1[i] = y[i] + hh * (
-                dp.A71 * k[0, i]
-                + dp.A73 * k[2, i]
-                + dp.A74 * k[3, i]
-                + dp.A75 * k[4, i]
-                + dp.A76 * k[5, i]
-            )
-        rhs(t + hh, at_bp, y1, q, gk, gp, tab_h, tab_v, k[6])
+        for j in range(1, 7):  # the last stage is evaluated at the solution y1
+            dp.stage(y, k, hh, j, y1)
+            rhs(t + dp.C[j] * hh, at_bp and j >= 5, y1, q, gk, gp, tab_h, tab_v, k[j])
         err = 0.0
         for i in range(n):
-            ei = hh * (
-                dp.E1 * k[0, i] + dp.E3 * k[2, i] + dp.E4 * k[3, i]
-                + dp.E5 * k[4, i] + dp.E6 * k[5, i] + dp.E7 * k[6, i]
-            )  # fmt: skip
             sci = atol[i] + tol * max(abs(y[i]), abs(y1[i]))
-            err += (ei / sci) ** 2
+            err += (dp.error(k, hh, i) / sci) ** 2
         err = math.sqrt(err / n)
         if not math.isfinite(err) or err > 1.0:
             h = dp.new_step(hh, err) if math.isfinite(err) else 0.2 * hh
@@ -180,17 +138,12 @@ def integrate(q, atol, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, info):
             continue
         n_step += 1
         if k_out < n_out and t0 + k_out * out_dt <= t + hh:
-            for i in range(n):
-                rc[0, i] = y[i]
-                rc[1, i] = y1[i] - y[i]
-                rc[2, i] = hh * k[0, i] - rc[1, i]
-                rc[3, i] = rc[1, i] - hh * k[6, i] - rc[2, i]
-                rc[4, i] = 0.0
+            dp.dense_coefficients(y, y1, k, hh, rc)
+            rc[4, :] = 0.0  # cubic Hermite output
             while k_out < n_out and t0 + k_out * out_dt <= t + hh:
                 s = (t0 + k_out * out_dt - t) / hh
-                s1 = 1.0 - s
                 for i in range(n):
-                    out[k_out, i] = rc[0, i] + s * (rc[1, i] + s1 * (rc[2, i] + s * rc[3, i]))
+                    out[k_out, i] = dp.dense(rc, i, s)
                 k_out += 1
         t += hh
         for i in range(n):

@@ -99,6 +99,21 @@ def next_breakpoint(t, gk, gp, n_tab):
 
 
 @njit(cache=True)
+def step_to_breakpoint(t, h, t_end, gk, gp, n_tab):
+    """(step, ends there): the step ``h`` from ``t``, shortened to end on the next breakpoint
+    or on ``t_end`` if it would pass one."""
+    at_bp = False
+    tbp = next_breakpoint(t, gk, gp, n_tab)
+    if t + h >= tbp:
+        h = tbp - t
+        at_bp = True
+    if t + h >= t_end:
+        h = t_end - t
+        at_bp = True
+    return h, at_bp
+
+
+@njit(cache=True)
 def rest_step(t, gk, gp, n_tab):
     """Step of the uplift scan while the block is at rest (table dt, or T_p / 64)."""
     if gk == GK_TABLE:

@@ -68,11 +68,11 @@ class RockingFrame:
 
     @property
     def alpha(self) -> float:
-        return math.atan2(self.B, self.H)
+        return self.column.alpha
 
     @property
     def R(self) -> float:
-        return math.hypot(self.B, self.H)
+        return self.column.R
 
     @property
     def p(self) -> float:

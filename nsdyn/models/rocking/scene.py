@@ -46,7 +46,7 @@ import numpy as np
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import G_EARTH, read_motion
 from nsdyn.ground.pulses import SHAPES, Pulse
-from nsdyn.models.scenefile import SceneError, number, unknown_key
+from nsdyn.models.scenefile import SceneError, check_fields, number
 
 MODELS = ("block", "frame", "compliant")  # [scene] model
 _FIELDS = {
@@ -73,24 +73,13 @@ T_END = 10.0  # default duration without a record [s]
 METHODS = ("dopri5",)  # the rocking integrator (event-located Dormand-Prince 5(4))
 
 
-def _check(cfg: dict, source: str) -> None:
-    for table, vals in cfg.items():
-        if table not in _FIELDS:
-            raise unknown_key(source, "", table, _FIELDS)
-        if not isinstance(vals, dict):
-            raise SceneError(f"{source}: {table}: expected a table")
-        for key in vals:
-            if key not in _FIELDS[table]:
-                raise unknown_key(source, f"{table}.", key, _FIELDS[table])
-
-
 def build_model(cfg: dict, source: str):
     """The block, frame or compliant block of a parsed scene."""
     from nsdyn.models.rocking.block import RockingBlock
     from nsdyn.models.rocking.compliant import CompliantBlock
     from nsdyn.models.rocking.frame import RockingFrame
 
-    _check(cfg, source)
+    check_fields(cfg, _FIELDS, source)
     model = cfg.get("scene", {}).get("model", "block")
     if model not in MODELS:
         raise SceneError(f"{source}: scene.model: expected one of {list(MODELS)}, got {model!r}")

@@ -1,0 +1,127 @@
+"""Landing of an isolator contact: Newton's impact law through the generalised mass matrix.
+
+At the touchdown of contact ``k`` the velocities jump by an impulse on the contact rows ``S``
+that are closed after the impact (frictionless in the normal direction)::
+
+    qd+ = qd- + M^-1 R_S^T Lam,    R_j qd+ = -e_j R_j qd-   (landing j; 0 for the others)
+
+with ``e_j = e`` (0 by default: a plastic landing) and ``e_j = 0`` for landings slower than
+``V_REST``. The set is active: a closed contact whose impulse would pull (``Lam_j < 0``) opens.
+The kinetic energy change ``dT = Lam . R_S (qd- + qd+) / 2 <= 0`` (0 <= e <= 1) is accumulated,
+and every event is appended to the contact log (columns ``t, contact, kind, v-, impulse``).
+"""
+
+import numpy as np
+from numba import njit
+
+from nsdyn._klinalg import lu_factor, lu_solve
+from nsdyn.models.isolated import _kernel as ks
+from nsdyn.solve import _kevent as ke
+
+KIND_LIFT = 2  # event kinds beside _kevent's 0 (slip -> stick/reversal) and 1 (stick -> slip)
+KIND_LAND = 3
+V_REST = 1e-3  # m/s, landings slower than this are plastic whatever e (ends Zeno bouncing)
+V_SEP = 1e-6  # m/s, a landed contact separating faster than this rebounds (opens)
+G_REST = 1e-6  # m, at such a landing open contacts this close to the ground land with it
+CLOG_COLS = 5  # contact log columns: t, contact, kind, normal velocity before, impulse
+
+
+@njit(cache=True)
+def _log(clog, cnt, t, k, kind, v, imp):
+    """Append a contact event; False when the log is full."""
+    i = cnt[0]
+    if i >= clog.shape[0]:
+        return False
+    clog[i, 0], clog[i, 1], clog[i, 2], clog[i, 3], clog[i, 4] = t, k, kind, v, imp
+    cnt[0] += 1
+    return True
+
+
+@njit(cache=True)
+def _land(t, y, P, k, e_rest, g_tol, clog, cnt, dT):
+    """Impact at the touchdown of contact k: velocities of ``y`` jump, contacts close or open.
+
+    A small linear complementarity problem solved by active sets over the contacts at the
+    ground (closed ones, k, open ones with g <= g_tol): an active contact whose impulse
+    would pull opens, an inactive one the impulse drives into the ground joins. A landing
+    slower than V_REST is a rest landing: open contacts with g <= G_REST join and every
+    contact at the ground ends with v+ = 0 (this ends Zeno bouncing and rocking).
+    ``dT[0]`` += the kinetic energy change. False when the log is full or the system singular.
+    """
+    R, MiRt = P[ks.I_R], P[ks.I_MIRT]
+    opn = P[ks.I_OPEN]
+    nc, n = R.shape[0], R.shape[1]
+    vm = np.empty(nc)
+    was = opn.copy()
+    cand = np.zeros(nc, dtype=np.bool_)
+    for j in range(nc):
+        vm[j] = ke._dot_row(R, j, y, n)
+    # a landing slower than V_REST ends the motion normal to the ground (Zeno bouncing or
+    # rocking, the pivot included): every contact at the ground keeps v+ = 0, even one whose
+    # impulse pulls (a tensile impulse of at most ~ V_REST x the effective mass)
+    rest = abs(vm[k]) <= V_REST
+    g_near = G_REST if rest else g_tol
+    for j in range(nc):
+        cand[j] = opn[j] == 0 or j == k or ke._dot_row(R, j, y, 0) <= g_near
+    opn[k] = 0
+    lamI = np.zeros(nc)
+    vp = vm.copy()
+    for _ in range(2 * nc + 2):
+        idx = np.flatnonzero(opn == 0)
+        m = idx.shape[0]
+        A = np.empty((m, m))
+        rhs = np.empty(m)
+        for a in range(m):
+            ja = idx[a]
+            e = e_rest if abs(vm[ja]) > V_REST else 0.0
+            rhs[a] = -vm[ja] - e * min(vm[ja], 0.0)
+            for b in range(m):
+                acc = 0.0
+                for c in range(n):
+                    acc += R[ja, c] * MiRt[c, idx[b]]
+                A[a, b] = acc
+        piv = np.empty(m, dtype=np.int64)
+        if m and not lu_factor(A, piv, 1e-13):
+            return False
+        if m:
+            lu_solve(A, piv, rhs)
+        lamI[:] = 0.0
+        worst, wv = -1, 0.0
+        for a in range(m):
+            lamI[idx[a]] = rhs[a]
+            if rhs[a] < wv:
+                worst, wv = idx[a], rhs[a]
+        if worst >= 0 and not rest:
+            opn[worst] = 1  # pulling: this contact leaves the ground at the impact
+            continue
+        for j in range(nc):  # normal velocities after the impulse
+            vp[j] = vm[j]
+            for i in range(nc):
+                if lamI[i] != 0.0:
+                    for c in range(n):
+                        vp[j] += R[j, c] * MiRt[c, i] * lamI[i]
+        worst, wv = -1, -g_tol * 1e-3  # penetration speeds below this are round-off
+        for j in range(nc):
+            if cand[j] and opn[j] != 0 and vp[j] < wv:
+                worst, wv = j, vp[j]
+        if worst < 0:
+            break
+        opn[worst] = 0  # driven into the ground: joins
+    for j in range(nc):
+        if lamI[j] != 0.0:
+            for c in range(n):
+                y[n + c] += MiRt[c, j] * lamI[j]
+    for j in range(nc):
+        vpj = ke._dot_row(R, j, y, n)
+        dT[0] += 0.5 * lamI[j] * (vm[j] + vpj)
+        landed = was[j] != 0 and (opn[j] == 0 or lamI[j] != 0.0)
+        if opn[j] == 0 and vpj > V_SEP:
+            opn[j] = 1  # rebounds (e > 0): leaves the ground at once
+        ok = True
+        if landed:
+            ok = _log(clog, cnt, t, j, KIND_LAND, vm[j], lamI[j])
+        if ok and opn[j] != 0 and (was[j] == 0 or landed):
+            ok = _log(clog, cnt, t, j, KIND_LIFT, vpj, 0.0)
+        if not ok:
+            return False
+    return True

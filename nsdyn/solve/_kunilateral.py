@@ -1,0 +1,479 @@
+"""Unilateral isolator contact: lift-off, flight and landing on the event-driven Radau stepper.
+
+Each contact ``k`` of the isolated frame (gap ``g_k = R_k q >= 0``, normal force ``lam_k >= 0``)
+is either closed (its row in the constraint set, ``lam_k`` a multiplier) or open (in flight,
+``P[I_OPEN][k] = 1``: ``lam_k = 0``, no friction at isolator ``k``, the gap tracked). The
+switching functions are located on the Radau dense output like the stick/slip events of
+:mod:`nsdyn.solve._kevent` (scan at a few points of each step, Illinois, redo the step to land
+on the root)::
+
+    closed k:  lam_k(t)           lift-off  when it crosses zero downwards
+    open k:    g_k(t) = R_k q(t)  touchdown when it crosses zero downwards
+
+Landing: Newton's impact law through the generalised mass matrix on the contact rows ``S``
+that are closed after the impact (frictionless in the normal direction)::
+
+    qd+ = qd- + M^-1 R_S^T Lam,    R_j qd+ = -e_j R_j qd-   (landing j; 0 for the others)
+
+with ``e_j = e`` (``e = 0`` by default: a plastic landing on the bearing) and ``e_j = 0`` when
+``|R_j qd-| <= V_REST`` (bounces too small to resolve end at rest: no Zeno accumulation). The
+set is active: a closed contact whose impulse would pull (``Lam_j < 0``) opens. The kinetic
+energy change of the impulse, ``dT = Lam . R_S (qd- + qd+) / 2 <= 0`` for ``0 <= e <= 1``, is
+logged. After every contact event the contact set is settled (a closed contact with
+``lam < 0`` opens, the most negative first), then the friction modes (:func:`_kevent._settle`,
+LAW_MODES only; other laws decide them in the right-hand side), and the stepper restarts.
+"""
+
+import numpy as np
+from numba import njit
+
+from nsdyn.models.isolated import _kernel as ks
+from nsdyn.solve import _kcommon as ki
+from nsdyn.solve import _kevent as ke
+from nsdyn.solve import _kradau as kr
+from nsdyn.solve._kimpact import (  # noqa: F401  (CLOG_COLS: the log layout, for the front door)
+    CLOG_COLS,
+    KIND_LAND,
+    KIND_LIFT,
+    V_REST,
+    _land,
+    _log,
+)
+
+SAMPLES = 8  # dense-output samples per step scanned for a contact sign change
+LAM_RTOL = 1e-9  # normal forces above -LAM_RTOL x the static ones count as zero (no lift-off)
+GAP_ATOL = 1.0  # gaps within this x atol (displacements) count as zero (touchdown noise)
+
+
+@njit(cache=True)
+def _lam_scale(P):
+    s = 1.0
+    for v in P[ks.I_LAM0]:
+        s = max(s, abs(v))
+    return LAM_RTOL * s
+
+
+@njit(cache=True)
+def _gap_dense(k, x, y, Qd, P):
+    """g_k = R_k q on the dense output at t + x h (cubic in x)."""
+    R = P[ks.I_R]
+    g = 0.0
+    for j in range(R.shape[1]):
+        g += R[k, j] * (y[j] + x * (Qd[j, 0] + x * (Qd[j, 1] + x * Qd[j, 2])))
+    return g
+
+
+@njit(cache=True)
+def _g(kind, k, x, y, Qd, t, h, P, ew, stats):
+    """Switching function of contact k at t + x h: lam_k (closed) or g_k (open)."""
+    if kind == KIND_LAND:
+        return _gap_dense(k, x, y, Qd, P)
+    ys, fs, qdd, lam, tau, modes = ew
+    kr.dense(y, Qd, x, ys)
+    ki.feval(t + x * h, ys, P, fs, qdd, lam, tau, modes)
+    stats[ki.S_NFEV] += 1
+    return lam[k]
+
+
+@njit(cache=True)
+def _root(kind, k, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
+    """Illinois on x in [a, b] for fa > 0 >= fb; returns x with g(x) <= 0."""
+    xtol = ke.EVENT_TTOL / h
+    side = 0
+    for _ in range(ke.ROOT_MAXITER):
+        if b - a <= xtol:
+            break
+        c = (a * fb - b * fa) / (fb - fa)
+        if not (a < c < b):
+            c = 0.5 * (a + b)
+        fc = _g(kind, k, c, y, Qd, t, h, P, ew, stats)
+        if fc > 0.0:
+            a, fa = c, fc
+            if side == 1:
+                fb *= 0.5
+            side = 1
+        elif fc < 0.0:
+            b, fb = c, fc
+            if side == -1:
+                fa *= 0.5
+            side = -1
+        else:
+            return c
+    return b
+
+
+@njit(cache=True)
+def _detect(t, h, y, Qd, P, ew, g_tol, x_max, stats):
+    """Earliest contact event in the step before ``x_max``: (x, contact, kind), contact -1
+    when none. Leaves lam, tau at the step end."""
+    nc = P[ks.I_R].shape[0]
+    opn = P[ks.I_OPEN]
+    lam_tol = _lam_scale(P)
+    x_best, k_best, kind_best = 2.0, -1, 0
+    any_closed = False
+    for k in range(nc):
+        if opn[k] == 0:
+            any_closed = True
+            continue
+        xa, ga = 0.0, _gap_dense(k, 0.0, y, Qd, P)
+        for s in range(1, SAMPLES + 1):
+            xb = s / SAMPLES
+            if xb >= x_best:
+                break
+            gb = _gap_dense(k, xb, y, Qd, P)
+            # a crossing from above, or sinking below the noise band (not a contact that
+            # opened a hair below zero and rises)
+            if gb <= 0.0 and (ga > g_tol or (gb < -g_tol and gb < ga)):
+                xr = (
+                    xa
+                    if ga <= 0.0
+                    else _root(KIND_LAND, k, xa, xb, ga, gb, y, Qd, t, h, P, ew, stats)
+                )
+                if xr < x_best:
+                    x_best, k_best, kind_best = xr, k, KIND_LAND
+                break
+            xa, ga = xb, gb
+    if any_closed:
+        ys, fs, qdd, lam, tau, modes = ew
+        la = np.empty(nc)
+        ki.feval(t, y, P, fs, qdd, lam, tau, modes)
+        stats[ki.S_NFEV] += 1
+        la[:] = lam
+        xa = 0.0
+        for s in range(1, SAMPLES // 2 + 1):
+            xb = s / (SAMPLES // 2)
+            if xb >= x_best:
+                break
+            kr.dense(y, Qd, xb, ys)
+            ki.feval(t + xb * h, ys, P, fs, qdd, lam, tau, modes)
+            stats[ki.S_NFEV] += 1
+            lb = lam.copy()
+            for k in range(nc):
+                if opn[k] == 0 and lb[k] < 0.0 and (la[k] > lam_tol or lb[k] < -lam_tol):
+                    xr = xa
+                    if la[k] > 0.0:
+                        xr = _root(KIND_LIFT, k, xa, xb, la[k], lb[k], y, Qd, t, h, P, ew, stats)
+                    if xr < x_best:
+                        x_best, k_best, kind_best = xr, k, KIND_LIFT
+            if k_best >= 0 and kind_best == KIND_LIFT:
+                break
+            la[:] = lb
+            xa = xb
+        kr.dense(y, Qd, 1.0, ys)
+        ki.feval(t + h, ys, P, fs, qdd, lam, tau, modes)
+        stats[ki.S_NFEV] += 1
+    return x_best, k_best, kind_best
+
+
+@njit(cache=True)
+def _settle_contacts(t, y, P, f, ew, clog, cnt, stats):
+    """Open the closed contacts whose normal force is negative at (t, y), the most negative
+    first, re-evaluating after each. Returns (ok, changed)."""
+    qdd, lam, tau, modes = ew[2:]
+    opn = P[ks.I_OPEN]
+    nc = opn.shape[0]
+    n = y.shape[0] // 2
+    lam_tol = _lam_scale(P)
+    changed = False
+    for _ in range(nc + 1):
+        ki.feval(t, y, P, f, qdd, lam, tau, modes)
+        stats[ki.S_NFEV] += 1
+        worst, wv = -1, -lam_tol
+        for k in range(nc):
+            if opn[k] == 0 and lam[k] < wv:
+                worst, wv = k, lam[k]
+        if worst < 0:
+            break
+        opn[worst] = 1
+        changed = True
+        if not _log(clog, cnt, t, worst, KIND_LIFT, ke._dot_row(P[ks.I_R], worst, y, n), 0.0):
+            return False, changed
+    return True, changed
+
+
+@njit(cache=True)
+def _event_at(
+    t,
+    y,
+    P,
+    f,
+    ws,
+    ew,
+    kind,
+    idx,
+    friction,
+    v_tol,
+    g_tol,
+    e_rest,
+    log,
+    clog,
+    cnt,
+    dT,
+    ctl,
+    h_resume,
+    max_step,
+    burst,
+    stats,
+):
+    """Handle an event (friction kinds 0/1, KIND_LIFT, KIND_LAND) at (t, y) and restart the
+    stepper there. Returns False (status set) on a full log, chattering or a singular impact."""
+    opn = P[ks.I_OPEN]
+    pm = P[ks.I_MODE]
+    D = P[ks.I_D]
+    n = y.shape[0] // 2
+    ok = True
+    if kind == KIND_LIFT:
+        opn[idx] = 1
+        ok = _log(clog, cnt, t, idx, KIND_LIFT, ke._dot_row(P[ks.I_R], idx, y, n), 0.0)
+    elif kind == KIND_LAND:
+        was = opn.copy()
+        ok = _land(t, y, P, idx, e_rest, g_tol, clog, cnt, dT)
+        if friction:  # landed isolators: slip along their velocity, else the stick test
+            for i in range(D.shape[0]):
+                if i < opn.shape[0] and was[i] != 0 and opn[i] == 0:
+                    v = ke._dot_row(D, i, y, n)
+                    pm[i] = (1 if v > 0.0 else -1) if abs(v) > v_tol else ke.MODE_AUTO
+    if ok:
+        for _ in range(ke.SETTLE_PASSES):
+            ok, changed = _settle_contacts(t, y, P, f, ew, clog, cnt, stats)
+            if ok and friction:
+                trig = idx if kind < KIND_LIFT else -1
+                ok = ke._settle(t, y, P, f, ew, trig, v_tol, log, stats)
+                kind = KIND_LIFT  # the trigger is settled once
+            if not ok or not changed:
+                break
+    if not ok:  # a full log, or a singular impact system
+        stats[ki.S_STATUS] = ki.ST_EVENTS if cnt[0] >= clog.shape[0] else ki.ST_SINGULAR
+        return False
+    ki.feval(t, y, P, f, ew[2], ew[3], ew[4], ew[5])
+    ki.jeval(t, y, P, ws[0])
+    stats[ki.S_NFEV] += 1
+    stats[ki.S_NJEV] += 1
+    kr.restart(ctl)
+    ctl[kr.C_CURJ] = 1.0
+    ctl[kr.C_H] = min(h_resume, max_step)
+    if t - burst[0] <= ke.BURST_DT:
+        burst[1] += 1.0
+    else:
+        burst[1] = 0.0
+    burst[0] = t
+    if burst[1] >= ke.MAX_BURST:
+        stats[ki.S_STATUS] = ki.ST_EVENTS
+        return False
+    return True
+
+
+@njit(cache=True)
+def event_unilateral(
+    P,
+    x0,
+    t_eval,
+    atol,
+    rtol,
+    h0,
+    max_step,
+    max_steps,
+    modes0,
+    friction,
+    e_rest,
+    X,
+    upl_t,
+    OPEN_OUT,
+    log,
+    clog,
+    cnt,
+    dT,
+):
+    """Integration with unilateral contacts; outputs as :func:`nsdyn.solve._kradau.radau`.
+
+    ``P[I_OPEN]`` (the initial contact states, changed in place) and, with ``friction`` (law
+    LAW_MODES), ``P[I_MODE]`` are live. ``modes0`` as :func:`_kevent.event_switch`. Contact
+    states at the outputs go to ``OPEN_OUT`` (nt, nc); friction events to ``log``; contact
+    events to ``clog`` (rows t, contact, kind, R qd before, impulse; count ``cnt[0]``);
+    ``dT[0]`` sums the kinetic energy change of the landings.
+    """
+    n2 = x0.shape[0]
+    n = n2 // 2
+    nt = t_eval.shape[0]
+    D = P[ks.I_D]
+    pm = P[ks.I_MODE]
+    opn = P[ks.I_OPEN]
+    stats, rinfo, ws, y, f, lam_old = kr.setup(P, x0, t_eval, upl_t.shape[0])
+    ynew, fnew, Qd, lam = ws[15], ws[16], ws[17], ws[19]
+    ew = (ws[12], np.empty(n2), ws[18], lam, ws[20], ws[21])
+    v_tol = ke.V_SLIP_ATOL * np.max(atol[n:])
+    g_tol = GAP_ATOL * np.max(atol[:n])
+    t = t_eval[0]
+    t_end = t_eval[-1]
+    if not ki.all_finite(y):
+        stats[ki.S_STATUS] = ki.ST_NONFINITE
+        return stats, rinfo
+    ok, _ = _settle_contacts(t, y, P, f, ew, clog, cnt, stats)
+    if ok and friction:
+        ke._initial_modes(P, y, modes0)
+        auto = False
+        for i in range(D.shape[0]):
+            if pm[i] == ke.MODE_AUTO:
+                auto = True
+        if auto:
+            ok = ke._settle(t, y, P, f, ew, -1, ke.V_AUTO, log, stats)
+        stats[ki.S_NEVENT] = 0  # the initial mode choice is not an event
+    if not ok:
+        stats[ki.S_STATUS] = ki.ST_EVENTS
+        return stats, rinfo
+    iout, ctl = kr.start(
+        P,
+        y,
+        f,
+        t_eval,
+        h0,
+        max_step,
+        atol,
+        rtol,
+        lam_old,
+        X,
+        upl_t,
+        ki.UPLIFT_WARN,
+        ws,
+        stats,
+        rinfo,
+    )
+    for k in range(max(iout, 0)):
+        OPEN_OUT[k] = opn
+    if iout < 0 or iout >= nt:
+        return stats, rinfo
+    t_target = np.inf
+    ev_idx = -1
+    ev_kind = 0
+    polish = 0
+    h_resume = ctl[kr.C_H]
+    burst = np.array([-np.inf, 0.0])
+    while iout < nt:
+        t_lim = min(t_end, t_target, ki.next_kink(t, P))
+        st = kr.radau_step(
+            P, t, y, f, t_lim, False, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo
+        )
+        if st != ki.ST_SUCCESS:
+            stats[ki.S_STATUS] = st
+            rinfo[ki.R_T] = t
+            break
+        t_new = ctl[kr.C_TNEW]
+        h = ctl[kr.C_HSTEP]
+        switch = False
+        redo = False
+        if t_new == t_target:
+            # landed on a located event: polish a slip -> stick landing (as _kevent), switch
+            if ev_kind == 0 and polish < ke.POLISH_MAX:
+                sg = float(pm[ev_idx])
+                g = sg * ke._dot_row(D, ev_idx, ynew, n)
+                gd = sg * ke._dot_row(D, ev_idx, fnew, n)
+                dt = -g / gd if gd < 0.0 else 0.0
+                if dt > ke.EVENT_TTOL and dt >= ki.step_floor(t_new):
+                    t_target = t_new + dt
+                    polish += 1
+                elif dt < -ke.EVENT_TTOL and dt > -h:
+                    redo = True
+                    t_target = t_new + dt
+                    polish += 1
+                else:
+                    switch = True
+            else:
+                switch = True
+        else:
+            x_best, i_best, k_best = 2.0, -1, 0
+            if friction:
+                x_best, i_best, k_best = ke._detect(t, h, y, ynew, Qd, P, ew, stats)
+            xc, kc, kindc = _detect(t, h, y, Qd, P, ew, g_tol, min(x_best, 1.0 + 1e-15), stats)
+            if kc >= 0 and xc <= x_best:
+                x_best, i_best, k_best = xc, kc, kindc
+            if i_best >= 0:
+                ev_idx = i_best
+                ev_kind = k_best
+                polish = 0
+                if ctl[kr.C_H] > 0.0 and not np.isfinite(t_target):
+                    h_resume = max(h, ctl[kr.C_H])
+                t_star = t + x_best * h
+                if t_new - t_star <= ke.EVENT_TTOL:
+                    switch = True
+                    t_target = t_new
+                elif t_star - t <= max(ke.EVENT_TTOL, ki.step_floor(t)):
+                    stats[ki.S_NSTEP] -= 1
+                    stats[ki.S_NREJ] += 1
+                    ok = _event_at(
+                        t,
+                        y,
+                        P,
+                        f,
+                        ws,
+                        ew,
+                        ev_kind,
+                        ev_idx,
+                        friction,
+                        v_tol,
+                        g_tol,
+                        e_rest,
+                        log,
+                        clog,
+                        cnt,
+                        dT,
+                        ctl,
+                        h_resume,
+                        max_step,
+                        burst,
+                        stats,
+                    )
+                    if not ok:
+                        rinfo[ki.R_T] = t
+                        break
+                    lam_old[:] = lam
+                    t_target = np.inf
+                    continue
+                else:
+                    redo = True
+                    t_target = t_star
+        if redo:
+            stats[ki.S_NSTEP] -= 1
+            stats[ki.S_NREJ] += 1
+            ctl[kr.C_HPREV] = 0.0
+            ctl[kr.C_H] = t_target - t
+            continue
+        i0 = iout
+        iout, stop = kr.accept(
+            t, y, f, ctl, ws, t_eval, iout, X, lam_old, upl_t, ki.UPLIFT_WARN, stats, rinfo
+        )
+        for k in range(i0, iout):
+            OPEN_OUT[k] = opn
+        t = t_new
+        if stop:
+            break
+        if switch:
+            ok = _event_at(
+                t,
+                y,
+                P,
+                f,
+                ws,
+                ew,
+                ev_kind,
+                ev_idx,
+                friction,
+                v_tol,
+                g_tol,
+                e_rest,
+                log,
+                clog,
+                cnt,
+                dT,
+                ctl,
+                h_resume,
+                max_step,
+                burst,
+                stats,
+            )
+            lam_old[:] = lam
+            if not ok:
+                rinfo[ki.R_T] = t
+                break
+            t_target = np.inf
+    rinfo[ki.R_HNEXT] = ctl[kr.C_H]
+    return stats, rinfo

@@ -1,0 +1,174 @@
+"""Unilateral isolator contact (lift-off, flight, landing) against closed-form mechanics.
+
+Reference problem: a rigid block (mass m) on two isolators under a vertical harmonic ground
+acceleration u''_v = A sin(w t) with A > g. Relative to the ground, the block stays on the
+bearings while g + u''_v >= 0 (normal force m (g + u''_v) / 2 per isolator); it lifts off when
+u''_v = -g, i.e. w t1 = pi + arcsin(g / A), and then flies ballistically (gap y, y(t1) = 0,
+y'(t1) = 0)::
+
+    y'(t) = (A / w) (cos w t - cos w t1) - g (t - t1)
+    y(t)  = (A / w^2) (sin w t - sin w t1) - (A / w) cos(w t1) (t - t1) - g (t - t1)^2 / 2
+
+until it lands at y(t2) = 0 with y'(t2) < 0. Newton's impact law with coefficient e sends
+y' -> -e y' and changes the kinetic energy by -(1 - e^2) m y'(t2)^2 / 2 (any dynamics text,
+e.g. Pfeiffer & Glocker, *Multibody Dynamics with Unilateral Contacts*, ch. 2). After the
+excitation ends, free bounces in gravity land with velocities v_{k+1} = e v_k.
+"""
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from nsdyn.ground.excitation import Harmonic, Table
+from nsdyn.models.isolated import Isolation, system_from_matrices
+from nsdyn.solve.integrate import UpliftError, solve
+
+G = 9.81
+MASS, J, HALF_WIDTH = 1000.0, 500.0, 1.0
+A_VER, F_VER = 1.5 * G, 2.0
+W = 2 * np.pi * F_VER
+TOL = dict(rtol=1e-8, atol=1e-10)
+
+
+def block(law: str = "switch", contact: str = "detect"):
+    """Rigid block q = [x, y, theta] on two isolators at x = -+HALF_WIDTH."""
+    M = np.diag([MASS, MASS, J])
+    Z = np.zeros((3, 3))
+    iso = Isolation(k_lam=5e4, c=1e3, mu=0.1, law=law, contact=contact)
+    return system_from_matrices(
+        M,
+        Z,
+        Z,
+        iso_dofs=[[1, 0, 0], [1, 0, 0]],
+        influence=[[1, 0], [0, 1], [0, 0]],
+        isolation=iso,
+        contact_rows=[[0, 1, -HALF_WIDTH], [0, 1, HALF_WIDTH]],
+    )
+
+
+def ballistic():
+    """(t1, t2, v2): lift-off, landing time and landing velocity of the first flight."""
+    t1 = (np.pi + np.arcsin(G / A_VER)) / W
+
+    def y(t):
+        dt = t - t1
+        return (
+            (A_VER / W**2) * (np.sin(W * t) - np.sin(W * t1))
+            - (A_VER / W) * np.cos(W * t1) * dt
+            - 0.5 * G * dt**2
+        )
+
+    t2 = brentq(y, t1 + 1e-3, t1 + 1.0 / F_VER)
+    v2 = (A_VER / W) * (np.cos(W * t2) - np.cos(W * t1)) - G * (t2 - t1)
+    return t1, t2, v2
+
+
+def run(method: str, contact: str, A: float = A_VER, t_end: float = 0.75, **kw):
+    law = "switch" if method == "event" else "arctan"
+    s = block(law)
+    x0, _ = s.static_equilibrium()
+    P = s.params(Harmonic(0.0, 0.0, A_ver=A, f_ver=F_VER))
+    return solve(P, x0, np.linspace(0.0, t_end, 751), method=method, contact=contact, **kw, **TOL)
+
+
+@pytest.mark.parametrize("method", ["event", "radau"])
+def test_flight_and_landing_match_the_ballistic_solution(method):
+    t1, t2, v2 = ballistic()
+    sol = run(method, "unilateral")
+    lifts = [e for e in sol.contact_events if e[2] == "lift-off"]
+    lands = [e for e in sol.contact_events if e[2] == "landing"]
+    assert sorted(e[1] for e in lifts[:2]) == [0, 1]
+    for e in lifts[:2]:
+        assert e[0] == pytest.approx(t1, abs=1e-9)  # located on the dense output
+    for e in lands[:2]:
+        assert e[0] == pytest.approx(t2, abs=1e-8)
+        assert e[3] == pytest.approx(v2, rel=1e-7)  # normal velocity before the impact
+    # plastic landing (e = 0): the normal kinetic energy m v2^2 / 2 is lost, nothing else
+    assert sol.impact_energy == pytest.approx(-0.5 * MASS * v2**2, rel=1e-7)
+    # both contacts open exactly during the flight
+    inside = (sol.t > t1 + 1e-6) & (sol.t < t2 - 1e-6)
+    outside = (sol.t < t1 - 1e-6) | ((sol.t > t2 + 1e-6) & (sol.t < 0.8))
+    assert np.all(sol.open_contacts[inside] == 1)
+    assert np.all(sol.open_contacts[outside & (sol.t < t1)] == 0)
+    # gap of the flight from the ground: y(t) of the closed form, at the outputs
+    n = 3
+    gap = sol.x[:, 1]
+    tt = sol.t[inside]
+    dt = tt - t1
+    y = (
+        (A_VER / W**2) * (np.sin(W * tt) - np.sin(W * t1))
+        - (A_VER / W) * np.cos(W * t1) * dt
+        - 0.5 * G * dt**2
+    )
+    assert np.max(np.abs(gap[inside] - y)) < 1e-7
+    assert np.all(np.isfinite(sol.x[:, n:]))
+
+
+@pytest.mark.parametrize("e", [0.5, 1.0])
+def test_landing_loses_the_laws_energy_and_never_gains(e):
+    _, _, v2 = ballistic()
+    sol = run("event", "unilateral", restitution=e, t_end=0.6)
+    lands = [x for x in sol.contact_events if x[2] == "landing"]
+    assert lands
+    # Newton's law: dT = -(1 - e^2) m v^2 / 2 <= 0 (zero for e = 1, up to round-off)
+    assert sol.impact_energy == pytest.approx(-(1 - e**2) * 0.5 * MASS * v2**2, abs=1e-6 * MASS)
+    assert sol.impact_energy <= 1e-9 * MASS * v2**2
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="the bounces follow v_k+1 = e v_k up to the accumulation point, where the run "
+    "still stops with 'too many switching events' instead of resting",
+)
+def test_zeno_bouncing_comes_to_rest():
+    """A vertical pulse lifts the block; afterwards it bounces with v_{k+1} = e v_k and comes
+    to rest after finitely many landings (the bounce times form a geometric series)."""
+    e = 0.6
+    dt = 0.01
+    av = np.zeros(200)
+    av[5:25] = -1.5 * G  # 0.2 s of a ground falling faster than gravity
+    s = block("switch")
+    x0, _ = s.static_equilibrium()
+    P = s.params(Table(0.0, dt, np.zeros_like(av), av))
+    t = np.linspace(0.0, 3.0, 301)
+    sol = solve(P, x0, t, method="event", contact="unilateral", restitution=e, **TOL)
+    lands = [x for x in sol.contact_events if x[2] == "landing" and x[1] == 0]
+    after = [x for x in lands if x[0] > 0.25]
+    assert len(after) >= 5
+    v = np.array([abs(x[3]) for x in after])
+    tl = np.array([x[0] for x in after])
+    np.testing.assert_allclose(v[1:-1] / v[:-2], e, rtol=1e-5)  # the last one is at rest
+    # flight between landings 2 v / g
+    np.testing.assert_allclose(np.diff(tl)[:-1], 2 * e * v[:-2] / G, rtol=1e-5)
+    assert np.all(sol.open_contacts[-10:] == 0)  # at rest on both bearings
+    assert np.max(np.abs(sol.x[-10:, 3:])) < 1e-6
+    assert sol.impact_energy < 0.0
+
+
+def test_small_excitation_all_assumptions_agree():
+    """With nothing lifting, bilateral, detect and unilateral are one model."""
+    sols = [run("event", c, A=0.5 * G, t_end=0.5) for c in ("bilateral", "detect", "unilateral")]
+    for s in sols[1:]:
+        np.testing.assert_allclose(s.x, sols[0].x, rtol=0, atol=1e-10)
+    assert not sols[2].contact_events
+    assert not sols[0].uplift
+
+
+def test_bilateral_records_where_it_would_lift_and_detect_stops():
+    t1, _, _ = ballistic()
+    sol = run("event", "bilateral", t_end=0.6)
+    assert sol.success and sol.uplift  # runs through, records the would-be lift-off
+    assert min(tk for tk, _ in sol.uplift) == pytest.approx(t1, abs=1e-3)
+    with pytest.raises(UpliftError) as err:
+        run("event", "detect", t_end=0.6)
+    assert err.value.t == pytest.approx(t1, abs=1e-3)
+
+
+def test_unilateral_rejects_frozen_normal_forces_and_other_methods():
+    s = block("arctan")
+    x0, _ = s.static_equilibrium()
+    P = s.params(None)
+    with pytest.raises(ValueError, match="method"):
+        solve(P, x0, np.linspace(0, 0.1, 3), method="dopri5", contact="unilateral")
+    with pytest.raises(ValueError, match="contact"):
+        solve(P, x0, np.linspace(0, 0.1, 3), contact="sometimes")
