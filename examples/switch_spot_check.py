@@ -22,9 +22,9 @@ For every amplitude A:
 3. both orbits are sampled at the shooting grid (:class:`nsdyn.periodic.Discretisation`) and
    measured by :func:`nsdyn.models.isolated.metrics.response`: x_iso (half the peak-to-peak
    isolator slip, largest isolator), max IDR, max absolute floor acceleration a over every
-   level (base included, as in ``nsdyn sweep``) and over the levels above the isolators, and whether the
-   isolators stick the whole period (arctan: the sweep's creep criterion; switch: no slip
-   mode during the last period).
+   level (base included, as in ``nsdyn sweep``) and over the levels above the isolators, and
+   whether the isolators stick the whole period (arctan: the sweep's creep criterion; switch:
+   no slip mode during the last period).
 
 Points where the arctan curve has no periodic solution (the stepped sweep did not settle)
 or its orbit has uplift (a normal force <= 0) are flagged and not integrated. If the event

@@ -85,8 +85,7 @@ CLI_ROWS = [
     ("unknown-command", ["runn"], r"'run'"),
 ]
 
-CLI_XFAIL: dict[str, str] = {
-}
+CLI_XFAIL: dict[str, str] = {}
 
 
 def _rc_and_err(argv, capsys) -> tuple[int, str]:
