@@ -81,6 +81,8 @@ _API = {
     "simulate_event": "nsdyn.models.contact",
     "simulate_moreau": "nsdyn.models.contact",
     "onset_mode": "nsdyn.models.contact",
+    "CompliantGround": "nsdyn.models.contact",
+    "simulate_contact_compliant": "nsdyn.models.contact:simulate_compliant",
     # models: rigid cylinder on a Winkler foundation (seed 000)
     "CylinderParams": "nsdyn.models.cylinder",
     "CylinderResult": "nsdyn.models.cylinder",

@@ -264,9 +264,17 @@ def run(args: argparse.Namespace) -> int:
         ("share of time all isolators stick", "stick_fraction", lambda v: f"{v:.2f}"),
         ("energy balance closure error", "energy_closure", lambda v: f"{v:.2e}"),
         ("uplift", "uplift", lambda v: "none" if not v else str(v)),
+        ("contact assumption", "contact", str),
+        ("a normal force < 0 (lift-off)", "would_lift_off", lambda v: "yes" if v else "no"),
+        ("lift-offs / landings", "lift_offs", lambda v: f"{v} / {s.get('landings', 0)}"),
+        ("first lift-off", "first_lift_off_s", lambda v: f"{v:.4f} s"),
+        ("flight time per contact", "flight_time_s", lambda v: ", ".join(f"{x:.3f} s" for x in v)),
+        ("peak landing velocity", "max_landing_velocity_mps", lambda v: f"{v:.4f} m/s"),
+        ("peak landing impulse", "max_landing_impulse_Ns", lambda v: f"{v:.4g} N s"),
+        ("energy lost at landings", "impact_energy_J", lambda v: f"{abs(v):.4g} J"),
     ]
     for label, key, fmt in rows:
-        if key in s:
+        if s.get(key) is not None:
             print(f"  {label:36s} {fmt(s[key])}")
     print(f"histories: {hist}")
     if "figure" in s:

@@ -184,8 +184,9 @@ def _g_exact(Ab, c, y, s):
 
 @njit(cache=True)
 def _root(Ab, c, y, a, b, ga, gb, ha):
-    """Root of g on [a, b] with g(a) = ga > 0 > gb = g(b): safeguarded Newton on the exact
-    g (bisection when Newton leaves the bracket). Returns s with g(s) <= 0 (just past)."""
+    """Root of g on [a, b] with g(a) = ga > 0 >= gb = g(b): Newton on the exact g, kept in
+    the bracket (bisection when a step leaves it). Stops when the Newton correction or the
+    bracket falls below ``ROOT_XTOL ha``; returns the last Newton estimate of the root."""
     s = a - ga * (b - a) / (gb - ga)
     tol = ROOT_XTOL * ha
     for _ in range(NEWTON_MAXIT):
@@ -199,8 +200,15 @@ def _root(Ab, c, y, a, b, ga, gb, ha):
             if g == 0.0:
                 return s
         if b - a <= tol:
-            break
-        s = s - g / gd if gd != 0.0 else 0.5 * (a + b)
+            return b
+        if gd == 0.0:
+            s = 0.5 * (a + b)
+            continue
+        step = g / gd
+        s = s - step
+        if abs(step) <= tol:
+            # quadratic convergence: s is within round-off of the root
+            return min(max(s, a), b)
     return b
 
 

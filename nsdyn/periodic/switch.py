@@ -27,6 +27,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.linalg import matrix_balance
 
 from nsdyn.ground.excitation import Harmonic, HarmonicForce
 from nsdyn.models.isolated import _kernel as ks
@@ -129,6 +130,22 @@ def _tables(system, P: tuple, Q: np.ndarray) -> tuple:
     return A0, V, TAU, LF
 
 
+def balancing(A0: np.ndarray) -> np.ndarray:
+    """Diagonal state scaling ``s`` (D,) (powers of 2) with ``diag(1/s) A_k diag(s)`` balanced
+    for every mode set (Parlett-Reinsch on ``sum_k |A_k|``). The minimal coordinates mix
+    metres of soft and stiff directions, so ``|A_k|_1`` is ~1e6 times its spectral radius;
+    balanced, the matrix exponential needs ~20 fewer squarings and keeps its accuracy. The
+    forcing states keep scale 1 (the kernel starts them at ``[1, 0, 1]``; their rotation
+    block stays ``+-w``)."""
+    M = np.abs(A0).sum(axis=0)
+    D = M.shape[0]
+    M[D - 2, D - 1] = M[D - 1, D - 2] = 1.0  # couple sin and cos as the w entries will
+    _, (sc, _) = matrix_balance(M, permute=False, separate=True)
+    sc = np.asarray(sc, dtype=float) / 2.0 ** np.round(np.log2(sc[D - 2 :]).mean())
+    sc[D - 3 :] = 1.0  # the kernel starts the forcing states at [1, 0, 1]
+    return sc
+
+
 @dataclass
 class SwitchProblem(MinimalStates):
     """The isolated system with the switch model under harmonic forcing, on ``z = Q^T q``.
@@ -150,6 +167,7 @@ class SwitchProblem(MinimalStates):
     P: tuple  # kernel tuple at f = 1 Hz (law "modes")
     load: HarmonicForce | None = None
     name: str = ""
+    scale: np.ndarray | None = None  # (D,) state scaling of the kernel (see balancing)
     _cache: dict = field(default_factory=dict, repr=False)
 
     law = LAW_NAME
@@ -162,6 +180,16 @@ class SwitchProblem(MinimalStates):
         AB[:, d + 1, d + 2] = w
         AB[:, d + 2, d + 1] = -w
         return AB
+
+    def _scaled(self) -> tuple:
+        """Kernel tables in the balanced state ``y = diag(s) y_hat``: (A0_hat, V, TAU, LF
+        rows times s, s). Switching functions ``c . y`` are unchanged."""
+        if "scaled" not in self._cache:
+            sc = np.ones(self.A0.shape[1]) if self.scale is None else self.scale
+            A0 = np.ascontiguousarray(self.A0 * sc[None, None, :] / sc[None, :, None])
+            tabs = tuple(np.ascontiguousarray(R * sc) for R in (self.V, self.TAU, self.LF))
+            self._cache["scaled"] = (A0, *tabs, sc)
+        return self._cache["scaled"]
 
     def steps(self, T: float, disc: Discretisation | None) -> int:
         """Samples per period: the discretisation's count, at least ``SWITCH_N_MIN``."""
@@ -185,13 +213,20 @@ class SwitchProblem(MinimalStates):
         N = self.steps(T, disc) if n_steps is None else int(n_steps)
         ev = (np.zeros(kw.MAX_EVENTS), np.zeros(kw.MAX_EVENTS, np.int64))
         ev = ev + (np.zeros(kw.MAX_EVENTS, np.int64), np.zeros(kw.MAX_EVENTS))
+        A0, V, TAU, LF, sc = self._scaled()
+        d = self.dim
+        AB = A0.copy()
+        w = 2.0 * math.pi * f
+        AB[:, d + 1, d + 2] = w
+        AB[:, d + 2, d + 1] = -w
+        sx = sc[:d]
         xT, Phi, X, MK, status, nev, graze = kw.period_map(
-            self.matrices(f),
-            self.V,
-            self.TAU,
-            self.LF,
+            AB,
+            V,
+            TAU,
+            LF,
             self.mu,
-            np.ascontiguousarray(x0, dtype=float),
+            np.ascontiguousarray(np.asarray(x0, dtype=float) / sx),
             2.0 * math.pi * f,
             T,
             N,
@@ -200,12 +235,17 @@ class SwitchProblem(MinimalStates):
             store,
             *ev,
         )
+        xT = xT * sx
+        if sens:
+            Phi = Phi * sx[:, None] / sx[None, :]
+        if store:
+            X = X * sx[None, :]
         k = min(int(nev), kw.MAX_EVENTS)
         events = [
             (float(ev[0][j]), int(ev[1][j]), int(ev[2][j]), float(ev[3][j])) for j in range(k)
         ]
         return SwitchPeriodMap(
-            xT.copy(),
+            xT,
             Phi if sens else None,
             None,
             X if store else None,
@@ -345,7 +385,19 @@ def switch_problem(system, amplitude: float, *, load: HarmonicForce | None = Non
     x_ref = np.concatenate([z0, np.zeros_like(z0)])
     mu = np.ascontiguousarray(P[ks.I_MU], dtype=float)
     return SwitchProblem(
-        system, float(amplitude), Q, x_ref, A0, V, TAU, LF, mu, P, load, system.name
+        system,
+        float(amplitude),
+        Q,
+        x_ref,
+        A0,
+        V,
+        TAU,
+        LF,
+        mu,
+        P,
+        load,
+        system.name,
+        scale=balancing(A0),
     )
 
 

@@ -9,6 +9,10 @@ with ``e_j = e`` (0 by default: a plastic landing) and ``e_j = 0`` for landings 
 ``V_REST``. The set is active: a closed contact whose impulse would pull (``Lam_j < 0``) opens.
 The kinetic energy change ``dT = Lam . R_S (qd- + qd+) / 2 <= 0`` (0 <= e <= 1) is accumulated,
 and every event is appended to the contact log (columns ``t, contact, kind, v-, impulse``).
+
+Contact set at rest (:func:`_settle_contacts`): over the contacts at the ground with zero
+normal velocity, the acceleration-level complementarity problem
+``lam_k >= 0, R_k qdd + b_k >= 0, lam_k (R_k qdd + b_k) = 0`` (``b_k`` the Baumgarte terms).
 """
 
 import numpy as np
@@ -16,6 +20,7 @@ from numba import njit
 
 from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn.models.isolated import _kernel as ks
+from nsdyn.solve import _kcommon as ki
 from nsdyn.solve import _kevent as ke
 
 KIND_LIFT = 2  # event kinds beside _kevent's 0 (slip -> stick/reversal) and 1 (stick -> slip)
@@ -24,6 +29,9 @@ V_REST = 1e-3  # m/s, landings slower than this are plastic whatever e (ends Zen
 V_SEP = 1e-6  # m/s, a landed contact separating faster than this rebounds (opens)
 G_REST = 1e-6  # m, at such a landing open contacts this close to the ground land with it
 CLOG_COLS = 5  # contact log columns: t, contact, kind, normal velocity before, impulse
+LAM_RTOL = 1e-9  # normal forces above -LAM_RTOL x the static ones count as zero (no lift-off)
+ACC_ATOL = 1e-8  # m/s^2, gap accelerations above -ACC_ATOL count as zero (a contact at rest)
+LCP_MAXITER = 64  # pivots of the acceleration-level contact problem before giving up
 
 
 @njit(cache=True)
@@ -125,3 +133,70 @@ def _land(t, y, P, k, e_rest, g_tol, clog, cnt, dT):
         if not ok:
             return False
     return True
+
+
+@njit(cache=True)
+def _lam_scale(P):
+    s = 1.0
+    for v in P[ks.I_LAM0]:
+        s = max(s, abs(v))
+    return LAM_RTOL * s
+
+
+@njit(cache=True)
+def _baumgarte(P, k, y):
+    """2 alpha beta R_k qd + alpha^2 R_k q: the closed row's stabilising terms at (q, qd)."""
+    fp = P[ks.I_FPAR]
+    n = y.shape[0] // 2
+    al, be = fp[ks.F_ALPHA], fp[ks.F_BETA]
+    R = P[ks.I_R]
+    return 2.0 * al * be * ke._dot_row(R, k, y, n) + al * al * ke._dot_row(R, k, y, 0)
+
+
+@njit(cache=True)
+def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats):
+    """Consistent contact set at (t, y): the acceleration-level complementarity problem over
+    the contacts at rest at the ground (closed ones, and open ones with g_k <= g_tol and
+    |R_k qd| <= V_SEP)::
+
+        lam_k >= 0,  a_k = R_k qdd >= 0,  lam_k a_k = 0
+
+    (``a_k`` plus the Baumgarte terms ``2 alpha beta R_k qd + alpha^2 R_k q``, so that an open
+    contact is compared with what its closed row would impose) solved by Murty's least-index
+    principal pivoting, each trial set evaluated by the right-hand side: the first contact in
+    index order that violates its condition (closed with lam_k < 0: opens; open with a_k < 0:
+    closes) flips, until none does. The Delassus matrix R M^-1 R^T is positive definite, so the
+    pivoting terminates at the unique solution. Returns (ok, changed)."""
+    qdd, lam, tau, modes = ew[2:]
+    opn = P[ks.I_OPEN]
+    R = P[ks.I_R]
+    nc = opn.shape[0]
+    n = y.shape[0] // 2
+    lam_tol = _lam_scale(P)
+    ground = np.zeros(nc, dtype=np.bool_)
+    for k in range(nc):
+        ground[k] = opn[k] == 0 or (
+            ke._dot_row(R, k, y, 0) <= g_tol and abs(ke._dot_row(R, k, y, n)) <= V_SEP
+        )
+    changed = False
+    for _ in range(LCP_MAXITER):
+        ki.feval(t, y, P, f, qdd, lam, tau, modes)
+        stats[ki.S_NFEV] += 1
+        flip = -1
+        for k in range(nc):
+            if not ground[k]:
+                continue
+            if opn[k] == 0 and lam[k] < -lam_tol:
+                flip = k
+                break
+            if opn[k] != 0 and ke._dot_row(R, k, qdd, 0) + _baumgarte(P, k, y) < -ACC_ATOL:
+                flip = k
+                break
+        if flip < 0:
+            return True, changed
+        kind = KIND_LAND if opn[flip] != 0 else KIND_LIFT
+        opn[flip] = 1 - opn[flip]
+        changed = True
+        if not _log(clog, cnt, t, flip, kind, ke._dot_row(R, flip, y, n), 0.0):
+            return False, changed
+    return False, changed

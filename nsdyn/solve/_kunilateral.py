@@ -19,9 +19,13 @@ with ``e_j = e`` (``e = 0`` by default: a plastic landing on the bearing) and ``
 ``|R_j qd-| <= V_REST`` (bounces too small to resolve end at rest: no Zeno accumulation). The
 set is active: a closed contact whose impulse would pull (``Lam_j < 0``) opens. The kinetic
 energy change of the impulse, ``dT = Lam . R_S (qd- + qd+) / 2 <= 0`` for ``0 <= e <= 1``, is
-logged. After every contact event the contact set is settled (a closed contact with
-``lam < 0`` opens, the most negative first), then the friction modes (:func:`_kevent._settle`,
-LAW_MODES only; other laws decide them in the right-hand side), and the stepper restarts.
+logged. After every contact event the contact set is settled: the acceleration-level
+complementarity problem over the contacts at rest at the ground (``lam_k >= 0``, ``R_k qdd >=
+0``, ``lam_k R_k qdd = 0``; Murty's least-index pivoting, see
+:func:`_kimpact._settle_contacts`), then the friction modes (:func:`_kevent._settle`, LAW_MODES
+only; other laws decide them in the right-hand side), and the stepper restarts. The touchdown
+scan splits each step at the extrema of the cubic gap polynomial, so that a flight shorter than
+the step is not skipped.
 """
 
 import numpy as np
@@ -36,21 +40,14 @@ from nsdyn.solve._kimpact import (  # noqa: F401  (CLOG_COLS: the log layout, fo
     KIND_LAND,
     KIND_LIFT,
     V_REST,
+    _lam_scale,
     _land,
     _log,
+    _settle_contacts,
 )
 
-SAMPLES = 8  # dense-output samples per step scanned for a contact sign change
-LAM_RTOL = 1e-9  # normal forces above -LAM_RTOL x the static ones count as zero (no lift-off)
+SAMPLES = 8  # dense-output samples per step scanned for a lift-off (lam_k sign change)
 GAP_ATOL = 1.0  # gaps within this x atol (displacements) count as zero (touchdown noise)
-
-
-@njit(cache=True)
-def _lam_scale(P):
-    s = 1.0
-    for v in P[ks.I_LAM0]:
-        s = max(s, abs(v))
-    return LAM_RTOL * s
 
 
 @njit(cache=True)
@@ -64,10 +61,10 @@ def _gap_dense(k, x, y, Qd, P):
 
 
 @njit(cache=True)
-def _g(kind, k, x, y, Qd, t, h, P, ew, stats):
-    """Switching function of contact k at t + x h: lam_k (closed) or g_k (open)."""
+def _g(kind, k, x, y, Qd, t, h, P, ew, off, stats):
+    """Switching function of contact k at t + x h: lam_k (closed) or g_k + off (open)."""
     if kind == KIND_LAND:
-        return _gap_dense(k, x, y, Qd, P)
+        return _gap_dense(k, x, y, Qd, P) + off
     ys, fs, qdd, lam, tau, modes = ew
     kr.dense(y, Qd, x, ys)
     ki.feval(t + x * h, ys, P, fs, qdd, lam, tau, modes)
@@ -76,7 +73,7 @@ def _g(kind, k, x, y, Qd, t, h, P, ew, stats):
 
 
 @njit(cache=True)
-def _root(kind, k, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
+def _root(kind, k, a, b, fa, fb, y, Qd, t, h, P, ew, off, stats):
     """Illinois on x in [a, b] for fa > 0 >= fb; returns x with g(x) <= 0."""
     xtol = ke.EVENT_TTOL / h
     side = 0
@@ -86,7 +83,7 @@ def _root(kind, k, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
         c = (a * fb - b * fa) / (fb - fa)
         if not (a < c < b):
             c = 0.5 * (a + b)
-        fc = _g(kind, k, c, y, Qd, t, h, P, ew, stats)
+        fc = _g(kind, k, c, y, Qd, t, h, P, ew, off, stats)
         if fc > 0.0:
             a, fa = c, fc
             if side == 1:
@@ -103,6 +100,37 @@ def _root(kind, k, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
 
 
 @njit(cache=True)
+def _monotone_breaks(k, Qd, P, xs):
+    """0, the extrema of the cubic gap g_k(x) inside (0, 1) in order, 1 into ``xs``; count."""
+    R = P[ks.I_R]
+    b1 = b2 = b3 = 0.0
+    for j in range(R.shape[1]):
+        b1 += R[k, j] * Qd[j, 0]
+        b2 += R[k, j] * Qd[j, 1]
+        b3 += R[k, j] * Qd[j, 2]
+    # g'(x) = b1 + 2 b2 x + 3 b3 x^2
+    nx = 1
+    xs[0] = 0.0
+    r0, r1 = 2.0, 2.0
+    if b3 != 0.0:
+        disc = b2 * b2 - 3.0 * b3 * b1
+        if disc > 0.0:
+            qq = -(b2 + np.copysign(np.sqrt(disc), b2))
+            r0 = qq / (3.0 * b3)
+            r1 = b1 / qq if qq != 0.0 else 2.0
+    elif b2 != 0.0:
+        r0 = -b1 / (2.0 * b2)
+    if r1 < r0:
+        r0, r1 = r1, r0
+    for r in (r0, r1):
+        if 0.0 < r < 1.0:
+            xs[nx] = r
+            nx += 1
+    xs[nx] = 1.0
+    return nx + 1
+
+
+@njit(cache=True)
 def _detect(t, h, y, Qd, P, ew, g_tol, x_max, stats):
     """Earliest contact event in the step before ``x_max``: (x, contact, kind), contact -1
     when none. Leaves lam, tau at the step end."""
@@ -111,24 +139,44 @@ def _detect(t, h, y, Qd, P, ew, g_tol, x_max, stats):
     lam_tol = _lam_scale(P)
     x_best, k_best, kind_best = 2.0, -1, 0
     any_closed = False
+    xs = np.empty(4)
     for k in range(nc):
         if opn[k] == 0:
             any_closed = True
             continue
+        # the gap is a cubic in x on the step: split [0, 1] at its extrema into monotone
+        # pieces, so that a flight shorter than the step (a small bounce) is never skipped
+        nx = _monotone_breaks(k, Qd, P, xs)
         xa, ga = 0.0, _gap_dense(k, 0.0, y, Qd, P)
-        for s in range(1, SAMPLES + 1):
-            xb = s / SAMPLES
-            if xb >= x_best:
+        for s in range(1, nx):
+            xb = xs[s]
+            if xa >= x_best:
                 break
             gb = _gap_dense(k, xb, y, Qd, P)
             # a crossing from above, or sinking below the noise band (not a contact that
             # opened a hair below zero and rises)
             if gb <= 0.0 and (ga > g_tol or (gb < -g_tol and gb < ga)):
-                xr = (
-                    xa
-                    if ga <= 0.0
-                    else _root(KIND_LAND, k, xa, xb, ga, gb, y, Qd, t, h, P, ew, stats)
-                )
+                if ga > 0.0:
+                    xr = _root(KIND_LAND, k, xa, xb, ga, gb, y, Qd, t, h, P, ew, 0.0, stats)
+                elif ga > -g_tol:  # starts in the noise band: touchdown where it leaves it
+                    xr = _root(
+                        KIND_LAND,
+                        k,
+                        xa,
+                        xb,
+                        ga + g_tol,
+                        gb + g_tol,
+                        y,
+                        Qd,
+                        t,
+                        h,
+                        P,
+                        ew,
+                        g_tol,
+                        stats,
+                    )
+                else:
+                    xr = xa
                 if xr < x_best:
                     x_best, k_best, kind_best = xr, k, KIND_LAND
                 break
@@ -152,7 +200,9 @@ def _detect(t, h, y, Qd, P, ew, g_tol, x_max, stats):
                 if opn[k] == 0 and lb[k] < 0.0 and (la[k] > lam_tol or lb[k] < -lam_tol):
                     xr = xa
                     if la[k] > 0.0:
-                        xr = _root(KIND_LIFT, k, xa, xb, la[k], lb[k], y, Qd, t, h, P, ew, stats)
+                        xr = _root(
+                            KIND_LIFT, k, xa, xb, la[k], lb[k], y, Qd, t, h, P, ew, 0.0, stats
+                        )
                     if xr < x_best:
                         x_best, k_best, kind_best = xr, k, KIND_LIFT
             if k_best >= 0 and kind_best == KIND_LIFT:
@@ -163,32 +213,6 @@ def _detect(t, h, y, Qd, P, ew, g_tol, x_max, stats):
         ki.feval(t + h, ys, P, fs, qdd, lam, tau, modes)
         stats[ki.S_NFEV] += 1
     return x_best, k_best, kind_best
-
-
-@njit(cache=True)
-def _settle_contacts(t, y, P, f, ew, clog, cnt, stats):
-    """Open the closed contacts whose normal force is negative at (t, y), the most negative
-    first, re-evaluating after each. Returns (ok, changed)."""
-    qdd, lam, tau, modes = ew[2:]
-    opn = P[ks.I_OPEN]
-    nc = opn.shape[0]
-    n = y.shape[0] // 2
-    lam_tol = _lam_scale(P)
-    changed = False
-    for _ in range(nc + 1):
-        ki.feval(t, y, P, f, qdd, lam, tau, modes)
-        stats[ki.S_NFEV] += 1
-        worst, wv = -1, -lam_tol
-        for k in range(nc):
-            if opn[k] == 0 and lam[k] < wv:
-                worst, wv = k, lam[k]
-        if worst < 0:
-            break
-        opn[worst] = 1
-        changed = True
-        if not _log(clog, cnt, t, worst, KIND_LIFT, ke._dot_row(P[ks.I_R], worst, y, n), 0.0):
-            return False, changed
-    return True, changed
 
 
 @njit(cache=True)
@@ -235,7 +259,7 @@ def _event_at(
                     pm[i] = (1 if v > 0.0 else -1) if abs(v) > v_tol else ke.MODE_AUTO
     if ok:
         for _ in range(ke.SETTLE_PASSES):
-            ok, changed = _settle_contacts(t, y, P, f, ew, clog, cnt, stats)
+            ok, changed = _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats)
             if ok and friction:
                 trig = idx if kind < KIND_LIFT else -1
                 ok = ke._settle(t, y, P, f, ew, trig, v_tol, log, stats)
@@ -308,7 +332,7 @@ def event_unilateral(
     if not ki.all_finite(y):
         stats[ki.S_STATUS] = ki.ST_NONFINITE
         return stats, rinfo
-    ok, _ = _settle_contacts(t, y, P, f, ew, clog, cnt, stats)
+    ok, _ = _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats)
     if ok and friction:
         ke._initial_modes(P, y, modes0)
         auto = False

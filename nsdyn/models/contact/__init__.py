@@ -6,6 +6,7 @@ LCP by Lemke's method between events, impacts at velocity level) or by Moreau-Je
 """
 
 from nsdyn.models.contact.body import RigidBody
+from nsdyn.models.contact.compliant import CompliantGround, CompliantResult, simulate_compliant
 from nsdyn.models.contact.event import simulate_event
 from nsdyn.models.contact.excite import BaseMotion
 from nsdyn.models.contact.friction import FrictionLaw
@@ -13,5 +14,6 @@ from nsdyn.models.contact.moreau import simulate_moreau
 from nsdyn.models.contact.onset import onset_mode
 from nsdyn.models.contact.results import ContactResult
 
-__all__ = ["BaseMotion", "ContactResult", "FrictionLaw", "RigidBody", "onset_mode",
-           "simulate_event", "simulate_moreau"]  # fmt: skip
+__all__ = ["BaseMotion", "CompliantGround", "CompliantResult", "ContactResult", "FrictionLaw",
+           "RigidBody", "onset_mode", "simulate_compliant", "simulate_event",
+           "simulate_moreau"]  # fmt: skip

@@ -31,6 +31,11 @@ Scene (``[scene] kind = "contact"``)::
     theta = 0.5                # Moreau-Jean theta
     rtol = 1e-9                # event-driven tolerance
     dt_out = 0.005             # [s]
+    [ground]                   # omit, or kind = "rigid": rigid ground (solver.method applies)
+    kind = "compliant"         # tensionless spring-dashpot corners, stick spring + Coulomb
+    stiffness = 1e9            # normal stiffness per base corner [N/m]
+    damping = 2e4              # per corner [N s/m]; or damping_ratio (vertical contact mode)
+    stick_stiffness = 1e9      # tangential stick spring per corner [N/m] (default: stiffness)
 """
 
 from __future__ import annotations
@@ -53,6 +58,7 @@ _FIELDS = {
     "impact": {"e_n", "law"},
     "motion": {"record", "pga", "period", "n_cycles", "start", "t_end", "theta0"},
     "solver": {"method", "h", "theta", "rtol", "dt_out"},
+    "ground": {"kind", "stiffness", "damping", "damping_ratio", "stick_stiffness"},
 }
 METHODS = ("event", "moreau")  # solver.method
 T_END = 5.0  # default duration of free motion [s]
@@ -155,7 +161,39 @@ def build(cfg: dict, source: str):
     }
     if not 0.5 <= opts["theta"] <= 1:
         raise SceneError(f"{source}: solver.theta: expected 0.5 <= theta <= 1")
+    opts["ground"] = _ground(cfg.get("ground", {}), body, source)
+    if opts["ground"] is not None:
+        opts["method"] = "compliant"
     return body, law, motion, t_end, opts
+
+
+def _ground(gr: dict, body, source: str):
+    """The [ground] section: None (rigid) or a CompliantGround."""
+    from nsdyn.models.contact.compliant import CompliantGround
+
+    kind = gr.get("kind", "rigid")
+    if kind not in ("rigid", "compliant"):
+        raise SceneError(f"{source}: ground.kind: expected 'rigid' or 'compliant', got {kind!r}")
+    if kind == "rigid":
+        extra = sorted(set(gr) - {"kind"})
+        if extra:
+            raise SceneError(f"{source}: ground.{extra[0]}: only for ground.kind = 'compliant'")
+        return None
+    if "stiffness" not in gr:
+        raise SceneError(f"{source}: ground.stiffness: missing (normal stiffness per base "
+                         "corner, N/m)")  # fmt: skip
+    k = number(source, "ground.stiffness", gr["stiffness"])
+    if "damping" in gr and "damping_ratio" in gr:
+        raise SceneError(f"{source}: ground.damping_ratio: give damping or damping_ratio, "
+                         "not both")  # fmt: skip
+    kt = number(source, "ground.stick_stiffness", gr["stick_stiffness"]) \
+        if "stick_stiffness" in gr else None  # fmt: skip
+    if "damping_ratio" in gr:
+        zeta = number(source, "ground.damping_ratio", gr["damping_ratio"], allow_zero=True)
+        g0 = CompliantGround.from_ratio(body, k, zeta)
+        return CompliantGround(g0.k, g0.c, kt)
+    c = number(source, "ground.damping", gr.get("damping", 0.0), allow_zero=True)
+    return CompliantGround(k, c, kt)
 
 
 def simulate(body, law, motion, t_end, opts):
@@ -163,6 +201,11 @@ def simulate(body, law, motion, t_end, opts):
     from nsdyn.models.contact.event import simulate_event
     from nsdyn.models.contact.moreau import simulate_moreau
 
+    if opts.get("ground") is not None:
+        from nsdyn.models.contact.compliant import simulate_compliant
+
+        return simulate_compliant(body, law, opts["ground"], motion, t_end=t_end,
+                                  dt_out=opts["dt_out"])  # fmt: skip
     if opts["method"] == "moreau":
         return simulate_moreau(body, law, motion, t_end=t_end, h=opts["h"], theta=opts["theta"],
                                e_n=opts["e_n"], theta0=opts["theta0"],

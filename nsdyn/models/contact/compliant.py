@@ -1,0 +1,216 @@
+"""A rigid body on compliant ground: tensionless spring-dashpot corners with Coulomb friction.
+
+The same :class:`RigidBody`, :class:`FrictionLaw` and :class:`BaseMotion` as the rigid-ground
+solvers, but each base corner rests on a tensionless spring-dashpot (k, c) with a tangential
+stick spring k_t and Coulomb's law mu(v) = mu_d + (mu_s - mu_d) exp(-C |v|) (jump law for
+C = infinity: mu_s to break a stuck corner loose, mu_d while it slips); equations in
+:mod:`._kcompliant`.  Static settlement on n base corners: delta_s = m g / (n k).
+
+Ground from a damping ratio: the vertical contact frequency on all n corners is
+omega_v = sqrt(n k / m) and c = 2 zeta sqrt(k m / n) per corner (a point mass on one linear
+spring-dashpot rebounds with e = exp(-pi zeta / sqrt(1 - zeta^2))).  The stick spring defaults
+to k_t = k (the tangential stiffness of an elastic contact is close to the normal one,
+Mindlin: k_t / k = 2 (1 - nu) / (2 - nu) ~ 0.8-1).
+
+A displacement-driven ground's velocity jump [u_g'] changes the body's ground-frame velocity by
+-[u_g'] at once; the compliant corners then carry it off with finite forces.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from nsdyn.ground import G_EARTH
+from nsdyn.models.contact import _kcompliant as kc
+from nsdyn.models.contact.body import RigidBody
+from nsdyn.models.contact.excite import BaseMotion
+from nsdyn.models.contact.friction import FrictionLaw
+from nsdyn.models.contact.results import MODE_NAMES, ContactResult
+
+H_FRAC = 0.02  # step as a fraction of the explicit stability limit (0.25 overturned C2 spuriously)
+H_PER_PERIOD = 40  # a sine excitation is sampled by at least this many steps per period
+MAX_STEPS = 200_000_000  # refuse runs longer than this many steps
+
+
+@dataclass(frozen=True)
+class CompliantGround:
+    """Per-corner normal stiffness ``k`` [N/m] and damping ``c`` [N s/m], stick spring ``k_t``
+    [N/m] (default k)."""
+
+    k: float
+    c: float = 0.0
+    k_t: float | None = None
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.k, int | float) and math.isfinite(self.k) and self.k > 0):
+            raise ValueError(f"stiffness: expected a positive stiffness per corner [N/m], "
+                             f"got {self.k!r}")  # fmt: skip
+        if not (isinstance(self.c, int | float) and math.isfinite(self.c) and self.c >= 0):
+            raise ValueError(f"damping: expected a non-negative damping per corner [N s/m], "
+                             f"got {self.c!r}")  # fmt: skip
+        if self.k_t is not None and not (math.isfinite(self.k_t) and self.k_t > 0):
+            raise ValueError(f"stick_stiffness: expected a positive stiffness [N/m], "
+                             f"got {self.k_t!r}")  # fmt: skip
+
+    @classmethod
+    def from_ratio(cls, body: RigidBody, k: float, zeta: float) -> CompliantGround:
+        """Stiffness ``k`` per corner and damping ratio ``zeta`` of the vertical contact mode."""
+        if not (math.isfinite(zeta) and zeta >= 0):
+            raise ValueError(f"damping_ratio: expected a non-negative number, got {zeta!r}")
+        n = len(body.base)
+        return cls(float(k), 2.0 * zeta * math.sqrt(k * body.mass / n))
+
+    @property
+    def kt(self) -> float:
+        return self.k if self.k_t is None else float(self.k_t)
+
+    def settlement(self, body: RigidBody, g: float = G_EARTH) -> float:
+        """Static settlement m g / (n k) on the n base corners [m]."""
+        return body.mass * g / (len(body.base) * self.k)
+
+
+@dataclass
+class CompliantResult(ContactResult):
+    """A :class:`ContactResult` plus the energy terms of the compliant ground.
+
+    e_spring : (n, 2) normal and stick-spring energies [J];  w_ext : (n,) work of the ground's
+    inertial load;  w_contact : (n,) work of the contact forces on the body;  h : step [s]
+    """
+
+    e_spring: np.ndarray = None
+    w_ext: np.ndarray = None
+    w_contact: np.ndarray = None
+    n_on: np.ndarray = None
+    h: float = 0.0
+    wall_s: float = 0.0
+
+    def mechanical_energy(self, mass: float, J: float, g: float = G_EARTH) -> np.ndarray:
+        """(n,) kinetic + potential + spring energies [J]."""
+        return self.energy(mass, J, g) + self.e_spring.sum(axis=1)
+
+    def dissipated(self, mass: float, J: float, g: float = G_EARTH) -> np.ndarray:
+        """(n,) energy dissipated by the dashpots and by slip since t = 0 [J]:
+        D = -W_contact - (E_springs - E_springs(0))."""
+        es = self.e_spring.sum(axis=1)
+        return -self.w_contact - (es - es[0])
+
+    def summary(self) -> dict:
+        s = super().summary()
+        lift = self.n_on < len(self.base_idx)
+        s["n_liftoffs"] = int(np.count_nonzero(lift[1:] & ~lift[:-1]))
+        s["max_uplift"] = float(np.max(self.uplift)) if len(self.t) else 0.0
+        s["step"] = float(self.h)
+        return s
+
+    base_idx: np.ndarray = None
+    uplift: np.ndarray = None
+
+
+def _params(body: RigidBody, friction: FrictionLaw, ground: CompliantGround, g: float):
+    p = np.zeros(kc.N_P)
+    p[kc.P_M], p[kc.P_J], p[kc.P_G] = body.mass, body.J, g
+    p[kc.P_K], p[kc.P_C], p[kc.P_KT] = ground.k, ground.c, ground.kt
+    p[kc.P_MUS], p[kc.P_MUD], p[kc.P_CDEC] = friction.mu_s, friction.mu_d, friction.cdec
+    p[kc.P_THOV] = body.theta_ov
+    return p
+
+
+def stable_step(body: RigidBody, ground: CompliantGround) -> float:
+    """Explicit stability limit 2 (sqrt(1 + zeta^2) - zeta) / omega_max [s], with
+    omega_max^2 <= sum_j (k + k_t)(1/m + |r_j|^2 / J) (trace bound of M^-1 K) and
+    zeta = c omega_max / (2 k) the damping ratio of that mode."""
+    r2 = np.sum(body.contacts**2, axis=1)
+    w2 = float(np.sum((ground.k + ground.kt) * (1.0 / body.mass + r2 / body.J)))
+    w = math.sqrt(w2)
+    zeta = ground.c * w / (2.0 * ground.k)
+    return 2.0 * (math.sqrt(1.0 + zeta * zeta) - zeta) / w
+
+
+def simulate_compliant(
+    body: RigidBody,
+    friction: FrictionLaw,
+    ground: CompliantGround,
+    motion: BaseMotion | None = None,
+    *,
+    t_end: float,
+    q0=None,
+    v0=None,
+    settled: bool = True,
+    h: float | None = None,
+    dt_out: float = 0.005,
+    g: float = G_EARTH,
+) -> CompliantResult:
+    """Response of ``body`` on compliant ground from rest (settled by m g / (n k) unless
+    ``settled=False``) or from (q0, v0) [ground frame].  ``h`` defaults to H_FRAC times the
+    stability limit.  Raises RuntimeError with the time on a non-finite state."""
+    mo = motion or BaseMotion.none()
+    h_stab = stable_step(body, ground)
+    h = H_FRAC * h_stab if h is None else float(h)
+    if not (0 < h < h_stab):
+        raise ValueError(f"h: expected 0 < h < {h_stab:.3e} s (explicit stability), got {h!r}")
+    if mo.ex[0] == 1.0 and mo.ex[4] > 0:
+        h = min(h, 2 * math.pi / mo.ex[4] / H_PER_PERIOD)
+    if mo.tab_h.size:
+        h = min(h, mo.ex[2])
+    if t_end / h > MAX_STEPS:
+        raise ValueError(f"t_end: {t_end / h:.3g} steps of {h:.3g} s exceed {MAX_STEPS:.0e}; "
+                         "soften the ground or shorten the run")  # fmt: skip
+    p = _params(body, friction, ground, g)
+    verts = body.contacts
+    q = np.array([0.0, body.y0, 0.0])
+    if settled:
+        q[1] -= ground.settlement(body, g)
+    if q0 is not None:
+        q = np.asarray(q0, float).copy()
+    vh = np.zeros(3) if v0 is None else np.asarray(v0, float).copy()
+    anchor = np.full(len(verts), np.nan)
+    stuck = np.ones(len(verts))
+    acc = np.zeros(2)
+    t_out = np.arange(0.0, t_end + 0.5 * dt_out, dt_out)
+    y_out = np.full((len(t_out), kc.N_OUT), np.nan)
+    jumps = sorted(tuple(j) for j in mo.jumps if 0.0 <= j[0] <= t_end)
+    t, iout, n_steps, t_over = 0.0, 0, 0, None
+    w0 = time.perf_counter()
+    while t < t_end:
+        for tj, dv in jumps:
+            if tj == t:
+                vh[0] -= dv
+        nxt = min([t_end] + [tj for tj, _ in jumps if tj > t])
+        st, t, iout, ns = kc.integrate(t, nxt, h, q, vh, verts, anchor, stuck, p, mo.ex,
+                                       mo.tab_h, mo.tab_v, acc, t_out, y_out, iout)  # fmt: skip
+        n_steps += ns
+        if st == kc.ST_NONFINITE:
+            raise RuntimeError(f"compliant ground: non-finite state at t = {t:.9g} s")
+        if st == kc.ST_OVER:
+            t_over = t
+            break
+    wall = time.perf_counter() - w0
+    n = iout
+    y = y_out[:n]
+    mode = _modes(y, len(verts))
+    if t_over is not None:
+        mode[-1] = MODE_NAMES.index("overturned")
+    c, s = np.cos(y[:, 2]), np.sin(y[:, 2])
+    highest = np.max(y[:, 1:2] + s[:, None] * verts[:, 0] + c[:, None] * verts[:, 1], axis=1)
+    xb = verts[:, 0].mean(), verts[:, 1].mean()
+    return CompliantResult(
+        t_out[:n], y[:, :3].copy(), y[:, 3:6].copy(), mode, "compliant", np.array(xb),
+        body.theta_ov, 0, t_over, [], n_steps, n_steps, e_spring=y[:, 6:8].copy(),
+        w_ext=y[:, 8].copy(), w_contact=y[:, 9].copy(), n_on=y[:, 10].astype(int), h=h,
+        wall_s=wall, base_idx=np.arange(len(verts)), uplift=np.maximum(highest, 0.0),
+    )  # fmt: skip
+
+
+def _modes(y: np.ndarray, nc: int) -> np.ndarray:
+    """Body mode of each output row from the corners on the ground and slipping."""
+    n_on, n_slip = y[:, 10], y[:, 11]
+    mode = np.where(n_slip > 0, MODE_NAMES.index("slide_rock"), MODE_NAMES.index("rock"))
+    full = n_on >= nc
+    mode = np.where(full & (n_slip > 0), MODE_NAMES.index("slide"), mode)
+    mode = np.where(full & (n_slip == 0), MODE_NAMES.index("rest"), mode)
+    mode = np.where(n_on == 0, MODE_NAMES.index("flight"), mode)
+    return mode.astype(int)

@@ -1,0 +1,108 @@
+"""Rigid body on compliant ground: static settlement, energy, rigid limit, scene and CLI.
+
+Physics checks: settlement under gravity is m g / (n k) per corner (statics); in free motion the
+mechanical energy (kinetic + potential + springs) never increases, the dissipation by dashpots
+and slip never decreases and the energy balance closes (work-energy theorem, O(h^2) for the
+central-difference scheme); as the ground stiffens, the slide and the peak tilt of seed 002's
+case B1 (slides and rocks) converge to the event-driven rigid-ground answer.
+"""
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from nsdyn.ground import G_EARTH
+from nsdyn.models.contact import BaseMotion, FrictionLaw, RigidBody, simulate_event
+from nsdyn.models.contact.compliant import CompliantGround, simulate_compliant
+from nsdyn.models.contact.scene import format_summary, run_scene
+from nsdyn.models.scenefile import SceneError, read_toml
+
+SCENE = Path(__file__).parents[3] / "examples" / "scenes" / "contact-compliant-C2.toml"
+
+
+@pytest.mark.parametrize("k", [1e6, 1e8])
+def test_static_settlement(k):
+    body = RigidBody.rectangle(1.0, 2.0, 500.0)
+    gr = CompliantGround.from_ratio(body, k, 0.7)
+    res = simulate_compliant(body, FrictionLaw(0.5), gr, t_end=40 / math.sqrt(2 * k / 500),
+                             settled=False, dt_out=1e-4)  # fmt: skip
+    delta = body.y0 - res.q[-1, 1]
+    assert delta == pytest.approx(500.0 * G_EARTH / (2 * k), rel=1e-6)
+    assert abs(res.q[-1, 2]) < 1e-9 and res.mode[-1] == 0  # at rest on both corners
+
+
+@pytest.mark.parametrize("C", [0.0, math.inf])
+def test_energy_never_increases_and_balance_closes(C):
+    body = RigidBody.rectangle(0.6, 1.8, 300.0)
+    gr = CompliantGround.from_ratio(body, 1e7, 0.1)
+    errs = []
+    for h in (2e-5, 1e-5):
+        res = simulate_compliant(body, FrictionLaw(0.6, 0.3, C), gr, t_end=2.0, h=h,
+                                 v0=[1.5, 0.0, 0.8], dt_out=1e-3)  # fmt: skip
+        E = res.mechanical_energy(body.mass, body.J)
+        D = res.dissipated(body.mass, body.J)
+        scale = E[0] - E.min()
+        assert scale > 100.0  # the body slid and rocked
+        # never increases: up to the scheme's O(h^2) energy oscillation of the stiff springs
+        assert np.all(np.diff(E) <= 1e-3 * scale)
+        assert np.all(np.diff(D) >= -1e-3 * scale)
+        errs.append(np.max(np.abs(E + D - E[0])) / scale)
+    assert errs[1] < 1e-3
+    assert errs[1] < 0.6 * errs[0]  # first order in h (dashpots and mu(v) use v(t - h/2)): 0.50
+
+
+def test_converges_to_rigid_ground():
+    # seed 002 case B1 (1.1 x 2.2 m, T = 2.5 s, mu = mu_s = 0.57), impulsive start: slides, rocks
+    body = RigidBody.rectangle(1.1, 2.2, 2272.6 * 2.2)
+    T = 2.5
+    A = 1.6 * (T / (2 * math.pi)) ** 2
+    law, mo = FrictionLaw(0.57, 0.29, 0.0), BaseMotion.displacement_sine(A, T, 5)
+    t_end = 3.0
+    ref = simulate_event(body, law, mo, t_end=t_end, dt_out=0.001).summary()
+    errs = []
+    for k in (1e8, 1e9, 1e10):
+        s = simulate_compliant(body, law, CompliantGround.from_ratio(body, k, 1.0), mo,
+                               t_end=t_end, dt_out=0.001).summary()  # fmt: skip
+        errs.append((abs(s["max_slide"] / ref["max_slide"] - 1),
+                     abs(s["max_tilt"] / ref["max_tilt"] - 1)))  # fmt: skip
+    assert ref["max_tilt"] > 5e-3 and ref["max_slide"] > 0.01
+    # observed: slide 10.4, 3.7, 1.2 %; tilt 29, 9.6, 3.1 % at k = 1e8, 1e9, 1e10 N/m, i.e. the
+    # error falls as k^(-1/2) (the contact time scale sqrt(m / k))
+    assert errs[2][0] < 0.02 and errs[2][1] < 0.045, errs
+    for j in (0, 1):
+        assert 2.0 < errs[0][j] / errs[1][j] < 5.0 and 2.0 < errs[1][j] / errs[2][j] < 5.0, errs
+
+
+def test_run_scene_and_cli(tmp_path, capsys):
+    cfg = read_toml(SCENE)
+    cfg["motion"]["t_end"] = 1.0
+    s = run_scene(cfg, source=str(SCENE), out_dir=tmp_path, figures=True, quiet=True)
+    assert s["kind"] == "contact" and s["solver"] == "compliant"
+    assert (tmp_path / "contact.npz").exists() and (tmp_path / "contact.png").exists()
+    assert s["max_uplift"] > 0 and "max_slide" in format_summary(s)
+    from nsdyn.cli import main
+
+    rc = main(["run", str(SCENE), "--json", "--out", str(tmp_path), "--t-end", "0.5"])
+    assert rc in (0, None)
+    js = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert js["solver"] == "compliant" and "n_liftoffs" in js
+
+
+@pytest.mark.parametrize("ground, field", [
+    ({"kind": "soft"}, "ground.kind"),
+    ({"kind": "compliant"}, "ground.stiffness"),
+    ({"kind": "compliant", "stiffness": -1.0}, "ground.stiffness"),
+    ({"kind": "compliant", "stiffness": 1e8, "damping": 1.0, "damping_ratio": 0.1},
+     "ground.damping_ratio"),
+    ({"kind": "rigid", "stiffness": 1e8}, "ground.stiffness"),
+    ({"kind": "compliant", "stiffnes": 1e8}, "stiffnes"),
+])  # fmt: skip
+def test_bad_ground(ground, field):
+    cfg = read_toml(SCENE)
+    cfg["ground"] = ground
+    with pytest.raises(SceneError, match=field):
+        run_scene(cfg, source=str(SCENE), out_dir=Path("/nonexistent"), figures=False,
+                  quiet=True)  # fmt: skip
