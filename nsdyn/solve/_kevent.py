@@ -95,6 +95,34 @@ def _g_dense(kind, i, sgn, x, y, Qd, t, h, P, ew):
 
 
 @njit(cache=True)
+def illinois_point(a, b, fa, fb):
+    """Next Illinois iterate in [a, b]: the secant root, the midpoint if it falls outside."""
+    c = (a * fb - b * fa) / (fb - fa)
+    if not (a < c < b):
+        c = 0.5 * (a + b)
+    return c
+
+
+@njit(cache=True)
+def illinois_step(a, b, fa, fb, c, fc, side):
+    """Shrink the bracket (fa > 0 > fb) with g(c) = fc, halving the kept end's value when the
+    same end moves twice in a row. Returns (a, b, fa, fb, side, done); done: fc == 0."""
+    if fc > 0.0:
+        a, fa = c, fc
+        if side == 1:
+            fb *= 0.5
+        side = 1
+    elif fc < 0.0:
+        b, fb = c, fc
+        if side == -1:
+            fa *= 0.5
+        side = -1
+    else:
+        return a, b, fa, fb, side, True
+    return a, b, fa, fb, side, False
+
+
+@njit(cache=True)
 def _root(kind, i, sgn, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
     """Illinois on x in [a, b] for g(a) = fa >= 0 > fb = g(b). Returns x with g(x) <= 0."""
     xtol = EVENT_TTOL / h
@@ -102,23 +130,12 @@ def _root(kind, i, sgn, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
     for _ in range(ROOT_MAXITER):
         if b - a <= xtol:
             break
-        c = (a * fb - b * fa) / (fb - fa)
-        if not (a < c < b):
-            c = 0.5 * (a + b)
+        c = illinois_point(a, b, fa, fb)
         fc = _g_dense(kind, i, sgn, c, y, Qd, t, h, P, ew)
         if kind == 1:
             stats[ki.S_NFEV] += 1
-        if fc > 0.0:
-            a, fa = c, fc
-            if side == 1:
-                fb *= 0.5
-            side = 1
-        elif fc < 0.0:
-            b, fb = c, fc
-            if side == -1:
-                fa *= 0.5
-            side = -1
-        else:
+        a, b, fa, fb, side, done = illinois_step(a, b, fa, fb, c, fc, side)
+        if done:
             return c
     return b
 

@@ -80,21 +80,10 @@ def _root(kind, k, a, b, fa, fb, y, Qd, t, h, P, ew, off, stats):
     for _ in range(ke.ROOT_MAXITER):
         if b - a <= xtol:
             break
-        c = (a * fb - b * fa) / (fb - fa)
-        if not (a < c < b):
-            c = 0.5 * (a + b)
+        c = ke.illinois_point(a, b, fa, fb)
         fc = _g(kind, k, c, y, Qd, t, h, P, ew, off, stats)
-        if fc > 0.0:
-            a, fa = c, fc
-            if side == 1:
-                fb *= 0.5
-            side = 1
-        elif fc < 0.0:
-            b, fb = c, fc
-            if side == -1:
-                fa *= 0.5
-            side = -1
-        else:
+        a, b, fa, fb, side, done = ke.illinois_step(a, b, fa, fb, c, fc, side)
+        if done:
             return c
     return b
 
@@ -216,31 +205,15 @@ def _detect(t, h, y, Qd, P, ew, g_tol, x_max, stats):
 
 
 @njit(cache=True)
-def _event_at(
-    t,
-    y,
-    P,
-    f,
-    ws,
-    ew,
-    kind,
-    idx,
-    friction,
-    v_tol,
-    g_tol,
-    e_rest,
-    log,
-    clog,
-    cnt,
-    dT,
-    ctl,
-    h_resume,
-    max_step,
-    burst,
-    stats,
-):
+def _event_at(t, kind, idx, h_resume, run):
     """Handle an event (friction kinds 0/1, KIND_LIFT, KIND_LAND) at (t, y) and restart the
-    stepper there. Returns False (status set) on a full log, chattering or a singular impact."""
+    stepper there. ``run = (y, P, f, ws, ew, ctl, burst, stats, (friction, v_tol, g_tol,
+    e_rest, max_step), (log, clog, cnt, dT))``: state, work arrays, settings and logs of the
+    run, the same objects all along the integration. Returns False (status set) on a full log,
+    chattering or a singular impact."""
+    y, P, f, ws, ew, ctl, burst, stats, opts, logs = run
+    friction, v_tol, g_tol, e_rest, max_step = opts
+    log, clog, cnt, dT = logs
     opn = P[ks.I_OPEN]
     pm = P[ks.I_MODE]
     D = P[ks.I_D]
@@ -372,6 +345,8 @@ def event_unilateral(
     polish = 0
     h_resume = ctl[kr.C_H]
     burst = np.array([-np.inf, 0.0])
+    opts = (friction, v_tol, g_tol, e_rest, max_step)
+    run = (y, P, f, ws, ew, ctl, burst, stats, opts, (log, clog, cnt, dT))
     while iout < nt:
         t_lim = min(t_end, t_target, ki.next_kink(t, P))
         st = kr.radau_step(
@@ -423,29 +398,7 @@ def event_unilateral(
                 elif t_star - t <= max(ke.EVENT_TTOL, ki.step_floor(t)):
                     stats[ki.S_NSTEP] -= 1
                     stats[ki.S_NREJ] += 1
-                    ok = _event_at(
-                        t,
-                        y,
-                        P,
-                        f,
-                        ws,
-                        ew,
-                        ev_kind,
-                        ev_idx,
-                        friction,
-                        v_tol,
-                        g_tol,
-                        e_rest,
-                        log,
-                        clog,
-                        cnt,
-                        dT,
-                        ctl,
-                        h_resume,
-                        max_step,
-                        burst,
-                        stats,
-                    )
+                    ok = _event_at(t, ev_kind, ev_idx, h_resume, run)
                     if not ok:
                         rinfo[ki.R_T] = t
                         break
@@ -471,29 +424,7 @@ def event_unilateral(
         if stop:
             break
         if switch:
-            ok = _event_at(
-                t,
-                y,
-                P,
-                f,
-                ws,
-                ew,
-                ev_kind,
-                ev_idx,
-                friction,
-                v_tol,
-                g_tol,
-                e_rest,
-                log,
-                clog,
-                cnt,
-                dT,
-                ctl,
-                h_resume,
-                max_step,
-                burst,
-                stats,
-            )
+            ok = _event_at(t, ev_kind, ev_idx, h_resume, run)
             lam_old[:] = lam
             if not ok:
                 rinfo[ki.R_T] = t
