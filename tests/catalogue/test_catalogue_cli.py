@@ -85,8 +85,6 @@ CLI_ROWS = [
     ("unknown-command", ["runn"], r"'run'"),
 ]
 
-CLI_XFAIL: dict[str, str] = {}
-
 
 def _rc_and_err(argv, capsys) -> tuple[int, str]:
     try:
@@ -96,15 +94,7 @@ def _rc_and_err(argv, capsys) -> tuple[int, str]:
     return rc, capsys.readouterr().err
 
 
-@pytest.mark.parametrize(
-    "row",
-    [
-        pytest.param(r, id=r[0], marks=pytest.mark.xfail(strict=True, reason=CLI_XFAIL[r[0]]))
-        if r[0] in CLI_XFAIL
-        else pytest.param(r, id=r[0])
-        for r in CLI_ROWS
-    ],
-)
+@pytest.mark.parametrize("row", [pytest.param(r, id=r[0]) for r in CLI_ROWS])
 def test_bad_command_line(tmp_path, monkeypatch, capsys, row):
     rid, argv, pattern = row
     monkeypatch.chdir(tmp_path)  # nothing may be written: an output directory would land here

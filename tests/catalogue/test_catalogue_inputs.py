@@ -373,18 +373,7 @@ def _kind(example: str) -> str:
     return example.split("-")[0]
 
 
-SCENE_XFAIL = {}  # id -> reason (cases that fail because of code outside the validators)
-
-
-@pytest.mark.parametrize(
-    "row",
-    [
-        pytest.param(r, id=r[0], marks=pytest.mark.xfail(strict=True, reason=SCENE_XFAIL[r[0]]))
-        if r[0] in SCENE_XFAIL
-        else pytest.param(r, id=r[0])
-        for r in SCENE_ROWS
-    ],
-)
+@pytest.mark.parametrize("row", [pytest.param(r, id=r[0]) for r in SCENE_ROWS])
 def test_bad_scene_file(tmp_path, row):
     rid, example, old, new, needles = row
     p = _write(tmp_path, f"bad-{rid}.toml", _edit((SCENES / example).read_text(), old, new))
