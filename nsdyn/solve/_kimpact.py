@@ -154,10 +154,11 @@ def _baumgarte(P, k, y):
 
 
 @njit(cache=True)
-def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats):
+def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats, lift):
     """Consistent contact set at (t, y): the acceleration-level complementarity problem over
     the contacts at rest at the ground (closed ones, and open ones with g_k <= g_tol and
-    |R_k qd| <= V_SEP)::
+    |R_k qd| <= V_SEP, except those that lifted off at this instant: ``lift[0, k]`` is the last
+    lift-off time of contact k, ``lift[1, k] = min(g_k, 0)`` its gap then; updated here)::
 
         lam_k >= 0,  a_k = R_k qdd >= 0,  lam_k a_k = 0
 
@@ -166,7 +167,15 @@ def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats):
     principal pivoting, each trial set evaluated by the right-hand side: the first contact in
     index order that violates its condition (closed with lam_k < 0: opens; open with a_k < 0:
     closes) flips, until none does. The Delassus matrix R M^-1 R^T is positive definite, so the
-    pivoting terminates at the unique solution. Returns (ok, changed)."""
+    pivoting terminates at the unique solution. Returns (ok, changed).
+
+    Contacts that lifted off at this instant (within ``BURST_DT``) stay open: at a lift-off
+    lam_k = 0 and a_k = 0 (the problem is degenerate there; only the sign of d lam_k / dt,
+    negative at the located crossing, says that the contact separates), and
+    the Baumgarte terms of a gap drifted a hair below zero would read as a pull into the
+    ground and close it at once. Two contacts reaching lam = 0 together (a symmetric frame
+    under vertical shaking) would otherwise close each other in turn without end. If one
+    should not have opened, its gap sinks and the touchdown scan lands it."""
     qdd, lam, tau, modes = ew[2:]
     opn = P[ks.I_OPEN]
     R = P[ks.I_R]
@@ -176,7 +185,9 @@ def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats):
     ground = np.zeros(nc, dtype=np.bool_)
     for k in range(nc):
         ground[k] = opn[k] == 0 or (
-            ke._dot_row(R, k, y, 0) <= g_tol and abs(ke._dot_row(R, k, y, n)) <= V_SEP
+            t - lift[0, k] > ke.BURST_DT
+            and ke._dot_row(R, k, y, 0) <= g_tol
+            and abs(ke._dot_row(R, k, y, n)) <= V_SEP
         )
     changed = False
     for _ in range(LCP_MAXITER):
@@ -196,6 +207,9 @@ def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats):
             return True, changed
         kind = KIND_LAND if opn[flip] != 0 else KIND_LIFT
         opn[flip] = 1 - opn[flip]
+        if kind == KIND_LIFT:
+            lift[0, flip] = t
+            lift[1, flip] = min(ke._dot_row(R, flip, y, 0), 0.0)
         changed = True
         if not _log(clog, cnt, t, flip, kind, ke._dot_row(R, flip, y, n), 0.0):
             return False, changed

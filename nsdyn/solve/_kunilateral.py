@@ -1,4 +1,6 @@
-"""Unilateral isolator contact: lift-off, flight and landing on the event-driven Radau stepper.
+"""Event-driven Radau loop: stick/slip events and unilateral isolator contact (lift-off, flight,
+landing). ``event_switch`` runs the switch model with bilateral contacts, ``event_unilateral``
+adds the contact events; both drive the one loop :func:`_run`.
 
 Each contact ``k`` of the isolated frame (gap ``g_k = R_k q >= 0``, normal force ``lam_k >= 0``)
 is either closed (its row in the constraint set, ``lam_k`` a multiplier) or open (in flight,
@@ -48,6 +50,11 @@ from nsdyn.solve._kimpact import (  # noqa: F401  (CLOG_COLS: the log layout, fo
 
 SAMPLES = 8  # dense-output samples per step scanned for a lift-off (lam_k sign change)
 GAP_ATOL = 1.0  # gaps within this x atol (displacements) count as zero (touchdown noise)
+# what the main loop does with a step (see _on_target and _plan)
+ACT_STEP = 0  # accept the step, no event at its end
+ACT_SWITCH = 1  # accept the step, handle the event at its end
+ACT_NOW = 2  # discard the step, handle the event at its start
+ACT_REDO = 3  # discard the step, redo it to end on t_target
 
 
 @njit(cache=True)
@@ -120,9 +127,13 @@ def _monotone_breaks(k, Qd, P, xs):
 
 
 @njit(cache=True)
-def _detect(t, h, y, Qd, P, ew, g_tol, x_max, stats):
+def _detect(t, h, y, Qd, P, ew, g_tol, g_lift, x_max, stats):
     """Earliest contact event in the step before ``x_max``: (x, contact, kind), contact -1
-    when none. Leaves lam, tau at the step end."""
+    when none. Leaves lam, tau at the step end.
+
+    An open contact's gap is measured from ``g_lift[k] = min(g_k, 0)`` at its lift-off: a gap
+    that the constraint stabilisation left a hair below zero when the contact opened is drift,
+    not penetration, and must not read as an immediate touchdown."""
     nc = P[ks.I_R].shape[0]
     opn = P[ks.I_OPEN]
     lam_tol = _lam_scale(P)
@@ -136,17 +147,18 @@ def _detect(t, h, y, Qd, P, ew, g_tol, x_max, stats):
         # the gap is a cubic in x on the step: split [0, 1] at its extrema into monotone
         # pieces, so that a flight shorter than the step (a small bounce) is never skipped
         nx = _monotone_breaks(k, Qd, P, xs)
-        xa, ga = 0.0, _gap_dense(k, 0.0, y, Qd, P)
+        g0 = g_lift[k]
+        xa, ga = 0.0, _gap_dense(k, 0.0, y, Qd, P) - g0
         for s in range(1, nx):
             xb = xs[s]
             if xa >= x_best:
                 break
-            gb = _gap_dense(k, xb, y, Qd, P)
+            gb = _gap_dense(k, xb, y, Qd, P) - g0
             # a crossing from above, or sinking below the noise band (not a contact that
             # opened a hair below zero and rises)
             if gb <= 0.0 and (ga > g_tol or (gb < -g_tol and gb < ga)):
                 if ga > 0.0:
-                    xr = _root(KIND_LAND, k, xa, xb, ga, gb, y, Qd, t, h, P, ew, 0.0, stats)
+                    xr = _root(KIND_LAND, k, xa, xb, ga, gb, y, Qd, t, h, P, ew, -g0, stats)
                 elif ga > -g_tol:  # starts in the noise band: touchdown where it leaves it
                     xr = _root(
                         KIND_LAND,
@@ -161,7 +173,7 @@ def _detect(t, h, y, Qd, P, ew, g_tol, x_max, stats):
                         h,
                         P,
                         ew,
-                        g_tol,
+                        g_tol - g0,
                         stats,
                     )
                 else:
@@ -207,12 +219,13 @@ def _detect(t, h, y, Qd, P, ew, g_tol, x_max, stats):
 @njit(cache=True)
 def _event_at(t, kind, idx, h_resume, run):
     """Handle an event (friction kinds 0/1, KIND_LIFT, KIND_LAND) at (t, y) and restart the
-    stepper there. ``run = (y, P, f, ws, ew, ctl, burst, stats, (friction, v_tol, g_tol,
-    e_rest, max_step), (log, clog, cnt, dT))``: state, work arrays, settings and logs of the
-    run, the same objects all along the integration. Returns False (status set) on a full log,
-    chattering or a singular impact."""
-    y, P, f, ws, ew, ctl, burst, stats, opts, logs = run
-    friction, v_tol, g_tol, e_rest, max_step = opts
+    stepper there. ``run = (y, P, f, ws, ew, ctl, burst, stats, (friction, contacts, v_tol,
+    g_tol, e_rest, max_step), (log, clog, cnt, dT), lift)``: state, work arrays, settings,
+    logs and the last lift-off of each contact (time; gap then, if below zero), the same objects
+    all along the integration. Returns False (status set) on a full
+    log, chattering or a singular impact."""
+    y, P, f, ws, ew, ctl, burst, stats, opts, logs, lift = run
+    friction, contacts, v_tol, g_tol, e_rest, max_step = opts
     log, clog, cnt, dT = logs
     opn = P[ks.I_OPEN]
     pm = P[ks.I_MODE]
@@ -221,6 +234,8 @@ def _event_at(t, kind, idx, h_resume, run):
     ok = True
     if kind == KIND_LIFT:
         opn[idx] = 1
+        lift[0, idx] = t
+        lift[1, idx] = min(ke._dot_row(P[ks.I_R], idx, y, 0), 0.0)
         ok = _log(clog, cnt, t, idx, KIND_LIFT, ke._dot_row(P[ks.I_R], idx, y, n), 0.0)
     elif kind == KIND_LAND:
         was = opn.copy()
@@ -230,17 +245,21 @@ def _event_at(t, kind, idx, h_resume, run):
                 if i < opn.shape[0] and was[i] != 0 and opn[i] == 0:
                     v = ke._dot_row(D, i, y, n)
                     pm[i] = (1 if v > 0.0 else -1) if abs(v) > v_tol else ke.MODE_AUTO
-    if ok:
-        for _ in range(ke.SETTLE_PASSES):
-            ok, changed = _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats)
-            if ok and friction:
-                trig = idx if kind < KIND_LIFT else -1
-                ok = ke._settle(t, y, P, f, ew, trig, v_tol, log, stats)
-                kind = KIND_LIFT  # the trigger is settled once
-            if not ok or not changed:
-                break
-    if not ok:  # a full log, or a singular impact system
-        stats[ki.S_STATUS] = ki.ST_EVENTS if cnt[0] >= clog.shape[0] else ki.ST_SINGULAR
+    singular = not ok
+    for _ in range(ke.SETTLE_PASSES if ok else 0):
+        changed = False
+        if contacts:
+            ok, changed = _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats, lift)
+            singular = not ok
+        if ok and friction:
+            trig = idx if kind < KIND_LIFT else -1
+            ok = ke._settle(t, y, P, f, ew, trig, v_tol, log, stats)
+            kind = KIND_LIFT  # the trigger is settled once
+        if not ok or not changed:
+            break
+    if not ok:  # a full log, chattering modes, or a singular impact system
+        singular = singular and cnt[0] < clog.shape[0]
+        stats[ki.S_STATUS] = ki.ST_SINGULAR if singular else ki.ST_EVENTS
         return False
     ki.feval(t, y, P, f, ew[2], ew[3], ew[4], ew[5])
     ki.jeval(t, y, P, ws[0])
@@ -261,43 +280,56 @@ def _event_at(t, kind, idx, h_resume, run):
 
 
 @njit(cache=True)
-def event_unilateral(
-    P,
-    x0,
-    t_eval,
-    atol,
-    rtol,
-    h0,
-    max_step,
-    max_steps,
-    modes0,
-    friction,
-    e_rest,
-    X,
-    upl_t,
-    OPEN_OUT,
-    log,
-    clog,
-    cnt,
-    dT,
-):
-    """Integration with unilateral contacts; outputs as :func:`nsdyn.solve._kradau.radau`.
+def _on_target(ev_kind, ev_idx, polish, t_new, t_target, h, P, ynew, fnew):
+    """The step ended on the located event ``t_target``. A slip -> stick landing is polished by
+    Newton corrections dt = -g/g' (at most POLISH_MAX): step once more (ACT_STEP) or redo the
+    step (ACT_REDO) to the corrected instant; else switch there (ACT_SWITCH).
+    Returns (action, t_target, polish)."""
+    if ev_kind == 0 and polish < ke.POLISH_MAX:
+        n = ynew.shape[0] // 2
+        D = P[ks.I_D]
+        sg = float(P[ks.I_MODE][ev_idx])
+        g = sg * ke._dot_row(D, ev_idx, ynew, n)
+        gd = sg * ke._dot_row(D, ev_idx, fnew, n)
+        dt = -g / gd if gd < 0.0 else 0.0
+        if dt > ke.EVENT_TTOL and dt >= ki.step_floor(t_new):
+            return ACT_STEP, t_new + dt, polish + 1
+        if dt < -ke.EVENT_TTOL and dt > -h:
+            return ACT_REDO, t_new + dt, polish + 1
+    return ACT_SWITCH, t_target, polish
 
-    ``P[I_OPEN]`` (the initial contact states, changed in place) and, with ``friction`` (law
-    LAW_MODES), ``P[I_MODE]`` are live. ``modes0`` as :func:`_kevent.event_switch`. Contact
-    states at the outputs go to ``OPEN_OUT`` (nt, nc); friction events to ``log``; contact
-    events to ``clog`` (rows t, contact, kind, R qd before, impulse; count ``cnt[0]``);
-    ``dT[0]`` sums the kinetic energy change of the landings.
-    """
-    n2 = x0.shape[0]
-    n = n2 // 2
+
+@njit(cache=True)
+def _plan(t, t_new, h, x_best):
+    """An event found at ``t + x_best h`` of the step [t, t_new = t + h]: switch at the step end
+    (ACT_SWITCH), discard the step and switch at its start (ACT_NOW), or redo the step to land
+    on the event (ACT_REDO). Returns (action, t_target)."""
+    t_star = t + x_best * h
+    if t_new - t_star <= ke.EVENT_TTOL:
+        return ACT_SWITCH, t_new
+    if t_star - t <= max(ke.EVENT_TTOL, ki.step_floor(t)):
+        return ACT_NOW, t
+    return ACT_REDO, t_star
+
+
+@njit(cache=True)
+def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, logs):
+    """The event-driven loop of both entry points: Radau steps between events, friction
+    (``flags[0]``) and contact (``flags[1]``) events located on the dense output, the step
+    redone to land on them. ``tol = (atol, rtol)``, ``steps = (h0, max_step, max_steps)``,
+    ``flags = (friction, contacts, uplift_mode)``, ``logs = (log, clog, cnt, dT)``."""
+    atol, rtol = tol
+    h0, max_step, max_steps = steps
+    friction, contacts, uplift_mode = flags
+    n = x0.shape[0] // 2
     nt = t_eval.shape[0]
     D = P[ks.I_D]
     pm = P[ks.I_MODE]
     opn = P[ks.I_OPEN]
     stats, rinfo, ws, y, f, lam_old = kr.setup(P, x0, t_eval, upl_t.shape[0])
     ynew, fnew, Qd, lam = ws[15], ws[16], ws[17], ws[19]
-    ew = (ws[12], np.empty(n2), ws[18], lam, ws[20], ws[21])
+    ew = (ws[12], np.empty(2 * n), ws[18], lam, ws[20], ws[21])
+    # velocities above v_tol are resolved motion (new slips oppose them), below: stick test
     v_tol = ke.V_SLIP_ATOL * np.max(atol[n:])
     g_tol = GAP_ATOL * np.max(atol[:n])
     t = t_eval[0]
@@ -305,7 +337,11 @@ def event_unilateral(
     if not ki.all_finite(y):
         stats[ki.S_STATUS] = ki.ST_NONFINITE
         return stats, rinfo
-    ok, _ = _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats)
+    ok = True
+    lift = np.zeros((2, opn.shape[0]))  # last lift-off of each contact: time, min(gap, 0)
+    lift[0] = -np.inf
+    if contacts:
+        ok, _ = _settle_contacts(t, y, P, f, ew, g_tol, logs[1], logs[2], stats, lift)
     if ok and friction:
         ke._initial_modes(P, y, modes0)
         auto = False
@@ -313,40 +349,26 @@ def event_unilateral(
             if pm[i] == ke.MODE_AUTO:
                 auto = True
         if auto:
-            ok = ke._settle(t, y, P, f, ew, -1, ke.V_AUTO, log, stats)
+            ok = ke._settle(t, y, P, f, ew, -1, ke.V_AUTO, logs[0], stats)
         stats[ki.S_NEVENT] = 0  # the initial mode choice is not an event
     if not ok:
         stats[ki.S_STATUS] = ki.ST_EVENTS
         return stats, rinfo
     iout, ctl = kr.start(
-        P,
-        y,
-        f,
-        t_eval,
-        h0,
-        max_step,
-        atol,
-        rtol,
-        lam_old,
-        X,
-        upl_t,
-        ki.UPLIFT_WARN,
-        ws,
-        stats,
-        rinfo,
+        P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats, rinfo
     )
-    for k in range(max(iout, 0)):
+    for k in range(max(iout, 0) if contacts else 0):
         OPEN_OUT[k] = opn
     if iout < 0 or iout >= nt:
         return stats, rinfo
-    t_target = np.inf
-    ev_idx = -1
-    ev_kind = 0
+    t_target = np.inf  # pending event instant to land on
+    ev_idx = -1  # isolator or contact of the pending event
+    ev_kind = 0  # 0: slip -> stick/reversal, 1: stick -> slip, KIND_LIFT, KIND_LAND
     polish = 0
-    h_resume = ctl[kr.C_H]
-    burst = np.array([-np.inf, 0.0])
-    opts = (friction, v_tol, g_tol, e_rest, max_step)
-    run = (y, P, f, ws, ew, ctl, burst, stats, opts, (log, clog, cnt, dT))
+    h_resume = ctl[kr.C_H]  # step size to resume with after an event
+    burst = np.array([-np.inf, 0.0])  # start and length of the current burst of events
+    opts = (friction, contacts, v_tol, g_tol, e_rest, max_step)
+    run = (y, P, f, ws, ew, ctl, burst, stats, opts, logs, lift)
     while iout < nt:
         t_lim = min(t_end, t_target, ki.next_kink(t, P))
         st = kr.radau_step(
@@ -358,72 +380,44 @@ def event_unilateral(
             break
         t_new = ctl[kr.C_TNEW]
         h = ctl[kr.C_HSTEP]
-        switch = False
-        redo = False
+        act = ACT_STEP
         if t_new == t_target:
-            # landed on a located event: polish a slip -> stick landing (as _kevent), switch
-            if ev_kind == 0 and polish < ke.POLISH_MAX:
-                sg = float(pm[ev_idx])
-                g = sg * ke._dot_row(D, ev_idx, ynew, n)
-                gd = sg * ke._dot_row(D, ev_idx, fnew, n)
-                dt = -g / gd if gd < 0.0 else 0.0
-                if dt > ke.EVENT_TTOL and dt >= ki.step_floor(t_new):
-                    t_target = t_new + dt
-                    polish += 1
-                elif dt < -ke.EVENT_TTOL and dt > -h:
-                    redo = True
-                    t_target = t_new + dt
-                    polish += 1
-                else:
-                    switch = True
-            else:
-                switch = True
+            act, t_target, polish = _on_target(
+                ev_kind, ev_idx, polish, t_new, t_target, h, P, ynew, fnew
+            )
         else:
+            # bracket the switching functions over the step, earliest root wins
             x_best, i_best, k_best = 2.0, -1, 0
             if friction:
                 x_best, i_best, k_best = ke._detect(t, h, y, ynew, Qd, P, ew, stats)
-            xc, kc, kindc = _detect(t, h, y, Qd, P, ew, g_tol, min(x_best, 1.0 + 1e-15), stats)
-            if kc >= 0 and xc <= x_best:
-                x_best, i_best, k_best = xc, kc, kindc
+            if contacts:
+                x_max = min(x_best, 1.0 + 1e-15)
+                xc, kc, kindc = _detect(t, h, y, Qd, P, ew, g_tol, lift[1], x_max, stats)
+                if kc >= 0 and xc <= x_best:
+                    x_best, i_best, k_best = xc, kc, kindc
             if i_best >= 0:
-                ev_idx = i_best
-                ev_kind = k_best
-                polish = 0
+                ev_idx, ev_kind, polish = i_best, k_best, 0
                 if ctl[kr.C_H] > 0.0 and not np.isfinite(t_target):
                     h_resume = max(h, ctl[kr.C_H])
-                t_star = t + x_best * h
-                if t_new - t_star <= ke.EVENT_TTOL:
-                    switch = True
-                    t_target = t_new
-                elif t_star - t <= max(ke.EVENT_TTOL, ki.step_floor(t)):
-                    stats[ki.S_NSTEP] -= 1
-                    stats[ki.S_NREJ] += 1
-                    ok = _event_at(t, ev_kind, ev_idx, h_resume, run)
-                    if not ok:
-                        rinfo[ki.R_T] = t
-                        break
-                    lam_old[:] = lam
-                    t_target = np.inf
-                    continue
-                else:
-                    redo = True
-                    t_target = t_star
-        if redo:
+                act, t_target = _plan(t, t_new, h, x_best)
+        if act >= ACT_NOW:  # discard the step
             stats[ki.S_NSTEP] -= 1
             stats[ki.S_NREJ] += 1
-            ctl[kr.C_HPREV] = 0.0
-            ctl[kr.C_H] = t_target - t
-            continue
-        i0 = iout
-        iout, stop = kr.accept(
-            t, y, f, ctl, ws, t_eval, iout, X, lam_old, upl_t, ki.UPLIFT_WARN, stats, rinfo
-        )
-        for k in range(i0, iout):
-            OPEN_OUT[k] = opn
-        t = t_new
-        if stop:
-            break
-        if switch:
+            if act == ACT_REDO:
+                ctl[kr.C_HPREV] = 0.0
+                ctl[kr.C_H] = t_target - t
+                continue
+        else:
+            i0 = iout
+            iout, stop = kr.accept(
+                t, y, f, ctl, ws, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats, rinfo
+            )
+            for k in range(i0, iout if contacts else i0):
+                OPEN_OUT[k] = opn
+            t = t_new
+            if stop:
+                break
+        if act != ACT_STEP:
             ok = _event_at(t, ev_kind, ev_idx, h_resume, run)
             lam_old[:] = lam
             if not ok:
@@ -432,3 +426,42 @@ def event_unilateral(
             t_target = np.inf
     rinfo[ki.R_HNEXT] = ctl[kr.C_H]
     return stats, rinfo
+
+
+@njit(cache=True)
+def event_unilateral(
+    P, x0, t_eval, atol, rtol, h0, max_step, max_steps, modes0, friction, e_rest, X, upl_t,
+    OPEN_OUT, log, clog, cnt, dT,
+):  # fmt: skip
+    """Integration with unilateral contacts; outputs as :func:`nsdyn.solve._kradau.radau`.
+
+    ``P[I_OPEN]`` (the initial contact states, changed in place) and, with ``friction`` (law
+    LAW_MODES), ``P[I_MODE]`` are live. ``modes0`` as :func:`event_switch`. Contact
+    states at the outputs go to ``OPEN_OUT`` (nt, nc); friction events to ``log``; contact
+    events to ``clog`` (rows t, contact, kind, R qd before, impulse; count ``cnt[0]``);
+    ``dT[0]`` sums the kinetic energy change of the landings.
+    """
+    return _run(
+        P, x0, t_eval, (atol, rtol), (h0, max_step, max_steps), modes0,
+        (friction, True, ki.UPLIFT_WARN), e_rest, X, upl_t, OPEN_OUT, (log, clog, cnt, dT),
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def event_switch(
+    P, x0, t_eval, atol, rtol, h0, max_step, max_steps, modes0, uplift_mode, X, upl_t, log
+):
+    """Event-driven switch-model integration with bilateral contacts (:mod:`nsdyn.solve._kevent`
+    events only); same outputs as :func:`nsdyn.solve._kradau.radau`.
+
+    ``P`` must have law LAW_MODES; ``P[I_MODE]`` is overwritten with the live modes.
+    ``modes0`` (ni,): +1/-1/0, or MODE_AUTO (slip along v if |v| > V_AUTO, else stick test).
+    Events are written to ``log = (ev_t, ev_i, ev_m)`` (time, isolator, new mode); their count
+    is ``stats[S_NEVENT]``. A normal force reaching zero is handled by ``uplift_mode``.
+    """
+    nc = P[ks.I_OPEN].shape[0]
+    return _run(
+        P, x0, t_eval, (atol, rtol), (h0, max_step, max_steps), modes0,
+        (True, False, uplift_mode), 0.0, X, upl_t, np.zeros((0, nc), dtype=np.int64),
+        (log, np.zeros((0, CLOG_COLS)), np.zeros(1, dtype=np.int64), np.zeros(1)),
+    )  # fmt: skip

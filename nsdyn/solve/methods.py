@@ -193,7 +193,7 @@ def _run_event(P, x0, t_eval, o: Options, X, upl_t):
         np.zeros(MAX_EVENTS, dtype=np.int64),
         np.zeros(MAX_EVENTS, dtype=np.int64),
     )
-    stats, rinfo = _kevent.event_switch(
+    stats, rinfo = _kunilateral.event_switch(
         Pm,
         x0,
         t_eval,
@@ -297,7 +297,7 @@ _ENTRY = {
     "radau": _kradau.radau,
     "dopri5": _kdopri.dopri5,
     "genalpha": _kgenalpha.genalpha,
-    "event": _kevent.event_switch,
+    "event": _kunilateral.event_switch,
     "metrics": ks.evaluate_many,
 }
 

@@ -313,16 +313,17 @@ def integrate(
     k_all = np.arange(n_steps)
     u_all = ks.ground_many(t0 + (k_all + (1.0 - af)) * dt, P)
     u_all[:, 1] += kp.g
+    # the step grid: steps of dt, the last one ending on t_end (shortened if need be)
+    t_steps = t0 + (k_all + 1.0) * dt
+    t_steps[t_steps > t_end - 1e-9 * dt] = t_end
     st = _stepper(P, dt, coef, backend) if n_steps else None
-    k = 0
-    while iout < nt:
+    for k in range(n_steps):
+        if iout >= nt:
+            break
         if stats[ki.S_NSTEP] >= max_steps:
             stats[ki.S_STATUS] = ki.ST_MAX_STEPS
             break
-        t_new = t0 + (k + 1) * dt
-        u = u_all[k] if k < n_steps else None
-        if t_new > t_end - 1e-9 * dt:
-            t_new = t_end
+        t_new, u = float(t_steps[k]), u_all[k]
         h = t_new - t
         if abs(h - dt) > 1e-12 * dt:  # a shortened last step: its own factorisation
             st = _stepper(P, h, coef, backend)
@@ -359,10 +360,11 @@ def integrate(
             stats[ki.S_STATUS] = ki.ST_NONFINITE
             rinfo[ki.R_T] = t
             break
-        while iout < nt and t_eval[iout] <= t_new:
-            _hermite(t, h, q, v, a, qn, vn, an, t_eval[iout], X[iout])
-            iout += 1
-        stats[ki.S_NOUT] = iout
+        # outputs in (t, t_new]: Hermite interpolation of the step (as the dense kernel)
+        i_end = int(np.searchsorted(t_eval, t_new, side="right"))
+        for i in range(iout, i_end):
+            _hermite(t, h, q, v, a, qn, vn, an, t_eval[i], X[i])
+        iout = stats[ki.S_NOUT] = i_end
         stats[ki.S_NSTEP] += 1
         # contact monitor on the alpha-point normal forces (the step's constraint forces)
         stop = bool(np.any(lam_a <= 0.0)) and ki.check_contacts(
@@ -371,7 +373,6 @@ def integrate(
         q, v, a = qn, vn, an
         lam_old = lam_a
         t = t_new
-        k += 1
         if stop:
             break
         rinfo[ki.R_T] = t

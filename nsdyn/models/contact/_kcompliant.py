@@ -138,18 +138,11 @@ def integrate(t0, t1, h, q, vh, verts, anchor, stuck, p, ex, tab_h, tab_v, acc, 
         acc[1] += h * ((f[0] - fx_ext) * vn[0] + (f[1] - fy_ext + m * p[P_G]) * vn[1]
                        + f[2] * vn[2])  # fmt: skip
         while iout < n_out and t_out[iout] <= t + 0.5 * h:
-            y_out[iout, 0] = q[0]
-            y_out[iout, 1] = q[1]
-            y_out[iout, 2] = q[2]
-            y_out[iout, 3] = vn[0]
-            y_out[iout, 4] = vn[1]
-            y_out[iout, 5] = vn[2]
-            y_out[iout, 6] = info[0]
-            y_out[iout, 7] = info[1]
-            y_out[iout, 8] = acc[0]
-            y_out[iout, 9] = acc[1]
-            y_out[iout, 10] = info[2]
-            y_out[iout, 11] = info[3]
+            y_out[iout, 0:3] = q
+            y_out[iout, 3:6] = vn
+            y_out[iout, 6:8] = info[0:2]
+            y_out[iout, 8:10] = acc
+            y_out[iout, 10:12] = info[2:4]
             iout += 1
         for i in range(3):
             q[i] += h * vh[i]
