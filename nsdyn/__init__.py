@@ -47,6 +47,7 @@ _API = {
     "build_system": "nsdyn.models.isolated.system",
     "system_from_matrices": "nsdyn.models.isolated.builders",
     "shear_building": "nsdyn.models.isolated.builders",
+    "export_opensees": "nsdyn.models.isolated.opensees",
     "MatrixError": "nsdyn.models.isolated.builders",
     "build_scene_run": "nsdyn.models.isolated.scene",
     "linear_statespace": "nsdyn.models.isolated.statespace",

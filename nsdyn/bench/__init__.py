@@ -13,6 +13,7 @@ periodic       shooting and the steady-state sweep: error vs time per point
 rocking        rocking bodies (loaded on use)
 contact        planar contact bodies (loaded on use)
 cylinder       the cylinder (loaded on use)
+opensees       the full frame in OpenSees (exported script) against nsdyn full and CB-5
 =============  ==================================================================
 
 :data:`BENCHMARKS` maps each name to its module, imported on use by :func:`load_benchmark`.
@@ -128,6 +129,7 @@ BENCHMARKS: dict[str, str] = {
     "studies": "nsdyn.bench.studies",
     "switch_shooting": "nsdyn.bench.switch_shooting",
     "full-model": "nsdyn.bench.full_model",
+    "opensees": "nsdyn.bench.opensees",
 }
 
 

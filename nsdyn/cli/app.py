@@ -83,6 +83,12 @@ COMMANDS: dict[str, Command] = {
         configure=_lazy("nsdyn.cli.study", "configure"),
         run=_lazy("nsdyn.cli.study", "run"),
     ),
+    "export": Command(
+        help="write a scene's full isolated-frame model as a standalone OpenSees (openseespy) "
+        "script that runs the record and prints the peaks",
+        configure=_lazy("nsdyn.cli.export", "configure"),
+        run=_lazy("nsdyn.cli.export", "run"),
+    ),
     "run": Command(
         help="transient run of a scene: isolated frame (default: office-11 on isolators, "
         "synthetic record), rocking block/frame, contact body or cylinder",

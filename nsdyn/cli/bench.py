@@ -35,6 +35,7 @@ HELP = {
     "studies": "study throughput: local process pool against a Dask local cluster",
     "switch_shooting": "shooting on the switch model against arctan shooting and event-driven runs",
     "full-model": "the 435-dof frame with the low-rank generalized-α against radau",
+    "opensees": "the full frame in OpenSees (exported script) against nsdyn full and CB-5",
 }
 EXIT_UNAVAILABLE = 1  # `all`: a benchmark module exists but does not import
 

@@ -1,0 +1,49 @@
+"""``nsdyn export opensees``: writes a script (atomically), JSON contract, user-error exits."""
+
+from __future__ import annotations
+
+import json
+
+from nsdyn.cli import main
+
+SCENE = '[scene]\nframe = "office-11"\n[motion]\nrecord = "synthetic-wn-40s"\nt_end = 1.0\n'
+
+
+def test_export_writes_script(tmp_path, capsys):
+    scene = tmp_path / "s.toml"
+    scene.write_text(SCENE)
+    out = tmp_path / "sub" / "m.py"
+    assert main(["export", "opensees", str(scene), "-o", str(out), "--json"]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["script"] == str(out) and s["n_nodes"] == 145 and s["n_elements"] == 154
+    assert s["duration_s"] == 1.0 and s["dt"] == 0.005
+    compile(out.read_text(), str(out), "exec")  # valid Python
+    assert not [p for p in out.parent.iterdir() if p.name != "m.py"]  # no temporary left
+
+
+def test_export_default_name_and_dt(tmp_path, capsys):
+    scene = tmp_path / "s.toml"
+    scene.write_text(SCENE)
+    assert main(["export", "opensees", str(scene), "--dt", "0.01"]) == 0
+    assert (tmp_path / "s_opensees.py").is_file()
+    assert "wrote" in capsys.readouterr().out
+
+
+def test_export_user_errors_exit_2(tmp_path, capsys):
+    bad = tmp_path / "rock.toml"
+    bad.write_text('[scene]\nkind = "rocking"\n')
+    assert main(["export", "opensees", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert str(bad) in err and "isolated frame" in err
+    assert main(["export", "opensees", str(tmp_path / "none.toml")]) == 2
+    assert "no such scene file" in capsys.readouterr().err
+
+
+def test_export_stiffness_damping_option(tmp_path, capsys):
+    scene = tmp_path / "s.toml"
+    scene.write_text(SCENE)
+    out = tmp_path / "k.py"
+    args = ["export", "opensees", str(scene), "-o", str(out), "--damping", "stiffness", "--json"]
+    assert main(args) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["damping"] == "stiffness" and s["modal_modes"] == 0
