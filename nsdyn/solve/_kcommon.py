@@ -33,6 +33,7 @@ KERNEL_MODULES = (
     "_kdopri",
     "_kradau",
     "_kgenalpha",
+    "_klowrank",
     "_kevent",
     "_kimpact",
     "_kunilateral",

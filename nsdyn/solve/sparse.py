@@ -26,6 +26,10 @@ so Newton runs on the Schur complement only: the contact rows are linear and giv
 ``S^-1 [-MiK, -(1-af)h MiK - MiC, -am I - ...]`` (dense) or two sparse products and a sparse
 LU solve when the kernel matrices are sparse (``BACKEND_DENSITY``). Laws: arctan and none
 (live or frozen normal forces); the switch law is rejected (use ``radau`` or ``event``).
+
+This module factors and caches the operators (:class:`Stepper`); the steps themselves run in
+the numba kernel :mod:`nsdyn.solve._klowrank` (the whole loop with the dense backend; with the
+sparse one, SuperLU gives ``A0`` here and the kernel does the rest of each step).
 """
 
 from __future__ import annotations
@@ -38,7 +42,7 @@ import numpy as np
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.params import KernelParams
 from nsdyn.solve import _kcommon as ki
-from nsdyn.solve import _kgenalpha
+from nsdyn.solve import _kgenalpha, _klowrank
 
 __all__ = ["METHOD", "RHO_INF", "Stepper", "integrate", "run", "setup_stats"]
 
@@ -46,15 +50,10 @@ METHOD = "genalpha-lowrank"  # registry name
 RHO_INF = 0.8  # default spectral radius at infinity (as the dense genalpha)
 BACKEND_DENSITY = 0.05  # sparse LU when nnz(MiK, MiC) / (2 n^2) is below this
 SPARSE_MIN_N = 50  # below this many dofs the dense backend is always used
-NEWTON_MAXITER = 50  # Newton iterations on the friction forces per step
-NEWTON_RTOL = 1e-12  # converged when |d phi| <= this * (mu L + |phi|) for every isolator
-LS_MAXITER = 30  # backtracking halvings of a Newton correction
-# elements per gemv: OpenBLAS runs a gemv below 2304 * 4 elements on one thread; waking its
-# threads between steps costs ~1 ms on a loaded machine, more than the product itself
-GEMV_BLOCK = 9000
 CACHE_SIZE = 4  # factorisations kept (one per step size and model) across chunked calls
 
 _CACHE: list = []  # most recent Stepper first
+_NO_W = np.zeros((0, 0))  # no dense operator: the kernel takes the given A0
 _STATS = {"setup_s": 0.0, "n_setup": 0}  # factorisation time spent in this process
 
 
@@ -82,6 +81,7 @@ class Stepper:
     coef: tuple
     backend: str  # "dense" or "sparse"
     apply: object  # (q, v, a, u) -> A0
+    W: np.ndarray | None  # dense backend: A0 = W [q; v; a; u]
     G: np.ndarray  # (n, nc + ni): [Gr, -Gd]
     RGr_inv: np.ndarray
     RGd: np.ndarray
@@ -113,6 +113,8 @@ class Stepper:
             S = sp.csc_array((1.0 - am) * sp.identity(n) + c1 * Ks + c2 * Cs)
             lu = spla.splu(S)
             G = lu.solve(np.ascontiguousarray(B)) if B.shape[1] else np.zeros((n, 0))
+            G = np.ascontiguousarray(G)
+            W = None
 
             def apply(q, v, a, u):
                 qt = q + kq * v + ka_q * a
@@ -127,18 +129,15 @@ class Stepper:
             # A0 = W [q; v; a] + Wg u with W = -S^-1 [MiK, kq MiK + MiC, am I + ka_q MiK + ...]
             rhs = np.hstack([MiK, kq * MiK + MiC, am * np.eye(n) + ka_q * MiK + ka_v * MiC, Gam, B])
             X = sla.lu_solve(lu, rhs)
-            # row blocks small enough for a single-threaded gemv each (one batched matmul)
-            rows = max(1, min(n, GEMV_BLOCK // (3 * n + 2)))
-            nb = -(-n // rows)
-            W = np.zeros((nb * rows, 3 * n + 2))
-            W[:n] = -X[:, : 3 * n + 2]
-            W = W.reshape(nb, rows, 3 * n + 2)
+            W = np.ascontiguousarray(-X[:, : 3 * n + 2])
             G = np.ascontiguousarray(X[:, 3 * n + 2 :])
             y = np.empty(3 * n + 2)
 
             def apply(q, v, a, u):
                 y[:n], y[n : 2 * n], y[2 * n : 3 * n], y[3 * n :] = q, v, a, u
-                return (W @ y).reshape(-1)[:n]
+                A0 = np.empty(n)
+                _klowrank.matvec(W, y, A0)
+                return A0
 
         else:
             raise ValueError(f"backend: expected 'auto', 'dense' or 'sparse', got {backend!r}")
@@ -155,7 +154,8 @@ class Stepper:
         RGd, DGr, DGd = -R @ G[:, nc:], D @ G[:, :nc], -D @ G[:, nc:]
         Lam = RGr_inv @ RGd if nc else np.zeros((0, D.shape[0]))
         Wp = DGr @ Lam - DGd
-        return cls(P, h, coef, backend, apply, G, RGr_inv, RGd, DGr, DGd, dt_s, Lam, Wp)
+        Lam, Wp = np.ascontiguousarray(Lam), np.ascontiguousarray(Wp)
+        return cls(P, h, coef, backend, apply, W, G, RGr_inv, RGd, DGr, DGd, dt_s, Lam, Wp)
 
     def matches(self, P: tuple, h: float, coef: tuple, backend: str) -> bool:
         same = all(a is b for a, b in zip(self.P[: ks.I_MU + 2], P[: ks.I_MU + 2], strict=True))
@@ -175,19 +175,9 @@ def _stepper(P: tuple, h: float, coef: tuple, backend: str) -> Stepper:
     return st
 
 
-def _hermite(t, h, q0, v0, a0, q1, v1, a1, tout, out):
-    s = (tout - t) / h
-    h00 = (1.0 + 2.0 * s) * (1.0 - s) ** 2
-    h10 = s * (1.0 - s) ** 2
-    h01 = s * s * (3.0 - 2.0 * s)
-    h11 = s * s * (s - 1.0)
-    n = q0.shape[0]
-    out[:n] = h00 * q0 + h10 * h * v0 + h01 * q1 + h11 * h * v1
-    out[n:] = h00 * v0 + h10 * h * a0 + h01 * v1 + h11 * h * a1
-
-
 class _Friction:
-    """The friction equations of one step, reduced to the ``ni`` friction forces phi."""
+    """The friction law of the run, as the kernel's ``fr`` tuple (``mu, lam0, eps, frozen,
+    active``)."""
 
     def __init__(self, kp: KernelParams):
         self.law = kp.law
@@ -196,59 +186,10 @@ class _Friction:
                 f"method {METHOD!r}: friction law {self.law!r} is not supported (arctan or "
                 "none); use 'radau', 'genalpha' or 'event' for the switch model"
             )
-        self.mu = np.asarray(kp.mu, float)
-        self.frozen = kp.frozen_normal
-        self.lam0 = np.asarray(kp.lam_static, float)
-        self.eps = kp.eps
-        self.ni, self.nc = kp.n_isolators, kp.n_contacts
-        self.active = self.law == "arctan" and self.ni > 0 and bool(np.any(self.mu != 0.0))
-
-    def solve(self, phi, lam_c, Lam, w0, Wp):
-        """phi with phi = mu L s(w0 + Wp phi), L = lam_c + Lam phi (live) or lam0.
-
-        Returns (phi, converged, iterations, last relative correction)."""
-        ni = self.ni
-        mu, eps, k2 = self.mu, self.eps, 2.0 / np.pi
-        Ld = np.zeros((ni, ni)) if self.frozen else Lam[:ni]
-        Lc = self.lam0 if self.frozen else lam_c[:ni]
-        eye = np.eye(ni)
-        L = Lc + Ld @ phi
-        v = w0 + Wp @ phi
-        r = phi - mu * L * (k2 * np.arctan(eps * v))
-        dn = np.inf
-        for it in range(1, NEWTON_MAXITER + 1):
-            s = k2 * np.arctan(eps * v)
-            ds = k2 * eps / (1.0 + (eps * v) ** 2)
-            d = _small_solve(eye - (mu * s)[:, None] * Ld - (mu * L * ds)[:, None] * Wp, r)
-            dn = float(np.max(np.abs(d) / (np.abs(mu * L) + np.abs(phi) + 1e-300)))
-            if not np.isfinite(dn):
-                return phi, False, it, dn
-            if dn <= NEWTON_RTOL:  # quadratic convergence: this correction is the last
-                return phi - d, True, it, dn
-            r0 = np.sqrt(r @ r)
-            step = 1.0
-            for _ in range(LS_MAXITER):
-                p_new = phi - step * d
-                L = Lc + Ld @ p_new
-                v = w0 + Wp @ p_new
-                r = p_new - mu * L * (k2 * np.arctan(eps * v))
-                if np.sqrt(r @ r) <= (1.0 - 1e-4 * step) * r0:
-                    break
-                step *= 0.5
-            phi = p_new
-        return phi, False, NEWTON_MAXITER, dn
-
-
-def _small_solve(J: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """J^-1 r for the ni x ni friction Jacobian (closed form for one or two isolators)."""
-    if J.shape[0] == 1:
-        return r / J[0, 0]
-    if J.shape[0] == 2:
-        det = J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]
-        return np.array(
-            [(J[1, 1] * r[0] - J[0, 1] * r[1]) / det, (J[0, 0] * r[1] - J[1, 0] * r[0]) / det]
-        )
-    return np.linalg.solve(J, r)
+        mu = np.ascontiguousarray(kp.mu, float)
+        active = self.law == "arctan" and kp.n_isolators > 0 and bool(np.any(mu != 0.0))
+        lam0 = np.ascontiguousarray(kp.lam_static, float)
+        self.fr = (mu, lam0, float(kp.eps), bool(kp.frozen_normal), active)
 
 
 def integrate(
@@ -299,7 +240,7 @@ def integrate(
         return stats, rinfo, X, upl_t
     a = qdd.copy()
     lam_old = lam.copy()
-    phi = np.where(fr.active, tau, 0.0) if ni else np.zeros(0)
+    phi = np.where(fr.fr[4], tau, 0.0) if ni else np.zeros(0)  # fr[4]: friction active
     iout = 0
     while iout < nt and t_eval[iout] <= t:
         X[iout] = x0
@@ -316,66 +257,35 @@ def integrate(
     # the step grid: steps of dt, the last one ending on t_end (shortened if need be)
     t_steps = t0 + (k_all + 1.0) * dt
     t_steps[t_steps > t_end - 1e-9 * dt] = t_end
-    st = _stepper(P, dt, coef, backend) if n_steps else None
-    for k in range(n_steps):
-        if iout >= nt:
-            break
-        if stats[ki.S_NSTEP] >= max_steps:
-            stats[ki.S_STATUS] = ki.ST_MAX_STEPS
-            break
-        t_new, u = float(t_steps[k]), u_all[k]
-        h = t_new - t
-        if abs(h - dt) > 1e-12 * dt:  # a shortened last step: its own factorisation
-            st = _stepper(P, h, coef, backend)
-            u = ks.ground_many(np.array([t + (1.0 - af) * h]), P)[0]
-            u[1] += kp.g
-        c1, c2 = (1.0 - af) * beta * h * h, (1.0 - af) * gamma * h
-        kR = (1.0 - am) + 2.0 * alpha_b * beta_b * c2 + alpha_b * alpha_b * c1
-        A0 = st.apply(q, v, a, u)
-        # known parts of the alpha-point state (a_{n+1} = 0)
-        qt = q + (1.0 - af) * (h * v + h * h * (0.5 - beta) * a)
-        vt = v + (1.0 - af) * h * (1.0 - gamma) * a
-        if nc:
-            c0 = kR * (R @ A0) + R @ (am * a + 2.0 * alpha_b * beta_b * vt + alpha_b**2 * qt)
-            lam_c = -st.RGr_inv @ (c0 / kR)
-        else:
-            lam_c = np.zeros(0)
-        Lam = st.Lam
-        if fr.active:
-            w0 = D @ vt + c2 * (D @ A0 + st.DGr @ lam_c)
-            phi, conv, n_it, dn = fr.solve(phi, lam_c, Lam, w0, c2 * st.Wp)
-            stats[ki.S_NFEV] += n_it
-            if not conv:
-                rinfo[ki.R_T], rinfo[ki.R_H], rinfo[ki.R_RES] = t, h, dn
-                fin = np.isfinite(dn) and np.all(np.isfinite(phi))
-                stats[ki.S_STATUS] = ki.ST_NEWTON if fin else ki.ST_NONFINITE
+    state = (q, v, a, phi, lam_old)
+    par = (coef, (float(alpha_b), float(beta_b)), fr.fr, int(uplift_mode))
+    work = (np.empty((ni, ni)), np.zeros(ni, np.int64)) + tuple(np.empty(ni) for _ in range(5))
+    out = (t_eval, X, upl_t, stats, rinfo, work)
+    A0 = np.empty(n)  # the sparse backend's linear part, given to the kernel step by step
+    # segments of constant step size: the regular steps, then a shortened last one (its own
+    # factorisation) when dt does not divide the span
+    h_last = float(t_steps[-1] - (t0 + (n_steps - 1) * dt)) if n_steps else dt
+    short = abs(h_last - dt) > 1e-12 * dt
+    for k0, k1, h in ((0, n_steps - short, dt), (n_steps - 1, n_steps * short, h_last)):
+        if k1 <= k0 or stats[ki.S_STATUS] != ki.ST_SUCCESS or stats[ki.S_NOUT] >= nt:
+            continue
+        st = _stepper(P, h, coef, backend)
+        u = u_all[k0:k1]
+        if h != dt:
+            u = ks.ground_many(np.array([t + (1.0 - af) * h]), P)
+            u[:, 1] += kp.g
+        ops = (st.G, st.RGr_inv, st.Lam, st.DGr, st.Wp, R, D)
+        if st.W is not None:  # dense: the whole segment in the kernel
+            t = _klowrank.run_steps(t, t_steps[k0:k1], u, st.W, A0, state, ops, par, out, max_steps)
+            continue
+        for k in range(k0, k1):  # sparse: A0 by SuperLU here, the rest of the step in the kernel
+            if stats[ki.S_STATUS] != ki.ST_SUCCESS or stats[ki.S_NOUT] >= nt:
                 break
-        else:
-            phi = np.zeros(ni)
-        lam_a = lam_c + Lam @ phi
-        an = A0 + st.G @ np.concatenate([lam_a, phi])
-        qn = q + h * v + h * h * ((0.5 - beta) * a + beta * an)
-        vn = v + h * ((1.0 - gamma) * a + gamma * an)
-        if not (np.all(np.isfinite(an)) and np.all(np.isfinite(vn))):
-            stats[ki.S_STATUS] = ki.ST_NONFINITE
-            rinfo[ki.R_T] = t
-            break
-        # outputs in (t, t_new]: Hermite interpolation of the step (as the dense kernel)
-        i_end = int(np.searchsorted(t_eval, t_new, side="right"))
-        for i in range(iout, i_end):
-            _hermite(t, h, q, v, a, qn, vn, an, t_eval[i], X[i])
-        iout = stats[ki.S_NOUT] = i_end
-        stats[ki.S_NSTEP] += 1
-        # contact monitor on the alpha-point normal forces (the step's constraint forces)
-        stop = bool(np.any(lam_a <= 0.0)) and ki.check_contacts(
-            t, t_new, lam_old, lam_a, upl_t, uplift_mode, stats, rinfo
-        )
-        q, v, a = qn, vn, an
-        lam_old = lam_a
-        t = t_new
-        if stop:
-            break
-        rinfo[ki.R_T] = t
+            A0[:] = st.apply(q, v, a, u[k - k0])
+            t = _klowrank.run_steps(
+                t, t_steps[k : k + 1], u[k - k0 : k - k0 + 1], _NO_W, A0, state, ops, par, out,
+                max_steps,
+            )  # fmt: skip
     return stats, rinfo, X, upl_t
 
 

@@ -1,0 +1,199 @@
+"""Steps of the factor-once generalized-alpha (:mod:`nsdyn.solve.sparse`) as numba kernels.
+
+One step from (q, v, a)_n at step size h, given the linear part of the alpha-point acceleration
+``A0`` (``S a_{n+1} = ...`` with the nonlinear forces set to zero; see :mod:`nsdyn.solve.sparse`
+for the derivation)::
+
+    qt = q + (1-af) (h v + h^2 (1/2 - beta) a),   vt = v + (1-af) h (1 - gamma) a
+    lam_c = -RGr^-1 c0 / kR,   c0 = kR R A0 + R (am a + 2 ab bb vt + ab^2 qt)
+    phi   = mu L s(w0 + c2 Wp phi),   w0 = D vt + c2 (D A0 + DGr lam_c)     (friction Newton)
+    lam   = lam_c + Lam phi,   a_{n+1} = A0 + G [lam; phi]
+    q_{n+1}, v_{n+1}: Newmark update;  outputs by cubic Hermite on (t_n, t_{n+1}]
+
+``kR = (1-am) + 2 ab bb c2 + ab^2 c1`` (``ab, bb`` the Baumgarte alpha, beta), ``L = lam_c +
+Lam phi`` on the isolators' contacts (or the frozen static normal forces), ``s`` the arctan law
+``(2/pi) arctan(eps v)``. The friction forces solve by Newton on the ``ni`` unknowns with a
+backtracking line search. With the dense backend the whole loop runs here (``A0 = W [q; v; a;
+u]``, one matrix-vector product); the sparse backend computes ``A0`` with SuperLU in Python and
+calls :func:`step` once per step.
+"""
+
+import numpy as np
+from numba import njit
+
+from nsdyn._klinalg import lu_factor, lu_solve
+from nsdyn.solve import _kcommon as ki
+from nsdyn.solve._kgenalpha import _hermite
+
+NEWTON_MAXITER = 50  # Newton iterations on the friction forces per step
+NEWTON_RTOL = 1e-12  # converged when |d phi| <= this * (mu L + |phi|) for every isolator
+LS_MAXITER = 30  # backtracking halvings of a Newton correction
+K2 = 2.0 / np.pi
+
+
+@njit(cache=True, fastmath=True)
+def matvec(W, y, out):
+    """out = W y (row-wise sums; ``fastmath`` lets LLVM vectorise them)."""
+    for i in range(W.shape[0]):
+        s = 0.0
+        for j in range(W.shape[1]):
+            s += W[i, j] * y[j]
+        out[i] = s
+
+
+@njit(cache=True)
+def _residual(phi, Lc, Ld, w0, Wp, mu, eps, L, v, r):
+    """L = Lc + Ld phi, v = w0 + Wp phi, r = phi - mu L s(v); returns |r|."""
+    ni = phi.shape[0]
+    rr = 0.0
+    for i in range(ni):
+        li, vi = Lc[i], w0[i]
+        for j in range(ni):
+            li += Ld[i, j] * phi[j]
+            vi += Wp[i, j] * phi[j]
+        L[i], v[i] = li, vi
+        r[i] = phi[i] - mu[i] * li * K2 * np.arctan(eps * vi)
+        rr += r[i] * r[i]
+    return np.sqrt(rr)
+
+
+@njit(cache=True)
+def friction(phi, Lc, Ld, w0, Wp, mu, eps, work):
+    """Solve phi = mu L s(w0 + Wp phi), L = Lc + Ld phi, in place from the guess ``phi``.
+
+    ``work = (J, piv, L, v, r, d, p_new)``. Returns (converged, iterations, last relative
+    correction)."""
+    J, piv, L, v, r, d, p_new = work
+    ni = phi.shape[0]
+    r0 = _residual(phi, Lc, Ld, w0, Wp, mu, eps, L, v, r)
+    dn = np.inf
+    for it in range(1, NEWTON_MAXITER + 1):
+        for i in range(ni):
+            s = K2 * np.arctan(eps * v[i])
+            ds = K2 * eps / (1.0 + (eps * v[i]) ** 2)
+            for j in range(ni):
+                J[i, j] = (
+                    (1.0 if i == j else 0.0) - mu[i] * s * Ld[i, j] - mu[i] * L[i] * ds * Wp[i, j]
+                )
+            d[i] = r[i]
+        if not lu_factor(J, piv):
+            return False, it, np.inf
+        lu_solve(J, piv, d)
+        dn = 0.0
+        for i in range(ni):
+            dn = max(dn, abs(d[i]) / (abs(mu[i] * L[i]) + abs(phi[i]) + 1e-300))
+        if not np.isfinite(dn):
+            return False, it, dn
+        if dn <= NEWTON_RTOL:  # quadratic convergence: this correction is the last
+            for i in range(ni):
+                phi[i] -= d[i]
+            return True, it, dn
+        step = 1.0
+        rn = r0
+        for _ in range(LS_MAXITER):
+            for i in range(ni):
+                p_new[i] = phi[i] - step * d[i]
+            rn = _residual(p_new, Lc, Ld, w0, Wp, mu, eps, L, v, r)
+            if rn <= (1.0 - 1e-4 * step) * r0:
+                break
+            step *= 0.5
+        phi[:] = p_new
+        r0 = rn
+    return False, NEWTON_MAXITER, dn
+
+
+@njit(cache=True)
+def step(t, t_new, A0, state, ops, par, out):
+    """One step [t, t_new] from the linear part ``A0`` (module text); updates ``state = (q, v,
+    a, phi, lam_old)`` in place, writes the outputs in (t, t_new] and checks the contacts.
+
+    ``ops = (G, RGr_inv, Lam, DGr, Wp, R, D)`` of the step size, ``par = (coef, baum, fr,
+    uplift_mode)`` with ``coef = (am, af, beta, gamma)``, ``baum = (alpha, beta)``, ``fr = (mu,
+    lam0, eps, frozen, active)``; ``out = (t_eval, X, upl_t, stats, rinfo, work)``.
+    Returns (iout, stop): stop on uplift (``uplift_mode`` raise) or a failed step (status set).
+    """
+    q, v, a, phi, lam_old = state
+    G, RGr_inv, Lam, DGr, Wp, R, D = ops
+    (am, af, beta, gamma), (ab, bb), fr, uplift_mode = par
+    mu, lam0, eps, frozen, active = fr
+    t_eval, X, upl_t, stats, rinfo, work = out
+    n = q.shape[0]
+    nc, ni = R.shape[0], D.shape[0]
+    h = t_new - t
+    c1, c2 = (1.0 - af) * beta * h * h, (1.0 - af) * gamma * h
+    kR = (1.0 - am) + 2.0 * ab * bb * c2 + ab * ab * c1
+    qt = q + (1.0 - af) * (h * v + h * h * (0.5 - beta) * a)
+    vt = v + (1.0 - af) * h * (1.0 - gamma) * a
+    lam_c = np.zeros(nc)
+    if nc:
+        c0 = kR * (R @ A0) + R @ (am * a + 2.0 * ab * bb * vt + ab * ab * qt)
+        lam_c = -(RGr_inv @ c0) / kR
+    if active:
+        w0 = D @ vt + c2 * (D @ A0 + DGr @ lam_c)
+        Ld = np.zeros((ni, ni))  # normal forces per unit friction force (none when frozen)
+        Lc = lam0.copy()
+        if not frozen:
+            Ld[:, :] = Lam[:ni]
+            Lc[:] = lam_c[:ni]
+        conv, n_it, dn = friction(phi, Lc, Ld, w0, c2 * Wp, mu, eps, work)
+        stats[ki.S_NFEV] += n_it
+        if not conv:
+            rinfo[ki.R_T], rinfo[ki.R_H], rinfo[ki.R_RES] = t, h, dn
+            fin = np.isfinite(dn) and ki.all_finite(phi)
+            stats[ki.S_STATUS] = ki.ST_NEWTON if fin else ki.ST_NONFINITE
+            return int(stats[ki.S_NOUT]), True
+    else:
+        phi[:] = 0.0
+    lam_a = lam_c + Lam @ phi if nc else np.zeros(0)
+    z = np.concatenate((lam_a, phi))
+    an = A0 + G @ z
+    qn = q + h * v + h * h * ((0.5 - beta) * a + beta * an)
+    vn = v + h * ((1.0 - gamma) * a + gamma * an)
+    if not (ki.all_finite(an) and ki.all_finite(vn)):
+        stats[ki.S_STATUS] = ki.ST_NONFINITE
+        rinfo[ki.R_T] = t
+        return int(stats[ki.S_NOUT]), True
+    iout = int(stats[ki.S_NOUT])
+    while iout < t_eval.shape[0] and t_eval[iout] <= t_new:
+        _hermite(t, h, q, v, a, qn, vn, an, t_eval[iout], X[iout])
+        iout += 1
+    stats[ki.S_NOUT] = iout
+    stats[ki.S_NSTEP] += 1
+    # contact monitor on the alpha-point normal forces (the step's constraint forces)
+    stop = ki.check_contacts(t, t_new, lam_old, lam_a, upl_t, uplift_mode, stats, rinfo)
+    q[:n] = qn
+    v[:n] = vn
+    a[:n] = an
+    lam_old[:] = lam_a
+    if not stop:
+        rinfo[ki.R_T] = t_new
+    return iout, stop
+
+
+@njit(cache=True)
+def run_steps(t, t_steps, u_all, W, A0, state, ops, par, out, max_steps):
+    """The steps ending at ``t_steps`` (one step size) from time ``t``: ``A0 = W [q; v; a;
+    u_k]`` (dense backend), or the given ``A0`` when ``W`` is empty (one step, sparse backend).
+    Stops at the last output, after ``max_steps`` steps or on a failed step (status set).
+    Returns the time reached."""
+    q, v, a = state[0], state[1], state[2]
+    stats = out[3]
+    n = q.shape[0]
+    y = np.empty(W.shape[1])
+    for k in range(t_steps.shape[0]):
+        if stats[ki.S_NOUT] >= out[0].shape[0]:
+            break
+        if stats[ki.S_NSTEP] >= max_steps:
+            stats[ki.S_STATUS] = ki.ST_MAX_STEPS
+            break
+        if W.shape[0]:
+            y[:n] = q
+            y[n : 2 * n] = v
+            y[2 * n : 3 * n] = a
+            y[3 * n :] = u_all[k]
+            matvec(W, y, A0)
+        _, stop = step(t, t_steps[k], A0, state, ops, par, out)
+        if stop:
+            break
+        t = t_steps[k]
+    return t
