@@ -5,11 +5,13 @@ A = 0.5 m/s^2): the switch-model orbit at a few frequencies, its events and Floq
 multipliers (a stick phase gives an exact zero multiplier), against arctan shooting.
 
     python examples/switch_shooting.py
+    python examples/switch_shooting.py --curve   # one 150-point curve, switch vs arctan, timed
 """
 
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 
@@ -58,5 +60,15 @@ def main() -> dict:
     return out
 
 
+def curve() -> dict:
+    """The whole-curve benchmark (nsdyn bench switch_shooting --curve), one repeat."""
+    from nsdyn.bench.switch_shooting import run_curve_bench
+
+    res = run_curve_bench("nsdyn-out", quick=False, repeats=1)
+    for k, v in res.items():
+        print(k, v)
+    return res
+
+
 if __name__ == "__main__":
-    main()
+    curve() if "--curve" in sys.argv[1:] else main()

@@ -16,6 +16,14 @@ reference sticks all period, ``|x_iso| / x_ref`` with ``x_ref`` the largest refe
 the curve), the reference being switch shooting at ``REF_TOL`` with ``REF_SAMPLES`` samples.
 Time per point: wall time of the solve (warm start included, compilation excluded: every
 kernel runs once before timing). Medians over the frequencies are charted.
+
+``curve=True`` (``nsdyn bench switch_shooting --curve``) times instead one whole
+frequency-response curve of the office frame at ``A_FRAME``, ``CURVE_POINTS`` log-spaced
+frequencies from ``CURVE_FMIN`` to ``CURVE_FMAX`` (the sweep's defaults), by sequential
+continuation on the switch model and on the arctan law (eps = 7500) in the same run, alternating
+the two ``repeats`` times (median wall time); it reports the time per point, how each point was
+found, and the largest difference of x_iso between the curves (the smoothing error of arctan),
+absolute and relative to the curve's largest x_iso. Writes switch_curve.csv.
 """
 
 from __future__ import annotations
@@ -38,6 +46,9 @@ OSC_FREQS = (0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.0)
 OSC_FREQS_QUICK = (0.5, 0.9, 1.5)
 PERIODS = 40  # event-driven integration length [periods] (oscillator)
 PERIODS_FRAME = 12  # ... frame (quick: 6)
+OPTIONS = ("repeats", "curve")  # options run_bench takes
+CURVE_FMIN, CURVE_FMAX, CURVE_POINTS = 0.01, 10.0, 150  # the sweep's default grid
+CURVE_POINTS_QUICK = 40
 REF_TOL = 1e-10  # reference shooting tolerance
 REF_SAMPLES = 2000  # samples of the reference orbit per period
 EVENT_SAMPLES = 400  # output samples per period of the event-driven runs
@@ -163,8 +174,75 @@ def _figure(tables: dict):
     return fig
 
 
-def run_bench(out_dir: Path, quick: bool) -> dict:
-    """Error against time per point for both systems; writes switch_shooting.csv and .png."""
+def _curves(quick: bool, repeats: int) -> dict:
+    """Switch and arctan curves of the office frame, timed alternately ``repeats`` times."""
+    from nsdyn.periodic import frame_problem
+    from nsdyn.periodic.continuation import continue_range
+    from nsdyn.periodic.switch import switch_problem
+
+    points = CURVE_POINTS_QUICK if quick else CURVE_POINTS
+    probs = {
+        "switch": switch_problem(_frame("switch"), A_FRAME),
+        "arctan": frame_problem(_frame("arctan"), A_FRAME),
+    }
+    for pb in probs.values():  # compile / load the kernels before timing
+        continue_range(pb, fmin=0.4, fmax=0.5, points=2)
+    walls = {k: [] for k in probs}
+    curves = {}
+    for _ in range(max(int(repeats), 1)):
+        for name, pb in probs.items():
+            t0 = time.perf_counter()
+            curves[name] = continue_range(
+                pb, fmin=CURVE_FMIN, fmax=CURVE_FMAX, points=points, continuation="sequential"
+            )
+            walls[name].append(time.perf_counter() - t0)
+    return {"points": points, "walls": walls, "curves": curves}
+
+
+def run_curve_bench(out_dir: Path, quick: bool, repeats: int = 3) -> dict:
+    """One full curve on the switch model against the arctan curve; writes switch_curve.csv."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    res = _curves(quick, 1 if quick else repeats)
+    sw, ar = res["curves"]["switch"].points, res["curves"]["arctan"].points
+    xs = np.array([p.quantities.get("x_iso", math.nan) for p in sw])
+    xa = np.array([p.quantities.get("x_iso", math.nan) for p in ar])
+    n = min(len(xs), len(xa))
+    diff = np.abs(xs[:n] - xa[:n])
+    k = int(np.nanargmax(diff)) if n else 0
+    csv_path = out_dir / "switch_curve.csv"
+    with atomic_open(csv_path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(("f", "x_iso_switch", "x_iso_arctan", "method_switch", "method_arctan"))
+        for a, b in zip(sw[:n], ar[:n], strict=True):
+            qa, qb = a.quantities, b.quantities
+            w.writerow((a.f, qa.get("x_iso"), qb.get("x_iso"), a.method, b.method))
+    med = {k_: float(np.median(v)) for k_, v in res["walls"].items()}
+    methods = {
+        name: {m: sum(p.method == m for p in c.points) for m in {p.method for p in c.points}}
+        for name, c in res["curves"].items()
+    }
+    return {
+        "csv": str(csv_path),
+        "wall_s": time.perf_counter() - t0,
+        "points": res["points"],
+        "repeats": len(res["walls"]["switch"]),
+        "median_curve_s": med,
+        "per_point_s": {k_: v / res["points"] for k_, v in med.items()},
+        "ratio_switch_to_arctan": med["switch"] / med["arctan"],
+        "methods": methods,
+        "max_abs_dx_iso_m": float(diff[k]) if n else math.nan,
+        "max_rel_dx_iso": float(diff[k] / np.nanmax(xs)) if n else math.nan,
+        "f_of_max_dx_iso": float(sw[k].f) if n else math.nan,
+    }
+
+
+def run_bench(out_dir: Path, quick: bool, repeats: int = 3, curve: bool = False) -> dict:
+    """Error against time per point for both systems; writes switch_shooting.csv and .png.
+    ``curve``: the whole-curve timing instead (:func:`run_curve_bench`)."""
+    if curve:
+        return run_curve_bench(out_dir, quick, repeats)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()

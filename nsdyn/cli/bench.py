@@ -2,10 +2,10 @@
 (the benchmarks themselves are in :mod:`nsdyn.bench`).
 
 ``nsdyn bench NAME | all [--quick] [--out DIR] [--repeats N] [--records LIST] [--cold-compile]
-[--no-figures] [--json]`` runs benchmark NAME of :data:`nsdyn.bench.BENCHMARKS` (``all``: each
-in the table's order) through its ``run_bench(out_dir, quick, **options)``, passing only the
-options its ``OPTIONS`` lists, then prints its ``report`` (or its summary) and the files it
-wrote, or with ``--json`` one JSON object ``{name: summary}`` and nothing else.
+[--curve] [--no-figures] [--json]`` runs benchmark NAME of :data:`nsdyn.bench.BENCHMARKS`
+(``all``: each in the table's order) through its ``run_bench(out_dir, quick, **options)``,
+passing only the options its ``OPTIONS`` lists, then prints its ``report`` (or its summary)
+and the files it wrote, or with ``--json`` one JSON object ``{name: summary}`` and nothing else.
 """
 
 from __future__ import annotations
@@ -70,6 +70,11 @@ def configure(p: argparse.ArgumentParser) -> None:
         action="store_true",
         help="speed: also time the JIT compilation with an empty numba cache (a few minutes)",
     )
+    p.add_argument(
+        "--curve",
+        action="store_true",
+        help="switch_shooting: also one whole 150-point curve, switch against arctan",
+    )
     p.add_argument("--no-figures", action="store_true", help="write the CSV tables only")
     p.add_argument("--json", action="store_true", help="print one JSON summary and nothing else")
 
@@ -113,6 +118,7 @@ def run(args: argparse.Namespace) -> int:
         "figures": not args.no_figures,
         "quiet": args.json,
         "cold_compile": getattr(args, "cold_compile", False),
+        "curve": getattr(args, "curve", False),
     }
     whats = list(BENCHMARKS) if args.what == "all" else [args.what]
     summary, status = {}, 0

@@ -95,12 +95,6 @@ def run(args: argparse.Namespace) -> int:
         )
         return EXIT_USER_ERROR
     friction = args.friction or cfg.get("isolation", {}).get("law", "arctan")
-    if friction == "switch" and args.continuation == "arclength":
-        print(
-            "nsdyn sweep: the switch model is continued sequentially (no arclength)",
-            file=sys.stderr,
-        )
-        return EXIT_USER_ERROR
     if not args.fmax > args.fmin:
         print(
             f"nsdyn sweep: --fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})",

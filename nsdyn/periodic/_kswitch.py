@@ -24,7 +24,8 @@ so the monodromy is the product of flows and saltations. At slip -> stick ``n^T 
 (``v = 0`` is held), so ``n^T S = 0``: a stick phase gives an exact zero multiplier.
 
 Grazing is measured per period: at every event ``|c . f-| / (w scale)`` and at every dip of
-a switching function that does not cross zero its minimum ``/ scale`` (``scale``: ``mu lamf``
+a switching function that does not cross zero its minimum ``/ scale`` (not for a function
+starting at its zero, which a switch just made) (``scale``: ``mu lamf``
 for a stick row, the largest ``|v_i|`` so far for a slip row); the smallest is returned.
 """
 
@@ -43,6 +44,7 @@ ROOT_XTOL = 1e-14  # root tolerance, relative to the step
 MAX_STEP_EVENTS = 32  # switches within one step before reporting chattering
 STICK_RTOL = 1e-12  # relative slack of the stick test |tau| <= mu lamf
 MAX_EVENTS = 256  # events recorded per period
+START_RTOL = 1e-9  # a switching function below this x its scale at a step start sits at zero
 
 # Pade(13) coefficients (Higham 2005)
 _B13 = np.array(
@@ -277,7 +279,10 @@ def _detect(Ab, rows, scales, nrows, y, y1, fy, fy1, h, graze):
                     if s < s_best:
                         s_best, j_best = s, j
                     continue
-            graze[0] = min(graze[0], gm / max(scales[j], 1e-300))
+            if g0 > START_RTOL * scales[j]:
+                # (a function that starts at its zero -- the switch just made -- and rises
+                # tangentially, as a slip starting from rest does, is not a graze)
+                graze[0] = min(graze[0], gm / max(scales[j], 1e-300))
         if found:
             s = _root(Ab, c, y, a, h, ga, g1, h)
             if s < s_best:

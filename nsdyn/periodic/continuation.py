@@ -37,6 +37,8 @@ from nsdyn.periodic.shooting import (
     ShootingResult,
     _evaluate,
     _weights,
+    frozen_rows,
+    least_squares_step,
     orbit_amplitudes,
     shoot,
 )
@@ -52,6 +54,7 @@ ARC_STATE_WEIGHT = 0.1  # weight of the (amplitude-scaled) state in the arclengt
 ARC_MAX_CORRECTION = 1.0  # corrector iterates stay within this many ds of the predictor
 ARC_MAX_STEPS_FACTOR = 20  # at most this many x the requested points along a curve
 ARC_PHASE_TOL = 1e-6  # corrector: largest |<t, y - y_pred>_W| at convergence
+DT_REL = 1e-6  # relative period step of the central difference d phi_T / dT
 F_MIN = 0.01  # default lowest forcing frequency of a curve [Hz]
 F_MAX = 10.0  # default highest forcing frequency of a curve [Hz]
 POINTS = 150  # default number of points of a curve
@@ -63,11 +66,19 @@ def log_frequencies(fmin: float = F_MIN, fmax: float = F_MAX, points: int = POIN
 
 
 def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="shooting"):
-    """Shooting from each guess in turn; if the period could not even be integrated, once more
-    with ``REFINE_FACTOR`` times more steps; then the sweep from the first guess."""
+    """Shooting from each guess in turn, then from the last guess carried ``sweeps.WARMUP_PERIODS``
+    periods along at ``f`` (near a grazing or an event-sequence change a guess on the
+    attracting orbit's side often converges where extrapolation does not); if the period
+    could not even be integrated, once more with ``REFINE_FACTOR`` times more steps; then the
+    sweep from the first guess."""
     why = "no initial guess"
     integration_failed = False
-    for g in guesses:
+    tries = list(guesses)
+    if guesses:
+        tries.append(None)  # the warm start, made only if needed
+    for g in tries:
+        if g is None:
+            g = warm_start(problem, f, guesses[-1], disc)
         res = shoot(problem, f, g, tol=tol, max_iter=max_iter, disc=disc)
         if res.converged:
             return _point_from_shoot(problem, res, method), res
@@ -96,6 +107,14 @@ def _append(pts: list, pt: OrbitPoint, keep_orbits: bool, progress=None, total: 
         progress(pt, len(pts), total)
 
 
+def _free(dx: np.ndarray, C: np.ndarray | None) -> np.ndarray:
+    """``dx`` without its change of the held rows ``C`` (``C dx = 0`` after): a frozen
+    displacement stays where the last orbit left it instead of being extrapolated."""
+    if C is None:
+        return dx
+    return dx - np.linalg.pinv(C) @ (C @ dx)
+
+
 def continue_sequential(
     problem: PeriodicModel,
     freqs,
@@ -111,7 +130,8 @@ def continue_sequential(
 ) -> Curve:
     """Seed's sequential continuation: shoot at each frequency from the previous solution.
 
-    The guess is the secant extrapolation (in log f) of the last two points, then the last
+    The guess is the secant extrapolation (in log f) of the last two points (not along the
+    rows the last orbit holds, see :func:`nsdyn.periodic.shooting.frozen_rows`), then the last
     point itself; if both fail, the stepped sweep produces the point (``fallback``).
     ``start`` resumes a curve (points already computed are kept, frequencies up to the last
     one skipped). Only the last point keeps its orbit ``X`` unless ``keep_orbits``.
@@ -120,6 +140,7 @@ def continue_sequential(
     freqs = np.asarray(freqs, dtype=float)
     pts: list[OrbitPoint] = list(start or [])
     t0 = time.perf_counter()
+    held = None
     for f in freqs:
         if pts and f <= pts[-1].f * (1 + 1e-12):
             continue
@@ -127,15 +148,16 @@ def continue_sequential(
         if len(pts) >= 2:
             a, b = pts[-2], pts[-1]
             r = (math.log(f) - math.log(b.f)) / (math.log(b.f) - math.log(a.f))
-            guesses.append(b.x0 + r * (b.x0 - a.x0))
+            guesses.append(b.x0 + r * _free(b.x0 - a.x0, held))
         if pts:
             guesses.append(pts[-1].x0)
         else:
             guesses.append(warm_start(problem, f, x0, disc))
         tp = time.perf_counter()
-        pt, _ = _solve_point(problem, f, guesses, disc, tol, max_iter, fallback)
+        pt, res = _solve_point(problem, f, guesses, disc, tol, max_iter, fallback)
         if pt is None:
             continue
+        held = None if res is None else res.frozen
         pt.quantities["wall_s"] = time.perf_counter() - tp
         _append(pts, pt, keep_orbits, progress, len(freqs))
     info = {"continuation": "sequential", "wall_s": time.perf_counter() - t0}
@@ -166,17 +188,42 @@ def continue_range(
     raise ValueError(f"continuation: expected 'sequential' or 'arclength', got {continuation!r}")
 
 
-def _tangent(Jx, Jp, W, t_prev):
-    """Unit tangent of H(x, p) = 0 (scaled norm) oriented along ``t_prev``."""
+def period_derivative(problem, pm, x: np.ndarray, f: float, N: int) -> np.ndarray:
+    """``d phi_T / dT`` at ``x``: the map's own ``dxdT``, else (a map that does not supply it,
+    e.g. the switch model's) central differences of the map in ``T`` with ``N`` steps and
+    ``dT = DT_REL T`` (error ~ ``DT_REL^2`` plus round-off / ``DT_REL``)."""
+    if pm.dxdT is not None:
+        return pm.dxdT
+    T = 1.0 / f
+    dT = DT_REL * T
+    ends = []
+    for Ts in (T + dT, T - dT):
+        pt = problem.period_map(x, 1.0 / Ts, n_steps=N, sens=False)
+        if pt.status != STATUS_OK:
+            return np.full(x.size, np.nan)
+        ends.append(pt.xT)
+    return (ends[0] - ends[1]) / (2.0 * dT)
+
+
+def _bordered(Jx, Jp, C):
+    """``[Jx, Jp]`` with the rows ``[C, 0]`` of the held state appended (None: none)."""
+    if C is None:
+        return np.column_stack([Jx, Jp]), 0
+    return np.vstack([np.column_stack([Jx, Jp]), np.column_stack([C, np.zeros(len(C))])]), len(C)
+
+
+def _tangent(Jx, Jp, W, t_prev, C=None):
+    """Unit tangent of H(x, p) = 0 (scaled norm) oriented along ``t_prev``; with ``C`` (held
+    rows of a family of orbits, see :func:`nsdyn.periodic.shooting.frozen_rows`) also
+    ``C dx = 0``, by least squares."""
     d = Jx.shape[0]
     Wf = np.concatenate([W, [1.0]])
-    Aug = np.zeros((d + 1, d + 1))
-    Aug[:d, :d] = Jx
-    Aug[:d, d] = Jp
-    Aug[d, :] = t_prev * Wf * Wf
-    rhs = np.zeros(d + 1)
-    rhs[d] = 1.0
-    t = np.linalg.solve(Aug, rhs)
+    top, r = _bordered(Jx, Jp, C)
+    Aug = np.vstack([top, t_prev * Wf * Wf])
+    rhs = np.zeros(d + r + 1)
+    rhs[-1] = 1.0
+    rows = np.concatenate([W, np.ones(r + 1)])
+    t, _ = least_squares_step(Aug, rhs, Wf, row_scale=rows)
     t /= np.linalg.norm(Wf * t)
     if (t * Wf * Wf) @ t_prev < 0:
         t = -t
@@ -268,10 +315,11 @@ def continue_arclength(
                 pt.s = s_acc = s_acc + abs(math.log(f_next) - p_last)
                 add(pt)
                 continue
-            J_last = (res0.monodromy - np.eye(d), res0.dxdT * (-1.0 / last.f), res0.x0)
+            dxdT = period_derivative(problem, res0, res0.x0, last.f, N)
+            J_last = (res0.monodromy - np.eye(d), dxdT * (-1.0 / last.f), res0.x0, res0.frozen)
             need_restart = False
-        Jx, Jp, xl = J_last
-        tan = _tangent(Jx, Jp, W, t_prev)
+        Jx, Jp, xl, C_last = J_last
+        tan = _tangent(Jx, Jp, W, t_prev, C_last)
         last.dlogf_ds = float(tan[d])
         # step size: cap the change of log f
         ds_cap = dp_max / max(abs(tan[d]), 1e-12)
@@ -302,7 +350,7 @@ def continue_arclength(
             if ok:
                 Jx_n = res.monodromy - np.eye(d)
                 Jp_n = res.dxdT * (-1.0 / math.exp(y[d]))
-                tan_new = _tangent(Jx_n, Jp_n, W, tan)
+                tan_new = _tangent(Jx_n, Jp_n, W, tan, res.frozen)
                 cosang = float((tan_new * Wf * Wf) @ tan)
                 if cosang >= ARC_COS_MIN:
                     break
@@ -332,7 +380,7 @@ def continue_arclength(
         pt.s = s_acc
         pt.dlogf_ds = float(tan_new[d])
         add(pt, tp)
-        J_last = (Jx_n, Jp_n, y[:d].copy())
+        J_last = (Jx_n, Jp_n, y[:d].copy(), res.frozen)
         t_prev = tan_new
         ds = ds * ARC_GROW if its <= ARC_GOOD else ds
     info = {"continuation": "arclength", "wall_s": time.perf_counter() - t0, "steps": steps}
@@ -358,19 +406,24 @@ def _corrector(problem, y_pred, tan, W, N, disc, tol, ds):
             return False, y, None, it, np.inf, STATUS_MESSAGES[pm.status]
         H = pm.xT - y[:d]
         g = float((tan * Wf2) @ (y - y_pred))
-        res = ShootingResult(f, y[:d].copy(), r <= tol, it, r, pm.monodromy, pm.dxdT, pm.X, N)
+        dxdT = period_derivative(problem, pm, y[:d], f, N)
+        C = frozen_rows(problem, pm)
+        res = ShootingResult(f, y[:d].copy(), r <= tol, it, r, pm.monodromy, dxdT, pm.X, N)
+        res.frozen = C
         if r <= tol and abs(g) <= ARC_PHASE_TOL:
             return True, y, res, it, r, "converged"
         if it == ARC_MAXIT:
             break
-        Aug = np.zeros((d + 1, d + 1))
-        Aug[:d, :d] = pm.monodromy - np.eye(d)
-        Aug[:d, d] = pm.dxdT * (-1.0 / f)
-        Aug[d, :] = tan * Wf2
+        top, nc = _bordered(pm.monodromy - np.eye(d), dxdT * (-1.0 / f), C)
+        Aug = np.vstack([top, tan * Wf2])
+        rhs = -np.concatenate([H, np.zeros(nc), [g]])
+        rows = np.concatenate([W, np.ones(nc + 1)])
         try:
-            dy = np.linalg.solve(Aug, -np.concatenate([H, [g]]))
+            dy, _ = least_squares_step(Aug, rhs, Wf, row_scale=rows)
         except np.linalg.LinAlgError:
-            return False, y, None, it, r, "singular bordered Newton matrix"
+            return False, y, None, it, r, "bordered Newton matrix: least-squares solve failed"
+        if not np.all(np.isfinite(dy)):
+            return False, y, None, it, r, "bordered Newton step not finite"
         y = y + dy
         dist = float(np.linalg.norm(Wf * (y - y_pred)))
         if dist > ARC_MAX_CORRECTION * ds:

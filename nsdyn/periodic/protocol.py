@@ -14,6 +14,12 @@ orbit's largest excursion from the reference state ``x_ref``. A model family reu
 (the isolated frame's and the Duffing oscillator's is
 :class:`nsdyn.periodic.problem.PeriodicProblem`).
 
+Optional: ``frozen_rows(pm) -> C (r, dim) | None``, the rows of the state that are frozen on
+the orbit of the period map ``pm`` and parametrise a family of orbits (multipliers exactly 1,
+``Phi - I`` singular there; e.g. the displacement of an isolator that sticks all period).
+Shooting and continuation then hold ``C x0`` at the guess and solve for the rest by least
+squares. A map may leave ``dxdT`` None; continuation then differentiates it in ``T``.
+
 A period map reports a status: ``STATUS_OK`` (0) or a failure code of
 :data:`STATUS_MESSAGES` (the codes of the fixed-step kernels).
 """

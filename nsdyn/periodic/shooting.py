@@ -30,6 +30,7 @@ SHOOT_STALL = 10.0  # a stalled Newton (no descent) counts as converged below th
 LS_HALVINGS = 6  # line-search step halvings before giving up
 LS_ALPHA = 1e-4  # Armijo constant of the line search
 AMP_FLOOR = 1e-12  # smallest orbit amplitude used for scaling [m, m/s]
+NEWTON_RCOND = 1e-10  # scaled singular values below this x the largest count as zero
 
 
 def period_map(problem: PeriodicModel, x0: np.ndarray, f: float, **options) -> PeriodMap:
@@ -75,10 +76,79 @@ class ShootingResult:
     n_steps: int
     message: str = ""
     history: list = field(default_factory=list)
+    frozen: np.ndarray | None = None  # rows of the state held on this orbit (frozen_rows)
 
     @property
     def multipliers(self) -> np.ndarray:
         return floquet_multipliers(self.monodromy)
+
+
+def frozen_rows(problem: PeriodicModel, pm: PeriodMap) -> np.ndarray | None:
+    """Rows ``C`` (r, dim) of the state the model reports frozen on the orbit of ``pm`` (its
+    optional ``frozen_rows`` method), or None."""
+    hook = getattr(problem, "frozen_rows", None)
+    if hook is None:
+        return None
+    C = hook(pm)
+    return None if C is None or len(C) == 0 else np.atleast_2d(np.asarray(C, dtype=float))
+
+
+def least_squares_step(
+    J: np.ndarray,
+    rhs: np.ndarray,
+    scale: np.ndarray,
+    C: np.ndarray | None = None,
+    row_scale: np.ndarray | None = None,
+    c: np.ndarray | None = None,
+) -> tuple[np.ndarray, int]:
+    """Minimum-norm least-squares solution ``dx`` of ``J dx = rhs`` in the scaled unknowns
+    ``u = scale * dx`` and equations ``row_scale * (J dx - rhs)`` (default ``scale``),
+    restricted to ``C dx = c`` (default 0; eq LS); singular values below
+    ``NEWTON_RCOND`` times the largest are dropped. Returns ``(dx, rank)``, ``rank`` that of
+    the (restricted) scaled matrix."""
+    rows = scale if row_scale is None else row_scale
+    Js = rows[:, None] * J / scale[None, :]
+    b = rows * rhs
+    if C is not None:
+        Cs = C / scale[None, :]
+        _, sv, Vt = np.linalg.svd(Cs)
+        r = int(np.sum(sv > NEWTON_RCOND * max(sv.max(initial=0.0), 1e-300)))
+        Nb = Vt[r:].T  # orthonormal basis of {u: Cs u = 0}
+        up = np.zeros(J.shape[1])
+        if c is not None:
+            up = np.linalg.lstsq(Cs, c, rcond=NEWTON_RCOND)[0]
+        z, _, rank, _ = np.linalg.lstsq(Js @ Nb, b - Js @ up, rcond=NEWTON_RCOND)
+        u = up + Nb @ z
+    else:
+        u, _, rank, _ = np.linalg.lstsq(Js, b, rcond=NEWTON_RCOND)
+    return u / scale, int(rank)
+
+
+def newton_step(problem, pm: PeriodMap, x: np.ndarray, W: np.ndarray) -> np.ndarray:
+    """The shooting step (eq LS) at ``x``: frozen rows held; then, for a model with
+    ``step_limits(pm) -> (L, bound)`` (rows of the state and the largest change of each a step
+    may make, a trust region on directions where the map is nearly neutral, e.g. the
+    displacement of an isolator that barely slips), every row whose change exceeds its bound
+    is held at the bound and the rest solved again."""
+    H = pm.xT - x
+    J = pm.monodromy - np.eye(x.size)
+    C = frozen_rows(problem, pm)
+    dx, _ = least_squares_step(J, -H, W, C)
+    hook = getattr(problem, "step_limits", None)
+    lim = None if hook is None else hook(pm)
+    if lim is None:
+        return dx
+    L, bound = lim
+    z = L @ dx
+    over = np.abs(z) > bound
+    if not np.any(over):
+        return dx
+    rows = [L[over]] if C is None else [C, L[over]]
+    vals = [np.clip(z[over], -bound[over], bound[over])]
+    if C is not None:
+        vals.insert(0, np.zeros(len(C)))
+    dx, _ = least_squares_step(J, -H, W, np.vstack(rows), c=np.concatenate(vals))
+    return dx
 
 
 def _evaluate(problem, x, f, N, disc):
@@ -124,11 +194,10 @@ def shoot(
             msg = f"no convergence in {max_iter} Newton iterations (residual {r:.2e})"
             break
         H = pm.xT - x
-        Jn = pm.monodromy - np.eye(x.size)
         try:
-            dx = np.linalg.solve(Jn, -H)
+            dx = newton_step(problem, pm, x, W)
         except np.linalg.LinAlgError:
-            msg = "singular Newton matrix Phi - I (a multiplier at +1: fold or creep mode)"
+            msg = "Newton matrix Phi - I: least-squares solve failed"
             break
         if not np.all(np.isfinite(dx)):
             msg = "Newton step not finite"
@@ -149,13 +218,16 @@ def shoot(
             if r <= SHOOT_STALL * tol:
                 # no descent left: the residual sits on the round-off floor of the map
                 msg = f"converged (stalled at the period map's round-off, residual {r:.1e})"
-                return ShootingResult(f, x, True, it, r, pm.monodromy, pm.dxdT, pm.X, N, msg, hist)
+                C = frozen_rows(problem, pm)
+                return ShootingResult(
+                    f, x, True, it, r, pm.monodromy, pm.dxdT, pm.X, N, msg, hist, C
+                )
             msg = f"line search failed after {LS_HALVINGS} halvings (residual {r:.2e})"
             break
         x, pm, W, r = xt, pt, Wt, rt
         it += 1
         hist.append(r)
     ok = r <= tol
-    return ShootingResult(
-        f, x, ok, it, r, pm.monodromy, pm.dxdT, pm.X, N, msg if not ok else "converged", hist
-    )
+    msg = msg if not ok else "converged"
+    C = frozen_rows(problem, pm)
+    return ShootingResult(f, x, ok, it, r, pm.monodromy, pm.dxdT, pm.X, N, msg, hist, C)

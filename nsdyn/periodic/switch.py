@@ -12,8 +12,11 @@ kernel (Jacobian ``blockdiag(Q^T) ks.jac blockdiag(Q)``, right-hand side at ``x 
 three forcing phases), the stick and normal forces likewise from ``ks.evaluate``. The period
 map of :mod:`nsdyn.periodic._kswitch` integrates this exactly (matrix exponentials) and
 multiplies flows and saltation matrices into the exact monodromy; Newton shooting, the
-stepped sweep and sequential continuation are those of the smooth case
-(:class:`SwitchProblem` satisfies :class:`nsdyn.periodic.protocol.PeriodicModel`).
+stepped sweep, sequential and pseudo-arclength continuation are those of the smooth case
+(:class:`SwitchProblem` satisfies :class:`nsdyn.periodic.protocol.PeriodicModel`). On an
+orbit where an isolator sticks all period its displacement is frozen: shifting it gives
+another orbit (multiplier 1, ``Phi - I`` singular), so :meth:`SwitchProblem.frozen_rows`
+reports it and shooting holds it at the guess (least-squares Newton step on the rest).
 
 A grazing orbit (a slip phase shrinking to zero length: at a switch ``n^T f- -> 0``, or a
 switching function touching zero without crossing) has a saltation matrix that blows up; the
@@ -41,6 +44,9 @@ MAX_ISOLATORS = 6  # 3^ni mode sets are tabulated
 GRAZE_TOL = 1e-3  # normalised |n^T f-| (or touch depth) below which an orbit counts as grazing
 SWITCH_N_MIN = 128  # samples (steps) per period at least: event bracketing and orbit output
 SWITCH_DT_MAX = 0.02  # s, longest step (the default Discretisation's, same samples)
+STEP_SLIP_FACTOR = 2.0  # a step moves an isolator by at most this x its slip range ...
+STEP_SLIP_FLOOR = 1e-9  # ... or this [m]
+FROZEN_T_TOL = 1e-9  # switches before this fraction of the period freeze nothing
 V_ZERO = 1e-13  # m/s, |v| at the period start below which the stick test decides the mode
 LAW_NAME = "switch"  # what every point of this model reports as its law
 METHOD_NAME = "exact flow + saltation matrices"  # how the period map is computed
@@ -61,6 +67,7 @@ class SwitchPeriodMap(PeriodMap):
     events: list = field(default_factory=list)  # (t, isolator, new mode, |n^T f-| normalised)
     graze: float = math.inf  # smallest grazing measure of the period
     modes: np.ndarray | None = None  # (N + 1,) mode-set index at each sample
+    period: float = math.nan  # T [s]
 
 
 def mode_sets(ni: int) -> np.ndarray:
@@ -208,7 +215,9 @@ class SwitchProblem(MinimalStates):
         store: bool = False,
     ) -> SwitchPeriodMap:
         """One period ``T = 1 / f`` from ``x0`` at t = 0, exact between events; ``n_steps``
-        samples (default :meth:`steps`). ``dxdT`` is None (no pseudo-arclength)."""
+        samples (default :meth:`steps`). ``dxdT`` is None: pseudo-arclength continuation
+        differentiates this map in T by central differences (exact flow, events move
+        smoothly with T away from grazing)."""
         T = 1.0 / f
         N = self.steps(T, disc) if n_steps is None else int(n_steps)
         ev = (np.zeros(kw.MAX_EVENTS), np.zeros(kw.MAX_EVENTS, np.int64))
@@ -256,7 +265,51 @@ class SwitchProblem(MinimalStates):
             events,
             float(graze),
             MK,
+            T,
         )
+
+    def stuck_all_period(self, pm: SwitchPeriodMap) -> np.ndarray:
+        """Indices of the isolators whose displacement is frozen for the whole period of
+        ``pm``: stuck at every sample after the start and no switch of theirs after
+        ``FROZEN_T_TOL T`` (a start velocity a round-off above ``V_ZERO`` is a slip of no
+        duration that sticks at once)."""
+        if pm.modes is None:
+            return np.zeros(0, dtype=np.int64)
+        ni = self.system.n_isolators
+        held = np.all(mode_sets(ni)[pm.modes[1:]] == 0, axis=0)
+        for e in pm.events:
+            if e[0] > FROZEN_T_TOL * pm.period:
+                held[e[1]] = False
+        return np.flatnonzero(held)
+
+    def frozen_rows(self, pm: SwitchPeriodMap) -> np.ndarray | None:
+        """Rows ``[D_i Q, 0]`` of the displacements of the isolators stuck all period on the
+        orbit of ``pm``. Such an orbit belongs to a family: shifting a stuck isolator's
+        displacement (within its friction cone) gives another periodic orbit, so ``Phi`` has
+        the multiplier 1 exactly on those directions and ``Phi - I`` is singular. Shooting
+        holds these displacements at the guess (they are parameters of the family, set by the
+        slips before the steady state) and solves for the rest."""
+        idx = self.stuck_all_period(pm)
+        if idx.size == 0:
+            return None
+        C = np.zeros((idx.size, self.dim))
+        C[:, : self.m] = self.system.D[idx] @ self.Q
+        return C
+
+    def step_limits(self, pm: SwitchPeriodMap) -> tuple[np.ndarray, np.ndarray] | None:
+        """Trust region of a shooting step on the isolator displacements: rows ``[D_i Q, 0]``
+        and bounds ``STEP_SLIP_FACTOR`` times each isolator's slip range over the period of
+        ``pm`` (at least ``STEP_SLIP_FLOOR``). An isolator that barely slips makes the map
+        nearly neutral along its displacement (a multiplier near 1, the stuck family's), and
+        a Newton step would carry it far along that direction -- into other event sequences
+        or to the edge of the friction cone; its displacement can only move by slipping."""
+        if pm.X is None:
+            return None
+        L = np.zeros((self.system.n_isolators, self.dim))
+        L[:, : self.m] = self.system.D @ self.Q
+        xi = pm.X[:, : self.m] @ L[:, : self.m].T
+        rng = xi.max(axis=0) - xi.min(axis=0)
+        return L, np.maximum(STEP_SLIP_FACTOR * rng, STEP_SLIP_FLOOR)
 
     # ---- response quantities ------------------------------------------------------------
     def accelerations(self, f: float, X: np.ndarray, MK: np.ndarray) -> np.ndarray:
@@ -430,17 +483,13 @@ def shoot_switch(
 def switch_response(
     system, amplitude: float, *, continuation: str = "sequential", load=None, **options
 ):
-    """Frequency-response curve of the switch model: sequential continuation
-    (:func:`nsdyn.periodic.continue_sequential`, shooting with the stepped-sweep fallback) on
-    ``points`` log-spaced frequencies; ``fmin``, ``fmax``, ``points`` and ``options`` as for
-    :func:`nsdyn.periodic.continuation.continue_range`."""
+    """Frequency-response curve of the switch model on ``points`` log-spaced frequencies:
+    ``continuation`` "sequential" (:func:`nsdyn.periodic.continue_sequential`, shooting with
+    the stepped-sweep fallback) or "arclength" (pseudo-arclength in (x0, log f); the map's
+    ``d phi_T / dT`` by central differences in T, exact flow); ``fmin``, ``fmax``, ``points``
+    and ``options`` as for :func:`nsdyn.periodic.continuation.continue_range`."""
     from nsdyn.periodic.continuation import continue_range
 
-    if continuation != "sequential":
-        raise ValueError(
-            f"continuation: the switch model is continued sequentially, not "
-            f"{continuation!r} (its period map has no d/dT)"
-        )
     problem = switch_problem(system, amplitude, load=load)
     curve = continue_range(problem, continuation=continuation, **options)
     curve.info.update(law=LAW_NAME, map=METHOD_NAME)

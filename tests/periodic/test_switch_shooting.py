@@ -177,3 +177,31 @@ def test_sequential_continuation_says_law_and_method():
     # the mass moves with the ground, the friction force is m A = 2.5 N > mu m g = 1.96 N;
     # so it slips: the last point is not stuck all period
     assert not curve.points[-1].quantities["stick_all_period"]
+
+
+@pytest.mark.parametrize("fric, r0, r1", [(0.1, 0.55, 0.9), (0.2, 1.3, 3.0)])
+def test_arclength_follows_den_hartog(fric, r0, r1):
+    """Pseudo-arclength continuation (in (x0, log f), the switch map differentiated in T by
+    central differences) on the forced Coulomb oscillator below and above resonance: every
+    point, at the frequency the arclength steps chose, equals Den Hartog's closed form to 1e-6
+    relative, and the curve spans the range."""
+    from nsdyn.periodic.switch import switch_response
+
+    k = M1 * W1**2
+    g = coulomb_oscillator(0.1).isolation.g
+    sysm = coulomb_oscillator(fric / (M1 * g))
+    load = HarmonicForce(1.0, 1.0, dofs=(0,))  # P0 = 1 N, friction fric P0
+    curve = switch_response(
+        sysm, 1.0, load=load, continuation="arclength", fmin=r0, fmax=r1, points=10, tol=1e-11
+    )
+    assert curve.info["continuation"] == "arclength"
+    assert curve.points[0].f == pytest.approx(r0) and curve.points[-1].f == pytest.approx(r1)
+    assert len(curve.points) >= 10
+    for p in curve.points:
+        assert p.converged and p.method == "arclength", p.note
+        r = p.f  # f_n = 1 Hz: r = f
+        phi = den_hartog_state(r, fric, np.zeros(1))[1]
+        ex = den_hartog_state(r, fric, np.array([-(math.pi / 2 + phi) / r]))[0][0]
+        X0 = den_hartog_state(r, fric, np.array([0.0]))[0][0, 0] / k
+        assert abs(p.x0[0] - ex[0] / k) <= 1e-6 * X0
+        assert abs(p.x0[1] - ex[1] * W1 / k) <= 1e-6 * X0 * W1
