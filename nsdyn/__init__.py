@@ -99,7 +99,8 @@ _API = {
     "UpliftWarning": "nsdyn.solve.integrate",
     "CONTACTS": "nsdyn.models.isolated.system",
     "Solution": "nsdyn.solve.integrate",
-    "solve": "nsdyn.solve.integrate",
+    # the low-level integrator: named ``integrate`` here because ``nsdyn.solve`` is the package
+    "integrate": "nsdyn.solve.integrate:solve",
     "TransientResult": "nsdyn.solve.transient",
     "simulate": "nsdyn.solve.transient",
     # periodic

@@ -31,7 +31,17 @@ def configure(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--fmax", type=_positive_float, metavar="HZ", help="Craig–Bampton cut-off")
     p.add_argument("--friction", choices=["arctan", "switch", "none"], help="friction law")
-    p.add_argument("--method", help="integrator: radau, dopri5, genalpha, hht, event")
+    p.add_argument(
+        "--method",
+        help="integrator: radau, dopri5, event (adaptive); genalpha, hht, newmark, "
+        "genalpha-lowrank (fixed step, --dt)",
+    )
+    p.add_argument(
+        "--dt",
+        type=_positive_float,
+        metavar="S",
+        help="step of the fixed-step methods (default 0.005 s)",
+    )
     p.add_argument("--t-end", type=_positive_float, metavar="S", help="stop at this time")
     p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR", help="output directory")
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
@@ -59,10 +69,12 @@ def _scene_overrides(args: argparse.Namespace) -> dict:
         o.setdefault("motion", {})["t_end"] = args.t_end
     if args.method:
         o.setdefault("solver", {})["method"] = args.method
+    if args.dt:
+        o.setdefault("solver", {})["dt"] = args.dt
     return o
 
 
-_ISOLATED_ONLY = ("frame", "fidelity", "fixed_base", "fmax", "friction", "resume")
+_ISOLATED_ONLY = ("frame", "fidelity", "fixed_base", "fmax", "friction", "resume", "dt")
 
 
 def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
@@ -114,6 +126,9 @@ def prepare_kernels(method: str) -> float:
     if cold:
         print(f"  compiled in {spent:.1f} s", file=sys.stderr, flush=True)
     return spent
+
+
+FIXED_DT = 0.005  # s, default step of the fixed-step methods (record samples of 200 Hz)
 
 
 def _check_method(method: str, cfg: dict) -> None:
@@ -188,6 +203,10 @@ def run(args: argparse.Namespace) -> int:
     sv = cfg["solver"]
     method = sv.get("method", "radau")
     _check_method(method, cfg)
+    from nsdyn.solve.methods import METHODS
+
+    if METHODS[method].fixed_step and "dt" not in sv:
+        sv["dt"] = FIXED_DT  # the fixed-step methods' default step
     if method == "event" and system.isolation is not None:
         system = system.with_isolation(law="switch")
     out = Path(args.out)

@@ -53,3 +53,13 @@ def test_bad_scene_exits_2_with_file_and_field(tmp_path, capsys):
     bad.write_text('[scene]\nfidelity = "medium"\n')
     assert main(["run", str(bad)]) == 2
     assert "scene.fidelity" in capsys.readouterr().err
+
+
+def test_fixed_step_methods_take_a_default_or_given_step(tmp_path, capsys):
+    # a fixed-step method takes exactly t_end / dt steps: 0.5 s / 0.005 s (the documented
+    # default) = 100, and 0.5 s / 0.01 s = 50 with --dt
+    base = ["run", "--fidelity", "rigid", "--t-end", "0.5", "--json", "--no-figures"]
+    for extra, steps in (([], 100), (["--dt", "0.01"], 50)):
+        rc = main([*base, "--method", "genalpha", *extra, "--out", str(tmp_path)])
+        assert rc == 0
+        assert json.loads(capsys.readouterr().out)["n_steps"] == steps
