@@ -38,6 +38,7 @@ from nsdyn.bench.baseline import run_scipy_radau
 __all__ = [
     "cli_start_s",
     "cold_compile_s",
+    "default_run_ratio",
     "report",
     "run_bench",
     "scipy_match",
@@ -253,6 +254,40 @@ def cli_start_s(repeats: int = START_REPEATS) -> dict:
     }
 
 
+def default_run_ratio(system, motion, solver: dict, repeats: int = SPEED_REPEATS) -> dict:
+    """The default ``simulate`` call (method ``radau``: smooth laws through the flat
+    right-hand side of :mod:`nsdyn.solve._kflat`) against the same call with
+    ``radau-generic`` (the general kernel at every evaluation: the path before), interleaved
+    in this process. Returns medians of the whole call and of the integration alone, the
+    ratio ``baseline / default`` (median of the per-pair ratios) and both runs' statistics."""
+    import time
+
+    from nsdyn.solve.transient import output_grid, simulate
+
+    kw = dict(
+        rtol=solver["rtol"], atol=solver["atol"], t_eval=output_grid(motion, solver["dt_out"])
+    )
+    calls = {"radau": [], "radau-generic": []}
+    res = {}
+    for _ in range(repeats):
+        for method, times in calls.items():
+            t0 = time.perf_counter()
+            res[method] = simulate(system, motion, method=method, **kw)
+            times.append((time.perf_counter() - t0, res[method].wall_s))
+    new, old = np.array(calls["radau"]), np.array(calls["radau-generic"])
+    out = {"repeats": repeats}
+    for key, a in (("default", new), ("baseline", old)):
+        r = res["radau" if key == "default" else "radau-generic"]
+        out[f"{key}_call_s"] = float(np.median(a[:, 0]))
+        out[f"{key}_wall_s"] = float(np.median(a[:, 1]))
+        out[f"{key}_stats"] = dict(r.stats, n_steps=r.n_steps)
+    out["ratio_call"] = float(np.median(old[:, 0] / new[:, 0]))
+    out["ratio_wall"] = float(np.median(old[:, 1] / new[:, 1]))
+    xa, xb = res["radau"].response.x_iso, res["radau-generic"].response.x_iso
+    out["x_iso_rel_diff"] = float(np.max(np.abs(xa - xb)) / np.max(np.abs(xb)))
+    return out
+
+
 def _speed_row(run: common.BenchRun, record: str, role: str, **extra) -> dict:
     row = common.bench_row(run, record=record, role=role, **run.errors)
     row.update(extra)
@@ -280,6 +315,8 @@ def speed_bench(
     repeats = (QUICK_SPEED_REPEATS if quick else SPEED_REPEATS) if repeats is None else repeats
     cfg, system, motion, solver = speed_scene(QUICK_SPEED_T_END if quick else None)
     compile_s = common.warmup([solver["method"]])
+    common.log("[speed] the default run against the general right-hand side (baseline)", quiet)
+    default_run = default_run_ratio(system, motion, solver, max(repeats, 5))
     cold_s = cold_compile_s([solver["method"]]) if cold_compile else float("nan")
     starts = cli_start_s() if cold_compile else {"cold_s": float("nan"), "cached_s": float("nan")}
     budget = QUICK_SCIPY_BUDGET_S if quick else SCIPY_BUDGET_S
@@ -407,11 +444,12 @@ def speed_bench(
         "cli_cold_start_s": starts["cold_s"],
         "cli_cached_start_s": starts["cached_s"],
         "quick": quick,
+        "default_run": default_run,
     }
     for r in rows:
         r.update({k: meta[k] for k in ("compile_s", "cold_compile_s", "quick")})
     for r in table:
-        r.update({k: v for k, v in meta.items() if k != "scene"})
+        r.update({k: v for k, v in meta.items() if k not in ("scene", "default_run")})
     files = {}
     if out is not None:
         tables = {
@@ -462,6 +500,16 @@ def speed_markdown(res: dict) -> str:
             f"; `nsdyn run --t-end {START_T_END:g} --json` start (median of {START_REPEATS} "
             f"fresh processes): first run {meta['cli_cold_start_s']:.1f} s, cached "
             f"{meta['cli_cached_start_s']:.1f} s"
+        )
+    d = meta.get("default_run")
+    if d:
+        lines.append(
+            f"\nThe default run (`simulate`, {d['default_stats']['n_steps']} steps): "
+            f"{1e3 * d['default_call_s']:.1f} ms (integration {1e3 * d['default_wall_s']:.1f} ms)"
+            f" against {1e3 * d['baseline_call_s']:.1f} ms ({1e3 * d['baseline_wall_s']:.1f} ms)"
+            f" with the general right-hand side: {d['ratio_call']:.2f}× "
+            f"({d['ratio_wall']:.2f}× on the integration), medians of {d['repeats']} "
+            f"interleaved pairs; x_iso histories differ by {d['x_iso_rel_diff']:.1e}."
         )
     lines += ["", comp]
     same = [t for t in res["table"] if np.isfinite(t["scipy_same_tol_wall_s"])]

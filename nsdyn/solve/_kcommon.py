@@ -32,6 +32,8 @@ KERNEL_MODULES = (
     "_kcommon",
     "_kdopri",
     "_kradau",
+    "_kflat",
+    "_kcolloc",
     "_kgenalpha",
     "_klowrank",
     "_kevent",
@@ -74,7 +76,7 @@ def step_floor(t):
     return max(MIN_STEP, 10.0 * 2.220446049250313e-16 * abs(t))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def next_kink(t, P):
     """First sample time of a tabulated ground record strictly after ``t`` (inf if none).
 

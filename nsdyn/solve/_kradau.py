@@ -24,61 +24,42 @@ from numba import njit
 
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
-
-S6 = 6.0**0.5
-C = np.array([(4.0 - S6) / 10.0, (4.0 + S6) / 10.0, 1.0])
-E = np.array([-13.0 - 7.0 * S6, -13.0 + 7.0 * S6, -1.0]) / 3.0
-# eigenvalues of the inverse of the Radau IIA coefficient matrix (one real, one complex pair);
-# the Newton matrices of the eigen-split are (eig/h) I - J
-EIG_REAL = 3.0 + 3.0 ** (2.0 / 3.0) - 3.0 ** (1.0 / 3.0)
-EIG_COMPLEX = complex(
-    3.0 + 0.5 * (3.0 ** (1.0 / 3.0) - 3.0 ** (2.0 / 3.0)),
-    -0.5 * (3.0 ** (5.0 / 6.0) + 3.0 ** (7.0 / 6.0)),
-)
-MU_REAL = EIG_REAL  # former name, still imported by the benchmarks
-T = np.array(
-    [
-        [0.09443876248897524, -0.14125529502095421, 0.03002919410514742],
-        [0.25021312296533332, 0.20412935229379994, -0.38294211275726192],
-        [1.0, 1.0, 0.0],
-    ]
-)
-TI = np.array(
-    [
-        [4.17871859155190428, 0.32768282076106237, 0.52337644549944951],
-        [-4.17871859155190428, -0.32768282076106237, 0.47662355450055044],
-        [0.50287263494578682, -2.57192694985560522, 0.59603920482822492],
-    ]
-)
-# dense output: y(t + x h) = y + sum_k (Z^T PD)[:, k] x^(k+1)
-PD = np.array(
-    [
-        [13.0 / 3.0 + 7.0 * S6 / 3.0, -23.0 / 3.0 - 22.0 * S6 / 3.0, 10.0 / 3.0 + 5.0 * S6],
-        [13.0 / 3.0 - 7.0 * S6 / 3.0, -23.0 / 3.0 + 22.0 * S6 / 3.0, 10.0 / 3.0 - 5.0 * S6],
-        [1.0 / 3.0, -8.0 / 3.0, 10.0 / 3.0],
-    ]
+from nsdyn.solve import _kflat as kf
+from nsdyn.solve._kcolloc import (  # noqa: F401  (the tableau and ctl layout, re-exported)
+    C_CURJ,
+    C_EOLD,
+    C_FACCON,
+    C_H,
+    C_HOLD,
+    C_HPREV,
+    C_HSTEP,
+    C_LUH,
+    C_NTOL,
+    C_TNEW,
+    EIG_COMPLEX,
+    EIG_REAL,
+    MU_REAL,
+    N_CTL,
+    NEWTON_MAXITER,
+    PD,
+    S6,
+    TI,
+    C,
+    E,
+    T,
+    _error_norm,
+    _factor,
+    _predict_factor,
+    _solve,
+    newton,
 )
 
-NEWTON_MAXITER = 6  # simplified-Newton iterations per attempt
 MIN_FACTOR = 0.2  # smallest step shrink per rejection
 MAX_FACTOR = 10.0  # largest step growth per step
 JAC_RATE = 1e-3  # recompute J after a step whose Newton needed > 2 iterations at this rate
 KEEP_STEP = 1.2  # keep h (and the LU factors) when the proposed growth is below this
 LU_RTOL = 1e-9  # relative change of h that forces a new LU
 NEWTON_FAIL_SHRINK = 0.5  # step shrink when Newton fails with a fresh Jacobian
-
-# ---- stepper state ``ctl`` (float64) -------------------------------------------------------
-C_H = 0  # next step size to try
-C_HOLD = 1  # previous accepted step (NaN: none) for the predictive controller
-C_EOLD = 2  # previous error norm (NaN: none)
-C_LUH = 3  # step size the LU factors belong to (0: invalid)
-C_CURJ = 4  # 1 if J was evaluated at the current step start
-C_HPREV = 5  # step of the dense output in Qd usable for the Newton predictor (0: none)
-C_TNEW = 6  # out: end of the accepted step
-C_HSTEP = 7  # out: size of the accepted step
-C_NTOL = 8  # Newton tolerance
-C_FACCON = 9  # rate/(1 - rate) of the last Newton iteration (RADAU5's FACCON)
-N_CTL = 10
 
 
 @njit(cache=True)
@@ -138,147 +119,6 @@ def dense(y, Qd, x, out):
         out[i] = y[i] + x * (Qd[i, 0] + x * (Qd[i, 1] + x * Qd[i, 2]))
 
 
-@njit(cache=True)
-def _factor(h, J, LUr, pr, LUc, pc):
-    """LU of the Newton matrices ``g I - J`` (g = eig_real/h and eig_complex/h), reduced to n x n.
-
-    The state is [q, qd], so ``J = [[0, I], [Jq, Jv]]`` and ``(g I - J) [dq; dv] = [r1; r2]``
-    gives ``dq = (r1 + dv)/g`` and ``(g I - Jv - Jq/g) dv = r2 + Jq r1/g``: only the n x n
-    Schur complement is factored (8x fewer flops than the 2n x 2n matrix).
-    """
-    n = LUr.shape[0]
-    gr = EIG_REAL / h
-    gc = EIG_COMPLEX / h
-    igr = 1.0 / gr
-    igc = 1.0 / gc
-    for i in range(n):
-        for j in range(n):
-            jq = J[n + i, j]
-            jv = J[n + i, n + j]
-            LUr[i, j] = -jv - jq * igr
-            LUc[i, j] = -jv - jq * igc
-        LUr[i, i] += gr
-        LUc[i, i] += gc
-    return ki.lu_factor(LUr, pr) and ki.lu_factor(LUc, pc)
-
-
-@njit(cache=True)
-def _solve(LU, piv, J, g, b):
-    """Solve ``(g I - J) x = b`` in place (b of length 2n) with the factors of :func:`_factor`."""
-    n = LU.shape[0]
-    ig = 1.0 / g
-    for i in range(n):
-        acc = 0.0 * b[0]
-        for j in range(n):
-            acc += J[n + i, j] * b[j]
-        b[n + i] += acc * ig
-    v = b[n:]
-    ki.lu_solve(LU, piv, v)
-    for i in range(n):
-        b[i] = (b[i] + b[n + i]) * ig
-
-
-@njit(cache=True)
-def _error_norm(err, Z, h, LUr, pr, J, luh, y, ynew, atol, rtol):
-    """Scaled norm of the embedded error estimate ``(eig_real/h I - J)^-1 (err + E Z / h)``
-    (err holds f(t, y) or the filtered estimate of a first try); the estimate is left in err."""
-    for j in range(err.shape[0]):
-        err[j] += (E[0] * Z[0, j] + E[1] * Z[1, j] + E[2] * Z[2, j]) / h
-    _solve(LUr, pr, J, EIG_REAL / luh, err)
-    return ki.scaled_rms(err, y, ynew, atol, rtol)
-
-
-@njit(cache=True)
-def _predict_factor(h_abs, h_abs_old, en, en_old):
-    if en == 0.0:
-        return 1e10
-    mult = 1.0
-    if np.isfinite(en_old) and np.isfinite(h_abs_old):
-        mult = h_abs / h_abs_old * (en_old / en) ** 0.25
-    return min(1.0, mult) * en**-0.25
-
-
-@njit(cache=True)
-def _newton(P, t, y, h, ws, ctl, stats):
-    """Simplified Newton on the collocation system; Z holds the start guess on entry.
-
-    Convergence test as RADAU5: the error after an update is estimated as
-    ``faccon * |dW|`` with ``faccon = rate/(1 - rate)``, carried over from the previous
-    step for the first iteration (so a good predictor converges in one iteration); an
-    iteration whose rate predicts no convergence within NEWTON_MAXITER stops (scipy).
-
-    Returns (converged, n_iter, rate, nonfinite, singular, dW_norm).
-    """
-    J, LUr, pr, LUc, pc, Z, Z0, W, F, dW, fr, fc, ys, scale = ws[:14]
-    qdd, lam, tau, modes = ws[18:22]
-    n2 = y.shape[0]
-    mr = EIG_REAL / h
-    mc = EIG_COMPLEX / h
-    for k in range(3):
-        for j in range(n2):
-            W[k, j] = TI[k, 0] * Z[0, j] + TI[k, 1] * Z[1, j] + TI[k, 2] * Z[2, j]
-    tol = ctl[C_NTOL]
-    faccon = max(ctl[C_FACCON], 2.220446049250313e-16) ** 0.8
-    dw_old = -1.0
-    rate = -1.0
-    dw = 0.0
-    converged = False
-    nonfinite = False
-    singular = False
-    k = 0
-    for k in range(NEWTON_MAXITER):
-        for i in range(3):
-            for j in range(n2):
-                ys[j] = y[j] + Z[i, j]
-            ok = ki.feval_inline(t + C[i] * h, ys, P, F[i], qdd, lam, tau, modes)
-            if not ok:
-                singular = True
-        stats[ki.S_NFEV] += 3
-        fin = ki.all_finite(F[0]) and ki.all_finite(F[1]) and ki.all_finite(F[2])
-        if not fin:
-            nonfinite = True
-            break
-        if singular:
-            break
-        for j in range(n2):
-            fr[j] = TI[0, 0] * F[0, j] + TI[0, 1] * F[1, j] + TI[0, 2] * F[2, j] - mr * W[0, j]
-            re = TI[1, 0] * F[0, j] + TI[1, 1] * F[1, j] + TI[1, 2] * F[2, j]
-            im = TI[2, 0] * F[0, j] + TI[2, 1] * F[1, j] + TI[2, 2] * F[2, j]
-            fc[j] = complex(re, im) - mc * complex(W[1, j], W[2, j])
-        _solve(LUr, pr, J, EIG_REAL / ctl[C_LUH], fr)
-        _solve(LUc, pc, J, EIG_COMPLEX / ctl[C_LUH], fc)
-        s = 0.0
-        for j in range(n2):
-            dW[0, j] = fr[j]
-            dW[1, j] = fc[j].real
-            dW[2, j] = fc[j].imag
-            s += (fr[j] / scale[j]) ** 2 + (fc[j].real / scale[j]) ** 2
-            s += (fc[j].imag / scale[j]) ** 2
-        dw = np.sqrt(s / (3 * n2))
-        if not np.isfinite(dw):
-            nonfinite = True
-            break
-        if dw_old >= 0.0:
-            rate = dw / dw_old
-        if rate >= 0.0:
-            if rate >= 1.0 or rate ** (NEWTON_MAXITER - k) / (1.0 - rate) * dw > tol:
-                break
-            faccon = rate / (1.0 - rate)
-        for i in range(3):
-            for j in range(n2):
-                W[i, j] += dW[i, j]
-        for i in range(3):
-            for j in range(n2):
-                Z[i, j] = T[i, 0] * W[0, j] + T[i, 1] * W[1, j] + T[i, 2] * W[2, j]
-        if faccon * dw < tol:
-            converged = True
-            break
-        dw_old = dw
-    ctl[C_FACCON] = faccon
-    return converged, k + 1, rate, nonfinite, singular, dw
-
-
-@njit(cache=True)
 def radau_step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo):
     """Take one accepted step from (t, y) (f = f(t, y)), retrying with smaller steps.
 
@@ -289,7 +129,8 @@ def radau_step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ct
     failure is reported instead of retried.
     """
     J, LUr, pr, LUc, pc, Z, Z0, W, F, dW, fr, fc, ys, scale, err, ynew, fnew, Qd = ws[:18]
-    qdd, lam, tau, modes = ws[18:22]
+    qdd, lam, tau, modes, Fl = ws[18:23]
+    flat = kf.usable(P[ks.I_OPEN], Fl)
     n2 = y.shape[0]
     h_abs = ctl[C_H]
     h_abs_old = ctl[C_HOLD]
@@ -349,7 +190,10 @@ def radau_step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ct
                     return ki.ST_LU_SINGULAR
                 ctl[C_LUH] = h
             Z[:, :] = Z0
-            converged, n_iter, rate, nf, singular, dw = _newton(P, t, y, h, ws, ctl, stats)
+            converged, n_iter, rate, nf, singular, dw = newton(
+                P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, scale,
+                qdd, lam, tau, modes, Fl, flat,
+            )  # fmt: skip
             if nf:
                 nonfinite = True
             if converged or ctl[C_CURJ] == 1.0 or nf or singular:
@@ -380,7 +224,8 @@ def radau_step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ct
         if rejected and en > 1.0:
             for j in range(n2):
                 ys[j] = y[j] + err[j]
-            ki.feval(t, ys, P, err, qdd, lam, tau, modes)
+            if not (flat and kf.feval_flat(t, ys, Fl, err, qdd, lam, tau, modes)):
+                ki.feval(t, ys, P, err, qdd, lam, tau, modes)
             stats[ki.S_NFEV] += 1
             en = _error_norm(err, Z, h, LUr, pr, J, ctl[C_LUH], y, ynew, atol, rtol)
         if not (en <= 1.0):
@@ -395,7 +240,9 @@ def radau_step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ct
             continue
         break
     # accepted: the state at the step end (also its normal forces for the contact monitor)
-    ok = ki.feval(t_new, ynew, P, fnew, qdd, lam, tau, modes)
+    ok = flat and kf.feval_flat(t_new, ynew, Fl, fnew, qdd, lam, tau, modes)
+    if not ok:
+        ok = ki.feval(t_new, ynew, P, fnew, qdd, lam, tau, modes)
     stats[ki.S_NFEV] += 1
     if not (ki.all_finite(ynew) and ki.all_finite(fnew)):
         rinfo[ki.R_H] = h
@@ -431,12 +278,20 @@ def radau_step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ct
     return ki.ST_SUCCESS
 
 
+# the step compiled on its own (the event-driven kernels call it) and inlined into the run loop
+# of :func:`radau`: a call passes P and the workspace (~40 arrays), and numba updates the
+# reference count of each on entry and exit (two atomic operations per array, ~1 us per step)
+radau_step_inline = njit(cache=True, inline="always")(radau_step)
+radau_step = njit(cache=True)(radau_step)
+
+
 @njit(cache=True)
 def setup(P, x0, t_eval, nc):
     """The arrays of a run from x0 with nc contacts: (stats, rinfo, ws, y, f, lam_old), with
-    y = x0 (a copy) and the time reached ``rinfo[R_T] = t_eval[0]``."""
+    y = x0 (a copy) and the time reached ``rinfo[R_T] = t_eval[0]``; ``ws`` is
+    :func:`workspace` plus the flat parameter array of :func:`nsdyn.solve._kflat.pack_flat`."""
     n2 = x0.shape[0]
-    ws = workspace(n2, nc, P[ks.I_D].shape[0])
+    ws = workspace(n2, nc, P[ks.I_D].shape[0]) + (kf.pack_flat(P),)
     stats = np.zeros(ki.N_STATS, dtype=np.int64)
     rinfo = np.zeros(ki.N_RINFO)
     rinfo[ki.R_T] = t_eval[0]
@@ -479,8 +334,19 @@ def accept(t, y, f, ctl, ws, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats
     """Move to the end of the step :func:`radau_step` accepted: outputs at the t_eval it
     covers (from ``iout``, dense output), contact check, y, f, lam_old at the step end.
     Returns (iout, stop)."""
-    t_new = ctl[C_TNEW]
     ynew, fnew, Qd, lam = ws[15], ws[16], ws[17], ws[19]
+    return accept_arrays(
+        t, y, f, ctl, ynew, fnew, Qd, lam, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats,
+        rinfo,
+    )  # fmt: skip
+
+
+@njit(cache=True, inline="always")
+def accept_arrays(
+    t, y, f, ctl, ynew, fnew, Qd, lam, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats, rinfo
+):
+    """:func:`accept` on the workspace's arrays one by one."""
+    t_new = ctl[C_TNEW]
     while iout < t_eval.shape[0] and t_eval[iout] <= t_new:
         dense(y, Qd, (t_eval[iout] - t) / ctl[C_HSTEP], X[iout])
         iout += 1
@@ -490,14 +356,17 @@ def accept(t, y, f, ctl, ws, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats
 
 
 @njit(cache=True)
-def radau(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t):
+def radau(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, flat):
     """Integrate from ``t_eval[0]`` to ``t_eval[-1]`` with Radau IIA; state at t_eval into X.
 
     Same arguments and returns as :func:`nsdyn.solve._kdopri.dopri5`. With ``fixed`` the steps are
-    exactly ``h0`` and rtol/atol only set the Newton tolerance.
+    exactly ``h0`` and rtol/atol only set the Newton tolerance. ``flat``: evaluate smooth laws
+    through :mod:`nsdyn.solve._kflat` (False: the general kernel everywhere, the baseline).
     """
     nt = t_eval.shape[0]
     stats, rinfo, ws, y, f, lam_old = setup(P, x0, t_eval, upl_t.shape[0])
+    if not flat:
+        ws[22][kf.H_OK] = 0.0
     t = t_eval[0]
     t_end = t_eval[-1]
     iout, ctl = start(
@@ -505,18 +374,20 @@ def radau(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode
     )
     if iout < 0 or iout >= nt:
         return stats, rinfo
+    ynew, fnew, Qd, lam = ws[15], ws[16], ws[17], ws[19]
     while iout < nt:
         t_lim = t_end if fixed else min(t_end, ki.next_kink(t, P))
-        st = radau_step(
+        st = radau_step_inline(
             P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo
         )
         if st != ki.ST_SUCCESS:
             stats[ki.S_STATUS] = st
             rinfo[ki.R_T] = t
             break
-        iout, stop = accept(
-            t, y, f, ctl, ws, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats, rinfo
-        )
+        iout, stop = accept_arrays(
+            t, y, f, ctl, ynew, fnew, Qd, lam, t_eval, iout, X, lam_old, upl_t, uplift_mode,
+            stats, rinfo,
+        )  # fmt: skip
         t = ctl[C_TNEW]
         if stop:
             break

@@ -119,8 +119,10 @@ MESSAGES = {
         "finite or the step is degenerate; check the system matrices"
     ),
     ki.ST_EVENTS: (
-        "too many switching events near t = {t:.6g} s (stick-slip chattering or Zeno "
-        "behaviour): use the switch law (method 'radau') or the arctan law for this excitation"
+        "too many switching events near t = {t:.6g} s (chattering stick-slip or contact "
+        "events, or Zeno behaviour): for stick-slip, the smooth arctan law (method 'radau', "
+        "law 'arctan') has no events; for lift-off and landing, try a restitution e = 0 or "
+        "tighter tolerances"
     ),
 }
 

@@ -127,9 +127,9 @@ def make_options(
 # ---- runners -------------------------------------------------------------------------------
 
 
-def _one_step_runner(kernel):
+def _one_step_runner(kernel, *extra):
     """Runner of a one-step method with error control (dopri5, radau); ``adaptive=False``
-    steps with ``dt`` instead."""
+    steps with ``dt`` instead. ``extra``: further kernel arguments (radau: ``flat``)."""
 
     def run(P, x0, t_eval, o: Options, X, upl_t):
         fixed = not o.adaptive
@@ -147,6 +147,7 @@ def _one_step_runner(kernel):
             o.uplift_mode,
             X,
             upl_t,
+            *extra,
         )
         return stats, rinfo, [], None
 
@@ -214,7 +215,11 @@ def _run_event(P, x0, t_eval, o: Options, X, upl_t):
 
 
 METHODS: dict[str, Method] = {
-    "radau": Method("radau", "radau", False, _one_step_runner(_kradau.radau)),  # default
+    "radau": Method("radau", "radau", False, _one_step_runner(_kradau.radau, True)),  # default
+    # the same Radau with the general right-hand side at every stage (the speed baseline)
+    "radau-generic": Method(
+        "radau-generic", "radau", False, _one_step_runner(_kradau.radau, False)
+    ),
     "dopri5": Method("dopri5", "dopri5", False, _one_step_runner(_kdopri.dopri5)),
     "event": Method("event", "event", False, _run_event),
     "genalpha": Method(

@@ -167,6 +167,18 @@ def work_size(n, nc, ni):
 
 
 @njit(cache=True, inline="always")
+def _gram(X, Y, m, n, out):
+    """out[:m, :m] = X[:m, :n] Y[:m, :n]^T (the constraint matrix G = C B of both the
+    right-hand side and the Jacobian)."""
+    for i in range(m):
+        for j in range(m):
+            g = 0.0
+            for r in range(n):
+                g += X[i, r] * Y[j, r]
+            out[i, j] = g
+
+
+@njit(cache=True, inline="always")
 def _views(P):
     """(a0, B, Cr, b, y, rhs, s, ds, v, stuck, G, G2) carved out of P[I_WORK]."""
     W = P[I_WORK]
@@ -255,17 +267,14 @@ def _solve(t, x, P, qdd, ws):
         for r in range(n):
             qdd[r] = a0[r]
         return 0, True
+    _gram(Cr, B, m, n, G)
     for i in range(m):
         acc = b[i]
         for r in range(n):
             acc += Cr[i, r] * a0[r]
         rhs_[i] = -acc
         for j in range(m):
-            g = 0.0
-            for r in range(n):
-                g += Cr[i, r] * B[j, r]
-            G[i, j] = g
-            G2[i, j] = g
+            G2[i, j] = G[i, j]
         y[i] = rhs_[i]
     for k in range(P[I_R].shape[0]):
         if contact_open(P, k):
@@ -457,12 +466,7 @@ def jac(t, x, P, J):
                 J[n + r, n + c] -= MiDt[r, i] * cf * D[i, c]
     if m == 0:
         return
-    for i in range(m):
-        for j in range(m):
-            g = 0.0
-            for r in range(n):
-                g += Cr[i, r] * B[j, r]
-            G[i, j] = g
+    _gram(Cr, B, m, n, G)
     for k in range(nc):
         if contact_open(P, k):
             G[k, k] = 1.0
@@ -477,12 +481,7 @@ def jac(t, x, P, J):
                 Gt[i, j] = G[j, i]
         if not _lu_small(Gt, col, m):
             Gp = np.linalg.pinv(np.ascontiguousarray(G[:m, :m]))
-            for rr in range(n):
-                for k in range(m):
-                    acc = 0.0
-                    for j in range(m):
-                        acc += B[j, rr] * Gp[j, k]
-                    BG[rr, k] = acc
+            BG[:, :] = np.ascontiguousarray(B[:m, :].T) @ Gp
             break
         for k in range(m):
             BG[r, k] = col[k]

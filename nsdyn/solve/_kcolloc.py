@@ -1,0 +1,214 @@
+"""Radau IIA (order 5) collocation: the tableau, the Newton matrices and the simplified Newton.
+
+Collocation at c = ((4 - sqrt 6)/10, (4 + sqrt 6)/10, 1) for ``xd = f(t, x)``::
+
+    Z_i = h sum_j a_ij f(t + c_j h, x + Z_j),   x(t + h) = x + Z_3     (i, j = 1..3)
+
+solved by simplified Newton with the eigen-split of the Radau matrix: ``W = T^-1 Z`` decouples
+into one real and one complex system with the matrices ``(eig/h) I - J`` (Hairer & Wanner,
+*Solving ODEs II*, sec. IV.8). The stepper around it is :mod:`nsdyn.solve._kradau`. The
+Newton loop evaluates smooth laws through :mod:`nsdyn.solve._kflat` and is inlined into the
+stepper, as are the small solves: numba updates the reference count of every array argument
+(each array of a tuple) on entry to and exit from a compiled call, two atomic operations per
+array, which on this 13-dof problem cost as much as the arithmetic.
+"""
+
+import numpy as np
+from numba import njit
+
+from nsdyn.solve import _kcommon as ki
+from nsdyn.solve import _kflat as kf
+
+S6 = 6.0**0.5
+C = np.array([(4.0 - S6) / 10.0, (4.0 + S6) / 10.0, 1.0])
+E = np.array([-13.0 - 7.0 * S6, -13.0 + 7.0 * S6, -1.0]) / 3.0
+# eigenvalues of the inverse of the Radau IIA coefficient matrix (one real, one complex pair);
+# the Newton matrices of the eigen-split are (eig/h) I - J
+EIG_REAL = 3.0 + 3.0 ** (2.0 / 3.0) - 3.0 ** (1.0 / 3.0)
+EIG_COMPLEX = complex(
+    3.0 + 0.5 * (3.0 ** (1.0 / 3.0) - 3.0 ** (2.0 / 3.0)),
+    -0.5 * (3.0 ** (5.0 / 6.0) + 3.0 ** (7.0 / 6.0)),
+)
+MU_REAL = EIG_REAL  # former name, still imported by the benchmarks
+T = np.array(
+    [
+        [0.09443876248897524, -0.14125529502095421, 0.03002919410514742],
+        [0.25021312296533332, 0.20412935229379994, -0.38294211275726192],
+        [1.0, 1.0, 0.0],
+    ]
+)
+TI = np.array(
+    [
+        [4.17871859155190428, 0.32768282076106237, 0.52337644549944951],
+        [-4.17871859155190428, -0.32768282076106237, 0.47662355450055044],
+        [0.50287263494578682, -2.57192694985560522, 0.59603920482822492],
+    ]
+)
+# dense output: y(t + x h) = y + sum_k (Z^T PD)[:, k] x^(k+1)
+PD = np.array(
+    [
+        [13.0 / 3.0 + 7.0 * S6 / 3.0, -23.0 / 3.0 - 22.0 * S6 / 3.0, 10.0 / 3.0 + 5.0 * S6],
+        [13.0 / 3.0 - 7.0 * S6 / 3.0, -23.0 / 3.0 + 22.0 * S6 / 3.0, 10.0 / 3.0 - 5.0 * S6],
+        [1.0 / 3.0, -8.0 / 3.0, 10.0 / 3.0],
+    ]
+)
+
+NEWTON_MAXITER = 6  # simplified-Newton iterations per attempt
+
+# ---- stepper state ``ctl`` (float64) -------------------------------------------------------
+C_H = 0  # next step size to try
+C_HOLD = 1  # previous accepted step (NaN: none) for the predictive controller
+C_EOLD = 2  # previous error norm (NaN: none)
+C_LUH = 3  # step size the LU factors belong to (0: invalid)
+C_CURJ = 4  # 1 if J was evaluated at the current step start
+C_HPREV = 5  # step of the dense output in Qd usable for the Newton predictor (0: none)
+C_TNEW = 6  # out: end of the accepted step
+C_HSTEP = 7  # out: size of the accepted step
+C_NTOL = 8  # Newton tolerance
+C_FACCON = 9  # rate/(1 - rate) of the last Newton iteration (RADAU5's FACCON)
+N_CTL = 10
+
+
+@njit(cache=True)
+def _factor(h, J, LUr, pr, LUc, pc):
+    """LU of the Newton matrices ``g I - J`` (g = eig_real/h and eig_complex/h), reduced to n x n.
+
+    The state is [q, qd], so ``J = [[0, I], [Jq, Jv]]`` and ``(g I - J) [dq; dv] = [r1; r2]``
+    gives ``dq = (r1 + dv)/g`` and ``(g I - Jv - Jq/g) dv = r2 + Jq r1/g``: only the n x n
+    Schur complement is factored (8x fewer flops than the 2n x 2n matrix).
+    """
+    n = LUr.shape[0]
+    gr = EIG_REAL / h
+    gc = EIG_COMPLEX / h
+    igr = 1.0 / gr
+    igc = 1.0 / gc
+    for i in range(n):
+        for j in range(n):
+            jq = J[n + i, j]
+            jv = J[n + i, n + j]
+            LUr[i, j] = -jv - jq * igr
+            LUc[i, j] = -jv - jq * igc
+        LUr[i, i] += gr
+        LUc[i, i] += gc
+    return ki.lu_factor(LUr, pr) and ki.lu_factor(LUc, pc)
+
+
+@njit(cache=True, inline="always")
+def _solve(LU, piv, J, g, b):
+    """Solve ``(g I - J) x = b`` in place (b of length 2n) with the factors of :func:`_factor`."""
+    n = LU.shape[0]
+    ig = 1.0 / g
+    for i in range(n):
+        acc = 0.0 * b[0]
+        for j in range(n):
+            acc += J[n + i, j] * b[j]
+        b[n + i] += acc * ig
+    v = b[n:]
+    ki.lu_solve(LU, piv, v)
+    for i in range(n):
+        b[i] = (b[i] + b[n + i]) * ig
+
+
+@njit(cache=True, inline="always")
+def _error_norm(err, Z, h, LUr, pr, J, luh, y, ynew, atol, rtol):
+    """Scaled norm of the embedded error estimate ``(eig_real/h I - J)^-1 (err + E Z / h)``
+    (err holds f(t, y) or the filtered estimate of a first try); the estimate is left in err."""
+    for j in range(err.shape[0]):
+        err[j] += (E[0] * Z[0, j] + E[1] * Z[1, j] + E[2] * Z[2, j]) / h
+    _solve(LUr, pr, J, EIG_REAL / luh, err)
+    return ki.scaled_rms(err, y, ynew, atol, rtol)
+
+
+@njit(cache=True)
+def _predict_factor(h_abs, h_abs_old, en, en_old):
+    if en == 0.0:
+        return 1e10
+    mult = 1.0
+    if np.isfinite(en_old) and np.isfinite(h_abs_old):
+        mult = h_abs / h_abs_old * (en_old / en) ** 0.25
+    return min(1.0, mult) * en**-0.25
+
+
+@njit(cache=True, inline="always")
+def newton(
+    P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, scale, qdd, lam, tau,
+    modes, Fl, flat,
+):  # fmt: skip
+    """Simplified Newton on the collocation system; Z holds the start guess on entry.
+
+    Convergence test as RADAU5: the error after an update is estimated as
+    ``faccon * |dW|`` with ``faccon = rate/(1 - rate)``, carried over from the previous
+    step for the first iteration (so a good predictor converges in one iteration); an
+    iteration whose rate predicts no convergence within NEWTON_MAXITER stops (scipy).
+
+    The arrays are those of the workspace (:func:`nsdyn.solve._kradau.workspace`), ``Fl`` the
+    flat parameters of :func:`nsdyn.solve._kflat.pack_flat`, used when ``flat``.
+
+    Returns (converged, n_iter, rate, nonfinite, singular, dW_norm).
+    """
+    n2 = y.shape[0]
+    mr = EIG_REAL / h
+    mc = EIG_COMPLEX / h
+    for k in range(3):
+        for j in range(n2):
+            W[k, j] = TI[k, 0] * Z[0, j] + TI[k, 1] * Z[1, j] + TI[k, 2] * Z[2, j]
+    tol = ctl[C_NTOL]
+    faccon = max(ctl[C_FACCON], 2.220446049250313e-16) ** 0.8
+    dw_old = -1.0
+    rate = -1.0
+    dw = 0.0
+    converged = False
+    nonfinite = False
+    singular = False
+    k = 0
+    for k in range(NEWTON_MAXITER):
+        for i in range(3):
+            for j in range(n2):
+                ys[j] = y[j] + Z[i, j]
+            ok = flat and kf.feval_flat(t + C[i] * h, ys, Fl, F[i], qdd, lam, tau, modes)
+            if not ok:
+                ok = ki.feval_inline(t + C[i] * h, ys, P, F[i], qdd, lam, tau, modes)
+            if not ok:
+                singular = True
+        stats[ki.S_NFEV] += 3
+        if not kf.finite_rows(F):
+            nonfinite = True
+            break
+        if singular:
+            break
+        for j in range(n2):
+            fr[j] = TI[0, 0] * F[0, j] + TI[0, 1] * F[1, j] + TI[0, 2] * F[2, j] - mr * W[0, j]
+            re = TI[1, 0] * F[0, j] + TI[1, 1] * F[1, j] + TI[1, 2] * F[2, j]
+            im = TI[2, 0] * F[0, j] + TI[2, 1] * F[1, j] + TI[2, 2] * F[2, j]
+            fc[j] = complex(re, im) - mc * complex(W[1, j], W[2, j])
+        _solve(LUr, pr, J, EIG_REAL / ctl[C_LUH], fr)
+        _solve(LUc, pc, J, EIG_COMPLEX / ctl[C_LUH], fc)
+        s = 0.0
+        for j in range(n2):
+            dW[0, j] = fr[j]
+            dW[1, j] = fc[j].real
+            dW[2, j] = fc[j].imag
+            s += (fr[j] / scale[j]) ** 2 + (fc[j].real / scale[j]) ** 2
+            s += (fc[j].imag / scale[j]) ** 2
+        dw = np.sqrt(s / (3 * n2))
+        if not np.isfinite(dw):
+            nonfinite = True
+            break
+        if dw_old >= 0.0:
+            rate = dw / dw_old
+        if rate >= 0.0:
+            if rate >= 1.0 or rate ** (NEWTON_MAXITER - k) / (1.0 - rate) * dw > tol:
+                break
+            faccon = rate / (1.0 - rate)
+        for i in range(3):
+            for j in range(n2):
+                W[i, j] += dW[i, j]
+        for i in range(3):
+            for j in range(n2):
+                Z[i, j] = T[i, 0] * W[0, j] + T[i, 1] * W[1, j] + T[i, 2] * W[2, j]
+        if faccon * dw < tol:
+            converged = True
+            break
+        dw_old = dw
+    ctl[C_FACCON] = faccon
+    return converged, k + 1, rate, nonfinite, singular, dw

@@ -1,0 +1,313 @@
+"""Numba kernel: the isolated frame's right-hand side for smooth friction, read from one flat array.
+
+The same equations as :func:`nsdyn.models.isolated._kernel.evaluate` (seed 004, eqs 8-15) for
+the laws without stick (arctan, none) and every contact closed, first-order ``x = [q, qd]``::
+
+    qdd = a0 + sum_k MiR_k lam_k - sum_i MiD_i mu_i s_i lamf_i
+    a0  = -M^-1 K* q - M^-1 C* qd - Gamma [u_hor, u_ver + g]
+    G lam = -(R a0 + 2 alpha beta R qd + alpha^2 R q),  G = R M^-1 R^T - R M^-1 D^T diag(mu s)
+
+(``lamf_i = lam_i``; with a frozen normal force ``lamf_i = lam0_i`` moves into ``a0`` and
+``G = R M^-1 R^T``). ``R M^-1 R^T`` and ``R M^-1 D^T`` are formed once per run. The general
+kernel carves views out of a scratch buffer and reads a 17-array tuple on every call; here the
+matrices, scalars and scratch sit in one float64 array ``F`` at fixed offsets (:func:`pack_flat`),
+which is what makes the call cheap (the Radau stages evaluate it ~7 times per step).
+
+Where this form does not hold (a singular ``G``) :func:`feval_flat` says so and the caller
+falls back to the general kernel (which takes the minimum-norm split).
+"""
+
+import numpy as np
+from numba import njit
+
+from nsdyn.models.isolated import _kernel as ks
+from nsdyn.solve import _kcommon as ki
+
+# header of F (floats; counts stored as floats)
+H_N, H_NC, H_NI, H_OK, H_FROZEN, H_ARCTAN, H_EPS, H_ALPHA, H_BETA, H_G = range(10)
+H_HARMONIC, H_NPTS = 10, 11  # 1.0 for a harmonic excitation; samples of a record
+H_GPAR = 12  # the excitation parameters (ks.N_GPAR of them)
+N_HEAD = H_GPAR + ks.N_GPAR
+
+
+@njit(cache=True, inline="always")
+def _offsets(n, nc, ni):
+    """Offsets of the blocks of F: MiK, MiC, Gam (2, n), MiR (nc, n), R (nc, n), MiD (ni, n),
+    D (ni, n), mu, lam0, RMiR (nc, nc), RMiD (nc, ni); scratch a0 (n), G (nc, nc), s (ni);
+    the end of these (the record's horizontal, then vertical samples follow)."""
+    o_mik = N_HEAD
+    o_mic = o_mik + n * n
+    o_gam = o_mic + n * n
+    o_mir = o_gam + 2 * n
+    o_r = o_mir + nc * n
+    o_mid = o_r + nc * n
+    o_d = o_mid + ni * n
+    o_mu = o_d + ni * n
+    o_lam0 = o_mu + ni
+    o_rmir = o_lam0 + ni
+    o_rmid = o_rmir + nc * nc
+    o_a0 = o_rmid + nc * ni
+    o_g = o_a0 + n
+    o_s = o_g + nc * nc
+    end = o_s + ni
+    return (
+        o_mik,
+        o_mic,
+        o_gam,
+        o_mir,
+        o_r,
+        o_mid,
+        o_d,
+        o_mu,
+        o_lam0,
+        o_rmir,
+        o_rmid,
+        o_a0,
+        o_g,
+        o_s,
+        end,
+    )
+
+
+@njit(cache=True)
+def pack_flat(P):
+    """The flat array F of ``P`` (header, matrices, products, scratch). ``F[H_OK]`` is 1.0 when
+    :func:`evaluate_flat` applies to the law of ``P`` (arctan or none), else 0.0."""
+    MiK, MiC, Gam = P[ks.I_MIK], P[ks.I_MIC], P[ks.I_GAM]
+    R, MiRt, D, MiDt = P[ks.I_R], P[ks.I_MIRT], P[ks.I_D], P[ks.I_MIDT]
+    fp, ip = P[ks.I_FPAR], P[ks.I_IPAR]
+    n = MiK.shape[0]
+    nc = R.shape[0]
+    ni = D.shape[0]
+    o = _offsets(n, nc, ni)
+    npts = P[ks.I_AH].shape[0]
+    F = np.zeros(o[14] + 2 * npts)
+    F[H_HARMONIC] = 1.0 if ip[ks.K_GROUND] == ks.GROUND_HARMONIC else 0.0
+    F[H_NPTS] = npts
+    F[H_GPAR : H_GPAR + ks.N_GPAR] = P[ks.I_GPAR]
+    F[o[14] : o[14] + npts] = P[ks.I_AH]
+    F[o[14] + npts :] = P[ks.I_AV]
+    law = ip[ks.K_LAW]
+    frozen = ip[ks.K_FROZEN] == 1
+    F[H_N], F[H_NC], F[H_NI] = n, nc, ni
+    ok = law == ks.LAW_ARCTAN or law == ks.LAW_NONE
+    F[H_OK] = 1.0 if ok and (frozen or law == ks.LAW_NONE or ni <= nc) else 0.0
+    F[H_FROZEN] = 1.0 if frozen else 0.0
+    F[H_ARCTAN] = 1.0 if law == ks.LAW_ARCTAN else 0.0
+    F[H_EPS], F[H_ALPHA], F[H_BETA], F[H_G] = (
+        fp[ks.F_EPS],
+        fp[ks.F_ALPHA],
+        fp[ks.F_BETA],
+        fp[ks.F_G],
+    )
+    for r in range(n):
+        for c in range(n):
+            F[o[0] + r * n + c] = MiK[r, c]
+            F[o[1] + r * n + c] = MiC[r, c]
+        F[o[2] + r] = Gam[r, 0]
+        F[o[2] + n + r] = Gam[r, 1]
+    for k in range(nc):
+        for c in range(n):
+            F[o[3] + k * n + c] = MiRt[c, k]
+            F[o[4] + k * n + c] = R[k, c]
+        for j in range(nc):
+            acc = 0.0
+            for c in range(n):
+                acc += R[k, c] * MiRt[c, j]
+            F[o[9] + k * nc + j] = acc
+        for i in range(ni):
+            acc = 0.0
+            for c in range(n):
+                acc += R[k, c] * MiDt[c, i]
+            F[o[10] + k * ni + i] = acc
+    for i in range(ni):
+        for c in range(n):
+            F[o[5] + i * n + c] = MiDt[c, i]
+            F[o[6] + i * n + c] = D[i, c]
+        F[o[7] + i] = P[ks.I_MU][i]
+        F[o[8] + i] = P[ks.I_LAM0][i]
+    return F
+
+
+@njit(cache=True, inline="always")
+def _ground(t, F, o):
+    """Excitation channels at ``t`` as :func:`nsdyn.models.isolated._kernel.ground_accel`,
+    from the parameters and samples in F (record samples from offset ``o``)."""
+    g = H_GPAR
+    if F[H_HARMONIC] != 0.0:
+        return (
+            F[g + ks.G_AH] * np.sin(2.0 * np.pi * F[g + ks.G_FH] * t + F[g + ks.G_PH]),
+            F[g + ks.G_AV] * np.sin(2.0 * np.pi * F[g + ks.G_FV] * t + F[g + ks.G_PV]),
+        )
+    npts = int(F[H_NPTS])
+    u = (t - F[g + ks.G_T0]) / F[g + ks.G_DT]
+    if u < 0.0 or npts == 0:
+        return 0.0, 0.0
+    k = int(np.floor(u))
+    if k >= npts - 1:
+        if k == npts - 1 and u == k:
+            return F[o + k], F[o + npts + k]
+        return 0.0, 0.0
+    w = u - k
+    a = o + k
+    return (1.0 - w) * F[a] + w * F[a + 1], (1.0 - w) * F[a + npts] + w * F[a + npts + 1]
+
+
+@njit(cache=True, inline="always")
+def usable(op, F):
+    """True when :func:`evaluate_flat` applies now: a smooth law and every contact closed
+    (``op``: the contact states ``P[I_OPEN]``)."""
+    if F[H_OK] == 0.0:
+        return False
+    for k in range(op.shape[0]):
+        if op[k] != 0:
+            return False
+    return True
+
+
+@njit(cache=True, inline="always")
+def evaluate_flat(t, x, F, qdd, lam, tau, modes):
+    """:func:`nsdyn.models.isolated._kernel.evaluate` for smooth laws and closed contacts,
+    from the flat array ``F`` (outputs the same). Returns False when ``G`` is singular (the
+    outputs are then not set)."""
+    n = int(F[H_N])
+    nc = int(F[H_NC])
+    ni = int(F[H_NI])
+    (
+        o_mik,
+        o_mic,
+        o_gam,
+        o_mir,
+        o_r,
+        o_mid,
+        o_d,
+        o_mu,
+        o_lam0,
+        o_rmir,
+        o_rmid,
+        o_a0,
+        o_g,
+        o_s,
+        o_rec,
+    ) = _offsets(n, nc, ni)
+    frozen = F[H_FROZEN] != 0.0
+    arctan = F[H_ARCTAN] != 0.0
+    eps = F[H_EPS]
+    uh, uv = _ground(t, F, o_rec)
+    uv += F[H_G]
+    # a0 = -MiK q - MiC qd - Gamma u
+    for r in range(n):
+        acc = -F[o_gam + r] * uh - F[o_gam + n + r] * uv
+        rk = o_mik + r * n
+        rc = o_mic + r * n
+        for c in range(n):
+            acc -= F[rk + c] * x[c] + F[rc + c] * x[n + c]
+        F[o_a0 + r] = acc
+    # friction directions s_i = (2/pi) arctan(eps D_i qd)
+    for i in range(ni):
+        si = 0.0
+        if arctan:
+            vi = 0.0
+            for c in range(n):
+                vi += F[o_d + i * n + c] * x[n + c]
+            si = (2.0 / np.pi) * np.arctan(eps * vi)
+        F[o_s + i] = si
+        if frozen and si != 0.0 and F[o_mu + i] != 0.0:
+            f = F[o_mu + i] * si * F[o_lam0 + i]
+            for c in range(n):
+                F[o_a0 + c] -= F[o_mid + i * n + c] * f
+    # G lam = -(R a0 + b)
+    ab2 = 2.0 * F[H_ALPHA] * F[H_BETA]
+    aa = F[H_ALPHA] * F[H_ALPHA]
+    for k in range(nc):
+        ra = 0.0
+        rq = 0.0
+        rv = 0.0
+        for c in range(n):
+            rk = F[o_r + k * n + c]
+            ra += rk * F[o_a0 + c]
+            rq += rk * x[c]
+            rv += rk * x[n + c]
+        lam[k] = -(ra + ab2 * rv + aa * rq)
+        for j in range(nc):
+            g = F[o_rmir + k * nc + j]
+            if not frozen and j < ni:
+                g -= F[o_rmid + k * ni + j] * F[o_mu + j] * F[o_s + j]
+            F[o_g + k * nc + j] = g
+    # Gaussian elimination with partial pivoting on G (nc x nc, in F), right-hand side lam
+    scale = 0.0
+    for k in range(nc * nc):
+        scale = max(scale, abs(F[o_g + k]))
+    for k in range(nc):
+        p = k
+        for i in range(k + 1, nc):
+            if abs(F[o_g + i * nc + k]) > abs(F[o_g + p * nc + k]):
+                p = i
+        if not abs(F[o_g + p * nc + k]) > 1e-14 * scale:
+            return False
+        if p != k:
+            for j in range(nc):
+                tmp = F[o_g + k * nc + j]
+                F[o_g + k * nc + j] = F[o_g + p * nc + j]
+                F[o_g + p * nc + j] = tmp
+            tmp = lam[k]
+            lam[k] = lam[p]
+            lam[p] = tmp
+        for i in range(k + 1, nc):
+            f = F[o_g + i * nc + k] / F[o_g + k * nc + k]
+            for j in range(k, nc):
+                F[o_g + i * nc + j] -= f * F[o_g + k * nc + j]
+            lam[i] -= f * lam[k]
+    for k in range(nc - 1, -1, -1):
+        acc = lam[k]
+        for j in range(k + 1, nc):
+            acc -= F[o_g + k * nc + j] * lam[j]
+        lam[k] = acc / F[o_g + k * nc + k]
+    # qdd = a0 + MiR lam - MiD diag(mu s) lamf;  tau_i = mu_i s_i lamf_i
+    for r in range(n):
+        qdd[r] = F[o_a0 + r]
+    for k in range(nc):
+        lk = lam[k]
+        for r in range(n):
+            qdd[r] += F[o_mir + k * n + r] * lk
+    for i in range(ni):
+        si = F[o_s + i]
+        lf = F[o_lam0 + i] if frozen else (lam[i] if i < nc else 0.0)
+        ti = F[o_mu + i] * si * lf if arctan else 0.0
+        tau[i] = ti
+        modes[i] = 1 if si >= 0 else -1
+        if not frozen and ti != 0.0:
+            for r in range(n):
+                qdd[r] -= F[o_mid + i * n + r] * ti
+    return True
+
+
+@njit(cache=True, inline="always")
+def feval_flat(t, x, F, out, qdd, lam, tau, modes):
+    """out = [qd, qdd] at (t, x) through :func:`evaluate_flat`; also lam, tau, modes.
+
+    Returns False for a non-finite input (out NaN) or a singular ``G``: the caller then asks
+    the general kernel (:func:`nsdyn.solve._kcommon.feval`), which reports the first and
+    takes the minimum-norm split for the second. ``P`` is not an argument on purpose: numba
+    updates the reference count of each of its 17 arrays on every call, inlined or not.
+    """
+    n = qdd.shape[0]
+    if not (np.isfinite(t) and ki.all_finite(x)):
+        out[:] = np.nan
+        return False
+    if not evaluate_flat(t, x, F, qdd, lam, tau, modes):
+        return False
+    for i in range(n):
+        out[i] = x[n + i]
+        out[n + i] = qdd[i]
+    return True
+
+
+@njit(cache=True, inline="always")
+def finite_rows(A):
+    """True when every entry of the 2-D ``A`` is finite."""
+    for i in range(A.shape[0]):
+        for j in range(A.shape[1]):
+            if not np.isfinite(A[i, j]):
+                return False
+    return True
