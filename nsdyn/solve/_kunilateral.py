@@ -340,9 +340,9 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
     ok = True
     lift = np.zeros((2, opn.shape[0]))  # last lift-off of each contact: time, min(gap, 0)
     lift[0] = -np.inf
-    if contacts:
-        ok, _ = _settle_contacts(t, y, P, f, ew, g_tol, logs[1], logs[2], stats, lift)
-    if ok and friction:
+    # the friction modes first (the contact forces depend on them, and MODE_AUTO is not a
+    # mode the right-hand side knows), then the contact set
+    if friction:
         ke._initial_modes(P, y, modes0)
         auto = False
         for i in range(D.shape[0]):
@@ -350,6 +350,9 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
                 auto = True
         if auto:
             ok = ke._settle(t, y, P, f, ew, -1, ke.V_AUTO, logs[0], stats)
+    if ok and contacts:
+        ok, _ = _settle_contacts(t, y, P, f, ew, g_tol, logs[1], logs[2], stats, lift)
+    if friction:
         stats[ki.S_NEVENT] = 0  # the initial mode choice is not an event
     if not ok:
         stats[ki.S_STATUS] = ki.ST_EVENTS

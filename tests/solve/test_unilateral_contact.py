@@ -210,3 +210,34 @@ def test_symmetric_frame_under_vertical_shaking_keeps_its_isolators_together():
     # by round-off asymmetry over 20 s of bouncing)
     assert [k for _, k in ev[0]] == [k for _, k in ev[1]]
     np.testing.assert_allclose([t for t, _ in ev[0]], [t for t, _ in ev[1]], rtol=0, atol=1e-6)
+
+
+def test_rigid_block_on_sticking_isolators_lifts_at_the_overturning_threshold():
+    """A rigid block (centre of mass at height h above its isolator plane, isolators at x =
+    -+b) on isolators that stick (mu = 1 > b/h), under a horizontal ground acceleration ramp
+    a_h = r t. While both contacts are closed the block moves with the ground (y'' = theta'' =
+    0, slips frozen), so the isolators carry the horizontal force m a_h at the isolator plane;
+    its moment m a_h h about the centre of mass unloads one contact: N = m g / 2 - m a_h h / (2 b),
+    zero when a_h = g b / h (statics of a rigid block; the bearing spring and damper change
+    nothing while the block moves with the ground). Lift-off at t1 = g b / (h r)."""
+    h, r = 2.0, 2.0
+    M = np.diag([MASS, MASS, J])
+    Z = np.zeros((3, 3))
+    iso = Isolation(k_lam=5e4, c=1e3, mu=1.0, law="switch", contact="unilateral")
+    s = system_from_matrices(
+        M,
+        Z,
+        Z,
+        iso_dofs=[[1, 0, h], [1, 0, h]],  # the isolator plane lies h below the centre of mass
+        influence=[[1, 0], [0, 1], [0, 0]],
+        isolation=iso,
+        contact_rows=[[0, 1, -HALF_WIDTH], [0, 1, HALF_WIDTH]],
+    )
+    x0, _ = s.static_equilibrium()
+    dt = 0.01
+    ramp = r * dt * np.arange(401)  # 0 .. 8 m/s^2 over 4 s
+    P = s.params(Table(0.0, dt, ramp))
+    sol = solve(P, x0, np.linspace(0.0, 3.0, 301), method="event", contact="unilateral", **TOL)
+    lifts = [e for e in sol.contact_events if e[2] == "lift-off"]
+    t1 = G * HALF_WIDTH / (h * r)
+    assert lifts and lifts[0][0] == pytest.approx(t1, abs=1e-6)
