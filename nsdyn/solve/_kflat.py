@@ -50,23 +50,8 @@ def _offsets(n, nc, ni):
     o_g = o_a0 + n
     o_s = o_g + nc * nc
     end = o_s + ni
-    return (
-        o_mik,
-        o_mic,
-        o_gam,
-        o_mir,
-        o_r,
-        o_mid,
-        o_d,
-        o_mu,
-        o_lam0,
-        o_rmir,
-        o_rmid,
-        o_a0,
-        o_g,
-        o_s,
-        end,
-    )
+    return (o_mik, o_mic, o_gam, o_mir, o_r, o_mid, o_d, o_mu, o_lam0, o_rmir, o_rmid, o_a0, o_g,
+            o_s, end)  # fmt: skip
 
 
 @njit(cache=True)
@@ -173,23 +158,8 @@ def evaluate_flat(t, x, F, qdd, lam, tau, modes):
     n = int(F[H_N])
     nc = int(F[H_NC])
     ni = int(F[H_NI])
-    (
-        o_mik,
-        o_mic,
-        o_gam,
-        o_mir,
-        o_r,
-        o_mid,
-        o_d,
-        o_mu,
-        o_lam0,
-        o_rmir,
-        o_rmid,
-        o_a0,
-        o_g,
-        o_s,
-        o_rec,
-    ) = _offsets(n, nc, ni)
+    (o_mik, o_mic, o_gam, o_mir, o_r, o_mid, o_d, o_mu, o_lam0, o_rmir, o_rmid, o_a0, o_g, o_s,
+     o_rec) = _offsets(n, nc, ni)  # fmt: skip
     frozen = F[H_FROZEN] != 0.0
     arctan = F[H_ARCTAN] != 0.0
     eps = F[H_EPS]
