@@ -23,6 +23,7 @@ import numpy as np
 from numba import njit
 
 from nsdyn.models.isolated import _kernel as ks
+from nsdyn.solve import _kcolloc as kc
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve import _kflat as kf
 from nsdyn.solve._kcolloc import (  # noqa: F401  (the tableau and ctl layout, re-exported)
@@ -119,7 +120,9 @@ def dense(y, Qd, x, out):
         out[i] = y[i] + x * (Qd[i, 0] + x * (Qd[i, 1] + x * Qd[i, 2]))
 
 
-def radau_step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo):
+def radau_step(
+    P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo, stages
+):
     """Take one accepted step from (t, y) (f = f(t, y)), retrying with smaller steps.
 
     On success returns 0 and leaves the new state in ``ws`` (ynew, fnew and lam, tau, modes
@@ -192,7 +195,7 @@ def radau_step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ct
             Z[:, :] = Z0
             converged, n_iter, rate, nf, singular, dw = newton(
                 P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, scale,
-                qdd, lam, tau, modes, Fl, flat,
+                qdd, lam, tau, modes, Fl, flat, stages,
             )  # fmt: skip
             if nf:
                 nonfinite = True
@@ -378,8 +381,9 @@ def radau(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode
     while iout < nt:
         t_lim = t_end if fixed else min(t_end, ki.next_kink(t, P))
         st = radau_step_inline(
-            P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo
-        )
+            P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo,
+            kc.stages_called,
+        )  # fmt: skip
         if st != ki.ST_SUCCESS:
             stats[ki.S_STATUS] = st
             rinfo[ki.R_T] = t

@@ -34,6 +34,7 @@ import numpy as np
 from numba import njit
 
 from nsdyn.models.isolated import _kernel as ks
+from nsdyn.solve import _kcolloc as kcol
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve import _kevent as ke
 from nsdyn.solve import _kradau as kr
@@ -375,8 +376,9 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
     while iout < nt:
         t_lim = min(t_end, t_target, ki.next_kink(t, P))
         st = kr.radau_step(
-            P, t, y, f, t_lim, False, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo
-        )
+            P, t, y, f, t_lim, False, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo,
+            kcol.stages_inlined,
+        )  # fmt: skip
         if st != ki.ST_SUCCESS:
             stats[ki.S_STATUS] = st
             rinfo[ki.R_T] = t
