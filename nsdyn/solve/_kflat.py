@@ -156,6 +156,60 @@ def evaluate_flat(t, x, F, qdd, lam, tau, modes):
     from the flat array ``F`` (outputs the same). Returns False when ``G`` is singular (the
     outputs are then not set)."""
     n = int(F[H_N])
+    o = _offsets(n, int(F[H_NC]), int(F[H_NI]))
+    o_mik, o_mic, o_a0 = o[0], o[1], o[11]
+    # a0 = -MiK q - MiC qd (- Gamma u, in _ground_into_a0)
+    for r in range(n):
+        acc = 0.0
+        rk = o_mik + r * n
+        rc = o_mic + r * n
+        for c in range(n):
+            acc -= F[rk + c] * x[c] + F[rc + c] * x[n + c]
+        F[o_a0 + r] = acc
+    _ground_into_a0(t, F)
+    return _constrained(x, F, qdd, lam, tau, modes)
+
+
+@njit(cache=True, inline="always")
+def _ground_into_a0(t, F):
+    """a0 -= Gamma [u_hor, u_ver + g] at ``t``."""
+    n = int(F[H_N])
+    o = _offsets(n, int(F[H_NC]), int(F[H_NI]))
+    o_gam, o_a0 = o[2], o[11]
+    uh, uv = _ground(t, F, o[14])
+    uv += F[H_G]
+    for r in range(n):
+        F[o_a0 + r] -= F[o_gam + r] * uh + F[o_gam + n + r] * uv
+
+
+@njit(cache=True)
+def evaluate_flat_many(t, X, F, A0, QDD, LAM, TAU, MODES, ok):
+    """:func:`evaluate_flat` along a history (outputs as
+    :func:`nsdyn.models.isolated._kernel.evaluate_many`), given its linear part
+    ``A0 = -X_q MiK^T - X_v MiC^T`` (nt, n), which the caller forms with one matrix product
+    (for the 435-dof frame the per-sample products were most of the post-processing).
+    ``ok[k]`` is False where ``G`` was singular (row k not set: the general kernel's)."""
+    n = int(F[H_N])
+    o_a0 = _offsets(n, int(F[H_NC]), int(F[H_NI]))[11]
+    qdd, lam = QDD[0].copy(), LAM[0].copy()
+    tau, modes = TAU[0].copy(), MODES[0].copy()
+    for k in range(t.shape[0]):
+        for r in range(n):
+            F[o_a0 + r] = A0[k, r]
+        _ground_into_a0(t[k], F)
+        ok[k] = _constrained(X[k], F, qdd, lam, tau, modes)
+        if ok[k]:
+            QDD[k] = qdd
+            LAM[k] = lam
+            TAU[k] = tau
+            MODES[k] = modes
+
+
+@njit(cache=True, inline="always")
+def _constrained(x, F, qdd, lam, tau, modes):
+    """The rest of :func:`evaluate_flat` once ``a0`` (with the ground term) is in F: friction
+    directions, the normal forces from ``G lam = -(R a0 + b)``, the accelerations."""
+    n = int(F[H_N])
     nc = int(F[H_NC])
     ni = int(F[H_NI])
     (o_mik, o_mic, o_gam, o_mir, o_r, o_mid, o_d, o_mu, o_lam0, o_rmir, o_rmid, o_a0, o_g, o_s,
@@ -163,16 +217,6 @@ def evaluate_flat(t, x, F, qdd, lam, tau, modes):
     frozen = F[H_FROZEN] != 0.0
     arctan = F[H_ARCTAN] != 0.0
     eps = F[H_EPS]
-    uh, uv = _ground(t, F, o_rec)
-    uv += F[H_G]
-    # a0 = -MiK q - MiC qd - Gamma u
-    for r in range(n):
-        acc = -F[o_gam + r] * uh - F[o_gam + n + r] * uv
-        rk = o_mik + r * n
-        rc = o_mic + r * n
-        for c in range(n):
-            acc -= F[rk + c] * x[c] + F[rc + c] * x[n + c]
-        F[o_a0 + r] = acc
     # friction directions s_i = (2/pi) arctan(eps D_i qd)
     for i in range(ni):
         si = 0.0

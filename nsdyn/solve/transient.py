@@ -170,6 +170,35 @@ def describe(excitation) -> str:
     return f"{kind}: {name}" if name else f"{kind}: {excitation!r}"[:200]
 
 
+def flat_evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple | None:
+    """Accelerations, normal forces, friction forces and modes along the history ``X``
+    (every contact closed) by the flat kernel, its linear part ``-X_q (M^-1 K)^T - X_v
+    (M^-1 C)^T`` one matrix product; rows where the flat form does not hold (singular ``G``)
+    by the general kernel. None when the law is not a smooth one (the caller evaluates)."""
+    from nsdyn.models.isolated import _kernel as ks
+    from nsdyn.solve import _kflat as kf
+
+    F = kf.pack_flat(P)
+    if F[kf.H_OK] == 0.0:
+        return None
+    t = np.ascontiguousarray(t, dtype=float)
+    X = np.ascontiguousarray(X, dtype=float)
+    n = P[ks.I_MIK].shape[0]
+    nt, nc, ni = t.size, P[ks.I_R].shape[0], P[ks.I_D].shape[0]
+    A0 = -(X[:, :n] @ P[ks.I_MIK].T)
+    A0 -= X[:, n:] @ P[ks.I_MIC].T
+    out = (np.empty((nt, n)), np.empty((nt, nc)), np.empty((nt, ni)), np.empty((nt, ni), np.int64))
+    ok = np.ones(nt, dtype=np.bool_)
+    kf.evaluate_flat_many(t, X, F, np.ascontiguousarray(A0), *out, ok)
+    bad = np.flatnonzero(~ok)
+    if bad.size:
+        part = [np.empty((bad.size, a.shape[1]), a.dtype) for a in out]
+        ks.evaluate_many(t[bad], np.ascontiguousarray(X[bad]), P, *part)
+        for a, b in zip(out, part, strict=True):
+            a[bad] = b
+    return out
+
+
 def simulate(
     system: IsolatedSystem,
     motion,
@@ -307,7 +336,8 @@ def simulate(
     open_hist = np.concatenate(opens) if contact == "unilateral" else None
     if open_hist is not None and open_hist.shape[0] != t.size:
         open_hist = None  # resumed from a checkpoint: the states before it are not kept
-    resp = response(system, t, x, Pm, open_hist, impact)
+    evaluated = None if open_hist is not None and np.any(open_hist) else flat_evaluations(Pm, t, x)
+    resp = response(system, t, x, Pm, open_hist, impact, evaluated=evaluated)
     return TransientResult(
         system,
         t,

@@ -65,6 +65,34 @@ def test_flat_rhs_equals_general_kernel(office, record, iso):
         assert np.array_equal(a[3], b[3])
 
 
+@pytest.mark.parametrize(
+    "iso", [Isolation(), Isolation(frozen_normal=True)], ids=["arctan", "frozen"]
+)
+def test_batched_post_processing_equals_general_kernel(office, record, iso):
+    # The post-processing path (linear part of the whole history in one matrix product, the
+    # rest by the flat kernel per sample) evaluates the same equations as the general kernel
+    # sample by sample: equal to round-off (ROUNDOFF of the scale), modes exactly.
+    from nsdyn.solve.transient import flat_evaluations
+
+    s = build_system(office, iso, fidelity="cb")
+    P = KernelParams.normalised(s.params(record))
+    x0, _ = s.static_equilibrium()
+    rng = np.random.default_rng(2)
+    nt = 40
+    t = np.sort(rng.uniform(0.0, 39.0, nt))
+    X = x0 + np.hstack(
+        [1e-2 * rng.standard_normal((nt, s.n)), 0.3 * rng.standard_normal((nt, s.n))]
+    )
+    ref = [np.empty((nt, s.n)), np.empty((nt, s.n_contacts))]
+    ref += [np.empty((nt, s.n_isolators)), np.empty((nt, s.n_isolators), np.int64)]
+    assert ks.evaluate_many(t, X, P, *ref) == 0
+    got = flat_evaluations(P, t, X)
+    for u, v in zip(ref[:3], got[:3], strict=True):
+        assert np.max(np.abs(u - v)) <= ROUNDOFF * max(np.max(np.abs(u)), 1.0)
+    assert np.array_equal(ref[3], got[3])
+    assert flat_evaluations(with_law(P, "switch"), t, X) is None  # not a smooth law
+
+
 def test_flat_rhs_without_friction_and_where_it_does_not_apply():
     # law "none": no friction forces, the same accelerations; the switch model, prescribed
     # modes and an open contact are left to the general kernel (usable() False).

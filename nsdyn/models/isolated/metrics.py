@@ -179,13 +179,17 @@ def energy_balance(system, t, X, P, LAM, TAU, G, impact_energy: float = 0.0) -> 
     }
 
 
-def response(system, t, X, P, open_contacts=None, impact_energy: float = 0.0) -> Response:
+def response(
+    system, t, X, P, open_contacts=None, impact_energy: float = 0.0, *, evaluated=None
+) -> Response:
     """Metrics of a history ``X`` (nt, 2n) of ``system`` computed with kernel tuple ``P``.
 
     ``P`` must use a law that decides the friction modes itself (arctan or switch); for an
     event-driven run pass the switch law. ``open_contacts`` (nt, nc), 1 where a contact is
     open (a unilateral run in flight: no normal force, no friction there);
-    ``impact_energy`` the kinetic energy change of its landings [J].
+    ``impact_energy`` the kinetic energy change of its landings [J]; ``evaluated``: the
+    accelerations, normal forces, friction forces and modes along ``X`` when the caller has
+    them (``nsdyn.solve.transient.flat_evaluations``), else the system kernel evaluates them.
     """
     t = np.ascontiguousarray(t, dtype=float)
     X = np.ascontiguousarray(X, dtype=float)
@@ -195,7 +199,9 @@ def response(system, t, X, P, open_contacts=None, impact_energy: float = 0.0) ->
     LAM = np.empty((nt, nc))
     TAU = np.empty((nt, ni))
     MODES = np.empty((nt, ni), dtype=np.int64)
-    if open_contacts is None or not np.any(open_contacts):
+    if evaluated is not None:
+        QDD, LAM, TAU, MODES = evaluated
+    elif open_contacts is None or not np.any(open_contacts):
         ks.evaluate_many(t, X, P, QDD, LAM, TAU, MODES)
     else:  # one evaluation per contact pattern, with its own open set
         pats, which = np.unique(np.asarray(open_contacts, np.int64), axis=0, return_inverse=True)
