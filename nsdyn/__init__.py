@@ -111,6 +111,7 @@ _API = {
     "ShootingResult": "nsdyn.periodic",
     "floquet_multipliers": "nsdyn.periodic",
     "steady_state_sweep": "nsdyn.periodic",
+    "uplift_boundary": "nsdyn.periodic",
     "continue_sequential": "nsdyn.periodic",
     "continue_arclength": "nsdyn.periodic",
     "continue_range": "nsdyn.periodic.continuation",

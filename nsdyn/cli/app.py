@@ -66,6 +66,12 @@ COMMANDS: dict[str, Command] = {
         configure=_lazy("nsdyn.cli.sweep", "configure"),
         run=_lazy("nsdyn.cli.sweep", "run"),
     ),
+    "uplift": Command(
+        help="uplift boundary: the smallest harmonic amplitude A*(f) at which an isolator's "
+        "normal force reaches zero in steady state (shooting + root finding)",
+        configure=_lazy("nsdyn.cli.uplift", "configure"),
+        run=_lazy("nsdyn.cli.uplift", "run"),
+    ),
     "bench": Command(
         help="work-precision, fidelity and stability benchmarks (speed against accuracy)",
         configure=_lazy("nsdyn.cli.bench", "configure"),

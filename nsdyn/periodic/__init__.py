@@ -9,7 +9,8 @@ Modules, bottom up: ``discretisation`` (steps and SDIRK tableau per period), ``p
 the Duffing oscillator as such models), ``shooting``, ``sweeps`` (steady states by time
 integration), ``bifurcation``, ``curve`` (points and curves), ``continuation`` (sequential and
 pseudo-arclength, any :class:`PeriodicModel`), ``response`` (the frame's front door),
-``switch`` (the switch model with true stick: exact period map with saltation matrices).
+``switch`` (the switch model with true stick: exact period map with saltation matrices),
+``uplift`` (the amplitude A*(f) at which a steady orbit's normal force first reaches zero).
 """
 
 from pathlib import Path
@@ -51,6 +52,7 @@ from nsdyn.periodic.switch import (
     switch_problem,
     switch_response,
 )
+from nsdyn.periodic.uplift import UpliftBoundary, UpliftPoint, uplift_boundary
 
 __all__ = [
     "ORDER",
@@ -67,6 +69,8 @@ __all__ = [
     "SweepResult",
     "SwitchProblem",
     "SwitchShootingResult",
+    "UpliftBoundary",
+    "UpliftPoint",
     "continue_arclength",
     "continue_sequential",
     "detect_bifurcations",
@@ -87,6 +91,7 @@ __all__ = [
     "switch_problem",
     "switch_response",
     "shoot_switch",
+    "uplift_boundary",
     "uplift_probe",
     "warm_start",
 ]

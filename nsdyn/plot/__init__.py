@@ -12,6 +12,7 @@ from nsdyn.plot.charts import (
     work_precision_figure,
 )
 from nsdyn.plot.frames import deformed_shape, plot_mode_shapes, plot_transient, sweep_figure
+from nsdyn.plot.uplift import uplift_boundary_figure
 
 __all__ = [
     "deformed_shape",
@@ -22,5 +23,6 @@ __all__ = [
     "speed_figure",
     "stability_figure",
     "sweep_figure",
+    "uplift_boundary_figure",
     "work_precision_figure",
 ]

@@ -1,0 +1,141 @@
+"""``nsdyn uplift``: the uplift boundary A*(f) of a scene's isolated model (the work is in
+nsdyn.periodic.uplift).
+
+For each of ``--points`` log-spaced frequencies, the smallest amplitude A of
+``u''_hor = A sin(2 pi f t)`` (a force [N] for a scene whose excitation is a harmonic force)
+at which the steady periodic orbit's smallest isolator normal force reaches zero,
+``min_t min_k lam_k(t) = 0``, searched up to ``--a-max``. Prints a table (f, A*, status),
+writes ``uplift.png`` and, with ``--json``, ``uplift.json`` (also printed, nothing else).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+from nsdyn.atomic import atomic_open
+from nsdyn.cli.args import EXIT_NUMERICS, EXIT_USER_ERROR
+from nsdyn.cli.args import count as _count
+from nsdyn.cli.args import positive_finite as _positive
+
+DEFAULT_OUT = "nsdyn-uplift"
+FMIN, FMAX, POINTS, A_MAX = 0.01, 10.0, 40, 20.0
+
+
+def configure(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "scene", nargs="?", default=None, help="scene TOML (default: the bundled default scene)"
+    )
+    p.add_argument("--fmin", type=_positive, default=FMIN, metavar="HZ", help=f"default {FMIN}")
+    p.add_argument("--fmax", type=_positive, default=FMAX, metavar="HZ", help=f"default {FMAX}")
+    p.add_argument(
+        "--points", type=_count, default=POINTS, help=f"log-spaced frequencies (default {POINTS})"
+    )
+    p.add_argument(
+        "--a-max",
+        type=_positive,
+        default=A_MAX,
+        metavar="A",
+        help=f"largest amplitude searched [m/s², or N for a force scene] (default {A_MAX:g})",
+    )
+    p.add_argument("--fidelity", choices=["rigid", "cb", "full"], help="override the scene's")
+    p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR", help="output directory")
+    p.add_argument("--no-figures", action="store_true", help="skip the PNG")
+    p.add_argument(
+        "--json", action="store_true", help="write uplift.json and print it (nothing else)"
+    )
+
+
+def _fmt(v: float | None, spec: str) -> str:
+    return "-" if v is None or not math.isfinite(v) else format(v, spec)
+
+
+def run(args: argparse.Namespace) -> int:
+    from nsdyn.ground.excitation import HarmonicForce
+    from nsdyn.models.isolated.scene import SceneError, build_scene, load_scene
+    from nsdyn.periodic import log_frequencies
+    from nsdyn.periodic.uplift import A_LO, uplift_boundary
+
+    overrides = {"scene": {"fidelity": args.fidelity}} if args.fidelity else None
+    try:
+        cfg = load_scene(args.scene, overrides)
+        if cfg["scene"].get("fidelity", "cb") == "fixed":
+            raise SceneError(
+                f"{cfg['_source']}: scene.fidelity: the fixed-base model has no isolators to "
+                "lift off; use rigid, cb or full"
+            )
+        system, excitation = build_scene(cfg)
+    except SceneError as e:
+        print(f"nsdyn uplift: {e}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    if not args.fmax > args.fmin:
+        print(
+            f"nsdyn uplift: --fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})",
+            file=sys.stderr,
+        )
+        return EXIT_USER_ERROR
+    if system.n_contacts == 0:
+        print("nsdyn uplift: the scene's structure has no contacts to lift off", file=sys.stderr)
+        return EXIT_USER_ERROR
+    load = excitation if isinstance(excitation, HarmonicForce) else None
+    unit = "N" if load is not None else "m/s²"
+    law = system.isolation.law
+    if law not in ("arctan", "none"):
+        law = "arctan"  # the periodic orbits need a smooth law
+        if not args.json:
+            print(
+                f"nsdyn uplift: friction law {system.isolation.law!r} of the scene replaced by "
+                "the smooth arctan law (same eps) for the periodic orbits",
+                file=sys.stderr,
+            )
+    a_lo = min(A_LO, 0.5 * args.a_max)
+
+    def progress(pt, k, n):
+        if not args.json:
+            print(
+                f"[{k:3d}/{n}] f={pt.f:8.4g} Hz  A*={_fmt(pt.a_crit, '.4g'):>8s}  "
+                f"{pt.shootings:2d} shootings  {pt.wall_s:6.2f} s  {pt.status}",
+                file=sys.stderr,
+                flush=True,
+            )
+
+    t0 = time.perf_counter()
+    freqs = log_frequencies(args.fmin, args.fmax, args.points)
+    res = uplift_boundary(
+        system, freqs, a_lo=a_lo, a_hi=args.a_max, progress=progress, law=law, load=load
+    )
+    report = res.to_dict()
+    report["wall_s"] = time.perf_counter() - t0
+    report["law"] = law
+    out = Path(args.out)
+    if not args.no_figures:
+        from nsdyn.plot.uplift import uplift_boundary_figure
+
+        fig_path = out / "uplift.png"
+        uplift_boundary_figure(res, fig_path)
+        report["figure"] = str(fig_path)
+    if args.json:
+        json_path = out / "uplift.json"
+        report["json"] = str(json_path)
+        text = json.dumps(report, default=float)
+        with atomic_open(json_path, "w", encoding="utf-8") as fh:
+            fh.write(text + "\n")
+        print(text)
+    else:
+        print(
+            f"model {res.model}: uplift boundary at {args.points} frequencies "
+            f"{args.fmin:g}-{args.fmax:g} Hz, A up to {args.a_max:g} {unit}, {law} friction"
+        )
+        print(f"   f [Hz]   A* [{unit}]  shootings  status")
+        for p in res.points:
+            print(f"{p.f:9.4g}  {_fmt(p.a_crit, '10.4g'):>10s}  {p.shootings:9d}  {p.status}")
+        n_ok = int(res.ok.sum())
+        print(f"{n_ok}/{len(res.points)} frequencies with A* found; wall {report['wall_s']:.1f} s")
+        if "figure" in report:
+            print(f"figure: {report['figure']}")
+    failed = [p for p in res.points if not p.ok and not p.status.startswith("no uplift")]
+    return EXIT_NUMERICS if len(failed) == len(res.points) else 0

@@ -1,0 +1,61 @@
+"""``nsdyn uplift``: table, JSON and figure of the uplift boundary; scene errors name the field.
+
+The subcommand is driven through its own ``configure``/``run`` pair (the command table of
+``nsdyn.cli.app`` only dispatches to them).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from nsdyn.cli import uplift as cli_uplift
+
+
+def run_cli(argv: list[str]) -> int:
+    p = argparse.ArgumentParser(prog="nsdyn uplift")
+    cli_uplift.configure(p)
+    return cli_uplift.run(p.parse_args(argv))
+
+
+def test_json_lists_every_frequency_and_writes_the_files(tmp_path, capsys):
+    out = tmp_path / "o"
+    rc = run_cli(["--fmin", "0.06", "--fmax", "2", "--points", "2", "--json", "--out", str(out)])
+    assert rc == 0
+    rep = json.loads(capsys.readouterr().out)  # stdout holds one JSON object only
+    assert json.loads((out / "uplift.json").read_text()) == rep
+    assert (out / "uplift.png").stat().st_size > 0
+    pts = rep["points"]
+    assert [p["f_hz"] for p in pts] == [0.06, 2.0]
+    # at the isolation frequency the margin reaches zero inside the bracket; above it the
+    # friction caps the base shear (no uplift up to a_max) - or the point says why not
+    for p in pts:
+        if p["status"] == "ok":
+            assert p["a_below"] < p["a_crit"] <= p["a_above"] <= rep["a_hi"]
+            assert p["min_normal_force_below_n"] > 0 >= p["min_normal_force_above_n"]
+        else:
+            assert p["a_crit"] is None and p["status"]
+    assert pts[0]["status"] == "ok"
+
+
+def test_table_prints_one_row_per_frequency(tmp_path, capsys):
+    rc = run_cli(["--fmin", "1", "--fmax", "2", "--points", "2", "--a-max", "2", "--out",
+                  str(tmp_path), "--no-figures"])  # fmt: skip
+    assert rc == 0
+    text = capsys.readouterr().out
+    rows = [ln for ln in text.splitlines() if ln.strip().startswith(("1 ", "2 "))]
+    assert len(rows) == 2 and all("no uplift below a_hi" in r for r in rows)
+    assert not (tmp_path / "uplift.png").exists()
+
+
+def test_fixed_base_scene_is_refused_with_the_field(tmp_path, capsys):
+    scene = tmp_path / "s.toml"
+    scene.write_text('[scene]\nfidelity = "fixed"\n')
+    assert run_cli([str(scene), "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "s.toml" in err and "scene.fidelity" in err
+
+
+def test_reversed_frequency_range_is_a_user_error(tmp_path, capsys):
+    assert run_cli(["--fmin", "2", "--fmax", "1", "--out", str(tmp_path)]) == 2
+    assert "--fmax" in capsys.readouterr().err
