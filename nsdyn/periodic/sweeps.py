@@ -33,6 +33,7 @@ SS_MAX_PERIODS = 400  # longest sweep fallback [periods]
 SS_MAX_TIME = 4000.0  # ... and [s] of simulated time
 SS_RHO_CAP = 1e3  # largest extrapolation factor rho / (1 - rho) of the steady-state estimate
 WARMUP_PERIODS = 2  # plain periods integrated before the first shooting solve
+SS_WINDOW = 50  # periods over which the sweep measures its contraction (stagnation test)
 
 
 @dataclass
@@ -67,7 +68,12 @@ def steady_state_sweep(
     The change ``delta_k = |x(kT) - x((k-1)T)|`` (per block, relative to the orbit's excursion)
     contracts by ``rho = delta_k / delta_(k-1)`` per period; the distance left to the steady
     state is estimated as ``delta_k min(rho / (1 - rho), SS_RHO_CAP)`` and must fall below
-    ``tol`` (or ``delta_k`` below ``tol / 100``, the round-off floor). Each period is one kernel
+    ``tol`` (or ``delta_k`` below ``tol / 100``, the round-off floor). A sweep that cannot get
+    there stops early: from period ``2 SS_WINDOW`` on, the contraction over the last window,
+    ``r = (max of the last 10 delta / max of the 10 a window earlier)^(1 / SS_WINDOW)``, predicts
+    the periods still needed, ``log(tol / delta_k) / log r`` (infinite for ``r >= 1``: a response
+    that is not period-1, such as period doubling or a grazing-induced irregular motion); past
+    twice the allowed periods it is "not steady" now. Each period is one kernel
     call (the per-call overhead is < 0.1 % of a period). The multipliers of the last period's
     monodromy (one extra period) are returned as an approximate stability verdict.
     """
@@ -84,6 +90,8 @@ def steady_state_sweep(
     x_start = x  # start of the period held in X
     k = 0
     done = 0
+    deltas: list[float] = []
+    stalled = False
     for k in range(1, kmax + 1):
         pm = problem.period_map(x, f, n_steps=N, disc=disc, sens=False, store=True)
         if pm.status != STATUS_OK:
@@ -101,6 +109,10 @@ def steady_state_sweep(
             status = STATUS_OK
             est = min(est, delta)
             break
+        deltas.append(delta)
+        if k >= 2 * SS_WINDOW and _hopeless(deltas, k, kmax, tol):
+            stalled = True
+            break
         d_old = delta
         x = pm.xT
     steady = status == STATUS_OK
@@ -109,6 +121,11 @@ def steady_state_sweep(
         if steady
         else f"{STATUS_MESSAGES[int(status)]} ({k} periods, estimate {est:.1e})"
     )
+    if stalled:
+        msg += (
+            f"; stopped early: the change per period no longer contracts (still {deltas[-1]:.1e}"
+            f" after {k} periods; not a period-1 response, or one too slow to reach)"
+        )
     x = x_start  # x0 and the monodromy belong to the period returned in X
     M = None
     if monodromy and status in (STATUS_OK, STATUS_NOT_STEADY) and X is not None:
@@ -118,6 +135,19 @@ def steady_state_sweep(
     if X is None:
         X = np.vstack([x, x])
     return SweepResult(f, x, X, int(k), float(est), steady, M, N, msg, done)
+
+
+def _hopeless(deltas: list, k: int, kmax: int, tol: float) -> bool:
+    """True when the contraction of the last SS_WINDOW periods cannot bring the change per
+    period below ``tol`` within twice the ``kmax`` periods allowed (see steady_state_sweep)."""
+    now = max(deltas[-10:])
+    then = max(deltas[-SS_WINDOW - 10 : -SS_WINDOW])
+    if not (now > 0.0 and then > 0.0):
+        return False
+    r = (now / then) ** (1.0 / SS_WINDOW)
+    if r >= 1.0:
+        return True
+    return k + math.log(tol / now) / math.log(r) > 2 * kmax
 
 
 def warm_start(
