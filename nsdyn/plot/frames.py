@@ -136,48 +136,86 @@ def plot_transient(result):
 def sweep_figure(results: list[dict], fixed: dict | None = None):
     """``nsdyn sweep``: IDR, a and x_iso against f (log-log), one colour per amplitude.
 
-    Isolated-base periodic solutions solid (unstable points x, sweep-fallback points o);
-    ``fixed`` maps an amplitude to :func:`nsdyn.periodic.fixed_base_response` (dashed).
-    x_iso is drawn where the isolators slip at some time of the period (as in the seed);
-    points with uplift (a negative normal force: outside the contact model) are omitted.
+    Isolated-base periodic solutions solid; unstable points x, stepped-sweep fallback points
+    o; points with uplift (a normal force <= 0: outside the bilateral contact model) are cut
+    out of the lines and drawn as hollow triangles at their bilateral value; ``fixed`` maps
+    an amplitude to :func:`nsdyn.periodic.fixed_base_response` (dashed). x_iso is drawn where
+    the isolators slip at some time of the period (as in the seed). The legend lists only
+    the markers that are drawn (:func:`sweep_markers`).
     """
     from matplotlib import rcParams
     from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
 
     fig = Figure(figsize=(7.5, 9.5))
     axes = fig.subplots(3, 1, sharex=True)
     colors = rcParams["axes.prop_cycle"].by_key()["color"]
+    drawn = set()
     for k, r in enumerate(sorted(results, key=lambda r: r["A"])):
         col = colors[k % len(colors)]
         rows = r["rows"]
         f = np.array([x["f"] for x in rows])
-        idr = np.array([x["IDR"] for x in rows])
-        acc = np.array([x["a"] for x in rows])
-        xi = np.array([x["x_iso"] for x in rows], dtype=float)
+        raw = {
+            "idr": np.array([x["IDR"] for x in rows], dtype=float),
+            "acc": np.array([x["a"] for x in rows], dtype=float),
+            "xi": np.array([x["x_iso"] for x in rows], dtype=float),
+        }
         stick = np.array([x["stick_all_period"] is True for x in rows])
-        uplift = np.array([x["uplift"] is True for x in rows])
-        idr, acc, xi = (np.where(uplift, np.nan, v) for v in (idr, acc, xi))
-        unstable = np.array([x["stable"] is False for x in rows])
-        sweep = np.array([x["method"] == "sweep" for x in rows])
+        raw["xi"] = np.where(stick, np.nan, raw["xi"])
+        marks = sweep_markers(rows)
         lab = f"A = {r['A']:g} m/s²"
-        for ax, y in ((axes[0], idr), (axes[1], acc)):
+        for ax, key in ((axes[0], "idr"), (axes[1], "acc"), (axes[2], "xi")):
+            y_all = raw[key]
+            y = np.where(marks["uplift"], np.nan, y_all)
             ax.loglog(f, y, "-", color=col, lw=1.3, label=lab)
-            ax.loglog(f[unstable], y[unstable], "x", color=col, ms=5)
-            ax.loglog(f[sweep], y[sweep], "o", mfc="none", color=col, ms=4)
-        xs = np.where(stick, np.nan, xi)
-        axes[2].loglog(f, xs, "-", color=col, lw=1.3, label=lab)
-        axes[2].loglog(f[sweep], xs[sweep], "o", mfc="none", color=col, ms=4)
+            for name, style in MARKER_STYLES.items():
+                sel = marks[name] & np.isfinite(y_all if name == "uplift" else y)
+                if np.any(sel):
+                    ax.loglog(f[sel], (y_all if name == "uplift" else y)[sel], color=col, **style)
+                    drawn.add(name)
         if fixed is not None and r["A"] in fixed:
             fb = fixed[r["A"]]
             axes[0].loglog(fb["f"], fb["idr"], "--", color=col, lw=0.8)
             axes[1].loglog(fb["f"], fb["acc"], "--", color=col, lw=0.8)
+            drawn.add("fixed")
     axes[0].set_ylabel("IDR [-]")
     axes[1].set_ylabel("a [m/s²]")
     axes[2].set_ylabel("x̄_iso [m] (slip only)")
     axes[2].set_xlabel("f_hor [Hz]")
-    axes[0].set_title("periodic solutions (solid), fixed base (dashed); x unstable, o sweep")
+    axes[0].set_title("periodic solutions of the isolated frame")
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
     axes[0].legend(fontsize=8)
+    handles = [
+        Line2D([], [], color="0.3", label=MARKER_LABELS[name], **MARKER_STYLES[name])
+        for name in MARKER_STYLES
+        if name in drawn
+    ]
+    if "fixed" in drawn:
+        handles.append(Line2D([], [], color="0.3", ls="--", lw=0.8, label="fixed base"))
+    if handles:
+        axes[1].legend(handles=handles, fontsize=8)
     fig.tight_layout()
     return fig
+
+
+MARKER_STYLES = {
+    "unstable": dict(marker="x", linestyle="none", ms=5),
+    "sweep": dict(marker="o", linestyle="none", mfc="none", ms=4),
+    "uplift": dict(marker="^", linestyle="none", mfc="none", ms=5),
+}
+MARKER_LABELS = {
+    "unstable": "unstable (a Floquet multiplier > 1)",
+    "sweep": "stepped-sweep fallback",
+    "uplift": "uplift: bilateral value, outside the contact model",
+}
+
+
+def sweep_markers(rows: list[dict]) -> dict:
+    """Boolean masks of the sweep rows that get a marker: ``unstable`` (stable False),
+    ``sweep`` (made by the stepped-sweep fallback) and ``uplift`` (a normal force <= 0)."""
+    return {
+        "unstable": np.array([x["stable"] is False for x in rows], dtype=bool),
+        "sweep": np.array([x["method"] == "sweep" for x in rows], dtype=bool),
+        "uplift": np.array([x["uplift"] is True for x in rows], dtype=bool),
+    }

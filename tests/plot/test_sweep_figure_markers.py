@@ -1,0 +1,55 @@
+"""The sweep figure draws every point and its legend names only what is drawn.
+
+A synthetic curve with one stepped-sweep point and two uplift points (values of the bilateral
+model, outside its validity) and no unstable point: the uplift points must appear as their own
+markers at their values (not vanish), the sweep point as its marker, and the legend must list
+exactly those two marker kinds — no "unstable" entry, no "fixed base" entry without fixed-base
+curves.
+"""
+
+import numpy as np
+
+from nsdyn.plot.frames import MARKER_LABELS, sweep_figure
+
+
+def _rows():
+    f = np.geomspace(0.01, 1.0, 8)
+    rows = []
+    for k, fk in enumerate(f):
+        rows.append(
+            {
+                "f": fk,
+                "IDR": 1e-3 * (k + 1),
+                "a": 0.5 * (k + 1),
+                "x_iso": 0.01 * (k + 1),
+                "stick_all_period": False,
+                "stable": True,
+                "method": "sweep" if k == 5 else "shooting",
+                "uplift": k in (2, 3),
+            }
+        )
+    return rows
+
+
+def _markers(ax, marker):
+    pts = []
+    for line in ax.get_lines():
+        if line.get_marker() == marker:
+            pts.extend(zip(line.get_xdata(), line.get_ydata(), strict=True))
+    return pts
+
+
+def test_uplift_and_fallback_points_are_drawn_and_the_legend_matches():
+    rows = _rows()
+    fig = sweep_figure([{"A": 1.0, "rows": rows}])
+    ax_idr, ax_acc, _ = fig.axes
+    up = _markers(ax_idr, "^")
+    assert sorted(x for x, _ in up) == sorted([rows[2]["f"], rows[3]["f"]])
+    assert {y for _, y in up} == {rows[2]["IDR"], rows[3]["IDR"]}  # their values, drawn
+    assert [x for x, _ in _markers(ax_idr, "o")] == [rows[5]["f"]]
+    assert not _markers(ax_idr, "x")
+    labels = {t.get_text() for t in ax_acc.get_legend().get_texts()}
+    assert labels == {MARKER_LABELS["sweep"], MARKER_LABELS["uplift"]}
+    # the solid line leaves the uplift band out
+    solid = [ln for ln in ax_idr.get_lines() if ln.get_linestyle() == "-"][0]
+    assert np.isnan(np.asarray(solid.get_ydata())[[2, 3]]).all()
