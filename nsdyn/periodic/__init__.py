@@ -10,7 +10,8 @@ the Duffing oscillator as such models), ``shooting``, ``sweeps`` (steady states 
 integration), ``bifurcation``, ``curve`` (points and curves), ``continuation`` (sequential and
 pseudo-arclength, any :class:`PeriodicModel`), ``response`` (the frame's front door),
 ``switch`` (the switch model with true stick: exact period map with saltation matrices),
-``uplift`` (the amplitude A*(f) at which a steady orbit's normal force first reaches zero).
+``uplift`` (the amplitude A*(f) at which a steady orbit's normal force first reaches zero),
+``unilateral`` (steady states with lift-off and landing by the stepped sweep).
 """
 
 from pathlib import Path
@@ -52,6 +53,7 @@ from nsdyn.periodic.switch import (
     switch_problem,
     switch_response,
 )
+from nsdyn.periodic.unilateral import UnilateralPoint, unilateral_steady_state
 from nsdyn.periodic.uplift import UpliftBoundary, UpliftPoint, uplift_boundary
 
 __all__ = [
@@ -69,6 +71,7 @@ __all__ = [
     "SweepResult",
     "SwitchProblem",
     "SwitchShootingResult",
+    "UnilateralPoint",
     "UpliftBoundary",
     "UpliftPoint",
     "continue_arclength",
@@ -91,6 +94,7 @@ __all__ = [
     "switch_problem",
     "switch_response",
     "shoot_switch",
+    "unilateral_steady_state",
     "uplift_boundary",
     "uplift_probe",
     "warm_start",

@@ -110,7 +110,7 @@ def steady_state_sweep(
             est = min(est, delta)
             break
         deltas.append(delta)
-        if k >= 2 * SS_WINDOW and _hopeless(deltas, k, kmax, tol):
+        if k >= 2 * SS_WINDOW and stagnated(deltas, k, kmax, tol):
             stalled = True
             break
         d_old = delta
@@ -137,14 +137,15 @@ def steady_state_sweep(
     return SweepResult(f, x, X, int(k), float(est), steady, M, N, msg, done)
 
 
-def _hopeless(deltas: list, k: int, kmax: int, tol: float) -> bool:
-    """True when the contraction of the last SS_WINDOW periods cannot bring the change per
-    period below ``tol`` within twice the ``kmax`` periods allowed (see steady_state_sweep)."""
+def stagnated(deltas: list, k: int, kmax: int, tol: float, window: int = SS_WINDOW) -> bool:
+    """True when the contraction of the changes per period ``deltas`` over the last ``window``
+    periods cannot bring them below ``tol`` within twice the ``kmax`` periods allowed (see
+    :func:`steady_state_sweep`); needs ``len(deltas) >= window + 10``."""
     now = max(deltas[-10:])
-    then = max(deltas[-SS_WINDOW - 10 : -SS_WINDOW])
+    then = max(deltas[-window - 10 : -window])
     if not (now > 0.0 and then > 0.0):
         return False
-    r = (now / then) ** (1.0 / SS_WINDOW)
+    r = (now / then) ** (1.0 / window)
     if r >= 1.0:
         return True
     return k + math.log(tol / now) / math.log(r) > 2 * kmax
