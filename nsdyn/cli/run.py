@@ -77,6 +77,29 @@ def _scene_overrides(args: argparse.Namespace) -> dict:
 _ISOLATED_ONLY = ("frame", "fidelity", "fixed_base", "fmax", "friction", "resume", "dt")
 
 
+def _check_ladder_flags(args: argparse.Namespace, raw: dict) -> None:
+    """--fixed-base, --fidelity and --fmax choose among a frame's models; a scene that gives
+    its ``[structure]`` directly has no such ladder (a SceneError naming the flags)."""
+    from nsdyn.models.scenefile import SceneError
+
+    flags = [
+        flag
+        for flag, given in (
+            ("--fixed-base", args.fixed_base),
+            ("--fidelity", args.fidelity not in (None, "auto")),
+            ("--fmax", args.fmax),
+        )
+        if given
+    ]
+    if flags and "structure" in raw:
+        kind = raw["structure"].get("kind", "?") if isinstance(raw["structure"], dict) else "?"
+        raise SceneError(
+            f"{args.scene}: {', '.join(flags)}: these choose among a frame's models (fixed "
+            f"base, Craig-Bampton, full); this scene gives its [structure] directly (kind "
+            f"{kind!r}), which is used as given"
+        )
+
+
 def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     """``nsdyn run`` on a scene of another model family (``[scene] kind``)."""
     import importlib
@@ -175,6 +198,7 @@ def run(args: argparse.Namespace) -> int:
         kind = scene_kind(raw, str(args.scene))
         if kind != "isolated":
             return _run_other_kind(args, kind, raw)
+        _check_ladder_flags(args, raw)
     from nsdyn.solve.transient import output_grid, simulate
 
     cfg = load_scene(args.scene, _scene_overrides(args))

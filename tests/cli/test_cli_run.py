@@ -63,3 +63,17 @@ def test_fixed_step_methods_take_a_default_or_given_step(tmp_path, capsys):
         rc = main([*base, "--method", "genalpha", *extra, "--out", str(tmp_path)])
         assert rc == 0
         assert json.loads(capsys.readouterr().out)["n_steps"] == steps
+
+
+def test_ladder_flags_on_a_scene_without_a_frame_name_the_flag(tmp_path, capsys):
+    # a scene giving its [structure] directly has no fixed-base / CB / full ladder: the
+    # error names the flag the user typed (not a scene field they never wrote)
+    from pathlib import Path
+
+    scene = (
+        Path(__file__).resolve().parents[2] / "examples" / "scenes" / "isolated-shear-3storey.toml"
+    )
+    for flags in (["--fixed-base"], ["--fidelity", "full"], ["--fmax", "8"]):
+        assert main(["run", str(scene), *flags, "--no-figures", "--out", str(tmp_path)]) == 2
+        err = capsys.readouterr().err
+        assert flags[0] in err and "[structure]" in err and "shear" in err
