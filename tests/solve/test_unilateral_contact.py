@@ -241,3 +241,62 @@ def test_rigid_block_on_sticking_isolators_lifts_at_the_overturning_threshold():
     lifts = [e for e in sol.contact_events if e[2] == "lift-off"]
     t1 = G * HALF_WIDTH / (h * r)
     assert lifts and lifts[0][0] == pytest.approx(t1, abs=1e-6)
+
+
+def test_rigid_block_rocking_on_one_corner_matches_housner_for_small_tilts():
+    """The unilateral frame made rigid, its isolators sticking, is Housner's rocking block.
+
+    Tilted by phi0 onto its right contact (left contact open, the corner at (b, -h) from the
+    centre of mass held by the closed contact and the stuck isolator) and released at rest
+    without excitation, the block rotates about that corner until the left contact lands.
+    Housner (1963): I_O phi'' = -m g R sin(alpha - phi), R = sqrt(b^2 + h^2),
+    alpha = atan(b / h), I_O = J + m R^2 -- integrated here by SciPy to 1e-12 as the
+    reference. nsdyn's constraints are linear in the rotation, so it solves the same motion
+    with sin(alpha - phi) ~ sin(alpha) (no P-Delta): the two agree to O(phi0 / tan(alpha))
+    = O(phi0 h / b). At phi0 = 1e-4, h / b = 2 that is 2e-4: the impact time and the landing
+    velocity of the left corner, 2 b phi'(impact), must agree to 1e-3 relative.
+    """
+    from scipy.integrate import solve_ivp
+
+    h, b, phi0 = 2.0, HALF_WIDTH, 1e-4
+    M = np.diag([MASS, MASS, J])
+    Z = np.zeros((3, 3))
+    iso = Isolation(k_lam=5e4, c=1e3, mu=1.0, law="switch", contact="unilateral")
+    s = system_from_matrices(
+        M,
+        Z,
+        Z,
+        iso_dofs=[[1, 0, h], [1, 0, h]],
+        influence=[[1, 0], [0, 1], [0, 0]],
+        isolation=iso,
+        contact_rows=[[0, 1, -b], [0, 1, b]],
+    )
+    theta = -phi0  # left corner up: the right corner (x, y) + theta (h, b) stays put
+    x0 = np.array([-h * theta, -b * theta, theta, 0.0, 0.0, 0.0])
+    P = s.params(Harmonic(0.0, 0.0))
+    sol = solve(
+        P, x0, np.linspace(0.0, 0.05, 51), method="event", contact="unilateral",
+        open0=np.array([1, 0]), on_failure="return", **TOL,
+    )  # fmt: skip
+    # after the landing all four rows hold the 3-dof block (two contacts, two stuck isolators
+    # on the same plane: D rows equal), which the kernel reports as singular -- the rocking
+    # phase and its landing are what is compared
+    lands = [e for e in sol.contact_events if e[2] == "landing" and e[1] == 0]
+    assert lands, sol.contact_events
+    t_nsdyn, v_nsdyn = lands[0][0], abs(lands[0][3])
+
+    R, alpha = np.hypot(b, h), np.arctan2(b, h)
+    I_O = J + MASS * R**2
+    p2 = MASS * G * R / I_O
+
+    def rock(t, z):
+        return [z[1], -p2 * np.sin(alpha - z[0])]
+
+    def impact(t, z):
+        return z[0]
+
+    impact.terminal, impact.direction = True, -1
+    ref = solve_ivp(rock, (0.0, 1.0), [phi0, 0.0], events=impact, rtol=1e-12, atol=1e-15)
+    t_h, w_h = ref.t_events[0][0], abs(ref.y_events[0][0][1])
+    assert t_nsdyn == pytest.approx(t_h, rel=1e-3)
+    assert v_nsdyn == pytest.approx(2 * b * w_h, rel=1e-3)
