@@ -68,6 +68,14 @@ def configure(p: argparse.ArgumentParser) -> None:
         help="friction law of the periodic orbits: the smooth arctan law, or the switch model "
         "with true stick (exact period map with saltation matrices); default: the scene's",
     )
+    p.add_argument(
+        "--contact",
+        choices=["bilateral", "unilateral"],
+        default="bilateral",
+        help="uplift points (a normal force <= 0 on the bilateral orbit): flagged (bilateral, "
+        "the seed's model) or recomputed with lift-off and landing by a stepped sweep "
+        "(unilateral; up to 30 s per point)",
+    )
     p.add_argument("--fidelity", choices=["rigid", "cb", "full"], help="override the scene's")
     p.add_argument("--no-fallback", action="store_true", help="skip points shooting misses")
     p.add_argument(
@@ -110,6 +118,7 @@ def run(args: argparse.Namespace) -> int:
         args.tableau,
         args.steps_factor,
         "switch" if friction == "switch" else "arctan",
+        args.contact,
     )
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -167,8 +176,18 @@ def run(args: argparse.Namespace) -> int:
     if any(s["uplift_points"] for s in report["amplitudes"]):
         print(
             "   (uplift: a normal force <= 0 somewhere in the period, or from the period's start"
-            " where no period could be integrated; maxima skip those points)"
+            " where no period could be integrated; maxima skip those points"
+            + (
+                ", except those the unilateral sweep settled)"
+                if settings.contact == "unilateral"
+                else "; --contact unilateral recomputes them with lift-off and landing)"
+            )
         )
+        for s in report["amplitudes"]:
+            if s.get("unilateral_points"):
+                print(
+                    f"   A = {s['A']:g}: {s['unilateral_points']} points with lift-off and landing"
+                )
     print(f"csv:    {csv_path}")
     if "figure" in report:
         print(f"figure: {report['figure']}")

@@ -34,6 +34,7 @@ from nsdyn.periodic.sweeps import stagnated
 UNI_TOL = 1e-4  # steady-state test of the unilateral sweep (relative change per period)
 UNI_MAX_PERIODS = 80  # longest unilateral sweep [periods]
 UNI_SAMPLES = 200  # output samples per period (metrics of the last period)
+UNI_BUDGET_S = 30.0  # wall-time budget of one point [s] (a chattering flight is slow)
 EXCURSION_FLOOR = 1e-9  # floor of the per-block excursions (a period at rest)
 
 
@@ -61,13 +62,18 @@ def unilateral_steady_state(
     tol: float = UNI_TOL,
     max_periods: int = UNI_MAX_PERIODS,
     samples: int = UNI_SAMPLES,
+    budget_s: float = UNI_BUDGET_S,
 ) -> UnilateralPoint:
     """Integrate whole periods of the frame ``problem``
     (:func:`nsdyn.periodic.frame_problem`) at ``f`` with lift-off and landing from the full
     state ``x0_full`` (contact states ``open0``) until the Poincare map settles (module
-    text); ``restitution``: Newton's e of a landing."""
+    text); ``restitution``: Newton's e of a landing; ``budget_s``: wall time after which
+    the sweep stops, not steady, and says so."""
+    import time
+
     from nsdyn.solve.integrate import solve
 
+    t_start = time.perf_counter()
     if problem.system is None:
         raise ValueError("the unilateral sweep needs a frame problem (frame_problem(system, A))")
     P, _ = problem.at(f)
@@ -110,6 +116,12 @@ def unilateral_steady_state(
         if len(deltas) >= 30 and stagnated(deltas, k, max_periods, tol, window=20):
             note = "the change per period no longer contracts (not a period-1 response)"
             break
+        if time.perf_counter() - t_start > budget_s:
+            n_ev = len(sol.contact_events)
+            note = (
+                f"stopped at the {budget_s:g} s budget ({n_ev} contact events in the last period)"
+            )
+            break
         d_old = delta
     msg = f"{'steady' if steady else 'not steady'} after {k} periods (estimate {est:.1e})"
     if note:
@@ -146,3 +158,46 @@ def _quantities(problem, sol, T: float) -> dict:
         "stick_all_period": False,
         "uplift": True,
     }
+
+
+def unilateral_rows(problem, points: list, rows: list[dict], progress=None, **options) -> int:
+    """Recompute the uplift points of a bilateral curve (``points`` of
+    :class:`nsdyn.periodic.curve.OrbitPoint` and their CSV ``rows``, in frequency order) with
+    :func:`unilateral_steady_state`: each starts from the previous unilateral point's end
+    state when the previous point was one too (following the branch), else from its own
+    bilateral orbit. The rows get the unilateral quantities, ``method = "unilateral"``,
+    ``converged`` = steady and the sweep's message as note. Returns the count recomputed."""
+    prev = None
+    done = 0
+    for pt, row in zip(points, rows, strict=True):
+        if row.get("uplift") is not True or pt.x0 is None:
+            prev = None
+            continue
+        if prev is not None:
+            x_start, open0 = prev.x_end, prev.open_end
+        else:
+            x_start, open0 = problem.to_full(pt.x0), None
+        u = unilateral_steady_state(problem, pt.f, x_start, open0=open0, **options)
+        q = u.quantities
+        row.update(
+            IDR=q.get("idr", math.nan),
+            a=q.get("acc", math.nan),
+            a_floors=q.get("acc_floors", math.nan),
+            x_iso=q.get("x_iso", math.nan),
+            stick_all_period=False,
+            stable="",
+            max_multiplier_modulus=math.nan,
+            method="unilateral",
+            newton_iterations=0,
+            residual=u.estimate,
+            converged=u.steady,
+            flight_fraction=q.get("flight_fraction", math.nan),
+            lift_offs_per_period=q.get("lift_offs_per_period", ""),
+            max_landing_impulse_Ns=q.get("max_landing_impulse_Ns", math.nan),
+            note=u.message,
+        )
+        prev = u if u.steady else None
+        done += 1
+        if progress is not None:
+            progress(pt.f, u)
+    return done

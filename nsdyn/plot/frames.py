@@ -203,19 +203,25 @@ MARKER_STYLES = {
     "unstable": dict(marker="x", linestyle="none", ms=5),
     "sweep": dict(marker="o", linestyle="none", mfc="none", ms=4),
     "uplift": dict(marker="^", linestyle="none", mfc="none", ms=5),
+    "unilateral": dict(marker="s", linestyle="none", mfc="none", ms=4),
 }
 MARKER_LABELS = {
     "unstable": "unstable (a Floquet multiplier > 1)",
     "sweep": "stepped-sweep fallback",
     "uplift": "uplift: bilateral value, outside the contact model",
+    "unilateral": "lift-off and landing (unilateral stepped sweep)",
 }
 
 
 def sweep_markers(rows: list[dict]) -> dict:
     """Boolean masks of the sweep rows that get a marker: ``unstable`` (stable False),
-    ``sweep`` (made by the stepped-sweep fallback) and ``uplift`` (a normal force <= 0)."""
+    ``sweep`` (made by the stepped-sweep fallback), ``uplift`` (a normal force <= 0 on the
+    bilateral orbit, not recomputed) and ``unilateral`` (recomputed with lift-off and
+    landing; drawn on the curve)."""
+    uni = np.array([x.get("method") == "unilateral" for x in rows], dtype=bool)
     return {
         "unstable": np.array([x["stable"] is False for x in rows], dtype=bool),
         "sweep": np.array([x["method"] == "sweep" for x in rows], dtype=bool),
-        "uplift": np.array([x["uplift"] is True for x in rows], dtype=bool),
+        "uplift": np.array([x["uplift"] is True for x in rows], dtype=bool) & ~uni,
+        "unilateral": uni,
     }

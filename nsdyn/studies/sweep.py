@@ -49,6 +49,10 @@ CSV_COLUMNS = (
     "n_steps",
     "uplift",
     "law",
+    "contact",
+    "flight_fraction",
+    "lift_offs_per_period",
+    "max_landing_impulse_Ns",
     "note",
 )
 
@@ -65,6 +69,7 @@ class SweepSettings:
     tableau: str = "sdirk2"  # SDIRK of the period integration (periodic.TABLEAUX)
     steps_factor: float = 1.0  # x the default steps per period (periodic.Discretisation)
     friction: str = "arctan"  # "arctan" (the scene's smooth law) or "switch" (true stick)
+    contact: str = "bilateral"  # "unilateral": uplift points recomputed with lift-off/landing
 
     def discretisation(self):
         """The :class:`nsdyn.periodic.Discretisation` these settings ask for."""
@@ -223,6 +228,9 @@ def amplitude_job(
     rows = curve.rows()
     for row in rows:
         row["law"] = law
+        row["contact"] = "bilateral"
+    if settings.contact == "unilateral":
+        _unilateral_pass(system, amplitude, load, curve, rows, quiet)
     walls = np.array([p.quantities.get("wall_s", np.nan) for p in curve.points])
     fs = np.array([p.f for p in curve.points])
     new = np.arange(len(curve.points)) >= n_resumed
@@ -238,6 +246,28 @@ def amplitude_job(
         "frame": system.frame,
         "f_max": system.f_max,
     }
+
+
+def _unilateral_pass(system, amplitude, load, curve, rows, quiet) -> None:
+    """The uplift points of the curve again, with lift-off and landing
+    (:func:`nsdyn.periodic.unilateral.unilateral_rows`); their rows say ``contact =
+    "unilateral"``."""
+    from nsdyn.periodic import frame_problem
+    from nsdyn.periodic.unilateral import unilateral_rows
+
+    def progress(f, u):
+        if not quiet:
+            print(
+                f"[A={amplitude:g}] unilateral f={f:8.4f} Hz: {u.message}",
+                file=sys.stderr,
+                flush=True,
+            )
+
+    pb = frame_problem(system, amplitude, load=load)
+    unilateral_rows(pb, curve.points, rows, progress=progress)
+    for row in rows:
+        if row["method"] == "unilateral":
+            row["contact"] = "unilateral"
 
 
 class CheckpointMismatch(SceneError):
@@ -328,17 +358,20 @@ def write_csv(path: Path, results: list[dict]) -> None:
         w.writerow(CSV_COLUMNS)
         for r in sorted(results, key=lambda r: r["A"]):
             for row in r["rows"]:
-                w.writerow([format_csv_value(row[c]) for c in CSV_COLUMNS])
+                w.writerow([format_csv_value(row.get(c, "")) for c in CSV_COLUMNS])
 
 
 def summarise(r: dict) -> dict:
     """Per-amplitude numbers for the report. Maxima skip points with uplift (the bilateral
-    contact model is outside its validity there) and unconverged points."""
+    contact model is outside its validity there) unless a unilateral sweep recomputed them,
+    and unconverged points."""
     rows = r["rows"]
     f = np.array([x["f"] for x in rows])
     stick = np.array([x["stick_all_period"] is True for x in rows])
+    uni = np.array([x.get("contact") == "unilateral" for x in rows])
     uplift = np.array([x["uplift"] is True for x in rows])
-    good = np.array([bool(x["converged"]) for x in rows]) & ~uplift
+    # bilateral values past uplift are outside that model; unilateral ones count when settled
+    good = np.array([bool(x["converged"]) for x in rows]) & (~uplift | uni)
     slip_f = f[~stick & good]
     stick_above = None  # lowest frequency above which every point sticks the whole period
     if stick.any():
@@ -358,6 +391,7 @@ def summarise(r: dict) -> dict:
         "fallback_points": int(sum(x["method"] == "sweep" for x in rows)),
         "unconverged_points": int(sum(not x["converged"] for x in rows)),
         "uplift_points": int(uplift.sum()),
+        "unilateral_points": int(uni.sum()),
         "unstable_points": int(sum(x["stable"] is False for x in rows)),
         "stick_all_period_above_hz": stick_above,
         "slip_frequency_range_hz": (

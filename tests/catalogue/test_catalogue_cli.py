@@ -49,6 +49,7 @@ CLI_ROWS = [
     ("sweep-amplitudes-text", ["sweep", "--amplitudes", "1,x"], r"--amplitudes.*numbers"),
     ("sweep-steps-factor-zero", ["sweep", "--steps-factor", "0"], r"--steps-factor.*positive"),
     ("sweep-tableau", ["sweep", "--tableau", "rk4"], r"--tableau.*sdirk2"),
+    ("sweep-contact", ["sweep", "--contact", "sticky"], r"--contact.*'bilateral'"),
     (
         "sweep-workers-negative",
         ["sweep", SHEAR, "--workers", "-1", "--points", "2", "--amplitudes", "1", "--no-figures"],

@@ -61,3 +61,23 @@ def test_a_steady_rocking_orbit_above_the_uplift_boundary(office_cb):
     assert uq["landings_per_period"] == uq["lift_offs_per_period"]
     assert uq["min_normal_force"] >= 0.0
     assert 0.0 < uq["flight_fraction"] < 1.0
+
+
+def test_a_curves_uplift_rows_are_recomputed_and_the_others_left(office_cb):
+    # unilateral_rows (the sweep's --contact unilateral pass): a row flagged uplift on the
+    # bilateral orbit gets the unilateral quantities (the frame flies: 0.9 Hz, A = 13.5 m/s^2
+    # is above that pocket's boundary), a row without uplift is left as it was.
+    from types import SimpleNamespace
+
+    from nsdyn.periodic.unilateral import unilateral_rows
+
+    A, f = 13.5, 0.9
+    pb = frame_problem(office_cb, A)
+    orbit = shoot(pb, f)
+    assert orbit.converged
+    pts = [SimpleNamespace(f=f, x0=orbit.x0), SimpleNamespace(f=0.5, x0=orbit.x0)]
+    rows = [{"uplift": True, "method": "shooting"}, {"uplift": False, "method": "shooting"}]
+    assert unilateral_rows(pb, pts, rows, max_periods=3) == 1
+    assert rows[0]["method"] == "unilateral" and rows[0]["flight_fraction"] > 0.0
+    assert rows[0]["converged"] is False and "3 periods" in rows[0]["note"]
+    assert rows[1] == {"uplift": False, "method": "shooting"}

@@ -53,3 +53,19 @@ def test_uplift_and_fallback_points_are_drawn_and_the_legend_matches():
     # the solid line leaves the uplift band out
     solid = [ln for ln in ax_idr.get_lines() if ln.get_linestyle() == "-"][0]
     assert np.isnan(np.asarray(solid.get_ydata())[[2, 3]]).all()
+
+
+def test_unilateral_rows_are_drawn_on_the_curve_with_their_own_marker():
+    # rows the unilateral sweep recomputed are valid points of that model: on the solid line,
+    # marked as such, and no longer shown as bilateral uplift values
+    rows = _rows()
+    for k in (2, 3):
+        rows[k]["method"] = "unilateral"
+    fig = sweep_figure([{"A": 1.0, "rows": rows}])
+    ax_idr, ax_acc, _ = fig.axes
+    assert sorted(x for x, _ in _markers(ax_idr, "s")) == sorted([rows[2]["f"], rows[3]["f"]])
+    assert not _markers(ax_idr, "^")
+    solid = [ln for ln in ax_idr.get_lines() if ln.get_linestyle() == "-"][0]
+    assert np.isfinite(np.asarray(solid.get_ydata())[[2, 3]]).all()
+    labels = {t.get_text() for t in ax_acc.get_legend().get_texts()}
+    assert labels == {MARKER_LABELS["sweep"], MARKER_LABELS["unilateral"]}
