@@ -1,0 +1,72 @@
+"""The SDIRK period map's linear algebra: the iteration matrix through its Schur complement.
+
+Reference: numpy's LAPACK solve of the full matrix ``I - hg J``. The state is [positions,
+velocities], so ``J = [[0, I], [Jz, Jv]]``; ``Jz`` carries the stiff boundary modes of the
+office frame (~1e10 1/s^2 against ~1 for the flexible modes), where the full matrix's
+condition number is ~1e12. The Schur form must solve it to round-off in each block's norm,
+and the one-column solve must be the multi-column solve column for column, to the last bit.
+"""
+
+import numpy as np
+import pytest
+
+from nsdyn._klinalg import lu_factor, lu_solve_columns
+from nsdyn.periodic import _kperiodic as kp
+
+
+def _jacobian(m, rng, stiff):
+    J = np.zeros((2 * m, 2 * m))
+    J[:m, m:] = np.eye(m)
+    K = rng.standard_normal((m, m))
+    K = K @ K.T + m * np.eye(m)
+    K[:2, :2] *= stiff  # two stiff (boundary) coordinates
+    J[m:, :m] = -K
+    J[m:, m:] = -0.1 * np.eye(m) + 0.01 * rng.standard_normal((m, m))
+    return J
+
+
+@pytest.mark.parametrize("stiff", [1.0, 1e10])
+@pytest.mark.parametrize("ncols", [1, 5])
+def test_schur_solve_equals_the_full_solve(stiff, ncols):
+    rng = np.random.default_rng(7)
+    m = 11
+    hg = 0.02 * 0.4358665215  # a default step times SDIRK2's diagonal
+    J = _jacobian(m, rng, stiff)
+    LU = np.zeros((m, 2 * m))
+    piv = np.zeros(m, dtype=np.int64)
+    assert kp._iteration_matrix(J, hg, LU, piv)
+    B = rng.standard_normal((2 * m, ncols))
+    X = B.copy()
+    kp._solve_scaled(LU, piv, X, hg)
+    A = np.eye(2 * m) - hg * J
+    # reference: LAPACK's solve, refined in extended precision (exact to ~1e-16 here)
+    X_ref = np.linalg.solve(A, B)
+    for _ in range(3):
+        r = B.astype(np.longdouble) - A.astype(np.longdouble) @ X_ref.astype(np.longdouble)
+        X_ref = X_ref + np.linalg.solve(A, r.astype(float))
+    # per block (positions, velocities), normwise: what the stage Newton and the shooting
+    # weights measure (both scale by block). The stiff coordinates' tiny displacements are
+    # x1 = b1 + hg x2, a difference of two large numbers: componentwise they are good only to
+    # eps |b1| / |x1| (~1e-8 at stiff = 1e10), which no block norm sees.
+    for blk in (slice(0, m), slice(m, 2 * m)):
+        err = np.max(np.abs(X[blk] - X_ref[blk])) / np.max(np.abs(X_ref[blk]))
+        assert err < 1e-14, (blk, err)
+
+
+def test_one_column_solve_is_the_block_solve_bit_for_bit():
+    rng = np.random.default_rng(1)
+    n = 22
+    A = rng.standard_normal((n, n))
+    A[3, :] = 0.0  # zero multipliers are skipped alike
+    A[3, 3] = 2.0
+    piv = np.zeros(n, dtype=np.int64)
+    LU = A.copy()
+    assert lu_factor(LU, piv)
+    B = rng.standard_normal((n, 4))
+    Xb = B.copy()
+    lu_solve_columns(LU, piv, Xb)
+    for c in range(4):
+        x1 = B[:, c : c + 1].copy()
+        lu_solve_columns(LU, piv, x1)
+        assert np.array_equal(x1[:, 0], Xb[:, c])
+    assert np.allclose(Xb, np.linalg.solve(A, B), rtol=1e-10, atol=1e-12)
