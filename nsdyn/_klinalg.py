@@ -75,14 +75,13 @@ def lu_solve(LU, piv, b):
 def lu_solve_columns(LU, piv, B):
     """Solve ``A X = B`` in place for a block of columns ``B`` (shape (n, k)).
 
-    One column (k = 1) takes its own loop: the same operations in the same order, without an
-    inner loop of one trip per matrix entry (that bookkeeping made a 22 x 22 solve of one
-    column cost half as much as one of 22 columns).
+    One column (k = 1) is solved by :func:`lu_solve`: the column loop below, one trip per
+    matrix entry, made a 22 x 22 solve of one column cost half as much as one of 22 columns.
     """
     n = LU.shape[0]
     k = B.shape[1]
     if k == 1:
-        _solve_one_column(LU, piv, B)
+        lu_solve(LU, piv, B[:, 0])
         return
     for i in range(n):
         p = piv[i]
@@ -106,29 +105,3 @@ def lu_solve_columns(LU, piv, B):
         inv = 1.0 / LU[i, i]
         for c in range(k):
             B[i, c] *= inv
-
-
-@njit(cache=True, inline="always")
-def _solve_one_column(LU, piv, B):
-    """:func:`lu_solve_columns` for ``B`` of shape (n, 1), operation for operation."""
-    n = LU.shape[0]
-    for i in range(n):
-        p = piv[i]
-        if p != i:
-            tmp = B[i, 0]
-            B[i, 0] = B[p, 0]
-            B[p, 0] = tmp
-    for i in range(n):
-        s = B[i, 0]
-        for j in range(i):
-            f = LU[i, j]
-            if f != 0.0:
-                s -= f * B[j, 0]
-        B[i, 0] = s
-    for i in range(n - 1, -1, -1):
-        s = B[i, 0]
-        for j in range(i + 1, n):
-            f = LU[i, j]
-            if f != 0.0:
-                s -= f * B[j, 0]
-        B[i, 0] = s * (1.0 / LU[i, i])
