@@ -57,18 +57,27 @@ STAGE_HALVINGS = 10  # backtracking halvings of a damped stage Newton update
 STAGE_FULL_STEP = 1e4  # updates below this many tolerances are taken without line search
 STAGE_STAGNATION = 1e3  # accept a stalled iteration this close to the tolerance (round-off)
 MAX_SUBSTEPS = 64  # a failing step is retried as 2, 4, ... substeps, at most this many
+LAGGED_TOL = 0.1  # stage tolerance factor of a period without sensitivities (see dirk_step)
 
 
 @njit(cache=True)
-def _gemm_acc(C, A, B, alpha):
-    """C += alpha A B for square matrices (plain loops: small, and quick to compile)."""
-    d = A.shape[0]
-    for i in range(d):
-        for k in range(d):
-            a = alpha * A[i, k]
+def _jac_prod_acc(C, J, B, alpha):
+    """C += alpha J B for a Jacobian ``J = [[0, I], [Jz, Jv]]`` of a state [z, zd] (every
+    problem's, see :func:`_iteration_matrix`): the top rows are B's bottom rows, only the
+    bottom half is a product (half the flops of a full one; plain loops, the column loop
+    innermost over contiguous rows)."""
+    d = J.shape[0]
+    m = d // 2
+    k = B.shape[1]
+    for i in range(m):
+        for c in range(k):
+            C[i, c] += alpha * B[m + i, c]
+    for i in range(m, d):
+        for l in range(d):
+            a = alpha * J[i, l]
             if a != 0.0:
-                for j in range(B.shape[1]):
-                    C[i, j] += a * B[k, j]
+                for c in range(k):
+                    C[i, c] += a * B[l, c]
 
 
 @njit(cache=True)
@@ -103,12 +112,19 @@ def _solve_scaled(LU, piv, B, hg):
     """Solve ``(I - hg J) X = B`` in place with the factors of :func:`_iteration_matrix`."""
     m = LU.shape[0]
     k = B.shape[1]
-    for c in range(k):
+    if k == 1:
         for i in range(m):
             acc = 0.0
             for j in range(m):
-                acc += LU[i, m + j] * B[j, c]
-            B[m + i, c] += acc
+                acc += LU[i, m + j] * B[j, 0]
+            B[m + i, 0] += acc
+    else:  # a block (the monodromy's columns): the column loop innermost, over contiguous rows
+        for i in range(m):
+            for j in range(m):
+                a = LU[i, m + j]
+                if a != 0.0:
+                    for c in range(k):
+                        B[m + i, c] += a * B[j, c]
     lu_solve_columns(LU, piv, B[m:])
     for i in range(m):
         for c in range(k):
@@ -205,6 +221,9 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
         for k in range(d):
             res[k, 0] = -(Y[k] - r[k] - hg * Fi[k])
         sz, sv = _block_scales(x, Y, half, rtol, atol)
+        if not want_sens:  # a lagged matrix contracts linearly: stop further below tolerance
+            sz *= LAGGED_TOL
+            sv *= LAGGED_TOL
         rnorm = _res_norm(res, half, sz, sv)
         converged = False
         err_old = 1e300
@@ -248,13 +267,20 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
             err_old = err * alpha
         if not converged:
             return STATUS_STAGE, nfev
-        # converged stage: slope and Jacobian there (the exact derivative needs them; they
-        # also give the iteration matrix of the next stage)
-        if not j_eval(prob, ti, Y, P, Z, pf, Fi, J):
-            return STATUS_SINGULAR, nfev
-        nfev += 1
-        if not _iteration_matrix(J, hg, LU, piv):
-            return STATUS_SINGULAR, nfev
+        # converged stage. With the derivative: slope and Jacobian there (the exact derivative
+        # needs them; they also give the next stage's iteration matrix). Without: the slope
+        # from the stage equation, F_i = (Y_i - r_i) / (h gamma), no evaluation (the form
+        # Hairer & Wanner IV.8 recommend for stiff problems), and the iteration matrix lags,
+        # refreshed only when the contraction is slow
+        if want_sens:
+            if not j_eval(prob, ti, Y, P, Z, pf, Fi, J):
+                return STATUS_SINGULAR, nfev
+            nfev += 1
+            if not _iteration_matrix(J, hg, LU, piv):
+                return STATUS_SINGULAR, nfev
+        else:
+            for k in range(d):
+                Fi[k] = (Y[k] - r[k]) / hg
         Fs[i] = Fi
         if want_sens:
             Js[i] = J
@@ -267,7 +293,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
                 rw[k, 0] = w[k] + hT * acc
             for j in range(i):
                 if A[i, j] != 0.0:
-                    _gemm_acc(Rm, Js[j], SY[j], h * A[i, j])
+                    _jac_prod_acc(Rm, Js[j], SY[j], h * A[i, j])
                     haj = h * A[i, j]
                     for k in range(d):
                         acc = 0.0

@@ -73,3 +73,45 @@ def test_one_column_solve_is_the_vector_solve_and_the_block_solve():
         assert np.array_equal(x1[:, 0], xv)
         assert np.max(np.abs(x1[:, 0] - Xb[:, c])) <= 1e-14 * np.max(np.abs(Xb[:, c]))
     assert np.allclose(Xb, np.linalg.solve(A, B), rtol=1e-10, atol=1e-12)
+
+
+def test_jacobian_product_equals_the_dense_product():
+    # C += alpha J B using J's [[0, I], [Jz, Jv]] structure, against numpy's product of the
+    # whole matrices (sums of at most 2m products: round-off ~1e-15 of the largest entry)
+    rng = np.random.default_rng(3)
+    m = 9
+    J = _jacobian(m, rng, 1e4)
+    for ncols in (1, 2 * m):
+        B = rng.standard_normal((2 * m, ncols))
+        C0 = rng.standard_normal((2 * m, ncols))
+        C = C0.copy()
+        kp._jac_prod_acc(C, J, B, 0.37)
+        ref = C0 + 0.37 * (J @ B)
+        assert np.max(np.abs(C - ref)) <= 1e-14 * np.max(np.abs(ref))
+
+
+@pytest.mark.parametrize("amplitude,f", [(0.5, 0.02), (0.5, 0.46), (2.0, 1.5)])
+def test_period_without_sensitivities_agrees_below_the_shooting_tolerance(amplitude, f):
+    # Without the monodromy the period map keeps its iteration matrix until the stage Newton
+    # contracts slowly and takes each converged stage's slope from the stage equation, instead
+    # of a fresh Jacobian and an evaluation at every stage. Both solve the same stage
+    # equations to the stage tolerance (1e-9), so the end states must agree to well below the
+    # shooting tolerance SHOOT_TOL = 1e-6 of each block's orbit range (the resolution of every
+    # steady state computed from them). Office frame (CB, f_max 5 Hz), its bundled isolators.
+    from nsdyn import bench
+    from nsdyn.models.isolated.system import build_system
+    from nsdyn.periodic import frame_problem, shoot
+    from nsdyn.periodic.shooting import SHOOT_TOL, orbit_amplitudes
+
+    system = build_system(bench.bench_frame(), bench.bench_isolation(), fidelity="cb", f_max=5.0)
+    prob = frame_problem(system, amplitude)
+    res = shoot(prob, f, None)
+    assert res.converged
+    with_s = prob.period_map(res.x0, f, sens=True, store=True)
+    without = prob.period_map(res.x0, f, sens=False)
+    assert with_s.status == 0 and without.status == 0 and without.monodromy is None
+    amp = orbit_amplitudes(prob, with_s.X)
+    m = prob.dim // 2
+    for blk, a in ((slice(0, m), amp[0]), (slice(m, 2 * m), amp[1])):
+        err = np.max(np.abs(without.xT[blk] - with_s.xT[blk])) / a
+        assert err < 0.1 * SHOOT_TOL, (blk, err)
