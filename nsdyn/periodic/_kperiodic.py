@@ -294,12 +294,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
             for j in range(i):
                 if A[i, j] != 0.0:
                     _jac_prod_acc(Rm, Js[j], SY[j], h * A[i, j])
-                    haj = h * A[i, j]
-                    for k in range(d):
-                        acc = 0.0
-                        for l in range(d):
-                            acc += Js[j, k, l] * wY[j, l]
-                        rw[k, 0] += haj * acc
+                    _jac_prod_acc(rw, Js[j], wY[j].reshape((d, 1)), h * A[i, j])
             _solve_scaled(LU, piv, Rm, hg)
             _solve_scaled(LU, piv, rw, hg)
             SY[i] = Rm
