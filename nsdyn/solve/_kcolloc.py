@@ -7,14 +7,15 @@ Collocation at c = ((4 - sqrt 6)/10, (4 + sqrt 6)/10, 1) for ``xd = f(t, x)``::
 solved by simplified Newton with the eigen-split of the Radau matrix: ``W = T^-1 Z`` decouples
 into one real and one complex system with the matrices ``(eig/h) I - J`` (Hairer & Wanner,
 *Solving ODEs II*, sec. IV.8). The stepper around it is :mod:`nsdyn.solve._kradau`. The
-Newton loop evaluates smooth laws through :mod:`nsdyn.solve._kflat` (inlined: numba updates
-the reference count of every array argument of a compiled call on entry and exit, which on
-this 13-dof problem costs as much as the arithmetic) and other laws through a ``stages``
-kernel passed in by the caller: :func:`stages_called` (the general kernel called, for the run
-loop, which rarely needs it) or :func:`stages_inlined` (inlined, for the event-driven runs,
-which always do). Newton itself is called, not inlined: inlining it and the general kernel
-into every stepper doubled the first-run compilation (110 s to 52 s for ``radau``, 103 s to
-84 s for ``event``) for ~4 ms of a 60 ms run.
+Newton loop evaluates smooth laws through :func:`nsdyn.solve._kflat.feval_flat` and other laws
+through a ``stages`` kernel passed in by the caller: :func:`stages_called` (the general kernel
+called, for the run loop, which rarely needs it) or :func:`stages_inlined` (inlined, for the
+event-driven runs, which always do). Newton itself is called, not inlined. Inlining costs
+compile time at every call site (numba types and lowers the callee again in each caller):
+inlining Newton and the general kernel into every stepper doubled the first-run compilation
+(110 s to 52 s for ``radau``, 103 s to 84 s for ``event``) for ~4 ms of a 60 ms run, and the
+flat kernel inlined at its three sites cost a further ~30 % of the ``radau`` compilation
+for no measurable run time (interleaved runs of the default scene).
 """
 
 import numpy as np
@@ -141,7 +142,7 @@ def stages_called(P, t, y, h, Z, F, ys, qdd, lam, tau, modes):
     for i in range(3):
         for j in range(y.shape[0]):
             ys[j] = y[j] + Z[i, j]
-        ok = ki.feval(t + C[i] * h, ys, P, F[i], qdd, lam, tau, modes)
+        ok = ki.feval_called(t + C[i] * h, ys, P, F[i], qdd, lam, tau, modes)
         ok_all = ok_all and ok
     return ok_all
 

@@ -155,6 +155,14 @@ def feval(t, x, P, out, qdd, lam, tau, modes):
     return ok
 
 
+@njit(cache=True)
+def feval_called(t, x, P, out, qdd, lam, tau, modes):
+    """:func:`feval` compiled once and called, for the sites off the hot loops (the start, the
+    first step size, the rare fallbacks): numba types and lowers an inlined function again at
+    every call site, which adds up to seconds of a first run's compilation."""
+    return feval(t, x, P, out, qdd, lam, tau, modes)
+
+
 @njit(cache=True, inline="always")
 def feval_inline(t, x, P, out, qdd, lam, tau, modes):
     """:func:`feval` with the system kernel inlined (for the hottest call site only: inlining
@@ -224,7 +232,7 @@ def start(t, y, P, f, qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mo
     Returns the index of the first output still to write, or -1 when the run stops here
     (status set in ``stats``: non-finite start, singular constraints, or uplift).
     """
-    ok = feval(t, y, P, f, qdd, lam, tau, modes)
+    ok = feval_called(t, y, P, f, qdd, lam, tau, modes)
     stats[S_NFEV] += 1
     if not (all_finite(y) and all_finite(f)):
         stats[S_STATUS] = ST_NONFINITE
@@ -266,7 +274,7 @@ def initial_step(t0, y0, f0, t_end, max_step, order, rtol, atol, P, y1, f1, qdd,
     h0 = min(h0, length)
     for i in range(n):
         y1[i] = y0[i] + h0 * f0[i]
-    feval(t0 + h0, y1, P, f1, qdd, lam, tau, modes)
+    feval_called(t0 + h0, y1, P, f1, qdd, lam, tau, modes)
     d2 = 0.0
     for i in range(n):
         sc = atol[i] + abs(y0[i]) * rtol

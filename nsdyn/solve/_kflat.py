@@ -296,7 +296,7 @@ def _constrained(x, F, qdd, lam, tau, modes):
     return True
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def feval_flat(t, x, F, out, qdd, lam, tau, modes):
     """out = [qd, qdd] at (t, x) through :func:`evaluate_flat`; also lam, tau, modes.
 
@@ -304,6 +304,10 @@ def feval_flat(t, x, F, out, qdd, lam, tau, modes):
     the general kernel (:func:`nsdyn.solve._kcommon.feval`), which reports the first and
     takes the minimum-norm split for the second. ``P`` is not an argument on purpose: numba
     updates the reference count of each of its 17 arrays on every call, inlined or not.
+
+    Compiled once and called (its own pieces are inlined into it): every ``inline="always"``
+    call site is typed and lowered again in its caller, and the three sites in the Newton loop
+    and the step cost ~30 s of a first run's compilation for no measurable run time.
     """
     n = qdd.shape[0]
     if not (np.isfinite(t) and ki.all_finite(x)):

@@ -228,7 +228,7 @@ def radau_step(
             for j in range(n2):
                 ys[j] = y[j] + err[j]
             if not (flat and kf.feval_flat(t, ys, Fl, err, qdd, lam, tau, modes)):
-                ki.feval(t, ys, P, err, qdd, lam, tau, modes)
+                ki.feval_called(t, ys, P, err, qdd, lam, tau, modes)
             stats[ki.S_NFEV] += 1
             en = _error_norm(err, Z, h, LUr, pr, J, ctl[C_LUH], y, ynew, atol, rtol)
         if not (en <= 1.0):
