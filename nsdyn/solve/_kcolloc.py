@@ -13,9 +13,10 @@ called, for the run loop, which rarely needs it) or :func:`stages_inlined` (inli
 event-driven runs, which always do). Newton itself is called, not inlined. Inlining costs
 compile time at every call site (numba types and lowers the callee again in each caller):
 inlining Newton and the general kernel into every stepper doubled the first-run compilation
-(110 s to 52 s for ``radau``, 103 s to 84 s for ``event``) for ~4 ms of a 60 ms run, and the
-flat kernel inlined at its three sites cost a further ~30 % of the ``radau`` compilation
-for no measurable run time (interleaved runs of the default scene).
+(110 s to 52 s for ``radau``, 103 s to 84 s for ``event``) for ~4 ms of a 60 ms run; calling
+the flat kernel instead of inlining it at its three sites, and the general one at the cold
+sites (:func:`nsdyn.solve._kcommon.feval_called`), took the default run's first compilation
+from 157 s to 113 s in one slow hour, with no measurable change of run time.
 """
 
 import numpy as np
