@@ -126,16 +126,22 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     return 0
 
 
-def prepare_kernels(method: str) -> float:
+def prepare_kernels(method: str, flat: bool = True) -> float:
     """Compile (or load from numba's cache) the integrator and metrics kernels of a run,
     saying on stderr what is compiling while it does (a first run, or after an upgrade) and
-    how long it took. Returns the seconds spent."""
-    from nsdyn.solve.methods import METHODS, is_cached, warmup, warmup_metrics
+    how long it took. ``flat``: the run's law is a smooth one (arctan or none), served by the
+    flat kernel alone (see :func:`nsdyn.solve.methods.kernel_for`). Returns the seconds
+    spent."""
+    from nsdyn.solve.methods import METHODS, is_cached, warmup_kernel, warmup_metrics
 
     m = METHODS.get(method)
     if m is None:  # the run reports the unknown method with the valid names
         return 0.0
-    cold = not (is_cached(m.kernel) and is_cached("metrics"))
+    kernel = m.kernel
+    if kernel == "radau" and not flat:
+        kernel = "radau-general"
+    metrics = "metrics" if flat else "metrics-general"
+    cold = not (is_cached(kernel) and is_cached(metrics))
     if cold:
         print(
             f"compiling the {method} integrator (first run only, cached afterwards)…",
@@ -143,8 +149,8 @@ def prepare_kernels(method: str) -> float:
             flush=True,
         )
     t0 = time.perf_counter()
-    warmup([method])
-    warmup_metrics()
+    warmup_kernel(kernel)
+    warmup_metrics(flat)
     spent = time.perf_counter() - t0
     if cold:
         print(f"  compiled in {spent:.1f} s", file=sys.stderr, flush=True)
@@ -252,7 +258,8 @@ def run(args: argparse.Namespace) -> int:
         if not quiet and wall > 1.0:
             print(f"  t = {t:7.2f} / {t_end:.2f} s   ({wall:5.1f} s)", file=sys.stderr)
 
-    compile_s = prepare_kernels(method)
+    iso = system.isolation
+    compile_s = prepare_kernels(method, iso is None or iso.law in ("arctan", "none"))
     res = simulate(
         system,
         motion,

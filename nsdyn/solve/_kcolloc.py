@@ -6,17 +6,18 @@ Collocation at c = ((4 - sqrt 6)/10, (4 + sqrt 6)/10, 1) for ``xd = f(t, x)``::
 
 solved by simplified Newton with the eigen-split of the Radau matrix: ``W = T^-1 Z`` decouples
 into one real and one complex system with the matrices ``(eig/h) I - J`` (Hairer & Wanner,
-*Solving ODEs II*, sec. IV.8). The stepper around it is :mod:`nsdyn.solve._kradau`. The
-Newton loop evaluates smooth laws through :func:`nsdyn.solve._kflat.feval_flat` and other laws
-through a ``stages`` kernel passed in by the caller: :func:`stages_called` (the general kernel
-called, for the run loop, which rarely needs it) or :func:`stages_inlined` (inlined, for the
-event-driven runs, which always do). Newton itself is called, not inlined. Inlining costs
-compile time at every call site (numba types and lowers the callee again in each caller):
-inlining Newton and the general kernel into every stepper doubled the first-run compilation
-(110 s to 52 s for ``radau``, 103 s to 84 s for ``event``) for ~4 ms of a 60 ms run; calling
-the flat kernel instead of inlining it at its three sites, and the general one at the cold
-sites (:func:`nsdyn.solve._kcommon.feval_called`), took the default run's first compilation
-from 157 s to 113 s in one slow hour, with no measurable change of run time.
+*Solving ODEs II*, sec. IV.8). The stepper around it is :mod:`nsdyn.solve._kradau`. The Newton
+loop evaluates smooth laws through :func:`nsdyn.solve._kflat.feval_flat` and other laws through
+a ``general`` kernel passed in by the caller: :func:`general_called` (the general kernel called,
+for the run loop, which rarely needs it), :func:`general_inlined` (inlined, for the event-driven
+runs, which always do) or :func:`flat_only` (none: the default run's loop, which then never
+compiles the general kernel). Newton itself is called, not inlined. Inlining costs compile time
+at every call site (numba types and lowers the callee again in each caller): inlining Newton and
+the general kernel into every stepper doubled the first-run compilation (110 s to 52 s for
+``radau``, 103 s to 84 s for ``event``) for ~4 ms of a 60 ms run; calling the flat kernel
+instead of inlining it at its three sites, and the general one at the cold sites
+(:func:`nsdyn.solve._kcommon.feval_called`), took the default run's first compilation from 157 s
+to 113 s in one slow hour, with no measurable change of run time.
 """
 
 import numpy as np
@@ -135,10 +136,16 @@ def _predict_factor(h_abs, h_abs_old, en, en_old):
     return min(1.0, mult) * en**-0.25
 
 
-@njit(cache=True)
-def stages_called(P, t, y, h, Z, F, ys, qdd, lam, tau, modes):
-    """The right-hand side at the three collocation points ``y + Z_i`` into the rows of F (ys
-    scratch) through the general kernel, called. False for a singular constraint system."""
+# what the stepper asks of the general right-hand side, through one ``general`` kernel; floats
+# on purpose: numba types an integer constant argument as a literal and compiles the callee
+# once per value (three copies of the general kernel's wrapper)
+G_STAGES = 0.0  # the three collocation stages y + Z_i into the rows of F (ys scratch)
+G_ONE = 1.0  # one evaluation at (t, y) into out
+G_JAC = 2.0  # the Jacobian at (t, y) into J
+
+
+@njit(cache=True, inline="always")
+def _stages_called(P, t, y, h, Z, F, ys, qdd, lam, tau, modes):
     ok_all = True
     for i in range(3):
         for j in range(y.shape[0]):
@@ -148,11 +155,8 @@ def stages_called(P, t, y, h, Z, F, ys, qdd, lam, tau, modes):
     return ok_all
 
 
-@njit(cache=True)
-def stages_inlined(P, t, y, h, Z, F, ys, qdd, lam, tau, modes):
-    """:func:`stages_called` with the general kernel inlined, for the event-driven runs (switch
-    law, open contacts), where every evaluation is a general one (inlined, the switch-model
-    run is ~25 % faster)."""
+@njit(cache=True, inline="always")
+def _stages_inlined(P, t, y, h, Z, F, ys, qdd, lam, tau, modes):
     ok_all = True
     for i in range(3):
         for j in range(y.shape[0]):
@@ -163,9 +167,52 @@ def stages_inlined(P, t, y, h, Z, F, ys, qdd, lam, tau, modes):
 
 
 @njit(cache=True)
+def general_called(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
+    """The general kernel for the stepper (``kind``: G_STAGES, G_ONE or G_JAC), called: for
+    the run loop, which needs it only where the flat kernel does not apply. False for a
+    singular constraint system (G_STAGES, G_ONE) or a non-finite state (G_JAC)."""
+    if kind == G_JAC:
+        return ki.jeval(t, y, P, J)
+    if kind == G_ONE:
+        return ki.feval_called(t, y, P, out, qdd, lam, tau, modes)
+    return _stages_called(P, t, y, h, Z, F, ys, qdd, lam, tau, modes)
+
+
+@njit(cache=True)
+def general_inlined(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
+    """:func:`general_called` with the general kernel inlined into the stages, for the
+    event-driven runs (switch law, open contacts), where every evaluation is a general one
+    (inlined, the switch-model run is ~25 % faster)."""
+    if kind == G_JAC:
+        return ki.jeval(t, y, P, J)
+    if kind == G_ONE:
+        return ki.feval(t, y, P, out, qdd, lam, tau, modes)
+    return _stages_inlined(P, t, y, h, Z, F, ys, qdd, lam, tau, modes)
+
+
+@njit(cache=True)
+def flat_only(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
+    """No general kernel: every request fails, so a step that leaves the flat kernel's
+    domain (a singular ``G``) stops the run with ST_SINGULAR and the caller runs it again
+    with :func:`general_called`. A run loop given this kernel never compiles the general
+    right-hand side or its Jacobian (~40 % of the default run's first compilation)."""
+    return False
+
+
+@njit(cache=True, inline="always")
+def jeval(t, y, P, Fl, flat, general, J, ys, qdd, lam, tau, modes):
+    """The Jacobian at (t, y) into J: the flat one when ``flat``, else (or where it fails)
+    the ``general`` kernel's (ys scratch). False when neither could form it."""
+    ok = flat and kf.jac_flat(t, y, Fl, J, ys, qdd, lam, tau, modes)
+    if not ok:
+        ok = general(G_JAC, P, t, y, 0.0, J, J, y, y, J, qdd, lam, tau, modes)
+    return ok
+
+
+@njit(cache=True)
 def newton(
     P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, scale, qdd, lam, tau,
-    modes, Fl, flat, stages,
+    modes, Fl, flat, general,
 ):  # fmt: skip
     """Simplified Newton on the collocation system; Z holds the start guess on entry.
 
@@ -175,8 +222,9 @@ def newton(
     iteration whose rate predicts no convergence within NEWTON_MAXITER stops (scipy).
 
     The arrays are those of the workspace (:func:`nsdyn.solve._kradau.workspace`), ``Fl`` the
-    flat parameters of :func:`nsdyn.solve._kflat.pack_flat`, used when ``flat``; ``stages``
-    (:func:`stages_called` or :func:`stages_inlined`) evaluates the stages otherwise.
+    flat parameters of :func:`nsdyn.solve._kflat.pack_flat`, used when ``flat``; ``general``
+    (:func:`general_called`, :func:`general_inlined` or :func:`flat_only`) evaluates the
+    stages otherwise.
 
     Returns (converged, n_iter, rate, nonfinite, singular, dW_norm).
     """
@@ -203,7 +251,7 @@ def newton(
                     ys[j] = y[j] + Z[i, j]
                 ok = ok and kf.feval_flat(t + C[i] * h, ys, Fl, F[i], qdd, lam, tau, modes)
         if not ok:
-            singular = not stages(P, t, y, h, Z, F, ys, qdd, lam, tau, modes)
+            singular = not general(G_STAGES, P, t, y, h, Z, F, ys, ys, J, qdd, lam, tau, modes)
         stats[ki.S_NFEV] += 3
         if not kf.finite_rows(F):
             nonfinite = True

@@ -233,6 +233,12 @@ def start(t, y, P, f, qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mo
     (status set in ``stats``: non-finite start, singular constraints, or uplift).
     """
     ok = feval_called(t, y, P, f, qdd, lam, tau, modes)
+    return start_from(ok, t, y, f, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo)
+
+
+@njit(cache=True)
+def start_from(ok, t, y, f, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo):
+    """:func:`start` once the caller has evaluated f = f(t, y) and lam (``ok``: its flag)."""
     stats[S_NFEV] += 1
     if not (all_finite(y) and all_finite(f)):
         stats[S_STATUS] = ST_NONFINITE
@@ -255,6 +261,17 @@ def start(t, y, P, f, qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mo
 def initial_step(t0, y0, f0, t_end, max_step, order, rtol, atol, P, y1, f1, qdd, lam, tau, modes):
     """Starting step size (Hairer, Norsett & Wanner I, sec. II.4; as scipy's
     ``select_initial_step``). Costs one right-hand side evaluation."""
+    h0 = initial_probe(t0, y0, f0, t_end, rtol, atol, y1)
+    if h0 == 0.0:
+        return 0.0
+    feval_called(t0 + h0, y1, P, f1, qdd, lam, tau, modes)
+    return initial_finish(h0, y0, f0, f1, t_end - t0, max_step, order, rtol, atol)
+
+
+@njit(cache=True)
+def initial_probe(t0, y0, f0, t_end, rtol, atol, y1):
+    """First half of :func:`initial_step`: the trial step h0 (0.0 for an empty interval) and
+    the Euler state ``y1 = y0 + h0 f0`` at which the caller evaluates ``f1``."""
     n = y0.shape[0]
     length = abs(t_end - t0)
     if length == 0.0:
@@ -274,11 +291,21 @@ def initial_step(t0, y0, f0, t_end, max_step, order, rtol, atol, P, y1, f1, qdd,
     h0 = min(h0, length)
     for i in range(n):
         y1[i] = y0[i] + h0 * f0[i]
-    feval_called(t0 + h0, y1, P, f1, qdd, lam, tau, modes)
+    return h0
+
+
+@njit(cache=True)
+def initial_finish(h0, y0, f0, f1, length, max_step, order, rtol, atol):
+    """Second half of :func:`initial_step`, given ``f1 = f(t0 + h0, y1)``."""
+    n = y0.shape[0]
+    length = abs(length)
+    d1 = 0.0
     d2 = 0.0
     for i in range(n):
         sc = atol[i] + abs(y0[i]) * rtol
+        d1 += (f0[i] / sc) ** 2
         d2 += ((f1[i] - f0[i]) / sc) ** 2
+    d1 = np.sqrt(d1 / n)
     d2 = np.sqrt(d2 / n) / h0
     if not np.isfinite(d2):
         return max(MIN_STEP, h0 * 1e-3)

@@ -322,6 +322,123 @@ def feval_flat(t, x, F, out, qdd, lam, tau, modes):
     return True
 
 
+@njit(cache=True)
+def jac_flat(t, x, F, J, out, qdd, lam, tau, modes):
+    """Analytic Jacobian of :func:`feval_flat` at (t, x) into J (2n x 2n); also lam, tau, modes.
+
+    With ``a0`` the unconstrained accelerations (friction of a frozen normal force in it),
+    ``B = M^-1 R^T - M^-1 D^T diag(mu s)`` (live normal forces; ``M^-1 R^T`` when frozen),
+    ``G = R B``, ``lam = -G^-1 c``, ``c = R a0 + 2 alpha beta R qd + alpha^2 R q`` and
+    ``qdd = a0 + B lam``, differentiating (``dB lam`` is ``W dqd``, ``dG lam = R W dqd``)::
+
+        qdd_q  = A_q - B G^-1 R (A_q + alpha^2 I),              A_q = -M^-1 K*
+        qdd_qd = A_v - B G^-1 R (A_v + 2 alpha beta I),         A_v = -M^-1 C* + W
+        W = -sum_i M^-1 D_i^T mu_i lamf_i s'_i D_i,   s'_i = (2/pi) eps / (1 + (eps D_i qd)^2)
+
+    the general kernel's ``(I - B G^-1 C) Jx - B G^-1 b_x`` in this form
+    (:func:`nsdyn.models.isolated._kernel.jac`). ``out`` receives f(t, x) (scratch: the
+    evaluation is :func:`feval_flat`, called, not a second inlined copy of the flat kernel).
+    Returns False for a non-finite input (J NaN) or a singular ``G`` (J not set): the caller
+    then asks the general kernel.
+    """
+    n = qdd.shape[0]
+    nc = int(F[H_NC])
+    ni = int(F[H_NI])
+    if not (np.isfinite(t) and ki.all_finite(x)):
+        J[:, :] = np.nan
+        return False
+    if not feval_flat(t, x, F, out, qdd, lam, tau, modes):
+        return False
+    (o_mik, o_mic, o_gam, o_mir, o_r, o_mid, o_d, o_mu, o_lam0, o_rmir, o_rmid, o_a0, o_g, o_s,
+     o_rec) = _offsets(n, nc, ni)  # fmt: skip
+    frozen = F[H_FROZEN] != 0.0
+    eps = F[H_EPS]
+    n2 = 2 * n
+    for r in range(n):
+        for c in range(n2):
+            J[r, c] = 0.0
+        J[r, n + r] = 1.0
+        for c in range(n):
+            J[n + r, c] = -F[o_mik + r * n + c]
+            J[n + r, n + c] = -F[o_mic + r * n + c]
+    if F[H_ARCTAN] != 0.0:
+        for i in range(ni):
+            lf = F[o_lam0 + i] if frozen else (lam[i] if i < nc else 0.0)
+            cf = F[o_mu + i] * lf
+            if cf == 0.0:
+                continue
+            vi = 0.0
+            for c in range(n):
+                vi += F[o_d + i * n + c] * x[n + c]
+            z = eps * vi
+            cf *= (2.0 / np.pi) * eps / (1.0 + z * z)
+            for r in range(n):
+                mr = F[o_mid + i * n + r] * cf
+                for c in range(n):
+                    J[n + r, n + c] -= mr * F[o_d + i * n + c]
+    if nc == 0:
+        return True
+    # [G | R (A + shift)] (nc x (nc + 2n)), then G^-1 R (A + shift) by elimination
+    m = nc + n2
+    Ga = np.empty((nc, m))
+    Bm = np.empty((n, nc))
+    ab2 = 2.0 * F[H_ALPHA] * F[H_BETA]
+    aa = F[H_ALPHA] * F[H_ALPHA]
+    for k in range(nc):
+        for j in range(nc):
+            g = F[o_rmir + k * nc + j]
+            if not frozen and j < ni:
+                g -= F[o_rmid + k * ni + j] * F[o_mu + j] * F[o_s + j]
+            Ga[k, j] = g
+        fk = 0.0
+        if not frozen and k < ni:
+            fk = F[o_mu + k] * F[o_s + k]
+        for r in range(n):
+            Bm[r, k] = F[o_mir + k * n + r] - fk * F[o_mid + k * n + r]
+        for c in range(n2):
+            acc = 0.0
+            for r in range(n):
+                acc += F[o_r + k * n + r] * J[n + r, c]
+            if c < n:
+                acc += aa * F[o_r + k * n + c]
+            else:
+                acc += ab2 * F[o_r + k * n + c - n]
+            Ga[k, nc + c] = acc
+    scale = 0.0
+    for k in range(nc):
+        for j in range(nc):
+            scale = max(scale, abs(Ga[k, j]))
+    for k in range(nc):
+        p = k
+        for i in range(k + 1, nc):
+            if abs(Ga[i, k]) > abs(Ga[p, k]):
+                p = i
+        if not abs(Ga[p, k]) > 1e-14 * scale:
+            return False
+        if p != k:
+            for j in range(m):
+                tmp = Ga[k, j]
+                Ga[k, j] = Ga[p, j]
+                Ga[p, j] = tmp
+        for i in range(k + 1, nc):
+            f = Ga[i, k] / Ga[k, k]
+            for j in range(k, m):
+                Ga[i, j] -= f * Ga[k, j]
+    for k in range(nc - 1, -1, -1):
+        for j in range(nc, m):
+            acc = Ga[k, j]
+            for i in range(k + 1, nc):
+                acc -= Ga[k, i] * Ga[i, j]
+            Ga[k, j] = acc / Ga[k, k]
+    for r in range(n):
+        for c in range(n2):
+            acc = 0.0
+            for k in range(nc):
+                acc += Bm[r, k] * Ga[k, nc + c]
+            J[n + r, c] -= acc
+    return True
+
+
 @njit(cache=True, inline="always")
 def finite_rows(A):
     """True when every entry of the 2-D ``A`` is finite."""

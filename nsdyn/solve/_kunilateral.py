@@ -359,8 +359,9 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
         stats[ki.S_STATUS] = ki.ST_EVENTS
         return stats, rinfo
     iout, ctl = kr.start(
-        P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats, rinfo
-    )
+        P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
+        rinfo, kcol.general_inlined,
+    )  # fmt: skip
     for k in range(max(iout, 0) if contacts else 0):
         OPEN_OUT[k] = opn
     if iout < 0 or iout >= nt:
@@ -377,7 +378,7 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
         t_lim = min(t_end, t_target, ki.next_kink(t, P))
         st = kr.radau_step(
             P, t, y, f, t_lim, False, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo,
-            kcol.stages_inlined,
+            kcol.general_inlined,
         )  # fmt: skip
         if st != ki.ST_SUCCESS:
             stats[ki.S_STATUS] = st

@@ -64,9 +64,11 @@ from nsdyn.solve.methods import (
     METHODS,
     _tiny_problem,
     compiled,
+    kernel_for,
     make_options,
     run_unilateral,
     warmup,
+    warmup_kernel,
     warmup_unilateral,
 )
 
@@ -324,8 +326,9 @@ def solve(
             P, x0, t_eval, opts, X, upl_t, method, float(restitution), open0
         )
     else:
-        if not compiled(m.kernel):
-            compile_s = warmup([method])[m.kernel]
+        kname = kernel_for(method, P)
+        if not compiled(kname):
+            compile_s = warmup_kernel(kname)
         t_start = time.perf_counter()
         stats, rinfo, events, modes = m.run(P, x0, t_eval, opts, X, upl_t)
     wall = time.perf_counter() - t_start

@@ -23,14 +23,17 @@ from nsdyn.ground.excitation import Harmonic
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.params import KernelParams, pack, with_law, with_open
 from nsdyn.solve import _kcommon as ki
-from nsdyn.solve import _kdopri, _kevent, _kgenalpha, _kradau, _kunilateral
+from nsdyn.solve import _kdopri, _kevent, _kflat, _kgenalpha, _kradau, _kunilateral
 
 __all__ = [
     "METHODS",
     "Method",
+    "flat_applies",
     "is_cached",
+    "kernel_for",
     "make_options",
     "warmup",
+    "warmup_kernel",
     "warmup_metrics",
     "run_unilateral",
     "warmup_unilateral",
@@ -214,11 +217,34 @@ def _run_event(P, x0, t_eval, o: Options, X, upl_t):
     return stats, rinfo, events, KernelParams(Pm).modes.copy()
 
 
+def flat_applies(P) -> bool:
+    """True when the flat right-hand side (:mod:`nsdyn.solve._kflat`) serves ``P``: a smooth
+    law (arctan or none) with every contact closed."""
+    return KernelParams(P).law in ("arctan", "none") and not np.any(P[ks.I_OPEN])
+
+
+def _run_radau(P, x0, t_eval, o: Options, X, upl_t):
+    """Radau through the flat-only run loop where it applies (it never compiles the general
+    kernel), else, or where it stops on a singular ``G``, through the general one."""
+    fixed = not o.adaptive
+    h0 = o.dt if fixed else o.h0
+    args = (P, x0, t_eval, o.atol, o.rtol, h0, o.max_step, o.max_steps, fixed, o.uplift_mode)
+    if flat_applies(P):
+        stats, rinfo = _kradau.radau_flat(*args, X, upl_t)
+        if stats[ki.S_STATUS] != ki.ST_SINGULAR:
+            return stats, rinfo, [], None
+        X[:] = 0.0  # again from the start, with the general kernel's minimum-norm split
+        upl_t[:] = np.nan
+    stats, rinfo = _kradau.radau(*args, X, upl_t, True)
+    return stats, rinfo, [], None
+
+
 METHODS: dict[str, Method] = {
-    "radau": Method("radau", "radau", False, _one_step_runner(_kradau.radau, True)),  # default
+    # default; kernel "radau" is the flat-only loop, the general one is "radau-general"
+    "radau": Method("radau", "radau", False, _run_radau),
     # the same Radau with the general right-hand side at every stage (the speed baseline)
     "radau-generic": Method(
-        "radau-generic", "radau", False, _one_step_runner(_kradau.radau, False)
+        "radau-generic", "radau-general", False, _one_step_runner(_kradau.radau, False)
     ),
     "dopri5": Method("dopri5", "dopri5", False, _one_step_runner(_kdopri.dopri5)),
     "event": Method("event", "event", False, _run_event),
@@ -279,31 +305,50 @@ def warmup(methods=None) -> dict[str, float]:
     for name in names:
         m = METHODS[name]
         kernels.setdefault(m.kernel, m)
-    out = {}
+    return {kname: _warm(kname, m) for kname, m in kernels.items()}
+
+
+def kernel_for(method: str, P) -> str:
+    """The kernel a run of ``method`` on ``P`` uses (``Method.kernel``, except for a Radau
+    run the flat kernel cannot serve: "radau-general")."""
+    m = METHODS[method]
+    if m.kernel == "radau" and not flat_applies(P):
+        return "radau-general"
+    return m.kernel
+
+
+def warmup_kernel(kernel: str) -> float:
+    """Compile (or load) one kernel by name; seconds spent now (0.0 when already done)."""
+    for m in METHODS.values():
+        if m.kernel == kernel:
+            return _warm(kernel, m)
+    raise ValueError(f"kernel: expected one of {sorted({m.kernel for m in METHODS.values()})}")
+
+
+def _warm(kname: str, m: Method) -> float:
+    if kname in _COMPILED:
+        return 0.0
     P, x0 = _tiny_problem()
     t_eval = np.linspace(0.0, 0.02, 3)
-    for kname, m in kernels.items():
-        if kname in _COMPILED:
-            out[kname] = 0.0
-            continue
-        t0 = time.perf_counter()
-        dt = 1e-3 if m.fixed_step else None
-        opts = make_options(x0, m, 1e-6, 1e-8, dt, None, True, np.inf, 1000, "warn", None, None)
-        X = np.zeros((t_eval.size, x0.size))
-        upl_t = np.full(KernelParams(P).n_contacts, np.nan)
-        m.run(P, x0, t_eval, opts, X, upl_t)
-        _COMPILED[kname] = time.perf_counter() - t0
-        out[kname] = _COMPILED[kname]
-    return out
+    t0 = time.perf_counter()
+    dt = 1e-3 if m.fixed_step else None
+    opts = make_options(x0, m, 1e-6, 1e-8, dt, None, True, np.inf, 1000, "warn", None, None)
+    X = np.zeros((t_eval.size, x0.size))
+    upl_t = np.full(KernelParams(P).n_contacts, np.nan)
+    m.run(P, x0, t_eval, opts, X, upl_t)
+    _COMPILED[kname] = time.perf_counter() - t0
+    return _COMPILED[kname]
 
 
 # the top-level numba dispatcher of each kernel (its on-disk cache entry stands for the kernel)
 _ENTRY = {
-    "radau": _kradau.radau,
+    "radau": _kradau.radau_flat,
+    "radau-general": _kradau.radau,
     "dopri5": _kdopri.dopri5,
     "genalpha": _kgenalpha.genalpha,
     "event": _kunilateral.event_switch,
-    "metrics": ks.evaluate_many,
+    "metrics": _kflat.evaluate_flat_many,
+    "metrics-general": ks.evaluate_many,
 }
 
 
@@ -327,28 +372,36 @@ def is_cached(kernel: str) -> bool:
         return False
 
 
-def warmup_metrics() -> float:
-    """Compile (or load) the kernels of the response metrics (``evaluate_many``,
-    ``ground_many``) on the tiny system; seconds spent now (0.0 when already done)."""
-    if "metrics" in _COMPILED:
+def warmup_metrics(flat: bool = True) -> float:
+    """Compile (or load) the kernels of the response metrics on the tiny system: the flat
+    kernel's (``pack_flat``, ``evaluate_flat_many``) for a smooth law with closed contacts
+    (``flat``), else the general ``evaluate_many``; and ``ground_many``. Seconds spent now
+    (0.0 when already done)."""
+    key = "metrics" if flat else "metrics-general"
+    if key in _COMPILED:
         return 0.0
     t0 = time.perf_counter()
     P, x0 = _tiny_problem()
-    kp = KernelParams(P)
     t = np.zeros(1)
     X = x0[None, :].copy()
-    ks.evaluate_many(
-        t,
-        X,
-        P,
-        np.empty((1, kp.n)),
-        np.empty((1, kp.n_contacts)),
-        np.empty((1, kp.n_isolators)),
-        np.empty((1, kp.n_isolators), dtype=np.int64),
-    )
+    if flat:
+        from nsdyn.solve.transient import flat_evaluations
+
+        flat_evaluations(P, t, X)
+    else:
+        kp = KernelParams(P)
+        ks.evaluate_many(
+            t,
+            X,
+            P,
+            np.empty((1, kp.n)),
+            np.empty((1, kp.n_contacts)),
+            np.empty((1, kp.n_isolators)),
+            np.empty((1, kp.n_isolators), dtype=np.int64),
+        )
     ks.ground_many(t, P)
-    _COMPILED["metrics"] = time.perf_counter() - t0
-    return _COMPILED["metrics"]
+    _COMPILED[key] = time.perf_counter() - t0
+    return _COMPILED[key]
 
 
 # ---- generalized-alpha with the linear part factored once (nsdyn.solve.sparse) ---------------

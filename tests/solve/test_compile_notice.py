@@ -35,3 +35,12 @@ def test_no_notice_when_cached(monkeypatch, capsys):
 def test_unknown_method_left_to_the_run():
     # the run itself rejects an unknown method with the list of valid names
     assert cli_run.prepare_kernels("no-such-method") == 0.0
+
+
+def test_non_smooth_law_prepares_the_general_loop(monkeypatch, capsys):
+    # the switch law cannot use the flat-only loop: the notice covers the general one
+    asked = []
+    monkeypatch.setattr(methods, "is_cached", lambda kernel: asked.append(kernel) or True)
+    cli_run.prepare_kernels("radau", flat=False)
+    assert asked == ["radau-general", "metrics-general"]
+    assert methods.compiled("radau-general")

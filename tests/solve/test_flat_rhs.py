@@ -142,3 +142,71 @@ def test_default_run_meets_the_tolerance_table(office, record):
     assert run.idr_max == pytest.approx(ref.idr_max, rel=8.5e-8)
     assert run.floor_acc_max == pytest.approx(ref.floor_acc_max, rel=6.05e-5)
     assert run.floor_acc_by_level[0] == pytest.approx(ref.floor_acc_by_level[0], rel=1.1e-3)
+
+
+def _fd_jacobian(F, t, x, outs):
+    # central differences of the flat right-hand side, step 1e-6 of each coordinate's size
+    n2 = x.size
+    Jf = np.empty((n2, n2))
+    fp, fm = np.empty(n2), np.empty(n2)
+    for j in range(n2):
+        h = 1e-6 * max(1e-3, abs(x[j]))
+        xp, xm = x.copy(), x.copy()
+        xp[j] += h
+        xm[j] -= h
+        kf.feval_flat(t, xp, F, fp, *outs)
+        kf.feval_flat(t, xm, F, fm, *outs)
+        Jf[:, j] = (fp - fm) / (2.0 * h)
+    return Jf
+
+
+@pytest.mark.parametrize(
+    "iso",
+    [
+        Isolation(),
+        Isolation(frozen_normal=True),
+        Isolation(law="arctan", eps=50.0, mu=0.1),
+        Isolation(law="none"),
+    ],
+    ids=["arctan", "frozen", "soft", "none"],
+)
+def test_flat_jacobian_equals_general_and_finite_differences(office, record, iso):
+    # The flat Jacobian (jac_flat: qdd_x = A - B G^-1 R (A + shift), derived in its docstring)
+    # against the general kernel's analytic one (_kernel.jac, another derivation and
+    # summation order): the part beyond the linear [-M^-1 K, -M^-1 C] rows (constraint
+    # projection and arctan slope, ~1e8) agrees to 1e-12 of its size, the whole matrix to
+    # 1e-15 of its largest entry. Central differences of feval_flat (step 1e-6 relative)
+    # agree to 1e-8 of the largest entry (truncation and cancellation of the ~1e7 entries).
+    s = build_system(office, iso, fidelity="cb")
+    P = KernelParams.normalised(s.params(record))
+    F = kf.pack_flat(P)
+    x0, _ = s.static_equilibrium()
+    n, n2 = s.n, 2 * s.n
+    L = np.zeros((n2, n2))
+    L[:n, n:] = np.eye(n)
+    L[n:, :n] = -P[ks.I_MIK]
+    L[n:, n:] = -P[ks.I_MIC]
+    rng = np.random.default_rng(3)
+    for k in range(5):
+        x = x0 + np.concatenate([1e-3 * rng.standard_normal(n), 0.03 * rng.standard_normal(n)])
+        t = 1.3 * k
+        Ja, Jb = np.zeros((n2, n2)), np.zeros((n2, n2))
+        ks.jac(t, x, P, Ja)
+        assert kf.jac_flat(t, x, F, Jb, np.empty(n2), *ks.outputs(P))
+        scale = np.max(np.abs(Ja))
+        assert np.max(np.abs(Ja - Jb)) <= 1e-15 * scale
+        Na = Ja - L
+        if np.any(Na):
+            assert np.max(np.abs(Na - (Jb - L))) <= 1e-12 * np.max(np.abs(Na))
+        Jf = _fd_jacobian(F, t, x, ks.outputs(P))
+        assert np.max(np.abs(Jf - Jb)) <= 1e-8 * scale
+
+
+def test_flat_jacobian_reports_nonfinite_states(office, record):
+    # a NaN state: False and a NaN-filled J (the stepper then reports the non-finite state)
+    s = build_system(office, Isolation(), fidelity="cb")
+    P = KernelParams.normalised(s.params(record))
+    x = np.full(2 * s.n, np.nan)
+    J = np.zeros((2 * s.n, 2 * s.n))
+    assert not kf.jac_flat(0.0, x, kf.pack_flat(P), J, np.empty(2 * s.n), *ks.outputs(P))
+    assert np.all(np.isnan(J))
