@@ -158,11 +158,16 @@ class PeriodicProblem(MinimalStates):
         Xf = np.ascontiguousarray(self.to_full(X))
         P, _ = self.at(f)
         nc, ni = sysm.n_contacts, sysm.n_isolators
-        QDD = np.empty((N + 1, n))
-        LAM = np.empty((N + 1, nc))
-        TAU = np.empty((N + 1, ni))
-        MODES = np.empty((N + 1, ni), dtype=np.int64)
-        ks.evaluate_many(t, Xf, P, QDD, LAM, TAU, MODES)
+        # smooth laws through the flat kernel (the transient run's; the general one is then
+        # not compiled for a sweep), the switch law through the general kernel
+        from nsdyn.solve.transient import flat_evaluations
+
+        evaluated = flat_evaluations(P, t, Xf)
+        if evaluated is None:
+            evaluated = (np.empty((N + 1, n)), np.empty((N + 1, nc)), np.empty((N + 1, ni)))
+            evaluated += (np.empty((N + 1, ni), dtype=np.int64),)
+            ks.evaluate_many(t, Xf, P, *evaluated)
+        QDD, LAM, TAU, MODES = evaluated
         G = ks.ground_many(t, P)
         ug = np.zeros((N + 1, 1)) if self.load is not None else G[:, :1]
         od = cache["od"]

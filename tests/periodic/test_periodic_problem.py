@@ -92,3 +92,24 @@ def test_point_whose_period_cannot_be_integrated_reports_its_uplift():
     q = pr.orbit_quantities(weak, f, res.X)
     assert q["min_normal_force"] > 0 and q["uplift"] is False
     assert pr.uplift_probe(weak, f, res.x0)[0] is False
+
+
+def test_orbit_quantities_by_the_flat_kernel_equal_the_general_kernel(frame, monkeypatch):
+    # A smooth law's orbit is post-processed by the transient run's flat kernel (so a sweep
+    # does not compile the general one); the same orbit through the general kernel (the path
+    # of the switch law) gives the same quantities, to round-off (1e-9 relative).
+    from nsdyn.solve import transient
+
+    prob = pr.frame_problem(build_system(frame, Isolation(), fidelity="cb"), 0.7)
+    f = 1.3
+    res = pr.shoot(prob, f, prob.x_ref.copy())
+    assert res.converged
+    flat = pr.orbit_quantities(prob, f, res.X)
+    monkeypatch.setattr(transient, "flat_evaluations", lambda P, t, X: None)
+    general = pr.orbit_quantities(prob, f, res.X)
+    assert flat.keys() == general.keys()
+    for k, v in general.items():
+        if isinstance(v, float):
+            assert flat[k] == pytest.approx(v, rel=1e-9, abs=1e-300), k
+        else:
+            assert flat[k] == v, k
