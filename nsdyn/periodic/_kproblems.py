@@ -58,15 +58,19 @@ def duffing_jac(t, x, pf, J):
 
 
 @njit(cache=True)
-def _frame_core(t, x, P, Z, want_jac, out, J):
+def _frame_core(t, x, P, Z, out, J):
     """Seed eqs (25)-(27) on the manifold for the smooth laws ("none", "arctan").
 
     ``M qdd = h + R^T lam - D^T diag(mu s) L`` with ``R qdd = 0`` (R Q = 0: the Baumgarte
     terms vanish), ``L = lam`` (or the static normal forces when frozen):
     ``G lam = r``, ``G = R M^-1 R^T - [R M^-1 D^T diag(mu s)]`` (bracket only when not frozen),
     ``r = -R a0 (+ R M^-1 D^T diag(mu s) L0 when frozen)``, ``zdd = Q^T qdd``.
-    The Jacobian differentiates these formulas (``dlam = G^-1 (dr - dG lam)``).
+    The Jacobian differentiates these formulas (``dlam = G^-1 (dr - dG lam)``); it is formed
+    when J is square (d x d), not for the (1, d) placeholder of :func:`f_eval` (a flag
+    argument would be a literal constant at both call sites, and numba would compile this
+    function twice).
     """
+    want_jac = J.shape[0] == x.shape[0]
     m = Z[Z_KZ].shape[0]
     nc = Z[Z_G0].shape[0]
     ni = Z[Z_DQ].shape[0]
@@ -181,7 +185,7 @@ def _frame_core(t, x, P, Z, want_jac, out, J):
 def f_eval(prob, t, x, P, Z, pf, out):
     """Right-hand side of problem ``prob`` on its state ``x``; returns False on failure."""
     if prob == PROB_FRAME:
-        return _frame_core(t, x, P, Z, False, out, out.reshape((1, -1)))
+        return _frame_core(t, x, P, Z, out, out.reshape((1, -1)))
     duffing_rhs(t, x, pf, out)
     return True
 
@@ -190,7 +194,7 @@ def f_eval(prob, t, x, P, Z, pf, out):
 def j_eval(prob, t, x, P, Z, pf, F, J):
     """Right-hand side ``F`` and Jacobian ``J = dF/dx`` of problem ``prob``; returns ok."""
     if prob == PROB_FRAME:
-        return _frame_core(t, x, P, Z, True, F, J)
+        return _frame_core(t, x, P, Z, F, J)
     duffing_rhs(t, x, pf, F)
     duffing_jac(t, x, pf, J)
     return True
