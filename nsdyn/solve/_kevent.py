@@ -55,6 +55,10 @@ V_AUTO = 1e-12  # m/s, |v| at or below which the initial mode is decided by the 
 V_NOISE = 1e-12  # m/s, sliding speeds this small are round-off (an isolator locked by another)
 A_NOISE = 1e-9  # m/s^2, sliding accelerations this small are round-off
 V_SLIP_ATOL = 10.0  # |v| > this x atol (velocities) counts as motion when choosing a direction
+# switching functions: a slipping isolator's velocity, a stuck one's force margin. Passed as
+# np.int64(...) where the callee is cold: numba types a constant argument as a literal and
+# compiles the callee (and what it calls with it) once per value
+SLIP, STICK = 0, 1
 
 
 @njit(cache=True)
@@ -88,7 +92,7 @@ def _g_dense(kind, i, sgn, x, y, Qd, t, h, P, ew):
     ys, fs, qdd, lam, tau, modes = ew
     D = P[ks.I_D]
     n = D.shape[1]
-    if kind == 0:
+    if kind == SLIP:
         v = 0.0
         for j in range(n):
             k = n + j
@@ -137,7 +141,7 @@ def _root(kind, i, sgn, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
             break
         c = illinois_point(a, b, fa, fb)
         fc = _g_dense(kind, i, sgn, c, y, Qd, t, h, P, ew)
-        if kind == 1:
+        if kind == STICK:
             stats[ki.S_NFEV] += 1
         a, b, fa, fb, side, done = illinois_step(a, b, fa, fb, c, fc, side)
         if done:
@@ -176,11 +180,15 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
             if k == SLIP_SAMPLES:
                 gb = sg * _dot_row(D, i, ynew, n)
             else:
-                gb = _g_dense(0, i, sg, xb, y, Qd, t, h, P, ew)
+                # literal SLIP on purpose: this specialisation reduces to the velocity branch,
+                # which LLVM inlines into the scan (8 samples per slipping isolator and step)
+                gb = _g_dense(SLIP, i, sg, xb, y, Qd, t, h, P, ew)
             # a genuine crossing, not round-off around v = 0 (a slipping isolator held at
             # v = 0 by a stuck one on the same rigid base)
             if gb < 0.0 and (gb < -V_NOISE or ga > V_NOISE):
-                xr = _root(0, i, sg, xa, xb, max(ga, 0.0), gb, y, Qd, t, h, P, ew, stats)
+                xr = _root(
+                    np.int64(SLIP), i, sg, xa, xb, max(ga, 0.0), gb, y, Qd, t, h, P, ew, stats
+                )
                 if xr < x_best:
                     x_best, i_best, k_best = xr, i, 0
                 break
@@ -207,7 +215,22 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
                     continue
                 gb = _g_stick(i, lam, tau, P)
                 if gb < 0.0:
-                    xr = _root(1, i, 0.0, xa, xb, max(g0[i], 0.0), gb, y, Qd, t, h, P, ew, stats)
+                    xr = _root(
+                        np.int64(STICK),
+                        i,
+                        0.0,
+                        xa,
+                        xb,
+                        max(g0[i], 0.0),
+                        gb,
+                        y,
+                        Qd,
+                        t,
+                        h,
+                        P,
+                        ew,
+                        stats,
+                    )
                     if xr < x_best:
                         x_best, i_best, k_best = xr, i, 1
                     found = True

@@ -159,10 +159,12 @@ def _detect(t, h, y, Qd, P, ew, g_tol, g_lift, x_max, stats):
             # opened a hair below zero and rises)
             if gb <= 0.0 and (ga > g_tol or (gb < -g_tol and gb < ga)):
                 if ga > 0.0:
-                    xr = _root(KIND_LAND, k, xa, xb, ga, gb, y, Qd, t, h, P, ew, -g0, stats)
+                    xr = _root(
+                        np.int64(KIND_LAND), k, xa, xb, ga, gb, y, Qd, t, h, P, ew, -g0, stats
+                    )
                 elif ga > -g_tol:  # starts in the noise band: touchdown where it leaves it
                     xr = _root(
-                        KIND_LAND,
+                        np.int64(KIND_LAND),
                         k,
                         xa,
                         xb,
@@ -203,7 +205,20 @@ def _detect(t, h, y, Qd, P, ew, g_tol, g_lift, x_max, stats):
                     xr = xa
                     if la[k] > 0.0:
                         xr = _root(
-                            KIND_LIFT, k, xa, xb, la[k], lb[k], y, Qd, t, h, P, ew, 0.0, stats
+                            np.int64(KIND_LIFT),
+                            k,
+                            xa,
+                            xb,
+                            la[k],
+                            lb[k],
+                            y,
+                            Qd,
+                            t,
+                            h,
+                            P,
+                            ew,
+                            0.0,
+                            stats,
                         )
                     if xr < x_best:
                         x_best, k_best, kind_best = xr, k, KIND_LIFT
@@ -350,7 +365,7 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
             if pm[i] == ke.MODE_AUTO:
                 auto = True
         if auto:
-            ok = ke._settle(t, y, P, f, ew, -1, ke.V_AUTO, logs[0], stats)
+            ok = ke._settle(t, y, P, f, ew, np.int64(-1), ke.V_AUTO, logs[0], stats)
     if ok and contacts:
         ok, _ = _settle_contacts(t, y, P, f, ew, g_tol, logs[1], logs[2], stats, lift)
     if friction:
@@ -367,9 +382,11 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
     if iout < 0 or iout >= nt:
         return stats, rinfo
     t_target = np.inf  # pending event instant to land on
-    ev_idx = -1  # isolator or contact of the pending event
-    ev_kind = 0  # 0: slip -> stick/reversal, 1: stick -> slip, KIND_LIFT, KIND_LAND
-    polish = 0
+    # np.int64: a variable that still holds its constant initial value at a call is passed as
+    # a literal, and numba would compile the callee once for it and once for int64
+    ev_idx = np.int64(-1)  # isolator or contact of the pending event
+    ev_kind = np.int64(0)  # 0: slip -> stick/reversal, 1: stick -> slip, KIND_LIFT, KIND_LAND
+    polish = np.int64(0)
     h_resume = ctl[kr.C_H]  # step size to resume with after an event
     burst = np.array([-np.inf, 0.0])  # start and length of the current burst of events
     opts = (friction, contacts, v_tol, g_tol, e_rest, max_step)
