@@ -20,6 +20,7 @@ falls back to the general kernel (which takes the minimum-norm split).
 import numpy as np
 from numba import njit
 
+from nsdyn._klinalg import lu_factor, lu_solve_columns
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
 
@@ -378,9 +379,10 @@ def jac_flat(t, x, F, J, out, qdd, lam, tau, modes):
                     J[n + r, n + c] -= mr * F[o_d + i * n + c]
     if nc == 0:
         return True
-    # [G | R (A + shift)] (nc x (nc + 2n)), then G^-1 R (A + shift) by elimination
-    m = nc + n2
-    Ga = np.empty((nc, m))
+    # G, then Y = G^-1 R (A + shift) (nc x 2n) by the shared LU (pivot floor as evaluate_flat's)
+    G = np.empty((nc, nc))
+    Y = np.empty((nc, n2))
+    piv = np.empty(nc, dtype=np.int64)
     Bm = np.empty((n, nc))
     ab2 = 2.0 * F[H_ALPHA] * F[H_BETA]
     aa = F[H_ALPHA] * F[H_ALPHA]
@@ -389,7 +391,7 @@ def jac_flat(t, x, F, J, out, qdd, lam, tau, modes):
             g = F[o_rmir + k * nc + j]
             if not frozen and j < ni:
                 g -= F[o_rmid + k * ni + j] * F[o_mu + j] * F[o_s + j]
-            Ga[k, j] = g
+            G[k, j] = g
         fk = 0.0
         if not frozen and k < ni:
             fk = F[o_mu + k] * F[o_s + k]
@@ -403,38 +405,15 @@ def jac_flat(t, x, F, J, out, qdd, lam, tau, modes):
                 acc += aa * F[o_r + k * n + c]
             else:
                 acc += ab2 * F[o_r + k * n + c - n]
-            Ga[k, nc + c] = acc
-    scale = 0.0
-    for k in range(nc):
-        for j in range(nc):
-            scale = max(scale, abs(Ga[k, j]))
-    for k in range(nc):
-        p = k
-        for i in range(k + 1, nc):
-            if abs(Ga[i, k]) > abs(Ga[p, k]):
-                p = i
-        if not abs(Ga[p, k]) > 1e-14 * scale:
-            return False
-        if p != k:
-            for j in range(m):
-                tmp = Ga[k, j]
-                Ga[k, j] = Ga[p, j]
-                Ga[p, j] = tmp
-        for i in range(k + 1, nc):
-            f = Ga[i, k] / Ga[k, k]
-            for j in range(k, m):
-                Ga[i, j] -= f * Ga[k, j]
-    for k in range(nc - 1, -1, -1):
-        for j in range(nc, m):
-            acc = Ga[k, j]
-            for i in range(k + 1, nc):
-                acc -= Ga[k, i] * Ga[i, j]
-            Ga[k, j] = acc / Ga[k, k]
+            Y[k, c] = acc
+    if not lu_factor(G, piv, 1e-14):
+        return False
+    lu_solve_columns(G, piv, Y)
     for r in range(n):
         for c in range(n2):
             acc = 0.0
             for k in range(nc):
-                acc += Bm[r, k] * Ga[k, nc + c]
+                acc += Bm[r, k] * Y[k, c]
             J[n + r, c] -= acc
     return True
 
