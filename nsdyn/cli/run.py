@@ -132,14 +132,11 @@ def prepare_kernels(method: str, flat: bool = True) -> float:
     how long it took. ``flat``: the run's law is a smooth one (arctan or none), served by the
     flat kernel alone (see :func:`nsdyn.solve.methods.kernel_for`). Returns the seconds
     spent."""
-    from nsdyn.solve.methods import METHODS, is_cached, warmup_kernel, warmup_metrics
+    from nsdyn.solve.methods import METHODS, is_cached, kernel_for, warmup_kernel, warmup_metrics
 
-    m = METHODS.get(method)
-    if m is None:  # the run reports the unknown method with the valid names
+    if method not in METHODS:  # the run reports the unknown method with the valid names
         return 0.0
-    kernel = m.kernel
-    if kernel == "radau" and not flat:
-        kernel = "radau-general"
+    kernel = kernel_for(method, flat=flat)
     metrics = "metrics" if flat else "metrics-general"
     cold = not (is_cached(kernel) and is_cached(metrics))
     if cold:
@@ -258,8 +255,10 @@ def run(args: argparse.Namespace) -> int:
         if not quiet and wall > 1.0:
             print(f"  t = {t:7.2f} / {t_end:.2f} s   ({wall:5.1f} s)", file=sys.stderr)
 
+    from nsdyn.solve.methods import FLAT_LAWS
+
     iso = system.isolation
-    compile_s = prepare_kernels(method, iso is None or iso.law in ("arctan", "none"))
+    compile_s = prepare_kernels(method, iso is None or iso.law in FLAT_LAWS)
     res = simulate(
         system,
         motion,

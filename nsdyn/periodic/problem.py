@@ -157,17 +157,11 @@ class PeriodicProblem(MinimalStates):
         n = self.Q.shape[0]
         Xf = np.ascontiguousarray(self.to_full(X))
         P, _ = self.at(f)
-        nc, ni = sysm.n_contacts, sysm.n_isolators
         # smooth laws through the flat kernel (the transient run's; the general one is then
         # not compiled for a sweep), the switch law through the general kernel
-        from nsdyn.solve.transient import flat_evaluations
+        from nsdyn.solve.transient import evaluations
 
-        evaluated = flat_evaluations(P, t, Xf)
-        if evaluated is None:
-            evaluated = (np.empty((N + 1, n)), np.empty((N + 1, nc)), np.empty((N + 1, ni)))
-            evaluated += (np.empty((N + 1, ni), dtype=np.int64),)
-            ks.evaluate_many(t, Xf, P, *evaluated)
-        QDD, LAM, TAU, MODES = evaluated
+        QDD, LAM, TAU, MODES = evaluations(P, t, Xf)
         G = ks.ground_many(t, P)
         ug = np.zeros((N + 1, 1)) if self.load is not None else G[:, :1]
         od = cache["od"]

@@ -217,10 +217,13 @@ def _run_event(P, x0, t_eval, o: Options, X, upl_t):
     return stats, rinfo, events, KernelParams(Pm).modes.copy()
 
 
+FLAT_LAWS = ("arctan", "none")  # the smooth laws the flat right-hand side serves
+
+
 def flat_applies(P) -> bool:
     """True when the flat right-hand side (:mod:`nsdyn.solve._kflat`) serves ``P``: a smooth
-    law (arctan or none) with every contact closed."""
-    return KernelParams(P).law in ("arctan", "none") and not np.any(P[ks.I_OPEN])
+    law (:data:`FLAT_LAWS`) with every contact closed."""
+    return KernelParams(P).law in FLAT_LAWS and not np.any(P[ks.I_OPEN])
 
 
 def _run_radau(P, x0, t_eval, o: Options, X, upl_t):
@@ -308,11 +311,14 @@ def warmup(methods=None) -> dict[str, float]:
     return {kname: _warm(kname, m) for kname, m in kernels.items()}
 
 
-def kernel_for(method: str, P) -> str:
-    """The kernel a run of ``method`` on ``P`` uses (``Method.kernel``, except for a Radau
-    run the flat kernel cannot serve: "radau-general")."""
+def kernel_for(method: str, P=None, *, flat: bool | None = None) -> str:
+    """The kernel a run of ``method`` uses (``Method.kernel``, except for a Radau run the flat
+    kernel cannot serve: "radau-general"); ``flat`` (default :func:`flat_applies` of ``P``)
+    says whether it can."""
     m = METHODS[method]
-    if m.kernel == "radau" and not flat_applies(P):
+    if flat is None:
+        flat = flat_applies(P)
+    if m.kernel == "radau" and not flat:
         return "radau-general"
     return m.kernel
 
