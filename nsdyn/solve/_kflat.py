@@ -189,21 +189,16 @@ def evaluate_flat_many(t, X, F, A0, QDD, LAM, TAU, MODES, ok):
     :func:`nsdyn.models.isolated._kernel.evaluate_many`), given its linear part
     ``A0 = -X_q MiK^T - X_v MiC^T`` (nt, n), which the caller forms with one matrix product
     (for the 435-dof frame the per-sample products were most of the post-processing).
-    ``ok[k]`` is False where ``G`` was singular (row k not set: the general kernel's)."""
+    ``ok[k]`` is False where ``G`` was singular (row k then holds scratch values: the caller
+    fills it from the general kernel)."""
     n = int(F[H_N])
     o_a0 = _offsets(n, int(F[H_NC]), int(F[H_NI]))[11]
-    qdd, lam = QDD[0].copy(), LAM[0].copy()
-    tau, modes = TAU[0].copy(), MODES[0].copy()
     for k in range(t.shape[0]):
         for r in range(n):
             F[o_a0 + r] = A0[k, r]
         _ground_into_a0(t[k], F)
-        ok[k] = _constrained(X[k], F, qdd, lam, tau, modes)
-        if ok[k]:
-            QDD[k] = qdd
-            LAM[k] = lam
-            TAU[k] = tau
-            MODES[k] = modes
+        # straight into row k (no copies through scratch rows)
+        ok[k] = _constrained(X[k], F, QDD[k], LAM[k], TAU[k], MODES[k])
 
 
 @njit(cache=True, inline="always")

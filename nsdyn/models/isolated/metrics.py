@@ -157,17 +157,19 @@ def energy_balance(system, t, X, P, LAM, TAU, G, impact_energy: float = 0.0) -> 
     kpar = KernelParams(P)
     ug = G.copy()
     ug[:, 1] += kpar.g
-    # quadratic forms as (nt, n) @ (n, n) products, summed along rows (BLAS, no einsum loops)
-    E = 0.5 * np.sum((qd @ system.M) * qd, axis=1) + 0.5 * np.sum((q @ system.K) * q, axis=1)
+    M, K = system.M, system.K
+    # the stored energy is needed at the ends only
+    dE = 0.5 * float(qd[-1] @ M @ qd[-1] + q[-1] @ K @ q[-1] - qd[0] @ M @ qd[0] - q[0] @ K @ q[0])
     Gamma_e = kpar.matrices()["Gamma"]  # the packed load influence (ground or force)
-    p_in = -np.sum((qd @ (system.M @ Gamma_e)) * ug, axis=1)
-    p_visc = np.sum((qd @ system.C) * qd, axis=1)
-    v = qd @ system.D.T
-    p_fric = np.sum(TAU * v, axis=1) if TAU.size else np.zeros(t.size)
-    p_con = np.sum((qd @ system.R.T) * LAM, axis=1) if LAM.size else np.zeros(t.size)
+    # the powers along the history from one (nt, n) product: qd C, qd M Gamma, qd R^T, qd D^T
+    nc = system.R.shape[0]
+    B = qd @ np.hstack([system.C, M @ Gamma_e, system.R.T, system.D.T])
+    p_visc = np.sum(B[:, :n] * qd, axis=1)
+    p_in = -np.sum(B[:, n : n + 2] * ug, axis=1)
+    p_con = np.sum(B[:, n + 2 : n + 2 + nc] * LAM, axis=1) if LAM.size else np.zeros(t.size)
+    p_fric = np.sum(TAU * B[:, n + 2 + nc :], axis=1) if TAU.size else np.zeros(t.size)
     W_in, W_visc = _trapz(p_in, t), _trapz(p_visc, t)
     W_fric, W_con = _trapz(p_fric, t), _trapz(p_con, t) + impact_energy
-    dE = float(E[-1] - E[0])
     scale = max(abs(W_in), W_visc + abs(W_fric), abs(dE), 1e-300)
     return {
         "input": W_in,
@@ -219,17 +221,23 @@ def response(
     idr = drift_m = np.zeros(0)
     top_drift = np.full(nt, np.nan)  # no levels: undefined (kept as a history for plots)
     if od["joints"] is not None:
-        # storey drift: joint x displacements (nt, n_levels, n_lines)
-        U = np.einsum("lcj,tj->tlc", od["joints"], q)
-        dU = np.abs(np.diff(U, axis=1))
-        drift_m = dU.max(axis=(0, 2)) if dU.size else np.zeros(0)
+        # joint x displacements, one (nt, n) @ (n, levels * lines) product, level-major columns
+        n_lev, n_lin = od["joints"].shape[:2]
+        U = q @ od["joints"].reshape(n_lev * n_lin, n).T
+        # storey drift: the same line's joints on adjacent levels, largest over time and lines
+        dU = np.abs(U[:, n_lin:] - U[:, :-n_lin])
+        drift_m = dU.max(axis=0).reshape(n_lev - 1, n_lin).max(axis=1) if dU.size else np.zeros(0)
         if od["heights"] is not None and dU.size:
             # max_t,c(dU / h) = max_t,c(dU) / h exactly (h > 0; rounded division is monotonic),
             # one pass over the (nt, levels, lines) history fewer
             idr = drift_m / np.asarray(od["heights"], dtype=float)
-        top_drift = U[:, -1, 0] - U[:, 0, 0]
-    # absolute floor accelerations at every node of each level
-    acc = [float(np.max(np.abs(QDD @ rows.T + ug_hor))) for rows in od["levels"]]
+        top_drift = U[:, (n_lev - 1) * n_lin] - U[:, 0]
+    # absolute floor accelerations at every node of each level: one product for all levels
+    acc = np.zeros(0)
+    if od["levels"]:
+        peak = np.abs(QDD @ np.concatenate(od["levels"]).T + ug_hor).max(axis=0)
+        starts = np.cumsum([0] + [rows.shape[0] for rows in od["levels"][:-1]])
+        acc = np.maximum.reduceat(peak, starts)
     x_iso = q @ system.D.T
     # stick as nsdyn.models.isolated.friction defines it, for every law
     v = X[:, n:] @ system.D.T
@@ -243,7 +251,7 @@ def response(
         tau=TAU,
         modes=MODES,
         idr_by_storey=idr,
-        floor_acc_by_level=np.array(acc),
+        floor_acc_by_level=acc,
         energy=energy,
         drift_by_storey=drift_m,
     )

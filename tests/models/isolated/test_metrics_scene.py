@@ -28,6 +28,36 @@ def test_drift_of_a_rigid_rotation_is_the_angle():
     assert np.allclose(r.top_drift, -H * theta, rtol=1e-9)
 
 
+def test_drifts_and_floor_accelerations_follow_their_definitions():
+    # Definitions on an arbitrary field (full fidelity, T square): storey drift = the largest
+    # |u_x(joint above) - u_x(joint below)| over time and column lines, IDR = drift / storey
+    # height, floor acceleration = the largest |qdd_x + u_g| over time and the level's nodes.
+    # Exact up to round-off of the products (1e-12).
+    from nsdyn.models.isolated.metrics import output_dofs
+
+    frame = demo_frame()
+    s = build_system(frame, Isolation(), fidelity="full")
+    od = output_dofs(frame)
+    rng = np.random.default_rng(7)
+    nt = 5
+    U = rng.normal(size=(nt, s.n))  # physical displacements and accelerations
+    A = rng.normal(size=(nt, s.n))
+    X = np.zeros((nt, 2 * s.n))
+    X[:, : s.n] = np.linalg.solve(s.T, U.T).T
+    QDD = np.linalg.solve(s.T, A.T).T
+    t = np.linspace(0.0, 1.0, nt)
+    nc, ni = s.n_contacts, s.n_isolators
+    ev = (QDD, np.ones((nt, nc)), np.zeros((nt, ni)), np.zeros((nt, ni), dtype=np.int64))
+    r = response(s, t, X, s.params(None), evaluated=ev)
+    J = od["joints_x"]  # (levels, lines)
+    drift = [np.abs(U[:, J[k + 1]] - U[:, J[k]]).max() for k in range(J.shape[0] - 1)]
+    assert np.allclose(r.drift_by_storey, drift, rtol=1e-12, atol=0)
+    assert np.allclose(r.idr_by_storey, np.array(drift) / od["heights"], rtol=1e-12, atol=0)
+    acc = [np.abs(A[:, d]).max() for d in od["levels_x"]]  # no ground motion: u_g = 0
+    assert np.allclose(r.floor_acc_by_level, acc, rtol=1e-12, atol=0)
+    assert np.allclose(r.top_drift, U[:, J[-1, 0]] - U[:, J[0, 0]], rtol=1e-12, atol=1e-12)
+
+
 def test_floor_acceleration_at_rest_is_ground_acceleration():
     # At the static state under a constant ground acceleration a with all isolators stuck
     # (switch model, large mu) the structure moves with the ground: absolute acceleration a.
