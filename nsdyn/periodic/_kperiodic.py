@@ -43,7 +43,9 @@ from nsdyn.periodic._kproblems import (  # noqa: F401  (problem ids and Z layout
     Z_RAZ,
     Z_RG,
     f_eval,
+    frame_flat,
     j_eval,
+    pack_frame,
 )
 
 STATUS_OK = 0
@@ -171,7 +173,8 @@ def _res_norm(res, half, sz, sv):
 @njit(cache=True)
 def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
     """One SDIRK step of size ``h`` from (t, x) into ``out = (xn, Sn, wn)`` (the state and its
-    derivatives). ``problem = (prob, P, Z, pf)``, ``method = (A, c, rtol, atol)``,
+    derivatives). ``problem = (prob, pf)`` (``pf``: a frame's flat array, see
+    :func:`nsdyn.periodic._kproblems.pack_frame`), ``method = (A, c, rtol, atol)``,
     ``work = (J, LU, piv, hg_lu, Fprev)``.
 
     ``J``/``LU``/``piv`` hold the latest Jacobian and the factors of the iteration matrix for
@@ -179,7 +182,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
     backtracking on the weighted residual), the iteration matrix refreshed whenever the
     contraction is slow. Returns (status, n_fev).
     """
-    prob, P, Z, pf = problem
+    prob, pf = problem
     A, c, rtol, atol = method
     J, LU, piv, hg_lu, Fprev = work
     xn, Sn, wn = out
@@ -215,7 +218,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
                 acc += A[i, j] * Fs[j, k]
             r[k] = x[k] + h * acc
             Y[k] = x[k] + c[i] * h * Fprev[k]  # explicit predictor
-        if not f_eval(prob, ti, Y, P, Z, pf, Fi):
+        if not f_eval(prob, ti, Y, pf, Fi):
             return STATUS_SINGULAR, nfev
         nfev += 1
         for k in range(d):
@@ -249,7 +252,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
             for _ in range(STAGE_HALVINGS):
                 for k in range(d):
                     Yt[k] = Y[k] + alpha * dY[k, 0]
-                ok = f_eval(prob, ti, Yt, P, Z, pf, Fi)
+                ok = f_eval(prob, ti, Yt, pf, Fi)
                 nfev += 1
                 for k in range(d):
                     rest[k, 0] = -(Yt[k] - r[k] - hg * Fi[k])
@@ -261,7 +264,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
             res[:, :] = rest
             rnorm = rt
             if alpha < 1.0 or (it > 0 and theta > STAGE_SLOW):
-                j_eval(prob, ti, Y, P, Z, pf, Fi, J)
+                j_eval(prob, ti, Y, pf, Fi, J)
                 if not _iteration_matrix(J, hg, LU, piv):
                     return STATUS_SINGULAR, nfev
             err_old = err * alpha
@@ -273,7 +276,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
         # Hairer & Wanner IV.8 recommend for stiff problems), and the iteration matrix lags,
         # refreshed only when the contraction is slow
         if want_sens:
-            if not j_eval(prob, ti, Y, P, Z, pf, Fi, J):
+            if not j_eval(prob, ti, Y, pf, Fi, J):
                 return STATUS_SINGULAR, nfev
             nfev += 1
             if not _iteration_matrix(J, hg, LU, piv):
@@ -308,7 +311,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
 
 
 @njit(cache=True)
-def period_map(prob, x0, T, N, P, Z, pf, A, c, want_sens, store, rtol, atol):
+def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol):
     """Integrate one period ``T`` in ``N`` SDIRK steps from ``x0`` (at t = 0).
 
     A step whose stages do not converge is retried once with a fresh Jacobian, then as 2, 4,
@@ -336,11 +339,11 @@ def period_map(prob, x0, T, N, P, Z, pf, A, c, want_sens, store, rtol, atol):
     piv = np.zeros(d // 2, dtype=np.int64)
     hg_lu = np.zeros(1)
     Fprev = np.zeros(d)
-    problem = (prob, P, Z, pf)
+    problem = (prob, pf)
     method = (A, c, rtol, atol)
     work = (J, LU, piv, hg_lu, Fprev)
     Fsave = np.zeros(d)
-    if not j_eval(prob, 0.0, x, P, Z, pf, Fprev, J):
+    if not j_eval(prob, 0.0, x, pf, Fprev, J):
         return x, S, w, X, STATUS_SINGULAR, 1, 0
     n_fev = 1
     n_sub = 0
@@ -384,7 +387,7 @@ def period_map(prob, x0, T, N, P, Z, pf, A, c, want_sens, store, rtol, atol):
             if not refreshed:
                 # retry with a fresh Jacobian at x
                 refreshed = True
-                j_eval(prob, tn, x, P, Z, pf, Fprev, J)
+                j_eval(prob, tn, x, pf, Fprev, J)
                 hg_lu[0] = 0.0
                 continue
             ksub *= 2

@@ -7,16 +7,16 @@ kernels are cached across processes):
   ``x = [z, zd]``, ``q = Q z``, ``zdd = Q^T qdd(Q z, Q zd)`` (Q orthonormal columns): the
   constrained equations of :mod:`nsdyn.models.isolated._kernel` (its tuple ``P`` supplies the
   ground motion and friction settings) written on the manifold with the products of ``Z``
-  precomputed. On the manifold this equals ``[Q^T 0; 0 Q^T] ks.rhs([Q z, Q zd])`` with Jacobian
+  precomputed, read from one flat array ``pf`` (:func:`pack_frame`). On the manifold this
+  equals ``[Q^T 0; 0 Q^T] ks.rhs([Q z, Q zd])`` with Jacobian
   ``blockdiag(Q^T) ks.jac blockdiag(Q)`` (checked in the tests) at a fraction of the cost.
 - ``PROB_DUFFING``: ``x'' + 2 zeta w0 x' + w0^2 x + gamma x^3 = F cos(w t)``,
-  ``pf = [zeta, w0, gamma, F, w]`` (``P`` is a dummy tuple of the same type).
+  ``pf = [zeta, w0, gamma, F, w]``.
 """
 
 import numpy as np
 from numba import njit
 
-from nsdyn._klinalg import lu_factor, lu_solve_columns
 from nsdyn.models.isolated import _kernel as ks
 
 PROB_FRAME = 0  # isolated structure on minimal coordinates (eq 27 with precomputed Z)
@@ -57,144 +57,249 @@ def duffing_jac(t, x, pf, J):
     J[1, 1] = -2.0 * zeta * w0
 
 
-@njit(cache=True)
-def _frame_core(t, x, P, Z, out, J):
-    """Seed eqs (25)-(27) on the manifold for the smooth laws ("none", "arctan").
+# ---- the frame's right-hand side and Jacobian from one flat array -----------------------------
+# ``pf`` of PROB_FRAME: a header, the harmonic excitation's parameters, the matrices of Z in
+# row-major order and scratch, at the offsets of _frame_offsets (packed by pack_frame). Reading
+# them from one array instead of the tuples P and Z spares numba the reference counting of ~30
+# arrays on every call (the stage Newton evaluates ~6 times per step) and the allocations.
+FH_M, FH_NC, FH_NI, FH_ARCTAN, FH_FROZEN, FH_EPS, FH_G = range(7)
+FH_GPAR = 7  # the excitation's parameters (ks.N_GPAR of them; harmonic)
+FH_END = FH_GPAR + ks.N_GPAR
+G_RTOL = 1e-14  # a pivot of G below this times its largest entry: singular (as _kernel)
+
+
+@njit(cache=True, inline="always")
+def _frame_offsets(m, nc, ni):
+    """Offsets in the flat array: Kz, Cz (m, m), QG (m, 2), QMiRT (m, nc), QMiDT (m, ni), RAz,
+    RAv (nc, m), RG (nc, 2), G0 (nc, nc), GD (nc, ni), DQ (ni, m), mu, L0 (ni); scratch s, s'
+    (ni), G (nc, nc), its pivots (nc), lam (nc), dlam/dx (nc, 2m); the end."""
+    o_kz = FH_END
+    o_cz = o_kz + m * m
+    o_qg = o_cz + m * m
+    o_qmirt = o_qg + 2 * m
+    o_qmidt = o_qmirt + m * nc
+    o_raz = o_qmidt + m * ni
+    o_rav = o_raz + nc * m
+    o_rg = o_rav + nc * m
+    o_g0 = o_rg + 2 * nc
+    o_gd = o_g0 + nc * nc
+    o_dq = o_gd + nc * ni
+    o_mu = o_dq + ni * m
+    o_l0 = o_mu + ni
+    o_s = o_l0 + ni
+    o_sp = o_s + ni
+    o_g = o_sp + ni
+    o_piv = o_g + nc * nc
+    o_lam = o_piv + nc
+    o_dl = o_lam + nc
+    end = o_dl + 2 * m * nc
+    return (o_kz, o_cz, o_qg, o_qmirt, o_qmidt, o_raz, o_rav, o_rg, o_g0, o_gd, o_dq, o_mu, o_l0,
+            o_s, o_sp, o_g, o_piv, o_lam, o_dl, end)  # fmt: skip
+
+
+def pack_frame(P: tuple, Z: tuple) -> np.ndarray:
+    """The flat array of a frame problem under the harmonic excitation of ``P`` (its header,
+    excitation parameters and the matrices of ``Z``; see :func:`_frame_offsets`)."""
+    ip, fp = P[ks.I_IPAR], P[ks.I_FPAR]
+    if ip[ks.K_GROUND] != ks.GROUND_HARMONIC:
+        raise ValueError("pack_frame: the periodic frame problem needs a harmonic excitation")
+    m, nc, ni = Z[Z_KZ].shape[0], Z[Z_G0].shape[0], Z[Z_DQ].shape[0]
+    head = np.zeros(FH_END)
+    head[FH_M], head[FH_NC], head[FH_NI] = m, nc, ni
+    head[FH_ARCTAN] = 1.0 if ip[ks.K_LAW] == ks.LAW_ARCTAN else 0.0
+    head[FH_FROZEN] = 1.0 if ip[ks.K_FROZEN] == 1 else 0.0
+    head[FH_EPS], head[FH_G] = fp[ks.F_EPS], fp[ks.F_G]
+    head[FH_GPAR:FH_END] = P[ks.I_GPAR]
+    keys = (Z_KZ, Z_CZ, Z_QG, Z_QMIRT, Z_QMIDT, Z_RAZ, Z_RAV, Z_RG, Z_G0, Z_GD, Z_DQ)
+    blocks = [Z[k] for k in keys] + [Z[Z_MU][0], Z[Z_L0][0]]
+    blocks.append(np.zeros(2 * ni + nc * nc + 2 * nc + 2 * m * nc))  # scratch
+    F = np.concatenate([head] + [np.ascontiguousarray(b, dtype=float).ravel() for b in blocks])
+    assert F.size == _frame_offsets(m, nc, ni)[-1]
+    return F
+
+
+@njit(cache=True, inline="always")
+def _frame_rhs(t, x, F, out):
+    """Seed eqs (25)-(27) on the manifold for the smooth laws ("none", "arctan"), from the flat
+    array: ``out``, and s, s', the factors of G and lam in its scratch. False when G is singular.
 
     ``M qdd = h + R^T lam - D^T diag(mu s) L`` with ``R qdd = 0`` (R Q = 0: the Baumgarte
     terms vanish), ``L = lam`` (or the static normal forces when frozen):
     ``G lam = r``, ``G = R M^-1 R^T - [R M^-1 D^T diag(mu s)]`` (bracket only when not frozen),
     ``r = -R a0 (+ R M^-1 D^T diag(mu s) L0 when frozen)``, ``zdd = Q^T qdd``.
-    The Jacobian differentiates these formulas (``dlam = G^-1 (dr - dG lam)``); it is formed
-    when J is square (d x d), not for the (1, d) placeholder of :func:`f_eval` (a flag
-    argument would be a literal constant at both call sites, and numba would compile this
-    function twice).
     """
-    want_jac = J.shape[0] == x.shape[0]
-    m = Z[Z_KZ].shape[0]
-    nc = Z[Z_G0].shape[0]
-    ni = Z[Z_DQ].shape[0]
-    ip = P[ks.I_IPAR]
-    fp = P[ks.I_FPAR]
-    law = ip[ks.K_LAW]
-    frozen = ip[ks.K_FROZEN] == 1
-    eps = fp[ks.F_EPS]
-    uh, uv = ks.ground_accel(t, P)
-    uv += fp[ks.F_G]
-    z = x[:m]
-    zd = x[m:]
-    Kz, Cz, QG = Z[Z_KZ], Z[Z_CZ], Z[Z_QG]
-    QMiRT, QMiDT = Z[Z_QMIRT], Z[Z_QMIDT]
-    RAz, RAv, RG = Z[Z_RAZ], Z[Z_RAV], Z[Z_RG]
-    G0, GD, DQ = Z[Z_G0], Z[Z_GD], Z[Z_DQ]
-    mu = Z[Z_MU][0]
-    L0 = Z[Z_L0][0]
-    # friction directions
-    s = np.zeros(ni)
-    sp = np.zeros(ni)
-    if law == ks.LAW_ARCTAN:
-        for i in range(ni):
+    m, nc, ni = int(F[FH_M]), int(F[FH_NC]), int(F[FH_NI])
+    (o_kz, o_cz, o_qg, o_qmirt, o_qmidt, o_raz, o_rav, o_rg, o_g0, o_gd, o_dq, o_mu, o_l0, o_s,
+     o_sp, o_g, o_piv, o_lam, _, _) = _frame_offsets(m, nc, ni)  # fmt: skip
+    frozen = F[FH_FROZEN] != 0.0
+    eps = F[FH_EPS]
+    g = FH_GPAR
+    uh = F[g + ks.G_AH] * np.sin(2.0 * np.pi * F[g + ks.G_FH] * t + F[g + ks.G_PH])
+    uv = F[g + ks.G_AV] * np.sin(2.0 * np.pi * F[g + ks.G_FV] * t + F[g + ks.G_PV]) + F[FH_G]
+    # friction directions and their slopes
+    for i in range(ni):
+        si = 0.0
+        spi = 0.0
+        if F[FH_ARCTAN] != 0.0:
             v = 0.0
             for k in range(m):
-                v += DQ[i, k] * zd[k]
-            s[i] = (2.0 / np.pi) * np.arctan(eps * v)
-            sp[i] = (2.0 / np.pi) * eps / (1.0 + (eps * v) ** 2)
-    # constraint system G lam = r  (nc x nc)
-    G = np.empty((nc, nc))
-    r = np.empty(nc)
+                v += F[o_dq + i * m + k] * x[m + k]
+            si = (2.0 / np.pi) * np.arctan(eps * v)
+            spi = (2.0 / np.pi) * eps / (1.0 + (eps * v) ** 2)
+        F[o_s + i] = si
+        F[o_sp + i] = spi
+    # constraint system G lam = r (nc x nc)
     for a in range(nc):
-        acc = RG[a, 0] * uh + RG[a, 1] * uv  # -R a0 = R Gamma u + R MiK q + R MiC qd
+        acc = F[o_rg + 2 * a] * uh + F[o_rg + 2 * a + 1] * uv
         for k in range(m):
-            acc += RAz[a, k] * z[k] + RAv[a, k] * zd[k]
-        r[a] = acc
+            acc += F[o_raz + a * m + k] * x[k] + F[o_rav + a * m + k] * x[m + k]
+        F[o_lam + a] = acc
         for b in range(nc):
-            G[a, b] = G0[a, b]
+            F[o_g + a * nc + b] = F[o_g0 + a * nc + b]
         for i in range(ni):
+            gdi = F[o_gd + a * ni + i] * F[o_mu + i] * F[o_s + i]
             if frozen:
-                r[a] += GD[a, i] * mu[i] * s[i] * L0[i]
+                F[o_lam + a] += gdi * F[o_l0 + i]
             elif i < nc:
-                G[a, i] -= GD[a, i] * mu[i] * s[i]
-    lam, ok = ks._small_solve(G, r, nc)
-    if not ok:
+                F[o_g + a * nc + i] -= gdi
+    # LU of G with partial pivoting (as _kernel._lu_small), multipliers below the diagonal
+    scale = 0.0
+    for k in range(nc * nc):
+        scale = max(scale, abs(F[o_g + k]))
+    if scale == 0.0 and nc > 0:
         return False
-    # friction force magnitudes f_i = mu s L
-    fr = np.empty(ni)
-    for i in range(ni):
-        L = L0[i] if frozen else (lam[i] if i < nc else 0.0)
-        fr[i] = mu[i] * s[i] * L
+    for k in range(nc):
+        p = k
+        for i in range(k + 1, nc):
+            if abs(F[o_g + i * nc + k]) > abs(F[o_g + p * nc + k]):
+                p = i
+        if abs(F[o_g + p * nc + k]) <= G_RTOL * scale:
+            return False
+        F[o_piv + k] = p
+        if p != k:
+            for j in range(nc):
+                tmp = F[o_g + k * nc + j]
+                F[o_g + k * nc + j] = F[o_g + p * nc + j]
+                F[o_g + p * nc + j] = tmp
+        for i in range(k + 1, nc):
+            f = F[o_g + i * nc + k] / F[o_g + k * nc + k]
+            for j in range(k + 1, nc):
+                F[o_g + i * nc + j] -= f * F[o_g + k * nc + j]
+            F[o_g + i * nc + k] = f
+    _g_solve(F, o_g, o_piv, nc, o_lam, 1, 1)
     for k in range(m):
-        acc = -(QG[k, 0] * uh + QG[k, 1] * uv)
+        acc = -(F[o_qg + 2 * k] * uh + F[o_qg + 2 * k + 1] * uv)
         for j in range(m):
-            acc -= Kz[k, j] * z[j] + Cz[k, j] * zd[j]
+            acc -= F[o_kz + k * m + j] * x[j] + F[o_cz + k * m + j] * x[m + j]
         for a in range(nc):
-            acc += QMiRT[k, a] * lam[a]
+            acc += F[o_qmirt + k * nc + a] * F[o_lam + a]
         for i in range(ni):
-            acc -= QMiDT[k, i] * fr[i]
-        out[k] = zd[k]
+            L = F[o_l0 + i] if frozen else (F[o_lam + i] if i < nc else 0.0)
+            acc -= F[o_qmidt + k * ni + i] * (F[o_mu + i] * F[o_s + i] * L)
+        out[k] = x[m + k]
         out[m + k] = acc
-    if not want_jac:
-        return True
-    # d zdd = -Kz dz - Cz dzd + QMiRT dlam - QMiDT (diag(mu s) dL + diag(mu L s') DQ dzd)
-    # dlam = G^-1 (dr - dG lam), dr = RAz dz + RAv dzd (+ GD diag(mu L0 s') DQ dzd frozen),
-    # dG lam = -GD diag(mu lam s') DQ dzd (not frozen)
-    Glu = G.copy()
-    gpiv = np.zeros(nc, dtype=np.int64)
-    if not lu_factor(Glu, gpiv, LU_RTOL):
+    return True
+
+
+@njit(cache=True, inline="always")
+def _g_solve(F, o_g, o_piv, nc, o_b, stride, ncols):
+    """Solve G X = B in place with the factors of :func:`_frame_rhs` (B: nc rows of ``ncols``
+    at ``o_b``, row stride ``stride``)."""
+    for k in range(nc):
+        p = int(F[o_piv + k])
+        if p != k:
+            for c in range(ncols):
+                tmp = F[o_b + k * stride + c]
+                F[o_b + k * stride + c] = F[o_b + p * stride + c]
+                F[o_b + p * stride + c] = tmp
+        for i in range(k + 1, nc):
+            f = F[o_g + i * nc + k]
+            for c in range(ncols):
+                F[o_b + i * stride + c] -= f * F[o_b + k * stride + c]
+    for k in range(nc - 1, -1, -1):
+        d = F[o_g + k * nc + k]
+        for c in range(ncols):
+            acc = F[o_b + k * stride + c]
+            for j in range(k + 1, nc):
+                acc -= F[o_g + k * nc + j] * F[o_b + j * stride + c]
+            F[o_b + k * stride + c] = acc / d
+
+
+@njit(cache=True)
+def frame_flat(t, x, F, out):
+    """The frame's right-hand side on the manifold from the flat array ``F`` of
+    :func:`pack_frame`; False when G is singular."""
+    return _frame_rhs(t, x, F, out)
+
+
+@njit(cache=True)
+def frame_flat_jac(t, x, F, out, J):
+    """:func:`frame_flat` and its Jacobian ``J = d out / dx``, the formulas differentiated:
+
+    ``d zdd = -Kz dz - Cz dzd + QMiRT dlam - QMiDT (diag(mu s) dL + diag(mu L s') DQ dzd)``,
+    ``dlam = G^-1 (dr - dG lam)`` with ``dr = RAz dz + RAv dzd`` (``+ GD diag(mu L0 s') DQ dzd``
+    frozen) and ``dG lam = -GD diag(mu lam s') DQ dzd`` (not frozen).
+    """
+    if not _frame_rhs(t, x, F, out):
         return False
-    cfr = np.empty(ni)  # d f_i / d v_i at fixed L
+    m, nc, ni = int(F[FH_M]), int(F[FH_NC]), int(F[FH_NI])
+    (o_kz, o_cz, _, o_qmirt, o_qmidt, o_raz, o_rav, _, _, o_gd, o_dq, o_mu, o_l0, o_s, o_sp, o_g,
+     o_piv, o_lam, o_dl, _) = _frame_offsets(m, nc, ni)  # fmt: skip
+    frozen = F[FH_FROZEN] != 0.0
+    m2 = 2 * m
+    # dr/dx into dlam's rows, then dlam/dx = G^-1 dr/dx; cfr_i = d f_i / d v_i at fixed L is
+    # mu_i L_i s'_i (kept in the s' slots)
     for i in range(ni):
-        L = L0[i] if frozen else (lam[i] if i < nc else 0.0)
-        cfr[i] = mu[i] * L * sp[i]
-    # dr/dx (nc, 2m), then dlam/dx = G^-1 drx
-    drx = np.zeros((nc, 2 * m))
+        L = F[o_l0 + i] if frozen else (F[o_lam + i] if i < nc else 0.0)
+        F[o_sp + i] = F[o_mu + i] * L * F[o_sp + i]
     for a in range(nc):
         for k in range(m):
-            drx[a, k] = RAz[a, k]
-            drx[a, m + k] = RAv[a, k]
+            F[o_dl + a * m2 + k] = F[o_raz + a * m + k]
+            F[o_dl + a * m2 + m + k] = F[o_rav + a * m + k]
         for i in range(ni):
-            g = GD[a, i] * cfr[i]
+            g = F[o_gd + a * ni + i] * F[o_sp + i]
             if g != 0.0:
                 for k in range(m):
-                    drx[a, m + k] += g * DQ[i, k]
-    lu_solve_columns(Glu, gpiv, drx)
-    dlam = drx  # (nc, 2m)
-    # effective B = QMiRT - QMiDT diag(mu s) (on lam, not frozen)
-    J[:, :] = 0.0
+                    F[o_dl + a * m2 + m + k] += g * F[o_dq + i * m + k]
+    _g_solve(F, o_g, o_piv, nc, o_dl, m2, m2)
     for k in range(m):
+        for j in range(m2):
+            J[k, j] = 0.0
         J[k, m + k] = 1.0
     for k in range(m):
         for j in range(m):
-            J[m + k, j] = -Kz[k, j]
-            J[m + k, m + j] = -Cz[k, j]
+            J[m + k, j] = -F[o_kz + k * m + j]
+            J[m + k, m + j] = -F[o_cz + k * m + j]
         for a in range(nc):
-            b = QMiRT[k, a]
+            b = F[o_qmirt + k * nc + a]
             if not frozen and a < ni:
-                b -= QMiDT[k, a] * mu[a] * s[a]
+                b -= F[o_qmidt + k * ni + a] * F[o_mu + a] * F[o_s + a]
             if b != 0.0:
-                for j in range(2 * m):
-                    J[m + k, j] += b * dlam[a, j]
+                for j in range(m2):
+                    J[m + k, j] += b * F[o_dl + a * m2 + j]
         for i in range(ni):
-            g = QMiDT[k, i] * cfr[i]
+            g = F[o_qmidt + k * ni + i] * F[o_sp + i]
             if g != 0.0:
                 for j in range(m):
-                    J[m + k, m + j] -= g * DQ[i, j]
+                    J[m + k, m + j] -= g * F[o_dq + i * m + j]
     return True
 
 
 @njit(cache=True)
-def f_eval(prob, t, x, P, Z, pf, out):
-    """Right-hand side of problem ``prob`` on its state ``x``; returns False on failure."""
+def f_eval(prob, t, x, pf, out):
+    """Right-hand side of problem ``prob`` on its state ``x`` (``pf``: the flat array of
+    :func:`pack_frame` for a frame, the parameters for Duffing); returns False on failure."""
     if prob == PROB_FRAME:
-        return _frame_core(t, x, P, Z, out, out.reshape((1, -1)))
+        return frame_flat(t, x, pf, out)
     duffing_rhs(t, x, pf, out)
     return True
 
 
 @njit(cache=True)
-def j_eval(prob, t, x, P, Z, pf, F, J):
+def j_eval(prob, t, x, pf, F, J):
     """Right-hand side ``F`` and Jacobian ``J = dF/dx`` of problem ``prob``; returns ok."""
     if prob == PROB_FRAME:
-        return _frame_core(t, x, P, Z, F, J)
+        return frame_flat_jac(t, x, pf, F, J)
     duffing_rhs(t, x, pf, F)
     duffing_jac(t, x, pf, J)
     return True

@@ -75,11 +75,14 @@ class PeriodicProblem(MinimalStates):
         return self.Z[kp.Z_Q]
 
     def at(self, f: float) -> tuple[tuple, np.ndarray]:
-        """Kernel arguments (P, pf) for forcing frequency ``f`` [Hz]."""
+        """Kernel arguments (P, pf) for forcing frequency ``f`` [Hz]; a frame's ``pf`` is the
+        flat array of :func:`nsdyn.periodic._kproblems.pack_frame`."""
         if self.prob == kp.PROB_FRAME:
             if self.load is not None:
-                return with_ground(self.P, self.load.at_frequency(f, self.amplitude)), self.pf
-            return with_ground(self.P, Harmonic(self.amplitude, f)), self.pf
+                P = with_ground(self.P, self.load.at_frequency(f, self.amplitude))
+            else:
+                P = with_ground(self.P, Harmonic(self.amplitude, f))
+            return P, kp.pack_frame(P, self.Z)
         pf = self.pf.copy()
         pf[DUFFING_W] = 2 * np.pi * f
         return self.P, pf
@@ -99,14 +102,12 @@ class PeriodicProblem(MinimalStates):
         T = 1.0 / f
         N = disc.steps(T) if n_steps is None else int(n_steps)
         A, c = disc.tableau()
-        P, pf = self.at(f)
+        _, pf = self.at(f)
         xT, S, w, X, status, nfev, nsub = kp.period_map(
             self.prob,
             np.ascontiguousarray(x0, dtype=float),
             T,
             N,
-            P,
-            self.Z,
             pf,
             A,
             c,
@@ -139,19 +140,15 @@ class PeriodicProblem(MinimalStates):
         ``STICK_UTILISATION`` of its limit; False for other laws). For the Duffing problem:
         ``amp`` (half the peak-to-peak displacement) and ``x_max`` only.
         """
-        m = self.m
         if self.prob == kp.PROB_DUFFING:
             x = X[:, 0]
             return {"amp": 0.5 * float(x.max() - x.min()), "x_max": float(np.abs(x).max())}
         sysm = self.system
         cache = self._cache
-        if "od" not in cache:
-            from nsdyn.models.isolated.metrics import output_rows
+        from nsdyn.models.isolated.metrics import level_peaks, output_rows
 
-            od = output_rows(sysm)
-            cache["od"] = od
-            cache["Tj"] = None if od["joints"] is None else od["joints"] @ self.Q  # (l, c, m)
-            cache["Tl"] = od["levels"]
+        if "od" not in cache:
+            cache["od"] = output_rows(sysm)
         N = X.shape[0] - 1
         t = np.linspace(0.0, 1.0 / f, N + 1)
         n = self.Q.shape[0]
@@ -165,15 +162,16 @@ class PeriodicProblem(MinimalStates):
         G = ks.ground_many(t, P)
         ug = np.zeros((N + 1, 1)) if self.load is not None else G[:, :1]
         od = cache["od"]
-        idr = math.nan
-        if cache["Tj"] is not None and od["heights"] is not None:
-            U = np.einsum("lcj,tj->tlc", cache["Tj"], X[:, :m])
-            drift = np.abs(np.diff(U, axis=1)) / np.asarray(od["heights"])[None, :, None]
-            idr = float(drift.max()) if drift.size else 0.0
-        acc_levels = [float(np.max(np.abs(QDD @ Tl.T + ug))) for Tl in cache["Tl"]]
-        acc = max(acc_levels, default=math.nan)
-        acc_floors = max(acc_levels[1:] if len(acc_levels) > 1 else acc_levels, default=math.nan)
         q = Xf[:, :n]
+        drift, _, acc_levels = level_peaks(od, q, QDD, ug)
+        idr = math.nan
+        if od["joints"] is not None and od["heights"] is not None:
+            # max_t,c(dU / h) = max_t,c(dU) / h exactly (h > 0; rounded division is monotonic)
+            idr = float(np.max(drift / np.asarray(od["heights"]))) if drift.size else 0.0
+        acc = acc_floors = math.nan
+        if acc_levels.size:
+            acc = float(acc_levels.max())
+            acc_floors = float(acc_levels[1:].max()) if acc_levels.size > 1 else acc
         xi = q @ sysm.D.T
         x_iso = float(0.5 * np.max(xi.max(axis=0) - xi.min(axis=0))) if xi.size else 0.0
         v = Xf[:, n:] @ sysm.D.T

@@ -48,9 +48,13 @@ def test_manifold_rhs_and_jacobian_equal_the_projected_constrained_kernel(frame,
         J_ref = B.T @ Jf @ B
         F = np.empty(d)
         J = np.empty((d, d))
-        assert kp.j_eval(prob.prob, 0.3, x, P, prob.Z, pf, F, J)
+        assert kp.j_eval(prob.prob, 0.3, x, pf, F, J)
         assert np.max(np.abs(F - F_ref)) < 1e-12 * np.max(np.abs(F_ref))
         assert np.max(np.abs(J - J_ref)) < 1e-12 * np.max(np.abs(J_ref))
+        # the stage iterations' evaluation (flat array, no Jacobian): the same right-hand side
+        Ff = np.empty(d)
+        assert kp.f_eval(prob.prob, 0.3, x, pf, Ff)
+        assert np.max(np.abs(Ff - F_ref)) < 1e-12 * np.max(np.abs(F_ref))
 
 
 def test_minimal_and_full_states_round_trip(frame):

@@ -146,6 +146,34 @@ def output_dofs(frame) -> dict:
     }
 
 
+def level_peaks(od: dict, q: np.ndarray, QDD: np.ndarray, ug_hor: np.ndarray) -> tuple:
+    """Storey drifts, roof drift and floor accelerations of a history (``od`` from
+    :func:`output_rows`, ``q`` and ``QDD`` (nt, n), ``ug_hor`` (nt, 1) the horizontal ground
+    acceleration or zeros).
+
+    Returns ``(drift_m, top_drift, acc)``: the largest |joint above - joint below| of each
+    storey over time and column lines (empty without levels), the roof's drift history
+    (NaN without levels) and the largest absolute horizontal acceleration of each level's
+    nodes over time. One (nt, n) product for all joints and one for all level nodes.
+    """
+    nt = q.shape[0]
+    drift_m = np.zeros(0)
+    top_drift = np.full(nt, np.nan)  # no levels: undefined (kept as a history for plots)
+    if od["joints"] is not None:
+        n_lev, n_lin = od["joints"].shape[:2]
+        U = q @ od["joints"].reshape(n_lev * n_lin, -1).T  # level-major columns
+        if n_lev > 1:
+            dU = np.abs(U[:, n_lin:] - U[:, :-n_lin])  # the same line on adjacent levels
+            drift_m = dU.max(axis=0).reshape(n_lev - 1, n_lin).max(axis=1)
+        top_drift = U[:, (n_lev - 1) * n_lin] - U[:, 0]
+    acc = np.zeros(0)
+    if od["levels"]:
+        peak = np.abs(QDD @ np.concatenate(od["levels"]).T + ug_hor).max(axis=0)
+        starts = np.cumsum([0] + [rows.shape[0] for rows in od["levels"][:-1]])
+        acc = np.maximum.reduceat(peak, starts)
+    return drift_m, top_drift, acc
+
+
 def _trapz(y, t):
     return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(t))) if t.size > 1 else 0.0
 
@@ -218,26 +246,11 @@ def response(
     ug_hor = np.zeros((nt, 1)) if kpar.force else G[:, :1]  # ground acceleration (0: force)
     od = output_rows(system)
     q = X[:, :n]
-    idr = drift_m = np.zeros(0)
-    top_drift = np.full(nt, np.nan)  # no levels: undefined (kept as a history for plots)
-    if od["joints"] is not None:
-        # joint x displacements, one (nt, n) @ (n, levels * lines) product, level-major columns
-        n_lev, n_lin = od["joints"].shape[:2]
-        U = q @ od["joints"].reshape(n_lev * n_lin, n).T
-        # storey drift: the same line's joints on adjacent levels, largest over time and lines
-        dU = np.abs(U[:, n_lin:] - U[:, :-n_lin])
-        drift_m = dU.max(axis=0).reshape(n_lev - 1, n_lin).max(axis=1) if dU.size else np.zeros(0)
-        if od["heights"] is not None and dU.size:
-            # max_t,c(dU / h) = max_t,c(dU) / h exactly (h > 0; rounded division is monotonic),
-            # one pass over the (nt, levels, lines) history fewer
-            idr = drift_m / np.asarray(od["heights"], dtype=float)
-        top_drift = U[:, (n_lev - 1) * n_lin] - U[:, 0]
-    # absolute floor accelerations at every node of each level: one product for all levels
-    acc = np.zeros(0)
-    if od["levels"]:
-        peak = np.abs(QDD @ np.concatenate(od["levels"]).T + ug_hor).max(axis=0)
-        starts = np.cumsum([0] + [rows.shape[0] for rows in od["levels"][:-1]])
-        acc = np.maximum.reduceat(peak, starts)
+    drift_m, top_drift, acc = level_peaks(od, q, QDD, ug_hor)
+    idr = np.zeros(0)
+    if od["heights"] is not None and drift_m.size:
+        # max_t,c(dU / h) = max_t,c(dU) / h exactly (h > 0; rounded division is monotonic)
+        idr = drift_m / np.asarray(od["heights"], dtype=float)
     x_iso = q @ system.D.T
     # stick as nsdyn.models.isolated.friction defines it, for every law
     v = X[:, n:] @ system.D.T
