@@ -69,8 +69,9 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
     """Shooting from each guess in turn, then from the last guess carried ``sweeps.WARMUP_PERIODS``
     periods along at ``f`` (near a grazing or an event-sequence change a guess on the
     attracting orbit's side often converges where extrapolation does not); if the period
-    could not even be integrated, once more with ``REFINE_FACTOR`` times more steps; then the
-    sweep from the first guess."""
+    could not even be integrated, once more with ``REFINE_FACTOR`` times more steps, unless
+    the model's probe finds a contact lifting off within a period of the first guess (the
+    model's limit, not the step's); then the sweep from the first guess."""
     why = "no initial guess"
     integration_failed = False
     tries = list(guesses)
@@ -85,12 +86,18 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
         why = res.message
         integration_failed |= res.monodromy is None
     if integration_failed and guesses:
-        disc = refined(disc)
-        res = shoot(problem, f, guesses[0], tol=tol, max_iter=max_iter, disc=disc)
-        if res.converged:
-            note = f"{REFINE_FACTOR}x steps per period ({why})"
-            return _point_from_shoot(problem, res, method, note), res
-        why = f"{why}; with {REFINE_FACTOR}x steps: {res.message}"
+        # more steps cannot help where a contact lifts off (the model's own limit): the
+        # probe (the model's quantities_without_orbit) decides before the costly retry
+        lifts, probe = problem.quantities_without_orbit(f, guesses[0])
+        if lifts.get("uplift"):
+            why = f"{why}; not retried with {REFINE_FACTOR}x steps ({probe})"
+        else:
+            disc = refined(disc)
+            res = shoot(problem, f, guesses[0], tol=tol, max_iter=max_iter, disc=disc)
+            if res.converged:
+                note = f"{REFINE_FACTOR}x steps per period ({why})"
+                return _point_from_shoot(problem, res, method, note), res
+            why = f"{why}; with {REFINE_FACTOR}x steps: {res.message}"
     if not fallback:
         return None, None
     sw = steady_state_sweep(problem, f, guesses[0] if guesses else None, disc=disc)

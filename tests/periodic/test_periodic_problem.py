@@ -117,3 +117,33 @@ def test_orbit_quantities_by_the_flat_kernel_equal_the_general_kernel(frame, mon
             assert flat[k] == pytest.approx(v, rel=1e-9, abs=1e-300), k
         else:
             assert flat[k] == v, k
+
+
+def test_steps_are_refined_only_where_no_contact_lifts_off(monkeypatch):
+    # A point whose fixed-step period fails is retried with REFINE_FACTOR x the steps, unless
+    # the radau probe (normal forces checked at every step) finds a contact lifting off within
+    # one period of the guess: then the failure is the bilateral model's limit, which more
+    # steps cannot remove. Office frame near f_bis at A = 2 m/s^2 (lift-off, see the test
+    # above) against A = 0.5 m/s^2 at 0.46 Hz, made to fail by an unreachable stage
+    # tolerance (1e-20; no lift-off there).
+    from nsdyn import bench
+    from nsdyn.periodic import continuation as co
+    from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation
+
+    system = build_system(bench.bench_frame(), bench.bench_isolation(), fidelity="cb", f_max=5.0)
+    calls = []
+    refine = co.refined
+    monkeypatch.setattr(co, "refined", lambda d, *a: calls.append(d) or refine(d, *a))
+    f = 0.06
+    strong = pr.frame_problem(system, 2.0)
+    point, _ = co._solve_point(strong, f, [strong.x_ref.copy()], Discretisation(), 1e-6, 12, True)
+    assert calls == []
+    assert point.method == "sweep" and point.quantities["uplift"] is True
+    assert f"not retried with {REFINE_FACTOR}x steps" in point.note
+    assert 0.0 < float(point.note.split("uplift at t = ")[1].split()[0].rstrip(")")) < 1.0 / f
+    weak = pr.frame_problem(system, 0.5)
+    stiff = Discretisation(rtol=1e-20, atol=0.0)
+    point, _ = co._solve_point(weak, 0.46, [weak.x_ref.copy()], stiff, 1e-6, 12, True)
+    assert len(calls) == 1
+    assert f"with {REFINE_FACTOR}x steps:" in point.note
+    assert "no uplift over one period" in point.note
