@@ -177,10 +177,7 @@ def _frame_rhs(t, x, F, out):
             return False
         F[o_piv + k] = p
         if p != k:
-            for j in range(nc):
-                tmp = F[o_g + k * nc + j]
-                F[o_g + k * nc + j] = F[o_g + p * nc + j]
-                F[o_g + p * nc + j] = tmp
+            _swap_rows(F, o_g, nc, k, p, nc)
         for i in range(k + 1, nc):
             f = F[o_g + i * nc + k] / F[o_g + k * nc + k]
             for j in range(k + 1, nc):
@@ -202,16 +199,23 @@ def _frame_rhs(t, x, F, out):
 
 
 @njit(cache=True, inline="always")
+def _swap_rows(F, o, stride, a, b, ncols):
+    """Swap rows ``a`` and ``b`` (``ncols`` entries, row stride ``stride``) of the block at
+    offset ``o`` of F."""
+    for c in range(ncols):
+        tmp = F[o + a * stride + c]
+        F[o + a * stride + c] = F[o + b * stride + c]
+        F[o + b * stride + c] = tmp
+
+
+@njit(cache=True, inline="always")
 def _g_solve(F, o_g, o_piv, nc, o_b, stride, ncols):
     """Solve G X = B in place with the factors of :func:`_frame_rhs` (B: nc rows of ``ncols``
     at ``o_b``, row stride ``stride``)."""
     for k in range(nc):
         p = int(F[o_piv + k])
         if p != k:
-            for c in range(ncols):
-                tmp = F[o_b + k * stride + c]
-                F[o_b + k * stride + c] = F[o_b + p * stride + c]
-                F[o_b + p * stride + c] = tmp
+            _swap_rows(F, o_b, stride, k, p, ncols)
         for i in range(k + 1, nc):
             f = F[o_g + i * nc + k]
             for c in range(ncols):
