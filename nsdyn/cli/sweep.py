@@ -87,6 +87,29 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
 
 
+def prepare_kernels(friction: str) -> float:
+    """Compile (or load) the period map of a smooth-law sweep in this process before the
+    workers start (they then load it from numba's cache), saying on stderr what compiles
+    while it does (a first use, or after an upgrade) and how long it took. The switch law's
+    exact-flow kernels compile in the workers, unannounced (as do the unilateral ones that
+    recompute uplift points). Returns the seconds spent."""
+    if friction == "switch":
+        return 0.0
+    from nsdyn.periodic.problem import kernels_cached, warmup
+
+    cold = not kernels_cached()
+    if cold:
+        print(
+            "compiling the periodic kernels (first use only, cached afterwards)…",
+            file=sys.stderr,
+            flush=True,
+        )
+    spent = warmup()
+    if cold:
+        print(f"  compiled in {spent:.1f} s", file=sys.stderr, flush=True)
+    return spent
+
+
 def run(args: argparse.Namespace) -> int:
     from nsdyn.models.isolated.scene import SceneError, load_scene
     from nsdyn.periodic import fixed_base_response, log_frequencies
@@ -123,6 +146,7 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
+    prepare_kernels(settings.friction)
     results = sweep_amplitudes(
         cfg,
         args.amplitudes,

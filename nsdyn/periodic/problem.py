@@ -286,6 +286,29 @@ def frame_problem(
     )
 
 
+def kernels_cached() -> bool:
+    """True when the period map's kernel and the orbit quantities' flat kernel are compiled in
+    this process or in numba's on-disk cache (a sweep then only loads them)."""
+    from nsdyn.solve.methods import dispatcher_cached, is_cached
+
+    return dispatcher_cached(kp.period_map) and is_cached("metrics")
+
+
+def warmup() -> float:
+    """Compile (or load) the kernels of a smooth-law sweep: the period map (one signature
+    serves every problem; compiled here on a Duffing oscillator, with sensitivities and the
+    stored orbit) and the flat kernel of the orbit quantities. Seconds spent."""
+    import time
+
+    from nsdyn.solve.methods import warmup_metrics
+
+    t0 = time.perf_counter()
+    prob = duffing_problem(0.05, 1.0, 0.1, 0.5)
+    prob.period_map(prob.x_ref, 0.2, n_steps=4, sens=True, store=True)
+    warmup_metrics(True)
+    return time.perf_counter() - t0
+
+
 def duffing_problem(zeta: float, w0: float, gamma: float, F: float) -> PeriodicProblem:
     """``x'' + 2 zeta w0 x' + w0^2 x + gamma x^3 = F cos(2 pi f t)`` (test problem)."""
     pf = np.array([zeta, w0, gamma, F, 1.0], dtype=float)

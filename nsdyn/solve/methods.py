@@ -368,7 +368,14 @@ def is_cached(kernel: str) -> bool:
     if kernel in _COMPILED:
         return True
     disp = _ENTRY.get(kernel)
-    if disp is None or not hasattr(disp, "signatures"):  # NUMBA_DISABLE_JIT: nothing to compile
+    return True if disp is None else dispatcher_cached(disp)
+
+
+def dispatcher_cached(disp) -> bool:
+    """True when the numba dispatcher ``disp`` is compiled in this process or numba's on-disk
+    cache holds it for its current source (False: its first call compiles, or the cache
+    cannot be inspected). Always True under ``NUMBA_DISABLE_JIT`` (nothing compiles)."""
+    if not hasattr(disp, "signatures"):  # NUMBA_DISABLE_JIT: a plain function
         return True
     if disp.signatures:
         return True

@@ -44,3 +44,31 @@ def test_non_smooth_law_prepares_the_general_loop(monkeypatch, capsys):
     cli_run.prepare_kernels("radau", flat=False)
     assert asked == ["radau-general", "metrics-general"]
     assert methods.compiled("radau-general")
+
+
+def test_sweep_notice_names_the_periodic_kernels(monkeypatch, capsys):
+    # nsdyn sweep: a cold cache makes it say what compiles before the workers start, then how
+    # long; afterwards the period map and the orbit quantities' kernel are ready here
+    from nsdyn.cli import sweep as cli_sweep
+    from nsdyn.periodic import problem
+
+    monkeypatch.setattr(problem, "kernels_cached", lambda: False)
+    spent = cli_sweep.prepare_kernels("arctan")
+    err = capsys.readouterr().err
+    assert "compiling the periodic kernels (first use only, cached afterwards)" in err
+    assert "compiled in" in err
+    assert np.isfinite(spent) and spent >= 0.0
+    monkeypatch.undo()
+    assert problem.kernels_cached()
+
+
+def test_no_sweep_notice_when_cached_or_for_the_switch_law(monkeypatch, capsys):
+    from nsdyn.cli import sweep as cli_sweep
+    from nsdyn.periodic import problem
+
+    monkeypatch.setattr(problem, "kernels_cached", lambda: True)
+    cli_sweep.prepare_kernels("arctan")
+    assert capsys.readouterr().err == ""
+    monkeypatch.setattr(problem, "kernels_cached", lambda: False)
+    assert cli_sweep.prepare_kernels("switch") == 0.0  # its kernels compile in the workers
+    assert capsys.readouterr().err == ""
