@@ -105,3 +105,66 @@ def lu_solve_columns(LU, piv, B):
         inv = 1.0 / LU[i, i]
         for c in range(k):
             B[i, c] *= inv
+
+
+# ---- the same on a block of one flat float64 array ------------------------------------------
+# The flat kernels (nsdyn.solve._kflat, nsdyn.periodic._kproblems) keep their matrices, scratch
+# and pivots in one array at fixed offsets: no tuples passed, nothing allocated per call.
+
+
+@njit(cache=True, inline="always")
+def swap_rows_flat(F, o, stride, a, b, ncols):
+    """Swap rows ``a`` and ``b`` (``ncols`` entries, row stride ``stride``) of the block of F
+    at offset ``o``."""
+    for c in range(ncols):
+        tmp = F[o + a * stride + c]
+        F[o + a * stride + c] = F[o + b * stride + c]
+        F[o + b * stride + c] = tmp
+
+
+@njit(cache=True, inline="always")
+def lu_factor_flat(F, o, n, o_piv, rtol):
+    """In-place LU with partial pivoting of the n x n row-major block of F at offset ``o``:
+    multipliers below the diagonal, the row swaps in ``F[o_piv : o_piv + n]`` (as floats).
+    False on a pivot at most ``rtol`` times the block's largest entry (a zero block too)."""
+    scale = 0.0
+    for k in range(n * n):
+        scale = max(scale, abs(F[o + k]))
+    for k in range(n):
+        p = k
+        for i in range(k + 1, n):
+            if abs(F[o + i * n + k]) > abs(F[o + p * n + k]):
+                p = i
+        if abs(F[o + p * n + k]) <= rtol * scale:
+            return False
+        F[o_piv + k] = p
+        if p != k:
+            swap_rows_flat(F, o, n, k, p, n)
+        for i in range(k + 1, n):
+            f = F[o + i * n + k] / F[o + k * n + k]
+            for j in range(k + 1, n):
+                F[o + i * n + j] -= f * F[o + k * n + j]
+            F[o + i * n + k] = f
+    return True
+
+
+@njit(cache=True, inline="always")
+def lu_solve_flat(F, o, o_piv, n, B, o_b, stride, ncols):
+    """Solve ``A X = B`` in place with the factors of :func:`lu_factor_flat` (block at ``o``,
+    pivots at ``o_piv``); ``B``: n rows of ``ncols`` entries at offset ``o_b`` of the array
+    ``B`` (F itself or another), row stride ``stride``."""
+    for k in range(n):
+        p = int(F[o_piv + k])
+        if p != k:
+            swap_rows_flat(B, o_b, stride, k, p, ncols)
+        for i in range(k + 1, n):
+            f = F[o + i * n + k]
+            for c in range(ncols):
+                B[o_b + i * stride + c] -= f * B[o_b + k * stride + c]
+    for k in range(n - 1, -1, -1):
+        d = F[o + k * n + k]
+        for c in range(ncols):
+            acc = B[o_b + k * stride + c]
+            for j in range(k + 1, n):
+                acc -= F[o + k * n + j] * B[o_b + j * stride + c]
+            B[o_b + k * stride + c] = acc / d

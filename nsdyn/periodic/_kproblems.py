@@ -17,6 +17,7 @@ kernels are cached across processes):
 import numpy as np
 from numba import njit
 
+from nsdyn._klinalg import lu_factor_flat, lu_solve_flat
 from nsdyn.models.isolated import _kernel as ks
 
 PROB_FRAME = 0  # isolated structure on minimal coordinates (eq 27 with precomputed Z)
@@ -162,28 +163,10 @@ def _frame_rhs(t, x, F, out):
                 F[o_lam + a] += gdi * F[o_l0 + i]
             elif i < nc:
                 F[o_g + a * nc + i] -= gdi
-    # LU of G with partial pivoting (as _kernel._lu_small), multipliers below the diagonal
-    scale = 0.0
-    for k in range(nc * nc):
-        scale = max(scale, abs(F[o_g + k]))
-    if scale == 0.0 and nc > 0:
+    # LU of G with partial pivoting (the pivot floor of _kernel._lu_small), then lam
+    if not lu_factor_flat(F, o_g, nc, o_piv, G_RTOL):
         return False
-    for k in range(nc):
-        p = k
-        for i in range(k + 1, nc):
-            if abs(F[o_g + i * nc + k]) > abs(F[o_g + p * nc + k]):
-                p = i
-        if abs(F[o_g + p * nc + k]) <= G_RTOL * scale:
-            return False
-        F[o_piv + k] = p
-        if p != k:
-            _swap_rows(F, o_g, nc, k, p, nc)
-        for i in range(k + 1, nc):
-            f = F[o_g + i * nc + k] / F[o_g + k * nc + k]
-            for j in range(k + 1, nc):
-                F[o_g + i * nc + j] -= f * F[o_g + k * nc + j]
-            F[o_g + i * nc + k] = f
-    _g_solve(F, o_g, o_piv, nc, o_lam, 1, 1)
+    lu_solve_flat(F, o_g, o_piv, nc, F, o_lam, 1, 1)
     for k in range(m):
         acc = -(F[o_qg + 2 * k] * uh + F[o_qg + 2 * k + 1] * uv)
         for j in range(m):
@@ -196,37 +179,6 @@ def _frame_rhs(t, x, F, out):
         out[k] = x[m + k]
         out[m + k] = acc
     return True
-
-
-@njit(cache=True, inline="always")
-def _swap_rows(F, o, stride, a, b, ncols):
-    """Swap rows ``a`` and ``b`` (``ncols`` entries, row stride ``stride``) of the block at
-    offset ``o`` of F."""
-    for c in range(ncols):
-        tmp = F[o + a * stride + c]
-        F[o + a * stride + c] = F[o + b * stride + c]
-        F[o + b * stride + c] = tmp
-
-
-@njit(cache=True, inline="always")
-def _g_solve(F, o_g, o_piv, nc, o_b, stride, ncols):
-    """Solve G X = B in place with the factors of :func:`_frame_rhs` (B: nc rows of ``ncols``
-    at ``o_b``, row stride ``stride``)."""
-    for k in range(nc):
-        p = int(F[o_piv + k])
-        if p != k:
-            _swap_rows(F, o_b, stride, k, p, ncols)
-        for i in range(k + 1, nc):
-            f = F[o_g + i * nc + k]
-            for c in range(ncols):
-                F[o_b + i * stride + c] -= f * F[o_b + k * stride + c]
-    for k in range(nc - 1, -1, -1):
-        d = F[o_g + k * nc + k]
-        for c in range(ncols):
-            acc = F[o_b + k * stride + c]
-            for j in range(k + 1, nc):
-                acc -= F[o_g + k * nc + j] * F[o_b + j * stride + c]
-            F[o_b + k * stride + c] = acc / d
 
 
 @njit(cache=True)
@@ -265,7 +217,7 @@ def frame_flat_jac(t, x, F, out, J):
             if g != 0.0:
                 for k in range(m):
                     F[o_dl + a * m2 + m + k] += g * F[o_dq + i * m + k]
-    _g_solve(F, o_g, o_piv, nc, o_dl, m2, m2)
+    lu_solve_flat(F, o_g, o_piv, nc, F, o_dl, m2, m2)
     for k in range(m):
         for j in range(m2):
             J[k, j] = 0.0

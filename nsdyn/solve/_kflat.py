@@ -20,7 +20,7 @@ falls back to the general kernel (which takes the minimum-norm split).
 import numpy as np
 from numba import njit
 
-from nsdyn._klinalg import lu_factor, lu_solve_columns
+from nsdyn._klinalg import lu_factor, lu_factor_flat, lu_solve_columns, lu_solve_flat
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
 
@@ -34,8 +34,9 @@ N_HEAD = H_GPAR + ks.N_GPAR
 @njit(cache=True, inline="always")
 def _offsets(n, nc, ni):
     """Offsets of the blocks of F: MiK, MiC, Gam (2, n), MiR (nc, n), R (nc, n), MiD (ni, n),
-    D (ni, n), mu, lam0, RMiR (nc, nc), RMiD (nc, ni); scratch a0 (n), G (nc, nc), s (ni);
-    the end of these (the record's horizontal, then vertical samples follow)."""
+    D (ni, n), mu, lam0, RMiR (nc, nc), RMiD (nc, ni); scratch a0 (n), G (nc, nc), s (ni)
+    followed by G's row pivots (nc, at ``o_s + ni``); the end of these (the record's
+    horizontal, then vertical samples follow)."""
     o_mik = N_HEAD
     o_mic = o_mik + n * n
     o_gam = o_mic + n * n
@@ -50,7 +51,7 @@ def _offsets(n, nc, ni):
     o_a0 = o_rmid + nc * ni
     o_g = o_a0 + n
     o_s = o_g + nc * nc
-    end = o_s + ni
+    end = o_s + ni + nc
     return (o_mik, o_mic, o_gam, o_mir, o_r, o_mid, o_d, o_mu, o_lam0, o_rmir, o_rmid, o_a0, o_g,
             o_s, end)  # fmt: skip
 
@@ -244,35 +245,10 @@ def _constrained(x, F, qdd, lam, tau, modes):
             if not frozen and j < ni:
                 g -= F[o_rmid + k * ni + j] * F[o_mu + j] * F[o_s + j]
             F[o_g + k * nc + j] = g
-    # Gaussian elimination with partial pivoting on G (nc x nc, in F), right-hand side lam
-    scale = 0.0
-    for k in range(nc * nc):
-        scale = max(scale, abs(F[o_g + k]))
-    for k in range(nc):
-        p = k
-        for i in range(k + 1, nc):
-            if abs(F[o_g + i * nc + k]) > abs(F[o_g + p * nc + k]):
-                p = i
-        if not abs(F[o_g + p * nc + k]) > 1e-14 * scale:
-            return False
-        if p != k:
-            for j in range(nc):
-                tmp = F[o_g + k * nc + j]
-                F[o_g + k * nc + j] = F[o_g + p * nc + j]
-                F[o_g + p * nc + j] = tmp
-            tmp = lam[k]
-            lam[k] = lam[p]
-            lam[p] = tmp
-        for i in range(k + 1, nc):
-            f = F[o_g + i * nc + k] / F[o_g + k * nc + k]
-            for j in range(k, nc):
-                F[o_g + i * nc + j] -= f * F[o_g + k * nc + j]
-            lam[i] -= f * lam[k]
-    for k in range(nc - 1, -1, -1):
-        acc = lam[k]
-        for j in range(k + 1, nc):
-            acc -= F[o_g + k * nc + j] * lam[j]
-        lam[k] = acc / F[o_g + k * nc + k]
+    # G lam = -(R a0 + b) by LU with partial pivoting on G's block of F (pivots after s)
+    if not lu_factor_flat(F, o_g, nc, o_s + ni, 1e-14):
+        return False
+    lu_solve_flat(F, o_g, o_s + ni, nc, lam, 0, 1, 1)
     # qdd = a0 + MiR lam - MiD diag(mu s) lamf;  tau_i = mu_i s_i lamf_i
     for r in range(n):
         qdd[r] = F[o_a0 + r]

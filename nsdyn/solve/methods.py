@@ -397,21 +397,9 @@ def warmup_metrics(flat: bool = True) -> float:
     P, x0 = _tiny_problem()
     t = np.zeros(1)
     X = x0[None, :].copy()
-    if flat:
-        from nsdyn.solve.transient import flat_evaluations
+    from nsdyn.solve.transient import flat_evaluations, general_evaluations
 
-        flat_evaluations(P, t, X)
-    else:
-        kp = KernelParams(P)
-        ks.evaluate_many(
-            t,
-            X,
-            P,
-            np.empty((1, kp.n)),
-            np.empty((1, kp.n_contacts)),
-            np.empty((1, kp.n_isolators)),
-            np.empty((1, kp.n_isolators), dtype=np.int64),
-        )
+    (flat_evaluations if flat else general_evaluations)(P, t, X)
     ks.ground_many(t, P)
     _COMPILED[key] = time.perf_counter() - t0
     return _COMPILED[key]

@@ -199,21 +199,25 @@ def flat_evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple | None:
     return out
 
 
-def evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple:
-    """:func:`flat_evaluations` for a smooth law, else the general kernel's
-    (``evaluate_many``; every contact closed)."""
+def general_evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple:
+    """Accelerations, normal forces, friction forces and modes along ``X`` by the general
+    kernel (``evaluate_many``, any law; every contact closed)."""
     from nsdyn.models.isolated import _kernel as ks
 
-    out = flat_evaluations(P, t, X)
-    if out is None:
-        nt, n = len(t), P[ks.I_MIK].shape[0]
-        nc, ni = P[ks.I_R].shape[0], P[ks.I_D].shape[0]
-        out = (np.empty((nt, n)), np.empty((nt, nc)), np.empty((nt, ni)))
-        out += (np.empty((nt, ni), np.int64),)
-        ks.evaluate_many(
-            np.ascontiguousarray(t, dtype=float), np.ascontiguousarray(X, dtype=float), P, *out
-        )
+    nt, n = len(t), P[ks.I_MIK].shape[0]
+    nc, ni = P[ks.I_R].shape[0], P[ks.I_D].shape[0]
+    out = (np.empty((nt, n)), np.empty((nt, nc)), np.empty((nt, ni)))
+    out += (np.empty((nt, ni), np.int64),)
+    ks.evaluate_many(
+        np.ascontiguousarray(t, dtype=float), np.ascontiguousarray(X, dtype=float), P, *out
+    )
     return out
+
+
+def evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple:
+    """:func:`flat_evaluations` for a smooth law, else :func:`general_evaluations`."""
+    out = flat_evaluations(P, t, X)
+    return general_evaluations(P, t, X) if out is None else out
 
 
 def simulate(
