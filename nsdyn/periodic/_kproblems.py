@@ -184,7 +184,12 @@ def _frame_rhs(t, x, F, out):
 @njit(cache=True)
 def frame_flat(t, x, F, out):
     """The frame's right-hand side on the manifold from the flat array ``F`` of
-    :func:`pack_frame`; False when G is singular."""
+    :func:`pack_frame`; False when G is singular.
+
+    The only place :func:`_frame_rhs` is inlined; :func:`frame_flat_jac` calls this function.
+    Inlining it there as well cost ~5 s of a sweep's first compilation (numba copies an
+    inlined function's IR once per block with its whole variable scope) for a call that
+    costs a few array reference counts per Jacobian."""
     return _frame_rhs(t, x, F, out)
 
 
@@ -196,7 +201,7 @@ def frame_flat_jac(t, x, F, out, J):
     ``dlam = G^-1 (dr - dG lam)`` with ``dr = RAz dz + RAv dzd`` (``+ GD diag(mu L0 s') DQ dzd``
     frozen) and ``dG lam = -GD diag(mu lam s') DQ dzd`` (not frozen).
     """
-    if not _frame_rhs(t, x, F, out):
+    if not frame_flat(t, x, F, out):  # called: see frame_flat
         return False
     m, nc, ni = int(F[FH_M]), int(F[FH_NC]), int(F[FH_NI])
     (o_kz, o_cz, _, o_qmirt, o_qmidt, o_raz, o_rav, _, _, o_gd, o_dq, o_mu, o_l0, o_s, o_sp, o_g,

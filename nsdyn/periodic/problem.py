@@ -300,11 +300,13 @@ def warmup() -> float:
     stored orbit) and the flat kernel of the orbit quantities. Seconds spent."""
     import time
 
+    from nsdyn._numba_cache import compiling
     from nsdyn.solve.methods import warmup_metrics
 
     t0 = time.perf_counter()
     prob = duffing_problem(0.05, 1.0, 0.1, 0.5)
-    prob.period_map(prob.x_ref, 0.2, n_steps=4, sens=True, store=True)
+    with compiling():
+        prob.period_map(prob.x_ref, 0.2, n_steps=4, sens=True, store=True)
     warmup_metrics(True)
     return time.perf_counter() - t0
 

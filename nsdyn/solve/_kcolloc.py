@@ -17,12 +17,16 @@ the general kernel into every stepper doubled the first-run compilation (110 s t
 ``radau``, 103 s to 84 s for ``event``) for ~4 ms of a 60 ms run; calling the flat kernel
 instead of inlining it at its three sites, and the general one at the cold sites
 (:func:`nsdyn.solve._kcommon.feval_called`), took the default run's first compilation from 157 s
-to 113 s in one slow hour, with no measurable change of run time.
+to 113 s in one slow hour, with no measurable change of run time. Where a kernel is inlined it
+is inlined one level deep: numba copies an inlined function's IR once per block, each time with
+its whole variable scope, so a wrapper that is itself inlined copies everything it inlined
+again (:func:`general_inlined` writes the stages out around the system kernel for that reason).
 """
 
 import numpy as np
 from numba import njit
 
+from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve import _kflat as kf
 
@@ -155,17 +159,6 @@ def _stages_called(P, t, y, h, Z, F, ys, qdd, lam, tau, modes):
     return ok_all
 
 
-@njit(cache=True, inline="always")
-def _stages_inlined(P, t, y, h, Z, F, ys, qdd, lam, tau, modes):
-    ok_all = True
-    for i in range(3):
-        for j in range(y.shape[0]):
-            ys[j] = y[j] + Z[i, j]
-        ok = ki.feval_inline(t + C[i] * h, ys, P, F[i], qdd, lam, tau, modes)
-        ok_all = ok_all and ok
-    return ok_all
-
-
 @njit(cache=True)
 def general_called(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     """The general kernel for the stepper (``kind``: G_STAGES, G_ONE or G_JAC), called: for
@@ -187,7 +180,21 @@ def general_inlined(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
         return ki.jeval(t, y, P, J)
     if kind == G_ONE:
         return ki.feval(t, y, P, out, qdd, lam, tau, modes)
-    return _stages_inlined(P, t, y, h, Z, F, ys, qdd, lam, tau, modes)
+    # the stages with the system kernel inlined right here (``_kcommon.feval`` written out):
+    # numba copies an inlined function's IR with its whole variable scope once per block, and
+    # each wrapper layer around the ~250-block kernel cost ~5 s of compilation
+    ok_all = True
+    for i in range(3):
+        for j in range(y.shape[0]):
+            ys[j] = y[j] + Z[i, j]
+        ti = t + C[i] * h
+        Fi = F[i]
+        ok = False
+        if ki.finite_input(ti, ys, Fi):
+            ok = ks.evaluate_inline(ti, ys, P, qdd, lam, tau, modes)
+            ki.first_order(ys, qdd, Fi)
+        ok_all = ok_all and ok
+    return ok_all
 
 
 @njit(cache=True)

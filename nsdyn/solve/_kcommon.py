@@ -124,7 +124,7 @@ def scaled_rms(e, y0, y1, atol, rtol):
 
 
 @njit(cache=True, inline="always")
-def _finite_input(t, x, out):
+def finite_input(t, x, out):
     """False (out NaN-filled) for a non-finite state or time: the system kernel never sees
     NaN (its pinv fallback raises on NaN)."""
     if all_finite(x) and np.isfinite(t):
@@ -134,7 +134,7 @@ def _finite_input(t, x, out):
 
 
 @njit(cache=True, inline="always")
-def _first_order(x, qdd, out):
+def first_order(x, qdd, out):
     """out = [qd, qdd] from the state x = [q, qd] and the accelerations."""
     n = qdd.shape[0]
     for i in range(n):
@@ -148,10 +148,10 @@ def feval(t, x, P, out, qdd, lam, tau, modes):
 
     Returns the kernel's ok flag (False: singular constraint system or non-finite input).
     """
-    if not _finite_input(t, x, out):
+    if not finite_input(t, x, out):
         return False
     ok = ks.evaluate(t, x, P, qdd, lam, tau, modes)
-    _first_order(x, qdd, out)
+    first_order(x, qdd, out)
     return ok
 
 
@@ -161,17 +161,6 @@ def feval_called(t, x, P, out, qdd, lam, tau, modes):
     first step size, the rare fallbacks): numba types and lowers an inlined function again at
     every call site, which adds up to seconds of a first run's compilation."""
     return feval(t, x, P, out, qdd, lam, tau, modes)
-
-
-@njit(cache=True, inline="always")
-def feval_inline(t, x, P, out, qdd, lam, tau, modes):
-    """:func:`feval` with the system kernel inlined (for the hottest call site only: inlining
-    it everywhere multiplies the compile time)."""
-    if not _finite_input(t, x, out):
-        return False
-    ok = ks.evaluate_inline(t, x, P, qdd, lam, tau, modes)
-    _first_order(x, qdd, out)
-    return ok
 
 
 @njit(cache=True)

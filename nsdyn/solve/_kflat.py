@@ -59,7 +59,7 @@ def _offsets(n, nc, ni):
 @njit(cache=True)
 def pack_flat(P):
     """The flat array F of ``P`` (header, matrices, products, scratch). ``F[H_OK]`` is 1.0 when
-    :func:`evaluate_flat` applies to the law of ``P`` (arctan or none), else 0.0."""
+    :func:`feval_flat` applies to the law of ``P`` (arctan or none), else 0.0."""
     MiK, MiC, Gam = P[ks.I_MIK], P[ks.I_MIC], P[ks.I_GAM]
     R, MiRt, D, MiDt = P[ks.I_R], P[ks.I_MIRT], P[ks.I_D], P[ks.I_MIDT]
     fp, ip = P[ks.I_FPAR], P[ks.I_IPAR]
@@ -71,9 +71,14 @@ def pack_flat(P):
     F = np.zeros(o[14] + 2 * npts)
     F[H_HARMONIC] = 1.0 if ip[ks.K_GROUND] == ks.GROUND_HARMONIC else 0.0
     F[H_NPTS] = npts
-    F[H_GPAR : H_GPAR + ks.N_GPAR] = P[ks.I_GPAR]
-    F[o[14] : o[14] + npts] = P[ks.I_AH]
-    F[o[14] + npts :] = P[ks.I_AV]
+    # element loops, not slice assignments (each slice form compiles its own numba
+    # implementation: ~2 s of a first run for three copies)
+    gp, ah, av = P[ks.I_GPAR], P[ks.I_AH], P[ks.I_AV]
+    for k in range(ks.N_GPAR):
+        F[H_GPAR + k] = gp[k]
+    for k in range(npts):
+        F[o[14] + k] = ah[k]
+        F[o[14] + npts + k] = av[k]
     law = ip[ks.K_LAW]
     frozen = ip[ks.K_FROZEN] == 1
     F[H_N], F[H_NC], F[H_NI] = n, nc, ni
@@ -142,7 +147,7 @@ def _ground(t, F, o):
 
 @njit(cache=True, inline="always")
 def usable(op, F):
-    """True when :func:`evaluate_flat` applies now: a smooth law and every contact closed
+    """True when :func:`feval_flat` applies now: a smooth law and every contact closed
     (``op``: the contact states ``P[I_OPEN]``)."""
     if F[H_OK] == 0.0:
         return False
@@ -150,26 +155,6 @@ def usable(op, F):
         if op[k] != 0:
             return False
     return True
-
-
-@njit(cache=True, inline="always")
-def evaluate_flat(t, x, F, qdd, lam, tau, modes):
-    """:func:`nsdyn.models.isolated._kernel.evaluate` for smooth laws and closed contacts,
-    from the flat array ``F`` (outputs the same). Returns False when ``G`` is singular (the
-    outputs are then not set)."""
-    n = int(F[H_N])
-    o = _offsets(n, int(F[H_NC]), int(F[H_NI]))
-    o_mik, o_mic, o_a0 = o[0], o[1], o[11]
-    # a0 = -MiK q - MiC qd (- Gamma u, in _ground_into_a0)
-    for r in range(n):
-        acc = 0.0
-        rk = o_mik + r * n
-        rc = o_mic + r * n
-        for c in range(n):
-            acc -= F[rk + c] * x[c] + F[rc + c] * x[n + c]
-        F[o_a0 + r] = acc
-    _ground_into_a0(t, F)
-    return _constrained(x, F, qdd, lam, tau, modes)
 
 
 @njit(cache=True, inline="always")
@@ -204,7 +189,7 @@ def evaluate_flat_many(t, X, F, A0, QDD, LAM, TAU, MODES, ok):
 
 @njit(cache=True, inline="always")
 def _constrained(x, F, qdd, lam, tau, modes):
-    """The rest of :func:`evaluate_flat` once ``a0`` (with the ground term) is in F: friction
+    """The rest of :func:`feval_flat` once ``a0`` (with the ground term) is in F: friction
     directions, the normal forces from ``G lam = -(R a0 + b)``, the accelerations."""
     n = int(F[H_N])
     nc = int(F[H_NC])
@@ -270,23 +255,39 @@ def _constrained(x, F, qdd, lam, tau, modes):
 
 @njit(cache=True)
 def feval_flat(t, x, F, out, qdd, lam, tau, modes):
-    """out = [qd, qdd] at (t, x) through :func:`evaluate_flat`; also lam, tau, modes.
+    """out = [qd, qdd] at (t, x): :func:`nsdyn.models.isolated._kernel.evaluate` for smooth
+    laws and closed contacts from the flat array ``F`` (also lam, tau, modes, as there).
 
-    Returns False for a non-finite input (out NaN) or a singular ``G``: the caller then asks
-    the general kernel (:func:`nsdyn.solve._kcommon.feval`), which reports the first and
-    takes the minimum-norm split for the second. ``P`` is not an argument on purpose: numba
-    updates the reference count of each of its 17 arrays on every call, inlined or not.
+    Returns False for a non-finite input (out NaN) or a singular ``G`` (outputs not set): the
+    caller then asks the general kernel (:func:`nsdyn.solve._kcommon.feval`), which reports
+    the first and takes the minimum-norm split for the second. ``P`` is not an argument on
+    purpose: numba updates the reference count of each of its 17 arrays on every call,
+    inlined or not.
 
-    Compiled once and called (its own pieces are inlined into it): every ``inline="always"``
-    call site is typed and lowered again in its caller; the three inlined copies (Newton's
-    stages, the step end, the error re-estimate) cost ~20 s of the default run's first
-    compilation in a slow hour (157 s against 137 s) for no measurable run time.
+    Compiled once and called; its pieces are inlined into it one level deep. numba types and
+    lowers an ``inline="always"`` function again at every call site and, to inline it, copies
+    its IR once per block together with the function's whole variable scope (blocks x
+    variables): the three inlined copies of this function (Newton's stages, the step end, the
+    error re-estimate) cost ~20 s of the default run's first compilation in a slow hour, and a
+    middle layer (an inlined ``evaluate_flat`` holding the inlined :func:`_constrained`) made
+    this function's own compilation 9-18 s instead of 4-6 s, both for no measurable run time.
     """
     n = qdd.shape[0]
     if not (np.isfinite(t) and ki.all_finite(x)):
         out[:] = np.nan
         return False
-    if not evaluate_flat(t, x, F, qdd, lam, tau, modes):
+    o = _offsets(n, int(F[H_NC]), int(F[H_NI]))
+    o_mik, o_mic, o_a0 = o[0], o[1], o[11]
+    # a0 = -MiK q - MiC qd (- Gamma u, in _ground_into_a0)
+    for r in range(n):
+        acc = 0.0
+        rk = o_mik + r * n
+        rc = o_mic + r * n
+        for c in range(n):
+            acc -= F[rk + c] * x[c] + F[rc + c] * x[n + c]
+        F[o_a0 + r] = acc
+    _ground_into_a0(t, F)
+    if not _constrained(x, F, qdd, lam, tau, modes):
         return False
     for i in range(n):
         out[i] = x[n + i]
@@ -350,7 +351,7 @@ def jac_flat(t, x, F, J, out, qdd, lam, tau, modes):
                     J[n + r, n + c] -= mr * F[o_d + i * n + c]
     if nc == 0:
         return True
-    # G, then Y = G^-1 R (A + shift) (nc x 2n) by the shared LU (pivot floor as evaluate_flat's)
+    # G, then Y = G^-1 R (A + shift) (nc x 2n) by the shared LU (pivot floor as feval_flat's)
     G = np.empty((nc, nc))
     Y = np.empty((nc, n2))
     piv = np.empty(nc, dtype=np.int64)

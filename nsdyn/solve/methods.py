@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._numba_cache import compiling
 from nsdyn.ground.excitation import Harmonic
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.params import KernelParams, pack, with_law, with_open
@@ -341,7 +342,8 @@ def _warm(kname: str, m: Method) -> float:
     opts = make_options(x0, m, 1e-6, 1e-8, dt, None, True, np.inf, 1000, "warn", None, None)
     X = np.zeros((t_eval.size, x0.size))
     upl_t = np.full(KernelParams(P).n_contacts, np.nan)
-    m.run(P, x0, t_eval, opts, X, upl_t)
+    with compiling():
+        m.run(P, x0, t_eval, opts, X, upl_t)
     _COMPILED[kname] = time.perf_counter() - t0
     return _COMPILED[kname]
 
@@ -399,8 +401,9 @@ def warmup_metrics(flat: bool = True) -> float:
     X = x0[None, :].copy()
     from nsdyn.solve.transient import flat_evaluations, general_evaluations
 
-    (flat_evaluations if flat else general_evaluations)(P, t, X)
-    ks.ground_many(t, P)
+    with compiling():
+        (flat_evaluations if flat else general_evaluations)(P, t, X)
+        ks.ground_many(t, P)
     _COMPILED[key] = time.perf_counter() - t0
     return _COMPILED[key]
 
