@@ -71,8 +71,8 @@ def pack_flat(P):
     F = np.zeros(o[14] + 2 * npts)
     F[H_HARMONIC] = 1.0 if ip[ks.K_GROUND] == ks.GROUND_HARMONIC else 0.0
     F[H_NPTS] = npts
-    # element loops, not slice assignments (each slice form compiles its own numba
-    # implementation: ~2 s of a first run for three copies)
+    # element loops, not slice assignments: each slice form compiles its own numba
+    # implementation (this function compiled in 4.1-6.1 s with them, 1.45 s without)
     gp, ah, av = P[ks.I_GPAR], P[ks.I_AH], P[ks.I_AV]
     for k in range(ks.N_GPAR):
         F[H_GPAR + k] = gp[k]
