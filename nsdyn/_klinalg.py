@@ -168,3 +168,21 @@ def lu_solve_flat(F, o, o_piv, n, B, o_b, stride, ncols):
             for j in range(k + 1, n):
                 acc -= F[o + k * n + j] * B[o_b + j * stride + c]
             B[o_b + k * stride + c] = acc / d
+
+
+# copies by element loops: numba's slice assignment from an array (``a[:] = b``, ``A[i] = b``)
+# compiles a shape-mismatch message (string formatting) once per dimension and process, ~2 s
+# each of a cold start; a kernel family that never assigns slices from arrays never pays it
+@njit(cache=True, inline="always")
+def copy_vec(dst, src):
+    """``dst[:] = src`` for 1-d arrays of one length."""
+    for i in range(dst.shape[0]):
+        dst[i] = src[i]
+
+
+@njit(cache=True, inline="always")
+def copy_mat(dst, src):
+    """``dst[:, :] = src`` for 2-d arrays of one shape."""
+    for i in range(dst.shape[0]):
+        for j in range(dst.shape[1]):
+            dst[i, j] = src[i, j]

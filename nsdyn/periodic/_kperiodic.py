@@ -21,7 +21,7 @@ the map actually iterated, and Newton on the shooting residual converges quadrat
 import numpy as np
 from numba import njit
 
-from nsdyn._klinalg import lu_factor, lu_solve_columns
+from nsdyn._klinalg import copy_mat, copy_vec, lu_factor, lu_solve_columns
 from nsdyn.periodic._kproblems import (  # noqa: F401  (problem ids and Z layout re-exported)
     LU_RTOL,
     N_Z,
@@ -260,8 +260,8 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
                 if ok and (rt < rnorm or err * alpha <= STAGE_FULL_STEP):
                     break
                 alpha *= 0.5
-            Y[:] = Yt
-            res[:, :] = rest
+            copy_vec(Y, Yt)
+            copy_mat(res, rest)
             rnorm = rt
             if alpha < 1.0 or (it > 0 and theta > STAGE_SLOW):
                 j_eval(prob, ti, Y, pf, Fi, J)
@@ -284,9 +284,9 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
         else:
             for k in range(d):
                 Fi[k] = (Y[k] - r[k]) / hg
-        Fs[i] = Fi
+        copy_vec(Fs[i], Fi)
         if want_sens:
-            Js[i] = J
+            copy_mat(Js[i], J)
             Rm = S.copy()
             rw = np.empty((d, 1))
             for k in range(d):
@@ -300,13 +300,13 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
                     _jac_prod_acc(rw, Js[j], wY[j].reshape((d, 1)), h * A[i, j])
             _solve_scaled(LU, piv, Rm, hg)
             _solve_scaled(LU, piv, rw, hg)
-            SY[i] = Rm
-            wY[i] = rw[:, 0]
-    Fprev[:] = Fs[s - 1]
-    xn[:] = Y  # stiffly accurate: x_{n+1} = Y_s
+            copy_mat(SY[i], Rm)
+            copy_vec(wY[i], rw[:, 0])
+    copy_vec(Fprev, Fs[s - 1])
+    copy_vec(xn, Y)  # stiffly accurate: x_{n+1} = Y_s
     if want_sens:
-        Sn[:, :] = SY[s - 1]
-        wn[:] = wY[s - 1]
+        copy_mat(Sn, SY[s - 1])
+        copy_vec(wn, wY[s - 1])
     return STATUS_OK, nfev
 
 
@@ -333,7 +333,7 @@ def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol):
     wn = np.zeros(d)
     X = np.zeros((N + 1, d)) if store else np.zeros((1, d))
     if store:
-        X[0] = x
+        copy_vec(X[0], x)
     J = np.zeros((d, d))
     LU = np.zeros((d // 2, d))
     piv = np.zeros(d // 2, dtype=np.int64)
@@ -349,16 +349,16 @@ def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol):
     n_sub = 0
     for n in range(N):
         tn = n * h
-        Fsave[:] = Fprev
+        copy_vec(Fsave, Fprev)
         ksub = 1
         refreshed = False
         while True:
             # one attempt: ksub substeps of h / ksub from (tn, x)
             hs = h / ksub
-            xs[:] = x
+            copy_vec(xs, x)
             if want_sens:
-                Ss[:, :] = S
-                ws[:] = w
+                copy_mat(Ss, S)
+                copy_vec(ws, w)
             status = STATUS_OK
             for j in range(ksub):
                 status, nf = dirk_step(
@@ -377,13 +377,13 @@ def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol):
                 n_fev += nf
                 if status != STATUS_OK:
                     break
-                xs[:] = xn
+                copy_vec(xs, xn)
                 if want_sens:
-                    Ss[:, :] = Sn
-                    ws[:] = wn
+                    copy_mat(Ss, Sn)
+                    copy_vec(ws, wn)
             if status == STATUS_OK or status == STATUS_SINGULAR:
                 break
-            Fprev[:] = Fsave
+            copy_vec(Fprev, Fsave)
             if not refreshed:
                 # retry with a fresh Jacobian at x
                 refreshed = True
@@ -397,10 +397,10 @@ def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol):
                 n_sub += 1
         if status != STATUS_OK:
             return x, S, w, X, status, n_fev, n_sub
-        x[:] = xs
+        copy_vec(x, xs)
         if want_sens:
-            S[:, :] = Ss
-            w[:] = ws
+            copy_mat(S, Ss)
+            copy_vec(w, ws)
         if store:
-            X[n + 1] = x
+            copy_vec(X[n + 1], x)
     return x, S, w, X, STATUS_OK, n_fev, n_sub

@@ -32,7 +32,7 @@ for a stick row, the largest ``|v_i|`` so far for a slip row); the smallest is r
 import numpy as np
 from numba import njit
 
-from nsdyn._klinalg import lu_factor, lu_solve_columns
+from nsdyn._klinalg import copy_vec, lu_factor, lu_solve_columns
 
 STATUS_OK = 0
 STATUS_SINGULAR = 2  # singular Pade denominator (expm)
@@ -308,14 +308,14 @@ def period_map(AB, V, TAU, LF, mu, x0, w, T, N, v_zero, want_sens, store, ev_t, 
     E = np.zeros((K, Dd, Dd))
     have = np.zeros(K, dtype=np.bool_)
     y = np.zeros(Dd)
-    y[:d] = x0
+    copy_vec(y[:d], x0)
     y[d] = 1.0
     y[d + 2] = 1.0
     Phi = np.eye(d) if want_sens else np.zeros((1, 1))
     X = np.zeros((N + 1, d)) if store else np.zeros((1, d))
     MK = np.zeros(N + 1, dtype=np.int64)
     if store:
-        X[0] = x0
+        copy_vec(X[0], x0)
     modes = initial_modes(y, V, TAU, LF, mu, v_zero)
     k = mode_index(modes)
     MK[0] = k
@@ -411,6 +411,6 @@ def period_map(AB, V, TAU, LF, mu, x0, w, T, N, v_zero, want_sens, store, ev_t, 
             if not np.isfinite(y[a]):
                 return y[:d], Phi, X, MK, STATUS_NONFINITE, nev, graze[0]
         if store:
-            X[n + 1] = y[:d]
+            copy_vec(X[n + 1], y[:d])
         MK[n + 1] = k
     return y[:d], Phi, X, MK, STATUS_OK, nev, graze[0]

@@ -208,8 +208,10 @@ def advance(t, t_new, y, ynew, lam_old, lam, iout, upl_t, uplift_mode, stats, ri
     stop = check_contacts(t, t_new, lam_old, lam, upl_t, uplift_mode, stats, rinfo)
     if not stop:
         rinfo[R_T] = t_new
-    y[:] = ynew
-    lam_old[:] = lam
+    for i in range(y.shape[0]):
+        y[i] = ynew[i]
+    for i in range(lam.shape[0]):
+        lam_old[i] = lam[i]
     return stop
 
 
@@ -235,10 +237,12 @@ def start_from(ok, t, y, f, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, 
     if not ok:
         stats[S_STATUS] = ST_SINGULAR
         return -1
-    lam_old[:] = lam
+    for i in range(lam.shape[0]):
+        lam_old[i] = lam[i]
     iout = 0
     while iout < t_eval.shape[0] and t_eval[iout] <= t:
-        X[iout] = y
+        for i in range(y.shape[0]):
+            X[iout, i] = y[i]
         iout += 1
     stats[S_NOUT] = iout
     if check_contacts(t, t, lam, lam, upl_t, uplift_mode, stats, rinfo):

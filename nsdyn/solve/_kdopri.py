@@ -12,6 +12,7 @@ mu lam (2/pi) eps limit the stable step to ~1e-5 s, whatever the tolerance.
 import numpy as np
 from numba import njit
 
+from nsdyn._klinalg import copy_vec
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
 
@@ -188,7 +189,7 @@ def dopri5(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mod
         rinfo[ki.R_H] = hh
         stop = ki.advance(t, t_new, y, ynew, lam_old, lam, iout, upl_t, uplift_mode, stats, rinfo)
         t = t_new
-        K[0] = K[6]
+        copy_vec(K[0], K[6])  # first same as last
         rejected = False
         nonfinite = False
         h = h_next

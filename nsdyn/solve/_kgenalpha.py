@@ -24,6 +24,7 @@ Outputs between steps are cubic Hermite interpolants (q from q, v; v from v, a).
 import numpy as np
 from numba import njit
 
+from nsdyn._klinalg import copy_vec
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
 
@@ -202,7 +203,7 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
     )
     if iout < 0:
         return stats, rinfo
-    a[:] = qdd
+    copy_vec(a, qdd)
     have_lu = False
     h_lu = 0.0
     k = 0
@@ -216,7 +217,7 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
         h = t_new - t
         ta = t + (1.0 - af) * h
         # predictor: constant acceleration; Newton with a backtracking line search on |r|
-        an[:] = a
+        copy_vec(an, a)
         rn, ok = _residual(ta, h, q, v, a, an, coef, P, gw)
         stats[ki.S_NFEV] += 1
         if not ok:
@@ -237,7 +238,7 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
                 have_lu = True
                 h_lu = h
                 fresh = True
-            d[:] = r
+            copy_vec(d, r)
             ki.lu_solve(S, piv, d)
             dw = _increment_norm(d, h, beta, gamma, qn, vn, atol, rtol)
             if not np.isfinite(dw):
@@ -246,7 +247,7 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
                 an -= d
                 converged = True
                 break
-            a_old[:] = an
+            copy_vec(a_old, an)
             r0 = rn
             step = 1.0
             for _ in range(LS_MAXITER):
@@ -258,13 +259,13 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
                     break
                 if not fresh:
                     # stale Jacobian: refresh it at the current iterate, restart the search
-                    an[:] = a_old
+                    copy_vec(an, a_old)
                     rn, ok = _residual(ta, h, q, v, a, an, coef, P, gw)
                     stats[ki.S_NFEV] += 1
                     if not _iteration_matrix(ta, h, coef, P, gw, J, S, piv, t, stats, rinfo):
                         return stats, rinfo
                     fresh = True
-                    d[:] = r
+                    copy_vec(d, r)
                     ki.lu_solve(S, piv, d)
                     step = 1.0
                     continue
@@ -282,8 +283,8 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
         if n_it > REUSE_ITERS:
             have_lu = False
         _update(h, q, v, a, an, beta, gamma, qn, vn)
-        xe[:n] = qn
-        xe[n:] = vn
+        copy_vec(xe[:n], qn)
+        copy_vec(xe[n:], vn)
         ok = ki.feval(t_new, xe, P, fe, qdd, lam, tau, modes)
         stats[ki.S_NFEV] += 1
         if not (ki.all_finite(xe) and ki.all_finite(fe)):
@@ -296,10 +297,10 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
         stats[ki.S_NOUT] = iout
         stats[ki.S_NSTEP] += 1
         stop = ki.check_contacts(t, t_new, lam_old, lam, upl_t, uplift_mode, stats, rinfo)
-        q[:] = qn
-        v[:] = vn
-        a[:] = an
-        lam_old[:] = lam
+        copy_vec(q, qn)
+        copy_vec(v, vn)
+        copy_vec(a, an)
+        copy_vec(lam_old, lam)
         t = t_new
         k += 1
         if stop:

@@ -21,7 +21,7 @@ calls :func:`step` once per step.
 import numpy as np
 from numba import njit
 
-from nsdyn._klinalg import lu_factor, lu_solve
+from nsdyn._klinalg import copy_mat, copy_vec, lu_factor, lu_solve
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve._kgenalpha import _hermite
 
@@ -97,7 +97,7 @@ def friction(phi, Lc, Ld, w0, Wp, mu, eps, work):
             if rn <= (1.0 - 1e-4 * step) * r0:
                 break
             step *= 0.5
-        phi[:] = p_new
+        copy_vec(phi, p_new)
         r0 = rn
     return False, NEWTON_MAXITER, dn
 
@@ -133,8 +133,8 @@ def step(t, t_new, A0, state, ops, par, out):
         Ld = np.zeros((ni, ni))  # normal forces per unit friction force (none when frozen)
         Lc = lam0.copy()
         if not frozen:
-            Ld[:, :] = Lam[:ni]
-            Lc[:] = lam_c[:ni]
+            copy_mat(Ld, Lam[:ni])
+            copy_vec(Lc, lam_c[:ni])
         conv, n_it, dn = friction(phi, Lc, Ld, w0, c2 * Wp, mu, eps, work)
         stats[ki.S_NFEV] += n_it
         if not conv:
@@ -161,10 +161,10 @@ def step(t, t_new, A0, state, ops, par, out):
     stats[ki.S_NSTEP] += 1
     # contact monitor on the alpha-point normal forces (the step's constraint forces)
     stop = ki.check_contacts(t, t_new, lam_old, lam_a, upl_t, uplift_mode, stats, rinfo)
-    q[:n] = qn
-    v[:n] = vn
-    a[:n] = an
-    lam_old[:] = lam_a
+    copy_vec(q[:n], qn)
+    copy_vec(v[:n], vn)
+    copy_vec(a[:n], an)
+    copy_vec(lam_old, lam_a)
     if not stop:
         rinfo[ki.R_T] = t_new
     return iout, stop
@@ -187,10 +187,10 @@ def run_steps(t, t_steps, u_all, W, A0, state, ops, par, out, max_steps):
             stats[ki.S_STATUS] = ki.ST_MAX_STEPS
             break
         if W.shape[0]:
-            y[:n] = q
-            y[n : 2 * n] = v
-            y[2 * n : 3 * n] = a
-            y[3 * n :] = u_all[k]
+            copy_vec(y[:n], q)
+            copy_vec(y[n : 2 * n], v)
+            copy_vec(y[2 * n : 3 * n], a)
+            copy_vec(y[3 * n :], u_all[k])
             matvec(W, y, A0)
         _, stop = step(t, t_steps[k], A0, state, ops, par, out)
         if stop:

@@ -194,7 +194,9 @@ def radau_step(
                     rinfo[ki.R_H] = h
                     return ki.ST_LU_SINGULAR
                 ctl[C_LUH] = h
-            Z[:, :] = Z0
+            for i in range(3):
+                for j in range(n2):
+                    Z[i, j] = Z0[i, j]
             converged, n_iter, rate, nf, singular, dw = newton(
                 P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, scale,
                 qdd, lam, tau, modes, Fl, flat, general,
@@ -225,7 +227,8 @@ def radau_step(
             ynew[j] = y[j] + Z[2, j]
         if fixed:
             break
-        err[:] = f
+        for j in range(n2):
+            err[j] = f[j]
         en = _error_norm(err, Z, h, LUr, pr, J, ctl[C_LUH], y, ynew, atol, rtol)
         safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + n_iter)
         if rejected and en > 1.0:
@@ -372,7 +375,8 @@ def accept_arrays(
         dense(y, Qd, (t_eval[iout] - t) / ctl[C_HSTEP], X[iout])
         iout += 1
     stop = ki.advance(t, t_new, y, ynew, lam_old, lam, iout, upl_t, uplift_mode, stats, rinfo)
-    f[:] = fnew
+    for j in range(f.shape[0]):
+        f[j] = fnew[j]
     return iout, stop
 
 

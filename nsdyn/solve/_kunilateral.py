@@ -33,6 +33,7 @@ the step is not skipped.
 import numpy as np
 from numba import njit
 
+from nsdyn._klinalg import copy_vec
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcolloc as kcol
 from nsdyn.solve import _kcommon as ki
@@ -190,7 +191,7 @@ def _detect(t, h, y, Qd, P, ew, g_tol, g_lift, x_max, stats):
         la = np.empty(nc)
         ki.feval(t, y, P, fs, qdd, lam, tau, modes)
         stats[ki.S_NFEV] += 1
-        la[:] = lam
+        copy_vec(la, lam)
         xa = 0.0
         for s in range(1, SAMPLES // 2 + 1):
             xb = s / (SAMPLES // 2)
@@ -224,7 +225,7 @@ def _detect(t, h, y, Qd, P, ew, g_tol, g_lift, x_max, stats):
                         x_best, k_best, kind_best = xr, k, KIND_LIFT
             if k_best >= 0 and kind_best == KIND_LIFT:
                 break
-            la[:] = lb
+            copy_vec(la, lb)
             xa = xb
         kr.dense(y, Qd, 1.0, ys)
         ki.feval(t + h, ys, P, fs, qdd, lam, tau, modes)
@@ -378,7 +379,7 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
         rinfo, kcol.general_inlined,
     )  # fmt: skip
     for k in range(max(iout, 0) if contacts else 0):
-        OPEN_OUT[k] = opn
+        copy_vec(OPEN_OUT[k], opn)
     if iout < 0 or iout >= nt:
         return stats, rinfo
     t_target = np.inf  # pending event instant to land on
@@ -436,13 +437,13 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
                 t, y, f, ctl, ws, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats, rinfo
             )
             for k in range(i0, iout if contacts else i0):
-                OPEN_OUT[k] = opn
+                copy_vec(OPEN_OUT[k], opn)
             t = t_new
             if stop:
                 break
         if act != ACT_STEP:
             ok = _event_at(t, ev_kind, ev_idx, h_resume, run)
-            lam_old[:] = lam
+            copy_vec(lam_old, lam)
             if not ok:
                 rinfo[ki.R_T] = t
                 break

@@ -81,21 +81,56 @@ def test_singular_flat_run_is_repeated_by_the_general_loop(system, monkeypatch):
     assert not got.uplift
 
 
-@pytest.mark.slow
-def test_default_run_never_compiles_the_general_kernel(tmp_path):
-    # A fresh process with an empty numba cache compiles what the default run's warm-up
-    # needs; the general right-hand side, its Jacobian and the general loop stay untouched
-    # (dispatchers without a compiled signature). ~1-2 min of compilation.
-    code = (
-        "from nsdyn.solve import methods, _kcommon as ki, _kradau as kr\n"
-        "from nsdyn.models.isolated import _kernel as ks\n"
-        "methods.warmup(['radau']); methods.warmup_metrics()\n"
-        "print(len(ks.evaluate.signatures), len(ks.jac.signatures),"
-        " len(ki.feval_called.signatures), len(kr.radau.signatures),"
-        " len(kr.radau_flat.signatures))\n"
-    )
+# counts, in the process, the compilations of numba's message for a slice assigned from an
+# array of another shape (``a[:] = b``): string formatting compiled once per dimension, ~2-3 s
+# each in an empty cache; the default run's and the period map's kernels copy by loops
+COUNT_SHAPE_MESSAGES = (
+    "from numba.core import event as ev\n"
+    "seen = []\n"
+    "class L(ev.Listener):\n"
+    "    def on_start(self, e): seen.append(e.data['dispatcher'].py_func.__qualname__)\n"
+    "    def on_end(self, e): pass\n"
+    "ev.register('numba:compile', L())\n"
+)
+SHAPE_MESSAGES = "print(sum('raise_with_shape_context' in q for q in seen))\n"
+
+
+def _fresh(code: str, tmp_path) -> list[str]:
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
     out = subprocess.run(
         [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
     )
-    assert out.stdout.split() == ["0", "0", "0", "0", "1"]
+    return out.stdout.split()
+
+
+@pytest.mark.slow
+def test_default_run_never_compiles_the_general_kernel(tmp_path):
+    # A fresh process with an empty numba cache compiles what the default run's warm-up
+    # needs; the general right-hand side, its Jacobian and the general loop stay untouched
+    # (dispatchers without a compiled signature), and so does the slice-assignment message.
+    # ~1-2 min of compilation.
+    code = (
+        COUNT_SHAPE_MESSAGES
+        + (
+            "from nsdyn.solve import methods, _kcommon as ki, _kradau as kr\n"
+            "from nsdyn.models.isolated import _kernel as ks\n"
+            "methods.warmup(['radau']); methods.warmup_metrics()\n"
+            "print(len(ks.evaluate.signatures), len(ks.jac.signatures),"
+            " len(ki.feval_called.signatures), len(kr.radau.signatures),"
+            " len(kr.radau_flat.signatures))\n"
+        )
+        + SHAPE_MESSAGES
+    )
+    assert _fresh(code, tmp_path) == ["0", "0", "0", "0", "1", "0"]
+
+
+@pytest.mark.slow
+def test_period_map_compiles_no_slice_assignment_message(tmp_path):
+    # the sweep's kernels (period map, SDIRK step, flat right-hand side and Jacobian) in a
+    # fresh process with an empty cache: ~0.5-1 min of compilation
+    code = (
+        COUNT_SHAPE_MESSAGES
+        + ("from nsdyn.periodic import problem\nproblem.warmup()\n")
+        + SHAPE_MESSAGES
+    )
+    assert _fresh(code, tmp_path) == ["0"]

@@ -28,6 +28,7 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn._klinalg import copy_vec
 from nsdyn.models.contact._kgeom import ground_acc, mu_of
 
 P_M = 0  # mass [kg]
@@ -138,11 +139,11 @@ def integrate(t0, t1, h, q, vh, verts, anchor, stuck, p, ex, tab_h, tab_v, acc, 
         acc[1] += h * ((f[0] - fx_ext) * vn[0] + (f[1] - fy_ext + m * p[P_G]) * vn[1]
                        + f[2] * vn[2])  # fmt: skip
         while iout < n_out and t_out[iout] <= t + 0.5 * h:
-            y_out[iout, 0:3] = q
-            y_out[iout, 3:6] = vn
-            y_out[iout, 6:8] = info[0:2]
-            y_out[iout, 8:10] = acc
-            y_out[iout, 10:12] = info[2:4]
+            copy_vec(y_out[iout, 0:3], q)
+            copy_vec(y_out[iout, 3:6], vn)
+            copy_vec(y_out[iout, 6:8], info[0:2])
+            copy_vec(y_out[iout, 8:10], acc)
+            copy_vec(y_out[iout, 10:12], info[2:4])
             iout += 1
         for i in range(3):
             q[i] += h * vh[i]

@@ -26,6 +26,7 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn._klinalg import copy_vec
 from nsdyn.models.contact._kgeom import contact_rows, ground_acc, mu_of, solve_contacts
 
 SAFETY = 0.9  # step-size controller safety factor
@@ -75,8 +76,8 @@ def rhs(t, y, sig, closed, verts, minv, par, ex, tab_h, tab_v):
     lamN, lamT, wN, slack, status = solve_contacts(Wn, Wt, minv, bN, bT, mu, sig, idx)
     F = f + Wn.T @ lamN + Wt.T @ lamT
     dy = np.empty(6)
-    dy[:3] = v
-    dy[3:] = minv * F
+    copy_vec(dy[:3], v)
+    copy_vec(dy[3:], minv * F)
     ind = np.empty(2 * nc + 1)
     vs = math.sqrt(grav * L)
     for i in range(nc):
@@ -130,24 +131,24 @@ def integrate(t, y, t_end, h, sig, closed, verts, minv, par, ex, tab_h, tab_v,
         h = min(h, t_end - t, h_max)
         if h < H_MIN_REL * max(1.0, abs(t)):
             return t, y, h, EV_UNDERFLOW, -1, iout, nsteps, nrhs
-        k[0] = f0
+        copy_vec(k[0], f0)
         y2 = y + h * (0.2 * k[0])
-        k[1] = rhs(t + 0.2 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0]
+        copy_vec(k[1], rhs(t + 0.2 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
         y2 = y + h * (3 / 40 * k[0] + 9 / 40 * k[1])
-        k[2] = rhs(t + 0.3 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0]
+        copy_vec(k[2], rhs(t + 0.3 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
         y2 = y + h * (44 / 45 * k[0] - 56 / 15 * k[1] + 32 / 9 * k[2])
-        k[3] = rhs(t + 0.8 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0]
+        copy_vec(k[3], rhs(t + 0.8 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
         y2 = y + h * (19372 / 6561 * k[0] - 25360 / 2187 * k[1] + 64448 / 6561 * k[2]
                       - 212 / 729 * k[3])  # fmt: skip
-        k[4] = rhs(t + 8 / 9 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0]
+        copy_vec(k[4], rhs(t + 8 / 9 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
         y2 = y + h * (9017 / 3168 * k[0] - 355 / 33 * k[1] + 46732 / 5247 * k[2]
                       + 49 / 176 * k[3] - 5103 / 18656 * k[4])  # fmt: skip
-        k[5] = rhs(t + h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0]
+        copy_vec(k[5], rhs(t + h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
         y1 = y + h * (35 / 384 * k[0] + 500 / 1113 * k[2] + 125 / 192 * k[3]
                       - 2187 / 6784 * k[4] + 11 / 84 * k[5])  # fmt: skip
         f1, ind1, _, _, st = rhs(t + h, y1, sig, closed, verts, minv, par, ex, tab_h, tab_v)
         nrhs += 6
-        k[6] = f1
+        copy_vec(k[6], f1)
         err = h * (71 / 57600 * k[0] - 71 / 16695 * k[2] + 71 / 1920 * k[3]
                    - 17253 / 339200 * k[4] + 22 / 525 * k[5] - 1 / 40 * k[6])  # fmt: skip
         en = 0.0
@@ -203,7 +204,7 @@ def integrate(t, y, t_end, h, sig, closed, verts, minv, par, ex, tab_h, tab_v,
         t_stop = t_ev if first >= 0 else t + h
         y_stop = y1 if (first < 0 or t_ev == t + h) else _hermite(t, h, y, f0, y1, f1, t_ev)
         while iout < t_out.shape[0] and t_out[iout] <= t_stop:
-            y_out[iout] = _hermite(t, h, y, f0, y1, f1, t_out[iout])
+            copy_vec(y_out[iout], _hermite(t, h, y, f0, y1, f1, t_out[iout]))
             iout += 1
         fac = min(FAC_MAX, SAFETY * max(en, 1e-10) ** (-0.2))
         if first >= 0:

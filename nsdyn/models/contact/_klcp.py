@@ -44,13 +44,15 @@ def _lex_less(T, b, r1, r2, col, n):
 @njit(cache=True)
 def _pivot(T, b, r, c):
     piv = T[r, c]
-    T[r, :] /= piv
+    for j in range(T.shape[1]):
+        T[r, j] /= piv
     b[r] /= piv
     for i in range(T.shape[0]):
         if i != r:
             f = T[i, c]
             if f != 0.0:
-                T[i, :] -= f * T[r, :]
+                for j in range(T.shape[1]):
+                    T[i, j] -= f * T[r, j]
                 b[i] -= f * b[r]
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from nsdyn._klinalg import copy_vec
 from nsdyn.models.contact._kgeom import (
     OVERTURNED,
     body_mode,
@@ -56,8 +57,8 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
     q = q0.copy()
     v = v0.copy()
     t_o[0] = t0
-    q_o[0] = q
-    v_o[0] = v
+    copy_vec(q_o[0], q)
+    copy_vec(v_o[0], v)
     md_o[0] = body_mode(q, v, verts, g_tol, v_tol, par[5])
     io = 1
     sig = np.zeros(nc)
@@ -108,8 +109,8 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
         if k % stride == 0 or over:
             if io < nout:
                 t_o[io] = t
-                q_o[io] = q
-                v_o[io] = v
+                copy_vec(q_o[io], q)
+                copy_vec(v_o[io], v)
                 md_o[io] = OVERTURNED if over else body_mode(q, v, verts, g_tol, v_tol, par[5])
                 io += 1
         if over:

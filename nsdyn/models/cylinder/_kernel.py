@@ -34,7 +34,7 @@ import numpy as np
 from numba import njit
 
 from nsdyn import _kdp5 as dp
-from nsdyn._klinalg import lu_factor, lu_solve
+from nsdyn._klinalg import copy_vec, lu_factor, lu_solve
 from nsdyn.models.cylinder._kfound import contact_moments, resultants
 
 NY = 16  # state size
@@ -116,7 +116,7 @@ def stop_slip(y: np.ndarray, p: np.ndarray) -> None:
     for j in range(2):
         e = np.zeros(6)
         e[j] = 1.0
-        G[:, j] = solve_block(Mm, e, 0)
+        copy_vec(G[:, j], solve_block(Mm, e, 0))
     det = G[0, 0] * G[1, 1] - G[0, 1] * G[1, 0]
     ux, uy = y[IUD], y[IUD + 1]
     px = -(G[1, 1] * ux - G[0, 1] * uy) / det
@@ -183,9 +183,9 @@ def rhs(
         fx, fy = -mu * N * dx, -mu * N * dyy
         b[0] += fx
         b[1] += fy
-        acc[:] = solve_block(Mm, b, 0)
+        copy_vec(acc, solve_block(Mm, b, 0))
     else:
-        acc[2:] = solve_block(Mm, b, 2)
+        copy_vec(acc[2:], solve_block(Mm, b, 2))
         # force that keeps ü = 0: the horizontal rows with ü = 0
         fx = -b[0] + Mm[0, 3] * acc[3] + Mm[0, 4] * acc[4] + Mm[0, 5] * acc[5]
         fy = -b[1] + Mm[1, 3] * acc[3] + Mm[1, 4] * acc[4] + Mm[1, 5] * acc[5]
@@ -263,11 +263,11 @@ def set_mode(y, a, p, fr, k1, aux) -> None:
 def store(hist: np.ndarray, i: int, t: float, y: np.ndarray, ag, p, fr, dy, aux) -> None:
     rhs(y, ag, p, fr, dy, aux)
     hist[i, 0] = t
-    hist[i, 1 : 1 + NY] = y
+    copy_vec(hist[i, 1 : 1 + NY], y)
     hist[i, 1 + NY] = dy[IUD]
     hist[i, 2 + NY] = dy[IUD + 1]
-    hist[i, 3 + NY : 7 + NY] = dy[5:9]
-    hist[i, 7 + NY :] = aux
+    copy_vec(hist[i, 3 + NY : 7 + NY], dy[5:9])
+    copy_vec(hist[i, 7 + NY :], aux)
 
 
 @njit(cache=True)
@@ -334,7 +334,7 @@ def integrate(
                     fr[1] = y[IUD] / s
                     fr[2] = y[IUD + 1] / s
             for j in range(1, 7):  # the last stage is evaluated at the solution yn
-                a[:] = ag[i] + slope * (t + dp.C[j] * hs - ta)
+                copy_vec(a, ag[i] + slope * (t + dp.C[j] * hs - ta))
                 dp.stage(y, k, hs, j, yn)
                 rhs(yn, a, p, fr, k[j], aux)
             nfev += 6
@@ -367,8 +367,8 @@ def integrate(
                 nq = math.sqrt(yn[1] ** 2 + yn[2] ** 2 + yn[3] ** 2 + yn[4] ** 2)
                 for j in range(1, 5):
                     yn[j] /= nq
-                y[:] = yn
-                k[0] = k[6]
+                copy_vec(y, yn)
+                copy_vec(k[0], k[6])
                 acc += 1
                 if ev == 2:  # the slip stopped: impulse onto u̇ = 0, its energy loss booked
                     e_before = aux[6]

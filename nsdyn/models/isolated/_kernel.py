@@ -29,6 +29,8 @@ Unknowns ``y = [lam, tau_stuck]`` come from a small dense solve ``G y = -(C a0 +
 import numpy as np
 from numba import njit
 
+from nsdyn._klinalg import copy_mat, copy_vec
+
 # ---- layout of the parameter tuple P -------------------------------------------------------
 I_MIK = 0  # M^-1 K*           (n, n)
 I_MIC = 1  # M^-1 C*           (n, n)
@@ -285,7 +287,7 @@ def _solve(t, x, P, qdd, ws):
         # the constraint forces is indeterminate; take the minimum-norm one (allocates; rare)
         yy = np.linalg.pinv(np.ascontiguousarray(G[:m, :m])) @ rhs_[:m]
         ok = np.all(np.isfinite(yy))
-        y[:m] = yy
+        copy_vec(y[:m], yy)
     for r in range(n):
         acc = a0[r]
         for k in range(m):
@@ -409,8 +411,8 @@ def rhs(t, x, P, out):
     n = P[I_MIK].shape[0]
     qdd, lam, tau, modes = outputs(P)
     ok = evaluate(t, x, P, qdd, lam, tau, modes)
-    out[:n] = x[n:]
-    out[n:] = qdd
+    copy_vec(out[:n], x[n:])
+    copy_vec(out[n:], qdd)
     return ok
 
 
@@ -481,7 +483,7 @@ def jac(t, x, P, J):
                 Gt[i, j] = G[j, i]
         if not _lu_small(Gt, col, m):
             Gp = np.linalg.pinv(np.ascontiguousarray(G[:m, :m]))
-            BG[:, :] = np.ascontiguousarray(B[:m, :].T) @ Gp
+            copy_mat(BG, np.ascontiguousarray(B[:m, :].T) @ Gp)
             break
         for k in range(m):
             BG[r, k] = col[k]
@@ -532,10 +534,10 @@ def evaluate_many(t, X, P, QDD, LAM, TAU, MODES):
         ok = evaluate(t[k], X[k], P, qdd, lam, tau, modes)
         if not ok:
             bad += 1
-        QDD[k] = qdd
-        LAM[k] = lam
-        TAU[k] = tau
-        MODES[k] = modes
+        copy_vec(QDD[k], qdd)
+        copy_vec(LAM[k], lam)
+        copy_vec(TAU[k], tau)
+        copy_vec(MODES[k], modes)
     return bad
 
 

@@ -25,6 +25,7 @@ import numpy as np
 from numba import njit
 
 from nsdyn import _kdp5 as dp
+from nsdyn._klinalg import copy_vec
 from nsdyn.models.rocking._kground import ground, step_to_breakpoint
 
 Q_M = 0  # mass [kg]
@@ -113,7 +114,7 @@ def integrate(q, atol, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, info):
     status = ST_OK
     info[J_TFAIL] = np.nan
     while k_out < n_out and t0 + k_out * out_dt <= t:
-        out[k_out, :] = y
+        copy_vec(out[k_out, :], y)
         k_out += 1
     while t < t_end * (1.0 - 1e-15):
         hh, at_bp = step_to_breakpoint(t, min(h, hmax), t_end, gk, gp, n_tab)
