@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
-from nsdyn._klinalg import lu_factor, lu_solve  # noqa: F401  (the integrators' LU)
+from nsdyn._klinalg import copy_vec, lu_factor, lu_solve  # noqa: F401  (the integrators' LU)
 from nsdyn._numba_cache import guard_family
 from nsdyn.models.isolated import _kernel as ks
 
@@ -208,10 +208,8 @@ def advance(t, t_new, y, ynew, lam_old, lam, iout, upl_t, uplift_mode, stats, ri
     stop = check_contacts(t, t_new, lam_old, lam, upl_t, uplift_mode, stats, rinfo)
     if not stop:
         rinfo[R_T] = t_new
-    for i in range(y.shape[0]):
-        y[i] = ynew[i]
-    for i in range(lam.shape[0]):
-        lam_old[i] = lam[i]
+    copy_vec(y, ynew)
+    copy_vec(lam_old, lam)
     return stop
 
 
@@ -237,12 +235,10 @@ def start_from(ok, t, y, f, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, 
     if not ok:
         stats[S_STATUS] = ST_SINGULAR
         return -1
-    for i in range(lam.shape[0]):
-        lam_old[i] = lam[i]
+    copy_vec(lam_old, lam)
     iout = 0
     while iout < t_eval.shape[0] and t_eval[iout] <= t:
-        for i in range(y.shape[0]):
-            X[iout, i] = y[i]
+        copy_vec(X[iout], y)
         iout += 1
     stats[S_NOUT] = iout
     if check_contacts(t, t, lam, lam, upl_t, uplift_mode, stats, rinfo):

@@ -194,7 +194,7 @@ def radau_step(
                     rinfo[ki.R_H] = h
                     return ki.ST_LU_SINGULAR
                 ctl[C_LUH] = h
-            for i in range(3):
+            for i in range(3):  # loops, not _klinalg.copy_mat: this step is itself inlined
                 for j in range(n2):
                     Z[i, j] = Z0[i, j]
             converged, n_iter, rate, nf, singular, dw = newton(
