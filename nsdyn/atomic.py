@@ -7,15 +7,15 @@ any, in place and no temporary file behind.
 from __future__ import annotations
 
 import os
+import secrets
 import stat
-import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
 
 def _file_mode() -> int:
-    """Permissions of a newly created file under the process's umask (mkstemp makes 0600)."""
+    """Permissions of a newly created file under the process's umask (temporaries are 0600)."""
     mask = os.umask(0)
     os.umask(mask)
     return 0o666 & ~mask
@@ -41,8 +41,16 @@ def atomic_open(path: str | Path, mode: str = "w", **kwargs) -> Iterator:
         file_mode = stat.S_IMODE(path.stat().st_mode)
     except OSError:
         file_mode = FILE_MODE
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}-", suffix=".tmp")
+    # the temporary's name is fixed before the file exists (mkstemp returns it only after
+    # creating the file, and an interrupt between the two left it behind): whatever stops the
+    # write from the creation on finds the name to remove
+    tmp: Path | None = path.parent / f".{path.name}-{secrets.token_hex(8)}.tmp"
     try:
+        try:
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        except FileExistsError:  # another writer's (a 64-bit name collision): not ours
+            tmp = None
+            raise
         try:
             fh = os.fdopen(fd, mode, **kwargs)
         except BaseException:
@@ -53,7 +61,8 @@ def atomic_open(path: str | Path, mode: str = "w", **kwargs) -> Iterator:
         os.chmod(tmp, file_mode)
         os.replace(tmp, path)
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        if tmp is not None:
+            tmp.unlink(missing_ok=True)
         raise
 
 

@@ -45,3 +45,25 @@ def test_finished_write_replaces_the_file_with_umask_permissions(tmp_path):
     assert sorted(p.name for p in path.parent.iterdir()) == ["h.npz"]
     if n_fd is not None:
         assert len(os.listdir("/proc/self/fd")) == n_fd
+
+
+def test_interrupt_right_after_the_temporary_is_created_leaves_nothing(tmp_path, monkeypatch):
+    # Ctrl-C can land between the creation of the temporary file and the moment its name is
+    # known to the writer (tempfile.mkstemp returned it only after creating the file): a study
+    # interrupted while writing a part left such a file. The interrupt here fires as the
+    # creating call returns.
+    path = tmp_path / "part.csv"
+    path.write_text("old\n")
+    real_open = os.open
+
+    def open_then_interrupt(*args, **kwargs):
+        os.close(real_open(*args, **kwargs))  # the file exists; its name never came back
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(os, "open", open_then_interrupt)
+    with pytest.raises(KeyboardInterrupt):
+        with atomic_open(path) as fh:
+            fh.write("new\n")
+    monkeypatch.undo()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["part.csv"]
+    assert path.read_text() == "old\n"
