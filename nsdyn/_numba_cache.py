@@ -76,3 +76,141 @@ def compiling() -> Iterator[None]:
     finally:
         gc.set_threshold(*old)
         gc.unfreeze()
+
+
+# ---- kernels passed as arguments: a name that is the same in every process -------------------
+
+
+def stable_identity(*dispatchers) -> None:
+    """Give each numba dispatcher a fixed identity (its module and name) in place of the random
+    one numba draws per process.
+
+    A kernel that takes another kernel as an argument (the Radau stepper's ``general``) has that
+    kernel's dispatcher in its compiled signature, and numba's on-disk cache index keys the
+    signature with the dispatcher's identity: with a random one, a process never finds what
+    another process compiled for that signature and compiles it again. With a fixed one the
+    cache entry is found in any process (what :func:`helper` relies on). Does nothing under
+    ``NUMBA_DISABLE_JIT`` or where numba's internals differ (each process then compiles its
+    own, as before).
+    """
+    for d in dispatchers:
+        set_uuid = getattr(d, "_set_uuid", None)
+        if set_uuid is None:
+            continue
+        try:
+            set_uuid(f"nsdyn:{d.py_func.__module__}.{d.py_func.__qualname__}")
+        except (AssertionError, AttributeError, TypeError):  # already set, or another numba
+            pass
+
+
+# ---- a second process compiling beside this one ----------------------------------------------
+
+HELPER_ENV = "NSDYN_COMPILE_HELPER"  # "0": compile everything in the calling process
+
+
+def helper_enabled() -> bool:
+    """True when a first compilation may use a helper process: numba compiles (no
+    ``NUMBA_DISABLE_JIT``), this process may use at least two cores, and ``NSDYN_COMPILE_HELPER``
+    is not ``0``."""
+    if os.environ.get(HELPER_ENV, "1") == "0":
+        return False
+    if os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0"):
+        return False
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        cores = os.cpu_count() or 1
+    return cores >= 2
+
+
+class Helper:
+    """A process that compiles numba kernels into the on-disk cache while this one compiles
+    others (numba compiles on one thread per process, under a global lock).
+
+    ``target`` is ``"module:function"``; the helper imports the module and calls the function
+    with the garbage collector held back (:func:`compiling`). It shares this process's
+    environment, hence numba's cache directory. This process waits for what it needs with
+    :meth:`wait_for` and then loads it from the cache; whatever the helper did not deliver
+    (it failed, was slower, or the cache is not writable) this process compiles itself, so the
+    results never depend on the helper. Use as a context manager: on exit the helper is waited
+    for, or, when leaving on an exception (Ctrl-C), stopped.
+    """
+
+    POLL_S = 0.05
+
+    def __init__(self, target: str):
+        import subprocess
+        import sys
+
+        self.target = target
+        try:
+            self.proc = subprocess.Popen(
+                [sys.executable, "-c", _HELPER_CODE, target],
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+            )
+        except OSError:  # no way to start one: compile everything here
+            self.proc = None
+
+    def running(self) -> bool:
+        return self.proc is not None and self.proc.poll() is None
+
+    def wait_for(self, dispatchers, timeout: float = 600.0) -> bool:
+        """Wait until numba's cache holds every one of ``dispatchers`` or the helper has ended
+        (or ``timeout`` seconds passed). True when all are cached."""
+        import time
+
+        t_end = time.monotonic() + timeout
+        while True:
+            if all(dispatcher_cached(d) for d in dispatchers):
+                return True
+            if not self.running() or time.monotonic() > t_end:
+                return all(dispatcher_cached(d) for d in dispatchers)
+            time.sleep(self.POLL_S)
+
+    def close(self, stop: bool = False) -> int | None:
+        """Wait for the helper (``stop``: terminate it first); its exit code (None: none ran)."""
+        if self.proc is None:
+            return None
+        if stop and self.proc.poll() is None:
+            self.proc.terminate()
+        return self.proc.wait()
+
+    def __enter__(self) -> Helper:
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        self.close(stop=exc_type is not None)
+
+
+_HELPER_CODE = (
+    "import sys; from nsdyn._numba_cache import helper_main; sys.exit(helper_main(sys.argv[1:]))"
+)
+
+
+def helper_main(argv: list[str]) -> int:
+    """What a :class:`Helper` process runs: ``argv = ["module:function"]``."""
+    import importlib
+
+    if len(argv) != 1 or ":" not in argv[0]:
+        return 2
+    module, name = argv[0].split(":", 1)
+    fn = getattr(importlib.import_module(module), name)
+    with compiling():
+        fn()
+    return 0
+
+
+def dispatcher_cached(disp) -> bool:
+    """True when the numba dispatcher ``disp`` is compiled in this process or numba's on-disk
+    cache holds it for its current source (False: its first call compiles, or the cache
+    cannot be inspected). Always True under ``NUMBA_DISABLE_JIT`` (nothing compiles)."""
+    if not hasattr(disp, "signatures"):  # NUMBA_DISABLE_JIT: a plain function
+        return True
+    if disp.signatures:
+        return True
+    try:
+        return bool(disp._cache._cache_file._load_index())  # {} when absent or stale
+    except Exception:  # noqa: BLE001  (a private numba API: any failure means "unknown")
+        return False

@@ -132,7 +132,7 @@ def prepare_kernels(method: str, flat: bool = True) -> float:
     how long it took. ``flat``: the run's law is a smooth one (arctan or none), served by the
     flat kernel alone (see :func:`nsdyn.solve.methods.kernel_for`). Returns the seconds
     spent."""
-    from nsdyn.solve.methods import METHODS, is_cached, kernel_for, warmup_kernel, warmup_metrics
+    from nsdyn.solve.methods import METHODS, is_cached, kernel_for, warmup_kernel
 
     if method not in METHODS:  # the run reports the unknown method with the valid names
         return 0.0
@@ -146,8 +146,7 @@ def prepare_kernels(method: str, flat: bool = True) -> float:
             flush=True,
         )
     t0 = time.perf_counter()
-    warmup_kernel(kernel)
-    warmup_metrics(flat)
+    warmup_kernel(kernel, metrics=metrics)
     spent = time.perf_counter() - t0
     if cold:
         print(f"  compiled in {spent:.1f} s", file=sys.stderr, flush=True)

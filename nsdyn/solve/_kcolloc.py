@@ -26,6 +26,7 @@ again (:func:`general_inlined` writes the stages out around the system kernel fo
 import numpy as np
 from numba import njit
 
+from nsdyn._numba_cache import stable_identity
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve import _kflat as kf
@@ -204,6 +205,11 @@ def flat_only(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     with :func:`general_called`. A run loop given this kernel never compiles the general
     right-hand side or its Jacobian (~40 % of the default run's first compilation)."""
     return False
+
+
+# fixed identities: these kernels are arguments of the stepper's kernels, hence in their cached
+# signatures (another process then finds what this one compiled, see stable_identity)
+stable_identity(general_called, general_inlined, flat_only)
 
 
 @njit(cache=True, inline="always")

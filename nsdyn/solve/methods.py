@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._numba_cache import compiling
+from nsdyn._numba_cache import Helper, compiling, dispatcher_cached, helper_enabled
 from nsdyn.ground.excitation import Harmonic
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.params import KernelParams, pack, with_law, with_open
@@ -324,15 +324,46 @@ def kernel_for(method: str, P=None, *, flat: bool | None = None) -> str:
     return m.kernel
 
 
-def warmup_kernel(kernel: str) -> float:
-    """Compile (or load) one kernel by name; seconds spent now (0.0 when already done)."""
-    for m in METHODS.values():
-        if m.kernel == kernel:
-            return _warm(kernel, m)
-    raise ValueError(f"kernel: expected one of {sorted({m.kernel for m in METHODS.values()})}")
+def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
+    """Compile (or load) one kernel by name and, with ``metrics`` ("metrics" or
+    "metrics-general", see :func:`warmup_metrics`), the response metrics' kernels too.
+    Seconds spent now (~0 when already done).
+
+    A first compilation uses a second process where one may (:func:`nsdyn._numba_cache.
+    helper_enabled`): numba compiles on one thread per process, so the helper compiles part of
+    the kernels into numba's on-disk cache while this process compiles the rest and then loads
+    the helper's. For the default loop (``"radau"``) the helper takes the flat right-hand
+    side, its Jacobian and Newton (:func:`radau_helper_part`) while this process compiles the
+    metrics, the run's set-up, the factorisation and the start-up, then the loop itself; for
+    the other kernels the helper takes the metrics. What the helper does not deliver, this
+    process compiles itself: the kernels are the same either way.
+    """
+    m = next((mm for mm in METHODS.values() if mm.kernel == kernel), None)
+    if m is None:
+        names = sorted({mm.kernel for mm in METHODS.values()})
+        raise ValueError(f"kernel: expected one of {names}")
+    if metrics not in (None, "metrics", "metrics-general"):
+        raise ValueError(f"metrics: expected None, 'metrics' or 'metrics-general', got {metrics!r}")
+    t0 = time.perf_counter()
+    if kernel not in _COMPILED and helper_enabled() and not is_cached(kernel):
+        target = None
+        if kernel == "radau":
+            target = "nsdyn.solve.compile_split:radau_helper_part"
+        elif metrics is not None and not is_cached(metrics):
+            target = f"nsdyn.solve.methods:{_METRICS_PART[metrics]}"
+        if target is not None:
+            with Helper(target) as helper:
+                _warm(kernel, m, helper, metrics if kernel == "radau" else None)
+    _warm(kernel, m)
+    if metrics is not None:
+        warmup_metrics(metrics == "metrics")
+    return time.perf_counter() - t0
 
 
-def _warm(kname: str, m: Method) -> float:
+def _warm(kname: str, m: Method, helper: Helper | None = None, metrics: str | None = None):
+    """Compile (or load) kernel ``kname`` by a run of ``m`` on the tiny problem; seconds spent
+    (0.0 when already done). With a ``helper`` compiling the flat Radau loop's leaves, the
+    ``metrics`` kernels and this process's share of the leaves first."""
     if kname in _COMPILED:
         return 0.0
     P, x0 = _tiny_problem()
@@ -343,6 +374,12 @@ def _warm(kname: str, m: Method) -> float:
     X = np.zeros((t_eval.size, x0.size))
     upl_t = np.full(KernelParams(P).n_contacts, np.nan)
     with compiling():
+        if helper is not None and kname == "radau":
+            if metrics is not None:
+                warmup_metrics(metrics == "metrics")
+            from nsdyn.solve.compile_split import radau_parts_here
+
+            radau_parts_here(helper)
         m.run(P, x0, t_eval, opts, X, upl_t)
     _COMPILED[kname] = time.perf_counter() - t0
     return _COMPILED[kname]
@@ -373,20 +410,6 @@ def is_cached(kernel: str) -> bool:
     return True if disp is None else dispatcher_cached(disp)
 
 
-def dispatcher_cached(disp) -> bool:
-    """True when the numba dispatcher ``disp`` is compiled in this process or numba's on-disk
-    cache holds it for its current source (False: its first call compiles, or the cache
-    cannot be inspected). Always True under ``NUMBA_DISABLE_JIT`` (nothing compiles)."""
-    if not hasattr(disp, "signatures"):  # NUMBA_DISABLE_JIT: a plain function
-        return True
-    if disp.signatures:
-        return True
-    try:
-        return bool(disp._cache._cache_file._load_index())  # {} when absent or stale
-    except Exception:  # noqa: BLE001  (a private numba API: any failure means "unknown")
-        return False
-
-
 def warmup_metrics(flat: bool = True) -> float:
     """Compile (or load) the kernels of the response metrics on the tiny system: the flat
     kernel's (``pack_flat``, ``evaluate_flat_many``) for a smooth law with closed contacts
@@ -406,6 +429,14 @@ def warmup_metrics(flat: bool = True) -> float:
         ks.ground_many(t, P)
     _COMPILED[key] = time.perf_counter() - t0
     return _COMPILED[key]
+
+
+def warmup_metrics_general() -> float:
+    """:func:`warmup_metrics` of the general kernel (a helper process's target)."""
+    return warmup_metrics(False)
+
+
+_METRICS_PART = {"metrics": "warmup_metrics", "metrics-general": "warmup_metrics_general"}
 
 
 # ---- generalized-alpha with the linear part factored once (nsdyn.solve.sparse) ---------------

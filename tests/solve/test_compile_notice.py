@@ -42,7 +42,7 @@ def test_non_smooth_law_prepares_the_general_loop(monkeypatch, capsys):
     asked = []
     monkeypatch.setattr(methods, "is_cached", lambda kernel: asked.append(kernel) or True)
     cli_run.prepare_kernels("radau", flat=False)
-    assert asked == ["radau-general", "metrics-general"]
+    assert set(asked) == {"radau-general", "metrics-general"}
     assert methods.compiled("radau-general")
 
 

@@ -1,0 +1,93 @@
+"""A first compilation shared with a helper process (:class:`nsdyn._numba_cache.Helper`).
+
+What must hold: a kernel passed as an argument has the same identity in every process (else
+the helper's cache entries are never found), a helper that fails or delivers nothing only
+costs the wait for its end, and the default run's warm-up with a helper leaves the flat
+right-hand side, its Jacobian and Newton to the helper (loaded, not compiled, here).
+"""
+
+import os
+import pickle
+import subprocess
+import sys
+
+import pytest
+from numba import njit, typeof
+
+from nsdyn._numba_cache import HELPER_ENV, Helper, helper_enabled
+from nsdyn.solve import _kcolloc as kc
+
+JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
+
+
+def _pickled_type_from_another_process(name: str) -> bytes:
+    code = (
+        "import pickle, sys\n"
+        "from numba import typeof\n"
+        "from nsdyn.solve import _kcolloc as kc\n"
+        f"sys.stdout.buffer.write(pickle.dumps(typeof(kc.{name})))\n"
+    )
+    env = dict(os.environ, NUMBA_DISABLE_JIT="0")
+    return subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, check=True
+    ).stdout
+
+
+@pytest.mark.skipif(not JIT, reason="dispatcher identities exist only with numba compiling")
+def test_kernel_arguments_are_the_same_type_in_every_process():
+    # the cache index keys a signature holding a dispatcher by the dispatcher's identity:
+    # flat_only (the default loop's `general`) must unpickle to this process's own type ...
+    assert pickle.loads(_pickled_type_from_another_process("flat_only")) == typeof(kc.flat_only)
+    # ... which a dispatcher with numba's per-process random identity does not (the control)
+    assert pickle.loads(_pickled_type_from_another_process("newton")) != typeof(kc.newton)
+
+
+def test_helper_switched_off_by_environment(monkeypatch):
+    monkeypatch.setenv(HELPER_ENV, "0")
+    assert not helper_enabled()
+    monkeypatch.setenv(HELPER_ENV, "1")
+    monkeypatch.setenv("NUMBA_DISABLE_JIT", "1")
+    assert not helper_enabled()
+
+
+@pytest.mark.skipif(not JIT, reason="without numba compiling every kernel counts as ready")
+def test_failed_helper_is_waited_out_not_trusted():
+    @njit(cache=False)
+    def never_compiled(x):
+        return x + 1
+
+    with Helper("nsdyn.no_such_module:f") as h:
+        # the helper dies on its import: the wait ends with it and says nothing was delivered
+        assert not h.wait_for([never_compiled], timeout=120.0)
+        assert not h.running()
+    assert h.close() not in (0, None)
+
+
+FRESH_WARMUP = (
+    "from numba.core import event as ev\n"
+    "seen = set()\n"
+    "class L(ev.Listener):\n"
+    "    def on_start(self, e): seen.add(e.data['dispatcher'].py_func.__qualname__)\n"
+    "    def on_end(self, e): pass\n"
+    "ev.register('numba:compile', L())\n"
+    "from nsdyn.solve import methods\n"
+    "methods.warmup_kernel('radau', metrics='metrics')\n"
+    "print(' '.join(sorted(seen)))\n"
+)
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not JIT, reason="nothing compiles under NUMBA_DISABLE_JIT")
+def test_default_warmup_splits_the_compilation_with_its_helper(tmp_path):
+    if not helper_enabled():
+        pytest.skip("a helper process needs two usable cores and NSDYN_COMPILE_HELPER != 0")
+    # empty cache, fresh process: what this process compiles (numba's compile events; a cache
+    # load raises none). ~40 s on two cores.
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
+    env[HELPER_ENV] = "1"
+    out = subprocess.run(
+        [sys.executable, "-c", FRESH_WARMUP], env=env, capture_output=True, text=True, check=True
+    )
+    here = set(out.stdout.split())
+    assert {"radau_flat", "start", "setup", "evaluate_flat_many"} <= here
+    assert not here & {"feval_flat", "jac_flat", "newton"}, "compiled here, not by the helper"
