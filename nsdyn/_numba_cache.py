@@ -143,9 +143,12 @@ class Helper:
         import sys
 
         self.target = target
+        # the same nsdyn as this process, also when a script put it on sys.path by hand
+        env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
         try:
             self.proc = subprocess.Popen(
                 [sys.executable, "-c", _HELPER_CODE, target],
+                env=env,
                 stdin=subprocess.DEVNULL,
                 stdout=subprocess.DEVNULL,
                 stderr=subprocess.DEVNULL,
