@@ -110,11 +110,16 @@ HELPER_ENV = "NSDYN_COMPILE_HELPER"  # "0": compile everything in the calling pr
 
 def helper_enabled() -> bool:
     """True when a first compilation may use a helper process: numba compiles (no
-    ``NUMBA_DISABLE_JIT``), this process may use at least two cores, and ``NSDYN_COMPILE_HELPER``
-    is not ``0``."""
+    ``NUMBA_DISABLE_JIT``), this process may use at least two cores, it is not itself a worker
+    of a process pool (a study's workers keep the other cores busy), and
+    ``NSDYN_COMPILE_HELPER`` is not ``0``."""
+    import multiprocessing
+
     if os.environ.get(HELPER_ENV, "1") == "0":
         return False
     if os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0"):
+        return False
+    if multiprocessing.parent_process() is not None:
         return False
     try:
         cores = len(os.sched_getaffinity(0))

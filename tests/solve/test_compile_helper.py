@@ -42,6 +42,24 @@ def test_kernel_arguments_are_the_same_type_in_every_process():
     assert pickle.loads(_pickled_type_from_another_process("newton")) != typeof(kc.newton)
 
 
+def _report_enabled(q):
+    q.put(helper_enabled())
+
+
+@pytest.mark.skipif(not JIT, reason="nothing compiles under NUMBA_DISABLE_JIT")
+def test_no_helper_inside_a_process_pool_worker(monkeypatch):
+    import multiprocessing
+
+    monkeypatch.delenv(HELPER_ENV, raising=False)
+    ctx = multiprocessing.get_context("spawn")
+    q = ctx.Queue()
+    p = ctx.Process(target=_report_enabled, args=(q,))
+    p.start()
+    enabled_in_worker = q.get(timeout=120)
+    p.join()
+    assert enabled_in_worker is False
+
+
 def test_helper_switched_off_by_environment(monkeypatch):
     monkeypatch.setenv(HELPER_ENV, "0")
     assert not helper_enabled()
