@@ -31,7 +31,7 @@ FAC_MAX = 5.0  # largest step growth factor
 C = (0.0, C2, C3, C4, C5, 1.0, 1.0)  # time of stage j (k_j) as a fraction of the step
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def stage(y, k, h, j, out):
     """``out = y + h sum_m a_(j+1)m k_m``: the state at which stage ``k_j`` (j = 1..6) is
     evaluated, from the stages ``k`` (7, n) before it; j = 6 gives the solution ``y1``."""
@@ -54,7 +54,7 @@ def stage(y, k, h, j, out):
             )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def error(k, h, i):
     """Component ``i`` of the local error estimate ``h sum_m e_m k_m`` of a step of size h."""
     return h * (
@@ -62,7 +62,7 @@ def error(k, h, i):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dense_coefficients(y, y1, k, h, rc):
     """The coefficients ``rc`` (5, n) of the continuous extension over the step ``y -> y1``."""
     for i in range(y.shape[0]):
@@ -76,14 +76,14 @@ def dense_coefficients(y, y1, k, h, rc):
         )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dense(rc, i, s):
     """Component ``i`` of the continuous extension at ``s`` in [0, 1]; ``rc`` shape (5, n)."""
     s1 = 1.0 - s
     return rc[0, i] + s * (rc[1, i] + s1 * (rc[2, i] + s * (rc[3, i] + s1 * rc[4, i])))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def new_step(h, err):
     """Next step size from the scaled error norm ``err`` of a step of size ``h``."""
     if err <= 0.0:

@@ -9,7 +9,7 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def lu_factor(A, piv, rtol=0.0):
     """In-place LU of the square ``A`` with row pivots ``piv``.
 
@@ -49,7 +49,7 @@ def lu_factor(A, piv, rtol=0.0):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def lu_solve(LU, piv, b):
     """Solve ``A x = b`` in place (``b`` a vector) with the factors of :func:`lu_factor`."""
     n = LU.shape[0]
@@ -71,7 +71,7 @@ def lu_solve(LU, piv, b):
         b[i] = s / LU[i, i]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def lu_solve_columns(LU, piv, B):
     """Solve ``A X = B`` in place for a block of columns ``B`` (shape (n, k)).
 
@@ -112,7 +112,7 @@ def lu_solve_columns(LU, piv, B):
 # and pivots in one array at fixed offsets: no tuples passed, nothing allocated per call.
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def swap_rows_flat(F, o, stride, a, b, ncols):
     """Swap rows ``a`` and ``b`` (``ncols`` entries, row stride ``stride``) of the block of F
     at offset ``o``."""
@@ -122,7 +122,7 @@ def swap_rows_flat(F, o, stride, a, b, ncols):
         F[o + b * stride + c] = tmp
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def lu_factor_flat(F, o, n, o_piv, rtol):
     """In-place LU with partial pivoting of the n x n row-major block of F at offset ``o``:
     multipliers below the diagonal, the row swaps in ``F[o_piv : o_piv + n]`` (as floats).
@@ -148,7 +148,7 @@ def lu_factor_flat(F, o, n, o_piv, rtol):
     return True
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def lu_solve_flat(F, o, o_piv, n, B, o_b, stride, ncols):
     """Solve ``A X = B`` in place with the factors of :func:`lu_factor_flat` (block at ``o``,
     pivots at ``o_piv``); ``B``: n rows of ``ncols`` entries at offset ``o_b`` of the array
@@ -173,14 +173,14 @@ def lu_solve_flat(F, o, o_piv, n, B, o_b, stride, ncols):
 # copies by element loops: numba's slice assignment from an array (``a[:] = b``, ``A[i] = b``)
 # compiles a shape-mismatch message (string formatting) once per dimension and process, ~2 s
 # each of a cold start; a kernel family that never assigns slices from arrays never pays it
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def copy_vec(dst, src):
     """``dst[:] = src`` for 1-d arrays of one length."""
     for i in range(dst.shape[0]):
         dst[i] = src[i]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def copy_mat(dst, src):
     """``dst[:, :] = src`` for 2-d arrays of one shape."""
     for i in range(dst.shape[0]):

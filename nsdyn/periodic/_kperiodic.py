@@ -62,7 +62,7 @@ MAX_SUBSTEPS = 64  # a failing step is retried as 2, 4, ... substeps, at most th
 LAGGED_TOL = 0.1  # stage tolerance factor of a period without sensitivities (see dirk_step)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _jac_prod_acc(C, J, B, alpha):
     """C += alpha J B for a Jacobian ``J = [[0, I], [Jz, Jv]]`` of a state [z, zd] (every
     problem's, see :func:`_iteration_matrix`): the top rows are B's bottom rows, only the
@@ -82,7 +82,7 @@ def _jac_prod_acc(C, J, B, alpha):
                     C[i, c] += a * B[l, c]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _iteration_matrix(J, hg, LU, piv):
     """Factors of the iteration matrix ``I - hg J`` through its Schur complement.
 
@@ -109,7 +109,7 @@ def _iteration_matrix(J, hg, LU, piv):
     return lu_factor(LU, piv, LU_RTOL)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _solve_scaled(LU, piv, B, hg):
     """Solve ``(I - hg J) X = B`` in place with the factors of :func:`_iteration_matrix`."""
     m = LU.shape[0]
@@ -134,7 +134,7 @@ def _solve_scaled(LU, piv, B, hg):
 
 
 # ---- one step and the period map ----------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _block_scales(x, Y, half, rtol, atol):
     """Tolerance per block (positions, velocities): atol + rtol * max(|x|, |Y|) in the block.
 
@@ -151,7 +151,7 @@ def _block_scales(x, Y, half, rtol, atol):
     return atol + rtol * ymz, atol + rtol * ymv
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _block_err(v, half, sz, sv):
     """Max-norm of ``v`` in units of the block tolerances."""
     e = 0.0
@@ -160,7 +160,7 @@ def _block_err(v, half, sz, sv):
     return e
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _res_norm(res, half, sz, sv):
     """Weighted 2-norm of a stage residual (line-search merit)."""
     acc = 0.0
@@ -170,7 +170,7 @@ def _res_norm(res, half, sz, sv):
     return np.sqrt(acc)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
     """One SDIRK step of size ``h`` from (t, x) into ``out = (xn, Sn, wn)`` (the state and its
     derivatives). ``problem = (prob, pf)`` (``pf``: a frame's flat array, see
@@ -310,7 +310,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
     return STATUS_OK, nfev
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol):
     """Integrate one period ``T`` in ``N`` SDIRK steps from ``x0`` (at t = 0).
 

@@ -42,14 +42,14 @@ N_Z = 15
 
 
 # ---- right-hand sides ----------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def duffing_rhs(t, x, pf, out):
     zeta, w0, gamma, F, w = pf[0], pf[1], pf[2], pf[3], pf[4]
     out[0] = x[1]
     out[1] = F * np.cos(w * t) - 2.0 * zeta * w0 * x[1] - w0 * w0 * x[0] - gamma * x[0] ** 3
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def duffing_jac(t, x, pf, J):
     zeta, w0, gamma = pf[0], pf[1], pf[2]
     J[0, 0] = 0.0
@@ -69,7 +69,7 @@ FH_END = FH_GPAR + ks.N_GPAR
 G_RTOL = 1e-14  # a pivot of G below this times its largest entry: singular (as _kernel)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _frame_offsets(m, nc, ni):
     """Offsets in the flat array: Kz, Cz (m, m), QG (m, 2), QMiRT (m, nc), QMiDT (m, ni), RAz,
     RAv (nc, m), RG (nc, 2), G0 (nc, nc), GD (nc, ni), DQ (ni, m), mu, L0 (ni); scratch s, s'
@@ -119,7 +119,7 @@ def pack_frame(P: tuple, Z: tuple) -> np.ndarray:
     return F
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _frame_rhs(t, x, F, out):
     """Seed eqs (25)-(27) on the manifold for the smooth laws ("none", "arctan"), from the flat
     array: ``out``, and s, s', the factors of G and lam in its scratch. False when G is singular.
@@ -181,7 +181,7 @@ def _frame_rhs(t, x, F, out):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def frame_flat(t, x, F, out):
     """The frame's right-hand side on the manifold from the flat array ``F`` of
     :func:`pack_frame`; False when G is singular.
@@ -193,7 +193,7 @@ def frame_flat(t, x, F, out):
     return _frame_rhs(t, x, F, out)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def frame_flat_jac(t, x, F, out, J):
     """:func:`frame_flat` and its Jacobian ``J = d out / dx``, the formulas differentiated:
 
@@ -246,7 +246,7 @@ def frame_flat_jac(t, x, F, out, J):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def f_eval(prob, t, x, pf, out):
     """Right-hand side of problem ``prob`` on its state ``x`` (``pf``: the flat array of
     :func:`pack_frame` for a frame, the parameters for Duffing); returns False on failure."""
@@ -256,7 +256,7 @@ def f_eval(prob, t, x, pf, out):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def j_eval(prob, t, x, pf, F, J):
     """Right-hand side ``F`` and Jacobian ``J = dF/dx`` of problem ``prob``; returns ok."""
     if prob == PROB_FRAME:

@@ -68,7 +68,7 @@ _B13 = np.array(
 THETA13 = 5.371920351148152  # 1-norm bound of the Pade(13) approximant
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def expm(A):
     """Matrix exponential by Pade(13) scaling and squaring (Higham 2005). Returns (E, ok)."""
     n = A.shape[0]
@@ -102,7 +102,7 @@ def expm(A):
     return E, True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def mode_index(modes):
     """Index of a mode set: sum_i (modes_i + 1) 3^i."""
     k = 0
@@ -113,7 +113,7 @@ def mode_index(modes):
     return k
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _rows(k, modes, V, TAU, LF, mu, i):
     """Switching rows of isolator ``i`` in mode set ``k``: (c1, c2, nrow). Slip: one row
     ``s V_i``; stick: ``mu LF_i - TAU_i`` and ``mu LF_i + TAU_i``."""
@@ -122,13 +122,13 @@ def _rows(k, modes, V, TAU, LF, mu, i):
     return mu[i] * LF[k, i] - TAU[k, i], mu[i] * LF[k, i] + TAU[k, i], 2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _holds(tau, limit):
     """Stick test: a friction limit ``limit = mu lamf > 0`` holds the stick force ``tau``."""
     return limit > 0.0 and abs(tau) <= limit * (1.0 + STICK_RTOL)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _release(y, modes, TAU, LF, mu):
     """In place: every stuck isolator whose stick force leaves the friction cone slips along
     that force, repeated until nothing changes (a release changes the others' stick forces)."""
@@ -146,7 +146,7 @@ def _release(y, modes, TAU, LF, mu):
             break
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def settle(y, modes, trigger, kind, V, TAU, LF, mu):
     """Consistent modes after isolator ``trigger`` reached its switching surface (kind 0:
     slip -> v = 0; 1: stick -> friction limit). A slip reaching v = 0 sticks if the stick force
@@ -163,7 +163,7 @@ def settle(y, modes, trigger, kind, V, TAU, LF, mu):
     return new
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def initial_modes(y, V, TAU, LF, mu, v_zero):
     """Modes at the period start: slip along v where |v| > v_zero, else the stick test."""
     ni = V.shape[0]
@@ -176,7 +176,7 @@ def initial_modes(y, V, TAU, LF, mu, v_zero):
     return modes
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _g_exact(Ab, c, y, s):
     """g(s) = c . expm(Ab s) y and its slope c . Ab y(s)."""
     E, ok = expm(Ab * s)
@@ -184,7 +184,7 @@ def _g_exact(Ab, c, y, s):
     return c @ ys, c @ (Ab @ ys)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _root(Ab, c, y, a, b, ga, gb, ha):
     """Root of g on [a, b] with g(a) = ga > 0 >= gb = g(b): Newton on the exact g, kept in
     the bracket (bisection when a step leaves it). Stops when the Newton correction or the
@@ -214,7 +214,7 @@ def _root(Ab, c, y, a, b, ga, gb, ha):
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _hermite_min(g0, g1, d0, d1, h):
     """Position (in [0, h]) and value of the minimum of the cubic Hermite interpolant."""
     # p(u) = g0 H00 + h d0 H10 + g1 H01 + h d1 H11, u in [0, 1]
@@ -246,7 +246,7 @@ def _hermite_min(g0, g1, d0, d1, h):
     return best_u * h, best
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _detect(Ab, rows, scales, nrows, y, y1, fy, fy1, h, graze):
     """Earliest root in (0, h] of the switching rows (``rows[j]``, j < nrows) along the exact
     flow; returns (s, j) with j = -1 when none. A dip that stays above zero updates
@@ -290,7 +290,7 @@ def _detect(Ab, rows, scales, nrows, y, y1, fy, fy1, h, graze):
     return s_best, j_best
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def period_map(AB, V, TAU, LF, mu, x0, w, T, N, v_zero, want_sens, store, ev_t, ev_i, ev_m, ev_g):
     """One period ``T`` in ``N`` steps from ``x0`` (t = 0, forcing phase 0).
 

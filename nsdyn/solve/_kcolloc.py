@@ -81,7 +81,7 @@ C_FACCON = 9  # rate/(1 - rate) of the last Newton iteration (RADAU5's FACCON)
 N_CTL = 10
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _factor(h, J, LUr, pr, LUc, pc):
     """LU of the Newton matrices ``g I - J`` (g = eig_real/h and eig_complex/h), reduced to n x n.
 
@@ -105,7 +105,7 @@ def _factor(h, J, LUr, pr, LUc, pc):
     return ki.lu_factor(LUr, pr) and ki.lu_factor(LUc, pc)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _solve(LU, piv, J, g, b):
     """Solve ``(g I - J) x = b`` in place (b of length 2n) with the factors of :func:`_factor`."""
     n = LU.shape[0]
@@ -121,7 +121,7 @@ def _solve(LU, piv, J, g, b):
         b[i] = (b[i] + b[n + i]) * ig
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _error_norm(err, Z, h, LUr, pr, J, luh, y, ynew, atol, rtol):
     """Scaled norm of the embedded error estimate ``(eig_real/h I - J)^-1 (err + E Z / h)``
     (err holds f(t, y) or the filtered estimate of a first try); the estimate is left in err."""
@@ -131,7 +131,7 @@ def _error_norm(err, Z, h, LUr, pr, J, luh, y, ynew, atol, rtol):
     return ki.scaled_rms(err, y, ynew, atol, rtol)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _predict_factor(h_abs, h_abs_old, en, en_old):
     if en == 0.0:
         return 1e10
@@ -149,7 +149,7 @@ G_ONE = 1.0  # one evaluation at (t, y) into out
 G_JAC = 2.0  # the Jacobian at (t, y) into J
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _stages_called(P, t, y, h, Z, F, ys, qdd, lam, tau, modes):
     ok_all = True
     for i in range(3):
@@ -160,7 +160,7 @@ def _stages_called(P, t, y, h, Z, F, ys, qdd, lam, tau, modes):
     return ok_all
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def general_called(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     """The general kernel for the stepper (``kind``: G_STAGES, G_ONE or G_JAC), called: for
     the run loop, which needs it only where the flat kernel does not apply. False for a
@@ -172,7 +172,7 @@ def general_called(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     return _stages_called(P, t, y, h, Z, F, ys, qdd, lam, tau, modes)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def general_inlined(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     """:func:`general_called` with the general kernel inlined into the stages, for the
     event-driven runs (switch law, open contacts), where every evaluation is a general one
@@ -198,7 +198,7 @@ def general_inlined(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     return ok_all
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def flat_only(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     """No general kernel: every request fails, so a step that leaves the flat kernel's
     domain (a singular ``G``) stops the run with ST_SINGULAR and the caller runs it again
@@ -212,7 +212,7 @@ def flat_only(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
 stable_identity(general_called, general_inlined, flat_only)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def jeval(t, y, P, Fl, flat, general, J, ys, qdd, lam, tau, modes):
     """The Jacobian at (t, y) into J: the flat one when ``flat``, else (or where it fails)
     the ``general`` kernel's (ys scratch). False when neither could form it."""
@@ -222,7 +222,7 @@ def jeval(t, y, P, Fl, flat, general, J, ys, qdd, lam, tau, modes):
     return ok
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def newton(
     P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, scale, qdd, lam, tau,
     modes, Fl, flat, general,

@@ -70,13 +70,13 @@ MIN_STEP = 1e-12  # s, absolute floor of the step size (plus 10 ulp of t)
 NEWTON_DIV_RATE = 1.0  # contraction rate above which a Newton iteration counts as diverging
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def step_floor(t):
     """Smallest admissible step at time ``t``: MIN_STEP or 10 ulp of t, whichever is larger."""
     return max(MIN_STEP, 10.0 * 2.220446049250313e-16 * abs(t))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def next_kink(t, P):
     """First sample time of a tabulated ground record strictly after ``t`` (inf if none).
 
@@ -104,7 +104,7 @@ def next_kink(t, P):
     return tk
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def all_finite(a):
     for i in range(a.shape[0]):
         if not np.isfinite(a[i]):
@@ -112,7 +112,7 @@ def all_finite(a):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def scaled_rms(e, y0, y1, atol, rtol):
     """RMS norm of ``e / (atol + rtol max(|y0|, |y1|))``."""
     n = e.shape[0]
@@ -123,7 +123,7 @@ def scaled_rms(e, y0, y1, atol, rtol):
     return np.sqrt(s / n)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def finite_input(t, x, out):
     """False (out NaN-filled) for a non-finite state or time: the system kernel never sees
     NaN (its pinv fallback raises on NaN)."""
@@ -133,7 +133,7 @@ def finite_input(t, x, out):
     return False
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def first_order(x, qdd, out):
     """out = [qd, qdd] from the state x = [q, qd] and the accelerations."""
     n = qdd.shape[0]
@@ -142,7 +142,7 @@ def first_order(x, qdd, out):
         out[n + i] = qdd[i]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def feval(t, x, P, out, qdd, lam, tau, modes):
     """out = [qd, qdd] at (t, x), also normal forces ``lam``, friction ``tau`` and ``modes``.
 
@@ -155,7 +155,7 @@ def feval(t, x, P, out, qdd, lam, tau, modes):
     return ok
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def feval_called(t, x, P, out, qdd, lam, tau, modes):
     """:func:`feval` compiled once and called, for the sites off the hot loops (the start, the
     first step size, the rare fallbacks): numba types and lowers an inlined function again at
@@ -163,7 +163,7 @@ def feval_called(t, x, P, out, qdd, lam, tau, modes):
     return feval(t, x, P, out, qdd, lam, tau, modes)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def jeval(t, x, P, J):
     """Analytic Jacobian at (t, x) into J; NaN-filled (False) for a non-finite state."""
     if not all_finite(x):
@@ -173,7 +173,7 @@ def jeval(t, x, P, J):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def check_contacts(t_old, t_new, lam_old, lam_new, upl_t, uplift_mode, stats, rinfo):
     """Record the first uplift (lam_k <= 0) of every contact; True if the run must stop.
 
@@ -197,7 +197,7 @@ def check_contacts(t_old, t_new, lam_old, lam_new, upl_t, uplift_mode, stats, ri
     return stop
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def advance(t, t_new, y, ynew, lam_old, lam, iout, upl_t, uplift_mode, stats, rinfo):
     """Bookkeeping of an accepted step [t, t_new] whose outputs up to ``iout`` are written:
     the contact check, then y = ynew, lam_old = lam and the time reached (unless stopped).
@@ -213,7 +213,7 @@ def advance(t, t_new, y, ynew, lam_old, lam, iout, upl_t, uplift_mode, stats, ri
     return stop
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def start(t, y, P, f, qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo):
     """The common start of every integrator at (t, y): f = f(t, y) (with lam, tau, modes),
     the outputs at t_eval <= t written to X, lam_old = lam, and the contact check.
@@ -225,7 +225,7 @@ def start(t, y, P, f, qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mo
     return start_from(ok, t, y, f, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def start_from(ok, t, y, f, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo):
     """:func:`start` once the caller has evaluated f = f(t, y) and lam (``ok``: its flag)."""
     stats[S_NFEV] += 1
@@ -246,7 +246,7 @@ def start_from(ok, t, y, f, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, 
     return iout
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def initial_step(t0, y0, f0, t_end, max_step, order, rtol, atol, P, y1, f1, qdd, lam, tau, modes):
     """Starting step size (Hairer, Norsett & Wanner I, sec. II.4; as scipy's
     ``select_initial_step``). Costs one right-hand side evaluation."""
@@ -257,7 +257,7 @@ def initial_step(t0, y0, f0, t_end, max_step, order, rtol, atol, P, y1, f1, qdd,
     return initial_finish(h0, y0, f0, f1, t_end - t0, max_step, order, rtol, atol)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def initial_probe(t0, y0, f0, t_end, rtol, atol, y1):
     """First half of :func:`initial_step`: the trial step h0 (0.0 for an empty interval) and
     the Euler state ``y1 = y0 + h0 f0`` at which the caller evaluates ``f1``."""
@@ -283,7 +283,7 @@ def initial_probe(t0, y0, f0, t_end, rtol, atol, y1):
     return h0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def initial_finish(h0, y0, f0, f1, length, max_step, order, rtol, atol):
     """Second half of :func:`initial_step`, given ``f1 = f(t0 + h0, y1)``."""
     n = y0.shape[0]

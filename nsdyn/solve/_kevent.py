@@ -61,7 +61,7 @@ V_SLIP_ATOL = 10.0  # |v| > this x atol (velocities) counts as motion when choos
 SLIP, STICK = 0, 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _lamf(i, lam, P):
     if P[ks.I_IPAR][ks.K_FROZEN] == 1:
         return P[ks.I_LAM0][i]
@@ -70,7 +70,7 @@ def _lamf(i, lam, P):
     return 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _dot_row(D, i, y, off):
     s = 0.0
     for j in range(D.shape[1]):
@@ -78,12 +78,12 @@ def _dot_row(D, i, y, off):
     return s
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _g_stick(i, lam, tau, P):
     return P[ks.I_MU][i] * _lamf(i, lam, P) - abs(tau[i])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _g_dense(kind, i, sgn, x, y, Qd, t, h, P, ew):
     """Switching function of isolator i on the dense output at t + x h.
 
@@ -103,7 +103,7 @@ def _g_dense(kind, i, sgn, x, y, Qd, t, h, P, ew):
     return _g_stick(i, lam, tau, P)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def illinois_point(a, b, fa, fb):
     """Next Illinois iterate in [a, b]: the secant root, the midpoint if it falls outside."""
     c = (a * fb - b * fa) / (fb - fa)
@@ -112,7 +112,7 @@ def illinois_point(a, b, fa, fb):
     return c
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def illinois_step(a, b, fa, fb, c, fc, side):
     """Shrink the bracket (fa > 0 > fb) with g(c) = fc, halving the kept end's value when the
     same end moves twice in a row. Returns (a, b, fa, fb, side, done); done: fc == 0."""
@@ -131,7 +131,7 @@ def illinois_step(a, b, fa, fb, c, fc, side):
     return a, b, fa, fb, side, False
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _root(kind, i, sgn, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
     """Illinois on x in [a, b] for g(a) = fa >= 0 > fb = g(b). Returns x with g(x) <= 0."""
     xtol = EVENT_TTOL / h
@@ -149,7 +149,7 @@ def _root(kind, i, sgn, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _detect(t, h, y, ynew, Qd, P, ew, stats):
     """Earliest switching instant in the step [t, t + h]: returns (x, isolator, kind), x = 2
     when none. The switching functions are scanned at SLIP_SAMPLES / STICK_SAMPLES points of
@@ -247,7 +247,7 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
     return x_best, i_best, k_best
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
     """Consistent mode set at an event (t, y); records the changes in ``log = (ev_t, ev_i,
     ev_m)``. Returns ok (False: the event buffer is full).
@@ -315,7 +315,7 @@ def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _initial_modes(P, y, modes0):
     pm = P[ks.I_MODE]
     D = P[ks.I_D]

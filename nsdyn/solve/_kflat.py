@@ -31,7 +31,7 @@ H_GPAR = 12  # the excitation parameters (ks.N_GPAR of them)
 N_HEAD = H_GPAR + ks.N_GPAR
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _offsets(n, nc, ni):
     """Offsets of the blocks of F: MiK, MiC, Gam (2, n), MiR (nc, n), R (nc, n), MiD (ni, n),
     D (ni, n), mu, lam0, RMiR (nc, nc), RMiD (nc, ni); scratch a0 (n), G (nc, nc), s (ni)
@@ -56,7 +56,7 @@ def _offsets(n, nc, ni):
             o_s, end)  # fmt: skip
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def pack_flat(P):
     """The flat array F of ``P`` (header, matrices, products, scratch). ``F[H_OK]`` is 1.0 when
     :func:`feval_flat` applies to the law of ``P`` (arctan or none), else 0.0."""
@@ -121,7 +121,7 @@ def pack_flat(P):
     return F
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _ground(t, F, o):
     """Excitation channels at ``t`` as :func:`nsdyn.models.isolated._kernel.ground_accel`,
     from the parameters and samples in F (record samples from offset ``o``)."""
@@ -145,7 +145,7 @@ def _ground(t, F, o):
     return (1.0 - w) * F[a] + w * F[a + 1], (1.0 - w) * F[a + npts] + w * F[a + npts + 1]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def usable(op, F):
     """True when :func:`feval_flat` applies now: a smooth law and every contact closed
     (``op``: the contact states ``P[I_OPEN]``)."""
@@ -157,7 +157,7 @@ def usable(op, F):
     return True
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _ground_into_a0(t, F):
     """a0 -= Gamma [u_hor, u_ver + g] at ``t``."""
     n = int(F[H_N])
@@ -169,7 +169,7 @@ def _ground_into_a0(t, F):
         F[o_a0 + r] -= F[o_gam + r] * uh + F[o_gam + n + r] * uv
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def evaluate_flat_many(t, X, F, A0, QDD, LAM, TAU, MODES, ok):
     """:func:`evaluate_flat` along a history (outputs as
     :func:`nsdyn.models.isolated._kernel.evaluate_many`), given its linear part
@@ -187,7 +187,7 @@ def evaluate_flat_many(t, X, F, A0, QDD, LAM, TAU, MODES, ok):
         ok[k] = _constrained(X[k], F, QDD[k], LAM[k], TAU[k], MODES[k])
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _constrained(x, F, qdd, lam, tau, modes):
     """The rest of :func:`feval_flat` once ``a0`` (with the ground term) is in F: friction
     directions, the normal forces from ``G lam = -(R a0 + b)``, the accelerations."""
@@ -253,7 +253,7 @@ def _constrained(x, F, qdd, lam, tau, modes):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def feval_flat(t, x, F, out, qdd, lam, tau, modes):
     """out = [qd, qdd] at (t, x): :func:`nsdyn.models.isolated._kernel.evaluate` for smooth
     laws and closed contacts from the flat array ``F`` (also lam, tau, modes, as there).
@@ -295,7 +295,7 @@ def feval_flat(t, x, F, out, qdd, lam, tau, modes):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def jac_flat(t, x, F, J, out, qdd, lam, tau, modes):
     """Analytic Jacobian of :func:`feval_flat` at (t, x) into J (2n x 2n); also lam, tau, modes.
 
@@ -390,7 +390,7 @@ def jac_flat(t, x, F, J, out, qdd, lam, tau, modes):
     return True
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def finite_rows(A):
     """True when every entry of the 2-D ``A`` is finite."""
     for i in range(A.shape[0]):

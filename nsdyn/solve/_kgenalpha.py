@@ -69,7 +69,7 @@ def parameters(family: int, rho_inf: float) -> tuple[float, float, float, float]
     return am, af, beta, gamma
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _hermite(t, dt, q0, v0, a0, q1, v1, a1, tout, out):
     n = q0.shape[0]
     s = (tout - t) / dt
@@ -82,7 +82,7 @@ def _hermite(t, dt, q0, v0, a0, q1, v1, a1, tout, out):
         out[n + i] = h00 * v0[i] + h10 * dt * a0[i] + h01 * v1[i] + h11 * dt * a1[i]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _update(h, q, v, a, an, beta, gamma, qn, vn):
     """Newmark update: q_{n+1}, v_{n+1} into qn, vn from (q, v, a)_n and a_{n+1} = an."""
     for i in range(q.shape[0]):
@@ -90,7 +90,7 @@ def _update(h, q, v, a, an, beta, gamma, qn, vn):
         vn[i] = v[i] + h * ((1.0 - gamma) * a[i] + gamma * an[i])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _residual(ta, h, q, v, a, an, coef, P, gw):
     """Balance residual r(a_{n+1}) at the alpha point; returns (|r|_2 or inf, ok).
 
@@ -114,7 +114,7 @@ def _residual(ta, h, q, v, a, an, coef, P, gw):
     return np.sqrt(s), ok
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _iteration_matrix(ta, h, coef, P, gw, J, S, piv, t, stats, rinfo):
     """S = (1 - am) I - (1 - af)(beta h^2 Jq + gamma h Jv) with the Jacobian at the alpha
     point ``gw[2]``, LU in place. Returns False (status ST_LU_SINGULAR at t) when singular."""
@@ -136,7 +136,7 @@ def _iteration_matrix(ta, h, coef, P, gw, J, S, piv, t, stats, rinfo):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _below_resolution(d, h, q, v, a, an, beta, gamma):
     """True when a correction d changes q_{n+1}, v_{n+1} by less than the rounding of their
     update formulas: no further decrease of |r| is possible in double precision (huge
@@ -150,7 +150,7 @@ def _below_resolution(d, h, q, v, a, an, beta, gamma):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _increment_norm(d, h, beta, gamma, qn, vn, atol, rtol):
     """Scaled RMS of the state change (beta h^2 d, gamma h d) a Newton correction d causes."""
     n = d.shape[0]
@@ -161,7 +161,7 @@ def _increment_norm(d, h, beta, gamma, qn, vn, atol, rtol):
     return np.sqrt(s / (2 * n))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl_t):
     """Fixed-step generalized-alpha from ``t_eval[0]`` to ``t_eval[-1]``; state at t_eval in X.
 

@@ -34,7 +34,7 @@ ACC_ATOL = 1e-8  # m/s^2, gap accelerations above -ACC_ATOL count as zero (a con
 LCP_MAXITER = 64  # pivots of the acceleration-level contact problem before giving up
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _log(clog, cnt, t, k, kind, v, imp):
     """Append a contact event; False when the log is full."""
     i = cnt[0]
@@ -45,7 +45,7 @@ def _log(clog, cnt, t, k, kind, v, imp):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _land(t, y, P, k, e_rest, g_tol, clog, cnt, dT):
     """Impact at the touchdown of contact k: velocities of ``y`` jump, contacts close or open.
 
@@ -135,7 +135,7 @@ def _land(t, y, P, k, e_rest, g_tol, clog, cnt, dT):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _lam_scale(P):
     s = 1.0
     for v in P[ks.I_LAM0]:
@@ -143,7 +143,7 @@ def _lam_scale(P):
     return LAM_RTOL * s
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _baumgarte(P, k, y):
     """2 alpha beta R_k qd + alpha^2 R_k q: the closed row's stabilising terms at (q, qd)."""
     fp = P[ks.I_FPAR]
@@ -153,7 +153,7 @@ def _baumgarte(P, k, y):
     return 2.0 * al * be * ke._dot_row(R, k, y, n) + al * al * ke._dot_row(R, k, y, 0)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats, lift):
     """Consistent contact set at (t, y): the acceleration-level complementarity problem over
     the contacts at rest at the ground (closed ones, and open ones with g_k <= g_tol and

@@ -31,7 +31,7 @@ LS_MAXITER = 30  # backtracking halvings of a Newton correction
 K2 = 2.0 / np.pi
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, error_model="numpy", fastmath=True)
 def matvec(W, y, out):
     """out = W y (row-wise sums; ``fastmath`` lets LLVM vectorise them)."""
     for i in range(W.shape[0]):
@@ -41,7 +41,7 @@ def matvec(W, y, out):
         out[i] = s
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _residual(phi, Lc, Ld, w0, Wp, mu, eps, L, v, r):
     """L = Lc + Ld phi, v = w0 + Wp phi, r = phi - mu L s(v); returns |r|."""
     ni = phi.shape[0]
@@ -57,7 +57,7 @@ def _residual(phi, Lc, Ld, w0, Wp, mu, eps, L, v, r):
     return np.sqrt(rr)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def friction(phi, Lc, Ld, w0, Wp, mu, eps, work):
     """Solve phi = mu L s(w0 + Wp phi), L = Lc + Ld phi, in place from the guess ``phi``.
 
@@ -102,7 +102,7 @@ def friction(phi, Lc, Ld, w0, Wp, mu, eps, work):
     return False, NEWTON_MAXITER, dn
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def step(t, t_new, A0, state, ops, par, out):
     """One step [t, t_new] from the linear part ``A0`` (module text); updates ``state = (q, v,
     a, phi, lam_old)`` in place, writes the outputs in (t, t_new] and checks the contacts.
@@ -170,7 +170,7 @@ def step(t, t_new, A0, state, ops, par, out):
     return iout, stop
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def run_steps(t, t_steps, u_all, W, A0, state, ops, par, out, max_steps):
     """The steps ending at ``t_steps`` (one step size) from time ``t``: ``A0 = W [q; v; a;
     u_k]`` (dense backend), or the given ``A0`` when ``W`` is empty (one step, sparse backend).

@@ -63,7 +63,7 @@ LU_RTOL = 1e-9  # relative change of h that forces a new LU
 NEWTON_FAIL_SHRINK = 0.5  # step shrink when Newton fails with a fresh Jacobian
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def workspace(n2, nc, ni):
     """Preallocated arrays of the stepper (one set per solve)."""
     n = n2 // 2
@@ -93,7 +93,7 @@ def workspace(n2, nc, ni):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def restart(ctl):
     """Forget the step history (after an event changed the vector field)."""
     ctl[C_HOLD] = np.nan
@@ -103,7 +103,7 @@ def restart(ctl):
     ctl[C_FACCON] = 1.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def new_control(h0, rtol):
     """Fresh stepper state: first step h0, no history, Newton tolerance from rtol."""
     ctl = np.zeros(N_CTL)
@@ -113,7 +113,7 @@ def new_control(h0, rtol):
     return ctl
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dense(y, Qd, x, out):
     """Collocation polynomial of the last step at ``t_old + x h`` (y = state at t_old)."""
     for i in range(y.shape[0]):
@@ -293,11 +293,11 @@ def radau_step(
 # the step compiled on its own (the event-driven kernels call it) and inlined into the run loop
 # of :func:`radau`: a call passes P and the workspace (~40 arrays), and numba updates the
 # reference count of each on entry and exit (two atomic operations per array, ~1 us per step)
-radau_step_inline = njit(cache=True, inline="always")(radau_step)
-radau_step = njit(cache=True)(radau_step)
+radau_step_inline = njit(cache=True, error_model="numpy", inline="always")(radau_step)
+radau_step = njit(cache=True, error_model="numpy")(radau_step)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def setup(P, x0, t_eval, nc):
     """The arrays of a run from x0 with nc contacts: (stats, rinfo, ws, y, f, lam_old), with
     y = x0 (a copy) and the time reached ``rinfo[R_T] = t_eval[0]``; ``ws`` is
@@ -310,7 +310,7 @@ def setup(P, x0, t_eval, nc):
     return stats, rinfo, ws, x0.copy(), np.empty(n2), np.empty(nc)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def start(
     P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats, rinfo,
     general,
@@ -353,7 +353,7 @@ def start(
     return iout, ctl
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def accept(t, y, f, ctl, ws, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats, rinfo):
     """Move to the end of the step :func:`radau_step` accepted: outputs at the t_eval it
     covers (from ``iout``, dense output), contact check, y, f, lam_old at the step end.
@@ -365,7 +365,7 @@ def accept(t, y, f, ctl, ws, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats
     )  # fmt: skip
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def accept_arrays(
     t, y, f, ctl, ynew, fnew, Qd, lam, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats, rinfo
 ):
@@ -380,7 +380,7 @@ def accept_arrays(
     return iout, stop
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, flat,
          general):  # fmt: skip
     """The run loop of :func:`radau` and :func:`radau_flat` (``general``: see radau_step)."""
@@ -418,7 +418,7 @@ def _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode,
     return stats, rinfo
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def radau(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, flat):
     """Integrate from ``t_eval[0]`` to ``t_eval[-1]`` with Radau IIA; state at t_eval into X.
 
@@ -430,7 +430,7 @@ def radau(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode
                 upl_t, flat, kc.general_called)  # fmt: skip
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def radau_flat(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t):
     """:func:`radau` for a smooth law with every contact closed, through the flat kernel only.
 

@@ -59,7 +59,7 @@ ACT_NOW = 2  # discard the step, handle the event at its start
 ACT_REDO = 3  # discard the step, redo it to end on t_target
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _gap_dense(k, x, y, Qd, P):
     """g_k = R_k q on the dense output at t + x h (cubic in x)."""
     R = P[ks.I_R]
@@ -69,7 +69,7 @@ def _gap_dense(k, x, y, Qd, P):
     return g
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _g(kind, k, x, y, Qd, t, h, P, ew, off, stats):
     """Switching function of contact k at t + x h: lam_k (closed) or g_k + off (open)."""
     if kind == KIND_LAND:
@@ -81,7 +81,7 @@ def _g(kind, k, x, y, Qd, t, h, P, ew, off, stats):
     return lam[k]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _root(kind, k, a, b, fa, fb, y, Qd, t, h, P, ew, off, stats):
     """Illinois on x in [a, b] for fa > 0 >= fb; returns x with g(x) <= 0."""
     xtol = ke.EVENT_TTOL / h
@@ -97,7 +97,7 @@ def _root(kind, k, a, b, fa, fb, y, Qd, t, h, P, ew, off, stats):
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _monotone_breaks(k, Qd, P, xs):
     """0, the extrema of the cubic gap g_k(x) inside (0, 1) in order, 1 into ``xs``; count."""
     R = P[ks.I_R]
@@ -128,7 +128,7 @@ def _monotone_breaks(k, Qd, P, xs):
     return nx + 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _detect(t, h, y, Qd, P, ew, g_tol, g_lift, x_max, stats):
     """Earliest contact event in the step before ``x_max``: (x, contact, kind), contact -1
     when none. Leaves lam, tau at the step end.
@@ -233,7 +233,7 @@ def _detect(t, h, y, Qd, P, ew, g_tol, g_lift, x_max, stats):
     return x_best, k_best, kind_best
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _event_at(t, kind, idx, h_resume, run):
     """Handle an event (friction kinds 0/1, KIND_LIFT, KIND_LAND) at (t, y) and restart the
     stepper there. ``run = (y, P, f, ws, ew, ctl, burst, stats, (friction, contacts, v_tol,
@@ -296,7 +296,7 @@ def _event_at(t, kind, idx, h_resume, run):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _on_target(ev_kind, ev_idx, polish, t_new, t_target, h, P, ynew, fnew):
     """The step ended on the located event ``t_target``. A slip -> stick landing is polished by
     Newton corrections dt = -g/g' (at most POLISH_MAX): step once more (ACT_STEP) or redo the
@@ -316,7 +316,7 @@ def _on_target(ev_kind, ev_idx, polish, t_new, t_target, h, P, ynew, fnew):
     return ACT_SWITCH, t_target, polish
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _plan(t, t_new, h, x_best):
     """An event found at ``t + x_best h`` of the step [t, t_new = t + h]: switch at the step end
     (ACT_SWITCH), discard the step and switch at its start (ACT_NOW), or redo the step to land
@@ -329,7 +329,7 @@ def _plan(t, t_new, h, x_best):
     return ACT_REDO, t_star
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, logs):
     """The event-driven loop of both entry points: Radau steps between events, friction
     (``flags[0]``) and contact (``flags[1]``) events located on the dense output, the step
@@ -452,7 +452,7 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
     return stats, rinfo
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def event_unilateral(
     P, x0, t_eval, atol, rtol, h0, max_step, max_steps, modes0, friction, e_rest, X, upl_t,
     OPEN_OUT, log, clog, cnt, dT,
@@ -471,7 +471,7 @@ def event_unilateral(
     )  # fmt: skip
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def event_switch(
     P, x0, t_eval, atol, rtol, h0, max_step, max_steps, modes0, uplift_mode, X, upl_t, log
 ):

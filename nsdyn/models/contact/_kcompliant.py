@@ -49,7 +49,7 @@ ST_OVER = 1  # overturned (|theta| >= theta_ov)
 ST_NONFINITE = -1  # non-finite state
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def forces(t, q, v, verts, anchor, stuck, p, ex, tab_h, tab_v, f, info):
     """Applied force f (3,) at (t, q, v); updates the anchors (nc,) and stick flags (nc,)
     by the return map.  info (4,) = [E_n, E_t, corners on, corners slipping]."""
@@ -107,7 +107,7 @@ def forces(t, q, v, verts, anchor, stuck, p, ex, tab_h, tab_v, f, info):
     info[3] = n_slip
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def integrate(t0, t1, h, q, vh, verts, anchor, stuck, p, ex, tab_h, tab_v, acc, t_out, y_out,
               iout):  # fmt: skip
     """Leapfrog from t0 to t1 in steps of about ``h`` (the last step lands on t1).

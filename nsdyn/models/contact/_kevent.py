@@ -43,7 +43,7 @@ EV_END, EV_TOUCH, EV_LIFT, EV_SLIP, EV_STOP, EV_OVER = 0, 1, 2, 3, 4, 5
 EV_UNDERFLOW, EV_MAXSTEPS, EV_LCP, EV_SINK = -1, -2, -3, -4
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rhs(t, y, sig, closed, verts, minv, par, ex, tab_h, tab_v):
     """(y', indicators (2 nc + 1,), lam_N, lam_T, LCP status) of the fixed-mode dynamics.
 
@@ -94,7 +94,7 @@ def rhs(t, y, sig, closed, verts, minv, par, ex, tab_h, tab_v):
     return dy, ind, lamN, lamT, status
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _hermite(t0, h, y0, f0, y1, f1, t):
     s = (t - t0) / h
     h00 = (1 + 2 * s) * (1 - s) ** 2
@@ -104,7 +104,7 @@ def _hermite(t0, h, y0, f0, y1, f1, t):
     return h00 * y0 + h10 * h * f0 + h01 * y1 + h11 * h * f1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def integrate(t, y, t_end, h, sig, closed, verts, minv, par, ex, tab_h, tab_v,
               rtol, atol, t_out, y_out, iout, max_steps, h_max):  # fmt: skip
     """Integrate from (t, y) until the first event or ``t_end``.

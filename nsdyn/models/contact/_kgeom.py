@@ -39,7 +39,7 @@ REG = 0.0  # relative diagonal regularisation of the LCP (none: the lexicographi
 REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT, OVERTURNED = 0, 1, 2, 3, 4, 5
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ground_acc(t, ex, tab_h, tab_v):
     """Ground acceleration (a_h, a_v) [m/s^2] at time t.
 
@@ -62,7 +62,7 @@ def ground_acc(t, ex, tab_h, tab_v):
     return ah, av
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def contact_rows(q, v, verts):
     """Gaps g (nc,), rows W_N, W_T (nc, 3), biases b_N, b_T (nc,), normal and slip velocities."""
     nc = verts.shape[0]
@@ -90,7 +90,7 @@ def contact_rows(q, v, verts):
     return g, Wn, Wt, bn, bt, gd, vt
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def solve_contacts(Wn, Wt, minv, bN, bT, mu, sig, idx):
     """Frictional contact LCP on the contacts ``idx``.
 
@@ -198,7 +198,7 @@ def solve_contacts(Wn, Wt, minv, bN, bT, mu, sig, idx):
     return lamN, lamT, wN, slack, status
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def mu_of(v, mu_s, mu_d, cdec):
     """Friction coefficient mu(v) = mu_d + (mu_s - mu_d) exp(-C |v|); C < 0 means C = infinity
     (mu_s at rest, mu_d when slipping)."""
@@ -207,7 +207,7 @@ def mu_of(v, mu_s, mu_d, cdec):
     return mu_d + (mu_s - mu_d) * math.exp(-cdec * abs(v))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def body_mode(q, v, verts, g_tol, v_tol, theta_ov):
     """Body mode from the state: REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT or OVERTURNED."""
     if abs(q[2]) >= theta_ov:
@@ -228,7 +228,7 @@ def body_mode(q, v, verts, g_tol, v_tol, theta_ov):
     return SLIDE_ROCK if slip else ROCK
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _base_width(verts):
     lo = verts[0, 0]
     hi = verts[0, 0]

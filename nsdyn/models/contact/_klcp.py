@@ -18,7 +18,7 @@ LEX_TOL = 1e-12  # ratios closer than this (relative) are ties broken lexicograp
 MAX_PIVOTS_PER_N = 50  # pivot budget: MAX_PIVOTS_PER_N * n
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _lex_less(T, b, r1, r2, col, n):
     """Row r1 lexicographically precedes r2 in [b, B^-1] / d (B^-1: columns 0..n-1)."""
     d1 = T[r1, col]
@@ -41,7 +41,7 @@ def _lex_less(T, b, r1, r2, col, n):
     return r1 < r2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _pivot(T, b, r, c):
     piv = T[r, c]
     for j in range(T.shape[1]):
@@ -56,7 +56,7 @@ def _pivot(T, b, r, c):
                 b[i] -= f * b[r]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def lemke(M, q):
     """Solve the LCP (M, q).
 

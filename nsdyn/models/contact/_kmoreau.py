@@ -32,7 +32,7 @@ G_ACT = 1e-9  # a contact is active when its predicted gap is below G_ACT * L
 JUMP_EPS = 1e-9  # a jump within JUMP_EPS h of a step's end belongs to the next step
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v,
            jumps, stride, g_tol, v_tol):  # fmt: skip
     """Run ``nsteps`` steps of size ``h`` from (t0, q0, v0).

@@ -48,7 +48,7 @@ STICK, SLIP = 0, 1  # friction modes
 OK, UNDERFLOW, NONFINITE, TOPPLED, MAXSTEPS = 0, 1, 2, 3, 4
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rotation(q: np.ndarray, R: np.ndarray) -> None:
     """R = rotation matrix of the quaternion q (normalised here)."""
     n = math.sqrt(q[0] ** 2 + q[1] ** 2 + q[2] ** 2 + q[3] ** 2)
@@ -64,14 +64,14 @@ def rotation(q: np.ndarray, R: np.ndarray) -> None:
     R[2, 2] = 1 - 2 * (x * x + y * y)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.array(
         [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def solve_block(M: np.ndarray, b: np.ndarray, o: int) -> np.ndarray:
     """x with M[o:, o:] x = b[o:] (dense LU; nan if the block is singular or not finite)."""
     A = M[o:, o:].copy()
@@ -84,7 +84,7 @@ def solve_block(M: np.ndarray, b: np.ndarray, o: int) -> np.ndarray:
     return x
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def mass(e3: np.ndarray, p: np.ndarray, Mm: np.ndarray) -> None:
     """Mm = 6×6 mass matrix of x = (ü_x, ü_y, ẅ, ω̇) for the body axis e3."""
     m, H, It, Ia = p[0], p[1], p[3], p[4]
@@ -104,7 +104,7 @@ def mass(e3: np.ndarray, p: np.ndarray, Mm: np.ndarray) -> None:
             Mm[3 + i, 3 + j] = Jij - m * rho[i] * rho[j]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def stop_slip(y: np.ndarray, p: np.ndarray) -> None:
     """Bring the slip velocity to zero by a horizontal impulse P at the base centre:
     M Δv = (P, 0), Δu̇ = −u̇, so P = −(M⁻¹)_hh⁻¹ u̇; dissipates ½ u̇ᵀ((M⁻¹)_hh)⁻¹u̇ ≥ 0."""
@@ -128,7 +128,7 @@ def stop_slip(y: np.ndarray, p: np.ndarray) -> None:
         y[6 + i] += G[3 + i, 0] * px + G[3 + i, 1] * py
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rhs(
     y: np.ndarray, ag: np.ndarray, p: np.ndarray, fr: np.ndarray, dy: np.ndarray, aux: np.ndarray
 ) -> None:
@@ -222,7 +222,7 @@ def rhs(
     aux[8] = fy
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def contact_kind(y: np.ndarray, r: float) -> int:
     """0 lifted off, 1 partial contact, 2 full contact (tensionless foundation)."""
     R = np.empty((3, 3))
@@ -231,7 +231,7 @@ def contact_kind(y: np.ndarray, r: float) -> int:
     return contact_moments(y[0], R[2, 0], R[2, 1], r, False, mom)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def friction_event(yn: np.ndarray, fr: np.ndarray, aux: np.ndarray, mu: float) -> int:
     """Mode change due at the end yn of a step (aux: rhs at yn in the current mode).
 
@@ -245,7 +245,7 @@ def friction_event(yn: np.ndarray, fr: np.ndarray, aux: np.ndarray, mu: float) -
     return 2 if yn[IUD] * fr[1] + yn[IUD + 1] * fr[2] <= 0.0 else 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def set_mode(y, a, p, fr, k1, aux) -> None:
     """Stick if the force that keeps the base still is within the friction cone, else slip
     starting in the direction opposite to that force; k1 = rhs(y) in the chosen mode."""
@@ -259,7 +259,7 @@ def set_mode(y, a, p, fr, k1, aux) -> None:
         rhs(y, a, p, fr, k1, aux)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def store(hist: np.ndarray, i: int, t: float, y: np.ndarray, ag, p, fr, dy, aux) -> None:
     rhs(y, ag, p, fr, dy, aux)
     hist[i, 0] = t
@@ -270,7 +270,7 @@ def store(hist: np.ndarray, i: int, t: float, y: np.ndarray, ag, p, fr, dy, aux)
     copy_vec(hist[i, 7 + NY :], aux)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def integrate(
     t0: float,
     dt: float,

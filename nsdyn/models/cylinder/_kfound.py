@@ -31,7 +31,7 @@ from numba import njit
 TINY_TILT = 1e-300  # |g| below this counts as exactly upright (direction undefined)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def segment_integrals(d: float, r: float, out: np.ndarray) -> None:
     """out[:4] = (A, S_u, I_uu, I_vv) of the disc part u > d (d clipped to [−r, r])."""
     if d <= -r:
@@ -58,7 +58,7 @@ def segment_integrals(d: float, r: float, out: np.ndarray) -> None:
     out[3] = 2.0 / 3.0 * r2 * r2 * (0.375 * gam - 0.25 * s2 + s4 / 32.0)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def contact_moments(w: float, gx: float, gy: float, r: float, bonded: bool, mom: np.ndarray) -> int:
     """mom = (A, Sa, Sb, Iaa, Iab, Ibb, na, nb, d, h, s) of the contact region; returns its kind.
 
@@ -97,7 +97,7 @@ def contact_moments(w: float, gx: float, gy: float, r: float, bonded: bool, mom:
     return kind
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def resultants(z: np.ndarray, r: float, k: float, c: float, bonded: bool, out: np.ndarray) -> int:
     """out = (F, m_a, m_b, A, V, D): force, base-axis moments ∫ρp, area, energy, dissipation,
     at the base state z = (w, g_a, g_b, ẇ, ġ_a, ġ_b); returns the contact kind."""
@@ -117,13 +117,13 @@ def resultants(z: np.ndarray, r: float, k: float, c: float, bonded: bool, out: n
     return kind
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def quad(x: float, y: float, Iaa: float, Iab: float, Ibb: float) -> float:
     """(x, y) I (x, y)ᵀ for the symmetric 2×2 I."""
     return x * x * Iaa + 2.0 * x * y * Iab + y * y * Ibb
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def resultants_jac(z: np.ndarray, r: float, k: float, c: float, bonded: bool, jac: np.ndarray):
     """jac[i, j] = ∂(F, m_a, m_b)_i / ∂z_j (3×6) at z = (w, g_a, g_b, ẇ, ġ_a, ġ_b), exact."""
     w, gx, gy, wd, gxd, gyd = z[0], z[1], z[2], z[3], z[4], z[5]

@@ -71,7 +71,7 @@ MODE_STICK = 0
 MAX_SWITCH_PASSES = 8  # passes to settle stick/transition in the switch band
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def ground_accel(t, P):
     """Excitation channels [e_hor, e_ver] (without g) at ``t``: the load is -M Gamma e."""
     gp = P[I_GPAR]
@@ -94,13 +94,13 @@ def ground_accel(t, P):
     return (1.0 - w) * a_h[k] + w * a_h[k + 1], (1.0 - w) * a_v[k] + w * a_v[k + 1]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def contact_open(P, k):
     """True when contact ``k`` exists and is open (in flight): no normal force, no friction."""
     return k < P[I_OPEN].shape[0] and P[I_OPEN][k] != 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _lu_small(A, y, m):
     """Solve A[:m, :m] y = y[:m] in place (Gaussian elimination, partial pivoting).
 
@@ -136,7 +136,7 @@ def _lu_small(A, y, m):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _small_solve(G, b, m):
     """Solve G y = b (m x m, m small); returns (y, ok), ok False when G is singular."""
     A = G[:m, :m].copy()
@@ -145,7 +145,7 @@ def _small_solve(G, b, m):
     return y, ok
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _direction(v, law, eps):
     """Friction direction s(v) and its slope ds/dv for the smooth laws."""
     if law == LAW_ARCTAN:
@@ -161,14 +161,14 @@ def _direction(v, law, eps):
 # threads at once; processes each have their own copy).
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def work_size(n, nc, ni):
     """Length of the scratch buffer P[I_WORK] for n dofs, nc contacts, ni isolators."""
     mm = max(nc + ni, 1)
     return n + 2 * mm * n + 5 * mm + 4 * ni + 2 * mm * mm
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _gram(X, Y, m, n, out):
     """out[:m, :m] = X[:m, :n] Y[:m, :n]^T (the constraint matrix G = C B of both the
     right-hand side and the Jacobian)."""
@@ -180,7 +180,7 @@ def _gram(X, Y, m, n, out):
             out[i, j] = g
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _views(P):
     """(a0, B, Cr, b, y, rhs, s, ds, v, stuck, G, G2) carved out of P[I_WORK]."""
     W = P[I_WORK]
@@ -203,7 +203,7 @@ def _views(P):
     return a0, B, Cr, b, y, rhs_, s, ds, v, stuck, G, G2
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _assemble(t, x, P, s, stuck, a0, Bt, Crow, b):
     """Fill a0 (n,), Bt = B^T (m, n), constraint rows Crow (m, n), b (m,) for given directions.
 
@@ -256,7 +256,7 @@ def _assemble(t, x, P, s, stuck, a0, Bt, Crow, b):
     return m
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _solve(t, x, P, qdd, ws):
     """Accelerations and multipliers y for the directions s and stuck set in ``ws``.
 
@@ -296,7 +296,7 @@ def _solve(t, x, P, qdd, ws):
     return m, ok
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _directions(x, P, ws):
     """Set s, ds, stuck in ``ws`` from the law and the sliding velocities of state ``x``."""
     a0, B, Cr, b, y, rhs_, s, ds, v, stuck, G, G2 = ws
@@ -330,7 +330,7 @@ def _directions(x, P, ws):
                 stuck[i] = 1.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def evaluate(t, x, P, qdd, lam, tau, modes):
     """Full evaluation at a state: accelerations, normal forces, friction forces and modes.
 
@@ -390,10 +390,10 @@ def evaluate(t, x, P, qdd, lam, tau, modes):
 # evaluation. Only the Newton loop uses it: inlining every call site multiplied the compile time.
 # (Same Python function, so the same compiled code and cache entry as evaluate; py_func is
 # absent under NUMBA_DISABLE_JIT.)
-evaluate_inline = njit(cache=True, inline="always")(getattr(evaluate, "py_func", evaluate))
+evaluate_inline = njit(cache=True, error_model="numpy", inline="always")(getattr(evaluate, "py_func", evaluate))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def outputs(P):
     """Fresh output arrays of :func:`evaluate`: (qdd (n,), lam (nc,), tau (ni,), modes (ni,))."""
     ni = P[I_D].shape[0]
@@ -405,7 +405,7 @@ def outputs(P):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rhs(t, x, P, out):
     """First-order right-hand side: out = [qd, qdd]. Returns False on a singular constraint."""
     n = P[I_MIK].shape[0]
@@ -416,7 +416,7 @@ def rhs(t, x, P, out):
     return ok
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def jac(t, x, P, J):
     """Analytic Jacobian d(rhs)/dx, shape (2n, 2n), for the current friction modes.
 
@@ -517,14 +517,14 @@ def jac(t, x, P, J):
             J[n + r, c] -= acc
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def sliding_velocities(x, P):
     """Sliding velocities v_i = D_i qd of all isolators."""
     n = P[I_MIK].shape[0]
     return P[I_D] @ x[n:]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def evaluate_many(t, X, P, QDD, LAM, TAU, MODES):
     """:func:`evaluate` along a history: t (nt,), X (nt, 2n) -> QDD (nt, n), LAM (nt, nc),
     TAU (nt, ni), MODES (nt, ni). Returns the number of states where the solve failed."""
@@ -541,7 +541,7 @@ def evaluate_many(t, X, P, QDD, LAM, TAU, MODES):
     return bad
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ground_many(t, P):
     """Ground acceleration [u_hor, u_ver] (without g) at many times, shape (nt, 2)."""
     out = np.empty((t.shape[0], 2))

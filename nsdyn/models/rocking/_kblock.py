@@ -81,7 +81,7 @@ H_MIN = 1e-13  # step-size underflow threshold [s] (relative to 1 + |t|)
 UPLIFT_BISECT = 80  # bisection iterations locating a lift-off time
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def accel(t, left, th, s, par, gk, gp, tab_h, tab_v):
     """theta'' on pivot side ``s``."""
     ah, av = ground(t, left, gk, gp, tab_h, tab_v)
@@ -93,7 +93,7 @@ def accel(t, left, th, s, par, gk, gp, tab_h, tab_v):
     return -par[P_P2] * (ge * math.sin(phi) + ah / g * math.cos(phi))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def uplift_side(t, left, par, gk, gp, tab_h, tab_v):
     """Side (+1/-1) the ground lifts a resting block onto, 0 if none, -2 if g + ü_v <= 0."""
     ah, av = ground(t, left, gk, gp, tab_h, tab_v)
@@ -107,7 +107,7 @@ def uplift_side(t, left, par, gk, gp, tab_h, tab_v):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _root(rc, comp, sgn, off, a, b, fa, fb):
     """Illinois root of ``sgn * y_comp(sigma) - off`` on [a, b] with fa > 0 >= fb."""
     side = 0
@@ -133,7 +133,7 @@ def _root(rc, comp, sgn, off, a, b, fa, fb):
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks, info):
     """Integrate from ``y0 = (theta, theta')`` at ``t0`` to ``t_end``; returns an ST_* status.
 

@@ -54,7 +54,7 @@ ST_NONFINITE = 3  # non-finite state
 H_MIN = 1e-14  # step-size underflow threshold [s] (relative to 1 + |t|)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rhs(t, left, y, q, gk, gp, tab_h, tab_v, dy):
     """dy = f(t, y) of the block on corner supports (q[Q_WV] is the in-flight relaxation rate)."""
     ah, av = ground(t, left, gk, gp, tab_h, tab_v)
@@ -92,7 +92,7 @@ def rhs(t, left, y, q, gk, gp, tab_h, tab_v, dy):
     dy[5] = mz / q[Q_I]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def integrate(q, atol, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, info):
     """Integrate from ``y0`` (8,) at ``t0`` to ``t_end``; ``out`` (n_out, 8) on the grid
     ``t0 + k out_dt``; returns an ST_* status, counters in ``info``."""

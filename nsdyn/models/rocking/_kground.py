@@ -25,7 +25,7 @@ GK_PULSE = 2  # closed-form pulse
 BP_EPS = 1e-12  # relative tolerance in time when deciding whether t sits on a breakpoint
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ground(t, left, gk, gp, tab_h, tab_v):
     """(ü_hor, ü_ver) at time ``t`` [m/s²]."""
     if gk == GK_TABLE:
@@ -74,7 +74,7 @@ def ground(t, left, gk, gp, tab_h, tab_v):
     return 0.0, 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def next_breakpoint(t, gk, gp, n_tab):
     """The first breakpoint strictly after ``t`` (``inf`` if none)."""
     tol = BP_EPS * (1.0 + abs(t))
@@ -98,7 +98,7 @@ def next_breakpoint(t, gk, gp, n_tab):
     return math.inf
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def step_to_breakpoint(t, h, t_end, gk, gp, n_tab):
     """(step, ends there): the step ``h`` from ``t``, shortened to end on the next breakpoint
     or on ``t_end`` if it would pass one."""
@@ -113,7 +113,7 @@ def step_to_breakpoint(t, h, t_end, gk, gp, n_tab):
     return h, at_bp
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rest_step(t, gk, gp, n_tab):
     """Step of the uplift scan while the block is at rest (table dt, or T_p / 64)."""
     if gk == GK_TABLE:
