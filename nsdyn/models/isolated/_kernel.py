@@ -390,7 +390,9 @@ def evaluate(t, x, P, qdd, lam, tau, modes):
 # evaluation. Only the Newton loop uses it: inlining every call site multiplied the compile time.
 # (Same Python function, so the same compiled code and cache entry as evaluate; py_func is
 # absent under NUMBA_DISABLE_JIT.)
-evaluate_inline = njit(cache=True, error_model="numpy", inline="always")(getattr(evaluate, "py_func", evaluate))
+evaluate_inline = njit(cache=True, error_model="numpy", inline="always")(
+    getattr(evaluate, "py_func", evaluate)
+)
 
 
 @njit(cache=True, error_model="numpy")
