@@ -329,11 +329,12 @@ def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
     "metrics-general", see :func:`warmup_metrics`), the response metrics' kernels too.
     Seconds spent now (~0 when already done).
 
-    A first compilation uses a second process where one may (:func:`nsdyn._numba_cache.
-    helper_enabled`): numba compiles on one thread per process, so the helper compiles part of
-    the kernels into numba's on-disk cache while this process compiles the rest and then loads
-    the helper's. For the default loop (``"radau"``) the helper takes the flat right-hand
-    side, its Jacobian and Newton (:func:`radau_helper_part`) while this process compiles the
+    A first compilation uses a second process where one may
+    (:func:`nsdyn._numba_cache.helper_enabled`): numba compiles on one thread per process, so
+    the helper compiles part of the kernels into numba's on-disk cache while this process
+    compiles the rest and then loads the helper's. For the default loop (``"radau"``) the
+    helper takes the flat right-hand side, its Jacobian and Newton
+    (:func:`nsdyn.solve.compile_split.radau_helper_part`) while this process compiles the
     metrics, the run's set-up, the factorisation and the start-up, then the loop itself; for
     the other kernels the helper takes the metrics. What the helper does not deliver, this
     process compiles itself: the kernels are the same either way.
