@@ -5,6 +5,11 @@ it calls from another file does: after an edit of a callee the caller would sile
 old code compiled in. :func:`drop_stale` fingerprints every source a family's compiled kernels
 depend on and deletes those kernels' cache files when the fingerprint changes. Each kernel
 family calls it once at import, before any of its kernels is loaded.
+
+Also here: :func:`compiling` (the garbage collector held back while numba compiles),
+:func:`stable_identity` (kernels passed as arguments keep one identity across processes, so
+cached signatures holding them are found by any process) and :class:`Helper` (a second process
+that compiles part of a first run into the cache while this one compiles the rest).
 """
 
 from __future__ import annotations
@@ -89,7 +94,7 @@ def stable_identity(*dispatchers) -> None:
     kernel's dispatcher in its compiled signature, and numba's on-disk cache index keys the
     signature with the dispatcher's identity: with a random one, a process never finds what
     another process compiled for that signature and compiles it again. With a fixed one the
-    cache entry is found in any process (what :func:`helper` relies on). Does nothing under
+    cache entry is found in any process (what :class:`Helper` relies on). Does nothing under
     ``NUMBA_DISABLE_JIT`` or where numba's internals differ (each process then compiles its
     own, as before).
     """
