@@ -20,7 +20,6 @@ import numpy as np
 
 from nsdyn._numba_cache import Helper
 from nsdyn.models.isolated import _kernel as ks
-from nsdyn.models.isolated.params import KernelParams
 from nsdyn.solve import _kcolloc, _kflat, _kradau, methods
 from nsdyn.solve import _kcommon as ki
 
@@ -28,20 +27,16 @@ from nsdyn.solve import _kcommon as ki
 def _radau_args():
     """The arguments of the flat Radau loop's pieces on the tiny problem, with the numba types
     the loop gives them (so that what is compiled here is what the loop calls), made without
-    compiling anything: (P, x0, t_eval, options, X, upl_t, ws)."""
-    P, x0 = methods._tiny_problem()
-    t_eval = np.linspace(0.0, 0.02, 3)
-    m = methods.METHODS["radau"]
-    o = methods.make_options(x0, m, 1e-6, 1e-8, None, None, True, np.inf, 1000, "warn", None, None)
-    X = np.zeros((t_eval.size, x0.size))
-    upl_t = np.full(KernelParams(P).n_contacts, np.nan)
+    compiling anything: :func:`nsdyn.solve.methods.tiny_run` and the workspace ``ws``."""
+    P, x0, t_eval, o, X, upl_t = methods.tiny_run(methods.METHODS["radau"])
     ws = _kradau.workspace.py_func(x0.size, upl_t.size, P[ks.I_D].shape[0])
     return P, x0, t_eval, o, X, upl_t, ws + (_kflat.pack_flat.py_func(P),)
 
 
 def radau_helper_part() -> None:
     """The helper process's share of the flat Radau loop's first compilation (see
-    :func:`warmup_kernel`): the flat right-hand side, its Jacobian and Newton."""
+    :func:`nsdyn.solve.methods.warmup_kernel`): the flat right-hand side, its Jacobian and
+    Newton."""
     P, x0, t_eval, o, X, upl_t, ws = _radau_args()
     J, LUr, pr, LUc, pc, Z, Z0, W, F, dW, fr, fc, ys, scale, err, ynew, fnew, Qd = ws[:18]
     qdd, lam, tau, modes, Fl = ws[18:23]

@@ -346,19 +346,32 @@ def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
     if metrics not in (None, "metrics", "metrics-general"):
         raise ValueError(f"metrics: expected None, 'metrics' or 'metrics-general', got {metrics!r}")
     t0 = time.perf_counter()
+    target = None
     if kernel not in _COMPILED and helper_enabled() and not is_cached(kernel):
-        target = None
         if kernel == "radau":
             target = "nsdyn.solve.compile_split:radau_helper_part"
         elif metrics is not None and not is_cached(metrics):
             target = f"nsdyn.solve.methods:{_METRICS_PART[metrics]}"
-        if target is not None:
-            with Helper(target) as helper:
-                _warm(kernel, m, helper, metrics if kernel == "radau" else None)
-    _warm(kernel, m)
+    if target is None:
+        _warm(kernel, m)
+    else:
+        with Helper(target) as helper:
+            _warm(kernel, m, helper, metrics if kernel == "radau" else None)
     if metrics is not None:
         warmup_metrics(metrics == "metrics")
     return time.perf_counter() - t0
+
+
+def tiny_run(m: Method):
+    """A run of method ``m`` on :func:`_tiny_problem` as the warm-ups make it:
+    (P, x0, t_eval, options, X, upl_t)."""
+    P, x0 = _tiny_problem()
+    t_eval = np.linspace(0.0, 0.02, 3)
+    dt = 1e-3 if m.fixed_step else None
+    opts = make_options(x0, m, 1e-6, 1e-8, dt, None, True, np.inf, 1000, "warn", None, None)
+    X = np.zeros((t_eval.size, x0.size))
+    upl_t = np.full(KernelParams(P).n_contacts, np.nan)
+    return P, x0, t_eval, opts, X, upl_t
 
 
 def _warm(kname: str, m: Method, helper: Helper | None = None, metrics: str | None = None):
@@ -367,13 +380,8 @@ def _warm(kname: str, m: Method, helper: Helper | None = None, metrics: str | No
     ``metrics`` kernels and this process's share of the leaves first."""
     if kname in _COMPILED:
         return 0.0
-    P, x0 = _tiny_problem()
-    t_eval = np.linspace(0.0, 0.02, 3)
     t0 = time.perf_counter()
-    dt = 1e-3 if m.fixed_step else None
-    opts = make_options(x0, m, 1e-6, 1e-8, dt, None, True, np.inf, 1000, "warn", None, None)
-    X = np.zeros((t_eval.size, x0.size))
-    upl_t = np.full(KernelParams(P).n_contacts, np.nan)
+    P, x0, t_eval, opts, X, upl_t = tiny_run(m)
     with compiling():
         if helper is not None and kname == "radau":
             if metrics is not None:
@@ -519,13 +527,8 @@ def warmup_unilateral() -> float:
     if "unilateral" in _COMPILED:
         return 0.0
     t0 = time.perf_counter()
-    P, x0 = _tiny_problem()
-    t_eval = np.linspace(0.0, 0.02, 3)
     for method in UNILATERAL_METHODS:
-        m = METHODS[method]
-        opts = make_options(x0, m, 1e-6, 1e-8, None, None, True, np.inf, 1000, "warn", None, None)
-        X = np.zeros((t_eval.size, x0.size))
-        upl_t = np.full(KernelParams(P).n_contacts, np.nan)
+        P, x0, t_eval, opts, X, upl_t = tiny_run(METHODS[method])
         run_unilateral(P, x0, t_eval, opts, X, upl_t, method, 0.0, None)
     _COMPILED["unilateral"] = time.perf_counter() - t0
     return _COMPILED["unilateral"]
