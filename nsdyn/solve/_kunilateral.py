@@ -392,10 +392,13 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
     burst = np.array([-np.inf, 0.0])  # start and length of the current burst of events
     opts = (friction, contacts, v_tol, g_tol, e_rest, max_step)
     run = (y, P, f, ws, ew, ctl, burst, stats, opts, logs, lift)
+    # not the constant False: the step's signature then has a plain bool, which a compile
+    # helper (nsdyn.solve.compile_split) can ask for from Python
+    fixed = np.bool_(False)
     while iout < nt:
         t_lim = min(t_end, t_target, ki.next_kink(t, P))
         st = kr.radau_step(
-            P, t, y, f, t_lim, False, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo,
+            P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo,
             kcol.general_inlined,
         )  # fmt: skip
         if st != ki.ST_SUCCESS:
@@ -452,7 +455,12 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
     return stats, rinfo
 
 
-@njit(cache=True, error_model="numpy")
+# The two entry points are plain Python: a numba wrapper around the called loop would be
+# compiled on its own, and numba optimises each compiled function's LLVM module with every
+# callee linked into it, so a wrapper costs a second pass over the whole event loop (~30 s of
+# the first compilation) for nothing at run time. Arguments are coerced to the one signature.
+
+
 def event_unilateral(
     P, x0, t_eval, atol, rtol, h0, max_step, max_steps, modes0, friction, e_rest, X, upl_t,
     OPEN_OUT, log, clog, cnt, dT,
@@ -466,12 +474,12 @@ def event_unilateral(
     ``dT[0]`` sums the kinetic energy change of the landings.
     """
     return _run(
-        P, x0, t_eval, (atol, rtol), (h0, max_step, max_steps), modes0,
-        (friction, True, ki.UPLIFT_WARN), e_rest, X, upl_t, OPEN_OUT, (log, clog, cnt, dT),
+        P, x0, t_eval, (atol, float(rtol)), (float(h0), float(max_step), int(max_steps)),
+        modes0, (bool(friction), True, int(ki.UPLIFT_WARN)), float(e_rest), X, upl_t,
+        OPEN_OUT, (log, clog, cnt, dT),
     )  # fmt: skip
 
 
-@njit(cache=True, error_model="numpy")
 def event_switch(
     P, x0, t_eval, atol, rtol, h0, max_step, max_steps, modes0, uplift_mode, X, upl_t, log
 ):
@@ -485,7 +493,8 @@ def event_switch(
     """
     nc = P[ks.I_OPEN].shape[0]
     return _run(
-        P, x0, t_eval, (atol, rtol), (h0, max_step, max_steps), modes0,
-        (True, False, uplift_mode), 0.0, X, upl_t, np.zeros((0, nc), dtype=np.int64),
+        P, x0, t_eval, (atol, float(rtol)), (float(h0), float(max_step), int(max_steps)),
+        modes0, (True, False, int(uplift_mode)), 0.0, X, upl_t,
+        np.zeros((0, nc), dtype=np.int64),
         (log, np.zeros((0, CLOG_COLS)), np.zeros(1, dtype=np.int64), np.zeros(1)),
     )  # fmt: skip

@@ -1,4 +1,4 @@
-"""A first compilation of the default Radau loop shared between two processes.
+"""A first compilation of an integrator loop shared between two processes.
 
 numba compiles on one thread per process, under a global lock, so a first run's ~1 min of
 compilation uses one core. :func:`nsdyn.solve.methods.warmup_kernel` starts a helper process
@@ -8,10 +8,20 @@ its Jacobian and Newton) while the calling process compiles the metrics and
 itself, which loads the helper's kernels from numba's on-disk cache. The loop's own
 compilation (~15-20 s) stays serial: it needs all of its callees first.
 
-Each piece is compiled by calling it from Python on the tiny problem with arguments built as
-the loop builds them, so the compiled signature is the one the loop asks for
-(``tests/solve/test_compile_helper.py`` checks that the calling process compiles none of the
-helper's kernels).
+The switch model's event-driven loop (:func:`nsdyn.solve._kunilateral._run`, ~4 min into an
+empty cache on one core) is split the same way: the helper takes the general kernel's
+Jacobian, the general stage kernel (:func:`~nsdyn.solve._kcolloc.general_inlined`), the
+start-up and the step with Newton (:func:`event_helper_part`); this process the set-up, the
+mode settling (with the general right-hand side ``evaluate``), the flat kernels, the metrics,
+the contact settling, both event detectors and the event handler (:func:`event_parts_here`),
+then the loop. The order is chosen so that neither process needs what the other is still
+compiling: the helper's start-up comes ~50 s in, after this process has the flat kernels.
+
+Each piece is compiled for the signature the loop asks for: by calling it from Python on the
+tiny problem with arguments built as the loop builds them (the default loop), or by
+``Dispatcher.compile`` with the numba types of such arguments (the event loop, whose pieces
+cannot run on made-up data). ``tests/solve/test_compile_helper.py`` checks that the calling
+process compiles none of the helper's kernels.
 """
 
 from __future__ import annotations
@@ -20,7 +30,7 @@ import numpy as np
 
 from nsdyn._numba_cache import Helper
 from nsdyn.models.isolated import _kernel as ks
-from nsdyn.solve import _kcolloc, _kflat, _kradau, methods
+from nsdyn.solve import _kcolloc, _kevent, _kflat, _kimpact, _kradau, _kunilateral, methods
 from nsdyn.solve import _kcommon as ki
 
 
@@ -71,3 +81,95 @@ def radau_parts_here(helper: Helper) -> None:
         stats, rinfo, _kcolloc.flat_only,
     )  # fmt: skip
     helper.wait_for([_kcolloc.newton])
+
+
+# ---- the event-driven loop (switch model; unilateral contacts) ------------------------------
+
+
+def _compile(disp, *args) -> None:
+    """Compile (or load) ``disp`` for the numba types of ``args`` without running it."""
+    from numba import typeof
+
+    if hasattr(disp, "compile"):  # not under NUMBA_DISABLE_JIT
+        disp.compile(tuple(typeof(a) for a in args))
+
+
+def _event_args():
+    """The event loop's local variables as :func:`nsdyn.solve._kunilateral._run` makes them, on
+    the tiny problem (values are placeholders: only their numba types matter)."""
+    m = methods.METHODS["event"]
+    P, x0, t_eval, o, X, upl_t = methods.tiny_run(m)
+    P = methods.with_law(P, "modes", np.zeros(P[ks.I_D].shape[0], dtype=np.int64))
+    n2 = x0.size
+    nc = upl_t.size
+    ws = _kradau.workspace.py_func(n2, nc, P[ks.I_D].shape[0]) + (_kflat.pack_flat.py_func(P),)
+    a = dict(P=P, x0=x0, t_eval=t_eval, o=o, X=X, upl_t=upl_t, ws=ws, y=x0.copy())
+    a["f"] = np.zeros(n2)
+    a["stats"] = np.zeros(ki.N_STATS, dtype=np.int64)
+    a["rinfo"] = np.zeros(ki.N_RINFO)
+    a["lam_old"] = np.zeros(nc)
+    a["ew"] = (ws[12], np.empty(n2), ws[18], ws[19], ws[20], ws[21])
+    a["ctl"] = _kradau.new_control.py_func(1e-3, o.rtol)
+    a["log"] = (np.zeros(1), np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64))
+    a["logs"] = (a["log"], np.zeros((1, _kunilateral.CLOG_COLS)), np.zeros(1, dtype=np.int64),
+                 np.zeros(1))  # fmt: skip
+    a["lift"] = np.zeros((2, nc))
+    a["i64"] = np.int64(0)
+    return a
+
+
+def _flat_kernels(ws, y, f) -> None:
+    qdd, lam, tau, modes, Fl = ws[18:23]
+    _compile(_kflat.feval_flat, 0.0, y, Fl, f, qdd, lam, tau, modes)
+    _compile(_kflat.jac_flat, 0.0, y, Fl, ws[0], f, qdd, lam, tau, modes)
+
+
+def event_helper_part() -> None:
+    """The helper process's share of the event loop's first compilation (see
+    :func:`nsdyn.solve.methods.warmup_kernel`): the general Jacobian, the general stage
+    kernel, the start-up, then the step (with Newton)."""
+    a = _event_args()
+    P, y, ws, o, f = a["P"], a["y"], a["ws"], a["o"], a["f"]
+    qdd, lam, tau, modes, Fl = ws[18:23]
+    J, Z, F, ys = ws[0], ws[5], ws[8], ws[12]
+    g = _kcolloc.general_inlined
+    _compile(ki.jeval, 0.0, y, P, J)
+    _compile(g, _kcolloc.G_ONE, P, 0.0, y, 0.0, Z, F, ys, f, J, qdd, lam, tau, modes)
+    _compile(
+        _kradau.start, P, y, f, a["t_eval"], float(o.h0), float(o.max_step), o.atol,
+        float(o.rtol), a["lam_old"],
+        a["X"], a["upl_t"], np.int64(o.uplift_mode), ws, a["stats"], a["rinfo"], g,
+    )  # fmt: skip
+    _compile(
+        _kradau.radau_step, P, 0.0, y, f, 0.0, False, o.atol, float(o.rtol), float(o.max_step),
+        np.int64(o.max_steps), ws, a["ctl"], a["stats"], a["rinfo"], g,
+    )  # fmt: skip
+
+
+def event_parts_here(helper: Helper, metrics: str | None) -> None:
+    """This process's share before the loop itself (the set-up, the settling of modes and
+    contacts, the flat kernels, the detectors, the event handler, the factorisation, the
+    ``metrics``); then wait for the helper's step."""
+    a = _event_args()
+    P, y, ws, o, f, ew, stats = a["P"], a["y"], a["ws"], a["o"], a["f"], a["ew"], a["stats"]
+    i64, lift, logs, ctl = a["i64"], a["lift"], a["logs"], a["ctl"]
+    Qd, ynew, fnew = ws[17], ws[15], ws[16]
+    _compile(_kradau.setup, P, a["x0"], a["t_eval"], i64)
+    _compile(_kevent._initial_modes, P, y, P[ks.I_MODE])
+    _compile(_kevent._settle, 0.0, y, P, f, ew, i64, 0.0, a["log"], stats)
+    _flat_kernels(ws, y, f)  # the helper's start-up needs them after its general kernels
+    if metrics is not None:
+        methods.warmup_metrics(metrics == "metrics")
+    _compile(_kimpact._settle_contacts, 0.0, y, P, f, ew, 0.0, logs[1], logs[2], stats, lift)
+    _compile(_kevent._detect, 0.0, 0.0, y, ynew, Qd, P, ew, stats)
+    _compile(_kunilateral._detect, 0.0, 0.0, y, Qd, P, ew, 0.0, lift[1], 0.0, stats)
+    _compile(
+        _kradau.accept, 0.0, y, f, ctl, ws, a["t_eval"], i64, a["X"], a["lam_old"], a["upl_t"],
+        np.int64(o.uplift_mode), stats, a["rinfo"],
+    )  # fmt: skip
+    _compile(_kunilateral._on_target, i64, i64, i64, 0.0, 0.0, 0.0, P, ynew, fnew)
+    _compile(_kcolloc._factor, 1e-3, *ws[:5])
+    opts = (True, True, 0.0, 0.0, 0.0, 0.0)
+    run = (y, P, f, ws, ew, ctl, np.zeros(2), stats, opts, logs, lift)
+    _compile(_kunilateral._event_at, 0.0, i64, i64, 0.0, run)
+    helper.wait_for([_kradau.radau_step])

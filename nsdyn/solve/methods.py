@@ -336,8 +336,11 @@ def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
     helper takes the flat right-hand side, its Jacobian and Newton
     (:func:`nsdyn.solve.compile_split.radau_helper_part`) while this process compiles the
     metrics, the run's set-up, the factorisation and the start-up, then the loop itself; for
-    the other kernels the helper takes the metrics. What the helper does not deliver, this
-    process compiles itself: the kernels are the same either way.
+    the switch model's loop (``"event"``) the helper takes the general kernels, the start-up
+    and the step (:func:`nsdyn.solve.compile_split.event_helper_part`) while this process
+    compiles the settling, the event detectors and handler and the metrics; for the other
+    kernels the helper takes the metrics. What the helper does not deliver, this process
+    compiles itself: the kernels are the same either way.
     """
     m = next((mm for mm in METHODS.values() if mm.kernel == kernel), None)
     if m is None:
@@ -348,15 +351,15 @@ def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
     t0 = time.perf_counter()
     target = None
     if kernel not in _COMPILED and helper_enabled() and not is_cached(kernel):
-        if kernel == "radau":
-            target = "nsdyn.solve.compile_split:radau_helper_part"
+        if kernel in _SPLIT:
+            target = f"nsdyn.solve.compile_split:{_SPLIT[kernel]}"
         elif metrics is not None and not is_cached(metrics):
             target = f"nsdyn.solve.methods:{_METRICS_PART[metrics]}"
     if target is None:
         _warm(kernel, m)
     else:
         with Helper(target) as helper:
-            _warm(kernel, m, helper, metrics if kernel == "radau" else None)
+            _warm(kernel, m, helper, metrics if kernel in _SPLIT else None)
     if metrics is not None:
         warmup_metrics(metrics == "metrics")
     return time.perf_counter() - t0
@@ -389,10 +392,17 @@ def _warm(kname: str, m: Method, helper: Helper | None = None, metrics: str | No
             from nsdyn.solve.compile_split import radau_parts_here
 
             radau_parts_here(helper)
+        elif helper is not None and kname == "event":
+            from nsdyn.solve.compile_split import event_parts_here
+
+            event_parts_here(helper, metrics)
         m.run(P, x0, t_eval, opts, X, upl_t)
     _COMPILED[kname] = time.perf_counter() - t0
     return _COMPILED[kname]
 
+
+# the kernels whose first compilation a helper process shares (nsdyn.solve.compile_split)
+_SPLIT = {"radau": "radau_helper_part", "event": "event_helper_part"}
 
 # the top-level numba dispatcher of each kernel (its on-disk cache entry stands for the kernel)
 _ENTRY = {
@@ -400,7 +410,7 @@ _ENTRY = {
     "radau-general": _kradau.radau,
     "dopri5": _kdopri.dopri5,
     "genalpha": _kgenalpha.genalpha,
-    "event": _kunilateral.event_switch,
+    "event": _kunilateral._run,
     "metrics": _kflat.evaluate_flat_many,
     "metrics-general": ks.evaluate_many,
 }
@@ -534,4 +544,4 @@ def warmup_unilateral() -> float:
     return _COMPILED["unilateral"]
 
 
-_ENTRY["unilateral"] = _kunilateral.event_unilateral
+_ENTRY["unilateral"] = _kunilateral._run

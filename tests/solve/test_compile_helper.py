@@ -2,8 +2,9 @@
 
 What must hold: a kernel passed as an argument has the same identity in every process (else
 the helper's cache entries are never found), a helper that fails or delivers nothing only
-costs the wait for its end, and the default run's warm-up with a helper leaves the flat
-right-hand side, its Jacobian and Newton to the helper (loaded, not compiled, here).
+costs the wait for its end, the default run's warm-up with a helper leaves the flat
+right-hand side, its Jacobian and Newton to the helper (loaded, not compiled, here), and the
+switch model's leaves the general kernels, the start-up and the step to it.
 """
 
 import os
@@ -89,9 +90,21 @@ FRESH_WARMUP = (
     "    def on_end(self, e): pass\n"
     "ev.register('numba:compile', L())\n"
     "from nsdyn.solve import methods\n"
-    "methods.warmup_kernel('radau', metrics='metrics')\n"
+    "methods.warmup_kernel({kernel!r}, metrics={metrics!r})\n"
     "print(' '.join(sorted(seen)))\n"
 )
+
+
+def _compiled_in_a_fresh_warmup(cache, kernel, metrics) -> set[str]:
+    """Names of the kernels a fresh process compiles itself (numba's compile events; a cache
+    load raises none) in ``warmup_kernel(kernel, metrics)`` with an empty cache."""
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache), NUMBA_DISABLE_JIT="0")
+    env[HELPER_ENV] = "1"
+    code = FRESH_WARMUP.format(kernel=kernel, metrics=metrics)
+    out = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    )
+    return set(out.stdout.split())
 
 
 @pytest.mark.slow
@@ -99,13 +112,21 @@ FRESH_WARMUP = (
 def test_default_warmup_splits_the_compilation_with_its_helper(tmp_path):
     if not helper_enabled():
         pytest.skip("a helper process needs two usable cores and NSDYN_COMPILE_HELPER != 0")
-    # empty cache, fresh process: what this process compiles (numba's compile events; a cache
-    # load raises none). ~40 s on two cores.
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
-    env[HELPER_ENV] = "1"
-    out = subprocess.run(
-        [sys.executable, "-c", FRESH_WARMUP], env=env, capture_output=True, text=True, check=True
-    )
-    here = set(out.stdout.split())
+    # ~40 s on two cores
+    here = _compiled_in_a_fresh_warmup(tmp_path, "radau", "metrics")
     assert {"radau_flat", "start", "setup", "evaluate_flat_many"} <= here
     assert not here & {"feval_flat", "jac_flat", "newton"}, "compiled here, not by the helper"
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not JIT, reason="nothing compiles under NUMBA_DISABLE_JIT")
+def test_event_warmup_splits_the_compilation_with_its_helper(tmp_path):
+    if not helper_enabled():
+        pytest.skip("a helper process needs two usable cores and NSDYN_COMPILE_HELPER != 0")
+    # the switch model's loop: the helper compiles the general kernels, the start-up and the
+    # step for the signatures the loop asks for (by type, without running them), so that this
+    # process, compiling the rest and then the loop, loads them. ~2.5 min on two cores.
+    here = _compiled_in_a_fresh_warmup(tmp_path, "event", "metrics-general")
+    assert {"_run", "_settle", "_event_at", "evaluate_many"} <= here
+    helpers = {"general_inlined", "jeval", "start", "radau_step", "newton"}
+    assert not here & helpers, "compiled here, not by the helper"
