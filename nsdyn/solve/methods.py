@@ -537,6 +537,9 @@ def warmup_unilateral() -> float:
     if "unilateral" in _COMPILED:
         return 0.0
     t0 = time.perf_counter()
+    # both methods run the switch model's event loop, with the same compiled signature: its
+    # warm-up shares a first compilation with a helper process
+    warmup_kernel("event")
     for method in UNILATERAL_METHODS:
         P, x0, t_eval, opts, X, upl_t = tiny_run(METHODS[method])
         run_unilateral(P, x0, t_eval, opts, X, upl_t, method, 0.0, None)

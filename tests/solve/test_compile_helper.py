@@ -130,3 +130,14 @@ def test_event_warmup_splits_the_compilation_with_its_helper(tmp_path):
     assert {"_run", "_settle", "_event_at", "evaluate_many"} <= here
     helpers = {"general_inlined", "jeval", "start", "radau_step", "newton"}
     assert not here & helpers, "compiled here, not by the helper"
+
+
+@pytest.mark.skipif(not JIT, reason="no compiled signatures under NUMBA_DISABLE_JIT")
+def test_unilateral_runs_use_the_event_loops_one_compiled_signature():
+    # the helper's share of the event loop is compiled for one signature: the switch model's
+    # runs and both unilateral methods must all ask for it (else one of them recompiles ~2 min)
+    from nsdyn.solve import _kunilateral, methods
+
+    methods.warmup_kernel("event")
+    methods.warmup_unilateral()
+    assert len(_kunilateral._run.signatures) == 1, _kunilateral._run.signatures
