@@ -154,21 +154,25 @@ def level_peaks(od: dict, q: np.ndarray, QDD: np.ndarray, ug_hor: np.ndarray) ->
     Returns ``(drift_m, top_drift, acc)``: the largest |joint above - joint below| of each
     storey over time and column lines (empty without levels), the roof's drift history
     (NaN without levels) and the largest absolute horizontal acceleration of each level's
-    nodes over time. One (nt, n) product for all joints and one for all level nodes.
+    nodes over time. One product for all joints and one for all level nodes, formed transposed
+    (rows x nt): the reductions over time then run along contiguous rows, ~6x faster than over
+    the columns of an (nt, rows) array for the default run's 8 001 outputs.
     """
     nt = q.shape[0]
     drift_m = np.zeros(0)
     top_drift = np.full(nt, np.nan)  # no levels: undefined (kept as a history for plots)
     if od["joints"] is not None:
         n_lev, n_lin = od["joints"].shape[:2]
-        U = q @ od["joints"].reshape(n_lev * n_lin, -1).T  # level-major columns
+        UT = od["joints"].reshape(n_lev * n_lin, -1) @ q.T  # level-major rows
         if n_lev > 1:
-            dU = np.abs(U[:, n_lin:] - U[:, :-n_lin])  # the same line on adjacent levels
-            drift_m = dU.max(axis=0).reshape(n_lev - 1, n_lin).max(axis=1)
-        top_drift = U[:, (n_lev - 1) * n_lin] - U[:, 0]
+            dU = np.abs(UT[n_lin:] - UT[:-n_lin])  # the same line on adjacent levels
+            drift_m = dU.max(axis=1).reshape(n_lev - 1, n_lin).max(axis=1)
+        top_drift = UT[(n_lev - 1) * n_lin] - UT[0]
     acc = np.zeros(0)
     if od["levels"]:
-        peak = np.abs(QDD @ np.concatenate(od["levels"]).T + ug_hor).max(axis=0)
+        AT = np.concatenate(od["levels"]) @ QDD.T
+        AT += ug_hor.T
+        peak = np.abs(AT, out=AT).max(axis=1)
         starts = np.cumsum([0] + [rows.shape[0] for rows in od["levels"][:-1]])
         acc = np.maximum.reduceat(peak, starts)
     return drift_m, top_drift, acc
