@@ -224,6 +224,10 @@ def dispatcher_cached(disp) -> bool:
     if disp.signatures:
         return True
     try:
-        return bool(disp._cache._cache_file._load_index())  # {} when absent or stale
+        cf = disp._cache._cache_file
+        index = cf._load_index()  # {} when absent or stale
+        # numba writes the index before the data file (each atomically): an entry whose
+        # file is not there yet is not loadable yet (a helper is still saving it)
+        return bool(index) and all(os.path.exists(cf._data_path(f)) for f in index.values())
     except Exception:  # noqa: BLE001  (a private numba API: any failure means "unknown")
         return False

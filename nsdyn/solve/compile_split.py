@@ -11,11 +11,13 @@ compilation (~15-20 s) stays serial: it needs all of its callees first.
 The switch model's event-driven loop (:func:`nsdyn.solve._kunilateral._run`, ~4 min into an
 empty cache on one core) is split the same way: the helper takes the general kernel's
 Jacobian, the general stage kernel (:func:`~nsdyn.solve._kcolloc.general_inlined`), the
-start-up and the step with Newton (:func:`event_helper_part`); this process the set-up, the
-mode settling (with the general right-hand side ``evaluate``), the flat kernels, the metrics,
-the contact settling, both event detectors and the event handler (:func:`event_parts_here`),
-then the loop. The order is chosen so that neither process needs what the other is still
-compiling: the helper's start-up comes ~50 s in, after this process has the flat kernels.
+start-up and the step with Newton (:func:`event_helper_part`); this process the
+factorisation, the set-up, the mode settling, the flat kernels, the metrics, the contact
+settling, both event detectors and the event handler (:func:`event_parts_here`), then the
+loop. The order is chosen so that neither process waits for the other: the helper's start-up
+comes ~50 s in, after this process has the flat kernels, and the handler's Jacobian is the
+helper's first piece. The general right-hand side ``evaluate`` is needed first in both (the
+Jacobian's and the settling's), so each process may compile it (~17 s, on its own core).
 
 Each piece is compiled for the signature the loop asks for: by calling it from Python on the
 tiny problem with arguments built as the loop builds them (the default loop), or by
@@ -94,6 +96,11 @@ def _compile(disp, *args) -> None:
         disp.compile(tuple(typeof(a) for a in args))
 
 
+def _py(kernel):
+    """The Python function of a kernel (itself under ``NUMBA_DISABLE_JIT``)."""
+    return getattr(kernel, "py_func", kernel)
+
+
 def _event_args():
     """The event loop's local variables as :func:`nsdyn.solve._kunilateral._run` makes them, on
     the tiny problem (values are placeholders: only their numba types matter)."""
@@ -102,14 +109,14 @@ def _event_args():
     P = methods.with_law(P, "modes", np.zeros(P[ks.I_D].shape[0], dtype=np.int64))
     n2 = x0.size
     nc = upl_t.size
-    ws = _kradau.workspace.py_func(n2, nc, P[ks.I_D].shape[0]) + (_kflat.pack_flat.py_func(P),)
+    ws = _py(_kradau.workspace)(n2, nc, P[ks.I_D].shape[0]) + (_py(_kflat.pack_flat)(P),)
     a = dict(P=P, x0=x0, t_eval=t_eval, o=o, X=X, upl_t=upl_t, ws=ws, y=x0.copy())
     a["f"] = np.zeros(n2)
     a["stats"] = np.zeros(ki.N_STATS, dtype=np.int64)
     a["rinfo"] = np.zeros(ki.N_RINFO)
     a["lam_old"] = np.zeros(nc)
     a["ew"] = (ws[12], np.empty(n2), ws[18], ws[19], ws[20], ws[21])
-    a["ctl"] = _kradau.new_control.py_func(1e-3, o.rtol)
+    a["ctl"] = _py(_kradau.new_control)(1e-3, o.rtol)
     a["log"] = (np.zeros(1), np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64))
     a["logs"] = (a["log"], np.zeros((1, _kunilateral.CLOG_COLS)), np.zeros(1, dtype=np.int64),
                  np.zeros(1))  # fmt: skip
@@ -147,13 +154,14 @@ def event_helper_part() -> None:
 
 
 def event_parts_here(helper: Helper, metrics: str | None) -> None:
-    """This process's share before the loop itself (the set-up, the settling of modes and
-    contacts, the flat kernels, the detectors, the event handler, the factorisation, the
-    ``metrics``); then wait for the helper's step."""
+    """This process's share before the loop itself (the factorisation, the set-up, the
+    settling of modes and contacts, the flat kernels, the ``metrics``, the detectors, the
+    event handler); then wait for the helper's step."""
     a = _event_args()
     P, y, ws, o, f, ew, stats = a["P"], a["y"], a["ws"], a["o"], a["f"], a["ew"], a["stats"]
     i64, lift, logs, ctl = a["i64"], a["lift"], a["logs"], a["ctl"]
     Qd, ynew, fnew = ws[17], ws[15], ws[16]
+    _compile(_kcolloc._factor, 1e-3, *ws[:5])  # the helper's step loads it
     _compile(_kradau.setup, P, a["x0"], a["t_eval"], i64)
     _compile(_kevent._initial_modes, P, y, P[ks.I_MODE])
     _compile(_kevent._settle, 0.0, y, P, f, ew, i64, 0.0, a["log"], stats)
@@ -168,8 +176,8 @@ def event_parts_here(helper: Helper, metrics: str | None) -> None:
         np.int64(o.uplift_mode), stats, a["rinfo"],
     )  # fmt: skip
     _compile(_kunilateral._on_target, i64, i64, i64, 0.0, 0.0, 0.0, P, ynew, fnew)
-    _compile(_kcolloc._factor, 1e-3, *ws[:5])
     opts = (True, True, 0.0, 0.0, 0.0, 0.0)
     run = (y, P, f, ws, ew, ctl, np.zeros(2), stats, opts, logs, lift)
+    helper.wait_for([ki.jeval])  # the handler's Jacobian: the helper's first piece
     _compile(_kunilateral._event_at, 0.0, i64, i64, 0.0, run)
     helper.wait_for([_kradau.radau_step])

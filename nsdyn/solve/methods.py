@@ -379,8 +379,9 @@ def tiny_run(m: Method):
 
 def _warm(kname: str, m: Method, helper: Helper | None = None, metrics: str | None = None):
     """Compile (or load) kernel ``kname`` by a run of ``m`` on the tiny problem; seconds spent
-    (0.0 when already done). With a ``helper`` compiling the flat Radau loop's leaves, the
-    ``metrics`` kernels and this process's share of the leaves first."""
+    (0.0 when already done). With a ``helper`` compiling part of the loop (``kname`` in
+    :data:`_SPLIT`), the ``metrics`` kernels and this process's share of the loop's pieces
+    first (:mod:`nsdyn.solve.compile_split`)."""
     if kname in _COMPILED:
         return 0.0
     t0 = time.perf_counter()
@@ -533,7 +534,9 @@ def run_unilateral(P, x0, t_eval, o: Options, X, upl_t, method: str, e_rest: flo
 
 
 def warmup_unilateral() -> float:
-    """Compile (or load) the unilateral kernel on the tiny system; seconds spent now."""
+    """Compile (or load) the unilateral kernel on the tiny system (the switch model's event
+    loop, :func:`warmup_kernel` ``("event")``, then a tiny run of each unilateral method);
+    seconds spent now."""
     if "unilateral" in _COMPILED:
         return 0.0
     t0 = time.perf_counter()

@@ -141,3 +141,30 @@ def test_unilateral_runs_use_the_event_loops_one_compiled_signature():
     methods.warmup_kernel("event")
     methods.warmup_unilateral()
     assert len(_kunilateral._run.signatures) == 1, _kunilateral._run.signatures
+
+
+class _IndexOnly:
+    """A cache file whose index names one data file (present or not)."""
+
+    def __init__(self, path):
+        self.path = path
+
+    def _load_index(self):
+        return {("sig",): "kernel-1.nbc"}
+
+    def _data_path(self, name):
+        return str(self.path / name)
+
+
+def test_an_index_entry_counts_only_once_its_data_file_is_written(tmp_path):
+    # numba saves a kernel's index before its data file: a waiter that trusted the index
+    # alone would try to load a helper's kernel too early, fail and compile it itself
+    from types import SimpleNamespace
+
+    from nsdyn._numba_cache import dispatcher_cached
+
+    cf = _IndexOnly(tmp_path)
+    disp = SimpleNamespace(signatures=[], _cache=SimpleNamespace(_cache_file=cf))
+    assert not dispatcher_cached(disp)
+    (tmp_path / "kernel-1.nbc").write_bytes(b"")
+    assert dispatcher_cached(disp)
