@@ -107,29 +107,30 @@ def _compiled_in_a_fresh_warmup(cache, kernel, metrics) -> set[str]:
     return set(out.stdout.split())
 
 
-@pytest.mark.slow
-@pytest.mark.skipif(not JIT, reason="nothing compiles under NUMBA_DISABLE_JIT")
-def test_default_warmup_splits_the_compilation_with_its_helper(tmp_path):
-    if not helper_enabled():
-        pytest.skip("a helper process needs two usable cores and NSDYN_COMPILE_HELPER != 0")
-    # ~40 s on two cores
-    here = _compiled_in_a_fresh_warmup(tmp_path, "radau", "metrics")
-    assert {"radau_flat", "start", "setup", "evaluate_flat_many"} <= here
-    assert not here & {"feval_flat", "jac_flat", "newton"}, "compiled here, not by the helper"
+# (kernel, metrics, compiled by the calling process, compiled by the helper only): the
+# default loop (~40 s on two cores) and the switch model's, whose pieces the helper compiles
+# by type for the signatures the loop asks for, without running them (~2.5 min)
+SPLITS = [
+    ("radau", "metrics", {"radau_flat", "start", "setup", "evaluate_flat_many"},
+     {"feval_flat", "jac_flat", "newton"}),
+    ("event", "metrics-general", {"_run", "_settle", "_event_at", "evaluate_many"},
+     {"general_inlined", "jeval", "start", "radau_step", "newton"}),
+]  # fmt: skip
 
 
 @pytest.mark.slow
 @pytest.mark.skipif(not JIT, reason="nothing compiles under NUMBA_DISABLE_JIT")
-def test_event_warmup_splits_the_compilation_with_its_helper(tmp_path):
+@pytest.mark.parametrize(
+    "kernel, metrics, here_expected, by_helper", SPLITS, ids=["radau", "event"]
+)
+def test_first_warmup_splits_the_compilation_with_its_helper(
+    tmp_path, kernel, metrics, here_expected, by_helper
+):
     if not helper_enabled():
         pytest.skip("a helper process needs two usable cores and NSDYN_COMPILE_HELPER != 0")
-    # the switch model's loop: the helper compiles the general kernels, the start-up and the
-    # step for the signatures the loop asks for (by type, without running them), so that this
-    # process, compiling the rest and then the loop, loads them. ~2.5 min on two cores.
-    here = _compiled_in_a_fresh_warmup(tmp_path, "event", "metrics-general")
-    assert {"_run", "_settle", "_event_at", "evaluate_many"} <= here
-    helpers = {"general_inlined", "jeval", "start", "radau_step", "newton"}
-    assert not here & helpers, "compiled here, not by the helper"
+    here = _compiled_in_a_fresh_warmup(tmp_path, kernel, metrics)
+    assert here_expected <= here
+    assert not here & by_helper, "compiled here, not by the helper"
 
 
 @pytest.mark.skipif(not JIT, reason="no compiled signatures under NUMBA_DISABLE_JIT")
