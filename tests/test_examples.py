@@ -58,3 +58,9 @@ def test_first_ten_minutes_coulomb_oscillator_decays_linearly_and_sticks():
     assert len(peaks) >= 2
     assert np.allclose(np.diff(peaks), -d / 2, atol=1e-4)
     assert abs(out["x_final_m"]) <= out["dead_band_m"] * (1 + 1e-9)
+
+
+def test_cold_compile_names_the_kernels_it_knows():
+    # the benchmark compiles for minutes; a wrong kernel name must stop it before any run
+    with pytest.raises(ValueError, match="kernel: expected one of"):
+        load_example("cold_compile").main("no-such-kernel", pairs=1)
