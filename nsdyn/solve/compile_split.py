@@ -3,8 +3,8 @@
 numba compiles on one thread per process, under a global lock, so a first run's ~1 min of
 compilation uses one core. :func:`nsdyn.solve.methods.warmup_kernel` starts a helper process
 (:class:`nsdyn._numba_cache.Helper`) on :func:`radau_helper_part` (the flat right-hand side,
-its Jacobian and Newton) while the calling process compiles the metrics and
-:func:`radau_parts_here` (the run's set-up, the factorisation, the start-up) and then the loop
+its Jacobian and Newton) while the calling process compiles :func:`radau_parts_here` (the
+metrics, the run's set-up, the factorisation, the start-up) and then the loop
 itself, which loads the helper's kernels from numba's on-disk cache. The loop's own
 compilation (~15-20 s) stays serial: it needs all of its callees first.
 
@@ -36,20 +36,28 @@ from nsdyn.solve import _kcolloc, _kevent, _kflat, _kimpact, _kradau, _kunilater
 from nsdyn.solve import _kcommon as ki
 
 
-def _radau_args():
-    """The arguments of the flat Radau loop's pieces on the tiny problem, with the numba types
-    the loop gives them (so that what is compiled here is what the loop calls), made without
-    compiling anything: :func:`nsdyn.solve.methods.tiny_run` and the workspace ``ws``."""
-    P, x0, t_eval, o, X, upl_t = methods.tiny_run(methods.METHODS["radau"])
-    ws = _kradau.workspace.py_func(x0.size, upl_t.size, P[ks.I_D].shape[0])
-    return P, x0, t_eval, o, X, upl_t, ws + (_kflat.pack_flat.py_func(P),)
+def _py(kernel):
+    """The Python function of a kernel (itself under ``NUMBA_DISABLE_JIT``)."""
+    return getattr(kernel, "py_func", kernel)
+
+
+def _tiny_args(method: str, law: str | None = None):
+    """The arguments of a loop's pieces on the tiny problem, with the numba types the loop
+    gives them (so that what is compiled here is what the loop calls), made without compiling
+    anything: :func:`nsdyn.solve.methods.tiny_run` of ``method`` (its system with friction
+    law ``law``) and the workspace ``ws`` as :func:`nsdyn.solve._kradau.setup` makes it."""
+    P, x0, t_eval, o, X, upl_t = methods.tiny_run(methods.METHODS[method])
+    if law is not None:
+        P = methods.with_law(P, law, np.zeros(P[ks.I_D].shape[0], dtype=np.int64))
+    ws = _py(_kradau.workspace)(x0.size, upl_t.size, P[ks.I_D].shape[0])
+    return P, x0, t_eval, o, X, upl_t, ws + (_py(_kflat.pack_flat)(P),)
 
 
 def radau_helper_part() -> None:
     """The helper process's share of the flat Radau loop's first compilation (see
     :func:`nsdyn.solve.methods.warmup_kernel`): the flat right-hand side, its Jacobian and
     Newton."""
-    P, x0, t_eval, o, X, upl_t, ws = _radau_args()
+    P, x0, t_eval, o, X, upl_t, ws = _tiny_args("radau")
     J, LUr, pr, LUc, pc, Z, Z0, W, F, dW, fr, fc, ys, scale, err, ynew, fnew, Qd = ws[:18]
     qdd, lam, tau, modes, Fl = ws[18:23]
     y = x0.copy()
@@ -62,7 +70,7 @@ def radau_helper_part() -> None:
     pc[:] = np.arange(n)
     scale[:] = 1.0
     h = 1e-3
-    ctl = _kradau.new_control.py_func(h, o.rtol)
+    ctl = _py(_kradau.new_control)(h, o.rtol)
     ctl[_kradau.C_LUH] = h
     stats = np.zeros(ki.N_STATS, dtype=np.int64)
     _kcolloc.newton(
@@ -71,10 +79,13 @@ def radau_helper_part() -> None:
     )  # fmt: skip
 
 
-def radau_parts_here(helper: Helper) -> None:
-    """This process's share before the loop itself: the run's set-up and the factorisation,
-    then (once the helper has the flat kernels) the start-up; then wait for Newton."""
-    P, x0, t_eval, o, X, upl_t, _ = _radau_args()
+def radau_parts_here(helper: Helper, metrics: str | None) -> None:
+    """This process's share before the loop itself: the ``metrics``, the run's set-up and the
+    factorisation, then (once the helper has the flat kernels) the start-up; then wait for
+    Newton."""
+    if metrics is not None:
+        methods.warmup_metrics(metrics == "metrics")
+    P, x0, t_eval, o, X, upl_t, _ = _tiny_args("radau")
     stats, rinfo, ws, y, f, lam_old = _kradau.setup(P, x0, t_eval, upl_t.size)
     _kcolloc._factor(1e-3, *ws[:5])
     helper.wait_for([_kflat.feval_flat, _kflat.jac_flat])
@@ -96,20 +107,12 @@ def _compile(disp, *args) -> None:
         disp.compile(tuple(typeof(a) for a in args))
 
 
-def _py(kernel):
-    """The Python function of a kernel (itself under ``NUMBA_DISABLE_JIT``)."""
-    return getattr(kernel, "py_func", kernel)
-
-
 def _event_args():
     """The event loop's local variables as :func:`nsdyn.solve._kunilateral._run` makes them, on
     the tiny problem (values are placeholders: only their numba types matter)."""
-    m = methods.METHODS["event"]
-    P, x0, t_eval, o, X, upl_t = methods.tiny_run(m)
-    P = methods.with_law(P, "modes", np.zeros(P[ks.I_D].shape[0], dtype=np.int64))
+    P, x0, t_eval, o, X, upl_t, ws = _tiny_args("event", "modes")
     n2 = x0.size
     nc = upl_t.size
-    ws = _py(_kradau.workspace)(n2, nc, P[ks.I_D].shape[0]) + (_py(_kflat.pack_flat)(P),)
     a = dict(P=P, x0=x0, t_eval=t_eval, o=o, X=X, upl_t=upl_t, ws=ws, y=x0.copy())
     a["f"] = np.zeros(n2)
     a["stats"] = np.zeros(ki.N_STATS, dtype=np.int64)

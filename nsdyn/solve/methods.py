@@ -352,7 +352,7 @@ def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
     target = None
     if kernel not in _COMPILED and helper_enabled() and not is_cached(kernel):
         if kernel in _SPLIT:
-            target = f"nsdyn.solve.compile_split:{_SPLIT[kernel]}"
+            target = f"nsdyn.solve.compile_split:{_SPLIT[kernel][0]}"
         elif metrics is not None and not is_cached(metrics):
             target = f"nsdyn.solve.methods:{_METRICS_PART[metrics]}"
     if target is None:
@@ -387,23 +387,21 @@ def _warm(kname: str, m: Method, helper: Helper | None = None, metrics: str | No
     t0 = time.perf_counter()
     P, x0, t_eval, opts, X, upl_t = tiny_run(m)
     with compiling():
-        if helper is not None and kname == "radau":
-            if metrics is not None:
-                warmup_metrics(metrics == "metrics")
-            from nsdyn.solve.compile_split import radau_parts_here
+        if helper is not None:
+            from nsdyn.solve import compile_split
 
-            radau_parts_here(helper)
-        elif helper is not None and kname == "event":
-            from nsdyn.solve.compile_split import event_parts_here
-
-            event_parts_here(helper, metrics)
+            getattr(compile_split, _SPLIT[kname][1])(helper, metrics)
         m.run(P, x0, t_eval, opts, X, upl_t)
     _COMPILED[kname] = time.perf_counter() - t0
     return _COMPILED[kname]
 
 
-# the kernels whose first compilation a helper process shares (nsdyn.solve.compile_split)
-_SPLIT = {"radau": "radau_helper_part", "event": "event_helper_part"}
+# the kernels whose first compilation a helper process shares: the helper's part and this
+# process's, both functions of nsdyn.solve.compile_split
+_SPLIT = {
+    "radau": ("radau_helper_part", "radau_parts_here"),
+    "event": ("event_helper_part", "event_parts_here"),
+}
 
 # the top-level numba dispatcher of each kernel (its on-disk cache entry stands for the kernel)
 _ENTRY = {
