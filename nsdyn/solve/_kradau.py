@@ -22,6 +22,7 @@ so the event-driven switch integrator (:mod:`nsdyn.solve._kevent`) drives the sa
 import numpy as np
 from numba import njit
 
+from nsdyn import _kborrow as kb
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcolloc as kc
 from nsdyn.solve import _kcommon as ki
@@ -383,11 +384,21 @@ def accept_arrays(
 @njit(cache=True, error_model="numpy", inline="always")
 def _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, flat,
          general):  # fmt: skip
-    """The run loop of :func:`radau` and :func:`radau_flat` (``general``: see radau_step)."""
+    """The run loop of :func:`radau` and :func:`radau_flat` (``general``: see radau_step).
+
+    The loop works on borrowed views (:mod:`nsdyn._kborrow`) of the arrays it owns and of its
+    arguments, and returns its owned ``stats, rinfo``: bit for bit the same run, without the
+    ~480 atomic reference-count updates per step of passing ~40 arrays around.
+    """
     nt = t_eval.shape[0]
-    stats, rinfo, ws, y, f, lam_old = setup(P, x0, t_eval, upl_t.shape[0])
+    stats_own, rinfo_own, ws_own, y_own, f_own, lam_own = setup(P, x0, t_eval, upl_t.shape[0])
     if not flat:
-        ws[22][kf.H_OK] = 0.0
+        ws_own[22][kf.H_OK] = 0.0
+    ws = kb.borrowed(ws_own)
+    y, f, lam_old = kb.borrowed((y_own, f_own, lam_own))
+    stats, rinfo = kb.borrowed((stats_own, rinfo_own))
+    P = kb.borrowed(P)
+    t_eval, atol, X, upl_t = kb.borrowed((t_eval, atol, X, upl_t))
     t = t_eval[0]
     t_end = t_eval[-1]
     iout, ctl = start(
@@ -395,7 +406,9 @@ def _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode,
         rinfo, general,
     )  # fmt: skip
     if iout < 0 or iout >= nt:
-        return stats, rinfo
+        return stats_own, rinfo_own
+    ctl_own = ctl
+    ctl = kb.borrowed(ctl_own)
     ynew, fnew, Qd, lam = ws[15], ws[16], ws[17], ws[19]
     while iout < nt:
         t_lim = t_end if fixed else min(t_end, ki.next_kink(t, P))
@@ -415,7 +428,8 @@ def _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode,
         if stop:
             break
     rinfo[ki.R_HNEXT] = ctl[C_H]
-    return stats, rinfo
+    kb.alive((ws_own, y_own, f_own, lam_own, ctl_own))
+    return stats_own, rinfo_own
 
 
 @njit(cache=True, error_model="numpy")
