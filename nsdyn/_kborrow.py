@@ -9,7 +9,7 @@ step, ~15 % of the run.
 
 ``borrowed(a)`` returns a view of ``a`` (same data, shape and strides) without a memory-info
 block: numba's reference counting skips it (a null check instead of an atomic operation).
-For tuples of arrays it borrows every member. The view does not keep ``a`` alive, so
+For (nested) tuples of arrays it borrows every member. The view does not keep ``a`` alive, so
 
 - the owner must outlive every use of the view: a run loop borrows what it owns (or what its
   caller owns) and ends with ``alive(owners)``, which keeps its own arrays referenced until
@@ -28,7 +28,7 @@ from numba.np.arrayobj import make_array
 
 
 def borrowed(a):
-    """A view of the array (or each array of the tuple) ``a`` without reference counting."""
+    """A view of the array (or each array of the nested tuple) ``a`` without reference counts."""
     return a
 
 
@@ -51,9 +51,20 @@ def _borrow_one(context, builder, aty, value):
 
 
 def _arrays(a):
+    """True for an array or a (nested) tuple of arrays."""
     if isinstance(a, types.Array):
         return True
-    return isinstance(a, types.BaseTuple) and all(isinstance(t, types.Array) for t in a.types)
+    return isinstance(a, types.BaseTuple) and all(_arrays(t) for t in a.types)
+
+
+def _borrow(context, builder, aty, value):
+    if isinstance(aty, types.Array):
+        return _borrow_one(context, builder, aty, value)
+    out = cgutils.get_null_value(context.get_value_type(aty))
+    for i, t in enumerate(aty.types):
+        member = builder.extract_value(value, i)
+        out = builder.insert_value(out, _borrow(context, builder, t, member), i)
+    return out
 
 
 @intrinsic
@@ -62,13 +73,7 @@ def _borrowed(typingctx, a):
         return None
 
     def codegen(context, builder, sig, args):
-        if isinstance(a, types.Array):
-            return _borrow_one(context, builder, a, args[0])
-        out = cgutils.get_null_value(context.get_value_type(a))
-        for i, t in enumerate(a.types):
-            member = builder.extract_value(args[0], i)
-            out = builder.insert_value(out, _borrow_one(context, builder, t, member), i)
-        return out
+        return _borrow(context, builder, a, args[0])
 
     return a(a), codegen
 

@@ -33,6 +33,7 @@ the step is not skipped.
 import numpy as np
 from numba import njit
 
+from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_vec
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcolloc as kcol
@@ -340,12 +341,22 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
     friction, contacts, uplift_mode = flags
     n = x0.shape[0] // 2
     nt = t_eval.shape[0]
+    # borrowed views (nsdyn._kborrow) of the arguments and of what the loop owns: no atomic
+    # reference counts for the ~45 arrays each step passes on; the owned stats/rinfo return
+    stats_own, rinfo_own, ws_own, y_own, f_own, lam_own = kr.setup(P, x0, t_eval, upl_t.shape[0])
+    scratch = np.empty(2 * n)
+    P = kb.borrowed(P)
+    ws = kb.borrowed(ws_own)
+    y, f, lam_old, stats, rinfo, scr = kb.borrowed(
+        (y_own, f_own, lam_own, stats_own, rinfo_own, scratch)
+    )
+    t_eval, atol, X, upl_t, OPEN_OUT = kb.borrowed((t_eval, atol, X, upl_t, OPEN_OUT))
+    logs = kb.borrowed(logs)
     D = P[ks.I_D]
     pm = P[ks.I_MODE]
     opn = P[ks.I_OPEN]
-    stats, rinfo, ws, y, f, lam_old = kr.setup(P, x0, t_eval, upl_t.shape[0])
     ynew, fnew, Qd, lam = ws[15], ws[16], ws[17], ws[19]
-    ew = (ws[12], np.empty(2 * n), ws[18], lam, ws[20], ws[21])
+    ew = (ws[12], scr, ws[18], lam, ws[20], ws[21])
     # velocities above v_tol are resolved motion (new slips oppose them), below: stick test
     v_tol = ke.V_SLIP_ATOL * np.max(atol[n:])
     g_tol = GAP_ATOL * np.max(atol[:n])
@@ -353,9 +364,10 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
     t_end = t_eval[-1]
     if not ki.all_finite(y):
         stats[ki.S_STATUS] = ki.ST_NONFINITE
-        return stats, rinfo
+        return stats_own, rinfo_own
     ok = True
-    lift = np.zeros((2, opn.shape[0]))  # last lift-off of each contact: time, min(gap, 0)
+    lift_own = np.zeros((2, opn.shape[0]))  # last lift-off of each contact: time, min(gap, 0)
+    lift = kb.borrowed(lift_own)
     lift[0] = -np.inf
     # the friction modes first (the contact forces depend on them, and MODE_AUTO is not a
     # mode the right-hand side knows), then the contact set
@@ -373,7 +385,7 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
         stats[ki.S_NEVENT] = 0  # the initial mode choice is not an event
     if not ok:
         stats[ki.S_STATUS] = ki.ST_EVENTS
-        return stats, rinfo
+        return stats_own, rinfo_own
     iout, ctl = kr.start(
         P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
         rinfo, kcol.general_inlined,
@@ -381,7 +393,7 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
     for k in range(max(iout, 0) if contacts else 0):
         copy_vec(OPEN_OUT[k], opn)
     if iout < 0 or iout >= nt:
-        return stats, rinfo
+        return stats_own, rinfo_own
     t_target = np.inf  # pending event instant to land on
     # np.int64: a variable that still holds its constant initial value at a call is passed as
     # a literal, and numba would compile the callee once for it and once for int64
@@ -389,7 +401,10 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
     ev_kind = np.int64(0)  # 0: slip -> stick/reversal, 1: stick -> slip, KIND_LIFT, KIND_LAND
     polish = np.int64(0)
     h_resume = ctl[kr.C_H]  # step size to resume with after an event
-    burst = np.array([-np.inf, 0.0])  # start and length of the current burst of events
+    burst_own = np.array([-np.inf, 0.0])  # start and length of the current burst of events
+    burst = kb.borrowed(burst_own)
+    ctl_own = ctl
+    ctl = kb.borrowed(ctl_own)
     opts = (friction, contacts, v_tol, g_tol, e_rest, max_step)
     run = (y, P, f, ws, ew, ctl, burst, stats, opts, logs, lift)
     # not the constant False: the step's signature then has a plain bool, which a compile
@@ -452,7 +467,8 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
                 break
             t_target = np.inf
     rinfo[ki.R_HNEXT] = ctl[kr.C_H]
-    return stats, rinfo
+    kb.alive((ws_own, y_own, f_own, lam_own, scratch, lift_own, burst_own, ctl_own))
+    return stats_own, rinfo_own
 
 
 # The two entry points are plain Python: a numba wrapper around the called loop would be

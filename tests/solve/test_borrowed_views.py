@@ -23,7 +23,7 @@ from nsdyn.solve.integrate import _tiny_problem
 @njit(cache=False)
 def _write_through(a, t):
     b = kb.borrowed(a)
-    u, v, w = kb.borrowed(t)
+    u, (v, w) = kb.borrowed(t)  # a nested tuple
     b[1] = 7.0
     u[0, 1] = 2.0 + 3.0j
     v[2] = 5
@@ -38,7 +38,7 @@ def test_views_share_memory_and_layout():
     v = np.zeros(4, dtype=np.int64)
     base = np.zeros(8)
     w = base[::2]  # a strided (non-contiguous) member
-    got = _write_through(a, (u, v, w))
+    got = _write_through(a, (u, (v, w)))
     assert got == (3, 2, 2, 16)
     assert a[1] == 7.0 and u[0, 1] == 2.0 + 3.0j and v[2] == 5 and base[2] == -1.0
     assert np.count_nonzero(a) == 1 and np.count_nonzero(base) == 1
