@@ -21,6 +21,7 @@ the map actually iterated, and Newton on the shooting residual converges quadrat
 import numpy as np
 from numba import njit
 
+from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_mat, copy_vec, lu_factor, lu_solve_columns
 from nsdyn.periodic._kproblems import (  # noqa: F401  (problem ids and Z layout re-exported)
     LU_RTOL,
@@ -171,11 +172,11 @@ def _res_norm(res, half, sz, sv):
 
 
 @njit(cache=True, error_model="numpy")
-def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
+def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, tmp, out):
     """One SDIRK step of size ``h`` from (t, x) into ``out = (xn, Sn, wn)`` (the state and its
     derivatives). ``problem = (prob, pf)`` (``pf``: a frame's flat array, see
     :func:`nsdyn.periodic._kproblems.pack_frame`), ``method = (A, c, rtol, atol)``,
-    ``work = (J, LU, piv, hg_lu, Fprev)``.
+    ``work = (J, LU, piv, hg_lu, Fprev)``, ``tmp`` the step's scratch (:func:`step_scratch`).
 
     ``J``/``LU``/``piv`` hold the latest Jacobian and the factors of the iteration matrix for
     ``hg_lu[0]``; they are updated in place. ``hT = dh/dT``. Stage Newton: damped (Armijo
@@ -196,20 +197,8 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
         if not _iteration_matrix(J, hg, LU, piv):
             return STATUS_SINGULAR, nfev
         hg_lu[0] = hg
-    Fs = np.zeros((s, d))
-    if want_sens:
-        SY = np.zeros((s, d, d))
-        Js = np.zeros((s, d, d))
-    else:
-        SY = np.zeros((1, 1, 1))
-        Js = np.zeros((1, 1, 1))
-    wY = np.zeros((s, d))
-    Y = np.empty(d)
-    Yt = np.empty(d)
-    Fi = np.empty(d)
-    r = np.empty(d)
-    res = np.empty((d, 1))
-    rest = np.empty((d, 1))
+    # stage slopes, sensitivities and Jacobians: row i is written before a later stage reads it
+    Fs, SY, Js, wY, Y, Yt, Fi, r, res, rest, dY, Rm, rw = tmp
     for i in range(s):
         ti = t + c[i] * h
         for k in range(d):
@@ -231,7 +220,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
         converged = False
         err_old = 1e300
         for it in range(STAGE_MAXIT):
-            dY = res.copy()
+            copy_mat(dY, res)
             _solve_scaled(LU, piv, dY, hg)
             err = _block_err(dY[:, 0], half, sz, sv)
             if not np.isfinite(err):
@@ -287,8 +276,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
         copy_vec(Fs[i], Fi)
         if want_sens:
             copy_mat(Js[i], J)
-            Rm = S.copy()
-            rw = np.empty((d, 1))
+            copy_mat(Rm, S)
             for k in range(d):
                 acc = 0.0
                 for j in range(i + 1):
@@ -311,6 +299,18 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, out):
 
 
 @njit(cache=True, error_model="numpy")
+def step_scratch(s, d, want_sens):
+    """Scratch of :func:`dirk_step` for ``s`` stages and ``d`` states (allocated once per
+    period, not once per step): Fs, SY, Js, wY, Y, Yt, Fi, r, res, rest, dY, Rm, rw."""
+    ds = d if want_sens else 1
+    return (
+        np.zeros((s, d)), np.zeros((s, ds, ds)), np.zeros((s, ds, ds)), np.zeros((s, d)),
+        np.zeros(d), np.zeros(d), np.zeros(d), np.zeros(d), np.zeros((d, 1)), np.zeros((d, 1)),
+        np.zeros((d, 1)), np.zeros((ds, ds)), np.zeros((d, 1)),
+    )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
 def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol):
     """Integrate one period ``T`` in ``N`` SDIRK steps from ``x0`` (at t = 0).
 
@@ -322,29 +322,30 @@ def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol):
     """
     d = x0.shape[0]
     h = T / N
-    x = x0.copy()
-    S = np.eye(d) if want_sens else np.zeros((1, 1))
-    w = np.zeros(d)
-    xs = x.copy()
-    Ss = S.copy()
-    ws = w.copy()
-    xn = np.empty(d)
-    Sn = S.copy()
-    wn = np.zeros(d)
-    X = np.zeros((N + 1, d)) if store else np.zeros((1, d))
+    # the returned arrays (owned) ...
+    x_own = x0.copy()
+    S_own = np.eye(d) if want_sens else np.zeros((1, 1))
+    w_own = np.zeros(d)
+    X_own = np.zeros((N + 1, d)) if store else np.zeros((1, d))
+    # ... and the scratch, all used through borrowed views (nsdyn._kborrow): no atomic
+    # reference counts for the ~15 arrays each step passes on
+    scratch = (
+        x_own.copy(), S_own.copy(), w_own.copy(), np.empty(d), S_own.copy(), np.zeros(d),
+        np.zeros((d, d)), np.zeros((d // 2, d)), np.zeros(d // 2, dtype=np.int64),
+        np.zeros(1), np.zeros(d), np.zeros(d),
+    )  # fmt: skip
+    tmp_own = step_scratch(c.shape[0], d, want_sens)
+    tmp = kb.borrowed(tmp_own)
+    x, S, w, X = kb.borrowed((x_own, S_own, w_own, X_own))
+    xs, Ss, ws, xn, Sn, wn, J, LU, piv, hg_lu, Fprev, Fsave = kb.borrowed(scratch)
+    pf, A, c = kb.borrowed((pf, A, c))
     if store:
         copy_vec(X[0], x)
-    J = np.zeros((d, d))
-    LU = np.zeros((d // 2, d))
-    piv = np.zeros(d // 2, dtype=np.int64)
-    hg_lu = np.zeros(1)
-    Fprev = np.zeros(d)
     problem = (prob, pf)
     method = (A, c, rtol, atol)
     work = (J, LU, piv, hg_lu, Fprev)
-    Fsave = np.zeros(d)
     if not j_eval(prob, 0.0, x, pf, Fprev, J):
-        return x, S, w, X, STATUS_SINGULAR, 1, 0
+        return x_own, S_own, w_own, X_own, STATUS_SINGULAR, 1, 0
     n_fev = 1
     n_sub = 0
     for n in range(N):
@@ -372,6 +373,7 @@ def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol):
                     problem,
                     method,
                     work,
+                    tmp,
                     (xn, Sn, wn),
                 )
                 n_fev += nf
@@ -396,11 +398,12 @@ def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol):
             if ksub == 2:
                 n_sub += 1
         if status != STATUS_OK:
-            return x, S, w, X, status, n_fev, n_sub
+            return x_own, S_own, w_own, X_own, status, n_fev, n_sub
         copy_vec(x, xs)
         if want_sens:
             copy_mat(S, Ss)
             copy_vec(w, ws)
         if store:
             copy_vec(X[n + 1], x)
-    return x, S, w, X, STATUS_OK, n_fev, n_sub
+    kb.alive((scratch, tmp_own))
+    return x_own, S_own, w_own, X_own, STATUS_OK, n_fev, n_sub
