@@ -12,6 +12,7 @@ mu lam (2/pi) eps limit the stable step to ~1e-5 s, whatever the tolerance.
 import numpy as np
 from numba import njit
 
+from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_vec
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
@@ -92,6 +93,12 @@ def dopri5(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mod
     err = np.empty(n2)
     qdd, lam, tau, modes = ks.outputs(P)
     lam_old = np.empty(nc)
+    # the loop works on borrowed views (nsdyn._kborrow) of these and of its arguments: no
+    # atomic reference counts for the arrays each step passes on; the owned stats/rinfo return
+    own = (stats, rinfo, K, y, ynew, ytmp, err, qdd, lam, tau, modes, lam_old)
+    stats, rinfo, K, y, ynew, ytmp, err, qdd, lam, tau, modes, lam_old = kb.borrowed(own)
+    P = kb.borrowed(P)
+    x0, t_eval, atol, X, upl_t = kb.borrowed((x0, t_eval, atol, X, upl_t))
     t = t_eval[0]
     t_end = t_eval[-1]
     rinfo[ki.R_T] = t
@@ -100,7 +107,7 @@ def dopri5(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mod
         t, y, P, K[0], qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo
     )
     if iout < 0:
-        return stats, rinfo
+        return own[0], own[1]
 
     if h0 > 0.0:
         h = h0
@@ -200,4 +207,5 @@ def dopri5(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mod
     if st != ki.ST_SUCCESS and st != ki.ST_UPLIFT and st != ki.ST_SINGULAR:
         rinfo[ki.R_T] = t
         rinfo[ki.R_H] = h
-    return stats, rinfo
+    kb.alive(own)
+    return own[0], own[1]

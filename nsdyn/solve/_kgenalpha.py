@@ -24,6 +24,7 @@ Outputs between steps are cubic Hermite interpolants (q from q, v; v from v, a).
 import numpy as np
 from numba import njit
 
+from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_vec
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
@@ -191,6 +192,13 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
     lam_old = np.empty(nc)
     # q_{n+1}, v_{n+1}, the state at the alpha point and its right-hand side, the residual
     gw = (np.empty(n), np.empty(n), np.empty(n2), np.empty(n2), np.empty(n), qdd, lam, tau, modes)
+    # the loop works on borrowed views (nsdyn._kborrow) of these and of its arguments: no
+    # atomic reference counts for the arrays each step passes on; the owned stats/rinfo return
+    own = (stats, rinfo, q, v, a, an, xe, fe, d, a_old, J, S, piv, lam_old, gw)
+    stats, rinfo, q, v, a, an, xe, fe, d, a_old, J, S, piv, lam_old, gw = kb.borrowed(own)
+    qdd, lam, tau, modes = gw[5], gw[6], gw[7], gw[8]
+    P = kb.borrowed(P)
+    x0, t_eval, atol, X, upl_t = kb.borrowed((x0, t_eval, atol, X, upl_t))
     qn, vn, r = gw[0], gw[1], gw[4]
     t0 = t_eval[0]
     t_end = t_eval[-1]
@@ -202,7 +210,7 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
         t, x0, P, fe, qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo
     )
     if iout < 0:
-        return stats, rinfo
+        return own[0], own[1]
     copy_vec(a, qdd)
     have_lu = False
     h_lu = 0.0
@@ -223,7 +231,7 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
         if not ok:
             stats[ki.S_STATUS] = ki.ST_SINGULAR
             rinfo[ki.R_T] = t
-            return stats, rinfo
+            return own[0], own[1]
         converged = False
         fresh = False
         dw = np.inf
@@ -234,7 +242,7 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
                 break
             if not have_lu or abs(h_lu - h) > 1e-12 * h:
                 if not _iteration_matrix(ta, h, coef, P, gw, J, S, piv, t, stats, rinfo):
-                    return stats, rinfo
+                    return own[0], own[1]
                 have_lu = True
                 h_lu = h
                 fresh = True
@@ -263,7 +271,7 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
                     rn, ok = _residual(ta, h, q, v, a, an, coef, P, gw)
                     stats[ki.S_NFEV] += 1
                     if not _iteration_matrix(ta, h, coef, P, gw, J, S, piv, t, stats, rinfo):
-                        return stats, rinfo
+                        return own[0], own[1]
                     fresh = True
                     copy_vec(d, r)
                     ki.lu_solve(S, piv, d)
@@ -306,4 +314,5 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
         if stop:
             break
         rinfo[ki.R_T] = t
-    return stats, rinfo
+    kb.alive(own)
+    return own[0], own[1]
