@@ -28,6 +28,7 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_vec
 from nsdyn.models.contact._kgeom import ground_acc, mu_of
 
@@ -118,10 +119,13 @@ def integrate(t0, t1, h, q, vh, verts, anchor, stuck, p, ex, tab_h, tab_v, acc, 
     """
     n_steps = max(1, int(math.ceil((t1 - t0) / h * (1.0 - 1e-12))))
     h = (t1 - t0) / n_steps
-    f = np.zeros(3)
-    info = np.zeros(4)
-    vn = np.zeros(3)
+    # borrowed views (nsdyn._kborrow): no atomic reference counts per step
     minv = np.array([1.0 / p[P_M], 1.0 / p[P_M], 1.0 / p[P_J]])
+    own = (np.zeros(3), np.zeros(4), np.zeros(3), minv)
+    f, info, vn, minv = kb.borrowed(own)
+    q, vh, verts, anchor, stuck, p, ex, tab_h, tab_v, acc, t_out, y_out = kb.borrowed(
+        (q, vh, verts, anchor, stuck, p, ex, tab_h, tab_v, acc, t_out, y_out)
+    )
     t = t0
     n_out = t_out.shape[0]
     for k in range(n_steps):
@@ -152,4 +156,5 @@ def integrate(t0, t1, h, q, vh, verts, anchor, stuck, p, ex, tab_h, tab_v, acc, 
             return ST_NONFINITE, t, iout, k + 1
         if abs(q[2]) >= p[P_THOV]:
             return ST_OVER, t, iout, k + 1
+    kb.alive(own)
     return ST_OK, t1, iout, n_steps

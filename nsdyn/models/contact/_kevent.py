@@ -26,6 +26,7 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_vec
 from nsdyn.models.contact._kgeom import contact_rows, ground_acc, mu_of, solve_contacts
 
@@ -117,6 +118,11 @@ def integrate(t, y, t_end, h, sig, closed, verts, minv, par, ex, tab_h, tab_v,
     -------
     t, y, h (next step), code (EV_*), which (indicator index), iout, n_steps, n_rhs
     """
+    # borrowed views (nsdyn._kborrow) of the arguments each evaluation takes: no atomic
+    # reference counts per stage (y, returned, stays counted)
+    sig, closed, verts, minv, par, ex, tab_h, tab_v, t_out, y_out = kb.borrowed(
+        (sig, closed, verts, minv, par, ex, tab_h, tab_v, t_out, y_out)
+    )
     nc = verts.shape[0]
     ni = 2 * nc + 1
     f0, ind0, _, _, st = rhs(t, y, sig, closed, verts, minv, par, ex, tab_h, tab_v)

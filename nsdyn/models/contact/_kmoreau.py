@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_vec
 from nsdyn.models.contact._kgeom import (
     OVERTURNED,
@@ -45,6 +46,10 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
     t (nout,), q (nout, 3), v (nout, 3), mode (nout,), n_done (steps taken), status
     (0 done, 1 overturned, -1 LCP failure, -2 non-finite state), t_stop
     """
+    # borrowed views (nsdyn._kborrow) of the arguments: no atomic reference counts per step
+    verts, minv, par, ex, tab_h, tab_v, jumps = kb.borrowed(
+        (verts, minv, par, ex, tab_h, tab_v, jumps)
+    )
     nc = verts.shape[0]
     m = par[0]
     grav = par[1]

@@ -33,6 +33,7 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn import _kborrow as kb
 from nsdyn import _kdp5 as dp
 from nsdyn._klinalg import copy_vec, lu_factor, lu_solve
 from nsdyn.models.cylinder._kfound import contact_moments, resultants
@@ -307,6 +308,10 @@ def integrate(
     k = np.empty((7, NY))  # Dormand-Prince stages
     yn = np.empty(NY)  # a stage's state; after the last stage the step's solution
     a = np.empty(3)
+    # borrowed views (nsdyn._kborrow): no atomic reference counts per stage and step
+    own = (y, dy, aux, fr, k, yn, a)
+    y, dy, aux, fr, k, yn, a = kb.borrowed(own)
+    ag, p, atol, hist, stats = kb.borrowed((ag, p, atol, hist, stats))
     if mu >= 0.0:
         set_mode(y, ag[0], p, fr, k[0], aux)
     else:
@@ -403,4 +408,5 @@ def integrate(
     stats[3] = kinks
     stats[4] = nfev
     stats[5] = slips
+    kb.alive(own)
     return status

@@ -27,6 +27,7 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn import _kborrow as kb
 from nsdyn import _kdp5 as dp
 from nsdyn.models.rocking._kground import (
     GK_NONE,
@@ -163,6 +164,12 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
     rc = np.zeros((5, 2))
     y = np.zeros(2)  # (theta, theta') at the start of a step
     y1 = np.zeros(2)  # a stage's state; after the last stage the step's solution
+    # borrowed views (nsdyn._kborrow): no atomic reference counts per stage and step
+    own = (k, rc, y, y1)
+    k, rc, y, y1 = kb.borrowed(own)
+    par, gp, tab_h, tab_v, y0, out, imp, peaks, info = kb.borrowed(
+        (par, gp, tab_h, tab_v, y0, out, imp, peaks, info)
+    )
     t = t0
     th = y0[0]
     thd = y0[1]
@@ -408,4 +415,5 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
     info[I_NOUT] = k_out
     info[I_NUPL] = n_upl
     info[I_NRHS] = n_rhs
+    kb.alive(own)
     return status

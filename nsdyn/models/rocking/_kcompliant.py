@@ -24,6 +24,7 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn import _kborrow as kb
 from nsdyn import _kdp5 as dp
 from nsdyn._klinalg import copy_vec
 from nsdyn.models.rocking._kground import ground, step_to_breakpoint
@@ -101,6 +102,10 @@ def integrate(q, atol, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, info):
     y = y0.copy()
     y1 = np.zeros(n)  # a stage's state; after the last stage the step's solution
     rc = np.zeros((5, n))
+    # borrowed views (nsdyn._kborrow): no atomic reference counts per stage and step
+    own = (k, y, y1, rc)
+    k, y, y1, rc = kb.borrowed(own)
+    q, atol, gp, tab_h, tab_v, out, info = kb.borrowed((q, atol, gp, tab_h, tab_v, out, info))
     tol = q[Q_TOL]
     hmax = q[Q_HMAX]
     n_out = out.shape[0]
@@ -159,4 +164,5 @@ def integrate(q, atol, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, info):
     info[J_NSTEP] = n_step
     info[J_NREJ] = n_rej
     info[J_NOUT] = k_out
+    kb.alive(own)
     return status
