@@ -32,6 +32,7 @@ for a stick row, the largest ``|v_i|`` so far for a slip row); the smallest is r
 import numpy as np
 from numba import njit
 
+from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_vec, lu_factor, lu_solve_columns
 
 STATUS_OK = 0
@@ -300,6 +301,11 @@ def period_map(AB, V, TAU, LF, mu, x0, w, T, N, v_zero, want_sens, store, ev_t, 
     ``|c . f-| / (w scale)``). Returns (xT, Phi, X, MK, status, n_events, graze): MK (N + 1,)
     the mode-set index at each sample, graze the smallest grazing measure of the period.
     """
+    # borrowed views (nsdyn._kborrow) of the arguments: no atomic reference counts per step
+    # (the returned arrays are this function's own)
+    AB, V, TAU, LF, mu, x0, ev_t, ev_i, ev_m, ev_g = kb.borrowed(
+        (AB, V, TAU, LF, mu, x0, ev_t, ev_i, ev_m, ev_g)
+    )
     d = x0.shape[0]
     Dd = d + 3
     K = AB.shape[0]

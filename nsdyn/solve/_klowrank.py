@@ -21,6 +21,7 @@ calls :func:`step` once per step.
 import numpy as np
 from numba import njit
 
+from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_mat, copy_vec, lu_factor, lu_solve
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve._kgenalpha import _hermite
@@ -176,10 +177,14 @@ def run_steps(t, t_steps, u_all, W, A0, state, ops, par, out, max_steps):
     u_k]`` (dense backend), or the given ``A0`` when ``W`` is empty (one step, sparse backend).
     Stops at the last output, after ``max_steps`` steps or on a failed step (status set).
     Returns the time reached."""
+    # borrowed views (nsdyn._kborrow) of the arrays each step passes on: no atomic reference
+    # counts for them (``par`` mixes numbers and arrays and stays as it is)
+    t_steps, u_all, W, A0, state, ops, out = kb.borrowed((t_steps, u_all, W, A0, state, ops, out))
     q, v, a = state[0], state[1], state[2]
     stats = out[3]
     n = q.shape[0]
-    y = np.empty(W.shape[1])
+    y_own = np.empty(W.shape[1])
+    y = kb.borrowed(y_own)
     for k in range(t_steps.shape[0]):
         if stats[ki.S_NOUT] >= out[0].shape[0]:
             break
@@ -196,4 +201,5 @@ def run_steps(t, t_steps, u_all, W, A0, state, ops, par, out, max_steps):
         if stop:
             break
         t = t_steps[k]
+    kb.alive(y_own)
     return t
