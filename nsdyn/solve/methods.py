@@ -387,7 +387,7 @@ def _warm(kname: str, m: Method, helper: Helper | None = None, metrics: str | No
     t0 = time.perf_counter()
     P, x0, t_eval, opts, X, upl_t = tiny_run(m)
     with compiling():
-        if helper is not None:
+        if helper is not None and kname in _SPLIT:  # else the helper compiles the metrics only
             from nsdyn.solve import compile_split
 
             getattr(compile_split, _SPLIT[kname][1])(helper, metrics)

@@ -169,3 +169,17 @@ def test_an_index_entry_counts_only_once_its_data_file_is_written(tmp_path):
     assert not dispatcher_cached(disp)
     (tmp_path / "kernel-1.nbc").write_bytes(b"")
     assert dispatcher_cached(disp)
+
+
+def test_a_kernel_without_a_split_warms_up_beside_a_metrics_helper(monkeypatch):
+    # for a kernel the helper does not share (generalized-alpha, dopri5, ...) the helper only
+    # compiles the metrics: this process warms the whole kernel itself and asks the split
+    # table nothing (a first `nsdyn run --method genalpha` took that path and failed)
+    from nsdyn.solve import methods
+
+    monkeypatch.setattr(methods, "_COMPILED", {})
+    for name in ("genalpha", "dopri5"):
+        m = methods.METHODS[name]
+        assert m.kernel not in methods._SPLIT
+        assert methods._warm(m.kernel, m, helper=object()) >= 0.0
+        assert m.kernel in methods._COMPILED
