@@ -20,7 +20,10 @@ from nsdyn._numba_cache import guard_family
 
 # the kernels call each other, the isolated frame's system kernel and the shared LU
 _NSDYN = Path(__file__).resolve().parents[1]
-guard_family(__file__, [_NSDYN / "models" / "isolated" / "_kernel.py", _NSDYN / "_klinalg.py"])
+guard_family(
+    __file__,
+    [_NSDYN / "models" / "isolated" / "_kernel.py", _NSDYN / "_klinalg.py", _NSDYN / "_kborrow.py"],
+)
 
 # ruff: noqa: E402
 

@@ -43,7 +43,10 @@ KERNEL_MODULES = (
 
 # stale caches across files: the system kernel and the shared LU are compiled into ours
 _NSDYN = Path(__file__).resolve().parents[1]
-guard_family(__file__, [_NSDYN / "models" / "isolated" / "_kernel.py", _NSDYN / "_klinalg.py"])
+guard_family(
+    __file__,
+    [_NSDYN / "models" / "isolated" / "_kernel.py", _NSDYN / "_klinalg.py", _NSDYN / "_kborrow.py"],
+)
 
 # ---- status codes (kernel -> front door; messages in nsdyn.solve.integrate.MESSAGES) -------------
 ST_SUCCESS = 0  # reached the last output time

@@ -5,6 +5,15 @@ Coulomb friction mu(v) = mu_d + (mu_s - mu_d) exp(-C |v|); solved event-driven (
 LCP by Lemke's method between events, impacts at velocity level) or by Moreau-Jean time stepping.
 """
 
+from pathlib import Path
+
+from nsdyn._numba_cache import guard_family
+
+# the kernels call each other across files, the small linear algebra and the borrowed views
+_NSDYN = Path(__file__).resolve().parents[2]
+guard_family(__file__, [_NSDYN / "_klinalg.py", _NSDYN / "_kborrow.py"])
+
+# ruff: noqa: E402
 from nsdyn.models.contact.body import RigidBody
 from nsdyn.models.contact.compliant import CompliantGround, CompliantResult, simulate_compliant
 from nsdyn.models.contact.event import simulate_event

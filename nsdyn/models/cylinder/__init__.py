@@ -10,7 +10,7 @@ from nsdyn._numba_cache import guard_family
 
 # the kernels call each other across files, the shared Dormand–Prince steps and the dense LU
 _NSDYN = Path(__file__).resolve().parents[2]
-guard_family(__file__, [_NSDYN / "_kdp5.py", _NSDYN / "_klinalg.py"])
+guard_family(__file__, [_NSDYN / "_kdp5.py", _NSDYN / "_klinalg.py", _NSDYN / "_kborrow.py"])
 
 # ruff: noqa: E402
 

@@ -13,8 +13,10 @@ from pathlib import Path
 
 from nsdyn._numba_cache import guard_family
 
-# the kernels call each other across files and the shared Dormand–Prince tableau
-guard_family(__file__, [Path(__file__).resolve().parents[2] / "_kdp5.py"])
+# the kernels call each other across files, the shared Dormand–Prince tableau, the small
+# linear algebra and the borrowed views
+_NSDYN = Path(__file__).resolve().parents[2]
+guard_family(__file__, [_NSDYN / "_kdp5.py", _NSDYN / "_klinalg.py", _NSDYN / "_kborrow.py"])
 
 # ruff: noqa: E402
 
