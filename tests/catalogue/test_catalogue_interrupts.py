@@ -166,15 +166,18 @@ def test_run_checkpoint_from_other_settings_is_refused(tmp_path, capsys, referen
 
 
 # ----------------------------------------------------------------------------- nsdyn sweep
-SWEEP_ARGS = ["sweep", SHEAR, "--amplitudes", "1", "--points", "300", "--fmin", "0.02",
-              "--fmax", "5", "--workers", "1", "--no-figures", "--json"]  # fmt: skip
+# long enough to be caught mid-way on a quiet machine: a checkpoint is written at most every
+# CHECKPOINT_EVERY_S = 2 s, and 300 points of this model took ~1.9 s (6 s for these 1 500)
+SWEEP_POINTS = 1500
+SWEEP_ARGS = ["sweep", SHEAR, "--amplitudes", "1", "--points", str(SWEEP_POINTS), "--fmin",
+              "0.02", "--fmax", "5", "--workers", "1", "--no-figures", "--json"]  # fmt: skip
 
 
 def _sweep_ckpt(out: Path) -> Path:
     return out / ".sweep-A1.ckpt.json"
 
 
-@pytest.mark.slow  # 15-30 s: the sweep must run long enough to be caught mid-way
+@pytest.mark.slow  # ~10-30 s: the sweep must run long enough to be caught mid-way
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 def test_sweep_interrupted_resumes_without_loss_or_repeat(tmp_path, capsys, sig):
     out = tmp_path / "out"
@@ -188,17 +191,17 @@ def test_sweep_interrupted_resumes_without_loss_or_repeat(tmp_path, capsys, sig)
     saved = json.loads(ck.read_text())  # a complete JSON document
     assert not saved["complete"]
     n_saved = len(saved["points"])
-    assert 0 < n_saved < 300
+    assert 0 < n_saved < SWEEP_POINTS
     assert main([*SWEEP_ARGS, "--out", str(out)]) == 0
     rep = json.loads(capsys.readouterr().out)
     final = json.loads(ck.read_text())
-    assert final["complete"] and len(final["points"]) == 300  # none lost
+    assert final["complete"] and len(final["points"]) == SWEEP_POINTS  # none lost
     fs = [p["f"] for p in final["points"]]
     assert len(set(fs)) == len(fs)  # none twice
     assert final["points"][:n_saved] == saved["points"]  # the saved points kept as they were
     with open(out / "sweep.csv") as fh:
-        assert sum(1 for _ in fh) == 1 + 300
-    assert rep["amplitudes"][0]["points"] == 300
+        assert sum(1 for _ in fh) == 1 + SWEEP_POINTS
+    assert rep["amplitudes"][0]["points"] == SWEEP_POINTS
     _no_temporaries(out)
 
 
@@ -219,7 +222,7 @@ def test_sweep_checkpoint_from_other_settings_is_refused(tmp_path, capsys):
 def test_sweep_checkpoint_from_other_settings_is_not_mixed(tmp_path, capsys):
     # a checkpoint of 7 points is not merged into a 3-point sweep of the same scene
     out = tmp_path / "out"
-    base = [a for a in SWEEP_ARGS if a != "300"]
+    base = [a for a in SWEEP_ARGS if a != str(SWEEP_POINTS)]
     i = base.index("--points")
     del base[i]
     assert main([*base, "--points", "7", "--out", str(out)]) == 0
