@@ -3,10 +3,11 @@
 numba compiles on one thread per process, under a global lock, so a first run's ~1 min of
 compilation uses one core. :func:`nsdyn.solve.methods.warmup_kernel` starts a helper process
 (:class:`nsdyn._numba_cache.Helper`) on :func:`radau_helper_part` (the flat right-hand side,
-its Jacobian and Newton) while the calling process compiles :func:`radau_parts_here` (the
-metrics, the run's set-up, the factorisation, the start-up) and then the loop
-itself, which loads the helper's kernels from numba's on-disk cache. The loop's own
-compilation (~15-20 s) stays serial: it needs all of its callees first.
+its Jacobian and Newton; :func:`radau_helper_part_and_metrics` then also the metrics, which a
+run needs only after its loop) while the calling process compiles :func:`radau_parts_here`
+(the run's set-up, the factorisation, the start-up) and then the loop itself, which loads the
+helper's kernels from numba's on-disk cache. The loop's own compilation (~8-20 s) stays
+serial: it needs all of its callees first.
 
 The switch model's event-driven loop (:func:`nsdyn.solve._kunilateral._run`, ~4 min into an
 empty cache on one core) is split the same way: the helper takes the general kernel's
@@ -77,6 +78,14 @@ def radau_helper_part() -> None:
         P, 0.0, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, scale, qdd, lam,
         tau, modes, Fl, True, _kcolloc.flat_only,
     )  # fmt: skip
+
+
+def radau_helper_part_and_metrics() -> None:
+    """:func:`radau_helper_part`, then the flat metrics kernels (``pack_flat``,
+    ``evaluate_flat_many``, ``ground_many``): the helper has nothing else to do while the
+    calling process compiles the loop, and a run needs the metrics only after its loop."""
+    radau_helper_part()
+    methods.warmup_metrics(True)
 
 
 def radau_parts_here(helper: Helper, metrics: str | None) -> None:

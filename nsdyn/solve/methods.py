@@ -333,9 +333,10 @@ def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
     (:func:`nsdyn._numba_cache.helper_enabled`): numba compiles on one thread per process, so
     the helper compiles part of the kernels into numba's on-disk cache while this process
     compiles the rest and then loads the helper's. For the default loop (``"radau"``) the
-    helper takes the flat right-hand side, its Jacobian and Newton
-    (:func:`nsdyn.solve.compile_split.radau_helper_part`) while this process compiles the
-    metrics, the run's set-up, the factorisation and the start-up, then the loop itself; for
+    helper takes the flat right-hand side, its Jacobian and Newton, then the metrics
+    (:func:`nsdyn.solve.compile_split.radau_helper_part_and_metrics`; without metrics
+    :func:`~nsdyn.solve.compile_split.radau_helper_part`) while this process compiles the
+    run's set-up, the factorisation and the start-up, then the loop itself; for
     the switch model's loop (``"event"``) the helper takes the general kernels, the start-up
     and the step (:func:`nsdyn.solve.compile_split.event_helper_part`) while this process
     compiles the settling, the event detectors and handler and the metrics; for the other
@@ -350,17 +351,22 @@ def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
         raise ValueError(f"metrics: expected None, 'metrics' or 'metrics-general', got {metrics!r}")
     t0 = time.perf_counter()
     target = None
+    here = metrics if kernel in _SPLIT else None  # metrics compiled by this process's share
     if kernel not in _COMPILED and helper_enabled() and not is_cached(kernel):
         if kernel in _SPLIT:
-            target = f"nsdyn.solve.compile_split:{_SPLIT[kernel][0]}"
+            part, _, with_metrics = _SPLIT[kernel]
+            if metrics == "metrics" and with_metrics and not is_cached(metrics):
+                # the helper is idle while this process compiles the loop: it takes them
+                part, here = with_metrics, None
+            target = f"nsdyn.solve.compile_split:{part}"
         elif metrics is not None and not is_cached(metrics):
             target = f"nsdyn.solve.methods:{_METRICS_PART[metrics]}"
     if target is None:
         _warm(kernel, m)
     else:
         with Helper(target) as helper:
-            _warm(kernel, m, helper, metrics if kernel in _SPLIT else None)
-    if metrics is not None:
+            _warm(kernel, m, helper, here)
+    if metrics is not None:  # loaded from the cache when the helper compiled them
         warmup_metrics(metrics == "metrics")
     return time.perf_counter() - t0
 
@@ -397,10 +403,11 @@ def _warm(kname: str, m: Method, helper: Helper | None = None, metrics: str | No
 
 
 # the kernels whose first compilation a helper process shares: the helper's part and this
-# process's, both functions of nsdyn.solve.compile_split
+# process's, both functions of nsdyn.solve.compile_split, and the helper's part that also
+# compiles the flat metrics kernels (None: this process compiles the metrics)
 _SPLIT = {
-    "radau": ("radau_helper_part", "radau_parts_here"),
-    "event": ("event_helper_part", "event_parts_here"),
+    "radau": ("radau_helper_part", "radau_parts_here", "radau_helper_part_and_metrics"),
+    "event": ("event_helper_part", "event_parts_here", None),
 }
 
 # the top-level numba dispatcher of each kernel (its on-disk cache entry stands for the kernel)

@@ -170,6 +170,21 @@ def describe(excitation) -> str:
     return f"{kind}: {name}" if name else f"{kind}: {excitation!r}"[:200]
 
 
+def _prepare_default_loop(method: str, P: tuple, contact: str | None) -> float:
+    """Seconds spent compiling (or loading) the flat Radau loop together with the metrics
+    kernels a run evaluates after it, when the run uses that loop: a first run then compiles
+    the metrics in the compile helper while this process compiles the loop, as ``nsdyn run``
+    does (:func:`nsdyn.solve.methods.warmup_kernel`), instead of after the run. 0.0 for other
+    runs (their kernels compile on first use)."""
+    from nsdyn.solve import methods
+
+    if method not in methods.METHODS or contact == "unilateral":
+        return 0.0
+    if methods.kernel_for(method, P) != "radau" or methods.compiled("radau"):
+        return 0.0
+    return methods.warmup_kernel("radau", metrics="metrics")
+
+
 def flat_evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple | None:
     """Accelerations, normal forces, friction forces and modes along the history ``X``
     (every contact closed) by the flat kernel, its linear part ``-X_q (M^-1 K)^T - X_v
@@ -315,6 +330,7 @@ def simulate(
         solver_options.update(contact=contact)
     if contact == "unilateral":
         solver_options.update(restitution=restitution)
+    compile_s += _prepare_default_loop(method, P, contact)
     for a, b in zip(bounds[:-1], bounds[1:], strict=True):
         x_start = xs[-1][-1]
         if modes is not None and method == "event":

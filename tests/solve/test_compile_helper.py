@@ -108,11 +108,12 @@ def _compiled_in_a_fresh_warmup(cache, kernel, metrics) -> set[str]:
 
 
 # (kernel, metrics, compiled by the calling process, compiled by the helper only): the
-# default loop (~40 s on two cores) and the switch model's, whose pieces the helper compiles
-# by type for the signatures the loop asks for, without running them (~2.5 min)
+# default loop (~15-40 s on two cores; its helper also takes the metrics, which it would
+# otherwise sit idle beside the loop's compilation for) and the switch model's, whose pieces
+# the helper compiles by type for the signatures the loop asks for, without running them
 SPLITS = [
-    ("radau", "metrics", {"radau_flat", "start", "setup", "evaluate_flat_many"},
-     {"feval_flat", "jac_flat", "newton"}),
+    ("radau", "metrics", {"radau_flat", "start", "setup"},
+     {"feval_flat", "jac_flat", "newton", "evaluate_flat_many"}),
     ("event", "metrics-general", {"_run", "_settle", "_event_at", "evaluate_many"},
      {"general_inlined", "jeval", "start", "radau_step", "newton"}),
 ]  # fmt: skip

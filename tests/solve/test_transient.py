@@ -86,3 +86,28 @@ def test_default_tolerances_reproduce_tight_peaks(office, law, method):
     ]:
         assert a == pytest.approx(b, rel=1e-3)
     assert loose.floor_acc_by_level == pytest.approx(tight.floor_acc_by_level, rel=1e-2)
+
+
+def test_a_first_default_run_warms_its_loop_with_the_metrics(office, monkeypatch):
+    # the flat Radau loop (the default run's) is warmed together with the metrics kernels, so
+    # that a first run compiles the metrics in the compile helper beside the loop; every
+    # other run (switch law, unilateral contacts, other methods) leaves its kernels to solve()
+    from nsdyn.solve import methods, transient
+
+    calls = []
+    monkeypatch.setattr(
+        methods, "warmup_kernel", lambda k, metrics=None: calls.append((k, metrics)) or 1.5
+    )
+    monkeypatch.setattr(methods, "compiled", lambda k: False)
+    system = build_system(office, Isolation(), fidelity="cb")
+    P = system.params()
+    assert transient._prepare_default_loop("radau", P, None) == 1.5
+    assert calls == [("radau", "metrics")]
+    calls.clear()
+    assert transient._prepare_default_loop("radau", system.params(law="switch"), None) == 0.0
+    assert transient._prepare_default_loop("radau", P, "unilateral") == 0.0
+    assert transient._prepare_default_loop("genalpha", P, None) == 0.0
+    assert transient._prepare_default_loop("nonsense", P, None) == 0.0
+    assert calls == []
+    monkeypatch.setattr(methods, "compiled", lambda k: True)  # warmed before: nothing to do
+    assert transient._prepare_default_loop("radau", P, None) == 0.0
