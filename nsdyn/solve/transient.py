@@ -330,7 +330,8 @@ def simulate(
         solver_options.update(contact=contact)
     if contact == "unilateral":
         solver_options.update(restitution=restitution)
-    compile_s += _prepare_default_loop(method, P, contact)
+    if len(bounds) > 1:  # a checkpoint may already hold the whole run
+        compile_s += _prepare_default_loop(method, P, contact)
     for a, b in zip(bounds[:-1], bounds[1:], strict=True):
         x_start = xs[-1][-1]
         if modes is not None and method == "event":

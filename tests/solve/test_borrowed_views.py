@@ -78,3 +78,38 @@ def test_radau_loop_leaves_reference_counts_unchanged():
     assert [sys.getrefcount(a) for a in watched] == before
     # and the loop wrote its outputs through the borrowed views of X
     assert np.all(np.isfinite(X)) and np.any(X[-1] != x0)
+
+
+def _owned(a) -> bool:
+    # an array a kernel returns owns its memory through numba (base: its meminfo) or NumPy;
+    # a borrowed view returned to Python would come back with neither (memory nobody owns)
+    return a.base is not None or a.flags.owndata
+
+
+def test_run_loops_return_only_owned_arrays():
+    from nsdyn.periodic import _kperiodic as kp
+    from nsdyn.periodic.discretisation import Discretisation
+    from nsdyn.solve import _kdopri, _kgenalpha
+
+    P, x0 = _tiny_problem()
+    t_eval = np.linspace(0.0, 0.2, 5)
+    atol = np.full(x0.size, 1e-8)
+    upl = np.full(1, np.nan)
+    X = np.zeros((t_eval.size, x0.size))
+    got = list(
+        _kradau.radau_flat(
+            P, x0, t_eval, atol, 1e-6, 0.0, np.inf, 10**5, False, ki.UPLIFT_WARN, X, upl
+        )
+    )
+    got += _kdopri.dopri5(
+        P, x0, t_eval, atol, 1e-6, 0.0, np.inf, 10**6, False, ki.UPLIFT_WARN, X, upl
+    )
+    coef = _kgenalpha.parameters(_kgenalpha.FAMILY_GENALPHA, 0.9)
+    got += _kgenalpha.genalpha(P, x0, t_eval, atol, 1e-6, 1e-3, coef, 10**5, ki.UPLIFT_WARN, X, upl)
+    A, c = Discretisation().tableau()
+    pf = np.array([0.05, 1.0, 0.1, 0.5, 1.2])  # Duffing: zeta, w0, gamma, F, w
+    out = kp.period_map(kp.PROB_DUFFING, np.array([0.1, 0.0]), 5.0, 50, pf, A, c, True, True,
+                        1e-9, 1e-13)  # fmt: skip
+    got += [a for a in out if isinstance(a, np.ndarray)]
+    assert len(got) == 10
+    assert all(_owned(a) for a in got)
