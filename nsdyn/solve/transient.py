@@ -170,19 +170,23 @@ def describe(excitation) -> str:
     return f"{kind}: {name}" if name else f"{kind}: {excitation!r}"[:200]
 
 
-def _prepare_default_loop(method: str, P: tuple, contact: str | None) -> float:
-    """Seconds spent compiling (or loading) the flat Radau loop together with the metrics
-    kernels a run evaluates after it, when the run uses that loop: a first run then compiles
-    the metrics in the compile helper while this process compiles the loop, as ``nsdyn run``
-    does (:func:`nsdyn.solve.methods.warmup_kernel`), instead of after the run. 0.0 for other
-    runs (their kernels compile on first use)."""
+def _prepare_kernels(method: str, P: tuple, contact: str | None) -> float:
+    """Seconds spent compiling (or loading) the run's integrator kernel (the one
+    :func:`nsdyn.solve.integrate.solve` picks) together with the metrics kernels the run
+    evaluates after it (the flat ones for a smooth law with closed contacts): a first run
+    then compiles the metrics in the compile helper beside the loop, as ``nsdyn run`` does
+    (:func:`nsdyn.solve.methods.warmup_kernel`), instead of after the run. 0.0 when the kernel
+    is ready, for an unknown method (``solve`` reports it) and for unilateral contacts (their
+    own warm-up, :func:`nsdyn.solve.methods.warmup_unilateral`)."""
     from nsdyn.solve import methods
 
     if method not in methods.METHODS or contact == "unilateral":
         return 0.0
-    if methods.kernel_for(method, P) != "radau" or methods.compiled("radau"):
+    kernel = methods.kernel_for(method, P)
+    if methods.compiled(kernel):
         return 0.0
-    return methods.warmup_kernel("radau", metrics="metrics")
+    metrics = "metrics" if methods.flat_applies(P) else "metrics-general"
+    return methods.warmup_kernel(kernel, metrics=metrics)
 
 
 def flat_evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple | None:
@@ -331,7 +335,7 @@ def simulate(
     if contact == "unilateral":
         solver_options.update(restitution=restitution)
     if len(bounds) > 1:  # a checkpoint may already hold the whole run
-        compile_s += _prepare_default_loop(method, P, contact)
+        compile_s += _prepare_kernels(method, P, contact)
     for a, b in zip(bounds[:-1], bounds[1:], strict=True):
         x_start = xs[-1][-1]
         if modes is not None and method == "event":

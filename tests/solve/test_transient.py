@@ -88,10 +88,11 @@ def test_default_tolerances_reproduce_tight_peaks(office, law, method):
     assert loose.floor_acc_by_level == pytest.approx(tight.floor_acc_by_level, rel=1e-2)
 
 
-def test_a_first_default_run_warms_its_loop_with_the_metrics(office, monkeypatch):
-    # the flat Radau loop (the default run's) is warmed together with the metrics kernels, so
-    # that a first run compiles the metrics in the compile helper beside the loop; every
-    # other run (switch law, unilateral contacts, other methods) leaves its kernels to solve()
+def test_a_first_run_warms_its_kernel_with_the_metrics(office, monkeypatch):
+    # a run's kernel (the one solve() picks) is warmed together with the metrics kernels the
+    # run evaluates after it (flat for a smooth law, general for the switch law), so that a
+    # first run compiles the metrics in the compile helper beside the loop; unilateral runs
+    # (their own warm-up), unknown methods (solve() reports them) and ready kernels are left
     from nsdyn.solve import methods, transient
 
     calls = []
@@ -100,14 +101,21 @@ def test_a_first_default_run_warms_its_loop_with_the_metrics(office, monkeypatch
     )
     monkeypatch.setattr(methods, "compiled", lambda k: False)
     system = build_system(office, Isolation(), fidelity="cb")
-    P = system.params()
-    assert transient._prepare_default_loop("radau", P, None) == 1.5
-    assert calls == [("radau", "metrics")]
+    P, Psw = system.params(), system.params(law="switch")
+    assert transient._prepare_kernels("radau", P, None) == 1.5
+    assert transient._prepare_kernels("genalpha", P, "bilateral") == 1.5
+    assert transient._prepare_kernels("radau", Psw, None) == 1.5
+    assert transient._prepare_kernels("event", Psw, None) == 1.5
+    assert calls == [
+        ("radau", "metrics"),
+        ("genalpha", "metrics"),
+        ("radau-general", "metrics-general"),
+        ("event", "metrics-general"),
+    ]
     calls.clear()
-    assert transient._prepare_default_loop("radau", system.params(law="switch"), None) == 0.0
-    assert transient._prepare_default_loop("radau", P, "unilateral") == 0.0
-    assert transient._prepare_default_loop("genalpha", P, None) == 0.0
-    assert transient._prepare_default_loop("nonsense", P, None) == 0.0
+    assert transient._prepare_kernels("radau", P, "unilateral") == 0.0
+    assert transient._prepare_kernels("nonsense", P, None) == 0.0
     assert calls == []
     monkeypatch.setattr(methods, "compiled", lambda k: True)  # warmed before: nothing to do
-    assert transient._prepare_default_loop("radau", P, None) == 0.0
+    assert transient._prepare_kernels("radau", P, None) == 0.0
+    assert calls == []
