@@ -9,25 +9,33 @@ import numpy as np
 from numba import njit
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _mag(a):
+    """Pivot size ``|Re a| + |Im a|`` (LAPACK's ``cabs1``, as its complex ``izamax`` ranks
+    pivots): ``|a|`` for a real ``a``; for a complex one no ``hypot`` call, which was ~4 % of
+    the default run (91 per 13 x 13 complex factorisation, ~2 700 of them per run)."""
+    return abs(a.real) + abs(a.imag)
+
+
 @njit(cache=True, error_model="numpy")
 def lu_factor(A, piv, rtol=0.0):
     """In-place LU of the square ``A`` with row pivots ``piv``.
 
     Returns False on a pivot that is zero, non-finite, or (``rtol > 0``) at most ``rtol``
-    times the largest entry of ``A``.
+    times the largest entry of ``A`` (sizes as :func:`_mag`).
     """
     n = A.shape[0]
     floor = 0.0
     if rtol > 0.0:
         for i in range(n):
             for j in range(n):
-                floor = max(floor, abs(A[i, j]))
+                floor = max(floor, _mag(A[i, j]))
         floor *= rtol
     for k in range(n):
         p = k
-        amax = abs(A[k, k])
+        amax = _mag(A[k, k])
         for i in range(k + 1, n):
-            a = abs(A[i, k])
+            a = _mag(A[i, k])
             if a > amax:
                 amax = a
                 p = i

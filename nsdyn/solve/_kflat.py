@@ -33,10 +33,11 @@ N_HEAD = H_GPAR + ks.N_GPAR
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _offsets(n, nc, ni):
-    """Offsets of the blocks of F: MiK, MiC, Gam (2, n), MiR (nc, n), R (nc, n), MiD (ni, n),
-    D (ni, n), mu, lam0, RMiR (nc, nc), RMiD (nc, ni); scratch a0 (n), G (nc, nc), s (ni)
-    followed by G's row pivots (nc, at ``o_s + ni``); the end of these (the record's
-    horizontal, then vertical samples follow)."""
+    """Offsets of the blocks of F: MiK^T, MiC^T (n, n: transposed), Gam (2, n), MiR (nc, n),
+    R (nc, n), MiD (ni, n), D (ni, n), mu, lam0, RMiR (nc, nc), RMiD (nc, ni), the bands of
+    R's and D's rows (nc + ni pairs [lo, hi): the row is zero outside); scratch a0 (n),
+    G (nc, nc), s (ni) followed by G's row pivots (nc, at ``o_s + ni``); the end of these
+    (the record's horizontal, then vertical samples follow); last, the offset of the bands."""
     o_mik = N_HEAD
     o_mic = o_mik + n * n
     o_gam = o_mic + n * n
@@ -48,12 +49,13 @@ def _offsets(n, nc, ni):
     o_lam0 = o_mu + ni
     o_rmir = o_lam0 + ni
     o_rmid = o_rmir + nc * nc
-    o_a0 = o_rmid + nc * ni
+    o_band = o_rmid + nc * ni
+    o_a0 = o_band + 2 * (nc + ni)
     o_g = o_a0 + n
     o_s = o_g + nc * nc
     end = o_s + ni + nc
     return (o_mik, o_mic, o_gam, o_mir, o_r, o_mid, o_d, o_mu, o_lam0, o_rmir, o_rmid, o_a0, o_g,
-            o_s, end)  # fmt: skip
+            o_s, end, o_band)  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
@@ -94,8 +96,8 @@ def pack_flat(P):
     )
     for r in range(n):
         for c in range(n):
-            F[o[0] + r * n + c] = MiK[r, c]
-            F[o[1] + r * n + c] = MiC[r, c]
+            F[o[0] + c * n + r] = MiK[r, c]  # transposed: columns contiguous (feval_flat)
+            F[o[1] + c * n + r] = MiC[r, c]
         F[o[2] + r] = Gam[r, 0]
         F[o[2] + n + r] = Gam[r, 1]
     for k in range(nc):
@@ -118,7 +120,28 @@ def pack_flat(P):
             F[o[6] + i * n + c] = D[i, c]
         F[o[7] + i] = P[ks.I_MU][i]
         F[o[8] + i] = P[ks.I_LAM0][i]
+    # the bands of R's and D's rows: a contact or isolator row of a frame touches a few dofs
+    # (one, in Craig-Bampton coordinates), and the products with it skip the zeros outside
+    # (the same sums: only exact zeros are left out)
+    for k in range(nc):
+        F[o[15] + 2 * k], F[o[15] + 2 * k + 1] = _band(R, k)
+    for i in range(ni):
+        F[o[15] + 2 * (nc + i)], F[o[15] + 2 * (nc + i) + 1] = _band(D, i)
     return F
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _band(A, k):
+    """[lo, hi) holding every nonzero of row k of A (as floats; (0, 0) for a zero row)."""
+    lo = A.shape[1]
+    hi = 0
+    for c in range(A.shape[1]):
+        if A[k, c] != 0.0:
+            lo = min(lo, c)
+            hi = c + 1
+    if hi == 0:
+        lo = 0
+    return float(lo), float(hi)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -158,10 +181,8 @@ def usable(op, F):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _ground_into_a0(t, F):
-    """a0 -= Gamma [u_hor, u_ver + g] at ``t``."""
-    n = int(F[H_N])
-    o = _offsets(n, int(F[H_NC]), int(F[H_NI]))
+def _ground_into_a0(t, F, n, o):
+    """a0 -= Gamma [u_hor, u_ver + g] at ``t`` (``o``: :func:`_offsets` for n dofs)."""
     o_gam, o_a0 = o[2], o[11]
     uh, uv = _ground(t, F, o[14])
     uv += F[H_G]
@@ -178,24 +199,26 @@ def evaluate_flat_many(t, X, F, A0, QDD, LAM, TAU, MODES, ok):
     ``ok[k]`` is False where ``G`` was singular (row k then holds scratch values: the caller
     fills it from the general kernel)."""
     n = int(F[H_N])
-    o_a0 = _offsets(n, int(F[H_NC]), int(F[H_NI]))[11]
+    nc = int(F[H_NC])
+    ni = int(F[H_NI])
+    o = _offsets(n, nc, ni)
+    o_a0 = o[11]
     for k in range(t.shape[0]):
         for r in range(n):
             F[o_a0 + r] = A0[k, r]
-        _ground_into_a0(t[k], F)
+        _ground_into_a0(t[k], F, n, o)
         # straight into row k (no copies through scratch rows)
-        ok[k] = _constrained(X[k], F, QDD[k], LAM[k], TAU[k], MODES[k])
+        ok[k] = _constrained(X[k], F, QDD[k], LAM[k], TAU[k], MODES[k], n, nc, ni)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _constrained(x, F, qdd, lam, tau, modes):
+def _constrained(x, F, qdd, lam, tau, modes, n, nc, ni):
     """The rest of :func:`feval_flat` once ``a0`` (with the ground term) is in F: friction
-    directions, the normal forces from ``G lam = -(R a0 + b)``, the accelerations."""
-    n = int(F[H_N])
-    nc = int(F[H_NC])
-    ni = int(F[H_NI])
+    directions, the normal forces from ``G lam = -(R a0 + b)``, the accelerations (n dofs,
+    nc contacts, ni isolators: the counts in F's header, read once by the caller; each
+    ``int()`` of a float is a call)."""
     (o_mik, o_mic, o_gam, o_mir, o_r, o_mid, o_d, o_mu, o_lam0, o_rmir, o_rmid, o_a0, o_g, o_s,
-     o_rec) = _offsets(n, nc, ni)  # fmt: skip
+     o_rec, o_band) = _offsets(n, nc, ni)  # fmt: skip
     frozen = F[H_FROZEN] != 0.0
     arctan = F[H_ARCTAN] != 0.0
     eps = F[H_EPS]
@@ -204,7 +227,8 @@ def _constrained(x, F, qdd, lam, tau, modes):
         si = 0.0
         if arctan:
             vi = 0.0
-            for c in range(n):
+            b = o_band + 2 * (nc + i)
+            for c in range(int(F[b]), int(F[b + 1])):
                 vi += F[o_d + i * n + c] * x[n + c]
             si = (2.0 / np.pi) * np.arctan(eps * vi)
         F[o_s + i] = si
@@ -219,7 +243,7 @@ def _constrained(x, F, qdd, lam, tau, modes):
         ra = 0.0
         rq = 0.0
         rv = 0.0
-        for c in range(n):
+        for c in range(int(F[o_band + 2 * k]), int(F[o_band + 2 * k + 1])):
             rk = F[o_r + k * n + c]
             ra += rk * F[o_a0 + c]
             rq += rk * x[c]
@@ -276,41 +300,25 @@ def feval_flat(t, x, F, out, qdd, lam, tau, modes):
     if not (np.isfinite(t) and ki.all_finite(x)):
         out[:] = np.nan
         return False
-    o = _offsets(n, int(F[H_NC]), int(F[H_NI]))
+    nc = int(F[H_NC])
+    ni = int(F[H_NI])
+    o = _offsets(n, nc, ni)
     o_mik, o_mic, o_a0 = o[0], o[1], o[11]
-    # a0 = -MiK q - MiC qd (- Gamma u, in _ground_into_a0), four rows at a time: four
-    # independent sums in flight instead of one chain of dependent adds (each row's sum is
-    # still formed in the same order, so the result is the same to the bit)
-    r = 0
-    while r + 4 <= n:
-        a0 = 0.0
-        a1 = 0.0
-        a2 = 0.0
-        a3 = 0.0
-        k0 = o_mik + r * n
-        c0 = o_mic + r * n
-        for c in range(n):
-            xc = x[c]
-            vc = x[n + c]
-            a0 -= F[k0 + c] * xc + F[c0 + c] * vc
-            a1 -= F[k0 + n + c] * xc + F[c0 + n + c] * vc
-            a2 -= F[k0 + 2 * n + c] * xc + F[c0 + 2 * n + c] * vc
-            a3 -= F[k0 + 3 * n + c] * xc + F[c0 + 3 * n + c] * vc
-        F[o_a0 + r] = a0
-        F[o_a0 + r + 1] = a1
-        F[o_a0 + r + 2] = a2
-        F[o_a0 + r + 3] = a3
-        r += 4
-    while r < n:
-        acc = 0.0
-        rk = o_mik + r * n
-        rc = o_mic + r * n
-        for c in range(n):
-            acc -= F[rk + c] * x[c] + F[rc + c] * x[n + c]
-        F[o_a0 + r] = acc
-        r += 1
-    _ground_into_a0(t, F)
-    if not _constrained(x, F, qdd, lam, tau, modes):
+    # a0 = -MiK q - MiC qd (- Gamma u, in _ground_into_a0) column by column: F holds MiK and
+    # MiC transposed, so each column is contiguous and the row loop vectorises; each row's
+    # sum is still formed in the order c = 0..n-1, the result is that of row-wise dot products
+    a0 = F[o_a0 : o_a0 + n]
+    for r in range(n):
+        a0[r] = 0.0
+    for c in range(n):
+        xc = x[c]
+        vc = x[n + c]
+        kc = F[o_mik + c * n : o_mik + c * n + n]
+        cc = F[o_mic + c * n : o_mic + c * n + n]
+        for r in range(n):
+            a0[r] -= kc[r] * xc + cc[r] * vc
+    _ground_into_a0(t, F, n, o)
+    if not _constrained(x, F, qdd, lam, tau, modes, n, nc, ni):
         return False
     for i in range(n):
         out[i] = x[n + i]
@@ -346,7 +354,7 @@ def jac_flat(t, x, F, J, out, qdd, lam, tau, modes):
     if not feval_flat(t, x, F, out, qdd, lam, tau, modes):
         return False
     (o_mik, o_mic, o_gam, o_mir, o_r, o_mid, o_d, o_mu, o_lam0, o_rmir, o_rmid, o_a0, o_g, o_s,
-     o_rec) = _offsets(n, nc, ni)  # fmt: skip
+     o_rec, o_band) = _offsets(n, nc, ni)  # fmt: skip
     frozen = F[H_FROZEN] != 0.0
     eps = F[H_EPS]
     n2 = 2 * n
@@ -355,8 +363,8 @@ def jac_flat(t, x, F, J, out, qdd, lam, tau, modes):
             J[r, c] = 0.0
         J[r, n + r] = 1.0
         for c in range(n):
-            J[n + r, c] = -F[o_mik + r * n + c]
-            J[n + r, n + c] = -F[o_mic + r * n + c]
+            J[n + r, c] = -F[o_mik + c * n + r]
+            J[n + r, n + c] = -F[o_mic + c * n + r]
     if F[H_ARCTAN] != 0.0:
         for i in range(ni):
             lf = F[o_lam0 + i] if frozen else (lam[i] if i < nc else 0.0)
@@ -364,13 +372,15 @@ def jac_flat(t, x, F, J, out, qdd, lam, tau, modes):
             if cf == 0.0:
                 continue
             vi = 0.0
-            for c in range(n):
+            lo = int(F[o_band + 2 * (nc + i)])
+            hi = int(F[o_band + 2 * (nc + i) + 1])
+            for c in range(lo, hi):
                 vi += F[o_d + i * n + c] * x[n + c]
             z = eps * vi
             cf *= (2.0 / np.pi) * eps / (1.0 + z * z)
             for r in range(n):
                 mr = F[o_mid + i * n + r] * cf
-                for c in range(n):
+                for c in range(lo, hi):
                     J[n + r, n + c] -= mr * F[o_d + i * n + c]
     if nc == 0:
         return True
@@ -392,9 +402,11 @@ def jac_flat(t, x, F, J, out, qdd, lam, tau, modes):
             fk = F[o_mu + k] * F[o_s + k]
         for r in range(n):
             Bm[r, k] = F[o_mir + k * n + r] - fk * F[o_mid + k * n + r]
+        rlo = int(F[o_band + 2 * k])
+        rhi = int(F[o_band + 2 * k + 1])
         for c in range(n2):
             acc = 0.0
-            for r in range(n):
+            for r in range(rlo, rhi):
                 acc += F[o_r + k * n + r] * J[n + r, c]
             if c < n:
                 acc += aa * F[o_r + k * n + c]

@@ -82,7 +82,7 @@ def workspace(n2, nc, ni):
         np.zeros(n2),  # fr
         np.zeros(n2, dtype=np.complex128),  # fc
         np.zeros(n2),  # ys (stage state, scratch)
-        np.zeros(n2),  # scale
+        np.zeros(n2),  # iscale: 1 / (atol + |y| rtol) at the step start (Newton's norm)
         np.zeros(n2),  # err
         np.zeros(n2),  # ynew
         np.zeros(n2),  # fnew
@@ -134,7 +134,7 @@ def radau_step(
     the flat kernel; ``general`` (:func:`nsdyn.solve._kcolloc.general_called` and its
     siblings) serves the rest.
     """
-    J, LUr, pr, LUc, pc, Z, Z0, W, F, dW, fr, fc, ys, scale, err, ynew, fnew, Qd = ws[:18]
+    J, LUr, pr, LUc, pc, Z, Z0, W, F, dW, fr, fc, ys, iscale, err, ynew, fnew, Qd = ws[:18]
     qdd, lam, tau, modes, Fl = ws[18:23]
     flat = kf.usable(P[ks.I_OPEN], Fl)
     n2 = y.shape[0]
@@ -155,7 +155,7 @@ def radau_step(
     t_new = t
     h = h_abs
     for j in range(n2):
-        scale[j] = atol[j] + abs(y[j]) * rtol
+        iscale[j] = 1.0 / (atol[j] + abs(y[j]) * rtol)
     while True:
         rinfo[ki.R_H] = h_abs
         if stats[ki.S_NSTEP] + stats[ki.S_NREJ] >= max_steps:
@@ -199,7 +199,7 @@ def radau_step(
                 for j in range(n2):
                     Z[i, j] = Z0[i, j]
             converged, n_iter, rate, nf, singular, dw = newton(
-                P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, scale,
+                P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale,
                 qdd, lam, tau, modes, Fl, flat, general,
             )  # fmt: skip
             if nf:

@@ -109,6 +109,43 @@ def test_flat_rhs_without_friction_and_where_it_does_not_apply():
     assert kf.usable(KernelParams(Pn).open_contacts, kf.pack_flat(Pn))
 
 
+def test_flat_rhs_skips_only_the_zeros_outside_each_rows_band():
+    # R's and D's rows as pack_flat's bands see them: a middle band, a full row, one entry at
+    # the last dof, a two-entry band (the frames' rows are one-hot in Craig-Bampton
+    # coordinates). The bands are exactly the nonzero ranges, and feval_flat and jac_flat,
+    # which sum over the bands only, equal the general kernel (dense sums) to round-off
+    # (ROUNDOFF of the scale; the Jacobian to 1e-13 of its largest entry).
+    from nsdyn.models.isolated.params import pack
+
+    rng = np.random.default_rng(5)
+    n = 6
+    A = rng.standard_normal((n, n))
+    M = A @ A.T + n * np.eye(n)
+    B = rng.standard_normal((n, n))
+    K = 100.0 * (B @ B.T + n * np.eye(n))
+    R = np.zeros((2, n))
+    R[0, 1:4] = [1.0, -0.5, 0.25]
+    R[1] = 0.5 + rng.uniform(size=n)
+    D = np.zeros((2, n))
+    D[0, n - 1] = 1.0
+    D[1, 2:4] = [0.7, 0.3]
+    P = pack(M, 0.02 * K + 0.1 * M, K, rng.standard_normal((n, 2)), R=R, D=D, mu=[0.1, 0.05],
+             law="arctan", eps=200.0)  # fmt: skip
+    P = KernelParams.normalised(P)
+    F = kf.pack_flat(P)
+    ob = kf._offsets(n, 2, 2)[15]
+    assert list(F[ob : ob + 8]) == [1, 4, 0, n, n - 1, n, 2, 4]
+    for k in range(10):
+        x = np.concatenate([1e-2 * rng.standard_normal(n), 0.3 * rng.standard_normal(n)])
+        a, b = _both(P, 0.1 * k, x)
+        for u, v in zip(a[:3], b[:3], strict=True):
+            assert np.max(np.abs(u - v)) <= ROUNDOFF * max(np.max(np.abs(u)), 1.0)
+        Ja, Jb = np.zeros((2 * n, 2 * n)), np.zeros((2 * n, 2 * n))
+        ks.jac(0.1 * k, x, P, Ja)
+        assert kf.jac_flat(0.1 * k, x, F, Jb, np.empty(2 * n), *ks.outputs(P))
+        assert np.max(np.abs(Ja - Jb)) <= 1e-13 * np.max(np.abs(Ja))
+
+
 def test_default_run_equals_general_path(office, record):
     # The default run (radau, flat right-hand side) and the same run with the general kernel
     # at every evaluation: round-off moves the adaptive steps only slightly, so the x_iso
