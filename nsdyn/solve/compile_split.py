@@ -7,7 +7,8 @@ its Jacobian and Newton; :func:`radau_helper_part_and_metrics` then also the met
 run needs only after its loop) while the calling process compiles :func:`radau_parts_here`
 (the run's set-up, the factorisation, the start-up) and then the loop itself, which loads the
 helper's kernels from numba's on-disk cache. The loop's own compilation (~8-20 s) stays
-serial: it needs all of its callees first.
+serial: it needs all of its callees first. The helper's part also serves every later process
+(:func:`load_callees`): it loads the callees before the loop, whose calls then go to them.
 
 The switch model's event-driven loop (:func:`nsdyn.solve._kunilateral._run`, ~4 min into an
 empty cache on one core) is split the same way: the helper takes the general kernel's
@@ -59,7 +60,7 @@ def radau_helper_part() -> None:
     :func:`nsdyn.solve.methods.warmup_kernel`): the flat right-hand side, its Jacobian and
     Newton."""
     P, x0, t_eval, o, X, upl_t, ws = _tiny_args("radau")
-    J, LUr, pr, LUc, pc, Z, Z0, W, F, dW, fr, fc, ys, scale, err, ynew, fnew, Qd = ws[:18]
+    J, LUr, pr, LUc, pc, Z, Z0, W, F, dW, fr, fc, ys, iscale, err, ynew, fnew, Qd = ws[:18]
     qdd, lam, tau, modes, Fl = ws[18:23]
     y = x0.copy()
     _kflat.feval_flat(0.0, y, Fl, fnew, qdd, lam, tau, modes)
@@ -69,13 +70,13 @@ def radau_helper_part() -> None:
     LUc[:] = np.eye(n)
     pr[:] = np.arange(n)
     pc[:] = np.arange(n)
-    scale[:] = 1.0
+    iscale[:] = 1.0
     h = 1e-3
     ctl = _py(_kradau.new_control)(h, o.rtol)
     ctl[_kradau.C_LUH] = h
     stats = np.zeros(ki.N_STATS, dtype=np.int64)
     _kcolloc.newton(
-        P, 0.0, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, scale, qdd, lam,
+        P, 0.0, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam,
         tau, modes, Fl, True, _kcolloc.flat_only,
     )  # fmt: skip
 
@@ -103,6 +104,30 @@ def radau_parts_here(helper: Helper, metrics: str | None) -> None:
         stats, rinfo, _kcolloc.flat_only,
     )  # fmt: skip
     helper.wait_for([_kcolloc.newton])
+
+
+# A loop's callees are compiled functions of their own (numba compiles each once), and numba
+# also links a copy of each into the loop's code, optimised once more there. Which copy the
+# loop calls is decided when its code is loaded: a callee whose own code is already in the
+# process is bound to that (it is, in the process that compiled the loop); otherwise the
+# loop's copies run. A loop loaded from numba's cache into a new process loads none of its
+# callees, and its own copies of Newton and the flat right-hand side made the default run
+# ~15 % slower than the same loop in the process that compiled it (51-52 against 44 ms, the
+# same machine code, the same steps). The first run of a kernel in a process therefore loads
+# its callees first, by the function of this module that calls them on the tiny problem with
+# the loop's argument types (loading them from the cache, or compiling them). The switch
+# model's loop, whose step inlines its kernels, ran 2-4 % faster so (one pair): not done.
+_CALLEES = {"radau": "radau_helper_part"}
+_CALLEES_LOADED: set[str] = set()
+
+
+def load_callees(kernel: str) -> None:
+    """Load (or compile) the callees of loop ``kernel`` that it should call in this process,
+    before the loop itself is loaded (see the note above); once per process."""
+    if kernel in _CALLEES_LOADED or kernel not in _CALLEES:
+        return
+    globals()[_CALLEES[kernel]]()
+    _CALLEES_LOADED.add(kernel)
 
 
 # ---- the event-driven loop (switch model; unilateral contacts) ------------------------------

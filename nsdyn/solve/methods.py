@@ -230,10 +230,12 @@ def flat_applies(P) -> bool:
 def _run_radau(P, x0, t_eval, o: Options, X, upl_t):
     """Radau through the flat-only run loop where it applies (it never compiles the general
     kernel), else, or where it stops on a singular ``G``, through the general one."""
-    fixed = not o.adaptive
-    h0 = o.dt if fixed else o.h0
+    fixed, h0 = (False, o.h0) if o.adaptive else (True, o.dt)
     args = (P, x0, t_eval, o.atol, o.rtol, h0, o.max_step, o.max_steps, fixed, o.uplift_mode)
     if flat_applies(P):
+        from nsdyn.solve.compile_split import load_callees  # (it imports this module)
+
+        load_callees("radau")
         stats, rinfo = _kradau.radau_flat(*args, X, upl_t)
         if stats[ki.S_STATUS] != ki.ST_SINGULAR:
             return stats, rinfo, [], None
