@@ -215,8 +215,7 @@ def evaluate_flat_many(t, X, F, A0, QDD, LAM, TAU, MODES, ok):
 def _constrained(x, F, qdd, lam, tau, modes, n, nc, ni):
     """The rest of :func:`feval_flat` once ``a0`` (with the ground term) is in F: friction
     directions, the normal forces from ``G lam = -(R a0 + b)``, the accelerations (n dofs,
-    nc contacts, ni isolators: the counts in F's header, read once by the caller; each
-    ``int()`` of a float is a call)."""
+    nc contacts, ni isolators: the counts of F's header, which the caller has already read)."""
     (o_mik, o_mic, o_gam, o_mir, o_r, o_mid, o_d, o_mu, o_lam0, o_rmir, o_rmid, o_a0, o_g, o_s,
      o_rec, o_band) = _offsets(n, nc, ni)  # fmt: skip
     frozen = F[H_FROZEN] != 0.0

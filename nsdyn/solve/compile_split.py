@@ -58,7 +58,8 @@ def _tiny_args(method: str, law: str | None = None):
 def radau_helper_part() -> None:
     """The helper process's share of the flat Radau loop's first compilation (see
     :func:`nsdyn.solve.methods.warmup_kernel`): the flat right-hand side, its Jacobian and
-    Newton."""
+    Newton. Also what every process loads before its first default run (:func:`load_callees`;
+    the factorisation's own code loaded as well made no difference, 3 alternating pairs)."""
     P, x0, t_eval, o, X, upl_t, ws = _tiny_args("radau")
     J, LUr, pr, LUc, pc, Z, Z0, W, F, dW, fr, fc, ys, iscale, err, ynew, fnew, Qd = ws[:18]
     qdd, lam, tau, modes, Fl = ws[18:23]
