@@ -153,11 +153,14 @@ class Helper:
         import sys
 
         self.target = target
-        # the same nsdyn as this process, also when a script put it on sys.path by hand
+        # the same nsdyn as this process, also when a script put it on sys.path by hand; -P:
+        # not the working directory first (``nsdyn run`` in a source checkout with nsdyn
+        # installed: the helper imported the checkout's nsdyn, whose kernels have another
+        # cache, and this process found nothing the helper compiled)
         env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
         try:
             self.proc = subprocess.Popen(
-                [sys.executable, "-c", _HELPER_CODE, target],
+                [sys.executable, "-P", "-c", _HELPER_CODE, target],
                 env=env,
                 stdin=subprocess.DEVNULL,
                 stdout=subprocess.DEVNULL,

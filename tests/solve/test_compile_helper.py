@@ -82,6 +82,20 @@ def test_failed_helper_is_waited_out_not_trusted():
     assert h.close() not in (0, None)
 
 
+def test_helper_imports_this_process_nsdyn_not_the_working_directory_one(tmp_path, monkeypatch):
+    # `nsdyn run` started in a source checkout with nsdyn installed (the README's first
+    # command): the helper must import the nsdyn this process runs, whose numba cache this
+    # process reads; a copy in the working directory (here one that cannot be imported) must
+    # not shadow it (it did: the helper's kernels landed in the checkout's cache, unused)
+    fake = tmp_path / "nsdyn"
+    fake.mkdir()
+    (fake / "__init__.py").write_text("raise ImportError('the working directory copy')\n")
+    monkeypatch.chdir(tmp_path)
+    with Helper("nsdyn._numba_cache:helper_enabled") as h:
+        pass
+    assert h.close() == 0
+
+
 FRESH_WARMUP = (
     "from numba.core import event as ev\n"
     "seen = set()\n"
