@@ -209,7 +209,7 @@ def cold_compile_s(methods=("radau",)) -> float:
         root = str(Path(__file__).resolve().parents[2])
         env["PYTHONPATH"] = os.pathsep.join(p for p in (root, env.get("PYTHONPATH")) if p)
         res = subprocess.run(
-            [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+            [sys.executable, "-P", "-c", code], env=env, capture_output=True, text=True, check=True
         )
     return float(sum(json.loads(res.stdout.strip().splitlines()[-1]).values()))
 
@@ -228,7 +228,9 @@ def cli_start_s(repeats: int = START_REPEATS) -> dict:
     import subprocess
     import time
 
-    cmd = [sys.executable, "-m", "nsdyn.cli", "run", "--t-end", f"{START_T_END:g}", "--json"]
+    # -P: this nsdyn (PYTHONPATH), not one in the working directory (as the compile helper)
+    cmd = [sys.executable, "-P", "-m", "nsdyn.cli", "run", "--t-end", f"{START_T_END:g}"]
+    cmd += ["--json"]
     cmd += ["--no-figures"]
 
     def once(cache: str) -> float:
