@@ -26,6 +26,7 @@ again (:func:`general_inlined` writes the stages out around the system kernel fo
 import numpy as np
 from numba import njit
 
+from nsdyn._klinalg import invert_diagonal, lu_solve_inverted
 from nsdyn._numba_cache import stable_identity
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
@@ -109,17 +110,15 @@ def _factor(h, J, LUr, pr, LUc, pc):
         LUc[i, i] += gc
     if not (ki.lu_factor(LUr, pr) and ki.lu_factor(LUc, pc)):
         return False
-    for i in range(n):
-        LUr[i, i] = 1.0 / LUr[i, i]
-        LUc[i, i] = 1.0 / LUc[i, i]
+    invert_diagonal(LUr)
+    invert_diagonal(LUc)
     return True
 
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _solve(LU, piv, J, g, b):
     """Solve ``(g I - J) x = b`` in place (b of length 2n) with the factors of :func:`_factor`
-    (U's diagonal inverted there), the n x n substitutions written out here: a call to the
-    shared ``lu_solve`` was ~15 % of the default run, mostly the complex divisions."""
+    (U's diagonal inverted there; the n x n solve inlined, see ``lu_solve_inverted``)."""
     n = LU.shape[0]
     ig = 1.0 / g
     for i in range(n):
@@ -127,22 +126,7 @@ def _solve(LU, piv, J, g, b):
         for j in range(n):
             acc += J[n + i, j] * b[j]
         b[n + i] += acc * ig
-    for k in range(n):
-        p = piv[k]
-        if p != k:
-            tmp = b[n + k]
-            b[n + k] = b[n + p]
-            b[n + p] = tmp
-    for i in range(1, n):
-        s = b[n + i]
-        for j in range(i):
-            s -= LU[i, j] * b[n + j]
-        b[n + i] = s
-    for i in range(n - 1, -1, -1):
-        s = b[n + i]
-        for j in range(i + 1, n):
-            s -= LU[i, j] * b[n + j]
-        b[n + i] = s * LU[i, i]
+    lu_solve_inverted(LU, piv, b, n)
     for i in range(n):
         b[i] = (b[i] + b[n + i]) * ig
 

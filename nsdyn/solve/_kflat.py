@@ -131,6 +131,12 @@ def pack_flat(P):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _row_band(F, o_band, k):
+    """The band [lo, hi) of row k of R (k < nc) or of D (row k - nc), from F's band block."""
+    return int(F[o_band + 2 * k]), int(F[o_band + 2 * k + 1])
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _band(A, k):
     """[lo, hi) holding every nonzero of row k of A (as floats; (0, 0) for a zero row)."""
     lo = A.shape[1]
@@ -226,8 +232,8 @@ def _constrained(x, F, qdd, lam, tau, modes, n, nc, ni):
         si = 0.0
         if arctan:
             vi = 0.0
-            b = o_band + 2 * (nc + i)
-            for c in range(int(F[b]), int(F[b + 1])):
+            lo, hi = _row_band(F, o_band, nc + i)
+            for c in range(lo, hi):
                 vi += F[o_d + i * n + c] * x[n + c]
             si = (2.0 / np.pi) * np.arctan(eps * vi)
         F[o_s + i] = si
@@ -242,7 +248,8 @@ def _constrained(x, F, qdd, lam, tau, modes, n, nc, ni):
         ra = 0.0
         rq = 0.0
         rv = 0.0
-        for c in range(int(F[o_band + 2 * k]), int(F[o_band + 2 * k + 1])):
+        lo, hi = _row_band(F, o_band, k)
+        for c in range(lo, hi):
             rk = F[o_r + k * n + c]
             ra += rk * F[o_a0 + c]
             rq += rk * x[c]
@@ -371,8 +378,7 @@ def jac_flat(t, x, F, J, out, qdd, lam, tau, modes):
             if cf == 0.0:
                 continue
             vi = 0.0
-            lo = int(F[o_band + 2 * (nc + i)])
-            hi = int(F[o_band + 2 * (nc + i) + 1])
+            lo, hi = _row_band(F, o_band, nc + i)
             for c in range(lo, hi):
                 vi += F[o_d + i * n + c] * x[n + c]
             z = eps * vi
@@ -401,8 +407,7 @@ def jac_flat(t, x, F, J, out, qdd, lam, tau, modes):
             fk = F[o_mu + k] * F[o_s + k]
         for r in range(n):
             Bm[r, k] = F[o_mir + k * n + r] - fk * F[o_mid + k * n + r]
-        rlo = int(F[o_band + 2 * k])
-        rhi = int(F[o_band + 2 * k + 1])
+        rlo, rhi = _row_band(F, o_band, k)
         for c in range(n2):
             acc = 0.0
             for r in range(rlo, rhi):
