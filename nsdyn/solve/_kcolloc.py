@@ -26,6 +26,7 @@ again (:func:`general_inlined` writes the stages out around the system kernel fo
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn._klinalg import invert_diagonal, lu_solve_inverted
 from nsdyn._numba_cache import stable_identity
 from nsdyn.models.isolated import _kernel as ks
@@ -224,17 +225,17 @@ stable_identity(general_called, general_inlined, flat_only)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def jeval(t, y, P, Fl, flat, general, J, ys, qdd, lam, tau, modes):
-    """The Jacobian at (t, y) into J: the flat one when ``flat``, else (or where it fails)
-    the ``general`` kernel's (ys scratch). False when neither could form it."""
-    ok = flat and kf.jac_flat(t, y, Fl, J, ys, qdd, lam, tau, modes)
+def jeval(t, y, P, Fl, flat, general, K, J, ys, qdd, lam, tau, modes):
+    """The Jacobian at (t, y) into J: the flat one when ``flat`` (``radau.jac``, directly or by
+    its address in ``K``, see :mod:`nsdyn._kaddress`), else (or where it fails) the
+    ``general`` kernel's (ys scratch). False when neither could form it."""
+    ok = flat and ka.call(K, "radau.jac", (t, y, Fl, J, ys, qdd, lam, tau, modes), general)
     if not ok:
         ok = general(G_JAC, P, t, y, 0.0, J, J, y, y, J, qdd, lam, tau, modes)
     return ok
 
 
-@njit(cache=True, error_model="numpy")
-def newton(
+def _newton(
     P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
     modes, Fl, flat, general,
 ):  # fmt: skip
@@ -320,3 +321,24 @@ def newton(
         dw_old = dw
     ctl[C_FACCON] = faccon
     return converged, k + 1, rate, nonfinite, singular, dw
+
+
+# the Radau loop's callees by address (:mod:`nsdyn._kaddress`): their indices in ``K``
+K_FEVAL, K_JAC, K_FACTOR, K_NEWTON, K_START, K_SETUP = range(6)
+
+newton = njit(cache=True, error_model="numpy")(_newton)
+# Newton with :func:`flat_only` in a kernel of its own: the address of a kernel with a kernel
+# argument would have the argument's dispatcher in its declared type
+newton_inline = njit(cache=True, error_model="numpy", inline="always")(_newton)
+
+
+@njit(cache=True, error_model="numpy")
+def newton_flat(
+    P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
+    modes, Fl, flat,
+):  # fmt: skip
+    """:func:`newton` with :func:`flat_only` (the default loop's, called by address)."""
+    return newton_inline(
+        P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam,
+        tau, modes, Fl, flat, flat_only,
+    )  # fmt: skip

@@ -9,8 +9,9 @@ Radau stepper). Each integrates the first-order system of the isolated frame::
 
 (accelerations, normal forces lam and friction forces tau from the system kernel
 :mod:`nsdyn.models.isolated._kernel`), runs its whole time loop inside numba and calls the
-system kernels as module globals (never as arguments: a jitted function passed as an
-argument defeats numba's on-disk cache).
+system kernels as module globals (a jitted function passed as an argument keeps numba's
+on-disk cache only with a fixed identity, :func:`nsdyn._numba_cache.stable_identity`; the
+default Radau loop's callees are passed as addresses, :mod:`nsdyn._kaddress`).
 
 Every stepper reports through two small arrays: ``stats`` (int64, layout ``S_*``) and
 ``rinfo`` (float64, layout ``R_*``); the front door :mod:`nsdyn.solve.integrate` turns them
@@ -43,10 +44,12 @@ KERNEL_MODULES = (
 
 # stale caches across files: the system kernel and the shared LU are compiled into ours
 _NSDYN = Path(__file__).resolve().parents[1]
+# (and the Radau loop's calls by address are declared in compile_split.py, see _kaddress.py)
 guard_family(
     __file__,
-    [_NSDYN / "models" / "isolated" / "_kernel.py", _NSDYN / "_klinalg.py", _NSDYN / "_kborrow.py"],
-)
+    [_NSDYN / "models" / "isolated" / "_kernel.py", _NSDYN / "_klinalg.py", _NSDYN / "_kborrow.py",
+     _NSDYN / "_kaddress.py", Path(__file__).resolve().parent / "compile_split.py"],
+)  # fmt: skip
 
 # ---- status codes (kernel -> front door; messages in nsdyn.solve.integrate.MESSAGES) -------------
 ST_SUCCESS = 0  # reached the last output time

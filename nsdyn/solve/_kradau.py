@@ -22,6 +22,7 @@ so the event-driven switch integrator (:mod:`nsdyn.solve._kevent`) drives the sa
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn import _kborrow as kb
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcolloc as kc
@@ -40,6 +41,12 @@ from nsdyn.solve._kcolloc import (  # noqa: F401  (the tableau and ctl layout, r
     C_TNEW,
     EIG_COMPLEX,
     EIG_REAL,
+    K_FACTOR,
+    K_FEVAL,
+    K_JAC,
+    K_NEWTON,
+    K_SETUP,
+    K_START,
     MU_REAL,
     N_CTL,
     NEWTON_MAXITER,
@@ -121,8 +128,8 @@ def dense(y, Qd, x, out):
         out[i] = y[i] + x * (Qd[i, 0] + x * (Qd[i, 1] + x * Qd[i, 2]))
 
 
-def radau_step(
-    P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo, general
+def _step(
+    P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo, general, K
 ):
     """Take one accepted step from (t, y) (f = f(t, y)), retrying with smaller steps.
 
@@ -132,7 +139,10 @@ def radau_step(
     With ``fixed`` the step is ``ctl[C_H]`` (shortened only to land on ``t_lim``) and a Newton
     failure is reported instead of retried. Smooth laws with closed contacts are evaluated by
     the flat kernel; ``general`` (:func:`nsdyn.solve._kcolloc.general_called` and its
-    siblings) serves the rest.
+    siblings) serves the rest. The flat right-hand side and Jacobian, the factorisation and
+    Newton are called through :func:`nsdyn._kaddress.call`: directly (``K`` None) or by their
+    addresses in the int64 array ``K`` (:func:`radau_flat`; the slots at the end of this
+    module).
     """
     J, LUr, pr, LUc, pc, Z, Z0, W, F, dW, fr, fc, ys, iscale, err, ynew, fnew, Qd = ws[:18]
     qdd, lam, tau, modes, Fl = ws[18:23]
@@ -191,23 +201,23 @@ def radau_step(
         while True:
             if abs(ctl[C_LUH] - h) > LU_RTOL * h:
                 stats[ki.S_NLU] += 2
-                if not _factor(h, J, LUr, pr, LUc, pc):
+                if not ka.call(K, "radau.factor", (h, J, LUr, pr, LUc, pc), general):
                     rinfo[ki.R_H] = h
                     return ki.ST_LU_SINGULAR
                 ctl[C_LUH] = h
             for i in range(3):  # loops, not _klinalg.copy_mat: this step is itself inlined
                 for j in range(n2):
                     Z[i, j] = Z0[i, j]
-            converged, n_iter, rate, nf, singular, dw = newton(
+            converged, n_iter, rate, nf, singular, dw = ka.call(K, "radau.newton", (
                 P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale,
-                qdd, lam, tau, modes, Fl, flat, general,
-            )  # fmt: skip
+                qdd, lam, tau, modes, Fl, flat,
+            ), general)  # fmt: skip
             if nf:
                 nonfinite = True
             if converged or ctl[C_CURJ] == 1.0 or nf or singular:
                 break
             stats[ki.S_NJEV] += 1
-            if not kc.jeval(t, y, P, Fl, flat, general, J, ys, qdd, lam, tau, modes):
+            if not kc.jeval(t, y, P, Fl, flat, general, K, J, ys, qdd, lam, tau, modes):
                 rinfo[ki.R_H] = h
                 return ki.ST_SINGULAR
             ctl[C_CURJ] = 1.0
@@ -235,7 +245,9 @@ def radau_step(
         if rejected and en > 1.0:
             for j in range(n2):
                 ys[j] = y[j] + err[j]
-            if not (flat and kf.feval_flat(t, ys, Fl, err, qdd, lam, tau, modes)):
+            if not (
+                flat and ka.call(K, "radau.feval", (t, ys, Fl, err, qdd, lam, tau, modes), general)
+            ):
                 general(kc.G_ONE, P, t, ys, h, Z, F, ys, err, J, qdd, lam, tau, modes)
             stats[ki.S_NFEV] += 1
             en = _error_norm(err, Z, h, LUr, pr, J, ctl[C_LUH], y, ynew, atol, rtol)
@@ -251,7 +263,7 @@ def radau_step(
             continue
         break
     # accepted: the state at the step end (also its normal forces for the contact monitor)
-    ok = flat and kf.feval_flat(t_new, ynew, Fl, fnew, qdd, lam, tau, modes)
+    ok = flat and ka.call(K, "radau.feval", (t_new, ynew, Fl, fnew, qdd, lam, tau, modes), general)
     if not ok:
         ok = general(kc.G_ONE, P, t_new, ynew, h, Z, F, ys, fnew, J, qdd, lam, tau, modes)
     stats[ki.S_NFEV] += 1
@@ -276,7 +288,7 @@ def radau_step(
     ctl[C_CURJ] = 0.0
     if recompute_jac:
         stats[ki.S_NJEV] += 1
-        if not kc.jeval(t_new, ynew, P, Fl, flat, general, J, ys, qdd, lam, tau, modes):
+        if not kc.jeval(t_new, ynew, P, Fl, flat, general, K, J, ys, qdd, lam, tau, modes):
             rinfo[ki.R_H] = h
             return ki.ST_SINGULAR
         ctl[C_CURJ] = 1.0
@@ -291,11 +303,20 @@ def radau_step(
     return ki.ST_SUCCESS
 
 
-# the step compiled on its own (the event-driven kernels call it) and inlined into the run loop
-# of :func:`radau`: a call passes P and the workspace (~40 arrays), and numba updates the
-# reference count of each on entry and exit (two atomic operations per array, ~1 us per step)
-radau_step_inline = njit(cache=True, error_model="numpy", inline="always")(radau_step)
-radau_step = njit(cache=True, error_model="numpy")(radau_step)
+# the step inlined into the run loop (a called step cost the default run 18 %, measured with
+# its callees called by address) and compiled on its own for the event-driven kernels
+radau_step_inline = njit(cache=True, error_model="numpy", inline="always")(_step)
+
+
+@njit(cache=True, error_model="numpy")
+def radau_step(
+    P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo, general
+):
+    """:func:`_step` with its callees called directly (the event-driven loops')."""
+    return radau_step_inline(
+        P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo,
+        general, None,
+    )  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
@@ -311,10 +332,9 @@ def setup(P, x0, t_eval, nc):
     return stats, rinfo, ws, x0.copy(), np.empty(n2), np.empty(nc)
 
 
-@njit(cache=True, error_model="numpy")
-def start(
+def _start(
     P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats, rinfo,
-    general,
+    general, K,
 ):  # fmt: skip
     """Start-up of a Radau run at (t, y), t = t_eval[0]: f = f(t, y) and
     :func:`nsdyn.solve._kcommon.start_from` (the outputs at t_eval <= t, the contact check),
@@ -322,14 +342,15 @@ def start(
     the flat kernel where it applies, else ``general``.
 
     Returns (iout, ctl): the first output still to write (-1 when the run stops here, status
-    in ``stats``; nothing to step when ``iout >= nt``) and the stepper state.
+    in ``stats``; nothing to step when ``iout >= nt``) and the stepper state. ``K``: see
+    :func:`_step`.
     """
     J, Z, F, ys, err = ws[0], ws[5], ws[8], ws[12], ws[14]
     qdd, lam, tau, modes, Fl = ws[18:23]
     flat = kf.usable(P[ks.I_OPEN], Fl)
     t = t_eval[0]
     ctl = new_control(h0, rtol)
-    ok = flat and kf.feval_flat(t, y, Fl, f, qdd, lam, tau, modes)
+    ok = flat and ka.call(K, "radau.feval", (t, y, Fl, f, qdd, lam, tau, modes), general)
     if not ok:
         ok = general(kc.G_ONE, P, t, y, 0.0, Z, F, ys, f, J, qdd, lam, tau, modes)
     iout = ki.start_from(ok, t, y, f, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo)
@@ -337,14 +358,16 @@ def start(
         return iout, ctl
     # lam at the start is in lam_old; the Jacobian and the trial evaluation overwrite lam
     stats[ki.S_NJEV] += 1
-    if not kc.jeval(t, y, P, Fl, flat, general, J, ys, qdd, lam, tau, modes):
+    if not kc.jeval(t, y, P, Fl, flat, general, K, J, ys, qdd, lam, tau, modes):
         stats[ki.S_STATUS] = ki.ST_SINGULAR
         return -1, ctl
     if h0 <= 0.0:
         h1 = ki.initial_probe(t, y, f, t_eval[-1], rtol, atol, ys)
         if h1 > 0.0:
             t1 = t + h1
-            ok = flat and kf.feval_flat(t1, ys, Fl, err, qdd, lam, tau, modes)
+            ok = flat and ka.call(
+                K, "radau.feval", (t1, ys, Fl, err, qdd, lam, tau, modes), general
+            )
             if not ok:
                 general(kc.G_ONE, P, t1, ys, 0.0, Z, F, ys, err, J, qdd, lam, tau, modes)
             stats[ki.S_NFEV] += 1
@@ -352,6 +375,33 @@ def start(
         ctl[C_H] = h1
     ctl[C_CURJ] = 1.0
     return iout, ctl
+
+
+start_inline = njit(cache=True, error_model="numpy", inline="always")(_start)
+
+
+@njit(cache=True, error_model="numpy")
+def start(
+    P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats, rinfo,
+    K, general,
+):  # fmt: skip
+    """:func:`_start` (``K`` None: its callees called directly)."""
+    return start_inline(
+        P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
+        rinfo, general, K,
+    )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def start_flat(
+    P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats, rinfo, K
+):  # fmt: skip
+    """:func:`start` with :func:`nsdyn.solve._kcolloc.flat_only` (the default loop's, called
+    by address: a kernel argument would be in its declared type)."""
+    return start_inline(
+        P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
+        rinfo, kc.flat_only, K,
+    )  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
@@ -381,17 +431,29 @@ def accept_arrays(
     return iout, stop
 
 
-@njit(cache=True, error_model="numpy", inline="always")
-def _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, flat,
-         general):  # fmt: skip
-    """The run loop of :func:`radau` and :func:`radau_flat` (``general``: see radau_step).
+def _loop(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, flat,
+         general, K):  # fmt: skip
+    """The run loop of :func:`radau` (inlined, ``K`` None: its callees called directly) and
+    :func:`radau_flat` (this function compiled as it is; ``general`` and ``K`` see
+    :func:`_step`; the set-up and the start-up are callees too).
+
+    :func:`radau_flat` is the default run's loop: a smooth law with every contact closed,
+    through the flat kernel only (``flat`` True, ``general``
+    :func:`nsdyn.solve._kcolloc.flat_only`), its callees called by address (``K`` from
+    :func:`nsdyn.solve.compile_split.radau_calls`; :mod:`nsdyn._kaddress`): its code holds
+    none of theirs, so it compiles before or beside them, and it never compiles the general
+    right-hand side or its Jacobian. Where the flat form fails (a singular ``G``) the run stops
+    with ST_SINGULAR; the caller (:mod:`nsdyn.solve.methods`) then runs it with
+    :func:`radau`, whose results equal this one's where both apply.
 
     The loop works on borrowed views (:mod:`nsdyn._kborrow`) of the arrays it owns and of its
     arguments, and returns its owned ``stats, rinfo``: bit for bit the same run, without the
     ~480 atomic reference-count updates per step of passing ~40 arrays around.
     """
     nt = t_eval.shape[0]
-    stats_own, rinfo_own, ws_own, y_own, f_own, lam_own = setup(P, x0, t_eval, upl_t.shape[0])
+    stats_own, rinfo_own, ws_own, y_own, f_own, lam_own = ka.call(
+        K, "radau.setup", (P, x0, t_eval, upl_t.shape[0]), general
+    )
     if not flat:
         ws_own[22][kf.H_OK] = 0.0
     ws = kb.borrowed(ws_own)
@@ -401,10 +463,10 @@ def _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode,
     t_eval, atol, X, upl_t = kb.borrowed((t_eval, atol, X, upl_t))
     t = t_eval[0]
     t_end = t_eval[-1]
-    iout, ctl = start(
+    iout, ctl = ka.call(K, "radau.start", (
         P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
-        rinfo, general,
-    )  # fmt: skip
+        rinfo, K,
+    ), general)  # fmt: skip
     if iout < 0 or iout >= nt:
         return stats_own, rinfo_own
     ctl_own = ctl
@@ -414,7 +476,7 @@ def _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode,
         t_lim = t_end if fixed else min(t_end, ki.next_kink(t, P))
         st = radau_step_inline(
             P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo,
-            general,
+            general, K,
         )  # fmt: skip
         if st != ki.ST_SUCCESS:
             stats[ki.S_STATUS] = st
@@ -441,17 +503,18 @@ def radau(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode
     through :mod:`nsdyn.solve._kflat` (False: the general kernel everywhere, the baseline).
     """
     return _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X,
-                upl_t, flat, kc.general_called)  # fmt: skip
+                upl_t, flat, kc.general_called, None)  # fmt: skip
 
 
-@njit(cache=True, error_model="numpy")
-def radau_flat(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t):
-    """:func:`radau` for a smooth law with every contact closed, through the flat kernel only.
+_run = njit(cache=True, error_model="numpy", inline="always")(_loop)
+radau_flat = njit(cache=True, error_model="numpy")(_loop)  # called with flat_only and addresses
 
-    It never compiles the general right-hand side or its Jacobian (the default run's first
-    compilation is ~40 % shorter). Where the flat form fails (a singular ``G``) the run stops
-    with ST_SINGULAR; the caller (:mod:`nsdyn.solve.methods`) then runs it with
-    :func:`radau`, whose results equal this one's where both apply.
-    """
-    return _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X,
-                upl_t, True, kc.flat_only)  # fmt: skip
+
+# the callees of the step, the start-up and the loop (:mod:`nsdyn._kaddress`): their index in
+# ``K`` and the kernel called directly when ``K`` is None
+ka.slot("radau.feval", K_FEVAL, kf.feval_flat)
+ka.slot("radau.jac", K_JAC, kf.jac_flat)
+ka.slot("radau.factor", K_FACTOR, _factor)
+ka.slot("radau.newton", K_NEWTON, kc.newton, with_general=True)
+ka.slot("radau.start", K_START, start, with_general=True)
+ka.slot("radau.setup", K_SETUP, setup)

@@ -388,7 +388,7 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
         return stats_own, rinfo_own
     iout, ctl = kr.start(
         P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
-        rinfo, kcol.general_inlined,
+        rinfo, None, kcol.general_inlined,
     )  # fmt: skip
     for k in range(max(iout, 0) if contacts else 0):
         copy_vec(OPEN_OUT[k], opn)

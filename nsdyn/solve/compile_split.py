@@ -1,14 +1,20 @@
-"""A first compilation of an integrator loop shared between two processes.
+"""The default Radau loop's callees by address, and a first compilation shared by two processes.
 
-numba compiles on one thread per process, under a global lock, so a first run's ~1 min of
-compilation uses one core. :func:`nsdyn.solve.methods.warmup_kernel` starts a helper process
+The default run's loop (:func:`nsdyn.solve._kradau.radau_flat`) calls the flat right-hand
+side, its Jacobian, the factorisation, Newton, the start-up and the set-up by address
+(:mod:`nsdyn._kaddress`): :class:`Callee` declares each for the argument types the loop gives
+it (:func:`radau_callees`) and finds its compiled code's address; :func:`radau_calls` is the
+loop's ``K``. numba would otherwise link a copy of every callee into the loop's code and
+optimise it there once more (~5 s of the loop's ~9-13 s first compilation), and could compile
+the loop only after all of them.
+
+numba compiles on one thread per process, under a global lock, so a first run's compilation
+uses one core. :func:`nsdyn.solve.methods.warmup_kernel` starts a helper process
 (:class:`nsdyn._numba_cache.Helper`) on :func:`radau_helper_part` (the flat right-hand side,
-its Jacobian and Newton; :func:`radau_helper_part_and_metrics` then also the metrics, which a
-run needs only after its loop) while the calling process compiles :func:`radau_parts_here`
-(the run's set-up, the factorisation, the start-up) and then the loop itself, which loads the
-helper's kernels from numba's on-disk cache. The loop's own compilation (~8-20 s) stays
-serial: it needs all of its callees first. The helper's part also serves every later process
-(:func:`load_callees`): it loads the callees before the loop, whose calls then go to them.
+Newton, the Jacobian; :func:`radau_helper_part_and_metrics` then also the metrics, which a run
+needs only after its loop) while the calling process compiles :func:`radau_parts_here` (the
+loop itself, the set-up, the factorisation, the start-up), then loads the helper's kernels
+from numba's on-disk cache. Neither waits for the other.
 
 The switch model's event-driven loop (:func:`nsdyn.solve._kunilateral._run`, ~4 min into an
 empty cache on one core) is split the same way: the helper takes the general kernel's
@@ -21,11 +27,10 @@ comes ~50 s in, after this process has the flat kernels, and the handler's Jacob
 helper's first piece. The general right-hand side ``evaluate`` is needed first in both (the
 Jacobian's and the settling's), so each process may compile it (~17 s, on its own core).
 
-Each piece is compiled for the signature the loop asks for: by calling it from Python on the
-tiny problem with arguments built as the loop builds them (the default loop), or by
-``Dispatcher.compile`` with the numba types of such arguments (the event loop, whose pieces
-cannot run on made-up data). ``tests/solve/test_compile_helper.py`` checks that the calling
-process compiles none of the helper's kernels.
+Each piece is compiled for the signature the loop asks for, by ``Dispatcher.compile`` with the
+numba types of arguments built as the loop builds them, on the tiny problem.
+``tests/solve/test_compile_helper.py`` checks that the calling process compiles none of the
+helper's kernels.
 """
 
 from __future__ import annotations
@@ -55,80 +60,120 @@ def _tiny_args(method: str, law: str | None = None):
     return P, x0, t_eval, o, X, upl_t, ws + (_py(_kflat.pack_flat)(P),)
 
 
+class Callee:
+    """A compiled kernel that a run loop calls by address (:mod:`nsdyn._kaddress`), declared
+    under ``name`` for the argument types ``args`` and return type ``ret``."""
+
+    def __init__(self, name: str, kernel, args, ret):
+        from nsdyn import _kaddress
+
+        self.name, self.kernel, self.args, self.ret = name, kernel, tuple(args), ret
+        _kaddress.declare(name, ret, self.args)
+        self._address = 0
+
+    def compiled(self):
+        """The kernel's compilation for ``args`` (loaded from the cache, or compiled)."""
+        self.kernel.compile(self.args)
+        cres = self.kernel.overloads[self.args]
+        if cres.signature.return_type != self.ret:
+            raise TypeError(
+                f"{self.name}: {self.kernel.py_func.__qualname__} returns "
+                f"{cres.signature.return_type}, declared {self.ret}"
+            )
+        return cres
+
+    def address(self) -> int:
+        """The address of the compiled kernel's code (numba's calling convention)."""
+        if not self._address:
+            cres = self.compiled()
+            self._address = cres.library.get_pointer_to_function(cres.fndesc.llvm_func_name)
+        return self._address
+
+
+_RADAU: list = []  # radau_callees(), once per process
+
+
+def radau_callees() -> list:
+    """The flat Radau loop's callees (see :func:`nsdyn.solve._kradau.radau_flat`), in the
+    order of ``K``, declared for the argument types of the loop's calls on every run (its
+    arrays are made by the same code whatever the model: the tiny problem's types)."""
+    if _RADAU:
+        return _RADAU
+    from numba import typeof, types
+
+    P, x0, t_eval, o, X, upl_t, ws = _tiny_args("radau")
+    (J, LUr, pr, LUc, pc, Z, Z0, W, F, dW, fr, fc, ys, iscale, err, ynew, fnew, Qd,
+     qdd, lam, tau, modes, Fl) = (typeof(a) for a in ws)  # fmt: skip
+    tP, tte, tX, tupl_t, tatol = (typeof(a) for a in (P, t_eval, X, upl_t, o.atol))
+    f8, i8, b1 = types.float64, types.int64, types.boolean
+    v, vi = types.float64[::1], types.int64[::1]
+    tws = typeof(ws)
+    newton_args = (tP, f8, v, f8, v, vi, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale,
+                   qdd, lam, tau, modes, Fl, b1)  # fmt: skip
+    start_args = (tP, v, v, tte, f8, f8, tatol, f8, v, tX, tupl_t, i8, tws, vi, v, vi)
+    _RADAU[:] = [  # in the order of K (nsdyn.solve._kcolloc.K_FEVAL, ...)
+        Callee("radau.feval", _kflat.feval_flat, (f8, v, Fl, v, qdd, lam, tau, modes), b1),
+        Callee("radau.jac", _kflat.jac_flat, (f8, v, Fl, J, ys, qdd, lam, tau, modes), b1),
+        Callee("radau.factor", _kcolloc._factor, (f8, J, LUr, pr, LUc, pc), b1),
+        Callee(
+            "radau.newton", _kcolloc.newton_flat, newton_args, types.Tuple((b1, i8, f8, b1, b1, f8))
+        ),  # fmt: skip
+        Callee("radau.start", _kradau.start_flat, start_args, types.Tuple((i8, v))),
+        Callee("radau.setup", _kradau.setup, (tP, v, tte, i8), types.Tuple((vi, v, tws, v, v, v))),
+    ]
+    return _RADAU
+
+
+def radau_calls() -> np.ndarray:
+    """``K`` of the flat Radau loop: the addresses of :func:`radau_callees` (each loaded from
+    the cache, or compiled, on first use); under ``NUMBA_DISABLE_JIT`` the kernels."""
+    from numba import config
+
+    if config.DISABLE_JIT:
+        return tuple(c.kernel for c in radau_callees())
+    return np.array([c.address() for c in radau_callees()], dtype=np.int64)
+
+
+def radau_flat(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t):
+    """The default run's loop (:func:`nsdyn.solve._kradau.radau_flat`: the flat kernel only,
+    its callees called by address); the arguments and returns of
+    :func:`nsdyn.solve._kradau.radau` without ``flat``."""
+    return _kradau.radau_flat(
+        P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, True,
+        _kcolloc.flat_only, radau_calls(),
+    )  # fmt: skip
+
+
 def radau_helper_part() -> None:
     """The helper process's share of the flat Radau loop's first compilation (see
-    :func:`nsdyn.solve.methods.warmup_kernel`): the flat right-hand side, its Jacobian and
-    Newton. Also what every process loads before its first default run (:func:`load_callees`;
-    the factorisation's own code loaded as well made no difference, 3 alternating pairs)."""
-    P, x0, t_eval, o, X, upl_t, ws = _tiny_args("radau")
-    J, LUr, pr, LUc, pc, Z, Z0, W, F, dW, fr, fc, ys, iscale, err, ynew, fnew, Qd = ws[:18]
-    qdd, lam, tau, modes, Fl = ws[18:23]
-    y = x0.copy()
-    _kflat.feval_flat(0.0, y, Fl, fnew, qdd, lam, tau, modes)
-    _kflat.jac_flat(0.0, y, Fl, J, ys, qdd, lam, tau, modes)
-    n = LUr.shape[0]  # factors of the identity, so that Newton runs on finite numbers
-    LUr[:] = np.eye(n)
-    LUc[:] = np.eye(n)
-    pr[:] = np.arange(n)
-    pc[:] = np.arange(n)
-    iscale[:] = 1.0
-    h = 1e-3
-    ctl = _py(_kradau.new_control)(h, o.rtol)
-    ctl[_kradau.C_LUH] = h
-    stats = np.zeros(ki.N_STATS, dtype=np.int64)
-    _kcolloc.newton(
-        P, 0.0, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam,
-        tau, modes, Fl, True, _kcolloc.flat_only,
-    )  # fmt: skip
+    :func:`nsdyn.solve.methods.warmup_kernel`): the flat right-hand side, Newton (which
+    links it), the start-up and the Jacobian, each for the types the loop calls it with."""
+    K = radau_callees()
+    for k in (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC):
+        K[k].compiled()
 
 
 def radau_helper_part_and_metrics() -> None:
     """:func:`radau_helper_part`, then the flat metrics kernels (``pack_flat``,
-    ``evaluate_flat_many``, ``ground_many``): the helper has nothing else to do while the
-    calling process compiles the loop, and a run needs the metrics only after its loop."""
+    ``evaluate_flat_many``, ``ground_many``), which a run needs only after its loop."""
     radau_helper_part()
     methods.warmup_metrics(True)
 
 
 def radau_parts_here(helper: Helper, metrics: str | None) -> None:
-    """This process's share before the loop itself: the ``metrics``, the run's set-up and the
-    factorisation, then (once the helper has the flat kernels) the start-up; then wait for
-    Newton."""
+    """This process's share: the loop itself (which calls its callees by address, so it
+    needs none of them compiled), the set-up, the factorisation and the ``metrics``; then
+    wait for the helper's part."""
+    P, x0, t_eval, o, X, upl_t = methods.tiny_run(methods.METHODS["radau"])
+    K = radau_callees()
+    args = (P, x0, t_eval, o.atol, o.rtol, o.h0, o.max_step, o.max_steps, False, o.uplift_mode,
+            X, upl_t, True, _kcolloc.flat_only, np.zeros(len(K), dtype=np.int64))  # fmt: skip
+    _compile(_kradau.radau_flat, *args)
+    for k in (_kcolloc.K_SETUP, _kcolloc.K_FACTOR, _kcolloc.K_START):
+        K[k].compiled()
     if metrics is not None:
         methods.warmup_metrics(metrics == "metrics")
-    P, x0, t_eval, o, X, upl_t, _ = _tiny_args("radau")
-    stats, rinfo, ws, y, f, lam_old = _kradau.setup(P, x0, t_eval, upl_t.size)
-    _kcolloc._factor(1e-3, *ws[:5])
-    helper.wait_for([_kflat.feval_flat, _kflat.jac_flat])
-    _kradau.start(
-        P, y, f, t_eval, o.h0, o.max_step, o.atol, o.rtol, lam_old, X, upl_t, o.uplift_mode, ws,
-        stats, rinfo, _kcolloc.flat_only,
-    )  # fmt: skip
-    helper.wait_for([_kcolloc.newton])
-
-
-# A loop's callees are compiled functions of their own (numba compiles each once), and numba
-# also links a copy of each into the loop's code, optimised once more there. Which copy the
-# loop calls is decided when its code is loaded: a callee whose own code is already in the
-# process is bound to that (it is, in the process that compiled the loop); otherwise the
-# loop's copies run. A loop loaded from numba's cache into a new process loads none of its
-# callees, and its own copies of Newton and the flat right-hand side made the default run
-# ~15 % slower than the same loop in the process that compiled it (51-52 against 44 ms, the
-# same machine code, the same steps). The first run of a kernel in a process therefore loads
-# its callees first, by the function of this module that calls them on the tiny problem with
-# the loop's argument types (loading them from the cache, or compiling them). The switch
-# model's loop, whose step inlines its kernels, ran 2-4 % faster so (one pair): not done.
-_CALLEES = {"radau": "radau_helper_part"}
-_CALLEES_LOADED: set[str] = set()
-
-
-def load_callees(kernel: str) -> None:
-    """Load (or compile) the callees of loop ``kernel`` that it should call in this process,
-    before the loop itself is loaded (see the note above); once per process."""
-    if kernel in _CALLEES_LOADED or kernel not in _CALLEES:
-        return
-    globals()[_CALLEES[kernel]]()
-    _CALLEES_LOADED.add(kernel)
+    helper.wait_for([K[k].kernel for k in (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC)])
 
 
 # ---- the event-driven loop (switch model; unilateral contacts) ------------------------------
@@ -183,7 +228,7 @@ def event_helper_part() -> None:
     _compile(
         _kradau.start, P, y, f, a["t_eval"], float(o.h0), float(o.max_step), o.atol,
         float(o.rtol), a["lam_old"],
-        a["X"], a["upl_t"], np.int64(o.uplift_mode), ws, a["stats"], a["rinfo"], g,
+        a["X"], a["upl_t"], np.int64(o.uplift_mode), ws, a["stats"], a["rinfo"], None, g,
     )  # fmt: skip
     _compile(
         _kradau.radau_step, P, 0.0, y, f, 0.0, False, o.atol, float(o.rtol), float(o.max_step),

@@ -233,10 +233,9 @@ def _run_radau(P, x0, t_eval, o: Options, X, upl_t):
     fixed, h0 = (False, o.h0) if o.adaptive else (True, o.dt)
     args = (P, x0, t_eval, o.atol, o.rtol, h0, o.max_step, o.max_steps, fixed, o.uplift_mode)
     if flat_applies(P):
-        from nsdyn.solve.compile_split import load_callees  # (it imports this module)
+        from nsdyn.solve.compile_split import radau_flat  # (it imports this module)
 
-        load_callees("radau")
-        stats, rinfo = _kradau.radau_flat(*args, X, upl_t)
+        stats, rinfo = radau_flat(*args, X, upl_t)
         if stats[ki.S_STATUS] != ki.ST_SINGULAR:
             return stats, rinfo, [], None
         X[:] = 0.0  # again from the start, with the general kernel's minimum-norm split
@@ -335,10 +334,11 @@ def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
     (:func:`nsdyn._numba_cache.helper_enabled`): numba compiles on one thread per process, so
     the helper compiles part of the kernels into numba's on-disk cache while this process
     compiles the rest and then loads the helper's. For the default loop (``"radau"``) the
-    helper takes the flat right-hand side, its Jacobian and Newton, then the metrics
+    helper takes the flat right-hand side, Newton and the Jacobian, then the metrics
     (:func:`nsdyn.solve.compile_split.radau_helper_part_and_metrics`; without metrics
     :func:`~nsdyn.solve.compile_split.radau_helper_part`) while this process compiles the
-    run's set-up, the factorisation and the start-up, then the loop itself; for
+    loop itself (which calls its callees by address, so it needs none of them first), the
+    run's set-up, the factorisation and the start-up; for
     the switch model's loop (``"event"``) the helper takes the general kernels, the start-up
     and the step (:func:`nsdyn.solve.compile_split.event_helper_part`) while this process
     compiles the settling, the event detectors and handler and the metrics; for the other

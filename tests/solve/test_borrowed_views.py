@@ -16,7 +16,7 @@ from numba import njit
 
 from nsdyn import _kborrow as kb
 from nsdyn.solve import _kcommon as ki
-from nsdyn.solve import _kradau
+from nsdyn.solve import compile_split
 from nsdyn.solve.integrate import _tiny_problem
 
 
@@ -68,11 +68,11 @@ def test_radau_loop_leaves_reference_counts_unchanged():
     X = np.zeros((t_eval.size, x0.size))
     upl = np.full(1, np.nan)
     args = (P, x0, t_eval, atol, 1e-6, 0.0, np.inf, 100_000, False, ki.UPLIFT_WARN, X, upl)
-    _kradau.radau_flat(*args)
+    compile_split.radau_flat(*args)
     watched = (x0, t_eval, atol, X, upl) + tuple(P)
     before = [sys.getrefcount(a) for a in watched]
     for _ in range(3):
-        stats, rinfo = _kradau.radau_flat(*args)
+        stats, rinfo = compile_split.radau_flat(*args)
         assert stats[ki.S_STATUS] == ki.ST_SUCCESS
     del stats, rinfo
     assert [sys.getrefcount(a) for a in watched] == before
@@ -97,7 +97,7 @@ def test_run_loops_return_only_owned_arrays():
     upl = np.full(1, np.nan)
     X = np.zeros((t_eval.size, x0.size))
     got = list(
-        _kradau.radau_flat(
+        compile_split.radau_flat(
             P, x0, t_eval, atol, 1e-6, 0.0, np.inf, 10**5, False, ki.UPLIFT_WARN, X, upl
         )
     )

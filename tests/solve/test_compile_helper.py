@@ -40,7 +40,9 @@ def test_kernel_arguments_are_the_same_type_in_every_process():
     # flat_only (the default loop's `general`) must unpickle to this process's own type ...
     assert pickle.loads(_pickled_type_from_another_process("flat_only")) == typeof(kc.flat_only)
     # ... which a dispatcher with numba's per-process random identity does not (the control)
-    assert pickle.loads(_pickled_type_from_another_process("newton")) != typeof(kc.newton)
+    assert pickle.loads(_pickled_type_from_another_process("_predict_factor")) != typeof(
+        kc._predict_factor
+    )
 
 
 def _report_enabled(q):
@@ -126,10 +128,10 @@ def _compiled_in_a_fresh_warmup(cache, kernel, metrics) -> set[str]:
 # otherwise sit idle beside the loop's compilation for) and the switch model's, whose pieces
 # the helper compiles by type for the signatures the loop asks for, without running them
 SPLITS = [
-    ("radau", "metrics", {"radau_flat", "start", "setup"},
-     {"feval_flat", "jac_flat", "newton", "evaluate_flat_many"}),
+    ("radau", "metrics", {"_loop", "start_flat", "setup", "_factor"},
+     {"feval_flat", "jac_flat", "newton_flat", "evaluate_flat_many"}),
     ("event", "metrics-general", {"_run", "_settle", "_event_at", "evaluate_many"},
-     {"general_inlined", "jeval", "start", "radau_step", "newton"}),
+     {"general_inlined", "jeval", "start", "radau_step", "newton_inlined"}),
 ]  # fmt: skip
 
 

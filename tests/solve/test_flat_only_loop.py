@@ -14,7 +14,7 @@ import pytest
 
 from nsdyn.models.isolated.system import Isolation, build_system
 from nsdyn.solve import _kcommon as ki
-from nsdyn.solve import _kradau, methods
+from nsdyn.solve import _kradau, compile_split, methods
 from nsdyn.solve.transient import simulate
 from nsdyn.structure import load_frame
 
@@ -41,7 +41,7 @@ def test_flat_loop_equals_general_loop(system):
     Xa, Xb = np.zeros((101, x0.size)), np.zeros((101, x0.size))
     nc = system.n_contacts
     ua, ub = np.full(nc, np.nan), np.full(nc, np.nan)
-    sa, _ = _kradau.radau_flat(*_args(P, x0, t_eval), Xa, ua)
+    sa, _ = compile_split.radau_flat(*_args(P, x0, t_eval), Xa, ua)
     sb, _ = _kradau.radau(*_args(P, x0, t_eval), Xb, ub, True)
     assert sa[ki.S_STATUS] == ki.ST_SUCCESS
     assert np.array_equal(sa, sb)
@@ -64,7 +64,7 @@ def test_singular_flat_run_is_repeated_by_the_general_loop(system, monkeypatch):
     from nsdyn.ground import read_motion
 
     motion = read_motion("synthetic-wn-40s").window(0.0, 1.0)
-    real = _kradau.radau_flat
+    real = compile_split.radau_flat
 
     def stops_singular(P, x0, t_eval, *rest):
         X, upl_t = rest[-2], rest[-1]
@@ -75,7 +75,7 @@ def test_singular_flat_run_is_repeated_by_the_general_loop(system, monkeypatch):
         return stats, rinfo
 
     ref = simulate(system, motion, method="radau", uplift="warn")
-    monkeypatch.setattr(_kradau, "radau_flat", stops_singular)
+    monkeypatch.setattr(compile_split, "radau_flat", stops_singular)
     got = simulate(system, motion, method="radau", uplift="warn")
     assert np.array_equal(got.x, ref.x)  # same steps: the general loop evaluates flat too
     assert not got.uplift
