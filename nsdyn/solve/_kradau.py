@@ -518,3 +518,6 @@ ka.slot("radau.factor", K_FACTOR, _factor)
 ka.slot("radau.newton", K_NEWTON, kc.newton, with_general=True)
 ka.slot("radau.start", K_START, start, with_general=True)
 ka.slot("radau.setup", K_SETUP, setup)
+
+# the kernels whose addresses the default loop (radau_flat) takes, in the order of K
+FLAT_CALLEES = (kf.feval_flat, kf.jac_flat, _factor, kc.newton_flat, start_flat, setup)

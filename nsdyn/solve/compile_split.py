@@ -110,34 +110,54 @@ def radau_callees() -> list:
     tws = typeof(ws)
     newton_args = (tP, f8, v, f8, v, vi, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale,
                    qdd, lam, tau, modes, Fl, b1)  # fmt: skip
-    start_args = (tP, v, v, tte, f8, f8, tatol, f8, v, tX, tupl_t, i8, tws, vi, v, vi)
-    _RADAU[:] = [  # in the order of K (nsdyn.solve._kcolloc.K_FEVAL, ...)
-        Callee("radau.feval", _kflat.feval_flat, (f8, v, Fl, v, qdd, lam, tau, modes), b1),
-        Callee("radau.jac", _kflat.jac_flat, (f8, v, Fl, J, ys, qdd, lam, tau, modes), b1),
-        Callee("radau.factor", _kcolloc._factor, (f8, J, LUr, pr, LUc, pc), b1),
-        Callee(
-            "radau.newton", _kcolloc.newton_flat, newton_args, types.Tuple((b1, i8, f8, b1, b1, f8))
-        ),  # fmt: skip
-        Callee("radau.start", _kradau.start_flat, start_args, types.Tuple((i8, v))),
-        Callee("radau.setup", _kradau.setup, (tP, v, tte, i8), types.Tuple((vi, v, tws, v, v, v))),
+    tK = types.int64[:, ::1]  # K itself (the start-up calls the flat kernels through it)
+    start_args = (tP, v, v, tte, f8, f8, tatol, f8, v, tX, tupl_t, i8, tws, vi, v, tK)
+    sigs = {  # name: (argument types, return type), in the order of K (_kcolloc.K_FEVAL, ...)
+        "radau.feval": ((f8, v, Fl, v, qdd, lam, tau, modes), b1),
+        "radau.jac": ((f8, v, Fl, J, ys, qdd, lam, tau, modes), b1),
+        "radau.factor": ((f8, J, LUr, pr, LUc, pc), b1),
+        "radau.newton": (newton_args, types.Tuple((b1, i8, f8, b1, b1, f8))),
+        "radau.start": (start_args, types.Tuple((i8, v))),
+        "radau.setup": ((tP, v, tte, i8), types.Tuple((vi, v, tws, v, v, v))),
+    }
+    _RADAU[:] = [
+        Callee(name, kernel, *sig)
+        for (name, sig), kernel in zip(sigs.items(), _kradau.FLAT_CALLEES, strict=True)
     ]
     return _RADAU
 
 
-def radau_calls() -> np.ndarray:
+def radau_calls():
     """``K`` of the flat Radau loop: the addresses of :func:`radau_callees` (each loaded from
-    the cache, or compiled, on first use); under ``NUMBA_DISABLE_JIT`` the kernels."""
+    the cache, or compiled, on first use) over the digests of their declarations (see
+    :mod:`nsdyn._kaddress`); under ``NUMBA_DISABLE_JIT`` a tuple of the kernels."""
     from numba import config
 
+    from nsdyn import _kaddress
+
+    callees = radau_callees()
     if config.DISABLE_JIT:
-        return tuple(c.kernel for c in radau_callees())
-    return np.array([c.address() for c in radau_callees()], dtype=np.int64)
+        return tuple(c.kernel for c in callees)
+    return np.array(
+        [[c.address() for c in callees], [_kaddress.digest(c.name) for c in callees]],
+        dtype=np.int64,
+    )
+
+
+def _declared_form(a):
+    """``a`` as the loop's declarations have its arrays: C-contiguous and writable (a copy
+    only when it is not)."""
+    return a if a.flags.c_contiguous and a.flags.writeable else np.array(a, order="C")
 
 
 def radau_flat(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t):
     """The default run's loop (:func:`nsdyn.solve._kradau.radau_flat`: the flat kernel only,
     its callees called by address); the arguments and returns of
-    :func:`nsdyn.solve._kradau.radau` without ``flat``."""
+    :func:`nsdyn.solve._kradau.radau` without ``flat``. Read-only or non-contiguous inputs
+    are copied (a read-only array has another numba type than the declared one)."""
+    if not all(a.flags.c_contiguous and a.flags.writeable for a in (x0, t_eval, atol, *P)):
+        P = tuple(_declared_form(a) for a in P)
+        x0, t_eval, atol = (_declared_form(a) for a in (x0, t_eval, atol))
     return _kradau.radau_flat(
         P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, True,
         _kcolloc.flat_only, radau_calls(),
@@ -147,7 +167,7 @@ def radau_flat(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift
 def radau_helper_part() -> None:
     """The helper process's share of the flat Radau loop's first compilation (see
     :func:`nsdyn.solve.methods.warmup_kernel`): the flat right-hand side, Newton (which
-    links it), the start-up and the Jacobian, each for the types the loop calls it with."""
+    links it) and the Jacobian, each for the types the loop calls it with."""
     K = radau_callees()
     for k in (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC):
         K[k].compiled()
@@ -162,12 +182,27 @@ def radau_helper_part_and_metrics() -> None:
 
 def radau_parts_here(helper: Helper, metrics: str | None) -> None:
     """This process's share: the loop itself (which calls its callees by address, so it
-    needs none of them compiled), the set-up, the factorisation and the ``metrics``; then
-    wait for the helper's part."""
+    needs none of them compiled), the set-up, the factorisation, the start-up and the
+    ``metrics`` (None when the helper takes them); then wait for the helper's part."""
     P, x0, t_eval, o, X, upl_t = methods.tiny_run(methods.METHODS["radau"])
     K = radau_callees()
-    args = (P, x0, t_eval, o.atol, o.rtol, o.h0, o.max_step, o.max_steps, False, o.uplift_mode,
-            X, upl_t, True, _kcolloc.flat_only, np.zeros(len(K), dtype=np.int64))  # fmt: skip
+    args = (
+        P,
+        x0,
+        t_eval,
+        o.atol,
+        o.rtol,
+        o.h0,
+        o.max_step,
+        o.max_steps,
+        False,
+        o.uplift_mode,
+        X,
+        upl_t,
+        True,
+        _kcolloc.flat_only,
+        np.zeros((2, len(K)), dtype=np.int64),
+    )
     _compile(_kradau.radau_flat, *args)
     for k in (_kcolloc.K_SETUP, _kcolloc.K_FACTOR, _kcolloc.K_START):
         K[k].compiled()

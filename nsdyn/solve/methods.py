@@ -413,8 +413,8 @@ _SPLIT = {
 }
 
 # the top-level numba dispatcher of each kernel (its on-disk cache entry stands for the kernel)
-_ENTRY = {
-    "radau": _kradau.radau_flat,
+_ENTRY = {  # the default loop's callees are compiled apart from it (nsdyn._kaddress)
+    "radau": (_kradau.radau_flat, *_kradau.FLAT_CALLEES),
     "radau-general": _kradau.radau,
     "dopri5": _kdopri.dopri5,
     "genalpha": _kgenalpha.genalpha,
@@ -433,8 +433,8 @@ def is_cached(kernel: str) -> bool:
     """
     if kernel in _COMPILED:
         return True
-    disp = _ENTRY.get(kernel)
-    return True if disp is None else dispatcher_cached(disp)
+    disp = _ENTRY.get(kernel, ())
+    return all(dispatcher_cached(d) for d in (disp if isinstance(disp, tuple) else (disp,)))
 
 
 def warmup_metrics(flat: bool = True) -> float:

@@ -1,11 +1,13 @@
 """Calls to compiled kernels by address (``nsdyn._kaddress``), as the default Radau loop makes them.
 
 What must hold: a call through an address computes what the direct call computes (the same
-compiled code, bit for bit); a call whose argument types differ from the declared ones, and a
-kernel whose return type differs from the declared one, are refused with an error naming the
-callee (a wrong address type would otherwise read garbage); and the default loop compiles from
-its own code alone (none of its callees compiled first, none linked into it), which is what lets
-a first run compile it beside them (README, "Callees by address").
+compiled code, bit for bit); a call whose argument types differ from the declared ones, a
+kernel whose return type differs from the declared one and an address taken for another
+declaration than the caller was compiled for are refused with an error naming the callee (a
+wrong address type would otherwise read garbage); read-only inputs run as writable ones; the
+arrays returned through addresses are freed; and the default loop compiles from its own code
+alone (none of its callees compiled first, none linked into it), which is what lets a first run
+compile it beside them (README, "Callees by address").
 """
 
 import os
@@ -19,6 +21,7 @@ from numba.core.errors import TypingError
 
 from nsdyn import _kaddress as ka
 from nsdyn.solve import _kcolloc, _kflat, compile_split
+from nsdyn.solve import _kcommon as ki
 from nsdyn.solve.integrate import _tiny_problem
 
 JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
@@ -54,26 +57,98 @@ def _twice(x):
 ka.slot("test.twice", 0, _twice)
 
 
+@njit
+def _call_twice(K, x):
+    return ka.call(K, "test.twice", (x,), 0)
+
+
+def _twice_K(ret=types.float64, name="test.twice"):
+    c = compile_split.Callee(name, _twice, (types.float64,), ret)
+    return np.array([[c.address()], [ka.digest(name)]], dtype=np.int64)
+
+
 @pytest.mark.skipif(not JIT, reason="types are checked only when numba compiles")
 def test_call_with_undeclared_argument_types_is_refused():
-    ka.declare("test.twice", types.float64, (types.float64,))
-
-    @njit
-    def caller(K, x):
-        return ka.call(K, "test.twice", (x,), 0)
-
-    K = np.array([compile_split.Callee("test.twice", _twice, (types.float64,), types.float64)
-                  .address()])  # fmt: skip
-    assert caller(K, 1.5) == 3.0
+    K = _twice_K()
+    assert _call_twice(K, 1.5) == 3.0
     with pytest.raises(TypingError, match="test.twice"):
-        caller(K, np.int32(2))  # an int32 where a float64 is declared
+        _call_twice(K, np.int32(2))  # an int32 where a float64 is declared
+    with pytest.raises(TypingError, match="K must be a 2-row int64 array"):
+        _call_twice(K.astype(np.int32), 1.5)
+
+
+@pytest.mark.skipif(not JIT, reason="digests are checked only in compiled code")
+def test_address_taken_for_another_declaration_is_refused():
+    # a caller compiled (or loaded from numba's cache) for one declaration, given an address
+    # whose digest says it was taken for another: an error, never a call of the wrong code
+    K = _twice_K()
+    K[1, 0] += 1
+    with pytest.raises(RuntimeError, match="stale entry of numba's cache"):
+        _call_twice(K, 1.5)
+
+
+def test_a_name_is_declared_once():
+    ka.declare("test.once", types.float64, (types.float64,))
+    ka.declare("test.once", types.float64, (types.float64,))  # the same again: fine
+    with pytest.raises(ValueError, match="already declared"):
+        ka.declare("test.once", types.int64, (types.float64,))
 
 
 @pytest.mark.skipif(not JIT, reason="return types exist only when numba compiles")
 def test_kernel_with_another_return_type_is_refused():
-    c = compile_split.Callee("test.twice", _twice, (types.float64,), types.int64)
-    with pytest.raises(TypeError, match="test.twice.*returns float64, declared int64"):
+    c = compile_split.Callee("test.twice_int", _twice, (types.float64,), types.int64)
+    with pytest.raises(TypeError, match="test.twice_int.*returns float64, declared int64"):
         c.address()
+
+
+def _tiny_run_inputs():
+    P, x0 = _tiny_problem()
+    t_eval = np.linspace(0.0, 0.3, 7)
+    atol = np.full(x0.size, 1e-8)
+    return P, x0, t_eval, atol
+
+
+def _default_loop(P, x0, t_eval, atol):
+    X = np.zeros((t_eval.size, x0.size))
+    args = (1e-6, 0.0, np.inf, 100_000, False, ki.UPLIFT_WARN, X, np.full(1, np.nan))
+    stats, _ = compile_split.radau_flat(P, x0, t_eval, atol, *args)
+    return stats, X
+
+
+def test_read_only_inputs_give_the_same_run():
+    # read-only arrays have another numba type than the declared one: the default loop
+    # copies them and runs, bit for bit as with writable inputs
+    P, x0, t_eval, atol = _tiny_run_inputs()
+    s_ref, X_ref = _default_loop(P, x0, t_eval, atol)
+    frozen = [a.copy() for a in (*P, x0, t_eval, atol)]
+    for a in frozen:
+        a.flags.writeable = False
+    s, X = _default_loop(tuple(frozen[: len(P)]), *frozen[len(P) :])
+    assert s[ki.S_STATUS] == ki.ST_SUCCESS
+    assert np.array_equal(s, s_ref) and np.array_equal(X, X_ref)
+
+
+@pytest.mark.skipif(not JIT, reason="numba's allocation counters exist only when it compiles")
+def test_arrays_returned_by_address_are_freed():
+    # the set-up and the start-up return new arrays through their addresses: every one of
+    # them is freed again (numba's allocation statistics, three runs)
+    from numba.core.runtime import _nrt_python as nrt
+    from numba.core.runtime import rtsys
+
+    P, x0, t_eval, atol = _tiny_run_inputs()
+    _default_loop(P, x0, t_eval, atol)
+    was_on = nrt.memsys_stats_enabled()
+    nrt.memsys_enable_stats()
+    try:
+        before = rtsys.get_allocation_stats()
+        for _ in range(3):
+            _default_loop(P, x0, t_eval, atol)
+        after = rtsys.get_allocation_stats()
+    finally:
+        if not was_on:
+            nrt.memsys_disable_stats()
+    allocated, freed = after.alloc - before.alloc, after.free - before.free
+    assert allocated > 0 and allocated == freed
 
 
 @pytest.mark.slow
@@ -87,7 +162,7 @@ def test_default_loop_compiles_without_its_callees(tmp_path):
         "P, x0, t_eval, o, X, upl_t = methods.tiny_run(methods.METHODS['radau'])\n"
         "K = cs.radau_callees()\n"
         "args = (P, x0, t_eval, o.atol, o.rtol, o.h0, o.max_step, o.max_steps, False,\n"
-        "        o.uplift_mode, X, upl_t, True, kc.flat_only, np.zeros(len(K), np.int64))\n"
+        "        o.uplift_mode, X, upl_t, True, kc.flat_only, np.zeros((2, len(K)), np.int64))\n"
         "cs._compile(kr.radau_flat, *args)\n"
         "lib = next(iter(kr.radau_flat.overloads.values())).library\n"
         "linked = {l.name for l in getattr(lib, '_linking_libraries', ())}\n"
@@ -113,3 +188,15 @@ def test_k_layout_matches_the_callees():
     assert _kcolloc.K_NEWTON == [c.name for c in compile_split.radau_callees()].index(
         "radau.newton"
     )
+
+
+def test_default_loop_counts_as_cached_only_with_its_callees(monkeypatch):
+    # the loop compiles apart from its callees: an interrupted first compilation can leave it
+    # cached without them, and the run must then still announce (and split) a compilation
+    from nsdyn.solve import methods
+
+    monkeypatch.setattr(methods, "_COMPILED", {})
+    monkeypatch.setattr(methods, "dispatcher_cached", lambda d: d is not _kcolloc.newton_flat)
+    assert not methods.is_cached("radau")
+    monkeypatch.setattr(methods, "dispatcher_cached", lambda d: True)
+    assert methods.is_cached("radau")

@@ -131,7 +131,7 @@ SPLITS = [
     ("radau", "metrics", {"_loop", "start_flat", "setup", "_factor"},
      {"feval_flat", "jac_flat", "newton_flat", "evaluate_flat_many"}),
     ("event", "metrics-general", {"_run", "_settle", "_event_at", "evaluate_many"},
-     {"general_inlined", "jeval", "start", "radau_step", "newton_inlined"}),
+     {"general_inlined", "jeval", "start", "radau_step", "_newton"}),
 ]  # fmt: skip
 
 
