@@ -91,6 +91,7 @@ class Callee:
 
 
 _RADAU: list = []  # radau_callees(), once per process
+_K: list = []  # radau_calls(), once per process (the loop reads it, never writes it)
 
 
 def radau_callees() -> list:
@@ -138,10 +139,14 @@ def radau_calls():
     callees = radau_callees()
     if config.DISABLE_JIT:
         return tuple(c.kernel for c in callees)
-    return np.array(
-        [[c.address() for c in callees], [_kaddress.digest(c.name) for c in callees]],
-        dtype=np.int64,
-    )
+    if not _K:  # once per process: the addresses and declarations do not change in it
+        _K.append(
+            np.array(
+                [[c.address() for c in callees], [_kaddress.digest(c.name) for c in callees]],
+                dtype=np.int64,
+            )
+        )
+    return _K[0]
 
 
 def _declared_form(a):
@@ -186,23 +191,9 @@ def radau_parts_here(helper: Helper, metrics: str | None) -> None:
     ``metrics`` (None when the helper takes them); then wait for the helper's part."""
     P, x0, t_eval, o, X, upl_t = methods.tiny_run(methods.METHODS["radau"])
     K = radau_callees()
-    args = (
-        P,
-        x0,
-        t_eval,
-        o.atol,
-        o.rtol,
-        o.h0,
-        o.max_step,
-        o.max_steps,
-        False,
-        o.uplift_mode,
-        X,
-        upl_t,
-        True,
-        _kcolloc.flat_only,
-        np.zeros((2, len(K)), dtype=np.int64),
-    )
+    K0 = np.zeros((2, len(K)), dtype=np.int64)  # only its type matters here
+    args = (P, x0, t_eval, o.atol, o.rtol, o.h0, o.max_step, o.max_steps, False, o.uplift_mode,
+            X, upl_t, True, _kcolloc.flat_only, K0)  # fmt: skip
     _compile(_kradau.radau_flat, *args)
     for k in (_kcolloc.K_SETUP, _kcolloc.K_FACTOR, _kcolloc.K_START):
         K[k].compiled()
