@@ -132,7 +132,7 @@ def _solve(LU, piv, J, g, b):
         b[i] = (b[i] + b[n + i]) * ig
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _error_norm(err, Z, h, LUr, pr, J, luh, y, ynew, atol, rtol):
     """Scaled norm of the embedded error estimate ``(eig_real/h I - J)^-1 (err + E Z / h)``
     (err holds f(t, y) or the filtered estimate of a first try); the estimate is left in err."""
@@ -229,7 +229,11 @@ def jeval(t, y, P, Fl, flat, general, K, J, ys, qdd, lam, tau, modes):
     """The Jacobian at (t, y) into J: the flat one when ``flat`` (``radau.jac``, directly or by
     its address in ``K``, see :mod:`nsdyn._kaddress`), else (or where it fails) the
     ``general`` kernel's (ys scratch). False when neither could form it."""
-    ok = flat and ka.call(K, "radau.jac", (t, y, Fl, J, ys, qdd, lam, tau, modes), general)
+    ok = (
+        flat
+        and ka.call(K, "radau.feval", (t, y, Fl, ys, qdd, lam, tau, modes), general)
+        and ka.call(K, "radau.jac", (y, Fl, J, lam), general)
+    )
     if not ok:
         ok = general(G_JAC, P, t, y, 0.0, J, J, y, y, J, qdd, lam, tau, modes)
     return ok
@@ -324,7 +328,7 @@ def _newton(
 
 
 # the Radau loop's callees by address (:mod:`nsdyn._kaddress`): their indices in ``K``
-K_FEVAL, K_JAC, K_FACTOR, K_NEWTON, K_START, K_SETUP = range(6)
+K_FEVAL, K_JAC, K_FACTOR, K_NEWTON, K_START = range(5)
 
 newton = njit(cache=True, error_model="numpy")(_newton)
 # Newton with :func:`flat_only` in a kernel of its own: the address of a kernel with a kernel

@@ -20,6 +20,7 @@ falls back to the general kernel (which takes the minimum-norm split).
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn._klinalg import lu_factor, lu_factor_flat, lu_solve_columns, lu_solve_flat
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
@@ -28,7 +29,8 @@ from nsdyn.solve import _kcommon as ki
 H_N, H_NC, H_NI, H_OK, H_FROZEN, H_ARCTAN, H_EPS, H_ALPHA, H_BETA, H_G = range(10)
 H_HARMONIC, H_NPTS = 10, 11  # 1.0 for a harmonic excitation; samples of a record
 H_GPAR = 12  # the excitation parameters (ks.N_GPAR of them)
-N_HEAD = H_GPAR + ks.N_GPAR
+H_A0IN = H_GPAR + ks.N_GPAR  # 1.0: feval_flat finds a0's linear part already in F's scratch
+N_HEAD = H_A0IN + 1
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -197,24 +199,30 @@ def _ground_into_a0(t, F, n, o):
 
 
 @njit(cache=True, error_model="numpy")
-def evaluate_flat_many(t, X, F, A0, QDD, LAM, TAU, MODES, ok):
-    """:func:`evaluate_flat` along a history (outputs as
+def evaluate_flat_many(t, X, F, A0, QDD, LAM, TAU, MODES, ok, K):
+    """:func:`feval_flat` along a history (outputs as
     :func:`nsdyn.models.isolated._kernel.evaluate_many`), given its linear part
     ``A0 = -X_q MiK^T - X_v MiC^T`` (nt, n), which the caller forms with one matrix product
-    (for the 435-dof frame the per-sample products were most of the post-processing).
-    ``ok[k]`` is False where ``G`` was singular (row k then holds scratch values: the caller
-    fills it from the general kernel)."""
+    (for the 435-dof frame the per-sample products were most of the post-processing): each
+    row goes into F's ``a0`` and ``F[H_A0IN]`` tells :func:`feval_flat` so. ``ok[k]`` is
+    False where ``G`` was singular or the row not finite (row k then holds scratch values:
+    the caller fills it from the general kernel).
+
+    :func:`feval_flat` is called through :func:`nsdyn._kaddress.call` as ``"flat.feval"``:
+    directly (``K`` None) or by its address (``K`` from
+    :func:`nsdyn.solve.compile_split.flat_calls`), so this kernel's code holds no copy of it
+    (~1.2 s of a first run's compilation)."""
     n = int(F[H_N])
-    nc = int(F[H_NC])
-    ni = int(F[H_NI])
-    o = _offsets(n, nc, ni)
-    o_a0 = o[11]
+    o_a0 = _offsets(n, int(F[H_NC]), int(F[H_NI]))[11]
+    out = np.empty(2 * n)
+    F[H_A0IN] = 1.0
     for k in range(t.shape[0]):
         for r in range(n):
             F[o_a0 + r] = A0[k, r]
-        _ground_into_a0(t[k], F, n, o)
         # straight into row k (no copies through scratch rows)
-        ok[k] = _constrained(X[k], F, QDD[k], LAM[k], TAU[k], MODES[k], n, nc, ni)
+        args = (t[k], X[k], F, out, QDD[k], LAM[k], TAU[k], MODES[k])
+        ok[k] = ka.call(K, "flat.feval", args, None)
+    F[H_A0IN] = 0.0
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -288,6 +296,9 @@ def feval_flat(t, x, F, out, qdd, lam, tau, modes):
     """out = [qd, qdd] at (t, x): :func:`nsdyn.models.isolated._kernel.evaluate` for smooth
     laws and closed contacts from the flat array ``F`` (also lam, tau, modes, as there).
 
+    With ``F[H_A0IN]`` set, the linear part of ``a0`` is taken as already in F's scratch
+    (:func:`evaluate_flat_many` puts it there; the ground term is still added here).
+
     Returns False for a non-finite input (out NaN) or a singular ``G`` (outputs not set): the
     caller then asks the general kernel (:func:`nsdyn.solve._kcommon.feval`), which reports
     the first and takes the minimum-norm split for the second. ``P`` is not an argument on
@@ -313,16 +324,17 @@ def feval_flat(t, x, F, out, qdd, lam, tau, modes):
     # a0 = -MiK q - MiC qd (- Gamma u, in _ground_into_a0) column by column: F holds MiK and
     # MiC transposed, so each column is contiguous and the row loop vectorises; each row's
     # sum is still formed in the order c = 0..n-1, the result is that of row-wise dot products
-    a0 = F[o_a0 : o_a0 + n]
-    for r in range(n):
-        a0[r] = 0.0
-    for c in range(n):
-        xc = x[c]
-        vc = x[n + c]
-        kc = F[o_mik + c * n : o_mik + c * n + n]
-        cc = F[o_mic + c * n : o_mic + c * n + n]
+    if F[H_A0IN] == 0.0:  # else the caller put it there (evaluate_flat_many)
+        a0 = F[o_a0 : o_a0 + n]
         for r in range(n):
-            a0[r] -= kc[r] * xc + cc[r] * vc
+            a0[r] = 0.0
+        for c in range(n):
+            xc = x[c]
+            vc = x[n + c]
+            kc = F[o_mik + c * n : o_mik + c * n + n]
+            cc = F[o_mic + c * n : o_mic + c * n + n]
+            for r in range(n):
+                a0[r] -= kc[r] * xc + cc[r] * vc
     _ground_into_a0(t, F, n, o)
     if not _constrained(x, F, qdd, lam, tau, modes, n, nc, ni):
         return False
@@ -351,14 +363,21 @@ def jac_flat(t, x, F, J, out, qdd, lam, tau, modes):
     Returns False for a non-finite input (J NaN) or a singular ``G`` (J not set): the caller
     then asks the general kernel.
     """
-    n = qdd.shape[0]
-    nc = int(F[H_NC])
-    ni = int(F[H_NI])
     if not (np.isfinite(t) and ki.all_finite(x)):
         J[:, :] = np.nan
         return False
-    if not feval_flat(t, x, F, out, qdd, lam, tau, modes):
-        return False
+    return feval_flat(t, x, F, out, qdd, lam, tau, modes) and jac_flat_here(x, F, J, lam)
+
+
+@njit(cache=True, error_model="numpy")
+def jac_flat_here(x, F, J, lam):
+    """:func:`jac_flat` at the state ``x`` where :func:`feval_flat` has just succeeded (it
+    reads that evaluation's friction directions from F's scratch and its normal forces
+    ``lam``). The default loop calls the two by address one after the other: this kernel's
+    code then holds no copy of the flat right-hand side's (~1 s of its first compilation)."""
+    n = x.shape[0] // 2
+    nc = int(F[H_NC])
+    ni = int(F[H_NI])
     (o_mik, o_mic, o_gam, o_mir, o_r, o_mid, o_d, o_mu, o_lam0, o_rmir, o_rmid, o_a0, o_g, o_s,
      o_rec, o_band) = _offsets(n, nc, ni)  # fmt: skip
     frozen = F[H_FROZEN] != 0.0
@@ -437,3 +456,7 @@ def finite_rows(A):
             if not np.isfinite(A[i, j]):
                 return False
     return True
+
+
+# the metrics' call of the flat right-hand side (:mod:`nsdyn._kaddress`): index 0 of their K
+ka.slot("flat.feval", 0, feval_flat)

@@ -45,7 +45,6 @@ from nsdyn.solve._kcolloc import (  # noqa: F401  (the tableau and ctl layout, r
     K_FEVAL,
     K_JAC,
     K_NEWTON,
-    K_SETUP,
     K_START,
     MU_REAL,
     N_CTL,
@@ -319,17 +318,34 @@ def radau_step(
     )  # fmt: skip
 
 
+def _owned(ws, x0, t_eval, nc):
+    """The arrays a run owns, around its workspace ``ws``: (stats, rinfo, ws, y, f, lam_old),
+    with y = x0 (a copy) and the time reached ``rinfo[R_T] = t_eval[0]``."""
+    stats = np.zeros(ki.N_STATS, dtype=np.int64)
+    rinfo = np.zeros(ki.N_RINFO)
+    rinfo[ki.R_T] = t_eval[0]
+    return stats, rinfo, ws, x0.copy(), np.empty(x0.shape[0]), np.empty(nc)
+
+
+owned_inline = njit(cache=True, error_model="numpy", inline="always")(_owned)
+
+
 @njit(cache=True, error_model="numpy")
 def setup(P, x0, t_eval, nc):
     """The arrays of a run from x0 with nc contacts: (stats, rinfo, ws, y, f, lam_old), with
     y = x0 (a copy) and the time reached ``rinfo[R_T] = t_eval[0]``; ``ws`` is
     :func:`workspace` plus the flat parameter array of :func:`nsdyn.solve._kflat.pack_flat`."""
-    n2 = x0.shape[0]
-    ws = workspace(n2, nc, P[ks.I_D].shape[0]) + (kf.pack_flat(P),)
-    stats = np.zeros(ki.N_STATS, dtype=np.int64)
-    rinfo = np.zeros(ki.N_RINFO)
-    rinfo[ki.R_T] = t_eval[0]
-    return stats, rinfo, ws, x0.copy(), np.empty(n2), np.empty(nc)
+    ws = workspace(x0.shape[0], nc, P[ks.I_D].shape[0]) + (kf.pack_flat(P),)
+    return owned_inline(ws, x0, t_eval, nc)
+
+
+def setup_here(P, x0, t_eval, nc):
+    """:func:`setup` in the calling Python process: the arrays by numpy (the Python function
+    of :func:`workspace`), only :func:`nsdyn.solve._kflat.pack_flat` compiled. The default
+    loop (:func:`radau_flat`) takes them so that no compiled set-up is needed before its first
+    run (~2 s of its first compilation; ~20 us per call here)."""
+    work = getattr(workspace, "py_func", workspace)
+    return _owned(work(x0.shape[0], nc, P[ks.I_D].shape[0]) + (kf.pack_flat(P),), x0, t_eval, nc)
 
 
 def _start(
@@ -432,10 +448,11 @@ def accept_arrays(
 
 
 def _loop(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, flat,
-         general, K):  # fmt: skip
+         general, K, owned):  # fmt: skip
     """The run loop of :func:`radau` (inlined, ``K`` None: its callees called directly) and
     :func:`radau_flat` (this function compiled as it is; ``general`` and ``K`` see
-    :func:`_step`; the set-up and the start-up are callees too).
+    :func:`_step`; the start-up is a callee too). ``owned``: the arrays of the run as
+    :func:`setup` returns them (:func:`radau_flat` is given those of :func:`setup_here`).
 
     :func:`radau_flat` is the default run's loop: a smooth law with every contact closed,
     through the flat kernel only (``flat`` True, ``general``
@@ -451,9 +468,7 @@ def _loop(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode
     ~480 atomic reference-count updates per step of passing ~40 arrays around.
     """
     nt = t_eval.shape[0]
-    stats_own, rinfo_own, ws_own, y_own, f_own, lam_own = ka.call(
-        K, "radau.setup", (P, x0, t_eval, upl_t.shape[0]), general
-    )
+    stats_own, rinfo_own, ws_own, y_own, f_own, lam_own = owned
     if not flat:
         ws_own[22][kf.H_OK] = 0.0
     ws = kb.borrowed(ws_own)
@@ -502,8 +517,9 @@ def radau(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode
     exactly ``h0`` and rtol/atol only set the Newton tolerance. ``flat``: evaluate smooth laws
     through :mod:`nsdyn.solve._kflat` (False: the general kernel everywhere, the baseline).
     """
+    owned = setup(P, x0, t_eval, upl_t.shape[0])
     return _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X,
-                upl_t, flat, kc.general_called, None)  # fmt: skip
+                upl_t, flat, kc.general_called, None, owned)  # fmt: skip
 
 
 _run = njit(cache=True, error_model="numpy", inline="always")(_loop)
@@ -513,11 +529,10 @@ radau_flat = njit(cache=True, error_model="numpy")(_loop)  # called with flat_on
 # the callees of the step, the start-up and the loop (:mod:`nsdyn._kaddress`): their index in
 # ``K`` and the kernel called directly when ``K`` is None
 ka.slot("radau.feval", K_FEVAL, kf.feval_flat)
-ka.slot("radau.jac", K_JAC, kf.jac_flat)
+ka.slot("radau.jac", K_JAC, kf.jac_flat_here)
 ka.slot("radau.factor", K_FACTOR, _factor)
 ka.slot("radau.newton", K_NEWTON, kc.newton, with_general=True)
 ka.slot("radau.start", K_START, start, with_general=True)
-ka.slot("radau.setup", K_SETUP, setup)
 
 # the kernels whose addresses the default loop (radau_flat) takes, in the order of K
-FLAT_CALLEES = (kf.feval_flat, kf.jac_flat, _factor, kc.newton_flat, start_flat, setup)
+FLAT_CALLEES = (kf.feval_flat, kf.jac_flat_here, _factor, kc.newton_flat, start_flat)

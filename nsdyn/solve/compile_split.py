@@ -1,20 +1,22 @@
 """The default Radau loop's callees by address, and a first compilation shared by two processes.
 
 The default run's loop (:func:`nsdyn.solve._kradau.radau_flat`) calls the flat right-hand
-side, its Jacobian, the factorisation, Newton, the start-up and the set-up by address
+side, its Jacobian, the factorisation, Newton and the start-up by address
 (:mod:`nsdyn._kaddress`): :class:`Callee` declares each for the argument types the loop gives
 it (:func:`radau_callees`) and finds its compiled code's address; :func:`radau_calls` is the
 loop's ``K``. numba would otherwise link a copy of every callee into the loop's code and
 optimise it there once more (~5 s of the loop's ~9-13 s first compilation), and could compile
-the loop only after all of them.
+the loop only after all of them. The run's arrays come from numpy in the calling process
+(:func:`nsdyn.solve._kradau.setup_here`: no compiled set-up), and the metrics call the flat
+right-hand side by address too (:func:`flat_calls`).
 
 numba compiles on one thread per process, under a global lock, so a first run's compilation
 uses one core. :func:`nsdyn.solve.methods.warmup_kernel` starts a helper process
-(:class:`nsdyn._numba_cache.Helper`) on :func:`radau_helper_part` (the flat right-hand side,
-Newton, the Jacobian; :func:`radau_helper_part_and_metrics` then also the metrics, which a run
-needs only after its loop) while the calling process compiles :func:`radau_parts_here` (the
-loop itself, the set-up, the factorisation, the start-up), then loads the helper's kernels
-from numba's on-disk cache. Neither waits for the other.
+(:class:`nsdyn._numba_cache.Helper`) on :func:`radau_helper_part` (``pack_flat``, the flat
+right-hand side, Newton, the Jacobian; :func:`radau_helper_part_and_metrics` then also the
+metrics, which a run needs only after its loop) while the calling process compiles
+:func:`radau_parts_here` (the loop itself, the factorisation, the start-up), then loads the
+helper's kernels from numba's on-disk cache. Neither waits for the other.
 
 The switch model's event-driven loop (:func:`nsdyn.solve._kunilateral._run`, ~4 min into an
 empty cache on one core) is split the same way: the helper takes the general kernel's
@@ -115,11 +117,10 @@ def radau_callees() -> list:
     start_args = (tP, v, v, tte, f8, f8, tatol, f8, v, tX, tupl_t, i8, tws, vi, v, tK)
     sigs = {  # name: (argument types, return type), in the order of K (_kcolloc.K_FEVAL, ...)
         "radau.feval": ((f8, v, Fl, v, qdd, lam, tau, modes), b1),
-        "radau.jac": ((f8, v, Fl, J, ys, qdd, lam, tau, modes), b1),
+        "radau.jac": ((v, Fl, J, lam), b1),
         "radau.factor": ((f8, J, LUr, pr, LUc, pc), b1),
         "radau.newton": (newton_args, types.Tuple((b1, i8, f8, b1, b1, f8))),
         "radau.start": (start_args, types.Tuple((i8, v))),
-        "radau.setup": ((tP, v, tte, i8), types.Tuple((vi, v, tws, v, v, v))),
     }
     _RADAU[:] = [
         Callee(name, kernel, *sig)
@@ -149,6 +150,27 @@ def radau_calls():
     return _K[0]
 
 
+_FLAT: list = []  # flat_calls(), once per process
+
+
+def flat_calls():
+    """``K`` of :func:`nsdyn.solve._kflat.evaluate_flat_many` (the metrics of a flat run): the
+    address of :func:`nsdyn.solve._kflat.feval_flat`, declared as ``"flat.feval"`` for the
+    types of the loop's ``"radau.feval"``, over its digest; a tuple of the kernel under
+    ``NUMBA_DISABLE_JIT``. Compiles (or loads) only the flat right-hand side."""
+    from numba import config
+
+    from nsdyn import _kaddress
+
+    if config.DISABLE_JIT:
+        return (_kflat.feval_flat,)
+    if not _FLAT:
+        feval = radau_callees()[_kcolloc.K_FEVAL]
+        c = Callee("flat.feval", feval.kernel, feval.args, feval.ret)
+        _FLAT.append(np.array([[c.address()], [_kaddress.digest(c.name)]], dtype=np.int64))
+    return _FLAT[0]
+
+
 def _declared_form(a):
     """``a`` as the loop's declarations have its arrays: C-contiguous and writable (a copy
     only when it is not)."""
@@ -163,16 +185,19 @@ def radau_flat(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift
     if not all(a.flags.c_contiguous and a.flags.writeable for a in (x0, t_eval, atol, *P)):
         P = tuple(_declared_form(a) for a in P)
         x0, t_eval, atol = (_declared_form(a) for a in (x0, t_eval, atol))
+    owned = _kradau.setup_here(P, x0, t_eval, upl_t.shape[0])
     return _kradau.radau_flat(
         P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, True,
-        _kcolloc.flat_only, radau_calls(),
+        _kcolloc.flat_only, radau_calls(), owned,
     )  # fmt: skip
 
 
 def radau_helper_part() -> None:
     """The helper process's share of the flat Radau loop's first compilation (see
-    :func:`nsdyn.solve.methods.warmup_kernel`): the flat right-hand side, Newton (which
-    links it) and the Jacobian, each for the types the loop calls it with."""
+    :func:`nsdyn.solve.methods.warmup_kernel`): ``pack_flat`` (the run's set-up calls it from
+    Python), the flat right-hand side, Newton (which links it) and the Jacobian, each for
+    the types the loop calls it with."""
+    _compile(_kflat.pack_flat, _tiny_args("radau")[0])  # the loop's set-up (setup_here) needs it
     K = radau_callees()
     for k in (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC):
         K[k].compiled()
@@ -187,19 +212,21 @@ def radau_helper_part_and_metrics() -> None:
 
 def radau_parts_here(helper: Helper, metrics: str | None) -> None:
     """This process's share: the loop itself (which calls its callees by address, so it
-    needs none of them compiled), the set-up, the factorisation, the start-up and the
-    ``metrics`` (None when the helper takes them); then wait for the helper's part."""
-    P, x0, t_eval, o, X, upl_t = methods.tiny_run(methods.METHODS["radau"])
+    needs none of them compiled), the factorisation, the start-up and the ``metrics`` (None
+    when the helper takes them); then wait for the helper's part."""
+    P, x0, t_eval, o, X, upl_t, ws = _tiny_args("radau")
     K = radau_callees()
     K0 = np.zeros((2, len(K)), dtype=np.int64)  # only its type matters here
+    owned = _kradau._owned(ws, x0, t_eval, upl_t.shape[0])  # as setup_here makes them
     args = (P, x0, t_eval, o.atol, o.rtol, o.h0, o.max_step, o.max_steps, False, o.uplift_mode,
-            X, upl_t, True, _kcolloc.flat_only, K0)  # fmt: skip
+            X, upl_t, True, _kcolloc.flat_only, K0, owned)  # fmt: skip
     _compile(_kradau.radau_flat, *args)
-    for k in (_kcolloc.K_SETUP, _kcolloc.K_FACTOR, _kcolloc.K_START):
+    for k in (_kcolloc.K_FACTOR, _kcolloc.K_START):
         K[k].compiled()
     if metrics is not None:
         methods.warmup_metrics(metrics == "metrics")
-    helper.wait_for([K[k].kernel for k in (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC)])
+    kernels = [K[k].kernel for k in (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC)]
+    helper.wait_for([_kflat.pack_flat, *kernels])
 
 
 # ---- the event-driven loop (switch model; unilateral contacts) ------------------------------
@@ -237,7 +264,7 @@ def _event_args():
 def _flat_kernels(ws, y, f) -> None:
     qdd, lam, tau, modes, Fl = ws[18:23]
     _compile(_kflat.feval_flat, 0.0, y, Fl, f, qdd, lam, tau, modes)
-    _compile(_kflat.jac_flat, 0.0, y, Fl, ws[0], f, qdd, lam, tau, modes)
+    _compile(_kflat.jac_flat_here, y, Fl, ws[0], lam)
 
 
 def event_helper_part() -> None:

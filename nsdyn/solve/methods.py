@@ -414,12 +414,12 @@ _SPLIT = {
 
 # the top-level numba dispatcher of each kernel (its on-disk cache entry stands for the kernel)
 _ENTRY = {  # the default loop's callees are compiled apart from it (nsdyn._kaddress)
-    "radau": (_kradau.radau_flat, *_kradau.FLAT_CALLEES),
+    "radau": (_kradau.radau_flat, *_kradau.FLAT_CALLEES, _kflat.pack_flat),
     "radau-general": _kradau.radau,
     "dopri5": _kdopri.dopri5,
     "genalpha": _kgenalpha.genalpha,
     "event": _kunilateral._run,
-    "metrics": _kflat.evaluate_flat_many,
+    "metrics": (_kflat.evaluate_flat_many, _kflat.feval_flat, _kflat.pack_flat),
     "metrics-general": ks.evaluate_many,
 }
 

@@ -196,6 +196,7 @@ def flat_evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple | None:
     by the general kernel. None when the law is not a smooth one (the caller evaluates)."""
     from nsdyn.models.isolated import _kernel as ks
     from nsdyn.solve import _kflat as kf
+    from nsdyn.solve.compile_split import flat_calls
 
     F = kf.pack_flat(P)
     if F[kf.H_OK] == 0.0:
@@ -208,7 +209,7 @@ def flat_evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple | None:
     A0 -= X[:, n:] @ P[ks.I_MIC].T
     out = (np.empty((nt, n)), np.empty((nt, nc)), np.empty((nt, ni)), np.empty((nt, ni), np.int64))
     ok = np.ones(nt, dtype=np.bool_)
-    kf.evaluate_flat_many(t, X, F, np.ascontiguousarray(A0), *out, ok)
+    kf.evaluate_flat_many(t, X, F, np.ascontiguousarray(A0), *out, ok, flat_calls())
     bad = np.flatnonzero(~ok)
     if bad.size:
         part = [np.empty((bad.size, a.shape[1]), a.dtype) for a in out]

@@ -20,6 +20,7 @@ from numba import njit, types
 from numba.core.errors import TypingError
 
 from nsdyn import _kaddress as ka
+from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcolloc, _kflat, compile_split
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve.integrate import _tiny_problem
@@ -47,6 +48,29 @@ def test_call_by_address_equals_the_direct_call():
     ok_d, ok_a = _feval_both(K, 0.3, y, Fl, out_d, out_a, qdd, lam, tau, modes)
     assert ok_d and ok_a
     assert np.all(np.isfinite(out_d)) and np.array_equal(out_d, out_a)
+
+
+def test_metrics_by_address_equal_the_direct_calls():
+    # a flat run's response metrics call the flat right-hand side through its address
+    # (compile_split.flat_calls): the same bits as with it called directly, and the flat
+    # array is left as packed (its "a0 given" flag cleared) for the next evaluation
+    P, x0 = _tiny_problem()
+    t = np.linspace(0.0, 0.8, 5)
+    X = x0 + 1e-3 * np.sin(np.add.outer(np.arange(t.size), np.arange(x0.size)))
+    n, nc, ni = P[ks.I_MIK].shape[0], P[ks.I_R].shape[0], P[ks.I_D].shape[0]
+    A0 = np.ascontiguousarray(-(X[:, :n] @ P[ks.I_MIK].T) - X[:, n:] @ P[ks.I_MIC].T)
+    outs = []
+    for K in (None, compile_split.flat_calls()):
+        F = _kflat.pack_flat(P)
+        F0 = F.copy()
+        out = (np.empty((t.size, n)), np.empty((t.size, nc)), np.empty((t.size, ni)),
+               np.empty((t.size, ni), np.int64), np.zeros(t.size, np.bool_))  # fmt: skip
+        _kflat.evaluate_flat_many(t, X, F, A0, *out, K)
+        assert F[_kflat.H_A0IN] == 0.0 and np.array_equal(F[: _kflat.N_HEAD], F0[: _kflat.N_HEAD])
+        outs.append(out)
+    assert outs[0][4].all() and np.all(np.isfinite(outs[0][0]))
+    for a, b in zip(*outs, strict=True):
+        assert np.array_equal(a, b)
 
 
 @njit
@@ -130,8 +154,8 @@ def test_read_only_inputs_give_the_same_run():
 
 @pytest.mark.skipif(not JIT, reason="numba's allocation counters exist only when it compiles")
 def test_arrays_returned_by_address_are_freed():
-    # the set-up and the start-up return new arrays through their addresses: every one of
-    # them is freed again (numba's allocation statistics, three runs)
+    # the start-up returns a new array through its address: every array allocated by a run
+    # is freed again (numba's allocation statistics, three runs)
     from numba.core.runtime import _nrt_python as nrt
     from numba.core.runtime import rtsys
 
@@ -161,8 +185,11 @@ def test_default_loop_compiles_without_its_callees(tmp_path):
         "from nsdyn.solve import compile_split as cs, methods, _kradau as kr, _kcolloc as kc\n"
         "P, x0, t_eval, o, X, upl_t = methods.tiny_run(methods.METHODS['radau'])\n"
         "K = cs.radau_callees()\n"
+        "ws = cs._tiny_args('radau')[-1]\n"
+        "owned = kr._owned(ws, x0, t_eval, upl_t.shape[0])\n"
         "args = (P, x0, t_eval, o.atol, o.rtol, o.h0, o.max_step, o.max_steps, False,\n"
-        "        o.uplift_mode, X, upl_t, True, kc.flat_only, np.zeros((2, len(K)), np.int64))\n"
+        "        o.uplift_mode, X, upl_t, True, kc.flat_only, np.zeros((2, len(K)), np.int64),\n"
+        "        owned)\n"
         "cs._compile(kr.radau_flat, *args)\n"
         "lib = next(iter(kr.radau_flat.overloads.values())).library\n"
         "linked = {l.name for l in getattr(lib, '_linking_libraries', ())}\n"
@@ -176,7 +203,7 @@ def test_default_loop_compiles_without_its_callees(tmp_path):
     ).stdout.split("\n")
     rows = [r.split() for r in out if r]
     assert {r[0] for r in rows} == {
-        "feval_flat", "jac_flat", "_factor", "newton_flat", "start_flat", "setup"
+        "feval_flat", "jac_flat_here", "_factor", "newton_flat", "start_flat"
     }  # fmt: skip
     assert all(r[1:] == ["0", "False"] for r in rows), rows
 

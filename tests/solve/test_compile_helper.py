@@ -128,8 +128,9 @@ def _compiled_in_a_fresh_warmup(cache, kernel, metrics) -> set[str]:
 # otherwise sit idle beside the loop's compilation for) and the switch model's, whose pieces
 # the helper compiles by type for the signatures the loop asks for, without running them
 SPLITS = [
-    ("radau", "metrics", {"_loop", "start_flat", "setup", "_factor"},
-     {"feval_flat", "jac_flat", "newton_flat", "evaluate_flat_many"}),
+    ("radau", "metrics", {"_loop", "start_flat", "_factor"},
+     {"pack_flat", "feval_flat", "jac_flat_here", "newton_flat", "evaluate_flat_many",
+      "setup", "workspace"}),
     ("event", "metrics-general", {"_run", "_settle", "_event_at", "evaluate_many"},
      {"general_inlined", "jeval", "start", "radau_step", "_newton"}),
 ]  # fmt: skip
