@@ -8,7 +8,7 @@ load hits both alike. Prints every wall time, the medians and their ratio (off /
     python examples/cold_compile.py                     # the switch model's loop, 2 pairs
     python examples/cold_compile.py --kernel radau --pairs 3
 
-``event`` takes ~2-4 min per run, ``radau`` ~12 s with the helper and ~22 s without
+``event`` takes ~2-4 min per run, ``radau`` ~9 s with the helper and ~17 s without
 (2026-11-27). ``main`` returns the numbers.
 """
 

@@ -334,11 +334,11 @@ def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
     (:func:`nsdyn._numba_cache.helper_enabled`): numba compiles on one thread per process, so
     the helper compiles part of the kernels into numba's on-disk cache while this process
     compiles the rest and then loads the helper's. For the default loop (``"radau"``) the
-    helper takes the flat right-hand side, Newton and the Jacobian, then the metrics
-    (:func:`nsdyn.solve.compile_split.radau_helper_part_and_metrics`; without metrics
+    helper takes ``pack_flat``, the flat right-hand side, Newton and the Jacobian, then the
+    metrics (:func:`nsdyn.solve.compile_split.radau_helper_part_and_metrics`; without metrics
     :func:`~nsdyn.solve.compile_split.radau_helper_part`) while this process compiles the
     loop itself (which calls its callees by address, so it needs none of them first), the
-    run's set-up, the factorisation and the start-up; for
+    factorisation and the start-up; for
     the switch model's loop (``"event"``) the helper takes the general kernels, the start-up
     and the step (:func:`nsdyn.solve.compile_split.event_helper_part`) while this process
     compiles the settling, the event detectors and handler and the metrics; for the other
