@@ -22,7 +22,13 @@ from nsdyn._numba_cache import guard_family
 _NSDYN = Path(__file__).resolve().parents[1]
 guard_family(
     __file__,
-    [_NSDYN / "models" / "isolated" / "_kernel.py", _NSDYN / "_klinalg.py", _NSDYN / "_kborrow.py"],
+    [
+        _NSDYN / "models" / "isolated" / "_kernel.py",
+        _NSDYN / "_klinalg.py",
+        _NSDYN / "_kborrow.py",
+        _NSDYN / "_kaddress.py",
+        Path(__file__).resolve().parent / "problem.py",  # the declaration of j_eval's address
+    ],
 )
 
 # ruff: noqa: E402

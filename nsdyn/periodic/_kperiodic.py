@@ -21,6 +21,7 @@ the map actually iterated, and Newton on the shooting residual converges quadrat
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_mat, copy_vec, lu_factor, lu_solve_columns
 from nsdyn.periodic._kproblems import (  # noqa: F401  (problem ids and Z layout re-exported)
@@ -172,7 +173,7 @@ def _res_norm(res, half, sz, sv):
 
 
 @njit(cache=True, error_model="numpy")
-def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, tmp, out):
+def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, tmp, out, K):
     """One SDIRK step of size ``h`` from (t, x) into ``out = (xn, Sn, wn)`` (the state and its
     derivatives). ``problem = (prob, pf)`` (``pf``: a frame's flat array, see
     :func:`nsdyn.periodic._kproblems.pack_frame`), ``method = (A, c, rtol, atol)``,
@@ -181,7 +182,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, tmp, out):
     ``J``/``LU``/``piv`` hold the latest Jacobian and the factors of the iteration matrix for
     ``hg_lu[0]``; they are updated in place. ``hT = dh/dT``. Stage Newton: damped (Armijo
     backtracking on the weighted residual), the iteration matrix refreshed whenever the
-    contraction is slow. Returns (status, n_fev).
+    contraction is slow. Returns (status, n_fev). ``K``: see :func:`period_map`.
     """
     prob, pf = problem
     A, c, rtol, atol = method
@@ -253,7 +254,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, tmp, out):
             copy_mat(res, rest)
             rnorm = rt
             if alpha < 1.0 or (it > 0 and theta > STAGE_SLOW):
-                j_eval(prob, ti, Y, pf, Fi, J)
+                ka.call(K, "periodic.jeval", (prob, ti, Y, pf, Fi, J), None)
                 if not _iteration_matrix(J, hg, LU, piv):
                     return STATUS_SINGULAR, nfev
             err_old = err * alpha
@@ -265,7 +266,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, tmp, out):
         # Hairer & Wanner IV.8 recommend for stiff problems), and the iteration matrix lags,
         # refreshed only when the contraction is slow
         if want_sens:
-            if not j_eval(prob, ti, Y, pf, Fi, J):
+            if not ka.call(K, "periodic.jeval", (prob, ti, Y, pf, Fi, J), None):
                 return STATUS_SINGULAR, nfev
             nfev += 1
             if not _iteration_matrix(J, hg, LU, piv):
@@ -311,8 +312,13 @@ def step_scratch(s, d, want_sens):
 
 
 @njit(cache=True, error_model="numpy")
-def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol):
+def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol, K):
     """Integrate one period ``T`` in ``N`` SDIRK steps from ``x0`` (at t = 0).
+
+    The Jacobian (:func:`nsdyn.periodic._kproblems.j_eval`, ~4 s of a first compilation) is
+    called through :func:`nsdyn._kaddress.call` as ``"periodic.jeval"``: directly (``K``
+    None) or by its address (``K`` from :func:`nsdyn.periodic.problem.periodic_calls`), so
+    this kernel and the step compile without a copy of it, beside it in a second process.
 
     A step whose stages do not converge is retried once with a fresh Jacobian, then as 2, 4,
     ... ``MAX_SUBSTEPS`` substeps (the derivative is that of the substepped map). Returns
@@ -344,7 +350,7 @@ def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol):
     problem = (prob, pf)
     method = (A, c, rtol, atol)
     work = (J, LU, piv, hg_lu, Fprev)
-    if not j_eval(prob, 0.0, x, pf, Fprev, J):
+    if not ka.call(K, "periodic.jeval", (prob, 0.0, x, pf, Fprev, J), None):
         return x_own, S_own, w_own, X_own, STATUS_SINGULAR, 1, 0
     n_fev = 1
     n_sub = 0
@@ -375,6 +381,7 @@ def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol):
                     work,
                     tmp,
                     (xn, Sn, wn),
+                    K,
                 )
                 n_fev += nf
                 if status != STATUS_OK:
@@ -389,7 +396,7 @@ def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol):
             if not refreshed:
                 # retry with a fresh Jacobian at x
                 refreshed = True
-                j_eval(prob, tn, x, pf, Fprev, J)
+                ka.call(K, "periodic.jeval", (prob, tn, x, pf, Fprev, J), None)
                 hg_lu[0] = 0.0
                 continue
             ksub *= 2

@@ -17,6 +17,7 @@ kernels are cached across processes):
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn._klinalg import lu_factor_flat, lu_solve_flat
 from nsdyn.models.isolated import _kernel as ks
 
@@ -264,3 +265,7 @@ def j_eval(prob, t, x, pf, F, J):
     duffing_rhs(t, x, pf, F)
     duffing_jac(t, x, pf, J)
     return True
+
+
+# the period map's call of the Jacobian (:mod:`nsdyn._kaddress`): index 0 of its K
+ka.slot("periodic.jeval", 0, j_eval)

@@ -98,24 +98,8 @@ class PeriodicProblem(MinimalStates):
         store: bool = False,
     ) -> PeriodMap:
         """Integrate one forcing period from ``x0`` (t = 0) with ``n_steps`` SDIRK steps."""
-        disc = disc or Discretisation()
-        T = 1.0 / f
-        N = disc.steps(T) if n_steps is None else int(n_steps)
-        A, c = disc.tableau()
-        _, pf = self.at(f)
-        xT, S, w, X, status, nfev, nsub = kp.period_map(
-            self.prob,
-            np.ascontiguousarray(x0, dtype=float),
-            T,
-            N,
-            pf,
-            A,
-            c,
-            sens,
-            store,
-            disc.rtol,
-            disc.atol,
-        )
+        N, args = self._map_args(x0, f, n_steps, disc, sens, store)
+        xT, S, w, X, status, nfev, nsub = kp.period_map(*args, periodic_calls())
         return PeriodMap(
             xT,
             S if sens else None,
@@ -126,6 +110,17 @@ class PeriodicProblem(MinimalStates):
             int(nfev),
             int(nsub),
         )
+
+    def _map_args(self, x0, f, n_steps, disc, sens, store) -> tuple[int, tuple]:
+        """The number of steps and the arguments of :func:`nsdyn.periodic._kperiodic.period_map`
+        but its last (``K``)."""
+        disc = disc or Discretisation()
+        T = 1.0 / f
+        N = disc.steps(T) if n_steps is None else int(n_steps)
+        A, c = disc.tableau()
+        _, pf = self.at(f)
+        x0 = np.ascontiguousarray(x0, dtype=float)
+        return N, (self.prob, x0, T, N, pf, A, c, sens, store, disc.rtol, disc.atol)
 
     def orbit_quantities(self, f: float, X: np.ndarray) -> dict:
         """Maximum over one period (and all levels) of the seed's Fig. 9 quantities.
@@ -286,35 +281,83 @@ def frame_problem(
     )
 
 
+_JEVAL: list = []  # the Callee of periodic_calls(), once per process
+_KP: list = []  # periodic_calls(), once per process
+
+
+def _jeval_callee():
+    """:func:`nsdyn.periodic._kproblems.j_eval` declared as ``"periodic.jeval"`` for the
+    types the period map calls it with (problem id, t, x, pf, F, J)."""
+    if not _JEVAL:
+        from numba import types
+
+        from nsdyn.solve.compile_split import Callee
+
+        v = types.float64[::1]
+        args = (types.int64, types.float64, v, v, v, types.float64[:, ::1])
+        _JEVAL.append(Callee("periodic.jeval", kp.j_eval, args, types.boolean))
+    return _JEVAL[0]
+
+
+def periodic_calls():
+    """``K`` of :func:`nsdyn.periodic._kperiodic.period_map`: the address of the Jacobian
+    kernel over the digest of its declaration (:mod:`nsdyn._kaddress`; compiles or loads only
+    that kernel); a tuple of the kernel under ``NUMBA_DISABLE_JIT``."""
+    from numba import config
+
+    from nsdyn import _kaddress
+
+    if config.DISABLE_JIT:
+        return (kp.j_eval,)
+    if not _KP:
+        c = _jeval_callee()
+        _KP.append(np.array([[c.address()], [_kaddress.digest(c.name)]], dtype=np.int64))
+    return _KP[0]
+
+
 def kernels_cached() -> bool:
-    """True when the period map's kernel and the orbit quantities' flat kernel are compiled in
-    this process or in numba's on-disk cache (a sweep then only loads them)."""
+    """True when the period map's kernel, its Jacobian and the orbit quantities' flat kernel
+    are compiled in this process or in numba's on-disk cache (a sweep then only loads them)."""
     from nsdyn.solve.methods import dispatcher_cached, is_cached
 
-    return dispatcher_cached(kp.period_map) and is_cached("metrics")
+    return all(dispatcher_cached(d) for d in (kp.period_map, kp.j_eval)) and is_cached("metrics")
+
+
+def helper_part() -> None:
+    """A helper process's share of a first sweep's compilation (see :func:`warmup`): the
+    Jacobian the period map calls by address, then the orbit quantities' flat kernels."""
+    from nsdyn.solve.methods import warmup_metrics
+
+    _jeval_callee().compiled()
+    warmup_metrics(True)
 
 
 def warmup() -> float:
     """Compile (or load) the kernels of a smooth-law sweep: the period map (one signature
-    serves every problem; compiled here on a Duffing oscillator, with sensitivities and the
-    stored orbit) and the flat kernel of the orbit quantities, the latter in a helper process
-    when both compile (:class:`nsdyn._numba_cache.Helper`). Seconds spent."""
+    serves every problem; compiled here for a Duffing oscillator's arguments, with
+    sensitivities and the stored orbit), the Jacobian it calls by address and the flat kernel
+    of the orbit quantities. When they compile, a helper process
+    (:class:`nsdyn._numba_cache.Helper`, :func:`helper_part`) takes the Jacobian and then the
+    orbit quantities while this one compiles the period map and its step (which need neither
+    first); then a short period loads everything. Seconds spent."""
     import time
     from contextlib import nullcontext
 
-    from nsdyn._numba_cache import Helper, compiling, dispatcher_cached, helper_enabled
-    from nsdyn.solve.methods import is_cached, warmup_metrics
+    from nsdyn._numba_cache import Helper, compiling, helper_enabled
+    from nsdyn.solve.compile_split import _compile
+    from nsdyn.solve.methods import warmup_metrics
 
     t0 = time.perf_counter()
     prob = duffing_problem(0.05, 1.0, 0.1, 0.5)
-    # both cold: the metrics compile in a helper process meanwhile (see methods.warmup_kernel)
-    both_cold = not (dispatcher_cached(kp.period_map) or is_cached("metrics"))
-    helper = (
-        Helper("nsdyn.solve.methods:warmup_metrics")
-        if both_cold and helper_enabled()
-        else nullcontext()
-    )
-    with helper, compiling():
+    cold = not kernels_cached()
+    helper = Helper("nsdyn.periodic.problem:helper_part") if cold and helper_enabled() else None
+    with helper or nullcontext(), compiling():
+        if helper is not None:
+            _jeval_callee()  # declared: the period map's typing checks its call against it
+            K0 = np.zeros((2, 1), dtype=np.int64)  # only its type matters here
+            _, args = prob._map_args(prob.x_ref, 0.2, 4, None, True, True)
+            _compile(kp.period_map, *args, K0)
+            helper.wait_for([kp.j_eval])
         prob.period_map(prob.x_ref, 0.2, n_steps=4, sens=True, store=True)
     warmup_metrics(True)
     return time.perf_counter() - t0

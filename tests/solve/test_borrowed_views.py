@@ -89,6 +89,7 @@ def _owned(a) -> bool:
 def test_run_loops_return_only_owned_arrays():
     from nsdyn.periodic import _kperiodic as kp
     from nsdyn.periodic.discretisation import Discretisation
+    from nsdyn.periodic.problem import periodic_calls
     from nsdyn.solve import _kdopri, _kgenalpha
 
     P, x0 = _tiny_problem()
@@ -109,7 +110,7 @@ def test_run_loops_return_only_owned_arrays():
     A, c = Discretisation().tableau()
     pf = np.array([0.05, 1.0, 0.1, 0.5, 1.2])  # Duffing: zeta, w0, gamma, F, w
     out = kp.period_map(kp.PROB_DUFFING, np.array([0.1, 0.0]), 5.0, 50, pf, A, c, True, True,
-                        1e-9, 1e-13)  # fmt: skip
+                        1e-9, 1e-13, periodic_calls())  # fmt: skip
     got += [a for a in out if isinstance(a, np.ndarray)]
     assert len(got) == 10
     assert all(_owned(a) for a in got)

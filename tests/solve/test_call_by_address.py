@@ -227,3 +227,20 @@ def test_default_loop_counts_as_cached_only_with_its_callees(monkeypatch):
     assert not methods.is_cached("radau")
     monkeypatch.setattr(methods, "dispatcher_cached", lambda d: True)
     assert methods.is_cached("radau")
+
+
+@pytest.mark.slow
+def test_period_map_by_address_equals_the_direct_call():
+    # the period map calls its Jacobian by address (nsdyn.periodic.problem.periodic_calls):
+    # one period of the Duffing oscillator with sensitivities, the same bits as with the
+    # Jacobian called directly (K None, a second compilation of the period map, ~10 s)
+    from nsdyn.periodic import _kperiodic as kp
+    from nsdyn.periodic.problem import duffing_problem, periodic_calls
+
+    prob = duffing_problem(0.05, 1.0, 0.1, 0.5)
+    _, args = prob._map_args(np.array([0.3, 0.0]), 0.2, 40, None, True, True)
+    by_address = kp.period_map(*args, periodic_calls())
+    direct = kp.period_map(*args, None)
+    assert by_address[4] == kp.STATUS_OK and np.all(np.isfinite(by_address[1]))
+    for a, b in zip(by_address, direct, strict=True):
+        assert np.array_equal(a, b)

@@ -201,3 +201,24 @@ def test_a_kernel_without_a_split_warms_up_beside_a_metrics_helper(monkeypatch):
         assert m.kernel not in methods._SPLIT
         assert methods._warm(m.kernel, m, helper=object()) >= 0.0
         assert m.kernel in methods._COMPILED
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not JIT, reason="nothing compiles under NUMBA_DISABLE_JIT")
+def test_first_sweep_warmup_leaves_the_jacobian_to_its_helper(tmp_path):
+    # the period map calls its Jacobian by address: a first sweep's warm-up compiles the
+    # period map and its step here while the helper compiles the Jacobian (and the metrics)
+    if not helper_enabled():
+        pytest.skip("a helper process needs two usable cores and NSDYN_COMPILE_HELPER != 0")
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
+    env[HELPER_ENV] = "1"
+    code = FRESH_WARMUP.replace(
+        "from nsdyn.solve import methods\nmethods.warmup_kernel({kernel!r}, metrics={metrics!r})\n",
+        "from nsdyn.periodic.problem import warmup\nwarmup()\n",
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    )
+    here = set(out.stdout.split())
+    assert {"period_map", "dirk_step"} <= here
+    assert not here & {"j_eval", "frame_flat_jac", "evaluate_flat_many"}, here
