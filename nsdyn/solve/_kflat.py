@@ -205,8 +205,9 @@ def evaluate_flat_many(t, X, F, A0, QDD, LAM, TAU, MODES, ok, K):
     ``A0 = -X_q MiK^T - X_v MiC^T`` (nt, n), which the caller forms with one matrix product
     (for the 435-dof frame the per-sample products were most of the post-processing): each
     row goes into F's ``a0`` and ``F[H_A0IN]`` tells :func:`feval_flat` so. ``ok[k]`` is
-    False where ``G`` was singular or the row not finite (row k then holds scratch values:
-    the caller fills it from the general kernel).
+    False where ``G`` was singular (row k then holds scratch values: the caller fills it from
+    the general kernel). A sample with a non-finite time or state gets NaN accelerations and
+    forces and mode 0, with ``ok[k]`` True (nothing to ask the general kernel).
 
     :func:`feval_flat` is called through :func:`nsdyn._kaddress.call` as ``"flat.feval"``:
     directly (``K`` None) or by its address (``K`` from
@@ -217,6 +218,14 @@ def evaluate_flat_many(t, X, F, A0, QDD, LAM, TAU, MODES, ok, K):
     out = np.empty(2 * n)
     F[H_A0IN] = 1.0
     for k in range(t.shape[0]):
+        if not (np.isfinite(t[k]) and ki.all_finite(X[k])):
+            ok[k] = True
+            for arr in (QDD[k], LAM[k], TAU[k]):
+                for r in range(arr.shape[0]):
+                    arr[r] = np.nan
+            for r in range(MODES.shape[1]):
+                MODES[k, r] = 0
+            continue
         for r in range(n):
             F[o_a0 + r] = A0[k, r]
         # straight into row k (no copies through scratch rows)

@@ -193,7 +193,8 @@ def flat_evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple | None:
     """Accelerations, normal forces, friction forces and modes along the history ``X``
     (every contact closed) by the flat kernel, its linear part ``-X_q (M^-1 K)^T - X_v
     (M^-1 C)^T`` one matrix product; rows where the flat form does not hold (singular ``G``)
-    by the general kernel. None when the law is not a smooth one (the caller evaluates)."""
+    by the general kernel; rows with a non-finite time or state NaN (modes 0). None when the
+    law is not a smooth one (the caller evaluates)."""
     from nsdyn.models.isolated import _kernel as ks
     from nsdyn.solve import _kflat as kf
     from nsdyn.solve.compile_split import flat_calls
@@ -203,6 +204,8 @@ def flat_evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple | None:
         return None
     t = np.ascontiguousarray(t, dtype=float)
     X = np.ascontiguousarray(X, dtype=float)
+    if not X.flags.writeable:  # the flat kernel is declared for writable rows (by address)
+        X = X.copy()
     n = P[ks.I_MIK].shape[0]
     nt, nc, ni = t.size, P[ks.I_R].shape[0], P[ks.I_D].shape[0]
     A0 = -(X[:, :n] @ P[ks.I_MIK].T)

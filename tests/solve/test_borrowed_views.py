@@ -8,6 +8,7 @@ loop against the general one, every method against its reference solution); a bo
 gives the same histories bit for bit as the reference-counted one did.
 """
 
+import os
 import sys
 
 import numpy as np
@@ -50,6 +51,10 @@ def test_plain_python_fallback_is_the_identity():
     assert kb.alive((a,)) is None
 
 
+@pytest.mark.skipif(
+    os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0"),
+    reason="types are checked only when numba compiles",
+)
 def test_borrowing_something_else_is_a_typing_error():
     @njit(cache=False)
     def bad(x):

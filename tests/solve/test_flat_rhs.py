@@ -93,6 +93,30 @@ def test_batched_post_processing_equals_general_kernel(office, record, iso):
     assert flat_evaluations(with_law(P, "switch"), t, X) is None  # not a smooth law
 
 
+def test_post_processing_of_non_finite_and_read_only_histories(office, record):
+    # a history row with a NaN velocity gives NaN forces and accelerations (no exception, no
+    # general kernel), the other rows stay what they are; a read-only history gives the
+    # writable one's numbers exactly (the flat kernel is called by address for writable rows)
+    from nsdyn.solve.transient import flat_evaluations
+
+    s = build_system(office, Isolation(), fidelity="cb")
+    P = KernelParams.normalised(s.params(record))
+    x0, _ = s.static_equilibrium()
+    t = np.linspace(0.0, 2.0, 5)
+    X = np.tile(x0, (t.size, 1))
+    X[:, s.n] += 0.1
+    ref = flat_evaluations(P, t, X)
+    X_ro = X.copy()
+    X_ro.flags.writeable = False
+    for a, b in zip(ref, flat_evaluations(P, t, X_ro), strict=True):
+        assert np.array_equal(a, b)
+    X[2, s.n + 1] = np.nan
+    got = flat_evaluations(P, t, X)
+    for a, b in zip(ref[:3], got[:3], strict=True):
+        assert np.all(np.isnan(b[2])) and np.array_equal(np.delete(a, 2, 0), np.delete(b, 2, 0))
+    assert np.all(got[3][2] == 0)
+
+
 def test_flat_rhs_without_friction_and_where_it_does_not_apply():
     # law "none": no friction forces, the same accelerations; the switch model, prescribed
     # modes and an open contact are left to the general kernel (usable() False).
