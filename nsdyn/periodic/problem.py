@@ -20,6 +20,7 @@ it also computes the seed's Fig. 9 quantities on an orbit.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -281,38 +282,26 @@ def frame_problem(
     )
 
 
-_JEVAL: list = []  # the Callee of periodic_calls(), once per process
-_KP: list = []  # periodic_calls(), once per process
-
-
+@functools.cache
 def _jeval_callee():
     """:func:`nsdyn.periodic._kproblems.j_eval` declared as ``"periodic.jeval"`` for the
     types the period map calls it with (problem id, t, x, pf, F, J)."""
-    if not _JEVAL:
-        from numba import types
+    from numba import types
 
-        from nsdyn.solve.compile_split import Callee
+    from nsdyn.solve.compile_split import Callee
 
-        v = types.float64[::1]
-        args = (types.int64, types.float64, v, v, v, types.float64[:, ::1])
-        _JEVAL.append(Callee("periodic.jeval", kp.j_eval, args, types.boolean))
-    return _JEVAL[0]
+    v = types.float64[::1]
+    args = (types.int64, types.float64, v, v, v, types.float64[:, ::1])
+    return Callee("periodic.jeval", kp.j_eval, args, types.boolean)
 
 
+@functools.cache
 def periodic_calls():
     """``K`` of :func:`nsdyn.periodic._kperiodic.period_map`: the address of the Jacobian
-    kernel over the digest of its declaration (:mod:`nsdyn._kaddress`; compiles or loads only
-    that kernel); a tuple of the kernel under ``NUMBA_DISABLE_JIT``."""
-    from numba import config
+    kernel (:func:`nsdyn.solve.compile_split.calls`; compiles or loads only that kernel)."""
+    from nsdyn.solve.compile_split import calls
 
-    from nsdyn import _kaddress
-
-    if config.DISABLE_JIT:
-        return (kp.j_eval,)
-    if not _KP:
-        c = _jeval_callee()
-        _KP.append(np.array([[c.address()], [_kaddress.digest(c.name)]], dtype=np.int64))
-    return _KP[0]
+    return calls([_jeval_callee()])
 
 
 def kernels_cached() -> bool:

@@ -37,6 +37,8 @@ helper's kernels.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from nsdyn._numba_cache import Helper
@@ -92,16 +94,12 @@ class Callee:
         return self._address
 
 
-_RADAU: list = []  # radau_callees(), once per process
-_K: list = []  # radau_calls(), once per process (the loop reads it, never writes it)
-
-
+@functools.cache
 def radau_callees() -> list:
     """The flat Radau loop's callees (see :func:`nsdyn.solve._kradau.radau_flat`), in the
     order of ``K``, declared for the argument types of the loop's calls on every run (its
-    arrays are made by the same code whatever the model: the tiny problem's types)."""
-    if _RADAU:
-        return _RADAU
+    arrays are made by the same code whatever the model: the tiny problem's types; once per
+    process)."""
     from numba import typeof, types
 
     P, x0, t_eval, o, X, upl_t, ws = _tiny_args("radau")
@@ -122,53 +120,45 @@ def radau_callees() -> list:
         "radau.newton": (newton_args, types.Tuple((b1, i8, f8, b1, b1, f8))),
         "radau.start": (start_args, types.Tuple((i8, v))),
     }
-    _RADAU[:] = [
+    return [
         Callee(name, kernel, *sig)
         for (name, sig), kernel in zip(sigs.items(), _kradau.FLAT_CALLEES, strict=True)
     ]
-    return _RADAU
 
 
-def radau_calls():
-    """``K`` of the flat Radau loop: the addresses of :func:`radau_callees` (each loaded from
-    the cache, or compiled, on first use) over the digests of their declarations (see
-    :mod:`nsdyn._kaddress`); under ``NUMBA_DISABLE_JIT`` a tuple of the kernels."""
+def calls(callees) -> np.ndarray | tuple:
+    """``K`` for a loop that calls ``callees`` (:class:`Callee`, in the order of their slots)
+    by address: their addresses (each loaded from the cache, or compiled) over the digests of
+    their declarations (see :mod:`nsdyn._kaddress`); under ``NUMBA_DISABLE_JIT`` a tuple of
+    the kernels. The callers keep it once per process: the addresses and declarations do not
+    change in it."""
     from numba import config
 
     from nsdyn import _kaddress
 
-    callees = radau_callees()
     if config.DISABLE_JIT:
         return tuple(c.kernel for c in callees)
-    if not _K:  # once per process: the addresses and declarations do not change in it
-        _K.append(
-            np.array(
-                [[c.address() for c in callees], [_kaddress.digest(c.name) for c in callees]],
-                dtype=np.int64,
-            )
-        )
-    return _K[0]
+    return np.array(
+        [[c.address() for c in callees], [_kaddress.digest(c.name) for c in callees]],
+        dtype=np.int64,
+    )
 
 
-_FLAT: list = []  # flat_calls(), once per process
+@functools.cache
+def radau_calls():
+    """``K`` of the flat Radau loop: :func:`calls` of :func:`radau_callees` (the loop reads
+    it, never writes it)."""
+    return calls(radau_callees())
 
 
+@functools.cache
 def flat_calls():
     """``K`` of :func:`nsdyn.solve._kflat.evaluate_flat_many` (the metrics of a flat run): the
     address of :func:`nsdyn.solve._kflat.feval_flat`, declared as ``"flat.feval"`` for the
-    types of the loop's ``"radau.feval"``, over its digest; a tuple of the kernel under
-    ``NUMBA_DISABLE_JIT``. Compiles (or loads) only the flat right-hand side."""
-    from numba import config
-
-    from nsdyn import _kaddress
-
-    if config.DISABLE_JIT:
-        return (_kflat.feval_flat,)
-    if not _FLAT:
-        feval = radau_callees()[_kcolloc.K_FEVAL]
-        c = Callee("flat.feval", feval.kernel, feval.args, feval.ret)
-        _FLAT.append(np.array([[c.address()], [_kaddress.digest(c.name)]], dtype=np.int64))
-    return _FLAT[0]
+    types of the loop's ``"radau.feval"`` (:func:`calls`). Compiles (or loads) only the flat
+    right-hand side."""
+    feval = radau_callees()[_kcolloc.K_FEVAL]
+    return calls([Callee("flat.feval", feval.kernel, feval.args, feval.ret)])
 
 
 def _declared_form(a):
