@@ -3,12 +3,15 @@
 Ground motions (``GroundMotion``: ü_hor(t), ü_ver(t) in m/s² on t_k = t0 + k Δt), their readers
 and writers, the bundled and shared record libraries, synthesis (modulated white noise,
 Kanai–Tajimi, sine pulses) and the analytic excitations (``Harmonic``, ``Table``) the kernels
-evaluate directly.
+evaluate directly. Three components: ``GroundMotion3`` (a_x, a_y, a_z; rotation of the horizontal
+pair) and ``HarmonicPlane`` (linear, circular and elliptical harmonic orbits).
 """
 
 from nsdyn.ground.excitation import G_EARTH, ForceTable, Harmonic, HarmonicForce, Table
 from nsdyn.ground.library import bundled_records, default_shared_dir, kobe_records
 from nsdyn.ground.motion import G_STANDARD, GroundMotion, RecordFileError, UnitWarning, unit_factor
+from nsdyn.ground.motion3 import GroundMotion3
+from nsdyn.ground.orbit import HarmonicPlane
 from nsdyn.ground.readers import (
     read_at2,
     read_jma,
@@ -33,7 +36,9 @@ __all__ = [
     "G_EARTH",
     "G_STANDARD",
     "GroundMotion",
+    "GroundMotion3",
     "Harmonic",
+    "HarmonicPlane",
     "RecordFileError",
     "Table",
     "UnitWarning",
