@@ -21,6 +21,7 @@ from nsdyn.ground.readers import (
     read_two_column,
     write_motion,
 )
+from nsdyn.ground.readers3 import bundled_records3, read_motion3, write_motion3
 from nsdyn.ground.synthesis import (
     harmonic,
     kanai_tajimi,
@@ -43,6 +44,7 @@ __all__ = [
     "Table",
     "UnitWarning",
     "bundled_records",
+    "bundled_records3",
     "default_shared_dir",
     "harmonic",
     "kanai_tajimi",
@@ -52,6 +54,7 @@ __all__ = [
     "read_at2",
     "read_jma",
     "read_motion",
+    "read_motion3",
     "read_multi_column",
     "read_single_column",
     "read_two_column",
@@ -59,4 +62,5 @@ __all__ = [
     "sine_pulse",
     "unit_factor",
     "write_motion",
+    "write_motion3",
 ]
