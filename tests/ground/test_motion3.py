@@ -1,0 +1,376 @@
+"""Three-component ground motions: rotation, planar special case, scaling, reading, bad input.
+
+Sources of the expected values:
+
+* rotation R(θ) is orthogonal, so it keeps √(a_x² + a_y²) and R(−θ)R(θ) = I; the computed
+  rotation deviates by round-off only. Error analysis (u = 2⁻⁵³, libm cos/sin within 1 ulp, so
+  each entry of the computed R within 2u and ĉ² + ŝ² = 1 + η, |η| ≤ 4u): one rotated vector
+  differs from the exact one by ≤ ‖ΔR‖ r + 2u(|ĉ a_x| + |ŝ a_y|)·√2 ≤ 4u r + 4u r = 8u r
+  (r = √(a_x² + a_y²), first order in u); np.hypot adds 1 ulp ≤ 2u r on each side, so
+  |r' − r| ≤ 12u r → ROT_ULPS = 16. Rotating back uses the transpose of the same computed
+  matrix (cos even, sin odd, radians(−θ) = −radians(θ) exactly), so R̂ᵀR̂ = (1 + η)I and the
+  round trip deviates by ≤ |η| r + 8u r + 8u r ≤ 20u r → ROUNDTRIP_ULPS = 24.
+* at multiples of 90° cos and sin are exactly 0, ±1: products by them and sums with ±0 are
+  exact in IEEE arithmetic, so those rotations and the planar round trips are bit for bit.
+* the planar projection of from_planar(θ) is a(ĉ² + ŝ²) with two products and one sum:
+  |a' − a| ≤ (|η| + 3u)|a| ≤ 8u|a| → PLANAR_ULPS = 8.
+* AT2 values: the numbers written into each test file times 9.80665 (units of g); the shared
+  JMA Kobe triple's npts, dt and PGAs from shared/records/PROVENANCE.md (3 decimals, in g).
+"""
+
+import dataclasses
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from nsdyn.ground import (
+    G_STANDARD,
+    GroundMotion,
+    GroundMotion3,
+    RecordFileError,
+    bundled_records3,
+    read_motion,
+    read_motion3,
+    write_motion3,
+)
+
+U = np.finfo(float).eps / 2  # unit round-off of float64
+ROT_ULPS = 16
+ROUNDTRIP_ULPS = 24
+PLANAR_ULPS = 8
+ANGLES = [17.3, -63.0, 135.0, 233.7, 401.0, 1e-7]
+SHARED = Path(os.environ.get("NSDYN_SHARED", Path(__file__).resolve().parents[3] / "shared"))
+RAW = SHARED / "records" / "raw"
+
+
+@pytest.fixture(scope="module")
+def m3() -> GroundMotion3:
+    return read_motion3("synthetic-wn-40s")
+
+
+def _one_line(exc: pytest.ExceptionInfo) -> str:
+    msg = str(exc.value)
+    assert "\n" not in msg
+    return msg
+
+
+# ------------------------------------------------------------------------------------------
+# The record
+# ------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "kwargs, needles",
+    [
+        (dict(ay=np.zeros(4)), ["ay", "5 samples"]),
+        (dict(az=np.zeros(6)), ["az", "5 samples"]),
+        (dict(ax=np.array([0.0, np.nan, 0, 0, 0])), ["ax", "finite", "sample 1"]),
+        (dict(ay=np.array([0.0, 0, 0, np.inf, 0])), ["ay", "finite", "sample 3"]),
+        (dict(dt=0.0), ["dt", "positive"]),
+        (dict(dt=-0.01), ["dt", "positive"]),
+        (dict(dt=float("nan")), ["dt", "positive"]),
+        (dict(t0=float("inf")), ["t0", "finite"]),
+        (dict(ax=np.zeros((5, 1))), ["ax", "1-D"]),
+    ],
+)
+def test_bad_record_is_refused_in_one_line(kwargs, needles):
+    args = dict(t0=0.0, dt=0.01, ax=np.zeros(5), ay=np.zeros(5), az=None, name="r", source="s")
+    with pytest.raises(ValueError) as ei:
+        GroundMotion3(**{**args, **kwargs})
+    msg = _one_line(ei)
+    for needle in needles:
+        assert needle in msg
+
+
+def test_fields_are_float64_and_derived_quantities(m3):
+    rec = GroundMotion3(1.0, 0.5, [3, 0, -1], [4, -2, 0], [0, 1, -5], "r", "hand")
+    assert rec.ax.dtype == rec.ay.dtype == rec.az.dtype == np.float64
+    assert (rec.n, rec.duration) == (3, 1.0)
+    np.testing.assert_array_equal(rec.t, [1.0, 1.5, 2.0])
+    assert (rec.pga_x, rec.pga_y, rec.pga_ver) == (3.0, 4.0, 5.0)
+    assert rec.pga_resultant == 5.0  # √(3² + 4²) at k = 0 (hypot of a Pythagorean triple: exact)
+    assert rec.pga_geomean == pytest.approx(np.sqrt(12.0), rel=2 * U)
+    assert rec.component("y") is rec.ay and rec.component("z") is rec.az
+    assert GroundMotion3(0, 1, [1.0], [1.0]).pga_ver is None
+    with pytest.raises(ValueError, match="no vertical"):
+        GroundMotion3(0, 1, [1.0], [1.0]).component("z")
+    with pytest.raises(ValueError, match="'x', 'y' or 'z'"):
+        rec.component("ns")
+
+
+# ------------------------------------------------------------------------------------------
+# Rotation (convention: counter-clockwise seen from above, [a_x'; a_y'] = R(θ)[a_x; a_y])
+# ------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("angle", ANGLES)
+def test_rotation_keeps_the_resultant_and_is_undone_by_its_opposite(m3, angle):
+    r = np.hypot(m3.ax, m3.ay)
+    rot = m3.rotated(angle)
+    assert np.all(np.abs(np.hypot(rot.ax, rot.ay) - r) <= ROT_ULPS * U * r)
+    assert abs(rot.pga_resultant - m3.pga_resultant) <= ROT_ULPS * U * m3.pga_resultant
+    assert rot.az is m3.az or np.array_equal(rot.az, m3.az)  # the vertical is untouched
+    back = rot.rotated(-angle)
+    dev = np.hypot(back.ax - m3.ax, back.ay - m3.ay)
+    assert np.all(dev <= ROUNDTRIP_ULPS * U * r)
+
+
+def test_rotation_direction_and_quarter_turns_are_exact(m3):
+    # +90° turns a motion along +x into one along +y (counter-clockwise seen from above, z up)
+    along_x = GroundMotion3.from_planar(read_motion("synthetic-wn-40s"))
+    q = along_x.rotated(90.0)
+    assert np.all(q.ax == 0.0) and np.array_equal(q.ay, along_x.ax)
+    # R(90°)[a_x; a_y] = [−a_y; a_x], R(180°) = −I: exact at multiples of 90°
+    r90, r180, r360 = m3.rotated(90.0), m3.rotated(180.0), m3.rotated(-360.0)
+    assert np.array_equal(r90.ax, -m3.ay) and np.array_equal(r90.ay, m3.ax)
+    assert np.array_equal(r180.ax, -m3.ax) and np.array_equal(r180.ay, -m3.ay)
+    assert np.array_equal(r360.ax, m3.ax) and np.array_equal(r360.ay, m3.ay)
+
+
+@pytest.mark.parametrize("angle", ANGLES)
+def test_a_rotated_planar_record_is_the_planar_record_along_that_direction(angle):
+    # from_planar(θ) = R(θ) from_planar(0): (ĉ a − ŝ·0, ŝ a + ĉ·0) — exact
+    m = read_motion("synthetic-kt-20s")
+    turned = GroundMotion3.from_planar(m).rotated(angle)
+    direct = GroundMotion3.from_planar(m, angle)
+    assert np.array_equal(turned.ax, direct.ax) and np.array_equal(turned.ay, direct.ay)
+
+
+# ------------------------------------------------------------------------------------------
+# The planar record as the special case
+# ------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("angle", [0.0, 90.0, 180.0, -90.0, 450.0])
+def test_planar_round_trip_is_exact_along_the_axes(angle):
+    m = read_motion("synthetic-wn-40s")
+    m3 = GroundMotion3.from_planar(m, angle)
+    assert m3.az is m.a_ver or np.array_equal(m3.az, m.a_ver)
+    back = m3.planar(angle)
+    assert isinstance(back, GroundMotion)
+    assert np.array_equal(back.a_hor, m.a_hor) and np.array_equal(back.a_ver, m.a_ver)
+    assert (back.t0, back.dt, back.name) == (m.t0, m.dt, m.name)
+    if angle == 0.0:  # a planar record is exactly the three-component record with a_y = 0
+        assert np.array_equal(m3.ax, m.a_hor) and np.all(m3.ay == 0.0)
+
+
+@pytest.mark.parametrize("angle", ANGLES)
+def test_planar_round_trip_at_any_angle_and_the_orthogonal_projection(angle):
+    m = read_motion("synthetic-wn-40s")
+    m3 = GroundMotion3.from_planar(m, angle)
+    bound = PLANAR_ULPS * U * np.abs(m.a_hor)
+    assert np.all(np.abs(m3.planar(angle).a_hor - m.a_hor) <= bound)
+    # across the direction the projection vanishes: ĉ ŝ' + ŝ ĉ' with θ' = θ + 90°
+    assert np.all(np.abs(m3.planar(angle + 90.0).a_hor) <= bound)
+    # the resultant of a planar record is its |a|
+    assert abs(m3.pga_resultant - m.pga) <= PLANAR_ULPS * U * m.pga
+
+
+def test_planar_projection_of_a_rotated_record(m3):
+    # the projection on θ of R(θ) a is the projection of a on 0, i.e. a_x (to round-off:
+    # one rotation ≤ 8u r, one projection ≤ 4u r)
+    angle = 31.0
+    r = np.hypot(m3.ax, m3.ay)
+    assert np.all(np.abs(m3.rotated(angle).planar(angle).a_hor - m3.ax) <= ROT_ULPS * U * r)
+
+
+# ------------------------------------------------------------------------------------------
+# Scaling, windows, resampling
+# ------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("component", ["resultant", "x", "y", "geomean"])
+def test_scaling_uses_one_factor_for_all_components(m3, component):
+    scaled = m3.scaled_to_pga(2.0, component)
+    peak = {"resultant": "pga_resultant", "x": "pga_x", "y": "pga_y", "geomean": "pga_geomean"}
+    # c = target/peak (one rounding), c·a (one), the peak (hypot 1 ulp, sqrt 1 ulp): ≤ 8u
+    assert getattr(scaled, peak[component]) == pytest.approx(2.0, abs=8 * U * 2.0)
+    c = 2.0 / getattr(m3, peak[component])
+    for name in ("x", "y", "z"):
+        assert np.array_equal(scaled.component(name), c * m3.component(name))
+
+
+def test_scaling_bad_input(m3):
+    with pytest.raises(ValueError, match="component"):
+        m3.scaled_to_pga(1.0, "z")
+    with pytest.raises(ValueError, match="target"):
+        m3.scaled_to_pga(float("nan"))
+    zero = GroundMotion3(0, 0.01, np.zeros(3), np.zeros(3), name="quiet")
+    with pytest.raises(ValueError, match="'quiet'.*zero"):
+        zero.scaled_to_pga(1.0)
+
+
+def test_window_and_resampling_act_on_every_component_alike(m3):
+    w = m3.window(2.0, 5.0)
+    assert (w.n, w.t0) == (301, pytest.approx(2.0, abs=1e-12))
+    for name in ("x", "y", "z"):
+        assert np.array_equal(w.component(name), m3.component(name)[200:501])
+    # linear resampling at half the step keeps every old sample (0.005·2k = 0.01·k exactly,
+    # and interpolation at a node returns the node's value) and puts the rest between them
+    r2 = m3.resampled(0.005, method="linear")
+    assert r2.n == 2 * m3.n - 1 and r2.dt == 0.005
+    for name in ("x", "y", "z"):
+        old, new = m3.component(name), r2.component(name)
+        assert np.array_equal(new[::2], old)
+        lo, hi = np.minimum(old[:-1], old[1:]), np.maximum(old[:-1], old[1:])
+        assert np.all((new[1::2] >= lo) & (new[1::2] <= hi))
+    # band-limited resampling: the same filter on the three components as GroundMotion's
+    bl = m3.resampled(0.02)
+    ref = GroundMotion(m3.t0, m3.dt, m3.ay).resampled(0.02)
+    assert np.array_equal(bl.ay, ref.a_hor) and bl.n == ref.n
+
+
+# ------------------------------------------------------------------------------------------
+# Reading one station's component files together
+# ------------------------------------------------------------------------------------------
+
+AT2_HEAD = "PEER NGA STRONG MOTION DATABASE RECORD\nTEST STATION, {comp}\n"
+AT2_HEAD += "ACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    {n}, DT=   {dt} SEC,\n"
+VALUES = {
+    "x": [0.01, -0.02, 0.03, -0.04, 0.05, 0.025, -0.0125],
+    "y": [0.002, 0.004, -0.008, 0.016, -0.032, 0.064, -0.128],
+    "z": [-0.001, 0.003, -0.005, 0.007, -0.009, 0.011, -0.013],
+}
+
+
+def _at2(tmp_path: Path, comp: str, values, dt: str = ".0100") -> Path:
+    body = "\n".join(
+        "  ".join(f"{v: .7E}" for v in values[i : i + 5]) for i in range(0, len(values), 5)
+    )
+    path = tmp_path / f"TEST{comp}.AT2"
+    path.write_text(AT2_HEAD.format(comp=comp, n=len(values), dt=dt) + body + "\n")
+    return path
+
+
+@pytest.fixture
+def triple(tmp_path):
+    return {c: _at2(tmp_path, c, VALUES[c]) for c in VALUES}
+
+
+def test_at2_triple_is_read_together(triple):
+    m = read_motion3(x=triple["x"], y=triple["y"], z=triple["z"])
+    assert (m.n, m.dt, m.t0) == (7, 0.01, 0.0)
+    for c in "xyz":
+        # the reader multiplies each value in g by 9.80665 (one rounding, the same product)
+        assert np.array_equal(m.component(c), np.array(VALUES[c]) * G_STANDARD)
+    assert str(triple["y"]) in m.source and m.meta["file_units"] == {"x": "g", "y": "g", "z": "g"}
+    no_z = read_motion3(x=triple["x"], y=triple["y"])
+    assert no_z.az is None and np.array_equal(no_z.ay, m.ay)
+    turned = read_motion3(x=triple["x"], y=triple["y"], z=triple["z"], rotate=30.0)
+    ref = m.rotated(30.0)
+    assert np.array_equal(turned.ax, ref.ax) and np.array_equal(turned.ay, ref.ay)
+    assert read_motion3(x=triple["x"], y=triple["y"], name="station").name == "station"
+
+
+def test_at2_triple_with_another_time_step_names_the_file_and_both_values(tmp_path, triple):
+    odd = _at2(tmp_path, "y2", VALUES["y"], dt=".0200")
+    with pytest.raises(RecordFileError) as ei:
+        read_motion3(x=triple["x"], y=odd, z=triple["z"])
+    msg = _one_line(ei)
+    assert msg.startswith(str(odd)) and "dt = 0.02 s" in msg and "dt = 0.01 s" in msg
+    assert "y component" in msg and str(triple["x"]) in msg
+    odd_z = _at2(tmp_path, "z2", VALUES["z"], dt=".0050")
+    with pytest.raises(RecordFileError, match=r"z component: dt = 0.005 s") as ei:
+        read_motion3(x=triple["x"], y=triple["y"], z=odd_z, trim=True)  # trim cuts, never resamples
+    assert _one_line(ei).startswith(str(odd_z))
+
+
+def test_at2_triple_with_another_length_names_the_file_and_both_values(tmp_path, triple):
+    short = _at2(tmp_path, "z6", VALUES["z"][:6])
+    with pytest.raises(RecordFileError) as ei:
+        read_motion3(x=triple["x"], y=triple["y"], z=short)
+    msg = _one_line(ei)
+    assert msg.startswith(str(short)) and "npts = 6" in msg and "npts = 7" in msg
+    assert "z component" in msg and "trim=True" in msg
+    m = read_motion3(x=triple["x"], y=triple["y"], z=short, trim=True)
+    assert m.n == 6 and m.meta["trimmed_to"] == 6 and m.meta["npts_on_file"]["x"] == 7
+    assert np.array_equal(m.ax, np.array(VALUES["x"][:6]) * G_STANDARD)
+
+
+def test_missing_components_are_named(tmp_path, triple):
+    with pytest.raises(RecordFileError) as ei:
+        read_motion3(triple["x"])  # an AT2 file holds one component
+    assert "missing component y" in _one_line(ei) and str(triple["x"]) in str(ei.value)
+    with pytest.raises(ValueError, match="x: expected"):
+        read_motion3()
+    with pytest.raises(ValueError, match="y: expected the second horizontal"):
+        read_motion3(x=triple["x"], z=triple["z"])
+    with pytest.raises(FileNotFoundError, match="y: no such file"):
+        read_motion3(x=triple["x"], y=tmp_path / "nosuch.AT2")
+    with pytest.raises(FileNotFoundError, match="neither a file nor a bundled record"):
+        read_motion3("synthetic-wn-40s-y")  # a companion file is not a record of its own
+
+
+# ------------------------------------------------------------------------------------------
+# The three-column CSV and the bundled records
+# ------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("vertical", [True, False])
+def test_three_column_csv_round_trip_is_bit_for_bit(tmp_path, m3, vertical):
+    rec = m3.window(1.0, 3.0)
+    if not vertical:
+        rec = dataclasses.replace(rec, az=None)
+    path = write_motion3(rec, tmp_path / "rec3.csv", command="test", seed=7)
+    back = read_motion3(path)
+    assert (back.n, back.dt, back.t0) == (rec.n, rec.dt, rec.t0)
+    assert np.array_equal(back.ax, rec.ax) and np.array_equal(back.ay, rec.ay)
+    assert (back.az is None) if not vertical else np.array_equal(back.az, rec.az)
+    assert back.meta["seed"] == 7 and back.name == rec.name
+
+
+def test_hand_written_csv_with_named_columns(tmp_path):
+    path = tmp_path / "hand.csv"
+    path.write_text("# units: cm/s2\nt,ax,ay,az\n0,100,-50,20\n0.5,0,25,-10\n1.0,-300,0,5\n")
+    m = read_motion3(path)
+    assert (m.n, m.dt) == (3, 0.5)
+    assert np.array_equal(m.ax, np.array([100.0, 0.0, -300.0]) * 0.01)  # gal → m/s², exact ×0.01
+    assert np.array_equal(m.ay, np.array([-50.0, 25.0, 0.0]) * 0.01)
+    assert np.array_equal(m.az, np.array([20.0, -10.0, 5.0]) * 0.01)
+    bad = tmp_path / "two.csv"
+    bad.write_text("t,ax,az\n0,1,2\n0.5,3,4\n1.0,5,6\n")
+    with pytest.raises(RecordFileError, match="missing component y"):
+        read_motion3(bad)
+
+
+@pytest.mark.filterwarnings("error::UserWarning")
+@pytest.mark.parametrize("stem", ["synthetic-wn-40s", "synthetic-kt-20s"])
+def test_bundled_record_has_three_components(stem):
+    assert stem in bundled_records3()
+    m3 = read_motion3(stem)
+    x = read_motion(stem)
+    y = read_motion(Path(__file__).resolve().parents[2] / "records" / f"{stem}-y.txt")
+    assert np.array_equal(m3.ax, x.a_hor) and np.array_equal(m3.az, x.a_ver)
+    assert np.array_equal(m3.ay, y.a_hor) and (m3.dt, m3.n) == (x.dt, x.n)
+    # both horizontal components carry the same scale factor (the same intensity)
+    assert y.meta["scale_factor"] == x.meta["scale_factor"] and y.meta["seed"] != x.meta["seed"]
+
+
+# ------------------------------------------------------------------------------------------
+# A real station, read in place from the shared records (never copied into the project)
+# ------------------------------------------------------------------------------------------
+
+
+@pytest.mark.skipif(
+    not (RAW / "kobe_kjma_up.AT2").is_file(),
+    reason=f"shared research records not found at {RAW} (set NSDYN_SHARED)",
+)
+@pytest.mark.filterwarnings("error::UserWarning")
+def test_jma_kobe_station_three_components():
+    # PROVENANCE.md: RSN1106 KJMA 000 / 090 / UP, g, dt 0.02 s, 7500 points each,
+    # PGA 0.834 / 0.630 / 0.339 g. x = 090 (east), y = 000 (north), z = up: right-handed.
+    m = read_motion3(
+        x=RAW / "kobe_kjma_090.AT2", y=RAW / "kobe_kjma_000.AT2", z=RAW / "kobe_kjma_up.AT2"
+    )
+    assert (m.n, m.dt) == (7500, 0.02)
+    for pga, stated in ((m.pga_x, 0.630), (m.pga_y, 0.834), (m.pga_ver, 0.339)):
+        assert abs(pga / G_STANDARD - stated) <= 0.0005  # PROVENANCE gives 3 decimals
+    # the resultant peak lies between the larger component peak and √(PGA_x² + PGA_y²)
+    assert max(m.pga_x, m.pga_y) <= m.pga_resultant <= np.hypot(m.pga_x, m.pga_y)
+    # and no rotation of the axes changes it (ROT_ULPS analysis above)
+    for angle in (30.0, 45.0, 120.0):
+        assert m.rotated(angle).pga_resultant == pytest.approx(
+            m.pga_resultant, abs=ROT_ULPS * U * m.pga_resultant
+        )
