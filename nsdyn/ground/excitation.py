@@ -34,6 +34,17 @@ def _finite(name: str, v) -> float:
     return v
 
 
+def _frequency(name: str, f, amplitude) -> None:
+    """A harmonic component's frequency: finite and >= 0, and > 0 when its amplitude is not
+    zero (a component without amplitude needs no frequency)."""
+    f, a = _finite(name, f), float(amplitude)
+    if f < 0 or (f == 0 and a != 0):
+        raise ValueError(
+            f"{name}: expected a positive frequency [Hz] (a non-zero amplitude needs one), "
+            f"got {f:g}"
+        )
+
+
 @dataclass(frozen=True)
 class Harmonic:
     """Harmonic ground acceleration ``A_hor sin(2π f_hor t + phase)`` (+ optional vertical).
@@ -43,6 +54,8 @@ class Harmonic:
     A_hor, f_hor : float       amplitude [m/s²] and frequency [Hz] of the horizontal component
     A_ver, f_ver : float       the same for the vertical component (default none)
     phase, phase_ver : float   phases [rad] at t = 0 (sin: the excitation starts at zero)
+
+    Every value is finite; a frequency is >= 0, and > 0 where its amplitude is not zero.
     """
 
     A_hor: float
@@ -55,6 +68,8 @@ class Harmonic:
     def __post_init__(self) -> None:
         for k in ("A_hor", "f_hor", "A_ver", "f_ver", "phase", "phase_ver"):
             _finite(f"Harmonic.{k}", getattr(self, k))
+        _frequency("Harmonic.f_hor", self.f_hor, self.A_hor)
+        _frequency("Harmonic.f_ver", self.f_ver, self.A_ver)
 
     @property
     def period(self) -> float:
@@ -127,6 +142,7 @@ class HarmonicForce(_ForceLoad):
     def __post_init__(self) -> None:
         for k in ("F", "f", "phase"):
             _finite(f"HarmonicForce.{k}", getattr(self, k))
+        _frequency("HarmonicForce.f", self.f, self.F)
         d, w = _load_dofs(self.dofs, self.weights)
         object.__setattr__(self, "dofs", d)
         object.__setattr__(self, "weights", w)

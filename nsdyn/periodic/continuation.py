@@ -30,7 +30,7 @@ import numpy as np
 from nsdyn.periodic.bifurcation import detect_bifurcations
 from nsdyn.periodic.curve import Curve, OrbitPoint, _point_from_shoot, _point_from_sweep
 from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation, refined
-from nsdyn.periodic.protocol import STATUS_MESSAGES, STATUS_OK, PeriodicModel
+from nsdyn.periodic.protocol import STATUS_MESSAGES, STATUS_OK, PeriodicModel, check_range
 from nsdyn.periodic.shooting import (
     SHOOT_MAXIT,
     SHOOT_TOL,
@@ -61,8 +61,9 @@ POINTS = 150  # default number of points of a curve
 
 
 def log_frequencies(fmin: float = F_MIN, fmax: float = F_MAX, points: int = POINTS) -> np.ndarray:
-    """``points`` frequencies [Hz] spaced evenly in log f from ``fmin`` to ``fmax``."""
-    return np.geomspace(fmin, fmax, points)
+    """``points`` frequencies [Hz] spaced evenly in log f from ``fmin`` to ``fmax``
+    (``0 < fmin < fmax``, ``points >= 1``: ValueError otherwise)."""
+    return np.geomspace(*check_range(fmin, fmax, points))
 
 
 def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="shooting"):
@@ -82,7 +83,7 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
             g = warm_start(problem, f, guesses[-1], disc)
         res = shoot(problem, f, g, tol=tol, max_iter=max_iter, disc=disc)
         if res.converged:
-            return _point_from_shoot(problem, res, method), res
+            return _point_from_shoot(problem, res, method, disc=disc), res
         why = res.message
         integration_failed |= res.monodromy is None
     if integration_failed and guesses:
@@ -96,12 +97,12 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
             res = shoot(problem, f, guesses[0], tol=tol, max_iter=max_iter, disc=disc)
             if res.converged:
                 note = f"{REFINE_FACTOR}x steps per period ({why})"
-                return _point_from_shoot(problem, res, method, note), res
+                return _point_from_shoot(problem, res, method, note, disc), res
             why = f"{why}; with {REFINE_FACTOR}x steps: {res.message}"
     if not fallback:
         return None, None
     sw = steady_state_sweep(problem, f, guesses[0] if guesses else None, disc=disc)
-    return _point_from_sweep(problem, sw, why), None
+    return _point_from_sweep(problem, sw, why, disc), None
 
 
 def _append(pts: list, pt: OrbitPoint, keep_orbits: bool, progress=None, total: int = 0) -> None:
@@ -145,6 +146,9 @@ def continue_sequential(
     """
     disc = disc or Discretisation()
     freqs = np.asarray(freqs, dtype=float)
+    if freqs.ndim != 1 or not freqs.size or not np.all(np.isfinite(freqs) & (freqs > 0)) \
+            or np.any(np.diff(freqs) <= 0):  # fmt: skip
+        raise ValueError(f"freqs: expected increasing finite frequencies > 0 [Hz], got {freqs}")
     pts: list[OrbitPoint] = list(start or [])
     t0 = time.perf_counter()
     held = None
@@ -272,6 +276,7 @@ def continue_arclength(
     next frequency is taken by the stepped sweep and continuation restarts from it.
     """
     disc = disc or Discretisation()
+    fmin, fmax, points = check_range(fmin, fmax, points)
     pmin, pmax = math.log(fmin), math.log(fmax)
     dp_max = (pmax - pmin) / max(points - 1, 1)
     t0 = time.perf_counter()
@@ -343,7 +348,7 @@ def continue_arclength(
                     problem, fmax, y_end[:d], tol=tol, max_iter=max_iter, disc=disc, n_steps=N
                 )
                 if res.converged:
-                    pt = _point_from_shoot(problem, res, "arclength")
+                    pt = _point_from_shoot(problem, res, "arclength", disc=disc)
                     y = np.concatenate([res.x0, [pmax]])
                     s_acc += float(np.linalg.norm(Wf * (y - y0)))
                     pt.s = s_acc
@@ -374,14 +379,14 @@ def continue_arclength(
             if not fallback:
                 break
             sw = steady_state_sweep(problem, f_next, last.x0, disc=disc)
-            pt = _point_from_sweep(problem, sw, why)
+            pt = _point_from_sweep(problem, sw, why, disc)
             pt.s = s_acc = s_acc + abs(math.log(f_next) - p_last)
             add(pt, tp)
             need_restart = True
             t_prev = _along_p(d)
             ds = dp_max
             continue
-        pt = _point_from_shoot(problem, res, "arclength")
+        pt = _point_from_shoot(problem, res, "arclength", disc=disc)
         pt.f = math.exp(y[d])
         s_acc += float(np.linalg.norm(Wf * (y - y0)))
         pt.s = s_acc

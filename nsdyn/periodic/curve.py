@@ -1,7 +1,9 @@
 """Frequency-response curves: one periodic orbit per point, with its provenance and stability.
 
 A point holds the orbit's start ``x0`` at frequency ``f``, the Floquet multipliers ``rho``
-(stable when ``max |rho| < 1``), the response quantities of its model, and how it was found:
+(stable when ``max |rho| < 1``; a growth is checked against a second map before it is called
+unstable, :mod:`nsdyn.periodic.stability`), the response quantities of its model, and how it
+was found:
 by shooting (``H(x0, f) = phi_T(x0) - x0 = 0`` to the shooting tolerance, sequentially or
 along the arclength ``s``) or by the stepped sweep (its residual is then the estimated
 distance to the steady state). A curve collects the points of one forcing amplitude and the
@@ -16,8 +18,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn.periodic.bifurcation import STABLE_MARGIN
+from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.protocol import PeriodicModel
 from nsdyn.periodic.shooting import ShootingResult, floquet_multipliers
+from nsdyn.periodic.stability import check_verdict
 from nsdyn.periodic.sweeps import SweepResult
 
 
@@ -38,6 +42,7 @@ class OrbitPoint:
     s: float = float("nan")  # arclength along the curve (arclength points)
     dlogf_ds: float = float("nan")  # tangent's parameter component
     X: np.ndarray | None = field(default=None, repr=False)
+    unknown: bool = False  # the stability check could not decide (stable is None)
 
     @property
     def max_multiplier(self) -> float:
@@ -45,7 +50,7 @@ class OrbitPoint:
 
     @property
     def stable(self) -> bool | None:
-        if not self.multipliers.size:
+        if self.unknown or not self.multipliers.size:
             return None
         return bool(self.max_multiplier < 1.0 + STABLE_MARGIN)
 
@@ -96,12 +101,18 @@ class Curve:
 
 
 def _point_from_shoot(
-    problem: PeriodicModel, res: ShootingResult, method: str, note: str = ""
+    problem: PeriodicModel,
+    res: ShootingResult,
+    method: str,
+    note: str = "",
+    disc: Discretisation | None = None,
 ) -> OrbitPoint:
-    """A point from a converged shooting solve."""
+    """A point from a converged shooting solve (``disc``: the map's discretisation; a growth
+    is checked, :func:`nsdyn.periodic.stability.check_verdict`)."""
     rho = floquet_multipliers(res.monodromy)
+    rho, verdict, why = check_verdict(problem, res.f, res.x0, rho, disc)
     q = problem.orbit_quantities(res.f, res.X)
-    note = "; ".join(n for n in (note, problem.validity_note(q)) if n)
+    note = "; ".join(n for n in (note, why, problem.validity_note(q)) if n)
     return OrbitPoint(
         res.f,
         res.x0.copy(),
@@ -114,19 +125,25 @@ def _point_from_shoot(
         note,
         q,
         X=res.X,
+        unknown=verdict is None,
     )
 
 
-def _point_from_sweep(problem: PeriodicModel, sw: SweepResult, why: str) -> OrbitPoint:
+def _point_from_sweep(
+    problem: PeriodicModel, sw: SweepResult, why: str, disc: Discretisation | None = None
+) -> OrbitPoint:
     """A point from the stepped sweep; its 'residual' is the estimated distance to the steady
-    state. Quantities are NaN when not even one period could be integrated."""
+    state. Quantities are NaN when not even one period could be integrated. A growth of the
+    last period's multipliers is checked as for a shooting point."""
     rho = floquet_multipliers(sw.monodromy) if sw.monodromy is not None else np.zeros(0)
+    rho, verdict, check = check_verdict(problem, sw.f, sw.x0, rho, disc)
     probe = ""
     if sw.periods_done > 0:
         q = problem.orbit_quantities(sw.f, sw.X)
     else:
         q, probe = problem.quantities_without_orbit(sw.f, sw.x0)
-    notes = (f"shooting failed: {why}", f"sweep: {sw.message}", probe, problem.validity_note(q))
+    notes = (f"shooting failed: {why}", f"sweep: {sw.message}", check, probe,
+             problem.validity_note(q))  # fmt: skip
     return OrbitPoint(
         sw.f,
         sw.x0.copy(),
@@ -139,4 +156,5 @@ def _point_from_sweep(problem: PeriodicModel, sw: SweepResult, why: str) -> Orbi
         "; ".join(n for n in notes if n),
         q,
         X=sw.X if sw.periods_done > 0 else None,
+        unknown=rho.size > 0 and verdict is None,
     )

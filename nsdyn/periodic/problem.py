@@ -32,7 +32,8 @@ from nsdyn.models.isolated.friction import sticks
 from nsdyn.models.isolated.params import KernelParams, pack, with_ground
 from nsdyn.periodic import _kperiodic as kp
 from nsdyn.periodic.discretisation import Discretisation
-from nsdyn.periodic.protocol import MinimalStates, PeriodMap
+from nsdyn.periodic.extrema import dense_half_range
+from nsdyn.periodic.protocol import MinimalStates, PeriodMap, check_amplitude, check_frequency
 
 DUFFING_W = 4  # index of the forcing circular frequency w in pf = [zeta, w0, gamma, F, w]
 PROBE_SAMPLES = 65  # output times of the radau uplift probe over one period
@@ -116,7 +117,7 @@ class PeriodicProblem(MinimalStates):
         """The number of steps and the arguments of :func:`nsdyn.periodic._kperiodic.period_map`
         but its last (``K``)."""
         disc = disc or Discretisation()
-        T = 1.0 / f
+        T = 1.0 / check_frequency(f)
         N = disc.steps(T) if n_steps is None else int(n_steps)
         A, c = disc.tableau()
         _, pf = self.at(f)
@@ -131,7 +132,8 @@ class PeriodicProblem(MinimalStates):
         horizontal floor acceleration (all nodes of every level, base included);
         ``acc_floors``: the same over the levels above the isolators (``nsdyn run``'s
         ``floor_acc_max``); ``x_iso``: half the peak-to-peak isolator slip ``D q`` (largest
-        isolator); ``stick_all_period``: every isolator sticks over the whole period as
+        isolator; extrema on the dense output, :mod:`nsdyn.periodic.extrema`);
+        ``stick_all_period``: every isolator sticks over the whole period as
         :mod:`nsdyn.models.isolated.friction` defines it for the arctan law (friction below
         ``STICK_UTILISATION`` of its limit; False for other laws). For the Duffing problem:
         ``amp`` (half the peak-to-peak displacement) and ``x_max`` only.
@@ -169,8 +171,8 @@ class PeriodicProblem(MinimalStates):
             acc = float(acc_levels.max())
             acc_floors = float(acc_levels[1:].max()) if acc_levels.size > 1 else acc
         xi = q @ sysm.D.T
-        x_iso = float(0.5 * np.max(xi.max(axis=0) - xi.min(axis=0))) if xi.size else 0.0
         v = Xf[:, n:] @ sysm.D.T
+        x_iso = dense_half_range(xi, v, QDD @ sysm.D.T, 1.0 / (f * N))
         kpar = KernelParams(P)
         stick = kpar.law == "arctan" and bool(np.all(sticks(v, "arctan", kpar.eps)))
         return {
@@ -262,7 +264,10 @@ def frame_problem(
     are replaced by ``amplitude`` and each frequency of the continuation).
 
     Only smooth friction laws ("arctan", "none") give a differentiable period map.
+    ``amplitude`` is finite and >= 0 (ValueError otherwise); the isolator parameters were
+    checked when ``system.isolation`` was built.
     """
+    amplitude = check_amplitude(amplitude)
     if system.isolation is None:
         raise ValueError("shooting needs an isolated model; the fixed base is linear (use FRFs)")
     law = law or system.isolation.law
@@ -353,8 +358,13 @@ def warmup() -> float:
 
 
 def duffing_problem(zeta: float, w0: float, gamma: float, F: float) -> PeriodicProblem:
-    """``x'' + 2 zeta w0 x' + w0^2 x + gamma x^3 = F cos(2 pi f t)`` (test problem)."""
-    pf = np.array([zeta, w0, gamma, F, 1.0], dtype=float)
+    """``x'' + 2 zeta w0 x' + w0^2 x + gamma x^3 = F cos(2 pi f t)`` (test problem;
+    ``zeta >= 0``, ``w0 > 0``, ``gamma`` finite, ``F >= 0``: ValueError otherwise)."""
+    for name, v, ok in (("zeta", zeta, zeta >= 0), ("w0", w0, w0 > 0), ("gamma", gamma, True)):
+        if not (math.isfinite(v) and ok):
+            kind = {"zeta": ">= 0", "w0": "> 0 [rad/s]", "gamma": ""}[name]
+            raise ValueError(f"{name}: expected a finite number {kind}, got {v!r}".rstrip())
+    pf = np.array([zeta, w0, gamma, check_amplitude(F, "F"), 1.0], dtype=float)
     Z = (np.eye(1),) * 2 + _DUMMY_Z[2:]
     return PeriodicProblem(
         kp.PROB_DUFFING, _dummy_params(), Z, pf, np.zeros(2), float(F), None, "duffing"

@@ -20,13 +20,22 @@ the orbit of the period map ``pm`` and parametrise a family of orbits (multiplie
 Shooting and continuation then hold ``C x0`` at the guess and solve for the rest by least
 squares. A map may leave ``dxdT`` None; continuation then differentiates it in ``T``.
 
+Optional: ``exact_map = True`` for a map that is not a discretisation (its multipliers are
+the flow's; :mod:`nsdyn.periodic.stability` then checks no growth).
+
 A period map reports a status: ``STATUS_OK`` (0) or a failure code of
 :data:`STATUS_MESSAGES` (the codes of the fixed-step kernels).
+
+The arguments every solver shares are checked here, once: a forcing frequency ``f > 0``
+(finite; the period is ``1 / f``), a frequency range ``0 < fmin < fmax`` with ``points >= 1``
+(:func:`check_frequency`, :func:`check_range`) and a finite amplitude (:func:`check_amplitude`).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from numbers import Integral
 from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 import numpy as np
@@ -45,6 +54,40 @@ STATUS_MESSAGES = {
     kp.STATUS_SINGULAR: "singular constraint system or iteration matrix",
     kp.STATUS_NONFINITE: "the state became inf/nan (try more steps per period)",
 }
+
+
+def check_frequency(f, name: str = "f") -> float:
+    """``f`` as a float if it is a finite forcing frequency > 0 [Hz], else a ValueError."""
+    try:
+        v = float(f)
+    except (TypeError, ValueError):
+        v = math.nan
+    if not (math.isfinite(v) and v > 0):
+        raise ValueError(f"{name}: expected a finite forcing frequency > 0 [Hz], got {f!r}")
+    return v
+
+
+def check_amplitude(a, name: str = "amplitude") -> float:
+    """``a`` as a float if it is a finite forcing amplitude >= 0, else a ValueError."""
+    try:
+        v = float(a)
+    except (TypeError, ValueError):
+        v = math.nan
+    if not (math.isfinite(v) and v >= 0):
+        raise ValueError(f"{name}: expected a finite forcing amplitude >= 0, got {a!r}")
+    return v
+
+
+def check_range(fmin, fmax, points) -> tuple[float, float, int]:
+    """A frequency range of a curve: ``0 < fmin < fmax`` [Hz] and an integer ``points >= 1``
+    (``fmin == fmax`` only with one point); ValueError naming the argument otherwise."""
+    lo, hi = check_frequency(fmin, "fmin"), check_frequency(fmax, "fmax")
+    if isinstance(points, bool) or not isinstance(points, Integral) or points < 1:
+        raise ValueError(f"points: expected an integer >= 1 (frequencies on the curve), got "
+                         f"{points!r}")  # fmt: skip
+    if hi < lo or (hi == lo and points > 1):
+        raise ValueError(f"fmax: expected a frequency above fmin = {lo:g} Hz, got {hi:g}")
+    return lo, hi, int(points)
 
 
 @dataclass

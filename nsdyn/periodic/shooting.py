@@ -22,7 +22,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn.periodic.discretisation import Discretisation
-from nsdyn.periodic.protocol import STATUS_MESSAGES, STATUS_OK, PeriodicModel, PeriodMap
+from nsdyn.periodic.protocol import (
+    STATUS_MESSAGES,
+    STATUS_OK,
+    PeriodicModel,
+    PeriodMap,
+    check_frequency,
+)
 
 SHOOT_TOL = 1e-6  # relative shooting residual for convergence (per block, to the orbit range)
 SHOOT_MAXIT = 12  # Newton iterations per shooting solve
@@ -37,7 +43,7 @@ def period_map(problem: PeriodicModel, x0: np.ndarray, f: float, **options) -> P
     """One forcing period of ``problem`` from ``x0`` (t = 0): ``problem.period_map(x0, f,
     **options)`` with the options ``n_steps``, ``disc``, ``sens``, ``store`` of
     :meth:`nsdyn.periodic.protocol.PeriodicModel.period_map`."""
-    return problem.period_map(x0, f, **options)
+    return problem.period_map(x0, check_frequency(f), **options)
 
 
 def floquet_multipliers(monodromy: np.ndarray) -> np.ndarray:
@@ -177,8 +183,10 @@ def shoot(
 
     The residual is ``max_i |H_i| / range_i`` with ``range`` the orbit's largest excursion from
     the reference state in the position and velocity blocks. ``iterations`` counts Newton
-    updates (a linear system converges after one).
+    updates (a linear system converges after one). ``f`` must be a finite frequency > 0 [Hz]
+    (ValueError otherwise).
     """
+    f = check_frequency(f)
     disc = disc or Discretisation()
     N = disc.steps(1.0 / f) if n_steps is None else int(n_steps)
     x = problem.x_ref.copy() if x0 is None else np.array(x0, dtype=float)

@@ -25,6 +25,7 @@ from nsdyn.periodic.protocol import (
     STATUS_NOT_STEADY,
     STATUS_OK,
     PeriodicModel,
+    check_frequency,
 )
 from nsdyn.periodic.shooting import orbit_amplitudes
 
@@ -77,6 +78,7 @@ def steady_state_sweep(
     call (the per-call overhead is < 0.1 % of a period). The multipliers of the last period's
     monodromy (one extra period) are returned as an approximate stability verdict.
     """
+    f = check_frequency(f)
     disc = disc or Discretisation()
     T = 1.0 / f
     N = disc.steps(T)

@@ -37,7 +37,14 @@ from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.params import with_law
 from nsdyn.periodic import _kswitch as kw
 from nsdyn.periodic.discretisation import Discretisation
-from nsdyn.periodic.protocol import STATUS_MESSAGES, MinimalStates, PeriodMap
+from nsdyn.periodic.extrema import dense_half_range
+from nsdyn.periodic.protocol import (
+    STATUS_MESSAGES,
+    MinimalStates,
+    PeriodMap,
+    check_amplitude,
+    check_frequency,
+)
 from nsdyn.periodic.shooting import ShootingResult, shoot
 
 MAX_ISOLATORS = 6  # 3^ni mode sets are tabulated
@@ -178,6 +185,7 @@ class SwitchProblem(MinimalStates):
     _cache: dict = field(default_factory=dict, repr=False)
 
     law = LAW_NAME
+    exact_map = True  # not a discretisation: its multipliers need no check (periodic.stability)
 
     def matrices(self, f: float) -> np.ndarray:
         """Augmented matrices (K, D, D) at forcing frequency ``f`` [Hz]."""
@@ -218,7 +226,7 @@ class SwitchProblem(MinimalStates):
         samples (default :meth:`steps`). ``dxdT`` is None: pseudo-arclength continuation
         differentiates this map in T by central differences (exact flow, events move
         smoothly with T away from grazing)."""
-        T = 1.0 / f
+        T = 1.0 / check_frequency(f)
         N = self.steps(T, disc) if n_steps is None else int(n_steps)
         ev = (np.zeros(kw.MAX_EVENTS), np.zeros(kw.MAX_EVENTS, np.int64))
         ev = ev + (np.zeros(kw.MAX_EVENTS, np.int64), np.zeros(kw.MAX_EVENTS))
@@ -361,7 +369,7 @@ class SwitchProblem(MinimalStates):
             "idr": idr,
             "acc": acc,
             "acc_floors": acc_floors,
-            "x_iso": float(0.5 * np.max(xi.max(axis=0) - xi.min(axis=0))) if xi.size else 0.0,
+            "x_iso": dense_half_range(xi, v, QDD @ sysm.D.T, 1.0 / (f * N)),
             "stick_all_period": bool(stuck and not pm.events),
             "v_slip_max": float(np.max(np.abs(v))) if v.size else 0.0,
             "min_normal_force": float(lam.min()) if lam.size else math.nan,
@@ -418,7 +426,8 @@ def switch_problem(system, amplitude: float, *, load: HarmonicForce | None = Non
     """The isolated ``system`` with the switch model (true stick) under
     ``u''_hor = amplitude sin(2 pi f t)``, or under the force ``amplitude sin(2 pi f t +
     phase)`` on ``load``'s dofs. Any isolated system: a frame model, a shear building, a system
-    from matrices (frozen normal forces or contacts)."""
+    from matrices (frozen normal forces or contacts); ``amplitude`` finite and >= 0."""
+    amplitude = check_amplitude(amplitude)
     if system.isolation is None:
         raise ValueError("shooting needs an isolated model; the fixed base is linear (use FRFs)")
     if load is not None and not isinstance(load, HarmonicForce):

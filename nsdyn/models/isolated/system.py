@@ -41,6 +41,9 @@ FIDELITIES = ("fixed", "rigid", "cb", "full")
 # what a normal force reaching zero means: the isolators hold the structure down (bilateral,
 # seed 004), the run stops / flags it (detect), or the isolator lifts off and lands (unilateral)
 CONTACTS = ("bilateral", "detect", "unilateral")
+# the numeric fields of Isolation, each finite and >= 0 (checked when one is built)
+ISOLATION_NUMBERS = ("k_lam", "c", "mu", "eps", "eta", "alpha", "beta", "kappa",
+                     "diaphragm_EA", "diaphragm_EI", "g")  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -70,6 +73,22 @@ class Isolation:
             raise ValueError(
                 f"isolation.contact: expected one of {list(CONTACTS)}, got {self.contact!r}"
             )
+        if self.law not in ("arctan", "switch", "none"):
+            raise ValueError(
+                f"isolation.law: expected 'arctan', 'switch' or 'none', got {self.law!r}"
+            )
+        # every parameter a finite non-negative number (mu < 0 or eps < 0 would feed energy in)
+        for k in ISOLATION_NUMBERS:
+            v = getattr(self, k)
+            try:
+                vals = np.atleast_1d(np.asarray(0.0 if v is None else v, dtype=float))
+            except (TypeError, ValueError):
+                vals = np.array([np.nan])
+            if vals.size == 0 or vals.ndim != 1 or not np.all(np.isfinite(vals) & (vals >= 0)):
+                per = " (or one per isolator)" if k in ("k_lam", "c", "mu") else ""
+                raise ValueError(
+                    f"isolation.{k}: expected a finite non-negative number{per}, got {v!r}"
+                )
 
     def per_isolator(self, name: str, n: int) -> np.ndarray:
         v = np.atleast_1d(np.asarray(getattr(self, name), dtype=float))

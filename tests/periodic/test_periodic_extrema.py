@@ -1,0 +1,69 @@
+"""The periodic x_iso on the dense output, against a closed-form periodic solution.
+
+Reference: the linear oscillator m x'' + c x' + k x = -m A sin(w t) has the steady state
+x(t) = -X sin(w t - phi), X = m A / sqrt((k - m w^2)^2 + (c w)^2), tan phi = c w / (k - m w^2)
+(any vibrations text, e.g. Chopra, Dynamics of Structures, eq. 3.2.2). x_iso is X.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from nsdyn import periodic as pr
+from nsdyn.models.isolated.builders import system_from_matrices
+from nsdyn.models.isolated.system import Isolation
+from nsdyn.periodic.extrema import dense_half_range, dense_max
+
+M, K = 1.0, (2 * math.pi) ** 2  # 1 Hz
+C = 2 * 0.05 * math.sqrt(K * M)  # 5 % damping
+A = 2.0  # m/s^2
+
+
+def _linear():
+    iso = Isolation(k_lam=0.0, c=0.0, mu=0.0, law="none")
+    return system_from_matrices([[M]], [[C]], [[K]], iso_dofs=[0], influence=[1.0],
+                                isolation=iso, weight=M * iso.g, levels=[[0]])  # fmt: skip
+
+
+@pytest.mark.parametrize("f", [0.7, 2.9])
+def test_x_iso_is_the_closed_form_amplitude(f):
+    # 400 SDIRK3 steps per period: sampling alone misses the peak by up to X (w h)^2 / 8
+    # (3e-5 X), the scheme's own error is O((w h)^3). The bound is the analysis of the module
+    # nsdyn.periodic.extrema: 2 e_x + h e_v + h^2 e_a (errors of the samples against the exact
+    # solution, measured here from the closed form) + X w^6 (h/2)^6 / 720 (interpolation).
+    # At these two frequencies the peak falls between samples: the largest sample misses X
+    # by more than the bound, so the test tells the dense output from the samples.
+    w = 2 * math.pi * f
+    X = M * A / math.hypot(K - M * w * w, C * w)
+    phi = math.atan2(C * w, K - M * w * w)
+    prob = pr.frame_problem(_linear(), A)
+    disc = pr.Discretisation(method="sdirk3", n_min=400, dt_max=1e9)
+    res = pr.shoot(prob, f, disc=disc)
+    assert res.converged
+    N = res.n_steps
+    h = 1.0 / (f * N)
+    t = np.linspace(0.0, 1.0 / f, N + 1)
+    Xf = prob.to_full(res.X)
+    x, v = Xf[:, 0], Xf[:, 1]
+    a = (-M * A * np.sin(w * t) - C * v - K * x) / M  # the equation of motion at the samples
+    ex = np.max(np.abs(x + X * np.sin(w * t - phi)))
+    ev = np.max(np.abs(v + X * w * np.cos(w * t - phi)))
+    ea = np.max(np.abs(a - X * w * w * np.sin(w * t - phi)))
+    bound = 2 * ex + h * ev + h * h * ea + X * (w * h / 2) ** 6 / 720
+    x_iso = prob.orbit_quantities(f, res.X)["x_iso"]
+    assert abs(x_iso - X) <= bound
+    assert abs(0.5 * (x.max() - x.min()) - X) > bound  # the samples alone would fail
+
+
+def test_dense_max_of_a_sampled_sine():
+    # sin on 12 samples per period, peak between two samples: exact data, so the error is the
+    # interpolation's alone, <= (w h / 2)^6 / 720 = 2.6e-6 (module text)
+    w, h = 2 * math.pi, 1.0 / 12
+    t = 0.03 + h * np.arange(13)
+    x, v, a = np.sin(w * t), w * np.cos(w * t), -w * w * np.sin(w * t)
+    assert 1.0 - x.max() > 1e-2
+    assert abs(dense_max(x, v, a, h) - 1.0) <= (w * h / 2) ** 6 / 720
+    cols = np.column_stack([x, 2 * x])
+    r = dense_half_range(cols, np.column_stack([v, 2 * v]), np.column_stack([a, 2 * a]), h)
+    assert abs(r - 2.0) <= 2 * (w * h / 2) ** 6 / 720

@@ -1,0 +1,99 @@
+"""Bad arguments of the periodic solvers and of the isolator parameters: one clear ValueError.
+
+The contract (house rule for bad input): the error names the argument and the expected form,
+raised where the value enters (a constructor or a solver's front door), before any
+integration, instead of a ZeroDivisionError, a NaN deep inside, or a "converged" orbit of a
+meaningless problem (a negative frequency integrates backwards in time; mu < 0 or eps < 0 feed
+energy in).
+"""
+
+import math
+
+import pytest
+
+from nsdyn import periodic as pr
+from nsdyn.models.isolated.builders import system_from_matrices
+from nsdyn.models.isolated.system import Isolation
+from nsdyn.periodic.switch import shoot_switch, switch_problem, switch_response
+
+BAD_F = [-0.1, 0.0, math.nan, math.inf, "1 Hz"]
+
+
+def _oscillator(law="switch"):
+    iso = Isolation(k_lam=0.0, c=0.0, mu=0.1, law=law)
+    return system_from_matrices([[1.0]], [[0.1]], [[(2 * math.pi) ** 2]], iso_dofs=[0],
+                                influence=[1.0], isolation=iso, weight=iso.g,
+                                levels=[[0]])  # fmt: skip
+
+
+@pytest.mark.parametrize("f", BAD_F)
+def test_shooting_rejects_a_frequency_that_is_not_positive(f):
+    prob = pr.duffing_problem(0.05, 1.0, 0.1, 0.5)
+    with pytest.raises(ValueError, match=r"^f: expected a finite forcing frequency > 0 \[Hz\]"):
+        pr.shoot(prob, f)
+    with pytest.raises(ValueError, match=r"^f: expected a finite forcing frequency > 0"):
+        pr.steady_state_sweep(prob, f)
+    with pytest.raises(ValueError, match=r"^f: expected a finite forcing frequency > 0"):
+        pr.period_map(prob, prob.x_ref, f)
+
+
+@pytest.mark.parametrize("f", BAD_F)
+def test_switch_shooting_rejects_a_frequency_that_is_not_positive(f):
+    # f = -0.1 used to "converge" after 0 iterations with a multiplier of 1e54
+    prob = switch_problem(_oscillator(), 1.0)
+    with pytest.raises(ValueError, match=r"^f: expected a finite forcing frequency > 0"):
+        shoot_switch(prob, f)
+
+
+@pytest.mark.parametrize(
+    "field, value",
+    [("mu", -0.1), ("eps", -1.0), ("mu", math.nan), ("k_lam", (5e4, -1.0)), ("c", math.inf),
+     ("eta", -1e-5), ("alpha", "fast")],
+)  # fmt: skip
+def test_isolation_rejects_negative_or_non_finite_parameters(field, value):
+    with pytest.raises(ValueError, match=rf"^isolation\.{field}: expected a finite non-negative"):
+        Isolation(**{field: value})
+
+
+def test_isolation_rejects_an_unknown_law():
+    with pytest.raises(ValueError, match=r"^isolation\.law: expected 'arctan', 'switch' or"):
+        Isolation(law="coulomb")
+
+
+@pytest.mark.parametrize("amplitude", [math.nan, -1.0, math.inf])
+def test_problem_constructors_reject_a_bad_amplitude(amplitude):
+    with pytest.raises(ValueError, match=r"^amplitude: expected a finite forcing amplitude"):
+        pr.frame_problem(_oscillator("arctan"), amplitude)
+    with pytest.raises(ValueError, match=r"^amplitude: expected a finite forcing amplitude"):
+        switch_problem(_oscillator(), amplitude)
+    with pytest.raises(ValueError, match=r"^F: expected a finite forcing amplitude"):
+        pr.duffing_problem(0.05, 1.0, 0.1, amplitude)
+    with pytest.raises(ValueError, match=r"^w0: expected a finite number > 0"):
+        pr.duffing_problem(0.05, 0.0, 0.1, 1.0)
+
+
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        ({"fmin": -0.5, "fmax": 2.0}, r"^fmin: expected a finite forcing frequency > 0"),
+        ({"fmin": 0.0, "fmax": 2.0}, r"^fmin: expected a finite forcing frequency > 0"),
+        ({"fmin": 2.0, "fmax": 1.0}, r"^fmax: expected a frequency above fmin = 2 Hz, got 1"),
+        ({"fmin": 1.0, "fmax": math.nan}, r"^fmax: expected a finite forcing frequency"),
+        ({"fmin": 1.0, "fmax": 2.0, "points": 0}, r"^points: expected an integer >= 1"),
+        ({"fmin": 1.0, "fmax": 2.0, "points": 2.5}, r"^points: expected an integer >= 1"),
+    ],
+)
+@pytest.mark.parametrize("continuation", ["sequential", "arclength"])
+def test_switch_response_rejects_a_bad_frequency_range(options, message, continuation):
+    # fmin < 0 gave a NaN error from deep inside, fmin > fmax one point, points = 0 an empty
+    # curve: each is now one error naming the argument, before any orbit is computed
+    with pytest.raises(ValueError, match=message):
+        switch_response(_oscillator(), 1.0, continuation=continuation, **options)
+
+
+def test_sequential_continuation_rejects_unordered_frequencies():
+    prob = pr.duffing_problem(0.05, 1.0, 0.1, 0.5)
+    with pytest.raises(ValueError, match=r"^freqs: expected increasing finite frequencies > 0"):
+        pr.continue_sequential(prob, [0.3, 0.2, 0.1])
+    with pytest.raises(ValueError, match=r"^fmax: expected a frequency above fmin"):
+        pr.log_frequencies(1.0, 0.5, 10)
