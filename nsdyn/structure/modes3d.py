@@ -103,6 +103,10 @@ def _eig_dense(K, M, k):
 def _eig_sparse(K, M, k):
     try:
         lam, V = spla.eigsh(sp.csc_array(K), k=k, M=sp.csc_array(M), sigma=0.0, which="LM")
+    except spla.ArpackError as exc:  # e.g. M of rank close to k: the Lanczos space collapses
+        raise ValueError(
+            f"the sparse eigensolver failed ({exc}); if few dofs carry mass, use method='dense'"
+        ) from None
     except RuntimeError as exc:  # singular factor: a mechanism
         raise ValueError(f"the fixed-base stiffness is singular (a mechanism): {exc}") from None
     if not np.all(np.isfinite(lam)) or np.any(lam <= 0):
