@@ -30,6 +30,7 @@ from nsdyn.ground.synthesis import (
     shinozuka_envelope,
     sine_pulse,
 )
+from nsdyn.ground.table3 import motion3_from_table
 
 __all__ = [
     "ForceTable",
@@ -51,6 +52,7 @@ __all__ = [
     "kanai_tajimi_psd",
     "kobe_records",
     "modulated_white_noise",
+    "motion3_from_table",
     "read_at2",
     "read_jma",
     "read_motion",

@@ -1,0 +1,188 @@
+"""A three-component excitation from a plain table (a scene file's ``[motion]``): record or orbit.
+
+``motion3_from_table(table, source)`` turns the keys below into a :class:`GroundMotion3` or a
+:class:`HarmonicPlane` and the run's duration keywords (``{"t_end": …}``, ``{"n_periods": …}``
+or ``{}`` for a record, which ends with its last sample). Every bad key or value raises one
+``ValueError`` line ``<source>: motion.<key>: expected …, got …``, which a scene reader can
+re-raise as its own error.
+
+Record (``kind = "record3"``):
+
+    record = "synthetic-wn-40s"   # a bundled record with a second component, or a t,ax,ay[,az] CSV
+    x, y, z = "…090.AT2", "…000.AT2", "…UP.AT2"   # or one file per component (z optional)
+    units, dt, rotate [deg], trim, vertical (false drops a_z), pga [m/s²],
+    pga_component ("resultant" | "x" | "y" | "geomean"), t_end [s]
+
+Orbit (``kind = "orbit"``), the formulas of :mod:`nsdyn.ground.orbit`:
+
+    orbit = "linear" | "circular" | "elliptical" | "general"
+    frequency [Hz]; amplitude [m/s²] (A, or A_major); amplitude_minor (elliptical);
+    angle [deg] (linear, elliptical); sense = +1 | -1 (circular, elliptical);
+    amplitude_x, amplitude_y, phase_y [deg] (general);
+    vertical_amplitude [m/s²], vertical_frequency [Hz], vertical_phase [deg];
+    t_end [s] or n_periods (one of them: a harmonic excitation has no natural end)
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from nsdyn.ground.motion3 import GroundMotion3
+from nsdyn.ground.orbit import HarmonicPlane
+from nsdyn.ground.readers3 import read_motion3
+
+RECORD3_KEYS = (
+    "kind", "record", "x", "y", "z", "units", "dt", "rotate", "trim", "vertical", "pga",
+    "pga_component", "t_end",
+)  # fmt: skip
+ORBIT_KEYS = {
+    "linear": ("amplitude", "angle"),
+    "circular": ("amplitude", "sense"),
+    "elliptical": ("amplitude", "amplitude_minor", "angle", "sense"),
+    "general": ("amplitude_x", "amplitude_y", "phase_y"),
+}
+_ORBIT_COMMON = (
+    "kind", "orbit", "frequency", "vertical_amplitude", "vertical_frequency", "vertical_phase",
+    "t_end", "n_periods",
+)  # fmt: skip
+KINDS3 = ("record3", "orbit")
+_FIELD_KEYS = {  # HarmonicPlane's argument -> the table's key
+    "f": "frequency",
+    "A": "amplitude",
+    "A_major": "amplitude",
+    "A_minor": "amplitude_minor",
+    "ax": "amplitude_x",
+    "ay": "amplitude_y",
+    "phase_y_deg": "phase_y",
+    "az": "vertical_amplitude",
+    "f_z": "vertical_frequency",
+    "phase_z_deg": "vertical_phase",
+}
+
+
+def _err(source: str, key: str, message: str) -> ValueError:
+    return ValueError(f"{source}: motion.{key}: {message}")
+
+
+def _number(source: str, table: dict, key: str, default=None, *, positive=False, nonneg=False):
+    if key not in table:
+        if default is None:
+            raise _err(source, key, "required")
+        return default
+    v = table[key]
+    if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+        raise _err(source, key, f"expected a finite number, got {v!r}")
+    if positive and not v > 0:
+        raise _err(source, key, f"expected a positive number, got {v!r}")
+    if nonneg and v < 0:
+        raise _err(source, key, f"expected a number >= 0, got {v!r}")
+    return float(v)
+
+
+def _check_keys(source: str, table: dict, valid) -> None:
+    for key in table:
+        if key not in valid:
+            raise _err(source, key, f"unknown field; expected some of {sorted(valid)}")
+
+
+def motion3_from_table(
+    table: dict[str, Any], source: str = "<scene>"
+) -> tuple[GroundMotion3 | HarmonicPlane, dict[str, float]]:
+    """(excitation, duration keywords) of a ``[motion]`` table (see the module docstring)."""
+    kind = table.get("kind")
+    if kind == "record3":
+        return _record3(table, source), {}
+    if kind == "orbit":
+        return _orbit(table, source)
+    raise _err(source, "kind", f"expected one of {list(KINDS3)}, got {kind!r}")
+
+
+def _record3(table: dict, source: str) -> GroundMotion3:
+    _check_keys(source, table, RECORD3_KEYS)
+    files = {k: table[k] for k in ("x", "y", "z") if k in table}
+    if "record" in table and files:
+        raise _err(source, "record", "give record or x/y/z files, not both")
+    if "record" not in table and "x" not in table:
+        raise _err(source, "record", "required (a bundled name or a CSV), or x= and y= files")
+    for key in ("record", *files, "units", "pga_component"):
+        if key in table and not isinstance(table[key], str):
+            raise _err(source, key, f"expected a string, got {table[key]!r}")
+    for key in ("trim", "vertical"):
+        if key in table and not isinstance(table[key], bool):
+            raise _err(source, key, f"expected true or false, got {table[key]!r}")
+    kw: dict[str, Any] = {"trim": table.get("trim", False)}
+    if "units" in table:
+        kw["units"] = table["units"]
+    if "dt" in table:
+        kw["dt"] = _number(source, table, "dt", positive=True)
+    kw["rotate"] = _number(source, table, "rotate", 0.0)
+    where = "record" if "record" in table else "y" if "x" in files else "x"
+    try:
+        if "record" in table:
+            motion = read_motion3(table["record"], **kw)
+        else:
+            motion = read_motion3(files.get("x"), files.get("y"), files.get("z"), **kw)
+    except (OSError, ValueError) as e:  # a missing file, an unknown name, a bad record
+        raise _err(source, where, str(e)) from None
+    if not table.get("vertical", True):
+        motion = motion._replace(az=None)
+    if "pga" in table:
+        comp = table.get("pga_component", "resultant")
+        try:
+            motion = motion.scaled_to_pga(_number(source, table, "pga", nonneg=True), comp)
+        except ValueError as e:
+            key = "pga_component" if "component" in str(e) else "pga"
+            raise _err(source, key, str(e)) from None
+    elif "pga_component" in table:
+        raise _err(source, "pga_component", "given without pga")
+    if "t_end" in table:
+        try:
+            motion = motion.window(motion.t0, _number(source, table, "t_end", positive=True))
+        except ValueError as e:  # a t_end before the record's first sample
+            raise _err(source, "t_end", str(e)) from None
+    return motion
+
+
+def _orbit(table: dict, source: str) -> tuple[HarmonicPlane, dict[str, float]]:
+    shape = table.get("orbit")
+    if shape not in ORBIT_KEYS:
+        raise _err(source, "orbit", f"expected one of {list(ORBIT_KEYS)}, got {shape!r}")
+    _check_keys(source, table, _ORBIT_COMMON + ORBIT_KEYS[shape])
+    f = _number(source, table, "frequency", positive=True)
+    vertical = {
+        "az": _number(source, table, "vertical_amplitude", 0.0, nonneg=True),
+        "phase_z_deg": _number(source, table, "vertical_phase", 0.0),
+    }
+    if "vertical_frequency" in table:
+        vertical["f_z"] = _number(source, table, "vertical_frequency", positive=True)
+    sense = table.get("sense", 1)
+    if sense not in (1, -1) or isinstance(sense, bool):
+        raise _err(source, "sense", f"expected +1 (counter-clockwise) or -1, got {sense!r}")
+    angle = _number(source, table, "angle", 0.0)
+    if shape == "general":
+        amps = [_number(source, table, k) for k in ("amplitude_x", "amplitude_y")]
+        amps.append(_number(source, table, "phase_y", 90.0))
+    else:
+        amps = [_number(source, table, "amplitude")]
+        if shape == "elliptical":
+            amps.append(_number(source, table, "amplitude_minor"))
+    try:
+        if shape == "linear":
+            h = HarmonicPlane.linear(f, amps[0], angle, **vertical)
+        elif shape == "circular":
+            h = HarmonicPlane.circular(f, amps[0], sense, **vertical)
+        elif shape == "elliptical":
+            h = HarmonicPlane.elliptical(f, amps[0], amps[1], angle, sense, **vertical)
+        else:
+            h = HarmonicPlane(f, *amps, **vertical)
+    except ValueError as e:  # "HarmonicPlane.<field>: expected …" -> the table's key
+        field, _, rest = str(e).removeprefix("HarmonicPlane.").partition(": ")
+        raise _err(source, _FIELD_KEYS.get(field, field), rest) from None
+    if "t_end" in table and "n_periods" in table:
+        raise _err(source, "t_end / motion.n_periods", "give one, not both")
+    if "t_end" in table:
+        return h, {"t_end": _number(source, table, "t_end", positive=True)}
+    if "n_periods" in table:
+        return h, {"n_periods": _number(source, table, "n_periods", positive=True)}
+    raise _err(source, "t_end", "a harmonic excitation has no natural end; give t_end or n_periods")

@@ -1,0 +1,94 @@
+"""Three-component excitations from a ``[motion]`` table: the same objects as the direct calls,
+and a one-line error naming the source and the key for every bad entry.
+
+Expected values are the direct API calls the keys stand for (read_motion3, scaled_to_pga,
+window, HarmonicPlane's helpers): the table is only another spelling of them.
+"""
+
+import numpy as np
+import pytest
+
+from nsdyn.ground import HarmonicPlane, motion3_from_table, read_motion3
+
+SRC = "scene.toml"
+
+
+def test_record_table_is_the_direct_reading():
+    table = {"kind": "record3", "record": "synthetic-wn-40s", "rotate": 30.0, "pga": 4.0,
+             "pga_component": "geomean", "t_end": 10.0}  # fmt: skip
+    motion, duration = motion3_from_table(table, SRC)
+    ref = read_motion3("synthetic-wn-40s", rotate=30.0).scaled_to_pga(4.0, "geomean")
+    ref = ref.window(ref.t0, 10.0)
+    assert duration == {} and motion.n == ref.n == 1001
+    for c in "xyz":
+        assert np.array_equal(motion.component(c), ref.component(c))
+    no_vertical, _ = motion3_from_table({"kind": "record3", "record": "synthetic-kt-20s",
+                                         "vertical": False})  # fmt: skip
+    assert no_vertical.az is None
+
+
+@pytest.mark.parametrize(
+    "table, expected, duration",
+    [
+        ({"orbit": "circular", "frequency": 0.5, "amplitude": 2.0, "sense": -1, "t_end": 8.0},
+         HarmonicPlane.circular(0.5, 2.0, -1), {"t_end": 8.0}),
+        ({"orbit": "linear", "frequency": 1.0, "amplitude": 1.5, "angle": 120.0,
+          "vertical_amplitude": 0.5, "n_periods": 4},
+         HarmonicPlane.linear(1.0, 1.5, 120.0, az=0.5), {"n_periods": 4.0}),
+        ({"orbit": "elliptical", "frequency": 2.0, "amplitude": 2.0, "amplitude_minor": 1.0,
+          "angle": 30.0, "vertical_frequency": 3.0, "vertical_phase": 10.0,
+          "vertical_amplitude": 1.0, "t_end": 1.0},
+         HarmonicPlane.elliptical(2.0, 2.0, 1.0, 30.0, az=1.0, f_z=3.0, phase_z_deg=10.0),
+         {"t_end": 1.0}),
+        ({"orbit": "general", "frequency": 1.0, "amplitude_x": 1.0, "amplitude_y": 0.5,
+          "phase_y": 45.0, "t_end": 2.0},
+         HarmonicPlane(1.0, 1.0, 0.5, 45.0), {"t_end": 2.0}),
+    ],
+)  # fmt: skip
+def test_orbit_table_is_the_helper(table, expected, duration):
+    h, d = motion3_from_table({"kind": "orbit", **table}, SRC)
+    assert h == expected and d == duration
+
+
+@pytest.mark.parametrize(
+    "table, key, needle",
+    [
+        ({"kind": "wind"}, "kind", "expected one of"),
+        ({"kind": "record3"}, "record", "required"),
+        ({"kind": "record3", "record": "nosuch"}, "record", "neither a file"),
+        ({"kind": "record3", "record": "synthetic-wn-40s", "x": "a.AT2"}, "record", "not both"),
+        ({"kind": "record3", "record": "synthetic-wn-40s", "pgaa": 3}, "pgaa", "unknown"),
+        ({"kind": "record3", "record": "synthetic-wn-40s", "pga": "3"}, "pga", "finite number"),
+        ({"kind": "record3", "record": "synthetic-wn-40s", "pga": 3.0,
+          "pga_component": "z"}, "pga_component", "expected one of"),
+        ({"kind": "record3", "record": "synthetic-wn-40s", "trim": 1}, "trim", "true or false"),
+        ({"kind": "record3", "record": "synthetic-wn-40s", "t_end": -1.0}, "t_end", "positive"),
+        ({"kind": "record3", "x": "/nonexistent/x.AT2", "y": "/nonexistent/y.AT2"}, "y",
+         "no such file"),
+        ({"kind": "orbit", "orbit": "circle"}, "orbit", "expected one of"),
+        ({"kind": "orbit", "orbit": "circular", "amplitude": 1.0, "t_end": 1.0}, "frequency",
+         "required"),
+        ({"kind": "orbit", "orbit": "circular", "frequency": 0.0, "amplitude": 1.0,
+          "t_end": 1.0}, "frequency", "positive"),
+        ({"kind": "orbit", "orbit": "circular", "frequency": 1.0, "amplitude": -1.0,
+          "t_end": 1.0}, "amplitude", ">= 0"),
+        ({"kind": "orbit", "orbit": "elliptical", "frequency": 1.0, "amplitude": 1.0,
+          "amplitude_minor": 2.0, "t_end": 1.0}, "amplitude_minor", "at most"),
+        ({"kind": "orbit", "orbit": "circular", "frequency": 1.0, "amplitude": 1.0,
+          "sense": 0, "t_end": 1.0}, "sense", "+1"),
+        ({"kind": "orbit", "orbit": "linear", "frequency": 1.0, "amplitude": 1.0,
+          "sense": 1, "t_end": 1.0}, "sense", "unknown"),
+        ({"kind": "orbit", "orbit": "circular", "frequency": 1.0, "amplitude": 1.0},
+         "t_end", "no natural end"),
+        ({"kind": "orbit", "orbit": "circular", "frequency": 1.0, "amplitude": 1.0,
+          "t_end": 1.0, "n_periods": 2}, "t_end", "not both"),
+        ({"kind": "orbit", "orbit": "general", "frequency": 1.0, "amplitude_x": 1.0,
+          "amplitude_y": float("nan"), "t_end": 1.0}, "amplitude_y", "finite"),
+    ],
+)  # fmt: skip
+def test_bad_table_names_source_and_key_in_one_line(table, key, needle):
+    with pytest.raises(ValueError) as ei:
+        motion3_from_table(table, SRC)
+    msg = str(ei.value)
+    assert "\n" not in msg and msg.startswith(f"{SRC}: motion.{key}")
+    assert needle in msg
