@@ -172,6 +172,15 @@ class GroundMotion3:
             return self.az
         raise ValueError(f"component: expected 'x', 'y' or 'z', got {name!r}")
 
+    def velocity(self, component: str = "x") -> np.ndarray:
+        """Ground velocity of one component [m/s], trapezoidal rule from rest (as
+        ``GroundMotion.velocity``)."""
+        return GroundMotion(self.t0, self.dt, self.component(component)).velocity()
+
+    def displacement(self, component: str = "x") -> np.ndarray:
+        """Ground displacement of one component [m], trapezoidal rule twice from rest."""
+        return GroundMotion(self.t0, self.dt, self.component(component)).displacement()
+
     def as_arrays(self) -> tuple[float, float, np.ndarray, np.ndarray, np.ndarray]:
         """``(t0, dt, ax, ay, az)`` for numba kernels: float64 C-contiguous, az zeros if None.
 
@@ -228,6 +237,12 @@ class GroundMotion3:
 
     def _from_planes(self, x: GroundMotion, y: GroundMotion) -> GroundMotion3:
         return GroundMotion3(x.t0, x.dt, x.a_hor, y.a_hor, x.a_ver, self.name, self.source, x.meta)
+
+    def baseline_corrected(self, order: int = 1, on: str = "velocity") -> GroundMotion3:
+        """Each component corrected by ``GroundMotion.baseline_corrected`` (a linear operation,
+        so it commutes with rotation)."""
+        x, y = self._planes()
+        return self._from_planes(x.baseline_corrected(order, on), y.baseline_corrected(order, on))
 
     def window(self, t_start: float, t_end: float) -> GroundMotion3:
         """The samples with t_start ≤ t ≤ t_end (absolute times), as ``GroundMotion.window``."""

@@ -374,3 +374,23 @@ def test_jma_kobe_station_three_components():
         assert m.rotated(angle).pga_resultant == pytest.approx(
             m.pga_resultant, abs=ROT_ULPS * U * m.pga_resultant
         )
+
+
+def test_velocity_and_displacement_of_a_constant_acceleration():
+    # trapezoidal rule from rest: exact for a constant a (v = a t) and for the linear v it
+    # gives (u = a t²/2); the cumulative sums add ≤ n u relative round-off each
+    n, dt = 101, 0.01
+    rec = GroundMotion3(0.0, dt, np.full(n, 2.0), np.full(n, -1.0), np.full(n, 0.5))
+    t = rec.t
+    for c, a in (("x", 2.0), ("y", -1.0), ("z", 0.5)):
+        np.testing.assert_allclose(rec.velocity(c), a * t, rtol=0, atol=2 * n * U * abs(a))
+        np.testing.assert_allclose(
+            rec.displacement(c), 0.5 * a * t**2, rtol=0, atol=4 * n * U * abs(a)
+        )
+
+
+def test_baseline_correction_acts_on_every_component(m3):
+    bc = m3.baseline_corrected(order=1)
+    for c, comp in (("x", m3.ax), ("y", m3.ay), ("z", m3.az)):
+        ref = GroundMotion(m3.t0, m3.dt, comp).baseline_corrected(order=1)
+        assert np.array_equal(bc.component(c), ref.a_hor)
