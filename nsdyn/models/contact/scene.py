@@ -49,17 +49,10 @@ import numpy as np
 
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import read_motion
+from nsdyn.models.contact.scene_keys import SCHEMA
 from nsdyn.models.scenefile import SceneError, check_fields, number
 
-_FIELDS = {
-    "scene": {"kind", "name"},
-    "body": {"width", "height", "vertices", "mass"},
-    "friction": {"mu_s", "mu_d", "C"},
-    "impact": {"e_n", "law"},
-    "motion": {"record", "pga", "period", "n_cycles", "start", "t_end", "theta0"},
-    "solver": {"method", "h", "theta", "rtol", "dt_out"},
-    "ground": {"kind", "stiffness", "damping", "damping_ratio", "stick_stiffness"},
-}
+_FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 METHODS = ("event", "moreau")  # solver.method
 T_END = 5.0  # default duration of free motion [s]
 

@@ -26,6 +26,7 @@ import numpy as np
 from nsdyn.atomic import atomic_open, save_figure
 from nsdyn.models.cylinder.design import design_foundation, static_settlement, uplift_onset
 from nsdyn.models.cylinder.params import FOUNDATIONS, CylinderParams
+from nsdyn.models.cylinder.scene_keys import SCHEMA
 from nsdyn.models.cylinder.simulate import (
     EQ_DT,
     EQ_DURATION,
@@ -38,25 +39,7 @@ from nsdyn.models.cylinder.simulate import (
 from nsdyn.models.cylinder.stresses import peak_stresses
 from nsdyn.models.scenefile import SceneError, check_fields, number
 
-TABLES = {
-    "scene": {"kind", "name"},
-    "cylinder": {"r", "H", "m", "I_t", "I_a"},
-    "foundation": {"case", "k", "c", "f_rock", "zeta", "sliding", "mu"},
-    "motion": {
-        "seed",
-        "duration",
-        "dt",
-        "s0_units",
-        "record",
-        "record_y",
-        "record_z",
-        "pga",
-        "t_end",
-    },  # fmt: skip
-    "solver": {"rtol", "method"},
-    "output": {"z_section"},
-    "star": {"case"},
-}
+TABLES = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 STAR_QUANTITIES = ("k", "c", "H", "r")  # quantities a star case may scale
 METHODS = ("dopri5",)  # integrators of this family
 

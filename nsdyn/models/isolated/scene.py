@@ -44,6 +44,7 @@ import copy
 from pathlib import Path
 
 from nsdyn.models.isolated.defaults import C_DAMPER, EPS, F_MAX, K_LAM, MU
+from nsdyn.models.isolated.scene_keys import MOTION_RECORD, SCENE, SOLVER, checked_types
 from nsdyn.models.isolated.scene_structure import (
     build_structure,
     check_user_isolation,
@@ -73,25 +74,7 @@ DEFAULT_SCENE = {
     },
 }
 
-_FIELDS = {
-    "scene": {"kind": str, "name": str, "frame": str, "fidelity": str, "f_max": float},
-    "motion": {
-        "record": str,
-        "pga": float,
-        "vertical": bool,
-        "t_end": float,
-        "units": str,
-        "dt": float,
-    },
-    "solver": {
-        "method": str,
-        "rtol": float,
-        "atol": "tolerance",
-        "dt": float,
-        "dt_out": float,
-        "uplift": str,
-    },
-}
+_FIELDS = checked_types(SCENE, MOTION_RECORD, SOLVER)  # declared in scene_keys
 
 
 _EXTRA_TABLES = ("structure", "force")  # scene_structure's tables

@@ -40,43 +40,24 @@ Excitations besides a ground record (``[motion] record``)::
 
 from __future__ import annotations
 
+from nsdyn.models.isolated.scene_keys import (
+    FORCE_HARMONIC,
+    FORCE_RECORD,
+    MOTION_HARMONIC,
+    STRUCTURE_MATRICES,
+    STRUCTURE_SHEAR,
+)
 from nsdyn.models.scenefile import SceneError, number, unknown_key
 
 STRUCTURE_KINDS = ("shear", "matrices")
-_STRUCTURE_FIELDS = {
-    "shear": {"kind", "masses", "stiffnesses", "damping_ratios", "heights"},
-    "matrices": {
-        "kind",
-        "M",
-        "C",
-        "K",
-        "iso_dofs",
-        "influence",
-        "weight",
-        "contact_rows",
-        "levels",
-        "heights",
-    },
-}
+_STRUCTURE_FIELDS = {"shear": STRUCTURE_SHEAR.names(), "matrices": STRUCTURE_MATRICES.names()}
 _REQUIRED = {
     "shear": ("masses", "stiffnesses", "damping_ratios"),
     "matrices": ("M", "C", "K", "iso_dofs", "influence"),
 }
 ISOLATION_REQUIRED = ("k_lam", "c", "mu")  # no frame defaults for another structure
-HARMONIC_MOTION_FIELDS = {"kind", "amplitude", "frequency", "phase", "t_end", "n_periods"}
-FORCE_FIELDS = {
-    "harmonic": {
-        "kind",
-        "dofs",
-        "weights",
-        "amplitude",
-        "frequency",
-        "phase",
-        "t_end",
-        "n_periods",
-    },
-    "record": {"kind", "dofs", "weights", "record", "scale", "t_end", "units", "dt"},
-}
+HARMONIC_MOTION_FIELDS = MOTION_HARMONIC.names()
+FORCE_FIELDS = {"harmonic": FORCE_HARMONIC.names(), "record": FORCE_RECORD.names()}
 
 
 def structure_kind(cfg: dict, source: str) -> str | None:
@@ -248,7 +229,12 @@ def force_excitation(fo: dict, source: str, motion_overrides: dict | None = None
         if key not in fo:
             raise SceneError(f"{source}: force.{key}: required for kind = 'record'")
     kw = {k: fo[k] for k in ("units", "dt") if k in fo}
-    motion = read_motion(fo["record"], **kw)
+    if "dt" in kw:
+        kw["dt"] = number(source, "force.dt", kw["dt"])
+    try:
+        motion = read_motion(fo["record"], **kw)
+    except (OSError, ValueError) as e:  # a missing file, an unknown name, a bad record
+        raise SceneError(f"{source}: force.record: {' '.join(str(e).split())}") from None
     if "t_end" in fo:
         motion = motion.window(motion.t0, number(source, "force.t_end", fo["t_end"]))
     scale = number(source, "force.scale", fo["scale"], positive=False)

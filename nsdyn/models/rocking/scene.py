@@ -46,29 +46,11 @@ import numpy as np
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import G_EARTH, read_motion
 from nsdyn.ground.pulses import SHAPES, Pulse
+from nsdyn.models.rocking.scene_keys import SCHEMA
 from nsdyn.models.scenefile import SceneError, check_fields, number
 
 MODELS = ("block", "frame", "compliant")  # [scene] model
-_FIELDS = {
-    "scene": {"kind", "name", "model"},
-    "block": {"width", "height", "r", "linear", "mass", "gamma", "omega_v_over_p", "zeta"},
-    "motion": {
-        "record",
-        "pga",
-        "vertical",
-        "pulse",
-        "a_p",
-        "a_p_g",
-        "omega_p",
-        "f_p",
-        "n_cycles",
-        "ver_ratio",
-        "t_end",
-        "theta0_over_alpha",
-        "t_start",
-    },  # fmt: skip
-    "solver": {"tol", "dt_out", "method"},
-}
+_FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 T_END = 10.0  # default duration without a record [s]
 METHODS = ("dopri5",)  # the rocking integrator (event-located Dormand-Prince 5(4))
 

@@ -1,0 +1,56 @@
+"""Griffe extension: render the reStructuredText bits of nsdyn's docstrings as Markdown.
+
+The docstrings are written for ``help()`` and use a few reST forms: roles
+(``:func:`nsdyn.simulate```, ``:class:`~nsdyn.ground.GroundMotion```) and literal blocks
+introduced by ``::``. mkdocstrings renders docstrings as Markdown, so roles become code
+spans and a trailing ``::`` a single colon (the indented block after it is already a Markdown
+code block). The docstrings themselves are the one source; nothing is copied.
+"""
+
+from __future__ import annotations
+
+import re
+
+import griffe
+
+_REFLINK = re.compile(r"\][ ]?\[")
+_ROLE = re.compile(r":(?:py:)?(?:func|class|mod|meth|attr|data|obj|exc|const|ref):`~?([^`]+)`")
+
+
+def _no_reference_links(line: str) -> str:
+    """``[a] [b]`` or ``[a][b]`` outside code spans, escaped so Markdown does not read a
+    reference link in it (docstrings write units and options in brackets: ``[m/s^2]``)."""
+    parts = line.split("`")
+    for i in range(0, len(parts), 2):  # the even parts are outside code spans
+        parts[i] = _REFLINK.sub(lambda m: m.group(0)[:-1] + "&#91;", parts[i])
+    return "`".join(parts)
+
+
+def markdown_of(text: str) -> str:
+    """``text`` with reST roles turned into code spans, literal-block ``::`` into ``:`` and
+    bracketed words kept from reading as Markdown reference links."""
+    text = _ROLE.sub(lambda m: f"`{m.group(1)}`", text)
+    lines = text.split("\n")
+    for i, line in enumerate(lines):
+        stripped = line.rstrip()
+        if stripped.endswith("::"):
+            body = stripped[:-2].rstrip()
+            stripped = body + ":" if body else ""
+        lines[i] = stripped if stripped.startswith("    ") else _no_reference_links(stripped)
+    return "\n".join(lines)
+
+
+class RstToMarkdown(griffe.Extension):
+    """Rewrite every docstring once, when its object is loaded."""
+
+    def _fix(self, obj) -> None:
+        doc = getattr(obj, "docstring", None)
+        if doc is not None and not getattr(doc, "_nsdyn_md", False):
+            doc.value = markdown_of(doc.value)
+            doc._nsdyn_md = True
+
+    def on_instance(self, *, obj, **kwargs) -> None:  # noqa: D102
+        self._fix(obj)
+
+    def on_object(self, *, obj, **kwargs) -> None:  # noqa: D102
+        self._fix(obj)
