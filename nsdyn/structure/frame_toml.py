@@ -185,6 +185,8 @@ def frame_from_dict(data: Mapping, file: str = "<dict>") -> Frame:
     Raises :class:`FrameFileError` naming ``file``, the dotted field and what was expected.
     """
     rd = _Reader(file)
+    if "frame3d" in data:
+        rd.fail("frame3d", "a plane [frame] table (a 3D frame file is read by load_frame3d)")
     rd.known(data, {"frame"}, "")
     frame = rd.table(data, "frame", "frame")
     name = rd.string(frame, "name", "frame.name")

@@ -444,6 +444,46 @@ def test_unknown_frame_name_lists_bundled():
     _expect(FrameFileError, lambda: load_frame("office-12"), "office-11", "portal")
 
 
+# 3D frame files (nsdyn.structure.load_frame3d): orientation vectors, diaphragms, sections
+OFFICE3D = "office-11-3d.toml"
+PORTAL3D = "portal-3d.toml"
+FRAME3D_ROWS = [
+    (
+        "frame3d-no-vecxz",
+        PORTAL3D,
+        "vecxz = [1.0, 0.0, 0.0]\n",
+        "",
+        [r"frame3d\.members\[0\]\.vecxz", "orientation vector"],
+    ),
+    (
+        "frame3d-parallel-vecxz",
+        OFFICE3D,
+        "vecxz = [1.0, 0.0, 0.0]",
+        "vecxz = [0.0, 0.0, 1.0]",
+        [r"frame3d\.columns\.vecxz", "not parallel"],
+    ),
+    (
+        "frame3d-diaphragm-one-node",
+        PORTAL3D,
+        "nodes = [4, 5, 6, 7]",
+        "nodes = [4]",
+        [r"frame3d\.diaphragms\[0\]\.nodes", ">= 2"],
+    ),
+    ("frame3d-missing-I_y", OFFICE3D, "I_y = 0.00805\n", "", [r"frame3d\.beams_x\.I_y"]),
+    ("frame3d-missing-J", PORTAL3D, "J = 1.852e-6\n", "", [r"frame3d\.sections\[0\]\.J"]),
+]
+
+
+@pytest.mark.parametrize("row", FRAME3D_ROWS, ids=[r[0] for r in FRAME3D_ROWS])
+def test_bad_frame3d_file(tmp_path, row):
+    from nsdyn.structure import load_frame3d
+
+    rid, example, old, new, needles = row
+    p = _write(tmp_path, f"bad-{rid}.toml", _edit((FRAMES / example).read_text(), old, new))
+    msg = _expect(FrameFileError, lambda: load_frame3d(p), *needles)
+    assert msg.startswith(f"{p.name}: ") and "\n" not in msg, f"file not named: {msg!r}"
+
+
 # ----------------------------------------------------------------------------- records
 RECORD_ROWS = [
     ("empty", "", RecordFileError, [r"numeric data"]),

@@ -1,0 +1,197 @@
+"""3D frame files: the bundled examples, the explicit and the generated forms, bad input.
+
+Sources: the file format's contract (every error one line naming the file, the dotted field
+and the expected form), tributary-length lumping of floor masses (mass conservation), and
+the equality of a structure listed node by node and the same structure generated (same
+matrices up to numbering, so equal eigenvalues to the round-off bound c n eps cond(K)).
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from nsdyn.structure import (
+    FrameFileError,
+    Section3D,
+    bundled_frames,
+    fixed_base_modes_3d,
+    frame3d_from_dict,
+    is_frame3d,
+    load_frame,
+    load_frame3d,
+    regular_building_3d,
+)
+
+REPO = Path(__file__).resolve().parents[2]
+PORTAL = (REPO / "frames" / "portal-3d.toml").read_text()
+OFFICE = (REPO / "frames" / "office-11-3d.toml").read_text()
+EPS = np.finfo(float).eps
+
+
+def write(tmp_path, text, old, new, name="bad.toml"):
+    assert old in text, old
+    p = tmp_path / name
+    p.write_text(text.replace(old, new, 1))
+    return p
+
+
+def test_bundled_3d_frames_load_by_name_and_path():
+    assert {"office-11-3d", "portal-3d"} <= set(bundled_frames())
+    assert is_frame3d("office-11-3d") and not is_frame3d("office-11")
+    a, b = load_frame3d("portal-3d"), load_frame3d(REPO / "frames" / "portal-3d.toml")
+    assert np.array_equal(a.nodes, b.nodes) and a.n_dof == 48
+    # rho gives rho_A = rho A and the torsional inertia rho (I_y + I_z)
+    assert a.rho_A[0] == pytest.approx(7850 * 0.0149, rel=1e-15)
+    assert a.rho_Ip[0] == pytest.approx(7850 * (2.517e-4 + 8.563e-5), rel=1e-15)
+    assert a.G[0] == pytest.approx(2.1e11 / 2.6, rel=1e-15)  # nu = 0.3
+
+
+def test_plane_loader_names_a_3d_file_as_such():
+    with pytest.raises(FrameFileError, match=r"^office-11-3d\.toml: frame3d: .*load_frame3d"):
+        load_frame("office-11-3d")
+
+
+def test_explicit_portal_equals_the_generated_one():
+    # the same one-storey building listed node by node and generated: equal frequencies to
+    # c n eps cond(K) relative (the matrices differ only by numbering and rounding)
+    p = PORTAL.replace(
+        "base_nodes = [0, 1, 2, 3]",
+        "base_nodes = [0, 1, 2, 3]\n"
+        "node_mass = [[0, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 6000],"
+        " [0, 0, 6000], [0, 0, 6000], [0, 0, 6000]]",
+    )
+    ex = frame3d_from_dict(tomllib.loads(p), "portal-3d.toml")
+    col = Section3D(2.1e11, 2.1e11 / 2.6, 0.0149, 2.517e-4, 8.563e-5, 1.852e-6, 7850 * 0.0149)
+    beam = Section3D(2.1e11, 2.1e11 / 2.6, 0.00845, 2.313e-4, 1.318e-5, 5.108e-7, 7850 * 0.00845)
+    gen = regular_building_3d(
+        "g", [6.0], [5.0], [4.0], col, beam, beam, 1, 1, 24000.0, 122000.0, 0.02
+    )
+    assert np.array_equal(gen.node_mass[:, 2], ex.node_mass[:, 2])
+    m1 = fixed_base_modes_3d(ex, n_modes=8)
+    m2 = fixed_base_modes_3d(gen, n_modes=8)
+    K, _ = ex.reduced()
+    i = np.setdiff1d(np.arange(ex.n_red), ex.boundary_reduced)
+    eb = 10 * len(i) * EPS * np.linalg.cond(K[i][:, i].toarray())
+    lam1, lam2 = m1.f_hz**2, m2.f_hz**2
+    assert np.all(np.abs(lam1 - lam2) <= eb * lam2 * lam2 / lam2[0])
+    assert m1.family == m2.family
+
+
+def test_generator_spreads_floor_mass_and_numbers_column_lines():
+    # Source: tributary-length lumping conserves each floor's mass; with diaphragms it acts
+    # horizontally at the master and vertically on the nodes, without them in x, y and z.
+    s = Section3D(2.1e11, 8e10, 1e-2, 1e-4, 1e-4, 1e-4, 0.0)
+    for dia in (True, False):
+        b = regular_building_3d(
+            "t",
+            [4.0, 8.0],
+            [5.0],
+            [3.0, 3.0],
+            s,
+            s,
+            s,
+            2,
+            3,
+            [1200.0, 600.0],
+            zeta=0.05,
+            diaphragms=dia,
+        )
+        assert b.total_mass == pytest.approx(1800.0, rel=1e-14)
+        assert b.node_mass[:, 2].sum() == pytest.approx(1800.0, rel=1e-14)
+        assert b.node_mass[:, 0].sum() == pytest.approx(0.0 if dia else 1800.0, abs=1e-9)
+        assert b.column_joints.shape == (3, 6)
+        z = b.nodes[b.column_joints, 2]
+        assert np.allclose(z, np.array([0.0, 3.0, 6.0])[:, None])
+        xy = b.nodes[b.column_joints[0], :2]
+        assert xy.tolist() == [[0, 0], [4, 0], [12, 0], [0, 5], [4, 5], [12, 5]]
+
+
+COL_VECXZ = "vecxz = [1.0, 0.0, 0.0]  # local z = global X: I_y resists sway in x\n"
+BAD = [  # (id, file text, old, new, field, expected-form needle)
+    (
+        "office-no-vecxz",
+        OFFICE,
+        COL_VECXZ,
+        "",
+        r"frame3d\.columns\.vecxz",
+        r"orientation vector.*missing",
+    ),
+    (
+        "office-parallel",
+        OFFICE,
+        "vecxz = [1.0, 0.0, 0.0]",
+        "vecxz = [0.0, 0.0, 2.0]",
+        r"frame3d\.columns\.vecxz",
+        r"not parallel",
+    ),
+    ("office-no-I_z", OFFICE, "I_z = 0.00022\n", "", r"frame3d\.beams_x\.I_z", r"positive number"),
+    ("office-no-G", OFFICE, "nu = 0.3\n", "", r"frame3d\.columns\.G", r"G \[Pa\] or nu"),
+    ("office-nu-high", OFFICE, "nu = 0.3", "nu = 0.6", r"frame3d\.columns\.nu", r"\(-1, 0\.5\)"),
+    (
+        "portal-no-vecxz",
+        PORTAL,
+        "vecxz = [1.0, 0.0, 0.0]\n",
+        "",
+        r"frame3d\.members\[0\]\.vecxz",
+        r"orientation vector.*missing",
+    ),
+    (
+        "portal-parallel",
+        PORTAL,
+        "vecxz = [0.0, 0.0, 1.0]",
+        "vecxz = [1.0, 0.0, 0.0]",
+        r"frame3d\.members\[1\]\.vecxz",
+        r"not parallel.*\[4, 5\]",
+    ),
+    (
+        "portal-one-node",
+        PORTAL,
+        "nodes = [4, 5, 6, 7]",
+        "nodes = [4]",
+        r"frame3d\.diaphragms\[0\]\.nodes",
+        r">= 2 distinct",
+    ),
+    (
+        "portal-two-levels",
+        PORTAL,
+        "nodes = [4, 5, 6, 7]",
+        "nodes = [4, 5, 6, 0]",
+        r"frame3d\.diaphragms\[0\]\.nodes",
+        r"one level",
+    ),
+    ("portal-no-J", PORTAL, "J = 1.852e-6\n", "", r"frame3d\.sections\[0\]\.J", r"positive"),
+    (
+        "portal-vecxz-count",
+        PORTAL,
+        "vecxz = [0.0, 0.0, 1.0]",
+        "vecxz = [[0.0, 0.0, 1.0]]",
+        r"frame3d\.members\[1\]\.vecxz",
+        r"one vector per element",
+    ),
+    (
+        "portal-both-rho",
+        PORTAL,
+        "rho = 7850.0",
+        "rho = 7850.0\nrho_A = 117.0",
+        r"frame3d\.sections\[0\]\.rho",
+        r"exactly one of rho",
+    ),
+]
+
+
+@pytest.mark.parametrize("row", BAD, ids=[r[0] for r in BAD])
+def test_bad_3d_frame_file_gives_one_line_naming_file_and_field(tmp_path, row):
+    rid, text, old, new, field, needle = row
+    p = write(tmp_path, text, old, new, f"bad-{rid}.toml")
+    with pytest.raises(FrameFileError) as ei:
+        load_frame3d(p)
+    msg = str(ei.value)
+    assert "\n" not in msg
+    assert msg.startswith(f"{p.name}: ")
+    assert re.search(rf"^{re.escape(p.name)}: {field}: expected ", msg), msg
+    assert re.search(needle, msg), msg
