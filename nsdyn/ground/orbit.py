@@ -146,19 +146,28 @@ class HarmonicPlane:
         """f_z, or f when not given [Hz]."""
         return self.f if self.f_z is None else float(self.f_z)
 
+    def params_rad(self) -> tuple[float, float, float, float, float, float, float]:
+        """``(f, A_x, A_y, φ_y, A_z, f_z, φ_z)`` with the phases in radians and f_z resolved:
+        the numbers a kernel evaluating the formulas above needs."""
+        return (
+            self.f,
+            self.ax,
+            self.ay,
+            math.radians(self.phase_y_deg),
+            self.az,
+            self.vertical_frequency,
+            math.radians(self.phase_z_deg),
+        )
+
     def accel(self, t):
         """(a_x, a_y, a_z) [m/s²] at time(s) t [s] (scalars or arrays like t), by the formulas
         of the module docstring (a_z is zero when A_z = 0)."""
-        w = 2.0 * math.pi * self.f
-        wt = w * np.asarray(t, dtype=np.float64)
-        ax = self.ax * np.sin(wt)
-        ay = self.ay * np.sin(wt + math.radians(self.phase_y_deg))
-        if self.az == 0.0:
-            az = np.zeros_like(wt)
-        else:
-            wz = 2.0 * math.pi * self.vertical_frequency
-            tz = np.asarray(t, dtype=np.float64)
-            az = self.az * np.sin(wz * tz + math.radians(self.phase_z_deg))
+        f, A_x, A_y, phy, A_z, f_z, phz = self.params_rad()
+        tt = np.asarray(t, dtype=np.float64)
+        wt = 2.0 * math.pi * f * tt
+        ax = A_x * np.sin(wt)
+        ay = A_y * np.sin(wt + phy)
+        az = np.zeros_like(wt) if A_z == 0.0 else A_z * np.sin(2.0 * math.pi * f_z * tt + phz)
         if np.ndim(wt) == 0:
             return float(ax), float(ay), float(az)
         return ax, ay, az

@@ -103,6 +103,8 @@ def test_the_formulas_component_by_component():
         assert ay == pytest.approx(0.5 * math.sin(w * t + math.radians(35.0)), abs=tol)
         assert az == pytest.approx(0.9 * math.sin(wz * t + math.radians(-20.0)), abs=tol)
     assert h.period == pytest.approx(1 / 0.7, rel=U)
+    p = h.params_rad()  # what a kernel evaluating the same formulas is given
+    assert p == (0.7, 1.2, 0.5, math.radians(35.0), 0.9, 2.1, math.radians(-20.0))
     same = HarmonicPlane(f=0.7, ax=1.0, az=0.5)  # f_z defaults to f
     assert same.vertical_frequency == 0.7
     assert same.accel(0.25 / 0.7)[2] == pytest.approx(0.5, abs=8 * U)  # sin(π/2)
