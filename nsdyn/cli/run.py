@@ -6,14 +6,54 @@ import argparse
 import json
 import sys
 import time
+import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
 from nsdyn.atomic import atomic_open, save_figure
+from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
+from nsdyn.cli.args import positive_int as _positive_int
 
 DEFAULT_OUT = "nsdyn-out"  # output directory
+
+
+def interrupted(exc: BaseException) -> bool:
+    """True for Ctrl-C / SIGTERM (also wrapped by numba as a SystemError): an interrupted run
+    keeps its checkpoint, which is how a rerun resumes."""
+    from nsdyn.cli.app import _caused_by_interrupt
+
+    return isinstance(exc, KeyboardInterrupt) or _caused_by_interrupt(exc)
+
+
+@contextmanager
+def output_dir(out: Path) -> Iterator[Path]:
+    """The output directory of a run, created if missing. A run that fails (not one that is
+    interrupted) removes the directories it created, when it left them empty; files and
+    directories that were there before are never touched."""
+    made = [d for d in (out, *out.parents) if not d.exists()]  # deepest first
+    out.mkdir(parents=True, exist_ok=True)
+    try:
+        yield out
+    except BaseException as exc:
+        if not interrupted(exc):
+            for d in made:
+                try:
+                    d.rmdir()  # only an empty directory goes
+                except OSError:
+                    break
+        raise
+
+
+def _uplift_cell(v) -> str:
+    if not v:
+        return "none"
+    first = v[0]
+    more = f", {len(v) - 1} more" if len(v) > 1 else ""
+    return f"t = {first['t_s']:.4f} s (contact {first['contact']}){more}"
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -22,7 +62,7 @@ def configure(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--frame", help="bundled frame name or frame TOML path")
     p.add_argument("--record", help="bundled record name or path to a ground-motion file")
-    p.add_argument("--pga", type=_positive_float, metavar="MPS2", help="scale to this PGA")
+    p.add_argument("--pga", type=_positive_finite, metavar="MPS2", help="scale to this PGA")
     p.add_argument("--fixed-base", action="store_true", help="the fixed-base linear frame")
     p.add_argument(
         "--fidelity",
@@ -38,11 +78,17 @@ def configure(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--dt",
-        type=_positive_float,
+        type=_positive_finite,
         metavar="S",
         help="step of the fixed-step methods (default 0.005 s)",
     )
     p.add_argument("--t-end", type=_positive_float, metavar="S", help="stop at this time")
+    p.add_argument(
+        "--max-steps",
+        type=_positive_int,
+        metavar="N",
+        help="step attempts per 5 s chunk of the run before it gives up (default 2000000)",
+    )
     p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR", help="output directory")
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
     p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
@@ -71,10 +117,21 @@ def _scene_overrides(args: argparse.Namespace) -> dict:
         o.setdefault("solver", {})["method"] = args.method
     if args.dt:
         o.setdefault("solver", {})["dt"] = args.dt
+    if getattr(args, "max_steps", None):
+        o.setdefault("solver", {})["max_steps"] = args.max_steps
     return o
 
 
-_ISOLATED_ONLY = ("frame", "fidelity", "fixed_base", "fmax", "friction", "resume", "dt")
+_ISOLATED_ONLY = (
+    "frame",
+    "fidelity",
+    "fixed_base",
+    "fmax",
+    "friction",
+    "resume",
+    "dt",
+    "max_steps",
+)
 
 
 def _check_ladder_flags(args: argparse.Namespace, raw: dict) -> None:
@@ -112,13 +169,10 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     for table, vals in _scene_overrides(args).items():
         cfg.setdefault(table, {}).update(vals)
     mod = importlib.import_module(f"nsdyn.models.{kind}.scene")
-    s = mod.run_scene(
-        cfg,
-        source=str(args.scene),
-        out_dir=Path(args.out),
-        figures=not args.no_figures,
-        quiet=args.json,
-    )
+    with output_dir(Path(args.out)) as out:
+        s = mod.run_scene(
+            cfg, source=str(args.scene), out_dir=out, figures=not args.no_figures, quiet=args.json
+        )
     if args.json:
         print(json.dumps(s))
         return 0
@@ -192,8 +246,8 @@ def _refuse_foreign_checkpoint(path: Path, ident: dict) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from nsdyn.models.isolated.scene import build_scene_run, load_scene
-    from nsdyn.models.scenefile import read_toml, scene_kind
+    from nsdyn.models.isolated.scene import build_scene_run, load_scene, outcome
+    from nsdyn.models.scenefile import SceneError, read_toml, scene_kind
 
     if args.scene is not None:
         raw = read_toml(args.scene)
@@ -235,43 +289,65 @@ def run(args: argparse.Namespace) -> int:
         sv["dt"] = FIXED_DT  # the fixed-step methods' default step
     if method == "event" and system.isolation is not None:
         system = system.with_isolation(law="switch")
+    source = cfg.get("_source", "<scene>")
+    try:
+        t_eval = output_grid(motion, sv.get("dt_out"), **duration)
+    except ValueError as e:
+        raise SceneError(f"{source}: motion: {e}") from None
+    from nsdyn.studies.scenes import check_step_count
+
+    check_step_count(source, method, sv.get("dt"), t_eval, sv.get("max_steps"))
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     stem = "run"
     ckpt = out / f".{stem}-checkpoint.npz"
     identity = out / f".{stem}-checkpoint.json"
     ident = _run_identity(cfg, args)
-    if not args.resume:
-        ckpt.unlink(missing_ok=True)
-        identity.unlink(missing_ok=True)
-    elif ckpt.is_file():
-        _refuse_foreign_checkpoint(identity, ident)
-    with atomic_open(identity, "w") as fh:
-        fh.write(json.dumps(ident, sort_keys=True))
     quiet = args.json
 
     def progress(t, t_end, wall):
         if not quiet and wall > 1.0:
             print(f"  t = {t:7.2f} / {t_end:.2f} s   ({wall:5.1f} s)", file=sys.stderr)
 
+    from nsdyn.solve.integrate import UpliftWarning
     from nsdyn.solve.methods import FLAT_LAWS
 
-    iso = system.isolation
-    compile_s = prepare_kernels(method, iso is None or iso.law in FLAT_LAWS)
-    res = simulate(
-        system,
-        motion,
-        method=method,
-        rtol=sv["rtol"],
-        atol=tuple(sv["atol"]) if isinstance(sv.get("atol"), list) else sv.get("atol"),
-        dt=sv.get("dt"),
-        t_eval=output_grid(motion, sv.get("dt_out"), **duration),
-        uplift=sv.get("uplift", "raise"),
-        progress=progress,
-        checkpoint=ckpt,
-    )
-    ckpt.unlink(missing_ok=True)
-    identity.unlink(missing_ok=True)
+    with output_dir(out):
+        if not args.resume:
+            ckpt.unlink(missing_ok=True)
+            identity.unlink(missing_ok=True)
+        elif ckpt.is_file():
+            _refuse_foreign_checkpoint(identity, ident)
+        resumed = ckpt.is_file()  # a checkpoint of an earlier run: never deleted here
+        try:
+            with atomic_open(identity, "w") as fh:
+                fh.write(json.dumps(ident, sort_keys=True))
+            iso = system.isolation
+            compile_s = prepare_kernels(method, iso is None or iso.law in FLAT_LAWS)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", UpliftWarning)
+                res = simulate(
+                    system,
+                    motion,
+                    method=method,
+                    rtol=sv["rtol"],
+                    atol=tuple(sv["atol"]) if isinstance(sv.get("atol"), list) else sv.get("atol"),
+                    dt=sv.get("dt"),
+                    t_eval=t_eval,
+                    uplift=sv.get("uplift", "raise"),
+                    progress=progress,
+                    checkpoint=ckpt,
+                    **({"max_steps": int(sv["max_steps"])} if "max_steps" in sv else {}),
+                )
+        except BaseException as exc:
+            if not resumed and not interrupted(exc):  # the failed run's own files go
+                ckpt.unlink(missing_ok=True)
+                identity.unlink(missing_ok=True)
+            raise
+        ckpt.unlink(missing_ok=True)
+        identity.unlink(missing_ok=True)
+    for w in caught:  # uplift: one clean line below; anything else as Python shows it
+        if not issubclass(w.category, UpliftWarning):
+            warnings.showwarning(w.message, w.category, w.filename, w.lineno)
     s = res.summary()
     s["compile_s"] = float(s["compile_s"]) + compile_s
     s["record"] = getattr(motion, "name", s["excitation"])
@@ -289,16 +365,27 @@ def run(args: argparse.Namespace) -> int:
             friction_forces=res.response.tau,
         )
     s["histories"] = str(hist)
+    word, text = outcome(s)
+    s["outcome"] = word
+    if s.get("uplift"):  # uplift = "warn": the run went on outside the model's domain
+        print(f"nsdyn run: warning: {text}", file=sys.stderr)
     if not args.no_figures:
         from nsdyn.plot import plot_transient
 
         fig_path = out / f"{stem}.png"
-        save_figure(plot_transient(res), fig_path)
+        fig = plot_transient(res)
+        fig.suptitle(
+            f"outcome: {text.split(':')[0]}", fontsize=9, color="C3" if s.get("uplift") else "k"
+        )
+        if not fig.get_constrained_layout():
+            fig.tight_layout()
+        save_figure(fig, fig_path)
         s["figure"] = str(fig_path)
     if args.json:
         print(json.dumps(s))
         return 0
     pga = f" (PGA {s['pga_mps2']:.2f} m/s²)" if "pga_mps2" in s else ""
+    print(f"outcome {text}")
     print(f"model   {s['model']}   excitation {s['record']}{pga}")
     print(f"method  {s['method']}: {s['n_steps']} steps, run {s['wall_s']:.3f} s", end="")
     print(f" (+ JIT compile/load {s['compile_s']:.1f} s)")
@@ -311,7 +398,7 @@ def run(args: argparse.Namespace) -> int:
         ("minimum normal force", "min_normal_force_N", lambda v: f"{v:.4g} N"),
         ("share of time all isolators stick", "stick_fraction", lambda v: f"{v:.2f}"),
         ("energy balance closure error", "energy_closure", lambda v: f"{v:.2e}"),
-        ("uplift", "uplift", lambda v: "none" if not v else str(v)),
+        ("uplift", "uplift", _uplift_cell),
         ("contact assumption", "contact", str),
         ("a normal force < 0 (lift-off)", "would_lift_off", lambda v: "yes" if v else "no"),
         ("lift-offs / landings", "lift_offs", lambda v: f"{v} / {s.get('landings', 0)}"),

@@ -10,9 +10,10 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
-from nsdyn.cli.args import EXIT_INTERRUPTED, positive_int
+from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, positive_int
 
 DEFAULT_OUT = "nsdyn-study"  # output directory (a subdirectory per study name)
+MAX_FAILED_LINES = 10  # failed tasks named one per line on the console (all are in the table)
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -71,6 +72,7 @@ def _format(name: str, run: dict, an: dict) -> str:
                     f"fragility {f['edp']} > {r['limit']}: theta = {r['theta']:.4g} "
                     f"(se of ln theta {r['se_ln_theta']:.3f}), beta = {r['beta']:.3f} "
                     f"(se {r['se_beta']:.3f}), {r['n_exceed']}/{r['n']} exceed"
+                    + (f" ({r['failures']})" if r.get("n_failed_as_exceedance") else "")
                 )
             else:
                 lines.append(f"fragility {f['edp']} > {r['limit']}: {r['error']}")
@@ -78,6 +80,32 @@ def _format(name: str, run: dict, an: dict) -> str:
         if an.get(part, {}).get("figure"):
             lines.append(f"figure: {an[part]['figure']}")
     return "\n".join(lines)
+
+
+def failures(study, rows: list[dict]) -> list[dict]:
+    """The failed rows of a table as {index, task (its label), error}, in task order."""
+    from nsdyn.studies.study import task_label
+
+    out = []
+    for r in sorted(rows, key=lambda r: r.get("index", 0)):
+        if r.get("status") == "ok":
+            continue
+        params = {p.name: r.get(p.name) for p in study.parameters if p.name in r}
+        label = task_label(r.get("index", "?"), params, r.get("record") or "")
+        out.append({"index": r.get("index"), "task": label, "error": r.get("error", "")})
+    return out
+
+
+def _failure_lines(failed: list[dict], table: str) -> list[str]:
+    lines = [f"failed  {f['task']}: {f['error']}" for f in failed[:MAX_FAILED_LINES]]
+    if len(failed) > MAX_FAILED_LINES:
+        lines.append(f"        ... and {len(failed) - MAX_FAILED_LINES} more failed tasks")
+    if failed:
+        lines.append(
+            f"{len(failed)} failed task{'s' if len(failed) > 1 else ''}: the reasons are in "
+            f"the 'error' column of {table}; after a fix, rerun with --retry-failed"
+        )
+    return lines
 
 
 def run(args: argparse.Namespace) -> int:
@@ -112,11 +140,16 @@ def run(args: argparse.Namespace) -> int:
     finally:
         signal.signal(signal.SIGTERM, old)
     summary = res.as_dict()
+    failed = failures(study, res.table.rows)
+    summary["failed"] = [{"index": f["index"], "error": f["error"]} for f in failed]
     if args.parquet:
         summary["parquet"] = str(res.table.to_parquet(out / "results.parquet"))
     an = run_analyses(study, res.table, out, figures=not args.no_figures)
+    status = EXIT_NUMERICS if failed else 0  # a study with failed tasks is not a success
     if args.json:
         print(json.dumps({"study": study.name, "run": summary, "analysis": an}))
-        return 0
+        return status
     print(_format(study.name, summary, an))
-    return 0
+    for line in _failure_lines(failed, summary["table"]):
+        print(line, file=sys.stderr)
+    return status

@@ -22,17 +22,29 @@ class SceneError(ValueError):
     """A scene file or option is invalid; the message names the file and field."""
 
 
-def read_toml(path: str | Path) -> dict:
-    """The parsed TOML file, or :class:`SceneError` naming the file and the syntax error."""
+def read_toml(path: str | Path, what: str = "scene") -> dict:
+    """The parsed TOML file, or :class:`SceneError` naming the file and the syntax error.
+
+    A file without a single table or key (empty, or comments only) is refused: it would
+    otherwise run the defaults, which is never what a file named on the command line means.
+    ``what`` names the kind of file in the messages ("scene", "study").
+    """
     p = Path(path)
     if not p.is_file():
-        raise SceneError(f"{path}: no such scene file")
+        raise SceneError(f"{path}: no such {what} file")
     try:
-        return tomllib.loads(p.read_text())
+        data = tomllib.loads(p.read_text())
     except tomllib.TOMLDecodeError as e:
         raise SceneError(f"{path}: not valid TOML: {e}") from None
     except UnicodeDecodeError as e:
         raise SceneError(f"{path}: not a text file: {e}") from None
+    if not data:
+        example = "[study] name = ... and [parameters]" if what == "study" else "[scene] kind"
+        raise SceneError(
+            f"{path}: empty {what} file (no table or key); expected TOML tables such as "
+            f"{example} (see the examples)"
+        )
+    return data
 
 
 def unknown_key(source: str, where: str, key: str, valid) -> SceneError:

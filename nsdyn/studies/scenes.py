@@ -28,6 +28,7 @@ import math
 import tempfile
 import threading
 import time
+import warnings
 from dataclasses import replace
 from functools import lru_cache
 from pathlib import Path
@@ -119,6 +120,8 @@ def _custom_excitation(cfg: dict) -> bool:
 
 
 def _run_isolated(cfg: dict, source: str) -> dict:
+    from nsdyn.models.isolated.scene import outcome
+    from nsdyn.solve.integrate import UpliftWarning
     from nsdyn.solve.transient import output_grid, simulate
 
     duration: dict = {}
@@ -134,18 +137,23 @@ def _run_isolated(cfg: dict, source: str) -> dict:
     if method == "event" and system.isolation is not None:
         system = replace(system, isolation=replace(system.isolation, law="switch"), _static=None)
     atol = sv.get("atol")
-    res = simulate(
-        system,
-        motion,
-        method=method,
-        rtol=sv["rtol"],
-        atol=tuple(atol) if isinstance(atol, list) else atol,
-        dt=sv.get("dt"),
-        t_eval=output_grid(motion, sv.get("dt_out"), **duration),
-        uplift=sv.get("uplift", "raise"),
-    )
+    t_eval = output_grid(motion, sv.get("dt_out"), **duration)
+    check_step_count(source, method, sv.get("dt"), t_eval, sv.get("max_steps"))
+    with warnings.catch_warnings():  # uplift = "warn": the summary's uplift and outcome say it
+        warnings.simplefilter("ignore", UpliftWarning)
+        res = simulate(
+            system,
+            motion,
+            method=method,
+            rtol=sv["rtol"],
+            atol=tuple(atol) if isinstance(atol, list) else atol,
+            dt=sv.get("dt"),
+            t_eval=t_eval,
+            uplift=sv.get("uplift", "raise"),
+            **({"max_steps": int(sv["max_steps"])} if "max_steps" in sv else {}),
+        )
     s = res.summary()
-    s.update(kind="isolated")
+    s.update(kind="isolated", outcome=outcome(s)[0])
     if hasattr(motion, "pga"):  # a record (a harmonic or a force has no PGA)
         s.update(record=motion.name, pga_mps2=float(motion.pga))
     return s
@@ -164,6 +172,80 @@ def _run_other(kind: str, cfg: dict, source: str) -> dict:
             )
         s = mod.run_scene(cfg, source=source, out_dir=Path(tmp), figures=False, quiet=True)
     return {k: v for k, v in s.items() if not (isinstance(v, str) and v.startswith(tmp))}
+
+
+_BUILDERS = {  # the functions of a family's scene module that read and check a scene
+    "rocking": ("build_model", "build_motion", "build_solver"),
+    "contact": ("build",),
+    "cylinder": ("build",),
+}
+
+
+def check_scene(cfg: dict, source: str) -> None:
+    """Check a complete scene of any kind as ``nsdyn run`` checks a scene file, without
+    running it: :class:`SceneError` naming ``source`` and the field. A study calls it on every
+    task before the first one runs, so a bad parameter value is refused up front."""
+    kind = scene_kind(cfg, source)
+    if kind == "isolated":
+        _check_isolated(cfg, source)
+        return
+    mod = importlib.import_module(f"nsdyn.models.{kind}.scene")
+    cfg = copy.deepcopy(cfg)
+    sim = cfg.get("motion", {}).pop("simulated", None)
+    if sim is not None:  # any record stands for it: its own fields were checked with the study
+        from nsdyn.ground import bundled_records
+
+        cfg["motion"]["record"] = bundled_records()[0]
+    try:
+        for name in _BUILDERS.get(kind, ()):
+            getattr(mod, name)(cfg, source)
+    except SceneError:
+        raise
+    except (OSError, ValueError) as e:  # a bad value the family's reader let through
+        raise SceneError(f"{source}: {' '.join(str(e).split())}") from None
+
+
+def _check_isolated(cfg: dict, source: str) -> None:
+    from nsdyn.models.isolated.scene import _check, build_structure
+    from nsdyn.models.isolated.scene_structure import force_excitation, harmonic_motion
+    from nsdyn.models.isolated.system import isolation_from_config
+    from nsdyn.solve.methods import METHODS
+    from nsdyn.solve.transient import output_grid
+
+    tables = {k: copy.deepcopy(v) for k, v in cfg.items() if not k.startswith("_")}
+    mo = tables.get("motion", {})
+    mo.pop("simulated", None)
+    _check(tables, source)
+    try:
+        iso = isolation_from_config(cfg.get("isolation", {}), source)
+    except ValueError as e:
+        raise SceneError(str(e)) from None
+    sv = cfg.get("solver", {})
+    method = sv.get("method", "radau")
+    if method not in METHODS:
+        raise SceneError(
+            f"{source}: solver.method: unknown integrator {method!r}; expected one of "
+            f"{sorted(METHODS)}"
+        )
+    if "structure" in cfg:
+        build_structure(cfg, iso, source)
+    duration: dict = {}
+    try:
+        if "force" in cfg:
+            excitation, duration = force_excitation(cfg["force"], source, cfg.get("motion"))
+        elif cfg.get("motion", {}).get("kind") == "harmonic":
+            excitation, duration = harmonic_motion(cfg["motion"], source)
+        else:
+            excitation = scene_motion(cfg)
+        t_eval = output_grid(excitation, sv.get("dt_out"), **duration)
+    except SceneError:
+        raise
+    except (OSError, ValueError) as e:  # a record that cannot be read, a window without samples
+        from nsdyn.ground import RecordFileError
+
+        field = "motion.record" if isinstance(e, OSError | RecordFileError) else "motion"
+        raise SceneError(f"{source}: {field}: {' '.join(str(e).split())}") from None
+    check_step_count(source, method, sv.get("dt"), t_eval, sv.get("max_steps"))
 
 
 def run_scene_summary(cfg: dict, source: str) -> dict:
@@ -218,3 +300,30 @@ def run_batch(tasks: list) -> list[dict]:
 
 def is_number(v) -> bool:
     return isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def check_step_count(source: str, method: str, dt, t_eval, max_steps=None) -> None:
+    """A fixed-step run whose steps do not fit ``max_steps`` is refused before it starts.
+
+    A run is integrated in chunks of about ``CHUNK_S`` of simulated time (one solver call
+    each, a checkpoint after each), and ``max_steps`` bounds the steps of one call: a fixed
+    step ``dt`` needs ``ceil(chunk / dt)`` of them. Finding out after the budget is spent
+    costs minutes and reads as stiffness; the cause is a step that is too small.
+    """
+    from nsdyn.solve.integrate import DEFAULT_MAX_STEPS
+    from nsdyn.solve.methods import METHODS
+    from nsdyn.solve.transient import CHUNK_S
+
+    if method not in METHODS or not METHODS[method].fixed_step or not dt or len(t_eval) < 2:
+        return
+    span = float(t_eval[-1] - t_eval[0])
+    chunk = min(span, CHUNK_S + float(max(t_eval[1:] - t_eval[:-1])))
+    per_chunk = math.ceil(chunk / dt * (1 - 1e-12))
+    limit = int(max_steps or DEFAULT_MAX_STEPS)
+    if per_chunk > limit:
+        raise SceneError(
+            f"{source}: solver.dt: a fixed step of {dt:g} s is too small for this run: it "
+            f"takes {per_chunk:.3g} steps per {chunk:g} s chunk ({math.ceil(span / dt):.3g} over "
+            f"{span:g} s), more than max_steps = {limit}; use a larger dt (the default is 0.005 s) "
+            "or raise solver.max_steps (--max-steps)"
+        )

@@ -352,7 +352,7 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict) -> tupl
 def load_study(path: str | Path) -> Study:
     """Read and check a study file (:class:`SceneError` naming the file and field)."""
     source = str(path)
-    raw = read_toml(path)
+    raw = read_toml(path, what="study")
     study_dir = Path(path).resolve().parent
     for table in raw:
         if table not in STUDY_TABLES:
@@ -393,7 +393,33 @@ def load_study(path: str | Path) -> Study:
     from nsdyn.studies.analyses import check_analysis
 
     check_analysis(study)
+    check_tasks(study)
     return study
+
+
+def task_label(index, params: dict, record: str = "") -> str:
+    """``task 3 (isolation.mu = 0.02, record kobe)``: which task, with its values."""
+    vals = [f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v!r}" for k, v in params.items()]
+    if record:
+        vals.append(f"record {record}")
+    return f"task {index}" + (f" ({', '.join(vals)})" if vals else "")
+
+
+def check_tasks(study: Study) -> None:
+    """Every task's complete scene checked as ``nsdyn run`` checks a scene file, before any
+    runs: a bad parameter value or record is a :class:`SceneError` naming the study file, the
+    task and the field, not a column of failed rows."""
+    import warnings
+
+    from nsdyn.ground import UnitWarning
+    from nsdyn.studies.scenes import check_scene
+    from nsdyn.studies.tasks import expand
+
+    with warnings.catch_warnings():  # a record's units are the run's to report, once per task
+        warnings.simplefilter("ignore", UnitWarning)
+        for task in expand(study):
+            label = task_label(task.index, task.params, task.record_name)
+            check_scene(task.cfg, f"{study.source}: {label}")
 
 
 def is_finite_number(v) -> bool:

@@ -8,6 +8,8 @@ usage error or a validation error of the command, never a traceback.
 from __future__ import annotations
 
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -27,6 +29,23 @@ CLI_ROWS = [
     ("run-pga-zero", ["run", "--pga", "0"], r"--pga.*positive"),
     ("run-pga-negative", ["run", "--pga", "-3"], r"--pga.*positive"),
     ("run-pga-text", ["run", "--pga", "3g"], r"--pga.*number"),
+    ("run-pga-inf", ["run", "--pga", "inf"], r"--pga.*finite"),
+    ("run-pga-nan", ["run", "--pga", "nan"], r"--pga.*positive"),
+    ("run-dt-inf", ["run", "--dt", "inf"], r"--dt.*finite"),
+    ("run-max-steps-zero", ["run", "--max-steps", "0"], r"--max-steps.*at least 1"),
+    # a fixed step too small for the step budget: refused before the run, not after minutes
+    # (40 s of record at 1e-7 s: 5e7 steps per 5 s chunk against max_steps = 2e6)
+    (
+        "run-dt-too-small",
+        ["run", SHEAR, "--method", "genalpha", "--dt", "1e-7"],
+        r"solver\.dt.*too small.*max_steps = 2000000",
+    ),
+    (
+        "run-dt-over-max-steps",
+        ["run", SHEAR, "--method", "genalpha", "--dt", "0.001", "--max-steps", "100"],
+        r"solver\.dt.*steps per.*max_steps = 100",
+    ),
+    ("run-max-steps-on-rocking", ["run", CASK, "--max-steps", "10"], r"--max-steps.*isolated"),
     ("run-tend-zero", ["run", "--t-end", "0"], r"--t-end.*positive"),
     ("run-fidelity", ["run", "--fidelity", "rigd"], r"--fidelity.*'rigid'"),
     ("run-friction", ["run", "--friction", "coulomb"], r"--friction.*'arctan'"),
@@ -115,4 +134,142 @@ def test_help_is_status_zero(capsys):
     assert "--pga" in capsys.readouterr().out
 
 
-N_CLI_CASES = len(CLI_ROWS)
+# rows that need a file: (id, file text, argv with "{f}" for the file, regex of the one line)
+GARBAGE_RECORD = "0,0.1\n0.01,abc\n0.02,0.3\n"
+STUDY = """
+[study]
+name = "cat"
+[base.scene]
+fidelity = "rigid"
+[base.motion]
+t_end = 2.0
+[parameters]
+"isolation.mu" = [0.02, 0.05]
+[records]
+names = ["synthetic-wn-40s"]
+"""
+SHEAR_TEXT = Path(SHEAR).read_text()
+FILE_ROWS = [
+    # an empty scene or study file is refused (it would run the defaults)
+    ("run-empty-scene", "", ["run", "{f}"], r"s\.toml: empty scene file.*\[scene\]"),
+    ("run-comments-only", "# a scene\n", ["run", "{f}"], r"s\.toml: empty scene file"),
+    ("sweep-empty-scene", "", ["sweep", "{f}"], r"s\.toml: empty scene file"),
+    ("spectrum-empty-scene", "", ["spectrum", "{f}"], r"s\.toml: empty scene file"),
+    ("study-empty", "", ["study", "{f}"], r"s\.toml: empty study file.*\[study\]"),
+    # non-finite and negative motion values of frame and shear scenes
+    ("run-frame-pga-inf", "[motion]\npga = inf\n", ["run", "{f}"], r"motion\.pga.*finite"),
+    ("run-frame-pga-nan", "[motion]\npga = nan\n", ["run", "{f}"], r"motion\.pga.*finite"),
+    (
+        "run-frame-tend-negative",
+        "[motion]\nt_end = -5.0\n",
+        ["run", "{f}"],
+        r"motion\.t_end.*positive",
+    ),
+    (
+        "run-shear-pga-inf",
+        SHEAR_TEXT.replace("pga = 3.0", "pga = inf"),
+        ["run", "{f}"],
+        r"motion\.pga.*finite",
+    ),
+    (
+        "run-shear-pga-nan",
+        SHEAR_TEXT.replace("pga = 3.0", "pga = nan"),
+        ["run", "{f}"],
+        r"motion\.pga.*finite",
+    ),
+    (
+        "run-shear-tend-negative",
+        SHEAR_TEXT.replace("pga = 3.0", "pga = 3.0\nt_end = -5.0"),
+        ["run", "{f}"],
+        r"motion\.t_end.*positive",
+    ),
+    (
+        "run-max-steps-text",
+        '[solver]\nmax_steps = "many"\n',
+        ["run", "{f}"],
+        r"solver\.max_steps.*positive integer",
+    ),
+    # a study's parameter values are checked on every task's scene before any task runs
+    (
+        "study-klam-negative",
+        STUDY.replace('"isolation.mu" = [0.02, 0.05]', '"isolation.k_lam" = [5e4, -1.0]'),
+        ["study", "{f}"],
+        r"s\.toml: task 1 \(isolation\.k_lam = -1.*isolation\.k_lam.*non-negative",
+    ),
+    (
+        "study-mu-nan",
+        STUDY.replace("[0.02, 0.05]", "[0.02, nan]"),
+        ["study", "{f}"],
+        r"task 1 .*isolation\.mu.*finite",
+    ),
+    (
+        "study-pga-inf",
+        STUDY.replace('"isolation.mu" = [0.02, 0.05]', '"motion.pga" = [3.0, inf]'),
+        ["study", "{f}"],
+        r"task 1 .*motion\.pga.*finite",
+    ),
+    (
+        "study-garbage-record",
+        STUDY.replace('"synthetic-wn-40s"', '"garbage.csv"'),
+        ["study", "{f}"],
+        r"task 0 .*motion\.record.*garbage\.csv:2",
+    ),
+]
+
+
+@pytest.mark.parametrize("row", [pytest.param(r, id=r[0]) for r in FILE_ROWS])
+def test_bad_file_on_the_command_line(tmp_path, monkeypatch, capsys, row):
+    rid, text, argv, pattern = row
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text(text)
+    (tmp_path / "garbage.csv").write_text(GARBAGE_RECORD)
+    before = sorted(tmp_path.rglob("*"))
+    rc, err = _rc_and_err([a.replace("{f}", "s.toml") for a in argv], capsys)
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert rc == 2, (rc, err)
+    assert len(lines) == 1, err
+    assert re.search(pattern, lines[0]), (pattern, lines[0])
+    assert "Traceback" not in err
+    assert sorted(tmp_path.rglob("*")) == before  # nothing written, no directory made
+
+
+# a run that fails (the office frame at PGA 40 m/s² lifts off its isolators: the no-uplift
+# model stops with an UpliftError, status 3) leaves nothing behind: no empty output
+# directory, no hidden checkpoint; files the user had in the directory stay
+UPLIFT_RUN = ["run", "--fidelity", "rigid", "--pga", "40", "--t-end", "2", "--no-figures"]
+
+
+def test_failed_run_leaves_nothing_behind(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    rc, err = _rc_and_err([*UPLIFT_RUN, "--out", "out/deeper"], capsys)
+    assert rc == 3 and "uplift at t" in err, (rc, err)
+    assert list(tmp_path.iterdir()) == []  # neither out/ nor out/deeper/ nor a checkpoint
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("kept")
+    rc, err = _rc_and_err([*UPLIFT_RUN, "--out", "mine"], capsys)
+    assert rc == 3
+    assert sorted(p.name for p in mine.iterdir()) == ["notes.txt"]
+
+
+def test_uplift_warn_is_one_clean_line(tmp_path):
+    # uplift = "warn": the run goes on and says so once, without Python's warning format
+    # (no source path, no code line); the summary's outcome line says it as well. A process
+    # of its own: pytest would catch a raw warning before it reached stderr
+    scene = tmp_path / "s.toml"
+    scene.write_text(
+        '[scene]\nfidelity = "rigid"\n[motion]\npga = 40.0\nt_end = 2.0\n'
+        '[solver]\nuplift = "warn"\n'
+    )
+    argv = [sys.executable, "-m", "nsdyn.cli", "run", str(scene), "--no-figures", "--out", "o"]
+    proc = subprocess.run(argv, cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    err = proc.stderr
+    assert proc.returncode == 0, err
+    lines = [ln for ln in err.splitlines() if ln.strip() and not ln.startswith(("compil", "  "))]
+    assert len(lines) == 1, err
+    assert re.match(r"nsdyn run: warning: UPLIFT at t = \d", lines[0]), lines[0]
+    assert ".py" not in err and "UpliftWarning" not in err
+    assert proc.stdout.startswith("outcome UPLIFT at t = "), proc.stdout
+
+
+N_CLI_CASES = len(CLI_ROWS) + len(FILE_ROWS) + 2

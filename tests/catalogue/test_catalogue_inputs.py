@@ -102,6 +102,30 @@ SCENE_ROWS = [
     ("iso-misspelt-isolation", SHEAR, "mu = 0.05", "muu = 0.05", [r"isolation\.muu", "'mu'"]),
     ("iso-wrong-type-pga", SHEAR, "pga = 3.0", 'pga = "3"', [r"motion\.pga", "number|float"]),
     ("iso-negative-pga", SHEAR, "pga = 3.0", "pga = -3.0", [r"motion\.pga", "positive"]),
+    ("iso-pga-inf", SHEAR, "pga = 3.0", "pga = inf", [r"motion\.pga", "finite"]),
+    ("iso-pga-nan", SHEAR, "pga = 3.0", "pga = nan", [r"motion\.pga", "finite"]),
+    (
+        "iso-tend-negative",
+        SHEAR,
+        "pga = 3.0",
+        "pga = 3.0\nt_end = -5.0",
+        [r"motion\.t_end", "positive"],
+    ),
+    ("iso-tend-inf", SHEAR, "pga = 3.0", "pga = 3.0\nt_end = inf", [r"motion\.t_end", "finite"]),
+    (
+        "iso-max-steps-zero",
+        SHEAR,
+        'method = "radau"',
+        'method = "radau"\nmax_steps = 0',
+        [r"solver\.max_steps", "positive integer"],
+    ),
+    (
+        "iso-max-steps-fraction",
+        SHEAR,
+        'method = "radau"',
+        'method = "radau"\nmax_steps = 2.5',
+        [r"solver\.max_steps", "positive integer"],
+    ),
     ("iso-mu-negative", SHEAR, "mu = 0.05", "mu = -0.05", [r"isolation\.mu", "non-negative"]),
     ("iso-eps-zero", SHEAR, "eps = 500.0", "eps = 0.0", [r"isolation\.eps", "positive"]),
     ("iso-eps-negative", SHEAR, "eps = 500.0", "eps = -1.0", [r"isolation\.eps", "positive"]),
@@ -264,6 +288,7 @@ SCENE_ROWS = [
     ("rock-cycles-zero", CASK, "n_cycles = 8", "n_cycles = 0", [r"motion\.n_cycles", ">= 1"]),
     ("rock-cycles-float", CASK, "n_cycles = 8", "n_cycles = 8.5", [r"motion\.n_cycles", "integer"]),
     ("rock-tend-negative", CASK, "t_end = 12.0", "t_end = -1.0", [r"motion\.t_end", "positive"]),
+    ("rock-pga-inf", CASK, "a_p_g = 1.0", "a_p_g = 1.0\npga = inf", [r"motion\.pga", "finite"]),
     ("rock-tol-zero", CASK, "tol = 1e-9", "tol = 0.0", [r"solver\.tol", "positive"]),
     (
         "rock-record-missing",
@@ -335,6 +360,8 @@ SCENE_ROWS = [
         'method = "euler"',
         [r"solver\.method", "event"],
     ),
+    ("contact-pga-inf", CONTACT, "pga = 1.6", "pga = inf", [r"motion\.pga", "finite"]),
+    ("contact-pga-nan", CONTACT, "pga = 1.6", "pga = nan", [r"motion\.pga", "finite"]),
     ("contact-missing-mus", CONTACT, "mu_s = 0.57", "", [r"friction\.mu_s", "missing"]),
     # --- cylinder
     ("cyl-misspelt", CYL, "H = 4.0", "h = 4.0", [r"cylinder\.h", "'H'"]),
@@ -351,6 +378,14 @@ SCENE_ROWS = [
     ),
     ("cyl-seed-negative", CYL, "seed = 1", "seed = -1", [r"motion\.seed", "non-negative integer"]),
     ("cyl-dt-text", CYL, "dt = 0.01", 'dt = "0.01"', [r"motion\.dt", "number"]),
+    ("cyl-pga-inf", CYL, "seed = 1", "seed = 1\npga = inf", [r"motion\.pga", "finite"]),
+    (
+        "cyl-tend-negative",
+        CYL,
+        "seed = 1",
+        "seed = 1\nt_end = -5.0",
+        [r"motion\.t_end", "positive"],
+    ),
     ("cyl-rtol-zero", CYL, "rtol = 1e-7", "rtol = 0.0", [r"solver\.rtol", "positive"]),
     (
         "cyl-k-negative",
@@ -381,6 +416,34 @@ def test_bad_scene_file(tmp_path, row):
         warnings.simplefilter("ignore", UnitWarning)
         msg = _expect(SceneError, lambda: _load(_kind(example), p), *needles)
     assert str(p) in msg, f"file not named: {msg!r}"
+
+
+# scenes of the isolated frame on the bundled office frame (no example file: the defaults)
+FRAME_SCENE_ROWS = [
+    ("frame-pga-inf", "[motion]\npga = inf\n", [r"motion\.pga", "finite"]),
+    ("frame-pga-nan", "[motion]\npga = nan\n", [r"motion\.pga", "finite"]),
+    ("frame-tend-negative", "[motion]\nt_end = -5.0\n", [r"motion\.t_end", "positive"]),
+    ("frame-tend-zero", "[motion]\nt_end = 0.0\n", [r"motion\.t_end", "positive"]),
+    ("frame-dt-out-inf", "[solver]\ndt_out = inf\n", [r"solver\.dt_out", "finite"]),
+]
+
+
+@pytest.mark.parametrize("row", [pytest.param(r, id=r[0]) for r in FRAME_SCENE_ROWS])
+def test_bad_frame_scene(tmp_path, row):
+    rid, text, needles = row
+    p = _write(tmp_path, f"{rid}.toml", text)
+    msg = _expect(SceneError, lambda: _load("isolated", p), *needles)
+    assert str(p) in msg
+
+
+@pytest.mark.parametrize(
+    "text", ["", "\n\n", "# a scene, some day\n"], ids=["empty", "blank", "comment"]
+)
+def test_empty_scene_file_is_refused(tmp_path, text):
+    # an empty file would otherwise run the default scene as if it had been asked for
+    p = _write(tmp_path, "empty.toml", text)
+    msg = _expect(SceneError, lambda: read_toml(p), r"empty scene file", r"\[scene\]")
+    assert str(p) in msg
 
 
 def test_missing_scene_file(tmp_path):
@@ -614,6 +677,38 @@ STUDY_ROWS = [
         [r"study\.scene", "nosuch"],
     ),
     ("study-base-misspelt", "t_end = 2.0", "t_ned = 2.0", [r"motion\.t_ned", "'t_end'"]),
+    # parameter values: every task's scene is checked before any task runs
+    (
+        "study-klam-negative",
+        '"isolation.mu" = [0.02, 0.05]',
+        '"isolation.k_lam" = [5e4, -1.0]',
+        [r"task 1 \(isolation\.k_lam = -1, record synthetic-wn-40s\)", r"non-negative"],
+    ),
+    ("study-mu-nan", "[0.02, 0.05]", "[0.02, nan]", [r"task 1 ", r"isolation\.mu", "finite"]),
+    (
+        "study-pga-inf",
+        '"isolation.mu" = [0.02, 0.05]',
+        '"motion.pga" = [3.0, inf]',
+        [r"task 1 ", r"motion\.pga", "finite"],
+    ),
+    (
+        "study-tend-negative",
+        '"isolation.mu" = [0.02, 0.05]',
+        '"motion.t_end" = [2.0, -5.0]',
+        [r"task 1 ", r"motion\.t_end", "positive"],
+    ),
+    (
+        "study-dt-too-small",
+        '"isolation.mu" = [0.02, 0.05]',
+        '"solver.method" = ["genalpha"]\n"solver.dt" = [1e-7]',
+        [r"task 0 ", r"solver\.dt", "too small", "max_steps"],
+    ),
+    (
+        "study-unknown-method",
+        '"isolation.mu" = [0.02, 0.05]',
+        '"solver.method" = ["radau", "rk4"]',
+        [r"task 1 ", r"solver\.method", "'radau'"],
+    ),
 ]
 
 
@@ -625,6 +720,41 @@ def test_bad_study_file(tmp_path, row):
     p = _write(tmp_path, f"{rid}.toml", _edit(STUDY, old, new))
     msg = _expect(SceneError, lambda: load_study(p), *needles)
     assert str(p) in msg, f"file not named: {msg!r}"
+
+
+def test_empty_study_file_is_refused(tmp_path):
+    # it would otherwise run one task of the default scene
+    from nsdyn.studies.study import load_study
+
+    p = _write(tmp_path, "empty.toml", "# a study, some day\n")
+    msg = _expect(SceneError, lambda: load_study(p), r"empty study file", r"\[study\]")
+    assert str(p) in msg
+
+
+def test_garbage_record_in_a_study_is_refused(tmp_path):
+    from nsdyn.studies.study import load_study
+
+    _write(tmp_path, "garbage.csv", "0,0.1\n0.01,abc\n0.02,0.3\n")
+    p = _write(tmp_path, "s.toml", _edit(STUDY, '"synthetic-wn-40s"', '"garbage.csv"'))
+    msg = _expect(SceneError, lambda: load_study(p), r"task 0 ", r"motion\.record",
+                  r"garbage\.csv:2")  # fmt: skip
+    assert str(p) in msg
+
+
+def test_bad_parameter_of_another_scene_kind_is_refused(tmp_path):
+    # a rocking study: its tasks' scenes are checked by the rocking family's reader
+    from nsdyn.studies.study import load_study
+
+    text = f"""
+[study]
+scene = "{SCENES / CASK}"
+[parameters]
+"block.width" = [2.0, -2.0]
+"""
+    p = _write(tmp_path, "rock.toml", text)
+    msg = _expect(SceneError, lambda: load_study(p), r"task 1 \(block\.width = -2\)",
+                  r"block\.width", "positive")  # fmt: skip
+    assert str(p) in msg
 
 
 def test_good_study_loads(tmp_path):
@@ -643,5 +773,15 @@ def test_examples_are_valid(example):
 
 
 N_INPUT_CASES = (
-    len(SCENE_ROWS) + len(FRAME_ROWS) + len(RECORD_ROWS) + len(STUDY_ROWS) + 2 + 1 + 3 + 2
+    len(SCENE_ROWS)
+    + len(FRAME_ROWS)
+    + len(RECORD_ROWS)
+    + len(STUDY_ROWS)
+    + 2
+    + 1
+    + 3
+    + 2
+    + len(FRAME_SCENE_ROWS)
+    + 3
+    + 3
 )

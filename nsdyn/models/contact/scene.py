@@ -222,6 +222,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     res = simulate(body, law, motion, t_end, opts)
     wall = time.perf_counter() - w0
     out_dir = Path(out_dir)
+    s = res.summary()
+    s["outcome"], text = outcome(s)
     files = [str(out_dir / "contact.npz")]
     with atomic_open(out_dir / "contact.npz", "wb") as fh:
         np.savez(fh, t=res.t, q=res.q, v=res.v, mode=res.mode, slide=res.slide)
@@ -230,18 +232,34 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         from nsdyn.models.contact.figures import history_figure
 
         png = out_dir / "contact.png"
-        save_figure(history_figure(res, body, title=name), png)
+        save_figure(history_figure(res, body, title=f"{name}: {text}"), png)
         files.append(str(png))
-    s = res.summary()
     s.update({"kind": "contact", "name": name, "motion": opts["what"], "t_end": t_end,
               "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
     say(f"contact: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
     return s
 
 
+def outcome(s: dict) -> tuple[str, str]:
+    """(word, one line) of a run summary: ``overturned`` (with its time) or the body's first
+    motion (``rest``, ``slide``, ``rock``, ``slide_rock``, ...) and its peaks."""
+    if s.get("overturned"):
+        t = s.get("t_overturn")
+        return "overturned", "OVERTURNED" + (f" at t = {t:.3f} s" if isinstance(t, float) else "")
+    first = s.get("first_motion") or "rest"
+    if first == "rest":
+        return "rest", "stayed at rest (no sliding, no rocking)"
+    peaks = ", ".join(
+        f"{label} {s[k]:.3g}"
+        for label, k in (("peak slide [m]", "max_slide"), ("peak tilt [rad]", "max_tilt"))
+        if isinstance(s.get(k), float)
+    )
+    return first, f"did not overturn; first motion {first}" + (f", {peaks}" if peaks else "")
+
+
 def format_summary(s: dict) -> str:
-    """A short human table of a contact run."""
-    lines = []
+    """A short human table of a contact run, its outcome first."""
+    lines = [f"outcome {outcome(s)[1]}"]
     for k in ("name", "motion", "solver", "first_motion", "max_slide", "max_tilt", "n_hops",
               "n_impacts", "overturned", "t_overturn", "wall_s", "compile_s"):  # fmt: skip
         v = s.get(k)

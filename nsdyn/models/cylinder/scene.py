@@ -201,10 +201,12 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         "energy_error": res.energy_error if p.foundation != "fixed" else 0.0,
         "toppled": res.toppled_at is not None,
         "toppled_at": res.toppled_at,
+        "outcome": "",  # set below from the fields above
         "steps": res.stats.get("accepted", 0),
         "wall_s": wall,
         "compile_s": compile_s,
     }
+    summary["outcome"], text = outcome(summary)
     npz = out_dir / f"{name}.npz"
     with atomic_open(npz, "wb") as fh:
         np.savez(fh, t=res.t, ag=res.ag, w=res.w, q=res.q, omega=res.omega, tilt=res.tilt,
@@ -216,15 +218,35 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         from nsdyn.models.cylinder.figures import motion_figure
 
         png = out_dir / f"{name}.png"
-        save_figure(motion_figure(res, title=f"{name}: {p.foundation}"), png)
+        save_figure(motion_figure(res, title=f"{name}: {p.foundation}: {text}"), png)
         summary["figure"] = str(png)
     log(f"done in {wall:.3f} s (+{compile_s:.2f} s compile)")
     return summary
 
 
+def outcome(s: dict) -> tuple[str, str]:
+    """(word, one line) of a run summary: ``toppled`` (the tilt passed the overturning limit),
+    ``uplift`` (part of the base lost contact: the tensionless foundation's rocking),
+    ``full contact``, or ``fixed base``; a sliding base adds its slip."""
+    slip = f"; slid {s['max_slip']:.3g} m" if s.get("sliding") and s.get("max_slip") else ""
+    if s.get("toppled"):
+        return "toppled", f"TOPPLED at t = {s['toppled_at']:.3f} s{slip}"
+    if s.get("foundation") == "fixed":
+        return "fixed base", f"fixed base (no foundation to lift off){slip}"
+    if s.get("max_uplift_ratio", 0.0) > 0.0:
+        return "uplift", (
+            f"uplift: up to {s['max_uplift_ratio']:.0%} of the base lifted, peak tilt "
+            f"{s['max_tilt']:.3g} rad, stayed standing{slip}"
+        )
+    return "full contact", f"the base stayed in full contact{slip}"
+
+
 def format_summary(s: dict) -> str:
-    """A short human table of a run summary."""
-    lines = [f"cylinder scene {s['name']} ({s['foundation']}, k = {s['k']:.6g}, c = {s['c']:.6g})"]
+    """A short human table of a run summary, its outcome first."""
+    lines = [
+        f"outcome {outcome(s)[1]}",
+        f"cylinder scene {s['name']} ({s['foundation']}, k = {s['k']:.6g}, c = {s['c']:.6g})",
+    ]
     rows = [
         ("max tilt [rad]", s["max_tilt"]),
         ("max uplift ratio", s["max_uplift_ratio"]),

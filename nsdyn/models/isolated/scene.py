@@ -32,6 +32,7 @@ Example (every table and field is optional; missing ones take the defaults below
                                # default [1e-8, 1e-6], [1e-8, 1e-7] for method "event"
     dt_out = 0.02              # output step [s] (default: the record's dt)
     uplift = "raise"           # raise | warn
+    max_steps = 2000000        # step attempts per chunk of the run before it gives up
 
 A structure without a frame (``[structure] kind = "shear" | "matrices"``), a harmonic ground
 motion (``[motion] kind = "harmonic"``) or a force (``[force]``) are described in
@@ -41,6 +42,7 @@ motion (``[motion] kind = "harmonic"``) or a force (``[force]``) are described i
 from __future__ import annotations
 
 import copy
+import math
 from pathlib import Path
 
 from nsdyn.models.isolated.defaults import C_DAMPER, EPS, F_MAX, K_LAM, MU
@@ -141,6 +143,13 @@ def _check(cfg: dict, source: str) -> dict:
                         f"[displacements, velocities] of positive numbers, got {val!r}"
                     )
                 continue
+            if typ is int:  # a count: a positive integer (a whole float from TOML's 1e7 too)
+                whole = isinstance(val, float) and val.is_integer()
+                if isinstance(val, bool) or not (isinstance(val, int) or whole) or val < 1:
+                    raise SceneError(
+                        f"{source}: {table}.{key}: expected a positive integer, got {val!r}"
+                    )
+                continue
             ok = (
                 isinstance(val, bool)
                 if typ is bool
@@ -150,7 +159,11 @@ def _check(cfg: dict, source: str) -> dict:
             )
             if not ok:
                 raise SceneError(f"{source}: {table}.{key}: expected {typ.__name__}, got {val!r}")
-            if typ is float and val <= 0 and key != "t_end":
+            if typ is float and not math.isfinite(val):
+                raise SceneError(
+                    f"{source}: {table}.{key}: expected a finite positive number, got {val!r}"
+                )
+            if typ is float and val <= 0:
                 raise SceneError(f"{source}: {table}.{key}: expected a positive number, got {val}")
     sc = cfg.get("scene", {})
     if "fidelity" in sc and sc["fidelity"] not in FIDELITIES:
@@ -251,5 +264,39 @@ def build_scene_run(cfg: dict):
     if "pga" in mo:
         motion = motion.scaled_to_pga(float(mo["pga"]))
     if "t_end" in mo:
-        motion = motion.window(motion.t0, float(mo["t_end"]))
+        try:
+            motion = motion.window(motion.t0, float(mo["t_end"]))
+        except ValueError as e:  # a t_end before the record's first sample
+            raise SceneError(f"{source}: motion.t_end: {e}") from None
     return system, motion, {}
+
+
+def outcome(s: dict) -> tuple[str, str]:
+    """(word, one line) of a run summary: did the frame stay on its isolators?
+
+    ``uplift``: a normal force reached zero under ``contact = "detect"`` with ``uplift =
+    "warn"`` (the run went on outside the no-uplift model); ``lift-off``: the unilateral model
+    lifted an isolator off and landed it; ``would lift off``: a bilateral run whose normal
+    force turned negative (held down by the model); ``in contact`` otherwise.
+    """
+    if s.get("fidelity") == "fixed":
+        return "fixed base", "fixed base (no isolators to lift off)"
+    up = s.get("uplift") or []
+    if up:
+        first = min(up, key=lambda u: u["t_s"])
+        more = f"; {len(up) - 1} more uplift events" if len(up) > 1 else ""
+        return "uplift", (
+            f"UPLIFT at t = {first['t_s']:.4f} s (contact {first['contact']}){more}: a normal "
+            "force reached zero, the results after it are outside the no-uplift model"
+        )
+    if s.get("contact") == "unilateral" and s.get("lift_offs"):
+        return "lift-off", (
+            f"LIFT-OFF: {s['lift_offs']} lift-offs and {s.get('landings', 0)} landings, the "
+            f"first at t = {s['first_lift_off_s']:.4f} s"
+        )
+    if s.get("would_lift_off"):
+        return "would lift off", (
+            "a normal force turned negative: the bilateral model held the isolator down "
+            "(rerun with isolation.contact = 'unilateral' to let it lift off)"
+        )
+    return "in contact", "every isolator stayed in contact (no uplift)"

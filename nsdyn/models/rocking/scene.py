@@ -204,20 +204,39 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         from nsdyn.models.rocking.figures import history_figure
 
         png = out_dir / "rocking.png"
-        save_figure(history_figure(arrays["t"], arrays["theta"], model.alpha, title=name), png)
+        title = f"{name}: {outcome(s)[1]}"
+        save_figure(history_figure(arrays["t"], arrays["theta"], model.alpha, title=title), png)
         files.append(str(png))
     s.update({"kind": "rocking", "model": cfg.get("scene", {}).get("model", "block"),
               "name": name, "motion": what, "t_end": t_end, "alpha": model.alpha,
               "p": model.p, "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
+    s.setdefault("outcome", outcome(s)[0])  # the compliant block's summary has none
     say(f"rocking: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
     return s
 
 
+def outcome(s: dict) -> tuple[str, str]:
+    """(word, one line) of a run summary: ``overturned`` (with its time), ``rocking`` (the
+    block lifted off a corner and still rocks at the end), ``rest``."""
+    word = s.get("outcome") or ("overturned" if s.get("overturned") else "")
+    peak = s.get("max_theta_over_alpha")
+    tilt = f", peak tilt {peak:.3g} alpha" if isinstance(peak, float) else ""
+    if word == "overturned":
+        t = s.get("t_overturn")
+        return word, "OVERTURNED" + (f" at t = {t:.3f} s" if isinstance(t, float) else "")
+    if word == "rocking":
+        return word, f"rocking (lifted off, still rocking at the end){tilt}"
+    if word == "rest":
+        rocked = s.get("n_impacts") or s.get("n_uplifts")
+        return word, ("rocked and came to rest" if rocked else "no rocking: at rest") + tilt
+    return "standing", f"standing (did not overturn){tilt}"
+
+
 def format_summary(s: dict) -> str:
-    """A short human table of a rocking run."""
+    """A short human table of a rocking run, its outcome first."""
     keys = ("name", "model", "motion", "alpha", "p", "r", "outcome", "max_theta_over_alpha",
             "n_impacts", "t_overturn", "t_rest", "r_housner", "wall_s", "compile_s")  # fmt: skip
-    lines = []
+    lines = [f"outcome {outcome(s)[1]}"]
     for k in keys:
         if k in s and s[k] is not None:
             v = s[k]
