@@ -8,7 +8,9 @@
 ``[analysis.percentiles]``   quantities, by (default: the grid parameters), percentiles.
 ``[analysis.fragility]``     im (a parameter or result column, e.g. "motion.pga"), edp
                              (a result column) and limits (P[edp > limit | im]); without
-                             limits a boolean edp column is the outcome; confidence.
+                             limits a boolean edp column is the outcome; confidence. A run
+                             that failed by uplift counts as an exceedance; any other failed
+                             run (or one without an IM or EDP value) refuses the fit.
 
 Outputs in the study directory: design.csv, percentiles.csv, fragility.csv and, with figures,
 pareto.png, fragility.png, distributions.png.
@@ -191,30 +193,94 @@ def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
     return res
 
 
+# A failed run whose error is itself the limit state: the isolated frame lifted off its
+# isolators (the no-uplift model stopped at the uplift). These are the most severe runs of a
+# study; leaving them out would bias the curve low, so they count as exceedances.
+EXCEEDANCE_FAILURES = {"UpliftError": "uplift"}
+
+
+def fragility_outcomes(table: Table, im_name: str, edp_name: str) -> dict:
+    """The runs a fragility fit may use, failures placed by their physical meaning.
+
+    Returns im, edp (``inf`` for a failure that is an exceedance: past every limit), the count
+    of such failures by meaning, and ``refuse``: why no fit is honest (failed runs without a
+    physical outcome, or runs without an IM or EDP value), or None.
+    """
+    im, edp = table.column(im_name), table.column(edp_name)
+    status = [r.get("status") for r in table.rows]
+    keep = np.zeros(len(table.rows), dtype=bool)
+    counted: dict[str, int] = {}
+    unknown: list[str] = []
+    for i, r in enumerate(table.rows):
+        if not (np.isfinite(im[i]) and im[i] > 0):
+            if status[i] != "ok" or np.isnan(im[i]):
+                unknown.append(f"no {im_name} value ({r.get('error') or 'none'})")
+            continue
+        if status[i] == "ok":
+            if np.isnan(edp[i]):
+                unknown.append(f"no {edp_name} value")
+                continue
+            keep[i] = True
+            continue
+        err = str(r.get("error", ""))
+        meaning = EXCEEDANCE_FAILURES.get(err.split(":", 1)[0].strip())
+        if meaning is None:
+            unknown.append(err)
+            continue
+        counted[meaning] = counted.get(meaning, 0) + 1
+        edp[i], keep[i] = np.inf, True
+    refuse = None
+    if unknown:
+        refuse = (
+            f"fragility: {len(unknown)} runs have no outcome that can be counted as survived or "
+            f"exceeded (first: {' '.join(unknown[0].split())[:160]}); fix them and rerun "
+            "(--retry-failed), a fit without them would be biased"
+        )
+    return {"im": im[keep], "edp": edp[keep], "counted": counted, "refuse": refuse}
+
+
+def failure_note(counted: dict) -> str:
+    """``3 failed runs (uplift) counted as exceedance`` (empty without such failures)."""
+    n = sum(counted.values())
+    if not n:
+        return ""
+    return f"{n} failed runs ({', '.join(sorted(counted))}) counted as exceedance"
+
+
 def _fragility(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
     from nsdyn.studies.figures import fragility_figure
 
-    ok = table.ok()
-    im = ok.column(spec["im"])
-    edp = ok.column(spec["edp"])
-    m = np.isfinite(im) & np.isfinite(edp) & (im > 0)
+    runs = fragility_outcomes(table, spec["im"], spec["edp"])
+    im, edp = runs["im"], runs["edp"]
+    note = failure_note(runs["counted"])
+    n_counted = sum(runs["counted"].values())
     limits = spec.get("limits") or [None]
     fits, rows = [], []
     for lim in limits:
-        exceeded = edp[m] > lim if lim is not None else edp[m] > 0.5
-        try:
-            fit = fit_lognormal(im[m], exceeded)
-        except ValueError as e:
-            rows.append({"limit": lim, "error": str(e)})
-            fits.append((lim, None, im[m], exceeded))
+        exceeded = edp > lim if lim is not None else edp > 0.5
+        base = {"limit": lim, "n_failed_as_exceedance": n_counted, "failures": note or "none"}
+        if runs["refuse"] is not None:
+            rows.append(base | {"error": runs["refuse"]})
+            fits.append((lim, None, im, exceeded))
             continue
-        rows.append({"limit": lim} | fit.as_dict())
-        fits.append((lim, fit, im[m], exceeded))
+        try:
+            fit = fit_lognormal(im, exceeded)
+        except ValueError as e:
+            rows.append(base | {"error": str(e)})
+            fits.append((lim, None, im, exceeded))
+            continue
+        rows.append(base | fit.as_dict())
+        fits.append((lim, fit, im, exceeded))
     _write_rows(rows, out / "fragility.csv")
     res = {"im": spec["im"], "edp": spec["edp"], "fits": rows, "table": str(out / "fragility.csv")}
+    if note:
+        res["failures"] = note
     if figures:
         conf = spec.get("confidence", CONFIDENCE)
-        fig = fragility_figure(fits, spec["im"], spec["edp"], conf, title=study.name)
+        title = study.name + (f" ({note})" if note else "")
+        if runs["refuse"] is not None:
+            title = f"{study.name}: no fit, failed runs without an outcome"
+        fig = fragility_figure(fits, spec["im"], spec["edp"], conf, title=title)
         res["figure"] = str(save_figure(fig, out / "fragility.png"))
     return res
 

@@ -11,6 +11,7 @@ binomial(R, 0.95) up to the asymptotic approximation.
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -99,3 +100,75 @@ def test_fit_refuses_data_without_information():
         fit_lognormal(x, np.array([False, False, True, True]))
     with pytest.raises(ValueError, match="positive"):
         fit_lognormal(np.array([0.0, 1.0]), np.array([False, True]))
+
+
+# ---- failed runs in a study's table -----------------------------------------------------------
+# A run that stopped on uplift (the frame lifted off its isolators: the no-uplift model's
+# UpliftError) is past every limit of the isolated frame; dropping it, as a fit over the
+# successful runs alone would, removes exceedances from the top of the IM range and biases the
+# median capacity high (the curve low). The fit with them counted is the maximum-likelihood fit
+# of the outcomes with those runs marked exceeded: the same likelihood, so the same estimate.
+LIMIT = 0.01  # an IDR limit
+
+
+def _study_table(rng, n_uplift: int, other_error: str | None = None):
+    from types import SimpleNamespace
+
+    from nsdyn.studies.table import Table
+
+    levels = np.geomspace(0.8, 8.0, 8)
+    x, y = _draw(rng, levels, 25)
+    rows = [
+        {"index": i, "motion.pga": float(xi), "status": "ok", "error": "",
+         "idr_max": 2 * LIMIT if yi else LIMIT / 2}
+        for i, (xi, yi) in enumerate(zip(x, y, strict=True))
+    ]  # fmt: skip
+    top = float(levels[-1])
+    for k in range(n_uplift):  # the most severe runs, at the highest PGA
+        rows.append({"index": len(rows), "motion.pga": top, "status": "failed",
+                     "error": "UpliftError: uplift at t = 3.2 s: the normal force of contact "
+                     f"{k % 2} reached zero"})  # fmt: skip
+    if other_error:
+        rows.append({"index": len(rows), "motion.pga": 2.0, "status": "failed",
+                     "error": other_error})  # fmt: skip
+    study = SimpleNamespace(
+        name="frag", keep=None, parameters=[],
+        analysis={"fragility": {"im": "motion.pga", "edp": "idr_max", "limits": [LIMIT]}},
+    )  # fmt: skip
+    exceeded = np.concatenate([y, np.ones(n_uplift, bool)])
+    im = np.concatenate([x, np.full(n_uplift, top)])
+    return study, Table(rows), im, exceeded
+
+
+def test_uplift_failures_count_as_exceedance(tmp_path):
+    from nsdyn.studies.analyses import run_analyses
+
+    study, table, im, exceeded = _study_table(np.random.default_rng(3), n_uplift=6)
+    res = run_analyses(study, table, tmp_path, figures=True)["fragility"]
+    (row,) = res["fits"]
+    ref = fit_lognormal(im, exceeded)
+    assert row["n"] == len(table.rows) and row["n_exceed"] == int(exceeded.sum())
+    assert row["theta"] == pytest.approx(ref.theta, rel=1e-12)
+    assert row["beta"] == pytest.approx(ref.beta, rel=1e-12)
+    assert row["n_failed_as_exceedance"] == 6
+    assert "6 failed runs (uplift) counted as exceedance" in row["failures"]
+    assert res["failures"] == row["failures"]
+    # dropping them would have moved the median capacity up: the bias the count removes
+    dropped = fit_lognormal(im[:-6], exceeded[:-6])
+    assert dropped.theta > ref.theta
+    csv = (tmp_path / "fragility.csv").read_text()
+    assert "n_failed_as_exceedance" in csv.splitlines()[0] and "counted as exceedance" in csv
+    assert (tmp_path / "fragility.png").is_file()
+
+
+def test_failure_without_a_physical_outcome_refuses_the_fit(tmp_path):
+    # a numerical failure says nothing about the structure: neither survived nor exceeded
+    from nsdyn.studies.analyses import run_analyses
+
+    err = "IntegrationError: Newton iteration did not converge at t = 1.2 s"
+    study, table, _, _ = _study_table(np.random.default_rng(4), n_uplift=2, other_error=err)
+    res = run_analyses(study, table, tmp_path, figures=True)["fragility"]
+    (row,) = res["fits"]
+    assert "theta" not in row
+    assert re.search(r"1 runs have no outcome.*Newton.*--retry-failed", row["error"])
+    assert "error" in (tmp_path / "fragility.csv").read_text().splitlines()[0]
