@@ -40,8 +40,6 @@ def configure(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from concurrent.futures import ProcessPoolExecutor
-
     from nsdyn.models.rocking.scene import build_model
     from nsdyn.models.rocking.spectra import overturning_spectrum
     from nsdyn.models.scenefile import SceneError, read_toml, scene_kind
@@ -58,7 +56,9 @@ def run(args: argparse.Namespace) -> int:
         raise SceneError(f"--workers: expected a positive integer, got {args.workers}")
     model = build_model(cfg, src)
     ratios = np.geomspace(args.wmin, args.wmax, args.n)
-    with ProcessPoolExecutor(args.workers) as ex:
+    from nsdyn.studies.workers import process_pool
+
+    with process_pool(args.workers) as ex:
         sp = overturning_spectrum(model, ratios, args.shape, rtol=args.rtol, executor=ex)
     out = Path(args.out)
     stem = f"spectrum-{Path(src).stem}-{args.shape}"

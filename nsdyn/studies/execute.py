@@ -20,7 +20,7 @@ import os
 import sys
 import time
 from collections.abc import Callable, Iterator
-from concurrent.futures import FIRST_COMPLETED, Executor, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, Executor, wait
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from dataclasses import dataclass, fields
@@ -30,6 +30,7 @@ from nsdyn.studies.scenes import run_batch
 from nsdyn.studies.study import Study
 from nsdyn.studies.table import ResultsStore, Table
 from nsdyn.studies.tasks import Task, batch_size, batches, expand
+from nsdyn.studies.workers import process_pool
 
 PROGRESS_S = 2.0  # seconds between progress lines
 DASK_HINT = 'Dask is an optional extra: pip install "nsdyn[dask]"'
@@ -131,7 +132,7 @@ def run_study(
     own = executor is None
     if own:
         workers = workers or os.cpu_count() or 1
-        executor = ProcessPoolExecutor(max_workers=workers) if todo else None
+        executor = process_pool(workers) if todo else None
     n_workers = workers if own else _n_workers(executor)
     size = batch_size(len(todo), n_workers, study.batch)
     prog = _Progress(study.name, len(tasks), len(tasks) - len(todo), progress)
@@ -164,7 +165,7 @@ def run_study(
                     pending.pop(f)
                     resubmit += b
                 executor.shutdown(wait=False, cancel_futures=True)
-                executor = ProcessPoolExecutor(max_workers=workers)
+                executor = process_pool(workers)
             elif broken:
                 raise RuntimeError("the given process pool broke; rerun the study to resume")
             for t in resubmit:

@@ -20,7 +20,7 @@ import math
 import os
 import sys
 import time
-from concurrent.futures import Executor, ProcessPoolExecutor
+from concurrent.futures import Executor
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -28,6 +28,7 @@ import numpy as np
 
 from nsdyn.atomic import atomic_open
 from nsdyn.models.scenefile import SceneError
+from nsdyn.studies.workers import process_pool
 
 DEFAULT_OUT = "nsdyn-sweep"
 DEFAULT_AMPLITUDES = "0.1,0.5,1,2"  # m/s^2, seed Fig. 9
@@ -329,7 +330,7 @@ def sweep_amplitudes(
         n = workers or min(len(amplitudes), os.cpu_count() or 1)
         if n <= 1:
             return [amplitude_job(*a) for a in args]
-        with ProcessPoolExecutor(max_workers=n) as ex:
+        with process_pool(n) as ex:
             return _run_all(ex, args)
     return _run_all(executor, args)
 

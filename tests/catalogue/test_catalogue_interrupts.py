@@ -329,4 +329,77 @@ def test_changed_study_reuses_only_identical_tasks(tmp_path):
     assert mus == [0.04, 0.06]
 
 
-N_INTERRUPTIONS = 2 + 2 + 2 + 1  # run, sweep, bench (SIGINT + SIGTERM each), study SIGINT
+# ----------------------------------------------------------------------------- SIGKILL
+# A parent killed outright runs no handler: its pool workers must end by themselves (they ask
+# the kernel for a signal at the parent's death and watch the parent's pid), not compute on or
+# idle holding their memory. The deadline is a bound for "they end", not a timing check.
+WORKERS_GONE_S = 30.0
+
+
+def _proc_stat(pid: int) -> tuple[str, int] | None:
+    """(state, parent pid) of a live process, None if it is gone."""
+    try:
+        text = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    fields = text[text.rindex(")") + 2 :].split()
+    return fields[0], int(fields[1])
+
+
+def _workers(pid: int) -> set[int]:
+    """The pool workers of ``pid``: its children running its own command line (forked)."""
+    try:
+        cmd = Path(f"/proc/{pid}/cmdline").read_bytes()
+    except OSError:
+        return set()
+    out = set()
+    for d in Path("/proc").iterdir():
+        if d.name.isdigit() and (st := _proc_stat(int(d.name))) and st[1] == pid:
+            try:
+                if (d / "cmdline").read_bytes() == cmd:
+                    out.add(int(d.name))
+            except OSError:
+                pass
+    return out
+
+
+def _running(pid: int) -> bool:
+    st = _proc_stat(pid)
+    return st is not None and st[0] not in ("Z", "X")  # a zombie has ended
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+@pytest.mark.parametrize("command", ["study", "sweep"])
+def test_pool_workers_end_with_a_killed_parent(tmp_path, command):
+    out = tmp_path / "out"
+    if command == "study":
+        argv = ["study", str(_study(tmp_path, "[0.02, 0.03, 0.04, 0.05, 0.06]")), "--out",
+                str(out), "--workers", "2", "--json", "--no-figures"]  # fmt: skip
+    else:
+        argv = [*SWEEP_ARGS, "--out", str(out)]
+        argv[argv.index("--amplitudes") + 1] = "1,2"
+        argv[argv.index("--workers") + 1] = "2"
+    proc = _spawn(argv, tmp_path)
+    try:
+        t0 = time.monotonic()
+        while len(workers := _workers(proc.pid)) < 2:
+            assert proc.poll() is None, "the command ended before its pool started"
+            assert time.monotonic() - t0 < DEADLINE_S, "no pool workers appeared"
+            time.sleep(0.01)
+        os.kill(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=60)
+        t0 = time.monotonic()
+        while (alive := {w for w in workers if _running(w)}) and (
+            time.monotonic() - t0 < WORKERS_GONE_S
+        ):
+            time.sleep(0.05)
+        assert not alive, f"pool workers {sorted(alive)} outlived their killed parent"
+    finally:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)  # whatever is left of the process group
+        except ProcessLookupError:
+            pass
+
+
+N_INTERRUPTIONS = 2 + 2 + 2 + 1 + 2  # run, sweep, bench (SIGINT + SIGTERM each), study
+# SIGINT, study and sweep SIGKILL

@@ -1,0 +1,70 @@
+"""Local process pools whose workers die with the process that started them.
+
+A ``ProcessPoolExecutor``'s workers outlive a parent that is killed outright (SIGKILL, the
+out-of-memory killer, a crashed terminal): they keep computing, or idle holding their memory,
+until someone finds them. Every pool of the studies and the command line is made by
+:func:`process_pool`, whose workers
+
+* ask the kernel for SIGKILL when their parent dies (Linux ``prctl(PR_SET_PDEATHSIG)``), and
+* watch the parent's pid from a daemon thread as a portable fallback (every
+  ``WATCH_S`` seconds: a worker whose parent is gone is re-parented, ``os.getppid()`` changes,
+  and it exits at once).
+
+A parent that dies between the fork and the ``prctl`` call is caught by the same pid check, made
+once right after it.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import ctypes.util
+import os
+import signal
+import sys
+import threading
+import time
+from concurrent.futures import ProcessPoolExecutor
+
+WATCH_S = 0.5  # seconds between the fallback's checks of the parent's pid
+PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # exists, owned by another user (a recycled pid: still "alive")
+        return True
+    return True
+
+
+def _die_with(parent: int) -> None:
+    """Pool initializer: end this worker when process ``parent`` ends."""
+    ppid = os.getppid()  # the parent itself (fork, spawn) or a fork server started by it
+    if ppid == parent and sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+            libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        except (OSError, AttributeError):  # no libc to ask: the watchdog alone
+            pass
+
+    def gone() -> bool:
+        return os.getppid() != ppid or not _alive(parent)
+
+    if gone():  # the parent died before the request took effect
+        os._exit(1)
+
+    def watch() -> None:
+        while not gone():
+            time.sleep(WATCH_S)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="nsdyn-parent-watch", daemon=True).start()
+
+
+def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
+    """A ``ProcessPoolExecutor`` whose workers end when this process ends, however it ends."""
+    return ProcessPoolExecutor(
+        max_workers=max_workers, initializer=_die_with, initargs=(os.getpid(),)
+    )
