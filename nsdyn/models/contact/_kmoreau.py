@@ -11,6 +11,13 @@ with Newton's law at velocity level on the active contacts,
 0 <= W_N v_k+1 + e_n W_N v_k  _|_  P_N >= 0, and Coulomb's law on the impulses
 (|P_T| <= mu(v_T,k) P_N, sliding opposite to v_T,k+1) solved as one LCP (``_kgeom``).  Impacts
 and their accumulations are simply absorbed into the steps; the scheme is first order.
+
+Body mode of a step (the output labels), from the step's impulses rather than from thresholds on
+the positions alone: a corner that carried a normal impulse is on the ground, slipping when
+|v_T,k+1| > v_tol (a sticking one has v_T,k+1 = 0 by the LCP); a corner without impulse is off
+when it separates (W_N v_k+1 > v_tol) or its gap exceeds g_tol, and otherwise keeps its state.
+The last rule matters: the theta-method lets a rocking pivot rise by O(h^2) and fall freely for
+one step now and then (no impulse, a tangential velocity ~ g h); that is not a slip.
 """
 
 from __future__ import annotations
@@ -21,8 +28,12 @@ from numba import njit
 from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_vec
 from nsdyn.models.contact._kgeom import (
+    FLIGHT,
     OVERTURNED,
-    body_mode,
+    REST,
+    ROCK,
+    SLIDE,
+    SLIDE_ROCK,
     contact_rows,
     ground_acc,
     mu_of,
@@ -31,6 +42,35 @@ from nsdyn.models.contact._kgeom import (
 
 G_ACT = 1e-9  # a contact is active when its predicted gap is below G_ACT * L
 JUMP_EPS = 1e-9  # a jump within JUMP_EPS h of a step's end belongs to the next step
+
+
+@njit(cache=True, error_model="numpy")
+def step_mode(q, v, PN, Wn, Wt, verts, g_tol, v_tol, on, slipping):
+    """Update the corners' state ``on``, ``slipping`` after a step with normal impulses ``PN``
+    (module text) and return the body mode (REST, SLIDE, ROCK, SLIDE_ROCK or FLIGHT). The
+    velocities are the step's own, ``W_N v``, ``W_T v`` with the rows of the step (at its
+    midpoint): those the LCP holds at zero for a sticking corner (at q_k+1 the rows turn by
+    theta' h / 2, and a sticking pivot would show a slip ~ theta'^2 h b)."""
+    g = contact_rows(q, v, verts)[0]
+    gd = Wn @ v
+    vt = Wt @ v
+    n_on = 0
+    slip = False
+    for i in range(g.shape[0]):
+        if PN[i] > 0.0:
+            on[i] = True
+            slipping[i] = abs(vt[i]) > v_tol
+        elif gd[i] > v_tol or g[i] > g_tol:
+            on[i] = False
+            slipping[i] = False
+        if on[i]:
+            n_on += 1
+            slip = slip or slipping[i]
+    if n_on == 0:
+        return FLIGHT
+    if n_on == 1:
+        return SLIDE_ROCK if slip else ROCK
+    return SLIDE if slip else REST
 
 
 @njit(cache=True, error_model="numpy")
@@ -64,7 +104,16 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
     t_o[0] = t0
     copy_vec(q_o[0], q)
     copy_vec(v_o[0], v)
-    md_o[0] = body_mode(q, v, verts, g_tol, v_tol, par[5])
+    g0, _, _, _, _, _, vt0 = contact_rows(q, v, verts)
+    on = np.zeros(nc, np.bool_)
+    slipping = np.zeros(nc, np.bool_)
+    for i in range(nc):
+        on[i] = g0[i] <= g_tol
+        slipping[i] = on[i] and abs(vt0[i]) > v_tol
+    _, Wn0, Wt0, _, _, _, _ = contact_rows(q, v, verts)
+    md_o[0] = step_mode(q, v, np.zeros(nc), Wn0, Wt0, verts, g_tol, v_tol, on, slipping)
+    if abs(q[2]) >= par[5]:
+        md_o[0] = OVERTURNED
     io = 1
     sig = np.zeros(nc)
     status = 0
@@ -111,12 +160,13 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
             status = -2
             break
         over = abs(q[2]) >= par[5]
+        md = step_mode(q, v, PN, Wn, Wt, verts, g_tol, v_tol, on, slipping)
         if k % stride == 0 or over:
             if io < nout:
                 t_o[io] = t
                 copy_vec(q_o[io], q)
                 copy_vec(v_o[io], v)
-                md_o[io] = OVERTURNED if over else body_mode(q, v, verts, g_tol, v_tol, par[5])
+                md_o[io] = OVERTURNED if over else md
                 io += 1
         if over:
             status = 1

@@ -202,6 +202,7 @@ def simulate_compliant(
         body.theta_ov, 0, t_over, [], n_steps, n_steps, e_spring=y[:, 6:8].copy(),
         w_ext=y[:, 8].copy(), w_contact=y[:, 9].copy(), n_on=y[:, 10].astype(int), h=h,
         wall_s=wall, base_idx=np.arange(len(verts)), uplift=np.maximum(highest, 0.0),
+        contacts=verts, on_tol=0.0,
     )  # fmt: skip
 
 

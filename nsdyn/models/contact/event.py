@@ -35,7 +35,7 @@ from nsdyn.models.contact._kgeom import body_mode, contact_rows, mu_of, solve_co
 from nsdyn.models.contact.body import RigidBody
 from nsdyn.models.contact.excite import BaseMotion
 from nsdyn.models.contact.friction import FrictionLaw
-from nsdyn.models.contact.results import ContactResult
+from nsdyn.models.contact.results import MODE_NAMES, ContactResult, state_mode
 
 G_ON = 1e-8  # a contact touches when g <= G_ON * L
 V_ON = 1e-8  # ... and is at rest (normal / tangential) when |velocity| <= V_ON * sqrt(g L)
@@ -180,6 +180,8 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
         if tj == 0.0:
             y[3] -= dv
     y, n_imp = _settle(body, par, mo, t, y, e, closed, sig)
+    # the first contact state other than rest, at its time (the output samples lag it)
+    first = None if state_mode(closed, sig != 0) == 0 else (t, state_mode(closed, sig != 0))
     iout = 0
     events: list = []
     h = 1e-3 * math.sqrt(par[6] / g)
@@ -198,6 +200,8 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
         if code == ke.EV_OVER:
             t_over = t
             events.append((t, "overturn", -1))
+            if first is None:
+                first = (t, MODE_NAMES.index("overturned"))
             break
         if code == ke.EV_END:
             for tj, dv in jumps:
@@ -211,6 +215,8 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
                                "(impact accumulation or chattering)")  # fmt: skip
         y, k = _settle(body, par, mo, t, y, e, closed, sig)
         n_imp += k
+        if first is None and state_mode(closed, sig != 0) != 0:
+            first = (t, state_mode(closed, sig != 0))
         h = max(h, 1e-6 * math.sqrt(par[6] / g))
     ok = ~np.isnan(y_out[:, 0])
     t_s, q_s, v_s = t_out[ok], y_out[ok, :3], y_out[ok, 3:]
@@ -224,4 +230,5 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
         mode = np.append(mode, 5)
     base_mid = body.contacts.mean(axis=0)
     return ContactResult(t_s, q_s, v_s, mode, "event", base_mid, body.theta_ov, n_imp, t_over,
-                         events, n_steps, n_rhs)  # fmt: skip
+                         events, n_steps, n_rhs, body.contacts, MODE_G_TOL * par[6],
+                         first)  # fmt: skip

@@ -51,7 +51,8 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
     if status < 0:
         raise RuntimeError(f"Moreau-Jean: {STATUS[status]} at t = {t_stop:.9g} s")
     res = ContactResult(t, qs, vs, md, "moreau", body.contacts.mean(axis=0), body.theta_ov,
-                        0, t_stop if status == 1 else None, [], k, k)  # fmt: skip
+                        0, t_stop if status == 1 else None, [], k, k, body.contacts,
+                        MODE_G_TOL * L)  # fmt: skip
     res.n_impacts = _count_impacts(res, body, L)
     return res
 

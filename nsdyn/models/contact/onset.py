@@ -7,7 +7,9 @@ holds while the friction demand and the overturning moment are both within bound
     rest        abar <= mu  and  abar <= beta.
 
 Sliding without rotation needs friction mu m g at the base whose moment about the centre of mass
-the normal reactions can balance only if mu <= beta:  slide  if  abar > mu  and  mu < beta.
+the normal reactions can balance only if mu <= beta:  slide  if  abar > mu  and  mu <= beta
+(at the tie mu = beta the trailing reaction falls to zero but stays non-negative: the body slides
+flat, it does not tilt).
 Rocking about the trailing corner O with thetad = 0 (J_O = 4/3 m R^2, R^2 = b^2 + h^2):
 
     J_O thetadd = m g (abar h - b),
@@ -52,7 +54,7 @@ def onset_mode(b_over_h: float, mu: float, abar: float) -> str:
     beta = b_over_h
     if abar <= mu and abar <= beta:
         return "rest"
-    if mu < beta:
+    if mu <= beta:
         return "slide"
     return "rock" if mu >= mu_rock(abar, beta) else "slide_rock"
 

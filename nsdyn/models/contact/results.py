@@ -1,8 +1,18 @@
 """Histories of a contact simulation and their summary (time in each mode, slide, tilt, hops).
 
-Body modes: rest, slide, rock, slide-rock, flight (hop), overturned.  Slide is the horizontal
-displacement of the base midpoint relative to the ground, tilt |theta|, a hop an entry into
-flight, overturning the tilt reaching theta_ov (the body lies on a side).
+Body modes: rest, slide, rock, slide-rock, flight (hop), overturned.  Slide is the slip at the
+contacts: while base corner i stays on the ground its ground-frame position
+x_c,i = x + (R(theta) r_i)_x changes only by slipping (d x_c,i / dt = v_T,i), so between two
+samples where a corner touches at both ends the slip is Delta x_c,i (mean over the touching
+corners; none in flight), and
+
+    slide(t_k) = sum_{j < k} mean_{i touching at j, j+1} (x_c,i(t_j+1) - x_c,i(t_j)).
+
+Rocking about a corner that sticks adds nothing (the base midpoint's swing is not a slide). Tilt
+is |theta|, a hop an entry into flight, overturning the tilt reaching theta_ov (the body lies
+on a side). The first motion is the mode entered at the first change of the contact state (an
+event of the event-driven solver, at its located time; a step of Moreau-Jean), not the first
+sample whose displacement passes a threshold.
 """
 
 from __future__ import annotations
@@ -24,6 +34,10 @@ class ContactResult:
     t : (n,);  q : (n, 3) (x, y, theta);  v : (n, 3);  mode : (n,) index into MODE_NAMES
     events : list of (t, name, contact) (event-driven) ;  n_impacts ;  t_overturn (or None)
     base_mid : (2,) base midpoint relative to the centre of mass (body frame)
+    contacts : (nc, 2) base corners (body frame) and ``on_tol`` [m]: a corner touches the
+        ground when its gap is at most on_tol (None: ``slide`` is the base midpoint's shift)
+    first_change : (t, mode index) of the first contact state other than rest, when the solver
+        knows it (event-driven: after the mode rebuild at an event)
     """
 
     t: np.ndarray
@@ -38,13 +52,26 @@ class ContactResult:
     events: list = field(default_factory=list)
     n_steps: int = 0
     n_rhs: int = 0
+    contacts: np.ndarray | None = None
+    on_tol: float = 0.0
+    first_change: tuple | None = None
 
     @property
     def slide(self) -> np.ndarray:
-        """(n,) horizontal displacement of the base midpoint relative to the ground [m]."""
+        """(n,) slip at the contacts relative to the ground [m] (module text)."""
         c, s = np.cos(self.q[:, 2]), np.sin(self.q[:, 2])
-        xb = self.q[:, 0] + c * self.base_mid[0] - s * self.base_mid[1]
-        return xb - xb[0]
+        if self.contacts is None or len(self.t) < 2:
+            xb = self.q[:, 0] + c * self.base_mid[0] - s * self.base_mid[1]
+            return xb - xb[0]
+        r = self.contacts
+        xc = self.q[:, :1] + c[:, None] * r[None, :, 0] - s[:, None] * r[None, :, 1]
+        gap = self.q[:, 1:2] + s[:, None] * r[None, :, 0] + c[:, None] * r[None, :, 1]
+        on = gap <= self.on_tol
+        both = on[:-1] & on[1:]
+        n_on = both.sum(axis=1)
+        inc = np.where(n_on > 0, (np.diff(xc, axis=0) * both).sum(axis=1) / np.maximum(n_on, 1),
+                       0.0)  # fmt: skip
+        return np.concatenate([[0.0], np.cumsum(inc)])
 
     def energy(self, mass: float, J: float, g: float) -> np.ndarray:
         """(n,) kinetic + potential energy in the ground frame [J]."""
@@ -79,13 +106,37 @@ class ContactResult:
             "overturned": bool(over),
             "t_overturn": float(self.t_overturn) if over else None,
             "first_motion": self.first_motion(),
+            "t_first_motion": finite_or_none(self.t_first_motion()),
             "n_steps": int(self.n_steps),
         }
 
-    def first_motion(self) -> str:
-        """Name of the first mode other than rest (``rest`` if none)."""
+    def _first(self) -> tuple[float, int]:
+        if self.first_change is not None:
+            return float(self.first_change[0]), int(self.first_change[1])
         moving = np.flatnonzero(self.mode != 0)
-        return MODE_NAMES[int(self.mode[moving[0]])] if len(moving) else "rest"
+        return (float(self.t[moving[0]]), int(self.mode[moving[0]])) if len(moving) else (
+            math.nan, 0)  # fmt: skip
+
+    def first_motion(self) -> str:
+        """Name of the first mode other than rest (``rest`` if none): from the first change of
+        the contact state when the solver reports it, else from the sampled modes."""
+        return MODE_NAMES[self._first()[1]]
+
+    def t_first_motion(self) -> float:
+        """Time [s] of that first change (NaN if the body never leaves rest)."""
+        return self._first()[0]
+
+
+def state_mode(closed: np.ndarray, slipping: np.ndarray) -> int:
+    """Body mode of a contact state without thresholds: no corner closed -> flight, one ->
+    rock (slide_rock if it slips), two or more -> rest (slide if any slips)."""
+    n = int(np.count_nonzero(closed))
+    slip = bool(np.any(closed & slipping))
+    if n == 0:
+        return MODE_NAMES.index("flight")
+    if n == 1:
+        return MODE_NAMES.index("slide_rock" if slip else "rock")
+    return MODE_NAMES.index("slide" if slip else "rest")
 
 
 def finite_or_none(x: float | None) -> float | None:
