@@ -1,4 +1,8 @@
-"""``nsdyn modes``: fixed-base modes, dof counts, total mass and f_bis of a frame."""
+"""``nsdyn modes``: fixed-base modes, dof counts, total mass and f_bis of a frame.
+
+A 3D frame file (a ``[frame3d]`` table) lists its modes with their family (x, y, torsion,
+vertical, local) and effective-mass fractions in x, y and θz instead.
+"""
 
 from __future__ import annotations
 
@@ -19,6 +23,7 @@ from nsdyn.structure import base_isolation_frequency, load_frame
 DEFAULT_OUT = "nsdyn-out"  # directory for figures
 N_LIST = 10  # fixed-base modes listed by `modes`
 N_DRAW = 4  # mode shapes drawn by `modes`
+N_LIST_3D = 12  # fixed-base modes listed for a 3D frame (four of each family, typically)
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -72,6 +77,10 @@ def modes_summary(frame, f_max: float, k_lam: float) -> tuple[dict, np.ndarray, 
 
 
 def run(args: argparse.Namespace) -> int:
+    from nsdyn.structure import is_frame3d
+
+    if is_frame3d(args.frame):
+        return _run3d(args)
     frame = load_frame(args.frame)
     s, f, Phi = modes_summary(frame, args.fmax, args.klam)
     out = args.out if args.out is not None else (None if args.json else DEFAULT_OUT)
@@ -98,6 +107,50 @@ def run(args: argparse.Namespace) -> int:
     print(f"total mass M_s = {s['total_mass_kg']:.4g} kg")
     print(f"f_bis = sqrt({len(frame.base_nodes)} K_lam / M_s) / 2pi = {s['f_bis_hz']:.4f} Hz")
     print(f"  (K_lam = {s['k_lam_n_per_m']:g} N/m)")
+    if "figure" in s:
+        print(f"mode shapes: {s['figure']}")
+    return 0
+
+
+def _run3d(args: argparse.Namespace) -> int:
+    """``nsdyn modes`` of a space frame: families and participation; no Craig–Bampton yet."""
+    from nsdyn.structure import damping_ratios, fixed_base_modes_3d, load_frame3d
+
+    frame = load_frame3d(args.frame)
+    m = fixed_base_modes_3d(frame, n_modes=N_LIST_3D)
+    s = {
+        "frame": frame.name,
+        "kind": "3d",
+        "n_nodes": frame.n_nodes,
+        "n_dof": frame.n_dof,
+        "n_constrained": frame.n_red,
+        "n_diaphragms": len(frame.diaphragms),
+        "frequencies_hz": [float(x) for x in m.f_hz],
+        "families": list(m.family),
+        "mass_fractions_x_y_theta": m.mass_fraction.round(6).tolist(),
+        "damping_ratios": damping_ratios(frame.zeta, len(m.f_hz)).tolist(),
+        "total_mass_kg": frame.total_mass,
+        "mass_centre_m": m.centre.tolist(),
+    }
+    out = args.out if args.out is not None else (None if args.json else DEFAULT_OUT)
+    if out is not None:
+        from nsdyn.plot.frames3d import plot_mode_shapes_3d
+
+        path = Path(out) / f"modes-{frame.name}.png"
+        save_figure(plot_mode_shapes_3d(m, n=N_DRAW), path)
+        s["figure"] = str(path)
+    if args.json:
+        print(json.dumps(s))
+        return 0
+    print(f"frame {s['frame']} (3D): {s['n_nodes']} nodes, {s['n_dof']} dofs,")
+    print(f"  {s['n_diaphragms']} rigid diaphragms: {s['n_constrained']} constrained dofs")
+    print("fixed-base modes (effective-mass fractions in x, y and rotation θz):")
+    print("   #   f [Hz]   family      m_x    m_y    J_θ   zeta")
+    for k, (fk, fam) in enumerate(zip(s["frequencies_hz"], s["families"], strict=True)):
+        fx, fy, ft = m.mass_fraction[k]
+        z = s["damping_ratios"][k]
+        print(f"  {k + 1:2d}  {fk:7.3f}   {fam:9s} {fx:6.3f} {fy:6.3f} {ft:6.3f}  {z:.3f}")
+    print(f"total mass M_s = {s['total_mass_kg']:.4g} kg at x, y = {m.centre.round(3).tolist()} m")
     if "figure" in s:
         print(f"mode shapes: {s['figure']}")
     return 0

@@ -1,0 +1,47 @@
+"""``nsdyn modes`` on a 3D frame file and the 3D mode-shape figure.
+
+Sources: the command's contract (a 3D file is recognised by its [frame3d] table and listed
+with mode families and effective-mass fractions, which sum to at most 1 per direction:
+Σ_k Γ_k² = rᵀ M r over a complete mass-normalised basis), and the figure's contract (one
+labelled 3D panel per mode).
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from nsdyn.cli.app import main
+from nsdyn.plot.frames3d import deformed_lines_3d, plot_mode_shapes_3d
+from nsdyn.structure import fixed_base_modes_3d, load_frame3d
+
+
+def test_modes_command_lists_families_of_a_3d_frame(capsys, tmp_path):
+    assert main(["modes", "portal-3d", "--json"]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["kind"] == "3d" and s["n_dof"] == 48
+    f = np.array(s["frequencies_hz"])
+    assert np.all(np.diff(f) >= 0) and len(s["families"]) == len(f)
+    assert {"x", "y", "torsion"} <= set(s["families"])
+    frac = np.array(s["mass_fractions_x_y_theta"])
+    assert np.all(frac.sum(axis=0) <= 1 + 1e-9)
+    assert main(["modes", "portal-3d", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "torsion" in out and (tmp_path / "modes-portal-3d.png").stat().st_size > 0
+
+
+def test_deformed_lines_follow_the_nodal_displacements():
+    # Source: the shape functions interpolate: the drawn line ends at the displaced nodes.
+    b = load_frame3d("portal-3d")
+    m = fixed_base_modes_3d(b, n_modes=3)
+    u = m.full()[:, 2]
+    lines = deformed_lines_3d(b, u, scale=2.0)
+    disp = u.reshape(-1, 6)[:, :3]
+    for e, (i, j) in enumerate(b.elements):
+        assert np.allclose(lines[e, 0], b.nodes[i] + 2.0 * disp[i], rtol=0, atol=1e-12)
+        assert np.allclose(lines[e, -1], b.nodes[j] + 2.0 * disp[j], rtol=0, atol=1e-12)
+    fig = plot_mode_shapes_3d(m, n=3)
+    axes = fig.get_axes()
+    assert len(axes) == 3 and all(a.name == "3d" for a in axes)
+    assert axes[0].get_zlabel() == "z [m]" and "Hz" in axes[2].get_title()
