@@ -17,6 +17,7 @@ from nsdyn.atomic import atomic_open, save_figure
 from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
 from nsdyn.cli.args import positive_int as _positive_int
+from nsdyn.studies.scenes import FIXED_DT  # the fixed-step methods' default step (re-exported)
 
 DEFAULT_OUT = "nsdyn-out"  # output directory
 
@@ -205,9 +206,6 @@ def prepare_kernels(method: str, flat: bool = True) -> float:
     if cold:
         print(f"  compiled in {spent:.1f} s", file=sys.stderr, flush=True)
     return spent
-
-
-FIXED_DT = 0.005  # s, default step of the fixed-step methods (record samples of 200 Hz)
 
 
 def _check_method(method: str, cfg: dict) -> None:

@@ -36,6 +36,7 @@ from pathlib import Path
 from nsdyn.models.scenefile import SceneError, scene_kind
 
 ERROR_CHARS = 400  # longest error text kept in a failed row
+FIXED_DT = 0.005  # s, the fixed-step methods' step when a scene gives none (records of 200 Hz)
 MOTION_CACHE = 32  # parsed records kept per process
 _systems: dict = {}  # (frame, fidelity, f_max, diaphragm) -> isolator-free system
 _lock = threading.Lock()  # the system cache is shared by the threads of a threaded worker
@@ -138,7 +139,8 @@ def _run_isolated(cfg: dict, source: str) -> dict:
         system = replace(system, isolation=replace(system.isolation, law="switch"), _static=None)
     atol = sv.get("atol")
     t_eval = output_grid(motion, sv.get("dt_out"), **duration)
-    check_step_count(source, method, sv.get("dt"), t_eval, sv.get("max_steps"))
+    dt = fixed_step(method, sv)
+    check_step_count(source, method, dt, t_eval, sv.get("max_steps"))
     with warnings.catch_warnings():  # uplift = "warn": the summary's uplift and outcome say it
         warnings.simplefilter("ignore", UpliftWarning)
         res = simulate(
@@ -147,7 +149,7 @@ def _run_isolated(cfg: dict, source: str) -> dict:
             method=method,
             rtol=sv["rtol"],
             atol=tuple(atol) if isinstance(atol, list) else atol,
-            dt=sv.get("dt"),
+            dt=dt,
             t_eval=t_eval,
             uplift=sv.get("uplift", "raise"),
             **({"max_steps": int(sv["max_steps"])} if "max_steps" in sv else {}),
@@ -245,7 +247,16 @@ def _check_isolated(cfg: dict, source: str) -> None:
 
         field = "motion.record" if isinstance(e, OSError | RecordFileError) else "motion"
         raise SceneError(f"{source}: {field}: {' '.join(str(e).split())}") from None
-    check_step_count(source, method, sv.get("dt"), t_eval, sv.get("max_steps"))
+    check_step_count(source, method, fixed_step(method, sv), t_eval, sv.get("max_steps"))
+
+
+def fixed_step(method: str, solver: dict) -> float | None:
+    """``solver.dt``, or ``FIXED_DT`` for a fixed-step method without one (as ``nsdyn run``)."""
+    from nsdyn.solve.methods import METHODS
+
+    if "dt" in solver or method not in METHODS or not METHODS[method].fixed_step:
+        return solver.get("dt")
+    return FIXED_DT
 
 
 def run_scene_summary(cfg: dict, source: str) -> dict:

@@ -206,3 +206,20 @@ def test_killed_study_resumes_with_every_row_once(tmp_path, sig):
         if r["key"] in before:
             assert _comparable([r]) == _comparable([before[r["key"]]])
     assert json.dumps(res.as_dict())
+
+
+def test_fixed_step_task_without_dt_takes_the_run_default(tmp_path):
+    # `nsdyn run --method genalpha` steps 0.005 s when the scene gives no dt; a study task of
+    # the same scene must be the same run (before, every such task failed asking for dt)
+    from nsdyn.models.isolated.scene import build_scene, load_scene
+    from nsdyn.solve.transient import output_grid, simulate
+    from nsdyn.studies.scenes import FIXED_DT
+
+    cfg = load_scene(None, {"scene": {"fidelity": "rigid"}, "motion": {"t_end": 2.0},
+                            "solver": {"method": "genalpha"}})  # fmt: skip
+    system, motion = build_scene(cfg)
+    ref = simulate(system, motion, method="genalpha", dt=FIXED_DT,
+                   t_eval=output_grid(motion, cfg["solver"]["dt_out"])).summary()  # fmt: skip
+    got = run_scene_summary(cfg, "test")
+    assert got["n_steps"] == ref["n_steps"]
+    assert got["x_iso_max_m"] == ref["x_iso_max_m"]
