@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 
 from nsdyn.cli.app import main
 from nsdyn.plot.frames3d import deformed_lines_3d, plot_mode_shapes_3d
@@ -45,3 +46,18 @@ def test_deformed_lines_follow_the_nodal_displacements():
     axes = fig.get_axes()
     assert len(axes) == 3 and all(a.name == "3d" for a in axes)
     assert axes[0].get_zlabel() == "z [m]" and "Hz" in axes[2].get_title()
+
+
+def test_drawn_members_leave_the_nodes_at_the_nodal_rotations():
+    # Source: θz = dv/dx and θy = −dw/dx (the element's bending planes): a beam along x with
+    # vecxz = Z (e_y = Y, e_z = Z) given only an end rotation θ leaves that end with slope
+    # dy/dx = θ (about z) or dz/dx = −θ (about y), to O(h) of the one-sided difference.
+    b = load_frame3d("portal-3d")
+    e = next(k for k, (i, j) in enumerate(b.elements) if b.nodes[j, 0] - b.nodes[i, 0] > 1)
+    j = b.elements[e, 1]
+    for comp, row, sign in ((5, 1, 1.0), (4, 2, -1.0)):
+        u = np.zeros(b.n_dof)
+        u[6 * j + comp] = 1e-3
+        line = deformed_lines_3d(b, u, scale=1.0, n_sub=400)[e]
+        slope = (line[-1, row] - line[-2, row]) / (line[-1, 0] - line[-2, 0])
+        assert slope == pytest.approx(sign * 1e-3, rel=3 * 2 / 400)  # error ½|w''|h = 2θ/400
