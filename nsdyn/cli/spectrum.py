@@ -64,10 +64,11 @@ def run(args: argparse.Namespace) -> int:
     stem = f"spectrum-{Path(src).stem}-{args.shape}"
     buf = io.StringIO()
     w = csv.writer(buf)
-    w.writerow(["omega_ratio", "a_min_ratio", "mode", "safe_lo_ratio", "safe_hi_ratio"])
-    for row in zip(sp.omega_ratio, sp.a_min_ratio, sp.mode, sp.safe_lo_ratio, sp.safe_hi_ratio,
-                   strict=True):  # fmt: skip
-        w.writerow([repr(float(v)) if not isinstance(v, np.integer) else int(v) for v in row])
+    w.writerow(["omega_ratio", "a_min_ratio", "mode", "safe_lo_ratio", "safe_hi_ratio", "status"])
+    for *row, word in zip(sp.omega_ratio, sp.a_min_ratio, sp.mode, sp.safe_lo_ratio,
+                          sp.safe_hi_ratio, sp.status, strict=True):  # fmt: skip
+        w.writerow([repr(float(v)) if not isinstance(v, np.integer) else int(v) for v in row]
+                   + [word])  # fmt: skip
     csv_path = out / f"{stem}.csv"
     with atomic_open(csv_path, "w") as fh:
         fh.write(buf.getvalue())
@@ -82,6 +83,10 @@ def run(args: argparse.Namespace) -> int:
         "omega_ratio": sp.omega_ratio.tolist(),
         "a_min_ratio": [None if math.isnan(v) else float(v) for v in sp.a_min_ratio],
         "mode": sp.mode.tolist(),
+        "safe_lo_ratio": [None if math.isnan(v) else float(v) for v in sp.safe_lo_ratio],
+        "safe_hi_ratio": [None if math.isnan(v) else float(v) for v in sp.safe_hi_ratio],
+        "status": list(sp.status),
+        "search": {"a_max_ratio": sp.a_max, "scan": sp.scan, "rtol": sp.rtol},
     }
     if not args.no_figures:
         from nsdyn.models.rocking.figures import spectrum_figure
@@ -94,9 +99,11 @@ def run(args: argparse.Namespace) -> int:
         return 0
     print(f"{src}: {args.shape} pulses, α = {sp.alpha:.4f} rad, p = {sp.p:.4f} rad/s")
     print(f"{args.n} frequencies, {sp.n_runs} runs, {sp.wall_s:.2f} s")
-    print("  ω_p/p    a_min/(g tan α)  mode")
-    for x, a, m in zip(sp.omega_ratio, sp.a_min_ratio, sp.mode, strict=True):
-        print(f"  {x:7.3f}  {a:15.5g}  {m:4d}")
+    print("  ω_p/p    a_min/(g tan α)  mode  status")
+    for x, a, m, s in zip(sp.omega_ratio, sp.a_min_ratio, sp.mode, sp.status, strict=True):
+        print(f"  {x:7.3f}  {a:15.5g}  {m:4d}  {s}")
+    print(f"(search: scan x{sp.scan:g} up to a_max = {sp.a_max:g}, refined where the overturning "
+          f"mode changes; edges to {sp.rtol:g})")  # fmt: skip
     print(f"csv:    {csv_path}")
     if "figure" in report:
         print(f"figure: {report['figure']}")

@@ -25,17 +25,30 @@ def history_figure(t, theta, alpha: float, title: str = "", impacts=None) -> Fig
 
 def spectrum_figure(spectra: dict, title: str = "") -> Figure:
     """Minimum overturning amplitude a_p / (g tan alpha) against omega_p / p; ``spectra`` maps a
-    label to an :class:`~nsdyn.models.rocking.spectra.OverturningSpectrum`."""
-    fig = Figure(figsize=(6.5, 4.0), layout="constrained")
+    label to an :class:`~nsdyn.models.rocking.spectra.OverturningSpectrum`. Frequencies without
+    overturning up to a_max get a triangle at a_max (not a gap), a band safe up to a_max is
+    drawn to a_max, and the search's resolution is written under the axes."""
+    fig = Figure(figsize=(6.5, 4.2), layout="constrained")
     ax = fig.add_subplot()
+    notes = []
     for k, (label, sp) in enumerate(spectra.items()):
         x = sp.omega_ratio
         ax.plot(x, sp.a_min_ratio, "-", color=f"C{k}", label=f"{label}: minimum")
+        hi = np.where(np.isnan(sp.safe_hi_ratio) & np.isfinite(sp.safe_lo_ratio), sp.a_max,
+                      sp.safe_hi_ratio)  # fmt: skip
         if np.any(np.isfinite(sp.safe_lo_ratio)):
-            ax.fill_between(x, sp.safe_lo_ratio, sp.safe_hi_ratio, color=f"C{k}", alpha=0.2,
+            ax.fill_between(x, sp.safe_lo_ratio, hi, color=f"C{k}", alpha=0.2,
                             lw=0, label=f"{label}: safe band above")  # fmt: skip
         m1 = sp.mode == 1
         ax.plot(x[m1], sp.a_min_ratio[m1], "o", ms=3, color=f"C{k}", mfc="white")
+        none = np.isnan(sp.a_min_ratio)
+        if np.any(none):
+            ax.plot(x[none], np.full(int(none.sum()), sp.a_max), "^", ms=5, color=f"C{k}",
+                    label=f"{label}: no overturning up to a_max = {sp.a_max:g}")  # fmt: skip
+        notes.append(f"{label}: scan x{sp.scan:g} up to a_max = {sp.a_max:g}, refined where "
+                     f"the overturning mode changes, edges to {sp.rtol:g}")  # fmt: skip
+    ax.text(0.99, 0.01, "\n".join(notes), transform=ax.transAxes, fontsize=6, va="bottom",
+            ha="right", color="0.3")  # fmt: skip
     ax.set_xlabel("ω_p / p")
     ax.set_ylabel("a_p / (g tan α)")
     ax.set_title(title or "overturning (open marks: with an impact)", fontsize=10)

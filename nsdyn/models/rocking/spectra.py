@@ -5,10 +5,20 @@ For each ``omega_p / p`` the amplitude ratio ``a_p / (g tan alpha)`` is scanned 
 from 1 (no lift-off below) by the factor ``scan`` up to ``a_max``; each change of outcome
 (safe <-> overturned) is then bisected to the relative width ``rtol``. Reported: the minimum
 overturning amplitude with its mode (1: overturns after at least one impact, 2: without an
-impact, Zhang & Makris 2001), and the first safe band above the minimum if the scan finds one
-(for one-sine pulses the literature reports such a band: overturning with one impact at the
-minimum, then safe, then overturning without impact). A band narrower than one scan factor
-can be missed; that is the price of not using a fixed grid.
+impact, Zhang & Makris 2001), and the first safe band above the minimum (for one-sine pulses
+the literature reports such a band: overturning with one impact at the minimum, then safe,
+then overturning without impact). Such a band is often narrower than one scan factor (0.1 to
+3 % of the amplitude at omega_p / p = 1 to 3), so the scan alone steps over it. It separates
+the two overturning mechanisms, so where two overturning scan points differ in mode (impact
+before, none after) the interval between them is searched by bisection on the mode: a safe
+midpoint is the band (its edges are then bisected), otherwise the half with the mode change
+is kept, down to ``rtol``. What remains unseen: a band narrower than ``rtol`` there, or one
+narrower than a scan factor where the mode does not change.
+
+Each frequency gets a status word, so that NaN never stands unexplained (``STATUS``):
+``no overturning up to a_max`` (a_min NaN: none found up to the scan's end, not "absent"),
+``no safe band found`` (overturns from a_min on as far as the search sees), ``safe band``
+(between safe_lo and safe_hi) and ``safe up to a_max`` (safe_hi NaN).
 
 Frequencies run in parallel on any :class:`concurrent.futures.Executor` (local processes by
 default); each task is a top-level function of plain values, so it pickles.
@@ -30,6 +40,16 @@ RTOL = 1e-4  # relative width of the bisected amplitude brackets
 SCAN = 1.1  # geometric scan factor of the amplitude
 A_MAX = 30.0  # largest amplitude ratio a_p / (g tan alpha) scanned
 T_AFTER_P = 25.0  # free time after the pulse, in units of 1/p (slow falls near the threshold)
+STATUS = ("no overturning up to a_max", "no safe band found", "safe band", "safe up to a_max")
+
+
+def status_word(a_min: float, safe_lo: float, safe_hi: float) -> str:
+    """The status of one spectrum point (module text) from its three ratios."""
+    if math.isnan(a_min):
+        return STATUS[0]
+    if math.isnan(safe_lo):
+        return STATUS[1]
+    return STATUS[3] if math.isnan(safe_hi) else STATUS[2]
 
 
 @dataclass
@@ -46,6 +66,10 @@ class OverturningSpectrum:
         1: overturning after an impact, 2: without impact, 0: none found.
     safe_lo_ratio, safe_hi_ratio : ndarray, shape (n,)
         First safe band above the minimum (nan if none found; hi nan: safe up to a_max).
+    status : list of str
+        One of ``STATUS`` per frequency: what a NaN above means.
+    a_max, scan, rtol : float
+        The search: amplitudes scanned up to a_max (ratio) by the factor scan, edges to rtol.
     """
 
     omega_ratio: np.ndarray
@@ -58,6 +82,10 @@ class OverturningSpectrum:
     p: float
     n_runs: int
     wall_s: float
+    status: list | None = None
+    a_max: float = A_MAX
+    scan: float = SCAN
+    rtol: float = RTOL
 
 
 def _overturns(model, shape, w, a, tol):
@@ -84,6 +112,23 @@ def _bisect(model, shape, w, a_lo, a_hi, over_lo, rtol, tol):
     return a_lo, a_hi, runs, n_imp
 
 
+def _find_gap(model, shape, w, lo, hi, rtol, tol):
+    """A safe amplitude between ``lo`` (overturns after an impact) and ``hi`` (overturns
+    without), by bisection on the mode; returns (safe amplitude or None, lo, hi, runs)."""
+    runs = 0
+    while hi - lo > rtol * hi:
+        a_m = math.sqrt(lo * hi)
+        over, ni = _overturns(model, shape, w, a_m, tol)
+        runs += 1
+        if not over:
+            return a_m, lo, hi, runs
+        if ni > 0:
+            lo = a_m
+        else:
+            hi = a_m
+    return None, lo, hi, runs
+
+
 def spectrum_point(model, shape: str, omega_ratio: float, rtol: float = RTOL,
                    scan: float = SCAN, a_max: float = A_MAX, tol: float = TOL):  # fmt: skip
     """(a_min, mode, safe_lo, safe_hi, runs) at one omega_p / p (amplitudes / g tan alpha)."""
@@ -94,9 +139,23 @@ def spectrum_point(model, shape: str, omega_ratio: float, rtol: float = RTOL,
     out = [math.nan, 0, math.nan, math.nan]
     state = "find_over"
     a = a_ref * (1.0 + 1e-6)
+    ni_prev = -1  # impacts before overturning at the last overturning scan point
     while a <= a_max * a_ref:
         over, ni = _overturns(model, shape, w, a, tol)
         runs += 1
+        if state == "find_safe" and over and ni == 0 and ni_prev > 0:
+            # the mechanism changed between two overturning points: a band hides there?
+            s, lo, hi, n = _find_gap(model, shape, w, a_prev, a, rtol, tol)
+            runs += n
+            if s is not None:
+                _, edge, n, _ = _bisect(model, shape, w, lo, s, True, rtol, tol)
+                out[2] = edge / a_ref
+                _, edge, m, _ = _bisect(model, shape, w, s, hi, False, rtol, tol)
+                out[3] = edge / a_ref
+                runs += n + m
+                break
+        if over:
+            ni_prev = ni
         if state == "find_over" and over:
             lo, hi, n, n_imp = _bisect(model, shape, w, a_prev, a, False, rtol, tol)
             runs += n
@@ -154,6 +213,7 @@ def overturning_spectrum(
         if own:
             ex.shutdown()
     arr = np.array([pt[:4] for pt in pts], dtype=float).reshape(-1, 4)
+    status = [status_word(r[0], r[2], r[3]) for r in arr]
     return OverturningSpectrum(
         omega_ratio=x,
         a_min_ratio=arr[:, 0],
@@ -165,4 +225,8 @@ def overturning_spectrum(
         p=model.p,
         n_runs=int(sum(pt[4] for pt in pts)),
         wall_s=time.perf_counter() - w0,
+        status=status,
+        a_max=float(a_max),
+        scan=float(scan),
+        rtol=float(rtol),
     )
