@@ -13,6 +13,8 @@ import re
 
 import griffe
 
+_LISTS = {"Parameters", "Other Parameters", "Returns", "Yields", "Attributes", "Raises",
+          "Warns"}  # fmt: skip
 _REFLINK = re.compile(r"\][ ]?\[")
 _ROLE = re.compile(r":(?:py:)?(?:func|class|mod|meth|attr|data|obj|exc|const|ref):`~?([^`]+)`")
 
@@ -26,11 +28,35 @@ def _no_reference_links(line: str) -> str:
     return "`".join(parts)
 
 
+def _sections(lines: list[str]) -> list[str]:
+    """numpy-style sections (``Parameters`` over a line of dashes) as a bold title and, for
+    the lists of names (parameters, returns, attributes, raises), the list as preformatted
+    text up to the first blank line: nsdyn aligns each name's type and meaning in columns, as
+    ``help()`` shows them, which a code block keeps."""
+    out, i = [], 0
+    while i < len(lines):
+        line = lines[i]
+        title = line.strip()
+        if i + 1 < len(lines) and re.fullmatch(r"-{3,}", lines[i + 1].strip() or "x"):
+            out += ["", f"**{title}**", ""]
+            i += 2
+            if title in _LISTS:
+                while i < len(lines) and lines[i].strip():
+                    out.append("    " + lines[i])
+                    i += 1
+                out.append("")
+            continue
+        out.append(line)
+        i += 1
+    return out
+
+
 def markdown_of(text: str) -> str:
-    """``text`` with reST roles turned into code spans, literal-block ``::`` into ``:`` and
-    bracketed words kept from reading as Markdown reference links."""
+    """``text`` with reST roles turned into code spans, literal-block ``::`` into ``:``,
+    numpy-style sections kept as written, and bracketed words kept from reading as Markdown
+    reference links."""
     text = _ROLE.sub(lambda m: f"`{m.group(1)}`", text)
-    lines = text.split("\n")
+    lines = _sections(text.split("\n"))
     for i, line in enumerate(lines):
         stripped = line.rstrip()
         if stripped.endswith("::"):

@@ -28,8 +28,8 @@ sys.path.insert(0, str(HERE))
 log = logging.getLogger("mkdocs.plugins.nsdyn")
 
 import api  # noqa: E402
-import griffe_rst  # noqa: E402, F401  (the generators import it lazily)
 import gallery  # noqa: E402
+import griffe_rst  # noqa: E402, F401  (the generators import it lazily)
 import scene_reference  # noqa: E402
 import validation  # noqa: E402
 

@@ -26,7 +26,7 @@ def page() -> str:
         "A scene is a TOML file that `nsdyn run SCENE.toml` runs and `nsdyn study` varies. Its",
         "`[scene] kind` names the model family (`isolated` when absent). Every key of every",
         "kind is listed below with its type, unit, default and allowed values. A key that is",
-        "not listed is refused with the nearest valid one (\"did you mean …?\"); a value out of",
+        'not listed is refused with the nearest valid one ("did you mean …?"); a value out of',
         "its range is refused with the file, the `table.key` and the expected form.",
         "",
         "This page is generated from the schemas the scene readers check files against",
