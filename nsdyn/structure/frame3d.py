@@ -114,7 +114,8 @@ class Frame3D:
     ----------
     nodes : (nn, 3) coordinates [m], z up.   elements : (ne, 2) int, start and end node.
     vecxz : (ne, 3) orientation vectors (local x–z plane, :mod:`~nsdyn.structure.elements3d`).
-    E, G, A, I_y, I_z, J, rho_A, rho_Ip : (ne,) per-element section data (:class:`Section3D`).
+    E, G, A, I_y, I_z, J, rho_A, rho_Ip : (ne,) per-element section data (:class:`Section3D`);
+        ``rho_Ip=None`` means ``rho_A (I_y + I_z) / A``.
     node_mass : (nn, 3) added translational mass [kg] in x, y, z (a scalar or (nn,) broadcasts
         to every direction).
     base_nodes : (nb,) int; their six dofs each form the boundary set.
@@ -159,7 +160,10 @@ class Frame3D:
         obj(self, "vecxz", v)
         local_axes(nodes[el[:, 0]], nodes[el[:, 1]], v)  # raises for zero length / parallel
         for key in SECTION_FIELDS:
-            a = _frozen(np.broadcast_to(np.asarray(getattr(self, key), float), (ne,)), float)
+            a = getattr(self, key)
+            if key == "rho_Ip" and a is None:  # homogeneous sections: ρ I_p = ρA (I_y + I_z)/A
+                a = self.rho_A * (self.I_y + self.I_z) / self.A
+            a = _frozen(np.broadcast_to(np.asarray(a, float), (ne,)), float)
             bad = a < 0 if key.startswith("rho") else a <= 0
             if np.any(bad) or not np.all(np.isfinite(a)):
                 raise ValueError(f"element {key} must be {'>= 0' if key[0] == 'r' else '> 0'}")

@@ -122,6 +122,9 @@ def fixed_base_modes_3d(
 ) -> Modes3D:
     """The ``n_modes`` lowest fixed-base modes of ``frame`` (diaphragms applied).
 
+    Only modes of finite frequency are returned: with massless parts (a singular M) there
+    are at most as many as the dofs that carry mass.
+
     ``method``: ``"sparse"`` (shift-invert Lanczos), ``"dense"`` (Cholesky of K) or
     ``"auto"`` (dense up to :data:`DENSE_MAX` interior dofs).
     """

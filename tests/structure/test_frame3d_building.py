@@ -191,3 +191,29 @@ def test_bundled_3d_office_keeps_the_seed_frequencies_in_x():
     for fam, col in (("x", 0), ("y", 1), ("torsion", 2)):
         first = m.of_family(fam)[0]
         assert m.mass_fraction[first, col] > 0.6
+
+
+@pytest.mark.parametrize("method", ["dense", "sparse"])
+def test_a_mechanism_is_reported_not_returned_as_modes(method):
+    # node 2 carries mass but is attached to nothing: K is singular (a mechanism), which
+    # must stop the eigensolver with a reason instead of returning garbage modes
+    nodes = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 3.0], [1.0, 0.0, 3.0]])
+    fr = Frame3D(
+        "m",
+        nodes,
+        [[0, 1]],
+        (1.0, 0, 0),
+        E,
+        G,
+        1e-2,
+        1e-5,
+        1e-5,
+        1e-5,
+        10.0,
+        None,
+        [[0, 0, 0], [0, 0, 0], [5.0, 5.0, 5.0]],
+        [0],
+        [0.05],
+    )
+    with pytest.raises(ValueError, match="mechanism|positive definite"):
+        fixed_base_modes_3d(fr, n_modes=2, method=method)
