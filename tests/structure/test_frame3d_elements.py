@@ -194,6 +194,23 @@ def test_cantilever_bending_frequencies_converge_from_above_at_fourth_order():
         assert order_range[0] <= order <= order_range[1], (key, order)
 
 
+def test_lumped_mass_converges_to_the_same_cantilever_frequencies():
+    # Source: as above; HRZ lumping is not a Ritz method (no bound) but converges at second
+    # order (fitted >= 1.8) to the same Euler–Bernoulli limit in both bending planes.
+    L = 10.0
+    ns = np.array([4, 16, 64])
+    for key, comp in (("I_y", 0), ("I_z", 1)):
+        exact = BETA_L**2 * np.sqrt(SEC["E"] * SEC[key] / (SEC["rho_A"] * L**4)) / (2 * np.pi)
+        errs = []
+        for n in ns:
+            m = fixed_base_modes_3d(bar(int(n), L=L), n_modes=2, lumped=True, method="dense")
+            ph = m.full()
+            k = int(np.argmax((ph[comp::6] ** 2).sum(axis=0)))  # the mode swaying that way
+            errs.append(abs(m.f_hz[k] / exact - 1))
+        assert errs[-1] < 1e-3
+        assert -np.polyfit(np.log(ns), np.log(errs), 1)[0] >= 1.8
+
+
 @pytest.mark.parametrize("plane", ["xz", "yz"])
 def test_plane_frame_in_3d_equals_the_plane_frame(office, plane):
     # Source: a plane frame loaded in its plane has no out-of-plane response; its 3D
