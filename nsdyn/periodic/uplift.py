@@ -46,6 +46,7 @@ from nsdyn.periodic.bifurcation import STABLE_MARGIN
 from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation, refined
 from nsdyn.periodic.problem import frame_problem
 from nsdyn.periodic.shooting import ShootingResult, shoot
+from nsdyn.periodic.stability import check_verdict, max_modulus
 from nsdyn.periodic.sweeps import WARMUP_PERIODS, steady_state_sweep, warm_start
 
 A_LO = 0.25  # first amplitude tried at the first frequency [m/s² or N]
@@ -69,7 +70,9 @@ class UpliftPoint:
     ``a_crit``: A* (NaN unless ``status`` is ``"ok"``), interpolated in the final bracket
     ``[a_below, a_above]`` whose margins ``g_below > 0 >= g_above`` [N] were computed;
     ``a_below = 0`` is the static state. ``rho_max``: largest Floquet multiplier modulus of the
-    orbit at ``a_below`` (stable below 1; NaN at the static state). ``a_fail``: the smallest
+    orbit at ``a_below`` (stable below 1; NaN at the static state or when the check of a
+    growth could not decide, :mod:`nsdyn.periodic.stability`; ``stability_note`` says how
+    a growth was checked). ``a_fail``: the smallest
     amplitude at which no orbit was found (NaN if none). ``evaluations``: every
     amplitude tried, ``(A, g or NaN, note)``. ``x0_below`` / ``x0_above``: orbit starts
     (minimal coordinates) at the bracket ends.
@@ -90,6 +93,7 @@ class UpliftPoint:
     evaluations: list = field(default_factory=list)
     x0_below: np.ndarray | None = field(default=None, repr=False)
     x0_above: np.ndarray | None = field(default=None, repr=False)
+    stability_note: str = ""
 
     @property
     def ok(self) -> bool:
@@ -115,6 +119,7 @@ class UpliftPoint:
             "stepped_sweeps": int(self.sweeps),
             "max_multiplier_below": num(self.rho_max),
             "stable_below": self.stable,
+            "stability_note": self.stability_note,
             "a_fail": num(self.a_fail),
             "wall_s": float(self.wall_s),
             "evaluations": [[float(a), num(g), n] for a, g, n in self.evaluations],
@@ -228,7 +233,7 @@ def _search(margin: _Margin, f, a_first, a_hi, rtol, g_static, near) -> UpliftPo
     t0 = time.perf_counter()
     n0, s0 = margin.shootings, margin.sweeps
     x_ref = margin.base.x_ref
-    below = [0.0, g_static, x_ref.copy(), math.nan]  # A, g, x0, rho_max
+    below = [0.0, g_static, x_ref.copy(), None]  # A, g, x0, multipliers
     prev = None  # the good point before `below` (secant)
     above = None  # [A, g, x0]
     cap, cap_note = math.inf, ""  # smallest amplitude at which no orbit was found, and why
@@ -254,7 +259,7 @@ def _search(margin: _Margin, f, a_first, a_hi, rtol, g_static, near) -> UpliftPo
             near = (A, res.x0)
             side = -1 if g > 0.0 else +1
             if side < 0 and A > below[0]:
-                prev, below = below, [A, g, res.x0.copy(), _rho_max(res)]
+                prev, below = below, [A, g, res.x0.copy(), _multipliers(res)]
                 wb = g
                 if last_side < 0:
                     wa *= 0.5
@@ -295,6 +300,11 @@ def _search(margin: _Margin, f, a_first, a_hi, rtol, g_static, near) -> UpliftPo
             if above[1] == 0.0
             else below[0] + below[1] * (above[0] - below[0]) / (below[1] - above[1])
         )
+    rho_max, why = math.nan, ""
+    if below[3] is not None:  # the verdict on the orbit below A*, a growth checked
+        problem = replace(margin.base, amplitude=float(below[0]))
+        rho, verdict, why = check_verdict(problem, f, below[2], below[3], margin.disc)
+        rho_max = math.nan if verdict is None else max_modulus(rho)
     return UpliftPoint(
         f=float(f),
         a_crit=float(a_crit),
@@ -305,17 +315,18 @@ def _search(margin: _Margin, f, a_first, a_hi, rtol, g_static, near) -> UpliftPo
         g_above=math.nan if above is None else float(above[1]),
         shootings=margin.shootings - n0,
         sweeps=margin.sweeps - s0,
-        rho_max=float(below[3]),
+        rho_max=float(rho_max),
         wall_s=time.perf_counter() - t0,
         a_fail=float(cap) if math.isfinite(cap) else math.nan,
         evaluations=evals,
         x0_below=below[2],
         x0_above=None if above is None else above[2],
+        stability_note=why,
     )
 
 
-def _rho_max(res) -> float:
-    return float(np.max(np.abs(res.multipliers))) if res.monodromy is not None else math.nan
+def _multipliers(res) -> np.ndarray | None:
+    return res.multipliers if res.monodromy is not None else None
 
 
 def uplift_boundary(

@@ -6,7 +6,11 @@ step budget / underflow (stiff problem on an explicit method), Newton divergence
 over a discontinuous friction law), non-finite state (a record that turns NaN), uplift (a
 rigid block tipping), shooting non-convergence (a Newton budget of one iteration on a friction
 orbit), Zeno accumulation of impacts (a rocking block coming to rest), overturning, and the
-cylinder's step budget. Related rows elsewhere: tests/solve/test_integrate.py
+cylinder's step budget. Library rows at the end: bad arguments of the excitations, isolator
+parameters, shooting and frequency ranges (one ValueError naming the argument and the expected
+form, before any integration), a stability verdict checked against a second map before
+"unstable" is reported, and a spectrum NaN that says "not found up to a_max". Related rows
+elsewhere: tests/solve/test_integrate.py
 (test_dopri5_reports_stiffness_instead_of_grinding, test_fixed_step_newton_failure_is_reported,
 test_nan_in_ground_record_is_reported, test_uplift_of_a_rocking_block),
 tests/models/rocking/test_rocking_block.py (Zeno, overturning criteria),
@@ -135,3 +139,84 @@ def test_cylinder_step_budget_names_time_and_reason():
 
 
 N_FAILURES = 9  # rows above that provoke a failure (non-finite counted once)
+
+
+# ---- library: bad arguments (one ValueError naming the argument and the expected form) and
+# verdicts that must not come from the discretisation or the search's resolution ----------
+def _switch_oscillator():
+    from nsdyn.models.isolated.builders import system_from_matrices
+
+    iso = Isolation(k_lam=0.0, c=0.0, mu=0.1, law="switch")
+    return system_from_matrices([[1.0]], [[0.1]], [[(2 * np.pi) ** 2]], iso_dofs=[0],
+                                influence=[1.0], isolation=iso, weight=iso.g,
+                                levels=[[0]])  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda: Harmonic(1.0, -0.1), r"^Harmonic\.f_hor: expected a positive frequency \[Hz\]"),
+        (lambda: Harmonic(1.0, 0.0), r"^Harmonic\.f_hor: expected a positive frequency"),
+        (lambda: Harmonic(1.0, math.nan), r"^Harmonic\.f_hor: expected a finite number"),
+        (lambda: Isolation(mu=-0.1), r"^isolation\.mu: expected a finite non-negative number"),
+        (lambda: Isolation(eps=-1.0), r"^isolation\.eps: expected a finite non-negative number"),
+    ],
+    ids=["harmonic-f-negative", "harmonic-f-zero", "harmonic-f-nan", "mu-negative",
+         "eps-negative"],
+)  # fmt: skip
+def test_bad_excitation_or_isolator_value_is_refused_where_it_is_built(call, message):
+    with pytest.raises(ValueError, match=message):
+        call()
+
+
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        ({"fmin": -0.5, "fmax": 2.0}, r"^fmin: expected a finite forcing frequency > 0"),
+        ({"fmin": 2.0, "fmax": 1.0}, r"^fmax: expected a frequency above fmin = 2 Hz, got 1"),
+        ({"fmin": 1.0, "fmax": 2.0, "points": 0}, r"^points: expected an integer >= 1"),
+    ],
+    ids=["fmin-negative", "fmin-above-fmax", "no-points"],
+)
+def test_switch_response_bad_range_is_refused_before_any_orbit(options, message):
+    from nsdyn.periodic import switch_response
+
+    with pytest.raises(ValueError, match=message):
+        switch_response(_switch_oscillator(), 1.0, **options)
+
+
+def test_shooting_at_a_negative_frequency_is_refused_not_converged():
+    # it used to return converged=True after 0 iterations with a multiplier of 3.8e54
+    from nsdyn.periodic import shoot_switch, switch_problem
+
+    with pytest.raises(ValueError, match=r"^f: expected a finite forcing frequency > 0"):
+        shoot_switch(switch_problem(_switch_oscillator(), 1.0), -0.1)
+
+
+def test_growth_of_the_discrete_map_is_checked_before_unstable_is_reported():
+    # a dissipative isolator (c > 0, arctan friction) has every exact multiplier inside the
+    # unit circle; the SDIRK3 map gives |rho| ~ 2 at 1.83 Hz, A = 8 m/s^2 (not AN-stable): the
+    # point must be stable, with a note naming the scheme's growth and the check
+    from nsdyn import periodic as pr
+    from nsdyn.models.isolated.builders import system_from_matrices
+
+    iso = Isolation(k_lam=0.0, c=0.0, mu=0.3, law="arctan", eps=7500.0)
+    osc = system_from_matrices([[1.0]], [[0.5]], [[(2 * np.pi) ** 2]], iso_dofs=[0],
+                               influence=[1.0], isolation=iso, weight=iso.g,
+                               levels=[[0]])  # fmt: skip
+    c = pr.continue_sequential(pr.frame_problem(osc, 8.0), [1.83],
+                               disc=pr.Discretisation(method="sdirk3"))  # fmt: skip
+    (p,) = c.points
+    assert p.stable is True and p.max_multiplier < 1.0
+    assert "is the scheme's" in p.note and "backward Euler" in p.note
+
+
+def test_spectrum_nan_says_not_found_up_to_a_max():
+    from concurrent.futures import ThreadPoolExecutor
+
+    from nsdyn.models.rocking import RockingBlock
+    from nsdyn.models.rocking.spectra import overturning_spectrum
+
+    with ThreadPoolExecutor(1) as ex:
+        sp = overturning_spectrum(RockingBlock(0.15, 0.6), [1.0], executor=ex, a_max=1.05)
+    assert math.isnan(sp.a_min_ratio[0]) and sp.status == ["no overturning up to a_max"]

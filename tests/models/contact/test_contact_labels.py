@@ -70,8 +70,8 @@ def test_first_motion_time_under_a_sine_is_the_closed_form(beta, mu, mode):
 
 def test_max_slide_is_slip_at_the_contacts_not_the_rocking_swing():
     # pure rocking (mu = 2, far above what rocking needs) from a tilt: the pivot sticks, so the
-    # slip is zero up to the event solver's tolerances, while the base midpoint swings by
-    # b (1 - cos theta) + ... ~ 1 mm, which used to be reported as the slide
+    # slip is zero up to the event solver's tolerances, while the base midpoint swings about
+    # the corner by b (1 - cos theta) (~ 1 mm here), which used to be reported as the slide
     body = RigidBody.rectangle(1.0, 4.0)
     ev = simulate_event(body, FrictionLaw(2.0), None, t_end=0.3, theta0=0.15, dt_out=0.001)
     assert np.max(np.abs(ev.q[:, 2])) > 0.1
