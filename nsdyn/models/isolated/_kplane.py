@@ -1,0 +1,291 @@
+"""Kernels of a rigid deck on bidirectional isolators: ground, vector friction, normal forces, q̈.
+
+Coordinates q = (x, y, θ): plan displacement of the deck's reference point O relative to the
+ground and its twist (small rotation). Isolator i at (X_i, Y_i) slips u_i = B_i q with
+B_i = [[1, 0, −Y_i], [0, 1, X_i]]; its resisting force (bearings.py) is
+
+    F_i = N_i (u_i/R_i + f̂_i) + K_lam,i u_i + c_i v_i + F_stop,i,   v_i = B_i q̇,
+
+with the friction per unit normal force f̂_i = μ_d(|v|) (2/π) arctan(ε|v|) v/|v| (regularised
+law), μ_d(|v|) v/|v| (switch law, slip, MODE_SLIP), μ_d(|v|) d_i (MODE_START: slip starting
+from stick in the stick force's direction d_i, until |v| reaches η) or a constraint force τ_i
+(MODE_STICK: B_i q̈ = −κ B_i q̇). The deck (mass m, centre of mass at (e_x, e_y) and height h
+above the sliding surfaces, M about O) obeys
+
+    M q̈ = −M [a_x, a_y, 0]ᵀ − Σ B_iᵀ F_i,
+
+and the normal forces follow from the deck's vertical and rocking equilibrium with equal vertical
+isolator stiffness (the rigid-plate distribution; the vertical contact is exact, so no Baumgarte
+terms are needed), N_i = w_i W + p_x,i S_X + p_y,i S_Y with
+
+    W = m (g + a_z),   S_X = Σ N X = m e_x (g + a_z) − m h (a_x + ẍ − e_y θ̈),
+                       S_Y = Σ N Y = m e_y (g + a_z) − m h (a_y + ÿ + e_x θ̈).
+
+N_i is affine in q̈ (the overturning of the horizontal inertia forces), so friction and
+restoring forces, proportional to N_i, put q̈ on both sides: the kernel solves the 3 × 3 system
+(M + Σ B_iᵀ c_i n1_iᵀ) q̈ = r, with one stuck isolator the 5 × 5 saddle-point system for (q̈, τ),
+and with two or more the deck is held (q̈ = −κ q̇) and the stick forces are the rigid-plate
+(minimum-norm) split τ_i = B_i G⁻¹ f, G = Σ_stuck B_iᵀ B_i.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from nsdyn._klinalg import lu_factor, lu_solve
+from nsdyn.models.isolated.bearings import (
+    B_C,
+    B_CSTOP,
+    B_DCAP,
+    B_KLAM,
+    B_KSTOP,
+    B_MUFAST,
+    B_MUSLOW,
+    B_RATE,
+    B_RINV,
+)
+
+LAW_ARCTAN, LAW_SWITCH = 0, 1
+MODE_STICK, MODE_SLIP, MODE_START = 0, 1, 2
+# system parameters sp
+S_M, S_EX, S_EY, S_H, S_G, S_KAPPA, S_EPS, S_ETA, S_LAW = range(9)
+N_SP = 9
+# ground: a table (t0, dt; rows a_x, a_y, a_z) or a harmonic orbit
+G_TABLE, G_HARMONIC = 0, 1
+GP_T0, GP_DT, GP_F, GP_AX, GP_AY, GP_PHY, GP_AZ, GP_FZ, GP_PHZ = range(9)
+N_GP = 9
+ST_OK, ST_SINGULAR = 0, 4
+
+
+@njit(cache=True, error_model="numpy")
+def ground(t, gk, gp, tab, ag):
+    """Ground acceleration (a_x, a_y, a_z) at t into ``ag``: harmonic a_x = A_x sin ωt,
+    a_y = A_y sin(ωt + φ_y), a_z = A_z sin(ω_z t + φ_z); or the table linearly interpolated
+    (zero outside the record)."""
+    if gk == G_HARMONIC:
+        w = 2.0 * math.pi * gp[GP_F]
+        ag[0] = gp[GP_AX] * math.sin(w * t)
+        ag[1] = gp[GP_AY] * math.sin(w * t + gp[GP_PHY])
+        ag[2] = gp[GP_AZ] * math.sin(2.0 * math.pi * gp[GP_FZ] * t + gp[GP_PHZ])
+        return
+    n = tab.shape[1]
+    s = (t - gp[GP_T0]) / gp[GP_DT]
+    k = int(math.floor(s))
+    if k < 0 or k > n - 1 or n == 0:
+        ag[0] = 0.0
+        ag[1] = 0.0
+        ag[2] = 0.0
+        return
+    if k == n - 1:
+        for c in range(3):
+            ag[c] = tab[c, k] if s == k else 0.0
+        return
+    f = s - k
+    for c in range(3):
+        ag[c] = (1.0 - f) * tab[c, k] + f * tab[c, k + 1]
+
+
+@njit(cache=True, error_model="numpy")
+def next_breakpoint(t, gk, gp, ntab):
+    """Next sample time of a table after t (the kinks of the interpolated record); inf else."""
+    if gk != G_TABLE or ntab < 2:
+        return math.inf
+    k = math.floor((t - gp[GP_T0]) / gp[GP_DT]) + 1.0
+    tb = gp[GP_T0] + k * gp[GP_DT]
+    if tb <= t * (1.0 + 1e-14) + 1e-14:
+        tb += gp[GP_DT]
+    if k > ntab - 1 and tb > gp[GP_T0] + (ntab - 1) * gp[GP_DT] * (1.0 + 1e-14):
+        return math.inf
+    return tb
+
+
+@njit(cache=True, error_model="numpy")
+def mu_kinetic(bp, i, speed):
+    """μ_d(|v|) = μ_fast − (μ_fast − μ_slow) exp(−a |v|) of isolator i."""
+    return bp[i, B_MUFAST] - (bp[i, B_MUFAST] - bp[i, B_MUSLOW]) * math.exp(-bp[i, B_RATE] * speed)
+
+
+@njit(cache=True, error_model="numpy")
+def slip_kinematics(y, pos, i):
+    """(u_x, u_y, v_x, v_y) of isolator i in the state y = [q, q̇]."""
+    X = pos[i, 0]
+    Y = pos[i, 1]
+    return (y[0] - Y * y[2], y[1] + X * y[2], y[3] - Y * y[5], y[4] + X * y[5])
+
+
+@njit(cache=True, error_model="numpy")
+def workspace(ni):
+    """Work arrays of :func:`evaluate` (made once per run)."""
+    return (np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((5, 5)), np.zeros(5),
+            np.zeros(5, dtype=np.int64), np.zeros((ni, 3)), np.zeros(ni), np.zeros((ni, 2)),
+            np.zeros(3), np.zeros(3))  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo):
+    """q̈ and the isolator forces at (t, y): normal forces N (ni,), resisting friction Ff
+    (ni, 2) (the stick force τ_i of a stuck isolator), restoring Fr = N u/R + K_lam u and
+    damper + stop Fo (ni, 2). Returns ST_OK or ST_SINGULAR."""
+    Am, A3, K5, r5, piv, n1, n0, cN, fv, ag = ws
+    ni = pos.shape[0]
+    ground(t, gk, gp, tab, ag)
+    m = sp[S_M]
+    ex = sp[S_EX]
+    ey = sp[S_EY]
+    h = sp[S_H]
+    gz = sp[S_G] + ag[2]
+    law = int(sp[S_LAW])
+    eps = sp[S_EPS]
+    sx0 = m * ex * gz - m * h * ag[0]
+    sy0 = m * ey * gz - m * h * ag[1]
+    for a in range(3):
+        for b in range(3):
+            Am[a, b] = M[a, b]
+        fv[a] = -(M[a, 0] * ag[0] + M[a, 1] * ag[1])
+    nst = 0
+    ist = -1
+    for i in range(ni):
+        X = pos[i, 0]
+        Y = pos[i, 1]
+        ux, uy, vx, vy = slip_kinematics(y, pos, i)
+        n0[i] = nd[i, 0] * m * gz + nd[i, 1] * sx0 + nd[i, 2] * sy0
+        n1[i, 0] = -m * h * nd[i, 1]
+        n1[i, 1] = -m * h * nd[i, 2]
+        n1[i, 2] = -m * h * (-ey * nd[i, 1] + ex * nd[i, 2])
+        ox = bp[i, B_C] * vx
+        oy = bp[i, B_C] * vy
+        ru = math.sqrt(ux * ux + uy * uy)
+        if ru > bp[i, B_DCAP]:
+            nx = ux / ru
+            ny = uy / ru
+            fs = bp[i, B_KSTOP] * (ru - bp[i, B_DCAP]) + bp[i, B_CSTOP] * (vx * nx + vy * ny)
+            if fs > 0.0:
+                ox += fs * nx
+                oy += fs * ny
+        Fo[i, 0] = ox
+        Fo[i, 1] = oy
+        f0x = ox + bp[i, B_KLAM] * ux
+        f0y = oy + bp[i, B_KLAM] * uy
+        speed = math.sqrt(vx * vx + vy * vy)
+        fx = 0.0
+        fy = 0.0
+        if law == LAW_ARCTAN:
+            if speed > 0.0:
+                s = mu_kinetic(bp, i, speed) * (2.0 / math.pi) * math.atan(eps * speed) / speed
+                fx = s * vx
+                fy = s * vy
+        elif modes[i] == MODE_SLIP:
+            s = mu_kinetic(bp, i, speed) / speed
+            fx = s * vx
+            fy = s * vy
+        elif modes[i] == MODE_START:
+            s = mu_kinetic(bp, i, speed)
+            fx = s * dirs[i, 0]
+            fy = s * dirs[i, 1]
+        else:
+            nst += 1
+            ist = i
+        Ff[i, 0] = fx
+        Ff[i, 1] = fy
+        cx = bp[i, B_RINV] * ux + fx
+        cy = bp[i, B_RINV] * uy + fy
+        cN[i, 0] = cx
+        cN[i, 1] = cy
+        bt2 = -Y * cx + X * cy
+        for b in range(3):
+            Am[0, b] += cx * n1[i, b]
+            Am[1, b] += cy * n1[i, b]
+            Am[2, b] += bt2 * n1[i, b]
+        gx = f0x + n0[i] * cx
+        gy = f0y + n0[i] * cy
+        fv[0] -= gx
+        fv[1] -= gy
+        fv[2] -= -Y * gx + X * gy
+    kap = sp[S_KAPPA]
+    if nst == 0:
+        for a in range(3):
+            qdd[a] = fv[a]
+            for b in range(3):
+                A3[a, b] = Am[a, b]
+        if not lu_factor(A3, piv[:3], 1e-14):
+            return ST_SINGULAR
+        lu_solve(A3, piv[:3], qdd)
+    elif nst == 1:
+        X = pos[ist, 0]
+        Y = pos[ist, 1]
+        for a in range(5):
+            r5[a] = fv[a] if a < 3 else 0.0
+            for b in range(5):
+                K5[a, b] = Am[a, b] if (a < 3 and b < 3) else 0.0
+        # A q̈ + B_sᵀ τ = r,  B_s q̈ = −κ B_s q̇
+        K5[0, 3] = 1.0
+        K5[1, 4] = 1.0
+        K5[2, 3] = -Y
+        K5[2, 4] = X
+        K5[3, 0] = 1.0
+        K5[3, 2] = -Y
+        K5[4, 1] = 1.0
+        K5[4, 2] = X
+        _, _, vx, vy = slip_kinematics(y, pos, ist)
+        r5[3] = -kap * vx
+        r5[4] = -kap * vy
+        if not lu_factor(K5, piv, 1e-14):
+            return ST_SINGULAR
+        lu_solve(K5, piv, r5)
+        for a in range(3):
+            qdd[a] = r5[a]
+        Ff[ist, 0] = r5[3]
+        Ff[ist, 1] = r5[4]
+    else:
+        for a in range(3):
+            qdd[a] = -kap * y[3 + a]
+            for b in range(3):
+                A3[a, b] = 0.0
+        for i in range(ni):
+            if modes[i] == MODE_STICK:
+                X = pos[i, 0]
+                Y = pos[i, 1]
+                A3[0, 0] += 1.0
+                A3[1, 1] += 1.0
+                A3[0, 2] -= Y
+                A3[2, 0] -= Y
+                A3[1, 2] += X
+                A3[2, 1] += X
+                A3[2, 2] += X * X + Y * Y
+        for a in range(3):
+            s = fv[a]
+            for b in range(3):
+                s -= Am[a, b] * qdd[b]
+            r5[a] = s
+        if not lu_factor(A3, piv[:3], 1e-14):
+            return ST_SINGULAR
+        lu_solve(A3, piv[:3], r5[:3])
+        for i in range(ni):
+            if modes[i] == MODE_STICK:
+                Ff[i, 0] = r5[0] - pos[i, 1] * r5[2]
+                Ff[i, 1] = r5[1] + pos[i, 0] * r5[2]
+    for i in range(ni):
+        Ni = n0[i] + n1[i, 0] * qdd[0] + n1[i, 1] * qdd[1] + n1[i, 2] * qdd[2]
+        N[i] = Ni
+        ux, uy, _, _ = slip_kinematics(y, pos, i)
+        Fr[i, 0] = (Ni * bp[i, B_RINV] + bp[i, B_KLAM]) * ux
+        Fr[i, 1] = (Ni * bp[i, B_RINV] + bp[i, B_KLAM]) * uy
+        if law == LAW_ARCTAN or modes[i] != MODE_STICK:
+            Ff[i, 0] *= Ni
+            Ff[i, 1] *= Ni
+    for a in range(3):
+        if not math.isfinite(qdd[a]):
+            return ST_SINGULAR
+    return ST_OK
+
+
+@njit(cache=True, error_model="numpy")
+def rhs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, dy):
+    """First-order right-hand side dy = [q̇, q̈]; ``out = (qdd, N, Ff, Fr, Fo)`` filled."""
+    qdd, N, Ff, Fr, Fo = out
+    st = evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+    for a in range(3):
+        dy[a] = y[3 + a]
+        dy[3 + a] = qdd[a]
+    return st

@@ -1,0 +1,404 @@
+"""Time loop of the deck on bidirectional isolators: Dormand–Prince 5(4) with located events.
+
+The right-hand side is :func:`nsdyn.models.isolated._kplane.rhs`; the steps are the shared
+Dormand–Prince 5(4) pair (:mod:`nsdyn._kdp5`, error control on ``atol + rtol |y|``, steps
+ending on the samples of a record, where its interpolation kinks). Outputs at ``t_eval`` come
+from the dense output, their forces from the right-hand side at those states.
+
+Switch law with a stick disc: every isolator is in a mode (stick, slip, slip-start) held fixed
+between events; the switching functions, each crossing from > 0 to <= 0, are
+
+    slip        g = |v| − η                    → stick test
+    slip-start  g = η − |v|                    → slip
+                g = v·d                        → stick test (the start reverses)
+    stick       g = μ_s N − |τ|                → slip-start, d = τ/|τ|
+
+The stick test sticks the isolator if its stick force, computed with it stuck, lies in the disc
+|τ| <= μ_s N (1 + STICK_RTOL), else it starts slipping in the direction of that force. After
+each event the stuck isolators are settled: while one violates its disc (the one with the
+largest |τ|/μ_s N first) it starts to slip. Events are located by sampling g on the dense
+output and bisecting the earliest sample interval with a crossing to EVENT_TTOL; the step is
+cut there and the integration restarts (no first-same-as-last stage). A normal force reaching
+zero (uplift) is located the same way and ends the run (ST_UPLIFT). The regularised law runs
+the same loop without switching functions.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from nsdyn import _kdp5 as dp
+from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated.bearings import B_DCAP, B_MUS
+
+ST_OK, ST_UNDERFLOW, ST_MAX_STEPS, ST_NONFINITE, ST_SINGULAR = 0, 1, 2, 3, 4
+ST_UPLIFT, ST_CHATTER, ST_EVENTS = 5, 6, 7
+EVENT_TTOL = 1e-11  # s, width of the located event bracket
+SAMPLES = 4  # dense-output samples per step scanned for a sign change
+STICK_RTOL = 1e-9  # relative slack of the disc test |τ| <= μ_s N
+SETTLE_PASSES = 64  # stuck isolators released one by one after an event, at most
+BURST_DT = 1e-8  # s, events closer than this count as one burst
+MAX_BURST = 200  # events in one burst before reporting chattering
+H_MIN = 1e-14  # relative step floor
+# cfg entries
+C_RTOL, C_ATOLQ, C_ATOLV, C_H0, C_HMAX, C_MAXSTEPS = range(6)
+# info entries
+I_NSTEP, I_NREJ, I_NFEV, I_NEV, I_TFAIL, I_IFAIL, I_NOUT = range(7)
+N_INFO = 7
+# stop table columns (one row per isolator)
+P_TFIRST, P_PEAK, P_NSTEPS = range(3)
+
+
+@njit(cache=True, error_model="numpy")
+def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
+    """Switching functions (ni, 2) at (t, y); stuck isolators need one evaluation."""
+    qdd, N, Ff, Fr, Fo = out
+    ni = pos.shape[0]
+    stuck = False
+    for i in range(ni):
+        stuck = stuck or modes[i] == kp.MODE_STICK
+    st = kp.ST_OK
+    if stuck:
+        st = kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+    eta = sp[kp.S_ETA]
+    for i in range(ni):
+        _, _, vx, vy = kp.slip_kinematics(y, pos, i)
+        speed = math.sqrt(vx * vx + vy * vy)
+        g[i, 1] = 1.0
+        if modes[i] == kp.MODE_SLIP:
+            g[i, 0] = speed - eta
+        elif modes[i] == kp.MODE_START:
+            g[i, 0] = eta - speed
+            g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
+        else:
+            g[i, 0] = bp[i, B_MUS] * N[i] - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
+    return st
+
+
+@njit(cache=True, error_model="numpy")
+def _crossed(g0, g):
+    for i in range(g.shape[0]):
+        for k in range(2):
+            if g0[i, k] > 0.0 and g[i, k] <= 0.0:
+                return True
+    return False
+
+
+@njit(cache=True, error_model="numpy")
+def _dense_state(rc, s, ys):
+    for i in range(ys.shape[0]):
+        ys[i] = dp.dense(rc, i, s)
+
+
+@njit(cache=True, error_model="numpy")
+def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
+    """Release stuck isolators outside their disc, worst first; returns a status."""
+    qdd, N, Ff, Fr, Fo = out
+    for _ in range(SETTLE_PASSES):
+        st = kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+        if st != kp.ST_OK:
+            return ST_SINGULAR
+        worst = -1
+        ratio = 1.0 + STICK_RTOL
+        for i in range(pos.shape[0]):
+            if modes[i] == kp.MODE_STICK:
+                tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
+                lim = bp[i, B_MUS] * N[i]
+                r = tau / lim if lim > 0.0 else math.inf
+                if r > ratio and tau > 0.0:
+                    ratio = r
+                    worst = i
+        if worst < 0:
+            return ST_OK
+        tau = math.sqrt(Ff[worst, 0] ** 2 + Ff[worst, 1] ** 2)
+        dirs[worst, 0] = Ff[worst, 0] / tau
+        dirs[worst, 1] = Ff[worst, 1] / tau
+        _record(EV, info, t, worst, kp.MODE_STICK, kp.MODE_START, dirs)
+        modes[worst] = kp.MODE_START
+    return ST_CHATTER
+
+
+@njit(cache=True, error_model="numpy")
+def _record(EV, info, t, i, old, new, dirs):
+    """Row of the event table: t, isolator, old mode, new mode, its slip-start direction."""
+    k = int(info[I_NEV])
+    if k < EV.shape[0]:
+        EV[k, 0] = t
+        EV[k, 1] = i
+        EV[k, 2] = old
+        EV[k, 3] = new
+        EV[k, 4] = dirs[i, 0] if new == kp.MODE_START else 0.0
+        EV[k, 5] = dirs[i, 1] if new == kp.MODE_START else 0.0
+    info[I_NEV] = k + 1
+
+
+@njit(cache=True, error_model="numpy")
+def initial_modes(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
+    """Modes at the start: slip where |v| > η, else stick, then settled."""
+    for i in range(pos.shape[0]):
+        _, _, vx, vy = kp.slip_kinematics(y, pos, i)
+        modes[i] = kp.MODE_SLIP if math.sqrt(vx * vx + vy * vy) > sp[kp.S_ETA] else kp.MODE_STICK
+    return settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
+
+
+@njit(cache=True, error_model="numpy")
+def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
+    """Mode changes at a located event (g0 before it, g just after); returns a status."""
+    qdd, N, Ff, Fr, Fo = out
+    ni = pos.shape[0]
+    # the stick forces of the modes before the event
+    st = kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+    if st != kp.ST_OK:
+        return ST_SINGULAR
+    for i in range(ni):  # every decision on the mode before the event
+        m0 = modes[i]
+        if m0 == kp.MODE_STICK and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
+            tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
+            dirs[i, 0] = Ff[i, 0] / tau
+            dirs[i, 1] = Ff[i, 1] / tau
+            modes[i] = kp.MODE_START
+        elif m0 == kp.MODE_START and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
+            modes[i] = kp.MODE_SLIP
+        elif (m0 == kp.MODE_SLIP and g0[i, 0] > 0.0 and g[i, 0] <= 0.0) or (
+            m0 == kp.MODE_START and g0[i, 1] > 0.0 and g[i, 1] <= 0.0
+        ):
+            modes[i] = kp.MODE_STICK  # stick test: settle releases it if outside the disc
+        if modes[i] == kp.MODE_SLIP:  # a slip needs |v| > eta for its direction v/|v|
+            _, _, vx, vy = kp.slip_kinematics(y, pos, i)
+            if math.sqrt(vx * vx + vy * vy) <= sp[kp.S_ETA]:
+                modes[i] = kp.MODE_STICK
+        if modes[i] != m0:
+            _record(EV, info, t, i, m0, modes[i], dirs)
+    return settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
+
+
+@njit(cache=True, error_model="numpy")
+def _track_stops(t, y, pos, bp, stops):
+    for i in range(pos.shape[0]):
+        ux, uy, _, _ = kp.slip_kinematics(y, pos, i)
+        d = math.sqrt(ux * ux + uy * uy) - bp[i, B_DCAP]
+        if d > 0.0:
+            if not stops[i, P_TFIRST] == stops[i, P_TFIRST]:  # nan: first contact
+                stops[i, P_TFIRST] = t
+            stops[i, P_PEAK] = max(stops[i, P_PEAK], d)
+            stops[i, P_NSTEPS] += 1
+
+
+@njit(cache=True, error_model="numpy")
+def _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO):
+    qdd, N, Ff, Fr, Fo = out
+    kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+    for j in range(6):
+        X[k, j] = y[j]
+    for i in range(pos.shape[0]):
+        NO[k, i] = N[i]
+        MO[k, i] = modes[i]
+        for c in range(2):
+            FF[k, i, c] = Ff[i, c]
+            FR[k, i, c] = Fr[i, c]
+            FO[k, i, c] = Fo[i, c]
+
+
+@njit(cache=True, error_model="numpy")
+def _eval(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
+    qdd, N, Ff, Fr, Fo = out
+    return kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+
+
+@njit(cache=True, error_model="numpy")
+def _min_normal(N):
+    v = math.inf
+    for i in range(N.shape[0]):
+        v = min(v, N[i])
+    return v
+
+
+@njit(cache=True, error_model="numpy")
+def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
+              X, NO, FF, FR, FO, MO, EV, stops, info):  # fmt: skip
+    """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status."""
+    n = 6
+    ni = pos.shape[0]
+    ws = kp.workspace(ni)
+    out = (np.zeros(3), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
+    N = out[1]
+    k = np.zeros((7, n))
+    y = np.zeros(n)
+    y1 = np.zeros(n)
+    ys = np.zeros(n)
+    rc = np.zeros((5, n))
+    g0 = np.ones((ni, 2))
+    g = np.ones((ni, 2))
+    ga = np.ones((ni, 2))
+    for j in range(n):
+        y[j] = y0[j]
+    switching = int(sp[kp.S_LAW]) == kp.LAW_SWITCH
+    rtol = cfg[C_RTOL]
+    hmax = cfg[C_HMAX]
+    max_steps = int(cfg[C_MAXSTEPS])
+    nt = t_eval.shape[0]
+    t = t_eval[0]
+    t_end = t_eval[nt - 1]
+    ntab = tab.shape[1]
+    info[I_TFAIL] = np.nan
+    info[I_IFAIL] = -1
+    if switching:
+        st = initial_modes(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
+        if st != ST_OK:
+            info[I_TFAIL] = t
+            return st
+    _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, 0, X, NO, FF, FR, FO, MO)
+    iout = 1
+    if _min_normal(N) <= 0.0:
+        info[I_TFAIL] = t
+        return ST_UPLIFT
+    fresh = True
+    h = min(cfg[C_H0], hmax)
+    nstep = 0
+    nrej = 0
+    nfev = 0
+    burst_t = -math.inf
+    burst_n = 0
+    status = ST_OK
+    while t < t_end and iout < nt:
+        if fresh:
+            if kp.rhs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, k[0]) != 0:
+                status = ST_SINGULAR
+                break
+            nfev += 1
+            if switching:
+                gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g0)
+            fresh = False
+        hh = min(h, hmax, t_end - t)
+        tb = kp.next_breakpoint(t, gk, gp, ntab)
+        if t + hh > tb:
+            hh = tb - t
+        bad = False
+        for j in range(1, 7):
+            dp.stage(y, k, hh, j, y1)
+            if kp.rhs(t + dp.C[j] * hh, y1, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out,
+                      k[j]) != 0:  # fmt: skip
+                bad = True
+        nfev += 6
+        err = 0.0
+        for i in range(n):
+            sc = (cfg[C_ATOLQ] if i < 3 else cfg[C_ATOLV]) + rtol * max(abs(y[i]), abs(y1[i]))
+            err += (dp.error(k, hh, i) / sc) ** 2
+        err = math.sqrt(err / n)
+        if bad or not math.isfinite(err) or err > 1.0:
+            nrej += 1
+            h = dp.new_step(hh, err) if math.isfinite(err) else 0.25 * hh
+            if h <= H_MIN * max(1.0, abs(t)):
+                status = ST_UNDERFLOW if (math.isfinite(err) and not bad) else ST_NONFINITE
+                break
+            continue
+        nstep += 1
+        if nstep + nrej > max_steps:
+            status = ST_MAX_STEPS
+            break
+        n_end_min = _min_normal(N)  # the last stage is the step's end
+        dp.dense_coefficients(y, y1, k, hh, rc)
+        s_end = 1.0
+        event = False
+        if switching:  # earliest sample interval with a crossing, then bisection
+            sa = 0.0
+            for m in range(1, SAMPLES + 1):
+                sb = m / SAMPLES
+                _dense_state(rc, sb, ys)
+                gvals(t + sb * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g)
+                nfev += 1
+                if _crossed(g0, g):
+                    event = True
+                    while (sb - sa) * hh > EVENT_TTOL:
+                        sm = 0.5 * (sa + sb)
+                        _dense_state(rc, sm, ys)
+                        gvals(t + sm * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws,
+                              out, ga)  # fmt: skip
+                        nfev += 1
+                        if _crossed(g0, ga):
+                            sb = sm
+                        else:
+                            sa = sm
+                    s_end = sb
+                    _dense_state(rc, sb, ys)
+                    gvals(t + sb * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g)
+                    break
+                sa = sb
+        if event or n_end_min <= 0.0:  # normal force at the cut (or step end)
+            _dense_state(rc, s_end, ys)
+            _eval(t + s_end * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
+            if _min_normal(N) <= 0.0:  # uplift: locate the first N_i = 0
+                sa = 0.0
+                sb = s_end
+                while (sb - sa) * hh > EVENT_TTOL:
+                    sm = 0.5 * (sa + sb)
+                    _dense_state(rc, sm, ys)
+                    _eval(t + sm * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws,
+                                out)  # fmt: skip
+                    if _min_normal(N) <= 0.0:
+                        sb = sm
+                    else:
+                        sa = sm
+                _dense_state(rc, sb, ys)
+                _eval(t + sb * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
+                for i in range(ni):
+                    if N[i] <= 0.0 and info[I_IFAIL] < 0:
+                        info[I_IFAIL] = i
+                s_end = sb
+                event = False
+                status = ST_UPLIFT
+        t_new = t + s_end * hh if s_end < 1.0 else t + hh
+        while iout < nt and t_eval[iout] <= t_new:
+            s = (t_eval[iout] - t) / hh
+            _dense_state(rc, s, ys)
+            _outputs(t_eval[iout], ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, iout,
+                     X, NO, FF, FR, FO, MO)  # fmt: skip
+            _track_stops(t_eval[iout], ys, pos, bp, stops)
+            iout += 1
+        if s_end < 1.0:
+            _dense_state(rc, s_end, ys)
+            for j in range(n):
+                y[j] = ys[j]
+        else:
+            for j in range(n):
+                y[j] = y1[j]
+        t = t_new
+        _track_stops(t, y, pos, bp, stops)
+        if status == ST_UPLIFT:
+            info[I_TFAIL] = t
+            break
+        if event:
+            if t - burst_t < BURST_DT:
+                burst_n += 1
+                if burst_n > MAX_BURST:
+                    status = ST_CHATTER
+                    info[I_TFAIL] = t
+                    break
+            else:
+                burst_t = t
+                burst_n = 0
+            st = switch(
+                t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
+            )
+            if st != ST_OK:
+                status = st
+                info[I_TFAIL] = t
+                break
+            fresh = True
+            h = hh
+        else:
+            for j in range(n):
+                k[0, j] = k[6, j]
+            if switching:
+                for i in range(ni):
+                    for c in range(2):
+                        g0[i, c] = g[i, c]
+            h = min(dp.new_step(hh, err), hmax)
+    if status != ST_OK and not info[I_TFAIL] == info[I_TFAIL]:
+        info[I_TFAIL] = t
+    info[I_NSTEP] = nstep
+    info[I_NREJ] = nrej
+    info[I_NFEV] = nfev
+    info[I_NOUT] = iout
+    return status

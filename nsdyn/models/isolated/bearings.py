@@ -1,0 +1,206 @@
+"""Bearings that slide in a plane: friction laws and bearing descriptions, validated and packed.
+
+Friction of a bidirectional isolator with normal force N and slip velocity v = (v_x, v_y):
+
+    kinetic coefficient   μ_d(|v|) = μ_fast − (μ_fast − μ_slow) exp(−a |v|)   (PTFE/steel fit)
+    static coefficient    μ_s ≥ max(μ_slow, μ_fast)                           (stick disc)
+    regularised law       f = μ_d(|v|) N (2/π) arctan(ε |v|) v/|v|
+    switch law            slip f = μ_d(|v|) N v/|v|;  stick |τ| ≤ μ_s N (τ a constraint force)
+
+f and τ are the forces the bearing *resists* with (the deck feels −f). With μ_slow = μ_fast =
+μ_s = μ the regularised law restricted to one line is seed 004's arctan law (eq 7) and the
+switch law its switch model (eqs 4–6).
+
+One description covers the flat slider and the single friction pendulum (the bearing's
+restoring force, resisting, on slip u):
+
+    F_r = N u / R + K_lam u,     F_d = c v,     R = inf for a flat slider (seed 004: K_lam, c)
+
+and its displacement capacity d_cap: beyond |u| = d_cap the restrainer rim acts as a stiff
+radial stop F_s = max(0, k_stop δ + c_stop δ̇) u/|u|, δ = |u| − d_cap, whose contact is
+reported (first time, peak overshoot), never passed silently. Defaults of the stop: k_stop =
+STOP_STIFFNESS_FACTOR × (N_0/R + K_lam) with N_0 the static normal force, c_stop =
+2 ζ_stop √(k_stop N_0/g) with ζ_stop = STOP_DAMPING_RATIO.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from nsdyn.ground.excitation import G_EARTH
+
+STOP_STIFFNESS_FACTOR = 100.0  # default rim stiffness / post-slip stiffness at the static load
+STOP_DAMPING_RATIO = 0.1  # default rim damping ratio (on the bearing's static mass share)
+
+# columns of the packed bearing table (one row per isolator), read by _kplane
+B_RINV, B_KLAM, B_C, B_MUS, B_MUSLOW, B_MUFAST, B_RATE, B_DCAP, B_KSTOP, B_CSTOP = range(10)
+N_BCOL = 10
+
+
+class BearingError(ValueError):
+    """A bearing or friction field is invalid; the message names the field."""
+
+
+def _number(where: str, v, *, positive: bool = False, allow_inf: bool = False) -> float:
+    if isinstance(v, bool) or not isinstance(v, int | float | np.floating | np.integer):
+        raise BearingError(f"{where}: expected a number, got {v!r}")
+    v = float(v)
+    if math.isnan(v) or (math.isinf(v) and not allow_inf):
+        raise BearingError(f"{where}: expected a finite number, got {v}")
+    if positive and not v > 0:
+        raise BearingError(f"{where}: expected a positive number, got {v:g}")
+    if not positive and v < 0:
+        raise BearingError(f"{where}: expected a non-negative number, got {v:g}")
+    return v
+
+
+@dataclass(frozen=True)
+class Friction:
+    """Friction coefficients of a sliding surface.
+
+    ``mu_slow``: kinetic μ at vanishing speed; ``mu_fast`` (default ``mu_slow``): at high speed;
+    ``rate`` a [s/m] of μ_d(|v|) = μ_fast − (μ_fast − μ_slow) exp(−a|v|); ``mu_static``
+    (default the largest kinetic value) the radius of the stick disc, μ_s ≥ μ_d.
+    """
+
+    mu_slow: float
+    mu_fast: float | None = None
+    rate: float = 0.0
+    mu_static: float | None = None
+    where: str = "friction"
+
+    def __post_init__(self) -> None:
+        w = self.where
+        slow = _number(f"{w}.mu_slow", self.mu_slow)
+        fast = slow if self.mu_fast is None else _number(f"{w}.mu_fast", self.mu_fast)
+        _number(f"{w}.rate", self.rate)
+        mu_d = max(slow, fast)
+        if self.mu_static is not None:
+            mus = _number(f"{w}.mu_static", self.mu_static)
+            if mus < mu_d:
+                raise BearingError(
+                    f"{w}.mu_static: expected mu_static >= the kinetic coefficient "
+                    f"({mu_d:g}), got {mus:g} (static friction below kinetic)"
+                )
+
+    @property
+    def fast(self) -> float:
+        return float(self.mu_slow if self.mu_fast is None else self.mu_fast)
+
+    @property
+    def static(self) -> float:
+        if self.mu_static is None:
+            return max(float(self.mu_slow), self.fast)
+        return float(self.mu_static)
+
+    def kinetic(self, speed) -> np.ndarray:
+        """μ_d at the slip speed(s) |v| [m/s]."""
+        s = np.abs(np.asarray(speed, dtype=float))
+        return self.fast - (self.fast - float(self.mu_slow)) * np.exp(-float(self.rate) * s)
+
+
+@dataclass(frozen=True)
+class Bearing:
+    """One bidirectional isolator: a flat slider (``radius`` = inf) or a single friction
+    pendulum (effective radius R [m]), with rubber ``k_lam`` [N/m], damper ``c`` [N s/m],
+    displacement capacity ``d_cap`` [m] (inf: none) and optional rim stop ``k_stop`` [N/m],
+    ``c_stop`` [N s/m] (defaults from the static normal force, see the module text)."""
+
+    friction: Friction
+    radius: float = math.inf
+    k_lam: float = 0.0
+    c: float = 0.0
+    d_cap: float = math.inf
+    k_stop: float | None = None
+    c_stop: float | None = None
+    where: str = "bearing"
+
+    def __post_init__(self) -> None:
+        w = self.where
+        if not isinstance(self.friction, Friction):
+            raise BearingError(f"{w}.friction: expected a Friction, got {self.friction!r}")
+        _number(f"{w}.radius", self.radius, positive=True, allow_inf=True)
+        _number(f"{w}.k_lam", self.k_lam)
+        _number(f"{w}.c", self.c)
+        _number(f"{w}.d_cap", self.d_cap, positive=True, allow_inf=True)
+        if self.k_stop is not None:
+            _number(f"{w}.k_stop", self.k_stop, positive=True)
+        if self.c_stop is not None:
+            _number(f"{w}.c_stop", self.c_stop)
+        if math.isinf(self.radius) and self.k_lam == 0.0 and math.isfinite(self.d_cap):
+            if self.k_stop is None:
+                raise BearingError(
+                    f"{w}.k_stop: a flat slider without rubber (k_lam = 0) and a displacement "
+                    "capacity needs the rim stiffness k_stop [N/m]"
+                )
+
+    @property
+    def period(self) -> float:
+        """Isolated period 2π√(R/g) of a pendulum without rubber [s] (inf when flat)."""
+        return (
+            2 * math.pi * math.sqrt(self.radius / G_EARTH)
+            if math.isfinite(self.radius)
+            else math.inf
+        )
+
+    def row(self, n_static: float, g: float) -> np.ndarray:
+        """The packed row of this bearing at static normal force ``n_static`` [N]."""
+        f = self.friction
+        r = np.zeros(N_BCOL)
+        r[B_RINV] = 0.0 if math.isinf(self.radius) else 1.0 / self.radius
+        r[B_KLAM], r[B_C] = self.k_lam, self.c
+        r[B_MUS], r[B_MUSLOW], r[B_MUFAST], r[B_RATE] = f.static, f.mu_slow, f.fast, f.rate
+        r[B_DCAP] = self.d_cap
+        k_post = n_static * r[B_RINV] + self.k_lam
+        ks = STOP_STIFFNESS_FACTOR * k_post if self.k_stop is None else float(self.k_stop)
+        m_share = max(n_static, 0.0) / g
+        cs = (
+            2 * STOP_DAMPING_RATIO * math.sqrt(ks * m_share) if self.c_stop is None else self.c_stop
+        )
+        r[B_KSTOP], r[B_CSTOP] = ks, cs
+        return r
+
+
+def friction_from_config(cfg: dict, where: str) -> Friction:
+    """A :class:`Friction` from a TOML table: ``mu`` (constant) or ``mu_slow``/``mu_fast``/
+    ``rate``, optional ``mu_static``."""
+    if "mu" in cfg and ("mu_slow" in cfg or "mu_fast" in cfg):
+        raise BearingError(f"{where}.mu: give either mu or mu_slow/mu_fast, not both")
+    if "mu" not in cfg and "mu_slow" not in cfg:
+        raise BearingError(f"{where}.mu: missing; expected the friction coefficient mu "
+                           "(or mu_slow, mu_fast, rate)")  # fmt: skip
+    slow = cfg.get("mu", cfg.get("mu_slow"))
+    return Friction(
+        mu_slow=_number(f"{where}.{'mu' if 'mu' in cfg else 'mu_slow'}", slow),
+        mu_fast=None if "mu_fast" not in cfg else _number(f"{where}.mu_fast", cfg["mu_fast"]),
+        rate=_number(f"{where}.rate", cfg.get("rate", 0.0)),
+        mu_static=None if "mu_static" not in cfg else cfg["mu_static"],
+        where=where,
+    )
+
+
+BEARING_KEYS = {"type", "mu", "mu_slow", "mu_fast", "rate", "mu_static", "radius", "k_lam", "c",
+                "d_cap", "k_stop", "c_stop"}  # fmt: skip
+
+
+def bearing_from_config(cfg: dict, where: str) -> Bearing:
+    """A :class:`Bearing` from a TOML table (``type = "fps"`` needs ``radius``; ``"flat"``)."""
+    kind = cfg.get("type", "fps" if "radius" in cfg else "flat")
+    if kind not in ("fps", "flat"):
+        raise BearingError(f"{where}.type: expected 'fps' or 'flat', got {kind!r}")
+    if kind == "fps" and "radius" not in cfg:
+        raise BearingError(f"{where}.radius: missing; a friction pendulum needs its effective "
+                           "radius R [m]")  # fmt: skip
+    if kind == "flat" and "radius" in cfg:
+        raise BearingError(f"{where}.radius: a flat slider has no radius (type = 'flat')")
+    kw = {}
+    for k in ("radius", "d_cap", "k_stop"):
+        if k in cfg:
+            kw[k] = _number(f"{where}.{k}", cfg[k], positive=True)
+    for k in ("k_lam", "c", "c_stop"):
+        if k in cfg:
+            kw[k] = _number(f"{where}.{k}", cfg[k])
+    return Bearing(friction_from_config(cfg, where), where=where, **kw)

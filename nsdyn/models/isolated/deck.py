@@ -1,0 +1,311 @@
+"""Systems on bidirectional isolators: a mass on one isolator (SDOF in the plane), a rigid deck.
+
+The deck (mass m, polar inertia J about its centre of mass, centre of mass at plan position
+(e_x, e_y) from the reference point O and height h above the sliding surfaces) moves in its
+plane, q = (x, y, θ) of O relative to the ground, on isolators at plan positions (X_i, Y_i)
+(coordinates about O). Its mass matrix about O is
+
+    M = [[m, 0, −m e_y], [0, m, m e_x], [−m e_y, m e_x, J + m (e_x² + e_y²)]],
+
+so an eccentric mass couples translation and torsion. The equations, the friction laws and the
+normal forces are those of :mod:`nsdyn.models.isolated._kplane`. The normal forces use the
+rigid-plate distribution: with N >= 4 isolators the deck is statically indeterminate, and
+equal vertical isolator stiffness under a rigid deck makes N_i affine in (X_i, Y_i),
+
+    N_i = [1, X_i, Y_i] G⁻¹ [W, Σ N X, Σ N Y]ᵀ,   G = Σ_j [1, X_j, Y_j]ᵀ [1, X_j, Y_j],
+
+which needs one isolator (the SDOF, N = W, its moments taken by the bearing) or at least three
+not on one line. The deck is vertically rigid (no vertical or rocking motion); a normal force
+reaching zero (uplift) is located and ends the run, reported with time and isolator.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from nsdyn.ground.excitation import G_EARTH
+from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated import _kplanerun as kr
+from nsdyn.models.isolated.bearings import N_BCOL, Bearing, BearingError
+from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
+from nsdyn.models.isolated.plane_result import PlaneResult
+
+PLANE_LAWS = ("switch", "arctan")  # the switch law with a stick disc; the regularised law
+COLLINEAR_RTOL = 1e-9  # G's smallest/largest eigenvalue below this: isolators on one line
+
+
+@dataclass(frozen=True)
+class PlaneSystem:
+    """A rigid deck (or a single mass) on bidirectional isolators (see the module text)."""
+
+    m: float
+    J: float
+    positions: np.ndarray  # (ni, 2) plan positions of the isolators about O [m]
+    bearings: tuple  # one Bearing per isolator
+    ecc: tuple = (0.0, 0.0)  # plan position of the centre of mass about O [m]
+    h: float = 0.0  # height of the centre of mass above the sliding surfaces [m]
+    g: float = G_EARTH
+    name: str = "deck"
+    info: dict = field(default_factory=dict, compare=False)
+
+    def __post_init__(self) -> None:
+        for k in ("m", "J"):
+            v = getattr(self, k)
+            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+                raise BearingError(f"{self.name}.{k}: expected a positive number, got {v!r}")
+        pos = np.asarray(self.positions, dtype=float)
+        if pos.ndim != 2 or pos.shape[1] != 2 or pos.shape[0] < 1 or not np.all(np.isfinite(pos)):
+            raise BearingError(f"{self.name}.positions: expected finite (X, Y) pairs [m], "
+                               f"got shape {pos.shape}")  # fmt: skip
+        object.__setattr__(self, "positions", pos)
+        if len(self.bearings) != pos.shape[0]:
+            raise BearingError(f"{self.name}.bearings: expected {pos.shape[0]} (one per "
+                               f"isolator position), got {len(self.bearings)}")  # fmt: skip
+        for b in self.bearings:
+            if not isinstance(b, Bearing):
+                raise BearingError(f"{self.name}.bearings: expected Bearing, got {b!r}")
+        if not (math.isfinite(self.h) and self.h >= 0):
+            raise BearingError(f"{self.name}.h: expected a non-negative height, got {self.h!r}")
+        if len(self.ecc) != 2 or not all(math.isfinite(float(e)) for e in self.ecc):
+            raise BearingError(f"{self.name}.ecc: expected (e_x, e_y) [m], got {self.ecc!r}")
+        nd = self.normal_distribution()
+        n0 = self.static_normal(nd)
+        if np.any(n0 <= 0):
+            i = int(np.argmin(n0))
+            raise BearingError(
+                f"{self.name}.ecc: the centre of mass lies outside the isolators' support: "
+                f"isolator {i} carries {n0[i]:.4g} N at rest"
+            )
+        for b in self.bearings:
+            need = b.friction.static * b.radius
+            if math.isfinite(b.d_cap) and math.isfinite(b.radius) and b.d_cap <= need:
+                raise BearingError(
+                    f"{b.where}.d_cap: {b.d_cap:g} m is not above the pendulum's stick range "
+                    f"mu_s R = {need:g} m (it may rest on its rim); expected d_cap > mu_s R"
+                )
+
+    @property
+    def n_isolators(self) -> int:
+        return self.positions.shape[0]
+
+    def mass_matrix(self) -> np.ndarray:
+        ex, ey = (float(e) for e in self.ecc)
+        m = self.m
+        return np.array([[m, 0.0, -m * ey], [0.0, m, m * ex],
+                         [-m * ey, m * ex, self.J + m * (ex * ex + ey * ey)]])  # fmt: skip
+
+    def normal_distribution(self) -> np.ndarray:
+        """(ni, 3) rows (w_i, p_x,i, p_y,i): N_i = w_i W + p_x,i Σ N X + p_y,i Σ N Y."""
+        pos = self.positions
+        ni = pos.shape[0]
+        if ni == 1:
+            return np.array([[1.0, 0.0, 0.0]])
+        P = np.column_stack([np.ones(ni), pos])
+        G = P.T @ P
+        w = np.linalg.eigvalsh(G)
+        if ni == 2 or w[0] <= COLLINEAR_RTOL * w[-1]:
+            raise BearingError(
+                f"{self.name}.positions: the isolators lie on one line; a deck needs one "
+                "isolator or at least three not on one line"
+            )
+        return P @ np.linalg.inv(G)
+
+    def static_normal(self, nd: np.ndarray | None = None) -> np.ndarray:
+        """Normal forces at rest [N]."""
+        nd = self.normal_distribution() if nd is None else nd
+        ex, ey = (float(e) for e in self.ecc)
+        W = self.m * self.g
+        return nd[:, 0] * W + nd[:, 1] * W * ex + nd[:, 2] * W * ey
+
+    def bearing_table(self) -> np.ndarray:
+        n0 = self.static_normal()
+        bp = np.zeros((self.n_isolators, N_BCOL))
+        for i, b in enumerate(self.bearings):
+            bp[i] = b.row(float(n0[i]), self.g)
+        return bp
+
+
+def sdof_plane(
+    m: float, bearing: Bearing, *, g: float = G_EARTH, name: str = "sdof"
+) -> PlaneSystem:
+    """A mass ``m`` [kg] on one bidirectional isolator (x, y; its twist carries no load)."""
+    return PlaneSystem(m=m, J=m, positions=np.zeros((1, 2)), bearings=(bearing,), g=g, name=name)
+
+
+def rigid_deck(
+    m: float,
+    J: float,
+    positions: Sequence,
+    bearings: Bearing | Sequence[Bearing],
+    *,
+    ecc: tuple = (0.0, 0.0),
+    h: float = 0.0,
+    g: float = G_EARTH,
+    name: str = "deck",
+) -> PlaneSystem:
+    """A rigid deck on isolators at ``positions`` (one ``Bearing`` for all, or one each)."""
+    pos = np.asarray(positions, dtype=float)
+    if isinstance(bearings, Bearing):
+        bearings = (bearings,) * (pos.shape[0] if pos.ndim == 2 else 1)
+    return PlaneSystem(m=m, J=J, positions=pos, bearings=tuple(bearings), ecc=tuple(ecc), h=h,
+                       g=g, name=name)  # fmt: skip
+
+
+def _attr(obj, name, default=None):
+    if isinstance(obj, dict):
+        return obj.get(name, default)
+    return getattr(obj, name, default)
+
+
+def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
+    """(kind, gp, table (3, n), duration) of a ground description.
+
+    ``ground``: an object with ``t0, dt, ax, ay, az`` (a three-component record, az may be
+    None), a harmonic orbit with ``f, ax, ay, phase_y_deg, az, f_z, phase_z_deg`` (object or
+    dict; a_x = A_x sin ωt, a_y = A_y sin(ωt + φ_y), a_z = A_z sin(ω_z t + φ_z), checked
+    against its ``accel(t)`` when it has one), or raw arrays ``(t0, dt, ax, ay, az)``.
+    """
+    gp = np.zeros(kp.N_GP)
+    gp[kp.GP_DT] = 1.0
+    if isinstance(ground, tuple):
+        t0, dt, ax, ay, az = ground
+        ground = {"t0": t0, "dt": dt, "ax": ax, "ay": ay, "az": az}
+    if _attr(ground, "f") is not None:
+        f = float(_attr(ground, "f"))
+        vals = [
+            f,
+            _attr(ground, "ax", 0.0),
+            _attr(ground, "ay", 0.0),
+            math.radians(_attr(ground, "phase_y_deg", 0.0) or 0.0),
+            _attr(ground, "az", 0.0) or 0.0,
+            _attr(ground, "f_z", None) or f,
+            math.radians(_attr(ground, "phase_z_deg", 0.0) or 0.0),
+        ]
+        for k, v in zip((kp.GP_F, kp.GP_AX, kp.GP_AY, kp.GP_PHY, kp.GP_AZ, kp.GP_FZ, kp.GP_PHZ),
+                        vals, strict=True):  # fmt: skip
+            gp[k] = float(v)
+        if not (np.all(np.isfinite(gp)) and f > 0):
+            raise ValueError(f"harmonic orbit: expected f > 0 and finite amplitudes, got {vals}")
+        tab = np.zeros((3, 0))
+        if hasattr(ground, "accel"):  # the orbit's own definition must match the kernel's
+            ag = np.zeros(3)
+            for t in np.linspace(0.0, 1.0 / f, 7)[1:]:
+                kp.ground(float(t), kp.G_HARMONIC, gp, tab, ag)
+                ref = np.asarray(ground.accel(float(t)), dtype=float).ravel()[:3]
+                if not np.allclose(
+                    ag[: ref.size], ref, rtol=1e-12, atol=1e-12 * (1 + np.abs(ref).max())
+                ):
+                    raise ValueError(f"harmonic orbit: accel({t:g}) = {ref} differs from the "
+                                     f"kernel's form {ag} (phase convention)")  # fmt: skip
+        return kp.G_HARMONIC, gp, tab, math.inf
+    if _attr(ground, "ax") is None or _attr(ground, "dt") is None:
+        raise TypeError(
+            "ground: expected a three-component record (t0, dt, ax, ay, az), a "
+            f"harmonic orbit (f, ax, ay, ...) or raw arrays, got {type(ground).__name__}"
+        )
+    ax = np.asarray(_attr(ground, "ax"), dtype=float)
+    n = ax.size
+    rows = []
+    for name in ("ax", "ay", "az"):
+        a = _attr(ground, name)
+        a = np.zeros(n) if a is None else np.asarray(a, dtype=float)
+        if a.shape != (n,) or not np.all(np.isfinite(a)):
+            raise ValueError(
+                f"ground.{name}: expected {n} finite samples (as ax), got shape {a.shape}"
+            )
+        rows.append(a)
+    dt = float(_attr(ground, "dt"))
+    if not (math.isfinite(dt) and dt > 0):
+        raise ValueError(f"ground.dt: expected a positive time step, got {dt}")
+    gp[kp.GP_T0] = float(_attr(ground, "t0", 0.0) or 0.0)
+    gp[kp.GP_DT] = dt
+    return kp.G_TABLE, gp, np.ascontiguousarray(np.vstack(rows)), (n - 1) * dt
+
+
+def kernel_params(
+    system: PlaneSystem, law: str, eps: float, eta: float, kappa: float | None
+) -> tuple:
+    """(M, pos, bp, nd, sp) of the kernels."""
+    if law not in PLANE_LAWS:
+        raise ValueError(f"law: expected one of {list(PLANE_LAWS)}, got {law!r}")
+    for k, v in (("eps", eps), ("eta", eta)):
+        if not (math.isfinite(v) and v > 0):
+            raise ValueError(f"{k}: expected a positive number, got {v!r}")
+    sp = np.zeros(kp.N_SP)
+    sp[kp.S_M] = system.m
+    sp[kp.S_EX], sp[kp.S_EY] = (float(e) for e in system.ecc)
+    sp[kp.S_H] = system.h
+    sp[kp.S_G] = system.g
+    sp[kp.S_KAPPA] = 2 * ALPHA * BETA if kappa is None else float(kappa)
+    sp[kp.S_EPS] = eps
+    sp[kp.S_ETA] = eta
+    sp[kp.S_LAW] = kp.LAW_SWITCH if law == "switch" else kp.LAW_ARCTAN
+    M = system.mass_matrix()
+    pos = np.ascontiguousarray(system.positions)
+    return M, pos, system.bearing_table(), system.normal_distribution(), sp
+
+
+def simulate_plane(
+    system: PlaneSystem,
+    ground,
+    *,
+    law: str = "switch",
+    t_end: float | None = None,
+    dt_out: float | None = None,
+    t_eval=None,
+    eps: float = EPS,
+    eta: float = ETA,
+    kappa: float | None = None,
+    rtol: float = 1e-6,
+    atol: tuple = (1e-8, 1e-8),
+    max_step: float | None = None,
+    max_steps: int = 5_000_000,
+    y0=None,
+):
+    """Integrate the system under ``ground`` from rest (or ``y0`` = [q, q̇]).
+
+    ``law``: "switch" (stick disc, events located on the dense output) or "arctan" (the
+    regularised vector law). Outputs every ``dt_out`` (default: the record's step, or 1/50
+    period of an orbit) or at ``t_eval``. Returns a :class:`PlaneResult`.
+    """
+    M, pos, bp, nd, sp = kernel_params(system, law, eps, eta, kappa)
+    gk, gp, tab, dur = pack_ground(ground)
+    if t_eval is None:
+        t_end = dur if t_end is None else float(t_end)
+        if not (math.isfinite(t_end) and t_end > 0):
+            raise ValueError(f"t_end: expected a positive duration [s], got {t_end}")
+        if dt_out is None:
+            dt_out = gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (50.0 * gp[kp.GP_F])
+        n = int(math.floor(t_end / dt_out * (1 + 1e-12))) + 1
+        t_eval = gp[kp.GP_T0] * (gk == kp.G_TABLE) + dt_out * np.arange(n)
+    t_eval = np.ascontiguousarray(t_eval, dtype=float)
+    if t_eval.ndim != 1 or t_eval.size < 2 or np.any(np.diff(t_eval) <= 0):
+        raise ValueError("t_eval: expected at least two increasing times")
+    if max_step is None:
+        max_step = (
+            gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (20.0 * max(gp[kp.GP_F], gp[kp.GP_FZ]))
+        )
+    ni = system.n_isolators
+    nt = t_eval.size
+    y = np.zeros(6) if y0 is None else np.ascontiguousarray(y0, dtype=float).copy()
+    if y.shape != (6,):
+        raise ValueError(f"y0: expected [x, y, theta, vx, vy, omega], got shape {y.shape}")
+    modes = np.full(ni, kp.MODE_SLIP, dtype=np.int64)
+    dirs = np.zeros((ni, 2))
+    cfg = np.array([rtol, atol[0], atol[1], min(1e-4, max_step), max_step, float(max_steps)])
+    X = np.full((nt, 6), np.nan)
+    NO = np.full((nt, ni), np.nan)
+    FF, FR, FO = (np.full((nt, ni, 2), np.nan) for _ in range(3))
+    MO = np.zeros((nt, ni), dtype=np.int64)
+    EV = np.zeros((100_000, 6))
+    stops = np.zeros((ni, 3))
+    stops[:, kr.P_TFIRST] = np.nan
+    info = np.zeros(kr.N_INFO)
+    status = kr.integrate(y, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
+                          X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
+    return PlaneResult.from_run(system, law, t_eval, X, NO, FF, FR, FO, MO, EV, stops, info,
+                                int(status))  # fmt: skip

@@ -1,0 +1,150 @@
+"""What a run of the deck on bidirectional isolators gives the engineer: orbits, forces, peaks.
+
+Isolator i slips u_i = B_i q (``u``, shape (nt, ni, 2)); the resultant displacement |u_i| =
+√(u_x² + u_y²) is the quantity a displacement capacity is checked against (not the larger
+component). The bearing's resisting forces: friction f_i (the stick force τ_i in stick),
+restoring N_i u_i/R_i + K_lam u_i, damper and rim stop; their resultants are peaked the same way.
+Deck torsion θ (rad) and the displacement of the deck's corner isolators follow from q.
+
+A numerical failure (step underflow, non-finite state, singular constraint system, chattering
+switch events, too many steps) raises :class:`PlaneIntegrationError` with time and reason; an
+uplift (a normal force reaching zero) ends the run at its located time and is reported in the
+result and its summary (``uplift``), with a warning.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from nsdyn.models.isolated import _kplanerun as kr
+
+MESSAGES = {
+    kr.ST_UNDERFLOW: "step size underflow at t = {t:.6g} s (a stiff regularised law: lower eps, "
+    "or use law 'switch')",
+    kr.ST_MAX_STEPS: "too many steps before t = {t:.6g} s (raise max_steps, or lower eps)",
+    kr.ST_NONFINITE: "NaN or inf in the state at t = {t:.6g} s (check the record and the bearings)",
+    kr.ST_SINGULAR: "singular equations of motion at t = {t:.6g} s (check masses and positions)",
+    kr.ST_CHATTER: "chattering stick-slip events at t = {t:.6g} s (use law 'arctan')",
+}
+MODE_NAMES = {0: "stick", 1: "slip", 2: "slip-start"}
+
+
+class PlaneIntegrationError(RuntimeError):
+    """A run of the deck on bidirectional isolators failed; the message names time and reason."""
+
+
+class UpliftWarning(UserWarning):
+    """An isolator's normal force reached zero; the run ended there."""
+
+
+@dataclass
+class PlaneResult:
+    """Histories of one run (outputs at ``t``) and its summary (:meth:`summary`)."""
+
+    system: object
+    law: str
+    t: np.ndarray  # (nt,) s
+    q: np.ndarray  # (nt, 3) x [m], y [m], theta [rad] of O relative to the ground
+    qd: np.ndarray  # (nt, 3)
+    N: np.ndarray  # (nt, ni) normal forces [N]
+    friction: np.ndarray  # (nt, ni, 2) resisting friction force [N]
+    restoring: np.ndarray  # (nt, ni, 2) N u/R + K_lam u [N]
+    other: np.ndarray  # (nt, ni, 2) damper + rim stop [N]
+    modes: np.ndarray  # (nt, ni) 0 stick, 1 slip, 2 slip-start (switch law)
+    events: np.ndarray  # (ne, 6) t, isolator, old mode, new mode, slip-start direction (x, y)
+    stops: list  # rim contacts: dicts isolator, t_first_s, peak_overshoot_m
+    uplift: dict | None  # {t_s, isolator} when a normal force reached zero
+    stats: dict
+
+    @classmethod
+    def from_run(cls, system, law, t, X, NO, FF, FR, FO, MO, EV, stops, info, status):
+        if status not in (kr.ST_OK, kr.ST_UPLIFT):
+            raise PlaneIntegrationError(MESSAGES[status].format(t=info[kr.I_TFAIL]))
+        nout = int(info[kr.I_NOUT])
+        ne = min(int(info[kr.I_NEV]), EV.shape[0])
+        contacts = [
+            {"isolator": i, "t_first_s": float(stops[i, kr.P_TFIRST]),
+             "peak_overshoot_m": float(stops[i, kr.P_PEAK])}
+            for i in range(stops.shape[0]) if np.isfinite(stops[i, kr.P_TFIRST])
+        ]  # fmt: skip
+        uplift = None
+        if status == kr.ST_UPLIFT:
+            uplift = {"t_s": float(info[kr.I_TFAIL]), "isolator": int(info[kr.I_IFAIL])}
+            warnings.warn(
+                f"uplift at t = {uplift['t_s']:.6g} s: the normal force of isolator "
+                f"{uplift['isolator']} reached zero; the run ends there",
+                UpliftWarning,
+                stacklevel=3,
+            )
+        for c in contacts:
+            warnings.warn(
+                f"isolator {c['isolator']} reached its displacement capacity at "
+                f"t = {c['t_first_s']:.4g} s (peak overshoot {1e3 * c['peak_overshoot_m']:.3g} mm, "
+                "taken by the rim stop)",
+                UserWarning,
+                stacklevel=3,
+            )
+        stats = {"steps": int(info[kr.I_NSTEP]), "rejected": int(info[kr.I_NREJ]),
+                 "evaluations": int(info[kr.I_NFEV]), "events": int(info[kr.I_NEV])}  # fmt: skip
+        k = slice(0, nout)
+        return cls(system, law, t[k], X[k, :3], X[k, 3:], NO[k], FF[k], FR[k], FO[k], MO[k],
+                   EV[:ne].copy(), contacts, uplift, stats)  # fmt: skip
+
+    # ---- derived histories ------------------------------------------------------------
+    def _slip(self, X) -> np.ndarray:
+        pos = self.system.positions
+        out = np.empty((X.shape[0], pos.shape[0], 2))
+        out[:, :, 0] = X[:, [0]] - X[:, [2]] * pos[:, 1]
+        out[:, :, 1] = X[:, [1]] + X[:, [2]] * pos[:, 0]
+        return out
+
+    @property
+    def u(self) -> np.ndarray:
+        """Isolator slips (nt, ni, 2) [m]."""
+        return self._slip(self.q)
+
+    @property
+    def v(self) -> np.ndarray:
+        """Isolator slip velocities (nt, ni, 2) [m/s]."""
+        return self._slip(self.qd)
+
+    @property
+    def theta(self) -> np.ndarray:
+        return self.q[:, 2]
+
+    def resultant(self, a: np.ndarray) -> np.ndarray:
+        """|a| over the last axis (x, y)."""
+        return np.hypot(a[..., 0], a[..., 1])
+
+    def peak_resultant_displacement(self) -> np.ndarray:
+        """max_t |u_i(t)| per isolator [m]."""
+        return self.resultant(self.u).max(axis=0)
+
+    def summary(self) -> dict:
+        """Scalars (and short per-isolator lists) with units in the key names."""
+        ru = self.resultant(self.u)
+        rf = self.resultant(self.friction)
+        rr = self.resultant(self.restoring)
+        ux, uy = self.u[..., 0], self.u[..., 1]
+        s = {
+            "law": self.law,
+            "n_isolators": int(self.system.n_isolators),
+            "t_end_s": float(self.t[-1]),
+            "peak_resultant_displacement_m": float(ru.max()),
+            "peak_resultant_displacement_per_isolator_m": [float(v) for v in ru.max(axis=0)],
+            "peak_component_displacement_m": float(max(np.abs(ux).max(), np.abs(uy).max())),
+            "residual_displacement_m": float(ru[-1].max()),
+            "peak_resultant_friction_N": float(rf.max()),
+            "peak_resultant_restoring_N": float(rr.max()),
+            "peak_torsion_rad": float(np.abs(self.theta).max()),
+            "min_normal_force_N": float(self.N.min()),
+            "max_normal_force_N": float(self.N.max()),
+            "stick_fraction": float(np.mean(self.modes == 0)) if self.law == "switch" else None,
+            "rim_contacts": self.stops,
+            "uplift": self.uplift,
+        }
+        s.update({f"{k}": v for k, v in self.stats.items()})
+        return s
