@@ -2,8 +2,8 @@
 
 A point holds the orbit's start ``x0`` at frequency ``f``, the Floquet multipliers ``rho``
 (stable when ``max |rho| < 1``; a growth is checked against a second map before it is called
-unstable, :mod:`nsdyn.periodic.stability`), the response quantities of its model, and how it
-was found:
+unstable, :mod:`nsdyn.periodic.stability`; none when that check could not decide, the note then
+gives the first map's value), the response quantities of its model, and how it was found:
 by shooting (``H(x0, f) = phi_T(x0) - x0 = 0`` to the shooting tolerance, sequentially or
 along the arclength ``s``) or by the stepped sweep (its residual is then the estimated
 distance to the steady state). A curve collects the points of one forcing amplitude and the
@@ -42,7 +42,6 @@ class OrbitPoint:
     s: float = float("nan")  # arclength along the curve (arclength points)
     dlogf_ds: float = float("nan")  # tangent's parameter component
     X: np.ndarray | None = field(default=None, repr=False)
-    unknown: bool = False  # the stability check could not decide (stable is None)
 
     @property
     def max_multiplier(self) -> float:
@@ -50,7 +49,7 @@ class OrbitPoint:
 
     @property
     def stable(self) -> bool | None:
-        if self.unknown or not self.multipliers.size:
+        if not self.multipliers.size:
             return None
         return bool(self.max_multiplier < 1.0 + STABLE_MARGIN)
 
@@ -111,6 +110,7 @@ def _point_from_shoot(
     is checked, :func:`nsdyn.periodic.stability.check_verdict`)."""
     rho = floquet_multipliers(res.monodromy)
     rho, verdict, why = check_verdict(problem, res.f, res.x0, rho, disc)
+    rho = rho if verdict is not None else np.zeros(0)  # undecided: no multipliers (the note)
     q = problem.orbit_quantities(res.f, res.X)
     note = "; ".join(n for n in (note, why, problem.validity_note(q)) if n)
     return OrbitPoint(
@@ -125,7 +125,6 @@ def _point_from_shoot(
         note,
         q,
         X=res.X,
-        unknown=verdict is None,
     )
 
 
@@ -137,6 +136,7 @@ def _point_from_sweep(
     last period's multipliers is checked as for a shooting point."""
     rho = floquet_multipliers(sw.monodromy) if sw.monodromy is not None else np.zeros(0)
     rho, verdict, check = check_verdict(problem, sw.f, sw.x0, rho, disc)
+    rho = rho if verdict is not None or not rho.size else np.zeros(0)
     probe = ""
     if sw.periods_done > 0:
         q = problem.orbit_quantities(sw.f, sw.X)
@@ -156,5 +156,4 @@ def _point_from_sweep(
         "; ".join(n for n in notes if n),
         q,
         X=sw.X if sw.periods_done > 0 else None,
-        unknown=rho.size > 0 and verdict is None,
     )
