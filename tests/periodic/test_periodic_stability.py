@@ -107,6 +107,36 @@ def _dissipative_oscillator():
     )
 
 
+def test_sdirk3_monodromy_is_the_derivative_of_its_map_on_the_growing_orbit():
+    # The growth is the map's, not an error of the sensitivities propagated through the three
+    # stages: on the dissipative orbit where the SDIRK3 map has |rho| > 1 (1.83 Hz, A = 8) its
+    # monodromy equals central differences of the map. A central difference errs by C delta^2
+    # (+ round-off / delta): the discrepancy falls ~100x when delta falls 10x (an inexact
+    # monodromy gives an O(1) discrepancy) and is small at delta = 1e-5 (scaled variables).
+    prob = pr.frame_problem(_dissipative_oscillator(), 8.0)
+    disc = pr.Discretisation(method="sdirk3")
+    f = 1.83
+    res = pr.shoot(prob, f, disc=disc)
+    assert res.converged and np.max(np.abs(res.multipliers)) > 1.0
+    x0, N = res.x0, res.n_steps
+    pm = pr.period_map(prob, x0, f, n_steps=N, disc=disc, store=True)
+    W = 1.0 / np.max(np.abs(pm.X - prob.x_ref), axis=0)
+    Ms = W[:, None] * pm.monodromy / W[None, :]
+
+    def fd_error(delta):
+        fd = np.empty((2, 2))
+        for k in range(2):
+            e = np.zeros(2)
+            e[k] = delta / W[k]
+            xa = pr.period_map(prob, x0 + e, f, n_steps=N, disc=disc).xT
+            xb = pr.period_map(prob, x0 - e, f, n_steps=N, disc=disc).xT
+            fd[:, k] = W * (xa - xb) / (2 * delta)
+        return np.max(np.abs(Ms - fd)) / np.max(np.abs(fd))
+
+    e4, e5 = fd_error(1e-4), fd_error(1e-5)
+    assert e4 / e5 > 30.0 and e5 < 1e-4
+
+
 def test_dissipative_arctan_orbits_are_stable_with_sdirk3():
     # Stick-slip orbits at A = 8 m/s^2 (mu g = 2.9 m/s^2): the SDIRK3 map alone gives
     # |rho| up to ~2 at several frequencies; the reported multipliers must all lie inside the
