@@ -764,6 +764,56 @@ def test_good_study_loads(tmp_path):
     assert load_study(_write(tmp_path, "ok.toml", STUDY)).n_tasks == 2
 
 
+# ----------------------------------------------------------------------------- new scene tables
+# three-component ground motion ([motion] kind = "record3" | "orbit") and bidirectional bearings
+# ([isolation] of a plane isolator): the table readers a scene file goes through
+REC3 = {"kind": "record3", "record": "synthetic-wn-40s"}
+ORBIT = {"kind": "orbit", "orbit": "circular", "frequency": 1.0, "amplitude": 2.0, "n_periods": 5}
+INF, NAN = float("inf"), float("nan")
+TABLE_ROWS = [
+    ("rec3-pga-inf", "motion3", REC3 | {"pga": INF}, [r"motion\.pga", "finite"]),
+    ("rec3-pga-nan", "motion3", REC3 | {"pga": NAN}, [r"motion\.pga", "finite"]),
+    ("rec3-tend-negative", "motion3", REC3 | {"t_end": -5.0}, [r"motion\.t_end", "positive"]),
+    ("rec3-misspelt", "motion3", REC3 | {"pgaa": 3.0}, [r"motion\.pgaa", "unknown", "'pga'"]),
+    ("rec3-record", "motion3", REC3 | {"record": "nosuch"}, [r"motion\.record", "synthetic"]),
+    ("motion3-kind", "motion3", {"kind": "record4"}, [r"motion\.kind", "'record3'"]),
+    ("orbit-f-zero", "motion3", ORBIT | {"frequency": 0.0}, [r"motion\.frequency", "positive"]),
+    ("orbit-amp-inf", "motion3", ORBIT | {"amplitude": INF}, [r"motion\.amplitude", "finite"]),
+    ("orbit-shape", "motion3", ORBIT | {"orbit": "square"}, [r"motion\.orbit", "'circular'"]),
+    ("orbit-periods-neg", "motion3", ORBIT | {"n_periods": -2}, [r"motion\.n_periods", "posit"]),
+    ("orbit-two-durations", "motion3", ORBIT | {"t_end": 3.0}, [r"t_end / motion\.n_periods"]),
+    ("orbit-sense", "motion3", ORBIT | {"sense": 2}, [r"motion\.sense", r"\+1"]),
+    ("bearing-mu-negative", "bearing", {"radius": 2.0, "mu": -0.05}, [r"\.mu", "non-negative"]),
+    ("bearing-mu-nan", "bearing", {"radius": 2.0, "mu": NAN}, [r"\.mu", "finite"]),
+    ("bearing-radius-zero", "bearing", {"radius": 0.0, "mu": 0.05}, [r"\.radius", "positive"]),
+    ("bearing-no-radius", "bearing", {"type": "fps", "mu": 0.05}, [r"\.radius", "missing"]),
+    ("bearing-type", "bearing", {"type": "roller", "mu": 0.05}, [r"\.type", "'fps'"]),
+    ("bearing-no-mu", "bearing", {"type": "flat"}, [r"\.mu", "missing"]),
+    ("bearing-dcap", "bearing", {"type": "flat", "mu": 0.05, "d_cap": -0.1}, [r"\.d_cap", "pos"]),
+    (
+        "bearing-static-below",
+        "bearing",
+        {"type": "flat", "mu": 0.05, "mu_static": 0.01},
+        [r"\.mu_static", "kinetic"],
+    ),
+]
+
+
+@pytest.mark.parametrize("row", [pytest.param(r, id=r[0]) for r in TABLE_ROWS])
+def test_bad_new_scene_table(row):
+    from nsdyn.ground import motion3_from_table
+    from nsdyn.models.isolated.bearings import bearing_from_config
+
+    rid, reader, table, needles = row
+    source = "scene.toml"
+    if reader == "motion3":
+        msg = _expect(ValueError, lambda: motion3_from_table(table, source), *needles)
+    else:
+        msg = _expect(ValueError, lambda: bearing_from_config(table, f"{source}: isolation"),
+                      *needles)  # fmt: skip
+    assert msg.startswith(f"{source}: "), msg
+
+
 @pytest.mark.parametrize("example", sorted(p.name for p in SCENES.glob("*.toml")))
 def test_examples_are_valid(example):
     # the base of every scene row loads without error
