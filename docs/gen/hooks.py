@@ -6,6 +6,7 @@ sources):
 - ``reference/scenes.md``: every scene-file key, from the schemas the scene readers check
   against (:mod:`nsdyn.models.scene_schema`);
 - ``reference/api.md``: the public names of ``nsdyn``, from ``nsdyn/__init__.py``;
+- ``reference/cli-options.md``: ``nsdyn COMMAND --help`` of every subcommand, from the parser;
 - ``gallery/*.md``: one page per example script, from its docstring, with its figures;
 - ``validation.md``: what each test checks against what, from the test modules;
 - ``figures/*.png``: the figures of ``examples/figures``, served as they are.
@@ -28,6 +29,7 @@ sys.path.insert(0, str(HERE))
 log = logging.getLogger("mkdocs.plugins.nsdyn")
 
 import api  # noqa: E402
+import cli  # noqa: E402
 import gallery  # noqa: E402
 import griffe_rst  # noqa: E402, F401  (the generators import it lazily)
 import scene_reference  # noqa: E402
@@ -40,6 +42,7 @@ def _generate() -> dict[str, str]:
     pages = {
         "reference/scenes.md": scene_reference.page(),
         "reference/api.md": api.page(),
+        "reference/cli-options.md": cli.page(),
         "validation.md": validation.page(),
     }
     pages.update(gallery.pages())
