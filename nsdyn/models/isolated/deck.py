@@ -77,8 +77,8 @@ class PlaneSystem:
         if np.any(n0 <= 0):
             i = int(np.argmin(n0))
             raise BearingError(
-                f"{self.name}.ecc: the centre of mass lies outside the isolators' support: "
-                f"isolator {i} carries {n0[i]:.4g} N at rest"
+                f"{self.name}.ecc: the centre of mass lies outside the kern of the isolators "
+                f"(rigid-plate normal forces): isolator {i} would carry {n0[i]:.4g} N at rest"
             )
         for b in self.bearings:
             need = b.friction.static * b.radius

@@ -1,0 +1,106 @@
+"""Rigid deck on bidirectional isolators: equilibrium of the normal forces, uplift, the rim stop.
+
+Sources: the rigid deck's vertical force and moment balance (d'Alembert: the horizontal inertia
+force m a_abs at the height h of the centre of mass overturns the deck, N_i from equal vertical
+isolator stiffness, a plane under a rigid plate), the overturning threshold of a rigid block on
+corner supports a = g b / h, and the displacement capacity of a friction pendulum.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from nsdyn.models.isolated.bearings import Bearing, BearingError, Friction
+from nsdyn.models.isolated.deck import rigid_deck, simulate_plane
+from nsdyn.models.isolated.plane_result import UpliftWarning
+
+G = 9.81
+POS = [(-4.0, -3.0), (4.0, -3.0), (4.0, 3.0), (-4.0, 3.0), (0.0, 3.0)]
+
+
+def _record(T=6.0, dt=0.01, vert=True):
+    t = np.arange(0.0, T + dt / 2, dt)
+    w = np.sin(np.pi * t / T) ** 2
+    ax = 2.5 * np.sin(2 * np.pi * 0.6 * t) * w
+    ay = 1.8 * np.sin(2 * np.pi * 0.9 * t + 1.0) * w
+    az = (1.5 * np.sin(2 * np.pi * 2.3 * t) * w) if vert else None
+    return t, (0.0, dt, ax, ay, az)
+
+
+@pytest.mark.parametrize("law", ["arctan", "switch"])
+def test_normal_forces_balance_weight_and_overturning_at_every_output(law):
+    # Vertical: sum N_i = m (g + a_z). Moments about the sliding plane: the isolators' horizontal
+    # forces act in it, the inertia force -m a_abs at (e_x, e_y, h), and m a_abs = -sum F_i
+    # (F_i the bearing's resisting force): sum N_i X_i = m e_x (g + a_z) + h sum F_i,x, and
+    # likewise for Y. Round-off only (n eps of the 3 x 3 / 5 x 5 solves times m g).
+    m, h, ecc = 3.0e4, 2.5, (0.6, -0.4)
+    d = rigid_deck(m, m * 8.0, POS, Bearing(Friction(0.05, mu_static=0.07), radius=2.2), ecc=ecc,
+                   h=h, g=G)  # fmt: skip
+    t, rec = _record()
+    r = simulate_plane(d, rec, law=law)
+    az = rec[4][: r.t.size]
+    F = (r.friction + r.restoring + r.other).sum(axis=1)
+    X, Y = np.array(POS).T
+    tol = 1e-9 * m * G
+    np.testing.assert_allclose(r.N.sum(axis=1), m * (G + az), rtol=0, atol=tol)
+    np.testing.assert_allclose(r.N @ X, m * ecc[0] * (G + az) + h * F[:, 0], rtol=0, atol=tol)
+    np.testing.assert_allclose(r.N @ Y, m * ecc[1] * (G + az) + h * F[:, 1], rtol=0, atol=tol)
+    assert r.summary()["peak_resultant_displacement_m"] > 0.01
+    # the rigid plate: N_i affine in (X_i, Y_i): the fifth isolator, on the edge Y = 3 between
+    # two corners, carries the mean of theirs
+    np.testing.assert_allclose(r.N[:, 4], 0.5 * (r.N[:, 2] + r.N[:, 3]), rtol=1e-12)
+
+
+def test_uplift_is_located_at_the_overturning_threshold():
+    # Four corners at (+-b, +-c), centre of mass at height h, stuck (mu large): the deck follows
+    # the ground's a_x = k t; the inertia force -m a_x at height h tips it towards -x, loading
+    # the corners X = -b and unloading X = +b: N = (m/4)(g - a h / b), zero at a* = g b / h.
+    b, c, h, m, k = 1.0, 1.5, 4.0, 1.0e4, 2.0
+    pos = [(-b, -c), (b, -c), (b, c), (-b, c)]
+    d = rigid_deck(m, m, pos, Bearing(Friction(0.8), radius=3.0), h=h, g=G)
+    dt = 0.01
+    t = np.arange(0.0, 3.0 + dt / 2, dt)
+    with pytest.warns(UpliftWarning, match=r"uplift at t = .* isolator [12]"):
+        r = simulate_plane(d, (0.0, dt, k * t, 0 * t, None))
+    assert r.uplift["isolator"] in (1, 2)
+    assert r.uplift["t_s"] == pytest.approx(G * b / h / k, abs=1e-9)
+    assert r.t[-1] <= r.uplift["t_s"]
+    assert r.summary()["uplift"] == r.uplift
+
+
+def test_reaching_the_displacement_capacity_is_reported_with_time_and_overshoot():
+    # A pendulum driven near resonance runs into its rim: the contact is reported (warning and
+    # summary: first time, peak overshoot), the rim stop holds the overshoot to a fraction of
+    # the capacity, and before the first contact the slip stays inside d_cap.
+    R, d_cap, m = 2.0, 0.25, 1.0e4
+    d = rigid_deck(m, m * 5, POS[:4], Bearing(Friction(0.04), radius=R, d_cap=d_cap), g=G)
+    f = 1 / (2 * math.pi * math.sqrt(R / G))
+    with pytest.warns(UserWarning, match=r"reached its displacement capacity"):
+        r = simulate_plane(d, {"f": f, "ax": 1.5, "ay": 1.5, "phase_y_deg": 90.0}, t_end=20.0)
+    s = r.summary()
+    assert len(s["rim_contacts"]) == 4
+    c0 = s["rim_contacts"][0]
+    ru = np.hypot(r.u[:, 0, 0], r.u[:, 0, 1])
+    assert ru[r.t < c0["t_first_s"] - 1e-9].max() <= d_cap
+    assert 0 < c0["peak_overshoot_m"] < 0.2 * d_cap
+    assert s["peak_resultant_displacement_m"] == pytest.approx(d_cap + c0["peak_overshoot_m"],
+                                                               rel=1e-3)  # fmt: skip
+
+
+def test_bad_decks_are_refused_with_the_field_named():
+    b = Bearing(Friction(0.05), radius=2.0)
+    with pytest.raises(BearingError, match=r"deck.positions: the isolators lie on one line"):
+        rigid_deck(1e4, 1e4, [(0, 0), (1, 0), (2, 0)], b)
+    with pytest.raises(BearingError, match=r"deck.ecc: the centre of mass lies outside the kern"):
+        rigid_deck(1e4, 1e4, POS[:4], b, ecc=(6.0, 0.0))
+    with pytest.raises(BearingError, match=r"deck.m: expected a positive number"):
+        rigid_deck(-1.0, 1e4, POS[:4], b)
+    with pytest.raises(BearingError, match=r"deck.bearings: expected 4"):
+        rigid_deck(1e4, 1e4, POS[:4], (b, b))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        rigid_deck(1e4, 1e4, POS[:4], b, ecc=(1.5, 1.0))  # inside the kern: accepted
