@@ -11,7 +11,9 @@ integration), ``bifurcation``, ``curve`` (points and curves), ``continuation`` (
 pseudo-arclength, any :class:`PeriodicModel`), ``response`` (the frame's front door),
 ``switch`` (the switch model with true stick: exact period map with saltation matrices),
 ``uplift`` (the amplitude A*(f) at which a steady orbit's normal force first reaches zero),
-``unilateral`` (steady states with lift-off and landing by the stepped sweep).
+``unilateral`` (steady states with lift-off and landing by the stepped sweep), ``stability``
+(a growth of the discrete map checked against an algebraically stable one before an orbit is
+called unstable), ``extrema`` (peaks of a sampled orbit on its dense output).
 """
 
 from pathlib import Path
@@ -54,6 +56,7 @@ from nsdyn.periodic.shooting import (
     period_map,
     shoot,
 )
+from nsdyn.periodic.stability import check_verdict
 from nsdyn.periodic.sweeps import SS_RHO_CAP, SweepResult, steady_state_sweep, warm_start
 from nsdyn.periodic.switch import (
     SwitchProblem,
@@ -83,6 +86,7 @@ __all__ = [
     "UnilateralPoint",
     "UpliftBoundary",
     "UpliftPoint",
+    "check_verdict",
     "continue_arclength",
     "continue_sequential",
     "detect_bifurcations",
