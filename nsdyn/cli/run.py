@@ -83,7 +83,7 @@ def configure(p: argparse.ArgumentParser) -> None:
         metavar="S",
         help="step of the fixed-step methods (default 0.005 s)",
     )
-    p.add_argument("--t-end", type=_positive_float, metavar="S", help="stop at this time")
+    p.add_argument("--t-end", type=_positive_finite, metavar="S", help="stop at this time")
     p.add_argument(
         "--max-steps",
         type=_positive_int,

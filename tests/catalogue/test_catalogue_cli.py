@@ -32,6 +32,7 @@ CLI_ROWS = [
     ("run-pga-inf", ["run", "--pga", "inf"], r"--pga.*finite"),
     ("run-pga-nan", ["run", "--pga", "nan"], r"--pga.*positive"),
     ("run-dt-inf", ["run", "--dt", "inf"], r"--dt.*finite"),
+    ("run-tend-inf", ["run", "--t-end", "inf"], r"--t-end.*finite"),
     ("run-max-steps-zero", ["run", "--max-steps", "0"], r"--max-steps.*at least 1"),
     # a fixed step too small for the step budget: refused before the run, not after minutes
     # (40 s of record at 1e-7 s: 5e7 steps per 5 s chunk against max_steps = 2e6)

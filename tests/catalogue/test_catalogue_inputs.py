@@ -436,6 +436,15 @@ def test_bad_frame_scene(tmp_path, row):
     assert str(p) in msg
 
 
+def test_fmax_inf_is_the_full_model_not_an_error(tmp_path):
+    # the one float field where inf is meaningful: a Craig-Bampton cut-off that keeps every
+    # mode (the reduced model is the full one, nsdyn.structure.reduction)
+    from nsdyn.models.isolated.scene import load_scene
+
+    p = _write(tmp_path, "fmax.toml", "[scene]\nf_max = inf\n")
+    assert load_scene(p)["scene"]["f_max"] == float("inf")
+
+
 @pytest.mark.parametrize(
     "text", ["", "\n\n", "# a scene, some day\n"], ids=["empty", "blank", "comment"]
 )

@@ -80,6 +80,7 @@ _FIELDS = checked_types(SCENE, MOTION_RECORD, SOLVER)  # declared in scene_keys
 
 
 _EXTRA_TABLES = ("structure", "force")  # scene_structure's tables
+_INF_OK = ("f_max",)  # float fields where inf means something (every mode kept: the full model)
 _ISO_POSITIVE = ("eps", "eta", "alpha", "diaphragm_EA", "diaphragm_EI", "g")  # > 0 (not just >= 0)
 _ISO_TEXT = ("law", "frozen_normal", "contact")  # the [isolation] fields that are not numbers
 
@@ -159,7 +160,7 @@ def _check(cfg: dict, source: str) -> dict:
             )
             if not ok:
                 raise SceneError(f"{source}: {table}.{key}: expected {typ.__name__}, got {val!r}")
-            if typ is float and not math.isfinite(val):
+            if typ is float and not math.isfinite(val) and not (key in _INF_OK and val > 0):
                 raise SceneError(
                     f"{source}: {table}.{key}: expected a finite positive number, got {val!r}"
                 )
