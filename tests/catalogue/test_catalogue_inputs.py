@@ -841,6 +841,8 @@ N_INPUT_CASES = (
     + 3
     + 2
     + len(FRAME_SCENE_ROWS)
-    + 3
-    + 3
+    + 3  # empty scene files
+    + 3  # empty study, garbage record, another kind's parameter
+    + 1  # f_max = inf accepted
+    + len(TABLE_ROWS)
 )
