@@ -48,7 +48,7 @@ def scripts() -> list[dict]:
 
 
 def _rst_to_md(text: str) -> str:
-    from griffe_rst import markdown_of  # the docstring rules of the API pages
+    from docstring_md import markdown_of  # the docstring rules of the API pages
 
     return markdown_of(text)
 

@@ -30,8 +30,8 @@ log = logging.getLogger("mkdocs.plugins.nsdyn")
 
 import api  # noqa: E402
 import cli  # noqa: E402
+import docstring_md  # noqa: E402, F401  (the generators import it lazily)
 import gallery  # noqa: E402
-import griffe_rst  # noqa: E402, F401  (the generators import it lazily)
 import scene_reference  # noqa: E402
 import validation  # noqa: E402
 

@@ -81,7 +81,7 @@ def _cell(text: str) -> str:
 
 def page() -> str:
     """The Markdown of ``validation.md``."""
-    from griffe_rst import markdown_of
+    from docstring_md import markdown_of
 
     lines = [
         "# Validation",
