@@ -3,6 +3,9 @@
 The script (:func:`nsdyn.models.isolated.opensees.export_opensees`) rebuilds the isolated
 frame's full FE model (seed 004 eqs 1-15: M qdd + C* qd + K* q = -M Gamma u'' + contact and
 friction forces) in openseespy, runs the scene's record and prints the peaks as JSON.
+Given a 3D frame file (or a bundled 3D frame's name) instead of a scene, it writes the space
+frame with a fixed base and an eigen analysis
+(:func:`nsdyn.models.isolated.opensees3d.export_opensees_3d`): ``K_ii φ = ω² M_ii φ``.
 """
 
 from __future__ import annotations
@@ -21,7 +24,11 @@ TARGETS = ("opensees",)
 def configure(p: argparse.ArgumentParser) -> None:
     """Arguments of ``nsdyn export``."""
     p.add_argument("target", choices=TARGETS, help="what to export to: opensees (openseespy)")
-    p.add_argument("scene", help="scene TOML of an isolated frame (kind 'isolated', a frame)")
+    p.add_argument(
+        "scene",
+        help="scene TOML of an isolated frame (kind 'isolated', a frame), or a 3D frame file "
+        "or bundled 3D frame (fixed base, eigen analysis)",
+    )
     p.add_argument(
         "-o",
         "--out",
@@ -46,13 +53,66 @@ def configure(p: argparse.ArgumentParser) -> None:
         help="modal: modalDampingQ on the sliding structure's modes with nsdyn's damping "
         "projected on them (default); stiffness: Rayleigh beta K on the members",
     )
+    p.add_argument(
+        "--mass",
+        choices=("consistent", "lumped"),
+        default="consistent",
+        help="3D frames: element mass of the exported model and of nsdyn's reference modes",
+    )
+    p.add_argument(
+        "--modes", type=int, default=12, metavar="N", help="3D frames: frequencies to compute"
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
+
+
+def _frame3d_name(scene: str) -> str | None:
+    """The 3D frame's name if ``scene`` is a 3D frame file or bundled 3D frame, else None."""
+    from nsdyn.structure import FrameFileError, is_frame3d
+
+    try:
+        return Path(scene).stem if is_frame3d(scene) else None
+    except FrameFileError:
+        return None  # not a frame file: the scene path reports its own errors
+
+
+def _run_frame3d(args: argparse.Namespace, stem: str) -> int:
+    from nsdyn.models.isolated.opensees3d import export_opensees_3d
+    from nsdyn.models.scenefile import SceneError
+    from nsdyn.structure import load_frame3d
+
+    if args.modes < 1:
+        raise SceneError(f"--modes: expected a positive integer, got {args.modes}")
+    frame = load_frame3d(args.scene)
+    out = Path(args.out) if args.out else Path(f"{stem}_opensees.py")
+    try:
+        export_opensees_3d(frame, out, mass=args.mass, n_modes=args.modes)
+    except ValueError as exc:  # a frame the export cannot map (e.g. a clamped diaphragm node)
+        raise SceneError(f"{args.scene}: {exc}") from None
+    if args.json:
+        from nsdyn.models.isolated.opensees import load_script
+
+        d = load_script(out).DATA
+        info = {
+            "frame": d["name"],
+            "n_nodes": len(d["nodes"]),
+            "n_elements": len(d["elements"]),
+            "n_diaphragms": len(d["diaphragms"]),
+            "mass": d["mass"],
+            "nsdyn_f_hz": d["nsdyn_f_hz"],
+        }
+        print(json.dumps({"script": str(out), **info}))
+        return 0
+    print(f"wrote {out}  (fixed-base eigen analysis; run it with: python {out})")
+    return 0
 
 
 def run(args: argparse.Namespace) -> int:
     """Write the script; print where (and the model's key numbers)."""
     from nsdyn.models.isolated.opensees import export_opensees
 
+    stem = _frame3d_name(args.scene)
+    if stem is not None:
+        return _run_frame3d(args, stem)
     scene = Path(args.scene)
     out = Path(args.out) if args.out else scene.with_name(f"{scene.stem}_opensees.py")
     export_opensees(scene, out, dt=args.dt, t_end=args.t_end, damping=args.damping)
