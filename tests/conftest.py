@@ -7,6 +7,7 @@ Factories are plain functions exposed as fixtures returning the function (``make
 from __future__ import annotations
 
 import os
+from pathlib import Path
 
 # One BLAS thread: on a shared 2-core machine threaded dense eigensolvers of a few hundred
 # dofs run ~10x slower than single-threaded ones (must be set before numpy loads BLAS).
@@ -23,6 +24,146 @@ settings.register_profile("nsdyn", deadline=None)
 settings.load_profile("nsdyn")
 
 from nsdyn.structure import Frame, Section, load_frame, regular_frame  # noqa: E402
+
+# ---- one compilation before the xdist workers start -----------------------------------------
+#
+# Each xdist worker is a process of its own: into an empty numba cache (a fresh clone, a
+# changed kernel) every worker that needs a kernel before another has saved it compiles it
+# again (the switch model's event loop alone takes minutes on one core). So the controller
+# process compiles the kernels most of the suite uses into numba's on-disk cache first, in
+# two processes at once (one per core, each a list of warm-ups), and the workers load them.
+# Controller only (never in a worker), only with workers (-n), only for the whole suite (no
+# paths given), never without the JIT; NSDYN_TEST_WARMUP=0 turns it off. A warm-up that fails
+# costs nothing but its time: the tests then compile what they need themselves.
+
+WARMUP_ENV = "NSDYN_TEST_WARMUP"
+# (module, function, args) per process; each warm-up only loads what is already cached
+WARMUP_SLOTS = (
+    (
+        ("nsdyn.solve.methods", "warmup_kernel", ["event"]),
+        ("nsdyn.solve.methods", "warmup_unilateral", []),
+        ("conftest", "warm_switch_shooting", []),
+        ("conftest", "warm_cylinder", []),
+    ),
+    (
+        ("nsdyn.solve.methods", "warmup_kernel", ["radau", "metrics"]),
+        ("nsdyn.solve.methods", "warmup_kernel", ["radau-general", "metrics-general"]),
+        ("nsdyn.periodic.problem", "warmup", []),
+        ("nsdyn.solve.methods", "warmup_kernel", ["genalpha"]),
+        ("nsdyn.solve.methods", "warmup_kernel", ["dopri5"]),
+        ("nsdyn.models.rocking.block", "warmup", []),
+        ("conftest", "warm_contact", []),
+    ),
+)
+_WARMUP_CODE = """
+import importlib, json, sys, time
+sys.path.insert(0, sys.argv[2])  # the tests folder: this conftest's own warm-ups
+from nsdyn._numba_cache import compiling
+for module, name, args in json.loads(sys.argv[1]):
+    t0 = time.perf_counter()
+    with compiling():
+        getattr(importlib.import_module(module), name)(*args)
+    print(f"{module}.{name}{tuple(args)}: {time.perf_counter() - t0:.1f} s", flush=True)
+"""
+
+
+def warm_switch_shooting():
+    """The switch model's period map with sensitivities (a one-dof Coulomb oscillator)."""
+    from nsdyn.models.isolated.builders import system_from_matrices
+    from nsdyn.models.isolated.system import Isolation
+    from nsdyn.periodic.switch import shoot_switch, switch_problem
+
+    iso = Isolation(k_lam=0.0, c=0.0, mu=0.1, law="switch")
+    sysm = system_from_matrices(
+        [[1.0]], [[0.1]], [[(2 * np.pi) ** 2]], iso_dofs=[0], influence=[1.0], isolation=iso,
+        weight=iso.g, levels=[[0]],
+    )  # fmt: skip
+    shoot_switch(switch_problem(sysm, 1.0), 1.0, max_iter=1)
+
+
+def warm_contact():
+    """The planar contact solvers (event-driven and Moreau–Jean) on a rocking block."""
+    from nsdyn.models.contact import (
+        BaseMotion,
+        FrictionLaw,
+        RigidBody,
+        simulate_event,
+        simulate_moreau,
+    )
+
+    body = RigidBody.rectangle(0.2, 1.0, 100.0)
+    law = FrictionLaw(0.57, 0.57, 0.0)
+    motion = BaseMotion.displacement_sine(0.01, 0.5, 5, "impulsive")
+    simulate_event(body, law, motion, t_end=0.02, dt_out=0.005)
+    simulate_moreau(body, law, motion, t_end=0.02, h=5e-4, dt_out=0.005)
+
+
+def warm_cylinder():
+    """The cylinder on its Winkler foundation."""
+    from nsdyn.models.cylinder import CylinderParams
+    from nsdyn.models.cylinder.simulate import simulate
+
+    simulate(CylinderParams(), np.full((3, 3), 0.1), 0.01)
+
+
+def _wants_warmup(config) -> bool:
+    if os.environ.get(WARMUP_ENV, "1") == "0" or hasattr(config, "workerinput"):
+        return False
+    if os.environ.get("PYTEST_XDIST_WORKER") or os.environ.get("NUMBA_DISABLE_JIT", "0") != "0":
+        return False
+    if not getattr(config.option, "numprocesses", None):  # no workers: nothing compiles twice
+        return False
+    testpaths = getattr(getattr(pytest.Config, "ArgsSource", None), "TESTPATHS", None)
+    return testpaths is not None and config.args_source == testpaths  # the whole suite
+
+
+def pytest_configure(config):
+    """Warm numba's cache for the workers (see WARMUP_SLOTS), in the controller only."""
+    if not _wants_warmup(config):
+        return
+    import json
+    import subprocess
+    import sys
+    import time
+
+    t0 = time.perf_counter()
+    # the nsdyn this process imported (an installed one, not the checkout beside the working
+    # directory: numba's cache belongs to a source file), one compiling process per core
+    env = dict(
+        os.environ,
+        NSDYN_COMPILE_HELPER="0",
+        PYTHONPATH=os.pathsep.join(p for p in sys.path if p),
+    )
+    procs = [
+        subprocess.Popen(
+            [
+                sys.executable,
+                "-P",
+                "-c",
+                _WARMUP_CODE,
+                json.dumps(slot),
+                str(Path(__file__).parent),
+            ],
+            env=env,
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+        )
+        for slot in WARMUP_SLOTS
+    ]
+    logs = [p.communicate()[0] for p in procs]
+    config._nsdyn_warmup = (time.perf_counter() - t0, [p.returncode for p in procs], logs)
+
+
+def pytest_report_header(config):
+    info = getattr(config, "_nsdyn_warmup", None)
+    if info is None:
+        return None
+    seconds, codes, logs = info
+    lines = [f"numba cache warmed for the workers in {seconds:.0f} s (exit codes {codes}):"]
+    return lines + [f"  {line}" for log in logs for line in log.splitlines()[-12:]]
+
 
 # A slender steel-like bar: L / radius of gyration = 10 / sqrt(1e-5 / 1e-2) ~ 316, so the
 # first axial frequency lies far above the first two bending frequencies.
@@ -100,3 +241,33 @@ def office() -> Frame:
 def office_km(office):
     """Sparse consistent ``(K, M)`` of the office frame."""
     return office.assemble()
+
+
+def newton_roundoff_bound(problem, res, guess=None) -> float:
+    """Round-off bound of a converged shooting residual (scaled by the orbit's ranges, as
+    :func:`nsdyn.periodic.shoot` measures it) when the period map is affine near the orbit.
+
+    Newton's step is a least-squares solve, backward stable, so the residual it leaves is at
+    most ~dim u ‖J‖ ‖Δ‖ (J = Φ - I scaled, Δ the scaled correction from ``guess``, default the
+    static state), plus the map's own round-off, ``n_steps`` steps of at most u ‖Φ‖ ‖x‖ each
+    (x scaled from the static state); u = eps / 2. When this bound is below the shooting
+    tolerance, an affine map converges after exactly one Newton update on any machine."""
+    from nsdyn.periodic.shooting import orbit_amplitudes
+
+    m = problem.dim // 2
+    amp = np.repeat(orbit_amplitudes(problem, res.X), m)
+    guess = problem.x_ref if guess is None else guess
+    scaled = res.monodromy * amp[None, :] / amp[:, None]
+    J = scaled - np.eye(problem.dim)
+    dx = np.linalg.norm((res.x0 - guess) / amp)
+    x = np.linalg.norm((res.x0 - problem.x_ref) / amp)
+    u = np.finfo(float).eps / 2
+    return float(
+        u * (problem.dim * np.linalg.norm(J, 2) * dx + res.n_steps * np.linalg.norm(scaled, 2) * x)
+    )
+
+
+@pytest.fixture
+def newton_roundoff():
+    """:func:`newton_roundoff_bound`."""
+    return newton_roundoff_bound

@@ -130,12 +130,14 @@ def test_stick_phase_gives_a_zero_multiplier():
     assert rho[0] < 1e-12 and rho[1] < 1.0
 
 
-def test_linear_system_one_newton_step():
-    """mu = 0: the period map is affine, Newton converges after one update."""
+def test_linear_system_one_newton_step(newton_roundoff):
+    """mu = 0: the period map is affine, Newton converges after one update: the round-off
+    that update leaves (``newton_roundoff``, tests/conftest.py) is below the tolerance."""
     sysm = coulomb_oscillator(0.0, c=2 * 0.02 * W1 * M1, law="none")
     pb = switch_problem(sysm, 1.0)
     res = shoot_switch(pb, 0.8, tol=1e-9)
-    assert res.converged and res.iterations == 1
+    assert res.converged and res.residual <= newton_roundoff(pb, res) < 1e-9
+    assert res.iterations == 1
     # against the FRF of the linear oscillator: x = -A sin(w t) / (k - m w^2 + i c w)
     w = 2 * math.pi * 0.8
     H = -1.0 / (W1**2 - w * w + 1j * 2 * 0.02 * W1 * w)

@@ -78,13 +78,21 @@ def stuck_orbits(frame_problem):
 
 
 @pytest.mark.parametrize("f", STUCK_FREQS)
-def test_frame_stuck_orbit_converges(frame_problem, stuck_orbits, f):
-    """One Newton update to the map's round-off (the map is affine where nothing switches);
-    both isolators frozen, the family's two multipliers 1."""
+def test_frame_stuck_orbit_converges(frame_problem, stuck_orbits, f, newton_roundoff):
+    """Newton lands on the map's round-off (the map is affine where nothing switches); both
+    isolators frozen, the family's two multipliers 1.
+
+    Not a fixed count of Newton updates: the orbit starts with the isolators at rest on the
+    edge of the stuck set (a 1e-6 shift of the displacements makes one slip), so whether an
+    update's trial orbit is stuck at its start depends on the round-off of that update, and a
+    flipped decision costs further updates. The final residual is bounded by the round-off
+    of the last update of an affine map (``newton_roundoff``, tests/conftest.py)."""
     _, pb = frame_problem
     res = stuck_orbits[f]
     assert res.converged and "stalled" not in res.message, res.message
-    assert res.iterations == 1 and res.residual <= 1e-9
+    assert res.iterations >= 1 and res.history[0] > 1e-6  # the guess is off the orbit
+    bound = newton_roundoff(pb, res, warm_start(pb, f, None, None))
+    assert res.residual <= bound, (res.residual, bound)
     pm = pb.period_map(res.x0, f, n_steps=res.n_steps, sens=False)
     assert list(pb.stuck_all_period(pm)) == [0, 1]
     rho = np.sort(np.abs(res.multipliers))[::-1]
