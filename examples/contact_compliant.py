@@ -34,8 +34,8 @@ def run_case(name: str, k: float, zeta: float, C: float = 0.0) -> dict:
                              CompliantGround.from_ratio(body, k, zeta),
                              BaseMotion.displacement_sine(A, T, 5), t_end=5 * T + 2.0)  # fmt: skip
     s = res.summary()
-    s["slide_mm"] = 1e3 * s["max_slide"]
-    s["uplift_mm"] = 1e3 * s["max_uplift"]
+    s["slide_mm"] = 1e3 * s["max_slide_m"]
+    s["uplift_mm"] = 1e3 * s["max_uplift_m"]
     s["settlement_mm"] = 1e3 * CompliantGround(k).settlement(body)
     return s
 
@@ -74,7 +74,7 @@ def _chart(sweep: dict, k_sweep, out: Path) -> None:
     for name, by_z in sweep.items():
         for z, runs in by_z.items():
             ls = "-" if z == 0 else "--"
-            tilt = [r["max_tilt"] for r in runs]
+            tilt = [r["max_tilt_rad"] for r in runs]
             upl = [max(r["uplift_mm"], 1e-6) for r in runs]
             (ln,) = ax[0].loglog(k_sweep, tilt, ls, marker="o", label=f"{name}, zeta = {z}")
             ax[1].loglog(k_sweep, upl, ls, marker="o", color=ln.get_color())
@@ -96,9 +96,9 @@ if __name__ == "__main__":
     res = main()
     for name, cols in res["table"].items():
         print(name, " | ".join(f"{k}: {verdict(s)} slide {s['slide_mm']:.1f} tilt "
-                               f"{s['max_tilt']:.2e} upl {s['uplift_mm']:.3f} mm"
+                               f"{s['max_tilt_rad']:.2e} upl {s['uplift_mm']:.3f} mm"
                                for k, s in cols.items()))  # fmt: skip
     for name, by_z in res["sweep"].items():
         for z, runs in by_z.items():
-            print(name, z, [f"{verdict(r)} {r['max_tilt']:.2e}/{r['uplift_mm']:.3g}mm/"
+            print(name, z, [f"{verdict(r)} {r['max_tilt_rad']:.2e}/{r['uplift_mm']:.3g}mm/"
                             f"{r['slide_mm']:.1f}" for r in runs])  # fmt: skip

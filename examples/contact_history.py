@@ -36,5 +36,5 @@ def main(out_dir: Path | None = None) -> dict:
 
 if __name__ == "__main__":
     r = main()
-    print({k: (v["max_tilt"], v["max_slide"], v["overturned"]) if isinstance(v, dict) else v
+    print({k: (v["max_tilt_rad"], v["max_slide_m"], v["overturned"]) if isinstance(v, dict) else v
            for k, v in r.items()})  # fmt: skip

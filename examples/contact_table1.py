@@ -48,7 +48,7 @@ def run_case(a, c, T, mu_s, mu_d, start="impulsive", C=math.inf, method="event")
         res = simulate_event(*args, t_end=5 * T + 2.0, dt_out=0.005)
     s = res.summary()
     s["A_mm"] = 1e3 * A
-    s["slide_mm"] = 1e3 * s["max_slide"]
+    s["slide_mm"] = 1e3 * s["max_slide_m"]
     return s
 
 
@@ -105,6 +105,6 @@ if __name__ == "__main__":
             s = v[var]
             row.append(
                 f"{var}: {s['first_motion']} slide {s['slide_mm']:.1f} mm "
-                f"tilt {s['max_tilt']:.2e} over {s['overturned']}"
+                f"tilt {s['max_tilt_rad']:.2e} over {s['overturned']}"
             )
         print(" | ".join(row))

@@ -33,14 +33,14 @@ SEED003_T1 = {2: 2.00, 6: 4.61, 9: 5.74}  # seed 003 Table 1: analytical impact 
 
 
 def seed001(quick: bool) -> dict:
-    cask = RockingBlock(1.0, 2.0, mass=124800.0)
+    cask = RockingBlock(width=2.0, height=4.0, mass=124800.0)
     out = {"seed001_housner_r": cask.restitution, "seed001_alpha": cask.alpha}
-    free = simulate_rocking(cask, t_end=10.0, theta0=0.5 * cask.alpha, dt_out=0.01)
+    free = simulate_rocking(cask, t_end=10.0, theta0_over_alpha=0.5, dt_out=0.01)
     out["seed001_free_peaks_over_alpha"] = [
         float(x) for x in np.abs(free.peaks[:4, 1]) / cask.alpha
     ]
     growth = {}
-    blk = RockingBlock(1.0, 2.0, r=0.82, mass=124800.0)
+    blk = RockingBlock(width=2.0, height=4.0, r=0.82, mass=124800.0)
     for f in (0.81, 0.85, 0.9, 0.95, 1.0):
         res = simulate_rocking(blk, n_cycle_sine(G_EARTH, 2 * math.pi * f, 8), t_end=10.0,
                                dt_out=0.005)  # fmt: skip
@@ -58,7 +58,8 @@ def seed001(quick: bool) -> dict:
     r_eff = {}
     for zeta in (0.5, 1.0, 2.0) if not quick else (2.0,):
         r_eff[f"ζ = {zeta}"] = [effective_restitution(CompliantBlock.from_frequency(
-            1.0, 2.0, 124800.0, x * cask.p, zeta)) for x in ratios]  # fmt: skip
+            width=2.0, height=4.0, mass=124800.0, omega_v=x * cask.p, zeta=zeta))
+            for x in ratios]  # fmt: skip
     out["seed001_compliant_ratios"] = ratios
     out["seed001_compliant_r_eff"] = r_eff
     if not quick:
@@ -69,7 +70,7 @@ def seed001(quick: bool) -> dict:
 
 def seed003(quick: bool) -> dict:
     out = {}
-    col = RockingBlock(0.15, 0.6)
+    col = RockingBlock(width=0.3, height=1.2)
     res = simulate_rocking(col, one_sine(0.40 * G_EARTH, 4 * math.pi), t_end=6.5, dt_out=0.002)
     imp = res.impacts
     out["seed003_table1_r"] = float(np.median(imp[:, 2] / imp[:, 1]))
@@ -81,7 +82,8 @@ def seed003(quick: bool) -> dict:
         save_figure(fig, FIG_DIR / "rocking-seed003-column.png")
     table4 = []
     for h2, b2, ag in TABLE4:
-        for model in (RockingBlock(b2 / 2, h2 / 2), RockingFrame(b2 / 2, h2 / 2, 5.0)):
+        for model in (RockingBlock(width=b2, height=h2),
+                      RockingFrame(width=b2, height=h2, gamma=5.0)):  # fmt: skip
             r = simulate_rocking(model, one_sine(ag * G_EARTH, 4 * math.pi), t_end=8.0, dt_out=0)
             table4.append({"2H": h2, "2B": b2, "a_p_g": ag, "model": type(model).__name__,
                            "r": model.restitution, "max_theta_over_alpha": r.max_theta_over_alpha,
@@ -90,7 +92,7 @@ def seed003(quick: bool) -> dict:
     path = default_shared_dir() / "records" / SAN_SALVADOR if default_shared_dir() else None
     if path is not None and path.exists():
         mo = read_motion(path, units="m/s2")
-        fr = RockingFrame(1.6, 9.6, 4.0)
+        fr = RockingFrame(width=3.2, height=19.2, gamma=4.0)
         r = simulate_rocking(fr, mo, t_end=20.0, dt_out=0.005)
         u, v = cg_displacement(r.theta, fr.alpha, fr.R, factor=2.0)
         out["seed003_san_salvador"] = {

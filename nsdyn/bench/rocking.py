@@ -34,7 +34,7 @@ def _record_runs(quick: bool, repeats: int, case: str = "record"):
     from nsdyn.ground.pulses import one_sine
     from nsdyn.models.rocking import RockingBlock, simulate_rocking
 
-    blk = RockingBlock(0.15, 0.6)
+    blk = RockingBlock(width=0.3, height=1.2)
     if case == "record":
         mo = read_motion("synthetic-wn-40s").scaled_to_pga(PGA)
         t_end = mo.t0 + mo.duration
@@ -79,7 +79,7 @@ def run_bench(out_dir: Path, quick: bool) -> dict:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows + rows_p)
-    blk = RockingBlock(0.15, 0.6)
+    blk = RockingBlock(width=0.3, height=1.2)
     x = np.geomspace(1.0, 20.0, 10 if quick else N_FREQ)
     overturning_spectrum(blk, x[:2])  # pool and workers warm (kernel loaded from cache)
     sp = overturning_spectrum(blk, x)

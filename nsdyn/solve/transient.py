@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._tabular import Tabular
 from nsdyn.atomic import atomic_open
 from nsdyn.ground.excitation import is_force, natural_end
 from nsdyn.models.isolated.metrics import Response, response
@@ -49,7 +50,7 @@ HARMONIC_SAMPLES = 100  # output instants per period of a harmonic excitation (d
 
 
 @dataclass
-class TransientResult:
+class TransientResult(Tabular):
     """Histories and metrics of one transient run."""
 
     system: IsolatedSystem
@@ -97,6 +98,21 @@ class TransientResult:
                 ),
             }
         )
+        return out
+
+    def histories(self) -> dict:
+        """The histories on the output grid, units in the names: isolator slips, top drift (with
+        levels), normal and friction forces, slip modes (+1/-1 slip, 0 stick), open contacts
+        (unilateral) and the generalised coordinates q, q' of the model (its own units)."""
+        r = self.response
+        out = {"x_iso_{}_m": r.x_iso}
+        if np.all(np.isfinite(r.top_drift)):
+            out["top_drift_m"] = r.top_drift
+        out.update({"lam_{}_N": r.lam, "tau_{}_N": r.tau, "slip_mode_{}": r.modes})
+        if self.open_contacts is not None:
+            out["open_{}"] = self.open_contacts
+        n = self.x.shape[1] // 2
+        out.update({"q_{}": self.x[:, :n], "qd_{}": self.x[:, n:]})
         return out
 
     def summary(self) -> dict:

@@ -21,6 +21,7 @@ STAGES = [
     "_kdp5",
     "_lazy",
     "_bundled",
+    "_tabular",
     "structure",
     "ground",
     "models",

@@ -102,9 +102,19 @@ class CompliantResult(ContactResult):
         s = super().summary()
         lift = self.n_on < len(self.base_idx)
         s["n_liftoffs"] = int(np.count_nonzero(lift[1:] & ~lift[:-1]))
-        s["max_uplift"] = float(np.max(self.uplift)) if len(self.t) else 0.0
-        s["step"] = float(self.h)
+        s["max_uplift_m"] = float(np.max(self.uplift)) if len(self.t) else 0.0
+        s["step_s"] = float(self.h)
         return s
+
+    def histories(self) -> dict:
+        """The rigid body's histories, the spring energies, the works of the ground's inertial
+        load and of the contact forces, the corners on the ground and the uplift."""
+        out = super().histories()
+        out.update({"spring_energy_normal_J": self.e_spring[:, 0],
+                    "spring_energy_stick_J": self.e_spring[:, 1], "work_ground_J": self.w_ext,
+                    "work_contact_J": self.w_contact, "n_on": self.n_on,
+                    "uplift_m": self.uplift})  # fmt: skip
+        return out
 
     base_idx: np.ndarray = None
     uplift: np.ndarray = None

@@ -36,6 +36,7 @@ from nsdyn.models.contact.body import RigidBody
 from nsdyn.models.contact.excite import BaseMotion
 from nsdyn.models.contact.friction import FrictionLaw
 from nsdyn.models.contact.results import MODE_NAMES, ContactResult, state_mode
+from nsdyn.models.tilt import initial_tilt
 
 G_ON = 1e-8  # a contact touches when g <= G_ON * L
 V_ON = 1e-8  # ... and is at rest (normal / tangential) when |velocity| <= V_ON * sqrt(g L)
@@ -51,6 +52,13 @@ FAIL = {
     -3: "contact LCP has no solution",
     -4: "an open contact sank below the ground (missed touchdown)",
 }
+
+
+def tilt_angle(body: RigidBody, theta0: float | None, theta0_over_alpha: float | None) -> float:
+    """The initial tilt [rad]: ``theta0``, or ``theta0_over_alpha`` times the slenderness alpha
+    of the corner it rocks on (the left one for a positive tilt); one of them, or none (0)."""
+    side = -1 if (theta0_over_alpha or 0.0) >= 0 else 1
+    return initial_tilt(theta0, theta0_over_alpha, body.corner_geometry(side)[1])
 
 
 def initial_state(body: RigidBody, theta0: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -147,10 +155,12 @@ def _h_max(mo: BaseMotion) -> float:
 
 def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | None = None, *,
                    t_end: float, e_n: float = 0.0, impact_law: str = "newton",
-                   theta0: float = 0.0, q0=None, v0=None, rtol: float = 1e-9,
+                   theta0: float | None = None, theta0_over_alpha: float | None = None,
+                   q0=None, v0=None, rtol: float = 1e-9,
                    atol: float = 1e-12, dt_out: float = 0.005, max_events: int = 20000,
                    g: float = G_EARTH) -> ContactResult:  # fmt: skip
-    """Event-driven simulation from rest (tilted by ``theta0``) or from (q0, v0).
+    """Event-driven simulation from rest (tilted by ``theta0`` [rad] or ``theta0_over_alpha``
+    times the corner's slenderness) or from (q0, v0).
 
     ``impact_law``: ``"newton"`` (restitution ``e_n``) or ``"housner"`` (plastic, sticking).
     Raises RuntimeError with the time on step underflow, LCP failure or too many events.
@@ -164,7 +174,7 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
     par = _params(body, friction, g)
     verts, minv = body.contacts, body.minv
     nc = len(verts)
-    q, v = initial_state(body, theta0)
+    q, v = initial_state(body, tilt_angle(body, theta0, theta0_over_alpha))
     if q0 is not None:
         q = np.asarray(q0, float).copy()
     if v0 is not None:

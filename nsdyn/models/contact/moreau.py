@@ -13,7 +13,7 @@ import numpy as np
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kmoreau as km
 from nsdyn.models.contact.body import RigidBody
-from nsdyn.models.contact.event import _params, initial_state
+from nsdyn.models.contact.event import _params, initial_state, tilt_angle
 from nsdyn.models.contact.excite import BaseMotion
 from nsdyn.models.contact.friction import FrictionLaw
 from nsdyn.models.contact.results import ContactResult
@@ -25,9 +25,11 @@ STATUS = {-1: "contact LCP has no solution", -2: "non-finite state"}
 
 def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | None = None, *,
                     t_end: float, h: float = 1e-3, theta: float = 0.5, e_n: float = 0.0,
-                    theta0: float = 0.0, q0=None, v0=None, dt_out: float | None = None,
+                    theta0: float | None = None, theta0_over_alpha: float | None = None,
+                    q0=None, v0=None, dt_out: float | None = None,
                     g: float = G_EARTH) -> ContactResult:  # fmt: skip
-    """Moreau-Jean run with step ``h``, storing every ``dt_out`` (default: every step)."""
+    """Moreau-Jean run with step ``h``, storing every ``dt_out`` (default: every step), from
+    rest (tilted by ``theta0`` [rad] or ``theta0_over_alpha``) or from (q0, v0)."""
     if not (h > 0 and math.isfinite(h)):
         raise ValueError(f"h: expected a positive step size [s], got {h!r}")
     if not 0.5 <= theta <= 1.0:
@@ -36,7 +38,7 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
         raise ValueError(f"e_n: expected a restitution coefficient in [0, 1], got {e_n!r}")
     mo = motion or BaseMotion.none()
     par = _params(body, friction, g)
-    q, v = initial_state(body, theta0)
+    q, v = initial_state(body, tilt_angle(body, theta0, theta0_over_alpha))
     if q0 is not None:
         q = np.asarray(q0, float).copy()
     if v0 is not None:

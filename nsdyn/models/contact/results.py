@@ -22,11 +22,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nsdyn._tabular import Tabular
+
 MODE_NAMES = ("rest", "slide", "rock", "slide_rock", "flight", "overturned")
 
 
 @dataclass
-class ContactResult:
+class ContactResult(Tabular):
     """Sampled history of a body on the ground (ground frame).
 
     Attributes
@@ -94,21 +96,29 @@ class ContactResult:
         return int(np.count_nonzero(fl[1:] & ~fl[:-1]))
 
     def summary(self) -> dict:
-        """JSON-serialisable summary."""
+        """JSON-serialisable summary, the unit in each name (``_m``, ``_rad``, ``_s``)."""
         over = self.t_overturn is not None
         return {
             "solver": self.solver,
-            "time_in_mode": self.time_in_modes(),
-            "max_slide": float(np.max(np.abs(self.slide))) if len(self.t) else 0.0,
-            "max_tilt": float(np.max(np.abs(self.q[:, 2]))) if len(self.t) else 0.0,
+            "time_in_mode_s": self.time_in_modes(),
+            "max_slide_m": float(np.max(np.abs(self.slide))) if len(self.t) else 0.0,
+            "max_tilt_rad": float(np.max(np.abs(self.q[:, 2]))) if len(self.t) else 0.0,
             "n_hops": self.n_hops,
             "n_impacts": int(self.n_impacts),
             "overturned": bool(over),
-            "t_overturn": float(self.t_overturn) if over else None,
+            "t_overturn_s": float(self.t_overturn) if over else None,
             "first_motion": self.first_motion(),
-            "t_first_motion": finite_or_none(self.t_first_motion()),
+            "t_first_motion_s": finite_or_none(self.t_first_motion()),
             "n_steps": int(self.n_steps),
         }
+
+    def histories(self) -> dict:
+        """Position and velocity of the centre of mass in the ground frame, the tilt, the mode
+        (index into MODE_NAMES) and the slide, units in the names."""
+        q, v = self.q, self.v
+        return {"x_m": q[:, 0], "y_m": q[:, 1], "theta_rad": q[:, 2],
+                "vx_m_per_s": v[:, 0], "vy_m_per_s": v[:, 1], "omega_rad_per_s": v[:, 2],
+                "mode": self.mode, "slide_m": self.slide}  # fmt: skip
 
     def _first(self) -> tuple[float, int]:
         if self.first_change is not None:

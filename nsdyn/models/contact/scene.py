@@ -24,7 +24,7 @@ Scene (``[scene] kind = "contact"``)::
     n_cycles = 5
     start = "impulsive"        # impulsive | smooth
     t_end = 15.0               # [s]
-    theta0 = 0.0               # initial tilt [rad]
+    theta0 = 0.0               # initial tilt [rad] (or theta0_over_alpha, a fraction of alpha)
     [solver]
     method = "event"           # event | moreau
     h = 1e-3                   # Moreau-Jean step [s]
@@ -51,6 +51,7 @@ from nsdyn.atomic import atomic_open
 from nsdyn.ground import read_motion
 from nsdyn.models.contact.scene_keys import SCHEMA
 from nsdyn.models.scenefile import SceneError, check_fields, number
+from nsdyn.models.tilt import scene_tilt
 
 _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 METHODS = ("event", "moreau")  # solver.method
@@ -100,7 +101,13 @@ def build(cfg: dict, source: str):
                          f"got {impact_law!r}")  # fmt: skip
     mo = cfg.get("motion", {})
     t_end = number(source, "motion.t_end", mo["t_end"]) if "t_end" in mo else None
-    theta0 = number(source, "motion.theta0", mo.get("theta0", 0.0), positive=False)
+    tilt = scene_tilt(mo, source)
+    from nsdyn.models.contact.event import tilt_angle
+
+    try:
+        theta0 = tilt_angle(body, tilt.get("theta0"), tilt.get("theta0_over_alpha"))
+    except ValueError as e:
+        raise SceneError(f"{source}: motion: {e}") from None
     if "record" in mo and "period" in mo:
         raise SceneError(f"{source}: motion.period: give a record or a sine period, not both")
     if "record" in mo:
@@ -234,7 +241,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         png = out_dir / "contact.png"
         save_figure(history_figure(res, body, title=f"{name}: {text}"), png)
         files.append(str(png))
-    s.update({"kind": "contact", "name": name, "motion": opts["what"], "t_end": t_end,
+    s.update({"kind": "contact", "name": name, "motion": opts["what"], "t_end_s": t_end,
+              "theta0_rad": opts["theta0"],
               "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
     say(f"contact: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
     return s
@@ -244,28 +252,54 @@ def outcome(s: dict) -> tuple[str, str]:
     """(word, one line) of a run summary: ``overturned`` (with its time) or the body's first
     motion (``rest``, ``slide``, ``rock``, ``slide_rock``, ...) and its peaks."""
     if s.get("overturned"):
-        t = s.get("t_overturn")
+        t = s.get("t_overturn_s")
         return "overturned", "OVERTURNED" + (f" at t = {t:.3f} s" if isinstance(t, float) else "")
     first = s.get("first_motion") or "rest"
     if first == "rest":
         return "rest", "stayed at rest (no sliding, no rocking)"
     peaks = ", ".join(
-        f"{label} {s[k]:.3g}"
-        for label, k in (("peak slide [m]", "max_slide"), ("peak tilt [rad]", "max_tilt"))
+        f"{label} {s[k]:.3g} {unit}"
+        for label, k, unit in (
+            ("peak slide", "max_slide_m", "m"),
+            ("peak tilt", "max_tilt_rad", "rad"),
+        )
         if isinstance(s.get(k), float)
     )
     return first, f"did not overturn; first motion {first}" + (f", {peaks}" if peaks else "")
 
 
+# rows of the text summary: key, label, unit ("" for a count or a word)
+ROWS = (
+    ("name", "name", ""),
+    ("motion", "motion", ""),
+    ("solver", "solver", ""),
+    ("theta0_rad", "initial tilt", "rad"),
+    ("first_motion", "first motion", ""),
+    ("t_first_motion_s", "first motion at", "s"),
+    ("max_slide_m", "peak slide", "m"),
+    ("max_tilt_rad", "peak tilt", "rad"),
+    ("max_uplift_m", "peak uplift", "m"),
+    ("n_hops", "hops", ""),
+    ("n_impacts", "impacts", ""),
+    ("n_liftoffs", "lift-offs", ""),
+    ("overturned", "overturned", ""),
+    ("t_overturn_s", "overturned at", "s"),
+    ("t_end_s", "duration", "s"),
+    ("wall_s", "run time", "s"),
+    ("compile_s", "compile/load time", "s"),
+)
+
+
 def format_summary(s: dict) -> str:
-    """A short human table of a contact run, its outcome first."""
+    """A short human table of a contact run, its outcome first, every number with its unit."""
     lines = [f"outcome {outcome(s)[1]}"]
-    for k in ("name", "motion", "solver", "first_motion", "max_slide", "max_tilt", "n_hops",
-              "n_impacts", "overturned", "t_overturn", "wall_s", "compile_s"):  # fmt: skip
+    for k, label, unit in ROWS:
         v = s.get(k)
-        if v is not None:
-            lines.append(f"  {k:16s} {v:.6g}" if isinstance(v, float) else f"  {k:16s} {v}")
-    for m, v in s.get("time_in_mode", {}).items():
-        lines.append(f"  {'t_' + m:16s} {v:.4g} s")
-    lines.extend(f"  {'file':16s} {f}" for f in s.get("files", []))
+        if v is None:
+            continue
+        text = f"{v:.6g}" if isinstance(v, float) else str(v)
+        lines.append(f"  {label:18s} {text}" + (f" {unit}" if unit else ""))
+    for m, v in s.get("time_in_mode_s", {}).items():
+        lines.append(f"  {'time in ' + m:18s} {v:.4g} s")
+    lines.extend(f"  {'file':18s} {f}" for f in s.get("files", []))
     return "\n".join(lines)

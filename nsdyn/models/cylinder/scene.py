@@ -4,7 +4,8 @@ Tables: ``[cylinder]`` r, H, m (I_t, I_a); ``[foundation]`` case and either k, c
 targets f_rock [Hz], zeta, and ``sliding = true`` with ``mu`` for a base that slides with Coulomb
 friction; ``[motion]`` a simulated earthquake (seed, duration, dt, s0_units) or a ``record`` file
 (``record_y``, ``record_z``: second horizontal and vertical components), optional ``pga``
-(peak horizontal acceleration after scaling) and ``t_end``; ``[solver]`` rtol, method;
+(peak horizontal acceleration after scaling), ``t_end`` and the initial tilt ``theta0`` [rad] or
+``theta0_over_alpha`` (alpha = atan(r/H)) towards ``azimuth0`` [rad]; ``[solver]`` rtol, method;
 ``[output]`` z_section (height of the stress section, default H); ``[star]`` case = "base" or
 "<q>*<factor>" with q one of k, c, H, r: one quantity of the scene scaled after the design, the
 rest kept (the source study's one-at-a-time star, e.g. "k*2", "c*4", "H*0.5").
@@ -38,6 +39,7 @@ from nsdyn.models.cylinder.simulate import (
 )
 from nsdyn.models.cylinder.stresses import peak_stresses
 from nsdyn.models.scenefile import SceneError, check_fields, number
+from nsdyn.models.tilt import scene_tilt
 
 TABLES = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 STAR_QUANTITIES = ("k", "c", "H", "r")  # quantities a star case may scale
@@ -145,6 +147,11 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
             f"{source}: solver.method: expected one of {list(METHODS)}, got {method!r}"
         )
     opts = {"rtol": number(source, "solver.rtol", so.get("rtol", RTOL))}
+    opts["tilt"] = scene_tilt(mo, source)
+    opts["azimuth0"] = number(source, "motion.azimuth0", mo.get("azimuth0", 0.0), positive=False)
+    if p.foundation == "fixed" and any(opts["tilt"].values()):
+        raise SceneError(f"{source}: motion.{next(iter(opts['tilt']))}: a fixed base cannot "
+                         "start tilted")  # fmt: skip
     z_s = cfg.get("output", {}).get("z_section")
     opts["z_s"] = None if z_s is None else number(source, "output.z_section", z_s, allow_zero=True)
     if opts["z_s"] is not None and opts["z_s"] >= 2 * p.H:
@@ -158,12 +165,13 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     out_dir = Path(out_dir)
     log = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
-    log(f"cylinder {name}: {p.foundation}, k = {p.k:.6g}, c = {p.c:.6g}, {len(ag)} samples")
+    log(f"cylinder {name}: {p.foundation}, k = {p.k:.6g} N/m³, c = {p.c:.6g} N s/m³, "
+        f"{len(ag)} samples")  # fmt: skip
     tic = time.perf_counter()
     simulate(p, ag[:3], dt, rtol=opts["rtol"])  # compiles the kernel (cached on disk)
     compile_s = time.perf_counter() - tic
     tic = time.perf_counter()
-    res = simulate(p, ag, dt, rtol=opts["rtol"])
+    res = simulate(p, ag, dt, rtol=opts["rtol"], azimuth0=opts["azimuth0"], **opts["tilt"])
     wall = time.perf_counter() - tic
     th_u, M_u = uplift_onset(p)
     peaks = peak_stresses(res, opts["z_s"])
@@ -179,6 +187,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         "settlement": static_settlement(p),
         "uplift_onset_tilt": th_u,
         "uplift_onset_moment": M_u,
+        "theta0_rad": float(res.tilt[0]),
         "max_tilt": float(res.tilt.max()),
         "max_uplift_ratio": float(1 - res.contact_fraction.min()),
         "max_rim_lift": float(max(res.rim_lift.max(), 0.0)),
@@ -245,9 +254,12 @@ def format_summary(s: dict) -> str:
     """A short human table of a run summary, its outcome first."""
     lines = [
         f"outcome {outcome(s)[1]}",
-        f"cylinder scene {s['name']} ({s['foundation']}, k = {s['k']:.6g}, c = {s['c']:.6g})",
+        f"cylinder scene {s['name']} ({s['foundation']}, k = {s['k']:.6g} N/m³, "
+        f"c = {s['c']:.6g} N s/m³)",
     ]
     rows = [
+        ("pga (horizontal) [m/s²]", s["pga_hor"]),
+        ("initial tilt [rad]", s.get("theta0_rad", 0.0)),
         ("max tilt [rad]", s["max_tilt"]),
         ("max uplift ratio", s["max_uplift_ratio"]),
         ("max rim lift [m]", s["max_rim_lift"]),

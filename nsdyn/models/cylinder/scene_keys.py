@@ -146,6 +146,12 @@ SCHEMA = Schema(
                 Key("record_z", "string", "record file of the vertical component"),
                 Key("pga", "number", "scale to this peak horizontal acceleration", "m/s²", **_POS),
                 Key("t_end", "number", "end of the run", "s", default="(the motion's end)", **_POS),
+                Key("theta0", "number", "initial tilt of the axis (or `theta0_over_alpha`, not "
+                    "both; not for a fixed base)", "rad", default=0.0),  # fmt: skip
+                Key("theta0_over_alpha", "number", "initial tilt / α, α = atan(r / H) (or "
+                    "`theta0`, not both)", "—", default=0.0),  # fmt: skip
+                Key("azimuth0", "number", "direction the axis initially leans to, from x "
+                    "towards y", "rad", default=0.0),  # fmt: skip
             ),
         ),
         Table(

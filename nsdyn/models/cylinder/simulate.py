@@ -16,10 +16,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nsdyn._tabular import Tabular
 from nsdyn.ground import GroundMotion, modulated_white_noise
 from nsdyn.models.cylinder import _kernel as K
 from nsdyn.models.cylinder.design import static_settlement
 from nsdyn.models.cylinder.params import G_STD, CylinderParams
+from nsdyn.models.tilt import initial_tilt
 
 RTOL = 1e-7  # default relative tolerance of the step-size controller
 H_KINK = 1e-5  # [s] steps crossing a contact-kind change are bisected to this length
@@ -39,7 +41,7 @@ class SimulationError(RuntimeError):
 
 
 @dataclass
-class CylinderResult:
+class CylinderResult(Tabular):
     """Histories at the sample times (n,) of the ground record; world axes throughout."""
 
     params: CylinderParams
@@ -123,6 +125,41 @@ class CylinderResult:
         scale = max(np.max(np.abs(self.E_in)), np.max(self.E_d + self.E_f), 1e-300)
         return float(np.max(np.abs(res)) / scale)
 
+    def summary(self) -> dict:
+        """Peaks of the run, the unit in each name (``_rad``, ``_m``, ``_N``, ``_Nm``, ``_J``,
+        ``_s``); the time of toppling is None when it stood."""
+        fixed = self.params.foundation == "fixed"
+        return {
+            "foundation": self.params.foundation,
+            "max_tilt_rad": float(self.tilt.max()),
+            "max_uplift_ratio": float(1.0 - self.contact_fraction.min()),
+            "max_rim_lift_m": float(max(self.rim_lift.max(), 0.0)),
+            "max_base_shear_N": float(np.hypot(*self.base_shear.T).max()),
+            "max_overturning_Nm": float(self.overturning.max()),
+            "max_slip_m": float(self.slip.max()),
+            "final_slip_m": float(self.slip[-1]),
+            "dissipated_dampers_J": float(self.E_d[-1]),
+            "dissipated_friction_J": float(self.E_f[-1]),
+            "energy_error": 0.0 if fixed else self.energy_error,
+            "toppled": self.toppled_at is not None,
+            "t_topple_s": self.toppled_at,
+            "t_end_s": float(self.t[-1]),
+            "n_steps": int(self.stats.get("accepted", 0)),
+            "wall_s": float(self.stats.get("wall_s", 0.0)),
+        }
+
+    def histories(self) -> dict:
+        """The state, the foundation resultants, the energies and the derived responses on the
+        record's samples, world axes, units in the names (quaternion and fractions unitless)."""
+        return {
+            "ag_{}_m_per_s2": self.ag, "w_m": self.w, "q_{}": self.q, "wd_m_per_s": self.wd,
+            "omega_{}_rad_per_s": self.omega, "F_N": self.F, "M_{}_Nm": self.M,
+            "area_m2": self.area, "contact_fraction": self.contact_fraction,
+            "tilt_rad": self.tilt, "tilt_dir_rad": self.tilt_dir, "rim_lift_m": self.rim_lift,
+            "u_{}_m": self.u, "ud_{}_m_per_s": self.ud, "f_base_{}_N": self.f_base,
+            "E_mech_J": self.E_mech, "E_in_J": self.E_in, "E_d_J": self.E_d, "E_f_J": self.E_f,
+        }  # fmt: skip
+
 
 def rotation_matrices(q: np.ndarray) -> np.ndarray:
     """(n, 3, 3) rotation matrices of unit quaternions q (n, 4) = (w, x, y, z)."""
@@ -163,7 +200,8 @@ def simulate(
     *,
     t0: float = 0.0,
     rtol: float = RTOL,
-    theta0: float = 0.0,
+    theta0: float | None = None,
+    theta0_over_alpha: float | None = None,
     azimuth0: float = 0.0,
     omega0: tuple[float, float, float] = (0.0, 0.0, 0.0),
     w0: float | None = None,
@@ -173,9 +211,11 @@ def simulate(
 ) -> CylinderResult:
     """Response to ground acceleration ``ag`` (n, 3) = (a_x, a_y, a_z) sampled every ``dt``.
 
-    Starts at rest in static equilibrium (or tilted by ``theta0`` towards ``azimuth0``, base
-    height ``w0``, angular velocity ``omega0``). Raises :class:`SimulationError` on failure.
+    Starts at rest in static equilibrium (or tilted by ``theta0`` [rad], or by
+    ``theta0_over_alpha`` times alpha = atan(r / H), towards ``azimuth0`` [rad], base height
+    ``w0`` [m], angular velocity ``omega0`` [rad/s]). Raises :class:`SimulationError` on failure.
     """
+    theta0 = initial_tilt(theta0, theta0_over_alpha, math.atan2(p.r, p.H))
     ag = np.ascontiguousarray(ag, dtype=float)
     if ag.ndim != 2 or ag.shape[1] != 3 or ag.shape[0] < 2:
         raise ValueError(f"ag: expected shape (n >= 2, 3), got {ag.shape}")

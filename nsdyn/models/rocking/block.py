@@ -1,4 +1,4 @@
-"""The free-standing rigid block (2B x 2H) on rigid ground, and the driver of the rocking kernel.
+"""The free-standing rigid block (2B wide, 2H high) on rigid ground; the rocking kernel's driver.
 
 Housner (1963): rotation ``theta`` about the base corner on side ``s = sgn(theta)``::
 
@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,6 +26,7 @@ from nsdyn.ground.pulses import Pulse
 from nsdyn.models.rocking import _kblock as kb
 from nsdyn.models.rocking._kground import GK_NONE, GK_PULSE, GK_TABLE
 from nsdyn.models.rocking.results import OUTCOMES, RockingResult
+from nsdyn.models.tilt import initial_tilt
 
 TOL = 1e-9  # default relative tolerance of the Dormand-Prince integrator
 V_REST_FRAC = 1e-6  # Zeno rest threshold: |theta'+| <= V_REST_FRAC p alpha after an impact
@@ -40,28 +42,85 @@ def housner_restitution(alpha: float) -> float:
     return 1.0 - 1.5 * math.sin(alpha) ** 2
 
 
-@dataclass(frozen=True)
+def block_sizes(cls: str, args: tuple, width, height, B, H) -> tuple[float, float]:
+    """(width, height) [m] of a block given by full sizes ``width``, ``height`` (the convention
+    everywhere, as in scene files) or half sizes ``B``, ``H`` by name; positional sizes are the
+    former half sizes (B, H), kept working with a FutureWarning. ValueError names the field."""
+    if args:
+        warnings.warn(f"{cls}(B, H, ...) with positional half sizes is deprecated: give the full "
+                      f"sizes by name, {cls}(width=2B, height=2H, ...)", FutureWarning,
+                      stacklevel=3)  # fmt: skip
+        if B is not None or H is not None or width is not None or height is not None:
+            raise TypeError(f"{cls}: sizes given twice (positionally and by name)")
+        B, H = (tuple(args) + (None,))[:2]
+    full = width is not None or height is not None
+    half = B is not None or H is not None
+    if full and half:
+        raise ValueError(f"{cls}: give width and height (full sizes) or B and H (half sizes), "
+                         "not both")  # fmt: skip
+    if half:
+        width, height = (None if B is None else 2 * B), (None if H is None else 2 * H)
+    for name, v in (("width", width), ("height", height)):
+        if v is None:
+            raise ValueError(f"{cls}: {name}: missing (the full {name} [m])")
+        if not (isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+                and v > 0):  # fmt: skip
+            raise ValueError(f"{cls}: {name}: expected a positive size [m], got {v!r}")
+    return float(width), float(height)
+
+
+@dataclass(frozen=True, init=False)
 class RockingBlock:
-    """Rectangular rigid block of half-width ``B`` and half-height ``H`` [m].
+    """Rectangular rigid block of full ``width`` 2B and ``height`` 2H [m].
 
     ``r``: coefficient of restitution (None: Housner's); ``linear``: use the linearised
-    equation; ``mass`` [kg] only scales forces and energies.
+    equation; ``mass`` [kg] only scales forces and energies. The half sizes are accepted by
+    name too (``RockingBlock(B=0.15, H=0.6)`` is ``RockingBlock(width=0.3, height=1.2)``);
+    ``B`` and ``H`` are also read-only attributes.
     """
 
-    B: float
-    H: float
+    width: float
+    height: float
     r: float | None = None
     linear: bool = False
     g: float = G_EARTH
     mass: float = 1.0
 
-    def __post_init__(self) -> None:
-        for name in ("B", "H", "g", "mass"):
+    def __init__(
+        self,
+        *args,
+        width: float | None = None,
+        height: float | None = None,
+        r: float | None = None,
+        linear: bool = False,
+        g: float = G_EARTH,
+        mass: float = 1.0,
+        B: float | None = None,
+        H: float | None = None,
+    ) -> None:
+        if len(args) > 2:  # the former positional (B, H, r, linear, g, mass)
+            rest = (r, linear, g, mass)[len(args) - 2 :]
+            r, linear, g, mass = (tuple(args[2:]) + rest)[:4]
+        w, h = block_sizes(type(self).__name__, args[:2], width, height, B, H)
+        for name, v in (("width", w), ("height", h), ("r", r), ("linear", bool(linear)),
+                        ("g", g), ("mass", mass)):  # fmt: skip
+            object.__setattr__(self, name, v)
+        for name in ("g", "mass"):
             v = getattr(self, name)
             if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
                 raise ValueError(f"{name}: expected a positive number, got {v!r}")
         if self.r is not None and not (0.0 < self.r <= 1.0):
             raise ValueError(f"r: expected 0 < r <= 1, got {self.r!r}")
+
+    @property
+    def B(self) -> float:
+        """Half-width [m]."""
+        return 0.5 * self.width
+
+    @property
+    def H(self) -> float:
+        """Half-height [m]."""
+        return 0.5 * self.height
 
     @property
     def alpha(self) -> float:
@@ -146,8 +205,9 @@ def simulate_rocking(
     excitation: GroundMotion | Pulse | Harmonic | None = None,
     *,
     t_end: float,
-    theta0: float = 0.0,
+    theta0: float | None = None,
     thetad0: float = 0.0,
+    theta0_over_alpha: float | None = None,
     t0: float = 0.0,
     tol: float = TOL,
     dt_out: float | None = None,
@@ -165,6 +225,8 @@ def simulate_rocking(
         Ground acceleration (horizontal, optional vertical) [m/s²]; None: free rocking.
     theta0, thetad0 : float
         Initial rotation [rad] and angular velocity [rad/s].
+    theta0_over_alpha : float, optional
+        The initial rotation as a fraction of alpha instead of ``theta0`` (give one of them).
     tol : float
         Relative error tolerance of the integrator (absolute scales alpha and p alpha).
     dt_out : float, optional
@@ -188,7 +250,7 @@ def simulate_rocking(
     peaks = np.zeros((max_peaks, 2))
     info = np.zeros(kb.N_INFO)
     par = model_params(model, tol, h_max, v_rest, theta_fall)
-    y0 = np.array([float(theta0), float(thetad0)])
+    y0 = np.array([initial_tilt(theta0, theta0_over_alpha, model.alpha), float(thetad0)])
     w0 = time.perf_counter()
     st = kb.integrate(par, gk, gp, tab_h, tab_v, y0, float(t0), float(t_end), dt_out or 1.0,
                       out, imp, peaks, info)  # fmt: skip
@@ -225,7 +287,7 @@ def simulate_rocking(
 def warmup() -> float:
     """Compile (or load from cache) the rocking kernel; returns the seconds it took."""
     w0 = time.perf_counter()
-    blk = RockingBlock(0.2, 1.0)
+    blk = RockingBlock(width=0.4, height=2.0)
     simulate_rocking(blk, Pulse("sine", 5.0, 10.0), t_end=0.05, dt_out=0.01, max_impacts=4,
                      max_peaks=4)  # fmt: skip
     return time.perf_counter() - w0

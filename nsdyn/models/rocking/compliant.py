@@ -23,9 +23,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._tabular import Tabular
 from nsdyn.ground import G_EARTH
 from nsdyn.models.rocking import _kcompliant as kc
-from nsdyn.models.rocking.block import _excitation
+from nsdyn.models.rocking.block import _excitation, block_sizes
+from nsdyn.models.tilt import initial_tilt
 
 TOL = 1e-8  # default relative tolerance
 PEAK_MIN = 0.05  # peaks below this fraction of alpha are not used for r_eff (contact noise)
@@ -34,12 +36,14 @@ H_MAX_P = 0.05  # largest step in units of 1/p
 H_MAX_CONTACT = 1.0  # largest step in units of 1/(omega_v (1 + 2 zeta)) (explicit stability)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class CompliantBlock:
-    """Block 2B x 2H of mass ``mass`` on corner supports ``k, c`` (vertical), ``k_t, c_t``."""
+    """Block of full ``width`` 2B and ``height`` 2H [m] (or half sizes ``B``, ``H`` by name) and
+    mass ``mass`` [kg] on corner supports ``k`` [N/m], ``c`` [N s/m] (vertical), ``k_t``,
+    ``c_t`` (horizontal; default the vertical ones)."""
 
-    B: float
-    H: float
+    width: float
+    height: float
     mass: float
     k: float
     c: float
@@ -47,20 +51,49 @@ class CompliantBlock:
     c_t: float | None = None
     g: float = G_EARTH
 
-    def __post_init__(self) -> None:
-        for name in ("B", "H", "mass", "k", "g"):
+    def __init__(self, *args, width: float | None = None, height: float | None = None,
+                 mass: float | None = None, k: float | None = None, c: float | None = None,
+                 k_t: float | None = None, c_t: float | None = None, g: float = G_EARTH,
+                 B: float | None = None, H: float | None = None) -> None:  # fmt: skip
+        if len(args) > 2:  # the former positional (B, H, mass, k, c, k_t, c_t, g)
+            rest = (mass, k, c, k_t, c_t, g)[len(args) - 2 :]
+            mass, k, c, k_t, c_t, g = (tuple(args[2:]) + rest)[:6]
+        w, h = block_sizes("CompliantBlock", args[:2], width, height, B, H)
+        for name, v in (("width", w), ("height", h), ("mass", mass), ("k", k), ("c", c),
+                        ("k_t", k_t), ("c_t", c_t), ("g", g)):  # fmt: skip
+            object.__setattr__(self, name, v)
+        for name in ("mass", "k", "g"):
             v = getattr(self, name)
-            if not (math.isfinite(v) and v > 0):
+            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
                 raise ValueError(f"{name}: expected a positive number, got {v!r}")
-        if not (math.isfinite(self.c) and self.c >= 0):
+        if not (isinstance(self.c, int | float) and math.isfinite(self.c) and self.c >= 0):
             raise ValueError(f"c: expected a non-negative number, got {self.c!r}")
 
     @classmethod
-    def from_frequency(cls, B: float, H: float, mass: float, omega_v: float, zeta: float,
-                       g: float = G_EARTH) -> CompliantBlock:  # fmt: skip
+    def from_frequency(cls, *args, width: float | None = None, height: float | None = None,
+                       mass: float | None = None, omega_v: float | None = None,
+                       zeta: float | None = None, g: float = G_EARTH, B: float | None = None,
+                       H: float | None = None) -> CompliantBlock:  # fmt: skip
         """Supports giving the vertical contact frequency ``omega_v`` [rad/s] and ratio zeta."""
+        if len(args) > 2:  # the former positional (B, H, mass, omega_v, zeta, g)
+            rest = (mass, omega_v, zeta, g)[len(args) - 2 :]
+            mass, omega_v, zeta, g = (tuple(args[2:]) + rest)[:4]
+        w, h = block_sizes("CompliantBlock", args[:2], width, height, B, H)
+        for name, v in (("mass", mass), ("omega_v", omega_v), ("zeta", zeta)):
+            if v is None:
+                raise ValueError(f"CompliantBlock.from_frequency: {name}: missing")
         k = 0.5 * mass * omega_v**2
-        return cls(B, H, mass, k, zeta * math.sqrt(2.0 * k * mass), g=g)
+        return cls(width=w, height=h, mass=mass, k=k, c=zeta * math.sqrt(2.0 * k * mass), g=g)
+
+    @property
+    def B(self) -> float:
+        """Half-width [m]."""
+        return 0.5 * self.width
+
+    @property
+    def H(self) -> float:
+        """Half-height [m]."""
+        return 0.5 * self.height
 
     @property
     def alpha(self) -> float:
@@ -81,7 +114,7 @@ class CompliantBlock:
 
 
 @dataclass
-class CompliantResult:
+class CompliantResult(Tabular):
     """Time history ``t`` (n,), ``y`` (n, 8) = [x, y, phi, x', y', phi', e_0, e_1]; theta = -phi."""
 
     t: np.ndarray
@@ -112,14 +145,23 @@ class CompliantResult:
         return np.array(out).reshape(-1, 2)
 
     def summary(self) -> dict:
+        """JSON-ready numbers of the run, the unit in each name."""
         th = self.theta
         return {
-            "max_theta": float(np.max(np.abs(th))),
+            "alpha_rad": self.alpha,
+            "max_theta_rad": float(np.max(np.abs(th))),
             "max_theta_over_alpha": float(np.max(np.abs(th)) / self.alpha),
             "overturned": bool(np.max(np.abs(th)) >= math.pi / 2),
             "n_steps": self.n_steps,
             "wall_s": self.wall_s,
         }
+
+    def histories(self) -> dict:
+        """The state on the output grid (relative to the moving ground), units in the names."""
+        y = self.y
+        return {"x_m": y[:, 0], "y_m": y[:, 1], "theta_rad": self.theta,
+                "xd_m_per_s": y[:, 3], "yd_m_per_s": y[:, 4], "thetad_rad_per_s": self.thetad,
+                "spring_stretch_left_m": y[:, 6], "spring_stretch_right_m": y[:, 7]}  # fmt: skip
 
 
 def simulate_compliant(
@@ -127,13 +169,16 @@ def simulate_compliant(
     excitation=None,
     *,
     t_end: float,
-    theta0: float = 0.0,
+    theta0: float | None = None,
+    theta0_over_alpha: float | None = None,
     tol: float = TOL,
     dt_out: float = DT_OUT,
     h_max: float | None = None,
 ) -> CompliantResult:
     """Response of the block on corner supports; starts at rest on the ground (theta0 = 0,
-    static settlement) or tilted by ``theta0`` on one corner that carries the weight."""
+    static settlement) or tilted by ``theta0`` [rad] (or ``theta0_over_alpha`` times alpha) on
+    one corner that carries the weight."""
+    theta0 = initial_tilt(theta0, theta0_over_alpha, model.alpha)
     gk, gp, tab_h, tab_v, _ = _excitation(excitation, t_end)
     q = np.zeros(kc.N_Q)
     q[kc.Q_M] = model.mass
@@ -187,7 +232,7 @@ def effective_restitution(model: CompliantBlock, theta0_over_alpha: float = 0.5,
     relation of the rigid block between successive peaks; module docstring)."""
     al = model.alpha
     t_end = t_end if t_end is not None else 4.0 * (n_impacts + 1) / model.p
-    res = simulate_compliant(model, t_end=t_end, theta0=theta0_over_alpha * al,
+    res = simulate_compliant(model, t_end=t_end, theta0_over_alpha=theta0_over_alpha,
                              dt_out=min(DT_OUT, 0.002 / model.p))  # fmt: skip
     pk = np.abs(res.peaks()[:, 1])
     pk = np.r_[theta0_over_alpha * al, pk[pk > PEAK_MIN * al]]

@@ -1,7 +1,7 @@
 """The Makris–Vassiliou rocking frame: two equal free-standing columns and a rigid cap beam.
 
-Columns (mass m, 2B x 2H, semi-diagonal R, slenderness alpha, I_O = 4 m R² / 3) rock about
-base corners on side s = sgn(theta); the beam (mass m_b = 2 gamma m) rests on the diagonally
+Columns (mass m, 2B wide, 2H high, semi-diagonal R, slenderness alpha, I_O = 4 m R² / 3) rock
+about base corners on side s = sgn(theta); the beam (mass m_b = 2 gamma m) rests on the diagonally
 opposite top corners and translates with them, at distance 2R from the base pivots.
 
 Lagrangian (one dof theta), with ``c = cos(s alpha - theta)``::
@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from nsdyn.ground import G_EARTH
-from nsdyn.models.rocking.block import RockingBlock, housner_restitution
+from nsdyn.models.rocking.block import RockingBlock, block_sizes, housner_restitution
 
 
 def frame_frequency_ratio(gamma: float) -> float:
@@ -43,28 +43,64 @@ def frame_restitution(alpha: float, gamma: float) -> float:
     return (housner_restitution(alpha) + 3.0 * gamma * math.cos(2.0 * alpha)) / (1.0 + 3.0 * gamma)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class RockingFrame:
-    """Two columns of half-width ``B`` and half-height ``H`` [m] and a cap beam of mass ratio
-    ``gamma = m_beam / (2 m_column)``; ``r`` overrides the derived restitution."""
+    """Two columns of full ``width`` 2B and ``height`` 2H [m] (or half sizes ``B``, ``H`` by
+    name) and a cap beam of mass ratio ``gamma = m_beam / (2 m_column)``; ``r`` overrides the
+    derived restitution."""
 
-    B: float
-    H: float
+    width: float
+    height: float
     gamma: float
     r: float | None = None
     linear: bool = False
     g: float = G_EARTH
     column_mass: float = 1.0
 
-    def __post_init__(self) -> None:
-        RockingBlock(self.B, self.H, self.r, self.linear, self.g, self.column_mass)  # checks
+    def __init__(
+        self,
+        *args,
+        width: float | None = None,
+        height: float | None = None,
+        gamma: float | None = None,
+        r: float | None = None,
+        linear: bool = False,
+        g: float = G_EARTH,
+        column_mass: float = 1.0,
+        B: float | None = None,
+        H: float | None = None,
+    ) -> None:
+        if len(args) > 2:  # the former positional (B, H, gamma, r, linear, g, column_mass)
+            rest = (gamma, r, linear, g, column_mass)[len(args) - 2 :]
+            gamma, r, linear, g, column_mass = (tuple(args[2:]) + rest)[:5]
+        w, h = block_sizes("RockingFrame", args[:2], width, height, B, H)
+        if gamma is None:
+            raise ValueError("RockingFrame: gamma: missing (m_beam / (2 m_column), >= 0)")
+        vals = {"width": w, "height": h, "gamma": gamma, "r": r, "linear": bool(linear), "g": g,
+                "column_mass": column_mass}  # fmt: skip
+        for name, v in vals.items():
+            object.__setattr__(self, name, v)
+        self.column  # checks r, g and the mass  # noqa: B018
         if not (math.isfinite(self.gamma) and self.gamma >= 0):
             raise ValueError(f"gamma: expected a non-negative number, got {self.gamma!r}")
+        if self.r is not None and not (0.0 < self.r <= 1.0):
+            raise ValueError(f"r: expected 0 < r <= 1, got {self.r!r}")
+
+    @property
+    def B(self) -> float:
+        """Half-width of a column [m]."""
+        return 0.5 * self.width
+
+    @property
+    def H(self) -> float:
+        """Half-height of a column [m]."""
+        return 0.5 * self.height
 
     @property
     def column(self) -> RockingBlock:
         """One column alone (gamma = 0)."""
-        return RockingBlock(self.B, self.H, None, self.linear, self.g, self.column_mass)
+        return RockingBlock(width=self.width, height=self.height, linear=self.linear, g=self.g,
+                            mass=self.column_mass)  # fmt: skip
 
     @property
     def alpha(self) -> float:

@@ -16,11 +16,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nsdyn._tabular import Tabular
+
 OUTCOMES = ("rest", "rocking", "overturned")  # kernel outcome code -> name
 
 
 @dataclass
-class RockingResult:
+class RockingResult(Tabular):
     """One rocking time history.
 
     Attributes
@@ -89,29 +91,35 @@ class RockingResult:
         return (self.impacts[:, 2] / self.impacts[:, 1]) ** 2
 
     def summary(self) -> dict:
-        """JSON-ready numbers of the run."""
+        """JSON-ready numbers of the run, the unit in each name (``_rad``, ``_s``, ``_per_s``);
+        times of events that did not happen are None."""
 
         def f(x):
             return None if x is None or not math.isfinite(x) else float(x)
 
         return {
-            "alpha": self.alpha,
-            "p": self.p,
+            "alpha_rad": self.alpha,
+            "p_per_s": self.p,
             "r": self.r,
             "linear": self.linear,
             "outcome": self.outcome,
             "overturned": self.overturned,
-            "t_overturn": f(self.t_overturn),
-            "t_uplift": f(self.t_uplift),
-            "t_rest": f(self.t_rest),
+            "t_overturn_s": f(self.t_overturn),
+            "t_uplift_s": f(self.t_uplift),
+            "t_rest_s": f(self.t_rest),
             "n_impacts": self.n_impacts,
             "n_uplifts": self.n_uplifts,
-            "max_theta": float(self.max_abs_theta),
+            "max_theta_rad": float(self.max_abs_theta),
             "max_theta_over_alpha": float(self.max_theta_over_alpha),
             "n_steps": self.n_steps,
             "n_rejected": self.n_rejected,
             "wall_s": self.wall_s,
         }
+
+    def histories(self) -> dict:
+        """Rotation [rad], angular velocity [rad/s] and energy per m g R on the output grid."""
+        return {"theta_rad": self.theta, "thetad_rad_per_s": self.thetad,
+                "energy_per_mgR": self.energy()}  # fmt: skip
 
 
 def rocking_energy(theta, thetad, alpha: float, p: float, linear: bool = False):

@@ -27,7 +27,7 @@ Scene (``[scene] kind = "rocking"``; sizes are the full width 2B and height 2H [
     n_cycles = 1
     ver_ratio = 0.0
     t_end = 6.0                # [s]
-    theta0_over_alpha = 0.0    # initial tilt
+    theta0_over_alpha = 0.0    # initial tilt / alpha (or theta0 [rad], not both)
 
     [solver]
     tol = 1e-9
@@ -48,6 +48,7 @@ from nsdyn.ground import G_EARTH, read_motion
 from nsdyn.ground.pulses import SHAPES, Pulse
 from nsdyn.models.rocking.scene_keys import SCHEMA
 from nsdyn.models.scenefile import SceneError, check_fields, number
+from nsdyn.models.tilt import scene_tilt
 
 MODELS = ("block", "frame", "compliant")  # [scene] model
 _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
@@ -82,24 +83,25 @@ def build_model(cfg: dict, source: str):
         raise SceneError(f"{source}: block.linear: expected true or false, got {linear!r}")
     if model == "frame":
         gamma = number(source, "block.gamma", b.get("gamma", 0.0), allow_zero=True)
-        return RockingFrame(w / 2, h / 2, gamma, r, linear, G_EARTH, mass)
+        return RockingFrame(width=w, height=h, gamma=gamma, r=r, linear=linear, g=G_EARTH,
+                            column_mass=mass)  # fmt: skip
     if model == "compliant":
         if r is not None or linear:
             raise SceneError(f"{source}: block.r / block.linear: not used by the compliant model")
-        from nsdyn.models.rocking.block import RockingBlock as _B
-
         ratio = number(source, "block.omega_v_over_p", b.get("omega_v_over_p", 300.0))
         zeta = number(source, "block.zeta", b.get("zeta", 2.0), allow_zero=True)
-        return CompliantBlock.from_frequency(w / 2, h / 2, mass, ratio * _B(w / 2, h / 2).p, zeta)
-    return RockingBlock(w / 2, h / 2, r, linear, G_EARTH, mass)
+        p = RockingBlock(width=w, height=h).p
+        return CompliantBlock.from_frequency(width=w, height=h, mass=mass, omega_v=ratio * p,
+                                             zeta=zeta)  # fmt: skip
+    return RockingBlock(width=w, height=h, r=r, linear=linear, g=G_EARTH, mass=mass)
 
 
 def build_motion(cfg: dict, source: str):
-    """(excitation or None, t_end, theta0_over_alpha, description) of a parsed scene."""
+    """(excitation or None, t_end, initial tilt, description) of a parsed scene; the tilt is
+    the keyword of the simulation (``{"theta0": rad}``, ``{"theta0_over_alpha": v}`` or ``{}``)."""
     mo = cfg.get("motion", {})
     t_end = number(source, "motion.t_end", mo["t_end"]) if "t_end" in mo else None
-    th0 = number(source, "motion.theta0_over_alpha", mo.get("theta0_over_alpha", 0.0),
-                 positive=False)  # fmt: skip
+    th0 = scene_tilt(mo, source)
     if "record" in mo:
         rec = str(mo["record"])
         path = Path(rec)
@@ -182,16 +184,16 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
 
         simulate_compliant(model, t_end=1e-3, dt_out=1e-3)
         compile_s = time.perf_counter() - w0
-        res = simulate_compliant(model, exc, t_end=t_end, theta0=th0 * model.alpha,
-                                 tol=min(tol * 10, 1e-6), dt_out=dt_out or cm.DT_OUT)  # fmt: skip
+        res = simulate_compliant(model, exc, t_end=t_end, tol=min(tol * 10, 1e-6),
+                                 dt_out=dt_out or cm.DT_OUT, **th0)  # fmt: skip
         s = res.summary()
         arrays = {"t": res.t, "y": res.y, "theta": res.theta, "thetad": res.thetad,
                   "peaks": res.peaks()}  # fmt: skip
         s["r_housner"] = blk.housner_restitution(model.alpha)
     else:
         compile_s = blk.warmup()
-        res = blk.simulate_rocking(model, exc, t_end=t_end, theta0=th0 * model.alpha,
-                                   tol=tol, dt_out=dt_out)  # fmt: skip
+        res = blk.simulate_rocking(model, exc, t_end=t_end, tol=tol, dt_out=dt_out,
+                                   **th0)  # fmt: skip
         s = res.summary()
         arrays = {"t": res.t, "theta": res.theta, "thetad": res.thetad, "energy": res.energy(),
                   "impacts": res.impacts, "peaks": res.peaks}  # fmt: skip
@@ -208,8 +210,9 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         save_figure(history_figure(arrays["t"], arrays["theta"], model.alpha, title=title), png)
         files.append(str(png))
     s.update({"kind": "rocking", "model": cfg.get("scene", {}).get("model", "block"),
-              "name": name, "motion": what, "t_end": t_end, "alpha": model.alpha,
-              "p": model.p, "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
+              "name": name, "motion": what, "t_end_s": t_end, "alpha_rad": model.alpha,
+              "p_per_s": model.p, "theta0_rad": float(res.theta[0]) if res.t.size else 0.0,
+              "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
     s.setdefault("outcome", outcome(s)[0])  # the compliant block's summary has none
     say(f"rocking: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
     return s
@@ -222,7 +225,7 @@ def outcome(s: dict) -> tuple[str, str]:
     peak = s.get("max_theta_over_alpha")
     tilt = f", peak tilt {peak:.3g} alpha" if isinstance(peak, float) else ""
     if word == "overturned":
-        t = s.get("t_overturn")
+        t = s.get("t_overturn_s")
         return word, "OVERTURNED" + (f" at t = {t:.3f} s" if isinstance(t, float) else "")
     if word == "rocking":
         return word, f"rocking (lifted off, still rocking at the end){tilt}"
@@ -232,14 +235,37 @@ def outcome(s: dict) -> tuple[str, str]:
     return "standing", f"standing (did not overturn){tilt}"
 
 
+# rows of the text summary: key, label, unit ("" for a dimensionless number or a word)
+ROWS = (
+    ("name", "name", ""),
+    ("model", "model", ""),
+    ("motion", "motion", ""),
+    ("alpha_rad", "slenderness alpha", "rad"),
+    ("p_per_s", "frequency parameter p", "1/s"),
+    ("r", "restitution r", "-"),
+    ("r_housner", "Housner's r", "-"),
+    ("theta0_rad", "initial tilt theta0", "rad"),
+    ("outcome", "outcome", ""),
+    ("max_theta_rad", "peak tilt", "rad"),
+    ("max_theta_over_alpha", "peak tilt / alpha", "-"),
+    ("n_impacts", "impacts", ""),
+    ("t_uplift_s", "first lift-off", "s"),
+    ("t_overturn_s", "overturned at", "s"),
+    ("t_rest_s", "came to rest at", "s"),
+    ("t_end_s", "duration", "s"),
+    ("wall_s", "run time", "s"),
+    ("compile_s", "compile/load time", "s"),
+)
+
+
 def format_summary(s: dict) -> str:
-    """A short human table of a rocking run, its outcome first."""
-    keys = ("name", "model", "motion", "alpha", "p", "r", "outcome", "max_theta_over_alpha",
-            "n_impacts", "t_overturn", "t_rest", "r_housner", "wall_s", "compile_s")  # fmt: skip
+    """A short human table of a rocking run, its outcome first, every number with its unit."""
     lines = [f"outcome {outcome(s)[1]}"]
-    for k in keys:
-        if k in s and s[k] is not None:
-            v = s[k]
-            lines.append(f"  {k:22s} {v:.6g}" if isinstance(v, float) else f"  {k:22s} {v}")
+    for k, label, unit in ROWS:
+        v = s.get(k)
+        if v is None:
+            continue
+        text = f"{v:.6g}" if isinstance(v, float) else str(v)
+        lines.append(f"  {label:22s} {text}" + (f" {unit}" if unit else ""))
     lines.extend(f"  {'file':22s} {f}" for f in s.get("files", []))
     return "\n".join(lines)

@@ -59,7 +59,8 @@ def test_event_driven_and_moreau_jean_agree_on_slender_cases(name):
 
 def test_large_friction_matches_the_rocking_family_under_a_pulse():
     gm = sine_pulse(0.8 * G_EARTH, 2.0, 1, dt=0.001, duration=2.2)
-    rr = simulate_rocking(RockingBlock(0.5, 1.0), gm, t_end=2.2, tol=1e-10, dt_out=1e-3)
+    blk = RockingBlock(width=1.0, height=2.0)
+    rr = simulate_rocking(blk, gm, t_end=2.2, tol=1e-10, dt_out=1e-3)
     body = RigidBody.rectangle(1.0, 2.0, 5.0)
     ev = simulate_event(body, FrictionLaw(10.0), BaseMotion.from_motion(gm), t_end=2.2,
                         impact_law="housner", dt_out=1e-4, rtol=1e-11, atol=1e-13)  # fmt: skip

@@ -66,9 +66,9 @@ def test_converges_to_rigid_ground():
     for k in (1e8, 1e9, 1e10):
         s = simulate_compliant(body, law, CompliantGround.from_ratio(body, k, 1.0), mo,
                                t_end=t_end, dt_out=0.001).summary()  # fmt: skip
-        errs.append((abs(s["max_slide"] / ref["max_slide"] - 1),
-                     abs(s["max_tilt"] / ref["max_tilt"] - 1)))  # fmt: skip
-    assert ref["max_tilt"] > 5e-3 and ref["max_slide"] > 0.01
+        errs.append((abs(s["max_slide_m"] / ref["max_slide_m"] - 1),
+                     abs(s["max_tilt_rad"] / ref["max_tilt_rad"] - 1)))  # fmt: skip
+    assert ref["max_tilt_rad"] > 5e-3 and ref["max_slide_m"] > 0.01
     # observed: slide 10.4, 3.7, 1.2 %; tilt 29, 9.6, 3.1 % at k = 1e8, 1e9, 1e10 N/m, i.e. the
     # error falls as k^(-1/2) (the contact time scale sqrt(m / k))
     assert errs[2][0] < 0.02 and errs[2][1] < 0.045, errs
@@ -82,7 +82,7 @@ def test_run_scene_and_cli(tmp_path, capsys):
     s = run_scene(cfg, source=str(SCENE), out_dir=tmp_path, figures=True, quiet=True)
     assert s["kind"] == "contact" and s["solver"] == "compliant"
     assert (tmp_path / "contact.npz").exists() and (tmp_path / "contact.png").exists()
-    assert s["max_uplift"] > 0 and "max_slide" in format_summary(s)
+    assert s["max_uplift_m"] > 0 and "peak slide" in format_summary(s)
     from nsdyn.cli import main
 
     rc = main(["run", str(SCENE), "--json", "--out", str(tmp_path), "--t-end", "0.5"])

@@ -50,7 +50,7 @@ def test_first_motion_from_rest_under_a_step_starts_at_t0(beta, mu, abar):
     mj = simulate_moreau(body, law, mo, t_end=0.05, h=h)
     assert mj.first_motion() == onset_mode(beta, mu, abar)
     assert mj.t_first_motion() <= h * (1 + 1e-12)
-    assert ev.summary()["t_first_motion"] == 0.0
+    assert ev.summary()["t_first_motion_s"] == 0.0
 
 
 @pytest.mark.parametrize("beta, mu, mode", [(0.5, 0.3, "slide"), (0.5, 0.8, "rock")])
@@ -75,13 +75,13 @@ def test_max_slide_is_slip_at_the_contacts_not_the_rocking_swing():
     body = RigidBody.rectangle(1.0, 4.0)
     ev = simulate_event(body, FrictionLaw(2.0), None, t_end=0.3, theta0=0.15, dt_out=0.001)
     assert np.max(np.abs(ev.q[:, 2])) > 0.1
-    assert ev.summary()["max_slide"] < 1e-7
+    assert ev.summary()["max_slide_m"] < 1e-7
     # sliding without rocking (b/h = 1 > mu: the friction cannot tip it): the slip is the whole
     # displacement, v0^2 / (2 mu g) (Coulomb)
     v0 = 1.0
     slid = simulate_event(RigidBody.rectangle(2.0, 2.0), FrictionLaw(0.3), None, t_end=0.5,
                           v0=[v0, 0.0, 0.0], dt_out=0.001)  # fmt: skip
-    assert slid.summary()["max_slide"] == pytest.approx(v0**2 / (2 * 0.3 * G), rel=1e-6)
+    assert slid.summary()["max_slide_m"] == pytest.approx(v0**2 / (2 * 0.3 * G), rel=1e-6)
 
 
 def test_moreau_labels_pure_rocking_as_rocking():

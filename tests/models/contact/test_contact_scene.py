@@ -27,8 +27,8 @@ def test_run_scene_end_to_end(tmp_path):
     # during the first second the ground decelerates little: bound the slide by the closed form
     # with the ground's own deceleration ignored (max |a_g| t << v0)
     assert s["first_motion"] == "slide" and not s["overturned"]
-    assert s["max_slide"] == pytest.approx(v0**2 / (2 * 0.29 * 9.81), rel=0.15)
-    assert "max_slide" in format_summary(s)
+    assert s["max_slide_m"] == pytest.approx(v0**2 / (2 * 0.29 * 9.81), rel=0.15)
+    assert "peak slide" in format_summary(s)
 
 
 def test_cli_json(tmp_path, capsys):
@@ -37,7 +37,8 @@ def test_cli_json(tmp_path, capsys):
     rc = main(["run", str(SCENE), "--json", "--out", str(tmp_path), "--t-end", "0.5"])
     assert rc in (0, None)
     s = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
-    for key in ("time_in_mode", "max_slide", "max_tilt", "n_hops", "overturned", "t_overturn"):
+    keys = ("time_in_mode_s", "max_slide_m", "max_tilt_rad", "n_hops", "overturned", "t_overturn_s")
+    for key in keys:
         assert key in s
 
 

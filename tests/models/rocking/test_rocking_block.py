@@ -15,7 +15,7 @@ from scipy.optimize import brentq
 from nsdyn.ground.pulses import Pulse, one_sine, rectangular
 from nsdyn.models.rocking import RockingBlock, simulate_rocking
 
-COLUMN = RockingBlock(0.15, 0.6)  # seed 003 Table 2 column 2 (2H = 1.2 m, 2B = 0.3 m)
+COLUMN = RockingBlock(width=0.3, height=1.2)  # seed 003 Table 2 column 2 (2H = 1.2 m, 2B = 0.3 m)
 
 
 def _quarter_exact(theta_m: float, alpha: float, p: float) -> float:
@@ -34,7 +34,7 @@ def _quarter_exact(theta_m: float, alpha: float, p: float) -> float:
 def test_free_rocking_period_linearised_housner_closed_form():
     """Linearised free rocking: quarter period (1/p) acosh(1 / (1 - theta_m / alpha))
     (Housner 1963); each half-cycle between impacts uses the peak between them."""
-    blk = RockingBlock(0.15, 0.6, linear=True)
+    blk = RockingBlock(width=0.3, height=1.2, linear=True)
     a, p = blk.alpha, blk.p
     res = simulate_rocking(blk, t_end=8.0, theta0=0.6 * a, dt_out=0)
     t_imp = res.impacts[:, 0]
@@ -61,7 +61,7 @@ def test_free_rocking_period_exact_quadrature_of_energy_relation():
 def test_peak_after_each_impact_from_energy_relation(linear):
     """Peak after an impact from energy conservation with the post-impact velocity:
     exact cos(alpha - th) - cos(alpha) = th'+² / 2p²; linearised alpha th - th²/2 = th'+² / 2p²."""
-    blk = RockingBlock(0.2, 0.8, r=0.85, linear=linear)
+    blk = RockingBlock(width=0.4, height=1.6, r=0.85, linear=linear)
     a, p = blk.alpha, blk.p
     res = simulate_rocking(blk, t_end=6.0, theta0=0.7 * a, dt_out=0)
     v = res.impacts[:10, 2]
@@ -131,7 +131,7 @@ def test_impact_times_converge_with_tolerance():
 def test_overturning_rectangular_pulse_linearised_housner_criterion():
     """Linearised block under a rectangular pulse of duration t1 overturns iff
     a / (g alpha) >= 1 / (1 - exp(-p t1)) (Housner 1963)."""
-    blk = RockingBlock(0.2, 1.0, linear=True)
+    blk = RockingBlock(width=0.4, height=2.0, linear=True)
     t1 = 0.8 / blk.p
     a_c = blk.g * blk.alpha / (1.0 - math.exp(-blk.p * t1))
     hi = simulate_rocking(blk, rectangular(-1.002 * a_c, t1), t_end=15.0)
@@ -145,7 +145,7 @@ def test_overturning_long_constant_pulse_exact_criterion():
     integral theta'²/2p² = (a/g)(sin a - sin(a - th)) + cos a - cos(a - th), the block
     overturns iff (a/g)(sin alpha - sin(alpha - theta1)) >= 1 - cos(alpha) (energy to pass
     theta = alpha after the pulse); a_crit found by brentq over quadratures."""
-    blk = RockingBlock(0.25, 1.0)
+    blk = RockingBlock(width=0.5, height=2.0)
     al, p, g = blk.alpha, blk.p, blk.g
     t1 = 1.2 / p
 
@@ -184,7 +184,7 @@ def _zeno_rest_time_linear(blk, theta0, v_rest):
 def test_zeno_free_rocking_comes_to_rest_at_accumulation_time(r):
     """Impacts accumulate (Zeno); the block comes to rest at the closed-form accumulation time
     with a finite number of impacts and stays at rest."""
-    blk = RockingBlock(0.2, 1.0, r=r, linear=True)
+    blk = RockingBlock(width=0.4, height=2.0, r=r, linear=True)
     v_rest = 1e-6 * blk.p * blk.alpha
     res = simulate_rocking(blk, t_end=60.0, theta0=0.5 * blk.alpha, dt_out=0.01)
     assert res.outcome == "rest"
@@ -198,7 +198,7 @@ def test_zeno_free_rocking_comes_to_rest_at_accumulation_time(r):
 
 def test_perfectly_elastic_block_keeps_rocking():
     """r = 1: no loss, the amplitude never decays (energy conservation)."""
-    blk = RockingBlock(0.2, 1.0, r=1.0)
+    blk = RockingBlock(width=0.4, height=2.0, r=1.0)
     res = simulate_rocking(blk, t_end=20.0, theta0=0.3 * blk.alpha)
     assert res.outcome == "rocking"
     np.testing.assert_allclose(np.abs(res.peaks[:, 1]), 0.3 * blk.alpha, rtol=1e-6)
@@ -222,7 +222,7 @@ def test_numba_disabled_gives_the_same_closed_form():
     code = (
         "import math\n"
         "from nsdyn.models.rocking import RockingBlock, simulate_rocking\n"
-        "b = RockingBlock(0.2, 1.0, linear=True)\n"
+        "b = RockingBlock(width=0.4, height=2.0, linear=True)\n"
         "r = simulate_rocking(b, t_end=1.5, theta0=0.5 * b.alpha, dt_out=0)\n"
         "print(abs(r.impacts[0, 0] - math.acosh(2.0) / b.p))\n"
     )

@@ -64,7 +64,7 @@ def test_cli_run_json(tmp_path, capsys):
     rc = main(["run", str(scene), "--json", "--out", str(tmp_path), "--t-end", "3"])
     assert rc in (0, None)
     s = json.loads(capsys.readouterr().out)
-    for key in ("max_theta_over_alpha", "overturned", "t_overturn", "n_impacts", "kind"):
+    for key in ("max_theta_over_alpha", "overturned", "t_overturn_s", "n_impacts", "kind"):
         assert key in s
     # seed 003 Table 2 column 2: Housner r = 0.91 (printed to two decimals)
     assert s["r"] == pytest.approx(0.91, abs=0.005)

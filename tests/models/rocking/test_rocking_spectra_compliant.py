@@ -18,7 +18,7 @@ from nsdyn.models.rocking.spectra import overturning_spectrum
 def test_spectrum_rectangular_pulse_matches_housner_closed_form():
     """Linearised block, rectangular pulse of duration T_p = 2 pi / omega_p: minimum
     overturning a / (g alpha) = 1 / (1 - exp(-2 pi p / omega_p)) (Housner 1963)."""
-    blk = RockingBlock(0.2, 1.0, linear=True)
+    blk = RockingBlock(width=0.4, height=2.0, linear=True)
     x = np.array([0.5, 2.0, 6.0])
     with ThreadPoolExecutor(1) as ex:
         sp = overturning_spectrum(blk, x, shape="rect", rtol=1e-5, executor=ex)
@@ -30,7 +30,7 @@ def test_spectrum_rectangular_pulse_matches_housner_closed_form():
 def test_spectrum_one_sine_has_impact_mode_and_grows_with_frequency():
     """One-sine pulse (Zhang & Makris 2001): at low omega_p / p the block overturns after an
     impact (mode 1) just above lift-off, and the minimum amplitude grows with frequency."""
-    blk = RockingBlock(0.15, 0.6)
+    blk = RockingBlock(width=0.3, height=1.2)
     with ThreadPoolExecutor(1) as ex:
         sp = overturning_spectrum(blk, [1.5, 3.0, 6.0], executor=ex)
     assert sp.mode[0] == 1
@@ -44,10 +44,10 @@ def test_compliant_effective_restitution_approaches_housner(zeta):
     contact frequency omega_v / p grows; soft ground dissipates more."""
     B, H, m = 1.0, 2.0, 124800.0
     r_h = housner_restitution(math.atan2(B, H))
-    p = RockingBlock(B, H).p
+    p = RockingBlock(B=B, H=H).p
     err = {}
     for ratio in (10.0, 30.0, 300.0, 1000.0):
-        blk = CompliantBlock.from_frequency(B, H, m, ratio * p, zeta)
+        blk = CompliantBlock.from_frequency(B=B, H=H, mass=m, omega_v=ratio * p, zeta=zeta)
         err[ratio] = effective_restitution(blk) - r_h
     assert err[10.0] < -0.05 and err[30.0] < -0.01
     assert abs(err[300.0]) < 1e-3 and abs(err[1000.0]) < 1e-3
@@ -59,8 +59,8 @@ def test_compliant_stiff_ground_follows_rigid_block_history():
     from nsdyn.models.rocking.compliant import simulate_compliant
 
     B, H = 1.0, 2.0
-    rigid = RockingBlock(B, H)
-    blk = CompliantBlock.from_frequency(B, H, 1000.0, 1000 * rigid.p, 2.0)
+    rigid = RockingBlock(B=B, H=H)
+    blk = CompliantBlock.from_frequency(B=B, H=H, mass=1000.0, omega_v=1000 * rigid.p, zeta=2.0)
     r = simulate_compliant(blk, t_end=1.5, theta0=0.5 * rigid.alpha, dt_out=1e-4)
     t_cross = r.t[np.argmax(r.theta < 0)]
     t_ref = simulate_rocking(rigid, t_end=1.5, theta0=0.5 * rigid.alpha).impacts[0, 0]

@@ -1,0 +1,49 @@
+"""The initial tilt of every rocking body, one convention for the Python API and the scene files.
+
+A body that rocks about a base corner (block, rocking frame, contact body, cylinder) may start
+tilted. The tilt is given either as an angle or as a fraction of the slenderness alpha (the
+tilt at which the body's weight passes over the pivot), exactly one of the two::
+
+    theta0 [rad]        or        theta0_over_alpha [-],   theta0 = theta0_over_alpha * alpha
+
+with alpha = atan(B / H) for a block of width 2B and height 2H (the angle of the line from the
+pivot to the centre of mass from the vertical; for a cylinder of radius r and height 2H,
+alpha = atan(r / H)). The same two names are the keys of the scenes' ``[motion]`` table.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+from nsdyn.models.scenefile import SceneError, number
+
+
+def initial_tilt(theta0: float | None, theta0_over_alpha: float | None, alpha: float) -> float:
+    """The initial tilt [rad] from ``theta0`` [rad] or ``theta0_over_alpha`` (times ``alpha``
+    [rad]); neither gives 0. ValueError when both are given or one is not a finite number."""
+    if theta0 is not None and theta0_over_alpha is not None:
+        raise ValueError(
+            "theta0 and theta0_over_alpha: give the initial tilt one way, not both "
+            f"(theta0 = {theta0!r} rad, theta0_over_alpha = {theta0_over_alpha!r})"
+        )
+    for name, v in (("theta0", theta0), ("theta0_over_alpha", theta0_over_alpha)):
+        if v is not None and (isinstance(v, bool) or not isinstance(v, int | float)
+                              or not math.isfinite(v)):  # fmt: skip
+            raise ValueError(f"{name}: expected a finite number, got {v!r}")
+    if theta0_over_alpha is not None:
+        return float(theta0_over_alpha) * float(alpha)
+    return 0.0 if theta0 is None else float(theta0)
+
+
+def scene_tilt(table: Mapping, source: str, where: str = "motion") -> dict:
+    """The initial tilt of a scene's ``[where]`` table as the keyword the Python API takes:
+    ``{"theta0": v}`` [rad], ``{"theta0_over_alpha": v}`` or ``{}``; :class:`SceneError` naming
+    the file and key when both are given or a value is not a finite number."""
+    keys = [k for k in ("theta0", "theta0_over_alpha") if k in table]
+    if len(keys) == 2:
+        raise SceneError(
+            f"{source}: {where}.theta0_over_alpha: give the initial tilt as "
+            f"{where}.theta0 [rad] or as {where}.theta0_over_alpha, not both"
+        )
+    return {k: number(source, f"{where}.{k}", table[k], positive=False) for k in keys}

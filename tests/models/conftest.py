@@ -1,0 +1,40 @@
+"""Fixtures shared by the model families' tests: the check of the table export of a result."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from nsdyn._tabular import columns
+
+
+def _assert_round_trip(res) -> None:
+    """Every history of ``res`` (name -> array on ``res.t``) comes back exactly from the
+    DataFrame and the Dataset, nothing is added, and the summary rides along as attributes.
+
+    Exact equality is the tolerance: the export computes nothing, it only labels the arrays."""
+    pd = pytest.importorskip("pandas", reason="pandas is not installed (the 'frames' extra)")
+    xr = pytest.importorskip("xarray", reason="xarray is not installed (the 'frames' extra)")
+    want = columns(res.t, res.histories())
+    assert want, "a result with no histories"
+    df = res.to_dataframe()
+    assert isinstance(df, pd.DataFrame) and df.index.name == "t_s"
+    np.testing.assert_array_equal(df.index.to_numpy(), res.t)
+    assert list(df.columns) == list(want)
+    for name, a in want.items():
+        got = df[name].to_numpy()
+        assert got.dtype == a.dtype, name
+        np.testing.assert_array_equal(got, a, err_msg=name)
+    assert df.attrs == res.summary()
+    ds = res.to_xarray()
+    assert isinstance(ds, xr.Dataset)
+    np.testing.assert_array_equal(ds["t_s"].values, res.t)
+    assert sorted(ds.data_vars) == sorted(want)
+    for name, a in want.items():
+        np.testing.assert_array_equal(ds[name].values, a, err_msg=name)
+
+
+@pytest.fixture
+def assert_round_trip():
+    """The round-trip check of ``to_dataframe()`` / ``to_xarray()`` (see _assert_round_trip)."""
+    return _assert_round_trip

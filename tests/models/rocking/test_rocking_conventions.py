@@ -1,0 +1,125 @@
+"""One convention per quantity: full sizes (width 2B, height 2H) in Python as in scene files,
+the initial tilt as an angle or a fraction of alpha in both, summaries with units in their
+names, and the histories of blocks, frames and compliant blocks as DataFrame / Dataset.
+
+Sources: alpha = atan(B/H), p² = 3 g / (4 R) (Housner 1963; seed 001); the equivalence of the
+two ways of giving a size or a tilt is exact (the same float reaches the kernel)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from nsdyn import CompliantBlock, RockingBlock, RockingFrame, simulate_rocking
+from nsdyn.models.rocking.compliant import simulate_compliant
+from nsdyn.models.rocking.scene import build_model, build_motion, format_summary, run_scene
+from nsdyn.models.scenefile import SceneError
+
+
+def test_full_sizes_are_the_convention_half_sizes_by_name_are_the_same_block():
+    # seed 003 Table 2 column 2: 2B = 0.3 m, 2H = 1.2 m, alpha = atan(0.25) = 0.2450 rad
+    full = RockingBlock(width=0.3, height=1.2)
+    half = RockingBlock(B=0.15, H=0.6)
+    assert full == half and (full.B, full.H) == (0.15, 0.6)
+    assert full.alpha == math.atan2(0.15, 0.6)  # doubling and halving are exact in floats
+    assert full.p == pytest.approx(math.sqrt(3 * 9.81 / (4 * math.hypot(0.15, 0.6))), rel=1e-15)
+    with pytest.warns(FutureWarning, match="width=2B, height=2H"):
+        old = RockingBlock(0.15, 0.6)  # the former positional half sizes keep their meaning
+    assert old == full
+    frame = RockingFrame(width=0.3, height=1.2, gamma=2.0)
+    assert frame == RockingFrame(B=0.15, H=0.6, gamma=2.0) and frame.column == full
+    cb = CompliantBlock.from_frequency(width=0.3, height=1.2, mass=10.0, omega_v=100.0, zeta=1.0)
+    assert cb.alpha == full.alpha and cb.p == full.p
+
+
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [({"width": 0.3}, "height"), ({"width": -1.0, "height": 1.0}, "width"),
+     ({"width": 0.3, "height": 1.2, "B": 0.15}, "not both")],
+)  # fmt: skip
+def test_bad_sizes_name_the_field(kwargs, field):
+    with pytest.raises(ValueError, match=field):
+        RockingBlock(**kwargs)
+
+
+def test_tilt_as_angle_or_fraction_of_alpha_gives_the_same_run():
+    blk = RockingBlock(width=0.4, height=2.0)
+    a = simulate_rocking(blk, t_end=1.0, theta0_over_alpha=0.5, dt_out=0.01)
+    b = simulate_rocking(blk, t_end=1.0, theta0=0.5 * blk.alpha, dt_out=0.01)
+    assert a.theta[0] == 0.5 * blk.alpha
+    np.testing.assert_array_equal(a.theta, b.theta)  # the same initial value: the same run
+    with pytest.raises(ValueError, match="not both"):
+        simulate_rocking(blk, t_end=1.0, theta0=0.1, theta0_over_alpha=0.5)
+    cb = CompliantBlock.from_frequency(width=0.4, height=2.0, mass=1.0, omega_v=300 * blk.p,
+                                       zeta=2.0)  # fmt: skip
+    c = simulate_compliant(cb, t_end=0.01, theta0_over_alpha=0.5, dt_out=0.005)
+    assert c.theta[0] == pytest.approx(0.5 * blk.alpha, rel=1e-12)  # placed on the corner
+
+
+def _scene(**motion):
+    return {"scene": {"kind": "rocking"}, "block": {"width": 0.4, "height": 2.0},
+            "motion": {"t_end": 0.5, **motion}}  # fmt: skip
+
+
+def test_scene_takes_the_tilt_either_way_and_refuses_both():
+    cfg = _scene(theta0_over_alpha=0.5)
+    alpha = build_model(cfg, "s.toml").alpha
+    assert build_motion(cfg, "s.toml")[2] == {"theta0_over_alpha": 0.5}
+    assert build_motion(_scene(theta0=0.1), "s.toml")[2] == {"theta0": 0.1}
+    with pytest.raises(SceneError, match=r"s\.toml: motion\.theta0_over_alpha: .*not both"):
+        build_motion(_scene(theta0=0.1, theta0_over_alpha=0.5), "s.toml")
+    assert alpha == math.atan2(0.2, 1.0)
+
+
+def test_scene_summary_has_units_in_its_names_and_its_text(tmp_path):
+    s = run_scene(_scene(theta0=0.05), source="s.toml", out_dir=tmp_path, figures=False,
+                  quiet=True)  # fmt: skip
+    assert s["theta0_rad"] == 0.05 and s["t_end_s"] == 0.5
+    assert {"alpha_rad", "p_per_s", "max_theta_rad", "max_theta_over_alpha"} <= set(s)
+    text = format_summary(s)
+    for line in text.splitlines()[1:]:
+        label, _, value = line.strip().partition("  ")
+        try:
+            float(value.split()[0])
+        except (ValueError, IndexError):
+            continue  # a word (name, model, outcome) or a count
+        assert value.split()[-1] in ("rad", "1/s", "s", "-") or label.strip() in (
+            "impacts",), line  # every measured number carries its unit  # fmt: skip
+
+
+def test_summary_keys_carry_units():
+    blk = RockingBlock(width=0.4, height=2.0)
+    s = simulate_rocking(blk, t_end=1.0, theta0_over_alpha=0.5, dt_out=0.01).summary()
+    assert s["alpha_rad"] == blk.alpha and s["p_per_s"] == blk.p
+    assert s["max_theta_rad"] == pytest.approx(0.5 * blk.alpha, rel=1e-9)  # free rocking
+    assert not {"alpha", "p", "max_theta", "t_overturn"} & set(s)
+
+
+@pytest.mark.parametrize("model", ["block", "frame", "compliant"])
+def test_to_dataframe_round_trips_the_histories(model, assert_round_trip):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", FutureWarning)
+        if model == "compliant":
+            cb = CompliantBlock.from_frequency(width=0.4, height=2.0, mass=1.0, omega_v=100.0,
+                                               zeta=2.0)  # fmt: skip
+            res = simulate_compliant(cb, t_end=0.05, theta0_over_alpha=0.3, dt_out=0.005)
+        else:
+            m = (RockingBlock(width=0.4, height=2.0) if model == "block"
+                 else RockingFrame(width=0.4, height=2.0, gamma=1.0))  # fmt: skip
+            res = simulate_rocking(m, t_end=1.0, theta0_over_alpha=0.5, dt_out=0.01)
+    assert_round_trip(res)
+    df = res.to_dataframe()
+    assert df["theta_rad"].iloc[0] == pytest.approx(0.3 * res.alpha if model == "compliant"
+                                                    else 0.5 * res.alpha, rel=1e-12)  # fmt: skip
+
+
+def test_missing_pandas_names_the_extra(monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "pandas", None)  # import pandas now raises ImportError
+    res = simulate_rocking(RockingBlock(width=0.4, height=2.0), t_end=0.1, dt_out=0.01)
+    with pytest.raises(ImportError, match=r"nsdyn\[frames\]"):
+        res.to_dataframe()
