@@ -8,14 +8,13 @@ and the keys on this page are the same.
 
 from __future__ import annotations
 
-import importlib
-
-KINDS = ("isolated", "rocking", "contact", "cylinder")  # as nsdyn.models.scenefile.KINDS
-
 
 def schemas():
-    """The schema of every scene kind, in the order of ``KINDS``."""
-    return [importlib.import_module(f"nsdyn.models.{k}.scene_keys").SCHEMA for k in KINDS]
+    """The schema of every scene kind, in the order of ``nsdyn.models.scenefile.KINDS``."""
+    from nsdyn.models.scene_schema import schema_of
+    from nsdyn.models.scenefile import KINDS
+
+    return [schema_of(k) for k in KINDS]
 
 
 def page() -> str:
@@ -30,7 +29,8 @@ def page() -> str:
         "its range is refused with the file, the `table.key` and the expected form.",
         "",
         "This page is generated from the schemas the scene readers check files against",
-        "(`nsdyn/models/<kind>/scene_keys.py`), so it lists exactly what the readers accept.",
+        "(`nsdyn/models/<kind>/scene_keys.py`, beside each reader), so it lists exactly what",
+        "the readers accept.",
         "Example scenes of every kind are in `examples/scenes/`.",
         "",
         "| kind | what it models | tables |",

@@ -10,12 +10,17 @@ reference is generated from these schemas (``Schema.markdown()``), and a test ch
 key a reader accepts is in the reference and every key of the reference is accepted, so the
 docs and the readers cannot drift.
 
+Each family's schema is the ``SCHEMA`` of the module beside its scene reader, named after it
+with ``_keys`` (``nsdyn.models.rocking.scene`` -> ``nsdyn.models.rocking.scene_keys``);
+:func:`schema_of` finds it for a ``[scene] kind``.
+
 A key's range is declared as bounds ``lo <= v`` / ``lo < v`` and ``v <= hi`` / ``v < hi``
 (``lo_open``, ``hi_open``) or as ``choices``; :meth:`Key.range_text` writes it for people.
 """
 
 from __future__ import annotations
 
+import importlib
 from dataclasses import dataclass, field
 
 NO_DEFAULT = object()  # a key that has no default (optional, or required if ``required``)
@@ -140,3 +145,11 @@ class Schema:
         for note in self.notes:
             lines += [note, ""]
         return "\n".join(lines)
+
+
+def schema_of(kind: str) -> Schema:
+    """The schema of the scene kind ``kind`` (``SCHEMA`` of its reader's ``_keys`` module)."""
+    from nsdyn.models import scenefile
+
+    reader = getattr(scenefile, "SCENE_MODULES", {}).get(kind, f"nsdyn.models.{kind}.scene")
+    return importlib.import_module(reader + "_keys").SCHEMA

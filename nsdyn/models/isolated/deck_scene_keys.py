@@ -1,0 +1,139 @@
+"""The keys of a deck scene (``[scene] kind = "deck"``): bidirectional isolators in a plane.
+
+Declared once as a :class:`~nsdyn.models.scene_schema.Schema`, beside the reader
+(:mod:`nsdyn.models.isolated.deck_scene`); the documentation's scene-file reference is
+generated from it, and ``tests/docs/test_scene_reference.py`` checks it against the reader's
+behaviour both ways. ``[motion]`` is a three-component table read by
+:mod:`nsdyn.ground.table3` (a record, or a harmonic orbit of one of four shapes).
+"""
+
+from __future__ import annotations
+
+from nsdyn.models.isolated.defaults import EPS, ETA
+from nsdyn.models.scene_schema import Key, Schema, Table
+
+_POS = {"lo": 0.0, "lo_open": True}  # > 0
+_NONNEG = {"lo": 0.0}  # >= 0
+
+_T_END = Key("t_end", "number", "end of the run (or `n_periods`; one is required)", "s", **_POS)
+_ORBIT_COMMON = (
+    Key("kind", "string", "a harmonic orbit", required=True, choices=("orbit",)),
+    Key("frequency", "number", "frequency f of the horizontal orbit", "Hz", required=True, **_POS),
+    Key("vertical_amplitude", "number", "amplitude of a vertical harmonic", "m/s²", default=0.0,
+        **_NONNEG),
+    Key("vertical_frequency", "number", "its frequency", "Hz", default="(f)", **_POS),
+    Key("vertical_phase", "number", "its phase", "deg", default=0.0),
+    _T_END,
+    Key("n_periods", "number", "duration in periods (or `t_end`)", "—", **_POS),
+)  # fmt: skip
+
+
+def _orbit(shape: str, meaning: str, *keys: Key) -> Table:
+    orbit = Key("orbit", "string", "the orbit's shape", required=True, choices=(shape,))
+    return Table("motion", meaning, (*_ORBIT_COMMON[:1], orbit, *_ORBIT_COMMON[1:], *keys),
+                 variant=f'`kind = "orbit"`, `orbit = "{shape}"`')  # fmt: skip
+
+
+_AMPLITUDE = Key("amplitude", "number", "amplitude A of the ground acceleration", "m/s²",
+                 required=True)  # fmt: skip
+_ANGLE = Key("angle", "number", "direction of the line (major axis) from x", "deg", default=0.0)
+_SENSE = Key("sense", "integer", "sense of rotation: +1 counter-clockwise, −1 clockwise",
+             default=1, choices=(1, -1))  # fmt: skip
+
+SCHEMA = Schema(
+    "deck",
+    "bidirectional isolators: a rigid deck or a mass sliding in a plane",
+    "A rigid deck on friction pendulum or flat sliding bearings that slide in two horizontal "
+    "directions, or a single mass on one bearing, under a three-component record or a "
+    "harmonic orbit. Give `[deck]` or `[mass]`, one `[bearing]` for every isolator and a "
+    "`[motion]`.",
+    (
+        Table("scene", "The family and a name.", (
+            Key("kind", "string", "the model family", required=True, choices=("deck",)),
+            Key("name", "string", "a name for outputs and titles", default="(the file's stem)"),
+        )),
+        Table("deck", "A rigid deck on isolators (or `[mass]`).", (
+            Key("m", "number", "mass of the deck", "kg", required=True, **_POS),
+            Key("J", "number", "polar inertia about the centre of mass", "kg m²",
+                default="(m (L_x² + L_y²)/12 of the isolators' plan extent)", **_POS),
+            Key("positions", "list of [x, y]", "plan positions [X, Y] of the isolators", "m",
+                required=True),
+            Key("ecc", "list of numbers", "[e_x, e_y]: centre of mass from the plan origin", "m",
+                default=(0.0, 0.0)),
+            Key("h", "number", "height of the centre of mass above the sliding surfaces", "m",
+                default=0.0, **_NONNEG),
+        )),
+        Table("mass", "A single mass on one isolator (or `[deck]`).", (
+            Key("m", "number", "the mass", "kg", required=True, **_POS),
+        )),
+        Table("bearing", "One bearing for every isolator: a friction pendulum (`radius`) or a "
+              "flat slider (`k_lam`, `c`), with a displacement capacity and its restrainer rim.", (
+            Key("type", "string", "friction pendulum or flat slider",
+                default="(fps with a radius, else flat)", choices=("fps", "flat")),
+            Key("mu", "number", "friction coefficient (or `mu_slow`, `mu_fast`, `rate`)", "—",
+                **_NONNEG),
+            Key("mu_slow", "number", "kinetic coefficient at low slip speed", "—", **_NONNEG),
+            Key("mu_fast", "number", "kinetic coefficient at high slip speed", "—",
+                default="(mu_slow)", **_NONNEG),
+            Key("rate", "number", "a of μ_d(|v|) = μ_fast − (μ_fast − μ_slow) exp(−a |v|)", "s/m",
+                default=0.0, **_NONNEG),
+            Key("mu_static", "number", "static coefficient of the stick disc (switch law)", "—",
+                default="(the kinetic coefficient)", range="≥ the kinetic coefficient"),
+            Key("radius", "number", "effective radius R of a friction pendulum", "m", **_POS,
+                range="required for fps, not for flat"),
+            Key("k_lam", "number", "lateral stiffness of a laminated bearing", "N/m", default=0.0,
+                **_NONNEG),
+            Key("c", "number", "viscous damper", "N s/m", default=0.0, **_NONNEG),
+            Key("d_cap", "number", "displacement capacity: the restrainer rim acts beyond it",
+                "m", default="(none)", **_POS),
+            Key("k_stop", "number", "stiffness of the rim", "N/m",
+                default="(100 × the post-slip stiffness at the static load)", **_POS),
+            Key("c_stop", "number", "damping of the rim", "N s/m",
+                default="(10 % of critical on the bearing's mass share)", **_NONNEG),
+        )),
+        Table("motion", "A three-component record: one file with two horizontal components "
+              "(and a vertical one), or one file per component.", (
+            Key("kind", "string", "a three-component record", required=True,
+                choices=("record3",)),
+            Key("record", "string", "bundled record with a second horizontal component, or a "
+                "t, ax, ay[, az] CSV (or `x`, `y`, `z`)"),
+            Key("x", "string", "record file of the x component"),
+            Key("y", "string", "record file of the y component"),
+            Key("z", "string", "record file of the vertical component (optional)"),
+            Key("units", "string", "units of the record files where their headers do not say",
+                choices=("g", "cm/s2", "m/s2")),
+            Key("dt", "number", "sample step of single-column files", "s", **_POS),
+            Key("rotate", "number", "rotate the horizontal pair by this angle", "deg",
+                default=0.0),
+            Key("trim", "boolean", "cut the components to their common time span",
+                default=False),
+            Key("vertical", "boolean", "keep the vertical component", default=True),
+            Key("pga", "number", "scale to this peak horizontal acceleration", "m/s²",
+                **_NONNEG),
+            Key("pga_component", "string", "which peak `pga` sets", default="resultant",
+                choices=("resultant", "x", "y", "geomean")),
+            Key("t_end", "number", "end of the run", "s", default="(the record's end)", **_POS),
+        ), variant='`kind = "record3"`'),
+        _orbit("linear", "A harmonic ground acceleration along a line.", _AMPLITUDE, _ANGLE),
+        _orbit("circular", "A circular orbit of the ground acceleration.", _AMPLITUDE, _SENSE),
+        _orbit("elliptical", "An elliptical orbit: `amplitude` along the major axis.",
+               _AMPLITUDE,
+               Key("amplitude_minor", "number", "amplitude along the minor axis", "m/s²",
+                   required=True),
+               _ANGLE, _SENSE),
+        _orbit("general", "Two harmonics of one frequency, along x and y with a phase.",
+               Key("amplitude_x", "number", "amplitude along x", "m/s²", required=True),
+               Key("amplitude_y", "number", "amplitude along y", "m/s²", required=True),
+               Key("phase_y", "number", "phase of y after x", "deg", default=90.0)),
+        Table("solver", "The friction law and the integrator's tolerances.", (
+            Key("law", "string", "switch law with a stick disc, or the regularised arctan law",
+                default="switch", choices=("switch", "arctan")),
+            Key("eps", "number", "sharpness ε of the arctan law", "s/m", default=EPS, **_POS),
+            Key("eta", "number", "stick band η of the switch law", "m/s", default=ETA, **_POS),
+            Key("rtol", "number", "relative tolerance", "—", default=1e-6, **_POS),
+            Key("atol", "number", "absolute tolerance (displacements and velocities)", "m, m/s",
+                default=1e-8, **_POS),
+            Key("dt_out", "number", "output step", "s", **_POS),
+        )),
+    ),
+)  # fmt: skip
