@@ -218,5 +218,6 @@ def test_spectrum_nan_says_not_found_up_to_a_max():
     from nsdyn.models.rocking.spectra import overturning_spectrum
 
     with ThreadPoolExecutor(1) as ex:
-        sp = overturning_spectrum(RockingBlock(0.15, 0.6), [1.0], executor=ex, a_max=1.05)
+        blk = RockingBlock(width=0.3, height=1.2)
+        sp = overturning_spectrum(blk, [1.0], executor=ex, a_max=1.05)
     assert math.isnan(sp.a_min_ratio[0]) and sp.status == ["no overturning up to a_max"]

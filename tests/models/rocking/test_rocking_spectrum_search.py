@@ -21,7 +21,7 @@ import pytest
 from nsdyn.models.rocking import RockingBlock
 from nsdyn.models.rocking.spectra import STATUS, _overturns, overturning_spectrum
 
-BLOCK = RockingBlock(0.15, 0.6)
+BLOCK = RockingBlock(width=0.3, height=1.2)
 
 
 @pytest.mark.parametrize("x", [1.5, 3.0])
