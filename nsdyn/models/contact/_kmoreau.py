@@ -84,7 +84,8 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
     Returns
     -------
     t (nout,), q (nout, 3), v (nout, 3), mode (nout,), n_done (steps taken), status
-    (0 done, 1 overturned, -1 LCP failure, -2 non-finite state), t_stop
+    (0 done, 1 overturned, -1 LCP failure, -2 non-finite state), t_stop, first (time of the
+    first step whose mode is not rest, -1 if none; that mode), at every step whatever stride
     """
     # borrowed views (nsdyn._kborrow) of the arguments: no atomic reference counts per step
     verts, minv, par, ex, tab_h, tab_v, jumps = kb.borrowed(
@@ -114,6 +115,7 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
     md_o[0] = step_mode(q, v, np.zeros(nc), Wn0, Wt0, verts, g_tol, v_tol, on, slipping)
     if abs(q[2]) >= par[5]:
         md_o[0] = OVERTURNED
+    first = np.array([t0 if md_o[0] != REST else -1.0, float(md_o[0])])  # first non-rest step
     io = 1
     sig = np.zeros(nc)
     status = 0
@@ -161,6 +163,9 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
             break
         over = abs(q[2]) >= par[5]
         md = step_mode(q, v, PN, Wn, Wt, verts, g_tol, v_tol, on, slipping)
+        if first[0] < 0.0 and (md != REST or over):
+            first[0] = t
+            first[1] = OVERTURNED if over else md
         if k % stride == 0 or over:
             if io < nout:
                 t_o[io] = t
@@ -171,4 +176,4 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
         if over:
             status = 1
             break
-    return t_o[:io], q_o[:io], v_o[:io], md_o[:io], k, status, t
+    return t_o[:io], q_o[:io], v_o[:io], md_o[:io], k, status, t, first

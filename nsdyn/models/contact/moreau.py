@@ -46,15 +46,16 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
     n = int(round(t_end / h))
     stride = max(1, int(round((dt_out or h) / h)))
     L = par[6]
-    t, qs, vs, md, k, status, t_stop = km.moreau(
+    t, qs, vs, md, k, status, t_stop, first = km.moreau(
         q, v, 0.0, h, n, theta, e_n, body.contacts, body.minv, par, mo.ex, mo.tab_h, mo.tab_v,
         _sorted_jumps(mo.jumps), stride,
         MODE_G_TOL * L, MODE_V_TOL * math.sqrt(g * L))  # fmt: skip
     if status < 0:
         raise RuntimeError(f"Moreau-Jean: {STATUS[status]} at t = {t_stop:.9g} s")
+    first_change = (float(first[0]), int(first[1])) if first[0] >= 0.0 else None
     res = ContactResult(t, qs, vs, md, "moreau", body.contacts.mean(axis=0), body.theta_ov,
                         0, t_stop if status == 1 else None, [], k, k, body.contacts,
-                        MODE_G_TOL * L)  # fmt: skip
+                        MODE_G_TOL * L, first_change)  # fmt: skip
     res.n_impacts = _count_impacts(res, body, L)
     return res
 

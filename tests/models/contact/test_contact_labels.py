@@ -50,6 +50,9 @@ def test_first_motion_from_rest_under_a_step_starts_at_t0(beta, mu, abar):
     mj = simulate_moreau(body, law, mo, t_end=0.05, h=h)
     assert mj.first_motion() == onset_mode(beta, mu, abar)
     assert mj.t_first_motion() <= h * (1 + 1e-12)
+    coarse = simulate_moreau(body, law, mo, t_end=0.05, h=h, dt_out=0.01)  # every 10th step
+    assert coarse.first_motion() == mj.first_motion()
+    assert coarse.t_first_motion() == mj.t_first_motion()
     assert ev.summary()["t_first_motion_s"] == 0.0
 
 
