@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nsdyn.periodic.protocol import check_frequency
 from nsdyn.periodic.sweeps import stagnated
 
 UNI_TOL = 1e-4  # steady-state test of the unilateral sweep (relative change per period)
@@ -76,8 +77,8 @@ def unilateral_steady_state(
     t_start = time.perf_counter()
     if problem.system is None:
         raise ValueError("the unilateral sweep needs a frame problem (frame_problem(system, A))")
+    T = 1.0 / check_frequency(f)
     P, _ = problem.at(f)
-    T = 1.0 / f
     n = problem.system.n
     x = np.array(x0_full, dtype=float)
     op = None if open0 is None else np.asarray(open0, dtype=np.int64)

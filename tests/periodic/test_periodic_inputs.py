@@ -97,3 +97,14 @@ def test_sequential_continuation_rejects_unordered_frequencies():
         pr.continue_sequential(prob, [0.3, 0.2, 0.1])
     with pytest.raises(ValueError, match=r"^fmax: expected a frequency above fmin"):
         pr.log_frequencies(1.0, 0.5, 10)
+
+
+@pytest.mark.parametrize("f", [-1.0, 0.0, math.nan])
+def test_unilateral_sweep_rejects_a_frequency_that_is_not_positive(frame, f):
+    import numpy as np
+
+    from nsdyn.models.isolated.system import build_system
+
+    s = build_system(frame, Isolation(), fidelity="rigid")
+    with pytest.raises(ValueError, match=r"^f: expected a finite forcing frequency > 0"):
+        pr.unilateral_steady_state(pr.frame_problem(s, 1.0), f, np.zeros(2 * s.n))
