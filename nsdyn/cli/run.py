@@ -162,18 +162,21 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     """``nsdyn run`` on a scene of another model family (``[scene] kind``)."""
     import importlib
 
-    from nsdyn.models.scenefile import SceneError
+    from nsdyn.models.scenefile import SceneError, scene_module
 
     bad = [f"--{k.replace('_', '-')}" for k in _ISOLATED_ONLY if getattr(args, k, None)]
     if bad:
         raise SceneError(f"{args.scene}: {', '.join(bad)} apply to isolated-frame scenes only")
     for table, vals in _scene_overrides(args).items():
         cfg.setdefault(table, {}).update(vals)
-    mod = importlib.import_module(f"nsdyn.models.{kind}.scene")
+    mod = importlib.import_module(scene_module(kind))
     with output_dir(Path(args.out)) as out:
         s = mod.run_scene(
             cfg, source=str(args.scene), out_dir=out, figures=not args.no_figures, quiet=args.json
         )
+        fig_mod = getattr(mod, "FIGURE_MODULE", None)  # figures drawn by a later stage (plot)
+        if fig_mod and not args.no_figures:
+            s["files"] += importlib.import_module(fig_mod).scene_figures(s, out)
     if args.json:
         print(json.dumps(s))
         return 0

@@ -15,7 +15,9 @@ import tomllib
 from collections.abc import Mapping
 from pathlib import Path
 
-KINDS = ("isolated", "rocking", "contact", "cylinder")  # [scene] kind -> nsdyn.models.<kind>
+KINDS = ("isolated", "rocking", "contact", "cylinder", "deck")  # [scene] kind -> its runner
+# kinds whose runner is not nsdyn.models.<kind>.scene (a family's package holds it)
+SCENE_MODULES = {"deck": "nsdyn.models.isolated.deck_scene"}
 
 
 class SceneError(ValueError):
@@ -66,6 +68,11 @@ def check_fields(cfg: Mapping, fields: Mapping, source: str) -> None:
         for key in vals:
             if key not in fields[table]:
                 raise unknown_key(source, f"{table}.", key, fields[table])
+
+
+def scene_module(kind: str) -> str:
+    """Dotted name of the module with the ``run_scene`` of a scene kind."""
+    return SCENE_MODULES.get(kind, f"nsdyn.models.{kind}.scene")
 
 
 def scene_kind(cfg: Mapping, source: str = "<scene>") -> str:

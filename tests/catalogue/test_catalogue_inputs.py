@@ -59,6 +59,12 @@ def _load(kind: str, path: Path):
         from nsdyn.models.cylinder.scene import build
 
         return build(cfg, str(path))
+    if kind == "deck":
+        from nsdyn.models.isolated.deck_scene import build_motion, build_solver, build_system
+
+        build_system(cfg, str(path))
+        build_solver(cfg, str(path))
+        return build_motion(cfg, str(path))
     raise AssertionError(kind)
 
 
@@ -82,6 +88,8 @@ COMPL = "rocking-seed001-compliant.toml"
 RFRAME = "rocking-seed003-frame.toml"
 CONTACT = "contact-seed002-A5.toml"
 CYL = "cylinder-uplift.toml"
+DECK = "deck-fps4-3c.toml"
+SDOF2 = "sdof-bidirectional-circular.toml"
 
 SCENE_ROWS = [
     # --- TOML syntax, unknown kind (every kind shares read_toml / scene_kind)
@@ -401,11 +409,42 @@ SCENE_ROWS = [
         'record = "nosuch"',
         [r"motion\.record", "synthetic-wn-40s"],
     ),
+    # --- deck on bidirectional isolators
+    ("deck-radius-zero", DECK, "radius = 2.2 ", "radius = 0.0 ", [r"bearing\.radius", "positive"]),
+    ("deck-radius-negative", DECK, "radius = 2.2 ", "radius = -2.2 ", [r"bearing\.radius"]),
+    (
+        "deck-static-below-kinetic",
+        DECK,
+        "mu_static = 0.075",
+        "mu_static = 0.05",
+        [r"bearing\.mu_static", "kinetic"],
+    ),
+    ("deck-dcap-small", DECK, "d_cap = 0.35 ", "d_cap = 0.1 ", [r"bearing\.d_cap", "mu_s R"]),
+    ("deck-missing-m", DECK, "m = 2.0e6 ", "# m = 2.0e6 ", [r"deck\.m", "missing"]),
+    ("deck-misspelt", DECK, "ecc = [", "ecx = [", [r"deck\.ecx", "'ecc'"]),
+    ("deck-law", DECK, 'law = "switch"', 'law = "coulomb"', [r"solver\.law", "switch"]),
+    (
+        "deck-positions-line",
+        DECK,
+        "positions = [[-10.0, -6.0], [10.0, -6.0], [10.0, 6.0], [-10.0, 6.0]]",
+        "positions = [[-10.0, 0.0], [0.0, 0.0], [10.0, 0.0]]",
+        [r"deck\.positions", "one line"],
+    ),
+    ("deck-record-missing", DECK, '"synthetic-wn-40s"', '"nosuch"', [r"motion\.record"]),
+    ("sdof-missing-mu", SDOF2, "mu = 0.03", "# mu = 0.03", [r"bearing\.mu", "missing"]),
+    ("sdof-fps-no-radius", SDOF2, 'type = "flat"', 'type = "fps"', [r"bearing\.radius"]),
+    (
+        "sdof-frequency-negative",
+        SDOF2,
+        "frequency = 0.4 ",
+        "frequency = -0.4 ",
+        [r"motion\.frequency"],
+    ),
 ]
 
 
 def _kind(example: str) -> str:
-    return example.split("-")[0]
+    return "deck" if example.startswith("sdof-") else example.split("-")[0]
 
 
 @pytest.mark.parametrize("row", [pytest.param(r, id=r[0]) for r in SCENE_ROWS])

@@ -29,11 +29,13 @@ and with two or more the deck is held (q̈ = −κ q̇) and the stick forces are
 """
 
 import math
+from pathlib import Path
 
 import numpy as np
 from numba import njit
 
 from nsdyn._klinalg import lu_factor, lu_solve
+from nsdyn._numba_cache import drop_stale
 from nsdyn.models.isolated.bearings import (
     B_C,
     B_CSTOP,
@@ -44,6 +46,16 @@ from nsdyn.models.isolated.bearings import (
     B_MUSLOW,
     B_RATE,
     B_RINV,
+)
+
+# the time loop (_kplanerun) compiles these kernels, the shared tableau and LU and the bearing
+# table's column numbers into its own cache: drop both caches when any of them changes
+_HERE = Path(__file__).resolve().parent
+drop_stale(
+    _HERE,
+    ["_kplane", "_kplanerun"],
+    [_HERE / f for f in ("_kplane.py", "_kplanerun.py", "bearings.py")]
+    + [_HERE.parents[1] / f for f in ("_kdp5.py", "_klinalg.py")],
 )
 
 LAW_ARCTAN, LAW_SWITCH = 0, 1
@@ -218,25 +230,27 @@ def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
             r5[a] = fv[a] if a < 3 else 0.0
             for b in range(5):
                 K5[a, b] = Am[a, b] if (a < 3 and b < 3) else 0.0
-        # A q̈ + B_sᵀ τ = r,  B_s q̈ = −κ B_s q̇
-        K5[0, 3] = 1.0
-        K5[1, 4] = 1.0
-        K5[2, 3] = -Y
-        K5[2, 4] = X
-        K5[3, 0] = 1.0
-        K5[3, 2] = -Y
-        K5[4, 1] = 1.0
-        K5[4, 2] = X
+        # A q̈ + B_sᵀ τ = r,  B_s q̈ = −κ B_s q̇, the constraint rows and τ scaled by the mass
+        # sc = M[0, 0] (else the Schur complement ~ 1/m falls below the LU's pivot floor)
+        sc = M[0, 0]
+        K5[0, 3] = sc
+        K5[1, 4] = sc
+        K5[2, 3] = -Y * sc
+        K5[2, 4] = X * sc
+        K5[3, 0] = sc
+        K5[3, 2] = -Y * sc
+        K5[4, 1] = sc
+        K5[4, 2] = X * sc
         _, _, vx, vy = slip_kinematics(y, pos, ist)
-        r5[3] = -kap * vx
-        r5[4] = -kap * vy
+        r5[3] = -kap * vx * sc
+        r5[4] = -kap * vy * sc
         if not lu_factor(K5, piv, 1e-14):
             return ST_SINGULAR
         lu_solve(K5, piv, r5)
         for a in range(3):
             qdd[a] = r5[a]
-        Ff[ist, 0] = r5[3]
-        Ff[ist, 1] = r5[4]
+        Ff[ist, 0] = r5[3] * sc
+        Ff[ist, 1] = r5[4] * sc
     else:
         for a in range(3):
             qdd[a] = -kap * y[3 + a]
@@ -289,3 +303,65 @@ def rhs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, dy):
         dy[a] = y[3 + a]
         dy[3 + a] = qdd[a]
     return st
+
+
+@njit(cache=True, error_model="numpy")
+def start_direction(i, tx, ty, mu_n, Am, pos, dirs):
+    """Direction d_i in which a stuck isolator starts to slip when its stick force
+    τ = (tx, ty) leaves the disc: the one in which it then accelerates (maximum dissipation).
+
+    Released, the slip point accelerates by a = W (τ − μ N d) with W = B_i A⁻¹ B_iᵀ (A the
+    deck's matrix ``Am`` of :func:`evaluate` with isolator i stuck); a ∥ d, a·d > 0 gives
+    d = (λ W⁻¹ + μN I)⁻¹ τ with the λ >= 0 that makes |d| = 1 (|d| falls monotonically from
+    |τ|/μN > 1 at λ = 0), found by bisection. A single mass (W = I/m) gives d = τ/|τ|.
+    Writes ``dirs[i]``."""
+    X = pos[i, 0]
+    Y = pos[i, 1]
+    A3 = np.empty((3, 3))
+    for a in range(3):
+        for b in range(3):
+            A3[a, b] = Am[a, b]
+    piv = np.zeros(3, dtype=np.int64)
+    tn = math.sqrt(tx * tx + ty * ty)
+    if not lu_factor(A3, piv, 1e-14) or not mu_n > 0.0 or not tn > mu_n:
+        dirs[i, 0] = tx / tn
+        dirs[i, 1] = ty / tn
+        return
+    cx = np.array([1.0, 0.0, -Y])
+    cy = np.array([0.0, 1.0, X])
+    lu_solve(A3, piv, cx)
+    lu_solve(A3, piv, cy)
+    w11 = cx[0] - Y * cx[2]  # W = B A⁻¹ Bᵀ
+    w21 = cx[1] + X * cx[2]
+    w12 = cy[0] - Y * cy[2]
+    w22 = cy[1] + X * cy[2]
+    det = w11 * w22 - w12 * w21
+    v11, v12, v21, v22 = w22 / det, -w12 / det, -w21 / det, w11 / det  # W⁻¹
+    lo, hi = 0.0, 1.0 / (abs(w11) + abs(w22))
+    dx = tx / tn
+    dy = ty / tn
+    for _ in range(200):  # grow hi until |d(hi)| < 1
+        k11, k12, k21, k22 = hi * v11 + mu_n, hi * v12, hi * v21, hi * v22 + mu_n
+        kd = k11 * k22 - k12 * k21
+        ex = (k22 * tx - k12 * ty) / kd
+        ey = (-k21 * tx + k11 * ty) / kd
+        if ex * ex + ey * ey < 1.0:
+            break
+        lo = hi
+        hi *= 2.0
+    for _ in range(100):
+        lam = 0.5 * (lo + hi)
+        k11, k12, k21, k22 = lam * v11 + mu_n, lam * v12, lam * v21, lam * v22 + mu_n
+        kd = k11 * k22 - k12 * k21
+        ex = (k22 * tx - k12 * ty) / kd
+        ey = (-k21 * tx + k11 * ty) / kd
+        if ex * ex + ey * ey < 1.0:
+            hi = lam
+        else:
+            lo = lam
+            dx, dy = ex, ey
+        if hi - lo <= 1e-15 * hi:
+            break
+    r = math.sqrt(dx * dx + dy * dy)
+    dirs[i, 0] = dx / r
+    dirs[i, 1] = dy / r

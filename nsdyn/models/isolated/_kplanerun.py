@@ -9,7 +9,9 @@ Switch law with a stick disc: every isolator is in a mode (stick, slip, slip-sta
 between events; the switching functions, each crossing from > 0 to <= 0, are
 
     slip        g = |v| − η                    → stick test
-    slip-start  g = η − |v|                    → slip
+    slip-start  g = 2η − |v|                   → slip (START_EXIT: a slip-start entered at
+                                                 |v| = η after a failed stick test leaves it
+                                                 only once its own direction dominates)
                 g = v·d                        → stick test (the start reverses)
     stick       g = μ_s N − |τ|                → slip-start, d = τ/|τ|
 
@@ -30,14 +32,18 @@ from numba import njit
 
 from nsdyn import _kdp5 as dp
 from nsdyn.models.isolated import _kplane as kp
-from nsdyn.models.isolated.bearings import B_DCAP, B_MUS
+from nsdyn.models.isolated.bearings import B_DCAP, B_MUS, B_MUSLOW
 
 ST_OK, ST_UNDERFLOW, ST_MAX_STEPS, ST_NONFINITE, ST_SINGULAR = 0, 1, 2, 3, 4
 ST_UPLIFT, ST_CHATTER, ST_EVENTS = 5, 6, 7
 EVENT_TTOL = 1e-11  # s, width of the located event bracket
 SAMPLES = 4  # dense-output samples per step scanned for a sign change
 STICK_RTOL = 1e-9  # relative slack of the disc test |τ| <= μ_s N
-SETTLE_PASSES = 64  # stuck isolators released one by one after an event, at most
+START_EXIT = 2.0  # a slip-start becomes a slip at |v| = this x eta (entered at |v| <= eta)
+RESTICK_MARGIN = 1e-6  # a slip-start held by a stuck deck sticks below (1 - this) mu_d(0) N
+SETTLE_PASSES = 64
+ALIGN_PASSES = 100  # fixed-point passes aligning slip-start directions with their accelerations
+ALIGN_TOL = 1e-12  # stuck isolators released one by one after an event, at most
 BURST_DT = 1e-8  # s, events closer than this count as one burst
 MAX_BURST = 200  # events in one burst before reporting chattering
 H_MIN = 1e-14  # relative step floor
@@ -55,11 +61,12 @@ def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
     """Switching functions (ni, 2) at (t, y); stuck isolators need one evaluation."""
     qdd, N, Ff, Fr, Fo = out
     ni = pos.shape[0]
-    stuck = False
+    nst = 0
     for i in range(ni):
-        stuck = stuck or modes[i] == kp.MODE_STICK
+        if modes[i] == kp.MODE_STICK:
+            nst += 1
     st = kp.ST_OK
-    if stuck:
+    if nst > 0:
         st = kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
     eta = sp[kp.S_ETA]
     for i in range(ni):
@@ -69,8 +76,9 @@ def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
         if modes[i] == kp.MODE_SLIP:
             g[i, 0] = speed - eta
         elif modes[i] == kp.MODE_START:
-            g[i, 0] = eta - speed
-            g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
+            g[i, 0] = START_EXIT * eta - speed
+            if nst < 2:  # (two stuck isolators hold the deck: v = 0, no reversal to see)
+                g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
         else:
             g[i, 0] = bp[i, B_MUS] * N[i] - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
     return st
@@ -95,6 +103,31 @@ def _dense_state(rc, s, ys):
 def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
     """Release stuck isolators outside their disc, worst first; returns a status."""
     qdd, N, Ff, Fr, Fo = out
+    nst = 0
+    for i in range(pos.shape[0]):
+        if modes[i] == kp.MODE_STICK:
+            nst += 1
+    if nst >= 2:  # a held deck: its slip-starts, stopped by the others, stick again if
+        # their stick force falls below the kinetic level mu_d(0) N (1 - RESTICK_MARGIN)
+        cand = np.zeros(pos.shape[0], dtype=np.bool_)
+        for i in range(pos.shape[0]):
+            if modes[i] == kp.MODE_START:
+                _, _, vx, vy = kp.slip_kinematics(y, pos, i)
+                if math.sqrt(vx * vx + vy * vy) <= sp[kp.S_ETA]:
+                    modes[i] = kp.MODE_STICK
+                    cand[i] = True
+        if np.any(cand):
+            st = kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
+                             Fr, Fo)  # fmt: skip
+            if st != kp.ST_OK:
+                return ST_SINGULAR
+            for i in range(pos.shape[0]):
+                if cand[i]:
+                    tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
+                    if tau <= bp[i, B_MUSLOW] * N[i] * (1.0 - RESTICK_MARGIN):
+                        _record(EV, info, t, i, kp.MODE_START, kp.MODE_STICK, dirs)
+                    else:
+                        modes[i] = kp.MODE_START
     for _ in range(SETTLE_PASSES):
         st = kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
         if st != kp.ST_OK:
@@ -110,13 +143,47 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
                     ratio = r
                     worst = i
         if worst < 0:
-            return ST_OK
-        tau = math.sqrt(Ff[worst, 0] ** 2 + Ff[worst, 1] ** 2)
-        dirs[worst, 0] = Ff[worst, 0] / tau
-        dirs[worst, 1] = Ff[worst, 1] / tau
+            return align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
+        kp.start_direction(worst, Ff[worst, 0], Ff[worst, 1],
+                           kp.mu_kinetic(bp, worst, 0.0) * N[worst], ws[0], pos, dirs)  # fmt: skip
         _record(EV, info, t, worst, kp.MODE_STICK, kp.MODE_START, dirs)
         modes[worst] = kp.MODE_START
     return ST_CHATTER
+
+
+@njit(cache=True, error_model="numpy")
+def align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
+    """Slip-start directions consistent with the deck's motion: each d_i along the
+    acceleration a_i = B_i q̈ its slip point gets with every friction in place (fixed-point
+    iteration; one isolator alone is consistent already, several released together are not)."""
+    qdd, N, Ff, Fr, Fo = out
+    ni = pos.shape[0]
+    nst = 0
+    nsl = 0
+    for i in range(ni):
+        if modes[i] == kp.MODE_STICK:
+            nst += 1
+        elif modes[i] == kp.MODE_START:
+            nsl += 1
+    if nsl == 0 or nst >= 2:  # none to align, or a held deck
+        return ST_OK
+    for _ in range(ALIGN_PASSES):
+        st = kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+        if st != kp.ST_OK:
+            return ST_SINGULAR
+        change = 0.0
+        for i in range(ni):
+            if modes[i] == kp.MODE_START:
+                ax = qdd[0] - pos[i, 1] * qdd[2]
+                ay = qdd[1] + pos[i, 0] * qdd[2]
+                an = math.sqrt(ax * ax + ay * ay)
+                if an > 0.0 and ax * dirs[i, 0] + ay * dirs[i, 1] > 0.0:
+                    change = max(change, abs(ax / an - dirs[i, 0]) + abs(ay / an - dirs[i, 1]))
+                    dirs[i, 0] = ax / an
+                    dirs[i, 1] = ay / an
+        if change <= ALIGN_TOL:
+            break
+    return ST_OK
 
 
 @njit(cache=True, error_model="numpy")
@@ -154,9 +221,8 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
     for i in range(ni):  # every decision on the mode before the event
         m0 = modes[i]
         if m0 == kp.MODE_STICK and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
-            tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
-            dirs[i, 0] = Ff[i, 0] / tau
-            dirs[i, 1] = Ff[i, 1] / tau
+            kp.start_direction(i, Ff[i, 0], Ff[i, 1], kp.mu_kinetic(bp, i, 0.0) * N[i], ws[0],
+                               pos, dirs)  # fmt: skip
             modes[i] = kp.MODE_START
         elif m0 == kp.MODE_START and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
             modes[i] = kp.MODE_SLIP

@@ -1,0 +1,198 @@
+"""``nsdyn run`` on deck scenes (``[scene] kind = "deck"``): bidirectional isolators in a plane.
+
+Tables:
+
+* ``[deck]`` a rigid deck: ``m`` [kg], ``J`` [kg m²] (polar inertia about the centre of mass;
+  default m (L_x² + L_y²)/12 of the isolators' plan extent), ``positions`` [[X, Y], …] [m],
+  ``ecc`` [e_x, e_y] [m] (centre of mass from the plan origin), ``h`` [m] (its height above the
+  sliding surfaces); or ``[mass]`` ``m`` [kg]: a single mass on one isolator (SDOF in x, y);
+* ``[bearing]`` one bearing for every isolator (:func:`nsdyn.models.isolated.bearings.
+  bearing_from_config`): ``type`` "fps" (``radius`` R [m]) or "flat" (``k_lam`` [N/m],
+  ``c`` [N s/m]); friction ``mu``, or ``mu_slow``, ``mu_fast``, ``rate`` [s/m]; ``mu_static``;
+  ``d_cap`` [m]; ``k_stop`` [N/m], ``c_stop`` [N s/m];
+* ``[motion]`` a three-component record (``kind = "record3"``) or a harmonic orbit
+  (``kind = "orbit"``), the keys of :mod:`nsdyn.ground.table3`;
+* ``[solver]`` ``law`` ("switch" | "arctan"), ``eps`` [s/m], ``eta`` [m/s], ``rtol``,
+  ``atol`` [m and m/s], ``dt_out`` [s].
+
+Writes ``deck.npz`` (histories) into the output directory; the summary
+(:meth:`nsdyn.models.isolated.plane_result.PlaneResult.summary`, units in the key names) is what
+``nsdyn run`` prints. The figure is drawn by :mod:`nsdyn.plot.isolators` from ``deck.npz``.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.atomic import atomic_open
+from nsdyn.models.isolated.bearings import BEARING_KEYS, BearingError, bearing_from_config
+from nsdyn.models.isolated.deck import rigid_deck, sdof_plane, simulate_plane
+from nsdyn.models.isolated.defaults import EPS, ETA
+from nsdyn.models.scenefile import SceneError, check_fields, number
+
+TABLES = {
+    "scene": {"kind", "name"},
+    "deck": {"m", "J", "positions", "ecc", "h"},
+    "mass": {"m"},
+    "bearing": BEARING_KEYS,
+    "motion": None,  # checked by nsdyn.ground.table3
+    "solver": {"law", "eps", "eta", "rtol", "atol", "dt_out"},
+}
+FIGURE_MODULE = "nsdyn.plot.isolators"  # draws the figure from deck.npz (a later stage)
+RTOL = 1e-6
+ATOL = 1e-8
+
+
+def _pairs(source: str, name: str, v) -> np.ndarray:
+    ok = isinstance(v, list) and v and all(
+        isinstance(p, list) and len(p) == 2
+        and all(isinstance(a, int | float) and not isinstance(a, bool) for a in p)
+        for p in v
+    )  # fmt: skip
+    if not ok:
+        raise SceneError(f"{source}: {name}: expected a list of [X, Y] pairs [m], got {v!r}")
+    return np.array(v, dtype=float)
+
+
+def build_system(cfg: dict, source: str):
+    """The :class:`PlaneSystem` of a scene (SceneError naming the field)."""
+    check_fields({k: v for k, v in cfg.items() if k != "motion"},
+                 {k: v for k, v in TABLES.items() if v is not None}, source)  # fmt: skip
+    if ("deck" in cfg) == ("mass" in cfg):
+        raise SceneError(f"{source}: deck: expected one table, [deck] (a rigid deck on "
+                         "isolators) or [mass] (a mass on one isolator)")  # fmt: skip
+    if "bearing" not in cfg:
+        raise SceneError(f"{source}: bearing: missing; expected a [bearing] table "
+                         "(type, radius, mu, d_cap, …)")  # fmt: skip
+    try:
+        bearing = bearing_from_config(cfg["bearing"], "bearing")
+        if "mass" in cfg:
+            t = cfg["mass"]
+            if "m" not in t:
+                raise SceneError(f"{source}: mass.m: missing; expected the mass [kg]")
+            return sdof_plane(number(source, "mass.m", t["m"]), bearing, name="mass")
+        t = cfg["deck"]
+        for key in ("m", "positions"):
+            if key not in t:
+                what = "the mass [kg]" if key == "m" else "the isolators' [X, Y] positions [m]"
+                raise SceneError(f"{source}: deck.{key}: missing; expected {what}")
+        m = number(source, "deck.m", t["m"])
+        pos = _pairs(source, "deck.positions", t["positions"])
+        ext = pos.max(axis=0) - pos.min(axis=0)
+        J = number(source, "deck.J", t.get("J", m * float(ext @ ext) / 12.0))
+        ecc = t.get("ecc", [0.0, 0.0])
+        if not (isinstance(ecc, list) and len(ecc) == 2):
+            raise SceneError(f"{source}: deck.ecc: expected [e_x, e_y] [m], got {ecc!r}")
+        ecc = tuple(number(source, "deck.ecc", e, positive=False) for e in ecc)
+        h = number(source, "deck.h", t.get("h", 0.0), allow_zero=True)
+        return rigid_deck(m, J, pos, bearing, ecc=ecc, h=h, name="deck")
+    except BearingError as e:
+        raise SceneError(f"{source}: {e}") from None
+
+
+def build_motion(cfg: dict, source: str):
+    """(excitation, t_end) from ``[motion]`` (a GroundMotion3 or a HarmonicPlane)."""
+    from nsdyn.ground.table3 import motion3_from_table
+
+    if "motion" not in cfg or not isinstance(cfg["motion"], dict):
+        raise SceneError(f"{source}: motion: missing; expected a [motion] table (kind = "
+                         "'record3' or 'orbit')")  # fmt: skip
+    try:
+        exc, dur = motion3_from_table(cfg["motion"], source)
+    except ValueError as e:
+        raise SceneError(" ".join(str(e).split())) from None
+    if "n_periods" in dur:
+        return exc, dur["n_periods"] / exc.f
+    return exc, dur.get("t_end")
+
+
+def build_solver(cfg: dict, source: str) -> dict:
+    t = cfg.get("solver", {})
+    law = t.get("law", "switch")
+    if law not in ("switch", "arctan"):
+        raise SceneError(f"{source}: solver.law: expected 'switch' or 'arctan', got {law!r}")
+    kw = {"law": law}
+    for key, default in (("eps", EPS), ("eta", ETA), ("rtol", RTOL), ("atol", ATOL)):
+        kw[key] = number(source, f"solver.{key}", t.get(key, default))
+    kw["atol"] = (kw["atol"], kw["atol"])
+    if "dt_out" in t:
+        kw["dt_out"] = number(source, "solver.dt_out", t["dt_out"])
+    return kw
+
+
+def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:
+    """Run a deck scene; writes ``deck.npz`` into ``out_dir``; returns the summary."""
+    system = build_system(cfg, source)
+    exc, t_end = build_motion(cfg, source)
+    kw = build_solver(cfg, source)
+    name = cfg.get("scene", {}).get("name", Path(source).stem)
+    say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
+    say(f"deck: {name}: {system.n_isolators} isolator(s), law {kw['law']}, "
+        f"{getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
+    w0 = time.perf_counter()
+    simulate_plane(system, {"f": 1.0, "ax": 0.0, "ay": 0.0}, t_end=0.04, law=kw["law"])  # compile
+    compile_s = time.perf_counter() - w0
+    w0 = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = simulate_plane(system, exc, t_end=t_end, **kw)
+    wall = time.perf_counter() - w0
+    for w in caught:
+        say(f"deck: warning: {w.message}")
+    s = res.summary()
+    out_dir = Path(out_dir)
+    npz = out_dir / "deck.npz"
+    caps = np.array([b.d_cap for b in system.bearings])
+    with atomic_open(npz, "wb") as fh:
+        np.savez(fh, t=res.t, q=res.q, qd=res.qd, u=res.u, N=res.N, friction=res.friction,
+                 restoring=res.restoring, other=res.other, modes=res.modes, events=res.events,
+                 positions=system.positions, d_cap=caps)  # fmt: skip
+    s.update({"kind": "deck", "name": name, "motion": getattr(exc, "name", type(exc).__name__),
+              "wall_s": wall, "compile_s": compile_s, "files": [str(npz)],
+              "warnings": [str(w.message) for w in caught]})  # fmt: skip
+    say(f"deck: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
+    return s
+
+
+ROWS = (
+    ("peak_resultant_displacement_m", "peak |u| (resultant)", "m"),
+    ("peak_component_displacement_m", "peak component of u", "m"),
+    ("residual_displacement_m", "residual |u|", "m"),
+    ("peak_resultant_friction_N", "peak |friction|", "N"),
+    ("peak_resultant_restoring_N", "peak |restoring|", "N"),
+    ("peak_torsion_rad", "peak deck torsion", "rad"),
+    ("min_normal_force_N", "min normal force", "N"),
+    ("max_normal_force_N", "max normal force", "N"),
+    ("stick_fraction", "stick fraction", ""),
+    ("events", "switch events", ""),
+    ("steps", "steps", ""),
+    ("t_end_s", "duration", "s"),
+    ("wall_s", "run time", "s"),
+    ("compile_s", "compile/load time", "s"),
+)
+
+
+def format_summary(s: dict) -> str:
+    """A short human table of a deck run, every number with its unit; rim contacts and uplift
+    first (never silent)."""
+    lines = [f"deck {s.get('name', '')}: law {s['law']}, {s['n_isolators']} isolator(s)"]
+    for c in s.get("rim_contacts", []):
+        lines.append(f"  RIM CONTACT isolator {c['isolator']} at t = {c['t_first_s']:.4g} s, "
+                     f"peak overshoot {c['peak_overshoot_m']:.4g} m")  # fmt: skip
+    if s.get("uplift"):
+        u = s["uplift"]
+        lines.append(f"  UPLIFT isolator {u['isolator']} at t = {u['t_s']:.6g} s (run ended)")
+    for k, label, unit in ROWS:
+        v = s.get(k)
+        if v is None:
+            continue
+        text = f"{v:.6g}" if isinstance(v, float) and math.isfinite(v) else str(v)
+        lines.append(f"  {label:22s} {text}" + (f" {unit}" if unit else ""))
+    lines.extend(f"  {'file':22s} {f}" for f in s.get("files", []))
+    return "\n".join(lines)

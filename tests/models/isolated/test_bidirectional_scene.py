@@ -1,0 +1,90 @@
+"""Deck scenes (``[scene] kind = "deck"``) through ``nsdyn run``: summary, histories, figure.
+
+Source: the scene reader's contract (the library run of the same system gives the same numbers;
+the summary's keys carry their units) and the displacement capacity of a friction pendulum
+(the rim stop is reported, never silent).
+"""
+
+from __future__ import annotations
+
+import json
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from nsdyn.models.isolated import deck_scene as ds
+from nsdyn.models.isolated.deck import simulate_plane
+from nsdyn.models.scenefile import SceneError
+
+ROOT = Path(__file__).resolve().parents[3]
+SCENES = ROOT / "examples" / "scenes"
+
+
+def _cfg(name: str) -> dict:
+    return tomllib.loads((SCENES / name).read_text())
+
+
+def test_sdof_circular_scene_equals_the_library_run(tmp_path):
+    cfg = _cfg("sdof-bidirectional-circular.toml")
+    s = ds.run_scene(cfg, source="sdof.toml", out_dir=tmp_path, figures=False, quiet=True)
+    system = ds.build_system(cfg, "sdof.toml")
+    exc, t_end = ds.build_motion(cfg, "sdof.toml")
+    res = simulate_plane(system, exc, t_end=t_end, dt_out=0.01)
+    assert s["peak_resultant_displacement_m"] == res.summary()["peak_resultant_displacement_m"]
+    assert t_end == pytest.approx(12 / 0.4, rel=1e-15)  # n_periods / f
+    for key in (
+        "peak_resultant_displacement_m",
+        "peak_resultant_friction_N",
+        "peak_resultant_restoring_N",
+        "peak_torsion_rad",
+        "residual_displacement_m",
+    ):
+        assert np.isfinite(s[key]), key  # fmt: skip
+    # resultant, not the larger component: a circular orbit's resultant exceeds each component
+    assert s["peak_resultant_displacement_m"] > 1.05 * s["peak_component_displacement_m"]
+    # friction: the disc bounds the resultant by mu m g
+    assert s["peak_resultant_friction_N"] <= 0.03 * 1.0e5 * system.g * (1 + 1e-9)
+    with np.load(tmp_path / "deck.npz") as z:
+        assert z["u"].shape == (z["t"].size, 1, 2)
+    json.dumps(s)  # the summary is JSON (nsdyn run --json)
+
+
+def test_rim_contact_is_in_the_summary_and_the_printed_table(tmp_path):
+    cfg = _cfg("sdof-bidirectional-circular.toml")
+    cfg["bearing"] = {"type": "fps", "radius": 1.0, "mu": 0.02, "d_cap": 0.05}
+    cfg["motion"].update(frequency=0.5, amplitude=1.5)
+    s = ds.run_scene(cfg, source="rim.toml", out_dir=tmp_path, figures=False, quiet=True)
+    assert s["rim_contacts"] and s["rim_contacts"][0]["peak_overshoot_m"] > 0
+    assert any("displacement capacity" in w for w in s["warnings"])
+    assert "RIM CONTACT isolator 0" in ds.format_summary(s)
+
+
+def test_deck_scene_figure(tmp_path):
+    pytest.importorskip("matplotlib")
+    from nsdyn.plot.isolators import scene_figures
+
+    cfg = _cfg("deck-fps4-3c.toml")
+    cfg["motion"]["t_end"] = 4.0
+    s = ds.run_scene(cfg, source="deck.toml", out_dir=tmp_path, figures=True, quiet=True)
+    assert s["n_isolators"] == 4 and len(s["peak_resultant_displacement_per_isolator_m"]) == 4
+    files = scene_figures(s, tmp_path)
+    assert Path(files[0]).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_cli_runs_a_deck_scene_and_prints_json(tmp_path, capsys):
+    from nsdyn.cli.app import main
+
+    rc = main(["run", str(SCENES / "sdof-bidirectional-circular.toml"), "--out",
+               str(tmp_path / "out"), "--json", "--no-figures"])  # fmt: skip
+    assert rc == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["kind"] == "deck" and s["law"] == "switch"
+
+
+def test_a_bearing_error_names_the_file_and_field():
+    cfg = _cfg("deck-fps4-3c.toml")
+    cfg["bearing"]["radius"] = -1.0
+    with pytest.raises(SceneError, match=r"^deck\.toml: bearing\.radius: expected a positive"):
+        ds.build_system(cfg, "deck.toml")
