@@ -129,11 +129,12 @@ def _sub(A, r, c):
     return A[r][:, c] if sp.issparse(A) else A[np.ix_(r, c)]
 
 
-def _interior_modes(Kii, Mii, f_max, n_modes):
-    """Lowest eigenpairs of ``Kii phi = w^2 Mii phi``, mass-normalised, by f_max / count."""
+def _interior_modes(Kii, Mii, f_max, n_modes, dense_max=DENSE_MAX):
+    """Lowest eigenpairs of ``Kii phi = w^2 Mii phi``, mass-normalised, by f_max / count;
+    dense up to ``dense_max`` internal dofs, else sparse shift-invert Lanczos."""
     n = Kii.shape[0]
     w2_max = (2 * np.pi * f_max) ** 2 if f_max is not None and np.isfinite(f_max) else np.inf
-    if n <= DENSE_MAX or (n_modes is None and not np.isfinite(w2_max)):
+    if n <= dense_max or (n_modes is None and not np.isfinite(w2_max)):
         lam, V = sla.eigh(_dense(Kii), _dense(Mii))
     else:
         Kii, Mii = sp.csc_array(Kii), sp.csc_array(Mii)
@@ -190,6 +191,7 @@ def craig_bampton(
     f_max: float,
     zeta: float | Sequence[float],
     r: np.ndarray | None = None,
+    dense_max: int = DENSE_MAX,
 ) -> CBModel:
     """Craig–Bampton reduction (Craig & Bampton, AIAA J. 6(7):1313-1319, 1968).
 
@@ -208,6 +210,10 @@ def craig_bampton(
     r : ndarray, shape (n, 2), optional
         Full influence vectors (columns horizontal, vertical). Default: boundary dofs are
         node triples ``(x, y, theta)``, i.e. ``r_b`` = 1 at every 1st / 2nd boundary dof.
+        Any number of columns (e.g. x, y, z rigid translations of a space frame).
+    dense_max : int
+        Fixed-interface modes by dense ``eigh`` up to this many internal dofs, above it by
+        sparse shift-invert Lanczos (no dense matrix of the internal size).
 
     Returns
     -------
@@ -230,7 +236,7 @@ def craig_bampton(
         Psi = -lu.solve(_dense(Kib))
     else:
         Psi = -sla.solve(Kii, Kib, assume_a="sym")
-    omega, Phi = _interior_modes(Kii, _sub(M, i, i), f_max, None)
+    omega, Phi = _interior_modes(Kii, _sub(M, i, i), f_max, None, dense_max)
     nm = len(omega)
     T = np.zeros((n, nb + nm))
     T[b, np.arange(nb)] = 1.0
