@@ -33,7 +33,7 @@ from dataclasses import replace
 from functools import lru_cache
 from pathlib import Path
 
-from nsdyn.models.scenefile import SceneError, scene_kind
+from nsdyn.models.scenefile import SceneError, scene_kind, scene_module
 
 ERROR_CHARS = 400  # longest error text kept in a failed row
 FIXED_DT = 0.005  # s, the fixed-step methods' step when a scene gives none (records of 200 Hz)
@@ -134,7 +134,7 @@ def _run_isolated(cfg: dict, source: str) -> dict:
         system = _isolated_system(cfg, source)
         motion = scene_motion(cfg)
     sv = cfg["solver"]
-    method = sv.get("method", "radau")
+    method = sv.get("method", "auto")
     if method == "event" and system.isolation is not None:
         system = replace(system, isolation=replace(system.isolation, law="switch"), _static=None)
     atol = sv.get("atol")
@@ -162,7 +162,7 @@ def _run_isolated(cfg: dict, source: str) -> dict:
 
 
 def _run_other(kind: str, cfg: dict, source: str) -> dict:
-    mod = importlib.import_module(f"nsdyn.models.{kind}.scene")
+    mod = importlib.import_module(scene_module(kind))
     cfg = copy.deepcopy(cfg)
     with tempfile.TemporaryDirectory(prefix="nsdyn-task-") as tmp:
         sim = cfg.get("motion", {}).pop("simulated", None)
@@ -180,6 +180,7 @@ _BUILDERS = {  # the functions of a family's scene module that read and check a 
     "rocking": ("build_model", "build_motion", "build_solver"),
     "contact": ("build",),
     "cylinder": ("build",),
+    "deck": ("build_system", "build_motion", "build_solver"),
 }
 
 
@@ -191,7 +192,7 @@ def check_scene(cfg: dict, source: str) -> None:
     if kind == "isolated":
         _check_isolated(cfg, source)
         return
-    mod = importlib.import_module(f"nsdyn.models.{kind}.scene")
+    mod = importlib.import_module(scene_module(kind))
     cfg = copy.deepcopy(cfg)
     sim = cfg.get("motion", {}).pop("simulated", None)
     if sim is not None:  # any record stands for it: its own fields were checked with the study
@@ -223,11 +224,11 @@ def _check_isolated(cfg: dict, source: str) -> None:
     except ValueError as e:
         raise SceneError(str(e)) from None
     sv = cfg.get("solver", {})
-    method = sv.get("method", "radau")
-    if method not in METHODS:
+    method = sv.get("method", "auto")
+    if method != "auto" and method not in METHODS:  # auto: chosen from the model (simulate)
         raise SceneError(
-            f"{source}: solver.method: unknown integrator {method!r}; expected one of "
-            f"{sorted(METHODS)}"
+            f"{source}: solver.method: unknown integrator {method!r}; expected 'auto' or one "
+            f"of {sorted(METHODS)}"
         )
     if "structure" in cfg:
         build_structure(cfg, iso, source)

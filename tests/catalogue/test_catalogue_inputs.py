@@ -805,6 +805,23 @@ scene = "{SCENES / CASK}"
     assert str(p) in msg
 
 
+def test_bad_parameter_of_a_deck_study_is_refused(tmp_path):
+    # a study of the deck on friction pendulums: its tasks' scenes are checked by the deck
+    # reader (bearing tables, three-component motion)
+    from nsdyn.studies.study import load_study
+
+    text = f"""
+[study]
+scene = "{SCENES / "deck-fps4-3c.toml"}"
+[parameters]
+"bearing.radius" = [2.2, 0.0]
+"""
+    p = _write(tmp_path, "deck.toml", text)
+    msg = _expect(SceneError, lambda: load_study(p), r"task 1 \(bearing\.radius = 0, record ",
+                  r"radius", "positive")  # fmt: skip
+    assert str(p) in msg
+
+
 def test_good_study_loads(tmp_path):
     # the base of every study row is itself valid (each row fails for its one defect only)
     from nsdyn.studies.study import load_study
@@ -881,7 +898,7 @@ N_INPUT_CASES = (
     + 2
     + len(FRAME_SCENE_ROWS)
     + 3  # empty scene files
-    + 3  # empty study, garbage record, another kind's parameter
+    + 4  # empty study, garbage record, another kind's parameter, a deck study's
     + 1  # f_max = inf accepted
     + len(TABLE_ROWS)
 )
