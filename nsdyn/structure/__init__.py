@@ -21,9 +21,22 @@ from nsdyn.structure.reduction import (
     mode_type,
     reduce_frame,
 )
+from nsdyn.structure.reduction3d import CBModel3D, craig_bampton_3d
+from nsdyn.structure.storey3d import (
+    StoreyDrifts,
+    accidental_eccentricity,
+    floor_motions,
+    storey_drifts_3d,
+)
 
 __all__ = [
     "CBModel",
+    "CBModel3D",
+    "StoreyDrifts",
+    "accidental_eccentricity",
+    "craig_bampton_3d",
+    "floor_motions",
+    "storey_drifts_3d",
     "Diaphragm",
     "Frame3D",
     "Modes3D",
