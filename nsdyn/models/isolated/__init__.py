@@ -1,6 +1,8 @@
 """The isolated frame (seed 004): a frame on friction isolators, every fidelity one system.
 
 ``M q̈ + C* q̇ + K* q = −M Γ ü + Rᵀλ − Σ D_iᵀ μ_i s_i λ_i``, ``R q̈ + 2αβ R q̇ + α² R q = 0``.
+Isolators that slide in a plane (a disc of friction, friction pendulums, a rigid deck):
+``bearings``, ``deck`` (``simulate_plane``).
 
 The names below load on first use, so that light modules (``defaults``, ``friction``) can be
 imported by the command line without compiling or importing the kernels.
@@ -16,6 +18,12 @@ _API = {
     "rigid_body_modes": "nsdyn.models.isolated.system",
     "shear_building": "nsdyn.models.isolated.builders",
     "system_from_matrices": "nsdyn.models.isolated.builders",
+    "Bearing": "nsdyn.models.isolated.bearings",
+    "Friction": "nsdyn.models.isolated.bearings",
+    "PlaneSystem": "nsdyn.models.isolated.deck",
+    "rigid_deck": "nsdyn.models.isolated.deck",
+    "sdof_plane": "nsdyn.models.isolated.deck",
+    "simulate_plane": "nsdyn.models.isolated.deck",
 }
 
 __all__ = sorted(_API)
