@@ -7,6 +7,7 @@ usage error or a validation error of the command, never a traceback.
 
 from __future__ import annotations
 
+import json
 import re
 import subprocess
 import sys
@@ -253,6 +254,28 @@ def test_failed_run_leaves_nothing_behind(tmp_path, monkeypatch, capsys):
     assert sorted(p.name for p in mine.iterdir()) == ["notes.txt"]
 
 
+def test_study_with_failed_tasks_names_them_and_fails(tmp_path, monkeypatch, capsys):
+    # a task that fails while it runs (the office frame at PGA 40 m/s² lifts off its
+    # isolators) is a row of the table, named on the console with its reason; the study's
+    # status is 3, not success
+    monkeypatch.chdir(tmp_path)
+    study = STUDY.replace('"isolation.mu" = [0.02, 0.05]', '"motion.pga" = [3.0, 40.0]')
+    (tmp_path / "s.toml").write_text(study)
+    argv = ["study", "s.toml", "--out", "o", "--workers", "1", "--no-figures"]
+    rc, err = _rc_and_err(argv, capsys)
+    assert rc == 3, err
+    named = [ln for ln in err.splitlines() if ln.startswith("failed  task")]
+    assert len(named) == 1, err
+    assert re.match(r"failed  task 1 \(motion\.pga = 40, record synthetic-wn-40s\): "
+                    r"UpliftError: uplift at t = ", named[0]), named[0]  # fmt: skip
+    assert "--retry-failed" in err and "Traceback" not in err
+    rc = main([*argv, "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert rc == 3
+    assert [f["index"] for f in out["run"]["failed"]] == [1]
+    assert out["run"]["failed"][0]["error"].startswith("UpliftError: ")
+
+
 def test_uplift_warn_is_one_clean_line(tmp_path):
     # uplift = "warn": the run goes on and says so once, without Python's warning format
     # (no source path, no code line); the summary's outcome line says it as well. A process
@@ -273,4 +296,4 @@ def test_uplift_warn_is_one_clean_line(tmp_path):
     assert proc.stdout.startswith("outcome UPLIFT at t = "), proc.stdout
 
 
-N_CLI_CASES = len(CLI_ROWS) + len(FILE_ROWS) + 2
+N_CLI_CASES = len(CLI_ROWS) + len(FILE_ROWS) + 3
