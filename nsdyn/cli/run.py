@@ -74,8 +74,8 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--friction", choices=["arctan", "switch", "none"], help="friction law")
     p.add_argument(
         "--method",
-        help="integrator: radau, dopri5, event (adaptive); genalpha, hht, newmark, "
-        "genalpha-lowrank (fixed step, --dt)",
+        help="integrator: auto (default: chosen from the model, reason printed), radau, "
+        "dopri5, event (adaptive); genalpha, hht, newmark, genalpha-lowrank (fixed step, --dt)",
     )
     p.add_argument(
         "--dt",
@@ -282,7 +282,14 @@ def run(args: argparse.Namespace) -> int:
             f_max=advice.f_max or 5.0,
         )
     sv = cfg["solver"]
-    method = sv.get("method", "radau")
+    method = sv.get("method", "auto")
+    reason = ""
+    if method == "auto":  # by the model's size, friction law and contact; said in one line
+        from nsdyn.solve.auto import choose_for_system
+
+        method, reason = choose_for_system(system)
+        if not args.json:
+            print(f"method  {reason}", file=sys.stderr)
     _check_method(method, cfg)
     from nsdyn.solve.methods import METHODS
 
@@ -350,6 +357,7 @@ def run(args: argparse.Namespace) -> int:
         if not issubclass(w.category, UpliftWarning):
             warnings.showwarning(w.message, w.category, w.filename, w.lineno)
     s = res.summary()
+    s["method_reason"] = reason or s.get("method_reason", "")
     s["compile_s"] = float(s["compile_s"]) + compile_s
     s["record"] = getattr(motion, "name", s["excitation"])
     if hasattr(motion, "pga"):

@@ -203,3 +203,154 @@ def run_steps(t, t_steps, u_all, W, A0, state, ops, par, out, max_steps):
         t = t_steps[k]
     kb.alive(y_own)
     return t
+
+
+# ---- the "operators" backend: sparse products and triangular solves in the loop -------------
+
+
+@njit(cache=True, error_model="numpy")
+def csr_matvec(indptr, indices, data, x, out):
+    """out = A x for A in CSR form."""
+    for i in range(out.shape[0]):
+        s = 0.0
+        for k in range(indptr[i], indptr[i + 1]):
+            s += data[k] * x[indices[k]]
+        out[i] = s
+
+
+@njit(cache=True, error_model="numpy")
+def lu_solve_sparse(lu, b, work, x):
+    """x = S^-1 b from SuperLU's factors ``Pr S Pc = L U`` (``lu = (Lp, Li, Lx, Up, Ui, Ux,
+    Ud, perm_r, perm_c)``: L unit lower and U upper in CSC form, ``Ud`` U's diagonal)."""
+    Lp, Li, Lx, Up, Ui, Ux, Ud, perm_r, perm_c = lu
+    n = b.shape[0]
+    for i in range(n):
+        work[perm_r[i]] = b[i]
+    for j in range(n):  # L y = Pr b (unit diagonal)
+        wj = work[j]
+        if wj != 0.0:
+            for k in range(Lp[j], Lp[j + 1]):
+                i = Li[k]
+                if i > j:
+                    work[i] -= Lx[k] * wj
+    for j in range(n - 1, -1, -1):  # U z = y
+        wj = work[j] / Ud[j]
+        work[j] = wj
+        if wj != 0.0:
+            for k in range(Up[j], Up[j + 1]):
+                i = Ui[k]
+                if i < j:
+                    work[i] -= Ux[k] * wj
+    for i in range(n):
+        x[i] = work[perm_c[i]]
+
+
+@njit(cache=True, error_model="numpy")
+def lu_solve_rows(lu, B, X):
+    """Row k of X = S^-1 (row k of B), for every row."""
+    work = np.empty(B.shape[1])
+    for k in range(B.shape[0]):
+        lu_solve_sparse(lu, B[k], work, X[k])
+
+
+@njit(cache=True, error_model="numpy")
+def _lowrank_apply(U, w, s):
+    """s = U^T w."""
+    for j in range(U.shape[1]):
+        s[j] = 0.0
+    for i in range(U.shape[0]):
+        wi = w[i]
+        for j in range(U.shape[1]):
+            s[j] += U[i, j] * wi
+
+
+@njit(cache=True, error_model="numpy")
+def _lowrank_add(U, s, out, sign):
+    """out += sign U s."""
+    for i in range(U.shape[0]):
+        acc = 0.0
+        for j in range(U.shape[1]):
+            acc += U[i, j] * s[j]
+        out[i] += sign * acc
+
+
+@njit(cache=True, error_model="numpy")
+def linear_part(q, v, a, u, lin, lr, y, r, work, s1, s2, A0):
+    """A0 = -S_M^-1 (W [q; v; a] + M Gamma u + U diag(c) U^T (v + ka_v a)) with the
+    Woodbury correction of the low-rank damping (:mod:`nsdyn.solve.sparse`)."""
+    Wp, Wi, Wx, MG, lu = lin
+    U, c, kav, Z, capi = lr
+    n, m = q.shape[0], c.shape[0]
+    copy_vec(y[:n], q)
+    copy_vec(y[n : 2 * n], v)
+    copy_vec(y[2 * n :], a)
+    csr_matvec(Wp, Wi, Wx, y, r)
+    for i in range(n):
+        r[i] += MG[i, 0] * u[0] + MG[i, 1] * u[1]
+    if m:
+        for i in range(n):
+            work[i] = v[i] + kav * a[i]
+        _lowrank_apply(U, work, s1)
+        for j in range(m):
+            s1[j] *= c[j]
+        _lowrank_add(U, s1, r, 1.0)
+    lu_solve_sparse(lu, r, work, A0)
+    if m:
+        _lowrank_apply(U, A0, s1)
+        for j in range(m):
+            acc = 0.0
+            for k in range(m):
+                acc += capi[j, k] * s1[k]
+            s2[j] = acc
+        _lowrank_add(Z, s2, A0, -1.0)
+    for i in range(n):
+        A0[i] = -A0[i]
+
+
+@njit(cache=True, error_model="numpy")
+def run_steps_ops(t, t_steps, u_all, lin, lr, A0, state, ops, par, out, max_steps):
+    """The steps ending at ``t_steps`` (one step size) of the ``"operators"`` backend: the
+    linear part by :func:`linear_part`, the rest by :func:`step`. Returns the time reached."""
+    q, v, a = state[0], state[1], state[2]
+    stats = out[3]
+    n, m = q.shape[0], lr[1].shape[0]
+    y, r, work = np.empty(3 * n), np.empty(n), np.empty(n)
+    s1, s2 = np.empty(m), np.empty(m)
+    for k in range(t_steps.shape[0]):
+        if stats[ki.S_NOUT] >= out[0].shape[0]:
+            break
+        if stats[ki.S_NSTEP] >= max_steps:
+            stats[ki.S_STATUS] = ki.ST_MAX_STEPS
+            break
+        linear_part(q, v, a, u_all[k], lin, lr, y, r, work, s1, s2, A0)
+        _, stop = step(t, t_steps[k], A0, state, ops, par, out)
+        if stop:
+            break
+        t = t_steps[k]
+    return t
+
+
+@njit(cache=True, error_model="numpy")
+def accelerations_rows(X, u, lin0, lr0, A0):
+    """Row k of A0 = -M^-1 (W0 x_k + M Gamma u_k + U diag(c) U^T qd_k) for the states
+    ``x_k = [q; qd]`` (rows of ``X``): the linear part of the accelerations along a history
+    (``lin0 = (W0 CSR = [K*, C], M Gamma, M's LU)``, ``lr0 = (U, c)``)."""
+    Wp, Wi, Wx, MG, lu = lin0
+    U, c = lr0
+    nt, n = A0.shape
+    m = c.shape[0]
+    r, work, s1 = np.empty(n), np.empty(n), np.empty(m)
+    for k in range(nt):
+        x = X[k]
+        csr_matvec(Wp, Wi, Wx, x, r)
+        for i in range(n):
+            r[i] += MG[i, 0] * u[k, 0] + MG[i, 1] * u[k, 1]
+        if m:
+            _lowrank_apply(U, x[n:], s1)
+            for j in range(m):
+                s1[j] *= c[j]
+            _lowrank_add(U, s1, r, 1.0)
+        row = A0[k]
+        lu_solve_sparse(lu, r, work, row)
+        for i in range(n):
+            row[i] = -row[i]

@@ -27,9 +27,20 @@ so Newton runs on the Schur complement only: the contact rows are linear and giv
 LU solve when the kernel matrices are sparse (``BACKEND_DENSITY``). Laws: arctan and none
 (live or frozen normal forces); the switch law is rejected (use ``radau`` or ``event``).
 
+Full-order models in nodal coordinates (:mod:`nsdyn.models.isolated.fullorder`) are never
+multiplied by ``M^-1`` (dense): the ``"operators"`` backend factors the sparse
+``S_M = (1 - am) M + c1 K* + c2 C_s`` once (SuperLU, ``S = M^-1 S_M``) and adds the low-rank
+modal damping ``c2 U diag(c) U^T`` by the Woodbury identity::
+
+    S_M^-1 b = y - Z (diag(1 / (c2 c)) + U^T Z)^-1 U^T y,   y = S_s^-1 b,  Z = S_s^-1 U
+
+so a step costs sparse products, one sparse triangular solve pair and O(n m) for m damped
+modes; ``A0 = S_M^-1 (-am M a - K* qt - C* vt - M Gamma u)`` and ``G = S_M^-1 [R^T, -D^T]``
+(the kernel's step is the same).
+
 This module factors and caches the operators (:class:`Stepper`); the steps themselves run in
 the numba kernel :mod:`nsdyn.solve._klowrank` (the whole loop with the dense backend; with the
-sparse one, SuperLU gives ``A0`` here and the kernel does the rest of each step).
+sparse ones, SuperLU gives ``A0`` here and the kernel does the rest of each step).
 """
 
 from __future__ import annotations
@@ -50,6 +61,7 @@ METHOD = "genalpha-lowrank"  # registry name
 RHO_INF = 0.8  # default spectral radius at infinity (as the dense genalpha)
 BACKEND_DENSITY = 0.05  # sparse LU when nnz(MiK, MiC) / (2 n^2) is below this
 SPARSE_MIN_N = 50  # below this many dofs the dense backend is always used
+PERMC_SPECS = ("MMD_AT_PLUS_A", "COLAMD")  # SuperLU orderings tried; the sparser factors win
 CACHE_SIZE = 4  # factorisations kept (one per step size and model) across chunked calls
 
 _CACHE: list = []  # most recent Stepper first
@@ -90,6 +102,8 @@ class Stepper:
     setup_s: float
     Lam: np.ndarray = None  # lam per unit phi from the contact rows: RGr^-1 RGd
     Wp: np.ndarray = None  # sliding velocity per unit phi (/ c2): DGr Lam - DGd
+    lin: tuple = None  # "operators": (W CSR, M Gamma, LU factors) of _klowrank.linear_part
+    lr: tuple = None  # "operators": (U, c, ka_v, Z, capacitance^-1), the low-rank damping
 
     @classmethod
     def build(cls, P: tuple, h: float, coef: tuple, backend: str = "auto") -> Stepper:
@@ -141,6 +155,61 @@ class Stepper:
 
         else:
             raise ValueError(f"backend: expected 'auto', 'dense' or 'sparse', got {backend!r}")
+        return cls._finish(P, h, coef, backend, apply, W, G, R, D, t0)
+
+    @classmethod
+    def build_operators(cls, P: tuple, ops, h: float, coef: tuple) -> Stepper:
+        """The ``"operators"`` backend on a full-order model's ``ops`` (:class:`FullOps`)."""
+        import scipy.sparse as sp
+
+        t0 = time.perf_counter()
+        am, af, beta, gamma = coef
+        mo, R, D = ops.model, ops.R, ops.D
+        c1, c2 = (1.0 - af) * beta * h * h, (1.0 - af) * gamma * h
+        kq, ka_q = (1.0 - af) * h, (1.0 - af) * h * h * (0.5 - beta)
+        ka_v = (1.0 - af) * h * (1.0 - gamma)
+        S = sp.csc_array((1.0 - am) * mo.M + c1 * mo.K + c2 * mo.C)
+        lu = _sparse_lu(S, h)
+        U, c = mo.U, mo.c
+        low = c.size and c2 > 0.0
+        m = c.size if low else 0
+        Z, cap_inv = np.zeros((mo.n, 0)), np.zeros((0, 0))
+        if low:
+            Z = np.ascontiguousarray(lu.solve(np.asfortranarray(U)))
+            cap_inv = np.ascontiguousarray(np.linalg.inv(np.diag(1.0 / (c2 * c)) + U.T @ Z))
+
+        def solve(b):
+            y = lu.solve(b)
+            if low:
+                y -= Z @ (cap_inv @ (U.T @ y))
+            return y
+
+        # -rhs = W [q; v; a] + M Gamma u + U diag(c) U^T (v + ka_v a)   (module text)
+        W = sp.hstack([mo.K, kq * mo.K + mo.C, am * mo.M + ka_q * mo.K + ka_v * mo.C], format="csr")
+        MG = np.ascontiguousarray(mo.M @ ops.Gamma)
+        n = mo.n
+        y3 = np.empty(3 * n)
+
+        def apply(q, v, a, u):
+            y3[:n], y3[n : 2 * n], y3[2 * n :] = q, v, a
+            r = W @ y3
+            r += MG @ u
+            if c.size:
+                r += U @ (c * (U.T @ (v + ka_v * a)))
+            return -solve(r)
+
+        B = np.hstack([R.T, -D.T])
+        G = np.ascontiguousarray(solve(B)) if B.shape[1] else np.zeros((n, 0))
+        st = cls._finish(P, h, coef, "operators", apply, None, G, R, D, t0)
+        W.sort_indices()
+        st.lin = (W.indptr.astype(np.int64), W.indices.astype(np.int64), W.data, MG,
+                  lu_arrays(lu))  # fmt: skip
+        Uk = np.ascontiguousarray(U[:, :m]) if m else np.zeros((n, 0))
+        st.lr = (Uk, np.ascontiguousarray(c[:m]), float(ka_v), Z, cap_inv)
+        return st
+
+    @classmethod
+    def _finish(cls, P, h, coef, backend, apply, W, G, R, D, t0) -> Stepper:
         nc = R.shape[0]
         if not np.all(np.isfinite(G)):
             raise FloatingPointError(f"{METHOD}: singular iteration matrix at step {h:g} s")
@@ -158,18 +227,57 @@ class Stepper:
         return cls(P, h, coef, backend, apply, W, G, RGr_inv, RGd, DGr, DGd, dt_s, Lam, Wp)
 
     def matches(self, P: tuple, h: float, coef: tuple, backend: str) -> bool:
+        if backend == "operators" or self.backend == "operators":
+            same = self.P is P  # the ops tuple of a full-order model (identity)
+            ok_h = abs(self.h - h) <= 1e-12 * max(h, 1e-300)
+            return same and ok_h and self.coef == coef and backend == self.backend
         same = all(a is b for a, b in zip(self.P[: ks.I_MU + 2], P[: ks.I_MU + 2], strict=True))
         ok_backend = backend in ("auto", self.backend)
         return same and abs(self.h - h) <= 1e-12 * h and self.coef == coef and ok_backend
 
 
-def _stepper(P: tuple, h: float, coef: tuple, backend: str) -> Stepper:
-    """The factorisation of ``P`` at step ``h`` (cached: chunked runs reuse it)."""
+def _sparse_lu(S, h: float = 0.0):
+    """SuperLU of ``S`` with the fill-reducing ordering of :data:`PERMC_SPECS` that fills
+    least (the cost of every step's solve is proportional to the factors' nonzeros)."""
+    import scipy.sparse.linalg as spla
+
+    best = None
+    for spec in PERMC_SPECS:
+        try:
+            lu = spla.splu(S, permc_spec=spec)
+        except RuntimeError as e:
+            raise FloatingPointError(f"{METHOD}: singular iteration matrix at step {h:g} s") from e
+        if best is None or lu.L.nnz + lu.U.nnz < best.L.nnz + best.U.nnz:
+            best = lu
+    return best
+
+
+def lu_arrays(lu) -> tuple:
+    """SuperLU's factors ``Pr S Pc = L U`` as the arrays of
+    :func:`nsdyn.solve._klowrank.lu_solve_sparse`."""
+    L, U = lu.L.tocsc(), lu.U.tocsc()
+    L.sort_indices()
+    U.sort_indices()
+    i64 = np.int64
+    return (
+        L.indptr.astype(i64), L.indices.astype(i64), L.data, U.indptr.astype(i64),
+        U.indices.astype(i64), U.data, np.ascontiguousarray(U.diagonal()),
+        lu.perm_r.astype(i64), lu.perm_c.astype(i64),
+    )  # fmt: skip
+
+
+def _stepper(P: tuple, h: float, coef: tuple, backend: str, ops=None) -> Stepper:
+    """The factorisation of ``P`` (or of a full-order model's ``ops``) at step ``h`` (cached:
+    chunked runs reuse it)."""
+    key = P if ops is None else ops
     for k, st in enumerate(_CACHE):
-        if st.matches(P, h, coef, backend):
+        if st.matches(key, h, coef, backend):
             _CACHE.insert(0, _CACHE.pop(k))
             return st
-    st = Stepper.build(P, h, coef, backend)
+    if ops is not None:
+        st = Stepper.build_operators(ops, ops, h, coef)
+    else:
+        st = Stepper.build(P, h, coef, backend)
     _CACHE.insert(0, st)
     del _CACHE[CACHE_SIZE:]
     return st
@@ -194,7 +302,7 @@ class _Friction:
 
 def integrate(
     P, x0, t_eval, dt, *, coef=None, max_steps=10**9, uplift_mode=ki.UPLIFT_RAISE, X=None,
-    upl_t=None, backend="auto",
+    upl_t=None, backend="auto", ops=None,
 ):  # fmt: skip
     """Fixed-step generalized-alpha with the factor-once / low-rank Newton of this module.
 
@@ -206,6 +314,10 @@ def integrate(
     dt : float                   step [s]
     coef : tuple                 (am, af, beta, gamma), default genalpha at RHO_INF
     backend : {"auto", "dense", "sparse"}
+    ops : FullOps, optional      a full-order model's sparse operators
+                                 (:class:`nsdyn.solve.fullorder.FullOps`): the
+                                 ``"operators"`` backend; ``P`` then gives only the friction
+                                 law, Baumgarte parameters and the excitation
 
     Returns
     -------
@@ -216,9 +328,14 @@ def integrate(
     am, af, beta, gamma = coef
     kp = KernelParams(P)
     fr = _Friction(kp)
-    m = kp.matrices()
-    R, D = m["R"], m["D"]
-    n, nc, ni = kp.n, kp.n_contacts, kp.n_isolators
+    if ops is None:
+        m = kp.matrices()
+        R, D = m["R"], m["D"]
+        n = kp.n
+    else:
+        R, D, n = ops.R, ops.D, ops.model.n
+        backend = "operators"
+    nc, ni = R.shape[0], D.shape[0]
     nt = t_eval.shape[0]
     X = np.zeros((nt, 2 * n)) if X is None else X
     upl_t = np.full(nc, np.nan) if upl_t is None else upl_t
@@ -227,10 +344,14 @@ def integrate(
     fp = P[ks.I_FPAR]
     alpha_b, beta_b = fp[ks.F_ALPHA], fp[ks.F_BETA]
     q, v = x0[:n].copy(), x0[n:].copy()
-    qdd, lam, tau, modes = ks.outputs(P)
     t = float(t_eval[0])
     rinfo[ki.R_T], rinfo[ki.R_H], rinfo[ki.R_HNEXT] = t, dt, dt
-    ok = ks.evaluate(t, np.ascontiguousarray(x0), P, qdd, lam, tau, modes)
+    if ops is None:
+        qdd, lam, tau, modes = ks.outputs(P)
+        ok = ks.evaluate(t, np.ascontiguousarray(x0), P, qdd, lam, tau, modes)
+    else:
+        ev = ops.evaluate(P, np.array([t]), x0[None, :])
+        qdd, lam, tau, ok = ev[0][0], ev[1][0], ev[2][0], True
     stats[ki.S_NFEV] += 1
     if not (np.all(np.isfinite(x0)) and np.all(np.isfinite(qdd))):
         stats[ki.S_STATUS] = ki.ST_NONFINITE
@@ -269,12 +390,17 @@ def integrate(
     for k0, k1, h in ((0, n_steps - short, dt), (n_steps - 1, n_steps * short, h_last)):
         if k1 <= k0 or stats[ki.S_STATUS] != ki.ST_SUCCESS or stats[ki.S_NOUT] >= nt:
             continue
-        st = _stepper(P, h, coef, backend)
+        st = _stepper(P, h, coef, backend, ops)
         u = u_all[k0:k1]
         if h != dt:
             u = ks.ground_many(np.array([t + (1.0 - af) * h]), P)
             u[:, 1] += kp.g
         ops = (st.G, st.RGr_inv, st.Lam, st.DGr, st.Wp, R, D)
+        if st.lin is not None:  # full-order operators: the whole segment in the kernel
+            t = _klowrank.run_steps_ops(
+                t, t_steps[k0:k1], u, st.lin, st.lr, A0, state, ops, par, out, max_steps
+            )
+            continue
         if st.W is not None:  # dense: the whole segment in the kernel
             t = _klowrank.run_steps(t, t_steps[k0:k1], u, st.W, A0, state, ops, par, out, max_steps)
             continue

@@ -68,6 +68,7 @@ class TransientResult(Tabular):
     contact_events: list = field(default_factory=list)  # unilateral: (t, k, kind, v_n, impulse)
     open_contacts: np.ndarray | None = None  # unilateral: (nt, nc), 1 where a contact is open
     impact_energy: float = 0.0  # unilateral: kinetic energy change of the landings [J]
+    method_reason: str = ""  # why method "auto" chose the method (empty when given)
 
     def contact_summary(self) -> dict:
         """The contact assumption and what it says: ``would_lift_off`` (a normal force < 0
@@ -126,6 +127,7 @@ class TransientResult(Tabular):
                 "t_end_s": float(self.t[-1]),
                 "dt_out_s": float(self.t[1] - self.t[0]) if self.t.size > 1 else 0.0,
                 "method": self.method,
+                "method_reason": self.method_reason,
                 "uplift": [{"t_s": float(t), "contact": int(k)} for t, k in self.uplift],
                 "n_steps": int(self.n_steps),
                 "wall_s": float(self.wall_s),
@@ -263,7 +265,7 @@ def simulate(
     system: IsolatedSystem,
     motion,
     *,
-    method: str = "radau",
+    method: str = "auto",
     rtol: float = RUN_RTOL,
     atol: float | tuple | None = None,
     dt: float | None = None,
@@ -290,7 +292,10 @@ def simulate(
                             excitation or none; default for a record: its end)
     dt_out                  output step [s] (default: the record's dt, period / 100)
     x0 : ndarray (2n,)      initial state [q, qd] (default: the static equilibrium)
-    method : str            a name in :data:`nsdyn.solve.integrate.METHODS`
+    method : str            a name in :data:`nsdyn.solve.integrate.METHODS`, or "auto"
+                            (default): chosen from the model's size, friction law and
+                            contact (:func:`nsdyn.solve.methods.choose_method`; the reason in
+                            ``summary()["method_reason"]``)
     rtol, atol              tolerances (adaptive methods; ``atol`` a number or a pair
                             (displacements, velocities), default
                             :func:`nsdyn.models.isolated.tolerances.run_atol`);
@@ -313,8 +318,24 @@ def simulate(
         t_eval = np.asarray(t_eval, dtype=float)
     if contact is None:
         contact = getattr(system.isolation, "contact", "detect")
+    reason = ""
+    if method == "auto":
+        from nsdyn.solve.auto import AUTO_DT, choose_for_system
+        from nsdyn.solve.methods import METHODS
+
+        method, reason = choose_for_system(system, contact)
+        if METHODS[method].fixed_step and dt is None:
+            dt = AUTO_DT
     if atol is None:
         atol = run_atol(method)
+    full_order = getattr(system, "sparse", None) is not None
+    if full_order and method == "genalpha-lowrank" and contact != "unilateral":
+        from nsdyn.solve.fullorder import simulate_full
+
+        return simulate_full(
+            system, motion, t_eval, x0=x0, dt=dt, uplift=uplift, contact=contact,
+            progress=progress, reason=reason, result=TransientResult, **solver_options,
+        )  # fmt: skip
     P = system.params(motion)
     if x0 is None:
         x0, _ = system.static_equilibrium()
@@ -416,4 +437,5 @@ def simulate(
         cevents,
         open_hist,
         impact,
+        reason,
     )

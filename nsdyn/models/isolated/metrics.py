@@ -31,6 +31,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.sparse as sp
 
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.friction import sticks
@@ -119,6 +120,14 @@ def output_rows(system) -> dict:
     if system.frame is not None:
         od = output_dofs(system.frame)
         T = system.T
+        if sp.issparse(T):  # a large full-order model (nodal coordinates): sparse rows
+            J = od["joints_x"]
+            return {
+                "joints": T[J.ravel()],
+                "joint_shape": J.shape,
+                "levels": [T[d] for d in od["levels_x"]],
+                "heights": od["heights"],
+            }
         return {
             "joints": T[od["joints_x"]],
             "levels": [T[d] for d in od["levels_x"]],
@@ -162,15 +171,20 @@ def level_peaks(od: dict, q: np.ndarray, QDD: np.ndarray, ug_hor: np.ndarray) ->
     drift_m = np.zeros(0)
     top_drift = np.full(nt, np.nan)  # no levels: undefined (kept as a history for plots)
     if od["joints"] is not None:
-        n_lev, n_lin = od["joints"].shape[:2]
-        UT = od["joints"].reshape(n_lev * n_lin, -1) @ q.T  # level-major rows
+        if "joint_shape" in od:  # sparse rows (n_lev * n_lin, n)
+            n_lev, n_lin = od["joint_shape"]
+            UT = od["joints"] @ q.T
+        else:
+            n_lev, n_lin = od["joints"].shape[:2]
+            UT = od["joints"].reshape(n_lev * n_lin, -1) @ q.T  # level-major rows
         if n_lev > 1:
             dU = np.abs(UT[n_lin:] - UT[:-n_lin])  # the same line on adjacent levels
             drift_m = dU.max(axis=1).reshape(n_lev - 1, n_lin).max(axis=1)
         top_drift = UT[(n_lev - 1) * n_lin] - UT[0]
     acc = np.zeros(0)
     if od["levels"]:
-        AT = np.concatenate(od["levels"]) @ QDD.T
+        stack = sp.vstack if sp.issparse(od["levels"][0]) else np.concatenate
+        AT = np.asarray(stack(od["levels"]) @ QDD.T)
         AT += ug_hor.T
         peak = np.abs(AT, out=AT).max(axis=1)
         starts = np.cumsum([0] + [rows.shape[0] for rows in od["levels"][:-1]])
@@ -193,9 +207,15 @@ def energy_balance(system, t, X, P, LAM, TAU, G, impact_energy: float = 0.0) -> 
     # the stored energy is needed at the ends only
     dE = 0.5 * float(qd[-1] @ M @ qd[-1] + q[-1] @ K @ q[-1] - qd[0] @ M @ qd[0] - q[0] @ K @ q[0])
     Gamma_e = kpar.matrices()["Gamma"]  # the packed load influence (ground or force)
+    if Gamma_e.shape[0] != n:  # the stand-in tuple of a sparse full-order run: ground only
+        Gamma_e = system.Gamma
     # the powers along the history from one (nt, n) product: qd C, qd M Gamma, qd R^T, qd D^T
     nc = system.R.shape[0]
-    B = qd @ np.hstack([system.C, M @ Gamma_e, system.R.T, system.D.T])
+    if isinstance(system.C, np.ndarray) and isinstance(M, np.ndarray):
+        B = qd @ np.hstack([system.C, M @ Gamma_e, system.R.T, system.D.T])
+    else:  # sparse / low-rank operators (C symmetric: qd C = (C qd^T)^T)
+        CQ = np.asarray(system.C @ qd.T).T
+        B = np.hstack([CQ, qd @ (M @ Gamma_e), qd @ system.R.T, qd @ system.D.T])
     p_visc = np.sum(B[:, :n] * qd, axis=1)
     p_in = -np.sum(B[:, n : n + 2] * ug, axis=1)
     p_con = np.sum(B[:, n + 2 : n + 2 + nc] * LAM, axis=1) if LAM.size else np.zeros(t.size)

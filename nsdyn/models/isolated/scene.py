@@ -69,7 +69,7 @@ DEFAULT_SCENE = {
     "isolation": {"k_lam": K_LAM, "c": C_DAMPER, "mu": MU, "law": "arctan", "eps": EPS},
     "motion": {"record": "synthetic-wn-40s", "pga": 3.0, "vertical": True},
     "solver": {
-        "method": "radau",
+        "method": "auto",
         "rtol": RUN_RTOL,
         "dt_out": 0.02,
         "uplift": "raise",

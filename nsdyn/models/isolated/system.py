@@ -129,6 +129,8 @@ class IsolatedSystem:
     info: dict = field(default_factory=dict)
     _static: tuple | None = field(default=None, repr=False)
     normal_force: np.ndarray | None = None
+    # full-order models: the sparse operators (nsdyn.models.isolated.fullorder.SparseModel)
+    sparse: object = field(default=None, repr=False)
 
     @property
     def n(self) -> int:
@@ -157,7 +159,8 @@ class IsolatedSystem:
         iso = replace(self.isolation, **changes)
         if self.frame is None:  # built from matrices: the builder kept its arguments
             return self.info["rebuild"](isolation=iso)
-        return build_system(self.frame, iso, fidelity=self.fidelity, f_max=self.f_max)
+        kw = {"damping": self.info["damping"]} if "damping" in self.info else {}
+        return build_system(self.frame, iso, fidelity=self.fidelity, f_max=self.f_max, **kw)
 
     # ---- static state -------------------------------------------------------------------
     def static_equilibrium(self) -> tuple[np.ndarray, np.ndarray]:
@@ -166,6 +169,11 @@ class IsolatedSystem:
         Solves ``K* q - R^T lam = -M Gamma [0, g]``, ``R q = 0``. Friction carries no force at
         rest (the isolator springs hold the horizontal position). Returns (x0, lam0).
         """
+        if self._static is None and self.sparse is not None:  # full order: a sparse solve
+            from nsdyn.models.isolated.fullorder import sparse_static
+
+            g = self.isolation.g if self.isolation is not None else G_EARTH
+            self._static = sparse_static(self.sparse, self.Gamma, self.R, self.D, g)
         if self._static is None:
             g = self.isolation.g if self.isolation is not None else G_EARTH
             f = -self.M @ self.Gamma[:, 1] * g
@@ -186,11 +194,25 @@ class IsolatedSystem:
         return x0.copy(), lam0.copy()
 
     # ---- kernel parameters ----------------------------------------------------------------
-    def params(self, ground=None, *, law: str | None = None, **overrides) -> tuple:
-        """Kernel tuple of this model under ``ground`` (:mod:`nsdyn.models.isolated.params`)."""
+    def params(
+        self, ground=None, *, law: str | None = None, stub: bool = False, **overrides
+    ) -> tuple:
+        """Kernel tuple of this model under ``ground`` (:mod:`nsdyn.models.isolated.params`).
+
+        ``stub``: the tuple of a one-coordinate stand-in with this model's friction, contact
+        and excitation settings (the sparse full-order path takes its matrices elsewhere)."""
         iso = self.isolation
+        M, C, K, Gamma, R, D = self.M, self.C, self.K, self.Gamma, self.R, self.D
+        if stub:
+            M, C, K, Gamma = np.eye(1), np.zeros((1, 1)), np.zeros((1, 1)), Gamma[:1]
+            R, D = np.zeros((self.n_contacts, 1)), np.zeros((self.n_isolators, 1))
+        elif not isinstance(M, np.ndarray):
+            raise ValueError(
+                f"{self.name}: {self.n} dofs are too many for the dense kernels (radau, dopri5, "
+                "genalpha, event); use method 'auto' or 'genalpha-lowrank' (sparse)"
+            )
         if iso is None:
-            return pack(self.M, self.C, self.K, self.Gamma, ground=ground, g=G_EARTH)
+            return pack(M, C, K, Gamma, ground=ground, g=G_EARTH)
         _, lam0 = self.static_equilibrium()
         ni = self.n_isolators
         frozen = iso.frozen_normal
@@ -208,12 +230,12 @@ class IsolatedSystem:
         )
         kw.update(overrides)
         return pack(
-            self.M,
-            self.C,
-            self.K,
-            self.Gamma,
-            self.R,
-            self.D,
+            M,
+            C,
+            K,
+            Gamma,
+            R,
+            D,
             iso.per_isolator("mu", ni),
             lam0[:ni],
             ground=ground,
@@ -327,6 +349,7 @@ def build_system(
     fidelity: str = "cb",
     f_max: float = 5.0,
     lumped: bool = False,
+    damping: str = "modal",
 ) -> IsolatedSystem:
     """Build one fidelity of the model ladder from a frame and isolation settings.
 
@@ -336,12 +359,30 @@ def build_system(
     isolation : Isolation, optional      ignored for ``fidelity="fixed"``; default seed values
     fidelity : {"fixed", "rigid", "cb", "full"}
     f_max : float                        Craig-Bampton / modal cut-off [Hz] ("cb", "fixed")
+    damping : {"modal", "stiffness"}     superstructure damping of the full model (nodal
+                                         coordinates, :mod:`nsdyn.models.isolated.fullorder`)
     """
     from nsdyn.structure import craig_bampton
 
     if fidelity not in FIDELITIES:
         raise ValueError(f"fidelity: expected one of {FIDELITIES}, got {fidelity!r}")
     iso = Isolation() if isolation is None else isolation
+    if damping != "modal" and fidelity != "full":
+        raise ValueError(f"damping: {damping!r} is a choice of the full model only")
+    if fidelity == "full":  # nodal coordinates, sparse operators
+        from nsdyn.models.isolated.fullorder import full_order
+
+        fo = full_order(frame, iso, damping, lumped)
+        info = fo["info"]  # (the modal damping's modes are added when first computed)
+        info.update(total_mass=float(frame.total_mass), n_full=frame.n_dof)
+        info["_C_of_sparse"] = fo["C"]  # a copy with other damping is not the sparse model
+        n = frame.n_dof
+        name = f"{getattr(frame, 'name', 'frame')} full (n={n})"
+        f = {k: fo[k] for k in ("M", "C", "K", "Gamma", "R", "D", "T")}
+        return IsolatedSystem(
+            name, "full", f["M"], f["C"], f["K"], f["Gamma"], f["R"], f["D"], f["T"], iso,
+            frame, np.inf, info, sparse=fo["sparse"],
+        )
     Kf, Mf = frame.assemble(lumped=lumped)
     Kf = Kf.toarray() if hasattr(Kf, "toarray") else np.asarray(Kf)
     Mf = Mf.toarray() if hasattr(Mf, "toarray") else np.asarray(Mf)

@@ -1,0 +1,191 @@
+"""Full-order runs on sparse operators: the factor-once generalized-alpha and the evaluations.
+
+A full-order model in nodal coordinates (:mod:`nsdyn.models.isolated.fullorder`) is never
+turned into the dense kernel tuple: its operators ``M``, ``K*``, ``C* = C + U diag(c) U^T``
+(sparse + low rank), the influence ``Gamma`` and the rows ``R``, ``D`` drive the
+``"operators"`` backend of :mod:`nsdyn.solve.sparse`, and a one-coordinate stand-in tuple
+(``system.params(ground, stub=True)``) carries the friction law, the Baumgarte parameters and
+the excitation.
+
+The accelerations, normal forces and friction forces along a history (the metrics' inputs,
+and the start of a run) solve the constrained equations at each output instant::
+
+    M qdd = -K* q - C* qd - M Gamma u + R^T lam - D^T phi,
+    R qdd + 2 alpha beta R qd + alpha^2 R q = 0,      phi = mu L s(D qd)
+
+with ``qdd = A0 + G0 [lam; phi]`` (``M A0 = -K* q - C* qd - M Gamma u``, ``M G0 = [R^T,
+-D^T]``, one sparse factorisation of ``M`` for all instants, in blocks of ``BLOCK`` rows):
+the contact rows give ``lam = lam_c + Lam phi`` exactly, and since the velocity is given,
+``phi = diag(mu s) (L_c + L_d phi)`` is linear in ``phi`` (``L = lam`` live, or the frozen
+static normal forces). Open contacts (unilateral runs) and force excitations are not
+supported here (the dense path runs them).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from nsdyn.models.isolated import _kernel as ks
+from nsdyn.models.isolated.params import KernelParams
+from nsdyn.solve import _klowrank
+
+__all__ = ["FullOps", "full_ops", "simulate_full"]
+
+K2 = 2.0 / np.pi
+
+
+@dataclass(eq=False)
+class FullOps:
+    """Operators of a full-order model (``model``: a ``SparseModel``) with its influence
+    ``Gamma`` (n, 2) and rows ``R`` (nc, n), ``D`` (ni, n)."""
+
+    model: object
+    Gamma: np.ndarray
+    R: np.ndarray
+    D: np.ndarray
+    _m: dict = field(default_factory=dict, repr=False)
+
+    def _mass(self):
+        """(the accelerations' operators ``lin0, lr0``, G0, RGr^-1, Lam) — factored once."""
+        if "lin0" not in self._m:
+            import scipy.sparse as sp
+
+            from nsdyn.solve.sparse import _sparse_lu, lu_arrays
+
+            mo, R, D = self.model, self.R, self.D
+            lu = _sparse_lu(sp.csc_array(mo.M))
+            nc = R.shape[0]
+            B = np.hstack([R.T, -D.T])
+            G0 = lu.solve(B) if B.shape[1] else np.zeros((mo.n, 0))
+            RGr_inv = np.linalg.inv(R @ G0[:, :nc]) if nc else np.zeros((0, 0))
+            Lam = RGr_inv @ (-R @ G0[:, nc:]) if nc else np.zeros((0, D.shape[0]))
+            W0 = sp.hstack([mo.K, mo.C], format="csr")
+            W0.sort_indices()
+            i64 = np.int64
+            MG = np.ascontiguousarray(mo.M @ self.Gamma)
+            lin0 = (W0.indptr.astype(i64), W0.indices.astype(i64), W0.data, MG, lu_arrays(lu))
+            lr0 = (np.ascontiguousarray(mo.U), np.ascontiguousarray(mo.c, dtype=float))
+            self._m.update(lin0=lin0, lr0=lr0, G0T=np.ascontiguousarray(G0.T), RGr_inv=RGr_inv,
+                           Lam=Lam)  # fmt: skip
+        m = self._m
+        return m["lin0"], m["lr0"], m["G0T"], m["RGr_inv"], m["Lam"]
+
+    def evaluate(self, P: tuple, t: np.ndarray, X: np.ndarray) -> tuple:
+        """(QDD, LAM, TAU, MODES) at the rows of ``X`` (nt, 2n), times ``t`` (module text);
+        ``P`` the stand-in kernel tuple (friction law, Baumgarte parameters, excitation)."""
+        kp = KernelParams(P)
+        if kp.force:
+            raise ValueError("the sparse full-order path takes ground motions, not forces")
+        n, nt = self.model.n, t.size
+        R, D = self.R, self.D
+        nc, ni = R.shape[0], D.shape[0]
+        lin0, lr0, G0T, RGr_inv, Lam = self._mass()
+        ab, bb = kp.alpha, kp.beta
+        mu, lam0 = np.asarray(kp.mu, float), np.asarray(kp.lam_static, float)
+        friction = kp.law == "arctan" and ni > 0 and bool(np.any(mu != 0.0))
+        Ug = ks.ground_many(np.ascontiguousarray(t, dtype=float), P)
+        Ug[:, 1] += kp.g
+        X = np.ascontiguousarray(X, dtype=float)
+        QDD = np.empty((nt, n))
+        _klowrank.accelerations_rows(X, Ug, lin0, lr0, QDD)  # A0, rows
+        q, v = X[:, :n], X[:, n:]
+        lam_c = -(QDD @ R.T + 2.0 * ab * bb * (v @ R.T) + ab * ab * (q @ R.T)) @ RGr_inv.T
+        w = v @ D.T  # (nt, ni) slip velocities
+        phi = np.zeros((nt, ni))
+        if friction:
+            s = mu * K2 * np.arctan(kp.eps * w)  # mu s, (nt, ni)
+            if kp.frozen_normal or nc == 0:
+                phi = s * lam0
+            else:  # (I - diag(mu s) Ld) phi = diag(mu s) Lc, one small solve per instant
+                Jm = np.eye(ni)[None] - s[:, :, None] * Lam[:ni][None]
+                phi = np.linalg.solve(Jm, (s * lam_c[:, :ni])[:, :, None])[:, :, 0]
+        lam = lam_c + phi @ Lam.T if nc else lam_c
+        QDD += np.hstack([lam, phi]) @ G0T
+        return QDD, lam, phi, np.where(w >= 0.0, 1, -1).astype(np.int64)
+
+
+def full_ops(system) -> FullOps:
+    """The operators of ``system``: its sparse model when it has one and its damping is the
+    model's own, else its (dense) matrices as sparse ones (cached on the system)."""
+    from nsdyn.models.isolated.fullorder import SparseModel
+
+    cached = system.info.get("_full_ops")
+    if cached is not None and cached[0] is system.C:
+        return cached[1]
+    mo = system.sparse
+    own = mo is not None and system.info.get("_C_of_sparse", system.C) is system.C
+    if mo is None or not own:
+        if not isinstance(system.C, np.ndarray):
+            raise ValueError(f"{system.name}: the damping was replaced by a non-matrix")
+        mo = SparseModel.from_dense(system.M, system.C, system.K)
+    ops = FullOps(mo, np.ascontiguousarray(system.Gamma, float), np.ascontiguousarray(system.R),
+                  np.ascontiguousarray(system.D))  # fmt: skip
+    system.info["_full_ops"] = (system.C, ops)
+    return ops
+
+
+def simulate_full(
+    system, motion, t_eval, *, x0=None, dt=None, uplift="raise", contact="detect",
+    progress=None, reason="", result=None, rho_inf=None, max_steps=None, rtol=None, atol=None,
+    checkpoint=None, chunk_s=None, **unused,
+):  # fmt: skip
+    """:func:`nsdyn.solve.transient.simulate` of a full-order ``system`` with
+    ``genalpha-lowrank`` on its sparse operators, in one piece (``checkpoint``/``chunk_s``
+    are not used: nothing to resume); ``result`` the result class to fill."""
+    import time
+
+    from nsdyn.models.isolated.metrics import response
+    from nsdyn.solve import _kcommon as ki
+    from nsdyn.solve import _kgenalpha, integrate, methods, sparse
+    from nsdyn.solve.transient import describe
+
+    if unused:
+        raise ValueError(f"{sparse.METHOD}, full-order model: unknown option(s) {sorted(unused)}")
+    if dt is None or not dt > 0:
+        raise ValueError(f"method {sparse.METHOD!r} needs a fixed step dt > 0 (e.g. dt=0.005)")
+    if contact not in integrate.CONTACTS:
+        raise ValueError(f"contact: expected one of {list(integrate.CONTACTS)}, got {contact!r}")
+    n = system.n
+    ops = full_ops(system)
+    P = system.params(motion, stub=True)
+    if x0 is None:
+        x0, _ = system.static_equilibrium()
+    x0 = np.ascontiguousarray(x0, dtype=float).reshape(-1)
+    if x0.size != 2 * n:
+        raise ValueError(f"x0: expected [q, qd] of length {2 * n}, got {x0.size}")
+    t_eval = np.ascontiguousarray(t_eval, dtype=float)
+    m = methods.METHODS[sparse.METHOD]
+    upl = uplift if contact == "detect" else "warn"
+    steps = integrate.DEFAULT_MAX_STEPS if max_steps is None else max_steps
+    opts = methods.make_options(x0, m, 1.0, 0.0, dt, None, True, np.inf, steps, upl, rho_inf, None)
+    compile_s = 0.0 if methods.compiled(m.kernel) else methods.warmup_kernel(m.kernel)
+    rho = sparse.RHO_INF if rho_inf is None else float(rho_inf)
+    coef = _kgenalpha.parameters(_kgenalpha.FAMILY_GENALPHA, rho)
+    X = np.zeros((t_eval.size, 2 * n))
+    upl_t = np.full(system.n_contacts, np.nan)
+    t0 = time.perf_counter()
+    try:
+        stats, rinfo, X, upl_t = sparse.integrate(
+            P, x0, t_eval, float(dt), coef=coef, max_steps=opts.max_steps,
+            uplift_mode=opts.uplift_mode, X=X, upl_t=upl_t, ops=ops,
+        )  # fmt: skip
+    except FloatingPointError:
+        stats, rinfo = np.zeros(ki.N_STATS, dtype=np.int64), np.zeros(ki.N_RINFO)
+        stats[ki.S_STATUS] = ki.ST_LU_SINGULAR
+        rinfo[ki.R_T], rinfo[ki.R_H] = float(t_eval[0]), float(dt)
+    wall = time.perf_counter() - t0
+    sol = integrate._finish(
+        m, opts, KernelParams(P).law, t_eval, X, upl_t, stats, rinfo, [], None, wall,
+        compile_s, "raise", warn_uplift=contact == "detect",
+    )  # fmt: skip
+    if progress is not None:
+        progress(float(sol.t[-1]), float(t_eval[-1]), wall)
+    t, x = sol.t, sol.x
+    resp = response(system, t, x, P, evaluated=ops.evaluate(P, t, x))
+    stats_d = {"nfev": sol.nfev, "njev": 0, "n_lu": 0, "n_rejected": 0, "n_events": 0}
+    return result(
+        system, t, x, resp, sol.method, sol.n_steps, wall, compile_s, stats_d, sol.uplift,
+        describe(motion), contact, method_reason=reason,
+    )  # fmt: skip
