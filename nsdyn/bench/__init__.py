@@ -14,6 +14,7 @@ rocking        rocking bodies (loaded on use)
 contact        planar contact bodies (loaded on use)
 cylinder       the cylinder (loaded on use)
 opensees       the full frame in OpenSees (exported script) against nsdyn full and CB-5
+scale          cost against model size (435 to 20 520 dofs): nsdyn full, CB-5 and OpenSees
 =============  ==================================================================
 
 :data:`BENCHMARKS` maps each name to its module, imported on use by :func:`load_benchmark`.
@@ -130,6 +131,7 @@ BENCHMARKS: dict[str, str] = {
     "switch_shooting": "nsdyn.bench.switch_shooting",
     "full-model": "nsdyn.bench.full_model",
     "opensees": "nsdyn.bench.opensees",
+    "scale": "nsdyn.bench.scale",
 }
 
 
