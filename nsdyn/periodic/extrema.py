@@ -15,6 +15,17 @@ Hermite basis functions on [0, 1]). The extremum inside a step is a real root of
 ``p'(s)`` (a quartic) in [0, 1]. Only steps where the velocity changes sign toward the
 extremum and whose samples come within ``h^2 max|a| / 2`` of the sampled extremum can hold
 it, so a stick phase (velocity dithering about zero far from the extremum) costs nothing.
+
+Friction makes the acceleration jump where an isolator sticks (at its extremum), and a
+polynomial through a kink overshoots. While the acceleration keeps its sign over the step
+(the speed falls to the peak and grows after it) the rise above either end is bounded by
+that end's speed,
+
+    x_peak <= min(x_k + |v_k| h,  x_k+1 + |v_k+1| h),
+
+which a smooth peak meets with a factor 2 to spare (``x_peak - x_k+1 = a (h - t*)^2 / 2``
+against ``|v_k+1| h >= a (h - t*)^2``); the interpolated peak is capped by it, so a step that
+ends stuck (``v = 0``) gives its end value, the exact one.
 """
 
 from __future__ import annotations
@@ -56,7 +67,8 @@ def dense_max(x: np.ndarray, v: np.ndarray, a: np.ndarray, h: float) -> float:
     steps = np.flatnonzero((v[:-1] >= 0.0) & (v[1:] <= 0.0) & (hi >= near))
     for k in steps:
         c = _quintic(x[k], v[k], a[k], x[k + 1], v[k + 1], a[k + 1], h)
-        top = max(top, _step_peak(c))
+        cap = min(x[k] + abs(v[k]) * h, x[k + 1] + abs(v[k + 1]) * h)
+        top = max(top, min(_step_peak(c), cap))
     return top
 
 

@@ -67,3 +67,19 @@ def test_dense_max_of_a_sampled_sine():
     cols = np.column_stack([x, 2 * x])
     r = dense_half_range(cols, np.column_stack([v, 2 * v]), np.column_stack([a, 2 * a]), h)
     assert abs(r - 2.0) <= 2 * (w * h / 2) ** 6 / 720
+
+
+@pytest.mark.parametrize("t_stop", [0.43, 0.5, 0.57])
+def test_dense_max_of_a_slide_that_sticks_at_its_peak(t_stop):
+    # x rises at v0 decelerating by d until it sticks at t_s = v0 / d (x'' jumps from -d to 0)
+    # and stays: the peak is v0^2 / (2 d), reached at the stop inside the step [0.4, 0.6]; a
+    # quintic through the kink overshoots, the speed bound of nsdyn.periodic.extrema caps it
+    # at the stuck end value, exact to round-off
+    d, h = 2.0, 0.2
+    v0 = d * t_stop
+    t = np.array([0.0, 0.2, 0.4, 0.6, 0.8])
+    slip = t < t_stop
+    x = np.where(slip, v0 * t - 0.5 * d * t**2, v0**2 / (2 * d))
+    v = np.where(slip, v0 - d * t, 0.0)
+    a = np.where(slip, -d, 0.0)
+    assert abs(dense_max(x, v, a, h) - v0**2 / (2 * d)) <= 4 * np.finfo(float).eps
