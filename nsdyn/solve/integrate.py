@@ -140,6 +140,11 @@ STIFF_ADVICE = {
     ),
     "event": "the modes switch faster than the stepper can follow; check the excitation",
 }
+# a fixed step spends (t_end - t_start) / dt steps whatever the problem: the budget runs out
+# because the step is small, not because the problem is stiff
+FIXED_STEP_ADVICE = (
+    "the fixed step is too small for this span ((t_end - t_start) / dt steps); use a larger dt"
+)
 
 
 class IntegrationError(RuntimeError):
@@ -381,7 +386,7 @@ def _finish(
         method=m.name,
         max_steps=opts.max_steps,
         floor=ki.MIN_STEP,
-        stiff_advice=STIFF_ADVICE.get(m.name, "the problem is too stiff for this fixed step"),
+        stiff_advice=STIFF_ADVICE.get(m.name, FIXED_STEP_ADVICE),
     )
     message = MESSAGES[status].format(**fields)
     if status in (ki.ST_NEWTON, ki.ST_STEP_UNDERFLOW) and law == "switch" and m.name != "event":

@@ -59,6 +59,18 @@ def test_step_budget_on_a_stiff_problem_names_time_reason_and_remedy():
     assert "'radau'" in str(e)  # what to try
 
 
+def test_fixed_step_budget_names_the_small_step_not_stiffness():
+    # a fixed step spends (t_end - t_start) / dt = 1 s / 1e-4 s = 1e4 steps on any problem: a
+    # budget of 100 runs out because the step is small; the message must not say "stiff"
+    P = _coulomb("arctan", eps=100.0, ground=Harmonic(1.0, 1.0))
+    with pytest.raises(IntegrationError) as ei:
+        solve(P, np.zeros(4), np.linspace(0.0, 1.0, 11), method="genalpha", dt=1e-4,
+              max_steps=100)  # fmt: skip
+    e = ei.value
+    assert e.reason == "max_steps" and 0.0 < e.t < 1.0
+    assert "too small" in str(e) and "larger dt" in str(e) and "stiff" not in str(e)
+
+
 def test_newton_divergence_names_time_step_and_remedy():
     P = _coulomb("switch", ground=Harmonic(5.0, 1.0))
     with pytest.raises(IntegrationError) as ei:
