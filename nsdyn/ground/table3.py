@@ -129,16 +129,18 @@ def _record3(table: dict, source: str) -> GroundMotion3:
         motion = motion._replace(az=None)
     if "pga" in table:
         comp = table.get("pga_component", "resultant")
+        pga = _number(source, table, "pga", nonneg=True)  # its own message, named once
         try:
-            motion = motion.scaled_to_pga(_number(source, table, "pga", nonneg=True), comp)
+            motion = motion.scaled_to_pga(pga, comp)
         except ValueError as e:
             key = "pga_component" if "component" in str(e) else "pga"
             raise _err(source, key, str(e)) from None
     elif "pga_component" in table:
         raise _err(source, "pga_component", "given without pga")
     if "t_end" in table:
+        t_end = _number(source, table, "t_end", positive=True)
         try:
-            motion = motion.window(motion.t0, _number(source, table, "t_end", positive=True))
+            motion = motion.window(motion.t0, t_end)
         except ValueError as e:  # a t_end before the record's first sample
             raise _err(source, "t_end", str(e)) from None
     return motion

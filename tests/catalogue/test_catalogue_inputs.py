@@ -877,6 +877,7 @@ def test_bad_new_scene_table(row):
         msg = _expect(ValueError, lambda: bearing_from_config(table, f"{source}: isolation"),
                       *needles)  # fmt: skip
     assert msg.startswith(f"{source}: "), msg
+    assert msg.count(source) == 1, msg  # the file named once, not once per layer
 
 
 @pytest.mark.parametrize("example", sorted(p.name for p in SCENES.glob("*.toml")))
