@@ -31,7 +31,9 @@ from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.params import KernelParams
 from nsdyn.solve import _klowrank
 
-__all__ = ["FullOps", "full_ops", "simulate_full"]
+__all__ = ["FullOps", "full_ops", "simulate_full", "warmup_operators"]
+
+METHOD = "genalpha-lowrank"  # the sparse path's method (nsdyn.solve.sparse.METHOD)
 
 K2 = 2.0 / np.pi
 
@@ -126,6 +128,40 @@ def full_ops(system) -> FullOps:
     return ops
 
 
+_WARMED: list = []  # seconds the operators' kernels took to compile or load (once)
+
+
+def warmup_operators(announce=None) -> float:
+    """Compile (or load) the kernels of the sparse path (the ``"operators"`` step loop and the
+    evaluations) on the two-dof problem of the warm-ups; seconds spent now (0.0 when done).
+    ``announce(text)`` is called before a compilation (not when numba's cache has them)."""
+    if _WARMED:
+        return 0.0
+    import time
+
+    from nsdyn._numba_cache import compiling, dispatcher_cached
+
+    entries = (_klowrank.run_steps_ops, _klowrank.accelerations_rows)
+    if announce is not None and not all(dispatcher_cached(d) for d in entries):
+        announce(f"compiling the {METHOD} integrator for sparse models (first run only)…")
+    from nsdyn.models.isolated.fullorder import SparseModel
+    from nsdyn.solve import _kcommon as ki
+    from nsdyn.solve import sparse
+    from nsdyn.solve.methods import _tiny_problem
+
+    t0 = time.perf_counter()
+    P, x0 = _tiny_problem()  # M = I, so the kernel tuple's M^-1 K, M^-1 C are K, C
+    m = KernelParams(P).matrices()
+    ops = FullOps(SparseModel.from_dense(np.eye(2), m["MiC"], m["MiK"]), m["Gamma"], m["R"],
+                  m["D"])  # fmt: skip
+    t = np.linspace(0.0, 0.02, 3)
+    with compiling():
+        _, _, X, _ = sparse.integrate(P, x0, t, 1e-3, uplift_mode=ki.UPLIFT_WARN, ops=ops)
+        ops.evaluate(P, t, X)
+    _WARMED.append(time.perf_counter() - t0)
+    return _WARMED[0]
+
+
 def simulate_full(
     system, motion, t_eval, *, x0=None, dt=None, uplift="raise", contact="detect",
     progress=None, reason="", result=None, rho_inf=None, max_steps=None, rtol=None, atol=None,
@@ -160,7 +196,7 @@ def simulate_full(
     upl = uplift if contact == "detect" else "warn"
     steps = integrate.DEFAULT_MAX_STEPS if max_steps is None else max_steps
     opts = methods.make_options(x0, m, 1.0, 0.0, dt, None, True, np.inf, steps, upl, rho_inf, None)
-    compile_s = 0.0 if methods.compiled(m.kernel) else methods.warmup_kernel(m.kernel)
+    compile_s = warmup_operators()
     rho = sparse.RHO_INF if rho_inf is None else float(rho_inf)
     coef = _kgenalpha.parameters(_kgenalpha.FAMILY_GENALPHA, rho)
     X = np.zeros((t_eval.size, 2 * n))
