@@ -94,6 +94,12 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
     p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
     p.add_argument(
+        "--compare-fixed",
+        action="store_true",
+        help="also run the fixed-base frame under the same motion and draw it in the figure "
+        "(a second run; its kernel compiles once, about a minute, then loads from the cache)",
+    )
+    p.add_argument(
         "--resume", action="store_true", help="continue an interrupted run from its checkpoint"
     )
 
@@ -132,6 +138,7 @@ _ISOLATED_ONLY = (
     "resume",
     "dt",
     "max_steps",
+    "compare_fixed",
 )
 
 
@@ -246,6 +253,23 @@ def _refuse_foreign_checkpoint(path: Path, ident: dict) -> None:
         )
 
 
+def _fixed_base_run(system, motion, t_eval, quiet: bool):
+    """The fixed-base frame of ``system`` under ``motion`` on the same output grid (the
+    comparison of ``--compare-fixed``); None when the model has no frame or is the fixed base."""
+    from nsdyn.models.isolated.system import build_system
+    from nsdyn.solve.transient import simulate
+
+    if system.frame is None or system.fidelity == "fixed":
+        if not quiet:
+            print("nsdyn run: --compare-fixed: this model has no separate fixed-base frame",
+                  file=sys.stderr)  # fmt: skip
+        return None
+    fb = build_system(system.frame, fidelity="fixed", f_max=system.f_max or 5.0)
+    if not quiet:
+        print(f"fixed-base comparison: {fb.name}", file=sys.stderr)
+    return simulate(fb, motion, method="radau", t_eval=t_eval)
+
+
 def run(args: argparse.Namespace) -> int:
     from nsdyn.models.isolated.scene import build_scene_run, load_scene, outcome
     from nsdyn.models.scenefile import SceneError, read_toml, scene_kind
@@ -330,12 +354,7 @@ def run(args: argparse.Namespace) -> int:
             with atomic_open(identity, "w") as fh:
                 fh.write(json.dumps(ident, sort_keys=True))
             iso = system.isolation
-            if getattr(system, "sparse", None) is not None and method == "genalpha-lowrank":
-                from nsdyn.solve.fullorder import warmup_operators  # the sparse path's kernels
-
-                compile_s = warmup_operators(lambda text: print(text, file=sys.stderr, flush=True))
-            else:
-                compile_s = prepare_kernels(method, iso is None or iso.law in FLAT_LAWS)
+            compile_s = prepare_kernels(method, iso is None or iso.law in FLAT_LAWS)
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always", UpliftWarning)
                 res = simulate(
@@ -386,13 +405,10 @@ def run(args: argparse.Namespace) -> int:
     if not args.no_figures:
         from nsdyn.plot import plot_transient
 
+        fixed = _fixed_base_run(system, motion, t_eval, quiet) if args.compare_fixed else None
         fig_path = out / f"{stem}.png"
-        fig = plot_transient(res)
-        fig.suptitle(
-            f"outcome: {text.split(':')[0]}", fontsize=9, color="C3" if s.get("uplift") else "k"
-        )
-        if not fig.get_constrained_layout():
-            fig.tight_layout()
+        fig = plot_transient(res, motion, fixed=fixed, note=f"outcome: {text.split(':')[0]}",
+                             alert=bool(s.get("uplift")))  # fmt: skip
         save_figure(fig, fig_path)
         s["figure"] = str(fig_path)
     if args.json:

@@ -93,12 +93,14 @@ def run(args: argparse.Namespace) -> int:
                 file=sys.stderr,
             )
     a_lo = min(A_LO, 0.5 * args.a_max)
+    from nsdyn.plot.uplift import status_text
 
     def progress(pt, k, n):
         if not args.json:
             print(
                 f"[{k:3d}/{n}] f={pt.f:8.4g} Hz  A*={_fmt(pt.a_crit, '.4g'):>8s}  "
-                f"{pt.shootings:2d} shootings  {pt.wall_s:6.2f} s  {pt.status}",
+                f"{pt.shootings:2d} shootings  {pt.wall_s:6.2f} s  "
+                f"{status_text(pt.status, args.a_max, unit)}",
                 file=sys.stderr,
                 flush=True,
             )
@@ -132,7 +134,8 @@ def run(args: argparse.Namespace) -> int:
         )
         print(f"   f [Hz]   A* [{unit}]  shootings  status")
         for p in res.points:
-            print(f"{p.f:9.4g}  {_fmt(p.a_crit, '10.4g'):>10s}  {p.shootings:9d}  {p.status}")
+            word = status_text(p.status, args.a_max, unit)
+            print(f"{p.f:9.4g}  {_fmt(p.a_crit, '10.4g'):>10s}  {p.shootings:9d}  {word}")
         n_ok = int(res.ok.sum())
         print(f"{n_ok}/{len(res.points)} frequencies with A* found; wall {report['wall_s']:.1f} s")
         if "figure" in report:

@@ -11,7 +11,8 @@ from nsdyn.plot.charts import (
     stability_figure,
     work_precision_figure,
 )
-from nsdyn.plot.frames import deformed_shape, plot_mode_shapes, plot_transient, sweep_figure
+from nsdyn.plot.frames import deformed_shape, plot_mode_shapes, sweep_figure
+from nsdyn.plot.transient import plot_transient
 from nsdyn.plot.uplift import uplift_boundary_figure
 
 __all__ = [

@@ -1,4 +1,5 @@
-"""Figures of frames and their responses: mode shapes, transient histories, sweep curves.
+"""Figures of frames and their responses: mode shapes and sweep curves (transient runs:
+:mod:`nsdyn.plot.transient`).
 
 Members are drawn deformed by Hermite interpolation of the end displacements and rotations
 (the Bernoulli–Euler shape functions), so a few elements per member draw smooth curves.
@@ -94,42 +95,6 @@ def plot_mode_shapes(frame: Frame, f_hz, Phi: np.ndarray, n: int = 4, ax=None):
         a.set_xlabel("x [m]")
     axes[0].set_ylabel("y [m]")
     fig.suptitle(f"{frame.name}: fixed-base mode shapes", fontsize=10)
-    return fig
-
-
-def plot_transient(result):
-    """Four panels of a transient run: x_iso, roof drift, normal forces, peak profiles."""
-    from matplotlib.figure import Figure
-
-    r = result.response
-    fig = Figure(figsize=(10, 7))
-    axs = fig.subplots(2, 2)
-    ax = axs[0, 0]
-    if r.x_iso.size:
-        ax.plot(r.t, r.x_iso[:, 0], lw=0.8)
-    ax.set_ylabel("x_iso [m]")
-    ax.set_xlabel("t [s]")
-    ax.set_title(result.system.name, fontsize=9)
-    ax = axs[0, 1]
-    ax.plot(r.t, r.top_drift, lw=0.8, color="C1")
-    ax.set_ylabel("x_top - x_iso [m]")
-    ax.set_xlabel("t [s]")
-    ax = axs[1, 0]
-    for k in range(r.lam.shape[1]):
-        ax.plot(r.t, r.lam[:, k] / 1e3, lw=0.8, label=f"contact {k + 1}")
-    ax.set_ylabel("normal force [kN]")
-    ax.set_xlabel("t [s]")
-    if r.lam.shape[1]:
-        ax.legend(fontsize=8)
-    ax = axs[1, 1]
-    n = len(r.idr_by_storey)
-    ax.plot(r.idr_by_storey, range(1, n + 1), "o-", ms=3, label="IDR (storey)")
-    ax.set_xlabel("peak IDR [-]")
-    ax.set_ylabel("storey / level")
-    ax2 = ax.twiny()
-    ax2.plot(r.floor_acc_by_level, range(len(r.floor_acc_by_level)), "s--", ms=3, color="C3")
-    ax2.set_xlabel("peak absolute floor acceleration [m/s²]", color="C3")
-    fig.tight_layout()
     return fig
 
 

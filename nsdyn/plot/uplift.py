@@ -17,6 +17,12 @@ import numpy as np
 from nsdyn.atomic import save_figure
 
 
+def status_text(status: str, a_hi: float, unit: str) -> str:
+    """A point's status in words for tables and legends: the search limit named by its value
+    (``no uplift below a_hi`` -> ``no uplift up to A = 30 m/s²``)."""
+    return status.replace("below a_hi", f"up to A = {a_hi:g} {unit}")
+
+
 def _columns(result) -> dict:
     """Arrays of an :class:`nsdyn.periodic.uplift.UpliftBoundary` or of its ``to_dict()``."""
     d = result if isinstance(result, dict) else result.to_dict()
@@ -74,7 +80,7 @@ def uplift_boundary_figure(result, path: str | Path | None = None, *, dpi: int =
         yf = np.where(np.isfinite(c["fail"]), c["fail"], c["below"])[failed]
         ax.plot(f[failed], yf, "X", color="k", ms=7, ls="none",
                 label="search failed (no orbit found at this A)")  # fmt: skip
-    ax.axhline(a_hi, color="0.5", lw=0.8, ls=":", label=f"search limit a_hi = {a_hi:g}")
+    ax.axhline(a_hi, color="0.5", lw=0.8, ls=":", label=f"search limit A = {a_hi:g} {c['unit']}")
     ax.set_xscale("log")
     ax.set_ylim(0.0, top)
     if f.size:

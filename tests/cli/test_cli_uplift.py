@@ -44,7 +44,7 @@ def test_table_prints_one_row_per_frequency(tmp_path, capsys):
     assert rc == 0
     text = capsys.readouterr().out
     rows = [ln for ln in text.splitlines() if ln.strip().startswith(("1 ", "2 "))]
-    assert len(rows) == 2 and all("no uplift below a_hi" in r for r in rows)
+    assert len(rows) == 2 and all("no uplift up to A = 2 m/s²" in r for r in rows)
     assert not (tmp_path / "uplift.png").exists()
 
 

@@ -5,19 +5,34 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from nsdyn.models.contact.results import MODE_NAMES
+from nsdyn.models.contact.results import MODE_NAMES, TILT_FLOOR, slenderness
+
+
+def tilt_limits(theta, alpha: float) -> tuple[float, float]:
+    """y limits of the tilt axis [rad]: the data with a margin, never narrower than
+    ±TILT_FLOOR alpha, so round-off tilts (1e-15 rad) stay a flat line at zero."""
+    peak = float(np.max(np.abs(theta))) if len(theta) else 0.0
+    half = max(1.1 * peak, TILT_FLOOR * alpha)
+    return -half, half
 
 
 def history_figure(res, body, title: str = "", n_snap: int = 8) -> Figure:
     """Tilt, slide and mode against time, and snapshots of the body (ground frame)."""
     fig = Figure(figsize=(9, 7), layout="constrained")
     ax = fig.subplots(4, 1, height_ratios=[2, 2, 1, 2])
+    alpha = slenderness(body)
     ax[0].plot(res.t, res.q[:, 2], lw=1)
+    ax[0].set_ylim(*tilt_limits(res.q[:, 2], alpha))
     ax[0].set_ylabel("tilt θ [rad]")
+    if np.max(np.abs(res.q[:, 2]), initial=0.0) < TILT_FLOOR * alpha:
+        ax[0].text(0.01, 0.92, f"|θ| < {TILT_FLOOR:.0%} of α = {alpha:.3g} rad: no rocking",
+                   transform=ax[0].transAxes, fontsize=8, va="top", color="0.3")  # fmt: skip
     ax[1].plot(res.t, 1e3 * res.slide, lw=1)
     ax[1].set_ylabel("slide [mm]")
     ax[2].step(res.t, res.mode, where="post", lw=1)
     ax[2].set_yticks(range(len(MODE_NAMES)), MODE_NAMES, fontsize=7)
+    for a in ax[:2]:
+        a.tick_params(labelbottom=False)
     ax[2].set_xlabel("t [s]")
     for a in ax[:3]:
         a.grid(alpha=0.3)
@@ -32,5 +47,5 @@ def history_figure(res, body, title: str = "", n_snap: int = 8) -> Figure:
     ax[3].axhline(0, color="k", lw=1)
     ax[3].set_aspect("equal")
     ax[3].axis("off")
-    fig.suptitle(title)
+    fig.suptitle(title, fontsize=10)
     return fig

@@ -25,6 +25,13 @@ import numpy as np
 from nsdyn._tabular import Tabular
 
 MODE_NAMES = ("rest", "slide", "rock", "slide_rock", "flight", "overturned")
+TILT_FLOOR = 0.01  # a peak tilt below this fraction of alpha is no rocking (figures, summaries)
+
+
+def slenderness(body) -> float:
+    """The smaller slenderness alpha [rad] of the body's two outer base corners (the angle from
+    the vertical of the line from the corner to the centre of mass): the scale of its tilt."""
+    return min(body.corner_geometry(-1)[1], body.corner_geometry(1)[1])
 
 
 @dataclass

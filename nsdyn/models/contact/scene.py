@@ -49,6 +49,7 @@ import numpy as np
 
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import read_motion
+from nsdyn.models.contact.results import TILT_FLOOR, slenderness
 from nsdyn.models.contact.scene_keys import SCHEMA
 from nsdyn.models.scenefile import SceneError, check_fields, number
 from nsdyn.models.tilt import scene_tilt
@@ -230,6 +231,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     wall = time.perf_counter() - w0
     out_dir = Path(out_dir)
     s = res.summary()
+    s["alpha_rad"] = slenderness(body)
     s["outcome"], text = outcome(s)
     files = [str(out_dir / "contact.npz")]
     with atomic_open(out_dir / "contact.npz", "wb") as fh:
@@ -239,7 +241,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         from nsdyn.models.contact.figures import history_figure
 
         png = out_dir / "contact.png"
-        save_figure(history_figure(res, body, title=f"{name}: {text}"), png)
+        save_figure(history_figure(res, body, title=f"{name}: {opts['what']}\n{text}"), png)
         files.append(str(png))
     s.update({"kind": "contact", "name": name, "motion": opts["what"], "t_end_s": t_end,
               "theta0_rad": opts["theta0"],
@@ -257,13 +259,17 @@ def outcome(s: dict) -> tuple[str, str]:
     first = s.get("first_motion") or "rest"
     if first == "rest":
         return "rest", "stayed at rest (no sliding, no rocking)"
+    rows = [("peak slide", "max_slide_m", "m")]
+    alpha = s.get("alpha_rad")
+    tilt = s.get("max_tilt_rad")
+    if isinstance(tilt, float) and isinstance(alpha, float) and tilt < TILT_FLOOR * alpha:
+        rows = rows + [(f"no rocking (peak tilt below {TILT_FLOOR:.0%} of alpha)", None, "")]
+    else:
+        rows.append(("peak tilt", "max_tilt_rad", "rad"))
     peaks = ", ".join(
-        f"{label} {s[k]:.3g} {unit}"
-        for label, k, unit in (
-            ("peak slide", "max_slide_m", "m"),
-            ("peak tilt", "max_tilt_rad", "rad"),
-        )
-        if isinstance(s.get(k), float)
+        label if k is None else f"{label} {s[k]:.3g} {unit}"
+        for label, k, unit in rows
+        if k is None or isinstance(s.get(k), float)
     )
     return first, f"did not overturn; first motion {first}" + (f", {peaks}" if peaks else "")
 

@@ -2,7 +2,8 @@
 
 A 3-D series of snapshots of the body (rotations magnified by a stated factor, since the tilts
 are small: θ → λθ about the same axis, q = (cos λθ/2, sin λθ/2 n)), the plan-view trace of the
-tilt (θ cos φ, θ sin φ) as in the source study's polar plots, and uplift histories.
+tilt (θ cos φ, θ sin φ) as in the source study's polar plots, the ground acceleration and the
+uplift histories; axes labelled with their units, a legend on every panel with two lines.
 """
 
 from __future__ import annotations
@@ -46,8 +47,8 @@ def draw_cylinder(ax, R: np.ndarray, base: np.ndarray, r: float, H: float, **kw)
 def motion_figure(res: CylinderResult, n_snap: int = 6, title: str = "") -> Figure:
     """3-D snapshots around the peak tilt, tilt trace in plan, contact fraction and rim lift."""
     p = res.params
-    fig = Figure(figsize=(12, 5.2), layout="constrained")
-    gs = fig.add_gridspec(2, 2, width_ratios=[1.3, 1])
+    fig = Figure(figsize=(12, 7.0), layout="constrained")
+    gs = fig.add_gridspec(3, 2, width_ratios=[1.3, 1])
     ax3 = fig.add_subplot(gs[:, 0], projection="3d")
     th = res.tilt
     lam = TARGET_VISIBLE_TILT / th.max() if th.max() > 0 else 1.0
@@ -65,18 +66,32 @@ def motion_figure(res: CylinderResult, n_snap: int = 6, title: str = "") -> Figu
     ax3.set(xlim=(-ext, ext), ylim=(-ext, ext), zlim=(0, 2 * p.H + p.r))
     ax3.set_box_aspect((1, 1, (2 * p.H + p.r) / (2 * ext)))
     ax3.set_title(f"snapshots, rotations magnified ×{lam:.0f}")
+    ax3.set_xlabel("x [m]")
+    ax3.set_ylabel("y [m]")
+    ax3.set_zlabel("z [m]")
     ax3.legend(fontsize=7, loc="upper left")
-    axp = fig.add_subplot(gs[0, 1])
+    axg = fig.add_subplot(gs[0, 1])
+    for k, (lab, col) in enumerate((("x", "k"), ("y", "C7"), ("z", "C9"))):
+        if np.any(res.ag[:, k]):
+            axg.plot(res.t, res.ag[:, k], lw=0.5, color=col, label=f"a_g,{lab}")
+    pga = float(np.max(np.hypot(res.ag[:, 0], res.ag[:, 1]))) if len(res.t) else 0.0
+    axg.set(xlabel="t [s]", ylabel="ground acc. [m/s²]",
+            title=f"ground motion, peak horizontal {pga:.3g} m/s² ({pga / p.g:.3g} g)")  # fmt: skip
+    if len(axg.get_lines()) > 1:
+        axg.legend(fontsize=7, ncols=3, loc="upper right")
+    axp = fig.add_subplot(gs[1, 1])
     phi = res.tilt_dir
     axp.plot(th * np.cos(phi), th * np.sin(phi), lw=0.7)
     axp.set(xlabel="θ cos φ [rad]", ylabel="θ sin φ [rad]", title="tilt trace (plan)")
     axp.set_aspect("equal", adjustable="datalim")
-    axu = fig.add_subplot(gs[1, 1])
-    axu.plot(res.t, 1 - res.contact_fraction, label="uplift ratio")
+    axu = fig.add_subplot(gs[2, 1], sharex=axg)
+    axu.plot(res.t, 1 - res.contact_fraction, label="lifted area / πr² (left)")
     axu.set(xlabel="t [s]", ylabel="lifted area / πr²")
     axr = axu.twinx()
-    axr.plot(res.t, 100 * np.maximum(res.rim_lift, 0) / p.r, color="C3", lw=0.7)
+    axr.plot(res.t, 100 * np.maximum(res.rim_lift, 0) / p.r, color="C3", lw=0.7,
+             label="rim lift / r [%] (right)")  # fmt: skip
     axr.set_ylabel("rim lift / r [%]", color="C3")
+    axu.legend(handles=axu.get_lines() + axr.get_lines(), fontsize=7, loc="upper right")
     if title:
         fig.suptitle(title)
     return fig

@@ -43,6 +43,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import G_EARTH, read_motion
 from nsdyn.ground.pulses import SHAPES, Pulse
@@ -54,6 +55,19 @@ MODELS = ("block", "frame", "compliant")  # [scene] model
 _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 T_END = 10.0  # default duration without a record [s]
 METHODS = ("dopri5",)  # the rocking integrator (event-located Dormand-Prince 5(4))
+# seconds a first run compiles the kernels (2-core machine, empty cache; docs/dev/first-runs.md)
+COMPILE_ABOUT_S = 10.0
+
+
+def kernels_cached(model) -> bool:
+    """True when the kernel a run of ``model`` calls is compiled in this process or in numba's
+    on-disk cache (the run then only loads it; else a first run announces its compilation)."""
+    from nsdyn._numba_cache import all_cached
+    from nsdyn.models.rocking import _kblock, _kcompliant
+    from nsdyn.models.rocking.compliant import CompliantBlock
+
+    kernel = _kcompliant if isinstance(model, CompliantBlock) else _kblock
+    return all_cached([kernel.integrate])
 
 
 def build_model(cfg: dict, source: str):
@@ -179,10 +193,12 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     say(f"rocking: {name}: {type(model).__name__}, {what}, t_end = {t_end:g} s")
     out_dir = Path(out_dir)
     w0 = time.perf_counter()
+    announce = first_compile("rocking", COMPILE_ABOUT_S, kernels_cached(model))
     if isinstance(model, CompliantBlock):
         from nsdyn.models.rocking import compliant as cm
 
-        simulate_compliant(model, t_end=1e-3, dt_out=1e-3)
+        with announce:
+            simulate_compliant(model, t_end=1e-3, dt_out=1e-3)
         compile_s = time.perf_counter() - w0
         res = simulate_compliant(model, exc, t_end=t_end, tol=min(tol * 10, 1e-6),
                                  dt_out=dt_out or cm.DT_OUT, **th0)  # fmt: skip
@@ -191,7 +207,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
                   "peaks": res.peaks()}  # fmt: skip
         s["r_housner"] = blk.housner_restitution(model.alpha)
     else:
-        compile_s = blk.warmup()
+        with announce:
+            compile_s = blk.warmup()
         res = blk.simulate_rocking(model, exc, t_end=t_end, tol=tol, dt_out=dt_out,
                                    **th0)  # fmt: skip
         s = res.summary()
@@ -206,8 +223,11 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         from nsdyn.models.rocking.figures import history_figure
 
         png = out_dir / "rocking.png"
-        title = f"{name}: {outcome(s)[1]}"
-        save_figure(history_figure(arrays["t"], arrays["theta"], model.alpha, title=title), png)
+        title = f"{name}: {type(model).__name__}, {excitation_text(exc, what)}\n{outcome(s)[1]}"
+        ground = ground_of(exc, arrays["t"])
+        fig = history_figure(arrays["t"], arrays["theta"], model.alpha, title=title,
+                             impacts=arrays.get("impacts"), ground=ground)  # fmt: skip
+        save_figure(fig, png)
         files.append(str(png))
     s.update({"kind": "rocking", "model": cfg.get("scene", {}).get("model", "block"),
               "name": name, "motion": what, "t_end_s": t_end, "alpha_rad": model.alpha,
@@ -216,6 +236,24 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     s.setdefault("outcome", outcome(s)[0])  # the compliant block's summary has none
     say(f"rocking: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
     return s
+
+
+def excitation_text(exc, what: str) -> str:
+    """The excitation of a run in words, with its peak acceleration [m/s²]."""
+    if exc is None:
+        return what
+    if isinstance(exc, Pulse):
+        return f"{what}, a_p = {abs(exc.a_p):.3g} m/s² ({abs(exc.a_p) / G_EARTH:.3g} g)"
+    return f"{what}, PGA {exc.pga:.3g} m/s² ({exc.pga / G_EARTH:.3g} g)"
+
+
+def ground_of(exc, t: np.ndarray):
+    """(t, horizontal ground acceleration [m/s²]) of a record or a pulse, None without one."""
+    if exc is None:
+        return None
+    if isinstance(exc, Pulse):
+        return t, exc.accel(t)
+    return exc.t, exc.a_hor
 
 
 def outcome(s: dict) -> tuple[str, str]:
