@@ -18,13 +18,17 @@ For (nested) tuples of arrays it borrows every member. The view does not keep ``
   whose memory nobody owns): a kernel returns its owned arrays.
 
 Without the JIT (``NUMBA_DISABLE_JIT=1``) both are plain Python: ``borrowed`` returns its
-argument and ``alive`` does nothing.
+argument and ``alive`` does nothing; with plain numba (``NSDYN_PLAIN_NUMBA=1``,
+:data:`nsdyn._numba_cache.PLAIN`) the compiled code does the same (numba counts references
+as usual), so nothing here depends on numba's array layout.
 """
 
 from numba import types
-from numba.core import cgutils
+from numba.core import cgutils, errors
 from numba.extending import intrinsic, overload
 from numba.np.arrayobj import make_array
+
+from nsdyn._numba_cache import PLAIN
 
 
 def borrowed(a):
@@ -89,10 +93,14 @@ def _alive(typingctx, owners):
 @overload(borrowed)
 def _borrowed_impl(a):
     if not _arrays(a):
-        raise TypeError(f"borrowed: expected an array or a tuple of arrays, got {a}")
+        raise errors.TypingError(f"borrowed: expected an array or a tuple of arrays, got {a}")
+    if PLAIN:
+        return lambda a: a
     return lambda a: _borrowed(a)
 
 
 @overload(alive)
 def _alive_impl(owners):
+    if PLAIN:
+        return lambda owners: None
     return lambda owners: _alive(owners)

@@ -8,8 +8,11 @@ family calls it once at import, before any of its kernels is loaded.
 
 Also here: :func:`compiling` (the garbage collector held back while numba compiles),
 :func:`stable_identity` (kernels passed as arguments keep one identity across processes, so
-cached signatures holding them are found by any process) and :class:`Helper` (a second process
-that compiles part of a first run into the cache while this one compiles the rest).
+cached signatures holding them are found by any process), :class:`Helper` (a second process
+that compiles part of a first run into the cache while this one compiles the rest) and the
+switch :data:`PLAIN` (``NSDYN_PLAIN_NUMBA=1``): plain numba, without the techniques that rely
+on numba's internals (calls by address, borrowed views, fixed identities, the helper), for
+a numba whose internals changed; the kernels compute the same numbers either way.
 """
 
 from __future__ import annotations
@@ -21,6 +24,27 @@ from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+PLAIN_ENV = "NSDYN_PLAIN_NUMBA"  # "1": plain numba (read once, when nsdyn is imported)
+PLAIN = os.environ.get(PLAIN_ENV, "0") not in ("", "0")
+
+
+def _plain_cache_dir() -> None:
+    """Plain numba compiles the same signatures to other code (no borrowed views), so its
+    cache lives apart: ``NUMBA_CACHE_DIR`` when given, else a folder of the user's cache.
+    Set here, before any kernel that borrows is defined (they all import this module first)."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    folder = os.path.join(base, "nsdyn", "plain-numba")
+    os.environ["NUMBA_CACHE_DIR"] = folder
+    from numba.core import config
+
+    config.CACHE_DIR = folder
+
+
+if PLAIN:
+    _plain_cache_dir()
+
 
 def drop_stale(folder: Path, kernel_modules: Iterable[str], sources: Iterable[Path]) -> None:
     """Delete the cache files of ``kernel_modules`` (module stems in ``folder``) when any of
@@ -31,18 +55,23 @@ def drop_stale(folder: Path, kernel_modules: Iterable[str], sources: Iterable[Pa
         for src in sources:
             h.update(Path(src).read_bytes())
         digest = h.hexdigest()
-        stamp = folder / "__pycache__" / f"nsdyn-kernels-{'-'.join(kernel_modules)}.sha1"
+        name = f"nsdyn-kernels-{'-'.join(kernel_modules)}.sha1"
+        if PLAIN:  # its own cache (see _plain_cache_dir), its own stamps, never the other's
+            root = Path(os.environ["NUMBA_CACHE_DIR"])
+            tag = hashlib.sha1(str(folder).encode()).hexdigest()[:12]
+            stamp, dirs = root / "nsdyn-stamps" / f"{tag}-{name}", [root]
+        else:
+            stamp, dirs = folder / "__pycache__" / name, [folder / "__pycache__"]
+            if os.environ.get("NUMBA_CACHE_DIR"):
+                dirs.append(Path(os.environ["NUMBA_CACHE_DIR"]))
         if stamp.is_file() and stamp.read_text() == digest:
             return
-        dirs = [folder / "__pycache__"]
-        if os.environ.get("NUMBA_CACHE_DIR"):
-            dirs.append(Path(os.environ["NUMBA_CACHE_DIR"]))
         for d in dirs:
             if d.is_dir():
                 for m in kernel_modules:
                     for f in d.rglob(f"{m}.*.nb[ic]"):
                         f.unlink(missing_ok=True)
-        stamp.parent.mkdir(exist_ok=True)
+        stamp.parent.mkdir(parents=True, exist_ok=True)
         stamp.write_text(digest)
     except OSError:  # read-only install or a concurrent cleaner: numba's own checks remain
         pass
@@ -95,9 +124,11 @@ def stable_identity(*dispatchers) -> None:
     signature with the dispatcher's identity: with a random one, a process never finds what
     another process compiled for that signature and compiles it again. With a fixed one the
     cache entry is found in any process (what :class:`Helper` relies on). Does nothing under
-    ``NUMBA_DISABLE_JIT`` or where numba's internals differ (each process then compiles its
-    own, as before).
+    ``NUMBA_DISABLE_JIT``, under :data:`PLAIN` or where numba's internals differ (each process
+    then compiles its own, as before).
     """
+    if PLAIN:
+        return
     for d in dispatchers:
         set_uuid = getattr(d, "_set_uuid", None)
         if set_uuid is None:
@@ -116,11 +147,11 @@ HELPER_ENV = "NSDYN_COMPILE_HELPER"  # "0": compile everything in the calling pr
 def helper_enabled() -> bool:
     """True when a first compilation may use a helper process: numba compiles (no
     ``NUMBA_DISABLE_JIT``), this process may use at least two cores, it is not itself a worker
-    of a process pool (a study's workers keep the other cores busy), and
-    ``NSDYN_COMPILE_HELPER`` is not ``0``."""
+    of a process pool (a study's workers keep the other cores busy), not :data:`PLAIN` (the
+    helper relies on fixed identities), and ``NSDYN_COMPILE_HELPER`` is not ``0``."""
     import multiprocessing
 
-    if os.environ.get(HELPER_ENV, "1") == "0":
+    if PLAIN or os.environ.get(HELPER_ENV, "1") == "0":
         return False
     if os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0"):
         return False
@@ -234,3 +265,34 @@ def dispatcher_cached(disp) -> bool:
         return bool(index) and all(os.path.exists(cf._data_path(f)) for f in index.values())
     except Exception:  # noqa: BLE001  (a private numba API: any failure means "unknown")
         return False
+
+
+# ---- a notice before a first compilation ---------------------------------------------------
+
+
+def all_cached(dispatchers: Iterable) -> bool:
+    """True when every numba dispatcher of ``dispatchers`` is ready (:func:`dispatcher_cached`):
+    a family's run then only loads its kernels."""
+    return all(dispatcher_cached(d) for d in dispatchers)
+
+
+@contextmanager
+def first_compile(family: str, about_s: float, cached: bool) -> Iterator[bool]:
+    """Around the first call of a family's kernels: unless ``cached``, one line on stderr
+    *before* numba starts compiling (``compiling the <family> kernels once (about N s; cached
+    afterwards)…``) and, when the block ends without an error, how long it took. Yields True
+    when the kernels compile now. Printed also for ``--json`` runs (stderr is not the JSON)."""
+    import sys
+    import time
+
+    cold = not cached
+    if cold:
+        print(
+            f"compiling the {family} kernels once (about {about_s:.0f} s; cached afterwards)…",
+            file=sys.stderr,
+            flush=True,
+        )
+    t0 = time.perf_counter()
+    yield cold
+    if cold:
+        print(f"  compiled in {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)

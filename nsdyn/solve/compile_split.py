@@ -130,14 +130,18 @@ def calls(callees) -> np.ndarray | tuple:
     """``K`` for a loop that calls ``callees`` (:class:`Callee`, in the order of their slots)
     by address: their addresses (each loaded from the cache, or compiled) over the digests of
     their declarations (see :mod:`nsdyn._kaddress`); under ``NUMBA_DISABLE_JIT`` a tuple of
-    the kernels. The callers keep it once per process: the addresses and declarations do not
-    change in it."""
+    the kernels; with plain numba (:data:`nsdyn._numba_cache.PLAIN`) None: the loops call
+    their callees directly, as numba links them. The callers keep it once per process: the
+    addresses and declarations do not change in it."""
     from numba import config
 
     from nsdyn import _kaddress
+    from nsdyn._numba_cache import PLAIN
 
     if config.DISABLE_JIT:
         return tuple(c.kernel for c in callees)
+    if PLAIN:
+        return None
     return np.array(
         [[c.address() for c in callees], [_kaddress.digest(c.name) for c in callees]],
         dtype=np.int64,

@@ -1,0 +1,94 @@
+"""Plain numba (``NSDYN_PLAIN_NUMBA=1``): the kernels without numba's internals.
+
+Calls by address (``nsdyn._kaddress``) and borrowed views (``nsdyn._kborrow``) build code from
+numba's private interfaces. With the switch on, the loops call their callees directly (``K``
+None) and ``borrowed`` / ``alive`` are the identity and nothing: the same arithmetic in the
+same order, so the same histories bit for bit (the addresses change which code is linked
+where, never an operation; numba does not contract or reorder floating-point operations
+without fastmath). Plain kernels keep a cache of their own (same signatures, other code).
+"""
+
+import json
+import os
+import subprocess
+import sys
+import warnings
+
+import numpy as np
+import pytest
+from numba import njit
+from numba.core import errors
+
+from nsdyn import _kborrow as kb
+
+
+@njit(cache=False)
+def _borrow_a_number(x):
+    return kb.borrowed(x)
+
+
+def test_borrowing_a_non_array_is_a_typing_error_without_deprecation():
+    """numba 0.59 deprecates exceptions other than its own raised while typing (the
+    old-style error capturing): the refusal is a TypingError naming the expected form."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", errors.NumbaPendingDeprecationWarning)
+        with pytest.raises(errors.TypingError, match="borrowed: expected an array"):
+            _borrow_a_number(3.0)
+
+
+_PROBE = """
+import json, os
+from numba.core import config
+from nsdyn._numba_cache import PLAIN, helper_enabled
+from nsdyn.solve import compile_split
+print(json.dumps({"plain": PLAIN, "helper": helper_enabled(),
+                  "K": compile_split.calls([]) is None, "cache": config.CACHE_DIR,
+                  "env": os.environ.get("NUMBA_CACHE_DIR")}))
+"""
+
+
+def test_the_switch_turns_off_addresses_and_the_helper_and_keeps_its_own_cache(tmp_path):
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    env.update(NSDYN_PLAIN_NUMBA="1", XDG_CACHE_HOME=str(tmp_path), NSDYN_COMPILE_HELPER="1")
+    out = subprocess.run([sys.executable, "-c", _PROBE], env=env, capture_output=True,
+                         text=True, check=True).stdout  # fmt: skip
+    got = json.loads(out.splitlines()[-1])
+    folder = str(tmp_path / "nsdyn" / "plain-numba")
+    assert got == {"plain": True, "helper": False, "K": True, "cache": folder, "env": folder}
+
+
+_RUNS = """
+import sys
+import numpy as np
+import nsdyn
+from nsdyn.ground import read_motion
+from nsdyn.ground.excitation import Harmonic
+from nsdyn.models.isolated.scene import build_scene, load_scene
+from nsdyn.periodic import frame_problem, shoot
+frame, _ = build_scene(load_scene(None))
+motion = read_motion("synthetic-wn-40s")
+out = {}
+run = nsdyn.simulate(frame, motion, method="radau", t_end=1.0)  # the flat loop, by address
+out["radau_x"], out["radau_idr"] = run.x, np.asarray(run.summary()["idr_max"])
+ev = nsdyn.simulate(frame.with_isolation(law="switch"), Harmonic(0.5, 2.0), method="event",
+                    n_periods=1)
+out["event_x"] = ev.x
+res = shoot(frame_problem(frame, 0.5), 2.0)  # the period map calls its Jacobian by address
+out["orbit"], out["monodromy"] = res.x0, res.monodromy
+np.savez(sys.argv[1], **out)
+"""
+
+
+@pytest.mark.slow  # compiles the default loop, the event loop and the period map as plain numba
+def test_plain_numba_gives_identical_histories(tmp_path):
+    files = {}
+    for mode in ("0", "1"):
+        env = dict(os.environ, NSDYN_PLAIN_NUMBA=mode, NSDYN_COMPILE_HELPER="0")
+        if mode == "1":  # a cache of its own for the test, not the user's plain one
+            env["NUMBA_CACHE_DIR"] = str(tmp_path / "plain-cache")
+        files[mode] = tmp_path / f"runs-{mode}.npz"
+        subprocess.run([sys.executable, "-c", _RUNS, str(files[mode])], env=env, check=True)
+    by_address, plain = np.load(files["0"]), np.load(files["1"])
+    assert set(by_address.files) == set(plain.files)
+    for key in by_address.files:
+        assert np.array_equal(by_address[key], plain[key]), key
