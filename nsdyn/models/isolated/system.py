@@ -38,6 +38,7 @@ from nsdyn.models.isolated.defaults import ALPHA, BETA, C_DAMPER, EPS, ETA, K_LA
 from nsdyn.models.isolated.params import pack
 
 FIDELITIES = ("fixed", "rigid", "cb", "full")
+DENSE_FRAME_MAX = 2000  # frames with more dofs are reduced from their sparse K, M
 # what a normal force reaching zero means: the isolators hold the structure down (bilateral,
 # seed 004), the run stops / flags it (detect), or the isolator lifts off and lands (unilateral)
 CONTACTS = ("bilateral", "detect", "unilateral")
@@ -384,8 +385,9 @@ def build_system(
             frame, np.inf, info, sparse=fo["sparse"],
         )
     Kf, Mf = frame.assemble(lumped=lumped)
-    Kf = Kf.toarray() if hasattr(Kf, "toarray") else np.asarray(Kf)
-    Mf = Mf.toarray() if hasattr(Mf, "toarray") else np.asarray(Mf)
+    if frame.n_dof <= DENSE_FRAME_MAX:  # large frames stay sparse (Craig-Bampton: Lanczos)
+        Kf = Kf.toarray() if hasattr(Kf, "toarray") else np.asarray(Kf)
+        Mf = Mf.toarray() if hasattr(Mf, "toarray") else np.asarray(Mf)
     r_full = frame.influence()
     total_mass = float(r_full[:, 0] @ Mf @ r_full[:, 0])
     nodes = np.asarray(frame.nodes, dtype=float)
