@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from nsdyn.ground.motion import unit_factor
 from nsdyn.ground.motion3 import GroundMotion3
 from nsdyn.ground.orbit import HarmonicPlane
 from nsdyn.ground.readers3 import read_motion3
@@ -113,18 +114,21 @@ def _record3(table: dict, source: str) -> GroundMotion3:
             raise _err(source, key, f"expected true or false, got {table[key]!r}")
     kw: dict[str, Any] = {"trim": table.get("trim", False)}
     if "units" in table:
+        try:
+            unit_factor(table["units"])
+        except ValueError as e:
+            raise _err(source, "units", str(e)) from None
         kw["units"] = table["units"]
     if "dt" in table:
         kw["dt"] = _number(source, table, "dt", positive=True)
     kw["rotate"] = _number(source, table, "rotate", 0.0)
-    where = "record" if "record" in table else "y" if "x" in files else "x"
     try:
         if "record" in table:
             motion = read_motion3(table["record"], **kw)
         else:
             motion = read_motion3(files.get("x"), files.get("y"), files.get("z"), **kw)
     except (OSError, ValueError) as e:  # a missing file, an unknown name, a bad record
-        raise _err(source, where, str(e)) from None
+        raise _err(source, _culprit(table, files, str(e)), str(e)) from None
     if not table.get("vertical", True):
         motion = motion._replace(az=None)
     if "pga" in table:
@@ -144,6 +148,20 @@ def _record3(table: dict, source: str) -> GroundMotion3:
         except ValueError as e:  # a t_end before the record's first sample
             raise _err(source, "t_end", str(e)) from None
     return motion
+
+
+def _culprit(table: dict, files: dict[str, str], message: str) -> str:
+    """The key whose file a reading error is about: the file named first in the message (a
+    component file's own errors start with its path; a grid mismatch names the x file last),
+    "y" for an x file without its second horizontal component, else "record"."""
+    if "record" in table:
+        return "record"
+    if "y" not in files and "missing component y" in message:
+        return "y"
+    named = {k: message.find(f"{k}: ") if message.startswith("read_motion3: ") else
+             message.find(str(f)) for k, f in files.items()}  # fmt: skip
+    named = {k: i for k, i in named.items() if i >= 0}
+    return min(named, key=named.get) if named else "x"
 
 
 def _orbit(table: dict, source: str) -> tuple[HarmonicPlane, dict[str, float]]:

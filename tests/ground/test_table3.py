@@ -63,8 +63,10 @@ def test_orbit_table_is_the_helper(table, expected, duration):
           "pga_component": "z"}, "pga_component", "expected one of"),
         ({"kind": "record3", "record": "synthetic-wn-40s", "trim": 1}, "trim", "true or false"),
         ({"kind": "record3", "record": "synthetic-wn-40s", "t_end": -1.0}, "t_end", "positive"),
-        ({"kind": "record3", "x": "/nonexistent/x.AT2", "y": "/nonexistent/y.AT2"}, "y",
+        ({"kind": "record3", "x": "/nonexistent/x.AT2", "y": "/nonexistent/y.AT2"}, "x",
          "no such file"),
+        ({"kind": "record3", "record": "synthetic-wn-40s", "units": "furlongs"}, "units",
+         "unknown acceleration unit"),
         ({"kind": "orbit", "orbit": "circle"}, "orbit", "expected one of"),
         ({"kind": "orbit", "orbit": "circular", "amplitude": 1.0, "t_end": 1.0}, "frequency",
          "required"),
@@ -92,3 +94,22 @@ def test_bad_table_names_source_and_key_in_one_line(table, key, needle):
     msg = str(ei.value)
     assert "\n" not in msg and msg.startswith(f"{SRC}: motion.{key}")
     assert needle in msg
+
+
+def test_a_bad_component_file_is_named_by_its_own_key(tmp_path):
+    at2 = "PEER NGA STRONG MOTION DATABASE RECORD\nTEST\nACCELERATION TIME SERIES IN UNITS OF G\n"
+    x = tmp_path / "x.AT2"
+    x.write_text(at2 + "NPTS=    3, DT=   .0100 SEC,\n  0.01  0.02  0.03\n")
+    y = tmp_path / "y.AT2"
+    y.write_text(at2 + "NPTS=    3, DT=   .0200 SEC,\n  0.01  0.02  0.03\n")
+    cases = [
+        ({"x": str(x), "y": str(tmp_path / "nosuch.AT2")}, "y", "no such file"),
+        ({"x": str(x), "y": str(y)}, "y", "dt = 0.02 s"),  # the y file's step differs from x's
+        ({"x": str(x), "y": str(x), "z": str(y)}, "z", "dt = 0.02 s"),
+        ({"x": str(x)}, "y", "missing component y"),  # an AT2 file holds one component
+    ]
+    for files, key, needle in cases:
+        with pytest.raises(ValueError) as ei:
+            motion3_from_table({"kind": "record3", **files}, SRC)
+        msg = str(ei.value)
+        assert "\n" not in msg and msg.startswith(f"{SRC}: motion.{key}:") and needle in msg, msg
