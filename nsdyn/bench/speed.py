@@ -19,7 +19,8 @@ is piecewise linear); SciPy steps across them: part of the ratio is that, not co
 Compilation is reported apart (``integrate.warmup`` in this process; ``--cold-compile``: with
 an empty numba cache in a fresh process, and the wall time of ``nsdyn run --t-end 1 --json`` in
 fresh processes, median of START_REPEATS, with an empty cache each time (a first run) and with
-the cache a previous run filled (every later run)).
+the cache a previous run filled (every later run)). ``--families``: also the first-run table of
+every model family (``first-runs.csv``, :mod:`nsdyn.bench.first_runs`; several minutes).
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn.bench import common
+from nsdyn.bench import common, first_runs
 from nsdyn.bench.baseline import run_scipy_radau
 
 __all__ = [
@@ -51,7 +52,7 @@ __all__ = [
 ]
 
 # the command-line options run_bench takes (nsdyn.cli.bench passes only these)
-OPTIONS = ("repeats", "figures", "quiet", "cold_compile")
+OPTIONS = ("repeats", "figures", "quiet", "cold_compile", "families")
 
 SPEED_T_END = 40.0  # s: the first 40 s of every record (the bundled one is 40 s long)
 SPEED_REPEATS = 5  # timed repeats of the nsdyn run (median)
@@ -300,6 +301,7 @@ def speed_bench(
     *,
     quick: bool = False,
     cold_compile: bool = False,
+    families: bool = False,
     shared_dir=None,
     repeats: int | None = None,
     out: Path | None = common.DEFAULT_OUT,
@@ -452,15 +454,17 @@ def speed_bench(
         r.update({k: meta[k] for k in ("compile_s", "cold_compile_s", "quick")})
     for r in table:
         r.update({k: v for k, v in meta.items() if k not in ("scene", "default_run")})
+    first = first_runs.first_runs(log=lambda m: common.log(m, quiet)) if families else []
     files = {}
     if out is not None:
         tables = {
             "csv": ("speed.csv", rows, _SPEED_FIELDS),
             "table_csv": ("speed-table.csv", table, None),
+            **({"first_runs_csv": ("first-runs.csv", first, None)} if first else {}),
         }
         chart = ("figure", "speed.png", lambda: speed_figure(rows, table)) if figures else None
         files = common.write_outputs(out, tables, chart)
-    return {"rows": rows, "table": table, "files": files, "meta": meta}
+    return {"rows": rows, "table": table, "files": files, "meta": meta, "first_runs": first}
 
 
 run_bench = common.entry_point(speed_bench)
@@ -524,6 +528,8 @@ def speed_markdown(res: dict) -> str:
                 for t in same
             )
         )
+    if res.get("first_runs"):
+        lines += ["", first_runs.first_runs_markdown(res["first_runs"], os.getloadavg())]
     return "\n".join(lines)
 
 
@@ -541,4 +547,5 @@ def report(res: dict) -> str:
 
 def summarise(res: dict) -> dict:
     """The JSON summary of :func:`speed_bench`'s result: the table, its settings, the files."""
-    return {"table": res["table"], "meta": res["meta"], "files": res["files"]}
+    keys = ("table", "meta", "files", "first_runs")
+    return {k: res[k] for k in keys if k in res}

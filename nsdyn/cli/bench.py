@@ -2,7 +2,7 @@
 (the benchmarks themselves are in :mod:`nsdyn.bench`).
 
 ``nsdyn bench NAME | all [--quick] [--out DIR] [--repeats N] [--records LIST] [--cold-compile]
-[--curve] [--no-figures] [--json]`` runs benchmark NAME of :data:`nsdyn.bench.BENCHMARKS`
+[--families] [--curve] [--no-figures] [--json]`` runs benchmark NAME of :data:`nsdyn.bench.BENCHMARKS`
 (``all``: each in the table's order) through its ``run_bench(out_dir, quick, **options)``,
 passing only the options its ``OPTIONS`` lists, then prints its ``report`` (or its summary)
 and the files it wrote, or with ``--json`` one JSON object ``{name: summary}`` and nothing else.
@@ -71,6 +71,12 @@ def configure(p: argparse.ArgumentParser) -> None:
         help="speed: also time the JIT compilation with an empty numba cache (a few minutes)",
     )
     p.add_argument(
+        "--families",
+        action="store_true",
+        help="speed: also the first run of every model family, each in a fresh process with an "
+        "empty numba cache, then a cached start (several minutes)",
+    )
+    p.add_argument(
         "--curve",
         action="store_true",
         help="switch_shooting: also one whole 150-point curve, switch against arctan",
@@ -118,6 +124,7 @@ def run(args: argparse.Namespace) -> int:
         "figures": not args.no_figures,
         "quiet": args.json,
         "cold_compile": getattr(args, "cold_compile", False),
+        "families": getattr(args, "families", False),
         "curve": getattr(args, "curve", False),
     }
     whats = list(BENCHMARKS) if args.what == "all" else [args.what]

@@ -108,6 +108,25 @@ def _failure_lines(failed: list[dict], table: str) -> list[str]:
     return lines
 
 
+def announce_compile(study) -> bool:
+    """Say on stderr, before the workers start, that each compiles the isolated frame's
+    kernels once when numba's cache does not hold them (the rocking, contact and cylinder
+    runners say so themselves, in each worker). True when it said so."""
+    if study.kind != "isolated":
+        return False
+    from nsdyn.solve.methods import FLAT_LAWS, METHODS, is_cached, kernel_for
+
+    method = study.base.get("solver", {}).get("method", "auto")
+    law = "switch" if method == "event" else study.base.get("isolation", {}).get("law", "arctan")
+    method = method if method in METHODS else "radau"  # auto: radau for a frame of a few modes
+    kernel, flat = kernel_for(method, flat=law in FLAT_LAWS), law in FLAT_LAWS
+    if is_cached(kernel) and is_cached("metrics" if flat else "metrics-general"):
+        return False
+    print(f"compiling the isolated-frame kernels ({method}) once in each worker (first run only, "
+          "cached afterwards)…", file=sys.stderr, flush=True)  # fmt: skip
+    return True
+
+
 def run(args: argparse.Namespace) -> int:
     from nsdyn.studies.analyses import run_analyses
     from nsdyn.studies.execute import dask_executor, run_study, stderr_progress
@@ -115,6 +134,7 @@ def run(args: argparse.Namespace) -> int:
 
     study = load_study(args.study)
     out = Path(args.out) if args.out else Path(DEFAULT_OUT) / study.name.replace("/", "_")
+    announce_compile(study)
     if args.dask or args.dask_local:
         ctx = dask_executor(args.dask, args.dask_local)
     else:

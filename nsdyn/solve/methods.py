@@ -470,7 +470,7 @@ _METRICS_PART = {"metrics": "warmup_metrics", "metrics-general": "warmup_metrics
 from nsdyn.solve import sparse as _sparse  # noqa: E402  (registers after the numba methods)
 
 METHODS[_sparse.METHOD] = Method(_sparse.METHOD, _sparse.METHOD, True, _sparse.run)
-
+_ENTRY[_sparse.METHOD] = _sparse._klowrank.run_steps  # the dense loop its warm-up compiles
 
 # ---- unilateral contact: lift-off, flight and landing (nsdyn.solve._kunilateral) -------------
 

@@ -72,3 +72,52 @@ def test_no_sweep_notice_when_cached_or_for_the_switch_law(monkeypatch, capsys):
     monkeypatch.setattr(problem, "kernels_cached", lambda: False)
     assert cli_sweep.prepare_kernels("switch") == 0.0  # its kernels compile in the workers
     assert capsys.readouterr().err == ""
+
+
+def test_every_method_is_announced_with_an_empty_cache(tmp_path):
+    # a fresh process with an empty NUMBA_CACHE_DIR: the probe of every method's kernel (the
+    # factor-once generalized-alpha's too) and of the sweep's says "not cached", so each first
+    # run announces its compilation
+    import json
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    code = (
+        "import json\nfrom nsdyn.solve import methods\nfrom nsdyn.periodic import problem\n"
+        "k = {m.kernel for m in methods.METHODS.values()} | {'radau-general', 'metrics'}\n"
+        "out = {n: methods.is_cached(n) for n in sorted(k)}\n"
+        "out['sweep'] = problem.kernels_cached()\nprint(json.dumps(out))"
+    )
+    root = str(Path(__file__).resolve().parents[2])
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (root, env.get("PYTHONPATH")) if p)
+    res = subprocess.run([sys.executable, "-P", "-c", code], env=env, capture_output=True,
+                         text=True, timeout=300)  # fmt: skip
+    assert res.returncode == 0, res.stderr
+    probes = json.loads(res.stdout.strip().splitlines()[-1])
+    assert "genalpha-lowrank" in probes and "event" in probes
+    assert probes == dict.fromkeys(probes, False)
+
+
+def test_study_notice_before_the_workers_start(monkeypatch, capsys):
+    # nsdyn study of isolated-frame scenes: a cold cache makes it say, before the workers
+    # start, that each compiles the kernels once; nothing when they are cached, and nothing
+    # for the other families (their scene runners say so in the workers)
+    from types import SimpleNamespace
+
+    from nsdyn.cli import study as cli_study
+
+    study = SimpleNamespace(kind="isolated", base={"solver": {"method": "event"}})
+    asked = []
+    monkeypatch.setattr(methods, "is_cached", lambda kernel: asked.append(kernel) or False)
+    assert cli_study.announce_compile(study)
+    err = capsys.readouterr().err
+    assert "compiling the isolated-frame kernels (event) once in each worker" in err
+    assert asked[0] == "event"  # the switch model's loop, not the default one
+    monkeypatch.setattr(methods, "is_cached", lambda kernel: True)
+    assert not cli_study.announce_compile(study)
+    monkeypatch.setattr(methods, "is_cached", lambda kernel: False)
+    assert not cli_study.announce_compile(SimpleNamespace(kind="cylinder", base={}))
+    assert capsys.readouterr().err == ""

@@ -47,6 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import read_motion
 from nsdyn.models.contact.results import TILT_FLOOR, slenderness
@@ -57,6 +58,25 @@ from nsdyn.models.tilt import scene_tilt
 _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 METHODS = ("event", "moreau")  # solver.method
 T_END = 5.0  # default duration of free motion [s]
+# seconds a first run compiles the kernels (2-core machine, empty cache; docs/dev/first-runs.md)
+COMPILE_ABOUT_S = 15.0
+
+
+def kernels_cached(opts: dict) -> bool:
+    """True when the kernels a run with the scene's ``opts`` (of :func:`build`) calls are
+    compiled in this process or in numba's on-disk cache (the run then only loads them; else
+    a first run announces their compilation)."""
+    from nsdyn._numba_cache import all_cached
+    from nsdyn.models.contact import _kcompliant, _kevent, _kgeom, _kmoreau
+
+    if opts.get("ground") is not None:
+        kernels = [_kcompliant.integrate]
+    elif opts["method"] == "moreau":
+        kernels = [_kmoreau.moreau, _kgeom.contact_rows]
+    else:
+        kernels = [_kevent.integrate, _kevent.rhs, _kgeom.contact_rows, _kgeom.mu_of,
+                   _kgeom.solve_contacts, _kgeom.body_mode]  # fmt: skip
+    return all_cached(kernels)
 
 
 def build(cfg: dict, source: str):
@@ -224,7 +244,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"contact: {name}: {opts['what']}, {opts['method']}, t_end = {t_end:g} s")
     w0 = time.perf_counter()
-    simulate(body, law, motion, min(t_end, 0.02), opts)  # compile / load the kernels
+    with first_compile("contact", COMPILE_ABOUT_S, kernels_cached(opts)):
+        simulate(body, law, motion, min(t_end, 0.02), opts)  # compile / load the kernels
     compile_s = time.perf_counter() - w0
     w0 = time.perf_counter()
     res = simulate(body, law, motion, t_end, opts)

@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open, save_figure
 from nsdyn.models.cylinder.design import design_foundation, static_settlement, uplift_onset
 from nsdyn.models.cylinder.params import FOUNDATIONS, CylinderParams
@@ -44,6 +45,18 @@ from nsdyn.models.tilt import scene_tilt
 TABLES = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 STAR_QUANTITIES = ("k", "c", "H", "r")  # quantities a star case may scale
 METHODS = ("dopri5",)  # integrators of this family
+# seconds a first run compiles the kernel (2-core machine, empty cache; docs/dev/first-runs.md)
+COMPILE_ABOUT_S = 45.0
+
+
+def kernels_cached(p: CylinderParams) -> bool:
+    """True when the kernel a run of ``p`` calls is compiled in this process or in numba's
+    on-disk cache, or when the run calls none (a fixed foundation moves with the ground):
+    the run then compiles nothing (else a first run announces the compilation)."""
+    from nsdyn._numba_cache import all_cached
+    from nsdyn.models.cylinder import _kernel
+
+    return p.foundation == "fixed" or all_cached([_kernel.integrate])
 
 
 def _friction(fd: dict, case: str, source: str) -> float | None:
@@ -168,7 +181,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     log(f"cylinder {name}: {p.foundation}, k = {p.k:.6g} N/m³, c = {p.c:.6g} N s/m³, "
         f"{len(ag)} samples")  # fmt: skip
     tic = time.perf_counter()
-    simulate(p, ag[:3], dt, rtol=opts["rtol"])  # compiles the kernel (cached on disk)
+    with first_compile("cylinder", COMPILE_ABOUT_S, kernels_cached(p)):
+        simulate(p, ag[:3], dt, rtol=opts["rtol"])  # compiles the kernel (cached on disk)
     compile_s = time.perf_counter() - tic
     tic = time.perf_counter()
     res = simulate(p, ag, dt, rtol=opts["rtol"], azimuth0=opts["azimuth0"], **opts["tilt"])

@@ -1,0 +1,160 @@
+"""First runs of every model family: compilation and run apart, in fresh processes.
+
+Each case (a family's default scene, the isolated frame once per method, a sweep, a study)
+runs as a whole ``nsdyn`` command in a fresh Python process whose ``NUMBA_CACHE_DIR`` is a new
+empty directory (a first run: every kernel it needs compiles), then once more in a fresh
+process with the cache that run filled (every later start). Per case and process::
+
+    process_s   wall time of the whole process (interpreter start, imports, compile, run, output)
+    compile_s   the seconds the command reports compiling or loading its kernels (JSON summary)
+    run_s       the seconds it reports for the run itself (the summary's wall_s)
+
+plus ``notice`` (the process said on stderr that it compiles) and the load average of the
+machine before the process started (:func:`os.getloadavg`, 1 min). The targets are a first
+run within FIRST_RUN_TARGET_S and a cached start within CACHED_TARGET_S of process time;
+``over_s = process_s - FIRST_RUN_TARGET_S`` of the first run says by how much a case misses.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+FIRST_RUN_TARGET_S = 10.0  # a first run into an empty cache, whole process [s]
+CACHED_TARGET_S = 1.0  # a later start, whole process [s]
+ISOLATED_T_END = 10.0  # s of the default scene's record in the isolated frame's cases
+TIMEOUT_S = 1800.0  # a case still running after this is stopped (status "timeout")
+
+_ROOT = Path(__file__).resolve().parents[2]
+_SCENES = _ROOT / "examples" / "scenes"
+
+# a study of the default scene: two tasks on the default process pool
+STUDY_TOML = """[study]
+name = "first-run"
+[base.motion]
+pga = 3.0
+t_end = 5.0
+[parameters]
+"isolation.mu" = [0.02, 0.05]
+"""
+
+
+def cases() -> list[tuple[str, str, list[str]]]:
+    """(family, what, ``nsdyn`` arguments) of every case; ``{out}`` stands for the output
+    directory and ``{study}`` for the study file of the case."""
+    iso = ["run", "--t-end", f"{ISOLATED_T_END:g}"]
+    out = ["--json", "--no-figures", "--out", "{out}"]
+    rows = [
+        ("isolated", "radau (default)", [*iso, *out]),
+        ("isolated", "event", [*iso, "--method", "event", *out]),
+        ("isolated", "genalpha", [*iso, "--method", "genalpha", *out]),
+        ("isolated", "genalpha-lowrank", [*iso, "--method", "genalpha-lowrank", *out]),
+        ("isolated", "sweep", ["sweep", "--points", "5", *out]),
+        ("rocking", "block", ["run", str(_SCENES / "rocking-seed001-cask.toml"), *out]),
+        ("contact", "event", ["run", str(_SCENES / "contact-seed002-A5.toml"), *out]),
+        ("cylinder", "tensionless", ["run", str(_SCENES / "cylinder-uplift.toml"), *out]),
+        ("deck", "fps", ["run", str(_SCENES / "deck-fps4-3c.toml"), *out]),
+        ("study", "isolated, 2 tasks", ["study", "{study}", *out]),
+    ]
+    return rows
+
+
+def _env(cache: str) -> dict:
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(_ROOT), env.get("PYTHONPATH")) if p)
+    return env
+
+
+def _reported(stdout: str) -> tuple[float, float]:
+    """(compile_s, run_s) of a command's JSON summary (NaN where it reports none)."""
+    nan = float("nan")
+    try:
+        s = json.loads(stdout.strip().splitlines()[-1])
+    except (ValueError, IndexError):
+        return nan, nan
+    if "run" in s and isinstance(s["run"], dict):  # nsdyn study: the whole study's wall time
+        return nan, float(s["run"].get("wall_s", nan))
+    return float(s.get("compile_s", nan)), float(s.get("wall_s", nan))
+
+
+def run_case(args: list[str], cache: str, workdir: str) -> dict:
+    """One fresh process of ``nsdyn *args`` with numba's cache in ``cache``: its row."""
+    out = tempfile.mkdtemp(prefix="out-", dir=workdir)
+    study = Path(workdir) / "first-run-study.toml"
+    study.write_text(STUDY_TOML)
+    argv = [a.format(out=out, study=study) for a in args]
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    t0 = time.perf_counter()
+    try:
+        res = subprocess.run(
+            [sys.executable, "-P", "-m", "nsdyn.cli", *argv], env=_env(cache), cwd=workdir,
+            capture_output=True, text=True, timeout=TIMEOUT_S,
+        )  # fmt: skip
+    except subprocess.TimeoutExpired:
+        return {"status": "timeout", "process_s": time.perf_counter() - t0, "load_1min": load}
+    process_s = time.perf_counter() - t0
+    compile_s, run_s = _reported(res.stdout)
+    return {
+        "status": "ok" if res.returncode == 0 else f"exit {res.returncode}",
+        "process_s": process_s,
+        "compile_s": compile_s,
+        "run_s": run_s,
+        "notice": "compiling the" in res.stderr,
+        "load_1min": load,
+        "message": "" if res.returncode == 0 else " ".join(res.stderr.split())[-300:],
+    }
+
+
+def first_runs(only: list[str] | None = None, log=print) -> list[dict]:
+    """The table: per case a first run into an empty cache, then a cached start (module
+    docstring). ``only``: the families to run (default all)."""
+    rows = []
+    for family, what, args in cases():
+        if only and family not in only:
+            continue
+        with tempfile.TemporaryDirectory(prefix="nsdyn-first-") as work:
+            cache = os.path.join(work, "numba")
+            log(f"[first-runs] {family} {what}: first run (empty numba cache)")
+            first = run_case(args, cache, work)
+            log(f"[first-runs] {family} {what}: {first['process_s']:.1f} s; cached start")
+            again = run_case(args, cache, work)
+        row = {"family": family, "what": what}
+        row.update({f"first_{k}": v for k, v in first.items()})
+        row.update({f"cached_{k}": v for k, v in again.items()})
+        row["over_s"] = first["process_s"] - FIRST_RUN_TARGET_S
+        rows.append(row)
+    return rows
+
+
+def first_runs_markdown(rows: list[dict], load: tuple | None = None) -> str:
+    """The table as Markdown: first run (process, compile, run), cached start, misses."""
+
+    def f(v, fmt=".1f"):
+        return "-" if v is None or v != v else format(v, fmt)
+
+    lines = [
+        "| family | case | first run: process [s] | compile [s] | run [s] | notice | "
+        "cached start: process [s] | load [s] | over the 10 s target [s] | load avg |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        miss = r["over_s"]
+        ok = r["first_status"] == "ok" and r["cached_status"] == "ok"
+        lines.append(
+            f"| {r['family']} | {r['what']} | {f(r['first_process_s'])} | "
+            f"{f(r.get('first_compile_s'))} | {f(r.get('first_run_s'), '.2f')} | "
+            f"{'yes' if r.get('first_notice') else 'no'} | {f(r['cached_process_s'])} | "
+            f"{f(r.get('cached_compile_s'), '.2f')} | "
+            f"{f(miss) if miss > 0 else 'met'} | {f(r['first_load_1min'], '.1f')} |"
+            + ("" if ok else f" {r['first_status']} / {r['cached_status']}")
+        )
+    if load is not None:
+        lines.append(
+            f"\nload average (1, 5, 15 min) at the end: {', '.join(f'{x:.1f}' for x in load)}"
+        )
+    return "\n".join(lines)
