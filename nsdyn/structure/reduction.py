@@ -10,7 +10,8 @@ keeping the fixed-interface modes with ``omega / 2 pi <= f_max`` (Craig & Bampto
 of substructures for dynamic analyses", AIAA J. 6(7):1313-1319, 1968). The reduced matrices
 are ``K = T^T K T`` (block diagonal: the condensed boundary stiffness and diag(omega^2)) and
 ``M = T^T M T``. With ``f_max = inf`` all modes are kept and the reduced model is the full
-model in another basis.
+model in another basis. On large models the number of modes below f_max is counted first
+(Sylvester's law of inertia on ``K_ii - (2 pi f_max)^2 M_ii``) and asked for at once.
 
 Relative coordinates: the ground-motion load on the full model is ``-M r u''`` with ``r`` the
 rigid-translation influence vectors. Because ``K r = 0`` (free frame), ``K_ib r_b + K_ii r_i =
@@ -44,6 +45,7 @@ __all__ = [
 DENSE_MAX = 2000  # above this many internal dofs, use sparse shift-invert Lanczos
 RIGID_RTOL = 1e-6  # tolerance of the check T Gamma == r (relative to max |r|)
 EIGSH_K0 = 20  # first batch of modes requested from eigsh; doubled until f_max is passed
+EIGSH_PAD = 8  # modes requested beyond those counted below f_max (inertia), or asked for
 
 
 @dataclass(frozen=True, eq=False)
@@ -129,6 +131,26 @@ def _sub(A, r, c):
     return A[r][:, c] if sp.issparse(A) else A[np.ix_(r, c)]
 
 
+def _count_below(K, M, w2) -> int | None:
+    """Number of eigenvalues of ``K phi = lam M phi`` below ``w2`` (Sylvester's law of
+    inertia: the negative pivots of ``K - w2 M = P L D L^T P^T``), from a sparse LU with
+    symmetric pivoting only; None when that factorisation is unavailable or pivoted rows."""
+    if not np.isfinite(w2):
+        return None
+    try:
+        lu = spla.splu(
+            sp.csc_array(K - w2 * M),
+            permc_spec="MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.0,
+            options={"SymmetricMode": True},
+        )
+    except RuntimeError:  # w2 an eigenvalue to working precision: no factor
+        return None
+    if not np.array_equal(lu.perm_r, lu.perm_c):
+        return None
+    return int(np.count_nonzero(lu.U.diagonal() < 0))
+
+
 def _interior_modes(Kii, Mii, f_max, n_modes, dense_max=DENSE_MAX):
     """Lowest eigenpairs of ``Kii phi = w^2 Mii phi``, mass-normalised, by f_max / count;
     dense up to ``dense_max`` internal dofs, else sparse shift-invert Lanczos."""
@@ -138,7 +160,9 @@ def _interior_modes(Kii, Mii, f_max, n_modes, dense_max=DENSE_MAX):
         lam, V = sla.eigh(_dense(Kii), _dense(Mii))
     else:
         Kii, Mii = sp.csc_array(Kii), sp.csc_array(Mii)
-        k = min(n - 1, EIGSH_K0 if n_modes is None else n_modes)
+        below = _count_below(Kii, Mii, w2_max) if n_modes is None else None
+        k0 = n_modes if n_modes is not None else EIGSH_K0 if below is None else below + 1
+        k = min(n - 1, max(k0 + EIGSH_PAD, 1))
         while True:
             lam, V = spla.eigsh(Kii, k=k, M=Mii, sigma=0.0, which="LM")
             order = np.argsort(lam)
