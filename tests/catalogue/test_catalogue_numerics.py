@@ -117,7 +117,7 @@ def test_shooting_non_convergence_is_flagged_with_residual():
 def test_zeno_accumulation_comes_to_rest_at_a_reported_time():
     from nsdyn.models.rocking.block import RockingBlock, simulate_rocking
 
-    blk = RockingBlock(0.2, 1.0, r=0.8, linear=True)
+    blk = RockingBlock(width=0.4, height=2.0, r=0.8, linear=True)
     res = simulate_rocking(blk, t_end=60.0, theta0=0.5 * blk.alpha, dt_out=0.01)
     # impacts accumulate (period ratio r per impact): a finite rest time, a finite count
     assert res.outcome == "rest" and math.isfinite(res.t_rest) and 0 < res.t_rest < 60.0
@@ -131,7 +131,7 @@ def test_overturning_is_reported_with_its_time():
     from nsdyn.ground.pulses import Pulse
     from nsdyn.models.rocking.block import RockingBlock, simulate_rocking
 
-    blk = RockingBlock(0.2, 1.0, linear=True)
+    blk = RockingBlock(width=0.4, height=2.0, linear=True)
     t1 = 0.8 / blk.p
     a_c = blk.g * blk.alpha / (1.0 - math.exp(-blk.p * t1))
     pulse = Pulse("rect", -1.02 * a_c, math.pi / t1, 1, 0.0, 0.0)
