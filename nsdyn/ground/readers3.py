@@ -30,7 +30,7 @@ from nsdyn.atomic import atomic_open
 from nsdyn.ground._text import DT_RTOL, parse_table
 from nsdyn.ground.motion import GroundMotion, RecordFileError
 from nsdyn.ground.motion3 import GroundMotion3
-from nsdyn.ground.readers import _resolve, read_motion
+from nsdyn.ground.readers import _fmt, _resolve, read_motion
 
 COMPANION_SUFFIX = "-y.txt"  # the second horizontal component of a bundled record <name>.csv
 _X_NAMES = ("ax", "a_x", "x")
@@ -220,10 +220,6 @@ def _read_files(x, y, z, units, dt, trim: bool) -> GroundMotion3:
     if any(p.n != n for p in parts.values()):
         meta["trimmed_to"] = n
     return GroundMotion3(px.t0, px.dt, cut["x"], cut["y"], az, px.name, source, meta)
-
-
-def _fmt(v: float) -> str:
-    return repr(float(v))  # shortest string that reads back to the same float
 
 
 def write_motion3(
