@@ -48,13 +48,13 @@ from nsdyn.models.isolated.bearings import (
     B_RINV,
 )
 
-# the time loop (_kplanerun) compiles these kernels, the shared tableau and LU and the bearing
+# the time loops (_kplanerun, _kplaneradau) compile these kernels, the shared tableau and LU and the bearing
 # table's column numbers into its own cache: drop both caches when any of them changes
 _HERE = Path(__file__).resolve().parent
 drop_stale(
     _HERE,
-    ["_kplane", "_kplanerun"],
-    [_HERE / f for f in ("_kplane.py", "_kplanerun.py", "bearings.py")]
+    ["_kplane", "_kplanerun", "_kplaneradau"],
+    [_HERE / f for f in ("_kplane.py", "_kplanerun.py", "_kplaneradau.py", "bearings.py")]
     + [_HERE.parents[1] / f for f in ("_kdp5.py", "_klinalg.py")],
 )
 

@@ -29,6 +29,7 @@ import numpy as np
 
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated import _kplaneradau as krad
 from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.bearings import N_BCOL, Bearing, BearingError
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
@@ -265,13 +266,24 @@ def simulate_plane(
     max_step: float | None = None,
     max_steps: int = 5_000_000,
     y0=None,
+    integrator: str = "auto",
 ):
     """Integrate the system under ``ground`` from rest (or ``y0`` = [q, q̇]).
 
     ``law``: "switch" (stick disc, events located on the dense output) or "arctan" (the
     regularised vector law). Outputs every ``dt_out`` (default: the record's step, or 1/50
-    period of an orbit) or at ``t_eval``. Returns a :class:`PlaneResult`.
+    period of an orbit) or at ``t_eval``. ``integrator``: "auto" (the switch law on the
+    explicit Dormand–Prince pair, whose smooth phases are not stiff; the stiff regularised law
+    on Radau IIA), "dopri5" or "radau" (the regularised law only). Returns a
+    :class:`PlaneResult`.
     """
+    if integrator not in ("auto", "dopri5", "radau"):
+        raise ValueError(f"integrator: expected 'auto', 'dopri5' or 'radau', got {integrator!r}")
+    if integrator == "radau" and law == "switch":
+        raise ValueError("integrator: the switch law runs on 'dopri5' (its events need it)")
+    loop = kr.integrate
+    if law == "arctan" and integrator in ("auto", "radau"):
+        loop = krad.integrate
     M, pos, bp, nd, sp = kernel_params(system, law, eps, eta, kappa)
     gk, gp, tab, dur = pack_ground(ground)
     if t_eval is None:
@@ -305,7 +317,7 @@ def simulate_plane(
     stops = np.zeros((ni, 3))
     stops[:, kr.P_TFIRST] = np.nan
     info = np.zeros(kr.N_INFO)
-    status = kr.integrate(y, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
+    status = loop(y, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                           X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
     return PlaneResult.from_run(system, law, t_eval, X, NO, FF, FR, FO, MO, EV, stops, info,
-                                int(status))  # fmt: skip
+                                int(status), eps, eta)  # fmt: skip

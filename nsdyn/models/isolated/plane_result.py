@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from nsdyn.models.isolated import _kplanerun as kr
+from nsdyn.models.isolated.friction import sticks
 
 MESSAGES = {
     kr.ST_UNDERFLOW: "step size underflow at t = {t:.6g} s (a stiff regularised law: lower eps, "
@@ -58,9 +59,11 @@ class PlaneResult:
     stops: list  # rim contacts: dicts isolator, t_first_s, peak_overshoot_m
     uplift: dict | None  # {t_s, isolator} when a normal force reached zero
     stats: dict
+    eps: float = 7500.0  # the laws' parameters of this run
+    eta: float = 1e-5
 
     @classmethod
-    def from_run(cls, system, law, t, X, NO, FF, FR, FO, MO, EV, stops, info, status):
+    def from_run(cls, system, law, t, X, NO, FF, FR, FO, MO, EV, stops, info, status, eps, eta):
         if status not in (kr.ST_OK, kr.ST_UPLIFT):
             raise PlaneIntegrationError(MESSAGES[status].format(t=info[kr.I_TFAIL]))
         nout = int(info[kr.I_NOUT])
@@ -91,7 +94,7 @@ class PlaneResult:
                  "evaluations": int(info[kr.I_NFEV]), "events": int(info[kr.I_NEV])}  # fmt: skip
         k = slice(0, nout)
         return cls(system, law, t[k], X[k, :3], X[k, 3:], NO[k], FF[k], FR[k], FO[k], MO[k],
-                   EV[:ne].copy(), contacts, uplift, stats)  # fmt: skip
+                   EV[:ne].copy(), contacts, uplift, stats, eps, eta)  # fmt: skip
 
     # ---- derived histories ------------------------------------------------------------
     def _slip(self, X) -> np.ndarray:
@@ -119,6 +122,14 @@ class PlaneResult:
         """|a| over the last axis (x, y)."""
         return np.hypot(a[..., 0], a[..., 1])
 
+    def sticks(self) -> np.ndarray:
+        """(nt, ni) booleans: the isolator sticks (:func:`nsdyn.models.isolated.friction.sticks`,
+        the one definition: the switch law's stick mode or band, the arctan law's friction
+        below its utilisation limit), judged on the resultant slip speed |v|."""
+        speed = self.resultant(self.v)
+        modes = self.modes if self.law == "switch" else None
+        return sticks(speed, self.law, eps=self.eps, eta=self.eta, modes=modes)
+
     def peak_resultant_displacement(self) -> np.ndarray:
         """max_t |u_i(t)| per isolator [m]."""
         return self.resultant(self.u).max(axis=0)
@@ -142,7 +153,7 @@ class PlaneResult:
             "peak_torsion_rad": float(np.abs(self.theta).max()),
             "min_normal_force_N": float(self.N.min()),
             "max_normal_force_N": float(self.N.max()),
-            "stick_fraction": float(np.mean(self.modes == 0)) if self.law == "switch" else None,
+            "stick_fraction": float(np.mean(self.sticks())),
             "rim_contacts": self.stops,
             "uplift": self.uplift,
         }

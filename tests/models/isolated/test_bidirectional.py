@@ -116,12 +116,15 @@ def _steady_state(A, w, mu_eff):
     return V, math.pi / 2 - math.atan2(w * V, mu_eff * G)
 
 
-@pytest.mark.parametrize("law", ["switch", "arctan"])
-def test_circular_excitation_steady_slip_has_the_closed_form_speed_and_phase(law):
+@pytest.mark.parametrize(
+    ("law", "integrator"), [("switch", "auto"), ("arctan", "radau"), ("arctan", "dopri5")]
+)
+def test_circular_excitation_steady_slip_has_the_closed_form_speed_and_phase(law, integrator):
     mu, f, eps = 0.1, 1.0, 7500.0
     A, w = 2 * mu * G, 2 * math.pi * f
     s = sdof_plane(M, Bearing(Friction(mu)), g=G)
-    r = simulate_plane(s, _circular(A, f), law=law, t_end=20.0, dt_out=0.01, eps=eps)
+    r = simulate_plane(s, _circular(A, f), law=law, t_end=20.0, dt_out=0.01, eps=eps,
+                       integrator=integrator)  # fmt: skip
     mu_eff = mu
     if law == "arctan":  # the regularised friction at the steady speed: fixed point in V
         V = _steady_state(A, w, mu)[0]

@@ -1,0 +1,275 @@
+"""Radau IIA (order 5) time loop of the deck under the regularised friction law.
+
+The regularised law is stiff near stick: its slope μN(2/π)ε (ε = 7500 s/m: ~2000 1/s on a
+deck) limits an explicit step to ~1 ms. This loop takes the L-stable, stiffly accurate
+three-stage Radau IIA collocation method instead (Hairer & Wanner, Solving ODEs II, IV.8;
+the same method as nsdyn.solve's, written here for the deck's six states, whose kernels
+that package cannot call)::
+
+    Z_i = h Σ_j a_ij f(t + c_j h, y + Z_j),   y(t + h) = y + Z_3,
+    c = ((4 − √6)/10, (4 + √6)/10, 1)
+
+solved by simplified Newton on the full 18 × 18 system (I − h A ⊗ J) ΔZ = −G(Z) with a
+forward-difference Jacobian J (kept while Newton contracts in at most three iterations and
+steps are accepted, factored again when h changes), the embedded error
+estimate of RADAU5 (I/(γ₀h) − J)⁻¹ (f(y) + Σ e_i Z_i / h) with e = (−13 − 7√6, −13 + 7√6,
+−1)/3 and γ₀ h the real eigenvalue's reciprocal, steps ending on the record's samples, and the
+cubic collocation polynomial through (0, 0), (c_i, Z_i) as dense output. Outputs, rim contacts
+and uplift (a normal force reaching zero, located on the dense output) as in
+:mod:`nsdyn.models.isolated._kplanerun`.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from nsdyn._klinalg import lu_factor, lu_solve
+from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated import _kplanerun as kr
+
+S6 = math.sqrt(6.0)
+C1, C2 = (4.0 - S6) / 10.0, (4.0 + S6) / 10.0
+A11, A12, A13 = (88.0 - 7.0 * S6) / 360.0, (296.0 - 169.0 * S6) / 1800.0, (-2.0 + 3.0 * S6) / 225.0
+A21, A22, A23 = (296.0 + 169.0 * S6) / 1800.0, (88.0 + 7.0 * S6) / 360.0, (-2.0 - 3.0 * S6) / 225.0
+A31, A32, A33 = (16.0 - S6) / 36.0, (16.0 + S6) / 36.0, 1.0 / 9.0
+E1, E2, E3 = (-13.0 - 7.0 * S6) / 3.0, (-13.0 + 7.0 * S6) / 3.0, -1.0 / 3.0
+MU_REAL = 3.0 + 3.0 ** (2.0 / 3.0) - 3.0 ** (1.0 / 3.0)  # 1/γ₀
+NEWTON_MAXITER = 8
+NEWTON_TOL = 0.03  # scaled Newton correction accepted (RADAU5's kappa * tol, with tol ~ 1)
+
+
+@njit(cache=True, error_model="numpy")
+def _a(i, j):
+    if i == 0:
+        return A11 if j == 0 else (A12 if j == 1 else A13)
+    if i == 1:
+        return A21 if j == 0 else (A22 if j == 1 else A23)
+    return A31 if j == 0 else (A32 if j == 1 else A33)
+
+
+@njit(cache=True, error_model="numpy")
+def _dense(y, Z, s, ys):
+    """Collocation polynomial at t + s h through (0, 0), (c_1, Z_1), (c_2, Z_2), (1, Z_3)."""
+    l1 = s * (s - C2) * (s - 1.0) / (C1 * (C1 - C2) * (C1 - 1.0))
+    l2 = s * (s - C1) * (s - 1.0) / (C2 * (C2 - C1) * (C2 - 1.0))
+    l3 = s * (s - C1) * (s - C2) / ((1.0 - C1) * (1.0 - C2))
+    for k in range(y.shape[0]):
+        ys[k] = y[k] + l1 * Z[0, k] + l2 * Z[1, k] + l3 * Z[2, k]
+
+
+@njit(cache=True, error_model="numpy")
+def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
+              X, NO, FF, FR, FO, MO, EV, stops, info):  # fmt: skip
+    """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
+    (the codes of :mod:`nsdyn.models.isolated._kplanerun`)."""
+    n = 6
+    ni = pos.shape[0]
+    ws = kp.workspace(ni)
+    out = (np.zeros(3), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
+    N = out[1]
+    y = np.zeros(n)
+    ys = np.zeros(n)
+    f0 = np.zeros(n)
+    f1 = np.zeros(n)
+    J = np.zeros((n, n))
+    Z = np.zeros((3, n))
+    F = np.zeros((3, n))
+    K = np.zeros((3 * n, 3 * n))
+    piv = np.zeros(3 * n, dtype=np.int64)
+    rhs = np.zeros(3 * n)
+    LE = np.zeros((n, n))
+    pe = np.zeros(n, dtype=np.int64)
+    err = np.zeros(n)
+    sc = np.zeros(n)
+    ynew = np.zeros(n)
+    for j in range(n):
+        y[j] = y0[j]
+    rtol = cfg[kr.C_RTOL]
+    hmax = cfg[kr.C_HMAX]
+    max_steps = int(cfg[kr.C_MAXSTEPS])
+    nt = t_eval.shape[0]
+    t = t_eval[0]
+    t_end = t_eval[nt - 1]
+    ntab = tab.shape[1]
+    info[kr.I_TFAIL] = np.nan
+    info[kr.I_IFAIL] = -1
+    kr._outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, 0, X, NO, FF, FR,
+                FO, MO)  # fmt: skip
+    iout = 1
+    if kr._min_normal(N) <= 0.0:
+        info[kr.I_TFAIL] = t
+        return kr.ST_UPLIFT
+    h = min(cfg[kr.C_H0], hmax)
+    need_jac = True
+    lu_h = -1.0
+    ok = False
+    it = 0
+    nstep = 0
+    nrej = 0
+    nfev = 0
+    status = kr.ST_OK
+    while t < t_end and iout < nt:
+        if nstep + nrej > max_steps:
+            status = kr.ST_MAX_STEPS
+            break
+        if t_end - t <= 1e-12 * max(1.0, abs(t_end)):  # at the end up to round-off
+            while iout < nt:
+                kr._outputs(t_eval[iout], y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws,
+                            out, iout, X, NO, FF, FR, FO, MO)  # fmt: skip
+                iout += 1
+            break
+        hh = min(h, hmax, t_end - t)
+        tb = kp.next_breakpoint(t, gk, gp, ntab)
+        if t + hh > tb:
+            hh = tb - t
+        if hh <= kr.H_MIN * max(1.0, abs(t)):
+            status = kr.ST_UNDERFLOW
+            break
+        if kp.rhs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, f0) != 0:
+            status = kr.ST_SINGULAR
+            break
+        nfev += 1
+        if need_jac:  # forward differences at the step's start, kept while Newton converges
+            for j in range(n):
+                d = 1e-8 * max(abs(y[j]), 1e-3)
+                yj = y[j]
+                y[j] = yj + d
+                kp.rhs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, f1)
+                y[j] = yj
+                for k in range(n):
+                    J[k, j] = (f1[k] - f0[k]) / d
+            nfev += n
+            need_jac = False
+            lu_h = -1.0
+        if abs(hh - lu_h) > 1e-9 * hh:  # (I - h A x J), factored again when h or J changed
+            for a in range(3):
+                for b in range(3):
+                    ab = hh * _a(a, b)
+                    for k in range(n):
+                        for m in range(n):
+                            K[a * n + k, b * n + m] = (
+                                1.0 if (a == b and k == m) else 0.0
+                            ) - ab * J[k, m]
+            ok = lu_factor(K, piv, 0.0)
+            for k in range(n):
+                for m in range(n):
+                    LE[k, m] = (MU_REAL / hh if k == m else 0.0) - J[k, m]
+            ok = ok and lu_factor(LE, pe, 0.0)
+            lu_h = hh
+        for k in range(n):
+            sc[k] = (cfg[kr.C_ATOLQ] if k < 3 else cfg[kr.C_ATOLV]) + rtol * abs(y[k])
+        converged = False
+        for a in range(3):
+            for k in range(n):
+                Z[a, k] = 0.0
+        for it in range(NEWTON_MAXITER):  # noqa: B007  (the count is read after the loop)
+            if not ok:
+                break
+            for a in range(3):
+                ca = C1 if a == 0 else (C2 if a == 1 else 1.0)
+                for k in range(n):
+                    ys[k] = y[k] + Z[a, k]
+                kp.rhs(t + ca * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out,
+                       F[a])  # fmt: skip
+            nfev += 3
+            for a in range(3):
+                for k in range(n):
+                    g = Z[a, k]
+                    for b in range(3):
+                        g -= hh * _a(a, b) * F[b, k]
+                    rhs[a * n + k] = -g
+            lu_solve(K, piv, rhs)
+            dn = 0.0
+            for a in range(3):
+                for k in range(n):
+                    Z[a, k] += rhs[a * n + k]
+                    dn = max(dn, abs(rhs[a * n + k]) / sc[k])
+            if not math.isfinite(dn):
+                break
+            if dn < NEWTON_TOL:
+                converged = True
+                break
+        if it >= 3:
+            need_jac = True  # slow contraction: a fresh Jacobian for the next step
+        if not converged:
+            nrej += 1
+            h = 0.5 * hh
+            if not ok:
+                status = kr.ST_SINGULAR
+                break
+            need_jac = True
+            continue
+        # error estimate (RADAU5): (I/(γ₀ h) − J)⁻¹ (f(y) + Σ e_i Z_i / h)
+        for k in range(n):
+            err[k] = f0[k] + (E1 * Z[0, k] + E2 * Z[1, k] + E3 * Z[2, k]) / hh
+        lu_solve(LE, pe, err)
+        en = 0.0
+        for k in range(n):
+            ynew[k] = y[k] + Z[2, k]
+            s_k = (cfg[kr.C_ATOLQ] if k < 3 else cfg[kr.C_ATOLV]) + rtol * max(
+                abs(y[k]), abs(ynew[k])
+            )
+            en += (err[k] / s_k) ** 2
+        en = math.sqrt(en / n)
+        if not math.isfinite(en):
+            nrej += 1
+            h = 0.25 * hh
+            continue
+        fac = 0.9 * (en + 1e-10) ** -0.25
+        if en > 1.0:
+            nrej += 1
+            h = hh * max(0.2, fac)
+            need_jac = True
+            continue
+        nstep += 1
+        s_end = 1.0
+        kr._eval(t + hh, ynew, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
+        nfev += 1
+        if kr._min_normal(N) <= 0.0:  # uplift: locate the first N_i = 0 on the dense output
+            sa = 0.0
+            sb = 1.0
+            while (sb - sa) * hh > kr.EVENT_TTOL:
+                sm = 0.5 * (sa + sb)
+                _dense(y, Z, sm, ys)
+                kr._eval(t + sm * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
+                if kr._min_normal(N) <= 0.0:
+                    sb = sm
+                else:
+                    sa = sm
+            _dense(y, Z, sb, ys)
+            kr._eval(t + sb * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
+            for i in range(ni):
+                if N[i] <= 0.0 and info[kr.I_IFAIL] < 0:
+                    info[kr.I_IFAIL] = i
+            s_end = sb
+            status = kr.ST_UPLIFT
+        t_new = t + s_end * hh
+        while iout < nt and t_eval[iout] <= t_new:
+            _dense(y, Z, (t_eval[iout] - t) / hh, ys)
+            kr._outputs(t_eval[iout], ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out,
+                        iout, X, NO, FF, FR, FO, MO)  # fmt: skip
+            kr._track_stops(t_eval[iout], ys, pos, bp, stops)
+            iout += 1
+        if s_end < 1.0:
+            _dense(y, Z, s_end, ys)
+            for k in range(n):
+                y[k] = ys[k]
+        else:
+            for k in range(n):
+                y[k] = ynew[k]
+        t = t_new
+        kr._track_stops(t, y, pos, bp, stops)
+        if status == kr.ST_UPLIFT:
+            info[kr.I_TFAIL] = t
+            break
+        h = min(hh * min(10.0, max(0.2, fac)), hmax)
+        if 1.0 <= h / hh <= 1.2:  # keep the factored step (as RADAU5 does)
+            h = hh
+    if status != kr.ST_OK and not info[kr.I_TFAIL] == info[kr.I_TFAIL]:
+        info[kr.I_TFAIL] = t
+    info[kr.I_NSTEP] = nstep
+    info[kr.I_NREJ] = nrej
+    info[kr.I_NFEV] = nfev
+    info[kr.I_NOUT] = iout
+    return status
