@@ -15,6 +15,7 @@ contact        planar contact bodies (loaded on use)
 cylinder       the cylinder (loaded on use)
 opensees       the full frame in OpenSees (exported script) against nsdyn full and CB-5
 scale          cost against model size (435 to 20 520 dofs): nsdyn full, CB-5 and OpenSees
+isolators      bidirectional isolators: switch vs regularised law, cost per isolator
 =============  ==================================================================
 
 :data:`BENCHMARKS` maps each name to its module, imported on use by :func:`load_benchmark`.
@@ -132,6 +133,7 @@ BENCHMARKS: dict[str, str] = {
     "full-model": "nsdyn.bench.full_model",
     "opensees": "nsdyn.bench.opensees",
     "scale": "nsdyn.bench.scale",
+    "isolators": "nsdyn.bench.isolators",
 }
 
 
