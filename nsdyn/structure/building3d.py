@@ -20,21 +20,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from nsdyn.structure.frame import _per
 from nsdyn.structure.frame3d import Diaphragm, Frame3D, Section3D
 
 COLUMN_VECXZ = (1.0, 0.0, 0.0)  # columns: local z = global X, so I_y resists x-sway
 BEAM_VECXZ = (0.0, 0.0, 1.0)  # beams: local z = global Z, so I_y is vertical bending
-
-
-def _per(secs, n, what) -> list[Section3D]:
-    if isinstance(secs, Section3D):
-        return [secs] * n
-    secs = list(secs)
-    if len(secs) == 1:
-        return secs * n
-    if len(secs) != n:
-        raise ValueError(f"{what}: expected 1 or {n} sections, got {len(secs)}")
-    return secs
 
 
 def _values(v, n, what) -> np.ndarray:
@@ -83,9 +73,14 @@ def regular_building_3d(
         raise ValueError("need at least one bay each way and one storey, all of positive size")
     if n_v < 1 or n_h < 1:
         raise ValueError("n_v and n_h must be >= 1")
+    if not diaphragms and np.any(np.asarray(mass_offset, float) != 0.0):
+        raise ValueError(
+            f"mass_offset {list(mass_offset)}: expected (0, 0) without diaphragms (the offset "
+            "moves the diaphragms' mass; without them the floor mass sits on the beam nodes)"
+        )
     ns = len(hs)
     cols, bxs, bys = (
-        _per(s, ns, w)
+        _per(s, ns, w, Section3D)
         for s, w in ((columns, "columns"), (beams_x, "beams_x"), (beams_y, "beams_y"))
     )
     fm = _values(floor_mass, ns, "floor_mass")

@@ -380,8 +380,9 @@ def regular_frame(
     )
 
 
-def _per(secs, n, what) -> list[Section]:
-    if isinstance(secs, Section):
+def _per(secs, n, what, kind=Section) -> list:
+    """``n`` sections (one per storey) from one section of type ``kind`` or a list of 1 or n."""
+    if isinstance(secs, kind):
         return [secs] * n
     secs = list(secs)
     if len(secs) == 1:

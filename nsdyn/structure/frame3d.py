@@ -198,7 +198,7 @@ class Frame3D:
         for k, d in enumerate(self.diaphragms):
             if not isinstance(d, Diaphragm):
                 raise ValueError(f"diaphragm {k} is not a Diaphragm")
-            if d.nodes.max() >= self.n_nodes:
+            if d.nodes.min() < 0 or d.nodes.max() >= self.n_nodes:
                 raise ValueError(f"diaphragm {k}: node index out of range 0..{self.n_nodes - 1}")
             z = self.nodes[d.nodes, 2]
             if np.ptp(z) > tol:

@@ -140,6 +140,8 @@ def _regular(rd: _Reader, f: Mapping, name: str) -> Frame3D:
     dia = f.get("diaphragms", True)
     if not isinstance(dia, bool):
         rd.fail(f"{P}.diaphragms", "true or false", dia)
+    if not dia and any(off):
+        rd.fail(f"{P}.mass_offset", "[0, 0] with diaphragms = false (it moves their mass)", off)
     return regular_building_3d(
         name,
         bx,

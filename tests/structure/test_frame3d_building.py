@@ -255,3 +255,19 @@ def test_a_mechanism_is_reported_not_returned_as_modes(method):
     )
     with pytest.raises(ValueError, match="mechanism|positive definite"):
         fixed_base_modes_3d(fr, n_modes=2, method=method)
+
+
+def test_bad_building_input_is_refused_not_ignored():
+    # a mass offset moves the diaphragms' mass; without diaphragms it would be dropped silently
+    with pytest.raises(ValueError, match="mass_offset.*without diaphragms"):
+        regular_building_3d(
+            "b", [6.0], [6.0], [4.0], COL, BEAM, BEAM, floor_mass=1e4, diaphragms=False,
+            mass_offset=(0.5, 0.0),
+        )  # fmt: skip
+    # a negative node index would tie another node (numpy counts from the end)
+    nodes = np.array([[0.0, 0, 0], [0, 0, 3.0], [4.0, 0, 3.0]])
+    with pytest.raises(ValueError, match="diaphragm 0: node index out of range"):
+        Frame3D(
+            "d", nodes, [[0, 1], [1, 2]], (0.0, 1.0, 0.0), E, G, 1e-2, 1e-5, 1e-5, 1e-5, 10.0,
+            None, 0.0, [0], [0.05], diaphragms=(Diaphragm([1, -1], (2.0, 0.0), 1e3, 1e3),),
+        )  # fmt: skip

@@ -174,6 +174,14 @@ BAD = [  # (id, file text, old, new, field, expected-form needle)
         r"one vector per element",
     ),
     (
+        "office-offset-without-diaphragms",
+        OFFICE,
+        "diaphragms = true",
+        "diaphragms = false\nmass_offset = [0.5, 0.0]",
+        r"frame3d\.mass_offset",
+        r"with diaphragms = false",
+    ),
+    (
         "portal-both-rho",
         PORTAL,
         "rho = 7850.0",
