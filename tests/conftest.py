@@ -60,10 +60,11 @@ import importlib, json, sys, time
 sys.path.insert(0, sys.argv[2])  # the tests folder: this conftest's own warm-ups
 from nsdyn._numba_cache import compiling
 for module, name, args in json.loads(sys.argv[1]):
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     with compiling():
         getattr(importlib.import_module(module), name)(*args)
-    print(f"{module}.{name}{tuple(args)}: {time.perf_counter() - t0:.1f} s", flush=True)
+    t, c = time.perf_counter() - t0, time.process_time() - c0
+    print(f"{module}.{name}{tuple(args)}: {t:.1f} s ({c:.1f} s CPU)", flush=True)
 """
 
 
@@ -156,13 +157,18 @@ def pytest_configure(config):
     config._nsdyn_warmup = (time.perf_counter() - t0, [p.returncode for p in procs], logs)
 
 
-def pytest_report_header(config):
+def pytest_terminal_summary(terminalreporter, config):
+    """What the warm-up compiled and how long it took (controller only; shown with -q too)."""
     info = getattr(config, "_nsdyn_warmup", None)
     if info is None:
-        return None
+        return
     seconds, codes, logs = info
-    lines = [f"numba cache warmed for the workers in {seconds:.0f} s (exit codes {codes}):"]
-    return lines + [f"  {line}" for log in logs for line in log.splitlines()[-12:]]
+    tr = terminalreporter
+    tr.section("numba cache warmed before the workers started")
+    tr.write_line(f"{seconds:.0f} s, exit codes {codes}")
+    for log in logs:
+        for line in log.splitlines()[-12:]:
+            tr.write_line(f"  {line}")
 
 
 # A slender steel-like bar: L / radius of gyration = 10 / sqrt(1e-5 / 1e-2) ~ 316, so the

@@ -41,6 +41,7 @@ def test_reference_agrees_with_an_independent_check(cb5):
     assert common.run_errors(loose, ref.run)["err_x"] > 100 * ref.agreement["err_x"]
 
 
+@pytest.mark.slow  # ~1.5 min: every method at every tolerance of the quick chart
 def test_bench_accuracy_quick_end_to_end(tmp_path, capsys):
     """``nsdyn bench accuracy --quick`` writes its CSV (one row per run with its error and
     median wall time), the reference CSV and the figure."""

@@ -45,6 +45,7 @@ def test_scipy_search_returns_the_loosest_matching_rtol(monkeypatch):
     assert best is None and runs[-1].value == min(grid)
 
 
+@pytest.mark.slow  # ~1 min: reference, check and SciPy's matched run
 def test_bench_speed_quick_end_to_end(tmp_path, capsys):
     """``nsdyn bench speed --quick``: the bundled record's first 3 s in the default scene.
 

@@ -2,6 +2,8 @@
 
 import json
 
+import pytest
+
 from nsdyn.cli import main
 
 KEYS = {
@@ -28,6 +30,7 @@ def test_run_json_has_the_documented_keys(tmp_path, capsys):
     assert not list(tmp_path.glob(".*checkpoint*"))  # the checkpoint is removed when done
 
 
+@pytest.mark.slow  # ~45 s: the advisor tries several rungs
 def test_run_fidelity_auto_prints_its_choice(tmp_path, capsys):
     rc = main(
         [

@@ -41,7 +41,7 @@ def oscillator(mu):
 @pytest.mark.parametrize(
     "mu, A, f, stick",
     [
-        (0.05, 3.0, 0.9, False),
+        pytest.param(0.05, 3.0, 0.9, False, marks=pytest.mark.slow),  # ~15 s: many events
         (0.2, 2.5, 0.7, True),
         (0.1, 2.0, 1.6, False),
     ],

@@ -160,6 +160,7 @@ def test_shear_building_toml_equals_python():
     np.testing.assert_allclose(np.diag(Phi.T @ Cf @ Phi) / (2 * np.sqrt(w2)), 0.05, rtol=1e-10)
 
 
+@pytest.mark.slow  # ~30 s: the switch model at rtol 1e-10
 def test_stuck_shear_building_is_the_linear_fixed_base_building():
     import control
 
