@@ -162,6 +162,9 @@ def test_a_genuine_instability_is_confirmed_not_masked():
         unstable = [p for p in c.points if p.stable is False]
         assert unstable
         assert all("confirmed" in p.note and p.max_multiplier > 1.0 for p in unstable)
+        # and only there: between the folds (first-order harmonic balance, accurate to ~1 %
+        # at gamma a^2 ~ 0.3, as in test_continuation_curves)
+        assert all(1.066 * 0.99 <= 2 * np.pi * p.f <= 1.110 * 1.01 for p in unstable)
         assert all(p.stable is not None for p in c.points)
 
 
