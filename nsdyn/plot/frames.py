@@ -160,6 +160,10 @@ def sweep_figure(results: list[dict], fixed: dict | None = None):
         handles.append(Line2D([], [], color="0.3", ls="--", lw=0.8, label="fixed base"))
     if handles:
         axes[1].legend(handles=handles, fontsize=8)
+    elif len(axes[1].get_lines()) > 1:
+        axes[1].legend(fontsize=8)  # the amplitudes, as on the first panel
+    if len(axes[2].get_lines()) > 1:
+        axes[2].legend(fontsize=8)
     fig.tight_layout()
     return fig
 
