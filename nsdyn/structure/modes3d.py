@@ -78,6 +78,10 @@ def mass_centre(frame: Frame3D, M=None) -> tuple[np.ndarray, float, float]:
     r0 = frame.rigid_motions()
     Mr = M @ r0
     m = float(r0[:, 0] @ Mr[:, 0])
+    if not m > 0.0:
+        raise ValueError(
+            f"frame {frame.name!r} has no horizontal mass (m = {m:g} kg): no centre of mass"
+        )
     c = np.array([r0[:, 1] @ Mr[:, 3], -(r0[:, 0] @ Mr[:, 3])]) / m
     rc = frame.rigid_motions(c)[:, 3]
     return c, m, float(rc @ (M @ rc))
@@ -140,6 +144,10 @@ def fixed_base_modes_3d(
     k = min(n_modes, n)
     dense = method == "dense" or (method == "auto" and n <= DENSE_MAX) or k >= n - 1
     lam, V = _eig_dense(Kii, Mii, k) if dense else _eig_sparse(Kii, Mii, k)
+    if lam.size == 0:
+        raise ValueError(
+            f"frame {frame.name!r}: no mode of finite frequency (no mass on the free dofs)"
+        )
     order = np.argsort(lam)
     lam, V = lam[order], V[:, order]
     mn = np.einsum("ij,ij->j", V, Mii @ V)

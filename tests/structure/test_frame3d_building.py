@@ -271,3 +271,16 @@ def test_bad_building_input_is_refused_not_ignored():
             "d", nodes, [[0, 1], [1, 2]], (0.0, 1.0, 0.0), E, G, 1e-2, 1e-5, 1e-5, 1e-5, 10.0,
             None, 0.0, [0], [0.05], diaphragms=(Diaphragm([1, -1], (2.0, 0.0), 1e3, 1e3),),
         )  # fmt: skip
+
+    # a massless frame has no mode of finite frequency and no centre of mass: refused, not an
+    # empty result with a NaN centre
+    for mass, needle in (
+        (0.0, "no mode of finite frequency"),
+        ([[0, 0, 0]] * 2 + [[0, 0, 1e2]], "no horizontal mass"),
+    ):
+        fr = Frame3D(
+            "m", nodes, [[0, 1], [1, 2]], (0.0, 1.0, 0.0), E, G, 1e-2, 1e-5, 1e-5, 1e-5, 0.0,
+            None, mass, [0], [0.05],
+        )  # fmt: skip
+        with pytest.raises(ValueError, match=needle):
+            fixed_base_modes_3d(fr, n_modes=3, method="dense")
