@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from nsdyn.cli import run as cli_run
 from nsdyn.solve import methods
@@ -121,3 +122,21 @@ def test_study_notice_before_the_workers_start(monkeypatch, capsys):
     monkeypatch.setattr(methods, "is_cached", lambda kernel: False)
     assert not cli_study.announce_compile(SimpleNamespace(kind="cylinder", base={}))
     assert capsys.readouterr().err == ""
+
+
+@pytest.mark.slow  # a two-point sweep (shooting) after the periodic kernels load
+def test_sweep_json_reports_compile_apart(monkeypatch, capsys, tmp_path):
+    # nsdyn sweep --json: the notice on stderr (a cold cache), compile_s apart from wall_s
+    import json
+
+    from nsdyn.cli.app import main
+    from nsdyn.periodic import problem
+
+    monkeypatch.setattr(problem, "kernels_cached", lambda: False)
+    argv = ["sweep", "--points", "2", "--fmin", "1", "--fmax", "2", "--amplitudes", "1",
+            "--workers", "1", "--json", "--no-figures", "--out", str(tmp_path)]  # fmt: skip
+    assert main(argv) == 0
+    out = capsys.readouterr()
+    s = json.loads(out.out)
+    assert "compiling the periodic kernels" in out.err
+    assert s["compile_s"] >= 0.0 and s["wall_s"] >= 0.0
