@@ -16,10 +16,31 @@ def tilt_limits(theta, alpha: float) -> tuple[float, float]:
     return -half, half
 
 
-def history_figure(res, body, title: str = "", n_snap: int = 8) -> Figure:
-    """Tilt, slide and mode against time, and snapshots of the body (ground frame)."""
-    fig = Figure(figsize=(9, 7), layout="constrained")
-    ax = fig.subplots(4, 1, height_ratios=[2, 2, 1, 2])
+def ground_history(motion, t: np.ndarray) -> np.ndarray:
+    """Horizontal ground acceleration [m/s²] of a BaseMotion at the times ``t`` (the kernels'
+    own evaluation, :func:`nsdyn.models.contact._kgeom.ground_acc`)."""
+    from nsdyn.models.contact._kgeom import ground_acc
+
+    return np.array([ground_acc(float(x), motion.ex, motion.tab_h, motion.tab_v)[0] for x in t])
+
+
+def history_figure(res, body, title: str = "", n_snap: int = 8, motion=None) -> Figure:
+    """Tilt, slide and mode against time, and snapshots of the body (ground frame); with the
+    ``motion`` (a BaseMotion) its horizontal acceleration above, velocity jumps marked."""
+    fig = Figure(figsize=(9, 8.6 if motion is not None else 7), layout="constrained")
+    if motion is not None:
+        axg, *ax = fig.subplots(5, 1, height_ratios=[1.4, 2, 2, 1, 2])
+        axg.plot(res.t, ground_history(motion, res.t), lw=0.7, color="k",
+                 label="ground acceleration")  # fmt: skip
+        if len(motion.jumps):
+            axg.plot(motion.jumps[:, 0], np.zeros(len(motion.jumps)), "|", color="C3", ms=10,
+                     label="ground velocity jump (impulse)")  # fmt: skip
+            axg.legend(fontsize=7, loc="upper right")
+        axg.set_ylabel("ground acc. [m/s²]")
+        axg.grid(alpha=0.3)
+        axg.tick_params(labelbottom=False)
+    else:
+        ax = fig.subplots(4, 1, height_ratios=[2, 2, 1, 2])
     alpha = slenderness(body)
     ax[0].plot(res.t, res.q[:, 2], lw=1)
     ax[0].set_ylim(*tilt_limits(res.q[:, 2], alpha))

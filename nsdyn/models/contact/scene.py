@@ -262,7 +262,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         from nsdyn.models.contact.figures import history_figure
 
         png = out_dir / "contact.png"
-        save_figure(history_figure(res, body, title=f"{name}: {opts['what']}\n{text}"), png)
+        fig = history_figure(res, body, title=f"{name}: {opts['what']}\n{text}", motion=motion)
+        save_figure(fig, png)
         files.append(str(png))
     s.update({"kind": "contact", "name": name, "motion": opts["what"], "t_end_s": t_end,
               "theta0_rad": opts["theta0"],
