@@ -164,9 +164,13 @@ class Frame3D:
             if key == "rho_Ip" and a is None:  # homogeneous sections: ρ I_p = ρA (I_y + I_z)/A
                 a = self.rho_A * (self.I_y + self.I_z) / self.A
             a = _frozen(np.broadcast_to(np.asarray(a, float), (ne,)), float)
-            bad = a < 0 if key.startswith("rho") else a <= 0
-            if np.any(bad) or not np.all(np.isfinite(a)):
-                raise ValueError(f"element {key} must be {'>= 0' if key[0] == 'r' else '> 0'}")
+            bad = ~((a >= 0) if key.startswith("rho") else (a > 0)) | ~np.isfinite(a)
+            if np.any(bad):
+                e = int(np.argmax(bad))
+                raise ValueError(
+                    f"element {e}: {key} must be finite and {'>= 0' if key[0] == 'r' else '> 0'}"
+                    f", got {float(a[e])!r}"
+                )
             obj(self, key, a)
         nm = np.asarray(self.node_mass, float)
         nm = nm[:, None] if nm.ndim == 1 and nm.shape == (nn,) else nm

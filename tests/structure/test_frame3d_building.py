@@ -284,3 +284,9 @@ def test_bad_building_input_is_refused_not_ignored():
         )  # fmt: skip
         with pytest.raises(ValueError, match=needle):
             fixed_base_modes_3d(fr, n_modes=3, method="dense")
+    # a bad section value names the element and the field
+    with pytest.raises(ValueError, match=r"element 1: E must be finite and > 0, got -1.0"):
+        Frame3D(
+            "s", nodes, [[0, 1], [1, 2]], (0.0, 1.0, 0.0), [E, -1.0], G, 1e-2, 1e-5, 1e-5, 1e-5,
+            10.0, None, 0.0, [0], [0.05],
+        )  # fmt: skip
