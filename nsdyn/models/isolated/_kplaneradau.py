@@ -13,8 +13,9 @@ solved by simplified Newton on the full 18 × 18 system (I − h A ⊗ J) ΔZ = 
 forward-difference Jacobian J (kept while Newton contracts in at most three iterations and
 steps are accepted, factored again when h changes), the embedded error
 estimate of RADAU5 (I/(γ₀h) − J)⁻¹ (f(y) + Σ e_i Z_i / h) with e = (−13 − 7√6, −13 + 7√6,
-−1)/3 and γ₀ h the real eigenvalue's reciprocal, steps ending on the record's samples, and the
-cubic collocation polynomial through (0, 0), (c_i, Z_i) as dense output. Outputs, rim contacts
+−1)/3 and γ₀ h the real eigenvalue's reciprocal, steps ending on the record's samples, the
+cubic collocation polynomial through (0, 0), (c_i, Z_i) as dense output and, extrapolated, as
+the Newton predictor of the next step. Outputs, rim contacts
 and uplift (a normal force reaching zero, located on the dense output) as in
 :mod:`nsdyn.models.isolated._kplanerun`.
 """
@@ -102,6 +103,10 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         return kr.ST_UPLIFT
     h = min(cfg[kr.C_H0], hmax)
     need_jac = True
+    have_prev = False
+    yp = np.zeros(n)
+    Zp = np.zeros((3, n))
+    hp = 1.0
     lu_h = -1.0
     ok = False
     it = 0
@@ -160,9 +165,16 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         for k in range(n):
             sc[k] = (cfg[kr.C_ATOLQ] if k < 3 else cfg[kr.C_ATOLV]) + rtol * abs(y[k])
         converged = False
-        for a in range(3):
-            for k in range(n):
-                Z[a, k] = 0.0
+        if have_prev:  # predictor: the previous step's collocation polynomial, extrapolated
+            for a in range(3):
+                ca = C1 if a == 0 else (C2 if a == 1 else 1.0)
+                _dense(yp, Zp, 1.0 + ca * hh / hp, ys)
+                for k in range(n):
+                    Z[a, k] = ys[k] - y[k]
+        else:
+            for a in range(3):
+                for k in range(n):
+                    Z[a, k] = 0.0
         for it in range(NEWTON_MAXITER):  # noqa: B007  (the count is read after the loop)
             if not ok:
                 break
@@ -194,6 +206,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             need_jac = True  # slow contraction: a fresh Jacobian for the next step
         if not converged:
             nrej += 1
+            have_prev = False
             h = 0.5 * hh
             if not ok:
                 status = kr.ST_SINGULAR
@@ -257,7 +270,12 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                 y[k] = ys[k]
         else:
             for k in range(n):
+                yp[k] = y[k]
                 y[k] = ynew[k]
+                for a in range(3):
+                    Zp[a, k] = Z[a, k]
+            hp = hh
+        have_prev = s_end >= 1.0
         t = t_new
         kr._track_stops(t, y, pos, bp, stops)
         if status == kr.ST_UPLIFT:
