@@ -66,3 +66,16 @@ def test_text_summary_units():
     assert "peak slide         0.001 m" in text and "peak tilt          0.02 rad" in text
     assert "time in rock       0.5 s" in text
     assert "peak slide 0.001 m, peak tilt 0.02 rad" in text.splitlines()[0]
+
+
+def test_round_off_tilt_is_reported_as_no_rocking():
+    # a tilt of 1e-15 rad is integration round-off, not rocking: below 1 % of alpha (the
+    # figures' tilt floor) the outcome says so instead of printing the noise
+    from nsdyn.models.contact.scene import outcome
+
+    s = {"first_motion": "slide", "max_slide_m": 0.05, "max_tilt_rad": 1.5e-14,
+         "alpha_rad": math.atan2(0.55, 0.5), "overturned": False}  # fmt: skip
+    line = outcome(s)[1]
+    assert "no rocking" in line and "e-14" not in line
+    s["max_tilt_rad"] = 0.1
+    assert "peak tilt 0.1 rad" in outcome(s)[1]
