@@ -216,7 +216,9 @@ def stability_figure(
         ax.set_xlabel(xl)
         ax.set_ylabel(f"largest stable fixed step [s] (dotted: err_x <= {accurate:g})")
         ax.grid(True, which="both", lw=0.3)
-    axs[0, 0].legend(fontsize=6, ncol=2)
+    for ax in axs[0]:  # both maps: the alpha map has its own markers
+        if len(ax.get_lines()) > 1:
+            ax.legend(fontsize=6, ncol=2)
     ax = axs[1, 0]
     for (alpha, method, value), (t, Rq) in drift_hist.items():
         ax.semilogy(
