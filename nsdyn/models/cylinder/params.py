@@ -65,6 +65,11 @@ class CylinderParams:
             )
 
     @property
+    def height(self) -> float:
+        """Full height 2H [m] (the scenes' ``height``; ``H`` is the half height)."""
+        return 2.0 * self.H
+
+    @property
     def It(self) -> float:
         """Centroidal moment of inertia about a diameter [kg m²]."""
         if self.I_t is not None:

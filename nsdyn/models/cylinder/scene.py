@@ -1,7 +1,7 @@
 """``nsdyn run`` on cylinder scenes: read and check the TOML, run, write histories and figures.
 
-Tables: ``[cylinder]`` r, H, m (I_t, I_a); ``[foundation]`` case and either k, c or the design
-targets f_rock [Hz], zeta, and ``sliding = true`` with ``mu`` for a base that slides with Coulomb
+Tables: ``[cylinder]`` r, height (full; or H, the half height), m (I_t, I_a); ``[foundation]``
+case and either k, c or the design targets f_rock [Hz], zeta, and ``sliding = true`` with ``mu`` for a base that slides with Coulomb
 friction; ``[motion]`` a simulated earthquake (seed, duration, dt, s0_units) or a ``record`` file
 (``record_y``, ``record_z``: second horizontal and vertical components), optional ``pga``
 (peak horizontal acceleration after scaling), ``t_end`` and the initial tilt ``theta0`` [rad] or
@@ -100,6 +100,11 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
     geo = {
         k: number(source, f"cylinder.{k}", cy[k]) for k in ("r", "H", "m", "I_t", "I_a") if k in cy
     }
+    if "height" in cy:  # the full height, as every family's sizes
+        if "H" in cy:
+            raise SceneError(f"{source}: cylinder.height: give the full height or the half "
+                             "height H, not both")  # fmt: skip
+        geo["H"] = 0.5 * number(source, "cylinder.height", cy["height"])
     fd = cfg.get("foundation", {})
     case = fd.get("case", "tensionless")
     if case not in FOUNDATIONS:

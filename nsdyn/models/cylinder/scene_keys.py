@@ -33,8 +33,11 @@ SCHEMA = Schema(
             "The rigid cylinder.",
             (
                 Key("r", "number", "radius", "m", default=1.0, **_POS),
+                Key("height", "number", "full height 2H (or `H`, not both)", "m", default=8.0,
+                    **_POS),  # fmt: skip
                 Key(
-                    "H", "number", "half height (the cylinder is 2H tall)", "m", default=4.0, **_POS
+                    "H", "number", "half height (or `height` = 2H, not both)", "m", default=4.0,
+                    **_POS,
                 ),
                 Key("m", "number", "mass", "kg", default=1.0, **_POS),
                 Key(

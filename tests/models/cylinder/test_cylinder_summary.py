@@ -53,6 +53,18 @@ def test_scene_tilt_either_way(tmp_path):
     assert "initial tilt [rad]" in text and "N/m³" in text
 
 
+def test_scene_takes_the_full_height_or_the_half_height():
+    full = _cfg()
+    full["cylinder"] = {"r": 1.0, "height": 6.0}
+    half = _cfg()
+    half["cylinder"] = {"r": 1.0, "H": 3.0}
+    p_full, p_half = build(full, "y.toml")[0], build(half, "y.toml")[0]
+    assert p_full == p_half and p_full.height == 6.0  # halving is exact in floats
+    full["cylinder"]["H"] = 3.0
+    with pytest.raises(SceneError, match=r"y\.toml: cylinder\.height: .*not both"):
+        build(full, "y.toml")
+
+
 def test_to_dataframe_round_trips_the_histories(assert_round_trip):
     dt, ag = _short()
     res = simulate(CylinderParams(), ag, dt)
