@@ -24,8 +24,10 @@ that end's speed,
     x_peak <= min(x_k + |v_k| h,  x_k+1 + |v_k+1| h),
 
 which a smooth peak meets with a factor 2 to spare (``x_peak - x_k+1 = a (h - t*)^2 / 2``
-against ``|v_k+1| h >= a (h - t*)^2``); the interpolated peak is capped by it, so a step that
-ends stuck (``v = 0``) gives its end value, the exact one.
+against ``|v_k+1| h >= a (h - t*)^2``); the interpolated peak of a step with ``a_k <= 0`` and
+``a_k+1 <= 0`` is capped by it, so a step that ends stuck (``v = 0``) gives its end value, the
+exact one. Where the acceleration changes sign within the step the speed can exceed both end
+speeds and no cap applies.
 """
 
 from __future__ import annotations
@@ -67,8 +69,10 @@ def dense_max(x: np.ndarray, v: np.ndarray, a: np.ndarray, h: float) -> float:
     steps = np.flatnonzero((v[:-1] >= 0.0) & (v[1:] <= 0.0) & (hi >= near))
     for k in steps:
         c = _quintic(x[k], v[k], a[k], x[k + 1], v[k + 1], a[k + 1], h)
-        cap = min(x[k] + abs(v[k]) * h, x[k + 1] + abs(v[k + 1]) * h)
-        top = max(top, min(_step_peak(c), cap))
+        peak = _step_peak(c)
+        if a[k] <= 0.0 and a[k + 1] <= 0.0:  # the speed bound holds while a keeps its sign
+            peak = min(peak, x[k] + abs(v[k]) * h, x[k + 1] + abs(v[k + 1]) * h)
+        top = max(top, peak)
     return top
 
 

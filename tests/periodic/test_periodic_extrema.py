@@ -83,3 +83,19 @@ def test_dense_max_of_a_slide_that_sticks_at_its_peak(t_stop):
     v = np.where(slip, v0 - d * t, 0.0)
     a = np.where(slip, -d, 0.0)
     assert abs(dense_max(x, v, a, h) - v0**2 / (2 * d)) <= 4 * np.finfo(float).eps
+
+
+def test_no_speed_cap_where_the_acceleration_changes_sign():
+    # x = c1 s + c2 s^2 + c3 s^3 (h = 1): a = 2 c2 + 6 c3 s is positive at s = 0 and negative
+    # at s = 1, so the speed first grows above v(0) and the peak x(s*), v(s*) = 0, lies above
+    # both x(0) + |v(0)| h and x(1) + |v(1)| h. A quintic Hermite reproduces a cubic, so the
+    # dense peak is x(s*) to round-off: the root's error enters the value at second order only
+    # (v = 0 there), each evaluation of a cubic with sum |c_i| = 1.1 on [0, 1] errs by at most
+    # 6u sum |c_i| < 4 eps (and the Hermite coefficients by a few u on numbers <= 2): 16 eps.
+    c1, c2, c3 = 0.1, 0.5, -0.5
+    s = np.array([0.0, 1.0, 2.0])
+    x, v, a = c1 * s + c2 * s**2 + c3 * s**3, c1 + 2 * c2 * s + 3 * c3 * s**2, 2 * c2 + 6 * c3 * s
+    r = (2 * c2 + math.sqrt(4 * c2**2 - 12 * c3 * c1)) / (-6 * c3)  # v(r) = 0 in (0, 1)
+    peak = c1 * r + c2 * r**2 + c3 * r**3
+    assert peak > min(x[0] + abs(v[0]), x[1] + abs(v[1]))  # the speed bound does not hold
+    assert abs(dense_max(x, v, a, 1.0) - peak) <= 16 * np.finfo(float).eps
