@@ -2,7 +2,8 @@
 
 Tables: ``[cylinder]`` r, height (full; or H, the half height), m (I_t, I_a); ``[foundation]``
 case and either k, c or the design targets f_rock [Hz], zeta, and ``sliding = true`` with ``mu``
-for a base that slides with Coulomb friction; ``[motion]`` a simulated earthquake (seed, duration, dt, s0_units) or a ``record`` file
+for a base that slides with Coulomb friction; ``[motion]`` a simulated earthquake (seed,
+duration, dt, s0_units) or a ``record`` file
 (``record_y``, ``record_z``: second horizontal and vertical components), optional ``pga``
 (peak horizontal acceleration after scaling), ``t_end`` and the initial tilt ``theta0`` [rad] or
 ``theta0_over_alpha`` (alpha = atan(r/H)) towards ``azimuth0`` [rad]; ``[solver]`` rtol, method;
