@@ -151,15 +151,18 @@ def _record3(table: dict, source: str) -> GroundMotion3:
 
 
 def _culprit(table: dict, files: dict[str, str], message: str) -> str:
-    """The key whose file a reading error is about: the file named first in the message (a
-    component file's own errors start with its path; a grid mismatch names the x file last),
-    "y" for an x file without its second horizontal component, else "record"."""
+    """The key whose file a reading error is about: "record" for a record, "y" for an x file
+    without its second horizontal component, the key the reader names ("read_motion3: <key>:
+    …"), else the file named first in the message (a component file's own errors start with
+    its path; a grid mismatch names the x file last)."""
     if "record" in table:
         return "record"
     if "y" not in files and "missing component y" in message:
         return "y"
-    named = {k: message.find(f"{k}: ") if message.startswith("read_motion3: ") else
-             message.find(str(f)) for k, f in files.items()}  # fmt: skip
+    key = message.removeprefix("read_motion3: ").partition(":")[0]
+    if message.startswith("read_motion3: ") and key in ("x", "y", "z"):
+        return key  # the reader's own "read_motion3: <key>: …"
+    named = {k: message.find(str(f)) for k, f in files.items()}
     named = {k: i for k, i in named.items() if i >= 0}
     return min(named, key=named.get) if named else "x"
 
