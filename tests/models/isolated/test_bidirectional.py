@@ -237,3 +237,29 @@ def test_no_silent_failure_on_unknown_law():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         simulate_plane(sdof_plane(M, Bearing(Friction(0.05))), _circular(0.1, 1.0), t_end=0.5)
+
+
+@pytest.mark.parametrize("law", ["switch", "arctan"])
+def test_closed_form_orbit_is_a_fixed_point_of_the_period_map(law):
+    # Shooting's condition: started on the closed-form steady slip (z' = V e^{i phi} at t = 0)
+    # the period map returns the same velocity and closes the displacement circle, with no
+    # transient; the residual is the integrator's (rtol 1e-10), for the regularised law with
+    # its own mu_eff = mu s(V).
+    mu, f, eps = 0.1, 1.0, 7500.0
+    A, w = 2 * mu * G, 2 * math.pi * f
+    mu_eff = mu
+    if law == "arctan":
+        V = _steady_state(A, w, mu)[0]
+        for _ in range(50):
+            mu_eff = mu * float(arctan_direction(V, eps))
+            V = _steady_state(A, w, mu_eff)[0]
+    V, phi = _steady_state(A, w, mu_eff)
+    v0 = V * np.exp(1j * phi)
+    y0 = [0.0, 0.0, 0.0, v0.real, v0.imag, 0.0]
+    s = sdof_plane(M, Bearing(Friction(mu)), g=G)
+    r = simulate_plane(s, _circular(A, f), law=law, t_eval=np.linspace(0.0, 1.0 / f, 401),
+                       y0=y0, eps=eps, rtol=1e-10, atol=(1e-12, 1e-12))  # fmt: skip
+    v = r.v[:, 0]
+    assert np.abs(v[-1] - v[0]).max() < 1e-8 * V  # the period map's residual
+    assert np.abs(r.u[-1, 0]).max() < 1e-8 * V / w  # the orbit closes
+    np.testing.assert_allclose(np.hypot(v[:, 0], v[:, 1]), V, rtol=1e-8)  # constant speed
