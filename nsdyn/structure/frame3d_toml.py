@@ -12,6 +12,7 @@ Every error is one line naming the file, the dotted field and the expected form
 
 from __future__ import annotations
 
+import math
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -186,6 +187,9 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
     ):
         rd.fail(f"{P}.nodes", "a list of >= 2 [x, y, z] triples", raw)
     nodes = np.array(raw, float)
+    if not np.all(np.isfinite(nodes)):
+        k = int(np.flatnonzero(~np.all(np.isfinite(nodes), axis=1))[0])
+        rd.fail(f"{P}.nodes[{k}]", "finite coordinates [x, y, z] [m]", raw[k], raw=True)
     nn = len(nodes)
     secs_raw = f.get("sections")
     if not isinstance(secs_raw, list) or not secs_raw:
@@ -244,10 +248,10 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
         v = f["node_mass"]
         if isinstance(v, list) and v and all(isinstance(x, list) for x in v):
             ok = len(v) == nn and all(
-                len(x) == 3 and all(_is_number(c) and c >= 0 for c in x) for x in v
+                len(x) == 3 and all(_is_number(c) and 0 <= c < math.inf for c in x) for x in v
             )
             if not ok:
-                rd.fail(f"{P}.node_mass", f"a list of {nn} [m_x, m_y, m_z] triples >= 0", v)
+                rd.fail(f"{P}.node_mass", f"a list of {nn} finite [m_x, m_y, m_z] triples >= 0", v)
             node_mass = np.array(v, float)
         else:
             node_mass[:] = np.array(

@@ -174,6 +174,14 @@ BAD = [  # (id, file text, old, new, field, expected-form needle)
         r"one vector per element",
     ),
     (
+        "portal-nan-node",
+        PORTAL,
+        "[0.0, 5.0, 4.0],   # 4-7",
+        "[0.0, nan, 4.0],   # 4-7",
+        r"frame3d\.nodes\[7\]",
+        r"finite coordinates",
+    ),
+    (
         "office-offset-without-diaphragms",
         OFFICE,
         "diaphragms = true",
