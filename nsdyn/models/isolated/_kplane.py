@@ -48,8 +48,8 @@ from nsdyn.models.isolated.bearings import (
     B_RINV,
 )
 
-# the time loops (_kplanerun, _kplaneradau) compile these kernels, the shared tableau and LU and the bearing
-# table's column numbers into its own cache: drop both caches when any of them changes
+# the time loops (_kplanerun, _kplaneradau) compile these kernels, the shared tableau and LU
+# and the bearing table's column numbers into their caches: drop all when any of them changes
 _HERE = Path(__file__).resolve().parent
 drop_stale(
     _HERE,
