@@ -13,17 +13,15 @@ Every error is one line naming the file, the dotted field and the expected form
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
-from nsdyn._bundled import FRAMES
 from nsdyn.structure.building3d import regular_building_3d
 from nsdyn.structure.elements3d import PARALLEL_SIN
 from nsdyn.structure.frame3d import Diaphragm, Frame3D, Section3D
-from nsdyn.structure.frame_toml import FrameFileError, _is_number, _Reader
+from nsdyn.structure.frame_toml import FrameFileError, _is_number, _read_frame_file, _Reader
 
 TABLE = "frame3d"
 _SECTION_KEYS = {"E", "G", "nu", "A", "I_y", "I_z", "J", "rho", "rho_A", "rho_Ip"}
@@ -317,32 +315,13 @@ def frame3d_from_dict(data: Mapping, file: str = "<dict>") -> Frame3D:
     return _regular(rd, f, name) if kind == "regular" else _explicit(rd, f, name)
 
 
-def _read(name_or_path) -> tuple[dict, str]:
-    s = str(name_or_path)
-    if isinstance(name_or_path, Path) or "/" in s or "\\" in s or s.endswith(".toml"):
-        path = Path(s)
-        if not path.is_file():
-            raise FrameFileError(f"{s}: no such frame file")
-        text, fname = path.read_bytes(), path.name
-    else:
-        item = FRAMES.find(s)
-        if item is None:
-            known = ", ".join(FRAMES.names()) or "(none found)"
-            raise FrameFileError(f"{s}: no bundled frame of that name (bundled: {known})")
-        text, fname = item.read_bytes(), f"{s}.toml"
-    try:
-        return tomllib.loads(text.decode("utf-8")), fname
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise FrameFileError(f"{fname}: not valid TOML: {exc}") from None
-
-
 def is_frame3d(name_or_path) -> bool:
     """True if the frame file (or bundled name) holds a ``[frame3d]`` table."""
-    data, _ = _read(name_or_path)
+    data, _ = _read_frame_file(name_or_path)
     return TABLE in data
 
 
 def load_frame3d(name_or_path: str | Path) -> Frame3D:
     """Load a 3D frame from a TOML file or a bundled name (``"office-11-3d"``)."""
-    data, fname = _read(name_or_path)
+    data, fname = _read_frame_file(name_or_path)
     return frame3d_from_dict(data, fname)

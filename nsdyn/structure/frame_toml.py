@@ -303,6 +303,13 @@ def load_frame(name_or_path: str | Path) -> Frame:
     anything else is a file path. Raises :class:`FrameFileError` for a missing file, an
     unknown bundled name (listing the known ones), bad TOML or invalid fields.
     """
+    data, fname = _read_frame_file(name_or_path)
+    return frame_from_dict(data, fname)
+
+
+def _read_frame_file(name_or_path: str | Path) -> tuple[dict, str]:
+    """(parsed TOML, file name for messages) of a frame file or a bundled frame's bare name
+    (the rule of :func:`load_frame`); plane and space frame files alike."""
     s = str(name_or_path)
     is_path = isinstance(name_or_path, Path) or "/" in s or "\\" in s or s.endswith(".toml")
     if is_path:
@@ -317,7 +324,6 @@ def load_frame(name_or_path: str | Path) -> Frame:
             raise FrameFileError(f"{s}: no bundled frame of that name (bundled: {known})")
         text, fname = f.read_bytes(), f"{s}.toml"
     try:
-        data = tomllib.loads(text.decode("utf-8"))
+        return tomllib.loads(text.decode("utf-8")), fname
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise FrameFileError(f"{fname}: not valid TOML: {exc}") from None
-    return frame_from_dict(data, fname)
