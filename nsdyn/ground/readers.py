@@ -179,14 +179,22 @@ def write_motion(
     name, units, t0, dt, npts, command, seed and the JSON meta. Values are written with the
     shortest round-trip repr, so :func:`read_motion` returns them bit for bit. Atomic: written to
     a temporary file in the same directory, then renamed."""
+    cols = [motion.a_hor] + ([motion.a_ver] if motion.a_ver is not None else [])
+    names = ["t", "a_hor", "a_ver"][: len(cols) + 1]
+    return _write_table(motion, path, "nsdyn ground motion", names, cols, command, seed)
+
+
+def _write_table(motion, path, title: str, names: list[str], cols: list, command, seed) -> Path:
+    """The nsdyn CSV of ``motion`` (a planar or three-component record): the ``#`` header
+    (title, name, units, t0, dt, npts, command, seed, source, JSON meta, column names), then
+    t and the columns ``cols`` [m/s²] in their shortest round-trip repr. Atomic."""
     path = Path(path)
     command = command if command is not None else motion.meta.get("command", "")
     seed = seed if seed is not None else motion.meta.get("seed", "")
     meta = {k: v for k, v in motion.meta.items() if k != "header"}
     meta.update(command=command, seed=seed)
-    columns = "t a_hor a_ver" if motion.a_ver is not None else "t a_hor"
     head = [
-        "nsdyn ground motion",
+        title,
         f"name: {motion.name}",
         "units: m/s2",
         f"t0: {_fmt(motion.t0)}",
@@ -196,16 +204,11 @@ def write_motion(
         f"seed: {seed}",
         f"source: {motion.source}",
         f"meta: {json.dumps(meta, default=str, sort_keys=True)}",
-        f"columns: {columns}",
+        f"columns: {' '.join(names)}",
     ]
-    lines = [f"# {h}" for h in head]
     t = motion.t
-    if motion.a_ver is None:
-        lines += [f"{t[k]:.10g},{_fmt(motion.a_hor[k])}" for k in range(motion.n)]
-    else:
-        lines += [
-            f"{t[k]:.10g},{_fmt(motion.a_hor[k])},{_fmt(motion.a_ver[k])}" for k in range(motion.n)
-        ]
+    lines = [f"# {h}" for h in head]
+    lines += [",".join([f"{t[k]:.10g}"] + [_fmt(c[k]) for c in cols]) for k in range(motion.n)]
     with atomic_open(path, "w", encoding="utf-8", newline="\n") as f:
         f.write("\n".join(lines) + "\n")
     return path

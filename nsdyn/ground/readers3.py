@@ -21,16 +21,14 @@ x = 000, y = 090 is not (it is the mirror image).
 
 from __future__ import annotations
 
-import json
 import os
 from pathlib import Path
 
 from nsdyn._bundled import RECORDS
-from nsdyn.atomic import atomic_open
 from nsdyn.ground._text import DT_RTOL, parse_table
 from nsdyn.ground.motion import GroundMotion, RecordFileError
 from nsdyn.ground.motion3 import GroundMotion3
-from nsdyn.ground.readers import _fmt, _resolve, read_motion
+from nsdyn.ground.readers import _resolve, _write_table, read_motion
 
 COMPANION_SUFFIX = "-y.txt"  # the second horizontal component of a bundled record <name>.csv
 _X_NAMES = ("ax", "a_x", "x")
@@ -232,28 +230,7 @@ def write_motion3(
     """Write ``motion`` as an nsdyn CSV (columns t, ax, ay[, az] in m/s², ``#`` header with
     name, units, t0, dt, npts, command, seed and the JSON meta) that :func:`read_motion3` reads
     back bit for bit. Atomic (temporary file, then rename)."""
-    path = Path(path)
-    command = command if command is not None else motion.meta.get("command", "")
-    seed = seed if seed is not None else motion.meta.get("seed", "")
-    meta = {k: v for k, v in motion.meta.items() if k != "header"}
-    meta.update(command=command, seed=seed)
     cols = [motion.ax, motion.ay] + ([motion.az] if motion.az is not None else [])
-    head = [
-        "nsdyn ground motion, three components",
-        f"name: {motion.name}",
-        "units: m/s2",
-        f"t0: {_fmt(motion.t0)}",
-        f"dt: {_fmt(motion.dt)}",
-        f"npts: {motion.n}",
-        f"command: {command}",
-        f"seed: {seed}",
-        f"source: {motion.source}",
-        f"meta: {json.dumps(meta, default=str, sort_keys=True)}",
-        "columns: t ax ay az" if motion.az is not None else "columns: t ax ay",
-    ]
-    t = motion.t
-    lines = [f"# {h}" for h in head]
-    lines += [",".join([f"{t[k]:.10g}"] + [_fmt(c[k]) for c in cols]) for k in range(motion.n)]
-    with atomic_open(path, "w", encoding="utf-8", newline="\n") as f:
-        f.write("\n".join(lines) + "\n")
-    return path
+    names = ["t", "ax", "ay", "az"][: len(cols) + 1]
+    title = "nsdyn ground motion, three components"
+    return _write_table(motion, path, title, names, cols, command, seed)
