@@ -20,7 +20,7 @@ import numpy as np
 
 from nsdyn.structure.building3d import regular_building_3d
 from nsdyn.structure.elements3d import PARALLEL_SIN
-from nsdyn.structure.frame3d import Diaphragm, Frame3D, Section3D
+from nsdyn.structure.frame3d import GEOM_RTOL, Diaphragm, Frame3D, Section3D
 from nsdyn.structure.frame_toml import FrameFileError, _is_number, _read_frame_file, _Reader
 
 TABLE = "frame3d"
@@ -278,7 +278,7 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
             if "inertia" in d
             else mass * float(span @ span) / 12
         )
-        if np.ptp(nodes[dn, 2]) > 1e-9 * max(float(np.ptp(nodes)), 1.0):
+        if np.ptp(nodes[dn, 2]) > GEOM_RTOL * max(float(np.ptp(nodes, axis=0).max()), 1.0):
             rd.fail(f"{p}.nodes", "nodes at one level (equal z)", dn)
         dias.append(Diaphragm(dn, c, mass, inertia))
     S = [secs[i] for i in sid]
