@@ -31,6 +31,9 @@ import scipy.sparse.linalg as spla
 from nsdyn.structure.frame3d import DOFS_PER_NODE, Frame3D
 
 DENSE_MAX = 400  # interior dofs up to which "auto" solves densely
+# massless directions have mu = 1/omega^2 = 0; the symmetric eigensolver returns them within
+# c n eps ||A|| = c n eps mu_1 (backward stability, c = 10): below that a mu is no mode
+EIG_ROUNDOFF_C = 10.0
 FAMILIES = ("x", "y", "torsion", "vertical", "local")
 
 
@@ -99,7 +102,7 @@ def _eig_dense(K, M, k):
     mu, Psi = sla.eigh((A + A.T) / 2)
     order = np.argsort(mu)[::-1][:k]
     mu, Psi = mu[order], Psi[:, order]
-    keep = mu > mu[0] * 1e-14 if len(mu) else mu > 0
+    keep = mu > mu[0] * EIG_ROUNDOFF_C * len(A) * np.finfo(float).eps if len(mu) else mu > 0
     V = sla.solve_triangular(L.T, Psi[:, keep], lower=False)
     return 1.0 / mu[keep], V
 
