@@ -24,6 +24,10 @@ _API = {
     "rigid_deck": "nsdyn.models.isolated.deck",
     "sdof_plane": "nsdyn.models.isolated.deck",
     "simulate_plane": "nsdyn.models.isolated.deck",
+    "building_deck": "nsdyn.models.isolated.building3d",
+    "deck_constants": "nsdyn.models.isolated.building3d",
+    "FixedResponse3D": "nsdyn.models.isolated.fixed3d",
+    "fixed_response_3d": "nsdyn.models.isolated.fixed3d",
 }
 
 __all__ = sorted(_API)

@@ -1,0 +1,99 @@
+"""The rigid rung of a space frame on isolators: the whole building as a rigid deck.
+
+A :class:`~nsdyn.structure.Frame3D` on one bidirectional isolator under every base node
+(column line) becomes, when the superstructure is taken rigid, the deck of
+:mod:`nsdyn.models.isolated.deck`. Its constants come from the diaphragm-constrained mass
+matrix ``M`` (consistent element mass, node masses, floor masses and polar moments) and the
+rigid motions ``r`` of the frame (:meth:`~nsdyn.structure.Frame3D.rigid_motions`):
+
+    m = r_xᵀ M r_x,                 m x_c = r_yᵀ M r_θ,     m y_c = −r_xᵀ M r_θ   (r_θ about 0),
+    J = r_θcᵀ M r_θc               (the rotation about the vertical through c = (x_c, y_c)),
+    m h = r_xᵀ M r_φ,              r_φ: the rotation about the horizontal y axis through the
+                                    isolators' level (u_x = (z − z_b) φ, u_z = −x φ, θ_y = φ),
+
+exact for consistent element mass (the rigid motions lie in the element shape functions). So
+an accidental eccentricity (:func:`nsdyn.structure.accidental_eccentricity`, which moves the
+floor masses) moves ``c``. The deck's reference point ``O`` is the plan centroid of the
+isolators; the isolator positions are the base nodes' plan coordinates about ``O`` and the
+eccentricity is ``c − O``; ``h`` is the height of the centre of mass above the isolators.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from nsdyn.ground.excitation import G_EARTH
+from nsdyn.models.isolated.bearings import Bearing, BearingError
+from nsdyn.models.isolated.deck import PlaneSystem, rigid_deck
+from nsdyn.structure.frame3d import DOFS_PER_NODE, Frame3D
+from nsdyn.structure.modes3d import mass_centre
+
+__all__ = ["building_deck", "deck_constants"]
+
+
+def _rocking_y(frame: Frame3D, z0: float) -> np.ndarray:
+    """Reduced coordinates of the rigid rotation φ = 1 about the horizontal y axis through
+    (0, 0, z0): u_x = (z − z0), u_z = −x, θ_y = 1. The field keeps every floor rigid in its
+    plane, so it lies in the range of T and ``(TᵀT) r = Tᵀ u`` recovers r exactly."""
+    full = np.zeros((frame.n_nodes, DOFS_PER_NODE))
+    full[:, 0] = frame.nodes[:, 2] - z0
+    full[:, 2] = -frame.nodes[:, 0]
+    full[:, 4] = 1.0
+    T = frame.T
+    return spla.spsolve(sp.csc_array(T.T @ T), T.T @ full.ravel())
+
+
+def deck_constants(frame: Frame3D) -> dict:
+    """``m`` [kg], ``J`` [kg m²] about the centre of mass, ``centre`` (x_c, y_c) [m],
+    ``h`` [m] above the base nodes, ``z_base`` [m] (module docstring)."""
+    _, M = frame.reduced()
+    c, m, J = mass_centre(frame, M)
+    zb = float(frame.nodes[frame.base_nodes, 2].min())
+    if np.ptp(frame.nodes[frame.base_nodes, 2]) > 1e-9 * frame.size:
+        raise ValueError(
+            f"frame {frame.name!r}: the base nodes are not at one level; the isolators of a "
+            "rigid deck slide in one plane"
+        )
+    rx = frame.rigid_motions()[:, 0]
+    h = float(rx @ (M @ _rocking_y(frame, zb))) / m
+    if not J > 0:
+        raise ValueError(f"frame {frame.name!r}: no polar inertia (J = {J:g} kg m²)")
+    return {"m": m, "J": J, "centre": c, "h": h, "z_base": zb}
+
+
+def building_deck(
+    frame: Frame3D,
+    bearings: Bearing | Sequence[Bearing],
+    *,
+    g: float = G_EARTH,
+    name: str | None = None,
+) -> PlaneSystem:
+    """The rigid deck of ``frame`` on one isolator under every base node.
+
+    ``bearings``: one :class:`~nsdyn.models.isolated.Bearing` for all or one per base node
+    (in the order of ``frame.base_nodes``). The deck's ``info`` holds ``origin`` (the plan
+    point O the deck's (x, y, θ) refer to), ``centre``, ``m``, ``J``, ``h``, ``base_nodes``.
+    """
+    nb = len(frame.base_nodes)
+    if not isinstance(bearings, Bearing):
+        bearings = tuple(bearings)
+        if len(bearings) != nb:
+            raise BearingError(
+                f"{frame.name}.bearings: expected one bearing or {nb} (one per base node), "
+                f"got {len(bearings)}"
+            )
+    k = deck_constants(frame)
+    xy = frame.nodes[frame.base_nodes, :2]
+    origin = xy.mean(axis=0)
+    ecc = k["centre"] - origin
+    deck = rigid_deck(k["m"], k["J"], xy - origin, bearings, ecc=(float(ecc[0]), float(ecc[1])),
+                      h=max(k["h"], 0.0), g=g, name=name or frame.name)  # fmt: skip
+    deck.info.update(
+        origin=origin, centre=k["centre"], m=k["m"], J=k["J"], h=k["h"],
+        base_nodes=frame.base_nodes.copy(),
+    )  # fmt: skip
+    return deck
