@@ -277,7 +277,7 @@ def solve(
                                  :func:`nsdyn.models.isolated.params.pack`)
     x0 : ndarray, shape (2n,)    initial state [q, qd] at ``t_eval[0]``
     t_eval : ndarray, shape (nt,)  sorted output times; the first is the start time
-    method : str                 a key of ``METHODS``
+    method : str                 a key of ``METHODS``, or "auto" (:mod:`nsdyn.solve.auto`)
     rtol, atol : float           error tolerances of the adaptive methods (``atol`` may be a
                                  pair (displacements, velocities) or an array of length 2n)
     dt : float                   fixed step (``genalpha``/``hht``/``newmark``, or an adaptive
@@ -299,8 +299,14 @@ def solve(
     -------
     Solution
     """
+    if method == "auto":  # nsdyn.solve.auto: by size, friction law and contact
+        from nsdyn.solve.auto import AUTO_DT, choose_method
+
+        kp0 = KernelParams(P)
+        method = choose_method(kp0.n, kp0.law, contact)[0]
+        dt = AUTO_DT if dt is None and METHODS[method].fixed_step else dt
     if method not in METHODS:
-        raise ValueError(f"method: expected one of {sorted(METHODS)}, got {method!r}")
+        raise ValueError(f"method: expected 'auto' or one of {sorted(METHODS)}, got {method!r}")
     if on_failure not in ("raise", "return"):
         raise ValueError(f"on_failure: expected 'raise' or 'return', got {on_failure!r}")
     m = METHODS[method]

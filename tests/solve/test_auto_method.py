@@ -63,3 +63,12 @@ def test_simulate_reports_the_choice_and_explicit_method_wins():
     # both integrate the same model: the isolator displacement agrees to the fixed step's
     # accuracy (second order at dt = 5 ms on a 1 Hz excitation, far below 1 %)
     assert np.isclose(auto.response.x_iso_max, given.response.x_iso_max, rtol=1e-2, atol=1e-6)
+
+
+def test_solve_accepts_auto():
+    # the front door of the kernel tuples: the same rule on P's size, law and contact
+    from nsdyn.solve.integrate import solve
+    from nsdyn.solve.methods import _tiny_problem
+
+    P, x0 = _tiny_problem()  # two coordinates, arctan law: rule 4
+    assert solve(P, x0, np.linspace(0.0, 0.02, 3), method="auto").method == "radau"
