@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._tabular import Tabular
 from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.friction import sticks
 
@@ -29,6 +30,7 @@ MESSAGES = {
     kr.ST_NONFINITE: "NaN or inf in the state at t = {t:.6g} s (check the record and the bearings)",
     kr.ST_SINGULAR: "singular equations of motion at t = {t:.6g} s (check masses and positions)",
     kr.ST_CHATTER: "chattering stick-slip events at t = {t:.6g} s (use law 'arctan')",
+    kr.ST_EVENTS: "too many stick-slip events before t = {t:.6g} s",
 }
 MODE_NAMES = {0: "stick", 1: "slip", 2: "slip-start"}
 
@@ -42,7 +44,7 @@ class UpliftWarning(UserWarning):
 
 
 @dataclass
-class PlaneResult:
+class PlaneResult(Tabular):
     """Histories of one run (outputs at ``t``) and its summary (:meth:`summary`)."""
 
     system: object
@@ -65,9 +67,17 @@ class PlaneResult:
     @classmethod
     def from_run(cls, system, law, t, X, NO, FF, FR, FO, MO, EV, stops, info, status, eps, eta):
         if status not in (kr.ST_OK, kr.ST_UPLIFT):
-            raise PlaneIntegrationError(MESSAGES[status].format(t=info[kr.I_TFAIL]))
+            msg = MESSAGES.get(status, f"integration failed (status {status}) at t = {{t:.6g}} s")
+            raise PlaneIntegrationError(msg.format(t=info[kr.I_TFAIL]))
         nout = int(info[kr.I_NOUT])
         ne = min(int(info[kr.I_NEV]), EV.shape[0])
+        if int(info[kr.I_NEV]) > EV.shape[0]:
+            warnings.warn(
+                f"{int(info[kr.I_NEV])} stick-slip events: the event table keeps the first "
+                f"{EV.shape[0]} (summary 'events' counts all)",
+                UserWarning,
+                stacklevel=3,
+            )
         contacts = [
             {"isolator": i, "t_first_s": float(stops[i, kr.P_TFIRST]),
              "peak_overshoot_m": float(stops[i, kr.P_PEAK])}
@@ -129,6 +139,25 @@ class PlaneResult:
         speed = self.resultant(self.v)
         modes = self.modes if self.law == "switch" else None
         return sticks(speed, self.law, eps=self.eps, eta=self.eta, modes=modes)
+
+    def histories(self) -> dict:
+        """Deck motion and per-isolator histories on ``t`` (units in the names; column j of a
+        per-isolator array is isolator j): for :meth:`to_dataframe` / :meth:`to_xarray`."""
+        u, v = self.u, self.v
+        return {
+            "x_m": self.q[:, 0], "y_m": self.q[:, 1], "theta_rad": self.q[:, 2],
+            "vx_m_per_s": self.qd[:, 0], "vy_m_per_s": self.qd[:, 1],
+            "omega_rad_per_s": self.qd[:, 2],
+            "ux_iso_{}_m": u[..., 0], "uy_iso_{}_m": u[..., 1],
+            "vx_iso_{}_m_per_s": v[..., 0], "vy_iso_{}_m_per_s": v[..., 1],
+            "N_iso_{}_N": self.N,
+            "friction_x_iso_{}_N": self.friction[..., 0],
+            "friction_y_iso_{}_N": self.friction[..., 1],
+            "restoring_x_iso_{}_N": self.restoring[..., 0],
+            "restoring_y_iso_{}_N": self.restoring[..., 1],
+            "other_x_iso_{}_N": self.other[..., 0], "other_y_iso_{}_N": self.other[..., 1],
+            "mode_iso_{}": self.modes,
+        }  # fmt: skip
 
     def peak_resultant_displacement(self) -> np.ndarray:
         """max_t |u_i(t)| per isolator [m]."""

@@ -1,0 +1,66 @@
+"""Table export of a run on bidirectional isolators; what the result cannot keep is reported.
+
+Sources: the export only labels arrays (exact equality, see tests/models/conftest.py); the
+per-isolator slips are u_i = B_i q with B_i = [[1, 0, -Y_i], [0, 1, X_i]] (the deck's kinematics).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from nsdyn.models.isolated import _kplanerun as kr
+from nsdyn.models.isolated.bearings import Bearing, Friction
+from nsdyn.models.isolated.deck import rigid_deck, simulate_plane
+from nsdyn.models.isolated.plane_result import PlaneIntegrationError, PlaneResult
+
+G = 9.81
+POS = [(-4.0, -3.0), (4.0, -3.0), (4.0, 3.0), (-4.0, 3.0)]
+
+
+def _run():
+    dt = 0.01
+    t = np.arange(0.0, 2.0 + dt / 2, dt)
+    ax = 2.0 * np.sin(2 * np.pi * 0.8 * t)
+    ay = 1.0 * np.sin(2 * np.pi * 1.1 * t)
+    d = rigid_deck(2.0e4, 2.0e5, POS, Bearing(Friction(0.05), radius=2.0), ecc=(0.5, 0.2), g=G)
+    return simulate_plane(d, (0.0, dt, ax, ay, None), law="arctan")
+
+
+def test_plane_result_round_trips_through_dataframe_and_dataset(assert_round_trip):
+    r = _run()
+    assert_round_trip(r)
+    cols = r.histories()
+    # the slip columns are the kinematics u_i = B_i q, exactly as computed (no resampling)
+    X, Y = np.array(POS).T
+    np.testing.assert_array_equal(cols["ux_iso_{}_m"][:, 2], r.q[:, 0] - r.q[:, 2] * Y[2])
+    np.testing.assert_array_equal(cols["uy_iso_{}_m"][:, 2], r.q[:, 1] + r.q[:, 2] * X[2])
+
+
+def _fake_run(status, n_events, rows=4):
+    ni, nt = 1, 3
+    info = np.zeros(kr.N_INFO)
+    info[kr.I_NEV] = n_events
+    info[kr.I_NOUT] = nt
+    info[kr.I_TFAIL] = 1.25
+    stops = np.zeros((ni, 3))
+    stops[:, kr.P_TFIRST] = np.nan
+    d = rigid_deck(1.0e3, 1.0e3, [(0.0, 0.0)], Bearing(Friction(0.05)), g=G)
+    return PlaneResult.from_run(d, "switch", np.arange(nt, dtype=float), np.zeros((nt, 6)),
+                                np.full((nt, ni), 1e4), np.zeros((nt, ni, 2)),
+                                np.zeros((nt, ni, 2)), np.zeros((nt, ni, 2)),
+                                np.ones((nt, ni), dtype=np.int64), np.zeros((rows, 6)), stops,
+                                info, status, 7500.0, 1e-5)  # fmt: skip
+
+
+def test_an_overfull_event_table_is_reported_not_cut_silently():
+    with pytest.warns(UserWarning, match=r"10 stick-slip events: the event table keeps the first"):
+        r = _fake_run(kr.ST_OK, 10)
+    assert r.events.shape[0] == 4 and r.summary()["events"] == 10
+
+
+@pytest.mark.parametrize("status", [kr.ST_UNDERFLOW, kr.ST_MAX_STEPS, kr.ST_NONFINITE,
+                                    kr.ST_SINGULAR, kr.ST_CHATTER, kr.ST_EVENTS])  # fmt: skip
+def test_every_failure_status_raises_with_its_time(status):
+    with pytest.raises(PlaneIntegrationError, match=r"t = 1\.25 s"):
+        _fake_run(status, 0)
