@@ -72,3 +72,20 @@ def test_solve_accepts_auto():
 
     P, x0 = _tiny_problem()  # two coordinates, arctan law: rule 4
     assert solve(P, x0, np.linspace(0.0, 0.02, 3), method="auto").method == "radau"
+
+
+def test_cli_full_fidelity_takes_the_fast_path_and_says_why(tmp_path, capsys):
+    # `nsdyn run --fidelity full` as typed: the sparse factor-once method, announced in one
+    # line on the console and stored in the summary; the default run keeps Radau
+    import json
+
+    from nsdyn.cli import main
+
+    args = ["run", "--t-end", "0.2", "--no-figures", "--out", str(tmp_path)]
+    assert main([*args, "--fidelity", "full"]) == 0
+    err = capsys.readouterr().err
+    line = [ln for ln in err.splitlines() if ln.startswith("method  auto:")]
+    assert len(line) == 1 and "genalpha-lowrank" in line[0]
+    assert main([*args, "--json"]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["method"] == "radau" and s["method_reason"].startswith("auto: ")
