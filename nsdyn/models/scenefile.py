@@ -15,9 +15,13 @@ import tomllib
 from collections.abc import Mapping
 from pathlib import Path
 
-KINDS = ("isolated", "rocking", "contact", "cylinder", "deck")  # [scene] kind -> its runner
+# [scene] kind -> its runner
+KINDS = ("isolated", "rocking", "contact", "cylinder", "deck", "building3d")
 # kinds whose runner is not nsdyn.models.<kind>.scene (a family's package holds it)
-SCENE_MODULES = {"deck": "nsdyn.models.isolated.deck_scene"}
+SCENE_MODULES = {
+    "deck": "nsdyn.models.isolated.deck_scene",
+    "building3d": "nsdyn.models.isolated.building3d_scene",
+}
 
 
 class SceneError(ValueError):

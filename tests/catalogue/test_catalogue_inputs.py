@@ -65,6 +65,12 @@ def _load(kind: str, path: Path):
         build_system(cfg, str(path))
         build_solver(cfg, str(path))
         return build_motion(cfg, str(path))
+    if kind == "building3d":
+        from nsdyn.models.isolated import building3d_scene as b3
+
+        b3.build_system(cfg, str(path))
+        b3.build_solver(cfg, str(path))
+        return b3.build_motion(cfg, str(path))
     raise AssertionError(kind)
 
 

@@ -138,6 +138,14 @@ BASE[("deck", "bearing", "k_lam")] = {
     "bearing": {"type": "flat", "mu": 0.05},
 }
 BASE[("deck", "bearing", "c")] = BASE[("deck", "bearing", "k_lam")]
+# the 3D building scene shares the deck's [bearing], [motion] and [solver]
+for (_k, _t, _v), _cfg in list(BASE.items()):
+    if _k == "deck" and (_t, _v) != ("deck", ""):
+        BASE[("building3d", _t, _v)] = {
+            **{t: v for t, v in _cfg.items() if t not in ("deck", "mass")},
+            "scene": {"kind": "building3d"},
+            "structure": {"frame3d": "office-11-3d"},
+        }
 # keys that only apply in another setting of the same scene (a model, a ground, a record)
 TWEAK = {
     ("rocking", "block", "gamma"): {"scene": {"model": "frame"}},
@@ -154,6 +162,7 @@ TWEAK = {
     ("cylinder", "foundation", "zeta"): {"foundation": {"f_rock": 3.0}},
     ("cylinder", "foundation", "mu"): {"foundation": {"sliding": True}},
     ("deck", "motion", "pga_component"): {"motion": {"pga": 3.0}},
+    ("building3d", "motion", "pga_component"): {"motion": {"pga": 3.0}},
 }
 
 
@@ -183,7 +192,10 @@ def _base(kind: str, table: str, variant: str, key: str) -> dict:
 
 
 # kinds that studies do not run yet: their reader's own checking functions, in order
-READERS = {"deck": ("build_system", "build_motion", "build_solver")}
+READERS = {
+    "deck": ("build_system", "build_motion", "build_solver"),
+    "building3d": ("build_system", "build_motion", "build_solver"),
+}
 
 
 def read(kind: str, cfg: dict, tmp_path: Path) -> None:

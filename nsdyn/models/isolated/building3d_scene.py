@@ -1,0 +1,231 @@
+"""``nsdyn run`` on 3D building scenes (``[scene] kind = "building3d"``): the rigid and fixed rungs.
+
+Tables (keys in :mod:`nsdyn.models.isolated.building3d_scene_keys`):
+
+* ``[structure]`` ``frame3d`` (a bundled 3D frame or a file), ``fidelity`` "rigid" | "fixed",
+  ``eccentricity`` [f_x, f_y] (accidental, fractions of the plan), ``n_modes`` (fixed);
+* ``[bearing]``, ``[motion]``, ``[solver]``: those of the deck scene
+  (:mod:`nsdyn.models.isolated.deck_scene`).
+
+``rigid``: the frame as the rigid deck of :func:`nsdyn.models.isolated.building3d.building_deck`
+(m, J, centre of mass and its height from the mass matrix), one bearing under every base node,
+integrated by :func:`~nsdyn.models.isolated.deck.simulate_plane`; writes ``building3d.npz``
+(deck histories). ``fixed``: :func:`nsdyn.models.isolated.fixed3d.fixed_response_3d` under a
+three-component record, storey drifts at the centre of mass and the corners, floor
+accelerations, base shear and torsional moment; writes ``building3d.npz`` (those histories).
+The summary (units in the key names) is what ``nsdyn run`` prints.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.atomic import atomic_open
+from nsdyn.models.isolated.bearings import BearingError, bearing_from_config
+from nsdyn.models.isolated.building3d_scene_keys import FIDELITIES, SCHEMA
+from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
+from nsdyn.models.isolated.deck_scene import build_solver
+from nsdyn.models.scenefile import SceneError, check_fields
+
+__all__ = ["build_motion", "build_solver", "build_system", "format_summary", "run_scene"]
+
+TABLES = SCHEMA.fields()
+
+
+def _frame(t: dict, source: str):
+    from nsdyn.structure import accidental_eccentricity, load_frame3d
+
+    name = t.get("frame3d")
+    if not isinstance(name, str) or not name:
+        raise SceneError(f"{source}: structure.frame3d: missing; expected a bundled 3D frame "
+                         "name (office-11-3d) or a 3D frame file")  # fmt: skip
+    local = Path(source).parent / name
+    try:
+        frame = load_frame3d(local if local.is_file() else name)
+    except (OSError, ValueError) as e:
+        raise SceneError(f"{source}: structure.frame3d: {' '.join(str(e).split())}") from None
+    ecc = t.get("eccentricity", [0.0, 0.0])
+    ok = isinstance(ecc, list) and len(ecc) == 2 and all(
+        isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+        and abs(v) < 0.5 for v in ecc
+    )  # fmt: skip
+    if not ok:
+        raise SceneError(f"{source}: structure.eccentricity: expected [f_x, f_y], fractions of "
+                         f"the plan dimensions in (-0.5, 0.5), got {ecc!r}")  # fmt: skip
+    if any(ecc):
+        try:
+            frame = accidental_eccentricity(frame, float(ecc[0]), float(ecc[1]))
+        except ValueError as e:
+            raise SceneError(f"{source}: structure.eccentricity: {e}") from None
+    return frame
+
+
+def build_system(cfg: dict, source: str) -> dict:
+    """{"fidelity", "frame", "deck" (rigid) or None, "n_modes"} of a scene (SceneError naming
+    the field)."""
+    check_fields({k: v for k, v in cfg.items() if k != "motion"},
+                 {k: v for k, v in TABLES.items() if k != "motion"}, source)  # fmt: skip
+    t = cfg.get("structure")
+    if not isinstance(t, dict):
+        raise SceneError(f"{source}: structure: missing; expected a [structure] table with "
+                         "frame3d = <bundled name or file>")  # fmt: skip
+    fid = t.get("fidelity", "rigid")
+    if fid not in FIDELITIES:
+        raise SceneError(f"{source}: structure.fidelity: expected one of {list(FIDELITIES)}, "
+                         f"got {fid!r}")  # fmt: skip
+    n_modes = t.get("n_modes", 24)
+    if isinstance(n_modes, bool) or not isinstance(n_modes, int) or n_modes < 1:
+        raise SceneError(f"{source}: structure.n_modes: expected an integer >= 1, got "
+                         f"{n_modes!r}")  # fmt: skip
+    frame = _frame(t, source)
+    deck = None
+    if fid == "rigid":
+        from nsdyn.models.isolated.building3d import building_deck
+
+        if "bearing" not in cfg:
+            raise SceneError(f"{source}: bearing: missing; the rigid rung needs a [bearing] "
+                             "table (type, radius, mu, d_cap, …)")  # fmt: skip
+        try:
+            deck = building_deck(frame, bearing_from_config(cfg["bearing"], "bearing"))
+        except (BearingError, ValueError) as e:
+            raise SceneError(f"{source}: {e}") from None
+    return {"fidelity": fid, "frame": frame, "deck": deck, "n_modes": n_modes}
+
+
+def build_motion(cfg: dict, source: str):
+    """(excitation, t_end) from ``[motion]`` (as the deck scene's)."""
+    return deck_motion(cfg, source)
+
+
+def _run_rigid(sysd, exc, t_end, kw, out_dir: Path, say) -> dict:
+    from nsdyn._numba_cache import first_compile
+    from nsdyn.models.isolated.deck import simulate_plane
+    from nsdyn.models.isolated.deck_scene import COMPILE_ABOUT_S, kernels_cached
+
+    deck = sysd["deck"]
+    w0 = time.perf_counter()
+    with first_compile("deck", COMPILE_ABOUT_S, kernels_cached(kw["law"])):
+        simulate_plane(deck, {"f": 1.0, "ax": 0.0, "ay": 0.0}, t_end=0.04, law=kw["law"])
+    compile_s = time.perf_counter() - w0
+    w0 = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = simulate_plane(deck, exc, t_end=t_end, **kw)
+    wall = time.perf_counter() - w0
+    for w in caught:
+        say(f"building3d: warning: {w.message}")
+    s = res.summary()
+    npz = out_dir / "building3d.npz"
+    with atomic_open(npz, "wb") as fh:
+        np.savez(fh, t=res.t, q=res.q, qd=res.qd, u=res.u, N=res.N, friction=res.friction,
+                 restoring=res.restoring, positions=deck.positions,
+                 origin=deck.info["origin"])  # fmt: skip
+    info = deck.info
+    s.update({"mass_kg": info["m"], "polar_inertia_kgm2": info["J"],
+              "centre_of_mass_m": [float(v) for v in info["centre"]],
+              "height_of_centre_of_mass_m": info["h"], "wall_s": wall, "compile_s": compile_s,
+              "files": [str(npz)], "warnings": [str(w.message) for w in caught]})  # fmt: skip
+    return s
+
+
+def _run_fixed(sysd, exc, source: str, out_dir: Path) -> dict:
+    from nsdyn.models.isolated.fixed3d import fixed_response_3d
+
+    if not hasattr(exc, "dt"):
+        raise SceneError(f"{source}: motion.kind: the fixed rung needs a record "
+                         "(kind = 'record3'), not an orbit")  # fmt: skip
+    w0 = time.perf_counter()
+    try:
+        r = fixed_response_3d(sysd["frame"], exc, n_modes=sysd["n_modes"])
+    except ValueError as e:
+        raise SceneError(f"{source}: structure: {' '.join(str(e).split())}") from None
+    wall = time.perf_counter() - w0
+    s = r.summary()
+    npz = out_dir / "building3d.npz"
+    with atomic_open(npz, "wb") as fh:
+        np.savez(fh, t=r.t, f_hz=r.modes.f_hz, drift_cm=r.drifts.cm, drift_corner=r.drifts.corner,
+                 corners=r.drifts.corners, floor_acc=r.floor_acc, base_shear=r.base_shear,
+                 torsion=r.torsion)  # fmt: skip
+    s.update({"t_end_s": float(r.t[-1]), "wall_s": wall, "files": [str(npz)]})
+    return s
+
+
+def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:
+    """Run a 3D building scene; writes ``building3d.npz`` into ``out_dir``; the summary."""
+    sysd = build_system(cfg, source)
+    exc, t_end = build_motion(cfg, source)
+    kw = build_solver(cfg, source)
+    name = cfg.get("scene", {}).get("name", Path(source).stem)
+    say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
+    frame = sysd["frame"]
+    say(f"building3d: {name}: {frame.name}, {len(frame.base_nodes)} column lines, "
+        f"fidelity {sysd['fidelity']}, {getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
+    out_dir = Path(out_dir)
+    if sysd["fidelity"] == "rigid":
+        s = _run_rigid(sysd, exc, t_end, kw, out_dir, say)
+    else:
+        s = _run_fixed(sysd, exc, source, out_dir)
+    s.update({"kind": "building3d", "name": name, "frame": frame.name,
+              "fidelity": sysd["fidelity"],
+              "motion": getattr(exc, "name", type(exc).__name__)})  # fmt: skip
+    say(f"building3d: done in {s['wall_s']:.3f} s")
+    return s
+
+
+ROWS = {
+    "rigid": (
+        ("mass_kg", "mass", "kg"),
+        ("polar_inertia_kgm2", "polar inertia", "kg m²"),
+        ("height_of_centre_of_mass_m", "height of the CM", "m"),
+        ("peak_resultant_displacement_m", "peak |u| (resultant)", "m"),
+        ("residual_displacement_m", "residual |u|", "m"),
+        ("peak_torsion_rad", "peak twist", "rad"),
+        ("min_normal_force_N", "min normal force", "N"),
+        ("max_normal_force_N", "max normal force", "N"),
+        ("stick_fraction", "stick fraction", ""),
+    ),
+    "fixed": (
+        ("n_modes", "modes", ""),
+        ("f1_hz", "first frequency", "Hz"),
+        ("mass_captured_x", "mass captured x", ""),
+        ("mass_captured_y", "mass captured y", ""),
+        ("peak_drift_cm_x", "peak drift CM x", ""),
+        ("peak_drift_cm_y", "peak drift CM y", ""),
+        ("peak_drift_corner_x", "peak drift corner x", ""),
+        ("peak_drift_corner_y", "peak drift corner y", ""),
+        ("corner_amplification_x", "corner/CM x", ""),
+        ("corner_amplification_y", "corner/CM y", ""),
+        ("peak_floor_acc_x_m_s2", "peak floor acc x", "m/s²"),
+        ("peak_floor_acc_y_m_s2", "peak floor acc y", "m/s²"),
+        ("peak_base_shear_x_N", "peak base shear x", "N"),
+        ("peak_base_shear_y_N", "peak base shear y", "N"),
+        ("peak_torsional_moment_Nm", "peak torsional moment", "N m"),
+    ),
+}
+
+
+def format_summary(s: dict) -> str:
+    """A short human table of a run, every number with its unit; rim contacts and uplift
+    first (never silent)."""
+    lines = [f"building3d {s.get('name', '')}: {s['frame']}, fidelity {s['fidelity']}"]
+    for c in s.get("rim_contacts", []):
+        lines.append(f"  RIM CONTACT isolator {c['isolator']} at t = {c['t_first_s']:.4g} s, "
+                     f"peak overshoot {c['peak_overshoot_m']:.4g} m")  # fmt: skip
+    if s.get("uplift"):
+        u = s["uplift"]
+        lines.append(f"  UPLIFT isolator {u['isolator']} at t = {u['t_s']:.6g} s (run ended)")
+    for k, label, unit in (*ROWS[s["fidelity"]], ("t_end_s", "duration", "s"),
+                           ("wall_s", "run time", "s")):  # fmt: skip
+        v = s.get(k)
+        if v is None:
+            continue
+        text = f"{v:.6g}" if isinstance(v, float) and math.isfinite(v) else str(v)
+        lines.append(f"  {label:22s} {text}" + (f" {unit}" if unit else ""))
+    lines.extend(f"  {'file':22s} {f}" for f in s.get("files", []))
+    return "\n".join(lines)
