@@ -26,7 +26,8 @@ from nsdyn.models.isolated.friction import sticks
 MESSAGES = {
     kr.ST_UNDERFLOW: "step size underflow at t = {t:.6g} s (a stiff regularised law: lower eps, "
     "or use law 'switch')",
-    kr.ST_MAX_STEPS: "too many steps before t = {t:.6g} s (raise max_steps, or lower eps)",
+    kr.ST_MAX_STEPS: "too many steps before t = {t:.6g} s (raise max_steps; lower eps of the "
+    "regularised law, or raise eta of the switch law: its stick band |v| <= eta)",
     kr.ST_NONFINITE: "NaN or inf in the state at t = {t:.6g} s (check the record and the bearings)",
     kr.ST_SINGULAR: "singular equations of motion at t = {t:.6g} s (check masses and positions)",
     kr.ST_CHATTER: "chattering stick-slip events at t = {t:.6g} s (use law 'arctan')",

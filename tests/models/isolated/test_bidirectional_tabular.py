@@ -6,6 +6,8 @@ per-isolator slips are u_i = B_i q with B_i = [[1, 0, -Y_i], [0, 1, X_i]] (the d
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -15,6 +17,7 @@ from nsdyn.models.isolated.deck import rigid_deck, simulate_plane
 from nsdyn.models.isolated.plane_result import PlaneIntegrationError, PlaneResult
 
 G = 9.81
+ROOT = Path(__file__).resolve().parents[3]
 POS = [(-4.0, -3.0), (4.0, -3.0), (4.0, 3.0), (-4.0, 3.0)]
 
 
@@ -64,3 +67,22 @@ def test_an_overfull_event_table_is_reported_not_cut_silently():
 def test_every_failure_status_raises_with_its_time(status):
     with pytest.raises(PlaneIntegrationError, match=r"t = 1\.25 s"):
         _fake_run(status, 0)
+
+
+def test_nsdyn_run_reports_a_failed_deck_run_in_one_line(tmp_path, monkeypatch, capsys):
+    # a numerical failure of the deck's integrator reaches the command line as its one-line
+    # reason with the time, and the numerics exit status (no traceback)
+    from nsdyn.cli.app import main
+    from nsdyn.cli.args import EXIT_NUMERICS
+    from nsdyn.models.isolated import deck_scene
+
+    def failing(*a, **k):
+        raise PlaneIntegrationError("step size underflow at t = 3.5 s")
+
+    scene = ROOT / "examples" / "scenes" / "sdof-bidirectional-circular.toml"
+    monkeypatch.setattr(deck_scene, "simulate_plane", failing)
+    rc = main(["run", str(scene), "--no-figures", "--out", str(tmp_path)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == EXIT_NUMERICS
+    assert err[-1] == "nsdyn run: numerical failure: step size underflow at t = 3.5 s"
+    assert not any("Traceback" in line for line in err)
