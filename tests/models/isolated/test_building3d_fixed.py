@@ -80,8 +80,9 @@ def test_one_storey_building_equals_direct_integration():
         z, v = s[:n], s[n:]
         return np.r_[v, -R @ a - Minv * (Ks @ z + C @ v)]
 
-    z = solve_ivp(rhs, (0, t[-1]), np.zeros(2 * n), t_eval=t, rtol=1e-10, atol=1e-14,
-                  method="DOP853", max_step=0.01).y[:n]  # fmt: skip
+    Y = solve_ivp(rhs, (0, t[-1]), np.zeros(2 * n), t_eval=t, rtol=1e-10, atol=1e-14,
+                  method="DOP853", max_step=0.01).y  # fmt: skip
+    z = Y[:n]
     master = f.master_dofs[0]
     pos = {int(k): i for i, k in enumerate(free[mm])}
     Ux, Uy, Th = (z[pos[int(k)]] for k in master)
@@ -95,6 +96,14 @@ def test_one_storey_building_equals_direct_integration():
         assert np.abs(dr.corner[0, q, 1] - (Uy + (x - c[0]) * Th) / H).max() <= 1e-6 * scale
     # eccentric mass: torsion is excited and the corners drift more than the centre
     assert dr.corner[0, :, 0].max() > 1.01 * np.abs(dr.cm[0, 0]).max()
+    # absolute floor acceleration at the centre of mass: the relative one from the equation
+    # of motion plus the ground's
+    rel = np.array([rhs(tt, Y[:, j])[n:] for j, tt in enumerate(t)]).T
+    ax_abs = rel[pos[int(master[0])]] + rec.ax
+    ay_abs = rel[pos[int(master[1])]] + rec.ay
+    assert np.abs(res.floor_acc[1, 0] - ax_abs).max() <= 1e-6 * np.abs(ax_abs).max()
+    assert np.abs(res.floor_acc[1, 1] - ay_abs).max() <= 1e-6 * np.abs(ay_abs).max()
+    assert np.array_equal(res.floor_acc[0, 0], rec.ax)  # the base moves with the ground
     # base shear and torsional moment: the elastic forces K* z resolved on the rigid motions
     # (x; rotation about the centre of mass)
     Fel = Ks @ z
