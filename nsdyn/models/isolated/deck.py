@@ -37,6 +37,10 @@ from nsdyn.models.isolated.plane_result import PlaneResult
 
 PLANE_LAWS = ("switch", "arctan")  # the switch law with a stick disc; the regularised law
 COLLINEAR_RTOL = 1e-9  # G's smallest/largest eigenvalue below this: isolators on one line
+# the regularised law's velocity tolerance is at most this / eps [m/s]: its transition from
+# stick to slip spans |v| ~ 1/eps, and a tolerance above that lets the error control accept
+# any friction direction in stick (a held deck then slides)
+ATOL_V_EPS = 0.1
 
 
 @dataclass(frozen=True)
@@ -274,8 +278,9 @@ def simulate_plane(
     regularised vector law). Outputs every ``dt_out`` (default: the record's step, or 1/50
     period of an orbit) or at ``t_eval``. ``integrator``: "auto" (the switch law on the
     explicit Dormand–Prince pair, whose smooth phases are not stiff; the stiff regularised law
-    on Radau IIA), "dopri5" or "radau" (the regularised law only). Returns a
-    :class:`PlaneResult`.
+    on Radau IIA), "dopri5" or "radau" (the regularised law only). ``atol`` = (displacement
+    [m], velocity [m/s]); the regularised law's velocity tolerance is capped at
+    ``ATOL_V_EPS / eps``. Returns a :class:`PlaneResult`.
     """
     if integrator not in ("auto", "dopri5", "radau"):
         raise ValueError(f"integrator: expected 'auto', 'dopri5' or 'radau', got {integrator!r}")
@@ -308,7 +313,10 @@ def simulate_plane(
         raise ValueError(f"y0: expected [x, y, theta, vx, vy, omega], got shape {y.shape}")
     modes = np.full(ni, kp.MODE_SLIP, dtype=np.int64)
     dirs = np.zeros((ni, 2))
-    cfg = np.array([rtol, atol[0], atol[1], min(1e-4, max_step), max_step, float(max_steps)])
+    atol_v = float(atol[1])
+    if law == "arctan":  # the law's transition |v| ~ 1/eps must lie above the error tolerance
+        atol_v = min(atol_v, ATOL_V_EPS / eps)
+    cfg = np.array([rtol, atol[0], atol_v, min(1e-4, max_step), max_step, float(max_steps)])
     X = np.full((nt, 6), np.nan)
     NO = np.full((nt, ni), np.nan)
     FF, FR, FO = (np.full((nt, ni, 2), np.nan) for _ in range(3))

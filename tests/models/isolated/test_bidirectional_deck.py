@@ -128,3 +128,22 @@ def test_symmetric_deck_moves_as_the_single_mass(law):
     for i in range(4):
         assert np.abs(d.u[:, i] - s.u[:, 0]).max() < 1e-6 * peak
     assert np.abs(d.theta).max() * 5.0 < 1e-6 * peak
+
+
+def test_a_very_sharp_regularised_law_holds_a_deck_below_its_friction():
+    # A deck (eccentric, overturning) on four pendulums shaken at 0.8 mu g stays held under the
+    # regularised law whatever eps: the friction resultant mu W s(|v|), s = (2/pi) arctan(eps |v|),
+    # balances a demand <= 0.8 mu W with the creep speed |v| <= tan(0.4 pi) / eps, so over 10 s
+    # |u| <= 10 tan(0.4 pi) / eps. With eps = 1e9 the law's whole transition (|v| ~ 1e-9 m/s)
+    # lies below the default velocity tolerance 1e-8 m/s, which must not let the deck slide.
+    mu, eps, T = 0.05, 1e9, 10.0
+    dt = 0.01
+    t = np.arange(0.0, T + dt / 2, dt)
+    A = 0.8 * mu * G
+    w = 2 * np.pi * 0.7
+    ax, ay = A * np.sin(w * t), 0.5 * A * np.cos(w * t)  # |a_g| <= A
+    d = rigid_deck(2.0e6, 8.9e7, POS[:4], Bearing(Friction(mu), radius=2.2), ecc=(0.8, 0.5),
+                   h=1.5, g=G)  # fmt: skip
+    r = simulate_plane(d, (0.0, dt, ax, ay, None), law="arctan", eps=eps)
+    creep = T * math.tan(0.4 * math.pi) / eps
+    assert np.abs(r.u).max() <= creep
