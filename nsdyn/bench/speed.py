@@ -92,6 +92,10 @@ def speed_scene(t_end: float | None = None):
     system, motion = build_scene(cfg)
     sv = cfg["solver"]
     method = sv.get("method", "radau")
+    if method == "auto":  # as nsdyn run chooses it (radau for this model)
+        from nsdyn.solve.auto import choose_for_system
+
+        method = choose_for_system(system)[0]
     if method != "radau" or system.isolation is None or system.isolation.law != "arctan":
         raise ValueError("the speed table compares Radau runs of the arctan law")
     atol = sv.get("atol")
