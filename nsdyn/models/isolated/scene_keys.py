@@ -17,6 +17,7 @@ from nsdyn.models.scene_schema import Key, Schema, Table
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
 _NONNEG = {"lo": 0.0}  # >= 0
 _METHODS = (
+    "auto",
     "radau",
     "radau-generic",
     "dopri5",
@@ -232,7 +233,13 @@ SOLVER = Table(
     "solver",
     "The integrator and its tolerances (see the guide's transient runs).",
     (
-        Key("method", "string", "integration method", default="radau", choices=_METHODS),
+        Key(
+            "method",
+            "string",
+            "integration method (auto: chosen from the model size, friction law and contact)",
+            default="auto",
+            choices=_METHODS,
+        ),
         Key("rtol", "number", "relative tolerance", "—", default=RUN_RTOL, **_POS),
         Key(
             "atol",
