@@ -116,6 +116,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
     nrej = 0
     nfev = 0
     status = kr.ST_OK
+    newton_failed = False  # the last step's rejection was Newton's (reported at underflow)
     while t < t_end and iout < nt:
         if nstep + nrej > max_steps:
             status = kr.ST_MAX_STEPS
@@ -131,7 +132,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         if t + hh > tb:
             hh = tb - t
         if hh <= kr.H_MIN * max(1.0, abs(t)):
-            status = kr.ST_UNDERFLOW
+            status = kr.ST_NEWTON if newton_failed else kr.ST_UNDERFLOW
             break
         if not f0_ready:
             if kp.rhs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, f0) != 0:
@@ -208,6 +209,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                 break
         if it >= 3:
             need_jac = True  # slow contraction: a fresh Jacobian for the next step
+        newton_failed = not converged
         if not converged:
             nrej += 1
             have_prev = False

@@ -35,7 +35,7 @@ from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated.bearings import B_DCAP, B_MUS, B_MUSLOW
 
 ST_OK, ST_UNDERFLOW, ST_MAX_STEPS, ST_NONFINITE, ST_SINGULAR = 0, 1, 2, 3, 4
-ST_UPLIFT, ST_CHATTER, ST_EVENTS = 5, 6, 7
+ST_UPLIFT, ST_CHATTER, ST_EVENTS, ST_NEWTON = 5, 6, 7, 8
 EVENT_TTOL = 1e-11  # s, width of the located event bracket
 SAMPLES = 4  # dense-output samples per step scanned for a sign change
 STICK_RTOL = 1e-9  # relative slack of the disc test |τ| <= μ_s N

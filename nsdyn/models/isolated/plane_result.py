@@ -32,6 +32,8 @@ MESSAGES = {
     kr.ST_SINGULAR: "singular equations of motion at t = {t:.6g} s (check masses and positions)",
     kr.ST_CHATTER: "chattering stick-slip events at t = {t:.6g} s (use law 'arctan')",
     kr.ST_EVENTS: "too many stick-slip events before t = {t:.6g} s",
+    kr.ST_NEWTON: "Radau IIA's Newton iterations diverge at t = {t:.6g} s, down to the smallest "
+    "step (lower eps, or use law 'switch')",
 }
 MODE_NAMES = {0: "stick", 1: "slip", 2: "slip-start"}
 

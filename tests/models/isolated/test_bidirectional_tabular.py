@@ -62,8 +62,11 @@ def test_an_overfull_event_table_is_reported_not_cut_silently():
     assert r.events.shape[0] == 4 and r.summary()["events"] == 10
 
 
-@pytest.mark.parametrize("status", [kr.ST_UNDERFLOW, kr.ST_MAX_STEPS, kr.ST_NONFINITE,
-                                    kr.ST_SINGULAR, kr.ST_CHATTER, kr.ST_EVENTS])  # fmt: skip
+FAILURES = [kr.ST_UNDERFLOW, kr.ST_MAX_STEPS, kr.ST_NONFINITE, kr.ST_SINGULAR, kr.ST_CHATTER,
+            kr.ST_EVENTS, kr.ST_NEWTON]  # fmt: skip
+
+
+@pytest.mark.parametrize("status", FAILURES)
 def test_every_failure_status_raises_with_its_time(status):
     with pytest.raises(PlaneIntegrationError, match=r"t = 1\.25 s"):
         _fake_run(status, 0)
