@@ -254,6 +254,23 @@ def kernel_params(
     return M, pos, system.bearing_table(), system.normal_distribution(), sp
 
 
+def _check_run_options(rtol, atol, max_step, max_steps) -> None:
+    """One-line errors for tolerances and step limits (rtol > 0, atol = (≥ 0, ≥ 0), ...)."""
+    if not (isinstance(rtol, int | float) and math.isfinite(rtol) and rtol > 0):
+        raise ValueError(f"rtol: expected a positive number, got {rtol!r}")
+    try:
+        aq, av = (float(a) for a in atol)
+    except (TypeError, ValueError):
+        raise ValueError(f"atol: expected (displacement [m], velocity [m/s]), got "
+                         f"{atol!r}") from None  # fmt: skip
+    if not all(math.isfinite(a) and a >= 0 for a in (aq, av)):
+        raise ValueError(f"atol: expected two non-negative numbers, got {atol!r}")
+    if max_step is not None and not (math.isfinite(max_step) and max_step > 0):
+        raise ValueError(f"max_step: expected a positive step [s], got {max_step!r}")
+    if not (isinstance(max_steps, int | np.integer) and max_steps >= 1):
+        raise ValueError(f"max_steps: expected a positive integer, got {max_steps!r}")
+
+
 def simulate_plane(
     system: PlaneSystem,
     ground,
@@ -290,6 +307,7 @@ def simulate_plane(
     if law == "arctan" and integrator in ("auto", "radau"):
         loop = krad.integrate
     M, pos, bp, nd, sp = kernel_params(system, law, eps, eta, kappa)
+    _check_run_options(rtol, atol, max_step, max_steps)
     gk, gp, tab, dur = pack_ground(ground)
     if t_eval is None:
         t_end = dur if t_end is None else float(t_end)
@@ -309,8 +327,9 @@ def simulate_plane(
     ni = system.n_isolators
     nt = t_eval.size
     y = np.zeros(6) if y0 is None else np.ascontiguousarray(y0, dtype=float).copy()
-    if y.shape != (6,):
-        raise ValueError(f"y0: expected [x, y, theta, vx, vy, omega], got shape {y.shape}")
+    if y.shape != (6,) or not np.all(np.isfinite(y)):
+        raise ValueError(f"y0: expected six finite numbers [x, y, theta, vx, vy, omega], got "
+                         f"{y0!r}")  # fmt: skip
     modes = np.full(ni, kp.MODE_SLIP, dtype=np.int64)
     dirs = np.zeros((ni, 2))
     atol_v = float(atol[1])

@@ -89,3 +89,16 @@ def test_nsdyn_run_reports_a_failed_deck_run_in_one_line(tmp_path, monkeypatch, 
     assert rc == EXIT_NUMERICS
     assert err[-1] == "nsdyn run: numerical failure: step size underflow at t = 3.5 s"
     assert not any("Traceback" in line for line in err)
+
+
+@pytest.mark.parametrize(
+    ("kw", "field"),
+    [({"rtol": -1.0}, "rtol"), ({"rtol": 0.0}, "rtol"), ({"atol": (1e-8,)}, "atol"),
+     ({"atol": (1e-8, -1.0)}, "atol"), ({"max_step": -1.0}, "max_step"),
+     ({"max_steps": 0}, "max_steps"), ({"y0": [np.nan] * 6}, "y0")],
+)  # fmt: skip
+def test_bad_run_options_are_refused_with_the_field_named(kw, field):
+    # each of these ran to a misleading status (NaN state, underflow, singular) or silently
+    s = rigid_deck(1.0e3, 1.0e3, [(0.0, 0.0)], Bearing(Friction(0.05)), g=G)
+    with pytest.raises(ValueError, match=rf"^{field}: expected"):
+        simulate_plane(s, {"f": 1.0, "ax": 2.0, "ay": 2.0, "phase_y_deg": 90.0}, t_end=1.0, **kw)
