@@ -24,8 +24,11 @@ terms are needed), N_i = w_i W + p_x,i S_X + p_y,i S_Y with
 N_i is affine in q̈ (the overturning of the horizontal inertia forces), so friction and
 restoring forces, proportional to N_i, put q̈ on both sides: the kernel solves the 3 × 3 system
 (M + Σ B_iᵀ c_i n1_iᵀ) q̈ = r, with one stuck isolator the 5 × 5 saddle-point system for (q̈, τ),
-and with two or more the deck is held (q̈ = −κ q̇) and the stick forces are the rigid-plate
-(minimum-norm) split τ_i = B_i G⁻¹ f, G = Σ_stuck B_iᵀ B_i.
+and with two or more the deck is held (q̈ = −κ q̇) and the stick forces are the split that
+loads each in proportion to its normal force (the least Σ |τ_i|²/N_i):
+τ_i = N_i B_i G⁻¹ f, G = Σ_stuck N_i B_iᵀ B_i. A translating demand then uses every disc
+alike (|τ_i|/N_i = |f|/Σ N_i), so a held deck breaks away at the demand μ_s Σ N_i Coulomb
+allows, not when its lightest isolator alone is full.
 """
 
 import math
@@ -256,17 +259,21 @@ def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
             qdd[a] = -kap * y[3 + a]
             for b in range(3):
                 A3[a, b] = 0.0
+        nfloor = 1e-9 * m * gz  # (a weight for an unloaded isolator: uplift is located later)
         for i in range(ni):
             if modes[i] == MODE_STICK:
                 X = pos[i, 0]
                 Y = pos[i, 1]
-                A3[0, 0] += 1.0
-                A3[1, 1] += 1.0
-                A3[0, 2] -= Y
-                A3[2, 0] -= Y
-                A3[1, 2] += X
-                A3[2, 1] += X
-                A3[2, 2] += X * X + Y * Y
+                wn = n0[i] + n1[i, 0] * qdd[0] + n1[i, 1] * qdd[1] + n1[i, 2] * qdd[2]
+                wn = max(wn, nfloor)
+                cN[i, 0] = wn  # (the stuck isolator's weight; cN is not read again)
+                A3[0, 0] += wn
+                A3[1, 1] += wn
+                A3[0, 2] -= wn * Y
+                A3[2, 0] -= wn * Y
+                A3[1, 2] += wn * X
+                A3[2, 1] += wn * X
+                A3[2, 2] += wn * (X * X + Y * Y)
         for a in range(3):
             s = fv[a]
             for b in range(3):
@@ -277,8 +284,8 @@ def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
         lu_solve(A3, piv[:3], r5[:3])
         for i in range(ni):
             if modes[i] == MODE_STICK:
-                Ff[i, 0] = r5[0] - pos[i, 1] * r5[2]
-                Ff[i, 1] = r5[1] + pos[i, 0] * r5[2]
+                Ff[i, 0] = cN[i, 0] * (r5[0] - pos[i, 1] * r5[2])
+                Ff[i, 1] = cN[i, 0] * (r5[1] + pos[i, 0] * r5[2])
     for i in range(ni):
         Ni = n0[i] + n1[i, 0] * qdd[0] + n1[i, 1] * qdd[1] + n1[i, 2] * qdd[2]
         N[i] = Ni

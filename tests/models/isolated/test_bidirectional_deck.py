@@ -147,3 +147,25 @@ def test_a_very_sharp_regularised_law_holds_a_deck_below_its_friction():
     r = simulate_plane(d, (0.0, dt, ax, ay, None), law="arctan", eps=eps)
     creep = T * math.tan(0.4 * math.pi) / eps
     assert np.abs(r.u).max() <= creep
+
+
+def test_an_eccentric_deck_on_a_ramp_breaks_away_at_mu_s_g():
+    # Coulomb's law holds a rigid deck while some split of the demand keeps every stick force in
+    # its disc; a translating demand m a (through the centre of mass, h = 0) split in proportion
+    # to N_i uses every disc alike, so the deck holds until a = mu_s g, whatever the eccentricity
+    # (the normal forces here differ by a factor of 4). All four release at t* = mu_s g / k of
+    # the ramp a_x = k t, to the disc test's relative slack (1e-9) and the event bracket (1e-11 s).
+    mu_d, mu_s, k = 0.05, 0.10, 0.5
+    d = rigid_deck(1.0e5, 1.0e5 * 100 / 12, POS[:4], Bearing(Friction(mu_d, mu_static=mu_s)),
+                   ecc=(2.5, 0.0), g=G)  # fmt: skip
+    n0 = d.static_normal()
+    assert n0.max() / n0.min() > 4.0
+    dt = 1e-3
+    t = np.arange(0.0, 3.0 + dt / 2, dt)
+    r = simulate_plane(d, (0.0, dt, k * t, 0 * t, None))
+    t_star = mu_s * G / k
+    starts = r.events[r.events[:, 3] == 2]  # stick -> slip-start
+    assert starts.shape[0] >= 4
+    np.testing.assert_allclose(starts[:4, 0], t_star, rtol=2e-9)
+    assert sorted(starts[:4, 1].astype(int)) == [0, 1, 2, 3]
+    assert np.abs(r.u[r.t < t_star]).max() < 1e-12  # held until then
