@@ -21,6 +21,7 @@ import numpy as np
 
 from nsdyn._tabular import Tabular
 from nsdyn.models.isolated import _kplanerun as kr
+from nsdyn.models.isolated.defaults import EPS, ETA
 from nsdyn.models.isolated.friction import sticks
 
 MESSAGES = {
@@ -64,8 +65,8 @@ class PlaneResult(Tabular):
     stops: list  # rim contacts: dicts isolator, t_first_s, peak_overshoot_m
     uplift: dict | None  # {t_s, isolator} when a normal force reached zero
     stats: dict
-    eps: float = 7500.0  # the laws' parameters of this run
-    eta: float = 1e-5
+    eps: float = EPS  # the laws' parameters of this run
+    eta: float = ETA
 
     @classmethod
     def from_run(cls, system, law, t, X, NO, FF, FR, FO, MO, EV, stops, info, status, eps, eta):
