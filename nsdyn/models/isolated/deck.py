@@ -180,21 +180,23 @@ def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
         t0, dt, ax, ay, az = ground
         ground = {"t0": t0, "dt": dt, "ax": ax, "ay": ay, "az": az}
     if _attr(ground, "f") is not None:
-        f = float(_attr(ground, "f"))
-        vals = [
-            f,
-            _attr(ground, "ax", 0.0),
-            _attr(ground, "ay", 0.0),
-            math.radians(_attr(ground, "phase_y_deg", 0.0) or 0.0),
-            _attr(ground, "az", 0.0) or 0.0,
-            _attr(ground, "f_z", None) or f,
-            math.radians(_attr(ground, "phase_z_deg", 0.0) or 0.0),
-        ]
+
+        def num(name, default):
+            v = _attr(ground, name, default)
+            v = default if v is None else v
+            if isinstance(v, bool) or not isinstance(v, int | float | np.integer | np.floating):
+                raise ValueError(f"harmonic orbit: {name}: expected a number, got {v!r}")
+            return float(v)
+
+        f = num("f", 0.0)
+        vals = [f, num("ax", 0.0), num("ay", 0.0), math.radians(num("phase_y_deg", 0.0)),
+                num("az", 0.0), num("f_z", f), math.radians(num("phase_z_deg", 0.0))]  # fmt: skip
         for k, v in zip((kp.GP_F, kp.GP_AX, kp.GP_AY, kp.GP_PHY, kp.GP_AZ, kp.GP_FZ, kp.GP_PHZ),
                         vals, strict=True):  # fmt: skip
-            gp[k] = float(v)
-        if not (np.all(np.isfinite(gp)) and f > 0):
-            raise ValueError(f"harmonic orbit: expected f > 0 and finite amplitudes, got {vals}")
+            gp[k] = v
+        if not (np.all(np.isfinite(gp)) and f > 0 and gp[kp.GP_FZ] > 0):
+            raise ValueError(f"harmonic orbit: expected f, f_z > 0 and finite amplitudes, got "
+                             f"{vals}")  # fmt: skip
         tab = np.zeros((3, 0))
         if hasattr(ground, "accel"):  # the orbit's own definition must match the kernel's
             ag = np.zeros(3)

@@ -102,3 +102,14 @@ def test_bad_run_options_are_refused_with_the_field_named(kw, field):
     s = rigid_deck(1.0e3, 1.0e3, [(0.0, 0.0)], Bearing(Friction(0.05)), g=G)
     with pytest.raises(ValueError, match=rf"^{field}: expected"):
         simulate_plane(s, {"f": 1.0, "ax": 2.0, "ay": 2.0, "phase_y_deg": 90.0}, t_end=1.0, **kw)
+
+
+@pytest.mark.parametrize(
+    ("orbit", "field"),
+    [({"f": 1.0, "ax": "big"}, "ax"), ({"f": "1 Hz"}, "f"), ({"f": 1.0, "phase_y_deg": "x"},
+     "phase_y_deg"), ({"f": 1.0, "ax": 1.0, "f_z": 0.0}, "expected f, f_z > 0")],
+)  # fmt: skip
+def test_bad_orbits_are_refused_with_the_field_named(orbit, field):
+    s = rigid_deck(1.0e3, 1.0e3, [(0.0, 0.0)], Bearing(Friction(0.05)), g=G)
+    with pytest.raises(ValueError, match=rf"^harmonic orbit: {field}"):
+        simulate_plane(s, orbit, t_end=1.0)
