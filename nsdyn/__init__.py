@@ -41,6 +41,12 @@ _API = {
     "read_motion": "nsdyn.ground",
     "sine_pulse": "nsdyn.ground",
     "write_motion": "nsdyn.ground",
+    "GroundMotion3": "nsdyn.ground",
+    "HarmonicPlane": "nsdyn.ground",
+    "read_motion3": "nsdyn.ground",
+    "write_motion3": "nsdyn.ground",
+    "bundled_records3": "nsdyn.ground",
+    "motion3_from_table": "nsdyn.ground",
     # models: the isolated frame
     "Isolation": "nsdyn.models.isolated.system",
     "IsolatedSystem": "nsdyn.models.isolated.system",

@@ -354,7 +354,12 @@ def run(args: argparse.Namespace) -> int:
             with atomic_open(identity, "w") as fh:
                 fh.write(json.dumps(ident, sort_keys=True))
             iso = system.isolation
-            compile_s = prepare_kernels(method, iso is None or iso.law in FLAT_LAWS)
+            if getattr(system, "sparse", None) is not None and method == "genalpha-lowrank":
+                from nsdyn.solve.fullorder import warmup_operators  # the sparse path's kernels
+
+                compile_s = warmup_operators(lambda text: print(text, file=sys.stderr, flush=True))
+            else:
+                compile_s = prepare_kernels(method, iso is None or iso.law in FLAT_LAWS)
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always", UpliftWarning)
                 res = simulate(
