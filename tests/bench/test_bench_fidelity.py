@@ -47,22 +47,19 @@ def _roundoff_scale(system, motion, t, x):
     return u * T, terms * u / (1 - terms * u) * T
 
 
-def test_full_model_roundoff_reaches_the_newton_tolerance(frame, cb5):
-    """Why the 435-dof rung runs at the transient tolerances: at a mid-record state (base 0.1 m
-    from rest, sliding at 0.3 m/s) the full model's float64 accelerations carry a round-off of
-    the order u T (:func:`_roundoff_scale`: diaphragm stiffness 1e11 against the base nodes'
-    tiny rotational inertia makes T large) over 100x CB-5's. As the smallest Newton update of
-    a 1e-3 s step it reaches the convergence threshold of genalpha and of radau at rtol 1e-6,
-    atol 1e-8 (where genalpha at dt 1e-3 failed on the full rung), is 10x below it at the
-    ladder's tolerances, and CB-5's stays 10x below it even at the tight ones. These are
-    statements on the scale u T, which does not depend on the machine or the order of the
-    sums; the round-off actually measured (against the same formulas in long double) must lie
-    within the worst-case bound γ_m T of the full model's dominant terms (its constraint part
-    is small beside them)."""
+def test_full_model_roundoff_stays_below_the_newton_tolerance(frame, cb5):
+    """The 435-dof rung in nodal coordinates converges at tight tolerances: at a mid-record
+    state (base 0.1 m from rest, sliding at 0.3 m/s) the float64 round-off of its
+    accelerations, on the scale u (|M^-1 K||q| + |M^-1 C||qd| + |Gamma||g|) of
+    :func:`_roundoff_scale`, stays below the convergence threshold of the smallest Newton
+    update of genalpha and radau at rtol 1e-6, atol 1e-8 (the old modal basis with every
+    fixed-interface mode reached it: its transformation T was large), and CB-5's stays 10x
+    below it. These are statements on a scale that does not depend on the machine or the order
+    of the sums; the round-off actually measured (against the same formulas in long double)
+    must lie within the worst-case bound of the full model's dominant terms."""
     motion = common.bench_motion("wn", 2.0)
     full = build_system(frame, common.bench_isolation(), fidelity="full")
     assert full.n == 435
-    rtol, atol = fidelity.fidelity_tolerances()
     t = 1.49
     scale, worst, measured = {}, {}, {}
     for name, system in (("cb5", cb5), ("full", full)):
@@ -76,12 +73,9 @@ def test_full_model_roundoff_reaches_the_newton_tolerance(frame, cb5):
             x_full = x
         else:
             x_cb5 = x
-    assert scale["full"].max() > 100 * scale["cb5"].max()
     for method in ("genalpha", "radau"):
         floor = fidelity.newton_noise_floor
-        tight_full = floor(x_full, scale["full"], 1e-6, 1e-8, method=method)
-        ladder_full = floor(x_full, scale["full"], rtol, atol, method=method)
-        assert tight_full > 1.0 > 10 * ladder_full, method
+        assert floor(x_full, scale["full"], 1e-6, 1e-8, method=method) < 1.0, method
         assert floor(x_cb5, scale["cb5"], 1e-6, 1e-8, method=method) < 0.1, method
         assert floor(x_full, measured, 1e-6, 1e-8, method=method) <= floor(
             x_full, worst["full"], 1e-6, 1e-8, method=method
