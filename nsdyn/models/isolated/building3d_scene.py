@@ -30,7 +30,7 @@ from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.bearings import BearingError, bearing_from_config
 from nsdyn.models.isolated.building3d_scene_keys import FIDELITIES, SCHEMA
 from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
-from nsdyn.models.isolated.deck_scene import build_solver
+from nsdyn.models.isolated.deck_scene import build_solver, summary_table
 from nsdyn.models.scenefile import SceneError, check_fields
 
 __all__ = ["build_motion", "build_solver", "build_system", "format_summary", "run_scene"]
@@ -213,19 +213,6 @@ ROWS = {
 def format_summary(s: dict) -> str:
     """A short human table of a run, every number with its unit; rim contacts and uplift
     first (never silent)."""
-    lines = [f"building3d {s.get('name', '')}: {s['frame']}, fidelity {s['fidelity']}"]
-    for c in s.get("rim_contacts", []):
-        lines.append(f"  RIM CONTACT isolator {c['isolator']} at t = {c['t_first_s']:.4g} s, "
-                     f"peak overshoot {c['peak_overshoot_m']:.4g} m")  # fmt: skip
-    if s.get("uplift"):
-        u = s["uplift"]
-        lines.append(f"  UPLIFT isolator {u['isolator']} at t = {u['t_s']:.6g} s (run ended)")
-    for k, label, unit in (*ROWS[s["fidelity"]], ("t_end_s", "duration", "s"),
-                           ("wall_s", "run time", "s")):  # fmt: skip
-        v = s.get(k)
-        if v is None:
-            continue
-        text = f"{v:.6g}" if isinstance(v, float) and math.isfinite(v) else str(v)
-        lines.append(f"  {label:22s} {text}" + (f" {unit}" if unit else ""))
-    lines.extend(f"  {'file':22s} {f}" for f in s.get("files", []))
-    return "\n".join(lines)
+    head = f"building3d {s.get('name', '')}: {s['frame']}, fidelity {s['fidelity']}"
+    rows = (*ROWS[s["fidelity"]], ("t_end_s", "duration", "s"), ("wall_s", "run time", "s"))
+    return summary_table(head, s, rows)

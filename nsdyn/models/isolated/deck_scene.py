@@ -194,14 +194,22 @@ ROWS = (
 def format_summary(s: dict) -> str:
     """A short human table of a deck run, every number with its unit; rim contacts and uplift
     first (never silent)."""
-    lines = [f"deck {s.get('name', '')}: law {s['law']}, {s['n_isolators']} isolator(s)"]
+    head = f"deck {s.get('name', '')}: law {s['law']}, {s['n_isolators']} isolator(s)"
+    return summary_table(head, s, ROWS)
+
+
+def summary_table(head: str, s: dict, rows) -> str:
+    """The table under ``head``: rim contacts and uplift first, then one line per
+    ``(key, label, unit)`` of ``rows`` present in ``s``, then the files written. Shared by
+    the deck and building3d scenes."""
+    lines = [head]
     for c in s.get("rim_contacts", []):
         lines.append(f"  RIM CONTACT isolator {c['isolator']} at t = {c['t_first_s']:.4g} s, "
                      f"peak overshoot {c['peak_overshoot_m']:.4g} m")  # fmt: skip
     if s.get("uplift"):
         u = s["uplift"]
         lines.append(f"  UPLIFT isolator {u['isolator']} at t = {u['t_s']:.6g} s (run ended)")
-    for k, label, unit in ROWS:
+    for k, label, unit in rows:
         v = s.get(k)
         if v is None:
             continue
