@@ -69,8 +69,30 @@ def block_sizes(cls: str, args: tuple, width, height, B, H) -> tuple[float, floa
     return float(width), float(height)
 
 
+def former_positional(args: tuple, values: tuple) -> tuple:
+    """The keyword ``values`` after the two sizes, overridden in order by the former positional
+    arguments ``args[2:]`` (the pre-width/height call forms)."""
+    if len(args) <= 2:
+        return values
+    return (tuple(args[2:]) + values[len(args) - 2 :])[: len(values)]
+
+
+class HalfSizes:
+    """The half sizes B and H [m] of a body stored by its full ``width`` and ``height``."""
+
+    @property
+    def B(self) -> float:
+        """Half-width [m]."""
+        return 0.5 * self.width
+
+    @property
+    def H(self) -> float:
+        """Half-height [m]."""
+        return 0.5 * self.height
+
+
 @dataclass(frozen=True, init=False)
-class RockingBlock:
+class RockingBlock(HalfSizes):
     """Rectangular rigid block of full ``width`` 2B and ``height`` 2H [m].
 
     ``r``: coefficient of restitution (None: Housner's); ``linear``: use the linearised
@@ -98,9 +120,8 @@ class RockingBlock:
         B: float | None = None,
         H: float | None = None,
     ) -> None:
-        if len(args) > 2:  # the former positional (B, H, r, linear, g, mass)
-            rest = (r, linear, g, mass)[len(args) - 2 :]
-            r, linear, g, mass = (tuple(args[2:]) + rest)[:4]
+        # the former positional (B, H, r, linear, g, mass)
+        r, linear, g, mass = former_positional(args, (r, linear, g, mass))
         w, h = block_sizes(type(self).__name__, args[:2], width, height, B, H)
         for name, v in (("width", w), ("height", h), ("r", r), ("linear", bool(linear)),
                         ("g", g), ("mass", mass)):  # fmt: skip
@@ -111,16 +132,6 @@ class RockingBlock:
                 raise ValueError(f"{name}: expected a positive number, got {v!r}")
         if self.r is not None and not (0.0 < self.r <= 1.0):
             raise ValueError(f"r: expected 0 < r <= 1, got {self.r!r}")
-
-    @property
-    def B(self) -> float:
-        """Half-width [m]."""
-        return 0.5 * self.width
-
-    @property
-    def H(self) -> float:
-        """Half-height [m]."""
-        return 0.5 * self.height
 
     @property
     def alpha(self) -> float:

@@ -26,7 +26,7 @@ import numpy as np
 from nsdyn._tabular import Tabular
 from nsdyn.ground import G_EARTH
 from nsdyn.models.rocking import _kcompliant as kc
-from nsdyn.models.rocking.block import _excitation, block_sizes
+from nsdyn.models.rocking.block import HalfSizes, _excitation, block_sizes, former_positional
 from nsdyn.models.tilt import initial_tilt
 
 TOL = 1e-8  # default relative tolerance
@@ -37,7 +37,7 @@ H_MAX_CONTACT = 1.0  # largest step in units of 1/(omega_v (1 + 2 zeta)) (explic
 
 
 @dataclass(frozen=True, init=False)
-class CompliantBlock:
+class CompliantBlock(HalfSizes):
     """Block of full ``width`` 2B and ``height`` 2H [m] (or half sizes ``B``, ``H`` by name) and
     mass ``mass`` [kg] on corner supports ``k`` [N/m], ``c`` [N s/m] (vertical), ``k_t``,
     ``c_t`` (horizontal; default the vertical ones)."""
@@ -55,9 +55,8 @@ class CompliantBlock:
                  mass: float | None = None, k: float | None = None, c: float | None = None,
                  k_t: float | None = None, c_t: float | None = None, g: float = G_EARTH,
                  B: float | None = None, H: float | None = None) -> None:  # fmt: skip
-        if len(args) > 2:  # the former positional (B, H, mass, k, c, k_t, c_t, g)
-            rest = (mass, k, c, k_t, c_t, g)[len(args) - 2 :]
-            mass, k, c, k_t, c_t, g = (tuple(args[2:]) + rest)[:6]
+        # the former positional (B, H, mass, k, c, k_t, c_t, g)
+        mass, k, c, k_t, c_t, g = former_positional(args, (mass, k, c, k_t, c_t, g))
         w, h = block_sizes("CompliantBlock", args[:2], width, height, B, H)
         for name, v in (("width", w), ("height", h), ("mass", mass), ("k", k), ("c", c),
                         ("k_t", k_t), ("c_t", c_t), ("g", g)):  # fmt: skip
@@ -75,25 +74,14 @@ class CompliantBlock:
                        zeta: float | None = None, g: float = G_EARTH, B: float | None = None,
                        H: float | None = None) -> CompliantBlock:  # fmt: skip
         """Supports giving the vertical contact frequency ``omega_v`` [rad/s] and ratio zeta."""
-        if len(args) > 2:  # the former positional (B, H, mass, omega_v, zeta, g)
-            rest = (mass, omega_v, zeta, g)[len(args) - 2 :]
-            mass, omega_v, zeta, g = (tuple(args[2:]) + rest)[:4]
+        # the former positional (B, H, mass, omega_v, zeta, g)
+        mass, omega_v, zeta, g = former_positional(args, (mass, omega_v, zeta, g))
         w, h = block_sizes("CompliantBlock", args[:2], width, height, B, H)
         for name, v in (("mass", mass), ("omega_v", omega_v), ("zeta", zeta)):
             if v is None:
                 raise ValueError(f"CompliantBlock.from_frequency: {name}: missing")
         k = 0.5 * mass * omega_v**2
         return cls(width=w, height=h, mass=mass, k=k, c=zeta * math.sqrt(2.0 * k * mass), g=g)
-
-    @property
-    def B(self) -> float:
-        """Half-width [m]."""
-        return 0.5 * self.width
-
-    @property
-    def H(self) -> float:
-        """Half-height [m]."""
-        return 0.5 * self.height
 
     @property
     def alpha(self) -> float:

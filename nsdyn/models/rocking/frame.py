@@ -30,7 +30,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from nsdyn.ground import G_EARTH
-from nsdyn.models.rocking.block import RockingBlock, block_sizes, housner_restitution
+from nsdyn.models.rocking.block import (
+    RockingBlock,
+    block_sizes,
+    former_positional,
+    housner_restitution,
+)
 
 
 def frame_frequency_ratio(gamma: float) -> float:
@@ -70,9 +75,10 @@ class RockingFrame:
         B: float | None = None,
         H: float | None = None,
     ) -> None:
-        if len(args) > 2:  # the former positional (B, H, gamma, r, linear, g, column_mass)
-            rest = (gamma, r, linear, g, column_mass)[len(args) - 2 :]
-            gamma, r, linear, g, column_mass = (tuple(args[2:]) + rest)[:5]
+        # the former positional (B, H, gamma, r, linear, g, column_mass)
+        gamma, r, linear, g, column_mass = former_positional(
+            args, (gamma, r, linear, g, column_mass)
+        )
         w, h = block_sizes("RockingFrame", args[:2], width, height, B, H)
         if gamma is None:
             raise ValueError("RockingFrame: gamma: missing (m_beam / (2 m_column), >= 0)")
