@@ -63,8 +63,22 @@ class UnitWarning(UserWarning):
 # --------------------------------------------------------------------------------------------
 
 
+class Sampled:
+    """Sample times and duration of a record of ``n`` samples at step ``dt`` from ``t0``."""
+
+    @property
+    def t(self) -> np.ndarray:
+        """Sample times t0 + k dt [s], shape (n,)."""
+        return self.t0 + self.dt * np.arange(self.n)
+
+    @property
+    def duration(self) -> float:
+        """(n − 1) dt [s]."""
+        return (self.n - 1) * self.dt
+
+
 @dataclass(frozen=True, eq=False, repr=False)
-class GroundMotion:
+class GroundMotion(Sampled):
     """Uniformly sampled base acceleration.
 
     Attributes
@@ -125,16 +139,6 @@ class GroundMotion:
     def n(self) -> int:
         """Number of samples."""
         return int(self.a_hor.size)
-
-    @property
-    def t(self) -> np.ndarray:
-        """Sample times t0 + k dt [s], shape (n,)."""
-        return self.t0 + self.dt * np.arange(self.n)
-
-    @property
-    def duration(self) -> float:
-        """(n − 1) dt [s]."""
-        return (self.n - 1) * self.dt
 
     @property
     def pga(self) -> float:

@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from nsdyn.ground.motion import GroundMotion
+from nsdyn.ground.motion import GroundMotion, Sampled
 
 _PEAKS = ("resultant", "x", "y", "geomean")
 
@@ -67,7 +67,7 @@ def _array(name: str, a, n: int | None) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False, repr=False)
-class GroundMotion3:
+class GroundMotion3(Sampled):
     """Uniformly sampled three-component base acceleration (see the module docstring).
 
     Attributes
@@ -124,16 +124,6 @@ class GroundMotion3:
     def n(self) -> int:
         """Number of samples."""
         return int(self.ax.size)
-
-    @property
-    def t(self) -> np.ndarray:
-        """Sample times t0 + k dt [s], shape (n,)."""
-        return self.t0 + self.dt * np.arange(self.n)
-
-    @property
-    def duration(self) -> float:
-        """(n − 1) dt [s]."""
-        return (self.n - 1) * self.dt
 
     @property
     def pga_x(self) -> float:
