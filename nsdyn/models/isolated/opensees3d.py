@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.models.isolated.opensees import _preload_opensees_libraries
+from nsdyn.models.isolated.opensees_script import LOAD_OPENSEES
 from nsdyn.structure import Frame3D, fixed_base_modes_3d, load_frame3d
 
 __all__ = [
@@ -64,19 +65,12 @@ import sys
 
 '''
 
-SCRIPT = r'''
+SCRIPT = (
+    r"""
 
-def load_opensees():
-    """openseespy.opensees, its bundled libraries preloaded (the Linux wheel needs them)."""
-    _preload_opensees_libraries()
-    try:
-        import openseespy.opensees as ops
-    except ImportError as exc:
-        raise SystemExit(
-            f"openseespy is not importable ({exc}); install it: pip install openseespy"
-        ) from None
-    return ops
-
+"""
+    + LOAD_OPENSEES
+    + r'''
 
 def build(ops):
     """The clamped space frame in OpenSees' domain (nodes, members, masses, diaphragms)."""
@@ -130,6 +124,7 @@ if __name__ == "__main__":
                       "nsdyn_f_hz": ref, "families": DATA["nsdyn_families"][:n],
                       "relative_difference": diff}))
 '''
+)
 
 
 def _transforms(vecxz: np.ndarray) -> tuple[list, np.ndarray]:

@@ -28,7 +28,7 @@ acceleration u''_x + u''_g of every level node, levels above the base. ``SCRIPT`
 
 from __future__ import annotations
 
-__all__ = ["HEADER", "SCRIPT"]
+__all__ = ["HEADER", "LOAD_OPENSEES", "SCRIPT"]
 
 HEADER = '''"""OpenSees model of {name}, exported by nsdyn.
 
@@ -46,11 +46,7 @@ import time
 
 '''
 
-SCRIPT = r'''
-SLIDING_TAG = 1000000  # element tags of the bearings: SLIDING_TAG + isolator index
-
-
-def load_opensees():
+LOAD_OPENSEES = r'''def load_opensees():
     """openseespy.opensees, its bundled libraries preloaded (the Linux wheel needs them)."""
     _preload_opensees_libraries()
     try:
@@ -60,7 +56,17 @@ def load_opensees():
             f"openseespy is not importable ({exc}); install it: pip install openseespy"
         ) from None
     return ops
+'''
+"""The script's ``load_opensees()``, shared by the exported scripts."""
 
+SCRIPT = (
+    r"""
+SLIDING_TAG = 1000000  # element tags of the bearings: SLIDING_TAG + isolator index
+
+
+"""
+    + LOAD_OPENSEES
+    + r'''
 
 def build(ops, fixed_base=False, damping=True):
     """The model in OpenSees' domain; ``fixed_base``: base nodes clamped, no isolators;
@@ -241,3 +247,4 @@ def run(t_end=None):
 if __name__ == "__main__":
     print(json.dumps(run()))
 '''
+)
