@@ -76,7 +76,14 @@ def _format(name: str, run: dict, an: dict) -> str:
                 )
             else:
                 lines.append(f"fragility {f['edp']} > {r['limit']}: {r['error']}")
-    for part in ("design", "percentiles", "fragility"):
+    inc = an.get("incidence")
+    for r in (inc or {}).get("rows", [])[:MAX_FAILED_LINES]:
+        for q in inc["quantities"][:1]:  # the first quantity: its largest over the angles
+            if r.get(f"{q}_max") is not None:
+                top, at, low = (r[f"{q}_{k}"] for k in ("max", "angle_of_max_deg", "min"))
+                lines.append(f"incidence {r['record']}: {q} max {top:.4g} at {at:g} deg "
+                             f"(min {low:.4g})")  # fmt: skip
+    for part in ("design", "percentiles", "fragility", "incidence"):
         if an.get(part, {}).get("figure"):
             lines.append(f"figure: {an[part]['figure']}")
     return "\n".join(lines)

@@ -11,9 +11,12 @@
                              limits a boolean edp column is the outcome; confidence. A run
                              that failed by uplift counts as an exceedance; any other failed
                              run (or one without an IM or EDP value) refuses the fit.
+``[analysis.incidence]``     angle (the incident-angle parameter, default motion.rotate),
+                             quantities: per record, the peaks' maximum over the angles and
+                             the angle of it (:mod:`nsdyn.studies.incidence`).
 
-Outputs in the study directory: design.csv, percentiles.csv, fragility.csv and, with figures,
-pareto.png, fragility.png, distributions.png.
+Outputs in the study directory: design.csv, percentiles.csv, fragility.csv, incidence.csv and,
+with figures, pareto.png, fragility.png, distributions.png, incidence.png.
 """
 
 from __future__ import annotations
@@ -61,6 +64,7 @@ FIELDS = {
     "design": ("variables", "objectives", "constraints", "aggregate", "reference"),
     "percentiles": ("quantities", "by", "percentiles"),
     "fragility": ("im", "edp", "limits", "confidence"),
+    "incidence": ("angle", "quantities"),
 }
 
 
@@ -137,6 +141,10 @@ def check_analysis(study) -> None:
                 <= 100
             ):
                 raise SceneError(f"{src}: analysis.percentiles.percentiles: expected 0..100")
+    if an.get("incidence") is not None:
+        from nsdyn.studies import incidence
+
+        incidence.check(study, an["incidence"])
     f = an.get("fragility")
     if f is not None:
         for key in ("im", "edp"):
@@ -307,6 +315,10 @@ def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True)
             res["percentiles"]["figure"] = str(save_figure(fig, out / "distributions.png"))
     if "fragility" in an:
         res["fragility"] = _fragility(study, table, an["fragility"], out, figures)
+    if "incidence" in an:
+        from nsdyn.studies import incidence
+
+        res["incidence"] = incidence.run(study, table, an["incidence"], out, figures)
     return _finite(res)
 
 

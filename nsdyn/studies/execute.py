@@ -129,6 +129,10 @@ def run_study(
         for t in tasks
         if t.key not in done or (retry_failed and done[t.key].get("status") != "ok")
     ]
+    if todo:  # compiled here once, loaded by every worker (scenes3c.warm_kernels)
+        from nsdyn.studies.scenes3c import warm_kernels
+
+        warm_kernels(todo)
     own = executor is None
     if own:
         workers = workers or os.cpu_count() or 1

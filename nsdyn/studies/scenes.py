@@ -8,6 +8,8 @@
   depend on the isolator springs and dampers, so each process keeps it per (frame, fidelity,
   f_max, diaphragm) and adds the isolators of each task, ``K* = K_s + Dᵀ diag(k_lam) D``,
   ``C* = C_s + Dᵀ diag(c) D`` — the same assembly ``build_system`` does;
+* ``deck``, ``building3d`` (two-component records, the incident angle, base shear):
+  :func:`nsdyn.studies.scenes3c.run_summary`;
 * other kinds: ``nsdyn.models.<kind>.scene.run_scene(cfg, source=…, out_dir=<temporary>,
   figures=False, quiet=True)``.
 
@@ -34,6 +36,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from nsdyn.models.scenefile import SceneError, scene_kind, scene_module
+from nsdyn.studies.study import KINDS3C
 
 ERROR_CHARS = 400  # longest error text kept in a failed row
 FIXED_DT = 0.005  # s, the fixed-step methods' step when a scene gives none (records of 200 Hz)
@@ -181,6 +184,7 @@ _BUILDERS = {  # the functions of a family's scene module that read and check a 
     "contact": ("build",),
     "cylinder": ("build",),
     "deck": ("build_system", "build_motion", "build_solver"),
+    "building3d": ("build_system", "build_motion", "build_solver"),
 }
 
 
@@ -196,11 +200,16 @@ def check_scene(cfg: dict, source: str) -> None:
     cfg = copy.deepcopy(cfg)
     sim = cfg.get("motion", {}).pop("simulated", None)
     if sim is not None:  # any record stands for it: its own fields were checked with the study
-        from nsdyn.ground import bundled_records
+        from nsdyn.ground import bundled_records, bundled_records3
 
-        cfg["motion"]["record"] = bundled_records()[0]
+        cfg["motion"]["record"] = (bundled_records3() if kind in KINDS3C else bundled_records())[0]
     try:
         for name in _BUILDERS.get(kind, ()):
+            if kind in KINDS3C and name == "build_system":  # kept per process (the frame)
+                from nsdyn.studies.scenes3c import build_system
+
+                build_system(kind, cfg, source)
+                continue
             getattr(mod, name)(cfg, source)
     except SceneError:
         raise
@@ -265,6 +274,10 @@ def run_scene_summary(cfg: dict, source: str) -> dict:
     kind = scene_kind(cfg, source)
     if kind == "isolated":
         return _run_isolated(cfg, source)
+    if kind in KINDS3C:
+        from nsdyn.studies.scenes3c import run_summary
+
+        return run_summary(kind, cfg, source)
     return _run_other(kind, cfg, source)
 
 

@@ -28,6 +28,13 @@ run on a base scene (any kind ``nsdyn run`` knows). Example::
     folder = "records/"               # every file in it matching glob (default "*")
     set = "kobe"                      # "kobe": the four 1995 Kobe records (shared records)
     simulated = { n = 20, seed = 7, duration = 30.0 }   # seed 000 modulated white noise
+    pairs = [{ name = "KJMA", x = "KJM090.AT2", y = "KJM000.AT2", z = "KJM-UP.AT2" }]
+                                      # two horizontal components (and a vertical) per entry
+
+For the scene kinds on bidirectional isolators (``deck``, ``building3d``) every record has two
+horizontal components (``pairs``, a ``t, ax, ay[, az]`` CSV, a bundled record with a second
+component, or simulated pairs) and the incident angle is the parameter ``"motion.rotate"``
+[deg]: each task turns the horizontal pair by it (:mod:`nsdyn.studies.scenes3c`).
 
     [analysis.design]    ...          # see nsdyn.studies.analyses
 
@@ -44,9 +51,13 @@ from pathlib import Path
 
 from nsdyn.models.scenefile import SceneError, number, read_toml, scene_kind, unknown_key
 
+KINDS3C = ("deck", "building3d")  # scene kinds whose records have two horizontal components
+NUMERIC_FIELDS = {"motion.rotate": "angles in degrees"}  # parameters that must be numbers
+
 STUDY_TABLES = ("study", "base", "parameters", "records", "analysis")
 STUDY_FIELDS = {"name": str, "scene": str, "keep": list, "samples": int, "seed": int, "batch": int}
-RECORD_FIELDS = ("names", "folder", "glob", "set", "simulated")
+RECORD_FIELDS = ("names", "folder", "glob", "set", "simulated", "pairs")
+PAIR_FIELDS = ("name", "x", "y", "z")
 SIMULATED_FIELDS = {"n": int, "seed": int, "duration": float, "dt": float, "generator": str}
 GENERATORS = ("modulated_white_noise", "kanai_tajimi")
 RECORD_SETS = ("kobe", "bundled")
@@ -78,9 +89,13 @@ class RecordSpec:
     name: str
     path: str | None = None
     simulated: dict | None = None
+    components: tuple | None = None  # (x, y, z or None) files of a two-component record
 
     def identity(self) -> dict:
-        return {"name": self.name, "path": self.path, "simulated": self.simulated}
+        ident = {"name": self.name, "path": self.path, "simulated": self.simulated}
+        if self.components is not None:
+            ident["components"] = list(self.components)
+        return ident
 
 
 @dataclass
@@ -135,6 +150,10 @@ def _known_fields(kind: str, base: dict) -> set[str]:
 
         known |= {f"{t}.{k}" for t, fields in _FIELDS.items() for k in fields}
         known |= {f"isolation.{k}" for k in Isolation.__dataclass_fields__}
+    if kind in KINDS3C:
+        from nsdyn.studies.scenes3c import scene_fields
+
+        known |= scene_fields(kind)
     return known
 
 
@@ -165,6 +184,10 @@ def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter
         kinds = {type(v) for v in args}
         if not (kinds <= {int, float} or kinds <= {str} or kinds <= {bool}):
             raise _err(source, f"{where}.values", f"expected numbers or strings, got {args!r}")
+        if name in NUMERIC_FIELDS and not kinds <= {int, float}:
+            bad = next(v for v in args if isinstance(v, bool) or not isinstance(v, int | float))
+            raise _err(source, f"{where}.values",
+                       f"expected numbers ({NUMERIC_FIELDS[name]}), got {bad!r}")  # fmt: skip
         return Parameter(name, values=tuple(args))
     nums = [number(source, f"{where}.{form}[{i}]", a, positive=False) for i, a in enumerate(args)]
     if form in ("linspace", "logspace"):
@@ -246,6 +269,17 @@ def _parse_records(source: str, study_dir: Path, rec: dict, kind: str, base: dic
         out += _record_set(source, s)
     if "simulated" in rec:
         out += _simulated(source, rec["simulated"])
+    if "pairs" in rec:
+        if kind not in KINDS3C:
+            raise _err(source, "records.pairs", f"two-component records need a scene of kind "
+                       f"{' or '.join(KINDS3C)}, this study's scene is {kind!r}")  # fmt: skip
+        from nsdyn.studies.scenes3c import parse_pairs
+
+        out += parse_pairs(source, study_dir, rec["pairs"])
+    if kind in KINDS3C:
+        from nsdyn.studies.scenes3c import check_two_components
+
+        check_two_components(source, out)
     seen = set()
     for r in out:
         if r.name in seen:
@@ -333,6 +367,11 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict) -> tupl
         raw = {}
     merged = _merge(raw, base_over)
     kind = scene_kind(merged, source)
+    if kind in KINDS3C:  # files named beside the scene file (or the study file) found anywhere
+        from nsdyn.studies.scenes3c import resolve_paths
+
+        raw = resolve_paths(raw, scene_path.parent) if scene_path is not None else raw
+        merged = _merge(raw, resolve_paths(base_over, study_dir))
     if kind == "isolated":
         from nsdyn.models.isolated.scene import _check, load_scene
 

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn.studies.study import RecordSpec, Study
+from nsdyn.studies.study import KINDS3C, RecordSpec, Study
 
 TABLE_FORMAT = 1  # bump when the meaning of a task's inputs changes (invalidates old keys)
 KEY_HEX = 16  # hex digits of the task key (64 bits: collisions negligible below 1e8 tasks)
@@ -118,7 +118,10 @@ def expand(study: Study) -> list[Task]:
     records: list[RecordSpec | None] = list(study.records) or [None]
     digests = {}
     for r in records:
-        if r is not None and r.path is not None and Path(r.path).is_file():
+        if r is not None and r.components is not None:  # the digest of the components' digests
+            parts = [file_digest(f) if f else "-" for f in r.components]
+            digests[r.name] = hashlib.sha256(",".join(parts).encode()).hexdigest()
+        elif r is not None and r.path is not None and Path(r.path).is_file():
             digests[r.name] = file_digest(r.path)
     tasks = []
     keep = tuple(study.keep) if study.keep is not None else None
@@ -134,11 +137,9 @@ def expand(study: Study) -> list[Task]:
                 if rec is not None:
                     ident = rec.identity() | {"sha256": digests.get(rec.name)}
                     ident["path"] = None if rec.name in digests else rec.path  # bytes, not place
-                    if rec.path is not None:
-                        _set(cfg, "motion.record", rec.path)
-                    else:
-                        cfg.setdefault("motion", {}).pop("record", None)
-                        cfg["motion"]["simulated"] = dict(rec.simulated)
+                    if rec.components is not None:
+                        ident["components"] = None
+                    _place_record(cfg, rec, study.kind)
                 key = task_key(study.kind, _without_path(cfg, rec, digests), ident)
                 tasks.append(
                     Task(
@@ -156,11 +157,37 @@ def expand(study: Study) -> list[Task]:
     return tasks
 
 
+def _place_record(cfg: dict, rec: RecordSpec, kind: str) -> None:
+    """Put ``rec`` into the task's ``[motion]``: ``record`` (a file or bundled name), the
+    component files ``x, y[, z]`` of a two-component record, or ``simulated``; for the kinds
+    of two-component records (``deck``, ``building3d``) the other ways are removed and
+    ``kind = "record3"`` is set."""
+    mo = cfg.setdefault("motion", {})
+    if kind in KINDS3C:
+        for key in ("record", "x", "y", "z", "simulated"):
+            mo.pop(key, None)
+        mo["kind"] = "record3"
+    if rec.components is not None:
+        for key, f in zip(("x", "y", "z"), rec.components, strict=True):
+            if f is not None:
+                mo[key] = f
+    elif rec.path is not None:
+        mo["record"] = rec.path
+    else:
+        mo.pop("record", None)
+        mo["simulated"] = dict(rec.simulated)
+
+
 def _without_path(cfg: dict, rec: RecordSpec | None, digests: dict) -> dict:
     """The cfg as hashed: a record file enters by its digest, so moving a folder keeps keys."""
     if rec is None or rec.name not in digests:
         return cfg
     out = copy.deepcopy(cfg)
+    if rec.components is not None:
+        for key in ("x", "y", "z"):
+            if key in out["motion"]:
+                out["motion"][key] = f"sha256:{digests[rec.name]}:{key}"
+        return out
     out["motion"]["record"] = f"sha256:{digests[rec.name]}"
     return out
 

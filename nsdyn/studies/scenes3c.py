@@ -1,0 +1,281 @@
+"""Study runs on bidirectional isolators (scene kinds ``deck`` and ``building3d``): records with
+two horizontal components, the incident angle, the outputs of each run, kernels warmed once.
+
+Records. Every record of such a study has two horizontal components a_x, a_y (and optionally
+a vertical a_z): a pair of files (``[records] pairs = [{x, y, z}]``, read together, one Δt
+and one length), a ``t, ax, ay[, az]`` CSV, a bundled record with a second horizontal
+component, or a simulated pair (a_x from the seed, a_y from an independent stream of the same
+seed, no vertical).
+
+Incident angle. The parameter ``motion.rotate`` = θ [deg] turns the horizontal pair
+(:meth:`nsdyn.ground.GroundMotion3.rotated`; exact cosines and sines at multiples of 90°):
+
+    a_x' = a_x cos θ − a_y sin θ,   a_y' = a_x sin θ + a_y cos θ,   a_z' = a_z.
+
+θ + 180° is the point reflection of θ's motion: a linear model (the fixed rung) answers it with
+the reflected response, the same peaks, so 0–180° covers every incident direction; a deck
+whose centre of mass is above the sliding surfaces (h > 0) answers it with other normal
+forces (the overturning moment changes sign), so its peaks need not repeat.
+
+Outputs of each run, besides the family's summary (units in the key names):
+
+    peak_base_shear_N = max_t |Σ_i F_i(t)|          rigid rungs: F_i = friction + restoring +
+                                                     damper and rim force of isolator i
+                      = max_t |(V_x, V_y)(t)|        fixed rung: the elastic storey forces
+    peak_corner_drift = max over storeys, plan corners and x, y of the drift ratio (fixed rung)
+    incident_angle_deg, pga_resultant_mps2           (the record as run: turned and scaled)
+
+The rigid and fixed rungs run here from the family's readers (``build_system``,
+``build_motion``, ``build_solver``), without files; a rung this module does not know (a new
+fidelity of ``building3d``) runs through the family's ``run_scene`` in a temporary directory
+and keeps its summary as it is (:data:`RUNGS` is the place to add its outputs).
+"""
+
+from __future__ import annotations
+
+import copy
+import importlib
+import json
+import tempfile
+import threading
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.models.scenefile import SceneError, scene_module
+from nsdyn.studies.study import KINDS3C, PAIR_FIELDS, RecordSpec
+
+SYSTEM_CACHE = 16  # built systems (frame, deck constants) kept per process
+_systems: dict = {}
+_lock = threading.Lock()
+
+
+# ---- study files -----------------------------------------------------------------------------
+def scene_fields(kind: str) -> set[str]:
+    """Dotted fields a study parameter may vary on a scene of ``kind`` (its schema's keys)."""
+    mod = importlib.import_module(scene_module(kind))
+    return {f"{t}.{k}" for t, keys in mod.TABLES.items() if keys for k in keys} | {
+        f"motion.{k}" for k in _motion_keys()
+    }
+
+
+def _motion_keys() -> tuple:
+    from nsdyn.ground.table3 import RECORD3_KEYS
+
+    return RECORD3_KEYS
+
+
+def _err(source: str, where: str, msg: str) -> SceneError:
+    return SceneError(f"{source}: {where}: {msg}")
+
+
+def parse_pairs(source: str, study_dir: Path, pairs) -> list[RecordSpec]:
+    """``[records] pairs``: a list of tables ``{name, x, y, z}`` (files relative to the study
+    file; ``z`` optional). Each is read once here, so a pair of different time steps or lengths
+    is refused before any task runs, naming the entry and component."""
+    from nsdyn.ground import read_motion3
+
+    if not isinstance(pairs, list) or not pairs:
+        raise _err(source, "records.pairs", "expected a list of tables [{ name = ..., "
+                   f"x = <file>, y = <file>, z = <file> }}], got {pairs!r}")  # fmt: skip
+    out = []
+    for i, p in enumerate(pairs):
+        where = f"records.pairs[{i}]"
+        if not isinstance(p, dict):
+            raise _err(source, where, f"expected a table {{x = <file>, y = <file>}}, got {p!r}")
+        for key in p:
+            if key not in PAIR_FIELDS:
+                raise _err(source, f"{where}.{key}", f"unknown field; expected some of "
+                           f"{list(PAIR_FIELDS)}")  # fmt: skip
+        files = {}
+        for key in ("x", "y", "z"):
+            if key not in p:
+                if key == "z":
+                    continue
+                raise _err(source, f"{where}.{key}", "missing; expected the file of the "
+                           f"{key} component")  # fmt: skip
+            if not isinstance(p[key], str):
+                raise _err(source, f"{where}.{key}", f"expected a file name, got {p[key]!r}")
+            path = Path(p[key]).expanduser()
+            path = path if path.is_absolute() else study_dir / path
+            if not path.is_file():
+                raise _err(source, f"{where}.{key}", f"no such file: {path}")
+            files[key] = str(path)
+        try:
+            read_motion3(files["x"], files["y"], files.get("z"))
+        except (OSError, ValueError) as e:
+            text = " ".join(str(e).split())
+            key = next((k for k in ("z", "y") if f"{k} component" in text), "x")
+            raise _err(source, f"{where}.{key}", text) from None
+        name = p.get("name", Path(files["x"]).stem)
+        if not isinstance(name, str) or not name:
+            raise _err(source, f"{where}.name", f"expected a non-empty string, got {name!r}")
+        comps = (files["x"], files["y"], files.get("z"))
+        out.append(RecordSpec(name, components=comps))
+    return out
+
+
+def check_two_components(source: str, records: list[RecordSpec]) -> None:
+    """A bundled record named for a two-component study must have its second component."""
+    from nsdyn.ground import bundled_records, bundled_records3
+
+    for r in records:
+        if r.path is not None and r.path in bundled_records() and r.path not in bundled_records3():
+            raise _err(source, "records.names", f"{r.path!r} has one horizontal component; a "
+                       f"deck or building3d study needs two: {bundled_records3()}, a t, ax, ay "
+                       "CSV or [records] pairs")  # fmt: skip
+
+
+def resolve_paths(cfg: dict, scene_dir: Path) -> dict:
+    """The scene's files (``structure.frame3d``, ``motion.record/x/y/z``) made absolute when
+    they name a file beside the scene file, so that a task finds them from anywhere."""
+    out = copy.deepcopy(cfg)
+    for table, key in (("structure", "frame3d"), *(("motion", k) for k in "record x y z".split())):
+        v = out.get(table, {}).get(key)
+        if isinstance(v, str) and not Path(v).is_absolute() and (scene_dir / v).is_file():
+            out[table][key] = str((scene_dir / v).resolve())
+    return out
+
+
+# ---- one run ---------------------------------------------------------------------------------
+def simulated_pair(spec: dict):
+    """The two-component record of a ``[motion] simulated`` table: a_x as the planar studies'
+    simulated record of that seed, a_y from the same generator on an independent stream
+    (``SeedSequence([seed, 1])``), no vertical."""
+    from nsdyn.ground import GroundMotion3
+    from nsdyn.studies.scenes import simulated_motion
+
+    x = simulated_motion(spec)
+    seed_y = int(np.random.SeedSequence([int(spec["seed"]), 1]).generate_state(1)[0])
+    y = simulated_motion({**spec, "seed": seed_y})
+    n = min(x.n, y.n)
+    src = f"simulated pair, seed {spec['seed']}"
+    return GroundMotion3(x.t0, x.dt, x.a_hor[:n], y.a_hor[:n], None, x.name, src,
+                         {"seed": spec["seed"]})  # fmt: skip
+
+
+def build_system(kind: str, cfg: dict, source: str):
+    """The family's ``build_system(cfg, source)``, kept per process for the same structure and
+    bearing (the frame's reading and its mass integrals are the slow part of a check)."""
+    mod = importlib.import_module(scene_module(kind))
+    frame = cfg.get("structure", {}).get("frame3d")
+    local = Path(source).parent / frame if isinstance(frame, str) else None
+    ident = str(local.resolve()) if local is not None and local.is_file() else frame
+    key = json.dumps([kind, ident, {k: v for k, v in cfg.items() if k not in ("motion", "solver",
+                      "scene")}], sort_keys=True, default=str)  # fmt: skip
+    with _lock:
+        hit = _systems.get(key)
+    if hit is not None:
+        return hit
+    built = mod.build_system(cfg, source)
+    with _lock:
+        if len(_systems) >= SYSTEM_CACHE:
+            _systems.pop(next(iter(_systems)))
+        _systems[key] = built
+    return built
+
+
+def _plane(system, mod, cfg: dict, source: str) -> dict:
+    from nsdyn.models.isolated.deck import simulate_plane
+
+    exc, t_end = mod.build_motion(cfg, source)
+    kw = mod.build_solver(cfg, source)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = simulate_plane(system, exc, t_end=t_end, **kw)
+    s = res.summary()
+    F = (res.friction + res.restoring + res.other).sum(axis=1)  # (nt, 2) on the ground
+    s["peak_base_shear_N"] = float(np.hypot(F[:, 0], F[:, 1]).max())
+    s["warnings"] = [str(w.message) for w in caught]
+    return s | _motion_columns(exc, cfg)
+
+
+def _fixed(sysd: dict, mod, cfg: dict, source: str) -> dict:
+    from nsdyn.models.isolated.fixed3d import fixed_response_3d
+
+    exc, _ = mod.build_motion(cfg, source)
+    if not hasattr(exc, "dt"):
+        raise SceneError(f"{source}: motion.kind: the fixed rung needs a record "
+                         "(kind = 'record3'), not an orbit")  # fmt: skip
+    r = fixed_response_3d(sysd["frame"], exc, n_modes=sysd["n_modes"])
+    s = r.summary()
+    s["peak_base_shear_N"] = float(np.hypot(*r.base_shear).max())
+    s["peak_corner_drift"] = max(s["peak_drift_corner_x"], s["peak_drift_corner_y"])
+    return s | _motion_columns(exc, cfg)
+
+
+def _motion_columns(exc, cfg: dict) -> dict:
+    out = {"incident_angle_deg": float(cfg.get("motion", {}).get("rotate", 0.0))}
+    if hasattr(exc, "pga_resultant"):
+        out["pga_resultant_mps2"] = exc.pga_resultant
+    return out
+
+
+def _rigid(sysd: dict, mod, cfg: dict, source: str) -> dict:
+    return _plane(sysd["deck"], mod, cfg, source)
+
+
+RUNGS = {"rigid": _rigid, "fixed": _fixed}  # building3d fidelity -> its study runner
+
+
+def run_summary(kind: str, cfg: dict, source: str) -> dict:
+    """Run one task of a ``deck`` or ``building3d`` study; its summary with the outputs of the
+    module docstring (no figures, no files kept)."""
+    mod = importlib.import_module(scene_module(kind))
+    cfg = copy.deepcopy(cfg)
+    with tempfile.TemporaryDirectory(prefix="nsdyn-task-") as tmp:
+        sim = cfg.get("motion", {}).pop("simulated", None)
+        if sim is not None:
+            from nsdyn.ground import write_motion3
+
+            path = write_motion3(simulated_pair(sim), Path(tmp) / "rec.csv")
+            cfg["motion"]["record"] = str(path)
+        built = build_system(kind, cfg, source)
+        if kind == "deck":
+            s = _plane(built, mod, cfg, source)
+        elif built["fidelity"] in RUNGS:
+            s = RUNGS[built["fidelity"]](built, mod, cfg, source)
+        else:  # a rung this module does not know: the family's own run, its summary
+            s = mod.run_scene(cfg, source=source, out_dir=Path(tmp), figures=False, quiet=True)
+            s = {k: v for k, v in s.items() if not (isinstance(v, str) and v.startswith(tmp))}
+            s |= {"incident_angle_deg": float(cfg.get("motion", {}).get("rotate", 0.0))}
+    s["kind"] = kind
+    if kind == "building3d":
+        s["fidelity"] = built["fidelity"]
+    return s
+
+
+# ---- before the workers start -----------------------------------------------------------------
+def _plane_laws(tasks) -> set[str]:
+    laws = set()
+    for t in tasks:
+        if t.kind not in KINDS3C:
+            continue
+        fidelity = t.cfg.get("structure", {}).get("fidelity", "rigid")
+        if t.kind == "building3d" and fidelity != "rigid":
+            continue
+        laws.add(t.cfg.get("solver", {}).get("law", "switch"))
+    return laws
+
+
+def warm_kernels(tasks) -> list[str]:
+    """Compile the plane kernels of the tasks' friction laws once, here, before the workers
+    start: numba writes them to its cache and every worker then loads them (a second) instead
+    of compiling them side by side (a minute each, on a first run). Returns the laws it
+    compiled (none when the cache holds them)."""
+    from nsdyn._numba_cache import first_compile
+    from nsdyn.models.isolated.bearings import bearing_from_config
+    from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
+    from nsdyn.models.isolated.deck_scene import COMPILE_ABOUT_S, kernels_cached
+
+    done = []
+    for law in sorted(_plane_laws(tasks)):
+        if law not in ("switch", "arctan") or kernels_cached(law):
+            continue  # a bad law is the task check's to report
+        system = sdof_plane(1.0, bearing_from_config({"type": "fps", "radius": 1.0, "mu": 0.05},
+                                                     "bearing"))  # fmt: skip
+        with first_compile("deck", COMPILE_ABOUT_S, False):
+            simulate_plane(system, {"f": 1.0, "ax": 0.0, "ay": 0.0}, t_end=0.04, law=law)
+        done.append(law)
+    return done

@@ -1,0 +1,208 @@
+"""Studies of two-component records on bidirectional isolators: the incident angle as a study
+parameter, the record pairs, the outputs per run, the incidence analysis, bad input."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from nsdyn.cli import main
+from nsdyn.ground import GroundMotion, GroundMotion3, write_motion
+from nsdyn.models.scenefile import SceneError
+from nsdyn.studies import load_study, run_study
+
+EPS = np.finfo(float).eps
+DT = 0.01
+
+
+def _pair(tmp_path, name: str, seed: int, n: int = 500, n_y: int | None = None):
+    """Two single-component record files (x, y) of a smooth random motion."""
+    rng = np.random.default_rng(seed)
+    t = DT * np.arange(n)
+    env = np.sin(np.pi * t / t[-1]) ** 2
+    files = []
+    for comp, amp, f in (("x", 3.0, 0.7), ("y", 2.0, 1.1)):
+        m = n if comp == "x" or n_y is None else n_y
+        a = amp * env[:m] * np.sin(2 * np.pi * f * t[:m] + rng.uniform(0, 2 * np.pi))
+        p = tmp_path / f"{name}_{comp}.csv"
+        write_motion(GroundMotion(0.0, DT, a, None, f"{name}{comp}"), p)
+        files.append(p.name)
+    return files
+
+
+SDOF = """
+[scene]
+kind = "deck"
+[mass]
+m = 1.0e5
+[bearing]
+type = "fps"
+radius = 1.5
+mu = 0.05
+[motion]
+kind = "record3"
+record = "synthetic-wn-40s"
+[solver]
+law = "switch"
+rtol = {rtol}
+atol = 1e-10
+"""
+
+
+def _study(tmp_path, angles, extra: str = "", scene: str = "sdof.toml") -> object:
+    a = _pair(tmp_path, "A", 1)
+    b = _pair(tmp_path, "B", 2)
+    text = f"""
+[study]
+name = "angles"
+scene = "{scene}"
+[parameters]
+"motion.rotate" = {json.dumps(angles)}
+[records]
+pairs = [{{ name = "A", x = "{a[0]}", y = "{a[1]}" }}, {{ name = "B", x = "{b[0]}", y = "{b[1]}" }}]
+{extra}
+"""
+    p = tmp_path / "study.toml"
+    p.write_text(text)
+    return p
+
+
+# ---- rotation ----------------------------------------------------------------------------------
+def test_rotation_exact_at_0_and_90_and_norm_preserving():
+    # a_x' = a_x cos θ − a_y sin θ, a_y' = a_x sin θ + a_y cos θ: the identity at 0, the
+    # quarter turn (a_x, a_y) -> (−a_y, a_x) at 90° exactly (cos, sin exactly 0, 1), and at any
+    # angle the horizontal resultant kept to the round-off of two products and a sum (≤ 4 eps
+    # of the resultant)
+    rng = np.random.default_rng(0)
+    ax, ay, az = rng.standard_normal((3, 200))
+    m = GroundMotion3(0.0, DT, ax, ay, az)
+    r0, r90 = m.rotated(0.0), m.rotated(90.0)
+    assert np.array_equal(r0.ax, ax) and np.array_equal(r0.ay, ay)
+    assert np.array_equal(r90.ax, -ay) and np.array_equal(r90.ay, ax)
+    assert np.array_equal(r90.az, az)
+    for th in (15.0, 37.0, 135.0):
+        r = m.rotated(th)
+        assert np.all(np.abs(np.hypot(r.ax, r.ay) - np.hypot(ax, ay)) <= 4 * EPS * np.hypot(ax, ay))
+
+
+def test_study_tasks_turn_the_pair_by_the_angle(tmp_path):
+    # the motion a task runs is the pair read together and turned by its motion.rotate
+    from nsdyn.ground import read_motion3
+    from nsdyn.models.isolated.deck_scene import build_motion
+    from nsdyn.studies.tasks import expand
+
+    (tmp_path / "sdof.toml").write_text(SDOF.format(rtol=1e-6))
+    study = load_study(_study(tmp_path, [0.0, 90.0]))
+    ref = read_motion3(tmp_path / "A_x.csv", tmp_path / "A_y.csv")
+    for task in expand(study):
+        if task.record_name != "A":
+            continue
+        exc, _ = build_motion(task.cfg, "task")
+        if task.params["motion.rotate"] == 0.0:
+            assert np.array_equal(exc.ax, ref.ax) and np.array_equal(exc.ay, ref.ay)
+        else:
+            assert np.array_equal(exc.ax, -ref.ay) and np.array_equal(exc.ay, ref.ax)
+
+
+# ---- end to end ----------------------------------------------------------------------------------
+def test_circular_isolator_same_peak_for_every_angle(tmp_path):
+    # A mass on one friction pendulum is isotropic in the plane: the response to the record
+    # turned by θ is the response turned by θ, so |u|(t) and its peak do not depend on θ.
+    # The numerical solutions differ only through the integrator's error control (a
+    # componentwise norm, not invariant under rotation): each carries a global error of at
+    # most about steps × rtol relative (local errors summed, the friction system dissipative),
+    # so two runs agree to 2 × steps × rtol.
+    rtol = 1e-8
+    (tmp_path / "sdof.toml").write_text(SDOF.format(rtol=rtol))
+    study = load_study(_study(tmp_path, [0.0, 45.0, 90.0], "[analysis.incidence]"))
+    res = run_study(study, tmp_path / "out", workers=1)
+    rows = res.table.rows
+    assert len(rows) == 6 and all(r["status"] == "ok" for r in rows), rows
+    for rec in ("A", "B"):
+        rs = [r for r in rows if r["record"] == rec]
+        peaks = np.array([r["peak_resultant_displacement_m"] for r in rs])
+        steps = max(r["steps"] for r in rs)
+        assert peaks.min() > 0.01  # the mass slides
+        assert np.ptp(peaks) <= 2 * steps * rtol * peaks.max(), (peaks, steps)
+        # base shear of a single mass: its isolator force, m |ü_abs| — isotropic as well
+        shear = np.array([r["peak_base_shear_N"] for r in rs])
+        assert np.ptp(shear) <= 2 * steps * rtol * shear.max(), shear
+        assert [r["incident_angle_deg"] for r in rs] == [0.0, 45.0, 90.0]
+
+
+def test_cli_two_records_three_angles_fixed_rung(tmp_path):
+    # the fixed rung is linear: the record turned by 180° (a_x, a_y -> −a_x, −a_y exactly) gives
+    # the negated response, every peak the same to the last bit (negation is exact and the
+    # modal recurrence is linear); 90° gives other peaks (the portal's x and y differ)
+    (tmp_path / "fixed.toml").write_text("""
+[scene]
+kind = "building3d"
+[structure]
+frame3d = "portal-3d"
+fidelity = "fixed"
+n_modes = 6
+[motion]
+kind = "record3"
+record = "synthetic-wn-40s"
+""")
+    p = _study(tmp_path, [0.0, 90.0, 180.0], "[analysis.incidence]", scene="fixed.toml")
+    out = tmp_path / "o"
+    assert main(["study", str(p), "--out", str(out), "--workers", "1", "--json"]) == 0
+    from nsdyn.studies.table import read_csv
+
+    rows = read_csv(out / "results.csv")
+    assert len(rows) == 6 and all(r["status"] == "ok" for r in rows)
+    for rec in ("A", "B"):
+        by = {r["motion.rotate"]: r for r in rows if r["record"] == rec}
+        for q in ("peak_base_shear_N", "peak_corner_drift", "peak_torsional_moment_Nm"):
+            assert by[0.0][q] == by[180.0][q], q
+        assert by[0.0]["peak_drift_cm_x"] != by[90.0]["peak_drift_cm_x"]
+    assert (out / "incidence.csv").is_file() and (out / "incidence.png").is_file()
+    inc = read_csv(out / "incidence.csv")
+    for r in inc:
+        vals = [x["peak_base_shear_N"] for x in rows if x["record"] == r["record"]]
+        assert r["peak_base_shear_N_max"] == max(vals)
+
+
+# ---- bad input -----------------------------------------------------------------------------------
+def _one_line_error(fn, *parts):
+    with pytest.raises(SceneError) as e:
+        fn()
+    msg = str(e.value)
+    assert "\n" not in msg, msg
+    for part in parts:
+        assert part in msg, (part, msg)
+    return msg
+
+
+def test_angle_not_a_number(tmp_path):
+    (tmp_path / "sdof.toml").write_text(SDOF.format(rtol=1e-6))
+    p = _study(tmp_path, ["north", "east"])
+    _one_line_error(lambda: load_study(p), str(p), "parameters.motion.rotate.values", "'north'",
+                    "degrees")  # fmt: skip
+
+
+def test_pair_of_different_lengths(tmp_path):
+    (tmp_path / "sdof.toml").write_text(SDOF.format(rtol=1e-6))
+    x, y = _pair(tmp_path, "C", 3, n=400, n_y=380)
+    p = tmp_path / "bad.toml"
+    p.write_text(f"""
+[study]
+scene = "sdof.toml"
+[records]
+pairs = [{{ x = "{x}", y = "{y}" }}]
+""")
+    _one_line_error(lambda: load_study(p), str(p), "records.pairs[0].y", "npts = 380", "400")
+    assert main(["study", str(p), "--out", str(tmp_path / "o")]) == 2
+
+
+def test_pairs_need_a_two_component_scene(tmp_path):
+    x, y = _pair(tmp_path, "D", 4)
+    p = tmp_path / "iso.toml"
+    p.write_text(f"""
+[records]
+pairs = [{{ x = "{x}", y = "{y}" }}]
+""")
+    _one_line_error(lambda: load_study(p), str(p), "records.pairs", "deck or building3d")
