@@ -31,9 +31,18 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.linalg as sla
 
 from nsdyn.ground.excitation import G_EARTH
+from nsdyn.models.isolated import _kpairs as kq
+from nsdyn.models.isolated import _kpairsradau as kqa
+from nsdyn.models.isolated import _kpairsrun as kqr
+from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.bearings import N_BCOL, Bearing, BearingError
+from nsdyn.models.isolated.deck import ATOL_V_EPS, PLANE_LAWS, _check_run_options, pack_ground
+from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
+from nsdyn.models.isolated.plane_result import PlaneResult
 
 SYMMETRY_RTOL = 1e-10  # |A − Aᵀ| allowed relative to max |A| (M, K)
 SPD_RTOL = 1e-12  # M's smallest eigenvalue must exceed this times its largest
@@ -223,3 +232,169 @@ class PairSystem:
         for i, b in enumerate(self.bearings):
             bp[i] = b.row(float(lam0[i]), self.g)
         return bp
+
+    def operators(self) -> tuple:
+        """The kernels' precomputed operators (one Cholesky of M): M⁻¹K, M⁻¹C, Γ, D2, R,
+        M⁻¹Rᵀ, M⁻¹D2ᵀ, R M⁻¹Rᵀ, R M⁻¹D2ᵀ, D2 M⁻¹Rᵀ, D2 M⁻¹D2ᵀ (D2 = D stacked (2ni, n))."""
+        if "_operators" not in self.info:
+            cho = sla.cho_factor(self.M)
+            D2 = self.D.reshape(2 * self.n_isolators, self.n)
+            MiRt = sla.cho_solve(cho, self.R.T)
+            MiDt = sla.cho_solve(cho, D2.T)
+            R = self.R
+            ops = (sla.cho_solve(cho, self.K), sla.cho_solve(cho, self.C), self.Gamma, D2, R,
+                   MiRt, MiDt, R @ MiRt, R @ MiDt, D2 @ MiRt, D2 @ MiDt)  # fmt: skip
+            self.info["_operators"] = tuple(np.ascontiguousarray(a, dtype=float) for a in ops)
+        return self.info["_operators"]
+
+
+@dataclass
+class PairResult(PlaneResult):
+    """A run of a :class:`PairSystem`: the deck's result (:class:`PlaneResult`: slips u
+    (nt, ni, 2), normal forces N, friction, restoring and other forces, modes, events, rim
+    contacts, uplift, summary) with ``q``, ``qd`` the full coordinates (nt, n) and the slips
+    from the system's rows D; ``outputs`` = T q when the system has T."""
+
+    def _slip(self, X) -> np.ndarray:
+        return np.einsum("icn,tn->tic", self.system.D, X)
+
+    @property
+    def theta(self) -> np.ndarray:  # (no deck twist: the summary's torsion is dropped)
+        return np.zeros(self.t.size)
+
+    @property
+    def outputs(self) -> np.ndarray | None:
+        """T q (nt, m), or None without T."""
+        T = self.system.T
+        return None if T is None else self.q @ T.T
+
+    def histories(self) -> dict:
+        """Coordinates q_j and per-isolator histories on ``t`` (see PlaneResult.histories)."""
+        h = super().histories()
+        for k in ("x_m", "y_m", "theta_rad", "vx_m_per_s", "vy_m_per_s", "omega_rad_per_s"):
+            h.pop(k)
+        return {"q_{}": self.q, "qd_{}": self.qd, **h}
+
+    def summary(self) -> dict:
+        s = super().summary()
+        s.pop("peak_torsion_rad")
+        s["n_dofs"] = int(self.system.n)
+        return s
+
+
+def _kernel_inputs(system: PairSystem, law: str, eps, eta, kappa, alpha, beta) -> np.ndarray:
+    if law not in PLANE_LAWS:
+        raise ValueError(f"law: expected one of {list(PLANE_LAWS)}, got {law!r}")
+    for k, v in (("eps", eps), ("eta", eta), ("alpha", alpha), ("beta", beta)):
+        if (
+            isinstance(v, bool)
+            or not isinstance(v, int | float)
+            or not (math.isfinite(v) and v > 0)
+        ):
+            raise ValueError(f"{k}: expected a positive number, got {v!r}")
+    if kappa is not None and not (isinstance(kappa, int | float) and math.isfinite(kappa)
+                                  and kappa > 0):  # fmt: skip
+        raise ValueError(f"kappa: expected a positive number [1/s], got {kappa!r}")
+    sp = np.zeros(kq.N_SP)
+    sp[kq.S_G] = system.g
+    sp[kq.S_ALPHA], sp[kq.S_BETA] = alpha, beta
+    sp[kq.S_KAPPA] = 2 * alpha * beta if kappa is None else float(kappa)
+    sp[kq.S_EPS], sp[kq.S_ETA] = eps, eta
+    sp[kq.S_LAW] = kp.LAW_SWITCH if law == "switch" else kp.LAW_ARCTAN
+    return sp
+
+
+def simulate_pairs(
+    system: PairSystem,
+    ground,
+    *,
+    law: str = "switch",
+    t_end: float | None = None,
+    dt_out: float | None = None,
+    t_eval=None,
+    eps: float = EPS,
+    eta: float = ETA,
+    kappa: float | None = None,
+    alpha: float = ALPHA,
+    beta: float = BETA,
+    rtol: float = 1e-6,
+    atol: tuple = (1e-8, 1e-8),
+    max_step: float | None = None,
+    max_steps: int = 5_000_000,
+    y0=None,
+    integrator: str = "auto",
+) -> PairResult:
+    """Integrate ``system`` under ``ground`` from its static equilibrium (or ``y0`` = [q, q̇]).
+
+    ``ground``: what :func:`nsdyn.models.isolated.deck.pack_ground` accepts (a three-component
+    record, a harmonic orbit, raw arrays). ``law``: "switch" (stick disc, located events, on
+    Dormand–Prince) or "arctan" (the regularised vector law, on Radau IIA unless
+    ``integrator="dopri5"``). Outputs every ``dt_out`` (default: the record's step or 1/50
+    period) or at ``t_eval``; ``atol`` = (displacement [m], velocity [m/s]), the regularised
+    law's velocity tolerance capped at ATOL_V_EPS / eps; κ (stick rows) defaults to 2αβ.
+    Failures raise :class:`PlaneIntegrationError` with time and reason; an uplift ends the run
+    (reported in ``result.uplift`` with a warning). Returns a :class:`PairResult`.
+    """
+    if not isinstance(system, PairSystem):
+        raise TypeError(f"system: expected a PairSystem, got {type(system).__name__}")
+    if integrator not in ("auto", "dopri5", "radau"):
+        raise ValueError(f"integrator: expected 'auto', 'dopri5' or 'radau', got {integrator!r}")
+    if integrator == "radau" and law == "switch":
+        raise ValueError("integrator: the switch law runs on 'dopri5' (its events need it)")
+    sp = _kernel_inputs(system, law, eps, eta, kappa, alpha, beta)
+    _check_run_options(rtol, atol, max_step, max_steps)
+    loop = kqr.integrate
+    if law == "arctan" and integrator in ("auto", "radau"):
+        loop = kqa.integrate
+    gk, gp, tab, dur = pack_ground(ground)
+    if t_eval is None:
+        t_end = dur if t_end is None else t_end
+        if (
+            isinstance(t_end, bool)
+            or not isinstance(t_end, int | float)
+            or not (math.isfinite(t_end) and t_end > 0)
+        ):
+            raise ValueError(f"t_end: expected a positive duration [s], got {t_end!r}")
+        if dt_out is None:
+            dt_out = gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (50.0 * gp[kp.GP_F])
+        if not (isinstance(dt_out, int | float) and math.isfinite(dt_out) and dt_out > 0):
+            raise ValueError(f"dt_out: expected a positive step [s], got {dt_out!r}")
+        nt = int(math.floor(t_end / dt_out * (1 + 1e-12))) + 1
+        t_eval = gp[kp.GP_T0] * (gk == kp.G_TABLE) + dt_out * np.arange(nt)
+    t_eval = np.ascontiguousarray(t_eval, dtype=float)
+    if t_eval.ndim != 1 or t_eval.size < 2 or np.any(np.diff(t_eval) <= 0):
+        raise ValueError("t_eval: expected at least two increasing times")
+    if max_step is None:
+        max_step = (
+            gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (20.0 * max(gp[kp.GP_F], gp[kp.GP_FZ]))
+        )
+    n, ni, nt = system.n, system.n_isolators, t_eval.size
+    q0, _ = system.static_equilibrium()
+    y = np.concatenate([q0, np.zeros(n)])
+    if y0 is not None:
+        y = np.array(y0, dtype=float).ravel()
+        if y.shape != (2 * n,) or not np.all(np.isfinite(y)):
+            raise ValueError(f"y0: expected {2 * n} finite numbers [q, q̇], got shape "
+                             f"{np.shape(y0)}")  # fmt: skip
+    atol_v = float(atol[1])
+    if law == "arctan":
+        atol_v = min(atol_v, ATOL_V_EPS / eps)
+    cfg = np.array([rtol, atol[0], atol_v, min(1e-4, max_step), max_step, float(max_steps)])
+    modes = np.full(ni, kp.MODE_SLIP, dtype=np.int64)
+    dirs = np.zeros((ni, 2))
+    X = np.full((nt, 2 * n), np.nan)
+    NO = np.full((nt, ni), np.nan)
+    FF, FR, FO = (np.full((nt, ni, 2), np.nan) for _ in range(3))
+    MO = np.zeros((nt, ni), dtype=np.int64)
+    EV = np.zeros((100_000, 6))
+    stops = np.zeros((ni, 3))
+    stops[:, kr.P_TFIRST] = np.nan
+    info = np.zeros(kr.N_INFO)
+    status = loop(y, t_eval, modes, dirs, system.operators(), system.bearing_table(), sp, gk,
+                  gp, tab, cfg, X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
+    # the deck's result handles statuses, events, rim contacts and uplift; q is n wide here
+    res = PairResult.from_run(system, law, t_eval, X, NO, FF, FR, FO, MO, EV, stops, info,
+                              int(status), eps, eta)  # fmt: skip
+    k = res.t.size
+    res.q, res.qd = X[:k, :n].copy(), X[:k, n:].copy()
+    return res

@@ -1,0 +1,287 @@
+"""Kernels of a system from matrices on isolators that slide in a plane: q̈, λ and the forces.
+
+State y = [q, q̇] (n + n). Isolator i slips u_i = D_i q, v_i = D_i q̇ (rows 2i, 2i+1 of the
+stacked slip rows D2, shape (2ni, n)); its resisting force (bearings.py) is
+
+    F_i = λ_i c_i + f0_i,   c_i = u_i/R_i + f̂_i,   f0_i = K_lam,i u_i + c_i v_i + F_stop,i,
+
+with f̂_i the regularised vector law μ_d(|v|)(2/π) arctan(ε|v|) v/|v|, or the switch law's
+slip μ_d v/|v| (MODE_SLIP), start μ_d d_i (MODE_START: slip from stick in the direction d_i)
+or stick (MODE_STICK: the stick force τ_i a multiplier, c_i = u_i/R_i). With the operators
+precomputed once (M⁻¹K, M⁻¹C, M⁻¹R ᵀ, M⁻¹D2ᵀ and their products with R and D2)
+
+    q̈ = a0 + Σ_i (M⁻¹R_iᵀ − M⁻¹D_iᵀ c_i) λ_i − Σ_stuck M⁻¹D_jᵀ τ_j,
+    a0 = −M⁻¹K q − M⁻¹C q̇ − Γ [a_x, a_y, a_z + g] − Σ_i M⁻¹D_iᵀ f0_i,
+
+and the unknowns y = [λ, τ_stuck] (m = ni + 2 n_stuck) solve the small system G y = r of the
+contact rows R_k q̈ = −2αβ R_k q̇ − α² R_k q and the stick rows D_j q̈ = −κ D_j q̇, assembled
+from the (ni + 2ni)² precomputed products: one evaluation costs O(n²) + O(n ni) + O(m³).
+Redundant constraints (a rigid body on more contacts than it has vertical dofs, two stuck
+isolators on one rigid deck) leave G singular with a consistent right-hand side: the split
+is then the least-norm one (G⁺ r), checked for consistency, else ST_SINGULAR.
+"""
+
+import math
+from pathlib import Path
+
+import numpy as np
+from numba import njit
+
+from nsdyn._klinalg import lu_factor, lu_solve
+from nsdyn._numba_cache import drop_stale
+from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated.bearings import B_C, B_CSTOP, B_DCAP, B_KLAM, B_KSTOP, B_RINV
+
+_HERE = Path(__file__).resolve().parent
+drop_stale(
+    _HERE,
+    ["_kpairs", "_kpairsrun", "_kpairsradau"],
+    [_HERE / f for f in ("_kpairs.py", "_kpairsrun.py", "_kpairsradau.py", "_kplane.py",
+                         "_kplanerun.py", "_kplaneradau.py", "bearings.py")]
+    + [_HERE.parents[1] / f for f in ("_kdp5.py", "_klinalg.py")],
+)  # fmt: skip
+
+# operators op (a tuple of 2-D arrays)
+O_MIK, O_MIC, O_GAM, O_D2, O_R, O_MIRT, O_MIDT, O_RMIRT, O_RMIDT, O_DMIRT, O_DMIDT = range(11)
+# system parameters sp
+S_G, S_ALPHA, S_BETA, S_KAPPA, S_EPS, S_ETA, S_LAW = range(7)
+N_SP = 7
+ST_OK, ST_SINGULAR = 0, 4
+PIVOT_RTOL = 1e-13  # LU pivot floor relative to G's largest entry (below: redundant rows)
+CONSISTENT_RTOL = 1e-8  # |G y − r| allowed, relative to |G| |y| + |r|, of a least-norm split
+
+
+@njit(cache=True, error_model="numpy")
+def workspace(n, ni):
+    """Work arrays of :func:`evaluate` (made once per run): u, v, c, f0 (2ni); a0 (n);
+    ground (3); G, G copy (3ni, 3ni); r, r copy (3ni); pivots (3ni); row map (ni); LU flag."""
+    mm = 3 * ni
+    return (np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(n),
+            np.zeros(3), np.zeros((mm, mm)), np.zeros((mm, mm)), np.zeros(mm), np.zeros(mm),
+            np.zeros(mm, dtype=np.int64), np.zeros(ni, dtype=np.int64),
+            np.zeros(1, dtype=np.int64))  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def slips(y, D2, n, u, v):
+    """u = D2 q, v = D2 q̇ (2ni)."""
+    for r in range(D2.shape[0]):
+        su = 0.0
+        sv = 0.0
+        for c in range(n):
+            su += D2[r, c] * y[c]
+            sv += D2[r, c] * y[n + c]
+        u[r] = su
+        v[r] = sv
+
+
+@njit(cache=True, error_model="numpy")
+def bearing_terms(bp, i, ux, uy, vx, vy, law, eps, mode, dx, dy):
+    """(ox, oy, fx, fy): damper + rim stop of isolator i and its friction per unit normal
+    force f̂ (zero in stick)."""
+    ox = bp[i, B_C] * vx
+    oy = bp[i, B_C] * vy
+    ru = math.sqrt(ux * ux + uy * uy)
+    if ru > bp[i, B_DCAP]:
+        nx = ux / ru
+        ny = uy / ru
+        fs = bp[i, B_KSTOP] * (ru - bp[i, B_DCAP]) + bp[i, B_CSTOP] * (vx * nx + vy * ny)
+        if fs > 0.0:
+            ox += fs * nx
+            oy += fs * ny
+    speed = math.sqrt(vx * vx + vy * vy)
+    if law == kp.LAW_ARCTAN:
+        if speed > 0.0:
+            s = kp.mu_kinetic(bp, i, speed) * (2.0 / math.pi) * math.atan(eps * speed) / speed
+            return ox, oy, s * vx, s * vy
+        return ox, oy, 0.0, 0.0
+    if mode == kp.MODE_SLIP:
+        s = kp.mu_kinetic(bp, i, speed) / speed
+        return ox, oy, s * vx, s * vy
+    if mode == kp.MODE_START:
+        s = kp.mu_kinetic(bp, i, speed)
+        return ox, oy, s * dx, s * dy
+    return ox, oy, 0.0, 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo):
+    """q̈ and the isolator forces at (t, y): normal forces λ (ni,), resisting friction Ff
+    (ni, 2) (the stick force τ_i of a stuck isolator), restoring Fr = λ u/R + K_lam u and
+    damper + stop Fo (ni, 2). Returns ST_OK or ST_SINGULAR; leaves G's LU in ws (the
+    row of stuck isolator j's τ is ws[11][j], −1 when it slips; ws[12][0] = 1: LU exact)."""
+    u, v, cf, f0, a0, ag, G, G2, r, r2, piv, row, luok = ws
+    MiK, MiC, Gam, D2, R = op[O_MIK], op[O_MIC], op[O_GAM], op[O_D2], op[O_R]
+    MiRt, MiDt, RMiRt, RMiDt, DMiRt, DMiDt = (op[O_MIRT], op[O_MIDT], op[O_RMIRT],
+                                              op[O_RMIDT], op[O_DMIRT], op[O_DMIDT])  # fmt: skip
+    n = MiK.shape[0]
+    ni = R.shape[0]
+    kp.ground(t, gk, gp, tab, ag)
+    ag[2] += sp[S_G]
+    law = int(sp[S_LAW])
+    eps = sp[S_EPS]
+    slips(y, D2, n, u, v)
+    m = ni
+    for i in range(ni):
+        ux, uy, vx, vy = u[2 * i], u[2 * i + 1], v[2 * i], v[2 * i + 1]
+        mode = modes[i]
+        ox, oy, fx, fy = bearing_terms(bp, i, ux, uy, vx, vy, law, eps, mode, dirs[i, 0],
+                                       dirs[i, 1])  # fmt: skip
+        Fo[i, 0] = ox
+        Fo[i, 1] = oy
+        Ff[i, 0] = fx
+        Ff[i, 1] = fy
+        f0[2 * i] = ox + bp[i, B_KLAM] * ux
+        f0[2 * i + 1] = oy + bp[i, B_KLAM] * uy
+        cf[2 * i] = bp[i, B_RINV] * ux + fx
+        cf[2 * i + 1] = bp[i, B_RINV] * uy + fy
+        row[i] = -1
+        if law == kp.LAW_SWITCH and mode == kp.MODE_STICK:
+            row[i] = m
+            m += 2
+    for a in range(n):
+        s = -(Gam[a, 0] * ag[0] + Gam[a, 1] * ag[1] + Gam[a, 2] * ag[2])
+        for b in range(n):
+            s -= MiK[a, b] * y[b] + MiC[a, b] * y[n + b]
+        for k in range(2 * ni):
+            s -= MiDt[a, k] * f0[k]
+        a0[a] = s
+    # rows: contact k, then the stuck isolators' x, y; columns: λ_i, then the stuck τ
+    al = sp[S_ALPHA]
+    be = sp[S_BETA]
+    kap = sp[S_KAPPA]
+    for k in range(ni):
+        rq = 0.0
+        rv = 0.0
+        ra = 0.0
+        for b in range(n):
+            rq += R[k, b] * y[b]
+            rv += R[k, b] * y[n + b]
+            ra += R[k, b] * a0[b]
+        r[k] = -2.0 * al * be * rv - al * al * rq - ra
+        for i in range(ni):
+            G[k, i] = RMiRt[k, i] - RMiDt[k, 2 * i] * cf[2 * i]
+            G[k, i] -= RMiDt[k, 2 * i + 1] * cf[2 * i + 1]
+        for j in range(ni):
+            if row[j] >= 0:
+                G[k, row[j]] = -RMiDt[k, 2 * j]
+                G[k, row[j] + 1] = -RMiDt[k, 2 * j + 1]
+    for j in range(ni):
+        if row[j] < 0:
+            continue
+        for c in range(2):
+            e = 2 * j + c
+            rr = row[j] + c
+            da = 0.0
+            for b in range(n):
+                da += D2[e, b] * a0[b]
+            r[rr] = -kap * v[e] - da
+            for i in range(ni):
+                G[rr, i] = DMiRt[e, i] - DMiDt[e, 2 * i] * cf[2 * i]
+                G[rr, i] -= DMiDt[e, 2 * i + 1] * cf[2 * i + 1]
+            for l in range(ni):  # noqa: E741
+                if row[l] >= 0:
+                    G[rr, row[l]] = -DMiDt[e, 2 * l]
+                    G[rr, row[l] + 1] = -DMiDt[e, 2 * l + 1]
+    for a in range(m):
+        r2[a] = r[a]
+        for b in range(m):
+            G2[a, b] = G[a, b]
+    Gm = G[:m, :m]
+    luok[0] = 1 if lu_factor(Gm, piv[:m], PIVOT_RTOL) else 0
+    if luok[0] == 1:
+        lu_solve(Gm, piv[:m], r[:m])
+    elif not least_norm(G2[:m, :m], r2[:m], r[:m]):
+        return ST_SINGULAR
+    for i in range(ni):  # the bearings' multiplier forces λ_i c_i (+ τ_i): f0 reused
+        f0[2 * i] = cf[2 * i] * r[i] + (r[row[i]] if row[i] >= 0 else 0.0)
+        f0[2 * i + 1] = cf[2 * i + 1] * r[i] + (r[row[i] + 1] if row[i] >= 0 else 0.0)
+    for a in range(n):
+        s = a0[a]
+        for i in range(ni):
+            s += MiRt[a, i] * r[i]
+        for k in range(2 * ni):
+            s -= MiDt[a, k] * f0[k]
+        qdd[a] = s
+        if not math.isfinite(s):
+            return ST_SINGULAR
+    for i in range(ni):
+        li = r[i]
+        lam[i] = li
+        Fr[i, 0] = (li * bp[i, B_RINV] + bp[i, B_KLAM]) * u[2 * i]
+        Fr[i, 1] = (li * bp[i, B_RINV] + bp[i, B_KLAM]) * u[2 * i + 1]
+        if row[i] >= 0:
+            Ff[i, 0] = r[row[i]]
+            Ff[i, 1] = r[row[i] + 1]
+        else:
+            Ff[i, 0] *= li
+            Ff[i, 1] *= li
+    return ST_OK
+
+
+@njit(cache=True, error_model="numpy")
+def least_norm(G, r, out):
+    """out = G⁺ r when G y = r is consistent (redundant constraints); False otherwise."""
+    Gp = np.linalg.pinv(np.ascontiguousarray(G))
+    m = G.shape[0]
+    ny = 0.0
+    nr = 0.0
+    ng = 0.0
+    for a in range(m):
+        s = 0.0
+        for b in range(m):
+            s += Gp[a, b] * r[b]
+            ng = max(ng, abs(G[a, b]))
+        out[a] = s
+        ny = max(ny, abs(s))
+        nr = max(nr, abs(r[a]))
+    res = 0.0
+    for a in range(m):
+        s = -r[a]
+        for b in range(m):
+            s += G[a, b] * out[b]
+        res = max(res, abs(s))
+    return math.isfinite(res) and res <= CONSISTENT_RTOL * (m * ng * ny + nr)
+
+
+@njit(cache=True, error_model="numpy")
+def rhs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, dy):
+    """First-order right-hand side dy = [q̇, q̈]; ``out = (qdd, lam, Ff, Fr, Fo)`` filled."""
+    qdd, lam, Ff, Fr, Fo = out
+    st = evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
+    n = qdd.shape[0]
+    for a in range(n):
+        dy[a] = y[n + a]
+        dy[n + a] = qdd[a]
+    return st
+
+
+@njit(cache=True, error_model="numpy")
+def start_direction(i, tx, ty, mu_n, ws, dirs):
+    """Direction in which stuck isolator i starts to slip when its stick force τ = (tx, ty)
+    leaves the disc (the one it then accelerates in): its compliance W from the stick rows'
+    block of G⁻¹ (the LU left in ws by :func:`evaluate` with i stuck; the τ_i block of G⁻¹
+    is the inverse of the Schur complement −W), then the deck's rule
+    :func:`nsdyn.models.isolated._kplane.start_direction` on A = blockdiag(W⁻¹, 1)."""
+    G, piv, row, luok = ws[6], ws[10], ws[11], ws[12]
+    ni = row.shape[0]
+    m = ni
+    for j in range(ni):
+        if row[j] >= 0:
+            m += 2
+    Am = np.zeros((3, 3))
+    Am[2, 2] = 1.0
+    if row[i] >= 0 and luok[0] == 1:  # (else kp's rule falls back to d = τ/|τ|)
+        e = np.zeros(m)
+        for c in range(2):
+            for a in range(m):
+                e[a] = 0.0
+            e[row[i] + c] = 1.0
+            lu_solve(G[:m, :m], piv[:m], e)
+            Am[0, c] = -e[row[i]]
+            Am[1, c] = -e[row[i] + 1]
+    for a in range(2):
+        for b in range(2):
+            if not math.isfinite(Am[a, b]):
+                Am[a, b] = 0.0
+    kp.start_direction(0, tx, ty, mu_n, Am, np.zeros((1, 2)), dirs[i:])

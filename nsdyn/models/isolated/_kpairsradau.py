@@ -1,0 +1,354 @@
+"""Radau IIA (order 5) time loop of a system from matrices under the regularised friction law.
+
+The collocation method of the deck's loop (:mod:`nsdyn.models.isolated._kplaneradau`: the
+tableau, its dense output and predictor are imported from there), solved for n coordinates
+without forming the 3·2n Newton matrix: with A⁻¹ = T Λ T⁻¹ (Λ: the real eigenvalue γ and the
+block of the pair α ± iβ; T from the eigenvectors, computed and checked at import), the
+simplified Newton system (Λ/h ⊗ I − I ⊗ J) ΔW = (T⁻¹ ⊗ I) F − (Λ/h ⊗ I) W, Z = (T ⊗ I) W,
+splits into one real and one complex system σ I − J (Hairer & Wanner, Solving ODEs II,
+IV.8), σ = γ/h and (α − iβ)/h. The first-order Jacobian J = [[0, I], [J_q, J_v]] (J_q =
+∂q̈/∂q, J_v = ∂q̈/∂q̇ by forward differences, kept while Newton contracts and steps are
+accepted) reduces each to n × n::
+
+    (σ² I − σ J_v − J_q) z₁ = r₂ + (σ I − J_v) r₁,   z₂ = σ z₁ − r₁,
+
+so a factorisation costs n³/3 real plus n³/3 complex operations. Error estimate of RADAU5,
+(γ/h I − J)⁻¹ (f(y) + Σ e_i Z_i / h); steps end on the record's samples; outputs, rim
+contacts and uplift (located on the collocation polynomial) as in the Dormand–Prince loop.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from nsdyn._klinalg import lu_factor, lu_solve
+from nsdyn.models.isolated import _kpairs as kq
+from nsdyn.models.isolated import _kpairsrun as kqr
+from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated import _kplaneradau as krad
+from nsdyn.models.isolated import _kplanerun as kr
+
+
+def _eigen_split():
+    """(T, T⁻¹, γ, α, β) with A⁻¹ T = T [[γ, 0, 0], [0, α, β], [0, −β, α]]."""
+    A = np.array([[krad._a(i, j) for j in range(3)] for i in range(3)])
+    Ai = np.linalg.inv(A)
+    w, V = np.linalg.eig(Ai)
+    kr_ = int(np.argmin(np.abs(w.imag)))
+    kc = int(np.argmax(w.imag))
+    T = np.column_stack([V[:, kr_].real, V[:, kc].real, V[:, kc].imag])
+    gam, al, be = w[kr_].real, w[kc].real, w[kc].imag
+    lam = np.array([[gam, 0.0, 0.0], [0.0, al, be], [0.0, -be, al]])
+    if not np.allclose(Ai @ T, T @ lam, rtol=0, atol=1e-12 * np.abs(Ai).max()):
+        raise ArithmeticError("Radau IIA eigen-split: A⁻¹ T != T Λ")
+    return np.ascontiguousarray(T), np.ascontiguousarray(np.linalg.inv(T)), gam, al, be
+
+
+TM, TI, GAMMA, ALPHA_C, BETA_C = _eigen_split()
+E1, E2, E3 = krad.E1, krad.E2, krad.E3
+NEWTON_MAXITER = 8
+NEWTON_TOL = krad.NEWTON_TOL  # scaled Newton correction accepted
+
+
+@njit(cache=True, error_model="numpy")
+def _factor(sig, Jq, Jv, S, piv):
+    """S = σ² I − σ J_v − J_q, factored (real or complex σ, S of σ's type)."""
+    n = Jq.shape[0]
+    for a in range(n):
+        for b in range(n):
+            S[a, b] = -sig * Jv[a, b] - Jq[a, b]
+        S[a, a] += sig * sig
+    return lu_factor(S, piv, 0.0)
+
+
+@njit(cache=True, error_model="numpy")
+def _solve(sig, Jv, S, piv, r1, r2, z1, z2):
+    """(σ I − J) [z₁; z₂] = [r₁; r₂] with J = [[0, I], [J_q, J_v]] and S from _factor."""
+    n = Jv.shape[0]
+    for a in range(n):
+        s = r2[a] + sig * r1[a]
+        for b in range(n):
+            s -= Jv[a, b] * r1[b]
+        z1[a] = s
+    lu_solve(S, piv, z1)
+    for a in range(n):
+        z2[a] = sig * z1[a] - r1[a]
+
+
+@njit(cache=True, error_model="numpy")
+def _jacobian(t, y, f0, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, Jq, Jv):
+    """J_q, J_v by forward differences of q̈ at (t, y), f0 = f(t, y); returns a status."""
+    n = Jq.shape[0]
+    qdd = out[0]
+    for j in range(2 * n):
+        d = 1e-8 * max(abs(y[j]), 1e-3)
+        yj = y[j]
+        y[j] = yj + d
+        st = kqr._ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
+        y[j] = yj
+        if st != kq.ST_OK:
+            return st
+        for a in range(n):
+            if j < n:
+                Jq[a, j] = (qdd[a] - f0[n + a]) / d
+            else:
+                Jv[a, j - n] = (qdd[a] - f0[n + a]) / d
+    return kq.ST_OK
+
+
+@njit(cache=True, error_model="numpy")
+def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
+              X, NO, FF, FR, FO, MO, EV, stops, info):  # fmt: skip
+    """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
+    (the codes of :mod:`nsdyn.models.isolated._kplanerun`)."""
+    N = y0.shape[0]
+    n = N // 2
+    ni = modes.shape[0]
+    ws = kq.workspace(n, ni)
+    out = (np.zeros(n), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
+    lam = out[1]
+    V7 = np.zeros((7, N))
+    y, ys, f0, f1, ynew, err, sc = V7[0], V7[1], V7[2], V7[3], V7[4], V7[5], V7[6]
+    Jq = np.zeros((n, n))
+    Jv = np.zeros((n, n))
+    Sr = np.zeros((n, n))
+    Sc = np.zeros((n, n), dtype=np.complex128)
+    pr = np.zeros(n, dtype=np.int64)
+    pc = np.zeros(n, dtype=np.int64)
+    Z = np.zeros((3, N))
+    W = np.zeros((3, N))
+    F = np.zeros((3, N))
+    rw = np.zeros((3, N))
+    dW = np.zeros((3, N))
+    cr1 = np.zeros(n, dtype=np.complex128)
+    cr2 = np.zeros(n, dtype=np.complex128)
+    cz1 = np.zeros(n, dtype=np.complex128)
+    cz2 = np.zeros(n, dtype=np.complex128)
+    yp = np.zeros(N)
+    Zp = np.zeros((3, N))
+    for j in range(N):
+        y[j] = y0[j]
+    rtol = cfg[kr.C_RTOL]
+    hmax = cfg[kr.C_HMAX]
+    max_steps = int(cfg[kr.C_MAXSTEPS])
+    nt = t_eval.shape[0]
+    t = t_eval[0]
+    t_end = t_eval[nt - 1]
+    ntab = tab.shape[1]
+    info[kr.I_TFAIL] = np.nan
+    info[kr.I_IFAIL] = -1
+    kqr.outputs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, 0, X, NO, FF, FR, FO, MO)
+    iout = 1
+    if kr._min_normal(lam) <= 0.0:
+        info[kr.I_TFAIL] = t
+        info[kr.I_IFAIL] = np.argmin(lam)
+        return kr.ST_UPLIFT
+    h = min(cfg[kr.C_H0], hmax)
+    need_jac = True
+    f0_ready = False
+    en_old = 0.0
+    have_prev = False
+    hp = 1.0
+    lu_h = -1.0
+    ok = False
+    it = 0
+    fac = 1.0
+    nstep = 0
+    nrej = 0
+    nfev = 0
+    status = kr.ST_OK
+    newton_failed = False
+    while t < t_end and iout < nt:
+        if nstep + nrej > max_steps:
+            status = kr.ST_MAX_STEPS
+            break
+        if t_end - t <= 1e-12 * max(1.0, abs(t_end)):  # at the end up to round-off
+            while iout < nt:
+                kqr.outputs(t_eval[iout], y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out,
+                            iout, X, NO, FF, FR, FO, MO)  # fmt: skip
+                iout += 1
+            break
+        hh = min(h, hmax, t_end - t)
+        tb = kp.next_breakpoint(t, gk, gp, ntab)
+        if t + hh > tb:
+            hh = tb - t
+        if hh <= kr.H_MIN * max(1.0, abs(t)):
+            status = kr.ST_NEWTON if newton_failed else kr.ST_UNDERFLOW
+            break
+        if not f0_ready:
+            if kq.rhs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, f0) != kq.ST_OK:
+                status = kr.ST_SINGULAR
+                break
+            nfev += 1
+            f0_ready = True
+        if need_jac:
+            if _jacobian(t, y, f0, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, Jq,
+                         Jv) != kq.ST_OK:  # fmt: skip
+                status = kr.ST_SINGULAR
+                break
+            nfev += N
+            need_jac = False
+            lu_h = -1.0
+        if abs(hh - lu_h) > 1e-9 * hh:
+            ok = _factor(GAMMA / hh, Jq, Jv, Sr, pr)
+            ok = _factor(complex(ALPHA_C, -BETA_C) / hh, Jq, Jv, Sc, pc) and ok
+            lu_h = hh
+        for k in range(N):
+            sc[k] = (cfg[kr.C_ATOLQ] if k < n else cfg[kr.C_ATOLV]) + rtol * abs(y[k])
+        if have_prev:  # predictor: the previous collocation polynomial, extrapolated
+            for a in range(3):
+                ca = krad.C1 if a == 0 else (krad.C2 if a == 1 else 1.0)
+                krad._dense(yp, Zp, 1.0 + ca * hh / hp, ys)
+                for k in range(N):
+                    Z[a, k] = ys[k] - y[k]
+        else:
+            for a in range(3):
+                for k in range(N):
+                    Z[a, k] = 0.0
+        for a in range(3):  # W = T⁻¹ Z
+            for k in range(N):
+                W[a, k] = TI[a, 0] * Z[0, k] + TI[a, 1] * Z[1, k] + TI[a, 2] * Z[2, k]
+        converged = False
+        for it in range(NEWTON_MAXITER):  # noqa: B007  (the count is read after the loop)
+            if not ok:
+                break
+            bad = False
+            for a in range(3):
+                ca = krad.C1 if a == 0 else (krad.C2 if a == 1 else 1.0)
+                for k in range(N):
+                    ys[k] = y[k] + Z[a, k]
+                if kq.rhs(t + ca * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out,
+                          F[a]) != kq.ST_OK:  # fmt: skip
+                    bad = True
+            nfev += 3
+            if bad:
+                break
+            for k in range(N):  # (T⁻¹ F) − (Λ/h) W
+                g0 = TI[0, 0] * F[0, k] + TI[0, 1] * F[1, k] + TI[0, 2] * F[2, k]
+                g1 = TI[1, 0] * F[0, k] + TI[1, 1] * F[1, k] + TI[1, 2] * F[2, k]
+                g2 = TI[2, 0] * F[0, k] + TI[2, 1] * F[1, k] + TI[2, 2] * F[2, k]
+                rw[0, k] = g0 - GAMMA / hh * W[0, k]
+                rw[1, k] = g1 - (ALPHA_C * W[1, k] + BETA_C * W[2, k]) / hh
+                rw[2, k] = g2 - (-BETA_C * W[1, k] + ALPHA_C * W[2, k]) / hh
+            _solve(GAMMA / hh, Jv, Sr, pr, rw[0, :n], rw[0, n:], dW[0, :n], dW[0, n:])
+            for k in range(n):
+                cr1[k] = complex(rw[1, k], rw[2, k])
+                cr2[k] = complex(rw[1, n + k], rw[2, n + k])
+            _solve(complex(ALPHA_C, -BETA_C) / hh, Jv, Sc, pc, cr1, cr2, cz1, cz2)
+            for k in range(n):
+                dW[1, k] = cz1[k].real
+                dW[2, k] = cz1[k].imag
+                dW[1, n + k] = cz2[k].real
+                dW[2, n + k] = cz2[k].imag
+            dn = 0.0
+            for k in range(N):
+                for a in range(3):
+                    W[a, k] += dW[a, k]
+                for a in range(3):
+                    dz = TM[a, 0] * dW[0, k] + TM[a, 1] * dW[1, k] + TM[a, 2] * dW[2, k]
+                    Z[a, k] = TM[a, 0] * W[0, k] + TM[a, 1] * W[1, k] + TM[a, 2] * W[2, k]
+                    dn = max(dn, abs(dz) / sc[k])
+            if not math.isfinite(dn):
+                break
+            if dn < NEWTON_TOL:
+                converged = True
+                break
+        if it >= 3:
+            need_jac = True  # slow contraction: a fresh Jacobian for the next step
+        newton_failed = not converged
+        if not converged:
+            if not ok:
+                status = kr.ST_SINGULAR
+                break
+            nrej += 1
+            have_prev = False
+            h = 0.5 * hh
+            need_jac = True
+            continue
+        # error estimate (RADAU5): (γ/h I − J)⁻¹ (f(y) + Σ e_i Z_i / h)
+        for k in range(N):
+            f1[k] = f0[k] + (E1 * Z[0, k] + E2 * Z[1, k] + E3 * Z[2, k]) / hh
+        _solve(GAMMA / hh, Jv, Sr, pr, f1[:n], f1[n:], err[:n], err[n:])
+        en = 0.0
+        for k in range(N):
+            ynew[k] = y[k] + Z[2, k]
+            s_k = (cfg[kr.C_ATOLQ] if k < n else cfg[kr.C_ATOLV]) + rtol * max(
+                abs(y[k]), abs(ynew[k])
+            )
+            en += (err[k] / s_k) ** 2
+        en = math.sqrt(en / N)
+        if not math.isfinite(en):
+            nrej += 1
+            h = 0.25 * hh
+            continue
+        safety = 0.9 * (2 * NEWTON_MAXITER + 1) / (2 * NEWTON_MAXITER + it + 1)
+        fac = safety * (en + 1e-10) ** -0.25
+        if en_old > 0.0:
+            fac *= min(1.0, (en_old / (en + 1e-10)) ** 0.25)
+        if en > 1.0:
+            nrej += 1
+            h = hh * max(0.2, fac)
+            need_jac = True
+            continue
+        nstep += 1
+        en_old = max(en, 1e-4)
+        s_end = 1.0
+        if kq.rhs(t + hh, ynew, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, f1) != kq.ST_OK:
+            status = kr.ST_SINGULAR
+            break
+        nfev += 1
+        if kr._min_normal(lam) <= 0.0:  # uplift: the first λ_i = 0 on the dense output
+            sa = 0.0
+            sb = 1.0
+            while (sb - sa) * hh > kr.EVENT_TTOL:
+                sm = 0.5 * (sa + sb)
+                krad._dense(y, Z, sm, ys)
+                kqr._ev(t + sm * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
+                if kr._min_normal(lam) <= 0.0:
+                    sb = sm
+                else:
+                    sa = sm
+            krad._dense(y, Z, sb, ys)
+            kqr._ev(t + sb * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
+            for i in range(ni):
+                if lam[i] <= 0.0 and info[kr.I_IFAIL] < 0:
+                    info[kr.I_IFAIL] = i
+            s_end = sb
+            status = kr.ST_UPLIFT
+        t_new = t + s_end * hh
+        while iout < nt and t_eval[iout] <= t_new:
+            krad._dense(y, Z, (t_eval[iout] - t) / hh, ys)
+            kqr.outputs(t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, iout,
+                        X, NO, FF, FR, FO, MO)  # fmt: skip
+            kqr.track_stops(t_eval[iout], ys, op, bp, ws, stops)
+            iout += 1
+        if s_end < 1.0:
+            krad._dense(y, Z, s_end, ys)
+            for k in range(N):
+                y[k] = ys[k]
+        else:
+            for k in range(N):
+                yp[k] = y[k]
+                y[k] = ynew[k]
+                f0[k] = f1[k]
+                for a in range(3):
+                    Zp[a, k] = Z[a, k]
+            hp = hh
+        have_prev = s_end >= 1.0
+        f0_ready = s_end >= 1.0
+        t = t_new
+        kqr.track_stops(t, y, op, bp, ws, stops)
+        if status == kr.ST_UPLIFT:
+            info[kr.I_TFAIL] = t
+            break
+        h = min(hh * min(10.0, max(0.2, fac)), hmax)
+        if 1.0 <= h / hh <= 1.2:  # keep the factored step (as RADAU5 does)
+            h = hh
+    if status != kr.ST_OK and not info[kr.I_TFAIL] == info[kr.I_TFAIL]:
+        info[kr.I_TFAIL] = t
+    info[kr.I_NSTEP] = nstep
+    info[kr.I_NREJ] = nrej
+    info[kr.I_NFEV] = nfev
+    info[kr.I_NOUT] = iout
+    return status

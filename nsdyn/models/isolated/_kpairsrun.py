@@ -1,0 +1,392 @@
+"""Time loop of a system from matrices on planar isolators: Dormand–Prince 5(4), located events.
+
+The right-hand side is :func:`nsdyn.models.isolated._kpairs.rhs`, the steps the shared
+Dormand–Prince pair (:mod:`nsdyn._kdp5`; error on ``atol + rtol |y|``, steps ending on a
+record's samples). The switch law's modes, switching functions, stick test, settling and
+event location are the deck's (:mod:`nsdyn.models.isolated._kplanerun`, whose generic pieces
+— crossing test, dense state, event record, smallest normal force — are imported from there):
+
+    slip        g = |v| − η            → stick test (stick if |τ| ≤ μ_s λ, else slip-start)
+    slip-start  g = 2η − |v|           → slip;   g = v·d → stick test (the start reverses)
+    stick       g = μ_s λ − |τ|        → slip-start in the direction of τ (start_direction)
+
+A normal force reaching zero (uplift of a bilateral contact) is located on the dense output
+and ends the run (ST_UPLIFT). The regularised law runs the same loop without events.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from nsdyn import _kdp5 as dp
+from nsdyn.models.isolated import _kpairs as kq
+from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated import _kplanerun as kr
+from nsdyn.models.isolated.bearings import B_DCAP, B_MUS
+
+
+@njit(cache=True, error_model="numpy")
+def _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
+    qdd, lam, Ff, Fr, Fo = out
+    return kq.evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
+
+
+@njit(cache=True, error_model="numpy")
+def gvals(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g):
+    """Switching functions (ni, 2) at (t, y)."""
+    lam, Ff = out[1], out[2]
+    ni = modes.shape[0]
+    v = ws[1]
+    st = _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
+    eta = sp[kq.S_ETA]
+    for i in range(ni):
+        vx = v[2 * i]
+        vy = v[2 * i + 1]
+        speed = math.sqrt(vx * vx + vy * vy)
+        g[i, 1] = 1.0
+        if modes[i] == kp.MODE_SLIP:
+            g[i, 0] = speed - eta
+        elif modes[i] == kp.MODE_START:
+            g[i, 0] = kr.START_EXIT * eta - speed
+            g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
+        else:
+            g[i, 0] = bp[i, B_MUS] * lam[i] - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
+    return st
+
+
+@njit(cache=True, error_model="numpy")
+def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
+    """Release stuck isolators outside their disc, worst first, then align the slip-start
+    directions with the accelerations of their slip points; returns a status."""
+    lam, Ff = out[1], out[2]
+    ni = modes.shape[0]
+    for _ in range(kr.SETTLE_PASSES):
+        if _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out) != kq.ST_OK:
+            return kr.ST_SINGULAR
+        worst = -1
+        ratio = 1.0 + kr.STICK_RTOL
+        for i in range(ni):
+            if modes[i] == kp.MODE_STICK:
+                tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
+                lim = bp[i, B_MUS] * lam[i]
+                rat = tau / lim if lim > 0.0 else math.inf
+                if rat > ratio and tau > 0.0:
+                    ratio = rat
+                    worst = i
+        if worst < 0:
+            return align_starts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
+        kq.start_direction(worst, Ff[worst, 0], Ff[worst, 1],
+                           kp.mu_kinetic(bp, worst, 0.0) * lam[worst], ws, dirs)  # fmt: skip
+        kr._record(EV, info, t, worst, kp.MODE_STICK, kp.MODE_START, dirs)
+        modes[worst] = kp.MODE_START
+    return kr.ST_CHATTER
+
+
+@njit(cache=True, error_model="numpy")
+def align_starts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
+    """Each slip-start direction d_i along the acceleration D_i q̈ its slip point gets with
+    every friction in place (fixed-point passes; one released isolator is consistent)."""
+    qdd = out[0]
+    D2 = op[kq.O_D2]
+    ni = modes.shape[0]
+    n = qdd.shape[0]
+    nsl = 0
+    for i in range(ni):
+        if modes[i] == kp.MODE_START:
+            nsl += 1
+    if nsl < 2:
+        return kr.ST_OK
+    for _ in range(kr.ALIGN_PASSES):
+        if _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out) != kq.ST_OK:
+            return kr.ST_SINGULAR
+        change = 0.0
+        for i in range(ni):
+            if modes[i] == kp.MODE_START:
+                ax = 0.0
+                ay = 0.0
+                for b in range(n):
+                    ax += D2[2 * i, b] * qdd[b]
+                    ay += D2[2 * i + 1, b] * qdd[b]
+                an = math.sqrt(ax * ax + ay * ay)
+                if an > 0.0 and ax * dirs[i, 0] + ay * dirs[i, 1] > 0.0:
+                    change = max(change, abs(ax / an - dirs[i, 0]) + abs(ay / an - dirs[i, 1]))
+                    dirs[i, 0] = ax / an
+                    dirs[i, 1] = ay / an
+        if change <= kr.ALIGN_TOL:
+            break
+    return kr.ST_OK
+
+
+@njit(cache=True, error_model="numpy")
+def initial_modes(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
+    """Modes at the start: slip where |v| > η, else stick, then settled."""
+    v = ws[1]
+    kq.slips(y, op[kq.O_D2], out[0].shape[0], ws[0], v)
+    for i in range(modes.shape[0]):
+        sp_i = math.sqrt(v[2 * i] ** 2 + v[2 * i + 1] ** 2)
+        modes[i] = kp.MODE_SLIP if sp_i > sp[kq.S_ETA] else kp.MODE_STICK
+    return settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+
+
+@njit(cache=True, error_model="numpy")
+def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
+    """Mode changes at a located event (g0 before it, g just after); returns a status."""
+    lam, Ff = out[1], out[2]
+    ni = modes.shape[0]
+    if _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out) != kq.ST_OK:
+        return kr.ST_SINGULAR
+    v = ws[1]
+    for i in range(ni):
+        m0 = modes[i]
+        if m0 == kp.MODE_STICK and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
+            kq.start_direction(i, Ff[i, 0], Ff[i, 1], kp.mu_kinetic(bp, i, 0.0) * lam[i], ws,
+                               dirs)  # fmt: skip
+            modes[i] = kp.MODE_START
+        elif m0 == kp.MODE_START and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
+            modes[i] = kp.MODE_SLIP
+        elif (m0 == kp.MODE_SLIP and g0[i, 0] > 0.0 and g[i, 0] <= 0.0) or (
+            m0 == kp.MODE_START and g0[i, 1] > 0.0 and g[i, 1] <= 0.0
+        ):
+            modes[i] = kp.MODE_STICK  # stick test: settle releases it if outside the disc
+        if modes[i] == kp.MODE_SLIP:  # a slip needs |v| > eta for its direction v/|v|
+            if math.sqrt(v[2 * i] ** 2 + v[2 * i + 1] ** 2) <= sp[kq.S_ETA]:
+                modes[i] = kp.MODE_STICK
+        if modes[i] != m0:
+            kr._record(EV, info, t, i, m0, modes[i], dirs)
+    return settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+
+
+@njit(cache=True, error_model="numpy")
+def track_stops(t, y, op, bp, ws, stops):
+    """Rim contacts: first time, peak overshoot |u| − d_cap and samples in contact."""
+    u = ws[0]
+    kq.slips(y, op[kq.O_D2], op[kq.O_MIK].shape[0], u, ws[1])
+    for i in range(bp.shape[0]):
+        d = math.sqrt(u[2 * i] ** 2 + u[2 * i + 1] ** 2) - bp[i, B_DCAP]
+        if d > 0.0:
+            if not stops[i, kr.P_TFIRST] == stops[i, kr.P_TFIRST]:  # nan: first contact
+                stops[i, kr.P_TFIRST] = t
+            stops[i, kr.P_PEAK] = max(stops[i, kr.P_PEAK], d)
+            stops[i, kr.P_NSTEPS] += 1
+
+
+@njit(cache=True, error_model="numpy")
+def outputs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO):
+    """Row k of the output histories at the state y."""
+    _, lam, Ff, Fr, Fo = out
+    _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
+    for j in range(y.shape[0]):
+        X[k, j] = y[j]
+    for i in range(modes.shape[0]):
+        NO[k, i] = lam[i]
+        MO[k, i] = modes[i]
+        for c in range(2):
+            FF[k, i, c] = Ff[i, c]
+            FR[k, i, c] = Fr[i, c]
+            FO[k, i, c] = Fo[i, c]
+
+
+@njit(cache=True, error_model="numpy")
+def locate_uplift(t, hh, sb, rc, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, info):
+    """First λ_i = 0 in (0, sb] of the step (DP5 dense output ``rc``); returns its fraction."""
+    lam = out[1]
+    sa = 0.0
+    while (sb - sa) * hh > kr.EVENT_TTOL:
+        sm = 0.5 * (sa + sb)
+        kr._dense_state(rc, sm, ys)
+        _ev(t + sm * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
+        if kr._min_normal(lam) <= 0.0:
+            sb = sm
+        else:
+            sa = sm
+    kr._dense_state(rc, sb, ys)
+    _ev(t + sb * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
+    for i in range(lam.shape[0]):
+        if lam[i] <= 0.0 and info[kr.I_IFAIL] < 0:
+            info[kr.I_IFAIL] = i
+    return sb
+
+
+@njit(cache=True, error_model="numpy")
+def locate_event(t, hh, rc, ys, g0, g, ga, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
+    """(found, s, evaluations): the earliest switching-function crossing in the step, from
+    SAMPLES samples of the dense output and bisection to EVENT_TTOL; g at the cut."""
+    sa = 0.0
+    nfev = 0
+    for m in range(1, kr.SAMPLES + 1):
+        sb = m / kr.SAMPLES
+        kr._dense_state(rc, sb, ys)
+        gvals(t + sb * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g)
+        nfev += 1
+        if kr._crossed(g0, g):
+            while (sb - sa) * hh > kr.EVENT_TTOL:
+                sm = 0.5 * (sa + sb)
+                kr._dense_state(rc, sm, ys)
+                gvals(t + sm * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, ga)
+                nfev += 1
+                if kr._crossed(g0, ga):
+                    sb = sm
+                else:
+                    sa = sm
+            kr._dense_state(rc, sb, ys)
+            gvals(t + sb * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g)
+            return True, sb, nfev
+        sa = sb
+    return False, 1.0, nfev
+
+
+@njit(cache=True, error_model="numpy")
+def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
+              X, NO, FF, FR, FO, MO, EV, stops, info):  # fmt: skip
+    """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
+    (the codes of :mod:`nsdyn.models.isolated._kplanerun`)."""
+    n2 = y0.shape[0]
+    n = n2 // 2
+    ni = modes.shape[0]
+    ws = kq.workspace(n, ni)
+    out = (np.zeros(n), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
+    lam = out[1]
+    k = np.zeros((7, n2))
+    y = np.zeros(n2)
+    y1 = np.zeros(n2)
+    ys = np.zeros(n2)
+    rc = np.zeros((5, n2))
+    g0 = np.ones((ni, 2))
+    g = np.ones((ni, 2))
+    ga = np.ones((ni, 2))
+    for j in range(n2):
+        y[j] = y0[j]
+    switching = int(sp[kq.S_LAW]) == kp.LAW_SWITCH
+    rtol = cfg[kr.C_RTOL]
+    hmax = cfg[kr.C_HMAX]
+    max_steps = int(cfg[kr.C_MAXSTEPS])
+    nt = t_eval.shape[0]
+    t = t_eval[0]
+    t_end = t_eval[nt - 1]
+    ntab = tab.shape[1]
+    info[kr.I_TFAIL] = np.nan
+    info[kr.I_IFAIL] = -1
+    if switching:
+        st = initial_modes(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+        if st != kr.ST_OK:
+            info[kr.I_TFAIL] = t
+            return st
+    outputs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, 0, X, NO, FF, FR, FO, MO)
+    iout = 1
+    if kr._min_normal(lam) <= 0.0:
+        info[kr.I_TFAIL] = t
+        info[kr.I_IFAIL] = np.argmin(lam)
+        return kr.ST_UPLIFT
+    fresh = True
+    h = min(cfg[kr.C_H0], hmax)
+    nstep = 0
+    nrej = 0
+    nfev = 0
+    burst_t = -math.inf
+    burst_n = 0
+    status = kr.ST_OK
+    while t < t_end and iout < nt:
+        if fresh:
+            if kq.rhs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k[0]) != kq.ST_OK:
+                status = kr.ST_SINGULAR
+                break
+            nfev += 1
+            if switching:
+                gvals(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g0)
+            fresh = False
+        hh = min(h, hmax, t_end - t)
+        tb = kp.next_breakpoint(t, gk, gp, ntab)
+        if t + hh > tb:
+            hh = tb - t
+        bad = False
+        for j in range(1, 7):
+            dp.stage(y, k, hh, j, y1)
+            if kq.rhs(t + dp.C[j] * hh, y1, modes, dirs, op, bp, sp, gk, gp, tab, ws, out,
+                      k[j]) != kq.ST_OK:  # fmt: skip
+                bad = True
+        nfev += 6
+        err = 0.0
+        for i in range(n2):
+            a_i = cfg[kr.C_ATOLQ] if i < n else cfg[kr.C_ATOLV]
+            sc = a_i + rtol * max(abs(y[i]), abs(y1[i]))
+            err += (dp.error(k, hh, i) / sc) ** 2
+        err = math.sqrt(err / n2)
+        if bad or not math.isfinite(err) or err > 1.0:
+            nrej += 1
+            h = dp.new_step(hh, err) if math.isfinite(err) else 0.25 * hh
+            if h <= kr.H_MIN * max(1.0, abs(t)):
+                status = kr.ST_UNDERFLOW if (math.isfinite(err) and not bad) else kr.ST_NONFINITE
+                break
+            continue
+        nstep += 1
+        if nstep + nrej > max_steps:
+            status = kr.ST_MAX_STEPS
+            break
+        n_end_min = kr._min_normal(lam)  # the last stage is the step's end
+        dp.dense_coefficients(y, y1, k, hh, rc)
+        s_end = 1.0
+        event = False
+        if switching:
+            event, s_end, ne = locate_event(t, hh, rc, ys, g0, g, ga, modes, dirs, op, bp, sp,
+                                            gk, gp, tab, ws, out)  # fmt: skip
+            nfev += ne
+        if event or n_end_min <= 0.0:  # normal force at the cut (or step end)
+            kr._dense_state(rc, s_end, ys)
+            _ev(t + s_end * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
+            if kr._min_normal(lam) <= 0.0:
+                s_end = locate_uplift(t, hh, s_end, rc, ys, modes, dirs, op, bp, sp, gk, gp,
+                                      tab, ws, out, info)  # fmt: skip
+                event = False
+                status = kr.ST_UPLIFT
+        t_new = t + s_end * hh if s_end < 1.0 else t + hh
+        while iout < nt and t_eval[iout] <= t_new:
+            kr._dense_state(rc, (t_eval[iout] - t) / hh, ys)
+            outputs(t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, iout,
+                    X, NO, FF, FR, FO, MO)  # fmt: skip
+            track_stops(t_eval[iout], ys, op, bp, ws, stops)
+            iout += 1
+        if s_end < 1.0:
+            kr._dense_state(rc, s_end, ys)
+            for j in range(n2):
+                y[j] = ys[j]
+        else:
+            for j in range(n2):
+                y[j] = y1[j]
+        t = t_new
+        track_stops(t, y, op, bp, ws, stops)
+        if status == kr.ST_UPLIFT:
+            info[kr.I_TFAIL] = t
+            break
+        if event:
+            if t - burst_t < kr.BURST_DT:
+                burst_n += 1
+                if burst_n > kr.MAX_BURST:
+                    status = kr.ST_CHATTER
+                    info[kr.I_TFAIL] = t
+                    break
+            else:
+                burst_t = t
+                burst_n = 0
+            st = switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+            if st != kr.ST_OK:
+                status = st
+                info[kr.I_TFAIL] = t
+                break
+            fresh = True
+            h = hh
+        else:
+            for j in range(n2):
+                k[0, j] = k[6, j]
+            if switching:
+                for i in range(ni):
+                    for c in range(2):
+                        g0[i, c] = g[i, c]
+            h = min(dp.new_step(hh, err), hmax)
+    if status != kr.ST_OK and not info[kr.I_TFAIL] == info[kr.I_TFAIL]:
+        info[kr.I_TFAIL] = t
+    info[kr.I_NSTEP] = nstep
+    info[kr.I_NREJ] = nrej
+    info[kr.I_NFEV] = nfev
+    info[kr.I_NOUT] = iout
+    return status
