@@ -1,4 +1,10 @@
-"""``nsdyn sweep``: frequency–amplitude curves of a scene (the work is in nsdyn.studies.sweep)."""
+"""``nsdyn sweep``: frequency–amplitude curves of a scene (the work is in nsdyn.studies.sweep).
+
+Isolated scenes (frames, shear buildings, systems from matrices) go to nsdyn.studies.sweep;
+``deck`` scenes and ``building3d`` scenes at the rigid fidelity, under a harmonic orbit, to
+nsdyn.studies.plane_sweep (:func:`run_plane`). Range, points and amplitudes left out on the
+command line take each kind's defaults.
+"""
 
 from __future__ import annotations
 
@@ -9,11 +15,13 @@ import time
 from dataclasses import asdict
 from pathlib import Path
 
-from nsdyn.atomic import save_figure
+from nsdyn.atomic import atomic_open, save_figure
 from nsdyn.cli.args import EXIT_USER_ERROR, positive_int
 from nsdyn.cli.args import amplitude_list as _amplitude_list
 from nsdyn.cli.args import count as _count
 from nsdyn.cli.args import positive_finite as _positive
+from nsdyn.studies.plane_sweep import KINDS as PLANE_KINDS
+from nsdyn.studies.plane_sweep import POINTS_DEFAULT
 from nsdyn.studies.sweep import (
     DEFAULT_AMPLITUDES,
     DEFAULT_OUT,
@@ -31,14 +39,20 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--amplitudes",
         type=_amplitude_list,
-        default=_amplitude_list(DEFAULT_AMPLITUDES),
+        default=None,
         metavar="A1,A2,...",
-        help=f"excitation amplitudes A_hor [m/s^2] (default {DEFAULT_AMPLITUDES})",
+        help=f"excitation amplitudes A_hor [m/s^2] (default {DEFAULT_AMPLITUDES}; deck "
+        "scenes: the orbit's amplitude, its shape kept)",
     )
-    p.add_argument("--fmin", type=_positive, default=0.01, metavar="HZ", help="default 0.01")
-    p.add_argument("--fmax", type=_positive, default=10.0, metavar="HZ", help="default 10")
+    p.add_argument("--fmin", type=_positive, default=None, metavar="HZ",
+                   help="default 0.01 (deck scenes: f0/4, f0 the orbit's frequency)")  # fmt: skip
+    p.add_argument("--fmax", type=_positive, default=None, metavar="HZ",
+                   help="default 10 (deck scenes: 4 f0)")  # fmt: skip
     p.add_argument(
-        "--points", type=_count, default=150, help="log-spaced frequencies (default 150)"
+        "--points",
+        type=_count,
+        default=None,
+        help=f"log-spaced frequencies (default 150; deck scenes {POINTS_DEFAULT})",
     )
     p.add_argument(
         "--continuation",
@@ -66,7 +80,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         choices=["arctan", "switch"],
         default=None,
         help="friction law of the periodic orbits: the smooth arctan law, or the switch model "
-        "with true stick (exact period map with saltation matrices); default: the scene's",
+        "with true stick (exact period map with saltation matrices; deck scenes: the stick "
+        "disc with located events); default: the scene's",
     )
     p.add_argument(
         "--contact",
@@ -112,8 +127,26 @@ def prepare_kernels(friction: str) -> float:
 
 def run(args: argparse.Namespace) -> int:
     from nsdyn.models.isolated.scene import SceneError, load_scene
+    from nsdyn.models.scenefile import read_toml, scene_kind
     from nsdyn.periodic import fixed_base_response, log_frequencies
 
+    if args.scene is not None:
+        try:
+            raw = read_toml(args.scene)
+            kind = scene_kind(raw, str(args.scene))
+        except SceneError as e:
+            print(f"nsdyn sweep: {e}", file=sys.stderr)
+            return EXIT_USER_ERROR
+        if kind in PLANE_KINDS:
+            return run_plane(args, raw)
+        if kind != "isolated":
+            print(f"nsdyn sweep: {args.scene}: scene.kind: sweeps take isolated, deck and "
+                  f"building3d scenes, got {kind!r}", file=sys.stderr)  # fmt: skip
+            return EXIT_USER_ERROR
+    args.amplitudes = args.amplitudes or _amplitude_list(DEFAULT_AMPLITUDES)
+    args.fmin = 0.01 if args.fmin is None else args.fmin
+    args.fmax = 10.0 if args.fmax is None else args.fmax
+    args.points = 150 if args.points is None else args.points
     overrides = {"scene": {"fidelity": args.fidelity}} if args.fidelity else None
     try:
         cfg = load_scene(args.scene, overrides)
@@ -214,6 +247,103 @@ def run(args: argparse.Namespace) -> int:
                     f"   A = {s['A']:g}: {s['unilateral_points']} points with lift-off and landing"
                 )
     print(f"csv:    {csv_path}")
+    if "figure" in report:
+        print(f"figure: {report['figure']}")
+    return 0
+
+
+def run_plane(args: argparse.Namespace, cfg: dict) -> int:
+    """``nsdyn sweep`` on a deck or rigid building3d scene under a harmonic orbit: the curves
+    of the peak resultant isolator displacement (sweep.csv, sweep.json, sweep.png)."""
+    from nsdyn.models.scenefile import SceneError
+    from nsdyn.studies.plane_sweep import (
+        PlaneSweepSettings,
+        default_range,
+        plane_scene,
+        summarise,
+        sweep_plane,
+        write_csv,
+    )
+
+    source = str(args.scene)
+    if args.fidelity is not None:
+        cfg = {**cfg, "structure": {**cfg.get("structure", {}), "fidelity": args.fidelity}}
+    given = (("--contact", args.contact != "bilateral"), ("--tableau", args.tableau != "sdirk2"),
+             ("--steps-factor", args.steps_factor != 1.0))  # fmt: skip
+    unused = [flag for flag, off in given if off]
+    if unused:
+        print(f"nsdyn sweep: {', '.join(unused)}: not for deck scenes (their period map is "
+              "integrated adaptively, with bilateral contact)", file=sys.stderr)  # fmt: skip
+        return EXIT_USER_ERROR
+    try:
+        sc = plane_scene(cfg, source)
+    except SceneError as e:
+        print(f"nsdyn sweep: {' '.join(str(e).split())}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    lo, hi = default_range(sc["orbit"])
+    fmin = lo if args.fmin is None else args.fmin
+    fmax = hi if args.fmax is None else args.fmax
+    if not fmax > fmin:
+        print(f"nsdyn sweep: --fmax ({fmax:g}) must exceed --fmin ({fmin:g})", file=sys.stderr)
+        return EXIT_USER_ERROR
+    from nsdyn.periodic.plane import orbit_shape
+
+    amplitudes = args.amplitudes or [orbit_shape(sc["orbit"])[0]]
+    law = args.friction or sc["solver"]["law"]
+    settings = PlaneSweepSettings(fmin, fmax, args.points or POINTS_DEFAULT, args.continuation,
+                                  not args.no_fallback, law)  # fmt: skip
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    try:
+        results = sweep_plane(cfg, source, amplitudes, settings, out, workers=args.workers,
+                              restart=args.restart, quiet=args.json)  # fmt: skip
+    except SceneError as e:
+        print(f"nsdyn sweep: {e}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    csv_path = out / "sweep.csv"
+    write_csv(csv_path, results)
+    o = sc["orbit"]
+    report = {
+        "kind": sc["kind"], "model": sc["name"], "csv": str(csv_path),
+        "orbit": {"f_hz": o.f, "ax": o.ax, "ay": o.ay, "phase_y_deg": o.phase_y_deg,
+                  "az": o.az, "f_z": o.f_z, "phase_z_deg": o.phase_z_deg},
+        "settings": asdict(settings), "wall_s": time.perf_counter() - t0,
+        "amplitudes": [summarise(r) for r in results],
+    }  # fmt: skip
+    if not args.no_figures:
+        from nsdyn.plot.plane_sweep import plane_sweep_figure
+
+        fig_path = out / "sweep.png"
+        title = f"{sc['name']}: law {settings.law}"
+        save_figure(plane_sweep_figure(results, title), fig_path, dpi=120)
+        report["figure"] = str(fig_path)
+    json_path = out / "sweep.json"
+    report["json"] = str(json_path)
+    with atomic_open(json_path, "w") as fh:
+        fh.write(json.dumps(report, default=float, indent=1))
+    if args.json:
+        print(json.dumps(report, default=float))
+        return 0
+    print(f"{sc['kind']} {sc['name']}: {settings.points} frequencies {fmin:g}-{fmax:g} Hz, "
+          f"law {settings.law}, {settings.continuation} continuation")  # fmt: skip
+    print("   A [m/s²]  points  fallback  unstable  stick-slip  |u|max [m]  at f [Hz]  wall [s]")
+
+    def g(v, fmt):
+        return "-" if v is None else format(v, fmt)
+
+    for s in report["amplitudes"]:
+        print(f"   {s['A']:8.3g}  {s['points']:6d}  {s['fallback_points']:8d}  "
+              f"{s['unstable_points']:8d}  {s['stick_slip_points']:10d}  "
+              f"{g(s['u_peak_max_m'], '.4g'):>10s}  {g(s['f_at_u_peak_max_hz'], '.4g'):>9s}  "
+              f"{s['wall_s']:8.1f}")  # fmt: skip
+        for fl in s["failures"]:
+            print(f"   A = {s['A']:g}: f = {fl['f']:.5g} Hz: {fl['reason']}")
+        if s["uplift_points"] or s["rim_contact_points"]:
+            print(f"   A = {s['A']:g}: {s['uplift_points']} points with uplift (left out of "
+                  f"|u|max), {s['rim_contact_points']} with a rim contact")  # fmt: skip
+    print(f"csv:    {csv_path}")
+    print(f"json:   {json_path}")
     if "figure" in report:
         print(f"figure: {report['figure']}")
     return 0

@@ -1,0 +1,404 @@
+"""Periodic orbits of a deck (or a single mass) on bidirectional isolators under a harmonic orbit.
+
+The ground acceleration of :mod:`nsdyn.ground.orbit` (linear, circular or elliptical),
+
+    a_x = A_x sin ωt,   a_y = A_y sin(ωt + φ_y),   (a_z = A_z sin(k ωt + φ_z), k a whole number)
+
+repeats with T = 2π/ω = 1/f, and a steady response of the deck of
+:mod:`nsdyn.models.isolated.deck` starts a period where it ends: x0 = [q, q̇](0) solves
+
+    H(x0) = φ_T(x0) − x0 = 0,
+
+with φ_T the period map. φ_T integrates the deck's own equations over [0, T] with the time loops
+of :func:`~nsdyn.models.isolated.deck.simulate_plane` at tight tolerances (``rtol`` 1e-10):
+Dormand–Prince with located stick–slip events for the switch law (stick disc), Radau IIA for
+the regularised law. The monodromy Φ = ∂φ_T/∂x0 comes from central differences of that map,
+
+    Φ e_j ≈ [φ_T(x0 + δ_j e_j) − φ_T(x0 − δ_j e_j)] / (2 δ_j),   δ_j = FD_REL · a_j,
+
+a_j the orbit's excursion in x0_j's block (displacements, velocities). An adaptive step
+sequence makes the computed map non-smooth in x0 at its integration error e ~ rtol · a, so the
+difference errs by about e/δ + δ² |φ'''|/6: with δ = rtol^(1/3) a both terms are ~ rtol^(2/3),
+a relative error of ~ 5e-7 of Φ's entries (and of the Floquet multipliers, the eigenvalues of
+Φ) at rtol = 1e-10. Newton's method converges with this Jacobian (its error only slows the
+last iterations). Where the orbit switches between stick and slip the map is only piecewise
+smooth and a difference straddling a switch is not a derivative: near a stick–slip transition
+(a slip or stick phase shrinking to nothing) shooting may fail, and the point then comes from
+the stepped sweep (time integration until the map is stationary) with the reason in its note.
+
+A single mass (one isolator, no eccentricity) has a free twist θ̈ = 0 that carries no load: its
+state is (x, y, ẋ, ẏ), dim 4; a deck's is [q, q̇], dim 6.
+
+Shooting, the stepped sweep, sequential and pseudo-arclength continuation in f are those of
+:mod:`nsdyn.periodic` (:class:`PlaneProblem` satisfies
+:class:`nsdyn.periodic.protocol.PeriodicModel`); the curve's response quantity is the peak
+resultant isolator displacement max_t |u_i(t)|, located between the samples on the cubic
+Hermite interpolant of (u, v).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated import _kplaneradau as krad
+from nsdyn.models.isolated import _kplanerun as kr
+from nsdyn.models.isolated.deck import ATOL_V_EPS, PlaneSystem, kernel_params
+from nsdyn.models.isolated.defaults import EPS, ETA
+from nsdyn.models.isolated.friction import sticks
+from nsdyn.periodic.continuation import continue_range
+from nsdyn.periodic.curve import Curve
+from nsdyn.periodic.discretisation import Discretisation
+from nsdyn.periodic.protocol import STATUS_MESSAGES, STATUS_OK, PeriodMap, check_frequency
+
+RTOL = 1e-10  # the period map's relative tolerance
+ATOL = 1e-12  # ... absolute [m, m/s] (the regularised law's velocity part capped at 0.1/eps)
+FD_REL = RTOL ** (1.0 / 3.0)  # central-difference step / orbit excursion (module text)
+FD_FLOOR = 1e-4  # excursion [m, m/s] below which the difference step is taken from this
+SAMPLES_MIN = 256  # orbit samples per period at least
+MAX_STEPS = 2_000_000  # integration steps per period
+EV_ROWS = 20_000  # event rows kept per period (the count is exact)
+STATUS_BASE = 100  # the deck loops' status s is reported as STATUS_BASE + s
+STATUS_UPLIFT = STATUS_BASE + kr.ST_UPLIFT
+_WHY = {
+    kr.ST_UNDERFLOW: "step size underflow (a stiff regularised law: lower eps)",
+    kr.ST_MAX_STEPS: f"more than {MAX_STEPS} steps in one period",
+    kr.ST_NONFINITE: "the state became inf/nan",
+    kr.ST_SINGULAR: "singular equations of motion",
+    kr.ST_UPLIFT: "a normal force reached zero (uplift)",
+    kr.ST_CHATTER: "chattering stick-slip events",
+    kr.ST_EVENTS: "too many stick-slip events",
+    kr.ST_NEWTON: "Radau IIA's Newton iterations diverge (lower eps)",
+}
+for _code, _msg in _WHY.items():
+    STATUS_MESSAGES.setdefault(STATUS_BASE + _code, f"deck period: {_msg}")
+LAWS = ("switch", "arctan")
+
+
+def orbit_shape(orbit) -> tuple[float, tuple]:
+    """(amplitude A, shape) of a harmonic orbit (a :class:`~nsdyn.ground.orbit.HarmonicPlane`
+    or an object/dict with ``f, ax, ay, phase_y_deg, az, f_z, phase_z_deg``): A is the larger
+    horizontal amplitude, the shape ``(a_x, a_y, φ_y [rad], a_z, k, φ_z [rad])`` the
+    amplitudes per unit A and the vertical frequency as the whole multiple k of f (a vertical
+    component at another frequency is not periodic with T: ValueError)."""
+
+    def get(name, default=0.0):
+        v = orbit.get(name, default) if isinstance(orbit, dict) else getattr(orbit, name, default)
+        return default if v is None else float(v)
+
+    f = get("f", math.nan)
+    if not (math.isfinite(f) and f > 0):
+        raise ValueError(f"orbit.f: expected a frequency > 0 [Hz], got {f!r}")
+    ax, ay, az = get("ax"), get("ay"), get("az")
+    A = max(ax, ay)
+    if not (math.isfinite(A) and A > 0 and ax >= 0 and ay >= 0 and az >= 0):
+        raise ValueError(f"orbit: expected horizontal amplitudes >= 0, not both zero, got "
+                         f"{ax!r}, {ay!r}")  # fmt: skip
+    k = 1.0
+    if az > 0:
+        k = get("f_z", f) / f
+        if abs(k - round(k)) > 1e-9 * k or round(k) < 1:
+            raise ValueError(f"orbit.f_z: a vertical component at {get('f_z', f):g} Hz is not "
+                             f"periodic with the horizontal period 1/{f:g} s; expected a whole "
+                             "multiple of f")  # fmt: skip
+        k = float(round(k))
+    shape = (ax / A, ay / A, math.radians(get("phase_y_deg")), az / A, k,
+             math.radians(get("phase_z_deg")))  # fmt: skip
+    return A, shape
+
+
+class PlaneProblem:
+    """The :class:`~nsdyn.periodic.protocol.PeriodicModel` of a deck under ``amplitude``
+    times an orbit ``shape`` (:func:`orbit_shape`) at any frequency (module text)."""
+
+    exact_map = True  # the flow integrated to a tolerance, not a fixed-step discretisation
+
+    def __init__(self, system: PlaneSystem, amplitude: float, shape: tuple, *,
+                 law: str = "switch", eps: float = EPS, eta: float = ETA,
+                 rtol: float = RTOL, atol: float = ATOL) -> None:  # fmt: skip
+        if getattr(system, "has_tfp", False):
+            raise ValueError("periodic orbits: a triple friction pendulum's internal slips are "
+                             "not part of the shooting state; use single-surface bearings")
+        if law not in LAWS:
+            raise ValueError(f"law: expected one of {list(LAWS)}, got {law!r}")
+        if not (math.isfinite(rtol) and 0 < rtol < 1e-3):
+            raise ValueError(f"rtol: expected a number in (0, 1e-3), got {rtol!r}")
+        self.system, self.law, self.eps, self.eta = system, law, float(eps), float(eta)
+        self.amplitude = float(amplitude)
+        if not (math.isfinite(self.amplitude) and self.amplitude >= 0):
+            raise ValueError(f"amplitude: expected a finite number >= 0 [m/s²], got {amplitude!r}")
+        self.shape = tuple(float(s) for s in shape)
+        self.params = kernel_params(system, law, self.eps, self.eta, None)
+        self.loop = krad.integrate if law == "arctan" else kr.integrate
+        self.rtol = float(rtol)
+        self.fd_rel = self.rtol ** (1.0 / 3.0)
+        atol_v = min(atol, ATOL_V_EPS / self.eps) if law == "arctan" else atol
+        self.atol = (float(atol), float(atol_v))
+        ex, ey = (float(e) for e in system.ecc)
+        self.twist = system.n_isolators > 1 or ex != 0.0 or ey != 0.0
+        self.rows = np.array([0, 1, 2, 3, 4, 5] if self.twist else [0, 1, 3, 4])
+        self.x_ref = np.zeros(self.rows.size)
+        self.name = system.name
+
+    @property
+    def dim(self) -> int:
+        return self.rows.size
+
+    # ---- the period map ------------------------------------------------------------------
+    def ground(self, f: float) -> np.ndarray:
+        """The kernels' harmonic ground parameters at ``f``."""
+        ax, ay, phy, az, k, phz = self.shape
+        gp = np.zeros(kp.N_GP)
+        gp[kp.GP_DT] = 1.0
+        gp[kp.GP_F], gp[kp.GP_AX], gp[kp.GP_AY], gp[kp.GP_PHY] = f, ax, ay, phy
+        gp[kp.GP_AX] *= self.amplitude
+        gp[kp.GP_AY] *= self.amplitude
+        gp[kp.GP_AZ], gp[kp.GP_FZ], gp[kp.GP_PHZ] = az * self.amplitude, k * f, phz
+        return gp
+
+    def full_state(self, x: np.ndarray) -> np.ndarray:
+        """[q, q̇] (6,) of a state of this problem."""
+        y = np.zeros(6)
+        y[self.rows] = x
+        return y
+
+    def run(self, x0: np.ndarray, f: float, samples: int, full: bool = False):
+        """One period from ``x0`` with ``samples + 1`` outputs: (status, X (samples + 1, 6),
+        and with ``full`` the kernel outputs (N, friction, restoring, modes, info, stops))."""
+        M, pos, bp, nd, sp = self.params
+        ni = pos.shape[0]
+        T = 1.0 / f
+        gp = self.ground(f)
+        hmax = T / (20.0 * max(1.0, self.shape[4]))
+        cfg = np.array([self.rtol, self.atol[0], self.atol[1], min(1e-4, hmax), hmax,
+                        float(MAX_STEPS)])  # fmt: skip
+        t_eval = np.linspace(0.0, T, samples + 1)
+        nt = t_eval.size
+        X = np.full((nt, 6), np.nan)
+        NO = np.full((nt, ni), np.nan)
+        FF, FR, FO = (np.full((nt, ni, 2), np.nan) for _ in range(3))
+        MO = np.zeros((nt, ni), dtype=np.int64)
+        EV = np.zeros((EV_ROWS if full else 16, 6))
+        stops = np.zeros((ni, 3))
+        stops[:, kr.P_TFIRST] = np.nan
+        info = np.zeros(kr.N_INFO)
+        st = self.loop(self.full_state(x0), t_eval, np.full(ni, kp.MODE_SLIP, dtype=np.int64),
+                       np.zeros((ni, 2)), M, pos, bp, nd, sp, kp.G_HARMONIC, gp,
+                       np.zeros((3, 0)), cfg, X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
+        st = STATUS_OK if int(st) == kr.ST_OK else STATUS_BASE + int(st)
+        if st == STATUS_OK and not np.all(np.isfinite(X[-1])):
+            st = STATUS_BASE + kr.ST_NONFINITE
+        return st, X, ((NO, FF, FR, MO, info, stops) if full else None)
+
+    def samples(self, f: float, n_steps: int | None, disc: Discretisation | None) -> int:
+        """Orbit samples per period: ``n_steps``, else the discretisation's step count (the
+        integration itself is adaptive), at least SAMPLES_MIN."""
+        if n_steps is None:
+            n_steps = (disc or Discretisation()).steps(1.0 / f)
+        return max(int(n_steps), SAMPLES_MIN)
+
+    def period_map(self, x0, f, *, n_steps=None, disc=None, sens=True, store=False) -> PeriodMap:
+        """One period ``T = 1/f`` from ``x0`` (protocol of
+        :class:`~nsdyn.periodic.protocol.PeriodicModel`); the monodromy by central differences
+        (module text), ``dxdT`` None (continuation differentiates the map in T)."""
+        f = check_frequency(f)
+        x0 = np.asarray(x0, dtype=float)
+        n = self.samples(f, n_steps, disc)
+        st, X, _ = self.run(x0, f, n if (store or sens) else 1)
+        Xs = X[:, self.rows]
+        if st != STATUS_OK:
+            return PeriodMap(x0.copy(), None, None, None, st, n, 1, 0)
+        Phi = None
+        runs = 1
+        if sens:
+            d = self.dim
+            m = d // 2
+            exc = np.abs(Xs - Xs[0]).max(axis=0)  # (the orbit's excursion per entry)
+            amp = np.where(np.arange(d) < m, max(exc[:m].max(), FD_FLOOR),
+                           max(exc[m:].max(), FD_FLOOR))  # fmt: skip
+            Phi = np.empty((d, d))
+            for j in range(d):
+                dj = self.fd_rel * amp[j]
+                ends = []
+                for s in (1.0, -1.0):
+                    xp = x0.copy()
+                    xp[j] += s * dj
+                    stp, Xp, _ = self.run(xp, f, 1)
+                    runs += 1
+                    if stp != STATUS_OK:
+                        return PeriodMap(Xs[-1].copy(), None, None, None, stp, n, runs, 0)
+                    ends.append(Xp[-1, self.rows])
+                Phi[:, j] = (ends[0] - ends[1]) / (2.0 * dj)
+        return PeriodMap(Xs[-1].copy(), Phi, None, Xs if store else None, STATUS_OK, n, runs, 0)
+
+    # ---- what a point reports --------------------------------------------------------------
+    def frozen_rows(self, pm: PeriodMap):
+        """The displacement rows when the switch law's orbit sticks all period (any start
+        inside the disc is an orbit: multipliers 1, held at the guess by shooting)."""
+        if self.law != "switch" or pm.X is None:
+            return None
+        m = self.dim // 2
+        if np.abs(pm.X[:, m:]).max() > self.eta:
+            return None
+        return np.eye(self.dim)[:m]
+
+    def orbit_quantities(self, f: float, X: np.ndarray) -> dict:
+        """Peak resultant isolator displacement (``u_peak_m``, max over isolators and time;
+        ``u_peak_isolator`` the isolator reaching it), peak component, peak resultant
+        friction, peak torsion, least normal force, stick fraction and events per period of
+        the orbit from ``X[0]`` (integrated once more with its forces)."""
+        n = X.shape[0] - 1
+        st, Y, out = self.run(np.asarray(X[0], dtype=float), f, n, full=True)
+        if st != STATUS_OK:
+            q, _ = self.quantities_without_orbit(f, X[0])
+            return q
+        NO, FF, FR, MO, info, stops = out
+        pos = self.system.positions
+        u = _slip(Y[:, :3], pos)
+        v = _slip(Y[:, 3:], pos)
+        h = 1.0 / (f * n)
+        peaks = [hermite_peak(u[:, i], v[:, i], h) for i in range(pos.shape[0])]
+        speed = np.hypot(v[..., 0], v[..., 1])
+        modes = MO if self.law == "switch" else None
+        stick = sticks(speed, self.law, eps=self.eps, eta=self.eta, modes=modes)
+        return {
+            "u_peak_m": float(max(peaks)),
+            "u_peak_isolator": int(np.argmax(peaks)),
+            "u_component_peak_m": float(np.abs(u).max()),
+            "friction_peak_N": float(np.hypot(FF[..., 0], FF[..., 1]).max()),
+            "restoring_peak_N": float(np.hypot(FR[..., 0], FR[..., 1]).max()),
+            "torsion_peak_rad": float(np.abs(Y[:, 2]).max()),
+            "normal_min_N": float(NO.min()),
+            "stick_fraction": float(stick[:-1].mean()),
+            "events_per_period": int(info[kr.I_NEV]),
+            "rim_contact": bool(np.any(np.isfinite(stops[:, kr.P_TFIRST]))),
+            "uplift": False,
+        }
+
+    def quantities_without_orbit(self, f: float, x0: np.ndarray) -> tuple[dict, str]:
+        """NaN quantities of a point whose period could not be integrated, and why (the
+        period from ``x0``: uplift, or the loop's failure)."""
+        st, _, _ = self.run(np.asarray(x0, dtype=float), f, 1)
+        nan = math.nan
+        q = {"u_peak_m": nan, "u_component_peak_m": nan, "friction_peak_N": nan,
+             "restoring_peak_N": nan, "torsion_peak_rad": nan, "normal_min_N": nan,
+             "stick_fraction": nan, "events_per_period": None, "rim_contact": None,
+             "uplift": st == STATUS_UPLIFT}  # fmt: skip
+        why = "" if st == STATUS_OK else STATUS_MESSAGES.get(st, f"status {st}")
+        return q, why
+
+    def validity_note(self, q: dict) -> str:
+        """Remarks on a point outside the model's validity or near a stick–slip transition."""
+        notes = []
+        if q.get("uplift"):
+            notes.append("uplift: a normal force reaches zero in the period")
+        if q.get("rim_contact"):
+            notes.append("an isolator reaches its displacement capacity (rim stop)")
+        s = q.get("stick_fraction")
+        if s is not None and math.isfinite(s) and 0.0 < s < 1.0:
+            notes.append(f"stick-slip orbit (stick fraction {s:.3g})")
+        return "; ".join(notes)
+
+
+def _slip(Q: np.ndarray, pos: np.ndarray) -> np.ndarray:
+    """Isolator slips (or slip velocities) (nt, ni, 2) of deck states ``Q`` (nt, 3)."""
+    out = np.empty((Q.shape[0], pos.shape[0], 2))
+    out[:, :, 0] = Q[:, [0]] - Q[:, [2]] * pos[:, 1]
+    out[:, :, 1] = Q[:, [1]] + Q[:, [2]] * pos[:, 0]
+    return out
+
+
+def hermite_peak(u: np.ndarray, v: np.ndarray, h: float) -> float:
+    """max_t |u(t)| of a plane trajectory sampled at spacing ``h`` (``u``, ``v``: (n, 2)
+    positions and velocities), refined between the samples next to the largest sample on the
+    cubic Hermite interpolant of each component (error ~ h⁴ |u''''| / 384)."""
+    r = np.hypot(u[:, 0], u[:, 1])
+    k = int(np.argmax(r))
+    best = float(r[k])
+    s = np.linspace(0.0, 1.0, 65)
+    h00, h10 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s
+    h01, h11 = -2 * s**3 + 3 * s**2, s**3 - s**2
+    for a in (k - 1, k):
+        if a < 0 or a + 1 >= r.size:
+            continue
+        p = (h00[:, None] * u[a] + h10[:, None] * h * v[a] + h01[:, None] * u[a + 1]
+             + h11[:, None] * h * v[a + 1])  # fmt: skip
+        best = max(best, float(np.hypot(p[:, 0], p[:, 1]).max()))
+    return best
+
+
+def plane_problem(system: PlaneSystem, orbit, *, amplitude: float | None = None,
+                  **options) -> PlaneProblem:  # fmt: skip
+    """The periodic problem of ``system`` under the harmonic ``orbit`` (its shape; its
+    amplitude unless ``amplitude`` [m/s²] is given; its frequency is the continuation's).
+    ``options``: law, eps, eta, rtol, atol of :class:`PlaneProblem`."""
+    A, shape = orbit_shape(orbit)
+    return PlaneProblem(system, A if amplitude is None else amplitude, shape, **options)
+
+
+def plane_response(problem: PlaneProblem, **options) -> Curve:
+    """Periodic orbits of ``problem`` continued in f (``options``: fmin, fmax, points,
+    continuation "sequential" | "arclength", fallback, progress, start, x0, ... of
+    :func:`nsdyn.periodic.continuation.continue_range`). The curve's ``info["failures"]``
+    lists the frequencies where shooting failed, with the reason (:func:`failures`)."""
+    curve = continue_range(problem, **options)
+    curve.info.update({"model": problem.name, "law": problem.law})
+    curve.info["failures"] = failures(curve, options)
+    return curve
+
+
+def failures(curve: Curve, options: dict) -> list[dict]:
+    """Frequencies where shooting failed: each ``{"f", "reason"}`` (the stepped sweep's point
+    with shooting's message, the transition it lies near; a requested frequency with no point
+    when the fallback is off)."""
+    out = []
+    pts = curve.points
+    for k, p in enumerate(pts):
+        if p.method != "sweep":
+            continue
+        why = [p.note or "shooting failed"]
+        if not p.converged:
+            why.insert(0, "no steady state")
+        near = [pts[j].quantities.get("stick_fraction") for j in (k - 1, k, k + 1)
+                if 0 <= j < len(pts)]  # fmt: skip
+        near = [s for s in near if s is not None and math.isfinite(s)]
+        if near and (min(near) == 0.0 < max(near) or any(0.0 < s < 1.0 for s in near)):
+            why.insert(0, "near a stick-slip transition")
+        out.append({"f": float(p.f), "reason": "; ".join(why)})
+    if options.get("continuation", "sequential") == "sequential" and not options.get(
+        "fallback", True
+    ):
+        from nsdyn.periodic.continuation import F_MAX, F_MIN, POINTS, log_frequencies
+
+        want = log_frequencies(options.get("fmin", F_MIN), options.get("fmax", F_MAX),
+                               options.get("points", POINTS))  # fmt: skip
+        have = np.array([p.f for p in pts])
+        for f in want:
+            if not have.size or np.min(np.abs(have / f - 1.0)) > 1e-9:
+                out.append({"f": float(f), "reason": "shooting did not converge (no fallback)"})
+        out.sort(key=lambda d: d["f"])
+    return out
+
+
+def curve_rows(curve: Curve) -> list[dict]:
+    """One flat record per point (the deck sweep's CSV)."""
+    rows = []
+    for p in curve.points:
+        q = p.quantities
+        rows.append({
+            "f": p.f, "A": curve.amplitude, "u_peak_m": q.get("u_peak_m", math.nan),
+            "u_component_peak_m": q.get("u_component_peak_m", math.nan),
+            "friction_peak_N": q.get("friction_peak_N", math.nan),
+            "torsion_peak_rad": q.get("torsion_peak_rad", math.nan),
+            "normal_min_N": q.get("normal_min_N", math.nan),
+            "stick_fraction": q.get("stick_fraction", math.nan),
+            "events_per_period": q.get("events_per_period", ""),
+            "stable": "" if p.stable is None else p.stable,
+            "max_multiplier_modulus": p.max_multiplier, "method": p.method,
+            "newton_iterations": p.iterations, "residual": p.residual,
+            "converged": p.converged, "samples": p.n_steps, "uplift": q.get("uplift", ""),
+            "rim_contact": q.get("rim_contact", ""), "note": p.note,
+        })  # fmt: skip
+    return rows
