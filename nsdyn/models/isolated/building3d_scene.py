@@ -29,6 +29,7 @@ import numpy as np
 from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.bearings import BearingError, bearing_from_config
 from nsdyn.models.isolated.building3d_scene_keys import FIDELITIES, SCHEMA
+from nsdyn.models.isolated.building3d_shape import fixed_peak_shape, rigid_peak_shape, write_shape
 from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
 from nsdyn.models.isolated.deck_scene import build_solver, summary_table
 from nsdyn.models.scenefile import SceneError, check_fields
@@ -36,6 +37,7 @@ from nsdyn.models.scenefile import SceneError, check_fields
 __all__ = ["build_motion", "build_solver", "build_system", "format_summary", "run_scene"]
 
 TABLES = SCHEMA.fields()
+FIGURE_MODULE = "nsdyn.plot.frames3d"  # draws the figures from building3d-shape.npz
 
 
 def _frame(t: dict, source: str):
@@ -130,7 +132,9 @@ def _run_rigid(sysd, exc, t_end, kw, out_dir: Path, say) -> dict:
     s.update({"mass_kg": info["m"], "polar_inertia_kgm2": info["J"],
               "centre_of_mass_m": [float(v) for v in info["centre"]],
               "height_of_centre_of_mass_m": info["h"], "wall_s": wall, "compile_s": compile_s,
-              "files": [str(npz)], "warnings": [str(w.message) for w in caught]})  # fmt: skip
+              "files": [str(npz), str(write_shape(out_dir, sysd["frame"],
+                                                  rigid_peak_shape(sysd["frame"], deck, res)))],
+              "warnings": [str(w.message) for w in caught]})  # fmt: skip
     return s
 
 
@@ -152,7 +156,8 @@ def _run_fixed(sysd, exc, source: str, out_dir: Path) -> dict:
         np.savez(fh, t=r.t, f_hz=r.modes.f_hz, drift_cm=r.drifts.cm, drift_corner=r.drifts.corner,
                  corners=r.drifts.corners, floor_acc=r.floor_acc, base_shear=r.base_shear,
                  torsion=r.torsion)  # fmt: skip
-    s.update({"t_end_s": float(r.t[-1]), "wall_s": wall, "files": [str(npz)]})
+    shape = write_shape(out_dir, sysd["frame"], fixed_peak_shape(r), r.modes)
+    s.update({"t_end_s": float(r.t[-1]), "wall_s": wall, "files": [str(npz), str(shape)]})
     return s
 
 
