@@ -79,10 +79,13 @@ LAWS = ("switch", "arctan")
 
 def orbit_shape(orbit) -> tuple[float, tuple]:
     """(amplitude A, shape) of a harmonic orbit (a :class:`~nsdyn.ground.orbit.HarmonicPlane`
-    or an object/dict with ``f, ax, ay, phase_y_deg, az, f_z, phase_z_deg``): A is the larger
-    horizontal amplitude, the shape ``(a_x, a_y, φ_y [rad], a_z, k, φ_z [rad])`` the
-    amplitudes per unit A and the vertical frequency as the whole multiple k of f (a vertical
-    component at another frequency is not periodic with T: ValueError)."""
+    or an object/dict with ``f, ax, ay, phase_y_deg, az, f_z, phase_z_deg``): A is the largest
+    horizontal acceleration max_t |a(t)| (the radius of a circle, the major semi-axis of an
+    ellipse, the amplitude along a line): with the phasor P = (A_x, A_y e^{iφ_y}),
+    A² = (|P|² + |A_x² + A_y² e^{2iφ_y}|)/2. The shape ``(a_x, a_y, φ_y [rad], a_z, k,
+    φ_z [rad])`` holds the amplitudes per unit A and the vertical frequency as the whole
+    multiple k of f (a vertical component at another frequency is not periodic with T:
+    ValueError)."""
 
     def get(name, default=0.0):
         v = orbit.get(name, default) if isinstance(orbit, dict) else getattr(orbit, name, default)
@@ -92,7 +95,15 @@ def orbit_shape(orbit) -> tuple[float, tuple]:
     if not (math.isfinite(f) and f > 0):
         raise ValueError(f"orbit.f: expected a frequency > 0 [Hz], got {f!r}")
     ax, ay, az = get("ax"), get("ay"), get("az")
-    A = max(ax, ay)
+    phy = math.radians(get("phase_y_deg"))
+    A = math.sqrt(
+        0.5
+        * (
+            ax * ax
+            + ay * ay
+            + abs(ax * ax + ay * ay * complex(math.cos(2 * phy), math.sin(2 * phy)))
+        )
+    )
     if not (math.isfinite(A) and A > 0 and ax >= 0 and ay >= 0 and az >= 0):
         raise ValueError(f"orbit: expected horizontal amplitudes >= 0, not both zero, got "
                          f"{ax!r}, {ay!r}")  # fmt: skip
@@ -104,7 +115,7 @@ def orbit_shape(orbit) -> tuple[float, tuple]:
                              f"periodic with the horizontal period 1/{f:g} s; expected a whole "
                              "multiple of f")  # fmt: skip
         k = float(round(k))
-    shape = (ax / A, ay / A, math.radians(get("phase_y_deg")), az / A, k,
+    shape = (ax / A, ay / A, phy, az / A, k,
              math.radians(get("phase_z_deg")))  # fmt: skip
     return A, shape
 
@@ -119,8 +130,10 @@ class PlaneProblem:
                  law: str = "switch", eps: float = EPS, eta: float = ETA,
                  rtol: float = RTOL, atol: float = ATOL) -> None:  # fmt: skip
         if getattr(system, "has_tfp", False):
-            raise ValueError("periodic orbits: a triple friction pendulum's internal slips are "
-                             "not part of the shooting state; use single-surface bearings")
+            raise ValueError(
+                "periodic orbits: a triple friction pendulum's internal slips are "
+                "not part of the shooting state; use single-surface bearings"
+            )
         if law not in LAWS:
             raise ValueError(f"law: expected one of {list(LAWS)}, got {law!r}")
         if not (math.isfinite(rtol) and 0 < rtol < 1e-3):
@@ -357,6 +370,15 @@ def failures(curve: Curve, options: dict) -> list[dict]:
     pts = curve.points
     for k, p in enumerate(pts):
         if p.method != "sweep":
+            continue
+        if p.quantities.get("uplift"):
+            out.append(
+                {
+                    "f": float(p.f),
+                    "reason": "uplift: a normal force reaches zero in the "
+                    "period (outside the rigid-plate model; no steady state computed)",
+                }
+            )
             continue
         why = [p.note or "shooting failed"]
         if not p.converged:

@@ -223,3 +223,51 @@ def test_linear_excitation_is_the_planar_periodic_orbit(angle):
     rho = np.sort(np.abs(res.multipliers))[::-1]
     np.testing.assert_allclose(rho[:2], rho1, rtol=1e-4)
     assert pb.orbit_quantities(F0, res.X)["u_peak_m"] == pytest.approx(amp[0], rel=1e-4)
+
+
+def test_symmetric_deck_has_the_single_mass_circle():
+    # Four equal isolators (each a quarter of the rubber, damper and weight) under a deck with
+    # its centre of mass at the centre and h = 0 (no overturning) move as the single mass: the
+    # same closed-form circle, no torsion; the deck's state has the twist (dim 6)
+    from nsdyn.models.isolated.deck import rigid_deck
+
+    pos = [[-2.0, -1.5], [2.0, -1.5], [2.0, 1.5], [-2.0, 1.5]]
+    deck = rigid_deck(M, M * (4.0**2 + 3.0**2) / 12, pos,
+                      Bearing(Friction(MU), k_lam=K / 4, c=C / 4), g=G)  # fmt: skip
+    w = 2 * math.pi * F0
+    R, psi = steady_circle(w, A0, MU)
+    rho_cf, cond = closed_form_multipliers(w, R, psi, MU * M * G, 0.0)
+    tol = cond * (SHOOT_TOL + 1e3 * RTOL) / (1 - abs(rho_cf[0]))
+    pb = plane_problem(deck, circular(A0, F0), law="switch")
+    res = shoot(pb, F0)
+    assert res.converged and res.multipliers.size == 6
+    q = pb.orbit_quantities(F0, res.X)
+    assert q["u_peak_m"] == pytest.approx(R, rel=tol)
+    assert q["torsion_peak_rad"] <= tol * R / 2.0
+    # the four translational multipliers are the single mass's (torsion adds two of its own)
+    for r in rho_cf:
+        assert np.abs(res.multipliers - r).min() <= cond * 10 * FD_REL**2
+
+
+@pytest.mark.parametrize("law", ["switch", "arctan"])
+def test_elliptical_orbit_is_where_the_time_history_from_rest_ends(law):
+    # No closed form for an ellipse (the slip speed varies along it):
+    # the shooting orbit must be the attractor the plain time history from rest reaches. After
+    # n periods the distance left is ~ max|rho|^n of the initial one (the multipliers shooting
+    # reports, < 0.5 here); the time history's own error is its rtol 1e-9
+    orbit = HarmonicPlane.elliptical(0.45, 0.8, 0.4, 30.0)
+    pb = plane_problem(sdof(), orbit, law=law)
+    res = shoot(pb, orbit.f)
+    assert res.converged
+    rho = float(np.abs(res.multipliers).max())
+    assert rho < 0.5
+    n = int(math.ceil(math.log(1e-8) / math.log(rho)))
+    T = 1.0 / orbit.f
+    r = simulate_plane(sdof(), orbit, law=law, t_eval=np.linspace(0.0, n * T, 50 * n + 1),
+                       rtol=1e-9, atol=(1e-11, 1e-11))  # fmt: skip
+    end = np.concatenate([r.q[-1, :2], r.qd[-1, :2]])
+    scale = np.abs(res.X).max(axis=0)
+    assert np.all(
+        np.abs(end - res.x0)
+        <= 1e-6 * np.concatenate([scale[:2].max() * np.ones(2), scale[2:].max() * np.ones(2)])
+    )

@@ -1,0 +1,129 @@
+"""Frequency curves of a bidirectional SDOF: continuation and ``nsdyn sweep`` vs the closed form.
+
+Source: the steady circular slip of a mass on a flat slider under circular ground acceleration
+(closed form derived in test_plane.py: the friction has constant magnitude mu m g and turns with
+the velocity, so R solves ((k - m w^2) R)^2 + (c w R + mu m g)^2 = (m A)^2 at every f, a
+permanent slip whenever A > mu g). The example scene examples/scenes/sdof-bidirectional-sweep.toml
+holds the same numbers as test_plane.py's SDOF.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from test_plane import A0, F0, MU, circular, closed_form_multipliers, sdof, steady_circle
+
+from nsdyn.cli import main as nsdyn_main
+from nsdyn.periodic.plane import RTOL, plane_problem, plane_response
+from nsdyn.periodic.shooting import SHOOT_TOL
+from nsdyn.studies.plane_sweep import CSV_COLUMNS, checkpoint_path
+
+SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+SCENE = SCENES / "sdof-bidirectional-sweep.toml"
+G = 9.81
+M = 1000.0
+
+
+def _tolerance(f):
+    """Newton's end over the contraction, as in test_plane.py (closed-form multipliers)."""
+    w = 2 * math.pi * f
+    R, psi = steady_circle(w, A0, MU)
+    rho, cond = closed_form_multipliers(w, R, psi, MU * M * G, 0.0)
+    return R, cond * (SHOOT_TOL + 1e3 * RTOL) / (1 - abs(rho[0]))
+
+
+@pytest.mark.parametrize("continuation", ["sequential", "arclength"])
+def test_continued_curve_is_the_closed_form_curve(continuation):
+    # through the isolator's resonance (0.5 Hz alone): the peak resultant displacement of every
+    # point is the closed-form radius, found by shooting, stable
+    pb = plane_problem(sdof(), circular(A0, F0), law="switch")
+    curve = plane_response(pb, fmin=0.3, fmax=1.5, points=5, continuation=continuation)
+    assert curve.info["failures"] == []
+    assert len(curve.points) >= 5
+    assert curve.points[0].f == pytest.approx(0.3) and curve.points[-1].f == pytest.approx(1.5)
+    for p in curve.points:
+        R, tol = _tolerance(p.f)
+        assert p.method in ("shooting", "arclength") and p.converged
+        assert p.quantities["u_peak_m"] == pytest.approx(R, rel=tol)
+        assert p.stable is True
+
+
+def test_nsdyn_sweep_on_the_example_scene_gives_the_closed_form_and_resumes(tmp_path, capsys):
+    out = tmp_path / "out"
+    argv = ["sweep", str(SCENE), "--fmin", "0.35", "--fmax", "1.4", "--points", "4",
+            "--amplitudes", f"{A0},{1.5 * A0}", "--workers", "1", "--out", str(out),
+            "--json"]  # fmt: skip
+    assert nsdyn_main(argv) == 0
+    report = json.loads(capsys.readouterr().out)
+    rows = list(csv.DictReader((out / "sweep.csv").open()))
+    assert tuple(rows[0].keys()) == CSV_COLUMNS
+    assert len(rows) == 8 and report["kind"] == "deck"
+    for r in rows:
+        A, f = float(r["A"]), float(r["f"])
+        w = 2 * math.pi * f
+        R = steady_circle(w, A, MU)[0]
+        assert r["converged"] == "true" and r["method"] == "shooting" and r["law"] == "switch"
+        # 9 digits in the CSV; the shooting error bound of _tolerance is ~1e-5 R
+        assert float(r["u_peak_m"]) == pytest.approx(R, rel=2e-5)
+        assert float(r["friction_peak_N"]) == pytest.approx(MU * M * G, rel=1e-9)
+        assert float(r["stick_fraction"]) == 0.0
+    assert (out / "sweep.png").exists() and (out / "sweep.json").exists()
+    assert json.loads((out / "sweep.json").read_text())["amplitudes"][0]["failures"] == []
+    for A in (A0, 1.5 * A0):
+        assert checkpoint_path(out, A).exists()
+    # the same command again resumes every point from the checkpoints
+    assert nsdyn_main(argv) == 0
+    again = json.loads(capsys.readouterr().out)
+    assert [s["resumed_points"] for s in again["amplitudes"]] == [4, 4]
+    assert list(csv.DictReader((out / "sweep.csv").open())) == rows
+
+
+def test_default_range_and_amplitude_come_from_the_scene(tmp_path, capsys):
+    # f0/4 .. 4 f0 around the orbit's 0.7 Hz, at its amplitude 0.981 m/s^2 (progress on stderr)
+    out = tmp_path / "out"
+    assert nsdyn_main(["sweep", str(SCENE), "--points", "3", "--out", str(out),
+                       "--no-figures"]) == 0  # fmt: skip
+    cap = capsys.readouterr()
+    assert "3/3 f=" in cap.err and "|u|max" in cap.out
+    rows = list(csv.DictReader((out / "sweep.csv").open()))
+    f = np.array([float(r["f"]) for r in rows])
+    np.testing.assert_allclose(f, [0.175, 0.7, 2.8], rtol=1e-9)
+    assert {r["A"] for r in rows} == {"0.981"}
+    R = steady_circle(2 * math.pi * 0.7, 0.981, MU)[0]
+    assert float(rows[1]["u_peak_m"]) == pytest.approx(R, rel=2e-5)
+
+
+@pytest.mark.parametrize(
+    ("edit", "field"),
+    [
+        (("[motion]", '[motion]\nkind = "record3"\nrecord = "synthetic-wn-40s"\n[unused]'),
+         "motion.kind"),
+        (("n_periods = 12", "n_periods = 12\nvertical_amplitude = 1.0\nvertical_frequency = 1.1"),
+         "motion.vertical_frequency"),
+        (("amplitude = 0.981", "amplitude = -1.0"), "motion.amplitude"),
+    ],
+)  # fmt: skip
+def test_bad_deck_sweeps_are_refused_in_one_line_naming_the_field(tmp_path, capsys, edit, field):
+    text = SCENE.read_text()
+    assert edit[0] in text
+    scene = tmp_path / "bad.toml"
+    text = text.replace(edit[0], edit[1])
+    if "[unused]" in text:  # a record instead of the orbit: its keys dropped
+        head, tail = text.split("[unused]")
+        text = head + "[solver]" + tail.split("[solver]")[1]
+    scene.write_text(text)
+    rc = nsdyn_main(["sweep", str(scene), "--points", "2", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert rc != 0 and len(err.splitlines()) == 1
+    assert str(scene) in err and field in err
+
+
+def test_isolated_only_flags_are_refused_for_a_deck_scene(tmp_path, capsys):
+    rc = nsdyn_main(["sweep", str(SCENE), "--contact", "unilateral", "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert rc != 0 and "--contact" in err and len(err.strip().splitlines()) == 1
