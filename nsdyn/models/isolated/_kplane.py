@@ -9,8 +9,10 @@ B_i = [[1, 0, −Y_i], [0, 1, X_i]]; its resisting force (bearings.py) is
 with the friction per unit normal force f̂_i = μ_d(|v|) (2/π) arctan(ε|v|) v/|v| (regularised
 law), μ_d(|v|) v/|v| (switch law, slip, MODE_SLIP), μ_d(|v|) d_i (MODE_START: slip starting
 from stick in the stick force's direction d_i, until |v| reaches η) or a constraint force τ_i
-(MODE_STICK: B_i q̈ = −κ B_i q̇). The deck (mass m, centre of mass at (e_x, e_y) and height h
-above the sliding surfaces, M about O) obeys
+(MODE_STICK: B_i q̈ = −κ B_i q̇). A triple friction pendulum (tfp.py) resists with N_i φ_i,
+its series model's force per unit normal force: a function of u_i and of its internal slips,
+states after [q, q̇] whose rates :func:`rhs` appends. The deck (mass m, centre of mass at
+(e_x, e_y) and height h above the sliding surfaces, M about O) obeys
 
     M q̈ = −M [a_x, a_y, 0]ᵀ − Σ B_iᵀ F_i,
 
@@ -43,12 +45,18 @@ from nsdyn.models.isolated.bearings import (
     B_C,
     B_CSTOP,
     B_DCAP,
+    B_ELEM,
+    B_IOFF,
+    B_KEL,
+    B_KIND,
     B_KLAM,
     B_KSTOP,
     B_MUFAST,
     B_MUSLOW,
     B_RATE,
     B_RINV,
+    B_TAU,
+    KIND_TFP,
 )
 
 # the time loops (_kplanerun, _kplaneradau) compile these kernels, the shared tableau and LU
@@ -131,10 +139,48 @@ def slip_kinematics(y, pos, i):
 
 @njit(cache=True, error_model="numpy")
 def workspace(ni):
-    """Work arrays of :func:`evaluate` (made once per run)."""
+    """Work arrays of :func:`evaluate` (made once per run); the last, (ni, 8), receives the
+    rates of the triple friction pendulums' internal slips."""
     return (np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((5, 5)), np.zeros(5),
             np.zeros(5, dtype=np.int64), np.zeros((ni, 3)), np.zeros(ni), np.zeros((ni, 2)),
-            np.zeros(3), np.zeros(3))  # fmt: skip
+            np.zeros(3), np.zeros(3), np.zeros((ni, 8)))  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def tfp_force(y, bp, i, ux, uy, sd):
+    """Force per unit normal force φ = κ_e (u − Σ s_k) of the triple friction pendulum of
+    row i at slip (ux, uy), its internal slips s_k read from y[B_IOFF + 2k], and their
+    rates ṡ_k = ⟨|g_k| − μ_k⟩/(κ_e τ) g_k/|g_k| into sd[i] (nsdyn.models.isolated.tfp)."""
+    o = int(bp[i, B_IOFF])
+    ke = bp[i, B_KEL]
+    ex = ux
+    ey = uy
+    for k in range(4):
+        ex -= y[o + 2 * k]
+        ey -= y[o + 2 * k + 1]
+    px = ke * ex
+    py = ke * ey
+    rate = 1.0 / (ke * bp[i, B_TAU])
+    for k in range(4):
+        c = B_ELEM + 4 * k
+        sx = y[o + 2 * k]
+        sy = y[o + 2 * k + 1]
+        gx = px - bp[i, c] * sx
+        gy = py - bp[i, c] * sy
+        rs = math.sqrt(sx * sx + sy * sy)
+        if rs > bp[i, c + 2]:
+            st = bp[i, c + 3] * (rs - bp[i, c + 2]) / rs
+            gx -= st * sx
+            gy -= st * sy
+        gn = math.sqrt(gx * gx + gy * gy)
+        if gn > bp[i, c + 1]:
+            f = rate * (gn - bp[i, c + 1]) / gn
+            sd[i, 2 * k] = f * gx
+            sd[i, 2 * k + 1] = f * gy
+        else:
+            sd[i, 2 * k] = 0.0
+            sd[i, 2 * k + 1] = 0.0
+    return px, py
 
 
 @njit(cache=True, error_model="numpy")
@@ -142,7 +188,7 @@ def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
     """q̈ and the isolator forces at (t, y): normal forces N (ni,), resisting friction Ff
     (ni, 2) (the stick force τ_i of a stuck isolator), restoring Fr = N u/R + K_lam u and
     damper + stop Fo (ni, 2). Returns ST_OK or ST_SINGULAR."""
-    Am, A3, K5, r5, piv, n1, n0, cN, fv, ag = ws
+    Am, A3, K5, r5, piv, n1, n0, cN, fv, ag, sd = ws
     ni = pos.shape[0]
     ground(t, gk, gp, tab, ag)
     m = sp[S_M]
@@ -185,7 +231,11 @@ def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
         speed = math.sqrt(vx * vx + vy * vy)
         fx = 0.0
         fy = 0.0
-        if law == LAW_ARCTAN:
+        if bp[i, B_KIND] == KIND_TFP:  # the series model's force, less N u/R reported apart
+            px, py = tfp_force(y, bp, i, ux, uy, sd)
+            fx = px - bp[i, B_RINV] * ux
+            fy = py - bp[i, B_RINV] * uy
+        elif law == LAW_ARCTAN:
             if speed > 0.0:
                 s = mu_kinetic(bp, i, speed) * (2.0 / math.pi) * math.atan(eps * speed) / speed
                 fx = s * vx
@@ -303,12 +353,20 @@ def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
 
 @njit(cache=True, error_model="numpy")
 def rhs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, dy):
-    """First-order right-hand side dy = [q̇, q̈]; ``out = (qdd, N, Ff, Fr, Fo)`` filled."""
+    """First-order right-hand side dy = [q̇, q̈, ṡ] (ṡ: the internal slips of triple friction
+    pendulums, after [q, q̇], when y has them); ``out = (qdd, N, Ff, Fr, Fo)`` filled."""
     qdd, N, Ff, Fr, Fo = out
     st = evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
     for a in range(3):
         dy[a] = y[3 + a]
         dy[3 + a] = qdd[a]
+    if y.shape[0] > 6:  # the internal slips of triple friction pendulums
+        sd = ws[10]
+        for i in range(pos.shape[0]):
+            if bp[i, B_KIND] == KIND_TFP:
+                o = int(bp[i, B_IOFF])
+                for j in range(8):
+                    dy[o + j] = sd[i, j]
     return st
 
 

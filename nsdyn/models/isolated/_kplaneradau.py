@@ -9,7 +9,8 @@ that package cannot call)::
     Z_i = h Σ_j a_ij f(t + c_j h, y + Z_j),   y(t + h) = y + Z_3,
     c = ((4 − √6)/10, (4 + √6)/10, 1)
 
-solved by simplified Newton on the full 18 × 18 system (I − h A ⊗ J) ΔZ = −G(Z) with a
+solved by simplified Newton on the full 3n × 3n system (n = 6, plus 8 internal slips per
+triple friction pendulum) (I − h A ⊗ J) ΔZ = −G(Z) with a
 forward-difference Jacobian J (kept while Newton contracts in at most three iterations and
 steps are accepted, factored again when h changes), the embedded error
 estimate of RADAU5 (I/(γ₀h) − J)⁻¹ (f(y) + Σ e_i Z_i / h) with e = (−13 − 7√6, −13 + 7√6,
@@ -63,8 +64,9 @@ def _dense(y, Z, s, ys):
 def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
               X, NO, FF, FR, FO, MO, EV, stops, info):  # fmt: skip
     """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
-    (the codes of :mod:`nsdyn.models.isolated._kplanerun`)."""
-    n = 6
+    (the codes of :mod:`nsdyn.models.isolated._kplanerun`). The state is [q, q̇] and the
+    internal slips of triple friction pendulums, if any (y0's length)."""
+    n = y0.shape[0]
     ni = pos.shape[0]
     ws = kp.workspace(ni)
     out = (np.zeros(3), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
@@ -168,7 +170,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             ok = ok and lu_factor(LE, pe, 0.0)
             lu_h = hh
         for k in range(n):
-            sc[k] = (cfg[kr.C_ATOLQ] if k < 3 else cfg[kr.C_ATOLV]) + rtol * abs(y[k])
+            sc[k] = (cfg[kr.C_ATOLV] if 3 <= k < 6 else cfg[kr.C_ATOLQ]) + rtol * abs(y[k])
         converged = False
         if have_prev:  # predictor: the previous step's collocation polynomial, extrapolated
             for a in range(3):
@@ -226,7 +228,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         en = 0.0
         for k in range(n):
             ynew[k] = y[k] + Z[2, k]
-            s_k = (cfg[kr.C_ATOLQ] if k < 3 else cfg[kr.C_ATOLV]) + rtol * max(
+            s_k = (cfg[kr.C_ATOLV] if 3 <= k < 6 else cfg[kr.C_ATOLQ]) + rtol * max(
                 abs(y[k]), abs(ynew[k])
             )
             en += (err[k] / s_k) ** 2
@@ -249,13 +251,11 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         nstep += 1
         en_old = max(en, 1e-4)
         s_end = 1.0
-        if kr._eval(t + hh, ynew, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out) != 0:
+        # f at the step's end: the next step's f0
+        if kp.rhs(t + hh, ynew, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, f1) != 0:
             status = kr.ST_SINGULAR
             break
         nfev += 1
-        for k in range(3):  # f at the step's end: the next step's f0
-            f1[k] = ynew[3 + k]
-            f1[3 + k] = out[0][k]
         if kr._min_normal(N) <= 0.0:  # uplift: locate the first N_i = 0 on the dense output
             sa = 0.0
             sb = 1.0

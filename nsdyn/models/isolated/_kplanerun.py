@@ -255,7 +255,7 @@ def _track_stops(t, y, pos, bp, stops):
 def _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO):
     qdd, N, Ff, Fr, Fo = out
     kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
-    for j in range(6):
+    for j in range(min(y.shape[0], X.shape[1])):  # [q, q̇] and internal slips (X's columns)
         X[k, j] = y[j]
     for i in range(pos.shape[0]):
         NO[k, i] = N[i]

@@ -37,7 +37,13 @@ STOP_DAMPING_RATIO = 0.1  # default rim damping ratio (on the bearing's static m
 
 # columns of the packed bearing table (one row per isolator), read by _kplane
 B_RINV, B_KLAM, B_C, B_MUS, B_MUSLOW, B_MUFAST, B_RATE, B_DCAP, B_KSTOP, B_CSTOP = range(10)
-N_BCOL = 10
+# a triple friction pendulum's series model (nsdyn.models.isolated.tfp; zero for the others):
+# its kind, the index of its internal slips in the state vector, the elastic stiffness and the
+# flow's time constant, then (1/R, mu, d, k_stop) of its four series elements
+B_KIND, B_IOFF, B_KEL, B_TAU = range(10, 14)
+B_ELEM = 14  # element k: columns B_ELEM + 4 k + (0: 1/R, 1: mu, 2: d, 3: k_stop per unit N)
+N_BCOL = B_ELEM + 16
+KIND_SINGLE, KIND_TFP = 0, 1
 
 
 class BearingError(ValueError):
@@ -183,14 +189,26 @@ def friction_from_config(cfg: dict, where: str) -> Friction:
 
 
 BEARING_KEYS = {"type", "mu", "mu_slow", "mu_fast", "rate", "mu_static", "radius", "k_lam", "c",
-                "d_cap", "k_stop", "c_stop"}  # fmt: skip
+                "d_cap", "k_stop", "c_stop",
+                "R1", "R2", "R3", "R4", "mu1", "mu2", "mu3", "mu4", "d1", "d2", "d3", "d4",
+                "u_y"}  # fmt: skip
+_TFP_ONLY = ("R1", "R2", "R3", "R4", "mu1", "mu2", "mu3", "mu4", "d1", "d2", "d3", "d4", "u_y")
 
 
 def bearing_from_config(cfg: dict, where: str) -> Bearing:
-    """A :class:`Bearing` from a TOML table (``type = "fps"`` needs ``radius``; ``"flat"``)."""
+    """A :class:`Bearing` from a TOML table (``type = "fps"`` needs ``radius``; ``"flat"``;
+    ``"tfp"``: a triple friction pendulum, :func:`nsdyn.models.isolated.tfp.tfp_from_config`)."""
     kind = cfg.get("type", "fps" if "radius" in cfg else "flat")
-    if kind not in ("fps", "flat"):
-        raise BearingError(f"{where}.type: expected 'fps' or 'flat', got {kind!r}")
+    if kind not in ("fps", "flat", "tfp"):
+        raise BearingError(f"{where}.type: expected 'fps', 'flat' or 'tfp', got {kind!r}")
+    if kind == "tfp":
+        from nsdyn.models.isolated.tfp import tfp_from_config
+
+        return tfp_from_config(cfg, where)
+    for k in _TFP_ONLY:
+        if k in cfg:
+            raise BearingError(f"{where}.{k}: a key of a triple friction pendulum "
+                               f"(type = 'tfp'), not of type {kind!r}")  # fmt: skip
     if kind == "fps" and "radius" not in cfg:
         raise BearingError(f"{where}.radius: missing; a friction pendulum needs its effective "
                            "radius R [m]")  # fmt: skip

@@ -31,9 +31,10 @@ from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
 from nsdyn.models.isolated import _kplanerun as kr
-from nsdyn.models.isolated.bearings import N_BCOL, Bearing, BearingError
+from nsdyn.models.isolated.bearings import B_IOFF, N_BCOL, Bearing, BearingError
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
 from nsdyn.models.isolated.plane_result import PlaneResult
+from nsdyn.models.isolated.tfp import N_INTERNAL, TripleBearing
 
 PLANE_LAWS = ("switch", "arctan")  # the switch law with a stick disc; the regularised law
 COLLINEAR_RTOL = 1e-9  # G's smallest/largest eigenvalue below this: isolators on one line
@@ -86,6 +87,8 @@ class PlaneSystem:
                 f"(rigid-plate normal forces): isolator {i} would carry {n0[i]:.4g} N at rest"
             )
         for b in self.bearings:
+            if isinstance(b, TripleBearing):  # (its surfaces' capacities checked by itself)
+                continue
             need = b.friction.static * b.radius
             if math.isfinite(b.d_cap) and math.isfinite(b.radius) and b.d_cap <= need:
                 raise BearingError(
@@ -96,6 +99,27 @@ class PlaneSystem:
     @property
     def n_isolators(self) -> int:
         return self.positions.shape[0]
+
+    def internal_offsets(self) -> list:
+        """Index in the state vector of each isolator's internal slips (the series elements
+        of a triple friction pendulum, after [q, q̇]); -1 for a single-surface bearing."""
+        out, o = [], 6
+        for b in self.bearings:
+            if isinstance(b, TripleBearing):
+                out.append(o)
+                o += N_INTERNAL
+            else:
+                out.append(-1)
+        return out
+
+    @property
+    def n_states(self) -> int:
+        """Length of the state vector: [q, q̇] and the internal slips."""
+        return 6 + N_INTERNAL * sum(isinstance(b, TripleBearing) for b in self.bearings)
+
+    @property
+    def has_tfp(self) -> bool:
+        return any(isinstance(b, TripleBearing) for b in self.bearings)
 
     def mass_matrix(self) -> np.ndarray:
         ex, ey = (float(e) for e in self.ecc)
@@ -129,8 +153,10 @@ class PlaneSystem:
     def bearing_table(self) -> np.ndarray:
         n0 = self.static_normal()
         bp = np.zeros((self.n_isolators, N_BCOL))
-        for i, b in enumerate(self.bearings):
+        for i, (b, o) in enumerate(zip(self.bearings, self.internal_offsets(), strict=True)):
             bp[i] = b.row(float(n0[i]), self.g)
+            if o >= 0:
+                bp[i, B_IOFF] = o
         return bp
 
 
@@ -305,6 +331,12 @@ def simulate_plane(
         raise ValueError(f"integrator: expected 'auto', 'dopri5' or 'radau', got {integrator!r}")
     if integrator == "radau" and law == "switch":
         raise ValueError("integrator: the switch law runs on 'dopri5' (its events need it)")
+    if getattr(system, "has_tfp", False) and (law != "arctan" or integrator == "dopri5"):
+        raise ValueError(
+            "law: a triple friction pendulum runs with the regularised law 'arctan' on Radau "
+            "IIA (its series model has no stick events and is stiff), got law "
+            f"{law!r}, integrator {integrator!r}"
+        )
     loop = kr.integrate
     if law == "arctan" and integrator in ("auto", "radau"):
         loop = krad.integrate
@@ -328,17 +360,20 @@ def simulate_plane(
         )
     ni = system.n_isolators
     nt = t_eval.size
+    ns = getattr(system, "n_states", 6)
     y = np.zeros(6) if y0 is None else np.ascontiguousarray(y0, dtype=float).copy()
-    if y.shape != (6,) or not np.all(np.isfinite(y)):
-        raise ValueError(f"y0: expected six finite numbers [x, y, theta, vx, vy, omega], got "
-                         f"{y0!r}")  # fmt: skip
+    if y.shape not in ((6,), (ns,)) or not np.all(np.isfinite(y)):
+        raise ValueError(f"y0: expected six finite numbers [x, y, theta, vx, vy, omega] (or "
+                         f"{ns} with the internal slips), got {y0!r}")  # fmt: skip
+    if y.size < ns:  # internal slips from rest
+        y = np.concatenate([y, np.zeros(ns - y.size)])
     modes = np.full(ni, kp.MODE_SLIP, dtype=np.int64)
     dirs = np.zeros((ni, 2))
     atol_v = float(atol[1])
     if law == "arctan":  # the law's transition |v| ~ 1/eps must lie above the error tolerance
         atol_v = min(atol_v, ATOL_V_EPS / eps)
     cfg = np.array([rtol, atol[0], atol_v, min(1e-4, max_step), max_step, float(max_steps)])
-    X = np.full((nt, 6), np.nan)
+    X = np.full((nt, ns), np.nan)
     NO = np.full((nt, ni), np.nan)
     FF, FR, FO = (np.full((nt, ni, 2), np.nan) for _ in range(3))
     MO = np.zeros((nt, ni), dtype=np.int64)

@@ -9,7 +9,8 @@ Tables:
 * ``[bearing]`` one bearing for every isolator (:func:`nsdyn.models.isolated.bearings.
   bearing_from_config`): ``type`` "fps" (``radius`` R [m]) or "flat" (``k_lam`` [N/m],
   ``c`` [N s/m]); friction ``mu``, or ``mu_slow``, ``mu_fast``, ``rate`` [s/m]; ``mu_static``;
-  ``d_cap`` [m]; ``k_stop`` [N/m], ``c_stop`` [N s/m];
+  ``d_cap`` [m]; ``k_stop`` [N/m], ``c_stop`` [N s/m]; or "tfp", a triple friction pendulum
+  (``R1`` … ``R4`` [m], ``mu1`` … ``mu4``, ``d1`` … ``d4`` [m], ``u_y`` [m]; law "arctan");
 * ``[motion]`` a three-component record (``kind = "record3"``) or a harmonic orbit
   (``kind = "orbit"``), the keys of :mod:`nsdyn.ground.table3`;
 * ``[solver]`` ``law`` ("switch" | "arctan"), ``eps`` [s/m], ``eta`` [m/s], ``rtol``,
@@ -126,9 +127,13 @@ def build_motion(cfg: dict, source: str):
 
 def build_solver(cfg: dict, source: str) -> dict:
     t = cfg.get("solver", {})
-    law = t.get("law", "switch")
+    tfp = isinstance(cfg.get("bearing"), dict) and cfg["bearing"].get("type") == "tfp"
+    law = t.get("law", "arctan" if tfp else "switch")
     if law not in ("switch", "arctan"):
         raise SceneError(f"{source}: solver.law: expected 'switch' or 'arctan', got {law!r}")
+    if tfp and law != "arctan":
+        raise SceneError(f"{source}: solver.law: a triple friction pendulum (bearing.type = "
+                         f"'tfp') runs with the regularised law 'arctan', got {law!r}")  # fmt: skip
     kw = {"law": law}
     for key, default in (("eps", EPS), ("eta", ETA), ("rtol", RTOL), ("atol", ATOL)):
         kw[key] = number(source, f"solver.{key}", t.get(key, default))
@@ -161,7 +166,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     s = res.summary()
     out_dir = Path(out_dir)
     npz = out_dir / "deck.npz"
-    caps = np.array([b.d_cap for b in system.bearings])
+    caps = np.array([b.d_cap for b in system.bearings])  # (a TFP: d1 + d2 + d3 + d4)
     with atomic_open(npz, "wb") as fh:
         np.savez(fh, t=res.t, q=res.q, qd=res.qd, u=res.u, N=res.N, friction=res.friction,
                  restoring=res.restoring, other=res.other, modes=res.modes, events=res.events,
@@ -195,7 +200,13 @@ def format_summary(s: dict) -> str:
     """A short human table of a deck run, every number with its unit; rim contacts and uplift
     first (never silent)."""
     head = f"deck {s.get('name', '')}: law {s['law']}, {s['n_isolators']} isolator(s)"
-    return summary_table(head, s, ROWS)
+    text = summary_table(head, s, ROWS)
+    for c in s.get("tfp_surface_limits", []):  # a triple pendulum's surfaces at their rims
+        text += (
+            f"\n  TFP RIM isolator {c['isolator']} surface {c['surface']} at "
+            f"t = {c['t_first_s']:.4g} s, peak overshoot {c['peak_overshoot_m']:.3g} m"
+        )
+    return text
 
 
 def summary_table(head: str, s: dict, rows) -> str:

@@ -40,6 +40,23 @@ _ANGLE = Key("angle", "number", "direction of the line (major axis) from x", "de
 _SENSE = Key("sense", "integer", "sense of rotation: +1 counter-clockwise, −1 clockwise",
              default=1, choices=(1, -1))  # fmt: skip
 
+_TFP = "tfp only"
+_TFP_KEYS = (
+    *(Key(f"R{j}", "number", f"effective radius of surface {j} ({w})", "m", **_POS,
+          range=_TFP + ("; R1 > R2" if j == 1 else "; R4 > R3" if j == 4 else ""))
+      for j, w in ((1, "outer, lower"), (2, "inner slider, lower"), (3, "inner slider, upper"),
+                   (4, "outer, upper"))),
+    *(Key(f"mu{j}", "number", f"friction coefficient of surface {j}", "—", **_NONNEG,
+          range=_TFP + ("; mu2, mu3 ≤ mu1, mu4" if j in (2, 3) else ""))
+      for j in range(1, 5)),
+    *(Key(f"d{j}", "number", f"displacement capacity of surface {j}", "m", **_POS,
+          range=_TFP + ("; d1, d4 ≥ d2, d3" if j in (1, 4) else ""))
+      for j in range(1, 5)),
+    Key("u_y", "number", "yield displacement: the elastic slip before the first surface "
+        "slides", "m", default=2.5e-4, **_POS, range=_TFP),
+)  # fmt: skip
+
+
 SCHEMA = Schema(
     "deck",
     "bidirectional isolators: a rigid deck or a mass sliding in a plane",
@@ -66,10 +83,12 @@ SCHEMA = Schema(
         Table("mass", "A single mass on one isolator (or `[deck]`).", (
             Key("m", "number", "the mass", "kg", required=True, **_POS),
         )),
-        Table("bearing", "One bearing for every isolator: a friction pendulum (`radius`) or a "
-              "flat slider (`k_lam`, `c`), with a displacement capacity and its restrainer rim.", (
-            Key("type", "string", "friction pendulum or flat slider",
-                default="(fps with a radius, else flat)", choices=("fps", "flat")),
+        Table("bearing", "One bearing for every isolator: a friction pendulum (`radius`), a "
+              "flat slider (`k_lam`, `c`), with a displacement capacity and its restrainer rim, "
+              "or a triple friction pendulum (`type = \"tfp\"`: `R1` … `R4`, `mu1` … `mu4`, "
+              "`d1` … `d4`).", (
+            Key("type", "string", "friction pendulum, flat slider or triple friction pendulum",
+                default="(fps with a radius, else flat)", choices=("fps", "flat", "tfp")),
             Key("mu", "number", "friction coefficient (or `mu_slow`, `mu_fast`, `rate`)", "—",
                 **_NONNEG),
             Key("mu_slow", "number", "kinetic coefficient at low slip speed", "—", **_NONNEG),
@@ -90,6 +109,7 @@ SCHEMA = Schema(
                 default="(100 × the post-slip stiffness at the static load)", **_POS),
             Key("c_stop", "number", "damping of the rim", "N s/m",
                 default="(10 % of critical on the bearing's mass share)", **_NONNEG),
+            *_TFP_KEYS,
         )),
         Table("motion", "A three-component record: one file with two horizontal components "
               "(and a vertical one), or one file per component.", (

@@ -67,6 +67,7 @@ class PlaneResult(Tabular):
     stats: dict
     eps: float = EPS  # the laws' parameters of this run
     eta: float = ETA
+    internal: np.ndarray | None = None  # (nt, 8 n_tfp) internal slips of triple pendulums
 
     @classmethod
     def from_run(cls, system, law, t, X, NO, FF, FR, FO, MO, EV, stops, info, status, eps, eta):
@@ -107,8 +108,8 @@ class PlaneResult(Tabular):
         stats = {"steps": int(info[kr.I_NSTEP]), "rejected": int(info[kr.I_NREJ]),
                  "evaluations": int(info[kr.I_NFEV]), "events": int(info[kr.I_NEV])}  # fmt: skip
         k = slice(0, nout)
-        return cls(system, law, t[k], X[k, :3], X[k, 3:], NO[k], FF[k], FR[k], FO[k], MO[k],
-                   EV[:ne].copy(), contacts, uplift, stats, eps, eta)  # fmt: skip
+        return cls(system, law, t[k], X[k, :3], X[k, 3:6], NO[k], FF[k], FR[k], FO[k], MO[k],
+                   EV[:ne].copy(), contacts, uplift, stats, eps, eta, X[k, 6:])  # fmt: skip
 
     # ---- derived histories ------------------------------------------------------------
     def _slip(self, X) -> np.ndarray:
@@ -190,5 +191,9 @@ class PlaneResult(Tabular):
             "rim_contacts": self.stops,
             "uplift": self.uplift,
         }
+        if getattr(self.system, "has_tfp", False):
+            from nsdyn.models.isolated.tfp import surface_limits
+
+            s["tfp_surface_limits"] = surface_limits(self)
         s.update({f"{k}": v for k, v in self.stats.items()})
         return s

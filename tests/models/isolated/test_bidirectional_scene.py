@@ -92,3 +92,43 @@ def test_a_bearing_error_names_the_file_and_field():
     cfg["bearing"]["radius"] = -1.0
     with pytest.raises(SceneError, match=r"^deck\.toml: bearing\.radius: expected a positive"):
         ds.build_system(cfg, "deck.toml")
+
+
+def test_tfp_scene_runs_with_the_regularised_law_and_equals_the_library_run(tmp_path):
+    # the triple pendulum scene (shortened): the reader builds the series-model bearings, picks
+    # the regularised law, and its summary is the library run's; a figure and JSON follow
+    pytest.importorskip("matplotlib")
+    from nsdyn.models.isolated.tfp import TripleBearing
+    from nsdyn.plot.isolators import scene_figures
+
+    cfg = _cfg("deck-tfp4-3c.toml")
+    cfg["motion"]["t_end"] = 3.0
+    del cfg["solver"]["law"]  # (the default for a TFP: the regularised law)
+    system = ds.build_system(cfg, "tfp.toml")
+    assert all(isinstance(b, TripleBearing) for b in system.bearings)
+    assert system.bearings[0].d_cap == pytest.approx(0.92, rel=1e-12)  # d1 + d2 + d3 + d4
+    s = ds.run_scene(cfg, source="tfp.toml", out_dir=tmp_path, figures=True, quiet=True)
+    assert s["law"] == "arctan" and s["t_end_s"] == pytest.approx(3.0)
+    exc, t_end = ds.build_motion(cfg, "tfp.toml")
+    res = simulate_plane(system, exc, t_end=t_end, law="arctan", rtol=1e-6, atol=(1e-8, 1e-8))
+    assert s["peak_resultant_displacement_m"] == res.summary()["peak_resultant_displacement_m"]
+    assert "tfp_surface_limits" in s
+    files = scene_figures(s, tmp_path)
+    assert Path(files[0]).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    json.dumps(s)
+
+
+def test_tfp_scene_errors_name_the_field():
+    cfg = _cfg("deck-tfp4-3c.toml")
+    cfg["bearing"]["d4"] = 0.05  # below the inner capacities d2 = d3 = 0.06
+    with pytest.raises(SceneError, match=r"^tfp\.toml: bearing\.d4: expected a displacement "
+                       r"capacity >= the inner ones"):  # fmt: skip
+        ds.build_system(cfg, "tfp.toml")
+    cfg = _cfg("deck-tfp4-3c.toml")
+    cfg["solver"]["law"] = "switch"
+    with pytest.raises(SceneError, match=r"^tfp\.toml: solver\.law: a triple friction pendulum"):
+        ds.build_solver(cfg, "tfp.toml")
+    cfg = _cfg("deck-tfp4-3c.toml")
+    cfg["bearing"]["radius"] = 2.0
+    with pytest.raises(SceneError, match=r"^tfp\.toml: bearing\.radius: not a key of a triple"):
+        ds.build_system(cfg, "tfp.toml")

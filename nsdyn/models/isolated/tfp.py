@@ -1,0 +1,218 @@
+"""Triple friction pendulum bearings: four sliding surfaces as a series of friction pendulums.
+
+A triple friction pendulum (TFP) has two outer concave plates (surfaces 1 and 4, effective
+radii R1, R4, friction μ1, μ4, displacement capacities d1, d4) and an inner articulated slider
+(surfaces 2 and 3: R2, R3, μ2, μ3, d2, d3). With μ2, μ3 ≤ μ1 ≤ μ4 its backbone passes five
+regimes (Fenz & Constantinou 2008, J. Eng. Mech. 134(10), Table 1), with the force per unit
+normal load φ = F/N:
+
+    I    sliding on 2 and 3   slope du/dφ = R2 + R3   from φ = μ2 (μ3)
+    II   sliding on 1 and 3               R1 + R3   from φ = μ1
+    III  sliding on 1 and 4               R1 + R4   from φ = μ4
+    IV   sliding on 2 and 4               R2 + R4   from φ = μ1 + d1/R1 (surface 1 at its rim)
+    V    sliding on 2 and 3               R2 + R3   from φ = μ4 + d4/R4 (surface 4 at its rim)
+
+until the inner slider reaches its rims, φ = μ2 + d2/R2 + d1/R1 (= μ3 + d3/R3 + d4/R4 for a
+symmetric bearing), at the total displacement d1 + d2 + d3 + d4. The outer plates turn with
+their slide (surface 2 lies on the plate that slides on 1), so surface 2 carries φ = μ2 +
+u2/R2 + u1/R1: it stops while 1 slides. The same backbone comes from four single pendulums in
+series (the series model of Fenz & Constantinou 2008, Earthquake Spectra 24(4), with its
+modified parameters), the same force φN passing through each:
+
+    element   radius R̄        friction   capacity d̄
+    1         R1 − R2         μ1         d1 (1 − R2/R1)
+    2         R2              μ2         d2 + d1 R2/R1
+    3         R3              μ3         d3 + d4 R3/R4
+    4         R4 − R3         μ4         d4 (1 − R3/R4)
+
+(an element k slides once φ > μ_k and holds s_k = R̄_k (φ − μ_k) on the backbone; the sums
+over the regimes are Table 1's slopes). In the plane every element is a bidirectional
+friction pendulum with internal slip s_k ∈ R² (8 states per bearing, after the deck's [q, q̇])
+in series with one elastic spring of stiffness κ_e N, κ_e = min μ / u_y (the yield
+displacement u_y: the elastic slip at which the first surface slides):
+
+    φ = κ_e (u − Σ_k s_k),     g_k = φ − s_k/R̄_k − κ_s,k ⟨|s_k| − d̄_k⟩ s_k/|s_k|
+    ṡ_k = ⟨|g_k| − μ_k⟩ / (κ_e τ) · g_k/|g_k|        (elastic–viscoplastic flow, Perzyna)
+
+a rigid-plastic element (|g_k| ≤ μ_k: stuck) regularised by the relaxation time
+τ = OVERSTRESS u_y / (1 m/s): sliding at |ṡ| raises an element's friction by OVERSTRESS min μ
+|ṡ| / (1 m/s). The rim of element k is a stiff radial stop κ_s,k = STOP_FACTOR / R̄_k. The
+bearing resists with F = N φ; the deck's kernels read these rows from the bearing table
+(:mod:`nsdyn.models.isolated.bearings`, columns B_KIND … B_ELEM + 15). The switch law's stick
+events do not cover the series model: a TFP runs with the regularised law (Radau IIA).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from nsdyn.models.isolated.bearings import (
+    B_DCAP,
+    B_ELEM,
+    B_KEL,
+    B_KIND,
+    B_MUFAST,
+    B_MUS,
+    B_MUSLOW,
+    B_RINV,
+    B_TAU,
+    KIND_TFP,
+    N_BCOL,
+    Bearing,
+    BearingError,
+    Friction,
+    _number,
+)
+
+U_Y = 2.5e-4  # m, default yield displacement (the elastic slip before the first surface slides)
+OVERSTRESS = 3e-2  # s/m: friction raised by this x min mu per m/s of an element's slip speed
+STOP_FACTOR = 1e3  # an element's rim stiffness (per unit N) / its pendulum stiffness 1/R̄
+N_INTERNAL = 8  # internal states per bearing: (s_x, s_y) of its four series elements
+TFP_KEYS = ("R1", "R2", "R3", "R4", "mu1", "mu2", "mu3", "mu4", "d1", "d2", "d3", "d4", "u_y")
+
+
+@dataclass(frozen=True)
+class TripleBearing(Bearing):
+    """A triple friction pendulum: effective radii ``R1`` … ``R4`` [m] (surfaces 1, 4 outer,
+    2, 3 of the inner slider; R1 > R2, R4 > R3), friction ``mu1`` … ``mu4`` (the inner
+    surfaces' no larger than the outer ones), displacement capacities ``d1`` … ``d4`` [m]
+    (the outer ones no smaller than the inner ones), yield displacement ``u_y`` [m]. The
+    friction, radius and capacity of the base class are derived: min μ, R1 + R4 (the
+    restoring force N u/(R1 + R4) reported apart from the rest of the bearing's force) and
+    d1 + d2 + d3 + d4."""
+
+    friction: Friction | None = None
+    R1: float | None = None
+    R2: float | None = None
+    R3: float | None = None
+    R4: float | None = None
+    mu1: float | None = None
+    mu2: float | None = None
+    mu3: float | None = None
+    mu4: float | None = None
+    d1: float | None = None
+    d2: float | None = None
+    d3: float | None = None
+    d4: float | None = None
+    u_y: float = U_Y
+
+    def __post_init__(self) -> None:
+        w = self.where
+        if self.k_lam != 0.0 or self.c != 0.0:
+            raise BearingError(f"{w}.k_lam: a triple friction pendulum has no rubber or damper "
+                               "(k_lam = c = 0)")  # fmt: skip
+        vals = {}
+        for k in TFP_KEYS[:-1]:
+            v = getattr(self, k)
+            if v is None:
+                raise BearingError(f"{w}.{k}: missing; a triple friction pendulum needs "
+                                   "R1..R4 [m], mu1..mu4 and d1..d4 [m]")  # fmt: skip
+            vals[k] = _number(f"{w}.{k}", v, positive=k[0] in "Rd")
+        _number(f"{w}.u_y", self.u_y, positive=True)
+        for outer, inner in (("R1", "R2"), ("R4", "R3")):
+            if not vals[outer] > vals[inner]:
+                raise BearingError(
+                    f"{w}.{outer}: expected {outer} > {inner} = {vals[inner]:g} m (an outer "
+                    f"surface flatter than the inner slider's), got {vals[outer]:g}"
+                )
+        for inner in ("mu2", "mu3"):
+            if vals[inner] <= 0.0:
+                raise BearingError(f"{w}.{inner}: expected a positive friction coefficient, "
+                                   f"got {vals[inner]:g}")  # fmt: skip
+            lim = min(vals["mu1"], vals["mu4"])
+            if vals[inner] > lim:
+                raise BearingError(
+                    f"{w}.{inner}: expected the inner slider's friction <= mu1 and mu4 "
+                    f"({lim:g}) (it slides first), got {vals[inner]:g}"
+                )
+        for outer in ("d1", "d4"):
+            inner = max(vals["d2"], vals["d3"])
+            if vals[outer] < inner:
+                raise BearingError(
+                    f"{w}.{outer}: expected a displacement capacity >= the inner ones "
+                    f"(d2, d3 <= {vals[outer]:g} m), got {vals[outer]:g} < {inner:g}"
+                )
+        mu_min = min(vals[f"mu{j}"] for j in range(1, 5))
+        object.__setattr__(self, "friction", Friction(mu_min, where=w))
+        object.__setattr__(self, "radius", vals["R1"] + vals["R4"])
+        object.__setattr__(self, "d_cap", sum(vals[f"d{j}"] for j in range(1, 5)))
+
+    def elements(self) -> np.ndarray:
+        """(4, 3) rows (R̄, μ, d̄) of the series model (see the module text)."""
+        R1, R2, R3, R4 = (float(getattr(self, f"R{j}")) for j in range(1, 5))
+        d1, d2, d3, d4 = (float(getattr(self, f"d{j}")) for j in range(1, 5))
+        mu = [float(getattr(self, f"mu{j}")) for j in range(1, 5)]
+        return np.array([
+            [R1 - R2, mu[0], d1 * (1.0 - R2 / R1)],
+            [R2, mu[1], d2 + d1 * R2 / R1],
+            [R3, mu[2], d3 + d4 * R3 / R4],
+            [R4 - R3, mu[3], d4 * (1.0 - R3 / R4)],
+        ])  # fmt: skip
+
+    @property
+    def k_elastic(self) -> float:
+        """κ_e [1/m]: the elastic stiffness per unit normal force."""
+        return float(self.friction.mu_slow) / float(self.u_y)
+
+    def backbone(self, phi) -> np.ndarray:
+        """Total slip u [m] of the rigid-plastic series model at force ratio φ = F/N on
+        monotonic loading from rest: Σ_k R̄_k clip(φ − μ_k, 0, d̄_k/R̄_k)."""
+        phi = np.asarray(phi, dtype=float)
+        u = np.zeros_like(phi)
+        for R, mu, d in self.elements():
+            u += R * np.clip(phi - mu, 0.0, d / R)
+        return u
+
+    def row(self, n_static: float, g: float) -> np.ndarray:
+        """The packed row (the internal states' offset B_IOFF is set by the system)."""
+        r = np.zeros(N_BCOL)
+        r[B_RINV] = 1.0 / self.radius
+        mu_min = float(self.friction.mu_slow)
+        r[B_MUS] = r[B_MUSLOW] = r[B_MUFAST] = mu_min
+        r[B_DCAP] = math.inf  # (the elements carry the rims; contacts read from their slips)
+        r[B_KIND] = KIND_TFP
+        r[B_KEL] = self.k_elastic
+        r[B_TAU] = OVERSTRESS * float(self.u_y) / 1.0
+        for k, (R, mu, d) in enumerate(self.elements()):
+            c = B_ELEM + 4 * k
+            r[c], r[c + 1], r[c + 2], r[c + 3] = 1.0 / R, mu, d, STOP_FACTOR / R
+        return r
+
+
+def tfp_from_config(cfg: dict, where: str) -> TripleBearing:
+    """A :class:`TripleBearing` from a TOML table (``type = "tfp"``: R1..R4, mu1..mu4,
+    d1..d4, optional u_y)."""
+    other = sorted(set(cfg) - {"type", *TFP_KEYS})
+    if other:
+        raise BearingError(f"{where}.{other[0]}: not a key of a triple friction pendulum "
+                           f"(type = 'tfp': {', '.join(TFP_KEYS)})")  # fmt: skip
+    kw = {}
+    for k in TFP_KEYS:
+        if k in cfg:
+            kw[k] = _number(f"{where}.{k}", cfg[k], positive=k[0] in "Rdu")
+    return TripleBearing(where=where, **kw)
+
+
+def surface_limits(res) -> list:
+    """The rims reached by the series elements of every TFP of a run: dicts isolator,
+    surface ("1", "2", "3", "4": the element of that surface), t_first_s, peak_overshoot_m
+    (of the element's slip beyond its capacity d̄, output samples)."""
+    out = []
+    if res.internal is None or res.internal.shape[1] == 0:
+        return out
+    for i, b in enumerate(res.system.bearings):
+        if not isinstance(b, TripleBearing):
+            continue
+        o = res.system.internal_offsets()[i] - 6
+        for k, (_, _, d) in enumerate(b.elements()):
+            s = res.internal[:, o + 2 * k : o + 2 * k + 2]
+            over = np.hypot(s[:, 0], s[:, 1]) - d
+            hit = np.flatnonzero(over > 0.0)
+            if hit.size:
+                out.append({"isolator": i, "surface": str(k + 1),
+                            "t_first_s": float(res.t[hit[0]]),
+                            "peak_overshoot_m": float(over.max())})  # fmt: skip
+    return out

@@ -1,0 +1,219 @@
+"""Triple friction pendulum: the series model against the published piecewise-linear backbone.
+
+Sources: Fenz & Constantinou 2008, "Spherical sliding isolation bearings with adaptive
+behavior: theory", J. Eng. Mech. 134(10), Table 1: regimes I–V with slopes du/dF·W =
+R2 + R3, R1 + R3, R1 + R4, R2 + R4, R2 + R3 and the transition displacements
+
+    u*    = (R2 + R3)(μ1 − μ2)                     (I → II, F = μ1 W)
+    u**   = u* + (R1 + R3)(μ4 − μ1)                (II → III, F = μ4 W)
+    u_dr1 = u** + (R1 + R4)(μ1 + d1/R1 − μ4)       (III → IV, surface 1 at its rim)
+    u_dr4 = u_dr1 + (R2 + R4)(μ4 + d4/R4 − μ1 − d1/R1)   (IV → V, surface 4 at its rim)
+
+and regime V up to F/W = μ2 + d2/R2 + d1/R1, where the inner slider reaches its rims
+(surface 2 turns with the plate sliding on surface 1: it carries F/W = μ2 + u2/R2 + u1/R1),
+at the total capacity d1 + d2 + d3 + d4. The model adds its yield displacement (an elastic
+spring φ/κ_e in series, κ_e = min μ / u_y) and the regularisation's overstress and rim
+compliance, each bounded below from the model's stated constants.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated import tfp
+from nsdyn.models.isolated.bearings import B_IOFF, BearingError
+from nsdyn.models.isolated.deck import rigid_deck, sdof_plane, simulate_plane
+from nsdyn.models.isolated.tfp import TripleBearing
+
+G = 9.81
+# a typical bearing: inner slider R2 = R3 = 0.3 m, outer plates R1 = R4 = 2.2 m (effective)
+TYPICAL = dict(R1=2.2, R2=0.3, R3=0.3, R4=2.2, mu1=0.06, mu2=0.02, mu3=0.02, mu4=0.10,
+               d1=0.40, d2=0.06, d3=0.06, d4=0.40)  # fmt: skip
+
+
+def _drive(b: TripleBearing, path, t_end, n_out=4001):
+    """φ (the bearing's force per unit normal force, 2-vector) along a prescribed slip path
+    u(t) (the kernel's series model, its internal slips integrated by scipy's Radau)."""
+    row = b.row(1.0, G)[None, :].copy()
+    row[0, B_IOFF] = 6
+    y = np.zeros(14)
+    sd = np.zeros((1, 8))
+
+    def f(t, s):
+        y[6:] = s
+        ux, uy = path(t)
+        kp.tfp_force(y, row, 0, ux, uy, sd)
+        return sd[0].copy()
+
+    t = np.linspace(0.0, t_end, n_out)
+    sol = solve_ivp(f, (0.0, t_end), np.zeros(8), method="Radau", t_eval=t, rtol=1e-9,
+                    atol=1e-12)  # fmt: skip
+    assert sol.success
+    u = np.array([path(tt) for tt in t])
+    phi = np.zeros_like(u)
+    for k in range(t.size):
+        y[6:] = sol.y[:, k]
+        phi[k] = kp.tfp_force(y, row, 0, u[k, 0], u[k, 1], sd)
+    return t, u, phi, sol.y.T
+
+
+def _published_backbone(p, phi):
+    """u(φ) of Table 1 (μ2 = μ3, R2 = R3 here), regimes I–V."""
+    R1, R2, R3, R4 = p["R1"], p["R2"], p["R3"], p["R4"]
+    m1, m2, m4 = p["mu1"], p["mu2"], p["mu4"]
+    d1, d2, d4 = p["d1"], p["d2"], p["d4"]
+    u_star = (R2 + R3) * (m1 - m2)
+    u_2star = u_star + (R1 + R3) * (m4 - m1)
+    f_dr1 = m1 + d1 / R1
+    u_dr1 = u_2star + (R1 + R4) * (f_dr1 - m4)
+    f_dr4 = m4 + d4 / R4
+    u_dr4 = u_dr1 + (R2 + R4) * (f_dr4 - f_dr1)
+    f_end = m2 + d2 / R2 + d1 / R1
+    knots_f = [m2, m1, m4, f_dr1, f_dr4, f_end]
+    knots_u = [0.0, u_star, u_2star, u_dr1, u_dr4, u_dr4 + (R2 + R3) * (f_end - f_dr4)]
+    return np.interp(phi, knots_f, knots_u), knots_f, knots_u
+
+
+def test_backbone_follows_the_five_regimes_of_the_published_model():
+    # Monotonic loading at V = 0.01 m/s along a direction 30 deg from x (the vector law is
+    # isotropic: the force stays on the line) through regimes I-V, to 99 % of the force at
+    # which the inner slider reaches its rims. Compared: u - |φ|/κ_e (the yield spring
+    # taken out) with the published u(φ). Bounds: the overstress κ_e τ |ṡ_k| <= OVERSTRESS
+    # min μ V per sliding element, times the largest slope sum R1 + R4; each element held by
+    # its rim yields (φ - φ_rim) R̄/(STOP_FACTOR + 1) (the stop in series with 1/R̄); and
+    # scipy's tolerance.
+    p = TYPICAL
+    b = TripleBearing(**p)
+    _, knots_f, knots_u = _published_backbone(p, 0.0)
+    # the formulas close on the total capacity d1 + d2 + d3 + d4 (symmetric bearing)
+    assert knots_u[-1] == pytest.approx(p["d1"] + p["d2"] + p["d3"] + p["d4"], rel=1e-12)
+    V, ang = 0.01, math.radians(30.0)
+    e = np.array([math.cos(ang), math.sin(ang)])
+    u_end = knots_u[-1] - 0.01 * (p["R2"] + p["R3"]) * (knots_f[-1] - knots_f[-2])
+    t, u, phi, s = _drive(b, lambda tt: V * tt * e, u_end / V)
+    along = phi @ e
+    np.testing.assert_allclose(phi[:, 0] * e[1] - phi[:, 1] * e[0], 0.0, atol=1e-12)
+    u_pub, _, _ = _published_backbone(p, along)
+    u_plastic = V * t - along / b.k_elastic
+    el = b.elements()
+    stop = sum(np.maximum(along - (mu + d / R), 0.0) * R / (tfp.STOP_FACTOR + 1) for R, mu, d in el)
+    tol = stop + (p["R1"] + p["R4"]) * tfp.OVERSTRESS * min(p["mu1"], p["mu2"]) * V * 1.01 + 1e-7
+    sliding = along > p["mu2"] * 1.001  # (below μ2 only the yield spring moves)
+    assert np.all(np.abs(u_plastic - u_pub)[sliding] <= tol[sliding])
+    # every regime was passed: the force reached regime V
+    assert along[-1] > knots_f[-2]
+    # the slopes in the middle of each regime: Table 1's R2 + R3, R1 + R3, R1 + R4, R2 + R4,
+    # R2 + R3, in IV and V plus the compliance R̄/(STOP_FACTOR + 1) of the rims holding the
+    # outer elements (R̄ = R1 - R2, R4 - R3); to 1e-3 (the overstress' share)
+    rim1 = (p["R1"] - p["R2"]) / (tfp.STOP_FACTOR + 1)
+    rim4 = (p["R4"] - p["R3"]) / (tfp.STOP_FACTOR + 1)
+    slopes = [p["R2"] + p["R3"], p["R1"] + p["R3"], p["R1"] + p["R4"],
+              p["R2"] + p["R4"] + rim1, p["R2"] + p["R3"] + rim1 + rim4]  # fmt: skip
+    for j, slope in enumerate(slopes):
+        lo, hi = knots_f[j], knots_f[j + 1]
+        k = np.flatnonzero((along > lo + 0.3 * (hi - lo)) & (along < lo + 0.7 * (hi - lo)))
+        assert k.size > 5, j
+        du = np.polyfit(along[k], u_plastic[k], 1)[0]
+        assert du == pytest.approx(slope, rel=1e-3), j
+
+
+def test_equal_friction_is_a_single_pendulum_of_radius_R1_plus_R4():
+    # With μ1 = μ2 = μ3 = μ4 = μ every series element slides from φ = μ on, and the chain's
+    # slopes add up: R̄1 + R2 + R3 + R̄4 = R1 + R4. Until the first rim the bearing is a single
+    # friction pendulum of radius R = R1 + R4: the rigid-plastic loop φ = u/R ± μ, of area
+    # 4 μ D per unit normal force over a cycle of amplitude D. Driven along 45 deg: 0 -> D ->
+    # -D -> D at 0.02 m/s. Away from the reversals (where the yield spring unloads over
+    # 2 μ/κ_e) the force ratio is u_p/R + μ sign(v) with u_p = u - φ/κ_e, to the overstress.
+    mu, D, V = 0.05, 0.25, 0.02
+    b = TripleBearing(R1=2.0, R2=0.4, R3=0.4, R4=2.0, mu1=mu, mu2=mu, mu3=mu, mu4=mu,
+                      d1=0.5, d2=0.1, d3=0.1, d4=0.5)  # fmt: skip
+    R = 4.0
+    e = np.array([1.0, 1.0]) / math.sqrt(2.0)
+
+    def amp(t):
+        x = V * t
+        return x if x <= D else (2 * D - x if x <= 3 * D else x - 4 * D)
+
+    t, u, phi, _ = _drive(b, lambda tt: amp(tt) * e, 5 * D / V, n_out=5001)
+    a = u @ e
+    f = phi @ e
+    v = np.gradient(a, t)
+    up = a - f / b.k_elastic
+    ref = up / R + mu * np.sign(v)
+    # the yield spring's transition after a reversal spans 2 μ/κ_e of slip
+    away = (np.abs(a - D) > 3 * mu / b.k_elastic) & (np.abs(a + D) > 3 * mu / b.k_elastic)
+    away &= np.abs(a) + 1e-12 < D  # (the first loading from rest included)
+    away &= a * np.sign(v) > -D + 3 * mu / b.k_elastic  # past the elastic part of a reversal
+    away &= t > 3 * mu / b.k_elastic / V
+    tol = tfp.OVERSTRESS * mu * V * 1.01 + 1e-9
+    assert np.all(np.abs(f - ref)[away] <= tol)
+    # the closed loop (second cycle D -> -D -> D): area 4 μ D per unit N
+    k = t >= D / V
+    ak, fk = a[k], f[k]
+    area = -float(np.sum(0.5 * (fk[1:] + fk[:-1]) * np.diff(ak)))
+    assert abs(area) == pytest.approx(4 * mu * D, rel=3 * mu / b.k_elastic / D + 1e-3)
+
+
+def test_a_deck_on_four_tfps_under_a_three_component_record():
+    # The bundled synthetic three-component record (PGA scaled to 4 m/s^2) on a deck of four
+    # triple pendulums: the run ends, the peak resultant isolator displacement (reported in
+    # the summary, the same as max |u| of the histories) stays within the total capacity
+    # d1 + d2 + d3 + d4 plus the rims' compliance, and every rim an element reached is
+    # reported. The vertical balance sum N = m (g + a_z) holds at every output (rigid plate).
+    from nsdyn.ground import read_motion3
+
+    rec = read_motion3("synthetic-wn-40s").scaled_to_pga(4.0)
+    b = TripleBearing(**TYPICAL)
+    m = 1.0e6
+    pos = [(-8.0, -5.0), (8.0, -5.0), (8.0, 5.0), (-8.0, 5.0)]
+    deck = rigid_deck(m, m * (16**2 + 10**2) / 12, pos, b, ecc=(0.5, 0.3), h=1.0)
+    r = simulate_plane(deck, rec, law="arctan", t_end=20.0)
+    s = r.summary()
+    ru = np.hypot(r.u[..., 0], r.u[..., 1])
+    assert s["peak_resultant_displacement_m"] == pytest.approx(ru.max(), rel=1e-12)
+    assert s["peak_resultant_displacement_m"] > 0.05
+    # past the total capacity only through the rims' compliance: at most the force ratio
+    # reached (|F|/N) times the sum of R̄/STOP_FACTOR of the elements, and the yield spring
+    F = r.friction + r.restoring + r.other
+    phi_max = float((np.hypot(F[..., 0], F[..., 1]) / r.N).max())
+    slack = phi_max * (sum(R for R, _, _ in b.elements()) / tfp.STOP_FACTOR + 1 / b.k_elastic)
+    assert ru.max() <= b.d_cap + slack
+    # the reported rims are those the internal slips reached
+    el = b.elements()
+    reported = {(c["isolator"], c["surface"]) for c in s["tfp_surface_limits"]}
+    for i in range(4):
+        for k in range(4):
+            sk = r.internal[:, 8 * i + 2 * k : 8 * i + 2 * k + 2]
+            hit = bool((np.hypot(sk[:, 0], sk[:, 1]) > el[k, 2]).any())
+            assert hit == ((i, str(k + 1)) in reported)
+    az = rec.az[: r.t.size] if rec.az is not None else 0.0
+    np.testing.assert_allclose(r.N.sum(axis=1), m * (G + az), rtol=1e-9)
+
+
+def test_tfp_runs_only_with_the_regularised_law():
+    s = sdof_plane(1000.0, TripleBearing(**TYPICAL))
+    with pytest.raises(ValueError, match=r"law: a triple friction pendulum runs with .*arctan"):
+        simulate_plane(s, {"f": 1.0, "ax": 1.0, "ay": 0.0}, t_end=1.0, law="switch")
+
+
+@pytest.mark.parametrize(
+    "change, field",
+    [
+        ({"R2": 0.0}, r"deck\.bearings\[2\]\.R2: expected a positive number"),
+        ({"R1": -2.2}, r"deck\.bearings\[2\]\.R1: expected a positive number"),
+        ({"R4": 0.2}, r"deck\.bearings\[2\]\.R4: expected R4 > R3"),
+        ({"d4": 0.05}, r"deck\.bearings\[2\]\.d4: expected a displacement capacity >= the inner"),
+        ({"d1": 0.03}, r"deck\.bearings\[2\]\.d1: expected a displacement capacity >= the inner"),
+        ({"mu2": 0.08}, r"deck\.bearings\[2\]\.mu2: expected the inner slider's friction <="),
+        ({"mu3": None}, r"deck\.bearings\[2\]\.mu3: missing"),
+    ],
+)
+def test_bad_tfp_input_is_a_one_line_error_naming_the_field(change, field):
+    with pytest.raises(BearingError, match=field) as err:
+        TripleBearing(where="deck.bearings[2]", **{**TYPICAL, **change})
+    assert "\n" not in str(err.value)
