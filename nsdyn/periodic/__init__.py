@@ -13,7 +13,9 @@ pseudo-arclength, any :class:`PeriodicModel`), ``response`` (the frame's front d
 ``uplift`` (the amplitude A*(f) at which a steady orbit's normal force first reaches zero),
 ``unilateral`` (steady states with lift-off and landing by the stepped sweep), ``stability``
 (a growth of the discrete map checked against an algebraically stable one before an orbit is
-called unstable), ``extrema`` (peaks of a sampled orbit on its dense output).
+called unstable), ``extrema`` (peaks of a sampled orbit on its dense output), ``plane`` (a mass
+or a rigid deck on bidirectional isolators under a harmonic orbit; imported on its own:
+``nsdyn.periodic.plane``).
 """
 
 from pathlib import Path
