@@ -137,6 +137,10 @@ def run(args: argparse.Namespace) -> int:
         except SceneError as e:
             print(f"nsdyn sweep: {e}", file=sys.stderr)
             return EXIT_USER_ERROR
+        if kind == "building3d" and raw.get("structure", {}).get("fidelity") == "fixed":
+            from nsdyn.cli.sweep_fixed3d import run_fixed3d  # linear: the exact steady state
+
+            return run_fixed3d(args, raw)
         if kind in PLANE_KINDS:
             return run_plane(args, raw)
         if kind != "isolated":

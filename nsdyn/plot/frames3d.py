@@ -210,3 +210,37 @@ def scene_figures(summary: dict, out_dir: str | Path) -> list[str]:
                                arrays["mass_fraction"])  # fmt: skip
         files.append(save_figure(fig, out / "building3d-modes.png"))
     return [str(f) for f in files]
+
+
+def frf_figure(rows: list[dict], modes: list[dict], title: str = ""):
+    """Frequency–amplitude curves of the fixed rung (``nsdyn sweep`` on a fixed building3d
+    scene): roof displacement and the largest corner drift ratio against f, one line per
+    amplitude, the fixed-base frequencies dotted (x, y, torsion families labelled).
+    ``rows``: dicts with f, A, roof_displacement_m, corner_drift; ``modes``: dicts with
+    f_hz, family."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10.0, 4.0), layout="constrained")
+    panels = (("roof_displacement_m", "roof displacement amplitude [m]"),
+              ("corner_drift", "largest corner drift ratio [-]"))  # fmt: skip
+    amps = sorted({r["A"] for r in rows})
+    for k, (key, label) in enumerate(panels):
+        a = fig.add_subplot(1, 2, k + 1)
+        for j, amp in enumerate(amps):
+            pts = sorted((r["f"], r[key]) for r in rows if r["A"] == amp)
+            a.loglog(*np.array(pts).T, color=f"C{j % 10}", lw=1.2, label=f"A = {amp:.3g} m/s²")
+        named = set()
+        for m in modes:
+            if m["family"] in ("x", "y", "torsion"):
+                a.axvline(m["f_hz"], color="0.6", ls=":", lw=0.8)
+                if m["family"] not in named:  # the first mode of each family named
+                    named.add(m["family"])
+                    a.annotate(m["family"], (m["f_hz"], 1.0), xycoords=("data", "axes fraction"),
+                               fontsize=7, ha="center", va="bottom", color="0.4")  # fmt: skip
+        a.set_xlabel("excitation frequency f [Hz]")
+        a.set_ylabel(label)
+        a.grid(alpha=0.3, which="both")
+        if k == 0:
+            a.legend(fontsize=7)
+    fig.suptitle(title or "steady harmonic response, fixed base", fontsize=9)
+    return fig
