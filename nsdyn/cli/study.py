@@ -78,11 +78,12 @@ def _format(name: str, run: dict, an: dict) -> str:
                 lines.append(f"fragility {f['edp']} > {r['limit']}: {r['error']}")
     inc = an.get("incidence")
     for r in (inc or {}).get("rows", [])[:MAX_FAILED_LINES]:
-        for q in inc["quantities"][:1]:  # the first quantity: its largest over the angles
-            if r.get(f"{q}_max") is not None:
-                top, at, low = (r[f"{q}_{k}"] for k in ("max", "angle_of_max_deg", "min"))
-                lines.append(f"incidence {r['record']}: {q} max {top:.4g} at {at:g} deg "
-                             f"(min {low:.4g})")  # fmt: skip
+        q = next((q for q in inc["quantities"] if r.get(f"{q}_max") is not None), None)
+        if q is not None:  # the first quantity the group has: its largest over the angles
+            top, at, low = (r[f"{q}_{k}"] for k in ("max", "angle_of_max_deg", "min"))
+            group = ", ".join(str(r.get(b)) for b in inc["by"])
+            lines.append(f"incidence {group}: {q} max {top:.4g} at {at:g} deg "
+                         f"(min {low:.4g})")  # fmt: skip
     for part in ("design", "percentiles", "fragility", "incidence"):
         if an.get(part, {}).get("figure"):
             lines.append(f"figure: {an[part]['figure']}")

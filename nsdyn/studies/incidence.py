@@ -138,7 +138,7 @@ def run(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
     rows = incidence_rows(table, angle, quantities, by)
     if rows:
         Table(rows).write_csv(out / "incidence.csv")
-    res = {"angle": angle, "quantities": quantities, "rows": rows,
+    res = {"angle": angle, "quantities": quantities, "by": by, "rows": rows,
            "table": str(out / "incidence.csv")}  # fmt: skip
     if figures and rows and quantities:
         fig = incidence_figure(table, angle, quantities, by, title=study.name)

@@ -105,7 +105,10 @@ def parse_pairs(source: str, study_dir: Path, pairs) -> list[RecordSpec]:
         try:
             read_motion3(files["x"], files["y"], files.get("z"))
         except (OSError, ValueError) as e:
-            text = " ".join(str(e).split())
+            text = " ".join(str(e).split()).replace(
+                "pass trim=True to cut all components to the shortest",
+                "the components of one record need one length",
+            )
             key = next((k for k in ("z", "y") if f"{k} component" in text), "x")
             raise _err(source, f"{where}.{key}", text) from None
         name = p.get("name", Path(files["x"]).stem)

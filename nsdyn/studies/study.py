@@ -182,12 +182,12 @@ def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter
         raise _err(source, f"{where}.{form}", f"expected a non-empty list, got {args!r}")
     if form == "values":
         kinds = {type(v) for v in args}
-        if not (kinds <= {int, float} or kinds <= {str} or kinds <= {bool}):
-            raise _err(source, f"{where}.values", f"expected numbers or strings, got {args!r}")
         if name in NUMERIC_FIELDS and not kinds <= {int, float}:
             bad = next(v for v in args if isinstance(v, bool) or not isinstance(v, int | float))
             raise _err(source, f"{where}.values",
                        f"expected numbers ({NUMERIC_FIELDS[name]}), got {bad!r}")  # fmt: skip
+        if not (kinds <= {int, float} or kinds <= {str} or kinds <= {bool}):
+            raise _err(source, f"{where}.values", f"expected numbers or strings, got {args!r}")
         return Parameter(name, values=tuple(args))
     nums = [number(source, f"{where}.{form}[{i}]", a, positive=False) for i, a in enumerate(args)]
     if form in ("linspace", "logspace"):
