@@ -8,6 +8,8 @@ Dask ``distributed.Client`` (:func:`dask_executor` starts a ``LocalCluster`` or 
 scheduler). A task that raises is a ``failed`` row. A batch whose worker died (a broken
 process pool, a Dask ``KilledWorker``) is split and its tasks resubmitted one by one, on a new
 pool if the pool was ours; a task that takes its worker down twice is a ``failed`` row.
+Kernels a worker would compile on its first task are compiled once here first
+(:func:`nsdyn.studies.scenes3c.warm_kernels`), so the workers load them from numba's cache.
 
 Progress (stderr, every PROGRESS_S): tasks done / total, failed, skipped (already in the
 table), elapsed wall time and the time left, estimated as
