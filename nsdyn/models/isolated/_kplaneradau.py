@@ -9,10 +9,16 @@ that package cannot call)::
     Z_i = h Σ_j a_ij f(t + c_j h, y + Z_j),   y(t + h) = y + Z_3,
     c = ((4 − √6)/10, (4 + √6)/10, 1)
 
-solved by simplified Newton on the full 3n × 3n system (n = 6, plus 8 internal slips per
-triple friction pendulum) (I − h A ⊗ J) ΔZ = −G(Z) with a
-forward-difference Jacobian J (kept while Newton contracts in at most three iterations and
-steps are accepted, factored again when h changes), the embedded error
+solved by simplified Newton, (I − h A ⊗ J) ΔZ = −G(Z) (n = 6 states, plus 8 internal slips per
+triple friction pendulum), with a forward-difference Jacobian J (kept while Newton contracts in
+at most three iterations and steps are accepted, factored again when h changes). As in RADAU5
+the 3n × 3n system is solved in the eigenbasis of A⁻¹ = T Λ T⁻¹ (Λ: the real eigenvalue γ and
+the pair α ± iβ): with W = T⁻¹ Z it splits into one real and one complex n × n system,
+
+    (γ/h − J) ΔW_1 = (T⁻¹F)_1 − γ W_1/h,
+    ((α + iβ)/h − J)(ΔW_2 + iΔW_3) = (T⁻¹F)_2 + i (T⁻¹F)_3 − (α + iβ)(W_2 + iW_3)/h,
+
+ΔZ = T ΔW (the same Newton iterates, at a fifth of the factorisation's cost), the embedded error
 estimate of RADAU5 (I/(γ₀h) − J)⁻¹ (f(y) + Σ e_i Z_i / h) with e = (−13 − 7√6, −13 + 7√6,
 −1)/3 and γ₀ h the real eigenvalue's reciprocal, steps ending on the record's samples, the
 cubic collocation polynomial through (0, 0), (c_i, Z_i) as dense output and, extrapolated, as
@@ -32,22 +38,20 @@ from nsdyn.models.isolated import _kplanerun as kr
 
 S6 = math.sqrt(6.0)
 C1, C2 = (4.0 - S6) / 10.0, (4.0 + S6) / 10.0
-A11, A12, A13 = (88.0 - 7.0 * S6) / 360.0, (296.0 - 169.0 * S6) / 1800.0, (-2.0 + 3.0 * S6) / 225.0
-A21, A22, A23 = (296.0 + 169.0 * S6) / 1800.0, (88.0 + 7.0 * S6) / 360.0, (-2.0 - 3.0 * S6) / 225.0
-A31, A32, A33 = (16.0 - S6) / 36.0, (16.0 + S6) / 36.0, 1.0 / 9.0
 E1, E2, E3 = (-13.0 - 7.0 * S6) / 3.0, (-13.0 + 7.0 * S6) / 3.0, -1.0 / 3.0
 MU_REAL = 3.0 + 3.0 ** (2.0 / 3.0) - 3.0 ** (1.0 / 3.0)  # 1/γ₀
+# the complex eigenvalue α + iβ of A⁻¹ and its eigenbasis T, T⁻¹ (RADAU5's constants)
+ALPHA_C = (12.0 - 81.0 ** (1 / 3) + 9.0 ** (1 / 3)) / 60.0
+BETA_C = (81.0 ** (1 / 3) + 9.0 ** (1 / 3)) * math.sqrt(3.0) / 60.0
+ALPHA_C, BETA_C = ALPHA_C / (ALPHA_C**2 + BETA_C**2), BETA_C / (ALPHA_C**2 + BETA_C**2)
+T11, T12, T13 = 9.1232394870892942792e-02, -0.14125529502095420843, -3.0029194105147424492e-02
+T21, T22, T23 = 0.24171793270710701896, 0.20412935229379993199, 0.38294211275726193779
+T31, T32, T33 = 0.96604818261509293619, 1.0, 0.0
+TI11, TI12, TI13 = 4.3255798900631553510, 0.33919925181580986954, 0.54177053993587487119
+TI21, TI22, TI23 = -4.1787185915519047273, -0.32768282076106238708, 0.47662355450055045196
+TI31, TI32, TI33 = -0.50287263494578687595, 2.5719269498556054292, -0.59603920482822492497
 NEWTON_MAXITER = 8
 NEWTON_TOL = 0.1  # scaled Newton correction accepted (RADAU5's kappa * tol, with tol ~ 1)
-
-
-@njit(cache=True, error_model="numpy")
-def _a(i, j):
-    if i == 0:
-        return A11 if j == 0 else (A12 if j == 1 else A13)
-    if i == 1:
-        return A21 if j == 0 else (A22 if j == 1 else A23)
-    return A31 if j == 0 else (A32 if j == 1 else A33)
 
 
 @njit(cache=True, error_model="numpy")
@@ -78,9 +82,10 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
     J = np.zeros((n, n))
     Z = np.zeros((3, n))
     F = np.zeros((3, n))
-    K = np.zeros((3 * n, 3 * n))
-    piv = np.zeros(3 * n, dtype=np.int64)
-    rhs = np.zeros(3 * n)
+    r1 = np.zeros(n)
+    rc = np.zeros(n, dtype=np.complex128)
+    EC = np.zeros((n, n), dtype=np.complex128)
+    pc = np.zeros(n, dtype=np.int64)
     LE = np.zeros((n, n))
     pe = np.zeros(n, dtype=np.int64)
     err = np.zeros(n)
@@ -105,6 +110,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         return kr.ST_UPLIFT
     h = min(cfg[kr.C_H0], hmax)
     need_jac = True
+    jac_here = False  # J was evaluated at the current (t, y): a new one would be the same
     f0_ready = False
     en_old = 0.0
     have_prev = False
@@ -142,6 +148,8 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                 break
             nfev += 1
             f0_ready = True
+        if need_jac and jac_here:  # (a rejected step's point again: the same J)
+            need_jac = False
         if need_jac:  # forward differences at the step's start, kept while Newton converges
             for j in range(n):
                 d = 1e-8 * max(abs(y[j]), 1e-3)
@@ -153,21 +161,16 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                     J[k, j] = (f1[k] - f0[k]) / d
             nfev += n
             need_jac = False
+            jac_here = True
             lu_h = -1.0
-        if abs(hh - lu_h) > 1e-9 * hh:  # (I - h A x J), factored again when h or J changed
-            for a in range(3):
-                for b in range(3):
-                    ab = hh * _a(a, b)
-                    for k in range(n):
-                        for m in range(n):
-                            K[a * n + k, b * n + m] = (
-                                1.0 if (a == b and k == m) else 0.0
-                            ) - ab * J[k, m]
-            ok = lu_factor(K, piv, 0.0)
+        if abs(hh - lu_h) > 1e-9 * hh:  # γ/h − J and (α + iβ)/h − J, again when h or J changed
+            lam = complex(ALPHA_C / hh, BETA_C / hh)
             for k in range(n):
                 for m in range(n):
                     LE[k, m] = (MU_REAL / hh if k == m else 0.0) - J[k, m]
-            ok = ok and lu_factor(LE, pe, 0.0)
+                    EC[k, m] = (lam if k == m else 0.0) - J[k, m]
+            ok = lu_factor(LE, pe, 0.0)
+            ok = ok and lu_factor(EC, pc, 0.0)
             lu_h = hh
         for k in range(n):
             sc[k] = (cfg[kr.C_ATOLV] if 3 <= k < 6 else cfg[kr.C_ATOLQ]) + rtol * abs(y[k])
@@ -192,18 +195,32 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                 kp.rhs(t + ca * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out,
                        F[a])  # fmt: skip
             nfev += 3
-            for a in range(3):
-                for k in range(n):
-                    g = Z[a, k]
-                    for b in range(3):
-                        g -= hh * _a(a, b) * F[b, k]
-                    rhs[a * n + k] = -g
-            lu_solve(K, piv, rhs)
+            for k in range(n):  # in the eigenbasis: W = T⁻¹ Z, T⁻¹ F
+                z1, z2, z3 = Z[0, k], Z[1, k], Z[2, k]
+                w1 = TI11 * z1 + TI12 * z2 + TI13 * z3
+                w2 = TI21 * z1 + TI22 * z2 + TI23 * z3
+                w3 = TI31 * z1 + TI32 * z2 + TI33 * z3
+                fa, fb, fc = F[0, k], F[1, k], F[2, k]
+                g1 = TI11 * fa + TI12 * fb + TI13 * fc
+                g2 = TI21 * fa + TI22 * fb + TI23 * fc
+                g3 = TI31 * fa + TI32 * fb + TI33 * fc
+                r1[k] = g1 - MU_REAL * w1 / hh
+                rc[k] = complex(g2 - (ALPHA_C * w2 - BETA_C * w3) / hh,
+                                g3 - (BETA_C * w2 + ALPHA_C * w3) / hh)  # fmt: skip
+            lu_solve(LE, pe, r1)
+            lu_solve(EC, pc, rc)
             dn = 0.0
-            for a in range(3):
-                for k in range(n):
-                    Z[a, k] += rhs[a * n + k]
-                    dn = max(dn, abs(rhs[a * n + k]) / sc[k])
+            for k in range(n):  # ΔZ = T ΔW
+                d1, d2, d3 = r1[k], rc[k].real, rc[k].imag
+                for a in range(3):
+                    if a == 0:
+                        dz = T11 * d1 + T12 * d2 + T13 * d3
+                    elif a == 1:
+                        dz = T21 * d1 + T22 * d2 + T23 * d3
+                    else:
+                        dz = T31 * d1 + T32 * d2 + T33 * d3
+                    Z[a, k] += dz
+                    dn = max(dn, abs(dz) / sc[k])
             if not math.isfinite(dn):
                 break
             if dn < NEWTON_TOL:
@@ -296,6 +313,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         have_prev = s_end >= 1.0
         f0_ready = s_end >= 1.0
         t = t_new
+        jac_here = False
         kr._track_stops(t, y, pos, bp, stops)
         if status == kr.ST_UPLIFT:
             info[kr.I_TFAIL] = t
