@@ -21,10 +21,16 @@ sequence makes the computed map non-smooth in x0 at its integration error e ~ rt
 difference errs by about e/δ + δ² |φ'''|/6: with δ = rtol^(1/3) a both terms are ~ rtol^(2/3),
 a relative error of ~ 5e-7 of Φ's entries (and of the Floquet multipliers, the eigenvalues of
 Φ) at rtol = 1e-10. Newton's method converges with this Jacobian (its error only slows the
-last iterations). Where the orbit switches between stick and slip the map is only piecewise
-smooth and a difference straddling a switch is not a derivative: near a stick–slip transition
-(a slip or stick phase shrinking to nothing) shooting may fail, and the point then comes from
-the stepped sweep (time integration until the map is stationary) with the reason in its note.
+last iterations). The switch law's stick band |v| <= η adds a noise of its own to an orbit
+with stick–slip events, about η / (the orbit's velocity excursion) relative: on slow
+stick–slip orbits the default band 1e-5 m/s leaves a noise floor near the shooting tolerance.
+Where the orbit switches between stick and slip the map is only piecewise smooth and a
+difference straddling a switch is not a derivative: near a stick–slip transition (a slip or
+stick phase shrinking to nothing) shooting may fail, and the point then comes from the stepped
+sweep (time integration until the map is stationary) with the reason in its note. Such
+multipliers can be wrong too, so an orbit they call unstable is checked by the map itself
+(:func:`check_growth`): a perturbation along the growing direction is followed GROWTH_PERIODS
+periods, and the verdict (and the reported |ρ|) is its growth or decay per period.
 
 A single mass (one isolator, no eccentricity) has a free twist θ̈ = 0 that carries no load: its
 state is (x, y, ẋ, ẏ), dim 4; a deck's is [q, q̇], dim 6.
@@ -48,10 +54,12 @@ from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.deck import ATOL_V_EPS, PlaneSystem, kernel_params
 from nsdyn.models.isolated.defaults import EPS, ETA
 from nsdyn.models.isolated.friction import sticks
+from nsdyn.periodic.bifurcation import STABLE_MARGIN
 from nsdyn.periodic.continuation import continue_range
 from nsdyn.periodic.curve import Curve
 from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.protocol import STATUS_MESSAGES, STATUS_OK, PeriodMap, check_frequency
+from nsdyn.periodic.shooting import _weights, orbit_amplitudes
 
 RTOL = 1e-10  # the period map's relative tolerance
 ATOL = 1e-12  # ... absolute [m, m/s] (the regularised law's velocity part capped at 0.1/eps)
@@ -60,6 +68,8 @@ FD_FLOOR = 1e-4  # excursion [m, m/s] below which the difference step is taken f
 SAMPLES_MIN = 256  # orbit samples per period at least
 MAX_STEPS = 2_000_000  # integration steps per period
 EV_ROWS = 20_000  # event rows kept per period (the count is exact)
+GROWTH_PERIODS = 10  # periods a perturbation is followed to check an "unstable" verdict
+GROWTH_REL = 1e-3  # its size, relative to the orbit's excursion
 STATUS_BASE = 100  # the deck loops' status s is reported as STATUS_BASE + s
 STATUS_UPLIFT = STATUS_BASE + kr.ST_UPLIFT
 _WHY = {
@@ -146,7 +156,6 @@ class PlaneProblem:
         self.params = kernel_params(system, law, self.eps, self.eta, None)
         self.loop = krad.integrate if law == "arctan" else kr.integrate
         self.rtol = float(rtol)
-        self.fd_rel = self.rtol ** (1.0 / 3.0)
         atol_v = min(atol, ATOL_V_EPS / self.eps) if law == "arctan" else atol
         self.atol = (float(atol), float(atol_v))
         ex, ey = (float(e) for e in system.ecc)
@@ -205,6 +214,10 @@ class PlaneProblem:
             st = STATUS_BASE + kr.ST_NONFINITE
         return st, X, ((NO, FF, FR, MO, info, stops) if full else None)
 
+    def fd_step(self) -> float:
+        """Relative central-difference step rtol^(1/3) (module text)."""
+        return self.rtol ** (1.0 / 3.0)
+
     def samples(self, f: float, n_steps: int | None, disc: Discretisation | None) -> int:
         """Orbit samples per period: ``n_steps``, else the discretisation's step count (the
         integration itself is adaptive), at least SAMPLES_MIN."""
@@ -231,9 +244,10 @@ class PlaneProblem:
             exc = np.abs(Xs - Xs[0]).max(axis=0)  # (the orbit's excursion per entry)
             amp = np.where(np.arange(d) < m, max(exc[:m].max(), FD_FLOOR),
                            max(exc[m:].max(), FD_FLOOR))  # fmt: skip
+            rel = self.fd_step()
             Phi = np.empty((d, d))
             for j in range(d):
-                dj = self.fd_rel * amp[j]
+                dj = rel * amp[j]
                 ends = []
                 for s in (1.0, -1.0):
                     xp = x0.copy()
@@ -351,11 +365,52 @@ def plane_problem(system: PlaneSystem, orbit, *, amplitude: float | None = None,
     return PlaneProblem(system, A if amplitude is None else amplitude, shape, **options)
 
 
+def check_growth(problem: PlaneProblem, pt) -> None:
+    """Check an "unstable" verdict of the point ``pt`` (an OrbitPoint) by the map itself: from
+    the orbit's start displaced by GROWTH_REL of its excursion along the growing eigenvector of
+    the monodromy, GROWTH_PERIODS periods are integrated, and the mean change per period of
+    the scaled distance to the start, r, replaces the multipliers (``[r]``) with a note."""
+    if not pt.multipliers.size or pt.max_multiplier < 1.0 + STABLE_MARGIN:
+        return
+    pm = problem.period_map(pt.x0, pt.f, store=True)
+    if pm.status != STATUS_OK:
+        return
+    rho, vec = np.linalg.eig(pm.monodromy)
+    k = int(np.argmax(np.abs(rho)))
+    amp = orbit_amplitudes(problem, pm.X)
+    W = _weights(problem, amp)
+    v = vec[:, k].real if np.any(vec[:, k].real) else vec[:, k].imag
+    dx = GROWTH_REL * v / np.abs(W * v).max()
+    x = pt.x0 + dx
+    d0 = float(np.abs(W * dx).max())
+    for _ in range(GROWTH_PERIODS):
+        pk = problem.period_map(x, pt.f, n_steps=pm.n_steps, sens=False)
+        if pk.status != STATUS_OK:
+            return
+        x = pk.xT
+    r = (float(np.abs(W * (x - pt.x0)).max()) / d0) ** (1.0 / GROWTH_PERIODS)
+    first = f"the differenced monodromy's max |rho| = {pt.max_multiplier:.4g}"
+    verdict = "unstable, confirmed" if r >= 1.0 + STABLE_MARGIN else "stable"
+    note = (f"{verdict}: {first}; a perturbation followed {GROWTH_PERIODS} periods changes by "
+            f"{r:.4g} per period (reported as |rho|)")  # fmt: skip
+    pt.multipliers = np.array([complex(r)])
+    pt.note = "; ".join(n for n in (pt.note, note) if n)
+
+
 def plane_response(problem: PlaneProblem, **options) -> Curve:
     """Periodic orbits of ``problem`` continued in f (``options``: fmin, fmax, points,
     continuation "sequential" | "arclength", fallback, progress, start, x0, ... of
-    :func:`nsdyn.periodic.continuation.continue_range`). The curve's ``info["failures"]``
-    lists the frequencies where shooting failed, with the reason (:func:`failures`)."""
+    :func:`nsdyn.periodic.continuation.continue_range`). An "unstable" point is checked by
+    :func:`check_growth`. The curve's ``info["failures"]`` lists the frequencies where shooting
+    failed, with the reason (:func:`failures`)."""
+    user = options.get("progress")
+
+    def progress(pt, k, n):
+        check_growth(problem, pt)
+        if user is not None:
+            user(pt, k, n)
+
+    options["progress"] = progress
     curve = continue_range(problem, **options)
     curve.info.update({"model": problem.name, "law": problem.law})
     curve.info["failures"] = failures(curve, options)

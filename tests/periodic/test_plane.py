@@ -271,3 +271,21 @@ def test_elliptical_orbit_is_where_the_time_history_from_rest_ends(law):
         np.abs(end - res.x0)
         <= 1e-6 * np.concatenate([scale[:2].max() * np.ones(2), scale[2:].max() * np.ones(2)])
     )
+
+
+def test_an_unstable_verdict_from_a_difference_across_a_switch_is_checked_by_the_map():
+    # A stick-slip orbit (linear excitation at 0.1 Hz: stuck 69 % of the period) differenced
+    # with a step 40x too large straddles the stick-slip switches: its multipliers (max ~9) are
+    # not the map's. A friction oscillator with a damper dissipates, and the perturbation the
+    # check follows for 10 periods must shrink: the point is reported stable, with the decay
+    # per period as |rho| and the first value in its note
+    from nsdyn.periodic.plane import plane_response
+
+    pb = plane_problem(sdof(), HarmonicPlane.linear(1.0, 0.6, 20.0), law="switch")
+    pb.fd_step = lambda: 0.02
+    curve = plane_response(pb, fmin=0.1, fmax=0.13, points=2)
+    p = curve.points[0]
+    assert p.converged and 0.0 < p.quantities["stick_fraction"] < 1.0
+    assert p.stable is True and p.multipliers.size == 1 and abs(p.multipliers[0]) < 1.0
+    assert "differenced monodromy's max |rho|" in p.note and "stable" in p.note
+    assert not any(b for b in curve.bifurcations)
