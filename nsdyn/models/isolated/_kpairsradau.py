@@ -32,7 +32,9 @@ from nsdyn.models.isolated import _kplanerun as kr
 
 def _eigen_split():
     """(T, T⁻¹, γ, α, β) with A⁻¹ T = T [[γ, 0, 0], [0, α, β], [0, −β, α]]."""
-    A = np.array([[krad._a(i, j) for j in range(3)] for i in range(3)])
+    c = np.array([krad.C1, krad.C2, 1.0])  # collocation: Σ_j a_ij c_j^(k−1) = c_i^k / k
+    V = np.vander(c, 3, increasing=True)  # V[j, k] = c_j^k
+    A = np.linalg.solve(V.T, (c[None, :] ** np.arange(1, 4)[:, None]) / np.arange(1, 4)[:, None]).T
     Ai = np.linalg.inv(A)
     w, V = np.linalg.eig(Ai)
     kr_ = int(np.argmin(np.abs(w.imag)))

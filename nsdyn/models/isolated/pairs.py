@@ -28,6 +28,7 @@ given.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -195,7 +196,14 @@ class PairSystem:
         for _ in range(STATIC_ITER):
             Ks = self.K + D2.T @ ((klam + rinv * np.repeat(lam, 2))[:, None] * D2)
             A = np.block([[Ks, -self.R.T], [self.R, np.zeros((ni, ni))]])
-            sol = np.linalg.lstsq(A, f, rcond=None)[0]
+            try:  # (LU keeps decoupled coordinates exactly at rest; least squares mixes)
+                with warnings.catch_warnings():
+                    warnings.simplefilter("error", sla.LinAlgWarning)
+                    sol = sla.solve(A, f)
+            except (sla.LinAlgError, sla.LinAlgWarning, ValueError):
+                sol = np.linalg.lstsq(A, f, rcond=None)[0]
+            if not np.all(np.isfinite(sol)):
+                sol = np.linalg.lstsq(A, f, rcond=None)[0]
             res = np.abs(A @ sol - f).max()
             scale = np.abs(A).max() * np.abs(sol).max() + np.abs(f).max()
             if not res <= 1e3 * STATIC_RTOL * scale:

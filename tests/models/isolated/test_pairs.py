@@ -1,0 +1,253 @@
+"""Systems from matrices on isolators that slide in a plane (PairSystem, simulate_pairs).
+
+Independent references: today's planar model (seed 004's constrained equations, nsdyn.solve's
+integrators, one slip component per isolator), the deck's kernels (a mass on one isolator
+with its normal force from the rigid-plate balance, not from a contact multiplier), and closed
+forms for stick, break-away and uplift of a rigid mass under a known ground acceleration.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from nsdyn.ground.excitation import Table
+from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated.bearings import Bearing, Friction
+from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
+from nsdyn.models.isolated.pairs import PairSystem, PairSystemError, simulate_pairs
+from nsdyn.models.isolated.plane_result import UpliftWarning
+from nsdyn.models.isolated.statespace import demo_frame
+from nsdyn.models.isolated.system import Isolation, build_system
+from nsdyn.solve.transient import simulate
+
+G = 9.81
+M = 1000.0
+
+
+def single_mass(bearing, m=M):
+    """A mass on one isolator: q = (x, y, z), slip rows x and y, the contact row on z."""
+    return PairSystem(M=m * np.eye(3), K=np.zeros((3, 3)), C=np.zeros((3, 3)), Gamma=np.eye(3),
+                      D=np.array([[[1.0, 0, 0], [0, 1.0, 0]]]), R=np.array([[0, 0, 1.0]]),
+                      bearings=(bearing,), positions=np.zeros((1, 2)), g=G)  # fmt: skip
+
+
+def with_y(s, iso):
+    """The planar model ``s`` (coordinates: x, vertical, rotations or modes) with one
+    out-of-plane translation y appended (the structure's translational mass), each isolator
+    sliding in x (its planar row) and y; the isolators' rubber and dampers moved from K*, C*
+    into the bearings."""
+    n, ni = s.n, s.n_isolators
+    kl, c, mu = (iso.per_isolator(k, ni) for k in ("k_lam", "c", "mu"))
+    K = s.K - s.D.T @ np.diag(kl) @ s.D
+    C = s.C - s.D.T @ np.diag(c) @ s.D
+
+    def pad(A, d):
+        return np.block([[A, np.zeros((n, 1))], [np.zeros((1, n)), np.full((1, 1), d)]])
+
+    Gam = np.zeros((n + 1, 3))
+    Gam[:n, 0], Gam[n, 1], Gam[:n, 2] = s.Gamma[:, 0], 1.0, s.Gamma[:, 1]
+    D = np.zeros((ni, 2, n + 1))
+    D[:, 0, :n], D[:, 1, n] = s.D, 1.0
+    R = np.hstack([s.R, np.zeros((ni, 1))])
+    b = tuple(Bearing(Friction(mu[i]), k_lam=kl[i], c=c[i]) for i in range(ni))
+    return PairSystem(pad(s.M, s.total_mass), pad(K, 0.0), pad(C, 0.0), Gam, D, R, b,
+                      np.zeros((ni, 2)), g=iso.g)  # fmt: skip
+
+
+def _record(dt=0.005, T=8.0):
+    """Three sines under a sin² window [m/s²] (peak ~3.6 m/s², well above mu g)."""
+    t = np.arange(0.0, T + dt / 2, dt)
+    a = (2.2 * np.sin(2 * np.pi * 0.7 * t) + 1.3 * np.sin(2 * np.pi * 1.9 * t + 0.4)
+         + 0.8 * np.sin(2 * np.pi * 3.1 * t + 1.0)) * np.sin(np.pi * t / T) ** 2  # fmt: skip
+    return t, a
+
+
+def _reduction(fidelity, law):
+    # the switch law sticks at |v| <= eta, not at v = 0, in both models
+    eta = 1e-9
+    iso = Isolation(law=law, eta=eta, diaphragm_EA=1e9, diaphragm_EI=1e9)
+    s = build_system(demo_frame(), iso, fidelity=fidelity, f_max=20.0)
+    dt = 0.005
+    t, a = _record(dt)
+    p = with_y(s, iso)
+    rp = simulate_pairs(p, (0.0, dt, a, None, None), law=law, eta=eta, t_eval=t, rtol=1e-9,
+                        atol=(1e-11, 1e-11))  # fmt: skip
+    method = "radau" if law == "arctan" else "event"
+    r1 = simulate(s, Table(0.0, dt, a), method=method, rtol=1e-10, atol=1e-12, t_eval=t)
+    n = s.n
+    x = r1.x[:, :n]
+    peak = np.abs(x[:, 0]).max()
+    assert peak > 0.05  # the isolators slide (mu g = 0.29 m/s² below the record's peak)
+    # x history = the planar model's. Tolerance: both runs control local errors at ~1e-9
+    # relative over ~1e4 steps whose errors the dissipative slip does not amplify; the switch
+    # law's two models differ by O(eta) per stick phase (a band |v| <= eta, not v = 0:
+    # eta / kappa ~ 1e-10 m, times the stiff base's amplification ω_d / κ ~ 10², ~60 phases),
+    # below 1e-7 m: bound 1e-6 x peak (0.13 m) for both laws.
+    assert np.abs(rp.q[:, :n] - x).max() < 1e-6 * peak
+    # y stays at rest exactly: no term of its equation is non-zero (v_y = 0 gives f_y = 0,
+    # the stick rows give τ_y = 0, M is block diagonal)
+    assert np.abs(rp.q[:, n]).max() == 0.0
+    assert np.abs(rp.u[..., 1]).max() == 0.0
+    # the normal forces carry the weight on average and match the planar multipliers
+    tab = Table(0.0, dt, a)
+    lam = np.array([s.evaluate(tk, xk, tab)["lam"] for tk, xk in zip(t[::40], r1.x[::40],
+                                                                     strict=True)])  # fmt: skip
+    np.testing.assert_allclose(rp.N[::40], lam, rtol=0, atol=1e-6 * lam.max())
+
+
+@pytest.mark.parametrize("law", ["arctan", "switch"])
+def test_planar_rigid_model_with_a_y_dof_reduces_to_the_planar_model(law):
+    _reduction("rigid", law)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("law", ["arctan", "switch"])
+def test_planar_craig_bampton_model_with_a_y_dof_reduces_to_the_planar_model(law):
+    _reduction("cb", law)
+
+
+def _circular(A, f, az=0.0, fz=1.0):
+    return {"f": f, "ax": A, "ay": A, "phase_y_deg": -90.0, "az": az, "f_z": fz}
+
+
+@pytest.mark.parametrize("law", ["arctan", "switch"])
+def test_single_mass_equals_the_deck_kernels_sdof(law):
+    # A mass on one friction pendulum with a damper under a circular orbit and a vertical
+    # component: the deck's SDOF (normal force m (g + a_z) from its vertical balance) and the
+    # PairSystem (normal force a Baumgarte multiplier: the gap, zero at rest, stays zero, so
+    # λ = m (g + a_z) too). Both at rtol 1e-10: the histories agree to the integrators'
+    # global error, well below 1e-7 of the peak slip (0.4 m).
+    b = Bearing(Friction(0.05, mu_fast=0.08, rate=20.0, mu_static=0.1), radius=2.0, c=500.0)
+    orbit = _circular(2.0, 0.5, az=0.3 * G, fz=1.3)
+    kw = dict(law=law, t_end=6.0, dt_out=0.01, rtol=1e-10, atol=(1e-12, 1e-12))
+    r = simulate_pairs(single_mass(b), orbit, **kw)
+    ref = simulate_plane(sdof_plane(M, b, g=G), orbit, **kw)
+    peak = np.abs(ref.u).max()
+    assert peak > 0.1
+    assert np.abs(r.u - ref.u).max() < 1e-7 * peak
+    assert np.abs(r.v - ref.v).max() < 1e-7 * np.abs(ref.v).max()
+    w = 2 * math.pi * 1.3
+    np.testing.assert_allclose(r.N[:, 0], M * (G + 0.3 * G * np.sin(w * r.t)), rtol=1e-8)
+    np.testing.assert_allclose(r.friction, ref.friction, rtol=0, atol=1e-6 * M * G * 0.1)
+    np.testing.assert_allclose(r.restoring, ref.restoring, rtol=0, atol=1e-6 * M * G * 0.1)
+    if law == "switch":
+        assert r.stats["events"] == ref.stats["events"] > 0
+        np.testing.assert_allclose(r.events[:, 0], ref.events[:, 0], atol=1e-8)
+    s = r.summary()
+    assert s["peak_resultant_displacement_m"] == pytest.approx(float(np.hypot(*r.u[:, 0].T).max()))
+    assert "peak_torsion_rad" not in s and s["n_dofs"] == 3
+
+
+@pytest.mark.parametrize("angle", [0.0, 25.0, 90.0, 200.0])
+def test_below_the_stick_threshold_the_mass_stays_stuck_in_any_direction(angle):
+    # |a_g| < mu_s g (the disc radius; above mu_d g): the stick force m |a_g| stays inside
+    # the disc whatever the direction, so the switch law never releases the isolator.
+    mu_d, mu_s = 0.05, 0.1
+    A = 0.95 * mu_s * G
+    c, s = math.cos(math.radians(angle)), math.sin(math.radians(angle))
+    sysm = single_mass(Bearing(Friction(mu_d, mu_static=mu_s), radius=3.0))
+    for orbit in ({"f": 1.3, "ax": A * c, "ay": A * s, "phase_y_deg": 0.0}, _circular(A, 1.3)):
+        r = simulate_pairs(sysm, orbit, t_end=5.0)
+        # stuck: D q̈ = −κ D q̇ from rest, q̈ the round-off of the 3 x 3 constraint solve
+        # (~1e-16 |a_g|), integrated over 5 s: far below 1e-12 m
+        assert np.abs(r.u).max() < 1e-12
+        assert r.stats["events"] == 0 and np.all(r.modes == kp.MODE_STICK)
+        w = 2 * math.pi * 1.3
+        ph = math.radians(orbit["phase_y_deg"])
+        ag = np.hypot(orbit["ax"] * np.sin(w * r.t), orbit["ay"] * np.sin(w * r.t + ph))
+        fr = np.hypot(*r.friction[:, 0, :].T)
+        np.testing.assert_allclose(fr, M * ag, rtol=0, atol=1e-9 * M * A)  # tau = -m a_g
+
+
+def test_break_away_starts_in_the_direction_of_the_stick_force():
+    # a_g = (b, c t): the stick force τ = −m a_g reaches the disc μ_s m g at
+    # t* = √((μ_s g)² − b²)/c; the slip starts along τ(t*)/|τ(t*)| (located to 1e-11 s).
+    mu_s, mu_d, b, c = 0.1, 0.08, 0.6, 0.5
+    dt = 0.01
+    t = np.arange(0.0, 3.0 + dt / 2, dt)
+    r = simulate_pairs(single_mass(Bearing(Friction(mu_d, mu_static=mu_s))),
+                       (0.0, dt, np.full_like(t, b), c * t, None))  # fmt: skip
+    t_star = math.sqrt((mu_s * G) ** 2 - b * b) / c
+    ev = r.events[r.events[:, 3] == kp.MODE_START]
+    assert ev.shape[0] >= 1
+    assert ev[0, 0] == pytest.approx(t_star, abs=1e-9)
+    tau = -np.array([b, c * t_star])
+    np.testing.assert_allclose(ev[0, 4:6], tau / np.linalg.norm(tau), atol=1e-9)
+    k = np.searchsorted(r.t, t_star + 0.02)
+    v = r.v[k, 0]
+    assert np.dot(v, tau) / (np.linalg.norm(v) * np.linalg.norm(tau)) > 0.99
+
+
+@pytest.mark.parametrize("law", ["arctan", "switch"])
+def test_uplift_is_located_and_reported(law):
+    # a_z = A sin(ω t) with A = 1.5 g: λ = m (g + a_z) reaches zero first at
+    # ω t = π + asin(g / A); the run ends there with a warning and result.uplift.
+    A, f = 1.5 * G, 2.0
+    orbit = {"f": f, "ax": 0.5, "ay": 0.0, "az": A, "f_z": f}
+    with pytest.warns(UpliftWarning, match="isolator 0"):
+        r = simulate_pairs(single_mass(Bearing(Friction(0.05))), orbit, law=law, t_end=2.0)
+    t_up = (math.pi + math.asin(G / A)) / (2 * math.pi * f)
+    assert r.uplift["isolator"] == 0
+    assert r.uplift["t_s"] == pytest.approx(t_up, abs=1e-8)
+    assert r.t[-1] <= t_up
+
+
+def _fields(**over):
+    f = dict(M=M * np.eye(3), K=np.zeros((3, 3)), C=np.zeros((3, 3)), Gamma=np.eye(3),
+             D=np.array([[[1.0, 0, 0], [0, 1.0, 0]]]), R=np.array([[0, 0, 1.0]]),
+             bearings=(Bearing(Friction(0.05)),), positions=np.zeros((1, 2)),
+             name="box")  # fmt: skip
+    f.update(over)
+    return f
+
+
+@pytest.mark.parametrize(
+    ("over", "match"),
+    [
+        ({"M": np.eye(2)}, r"box\.K: expected shape \(2, 2\)"),
+        ({"M": np.ones(3)}, r"box\.M: expected a square"),
+        ({"M": np.diag([1.0, 1.0, -1.0])}, r"box\.M: expected a positive definite"),
+        ({"M": np.array([[1.0, 0.5, 0], [0, 1, 0], [0, 0, 1]])}, r"box\.M: not symmetric"),
+        ({"K": np.full((3, 3), np.nan)}, r"box\.K: entry \[0, 0\] is nan"),
+        ({"Gamma": np.eye(3)[:, :2]}, r"box\.Gamma: expected shape \(3, 3\)"),
+        ({"D": np.zeros((1, 2, 3))}, r"box\.D\[0, 0\]: the x slip row of isolator 0 is zero"),
+        ({"D": np.array([[[1.0, 0, 0], [2.0, 0, 0]]])}, r"box\.D\[0\]: .* parallel"),
+        ({"D": np.ones((1, 3))}, r"box\.D: expected slip rows of shape \(ni, 2, 3\)"),
+        ({"R": np.zeros((1, 3))}, r"box\.R\[0\]: the contact row of isolator 0 is zero"),
+        ({"R": np.zeros((2, 3))}, r"box\.R: expected shape \(1, 3\)"),
+        ({"bearings": ()}, r"box\.bearings: expected 1 Bearing"),
+        ({"bearings": ("flat",)}, r"box\.bearings\[0\]: expected a Bearing"),
+        ({"positions": np.zeros(2)}, r"box\.positions: expected shape \(1, 2\)"),
+        ({"T": np.ones((2, 4))}, r"box\.T: expected an output map of shape \(m, 3\)"),
+        ({"g": 0.0}, r"box\.g: expected a positive gravity"),
+        ({"Gamma": np.diag([1.0, 1.0, 0.0])}, r"box\.Gamma: its z column does not load"),
+    ],
+)
+def test_bad_input_is_a_one_line_error_naming_the_field(over, match):
+    with pytest.raises(PairSystemError, match=match) as e:
+        PairSystem(**_fields(**over))
+    assert "\n" not in str(e.value)
+
+
+def test_tension_at_rest_and_bad_run_options_are_refused():
+    s = PairSystem(**_fields(R=np.array([[0, 0, -1.0]])))  # a gap row of the wrong sign
+    with pytest.raises(PairSystemError, match=r"isolator 0 carries no compression at rest"):
+        s.static_equilibrium()
+    s = PairSystem(**_fields())
+    orbit = _circular(1.0, 1.0)
+    for kw, match in (({"law": "coulomb"}, "law: expected one of"),
+                      ({"eps": -1.0}, "eps: expected a positive"),
+                      ({"alpha": 0.0}, "alpha: expected a positive"),
+                      ({"y0": np.zeros(5)}, r"y0: expected 6 finite numbers"),
+                      ({"rtol": -1e-6}, "rtol: expected a positive"),
+                      ({"integrator": "radau"}, "integrator: the switch law runs on")):  # fmt: skip
+        with pytest.raises(ValueError, match=match):
+            simulate_pairs(s, orbit, t_end=0.5, **kw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        r = simulate_pairs(s, orbit, t_end=0.5)
+    assert r.q.shape == (r.t.size, 3)
