@@ -127,3 +127,36 @@ def test_isolated_only_flags_are_refused_for_a_deck_scene(tmp_path, capsys):
     rc = nsdyn_main(["sweep", str(SCENE), "--contact", "unilateral", "--out", str(tmp_path)])
     err = capsys.readouterr().err
     assert rc != 0 and "--contact" in err and len(err.strip().splitlines()) == 1
+
+
+def _office(tmp_path):
+    """The bundled office taken rigid on 12 friction pendulums, under an elliptical orbit."""
+    text = (SCENES / "building3d-office-rigid.toml").read_text()
+    head, tail = text.split("[motion]")
+    motion = (
+        '[motion]\nkind = "orbit"\norbit = "elliptical"\nfrequency = 0.5\namplitude = 1.0\n'
+        "amplitude_minor = 0.5\nangle = 30.0\nn_periods = 10\n\n"
+    )
+    scene = tmp_path / "office.toml"
+    text = head + motion + "[solver]" + tail.split("[solver]")[1]
+    scene.write_text(text)
+    return scene
+
+
+def test_a_rigid_building_sweeps_as_a_deck(tmp_path, capsys):
+    # the building's rigid rung is a deck on its 12 pendulums (its twist in the state): every
+    # orbit converges, the peak resultant displacement is at least the peak component (it is
+    # sqrt(ux^2 + uy^2)), and the normal forces stay > 0 at 1 m/s^2 (no uplift)
+    scene = _office(tmp_path)
+    out = tmp_path / "out"
+    rc = nsdyn_main(["sweep", str(scene), "--fmin", "0.6", "--fmax", "1.0", "--points", "2",
+                     "--out", str(out), "--json", "--no-figures"])  # fmt: skip
+    assert rc == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["kind"] == "building3d"
+    rows = list(csv.DictReader((out / "sweep.csv").open()))
+    assert len(rows) == 2
+    for r in rows:
+        assert r["converged"] == "true" and r["uplift"] == "false"
+        assert float(r["u_peak_m"]) >= float(r["u_component_peak_m"]) * (1 - 1e-12)
+        assert float(r["normal_min_N"]) > 0.0
