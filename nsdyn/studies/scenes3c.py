@@ -48,6 +48,7 @@ from nsdyn.studies.study import KINDS3C, PAIR_FIELDS, RecordSpec
 
 SYSTEM_CACHE = 16  # built systems (frame, deck constants) kept per process
 _systems: dict = {}
+_modes: dict = {}  # id(frame), n_modes -> (frame, its fixed-base modes)
 _lock = threading.Lock()
 
 
@@ -201,11 +202,29 @@ def _fixed(sysd: dict, mod, cfg: dict, source: str) -> dict:
     if not hasattr(exc, "dt"):
         raise SceneError(f"{source}: motion.kind: the fixed rung needs a record "
                          "(kind = 'record3'), not an orbit")  # fmt: skip
-    r = fixed_response_3d(sysd["frame"], exc, n_modes=sysd["n_modes"])
+    r = fixed_response_3d(sysd["frame"], exc, modes=_fixed_modes(sysd))
     s = r.summary()
     s["peak_base_shear_N"] = float(np.hypot(*r.base_shear).max())
     s["peak_corner_drift"] = max(s["peak_drift_corner_x"], s["peak_drift_corner_y"])
     return s | _motion_columns(exc, cfg)
+
+
+def _fixed_modes(sysd: dict):
+    """The fixed-base modes of a built system's frame, kept per process with the system (the
+    eigensolution is most of a fixed-rung task)."""
+    from nsdyn.structure import fixed_base_modes_3d
+
+    frame, n = sysd["frame"], sysd["n_modes"]
+    with _lock:
+        hit = _modes.get((id(frame), n))
+    if hit is not None and hit[0] is frame:
+        return hit[1]
+    modes = fixed_base_modes_3d(frame, n_modes=n)
+    with _lock:
+        if len(_modes) >= SYSTEM_CACHE:
+            _modes.pop(next(iter(_modes)))
+        _modes[(id(frame), n)] = (frame, modes)
+    return modes
 
 
 def _motion_columns(exc, cfg: dict) -> dict:
