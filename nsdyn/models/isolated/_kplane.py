@@ -11,7 +11,8 @@ law), μ_d(|v|) v/|v| (switch law, slip, MODE_SLIP), μ_d(|v|) d_i (MODE_START: 
 from stick in the stick force's direction d_i, until |v| reaches η) or a constraint force τ_i
 (MODE_STICK: B_i q̈ = −κ B_i q̇). A triple friction pendulum (tfp.py) resists with N_i φ_i,
 its series model's force per unit normal force: a function of u_i and of its internal slips,
-states after [q, q̇] whose rates :func:`rhs` appends. The deck (mass m, centre of mass at
+states after [q, q̇] whose rates :func:`rhs` appends. Pressure-dependent friction scales the
+coefficients by k_p(N_i) (bearings.py). The deck (mass m, centre of mass at
 (e_x, e_y) and height h above the sliding surfaces, M about O) obeys
 
     M q̈ = −M [a_x, a_y, 0]ᵀ − Σ B_iᵀ F_i,
@@ -42,6 +43,7 @@ from numba import njit
 from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn._numba_cache import drop_stale
 from nsdyn.models.isolated.bearings import (
+    B_AREA,
     B_C,
     B_CSTOP,
     B_DCAP,
@@ -53,10 +55,13 @@ from nsdyn.models.isolated.bearings import (
     B_KSTOP,
     B_MUFAST,
     B_MUSLOW,
+    B_PREF,
     B_RATE,
     B_RINV,
     B_TAU,
     KIND_TFP,
+    PRESSURE_BASE,
+    PRESSURE_SCALE,
 )
 
 # the time loops (_kplanerun, _kplaneradau) compile these kernels, the shared tableau and LU
@@ -79,6 +84,8 @@ G_TABLE, G_HARMONIC = 0, 1
 GP_T0, GP_DT, GP_F, GP_AX, GP_AY, GP_PHY, GP_AZ, GP_FZ, GP_PHZ = range(9)
 N_GP = 9
 ST_OK, ST_SINGULAR = 0, 4
+PRESSURE_ITER = 50  # fixed-point passes of the pressure factors, at most
+PRESSURE_TOL = 1e-14  # their largest change accepted
 
 
 @njit(cache=True, error_model="numpy")
@@ -140,10 +147,20 @@ def slip_kinematics(y, pos, i):
 @njit(cache=True, error_model="numpy")
 def workspace(ni):
     """Work arrays of :func:`evaluate` (made once per run); the last, (ni, 8), receives the
-    rates of the triple friction pendulums' internal slips."""
+    rates of the triple friction pendulums' internal slips, the (ni,) one the pressure factors
+    of the friction at the last evaluation."""
     return (np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((5, 5)), np.zeros(5),
             np.zeros(5, dtype=np.int64), np.zeros((ni, 3)), np.zeros(ni), np.zeros((ni, 2)),
-            np.zeros(3), np.zeros(3), np.zeros((ni, 8)))  # fmt: skip
+            np.zeros(3), np.zeros(3), np.zeros((ni, 8)), np.ones(ni))  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def pressure_factor(bp, i, n):
+    """k_p = 0.7^((p − p_ref)/50 MPa) at p = max(n, 0)/area of isolator i (1 without area)."""
+    if bp[i, B_AREA] <= 0.0:
+        return 1.0
+    p = max(n, 0.0) / bp[i, B_AREA]
+    return PRESSURE_BASE ** ((p - bp[i, B_PREF]) / PRESSURE_SCALE)
 
 
 @njit(cache=True, error_model="numpy")
@@ -187,8 +204,39 @@ def tfp_force(y, bp, i, ux, uy, sd):
 def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo):
     """q̈ and the isolator forces at (t, y): normal forces N (ni,), resisting friction Ff
     (ni, 2) (the stick force τ_i of a stuck isolator), restoring Fr = N u/R + K_lam u and
-    damper + stop Fo (ni, 2). Returns ST_OK or ST_SINGULAR."""
-    Am, A3, K5, r5, piv, n1, n0, cN, fv, ag, sd = ws
+    damper + stop Fo (ni, 2). Returns ST_OK or ST_SINGULAR.
+
+    With pressure-dependent friction the coefficients carry k_p(N_i) at the live normal
+    forces, which depend on q̈: the fixed point N = N(q̈(k_p(N))) is iterated from k_p = 1
+    to PRESSURE_TOL (its contraction is the weak overturning share of the friction, ~1e-3);
+    the factors are left in ws[11]."""
+    pf = ws[11]
+    ni = pos.shape[0]
+    press = False
+    for i in range(ni):
+        pf[i] = 1.0
+        if bp[i, B_AREA] > 0.0:
+            press = True
+    st = evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+    if not press or st != ST_OK:
+        return st
+    for _ in range(PRESSURE_ITER):
+        change = 0.0
+        for i in range(ni):
+            k = pressure_factor(bp, i, N[i])
+            change = max(change, abs(k - pf[i]))
+            pf[i] = k
+        st = evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr,
+                         Fo)  # fmt: skip
+        if st != ST_OK or change <= PRESSURE_TOL:
+            return st
+    return ST_SINGULAR
+
+
+@njit(cache=True, error_model="numpy")
+def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo):
+    """:func:`evaluate` with the friction coefficients scaled by the pressure factors ws[11]."""
+    Am, A3, K5, r5, piv, n1, n0, cN, fv, ag, sd, pf = ws
     ni = pos.shape[0]
     ground(t, gk, gp, tab, ag)
     m = sp[S_M]
@@ -237,15 +285,16 @@ def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
             fy = py - bp[i, B_RINV] * uy
         elif law == LAW_ARCTAN:
             if speed > 0.0:
-                s = mu_kinetic(bp, i, speed) * (2.0 / math.pi) * math.atan(eps * speed) / speed
+                s = mu_kinetic(bp, i, speed) * pf[i] * (2.0 / math.pi) * math.atan(eps * speed)
+                s /= speed
                 fx = s * vx
                 fy = s * vy
         elif modes[i] == MODE_SLIP:
-            s = mu_kinetic(bp, i, speed) / speed
+            s = mu_kinetic(bp, i, speed) * pf[i] / speed
             fx = s * vx
             fy = s * vy
         elif modes[i] == MODE_START:
-            s = mu_kinetic(bp, i, speed)
+            s = mu_kinetic(bp, i, speed) * pf[i]
             fx = s * dirs[i, 0]
             fy = s * dirs[i, 1]
         else:

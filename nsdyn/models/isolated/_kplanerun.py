@@ -16,7 +16,8 @@ between events; the switching functions, each crossing from > 0 to <= 0, are
     stick       g = μ_s N − |τ|                → slip-start, d = τ/|τ|
 
 The stick test sticks the isolator if its stick force, computed with it stuck, lies in the disc
-|τ| <= μ_s N (1 + STICK_RTOL), else it starts slipping in the direction of that force. After
+|τ| <= μ_s k_p N (1 + STICK_RTOL) (k_p the pressure factor, 1 without pressure dependence),
+else it starts slipping in the direction of that force. After
 each event the stuck isolators are settled: while one violates its disc (the one with the
 largest |τ|/μ_s N first) it starts to slip. Events are located by sampling g on the dense
 output and bisecting the earliest sample interval with a crossing to EVENT_TTOL; the step is
@@ -80,7 +81,7 @@ def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
             if nst < 2:  # (two stuck isolators hold the deck: v = 0, no reversal to see)
                 g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
         else:
-            g[i, 0] = bp[i, B_MUS] * N[i] - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
+            g[i, 0] = bp[i, B_MUS] * ws[11][i] * N[i] - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
     return st
 
 
@@ -124,7 +125,7 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
             for i in range(pos.shape[0]):
                 if cand[i]:
                     tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
-                    if tau <= bp[i, B_MUSLOW] * N[i] * (1.0 - RESTICK_MARGIN):
+                    if tau <= bp[i, B_MUSLOW] * ws[11][i] * N[i] * (1.0 - RESTICK_MARGIN):
                         _record(EV, info, t, i, kp.MODE_START, kp.MODE_STICK, dirs)
                     else:
                         modes[i] = kp.MODE_START
@@ -137,7 +138,7 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
         for i in range(pos.shape[0]):
             if modes[i] == kp.MODE_STICK:
                 tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
-                lim = bp[i, B_MUS] * N[i]
+                lim = bp[i, B_MUS] * ws[11][i] * N[i]
                 r = tau / lim if lim > 0.0 else math.inf
                 if r > ratio and tau > 0.0:
                     ratio = r
@@ -145,7 +146,8 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
         if worst < 0:
             return align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
         kp.start_direction(worst, Ff[worst, 0], Ff[worst, 1],
-                           kp.mu_kinetic(bp, worst, 0.0) * N[worst], ws[0], pos, dirs)  # fmt: skip
+                           kp.mu_kinetic(bp, worst, 0.0) * ws[11][worst] * N[worst], ws[0], pos,
+                           dirs)  # fmt: skip
         _record(EV, info, t, worst, kp.MODE_STICK, kp.MODE_START, dirs)
         modes[worst] = kp.MODE_START
     return ST_CHATTER
@@ -221,8 +223,8 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
     for i in range(ni):  # every decision on the mode before the event
         m0 = modes[i]
         if m0 == kp.MODE_STICK and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
-            kp.start_direction(i, Ff[i, 0], Ff[i, 1], kp.mu_kinetic(bp, i, 0.0) * N[i], ws[0],
-                               pos, dirs)  # fmt: skip
+            kp.start_direction(i, Ff[i, 0], Ff[i, 1], kp.mu_kinetic(bp, i, 0.0) * ws[11][i] * N[i],
+                               ws[0], pos, dirs)  # fmt: skip
             modes[i] = kp.MODE_START
         elif m0 == kp.MODE_START and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
             modes[i] = kp.MODE_SLIP

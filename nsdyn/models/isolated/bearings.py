@@ -21,6 +21,14 @@ radial stop F_s = max(0, k_stop δ + c_stop δ̇) u/|u|, δ = |u| − d_cap, who
 reported (first time, peak overshoot), never passed silently. Defaults of the stop: k_stop =
 STOP_STIFFNESS_FACTOR × (N_0/R + K_lam) with N_0 the static normal force, c_stop =
 2 ζ_stop √(k_stop N_0/g) with ζ_stop = STOP_DAMPING_RATIO.
+
+Pressure-dependent friction (optional: the bearing's contact ``area`` and the reference pressure
+``p_ref`` at which the coefficients above hold): every coefficient is scaled by
+
+    k_p(p) = 0.7^((p − p_ref) / 50 MPa),   p = N / area      (PTFE-type composites; Kumar,
+                                                             Whittaker & Constantinou 2015)
+
+at the live normal force N, so friction falls as the contact pressure rises.
 """
 
 from __future__ import annotations
@@ -42,7 +50,10 @@ B_RINV, B_KLAM, B_C, B_MUS, B_MUSLOW, B_MUFAST, B_RATE, B_DCAP, B_KSTOP, B_CSTOP
 # flow's time constant, then (1/R, mu, d, k_stop) of its four series elements
 B_KIND, B_IOFF, B_KEL, B_TAU = range(10, 14)
 B_ELEM = 14  # element k: columns B_ELEM + 4 k + (0: 1/R, 1: mu, 2: d, 3: k_stop per unit N)
-N_BCOL = B_ELEM + 16
+# pressure-dependent friction: contact area [m²] (0: none) and reference pressure [Pa]
+B_AREA, B_PREF = B_ELEM + 16, B_ELEM + 17
+N_BCOL = B_ELEM + 18
+PRESSURE_BASE, PRESSURE_SCALE = 0.7, 50.0e6  # μ(p) = μ(p_ref) 0.7^((p − p_ref)/50 MPa)
 KIND_SINGLE, KIND_TFP = 0, 1
 
 
@@ -123,9 +134,12 @@ class Bearing:
     k_stop: float | None = None
     c_stop: float | None = None
     where: str = "bearing"
+    area: float | None = None
+    p_ref: float | None = None
 
     def __post_init__(self) -> None:
         w = self.where
+        self._check_pressure()
         if not isinstance(self.friction, Friction):
             raise BearingError(f"{w}.friction: expected a Friction, got {self.friction!r}")
         _number(f"{w}.radius", self.radius, positive=True, allow_inf=True)
@@ -142,6 +156,23 @@ class Bearing:
                     f"{w}.k_stop: a flat slider without rubber (k_lam = 0) and a displacement "
                     "capacity needs the rim stiffness k_stop [N/m]"
                 )
+
+    def _check_pressure(self) -> None:
+        if (self.area is None) != (self.p_ref is None):
+            k = "p_ref" if self.p_ref is None else "area"
+            raise BearingError(f"{self.where}.{k}: missing; pressure-dependent friction needs "
+                               "the contact area [m²] and the reference pressure [Pa]")  # fmt: skip
+        if self.area is not None:
+            _number(f"{self.where}.area", self.area, positive=True)
+            _number(f"{self.where}.p_ref", self.p_ref, positive=True)
+
+    def pressure_factor(self, normal_force) -> np.ndarray:
+        """μ(p)/μ(p_ref) = 0.7^((p − p_ref)/50 MPa) at p = N/area (1 without an area)."""
+        n = np.asarray(normal_force, dtype=float)
+        if self.area is None:
+            return np.ones_like(n)
+        p = np.maximum(n, 0.0) / float(self.area)
+        return PRESSURE_BASE ** ((p - float(self.p_ref)) / PRESSURE_SCALE)
 
     @property
     def period(self) -> float:
@@ -167,6 +198,8 @@ class Bearing:
             2 * STOP_DAMPING_RATIO * math.sqrt(ks * m_share) if self.c_stop is None else self.c_stop
         )
         r[B_KSTOP], r[B_CSTOP] = ks, cs
+        if self.area is not None:
+            r[B_AREA], r[B_PREF] = self.area, self.p_ref
         return r
 
 
@@ -189,7 +222,7 @@ def friction_from_config(cfg: dict, where: str) -> Friction:
 
 
 BEARING_KEYS = {"type", "mu", "mu_slow", "mu_fast", "rate", "mu_static", "radius", "k_lam", "c",
-                "d_cap", "k_stop", "c_stop",
+                "d_cap", "k_stop", "c_stop", "area", "p_ref",
                 "R1", "R2", "R3", "R4", "mu1", "mu2", "mu3", "mu4", "d1", "d2", "d3", "d4",
                 "u_y"}  # fmt: skip
 _TFP_ONLY = ("R1", "R2", "R3", "R4", "mu1", "mu2", "mu3", "mu4", "d1", "d2", "d3", "d4", "u_y")
@@ -215,7 +248,7 @@ def bearing_from_config(cfg: dict, where: str) -> Bearing:
     if kind == "flat" and "radius" in cfg:
         raise BearingError(f"{where}.radius: a flat slider has no radius (type = 'flat')")
     kw = {}
-    for k in ("radius", "d_cap", "k_stop"):
+    for k in ("radius", "d_cap", "k_stop", "area", "p_ref"):
         if k in cfg:
             kw[k] = _number(f"{where}.{k}", cfg[k], positive=True)
     for k in ("k_lam", "c", "c_stop"):

@@ -109,6 +109,10 @@ SCHEMA = Schema(
                 default="(100 × the post-slip stiffness at the static load)", **_POS),
             Key("c_stop", "number", "damping of the rim", "N s/m",
                 default="(10 % of critical on the bearing's mass share)", **_NONNEG),
+            Key("area", "number", "contact area of the slider: friction scaled by "
+                "0.7^((N/area − p_ref)/50 MPa) (with `p_ref`)", "m²", **_POS),
+            Key("p_ref", "number", "contact pressure at which the friction coefficients hold "
+                "(with `area`)", "Pa", **_POS),
             *_TFP_KEYS,
         )),
         Table("motion", "A three-component record: one file with two horizontal components "

@@ -101,6 +101,9 @@ class TripleBearing(Bearing):
 
     def __post_init__(self) -> None:
         w = self.where
+        if self.area is not None or self.p_ref is not None:
+            raise BearingError(f"{w}.area: pressure-dependent friction is not modelled for a "
+                               "triple friction pendulum")  # fmt: skip
         if self.k_lam != 0.0 or self.c != 0.0:
             raise BearingError(f"{w}.k_lam: a triple friction pendulum has no rubber or damper "
                                "(k_lam = c = 0)")  # fmt: skip
