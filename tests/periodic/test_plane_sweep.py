@@ -123,6 +123,21 @@ def test_bad_deck_sweeps_are_refused_in_one_line_naming_the_field(tmp_path, caps
     assert str(scene) in err and field in err
 
 
+def test_a_triple_pendulum_deck_is_refused_naming_the_bearing(tmp_path, capsys):
+    text = (SCENES / "deck-tfp4-3c.toml").read_text()
+    head, tail = text.split("[motion]")
+    motion = (
+        '[motion]\nkind = "orbit"\norbit = "circular"\nfrequency = 0.5\namplitude = 1.0\n'
+        "n_periods = 9\n\n"
+    )
+    scene = tmp_path / "tfp.toml"
+    scene.write_text(head + motion + "[solver]" + tail.split("[solver]")[1])
+    rc = nsdyn_main(["sweep", str(scene), "--points", "2", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert rc != 0 and len(err.splitlines()) == 1
+    assert str(scene) in err and "bearing.type" in err
+
+
 def test_isolated_only_flags_are_refused_for_a_deck_scene(tmp_path, capsys):
     rc = nsdyn_main(["sweep", str(SCENE), "--contact", "unilateral", "--out", str(tmp_path)])
     err = capsys.readouterr().err
