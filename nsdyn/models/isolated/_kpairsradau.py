@@ -107,11 +107,14 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     N = y0.shape[0]
     n = N // 2
     ni = modes.shape[0]
-    ws = kq.workspace(n, ni)
-    out = (np.zeros(n), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
+    t = t_eval[0]
+    ws, out, y, st = kqr.begin(y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO,
+                               MO, EV, info)  # fmt: skip
+    if st != kr.ST_OK:
+        return st
     lam = out[1]
-    V7 = np.zeros((7, N))
-    y, ys, f0, f1, ynew, err, sc = V7[0], V7[1], V7[2], V7[3], V7[4], V7[5], V7[6]
+    V6 = np.zeros((6, N))
+    ys, f0, f1, ynew, err, sc = V6[0], V6[1], V6[2], V6[3], V6[4], V6[5]
     Jq = np.zeros((n, n))
     Jv = np.zeros((n, n))
     Sr = np.zeros((n, n))
@@ -129,23 +132,13 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     cz2 = np.zeros(n, dtype=np.complex128)
     yp = np.zeros(N)
     Zp = np.zeros((3, N))
-    for j in range(N):
-        y[j] = y0[j]
     rtol = cfg[kr.C_RTOL]
     hmax = cfg[kr.C_HMAX]
     max_steps = int(cfg[kr.C_MAXSTEPS])
     nt = t_eval.shape[0]
-    t = t_eval[0]
     t_end = t_eval[nt - 1]
     ntab = tab.shape[1]
-    info[kr.I_TFAIL] = np.nan
-    info[kr.I_IFAIL] = -1
-    kqr.outputs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, 0, X, NO, FF, FR, FO, MO)
     iout = 1
-    if kr._min_normal(lam) <= 0.0:
-        info[kr.I_TFAIL] = t
-        info[kr.I_IFAIL] = np.argmin(lam)
-        return kr.ST_UPLIFT
     h = min(cfg[kr.C_H0], hmax)
     need_jac = True
     f0_ready = False
@@ -321,9 +314,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         t_new = t + s_end * hh
         while iout < nt and t_eval[iout] <= t_new:
             krad._dense(y, Z, (t_eval[iout] - t) / hh, ys)
-            kqr.outputs(t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, iout,
-                        X, NO, FF, FR, FO, MO)  # fmt: skip
-            kqr.track_stops(t_eval[iout], ys, op, bp, ws, stops)
+            kqr.emit(t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, iout, X, NO,
+                     FF, FR, FO, MO, stops)  # fmt: skip
             iout += 1
         if s_end < 1.0:
             krad._dense(y, Z, s_end, ys)
@@ -347,10 +339,4 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         h = min(hh * min(10.0, max(0.2, fac)), hmax)
         if 1.0 <= h / hh <= 1.2:  # keep the factored step (as RADAU5 does)
             h = hh
-    if status != kr.ST_OK and not info[kr.I_TFAIL] == info[kr.I_TFAIL]:
-        info[kr.I_TFAIL] = t
-    info[kr.I_NSTEP] = nstep
-    info[kr.I_NREJ] = nrej
-    info[kr.I_NFEV] = nfev
-    info[kr.I_NOUT] = iout
-    return status
+    return kqr.finish(status, t, nstep, nrej, nfev, iout, info)

@@ -188,6 +188,52 @@ def outputs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, F
 
 
 @njit(cache=True, error_model="numpy")
+def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV, info):
+    """Work arrays, the state y, the switch law's initial modes and the first output row of
+    a loop: (ws, out, y, status); status ST_UPLIFT when a normal force is not compressive."""
+    N = y0.shape[0]
+    ni = modes.shape[0]
+    ws = kq.workspace(N // 2, ni)
+    out = (np.zeros(N // 2), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)),
+           np.zeros((ni, 2)))  # fmt: skip
+    y = np.zeros(N)
+    for j in range(N):
+        y[j] = y0[j]
+    info[kr.I_TFAIL] = np.nan
+    info[kr.I_IFAIL] = -1
+    st = kr.ST_OK
+    if int(sp[kq.S_LAW]) == kp.LAW_SWITCH:
+        st = initial_modes(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+    if st == kr.ST_OK:
+        outputs(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, 0, X, NO, FF, FR, FO, MO)
+        if kr._min_normal(out[1]) <= 0.0:
+            info[kr.I_IFAIL] = np.argmin(out[1])
+            st = kr.ST_UPLIFT
+    if st != kr.ST_OK:
+        info[kr.I_TFAIL] = t0
+    return ws, out, y, st
+
+
+@njit(cache=True, error_model="numpy")
+def emit(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO, stops):
+    """Row k of the outputs at the state y and the rim contacts there."""
+    outputs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO)
+    track_stops(t, y, op, bp, ws, stops)
+
+
+@njit(cache=True, error_model="numpy")
+def finish(status, t, nstep, nrej, nfev, iout, info):
+    """The run's counters into info (and its end time when it failed); returns status."""
+    if status != kr.ST_OK and not info[kr.I_TFAIL] == info[kr.I_TFAIL]:
+        info[kr.I_TFAIL] = t
+    info[kr.I_NSTEP] = nstep
+    info[kr.I_NREJ] = nrej
+    info[kr.I_NFEV] = nfev
+    info[kr.I_NOUT] = iout
+    return status
+
+
+@njit(cache=True, error_model="numpy")
 def locate_uplift(t, hh, sb, rc, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, info):
     """First λ_i = 0 in (0, sb] of the step (DP5 dense output ``rc``); returns its fraction."""
     lam = out[1]
@@ -242,42 +288,29 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
     (the codes of :mod:`nsdyn.models.isolated._kplanerun`)."""
     n2 = y0.shape[0]
-    n = n2 // 2
     ni = modes.shape[0]
-    ws = kq.workspace(n, ni)
-    out = (np.zeros(n), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
+    t = t_eval[0]
+    ws, out, y, st = begin(y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO,
+                           EV, info)  # fmt: skip
+    if st != kr.ST_OK:
+        return st
+    n = n2 // 2
     lam = out[1]
     k = np.zeros((7, n2))
-    y = np.zeros(n2)
     y1 = np.zeros(n2)
     ys = np.zeros(n2)
     rc = np.zeros((5, n2))
     g0 = np.ones((ni, 2))
     g = np.ones((ni, 2))
     ga = np.ones((ni, 2))
-    for j in range(n2):
-        y[j] = y0[j]
     switching = int(sp[kq.S_LAW]) == kp.LAW_SWITCH
     rtol = cfg[kr.C_RTOL]
     hmax = cfg[kr.C_HMAX]
     max_steps = int(cfg[kr.C_MAXSTEPS])
     nt = t_eval.shape[0]
-    t = t_eval[0]
     t_end = t_eval[nt - 1]
     ntab = tab.shape[1]
-    info[kr.I_TFAIL] = np.nan
-    info[kr.I_IFAIL] = -1
-    if switching:
-        st = initial_modes(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
-        if st != kr.ST_OK:
-            info[kr.I_TFAIL] = t
-            return st
-    outputs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, 0, X, NO, FF, FR, FO, MO)
     iout = 1
-    if kr._min_normal(lam) <= 0.0:
-        info[kr.I_TFAIL] = t
-        info[kr.I_IFAIL] = np.argmin(lam)
-        return kr.ST_UPLIFT
     fresh = True
     h = min(cfg[kr.C_H0], hmax)
     nstep = 0
@@ -342,9 +375,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         t_new = t + s_end * hh if s_end < 1.0 else t + hh
         while iout < nt and t_eval[iout] <= t_new:
             kr._dense_state(rc, (t_eval[iout] - t) / hh, ys)
-            outputs(t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, iout,
-                    X, NO, FF, FR, FO, MO)  # fmt: skip
-            track_stops(t_eval[iout], ys, op, bp, ws, stops)
+            emit(t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, iout, X, NO, FF,
+                 FR, FO, MO, stops)  # fmt: skip
             iout += 1
         if s_end < 1.0:
             kr._dense_state(rc, s_end, ys)
@@ -383,10 +415,4 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
                     for c in range(2):
                         g0[i, c] = g[i, c]
             h = min(dp.new_step(hh, err), hmax)
-    if status != kr.ST_OK and not info[kr.I_TFAIL] == info[kr.I_TFAIL]:
-        info[kr.I_TFAIL] = t
-    info[kr.I_NSTEP] = nstep
-    info[kr.I_NREJ] = nrej
-    info[kr.I_NFEV] = nfev
-    info[kr.I_NOUT] = iout
-    return status
+    return finish(status, t, nstep, nrej, nfev, iout, info)

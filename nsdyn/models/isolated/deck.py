@@ -299,6 +299,50 @@ def _check_run_options(rtol, atol, max_step, max_steps) -> None:
         raise ValueError(f"max_steps: expected a positive integer, got {max_steps!r}")
 
 
+def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, float]:
+    """(t_eval, max_step) of a run on the ground (gk, gp) of :func:`pack_ground`: outputs
+    every ``dt_out`` (default: the record's step, or 1/50 period of an orbit) up to ``t_end``
+    (default: the record's duration ``dur``) unless ``t_eval`` is given; the largest step
+    defaults to the record's step or 1/20 of the shorter period."""
+    if t_eval is None:
+        t_end = dur if t_end is None else float(t_end)
+        if not (math.isfinite(t_end) and t_end > 0):
+            raise ValueError(f"t_end: expected a positive duration [s], got {t_end}")
+        if dt_out is None:
+            dt_out = gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (50.0 * gp[kp.GP_F])
+        n = int(math.floor(t_end / dt_out * (1 + 1e-12))) + 1
+        t_eval = gp[kp.GP_T0] * (gk == kp.G_TABLE) + dt_out * np.arange(n)
+    t_eval = np.ascontiguousarray(t_eval, dtype=float)
+    if t_eval.ndim != 1 or t_eval.size < 2 or np.any(np.diff(t_eval) <= 0):
+        raise ValueError("t_eval: expected at least two increasing times")
+    if max_step is None:
+        max_step = (
+            gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (20.0 * max(gp[kp.GP_F], gp[kp.GP_FZ]))
+        )
+    return t_eval, max_step
+
+
+def run_buffers(law, eps, rtol, atol, max_step, max_steps, nt, ni, ns) -> tuple:
+    """The loops' arrays: (modes, dirs, cfg, X, NO, FF, FR, FO, MO, EV, stops, info) for
+    ``nt`` outputs of ``ns`` states and ``ni`` isolators; the regularised law's velocity
+    tolerance capped at ATOL_V_EPS / eps."""
+    modes = np.full(ni, kp.MODE_SLIP, dtype=np.int64)
+    dirs = np.zeros((ni, 2))
+    atol_v = float(atol[1])
+    if law == "arctan":  # the law's transition |v| ~ 1/eps must lie above the error tolerance
+        atol_v = min(atol_v, ATOL_V_EPS / eps)
+    cfg = np.array([rtol, atol[0], atol_v, min(1e-4, max_step), max_step, float(max_steps)])
+    X = np.full((nt, ns), np.nan)
+    NO = np.full((nt, ni), np.nan)
+    FF, FR, FO = (np.full((nt, ni, 2), np.nan) for _ in range(3))
+    MO = np.zeros((nt, ni), dtype=np.int64)
+    EV = np.zeros((100_000, 6))
+    stops = np.zeros((ni, 3))
+    stops[:, kr.P_TFIRST] = np.nan
+    info = np.zeros(kr.N_INFO)
+    return modes, dirs, cfg, X, NO, FF, FR, FO, MO, EV, stops, info
+
+
 def simulate_plane(
     system: PlaneSystem,
     ground,
@@ -343,21 +387,7 @@ def simulate_plane(
     M, pos, bp, nd, sp = kernel_params(system, law, eps, eta, kappa)
     _check_run_options(rtol, atol, max_step, max_steps)
     gk, gp, tab, dur = pack_ground(ground)
-    if t_eval is None:
-        t_end = dur if t_end is None else float(t_end)
-        if not (math.isfinite(t_end) and t_end > 0):
-            raise ValueError(f"t_end: expected a positive duration [s], got {t_end}")
-        if dt_out is None:
-            dt_out = gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (50.0 * gp[kp.GP_F])
-        n = int(math.floor(t_end / dt_out * (1 + 1e-12))) + 1
-        t_eval = gp[kp.GP_T0] * (gk == kp.G_TABLE) + dt_out * np.arange(n)
-    t_eval = np.ascontiguousarray(t_eval, dtype=float)
-    if t_eval.ndim != 1 or t_eval.size < 2 or np.any(np.diff(t_eval) <= 0):
-        raise ValueError("t_eval: expected at least two increasing times")
-    if max_step is None:
-        max_step = (
-            gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (20.0 * max(gp[kp.GP_F], gp[kp.GP_FZ]))
-        )
+    t_eval, max_step = run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step)
     ni = system.n_isolators
     nt = t_eval.size
     ns = getattr(system, "n_states", 6)
@@ -367,20 +397,9 @@ def simulate_plane(
                          f"{ns} with the internal slips), got {y0!r}")  # fmt: skip
     if y.size < ns:  # internal slips from rest
         y = np.concatenate([y, np.zeros(ns - y.size)])
-    modes = np.full(ni, kp.MODE_SLIP, dtype=np.int64)
-    dirs = np.zeros((ni, 2))
-    atol_v = float(atol[1])
-    if law == "arctan":  # the law's transition |v| ~ 1/eps must lie above the error tolerance
-        atol_v = min(atol_v, ATOL_V_EPS / eps)
-    cfg = np.array([rtol, atol[0], atol_v, min(1e-4, max_step), max_step, float(max_steps)])
-    X = np.full((nt, ns), np.nan)
-    NO = np.full((nt, ni), np.nan)
-    FF, FR, FO = (np.full((nt, ni, 2), np.nan) for _ in range(3))
-    MO = np.zeros((nt, ni), dtype=np.int64)
-    EV = np.zeros((100_000, 6))
-    stops = np.zeros((ni, 3))
-    stops[:, kr.P_TFIRST] = np.nan
-    info = np.zeros(kr.N_INFO)
+    modes, dirs, cfg, X, NO, FF, FR, FO, MO, EV, stops, info = run_buffers(
+        law, eps, rtol, atol, max_step, max_steps, nt, ni, ns
+    )
     status = loop(y, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                           X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
     return PlaneResult.from_run(system, law, t_eval, X, NO, FF, FR, FO, MO, EV, stops, info,

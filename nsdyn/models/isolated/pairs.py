@@ -39,9 +39,14 @@ from nsdyn.models.isolated import _kpairs as kq
 from nsdyn.models.isolated import _kpairsradau as kqa
 from nsdyn.models.isolated import _kpairsrun as kqr
 from nsdyn.models.isolated import _kplane as kp
-from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.bearings import N_BCOL, Bearing, BearingError
-from nsdyn.models.isolated.deck import ATOL_V_EPS, PLANE_LAWS, _check_run_options, pack_ground
+from nsdyn.models.isolated.deck import (
+    PLANE_LAWS,
+    _check_run_options,
+    pack_ground,
+    run_buffers,
+    run_grid,
+)
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
 from nsdyn.models.isolated.plane_result import PlaneResult
 
@@ -355,27 +360,11 @@ def simulate_pairs(
     if law == "arctan" and integrator in ("auto", "radau"):
         loop = kqa.integrate
     gk, gp, tab, dur = pack_ground(ground)
-    if t_eval is None:
-        t_end = dur if t_end is None else t_end
-        if (
-            isinstance(t_end, bool)
-            or not isinstance(t_end, int | float)
-            or not (math.isfinite(t_end) and t_end > 0)
-        ):
-            raise ValueError(f"t_end: expected a positive duration [s], got {t_end!r}")
-        if dt_out is None:
-            dt_out = gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (50.0 * gp[kp.GP_F])
-        if not (isinstance(dt_out, int | float) and math.isfinite(dt_out) and dt_out > 0):
-            raise ValueError(f"dt_out: expected a positive step [s], got {dt_out!r}")
-        nt = int(math.floor(t_end / dt_out * (1 + 1e-12))) + 1
-        t_eval = gp[kp.GP_T0] * (gk == kp.G_TABLE) + dt_out * np.arange(nt)
-    t_eval = np.ascontiguousarray(t_eval, dtype=float)
-    if t_eval.ndim != 1 or t_eval.size < 2 or np.any(np.diff(t_eval) <= 0):
-        raise ValueError("t_eval: expected at least two increasing times")
-    if max_step is None:
-        max_step = (
-            gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (20.0 * max(gp[kp.GP_F], gp[kp.GP_FZ]))
-        )
+    if dt_out is not None and not (
+        isinstance(dt_out, int | float) and math.isfinite(dt_out) and dt_out > 0
+    ):
+        raise ValueError(f"dt_out: expected a positive step [s], got {dt_out!r}")
+    t_eval, max_step = run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step)
     n, ni, nt = system.n, system.n_isolators, t_eval.size
     q0, _ = system.static_equilibrium()
     y = np.concatenate([q0, np.zeros(n)])
@@ -384,20 +373,9 @@ def simulate_pairs(
         if y.shape != (2 * n,) or not np.all(np.isfinite(y)):
             raise ValueError(f"y0: expected {2 * n} finite numbers [q, q̇], got shape "
                              f"{np.shape(y0)}")  # fmt: skip
-    atol_v = float(atol[1])
-    if law == "arctan":
-        atol_v = min(atol_v, ATOL_V_EPS / eps)
-    cfg = np.array([rtol, atol[0], atol_v, min(1e-4, max_step), max_step, float(max_steps)])
-    modes = np.full(ni, kp.MODE_SLIP, dtype=np.int64)
-    dirs = np.zeros((ni, 2))
-    X = np.full((nt, 2 * n), np.nan)
-    NO = np.full((nt, ni), np.nan)
-    FF, FR, FO = (np.full((nt, ni, 2), np.nan) for _ in range(3))
-    MO = np.zeros((nt, ni), dtype=np.int64)
-    EV = np.zeros((100_000, 6))
-    stops = np.zeros((ni, 3))
-    stops[:, kr.P_TFIRST] = np.nan
-    info = np.zeros(kr.N_INFO)
+    modes, dirs, cfg, X, NO, FF, FR, FO, MO, EV, stops, info = run_buffers(
+        law, eps, rtol, atol, max_step, max_steps, nt, ni, 2 * n
+    )
     status = loop(y, t_eval, modes, dirs, system.operators(), system.bearing_table(), sp, gk,
                   gp, tab, cfg, X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
     # the deck's result handles statuses, events, rim contacts and uplift; q is n wide here
