@@ -99,7 +99,8 @@ def plane_scene(cfg: dict, source: str) -> dict:
 
         orbit_shape(orbit)
     except ValueError as e:
-        raise SceneError(f"{source}: motion.vertical_frequency: {e}") from None
+        key = "vertical_frequency" if "f_z" in str(e) else "amplitude"
+        raise SceneError(f"{source}: motion.{key}: {e}") from None
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     keep = {k: solver[k] for k in ("law", "eps", "eta")}
     return {"kind": kind, "system": system, "orbit": orbit, "solver": keep, "name": name}

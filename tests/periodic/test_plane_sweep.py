@@ -106,6 +106,7 @@ def test_default_range_and_amplitude_come_from_the_scene(tmp_path, capsys):
         (("n_periods = 12", "n_periods = 12\nvertical_amplitude = 1.0\nvertical_frequency = 1.1"),
          "motion.vertical_frequency"),
         (("amplitude = 0.981", "amplitude = -1.0"), "motion.amplitude"),
+        (("amplitude = 0.981", "amplitude = 0.0"), "motion.amplitude"),
     ],
 )  # fmt: skip
 def test_bad_deck_sweeps_are_refused_in_one_line_naming_the_field(tmp_path, capsys, edit, field):
