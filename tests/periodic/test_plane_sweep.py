@@ -176,3 +176,22 @@ def test_a_rigid_building_sweeps_as_a_deck(tmp_path, capsys):
         assert r["converged"] == "true" and r["uplift"] == "false"
         assert float(r["u_peak_m"]) >= float(r["u_component_peak_m"]) * (1 - 1e-12)
         assert float(r["normal_min_N"]) > 0.0
+
+
+def test_failures_are_reported_by_frequency_and_reason():
+    # A vertical acceleration of 12 m/s^2 > g at the horizontal frequency takes the normal
+    # force of the single isolator, N = m (g + a_z), through zero in every period (uplift):
+    # no orbit of the bilateral model exists, and each frequency is reported with that reason;
+    # without the fallback, the frequencies shooting missed are listed, none silently dropped
+    from nsdyn.ground.orbit import HarmonicPlane
+
+    pb = plane_problem(sdof(), HarmonicPlane.circular(0.7, A0, az=12.0), law="switch")
+    curve = plane_response(pb, fmin=0.5, fmax=1.0, points=2)
+    assert [p.quantities["uplift"] for p in curve.points] == [True, True]
+    fails = curve.info["failures"]
+    assert [d["f"] for d in fails] == pytest.approx([0.5, 1.0])
+    assert all(d["reason"].startswith("uplift") for d in fails)
+    bare = plane_response(pb, fmin=0.5, fmax=1.0, points=2, fallback=False)
+    assert bare.points == []
+    assert [d["f"] for d in bare.info["failures"]] == pytest.approx([0.5, 1.0])
+    assert all("no fallback" in d["reason"] for d in bare.info["failures"])
