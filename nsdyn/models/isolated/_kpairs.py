@@ -30,7 +30,15 @@ from numba import njit
 from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn._numba_cache import drop_stale
 from nsdyn.models.isolated import _kplane as kp
-from nsdyn.models.isolated.bearings import B_C, B_CSTOP, B_DCAP, B_KLAM, B_KSTOP, B_RINV
+from nsdyn.models.isolated.bearings import (
+    B_AREA,
+    B_C,
+    B_CSTOP,
+    B_DCAP,
+    B_KLAM,
+    B_KSTOP,
+    B_RINV,
+)
 
 _HERE = Path(__file__).resolve().parent
 drop_stale(
@@ -54,12 +62,13 @@ CONSISTENT_RTOL = 1e-8  # |G y − r| allowed, relative to |G| |y| + |r|, of a l
 @njit(cache=True, error_model="numpy")
 def workspace(n, ni):
     """Work arrays of :func:`evaluate` (made once per run): u, v, c, f0 (2ni); a0 (n);
-    ground (3); G, G copy (3ni, 3ni); r, r copy (3ni); pivots (3ni); row map (ni); LU flag."""
+    ground (3); G, G copy (3ni, 3ni); r, r copy (3ni); pivots (3ni); row map (ni); LU flag;
+    pressure factors (ni)."""
     mm = 3 * ni
     return (np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(n),
             np.zeros(3), np.zeros((mm, mm)), np.zeros((mm, mm)), np.zeros(mm), np.zeros(mm),
             np.zeros(mm, dtype=np.int64), np.zeros(ni, dtype=np.int64),
-            np.zeros(1, dtype=np.int64))  # fmt: skip
+            np.zeros(1, dtype=np.int64), np.ones(ni))  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
@@ -76,9 +85,9 @@ def slips(y, D2, n, u, v):
 
 
 @njit(cache=True, error_model="numpy")
-def bearing_terms(bp, i, ux, uy, vx, vy, law, eps, mode, dx, dy):
+def bearing_terms(bp, i, ux, uy, vx, vy, law, eps, mode, dx, dy, kpr):
     """(ox, oy, fx, fy): damper + rim stop of isolator i and its friction per unit normal
-    force f̂ (zero in stick)."""
+    force f̂ (zero in stick), the coefficients scaled by the pressure factor kpr."""
     ox = bp[i, B_C] * vx
     oy = bp[i, B_C] * vy
     ru = math.sqrt(ux * ux + uy * uy)
@@ -92,25 +101,51 @@ def bearing_terms(bp, i, ux, uy, vx, vy, law, eps, mode, dx, dy):
     speed = math.sqrt(vx * vx + vy * vy)
     if law == kp.LAW_ARCTAN:
         if speed > 0.0:
-            s = kp.mu_kinetic(bp, i, speed) * (2.0 / math.pi) * math.atan(eps * speed) / speed
+            s = kp.mu_kinetic(bp, i, speed) * kpr * (2.0 / math.pi) * math.atan(eps * speed)
+            s /= speed
             return ox, oy, s * vx, s * vy
         return ox, oy, 0.0, 0.0
     if mode == kp.MODE_SLIP:
-        s = kp.mu_kinetic(bp, i, speed) / speed
+        s = kp.mu_kinetic(bp, i, speed) * kpr / speed
         return ox, oy, s * vx, s * vy
     if mode == kp.MODE_START:
-        s = kp.mu_kinetic(bp, i, speed)
+        s = kp.mu_kinetic(bp, i, speed) * kpr
         return ox, oy, s * dx, s * dy
     return ox, oy, 0.0, 0.0
 
 
 @njit(cache=True, error_model="numpy")
 def evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo):
+    """:func:`evaluate_at` with pressure-dependent friction: the factors k_p(λ_i)
+    (:func:`nsdyn.models.isolated._kplane.pressure_factor`) at the normal forces they give,
+    iterated from 1 to PRESSURE_TOL (left in ws[13]); ST_SINGULAR when they do not settle."""
+    pf = ws[13]
+    press = False
+    for i in range(pf.shape[0]):
+        pf[i] = 1.0
+        press = press or bp[i, B_AREA] > 0.0
+    st = evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
+    if not press or st != ST_OK:
+        return st
+    for _ in range(kp.PRESSURE_ITER):
+        change = 0.0
+        for i in range(pf.shape[0]):
+            k = kp.pressure_factor(bp, i, lam[i])
+            change = max(change, abs(k - pf[i]))
+            pf[i] = k
+        st = evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
+        if st != ST_OK or change <= kp.PRESSURE_TOL:
+            return st
+    return ST_SINGULAR
+
+
+@njit(cache=True, error_model="numpy")
+def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo):
     """q̈ and the isolator forces at (t, y): normal forces λ (ni,), resisting friction Ff
     (ni, 2) (the stick force τ_i of a stuck isolator), restoring Fr = λ u/R + K_lam u and
     damper + stop Fo (ni, 2). Returns ST_OK or ST_SINGULAR; leaves G's LU in ws (the
     row of stuck isolator j's τ is ws[11][j], −1 when it slips; ws[12][0] = 1: LU exact)."""
-    u, v, cf, f0, a0, ag, G, G2, r, r2, piv, row, luok = ws
+    u, v, cf, f0, a0, ag, G, G2, r, r2, piv, row, luok, pf = ws
     MiK, MiC, Gam, D2, R = op[O_MIK], op[O_MIC], op[O_GAM], op[O_D2], op[O_R]
     MiRt, MiDt, RMiRt, RMiDt, DMiRt, DMiDt = (op[O_MIRT], op[O_MIDT], op[O_RMIRT],
                                               op[O_RMIDT], op[O_DMIRT], op[O_DMIDT])  # fmt: skip
@@ -126,7 +161,7 @@ def evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, F
         ux, uy, vx, vy = u[2 * i], u[2 * i + 1], v[2 * i], v[2 * i + 1]
         mode = modes[i]
         ox, oy, fx, fy = bearing_terms(bp, i, ux, uy, vx, vy, law, eps, mode, dirs[i, 0],
-                                       dirs[i, 1])  # fmt: skip
+                                       dirs[i, 1], pf[i])  # fmt: skip
         Fo[i, 0] = ox
         Fo[i, 1] = oy
         Ff[i, 0] = fx

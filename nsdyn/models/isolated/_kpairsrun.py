@@ -8,7 +8,7 @@ event location are the deck's (:mod:`nsdyn.models.isolated._kplanerun`, whose ge
 
     slip        g = |v| − η            → stick test (stick if |τ| ≤ μ_s λ, else slip-start)
     slip-start  g = 2η − |v|           → slip;   g = v·d → stick test (the start reverses)
-    stick       g = μ_s λ − |τ|        → slip-start in the direction of τ (start_direction)
+    stick       g = μ_s k_p λ − |τ|    → slip-start in the direction of τ (start_direction)
 
 A normal force reaching zero (uplift of a bilateral contact) is located on the dense output
 and ends the run (ST_UPLIFT). The regularised law runs the same loop without events.
@@ -51,7 +51,7 @@ def gvals(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g):
             g[i, 0] = kr.START_EXIT * eta - speed
             g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
         else:
-            g[i, 0] = bp[i, B_MUS] * lam[i] - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
+            g[i, 0] = bp[i, B_MUS] * ws[13][i] * lam[i] - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
     return st
 
 
@@ -69,7 +69,7 @@ def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
         for i in range(ni):
             if modes[i] == kp.MODE_STICK:
                 tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
-                lim = bp[i, B_MUS] * lam[i]
+                lim = bp[i, B_MUS] * ws[13][i] * lam[i]
                 rat = tau / lim if lim > 0.0 else math.inf
                 if rat > ratio and tau > 0.0:
                     ratio = rat
@@ -77,7 +77,8 @@ def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
         if worst < 0:
             return align_starts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
         kq.start_direction(worst, Ff[worst, 0], Ff[worst, 1],
-                           kp.mu_kinetic(bp, worst, 0.0) * lam[worst], ws, dirs)  # fmt: skip
+                           kp.mu_kinetic(bp, worst, 0.0) * ws[13][worst] * lam[worst], ws,
+                           dirs)  # fmt: skip
         kr._record(EV, info, t, worst, kp.MODE_STICK, kp.MODE_START, dirs)
         modes[worst] = kp.MODE_START
     return kr.ST_CHATTER
@@ -140,8 +141,8 @@ def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
     for i in range(ni):
         m0 = modes[i]
         if m0 == kp.MODE_STICK and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
-            kq.start_direction(i, Ff[i, 0], Ff[i, 1], kp.mu_kinetic(bp, i, 0.0) * lam[i], ws,
-                               dirs)  # fmt: skip
+            mu_n = kp.mu_kinetic(bp, i, 0.0) * ws[13][i] * lam[i]
+            kq.start_direction(i, Ff[i, 0], Ff[i, 1], mu_n, ws, dirs)
             modes[i] = kp.MODE_START
         elif m0 == kp.MODE_START and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
             modes[i] = kp.MODE_SLIP

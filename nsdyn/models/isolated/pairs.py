@@ -49,6 +49,7 @@ from nsdyn.models.isolated.deck import (
 )
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
 from nsdyn.models.isolated.plane_result import PlaneResult
+from nsdyn.models.isolated.tfp import TripleBearing
 
 SYMMETRY_RTOL = 1e-10  # |A − Aᵀ| allowed relative to max |A| (M, K)
 SPD_RTOL = 1e-12  # M's smallest eigenvalue must exceed this times its largest
@@ -148,9 +149,9 @@ class PairSystem:
             raise PairSystemError(f"{w}.bearings: expected {ni} Bearing (one per isolator), "
                                   f"got {got!r}")  # fmt: skip
         for i, b in enumerate(self.bearings):
-            if not isinstance(b, Bearing):
-                raise PairSystemError(f"{w}.bearings[{i}]: expected a Bearing, got "
-                                      f"{type(b).__name__}")  # fmt: skip
+            if not isinstance(b, Bearing) or isinstance(b, TripleBearing):
+                raise PairSystemError(f"{w}.bearings[{i}]: expected a Bearing (flat slider or "
+                                      f"single pendulum), got {type(b).__name__}")  # fmt: skip
         T = None
         if self.T is not None:
             Traw = np.asarray(self.T)

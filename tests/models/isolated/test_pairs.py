@@ -22,6 +22,7 @@ from nsdyn.models.isolated.pairs import PairSystem, PairSystemError, simulate_pa
 from nsdyn.models.isolated.plane_result import UpliftWarning
 from nsdyn.models.isolated.statespace import demo_frame
 from nsdyn.models.isolated.system import Isolation, build_system
+from nsdyn.models.isolated.tfp import TripleBearing
 from nsdyn.solve.transient import simulate
 
 G = 9.81
@@ -114,14 +115,19 @@ def _circular(A, f, az=0.0, fz=1.0):
     return {"f": f, "ax": A, "ay": A, "phase_y_deg": -90.0, "az": az, "f_z": fz}
 
 
+@pytest.mark.parametrize("pressure", [False, True])
 @pytest.mark.parametrize("law", ["arctan", "switch"])
-def test_single_mass_equals_the_deck_kernels_sdof(law):
+def test_single_mass_equals_the_deck_kernels_sdof(law, pressure):
     # A mass on one friction pendulum with a damper under a circular orbit and a vertical
     # component: the deck's SDOF (normal force m (g + a_z) from its vertical balance) and the
     # PairSystem (normal force a Baumgarte multiplier: the gap, zero at rest, stays zero, so
     # λ = m (g + a_z) too). Both at rtol 1e-10: the histories agree to the integrators'
-    # global error, well below 1e-7 of the peak slip (0.4 m).
-    b = Bearing(Friction(0.05, mu_fast=0.08, rate=20.0, mu_static=0.1), radius=2.0, c=500.0)
+    # global error, well below 1e-7 of the peak slip (0.4 m). With pressure-dependent
+    # friction (p = λ / area around 100 MPa against p_ref = 50 MPa: k_p ~ 0.7 and varying
+    # with a_z) both scale the coefficients by k_p at the live normal force.
+    kw = {"area": 1e-4, "p_ref": 50e6} if pressure else {}
+    b = Bearing(Friction(0.05, mu_fast=0.08, rate=20.0, mu_static=0.1), radius=2.0, c=500.0,
+                **kw)  # fmt: skip
     orbit = _circular(2.0, 0.5, az=0.3 * G, fz=1.3)
     kw = dict(law=law, t_end=6.0, dt_out=0.01, rtol=1e-10, atol=(1e-12, 1e-12))
     r = simulate_pairs(single_mass(b), orbit, **kw)
@@ -221,6 +227,28 @@ def _fields(**over):
         ({"R": np.zeros((2, 3))}, r"box\.R: expected shape \(1, 3\)"),
         ({"bearings": ()}, r"box\.bearings: expected 1 Bearing"),
         ({"bearings": ("flat",)}, r"box\.bearings\[0\]: expected a Bearing"),
+        (
+            {
+                "bearings": (
+                    TripleBearing(
+                        R1=2.0,
+                        R2=0.4,
+                        R3=0.4,
+                        R4=2.0,
+                        mu1=0.05,
+                        mu2=0.03,
+                        mu3=0.03,
+                        mu4=0.05,
+                        d1=0.3,
+                        d2=0.05,
+                        d3=0.05,
+                        d4=0.3,
+                    ),
+                )
+            },
+            r"box\.bearings\[0\]: expected a Bearing \(flat slider or single pendulum\), got "
+            "TripleBearing",
+        ),
         ({"positions": np.zeros(2)}, r"box\.positions: expected shape \(1, 2\)"),
         ({"T": np.ones((2, 4))}, r"box\.T: expected an output map of shape \(m, 3\)"),
         ({"g": 0.0}, r"box\.g: expected a positive gravity"),
