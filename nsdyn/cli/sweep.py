@@ -294,6 +294,11 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
 
     amplitudes = args.amplitudes or [orbit_shape(sc["orbit"])[0]]
     law = args.friction or sc["solver"]["law"]
+    if getattr(sc["system"], "has_tfp", False) and law != "arctan":
+        print(f"nsdyn sweep: {source}: solver.law: a triple friction pendulum runs with the "
+              f"regularised law 'arctan' (its series model has no stick events), got {law!r}",
+              file=sys.stderr)  # fmt: skip
+        return EXIT_USER_ERROR
     settings = PlaneSweepSettings(fmin, fmax, args.points or POINTS_DEFAULT, args.continuation,
                                   not args.no_fallback, law)  # fmt: skip
     out = Path(args.out)

@@ -33,7 +33,11 @@ multipliers can be wrong too, so an orbit they call unstable is checked by the m
 periods, and the verdict (and the reported |ρ|) is its growth or decay per period.
 
 A single mass (one isolator, no eccentricity) has a free twist θ̈ = 0 that carries no load: its
-state is (x, y, ẋ, ẏ), dim 4; a deck's is [q, q̇], dim 6.
+state is (x, y, ẋ, ẏ), dim 4; a deck's is [q, q̇], dim 6. A triple friction pendulum adds the
+8 internal slips of its series model (regularised law only), the state then being
+[q, internal slips, q̇]: the difference steps follow displacements and velocities, while the
+shooting residual's two halves (scaled by their own excursions) put half the internal slips
+with the velocities.
 
 Shooting, the stepped sweep, sequential and pseudo-arclength continuation in f are those of
 :mod:`nsdyn.periodic` (:class:`PlaneProblem` satisfies
@@ -139,10 +143,10 @@ class PlaneProblem:
     def __init__(self, system: PlaneSystem, amplitude: float, shape: tuple, *,
                  law: str = "switch", eps: float = EPS, eta: float = ETA,
                  rtol: float = RTOL, atol: float = ATOL) -> None:  # fmt: skip
-        if getattr(system, "has_tfp", False):
+        if getattr(system, "has_tfp", False) and law != "arctan":
             raise ValueError(
-                "periodic orbits: a triple friction pendulum's internal slips are "
-                "not part of the shooting state; use single-surface bearings"
+                "law: a triple friction pendulum runs with the regularised law 'arctan' (its "
+                f"series model has no stick events), got {law!r}"
             )
         if law not in LAWS:
             raise ValueError(f"law: expected one of {list(LAWS)}, got {law!r}")
@@ -160,7 +164,10 @@ class PlaneProblem:
         self.atol = (float(atol), float(atol_v))
         ex, ey = (float(e) for e in system.ecc)
         self.twist = system.n_isolators > 1 or ex != 0.0 or ey != 0.0
-        self.rows = np.array([0, 1, 2, 3, 4, 5] if self.twist else [0, 1, 3, 4])
+        self.n_states = int(getattr(system, "n_states", 6))
+        q, v = ([0, 1, 2], [3, 4, 5]) if self.twist else ([0, 1], [3, 4])
+        self.rows = np.array(q + list(range(6, self.n_states)) + v)  # [q, internal slips, q̇]
+        self.velocity = np.isin(self.rows, v)  # the velocity entries of the state
         self.x_ref = np.zeros(self.rows.size)
         self.name = system.name
 
@@ -181,8 +188,8 @@ class PlaneProblem:
         return gp
 
     def full_state(self, x: np.ndarray) -> np.ndarray:
-        """[q, q̇] (6,) of a state of this problem."""
-        y = np.zeros(6)
+        """[q, q̇, internal slips] of a state of this problem (the kernels' order)."""
+        y = np.zeros(self.n_states)
         y[self.rows] = x
         return y
 
@@ -198,7 +205,7 @@ class PlaneProblem:
                         float(MAX_STEPS)])  # fmt: skip
         t_eval = np.linspace(0.0, T, samples + 1)
         nt = t_eval.size
-        X = np.full((nt, 6), np.nan)
+        X = np.full((nt, self.n_states), np.nan)
         NO = np.full((nt, ni), np.nan)
         FF, FR, FO = (np.full((nt, ni, 2), np.nan) for _ in range(3))
         MO = np.zeros((nt, ni), dtype=np.int64)
@@ -240,10 +247,10 @@ class PlaneProblem:
         runs = 1
         if sens:
             d = self.dim
-            m = d // 2
+            vel = self.velocity
             exc = np.abs(Xs - Xs[0]).max(axis=0)  # (the orbit's excursion per entry)
-            amp = np.where(np.arange(d) < m, max(exc[:m].max(), FD_FLOOR),
-                           max(exc[m:].max(), FD_FLOOR))  # fmt: skip
+            amp = np.where(vel, max(exc[vel].max(), FD_FLOOR),
+                           max(exc[~vel].max(), FD_FLOOR))  # fmt: skip
             rel = self.fd_step()
             Phi = np.empty((d, d))
             for j in range(d):
@@ -266,10 +273,9 @@ class PlaneProblem:
         inside the disc is an orbit: multipliers 1, held at the guess by shooting)."""
         if self.law != "switch" or pm.X is None:
             return None
-        m = self.dim // 2
-        if np.abs(pm.X[:, m:]).max() > self.eta:
+        if np.abs(pm.X[:, self.velocity]).max() > self.eta:
             return None
-        return np.eye(self.dim)[:m]
+        return np.eye(self.dim)[~self.velocity]
 
     def orbit_quantities(self, f: float, X: np.ndarray) -> dict:
         """Peak resultant isolator displacement (``u_peak_m``, max over isolators and time;

@@ -87,10 +87,6 @@ def plane_scene(cfg: dict, source: str) -> dict:
         solver = bs.build_solver(cfg, source)
     else:
         raise SceneError(f"{source}: scene.kind: expected one of {list(KINDS)}, got {kind!r}")
-    if getattr(system, "has_tfp", False):
-        raise SceneError(f"{source}: bearing.type: nsdyn sweep does not take triple friction "
-                         "pendulums yet (their internal slips are not in the shooting state); "
-                         "use type 'fps' or 'flat'")  # fmt: skip
     if not isinstance(orbit, HarmonicPlane):
         raise SceneError(f"{source}: motion.kind: nsdyn sweep needs a harmonic orbit (kind = "
                          "'orbit': linear, circular, elliptical), not a record")  # fmt: skip

@@ -289,3 +289,39 @@ def test_an_unstable_verdict_from_a_difference_across_a_switch_is_checked_by_the
     assert p.stable is True and p.multipliers.size == 1 and abs(p.multipliers[0]) < 1.0
     assert "differenced monodromy's max |rho|" in p.note and "stable" in p.note
     assert not any(b for b in curve.bifurcations)
+
+
+@pytest.mark.slow
+def test_a_triple_pendulum_orbit_is_where_the_time_history_from_rest_ends():
+    # The triple pendulum's series model (8 internal slips, regularised law) under a circular
+    # orbit: the shooting orbit is the attractor of the plain time history from rest, reached
+    # to ~ max|rho|^n of the initial distance after n periods (time history at rtol 1e-9)
+    import tomllib
+    from pathlib import Path
+
+    from nsdyn.models.isolated.tfp import tfp_from_config
+
+    scene = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "deck-tfp4-3c.toml"
+    bearing = tfp_from_config(tomllib.loads(scene.read_text())["bearing"], "bearing")
+    mass = sdof_plane(M, bearing, g=G)
+    orbit = HarmonicPlane.circular(0.5, 2.0)
+    pb = plane_problem(mass, orbit, law="arctan")
+    assert pb.dim == 12  # x, y, 8 internal slips, x', y'
+    res = shoot(pb, orbit.f)
+    assert res.converged
+    rho = float(np.abs(res.multipliers).max())
+    assert rho < 0.9
+    n = int(math.ceil(math.log(1e-7) / math.log(rho)))
+    T = 1.0 / orbit.f
+    r = simulate_plane(mass, orbit, law="arctan", t_eval=np.linspace(0.0, n * T, 20 * n + 1),
+                       rtol=1e-9, atol=(1e-11, 1e-11))  # fmt: skip
+    end = np.concatenate([r.q[-1, :2], r.qd[-1, :2]])
+    x0 = res.x0[[0, 1, -2, -1]]
+    scale = np.abs(res.X).max(axis=0)[[0, -1]].max()
+    assert np.abs(end - x0).max() <= 1e-5 * scale
+    # the bearing is isotropic and the excitation turns uniformly: the steady orbit is a
+    # uniformly turning circle, |u| constant, so the last period's samples give its peak
+    q = pb.orbit_quantities(orbit.f, res.X)
+    last = np.hypot(*r.u[-21:, 0].T)
+    assert last.max() - last.min() <= 1e-5 * last.max()
+    assert q["u_peak_m"] == pytest.approx(last.max(), rel=1e-5)

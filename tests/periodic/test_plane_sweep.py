@@ -124,7 +124,8 @@ def test_bad_deck_sweeps_are_refused_in_one_line_naming_the_field(tmp_path, caps
     assert str(scene) in err and field in err
 
 
-def test_a_triple_pendulum_deck_is_refused_naming_the_bearing(tmp_path, capsys):
+def test_a_triple_pendulum_deck_with_the_switch_law_is_refused_naming_the_law(tmp_path, capsys):
+    # the series model of a triple pendulum has no stick events: the regularised law only
     text = (SCENES / "deck-tfp4-3c.toml").read_text()
     head, tail = text.split("[motion]")
     motion = (
@@ -133,10 +134,11 @@ def test_a_triple_pendulum_deck_is_refused_naming_the_bearing(tmp_path, capsys):
     )
     scene = tmp_path / "tfp.toml"
     scene.write_text(head + motion + "[solver]" + tail.split("[solver]")[1])
-    rc = nsdyn_main(["sweep", str(scene), "--points", "2", "--out", str(tmp_path / "o")])
+    rc = nsdyn_main(["sweep", str(scene), "--points", "2", "--friction", "switch",
+                     "--out", str(tmp_path / "o")])  # fmt: skip
     err = capsys.readouterr().err.strip()
     assert rc != 0 and len(err.splitlines()) == 1
-    assert str(scene) in err and "bearing.type" in err
+    assert str(scene) in err and "solver.law" in err
 
 
 def test_isolated_only_flags_are_refused_for_a_deck_scene(tmp_path, capsys):
