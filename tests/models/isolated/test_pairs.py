@@ -279,3 +279,55 @@ def test_tension_at_rest_and_bad_run_options_are_refused():
         warnings.simplefilter("error")
         r = simulate_pairs(s, orbit, t_end=0.5)
     assert r.q.shape == (r.t.size, 3)
+
+
+def deck_as_pairs(d):
+    """The rigid deck ``d`` (nsdyn.models.isolated.deck) as a PairSystem: q = (x, y, θ) of O
+    and the vertical motion (z, r_x, r_y) of O, contact gaps z + r_x Y_i − r_y X_i, the
+    eccentric mass's vertical inertia m a aᵀ (a = (1, e_y, −e_x)) plus rotary inertias."""
+    m, (ex, ey) = d.m, d.ecc
+    a = np.array([1.0, ey, -ex])
+    Mm = np.zeros((6, 6))
+    Mm[:3, :3] = d.mass_matrix()
+    Mm[3:, 3:] = m * np.outer(a, a) + np.diag([0.0, d.J, d.J])
+    ni = d.n_isolators
+    X, Y = d.positions.T
+    D = np.zeros((ni, 2, 6))
+    D[:, 0, 0], D[:, 0, 2], D[:, 1, 1], D[:, 1, 2] = 1.0, -Y, 1.0, X
+    R = np.zeros((ni, 6))
+    R[:, 3], R[:, 4], R[:, 5] = 1.0, Y, -X
+    Gam = np.zeros((6, 3))
+    Gam[0, 0] = Gam[1, 1] = Gam[3, 2] = 1.0
+    return PairSystem(Mm, np.zeros((6, 6)), np.zeros((6, 6)), Gam, D, R, d.bearings, d.positions,
+                      g=d.g, name="deck")  # fmt: skip
+
+
+@pytest.mark.parametrize(("law", "ecc"), [("arctan", (0.6, -0.4)), ("switch", (0.0, 0.0))])
+def test_rigid_deck_on_four_isolators_equals_the_deck_kernels(law, ecc):
+    # Four pendulums under a rigid deck, an elliptical orbit and a vertical component. The
+    # deck's kernels take the normal forces from the rigid-plate distribution (equal vertical
+    # stiffness: N_i affine in (X_i, Y_i)); the PairSystem's four contacts on three vertical
+    # dofs are redundant and its multipliers the least-norm split, which lies in the range
+    # of R: affine in (X_i, Y_i) too, the same forces. An eccentric mass (arctan) twists the
+    # deck; the switch law runs a symmetric deck (a stuck deck's split is the least-norm one
+    # here, the N-proportional one in the deck's kernels: equal for equal N), eta 1e-8 in
+    # both. Tolerance 1e-7 of the peak slip: the integrators' global error at rtol 1e-9 and
+    # the stick band's O(eta / kappa) per stick phase.
+    from nsdyn.models.isolated.deck import rigid_deck
+
+    pos = [(-4.0, -3.0), (4.0, -3.0), (4.0, 3.0), (-4.0, 3.0)]
+    b = Bearing(Friction(0.05), radius=2.5, c=2000.0)
+    d = rigid_deck(2e5, 2e5 * 8.0, pos, b, ecc=ecc, g=G)
+    p = deck_as_pairs(d)
+    np.testing.assert_allclose(p.static_equilibrium()[1], d.static_normal(), rtol=1e-12)
+    orbit = {"f": 0.6, "ax": 2.0, "ay": 1.2, "phase_y_deg": -70.0, "az": 2.0, "f_z": 1.1}
+    kw = dict(law=law, eta=1e-8, t_end=8.0, dt_out=0.02, rtol=1e-9, atol=(1e-11, 1e-11))
+    r = simulate_pairs(p, orbit, **kw)
+    ref = simulate_plane(d, orbit, **kw)
+    peak = np.abs(ref.u).max()
+    assert peak > 0.1
+    assert np.abs(r.u - ref.u).max() < 1e-7 * peak
+    np.testing.assert_allclose(r.N, ref.N, rtol=0, atol=1e-9 * ref.N.max())
+    if law == "arctan":
+        assert np.abs(ref.theta).max() > 1e-4  # the eccentric deck twists
+        assert np.abs(r.q[:, 2] - ref.theta).max() < 1e-7 * np.abs(ref.theta).max() + 1e-12
