@@ -31,6 +31,8 @@ from nsdyn.models.isolated.deck import rigid_deck, sdof_plane, simulate_plane
 from nsdyn.models.isolated.tfp import TripleBearing
 
 G = 9.81
+# scipy's Radau divides by a zero error norm on the flat stretches of a prescribed path
+SCIPY_ZERO_ERROR = pytest.mark.filterwarnings("ignore:divide by zero:RuntimeWarning")
 # a typical bearing: inner slider R2 = R3 = 0.3 m, outer plates R1 = R4 = 2.2 m (effective)
 TYPICAL = dict(R1=2.2, R2=0.3, R3=0.3, R4=2.2, mu1=0.06, mu2=0.02, mu3=0.02, mu4=0.10,
                d1=0.40, d2=0.06, d3=0.06, d4=0.40)  # fmt: skip
@@ -79,6 +81,7 @@ def _published_backbone(p, phi):
     return np.interp(phi, knots_f, knots_u), knots_f, knots_u
 
 
+@SCIPY_ZERO_ERROR
 def test_backbone_follows_the_five_regimes_of_the_published_model():
     # Monotonic loading at V = 0.01 m/s along a direction 30 deg from x (the vector law is
     # isotropic: the force stays on the line) through regimes I-V, to 99 % of the force at
@@ -122,6 +125,7 @@ def test_backbone_follows_the_five_regimes_of_the_published_model():
         assert du == pytest.approx(slope, rel=1e-3), j
 
 
+@SCIPY_ZERO_ERROR
 def test_equal_friction_is_a_single_pendulum_of_radius_R1_plus_R4():
     # With μ1 = μ2 = μ3 = μ4 = μ every series element slides from φ = μ on, and the chain's
     # slopes add up: R̄1 + R2 + R3 + R̄4 = R1 + R4. Until the first rim the bearing is a single
@@ -160,19 +164,22 @@ def test_equal_friction_is_a_single_pendulum_of_radius_R1_plus_R4():
 
 
 def test_a_deck_on_four_tfps_under_a_three_component_record():
-    # The bundled synthetic three-component record (PGA scaled to 4 m/s^2) on a deck of four
-    # triple pendulums: the run ends, the peak resultant isolator displacement (reported in
-    # the summary, the same as max |u| of the histories) stays within the total capacity
-    # d1 + d2 + d3 + d4 plus the rims' compliance, and every rim an element reached is
-    # reported. The vertical balance sum N = m (g + a_z) holds at every output (rigid plate).
+    # The bundled synthetic three-component record (PGA scaled to 4 m/s^2, its first 12 s) on
+    # a deck of four triple pendulums: the run ends, the peak resultant isolator displacement
+    # (reported in the summary, the same as max |u| of the histories) stays within the total
+    # capacity d1 + d2 + d3 + d4 plus the rims' compliance, every rim an element reached is
+    # reported, surface 1's first (regime IV precedes V: mu1 + d1/R1 < mu4 + d4/R4 and the
+    # inner rims come last). The vertical balance sum N = m (g + a_z) holds at every output.
     from nsdyn.ground import read_motion3
 
     rec = read_motion3("synthetic-wn-40s").scaled_to_pga(4.0)
-    b = TripleBearing(**TYPICAL)
+    # small capacities (total 0.26 m), the regimes in order: surface 1 reaches its rim at
+    # u_dr1 = 0.148 m (regime IV)
+    b = TripleBearing(**{**TYPICAL, "d1": 0.10, "d2": 0.03, "d3": 0.03, "d4": 0.10})
     m = 1.0e6
     pos = [(-8.0, -5.0), (8.0, -5.0), (8.0, 5.0), (-8.0, 5.0)]
     deck = rigid_deck(m, m * (16**2 + 10**2) / 12, pos, b, ecc=(0.5, 0.3), h=1.0)
-    r = simulate_plane(deck, rec, law="arctan", t_end=20.0)
+    r = simulate_plane(deck, rec, law="arctan", t_end=12.0)
     s = r.summary()
     ru = np.hypot(r.u[..., 0], r.u[..., 1])
     assert s["peak_resultant_displacement_m"] == pytest.approx(ru.max(), rel=1e-12)
@@ -183,9 +190,15 @@ def test_a_deck_on_four_tfps_under_a_three_component_record():
     phi_max = float((np.hypot(F[..., 0], F[..., 1]) / r.N).max())
     slack = phi_max * (sum(R for R, _, _ in b.elements()) / tfp.STOP_FACTOR + 1 / b.k_elastic)
     assert ru.max() <= b.d_cap + slack
-    # the reported rims are those the internal slips reached
+    # the reported rims are those the internal slips reached; surface 1 (regime IV) first
     el = b.elements()
     reported = {(c["isolator"], c["surface"]) for c in s["tfp_surface_limits"]}
+    assert {(i, "1") for i in range(4)} <= reported
+    first = {}
+    for c in s["tfp_surface_limits"]:
+        first[(c["isolator"], c["surface"])] = c["t_first_s"]
+    for i in range(4):
+        assert all(first[(i, "1")] <= t for (j, _), t in first.items() if j == i)
     for i in range(4):
         for k in range(4):
             sk = r.internal[:, 8 * i + 2 * k : 8 * i + 2 * k + 2]
