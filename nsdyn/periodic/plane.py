@@ -55,6 +55,7 @@ import numpy as np
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
 from nsdyn.models.isolated import _kplanerun as kr
+from nsdyn.models.isolated.bearings import B_MUS
 from nsdyn.models.isolated.deck import ATOL_V_EPS, PlaneSystem, kernel_params
 from nsdyn.models.isolated.defaults import EPS, ETA
 from nsdyn.models.isolated.friction import sticks
@@ -76,6 +77,9 @@ GROWTH_PERIODS = 10  # periods a perturbation is followed to check an "unstable"
 GROWTH_REL = 1e-3  # its size, relative to the orbit's excursion
 STATUS_BASE = 100  # the deck loops' status s is reported as STATUS_BASE + s
 STATUS_UPLIFT = STATUS_BASE + kr.ST_UPLIFT
+STATUS_HELD = STATUS_BASE + 50  # a stuck isolator held outside its disc (outside_disc)
+CHECK_SAMPLES = 64  # outputs of a period integrated only for its end (the disc check's)
+DISC_SLACK = 1e-6  # relative excess of a stick force over mu_s N taken as a missed release
 _WHY = {
     kr.ST_UNDERFLOW: "step size underflow (a stiff regularised law: lower eps)",
     kr.ST_MAX_STEPS: f"more than {MAX_STEPS} steps in one period",
@@ -86,6 +90,9 @@ _WHY = {
     kr.ST_EVENTS: "too many stick-slip events",
     kr.ST_NEWTON: "Radau IIA's Newton iterations diverge (lower eps)",
 }
+_WHY[STATUS_HELD - STATUS_BASE] = (
+    "a stuck isolator held outside its friction disc (a missed break-away of the time loop)"
+)
 for _code, _msg in _WHY.items():
     STATUS_MESSAGES.setdefault(STATUS_BASE + _code, f"deck period: {_msg}")
 LAWS = ("switch", "arctan")
@@ -219,11 +226,29 @@ class PlaneProblem:
         st = STATUS_OK if int(st) == kr.ST_OK else STATUS_BASE + int(st)
         if st == STATUS_OK and not np.all(np.isfinite(X[-1])):
             st = STATUS_BASE + kr.ST_NONFINITE
+        if st == STATUS_OK and self.law == "switch" and self.outside_disc(NO, FF, MO):
+            st = STATUS_HELD
         return st, X, ((NO, FF, FR, MO, info, stops) if full else None)
 
     def fd_step(self) -> float:
         """Relative central-difference step rtol^(1/3) (module text)."""
         return self.rtol ** (1.0 / 3.0)
+
+    def outside_disc(self, NO: np.ndarray, FF: np.ndarray, MO: np.ndarray) -> bool:
+        """True when an output holds a stuck isolator whose stick force lies outside its disc
+        |τ| <= μ_s N (by more than DISC_SLACK): a break-away the time loop did not locate (its
+        switching function already <= 0 where it restarted), which would make the period
+        garbage. Checked at the outputs only."""
+        bp = self.params[2]
+        for i in range(NO.shape[1]):
+            k = np.flatnonzero(MO[:, i] == kp.MODE_STICK)
+            if not k.size:
+                continue
+            lim = np.array([bp[i, B_MUS] * kp.pressure_factor(bp, i, float(n)) * n
+                            for n in NO[k, i]])  # fmt: skip
+            if np.any(np.hypot(FF[k, i, 0], FF[k, i, 1]) > lim * (1.0 + DISC_SLACK)):
+                return True
+        return False
 
     def samples(self, f: float, n_steps: int | None, disc: Discretisation | None) -> int:
         """Orbit samples per period: ``n_steps``, else the discretisation's step count (the
@@ -239,7 +264,7 @@ class PlaneProblem:
         f = check_frequency(f)
         x0 = np.asarray(x0, dtype=float)
         n = self.samples(f, n_steps, disc)
-        st, X, _ = self.run(x0, f, n if (store or sens) else 1)
+        st, X, _ = self.run(x0, f, n if (store or sens) else CHECK_SAMPLES)
         Xs = X[:, self.rows]
         if st != STATUS_OK:
             return PeriodMap(x0.copy(), None, None, None, st, n, 1, 0)
@@ -259,7 +284,7 @@ class PlaneProblem:
                 for s in (1.0, -1.0):
                     xp = x0.copy()
                     xp[j] += s * dj
-                    stp, Xp, _ = self.run(xp, f, 1)
+                    stp, Xp, _ = self.run(xp, f, CHECK_SAMPLES)
                     runs += 1
                     if stp != STATUS_OK:
                         return PeriodMap(Xs[-1].copy(), None, None, None, stp, n, runs, 0)
@@ -375,12 +400,22 @@ def check_growth(problem: PlaneProblem, pt) -> None:
     """Check an "unstable" verdict of the point ``pt`` (an OrbitPoint) by the map itself: from
     the orbit's start displaced by GROWTH_REL of its excursion along the growing eigenvector of
     the monodromy, GROWTH_PERIODS periods are integrated, and the mean change per period of
-    the scaled distance to the start, r, replaces the multipliers (``[r]``) with a note."""
+    the scaled distance to the start, r, replaces the multipliers (``[r]``) with a note. A
+    period that cannot be integrated leaves the verdict unknown (no multipliers, the reason in
+    the note)."""
     if not pt.multipliers.size or pt.max_multiplier < 1.0 + STABLE_MARGIN:
         return
+    first = f"the differenced monodromy's max |rho| = {pt.max_multiplier:.4g}"
+
+    def unknown(status):
+        why = STATUS_MESSAGES.get(status, f"status {status}")
+        pt.multipliers = np.zeros(0, dtype=complex)
+        pt.note = "; ".join(n for n in (pt.note, f"stability unknown: {first}, its check "
+                                        f"failed ({why})") if n)  # fmt: skip
+
     pm = problem.period_map(pt.x0, pt.f, store=True)
     if pm.status != STATUS_OK:
-        return
+        return unknown(pm.status)
     rho, vec = np.linalg.eig(pm.monodromy)
     k = int(np.argmax(np.abs(rho)))
     amp = orbit_amplitudes(problem, pm.X)
@@ -392,10 +427,9 @@ def check_growth(problem: PlaneProblem, pt) -> None:
     for _ in range(GROWTH_PERIODS):
         pk = problem.period_map(x, pt.f, n_steps=pm.n_steps, sens=False)
         if pk.status != STATUS_OK:
-            return
+            return unknown(pk.status)
         x = pk.xT
     r = (float(np.abs(W * (x - pt.x0)).max()) / d0) ** (1.0 / GROWTH_PERIODS)
-    first = f"the differenced monodromy's max |rho| = {pt.max_multiplier:.4g}"
     verdict = "unstable, confirmed" if r >= 1.0 + STABLE_MARGIN else "stable"
     note = (f"{verdict}: {first}; a perturbation followed {GROWTH_PERIODS} periods changes by "
             f"{r:.4g} per period (reported as |rho|)")  # fmt: skip

@@ -273,22 +273,34 @@ def test_elliptical_orbit_is_where_the_time_history_from_rest_ends(law):
     )
 
 
-def test_an_unstable_verdict_from_a_difference_across_a_switch_is_checked_by_the_map():
-    # A stick-slip orbit (linear excitation at 0.1 Hz: stuck 69 % of the period) differenced
-    # with a step 40x too large straddles the stick-slip switches: its multipliers (max ~9) are
-    # not the map's. A friction oscillator with a damper dissipates, and the perturbation the
-    # check follows for 10 periods must shrink: the point is reported stable, with the decay
-    # per period as |rho| and the first value in its note
-    from nsdyn.periodic.plane import plane_response
+def test_an_unstable_verdict_from_a_wrong_monodromy_is_checked_by_the_map():
+    # A differenced monodromy that is wrong (here scaled by 10, as a difference straddling a
+    # stick-slip switch can be) calls the stable closed-form circle unstable (and shooting
+    # fails: the stepped sweep finds the point). The check follows a perturbation e for 10
+    # periods on the map itself: |e_10| <= cond(V) rho^10 |e_0| in the 2-norm of the
+    # eigenbasis V, and its scaled max-norm (4 entries; the blocks' scales differ by w = V/R)
+    # adds the factors 2 x 2 x w, so the rate per period is at most (4 cond w)^(1/10) rho with
+    # the closed-form rho ~ 0.49: the point is reported stable, that rate as |rho|
+    from nsdyn.periodic.plane import PlaneProblem, plane_response
 
-    pb = plane_problem(sdof(), HarmonicPlane.linear(1.0, 0.6, 20.0), law="switch")
-    pb.fd_step = lambda: 0.02
-    curve = plane_response(pb, fmin=0.1, fmax=0.13, points=2)
-    p = curve.points[0]
-    assert p.converged and 0.0 < p.quantities["stick_fraction"] < 1.0
-    assert p.stable is True and p.multipliers.size == 1 and abs(p.multipliers[0]) < 1.0
-    assert "differenced monodromy's max |rho|" in p.note and "stable" in p.note
-    assert not any(b for b in curve.bifurcations)
+    pb = plane_problem(sdof(), circular(A0, F0), law="switch")
+
+    def wrong(x0, f, **kw):
+        pm = PlaneProblem.period_map(pb, x0, f, **kw)
+        if pm.monodromy is not None:
+            pm.monodromy = 10.0 * pm.monodromy
+        return pm
+
+    pb.period_map = wrong
+    curve = plane_response(pb, fmin=F0, fmax=1.2 * F0, points=2)
+    for p in curve.points:
+        w = 2 * math.pi * p.f
+        R, psi = steady_circle(w, A0, MU)
+        rho_cf, cond = closed_form_multipliers(w, R, psi, MU * M * G, 0.0)
+        assert p.converged and p.stable is True and p.multipliers.size == 1
+        assert abs(p.multipliers[0]) <= (4 * cond * w) ** 0.1 * abs(rho_cf[0]) < 1.0
+        assert "differenced monodromy's max |rho|" in p.note and "stable" in p.note
+    assert not curve.bifurcations
 
 
 @pytest.mark.slow
