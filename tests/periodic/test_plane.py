@@ -337,3 +337,25 @@ def test_a_triple_pendulum_orbit_is_where_the_time_history_from_rest_ends():
     last = np.hypot(*r.u[-21:, 0].T)
     assert last.max() - last.min() <= 1e-5 * last.max()
     assert q["u_peak_m"] == pytest.approx(last.max(), rel=1e-5)
+
+
+@pytest.mark.parametrize(
+    "orbit",
+    [
+        HarmonicPlane.circular(0.7, 1.3, -1),
+        HarmonicPlane.linear(0.7, 1.3, 115.0),
+        HarmonicPlane.elliptical(0.7, 1.3, 0.4, 30.0),
+        HarmonicPlane(0.7, 1.1, 0.6, 47.0),
+    ],
+)
+def test_the_sweep_amplitude_is_the_orbits_largest_acceleration(orbit):
+    # A of a deck sweep scales the orbit: its largest |a(t)| (an ellipse's major semi-axis),
+    # against 200 001 samples of HarmonicPlane.accel over a period (sampling error of a smooth
+    # maximum (pi/200000)^2 / 2 ~ 1e-10); the shape times A is the orbit again
+    from nsdyn.periodic.plane import orbit_shape
+
+    A, shape = orbit_shape(orbit)
+    ax, ay, _ = orbit.accel(np.linspace(0.0, orbit.period, 200_001))
+    assert A == pytest.approx(np.hypot(ax, ay).max(), rel=1e-9)
+    assert (shape[0] * A, shape[1] * A) == pytest.approx((orbit.ax, orbit.ay), rel=1e-14)
+    assert shape[2] == pytest.approx(math.radians(orbit.phase_y_deg), rel=1e-14)
