@@ -35,6 +35,7 @@ from numba import njit
 from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplanerun as kr
+from nsdyn.models.isolated.bearings import B_IOFF, B_KIND, KIND_TFP
 
 S6 = math.sqrt(6.0)
 C1, C2 = (4.0 - S6) / 10.0, (4.0 + S6) / 10.0
@@ -65,6 +66,36 @@ def _dense(y, Z, s, ys):
 
 
 @njit(cache=True, error_model="numpy")
+def _tfp_columns(y, pos, bp, J, sd):
+    """Jacobian columns of the internal slips of elements 2-4 of every triple pendulum: the
+    deck's rows (q̇, q̈) from element 1's column (the force depends on Σ_k s_k), its own
+    internal rows by forward differences of its flow alone, zero for the other bearings."""
+    n = y.shape[0]
+    for i in range(pos.shape[0]):
+        if bp[i, B_KIND] != KIND_TFP:
+            continue
+        o = int(bp[i, B_IOFF])
+        ux, uy, _, _ = kp.slip_kinematics(y, pos, i)
+        kp.tfp_force(y, bp, i, ux, uy, sd)
+        base = np.empty(8)
+        for m in range(8):
+            base[m] = sd[i, m]
+        for j in range(o + 2, o + 8):
+            src = o + (j - o) % 2
+            for r in range(n):
+                J[r, j] = J[r, src] if r < 6 else 0.0
+            d = 1e-8 * max(abs(y[j]), 1e-3)
+            yj = y[j]
+            y[j] = yj + d
+            kp.tfp_force(y, bp, i, ux, uy, sd)
+            y[j] = yj
+            for m in range(8):
+                J[o + m, j] = (sd[i, m] - base[m]) / d
+        for m in range(8):
+            sd[i, m] = base[m]
+
+
+@njit(cache=True, error_model="numpy")
 def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
               X, NO, FF, FR, FO, MO, EV, stops, info):  # fmt: skip
     """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
@@ -91,6 +122,15 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
     err = np.zeros(n)
     sc = np.zeros(n)
     ynew = np.zeros(n)
+    # a triple pendulum's force depends on its internal slips through their sum only: the
+    # deck's rows of the columns of its elements 2-4 are those of element 1 (copied)
+    copied = np.zeros(n, dtype=np.bool_)
+    sdw = np.zeros((ni, 8))
+    for i in range(ni):
+        if bp[i, B_KIND] == KIND_TFP:
+            o = int(bp[i, B_IOFF])
+            for j in range(o + 2, o + 8):
+                copied[j] = True
     for j in range(n):
         y[j] = y0[j]
     rtol = cfg[kr.C_RTOL]
@@ -157,6 +197,8 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             need_jac = False
         if need_jac:  # forward differences at the step's start, kept while Newton converges
             for j in range(n):
+                if copied[j]:
+                    continue
                 d = 1e-8 * max(abs(y[j]), 1e-3)
                 yj = y[j]
                 y[j] = yj + d
@@ -164,7 +206,9 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                 y[j] = yj
                 for k in range(n):
                     J[k, j] = (f1[k] - f0[k]) / d
-            nfev += n
+                nfev += 1
+            if n > 6:
+                _tfp_columns(y, pos, bp, J, sdw)
             need_jac = False
             jac_here = True
             lu_h = -1.0
