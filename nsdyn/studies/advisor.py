@@ -24,6 +24,11 @@
    transitions are nearly impulsive; see ``nsdyn bench fidelity``).
 
 Every number used is in ``Advice.evidence``; :meth:`Advice.report` prints it.
+
+Space frames on isolators (:func:`advise_3d`): the ladder fixed / rigid / cb, probed by
+:func:`nsdyn.models.isolated.building3d_advice.advise_building` (the cb rung over the record's
+strong-motion part; the rigid deck against it on the isolators' peak displacement and base
+shear), returned as an :class:`Advice`.
 """
 
 from __future__ import annotations
@@ -35,6 +40,7 @@ import numpy as np
 __all__ = [
     "Advice",
     "advise",
+    "advise_3d",
     "energy_frequency",
     "stick_probe",
 ]
@@ -282,3 +288,15 @@ def advise(
         return Advice("full", None, ev)
     ev["decision"] = f"fixed base; richest probed f_max {fm:g} Hz (tol not met below it)"
     return Advice(fid, fm, ev)
+
+
+def advise_3d(frame, bearings, motion, tol: float = DEFAULT_TOL, **kw) -> Advice:
+    """The cheapest rung (fixed, rigid, cb) of the space frame ``frame`` on ``bearings`` (one
+    Bearing or one per base node) under the three-component record ``motion`` whose peak
+    metrics the cb probe confirms within ``tol``; ``kw``: f_max, min_mass, base, metrics
+    (:data:`~nsdyn.models.isolated.building3d_advice.ADVICE_METRICS`), solver, system
+    (:func:`~nsdyn.models.isolated.building3d_advice.advise_building`)."""
+    from nsdyn.models.isolated.building3d_advice import advise_building
+
+    a = advise_building(frame, bearings, motion, tol=tol, **kw)
+    return Advice(a["fidelity"], a["f_max"], a["evidence"])

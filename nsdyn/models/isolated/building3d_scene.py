@@ -1,9 +1,10 @@
-"""``nsdyn run`` on 3D building scenes (``[scene] kind = "building3d"``): the rigid and fixed rungs.
+"""``nsdyn run`` on 3D building scenes (``[scene] kind = "building3d"``): every rung of the ladder.
 
 Tables (keys in :mod:`nsdyn.models.isolated.building3d_scene_keys`):
 
-* ``[structure]`` ``frame3d`` (a bundled 3D frame or a file), ``fidelity`` "rigid" | "fixed",
-  ``eccentricity`` [f_x, f_y] (accidental, fractions of the plan), ``n_modes`` (fixed);
+* ``[structure]`` ``frame3d`` (a bundled 3D frame or a file), ``fidelity`` "rigid" | "fixed" |
+  "cb" | "full" | "auto", ``eccentricity`` [f_x, f_y] (accidental, fractions of the plan),
+  ``n_modes`` (fixed), ``f_max``, ``min_mass``, ``base`` (cb and full);
 * ``[bearing]``, ``[motion]``, ``[solver]``: those of the deck scene
   (:mod:`nsdyn.models.isolated.deck_scene`).
 
@@ -13,7 +14,13 @@ integrated by :func:`~nsdyn.models.isolated.deck.simulate_plane`; writes ``build
 (deck histories). ``fixed``: :func:`nsdyn.models.isolated.fixed3d.fixed_response_3d` under a
 three-component record, storey drifts at the centre of mass and the corners, floor
 accelerations, base shear and torsional moment; writes ``building3d.npz`` (those histories).
-The summary (units in the key names) is what ``nsdyn run`` prints.
+``cb`` / ``full``: the pair system of :func:`nsdyn.models.isolated.building3d_cb.building_pairs`
+run by :func:`~nsdyn.models.isolated.pairs.simulate_pairs` from its static state; writes
+``building3d.npz`` (isolator orbits, normal and bearing forces, drifts at the centres of mass
+and the corners, floor accelerations, base shear and torsional moment). ``auto``:
+:func:`nsdyn.models.isolated.building3d_advice.advise_building` probes the rungs on the
+record, prints its evidence and runs the rung it advises. The summary (units in the key
+names) is what ``nsdyn run`` prints.
 """
 
 from __future__ import annotations
@@ -28,7 +35,7 @@ import numpy as np
 
 from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.bearings import BearingError, bearing_from_config
-from nsdyn.models.isolated.building3d_scene_keys import FIDELITIES, SCHEMA
+from nsdyn.models.isolated.building3d_scene_keys import BASES, FIDELITIES, SCHEMA
 from nsdyn.models.isolated.building3d_shape import fixed_peak_shape, rigid_peak_shape, write_shape
 from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
 from nsdyn.models.isolated.deck_scene import build_solver, summary_table
@@ -68,9 +75,49 @@ def _frame(t: dict, source: str):
     return frame
 
 
+def _cb_options(t: dict, source: str) -> dict:
+    """f_max, min_mass, base of ``[structure]`` (SceneError naming the field)."""
+    out = {}
+    for key, default, lo_open in (("f_max", 5.0, True), ("min_mass", 1e-4, False)):
+        v = t.get(key, default)
+        ok = isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+        if not (ok and (v > 0 if lo_open else 0 <= v < 1)):
+            want = "a positive frequency [Hz]" if lo_open else "a fraction in [0, 1)"
+            raise SceneError(f"{source}: structure.{key}: expected {want}, got {v!r}")
+        out[key] = float(v)
+    out["base"] = t.get("base", "grid")
+    if out["base"] not in BASES:
+        raise SceneError(f"{source}: structure.base: expected one of {list(BASES)}, got "
+                         f"{out['base']!r}")  # fmt: skip
+    return out
+
+
+def _bearing(cfg: dict, source: str, fid: str):
+    if "bearing" not in cfg:
+        raise SceneError(f"{source}: bearing: missing; the {fid} rung needs a [bearing] "
+                         "table (type, radius, mu, d_cap, …)")  # fmt: skip
+    try:
+        return bearing_from_config(cfg["bearing"], "bearing")
+    except BearingError as e:
+        raise SceneError(f"{source}: {e}") from None
+
+
+def build_pairs(frame, bearing, fid: str, opts: dict, source: str):
+    """The cb or full PairSystem of a scene's frame (SceneError naming the field)."""
+    from nsdyn.models.isolated.building3d_cb import building_pairs
+
+    try:
+        return building_pairs(frame, bearing, fidelity=fid, f_max=opts["f_max"],
+                              min_mass=opts["min_mass"] or None, base=opts["base"])  # fmt: skip
+    except BearingError as e:
+        raise SceneError(f"{source}: {e}") from None
+    except ValueError as e:
+        raise SceneError(f"{source}: structure: {' '.join(str(e).split())}") from None
+
+
 def build_system(cfg: dict, source: str) -> dict:
-    """{"fidelity", "frame", "deck" (rigid) or None, "n_modes"} of a scene (SceneError naming
-    the field)."""
+    """{"fidelity", "frame", "deck" (rigid) or None, "pairs" (cb, full) or None, "bearing",
+    "n_modes", "cb" (f_max, min_mass, base)} of a scene (SceneError naming the field)."""
     check_fields({k: v for k, v in cfg.items() if k != "motion"},
                  {k: v for k, v in TABLES.items() if k != "motion"}, source)  # fmt: skip
     t = cfg.get("structure")
@@ -85,19 +132,22 @@ def build_system(cfg: dict, source: str) -> dict:
     if isinstance(n_modes, bool) or not isinstance(n_modes, int) or n_modes < 1:
         raise SceneError(f"{source}: structure.n_modes: expected an integer >= 1, got "
                          f"{n_modes!r}")  # fmt: skip
+    opts = _cb_options(t, source)
     frame = _frame(t, source)
-    deck = None
+    deck = pairs = bearing = None
+    if fid != "fixed":
+        bearing = _bearing(cfg, source, fid)
     if fid == "rigid":
         from nsdyn.models.isolated.building3d import building_deck
 
-        if "bearing" not in cfg:
-            raise SceneError(f"{source}: bearing: missing; the rigid rung needs a [bearing] "
-                             "table (type, radius, mu, d_cap, …)")  # fmt: skip
         try:
-            deck = building_deck(frame, bearing_from_config(cfg["bearing"], "bearing"))
+            deck = building_deck(frame, bearing)
         except (BearingError, ValueError) as e:
             raise SceneError(f"{source}: {e}") from None
-    return {"fidelity": fid, "frame": frame, "deck": deck, "n_modes": n_modes}
+    elif fid in ("cb", "full"):
+        pairs = build_pairs(frame, bearing, fid, opts, source)
+    return {"fidelity": fid, "frame": frame, "deck": deck, "pairs": pairs, "bearing": bearing,
+            "n_modes": n_modes, "cb": opts}  # fmt: skip
 
 
 def build_motion(cfg: dict, source: str):
@@ -161,9 +211,73 @@ def _run_fixed(sysd, exc, source: str, out_dir: Path) -> dict:
     return s
 
 
+def _run_pairs(sysd, exc, t_end, kw, out_dir: Path, say) -> dict:
+    from nsdyn._numba_cache import all_cached, first_compile
+    from nsdyn.models.isolated import _kpairsradau, _kpairsrun
+    from nsdyn.models.isolated.building3d_response import run_building
+    from nsdyn.models.isolated.deck_scene import COMPILE_ABOUT_S
+    from nsdyn.models.isolated.pairs import simulate_pairs
+
+    system = sysd["pairs"]
+    loop = _kpairsrun.integrate if kw["law"] == "switch" else _kpairsradau.integrate
+    w0 = time.perf_counter()
+    with first_compile("building3d", COMPILE_ABOUT_S, all_cached([loop])):
+        simulate_pairs(system, {"f": 1.0, "ax": 0.0, "ay": 0.0}, t_end=0.04, law=kw["law"],
+                       y0=system.info["y0"])  # fmt: skip
+    compile_s = time.perf_counter() - w0
+    w0 = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        r = run_building(system, exc, t_end=t_end, **kw)
+    wall = time.perf_counter() - w0
+    for w in caught:
+        say(f"building3d: warning: {w.message}")
+    res, info = r.result, system.info
+    s = r.summary()
+    npz = out_dir / "building3d.npz"
+    with atomic_open(npz, "wb") as fh:
+        np.savez(fh, t=r.t, q=res.q, u=res.u, N=res.N, friction=res.friction,
+                 restoring=res.restoring, other=res.other, positions=system.positions,
+                 origin=info["origin"], drift_cm=r.drifts.cm, drift_corner=r.drifts.corner,
+                 corners=r.drifts.corners, floor_acc=r.floor_acc, base_shear=r.base_shear,
+                 torsion=r.torsion, f_hz=info["f_hz"])  # fmt: skip
+    dm = info["dropped_mass"]
+    s.update({"n_modes": int(info["n_modes"]), "f_max_hz": info["f_max"], "base": info["base"],
+              "modes_dropped": int(info["n_modes_below_f_max"] - info["n_modes"]),
+              "dropped_mass_max": float(max(dm)), "mass_kg": info["m"],
+              "centre_of_mass_m": [float(v) for v in info["centre"]],
+              "reduction_s": sysd.get("build_s", float("nan")), "wall_s": wall,
+              "compile_s": compile_s, "files": [str(npz)],
+              "warnings": [str(w.message) for w in caught]})  # fmt: skip
+    return s
+
+
+def _advise(sysd, cfg, exc, kw, source: str, say) -> None:
+    """fidelity "auto": the advisor's rung into ``sysd`` (its report on stderr)."""
+    from nsdyn.models.isolated.building3d_advice import advise_building, report
+
+    if not hasattr(exc, "dt"):
+        raise SceneError(f"{source}: structure.fidelity: 'auto' probes the rungs on a record "
+                         "(kind = 'record3'), not an orbit")  # fmt: skip
+    opts = sysd["cb"]
+    pairs = build_pairs(sysd["frame"], sysd["bearing"], "cb", opts, source)
+    advice = advise_building(sysd["frame"], sysd["bearing"], exc, solver=kw, system=pairs)
+    say(report(advice))
+    fid = advice["fidelity"]
+    sysd.update(fidelity=fid, advice=advice)
+    if fid == "rigid":
+        from nsdyn.models.isolated.building3d import building_deck
+
+        sysd["deck"] = building_deck(sysd["frame"], sysd["bearing"])
+    elif fid == "cb":
+        sysd["pairs"] = pairs
+
+
 def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:
     """Run a 3D building scene; writes ``building3d.npz`` into ``out_dir``; the summary."""
+    w0 = time.perf_counter()
     sysd = build_system(cfg, source)
+    sysd["build_s"] = time.perf_counter() - w0
     exc, t_end = build_motion(cfg, source)
     kw = build_solver(cfg, source)
     name = cfg.get("scene", {}).get("name", Path(source).stem)
@@ -172,13 +286,20 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     say(f"building3d: {name}: {frame.name}, {len(frame.base_nodes)} column lines, "
         f"fidelity {sysd['fidelity']}, {getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
     out_dir = Path(out_dir)
+    asked = sysd["fidelity"]
+    if asked == "auto":
+        _advise(sysd, cfg, exc, kw, source, say)
     if sysd["fidelity"] == "rigid":
         s = _run_rigid(sysd, exc, t_end, kw, out_dir, say)
+    elif sysd["fidelity"] in ("cb", "full"):
+        s = _run_pairs(sysd, exc, t_end, kw, out_dir, say)
     else:
         s = _run_fixed(sysd, exc, source, out_dir)
     s.update({"kind": "building3d", "name": name, "frame": frame.name,
               "fidelity": sysd["fidelity"],
               "motion": getattr(exc, "name", type(exc).__name__)})  # fmt: skip
+    if asked == "auto":
+        s["advice"] = {"fidelity": sysd["fidelity"], **sysd["advice"]["evidence"]}
     say(f"building3d: done in {s['wall_s']:.3f} s")
     return s
 
@@ -213,6 +334,20 @@ ROWS = {
         ("peak_torsional_moment_Nm", "peak torsional moment", "N m"),
     ),
 }
+ROWS["cb"] = (
+    ("n_dofs", "coordinates", ""),
+    ("n_modes", "fixed-interface modes", ""),
+    ("modes_dropped", "modes dropped (participation)", ""),
+    ("peak_resultant_displacement_m", "peak |u| (resultant)", "m"),
+    ("residual_displacement_m", "residual |u|", "m"),
+    ("min_normal_force_N", "min normal force", "N"),
+    ("max_normal_force_N", "max normal force", "N"),
+    ("stick_fraction", "stick fraction", ""),
+    *ROWS["fixed"][4:],
+    ("peak_base_shear_resultant_N", "peak base shear |V|", "N"),
+    ("compile_s", "compile/load time", "s"),
+)
+ROWS["full"] = ROWS["cb"]
 
 
 def format_summary(s: dict) -> str:

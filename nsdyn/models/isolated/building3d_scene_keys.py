@@ -11,16 +11,18 @@ from __future__ import annotations
 from nsdyn.models.isolated.deck_scene_keys import SCHEMA as DECK
 from nsdyn.models.scene_schema import Key, Schema, Table
 
-FIDELITIES = ("rigid", "fixed")
+FIDELITIES = ("rigid", "fixed", "cb", "full", "auto")
+BASES = ("grid", "pinned")
 
 SCHEMA = Schema(
     "building3d",
-    "a space frame on bidirectional isolators: the rigid and fixed rungs",
-    "A 3D frame file (or a bundled one, `office-11-3d`) run as a rigid deck on one "
-    "bidirectional isolator under every column line (`fidelity = \"rigid\"`, the deck "
-    "scene's `[bearing]`) or as the fixed-base elastic building by modal time histories "
-    "(`fidelity = \"fixed\"`, a three-component record). The Craig–Bampton and full rungs "
-    "coupled to the isolators are not available.",
+    "a space frame on bidirectional isolators: the rigid, fixed, cb and full rungs",
+    "A 3D frame file (or a bundled one, `office-11-3d`) on one bidirectional isolator under "
+    "every column line (the deck scene's `[bearing]`): taken rigid (`fidelity = \"rigid\"`, "
+    "the rigid deck), elastic by Craig–Bampton (`\"cb\"`) or with every mode (`\"full\"`, "
+    "small frames) with the normal forces from the dynamics, or on a fixed base by modal time "
+    "histories (`\"fixed\"`, a three-component record); `\"auto\"` asks the model advisor "
+    "for the cheapest rung that answers and runs it.",
     (
         Table("scene", "The family and a name.", (
             Key("kind", "string", "the model family", required=True, choices=("building3d",)),
@@ -29,18 +31,29 @@ SCHEMA = Schema(
         Table("structure", "The space frame and the rung of the model ladder.", (
             Key("frame3d", "string", "bundled 3D frame name or a 3D frame file (relative to "
                 "the scene file)", required=True),
-            Key("fidelity", "string", "rigid deck on isolators, or fixed base", default="rigid",
+            Key("fidelity", "string", "the rung: rigid deck, fixed base, Craig–Bampton or full "
+                "model on isolators, or the advisor's choice", default="rigid",
                 choices=FIDELITIES),
             Key("eccentricity", "list of numbers", "[f_x, f_y]: accidental eccentricity, every "
                 "floor's centre of mass moved by these fractions of its plan dimensions", "—",
                 default=(0.0, 0.0), range="each in (−0.5, 0.5)"),
             Key("n_modes", "integer", "fixed-base modes of the fixed rung", "—", default=24,
                 lo=1),
+            Key("f_max", "number", "Craig–Bampton cut-off of the cb rung", "Hz", default=5.0,
+                lo=0.0, lo_open=True),
+            Key("min_mass", "number", "cb rung: keep a fixed-interface mode only if its "
+                "effective-mass fraction in x, y, z or torsion reaches this (0: every mode "
+                "below f_max)", "—", default=1e-4, lo=0.0, hi=1.0, hi_open=True),
+            Key("base", "string", "cb and full rungs: feet tied by a stiff base grid and a "
+                "rigid base diaphragm, or each foot pinned on its own isolator", default="grid",
+                choices=BASES),
         )),
         *(t for t in DECK.tables if t.name in ("bearing", "motion", "solver")),
     ),
     notes=(
-        "The fixed rung needs a record (`[motion] kind = \"record3\"`); `[bearing]` and "
-        "`[solver]` apply to the rigid rung only.",
+        "The fixed rung needs a record (`[motion] kind = \"record3\"`) and ignores "
+        "`[bearing]` and `[solver]`; the rigid, cb and full rungs need `[bearing]`.",
+        "`fidelity = \"auto\"` runs the rigid and cb rungs over the record's strong-motion "
+        "part and picks the cheapest that answers (see the 3D guide); it needs a record.",
     ),
 )  # fmt: skip

@@ -35,7 +35,7 @@ from nsdyn.structure.frame3d import Frame3D
 from nsdyn.structure.modes3d import Modes3D, fixed_base_modes_3d
 from nsdyn.structure.storey3d import StoreyDrifts, floor_motions, storey_drifts_3d
 
-__all__ = ["FixedResponse3D", "fixed_response_3d", "modal_histories"]
+__all__ = ["FixedResponse3D", "fixed_response_3d", "modal_histories", "response_peaks"]
 
 
 def _step_matrices(omega: float, zeta: float, dt: float) -> np.ndarray:
@@ -91,32 +91,41 @@ class FixedResponse3D:
 
     def summary(self) -> dict:
         """Peaks with units in the key names."""
-        d = self.drifts
-        cm = np.abs(d.cm).max(axis=-1)  # (ns, 2)
-        corner = np.abs(d.corner).max(axis=(1, -1))  # (ns, 2)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            amp = np.where(cm > 0, corner / np.where(cm > 0, cm, 1.0), np.nan)
         return {
             "n_modes": int(len(self.modes.f_hz)),
             "f1_hz": float(self.modes.f_hz[0]),
             "mass_captured_x": float(self.captured[0]),
             "mass_captured_y": float(self.captured[1]),
             "mass_captured_torsion": float(self.captured[2]),
-            "peak_drift_cm_x": float(cm[:, 0].max()),
-            "peak_drift_cm_y": float(cm[:, 1].max()),
-            "peak_drift_corner_x": float(corner[:, 0].max()),
-            "peak_drift_corner_y": float(corner[:, 1].max()),
-            "corner_amplification_x": float(corner[:, 0].max() / cm[:, 0].max())
-            if cm[:, 0].max() > 0 else float("nan"),
-            "corner_amplification_y": float(corner[:, 1].max() / cm[:, 1].max())
-            if cm[:, 1].max() > 0 else float("nan"),
-            "corner_amplification_per_storey": amp.tolist(),
-            "peak_floor_acc_x_m_s2": float(np.abs(self.floor_acc[:, 0]).max()),
-            "peak_floor_acc_y_m_s2": float(np.abs(self.floor_acc[:, 1]).max()),
-            "peak_base_shear_x_N": float(np.abs(self.base_shear[0]).max()),
-            "peak_base_shear_y_N": float(np.abs(self.base_shear[1]).max()),
-            "peak_torsional_moment_Nm": float(np.abs(self.torsion).max()),
-        }  # fmt: skip
+            **response_peaks(self.drifts, self.floor_acc, self.base_shear, self.torsion),
+        }
+
+
+def response_peaks(drifts: StoreyDrifts, floor_acc, base_shear, torsion) -> dict:
+    """Peak drift ratios at the centres of mass and the corners (x, y), the corner
+    amplification (overall and per storey), accelerations of the floors above the base
+    (``floor_acc`` (nl, 2, nt), level 0 = the base left out), base shear and torsional moment
+    of response histories (trailing time axis), units in the key names."""
+    cm = np.abs(drifts.cm).max(axis=-1)  # (ns, 2)
+    corner = np.abs(drifts.corner).max(axis=(1, -1))  # (ns, 2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        amp = np.where(cm > 0, corner / np.where(cm > 0, cm, 1.0), np.nan)
+    return {
+        "peak_drift_cm_x": float(cm[:, 0].max()),
+        "peak_drift_cm_y": float(cm[:, 1].max()),
+        "peak_drift_corner_x": float(corner[:, 0].max()),
+        "peak_drift_corner_y": float(corner[:, 1].max()),
+        "corner_amplification_x": float(corner[:, 0].max() / cm[:, 0].max())
+        if cm[:, 0].max() > 0 else float("nan"),
+        "corner_amplification_y": float(corner[:, 1].max() / cm[:, 1].max())
+        if cm[:, 1].max() > 0 else float("nan"),
+        "corner_amplification_per_storey": amp.tolist(),
+        "peak_floor_acc_x_m_s2": float(np.abs(floor_acc[1:, 0]).max()),
+        "peak_floor_acc_y_m_s2": float(np.abs(floor_acc[1:, 1]).max()),
+        "peak_base_shear_x_N": float(np.abs(base_shear[0]).max()),
+        "peak_base_shear_y_N": float(np.abs(base_shear[1]).max()),
+        "peak_torsional_moment_Nm": float(np.abs(torsion).max()),
+    }  # fmt: skip
 
 
 def _components(motion) -> tuple[float, float, np.ndarray]:

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from nsdyn.models.isolated.bearings import Bearing, BearingError, Friction
 from nsdyn.models.isolated import building_deck, deck_constants
+from nsdyn.models.isolated.bearings import Bearing, BearingError, Friction
 from nsdyn.models.isolated.deck import simulate_plane
 from nsdyn.structure import Section3D, accidental_eccentricity, regular_building_3d
 

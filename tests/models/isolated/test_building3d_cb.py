@@ -20,6 +20,7 @@ import scipy.linalg as sla
 from nsdyn.models.isolated.bearings import Bearing, BearingError, Friction
 from nsdyn.models.isolated.building3d_cb import (
     FULL_MAX,
+    base_grid,
     building_pairs,
     mass_fractions,
     reduce_building,
@@ -40,15 +41,17 @@ def building():
                                zeta=0.05)  # fmt: skip
 
 
-def pinned_reference(frame):
+def pinned_reference(frame, base="pinned"):
     """Eigenvalues ω² of the frame with its base translations clamped (dense, independent of
-    the reduction), with cond(K_ii) for the round-off bound."""
-    K, M = frame.reduced()
+    the reduction; with base="grid" the frame with its feet tied, base_grid), with cond(K)
+    of the held model for the round-off bound and its size."""
+    model = base_grid(frame) if base == "grid" else frame
+    K, M = model.reduced()
     K, M = K.toarray(), M.toarray()
-    b = np.concatenate([frame.dofs(frame.base_nodes, c) for c in (0, 1, 2)])
-    i = np.setdiff1d(np.arange(frame.n_red), b)
-    Kii, Mii = K[np.ix_(i, i)], M[np.ix_(i, i)]
-    return sla.eigh(Kii, Mii, eigvals_only=True), np.linalg.cond(Kii), len(i)
+    rows = np.concatenate([model.dofs(model.base_nodes, c) for c in (0, 1, 2)])
+    Q = sla.null_space(model.T[rows].toarray())  # q_r with every foot's translation zero
+    Kh, Mh = Q.T @ K @ Q, Q.T @ M @ Q
+    return sla.eigh(Kh, Mh, eigvals_only=True), np.linalg.cond(Kh), len(Kh)
 
 
 def held(sys):
@@ -59,11 +62,12 @@ def held(sys):
     return sla.eigh(Q.T @ sys.K @ Q, Q.T @ sys.M @ Q, eigvals_only=True)
 
 
+@pytest.mark.parametrize("base", ["pinned", "grid"])
 @pytest.mark.parametrize("f_max", [6.0, 20.0])
-def test_held_isolators_give_the_pinned_frames_modes_within_the_ritz_bound(f_max):
+def test_held_isolators_give_the_fixed_base_frames_modes_within_the_ritz_bound(f_max, base):
     frame = building()
-    lam, cond, n = pinned_reference(frame)
-    sys = building_pairs(frame, FPS, f_max=f_max, min_mass=None)
+    lam, cond, n = pinned_reference(frame, base)
+    sys = building_pairs(frame, FPS, f_max=f_max, min_mass=None, base=base)
     lt = held(sys)
     wc = (2 * np.pi * f_max) ** 2
     assert len(lt) == np.count_nonzero(lam <= wc) >= 3  # every mode below f_max, none above
@@ -79,10 +83,10 @@ def test_held_isolators_give_the_pinned_frames_modes_within_the_ritz_bound(f_max
 
 def test_participation_filter_keeps_a_subset_of_the_pinned_modes():
     frame = building()
-    lam, cond, n = pinned_reference(frame)
+    lam, cond, n = pinned_reference(frame, "grid")
     full = building_pairs(frame, FPS, f_max=40.0, min_mass=None)
     thin = building_pairs(frame, FPS, f_max=40.0, min_mass=1e-3)
-    frac, _ = mass_fractions(full.info["cb"])
+    frac = mass_fractions(full.info["frame"], full.info["cb"])
     kept = frac.max(axis=1) >= 1e-3
     assert 0 < kept.sum() < len(kept) and thin.info["n_modes"] == kept.sum()
     assert thin.info["dropped_mass"] == pytest.approx(frac[~kept].sum(axis=0), rel=1e-12)
@@ -97,27 +101,29 @@ def _springs(sys, k_h, k_v):
     return sys.K + k_h * D2.T @ D2 + k_v * sys.R.T @ sys.R
 
 
-def test_portal_cb_with_every_mode_equals_the_full_rung_and_the_frame_on_springs():
+@pytest.mark.parametrize("base", ["pinned", "grid"])
+def test_portal_cb_with_every_mode_equals_the_full_rung_and_the_frame_on_springs(base):
     frame = load_frame3d("portal-3d")
-    full = building_pairs(frame, FPS, fidelity="full")
+    full = building_pairs(frame, FPS, fidelity="full", base=base)
     f_top = full.info["f_hz"].max()
-    cb = building_pairs(frame, FPS, f_max=1.01 * f_top, min_mass=None)
-    assert cb.n == full.n == frame.n_red
+    cb = building_pairs(frame, FPS, f_max=1.01 * f_top, min_mass=None, base=base)
+    model = full.info["frame"]
+    assert cb.n == full.n == model.n_red
     m = frame.total_mass
     k_h, k_v = m * (2 * np.pi * 0.5) ** 2 / 4, 1e3 * m  # isolator-like springs per bearing
-    # the frame itself on the same springs (nodal coordinates, no reduction)
-    K, M = frame.reduced()
+    # the frame itself on the same springs under every foot (no reduction)
+    K, M = model.reduced()
     K, M = K.toarray(), M.toarray()
     for c, k in ((0, k_h), (1, k_h), (2, k_v)):
-        d = frame.dofs(frame.base_nodes, c)
-        K[d, d] += k
+        B = model.T[model.dofs(model.base_nodes, c)].toarray()
+        K += k * B.T @ B
     lam = sla.eigh(K, M, eigvals_only=True)
     eb = C_STABLE * len(lam) * EPS * np.linalg.cond(K) * lam**2 / lam[0]
     for s in (full, cb):
         lt = sla.eigh(_springs(s, k_h, k_v), s.M, eigvals_only=True)
         assert np.all(np.abs(lt - lam) <= eb)
     # a lower cut-off stays above (Ritz) and within the bound
-    low = building_pairs(frame, FPS, f_max=20.0, min_mass=None)
+    low = building_pairs(frame, FPS, f_max=20.0, min_mass=None, base=base)
     lt = sla.eigh(_springs(low, k_h, k_v), low.M, eigvals_only=True)
     lc = (2 * np.pi * 20.0) ** 2
     assert np.all(lt >= lam[: len(lt)] - eb[: len(lt)])
@@ -127,18 +133,19 @@ def test_portal_cb_with_every_mode_equals_the_full_rung_and_the_frame_on_springs
     assert np.all(lt[ok] <= ref / (1 - 2 * ref / lc) + eb[: len(lt)][ok])
 
 
+@pytest.mark.parametrize("base", ["pinned", "grid"])
 @pytest.mark.parametrize("which", ["building", "portal"])
-def test_gamma_is_the_rigid_translation_and_carries_the_rigid_body_mass(which):
+def test_gamma_is_the_rigid_translation_and_carries_the_rigid_body_mass(which, base):
     frame = building() if which == "building" else load_frame3d("portal-3d")
-    sys = building_pairs(frame, FPS, fidelity="cb", f_max=30.0, min_mass=None)
-    cb = sys.info["cb"]
-    r = frame.rigid_motions()[:, :3]
-    _, cond, n = pinned_reference(frame)
+    sys = building_pairs(frame, FPS, fidelity="cb", f_max=30.0, min_mass=None, base=base)
+    cb, model = sys.info["cb"], sys.info["frame"]
+    r = model.rigid_motions()[:, :3]
+    _, cond, n = pinned_reference(frame, base)
     tol = C_STABLE * n * EPS * cond  # Ψ r_b = r_i through a solve with K_ii
-    assert np.abs(cb.expand_reduced(sys.Gamma) - r).max() <= tol
+    assert np.abs(cb.T @ sys.Gamma - r).max() <= tol
     # M Γ equals the reduction of the frame's own rigid-body inertia M_r r
-    _, Mr = frame.reduced()
-    MGr = cb.cb.T.T @ (Mr @ r)
+    _, Mr = model.reduced()
+    MGr = cb.T.T @ (Mr @ r)
     assert np.abs(sys.M @ sys.Gamma - MGr).max() <= tol * np.abs(MGr).max()
     members = float(np.sum(frame.rho_A * frame.lengths))
     m_xy = members + frame.node_mass[:, 0].sum() + sum(d.mass for d in frame.diaphragms)
@@ -153,7 +160,7 @@ def test_outputs_map_q_to_floor_motions_and_drifts():
     frame = building()
     sys = building_pairs(frame, FPS, f_max=20.0)
     nl = len(sys.info["levels_z"])
-    _, cond, n = pinned_reference(frame)
+    _, cond, n = pinned_reference(frame, "grid")
     tol = C_STABLE * n * EPS * cond  # T Γ = r to the round-off of Ψ (a solve with K_ii)
     U = sys.T @ sys.Gamma  # (3 nl, 3)
     assert sys.T.shape == (3 * nl, sys.n)
@@ -170,11 +177,105 @@ def test_bad_input_is_named():
     with pytest.raises(BearingError, match="bearings: expected one bearing or 6"):
         building_pairs(frame, (FPS, FPS))
     with pytest.raises(ValueError, match="fidelity: expected one of"):
-        reduce_building(frame, "rigid", 5.0, None, False)
+        reduce_building(frame, "rigid")
+    with pytest.raises(ValueError, match="base: expected one of"):
+        building_pairs(frame, FPS, base="slab")
+    with pytest.raises(ValueError, match="f_max: expected a positive"):
+        building_pairs(frame, FPS, f_max=-2.0)
     with pytest.raises(ValueError, match="min_mass: expected"):
         building_pairs(frame, FPS, min_mass=2.0)
     office = load_frame3d("office-11-3d")
-    n_int = office.n_red - 36
+    n_int = office.n_red - 36  # pinned: three interface dofs per foot
     assert n_int > FULL_MAX
     with pytest.raises(ValueError, match=rf"fidelity 'full'.* {n_int} internal dofs.*'cb'"):
-        building_pairs(office, FPS, fidelity="full")
+        building_pairs(office, FPS, fidelity="full", base="pinned")
+
+
+# ---- runs (simulate_pairs) -------------------------------------------------------------
+
+
+def _record(scale_y=1.0, scale_z=1.0, t_end=10.0, factor=1.0):
+    from nsdyn.ground import read_motion3
+
+    t0, dt, ax, ay, az = read_motion3("synthetic-wn-40s").as_arrays()
+    n = int(round(t_end / dt)) + 1
+    return (t0, dt, factor * ax[:n], scale_y * factor * ay[:n], scale_z * factor * az[:n])
+
+
+def symmetric_building(scale: float):
+    # equal bays: the vertical and horizontal mass centres coincide (the rigid deck puts the
+    # weight at the horizontal centre of mass)
+    col = Section3D(E * scale, G * scale, 1e-2, 2e-4, 9e-5, 3e-5, 80.0)
+    beam = Section3D(E * scale, G * scale, 8e-3, 3e-4, 2e-5, 1e-6, 65.0)
+    return regular_building_3d("sym", [6.0, 6.0], [5.0], [4.0, 3.5, 3.5], col, beam, beam,
+                               n_v=2, n_h=2, floor_mass=[3e4, 3e4, 2e4], zeta=0.05)  # fmt: skip
+
+
+def test_a_stiff_building_on_isolators_moves_as_the_rigid_deck():
+    # Rigid-body limit: the building's deformation under the isolated motion is of relative
+    # size (ω_iso/ω_1)² (quasi-static response of its first mode, ω_iso = √(g/R) the pendulum
+    # frequency), so with E scaled by s the cb rung's peak isolator displacement tends to the
+    # rigid deck's within 10 (f_iso/f_1)² plus the two runs' integration error (steps × rtol).
+    from nsdyn.models.isolated.building3d import building_deck
+    from nsdyn.models.isolated.building3d_response import run_building
+    from nsdyn.models.isolated.deck import simulate_plane
+
+    ground, kw = _record(), {"law": "arctan", "rtol": 1e-8, "atol": (1e-10, 1e-10)}
+    rigid = simulate_plane(building_deck(symmetric_building(1.0), FPS), ground, **kw)
+    u_rigid = float(rigid.resultant(rigid.u).max())
+    s = 1e4
+    sys = building_pairs(symmetric_building(s), FPS, f_max=30.0)
+    r = run_building(sys, ground, **kw).result
+    f1 = np.sqrt(s) * pinned_reference(symmetric_building(1.0), "grid")[0][0] ** 0.5 / (2 * np.pi)
+    f_iso = np.sqrt(9.80665 / FPS.radius) / (2 * np.pi)
+    tol = 10 * (f_iso / f1) ** 2 + (rigid.stats["steps"] + r.stats["steps"]) * kw["rtol"]
+    assert tol < 1e-3
+    assert float(r.resultant(r.u).max()) == pytest.approx(u_rigid, rel=tol)
+
+
+def test_a_symmetric_portal_moved_along_x_has_no_y_response_and_no_torsion():
+    # The portal is mirror-symmetric about its mid-plane y = 2.5 m, and so is a ground motion
+    # along x: the y slips, y drifts, y base shear, torsional moment and floor twist vanish
+    # exactly; what is left is round-off of forming M⁻¹K, M⁻¹C (relative c n eps cond(M))
+    from nsdyn.models.isolated.building3d_response import run_building
+
+    sys = building_pairs(load_frame3d("portal-3d"), FPS, f_max=100.0)
+    r = run_building(sys, _record(0.0, 0.0, factor=1 / 3), law="arctan")
+    assert r.result.uplift is None
+    rel = C_STABLE * sys.n * EPS * np.linalg.cond(sys.M)
+    u, size = r.result.u, 6.0
+    assert np.abs(u[..., 1]).max() <= rel * np.abs(u[..., 0]).max()
+    assert np.abs(r.drifts.cm[:, 1]).max() <= rel * np.abs(r.drifts.cm[:, 0]).max()
+    assert np.abs(r.drifts.corner[:, :, 1]).max() <= rel * np.abs(r.drifts.corner[:, :, 0]).max()
+    assert np.abs(r.base_shear[1]).max() <= rel * np.abs(r.base_shear[0]).max()
+    assert np.abs(r.torsion).max() <= rel * size * np.abs(r.base_shear[0]).max()
+    theta = r.result.outputs[:, 2::3]
+    assert np.abs(theta).max() <= rel * np.abs(u[..., 0]).max() / size
+
+
+def _motion():
+    from nsdyn.ground import read_motion3
+
+    return read_motion3("synthetic-wn-40s")
+
+
+def test_advisor_picks_the_rigid_deck_for_a_stiff_building_and_fixed_when_nothing_slides():
+    # the rigid-body limit above: a stiff building's cb peaks equal the rigid deck's far
+    # within tol, so the cheaper rigid rung answers; with friction μ = 0.3 above the record's
+    # resultant PGA scaled to 1 m/s² (< 0.3 g) a stiff building never slides: the fixed rung
+    from nsdyn.studies.advisor import advise_3d
+
+    kw = {"solver": {"law": "arctan"}, "f_max": 30.0}
+    b = symmetric_building(1e4)
+    a = advise_3d(b, FPS, _motion(), **kw)
+    assert a.fidelity == "rigid"
+    assert max(a.evidence["probes"][0]["errors"].values()) <= 0.05
+    assert "advised model: rigid" in a.report()
+    sticky = Bearing(Friction(0.3), radius=2.0)
+    weak = _motion().scaled_to_pga(1.0)
+    assert weak.pga_resultant < 0.3 * 9.80665
+    a = advise_3d(b, sticky, weak, **kw)
+    assert a.fidelity == "fixed" and a.evidence["cb_probe"]["stick_fraction"] == 1.0
+    # drifts need the elastic building: never the rigid deck
+    a = advise_3d(b, FPS, _motion(), metrics=("isolator_displacement", "drift"), **kw)
+    assert a.fidelity == "cb" and a.evidence["probes"] == []

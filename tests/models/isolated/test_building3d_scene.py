@@ -71,7 +71,11 @@ def test_fixed_scene_drifts_and_torsion(tmp_path):
     [
         ({"bearing": None}, "bearing"),
         ({"structure": {"frame3d": "no-such-frame"}}, "structure.frame3d"),
-        ({"structure": {"fidelity": "cb"}}, "structure.fidelity"),
+        ({"structure": {"fidelity": "medium"}}, "structure.fidelity"),
+        ({"structure": {"fidelity": "cb", "f_max": -1.0}}, "structure.f_max"),
+        ({"structure": {"fidelity": "cb", "min_mass": 2.0}}, "structure.min_mass"),
+        ({"structure": {"fidelity": "cb", "base": "slab"}}, "structure.base"),
+        ({"structure": {"fidelity": "full"}}, "structure"),  # the office is too large
         ({"structure": {"eccentricity": [0.0, 0.6]}}, "structure.eccentricity"),
         ({"structure": {"n_modes": 0}}, "structure.n_modes"),
         ({"structure": {"frame3": "office-11-3d"}}, "frame3"),
@@ -90,3 +94,42 @@ def test_the_fixed_rung_needs_a_record(tmp_path):
     with pytest.raises(SceneError, match=r"motion\.kind"):
         run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
                   quiet=True)  # fmt: skip
+
+
+PORTAL = {
+    "structure": {"frame3d": "portal-3d", "eccentricity": [0.0, 0.0], "f_max": 40.0},
+    "motion": {"pga": 1.0, "t_end": 3.0},
+    "solver": {"law": "arctan", "rtol": 1e-8, "atol": 1e-10},
+}
+
+
+def test_cb_and_full_scenes_run_the_portal(tmp_path):
+    # the cb rung at a cut-off above every portal mode is the full rung (the same model in
+    # another basis): equal peaks to the integrators' global error, bounded by the step count
+    # times the local tolerance rtol; every output written
+    out = {}
+    for fid in ("cb", "full"):
+        cfg = _cfg(**{k: dict(v) for k, v in PORTAL.items()})
+        cfg["structure"].update(fidelity=fid, f_max=1e6, min_mass=0.0)  # cb: every mode
+        s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                      quiet=True)  # fmt: skip
+        assert s["fidelity"] == fid and s["n_isolators"] == 4 and s["uplift"] is None
+        with np.load(tmp_path / "building3d.npz") as z:
+            assert z["u"].shape == (z["t"].size, 4, 2)
+            assert z["drift_corner"].shape[:3] == (1, 4, 2)
+        text = format_summary(s)
+        assert "peak drift corner x" in text and "peak base shear |V|" in text
+        out[fid] = s
+    bound = max(o["steps"] for o in out.values()) * PORTAL["solver"]["rtol"]
+    assert bound < 1e-2
+    for key in ("peak_resultant_displacement_m", "peak_drift_cm_x", "peak_base_shear_x_N"):
+        assert out["cb"][key] == pytest.approx(out["full"][key], rel=bound)
+
+
+def test_auto_scene_advises_and_runs_a_rung(tmp_path):
+    cfg = _cfg(**{k: dict(v) for k, v in PORTAL.items()})
+    cfg["structure"]["fidelity"] = "auto"
+    s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                  quiet=True)  # fmt: skip
+    assert s["fidelity"] in ("fixed", "rigid", "cb")
+    assert s["advice"]["fidelity"] == s["fidelity"] and s["advice"]["decision"]
