@@ -47,7 +47,9 @@ from nsdyn.models.isolated.bearings import (
     B_C,
     B_CSTOP,
     B_DCAP,
+    B_EFAST,
     B_ELEM,
+    B_ERATE,
     B_IOFF,
     B_KEL,
     B_KIND,
@@ -164,6 +166,25 @@ def pressure_factor(bp, i, n):
 
 
 @njit(cache=True, error_model="numpy")
+def tfp_speed(gn, mu, mu_fast, a, rate):
+    """Slip speed w of a yielding series element, |g| = μ(w) + w/rate with μ(w) = μ_fast −
+    (μ_fast − μ) exp(−a w) (constant μ: w = rate (|g| − μ)); Newton from w = 0, which rises
+    monotonically to the root (the left side is increasing and concave in w)."""
+    dm = mu_fast - mu
+    if dm <= 0.0 or a <= 0.0:
+        return rate * (gn - mu)
+    w = 0.0
+    for _ in range(60):
+        e = math.exp(-a * w)
+        res = mu_fast - dm * e + w / rate - gn
+        dw = res / (a * dm * e + 1.0 / rate)
+        w -= dw
+        if abs(dw) <= 1e-15 * w + 1e-300:
+            break
+    return w
+
+
+@njit(cache=True, error_model="numpy")
 def tfp_force(y, bp, i, ux, uy, sd):
     """Force per unit normal force φ = κ_e (u − Σ s_k) of the triple friction pendulum of
     row i at slip (ux, uy), its internal slips s_k read from y[B_IOFF + 2k], and their
@@ -191,7 +212,7 @@ def tfp_force(y, bp, i, ux, uy, sd):
             gy -= st * sy
         gn = math.sqrt(gx * gx + gy * gy)
         if gn > bp[i, c + 1]:
-            f = rate * (gn - bp[i, c + 1]) / gn
+            f = tfp_speed(gn, bp[i, c + 1], bp[i, B_EFAST + k], bp[i, B_ERATE], rate) / gn
             sd[i, 2 * k] = f * gx
             sd[i, 2 * k + 1] = f * gy
         else:

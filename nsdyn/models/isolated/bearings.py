@@ -52,7 +52,9 @@ B_KIND, B_IOFF, B_KEL, B_TAU = range(10, 14)
 B_ELEM = 14  # element k: columns B_ELEM + 4 k + (0: 1/R, 1: mu, 2: d, 3: k_stop per unit N)
 # pressure-dependent friction: contact area [m²] (0: none) and reference pressure [Pa]
 B_AREA, B_PREF = B_ELEM + 16, B_ELEM + 17
-N_BCOL = B_ELEM + 18
+# a triple pendulum's velocity-dependent surfaces: element k's μ_fast at B_EFAST + k, the rate a
+B_EFAST, B_ERATE = B_ELEM + 18, B_ELEM + 22
+N_BCOL = B_ELEM + 23
 PRESSURE_BASE, PRESSURE_SCALE = 0.7, 50.0e6  # μ(p) = μ(p_ref) 0.7^((p − p_ref)/50 MPa)
 KIND_SINGLE, KIND_TFP = 0, 1
 
@@ -224,8 +226,9 @@ def friction_from_config(cfg: dict, where: str) -> Friction:
 BEARING_KEYS = {"type", "mu", "mu_slow", "mu_fast", "rate", "mu_static", "radius", "k_lam", "c",
                 "d_cap", "k_stop", "c_stop", "area", "p_ref",
                 "R1", "R2", "R3", "R4", "mu1", "mu2", "mu3", "mu4", "d1", "d2", "d3", "d4",
-                "u_y"}  # fmt: skip
-_TFP_ONLY = ("R1", "R2", "R3", "R4", "mu1", "mu2", "mu3", "mu4", "d1", "d2", "d3", "d4", "u_y")
+                "u_y", "mu_fast1", "mu_fast2", "mu_fast3", "mu_fast4"}  # fmt: skip
+_TFP_ONLY = ("R1", "R2", "R3", "R4", "mu1", "mu2", "mu3", "mu4", "d1", "d2", "d3", "d4", "u_y",
+             "mu_fast1", "mu_fast2", "mu_fast3", "mu_fast4")  # fmt: skip
 
 
 def bearing_from_config(cfg: dict, where: str) -> Bearing:

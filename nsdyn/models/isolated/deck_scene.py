@@ -11,7 +11,8 @@ Tables:
   ``c`` [N s/m]); friction ``mu``, or ``mu_slow``, ``mu_fast``, ``rate`` [s/m]; ``mu_static``;
   ``d_cap`` [m]; ``k_stop`` [N/m], ``c_stop`` [N s/m]; ``area`` [m²] and ``p_ref`` [Pa]
   (pressure-dependent friction); or "tfp", a triple friction pendulum
-  (``R1`` … ``R4`` [m], ``mu1`` … ``mu4``, ``d1`` … ``d4`` [m], ``u_y`` [m]; law "arctan");
+  (``R1`` … ``R4`` [m], ``mu1`` … ``mu4``, ``d1`` … ``d4`` [m], ``u_y`` [m], ``mu_fast1``
+  … ``mu_fast4`` and ``rate`` [s/m]; law "arctan");
 * ``[motion]`` a three-component record (``kind = "record3"``) or a harmonic orbit
   (``kind = "orbit"``), the keys of :mod:`nsdyn.ground.table3`;
 * ``[solver]`` ``law`` ("switch" | "arctan"), ``eps`` [s/m], ``eta`` [m/s], ``rtol``,

@@ -49,6 +49,9 @@ _TFP_KEYS = (
     *(Key(f"mu{j}", "number", f"friction coefficient of surface {j}", "—", **_NONNEG,
           range=_TFP + ("; mu2, mu3 ≤ mu1, mu4" if j in (2, 3) else ""))
       for j in range(1, 5)),
+    *(Key(f"mu_fast{j}", "number", f"friction of surface {j} at high slip speed (with `rate`)",
+          "—", default=f"(mu{j})", **_NONNEG, range=_TFP + f"; ≥ mu{j}")
+      for j in range(1, 5)),
     *(Key(f"d{j}", "number", f"displacement capacity of surface {j}", "m", **_POS,
           range=_TFP + ("; d1, d4 ≥ d2, d3" if j in (1, 4) else ""))
       for j in range(1, 5)),

@@ -36,9 +36,12 @@ displacement u_y: the elastic slip at which the first surface slides):
 
 a rigid-plastic element (|g_k| ≤ μ_k: stuck) regularised by the relaxation time
 τ = OVERSTRESS u_y / (1 m/s): sliding at |ṡ| raises an element's friction by OVERSTRESS min μ
-|ṡ| / (1 m/s). The rim of element k is a stiff radial stop κ_s,k = STOP_FACTOR / R̄_k. The
-bearing resists with F = N φ; the deck's kernels read these rows from the bearing table
-(:mod:`nsdyn.models.isolated.bearings`, columns B_KIND … B_ELEM + 15). The switch law's stick
+|ṡ| / (1 m/s). A surface's friction may rise with its slip speed, μ_k(w) = μ_fast,k −
+(μ_fast,k − μ_k) exp(−a w) (velocity strengthening, μ_fast,k ≥ μ_k): the flow's speed w = |ṡ_k|
+then solves |g_k| = μ_k(w) + κ_e τ w (one root, by Newton from w = 0). The rim of element k
+is a stiff radial stop κ_s,k = STOP_FACTOR / R̄_k. The bearing resists with F = N φ; the
+deck's kernels read these rows from the bearing table (:mod:`nsdyn.models.isolated.bearings`,
+columns B_KIND … B_ELEM + 15, B_EFAST … B_ERATE). The switch law's stick
 events do not cover the series model: a TFP runs with the regularised law (Radau IIA).
 """
 
@@ -51,7 +54,9 @@ import numpy as np
 
 from nsdyn.models.isolated.bearings import (
     B_DCAP,
+    B_EFAST,
     B_ELEM,
+    B_ERATE,
     B_KEL,
     B_KIND,
     B_MUFAST,
@@ -71,7 +76,8 @@ U_Y = 2.5e-4  # m, default yield displacement (the elastic slip before the first
 OVERSTRESS = 3e-2  # s/m: friction raised by this x min mu per m/s of an element's slip speed
 STOP_FACTOR = 1e3  # an element's rim stiffness (per unit N) / its pendulum stiffness 1/R̄
 N_INTERNAL = 8  # internal states per bearing: (s_x, s_y) of its four series elements
-TFP_KEYS = ("R1", "R2", "R3", "R4", "mu1", "mu2", "mu3", "mu4", "d1", "d2", "d3", "d4", "u_y")
+TFP_KEYS = ("R1", "R2", "R3", "R4", "mu1", "mu2", "mu3", "mu4", "d1", "d2", "d3", "d4")
+TFP_OPTIONAL = ("u_y", "rate", "mu_fast1", "mu_fast2", "mu_fast3", "mu_fast4")
 
 
 @dataclass(frozen=True)
@@ -98,6 +104,11 @@ class TripleBearing(Bearing):
     d3: float | None = None
     d4: float | None = None
     u_y: float = U_Y
+    rate: float = 0.0
+    mu_fast1: float | None = None
+    mu_fast2: float | None = None
+    mu_fast3: float | None = None
+    mu_fast4: float | None = None
 
     def __post_init__(self) -> None:
         w = self.where
@@ -108,13 +119,21 @@ class TripleBearing(Bearing):
             raise BearingError(f"{w}.k_lam: a triple friction pendulum has no rubber or damper "
                                "(k_lam = c = 0)")  # fmt: skip
         vals = {}
-        for k in TFP_KEYS[:-1]:
+        for k in TFP_KEYS:
             v = getattr(self, k)
             if v is None:
                 raise BearingError(f"{w}.{k}: missing; a triple friction pendulum needs "
                                    "R1..R4 [m], mu1..mu4 and d1..d4 [m]")  # fmt: skip
             vals[k] = _number(f"{w}.{k}", v, positive=k[0] in "Rd")
         _number(f"{w}.u_y", self.u_y, positive=True)
+        _number(f"{w}.rate", self.rate)
+        for j in range(1, 5):
+            fast = getattr(self, f"mu_fast{j}")
+            if fast is not None and _number(f"{w}.mu_fast{j}", fast) < vals[f"mu{j}"]:
+                raise BearingError(
+                    f"{w}.mu_fast{j}: expected mu_fast{j} >= mu{j} = {vals[f'mu{j}']:g} (a TFP "
+                    f"surface's friction rises with the slip speed), got {fast:g}"
+                )
         for outer, inner in (("R1", "R2"), ("R4", "R3")):
             if not vals[outer] > vals[inner]:
                 raise BearingError(
@@ -142,6 +161,11 @@ class TripleBearing(Bearing):
         object.__setattr__(self, "friction", Friction(mu_min, where=w))
         object.__setattr__(self, "radius", vals["R1"] + vals["R4"])
         object.__setattr__(self, "d_cap", sum(vals[f"d{j}"] for j in range(1, 5)))
+
+    def fast(self) -> list:
+        """μ_fast of surfaces 1..4 (their μ where not given)."""
+        return [float(getattr(self, f"mu{j}") if getattr(self, f"mu_fast{j}") is None
+                      else getattr(self, f"mu_fast{j}")) for j in range(1, 5)]  # fmt: skip
 
     def elements(self) -> np.ndarray:
         """(4, 3) rows (R̄, μ, d̄) of the series model (see the module text)."""
@@ -182,18 +206,20 @@ class TripleBearing(Bearing):
         for k, (R, mu, d) in enumerate(self.elements()):
             c = B_ELEM + 4 * k
             r[c], r[c + 1], r[c + 2], r[c + 3] = 1.0 / R, mu, d, STOP_FACTOR / R
+        r[B_EFAST : B_EFAST + 4] = self.fast()
+        r[B_ERATE] = self.rate
         return r
 
 
 def tfp_from_config(cfg: dict, where: str) -> TripleBearing:
     """A :class:`TripleBearing` from a TOML table (``type = "tfp"``: R1..R4, mu1..mu4,
     d1..d4, optional u_y)."""
-    other = sorted(set(cfg) - {"type", *TFP_KEYS})
+    other = sorted(set(cfg) - {"type", *TFP_KEYS, *TFP_OPTIONAL})
     if other:
         raise BearingError(f"{where}.{other[0]}: not a key of a triple friction pendulum "
-                           f"(type = 'tfp': {', '.join(TFP_KEYS)})")  # fmt: skip
+                           f"(type = 'tfp': {', '.join(TFP_KEYS + TFP_OPTIONAL)})")  # fmt: skip
     kw = {}
-    for k in TFP_KEYS:
+    for k in TFP_KEYS + TFP_OPTIONAL:
         if k in cfg:
             kw[k] = _number(f"{where}.{k}", cfg[k], positive=k[0] in "Rdu")
     return TripleBearing(where=where, **kw)

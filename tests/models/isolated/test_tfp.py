@@ -281,3 +281,31 @@ def test_energy_balance_of_a_mass_on_a_tfp_closes_as_the_output_step_shrinks():
     c2, e_in = closure(2.5e-4)
     assert c2 < 0.25 * c1  # three halvings: at least order 2/3
     assert c2 < 1e-4 * e_in
+
+
+@SCIPY_ZERO_ERROR
+def test_velocity_dependent_surface_friction_follows_its_law_along_a_speed_ramp():
+    # Regime I of a TFP whose inner surfaces have mu(w) = mu_fast - (mu_fast - mu) exp(-a w)
+    # (PTFE-type): driven along x with the speed V = alpha t up to 0.5 m/s while the force stays
+    # below mu1 (u < 12 mm), the two identical inner elements slide at w = u_p'/2 each
+    # (u_p = u - φ/κ_e, the slip past the yield spring) and carry φ = mu(w) + κ_e τ w + u_p/(R2
+    # + R3). Checked against the formula with w from the kinematics (φ' by central
+    # differences at 10 µs: error ~ dt^2 φ'''/6 < 1e-6 in w); tolerance 1e-7 in φ (the
+    # integrator's rtol 1e-9 on slips of ~1e-2 m, times the slopes 1/R).
+    a, fast = 30.0, 0.04
+    b = TripleBearing(**{**TYPICAL, "mu_fast2": fast, "mu_fast3": fast}, rate=a)
+    alpha = 12.5
+    t_end = 0.5 / alpha
+    t, u, phi, _ = _drive(b, lambda tt: (0.5 * alpha * tt**2, 0.0), t_end, n_out=4001)
+    f = phi[:, 0]
+    assert f.max() < TYPICAL["mu1"]  # (regime I all along)
+    ke = b.k_elastic
+    kt = ke * b.row(1.0, G)[B_TAU]
+    w = 0.5 * (alpha * t - np.gradient(f, t) / ke)
+    up = u[:, 0] - f / ke
+    mu = TYPICAL["mu2"]
+    ref = fast - (fast - mu) * np.exp(-a * w) + kt * w + up / (TYPICAL["R2"] + TYPICAL["R3"])
+    sliding = (up > 1e-4) & (t < 0.99 * t_end)  # (past the yield spring's 0.25 mm)
+    assert sliding.sum() > 1000
+    assert np.all(np.abs(f - ref)[sliding] <= 1e-7 + 0.6 * 1e-6)  # (μ' <= a Δμ = 0.6 s/m)
+    assert f[sliding][-1] - up[sliding][-1] / 0.6 > mu + 0.8 * (fast - mu)  # μ did rise
