@@ -162,7 +162,24 @@ class PlaneResult(Tabular):
             "restoring_y_iso_{}_N": self.restoring[..., 1],
             "other_x_iso_{}_N": self.other[..., 0], "other_y_iso_{}_N": self.other[..., 1],
             "mode_iso_{}": self.modes,
+            **self._element_slips(),
         }  # fmt: skip
+
+    def _element_slips(self) -> dict:
+        """The series elements' slips of triple pendulums (nt, ni) per element and component,
+        NaN for single-surface isolators: ``s1x_iso_{}_m`` … ``s4y_iso_{}_m``."""
+        offs = getattr(self.system, "internal_offsets", lambda: [])()
+        if self.internal is None or not any(o >= 0 for o in offs):
+            return {}
+        out = {}
+        for k in range(4):
+            for c, name in enumerate("xy"):
+                a = np.full((self.t.size, len(offs)), np.nan)
+                for i, o in enumerate(offs):
+                    if o >= 0:
+                        a[:, i] = self.internal[:, o - 6 + 2 * k + c]
+                out[f"s{k + 1}{name}_iso_{{}}_m"] = a
+        return out
 
     def peak_resultant_displacement(self) -> np.ndarray:
         """max_t |u_i(t)| per isolator [m]."""

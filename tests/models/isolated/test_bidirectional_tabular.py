@@ -113,3 +113,31 @@ def test_bad_orbits_are_refused_with_the_field_named(orbit, field):
     s = rigid_deck(1.0e3, 1.0e3, [(0.0, 0.0)], Bearing(Friction(0.05)), g=G)
     with pytest.raises(ValueError, match=rf"^harmonic orbit: {field}"):
         simulate_plane(s, orbit, t_end=1.0)
+
+
+def test_tfp_element_slips_are_exported_and_close_the_series(assert_round_trip):
+    # A deck on two flat sliders and two triple pendulums: the element slips are columns
+    # s1x_iso_{i}_m … s4y_iso_{i}_m, NaN for the flat sliders; for a TFP the series closes,
+    # u - Σ_k s_k = φ/κ_e with φ = F/N its force per unit normal force (nsdyn.models.
+    # isolated.tfp: the yield spring carries the bearing's whole force), to round-off.
+    from nsdyn.models.isolated.tfp import TripleBearing
+
+    tfp = TripleBearing(R1=2.2, R2=0.3, R3=0.3, R4=2.2, mu1=0.06, mu2=0.02, mu3=0.02,
+                        mu4=0.10, d1=0.4, d2=0.06, d3=0.06, d4=0.4)  # fmt: skip
+    flat = Bearing(Friction(0.05), k_lam=2.0e4)
+    dt = 0.01
+    t = np.arange(0.0, 2.0 + dt / 2, dt)
+    rec = (0.0, dt, 2.0 * np.sin(2 * np.pi * 0.8 * t), np.sin(2 * np.pi * 1.1 * t), None)
+    d = rigid_deck(2.0e4, 2.0e5, POS, (flat, tfp, flat, tfp), g=G)
+    r = simulate_plane(d, rec, law="arctan")
+    assert_round_trip(r)
+    h = r.histories()
+    assert np.all(np.isnan(h["s1x_iso_{}_m"][:, [0, 2]]))
+    F = r.friction + r.restoring + r.other
+    for i in (1, 3):
+        for c, name in enumerate("xy"):
+            s = sum(h[f"s{k}{name}_iso_{{}}_m"][:, i] for k in range(1, 5))
+            phi = F[:, i, c] / r.N[:, i]
+            np.testing.assert_allclose(r.u[:, i, c] - s, phi / tfp.k_elastic, rtol=0,
+                                       atol=1e-12 * (1 + np.abs(r.u[:, i, c]).max()))  # fmt: skip
+    assert np.abs(r.u[:, 1]).max() > 1e-3
