@@ -108,8 +108,22 @@ class PlaneResult(Tabular):
         stats = {"steps": int(info[kr.I_NSTEP]), "rejected": int(info[kr.I_NREJ]),
                  "evaluations": int(info[kr.I_NFEV]), "events": int(info[kr.I_NEV])}  # fmt: skip
         k = slice(0, nout)
-        return cls(system, law, t[k], X[k, :3], X[k, 3:6], NO[k], FF[k], FR[k], FO[k], MO[k],
-                   EV[:ne].copy(), contacts, uplift, stats, eps, eta, X[k, 6:])  # fmt: skip
+        res = cls(system, law, t[k], X[k, :3], X[k, 3:6], NO[k], FF[k], FR[k], FO[k], MO[k],
+                  EV[:ne].copy(), contacts, uplift, stats, eps, eta, X[k, 6:])  # fmt: skip
+        if getattr(system, "has_tfp", False):  # a triple pendulum's inner slider at its rims:
+            from nsdyn.models.isolated.tfp import surface_limits  # the bearing's capacity
+
+            for c in surface_limits(res):
+                if c["surface"] in ("2", "3"):
+                    warnings.warn(
+                        f"isolator {c['isolator']} reached its displacement capacity at "
+                        f"t = {c['t_first_s']:.4g} s (triple pendulum: surface {c['surface']} "
+                        f"of the inner slider at its rim, peak overshoot "
+                        f"{1e3 * c['peak_overshoot_m']:.3g} mm)",
+                        UserWarning,
+                        stacklevel=3,
+                    )
+        return res
 
     # ---- derived histories ------------------------------------------------------------
     def _slip(self, X) -> np.ndarray:
