@@ -301,6 +301,8 @@ def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, 
         fx = 0.0
         fy = 0.0
         if bp[i, B_KIND] == KIND_TFP:  # the series model's force, less N u/R reported apart
+            if int(bp[i, B_IOFF]) + 8 > y.shape[0]:  # (a state without its internal slips)
+                return ST_SINGULAR
             px, py = tfp_force(y, bp, i, ux, uy, sd)
             fx = px - bp[i, B_RINV] * ux
             fy = py - bp[i, B_RINV] * uy

@@ -310,3 +310,18 @@ def test_velocity_dependent_surface_friction_follows_its_law_along_a_speed_ramp(
     assert sliding.sum() > 1000
     assert np.all(np.abs(f - ref)[sliding] <= 1e-7 + 0.6 * 1e-6)  # (μ' <= a Δμ = 0.6 s/m)
     assert f[sliding][-1] - up[sliding][-1] / 0.6 > mu + 0.8 * (fast - mu)  # μ did rise
+
+
+def test_a_state_without_the_internal_slips_is_refused_by_the_kernel():
+    # callers that build [q, q̇] alone (six states) for a system with triple pendulums get a
+    # status, not a read past the state vector
+    from nsdyn.models.isolated.deck import kernel_params
+
+    s = sdof_plane(1000.0, TripleBearing(**TYPICAL))
+    M, pos, bp, nd, sp = kernel_params(s, "arctan", 7500.0, 1e-3, None)
+    ws = kp.workspace(1)
+    out = (np.zeros(3), np.zeros(1), np.zeros((1, 2)), np.zeros((1, 2)), np.zeros((1, 2)))
+    args = (np.ones(1, dtype=np.int64), np.zeros((1, 2)), M, pos, bp, nd, sp, kp.G_HARMONIC,
+            np.zeros(kp.N_GP), np.zeros((3, 0)), ws, *out)  # fmt: skip
+    assert kp.evaluate(0.0, np.zeros(6), *args) == kp.ST_SINGULAR
+    assert kp.evaluate(0.0, np.zeros(s.n_states), *args) == kp.ST_OK
