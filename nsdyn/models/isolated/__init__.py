@@ -2,7 +2,8 @@
 
 ``M q̈ + C* q̇ + K* q = −M Γ ü + Rᵀλ − Σ D_iᵀ μ_i s_i λ_i``, ``R q̈ + 2αβ R q̇ + α² R q = 0``.
 Isolators that slide in a plane (a disc of friction, friction pendulums, a rigid deck):
-``bearings``, ``deck`` (``simulate_plane``).
+``bearings``, ``deck`` (``simulate_plane``); any system from matrices on them: ``pairs``
+(``PairSystem``, ``simulate_pairs``).
 
 The names below load on first use, so that light modules (``defaults``, ``friction``) can be
 imported by the command line without compiling or importing the kernels.
@@ -25,6 +26,10 @@ _API = {
     "rigid_deck": "nsdyn.models.isolated.deck",
     "sdof_plane": "nsdyn.models.isolated.deck",
     "simulate_plane": "nsdyn.models.isolated.deck",
+    "PairSystem": "nsdyn.models.isolated.pairs",
+    "PairSystemError": "nsdyn.models.isolated.pairs",
+    "PairResult": "nsdyn.models.isolated.pairs",
+    "simulate_pairs": "nsdyn.models.isolated.pairs",
     "building_deck": "nsdyn.models.isolated.building3d",
     "deck_constants": "nsdyn.models.isolated.building3d",
     "FixedResponse3D": "nsdyn.models.isolated.fixed3d",
