@@ -98,7 +98,7 @@ def test_the_fixed_rung_needs_a_record(tmp_path):
 
 PORTAL = {
     "structure": {"frame3d": "portal-3d", "eccentricity": [0.0, 0.0], "f_max": 40.0},
-    "motion": {"pga": 1.0, "t_end": 3.0},
+    "motion": {"pga": 1.0, "t_end": 2.0},
     "solver": {"law": "arctan", "rtol": 1e-8, "atol": 1e-10},
 }
 
@@ -117,6 +117,8 @@ def test_cb_and_full_scenes_run_the_portal(tmp_path):
         with np.load(tmp_path / "building3d.npz") as z:
             assert z["u"].shape == (z["t"].size, 4, 2)
             assert z["drift_corner"].shape[:3] == (1, 4, 2)
+        with np.load(tmp_path / "building3d-shape.npz") as z:  # the deformed shape's field
+            assert z["u"].shape == (48,) and np.abs(z["u"]).max() > 0
         text = format_summary(s)
         assert "peak drift corner x" in text and "peak base shear |V|" in text
         out[fid] = s
