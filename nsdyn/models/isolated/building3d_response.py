@@ -20,6 +20,8 @@ its reference point, the drift ratios at the centres of mass and the plan corner
   residual mass of the truncated modes);
 - base shear ``V = Σ_i F_i`` (x, y: the horizontal force the isolators pass to the ground)
   and torsional moment about the centre of mass c, ``Σ_i (X_i − c_x) F_y,i − (Y_i − c_y) F_x,i``;
+- the roof's displacement relative to the ground at the four plan corners (its rigid floor
+  motion carried there: ``u_x = U_x − (y − y_c) Θ``, ``u_y = U_y + (x − x_c) Θ``);
 - isolator orbits: the slips u_i(t) = D_i q (the run's result).
 """
 
@@ -68,6 +70,7 @@ class BuildingResponse3D:
     drifts : StoreyDrifts with a time axis (``cm`` (ns, 2, nt), ``corner`` (ns, 4, 2, nt)).
     floor_acc : (nl, 2, nt) absolute floor accelerations x, y [m/s²] (level 0 = the base).
     base_shear : (2, nt) [N].  torsion : (nt,) [N m] about the centre of mass.
+    roof_corner : (4, 2, nt) the roof's x, y displacement at the plan corners [m].
     qdd : (nt, n) accelerations.  result : the run's PairResult (orbits ``u``, forces, N).
     """
 
@@ -76,6 +79,7 @@ class BuildingResponse3D:
     floor_acc: np.ndarray
     base_shear: np.ndarray
     torsion: np.ndarray
+    roof_corner: np.ndarray
     qdd: np.ndarray
     result: object
 
@@ -84,7 +88,9 @@ class BuildingResponse3D:
         s = self.result.summary()
         s.update(response_peaks(self.drifts, self.floor_acc, self.base_shear, self.torsion))
         V = np.hypot(self.base_shear[0], self.base_shear[1])
-        s["peak_base_shear_resultant_N"] = float(V.max()) if V.size else float("nan")
+        s["peak_base_shear_N"] = float(V.max()) if V.size else float("nan")  # resultant |V|
+        rc = np.hypot(self.roof_corner[:, 0], self.roof_corner[:, 1])
+        s["peak_roof_corner_displacement_m"] = float(rc.max()) if rc.size else float("nan")
         return s
 
 
@@ -108,7 +114,10 @@ def building_response(system, result, ground) -> BuildingResponse3D:
     base_shear = F.sum(axis=1).T  # (2, nt)
     rel = system.positions - (info["centre"] - info["origin"])  # isolators about c
     torsion = (rel[None, :, 0] * F[..., 1] - rel[None, :, 1] * F[..., 0]).sum(axis=1)
-    return BuildingResponse3D(t, drifts, floor_acc, base_shear, torsion, qdd, result)
+    ux, uy, th = info["floor_map"][-1] @ q.T  # the roof's rigid motion about its reference
+    d = info["corners"] - info["level_refs"][-1]  # (4, 2)
+    roof = np.stack([ux[None] - d[:, 1:] * th[None], uy[None] + d[:, :1] * th[None]], axis=1)
+    return BuildingResponse3D(t, drifts, floor_acc, base_shear, torsion, roof, qdd, result)
 
 
 def run_building(system, ground, **kw) -> BuildingResponse3D:

@@ -360,7 +360,8 @@ ROWS["cb"] = (
     ("max_normal_force_N", "max normal force", "N"),
     ("stick_fraction", "stick fraction", ""),
     *ROWS["fixed"][4:],
-    ("peak_base_shear_resultant_N", "peak base shear |V|", "N"),
+    ("peak_base_shear_N", "peak base shear |V|", "N"),
+    ("peak_roof_corner_displacement_m", "peak roof corner |u|", "m"),
     ("compile_s", "compile/load time", "s"),
 )
 ROWS["full"] = ROWS["cb"]

@@ -251,6 +251,9 @@ def test_a_symmetric_portal_moved_along_x_has_no_y_response_and_no_torsion():
     assert np.abs(r.torsion).max() <= rel * size * np.abs(r.base_shear[0]).max()
     theta = r.result.outputs[:, 2::3]
     assert np.abs(theta).max() <= rel * np.abs(u[..., 0]).max() / size
+    rc = r.roof_corner  # (4, 2, nt): the untwisted roof moves alike at its four corners
+    assert np.abs(rc[:, 1]).max() <= rel * np.abs(rc[:, 0]).max()
+    assert np.abs(rc[:, 0] - rc[:1, 0]).max() <= rel * np.abs(rc[:, 0]).max()
 
 
 def _motion():
