@@ -26,13 +26,29 @@ index in ``K`` and the kernel it stands for) on ``args``:
 (A tuple of kernels would be the obvious ``K`` for direct calls, but numba types a tuple of
 dispatchers as first-class function pointers, whose callers it refuses to cache.) Without the
 JIT (``NUMBA_DISABLE_JIT=1``) ``call`` is plain Python and ``K`` a tuple of functions.
+
+``tcall(name, args)`` is the same call without ``K``: through the address in row
+:func:`index` of the process-wide table :data:`TABLE`, which compiled code reads through the
+symbol ``nsdyn_kaddress_table`` (registered with LLVM when this module is imported, resolved
+when numba loads the code, also from its cache). Deep call trees (the event-driven loop, its
+detectors and handlers, each of which evaluates the system kernel) call their callees so
+without passing ``K`` down; :func:`fill` (by :class:`nsdyn.solve.compile_split.Callee`) puts
+each address and the digest of its declaration in the table before a caller runs, and every
+call checks that digest (an empty row has digest 0: a RuntimeError naming the callee, never a
+jump to address 0). With plain numba (:data:`nsdyn._numba_cache.PLAIN`) and without the JIT,
+``tcall`` calls the kernel registered with :func:`tslot` directly.
 """
 
 import hashlib
 
+import numpy as np
+from llvmlite import binding as llvm
+from llvmlite import ir
 from numba import types
 from numba.core import cgutils, errors
 from numba.extending import intrinsic, overload
+
+from nsdyn._numba_cache import PLAIN
 
 # name -> (return type, argument types): what an address declared under name is compiled for
 DECLARED: dict = {}
@@ -70,12 +86,9 @@ def call(K, name, args, general):
     return K[SLOTS[name][0]](*args)  # without the JIT: a tuple of the kernels
 
 
-@intrinsic
-def _at(typingctx, addr, check, name, args):
-    if not isinstance(name, types.StringLiteral) or not isinstance(args, types.BaseTuple):
-        return None
-    if not (isinstance(addr, types.Integer) and isinstance(check, types.Integer)):
-        return None
+def _checked(name, args):
+    """(key, return type, declared argument types) of a call of ``name`` on ``args`` (numba
+    types); a TypingError naming the callee when undeclared or of other argument types."""
     key = name.literal_value
     if key not in DECLARED:
         raise errors.TypingError(f"call by address: no kernel declared as {key!r}")
@@ -87,27 +100,45 @@ def _at(typingctx, addr, check, name, args):
             f"call by address of {key!r}: argument types differ from the declared ones "
             f"at positions {bad or 'count'} ({len(got)} given, {len(declared)} declared)"
         )
-    sig = ret(types.int64, types.int64, name, types.Tuple(declared))
+    return key, ret, declared
+
+
+def _codegen_call(key, ret, declared, fetch):
+    """The code of a call by address: ``fetch(context, builder, llargs)`` gives the address
+    and the digest it was taken for (int64 values); the call's arguments are ``llargs[-1]``."""
     expected = digest(key)
 
     def codegen(context, builder, sig, llargs):
-        stale = builder.icmp_signed("!=", llargs[1], context.get_constant(types.int64, expected))
+        addr, check = fetch(context, builder, llargs)
+        stale = builder.icmp_signed("!=", check, context.get_constant(types.int64, expected))
         with cgutils.if_unlikely(builder, stale):
             msg = (
                 f"{key!r}: this compiled code was typed for another declaration of it than "
-                "the address given (a stale entry of numba's cache): delete the cache "
-                "(NUMBA_CACHE_DIR, or the __pycache__ folders in nsdyn/) and run again"
+                "the address given (a stale entry of numba's cache, or an address not yet "
+                "taken): delete the cache (NUMBA_CACHE_DIR, or the __pycache__ folders in "
+                "nsdyn/) and run again"
             )
             context.call_conv.return_user_exc(builder, RuntimeError, (msg,))
         fnty = context.call_conv.get_function_type(ret, declared)
-        fn = builder.inttoptr(llargs[0], fnty.as_pointer())
-        vals = [builder.extract_value(llargs[3], i) for i in range(len(declared))]
+        fn = builder.inttoptr(addr, fnty.as_pointer())
+        vals = [builder.extract_value(llargs[-1], i) for i in range(len(declared))]
         status, res = context.call_conv.call_function(builder, fn, ret, declared, vals)
         with cgutils.if_unlikely(builder, status.is_error):
             context.call_conv.return_status_propagate(builder, status)
         return res
 
-    return sig, codegen
+    return codegen
+
+
+@intrinsic
+def _at(typingctx, addr, check, name, args):
+    if not isinstance(name, types.StringLiteral) or not isinstance(args, types.BaseTuple):
+        return None
+    if not (isinstance(addr, types.Integer) and isinstance(check, types.Integer)):
+        return None
+    key, ret, declared = _checked(name, args)
+    sig = ret(types.int64, types.int64, name, types.Tuple(declared))
+    return sig, _codegen_call(key, ret, declared, lambda c, b, llargs: (llargs[0], llargs[1]))
 
 
 @overload(call, prefer_literal=True, inline="always")
@@ -122,3 +153,95 @@ def _call_impl(K, name, args, general):
     if not (isinstance(K, types.Array) and K.ndim == 2 and K.dtype == types.int64):
         raise errors.TypingError(f"call of {name.literal_value!r}: K must be a 2-row int64 array")
     return lambda K, name, args, general: _at(K[0, index], K[1, index], name, args)
+
+
+# ---- the process-wide table: calls by address without ``K`` ----------------------------------
+
+TABLE_SYMBOL = "nsdyn_kaddress_table"  # the name compiled code reads the table by
+TABLE_ROWS = 64  # rows of the table (a caller's row index is compiled into its code)
+# the names the table has rows for, in the order of their rows (append only: an index changes
+# only with this file, whose change drops the cached callers, see nsdyn._numba_cache)
+TABLE_NAMES = (
+    "sys.evaluate",
+    "sys.jac",
+    "event.settle",
+    "event.settle_contacts",
+    "event.start",
+    "event.step",
+    "event.detect_friction",
+    "event.detect_contacts",
+    "event.accept",
+    "event.handle",
+    "event.land",
+)
+assert len(TABLE_NAMES) <= TABLE_ROWS
+# row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration
+TABLE = np.zeros((TABLE_ROWS, 2), dtype=np.int64)
+llvm.add_symbol(TABLE_SYMBOL, TABLE.ctypes.data)  # TABLE lives as long as the process
+TSLOTS: dict = {}  # name -> the kernel called directly (plain numba, no JIT)
+
+
+def index(name: str) -> int:
+    """The row of ``name`` in :data:`TABLE`."""
+    return TABLE_NAMES.index(name)
+
+
+def tslot(name: str, kernel) -> None:
+    """Register ``kernel`` as the callee ``name`` of :func:`tcall` (called directly with plain
+    numba and without the JIT)."""
+    index(name)  # a ValueError for a name without a row
+    TSLOTS[name] = kernel
+
+
+def fill(name: str, address: int) -> None:
+    """Put the address of the compiled kernel declared as ``name`` in its row of the table."""
+    i = index(name)
+    TABLE[i, 0] = address
+    TABLE[i, 1] = digest(name)
+
+
+def filled(name: str) -> bool:
+    """True when the row of ``name`` holds an address for its current declaration."""
+    i = index(name)
+    return bool(TABLE[i, 0]) and name in DECLARED and TABLE[i, 1] == digest(name)
+
+
+def tcall(name, args):
+    """Callee ``name`` on ``args``: through its address in :data:`TABLE`, or directly."""
+    return TSLOTS[name](*args)
+
+
+def _table_entry(context, builder, row):
+    """(address, digest) of ``row`` of the table, read through its symbol."""
+    mod = builder.module
+    rowty = ir.ArrayType(ir.IntType(64), 2)
+    try:
+        gv = mod.get_global(TABLE_SYMBOL)
+    except KeyError:
+        gv = ir.GlobalVariable(mod, ir.ArrayType(rowty, TABLE_ROWS), TABLE_SYMBOL)
+        gv.linkage = "external"
+    i32 = ir.IntType(32)
+    zero, r = ir.Constant(i32, 0), ir.Constant(i32, row)
+    addr = builder.load(builder.gep(gv, [zero, r, ir.Constant(i32, 0)]))
+    check = builder.load(builder.gep(gv, [zero, r, ir.Constant(i32, 1)]))
+    return addr, check
+
+
+@intrinsic
+def _tat(typingctx, name, args):
+    if not isinstance(name, types.StringLiteral) or not isinstance(args, types.BaseTuple):
+        return None
+    key, ret, declared = _checked(name, args)
+    row = index(key)
+    sig = ret(name, types.Tuple(declared))
+    return sig, _codegen_call(key, ret, declared, lambda c, b, llargs: _table_entry(c, b, row))
+
+
+@overload(tcall, prefer_literal=True, inline="always")
+def _tcall_impl(name, args):
+    if not isinstance(name, types.StringLiteral) or name.literal_value not in TSLOTS:
+        return None
+    if PLAIN:
+        kernel = TSLOTS[name.literal_value]
+        return lambda name, args: kernel(*args)
+    return lambda name, args: _tat(name, args)

@@ -9,18 +9,18 @@ into one real and one complex system with the matrices ``(eig/h) I - J`` (Hairer
 *Solving ODEs II*, sec. IV.8). The stepper around it is :mod:`nsdyn.solve._kradau`. The Newton
 loop evaluates smooth laws through :func:`nsdyn.solve._kflat.feval_flat` and other laws through
 a ``general`` kernel passed in by the caller: :func:`general_called` (the general kernel called,
-for the run loop, which rarely needs it), :func:`general_inlined` (inlined, for the event-driven
-runs, which always do) or :func:`flat_only` (none: the default run's loop, which then never
-compiles the general kernel). Newton itself is called, not inlined. Inlining costs compile time
-at every call site (numba types and lowers the callee again in each caller): inlining Newton and
-the general kernel into every stepper doubled the first-run compilation (110 s to 52 s for
-``radau``, 103 s to 84 s for ``event``) for ~4 ms of a 60 ms run; calling the flat kernel
-instead of inlining it at its three sites, and the general one at the cold sites
-(:func:`nsdyn.solve._kcommon.feval_called`), took the default run's first compilation from 157 s
-to 113 s in one slow hour, with no measurable change of run time. Where a kernel is inlined it
-is inlined one level deep: numba copies an inlined function's IR once per block, each time with
-its whole variable scope, so a wrapper that is itself inlined copies everything it inlined
-again (:func:`general_inlined` writes the stages out around the system kernel for that reason).
+for the run loop, which rarely needs it), :func:`general_table` (the system kernel called by its
+address, for the event-driven runs, which always need it) or :func:`flat_only` (none: the
+default run's loop, which then never compiles the general kernel). Newton itself is called, not
+inlined. Inlining costs compile time at every call site (numba types and lowers the callee
+again in each caller): inlining Newton and the general kernel into every stepper doubled the
+first-run compilation (110 s to 52 s for ``radau``, 103 s to 84 s for ``event``) for ~4 ms of a
+60 ms run; calling the flat kernel instead of inlining it at its three sites, and the general
+one at the cold sites (:func:`nsdyn.solve._kcommon.feval_called`), took the default run's first
+compilation from 157 s to 113 s in one slow hour, with no measurable change of run time.
+Linking costs too: numba optimises and translates a kernel's code again in every caller it is
+linked into, so the event loop's kernels reach the ~250-block system kernel through its address
+(:func:`general_table`), compiled once.
 """
 
 import numpy as np
@@ -29,7 +29,6 @@ from numba import njit
 from nsdyn import _kaddress as ka
 from nsdyn._klinalg import invert_diagonal, lu_solve_inverted
 from nsdyn._numba_cache import stable_identity
-from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve import _kflat as kf
 
@@ -185,27 +184,20 @@ def general_called(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
 
 
 @njit(cache=True, error_model="numpy")
-def general_inlined(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
-    """:func:`general_called` with the general kernel inlined into the stages, for the
-    event-driven runs (switch law, open contacts), where every evaluation is a general one
-    (inlined, the switch-model run is ~25 % faster)."""
+def general_table(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
+    """:func:`general_called` with the system kernel and its Jacobian called by their
+    addresses in the table of :mod:`nsdyn._kaddress` (:func:`nsdyn.solve._kcommon.feval_t`),
+    for the event-driven loop: its step, start-up, detectors and handlers then share the one
+    compiled system kernel instead of each optimising and translating a copy linked into it."""
     if kind == G_JAC:
-        return ki.jeval(t, y, P, J)
+        return ki.jeval_t(t, y, P, J)
     if kind == G_ONE:
-        return ki.feval(t, y, P, out, qdd, lam, tau, modes)
-    # the stages with the system kernel inlined right here (``_kcommon.feval`` written out):
-    # numba copies an inlined function's IR with its whole variable scope once per block, and
-    # each wrapper layer around the ~250-block kernel cost ~5 s of compilation
+        return ki.feval_t(t, y, P, out, qdd, lam, tau, modes)
     ok_all = True
     for i in range(3):
         for j in range(y.shape[0]):
             ys[j] = y[j] + Z[i, j]
-        ti = t + C[i] * h
-        Fi = F[i]
-        ok = False
-        if ki.finite_input(ti, ys, Fi):
-            ok = ks.evaluate_inline(ti, ys, P, qdd, lam, tau, modes)
-            ki.first_order(ys, qdd, Fi)
+        ok = ki.feval_t(t + C[i] * h, ys, P, F[i], qdd, lam, tau, modes)
         ok_all = ok_all and ok
     return ok_all
 
@@ -221,7 +213,7 @@ def flat_only(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
 
 # fixed identities: these kernels are arguments of the stepper's kernels, hence in their cached
 # signatures (another process then finds what this one compiled, see stable_identity)
-stable_identity(general_called, general_inlined, flat_only)
+stable_identity(general_called, general_table, flat_only)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -254,7 +246,7 @@ def _newton(
     multiplies: 78 divisions per iteration fewer).
     The arrays are those of the workspace (:func:`nsdyn.solve._kradau.workspace`), ``Fl`` the
     flat parameters of :func:`nsdyn.solve._kflat.pack_flat`, used when ``flat``; ``general``
-    (:func:`general_called`, :func:`general_inlined` or :func:`flat_only`) evaluates the
+    (:func:`general_called`, :func:`general_table` or :func:`flat_only`) evaluates the
     stages otherwise.
 
     Returns (converged, n_iter, rate, nonfinite, singular, dW_norm).
@@ -345,4 +337,16 @@ def newton_flat(
     return newton_inline(
         P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam,
         tau, modes, Fl, flat, flat_only,
+    )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def newton_table(
+    P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
+    modes, Fl, flat,
+):  # fmt: skip
+    """:func:`newton` with :func:`general_table` (the event loop's step calls it by address)."""
+    return newton_inline(
+        P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam,
+        tau, modes, Fl, flat, general_table,
     )  # fmt: skip

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn._klinalg import copy_vec, lu_factor, lu_solve  # noqa: F401  (the integrators' LU)
 from nsdyn._numba_cache import guard_family
 from nsdyn.models.isolated import _kernel as ks
@@ -176,6 +177,35 @@ def jeval(t, x, P, J):
         J[:, :] = np.nan
         return False
     ks.jac(t, x, P, J)
+    return True
+
+
+# the system kernel and its Jacobian by address (:func:`nsdyn._kaddress.tcall`): the kernels
+# of the event-driven loop call them so, each of which would otherwise link (and LLVM optimise
+# and translate again) its own copy of the ~250-block system kernel
+ka.tslot("sys.evaluate", ks.evaluate)
+ka.tslot("sys.jac", ks.jac)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def feval_t(t, x, P, out, qdd, lam, tau, modes):
+    """:func:`feval` with the system kernel called by its address in the table of
+    :mod:`nsdyn._kaddress` (``"sys.evaluate"``)."""
+    if not finite_input(t, x, out):
+        return False
+    ok = ka.tcall("sys.evaluate", (t, x, P, qdd, lam, tau, modes))
+    first_order(x, qdd, out)
+    return ok
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def jeval_t(t, x, P, J):
+    """:func:`jeval` with the system kernel's Jacobian called by its address in the table of
+    :mod:`nsdyn._kaddress` (``"sys.jac"``)."""
+    if not all_finite(x):
+        J[:, :] = np.nan
+        return False
+    ka.tcall("sys.jac", (t, x, P, J))
     return True
 
 

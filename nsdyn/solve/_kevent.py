@@ -99,7 +99,7 @@ def _g_dense(kind, i, sgn, x, y, Qd, t, h, P, ew):
             v += D[i, j] * (y[k] + x * (Qd[k, 0] + x * (Qd[k, 1] + x * Qd[k, 2])))
         return sgn * v
     kr.dense(y, Qd, x, ys)
-    ki.feval(t + x * h, ys, P, fs, qdd, lam, tau, modes)
+    ki.feval_t(t + x * h, ys, P, fs, qdd, lam, tau, modes)
     return _g_stick(i, lam, tau, P)
 
 
@@ -197,7 +197,7 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
         # g at the step start, then at the samples (one evaluation each, shared by isolators)
         ni = D.shape[0]
         g0 = np.empty(ni)
-        ki.feval(t, y, P, fs, qdd, lam, tau, modes)
+        ki.feval_t(t, y, P, fs, qdd, lam, tau, modes)
         stats[ki.S_NFEV] += 1
         for i in range(ni):
             g0[i] = _g_stick(i, lam, tau, P)
@@ -207,7 +207,7 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
             if xb >= x_best:
                 break
             kr.dense(y, Qd, xb, ys)
-            ki.feval(t + xb * h, ys, P, fs, qdd, lam, tau, modes)
+            ki.feval_t(t + xb * h, ys, P, fs, qdd, lam, tau, modes)
             stats[ki.S_NFEV] += 1
             found = False
             for i in range(ni):
@@ -235,14 +235,14 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
                         x_best, i_best, k_best = xr, i, 1
                     found = True
                     kr.dense(y, Qd, xb, ys)
-                    ki.feval(t + xb * h, ys, P, fs, qdd, lam, tau, modes)
+                    ki.feval_t(t + xb * h, ys, P, fs, qdd, lam, tau, modes)
                     stats[ki.S_NFEV] += 1
                 g0[i] = gb
             if found:
                 break
             xa = xb
         # restore the step-end forces for the contact monitor
-        ki.feval(t + h, ynew, P, fs, qdd, lam, tau, modes)
+        ki.feval_t(t + h, ynew, P, fs, qdd, lam, tau, modes)
         stats[ki.S_NFEV] += 1
     return x_best, i_best, k_best
 
@@ -266,7 +266,7 @@ def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
     n = D.shape[1]
     ni = D.shape[0]
     old = pm.copy()
-    ki.feval(t, y, P, f, qdd, lam, tau, modes)
+    ki.feval_t(t, y, P, f, qdd, lam, tau, modes)
     stats[ki.S_NFEV] += 1
     for i in range(ni):
         v = _dot_row(D, i, y, n)
@@ -288,7 +288,7 @@ def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
             else:
                 pm[i] = 1 if tau[i] >= 0.0 else -1
     for _ in range(SETTLE_PASSES):
-        ki.feval(t, y, P, f, qdd, lam, tau, modes)
+        ki.feval_t(t, y, P, f, qdd, lam, tau, modes)
         stats[ki.S_NFEV] += 1
         changed = False
         for i in range(ni):

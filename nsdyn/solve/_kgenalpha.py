@@ -19,6 +19,11 @@ Newmark (am = af = 0) from the spectral radius at infinity rho_inf. All are seco
 accurate except Newmark with rho_inf < 1. The Jacobian and its LU are kept across steps while
 the iteration contracts fast and refreshed at the current iterate when it does not.
 Outputs between steps are cubic Hermite interpolants (q from q, v; v from v, a).
+
+The system kernel and its Jacobian are called by their addresses in the table of
+:mod:`nsdyn._kaddress` (:func:`nsdyn.solve._kcommon.feval_t`; the runner fills it,
+:func:`nsdyn.solve.compile_split.system_table`): this kernel's code holds none of theirs, so a
+first run compiles it beside them.
 """
 
 import numpy as np
@@ -105,7 +110,7 @@ def _residual(ta, h, q, v, a, an, coef, P, gw):
     for i in range(n):
         xa[i] = (1.0 - af) * qn[i] + af * q[i]
         xa[n + i] = (1.0 - af) * vn[i] + af * v[i]
-    ok = ki.feval(ta, xa, P, fa, qdd, lam, tau, modes)
+    ok = ki.feval_t(ta, xa, P, fa, qdd, lam, tau, modes)
     if not ki.all_finite(fa):
         return np.inf, True
     s = 0.0
@@ -123,7 +128,7 @@ def _iteration_matrix(ta, h, coef, P, gw, J, S, piv, t, stats, rinfo):
     n = S.shape[0]
     stats[ki.S_NJEV] += 1
     stats[ki.S_NLU] += 1
-    ki.jeval(ta, gw[2], P, J)
+    ki.jeval_t(ta, gw[2], P, J)
     c1 = (1.0 - af) * beta * h * h
     c2 = (1.0 - af) * gamma * h
     for i in range(n):
@@ -206,9 +211,8 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
     rinfo[ki.R_T] = t
     rinfo[ki.R_H] = dt
     rinfo[ki.R_HNEXT] = dt
-    iout = ki.start(
-        t, x0, P, fe, qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo
-    )
+    ok = ki.feval_t(t, x0, P, fe, qdd, lam, tau, modes)  # (ki.start, by address)
+    iout = ki.start_from(ok, t, x0, fe, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo)
     if iout < 0:
         return own[0], own[1]
     copy_vec(a, qdd)
@@ -293,7 +297,7 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
         _update(h, q, v, a, an, beta, gamma, qn, vn)
         copy_vec(xe[:n], qn)
         copy_vec(xe[n:], vn)
-        ok = ki.feval(t_new, xe, P, fe, qdd, lam, tau, modes)
+        ok = ki.feval_t(t_new, xe, P, fe, qdd, lam, tau, modes)
         stats[ki.S_NFEV] += 1
         if not (ki.all_finite(xe) and ki.all_finite(fe)):
             stats[ki.S_STATUS] = ki.ST_NONFINITE

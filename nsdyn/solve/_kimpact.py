@@ -13,15 +13,21 @@ and every event is appended to the contact log (columns ``t, contact, kind, v-, 
 Contact set at rest (:func:`_settle_contacts`): over the contacts at the ground with zero
 normal velocity, the acceleration-level complementarity problem
 ``lam_k >= 0, R_k qdd + b_k >= 0, lam_k (R_k qdd + b_k) = 0`` (``b_k`` the Baumgarte terms).
+
+Contact events on a step's dense output (:func:`_detect`, for the event-driven loop of
+:mod:`nsdyn.solve._kunilateral`): a closed contact lifts off where ``lam_k`` crosses zero
+downwards, an open one lands where its gap ``g_k = R_k q`` does (scanned at a few points of the
+step, split at the extrema of the cubic gap, located by Illinois).
 """
 
 import numpy as np
 from numba import njit
 
-from nsdyn._klinalg import lu_factor, lu_solve
+from nsdyn._klinalg import copy_vec, lu_factor, lu_solve
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve import _kevent as ke
+from nsdyn.solve import _kradau as kr
 
 KIND_LIFT = 2  # event kinds beside _kevent's 0 (slip -> stick/reversal) and 1 (stick -> slip)
 KIND_LAND = 3
@@ -32,6 +38,7 @@ CLOG_COLS = 5  # contact log columns: t, contact, kind, normal velocity before, 
 LAM_RTOL = 1e-9  # normal forces above -LAM_RTOL x the static ones count as zero (no lift-off)
 ACC_ATOL = 1e-8  # m/s^2, gap accelerations above -ACC_ATOL count as zero (a contact at rest)
 LCP_MAXITER = 64  # pivots of the acceleration-level contact problem before giving up
+SAMPLES = 8  # dense-output samples per step scanned for a lift-off (lam_k sign change)
 
 
 @njit(cache=True, error_model="numpy")
@@ -127,9 +134,9 @@ def _land(t, y, P, k, e_rest, g_tol, clog, cnt, dT):
             opn[j] = 1  # rebounds (e > 0): leaves the ground at once
         ok = True
         if landed:
-            ok = _log(clog, cnt, t, j, KIND_LAND, vm[j], lamI[j])
+            ok = _log(clog, cnt, t, j, np.int64(KIND_LAND), vm[j], lamI[j])
         if ok and opn[j] != 0 and (was[j] == 0 or landed):
-            ok = _log(clog, cnt, t, j, KIND_LIFT, vpj, 0.0)
+            ok = _log(clog, cnt, t, j, np.int64(KIND_LIFT), vpj, 0.0)
         if not ok:
             return False
     return True
@@ -191,7 +198,7 @@ def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats, lift):
         )
     changed = False
     for _ in range(LCP_MAXITER):
-        ki.feval(t, y, P, f, qdd, lam, tau, modes)
+        ki.feval_t(t, y, P, f, qdd, lam, tau, modes)
         stats[ki.S_NFEV] += 1
         flip = -1
         for k in range(nc):
@@ -214,3 +221,177 @@ def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats, lift):
         if not _log(clog, cnt, t, flip, kind, ke._dot_row(R, flip, y, n), 0.0):
             return False, changed
     return False, changed
+
+
+@njit(cache=True, error_model="numpy")
+def _gap_dense(k, x, y, Qd, P):
+    """g_k = R_k q on the dense output at t + x h (cubic in x)."""
+    R = P[ks.I_R]
+    g = 0.0
+    for j in range(R.shape[1]):
+        g += R[k, j] * (y[j] + x * (Qd[j, 0] + x * (Qd[j, 1] + x * Qd[j, 2])))
+    return g
+
+
+@njit(cache=True, error_model="numpy")
+def _g(kind, k, x, y, Qd, t, h, P, ew, off, stats):
+    """Switching function of contact k at t + x h: lam_k (closed) or g_k + off (open)."""
+    if kind == KIND_LAND:
+        return _gap_dense(k, x, y, Qd, P) + off
+    ys, fs, qdd, lam, tau, modes = ew
+    kr.dense(y, Qd, x, ys)
+    ki.feval_t(t + x * h, ys, P, fs, qdd, lam, tau, modes)
+    stats[ki.S_NFEV] += 1
+    return lam[k]
+
+
+@njit(cache=True, error_model="numpy")
+def _root(kind, k, a, b, fa, fb, y, Qd, t, h, P, ew, off, stats):
+    """Illinois on x in [a, b] for fa > 0 >= fb; returns x with g(x) <= 0."""
+    xtol = ke.EVENT_TTOL / h
+    side = 0
+    for _ in range(ke.ROOT_MAXITER):
+        if b - a <= xtol:
+            break
+        c = ke.illinois_point(a, b, fa, fb)
+        fc = _g(kind, k, c, y, Qd, t, h, P, ew, off, stats)
+        a, b, fa, fb, side, done = ke.illinois_step(a, b, fa, fb, c, fc, side)
+        if done:
+            return c
+    return b
+
+
+@njit(cache=True, error_model="numpy")
+def _monotone_breaks(k, Qd, P, xs):
+    """0, the extrema of the cubic gap g_k(x) inside (0, 1) in order, 1 into ``xs``; count."""
+    R = P[ks.I_R]
+    b1 = b2 = b3 = 0.0
+    for j in range(R.shape[1]):
+        b1 += R[k, j] * Qd[j, 0]
+        b2 += R[k, j] * Qd[j, 1]
+        b3 += R[k, j] * Qd[j, 2]
+    # g'(x) = b1 + 2 b2 x + 3 b3 x^2
+    nx = 1
+    xs[0] = 0.0
+    r0, r1 = 2.0, 2.0
+    if b3 != 0.0:
+        disc = b2 * b2 - 3.0 * b3 * b1
+        if disc > 0.0:
+            qq = -(b2 + np.copysign(np.sqrt(disc), b2))
+            r0 = qq / (3.0 * b3)
+            r1 = b1 / qq if qq != 0.0 else 2.0
+    elif b2 != 0.0:
+        r0 = -b1 / (2.0 * b2)
+    if r1 < r0:
+        r0, r1 = r1, r0
+    for r in (r0, r1):
+        if 0.0 < r < 1.0:
+            xs[nx] = r
+            nx += 1
+    xs[nx] = 1.0
+    return nx + 1
+
+
+@njit(cache=True, error_model="numpy")
+def _detect(t, h, y, Qd, P, ew, g_tol, g_lift, x_max, stats):
+    """Earliest contact event in the step before ``x_max``: (x, contact, kind), contact -1
+    when none. Leaves lam, tau at the step end.
+
+    An open contact's gap is measured from ``g_lift[k] = min(g_k, 0)`` at its lift-off: a gap
+    that the constraint stabilisation left a hair below zero when the contact opened is drift,
+    not penetration, and must not read as an immediate touchdown."""
+    nc = P[ks.I_R].shape[0]
+    opn = P[ks.I_OPEN]
+    lam_tol = _lam_scale(P)
+    x_best, k_best, kind_best = 2.0, -1, 0
+    any_closed = False
+    xs = np.empty(4)
+    for k in range(nc):
+        if opn[k] == 0:
+            any_closed = True
+            continue
+        # the gap is a cubic in x on the step: split [0, 1] at its extrema into monotone
+        # pieces, so that a flight shorter than the step (a small bounce) is never skipped
+        nx = _monotone_breaks(k, Qd, P, xs)
+        g0 = g_lift[k]
+        xa, ga = 0.0, _gap_dense(k, 0.0, y, Qd, P) - g0
+        for s in range(1, nx):
+            xb = xs[s]
+            if xa >= x_best:
+                break
+            gb = _gap_dense(k, xb, y, Qd, P) - g0
+            # a crossing from above, or sinking below the noise band (not a contact that
+            # opened a hair below zero and rises)
+            if gb <= 0.0 and (ga > g_tol or (gb < -g_tol and gb < ga)):
+                if ga > 0.0:
+                    xr = _root(
+                        np.int64(KIND_LAND), k, xa, xb, ga, gb, y, Qd, t, h, P, ew, -g0, stats
+                    )
+                elif ga > -g_tol:  # starts in the noise band: touchdown where it leaves it
+                    xr = _root(
+                        np.int64(KIND_LAND),
+                        k,
+                        xa,
+                        xb,
+                        ga + g_tol,
+                        gb + g_tol,
+                        y,
+                        Qd,
+                        t,
+                        h,
+                        P,
+                        ew,
+                        g_tol - g0,
+                        stats,
+                    )
+                else:
+                    xr = xa
+                if xr < x_best:
+                    x_best, k_best, kind_best = xr, k, KIND_LAND
+                break
+            xa, ga = xb, gb
+    if any_closed:
+        ys, fs, qdd, lam, tau, modes = ew
+        la = np.empty(nc)
+        ki.feval_t(t, y, P, fs, qdd, lam, tau, modes)
+        stats[ki.S_NFEV] += 1
+        copy_vec(la, lam)
+        xa = 0.0
+        for s in range(1, SAMPLES // 2 + 1):
+            xb = s / (SAMPLES // 2)
+            if xb >= x_best:
+                break
+            kr.dense(y, Qd, xb, ys)
+            ki.feval_t(t + xb * h, ys, P, fs, qdd, lam, tau, modes)
+            stats[ki.S_NFEV] += 1
+            lb = lam.copy()
+            for k in range(nc):
+                if opn[k] == 0 and lb[k] < 0.0 and (la[k] > lam_tol or lb[k] < -lam_tol):
+                    xr = xa
+                    if la[k] > 0.0:
+                        xr = _root(
+                            np.int64(KIND_LIFT),
+                            k,
+                            xa,
+                            xb,
+                            la[k],
+                            lb[k],
+                            y,
+                            Qd,
+                            t,
+                            h,
+                            P,
+                            ew,
+                            0.0,
+                            stats,
+                        )
+                    if xr < x_best:
+                        x_best, k_best, kind_best = xr, k, KIND_LIFT
+            if k_best >= 0 and kind_best == KIND_LIFT:
+                break
+            copy_vec(la, lb)
+            xa = xb
+        kr.dense(y, Qd, 1.0, ys)
+        ki.feval_t(t + h, ys, P, fs, qdd, lam, tau, modes)
+        stats[ki.S_NFEV] += 1
+    return x_best, k_best, kind_best

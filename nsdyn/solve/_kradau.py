@@ -15,8 +15,9 @@ and the stiff arctan slope mu lam (2/pi) eps, eps up to 1e5, are damped in one s
 being resolved), of order 5 on the slow physics, and stiffly accurate (the step end is the
 last stage, so no stiff error is propagated from the stages).
 
-The step is exposed as :func:`radau_step` (one accepted step with retries, state in ``ctl``)
-so the event-driven switch integrator (:mod:`nsdyn.solve._kevent`) drives the same stepper.
+The step is exposed as :func:`radau_step_inline` (one accepted step with retries, state in
+``ctl``) so the event-driven integrator (:mod:`nsdyn.solve._kunilateral`) drives the same
+stepper.
 """
 
 import numpy as np
@@ -303,19 +304,9 @@ def _step(
 
 
 # the step inlined into the run loop (a called step cost the default run 18 %, measured with
-# its callees called by address) and compiled on its own for the event-driven kernels
+# its callees called by address) and into the event-driven loop's step kernel
+# (:func:`nsdyn.solve._kunilateral._step`)
 radau_step_inline = njit(cache=True, error_model="numpy", inline="always")(_step)
-
-
-@njit(cache=True, error_model="numpy")
-def radau_step(
-    P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo, general
-):
-    """:func:`_step` with its callees called directly (the event-driven loops')."""
-    return radau_step_inline(
-        P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo,
-        general, None,
-    )  # fmt: skip
 
 
 def _owned(ws, x0, t_eval, nc):
@@ -422,7 +413,7 @@ def start_flat(
 
 @njit(cache=True, error_model="numpy")
 def accept(t, y, f, ctl, ws, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats, rinfo):
-    """Move to the end of the step :func:`radau_step` accepted: outputs at the t_eval it
+    """Move to the end of the step :func:`_step` accepted: outputs at the t_eval it
     covers (from ``iout``, dense output), contact check, y, f, lam_old at the step end.
     Returns (iout, stop)."""
     ynew, fnew, Qd, lam = ws[15], ws[16], ws[17], ws[19]

@@ -33,205 +33,33 @@ the step is not skipped.
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_vec
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcolloc as kcol
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve import _kevent as ke
+from nsdyn.solve import _kflat as kf
 from nsdyn.solve import _kradau as kr
 from nsdyn.solve._kimpact import (  # noqa: F401  (CLOG_COLS: the log layout, for the front door)
     CLOG_COLS,
     KIND_LAND,
     KIND_LIFT,
     V_REST,
+    _detect,
     _lam_scale,
     _land,
     _log,
     _settle_contacts,
 )
 
-SAMPLES = 8  # dense-output samples per step scanned for a lift-off (lam_k sign change)
 GAP_ATOL = 1.0  # gaps within this x atol (displacements) count as zero (touchdown noise)
 # what the main loop does with a step (see _on_target and _plan)
 ACT_STEP = 0  # accept the step, no event at its end
 ACT_SWITCH = 1  # accept the step, handle the event at its end
 ACT_NOW = 2  # discard the step, handle the event at its start
 ACT_REDO = 3  # discard the step, redo it to end on t_target
-
-
-@njit(cache=True, error_model="numpy")
-def _gap_dense(k, x, y, Qd, P):
-    """g_k = R_k q on the dense output at t + x h (cubic in x)."""
-    R = P[ks.I_R]
-    g = 0.0
-    for j in range(R.shape[1]):
-        g += R[k, j] * (y[j] + x * (Qd[j, 0] + x * (Qd[j, 1] + x * Qd[j, 2])))
-    return g
-
-
-@njit(cache=True, error_model="numpy")
-def _g(kind, k, x, y, Qd, t, h, P, ew, off, stats):
-    """Switching function of contact k at t + x h: lam_k (closed) or g_k + off (open)."""
-    if kind == KIND_LAND:
-        return _gap_dense(k, x, y, Qd, P) + off
-    ys, fs, qdd, lam, tau, modes = ew
-    kr.dense(y, Qd, x, ys)
-    ki.feval(t + x * h, ys, P, fs, qdd, lam, tau, modes)
-    stats[ki.S_NFEV] += 1
-    return lam[k]
-
-
-@njit(cache=True, error_model="numpy")
-def _root(kind, k, a, b, fa, fb, y, Qd, t, h, P, ew, off, stats):
-    """Illinois on x in [a, b] for fa > 0 >= fb; returns x with g(x) <= 0."""
-    xtol = ke.EVENT_TTOL / h
-    side = 0
-    for _ in range(ke.ROOT_MAXITER):
-        if b - a <= xtol:
-            break
-        c = ke.illinois_point(a, b, fa, fb)
-        fc = _g(kind, k, c, y, Qd, t, h, P, ew, off, stats)
-        a, b, fa, fb, side, done = ke.illinois_step(a, b, fa, fb, c, fc, side)
-        if done:
-            return c
-    return b
-
-
-@njit(cache=True, error_model="numpy")
-def _monotone_breaks(k, Qd, P, xs):
-    """0, the extrema of the cubic gap g_k(x) inside (0, 1) in order, 1 into ``xs``; count."""
-    R = P[ks.I_R]
-    b1 = b2 = b3 = 0.0
-    for j in range(R.shape[1]):
-        b1 += R[k, j] * Qd[j, 0]
-        b2 += R[k, j] * Qd[j, 1]
-        b3 += R[k, j] * Qd[j, 2]
-    # g'(x) = b1 + 2 b2 x + 3 b3 x^2
-    nx = 1
-    xs[0] = 0.0
-    r0, r1 = 2.0, 2.0
-    if b3 != 0.0:
-        disc = b2 * b2 - 3.0 * b3 * b1
-        if disc > 0.0:
-            qq = -(b2 + np.copysign(np.sqrt(disc), b2))
-            r0 = qq / (3.0 * b3)
-            r1 = b1 / qq if qq != 0.0 else 2.0
-    elif b2 != 0.0:
-        r0 = -b1 / (2.0 * b2)
-    if r1 < r0:
-        r0, r1 = r1, r0
-    for r in (r0, r1):
-        if 0.0 < r < 1.0:
-            xs[nx] = r
-            nx += 1
-    xs[nx] = 1.0
-    return nx + 1
-
-
-@njit(cache=True, error_model="numpy")
-def _detect(t, h, y, Qd, P, ew, g_tol, g_lift, x_max, stats):
-    """Earliest contact event in the step before ``x_max``: (x, contact, kind), contact -1
-    when none. Leaves lam, tau at the step end.
-
-    An open contact's gap is measured from ``g_lift[k] = min(g_k, 0)`` at its lift-off: a gap
-    that the constraint stabilisation left a hair below zero when the contact opened is drift,
-    not penetration, and must not read as an immediate touchdown."""
-    nc = P[ks.I_R].shape[0]
-    opn = P[ks.I_OPEN]
-    lam_tol = _lam_scale(P)
-    x_best, k_best, kind_best = 2.0, -1, 0
-    any_closed = False
-    xs = np.empty(4)
-    for k in range(nc):
-        if opn[k] == 0:
-            any_closed = True
-            continue
-        # the gap is a cubic in x on the step: split [0, 1] at its extrema into monotone
-        # pieces, so that a flight shorter than the step (a small bounce) is never skipped
-        nx = _monotone_breaks(k, Qd, P, xs)
-        g0 = g_lift[k]
-        xa, ga = 0.0, _gap_dense(k, 0.0, y, Qd, P) - g0
-        for s in range(1, nx):
-            xb = xs[s]
-            if xa >= x_best:
-                break
-            gb = _gap_dense(k, xb, y, Qd, P) - g0
-            # a crossing from above, or sinking below the noise band (not a contact that
-            # opened a hair below zero and rises)
-            if gb <= 0.0 and (ga > g_tol or (gb < -g_tol and gb < ga)):
-                if ga > 0.0:
-                    xr = _root(
-                        np.int64(KIND_LAND), k, xa, xb, ga, gb, y, Qd, t, h, P, ew, -g0, stats
-                    )
-                elif ga > -g_tol:  # starts in the noise band: touchdown where it leaves it
-                    xr = _root(
-                        np.int64(KIND_LAND),
-                        k,
-                        xa,
-                        xb,
-                        ga + g_tol,
-                        gb + g_tol,
-                        y,
-                        Qd,
-                        t,
-                        h,
-                        P,
-                        ew,
-                        g_tol - g0,
-                        stats,
-                    )
-                else:
-                    xr = xa
-                if xr < x_best:
-                    x_best, k_best, kind_best = xr, k, KIND_LAND
-                break
-            xa, ga = xb, gb
-    if any_closed:
-        ys, fs, qdd, lam, tau, modes = ew
-        la = np.empty(nc)
-        ki.feval(t, y, P, fs, qdd, lam, tau, modes)
-        stats[ki.S_NFEV] += 1
-        copy_vec(la, lam)
-        xa = 0.0
-        for s in range(1, SAMPLES // 2 + 1):
-            xb = s / (SAMPLES // 2)
-            if xb >= x_best:
-                break
-            kr.dense(y, Qd, xb, ys)
-            ki.feval(t + xb * h, ys, P, fs, qdd, lam, tau, modes)
-            stats[ki.S_NFEV] += 1
-            lb = lam.copy()
-            for k in range(nc):
-                if opn[k] == 0 and lb[k] < 0.0 and (la[k] > lam_tol or lb[k] < -lam_tol):
-                    xr = xa
-                    if la[k] > 0.0:
-                        xr = _root(
-                            np.int64(KIND_LIFT),
-                            k,
-                            xa,
-                            xb,
-                            la[k],
-                            lb[k],
-                            y,
-                            Qd,
-                            t,
-                            h,
-                            P,
-                            ew,
-                            0.0,
-                            stats,
-                        )
-                    if xr < x_best:
-                        x_best, k_best, kind_best = xr, k, KIND_LIFT
-            if k_best >= 0 and kind_best == KIND_LIFT:
-                break
-            copy_vec(la, lb)
-            xa = xb
-        kr.dense(y, Qd, 1.0, ys)
-        ki.feval(t + h, ys, P, fs, qdd, lam, tau, modes)
-        stats[ki.S_NFEV] += 1
-    return x_best, k_best, kind_best
 
 
 @njit(cache=True, error_model="numpy")
@@ -254,10 +82,10 @@ def _event_at(t, kind, idx, h_resume, run):
         opn[idx] = 1
         lift[0, idx] = t
         lift[1, idx] = min(ke._dot_row(P[ks.I_R], idx, y, 0), 0.0)
-        ok = _log(clog, cnt, t, idx, KIND_LIFT, ke._dot_row(P[ks.I_R], idx, y, n), 0.0)
+        ok = _log(clog, cnt, t, idx, np.int64(KIND_LIFT), ke._dot_row(P[ks.I_R], idx, y, n), 0.0)
     elif kind == KIND_LAND:
         was = opn.copy()
-        ok = _land(t, y, P, idx, e_rest, g_tol, clog, cnt, dT)
+        ok = ka.tcall("event.land", (t, y, P, idx, e_rest, g_tol, clog, cnt, dT))
         if friction:  # landed isolators: slip along their velocity, else the stick test
             for i in range(D.shape[0]):
                 if i < opn.shape[0] and was[i] != 0 and opn[i] == 0:
@@ -267,11 +95,13 @@ def _event_at(t, kind, idx, h_resume, run):
     for _ in range(ke.SETTLE_PASSES if ok else 0):
         changed = False
         if contacts:
-            ok, changed = _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats, lift)
+            ok, changed = ka.tcall(
+                "event.settle_contacts", (t, y, P, f, ew, g_tol, clog, cnt, stats, lift)
+            )
             singular = not ok
         if ok and friction:
             trig = idx if kind < KIND_LIFT else -1
-            ok = ke._settle(t, y, P, f, ew, trig, v_tol, log, stats)
+            ok = ka.tcall("event.settle", (t, y, P, f, ew, trig, v_tol, log, stats))
             kind = KIND_LIFT  # the trigger is settled once
         if not ok or not changed:
             break
@@ -279,8 +109,8 @@ def _event_at(t, kind, idx, h_resume, run):
         singular = singular and cnt[0] < clog.shape[0]
         stats[ki.S_STATUS] = ki.ST_SINGULAR if singular else ki.ST_EVENTS
         return False
-    ki.feval(t, y, P, f, ew[2], ew[3], ew[4], ew[5])
-    ki.jeval(t, y, P, ws[0])
+    ki.feval_t(t, y, P, f, ew[2], ew[3], ew[4], ew[5])
+    ki.jeval_t(t, y, P, ws[0])
     stats[ki.S_NFEV] += 1
     stats[ki.S_NJEV] += 1
     kr.restart(ctl)
@@ -331,11 +161,42 @@ def _plan(t, t_new, h, x_best):
 
 
 @njit(cache=True, error_model="numpy")
-def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, logs):
+def _start(P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
+           rinfo, K):  # fmt: skip
+    """The Radau start-up (:func:`nsdyn.solve._kradau.start`) with the general kernel of the
+    address table (:func:`nsdyn.solve._kcolloc.general_table`), the flat kernels by their
+    addresses in ``K`` (:func:`nsdyn.solve.compile_split.event_calls`)."""
+    return kr.start_inline(
+        P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
+        rinfo, kcol.general_table, K,
+    )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def _step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo, K):
+    """One Radau step (:func:`nsdyn.solve._kradau._step`) with the general kernel of the
+    address table (:func:`nsdyn.solve._kcolloc.general_table`), the flat kernels, the
+    factorisation and Newton (:func:`nsdyn.solve._kcolloc.newton_table`) by their addresses
+    in ``K``."""
+    return kr.radau_step_inline(
+        P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo,
+        kcol.general_table, K,
+    )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, logs, owned, K):
     """The event-driven loop of both entry points: Radau steps between events, friction
     (``flags[0]``) and contact (``flags[1]``) events located on the dense output, the step
     redone to land on them. ``tol = (atol, rtol)``, ``steps = (h0, max_step, max_steps)``,
-    ``flags = (friction, contacts, uplift_mode)``, ``logs = (log, clog, cnt, dT)``."""
+    ``flags = (friction, contacts, uplift_mode)``, ``logs = (log, clog, cnt, dT)``, ``owned``
+    the arrays of the run (:func:`nsdyn.solve._kradau.setup_here`), ``K`` the addresses of the
+    step's callees (:func:`nsdyn.solve.compile_split.event_calls`).
+
+    Its callees (the settling, the start-up, the step, both detectors, the step's acceptance
+    and the event handler) are called by their addresses in the table of
+    :mod:`nsdyn._kaddress` (:func:`tables` fills it): this loop's code holds none of theirs,
+    and each of them compiles once, on its own."""
     atol, rtol = tol
     h0, max_step, max_steps = steps
     friction, contacts, uplift_mode = flags
@@ -343,7 +204,7 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
     nt = t_eval.shape[0]
     # borrowed views (nsdyn._kborrow) of the arguments and of what the loop owns: no atomic
     # reference counts for the ~45 arrays each step passes on; the owned stats/rinfo return
-    stats_own, rinfo_own, ws_own, y_own, f_own, lam_own = kr.setup(P, x0, t_eval, upl_t.shape[0])
+    stats_own, rinfo_own, ws_own, y_own, f_own, lam_own = owned
     scratch = np.empty(2 * n)
     P = kb.borrowed(P)
     ws = kb.borrowed(ws_own)
@@ -378,18 +239,20 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
             if pm[i] == ke.MODE_AUTO:
                 auto = True
         if auto:
-            ok = ke._settle(t, y, P, f, ew, np.int64(-1), ke.V_AUTO, logs[0], stats)
+            ok = ka.tcall("event.settle", (t, y, P, f, ew, np.int64(-1), ke.V_AUTO, logs[0], stats))
     if ok and contacts:
-        ok, _ = _settle_contacts(t, y, P, f, ew, g_tol, logs[1], logs[2], stats, lift)
+        ok, _ = ka.tcall(
+            "event.settle_contacts", (t, y, P, f, ew, g_tol, logs[1], logs[2], stats, lift)
+        )
     if friction:
         stats[ki.S_NEVENT] = 0  # the initial mode choice is not an event
     if not ok:
         stats[ki.S_STATUS] = ki.ST_EVENTS
         return stats_own, rinfo_own
-    iout, ctl = kr.start(
+    iout, ctl = ka.tcall("event.start", (
         P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
-        rinfo, None, kcol.general_inlined,
-    )  # fmt: skip
+        rinfo, K,
+    ))  # fmt: skip
     for k in range(max(iout, 0) if contacts else 0):
         copy_vec(OPEN_OUT[k], opn)
     if iout < 0 or iout >= nt:
@@ -412,10 +275,9 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
     fixed = np.bool_(False)
     while iout < nt:
         t_lim = min(t_end, t_target, ki.next_kink(t, P))
-        st = kr.radau_step(
-            P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo,
-            kcol.general_inlined,
-        )  # fmt: skip
+        st = ka.tcall("event.step", (
+            P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo, K,
+        ))  # fmt: skip
         if st != ki.ST_SUCCESS:
             stats[ki.S_STATUS] = st
             rinfo[ki.R_T] = t
@@ -431,10 +293,14 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
             # bracket the switching functions over the step, earliest root wins
             x_best, i_best, k_best = 2.0, -1, 0
             if friction:
-                x_best, i_best, k_best = ke._detect(t, h, y, ynew, Qd, P, ew, stats)
+                x_best, i_best, k_best = ka.tcall(
+                    "event.detect_friction", (t, h, y, ynew, Qd, P, ew, stats)
+                )
             if contacts:
                 x_max = min(x_best, 1.0 + 1e-15)
-                xc, kc, kindc = _detect(t, h, y, Qd, P, ew, g_tol, lift[1], x_max, stats)
+                xc, kc, kindc = ka.tcall(
+                    "event.detect_contacts", (t, h, y, Qd, P, ew, g_tol, lift[1], x_max, stats)
+                )
                 if kc >= 0 and xc <= x_best:
                     x_best, i_best, k_best = xc, kc, kindc
             if i_best >= 0:
@@ -451,16 +317,16 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
                 continue
         else:
             i0 = iout
-            iout, stop = kr.accept(
+            iout, stop = ka.tcall("event.accept", (
                 t, y, f, ctl, ws, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats, rinfo
-            )
+            ))  # fmt: skip
             for k in range(i0, iout if contacts else i0):
                 copy_vec(OPEN_OUT[k], opn)
             t = t_new
             if stop:
                 break
         if act != ACT_STEP:
-            ok = _event_at(t, ev_kind, ev_idx, h_resume, run)
+            ok = ka.tcall("event.handle", (t, ev_kind, ev_idx, h_resume, run))
             copy_vec(lam_old, lam)
             if not ok:
                 rinfo[ki.R_T] = t
@@ -471,11 +337,53 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
     return stats_own, rinfo_own
 
 
+# the callees of the loop by their addresses (nsdyn._kaddress.tcall)
+ka.tslot("event.settle", ke._settle)
+ka.tslot("event.settle_contacts", _settle_contacts)
+ka.tslot("event.start", _start)
+ka.tslot("event.step", _step)
+ka.tslot("event.detect_friction", ke._detect)
+ka.tslot("event.detect_contacts", _detect)
+ka.tslot("event.accept", kr.accept)
+ka.tslot("event.handle", _event_at)
+ka.tslot("event.land", _land)
+# the names of the loop's callees in the table: those of every run, of friction events (the
+# switch model) and of contact events (unilateral contacts); a run fills the rows it calls
+CALLEES = ("sys.evaluate", "sys.jac", "event.start", "event.step", "event.accept", "event.handle")
+CALLEES_FRICTION = ("event.settle", "event.detect_friction")
+CALLEES_CONTACTS = ("event.settle_contacts", "event.detect_contacts", "event.land")
+
+
+def callees(friction: bool, contacts: bool) -> tuple:
+    """The names of the table rows a run with friction and/or contact events calls."""
+    return CALLEES + CALLEES_FRICTION * bool(friction) + CALLEES_CONTACTS * bool(contacts)
+
+
+def kernels(friction: bool, contacts: bool, flat: bool) -> tuple:
+    """Every compiled kernel a run of the loop needs (the loop, its callees in the table, the
+    step's callees in ``K``, the set-up's ``pack_flat``): what a first run compiles."""
+    K = (kr._factor, kcol.newton_table) + (kf.feval_flat, kf.jac_flat_here) * bool(flat)
+    table = tuple(ka.TSLOTS[name] for name in callees(friction, contacts))
+    return (_run, *table, *K, kf.pack_flat)
+
+
+def tables(friction: bool, contacts: bool, owned):
+    """Fill the address table with the loop's callees for a run with friction and/or contact
+    events (each loaded from numba's cache, or compiled; once per process) before the loop
+    runs; ``K`` of its step (:func:`nsdyn.solve.compile_split.event_calls`, with the flat
+    kernels where the law of the run's flat array ``owned[2][22]`` has them)."""
+    from nsdyn.solve import compile_split  # (it imports this module)
+
+    flat = owned[2][22][kf.H_OK] != 0.0
+    return compile_split.event_ready(friction, contacts, bool(flat))
+
+
 # The two entry points are plain Python: a numba wrapper around the called loop would be
 # compiled on its own, and numba optimises each compiled function's LLVM module with every
 # callee linked into it, so a wrapper repeats LLVM's work over the whole event loop for nothing
 # at run time (~6 s in the one pair measured). Scalar arguments are coerced so that both entry
-# points give the loop one signature (the compile helper's, nsdyn.solve.compile_split).
+# points give the loop one signature (the compile helper's, nsdyn.solve.compile_split). The
+# arrays of the run are made here (numpy, :func:`nsdyn.solve._kradau.setup_here`).
 
 
 def event_unilateral(
@@ -490,10 +398,12 @@ def event_unilateral(
     events to ``clog`` (rows t, contact, kind, R qd before, impulse; count ``cnt[0]``);
     ``dT[0]`` sums the kinetic energy change of the landings.
     """
+    owned = kr.setup_here(P, x0, t_eval, upl_t.shape[0])
+    K = tables(friction, True, owned)
     return _run(
         P, x0, t_eval, (atol, float(rtol)), (float(h0), float(max_step), int(max_steps)),
         modes0, (bool(friction), True, int(ki.UPLIFT_WARN)), float(e_rest), X, upl_t,
-        OPEN_OUT, (log, clog, cnt, dT),
+        OPEN_OUT, (log, clog, cnt, dT), owned, K,
     )  # fmt: skip
 
 
@@ -509,9 +419,11 @@ def event_switch(
     is ``stats[S_NEVENT]``. A normal force reaching zero is handled by ``uplift_mode``.
     """
     nc = P[ks.I_OPEN].shape[0]
+    owned = kr.setup_here(P, x0, t_eval, upl_t.shape[0])
+    K = tables(True, False, owned)
     return _run(
         P, x0, t_eval, (atol, float(rtol)), (float(h0), float(max_step), int(max_steps)),
         modes0, (True, False, int(uplift_mode)), 0.0, X, upl_t,
         np.zeros((0, nc), dtype=np.int64),
-        (log, np.zeros((0, CLOG_COLS)), np.zeros(1, dtype=np.int64), np.zeros(1)),
+        (log, np.zeros((0, CLOG_COLS)), np.zeros(1, dtype=np.int64), np.zeros(1)), owned, K,
     )  # fmt: skip

@@ -18,16 +18,17 @@ metrics, which a run needs only after its loop) while the calling process compil
 :func:`radau_parts_here` (the loop itself, the factorisation, the start-up), then loads the
 helper's kernels from numba's on-disk cache. Neither waits for the other.
 
-The switch model's event-driven loop (:func:`nsdyn.solve._kunilateral._run`, ~4 min into an
-empty cache on one core) is split the same way: the helper takes the general kernel's
-Jacobian, the general stage kernel (:func:`~nsdyn.solve._kcolloc.general_inlined`), the
-start-up and the step with Newton (:func:`event_helper_part`); this process the
-factorisation, the set-up, the mode settling, the flat kernels, the metrics, the contact
-settling, both event detectors and the event handler (:func:`event_parts_here`), then the
-loop. The order is chosen so that neither process waits for the other: the helper's start-up
-comes ~50 s in, after this process has the flat kernels, and the handler's Jacobian is the
-helper's first piece. The general right-hand side ``evaluate`` is needed first in both (the
-Jacobian's and the settling's), so each process may compile it (~17 s, on its own core).
+The event-driven loop (:func:`nsdyn.solve._kunilateral._run`: the switch model, unilateral
+contacts) has a deep call tree, each of whose kernels evaluates the ~250-block system kernel:
+linked, its code was optimised and translated again in every one of them (the loop compiled in
+~90 s on one core). Its callees are called by their addresses in the process-wide table of
+:mod:`nsdyn._kaddress` (:func:`nsdyn._kaddress.tcall`; :func:`event_callees` declares them,
+:func:`event_ready` fills the rows a run calls), the system kernel and its Jacobian among them,
+and its step's by ``K`` (:func:`event_calls`). Each compiles once, on its own, so the first
+compilation splits into independent pieces: the helper takes the system kernel, its Jacobian,
+the friction detector, the settling, the event handler and the acceptance, with the general
+metrics after the system kernel (:func:`event_helper_part_and_metrics`); this process the
+factorisation, Newton, the step, the start-up and the loop (:func:`event_parts_here`).
 
 Each piece is compiled for the signature the loop asks for, by ``Dispatcher.compile`` with the
 numba types of arguments built as the loop builds them, on the tiny problem.
@@ -43,7 +44,16 @@ import numpy as np
 
 from nsdyn._numba_cache import Helper
 from nsdyn.models.isolated import _kernel as ks
-from nsdyn.solve import _kcolloc, _kevent, _kflat, _kimpact, _kradau, _kunilateral, methods
+from nsdyn.solve import (
+    _kcolloc,
+    _kevent,
+    _kflat,
+    _kgenalpha,
+    _kimpact,
+    _kradau,
+    _kunilateral,
+    methods,
+)
 from nsdyn.solve import _kcommon as ki
 
 
@@ -255,59 +265,239 @@ def _event_args():
     return a
 
 
-def _flat_kernels(ws, y, f) -> None:
-    qdd, lam, tau, modes, Fl = ws[18:23]
-    _compile(_kflat.feval_flat, 0.0, y, Fl, f, qdd, lam, tau, modes)
-    _compile(_kflat.jac_flat_here, y, Fl, ws[0], lam)
+@functools.cache
+def event_callees() -> list:
+    """The event loop's callees by address (:func:`nsdyn._kaddress.tcall`), declared for the
+    argument types the loop (and its callees) give them; the system kernel and its Jacobian
+    first. Once per process (after the step's callees by ``K``, whose declarations the step
+    and the start-up are typed with)."""
+    from numba import typeof, types
+
+    event_newton()
+    a = _event_args()
+    P, ws, ew, logs, lift = (typeof(a[k]) for k in ("P", "ws", "ew", "logs", "lift"))
+    te, X, upl_t = (typeof(a[k]) for k in ("t_eval", "X", "upl_t"))
+    atol = typeof(a["o"].atol)
+    f8, i8, b1 = types.float64, types.int64, types.boolean
+    v, vi, m = types.float64[::1], types.int64[::1], types.float64[:, ::1]
+    tK = types.int64[:, ::1]  # the step's K (event_calls)
+    opts = types.Tuple((b1, b1, f8, f8, f8, f8))
+    run = types.Tuple((v, P, v, ws, ew, v, v, vi, opts, logs, lift))
+    detected = types.Tuple((f8, i8, i8))
+    sigs = {  # name: (kernel, argument types, return type)
+        "sys.evaluate": (ks.evaluate, (f8, v, P, v, v, v, vi), b1),
+        "sys.jac": (ks.jac, (f8, v, P, m), types.none),
+        "event.settle": (_kevent._settle, (f8, v, P, v, ew, i8, f8, logs.types[0], vi), b1),
+        "event.settle_contacts": (
+            _kimpact._settle_contacts,
+            (f8, v, P, v, ew, f8, m, vi, vi, lift),
+            types.Tuple((b1, b1)),
+        ),
+        "event.start": (
+            _kunilateral._start,
+            (P, v, v, te, f8, f8, atol, f8, v, X, upl_t, i8, ws, vi, v, tK),
+            types.Tuple((i8, v)),
+        ),
+        "event.step": (
+            _kunilateral._step,
+            (P, f8, v, v, f8, b1, atol, f8, f8, i8, ws, v, vi, v, tK),
+            i8,
+        ),
+        "event.detect_friction": (_kevent._detect, (f8, f8, v, v, m, P, ew, vi), detected),
+        "event.detect_contacts": (
+            _kimpact._detect,
+            (f8, f8, v, m, P, ew, f8, v, f8, vi),
+            detected,
+        ),
+        "event.accept": (
+            _kradau.accept,
+            (f8, v, v, v, ws, te, i8, X, v, upl_t, i8, vi, v),
+            types.Tuple((i8, b1)),
+        ),
+        "event.handle": (_kunilateral._event_at, (f8, i8, i8, f8, run), b1),
+        "event.land": (_kimpact._land, (f8, v, P, i8, f8, f8, m, vi, v), b1),
+    }
+    return [Callee(name, kernel, args, ret) for name, (kernel, args, ret) in sigs.items()]
+
+
+def fill_table(callees) -> None:
+    """Put the addresses of ``callees`` (each loaded from numba's cache, or compiled) in the
+    process-wide table of :mod:`nsdyn._kaddress`; nothing under ``NUMBA_DISABLE_JIT`` or with
+    plain numba (:data:`nsdyn._numba_cache.PLAIN`: the callers call them directly)."""
+    from numba import config
+
+    from nsdyn import _kaddress
+    from nsdyn._numba_cache import PLAIN
+
+    if config.DISABLE_JIT or PLAIN:
+        return
+    for c in callees:
+        if not _kaddress.filled(c.name):
+            _kaddress.fill(c.name, c.address())
+
+
+SYSTEM = ("sys.evaluate", "sys.jac")  # the system kernel and its Jacobian in the table
+
+
+@functools.cache
+def system_table() -> None:
+    """The system kernel and its Jacobian in the address table (:func:`fill_table`), for the
+    kernels that call them so outside the event loop (generalized-alpha). Once per process."""
+    by_name = {c.name: c for c in event_callees()}
+    fill_table([by_name[n] for n in SYSTEM])
+
+
+def system_inputs(P, x0):
+    """``P`` and ``x0`` of a kernel that calls the system kernel by address (generalized-alpha),
+    with the table filled (:func:`system_table`): its arrays in their declared form (a copy
+    of a read-only or non-contiguous one: another numba type than the declared one)."""
+    system_table()
+    if not all(a.flags.c_contiguous and a.flags.writeable for a in (x0, *P)):
+        P, x0 = tuple(_declared_form(a) for a in P), _declared_form(x0)
+    return P, x0
+
+
+def event_ready(friction: bool, contacts: bool, flat: bool):
+    """The address table filled for an event-loop run with friction and/or contact events
+    (:func:`nsdyn.solve._kunilateral.callees`, :func:`fill_table`); its step's ``K``
+    (:func:`event_calls`)."""
+    by_name = {c.name: c for c in event_callees()}
+    fill_table([by_name[n] for n in _kunilateral.callees(friction, contacts)])
+    return event_calls(flat)
+
+
+@functools.cache
+def event_newton() -> Callee:
+    """Newton of the event loop's step (:func:`nsdyn.solve._kcolloc.newton_table`), declared
+    as the default loop's ``"radau.newton"`` (the same argument types)."""
+    newton = radau_callees()[_kcolloc.K_NEWTON]
+    return Callee(newton.name, _kcolloc.newton_table, newton.args, newton.ret)
+
+
+def _event_K(flat: bool) -> list:
+    """The callees of the event loop's ``K`` (None where a run does not call them)."""
+    K: list = list(radau_callees())
+    K[_kcolloc.K_NEWTON] = event_newton()
+    K[_kcolloc.K_START] = None  # the start-up's own slot: the event loop never calls it
+    if not flat:  # a law the flat kernels do not serve (F[H_OK] = 0): never called
+        K[_kcolloc.K_FEVAL] = K[_kcolloc.K_JAC] = None
+    return K
+
+
+@functools.cache
+def event_calls(flat: bool):
+    """``K`` of the event loop's step and start-up (:func:`calls`): the default loop's
+    factorisation, :func:`event_newton` for Newton and, for a law they serve (``flat``), the
+    flat kernels; the slots a run never calls empty (a call of one would raise). Once per
+    process and ``flat``."""
+    from numba import config
+
+    from nsdyn._numba_cache import PLAIN
+
+    if config.DISABLE_JIT or PLAIN:
+        K = list(radau_callees())
+        K[_kcolloc.K_NEWTON] = event_newton()
+        return calls(K)
+    out = np.zeros((2, len(radau_callees())), dtype=np.int64)
+    for i, c in enumerate(_event_K(flat)):
+        if c is not None:
+            out[:, i] = c.address(), _kaddress_digest(c.name)
+    return out
+
+
+def _kaddress_digest(name: str) -> int:
+    from nsdyn import _kaddress
+
+    return _kaddress.digest(name)
+
+
+# the event loop's first compilation, shared by two processes: the callees each compiles (by
+# their names in the address table or in ``K``), in an order that keeps both busy; every piece
+# compiles on its own (nothing is linked into the loop), so neither process waits for the
+# other's. The helper also takes the general metrics (which link the system kernel it compiles
+# first); this process the loop itself.
+EVENT_HELPER = ("sys.evaluate", "sys.jac", "event.detect_friction", "event.settle",
+                "event.handle", "event.accept")  # fmt: skip
+EVENT_HERE = ("radau.factor", "radau.newton", "event.step", "event.start")
+
+
+def _event_part(names) -> None:
+    by_name = {c.name: c for c in event_callees()}
+    by_name["radau.factor"] = radau_callees()[_kcolloc.K_FACTOR]
+    by_name["radau.newton"] = event_newton()
+    for name in names:
+        by_name[name].compiled()
 
 
 def event_helper_part() -> None:
     """The helper process's share of the event loop's first compilation (see
-    :func:`nsdyn.solve.methods.warmup_kernel`): the general Jacobian, the general stage
-    kernel, the start-up, then the step (with Newton)."""
-    a = _event_args()
-    P, y, ws, o, f = a["P"], a["y"], a["ws"], a["o"], a["f"]
-    qdd, lam, tau, modes, Fl = ws[18:23]
-    J, Z, F, ys = ws[0], ws[5], ws[8], ws[12]
-    g = _kcolloc.general_inlined
-    _compile(ki.jeval, 0.0, y, P, J)
-    _compile(g, _kcolloc.G_ONE, P, 0.0, y, 0.0, Z, F, ys, f, J, qdd, lam, tau, modes)
-    _compile(
-        _kradau.start, P, y, f, a["t_eval"], float(o.h0), float(o.max_step), o.atol,
-        float(o.rtol), a["lam_old"],
-        a["X"], a["upl_t"], np.int64(o.uplift_mode), ws, a["stats"], a["rinfo"], None, g,
-    )  # fmt: skip
-    _compile(
-        _kradau.radau_step, P, 0.0, y, f, 0.0, False, o.atol, float(o.rtol), float(o.max_step),
-        np.int64(o.max_steps), ws, a["ctl"], a["stats"], a["rinfo"], g,
-    )  # fmt: skip
+    :func:`nsdyn.solve.methods.warmup_kernel`): the callees named in :data:`EVENT_HELPER`."""
+    _event_part(EVENT_HELPER)
+
+
+def event_helper_part_and_metrics() -> None:
+    """:func:`event_helper_part` with the general metrics' kernels after the system kernel."""
+    _event_part(EVENT_HELPER[:1])
+    methods.warmup_metrics(False)
+    _event_part(EVENT_HELPER[1:])
 
 
 def event_parts_here(helper: Helper, metrics: str | None) -> None:
-    """This process's share before the loop itself (the factorisation, the set-up, the
-    settling of modes and contacts, the flat kernels, the ``metrics``, the detectors, the
-    event handler); then wait for the helper's step."""
+    """This process's share before the loop runs: ``pack_flat`` (the run's set-up), the
+    callees named in :data:`EVENT_HERE`, the loop itself (which needs none of its callees
+    compiled) and the ``metrics`` (None when the helper takes them); then wait for the
+    helper's callees."""
     a = _event_args()
-    P, y, ws, o, f, ew, stats = a["P"], a["y"], a["ws"], a["o"], a["f"], a["ew"], a["stats"]
-    i64, lift, logs, ctl = a["i64"], a["lift"], a["logs"], a["ctl"]
-    Qd, ynew, fnew = ws[17], ws[15], ws[16]
-    _compile(_kcolloc._factor, 1e-3, *ws[:5])  # the helper's step loads it
-    _compile(_kradau.setup, P, a["x0"], a["t_eval"], i64)
-    _compile(_kevent._initial_modes, P, y, P[ks.I_MODE])
-    _compile(_kevent._settle, 0.0, y, P, f, ew, i64, 0.0, a["log"], stats)
-    _flat_kernels(ws, y, f)  # the helper's start-up needs them after its general kernels
+    _compile(_kflat.pack_flat, a["P"])
+    _event_part(EVENT_HERE)
+    owned = _kradau._owned(a["ws"], a["x0"], a["t_eval"], a["upl_t"].shape[0])
+    o = a["o"]
+    _compile(
+        _kunilateral._run, a["P"], a["x0"], a["t_eval"], (o.atol, float(o.rtol)),
+        (float(o.h0), float(o.max_step), int(o.max_steps)), np.zeros(1, dtype=np.int64),
+        (True, False, 0), 0.0, a["X"], a["upl_t"], np.zeros((0, 1), dtype=np.int64),
+        a["logs"], owned, np.zeros((2, len(radau_callees())), dtype=np.int64),
+    )  # fmt: skip
     if metrics is not None:
         methods.warmup_metrics(metrics == "metrics")
-    _compile(_kimpact._settle_contacts, 0.0, y, P, f, ew, 0.0, logs[1], logs[2], stats, lift)
-    _compile(_kevent._detect, 0.0, 0.0, y, ynew, Qd, P, ew, stats)
-    _compile(_kunilateral._detect, 0.0, 0.0, y, Qd, P, ew, 0.0, lift[1], 0.0, stats)
+    by_name = {c.name: c for c in event_callees()}
+    helper.wait_for([by_name[n].kernel for n in EVENT_HELPER])
+
+
+# ---- generalized-alpha: its loop here, the system kernel and its Jacobian in the helper -------
+
+
+def system_helper_part() -> None:
+    """A helper's share of a loop that calls the system kernel by address (generalized-alpha):
+    the system kernel and its Jacobian (:data:`SYSTEM`)."""
+    _event_part(SYSTEM)
+
+
+def system_helper_part_and_metrics() -> None:
+    """:func:`system_helper_part`, then the flat metrics' kernels."""
+    system_helper_part()
+    methods.warmup_metrics(True)
+
+
+def system_helper_part_and_metrics_general() -> None:
+    """:func:`system_helper_part`, then the general metrics' kernels (which link the system
+    kernel compiled first)."""
+    system_helper_part()
+    methods.warmup_metrics(False)
+
+
+def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
+    """This process's share of generalized-alpha's first compilation: the loop itself (which
+    needs neither the system kernel nor its Jacobian compiled) and the ``metrics`` (None when
+    the helper takes them); then wait for the helper's kernels."""
+    event_callees()  # the declarations its calls by address are typed against
+    m = methods.METHODS["genalpha"]
+    P, x0, t_eval, o, X, upl_t = methods.tiny_run(m)
+    coef = _kgenalpha.parameters(_kgenalpha.FAMILY_GENALPHA, methods.DEFAULT_RHO_INF["genalpha"])
     _compile(
-        _kradau.accept, 0.0, y, f, ctl, ws, a["t_eval"], i64, a["X"], a["lam_old"], a["upl_t"],
-        np.int64(o.uplift_mode), stats, a["rinfo"],
+        _kgenalpha.genalpha, P, x0, t_eval, o.atol, o.rtol, o.dt, coef, o.max_steps,
+        o.uplift_mode, X, upl_t,
     )  # fmt: skip
-    _compile(_kunilateral._on_target, i64, i64, i64, 0.0, 0.0, 0.0, P, ynew, fnew)
-    opts = (True, True, 0.0, 0.0, 0.0, 0.0)
-    run = (y, P, f, ws, ew, ctl, np.zeros(2), stats, opts, logs, lift)
-    helper.wait_for([ki.jeval])  # the handler's Jacobian: the helper's first piece
-    _compile(_kunilateral._event_at, 0.0, i64, i64, 0.0, run)
-    helper.wait_for([_kradau.radau_step])
+    if metrics is not None:
+        methods.warmup_metrics(metrics == "metrics")
+    helper.wait_for([ks.evaluate, ks.jac])

@@ -160,8 +160,11 @@ def _one_step_runner(kernel, *extra):
 
 def _genalpha_runner(name, family):
     def run(P, x0, t_eval, o: Options, X, upl_t):
+        from nsdyn.solve.compile_split import system_inputs  # (it imports this module)
+
         rho = DEFAULT_RHO_INF[name] if o.rho_inf is None else o.rho_inf
         coef = _kgenalpha.parameters(family, rho)
+        P, x0 = system_inputs(P, x0)  # the system kernel by address: the table, declared types
         stats, rinfo = _kgenalpha.genalpha(
             P, x0, t_eval, o.atol, o.rtol, o.dt, coef, o.max_steps, o.uplift_mode, X, upl_t
         )
@@ -193,11 +196,8 @@ def _run_event(P, x0, t_eval, o: Options, X, upl_t):
             raise ValueError(f"modes0: expected {ni} values in (-1, 0, 1), got {o.modes0}")
     Pm = with_law(P, "modes", modes0)  # private copy of the live mode array
     max_step = min(o.max_step, _event_max_step(kp))
-    log = (
-        np.zeros(MAX_EVENTS),
-        np.zeros(MAX_EVENTS, dtype=np.int64),
-        np.zeros(MAX_EVENTS, dtype=np.int64),
-    )
+    log = (np.zeros(MAX_EVENTS), np.zeros(MAX_EVENTS, dtype=np.int64),
+           np.zeros(MAX_EVENTS, dtype=np.int64))  # fmt: skip
     stats, rinfo = _kunilateral.event_switch(
         Pm,
         x0,
@@ -333,17 +333,11 @@ def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
     A first compilation uses a second process where one may
     (:func:`nsdyn._numba_cache.helper_enabled`): numba compiles on one thread per process, so
     the helper compiles part of the kernels into numba's on-disk cache while this process
-    compiles the rest and then loads the helper's. For the default loop (``"radau"``) the
-    helper takes ``pack_flat``, the flat right-hand side, Newton and the Jacobian, then the
-    metrics (:func:`nsdyn.solve.compile_split.radau_helper_part_and_metrics`; without metrics
-    :func:`~nsdyn.solve.compile_split.radau_helper_part`) while this process compiles the
-    loop itself (which calls its callees by address, so it needs none of them first), the
-    factorisation and the start-up; for
-    the switch model's loop (``"event"``) the helper takes the general kernels, the start-up
-    and the step (:func:`nsdyn.solve.compile_split.event_helper_part`) while this process
-    compiles the settling, the event detectors and handler and the metrics; for the other
-    kernels the helper takes the metrics. What the helper does not deliver, this process
-    compiles itself: the kernels are the same either way.
+    compiles the rest and then loads the helper's. The loops whose callees are called by
+    address (:data:`_SPLIT`: the default Radau loop, the event loop, generalized-alpha) are
+    split between the two (:mod:`nsdyn.solve.compile_split`), the helper also taking the
+    metrics; for the other kernels the helper takes the metrics. What the helper does not
+    deliver, this process compiles itself: the kernels are the same either way.
     """
     m = next((mm for mm in METHODS.values() if mm.kernel == kernel), None)
     if m is None:
@@ -357,9 +351,9 @@ def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
     if kernel not in _COMPILED and helper_enabled() and not is_cached(kernel):
         if kernel in _SPLIT:
             part, _, with_metrics = _SPLIT[kernel]
-            if metrics == "metrics" and with_metrics and not is_cached(metrics):
+            if metrics in with_metrics and not is_cached(metrics):
                 # the helper is idle while this process compiles the loop: it takes them
-                part, here = with_metrics, None
+                part, here = with_metrics[metrics], None
             target = f"nsdyn.solve.compile_split:{part}"
         elif metrics is not None and not is_cached(metrics):
             target = f"nsdyn.solve.methods:{_METRICS_PART[metrics]}"
@@ -404,21 +398,25 @@ def _warm(kname: str, m: Method, helper: Helper | None = None, metrics: str | No
     return _COMPILED[kname]
 
 
-# the kernels whose first compilation a helper process shares: the helper's part and this
-# process's, both functions of nsdyn.solve.compile_split, and the helper's part that also
-# compiles the flat metrics kernels (None: this process compiles the metrics)
+_METRICS = ("metrics", "metrics-general")  # the kinds of metrics kernels (see warmup_metrics)
+# the kernels whose first compilation a helper process shares (nsdyn.solve.compile_split): the
+# helper's part, this process's, and {metrics kind: the helper's part that also compiles them}
 _SPLIT = {
-    "radau": ("radau_helper_part", "radau_parts_here", "radau_helper_part_and_metrics"),
-    "event": ("event_helper_part", "event_parts_here", None),
-}
+    "radau": ("radau_helper_part", "radau_parts_here",
+              {"metrics": "radau_helper_part_and_metrics"}),
+    "event": ("event_helper_part", "event_parts_here",
+              {"metrics-general": "event_helper_part_and_metrics"}),
+    "genalpha": ("system_helper_part", "genalpha_parts_here",
+                 {m: f"system_helper_part_and_{m.replace('-', '_')}" for m in _METRICS}),
+}  # fmt: skip
 
 # the top-level numba dispatcher of each kernel (its on-disk cache entry stands for the kernel)
 _ENTRY = {  # the default loop's callees are compiled apart from it (nsdyn._kaddress)
     "radau": (_kradau.radau_flat, *_kradau.FLAT_CALLEES, _kflat.pack_flat),
     "radau-general": _kradau.radau,
     "dopri5": _kdopri.dopri5,
-    "genalpha": _kgenalpha.genalpha,
-    "event": _kunilateral._run,
+    "genalpha": (_kgenalpha.genalpha, ks.evaluate, ks.jac),  # those two by address
+    "event": _kunilateral.kernels(True, False, False),  # its callees by address too
     "metrics": (_kflat.evaluate_flat_many, _kflat.feval_flat, _kflat.pack_flat),
     "metrics-general": ks.evaluate_many,
 }
@@ -516,11 +514,8 @@ def run_unilateral(P, x0, t_eval, o: Options, X, upl_t, method: str, e_rest: flo
         P = with_law(P, "modes", modes0)
         max_step = min(max_step, _event_max_step(kp))
     P = with_open(P, open0)  # private copy of the live contact states
-    log = (
-        np.zeros(MAX_EVENTS),
-        np.zeros(MAX_EVENTS, dtype=np.int64),
-        np.zeros(MAX_EVENTS, dtype=np.int64),
-    )
+    log = (np.zeros(MAX_EVENTS), np.zeros(MAX_EVENTS, dtype=np.int64),
+           np.zeros(MAX_EVENTS, dtype=np.int64))  # fmt: skip
     clog = np.zeros((MAX_CONTACT_EVENTS, _kunilateral.CLOG_COLS))
     cnt = np.zeros(1, dtype=np.int64)
     dT = np.zeros(1)
@@ -557,4 +552,4 @@ def warmup_unilateral() -> float:
     return _COMPILED["unilateral"]
 
 
-_ENTRY["unilateral"] = _kunilateral._run
+_ENTRY["unilateral"] = _kunilateral.kernels(True, True, True)

@@ -244,3 +244,115 @@ def test_period_map_by_address_equals_the_direct_call():
     assert by_address[4] == kp.STATUS_OK and np.all(np.isfinite(by_address[1]))
     for a, b in zip(by_address, direct, strict=True):
         assert np.array_equal(a, b)
+
+
+# ---- the process-wide table (nsdyn._kaddress.tcall): the event loop's callees ------------------
+
+
+@njit
+def _evaluate_both(t, y, P, out_direct, out_table):
+    a = ks.evaluate(t, y, P, *out_direct)
+    b = ka.tcall("sys.evaluate", (t, y, P, *out_table))
+    return a, b
+
+
+def _switch_inputs():
+    """The tiny frame with the switch model's modes (the event loop's P), a perturbed state and
+    two sets of outputs (qdd, lam, tau, modes) of the system kernel."""
+    P, x0, *_, ws = compile_split._tiny_args("event", "modes")
+    y = x0 + 1e-3 * np.sin(np.arange(x0.size))
+    outs = [tuple(np.full_like(w, -7) for w in ws[18:22]) for _ in range(2)]
+    return P, y, outs
+
+
+def test_call_through_the_table_equals_the_direct_call():
+    # the system kernel through its row of the table and directly: the same compiled code,
+    # so the same bits (accelerations, normal and friction forces, modes)
+    compile_split.event_ready(True, False, False)
+    P, y, (direct, table) = _switch_inputs()
+    ok_d, ok_t = _evaluate_both(0.3, y, P, direct, table)
+    assert ok_d and ok_t
+    assert np.all(np.isfinite(direct[0]))
+    for a, b in zip(direct, table, strict=True):
+        assert np.array_equal(a, b)
+
+
+@pytest.mark.skipif(not JIT, reason="the table is read only by compiled code")
+def test_a_row_without_an_address_is_refused():
+    # a caller whose callee's row is empty (or holds an address taken for another
+    # declaration): a RuntimeError naming the callee, never a jump to address 0
+    compile_split.event_ready(True, False, False)
+    P, y, (direct, table) = _switch_inputs()
+    i = ka.index("sys.evaluate")
+    saved = ka.TABLE[i].copy()
+    try:
+        ka.TABLE[i] = 0
+        assert not ka.filled("sys.evaluate")
+        with pytest.raises(RuntimeError, match="'sys.evaluate'.*address not yet taken"):
+            _evaluate_both(0.3, y, P, direct, table)
+        ka.TABLE[i, 0], ka.TABLE[i, 1] = saved[0], saved[1] + 1
+        with pytest.raises(RuntimeError, match="'sys.evaluate'"):
+            _evaluate_both(0.3, y, P, direct, table)
+    finally:
+        ka.TABLE[i] = saved
+    assert ka.filled("sys.evaluate")
+
+
+@njit
+def _evaluate_at_an_integer_time(y, P, out):
+    return ka.tcall("sys.evaluate", (np.int64(1), y, P, *out))
+
+
+@pytest.mark.skipif(not JIT, reason="types are checked only when numba compiles")
+def test_table_call_with_undeclared_argument_types_is_refused():
+    compile_split.event_callees()  # the declarations
+    P, y, (out, _) = _switch_inputs()
+    with pytest.raises(TypingError, match="sys.evaluate.*positions \\[0\\]"):
+        _evaluate_at_an_integer_time(y, P, out)
+
+
+def test_table_rows_are_fixed_and_each_callee_registered():
+    # a row index is compiled into its callers: names keep their rows, and every name of the
+    # event loop's callees has a row and a kernel to call without addresses
+    from nsdyn.solve import _kunilateral as ku
+
+    assert ka.TABLE.shape == (ka.TABLE_ROWS, 2) and len(ka.TABLE_NAMES) <= ka.TABLE_ROWS
+    assert len(set(ka.TABLE_NAMES)) == len(ka.TABLE_NAMES)
+    names = ku.callees(True, True)
+    assert set(names) <= set(ka.TSLOTS) and set(names) <= set(ka.TABLE_NAMES)
+    assert {c.name for c in compile_split.event_callees()} == set(names)
+    with pytest.raises(ValueError):
+        ka.tslot("no.such.row", _twice)
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not JIT, reason="nothing compiles under NUMBA_DISABLE_JIT")
+def test_event_loop_compiles_without_its_callees(tmp_path):
+    # a fresh process with an empty cache compiles the event loop alone: none of its callees
+    # (in the table or in K) is compiled with it, and no callee's code is linked into it
+    code = (
+        "import numpy as np\n"
+        "from numba import config\n"
+        "from nsdyn import _kaddress as ka\n"
+        "from nsdyn.solve import compile_split as cs, _kradau as kr, _kunilateral as ku\n"
+        "cs.event_callees()\n"
+        "a = cs._event_args()\n"
+        "o = a['o']\n"
+        "owned = kr._owned(a['ws'], a['x0'], a['t_eval'], a['upl_t'].shape[0])\n"
+        "cs._compile(ku._run, a['P'], a['x0'], a['t_eval'], (o.atol, float(o.rtol)),\n"
+        "    (float(o.h0), float(o.max_step), int(o.max_steps)), np.zeros(1, np.int64),\n"
+        "    (True, False, 0), 0.0, a['X'], a['upl_t'], np.zeros((0, 1), np.int64), a['logs'],\n"
+        "    owned, np.zeros((2, 5), np.int64))\n"
+        "lib = next(iter(ku._run.overloads.values())).library\n"
+        "linked = {l.name for l in getattr(lib, '_linking_libraries', ())}\n"
+        "for k in ku.kernels(True, True, True)[1:]:\n"
+        "    name = k.py_func.__module__ + '.' + k.py_func.__qualname__\n"
+        "    print(name, len(k.signatures), k.py_func.__qualname__ in str(linked))\n"
+    )
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
+    out = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    ).stdout.split("\n")
+    rows = [r.split() for r in out if r]
+    assert len(rows) == len(ka.TABLE_NAMES) + 5  # the callees, K's four, pack_flat
+    assert all(r[1:] == ["0", "False"] for r in rows), rows

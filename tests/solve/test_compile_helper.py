@@ -4,7 +4,8 @@ What must hold: a kernel passed as an argument has the same identity in every pr
 the helper's cache entries are never found), a helper that fails or delivers nothing only
 costs the wait for its end, the default run's warm-up with a helper leaves the flat
 right-hand side, its Jacobian and Newton to the helper (loaded, not compiled, here), and the
-switch model's leaves the general kernels, the start-up and the step to it.
+switch model's leaves the system kernel, its Jacobian, the friction detector, the settling, the
+event handler and the general metrics to it.
 """
 
 import os
@@ -125,21 +126,24 @@ def _compiled_in_a_fresh_warmup(cache, kernel, metrics) -> set[str]:
 
 # (kernel, metrics, compiled by the calling process, compiled by the helper only): the
 # default loop (~15-40 s on two cores; its helper also takes the metrics, which it would
-# otherwise sit idle beside the loop's compilation for) and the switch model's, whose pieces
-# the helper compiles by type for the signatures the loop asks for, without running them
+# otherwise sit idle beside the loop's compilation for) and the switch model's, whose callees
+# by address each process compiles by type for the signatures the loop declares, without
+# running them
 SPLITS = [
     ("radau", "metrics", {"_loop", "start_flat", "_factor"},
      {"pack_flat", "feval_flat", "jac_flat_here", "newton_flat", "evaluate_flat_many",
       "setup", "workspace"}),
-    ("event", "metrics-general", {"_run", "_settle", "_event_at", "evaluate_many"},
-     {"general_inlined", "jeval", "start", "radau_step", "_newton"}),
+    ("event", "metrics-general", {"_run", "_step", "_start", "newton_table", "_factor"},
+     {"evaluate", "jac", "_detect", "_settle", "_event_at", "evaluate_many"}),
+    ("genalpha", "metrics", {"genalpha", "_residual", "_iteration_matrix"},
+     {"evaluate", "jac", "evaluate_flat_many", "pack_flat"}),
 ]  # fmt: skip
 
 
 @pytest.mark.slow
 @pytest.mark.skipif(not JIT, reason="nothing compiles under NUMBA_DISABLE_JIT")
 @pytest.mark.parametrize(
-    "kernel, metrics, here_expected, by_helper", SPLITS, ids=["radau", "event"]
+    "kernel, metrics, here_expected, by_helper", SPLITS, ids=["radau", "event", "genalpha"]
 )
 def test_first_warmup_splits_the_compilation_with_its_helper(
     tmp_path, kernel, metrics, here_expected, by_helper
@@ -190,13 +194,14 @@ def test_an_index_entry_counts_only_once_its_data_file_is_written(tmp_path):
 
 
 def test_a_kernel_without_a_split_warms_up_beside_a_metrics_helper(monkeypatch):
-    # for a kernel the helper does not share (generalized-alpha, dopri5, ...) the helper only
+    # for a kernel the helper does not share (dopri5, the general Radau loop) the helper only
     # compiles the metrics: this process warms the whole kernel itself and asks the split
-    # table nothing (a first `nsdyn run --method genalpha` took that path and failed)
+    # table nothing (a first `nsdyn run --method genalpha` took that path and failed, when
+    # generalized-alpha had no split)
     from nsdyn.solve import methods
 
     monkeypatch.setattr(methods, "_COMPILED", {})
-    for name in ("genalpha", "dopri5"):
+    for name in ("dopri5", "radau-generic"):
         m = methods.METHODS[name]
         assert m.kernel not in methods._SPLIT
         assert methods._warm(m.kernel, m, helper=object()) >= 0.0
