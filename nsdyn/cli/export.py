@@ -6,6 +6,9 @@ friction forces) in openseespy, runs the scene's record and prints the peaks as 
 Given a 3D frame file (or a bundled 3D frame's name) instead of a scene, it writes the space
 frame with a fixed base and an eigen analysis
 (:func:`nsdyn.models.isolated.opensees3d.export_opensees_3d`): ``K_ii φ = ω² M_ii φ``.
+Given a 3D building scene (``kind = "building3d"``), it writes the space frame on a bearing
+under every base node with the scene's three-component record (fidelity "fixed": clamped)
+(:func:`nsdyn.models.isolated.opensees3d_isolated.export_building_opensees`).
 """
 
 from __future__ import annotations
@@ -26,7 +29,8 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("target", choices=TARGETS, help="what to export to: opensees (openseespy)")
     p.add_argument(
         "scene",
-        help="scene TOML of an isolated frame (kind 'isolated', a frame), or a 3D frame file "
+        help="scene TOML of an isolated frame (kind 'isolated', a frame) or of a 3D building "
+        "(kind 'building3d': the frame on its bearings, the record), or a 3D frame file "
         "or bundled 3D frame (fixed base, eigen analysis)",
     )
     p.add_argument(
@@ -61,6 +65,11 @@ def configure(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--modes", type=int, default=12, metavar="N", help="3D frames: frequencies to compute"
+    )
+    p.add_argument(
+        "--fixed-base",
+        action="store_true",
+        help="3D building scenes: export the clamped frame whatever the scene's fidelity",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
 
@@ -106,6 +115,44 @@ def _run_frame3d(args: argparse.Namespace, stem: str) -> int:
     return 0
 
 
+def _is_building3d(scene: str) -> bool:
+    from nsdyn.models.scenefile import SceneError, read_toml, scene_kind
+
+    if not (scene.endswith(".toml") and Path(scene).is_file()):
+        return False
+    try:
+        return scene_kind(read_toml(scene), scene) == "building3d"
+    except SceneError:
+        return False  # the isolated path reports the file's own error
+
+
+def _run_building3d(args: argparse.Namespace) -> int:
+    from nsdyn.models.isolated.opensees3d_isolated import export_building_opensees
+
+    scene = Path(args.scene)
+    out = Path(args.out) if args.out else scene.with_name(f"{scene.stem}_opensees.py")
+    export_building_opensees(scene, out, dt=args.dt, t_end=args.t_end,
+                             fixed_base=True if args.fixed_base else None)  # fmt: skip
+    if args.json:
+        from nsdyn.models.isolated.opensees import load_script
+
+        d = load_script(out).DATA
+        info = {
+            "frame": d["name"],
+            "n_nodes": len(d["nodes"]),
+            "n_elements": len(d["elements"]),
+            "fixed_base": d["fixed_base"],
+            "bearings": sorted({b["type"] for b in d["bearings"]}),
+            "k_init": [b["k_init"] for b in d["bearings"]],
+            "dt": d["dt"],
+            "duration_s": d["duration"],
+        }
+        print(json.dumps({"script": str(out), **info}))
+        return 0
+    print(f"wrote {out}  (run it with: python {out} [--out DIR])")
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
     """Write the script; print where (and the model's key numbers)."""
     from nsdyn.models.isolated.opensees import export_opensees
@@ -113,6 +160,8 @@ def run(args: argparse.Namespace) -> int:
     stem = _frame3d_name(args.scene)
     if stem is not None:
         return _run_frame3d(args, stem)
+    if _is_building3d(args.scene):
+        return _run_building3d(args)
     scene = Path(args.scene)
     out = Path(args.out) if args.out else scene.with_name(f"{scene.stem}_opensees.py")
     export_opensees(scene, out, dt=args.dt, t_end=args.t_end, damping=args.damping)

@@ -40,8 +40,10 @@ from nsdyn.models.isolated.opensees_script import LOAD_OPENSEES
 from nsdyn.structure import Frame3D, fixed_base_modes_3d, load_frame3d
 
 __all__ = [
+    "FRAME_BUILD",
     "MASSES",
     "export_opensees_3d",
+    "frame_data_3d",
     "opensees_data_3d",
     "script_text_3d",
 ]
@@ -65,16 +67,9 @@ import sys
 
 '''
 
-SCRIPT = (
-    r"""
-
-"""
-    + LOAD_OPENSEES
-    + r'''
-
-def build(ops):
-    """The clamped space frame in OpenSees' domain (nodes, members, masses, diaphragms)."""
-    d = DATA
+FRAME_BUILD = r'''def build_frame(ops, d):
+    """The space frame of ``d`` in a fresh domain: nodes (tag n + 1), members, node masses,
+    diaphragm masters (tags after the nodes, in order) and their rigidDiaphragm ties."""
     ops.wipe()
     ops.model("basic", "-ndm", 3, "-ndf", 6)
     for k, (x, y, z) in enumerate(d["nodes"]):
@@ -91,8 +86,6 @@ def build(ops):
     for k, m in enumerate(d["node_mass"]):
         if any(v > 0.0 for v in m):
             ops.mass(k + 1, *m)
-    for b in d["base_nodes"]:
-        ops.fix(b + 1, 1, 1, 1, 1, 1, 1)
     master = len(d["nodes"])
     for dia in d["diaphragms"]:
         master += 1
@@ -101,6 +94,24 @@ def build(ops):
         ops.fix(master, 0, 0, 1, 1, 1, 0)
         ops.mass(master, dia["mass"], dia["mass"], 0.0, 0.0, 0.0, dia["inertia"])
         ops.rigidDiaphragm(3, master, *[n + 1 for n in dia["nodes"]])
+'''
+"""The scripts' ``build_frame(ops, d)``: the space frame of the data (shared by the fixed-base
+and the isolated exports)."""
+
+SCRIPT = (
+    r"""
+
+"""
+    + LOAD_OPENSEES
+    + "\n\n"
+    + FRAME_BUILD
+    + r'''
+
+def build(ops):
+    """The clamped space frame in OpenSees' domain (nodes, members, masses, diaphragms)."""
+    build_frame(ops, DATA)
+    for b in DATA["base_nodes"]:
+        ops.fix(b + 1, 1, 1, 1, 1, 1, 1)
     ops.constraints("Transformation")
     ops.numberer("RCM")
     ops.system("BandGeneral")
@@ -132,26 +143,19 @@ def _transforms(vecxz: np.ndarray) -> tuple[list, np.ndarray]:
     return uniq.tolist(), np.asarray(inverse).ravel()
 
 
-def opensees_data_3d(frame: Frame3D, mass: str = "consistent", n_modes: int = N_MODES) -> dict:
-    """The JSON-able data of the exported fixed-base model (see the module docstring).
+def frame_data_3d(frame: Frame3D, mass: str = "consistent") -> dict:
+    """The JSON-able frame part of an exported model: nodes, members (with their OpenSees
+    section constants), node masses and diaphragms (``build_frame`` of the scripts).
 
-    ``mass``: ``"consistent"`` (nsdyn's default) or ``"lumped"`` (HRZ); ``n_modes``: how
-    many of nsdyn's fixed-base frequencies the script carries for comparison.
+    ``mass``: ``"consistent"`` (nsdyn's default) or ``"lumped"`` (HRZ; module docstring).
     """
     if not isinstance(frame, Frame3D):
         raise TypeError(f"expected a Frame3D, got {type(frame).__name__}")
     if mass not in MASSES:
         raise ValueError(f"mass: expected one of {list(MASSES)}, got {mass!r}")
-    if not (isinstance(n_modes, int) and n_modes >= 1):
-        raise ValueError(f"n_modes: expected a positive integer, got {n_modes!r}")
-    lumped = mass == "lumped"
-    base = set(frame.base_nodes.tolist())
-    for k, d in enumerate(frame.diaphragms):
-        if base & set(d.nodes.tolist()):
-            raise ValueError(f"diaphragm {k} holds a base node: a clamped node cannot be a slave")
     transforms, transf = _transforms(frame.vecxz)
     rho_A = np.asarray(frame.rho_A, float)
-    if lumped:  # massless members; nsdyn's HRZ diagonal (with the node masses) on the nodes
+    if mass == "lumped":  # massless members; nsdyn's HRZ diagonal (with the node masses) on nodes
         _, Ml = frame.assemble(lumped=True)
         node_mass = Ml.diagonal().reshape(frame.n_nodes, 6)
         J_ops, G_ops, rho_ops = frame.J, frame.G, np.zeros_like(rho_A)
@@ -167,11 +171,9 @@ def opensees_data_3d(frame: Frame3D, mass: str = "consistent", n_modes: int = N_
         massive = rho_A > 0
         J_ops = np.where(massive, frame.A * frame.rho_Ip / np.where(massive, rho_A, 1.0), frame.J)
         G_ops, rho_ops = frame.G * frame.J / J_ops, rho_A
-    modes = fixed_base_modes_3d(frame, n_modes=n_modes, lumped=lumped)
     return {
         "name": str(frame.name),
         "mass": mass,
-        "n_modes": int(len(modes.f_hz)),
         "nodes": frame.nodes.tolist(),
         "elements": frame.elements.tolist(),
         "transforms": transforms,
@@ -195,9 +197,33 @@ def opensees_data_3d(frame: Frame3D, mass: str = "consistent", n_modes: int = N_
             }
             for d in frame.diaphragms
         ],
-        "nsdyn_f_hz": modes.f_hz.tolist(),
-        "nsdyn_families": list(modes.family),
     }
+
+
+def opensees_data_3d(frame: Frame3D, mass: str = "consistent", n_modes: int = N_MODES) -> dict:
+    """The JSON-able data of the exported fixed-base model (see the module docstring).
+
+    ``mass``: ``"consistent"`` (nsdyn's default) or ``"lumped"`` (HRZ); ``n_modes``: how
+    many of nsdyn's fixed-base frequencies the script carries for comparison.
+    """
+    if not isinstance(frame, Frame3D):
+        raise TypeError(f"expected a Frame3D, got {type(frame).__name__}")
+    if mass not in MASSES:
+        raise ValueError(f"mass: expected one of {list(MASSES)}, got {mass!r}")
+    if not (isinstance(n_modes, int) and n_modes >= 1):
+        raise ValueError(f"n_modes: expected a positive integer, got {n_modes!r}")
+    base = set(frame.base_nodes.tolist())
+    for k, d in enumerate(frame.diaphragms):
+        if base & set(d.nodes.tolist()):
+            raise ValueError(f"diaphragm {k} holds a base node: a clamped node cannot be a slave")
+    data = frame_data_3d(frame, mass)
+    modes = fixed_base_modes_3d(frame, n_modes=n_modes, lumped=mass == "lumped")
+    data.update(
+        n_modes=int(len(modes.f_hz)),
+        nsdyn_f_hz=modes.f_hz.tolist(),
+        nsdyn_families=list(modes.family),
+    )
+    return data
 
 
 def _description(d: dict) -> str:

@@ -1,0 +1,327 @@
+"""Export a space frame on its bearings (or fixed-base) with a three-component record to OpenSees.
+
+The model is the building of ``nsdyn run`` on a 3D building scene: the space frame of
+:mod:`nsdyn.models.isolated.opensees3d` (the same members, local axes, consistent mass and
+rigid diaphragms) on one bearing under every base node, relative to the ground,
+
+    M ü + C u̇ + K u + Σ_i F_i(u_i, u̇_i, N_i) = −M r_z g − M (r_x a_x + r_y a_y + r_z a_z),
+
+written in OpenSees elements (:mod:`nsdyn.models.isolated.opensees3d_script` holds the code)::
+
+    ground node i     fixed, at base node i (tag GROUND_TAG + i)
+    flat slider       flatSliderBearing(frictionModel, k_init, -P Elastic(k_v), -T/-My/-Mz
+                      Elastic(K_ROTATION)), -orient 0 0 1 1 0 0 (local x up, shear y = X,
+                      z = Y), in parallel with zeroLength Elastic(K_lam, eta = c) in X and Y
+    friction pendulum singleFPBearing(frictionModel, R, k_init, ...) (restoring N u / R), the
+                      rubber and damper as above when the bearing has them
+    friction model    Coulomb(mu) for a constant coefficient; VelDependent(mu_slow, mu_fast,
+                      rate): mu(v) = mu_fast - (mu_fast - mu_slow) exp(-rate |v|), nsdyn's
+                      kinetic law with the same parameters in the same order
+    gravity           nodal loads -g M r_z, one static load step, then held (loadConst)
+    ground motion     UniformExcitation in X, Y, Z (Path series of the record's samples)
+    damping           Rayleigh beta K on the members only (region -eleRange), beta =
+                      2 zeta_1 / omega_1 with nsdyn's first fixed-base mode: zero on rigid
+                      motion (the sliding is damped by the bearings' dampers alone, as in
+                      nsdyn's building rungs), mode j of the superstructure gets
+                      zeta_1 f_j / f_1 (nsdyn's rungs: frame.zeta on the modes in order).
+                      OpenSees' modal damping needs its eigen analysis, which ARPACK did not
+                      finish on the office building floating on soft springs (over 250 s, the
+                      floor beams' cluster of local modes near 4 Hz)
+    integrator        Newmark average acceleration (gamma 1/2, beta 1/4), fixed dt,
+                      KrylovNewton, NormDispIncr NEWTON_TOL
+
+Bidirectional friction. Both OpenSees bearing elements use a circular yield surface
+|f| <= mu N with an elastic branch of stiffness ``k_init`` (a penalty on stick): the export
+chooses ``k_init_i = mu_slow,i N_0,i / STICK_DISP`` (STICK_DISP = 0.1 mm, N_0 the static
+normal force of the rigid-plate distribution), so a stuck bearing creeps elastically by at
+most mu N / k_init = 0.1 mm (for N = N_0) before it slides; nsdyn's switch law sticks
+exactly. OpenSees has no separate static coefficient: it breaks away at mu(0) N = mu_slow N,
+not at nsdyn's mu_static N (reported when they differ). Not exported: the rim stop at d_cap
+(the script reports a peak beyond d_cap) and uplift (a bilateral axial spring; the script
+reports the least axial force, negative = tension).
+
+``fixed_base=True`` writes the same frame clamped at the base, no gravity, the same beta K:
+the model of :func:`nsdyn.models.isolated.fixed3d.fixed_response_3d` when that is given the
+ratios beta omega_k / 2 of stiffness-proportional damping (:func:`rayleigh_zeta`).
+"""
+
+from __future__ import annotations
+
+import inspect
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.models.isolated.opensees import (
+    K_ROTATION,
+    K_VERTICAL,
+    NEWMARK,
+    NEWTON_TOL,
+    STICK_DISP,
+    _preload_opensees_libraries,
+)
+from nsdyn.models.isolated.opensees3d import frame_data_3d
+from nsdyn.models.isolated.opensees3d_script import HEADER, SCRIPT
+from nsdyn.models.scenefile import SceneError
+
+__all__ = [
+    "DEFAULT_DT",
+    "building_data",
+    "export_building_opensees",
+    "rayleigh_beta",
+    "rayleigh_zeta",
+    "script_text_building",
+]
+
+DEFAULT_DT = 0.005  # s, Newmark's fixed step (the planar export's)
+
+
+def rayleigh_beta(frame) -> tuple[float, float]:
+    """(beta [s], f_1 [Hz]): ``beta = 2 zeta_1 / omega_1`` of the first fixed-base mode."""
+    from nsdyn.structure import fixed_base_modes_3d
+
+    f1 = float(fixed_base_modes_3d(frame, n_modes=1).f_hz[0])
+    return 2.0 * float(frame.zeta[0]) / (2.0 * math.pi * f1), f1
+
+
+def rayleigh_zeta(frame, f_hz) -> np.ndarray:
+    """Modal ratios ``beta omega_k / 2`` of the export's beta K at the frequencies f_hz."""
+    beta, _ = rayleigh_beta(frame)
+    return beta * np.pi * np.asarray(f_hz, float)
+
+
+def _bearing_rows(frame, bearings, source: str):
+    """(rows, deck) of the bearings under the base nodes (one per base node)."""
+    from nsdyn.models.isolated import bearings as B
+    from nsdyn.models.isolated.building3d import building_deck
+
+    nb = len(frame.base_nodes)
+    bl = (bearings,) * nb if isinstance(bearings, B.Bearing) else tuple(bearings)
+    for b in bl:
+        if not isinstance(b, B.Bearing):
+            raise SceneError(
+                f"{source}: bearing: OpenSees export maps a flat slider (flatSliderBearing) or "
+                f"a single friction pendulum (singleFPBearing); got {type(b).__name__}"
+            )
+    try:
+        deck = building_deck(frame, bl)
+    except ValueError as e:
+        raise SceneError(f"{source}: {e}") from None
+    n0 = deck.static_normal()
+    rows = []
+    for i, b in enumerate(bl):
+        f = b.friction
+        mu0 = float(f.mu_slow)
+        if not mu0 > 0:
+            raise SceneError(f"{source}: {b.where}.mu_slow: OpenSees' bearings need mu > 0")
+        rows.append({
+            "type": "flat" if math.isinf(b.radius) else "fps",
+            "radius": None if math.isinf(b.radius) else float(b.radius),
+            "mu_slow": mu0, "mu_fast": float(f.fast), "rate": float(f.rate),
+            "mu_static": float(f.static),
+            "k_lam": float(b.k_lam), "c": float(b.c),
+            "d_cap": None if math.isinf(b.d_cap) else float(b.d_cap),
+            "N0": float(n0[i]), "k_init": mu0 * float(n0[i]) / STICK_DISP,
+        })  # fmt: skip
+    return rows, deck
+
+
+def _levels(frame) -> list:
+    """Per level (base first): its elevation, reference point and master index or fit nodes."""
+    from nsdyn.structure import floor_motions
+
+    z, nodes = frame.levels()
+    _, c, _ = floor_motions(frame, np.zeros(frame.n_dof))
+    owner = {int(n): k for k, d in enumerate(frame.diaphragms) for n in d.nodes}
+    out = []
+    for h, ns, cc in zip(z, nodes, c, strict=True):
+        ks = {owner[int(n)] for n in ns if int(n) in owner}
+        out.append({"z": float(h), "c": [float(v) for v in cc],
+                    "master": min(ks) if ks else None,
+                    "nodes": [int(n) for n in ns]})  # fmt: skip
+    return out
+
+
+def _gravity(frame, g: float) -> list:
+    """Nodal loads -g M r_z (consistent element mass and the node masses), (n_nodes, 6)."""
+    _, M = frame.assemble(lumped=False)
+    rz = np.zeros(frame.n_dof)
+    rz[2::6] = 1.0
+    return (-g * (M @ rz)).reshape(frame.n_nodes, 6).tolist()
+
+
+def building_data(
+    frame,
+    bearings,
+    motion,
+    dt: float = DEFAULT_DT,
+    *,
+    fixed_base: bool = False,
+    g: float | None = None,
+    source: str = "<model>",
+) -> dict:
+    """The JSON-able data of the exported building (module docstring).
+
+    ``frame``: a :class:`~nsdyn.structure.Frame3D`; ``bearings``: one
+    :class:`~nsdyn.models.isolated.Bearing` for all base nodes or one each (ignored with
+    ``fixed_base``); ``motion``: a three-component record (``t0, dt, ax, ay, az``);
+    ``dt``: Newmark's step [s].
+    """
+    from nsdyn.ground.excitation import G_EARTH
+
+    g = G_EARTH if g is None else float(g)
+    if not (isinstance(dt, int | float) and math.isfinite(dt) and dt > 0):
+        raise SceneError(f"{source}: solver.dt: expected a positive time step [s], got {dt!r}")
+    if not hasattr(motion, "dt") or getattr(motion, "ax", None) is None:
+        raise SceneError(f"{source}: motion: OpenSees export needs a three-component record "
+                         "(kind = 'record3'), not an orbit")  # fmt: skip
+    data = frame_data_3d(frame, "consistent")
+    rows, deck = ([], None) if fixed_base else _bearing_rows(frame, bearings, source)
+    ax = np.asarray(motion.ax, float)
+    comp = [ax, motion.ay, getattr(motion, "az", None)]
+    duration = (len(ax) - 1) * float(motion.dt)
+    if dt > duration:
+        raise SceneError(f"{source}: solver.dt: {dt:g} s is longer than the record "
+                         f"({duration:g} s)")  # fmt: skip
+    lo, hi = frame.nodes[:, :2].min(axis=0), frame.nodes[:, :2].max(axis=0)
+    base_elems = []
+    for e, (i, j) in enumerate(frame.elements.tolist()):
+        for end, n in enumerate((i, j)):
+            if n in set(frame.base_nodes.tolist()):
+                base_elems.append([e, end])
+    beta, f1 = rayleigh_beta(frame)
+    data.update({
+        "fixed_base": bool(fixed_base),
+        "gravity": _gravity(frame, g) if not fixed_base else None,
+        "g": g,
+        "bearings": rows,
+        "k_vertical": K_VERTICAL, "k_rotation": K_ROTATION,
+        "beta_k": beta, "f_1": f1, "zeta_1": float(frame.zeta[0]),
+        "levels": _levels(frame),
+        "corners": [[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]],
+        "base_elements": base_elems,
+        "record": str(getattr(motion, "name", "record")),
+        "t0": float(getattr(motion, "t0", 0.0) or 0.0),
+        "record_dt": float(motion.dt),
+        "accel": [None if a is None else np.asarray(a, float).tolist() for a in comp],
+        "duration": duration,
+        "dt": float(dt),
+        "newmark_gamma": NEWMARK[0], "newmark_beta": NEWMARK[1], "newton_tol": NEWTON_TOL,
+        "deck": None if deck is None else {
+            "m": float(deck.info["m"]), "J": float(deck.info["J"]), "h": float(deck.info["h"]),
+            "origin": [float(v) for v in deck.info["origin"]],
+        },
+    })  # fmt: skip
+    return data
+
+
+def _description(d: dict) -> str:
+    head = (
+        f"{len(d['nodes'])} nodes, {len(d['elements'])} elasticBeamColumn members (consistent "
+        f"mass), {len(d['diaphragms'])} rigid diaphragms;\n"
+    )
+    if d["fixed_base"]:
+        base = f"{len(d['base_nodes'])} clamped base nodes.\n"
+    else:
+        kinds = sorted({b["type"] for b in d["bearings"]})
+        elems = " and ".join(
+            {"flat": "flatSliderBearing", "fps": "singleFPBearing"}[k] for k in kinds
+        )
+        k0 = [b["k_init"] for b in d["bearings"]]
+        static = [b for b in d["bearings"] if b["mu_static"] > max(b["mu_slow"], b["mu_fast"])]
+        base = (
+            f"{len(d['bearings'])} bearings ({elems}), k_init {min(k0):.4g}..{max(k0):.4g} N/m "
+            f"(mu N0 / k_init = {STICK_DISP:g} m);\n"
+            + ("OpenSees breaks away at mu_slow N, nsdyn at mu_static N.\n" if static else "")
+        )
+    return (
+        head + base + f"Record {d['record']!r}: {len(d['accel'][0])} samples every "
+        f"{d['record_dt']:g} s; Newmark average acceleration, dt = {d['dt']:g} s.\n"
+    )
+
+
+def script_text_building(data: dict, filename: str = "model.py") -> str:
+    """The standalone script of ``data`` (:func:`building_data`)."""
+    kind = "fixed base" if data["fixed_base"] else "on its bearings"
+    head = HEADER.format(name=data["name"], kind=kind, description=_description(data),
+                         filename=filename)  # fmt: skip
+    preload = inspect.getsource(_preload_opensees_libraries)
+    blob = json.dumps(data, separators=(",", ":"))
+    return f"{head}\n{preload}\n\nDATA = json.loads({blob!r})\n{SCRIPT}"
+
+
+def _from_scene(scene, source: str):
+    """(frame, bearing or None, motion, dt, fixed) of a building3d scene file."""
+    import copy
+
+    from nsdyn.models.isolated.bearings import BearingError, bearing_from_config
+    from nsdyn.models.isolated.building3d_scene import build_motion, build_system
+    from nsdyn.models.scenefile import read_toml
+
+    cfg = read_toml(scene) if isinstance(scene, str | Path) else copy.deepcopy(dict(scene))
+    fid = cfg.get("structure", {}).get("fidelity", "rigid")
+    frame_only = copy.deepcopy(cfg)
+    frame_only.setdefault("structure", {})["fidelity"] = "fixed"
+    frame = build_system(frame_only, source)["frame"]
+    motion, _ = build_motion(cfg, source)
+    fixed = fid == "fixed"
+    bearing = None
+    if not fixed:
+        if "bearing" not in cfg:
+            raise SceneError(f"{source}: bearing: missing; the building on isolators needs a "
+                             "[bearing] table")  # fmt: skip
+        try:
+            bearing = bearing_from_config(cfg["bearing"], "bearing")
+        except BearingError as e:
+            raise SceneError(f"{source}: {e}") from None
+    dt = cfg.get("solver", {}).get("dt", DEFAULT_DT)
+    return frame, bearing, motion, dt, fixed
+
+
+def export_building_opensees(
+    scene,
+    path=None,
+    *,
+    bearings=None,
+    motion=None,
+    dt: float | None = None,
+    t_end: float | None = None,
+    fixed_base: bool | None = None,
+) -> str:
+    """Write (if ``path``) and return the standalone script of a 3D building.
+
+    ``scene``: a building3d scene file (fidelity "fixed" exports the fixed base, any other
+    rung the building on its bearings) or a :class:`~nsdyn.structure.Frame3D` (then
+    ``motion`` and, unless ``fixed_base``, ``bearings`` are required). ``dt`` overrides the
+    step (default :data:`DEFAULT_DT`); ``t_end`` cuts the record [s].
+    """
+    from nsdyn.atomic import atomic_open
+    from nsdyn.structure import Frame3D
+
+    source = str(scene) if isinstance(scene, str | Path) else "<building>"
+    if isinstance(scene, Frame3D):
+        if motion is None:
+            raise SceneError(f"{source}: motion: a frame needs a three-component record")
+        frame, step, fixed = scene, DEFAULT_DT, bool(fixed_base)
+    else:
+        if isinstance(scene, str | Path) and not Path(scene).is_file():
+            raise SceneError(f"{source}: no such scene file")
+        frame, bearing, rec, step, fixed = _from_scene(scene, source)
+        bearings = bearing if bearings is None else bearings
+        motion = rec if motion is None else motion
+        fixed = fixed if fixed_base is None else bool(fixed_base)
+    if not fixed and bearings is None:
+        raise SceneError(f"{source}: bearing: the building on isolators needs its bearings")
+    if t_end is not None:
+        if not (isinstance(t_end, int | float) and t_end > 0):
+            raise SceneError(f"{source}: t_end: expected a positive end time [s], got {t_end!r}")
+        motion = motion.window(motion.t0, motion.t0 + float(t_end))
+    data = building_data(frame, bearings, motion, step if dt is None else dt, fixed_base=fixed,
+                         source=source)  # fmt: skip
+    text = script_text_building(data, Path(path).name if path is not None else "model.py")
+    if path is not None:
+        with atomic_open(path, "w") as fh:
+            fh.write(text)
+    return text
