@@ -319,7 +319,11 @@ def building_pairs(
             "f_max": float(cb.f_max), "f_hz": cb.f_hz.copy(), "n_modes": cb.n_modes,
             "n_b": cb.n_b, "min_mass": min_mass, **red, "origin": origin, "centre": c, "m": m,
             "J": J, "base_nodes": frame.base_nodes.copy(),
-            "y0": np.concatenate([q0, np.zeros(n)]), "static_normal": lam0, **maps}  # fmt: skip
+            "y0": np.concatenate([q0, np.zeros(n)]), "static_normal": lam0, **maps,
+            # the pair system's own rest state (its bearing table's normal forces) is this
+            # one: its saddle-system solve loses it to the conditioning of a building on
+            # isolators (axial column stiffness against the pendulums' lateral one)
+            "_static": (q0.copy(), lam0.copy())}  # fmt: skip
     label = f"cb-{cb.f_max:g}Hz" if fidelity == "cb" else "full"
     return PairSystem(M=cb.M, K=cb.K, C=cb.C, Gamma=cb.Gamma, D=D, R=R, bearings=bearings,
                       positions=xy - origin, T=maps["floor_map"].reshape(3 * nl, n), g=g,

@@ -282,3 +282,26 @@ def test_advisor_picks_the_rigid_deck_for_a_stiff_building_and_fixed_when_nothin
     # drifts need the elastic building: never the rigid deck
     a = advise_3d(b, FPS, _motion(), metrics=("isolator_displacement", "drift"), **kw)
     assert a.fidelity == "cb" and a.evidence["probes"] == []
+
+
+@pytest.mark.parametrize("base", ["pinned", "grid"])
+def test_the_rest_state_carries_the_weight_on_held_contacts(base):
+    # statics: R q₀ = 0 exactly (the contact rows' coordinates are removed), Σ λ = m_z g
+    # (vertical equilibrium of the whole building: Rᵀλ balances Γ_zᵀ M Γ_z g, since Γ_zᵀ K = 0
+    # and the slip rows carry no vertical load), and the equations K* q₀ = −M Γ_z g + Rᵀ λ hold
+    # to the round-off of a Cholesky solve, c n eps cond(K*) |f|
+    frame = building()
+    sys = building_pairs(frame, FPS, f_max=20.0, base=base)
+    q0, lam = sys.info["y0"][: sys.n], sys.info["static_normal"]
+    assert np.all(sys.R @ q0 == 0.0) and np.all(lam > 0)
+    m_z = float(np.sum(frame.rho_A * frame.lengths) + frame.node_mass[:, 2].sum())
+    assert lam.sum() == pytest.approx(m_z * sys.g, rel=1e3 * EPS)
+    D2 = sys.D.reshape(-1, sys.n)
+    Ks = sys.K + D2.T @ ((np.repeat(lam, 2) / FPS.radius)[:, None] * D2)
+    f = -sys.M @ sys.Gamma[:, 2] * sys.g
+    res = Ks @ q0 - f - sys.R.T @ lam
+    free = np.flatnonzero(~np.any(sys.R, axis=0))
+    bound = C_STABLE * sys.n * EPS * np.linalg.cond(Ks[np.ix_(free, free)]) * np.abs(f).max()
+    assert np.abs(res).max() <= bound
+    q_own, lam_own = sys.static_equilibrium()  # the pair system starts from this state
+    assert np.array_equal(q_own, q0) and np.array_equal(lam_own, lam)
