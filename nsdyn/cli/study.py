@@ -117,22 +117,18 @@ def _failure_lines(failed: list[dict], table: str) -> list[str]:
 
 
 def announce_compile(study) -> bool:
-    """Say on stderr, before the workers start, that each compiles the isolated frame's
-    kernels once when numba's cache does not hold them (the rocking, contact and cylinder
-    runners say so themselves, in each worker). True when it said so."""
+    """Compile (or load) the isolated frame's kernels in this process before the workers
+    start, saying so on stderr when numba's cache does not hold them
+    (:func:`nsdyn.studies.workers.warm_isolated`): the workers then load them instead of each
+    compiling them at the same time (the rocking, contact and cylinder runners say so
+    themselves, in each worker). True when they compiled."""
     if study.kind != "isolated":
         return False
-    from nsdyn.solve.methods import FLAT_LAWS, METHODS, is_cached, kernel_for
+    from nsdyn.studies.workers import warm_isolated
 
     method = study.base.get("solver", {}).get("method", "auto")
     law = "switch" if method == "event" else study.base.get("isolation", {}).get("law", "arctan")
-    method = method if method in METHODS else "radau"  # auto: radau for a frame of a few modes
-    kernel, flat = kernel_for(method, flat=law in FLAT_LAWS), law in FLAT_LAWS
-    if is_cached(kernel) and is_cached("metrics" if flat else "metrics-general"):
-        return False
-    print(f"compiling the isolated-frame kernels ({method}) once in each worker (first run only, "
-          "cached afterwards)…", file=sys.stderr, flush=True)  # fmt: skip
-    return True
+    return warm_isolated(method, law)  # auto: radau for a frame of a few modes
 
 
 def run(args: argparse.Namespace) -> int:

@@ -103,23 +103,26 @@ def configure(p: argparse.ArgumentParser) -> None:
 
 
 def prepare_kernels(friction: str) -> float:
-    """Compile (or load) the period map of a smooth-law sweep in this process before the
-    workers start (they then load it from numba's cache), saying on stderr what compiles
-    while it does (a first use, or after an upgrade) and how long it took. The switch law's
-    exact-flow kernels compile in the workers, unannounced (as do the unilateral ones that
-    recompute uplift points). Returns the seconds spent."""
+    """Compile (or load) the kernels of a smooth-law sweep in this process before the workers
+    start (they then load them from numba's cache): the period map and the default Radau loop
+    of the uplift probe (:func:`nsdyn.periodic.problem.uplift_probe`, run where a fixed-step
+    period fails), saying on stderr what compiles while it does (a first use, or after an
+    upgrade) and how long it took. The switch law's exact-flow kernels compile in the
+    workers, unannounced (as do the unilateral ones that recompute uplift points). Returns
+    the seconds spent."""
     if friction == "switch":
         return 0.0
     from nsdyn.periodic.problem import kernels_cached, warmup
+    from nsdyn.solve.methods import is_cached, warmup_kernel
 
-    cold = not kernels_cached()
+    cold = not (kernels_cached() and is_cached("radau"))
     if cold:
         print(
             "compiling the periodic kernels (first use only, cached afterwards)…",
             file=sys.stderr,
             flush=True,
         )
-    spent = warmup()
+    spent = warmup() + warmup_kernel("radau")
     if cold:
         print(f"  compiled in {spent:.1f} s", file=sys.stderr, flush=True)
     return spent

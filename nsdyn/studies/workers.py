@@ -12,6 +12,10 @@ until someone finds them. Every pool of the studies and the command line is made
 
 A parent that dies between the fork and the ``prctl`` call is caught by the same pid check, made
 once right after it.
+
+Also here: :func:`warm_isolated`, the isolated frame's kernels compiled (or loaded) in the
+parent before a pool's workers start, so that the workers load them from numba's cache instead
+of each compiling them at the same time.
 """
 
 from __future__ import annotations
@@ -68,3 +72,29 @@ def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
     return ProcessPoolExecutor(
         max_workers=max_workers, initializer=_die_with, initargs=(os.getpid(),)
     )
+
+
+def warm_isolated(method: str, law: str) -> bool:
+    """Compile (or load from numba's cache) in this process, before a pool's workers start, the
+    isolated frame's integrator and metrics kernels of runs with ``method`` ("auto" and unknown
+    names: the default Radau) and friction ``law``; the workers then load them from the cache.
+    Into an empty cache each worker would compile them at the same time, which on a machine
+    with one core per worker costs as long as compiling them once per worker, one after the
+    other; here the first compilation shares the cores with its helper process
+    (:func:`nsdyn.solve.methods.warmup_kernel`). Says so on stderr, before it starts and
+    with the time it took, when they compile. True when they compiled."""
+    from nsdyn.solve.methods import FLAT_LAWS, METHODS, is_cached, kernel_for, warmup_kernel
+
+    method = method if method in METHODS else "radau"
+    flat = law in FLAT_LAWS
+    kernel = kernel_for(method, flat=flat)
+    metrics = "metrics" if flat else "metrics-general"
+    cold = not (is_cached(kernel) and is_cached(metrics))
+    if cold:
+        print(f"compiling the isolated-frame kernels ({method}) once, before the workers start "
+              "(first run only, cached afterwards)…", file=sys.stderr, flush=True)  # fmt: skip
+    t0 = time.perf_counter()
+    warmup_kernel(kernel, metrics=metrics)
+    if cold:
+        print(f"  compiled in {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
+    return cold

@@ -61,6 +61,7 @@ def test_sweep_notice_names_the_periodic_kernels(monkeypatch, capsys):
     assert np.isfinite(spent) and spent >= 0.0
     monkeypatch.undo()
     assert problem.kernels_cached()
+    assert methods.is_cached("radau")  # the loop of the uplift probe the workers may run
 
 
 def test_no_sweep_notice_when_cached_or_for_the_switch_law(monkeypatch, capsys):
@@ -68,6 +69,7 @@ def test_no_sweep_notice_when_cached_or_for_the_switch_law(monkeypatch, capsys):
     from nsdyn.periodic import problem
 
     monkeypatch.setattr(problem, "kernels_cached", lambda: True)
+    monkeypatch.setattr(methods, "is_cached", lambda kernel: True)  # the uplift probe's loop
     cli_sweep.prepare_kernels("arctan")
     assert capsys.readouterr().err == ""
     monkeypatch.setattr(problem, "kernels_cached", lambda: False)
@@ -102,26 +104,33 @@ def test_every_method_is_announced_with_an_empty_cache(tmp_path):
     assert probes == dict.fromkeys(probes, False)
 
 
-def test_study_notice_before_the_workers_start(monkeypatch, capsys):
-    # nsdyn study of isolated-frame scenes: a cold cache makes it say, before the workers
-    # start, that each compiles the kernels once; nothing when they are cached, and nothing
-    # for the other families (their scene runners say so in the workers)
+def test_study_compiles_once_before_the_workers_start(monkeypatch, capsys):
+    # nsdyn study of isolated-frame scenes: a cold cache makes it compile the kernels in this
+    # process, saying so, before the workers start (they then load them instead of each
+    # compiling them at once); nothing said when they are cached, nothing done for the other
+    # families (their scene runners say so in the workers)
     from types import SimpleNamespace
 
     from nsdyn.cli import study as cli_study
 
     study = SimpleNamespace(kind="isolated", base={"solver": {"method": "event"}})
-    asked = []
+    asked, warmed = [], []
     monkeypatch.setattr(methods, "is_cached", lambda kernel: asked.append(kernel) or False)
+    monkeypatch.setattr(
+        methods, "warmup_kernel", lambda k, metrics=None: warmed.append((k, metrics))
+    )
     assert cli_study.announce_compile(study)
     err = capsys.readouterr().err
-    assert "compiling the isolated-frame kernels (event) once in each worker" in err
+    assert "compiling the isolated-frame kernels (event) once, before the workers start" in err
+    assert "compiled in" in err
     assert asked[0] == "event"  # the switch model's loop, not the default one
+    assert warmed == [("event", "metrics-general")]
     monkeypatch.setattr(methods, "is_cached", lambda kernel: True)
-    assert not cli_study.announce_compile(study)
+    assert not cli_study.announce_compile(study)  # loaded, silently
+    assert warmed[-1] == ("event", "metrics-general")
     monkeypatch.setattr(methods, "is_cached", lambda kernel: False)
     assert not cli_study.announce_compile(SimpleNamespace(kind="cylinder", base={}))
-    assert capsys.readouterr().err == ""
+    assert len(warmed) == 2 and capsys.readouterr().err == ""
 
 
 @pytest.mark.slow  # a two-point sweep (shooting) after the periodic kernels load
