@@ -16,9 +16,12 @@ precomputed once (M⁻¹K, M⁻¹C, M⁻¹R ᵀ, M⁻¹D2ᵀ and their products 
 and the unknowns y = [λ, τ_stuck] (m = ni + 2 n_stuck) solve the small system G y = r of the
 contact rows R_k q̈ = −2αβ R_k q̇ − α² R_k q and the stick rows D_j q̈ = −κ D_j q̇, assembled
 from the (ni + 2ni)² precomputed products: one evaluation costs O(n²) + O(n ni) + O(m³).
-Redundant constraints (a rigid body on more contacts than it has vertical dofs, two stuck
-isolators on one rigid deck) leave G singular with a consistent right-hand side: the split
-is then the least-norm one (G⁺ r), checked for consistency, else ST_SINGULAR.
+Redundant contacts (a rigid body on more contacts than it has vertical dofs) keep their r
+independent rows R̃ = Qᵀ R (Q an orthonormal basis of range R) and normal forces λ = Q ξ in
+range R: the split of equal contact stiffness (a rigid plate's N affine in the plan
+positions), whatever the friction. Redundant stick rows (several stuck isolators under one
+rigid slab) leave G singular with a consistent right-hand side: their split is then the
+least-norm one (G⁺ r), checked for consistency, else ST_SINGULAR.
 """
 
 import math
@@ -50,7 +53,7 @@ drop_stale(
 )  # fmt: skip
 
 # operators op (a tuple of 2-D arrays)
-O_MIK, O_MIC, O_GAM, O_D2, O_R, O_MIRT, O_MIDT, O_RMIRT, O_RMIDT, O_DMIRT, O_DMIDT = range(11)
+O_MIK, O_MIC, O_GAM, O_D2, O_R, O_MIRT, O_MIDT, O_RMIRT, O_RMIDT, O_DMIRT, O_DMIDT, O_Q = range(12)
 # system parameters sp
 S_G, S_ALPHA, S_BETA, S_KAPPA, S_EPS, S_ETA, S_LAW = range(7)
 N_SP = 7
@@ -144,19 +147,23 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
     """q̈ and the isolator forces at (t, y): normal forces λ (ni,), resisting friction Ff
     (ni, 2) (the stick force τ_i of a stuck isolator), restoring Fr = λ u/R + K_lam u and
     damper + stop Fo (ni, 2). Returns ST_OK or ST_SINGULAR; leaves G's LU in ws (the
-    row of stuck isolator j's τ is ws[11][j], −1 when it slips; ws[12][0] = 1: LU exact)."""
+    row of stuck isolator j's τ is ws[11][j], −1 when it slips; ws[12][0] = 1: LU exact).
+
+    The contacts enter through their independent rows R̃ = Qᵀ R (r of them, op[O_R]) with
+    multipliers ξ and normal forces λ = Q ξ (op[O_Q], ni × r; Q = I without redundancy)."""
     u, v, cf, f0, a0, ag, G, G2, r, r2, piv, row, luok, pf = ws
-    MiK, MiC, Gam, D2, R = op[O_MIK], op[O_MIC], op[O_GAM], op[O_D2], op[O_R]
+    MiK, MiC, Gam, D2, R, Q = op[O_MIK], op[O_MIC], op[O_GAM], op[O_D2], op[O_R], op[O_Q]
     MiRt, MiDt, RMiRt, RMiDt, DMiRt, DMiDt = (op[O_MIRT], op[O_MIDT], op[O_RMIRT],
                                               op[O_RMIDT], op[O_DMIRT], op[O_DMIDT])  # fmt: skip
     n = MiK.shape[0]
-    ni = R.shape[0]
+    ni = Q.shape[0]
+    nr = Q.shape[1]
     kp.ground(t, gk, gp, tab, ag)
     ag[2] += sp[S_G]
     law = int(sp[S_LAW])
     eps = sp[S_EPS]
     slips(y, D2, n, u, v)
-    m = ni
+    m = nr
     for i in range(ni):
         ux, uy, vx, vy = u[2 * i], u[2 * i + 1], v[2 * i], v[2 * i + 1]
         mode = modes[i]
@@ -181,43 +188,39 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
         for k in range(2 * ni):
             s -= MiDt[a, k] * f0[k]
         a0[a] = s
-    # rows: contact k, then the stuck isolators' x, y; columns: λ_i, then the stuck τ
+    # rows: contact k (of R̃), then the stuck isolators' x, y; columns: ξ_k, then the stuck τ
     al = sp[S_ALPHA]
     be = sp[S_BETA]
     kap = sp[S_KAPPA]
-    for k in range(ni):
+    for k in range(m):
+        e = -1  # (the slip row of a stick row)
+        if k >= nr:
+            for j in range(ni):
+                if row[j] >= 0 and row[j] <= k < row[j] + 2:
+                    e = 2 * j + k - row[j]
         rq = 0.0
         rv = 0.0
         ra = 0.0
         for b in range(n):
-            rq += R[k, b] * y[b]
-            rv += R[k, b] * y[n + b]
-            ra += R[k, b] * a0[b]
-        r[k] = -2.0 * al * be * rv - al * al * rq - ra
-        for i in range(ni):
-            G[k, i] = RMiRt[k, i] - RMiDt[k, 2 * i] * cf[2 * i]
-            G[k, i] -= RMiDt[k, 2 * i + 1] * cf[2 * i + 1]
+            c = R[k, b] if e < 0 else D2[e, b]
+            rq += c * y[b]
+            rv += c * y[n + b]
+            ra += c * a0[b]
+        r[k] = (-2.0 * al * be * rv - al * al * rq - ra) if e < 0 else (-kap * rv - ra)
+        for j in range(nr):  # the multiplier ξ_j: contact forces R̃_jᵀ, friction Σ_i c_i Q_ij
+            g = RMiRt[k, j] if e < 0 else DMiRt[e, j]
+            for i in range(ni):
+                if Q[i, j] != 0.0:
+                    if e < 0:
+                        w = RMiDt[k, 2 * i] * cf[2 * i] + RMiDt[k, 2 * i + 1] * cf[2 * i + 1]
+                    else:
+                        w = DMiDt[e, 2 * i] * cf[2 * i] + DMiDt[e, 2 * i + 1] * cf[2 * i + 1]
+                    g -= w * Q[i, j]
+            G[k, j] = g
         for j in range(ni):
             if row[j] >= 0:
-                G[k, row[j]] = -RMiDt[k, 2 * j]
-                G[k, row[j] + 1] = -RMiDt[k, 2 * j + 1]
-    for j in range(ni):
-        if row[j] < 0:
-            continue
-        for c in range(2):
-            e = 2 * j + c
-            rr = row[j] + c
-            da = 0.0
-            for b in range(n):
-                da += D2[e, b] * a0[b]
-            r[rr] = -kap * v[e] - da
-            for i in range(ni):
-                G[rr, i] = DMiRt[e, i] - DMiDt[e, 2 * i] * cf[2 * i]
-                G[rr, i] -= DMiDt[e, 2 * i + 1] * cf[2 * i + 1]
-            for l in range(ni):  # noqa: E741
-                if row[l] >= 0:
-                    G[rr, row[l]] = -DMiDt[e, 2 * l]
-                    G[rr, row[l] + 1] = -DMiDt[e, 2 * l + 1]
+                for c in range(2):
+                    G[k, row[j] + c] = -(RMiDt[k, 2 * j + c] if e < 0 else DMiDt[e, 2 * j + c])
     for a in range(m):
         r2[a] = r[a]
         for b in range(m):
@@ -228,21 +231,24 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
         lu_solve(Gm, piv[:m], r[:m])
     elif not least_norm(G2[:m, :m], r2[:m], r[:m]):
         return ST_SINGULAR
-    for i in range(ni):  # the bearings' multiplier forces λ_i c_i (+ τ_i): f0 reused
-        f0[2 * i] = cf[2 * i] * r[i] + (r[row[i]] if row[i] >= 0 else 0.0)
-        f0[2 * i + 1] = cf[2 * i + 1] * r[i] + (r[row[i] + 1] if row[i] >= 0 else 0.0)
+    for i in range(ni):  # λ = Q ξ and the bearings' multiplier forces λ_i c_i (+ τ_i) in f0
+        li = 0.0
+        for j in range(nr):
+            li += Q[i, j] * r[j]
+        lam[i] = li
+        f0[2 * i] = cf[2 * i] * li + (r[row[i]] if row[i] >= 0 else 0.0)
+        f0[2 * i + 1] = cf[2 * i + 1] * li + (r[row[i] + 1] if row[i] >= 0 else 0.0)
     for a in range(n):
         s = a0[a]
-        for i in range(ni):
-            s += MiRt[a, i] * r[i]
+        for j in range(nr):
+            s += MiRt[a, j] * r[j]
         for k in range(2 * ni):
             s -= MiDt[a, k] * f0[k]
         qdd[a] = s
         if not math.isfinite(s):
             return ST_SINGULAR
     for i in range(ni):
-        li = r[i]
-        lam[i] = li
+        li = lam[i]
         Fr[i, 0] = (li * bp[i, B_RINV] + bp[i, B_KLAM]) * u[2 * i]
         Fr[i, 1] = (li * bp[i, B_RINV] + bp[i, B_KLAM]) * u[2 * i + 1]
         if row[i] >= 0:
@@ -300,10 +306,10 @@ def start_direction(i, tx, ty, mu_n, ws, dirs):
     :func:`nsdyn.models.isolated._kplane.start_direction` on A = blockdiag(W⁻¹, 1)."""
     G, piv, row, luok = ws[6], ws[10], ws[11], ws[12]
     ni = row.shape[0]
-    m = ni
+    m = 0
     for j in range(ni):
         if row[j] >= 0:
-            m += 2
+            m = max(m, row[j] + 2)
     Am = np.zeros((3, 3))
     Am[2, 2] = 1.0
     if row[i] >= 0 and luok[0] == 1:  # (else kp's rule falls back to d = τ/|τ|)

@@ -54,6 +54,7 @@ from nsdyn.models.isolated.tfp import TripleBearing
 SYMMETRY_RTOL = 1e-10  # |A − Aᵀ| allowed relative to max |A| (M, K)
 SPD_RTOL = 1e-12  # M's smallest eigenvalue must exceed this times its largest
 STATIC_ITER = 50  # fixed-point passes of the pendulum terms λ/R in the static solve
+REDUNDANT_RTOL = 1e-10  # contact rows' singular values below this x the largest: redundant
 STATIC_RTOL = 1e-12  # their convergence (relative change of λ) and the saddle residual bound
 
 
@@ -196,12 +197,14 @@ class PairSystem:
         klam = np.repeat([b.k_lam for b in self.bearings], 2)
         rinv = np.repeat([0.0 if math.isinf(b.radius) else 1.0 / b.radius
                           for b in self.bearings], 2)  # fmt: skip
-        f = np.concatenate([-self.M @ self.Gamma[:, 2] * self.g, np.zeros(ni)])
+        Q, Rr = self.contact_basis()
+        nr = Rr.shape[0]
+        f = np.concatenate([-self.M @ self.Gamma[:, 2] * self.g, np.zeros(nr)])
         lam = np.zeros(ni)
         sol = None
         for _ in range(STATIC_ITER):
             Ks = self.K + D2.T @ ((klam + rinv * np.repeat(lam, 2))[:, None] * D2)
-            A = np.block([[Ks, -self.R.T], [self.R, np.zeros((ni, ni))]])
+            A = np.block([[Ks, -Rr.T], [Rr, np.zeros((nr, nr))]])
             try:  # (LU keeps decoupled coordinates exactly at rest; least squares mixes)
                 with warnings.catch_warnings():
                     warnings.simplefilter("error", sla.LinAlgWarning)
@@ -217,7 +220,7 @@ class PairSystem:
                     f"{self.name}: the static equilibrium under gravity has no solution "
                     f"(saddle residual {res:.3g}); check K, R and Gamma's z column"
                 )
-            new = sol[n:]
+            new = Q @ sol[n:]
             done = np.abs(new - lam).max() <= STATIC_RTOL * max(np.abs(new).max(), 1e-300)
             lam = new
             if done or not np.any(rinv):
@@ -247,19 +250,66 @@ class PairSystem:
             bp[i] = b.row(float(lam0[i]), self.g)
         return bp
 
+    def contact_basis(self) -> tuple[np.ndarray, np.ndarray]:
+        """(Q, R̃): Q (ni × r) an orthonormal basis of range R and R̃ = Qᵀ R its r independent
+        contact rows (Q = I, R̃ = R when the rows are independent); normal forces λ = Q ξ."""
+        ni = self.n_isolators
+        U, sv, _ = np.linalg.svd(self.R, full_matrices=False)
+        r = int(np.sum(sv > REDUNDANT_RTOL * sv[0]))
+        if r == ni:
+            return np.eye(ni), self.R.copy()
+        Q = U[:, :r]
+        return Q, Q.T @ self.R
+
     def operators(self) -> tuple:
-        """The kernels' precomputed operators (one Cholesky of M): M⁻¹K, M⁻¹C, Γ, D2, R,
-        M⁻¹Rᵀ, M⁻¹D2ᵀ, R M⁻¹Rᵀ, R M⁻¹D2ᵀ, D2 M⁻¹Rᵀ, D2 M⁻¹D2ᵀ (D2 = D stacked (2ni, n))."""
+        """The kernels' precomputed operators (one Cholesky of M): M⁻¹K, M⁻¹C, Γ, D2, R̃,
+        M⁻¹R̃ᵀ, M⁻¹D2ᵀ, R̃ M⁻¹R̃ᵀ, R̃ M⁻¹D2ᵀ, D2 M⁻¹R̃ᵀ, D2 M⁻¹D2ᵀ, Q (D2 = D stacked
+        (2ni, n); Q, R̃ from :meth:`contact_basis`)."""
         if "_operators" not in self.info:
             cho = sla.cho_factor(self.M)
             D2 = self.D.reshape(2 * self.n_isolators, self.n)
-            MiRt = sla.cho_solve(cho, self.R.T)
+            Q, R = self.contact_basis()
+            MiRt = sla.cho_solve(cho, R.T)
             MiDt = sla.cho_solve(cho, D2.T)
-            R = self.R
             ops = (sla.cho_solve(cho, self.K), sla.cho_solve(cho, self.C), self.Gamma, D2, R,
-                   MiRt, MiDt, R @ MiRt, R @ MiDt, D2 @ MiRt, D2 @ MiDt)  # fmt: skip
+                   MiRt, MiDt, R @ MiRt, R @ MiDt, D2 @ MiRt, D2 @ MiDt, Q)  # fmt: skip
             self.info["_operators"] = tuple(np.ascontiguousarray(a, dtype=float) for a in ops)
         return self.info["_operators"]
+
+
+def from_deck(deck) -> PairSystem:
+    """The rigid deck or single mass ``deck`` (:class:`nsdyn.models.isolated.deck.PlaneSystem`)
+    as a PairSystem: q = (x, y, θ) of O and its vertical motion (z, r_x, r_y) (z only on one
+    isolator, whose bearing takes the moments); the centre of mass at (e_x, e_y, h) moves by
+    A q = (x − e_y θ + h r_y, y + e_x θ − h r_x, z + e_y r_x − e_x r_y), so M = m AᵀA plus the
+    polar inertia J on θ and J on r_x, r_y (held by the contacts); gaps z + Y_i r_x − X_i r_y.
+    Its contacts' normal forces are the deck's rigid-plate ones (the least-norm multipliers
+    of redundant contacts lie in the range of R: affine in the plan positions)."""
+    m, (ex, ey), h = float(deck.m), (float(e) for e in deck.ecc), float(deck.h)
+    ni = deck.n_isolators
+    nv = 1 if ni == 1 else 3
+    n = 4 + (nv - 1)
+    A = np.zeros((3, n))
+    A[0, 0], A[0, 2], A[1, 1], A[1, 2], A[2, 3] = 1.0, -ey, 1.0, ex, 1.0
+    if nv == 3:
+        A[0, 5], A[1, 4], A[2, 4], A[2, 5] = h, -h, ey, -ex
+    M = m * A.T @ A
+    M[2, 2] += deck.J
+    if nv == 3:
+        M[4, 4] += deck.J
+        M[5, 5] += deck.J
+    X, Y = deck.positions.T
+    D = np.zeros((ni, 2, n))
+    D[:, 0, 0], D[:, 0, 2], D[:, 1, 1], D[:, 1, 2] = 1.0, -Y, 1.0, X
+    R = np.zeros((ni, n))
+    R[:, 3] = 1.0
+    if nv == 3:
+        R[:, 4], R[:, 5] = Y, -X
+    Gam = np.zeros((n, 3))
+    Gam[0, 0] = Gam[1, 1] = Gam[3, 2] = 1.0
+    Z = np.zeros((n, n))
+    return PairSystem(M, Z, Z.copy(), Gam, D, R, tuple(deck.bearings), deck.positions.copy(),
+                      g=deck.g, name=deck.name)  # fmt: skip
 
 
 @dataclass

@@ -17,8 +17,8 @@ import pytest
 from nsdyn.ground.excitation import Table
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated.bearings import Bearing, Friction
-from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
-from nsdyn.models.isolated.pairs import PairSystem, PairSystemError, simulate_pairs
+from nsdyn.models.isolated.deck import rigid_deck, sdof_plane, simulate_plane
+from nsdyn.models.isolated.pairs import PairSystem, PairSystemError, from_deck, simulate_pairs
 from nsdyn.models.isolated.plane_result import UpliftWarning
 from nsdyn.models.isolated.statespace import demo_frame
 from nsdyn.models.isolated.system import Isolation, build_system
@@ -281,44 +281,22 @@ def test_tension_at_rest_and_bad_run_options_are_refused():
     assert r.q.shape == (r.t.size, 3)
 
 
-def deck_as_pairs(d):
-    """The rigid deck ``d`` (nsdyn.models.isolated.deck) as a PairSystem: q = (x, y, θ) of O
-    and the vertical motion (z, r_x, r_y) of O, contact gaps z + r_x Y_i − r_y X_i, the
-    eccentric mass's vertical inertia m a aᵀ (a = (1, e_y, −e_x)) plus rotary inertias."""
-    m, (ex, ey) = d.m, d.ecc
-    a = np.array([1.0, ey, -ex])
-    Mm = np.zeros((6, 6))
-    Mm[:3, :3] = d.mass_matrix()
-    Mm[3:, 3:] = m * np.outer(a, a) + np.diag([0.0, d.J, d.J])
-    ni = d.n_isolators
-    X, Y = d.positions.T
-    D = np.zeros((ni, 2, 6))
-    D[:, 0, 0], D[:, 0, 2], D[:, 1, 1], D[:, 1, 2] = 1.0, -Y, 1.0, X
-    R = np.zeros((ni, 6))
-    R[:, 3], R[:, 4], R[:, 5] = 1.0, Y, -X
-    Gam = np.zeros((6, 3))
-    Gam[0, 0] = Gam[1, 1] = Gam[3, 2] = 1.0
-    return PairSystem(Mm, np.zeros((6, 6)), np.zeros((6, 6)), Gam, D, R, d.bearings, d.positions,
-                      g=d.g, name="deck")  # fmt: skip
-
-
 @pytest.mark.parametrize(("law", "ecc"), [("arctan", (0.6, -0.4)), ("switch", (0.0, 0.0))])
 def test_rigid_deck_on_four_isolators_equals_the_deck_kernels(law, ecc):
-    # Four pendulums under a rigid deck, an elliptical orbit and a vertical component. The
-    # deck's kernels take the normal forces from the rigid-plate distribution (equal vertical
-    # stiffness: N_i affine in (X_i, Y_i)); the PairSystem's four contacts on three vertical
-    # dofs are redundant and its multipliers the least-norm split, which lies in the range
-    # of R: affine in (X_i, Y_i) too, the same forces. An eccentric mass (arctan) twists the
-    # deck; the switch law runs a symmetric deck (a stuck deck's split is the least-norm one
-    # here, the N-proportional one in the deck's kernels: equal for equal N), eta 1e-8 in
-    # both. Tolerance 1e-7 of the peak slip: the integrators' global error at rtol 1e-9 and
-    # the stick band's O(eta / kappa) per stick phase.
-    from nsdyn.models.isolated.deck import rigid_deck
-
+    # Four pendulums under a rigid deck (centre of mass 1.5 m above the sliding surfaces), an
+    # elliptical orbit and a vertical component. The deck's kernels take the normal forces
+    # from the rigid-plate distribution with the overturning of the inertia forces (equal
+    # vertical stiffness: N_i affine in (X_i, Y_i)); the PairSystem (from_deck: q = x, y, θ,
+    # z, r_x, r_y) has four contacts on three vertical dofs, kept as their independent rows
+    # with normal forces in the range of R: affine in (X_i, Y_i) too, the same forces. An
+    # eccentric mass (arctan) twists the deck; the switch law runs a symmetric deck (a stuck
+    # deck's split is the least-norm one here, the N-proportional one in the deck's kernels:
+    # equal for equal N), eta 1e-8 in both. Tolerance 1e-7 of the peak slip: the
+    # integrators' global error at rtol 1e-9 and the stick band's O(eta / kappa) per phase.
     pos = [(-4.0, -3.0), (4.0, -3.0), (4.0, 3.0), (-4.0, 3.0)]
     b = Bearing(Friction(0.05), radius=2.5, c=2000.0)
-    d = rigid_deck(2e5, 2e5 * 8.0, pos, b, ecc=ecc, g=G)
-    p = deck_as_pairs(d)
+    d = rigid_deck(2e5, 2e5 * 8.0, pos, b, ecc=ecc, h=1.5, g=G)
+    p = from_deck(d)
     np.testing.assert_allclose(p.static_equilibrium()[1], d.static_normal(), rtol=1e-12)
     orbit = {"f": 0.6, "ax": 2.0, "ay": 1.2, "phase_y_deg": -70.0, "az": 2.0, "f_z": 1.1}
     kw = dict(law=law, eta=1e-8, t_end=8.0, dt_out=0.02, rtol=1e-9, atol=(1e-11, 1e-11))
@@ -327,7 +305,16 @@ def test_rigid_deck_on_four_isolators_equals_the_deck_kernels(law, ecc):
     peak = np.abs(ref.u).max()
     assert peak > 0.1
     assert np.abs(r.u - ref.u).max() < 1e-7 * peak
-    np.testing.assert_allclose(r.N, ref.N, rtol=0, atol=1e-9 * ref.N.max())
+    # normal forces: the same functions of the state (equal at one state to round-off), so
+    # they differ by the states' difference (1e-7 of the slip) times their sensitivity
+    np.testing.assert_allclose(r.N, ref.N, rtol=0, atol=1e-8 * ref.N.max())
     if law == "arctan":
         assert np.abs(ref.theta).max() > 1e-4  # the eccentric deck twists
         assert np.abs(r.q[:, 2] - ref.theta).max() < 1e-7 * np.abs(ref.theta).max() + 1e-12
+
+
+def test_single_mass_from_the_deck_is_the_three_dof_system():
+    # from_deck of a single mass: q = (x, y, θ, z), one contact, the bearing holds the moments
+    s = from_deck(sdof_plane(M, Bearing(Friction(0.05)), g=G))
+    assert s.n == 4 and s.R.tolist() == [[0.0, 0.0, 0.0, 1.0]]
+    np.testing.assert_allclose(s.static_equilibrium()[1], [M * G], rtol=1e-14)
