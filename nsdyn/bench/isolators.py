@@ -145,3 +145,24 @@ def report(result: dict) -> str:
         lines.append(f"  {r['law']:8s} {r['n_isolators']:9d} {r['wall_s']:9.4f} "
                      f"{r['wall_per_isolator_s']:13.5f}")  # fmt: skip
     return "\n".join(lines)
+
+
+def pairs_scale(motion, grids=GRIDS, repeats: int = REPEATS) -> list[dict]:
+    """Cost per isolator of the same decks as systems from matrices (PairSystem via
+    ``from_deck``: vertical and rocking dofs, contacts as multipliers), both laws at rtol
+    1e-6: rows like ``isolators-scale.csv`` with ``model = "pairs"`` and the deck's own
+    wall time for the same run (``deck_wall_s``)."""
+    from nsdyn.models.isolated.pairs import from_deck, simulate_pairs
+
+    rows = []
+    for n in grids:
+        dn = deck(n)
+        pn = from_deck(dn)
+        for law in ("switch", "arctan"):
+            simulate_pairs(pn, {"f": 1.0, "ax": 0.1, "ay": 0.1}, t_end=0.05, law=law)
+            res, wall = _timed(lambda pn=pn, law=law: simulate_pairs(pn, motion, law=law), repeats)
+            _, wall_d = _timed(lambda dn=dn, law=law: simulate_plane(dn, motion, law=law), repeats)
+            rows.append({"model": "pairs", "law": law, "n_isolators": n * n, "wall_s": wall,
+                         "wall_per_isolator_s": wall / (n * n), "deck_wall_s": wall_d,
+                         "steps": res.stats["steps"], "events": res.stats["events"]})  # fmt: skip
+    return rows
