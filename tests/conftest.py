@@ -44,6 +44,7 @@ WARMUP_SLOTS = (
         ("nsdyn.solve.methods", "warmup_unilateral", []),
         ("conftest", "warm_switch_shooting", []),
         ("conftest", "warm_cylinder", []),
+        ("conftest", "warm_pairs", []),
     ),
     (
         ("nsdyn.solve.methods", "warmup_kernel", ["radau", "metrics"]),
@@ -53,6 +54,7 @@ WARMUP_SLOTS = (
         ("nsdyn.solve.methods", "warmup_kernel", ["dopri5"]),
         ("nsdyn.models.rocking.block", "warmup", []),
         ("conftest", "warm_contact", []),
+        ("conftest", "warm_deck", []),
     ),
 )
 _WARMUP_CODE = """
@@ -97,6 +99,39 @@ def warm_contact():
     motion = BaseMotion.displacement_sine(0.01, 0.5, 5, "impulsive")
     simulate_event(body, law, motion, t_end=0.02, dt_out=0.005)
     simulate_moreau(body, law, motion, t_end=0.02, h=5e-4, dt_out=0.005)
+
+
+# a short circular orbit of the ground (x and y in quadrature) that makes a mass on a friction
+# pendulum slip and stick within a tenth of a second
+_WARM_ORBIT = {"f": 2.0, "ax": 3.0, "ay": 3.0, "phase_y_deg": -90.0, "az": 0.0, "f_z": 1.0}
+
+
+def warm_deck():
+    """The bidirectional deck's integrators: a mass on one friction pendulum under a short
+    circular orbit, with the switch law (Dormand–Prince with the stick-disc events) and the
+    regularised one (Radau IIA)."""
+    from nsdyn.models.isolated.bearings import Bearing, Friction
+    from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
+
+    s = sdof_plane(1000.0, Bearing(Friction(0.05), radius=2.0))
+    for law in ("switch", "arctan"):
+        simulate_plane(s, _WARM_ORBIT, law=law, t_end=0.1)
+
+
+def warm_pairs():
+    """The matrix systems' integrators (:func:`nsdyn.models.isolated.pairs.simulate_pairs`): a
+    mass on one friction pendulum (x, y slip rows, the z contact row) under the same orbit,
+    with both laws."""
+    from nsdyn.models.isolated.bearings import Bearing, Friction
+    from nsdyn.models.isolated.pairs import PairSystem, simulate_pairs
+
+    m = 1000.0
+    s = PairSystem(M=m * np.eye(3), K=np.zeros((3, 3)), C=np.zeros((3, 3)), Gamma=np.eye(3),
+                   D=np.array([[[1.0, 0, 0], [0, 1.0, 0]]]), R=np.array([[0, 0, 1.0]]),
+                   bearings=(Bearing(Friction(0.05), radius=2.0),), positions=np.zeros((1, 2)),
+                   g=9.81)  # fmt: skip
+    for law in ("switch", "arctan"):
+        simulate_pairs(s, _WARM_ORBIT, law=law, t_end=0.1)
 
 
 def warm_cylinder():
