@@ -12,7 +12,8 @@ process with the cache that run filled (every later start). Per case and process
                 machine the wall times grow with its load, the CPU time much less
 
 plus ``notice`` (the process said on stderr that it compiles) and the load average of the
-machine before the process started (:func:`os.getloadavg`, 1 min). The targets are a first
+machine before the process started (:func:`os.getloadavg`, 1 min). With ``repeats`` the cases
+run in rounds (every case once per round) and a row holds the medians. The targets are a first
 run within FIRST_RUN_TARGET_S and a cached start within CACHED_TARGET_S of process time;
 ``over_s = process_s - FIRST_RUN_TARGET_S`` of the first run says by how much a case misses.
 """
@@ -26,6 +27,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+import numpy as np
 
 FIRST_RUN_TARGET_S = 10.0  # a first run into an empty cache, whole process [s]
 CACHED_TARGET_S = 1.0  # a later start, whole process [s]
@@ -125,23 +128,45 @@ def run_case(args: list[str], cache: str, workdir: str) -> dict:
     }
 
 
-def first_runs(only: list[str] | None = None, log=print) -> list[dict]:
+def _median_row(reps: list[dict]) -> dict:
+    """One row of several repeats of a case: the median of every number (NaN-aware), the
+    other fields of the first repeat, ``repeats`` their count and ``first_process_all_s`` the
+    first runs' process times."""
+    row = dict(reps[0])
+    for k, v in reps[0].items():
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            vals = [r[k] for r in reps if isinstance(r.get(k), (int, float))]
+            row[k] = float(np.nanmedian(vals)) if vals else v
+    row["notice"] = all(r.get("notice") for r in reps) if "notice" in row else None
+    row["status"] = next((r["status"] for r in reps if r["status"] != "ok"), "ok")
+    return row
+
+
+def first_runs(only: list[str] | None = None, log=print, repeats: int = 1) -> list[dict]:
     """The table: per case a first run into an empty cache, then a cached start (module
-    docstring). ``only``: the families to run (default all)."""
+    docstring). ``only``: the families to run (default all). ``repeats``: rounds over all
+    cases (interleaved, so a change of the machine's load spreads over every case); a row
+    holds the medians."""
+    todo = [c for c in cases() if not only or c[0] in only]
+    runs: dict = {(f, w): [] for f, w, _ in todo}
+    for _ in range(max(1, repeats)):
+        for family, what, args in todo:
+            with tempfile.TemporaryDirectory(prefix="nsdyn-first-") as work:
+                cache = os.path.join(work, "numba")
+                log(f"[first-runs] {family} {what}: first run (empty numba cache)")
+                first = run_case(args, cache, work)
+                log(f"[first-runs] {family} {what}: {first['process_s']:.1f} s; cached start")
+                again = run_case(args, cache, work)
+            runs[(family, what)].append((first, again))
     rows = []
-    for family, what, args in cases():
-        if only and family not in only:
-            continue
-        with tempfile.TemporaryDirectory(prefix="nsdyn-first-") as work:
-            cache = os.path.join(work, "numba")
-            log(f"[first-runs] {family} {what}: first run (empty numba cache)")
-            first = run_case(args, cache, work)
-            log(f"[first-runs] {family} {what}: {first['process_s']:.1f} s; cached start")
-            again = run_case(args, cache, work)
-        row = {"family": family, "what": what}
+    for (family, what), pairs in runs.items():
+        first = _median_row([a for a, _ in pairs])
+        again = _median_row([b for _, b in pairs])
+        row = {"family": family, "what": what, "repeats": len(pairs)}
         row.update({f"first_{k}": v for k, v in first.items()})
         row.update({f"cached_{k}": v for k, v in again.items()})
-        row["over_s"] = first["process_s"] - FIRST_RUN_TARGET_S
+        row["first_process_all_s"] = [a["process_s"] for a, _ in pairs]
+        row["over_s"] = row["first_process_s"] - FIRST_RUN_TARGET_S
         rows.append(row)
     return rows
 

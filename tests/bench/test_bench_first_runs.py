@@ -53,3 +53,15 @@ def test_speed_takes_the_families_option():
     assert args.families and "families" in speed.OPTIONS
     res = {"table": [], "meta": {}, "files": {}, "first_runs": [{"family": "x"}]}
     assert speed.summarise(res)["first_runs"] == [{"family": "x"}]
+
+
+def test_repeats_give_medians_and_keep_a_failure():
+    # a case's rows over repeats: the median of each number (NaN where a repeat reports none
+    # is skipped), a notice only when every repeat printed one, a failed repeat's status kept
+    reps = [{"status": "ok", "process_s": 10.0, "compile_s": math.nan, "notice": True},
+            {"status": "ok", "process_s": 14.0, "compile_s": 3.0, "notice": True},
+            {"status": "exit 1", "process_s": 30.0, "compile_s": 5.0, "notice": False}]  # fmt: skip
+    row = first_runs._median_row(reps)
+    assert row["process_s"] == 14.0 and row["compile_s"] == 4.0
+    assert row["notice"] is False and row["status"] == "exit 1"
+    assert first_runs._median_row(reps[:2])["status"] == "ok"
