@@ -35,11 +35,7 @@ from nsdyn._numba_cache import drop_stale
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated.bearings import (
     B_AREA,
-    B_C,
-    B_CSTOP,
-    B_DCAP,
     B_KLAM,
-    B_KSTOP,
     B_RINV,
 )
 
@@ -91,16 +87,7 @@ def slips(y, D2, n, u, v):
 def bearing_terms(bp, i, ux, uy, vx, vy, law, eps, mode, dx, dy, kpr):
     """(ox, oy, fx, fy): damper + rim stop of isolator i and its friction per unit normal
     force f̂ (zero in stick), the coefficients scaled by the pressure factor kpr."""
-    ox = bp[i, B_C] * vx
-    oy = bp[i, B_C] * vy
-    ru = math.sqrt(ux * ux + uy * uy)
-    if ru > bp[i, B_DCAP]:
-        nx = ux / ru
-        ny = uy / ru
-        fs = bp[i, B_KSTOP] * (ru - bp[i, B_DCAP]) + bp[i, B_CSTOP] * (vx * nx + vy * ny)
-        if fs > 0.0:
-            ox += fs * nx
-            oy += fs * ny
+    ox, oy = kp.damper_and_rim(bp, i, ux, uy, vx, vy)
     speed = math.sqrt(vx * vx + vy * vy)
     if law == kp.LAW_ARCTAN:
         if speed > 0.0:

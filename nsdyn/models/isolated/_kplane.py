@@ -255,6 +255,23 @@ def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
 
 
 @njit(cache=True, error_model="numpy")
+def damper_and_rim(bp, i, ux, uy, vx, vy):
+    """(F_x, F_y) of isolator i's damper c v and rim stop max(0, k_stop δ + c_stop δ̇) u/|u|
+    (δ = |u| − d_cap > 0) at slip u, slip velocity v."""
+    ox = bp[i, B_C] * vx
+    oy = bp[i, B_C] * vy
+    ru = math.sqrt(ux * ux + uy * uy)
+    if ru > bp[i, B_DCAP]:
+        nx = ux / ru
+        ny = uy / ru
+        fs = bp[i, B_KSTOP] * (ru - bp[i, B_DCAP]) + bp[i, B_CSTOP] * (vx * nx + vy * ny)
+        if fs > 0.0:
+            ox += fs * nx
+            oy += fs * ny
+    return ox, oy
+
+
+@njit(cache=True, error_model="numpy")
 def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo):
     """:func:`evaluate` with the friction coefficients scaled by the pressure factors ws[11]."""
     Am, A3, K5, r5, piv, n1, n0, cN, fv, ag, sd, pf = ws
@@ -283,16 +300,7 @@ def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, 
         n1[i, 0] = -m * h * nd[i, 1]
         n1[i, 1] = -m * h * nd[i, 2]
         n1[i, 2] = -m * h * (-ey * nd[i, 1] + ex * nd[i, 2])
-        ox = bp[i, B_C] * vx
-        oy = bp[i, B_C] * vy
-        ru = math.sqrt(ux * ux + uy * uy)
-        if ru > bp[i, B_DCAP]:
-            nx = ux / ru
-            ny = uy / ru
-            fs = bp[i, B_KSTOP] * (ru - bp[i, B_DCAP]) + bp[i, B_CSTOP] * (vx * nx + vy * ny)
-            if fs > 0.0:
-                ox += fs * nx
-                oy += fs * ny
+        ox, oy = damper_and_rim(bp, i, ux, uy, vx, vy)
         Fo[i, 0] = ox
         Fo[i, 1] = oy
         f0x = ox + bp[i, B_KLAM] * ux
