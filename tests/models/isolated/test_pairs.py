@@ -318,3 +318,18 @@ def test_single_mass_from_the_deck_is_the_three_dof_system():
     s = from_deck(sdof_plane(M, Bearing(Friction(0.05)), g=G))
     assert s.n == 4 and s.R.tolist() == [[0.0, 0.0, 0.0, 1.0]]
     np.testing.assert_allclose(s.static_equilibrium()[1], [M * G], rtol=1e-14)
+
+
+def test_numerical_failures_are_reported_with_time_and_reason():
+    from nsdyn.models.isolated.plane_result import PlaneIntegrationError
+
+    orbit = _circular(2.0, 1.0)
+    s = PairSystem(**_fields())
+    with pytest.raises(PlaneIntegrationError, match=r"too many steps before t = [0-9.e-]+ s"):
+        simulate_pairs(s, orbit, t_end=2.0, max_steps=20)
+    # a slip row along the contact's normal: stuck, its stick row and the contact row ask
+    # for different accelerations of the same coordinate (gap 1 mm: Baumgarte pulls it
+    # back, the stick row holds it) — a singular, inconsistent constraint system at t = 0
+    bad = PairSystem(**_fields(D=np.array([[[0, 0, 1.0], [0, 1.0, 0]]])))
+    with pytest.raises(PlaneIntegrationError, match=r"singular equations of motion at t = 0 s"):
+        simulate_pairs(bad, orbit, t_end=1.0, y0=[0, 0, 1e-3, 0, 0, 0])
