@@ -14,6 +14,7 @@ rocking        rocking bodies (loaded on use)
 contact        planar contact bodies (loaded on use)
 cylinder       the cylinder (loaded on use)
 opensees       the full frame in OpenSees (exported script) against nsdyn full and CB-5
+opensees3d     the 3D office building on its bearings in OpenSees against nsdyn's rung
 scale          cost against model size (435 to 20 520 dofs): nsdyn full, CB-5 and OpenSees
 isolators      bidirectional isolators: switch vs regularised law, cost per isolator
 =============  ==================================================================
@@ -132,6 +133,7 @@ BENCHMARKS: dict[str, str] = {
     "switch_shooting": "nsdyn.bench.switch_shooting",
     "full-model": "nsdyn.bench.full_model",
     "opensees": "nsdyn.bench.opensees",
+    "opensees3d": "nsdyn.bench.opensees3d",
     "scale": "nsdyn.bench.scale",
     "isolators": "nsdyn.bench.isolators",
 }

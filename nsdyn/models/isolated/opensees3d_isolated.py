@@ -100,6 +100,13 @@ def _bearing_rows(frame, bearings, source: str):
     nb = len(frame.base_nodes)
     bl = (bearings,) * nb if isinstance(bearings, B.Bearing) else tuple(bearings)
     for b in bl:
+        if getattr(b, "R1", None) is not None or getattr(b, "friction", None) is None:
+            raise SceneError(
+                f"{source}: {getattr(b, 'where', 'bearing')}.type: a triple friction pendulum "
+                "is not exported to OpenSees (its TripleFrictionPendulum element takes one "
+                "inner surface pair, R2 = R3, mu2 = mu3, and nominal capacities; the mapping "
+                "is not checked); export flat sliders or single friction pendulums"
+            )
         if not isinstance(b, B.Bearing):
             raise SceneError(
                 f"{source}: bearing: OpenSees export maps a flat slider (flatSliderBearing) or "

@@ -255,3 +255,17 @@ def test_circular_orbit_opensees_against_the_rigid_deck(tmp_path):
     bound = 2 * 0.05 * r["max_normal_force_N"] / k0 + 5e-3 * u_ns
     assert abs(r["peak_resultant_displacement_m"] - u_ns) <= bound
     assert u_ns > 20 * bound  # a real slip, far above the bound
+
+
+def test_triple_pendulum_is_refused_with_the_reason():
+    """A triple friction pendulum is not mapped (OpenSees' element takes one inner surface
+    pair and nominal capacities): a one-line error naming the bearing's type."""
+    from nsdyn.models.isolated.bearings import bearing_from_config
+
+    tfp = bearing_from_config(
+        {"type": "tfp", "R1": 2.0, "R2": 0.5, "R3": 0.5, "R4": 2.0, "mu1": 0.04, "mu2": 0.02,
+         "mu3": 0.02, "mu4": 0.06, "d1": 0.2, "d2": 0.05, "d3": 0.05, "d4": 0.2},
+        "bearing",
+    )  # fmt: skip
+    with pytest.raises(SceneError, match=r"bearing\.type: a triple friction pendulum"):
+        building_data(portal(), tfp, harmonic_x(1.0, 1.0, 1.0))
