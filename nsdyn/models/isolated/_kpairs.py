@@ -20,8 +20,10 @@ Redundant contacts (a rigid body on more contacts than it has vertical dofs) kee
 independent rows R̃ = Qᵀ R (Q an orthonormal basis of range R) and normal forces λ = Q ξ in
 range R: the split of equal contact stiffness (a rigid plate's N affine in the plan
 positions), whatever the friction. Redundant stick rows (several stuck isolators under one
-rigid slab) leave G singular with a consistent right-hand side: their split is then the
-least-norm one (G⁺ r), checked for consistency, else ST_SINGULAR.
+rigid slab) keep their independent combinations Q_sᵀ D_s (Q_s from an SVD when the modes
+change) with stick forces τ = Λ Q_s ζ in proportion to the normal forces (the deck's split:
+every disc fills at once). Any other singular G with a consistent right-hand side takes the
+least-norm solution (G⁺ r), checked for consistency, else ST_SINGULAR.
 """
 
 import math
@@ -55,6 +57,7 @@ S_G, S_ALPHA, S_BETA, S_KAPPA, S_EPS, S_ETA, S_LAW = range(7)
 N_SP = 7
 ST_OK, ST_SINGULAR = 0, 4
 PIVOT_RTOL = 1e-13  # LU pivot floor relative to G's largest entry (below: redundant rows)
+REDUNDANT_RTOL = 1e-10  # singular values below this x the largest: redundant stick rows
 CONSISTENT_RTOL = 1e-8  # |G y − r| allowed, relative to |G| |y| + |r|, of a least-norm split
 
 
@@ -62,12 +65,15 @@ CONSISTENT_RTOL = 1e-8  # |G y − r| allowed, relative to |G| |y| + |r|, of a l
 def workspace(n, ni):
     """Work arrays of :func:`evaluate` (made once per run): u, v, c, f0 (2ni); a0 (n);
     ground (3); G, G copy (3ni, 3ni); r, r copy (3ni); pivots (3ni); row map (ni); LU flag;
-    pressure factors (ni)."""
+    pressure factors (ni); the stick basis: its modes (ni), Q_s (2ni, 2ni), rank; G3 (3ni,
+    3ni), a vector (3ni)."""
     mm = 3 * ni
     return (np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(n),
             np.zeros(3), np.zeros((mm, mm)), np.zeros((mm, mm)), np.zeros(mm), np.zeros(mm),
             np.zeros(mm, dtype=np.int64), np.zeros(ni, dtype=np.int64),
-            np.zeros(1, dtype=np.int64), np.ones(ni))  # fmt: skip
+            np.zeros(1, dtype=np.int64), np.ones(ni), np.full(ni, -1, dtype=np.int64),
+            np.zeros((2 * ni, 2 * ni)), np.zeros(1, dtype=np.int64), np.zeros((mm, mm)),
+            np.zeros(mm))  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
@@ -138,7 +144,7 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
 
     The contacts enter through their independent rows R̃ = Qᵀ R (r of them, op[O_R]) with
     multipliers ξ and normal forces λ = Q ξ (op[O_Q], ni × r; Q = I without redundancy)."""
-    u, v, cf, f0, a0, ag, G, G2, r, r2, piv, row, luok, pf = ws
+    u, v, cf, f0, a0, ag, G, G2, r, r2, piv, row, luok, pf = ws[:14]
     MiK, MiC, Gam, D2, R, Q = op[O_MIK], op[O_MIC], op[O_GAM], op[O_D2], op[O_R], op[O_Q]
     MiRt, MiDt, RMiRt, RMiDt, DMiRt, DMiDt = (op[O_MIRT], op[O_MIDT], op[O_RMIRT],
                                               op[O_RMIDT], op[O_DMIRT], op[O_DMIDT])  # fmt: skip
@@ -213,11 +219,16 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
         for b in range(m):
             G2[a, b] = G[a, b]
     Gm = G[:m, :m]
-    luok[0] = 1 if lu_factor(Gm, piv[:m], PIVOT_RTOL) else 0
-    if luok[0] == 1:
-        lu_solve(Gm, piv[:m], r[:m])
-    elif not least_norm(G2[:m, :m], r2[:m], r[:m]):
-        return ST_SINGULAR
+    if m > nr and stick_basis(modes, row, D2, nr, m, ws) < m - nr:
+        luok[0] = 0  # redundant stick rows: their forces in proportion to λ
+        if not proportional_split(Q, nr, m, ws):
+            return ST_SINGULAR
+    else:
+        luok[0] = 1 if lu_factor(Gm, piv[:m], PIVOT_RTOL) else 0
+        if luok[0] == 1:
+            lu_solve(Gm, piv[:m], r[:m])
+        elif not least_norm(G2[:m, :m], r2[:m], r[:m]):
+            return ST_SINGULAR
     for i in range(ni):  # λ = Q ξ and the bearings' multiplier forces λ_i c_i (+ τ_i) in f0
         li = 0.0
         for j in range(nr):
@@ -245,6 +256,104 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
             Ff[i, 0] *= li
             Ff[i, 1] *= li
     return ST_OK
+
+
+@njit(cache=True, error_model="numpy")
+def stick_basis(modes, row, D2, nr, m, ws):
+    """Rank ρ of the stuck isolators' slip rows D_s (2n_s × n) and an orthonormal basis Q_s
+    of their range (ws[15][:2n_s, :ρ]), computed when the modes change (cached in ws)."""
+    msig, Qs, rho = ws[14], ws[15], ws[16]
+    same = True
+    for i in range(modes.shape[0]):
+        same = same and msig[i] == modes[i]
+    if same:
+        return rho[0]
+    ns2 = m - nr
+    Ds = np.zeros((ns2, D2.shape[1]))
+    for j in range(modes.shape[0]):
+        if row[j] >= 0:
+            for c in range(2):
+                for b in range(D2.shape[1]):
+                    Ds[row[j] - nr + c, b] = D2[2 * j + c, b]
+    U, sv, _ = np.linalg.svd(Ds)
+    k = 0
+    for a in range(sv.shape[0]):
+        if sv[a] > REDUNDANT_RTOL * sv[0]:
+            k += 1
+    for a in range(ns2):
+        for b in range(ns2):
+            Qs[a, b] = U[a, b]
+    for i in range(modes.shape[0]):
+        msig[i] = modes[i]
+    rho[0] = k
+    return k
+
+
+@njit(cache=True, error_model="numpy")
+def proportional_split(Q, nr, m, ws):
+    """Solve the constraints with redundant stick rows (G2, r2 of :func:`evaluate_at`): rows
+    and stick forces in the range of the stuck slip rows, τ = Λ Q_s ζ with Λ the stuck
+    isolators' normal forces (so a rigid slab's stick force is split in proportion to
+    them, as the deck's kernels split it): the nonsingular (r + ρ) system
+    Tᵀ G Λ T [ξ, ζ] = Tᵀ r, T = blockdiag(I, Q_s), solved twice (Λ = I, then the first
+    solution's λ). The full [ξ, τ] lands in ws[8] (r); False when singular."""
+    G, G2, r, r2, piv, row, Qs, rho, G3, tv = (ws[6], ws[7], ws[8], ws[9], ws[10], ws[11],
+                                               ws[15], ws[16][0], ws[17], ws[18])  # fmt: skip
+    ni = Q.shape[0]
+    mr = nr + rho
+    for p in range(2):
+        for b in range(m - nr):  # weights of the stuck rows: 1, then their λ
+            j = -1
+            for i in range(ni):
+                if row[i] >= 0 and row[i] <= nr + b < row[i] + 2:
+                    j = i
+            w = 1.0
+            if p == 1:
+                w = 0.0
+                for k in range(nr):
+                    w += Q[j, k] * r[k]
+            tv[b] = w
+        wmax = 0.0
+        for b in range(m - nr):
+            wmax = max(wmax, tv[b])
+        for b in range(m - nr):  # (an unloaded isolator keeps a weight: uplift is located later)
+            tv[b] = max(tv[b], 1e-9 * wmax)
+        for a in range(m):  # G3 = G Λ T (columns)
+            for c in range(mr):
+                if c < nr:
+                    G3[a, c] = G2[a, c]
+                else:
+                    g = 0.0
+                    for b in range(m - nr):
+                        g += G2[a, nr + b] * tv[b] * Qs[b, c - nr]
+                    G3[a, c] = g
+        for a in range(mr):  # G = Tᵀ G3 (rows), r = Tᵀ r2
+            for c in range(mr):
+                if a < nr:
+                    G[a, c] = G3[a, c]
+                else:
+                    g = 0.0
+                    for b in range(m - nr):
+                        g += Qs[b, a - nr] * G3[nr + b, c]
+                    G[a, c] = g
+            if a < nr:
+                r[a] = r2[a]
+            else:
+                g = 0.0
+                for b in range(m - nr):
+                    g += Qs[b, a - nr] * r2[nr + b]
+                r[a] = g
+        if not lu_factor(G[:mr, :mr], piv[:mr], PIVOT_RTOL):
+            return False
+        lu_solve(G[:mr, :mr], piv[:mr], r[:mr])
+        for b in range(rho):  # ζ aside, then τ = Λ Q_s ζ
+            G3[0, b] = r[nr + b]
+        for b in range(m - nr):
+            g = 0.0
+            for c in range(rho):
+                g += Qs[b, c] * G3[0, c]
+            r[nr + b] = tv[b] * g
+    return True
 
 
 @njit(cache=True, error_model="numpy")

@@ -283,8 +283,8 @@ def from_deck(deck) -> PairSystem:
     isolator, whose bearing takes the moments); the centre of mass at (e_x, e_y, h) moves by
     A q = (x − e_y θ + h r_y, y + e_x θ − h r_x, z + e_y r_x − e_x r_y), so M = m AᵀA plus the
     polar inertia J on θ and J on r_x, r_y (held by the contacts); gaps z + Y_i r_x − X_i r_y.
-    Its contacts' normal forces are the deck's rigid-plate ones (the least-norm multipliers
-    of redundant contacts lie in the range of R: affine in the plan positions)."""
+    Its contacts' normal forces are the deck's rigid-plate ones (redundant contacts keep
+    normal forces in the range of R: affine in the plan positions)."""
     m, (ex, ey), h = float(deck.m), (float(e) for e in deck.ecc), float(deck.h)
     ni = deck.n_isolators
     nv = 1 if ni == 1 else 3
