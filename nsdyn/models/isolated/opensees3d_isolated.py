@@ -9,6 +9,11 @@ rigid diaphragms) on one bearing under every base node, relative to the ground,
 written in OpenSees elements (:mod:`nsdyn.models.isolated.opensees3d_script` holds the code)::
 
     ground node i     fixed, at base node i (tag GROUND_TAG + i)
+    base              "grid" (default, as nsdyn's cb rung): massless elasticBeamColumn
+                      between neighbouring feet on each grid line, vertical bending and torsion
+                      EI = GJ = GRID_EI (the plane ladder's base diaphragm), the columns clamped
+                      into them, and rigidDiaphragm 3 through the feet (master at the
+                      isolators' plan centroid); "pinned": each foot on its own bearing
     flat slider       flatSliderBearing(frictionModel, k_init, -P Elastic(k_v), -T/-My/-Mz
                       Elastic(K_ROTATION)), -orient 0 0 1 1 0 0 (local x up, shear y = X,
                       z = Y), in parallel with zeroLength Elastic(K_lam, eta = c) in X and Y
@@ -76,6 +81,8 @@ __all__ = [
 ]
 
 DEFAULT_DT = 0.005  # s, Newmark's fixed step (the planar export's)
+BASES = ("grid", "pinned")  # nsdyn's cb rung bases
+GRID_EI = 1e11  # N m², the grid beams' EI and GJ (the plane ladder's base diaphragm EI)
 
 
 def rayleigh_beta(frame) -> tuple[float, float]:
@@ -135,6 +142,21 @@ def _bearing_rows(frame, bearings, source: str):
     return rows, deck
 
 
+def _grid_beams(frame) -> list:
+    """[i, j] pairs of neighbouring base nodes on each grid line (equal x, then equal y)."""
+    xy = frame.nodes[frame.base_nodes, :2]
+    tol = 1e-6 * max(float(np.ptp(xy)), 1.0)
+    out = []
+    for along, across in ((1, 0), (0, 1)):
+        keys = np.round(xy[:, across] / tol).astype(np.int64)
+        for k in np.unique(keys):
+            idx = np.flatnonzero(keys == k)
+            idx = idx[np.argsort(xy[idx, along])]
+            out += [[int(frame.base_nodes[a]), int(frame.base_nodes[b])]
+                    for a, b in zip(idx[:-1], idx[1:], strict=True)]  # fmt: skip
+    return out
+
+
 def _levels(frame) -> list:
     """Per level (base first): its elevation, reference point and master index or fit nodes."""
     from nsdyn.structure import floor_motions
@@ -166,6 +188,7 @@ def building_data(
     dt: float = DEFAULT_DT,
     *,
     fixed_base: bool = False,
+    base: str = "grid",
     g: float | None = None,
     source: str = "<model>",
 ) -> dict:
@@ -174,7 +197,7 @@ def building_data(
     ``frame``: a :class:`~nsdyn.structure.Frame3D`; ``bearings``: one
     :class:`~nsdyn.models.isolated.Bearing` for all base nodes or one each (ignored with
     ``fixed_base``); ``motion``: a three-component record (``t0, dt, ax, ay, az``);
-    ``dt``: Newmark's step [s].
+    ``dt``: Newmark's step [s]; ``base``: "grid" or "pinned" (module docstring).
     """
     from nsdyn.ground.excitation import G_EARTH
 
@@ -185,6 +208,8 @@ def building_data(
         raise SceneError(f"{source}: motion: OpenSees export needs a three-component record "
                          "(kind = 'record3'), not an orbit")  # fmt: skip
     data = frame_data_3d(frame, "consistent")
+    if base not in BASES:
+        raise SceneError(f"{source}: structure.base: expected one of {list(BASES)}, got {base!r}")
     rows, deck = ([], None) if fixed_base else _bearing_rows(frame, bearings, source)
     ax = np.asarray(motion.ax, float)
     comp = [ax, motion.ay, getattr(motion, "az", None)]
@@ -204,7 +229,10 @@ def building_data(
         "gravity": _gravity(frame, g) if not fixed_base else None,
         "g": g,
         "bearings": rows,
-        "k_vertical": K_VERTICAL, "k_rotation": K_ROTATION,
+        "k_vertical": K_VERTICAL, "k_rotation": K_ROTATION, "base": base,
+        "grid_EI": GRID_EI, "grid_beams": _grid_beams(frame) if base == "grid" else [],
+        "base_origin": [*frame.nodes[frame.base_nodes, :2].mean(axis=0).tolist(),
+                        float(frame.nodes[frame.base_nodes, 2].min())],
         "beta_k": beta, "f_1": f1, "zeta_1": float(frame.zeta[0]),
         "levels": _levels(frame),
         "corners": [[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]],
@@ -284,7 +312,8 @@ def _from_scene(scene, source: str):
         except BearingError as e:
             raise SceneError(f"{source}: {e}") from None
     dt = cfg.get("solver", {}).get("dt", DEFAULT_DT)
-    return frame, bearing, motion, dt, fixed
+    base = cfg.get("structure", {}).get("base", "grid")
+    return frame, bearing, motion, dt, fixed, base
 
 
 def export_building_opensees(
@@ -296,13 +325,15 @@ def export_building_opensees(
     dt: float | None = None,
     t_end: float | None = None,
     fixed_base: bool | None = None,
+    base: str | None = None,
 ) -> str:
     """Write (if ``path``) and return the standalone script of a 3D building.
 
     ``scene``: a building3d scene file (fidelity "fixed" exports the fixed base, any other
     rung the building on its bearings) or a :class:`~nsdyn.structure.Frame3D` (then
     ``motion`` and, unless ``fixed_base``, ``bearings`` are required). ``dt`` overrides the
-    step (default :data:`DEFAULT_DT`); ``t_end`` cuts the record [s].
+    step (default :data:`DEFAULT_DT`); ``t_end`` cuts the record [s]; ``base`` overrides the
+    scene's ``structure.base`` ("grid" by default).
     """
     from nsdyn.atomic import atomic_open
     from nsdyn.structure import Frame3D
@@ -312,10 +343,12 @@ def export_building_opensees(
         if motion is None:
             raise SceneError(f"{source}: motion: a frame needs a three-component record")
         frame, step, fixed = scene, DEFAULT_DT, bool(fixed_base)
+        base = base or "grid"
     else:
         if isinstance(scene, str | Path) and not Path(scene).is_file():
             raise SceneError(f"{source}: no such scene file")
-        frame, bearing, rec, step, fixed = _from_scene(scene, source)
+        frame, bearing, rec, step, fixed, scene_base = _from_scene(scene, source)
+        base = base or scene_base
         bearings = bearing if bearings is None else bearings
         motion = rec if motion is None else motion
         fixed = fixed if fixed_base is None else bool(fixed_base)
@@ -326,7 +359,7 @@ def export_building_opensees(
             raise SceneError(f"{source}: t_end: expected a positive end time [s], got {t_end!r}")
         motion = motion.window(motion.t0, motion.t0 + float(t_end))
     data = building_data(frame, bearings, motion, step if dt is None else dt, fixed_base=fixed,
-                         source=source)  # fmt: skip
+                         base=base, source=source)  # fmt: skip
     text = script_text_building(data, Path(path).name if path is not None else "model.py")
     if path is not None:
         with atomic_open(path, "w") as fh:

@@ -52,6 +52,7 @@ SCRIPT = (
 GROUND_TAG = 1000000  # node tags of the ground under base node i: GROUND_TAG + i
 BEARING_TAG = 2000000  # element tags of bearing i and of its rubber/damper
 SPRING_TAG = 3000000
+GRID_TAG = 4000000  # element tags of the grid base's beams
 
 
 """
@@ -71,6 +72,11 @@ def master_tag(k):
     return len(DATA["nodes"]) + 1 + k
 
 
+def base_master_tag():
+    """Node tag of the grid base's master (after the diaphragms' masters)."""
+    return len(DATA["nodes"]) + len(DATA["diaphragms"]) + 1
+
+
 def build(ops):
     """The model in OpenSees' domain: frame, beta K damping on its members, base."""
     d = DATA
@@ -84,6 +90,20 @@ def build(ops):
         return
     ops.uniaxialMaterial("Elastic", 1, d["k_vertical"])
     ops.uniaxialMaterial("Elastic", 2, d["k_rotation"])
+    if d["base"] == "grid":
+        # the grid base: massless beams between neighbouring feet on each grid line (vertical
+        # bending and torsion EI = GJ = grid_EI, the columns clamped into them) and a rigid
+        # diaphragm through the feet (master at the isolators' plan centroid)
+        t = len(d["transforms"]) + 1
+        ops.geomTransf("Linear", t, 0.0, 0.0, 1.0)
+        ei = d["grid_EI"]
+        for k, (i, j) in enumerate(d["grid_beams"]):
+            ops.element("elasticBeamColumn", GRID_TAG + k, i + 1, j + 1, 1.0, 1.0, 1.0, ei, ei,
+                        ei, t)
+        m = base_master_tag()
+        ops.node(m, *d["base_origin"])
+        ops.fix(m, 0, 0, 1, 1, 1, 0)
+        ops.rigidDiaphragm(3, m, *base)
     # the element's own return mapping: 100 iterations (its default 20 failed on a stiff
     # portal under a circular orbit, "domain failed in update")
     mats = ["-P", 1, "-T", 2, "-My", 2, "-Mz", 2, "-orient", 0.0, 0.0, 1.0, 1.0, 0.0, 0.0,
