@@ -20,15 +20,16 @@ Statics first: under gravity alone (friction carries no force at rest) the saddl
     [K + Σ K_lam,i D_iᵀD_i + Σ λ_i/R_i D_iᵀD_i   −Rᵀ] [q₀]   [−M Γ [0, 0, g]]
     [R                                           0 ] [λ₀] = [0            ]
 
-gives q₀ and the normal forces λ₀ (iterated on λ in the pendulum terms; a singular K part with
-a consistent load takes the least-squares solution). The run starts from (q₀, 0) unless y0 is
-given.
+gives q₀ and the normal forces λ₀ (iterated on λ in the pendulum terms), solved on the free
+coordinates q = Z z (R Z = 0; Z drops the gap coordinates when each contact row picks one):
+Cholesky of Zᵀ K* Z (least squares where K* is singular there, e.g. flat sliders without
+rubber, with a consistent load), then Rᵀ λ = K* q₀ + M Γ_z g. The run starts from (q₀, 0)
+unless y0 is given.
 """
 
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -198,34 +199,36 @@ class PairSystem:
         rinv = np.repeat([0.0 if math.isinf(b.radius) else 1.0 / b.radius
                           for b in self.bearings], 2)  # fmt: skip
         Q, Rr = self.contact_basis()
-        nr = Rr.shape[0]
-        f = np.concatenate([-self.M @ self.Gamma[:, 2] * self.g, np.zeros(nr)])
+        f = -self.M @ self.Gamma[:, 2] * self.g
+        picks = [np.flatnonzero(row) for row in Rr]
+        if all(p.size == 1 for p in picks):  # gaps of single coordinates: drop them exactly
+            Z = np.eye(n)[:, np.setdiff1d(np.arange(n), [p[0] for p in picks])]
+        else:
+            Z = sla.null_space(Rr)
         lam = np.zeros(ni)
-        sol = None
+        q0 = np.zeros(n)
         for _ in range(STATIC_ITER):
             Ks = self.K + D2.T @ ((klam + rinv * np.repeat(lam, 2))[:, None] * D2)
-            A = np.block([[Ks, -Rr.T], [Rr, np.zeros((nr, nr))]])
-            try:  # (LU keeps decoupled coordinates exactly at rest; least squares mixes)
-                with warnings.catch_warnings():
-                    warnings.simplefilter("error", sla.LinAlgWarning)
-                    sol = sla.solve(A, f)
-            except (sla.LinAlgError, sla.LinAlgWarning, ValueError):
-                sol = np.linalg.lstsq(A, f, rcond=None)[0]
-            if not np.all(np.isfinite(sol)):
-                sol = np.linalg.lstsq(A, f, rcond=None)[0]
-            res = np.abs(A @ sol - f).max()
-            scale = np.abs(A).max() * np.abs(sol).max() + np.abs(f).max()
-            if not res <= 1e3 * STATIC_RTOL * scale:
+            Kz = Z.T @ Ks @ Z
+            try:  # (Cholesky on the free coordinates: exact where K is definite there)
+                z = sla.cho_solve(sla.cho_factor(0.5 * (Kz + Kz.T)), Z.T @ f)
+            except (sla.LinAlgError, ValueError):
+                z = np.linalg.lstsq(Kz, Z.T @ f, rcond=None)[0]
+            q0 = Z @ z
+            rhs = Ks @ q0 - f  # = R̃ᵀ ξ
+            xi = np.linalg.lstsq(Rr.T, rhs, rcond=None)[0]
+            res = max(np.abs(Rr.T @ xi - rhs).max(), np.abs(Kz @ z - Z.T @ f).max())
+            scale = np.abs(Ks).max() * np.abs(q0).max() + np.abs(f).max()
+            if not (np.all(np.isfinite(q0)) and res <= 1e3 * STATIC_RTOL * scale):
                 raise PairSystemError(
                     f"{self.name}: the static equilibrium under gravity has no solution "
-                    f"(saddle residual {res:.3g}); check K, R and Gamma's z column"
+                    f"(residual {res:.3g} N); check K, R and Gamma's z column"
                 )
-            new = Q @ sol[n:]
+            new = Q @ xi
             done = np.abs(new - lam).max() <= STATIC_RTOL * max(np.abs(new).max(), 1e-300)
             lam = new
             if done or not np.any(rinv):
                 break
-        q0 = sol[:n]
         if np.any(lam <= 0):
             i = int(np.argmin(lam))
             raise PairSystemError(
