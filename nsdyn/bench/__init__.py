@@ -16,6 +16,7 @@ cylinder       the cylinder (loaded on use)
 opensees       the full frame in OpenSees (exported script) against nsdyn full and CB-5
 opensees3d     the 3D office building on its bearings in OpenSees against nsdyn's rung
 scale          cost against model size (435 to 20 520 dofs): nsdyn full, CB-5 and OpenSees
+scale3d        the full 3D rung on sparse operators against building size, with OpenSees
 isolators      bidirectional isolators: switch vs regularised law, cost per isolator
 =============  ==================================================================
 
@@ -135,6 +136,7 @@ BENCHMARKS: dict[str, str] = {
     "opensees": "nsdyn.bench.opensees",
     "opensees3d": "nsdyn.bench.opensees3d",
     "scale": "nsdyn.bench.scale",
+    "scale3d": "nsdyn.bench.scale3d",
     "isolators": "nsdyn.bench.isolators",
 }
 

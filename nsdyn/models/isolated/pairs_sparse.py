@@ -25,8 +25,9 @@ damped with 2ζ_jω_j; their coordinates are η = Φᵀ M_ii (q_i − Ψ q_b), �
 the Craig–Bampton rung's damping diag(0, 2ζω) exactly (UᵀT_cb = [0, I]); every mode while the
 interior has at most ``MODAL_ALL_MAX_DOF`` dofs, above only those up to ``f_damp``
 (default ``MODAL_F_MAX`` Hz; the higher ones are left to the integrator's dissipation).
-``"stiffness"``: C = β K, β = 2ζ_1/ω_1 on the first fixed-interface mode (Rayleigh's stiffness
-term, fully sparse).
+``"stiffness"``: C = β K_members, β = 2ζ_1/ω_1 on the first fixed-base mode (Rayleigh's
+stiffness term on the frame's own members, not on the base grid: fully sparse, and the damping
+of the OpenSees export of the building on its bearings).
 
 Statics: K* q = −M Γ_z g + Rᵀ λ, R q = 0 with K* = K + D2ᵀ diag(K_lam + λ/R) D2 (iterated on
 λ in the pendulum terms), each contact row picking one coordinate: one sparse LU on the free
@@ -367,13 +368,15 @@ def building_pairs_sparse(
     if damping == "modal":
         U, c, mi = _modal(K, M, b, model.zeta, f_damp)
         info.update(mi)
-    else:
-        from nsdyn.structure import fixed_base_modes
+    else:  # β K on the members (not the base grid), β from the first fixed-base mode
+        from nsdyn.structure import fixed_base_modes_3d
 
-        f1, _ = fixed_base_modes(K, M, b, n_modes=1)
-        beta = 2.0 * float(np.atleast_1d(model.zeta)[0]) / (2.0 * np.pi * float(f1[0]))
-        C = (beta * K).tocsr()
-        info.update(beta_k=beta, n_damped=0)
+        f1 = float(fixed_base_modes_3d(frame, n_modes=1).f_hz[0])
+        beta = 2.0 * float(np.atleast_1d(frame.zeta)[0]) / (2.0 * np.pi * f1)
+        Km = frame.assemble(lumped=lumped)[0]  # base_grid adds members, never nodes
+        C = (beta * (model.T.T @ Km @ model.T)).tocsr()
+        C = ((C + C.T) * 0.5).tocsr()
+        info.update(beta_k=beta, f_1=f1, n_damped=0)
     xy = frame.nodes[frame.base_nodes, :2]
     origin = xy.mean(axis=0)
     maps = output_maps_sparse(model)
