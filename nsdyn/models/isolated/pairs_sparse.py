@@ -150,6 +150,9 @@ class SparsePairSystem:
             if b.row(1.0, G_EARTH)[B_KIND] == KIND_TFP:
                 raise PairSystemError(f"{w}.bearings[{i}]: a triple friction pendulum is not "
                                       "on the sparse path; expected 'fps' or 'flat'")  # fmt: skip
+            if getattr(b, "area", None) is not None:
+                raise PairSystemError(f"{w}.bearings[{i}]: pressure-dependent friction (area) "
+                                      "is not on the sparse path; expected no area")  # fmt: skip
         U = np.zeros((n, 0)) if self.U is None else np.asarray(self.U, dtype=float)
         c = np.zeros(0) if self.c is None else np.asarray(self.c, dtype=float).ravel()
         if U.ndim != 2 or U.shape[0] != n or c.shape != (U.shape[1],):
