@@ -122,7 +122,7 @@ def prepare_kernels(friction: str) -> float:
             file=sys.stderr,
             flush=True,
         )
-    spent = warmup() + warmup_kernel("radau")
+    spent = warmup() + (warmup_kernel("radau") if cold else 0.0)  # cached: the workers load it
     if cold:
         print(f"  compiled in {spent:.1f} s", file=sys.stderr, flush=True)
     return spent

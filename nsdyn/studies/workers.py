@@ -82,19 +82,19 @@ def warm_isolated(method: str, law: str) -> bool:
     with one core per worker costs as long as compiling them once per worker, one after the
     other; here the first compilation shares the cores with its helper process
     (:func:`nsdyn.solve.methods.warmup_kernel`). Says so on stderr, before it starts and
-    with the time it took, when they compile. True when they compiled."""
+    with the time it took. Nothing when numba's cache holds them already. True when they
+    compiled."""
     from nsdyn.solve.methods import FLAT_LAWS, METHODS, is_cached, kernel_for, warmup_kernel
 
     method = method if method in METHODS else "radau"
     flat = law in FLAT_LAWS
     kernel = kernel_for(method, flat=flat)
     metrics = "metrics" if flat else "metrics-general"
-    cold = not (is_cached(kernel) and is_cached(metrics))
-    if cold:
-        print(f"compiling the isolated-frame kernels ({method}) once, before the workers start "
-              "(first run only, cached afterwards)…", file=sys.stderr, flush=True)  # fmt: skip
+    if is_cached(kernel) and is_cached(metrics):
+        return False  # nothing to compile: the workers load them (loading here too costs time)
+    print(f"compiling the isolated-frame kernels ({method}) once, before the workers start "
+          "(first run only, cached afterwards)…", file=sys.stderr, flush=True)  # fmt: skip
     t0 = time.perf_counter()
     warmup_kernel(kernel, metrics=metrics)
-    if cold:
-        print(f"  compiled in {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
-    return cold
+    print(f"  compiled in {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
+    return True
