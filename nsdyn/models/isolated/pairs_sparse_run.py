@@ -71,7 +71,8 @@ def genalpha_coefficients(rho_inf: float) -> tuple:
 
 class SparsePairResult(PairResult):
     """A :class:`PairResult` of the sparse path: the slips and outputs are recorded during the
-    run; ``q``, ``qd`` are the full histories when kept (``keep_q``), else (nt, 0)."""
+    run; ``q``, ``qd`` are the full histories when kept (``keep_q``), else (nt, 0);
+    ``accelerations`` = T q̈ (relative to the ground) beside ``outputs`` = T q."""
 
     def _slip(self, X) -> np.ndarray:
         if X is self.qd:
@@ -212,6 +213,7 @@ def simulate_pairs_sparse(
     FF, FR, FO, UU, VV = (np.full((nt, ni, 2), np.nan) for _ in range(5))
     Tm = system.T
     OUT = np.zeros((nt, Tm.shape[0])) if Tm is not None else None
+    ACC = np.zeros((nt, Tm.shape[0])) if Tm is not None else None
     mu_max = max(max(b.friction.mu_slow, b.friction.mu_fast or 0.0) for b in system.bearings)
     fscale = float(mu_max * lam_s.max() + 1e-12 * lam_s.max())
     wk = kz.workspace(ni)
@@ -222,7 +224,7 @@ def simulate_pairs_sparse(
     info[kr.I_TFAIL], info[kr.I_IFAIL] = np.nan, -1
     status = kr.ST_OK
 
-    def record(k, t, q, v, lam_o, parts_o):
+    def record(k, t, q, v, a, lam_o, parts_o):
         if keep_q:
             X[k, :n], X[k, n:] = q, v
         uu, vv = D @ q, D @ v
@@ -230,7 +232,7 @@ def simulate_pairs_sparse(
         NO[k] = lam_o
         FF[k], FR[k], FO[k] = parts_o[:, 0:2], parts_o[:, 2:4], parts_o[:, 4:6]
         if OUT is not None:
-            OUT[k] = Tm @ q
+            OUT[k], ACC[k] = Tm @ q, Tm @ a
         for i in range(ni):
             r = math.hypot(uu[2 * i], uu[2 * i + 1])
             over = r - bp[i, B_DCAP]
@@ -268,7 +270,7 @@ def simulate_pairs_sparse(
         raise PlaneIntegrationError(f"{METHOD}: no consistent start at t = {t0:.6g} s (Newton "
                                     "on the isolator forces failed)")  # fmt: skip
     _, _, a, F, lam, pr = res
-    record(0, t0, q, v, lam, pr)
+    record(0, t0, q, v, a, lam, pr)
     lam_prev, parts_prev = lam, pr
     t = t0
     nit = 0
@@ -284,6 +286,7 @@ def simulate_pairs_sparse(
                 f"{METHOD}: {why} at t = {ta:.6g} s (step {h:g} s; lower dt or eps, or raise "
                 "newton_maxiter)"
             )
+        a_old = a
         q, v, a, F, lam_a, pa = res
         if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
             raise PlaneIntegrationError(f"{METHOD}: NaN or inf in the state at t = {t + h:.6g} s")
@@ -299,7 +302,8 @@ def simulate_pairs_sparse(
         if k % every == 0:  # λ, F from the α points carried to t (linear, second order)
             lam_o = lam_a + af * (lam_a - lam_prev)
             parts_o = pa + af * (pa - parts_prev)
-            record(k // every, t, q, v, lam_o, parts_o)
+            a_o = a + (af - am) * (a - a_old)  # a_(n+1) is q̈ at t + (a_m − a_f) h
+            record(k // every, t, q, v, a_o, lam_o, parts_o)
             info[kr.I_NOUT] = k // every + 1
         lam_prev, parts_prev = lam_a, pa
     info[kr.I_NOUT] = max(info[kr.I_NOUT], 1)
@@ -313,6 +317,7 @@ def simulate_pairs_sparse(
     res.q, res.qd = X[:m, :n], X[:m, n:]
     res._u, res._v = UU[:m], VV[:m]
     res._out = None if OUT is None else OUT[:m]
+    res.accelerations = None if ACC is None else ACC[:m]
     res.stats.update(
         method=METHOD,
         dt_s=float(dt),
