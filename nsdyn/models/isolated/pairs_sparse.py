@@ -386,6 +386,10 @@ def building_pairs_sparse(
     nl = maps["floor_map"].shape[0]
     cm, m, J = mass_centre(frame)
     info.update(origin=origin, centre=cm, m=m, J=J, base_nodes=frame.base_nodes.copy(), **maps)
+    # the keys the cb rung's summaries read: every mode kept, the damped ones named
+    f_hz = info.get("damped_f_hz", np.zeros(0))
+    info.update(f_max=float("inf"), f_hz=f_hz, n_modes=int(f_hz.size),
+                n_modes_below_f_max=int(f_hz.size), dropped_mass=[0.0] * 4)  # fmt: skip
     sys_ = SparsePairSystem(M=M, K=K, C=C, Gamma=Gam, D=D, R=R, bearings=bearings,
                             positions=xy - origin, U=U, c=c,
                             T=maps["floor_map"].reshape(3 * nl, n), g=g,
