@@ -188,6 +188,32 @@ def newton(F, lam0, Lam, w0, W, uq, vq, c1, c2, bp, eps, fscale, rtol, maxit, la
     return NEWTON_FAIL, maxit
 
 
+@njit(cache=True, error_model="numpy")
+def lu_solve_csc(Lp, Li, Lx, Up, Ui, Ux, Ud, pr, pc, b, w, x):
+    """x = S⁻¹ b from SuperLU's factors Pr S Pc = L U (L unit lower, U upper, both CSC with
+    sorted indices; ``Ud`` U's diagonal, ``pr``/``pc`` the permutations); ``w`` work (n)."""
+    n = b.shape[0]
+    for i in range(n):
+        w[pr[i]] = b[i]
+    for j in range(n):
+        wj = w[j]
+        if wj != 0.0:
+            for k in range(Lp[j], Lp[j + 1]):
+                r = Li[k]
+                if r > j:
+                    w[r] -= Lx[k] * wj
+    for j in range(n - 1, -1, -1):
+        wj = w[j] / Ud[j]
+        w[j] = wj
+        if wj != 0.0:
+            for k in range(Up[j], Up[j + 1]):
+                r = Ui[k]
+                if r < j:
+                    w[r] -= Ux[k] * wj
+    for i in range(n):
+        x[i] = w[pc[i]]
+
+
 def workspace(ni: int) -> tuple:
     """Work arrays of :func:`newton` (made once per run)."""
     m = 2 * ni

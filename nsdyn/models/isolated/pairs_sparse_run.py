@@ -111,6 +111,14 @@ class _Stepper:
         self.kR = (1 - am) + 2 * alpha * beta * self.c2 + alpha**2 * self.c1
         S = sp.csc_array((1 - am) * s.M + self.c1 * s.K + self.c2 * s.C)
         self.lu = _splu(S)
+        L, Uf = self.lu.L.tocsc(), self.lu.U.tocsc()
+        L.sort_indices()
+        Uf.sort_indices()
+        i8 = np.int64
+        self.fac = (L.indptr.astype(i8), L.indices.astype(i8), L.data, Uf.indptr.astype(i8),
+                    Uf.indices.astype(i8), Uf.data, np.ascontiguousarray(Uf.diagonal()),
+                    self.lu.perm_r.astype(i8), self.lu.perm_c.astype(i8))  # fmt: skip
+        self.w = np.zeros(s.n)
         self.U, self.c = s.U, s.c
         self.low = s.c.size > 0
         if self.low:
@@ -134,7 +142,11 @@ class _Stepper:
         self.nnz_lu = int(self.lu.L.nnz + self.lu.U.nnz)
 
     def solve(self, b):
-        y = self.lu.solve(b)
+        if b.ndim == 1:  # a step's right-hand side: the compiled triangular solves
+            y = np.empty(b.size)
+            kz.lu_solve_csc(*self.fac, np.ascontiguousarray(b, dtype=float), self.w, y)
+        else:
+            y = self.lu.solve(b)
         if self.low:
             y = y - self.Z @ (self.cap @ (self.U.T @ y))
         return y
