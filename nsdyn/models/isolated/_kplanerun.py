@@ -13,17 +13,22 @@ between events; the switching functions, each crossing from > 0 to <= 0, are
                                                  |v| = η after a failed stick test leaves it
                                                  only once its own direction dominates)
                 g = v·d                        → stick test (the start reverses)
-    stick       g = μ_s N − |τ|                → slip-start, d = τ/|τ|
+    stick       g = μ_s N (1 + STICK_RTOL) − |τ| → slip-start, d = τ/|τ|
 
-The stick test sticks the isolator if its stick force, computed with it stuck, lies in the disc
-|τ| <= μ_s k_p N (1 + STICK_RTOL) (k_p the pressure factor, 1 without pressure dependence),
-else it starts slipping in the direction of that force. After
-each event the stuck isolators are settled: while one violates its disc (the one with the
-largest |τ|/μ_s N first) it starts to slip. Events are located by sampling g on the dense
-output and bisecting the earliest sample interval with a crossing to EVENT_TTOL; the step is
-cut there and the integration restarts (no first-same-as-last stage). A normal force reaching
-zero (uplift) is located the same way and ends the run (ST_UPLIFT). The regularised law runs
-the same loop without switching functions.
+The stick test sticks the isolator if its stick force, computed with it stuck, lies strictly
+inside the disc |τ| < μ_s k_p N (1 + STICK_RTOL) (k_p the pressure factor, 1 without pressure
+dependence), else it starts slipping in the direction of that force. After each event the stuck
+isolators are settled: while one violates its disc (the one with the largest |τ|/μ_s N first)
+it starts to slip. The stick switching function carries the same bound, so every isolator
+settle leaves stuck starts its switching function strictly above zero and its next break-away
+is seen (a bound of μ_s N alone would leave one re-stuck just past the rim at g <= 0, held
+outside its disc without an event). Slip-start directions come from
+:func:`nsdyn.models.isolated._kplane.start_direction`, exact for one released isolator; several
+released together are aligned with their accelerations by :func:`align_starts`. Events are
+located by sampling g on the dense output and bisecting the earliest sample interval with a
+crossing to EVENT_TTOL; the step is cut there and the integration restarts (no first-same-as-last
+stage). A normal force reaching zero (uplift) is located the same way and ends the run
+(ST_UPLIFT). The regularised law runs the same loop without switching functions.
 """
 
 import math
@@ -44,7 +49,7 @@ START_EXIT = 2.0  # a slip-start becomes a slip at |v| = this x eta (entered at 
 RESTICK_MARGIN = 1e-6  # a slip-start held by a stuck deck sticks below (1 - this) mu_d(0) N
 SETTLE_PASSES = 64
 ALIGN_PASSES = 100  # fixed-point passes aligning slip-start directions with their accelerations
-ALIGN_TOL = 1e-12  # stuck isolators released one by one after an event, at most
+ALIGN_TOL = 1e-12  # largest change of a slip-start direction accepted as converged
 BURST_DT = 1e-8  # s, events closer than this count as one burst
 MAX_BURST = 200  # events in one burst before reporting chattering
 H_MIN = 1e-14  # relative step floor
@@ -81,7 +86,8 @@ def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
             if nst < 2:  # (two stuck isolators hold the deck: v = 0, no reversal to see)
                 g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
         else:
-            g[i, 0] = bp[i, B_MUS] * ws[11][i] * N[i] - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
+            lim = bp[i, B_MUS] * ws[11][i] * N[i] * (1.0 + STICK_RTOL)  # settle's own bound
+            g[i, 0] = lim - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
     return st
 
 
@@ -134,13 +140,13 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
         if st != kp.ST_OK:
             return ST_SINGULAR
         worst = -1
-        ratio = 1.0 + STICK_RTOL
+        ratio = 0.0
         for i in range(pos.shape[0]):
             if modes[i] == kp.MODE_STICK:
                 tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
                 lim = bp[i, B_MUS] * ws[11][i] * N[i]
                 r = tau / lim if lim > 0.0 else math.inf
-                if r > ratio and tau > 0.0:
+                if r >= 1.0 + STICK_RTOL and r > ratio and tau > 0.0:  # kept: g > 0 strictly
                     ratio = r
                     worst = i
         if worst < 0:
@@ -155,9 +161,17 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
 
 @njit(cache=True, error_model="numpy")
 def align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
-    """Slip-start directions consistent with the deck's motion: each d_i along the
-    acceleration a_i = B_i q̈ its slip point gets with every friction in place (fixed-point
-    iteration; one isolator alone is consistent already, several released together are not)."""
+    """Slip-start directions consistent with the deck's motion when several are released
+    together: each d_i along the acceleration a_i = B_i q̈ its slip point gets with every
+    friction in place (fixed-point iteration).
+
+    One released isolator is left alone: :func:`kp.start_direction` made it consistent
+    already, and the fixed point d ← a/|a| is unstable near the rim. (a's part along d is
+    |τ| − μN, nearly zero at a located break-away, while turning d by ε adds μNε across it:
+    round-off turned d away from the stick force and the slip-start re-stuck at once, held
+    outside its disc.) For several released together the iteration contracts where their
+    demand exceeds twice their kinetic friction (a translating deck: gain μΣN/(|F| − μΣN)
+    < 1); nearer the rim it ends after ALIGN_PASSES with the directions reached."""
     qdd, N, Ff, Fr, Fo = out
     ni = pos.shape[0]
     nst = 0
@@ -167,7 +181,7 @@ def align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
             nst += 1
         elif modes[i] == kp.MODE_START:
             nsl += 1
-    if nsl == 0 or nst >= 2:  # none to align, or a held deck
+    if nsl < 2 or nst >= 2:  # none to align, one (consistent), or a held deck
         return ST_OK
     for _ in range(ALIGN_PASSES):
         st = kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)

@@ -15,6 +15,7 @@ import pytest
 
 from nsdyn.ground.excitation import Table
 from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.bearings import Bearing, BearingError, Friction
 from nsdyn.models.isolated.builders import system_from_matrices
 from nsdyn.models.isolated.deck import kernel_params, sdof_plane, simulate_plane
@@ -206,13 +207,15 @@ def test_below_the_stick_threshold_the_mass_stays_stuck_in_any_direction(angle):
 def test_break_away_starts_in_the_direction_of_the_stick_force():
     # a_g = (b, c t): the stick force tau = -m a_g (what friction must hold) reaches the disc
     # mu_s m g at t* = sqrt((mu_s g)^2 - b^2) / c; the slip starts along tau(t*)/|tau(t*)|.
+    # The switch law's disc is mu_s N (1 + STICK_RTOL) (its stick test and its switching
+    # function alike), so the event lies at that radius: t* with mu_s (1 + STICK_RTOL).
     mu_s, mu_d, b, c = 0.1, 0.08, 0.6, 0.5
     dt = 0.01
     t = np.arange(0.0, 3.0 + dt / 2, dt)
     ax, ay = np.full_like(t, b), c * t
     r = simulate_plane(sdof_plane(M, Bearing(Friction(mu_d, mu_static=mu_s)), g=G),
                        (0.0, dt, ax, ay, None))  # fmt: skip
-    t_star = math.sqrt((mu_s * G) ** 2 - b * b) / c
+    t_star = math.sqrt((mu_s * (1 + kr.STICK_RTOL) * G) ** 2 - b * b) / c
     ev = r.events[r.events[:, 3] == kp.MODE_START]
     assert ev.shape[0] >= 1
     assert ev[0, 0] == pytest.approx(t_star, abs=1e-9)
