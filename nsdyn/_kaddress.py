@@ -90,6 +90,11 @@ def _checked(name, args):
     """(key, return type, declared argument types) of a call of ``name`` on ``args`` (numba
     types); a TypingError naming the callee when undeclared or of other argument types."""
     key = name.literal_value
+    if key not in DECLARED and key in DECLARE_HOOKS:  # declared on demand (see tslot)
+        import importlib
+
+        module, function = DECLARE_HOOKS[key].split(":")
+        getattr(importlib.import_module(module), function)()
     if key not in DECLARED:
         raise errors.TypingError(f"call by address: no kernel declared as {key!r}")
     ret, declared = DECLARED[key]
@@ -179,6 +184,9 @@ assert len(TABLE_NAMES) <= TABLE_ROWS
 TABLE = np.zeros((TABLE_ROWS, 2), dtype=np.int64)
 llvm.add_symbol(TABLE_SYMBOL, TABLE.ctypes.data)  # TABLE lives as long as the process
 TSLOTS: dict = {}  # name -> the kernel called directly (plain numba, no JIT)
+# name -> "module:function" that declares it: a caller typed before the declaration was made
+# would otherwise fail, and numba keeps a failed typing (the caller would fail for good)
+DECLARE_HOOKS: dict = {}
 
 
 def index(name: str) -> int:
@@ -186,11 +194,14 @@ def index(name: str) -> int:
     return TABLE_NAMES.index(name)
 
 
-def tslot(name: str, kernel) -> None:
+def tslot(name: str, kernel, declare: str | None = None) -> None:
     """Register ``kernel`` as the callee ``name`` of :func:`tcall` (called directly with plain
-    numba and without the JIT)."""
+    numba and without the JIT); ``declare``: "module:function" that makes its declaration,
+    called when a caller is typed before it was made."""
     index(name)  # a ValueError for a name without a row
     TSLOTS[name] = kernel
+    if declare is not None:
+        DECLARE_HOOKS[name] = declare
 
 
 def fill(name: str, address: int) -> None:

@@ -183,8 +183,8 @@ def jeval(t, x, P, J):
 # the system kernel and its Jacobian by address (:func:`nsdyn._kaddress.tcall`): the kernels
 # of the event-driven loop call them so, each of which would otherwise link (and LLVM optimise
 # and translate again) its own copy of the ~250-block system kernel
-ka.tslot("sys.evaluate", ks.evaluate)
-ka.tslot("sys.jac", ks.jac)
+ka.tslot("sys.evaluate", ks.evaluate, "nsdyn.solve.compile_split:event_callees")
+ka.tslot("sys.jac", ks.jac, "nsdyn.solve.compile_split:event_callees")
 
 
 @njit(cache=True, error_model="numpy", inline="always")

@@ -21,8 +21,8 @@ the iteration contracts fast and refreshed at the current iterate when it does n
 Outputs between steps are cubic Hermite interpolants (q from q, v; v from v, a).
 
 The system kernel and its Jacobian are called by their addresses in the table of
-:mod:`nsdyn._kaddress` (:func:`nsdyn.solve._kcommon.feval_t`; the runner fills it,
-:func:`nsdyn.solve.compile_split.system_table`): this kernel's code holds none of theirs, so a
+:mod:`nsdyn._kaddress` (:func:`nsdyn.solve._kcommon.feval_t`; :func:`genalpha` fills it
+before it calls the loop, :func:`genalpha_loop`): the loop's code holds none of theirs, so a
 first run compiles it beside them.
 """
 
@@ -167,8 +167,18 @@ def _increment_norm(d, h, beta, gamma, qn, vn, atol, rtol):
     return np.sqrt(s / (2 * n))
 
 
-@njit(cache=True, error_model="numpy")
 def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl_t):
+    """:func:`genalpha_loop` with the address table filled and ``P``, ``x0`` in the declared
+    form of the kernels it calls by address (:func:`nsdyn.solve.compile_split.system_inputs`;
+    a plain Python function: a call of the loop itself would find the table empty)."""
+    from nsdyn.solve.compile_split import system_inputs  # (it imports this module)
+
+    P, x0 = system_inputs(P, x0)
+    return genalpha_loop(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl_t)
+
+
+@njit(cache=True, error_model="numpy")
+def genalpha_loop(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl_t):
     """Fixed-step generalized-alpha from ``t_eval[0]`` to ``t_eval[-1]``; state at t_eval in X.
 
     ``coef = (am, af, beta, gamma)`` (:func:`parameters`). Returns (stats, rinfo) as

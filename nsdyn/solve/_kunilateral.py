@@ -337,16 +337,17 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
     return stats_own, rinfo_own
 
 
-# the callees of the loop by their addresses (nsdyn._kaddress.tcall)
-ka.tslot("event.settle", ke._settle)
-ka.tslot("event.settle_contacts", _settle_contacts)
-ka.tslot("event.start", _start)
-ka.tslot("event.step", _step)
-ka.tslot("event.detect_friction", ke._detect)
-ka.tslot("event.detect_contacts", _detect)
-ka.tslot("event.accept", kr.accept)
-ka.tslot("event.handle", _event_at)
-ka.tslot("event.land", _land)
+# the callees of the loop by their addresses (nsdyn._kaddress.tcall), declared there
+_DECLARE = "nsdyn.solve.compile_split:event_callees"
+ka.tslot("event.settle", ke._settle, _DECLARE)
+ka.tslot("event.settle_contacts", _settle_contacts, _DECLARE)
+ka.tslot("event.start", _start, _DECLARE)
+ka.tslot("event.step", _step, _DECLARE)
+ka.tslot("event.detect_friction", ke._detect, _DECLARE)
+ka.tslot("event.detect_contacts", _detect, _DECLARE)
+ka.tslot("event.accept", kr.accept, _DECLARE)
+ka.tslot("event.handle", _event_at, _DECLARE)
+ka.tslot("event.land", _land, _DECLARE)
 # the names of the loop's callees in the table: those of every run, of friction events (the
 # switch model) and of contact events (unilateral contacts); a run fills the rows it calls
 CALLEES = ("sys.evaluate", "sys.jac", "event.start", "event.step", "event.accept", "event.handle")

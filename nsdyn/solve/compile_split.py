@@ -495,7 +495,7 @@ def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
     P, x0, t_eval, o, X, upl_t = methods.tiny_run(m)
     coef = _kgenalpha.parameters(_kgenalpha.FAMILY_GENALPHA, methods.DEFAULT_RHO_INF["genalpha"])
     _compile(
-        _kgenalpha.genalpha, P, x0, t_eval, o.atol, o.rtol, o.dt, coef, o.max_steps,
+        _kgenalpha.genalpha_loop, P, x0, t_eval, o.atol, o.rtol, o.dt, coef, o.max_steps,
         o.uplift_mode, X, upl_t,
     )  # fmt: skip
     if metrics is not None:

@@ -160,11 +160,8 @@ def _one_step_runner(kernel, *extra):
 
 def _genalpha_runner(name, family):
     def run(P, x0, t_eval, o: Options, X, upl_t):
-        from nsdyn.solve.compile_split import system_inputs  # (it imports this module)
-
         rho = DEFAULT_RHO_INF[name] if o.rho_inf is None else o.rho_inf
         coef = _kgenalpha.parameters(family, rho)
-        P, x0 = system_inputs(P, x0)  # the system kernel by address: the table, declared types
         stats, rinfo = _kgenalpha.genalpha(
             P, x0, t_eval, o.atol, o.rtol, o.dt, coef, o.max_steps, o.uplift_mode, X, upl_t
         )
@@ -415,7 +412,7 @@ _ENTRY = {  # the default loop's callees are compiled apart from it (nsdyn._kadd
     "radau": (_kradau.radau_flat, *_kradau.FLAT_CALLEES, _kflat.pack_flat),
     "radau-general": _kradau.radau,
     "dopri5": _kdopri.dopri5,
-    "genalpha": (_kgenalpha.genalpha, ks.evaluate, ks.jac),  # those two by address
+    "genalpha": (_kgenalpha.genalpha_loop, ks.evaluate, ks.jac),  # those two by address
     "event": _kunilateral.kernels(True, False, False),  # its callees by address too
     "metrics": (_kflat.evaluate_flat_many, _kflat.feval_flat, _kflat.pack_flat),
     "metrics-general": ks.evaluate_many,

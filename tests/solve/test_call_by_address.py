@@ -356,3 +356,32 @@ def test_event_loop_compiles_without_its_callees(tmp_path):
     rows = [r.split() for r in out if r]
     assert len(rows) == len(ka.TABLE_NAMES) + 5  # the callees, K's four, pack_flat
     assert all(r[1:] == ["0", "False"] for r in rows), rows
+
+
+_TYPED_FIRST = """
+import numpy as np
+from nsdyn.solve import _kgenalpha
+from nsdyn.solve import _kcommon as ki
+from nsdyn.solve.integrate import _tiny_problem
+P, x0 = _tiny_problem()
+t = np.linspace(0.0, 0.2, 5)
+args = (t, np.full(x0.size, 1e-8), 1e-6, 1e-3, _kgenalpha.parameters(0, 0.9), 10**5,
+        ki.UPLIFT_WARN, np.zeros((t.size, x0.size)), np.full(1, np.nan))
+try:
+    _kgenalpha.genalpha_loop(P, x0, *args)
+except RuntimeError as e:
+    print("empty row:", "'sys.evaluate'" in str(e))
+print("front:", _kgenalpha.genalpha(P, x0, *args)[0][0])
+"""
+
+
+@pytest.mark.skipif(not JIT, reason="declarations are read only when numba types a caller")
+def test_a_caller_typed_before_any_declaration_compiles():
+    # a fresh process calls the generalized-alpha loop itself before anything declared its
+    # callees: the declaration is made while typing (numba keeps a failed typing for good,
+    # so the loop would never compile in that process), the empty table row raises a
+    # RuntimeError naming the callee, and the front that fills the table then runs
+    out = subprocess.run(
+        [sys.executable, "-c", _TYPED_FIRST], capture_output=True, text=True, check=True
+    ).stdout
+    assert "empty row: True" in out and "front: 0" in out, out

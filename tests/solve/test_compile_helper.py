@@ -135,7 +135,7 @@ SPLITS = [
       "setup", "workspace"}),
     ("event", "metrics-general", {"_run", "_step", "_start", "newton_table", "_factor"},
      {"evaluate", "jac", "_detect", "_settle", "_event_at", "evaluate_many"}),
-    ("genalpha", "metrics", {"genalpha", "_residual", "_iteration_matrix"},
+    ("genalpha", "metrics", {"genalpha_loop", "_residual", "_iteration_matrix"},
      {"evaluate", "jac", "evaluate_flat_many", "pack_flat"}),
 ]  # fmt: skip
 
