@@ -3,7 +3,8 @@
 ``nsdyn bench scale3d`` (``scale3d.csv``) builds the office building (``frames/office-11-3d``)
 and its generated relatives (:func:`building_of_size`: ``by`` × ``bx`` bays of 16 m × 15 m,
 floor masses in proportion to the plan, columns meshed into ``n_v`` elements and beams into
-``n_h``) from ~1 800 to ~20 000 dofs on one friction pendulum under every column
+``n_h``) from 2 712 to 29 376 nodal dofs (1 788 to 20 664 coordinates after the
+diaphragms) on one friction pendulum under every column
 (``BEARING``: the office scene's) and runs each on the same three-component record
 (``synthetic-wn-40s``, the first ``RECORD_S`` s):
 
