@@ -66,6 +66,32 @@ def _dense(y, Z, s, ys):
 
 
 @njit(cache=True, error_model="numpy")
+def _locate_stops(t, hh, s_end, y, Z, ys, pos, bp, stops):
+    """First rim contacts inside a step on its collocation polynomial, as
+    :func:`nsdyn.models.isolated._kplanerun._locate_stops` does on the Dormand–Prince one."""
+    for i in range(pos.shape[0]):
+        if stops[i, kr.P_TFIRST] == stops[i, kr.P_TFIRST]:  # in contact before
+            continue
+        sa = 0.0
+        for m in range(1, kr.SAMPLES + 1):
+            sb = s_end * m / kr.SAMPLES
+            _dense(y, Z, sb, ys)
+            d = kr._overshoot(ys, pos, bp, i)
+            if d > 0.0:
+                stops[i, kr.P_PEAK] = max(stops[i, kr.P_PEAK], d)
+                while (sb - sa) * hh > kr.EVENT_TTOL:
+                    sm = 0.5 * (sa + sb)
+                    _dense(y, Z, sm, ys)
+                    if kr._overshoot(ys, pos, bp, i) > 0.0:
+                        sb = sm
+                    else:
+                        sa = sm
+                stops[i, kr.P_TFIRST] = t + sb * hh
+                break
+            sa = sb
+
+
+@njit(cache=True, error_model="numpy")
 def _tfp_columns(y, pos, bp, J, sd):
     """Jacobian columns of the internal slips of elements 2-4 of every triple pendulum: the
     deck's rows (q̇, q̈) from element 1's column (the force depends on Σ_k s_k), its own
@@ -349,6 +375,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             s_end = sb
             status = kr.ST_UPLIFT
         t_new = t + s_end * hh
+        _locate_stops(t, hh, s_end, y, Z, ys, pos, bp, stops)
         while iout < nt and t_eval[iout] <= t_new:
             _dense(y, Z, (t_eval[iout] - t) / hh, ys)
             kr._outputs(t_eval[iout], ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out,

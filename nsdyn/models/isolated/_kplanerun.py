@@ -28,7 +28,11 @@ released together are aligned with their accelerations by :func:`align_starts`. 
 located by sampling g on the dense output and bisecting the earliest sample interval with a
 crossing to EVENT_TTOL; the step is cut there and the integration restarts (no first-same-as-last
 stage). A normal force reaching zero (uplift) is located the same way and ends the run
-(ST_UPLIFT). The regularised law runs the same loop without switching functions.
+(ST_UPLIFT). The regularised law runs the same loop without switching functions. A rim
+contact (|u| > d_cap) is located on the dense output too, so one shorter than a step is
+reported at its first time. Steps collapsing far beyond what the record needs (STALL_STEPS,
+STALL_RATE per largest step: a stick band η too narrow for the slip direction turning near
+|v| = 0) end the run with ST_STALL.
 """
 
 import math
@@ -41,7 +45,9 @@ from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated.bearings import B_DCAP, B_MUS, B_MUSLOW
 
 ST_OK, ST_UNDERFLOW, ST_MAX_STEPS, ST_NONFINITE, ST_SINGULAR = 0, 1, 2, 3, 4
-ST_UPLIFT, ST_CHATTER, ST_EVENTS, ST_NEWTON = 5, 6, 7, 8
+ST_UPLIFT, ST_CHATTER, ST_EVENTS, ST_NEWTON, ST_STALL = 5, 6, 7, 8, 9
+STALL_STEPS = 100_000  # steps beyond 10 per largest step between two outputs, or beyond
+STALL_RATE = 200  # this many per largest step since the start: collapsed steps (ST_STALL)
 EVENT_TTOL = 1e-11  # s, width of the located event bracket
 SAMPLES = 4  # dense-output samples per step scanned for a sign change
 STICK_RTOL = 1e-9  # relative slack of the disc test |τ| <= μ_s N
@@ -268,6 +274,40 @@ def _track_stops(t, y, pos, bp, stops):
 
 
 @njit(cache=True, error_model="numpy")
+def _overshoot(ys, pos, bp, i):
+    """|u_i| − d_cap,i at the state ys (> 0: isolator i presses its rim)."""
+    ux, uy, _, _ = kp.slip_kinematics(ys, pos, i)
+    return math.sqrt(ux * ux + uy * uy) - bp[i, B_DCAP]
+
+
+@njit(cache=True, error_model="numpy")
+def _locate_stops(t, hh, s_end, rc, ys, pos, bp, stops):
+    """First rim contact of each isolator inside a step, located on its dense output: the
+    overshoot |u| − d_cap sampled at SAMPLES points up to ``s_end``, the first positive one
+    bisected to EVENT_TTOL (a contact shorter than the step, missed at its ends, is found)."""
+    for i in range(pos.shape[0]):
+        if stops[i, P_TFIRST] == stops[i, P_TFIRST]:  # in contact before: step ends suffice
+            continue
+        sa = 0.0
+        for m in range(1, SAMPLES + 1):
+            sb = s_end * m / SAMPLES
+            _dense_state(rc, sb, ys)
+            d = _overshoot(ys, pos, bp, i)
+            if d > 0.0:
+                stops[i, P_PEAK] = max(stops[i, P_PEAK], d)
+                while (sb - sa) * hh > EVENT_TTOL:
+                    sm = 0.5 * (sa + sb)
+                    _dense_state(rc, sm, ys)
+                    if _overshoot(ys, pos, bp, i) > 0.0:
+                        sb = sm
+                    else:
+                        sa = sm
+                stops[i, P_TFIRST] = t + sb * hh
+                break
+            sa = sb
+
+
+@njit(cache=True, error_model="numpy")
 def _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO):
     qdd, N, Ff, Fr, Fo = out
     kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
@@ -342,6 +382,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
     nfev = 0
     burst_t = -math.inf
     burst_n = 0
+    since_out = 0
     status = ST_OK
     while t < t_end and iout < nt:
         if fresh:
@@ -378,6 +419,11 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         nstep += 1
         if nstep + nrej > max_steps:
             status = ST_MAX_STEPS
+            break
+        since_out += 1  # the record needs ~ (time span)/hmax steps, a few more per event
+        if (since_out > STALL_STEPS + 10.0 * (t_eval[iout] - t_eval[iout - 1]) / hmax
+                or nstep > STALL_STEPS + STALL_RATE * (t - t_eval[0]) / hmax):  # fmt: skip
+            status = ST_STALL
             break
         n_end_min = _min_normal(N)  # the last stage is the step's end
         dp.dense_coefficients(y, y1, k, hh, rc)
@@ -431,6 +477,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                 event = False
                 status = ST_UPLIFT
         t_new = t + s_end * hh if s_end < 1.0 else t + hh
+        _locate_stops(t, hh, s_end, rc, ys, pos, bp, stops)
         while iout < nt and t_eval[iout] <= t_new:
             s = (t_eval[iout] - t) / hh
             _dense_state(rc, s, ys)
@@ -438,6 +485,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                      X, NO, FF, FR, FO, MO)  # fmt: skip
             _track_stops(t_eval[iout], ys, pos, bp, stops)
             iout += 1
+            since_out = 0
         if s_end < 1.0:
             _dense_state(rc, s_end, ys)
             for j in range(n):

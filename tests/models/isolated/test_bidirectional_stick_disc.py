@@ -1,4 +1,5 @@
-"""Switch law with a stick disc: a stuck isolator never holds a force outside its disc.
+"""Switch law with a stick disc: a stuck isolator never holds a force outside its disc; a
+stick band too narrow is reported; a brief rim contact is located (both laws).
 
 Source: the Coulomb law in the plane (the stick force of a stuck isolator lies in the disc
 |τ| <= μ_s N; stick → slip is the event where it reaches the rim). Along the whole history,
@@ -15,11 +16,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from nsdyn.ground.orbit import HarmonicPlane
 from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.bearings import Bearing, Friction
 from nsdyn.models.isolated.deck import rigid_deck, sdof_plane, simulate_plane
+from nsdyn.models.isolated.plane_result import PlaneIntegrationError
 
 G = 9.81
 SLACK = 1e-6
@@ -88,3 +91,43 @@ def test_deck_isolators_released_together_stay_inside_their_discs():
                        atol=(1e-11, 1e-11))  # fmt: skip
     assert np.any(r.modes == 1)
     assert _worst_stuck_ratio(r, 0.06) <= 1.0 + SLACK
+
+
+def test_a_stick_band_far_too_narrow_is_reported_with_time_and_reason():
+    # eta = 1e-12 m/s: a slip velocity passing near zero is never caught in the band, its
+    # direction v/|v| turns within a step and the steps collapse; the run must stop and say
+    # so (the failure is numerical, not physical: eta = 1e-5 runs the same case in hundreds
+    # of steps).
+    s = sdof_plane(1000.0, Bearing(Friction(0.1, mu_static=0.12), radius=2.0), g=G)
+    o = HarmonicPlane.elliptical(0.5, 1.3, 0.5, 30.0)
+    with pytest.raises(PlaneIntegrationError, match=r"collapsed before t = .* eta = 1e-12"):
+        simulate_plane(s, o, law="switch", eta=1e-12, t_end=8.0)
+
+
+@pytest.mark.parametrize("law", ["switch", "arctan"])
+def test_a_brief_rim_contact_inside_a_step_is_located(law):
+    # A pendulum (R = 2 m) swings out from its centre (initial speed along x, no ground motion):
+    # until the rim is touched the motion does not depend on the capacity, so the run without
+    # a rim, sampled on a 1 µs grid around its peak, gives the first time |u| reaches d_cap.
+    # With d_cap 10 nm below the peak the contact lasts ~ 2 sqrt(2 * 1e-8 / a_peak) ~ 0.4 ms,
+    # far shorter than the largest step allowed here (0.2 s) and the output step (0.5 s). The
+    # contact must be reported at that time. Tolerance: the reference grid (1e-6 s) plus the
+    # runs' position error (~ rtol |u| ~ 1e-10 m) over the speed there (~ 1e-4 m/s).
+    mu, R = 0.02, 2.0
+    fric = Friction(mu)
+    o = HarmonicPlane.linear(0.5, 0.0)
+    y0 = [0.0, 0.0, 0, 0.3, 0.0, 0]
+    kw = dict(law=law, y0=y0, rtol=1e-9, atol=(1e-11, 1e-11))
+    free = sdof_plane(1000.0, Bearing(fric, radius=R), g=G)
+    ref = simulate_plane(free, o, t_end=4.0, dt_out=1e-3, **kw)
+    tp = ref.t[int(np.argmax(np.hypot(ref.u[:, 0, 0], ref.u[:, 0, 1])))]
+    ref = simulate_plane(free, o, t_eval=np.concatenate([[0.0], tp - 5e-3 + 1e-6 * np.arange(
+        10001)]), **kw)  # fmt: skip
+    r_u = np.hypot(ref.u[:, 0, 0], ref.u[:, 0, 1])
+    d_cap = r_u.max() - 1e-8
+    t_c = ref.t[int(np.argmax(r_u > d_cap))]
+    s = sdof_plane(1000.0, Bearing(fric, radius=R, d_cap=d_cap), g=G)
+    with pytest.warns(UserWarning, match="displacement capacity"):
+        r = simulate_plane(s, o, t_end=4.0, dt_out=0.5, max_step=0.2, **kw)
+    assert len(r.stops) == 1
+    assert abs(r.stops[0]["t_first_s"] - t_c) <= 3e-6
