@@ -10,7 +10,10 @@
    history error is set by where late, small slips come to rest (their stick instants move
    with the tolerance), its peak is resolved to the tolerance.
 2. Cost per isolator: the same deck mass on n × n isolators on a grid (n = 2, 3, 4, 6), both
-   laws at rtol 1e-6: wall time per run and per isolator.
+   laws at rtol 1e-6: wall time per run and per isolator. Then the deck on four triple friction
+   pendulums (the scene deck-tfp4-3c's bearings; regularised law on Radau IIA, the series
+   model's eight internal slips per isolator) at the same rtol: its cost per isolator as a
+   ratio to the single pendulum's in the same run (regularised law, and switch law).
 Wall times are medians of repeats after a first run that compiles (or loads) the kernels; the
 compile/load time is reported apart. Writes ``isolators-wp.csv``, ``isolators-scale.csv`` and
 ``isolators-wp.png`` through nsdyn.atomic.
@@ -28,6 +31,7 @@ from nsdyn.bench.common import write_csv_atomic
 from nsdyn.ground import read_motion3
 from nsdyn.models.isolated.bearings import Bearing, Friction
 from nsdyn.models.isolated.deck import rigid_deck, simulate_plane
+from nsdyn.models.isolated.tfp import TripleBearing
 
 RECORD = "synthetic-wn-40s"
 RTOLS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
@@ -38,14 +42,30 @@ GRIDS_QUICK = (2, 4)
 REPEATS = 5
 OPTIONS = ("repeats", "quiet")
 BEARING = Bearing(Friction(0.04, mu_fast=0.07, rate=30.0, mu_static=0.075), radius=2.2)
+TRIPLE = dict(R1=2.2, R2=0.3, R3=0.3, R4=2.2, mu1=0.06, mu2=0.02, mu3=0.02, mu4=0.10, d1=0.40,
+              d2=0.06, d3=0.06, d4=0.40)  # fmt: skip
 
 
-def deck(n: int = 2):
-    """The benchmark deck on n x n isolators over 20 m x 12 m."""
+def deck(n: int = 2, bearing=None):
+    """The benchmark deck on n x n isolators over 20 m x 12 m (``bearing``: BEARING)."""
     X, Y = np.meshgrid(np.linspace(-10, 10, n), np.linspace(-6, 6, n))
     pos = np.column_stack([X.ravel(), Y.ravel()])
     m = 2.0e6
-    return rigid_deck(m, m * (400 + 144) / 12, pos, BEARING, ecc=(0.8, 0.5), h=1.5)
+    b = BEARING if bearing is None else bearing
+    return rigid_deck(m, m * (400 + 144) / 12, pos, b, ecc=(0.8, 0.5), h=1.5)
+
+
+def triple_row(motion, scale: list, reps: int) -> dict:
+    """The deck on four triple pendulums (regularised law, rtol 1e-6) and its cost per isolator
+    over the single pendulum's at n = 2 in ``scale`` (same run, same laws' settings)."""
+    dt = deck(2, TripleBearing(**TRIPLE))
+    simulate_plane(dt, {"f": 1.0, "ax": 0.1, "ay": 0.1}, t_end=0.05, law="arctan")
+    res, wall = _timed(lambda: simulate_plane(dt, motion, law="arctan"), reps)
+    single = {r["law"]: r["wall_s"] for r in scale if r["n_isolators"] == 4}
+    return {"n_isolators": 4, "wall_s": wall, "wall_per_isolator_s": wall / 4,
+            "ratio_to_single_arctan": wall / single["arctan"],
+            "ratio_to_single_switch": wall / single["switch"],
+            "steps": res.stats["steps"], "peak_u_m": _peak(res)}  # fmt: skip
 
 
 def _err(res, ref) -> float:
@@ -98,12 +118,19 @@ def run_bench(out_dir: Path, quick: bool, repeats: int | None = None, quiet: boo
             scale.append({"law": law, "n_isolators": n * n, "wall_s": wall,
                           "wall_per_isolator_s": wall / (n * n), "steps": res.stats["steps"],
                           "events": res.stats["events"]})  # fmt: skip
+    triple = triple_row(motion, scale, reps)
+    if not quiet:
+        print(
+            f"isolators: 4 triple pendulums: {triple['wall_s']:.4f} s, "
+            f"{triple['ratio_to_single_arctan']:.2f} x the single pendulum's (arctan)"
+        )
     files = [
         write_csv_atomic(out_dir / "isolators-wp.csv", rows),
         write_csv_atomic(out_dir / "isolators-scale.csv", scale),
         save_figure(figure(rows), out_dir / "isolators-wp.png"),
     ]
-    return {"rows": rows, "scale": scale, "compile_s": compile_s, "record": RECORD,
+    return {"rows": rows, "scale": scale, "triple": triple, "compile_s": compile_s,
+            "record": RECORD,
             "ref_peak_u_m": ref.summary()["peak_resultant_displacement_m"],
             "files": [str(f) for f in files]}  # fmt: skip
 
@@ -128,7 +155,8 @@ def summarise(result: dict) -> dict:
             for law in ("switch", "arctan")}  # fmt: skip
     return {"compile_s": result["compile_s"],
             "wall_s_rtol_1e-4": {k: v["wall_s"] for k, v in best.items()},
-            "scale": result["scale"], "files": result["files"]}  # fmt: skip
+            "scale": result["scale"], "triple": result.get("triple"),
+            "files": result["files"]}  # fmt: skip
 
 
 def report(result: dict) -> str:
@@ -144,6 +172,13 @@ def report(result: dict) -> str:
     for r in result["scale"]:
         lines.append(f"  {r['law']:8s} {r['n_isolators']:9d} {r['wall_s']:9.4f} "
                      f"{r['wall_per_isolator_s']:13.5f}")  # fmt: skip
+    tr = result.get("triple")
+    if tr:
+        lines.append(
+            f"  {'tfp':8s} {tr['n_isolators']:9d} {tr['wall_s']:9.4f} "
+            f"{tr['wall_per_isolator_s']:13.5f}  (x {tr['ratio_to_single_arctan']:.2f} "
+            f"the single pendulum, arctan; x {tr['ratio_to_single_switch']:.2f} switch)"
+        )
     return "\n".join(lines)
 
 
