@@ -288,21 +288,23 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         print(f"nsdyn sweep: {' '.join(str(e).split())}", file=sys.stderr)
         return EXIT_USER_ERROR
     lo, hi = default_range(sc["orbit"])
-    fmin = lo if args.fmin is None else args.fmin
-    fmax = hi if args.fmax is None else args.fmax
+    sw = sc["sweep"]  # the scene's [sweep] table; the flags win
+    fmin = sw.get("f_min", lo) if args.fmin is None else args.fmin
+    fmax = sw.get("f_max", hi) if args.fmax is None else args.fmax
     if not fmax > fmin:
         print(f"nsdyn sweep: --fmax ({fmax:g}) must exceed --fmin ({fmin:g})", file=sys.stderr)
         return EXIT_USER_ERROR
     from nsdyn.periodic.plane import orbit_shape
 
-    amplitudes = args.amplitudes or [orbit_shape(sc["orbit"])[0]]
-    law = args.friction or sc["solver"]["law"]
+    amplitudes = args.amplitudes or sw.get("amplitudes") or [orbit_shape(sc["orbit"])[0]]
+    law = args.friction or sw.get("law") or sc["solver"]["law"]
     if getattr(sc["system"], "has_tfp", False) and law != "arctan":
         print(f"nsdyn sweep: {source}: solver.law: a triple friction pendulum runs with the "
               f"regularised law 'arctan' (its series model has no stick events), got {law!r}",
               file=sys.stderr)  # fmt: skip
         return EXIT_USER_ERROR
-    settings = PlaneSweepSettings(fmin, fmax, args.points or POINTS_DEFAULT, args.continuation,
+    points = args.points or sw.get("points") or POINTS_DEFAULT
+    settings = PlaneSweepSettings(fmin, fmax, points, args.continuation,
                                   not args.no_fallback, law)  # fmt: skip
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

@@ -64,7 +64,8 @@ class PlaneSweepSettings:
 
 def plane_scene(cfg: dict, source: str) -> dict:
     """{"kind", "system" (PlaneSystem), "orbit" (HarmonicPlane), "solver" (law, eps, eta),
-    "name"} of a deck or rigid building3d scene under an orbit; SceneError naming the field."""
+    "name", "sweep" (the deck scene's [sweep] keys given)} of a deck or rigid building3d
+    scene under an orbit; SceneError naming the field."""
     from nsdyn.ground.orbit import HarmonicPlane
 
     kind = cfg.get("scene", {}).get("kind")
@@ -74,6 +75,7 @@ def plane_scene(cfg: dict, source: str) -> dict:
         system = ds.build_system(cfg, source)
         orbit, _ = ds.build_motion(cfg, source)
         solver = ds.build_solver(cfg, source)
+        sweep = ds.build_sweep(cfg, source)
     elif kind == "building3d":
         from nsdyn.models.isolated import building3d_scene as bs
 
@@ -85,6 +87,7 @@ def plane_scene(cfg: dict, source: str) -> dict:
         system = sysd["deck"]
         orbit, _ = bs.build_motion(cfg, source)
         solver = bs.build_solver(cfg, source)
+        sweep = {}
     else:
         raise SceneError(f"{source}: scene.kind: expected one of {list(KINDS)}, got {kind!r}")
     if not isinstance(orbit, HarmonicPlane):
@@ -99,7 +102,8 @@ def plane_scene(cfg: dict, source: str) -> dict:
         raise SceneError(f"{source}: motion.{key}: {e}") from None
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     keep = {k: solver[k] for k in ("law", "eps", "eta")}
-    return {"kind": kind, "system": system, "orbit": orbit, "solver": keep, "name": name}
+    return {"kind": kind, "system": system, "orbit": orbit, "solver": keep, "name": name,
+            "sweep": sweep}  # fmt: skip
 
 
 def default_range(orbit) -> tuple[float, float]:

@@ -197,3 +197,55 @@ def test_failures_are_reported_by_frequency_and_reason():
     assert bare.points == []
     assert [d["f"] for d in bare.info["failures"]] == pytest.approx([0.5, 1.0])
     assert all("no fallback" in d["reason"] for d in bare.info["failures"])
+
+
+def _with_sweep(tmp_path, table: str) -> Path:
+    text = SCENE.read_text()
+    head = text.split("\n[sweep]")[0] + "\n"
+    scene = tmp_path / "swept.toml"
+    scene.write_text(head + "[sweep]\n" + table)
+    return scene
+
+
+def test_the_scenes_sweep_table_sets_the_curve_and_the_flags_win(tmp_path, capsys):
+    # [sweep] f_min, f_max, points, amplitudes: the log-spaced frequencies f_min .. f_max and
+    # the closed-form circle at each (steady circular slip, see the module docstring)
+    scene = _with_sweep(tmp_path, "f_min = 0.35\nf_max = 1.4\npoints = 2\namplitudes = [1.2]\n")
+    out = tmp_path / "a"
+    assert nsdyn_main(["sweep", str(scene), "--out", str(out), "--no-figures"]) == 0
+    rows = list(csv.DictReader((out / "sweep.csv").open()))
+    np.testing.assert_allclose([float(r["f"]) for r in rows], [0.35, 1.4], rtol=1e-9)
+    assert {r["A"] for r in rows} == {"1.2"}
+    for r in rows:
+        R = steady_circle(2 * math.pi * float(r["f"]), 1.2, MU)[0]
+        assert float(r["u_peak_m"]) == pytest.approx(R, rel=2e-5)
+    # the flags win over the table
+    out = tmp_path / "b"
+    assert nsdyn_main(["sweep", str(scene), "--fmax", "0.7", "--amplitudes", f"{A0}",
+                       "--out", str(out), "--no-figures"]) == 0  # fmt: skip
+    rows = list(csv.DictReader((out / "sweep.csv").open()))
+    np.testing.assert_allclose([float(r["f"]) for r in rows], [0.35, 0.7], rtol=1e-9)
+    assert all(float(r["A"]) == pytest.approx(A0, rel=1e-9) for r in rows)  # (9 digits)
+    capsys.readouterr()
+
+
+@pytest.mark.parametrize(
+    ("table", "field"),
+    [
+        ("f_min = 1.0\nf_max = 0.5\n", "sweep.f_max"),
+        ("f_min = -1.0\n", "sweep.f_min"),
+        ("points = 1\n", "sweep.points"),
+        ("points = 2.5\n", "sweep.points"),
+        ("amplitudes = [1.0, -2.0]\n", "sweep.amplitudes"),
+        ("amplitudes = 1.0\n", "sweep.amplitudes"),
+        ('law = "coulomb"\n', "sweep.law"),
+        ("f_maximum = 2.0\n", "sweep.f_maximum"),
+    ],
+)
+def test_a_bad_sweep_table_is_refused_in_one_line_naming_the_field(tmp_path, capsys, table,
+                                                                    field):  # fmt: skip
+    scene = _with_sweep(tmp_path, table)
+    rc = nsdyn_main(["sweep", str(scene), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert rc != 0 and len(err.splitlines()) == 1
+    assert str(scene) in err and field in err

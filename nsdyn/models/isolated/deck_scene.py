@@ -47,6 +47,7 @@ TABLES = {
     "bearing": BEARING_KEYS,
     "motion": None,  # checked by nsdyn.ground.table3
     "solver": {"law", "eps", "eta", "rtol", "atol", "dt_out"},
+    "sweep": {"f_min", "f_max", "points", "amplitudes", "law"},  # read by nsdyn sweep
 }
 FIGURE_MODULE = "nsdyn.plot.isolators"  # draws the figure from deck.npz (a later stage)
 RTOL = 1e-6
@@ -142,7 +143,54 @@ def build_solver(cfg: dict, source: str) -> dict:
     kw["atol"] = (kw["atol"], kw["atol"])
     if "dt_out" in t:
         kw["dt_out"] = number(source, "solver.dt_out", t["dt_out"])
+    build_sweep(cfg, source)  # (a scene's faults all at once, before any run)
     return kw
+
+
+def build_sweep(cfg: dict, source: str) -> dict:
+    """The ``[sweep]`` table's given keys, checked: f_min, f_max (> 0, f_max > f_min), points
+    (integer >= 2), amplitudes (a list of numbers > 0), law; SceneError naming the field."""
+    t = cfg.get("sweep", {})
+    if not isinstance(t, dict):
+        raise SceneError(f"{source}: sweep: expected a table [sweep], got {t!r}")
+    out = {}
+    for key in ("f_min", "f_max"):
+        if key in t:
+            v = number(source, f"sweep.{key}", t[key])
+            if not (math.isfinite(v) and v > 0):
+                raise SceneError(f"{source}: sweep.{key}: expected a frequency > 0 [Hz], got {v}")
+            out[key] = v
+    if "f_min" in out and "f_max" in out and not out["f_max"] > out["f_min"]:
+        raise SceneError(f"{source}: sweep.f_max: expected a frequency above f_min "
+                         f"({out['f_min']:g} Hz), got {out['f_max']:g}")  # fmt: skip
+    if "points" in t:
+        n = t["points"]
+        if isinstance(n, bool) or not isinstance(n, int) or n < 2:
+            raise SceneError(f"{source}: sweep.points: expected an integer >= 2, got {n!r}")
+        out["points"] = n
+    if "amplitudes" in t:
+        a = t["amplitudes"]
+        ok = isinstance(a, list) and len(a) > 0
+        vals = []
+        for v in a if ok else ():
+            if (
+                isinstance(v, bool)
+                or not isinstance(v, int | float)
+                or not (math.isfinite(v) and v > 0)
+            ):
+                ok = False
+                break
+            vals.append(float(v))
+        if not ok:
+            raise SceneError(f"{source}: sweep.amplitudes: expected a list of amplitudes > 0 "
+                             f"[m/s^2], got {a!r}")  # fmt: skip
+        out["amplitudes"] = vals
+    if "law" in t:
+        if t["law"] not in ("switch", "arctan"):
+            raise SceneError(f"{source}: sweep.law: expected 'switch' or 'arctan', "
+                             f"got {t['law']!r}")  # fmt: skip
+        out["law"] = t["law"]
+    return out
 
 
 def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:

@@ -152,6 +152,18 @@ SCHEMA = Schema(
                Key("amplitude_x", "number", "amplitude along x", "m/s²", required=True),
                Key("amplitude_y", "number", "amplitude along y", "m/s²", required=True),
                Key("phase_y", "number", "phase of y after x", "deg", default=90.0)),
+        Table("sweep", "`nsdyn sweep`'s frequency curve of this scene (under an orbit); its "
+              "flags `--fmin`, `--fmax`, `--points`, `--amplitudes`, `--friction` win.", (
+            Key("f_min", "number", "lowest frequency", "Hz", default="(f/4)", **_POS),
+            Key("f_max", "number", "highest frequency, above f_min", "Hz", default="(4 f)",
+                **_POS),
+            Key("points", "integer", "log-spaced frequencies", "—", default="(nsdyn sweep's)",
+                lo=2),
+            Key("amplitudes", "list of numbers", "amplitudes A of the orbit's acceleration, "
+                "each > 0 (the orbit's shape kept)", "m/s²", default="(the orbit's)"),
+            Key("law", "string", "friction law of the sweep", default="(solver.law)",
+                choices=("switch", "arctan")),
+        )),
         Table("solver", "The friction law and the integrator's tolerances.", (
             Key("law", "string", "switch law with a stick disc, or the regularised arctan law",
                 default="switch", choices=("switch", "arctan")),
