@@ -3,8 +3,9 @@
 Top row: the orbit u_y(u_x) of each isolator (up to four, the first ones) with its displacement
 capacity |u| = d_cap drawn as a circle and the peak resultant |u| marked. Bottom row: the
 resultant slip |u_i|(t), the hysteresis loops of the first isolator (total resisting force
-friction + restoring + damper/stop against slip, x and y), and the deck's torsion θ(t) with
-the normal forces N_i(t) (uplift where one reaches zero).
+friction + restoring + damper/stop against slip, x and y), and the torsion θ(t) of the deck
+or of a pair system's rigid base (none where it has none) with the normal forces N_i(t)
+(uplift where one reaches zero).
 """
 
 from __future__ import annotations
@@ -21,12 +22,16 @@ MAX_ORBITS = 4
 def _arrays(result) -> dict:
     """The arrays of a PlaneResult, or a dict / npz of the same names (``deck.npz``)."""
     if hasattr(result, "summary"):
+        # a deck's q is (x, y, θ, ...); a pair system's q is its own coordinates: the twist
+        # of its rigid base where it has one (``twist``), else none
+        theta = result.twist if hasattr(result, "twist") else result.q[:, 2]
         return {
-            "t": result.t, "q": result.q, "u": result.u, "N": result.N,
+            "t": result.t, "theta": theta, "u": result.u, "N": result.N,
             "force": result.friction + result.restoring + result.other,
             "d_cap": np.array([b.d_cap for b in result.system.bearings]),
         }  # fmt: skip
     d = dict(result)
+    d["theta"] = d["q"][:, 2]
     d["force"] = d["friction"] + d["restoring"] + d["other"]
     return d
 
@@ -36,7 +41,7 @@ def plane_figure(result, title: str = ""):
     from matplotlib.figure import Figure
 
     a = _arrays(result)
-    t, u, q, N, F, cap = a["t"], a["u"], a["q"], a["N"], a["force"], a["d_cap"]
+    t, u, theta, N, F, cap = a["t"], a["u"], a["theta"], a["N"], a["force"], a["d_cap"]
     ni = u.shape[1]
     no = min(ni, MAX_ORBITS)
     fig = Figure(figsize=(3.2 * max(no, 3), 6.4), layout="constrained")
@@ -72,10 +77,12 @@ def plane_figure(result, title: str = ""):
     ax.set_title("hysteresis, isolator 0", fontsize=9)
     ax.legend(fontsize=7)
     ax = fig.add_subplot(grid[1, 2])
-    ax.plot(t, 1e3 * q[:, 2], color="k", lw=0.8, label="θ [mrad]")
     ax.set_xlabel("t [s]")
-    ax.set_ylabel("deck torsion θ [mrad]")
-    ax2 = ax.twinx()
+    ax2 = ax
+    if theta is not None:
+        ax.plot(t, 1e3 * theta, color="k", lw=0.8, label="θ [mrad]")
+        ax.set_ylabel("base torsion θ [mrad]")
+        ax2 = ax.twinx()
     ax2.plot(t, 1e-3 * N, lw=0.5, alpha=0.6)
     ax2.axhline(0.0, color="C3", lw=0.6)
     ax2.set_ylabel("normal forces N_i [kN]")

@@ -56,6 +56,7 @@ SYMMETRY_RTOL = 1e-10  # |A − Aᵀ| allowed relative to max |A| (M, K)
 SPD_RTOL = 1e-12  # M's smallest eigenvalue must exceed this times its largest
 STATIC_ITER = 50  # fixed-point passes of the pendulum terms λ/R in the static solve
 REDUNDANT_RTOL = 1e-10  # contact rows' singular values below this x the largest: redundant
+TWIST_RTOL = 1e-9  # slip rows reproduced by a rigid plan motion to this x max |D|: a twist
 STATIC_RTOL = 1e-12  # their convergence (relative change of λ) and the saddle residual bound
 
 
@@ -315,6 +316,26 @@ def from_deck(deck) -> PairSystem:
                       g=deck.g, name=deck.name)  # fmt: skip
 
 
+def twist_row(system: PairSystem) -> np.ndarray | None:
+    """The row Θ = a q of the base's twist when every isolator's slip is the rigid plan motion
+    of one base, D_i = (a_x − Y_i a, a_y + X_i a) about the origin of the plan positions
+    (least squares over the 2 ni rows, kept when it reproduces D to TWIST_RTOL of its largest
+    entry); None for fewer than two isolators or slips that are not rigid (feet pinned each
+    on its own isolator)."""
+    ni, n = system.n_isolators, system.n
+    X, Y = system.positions.T
+    if ni < 2 or np.ptp(X) == 0.0 and np.ptp(Y) == 0.0:
+        return None
+    A = np.zeros((2 * ni, 3))
+    A[0::2, 0], A[0::2, 2] = 1.0, -Y
+    A[1::2, 1], A[1::2, 2] = 1.0, X
+    D2 = system.D.reshape(2 * ni, n)
+    coef = np.linalg.lstsq(A, D2, rcond=None)[0]
+    if np.abs(A @ coef - D2).max() > TWIST_RTOL * np.abs(D2).max():
+        return None
+    return coef[2]
+
+
 @dataclass
 class PairResult(PlaneResult):
     """A run of a :class:`PairSystem`: the deck's result (:class:`PlaneResult`: slips u
@@ -328,6 +349,13 @@ class PairResult(PlaneResult):
     @property
     def theta(self) -> np.ndarray:  # (no deck twist: the summary's torsion is dropped)
         return np.zeros(self.t.size)
+
+    @property
+    def twist(self) -> np.ndarray | None:
+        """The rigid base's twist Θ(t) [rad] (nt,) where the slips are a rigid plan motion
+        (:func:`twist_row`), else None."""
+        row = twist_row(self.system)
+        return None if row is None else self.q @ row
 
     @property
     def outputs(self) -> np.ndarray | None:
