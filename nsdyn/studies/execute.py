@@ -32,7 +32,7 @@ from nsdyn.studies.scenes import run_batch
 from nsdyn.studies.study import Study
 from nsdyn.studies.table import ResultsStore, Table
 from nsdyn.studies.tasks import Task, batch_size, batches, expand
-from nsdyn.studies.workers import process_pool
+from nsdyn.studies.workers import process_pool, stop_pool
 
 PROGRESS_S = 2.0  # seconds between progress lines
 DASK_HINT = 'Dask is an optional extra: pip install "nsdyn[dask]"'
@@ -177,9 +177,14 @@ def run_study(
             for t in resubmit:
                 pending[executor.submit(run_batch, [t])] = ([t], True)
             prog.tick()
+    except BaseException:  # an interrupt or an error: the pool's running tasks are abandoned
+        if own:
+            stop_pool(executor, kill=True)
+            executor = None
+        raise
     finally:
-        if own and executor is not None:
-            executor.shutdown(wait=False, cancel_futures=True)
+        if own:
+            stop_pool(executor, kill=False)
     prog.tick(force=True)
     order = {t.key: t.index for t in tasks}
     table = store.compact(order)

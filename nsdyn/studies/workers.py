@@ -67,11 +67,39 @@ def _die_with(parent: int) -> None:
     threading.Thread(target=watch, name="nsdyn-parent-watch", daemon=True).start()
 
 
+class _Pool(ProcessPoolExecutor):
+    """A process pool that, left by an exception (Ctrl-C among them) in a ``with`` block, ends
+    its workers instead of waiting for their tasks (:func:`stop_pool`)."""
+
+    def __exit__(self, exc_type, exc, tb):
+        if exc_type is None:
+            return super().__exit__(exc_type, exc, tb)
+        stop_pool(self, kill=True)
+        return False
+
+
 def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
-    """A ``ProcessPoolExecutor`` whose workers end when this process ends, however it ends."""
-    return ProcessPoolExecutor(
-        max_workers=max_workers, initializer=_die_with, initargs=(os.getpid(),)
-    )
+    """A ``ProcessPoolExecutor`` whose workers end when this process ends, however it ends, and
+    whose ``with`` block, left by an exception, ends them at once."""
+    return _Pool(max_workers=max_workers, initializer=_die_with, initargs=(os.getpid(),))
+
+
+def stop_pool(executor, *, kill: bool) -> None:
+    """Shut ``executor`` down without waiting; cancel what has not started. With ``kill`` (the
+    caller is leaving on an interrupt or an error) its worker processes are ended first: a
+    running task is abandoned, not waited for, and the pool's manager thread, finding its
+    workers gone, ends at once. Without it the interpreter's exit joins that thread, which
+    waits for the running tasks and can hang after a cancellation (CPython's process pool,
+    gh-94440), so a Ctrl-C might not end the command."""
+    if executor is None:
+        return
+    if kill:
+        for proc in list((getattr(executor, "_processes", None) or {}).values()):
+            try:
+                proc.terminate()
+            except (OSError, AttributeError):
+                pass  # already gone
+    executor.shutdown(wait=False, cancel_futures=True)
 
 
 def warm_isolated(method: str, law: str) -> bool:

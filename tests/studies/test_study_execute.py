@@ -223,3 +223,28 @@ def test_fixed_step_task_without_dt_takes_the_run_default(tmp_path):
     got = run_scene_summary(cfg, "test")
     assert got["n_steps"] == ref["n_steps"]
     assert got["x_iso_max_m"] == ref["x_iso_max_m"]
+
+
+def _sleep_long(s: float) -> float:
+    time.sleep(s)
+    return s
+
+
+def test_a_pool_left_by_an_exception_ends_its_running_workers():
+    # Ctrl-C inside `with process_pool(...)` must not wait for the running task (here 300 s):
+    # the workers are ended and the block is left at once. The bound (60 s) is "it ended", far
+    # below the task's 300 s, not a timing check.
+    from nsdyn.studies.workers import process_pool
+
+    t0 = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        with process_pool(1) as pool:
+            fut = pool.submit(_sleep_long, 300.0)
+            while not fut.running():
+                time.sleep(0.01)
+            procs = list(pool._processes.values())
+            raise KeyboardInterrupt
+    for p in procs:
+        p.join(timeout=60)
+        assert not p.is_alive()
+    assert time.monotonic() - t0 < 60.0
