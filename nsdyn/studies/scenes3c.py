@@ -238,7 +238,18 @@ def _rigid(sysd: dict, mod, cfg: dict, source: str) -> dict:
     return _plane(sysd["deck"], mod, cfg, source)
 
 
-RUNGS = {"rigid": _rigid, "fixed": _fixed}  # building3d fidelity -> its study runner
+def _pairs(sysd: dict, mod, cfg: dict, source: str) -> dict:
+    """The cb and full rungs (dense, or sparse for a full rung above the dense limit) by the
+    family's :func:`~nsdyn.models.isolated.building3d_scene.run_pairs`, without files."""
+    exc, t_end = mod.build_motion(cfg, source)
+    kw = mod.build_solver(cfg, source)
+    _, s, _ = mod.run_pairs(sysd, exc, t_end, kw)
+    s["peak_corner_drift"] = max(s["peak_drift_corner_x"], s["peak_drift_corner_y"])
+    return s | _motion_columns(exc, cfg)
+
+
+# building3d fidelity -> its study runner
+RUNGS = {"rigid": _rigid, "fixed": _fixed, "cb": _pairs, "full": _pairs}
 
 
 def run_summary(kind: str, cfg: dict, source: str) -> dict:
@@ -275,17 +286,42 @@ def _plane_laws(tasks) -> set[str]:
         if t.kind not in KINDS3C:
             continue
         fidelity = t.cfg.get("structure", {}).get("fidelity", "rigid")
-        if t.kind == "building3d" and fidelity != "rigid":
+        if t.kind == "building3d" and fidelity not in ("rigid", "auto"):
             continue
         laws.add(t.cfg.get("solver", {}).get("law", "switch"))
     return laws
 
 
+def _pair_runs(tasks) -> set[tuple[str, str]]:
+    """(path, law) of the building3d tasks on the cb, full and auto rungs (auto probes cb);
+    a task whose scene is faulty is left to its own check."""
+    from nsdyn.models.isolated import building3d_scene as b3
+
+    out, paths = set(), {}
+    for t in tasks:
+        st = t.cfg.get("structure", {})
+        if t.kind != "building3d" or st.get("fidelity") not in ("cb", "full", "auto"):
+            continue
+        key = json.dumps([st.get("frame3d"), st.get("base"), st.get("fidelity")], default=str)
+        try:
+            if key not in paths:
+                paths[key] = b3.pairs_path(t.cfg, t.source)
+            law = b3.build_solver(t.cfg, t.source)["law"]
+        except SceneError:
+            continue
+        path = paths[key]
+        if path == "dense" or "law" not in t.cfg.get("solver", {}) or law == "arctan":
+            out.add((path, "arctan" if path == "sparse" else law))
+    return out
+
+
 def warm_kernels(tasks) -> list[str]:
     """Compile the plane kernels of the tasks' friction laws once, here, before the workers
     start: numba writes them to its cache and every worker then loads them (a second) instead
-    of compiling them side by side (a minute each, on a first run). Returns the laws it
-    compiled (none when the cache holds them)."""
+    of compiling them side by side (a minute each, on a first run). The same for the pair
+    kernels of building3d tasks on the cb, full and auto rungs (the dense or sparse path, the
+    law), on a short run of the bundled portal. Returns the laws (and "building3d <path>
+    <law>") it compiled (none when the cache holds them)."""
     from nsdyn._numba_cache import first_compile
     from nsdyn.models.isolated.bearings import bearing_from_config
     from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
@@ -300,4 +336,11 @@ def warm_kernels(tasks) -> list[str]:
         with first_compile("deck", COMPILE_ABOUT_S, False):
             simulate_plane(system, {"f": 1.0, "ax": 0.0, "ay": 0.0}, t_end=0.04, law=law)
         done.append(law)
+    from nsdyn._numba_cache import all_cached
+    from nsdyn.models.isolated.building3d_scene import pair_kernels, warm_pairs
+
+    for path, law in sorted(_pair_runs(tasks)):
+        if law in ("switch", "arctan") and not all_cached(pair_kernels(path, law)):
+            warm_pairs(path, law)
+            done.append(f"building3d {path} {law}")
     return done

@@ -13,16 +13,27 @@ from nsdyn.models.scene_schema import Key, Schema, Table
 
 FIDELITIES = ("rigid", "fixed", "cb", "full", "auto")
 BASES = ("grid", "pinned")
+DAMPINGS = ("modal", "stiffness")  # the sparse full rung's (pairs_sparse.DAMPINGS)
+
+_DECK_SOLVER = next(t for t in DECK.tables if t.name == "solver")
+SOLVER = Table("solver", _DECK_SOLVER.meaning + " The full rung on sparse operators (a frame "
+               "above the dense limit) steps at a fixed dt with the regularised law.", (
+    *_DECK_SOLVER.keys,
+    Key("dt", "number", "full rung on sparse operators: the fixed time step of its "
+        "generalized-α (the adaptive rungs ignore it)", "s",
+        default="(0.005, at most the record's step)", lo=0.0, lo_open=True),
+))  # fmt: skip
 
 SCHEMA = Schema(
     "building3d",
     "a space frame on bidirectional isolators: the rigid, fixed, cb and full rungs",
     "A 3D frame file (or a bundled one, `office-11-3d`) on one bidirectional isolator under "
     "every column line (the deck scene's `[bearing]`): taken rigid (`fidelity = \"rigid\"`, "
-    "the rigid deck), elastic by Craig–Bampton (`\"cb\"`) or with every mode (`\"full\"`, "
-    "small frames) with the normal forces from the dynamics, or on a fixed base by modal time "
-    "histories (`\"fixed\"`, a three-component record); `\"auto\"` asks the model advisor "
-    "for the cheapest rung that answers and runs it.",
+    "the rigid deck), elastic by Craig–Bampton (`\"cb\"`) or with every mode (`\"full\"`: "
+    "dense on small frames, on sparse operators above) with the normal forces from the "
+    "dynamics, or on a fixed base by modal time histories (`\"fixed\"`, a three-component "
+    "record); `\"auto\"` asks the model advisor for the cheapest rung that answers and runs "
+    "it.",
     (
         Table("scene", "The family and a name.", (
             Key("kind", "string", "the model family", required=True, choices=("building3d",)),
@@ -47,12 +58,22 @@ SCHEMA = Schema(
             Key("base", "string", "cb and full rungs: feet tied by a stiff base grid and a "
                 "rigid base diaphragm, or each foot pinned on its own isolator", default="grid",
                 choices=BASES),
+            Key("damping", "string", "full rung on sparse operators (a frame above the dense "
+                "limit): the frame's ratios on its fixed-interface modes as the cb rung "
+                "(\"modal\", low rank), or β K on the members, β = 2ζ₁/ω₁ (\"stiffness\", "
+                "the OpenSees export's; far cheaper on large frames)", default="modal",
+                choices=DAMPINGS),
         )),
-        *(t for t in DECK.tables if t.name in ("bearing", "motion", "solver")),
+        *(t for t in DECK.tables if t.name in ("bearing", "motion")),
+        SOLVER,
     ),
     notes=(
         "The fixed rung needs a record (`[motion] kind = \"record3\"`) and ignores "
         "`[bearing]` and `[solver]`; the rigid, cb and full rungs need `[bearing]`.",
+        "`fidelity = \"full\"` on a frame above the dense limit of the full rung (see the 3D "
+        "guide) runs on sparse operators: the regularised law only (`solver.law = "
+        "\"arctan\"`, the default there), a fixed step `solver.dt`, friction pendulums and "
+        "flat sliders (no `tfp`, no `area`).",
         "`fidelity = \"auto\"` runs the rigid and cb rungs over the record's strong-motion "
         "part and picks the cheapest that answers (see the 3D guide); it needs a record.",
     ),

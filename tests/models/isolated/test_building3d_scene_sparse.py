@@ -1,0 +1,137 @@
+"""The building3d scene's full rung on sparse operators: the path it takes, its equality with the
+dense full rung, the deformed shape of a run that keeps no q, and its errors.
+
+References: the dense full rung of the same scene (Radau IIA, adaptive, rtol 1e-10: the same
+model in the Craig–Bampton basis with every fixed-interface mode; the sparse path's "modal"
+damping is its diag(0, 2ζω) exactly), and the sparse path's own convergence: generalized-α is
+second order (Chung & Hulbert 1993), so its error at the step h is estimated by Richardson's
+|x_h − x_2h| / 3 (within a factor 2 while the observed order is 2 ± 0.3, as
+``tests/models/isolated/test_pairs_sparse.py`` checks). A peak differs from another by at most
+the largest difference of the histories it is taken from, so the same bound holds for peaks.
+"""
+
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+import pytest
+
+from nsdyn.models.isolated import building3d_cb, pairs_sparse_run
+from nsdyn.models.isolated.building3d_scene import build_system, format_summary, run_scene
+from nsdyn.models.scenefile import SceneError
+
+RTOL = 1e-10  # the dense reference's local tolerance
+SCENE = {
+    "scene": {"kind": "building3d"},
+    "structure": {"frame3d": "portal-3d", "fidelity": "full"},
+    "bearing": {"type": "fps", "radius": 2.2, "mu": 0.05},
+    # no vertical: the columns' axial modes (hundreds of Hz) stay quiet, the reference cheap
+    "motion": {
+        "kind": "record3",
+        "record": "synthetic-wn-40s",
+        "t_end": 2.0,
+        "pga": 2.0,
+        "vertical": False,
+    },
+    # eps = 200 s/m: a smooth regularised law, so that h² is reached at h ~ 1e-3 s
+    "solver": {"law": "arctan", "eps": 200.0, "rtol": RTOL, "atol": 1e-12, "dt_out": 0.01},
+}
+HISTORIES = ("u", "drift_cm", "drift_corner", "base_shear")
+PEAKS = {"u": "peak_resultant_displacement_m", "drift_cm": "peak_drift_cm_x",
+         "drift_corner": "peak_drift_corner_y", "base_shear": "peak_base_shear_x_N"}  # fmt: skip
+
+
+def _run(tmp_path, name: str, **solver):
+    cfg = copy.deepcopy(SCENE)
+    cfg["solver"].update(solver)
+    out = tmp_path / name
+    out.mkdir()
+    s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=out, figures=False, quiet=True)
+    with np.load(out / "building3d.npz") as z:
+        h = {k: z[k] for k in HISTORIES}
+    with np.load(out / "building3d-shape.npz") as z:
+        h["shape"] = z["u"]
+    return s, h
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("sparse-scene")
+    out = {"dense": _run(tmp, "dense")}
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(building3d_cb, "FULL_MAX", 0)  # every frame above the dense limit
+        for h in (1e-3, 5e-4):
+            out[h] = _run(tmp, f"sparse-{h:g}", dt=h)
+        mp.setattr(pairs_sparse_run, "KEEP_Q_MB", 0.0)  # q too large to keep: none kept
+        out["no-q"] = _run(tmp, "no-q", dt=1e-3)
+    return out
+
+
+def test_the_portal_takes_the_dense_path_and_the_lowered_limit_the_sparse(runs):
+    d, s = runs["dense"][0], runs[5e-4][0]
+    assert d["path"] == "dense" and "within the dense limit" in d["path_why"]
+    assert s["path"] == "sparse" and "above the dense limit 0" in s["path_why"]
+    assert s["method"] == "genalpha-sparse" and s["dt_s"] == 5e-4 and s["law"] == "arctan"
+    text = format_summary(s)
+    assert "sparse" in text and "time step" in text and "peak drift corner x" in text
+
+
+def test_sparse_full_rung_equals_the_dense_full_rung(runs):
+    (sd, hd), (_, h1), (s2, h2) = runs["dense"], runs[1e-3], runs[5e-4]
+    peak_u = float(np.abs(hd["u"]).max())
+    assert peak_u > 0.05  # the isolators slide: a test of the sliding regime
+    for key in HISTORIES:
+        ref = np.abs(hd[key]).max()
+        est = float(np.abs(h2[key] - h1[key]).max()) / 3.0  # Richardson, order 2
+        # the dense reference's own global error: at most steps x rtol of the peak
+        bound = 2.0 * est + sd["steps"] * RTOL * ref
+        assert np.abs(h2[key] - hd[key]).max() <= bound, key
+        assert s2[PEAKS[key]] == pytest.approx(sd[PEAKS[key]], abs=bound), key
+        assert est <= 1e-3 * ref, key  # and that error is small: the bound says something
+
+
+def test_a_run_that_keeps_no_q_draws_the_same_shape(runs):
+    # without the q histories the state at the peak is that of the run repeated to t*: the
+    # same steps in the same order (the output step only decides what is recorded), so the
+    # same field to the last bit
+    hk, hn = runs[1e-3][1], runs["no-q"][1]
+    assert np.array_equal(hn["u"], hk["u"])
+    assert np.abs(hk["shape"]).max() > 0
+    assert np.array_equal(hn["shape"], hk["shape"])
+
+
+@pytest.mark.parametrize(
+    ("tables", "field", "words"),
+    [
+        ({"solver": {"law": "switch"}}, "solver.law", "expected 'arctan', got 'switch'"),
+        ({"bearing": {"type": "tfp"}}, "bearing", "triple friction pendulum"),
+    ],
+)
+def test_the_sparse_path_refuses_what_it_cannot_run(tables, field, words, tmp_path,
+                                                    monkeypatch):  # fmt: skip
+    monkeypatch.setattr(building3d_cb, "FULL_MAX", 0)
+    cfg = copy.deepcopy(SCENE)
+    cfg["solver"].update(tables.get("solver", {}))
+    if "bearing" in tables:  # the triple friction pendulum of examples/scenes/deck-tfp4-3c
+        cfg["bearing"] = {"type": "tfp", "R1": 2.2, "R2": 0.3, "R3": 0.3, "R4": 2.2,
+                          "mu1": 0.06, "mu2": 0.02, "mu3": 0.02, "mu4": 0.10, "d1": 0.40,
+                          "d2": 0.06, "d3": 0.06, "d4": 0.40}  # fmt: skip
+    with pytest.raises(SceneError) as e:
+        build_system(cfg, str(tmp_path / "s.toml"))
+    msg = str(e.value)
+    assert "\n" not in msg and f"s.toml: {field}:" in msg and words in msg, msg
+
+
+def test_stiffness_damping_reaches_the_sparse_system(tmp_path, monkeypatch):
+    # "stiffness": β K on the members (C sparse, no low-rank term); "modal": the low-rank
+    # fixed-interface modal damping, every one of the portal's 23 interior modes damped
+    monkeypatch.setattr(building3d_cb, "FULL_MAX", 0)
+    systems = {}
+    for damping in ("stiffness", "modal"):
+        cfg = copy.deepcopy(SCENE)
+        cfg["structure"]["damping"] = damping
+        systems[damping] = build_system(cfg, str(tmp_path / "s.toml"))["pairs"]
+    st, mo = systems["stiffness"], systems["modal"]
+    assert st.info["damping"] == "stiffness" and st.c.size == 0 and st.C.nnz > 0
+    assert mo.info["damping"] == "modal" and mo.c.size == 23 and mo.C.nnz == 0
