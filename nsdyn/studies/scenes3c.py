@@ -19,16 +19,22 @@ forces (the overturning moment changes sign), so its peaks need not repeat.
 
 Outputs of each run, besides the family's summary (units in the key names):
 
-    peak_base_shear_N = max_t |Σ_i F_i(t)|          rigid rungs: F_i = friction + restoring +
-                                                     damper and rim force of isolator i
+    peak_base_shear_N = max_t |Σ_i F_i(t)|          rigid, cb and full rungs: F_i = friction +
+                                                     restoring + damper and rim force of
+                                                     isolator i
                       = max_t |(V_x, V_y)(t)|        fixed rung: the elastic storey forces
-    peak_corner_drift = max over storeys, plan corners and x, y of the drift ratio (fixed rung)
+    peak_corner_drift = max over storeys, plan corners and x, y of the drift ratio (fixed, cb
+                        and full rungs; with the drifts at the centres of mass, the floor
+                        accelerations and the torsional moment of the rung's summary)
     incident_angle_deg, pga_resultant_mps2           (the record as run: turned and scaled)
 
-The rigid and fixed rungs run here from the family's readers (``build_system``,
-``build_motion``, ``build_solver``), without files; a rung this module does not know (a new
-fidelity of ``building3d``) runs through the family's ``run_scene`` in a temporary directory
-and keeps its summary as it is (:data:`RUNGS` is the place to add its outputs).
+The cb and full rungs also say their ``path`` ("dense", or "sparse" for a full rung above the
+dense limit) and why. The rigid, fixed, cb and full rungs run here from the family's readers
+(``build_system``, ``build_motion``, ``build_solver``, ``run_pairs``), without files; a rung
+this module does not know (a new fidelity of ``building3d``) runs through the family's
+``run_scene`` in a temporary directory and keeps its summary as it is (:data:`RUNGS` is the
+place to add its outputs). Before the workers start, :func:`warm_kernels` compiles the plane
+kernels and the cb and full rungs' pair kernels (dense or sparse path, the law) once.
 """
 
 from __future__ import annotations
