@@ -249,7 +249,9 @@ def _pairs(sysd: dict, mod, cfg: dict, source: str) -> dict:
     family's :func:`~nsdyn.models.isolated.building3d_scene.run_pairs`, without files."""
     exc, t_end = mod.build_motion(cfg, source)
     kw = mod.build_solver(cfg, source)
-    _, s, _ = mod.run_pairs(sysd, exc, t_end, kw)
+    info = sysd["pairs"].info  # (the system is kept per structure; the solver is the task's)
+    dt = mod.sparse_solver(cfg, source, info["path_why"]) if info["path"] == "sparse" else None
+    _, s, _ = mod.run_pairs(sysd, exc, t_end, kw, dt)
     s["peak_corner_drift"] = max(s["peak_drift_corner_x"], s["peak_drift_corner_y"])
     return s | _motion_columns(exc, cfg)
 

@@ -152,3 +152,30 @@ def test_the_parent_compiles_the_pair_kernels_of_the_tasks_path_and_law(study):
     switch = Task(1, "k", "building3d", {**cfg, "structure": {**cfg["structure"],
                   "fidelity": "cb"}, "solver": {"law": "switch"}}, {})  # fmt: skip
     assert _pair_runs([switch]) == {("dense", "switch")}
+
+
+def test_a_task_on_the_sparse_path_takes_its_own_solver(tmp_path, monkeypatch):
+    # the built system is kept per structure and bearing, the solver is each task's: a task's
+    # step reaches the run, and a switch law is refused even when the system is already built
+    from nsdyn.models.isolated import building3d_cb
+    from nsdyn.models.scenefile import SceneError
+    from nsdyn.studies import scenes3c
+
+    monkeypatch.setattr(building3d_cb, "FULL_MAX", 0)  # the portal onto the sparse path
+    monkeypatch.setattr(scenes3c, "_systems", {})  # (its systems kept only for this test)
+    run_summary = scenes3c.run_summary
+    cfg = {"scene": {"kind": "building3d"},
+           "structure": {"frame3d": "portal-3d", "fidelity": "full"},
+           "bearing": {"type": "fps", "radius": 2.2, "mu": 0.05},
+           "motion": {"kind": "record3", "record": "synthetic-wn-40s", "t_end": 1.0, "pga": 2.0},
+           "solver": {"law": "arctan", "eps": 200.0}}  # fmt: skip
+    source = str(tmp_path / "s.toml")
+    for dt in (2e-3, 1e-3):
+        s = run_summary("building3d", {**cfg, "solver": {**cfg["solver"], "dt": dt}}, source)
+        assert s["path"] == "sparse" and s["dt_s"] == dt and s["fidelity"] == "full"
+        # the portal's floor centre is its plan centre: corners at least the centre (above)
+        for ax in "xy":
+            assert s[f"peak_drift_corner_{ax}"] >= s[f"peak_drift_cm_{ax}"] * (1 - 1e3 * EPS)
+        assert s["peak_corner_drift"] > 0 and s["incident_angle_deg"] == 0.0
+    with pytest.raises(SceneError, match=r"solver\.law: .*expected 'arctan', got 'switch'"):
+        run_summary("building3d", {**cfg, "solver": {"law": "switch"}}, source)

@@ -142,18 +142,24 @@ def pairs_path(cfg: dict, source: str) -> str:
     return full_path(_frame(t, source), t.get("base", "grid"))[0]
 
 
-def _sparse_pairs(frame, bearing, opts: dict, cfg: dict, source: str, why: str):
-    """The full rung's SparsePairSystem (module text; SceneError naming the field)."""
-    from nsdyn.models.isolated.pairs import PairSystemError
-    from nsdyn.models.isolated.pairs_sparse import building_pairs_sparse
-
+def sparse_solver(cfg: dict, source: str, why: str) -> float | None:
+    """``solver.dt`` (None: :func:`sparse_step`'s default) of a run on the sparse path; its law
+    checked: the regularised one, whether given or not (SceneError naming the field)."""
     solver = cfg.get("solver", {})
     law = solver.get("law", "arctan")
     if law != "arctan":
         raise SceneError(f"{source}: solver.law: the full rung runs on sparse operators here "
                          f"({why}) with the regularised law only; expected 'arctan', got "
                          f"{law!r}")  # fmt: skip
-    dt = number(source, "solver.dt", solver["dt"]) if "dt" in solver else None
+    return number(source, "solver.dt", solver["dt"]) if "dt" in solver else None
+
+
+def _sparse_pairs(frame, bearing, opts: dict, cfg: dict, source: str, why: str):
+    """The full rung's SparsePairSystem (module text; SceneError naming the field)."""
+    from nsdyn.models.isolated.pairs import PairSystemError
+    from nsdyn.models.isolated.pairs_sparse import building_pairs_sparse
+
+    sparse_solver(cfg, source, why)
     try:
         system = building_pairs_sparse(frame, bearing, damping=opts["damping"],
                                        base=opts["base"])  # fmt: skip
@@ -164,7 +170,7 @@ def _sparse_pairs(frame, bearing, opts: dict, cfg: dict, source: str, why: str):
                          f"{why})") from None  # fmt: skip
     except (BearingError, ValueError) as e:
         raise SceneError(f"{source}: structure: {' '.join(str(e).split())}") from None
-    system.info.update(path="sparse", path_why=why, dt=dt)
+    system.info.update(path="sparse", path_why=why)
     return system
 
 
@@ -342,8 +348,9 @@ def sparse_step(dt, exc) -> float:
     return min(DT_SPARSE, float(exc.dt)) if hasattr(exc, "dt") else DT_SPARSE
 
 
-def run_pairs(sysd: dict, exc, t_end, kw: dict):
-    """Run the cb or full rung of a built scene (dense or sparse path, no files): (the
+def run_pairs(sysd: dict, exc, t_end, kw: dict, dt: float | None = None):
+    """Run the cb or full rung of a built scene (dense or sparse path, no files; ``dt`` the
+    sparse path's step, of :func:`sparse_solver`): (the
     :class:`~nsdyn.models.isolated.building3d_response.BuildingResponse3D`, its summary with
     the rung's facts, the warnings caught)."""
     system = sysd["pairs"]
@@ -356,7 +363,7 @@ def run_pairs(sysd: dict, exc, t_end, kw: dict):
             from nsdyn.models.isolated.building3d_sparse import run_building_sparse
 
             extra = {"dt_out": kw["dt_out"]} if "dt_out" in kw else {}
-            r = run_building_sparse(system, exc, dt=sparse_step(info.get("dt"), exc),
+            r = run_building_sparse(system, exc, dt=sparse_step(dt, exc),
                                     t_end=t_end, eps=kw["eps"], keep_q=None, **extra)  # fmt: skip
         else:
             from nsdyn.models.isolated.building3d_response import run_building
@@ -404,13 +411,13 @@ def s_path(info: dict) -> str:
     return f"{info.get('path', 'dense')} path: {info.get('path_why', '')}"
 
 
-def _run_pairs(sysd, exc, t_end, kw, out_dir: Path, say) -> dict:
+def _run_pairs(sysd, exc, t_end, kw, out_dir: Path, say, dt=None) -> dict:
     system = sysd["pairs"]
     info = system.info
     compile_s = warm_pairs(info.get("path", "dense"), kw["law"], system)
     compile_s += sysd.get("compile_s", 0.0)
     say(f"building3d: {info['fidelity']} rung, {s_path(info)}")
-    r, s, caught = run_pairs(sysd, exc, t_end, kw)
+    r, s, caught = run_pairs(sysd, exc, t_end, kw, dt)
     for w in caught:
         say(f"building3d: warning: {w.message}")
     res = r.result
@@ -472,7 +479,9 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     if sysd["fidelity"] == "rigid":
         s = _run_rigid(sysd, exc, t_end, kw, out_dir, say)
     elif sysd["fidelity"] in ("cb", "full"):
-        s = _run_pairs(sysd, exc, t_end, kw, out_dir, say)
+        info = sysd["pairs"].info
+        dt = sparse_solver(cfg, source, info["path_why"]) if info["path"] == "sparse" else None
+        s = _run_pairs(sysd, exc, t_end, kw, out_dir, say, dt)
     else:
         s = _run_fixed(sysd, exc, source, out_dir)
     s.update({"kind": "building3d", "name": name, "frame": frame.name,
