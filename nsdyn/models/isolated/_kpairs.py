@@ -24,6 +24,10 @@ rigid slab) keep their independent combinations Q_sᵀ D_s (Q_s from an SVD when
 change) with stick forces τ = Λ Q_s ζ in proportion to the normal forces (the deck's split:
 every disc fills at once). Any other singular G with a consistent right-hand side takes the
 least-norm solution (G⁺ r), checked for consistency, else ST_SINGULAR.
+
+A bilateral contact (``sp[S_CONTACT]``, the deck's CONTACT_* codes) holds λ_i < 0; there the
+bearing's terms in λ_i, friction and λ u/R, use max(λ_i, 0) = 0 (c_i = 0), with the tensile
+set (flags ws[19]) a fixed point of the evaluation, as in :mod:`._kplane`.
 """
 
 import math
@@ -46,15 +50,15 @@ drop_stale(
     _HERE,
     ["_kpairs", "_kpairsrun", "_kpairsradau"],
     [_HERE / f for f in ("_kpairs.py", "_kpairsrun.py", "_kpairsradau.py", "_kplane.py",
-                         "_kplanerun.py", "_kplaneradau.py", "bearings.py")]
+                         "_kplanerun.py", "_kplaneradau.py", "_kplanestops.py", "bearings.py")]
     + [_HERE.parents[1] / f for f in ("_kdp5.py", "_klinalg.py")],
 )  # fmt: skip
 
 # operators op (a tuple of 2-D arrays)
 O_MIK, O_MIC, O_GAM, O_D2, O_R, O_MIRT, O_MIDT, O_RMIRT, O_RMIDT, O_DMIRT, O_DMIDT, O_Q = range(12)
 # system parameters sp
-S_G, S_ALPHA, S_BETA, S_KAPPA, S_EPS, S_ETA, S_LAW = range(7)
-N_SP = 7
+S_G, S_ALPHA, S_BETA, S_KAPPA, S_EPS, S_ETA, S_LAW, S_CONTACT = range(8)
+N_SP = 8
 ST_OK, ST_SINGULAR = 0, 4
 PIVOT_RTOL = 1e-13  # LU pivot floor relative to G's largest entry (below: redundant rows)
 REDUNDANT_RTOL = 1e-10  # singular values below this x the largest: redundant stick rows
@@ -66,14 +70,14 @@ def workspace(n, ni):
     """Work arrays of :func:`evaluate` (made once per run): u, v, c, f0 (2ni); a0 (n);
     ground (3); G, G copy (3ni, 3ni); r, r copy (3ni); pivots (3ni); row map (ni); LU flag;
     pressure factors (ni); the stick basis: its modes (ni), Q_s (2ni, 2ni), rank; G3 (3ni,
-    3ni), a vector (3ni)."""
+    3ni), a vector (3ni); the compression flags (ni) of a bilateral contact."""
     mm = 3 * ni
     return (np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(n),
             np.zeros(3), np.zeros((mm, mm)), np.zeros((mm, mm)), np.zeros(mm), np.zeros(mm),
             np.zeros(mm, dtype=np.int64), np.zeros(ni, dtype=np.int64),
             np.zeros(1, dtype=np.int64), np.ones(ni), np.full(ni, -1, dtype=np.int64),
             np.zeros((2 * ni, 2 * ni)), np.zeros(1, dtype=np.int64), np.zeros((mm, mm)),
-            np.zeros(mm))  # fmt: skip
+            np.zeros(mm), np.ones(ni))  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
@@ -112,6 +116,24 @@ def bearing_terms(bp, i, ux, uy, vx, vy, law, eps, mode, dx, dy, kpr):
 
 @njit(cache=True, error_model="numpy")
 def evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo):
+    """:func:`evaluate_pressure`; a bilateral contact's tensile set (ws[19]) re-evaluated
+    until it is λ_i <= 0 (:func:`nsdyn.models.isolated._kplane.tension_flags`)."""
+    on = ws[19]
+    for i in range(on.shape[0]):
+        on[i] = 1.0
+    st = evaluate_pressure(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
+    if int(sp[S_CONTACT]) != kp.CONTACT_BILATERAL:
+        return st
+    for _ in range(kp.TENSION_PASSES):
+        if st != ST_OK or not kp.tension_flags(lam, on):
+            return st
+        st = evaluate_pressure(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr,
+                               Fo)  # fmt: skip
+    return st
+
+
+@njit(cache=True, error_model="numpy")
+def evaluate_pressure(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo):
     """:func:`evaluate_at` with pressure-dependent friction: the factors k_p(λ_i)
     (:func:`nsdyn.models.isolated._kplane.pressure_factor`) at the normal forces they give,
     iterated from 1 to PRESSURE_TOL (left in ws[13]); ST_SINGULAR when they do not settle."""
@@ -145,6 +167,7 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
     The contacts enter through their independent rows R̃ = Qᵀ R (r of them, op[O_R]) with
     multipliers ξ and normal forces λ = Q ξ (op[O_Q], ni × r; Q = I without redundancy)."""
     u, v, cf, f0, a0, ag, G, G2, r, r2, piv, row, luok, pf = ws[:14]
+    on = ws[19]
     MiK, MiC, Gam, D2, R, Q = op[O_MIK], op[O_MIC], op[O_GAM], op[O_D2], op[O_R], op[O_Q]
     MiRt, MiDt, RMiRt, RMiDt, DMiRt, DMiDt = (op[O_MIRT], op[O_MIDT], op[O_RMIRT],
                                               op[O_RMIDT], op[O_DMIRT], op[O_DMIDT])  # fmt: skip
@@ -162,14 +185,16 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
         mode = modes[i]
         ox, oy, fx, fy = bearing_terms(bp, i, ux, uy, vx, vy, law, eps, mode, dirs[i, 0],
                                        dirs[i, 1], pf[i])  # fmt: skip
+        if on[i] == 0.0:  # tensile: no terms in λ_i
+            fx = fy = 0.0
         Fo[i, 0] = ox
         Fo[i, 1] = oy
         Ff[i, 0] = fx
         Ff[i, 1] = fy
         f0[2 * i] = ox + bp[i, B_KLAM] * ux
         f0[2 * i + 1] = oy + bp[i, B_KLAM] * uy
-        cf[2 * i] = bp[i, B_RINV] * ux + fx
-        cf[2 * i + 1] = bp[i, B_RINV] * uy + fy
+        cf[2 * i] = on[i] * (bp[i, B_RINV] * ux + fx)
+        cf[2 * i + 1] = on[i] * (bp[i, B_RINV] * uy + fy)
         row[i] = -1
         if law == kp.LAW_SWITCH and mode == kp.MODE_STICK:
             row[i] = m
@@ -247,8 +272,8 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
             return ST_SINGULAR
     for i in range(ni):
         li = lam[i]
-        Fr[i, 0] = (li * bp[i, B_RINV] + bp[i, B_KLAM]) * u[2 * i]
-        Fr[i, 1] = (li * bp[i, B_RINV] + bp[i, B_KLAM]) * u[2 * i + 1]
+        Fr[i, 0] = (on[i] * li * bp[i, B_RINV] + bp[i, B_KLAM]) * u[2 * i]
+        Fr[i, 1] = (on[i] * li * bp[i, B_RINV] + bp[i, B_KLAM]) * u[2 * i + 1]
         if row[i] >= 0:
             Ff[i, 0] = r[row[i]]
             Ff[i, 1] = r[row[i] + 1]

@@ -113,6 +113,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     if st != kr.ST_OK:
         return st
     lam = out[1]
+    bil = int(sp[kq.S_CONTACT]) == kp.CONTACT_BILATERAL
+    tens = bil and kr._min_normal(lam) <= 0.0
     V6 = np.zeros((6, N))
     ys, f0, f1, ynew, err, sc = V6[0], V6[1], V6[2], V6[3], V6[4], V6[5]
     Jq = np.zeros((n, n))
@@ -293,7 +295,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             status = kr.ST_SINGULAR
             break
         nfev += 1
-        if kr._min_normal(lam) <= 0.0:  # uplift: the first λ_i = 0 on the dense output
+        n_end = kr._min_normal(lam)
+        if n_end <= 0.0 and not tens:  # uplift (tension): the first λ_i = 0, dense output
             sa = 0.0
             sb = 1.0
             while (sb - sa) * hh > kr.EVENT_TTOL:
@@ -309,8 +312,14 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             for i in range(ni):
                 if lam[i] <= 0.0 and info[kr.I_IFAIL] < 0:
                     info[kr.I_IFAIL] = i
-            s_end = sb
-            status = kr.ST_UPLIFT
+            if bil:  # the contact holds: recorded, the step kept
+                kr.tension_onset(info, t + sb * hh)
+            else:
+                s_end = sb
+                status = kr.ST_UPLIFT
+        if bil:
+            tens = n_end <= 0.0
+            info[kr.I_NMIN] = min(info[kr.I_NMIN], n_end)
         t_new = t + s_end * hh
         while iout < nt and t_eval[iout] <= t_new:
             krad._dense(y, Z, (t_eval[iout] - t) / hh, ys)

@@ -10,8 +10,10 @@ event location are the deck's (:mod:`nsdyn.models.isolated._kplanerun`, whose ge
     slip-start  g = 2η − |v|           → slip;   g = v·d → stick test (the start reverses)
     stick       g = μ_s k_p λ − |τ|    → slip-start in the direction of τ (start_direction)
 
-A normal force reaching zero (uplift of a bilateral contact) is located on the dense output
-and ends the run (ST_UPLIFT). The regularised law runs the same loop without events.
+A normal force reaching zero (uplift) is located on the dense output and ends the run
+(ST_UPLIFT); a bilateral contact goes on, its onsets of tension located and counted, and its
+λ_i a switching function of the switch law (→ free, no friction; back → stick test or slip),
+all as in the deck's loop. The regularised law runs the same loop without events.
 """
 
 import math
@@ -34,7 +36,7 @@ def _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
 
 @njit(cache=True, error_model="numpy")
 def gvals(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g):
-    """Switching functions (ni, 2) at (t, y)."""
+    """Switching functions (ni, 3) at (t, y) (column 2: a bilateral contact's ±λ_i)."""
     lam, Ff = out[1], out[2]
     ni = modes.shape[0]
     v = ws[1]
@@ -44,13 +46,17 @@ def gvals(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g):
         vx = v[2 * i]
         vy = v[2 * i + 1]
         speed = math.sqrt(vx * vx + vy * vy)
+        g[i, 0] = 1.0
         g[i, 1] = 1.0
+        g[i, 2] = 1.0
+        if int(sp[kq.S_CONTACT]) == kp.CONTACT_BILATERAL:
+            g[i, 2] = -lam[i] if modes[i] == kp.MODE_FREE else lam[i]
         if modes[i] == kp.MODE_SLIP:
             g[i, 0] = speed - eta
         elif modes[i] == kp.MODE_START:
             g[i, 0] = kr.START_EXIT * eta - speed
             g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
-        else:
+        elif modes[i] == kp.MODE_STICK:
             g[i, 0] = bp[i, B_MUS] * ws[13][i] * lam[i] - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
     return st
 
@@ -127,6 +133,18 @@ def initial_modes(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
     for i in range(modes.shape[0]):
         sp_i = math.sqrt(v[2 * i] ** 2 + v[2 * i + 1] ** 2)
         modes[i] = kp.MODE_SLIP if sp_i > sp[kq.S_ETA] else kp.MODE_STICK
+    st = settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+    if st != kr.ST_OK or int(sp[kq.S_CONTACT]) != kp.CONTACT_BILATERAL:
+        return st
+    if _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out) != kq.ST_OK:
+        return kr.ST_SINGULAR
+    free = False
+    for i in range(modes.shape[0]):  # tensile from the start: free
+        if out[1][i] <= 0.0:
+            modes[i] = kp.MODE_FREE
+            free = True
+    if not free:
+        return st
     return settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
 
 
@@ -140,7 +158,9 @@ def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
     v = ws[1]
     for i in range(ni):
         m0 = modes[i]
-        if m0 == kp.MODE_STICK and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
+        if g0[i, 2] > 0.0 and g[i, 2] <= 0.0:  # a bilateral contact into / out of tension
+            modes[i] = kp.MODE_FREE if m0 != kp.MODE_FREE else kp.MODE_SLIP
+        elif m0 == kp.MODE_STICK and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
             mu_n = kp.mu_kinetic(bp, i, 0.0) * ws[13][i] * lam[i]
             kq.start_direction(i, Ff[i, 0], Ff[i, 1], mu_n, ws, dirs)
             modes[i] = kp.MODE_START
@@ -207,7 +227,9 @@ def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, E
         st = initial_modes(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
     if st == kr.ST_OK:
         outputs(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, 0, X, NO, FF, FR, FO, MO)
-        if kr._min_normal(out[1]) <= 0.0:
+        bil = int(sp[kq.S_CONTACT]) == kp.CONTACT_BILATERAL
+        kr.tension_start(info, t0, out[1], bil)
+        if kr._min_normal(out[1]) <= 0.0 and not bil:
             info[kr.I_IFAIL] = np.argmin(out[1])
             st = kr.ST_UPLIFT
     if st != kr.ST_OK:
@@ -301,9 +323,11 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     y1 = np.zeros(n2)
     ys = np.zeros(n2)
     rc = np.zeros((5, n2))
-    g0 = np.ones((ni, 2))
-    g = np.ones((ni, 2))
-    ga = np.ones((ni, 2))
+    g0 = np.ones((ni, 3))
+    g = np.ones((ni, 3))
+    ga = np.ones((ni, 3))
+    bil = int(sp[kq.S_CONTACT]) == kp.CONTACT_BILATERAL
+    tens = bil and kr._min_normal(lam) <= 0.0
     switching = int(sp[kq.S_LAW]) == kp.LAW_SWITCH
     rtol = cfg[kr.C_RTOL]
     hmax = cfg[kr.C_HMAX]
@@ -365,14 +389,23 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             event, s_end, ne = locate_event(t, hh, rc, ys, g0, g, ga, modes, dirs, op, bp, sp,
                                             gk, gp, tab, ws, out)  # fmt: skip
             nfev += ne
+        n_cut = n_end_min
         if event or n_end_min <= 0.0:  # normal force at the cut (or step end)
             kr._dense_state(rc, s_end, ys)
             _ev(t + s_end * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
-            if kr._min_normal(lam) <= 0.0:
-                s_end = locate_uplift(t, hh, s_end, rc, ys, modes, dirs, op, bp, sp, gk, gp,
-                                      tab, ws, out, info)  # fmt: skip
-                event = False
-                status = kr.ST_UPLIFT
+            n_cut = kr._min_normal(lam)
+            if n_cut <= 0.0 and not tens:
+                sb = locate_uplift(t, hh, s_end, rc, ys, modes, dirs, op, bp, sp, gk, gp, tab,
+                                   ws, out, info)  # fmt: skip
+                if bil:  # the contact holds: recorded, the step kept
+                    kr.tension_onset(info, t + sb * hh)
+                else:
+                    s_end = sb
+                    event = False
+                    status = kr.ST_UPLIFT
+        if bil:
+            tens = n_cut <= 0.0
+            info[kr.I_NMIN] = min(info[kr.I_NMIN], n_cut)
         t_new = t + s_end * hh if s_end < 1.0 else t + hh
         while iout < nt and t_eval[iout] <= t_new:
             kr._dense_state(rc, (t_eval[iout] - t) / hh, ys)
@@ -413,7 +446,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
                 k[0, j] = k[6, j]
             if switching:
                 for i in range(ni):
-                    for c in range(2):
+                    for c in range(3):
                         g0[i, c] = g[i, c]
             h = min(dp.new_step(hh, err), hmax)
     return finish(status, t, nstep, nrej, nfev, iout, info)

@@ -32,6 +32,11 @@ loads each in proportion to its normal force (the least Σ |τ_i|²/N_i):
 τ_i = N_i B_i G⁻¹ f, G = Σ_stuck N_i B_iᵀ B_i. A translating demand then uses every disc
 alike (|τ_i|/N_i = |f|/Σ N_i), so a held deck breaks away at the demand μ_s Σ N_i Coulomb
 allows, not when its lightest isolator alone is full.
+
+Contact ``sp[S_CONTACT]``: DETECT (the loops end the run at N_i = 0) or BILATERAL (N_i < 0
+held). A tensile isolator's terms in N_i, friction and N u/R (a triple pendulum's N φ), use
+max(N_i, 0) = 0; its K_lam u, damper and rim stop act. The tensile set (flags ws[12]) is a
+fixed point of the evaluation; under the switch law a tensile isolator is MODE_FREE.
 """
 
 import math
@@ -69,18 +74,21 @@ from nsdyn.models.isolated.bearings import (
 # the time loops (_kplanerun, _kplaneradau) compile these kernels, the shared tableau and LU
 # and the bearing table's column numbers into their caches: drop all when any of them changes
 _HERE = Path(__file__).resolve().parent
+_LOOPS = ["_kplane", "_kplanerun", "_kplaneradau", "_kplanestops"]
 drop_stale(
     _HERE,
-    ["_kplane", "_kplanerun", "_kplaneradau"],
-    [_HERE / f for f in ("_kplane.py", "_kplanerun.py", "_kplaneradau.py", "bearings.py")]
+    _LOOPS,
+    [_HERE / f"{k}.py" for k in [*_LOOPS, "bearings"]]
     + [_HERE.parents[1] / f for f in ("_kdp5.py", "_klinalg.py")],
 )
 
 LAW_ARCTAN, LAW_SWITCH = 0, 1
-MODE_STICK, MODE_SLIP, MODE_START = 0, 1, 2
+MODE_STICK, MODE_SLIP, MODE_START, MODE_FREE = 0, 1, 2, 3  # FREE: tensile (bilateral)
+CONTACT_DETECT, CONTACT_BILATERAL = 0, 1
+TENSION_PASSES = 16  # re-evaluations settling the tensile set, at most
 # system parameters sp
-S_M, S_EX, S_EY, S_H, S_G, S_KAPPA, S_EPS, S_ETA, S_LAW = range(9)
-N_SP = 9
+S_M, S_EX, S_EY, S_H, S_G, S_KAPPA, S_EPS, S_ETA, S_LAW, S_CONTACT = range(10)
+N_SP = 10
 # ground: a table (t0, dt; rows a_x, a_y, a_z) or a harmonic orbit
 G_TABLE, G_HARMONIC = 0, 1
 GP_T0, GP_DT, GP_F, GP_AX, GP_AY, GP_PHY, GP_AZ, GP_FZ, GP_PHZ = range(9)
@@ -150,10 +158,11 @@ def slip_kinematics(y, pos, i):
 def workspace(ni):
     """Work arrays of :func:`evaluate` (made once per run); the last, (ni, 8), receives the
     rates of the triple friction pendulums' internal slips, the (ni,) one the pressure factors
-    of the friction at the last evaluation."""
+    of the friction at the last evaluation, the last (ni,) the compression flags (1: N_i
+    carries its normal-force terms, 0: tensile under a bilateral contact)."""
     return (np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((5, 5)), np.zeros(5),
             np.zeros(5, dtype=np.int64), np.zeros((ni, 3)), np.zeros(ni), np.zeros((ni, 2)),
-            np.zeros(3), np.zeros(3), np.zeros((ni, 8)), np.ones(ni))  # fmt: skip
+            np.zeros(3), np.zeros(3), np.zeros((ni, 8)), np.ones(ni), np.ones(ni))  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
@@ -223,6 +232,37 @@ def tfp_force(y, bp, i, ux, uy, sd):
 
 @njit(cache=True, error_model="numpy")
 def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo):
+    """:func:`evaluate_pressure`; a bilateral contact's tensile set (ws[12]) re-evaluated
+    until it is N_i <= 0 (a set still changing after TENSION_PASSES, N_i ≈ 0, is kept)."""
+    on = ws[12]
+    for i in range(on.shape[0]):
+        on[i] = 1.0
+    st = evaluate_pressure(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
+                           Fr, Fo)  # fmt: skip
+    if int(sp[S_CONTACT]) != CONTACT_BILATERAL:
+        return st
+    for _ in range(TENSION_PASSES):
+        if st != ST_OK or not tension_flags(N, on):
+            return st
+        st = evaluate_pressure(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N,
+                               Ff, Fr, Fo)  # fmt: skip
+    return st
+
+
+@njit(cache=True, error_model="numpy")
+def tension_flags(N, on):
+    """on_i = 1 where N_i > 0, else 0; True when a flag changed."""
+    changed = False
+    for i in range(N.shape[0]):
+        w = 1.0 if N[i] > 0.0 else 0.0
+        changed = changed or w != on[i]
+        on[i] = w
+    return changed
+
+
+@njit(cache=True, error_model="numpy")
+def evaluate_pressure(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr,
+                      Fo):  # fmt: skip
     """q̈ and the isolator forces at (t, y): normal forces N (ni,), resisting friction Ff
     (ni, 2) (the stick force τ_i of a stuck isolator), restoring Fr = N u/R + K_lam u and
     damper + stop Fo (ni, 2). Returns ST_OK or ST_SINGULAR.
@@ -274,7 +314,7 @@ def damper_and_rim(bp, i, ux, uy, vx, vy):
 @njit(cache=True, error_model="numpy")
 def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo):
     """:func:`evaluate` with the friction coefficients scaled by the pressure factors ws[11]."""
-    Am, A3, K5, r5, piv, n1, n0, cN, fv, ag, sd, pf = ws
+    Am, A3, K5, r5, piv, n1, n0, cN, fv, ag, sd, pf, on = ws
     ni = pos.shape[0]
     ground(t, gk, gp, tab, ag)
     m = sp[S_M]
@@ -328,13 +368,17 @@ def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, 
             s = mu_kinetic(bp, i, speed) * pf[i]
             fx = s * dirs[i, 0]
             fy = s * dirs[i, 1]
+        elif modes[i] == MODE_FREE:
+            pass
         else:
             nst += 1
             ist = i
+        if on[i] == 0.0:  # tensile: no normal-force terms
+            fx = fy = 0.0
         Ff[i, 0] = fx
         Ff[i, 1] = fy
-        cx = bp[i, B_RINV] * ux + fx
-        cy = bp[i, B_RINV] * uy + fy
+        cx = on[i] * (bp[i, B_RINV] * ux + fx)
+        cy = on[i] * (bp[i, B_RINV] * uy + fy)
         cN[i, 0] = cx
         cN[i, 1] = cy
         bt2 = -Y * cx + X * cy
@@ -420,8 +464,8 @@ def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, 
         Ni = n0[i] + n1[i, 0] * qdd[0] + n1[i, 1] * qdd[1] + n1[i, 2] * qdd[2]
         N[i] = Ni
         ux, uy, _, _ = slip_kinematics(y, pos, i)
-        Fr[i, 0] = (Ni * bp[i, B_RINV] + bp[i, B_KLAM]) * ux
-        Fr[i, 1] = (Ni * bp[i, B_RINV] + bp[i, B_KLAM]) * uy
+        Fr[i, 0] = (on[i] * Ni * bp[i, B_RINV] + bp[i, B_KLAM]) * ux
+        Fr[i, 1] = (on[i] * Ni * bp[i, B_RINV] + bp[i, B_KLAM]) * uy
         if law == LAW_ARCTAN or modes[i] != MODE_STICK:
             Ff[i, 0] *= Ni
             Ff[i, 1] *= Ni
@@ -468,6 +512,10 @@ def start_direction(i, tx, ty, mu_n, Am, pos, dirs):
             A3[a, b] = Am[a, b]
     piv = np.zeros(3, dtype=np.int64)
     tn = math.sqrt(tx * tx + ty * ty)
+    if tn == 0.0:  # (no stick force, an unloaded isolator: any direction, its friction is 0)
+        dirs[i, 0] = 1.0
+        dirs[i, 1] = 0.0
+        return
     if not lu_factor(A3, piv, 1e-14) or not mu_n > 0.0 or not tn > mu_n:
         dirs[i, 0] = tx / tn
         dirs[i, 1] = ty / tn

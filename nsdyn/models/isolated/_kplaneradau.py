@@ -171,7 +171,9 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
     kr._outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, 0, X, NO, FF, FR,
                 FO, MO)  # fmt: skip
     iout = 1
-    if kr._min_normal(N) <= 0.0:
+    bil = int(sp[kp.S_CONTACT]) == kp.CONTACT_BILATERAL
+    tens = kr.tension_start(info, t, N, bil)
+    if kr._min_normal(N) <= 0.0 and not bil:
         info[kr.I_TFAIL] = t
         return kr.ST_UPLIFT
     h = min(cfg[kr.C_H0], hmax)
@@ -356,7 +358,8 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             status = kr.ST_SINGULAR
             break
         nfev += 1
-        if kr._min_normal(N) <= 0.0:  # uplift: locate the first N_i = 0 on the dense output
+        n_end = kr._min_normal(N)
+        if n_end <= 0.0 and not tens:  # uplift (tension): the first N_i = 0, dense output
             sa = 0.0
             sb = 1.0
             while (sb - sa) * hh > kr.EVENT_TTOL:
@@ -372,8 +375,14 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             for i in range(ni):
                 if N[i] <= 0.0 and info[kr.I_IFAIL] < 0:
                     info[kr.I_IFAIL] = i
-            s_end = sb
-            status = kr.ST_UPLIFT
+            if bil:  # the contact holds: recorded, the step kept
+                kr.tension_onset(info, t + sb * hh)
+            else:
+                s_end = sb
+                status = kr.ST_UPLIFT
+        if bil:
+            tens = n_end <= 0.0
+            info[kr.I_NMIN] = min(info[kr.I_NMIN], n_end)
         t_new = t + s_end * hh
         _locate_stops(t, hh, s_end, y, Z, ys, pos, bp, stops)
         while iout < nt and t_eval[iout] <= t_new:

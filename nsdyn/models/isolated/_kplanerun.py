@@ -28,7 +28,12 @@ released together are aligned with their accelerations by :func:`align_starts`. 
 located by sampling g on the dense output and bisecting the earliest sample interval with a
 crossing to EVENT_TTOL; the step is cut there and the integration restarts (no first-same-as-last
 stage). A normal force reaching zero (uplift) is located the same way and ends the run
-(ST_UPLIFT). The regularised law runs the same loop without switching functions. A rim
+(ST_UPLIFT) under the detecting contact; a bilateral contact goes on through it, and each
+onset of tension (the smallest N from > 0 to <= 0 between accepted states) is located the same
+way and counted (info I_TTEN: the first, I_NTEN, I_NMIN: the smallest N at accepted states).
+Under the switch law N_i is then a switching function too: stick, slip or slip-start → free
+(no friction) where N_i reaches zero, free → stick test or slip where it returns. The
+regularised law runs the same loop without switching functions. A rim
 contact (|u| > d_cap) is located on the dense output too, so one shorter than a step is
 reported at its first time. Steps collapsing far beyond what the record needs (STALL_STEPS,
 STALL_RATE per largest step: a stick band η too narrow for the slip direction turning near
@@ -42,14 +47,22 @@ from numba import njit
 
 from nsdyn import _kdp5 as dp
 from nsdyn.models.isolated import _kplane as kp
-from nsdyn.models.isolated.bearings import B_DCAP, B_MUS, B_MUSLOW
+from nsdyn.models.isolated._kplanestops import (  # noqa: F401 (the loops' shared names)
+    EVENT_TTOL,
+    P_NSTEPS,
+    P_PEAK,
+    P_TFIRST,
+    SAMPLES,
+)
+from nsdyn.models.isolated._kplanestops import locate_stops as _locate_stops
+from nsdyn.models.isolated._kplanestops import overshoot as _overshoot  # noqa: F401
+from nsdyn.models.isolated._kplanestops import track_stops as _track_stops
+from nsdyn.models.isolated.bearings import B_MUS, B_MUSLOW
 
 ST_OK, ST_UNDERFLOW, ST_MAX_STEPS, ST_NONFINITE, ST_SINGULAR = 0, 1, 2, 3, 4
 ST_UPLIFT, ST_CHATTER, ST_EVENTS, ST_NEWTON, ST_STALL = 5, 6, 7, 8, 9
 STALL_STEPS = 100_000  # steps beyond 10 per largest step between two outputs, or beyond
 STALL_RATE = 200  # this many per largest step since the start: collapsed steps (ST_STALL)
-EVENT_TTOL = 1e-11  # s, width of the located event bracket
-SAMPLES = 4  # dense-output samples per step scanned for a sign change
 STICK_RTOL = 1e-9  # relative slack of the disc test |τ| <= μ_s N
 START_EXIT = 2.0  # a slip-start becomes a slip at |v| = this x eta (entered at |v| <= eta)
 RESTICK_MARGIN = 1e-6  # a slip-start held by a stuck deck sticks below (1 - this) mu_d(0) N
@@ -62,15 +75,14 @@ H_MIN = 1e-14  # relative step floor
 # cfg entries
 C_RTOL, C_ATOLQ, C_ATOLV, C_H0, C_HMAX, C_MAXSTEPS = range(6)
 # info entries
-I_NSTEP, I_NREJ, I_NFEV, I_NEV, I_TFAIL, I_IFAIL, I_NOUT = range(7)
-N_INFO = 7
-# stop table columns (one row per isolator)
-P_TFIRST, P_PEAK, P_NSTEPS = range(3)
+I_NSTEP, I_NREJ, I_NFEV, I_NEV, I_TFAIL, I_IFAIL, I_NOUT, I_TTEN, I_NTEN, I_NMIN = range(10)
+N_INFO = 10  # (I_IFAIL: the uplift's isolator, or the first tensile one of a bilateral run)
 
 
 @njit(cache=True, error_model="numpy")
 def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
-    """Switching functions (ni, 2) at (t, y); stuck isolators need one evaluation."""
+    """Switching functions (ni, 3) at (t, y); stuck isolators (and a bilateral contact's
+    normal forces, column 2) need one evaluation."""
     qdd, N, Ff, Fr, Fo = out
     ni = pos.shape[0]
     nst = 0
@@ -78,20 +90,23 @@ def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
         if modes[i] == kp.MODE_STICK:
             nst += 1
     st = kp.ST_OK
-    if nst > 0:
+    bil = int(sp[kp.S_CONTACT]) == kp.CONTACT_BILATERAL
+    if nst > 0 or bil:
         st = kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
     eta = sp[kp.S_ETA]
     for i in range(ni):
         _, _, vx, vy = kp.slip_kinematics(y, pos, i)
         speed = math.sqrt(vx * vx + vy * vy)
         g[i, 1] = 1.0
+        g[i, 0] = 1.0
+        g[i, 2] = (-N[i] if modes[i] == kp.MODE_FREE else N[i]) if bil else 1.0
         if modes[i] == kp.MODE_SLIP:
             g[i, 0] = speed - eta
         elif modes[i] == kp.MODE_START:
             g[i, 0] = START_EXIT * eta - speed
             if nst < 2:  # (two stuck isolators hold the deck: v = 0, no reversal to see)
                 g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
-        else:
+        elif modes[i] == kp.MODE_STICK:
             lim = bp[i, B_MUS] * ws[11][i] * N[i] * (1.0 + STICK_RTOL)  # settle's own bound
             g[i, 0] = lim - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
     return st
@@ -100,7 +115,7 @@ def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
 @njit(cache=True, error_model="numpy")
 def _crossed(g0, g):
     for i in range(g.shape[0]):
-        for k in range(2):
+        for k in range(g.shape[1]):
             if g0[i, k] > 0.0 and g[i, k] <= 0.0:
                 return True
     return False
@@ -228,6 +243,18 @@ def initial_modes(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
     for i in range(pos.shape[0]):
         _, _, vx, vy = kp.slip_kinematics(y, pos, i)
         modes[i] = kp.MODE_SLIP if math.sqrt(vx * vx + vy * vy) > sp[kp.S_ETA] else kp.MODE_STICK
+    st = settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
+    if st != ST_OK or int(sp[kp.S_CONTACT]) != kp.CONTACT_BILATERAL:
+        return st
+    if _eval(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out) != kp.ST_OK:
+        return ST_SINGULAR
+    free = False
+    for i in range(pos.shape[0]):  # tensile from the start: free
+        if out[1][i] <= 0.0:
+            modes[i] = kp.MODE_FREE
+            free = True
+    if not free:
+        return st
     return settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
 
 
@@ -242,7 +269,10 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
         return ST_SINGULAR
     for i in range(ni):  # every decision on the mode before the event
         m0 = modes[i]
-        if m0 == kp.MODE_STICK and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
+        _, _, vx, vy = kp.slip_kinematics(y, pos, i)
+        if g0[i, 2] > 0.0 and g[i, 2] <= 0.0:  # a bilateral contact into / out of tension
+            modes[i] = kp.MODE_FREE if m0 != kp.MODE_FREE else kp.MODE_SLIP
+        elif m0 == kp.MODE_STICK and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
             kp.start_direction(i, Ff[i, 0], Ff[i, 1], kp.mu_kinetic(bp, i, 0.0) * ws[11][i] * N[i],
                                ws[0], pos, dirs)  # fmt: skip
             modes[i] = kp.MODE_START
@@ -253,58 +283,11 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
         ):
             modes[i] = kp.MODE_STICK  # stick test: settle releases it if outside the disc
         if modes[i] == kp.MODE_SLIP:  # a slip needs |v| > eta for its direction v/|v|
-            _, _, vx, vy = kp.slip_kinematics(y, pos, i)
             if math.sqrt(vx * vx + vy * vy) <= sp[kp.S_ETA]:
                 modes[i] = kp.MODE_STICK
         if modes[i] != m0:
             _record(EV, info, t, i, m0, modes[i], dirs)
     return settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
-
-
-@njit(cache=True, error_model="numpy")
-def _track_stops(t, y, pos, bp, stops):
-    for i in range(pos.shape[0]):
-        ux, uy, _, _ = kp.slip_kinematics(y, pos, i)
-        d = math.sqrt(ux * ux + uy * uy) - bp[i, B_DCAP]
-        if d > 0.0:
-            if not stops[i, P_TFIRST] == stops[i, P_TFIRST]:  # nan: first contact
-                stops[i, P_TFIRST] = t
-            stops[i, P_PEAK] = max(stops[i, P_PEAK], d)
-            stops[i, P_NSTEPS] += 1
-
-
-@njit(cache=True, error_model="numpy")
-def _overshoot(ys, pos, bp, i):
-    """|u_i| − d_cap,i at the state ys (> 0: isolator i presses its rim)."""
-    ux, uy, _, _ = kp.slip_kinematics(ys, pos, i)
-    return math.sqrt(ux * ux + uy * uy) - bp[i, B_DCAP]
-
-
-@njit(cache=True, error_model="numpy")
-def _locate_stops(t, hh, s_end, rc, ys, pos, bp, stops):
-    """First rim contact of each isolator inside a step, located on its dense output: the
-    overshoot |u| − d_cap sampled at SAMPLES points up to ``s_end``, the first positive one
-    bisected to EVENT_TTOL (a contact shorter than the step, missed at its ends, is found)."""
-    for i in range(pos.shape[0]):
-        if stops[i, P_TFIRST] == stops[i, P_TFIRST]:  # in contact before: step ends suffice
-            continue
-        sa = 0.0
-        for m in range(1, SAMPLES + 1):
-            sb = s_end * m / SAMPLES
-            _dense_state(rc, sb, ys)
-            d = _overshoot(ys, pos, bp, i)
-            if d > 0.0:
-                stops[i, P_PEAK] = max(stops[i, P_PEAK], d)
-                while (sb - sa) * hh > EVENT_TTOL:
-                    sm = 0.5 * (sa + sb)
-                    _dense_state(rc, sm, ys)
-                    if _overshoot(ys, pos, bp, i) > 0.0:
-                        sb = sm
-                    else:
-                        sa = sm
-                stops[i, P_TFIRST] = t + sb * hh
-                break
-            sa = sb
 
 
 @njit(cache=True, error_model="numpy")
@@ -329,6 +312,27 @@ def _eval(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
 
 
 @njit(cache=True, error_model="numpy")
+def tension_start(info, t, N, bil):
+    """A bilateral run's tension record at its start (nothing counted, N_min = min N, an
+    onset at t when a normal force starts tensile); returns whether one is tensile."""
+    info[I_TTEN] = np.nan
+    info[I_NTEN] = 0.0
+    info[I_NMIN] = _min_normal(N)
+    if bil and info[I_NMIN] <= 0.0:
+        info[I_IFAIL] = np.argmin(N)
+        tension_onset(info, t)
+    return bil and info[I_NMIN] <= 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def tension_onset(info, t):
+    """Count a located onset of tension at t (the first kept in I_TTEN)."""
+    if not info[I_TTEN] == info[I_TTEN]:
+        info[I_TTEN] = t
+    info[I_NTEN] += 1.0
+
+
+@njit(cache=True, error_model="numpy")
 def _min_normal(N):
     v = math.inf
     for i in range(N.shape[0]):
@@ -350,11 +354,12 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
     y1 = np.zeros(n)
     ys = np.zeros(n)
     rc = np.zeros((5, n))
-    g0 = np.ones((ni, 2))
-    g = np.ones((ni, 2))
-    ga = np.ones((ni, 2))
+    g0 = np.ones((ni, 3))
+    g = np.ones((ni, 3))
+    ga = np.ones((ni, 3))
     for j in range(n):
         y[j] = y0[j]
+    bil = int(sp[kp.S_CONTACT]) == kp.CONTACT_BILATERAL
     switching = int(sp[kp.S_LAW]) == kp.LAW_SWITCH
     rtol = cfg[C_RTOL]
     hmax = cfg[C_HMAX]
@@ -372,7 +377,8 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             return st
     _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, 0, X, NO, FF, FR, FO, MO)
     iout = 1
-    if _min_normal(N) <= 0.0:
+    tens = tension_start(info, t, N, bil)
+    if _min_normal(N) <= 0.0 and not bil:
         info[I_TFAIL] = t
         return ST_UPLIFT
     fresh = True
@@ -453,10 +459,12 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                     gvals(t + sb * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g)
                     break
                 sa = sb
+        n_cut = n_end_min
         if event or n_end_min <= 0.0:  # normal force at the cut (or step end)
             _dense_state(rc, s_end, ys)
             _eval(t + s_end * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
-            if _min_normal(N) <= 0.0:  # uplift: locate the first N_i = 0
+            n_cut = _min_normal(N)
+            if n_cut <= 0.0 and not tens:  # uplift (tension): locate the first N_i = 0
                 sa = 0.0
                 sb = s_end
                 while (sb - sa) * hh > EVENT_TTOL:
@@ -473,9 +481,15 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                 for i in range(ni):
                     if N[i] <= 0.0 and info[I_IFAIL] < 0:
                         info[I_IFAIL] = i
-                s_end = sb
-                event = False
-                status = ST_UPLIFT
+                if bil:  # the contact holds: recorded, the step kept
+                    tension_onset(info, t + sb * hh)
+                else:
+                    s_end = sb
+                    event = False
+                    status = ST_UPLIFT
+        if bil:
+            tens = n_cut <= 0.0
+            info[I_NMIN] = min(info[I_NMIN], n_cut)
         t_new = t + s_end * hh if s_end < 1.0 else t + hh
         _locate_stops(t, hh, s_end, rc, ys, pos, bp, stops)
         while iout < nt and t_eval[iout] <= t_new:
@@ -522,7 +536,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                 k[0, j] = k[6, j]
             if switching:
                 for i in range(ni):
-                    for c in range(2):
+                    for c in range(3):
                         g0[i, c] = g[i, c]
             h = min(dp.new_step(hh, err), hmax)
     if status != ST_OK and not info[I_TFAIL] == info[I_TFAIL]:

@@ -15,8 +15,12 @@ equal vertical isolator stiffness under a rigid deck makes N_i affine in (X_i, Y
     N_i = [1, X_i, Y_i] G⁻¹ [W, Σ N X, Σ N Y]ᵀ,   G = Σ_j [1, X_j, Y_j]ᵀ [1, X_j, Y_j],
 
 which needs one isolator (the SDOF, N = W, its moments taken by the bearing) or at least three
-not on one line. The deck is vertically rigid (no vertical or rocking motion); a normal force
-reaching zero (uplift) is located and ends the run, reported with time and isolator.
+not on one line. The deck is vertically rigid (no vertical or rocking motion). What a normal
+force reaching zero does is the ``contact`` assumption: "detect" (default) locates the uplift
+and ends the run, reported with time and isolator; "bilateral" holds the contact in tension
+(N_i < 0 allowed, the distribution above unchanged) and reports when and how far it went
+tensile, the tensile isolator's friction and N u/R taken at max(N_i, 0) = 0. "unilateral"
+(lift-off and landing) needs the vertical and rocking dofs this model does not have.
 """
 
 from __future__ import annotations
@@ -37,6 +41,8 @@ from nsdyn.models.isolated.plane_result import PlaneResult
 from nsdyn.models.isolated.tfp import N_INTERNAL, TripleBearing
 
 PLANE_LAWS = ("switch", "arctan")  # the switch law with a stick disc; the regularised law
+# the contact assumptions of the planar family (system.CONTACTS) that these systems run
+PLANE_CONTACTS = {"detect": kp.CONTACT_DETECT, "bilateral": kp.CONTACT_BILATERAL}
 COLLINEAR_RTOL = 1e-9  # G's smallest/largest eigenvalue below this: isolators on one line
 # the regularised law's velocity tolerance is at most this / eps [m/s]: its transition from
 # stick to slip spans |v| ~ 1/eps, and a tolerance above that lets the error control accept
@@ -259,10 +265,22 @@ def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
     return kp.G_TABLE, gp, np.ascontiguousarray(np.vstack(rows)), (n - 1) * dt
 
 
+def contact_code(contact: str) -> int:
+    """The kernels' code of a contact assumption; one-line errors for others."""
+    if contact == "unilateral":
+        raise ValueError("contact: 'unilateral' (lift-off and landing) is not available on "
+                         "bidirectional isolators; expected 'detect' or 'bilateral'")  # fmt: skip
+    if contact not in PLANE_CONTACTS:
+        raise ValueError(f"contact: expected one of {list(PLANE_CONTACTS)}, got {contact!r}")
+    return PLANE_CONTACTS[contact]
+
+
 def kernel_params(
-    system: PlaneSystem, law: str, eps: float, eta: float, kappa: float | None
-) -> tuple:
+    system: PlaneSystem, law: str, eps: float, eta: float, kappa: float | None,
+    contact: str = "detect",
+) -> tuple:  # fmt: skip
     """(M, pos, bp, nd, sp) of the kernels."""
+    code = contact_code(contact)
     if law not in PLANE_LAWS:
         raise ValueError(f"law: expected one of {list(PLANE_LAWS)}, got {law!r}")
     for k, v in (("eps", eps), ("eta", eta)):
@@ -277,6 +295,7 @@ def kernel_params(
     sp[kp.S_EPS] = eps
     sp[kp.S_ETA] = eta
     sp[kp.S_LAW] = kp.LAW_SWITCH if law == "switch" else kp.LAW_ARCTAN
+    sp[kp.S_CONTACT] = code
     M = system.mass_matrix()
     pos = np.ascontiguousarray(system.positions)
     return M, pos, system.bearing_table(), system.normal_distribution(), sp
@@ -360,6 +379,7 @@ def simulate_plane(
     max_steps: int = 5_000_000,
     y0=None,
     integrator: str = "auto",
+    contact: str = "detect",
 ):
     """Integrate the system under ``ground`` from rest (or ``y0`` = [q, q̇]).
 
@@ -369,7 +389,9 @@ def simulate_plane(
     explicit Dormand–Prince pair, whose smooth phases are not stiff; the stiff regularised law
     on Radau IIA), "dopri5" or "radau" (the regularised law only). ``atol`` = (displacement
     [m], velocity [m/s]); the regularised law's velocity tolerance is capped at
-    ``ATOL_V_EPS / eps``. Returns a :class:`PlaneResult`.
+    ``ATOL_V_EPS / eps``. ``contact``: "detect" (an uplift ends the run, reported in
+    ``result.uplift`` with a warning) or "bilateral" (the contact holds in tension; reported
+    in ``result.tension`` with a warning). Returns a :class:`PlaneResult`.
     """
     if integrator not in ("auto", "dopri5", "radau"):
         raise ValueError(f"integrator: expected 'auto', 'dopri5' or 'radau', got {integrator!r}")
@@ -384,7 +406,7 @@ def simulate_plane(
     loop = kr.integrate
     if law == "arctan" and integrator in ("auto", "radau"):
         loop = krad.integrate
-    M, pos, bp, nd, sp = kernel_params(system, law, eps, eta, kappa)
+    M, pos, bp, nd, sp = kernel_params(system, law, eps, eta, kappa, contact)
     _check_run_options(rtol, atol, max_step, max_steps)
     gk, gp, tab, dur = pack_ground(ground)
     t_eval, max_step = run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step)
@@ -403,4 +425,4 @@ def simulate_plane(
     status = loop(y, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                           X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
     return PlaneResult.from_run(system, law, t_eval, X, NO, FF, FR, FO, MO, EV, stops, info,
-                                int(status), eps, eta)  # fmt: skip
+                                int(status), eps, eta, contact)  # fmt: skip

@@ -16,7 +16,8 @@ Tables:
 * ``[motion]`` a three-component record (``kind = "record3"``) or a harmonic orbit
   (``kind = "orbit"``), the keys of :mod:`nsdyn.ground.table3`;
 * ``[solver]`` ``law`` ("switch" | "arctan"), ``eps`` [s/m], ``eta`` [m/s], ``rtol``,
-  ``atol`` [m and m/s], ``dt_out`` [s].
+  ``atol`` [m and m/s], ``dt_out`` [s], ``contact`` ("detect" | "bilateral": what a normal
+  force reaching zero does, :data:`nsdyn.models.isolated.deck.PLANE_CONTACTS`).
 
 Writes ``deck.npz`` (histories) into the output directory; the summary
 (:meth:`nsdyn.models.isolated.plane_result.PlaneResult.summary`, units in the key names) is what
@@ -36,7 +37,7 @@ import numpy as np
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.bearings import BEARING_KEYS, BearingError, bearing_from_config
-from nsdyn.models.isolated.deck import rigid_deck, sdof_plane, simulate_plane
+from nsdyn.models.isolated.deck import contact_code, rigid_deck, sdof_plane, simulate_plane
 from nsdyn.models.isolated.defaults import EPS, ETA
 from nsdyn.models.scenefile import SceneError, check_fields, number
 
@@ -46,7 +47,7 @@ TABLES = {
     "mass": {"m"},
     "bearing": BEARING_KEYS,
     "motion": None,  # checked by nsdyn.ground.table3
-    "solver": {"law", "eps", "eta", "rtol", "atol", "dt_out"},
+    "solver": {"law", "eps", "eta", "rtol", "atol", "dt_out", "contact"},
     "sweep": {"f_min", "f_max", "points", "amplitudes", "law"},  # read by nsdyn sweep
 }
 FIGURE_MODULE = "nsdyn.plot.isolators"  # draws the figure from deck.npz (a later stage)
@@ -141,6 +142,11 @@ def build_solver(cfg: dict, source: str) -> dict:
     for key, default in (("eps", EPS), ("eta", ETA), ("rtol", RTOL), ("atol", ATOL)):
         kw[key] = number(source, f"solver.{key}", t.get(key, default))
     kw["atol"] = (kw["atol"], kw["atol"])
+    kw["contact"] = t.get("contact", "detect")
+    try:
+        contact_code(kw["contact"])
+    except ValueError as e:
+        raise SceneError(f"{source}: solver.{e}") from None
     if "dt_out" in t:
         kw["dt_out"] = number(source, "solver.dt_out", t["dt_out"])
     build_sweep(cfg, source)  # (a scene's faults all at once, before any run)
@@ -270,6 +276,11 @@ def summary_table(head: str, s: dict, rows) -> str:
     if s.get("uplift"):
         u = s["uplift"]
         lines.append(f"  UPLIFT isolator {u['isolator']} at t = {u['t_s']:.6g} s (run ended)")
+    if s.get("tension"):
+        u = s["tension"]
+        lines.append(f"  TENSION isolator {u['isolator']} at t = {u['t_first_s']:.6g} s "
+                     f"(bilateral contact held it; {u['onsets']} onsets, min normal force "
+                     f"{u['min_normal_force_N']:.4g} N)")  # fmt: skip
     for k, label, unit in rows:
         v = s.get(k)
         if v is None:

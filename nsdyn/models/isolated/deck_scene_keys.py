@@ -173,6 +173,10 @@ SCHEMA = Schema(
             Key("atol", "number", "absolute tolerance (displacements and velocities)", "m, m/s",
                 default=1e-8, **_POS),
             Key("dt_out", "number", "output step", "s", **_POS),
+            Key("contact", "string", "what a normal force reaching zero does: stop the run "
+                "there (uplift), or hold the isolator down and go on (tension reported; "
+                "`unilateral` lift-off is not available here)", default="detect",
+                choices=("detect", "bilateral")),
         )),
     ),
 )  # fmt: skip

@@ -44,6 +44,7 @@ from nsdyn.models.isolated.bearings import N_BCOL, Bearing, BearingError
 from nsdyn.models.isolated.deck import (
     PLANE_LAWS,
     _check_run_options,
+    contact_code,
     pack_ground,
     run_buffers,
     run_grid,
@@ -377,7 +378,9 @@ class PairResult(PlaneResult):
         return s
 
 
-def _kernel_inputs(system: PairSystem, law: str, eps, eta, kappa, alpha, beta) -> np.ndarray:
+def _kernel_inputs(system: PairSystem, law: str, eps, eta, kappa, alpha, beta,
+                   contact: str = "detect") -> np.ndarray:  # fmt: skip
+    code = contact_code(contact)
     if law not in PLANE_LAWS:
         raise ValueError(f"law: expected one of {list(PLANE_LAWS)}, got {law!r}")
     for k, v in (("eps", eps), ("eta", eta), ("alpha", alpha), ("beta", beta)):
@@ -396,6 +399,7 @@ def _kernel_inputs(system: PairSystem, law: str, eps, eta, kappa, alpha, beta) -
     sp[kq.S_KAPPA] = 2 * alpha * beta if kappa is None else float(kappa)
     sp[kq.S_EPS], sp[kq.S_ETA] = eps, eta
     sp[kq.S_LAW] = kp.LAW_SWITCH if law == "switch" else kp.LAW_ARCTAN
+    sp[kq.S_CONTACT] = code
     return sp
 
 
@@ -418,6 +422,7 @@ def simulate_pairs(
     max_steps: int = 5_000_000,
     y0=None,
     integrator: str = "auto",
+    contact: str = "detect",
 ) -> PairResult:
     """Integrate ``system`` under ``ground`` from its static equilibrium (or ``y0`` = [q, q̇]).
 
@@ -427,8 +432,10 @@ def simulate_pairs(
     ``integrator="dopri5"``). Outputs every ``dt_out`` (default: the record's step or 1/50
     period) or at ``t_eval``; ``atol`` = (displacement [m], velocity [m/s]), the regularised
     law's velocity tolerance capped at ATOL_V_EPS / eps; κ (stick rows) defaults to 2αβ.
-    Failures raise :class:`PlaneIntegrationError` with time and reason; an uplift ends the run
-    (reported in ``result.uplift`` with a warning). Returns a :class:`PairResult`.
+    Failures raise :class:`PlaneIntegrationError` with time and reason. ``contact``: "detect"
+    (an uplift ends the run, reported in ``result.uplift`` with a warning) or "bilateral" (the
+    contacts hold in tension, λ_i < 0; reported in ``result.tension`` with a warning).
+    Returns a :class:`PairResult`.
     """
     if not isinstance(system, PairSystem):
         raise TypeError(f"system: expected a PairSystem, got {type(system).__name__}")
@@ -436,7 +443,7 @@ def simulate_pairs(
         raise ValueError(f"integrator: expected 'auto', 'dopri5' or 'radau', got {integrator!r}")
     if integrator == "radau" and law == "switch":
         raise ValueError("integrator: the switch law runs on 'dopri5' (its events need it)")
-    sp = _kernel_inputs(system, law, eps, eta, kappa, alpha, beta)
+    sp = _kernel_inputs(system, law, eps, eta, kappa, alpha, beta, contact)
     _check_run_options(rtol, atol, max_step, max_steps)
     loop = kqr.integrate
     if law == "arctan" and integrator in ("auto", "radau"):
@@ -462,7 +469,7 @@ def simulate_pairs(
                   gp, tab, cfg, X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
     # the deck's result handles statuses, events, rim contacts and uplift; q is n wide here
     res = PairResult.from_run(system, law, t_eval, X, NO, FF, FR, FO, MO, EV, stops, info,
-                              int(status), eps, eta)  # fmt: skip
+                              int(status), eps, eta, contact)  # fmt: skip
     k = res.t.size
     res.q, res.qd = X[:k, :n].copy(), X[:k, n:].copy()
     return res

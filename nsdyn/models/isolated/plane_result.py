@@ -9,7 +9,10 @@ Deck torsion θ (rad) and the displacement of the deck's corner isolators follow
 A numerical failure (step underflow, non-finite state, singular constraint system, chattering
 switch events, too many steps) raises :class:`PlaneIntegrationError` with time and reason; an
 uplift (a normal force reaching zero) ends the run at its located time and is reported in the
-result and its summary (``uplift``), with a warning.
+result and its summary (``uplift``), with a warning. Under a bilateral contact the run goes on
+and ``tension`` reports the first located onset of tension (time, isolator), the number of
+onsets, the smallest normal force and the tensile intervals of each isolator, read on the
+outputs with the zero crossings interpolated linearly between them (``contact_tension``).
 """
 
 from __future__ import annotations
@@ -40,7 +43,8 @@ MESSAGES = {
     kr.ST_NEWTON: "Radau IIA's Newton iterations diverge at t = {t:.6g} s, down to the smallest "
     "step (lower eps, or use law 'switch')",
 }
-MODE_NAMES = {0: "stick", 1: "slip", 2: "slip-start"}
+MODE_NAMES = {0: "stick", 1: "slip", 2: "slip-start", 3: "free"}  # free: tensile, no friction
+MAX_INTERVALS = 100  # tensile intervals listed in a summary (the count says how many in all)
 
 
 class PlaneIntegrationError(RuntimeError):
@@ -49,6 +53,54 @@ class PlaneIntegrationError(RuntimeError):
 
 class UpliftWarning(UserWarning):
     """An isolator's normal force reached zero; the run ended there."""
+
+
+class TensionWarning(UserWarning):
+    """A bilateral contact carried tension (a normal force below zero); the run went on."""
+
+
+def contact_tension(t: np.ndarray, N: np.ndarray, info: np.ndarray) -> dict | None:
+    """The tension record of a bilateral run (None when no normal force went tensile):
+    first located onset (t_first_s, isolator), onsets, min_normal_force_N (outputs and
+    accepted states) and its time, tensile_time_s per isolator and the intervals
+    (isolator, t_start_s, t_end_s) where N_i <= 0 on the outputs, ends interpolated."""
+    onsets = int(info[kr.I_NTEN])
+    neg = N <= 0.0
+    if onsets == 0 and not neg.any():
+        return None
+    intervals = []
+    for i in range(N.shape[1]):
+        d = np.diff(neg[:, i].astype(np.int8))
+        starts = list(np.flatnonzero(d == 1) + 1)
+        ends = list(np.flatnonzero(d == -1) + 1)
+        if neg[0, i]:
+            starts.insert(0, 0)
+        if neg[-1, i]:
+            ends.append(N.shape[0])
+        for a, b in zip(starts, ends, strict=True):
+            intervals.append((i, _crossing(t, N[:, i], a), _crossing(t, N[:, i], b)))
+    k = np.unravel_index(np.argmin(N), N.shape)
+    tt = np.zeros(N.shape[1])
+    for i, a, b in intervals:
+        tt[i] += b - a
+    return {
+        "t_first_s": float(info[kr.I_TTEN]), "isolator": int(info[kr.I_IFAIL]),
+        "onsets": onsets,
+        "min_normal_force_N": float(min(N.min(), info[kr.I_NMIN])),
+        "t_min_output_s": float(t[k[0]]),
+        "tensile_time_s": [float(v) for v in tt],
+        "intervals": [{"isolator": int(i), "t_start_s": float(a), "t_end_s": float(b)}
+                      for i, a, b in intervals[:MAX_INTERVALS]],
+        "n_intervals": len(intervals),
+    }  # fmt: skip
+
+
+def _crossing(t: np.ndarray, n: np.ndarray, k: int) -> float:
+    """Zero of n between outputs k − 1 and k by linear interpolation (t[k] at the ends)."""
+    if k <= 0 or k >= t.size:
+        return float(t[min(max(k, 0), t.size - 1)])
+    a, b = n[k - 1], n[k]
+    return float(t[k - 1] + (t[k] - t[k - 1]) * a / (a - b)) if a != b else float(t[k])
 
 
 @dataclass
@@ -72,9 +124,12 @@ class PlaneResult(Tabular):
     eps: float = EPS  # the laws' parameters of this run
     eta: float = ETA
     internal: np.ndarray | None = None  # (nt, 8 n_tfp) internal slips of triple pendulums
+    contact: str = "detect"  # the contact assumption: detect | bilateral
+    tension: dict | None = None  # a bilateral run's tension record (contact_tension)
 
     @classmethod
-    def from_run(cls, system, law, t, X, NO, FF, FR, FO, MO, EV, stops, info, status, eps, eta):
+    def from_run(cls, system, law, t, X, NO, FF, FR, FO, MO, EV, stops, info, status, eps, eta,
+                 contact="detect"):  # fmt: skip
         if status not in (kr.ST_OK, kr.ST_UPLIFT):
             msg = MESSAGES.get(status, f"integration failed (status {status}) at t = {{t:.6g}} s")
             raise PlaneIntegrationError(msg.format(t=info[kr.I_TFAIL], eta=eta))
@@ -112,8 +167,19 @@ class PlaneResult(Tabular):
         stats = {"steps": int(info[kr.I_NSTEP]), "rejected": int(info[kr.I_NREJ]),
                  "evaluations": int(info[kr.I_NFEV]), "events": int(info[kr.I_NEV])}  # fmt: skip
         k = slice(0, nout)
+        tension = contact_tension(t[k], NO[k], info) if contact == "bilateral" else None
+        if tension is not None:
+            warnings.warn(
+                f"the bilateral contact carried tension: the normal force of isolator "
+                f"{tension['isolator']} went below zero at t = {tension['t_first_s']:.6g} s "
+                f"({tension['onsets']} onsets, smallest {tension['min_normal_force_N']:.4g} N); "
+                "an isolator in tension has no friction and no pendulum force",
+                TensionWarning,
+                stacklevel=3,
+            )
         res = cls(system, law, t[k], X[k, :3], X[k, 3:6], NO[k], FF[k], FR[k], FO[k], MO[k],
-                  EV[:ne].copy(), contacts, uplift, stats, eps, eta, X[k, 6:])  # fmt: skip
+                  EV[:ne].copy(), contacts, uplift, stats, eps, eta, X[k, 6:], contact,
+                  tension)  # fmt: skip
         if getattr(system, "has_tfp", False):  # a triple pendulum's inner slider at its rims:
             from nsdyn.models.isolated.tfp import surface_limits  # the bearing's capacity
 
@@ -225,7 +291,11 @@ class PlaneResult(Tabular):
             "stick_fraction": float(np.mean(self.sticks())),
             "rim_contacts": self.stops,
             "uplift": self.uplift,
+            "contact": self.contact,
         }
+        if self.contact == "bilateral":
+            s["tension"] = self.tension
+            s["would_lift_off"] = self.tension is not None
         if getattr(self.system, "has_tfp", False):
             from nsdyn.models.isolated.tfp import surface_limits
 

@@ -1,0 +1,217 @@
+"""Contact assumptions of the bidirectional isolators: "detect" (uplift ends the run) and
+"bilateral" (the contact holds in tension and the run goes on), on the rigid deck and on
+systems from matrices.
+
+Sources: the rigid deck's vertical force and moment balance (d'Alembert: the horizontal
+inertia force at the height h of the centre of mass overturns the deck; N_i from equal
+vertical isolator stiffness), the overturning threshold of a rigid block on corner supports
+a = g b / h, the vertical balance of a mass on one contact λ = m (g + a_z) and its zero
+crossings ω t = π ± asin(g / A) under a_z = A sin ω t, free motion (no friction) of an
+isolator whose surfaces are not pressed together.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from nsdyn.models.isolated.bearings import Bearing, Friction
+from nsdyn.models.isolated.deck import rigid_deck, simulate_plane
+from nsdyn.models.isolated.pairs import PairSystem, from_deck, simulate_pairs
+from nsdyn.models.isolated.plane_result import TensionWarning, UpliftWarning
+
+G = 9.81
+M = 1000.0
+POS = [(-4.0, -3.0), (4.0, -3.0), (4.0, 3.0), (-4.0, 3.0)]
+
+
+def single_mass(bearing, m=M):
+    """A mass on one isolator: q = (x, y, z), slip rows x and y, the contact row on z."""
+    return PairSystem(M=m * np.eye(3), K=np.zeros((3, 3)), C=np.zeros((3, 3)), Gamma=np.eye(3),
+                      D=np.array([[[1.0, 0, 0], [0, 1.0, 0]]]), R=np.array([[0, 0, 1.0]]),
+                      bearings=(bearing,), positions=np.zeros((1, 2)), g=G)  # fmt: skip
+
+
+def _quiet(fn, *a, **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return fn(*a, **kw)
+
+
+@pytest.mark.parametrize("law", ["arctan", "switch"])
+@pytest.mark.parametrize("family", ["deck", "pairs"])
+def test_bilateral_equals_detect_when_no_normal_force_reaches_zero(family, law):
+    # An eccentric deck on four pendulums under an elliptical orbit and a vertical harmonic,
+    # every normal force well above zero (checked): the bilateral contact takes no decision the
+    # detecting one does not, and both evaluate the same floating-point operations (the
+    # tensile set stays empty, the tension switching function never crosses), so the
+    # histories are identical: the bound is 0, not a tolerance.
+    b = Bearing(Friction(0.05, mu_static=0.07), radius=2.5, c=2000.0)
+    d = rigid_deck(2e5, 2e5 * 8.0, POS, b, ecc=(0.6, -0.4), h=1.5, g=G)
+    orbit = {"f": 0.6, "ax": 2.0, "ay": 1.2, "phase_y_deg": -70.0, "az": 2.0, "f_z": 1.1}
+    run = simulate_plane if family == "deck" else simulate_pairs
+    system = d if family == "deck" else from_deck(d)
+    kw = dict(law=law, t_end=4.0, dt_out=0.02)
+    r0 = run(system, orbit, contact="detect", **kw)
+    r1 = run(system, orbit, contact="bilateral", **kw)
+    assert r0.N.min() > 0.2 * r0.N.max() and r0.uplift is None and r1.tension is None
+    assert np.abs(r0.u).max() > 0.01  # the deck slides
+    np.testing.assert_array_equal(r1.u, r0.u)
+    np.testing.assert_array_equal(r1.N, r0.N)
+    np.testing.assert_array_equal(r1.friction, r0.friction)
+    s = r1.summary()
+    assert s["contact"] == "bilateral" and s["tension"] is None and not s["would_lift_off"]
+
+
+def _overturning_record(T=4.0, dt=0.01):
+    """x: a ramp past the overturning threshold; y: a harmonic; z: a harmonic [m/s²]."""
+    t = np.arange(0.0, T + dt / 2, dt)
+    ax = 2.0 * t
+    ay = 1.5 * np.sin(2 * np.pi * 0.7 * t)
+    az = 2.0 * np.sin(2 * np.pi * 1.3 * t)
+    return t, (0.0, dt, ax, ay, az)
+
+
+@pytest.mark.parametrize("law", ["arctan", "switch"])
+def test_bilateral_deck_in_tension_keeps_vertical_and_moment_equilibrium(law):
+    # A tall deck (h / b = 4 across x) on four pendulums with high friction under a ramp a_x =
+    # 2 t (8 m/s² at the end, three times g b / h), a harmonic a_y and a vertical harmonic:
+    # the heel isolators go tensile. At every output, the rigid deck's statics: sum N_i =
+    # m (g + a_z); moments about the sliding plane, m a_abs = -sum F_i (F_i each bearing's
+    # resisting force) at the height h: sum N_i X_i = m e_x (g + a_z) + h sum F_i,x, likewise
+    # for Y. The forces come from one solve of a <= 5 x 5 system (condition ~1e4 with the
+    # stick rows scaled by the mass): round-off n eps kappa ~ 1e-11 of m g, asserted at 1e-9.
+    # A tensile isolator carries no friction and no pendulum force (max(N, 0) = 0).
+    m, h, ecc = 1.0e4, 4.0, (0.1, -0.05)
+    pos = [(-1.0, -1.5), (1.0, -1.5), (1.0, 1.5), (-1.0, 1.5)]
+    d = rigid_deck(m, m * 2.0, pos, Bearing(Friction(0.6, mu_static=0.7), radius=3.0),
+                   ecc=ecc, h=h, g=G)  # fmt: skip
+    t, rec = _overturning_record()
+    with pytest.warns(TensionWarning, match="the bilateral contact carried tension"):
+        r = simulate_plane(d, rec, law=law, contact="bilateral")
+    assert r.t[-1] == pytest.approx(t[-1]) and r.uplift is None
+    az = rec[4][: r.t.size]
+    F = (r.friction + r.restoring + r.other).sum(axis=1)
+    X, Y = np.array(pos).T
+    tol = 1e-9 * m * G
+    np.testing.assert_allclose(r.N.sum(axis=1), m * (G + az), rtol=0, atol=tol)
+    np.testing.assert_allclose(r.N @ X, m * ecc[0] * (G + az) + h * F[:, 0], rtol=0, atol=tol)
+    np.testing.assert_allclose(r.N @ Y, m * ecc[1] * (G + az) + h * F[:, 1], rtol=0, atol=tol)
+    neg = r.N < 0.0
+    assert neg.any() and r.N.min() < -0.5 * m * G / 4  # well into tension
+    assert np.all(r.friction[neg] == 0.0) and np.all(r.restoring[neg] == 0.0)
+    s = r.summary()
+    ten = s["tension"]
+    assert s["would_lift_off"] and ten["isolator"] in (1, 2)  # the heel, X = +b
+    assert ten["min_normal_force_N"] <= r.N.min()
+    assert ten["t_first_s"] <= min(iv["t_start_s"] for iv in ten["intervals"]) + 0.01
+    if law == "switch":  # stuck until then
+        assert np.all(r.modes[neg] == 3)  # (tensile isolators are free: no stick, no friction)
+
+
+def test_bilateral_tension_starts_at_the_overturning_threshold():
+    # Corners at (+-b, +-c), stuck deck (mu 0.8), ramp a_x = k t, no vertical: N = (m/4)(g -
+    # a h / b) at the unloaded corners, zero at a* = g b / h (the planar detect test's case).
+    # Bilateral: the onset located there to the event tolerance (1e-9 s), the run goes on to
+    # the end, and at the end (still stuck: absolute acceleration k t) N = (m/4)(g - k T h/b)
+    # to round-off of the 3 x 3 solve (1e-9 of m g).
+    b, c, h, m, k = 1.0, 1.5, 4.0, 1.0e4, 2.0
+    pos = [(-b, -c), (b, -c), (b, c), (-b, c)]
+    d = rigid_deck(m, m, pos, Bearing(Friction(0.8), radius=3.0), h=h, g=G)
+    dt = 0.01
+    t = np.arange(0.0, 3.0 + dt / 2, dt)
+    with pytest.warns(TensionWarning, match=r"isolator [12] went below zero"):
+        r = simulate_plane(d, (0.0, dt, k * t, 0 * t, None), contact="bilateral")
+    ten = r.tension
+    assert ten["t_first_s"] == pytest.approx(G * b / h / k, abs=1e-9)
+    assert ten["onsets"] == 1
+    assert r.t[-1] == pytest.approx(3.0)
+    n_end = m / 4 * (G - k * 3.0 * h / b)
+    np.testing.assert_allclose(r.N[-1, [1, 2]], n_end, rtol=0, atol=1e-9 * m * G)
+    assert ten["min_normal_force_N"] == pytest.approx(n_end, abs=1e-9 * m * G)
+
+
+@pytest.mark.parametrize("law", ["arctan", "switch"])
+def test_bilateral_single_mass_holds_down_through_a_vertical_pulse(law):
+    # a_z = A sin(ω t), A = 1.5 g: the contact holds, so the gap stays closed and λ = m (g +
+    # a_z) at every output (the Baumgarte-stabilised contact row: round-off and the gap's
+    # drift, 1e-9 m g asserted); λ < 0 for ω t in (π + asin(g/A), 2π − asin(g/A)) each period:
+    # one onset per period (4 in 2 s), the first located at the closed form to 1e-8 s, the
+    # tensile intervals (outputs, linear interpolation: error (ω dt)²-small) within 2e-3 s.
+    # In tension no friction: the slip accelerates with −a_x exactly.
+    A, f, ax = 1.5 * G, 2.0, 0.5
+    orbit = {"f": f, "ax": ax, "ay": 0.0, "az": A, "f_z": f}
+    w = 2 * math.pi * f
+    with pytest.warns(TensionWarning, match="isolator 0"):
+        r = simulate_pairs(single_mass(Bearing(Friction(0.05))), orbit, law=law, t_end=2.0,
+                           dt_out=0.005, contact="bilateral")  # fmt: skip
+    assert r.t[-1] == pytest.approx(2.0)
+    lam = M * (G + A * np.sin(w * r.t))
+    np.testing.assert_allclose(r.N[:, 0], lam, rtol=0, atol=1e-9 * M * G)
+    assert np.abs(r.q[:, 2]).max() < 1e-12
+    ten = r.tension
+    t_on = (math.pi + math.asin(G / A)) / w
+    t_off = (2 * math.pi - math.asin(G / A)) / w
+    assert ten["onsets"] == 4 and ten["t_first_s"] == pytest.approx(t_on, abs=1e-8)
+    for j, iv in enumerate(ten["intervals"]):
+        assert iv["t_start_s"] == pytest.approx(t_on + j / f, abs=2e-3)
+        assert iv["t_end_s"] == pytest.approx(t_off + j / f, abs=2e-3)
+    inside = r.N[:, 0] < -0.05 * M * G
+    assert np.all(r.friction[inside] == 0.0)
+    # free sliding: d(v_x)/dt = -a_x sin(ω t) between two outputs inside one tensile interval
+    k = np.flatnonzero(inside[:-1] & inside[1:])
+    dv = r.qd[k + 1, 0] - r.qd[k, 0]
+    ref = ax / w * (np.cos(w * r.t[k + 1]) - np.cos(w * r.t[k]))
+    np.testing.assert_allclose(dv, ref, rtol=0, atol=1e-6)
+
+
+@pytest.mark.parametrize("law", ["arctan", "switch"])
+def test_bilateral_deck_and_pair_system_agree_in_tension(law):
+    # Two formulations of one bilateral deck: the deck kernels' rigid-plate normal forces and
+    # the PairSystem's contact multipliers (four contacts on three vertical dofs, split in the
+    # range of R). Flat sliders with rubber (isolated period 1.2 s) near resonance, h/b = 2 and
+    # a vertical harmonic of 0.5 g: the deck slides ~0.5 m and its corners go tensile (by
+    # 0.7 W) six times. Agreement to 1e-7 of the peak slip and of the largest normal force: the
+    # two integrators' global errors at rtol 1e-9 (the stick band's eta / kappa at eta 1e-8).
+    # From the first output on: at t = 0 all four isolators break away together, and the
+    # two formulations settle their slip-start directions by their own fixed-point passes.
+    pos = [(-1.0, -1.5), (1.0, -1.5), (1.0, 1.5), (-1.0, 1.5)]
+    m = 1.0e4
+    k_lam = m * (2 * math.pi / 1.2) ** 2 / 4
+    d = rigid_deck(m, 2 * m, pos, Bearing(Friction(0.1), k_lam=k_lam), h=2.0, g=G)
+    orbit = {"f": 0.8, "ax": 3.0, "ay": 1.0, "phase_y_deg": -90.0, "az": 0.5 * G, "f_z": 1.3}
+    kw = dict(law=law, contact="bilateral", eta=1e-8, t_end=4.0, dt_out=0.01, rtol=1e-9,
+              atol=(1e-11, 1e-11))  # fmt: skip
+    ref = _quiet(simulate_plane, d, orbit, **kw)
+    r = _quiet(simulate_pairs, from_deck(d), orbit, **kw)
+    assert ref.tension["onsets"] >= 3 and ref.N.min() < -0.5 * m * G
+    peak = np.abs(ref.u).max()
+    assert peak > 0.3
+    assert np.abs(r.u - ref.u).max() < 1e-7 * peak
+    np.testing.assert_allclose(r.N[1:], ref.N[1:], rtol=0, atol=1e-7 * ref.N.max())
+    assert r.tension["t_first_s"] == pytest.approx(ref.tension["t_first_s"], abs=1e-7)
+    assert r.tension["onsets"] == ref.tension["onsets"]
+
+
+def test_detect_still_ends_the_run_at_uplift():
+    # The default: a normal force reaching zero ends the run with UpliftWarning (as before).
+    A, f = 1.5 * G, 2.0
+    orbit = {"f": f, "ax": 0.5, "ay": 0.0, "az": A, "f_z": f}
+    with pytest.warns(UpliftWarning):
+        r = simulate_pairs(single_mass(Bearing(Friction(0.05))), orbit, t_end=2.0)
+    assert r.uplift is not None and r.tension is None and r.t[-1] < 0.4
+    assert r.summary()["contact"] == "detect"
+
+
+@pytest.mark.parametrize("run", ["deck", "pairs"])
+def test_unknown_or_unavailable_contact_is_a_one_line_error(run):
+    d = rigid_deck(1e4, 2e4, POS, Bearing(Friction(0.1), radius=2.0), g=G)
+    fn, system = (simulate_plane, d) if run == "deck" else (simulate_pairs, from_deck(d))
+    orbit = {"f": 1.0, "ax": 1.0}
+    with pytest.raises(ValueError, match=r"^contact: 'unilateral' .* not available .*'bilateral'"):
+        fn(system, orbit, t_end=0.1, contact="unilateral")
+    with pytest.raises(ValueError, match=r"^contact: expected one of \['detect', 'bilateral'\]"):
+        fn(system, orbit, t_end=0.1, contact="sticky")
