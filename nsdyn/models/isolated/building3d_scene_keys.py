@@ -19,9 +19,10 @@ _DECK_SOLVER = next(t for t in DECK.tables if t.name == "solver")
 SOLVER = Table("solver", _DECK_SOLVER.meaning + " The full rung on sparse operators (a frame "
                "above the dense limit) steps at a fixed dt with the regularised law.", (
     *_DECK_SOLVER.keys,
-    Key("dt", "number", "full rung on sparse operators: the fixed time step of its "
-        "generalized-α (the adaptive rungs ignore it)", "s",
-        default="(0.005, at most the record's step)", lo=0.0, lo_open=True),
+    Key("dt", "number", "fixed time step of the full rung on sparse operators (its "
+        "generalized-α) and of `nsdyn export opensees` (Newmark); the adaptive rungs ignore "
+        "it", "s",
+        default="(0.005; the sparse rung: at most the record's step)", lo=0.0, lo_open=True),
 ))  # fmt: skip
 
 SCHEMA = Schema(
