@@ -89,6 +89,8 @@ _WHY = {
     kr.ST_CHATTER: "chattering stick-slip events",
     kr.ST_EVENTS: "too many stick-slip events",
     kr.ST_NEWTON: "Radau IIA's Newton iterations diverge (lower eps)",
+    kr.ST_STALL: "the steps collapsed near |v| = 0 (the switch law's stick band eta is too "
+    "narrow: raise eta, or use law 'arctan')",
 }
 _WHY[STATUS_HELD - STATUS_BASE] = (
     "a stuck isolator held outside its friction disc (a missed break-away of the time loop)"

@@ -359,3 +359,15 @@ def test_the_sweep_amplitude_is_the_orbits_largest_acceleration(orbit):
     assert A == pytest.approx(np.hypot(ax, ay).max(), rel=1e-9)
     assert (shape[0] * A, shape[1] * A) == pytest.approx((orbit.ax, orbit.ay), rel=1e-14)
     assert shape[2] == pytest.approx(math.radians(orbit.phase_y_deg), rel=1e-14)
+
+
+def test_every_failure_status_of_the_deck_loops_has_a_reason():
+    # a shooting failure is reported with its reason: every non-OK status the deck's time
+    # loops can return (the ST_* constants of _kplanerun) must map to a message, never to a
+    # bare number
+    from nsdyn.models.isolated import _kplanerun as kr
+    from nsdyn.periodic.plane import _WHY
+
+    codes = {v for k, v in vars(kr).items() if k.startswith("ST_") and k != "ST_OK"}
+    assert codes, "no status constants found"
+    assert codes <= set(_WHY), sorted(codes - set(_WHY))
