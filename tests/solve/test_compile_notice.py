@@ -77,10 +77,13 @@ def test_no_sweep_notice_when_cached_or_for_the_switch_law(monkeypatch, capsys):
     assert capsys.readouterr().err == ""
 
 
-def test_every_method_is_announced_with_an_empty_cache(tmp_path):
+@pytest.mark.parametrize("jit", [True, False], ids=["jit", "no-jit"])
+def test_every_method_is_announced_with_an_empty_cache(tmp_path, jit):
     # a fresh process with an empty NUMBA_CACHE_DIR: the probe of every method's kernel (the
     # factor-once generalized-alpha's too) and of the sweep's says "not cached", so each first
-    # run announces its compilation
+    # run announces its compilation; without the JIT (NUMBA_DISABLE_JIT=1, the debugging mode)
+    # nothing compiles, so every probe says "cached" and no run announces a compilation. The
+    # process's mode is set explicitly, whatever the mode this test itself runs in.
     import json
     import os
     import subprocess
@@ -94,14 +97,14 @@ def test_every_method_is_announced_with_an_empty_cache(tmp_path):
         "out['sweep'] = problem.kernels_cached()\nprint(json.dumps(out))"
     )
     root = str(Path(__file__).resolve().parents[2])
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0" if jit else "1")
     env["PYTHONPATH"] = os.pathsep.join(p for p in (root, env.get("PYTHONPATH")) if p)
     res = subprocess.run([sys.executable, "-P", "-c", code], env=env, capture_output=True,
                          text=True, timeout=300)  # fmt: skip
     assert res.returncode == 0, res.stderr
     probes = json.loads(res.stdout.strip().splitlines()[-1])
     assert "genalpha-lowrank" in probes and "event" in probes
-    assert probes == dict.fromkeys(probes, False)
+    assert probes == dict.fromkeys(probes, not jit)
 
 
 def test_study_compiles_once_before_the_workers_start(monkeypatch, capsys):
