@@ -30,10 +30,11 @@ Outputs of each run, besides the family's summary (units in the key names):
 
 The cb and full rungs also say their ``path`` ("dense", or "sparse" for a full rung above the
 dense limit) and why. The rigid, fixed, cb and full rungs run here from the family's readers
-(``build_system``, ``build_motion``, ``build_solver``, ``run_pairs``), without files; a rung
-this module does not know (a new fidelity of ``building3d``) runs through the family's
-``run_scene`` in a temporary directory and keeps its summary as it is (:data:`RUNGS` is the
-place to add its outputs). Before the workers start, :func:`warm_kernels` compiles the plane
+(``build_system``, ``build_motion``, ``build_solver``; the pair rungs by
+:mod:`nsdyn.models.isolated.building3d_pairs_run`), without files; a rung this module does
+not know (a new fidelity of ``building3d``) runs through the family's ``run_scene`` in a
+temporary directory and keeps its summary as it is (:data:`RUNGS` is the place to add its
+outputs). Before the workers start, :func:`warm_kernels` compiles the plane
 kernels and the cb and full rungs' pair kernels (dense or sparse path, the law) once.
 """
 
@@ -245,13 +246,15 @@ def _rigid(sysd: dict, mod, cfg: dict, source: str) -> dict:
 
 
 def _pairs(sysd: dict, mod, cfg: dict, source: str) -> dict:
-    """The cb and full rungs (dense, or sparse for a full rung above the dense limit) by the
-    family's :func:`~nsdyn.models.isolated.building3d_scene.run_pairs`, without files."""
+    """The cb and full rungs (dense, or sparse for a full rung above the dense limit) by
+    :func:`~nsdyn.models.isolated.building3d_pairs_run.run_pairs`, without files."""
+    from nsdyn.models.isolated.building3d_pairs_run import run_pairs, sparse_solver
+
     exc, t_end = mod.build_motion(cfg, source)
     kw = mod.build_solver(cfg, source)
     info = sysd["pairs"].info  # (the system is kept per structure; the solver is the task's)
-    dt = mod.sparse_solver(cfg, source, info["path_why"]) if info["path"] == "sparse" else None
-    _, s, _ = mod.run_pairs(sysd, exc, t_end, kw, dt)
+    dt = sparse_solver(cfg, source, info["path_why"]) if info["path"] == "sparse" else None
+    _, s, _ = run_pairs(sysd, exc, t_end, kw, dt)
     s["peak_corner_drift"] = max(s["peak_drift_corner_x"], s["peak_drift_corner_y"])
     return s | _motion_columns(exc, cfg)
 
@@ -345,7 +348,7 @@ def warm_kernels(tasks) -> list[str]:
             simulate_plane(system, {"f": 1.0, "ax": 0.0, "ay": 0.0}, t_end=0.04, law=law)
         done.append(law)
     from nsdyn._numba_cache import all_cached
-    from nsdyn.models.isolated.building3d_scene import pair_kernels, warm_pairs
+    from nsdyn.models.isolated.building3d_pairs_run import pair_kernels, warm_pairs
 
     for path, law in sorted(_pair_runs(tasks)):
         if law in ("switch", "arctan") and not all_cached(pair_kernels(path, law)):

@@ -4,9 +4,10 @@ Tables (keys in :mod:`nsdyn.models.isolated.building3d_scene_keys`):
 
 * ``[structure]`` ``frame3d`` (a bundled 3D frame or a file), ``fidelity`` "rigid" | "fixed" |
   "cb" | "full" | "auto", ``eccentricity`` [f_x, f_y] (accidental, fractions of the plan),
-  ``n_modes`` (fixed), ``f_max``, ``min_mass``, ``base`` (cb and full);
+  ``n_modes`` (fixed), ``f_max``, ``min_mass``, ``base`` (cb and full), ``damping`` (full
+  on sparse operators);
 * ``[bearing]``, ``[motion]``, ``[solver]``: those of the deck scene
-  (:mod:`nsdyn.models.isolated.deck_scene`).
+  (:mod:`nsdyn.models.isolated.deck_scene`), ``[solver] dt`` the sparse full rung's step.
 
 ``rigid``: the frame as the rigid deck of :func:`nsdyn.models.isolated.building3d.building_deck`
 (m, J, centre of mass and its height from the mass matrix), one bearing under every base node,
@@ -18,18 +19,9 @@ accelerations, base shear and torsional moment; writes ``building3d.npz`` (those
 run by :func:`~nsdyn.models.isolated.pairs.simulate_pairs` from its static state; writes
 ``building3d.npz`` (isolator orbits, normal and bearing forces, drifts at the centres of mass
 and the corners, floor accelerations, base shear and torsional moment). ``full`` on a frame
-whose interior (the dofs off the isolator interface) exceeds the dense full rung's limit
-:data:`~nsdyn.models.isolated.building3d_cb.FULL_MAX` runs the same model in nodal coordinates
-on sparse operators instead (:func:`~nsdyn.models.isolated.pairs_sparse.building_pairs_sparse`,
-damping ``"modal"``: the cb rung's diag(0, 2ζω) on the fixed-interface modes, low rank; run by
-:func:`~nsdyn.models.isolated.building3d_sparse.run_building_sparse`): generalized-α at the
-fixed step ``solver.dt`` with the regularised law only (``solver.law = "switch"`` is refused
-there), default :data:`DT_SPARSE` and never above the record's step. Why 5 ms: generalized-α
-(ρ∞ = 0.8) is second order with a relative period error ≈ (ω h)²/12, below 1 % up to 11 Hz
-and 0.2 % at the cb rung's default cut-off of 5 Hz (the isolated modes are below 1 Hz; the
-office's modes that carry its mass lie at 0.45–4.9 Hz); the modes far above, unresolved, are
-damped by the scheme's dissipation. Same outputs; the summary's ``path`` ("dense" |
-"sparse") and ``path_why`` say which ran and why. ``auto``:
+above the dense full rung's limit runs the same model on sparse operators
+(:mod:`nsdyn.models.isolated.building3d_pairs_run`: the path, its step, law and damping
+``structure.damping``); the summary's ``path`` and ``path_why`` say which ran and why. ``auto``:
 :func:`nsdyn.models.isolated.building3d_advice.advise_building` probes the rungs on the
 record, prints its evidence and runs the rung it advises. The summary (units in the key
 names) is what ``nsdyn run`` prints.
@@ -47,17 +39,25 @@ import numpy as np
 
 from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.bearings import BearingError, bearing_from_config
+from nsdyn.models.isolated.building3d_pairs_run import (
+    full_path,
+    path_line,
+    peak_field,
+    run_pairs,
+    sparse_solver,
+    warm_pairs,
+)
 from nsdyn.models.isolated.building3d_scene_keys import BASES, DAMPINGS, FIDELITIES, SCHEMA
 from nsdyn.models.isolated.building3d_shape import fixed_peak_shape, rigid_peak_shape, write_shape
 from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
 from nsdyn.models.isolated.deck_scene import build_solver, summary_table
 from nsdyn.models.scenefile import SceneError, check_fields, number
 
-__all__ = ["build_motion", "build_solver", "build_system", "format_summary", "run_scene"]
+__all__ = ["build_motion", "build_solver", "build_system", "format_summary", "pairs_path",
+           "run_scene"]  # fmt: skip
 
 TABLES = SCHEMA.fields()
 FIGURE_MODULE = "nsdyn.plot.frames3d"  # draws the figures from building3d-shape.npz
-DT_SPARSE = 0.005  # s: the sparse full rung's default step (module text)
 
 
 def _frame(t: dict, source: str):
@@ -119,20 +119,6 @@ def _bearing(cfg: dict, source: str, fid: str):
         raise SceneError(f"{source}: {e}") from None
 
 
-def full_path(frame, base: str) -> tuple[str, str]:
-    """("dense" | "sparse", why): where the full rung of ``frame`` on ``base`` runs, dense up
-    to :data:`~nsdyn.models.isolated.building3d_cb.FULL_MAX` internal dofs (read at call time)."""
-    from nsdyn.models.isolated import building3d_cb as cbm
-
-    model = cbm.base_grid(frame) if base == "grid" else frame
-    n_int = model.n_red - cbm._interface(model, base)[0].size
-    if n_int <= cbm.FULL_MAX:
-        return "dense", (f"{n_int} internal dofs, within the dense limit {cbm.FULL_MAX}: every "
-                         "fixed-interface mode, dense matrices")  # fmt: skip
-    return "sparse", (f"{n_int} internal dofs, above the dense limit {cbm.FULL_MAX}: nodal "
-                      "coordinates on sparse operators")  # fmt: skip
-
-
 def pairs_path(cfg: dict, source: str) -> str:
     """The path ("dense" or "sparse") a scene's cb or full run takes (its frame read, not
     reduced; a study's parent asks it to compile the right kernels)."""
@@ -140,18 +126,6 @@ def pairs_path(cfg: dict, source: str) -> str:
     if t.get("fidelity") != "full":
         return "dense"
     return full_path(_frame(t, source), t.get("base", "grid"))[0]
-
-
-def sparse_solver(cfg: dict, source: str, why: str) -> float | None:
-    """``solver.dt`` (None: :func:`sparse_step`'s default) of a run on the sparse path; its law
-    checked: the regularised one, whether given or not (SceneError naming the field)."""
-    solver = cfg.get("solver", {})
-    law = solver.get("law", "arctan")
-    if law != "arctan":
-        raise SceneError(f"{source}: solver.law: the full rung runs on sparse operators here "
-                         f"({why}) with the regularised law only; expected 'arctan', got "
-                         f"{law!r}")  # fmt: skip
-    return number(source, "solver.dt", solver["dt"]) if "dt" in solver else None
 
 
 def _sparse_pairs(frame, bearing, opts: dict, cfg: dict, source: str, why: str):
@@ -294,129 +268,12 @@ def _run_fixed(sysd, exc, source: str, out_dir: Path) -> dict:
     return s
 
 
-def _small_pairs(sparse: bool):
-    """The bundled portal's full rung on one friction pendulum: a system to compile on."""
-    from nsdyn.models.isolated.bearings import Bearing, Friction
-    from nsdyn.structure import load_frame3d
-
-    frame, fps = load_frame3d("portal-3d"), Bearing(Friction(0.05), radius=2.0)
-    if sparse:
-        from nsdyn.models.isolated.pairs_sparse import building_pairs_sparse
-
-        return building_pairs_sparse(frame, fps)
-    from nsdyn.models.isolated.building3d_cb import building_pairs
-
-    return building_pairs(frame, fps, fidelity="full")
-
-
-def pair_kernels(path: str, law: str) -> list:
-    """The numba loops a run of the cb or full rung needs: its path's and law's."""
-    from nsdyn.models.isolated import _kpairsparse, _kpairsradau, _kpairsrun
-
-    if path == "sparse":
-        return [_kpairsparse.newton, _kpairsparse.lu_solve_csc]
-    return [_kpairsrun.integrate if law == "switch" else _kpairsradau.integrate]
-
-
-def warm_pairs(path: str, law: str, system=None) -> float:
-    """Compile (or load) the pair kernels of ``path`` ("dense" | "sparse") and ``law`` on a
-    short run of ``system`` (default: the bundled portal's); the seconds spent."""
-    from nsdyn._numba_cache import all_cached, first_compile
-    from nsdyn.models.isolated.deck_scene import COMPILE_ABOUT_S
-
-    sparse = path == "sparse"
-    system = _small_pairs(sparse) if system is None or sparse else system
-    still = {"f": 1.0, "ax": 0.0, "ay": 0.0}
-    w0 = time.perf_counter()
-    with first_compile("building3d", COMPILE_ABOUT_S, all_cached(pair_kernels(path, law))):
-        if sparse:
-            from nsdyn.models.isolated.pairs_sparse_run import simulate_pairs_sparse
-
-            simulate_pairs_sparse(system, still, dt=0.01, t_end=0.04)
-        else:
-            from nsdyn.models.isolated.pairs import simulate_pairs
-
-            simulate_pairs(system, still, t_end=0.04, law=law, y0=system.info["y0"])
-    return time.perf_counter() - w0
-
-
-def sparse_step(dt, exc) -> float:
-    """The sparse full rung's step: ``dt`` (``solver.dt``) or :data:`DT_SPARSE`, at most the
-    record's step (module text)."""
-    if dt is not None:
-        return float(dt)
-    return min(DT_SPARSE, float(exc.dt)) if hasattr(exc, "dt") else DT_SPARSE
-
-
-def run_pairs(sysd: dict, exc, t_end, kw: dict, dt: float | None = None):
-    """Run the cb or full rung of a built scene (dense or sparse path, no files; ``dt`` the
-    sparse path's step, of :func:`sparse_solver`): (the
-    :class:`~nsdyn.models.isolated.building3d_response.BuildingResponse3D`, its summary with
-    the rung's facts, the warnings caught)."""
-    system = sysd["pairs"]
-    info = system.info
-    sparse = info.get("path") == "sparse"
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        w0 = time.perf_counter()
-        if sparse:
-            from nsdyn.models.isolated.building3d_sparse import run_building_sparse
-
-            extra = {"dt_out": kw["dt_out"]} if "dt_out" in kw else {}
-            r = run_building_sparse(system, exc, dt=sparse_step(dt, exc),
-                                    t_end=t_end, eps=kw["eps"], keep_q=None, **extra)  # fmt: skip
-        else:
-            from nsdyn.models.isolated.building3d_response import run_building
-
-            r = run_building(system, exc, t_end=t_end, **kw)
-        wall = time.perf_counter() - w0
-    s = r.summary()
-    s.update({"path": info.get("path", "dense"), "path_why": info.get("path_why", ""),
-              "f_max_hz": info["f_max"], "base": info["base"], "mass_kg": info["m"],
-              "centre_of_mass_m": [float(v) for v in info["centre"]], "wall_s": wall,
-              "warnings": [str(w.message) for w in caught]})  # fmt: skip
-    if sparse:
-        s.update(damping=info["damping"], n_damped_modes=int(system.c.size))
-    else:
-        dm = info["dropped_mass"]
-        s.update({"n_modes": int(info["n_modes"]), "dropped_mass_max": float(max(dm)),
-                  "modes_dropped": int(info["n_modes_below_f_max"] - info["n_modes"])})  # fmt: skip
-    return r, s, caught
-
-
-def _peak_field(system, r, exc, s: dict, eps: float) -> dict:
-    """The displacement field at the peak roof displacement (the deformed-shape figure's)."""
-    info, res = system.info, r.result
-    nl = info["floor_map"].shape[0]
-    roof = res.outputs[:, 3 * nl - 3 : 3 * nl - 1]  # the roof's (U_x, U_y) relative to the ground
-    k = int(np.argmax(np.hypot(roof[:, 0], roof[:, 1])))
-    what = f"peak roof displacement ({info['fidelity']} rung, {info.get('path', 'dense')})"
-    if info.get("path") != "sparse":
-        q = info["cb"].T @ res.q[k]
-    elif res.q.shape[1] == system.n:
-        q = res.q[k]
-    else:  # q not kept (too large): the run repeated to t*, deterministic, its end state kept
-        from nsdyn.models.isolated.pairs_sparse_run import simulate_pairs_sparse
-
-        span = float(r.t[k] - r.t[0])
-        q = info["y0"][: system.n]
-        if k:
-            q = simulate_pairs_sparse(system, exc, dt=s["dt_s"], t_end=span, dt_out=span,
-                                      eps=eps, keep_q=True).q[-1]  # fmt: skip
-    return {"t_peak": float(r.t[k]), "u": info["frame"].expand(q), "what": what}
-
-
-def s_path(info: dict) -> str:
-    """The path line of a pair system's run: "dense path: <why>" or "sparse path: <why>"."""
-    return f"{info.get('path', 'dense')} path: {info.get('path_why', '')}"
-
-
 def _run_pairs(sysd, exc, t_end, kw, out_dir: Path, say, dt=None) -> dict:
     system = sysd["pairs"]
     info = system.info
     compile_s = warm_pairs(info.get("path", "dense"), kw["law"], system)
     compile_s += sysd.get("compile_s", 0.0)
-    say(f"building3d: {info['fidelity']} rung, {s_path(info)}")
+    say(f"building3d: {info['fidelity']} rung, {path_line(info)}")
     r, s, caught = run_pairs(sysd, exc, t_end, kw, dt)
     for w in caught:
         say(f"building3d: warning: {w.message}")
@@ -428,7 +285,7 @@ def _run_pairs(sysd, exc, t_end, kw, out_dir: Path, say, dt=None) -> dict:
                  origin=info["origin"], drift_cm=r.drifts.cm, drift_corner=r.drifts.corner,
                  corners=r.drifts.corners, floor_acc=r.floor_acc, base_shear=r.base_shear,
                  torsion=r.torsion, f_hz=info["f_hz"])  # fmt: skip
-    shape = write_shape(out_dir, sysd["frame"], _peak_field(system, r, exc, s, kw["eps"]))
+    shape = write_shape(out_dir, sysd["frame"], peak_field(system, r, exc, s, kw["eps"]))
     s.update({"reduction_s": sysd.get("build_s", float("nan")), "compile_s": compile_s,
               "files": [str(npz), str(shape)]})  # fmt: skip
     return s

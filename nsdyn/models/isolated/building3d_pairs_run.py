@@ -1,0 +1,182 @@
+"""The building's cb and full rungs as scenes and studies run them: the path, the kernels, the run.
+
+The cb rung and the full rung of a frame within the dense limit
+:data:`~nsdyn.models.isolated.building3d_cb.FULL_MAX` (internal dofs: those off the isolator
+interface) are dense pair systems (:func:`~nsdyn.models.isolated.building3d_cb.building_pairs`)
+run by :func:`~nsdyn.models.isolated.building3d_response.run_building` (Radau IIA or the
+switch law's kernel, adaptive). A full rung above the limit is the same model in the frame's
+nodal coordinates on sparse operators
+(:func:`~nsdyn.models.isolated.pairs_sparse.building_pairs_sparse`; damping "modal", the cb
+rung's diag(0, 2ζω) on the fixed-interface modes as a low-rank term, or "stiffness", β K on
+the members) run by :func:`~nsdyn.models.isolated.building3d_sparse.run_building_sparse`:
+generalized-α at a fixed step h with the regularised law only.
+
+The step (:func:`sparse_step`): ``solver.dt``, else :data:`DT_SPARSE` and never above the
+record's sampling step (so that every sample of the input is stepped on). Why 5 ms:
+generalized-α (ρ∞ = 0.8) is second order with a relative period error ≈ (ω h)²/12, below
+1 % up to 11 Hz and 0.2 % at the cb rung's default cut-off of 5 Hz (the isolated modes lie
+below 1 Hz; the office's modes that carry its mass at 0.45–4.9 Hz); the modes far above,
+unresolved, are damped by the scheme's high-frequency dissipation.
+
+Both paths give the same summary (the cb rung's keys, with ``path`` and ``path_why``) and the
+same displacement field at the peak roof displacement for the deformed-shape figure: the
+frame's expansion of q there, where a sparse run that kept no q (too large) repeats itself up
+to that instant (the same steps, so the same state).
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+
+import numpy as np
+
+from nsdyn.models.scenefile import SceneError, number
+
+__all__ = ["DT_SPARSE", "full_path", "pair_kernels", "path_line", "peak_field", "run_pairs",
+           "sparse_solver", "sparse_step", "warm_pairs"]  # fmt: skip
+
+DT_SPARSE = 0.005  # s: the sparse full rung's default step (module text)
+
+
+def full_path(frame, base: str) -> tuple[str, str]:
+    """("dense" | "sparse", why): where the full rung of ``frame`` on ``base`` runs, dense up
+    to :data:`~nsdyn.models.isolated.building3d_cb.FULL_MAX` internal dofs (read at call time)."""
+    from nsdyn.models.isolated import building3d_cb as cbm
+
+    model = cbm.base_grid(frame) if base == "grid" else frame
+    n_int = model.n_red - cbm._interface(model, base)[0].size
+    if n_int <= cbm.FULL_MAX:
+        return "dense", (f"{n_int} internal dofs, within the dense limit {cbm.FULL_MAX}: every "
+                         "fixed-interface mode, dense matrices")  # fmt: skip
+    return "sparse", (f"{n_int} internal dofs, above the dense limit {cbm.FULL_MAX}: nodal "
+                      "coordinates on sparse operators")  # fmt: skip
+
+
+def sparse_solver(cfg: dict, source: str, why: str) -> float | None:
+    """``solver.dt`` (None: :func:`sparse_step`'s default) of a run on the sparse path; its law
+    checked: the regularised one, whether given or not (SceneError naming the field)."""
+    solver = cfg.get("solver", {})
+    law = solver.get("law", "arctan")
+    if law != "arctan":
+        raise SceneError(f"{source}: solver.law: the full rung runs on sparse operators here "
+                         f"({why}) with the regularised law only; expected 'arctan', got "
+                         f"{law!r}")  # fmt: skip
+    return number(source, "solver.dt", solver["dt"]) if "dt" in solver else None
+
+
+def _small_pairs(sparse: bool):
+    """The bundled portal's full rung on one friction pendulum: a system to compile on."""
+    from nsdyn.models.isolated.bearings import Bearing, Friction
+    from nsdyn.structure import load_frame3d
+
+    frame, fps = load_frame3d("portal-3d"), Bearing(Friction(0.05), radius=2.0)
+    if sparse:
+        from nsdyn.models.isolated.pairs_sparse import building_pairs_sparse
+
+        return building_pairs_sparse(frame, fps)
+    from nsdyn.models.isolated.building3d_cb import building_pairs
+
+    return building_pairs(frame, fps, fidelity="full")
+
+
+def pair_kernels(path: str, law: str) -> list:
+    """The numba loops a run of the cb or full rung needs: its path's and law's."""
+    from nsdyn.models.isolated import _kpairsparse, _kpairsradau, _kpairsrun
+
+    if path == "sparse":
+        return [_kpairsparse.newton, _kpairsparse.lu_solve_csc]
+    return [_kpairsrun.integrate if law == "switch" else _kpairsradau.integrate]
+
+
+def warm_pairs(path: str, law: str, system=None) -> float:
+    """Compile (or load) the pair kernels of ``path`` ("dense" | "sparse") and ``law`` on a
+    short run of ``system`` (default: the bundled portal's); the seconds spent."""
+    from nsdyn._numba_cache import all_cached, first_compile
+    from nsdyn.models.isolated.deck_scene import COMPILE_ABOUT_S
+
+    sparse = path == "sparse"
+    system = _small_pairs(sparse) if system is None or sparse else system
+    still = {"f": 1.0, "ax": 0.0, "ay": 0.0}
+    w0 = time.perf_counter()
+    with first_compile("building3d", COMPILE_ABOUT_S, all_cached(pair_kernels(path, law))):
+        if sparse:
+            from nsdyn.models.isolated.pairs_sparse_run import simulate_pairs_sparse
+
+            simulate_pairs_sparse(system, still, dt=0.01, t_end=0.04)
+        else:
+            from nsdyn.models.isolated.pairs import simulate_pairs
+
+            simulate_pairs(system, still, t_end=0.04, law=law, y0=system.info["y0"])
+    return time.perf_counter() - w0
+
+
+def sparse_step(dt, exc) -> float:
+    """The sparse full rung's step: ``dt`` (``solver.dt``) or :data:`DT_SPARSE`, at most the
+    record's step (module text)."""
+    if dt is not None:
+        return float(dt)
+    return min(DT_SPARSE, float(exc.dt)) if hasattr(exc, "dt") else DT_SPARSE
+
+
+def run_pairs(sysd: dict, exc, t_end, kw: dict, dt: float | None = None):
+    """Run the cb or full rung of a built scene (dense or sparse path, no files; ``dt`` the
+    sparse path's step, of :func:`sparse_solver`): (the
+    :class:`~nsdyn.models.isolated.building3d_response.BuildingResponse3D`, its summary with
+    the rung's facts, the warnings caught)."""
+    system = sysd["pairs"]
+    info = system.info
+    sparse = info.get("path") == "sparse"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        w0 = time.perf_counter()
+        if sparse:
+            from nsdyn.models.isolated.building3d_sparse import run_building_sparse
+
+            extra = {"dt_out": kw["dt_out"]} if "dt_out" in kw else {}
+            r = run_building_sparse(system, exc, dt=sparse_step(dt, exc),
+                                    t_end=t_end, eps=kw["eps"], keep_q=None, **extra)  # fmt: skip
+        else:
+            from nsdyn.models.isolated.building3d_response import run_building
+
+            r = run_building(system, exc, t_end=t_end, **kw)
+        wall = time.perf_counter() - w0
+    s = r.summary()
+    s.update({"path": info.get("path", "dense"), "path_why": info.get("path_why", ""),
+              "f_max_hz": info["f_max"], "base": info["base"], "mass_kg": info["m"],
+              "centre_of_mass_m": [float(v) for v in info["centre"]], "wall_s": wall,
+              "warnings": [str(w.message) for w in caught]})  # fmt: skip
+    if sparse:
+        s.update(damping=info["damping"], n_damped_modes=int(system.c.size))
+    else:
+        dm = info["dropped_mass"]
+        s.update({"n_modes": int(info["n_modes"]), "dropped_mass_max": float(max(dm)),
+                  "modes_dropped": int(info["n_modes_below_f_max"] - info["n_modes"])})  # fmt: skip
+    return r, s, caught
+
+
+def peak_field(system, r, exc, s: dict, eps: float) -> dict:
+    """The displacement field at the peak roof displacement (the deformed-shape figure's)."""
+    info, res = system.info, r.result
+    nl = info["floor_map"].shape[0]
+    roof = res.outputs[:, 3 * nl - 3 : 3 * nl - 1]  # the roof's (U_x, U_y) relative to the ground
+    k = int(np.argmax(np.hypot(roof[:, 0], roof[:, 1])))
+    what = f"peak roof displacement ({info['fidelity']} rung, {info.get('path', 'dense')})"
+    if info.get("path") != "sparse":
+        q = info["cb"].T @ res.q[k]
+    elif res.q.shape[1] == system.n:
+        q = res.q[k]
+    else:  # q not kept (too large): the run repeated to t*, deterministic, its end state kept
+        from nsdyn.models.isolated.pairs_sparse_run import simulate_pairs_sparse
+
+        span = float(r.t[k] - r.t[0])
+        q = info["y0"][: system.n]
+        if k:
+            q = simulate_pairs_sparse(system, exc, dt=s["dt_s"], t_end=span, dt_out=span,
+                                      eps=eps, keep_q=True).q[-1]  # fmt: skip
+    return {"t_peak": float(r.t[k]), "u": info["frame"].expand(q), "what": what}
+
+
+def path_line(info: dict) -> str:
+    """The path line of a pair system's run: "dense path: <why>" or "sparse path: <why>"."""
+    return f"{info.get('path', 'dense')} path: {info.get('path_why', '')}"
