@@ -27,7 +27,9 @@ least-norm solution (G⁺ r), checked for consistency, else ST_SINGULAR.
 
 A bilateral contact (``sp[S_CONTACT]``, the deck's CONTACT_* codes) holds λ_i < 0; there the
 bearing's terms in λ_i, friction and λ u/R, use max(λ_i, 0) = 0 (c_i = 0), with the tensile
-set (flags ws[19]) a fixed point of the evaluation, as in :mod:`._kplane`.
+set (flags ws[19]) a fixed point of the evaluation, as in :mod:`._kplane`. A unilateral contact
+(CONTACT_UNILATERAL, independent rows: Q = I) may be open (ws[20]): its row of G is the
+identity's (λ_i = 0) and its c_i = 0 (lift-off and landing: :mod:`._kpairscontact`).
 """
 
 import math
@@ -48,8 +50,9 @@ from nsdyn.models.isolated.bearings import (
 _HERE = Path(__file__).resolve().parent
 drop_stale(
     _HERE,
-    ["_kpairs", "_kpairsrun", "_kpairsradau"],
-    [_HERE / f for f in ("_kpairs.py", "_kpairsrun.py", "_kpairsradau.py", "_kplane.py",
+    ["_kpairs", "_kpairsrun", "_kpairsradau", "_kpairscontact"],
+    [_HERE / f for f in ("_kpairs.py", "_kpairsrun.py", "_kpairsradau.py", "_kpairscontact.py",
+                         "_kplane.py",
                          "_kplanerun.py", "_kplaneradau.py", "_kplanestops.py", "bearings.py")]
     + [_HERE.parents[1] / f for f in ("_kdp5.py", "_klinalg.py")],
 )  # fmt: skip
@@ -70,14 +73,15 @@ def workspace(n, ni):
     """Work arrays of :func:`evaluate` (made once per run): u, v, c, f0 (2ni); a0 (n);
     ground (3); G, G copy (3ni, 3ni); r, r copy (3ni); pivots (3ni); row map (ni); LU flag;
     pressure factors (ni); the stick basis: its modes (ni), Q_s (2ni, 2ni), rank; G3 (3ni,
-    3ni), a vector (3ni); the compression flags (ni) of a bilateral contact."""
+    3ni), a vector (3ni); the compression flags (ni) of a bilateral contact; a unilateral
+    contact's open flags (ni) and gap offsets (ni)."""
     mm = 3 * ni
     return (np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(n),
             np.zeros(3), np.zeros((mm, mm)), np.zeros((mm, mm)), np.zeros(mm), np.zeros(mm),
             np.zeros(mm, dtype=np.int64), np.zeros(ni, dtype=np.int64),
             np.zeros(1, dtype=np.int64), np.ones(ni), np.full(ni, -1, dtype=np.int64),
             np.zeros((2 * ni, 2 * ni)), np.zeros(1, dtype=np.int64), np.zeros((mm, mm)),
-            np.zeros(mm), np.ones(ni))  # fmt: skip
+            np.zeros(mm), np.ones(ni), np.zeros(ni), np.zeros(ni))  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
@@ -119,8 +123,9 @@ def evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, F
     """:func:`evaluate_pressure`; a bilateral contact's tensile set (ws[19]) re-evaluated
     until it is λ_i <= 0 (:func:`nsdyn.models.isolated._kplane.tension_flags`)."""
     on = ws[19]
+    uni = int(sp[S_CONTACT]) == kp.CONTACT_UNILATERAL
     for i in range(on.shape[0]):
-        on[i] = 1.0
+        on[i] = 0.0 if uni and ws[20][i] != 0.0 else 1.0
     st = evaluate_pressure(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
     if int(sp[S_CONTACT]) != kp.CONTACT_BILATERAL:
         return st
@@ -239,6 +244,13 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
             if row[j] >= 0:
                 for c in range(2):
                     G[k, row[j] + c] = -(RMiDt[k, 2 * j + c] if e < 0 else DMiDt[e, 2 * j + c])
+    if int(sp[S_CONTACT]) == kp.CONTACT_UNILATERAL:
+        for k in range(nr):  # an open contact: λ_k = 0
+            if ws[20][k] != 0.0:
+                for b in range(m):
+                    G[k, b] = 0.0
+                G[k, k] = RMiRt[k, k]
+                r[k] = 0.0
     for a in range(m):
         r2[a] = r[a]
         for b in range(m):

@@ -13,7 +13,10 @@ event location are the deck's (:mod:`nsdyn.models.isolated._kplanerun`, whose ge
 A normal force reaching zero (uplift) is located on the dense output and ends the run
 (ST_UPLIFT); a bilateral contact goes on, its onsets of tension located and counted, and its
 λ_i a switching function of the switch law (→ free, no friction; back → stick test or slip),
-all as in the deck's loop. The regularised law runs the same loop without events.
+all as in the deck's loop. A unilateral contact lifts off where λ_i reaches zero and lands where
+its gap closes (:mod:`nsdyn.models.isolated._kpairscontact`: plastic impact, the velocities
+jumped), events of either law. The regularised law runs the same loop without the stick-slip
+events.
 """
 
 import math
@@ -23,6 +26,7 @@ from numba import njit
 
 from nsdyn import _kdp5 as dp
 from nsdyn.models.isolated import _kpairs as kq
+from nsdyn.models.isolated import _kpairscontact as kc
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.bearings import B_DCAP, B_MUS
@@ -51,6 +55,10 @@ def gvals(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g):
         g[i, 2] = 1.0
         if int(sp[kq.S_CONTACT]) == kp.CONTACT_BILATERAL:
             g[i, 2] = -lam[i] if modes[i] == kp.MODE_FREE else lam[i]
+        elif int(sp[kq.S_CONTACT]) == kp.CONTACT_UNILATERAL:
+            g[i, 2] = kc.switching(y, op, ws, lam, i)
+        if int(sp[kq.S_LAW]) != kp.LAW_SWITCH:
+            continue
         if modes[i] == kp.MODE_SLIP:
             g[i, 0] = speed - eta
         elif modes[i] == kp.MODE_START:
@@ -132,7 +140,8 @@ def initial_modes(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
     kq.slips(y, op[kq.O_D2], out[0].shape[0], ws[0], v)
     for i in range(modes.shape[0]):
         sp_i = math.sqrt(v[2 * i] ** 2 + v[2 * i + 1] ** 2)
-        modes[i] = kp.MODE_SLIP if sp_i > sp[kq.S_ETA] else kp.MODE_STICK
+        if ws[20][i] == 0.0:  # (an open contact stays free)
+            modes[i] = kp.MODE_SLIP if sp_i > sp[kq.S_ETA] else kp.MODE_STICK
     st = settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
     if st != kr.ST_OK or int(sp[kq.S_CONTACT]) != kp.CONTACT_BILATERAL:
         return st
@@ -156,9 +165,22 @@ def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
     if _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out) != kq.ST_OK:
         return kr.ST_SINGULAR
     v = ws[1]
+    uni = int(sp[kq.S_CONTACT]) == kp.CONTACT_UNILATERAL
+    law_switch = int(sp[kq.S_LAW]) == kp.LAW_SWITCH
+    if uni:
+        for i in range(ni):  # lift-offs and landings (the velocities may jump)
+            if g0[i, 2] > 0.0 and g[i, 2] <= 0.0:
+                if ws[20][i] != 0.0:
+                    kc.land(t, y, i, modes, dirs, op, ws, EV, info, law_switch, sp[kq.S_ETA])
+                else:
+                    kc.open_contact(t, y, i, modes, dirs, op, ws, EV, info)
+        st = kc.settle_contacts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+        if st != kr.ST_OK or not law_switch:
+            return st
+        kq.slips(y, op[kq.O_D2], out[0].shape[0], ws[0], v)
     for i in range(ni):
         m0 = modes[i]
-        if g0[i, 2] > 0.0 and g[i, 2] <= 0.0:  # a bilateral contact into / out of tension
+        if not uni and g0[i, 2] > 0.0 and g[i, 2] <= 0.0:  # bilateral: into / out of tension
             modes[i] = kp.MODE_FREE if m0 != kp.MODE_FREE else kp.MODE_SLIP
         elif m0 == kp.MODE_STICK and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
             mu_n = kp.mu_kinetic(bp, i, 0.0) * ws[13][i] * lam[i]
@@ -223,13 +245,17 @@ def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, E
     info[kr.I_TFAIL] = np.nan
     info[kr.I_IFAIL] = -1
     st = kr.ST_OK
+    info[kr.I_EIMP] = 0.0
+    uni = int(sp[kq.S_CONTACT]) == kp.CONTACT_UNILATERAL
     if int(sp[kq.S_LAW]) == kp.LAW_SWITCH:
         st = initial_modes(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+    if st == kr.ST_OK and uni:  # a contact without compression at the start is open
+        st = kc.settle_contacts(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
     if st == kr.ST_OK:
         outputs(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, 0, X, NO, FF, FR, FO, MO)
         bil = int(sp[kq.S_CONTACT]) == kp.CONTACT_BILATERAL
         kr.tension_start(info, t0, out[1], bil)
-        if kr._min_normal(out[1]) <= 0.0 and not bil:
+        if kr._min_normal(out[1]) <= 0.0 and not (bil or uni):
             info[kr.I_IFAIL] = np.argmin(out[1])
             st = kr.ST_UPLIFT
     if st != kr.ST_OK:
@@ -328,7 +354,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     ga = np.ones((ni, 3))
     bil = int(sp[kq.S_CONTACT]) == kp.CONTACT_BILATERAL
     tens = bil and kr._min_normal(lam) <= 0.0
-    switching = int(sp[kq.S_LAW]) == kp.LAW_SWITCH
+    uni = int(sp[kq.S_CONTACT]) == kp.CONTACT_UNILATERAL
+    switching = int(sp[kq.S_LAW]) == kp.LAW_SWITCH or uni  # (events located)
     rtol = cfg[kr.C_RTOL]
     hmax = cfg[kr.C_HMAX]
     max_steps = int(cfg[kr.C_MAXSTEPS])
@@ -390,7 +417,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
                                             gk, gp, tab, ws, out)  # fmt: skip
             nfev += ne
         n_cut = n_end_min
-        if event or n_end_min <= 0.0:  # normal force at the cut (or step end)
+        if not uni and (event or n_end_min <= 0.0):  # normal force at the cut (or step end)
             kr._dense_state(rc, s_end, ys)
             _ev(t + s_end * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
             n_cut = kr._min_normal(lam)

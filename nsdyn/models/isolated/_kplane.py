@@ -84,7 +84,7 @@ drop_stale(
 
 LAW_ARCTAN, LAW_SWITCH = 0, 1
 MODE_STICK, MODE_SLIP, MODE_START, MODE_FREE = 0, 1, 2, 3  # FREE: tensile (bilateral)
-CONTACT_DETECT, CONTACT_BILATERAL = 0, 1
+CONTACT_DETECT, CONTACT_BILATERAL, CONTACT_UNILATERAL = 0, 1, 2  # unilateral: _kpairscontact
 TENSION_PASSES = 16  # re-evaluations settling the tensile set, at most
 # system parameters sp
 S_M, S_EX, S_EY, S_H, S_G, S_KAPPA, S_EPS, S_ETA, S_LAW, S_CONTACT = range(10)

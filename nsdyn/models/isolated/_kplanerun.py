@@ -75,8 +75,8 @@ H_MIN = 1e-14  # relative step floor
 # cfg entries
 C_RTOL, C_ATOLQ, C_ATOLV, C_H0, C_HMAX, C_MAXSTEPS = range(6)
 # info entries
-I_NSTEP, I_NREJ, I_NFEV, I_NEV, I_TFAIL, I_IFAIL, I_NOUT, I_TTEN, I_NTEN, I_NMIN = range(10)
-N_INFO = 10  # (I_IFAIL: the uplift's isolator, or the first tensile one of a bilateral run)
+I_NSTEP, I_NREJ, I_NFEV, I_NEV, I_TFAIL, I_IFAIL, I_NOUT, I_TTEN, I_NTEN, I_NMIN, I_EIMP = range(11)
+N_INFO = 11  # (I_IFAIL: uplift's / first tensile isolator; I_EIMP: landings' energy change)
 
 
 @njit(cache=True, error_model="numpy")

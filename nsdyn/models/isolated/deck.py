@@ -20,7 +20,8 @@ force reaching zero does is the ``contact`` assumption: "detect" (default) locat
 and ends the run, reported with time and isolator; "bilateral" holds the contact in tension
 (N_i < 0 allowed, the distribution above unchanged) and reports when and how far it went
 tensile, the tensile isolator's friction and N u/R taken at max(N_i, 0) = 0. "unilateral"
-(lift-off and landing) needs the vertical and rocking dofs this model does not have.
+(lift-off and landing) needs the vertical and rocking dofs this model does not have (systems
+from matrices have them: :mod:`nsdyn.models.isolated.pairs`).
 """
 
 from __future__ import annotations
@@ -265,13 +266,18 @@ def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
     return kp.G_TABLE, gp, np.ascontiguousarray(np.vstack(rows)), (n - 1) * dt
 
 
-def contact_code(contact: str) -> int:
-    """The kernels' code of a contact assumption; one-line errors for others."""
+def contact_code(contact: str, unilateral: bool = False) -> int:
+    """The kernels' code of a contact assumption; one-line errors for others ("unilateral"
+    only where ``unilateral``: systems from matrices with independent contacts)."""
+    if contact == "unilateral" and unilateral:
+        return kp.CONTACT_UNILATERAL
     if contact == "unilateral":
-        raise ValueError("contact: 'unilateral' (lift-off and landing) is not available on "
-                         "bidirectional isolators; expected 'detect' or 'bilateral'")  # fmt: skip
+        raise ValueError("contact: 'unilateral' (lift-off and landing) is not available on the "
+                         "rigid deck (vertically rigid); expected 'detect' or "
+                         "'bilateral'")  # fmt: skip
     if contact not in PLANE_CONTACTS:
-        raise ValueError(f"contact: expected one of {list(PLANE_CONTACTS)}, got {contact!r}")
+        names = [*PLANE_CONTACTS, "unilateral"] if unilateral else list(PLANE_CONTACTS)
+        raise ValueError(f"contact: expected one of {names}, got {contact!r}")
     return PLANE_CONTACTS[contact]
 
 

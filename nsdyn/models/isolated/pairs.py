@@ -13,7 +13,9 @@ D_i q̈ = −κ D_i q̇ with the stick force τ_i a multiplier while |τ_i| ≤ 
 structure's own; the bearings add their rubber, damper, pendulum and rim-stop terms. The
 equations and kernels are :mod:`nsdyn.models.isolated._kpairs`; the time loops
 :mod:`._kpairsrun` (Dormand–Prince, located stick/slip events) and :mod:`._kpairsradau`
-(Radau IIA, the regularised law).
+(Radau IIA, the regularised law). The contact assumption ``contact``: "detect" (a λ_i reaching
+zero ends the run), "bilateral" (λ_i < 0 held, the bearing's terms in λ_i at max(λ_i, 0)) or
+"unilateral" (lift-off, flight and plastic landing: :mod:`._kpairscontact`).
 
 Statics first: under gravity alone (friction carries no force at rest) the saddle system
 
@@ -380,7 +382,14 @@ class PairResult(PlaneResult):
 
 def _kernel_inputs(system: PairSystem, law: str, eps, eta, kappa, alpha, beta,
                    contact: str = "detect") -> np.ndarray:  # fmt: skip
-    code = contact_code(contact)
+    code = contact_code(contact, unilateral=True)
+    if contact == "unilateral" and system.contact_basis()[0].shape[1] < system.n_isolators:
+        raise ValueError(
+            "contact: 'unilateral' needs independent contact rows R (one vertical motion per "
+            f"contact), but R has rank {system.contact_basis()[0].shape[1]} for "
+            f"{system.n_isolators} contacts (a rigid base on more than three isolators); "
+            "expected 'detect' or 'bilateral' here"
+        )
     if law not in PLANE_LAWS:
         raise ValueError(f"law: expected one of {list(PLANE_LAWS)}, got {law!r}")
     for k, v in (("eps", eps), ("eta", eta), ("alpha", alpha), ("beta", beta)):
@@ -433,9 +442,11 @@ def simulate_pairs(
     period) or at ``t_eval``; ``atol`` = (displacement [m], velocity [m/s]), the regularised
     law's velocity tolerance capped at ATOL_V_EPS / eps; κ (stick rows) defaults to 2αβ.
     Failures raise :class:`PlaneIntegrationError` with time and reason. ``contact``: "detect"
-    (an uplift ends the run, reported in ``result.uplift`` with a warning) or "bilateral" (the
-    contacts hold in tension, λ_i < 0; reported in ``result.tension`` with a warning).
-    Returns a :class:`PairResult`.
+    (an uplift ends the run, reported in ``result.uplift`` with a warning), "bilateral" (the
+    contacts hold in tension, λ_i < 0; reported in ``result.tension`` with a warning) or
+    "unilateral" (lift-off, flight and plastic landing, :mod:`._kpairscontact`; independent
+    contact rows; on Dormand–Prince, ``integrator`` "auto" or "dopri5"; reported in
+    ``result.flights``). Returns a :class:`PairResult`.
     """
     if not isinstance(system, PairSystem):
         raise TypeError(f"system: expected a PairSystem, got {type(system).__name__}")
@@ -443,10 +454,13 @@ def simulate_pairs(
         raise ValueError(f"integrator: expected 'auto', 'dopri5' or 'radau', got {integrator!r}")
     if integrator == "radau" and law == "switch":
         raise ValueError("integrator: the switch law runs on 'dopri5' (its events need it)")
+    if integrator == "radau" and contact == "unilateral":
+        raise ValueError("integrator: contact 'unilateral' runs on 'dopri5' (its lift-off and "
+                         "landing events need it)")  # fmt: skip
     sp = _kernel_inputs(system, law, eps, eta, kappa, alpha, beta, contact)
     _check_run_options(rtol, atol, max_step, max_steps)
     loop = kqr.integrate
-    if law == "arctan" and integrator in ("auto", "radau"):
+    if law == "arctan" and integrator in ("auto", "radau") and contact != "unilateral":
         loop = kqa.integrate
     gk, gp, tab, dur = pack_ground(ground)
     if dt_out is not None and not (

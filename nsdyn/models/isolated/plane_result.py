@@ -12,7 +12,10 @@ uplift (a normal force reaching zero) ends the run at its located time and is re
 result and its summary (``uplift``), with a warning. Under a bilateral contact the run goes on
 and ``tension`` reports the first located onset of tension (time, isolator), the number of
 onsets, the smallest normal force and the tensile intervals of each isolator, read on the
-outputs with the zero crossings interpolated linearly between them (``contact_tension``).
+outputs with the zero crossings interpolated linearly between them (``contact_tension``). Under
+a unilateral contact (systems from matrices) ``flights`` counts the lift-offs and landings
+(the events into and out of the free mode), the flight time of each contact, the largest
+landing velocity and impulse and the kinetic energy the landings took (``contact_flights``).
 """
 
 from __future__ import annotations
@@ -43,7 +46,8 @@ MESSAGES = {
     kr.ST_NEWTON: "Radau IIA's Newton iterations diverge at t = {t:.6g} s, down to the smallest "
     "step (lower eps, or use law 'switch')",
 }
-MODE_NAMES = {0: "stick", 1: "slip", 2: "slip-start", 3: "free"}  # free: tensile, no friction
+MODE_NAMES = {0: "stick", 1: "slip", 2: "slip-start", 3: "free"}  # free: tensile or in flight
+FREE = 3
 MAX_INTERVALS = 100  # tensile intervals listed in a summary (the count says how many in all)
 
 
@@ -95,6 +99,32 @@ def contact_tension(t: np.ndarray, N: np.ndarray, info: np.ndarray) -> dict | No
     }  # fmt: skip
 
 
+def contact_flights(t_end: float, EV: np.ndarray, info: np.ndarray, ni: int) -> dict:
+    """The flight record of a unilateral run from its event table (lift-off: a mode change
+    into MODE_FREE; landing: out of it, with the landing velocity R q̇⁻ and impulse in
+    columns 4 and 5): lift_offs, landings, first_lift_off_s, flight_time_s per contact,
+    max_landing_velocity_mps, max_landing_impulse_Ns, impact_energy_J (≤ 0)."""
+    up = EV[:, 3] == FREE
+    down = (EV[:, 2] == FREE) & ~up
+    flight = np.zeros(ni)
+    since = np.full(ni, np.nan)
+    for t, i, new in zip(EV[:, 0], EV[:, 1].astype(int), up, strict=True):
+        if new:
+            since[i] = t
+        elif np.isfinite(since[i]):
+            flight[i] += t - since[i]
+            since[i] = np.nan
+    flight += np.where(np.isfinite(since), t_end - since, 0.0)
+    return {
+        "lift_offs": int(up.sum()), "landings": int(down.sum()),
+        "first_lift_off_s": float(EV[up, 0].min()) if up.any() else None,
+        "flight_time_s": [float(v) for v in flight],
+        "max_landing_velocity_mps": float(np.abs(EV[down, 4]).max()) if down.any() else 0.0,
+        "max_landing_impulse_Ns": float(EV[down, 5].max()) if down.any() else 0.0,
+        "impact_energy_J": float(info[kr.I_EIMP]),
+    }  # fmt: skip
+
+
 def _crossing(t: np.ndarray, n: np.ndarray, k: int) -> float:
     """Zero of n between outputs k − 1 and k by linear interpolation (t[k] at the ends)."""
     if k <= 0 or k >= t.size:
@@ -126,6 +156,7 @@ class PlaneResult(Tabular):
     internal: np.ndarray | None = None  # (nt, 8 n_tfp) internal slips of triple pendulums
     contact: str = "detect"  # the contact assumption: detect | bilateral
     tension: dict | None = None  # a bilateral run's tension record (contact_tension)
+    flights: dict | None = None  # a unilateral run's lift-offs and landings (contact_flights)
 
     @classmethod
     def from_run(cls, system, law, t, X, NO, FF, FR, FO, MO, EV, stops, info, status, eps, eta,
@@ -180,6 +211,8 @@ class PlaneResult(Tabular):
         res = cls(system, law, t[k], X[k, :3], X[k, 3:6], NO[k], FF[k], FR[k], FO[k], MO[k],
                   EV[:ne].copy(), contacts, uplift, stats, eps, eta, X[k, 6:], contact,
                   tension)  # fmt: skip
+        if contact == "unilateral":
+            res.flights = contact_flights(float(res.t[-1]), EV[:ne], info, stops.shape[0])
         if getattr(system, "has_tfp", False):  # a triple pendulum's inner slider at its rims:
             from nsdyn.models.isolated.tfp import surface_limits  # the bearing's capacity
 
@@ -296,6 +329,8 @@ class PlaneResult(Tabular):
         if self.contact == "bilateral":
             s["tension"] = self.tension
             s["would_lift_off"] = self.tension is not None
+        if self.flights is not None:
+            s.update(self.flights)
         if getattr(self.system, "has_tfp", False):
             from nsdyn.models.isolated.tfp import surface_limits
 

@@ -206,15 +206,135 @@ def test_detect_still_ends_the_run_at_uplift():
     assert r.summary()["contact"] == "detect"
 
 
-@pytest.mark.parametrize("run", ["deck", "pairs"])
-def test_unknown_or_unavailable_contact_is_a_one_line_error(run):
+def test_unknown_or_unavailable_contact_is_a_one_line_error():
     d = rigid_deck(1e4, 2e4, POS, Bearing(Friction(0.1), radius=2.0), g=G)
-    fn, system = (simulate_plane, d) if run == "deck" else (simulate_pairs, from_deck(d))
     orbit = {"f": 1.0, "ax": 1.0}
     with pytest.raises(ValueError, match=r"^contact: 'unilateral' .* not available .*'bilateral'"):
-        fn(system, orbit, t_end=0.1, contact="unilateral")
+        simulate_plane(d, orbit, t_end=0.1, contact="unilateral")
     with pytest.raises(ValueError, match=r"^contact: expected one of \['detect', 'bilateral'\]"):
-        fn(system, orbit, t_end=0.1, contact="sticky")
+        simulate_plane(d, orbit, t_end=0.1, contact="sticky")
+    with pytest.raises(ValueError, match=r"^contact: expected one of \['detect', 'bilateral', "
+                       r"'unilateral'\]"):  # fmt: skip
+        simulate_pairs(from_deck(d), orbit, t_end=0.1, contact="sticky")
+    # four contacts under a rigid base on three vertical dofs: not independent
+    with pytest.raises(ValueError, match=r"^contact: 'unilateral' needs independent contact "
+                       r"rows R .* rank 3 for 4 contacts"):  # fmt: skip
+        simulate_pairs(from_deck(d), orbit, t_end=0.1, contact="unilateral")
+    with pytest.raises(ValueError, match=r"^integrator: contact 'unilateral' runs on 'dopri5'"):
+        simulate_pairs(single_mass(Bearing(Friction(0.1))), orbit, t_end=0.1, law="arctan",
+                       integrator="radau", contact="unilateral")  # fmt: skip
+
+
+def _flight(A, f, t1):
+    """Relative height z(t), velocity ż(t) of a mass that left the ground at t1 at rest on it
+    (z = ż = 0), under gravity and the ground's a_z = A sin ωt: z̈ = −g − A sin ωt."""
+    w = 2 * math.pi * f
+
+    def z(t):
+        return -G * (t - t1) ** 2 / 2 + A / w * ((np.sin(w * t) - np.sin(w * t1)) / w
+                                                  - np.cos(w * t1) * (t - t1))  # fmt: skip
+
+    def zd(t):
+        return -G * (t - t1) + A / w * (np.cos(w * t) - np.cos(w * t1))
+
+    return z, zd
+
+
+@pytest.mark.parametrize("law", ["arctan", "switch"])
+def test_unilateral_mass_flies_ballistically_and_lands_plastically(law):
+    # A mass on one isolator, the ground thrown up and pulled down by a_z = A sin ωt, A = 1.5 g:
+    # the contact lifts off where λ = m (g + a_z) reaches zero, ω t1 = π + asin(g/A); the mass
+    # then flies: its gap is the closed form of free flight z(t) (_flight) until z(t2) = 0
+    # (root found by brentq on the closed form); the plastic landing (restitution 0) stops the
+    # relative velocity ż(t2) and takes m ż(t2)²/2. In flight: no normal force, no friction.
+    # Tolerances: the integrator at rtol 1e-10, atol 1e-12 (global error ~1e-10 of the 5 cm
+    # flight and of the 1.4 m/s landing), event location 1e-11 s.
+    from scipy.optimize import brentq
+
+    A, f = 1.5 * G, 2.0
+    w = 2 * math.pi * f
+    t1 = (math.pi + math.asin(G / A)) / w
+    z, zd = _flight(A, f, t1)
+    tt = np.linspace(t1 + 1e-3, t1 + 0.5, 5001)
+    k = np.flatnonzero(z(tt) < 0)[0]
+    t2 = brentq(z, tt[k - 1], tt[k], xtol=1e-15)
+    orbit = {"f": f, "ax": 0.5, "ay": 0.0, "az": A, "f_z": f}
+    r = simulate_pairs(single_mass(Bearing(Friction(0.05))), orbit, law=law, t_end=0.8,
+                       dt_out=0.001, rtol=1e-10, atol=(1e-12, 1e-12),
+                       contact="unilateral")  # fmt: skip
+    s = r.summary()
+    assert s["contact"] == "unilateral" and s["lift_offs"] == 1 and s["landings"] == 1
+    assert s["first_lift_off_s"] == pytest.approx(t1, abs=1e-9)
+    up, down = r.events[r.events[:, 3] == 3][0], r.events[r.events[:, 2] == 3][0]
+    assert up[0] == s["first_lift_off_s"] and down[0] == pytest.approx(t2, abs=1e-9)
+    assert s["flight_time_s"][0] == pytest.approx(t2 - t1, abs=2e-9)
+    v2 = zd(t2)
+    assert v2 < -1.0  # a real landing
+    assert down[4] == pytest.approx(v2, rel=1e-8)  # landing velocity R q̇⁻
+    assert down[5] == pytest.approx(-M * v2, rel=1e-8)  # its impulse m |ż|
+    assert s["impact_energy_J"] == pytest.approx(-0.5 * M * v2**2, rel=1e-8)
+    fl = (r.t > t1) & (r.t < t2)
+    assert fl.sum() > 200 and z(r.t[fl]).max() > 0.04
+    np.testing.assert_allclose(r.q[fl, 2], z(r.t[fl]), rtol=0, atol=1e-9)
+    assert np.all(r.N[fl] == 0.0) and np.all(r.friction[fl] == 0.0) and np.all(r.modes[fl] == 3)
+    after = r.t > t2 + 1e-3  # on the ground again, at rest on it and loaded
+    assert np.abs(r.q[after, 2]).max() < 1e-9 and np.abs(r.qd[after, 2]).max() < 1e-9
+    np.testing.assert_allclose(r.N[after, 0], M * (G + A * np.sin(w * r.t[after])), rtol=1e-6)
+
+
+def _tripod():
+    """A deck on three flat sliders with rubber (period 1.2 s) as a system from matrices: three
+    contacts on its three vertical dofs (z, r_x, r_y), independent rows."""
+    pos = [(-1.0, -1.0), (1.0, -1.0), (0.0, 1.2)]
+    m = 1.0e4
+    k_lam = m * (2 * math.pi / 1.2) ** 2 / 3
+    return from_deck(rigid_deck(m, 2 * m, pos, Bearing(Friction(0.1), k_lam=k_lam), h=1.5, g=G))
+
+
+@pytest.mark.parametrize("law", ["arctan", "switch"])
+def test_unilateral_equals_detect_when_no_contact_lifts_off(law):
+    # No normal force reaches zero (checked): the unilateral loop opens nothing and takes the
+    # same steps (its contact switching functions never cross), so the histories are identical
+    # to the detecting run on the same integrator: bound 0.
+    p = _tripod()
+    orbit = {"f": 0.8, "ax": 1.0, "ay": 0.5, "phase_y_deg": -90.0, "az": 0.4 * G, "f_z": 1.3}
+    kw = dict(law=law, t_end=3.0, dt_out=0.01, integrator="dopri5")
+    r0 = simulate_pairs(p, orbit, contact="detect", **kw)
+    r1 = simulate_pairs(p, orbit, contact="unilateral", **kw)
+    assert r0.uplift is None and r0.N.min() > 0.1 * r0.N.max() and np.abs(r0.u).max() > 0.01
+    assert r1.flights["lift_offs"] == 0
+    np.testing.assert_array_equal(r1.u, r0.u)
+    np.testing.assert_array_equal(r1.N, r0.N)
+
+
+@pytest.mark.parametrize("law", ["arctan", "switch"])
+def test_unilateral_rocking_base_keeps_the_contact_laws(law):
+    # The same tripod shaken hard enough to rock: lift-offs and landings happen, and at every
+    # output the unilateral contact laws hold: a closed contact pushes (λ >= 0), an open one
+    # carries nothing and no friction (λ = 0) with its gap above the ground (>= -1e-6 m, the
+    # Baumgarte drift); every landing follows a lift-off of that contact and only dissipates
+    # (each plastic landing takes Λ |R q̇⁻| / 2 >= 0, the sum <= 0); the slow landings of the
+    # rocking end (Zeno: brought to rest below V_REST) instead of piling up.
+    p = _tripod()
+    orbit = {"f": 0.8, "ax": 3.0, "ay": 1.5, "phase_y_deg": -90.0, "az": 0.4 * G, "f_z": 1.3}
+    r = simulate_pairs(p, orbit, law=law, t_end=3.0, dt_out=0.005, integrator="dopri5",
+                       contact="unilateral")  # fmt: skip
+    f = r.flights
+    assert f["lift_offs"] >= 3 and f["landings"] >= 3 and f["impact_energy_J"] < 0
+    assert f["lift_offs"] < 200  # (no Zeno pile-up: ~30 per second of rocking)
+    free = r.modes == 3
+    assert free.any() and (~free).any()
+    assert r.N[~free].min() >= 0.0 and np.all(r.N[free] == 0.0)
+    assert np.all(r.friction[free] == 0.0)
+    gaps = r.q @ p.R.T
+    assert gaps[free].min() >= -1e-6
+    ev = r.events
+    for i in range(3):
+        mine = ev[(ev[:, 1] == i) & ((ev[:, 2] == 3) | (ev[:, 3] == 3))]
+        kind = np.where(mine[:, 3] == 3, 1, -1)  # +1 lift-off, -1 landing: they alternate
+        assert np.all(np.diff(kind) != 0) and (kind.size == 0 or kind[0] == 1)
+    land = ev[(ev[:, 2] == 3) & (ev[:, 3] != 3)]
+    assert np.all(land[:, 4] * land[:, 5] <= 1e-9)  # approaching (R q̇⁻ < 0), impulse >= 0
 
 
 def test_deck_scene_reads_the_contact_key_and_prints_the_tension(tmp_path):
