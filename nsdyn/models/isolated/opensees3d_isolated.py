@@ -19,6 +19,10 @@ written in OpenSees elements (:mod:`nsdyn.models.isolated.opensees3d_script` hol
                       z = Y), in parallel with zeroLength Elastic(K_lam, eta = c) in X and Y
     friction pendulum singleFPBearing(frictionModel, R, k_init, ...) (restoring N u / R), the
                       rubber and damper as above when the bearing has them
+    triple pendulum   TripleFrictionPendulum (Dao et al. 2013; global X, Y shear, Z up) with
+                      friction models (inner pair, surface 1, surface 4), -P Elastic(k_v),
+                      rotations Elastic(K_ROTATION), W = N_0, uy = u_y, kvt = TFP_KVT,
+                      minFv = TFP_MIN_FV N_0, tol = TFP_TOL (mapping below)
     friction model    Coulomb(mu) for a constant coefficient; VelDependent(mu_slow, mu_fast,
                       rate): mu(v) = mu_fast - (mu_fast - mu_slow) exp(-rate |v|), nsdyn's
                       kinetic law with the same parameters in the same order
@@ -35,7 +39,7 @@ written in OpenSees elements (:mod:`nsdyn.models.isolated.opensees3d_script` hol
     integrator        Newmark average acceleration (gamma 1/2, beta 1/4), fixed dt,
                       KrylovNewton, NormDispIncr NEWTON_TOL
 
-Bidirectional friction. Both OpenSees bearing elements use a circular yield surface
+Bidirectional friction. The flat slider and single pendulum elements use a circular yield surface
 |f| <= mu N with an elastic branch of stiffness ``k_init`` (a penalty on stick): the export
 chooses ``k_init_i = mu_slow,i N_0,i / STICK_DISP`` (STICK_DISP = 0.1 mm, N_0 the static
 normal force of the rigid-plate distribution), so a stuck bearing creeps elastically by at
@@ -44,6 +48,30 @@ exactly. OpenSees has no separate static coefficient: it breaks away at mu(0) N 
 not at nsdyn's mu_static N (reported when they differ). Not exported: the rim stop at d_cap
 (the script reports a peak beyond d_cap) and uplift (a bilateral axial spring; the script
 reports the least axial force, negative = tension).
+
+Triple pendulum. OpenSees' element is the series model of a symmetric bearing: three
+bidirectional elastic-plastic pendulums (the element's source) with post-yield radii 2 L1,
+L2 - L1, L3 - L1, friction models 1, 2, 3 and circular gaps 2 (L1 Ubar3/L3 + Ubar1),
+Ubar2 (1 - L1/L2), Ubar3 (1 - L1/L3), each with elastic stiffness E = 3 mu_1 / uy (per unit
+normal force; three in series: mu_1 / uy, nsdyn's kappa_e). nsdyn's series elements
+(:mod:`nsdyn.models.isolated.tfp`: R1 - R2, R2, R3, R4 - R3 with capacities d1 (1 - R2/R1),
+d2 + d1 R2/R1, d3 + d4 R3/R4, d4 (1 - R3/R4)) are these for
+
+    L1 = R2 = R3,  L2 = R1,  L3 = R4,  Ubar1 = d3,  Ubar2 = d1,  Ubar3 = d4,
+    friction models (mu2 = mu3, mu1, mu4),  uy = u_y,
+
+when the inner pair is one pendulum: R2 = R3, mu2 = mu3 (and their mu_fast), and d2 + d1
+R2/R1 = d3 + d4 R3/R4 (e.g. d2 = d3 and d1/R1 = d4/R4); otherwise the export refuses naming
+the field (:func:`tfp_element_args`). Velocity-dependent friction maps with its rate scaled to
+the surface speeds the element uses (0.5, L2/(L2 - L1), L3/(L3 - L1) x its pendulums' speeds,
+nsdyn's law takes the element's slip speed): rates a, a (R1 - R2)/R1, a (R4 - R3)/R4. The two
+models differ only by the elastic part: OpenSees' pendulum e slides by its play P_e (R̄_e -
+1/E) where nsdyn's slides by P_e R̄_e, at most (1/E) Σ_e max(d̄_e/R̄_e, phi) in displacement
+(tests/models/isolated/test_tfp_opensees.py). The element does not report a failed internal
+iteration (a first sliding step of several uy from rest lost its equilibrium silently): the
+script checks every step that its pendulums add up to the bearing's slip (within TFP_CHECK
+uy) and stops with the time otherwise. In tension the element keeps minFv and kvt (a free
+uplift); the script reports the axial spring's -k_v u_z as the normal force.
 
 ``fixed_base=True`` writes the same frame clamped at the base, no gravity, the same beta K:
 the model of :func:`nsdyn.models.isolated.fixed3d.fixed_response_3d` when that is given the
@@ -78,11 +106,17 @@ __all__ = [
     "rayleigh_beta",
     "rayleigh_zeta",
     "script_text_building",
+    "tfp_element_args",
 ]
 
 DEFAULT_DT = 0.005  # s, Newmark's fixed step (the planar export's)
 BASES = ("grid", "pinned")  # nsdyn's cb rung bases
 GRID_EI = 1e11  # N m², the grid beams' EI and GJ (the plane ladder's base diaphragm EI)
+TFP_SAME = 1e-9  # relative tolerance of the triple pendulum's inner symmetry (R2 = R3, ...)
+TFP_MIN_FV = 1e-3  # TripleFrictionPendulum's minFv (the friction's normal force in tension) / N_0
+TFP_KVT = 1e3  # N/m, TripleFrictionPendulum's vertical stiffness in tension (kvt): free uplift
+TFP_TOL = 1e-6  # TripleFrictionPendulum's relative tolerance of its internal equilibrium
+TFP_CHECK = 1e-2  # the script's check: |sum of the element's parts - u| <= TFP_CHECK * uy
 
 
 def rayleigh_beta(frame) -> tuple[float, float]:
@@ -99,25 +133,55 @@ def rayleigh_zeta(frame, f_hz) -> np.ndarray:
     return beta * np.pi * np.asarray(f_hz, float)
 
 
+def tfp_element_args(b, where: str = "bearing") -> dict:
+    """OpenSees' TripleFrictionPendulum parameters of a :class:`~nsdyn.models.isolated.tfp.
+    TripleBearing` (module docstring, "triple pendulum"): ``L`` = [L1, L2, L3] [m], ``ubar`` =
+    [Ubar1, Ubar2, Ubar3] [m], ``frn`` = three (mu_slow, mu_fast, rate) and ``uy`` [m].
+    A bearing the element cannot represent is a one-line :class:`SceneError` naming the field
+    (``where`` its prefix): the element has one inner pendulum, so R2 = R3, mu2 = mu3 (and
+    their mu_fast) and equal inner series capacities d2 + d1 R2/R1 = d3 + d4 R3/R4."""
+    R1, R2, R3, R4 = (float(getattr(b, f"R{j}")) for j in range(1, 5))
+    d1, d2, d3, d4 = (float(getattr(b, f"d{j}")) for j in range(1, 5))
+    mu = [float(getattr(b, f"mu{j}")) for j in range(1, 5)]
+    fast = b.fast()
+    rate = float(b.rate)
+
+    def same(a, c):
+        return abs(a - c) <= TFP_SAME * max(abs(a), abs(c))
+
+    for field, a, c, what in (
+        ("R3", R3, R2, "one inner radius: R3 = R2"),
+        ("mu3", mu[2], mu[1], "one inner friction: mu3 = mu2"),
+        ("mu_fast3", fast[2], fast[1], "one inner friction law: mu_fast3 = mu_fast2"),
+        ("d3", d3 + d4 * R3 / R4, d2 + d1 * R2 / R1,
+         "one inner capacity: d3 + d4 R3/R4 = d2 + d1 R2/R1 (e.g. d2 = d3, d1/R1 = d4/R4)"),
+    ):  # fmt: skip
+        if not same(a, c):
+            raise SceneError(f"{where}.{field}: OpenSees' TripleFrictionPendulum has {what}; "
+                             f"got {a:g} against {c:g}")  # fmt: skip
+    return {
+        "L": [R2, R1, R4],
+        "ubar": [d3, d1, d4],
+        "frn": [[mu[1], fast[1], rate], [mu[0], fast[0], rate * (R1 - R2) / R1],
+                [mu[3], fast[3], rate * (R4 - R3) / R4]],
+        "uy": float(b.u_y),
+    }  # fmt: skip
+
+
 def _bearing_rows(frame, bearings, source: str):
     """(rows, deck) of the bearings under the base nodes (one per base node)."""
     from nsdyn.models.isolated import bearings as B
     from nsdyn.models.isolated.building3d import building_deck
+    from nsdyn.models.isolated.tfp import TripleBearing
 
     nb = len(frame.base_nodes)
     bl = (bearings,) * nb if isinstance(bearings, B.Bearing) else tuple(bearings)
     for b in bl:
-        if getattr(b, "R1", None) is not None or getattr(b, "friction", None) is None:
+        if not isinstance(b, B.Bearing) or getattr(b, "friction", None) is None:
             raise SceneError(
-                f"{source}: {getattr(b, 'where', 'bearing')}.type: a triple friction pendulum "
-                "is not exported to OpenSees (its TripleFrictionPendulum element takes one "
-                "inner surface pair, R2 = R3, mu2 = mu3, and nominal capacities; the mapping "
-                "is not checked); export flat sliders or single friction pendulums"
-            )
-        if not isinstance(b, B.Bearing):
-            raise SceneError(
-                f"{source}: bearing: OpenSees export maps a flat slider (flatSliderBearing) or "
-                f"a single friction pendulum (singleFPBearing); got {type(b).__name__}"
+                f"{source}: bearing: OpenSees export maps a flat slider (flatSliderBearing), "
+                "a single friction pendulum (singleFPBearing) or a triple friction pendulum "
+                f"(TripleFrictionPendulum); got {type(b).__name__}"
             )
     try:
         deck = building_deck(frame, bl)
@@ -130,7 +194,7 @@ def _bearing_rows(frame, bearings, source: str):
         mu0 = float(f.mu_slow)
         if not mu0 > 0:
             raise SceneError(f"{source}: {b.where}.mu_slow: OpenSees' bearings need mu > 0")
-        rows.append({
+        row = {
             "type": "flat" if math.isinf(b.radius) else "fps",
             "radius": None if math.isinf(b.radius) else float(b.radius),
             "mu_slow": mu0, "mu_fast": float(f.fast), "rate": float(f.rate),
@@ -138,7 +202,12 @@ def _bearing_rows(frame, bearings, source: str):
             "k_lam": float(b.k_lam), "c": float(b.c),
             "d_cap": None if math.isinf(b.d_cap) else float(b.d_cap),
             "N0": float(n0[i]), "k_init": mu0 * float(n0[i]) / STICK_DISP,
-        })  # fmt: skip
+        }  # fmt: skip
+        if isinstance(b, TripleBearing):
+            row.update(tfp_element_args(b, f"{source}: {b.where}"))
+            row.update({"type": "tfp", "radius": None, "k_init": None,
+                        "min_fv": TFP_MIN_FV * float(n0[i]), "kvt": TFP_KVT})  # fmt: skip
+        rows.append(row)
     return rows, deck
 
 
@@ -244,6 +313,7 @@ def building_data(
         "duration": duration,
         "dt": float(dt),
         "newmark_gamma": NEWMARK[0], "newmark_beta": NEWMARK[1], "newton_tol": NEWTON_TOL,
+        "tfp_tol": TFP_TOL, "tfp_check": TFP_CHECK,
         "deck": None if deck is None else {
             "m": float(deck.info["m"]), "J": float(deck.info["J"]), "h": float(deck.info["h"]),
             "origin": [float(v) for v in deck.info["origin"]],
@@ -262,15 +332,18 @@ def _description(d: dict) -> str:
     else:
         kinds = sorted({b["type"] for b in d["bearings"]})
         elems = " and ".join(
-            {"flat": "flatSliderBearing", "fps": "singleFPBearing"}[k] for k in kinds
-        )
-        k0 = [b["k_init"] for b in d["bearings"]]
+            {"flat": "flatSliderBearing", "fps": "singleFPBearing",
+             "tfp": "TripleFrictionPendulum"}[k] for k in kinds
+        )  # fmt: skip
+        k0 = [b["k_init"] for b in d["bearings"] if b["k_init"] is not None]
         static = [b for b in d["bearings"] if b["mu_static"] > max(b["mu_slow"], b["mu_fast"])]
         base = (
-            f"{len(d['bearings'])} bearings ({elems}), k_init {min(k0):.4g}..{max(k0):.4g} N/m "
-            f"(mu N0 / k_init = {STICK_DISP:g} m);\n"
+            f"{len(d['bearings'])} bearings ({elems})"
+            + (f", k_init {min(k0):.4g}..{max(k0):.4g} N/m (mu N0 / k_init = {STICK_DISP:g} m)"
+               if k0 else "")
+            + ";\n"
             + ("OpenSees breaks away at mu_slow N, nsdyn at mu_static N.\n" if static else "")
-        )
+        )  # fmt: skip
     return (
         head + base + f"Record {d['record']!r}: {len(d['accel'][0])} samples every "
         f"{d['record_dt']:g} s; Newmark average acceleration, dt = {d['dt']:g} s.\n"

@@ -17,7 +17,11 @@ definitions:
   mass of the floor above and at the four plan corners;
 - roof corner displacement: max resultant displacement of the top level's plan corners
   relative to the ground;
-- the least and largest bearing axial force (N < 0: tension, an uplift nsdyn would stop at).
+- the least and largest bearing axial force (N < 0: tension, an uplift nsdyn would stop at;
+  for a TripleFrictionPendulum its axial spring's -k_v u_z, the element reporting minFv).
+
+A TripleFrictionPendulum is checked after every step (``tfp_check``: its three pendulums add
+up to the bearing's slip), the element reporting no failed internal iteration.
 
 ``python model.py [--out DIR] [--t-end S]`` prints them as one JSON object; ``--out`` also
 writes OpenSees recorders (isolator displacements and forces, floor master displacements).
@@ -104,27 +108,55 @@ def build(ops):
         ops.node(m, *d["base_origin"])
         ops.fix(m, 0, 0, 1, 1, 1, 0)
         ops.rigidDiaphragm(3, m, *base)
-    # the element's own return mapping: 100 iterations (its default 20 failed on a stiff
-    # portal under a circular orbit, "domain failed in update")
+    # flat slider and single pendulum: the element's own return mapping, 100 iterations (its
+    # default 20 failed on a stiff portal under a circular orbit, "domain failed in update")
     mats = ["-P", 1, "-T", 2, "-My", 2, "-Mz", 2, "-orient", 0.0, 0.0, 1.0, 1.0, 0.0, 0.0,
             "-iter", 100, 1e-8]
     for i, (b, row) in enumerate(zip(base, d["bearings"])):
         g = GROUND_TAG + i
         ops.node(g, *d["nodes"][b - 1])
         ops.fix(g, 1, 1, 1, 1, 1, 1)
-        if row["mu_fast"] == row["mu_slow"] or row["rate"] == 0.0:
-            ops.frictionModel("Coulomb", i + 1, row["mu_slow"])
-        else:
-            ops.frictionModel("VelDependent", i + 1, row["mu_slow"], row["mu_fast"], row["rate"])
+        if row["type"] == "tfp":
+            # friction models 3i+1..3i+3: the inner pendulum (surfaces 2 = 3), surfaces 1, 4
+            for k, (slow, fast, rate) in enumerate(row["frn"]):
+                _friction(ops, 3 * i + 1 + k, slow, fast, rate)
+            ops.element("TripleFrictionPendulum", BEARING_TAG + i, g, b, 3 * i + 1, 3 * i + 2,
+                        3 * i + 3, 1, 2, 2, 2, *row["L"], *row["ubar"], row["N0"], row["uy"],
+                        row["kvt"], row["min_fv"], d["tfp_tol"])
+            continue
+        _friction(ops, 3 * i + 1, row["mu_slow"], row["mu_fast"], row["rate"])
         if row["type"] == "flat":
-            ops.element("flatSliderBearing", BEARING_TAG + i, g, b, i + 1, row["k_init"], *mats)
+            ops.element("flatSliderBearing", BEARING_TAG + i, g, b, 3 * i + 1, row["k_init"],
+                        *mats)
         else:
-            ops.element("singleFPBearing", BEARING_TAG + i, g, b, i + 1, row["radius"],
+            ops.element("singleFPBearing", BEARING_TAG + i, g, b, 3 * i + 1, row["radius"],
                         row["k_init"], *mats)
         if row["k_lam"] > 0.0 or row["c"] > 0.0:
             ops.uniaxialMaterial("Elastic", 100 + i, row["k_lam"], row["c"])
             ops.element("zeroLength", SPRING_TAG + i, g, b, "-mat", 100 + i, 100 + i,
                         "-dir", 1, 2)
+
+
+def _friction(ops, tag, slow, fast, rate):
+    """Coulomb(mu) for a constant coefficient, else VelDependent(mu_slow, mu_fast, rate)."""
+    if fast == slow or rate == 0.0:
+        ops.frictionModel("Coulomb", tag, slow)
+    else:
+        ops.frictionModel("VelDependent", tag, slow, fast, rate)
+
+
+def tfp_check(ops, i, b, t):
+    """TripleFrictionPendulum i's parts (its three series pendulums) must add up to the
+    bearing's slip: the element does not report a failed internal iteration."""
+    c = ops.eleResponse(BEARING_TAG + i, "compDisplacement")
+    ex = c[0] + c[2] + c[4] - ops.nodeDisp(b, 1)
+    ey = c[1] + c[3] + c[5] - ops.nodeDisp(b, 2)
+    lim = DATA["tfp_check"] * DATA["bearings"][i]["uy"]
+    if not math.hypot(ex, ey) <= lim:
+        raise RuntimeError(
+            f"OpenSees: TripleFrictionPendulum {i} lost its internal equilibrium at t = "
+            f"{t:.4f} s (its parts miss the slip by {math.hypot(ex, ey):.3g} m > {lim:.3g} m)"
+        )
 
 
 def gravity(ops):
@@ -230,6 +262,7 @@ def run(t_end=None, out=None):
     base = [b + 1 for b in d["base_nodes"]]
     nb, fixed = len(base), d["fixed_base"]
     springs = [i for i, r in enumerate(d["bearings"]) if r["k_lam"] > 0.0 or r["c"] > 0.0]
+    tfps = {i for i, r in enumerate(d["bearings"]) if r["type"] == "tfp"}
     levels = d["levels"]
     heights = [b["z"] - a["z"] for a, b in zip(levels[:-1], levels[1:])]
     corners = d["corners"]
@@ -253,7 +286,11 @@ def run(t_end=None, out=None):
             for i in range(nb):
                 vx += ops.eleForce(BEARING_TAG + i, 1)
                 vy += ops.eleForce(BEARING_TAG + i, 2)
-                n = ops.eleForce(BEARING_TAG + i, 3)
+                if i in tfps:  # (the element reports minFv in tension: its axial spring's)
+                    tfp_check(ops, i, base[i], (k + 1) * dt)
+                    n = -d["k_vertical"] * ops.nodeDisp(base[i], 3)
+                else:
+                    n = ops.eleForce(BEARING_TAG + i, 3)
                 n_min, n_max = min(n_min, n), max(n_max, n)
             for i in springs:
                 vx += ops.eleForce(SPRING_TAG + i, 1)

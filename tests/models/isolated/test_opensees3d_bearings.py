@@ -110,7 +110,8 @@ def test_data_maps_the_bearings_and_the_weight():
         assert (row["type"], row["mu_slow"], row["mu_fast"], row["rate"]) == ("fps", 0.04, 0.07,
                                                                               30.0)  # fmt: skip
     text = script_text_building(d)
-    assert '"VelDependent", i + 1, row["mu_slow"], row["mu_fast"], row["rate"]' in text
+    assert '_friction(ops, 3 * i + 1, row["mu_slow"], row["mu_fast"], row["rate"])' in text
+    assert 'ops.frictionModel("VelDependent", tag, slow, fast, rate)' in text
     compile(text, "model.py", "exec")
 
 
@@ -257,15 +258,16 @@ def test_circular_orbit_opensees_against_the_rigid_deck(tmp_path):
     assert u_ns > 20 * bound  # a real slip, far above the bound
 
 
-def test_triple_pendulum_is_refused_with_the_reason():
-    """A triple friction pendulum is not mapped (OpenSees' element takes one inner surface
-    pair and nominal capacities): a one-line error naming the bearing's type."""
+def test_triple_pendulum_the_element_cannot_represent_is_refused():
+    """OpenSees' TripleFrictionPendulum has one inner pendulum: a triple friction pendulum
+    with R2 != R3 is a one-line error naming the field (the mapping of symmetric ones:
+    test_tfp_opensees)."""
     from nsdyn.models.isolated.bearings import bearing_from_config
 
     tfp = bearing_from_config(
-        {"type": "tfp", "R1": 2.0, "R2": 0.5, "R3": 0.5, "R4": 2.0, "mu1": 0.04, "mu2": 0.02,
+        {"type": "tfp", "R1": 2.0, "R2": 0.5, "R3": 0.4, "R4": 2.0, "mu1": 0.04, "mu2": 0.02,
          "mu3": 0.02, "mu4": 0.06, "d1": 0.2, "d2": 0.05, "d3": 0.05, "d4": 0.2},
         "bearing",
     )  # fmt: skip
-    with pytest.raises(SceneError, match=r"bearing\.type: a triple friction pendulum"):
+    with pytest.raises(SceneError, match=r"bearing\.R3: OpenSees' TripleFrictionPendulum"):
         building_data(portal(), tfp, harmonic_x(1.0, 1.0, 1.0))
