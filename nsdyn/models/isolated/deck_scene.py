@@ -281,6 +281,10 @@ def summary_table(head: str, s: dict, rows) -> str:
         lines.append(f"  TENSION isolator {u['isolator']} at t = {u['t_first_s']:.6g} s "
                      f"(bilateral contact held it; {u['onsets']} onsets, min normal force "
                      f"{u['min_normal_force_N']:.4g} N)")  # fmt: skip
+    if s.get("lift_offs"):  # a unilateral run of a system from matrices
+        lines.append(f"  LIFT-OFF {s['lift_offs']} lift-offs and {s['landings']} landings, the "
+                     f"first at t = {s['first_lift_off_s']:.6g} s, largest landing velocity "
+                     f"{s['max_landing_velocity_mps']:.3g} m/s")  # fmt: skip
     for k, label, unit in rows:
         v = s.get(k)
         if v is None:

@@ -20,6 +20,7 @@ import pytest
 
 from nsdyn.models.isolated.bearings import Bearing, Friction
 from nsdyn.models.isolated.deck import rigid_deck, simulate_plane
+from nsdyn.models.isolated.deck_scene import summary_table
 from nsdyn.models.isolated.pairs import PairSystem, from_deck, simulate_pairs
 from nsdyn.models.isolated.plane_result import TensionWarning, UpliftWarning
 
@@ -264,6 +265,7 @@ def test_unilateral_mass_flies_ballistically_and_lands_plastically(law):
                        contact="unilateral")  # fmt: skip
     s = r.summary()
     assert s["contact"] == "unilateral" and s["lift_offs"] == 1 and s["landings"] == 1
+    assert "LIFT-OFF 1 lift-offs and 1 landings" in summary_table("run", s, ())
     assert s["first_lift_off_s"] == pytest.approx(t1, abs=1e-9)
     up, down = r.events[r.events[:, 3] == 3][0], r.events[r.events[:, 2] == 3][0]
     assert up[0] == s["first_lift_off_s"] and down[0] == pytest.approx(t2, abs=1e-9)
