@@ -129,7 +129,10 @@ def build_motion(cfg: dict, source: str):
     return exc, dur.get("t_end")
 
 
-def build_solver(cfg: dict, source: str) -> dict:
+def build_solver(cfg: dict, source: str, unilateral: bool = False) -> dict:
+    """The run's keyword arguments from ``[solver]`` (SceneError naming the field);
+    ``solver.contact = "unilateral"`` accepted only with ``unilateral`` (a family whose
+    systems from matrices have independent contacts; the deck has no vertical motion)."""
     t = cfg.get("solver", {})
     tfp = isinstance(cfg.get("bearing"), dict) and cfg["bearing"].get("type") == "tfp"
     law = t.get("law", "arctan" if tfp else "switch")
@@ -144,7 +147,7 @@ def build_solver(cfg: dict, source: str) -> dict:
     kw["atol"] = (kw["atol"], kw["atol"])
     kw["contact"] = t.get("contact", "detect")
     try:
-        contact_code(kw["contact"])
+        contact_code(kw["contact"], unilateral)
     except ValueError as e:
         raise SceneError(f"{source}: solver.{e}") from None
     if "dt_out" in t:

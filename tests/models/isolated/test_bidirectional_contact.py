@@ -363,3 +363,5 @@ def test_deck_scene_reads_the_contact_key_and_prints_the_tension(tmp_path):
         cfg["solver"]["contact"] = bad
         with pytest.raises(SceneError, match=rf"^t.toml: solver.contact: .*{match}"):
             ds.build_solver(cfg, "t.toml")
+    cfg["solver"]["contact"] = "unilateral"  # a family of systems from matrices takes it
+    assert ds.build_solver(cfg, "t.toml", unilateral=True)["contact"] == "unilateral"
