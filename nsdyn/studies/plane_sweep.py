@@ -90,6 +90,10 @@ def plane_scene(cfg: dict, source: str) -> dict:
         sweep = {}
     else:
         raise SceneError(f"{source}: scene.kind: expected one of {list(KINDS)}, got {kind!r}")
+    if solver.get("contact", "detect") != "detect":
+        raise SceneError(f"{source}: solver.contact: nsdyn sweep's periodic orbits keep every "
+                         f"contact closed (uplift detected); expected 'detect', got "
+                         f"{solver['contact']!r}")  # fmt: skip
     if not isinstance(orbit, HarmonicPlane):
         raise SceneError(f"{source}: motion.kind: nsdyn sweep needs a harmonic orbit (kind = "
                          "'orbit': linear, circular, elliptical), not a record")  # fmt: skip

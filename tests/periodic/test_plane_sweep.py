@@ -107,6 +107,7 @@ def test_default_range_and_amplitude_come_from_the_scene(tmp_path, capsys):
          "motion.vertical_frequency"),
         (("amplitude = 0.981", "amplitude = -1.0"), "motion.amplitude"),
         (("amplitude = 0.981", "amplitude = 0.0"), "motion.amplitude"),
+        (("[solver]", '[solver]\ncontact = "bilateral"'), "solver.contact"),
     ],
 )  # fmt: skip
 def test_bad_deck_sweeps_are_refused_in_one_line_naming_the_field(tmp_path, capsys, edit, field):

@@ -62,6 +62,10 @@ def sparse_solver(cfg: dict, source: str, why: str) -> float | None:
         raise SceneError(f"{source}: solver.law: the full rung runs on sparse operators here "
                          f"({why}) with the regularised law only; expected 'arctan', got "
                          f"{law!r}")  # fmt: skip
+    contact = solver.get("contact", "detect")
+    if contact != "detect":
+        raise SceneError(f"{source}: solver.contact: the full rung on sparse operators ({why}) "
+                         f"detects uplift only; expected 'detect', got {contact!r}")  # fmt: skip
     return number(source, "solver.dt", solver["dt"]) if "dt" in solver else None
 
 

@@ -50,7 +50,8 @@ from nsdyn.models.isolated.building3d_pairs_run import (
 from nsdyn.models.isolated.building3d_scene_keys import BASES, DAMPINGS, FIDELITIES, SCHEMA
 from nsdyn.models.isolated.building3d_shape import fixed_peak_shape, rigid_peak_shape, write_shape
 from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
-from nsdyn.models.isolated.deck_scene import build_solver, summary_table
+from nsdyn.models.isolated.deck_scene import build_solver as deck_solver
+from nsdyn.models.isolated.deck_scene import summary_table
 from nsdyn.models.scenefile import SceneError, check_fields, number
 
 __all__ = ["build_motion", "build_solver", "build_system", "format_summary", "pairs_path",
@@ -207,6 +208,12 @@ def build_system(cfg: dict, source: str) -> dict:
             "n_modes": n_modes, "cb": opts}  # fmt: skip
 
 
+def build_solver(cfg: dict, source: str) -> dict:
+    """The run's keywords from ``[solver]`` (as the deck scene's, and ``contact =
+    "unilateral"``, which the cb and dense full rungs take)."""
+    return deck_solver(cfg, source, unilateral=True)
+
+
 def build_motion(cfg: dict, source: str):
     """(excitation, t_end) from ``[motion]`` (as the deck scene's)."""
     return deck_motion(cfg, source)
@@ -334,6 +341,10 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     if asked == "auto":
         _advise(sysd, cfg, exc, kw, source, say)
     if sysd["fidelity"] == "rigid":
+        if kw["contact"] == "unilateral":
+            raise SceneError(f"{source}: solver.contact: the rigid rung (the building as a deck, "
+                             "no vertical or rocking motion) takes 'detect' or 'bilateral', "
+                             "got 'unilateral'")  # fmt: skip
         s = _run_rigid(sysd, exc, t_end, kw, out_dir, say)
     elif sysd["fidelity"] in ("cb", "full"):
         info = sysd["pairs"].info

@@ -18,7 +18,13 @@ DAMPINGS = ("modal", "stiffness")  # the sparse full rung's (pairs_sparse.DAMPIN
 _DECK_SOLVER = next(t for t in DECK.tables if t.name == "solver")
 SOLVER = Table("solver", _DECK_SOLVER.meaning + " The full rung on sparse operators (a frame "
                "above the dense limit) steps at a fixed dt with the regularised law.", (
-    *_DECK_SOLVER.keys,
+    *(k for k in _DECK_SOLVER.keys if k.name != "contact"),
+    Key("contact", "string", "what a normal force reaching zero does: stop the run there "
+        "(`detect`: uplift), hold the isolator down and go on (`bilateral`: tension "
+        "reported), or let it lift off and land (`unilateral`: the cb and dense full rungs, "
+        "switch law on Dormand–Prince). The rigid "
+        "rung takes `detect` and `bilateral`, the sparse full rung `detect`",
+        default="detect", choices=("detect", "bilateral", "unilateral")),
     Key("dt", "number", "fixed time step of the full rung on sparse operators (its "
         "generalized-α) and of `nsdyn export opensees` (Newmark); the adaptive rungs ignore "
         "it", "s",

@@ -135,3 +135,64 @@ def test_stiffness_damping_reaches_the_sparse_system(tmp_path, monkeypatch):
     st, mo = systems["stiffness"], systems["modal"]
     assert st.info["damping"] == "stiffness" and st.c.size == 0 and st.C.nnz > 0
     assert mo.info["damping"] == "modal" and mo.c.size == 23 and mo.C.nnz == 0
+
+
+@pytest.mark.parametrize("contact", ["bilateral", "unilateral"])
+def test_the_sparse_path_refuses_a_contact_other_than_detect(contact, tmp_path, monkeypatch):
+    # the sparse loop keeps every contact closed and detects uplift; another assumption
+    # would be silently ignored, so it is refused naming the field
+    monkeypatch.setattr(building3d_cb, "FULL_MAX", 0)
+    cfg = copy.deepcopy(SCENE)
+    cfg["solver"]["contact"] = contact
+    with pytest.raises(SceneError) as e:
+        run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                  quiet=True)  # fmt: skip
+    msg = str(e.value)
+    assert "\n" not in msg and "s.toml: solver.contact:" in msg and "'detect'" in msg, msg
+    assert not (tmp_path / "building3d.npz").exists()
+
+
+def test_the_rigid_rung_refuses_unilateral_contact(tmp_path):
+    # the rigid rung is the building as a deck: no vertical or rocking motion to lift off in
+    cfg = copy.deepcopy(SCENE)
+    cfg["structure"]["fidelity"] = "rigid"
+    cfg["solver"] = {"law": "arctan", "contact": "unilateral"}
+    with pytest.raises(SceneError) as e:
+        run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                  quiet=True)  # fmt: skip
+    msg = str(e.value)
+    assert "\n" not in msg and "s.toml: solver.contact:" in msg and "rigid rung" in msg, msg
+
+
+def test_the_cb_rung_locates_the_same_uplift_under_all_three_contact_assumptions(tmp_path):
+    # the portal's light base grid sees a normal force reach zero at 0.2 g: "detect" stops
+    # there, "bilateral" reports the onset of tension, "unilateral" lifts off. Up to that
+    # instant the three solve the same equations with the same steps, so they locate the same
+    # zero of the same normal force (the event location's tolerance, ~1e-10 s) and their
+    # histories before it are identical
+    outs = {}
+    for contact in ("detect", "bilateral", "unilateral"):
+        cfg = copy.deepcopy(SCENE)
+        cfg["structure"]["fidelity"] = "cb"
+        cfg["motion"].update(pga=2.0, t_end=1.0)
+        cfg["solver"] = {"law": "switch", "rtol": 1e-6, "atol": 1e-9, "dt_out": 0.01,
+                         "contact": contact}  # fmt: skip
+        out = tmp_path / contact
+        out.mkdir()
+        s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=out, figures=False,
+                      quiet=True)  # fmt: skip
+        with np.load(out / "building3d.npz") as z:
+            outs[contact] = (s, z["t"].copy(), z["u"].copy())
+    sd, su, sb = outs["detect"][0], outs["unilateral"][0], outs["bilateral"][0]
+    assert sd["uplift"] is not None, "the portal was expected to reach uplift at 0.2 g"
+    t_up, iso = sd["uplift"]["t_s"], sd["uplift"]["isolator"]
+    assert sb["uplift"] is None and su["uplift"] is None
+    assert sb["tension"]["isolator"] == iso and abs(sb["tension"]["t_first_s"] - t_up) < 1e-9
+    assert su["lift_offs"] >= 1 and abs(su["first_lift_off_s"] - t_up) < 1e-9
+    for c in ("bilateral", "unilateral"):
+        t, u = outs[c][1], outs[c][2]
+        k = t < t_up
+        td, ud = outs["detect"][1], outs["detect"][2]
+        kd = td < t_up
+        np.testing.assert_array_equal(t[k], td[kd])
+        np.testing.assert_allclose(u[k], ud[kd], rtol=0, atol=1e-12)
