@@ -14,6 +14,10 @@
    pendulums (the scene deck-tfp4-3c's bearings; regularised law on Radau IIA, the series
    model's eight internal slips per isolator) at the same rtol: its cost per isolator as a
    ratio to the single pendulum's in the same run (regularised law, and switch law).
+3. The planar model's cost, the baseline: the seed's office frame at the rigid fidelity (the
+   building as a rigid body on its two isolators, 3 dofs) under the record's first horizontal
+   component, the switch law on the event method and the arctan law on Radau IIA at their
+   default tolerances, and the deck's time (rtol 1e-6, same law) as a ratio to it.
 Wall times are medians of repeats after a first run that compiles (or loads) the kernels; the
 compile/load time is reported apart. Writes ``isolators-wp.csv``, ``isolators-scale.csv`` and
 ``isolators-wp.png`` through nsdyn.atomic.
@@ -68,6 +72,24 @@ def triple_row(motion, scale: list, reps: int) -> dict:
             "steps": res.stats["steps"], "peak_u_m": _peak(res)}  # fmt: skip
 
 
+def planar_rows(scale: list, reps: int) -> list[dict]:
+    """The planar baseline (module text, part 3): the rigid office frame's wall time per law and
+    the four-pendulum deck's (``scale``, n = 2) over it."""
+    from nsdyn import Isolation, build_system, load_frame, read_motion, simulate
+
+    frame, motion = load_frame("office-11"), read_motion(RECORD)
+    deck4 = {r["law"]: r["wall_s"] for r in scale if r["n_isolators"] == 4}
+    rows = []
+    for law, method in (("switch", "event"), ("arctan", "radau")):
+        system = build_system(frame, Isolation(law=law), fidelity="rigid")
+        simulate(system, motion.window(0.0, 0.05), method=method)  # compiles or loads
+        res, wall = _timed(lambda s=system, m=method: simulate(s, motion, method=m), reps)
+        rows.append({"law": law, "method": method, "wall_s": wall,
+                     "deck_over_planar": deck4[law] / wall,
+                     "peak_u_m": res.summary()["x_iso_max_m"]})  # fmt: skip
+    return rows
+
+
 def _err(res, ref) -> float:
     return float(np.max(np.abs(res.u - ref.u)) / np.max(np.abs(ref.u)))
 
@@ -119,6 +141,7 @@ def run_bench(out_dir: Path, quick: bool, repeats: int | None = None, quiet: boo
                           "wall_per_isolator_s": wall / (n * n), "steps": res.stats["steps"],
                           "events": res.stats["events"]})  # fmt: skip
     triple = triple_row(motion, scale, reps)
+    planar = planar_rows(scale, reps)
     if not quiet:
         print(
             f"isolators: 4 triple pendulums: {triple['wall_s']:.4f} s, "
@@ -129,7 +152,8 @@ def run_bench(out_dir: Path, quick: bool, repeats: int | None = None, quiet: boo
         write_csv_atomic(out_dir / "isolators-scale.csv", scale),
         save_figure(figure(rows), out_dir / "isolators-wp.png"),
     ]
-    return {"rows": rows, "scale": scale, "triple": triple, "compile_s": compile_s,
+    return {"rows": rows, "scale": scale, "triple": triple, "planar": planar,
+            "compile_s": compile_s,
             "record": RECORD,
             "ref_peak_u_m": ref.summary()["peak_resultant_displacement_m"],
             "files": [str(f) for f in files]}  # fmt: skip
@@ -156,7 +180,7 @@ def summarise(result: dict) -> dict:
     return {"compile_s": result["compile_s"],
             "wall_s_rtol_1e-4": {k: v["wall_s"] for k, v in best.items()},
             "scale": result["scale"], "triple": result.get("triple"),
-            "files": result["files"]}  # fmt: skip
+            "planar": result.get("planar"), "files": result["files"]}  # fmt: skip
 
 
 def report(result: dict) -> str:
@@ -179,6 +203,9 @@ def report(result: dict) -> str:
             f"{tr['wall_per_isolator_s']:13.5f}  (x {tr['ratio_to_single_arctan']:.2f} "
             f"the single pendulum, arctan; x {tr['ratio_to_single_switch']:.2f} switch)"
         )
+    for r in result.get("planar") or []:
+        lines.append(f"  planar rigid office frame, {r['law']} ({r['method']}): "
+                     f"{r['wall_s']:.4f} s; the 4-pendulum deck x {r['deck_over_planar']:.2f}")
     return "\n".join(lines)
 
 
