@@ -20,12 +20,16 @@ from numba import njit, types
 from numba.core.errors import TypingError
 
 from nsdyn import _kaddress as ka
+from nsdyn._numba_cache import PLAIN
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcolloc, _kflat, compile_split
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve.integrate import _tiny_problem
 
 JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
+no_table_in_plain_numba = pytest.mark.skipif(
+    PLAIN, reason="plain numba (NSDYN_PLAIN_NUMBA=1) calls its callees directly: no table"
+)
 
 
 @njit
@@ -278,6 +282,7 @@ def test_call_through_the_table_equals_the_direct_call():
 
 
 @pytest.mark.skipif(not JIT, reason="the table is read only by compiled code")
+@no_table_in_plain_numba
 def test_a_row_without_an_address_is_refused():
     # a caller whose callee's row is empty (or holds an address taken for another
     # declaration): a RuntimeError naming the callee, never a jump to address 0
@@ -304,6 +309,7 @@ def _evaluate_at_an_integer_time(y, P, out):
 
 
 @pytest.mark.skipif(not JIT, reason="types are checked only when numba compiles")
+@no_table_in_plain_numba
 def test_table_call_with_undeclared_argument_types_is_refused():
     compile_split.event_callees()  # the declarations
     P, y, (out, _) = _switch_inputs()
@@ -376,6 +382,7 @@ print("front:", _kgenalpha.genalpha(P, x0, *args)[0][0])
 
 
 @pytest.mark.skipif(not JIT, reason="declarations are read only when numba types a caller")
+@no_table_in_plain_numba
 def test_a_caller_typed_before_any_declaration_compiles():
     # a fresh process calls the generalized-alpha loop itself before anything declared its
     # callees: the declaration is made while typing (numba keeps a failed typing for good,

@@ -16,7 +16,7 @@ import sys
 import pytest
 from numba import njit, typeof
 
-from nsdyn._numba_cache import HELPER_ENV, Helper, helper_enabled
+from nsdyn._numba_cache import HELPER_ENV, PLAIN, Helper, helper_enabled
 from nsdyn.solve import _kcolloc as kc
 
 JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
@@ -36,6 +36,7 @@ def _pickled_type_from_another_process(name: str) -> bytes:
 
 
 @pytest.mark.skipif(not JIT, reason="dispatcher identities exist only with numba compiling")
+@pytest.mark.skipif(PLAIN, reason="plain numba (NSDYN_PLAIN_NUMBA=1) keeps random identities")
 def test_kernel_arguments_are_the_same_type_in_every_process():
     # the cache index keys a signature holding a dispatcher by the dispatcher's identity:
     # flat_only (the default loop's `general`) must unpickle to this process's own type ...
