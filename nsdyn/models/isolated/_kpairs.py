@@ -1,13 +1,17 @@
 """Kernels of a system from matrices on isolators that slide in a plane: q̈, λ and the forces.
 
-State y = [q, q̇] (n + n). Isolator i slips u_i = D_i q, v_i = D_i q̇ (rows 2i, 2i+1 of the
+State y = [q, q̇] (n + n) and, after them, the internal slips of triple friction pendulums
+(8 per bearing at its row's B_IOFF). Isolator i slips u_i = D_i q, v_i = D_i q̇ (rows 2i, 2i+1 of the
 stacked slip rows D2, shape (2ni, n)); its resisting force (bearings.py) is
 
     F_i = λ_i c_i + f0_i,   c_i = u_i/R_i + f̂_i,   f0_i = K_lam,i u_i + c_i v_i + F_stop,i,
 
 with f̂_i the regularised vector law μ_d(|v|)(2/π) arctan(ε|v|) v/|v|, or the switch law's
 slip μ_d v/|v| (MODE_SLIP), start μ_d d_i (MODE_START: slip from stick in the direction d_i)
-or stick (MODE_STICK: the stick force τ_i a multiplier, c_i = u_i/R_i). With the operators
+or stick (MODE_STICK: the stick force τ_i a multiplier, c_i = u_i/R_i). A triple friction
+pendulum has c_i = φ_i, its series model's force per unit normal force and the rates of its
+internal slips from the deck's element functions (:func:`nsdyn.models.isolated._kplane.tfp_force`,
+regularised law only; its λ u/R part reported in Fr, the rest in Ff). With the operators
 precomputed once (M⁻¹K, M⁻¹C, M⁻¹R ᵀ, M⁻¹D2ᵀ and their products with R and D2)
 
     q̈ = a0 + Σ_i (M⁻¹R_iᵀ − M⁻¹D_iᵀ c_i) λ_i − Σ_stuck M⁻¹D_jᵀ τ_j,
@@ -43,8 +47,11 @@ from nsdyn._numba_cache import drop_stale
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated.bearings import (
     B_AREA,
+    B_IOFF,
+    B_KIND,
     B_KLAM,
     B_RINV,
+    KIND_TFP,
 )
 
 _HERE = Path(__file__).resolve().parent
@@ -74,14 +81,15 @@ def workspace(n, ni):
     ground (3); G, G copy (3ni, 3ni); r, r copy (3ni); pivots (3ni); row map (ni); LU flag;
     pressure factors (ni); the stick basis: its modes (ni), Q_s (2ni, 2ni), rank; G3 (3ni,
     3ni), a vector (3ni); the compression flags (ni) of a bilateral contact; a unilateral
-    contact's open flags (ni) and gap offsets (ni)."""
+    contact's open flags (ni) and gap offsets (ni); the rates of the triple pendulums'
+    internal slips (ni, 8)."""
     mm = 3 * ni
     return (np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(n),
             np.zeros(3), np.zeros((mm, mm)), np.zeros((mm, mm)), np.zeros(mm), np.zeros(mm),
             np.zeros(mm, dtype=np.int64), np.zeros(ni, dtype=np.int64),
             np.zeros(1, dtype=np.int64), np.ones(ni), np.full(ni, -1, dtype=np.int64),
             np.zeros((2 * ni, 2 * ni)), np.zeros(1, dtype=np.int64), np.zeros((mm, mm)),
-            np.zeros(mm), np.ones(ni), np.zeros(ni), np.zeros(ni))  # fmt: skip
+            np.zeros(mm), np.ones(ni), np.zeros(ni), np.zeros(ni), np.zeros((ni, 8)))  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
@@ -190,6 +198,12 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
         mode = modes[i]
         ox, oy, fx, fy = bearing_terms(bp, i, ux, uy, vx, vy, law, eps, mode, dirs[i, 0],
                                        dirs[i, 1], pf[i])  # fmt: skip
+        if bp[i, B_KIND] == KIND_TFP:  # the series model's force, less λ u/R reported apart
+            if int(bp[i, B_IOFF]) + 8 > y.shape[0]:  # (a state without its internal slips)
+                return ST_SINGULAR
+            px, py = kp.tfp_force(y, bp, i, ux, uy, ws[22])
+            fx = px - bp[i, B_RINV] * ux
+            fy = py - bp[i, B_RINV] * uy
         if on[i] == 0.0:  # tensile: no terms in λ_i
             fx = fy = 0.0
         Fo[i, 0] = ox
@@ -420,13 +434,21 @@ def least_norm(G, r, out):
 
 @njit(cache=True, error_model="numpy")
 def rhs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, dy):
-    """First-order right-hand side dy = [q̇, q̈]; ``out = (qdd, lam, Ff, Fr, Fo)`` filled."""
+    """First-order right-hand side dy = [q̇, q̈, ṡ] (ṡ: the internal slips of triple friction
+    pendulums, when y has them); ``out = (qdd, lam, Ff, Fr, Fo)`` filled."""
     qdd, lam, Ff, Fr, Fo = out
     st = evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
-    n = qdd.shape[0]
+    n = op[O_MIK].shape[0]
     for a in range(n):
         dy[a] = y[n + a]
         dy[n + a] = qdd[a]
+    if y.shape[0] > 2 * n:
+        sd = ws[22]
+        for i in range(bp.shape[0]):
+            if bp[i, B_KIND] == KIND_TFP:
+                o = int(bp[i, B_IOFF])
+                for j in range(8):
+                    dy[o + j] = sd[i, j]
     return st
 
 

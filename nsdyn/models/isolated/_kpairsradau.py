@@ -12,7 +12,14 @@ accepted) reduces each to n × n::
 
     (σ² I − σ J_v − J_q) z₁ = r₂ + (σ I − J_v) r₁,   z₂ = σ z₁ − r₁,
 
-so a factorisation costs n³/3 real plus n³/3 complex operations. Error estimate of RADAU5,
+so a factorisation costs n³/3 real plus n³/3 complex operations. The internal slips s of
+triple friction pendulums (m states after [q, q̇]; their flow reads u = D q and s, not q̇) add
+the columns J_s = ∂q̈/∂s and the rows S_q = ∂ṡ/∂q, S_s = ∂ṡ/∂s (forward differences too):
+
+    [σ² I − σ J_v − J_q   −J_s    ] [z₁]   [r₂ + (σ I − J_v) r₁]
+    [−S_q                 σ I − S_s] [z₃] = [r₃                ],   z₂ = σ z₁ − r₁,
+
+an (n + m)-system. Error estimate of RADAU5,
 (γ/h I − J)⁻¹ (f(y) + Σ e_i Z_i / h); steps end on the record's samples; outputs, rim
 contacts and uplift (located on the collocation polynomial) as in the Dormand–Prince loop.
 """
@@ -54,48 +61,62 @@ NEWTON_TOL = krad.NEWTON_TOL  # scaled Newton correction accepted
 
 
 @njit(cache=True, error_model="numpy")
-def _factor(sig, Jq, Jv, S, piv):
-    """S = σ² I − σ J_v − J_q, factored (real or complex σ, S of σ's type)."""
-    n = Jq.shape[0]
-    for a in range(n):
-        for b in range(n):
-            S[a, b] = -sig * Jv[a, b] - Jq[a, b]
-        S[a, a] += sig * sig
+def _factor(sig, Jx, S, piv):
+    """S = [[σ² I − σ J_v − J_q, −J_s], [−S_q, σ I − S_s]] (module text), factored (real or
+    complex σ, S of σ's type); Jx (n + m, 2n + m): the rows of q̈ and ṡ over all states."""
+    n = Jx.shape[1] - Jx.shape[0]
+    k = Jx.shape[0]
+    for a in range(k):
+        for b in range(k):
+            if a < n and b < n:
+                S[a, b] = -sig * Jx[a, n + b] - Jx[a, b]
+            elif b < n:
+                S[a, b] = -Jx[a, b]
+            else:
+                S[a, b] = -Jx[a, n + b]
+        S[a, a] += sig * sig if a < n else sig
     return lu_factor(S, piv, 0.0)
 
 
 @njit(cache=True, error_model="numpy")
-def _solve(sig, Jv, S, piv, r1, r2, z1, z2):
-    """(σ I − J) [z₁; z₂] = [r₁; r₂] with J = [[0, I], [J_q, J_v]] and S from _factor."""
-    n = Jv.shape[0]
-    for a in range(n):
-        s = r2[a] + sig * r1[a]
-        for b in range(n):
-            s -= Jv[a, b] * r1[b]
-        z1[a] = s
-    lu_solve(S, piv, z1)
-    for a in range(n):
-        z2[a] = sig * z1[a] - r1[a]
+def _solve(sig, Jx, S, piv, r, z, w):
+    """(σ I − J) z = r for the full state (length 2n + m) with S from _factor; w: work
+    (n + m) of σ's type."""
+    n = Jx.shape[1] - Jx.shape[0]
+    k = Jx.shape[0]
+    for a in range(k):
+        if a < n:
+            s = r[n + a] + sig * r[a]
+            for b in range(n):
+                s -= Jx[a, n + b] * r[b]
+            w[a] = s
+        else:
+            w[a] = r[n + a]
+    lu_solve(S, piv, w)
+    for a in range(k):
+        if a < n:
+            z[a] = w[a]
+            z[n + a] = sig * w[a] - r[a]
+        else:
+            z[n + a] = w[a]
 
 
 @njit(cache=True, error_model="numpy")
-def _jacobian(t, y, f0, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, Jq, Jv):
-    """J_q, J_v by forward differences of q̈ at (t, y), f0 = f(t, y); returns a status."""
-    n = Jq.shape[0]
-    qdd = out[0]
-    for j in range(2 * n):
+def _jacobian(t, y, f0, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, Jx, f1):
+    """Jx: the rows of q̈ and ṡ of f by forward differences at (t, y), f0 = f(t, y) (f1:
+    work); returns a status."""
+    N = y.shape[0]
+    n = N - Jx.shape[0]
+    for j in range(N):
         d = 1e-8 * max(abs(y[j]), 1e-3)
         yj = y[j]
         y[j] = yj + d
-        st = kqr._ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
+        st = kq.rhs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, f1)
         y[j] = yj
         if st != kq.ST_OK:
             return st
-        for a in range(n):
-            if j < n:
-                Jq[a, j] = (qdd[a] - f0[n + a]) / d
-            else:
-                Jv[a, j - n] = (qdd[a] - f0[n + a]) / d
+        for a in range(Jx.shape[0]):
+            Jx[a, j] = (f1[n + a] - f0[n + a]) / d
     return kq.ST_OK
 
 
@@ -105,7 +126,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
     (the codes of :mod:`nsdyn.models.isolated._kplanerun`)."""
     N = y0.shape[0]
-    n = N // 2
+    n = op[kq.O_MIK].shape[0]
+    k1 = N - n  # the rows of q̈ and ṡ (n + m)
     ni = modes.shape[0]
     t = t_eval[0]
     ws, out, y, st = kqr.begin(y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO,
@@ -117,21 +139,20 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     tens = bil and kr._min_normal(lam) <= 0.0
     V6 = np.zeros((6, N))
     ys, f0, f1, ynew, err, sc = V6[0], V6[1], V6[2], V6[3], V6[4], V6[5]
-    Jq = np.zeros((n, n))
-    Jv = np.zeros((n, n))
-    Sr = np.zeros((n, n))
-    Sc = np.zeros((n, n), dtype=np.complex128)
-    pr = np.zeros(n, dtype=np.int64)
-    pc = np.zeros(n, dtype=np.int64)
+    Jx = np.zeros((k1, N))
+    Sr = np.zeros((k1, k1))
+    Sc = np.zeros((k1, k1), dtype=np.complex128)
+    pr = np.zeros(k1, dtype=np.int64)
+    pc = np.zeros(k1, dtype=np.int64)
+    wr = np.zeros(k1)
+    wc = np.zeros(k1, dtype=np.complex128)
     Z = np.zeros((3, N))
     W = np.zeros((3, N))
     F = np.zeros((3, N))
     rw = np.zeros((3, N))
     dW = np.zeros((3, N))
-    cr1 = np.zeros(n, dtype=np.complex128)
-    cr2 = np.zeros(n, dtype=np.complex128)
-    cz1 = np.zeros(n, dtype=np.complex128)
-    cz2 = np.zeros(n, dtype=np.complex128)
+    cr = np.zeros(N, dtype=np.complex128)
+    cz = np.zeros(N, dtype=np.complex128)
     yp = np.zeros(N)
     Zp = np.zeros((3, N))
     rtol = cfg[kr.C_RTOL]
@@ -180,19 +201,19 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             nfev += 1
             f0_ready = True
         if need_jac:
-            if _jacobian(t, y, f0, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, Jq,
-                         Jv) != kq.ST_OK:  # fmt: skip
+            if _jacobian(t, y, f0, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, Jx,
+                         f1) != kq.ST_OK:  # fmt: skip
                 status = kr.ST_SINGULAR
                 break
             nfev += N
             need_jac = False
             lu_h = -1.0
         if abs(hh - lu_h) > 1e-9 * hh:
-            ok = _factor(GAMMA / hh, Jq, Jv, Sr, pr)
-            ok = _factor(complex(ALPHA_C, -BETA_C) / hh, Jq, Jv, Sc, pc) and ok
+            ok = _factor(GAMMA / hh, Jx, Sr, pr)
+            ok = _factor(complex(ALPHA_C, -BETA_C) / hh, Jx, Sc, pc) and ok
             lu_h = hh
-        for k in range(N):
-            sc[k] = (cfg[kr.C_ATOLQ] if k < n else cfg[kr.C_ATOLV]) + rtol * abs(y[k])
+        for k in range(N):  # (the internal slips: displacements)
+            sc[k] = (cfg[kr.C_ATOLV] if n <= k < 2 * n else cfg[kr.C_ATOLQ]) + rtol * abs(y[k])
         if have_prev:  # predictor: the previous collocation polynomial, extrapolated
             for a in range(3):
                 ca = krad.C1 if a == 0 else (krad.C2 if a == 1 else 1.0)
@@ -228,16 +249,13 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
                 rw[0, k] = g0 - GAMMA / hh * W[0, k]
                 rw[1, k] = g1 - (ALPHA_C * W[1, k] + BETA_C * W[2, k]) / hh
                 rw[2, k] = g2 - (-BETA_C * W[1, k] + ALPHA_C * W[2, k]) / hh
-            _solve(GAMMA / hh, Jv, Sr, pr, rw[0, :n], rw[0, n:], dW[0, :n], dW[0, n:])
-            for k in range(n):
-                cr1[k] = complex(rw[1, k], rw[2, k])
-                cr2[k] = complex(rw[1, n + k], rw[2, n + k])
-            _solve(complex(ALPHA_C, -BETA_C) / hh, Jv, Sc, pc, cr1, cr2, cz1, cz2)
-            for k in range(n):
-                dW[1, k] = cz1[k].real
-                dW[2, k] = cz1[k].imag
-                dW[1, n + k] = cz2[k].real
-                dW[2, n + k] = cz2[k].imag
+            _solve(GAMMA / hh, Jx, Sr, pr, rw[0], dW[0], wr)
+            for k in range(N):
+                cr[k] = complex(rw[1, k], rw[2, k])
+            _solve(complex(ALPHA_C, -BETA_C) / hh, Jx, Sc, pc, cr, cz, wc)
+            for k in range(N):
+                dW[1, k] = cz[k].real
+                dW[2, k] = cz[k].imag
             dn = 0.0
             for k in range(N):
                 for a in range(3):
@@ -266,11 +284,11 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         # error estimate (RADAU5): (γ/h I − J)⁻¹ (f(y) + Σ e_i Z_i / h)
         for k in range(N):
             f1[k] = f0[k] + (E1 * Z[0, k] + E2 * Z[1, k] + E3 * Z[2, k]) / hh
-        _solve(GAMMA / hh, Jv, Sr, pr, f1[:n], f1[n:], err[:n], err[n:])
+        _solve(GAMMA / hh, Jx, Sr, pr, f1, err, wr)
         en = 0.0
         for k in range(N):
             ynew[k] = y[k] + Z[2, k]
-            s_k = (cfg[kr.C_ATOLQ] if k < n else cfg[kr.C_ATOLV]) + rtol * max(
+            s_k = (cfg[kr.C_ATOLV] if n <= k < 2 * n else cfg[kr.C_ATOLQ]) + rtol * max(
                 abs(y[k]), abs(ynew[k])
             )
             en += (err[k] / s_k) ** 2

@@ -12,8 +12,10 @@ ground,
 with λ_i the normal force (a multiplier: normal forces from the dynamics, uplift when one
 reaches zero), ``R_i q`` the vertical gap of isolator i (its base node's u_z, held at zero),
 ``D_i q`` its slip (u_x, u_y) and F_i the bearing's force (:mod:`nsdyn.models.isolated.pairs`
-adds the bearings' rubber, damper, pendulum and rim terms). Damping is the plane ladder's
-choice (:mod:`nsdyn.models.isolated.system`): ``frame.zeta`` on the fixed-interface modes in
+adds the bearings' rubber, damper, pendulum and rim terms; a triple friction pendulum its
+series model, whose internal slips the state carries, regularised law only). Damping is the
+plane ladder's choice (:mod:`nsdyn.models.isolated.system`): ``frame.zeta`` on the
+fixed-interface modes in
 frequency order, none on the constraint part, so that the superstructure's damping does not
 damp the sliding; the isolators' dampers are the bearings'.
 

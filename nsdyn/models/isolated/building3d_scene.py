@@ -18,7 +18,9 @@ accelerations, base shear and torsional moment; writes ``building3d.npz`` (those
 ``cb`` / ``full``: the pair system of :func:`nsdyn.models.isolated.building3d_cb.building_pairs`
 run by :func:`~nsdyn.models.isolated.pairs.simulate_pairs` from its static state; writes
 ``building3d.npz`` (isolator orbits, normal and bearing forces, drifts at the centres of mass
-and the corners, floor accelerations, base shear and torsional moment). ``full`` on a frame
+and the corners, floor accelerations, base shear and torsional moment); triple friction
+pendulums there run with the regularised law on Radau IIA (contact "detect" or "bilateral";
+their internal slips in the state, :mod:`nsdyn.models.isolated.pairs`). ``full`` on a frame
 above the dense full rung's limit runs the same model on sparse operators
 (:mod:`nsdyn.models.isolated.building3d_pairs_run`: the path, its step, law and damping
 ``structure.damping``); the summary's ``path`` and ``path_why`` say which ran and why. ``auto``:
@@ -348,6 +350,10 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         s = _run_rigid(sysd, exc, t_end, kw, out_dir, say)
     elif sysd["fidelity"] in ("cb", "full"):
         info = sysd["pairs"].info
+        if getattr(sysd["pairs"], "has_tfp", False) and kw["contact"] == "unilateral":
+            raise SceneError(f"{source}: solver.contact: a triple friction pendulum (bearing."
+                             "type = 'tfp') runs on Radau IIA, whose contacts are 'detect' or "
+                             "'bilateral', got 'unilateral'")  # fmt: skip
         dt = sparse_solver(cfg, source, info["path_why"]) if info["path"] == "sparse" else None
         s = _run_pairs(sysd, exc, t_end, kw, out_dir, say, dt)
     else:

@@ -17,6 +17,12 @@ equations and kernels are :mod:`nsdyn.models.isolated._kpairs`; the time loops
 zero ends the run), "bilateral" (λ_i < 0 held, the bearing's terms in λ_i at max(λ_i, 0)) or
 "unilateral" (lift-off, flight and plastic landing: :mod:`._kpairscontact`).
 
+A triple friction pendulum (:class:`nsdyn.models.isolated.tfp.TripleBearing`) resists with
+F_i = λ_i φ_i, the force per unit normal force of its series model, whose four elements' slips
+s_k ∈ R² (8 states per bearing) follow the elastic–viscoplastic flow of :mod:`.tfp`; they are
+appended to the state, y = [q, q̇, s], and run with the regularised law on Radau IIA only (the
+deck's rule). Their rims are read from the element slips (:func:`.tfp.surface_limits`).
+
 Statics first: under gravity alone (friction carries no force at rest) the saddle system
 
     [K + Σ K_lam,i D_iᵀD_i + Σ λ_i/R_i D_iᵀD_i   −Rᵀ] [q₀]   [−M Γ [0, 0, g]]
@@ -42,7 +48,7 @@ from nsdyn.models.isolated import _kpairs as kq
 from nsdyn.models.isolated import _kpairsradau as kqa
 from nsdyn.models.isolated import _kpairsrun as kqr
 from nsdyn.models.isolated import _kplane as kp
-from nsdyn.models.isolated.bearings import N_BCOL, Bearing, BearingError
+from nsdyn.models.isolated.bearings import B_IOFF, N_BCOL, Bearing, BearingError
 from nsdyn.models.isolated.deck import (
     PLANE_LAWS,
     _check_run_options,
@@ -53,7 +59,7 @@ from nsdyn.models.isolated.deck import (
 )
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
 from nsdyn.models.isolated.plane_result import PlaneResult
-from nsdyn.models.isolated.tfp import TripleBearing
+from nsdyn.models.isolated.tfp import N_INTERNAL, TripleBearing
 
 SYMMETRY_RTOL = 1e-10  # |A − Aᵀ| allowed relative to max |A| (M, K)
 SPD_RTOL = 1e-12  # M's smallest eigenvalue must exceed this times its largest
@@ -155,9 +161,10 @@ class PairSystem:
             raise PairSystemError(f"{w}.bearings: expected {ni} Bearing (one per isolator), "
                                   f"got {got!r}")  # fmt: skip
         for i, b in enumerate(self.bearings):
-            if not isinstance(b, Bearing) or isinstance(b, TripleBearing):
-                raise PairSystemError(f"{w}.bearings[{i}]: expected a Bearing (flat slider or "
-                                      f"single pendulum), got {type(b).__name__}")  # fmt: skip
+            if not isinstance(b, Bearing):
+                raise PairSystemError(f"{w}.bearings[{i}]: expected a Bearing (flat slider, "
+                                      f"single or triple pendulum), got "
+                                      f"{type(b).__name__}")  # fmt: skip
         T = None
         if self.T is not None:
             Traw = np.asarray(self.T)
@@ -186,6 +193,26 @@ class PairSystem:
     @property
     def n_isolators(self) -> int:
         return self.D.shape[0]
+
+    def internal_offsets(self) -> list:
+        """Each isolator's internal slips (a triple pendulum's series elements; -1 for a
+        single-surface bearing) as the deck counts them: 6 + their first column in the
+        result's ``internal``; in the state [q, q̇, s] they sit at 2n − 6 further on."""
+        out, o = [], 6
+        for b in self.bearings:
+            out.append(o if isinstance(b, TripleBearing) else -1)
+            o += N_INTERNAL if isinstance(b, TripleBearing) else 0
+        return out
+
+    @property
+    def n_states(self) -> int:
+        """Length of the state vector: [q, q̇] and the internal slips."""
+        return 2 * self.n + N_INTERNAL * sum(isinstance(b, TripleBearing)
+                                             for b in self.bearings)  # fmt: skip
+
+    @property
+    def has_tfp(self) -> bool:
+        return any(isinstance(b, TripleBearing) for b in self.bearings)
 
     # ---- statics -------------------------------------------------------------------------
     def static_equilibrium(self) -> tuple[np.ndarray, np.ndarray]:
@@ -240,6 +267,8 @@ class PairSystem:
                 f"{lam[i]:.4g} N); check R's sign (gap rows, λ compressive positive) and Gamma"
             )
         for b in self.bearings:
+            if isinstance(b, TripleBearing):  # (its surfaces' capacities checked by itself)
+                continue
             need = b.friction.static * b.radius
             if math.isfinite(b.d_cap) and math.isfinite(b.radius) and b.d_cap <= need:
                 raise PairSystemError(
@@ -250,11 +279,14 @@ class PairSystem:
         return q0.copy(), lam.copy()
 
     def bearing_table(self) -> np.ndarray:
-        """(ni, N_BCOL) packed bearing rows at the static normal forces."""
+        """(ni, N_BCOL) packed bearing rows at the static normal forces (a triple
+        pendulum's B_IOFF: its internal slips' index in the state)."""
         _, lam0 = self.static_equilibrium()
         bp = np.zeros((self.n_isolators, N_BCOL))
-        for i, b in enumerate(self.bearings):
+        for i, (b, o) in enumerate(zip(self.bearings, self.internal_offsets(), strict=True)):
             bp[i] = b.row(float(lam0[i]), self.g)
+            if o >= 0:
+                bp[i, B_IOFF] = o - 6 + 2 * self.n
         return bp
 
     def contact_basis(self) -> tuple[np.ndarray, np.ndarray]:
@@ -344,7 +376,8 @@ class PairResult(PlaneResult):
     """A run of a :class:`PairSystem`: the deck's result (:class:`PlaneResult`: slips u
     (nt, ni, 2), normal forces N, friction, restoring and other forces, modes, events, rim
     contacts, uplift, summary) with ``q``, ``qd`` the full coordinates (nt, n) and the slips
-    from the system's rows D; ``outputs`` = T q when the system has T."""
+    from the system's rows D; ``outputs`` = T q when the system has T; ``internal`` (nt, 8
+    n_tfp) the triple pendulums' element slips."""
 
     def _slip(self, X) -> np.ndarray:
         return np.einsum("icn,tn->tic", self.system.D, X)
@@ -446,7 +479,9 @@ def simulate_pairs(
     contacts hold in tension, λ_i < 0; reported in ``result.tension`` with a warning) or
     "unilateral" (lift-off, flight and plastic landing, :mod:`._kpairscontact`; independent
     contact rows; on Dormand–Prince, ``integrator`` "auto" or "dopri5"; reported in
-    ``result.flights``). Returns a :class:`PairResult`.
+    ``result.flights``). Triple friction pendulums run with ``law="arctan"`` on Radau IIA
+    only; their element slips start from zero (``y0`` may omit them). Returns a
+    :class:`PairResult`.
     """
     if not isinstance(system, PairSystem):
         raise TypeError(f"system: expected a PairSystem, got {type(system).__name__}")
@@ -457,6 +492,12 @@ def simulate_pairs(
     if integrator == "radau" and contact == "unilateral":
         raise ValueError("integrator: contact 'unilateral' runs on 'dopri5' (its lift-off and "
                          "landing events need it)")  # fmt: skip
+    if system.has_tfp and (law != "arctan" or integrator == "dopri5" or contact == "unilateral"):
+        raise ValueError(
+            "law: a triple friction pendulum runs with the regularised law 'arctan' on Radau "
+            "IIA (its series model has no stick events and is stiff; not with contact "
+            f"'unilateral'), got law {law!r}, integrator {integrator!r}, contact {contact!r}"
+        )
     sp = _kernel_inputs(system, law, eps, eta, kappa, alpha, beta, contact)
     _check_run_options(rtol, atol, max_step, max_steps)
     loop = kqr.integrate
@@ -468,22 +509,26 @@ def simulate_pairs(
     ):
         raise ValueError(f"dt_out: expected a positive step [s], got {dt_out!r}")
     t_eval, max_step = run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step)
-    n, ni, nt = system.n, system.n_isolators, t_eval.size
+    n, ni, nt, ns = system.n, system.n_isolators, t_eval.size, system.n_states
     q0, _ = system.static_equilibrium()
-    y = np.concatenate([q0, np.zeros(n)])
+    y = np.concatenate([q0, np.zeros(ns - n)])
     if y0 is not None:
         y = np.array(y0, dtype=float).ravel()
-        if y.shape != (2 * n,) or not np.all(np.isfinite(y)):
-            raise ValueError(f"y0: expected {2 * n} finite numbers [q, q̇], got shape "
+        if y.shape not in ((2 * n,), (ns,)) or not np.all(np.isfinite(y)):
+            extra = f" (or {ns} with the internal slips)" if ns > 2 * n else ""
+            raise ValueError(f"y0: expected {2 * n} finite numbers [q, q̇]{extra}, got shape "
                              f"{np.shape(y0)}")  # fmt: skip
+        y = np.concatenate([y, np.zeros(ns - y.size)])  # (internal slips from rest)
     modes, dirs, cfg, X, NO, FF, FR, FO, MO, EV, stops, info = run_buffers(
-        law, eps, rtol, atol, max_step, max_steps, nt, ni, 2 * n
+        law, eps, rtol, atol, max_step, max_steps, nt, ni, ns
     )
     status = loop(y, t_eval, modes, dirs, system.operators(), system.bearing_table(), sp, gk,
                   gp, tab, cfg, X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
-    # the deck's result handles statuses, events, rim contacts and uplift; q is n wide here
-    res = PairResult.from_run(system, law, t_eval, X, NO, FF, FR, FO, MO, EV, stops, info,
+    # the deck's result handles statuses, events, rim contacts and uplift; q is n wide here,
+    # the internal slips are the deck's columns 6 on (its q, q̇ replaced below)
+    Xd = np.concatenate([np.zeros((nt, 6)), X[:, 2 * n :]], axis=1)
+    res = PairResult.from_run(system, law, t_eval, Xd, NO, FF, FR, FO, MO, EV, stops, info,
                               int(status), eps, eta, contact)  # fmt: skip
     k = res.t.size
-    res.q, res.qd = X[:k, :n].copy(), X[:k, n:].copy()
+    res.q, res.qd = X[:k, :n].copy(), X[:k, n : 2 * n].copy()
     return res

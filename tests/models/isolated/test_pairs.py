@@ -22,7 +22,6 @@ from nsdyn.models.isolated.pairs import PairSystem, PairSystemError, from_deck, 
 from nsdyn.models.isolated.plane_result import UpliftWarning
 from nsdyn.models.isolated.statespace import demo_frame
 from nsdyn.models.isolated.system import Isolation, build_system
-from nsdyn.models.isolated.tfp import TripleBearing
 from nsdyn.solve.transient import simulate
 
 G = 9.81
@@ -227,28 +226,6 @@ def _fields(**over):
         ({"R": np.zeros((2, 3))}, r"box\.R: expected shape \(1, 3\)"),
         ({"bearings": ()}, r"box\.bearings: expected 1 Bearing"),
         ({"bearings": ("flat",)}, r"box\.bearings\[0\]: expected a Bearing"),
-        (
-            {
-                "bearings": (
-                    TripleBearing(
-                        R1=2.0,
-                        R2=0.4,
-                        R3=0.4,
-                        R4=2.0,
-                        mu1=0.05,
-                        mu2=0.03,
-                        mu3=0.03,
-                        mu4=0.05,
-                        d1=0.3,
-                        d2=0.05,
-                        d3=0.05,
-                        d4=0.3,
-                    ),
-                )
-            },
-            r"box\.bearings\[0\]: expected a Bearing \(flat slider or single pendulum\), got "
-            "TripleBearing",
-        ),
         ({"positions": np.zeros(2)}, r"box\.positions: expected shape \(1, 2\)"),
         ({"T": np.ones((2, 4))}, r"box\.T: expected an output map of shape \(m, 3\)"),
         ({"g": 0.0}, r"box\.g: expected a positive gravity"),
