@@ -229,6 +229,11 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
     al = sp[S_ALPHA]
     be = sp[S_BETA]
     kap = sp[S_KAPPA]
+    qdiag = nr == ni  # Q diagonal (one row per contact): column j of G has the term i = j only
+    for i in range(ni):
+        for j in range(nr):
+            if i != j and Q[i, j] != 0.0:
+                qdiag = False
     for k in range(m):
         e = -1  # (the slip row of a stick row)
         if k >= nr:
@@ -246,7 +251,7 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
         r[k] = (-2.0 * al * be * rv - al * al * rq - ra) if e < 0 else (-kap * rv - ra)
         for j in range(nr):  # the multiplier ξ_j: contact forces R̃_jᵀ, friction Σ_i c_i Q_ij
             g = RMiRt[k, j] if e < 0 else DMiRt[e, j]
-            for i in range(ni):
+            for i in range(j if qdiag else 0, j + 1 if qdiag else ni):
                 if Q[i, j] != 0.0:
                     if e < 0:
                         w = RMiDt[k, 2 * i] * cf[2 * i] + RMiDt[k, 2 * i + 1] * cf[2 * i + 1]

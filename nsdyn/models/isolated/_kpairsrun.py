@@ -304,30 +304,84 @@ def locate_uplift(t, hh, sb, rc, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, o
 
 
 @njit(cache=True, error_model="numpy")
+def slip_only(modes, sp):
+    """True when the switching functions are the slip velocities' alone: the switch law, no
+    isolator stuck and contacts only watched (no λ among them), so :func:`gslip` gives them."""
+    if int(sp[kq.S_LAW]) != kp.LAW_SWITCH or int(sp[kq.S_CONTACT]) != kp.CONTACT_DETECT:
+        return False
+    for i in range(modes.shape[0]):
+        if modes[i] == kp.MODE_STICK:
+            return False
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def gslip(rc, s, ys, modes, dirs, op, sp, ws, g):
+    """:func:`gvals` at the dense output's s when :func:`slip_only`: the slip velocities
+    v = D2 q̇ (the same sums as :func:`nsdyn.models.isolated._kpairs.slips`) from the dense
+    velocities (ys[n:2n]) alone, no right-hand side evaluated (ws[1] left with v)."""
+    D2 = op[kq.O_D2]
+    n = D2.shape[1]
+    v = ws[1]
+    for j in range(n, 2 * n):
+        ys[j] = dp.dense(rc, j, s)
+    for r in range(D2.shape[0]):
+        sv = 0.0
+        for c in range(n):
+            sv += D2[r, c] * ys[n + c]
+        v[r] = sv
+    eta = sp[kq.S_ETA]
+    for i in range(modes.shape[0]):
+        vx = v[2 * i]
+        vy = v[2 * i + 1]
+        g[i, 0] = 1.0
+        g[i, 1] = 1.0
+        g[i, 2] = 1.0
+        if modes[i] == kp.MODE_SLIP:
+            g[i, 0] = math.sqrt(vx * vx + vy * vy) - eta
+        elif modes[i] == kp.MODE_START:
+            g[i, 0] = kr.START_EXIT * eta - math.sqrt(vx * vx + vy * vy)
+            g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
+
+
+@njit(cache=True, error_model="numpy")
 def locate_event(t, hh, rc, ys, g0, g, ga, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
     """(found, s, evaluations): the earliest switching-function crossing in the step, from
-    SAMPLES samples of the dense output and bisection to EVENT_TTOL; g at the cut."""
+    SAMPLES samples of the dense output and bisection to EVENT_TTOL; g at the cut (and the
+    state there in ys). Samples while :func:`slip_only` cost no evaluation (:func:`gslip`)."""
     sa = 0.0
     nfev = 0
+    fast = slip_only(modes, sp)
     for m in range(1, kr.SAMPLES + 1):
         sb = m / kr.SAMPLES
-        kr._dense_state(rc, sb, ys)
-        gvals(t + sb * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g)
-        nfev += 1
+        if fast:
+            gslip(rc, sb, ys, modes, dirs, op, sp, ws, g)
+        else:
+            kr._dense_state(rc, sb, ys)
+            gvals(t + sb * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g)
+            nfev += 1
         if kr._crossed(g0, g):
             while (sb - sa) * hh > kr.EVENT_TTOL:
                 sm = 0.5 * (sa + sb)
-                kr._dense_state(rc, sm, ys)
-                gvals(t + sm * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, ga)
-                nfev += 1
+                if fast:
+                    gslip(rc, sm, ys, modes, dirs, op, sp, ws, ga)
+                else:
+                    kr._dense_state(rc, sm, ys)
+                    gvals(t + sm * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, ga)
+                    nfev += 1
                 if kr._crossed(g0, ga):
                     sb = sm
                 else:
                     sa = sm
             kr._dense_state(rc, sb, ys)
-            gvals(t + sb * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g)
+            if fast:
+                gslip(rc, sb, ys, modes, dirs, op, sp, ws, g)
+            else:
+                gvals(t + sb * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g)
             return True, sb, nfev
         sa = sb
+    if fast:
+        kr._dense_state(rc, 1.0, ys)
     return False, 1.0, nfev
 
 
