@@ -41,10 +41,17 @@ def _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
 @njit(cache=True, error_model="numpy")
 def gvals(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g):
     """Switching functions (ni, 3) at (t, y) (column 2: a bilateral contact's ±λ_i)."""
+    st = _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
+    gfill(y, modes, dirs, op, bp, sp, ws, out, g)
+    return st
+
+
+@njit(cache=True, error_model="numpy")
+def gfill(y, modes, dirs, op, bp, sp, ws, out, g):
+    """:func:`gvals` from the evaluation at y already in ``out`` and ws."""
     lam, Ff = out[1], out[2]
     ni = modes.shape[0]
     v = ws[1]
-    st = _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
     eta = sp[kq.S_ETA]
     for i in range(ni):
         vx = v[2 * i]
@@ -66,7 +73,6 @@ def gvals(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g):
             g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
         elif modes[i] == kp.MODE_STICK:
             g[i, 0] = bp[i, B_MUS] * ws[13][i] * lam[i] - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
-    return st
 
 
 @njit(cache=True, error_model="numpy")
@@ -345,17 +351,36 @@ def gslip(rc, s, ys, modes, dirs, op, sp, ws, g):
 
 
 @njit(cache=True, error_model="numpy")
-def locate_event(t, hh, rc, ys, g0, g, ga, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
+def end_state(rc, ys, y1):
+    """ys = the dense state at s = 1; True when it is y1 bit for bit (signs of zeros too)."""
+    kr._dense_state(rc, 1.0, ys)
+    for j in range(ys.shape[0]):
+        if ys[j] != y1[j] or math.copysign(1.0, ys[j]) != math.copysign(1.0, y1[j]):
+            return False
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def locate_event(t, hh, rc, ys, y1, g0, g, ga, ge, modes, dirs, op, bp, sp, gk, gp, tab, ws,
+                 out):  # fmt: skip
     """(found, s, evaluations): the earliest switching-function crossing in the step, from
     SAMPLES samples of the dense output and bisection to EVENT_TTOL; g at the cut (and the
-    state there in ys). Samples while :func:`slip_only` cost no evaluation (:func:`gslip`)."""
+    state there in ys). Samples while :func:`slip_only` cost no evaluation (:func:`gslip`);
+    the one at the step's end reuses its last stage's evaluation (at y1, left in ``out``:
+    its g kept in ``ge``) when the dense state there is y1 bit for bit."""
     sa = 0.0
     nfev = 0
     fast = slip_only(modes, sp)
+    if not fast:
+        gfill(y1, modes, dirs, op, bp, sp, ws, out, ge)
     for m in range(1, kr.SAMPLES + 1):
         sb = m / kr.SAMPLES
         if fast:
             gslip(rc, sb, ys, modes, dirs, op, sp, ws, g)
+        elif m == kr.SAMPLES and end_state(rc, ys, y1):
+            for i in range(g.shape[0]):
+                for c in range(3):
+                    g[i, c] = ge[i, c]
         else:
             kr._dense_state(rc, sb, ys)
             gvals(t + sb * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g)
@@ -406,6 +431,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     g0 = np.ones((ni, 3))
     g = np.ones((ni, 3))
     ga = np.ones((ni, 3))
+    ge = np.ones((ni, 3))
     bil = int(sp[kq.S_CONTACT]) == kp.CONTACT_BILATERAL
     tens = bil and kr._min_normal(lam) <= 0.0
     uni = int(sp[kq.S_CONTACT]) == kp.CONTACT_UNILATERAL
@@ -467,8 +493,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         s_end = 1.0
         event = False
         if switching:
-            event, s_end, ne = locate_event(t, hh, rc, ys, g0, g, ga, modes, dirs, op, bp, sp,
-                                            gk, gp, tab, ws, out)  # fmt: skip
+            event, s_end, ne = locate_event(t, hh, rc, ys, y1, g0, g, ga, ge, modes, dirs, op,
+                                            bp, sp, gk, gp, tab, ws, out)  # fmt: skip
             nfev += ne
         n_cut = n_end_min
         if not uni and (event or n_end_min <= 0.0):  # normal force at the cut (or step end)
