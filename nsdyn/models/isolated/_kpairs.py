@@ -82,14 +82,15 @@ def workspace(n, ni):
     pressure factors (ni); the stick basis: its modes (ni), Q_s (2ni, 2ni), rank; G3 (3ni,
     3ni), a vector (3ni); the compression flags (ni) of a bilateral contact; a unilateral
     contact's open flags (ni) and gap offsets (ni); the rates of the triple pendulums'
-    internal slips (ni, 8)."""
+    internal slips (ni, 8); the stuck columns of G3 at unit weights (3ni, 2ni) and their flag."""
     mm = 3 * ni
     return (np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(n),
             np.zeros(3), np.zeros((mm, mm)), np.zeros((mm, mm)), np.zeros(mm), np.zeros(mm),
             np.zeros(mm, dtype=np.int64), np.zeros(ni, dtype=np.int64),
             np.zeros(1, dtype=np.int64), np.ones(ni), np.full(ni, -1, dtype=np.int64),
             np.zeros((2 * ni, 2 * ni)), np.zeros(1, dtype=np.int64), np.zeros((mm, mm)),
-            np.zeros(mm), np.ones(ni), np.zeros(ni), np.zeros(ni), np.zeros((ni, 8)))  # fmt: skip
+            np.zeros(mm), np.ones(ni), np.zeros(ni), np.zeros(ni), np.zeros((ni, 8)),
+            np.zeros((mm, 2 * ni)), np.zeros(1, dtype=np.int64))  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
@@ -277,7 +278,7 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
     Gm = G[:m, :m]
     if m > nr and stick_basis(modes, row, D2, nr, m, ws) < m - nr:
         luok[0] = 0  # redundant stick rows: their forces in proportion to λ
-        if not proportional_split(Q, nr, m, ws):
+        if not proportional_split(Q, nr, m, ws, int(sp[S_CONTACT]) == kp.CONTACT_UNILATERAL):
             return ST_SINGULAR
     else:
         luok[0] = 1 if lu_factor(Gm, piv[:m], PIVOT_RTOL) else 0
@@ -342,11 +343,12 @@ def stick_basis(modes, row, D2, nr, m, ws):
     for i in range(modes.shape[0]):
         msig[i] = modes[i]
     rho[0] = k
+    ws[24][0] = 0  # (proportional_split's cached columns belong to the old modes)
     return k
 
 
 @njit(cache=True, error_model="numpy")
-def proportional_split(Q, nr, m, ws):
+def proportional_split(Q, nr, m, ws, uni):
     """Solve the constraints with redundant stick rows (G2, r2 of :func:`evaluate_at`): rows
     and stick forces in the range of the stuck slip rows, τ = Λ Q_s ζ with Λ the stuck
     isolators' normal forces (so a rigid slab's stick force is split in proportion to
@@ -374,15 +376,24 @@ def proportional_split(Q, nr, m, ws):
             wmax = max(wmax, tv[b])
         for b in range(m - nr):  # (an unloaded isolator keeps a weight: uplift is located later)
             tv[b] = max(tv[b], 1e-9 * wmax)
-        for a in range(m):  # G3 = G Λ T (columns)
+        # G3 = G Λ T (columns); at unit weights its stuck columns are fixed by the modes (G's
+        # stuck columns are −R M⁻¹D_jᵀ, −D M⁻¹D_jᵀ) and kept (ws[23]), but for open contacts
+        cache = p == 0 and not uni
+        for a in range(m):
             for c in range(mr):
                 if c < nr:
                     G3[a, c] = G2[a, c]
+                elif cache and ws[24][0] == 1:
+                    G3[a, c] = ws[23][a, c - nr]
                 else:
                     g = 0.0
                     for b in range(m - nr):
                         g += G2[a, nr + b] * tv[b] * Qs[b, c - nr]
                     G3[a, c] = g
+                    if cache:
+                        ws[23][a, c - nr] = g
+        if cache:
+            ws[24][0] = 1
         for a in range(mr):  # G = Tᵀ G3 (rows), r = Tᵀ r2
             for c in range(mr):
                 if a < nr:
