@@ -89,4 +89,10 @@ def test_frame_orbit_is_the_event_driven_steady_state(orbit):
     pm = pb.period_map(res.x0, F, n_steps=n_out, sens=False, store=True)
     q = pb.orbit_quantities(F, pm.X)
     assert abs(q["acc_floors"] / ref[1:].max() - 1) <= 1e-3
-    assert abs(q["x_iso"] - x_iso) <= 1e-5 * x_iso  # 200 against 4000 samples
+    # x_iso from res.n_steps samples against 4000: both are extrema on the dense output of
+    # the same exact flow; the coarse one can only err across a stick (an acceleration jump
+    # of at most 2 mu g, where the dense output's polynomial errs by at most jump * h^2 / 8,
+    # h its sample spacing; extrema.py's module text)
+    iso = system.isolation
+    h = T / res.n_steps
+    assert abs(q["x_iso"] - x_iso) <= 2 * iso.mu * iso.g * h * h / 8
