@@ -27,9 +27,8 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import save_figure
-from nsdyn.models.isolated import opensees as osx
 from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
-from nsdyn.models.isolated.opensees3d_isolated import tfp_element_args
+from nsdyn.models.isolated.opensees3d_isolated import tfp_single, tfp_slip_mismatch, tfp_solver
 from nsdyn.models.isolated.tfp import TripleBearing
 
 FIGURE = Path(__file__).resolve().parent / "figures" / "tfp_opensees.png"
@@ -38,68 +37,21 @@ BEARING = dict(R1=2.2, R2=0.3, R3=0.3, R4=2.2, mu1=0.06, mu2=0.02, mu3=0.02, mu4
 G = 9.81
 
 
-def opensees_bearing(b: TripleBearing, W: float, mass: float | None = None):
-    """openseespy: node 2 (mass ``mass``) on one TripleFrictionPendulum over the fixed node 1,
-    carrying W (a static step, then held)."""
-    ops = osx.load_opensees()
-    a = tfp_element_args(b)
-    ops.wipe()
-    ops.model("basic", "-ndm", 3, "-ndf", 6)
-    ops.node(1, 0.0, 0.0, 0.0)
-    m = [] if mass is None else ["-mass", mass, mass, mass, 0.0, 0.0, 0.0]
-    ops.node(2, 0.0, 0.0, 0.0, *m)
-    ops.fix(1, 1, 1, 1, 1, 1, 1)
-    ops.fix(2, 0, 0, 0, 1, 1, 1)
-    for k, (slow, _, _) in enumerate(a["frn"]):
-        ops.frictionModel("Coulomb", k + 1, slow)
-    ops.uniaxialMaterial("Elastic", 1, osx.K_VERTICAL)
-    ops.uniaxialMaterial("Elastic", 2, osx.K_ROTATION)
-    ops.element("TripleFrictionPendulum", 1, 1, 2, 1, 2, 3, 1, 2, 2, 2, *a["L"], *a["ubar"], W,
-                a["uy"], 1e3, 1e-3 * W, 1e-6)  # fmt: skip
-    ops.timeSeries("Constant", 1)
-    ops.pattern("Plain", 1, 1)
-    ops.load(2, 0.0, 0.0, -W, 0.0, 0.0, 0.0)
-    solver(ops)
-    ops.integrator("LoadControl", 1.0)
-    ops.analysis("Static")
-    if ops.analyze(1) != 0:
-        raise RuntimeError("OpenSees: the weight's static step did not converge")
-    ops.loadConst("-time", 0.0)
-    ops.wipeAnalysis()
-    return ops
-
-
-def solver(ops):
-    ops.constraints("Transformation")
-    ops.numberer("Plain")
-    ops.system("BandGen")
-    ops.test("NormDispIncr", 1e-10, 50)
-    ops.algorithm("Newton")
-
-
-def check(ops, b):
-    """The element's three pendulums must add up to the slip (it reports no failure)."""
-    c = ops.eleResponse(1, "compDisplacement")
-    miss = math.hypot(c[0] + c[2] + c[4] - ops.nodeDisp(2, 1),
-                      c[1] + c[3] + c[5] - ops.nodeDisp(2, 2))  # fmt: skip
-    if miss > 1e-2 * b.u_y:
-        raise RuntimeError(f"OpenSees: the element lost its internal equilibrium ({miss:.3g} m)")
-
-
 def opensees_loop(b: TripleBearing, A: float, du: float = 4e-4):
     W = 1.0e4
-    ops = opensees_bearing(b, W)
+    ops = tfp_single(b, W)
     ops.timeSeries("Path", 2, "-time", 0.0, A, 3 * A, 5 * A, 5.5 * A, "-values", 0.0, A, -A, A, A)
     ops.pattern("Plain", 2, 2)
     ops.sp(2, 1, 1.0)
-    solver(ops)
+    tfp_solver(ops)
     ops.integrator("LoadControl", du)  # (small steps: see the guide's limits)
     ops.analysis("Static")
     u, phi = [], []
     for _ in range(int(round(5 * A / du))):
         if ops.analyze(1) != 0:
             raise RuntimeError("OpenSees: a static step did not converge")
-        check(ops, b)
+        if tfp_slip_mismatch(ops) > 1e-2 * b.u_y:  # the element reports no such failure
+            raise RuntimeError("OpenSees: the element lost its internal equilibrium")
         u.append(ops.nodeDisp(2, 1))
         phi.append(ops.eleForce(1, 7) / W)
     ops.wipe()
@@ -123,7 +75,7 @@ def orbits(b: TripleBearing, f=0.35, ax=1.3, ay=1.0, ph=60.0, t_end=10.0, dt=1e-
     r = simulate_plane(sdof_plane(m, b, g=G), {"f": f, "ax": ax, "ay": ay, "phase_y_deg": ph},
                        law="arctan", t_end=t_end, dt_out=dt, rtol=1e-8,
                        atol=(1e-10, 1e-10))  # fmt: skip
-    ops = opensees_bearing(b, m * G, mass=m)
+    ops = tfp_single(b, m * G, mass=m)
     n = int(round(t_end / dt))
     t = np.arange(n + 1) * dt
     w = 2 * np.pi * f
@@ -132,14 +84,15 @@ def orbits(b: TripleBearing, f=0.35, ax=1.3, ay=1.0, ph=60.0, t_end=10.0, dt=1e-
                    "-values", *(ay * np.sin(w * t + math.radians(ph))).tolist())  # fmt: skip
     ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
     ops.pattern("UniformExcitation", 3, 2, "-accel", 3)
-    solver(ops)
+    tfp_solver(ops)
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
     u = np.zeros((n + 1, 2))
     for k in range(n):
         if ops.analyze(1, dt) != 0:
             raise RuntimeError(f"OpenSees: no convergence at t = {(k + 1) * dt:.3f} s")
-        check(ops, b)
+        if tfp_slip_mismatch(ops) > 1e-2 * b.u_y:  # the element reports no such failure
+            raise RuntimeError("OpenSees: the element lost its internal equilibrium")
         u[k + 1] = ops.nodeDisp(2, 1), ops.nodeDisp(2, 2)
     ops.wipe()
     return r.u[:, 0], u

@@ -94,6 +94,7 @@ from nsdyn.models.isolated.opensees import (
     NEWTON_TOL,
     STICK_DISP,
     _preload_opensees_libraries,
+    load_opensees,
 )
 from nsdyn.models.isolated.opensees3d import frame_data_3d
 from nsdyn.models.isolated.opensees3d_script import HEADER, SCRIPT
@@ -166,6 +167,56 @@ def tfp_element_args(b, where: str = "bearing") -> dict:
                 [mu[3], fast[3], rate * (R4 - R3) / R4]],
         "uy": float(b.u_y),
     }  # fmt: skip
+
+
+def tfp_single(b, W: float, mass: float | None = None):
+    """openseespy, with node 2 (mass ``mass``, rotations held) on one TripleFrictionPendulum of
+    ``b`` (:func:`tfp_element_args`, constant friction at the slow coefficients) over the
+    fixed node 1, carrying the weight W [N] (a static step, then held at time 0). The model of
+    the single-bearing cross-checks; the analysis objects are left for the caller."""
+    ops = load_opensees()
+    a = tfp_element_args(b)
+    ops.wipe()
+    ops.model("basic", "-ndm", 3, "-ndf", 6)
+    ops.node(1, 0.0, 0.0, 0.0)
+    m = [] if mass is None else ["-mass", mass, mass, mass, 0.0, 0.0, 0.0]
+    ops.node(2, 0.0, 0.0, 0.0, *m)
+    ops.fix(1, 1, 1, 1, 1, 1, 1)
+    ops.fix(2, 0, 0, 0, 1, 1, 1)
+    for k, (slow, _, _) in enumerate(a["frn"]):
+        ops.frictionModel("Coulomb", k + 1, slow)
+    ops.uniaxialMaterial("Elastic", 1, K_VERTICAL)
+    ops.uniaxialMaterial("Elastic", 2, K_ROTATION)
+    ops.element("TripleFrictionPendulum", 1, 1, 2, 1, 2, 3, 1, 2, 2, 2, *a["L"], *a["ubar"], W,
+                a["uy"], TFP_KVT, TFP_MIN_FV * W, TFP_TOL)  # fmt: skip
+    ops.timeSeries("Constant", 1)
+    ops.pattern("Plain", 1, 1)
+    ops.load(2, 0.0, 0.0, -W, 0.0, 0.0, 0.0)
+    tfp_solver(ops)
+    ops.integrator("LoadControl", 1.0)
+    ops.analysis("Static")
+    if ops.analyze(1) != 0:
+        raise RuntimeError("OpenSees: the weight's static step did not converge")
+    ops.loadConst("-time", 0.0)
+    ops.wipeAnalysis()
+    return ops
+
+
+def tfp_solver(ops) -> None:
+    """The single bearing's solution objects (Newton on a banded system, displacement test)."""
+    ops.constraints("Transformation")
+    ops.numberer("Plain")
+    ops.system("BandGen")
+    ops.test("NormDispIncr", 1e-10, 50)
+    ops.algorithm("Newton")
+
+
+def tfp_slip_mismatch(ops) -> float:
+    """|Σ parts − u| [m] of element 1: its three pendulums' slips against node 2's (the element
+    does not report a failed internal iteration; the export's script checks the same)."""
+    c = ops.eleResponse(1, "compDisplacement")
+    return math.hypot(c[0] + c[2] + c[4] - ops.nodeDisp(2, 1),
+                      c[1] + c[3] + c[5] - ops.nodeDisp(2, 2))  # fmt: skip
 
 
 def _bearing_rows(frame, bearings, source: str):

@@ -32,7 +32,13 @@ import pytest
 
 from nsdyn.models.isolated import opensees as osx
 from nsdyn.models.isolated import tfp
-from nsdyn.models.isolated.opensees3d_isolated import building_data, tfp_element_args
+from nsdyn.models.isolated.opensees3d_isolated import (
+    building_data,
+    tfp_element_args,
+    tfp_single,
+    tfp_slip_mismatch,
+    tfp_solver,
+)
 from nsdyn.models.isolated.tfp import TripleBearing
 from nsdyn.models.scenefile import SceneError
 
@@ -144,55 +150,6 @@ def test_a_bearing_the_element_cannot_represent_is_refused_naming_the_field(chan
 # ---- OpenSees: one bearing under a weight W ------------------------------------------------
 
 
-def _opensees_bearing(b: TripleBearing, W: float, mass: float | None = None):
-    """openseespy with node 1 fixed, node 2 (mass ``mass``, rotations fixed) on one
-    TripleFrictionPendulum of ``b`` carrying the weight W (a static step, then held)."""
-    ops = osx.load_opensees()
-    a = tfp_element_args(b)
-    ops.wipe()
-    ops.model("basic", "-ndm", 3, "-ndf", 6)
-    ops.node(1, 0.0, 0.0, 0.0)
-    if mass is None:
-        ops.node(2, 0.0, 0.0, 0.0)
-    else:
-        ops.node(2, 0.0, 0.0, 0.0, "-mass", mass, mass, mass, 0.0, 0.0, 0.0)
-    ops.fix(1, 1, 1, 1, 1, 1, 1)
-    ops.fix(2, 0, 0, 0, 1, 1, 1)
-    for k, (slow, _, _) in enumerate(a["frn"]):
-        ops.frictionModel("Coulomb", k + 1, slow)
-    ops.uniaxialMaterial("Elastic", 1, osx.K_VERTICAL)
-    ops.uniaxialMaterial("Elastic", 2, osx.K_ROTATION)
-    ops.element("TripleFrictionPendulum", 1, 1, 2, 1, 2, 3, 1, 2, 2, 2, *a["L"], *a["ubar"], W,
-                a["uy"], 1e3, 1e-3 * W, 1e-6)  # fmt: skip
-    ops.timeSeries("Constant", 1)
-    ops.pattern("Plain", 1, 1)
-    ops.load(2, 0.0, 0.0, -W, 0.0, 0.0, 0.0)
-    _solver(ops)
-    ops.integrator("LoadControl", 1.0)
-    ops.analysis("Static")
-    assert ops.analyze(1) == 0
-    ops.loadConst("-time", 0.0)
-    ops.wipeAnalysis()
-    return ops
-
-
-def _solver(ops):
-    ops.constraints("Transformation")
-    ops.numberer("Plain")
-    ops.system("BandGen")
-    ops.test("NormDispIncr", 1e-10, 50)
-    ops.algorithm("Newton")
-
-
-def _consistent(ops) -> float:
-    """|Σ parts - u|: the element's three pendulums against the node (a failed internal
-    iteration is not reported by the element)."""
-    c = ops.eleResponse(1, "compDisplacement")
-    return math.hypot(
-        c[0] + c[2] + c[4] - ops.nodeDisp(2, 1), c[1] + c[3] + c[5] - ops.nodeDisp(2, 2)
-    )
-
-
 def _nsdyn_drive(b: TripleBearing, u_of_t, t_out):
     """φ_x along a prescribed slip path u(t) = (u_of_t(t), 0): nsdyn's kernel of the series
     model (its internal slips integrated by scipy's Radau)."""
@@ -235,12 +192,12 @@ def test_quasi_static_loop_through_regimes_one_to_four():
     def path(t):
         return float(np.interp(t, knots, vals))
 
-    ops = _opensees_bearing(b, W)
+    ops = tfp_single(b, W)
     # (held past the last corner: the steps' summed time ends a round-off beyond it)
     ops.timeSeries("Path", 2, "-time", *knots.tolist(), 1.1 * knots[-1], "-values", *vals, A)
     ops.pattern("Plain", 2, 2)
     ops.sp(2, 1, 1.0)
-    _solver(ops)
+    tfp_solver(ops)
     # the element's first sliding step from rest must stay near u_y (a longer one lost its
     # internal equilibrium, unreported): here every step is 1.6 u_y
     ops.integrator("LoadControl", du / V)
@@ -249,7 +206,7 @@ def test_quasi_static_loop_through_regimes_one_to_four():
     t, u_os, phi_os = np.empty(n), np.empty(n), np.empty(n)
     for k in range(n):
         assert ops.analyze(1) == 0
-        assert _consistent(ops) <= 1e-2 * b.u_y
+        assert tfp_slip_mismatch(ops) <= 1e-2 * b.u_y
         t[k], u_os[k] = ops.getTime(), ops.nodeDisp(2, 1)
         phi_os[k] = ops.eleForce(1, 7) / W
     ops.wipe()
@@ -300,7 +257,7 @@ def test_mass_on_a_tfp_under_an_elliptical_orbit():
     )
     u_ns = r.u[:, 0]
     W = m * G
-    ops = _opensees_bearing(b, W, mass=m)
+    ops = tfp_single(b, W, mass=m)
     n = int(round(t_end / dt))
     tt = np.arange(n + 1) * dt
     w = 2 * np.pi * f
@@ -310,14 +267,14 @@ def test_mass_on_a_tfp_under_an_elliptical_orbit():
     )
     ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
     ops.pattern("UniformExcitation", 3, 2, "-accel", 3)
-    _solver(ops)
+    tfp_solver(ops)
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
     u_os = np.zeros((n + 1, 2))
     phi_max = 0.0
     for k in range(n):
         assert ops.analyze(1, dt) == 0
-        assert _consistent(ops) <= 1e-2 * b.u_y
+        assert tfp_slip_mismatch(ops) <= 1e-2 * b.u_y
         u_os[k + 1] = ops.nodeDisp(2, 1), ops.nodeDisp(2, 2)
         phi_max = max(phi_max, math.hypot(ops.eleForce(1, 7), ops.eleForce(1, 8)) / W)
     ops.wipe()
