@@ -18,6 +18,9 @@
    building as a rigid body on its two isolators, 3 dofs) under the record's first horizontal
    component, the switch law on the event method and the arctan law on Radau IIA at their
    default tolerances, and the deck's time (rtol 1e-6, same law) as a ratio to it.
+4. The regularised law's velocity tolerance (full form only): the deck at rtol 1e-6 with atol_v
+   1e-8, the default PLANE_ATOL and the cap ATOL_V_EPS / eps, its error against the law's own
+   solution at rtol 1e-11, atol 1e-13 (the integrator's error, not the law's).
 Wall times are medians of repeats after a first run that compiles (or loads) the kernels; the
 compile/load time is reported apart. Writes ``isolators-wp.csv``, ``isolators-scale.csv`` and
 ``isolators-wp.png`` through nsdyn.atomic.
@@ -34,7 +37,8 @@ from nsdyn.atomic import save_figure
 from nsdyn.bench.common import write_csv_atomic
 from nsdyn.ground import read_motion3
 from nsdyn.models.isolated.bearings import Bearing, Friction
-from nsdyn.models.isolated.deck import rigid_deck, simulate_plane
+from nsdyn.models.isolated.deck import ATOL_V_EPS, PLANE_ATOL, rigid_deck, simulate_plane
+from nsdyn.models.isolated.defaults import EPS
 from nsdyn.models.isolated.tfp import TripleBearing
 
 RECORD = "synthetic-wn-40s"
@@ -90,6 +94,20 @@ def planar_rows(scale: list, reps: int) -> list[dict]:
     return rows
 
 
+def atol_rows(d4, motion, reps: int) -> list[dict]:
+    """Part 4 of the module text: the regularised law at rtol 1e-6 for three velocity
+    tolerances, errors against the law's own converged solution."""
+    own = simulate_plane(d4, motion, law="arctan", rtol=1e-11, atol=(1e-13, 1e-13))
+    rows = []
+    for atol_v in (1e-8, PLANE_ATOL["arctan"][1], ATOL_V_EPS / EPS):
+        at = (PLANE_ATOL["arctan"][0], atol_v)
+        res, wall = _timed(lambda at=at: simulate_plane(d4, motion, law="arctan", atol=at), reps)
+        rows.append({"atol_q": at[0], "atol_v": atol_v, "wall_s": wall, "err": _err(res, own),
+                     "err_peak": abs(_peak(res) / _peak(own) - 1),
+                     "steps": res.stats["steps"]})  # fmt: skip
+    return rows
+
+
 def _err(res, ref) -> float:
     return float(np.max(np.abs(res.u - ref.u)) / np.max(np.abs(ref.u)))
 
@@ -142,6 +160,7 @@ def run_bench(out_dir: Path, quick: bool, repeats: int | None = None, quiet: boo
                           "events": res.stats["events"]})  # fmt: skip
     triple = triple_row(motion, scale, reps)
     planar = planar_rows(scale, reps)
+    tol = [] if quick else atol_rows(d4, motion, reps)
     if not quiet:
         print(
             f"isolators: 4 triple pendulums: {triple['wall_s']:.4f} s, "
@@ -152,7 +171,9 @@ def run_bench(out_dir: Path, quick: bool, repeats: int | None = None, quiet: boo
         write_csv_atomic(out_dir / "isolators-scale.csv", scale),
         save_figure(figure(rows), out_dir / "isolators-wp.png"),
     ]
-    return {"rows": rows, "scale": scale, "triple": triple, "planar": planar,
+    if tol:
+        files.append(write_csv_atomic(out_dir / "isolators-atol.csv", tol))
+    return {"rows": rows, "scale": scale, "triple": triple, "planar": planar, "atol": tol,
             "compile_s": compile_s,
             "record": RECORD,
             "ref_peak_u_m": ref.summary()["peak_resultant_displacement_m"],
@@ -180,7 +201,8 @@ def summarise(result: dict) -> dict:
     return {"compile_s": result["compile_s"],
             "wall_s_rtol_1e-4": {k: v["wall_s"] for k, v in best.items()},
             "scale": result["scale"], "triple": result.get("triple"),
-            "planar": result.get("planar"), "files": result["files"]}  # fmt: skip
+            "planar": result.get("planar"), "atol": result.get("atol"),
+            "files": result["files"]}  # fmt: skip
 
 
 def report(result: dict) -> str:
@@ -204,8 +226,16 @@ def report(result: dict) -> str:
             f"the single pendulum, arctan; x {tr['ratio_to_single_switch']:.2f} switch)"
         )
     for r in result.get("planar") or []:
-        lines.append(f"  planar rigid office frame, {r['law']} ({r['method']}): "
-                     f"{r['wall_s']:.4f} s; the 4-pendulum deck x {r['deck_over_planar']:.2f}")
+        lines.append(
+            f"  planar rigid office frame, {r['law']} ({r['method']}): "
+            f"{r['wall_s']:.4f} s; the 4-pendulum deck x {r['deck_over_planar']:.2f}"
+        )
+    for r in result.get("atol") or []:
+        lines.append(
+            f"  arctan rtol 1e-6, atol ({r['atol_q']:.0e} m, {r['atol_v']:.1e} m/s): "
+            f"{r['wall_s']:.4f} s, {r['steps']} steps, error {r['err']:.1e} "
+            f"(peak {r['err_peak']:.1e}) against the law's own solution"
+        )
     return "\n".join(lines)
 
 

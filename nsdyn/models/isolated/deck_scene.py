@@ -16,8 +16,9 @@ Tables:
 * ``[motion]`` a three-component record (``kind = "record3"``) or a harmonic orbit
   (``kind = "orbit"``), the keys of :mod:`nsdyn.ground.table3`;
 * ``[solver]`` ``law`` ("switch" | "arctan"), ``eps`` [s/m], ``eta`` [m/s], ``rtol``,
-  ``atol`` [m and m/s], ``dt_out`` [s], ``contact`` ("detect" | "bilateral": what a normal
-  force reaching zero does, :data:`nsdyn.models.isolated.deck.PLANE_CONTACTS`).
+  ``atol`` [m and m/s; default the law's ``deck.PLANE_ATOL``], ``dt_out`` [s], ``contact``
+  ("detect" | "bilateral": what a normal force reaching zero does,
+  :data:`nsdyn.models.isolated.deck.PLANE_CONTACTS`).
 
 Writes ``deck.npz`` (histories) into the output directory; the summary
 (:meth:`nsdyn.models.isolated.plane_result.PlaneResult.summary`, units in the key names) is what
@@ -37,7 +38,13 @@ import numpy as np
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.bearings import BEARING_KEYS, BearingError, bearing_from_config
-from nsdyn.models.isolated.deck import contact_code, rigid_deck, sdof_plane, simulate_plane
+from nsdyn.models.isolated.deck import (
+    PLANE_ATOL,
+    contact_code,
+    rigid_deck,
+    sdof_plane,
+    simulate_plane,
+)
 from nsdyn.models.isolated.defaults import EPS, ETA
 from nsdyn.models.scenefile import SceneError, check_fields, number
 
@@ -52,7 +59,6 @@ TABLES = {
 }
 FIGURE_MODULE = "nsdyn.plot.isolators"  # draws the figure from deck.npz (a later stage)
 RTOL = 1e-6
-ATOL = 1e-8
 # seconds a first run compiles the kernels (2-core machine, empty cache, measured 47-62 s for
 # the switch law's loop, about 10 s more for the regularised law's)
 COMPILE_ABOUT_S = 60.0
@@ -142,9 +148,13 @@ def build_solver(cfg: dict, source: str, unilateral: bool = False) -> dict:
         raise SceneError(f"{source}: solver.law: a triple friction pendulum (bearing.type = "
                          f"'tfp') runs with the regularised law 'arctan', got {law!r}")  # fmt: skip
     kw = {"law": law}
-    for key, default in (("eps", EPS), ("eta", ETA), ("rtol", RTOL), ("atol", ATOL)):
+    for key, default in (("eps", EPS), ("eta", ETA), ("rtol", RTOL)):
         kw[key] = number(source, f"solver.{key}", t.get(key, default))
-    kw["atol"] = (kw["atol"], kw["atol"])
+    if "atol" in t:  # one number for both; else the law's (displacement, velocity) pair
+        a = number(source, "solver.atol", t["atol"])
+        kw["atol"] = (a, a)
+    else:
+        kw["atol"] = PLANE_ATOL[law]
     kw["contact"] = t.get("contact", "detect")
     try:
         contact_code(kw["contact"], unilateral)
