@@ -4,8 +4,8 @@ Tables (keys in :mod:`nsdyn.models.isolated.building3d_scene_keys`):
 
 * ``[structure]`` ``frame3d`` (a bundled 3D frame or a file), ``fidelity`` "rigid" | "fixed" |
   "cb" | "full" | "auto", ``eccentricity`` [f_x, f_y] (accidental, fractions of the plan),
-  ``n_modes`` (fixed), ``f_max``, ``min_mass``, ``base`` (cb and full), ``damping`` (full
-  on sparse operators);
+  ``n_modes`` (fixed), ``f_max``, ``min_mass``, ``base`` (cb and full), ``damping`` and
+  ``f_damp`` (full on sparse operators);
 * ``[bearing]``, ``[motion]``, ``[solver]``: those of the deck scene
   (:mod:`nsdyn.models.isolated.deck_scene`), ``[solver] dt`` the sparse full rung's step.
 
@@ -109,6 +109,13 @@ def _cb_options(t: dict, source: str) -> dict:
     if out["damping"] not in DAMPINGS:
         raise SceneError(f"{source}: structure.damping: expected one of {list(DAMPINGS)}, got "
                          f"{out['damping']!r}")  # fmt: skip
+    out["f_damp"] = t.get("f_damp")  # None: pairs_sparse's default
+    v = out["f_damp"]
+    if v is not None and not (
+        isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) and v > 0
+    ):
+        raise SceneError(f"{source}: structure.f_damp: expected a positive frequency [Hz], "
+                         f"got {v!r}")  # fmt: skip
     return out
 
 
@@ -139,7 +146,7 @@ def _sparse_pairs(frame, bearing, opts: dict, cfg: dict, source: str, why: str):
     sparse_solver(cfg, source, why)
     try:
         system = building_pairs_sparse(frame, bearing, damping=opts["damping"],
-                                       base=opts["base"])  # fmt: skip
+                                       f_damp=opts["f_damp"], base=opts["base"])  # fmt: skip
     except PairSystemError as e:
         msg = " ".join(str(e).split())
         where = "bearing" if ".bearings[" in msg else "structure"

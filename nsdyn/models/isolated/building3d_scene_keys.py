@@ -70,6 +70,10 @@ SCHEMA = Schema(
                 "(\"modal\", low rank), or β K on the members, β = 2ζ₁/ω₁ (\"stiffness\", "
                 "the OpenSees export's; far cheaper on large frames)", default="modal",
                 choices=DAMPINGS),
+            Key("f_damp", "number", "full rung on sparse operators with modal damping: the "
+                "fixed-interface modes damped are those up to this frequency (default: every "
+                "mode up to 1 000 interior dofs, else those up to 50 Hz)", "Hz", lo=0.0,
+                lo_open=True),
         )),
         *(t for t in DECK.tables if t.name in ("bearing", "motion")),
         SOLVER,

@@ -137,6 +137,25 @@ def test_stiffness_damping_reaches_the_sparse_system(tmp_path, monkeypatch):
     assert mo.info["damping"] == "modal" and mo.c.size == 23 and mo.C.nnz == 0
 
 
+def test_f_damp_damps_exactly_the_modes_up_to_it(tmp_path, monkeypatch):
+    # structure.f_damp: the low-rank term keeps the fixed-interface modes with f <= f_damp;
+    # the cut-off halfway between the 10th and 11th of the portal's 23 damps exactly ten
+    monkeypatch.setattr(building3d_cb, "FULL_MAX", 0)
+    cfg = copy.deepcopy(SCENE)
+    every = build_system(cfg, str(tmp_path / "s.toml"))["pairs"].info["damped_f_hz"]
+    assert every.size == 23
+    cfg["structure"]["f_damp"] = float(0.5 * (every[9] + every[10]))
+    cut = build_system(cfg, str(tmp_path / "s.toml"))["pairs"]
+    assert cut.c.size == 10
+    np.testing.assert_allclose(cut.info["damped_f_hz"], every[:10], rtol=1e-8)
+    for bad in (0.0, -5.0, "50", True):
+        cfg["structure"]["f_damp"] = bad
+        with pytest.raises(SceneError) as e:
+            build_system(cfg, str(tmp_path / "s.toml"))
+        msg = str(e.value)
+        assert "\n" not in msg and "s.toml: structure.f_damp: expected a positive" in msg, msg
+
+
 @pytest.mark.parametrize("contact", ["bilateral", "unilateral"])
 def test_the_sparse_path_refuses_a_contact_other_than_detect(contact, tmp_path, monkeypatch):
     # the sparse loop keeps every contact closed and detects uplift; another assumption
