@@ -59,9 +59,9 @@ TABLES = {
 }
 FIGURE_MODULE = "nsdyn.plot.isolators"  # draws the figure from deck.npz (a later stage)
 RTOL = 1e-6
-# seconds a first run compiles the kernels (2-core machine, empty cache, measured 47-62 s for
-# the switch law's loop, about 10 s more for the regularised law's)
-COMPILE_ABOUT_S = 60.0
+# seconds a first run compiles the kernels (2-core machine, empty cache: the switch law's loop
+# 19 s, docs/dev/first-runs.md)
+COMPILE_ABOUT_S = 20.0
 
 
 def kernels_cached(law: str) -> bool:
