@@ -1,0 +1,103 @@
+"""How far OpenSees' own peaks move when its input moves by round-off: the 3D isolated building.
+
+``nsdyn bench scale3d`` compares nsdyn's full 3D rung with the exported OpenSees model of the
+same building on its friction pendulum bearings. Before reading the differences of the peaks,
+this script measures the reference's own spread: the smallest of the benchmark's buildings
+(``office-11-3d`` with 5 × 1 bays and a coarse mesh, 2 712 dofs; or ``--size``) under the first
+``--t-end`` seconds of the benchmark's record, run by OpenSees ``--runs`` times with the
+Rayleigh coefficient β multiplied by (1 + k·10⁻¹³), k = 0, 1, …, and by nsdyn with its
+damping matrix scaled the same way. A perturbation of 10⁻¹³ is far below any modelling
+choice: a well-conditioned solution moves by about that much. Each OpenSees run is a whole
+process; two run at a time. Needs openseespy.
+
+Run: ``python examples/opensees3d_spread.py [--runs 5] [--t-end 4] [--size 5,1,2,2]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import re
+import tempfile
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.bench import scale3d
+from nsdyn.bench.scale import _OS_CHILD, _child
+from nsdyn.models.isolated.pairs_sparse import building_pairs_sparse
+from nsdyn.models.isolated.pairs_sparse_run import simulate_pairs_sparse
+
+KEYS = ("peak_resultant_displacement_m", "peak_drift_cm_x", "peak_drift_cm_y")
+STEP = 1e-13  # relative perturbation of beta per run
+
+
+def opensees_runs(size, t_end: float, runs: int, work: Path) -> list[dict]:
+    """Peaks of OpenSees runs with beta x (1 + k STEP), k < ``runs``."""
+    script = scale3d._export(size, t_end, work)
+    text = script.read_text(encoding="utf-8")
+    m = re.search(r'"beta_k":([0-9.eE+-]+)', text)
+    beta = float(m.group(1))
+    paths = []
+    for k in range(runs):
+        p = work / f"opensees-{k}.py"
+        p.write_text(text.replace(m.group(0), f'"beta_k":{beta * (1 + k * STEP)!r}'), "utf-8")
+        paths.append(p)
+    with ThreadPoolExecutor(2) as pool:
+        res = list(pool.map(lambda p: _child(_OS_CHILD, [str(p), repr(t_end)]), paths))
+    return [{k: float(r[k]) for k in KEYS} for r in res]
+
+
+def nsdyn_runs(size, t_end: float, runs: int) -> list[dict]:
+    """Peaks of nsdyn's full rung with C x (1 + k STEP), k < ``runs``."""
+    s = building_pairs_sparse(scale3d.building_of_size(*size), scale3d.bearing(),
+                              damping="stiffness")  # fmt: skip
+    i, n = s.info, s.n
+    ns = i["drift_cm_map"].shape[0]
+    T = np.vstack([i["drift_cm_map"].reshape(-1, n), i["drift_corner_map"].reshape(-1, n)])
+    s = dataclasses.replace(s, T=T)
+    out = []
+    for k in range(runs):
+        sk = dataclasses.replace(s, C=s.C * (1 + k * STEP))
+        r = simulate_pairs_sparse(sk, scale3d.motion(), dt=scale3d.DT, t_end=t_end, keep_q=False)
+        cm = np.abs(r.outputs[:, : 2 * ns]).reshape(-1, ns, 2).max(axis=(0, 1))
+        out.append({KEYS[0]: float(r.resultant(r.u).max()), KEYS[1]: float(cm[0]),
+                    KEYS[2]: float(cm[1])})  # fmt: skip
+    return out
+
+
+def spread(rows: list[dict]) -> dict:
+    """(min, max, (max - min) / min) of each peak over the runs."""
+    return {k: (min(r[k] for r in rows), max(r[k] for r in rows),
+                max(r[k] for r in rows) / min(r[k] for r in rows) - 1) for k in KEYS}  # fmt: skip
+
+
+def main(runs: int = 5, t_end: float = 4.0, size=(5, 1, 2, 2)) -> dict:
+    with tempfile.TemporaryDirectory() as d:
+        os_rows = opensees_runs(size, t_end, runs, Path(d))
+    ns_rows = nsdyn_runs(size, t_end, runs)
+    return {"size": size, "t_end": t_end, "opensees": os_rows, "nsdyn": ns_rows,
+            "opensees_spread": spread(os_rows), "nsdyn_spread": spread(ns_rows)}  # fmt: skip
+
+
+def _print(out: dict) -> None:
+    print(f"building {out['size']}, first {out['t_end']:g} s; beta (OpenSees) and C (nsdyn) "
+          f"x (1 + k {STEP:g})")  # fmt: skip
+    print(f"{'run':10s} " + " ".join(f"{k[5:]:>24s}" for k in KEYS))
+    for tool in ("opensees", "nsdyn"):
+        for k, r in enumerate(out[tool]):
+            print(f"{tool:8s} {k:1d} " + " ".join(f"{r[key]:24.7e}" for key in KEYS))
+    for tool in ("opensees", "nsdyn"):
+        sp = out[f"{tool}_spread"]
+        print(f"{tool} spread (max/min - 1): "
+              + ", ".join(f"{k[5:]} {v[2]:.1e}" for k, v in sp.items()))  # fmt: skip
+
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--t-end", type=float, default=4.0)
+    ap.add_argument("--size", default="5,1,2,2", help="bays y, bays x, n_v, n_h (5,1,2,2)")
+    a = ap.parse_args()
+    _print(main(a.runs, a.t_end, tuple(int(v) for v in a.size.split(","))))
