@@ -90,23 +90,37 @@ def _frame_axes(a, frame, size: float) -> None:
     a.set_box_aspect(tuple(np.maximum(np.ptp(frame.nodes, axis=0), 0.05 * size)))
 
 
-def draw_deformed(a, frame, u: np.ndarray, scale: float, color: str = "C0") -> tuple[list, list]:
+def draw_deformed(a, frame, u: np.ndarray, scale: float, color: str = "C0") -> tuple:
     """On 3D axes ``a``: the undeformed members (grey, gid ``undeformed``), the members
-    deformed by ``scale × u`` (gid ``deformed``, one line per member in element order) and the
-    base nodes. Returns (undeformed lines, deformed lines)."""
-    und = []
-    for line in deformed_lines_3d(frame, np.zeros(frame.n_dof), 0.0, n_sub=1):
-        (h,) = a.plot(line[:, 0], line[:, 1], line[:, 2], color=UNDEFORMED, lw=0.5)
-        h.set_gid("undeformed")
-        und.append(h)
-    dfm = []
-    for line in deformed_lines_3d(frame, u, scale):
-        (h,) = a.plot(line[:, 0], line[:, 1], line[:, 2], color=color, lw=1.0)
-        h.set_gid("deformed")
-        dfm.append(h)
+    deformed by ``scale × u`` (gid ``deformed``) and the base nodes. Each set of members is one
+    line artist, its members in element order separated by a row of NaN (one artist per member
+    took seconds to draw on a building of thousands of elements; :func:`member_lines` splits
+    it again). Returns the two artists (undeformed, deformed)."""
+    und = _joined(deformed_lines_3d(frame, np.zeros(frame.n_dof), 0.0, n_sub=1))
+    (hu,) = a.plot(und[:, 0], und[:, 1], und[:, 2], color=UNDEFORMED, lw=0.5)
+    hu.set_gid("undeformed")
+    dfm = _joined(deformed_lines_3d(frame, u, scale))
+    (hd,) = a.plot(dfm[:, 0], dfm[:, 1], dfm[:, 2], color=color, lw=1.0)
+    hd.set_gid("deformed")
     base = frame.nodes[frame.base_nodes]
     a.scatter(base[:, 0], base[:, 1], base[:, 2], marker="^", color="k", s=14)
-    return und, dfm
+    return hu, hd
+
+
+def _joined(lines: np.ndarray) -> np.ndarray:
+    """The member lines (ne, k, 3) as one polyline, a row of NaN after each member."""
+    ne, k, _ = lines.shape
+    out = np.full((ne, k + 1, 3), np.nan)
+    out[:, :k] = lines
+    return out.reshape(-1, 3)
+
+
+def member_lines(artist) -> list[np.ndarray]:
+    """The members' lines (each (k, 3)) of an artist drawn by :func:`draw_deformed`."""
+    xyz = np.array(artist.get_data_3d(), dtype=float).T
+    gaps = np.flatnonzero(np.isnan(xyz[:, 0]))
+    starts = np.concatenate([[0], gaps[:-1] + 1])
+    return [xyz[a:b] for a, b in zip(starts, gaps, strict=True)]
 
 
 def deformed_lines_3d(frame: Frame3D, u: np.ndarray, scale: float, n_sub: int = N_SUB):

@@ -9,6 +9,7 @@ import pytest
 from nsdyn.plot.frames3d import (
     FrameGeometry,
     auto_scale,
+    member_lines,
     plot_deformed_3d,
     plot_mode_shapes_3d,
     scene_figures,
@@ -25,7 +26,8 @@ def portal():
 
 def _lines(fig, gid: str) -> list[np.ndarray]:
     (ax,) = fig.axes
-    return [np.array(h.get_data_3d()).T for h in ax.get_lines() if h.get_gid() == gid]
+    (h,) = [h for h in ax.get_lines() if h.get_gid() == gid]  # one artist per set of members
+    return member_lines(h)
 
 
 def _bound(frame, u, scale) -> float:
