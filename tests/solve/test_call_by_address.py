@@ -333,6 +333,7 @@ def test_table_rows_are_fixed_and_each_callee_registered():
 
 @pytest.mark.slow
 @pytest.mark.skipif(not JIT, reason="nothing compiles under NUMBA_DISABLE_JIT")
+@no_table_in_plain_numba
 def test_event_loop_compiles_without_its_callees(tmp_path):
     # a fresh process with an empty cache compiles the event loop alone: none of its callees
     # (in the table or in K) is compiled with it, and no callee's code is linked into it
