@@ -30,6 +30,11 @@ the friction detector, the settling, the event handler and the acceptance, with 
 metrics after the system kernel (:func:`event_helper_part_and_metrics`); this process the
 factorisation, Newton, the step, the start-up and the loop (:func:`event_parts_here`).
 
+genalpha-lowrank (:mod:`nsdyn.solve.sparse`) calls the system kernel only once, from Python,
+for the start's accelerations: the helper compiles it while this process compiles the dense
+loop from the argument types the run gives it (:func:`nsdyn.solve.sparse.loop_args`) and the
+metrics (:func:`lowrank_parts_here`).
+
 Each piece is compiled for the signature the loop asks for, by ``Dispatcher.compile`` with the
 numba types of arguments built as the loop builds them, on the tiny problem.
 ``tests/solve/test_compile_helper.py`` checks that the calling process compiles none of the
@@ -50,6 +55,7 @@ from nsdyn.solve import (
     _kflat,
     _kgenalpha,
     _kimpact,
+    _klowrank,
     _kradau,
     _kunilateral,
     methods,
@@ -501,3 +507,27 @@ def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
     if metrics is not None:
         methods.warmup_metrics(metrics == "metrics")
     helper.wait_for([ks.evaluate, ks.jac])
+
+
+# ---- genalpha-lowrank: its dense loop here, the system kernel in the helper ---------------------
+
+
+def evaluate_helper_part() -> None:
+    """A helper's share of genalpha-lowrank's first compilation: the system kernel, which its
+    set-up calls once from Python (the loop itself never calls it)."""
+    _event_part(SYSTEM[:1])
+
+
+def lowrank_parts_here(helper: Helper, metrics: str | None) -> None:
+    """This process's share of genalpha-lowrank's first compilation: its dense loop, from the
+    arguments the run gives it (:func:`nsdyn.solve.sparse.loop_args`, which need no system
+    kernel), and the ``metrics`` (the helper's system kernel alone takes as long as the
+    loop); then wait for the helper's system kernel."""
+    from nsdyn.solve import sparse
+
+    P, x0, t_eval, o, X, upl_t = methods.tiny_run(methods.METHODS[sparse.METHOD])
+    _compile(_klowrank.run_steps, *sparse.loop_args(P, x0, t_eval, o.dt, X, upl_t,
+                                                     o.uplift_mode))  # fmt: skip
+    if metrics is not None:
+        methods.warmup_metrics(metrics == "metrics")
+    helper.wait_for([ks.evaluate])

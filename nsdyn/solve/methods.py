@@ -331,7 +331,8 @@ def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
     (:func:`nsdyn._numba_cache.helper_enabled`): numba compiles on one thread per process, so
     the helper compiles part of the kernels into numba's on-disk cache while this process
     compiles the rest and then loads the helper's. The loops whose callees are called by
-    address (:data:`_SPLIT`: the default Radau loop, the event loop, generalized-alpha) are
+    address (:data:`_SPLIT`: the default Radau loop, the event loop, generalized-alpha;
+    genalpha-lowrank, whose loop needs no system kernel compiled) are
     split between the two (:mod:`nsdyn.solve.compile_split`), the helper also taking the
     metrics; for the other kernels the helper takes the metrics. What the helper does not
     deliver, this process compiles itself: the kernels are the same either way.
@@ -466,6 +467,8 @@ from nsdyn.solve import sparse as _sparse  # noqa: E402  (registers after the nu
 
 METHODS[_sparse.METHOD] = Method(_sparse.METHOD, _sparse.METHOD, True, _sparse.run)
 _ENTRY[_sparse.METHOD] = _sparse._klowrank.run_steps  # the dense loop its warm-up compiles
+# (the helper's system kernel takes as long as this process's loop: the metrics stay here)
+_SPLIT[_sparse.METHOD] = ("evaluate_helper_part", "lowrank_parts_here", {})
 
 # ---- unilateral contact: lift-off, flight and landing (nsdyn.solve._kunilateral) -------------
 

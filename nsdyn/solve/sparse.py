@@ -379,9 +379,8 @@ def integrate(
     t_steps = t0 + (k_all + 1.0) * dt
     t_steps[t_steps > t_end - 1e-9 * dt] = t_end
     state = (q, v, a, phi, lam_old)
-    par = (coef, (float(alpha_b), float(beta_b)), fr.fr, int(uplift_mode))
-    work = (np.empty((ni, ni)), np.zeros(ni, np.int64)) + tuple(np.empty(ni) for _ in range(5))
-    out = (t_eval, X, upl_t, stats, rinfo, work)
+    par, out = _loop_inputs(coef, fr, alpha_b, beta_b, uplift_mode, ni, t_eval, X, upl_t, stats,
+                            rinfo)  # fmt: skip
     A0 = np.empty(n)  # the sparse backend's linear part, given to the kernel step by step
     # segments of constant step size: the regular steps, then a shortened last one (its own
     # factorisation) when dt does not divide the span
@@ -413,6 +412,38 @@ def integrate(
                 max_steps,
             )  # fmt: skip
     return stats, rinfo, X, upl_t
+
+
+def _loop_inputs(coef, fr, alpha_b, beta_b, uplift_mode, ni, t_eval, X, upl_t, stats, rinfo):
+    """``(par, out)`` of :func:`nsdyn.solve._klowrank.run_steps` (its parameters, and the
+    output arrays with the scratch of the isolators' Newton)."""
+    par = (coef, (float(alpha_b), float(beta_b)), fr.fr, int(uplift_mode))
+    work = (np.empty((ni, ni)), np.zeros(ni, np.int64)) + tuple(np.empty(ni) for _ in range(5))
+    return par, (t_eval, X, upl_t, stats, rinfo, work)
+
+
+def loop_args(P, x0, t_eval, dt, X, upl_t, uplift_mode) -> tuple:
+    """The arguments :func:`integrate` gives :func:`nsdyn.solve._klowrank.run_steps` on the
+    dense backend for a run of ``P`` from ``x0`` at step ``dt``, the values that integrate
+    computes by the system kernel (q̈, λ, the friction state) as placeholders: their numba
+    types are the loop's, so the loop compiles from them before the system kernel has (the
+    first compilation's split, :func:`nsdyn.solve.compile_split.lowrank_parts_here`)."""
+    coef = _kgenalpha.parameters(_kgenalpha.FAMILY_GENALPHA, RHO_INF)
+    coef = tuple(float(c) for c in coef)
+    kp = KernelParams(P)
+    m = kp.matrices()
+    R, D, n = m["R"], m["D"], kp.n
+    nc, ni = R.shape[0], D.shape[0]
+    fp = P[ks.I_FPAR]
+    stats, rinfo = np.zeros(ki.N_STATS, dtype=np.int64), np.zeros(ki.N_RINFO)
+    state = (x0[:n].copy(), x0[n:].copy(), np.zeros(n), np.zeros(ni), np.zeros(nc))
+    par, out = _loop_inputs(coef, _Friction(kp), fp[ks.F_ALPHA], fp[ks.F_BETA], uplift_mode, ni,
+                            t_eval, X, upl_t, stats, rinfo)  # fmt: skip
+    st = _stepper(P, dt, coef, "dense")
+    ops = (st.G, st.RGr_inv, st.Lam, st.DGr, st.Wp, R, D)
+    u = ks.ground_many(np.array([float(t_eval[0])]), P)
+    t_steps = float(t_eval[0]) + dt * np.arange(1.0, 2.0)
+    return float(t_eval[0]), t_steps, u, st.W, np.empty(n), state, ops, par, out, 10**9
 
 
 def run(P, x0, t_eval, o, X, upl_t):

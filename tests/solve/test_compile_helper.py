@@ -138,13 +138,20 @@ SPLITS = [
      {"evaluate", "jac", "_detect", "_settle", "_event_at", "evaluate_many"}),
     ("genalpha", "metrics", {"genalpha_loop", "_residual", "_iteration_matrix"},
      {"evaluate", "jac", "evaluate_flat_many", "pack_flat"}),
+    # genalpha-lowrank's set-up calls the system kernel once from Python; its dense loop
+    # compiles here from the run's argument types (sparse.loop_args), with the metrics,
+    # while the helper compiles the system kernel
+    ("genalpha-lowrank", "metrics", {"run_steps", "step", "friction", "evaluate_flat_many"},
+     {"evaluate"}),
 ]  # fmt: skip
 
 
 @pytest.mark.slow
 @pytest.mark.skipif(not JIT, reason="nothing compiles under NUMBA_DISABLE_JIT")
 @pytest.mark.parametrize(
-    "kernel, metrics, here_expected, by_helper", SPLITS, ids=["radau", "event", "genalpha"]
+    "kernel, metrics, here_expected, by_helper",
+    SPLITS,
+    ids=["radau", "event", "genalpha", "genalpha-lowrank"],
 )
 def test_first_warmup_splits_the_compilation_with_its_helper(
     tmp_path, kernel, metrics, here_expected, by_helper
