@@ -470,32 +470,36 @@ def event_parts_here(helper: Helper, metrics: str | None) -> None:
     helper.wait_for([by_name[n].kernel for n in EVENT_HELPER])
 
 
-# ---- generalized-alpha: its loop here, the system kernel and its Jacobian in the helper -------
+# ---- generalized-alpha and genalpha-lowrank: the system kernel in the helper ------------------
 
 
-def system_helper_part() -> None:
-    """A helper's share of a loop that calls the system kernel by address (generalized-alpha):
-    the system kernel and its Jacobian (:data:`SYSTEM`)."""
-    _event_part(SYSTEM)
+def evaluate_helper_part() -> None:
+    """A helper's share of generalized-alpha's and genalpha-lowrank's first compilation: the
+    system kernel (its Jacobian, which links it, compiles in the calling process once the
+    kernel is in the cache)."""
+    _event_part(SYSTEM[:1])
 
 
-def system_helper_part_and_metrics() -> None:
-    """:func:`system_helper_part`, then the flat metrics' kernels."""
-    system_helper_part()
+def evaluate_helper_part_and_metrics() -> None:
+    """:func:`evaluate_helper_part`, then the flat metrics' kernels."""
+    evaluate_helper_part()
     methods.warmup_metrics(True)
 
 
-def system_helper_part_and_metrics_general() -> None:
-    """:func:`system_helper_part`, then the general metrics' kernels (which link the system
+def evaluate_helper_part_and_metrics_general() -> None:
+    """:func:`evaluate_helper_part`, then the general metrics' kernels (which link the system
     kernel compiled first)."""
-    system_helper_part()
+    evaluate_helper_part()
     methods.warmup_metrics(False)
 
 
 def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
     """This process's share of generalized-alpha's first compilation: the loop itself (which
-    needs neither the system kernel nor its Jacobian compiled) and the ``metrics`` (None when
-    the helper takes them); then wait for the helper's kernels."""
+    needs neither the system kernel nor its Jacobian compiled), then, once the helper has put
+    the system kernel in the cache, its Jacobian (which links it: compiled alone beside the
+    loop, it would compile the kernel once more), and the ``metrics`` (None when the helper
+    takes them). The loop (~5 s) and the Jacobian (~4 s) here against the system kernel
+    (~6 s) and the metrics (~3 s) in the helper."""
     event_callees()  # the declarations its calls by address are typed against
     m = methods.METHODS["genalpha"]
     P, x0, t_eval, o, X, upl_t = methods.tiny_run(m)
@@ -504,18 +508,13 @@ def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
         _kgenalpha.genalpha_loop, P, x0, t_eval, o.atol, o.rtol, o.dt, coef, o.max_steps,
         o.uplift_mode, X, upl_t,
     )  # fmt: skip
+    helper.wait_for([ks.evaluate])
+    _event_part(SYSTEM[1:])
     if metrics is not None:
         methods.warmup_metrics(metrics == "metrics")
-    helper.wait_for([ks.evaluate, ks.jac])
 
 
 # ---- genalpha-lowrank: its dense loop here, the system kernel in the helper ---------------------
-
-
-def evaluate_helper_part() -> None:
-    """A helper's share of genalpha-lowrank's first compilation: the system kernel, which its
-    set-up calls once from Python (the loop itself never calls it)."""
-    _event_part(SYSTEM[:1])
 
 
 def lowrank_parts_here(helper: Helper, metrics: str | None) -> None:

@@ -404,8 +404,8 @@ _SPLIT = {
               {"metrics": "radau_helper_part_and_metrics"}),
     "event": ("event_helper_part", "event_parts_here",
               {"metrics-general": "event_helper_part_and_metrics"}),
-    "genalpha": ("system_helper_part", "genalpha_parts_here",
-                 {m: f"system_helper_part_and_{m.replace('-', '_')}" for m in _METRICS}),
+    "genalpha": ("evaluate_helper_part", "genalpha_parts_here",
+                 {m: f"evaluate_helper_part_and_{m.replace('-', '_')}" for m in _METRICS}),
 }  # fmt: skip
 
 # the top-level numba dispatcher of each kernel (its on-disk cache entry stands for the kernel)

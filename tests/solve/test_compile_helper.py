@@ -136,8 +136,10 @@ SPLITS = [
       "setup", "workspace"}),
     ("event", "metrics-general", {"_run", "_step", "_start", "newton_table", "_factor"},
      {"evaluate", "jac", "_detect", "_settle", "_event_at", "evaluate_many"}),
-    ("genalpha", "metrics", {"genalpha_loop", "_residual", "_iteration_matrix"},
-     {"evaluate", "jac", "evaluate_flat_many", "pack_flat"}),
+    # generalized-alpha: its loop and, once the helper has cached the system kernel, the
+    # Jacobian (which links it) here; the system kernel and the metrics in the helper
+    ("genalpha", "metrics", {"genalpha_loop", "_residual", "_iteration_matrix", "jac"},
+     {"evaluate", "evaluate_flat_many", "pack_flat"}),
     # genalpha-lowrank's set-up calls the system kernel once from Python; its dense loop
     # compiles here from the run's argument types (sparse.loop_args), with the metrics,
     # while the helper compiles the system kernel
