@@ -44,7 +44,11 @@ def _alive(pid: int) -> bool:
 
 
 def _die_with(parent: int) -> None:
-    """Pool initializer: end this worker when process ``parent`` ends."""
+    """Pool initializer: end this worker when process ``parent`` ends, and on SIGTERM (a
+    forked worker inherits its parent's handlers: the command's SIGTERM handler would turn
+    the signal into an exception that the pool reports as the task's result, and the worker
+    would live on)."""
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
     ppid = os.getppid()  # the parent itself (fork, spawn) or a fork server started by it
     if ppid == parent and sys.platform.startswith("linux"):
         try:
@@ -86,17 +90,17 @@ def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
 
 def stop_pool(executor, *, kill: bool) -> None:
     """Shut ``executor`` down without waiting; cancel what has not started. With ``kill`` (the
-    caller is leaving on an interrupt or an error) its worker processes are ended first: a
+    caller is leaving on an interrupt or an error) its worker processes are killed first: a
     running task is abandoned, not waited for, and the pool's manager thread, finding its
     workers gone, ends at once. Without it the interpreter's exit joins that thread, which
     waits for the running tasks and can hang after a cancellation (CPython's process pool,
     gh-94440), so a Ctrl-C might not end the command."""
     if executor is None:
         return
-    if kill:
+    if kill:  # SIGKILL: a task that catches or ignores SIGTERM cannot hold the worker
         for proc in list((getattr(executor, "_processes", None) or {}).values()):
             try:
-                proc.terminate()
+                proc.kill()
             except (OSError, AttributeError):
                 pass  # already gone
     executor.shutdown(wait=False, cancel_futures=True)

@@ -230,6 +230,41 @@ def _sleep_long(s: float) -> float:
     return s
 
 
+def _sigterm_disposition_is_default() -> bool:
+    import signal
+
+    return signal.getsignal(signal.SIGTERM) == signal.SIG_DFL
+
+
+def _raise_on_sigterm(signum, frame):
+    raise SystemExit(143)
+
+
+def test_workers_die_on_sigterm_even_when_the_parent_handles_it():
+    # the commands turn SIGTERM into a clean exit (nsdyn.cli); a forked worker inherits that
+    # handler, and a task's exception is only reported by the pool: the worker must not keep it
+    import signal
+
+    from nsdyn.studies.workers import process_pool
+
+    old = signal.signal(signal.SIGTERM, _raise_on_sigterm)
+    try:
+        with process_pool(1) as pool:
+            assert pool.submit(_sigterm_disposition_is_default).result(timeout=60)
+        with pytest.raises(KeyboardInterrupt):
+            with process_pool(1) as pool:
+                fut = pool.submit(_sleep_long, 300.0)
+                while not fut.running():
+                    time.sleep(0.01)
+                procs = list(pool._processes.values())
+                raise KeyboardInterrupt
+    finally:
+        signal.signal(signal.SIGTERM, old)
+    for p in procs:
+        p.join(timeout=60)
+        assert not p.is_alive()
+
+
 def test_a_pool_left_by_an_exception_ends_its_running_workers():
     # Ctrl-C inside `with process_pool(...)` must not wait for the running task (here 300 s):
     # the workers are ended and the block is left at once. The bound (60 s) is "it ended", far
