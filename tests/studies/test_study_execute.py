@@ -230,9 +230,30 @@ def _sleep_long(s: float) -> float:
     return s
 
 
-def _sigterm_disposition_is_default() -> bool:
-    import signal
+def _ended(proc, timeout: float = 60.0) -> bool:
+    """True once worker ``proc`` has ended within ``timeout`` s. Its pool's own thread may
+    reap it first, after which ``proc.join`` and ``proc.is_alive`` cannot tell (waitpid finds
+    no child: multiprocessing then reports it running), so the pid is asked too: gone, or a
+    zombie (ended, not yet reaped)."""
+    t_end = time.monotonic() + timeout
+    while time.monotonic() < t_end:
+        proc.join(timeout=0.1)
+        if proc.exitcode is not None:
+            return True
+        try:
+            os.kill(proc.pid, 0)
+        except ProcessLookupError:
+            return True
+        try:
+            with open(f"/proc/{proc.pid}/stat") as fh:
+                if fh.read().rsplit(")", 1)[1].split()[0] in ("Z", "X"):
+                    return True
+        except (OSError, IndexError):
+            return True
+    return False
 
+
+def _sigterm_disposition_is_default() -> bool:
     return signal.getsignal(signal.SIGTERM) == signal.SIG_DFL
 
 
@@ -243,8 +264,6 @@ def _raise_on_sigterm(signum, frame):
 def test_workers_die_on_sigterm_even_when_the_parent_handles_it():
     # the commands turn SIGTERM into a clean exit (nsdyn.cli); a forked worker inherits that
     # handler, and a task's exception is only reported by the pool: the worker must not keep it
-    import signal
-
     from nsdyn.studies.workers import process_pool
 
     old = signal.signal(signal.SIGTERM, _raise_on_sigterm)
@@ -260,9 +279,7 @@ def test_workers_die_on_sigterm_even_when_the_parent_handles_it():
                 raise KeyboardInterrupt
     finally:
         signal.signal(signal.SIGTERM, old)
-    for p in procs:
-        p.join(timeout=60)
-        assert not p.is_alive()
+    assert all(_ended(p) for p in procs)
 
 
 def test_a_pool_left_by_an_exception_ends_its_running_workers():
@@ -279,7 +296,5 @@ def test_a_pool_left_by_an_exception_ends_its_running_workers():
                 time.sleep(0.01)
             procs = list(pool._processes.values())
             raise KeyboardInterrupt
-    for p in procs:
-        p.join(timeout=60)
-        assert not p.is_alive()
+    assert all(_ended(p) for p in procs)
     assert time.monotonic() - t0 < 60.0
