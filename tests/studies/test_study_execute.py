@@ -253,6 +253,21 @@ def _ended(proc, timeout: float = 60.0) -> bool:
     return False
 
 
+def _interrupted_while_running() -> list:
+    """Leave ``with process_pool(1)`` by a KeyboardInterrupt while its worker runs a 300 s
+    task; the pool's worker processes (as they were inside the block)."""
+    from nsdyn.studies.workers import process_pool
+
+    with pytest.raises(KeyboardInterrupt):
+        with process_pool(1) as pool:
+            fut = pool.submit(_sleep_long, 300.0)
+            while not fut.running():
+                time.sleep(0.01)
+            procs = list(pool._processes.values())
+            raise KeyboardInterrupt
+    return procs
+
+
 def _sigterm_disposition_is_default() -> bool:
     return signal.getsignal(signal.SIGTERM) == signal.SIG_DFL
 
@@ -270,13 +285,7 @@ def test_workers_die_on_sigterm_even_when_the_parent_handles_it():
     try:
         with process_pool(1) as pool:
             assert pool.submit(_sigterm_disposition_is_default).result(timeout=60)
-        with pytest.raises(KeyboardInterrupt):
-            with process_pool(1) as pool:
-                fut = pool.submit(_sleep_long, 300.0)
-                while not fut.running():
-                    time.sleep(0.01)
-                procs = list(pool._processes.values())
-                raise KeyboardInterrupt
+        procs = _interrupted_while_running()
     finally:
         signal.signal(signal.SIGTERM, old)
     assert all(_ended(p) for p in procs)
@@ -286,15 +295,8 @@ def test_a_pool_left_by_an_exception_ends_its_running_workers():
     # Ctrl-C inside `with process_pool(...)` must not wait for the running task (here 300 s):
     # the workers are ended and the block is left at once. The bound (60 s) is "it ended", far
     # below the task's 300 s, not a timing check.
-    from nsdyn.studies.workers import process_pool
 
     t0 = time.monotonic()
-    with pytest.raises(KeyboardInterrupt):
-        with process_pool(1) as pool:
-            fut = pool.submit(_sleep_long, 300.0)
-            while not fut.running():
-                time.sleep(0.01)
-            procs = list(pool._processes.values())
-            raise KeyboardInterrupt
+    procs = _interrupted_while_running()
     assert all(_ended(p) for p in procs)
     assert time.monotonic() - t0 < 60.0
