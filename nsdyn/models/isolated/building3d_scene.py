@@ -92,10 +92,15 @@ def _frame(t: dict, source: str):
 
 
 def _cb_options(t: dict, source: str) -> dict:
-    """f_max, min_mass, base of ``[structure]`` (SceneError naming the field)."""
+    """f_max, min_mass, base, damping, f_damp of ``[structure]`` (SceneError naming the
+    field; f_damp None: pairs_sparse's default)."""
     out = {}
-    for key, default, lo_open in (("f_max", 5.0, True), ("min_mass", 1e-4, False)):
+    for key, default, lo_open in (("f_max", 5.0, True), ("min_mass", 1e-4, False),
+                                  ("f_damp", None, True)):  # fmt: skip
         v = t.get(key, default)
+        if v is None:
+            out[key] = None
+            continue
         ok = isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
         if not (ok and (v > 0 if lo_open else 0 <= v < 1)):
             want = "a positive frequency [Hz]" if lo_open else "a fraction in [0, 1)"
@@ -109,13 +114,6 @@ def _cb_options(t: dict, source: str) -> dict:
     if out["damping"] not in DAMPINGS:
         raise SceneError(f"{source}: structure.damping: expected one of {list(DAMPINGS)}, got "
                          f"{out['damping']!r}")  # fmt: skip
-    out["f_damp"] = t.get("f_damp")  # None: pairs_sparse's default
-    v = out["f_damp"]
-    if v is not None and not (
-        isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) and v > 0
-    ):
-        raise SceneError(f"{source}: structure.f_damp: expected a positive frequency [Hz], "
-                         f"got {v!r}")  # fmt: skip
     return out
 
 
