@@ -22,8 +22,6 @@ import tempfile
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-import numpy as np
-
 from nsdyn.bench import scale3d
 from nsdyn.bench.scale import _OS_CHILD, _child
 from nsdyn.models.isolated.pairs_sparse import building_pairs_sparse
@@ -51,19 +49,14 @@ def opensees_runs(size, t_end: float, runs: int, work: Path) -> list[dict]:
 
 def nsdyn_runs(size, t_end: float, runs: int) -> list[dict]:
     """Peaks of nsdyn's full rung with C x (1 + k STEP), k < ``runs``."""
-    s = building_pairs_sparse(scale3d.building_of_size(*size), scale3d.bearing(),
-                              damping="stiffness")  # fmt: skip
-    i, n = s.info, s.n
-    ns = i["drift_cm_map"].shape[0]
-    T = np.vstack([i["drift_cm_map"].reshape(-1, n), i["drift_corner_map"].reshape(-1, n)])
-    s = dataclasses.replace(s, T=T)
+    s = scale3d.with_drift_outputs(building_pairs_sparse(
+        scale3d.building_of_size(*size), scale3d.bearing(), damping="stiffness"))  # fmt: skip
     out = []
     for k in range(runs):
         sk = dataclasses.replace(s, C=s.C * (1 + k * STEP))
         r = simulate_pairs_sparse(sk, scale3d.motion(), dt=scale3d.DT, t_end=t_end, keep_q=False)
-        cm = np.abs(r.outputs[:, : 2 * ns]).reshape(-1, ns, 2).max(axis=(0, 1))
-        out.append({KEYS[0]: float(r.resultant(r.u).max()), KEYS[1]: float(cm[0]),
-                    KEYS[2]: float(cm[1])})  # fmt: skip
+        p = scale3d.peaks(sk, r)
+        out.append({key: p[key] for key in KEYS})
     return out
 
 

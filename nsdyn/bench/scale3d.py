@@ -80,35 +80,44 @@ def bearing():
     return bearing_from_config(dict(BEARING), "bearing")
 
 
+def with_drift_outputs(s):
+    """The sparse pair system ``s`` with its outputs the drift ratios at the centres of mass
+    and at the corners (``T``: the info's drift maps)."""
+    import dataclasses
+
+    i, n = s.info, s.n
+    T = np.vstack([i["drift_cm_map"].reshape(-1, n), i["drift_corner_map"].reshape(-1, n)])
+    return dataclasses.replace(s, T=T)
+
+
+def peaks(s, r) -> dict:
+    """:data:`PEAKS` of run ``r`` of :func:`with_drift_outputs` system ``s``."""
+    ns = s.info["drift_cm_map"].shape[0]
+    o = r.outputs
+    cm = np.abs(o[:, : 2 * ns]).reshape(-1, ns, 2).max(axis=(0, 1))
+    co = np.abs(o[:, 2 * ns :]).reshape(-1, ns, 4, 2).max(axis=(0, 1, 2))
+    return {"peak_resultant_displacement_m": float(r.resultant(r.u).max()),
+            "peak_drift_cm_x": float(cm[0]), "peak_drift_cm_y": float(cm[1]),
+            "peak_drift_corner_x": float(co[0]), "peak_drift_corner_y": float(co[1])}  # fmt: skip
+
+
 _CHILD = r"""
 import json, resource, sys, time
 t_start = time.perf_counter()
-import numpy as np
-import dataclasses
 from nsdyn.bench import scale, scale3d
 from nsdyn.models.isolated.pairs_sparse import building_pairs_sparse
 from nsdyn.models.isolated.pairs_sparse_run import simulate_pairs_sparse
 size = tuple(int(v) for v in sys.argv[1:5])
 t_end = float(sys.argv[5])
 frame = scale3d.building_of_size(*size)
-s = building_pairs_sparse(frame, scale3d.bearing(), damping="stiffness")
-i = s.info
-n = s.n
-ns = i["drift_cm_map"].shape[0]
-T = np.vstack([i["drift_cm_map"].reshape(-1, n), i["drift_corner_map"].reshape(-1, n)])
-s = dataclasses.replace(s, T=T)
+s = scale3d.with_drift_outputs(building_pairs_sparse(frame, scale3d.bearing(),
+                                                      damping="stiffness"))
 t_build = time.perf_counter()
 r = simulate_pairs_sparse(s, scale3d.motion(), dt=scale3d.DT, t_end=t_end, keep_q=False)
 t_run = time.perf_counter()
-o = r.outputs
-cm = np.abs(o[:, : 2 * ns]).reshape(-1, ns, 2).max(axis=(0, 1))
-co = np.abs(o[:, 2 * ns :]).reshape(-1, ns, 4, 2).max(axis=(0, 1, 2))
-out = {"n_dof": int(frame.n_dof), "n": int(n), "build_s": t_build - t_start,
+out = {"n_dof": int(frame.n_dof), "n": int(s.n), "build_s": t_build - t_start,
        "run_s": t_run - t_build, "setup_s": r.stats["setup_s"], "lu_nnz": r.stats["lu_nnz"],
-       "newton_iterations": r.stats["newton_iterations"],
-       "peak_resultant_displacement_m": float(r.resultant(r.u).max()),
-       "peak_drift_cm_x": float(cm[0]), "peak_drift_cm_y": float(cm[1]),
-       "peak_drift_corner_x": float(co[0]), "peak_drift_corner_y": float(co[1]),
+       "newton_iterations": r.stats["newton_iterations"], **scale3d.peaks(s, r),
        "maxrss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
        "hwm_mb": scale.peak_rss_mb(), "process_s": time.perf_counter() - t_start}
 print("RESULT " + json.dumps(out))
