@@ -17,7 +17,7 @@ index in ``K`` and the kernel it stands for) on ``args``:
   calling convention (the callee's exceptions propagate). The declaration is checked three
   times: the call's argument types must equal the declared ones when the caller is typed
   (else a typing error names the callee); the address must come from a compilation for
-  exactly those types returning the declared type (:class:`nsdyn.solve.compile_split.Callee`);
+  exactly those types returning the declared type (:class:`Callee`);
   and at every call ``K[1, index]``, the :func:`digest` of the declaration the address was
   taken for, must equal the digest compiled into the caller (a caller loaded from numba's
   cache was typed in another process, possibly against other declarations: it raises a
@@ -32,7 +32,7 @@ JIT (``NUMBA_DISABLE_JIT=1``) ``call`` is plain Python and ``K`` a tuple of func
 symbol ``nsdyn_kaddress_table`` (registered with LLVM when this module is imported, resolved
 when numba loads the code, also from its cache). Deep call trees (the event-driven loop, its
 detectors and handlers, each of which evaluates the system kernel) call their callees so
-without passing ``K`` down; :func:`fill` (by :class:`nsdyn.solve.compile_split.Callee`) puts
+without passing ``K`` down; :func:`fill` (by :class:`Callee`) puts
 each address and the digest of its declaration in the table before a caller runs, and every
 call checks that digest (an empty row has digest 0: a RuntimeError naming the callee, never a
 jump to address 0). With plain numba (:data:`nsdyn._numba_cache.PLAIN`) and without the JIT,
@@ -178,6 +178,8 @@ TABLE_NAMES = (
     "event.accept",
     "event.handle",
     "event.land",
+    "deck.evaluate",
+    "deck.settle",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration
@@ -256,3 +258,47 @@ def _tcall_impl(name, args):
         kernel = TSLOTS[name.literal_value]
         return lambda name, args: kernel(*args)
     return lambda name, args: _tat(name, args)
+
+
+# ---- the callees: declared, compiled, their addresses in the table ---------------------------
+
+
+class Callee:
+    """A compiled kernel that a run loop calls by address, declared under ``name`` for the
+    argument types ``args`` and return type ``ret`` (:func:`declare`)."""
+
+    def __init__(self, name: str, kernel, args, ret):
+        self.name, self.kernel, self.args, self.ret = name, kernel, tuple(args), ret
+        declare(name, ret, self.args)
+        self._address = 0
+
+    def compiled(self):
+        """The kernel's compilation for ``args`` (loaded from the cache, or compiled)."""
+        self.kernel.compile(self.args)
+        cres = self.kernel.overloads[self.args]
+        if cres.signature.return_type != self.ret:
+            raise TypeError(
+                f"{self.name}: {self.kernel.py_func.__qualname__} returns "
+                f"{cres.signature.return_type}, declared {self.ret}"
+            )
+        return cres
+
+    def address(self) -> int:
+        """The address of the compiled kernel's code (numba's calling convention)."""
+        if not self._address:
+            cres = self.compiled()
+            self._address = cres.library.get_pointer_to_function(cres.fndesc.llvm_func_name)
+        return self._address
+
+
+def fill_table(callees) -> None:
+    """Put the addresses of ``callees`` (:class:`Callee`, each loaded from numba's cache, or
+    compiled) in :data:`TABLE`; nothing under ``NUMBA_DISABLE_JIT`` or with plain numba
+    (:data:`nsdyn._numba_cache.PLAIN`: the callers call them directly)."""
+    from numba import config
+
+    if config.DISABLE_JIT or PLAIN:
+        return
+    for c in callees:
+        if not filled(c.name):
+            fill(c.name, c.address())

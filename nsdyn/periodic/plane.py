@@ -55,6 +55,7 @@ import numpy as np
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
 from nsdyn.models.isolated import _kplanerun as kr
+from nsdyn.models.isolated import deck_compile
 from nsdyn.models.isolated.bearings import B_MUS
 from nsdyn.models.isolated.deck import ATOL_V_EPS, PlaneSystem, kernel_params
 from nsdyn.models.isolated.defaults import EPS, ETA
@@ -222,9 +223,10 @@ class PlaneProblem:
         stops = np.zeros((ni, 3))
         stops[:, kr.P_TFIRST] = np.nan
         info = np.zeros(kr.N_INFO)
-        st = self.loop(self.full_state(x0), t_eval, np.full(ni, kp.MODE_SLIP, dtype=np.int64),
-                       np.zeros((ni, 2)), M, pos, bp, nd, sp, kp.G_HARMONIC, gp,
-                       np.zeros((3, 0)), cfg, X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
+        args = (self.full_state(x0), t_eval, np.full(ni, kp.MODE_SLIP, dtype=np.int64),
+                np.zeros((ni, 2)), M, pos, bp, nd, sp, kp.G_HARMONIC, gp, np.zeros((3, 0)), cfg,
+                X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
+        st = deck_compile.run_loop(self.loop, args, self.law == "switch")
         st = STATUS_OK if int(st) == kr.ST_OK else STATUS_BASE + int(st)
         if st == STATUS_OK and not np.all(np.isfinite(X[-1])):
             st = STATUS_BASE + kr.ST_NONFINITE

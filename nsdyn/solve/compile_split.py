@@ -47,6 +47,7 @@ import functools
 
 import numpy as np
 
+from nsdyn._kaddress import Callee, fill_table  # noqa: F401 (this module's callers use them)
 from nsdyn._numba_cache import Helper
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import (
@@ -78,36 +79,6 @@ def _tiny_args(method: str, law: str | None = None):
         P = methods.with_law(P, law, np.zeros(P[ks.I_D].shape[0], dtype=np.int64))
     ws = _py(_kradau.workspace)(x0.size, upl_t.size, P[ks.I_D].shape[0])
     return P, x0, t_eval, o, X, upl_t, ws + (_py(_kflat.pack_flat)(P),)
-
-
-class Callee:
-    """A compiled kernel that a run loop calls by address (:mod:`nsdyn._kaddress`), declared
-    under ``name`` for the argument types ``args`` and return type ``ret``."""
-
-    def __init__(self, name: str, kernel, args, ret):
-        from nsdyn import _kaddress
-
-        self.name, self.kernel, self.args, self.ret = name, kernel, tuple(args), ret
-        _kaddress.declare(name, ret, self.args)
-        self._address = 0
-
-    def compiled(self):
-        """The kernel's compilation for ``args`` (loaded from the cache, or compiled)."""
-        self.kernel.compile(self.args)
-        cres = self.kernel.overloads[self.args]
-        if cres.signature.return_type != self.ret:
-            raise TypeError(
-                f"{self.name}: {self.kernel.py_func.__qualname__} returns "
-                f"{cres.signature.return_type}, declared {self.ret}"
-            )
-        return cres
-
-    def address(self) -> int:
-        """The address of the compiled kernel's code (numba's calling convention)."""
-        if not self._address:
-            cres = self.compiled()
-            self._address = cres.library.get_pointer_to_function(cres.fndesc.llvm_func_name)
-        return self._address
 
 
 @functools.cache
@@ -324,22 +295,6 @@ def event_callees() -> list:
         "event.land": (_kimpact._land, (f8, v, P, i8, f8, f8, m, vi, v), b1),
     }
     return [Callee(name, kernel, args, ret) for name, (kernel, args, ret) in sigs.items()]
-
-
-def fill_table(callees) -> None:
-    """Put the addresses of ``callees`` (each loaded from numba's cache, or compiled) in the
-    process-wide table of :mod:`nsdyn._kaddress`; nothing under ``NUMBA_DISABLE_JIT`` or with
-    plain numba (:data:`nsdyn._numba_cache.PLAIN`: the callers call them directly)."""
-    from numba import config
-
-    from nsdyn import _kaddress
-    from nsdyn._numba_cache import PLAIN
-
-    if config.DISABLE_JIT or PLAIN:
-        return
-    for c in callees:
-        if not _kaddress.filled(c.name):
-            _kaddress.fill(c.name, c.address())
 
 
 SYSTEM = ("sys.evaluate", "sys.jac")  # the system kernel and its Jacobian in the table

@@ -96,12 +96,19 @@ sol = solve(P, x0, np.linspace(0.0, 0.75, 151), method="event", contact="unilate
             restitution=0.5, rtol=1e-8, atol=1e-10)
 out["contact_x"] = sol.x
 out["contact_events"] = np.array([(e[0], e[1], e[3], e[4]) for e in sol.contact_events])
+# a deck on four pendulums under the switch law: the force kernel and settling by address
+from nsdyn.models.isolated import Bearing, Friction, rigid_deck, simulate_plane
+deck = rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [5.0, 3.0], [-5.0, 3.0]],
+                  Bearing(Friction(0.04, 0.07, 30.0, 0.075), radius=2.2), ecc=(0.5, 0.3), h=1.0)
+dr = simulate_plane(deck, {"f": 0.5, "ax": 3.0, "ay": 2.0, "phase_y_deg": 90.0}, law="switch",
+                    t_end=3.0)
+out["deck_q"], out["deck_events"] = dr.q, np.asarray(dr.events)
 np.savez(sys.argv[1], **out)
 """
 
 
 @pytest.mark.slow  # compiles the default loop, the event loop (friction and contact events),
-# the period map and generalized-alpha as plain numba
+# the period map, generalized-alpha and the deck's switch loop as plain numba
 def test_plain_numba_gives_identical_histories(tmp_path):
     files = {}
     for mode in ("0", "1"):
@@ -113,5 +120,6 @@ def test_plain_numba_gives_identical_histories(tmp_path):
     by_address, plain = np.load(files["0"]), np.load(files["1"])
     assert set(by_address.files) == set(plain.files)
     assert by_address["contact_events"].shape[0] > 0  # the contact callees did run
+    assert by_address["deck_events"].shape[0] > 0  # the deck settled stick
     for key in by_address.files:
         assert np.array_equal(by_address[key], plain[key]), key

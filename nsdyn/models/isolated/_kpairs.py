@@ -59,7 +59,7 @@ drop_stale(
     _HERE,
     ["_kpairs", "_kpairsrun", "_kpairsradau", "_kpairscontact"],
     [_HERE / f for f in ("_kpairs.py", "_kpairsrun.py", "_kpairsradau.py", "_kpairscontact.py",
-                         "_kplane.py",
+                         "_kplane.py", "_kplaneground.py",
                          "_kplanerun.py", "_kplaneradau.py", "_kplanestops.py", "bearings.py")]
     + [_HERE.parents[1] / f for f in ("_kdp5.py", "_klinalg.py")],
 )  # fmt: skip

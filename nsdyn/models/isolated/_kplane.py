@@ -45,8 +45,25 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn._numba_cache import drop_stale
+from nsdyn.models.isolated._kplaneground import (  # noqa: F401 (the loops' and packers' names)
+    G_HARMONIC,
+    G_TABLE,
+    GP_AX,
+    GP_AY,
+    GP_AZ,
+    GP_DT,
+    GP_F,
+    GP_FZ,
+    GP_PHY,
+    GP_PHZ,
+    GP_T0,
+    N_GP,
+    ground,
+    next_breakpoint,
+)
 from nsdyn.models.isolated.bearings import (
     B_AREA,
     B_C,
@@ -74,12 +91,12 @@ from nsdyn.models.isolated.bearings import (
 # the time loops (_kplanerun, _kplaneradau) compile these kernels, the shared tableau and LU
 # and the bearing table's column numbers into their caches: drop all when any of them changes
 _HERE = Path(__file__).resolve().parent
-_LOOPS = ["_kplane", "_kplanerun", "_kplaneradau", "_kplanestops"]
+_LOOPS = ["_kplane", "_kplanerun", "_kplaneradau", "_kplanestops", "_kplaneground"]
 drop_stale(
     _HERE,
     _LOOPS,
-    [_HERE / f"{k}.py" for k in [*_LOOPS, "bearings"]]
-    + [_HERE.parents[1] / f for f in ("_kdp5.py", "_klinalg.py")],
+    [_HERE / f"{k}.py" for k in [*_LOOPS, "bearings", "deck_compile"]]
+    + [_HERE.parents[1] / f for f in ("_kdp5.py", "_klinalg.py", "_kaddress.py")],
 )
 
 LAW_ARCTAN, LAW_SWITCH = 0, 1
@@ -89,55 +106,9 @@ TENSION_PASSES = 16  # re-evaluations settling the tensile set, at most
 # system parameters sp
 S_M, S_EX, S_EY, S_H, S_G, S_KAPPA, S_EPS, S_ETA, S_LAW, S_CONTACT = range(10)
 N_SP = 10
-# ground: a table (t0, dt; rows a_x, a_y, a_z) or a harmonic orbit
-G_TABLE, G_HARMONIC = 0, 1
-GP_T0, GP_DT, GP_F, GP_AX, GP_AY, GP_PHY, GP_AZ, GP_FZ, GP_PHZ = range(9)
-N_GP = 9
 ST_OK, ST_SINGULAR = 0, 4
 PRESSURE_ITER = 50  # fixed-point passes of the pressure factors, at most
 PRESSURE_TOL = 1e-14  # their largest change accepted
-
-
-@njit(cache=True, error_model="numpy")
-def ground(t, gk, gp, tab, ag):
-    """Ground acceleration (a_x, a_y, a_z) at t into ``ag``: harmonic a_x = A_x sin ωt,
-    a_y = A_y sin(ωt + φ_y), a_z = A_z sin(ω_z t + φ_z); or the table linearly interpolated
-    (zero outside the record)."""
-    if gk == G_HARMONIC:
-        w = 2.0 * math.pi * gp[GP_F]
-        ag[0] = gp[GP_AX] * math.sin(w * t)
-        ag[1] = gp[GP_AY] * math.sin(w * t + gp[GP_PHY])
-        ag[2] = gp[GP_AZ] * math.sin(2.0 * math.pi * gp[GP_FZ] * t + gp[GP_PHZ])
-        return
-    n = tab.shape[1]
-    s = (t - gp[GP_T0]) / gp[GP_DT]
-    k = int(math.floor(s))
-    if k < 0 or k > n - 1 or n == 0:
-        ag[0] = 0.0
-        ag[1] = 0.0
-        ag[2] = 0.0
-        return
-    if k == n - 1:
-        for c in range(3):
-            ag[c] = tab[c, k] if s == k else 0.0
-        return
-    f = s - k
-    for c in range(3):
-        ag[c] = (1.0 - f) * tab[c, k] + f * tab[c, k + 1]
-
-
-@njit(cache=True, error_model="numpy")
-def next_breakpoint(t, gk, gp, ntab):
-    """Next sample time of a table after t (the kinks of the interpolated record); inf else."""
-    if gk != G_TABLE or ntab < 2:
-        return math.inf
-    k = math.floor((t - gp[GP_T0]) / gp[GP_DT]) + 1.0
-    tb = gp[GP_T0] + k * gp[GP_DT]
-    if tb <= t * (1.0 + 1e-14) + 1e-14:
-        tb += gp[GP_DT]
-    if k > ntab - 1 and tb > gp[GP_T0] + (ntab - 1) * gp[GP_DT] * (1.0 + 1e-14):
-        return math.inf
-    return tb
 
 
 @njit(cache=True, error_model="numpy")
@@ -247,6 +218,22 @@ def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
         st = evaluate_pressure(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N,
                                Ff, Fr, Fo)  # fmt: skip
     return st
+
+
+# the force kernel by address (:func:`nsdyn._kaddress.tcall`, declared and put in the table
+# by nsdyn.models.isolated.deck_compile): the loops' kernels that evaluate the deck (settling,
+# switching, events, outputs, the right-hand side) would otherwise each link, LLVM optimise
+# and translate again their own copy of it
+ka.tslot("deck.evaluate", evaluate, "nsdyn.models.isolated.deck_compile:callees")
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
+    """:func:`evaluate` into ``out = (qdd, N, Ff, Fr, Fo)``, called by its address in the
+    table of :mod:`nsdyn._kaddress`."""
+    qdd, N, Ff, Fr, Fo = out
+    args = (t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+    return ka.tcall("deck.evaluate", args)
 
 
 @njit(cache=True, error_model="numpy")
@@ -480,7 +467,7 @@ def rhs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, dy):
     """First-order right-hand side dy = [q̇, q̈, ṡ] (ṡ: the internal slips of triple friction
     pendulums, after [q, q̇], when y has them); ``out = (qdd, N, Ff, Fr, Fo)`` filled."""
     qdd, N, Ff, Fr, Fo = out
-    st = evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+    st = evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
     for a in range(3):
         dy[a] = y[3 + a]
         dy[3 + a] = qdd[a]

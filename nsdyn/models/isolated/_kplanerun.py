@@ -45,6 +45,7 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn import _kdp5 as dp
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated._kplanestops import (  # noqa: F401 (the loops' shared names)
@@ -92,7 +93,7 @@ def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
     st = kp.ST_OK
     bil = int(sp[kp.S_CONTACT]) == kp.CONTACT_BILATERAL
     if nst > 0 or bil:
-        st = kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+        st = kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
     eta = sp[kp.S_ETA]
     for i in range(ni):
         _, _, vx, vy = kp.slip_kinematics(y, pos, i)
@@ -145,8 +146,7 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
                     modes[i] = kp.MODE_STICK
                     cand[i] = True
         if np.any(cand):
-            st = kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
-                             Fr, Fo)  # fmt: skip
+            st = kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
             if st != kp.ST_OK:
                 return ST_SINGULAR
             for i in range(pos.shape[0]):
@@ -157,7 +157,7 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
                     else:
                         modes[i] = kp.MODE_START
     for _ in range(SETTLE_PASSES):
-        st = kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+        st = kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
         if st != kp.ST_OK:
             return ST_SINGULAR
         worst = -1
@@ -178,6 +178,17 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
         _record(EV, info, t, worst, kp.MODE_STICK, kp.MODE_START, dirs)
         modes[worst] = kp.MODE_START
     return ST_CHATTER
+
+
+# settling by address (compiled once, on its own: see nsdyn.models.isolated.deck_compile)
+ka.tslot("deck.settle", settle, "nsdyn.models.isolated.deck_compile:callees")
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
+    """:func:`settle` called by its address in the table of :mod:`nsdyn._kaddress`."""
+    return ka.tcall("deck.settle", (t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out,
+                                    EV, info))  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
@@ -205,7 +216,7 @@ def align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
     if nsl < 2 or nst >= 2:  # none to align, one (consistent), or a held deck
         return ST_OK
     for _ in range(ALIGN_PASSES):
-        st = kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+        st = kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
         if st != kp.ST_OK:
             return ST_SINGULAR
         change = 0.0
@@ -243,7 +254,7 @@ def initial_modes(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
     for i in range(pos.shape[0]):
         _, _, vx, vy = kp.slip_kinematics(y, pos, i)
         modes[i] = kp.MODE_SLIP if math.sqrt(vx * vx + vy * vy) > sp[kp.S_ETA] else kp.MODE_STICK
-    st = settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
+    st = settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
     if st != ST_OK or int(sp[kp.S_CONTACT]) != kp.CONTACT_BILATERAL:
         return st
     if _eval(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out) != kp.ST_OK:
@@ -255,7 +266,7 @@ def initial_modes(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
             free = True
     if not free:
         return st
-    return settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
+    return settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
 
 
 @njit(cache=True, error_model="numpy")
@@ -264,7 +275,7 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
     qdd, N, Ff, Fr, Fo = out
     ni = pos.shape[0]
     # the stick forces of the modes before the event
-    st = kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+    st = kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
     if st != kp.ST_OK:
         return ST_SINGULAR
     for i in range(ni):  # every decision on the mode before the event
@@ -287,13 +298,13 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
                 modes[i] = kp.MODE_STICK
         if modes[i] != m0:
             _record(EV, info, t, i, m0, modes[i], dirs)
-    return settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
+    return settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
 
 
 @njit(cache=True, error_model="numpy")
 def _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO):
     qdd, N, Ff, Fr, Fo = out
-    kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+    kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
     for j in range(min(y.shape[0], X.shape[1])):  # [q, q̇] and internal slips (X's columns)
         X[k, j] = y[j]
     for i in range(pos.shape[0]):
@@ -308,7 +319,7 @@ def _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, k, X, 
 @njit(cache=True, error_model="numpy")
 def _eval(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
     qdd, N, Ff, Fr, Fo = out
-    return kp.evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+    return kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
 
 
 @njit(cache=True, error_model="numpy")

@@ -36,6 +36,7 @@ from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
 from nsdyn.models.isolated import _kplanerun as kr
+from nsdyn.models.isolated import deck_compile
 from nsdyn.models.isolated.bearings import B_IOFF, N_BCOL, Bearing, BearingError
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
 from nsdyn.models.isolated.plane_result import PlaneResult
@@ -438,7 +439,8 @@ def simulate_plane(
     modes, dirs, cfg, X, NO, FF, FR, FO, MO, EV, stops, info = run_buffers(
         law, eps, rtol, atol, max_step, max_steps, nt, ni, ns
     )
-    status = loop(y, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
-                          X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
+    args = (y, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
+            X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
+    status = deck_compile.run_loop(loop, args, law == "switch")
     return PlaneResult.from_run(system, law, t_eval, X, NO, FF, FR, FO, MO, EV, stops, info,
                                 int(status), eps, eta, contact)  # fmt: skip

@@ -60,8 +60,8 @@ TABLES = {
 FIGURE_MODULE = "nsdyn.plot.isolators"  # draws the figure from deck.npz (a later stage)
 RTOL = 1e-6
 # seconds a first run compiles the kernels (2-core machine, empty cache: the switch law's loop
-# 19 s, docs/dev/first-runs.md)
-COMPILE_ABOUT_S = 20.0
+# and, in a helper process beside it, its callees; docs/dev/first-runs.md)
+COMPILE_ABOUT_S = 10.0
 
 
 def kernels_cached(law: str) -> bool:

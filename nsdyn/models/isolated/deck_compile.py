@@ -1,0 +1,113 @@
+"""The deck's force kernel by address, and the deck's first compilation shared by two processes.
+
+Every kernel of the deck's time loops that evaluates the deck (the settling and switching of
+the switch law, the event functions, the outputs, the right-hand side of both loops) calls the
+force kernel :func:`nsdyn.models.isolated._kplane.evaluate` (the normal forces, the friction
+and restoring forces, the 3 × 3 or 5 × 5 solve for q̈). Linked, numba would copy it into each
+of them and LLVM would optimise and translate every copy again; called by its address
+(:func:`nsdyn._kaddress.tcall`, row ``"deck.evaluate"`` of the process-wide table) it compiles
+once, on its own. :func:`callees` declares it for the argument types the loops give it,
+:func:`ready` puts its address in the table before a loop runs.
+
+A first run compiles in two processes (numba compiles on one thread per process): a helper
+(:class:`nsdyn._numba_cache.Helper`) compiles the force kernel (:func:`helper_part`) while
+this process compiles the time loop from the run's own argument types (:func:`warm_loop`),
+then loads the helper's kernel from numba's on-disk cache. What the helper does not deliver
+this process compiles itself: the kernels are the same either way.
+"""
+
+from __future__ import annotations
+
+import functools
+
+
+def _py(kernel):
+    """The Python function of a kernel (itself under ``NUMBA_DISABLE_JIT``)."""
+    return getattr(kernel, "py_func", kernel)
+
+
+def tiny_args() -> tuple:
+    """The arguments of the force kernel and of the settling as the loops pass them, on a
+    one-isolator deck under a harmonic orbit (made with numpy only: nothing is compiled)."""
+    import numpy as np
+
+    from nsdyn.models.isolated import _kplane as kp
+    from nsdyn.models.isolated import _kplanerun as kr
+    from nsdyn.models.isolated.bearings import Bearing, Friction
+    from nsdyn.models.isolated.deck import kernel_params, pack_ground, sdof_plane
+
+    system = sdof_plane(1.0e5, Bearing(Friction(0.05), radius=2.0))
+    M, pos, bp, nd, sp = kernel_params(system, "switch", 1.0e4, 1.0e-4, None)
+    gk, gp, tab, _ = pack_ground({"f": 1.0, "ax": 1.0})
+    ni, n = 1, 6
+    modes, dirs = np.full(ni, kp.MODE_SLIP, dtype=np.int64), np.zeros((ni, 2))
+    out = (np.zeros(3), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
+    ws = _py(kp.workspace)(ni)
+    force = (0.0, np.zeros(n), modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, *out)
+    EV, info = np.zeros((1, 6)), np.zeros(kr.N_INFO)
+    return force, (*force[:13], out, EV, info)
+
+
+@functools.cache
+def callees() -> list:
+    """The deck loops' callees by address (:class:`nsdyn._kaddress.Callee`): the force
+    kernel (``"deck.evaluate"``) and the switch law's settling (``"deck.settle"``), declared
+    for the types of :func:`tiny_args`, each returning a status (int64). Once per process."""
+    from numba import typeof, types
+
+    from nsdyn._kaddress import Callee
+    from nsdyn.models.isolated import _kplane as kp
+    from nsdyn.models.isolated import _kplanerun as kr
+
+    force, settle = (tuple(typeof(a) for a in args) for args in tiny_args())
+    return [
+        Callee("deck.evaluate", kp.evaluate, force, types.int64),
+        Callee("deck.settle", kr.settle, settle, types.int64),
+    ]
+
+
+def _needed(switch: bool) -> list:
+    """The callees a run calls: the force kernel, and the settling under the switch law."""
+    return callees() if switch else callees()[:1]
+
+
+def ready(switch: bool = True) -> None:
+    """The table filled for a run of the deck's loops (each callee loaded from numba's cache,
+    or compiled); ``switch``: a run of the switch law (it settles stick); nothing without the
+    JIT or with plain numba."""
+    from nsdyn._kaddress import fill_table
+
+    fill_table(_needed(switch))
+
+
+def run_loop(loop, args: tuple, switch: bool):
+    """``loop(*args)`` (a time loop of the deck: ``_kplanerun.integrate`` or
+    ``_kplaneradau.integrate``), its callees in the table first. A first compilation is
+    shared with a helper process where one may run (:func:`nsdyn._numba_cache.helper_enabled`):
+    it compiles the callees (:func:`helper_part`) while this process compiles the loop for
+    ``args``' types."""
+    from nsdyn._numba_cache import Helper, all_cached, helper_enabled
+
+    kernels = [c.kernel for c in _needed(switch)]
+    if helper_enabled() and not all_cached([loop, *kernels]):
+        from numba import typeof
+
+        target = "helper_part" if switch else "helper_force"
+        with Helper(f"nsdyn.models.isolated.deck_compile:{target}") as helper:
+            loop.compile(tuple(typeof(a) for a in args))
+            helper.wait_for(kernels)
+    ready(switch)
+    return loop(*args)
+
+
+def helper_part() -> None:
+    """The helper's share of a first compilation of the switch law's loop: the force kernel
+    and the settling."""
+    for c in callees():
+        c.compiled()
+
+
+def helper_force() -> None:
+    """The helper's share of a first compilation of a loop of the regularised law: the force
+    kernel."""
+    callees()[0].compiled()
