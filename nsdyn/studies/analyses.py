@@ -295,8 +295,6 @@ def _fragility(study, table: Table, spec: dict, out: Path, figures: bool) -> dic
 
 def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True) -> dict:
     """Every ``[analysis.*]`` of the study on its table; CSVs (and PNGs) in ``out_dir``."""
-    from nsdyn.studies.figures import distribution_figure
-
     out = Path(out_dir)
     an = study.analysis
     res: dict = {}
@@ -311,6 +309,8 @@ def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True)
         _write_rows(rows, out / "percentiles.csv")
         res["percentiles"] = {"rows": rows, "table": str(out / "percentiles.csv")}
         if figures and rows:
+            from nsdyn.studies.figures import distribution_figure  # (matplotlib: on use)
+
             fig = distribution_figure(table.ok(), q, title=study.name)
             res["percentiles"]["figure"] = str(save_figure(fig, out / "distributions.png"))
     if "fragility" in an:
