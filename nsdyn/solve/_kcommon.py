@@ -180,11 +180,20 @@ def jeval(t, x, P, J):
     return True
 
 
+@njit(cache=True, error_model="numpy")
+def jac_table(t, x, P, J):
+    """:func:`nsdyn.models.isolated._kernel.jac` with the system kernel called by its address
+    (``"sys.evaluate"``): compiled without a copy of it, so beside it."""
+    qdd, lam, tau, modes = ks.outputs(P)
+    ka.tcall("sys.evaluate", (t, x, P, qdd, lam, tau, modes))
+    ks.jac_at(t, x, P, J, lam, modes)
+
+
 # the system kernel and its Jacobian by address (:func:`nsdyn._kaddress.tcall`): the kernels
 # of the event-driven loop call them so, each of which would otherwise link (and LLVM optimise
 # and translate again) its own copy of the ~250-block system kernel
 ka.tslot("sys.evaluate", ks.evaluate, "nsdyn.solve.compile_split:event_callees")
-ka.tslot("sys.jac", ks.jac, "nsdyn.solve.compile_split:event_callees")
+ka.tslot("sys.jac", jac_table, "nsdyn.solve.compile_split:event_callees")
 
 
 @njit(cache=True, error_model="numpy", inline="always")

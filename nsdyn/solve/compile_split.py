@@ -263,7 +263,7 @@ def event_callees() -> list:
     detected = types.Tuple((f8, i8, i8))
     sigs = {  # name: (kernel, argument types, return type)
         "sys.evaluate": (ks.evaluate, (f8, v, P, v, v, v, vi), b1),
-        "sys.jac": (ks.jac, (f8, v, P, m), types.none),
+        "sys.jac": (ki.jac_table, (f8, v, P, m), types.none),
         "event.settle": (_kevent._settle, (f8, v, P, v, ew, i8, f8, logs.types[0], vi), b1),
         "event.settle_contacts": (
             _kimpact._settle_contacts,
@@ -430,8 +430,8 @@ def event_parts_here(helper: Helper, metrics: str | None) -> None:
 
 def evaluate_helper_part() -> None:
     """A helper's share of generalized-alpha's and genalpha-lowrank's first compilation: the
-    system kernel (its Jacobian, which links it, compiles in the calling process once the
-    kernel is in the cache)."""
+    system kernel (its Jacobian, which calls it by address, compiles in the calling process
+    beside it)."""
     _event_part(SYSTEM[:1])
 
 
@@ -450,11 +450,10 @@ def evaluate_helper_part_and_metrics_general() -> None:
 
 def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
     """This process's share of generalized-alpha's first compilation: the loop itself (which
-    needs neither the system kernel nor its Jacobian compiled), then, once the helper has put
-    the system kernel in the cache, its Jacobian (which links it: compiled alone beside the
-    loop, it would compile the kernel once more), and the ``metrics`` (None when the helper
-    takes them). The loop (~5 s) and the Jacobian (~4 s) here against the system kernel
-    (~6 s) and the metrics (~3 s) in the helper."""
+    needs neither the system kernel nor its Jacobian compiled), its Jacobian (which calls the
+    system kernel by address: it needs no copy of it) and the ``metrics`` (None when the helper
+    takes them); then wait for the helper's system kernel. The loop (~5 s) and the Jacobian
+    here against the system kernel (~6 s) and the metrics (~3 s) in the helper."""
     event_callees()  # the declarations its calls by address are typed against
     m = methods.METHODS["genalpha"]
     P, x0, t_eval, o, X, upl_t = methods.tiny_run(m)
@@ -463,10 +462,10 @@ def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
         _kgenalpha.genalpha_loop, P, x0, t_eval, o.atol, o.rtol, o.dt, coef, o.max_steps,
         o.uplift_mode, X, upl_t,
     )  # fmt: skip
-    helper.wait_for([ks.evaluate])
     _event_part(SYSTEM[1:])
     if metrics is not None:
         methods.warmup_metrics(metrics == "metrics")
+    helper.wait_for([ks.evaluate])
 
 
 # ---- genalpha-lowrank: its dense loop here, the system kernel in the helper ---------------------

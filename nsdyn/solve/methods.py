@@ -413,7 +413,7 @@ _ENTRY = {  # the default loop's callees are compiled apart from it (nsdyn._kadd
     "radau": (_kradau.radau_flat, *_kradau.FLAT_CALLEES, _kflat.pack_flat),
     "radau-general": _kradau.radau,
     "dopri5": _kdopri.dopri5,
-    "genalpha": (_kgenalpha.genalpha_loop, ks.evaluate, ks.jac),  # those two by address
+    "genalpha": (_kgenalpha.genalpha_loop, ks.evaluate, ki.jac_table),  # those two by address
     "event": _kunilateral.kernels(True, False, False),  # its callees by address too
     "metrics": (_kflat.evaluate_flat_many, _kflat.feval_flat, _kflat.pack_flat),
     "metrics-general": ks.evaluate_many,

@@ -135,10 +135,11 @@ SPLITS = [
      {"pack_flat", "feval_flat", "jac_flat_here", "newton_flat", "evaluate_flat_many",
       "setup", "workspace"}),
     ("event", "metrics-general", {"_run", "_step", "_start", "newton_table", "_factor"},
-     {"evaluate", "jac", "_detect", "_settle", "_event_at", "evaluate_many"}),
-    # generalized-alpha: its loop and, once the helper has cached the system kernel, the
-    # Jacobian (which links it) here; the system kernel and the metrics in the helper
-    ("genalpha", "metrics", {"genalpha_loop", "_residual", "_iteration_matrix", "jac"},
+     {"evaluate", "jac_table", "jac_at", "_detect", "_settle", "_event_at", "evaluate_many"}),
+    # generalized-alpha: its loop and the Jacobian (which calls the system kernel by address)
+    # here; the system kernel and the metrics in the helper
+    ("genalpha", "metrics",
+     {"genalpha_loop", "_residual", "_iteration_matrix", "jac_table", "jac_at"},
      {"evaluate", "evaluate_flat_many", "pack_flat"}),
     # genalpha-lowrank's set-up calls the system kernel once from Python; its dense loop
     # compiles here from the run's argument types (sparse.loop_args), with the metrics,

@@ -427,6 +427,15 @@ def jac(t, x, P, J):
     With ``Jx = [Jq Jv]`` the unconstrained part (``-MiK``, ``-MiC`` and the arctan slope),
     ``qdd_x = (I - B G^-1 C) Jx - B G^-1 b_x``.
     """
+    qdd, lam, tau, modes = outputs(P)
+    evaluate(t, x, P, qdd, lam, tau, modes)
+    jac_at(t, x, P, J, lam, modes)
+
+
+@njit(cache=True, error_model="numpy")
+def jac_at(t, x, P, J, lam, modes):
+    """:func:`jac` once :func:`evaluate` at (t, x) left ``lam``, ``modes`` and its workspace
+    (apart, a caller may evaluate by address: nsdyn.solve._kcommon.jac_table)."""
     MiK, MiC = P[I_MIK], P[I_MIC]
     R, D, MiDt = P[I_R], P[I_D], P[I_MIDT]
     mu, lam0, fp, ip = P[I_MU], P[I_LAM0], P[I_FPAR], P[I_IPAR]
@@ -435,8 +444,6 @@ def jac(t, x, P, J):
     ni = D.shape[0]
     law = ip[K_LAW]
     frozen = ip[K_FROZEN] == 1
-    qdd, lam, tau, modes = outputs(P)
-    evaluate(t, x, P, qdd, lam, tau, modes)
     ws = _views(P)
     a0, B, Cr, b, y, rhs_, s, ds, v, stuck, G, G2 = ws
     # directions with the modes evaluate() settled on (switch law: after its passes)
