@@ -329,6 +329,19 @@ newton_inline = njit(cache=True, error_model="numpy", inline="always")(_newton)
 
 
 @njit(cache=True, error_model="numpy")
+def newton_general(
+    P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
+    modes, Fl, flat,
+):  # fmt: skip
+    """:func:`newton_table` for a law the flat kernels do not serve (``flat`` False at every
+    call): the flat branch is pruned, so the flat right-hand side is not compiled with it."""
+    return newton_inline(
+        P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam,
+        tau, modes, Fl, False, general_table,
+    )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
 def newton_flat(
     P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
     modes, Fl, flat,

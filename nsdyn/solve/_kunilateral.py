@@ -176,8 +176,9 @@ def _start(P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_
 def _step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo, K):
     """One Radau step (:func:`nsdyn.solve._kradau._step`) with the general kernel of the
     address table (:func:`nsdyn.solve._kcolloc.general_table`), the flat kernels, the
-    factorisation and Newton (:func:`nsdyn.solve._kcolloc.newton_table`) by their addresses
-    in ``K``."""
+    factorisation and Newton (:func:`nsdyn.solve._kcolloc.newton_table`, or
+    :func:`~nsdyn.solve._kcolloc.newton_general` for a law without flat kernels) by their
+    addresses in ``K``."""
     return kr.radau_step_inline(
         P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo,
         kcol.general_table, K,
@@ -363,7 +364,8 @@ def callees(friction: bool, contacts: bool) -> tuple:
 def kernels(friction: bool, contacts: bool, flat: bool) -> tuple:
     """Every compiled kernel a run of the loop needs (the loop, its callees in the table, the
     step's callees in ``K``, the set-up's ``pack_flat``): what a first run compiles."""
-    K = (kr._factor, kcol.newton_table) + (kf.feval_flat, kf.jac_flat_here) * bool(flat)
+    newton = kcol.newton_table if flat else kcol.newton_general
+    K = (kr._factor, newton) + (kf.feval_flat, kf.jac_flat_here) * bool(flat)
     table = tuple(ka.TSLOTS[name] for name in callees(friction, contacts))
     return (_run, *table, *K, kf.pack_flat)
 

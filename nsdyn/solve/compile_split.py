@@ -26,9 +26,10 @@ linked, its code was optimised and translated again in every one of them (the lo
 :func:`event_ready` fills the rows a run calls), the system kernel and its Jacobian among them,
 and its step's by ``K`` (:func:`event_calls`). Each compiles once, on its own, so the first
 compilation splits into independent pieces: the helper takes the system kernel, its Jacobian,
-the friction detector, the settling, the event handler and the acceptance, with the general
-metrics after the system kernel (:func:`event_helper_part_and_metrics`); this process the
-factorisation, Newton, the step, the start-up and the loop (:func:`event_parts_here`).
+the friction detector and the settling, with the general metrics after the system kernel
+(:func:`event_helper_part_and_metrics`); this process the factorisation, Newton (without the
+flat right-hand side for a law it does not serve), the step, the start-up, the event handler,
+the acceptance and the loop (:func:`event_parts_here`).
 
 genalpha-lowrank (:mod:`nsdyn.solve.sparse`) calls the system kernel only once, from Python,
 for the start's accelerations: the helper compiles it while this process compiles the dense
@@ -328,17 +329,20 @@ def event_ready(friction: bool, contacts: bool, flat: bool):
 
 
 @functools.cache
-def event_newton() -> Callee:
-    """Newton of the event loop's step (:func:`nsdyn.solve._kcolloc.newton_table`), declared
-    as the default loop's ``"radau.newton"`` (the same argument types)."""
+def event_newton(flat: bool = False) -> Callee:
+    """Newton of the event loop's step, declared as the default loop's ``"radau.newton"``
+    (the same argument types): :func:`nsdyn.solve._kcolloc.newton_table` for a law the flat
+    kernels serve (``flat``), else :func:`nsdyn.solve._kcolloc.newton_general`, which does
+    not compile the flat right-hand side (the switch model's runs)."""
     newton = radau_callees()[_kcolloc.K_NEWTON]
-    return Callee(newton.name, _kcolloc.newton_table, newton.args, newton.ret)
+    kernel = _kcolloc.newton_table if flat else _kcolloc.newton_general
+    return Callee(newton.name, kernel, newton.args, newton.ret)
 
 
 def _event_K(flat: bool) -> list:
     """The callees of the event loop's ``K`` (None where a run does not call them)."""
     K: list = list(radau_callees())
-    K[_kcolloc.K_NEWTON] = event_newton()
+    K[_kcolloc.K_NEWTON] = event_newton(flat)
     K[_kcolloc.K_START] = None  # the start-up's own slot: the event loop never calls it
     if not flat:  # a law the flat kernels do not serve (F[H_OK] = 0): never called
         K[_kcolloc.K_FEVAL] = K[_kcolloc.K_JAC] = None
@@ -357,7 +361,7 @@ def event_calls(flat: bool):
 
     if config.DISABLE_JIT or PLAIN:
         K = list(radau_callees())
-        K[_kcolloc.K_NEWTON] = event_newton()
+        K[_kcolloc.K_NEWTON] = event_newton(True)  # (the kernels themselves: either law)
         return calls(K)
     out = np.zeros((2, len(radau_callees())), dtype=np.int64)
     for i, c in enumerate(_event_K(flat)):
@@ -377,9 +381,9 @@ def _kaddress_digest(name: str) -> int:
 # compiles on its own (nothing is linked into the loop), so neither process waits for the
 # other's. The helper also takes the general metrics (which link the system kernel it compiles
 # first); this process the loop itself.
-EVENT_HELPER = ("sys.evaluate", "sys.jac", "event.detect_friction", "event.settle",
-                "event.handle", "event.accept")  # fmt: skip
-EVENT_HERE = ("radau.factor", "radau.newton", "event.step", "event.start")
+EVENT_HELPER = ("sys.evaluate", "sys.jac", "event.detect_friction", "event.settle")
+EVENT_HERE = ("radau.factor", "radau.newton", "event.step", "event.start", "event.handle",
+              "event.accept")  # fmt: skip
 
 
 def _event_part(names) -> None:
