@@ -113,7 +113,7 @@ def prepare_kernels(friction: str) -> float:
     if friction == "switch":
         return 0.0
     from nsdyn.periodic.problem import kernels_cached, warmup
-    from nsdyn.solve.methods import is_cached, warmup_kernel
+    from nsdyn.solve.methods import is_cached
 
     cold = not (kernels_cached() and is_cached("radau"))
     if cold:
@@ -122,7 +122,7 @@ def prepare_kernels(friction: str) -> float:
             file=sys.stderr,
             flush=True,
         )
-    spent = warmup() + (warmup_kernel("radau") if cold else 0.0)  # cached: the workers load it
+    spent = warmup(radau=cold)  # cached: the workers load the Radau loop themselves
     if cold:
         print(f"  compiled in {spent:.1f} s", file=sys.stderr, flush=True)
     return spent

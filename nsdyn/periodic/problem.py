@@ -326,25 +326,40 @@ def helper_part() -> None:
     warmup_metrics(True)
 
 
-def warmup() -> float:
+def helper_part_and_radau() -> None:
+    """:func:`helper_part` with, between the two, every piece of the uplift probe's Radau
+    loop but the loop itself (:func:`nsdyn.solve.compile_split.radau_callees_part`)."""
+    from nsdyn.solve import compile_split
+    from nsdyn.solve.methods import warmup_metrics
+
+    _jeval_callee().compiled()
+    compile_split.radau_callees_part()
+    warmup_metrics(True)
+
+
+def warmup(radau: bool = False) -> float:
     """Compile (or load) the kernels of a smooth-law sweep: the period map (one signature
     serves every problem; compiled here for a Duffing oscillator's arguments, with
     sensitivities and the stored orbit), the Jacobian it calls by address and the flat kernel
-    of the orbit quantities. When they compile, a helper process
-    (:class:`nsdyn._numba_cache.Helper`, :func:`helper_part`) takes the Jacobian and then the
-    orbit quantities while this one compiles the period map and its step (which need neither
-    first); then a short period loads everything. Seconds spent."""
+    of the orbit quantities; with ``radau`` the default Radau loop of the uplift probe
+    (:func:`uplift_probe`) too. When they compile, a helper process
+    (:class:`nsdyn._numba_cache.Helper`, :func:`helper_part`, :func:`helper_part_and_radau`)
+    takes the Jacobian, the Radau loop's callees and the orbit quantities while this one
+    compiles the period map and its step (which need neither first), then the Radau loop
+    itself; then short runs load everything. Seconds spent."""
     import time
     from contextlib import nullcontext
 
     from nsdyn._numba_cache import Helper, compiling, helper_enabled
-    from nsdyn.solve.compile_split import _compile
-    from nsdyn.solve.methods import warmup_metrics
+    from nsdyn.solve.compile_split import _compile, radau_loop_here
+    from nsdyn.solve.methods import is_cached, warmup_kernel, warmup_metrics
 
     t0 = time.perf_counter()
     prob = duffing_problem(0.05, 1.0, 0.1, 0.5)
     cold = not kernels_cached()
-    helper = Helper("nsdyn.periodic.problem:helper_part") if cold and helper_enabled() else None
+    both = radau and cold and not is_cached("radau")  # the Radau loop's pieces in the helper
+    part = "helper_part_and_radau" if both else "helper_part"
+    helper = Helper(f"nsdyn.periodic.problem:{part}") if cold and helper_enabled() else None
     with helper or nullcontext(), compiling():
         if helper is not None:
             _jeval_callee()  # declared: the period map's typing checks its call against it
@@ -353,6 +368,10 @@ def warmup() -> float:
             _compile(kp.period_map, *args, K0)
             helper.wait_for([kp.j_eval])
         prob.period_map(prob.x_ref, 0.2, n_steps=4, sens=True, store=True)
+        if both and helper is not None:
+            radau_loop_here(helper)
+    if radau:  # loaded (or, when only it was missing, compiled with a helper of its own)
+        warmup_kernel("radau")
     warmup_metrics(True)
     return time.perf_counter() - t0
 

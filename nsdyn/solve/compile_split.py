@@ -192,23 +192,44 @@ def radau_helper_part_and_metrics() -> None:
     methods.warmup_metrics(True)
 
 
-def radau_parts_here(helper: Helper, metrics: str | None) -> None:
-    """This process's share: the loop itself (which calls its callees by address, so it
-    needs none of them compiled), the factorisation, the start-up and the ``metrics`` (None
-    when the helper takes them); then wait for the helper's part."""
+def _compile_radau_loop() -> None:
+    """The flat Radau loop alone, for the types of every run (it calls its callees by
+    address, so it needs none of them compiled)."""
     P, x0, t_eval, o, X, upl_t, ws = _tiny_args("radau")
-    K = radau_callees()
-    K0 = np.zeros((2, len(K)), dtype=np.int64)  # only its type matters here
+    K0 = np.zeros((2, len(radau_callees())), dtype=np.int64)  # only its type matters here
     owned = _kradau._owned(ws, x0, t_eval, upl_t.shape[0])  # as setup_here makes them
     args = (P, x0, t_eval, o.atol, o.rtol, o.h0, o.max_step, o.max_steps, False, o.uplift_mode,
             X, upl_t, True, _kcolloc.flat_only, K0, owned)  # fmt: skip
     _compile(_kradau.radau_flat, *args)
+
+
+def radau_parts_here(helper: Helper, metrics: str | None) -> None:
+    """This process's share: the loop itself, the factorisation, the start-up and the
+    ``metrics`` (None when the helper takes them); then wait for the helper's part."""
+    _compile_radau_loop()
+    K = radau_callees()
     for k in (_kcolloc.K_FACTOR, _kcolloc.K_START):
         K[k].compiled()
     if metrics is not None:
         methods.warmup_metrics(metrics == "metrics")
     kernels = [K[k].kernel for k in (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC)]
     helper.wait_for([_kflat.pack_flat, *kernels])
+
+
+def radau_callees_part() -> None:
+    """Every piece of the flat Radau loop but the loop itself (:func:`radau_helper_part`,
+    the factorisation, the start-up): a helper's share when its caller compiles the loop
+    after other kernels of its own (the sweep's period map, :func:`radau_loop_here`)."""
+    radau_helper_part()
+    K = radau_callees()
+    for k in (_kcolloc.K_FACTOR, _kcolloc.K_START):
+        K[k].compiled()
+
+
+def radau_loop_here(helper: Helper) -> None:
+    """The loop alone, then wait for a helper's :func:`radau_callees_part`."""
+    _compile_radau_loop()
+    helper.wait_for([_kflat.pack_flat, *(c.kernel for c in radau_callees())])
 
 
 # ---- the event-driven loop (switch model; unilateral contacts) ------------------------------
