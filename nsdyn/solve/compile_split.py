@@ -402,15 +402,21 @@ def _kaddress_digest(name: str) -> int:
 # compiles on its own (nothing is linked into the loop), so neither process waits for the
 # other's. The helper also takes the general metrics (which link the system kernel it compiles
 # first); this process the loop itself.
-EVENT_HELPER = ("sys.evaluate", "sys.jac", "event.detect_friction", "event.settle")
-EVENT_HERE = ("radau.factor", "radau.newton", "event.step", "event.start", "event.handle",
-              "event.accept")  # fmt: skip
+EVENT_HELPER = ("sys.evaluate", "sys.jac", "event.detect_friction", "event.settle",
+                "radau.factor")  # fmt: skip
+EVENT_HERE = ("radau.newton", "event.step", "event.start", "event.handle", "event.accept")
 
 
-def _event_part(names) -> None:
+def _event_pieces() -> dict:
+    """{name: Callee} of every piece :data:`EVENT_HELPER` and :data:`EVENT_HERE` name."""
     by_name = {c.name: c for c in event_callees()}
     by_name["radau.factor"] = radau_callees()[_kcolloc.K_FACTOR]
     by_name["radau.newton"] = event_newton()
+    return by_name
+
+
+def _event_part(names) -> None:
+    by_name = _event_pieces()
     for name in names:
         by_name[name].compiled()
 
@@ -446,7 +452,7 @@ def event_parts_here(helper: Helper, metrics: str | None) -> None:
     )  # fmt: skip
     if metrics is not None:
         methods.warmup_metrics(metrics == "metrics")
-    by_name = {c.name: c for c in event_callees()}
+    by_name = _event_pieces()
     helper.wait_for([by_name[n].kernel for n in EVENT_HELPER])
 
 

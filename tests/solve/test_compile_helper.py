@@ -135,8 +135,8 @@ SPLITS = [
      {"pack_flat", "feval_flat", "jac_flat_here", "newton_flat", "evaluate_flat_many",
       "setup", "workspace"}),
     ("event", "metrics-general",
-     {"_run", "_step", "_start", "newton_general", "_factor", "_event_at", "accept"},
-     {"evaluate", "jac_table", "jac_at", "_detect", "_settle", "evaluate_many"}),
+     {"_run", "_step", "_start", "newton_general", "_event_at", "accept"},
+     {"evaluate", "jac_table", "jac_at", "_detect", "_settle", "evaluate_many", "_factor"}),
     # generalized-alpha: its loop and the Jacobian (which calls the system kernel by address)
     # here; the system kernel and the metrics in the helper
     ("genalpha", "metrics",

@@ -352,24 +352,27 @@ def evaluate(t, x, P, qdd, lam, tau, modes):
     ws = _views(P)
     y, s, stuck = ws[4], ws[6], ws[9]
     _directions(x, P, ws)
-    m, ok = _solve(t, x, P, qdd, ws)
-    if law == LAW_SWITCH:
+    # one solve, then (switch law) up to MAX_SWITCH_PASSES re-solves; written as one loop so
+    # that the inlined solve is compiled once
+    ok = True
+    for p in range(MAX_SWITCH_PASSES + 1):
+        m, ok = _solve(t, x, P, qdd, ws)
+        if law != LAW_SWITCH or p == MAX_SWITCH_PASSES:
+            break
         # Leine's switch model: inside the band, stick while |tau| <= mu lamf, else transition
         # with the friction saturated in the direction of the would-be stick force.
-        for _ in range(MAX_SWITCH_PASSES):
-            changed = False
-            kk = nc
-            for i in range(ni):
-                if stuck[i] != 0.0:
-                    lf = lam0[i] if frozen else y[i] if i < nc else 0.0
-                    if abs(y[kk]) > mu[i] * lf:
-                        stuck[i] = 0.0
-                        s[i] = 1.0 if y[kk] > 0 else -1.0
-                        changed = True
-                    kk += 1
-            if not changed:
-                break
-            m, ok = _solve(t, x, P, qdd, ws)
+        changed = False
+        kk = nc
+        for i in range(ni):
+            if stuck[i] != 0.0:
+                lf = lam0[i] if frozen else y[i] if i < nc else 0.0
+                if abs(y[kk]) > mu[i] * lf:
+                    stuck[i] = 0.0
+                    s[i] = 1.0 if y[kk] > 0 else -1.0
+                    changed = True
+                kk += 1
+        if not changed:
+            break
     for k in range(nc):
         lam[k] = y[k]
     kk = nc
