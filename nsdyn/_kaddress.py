@@ -180,6 +180,8 @@ TABLE_NAMES = (
     "event.land",
     "deck.evaluate",
     "deck.settle",
+    "cyl.rhs",
+    "contact.rhs",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration
@@ -302,3 +304,31 @@ def fill_table(callees) -> None:
     for c in callees:
         if not filled(c.name):
             fill(c.name, c.address())
+
+
+def compile_beside(loop, argtypes: tuple, callees, helper: str) -> None:
+    """Compile ``loop`` (a numba dispatcher that calls ``callees`` by address) for the numba
+    types ``argtypes`` unless it and its callees are in numba's cache: where a helper process
+    may run (:func:`nsdyn._numba_cache.helper_enabled`), ``helper`` ("module:function")
+    compiles the callees meanwhile, and this process then loads them from the cache (what the
+    helper does not deliver this process compiles itself when it takes the addresses)."""
+    from nsdyn._numba_cache import Helper, all_cached, helper_enabled
+
+    kernels = [c.kernel for c in callees]
+    if helper_enabled() and not all_cached([loop, *kernels]):
+        with Helper(helper) as h:
+            loop.compile(argtypes)
+            h.wait_for(kernels)
+
+
+def run_split(loop, args: tuple, callees, helper: str):
+    """``loop(*args)`` with the addresses of its ``callees`` (:class:`Callee`) in the table; a
+    first compilation (for ``args``' types) shared with a helper (:func:`compile_beside`)."""
+    from numba import typeof
+
+    from nsdyn._numba_cache import all_cached
+
+    if not all_cached([loop]):
+        compile_beside(loop, tuple(typeof(a) for a in args), callees, helper)
+    fill_table(callees)
+    return loop(*args)

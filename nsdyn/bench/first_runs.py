@@ -138,7 +138,8 @@ def _median_row(reps: list[dict]) -> dict:
     for k, v in reps[0].items():
         if isinstance(v, (int, float)) and not isinstance(v, bool):
             vals = [r[k] for r in reps if isinstance(r.get(k), (int, float))]
-            row[k] = float(np.nanmedian(vals)) if vals else v
+            vals = [x for x in vals if not np.isnan(x)]  # NaN: not measured in that repeat
+            row[k] = float(np.median(vals)) if vals else v
     row["notice"] = all(r.get("notice") for r in reps) if "notice" in row else None
     row["status"] = next((r["status"] for r in reps if r["status"] != "ok"), "ok")
     return row

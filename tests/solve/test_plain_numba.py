@@ -103,12 +103,29 @@ deck = rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [5.0, 3.0], [-5.0, 3
 dr = simulate_plane(deck, {"f": 0.5, "ax": 3.0, "ay": 2.0, "phase_y_deg": 90.0}, law="switch",
                     t_end=3.0)
 out["deck_q"], out["deck_events"] = dr.q, np.asarray(dr.events)
+# a body dropped tilted onto the ground and a cylinder lifting off its tensionless foundation
+# under a sliding base: their loops call the right-hand side by address
+from nsdyn.models.contact.body import RigidBody
+from nsdyn.models.contact.event import simulate_event
+from nsdyn.models.contact.friction import FrictionLaw
+from nsdyn.models.cylinder.params import CylinderParams
+from nsdyn.models.cylinder.simulate import simulate as simulate_cylinder
+body = RigidBody.polygon([(-0.4, -1), (0.5, -1), (0.3, 1.1), (-0.5, 0.9)], 2.0)
+cr = simulate_event(body, FrictionLaw(0.3, 0.24), t_end=0.8, e_n=0.5,
+                    q0=np.array([0.0, body.y0 + 0.05, 0.3]), v0=np.array([0.8, 0.0, -1.0]))
+out["body_q"], out["body_impacts"] = cr.q, np.array([cr.n_impacts])
+t = np.arange(0.0, 1.0, 1e-3)
+ag = np.zeros((t.size, 3))
+ag[:, 0] = 12.0 * np.sin(2 * np.pi * 2.0 * t)
+cy = simulate_cylinder(CylinderParams().with_(foundation="tensionless", mu=0.3), ag, 1e-3)
+out["cylinder_q"], out["cylinder_u"] = cy.q, cy.u
 np.savez(sys.argv[1], **out)
 """
 
 
 @pytest.mark.slow  # compiles the default loop, the event loop (friction and contact events),
-# the period map, generalized-alpha and the deck's switch loop as plain numba
+# the period map, generalized-alpha, the deck's switch loop, a body's event loop and the
+# cylinder's loop as plain numba
 def test_plain_numba_gives_identical_histories(tmp_path):
     files = {}
     for mode in ("0", "1"):
@@ -121,5 +138,7 @@ def test_plain_numba_gives_identical_histories(tmp_path):
     assert set(by_address.files) == set(plain.files)
     assert by_address["contact_events"].shape[0] > 0  # the contact callees did run
     assert by_address["deck_events"].shape[0] > 0  # the deck settled stick
+    assert by_address["body_impacts"][0] > 0  # the body's events did run
+    assert np.abs(by_address["cylinder_u"]).max() > 0.0  # the cylinder's base slid
     for key in by_address.files:
         assert np.array_equal(by_address[key], plain[key]), key

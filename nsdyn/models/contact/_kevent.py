@@ -26,6 +26,7 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_vec
 from nsdyn.models.contact._kgeom import contact_rows, ground_acc, mu_of, solve_contacts
@@ -95,6 +96,18 @@ def rhs(t, y, sig, closed, verts, minv, par, ex, tab_h, tab_v):
     return dy, ind, lamN, lamT, status
 
 
+# the right-hand side by address (:func:`nsdyn._kaddress.tcall`, declared and put in the table
+# by nsdyn.models.contact.contact_compile): the loop's seven call sites would otherwise link
+# (and LLVM optimise and translate) a copy of it and of the LCP solver into the loop's code
+ka.tslot("contact.rhs", rhs, "nsdyn.models.contact.contact_compile:callees")
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def rhs_t(t, y, sig, closed, verts, minv, par, ex, tab_h, tab_v):
+    """:func:`rhs` called by its address in the table of :mod:`nsdyn._kaddress`."""
+    return ka.tcall("contact.rhs", (t, y, sig, closed, verts, minv, par, ex, tab_h, tab_v))
+
+
 @njit(cache=True, error_model="numpy")
 def _hermite(t0, h, y0, f0, y1, f1, t):
     s = (t - t0) / h
@@ -125,7 +138,7 @@ def integrate(t, y, t_end, h, sig, closed, verts, minv, par, ex, tab_h, tab_v,
     )
     nc = verts.shape[0]
     ni = 2 * nc + 1
-    f0, ind0, _, _, st = rhs(t, y, sig, closed, verts, minv, par, ex, tab_h, tab_v)
+    f0, ind0, _, _, st = rhs_t(t, y, sig, closed, verts, minv, par, ex, tab_h, tab_v)
     nrhs = 1
     if st != 0:
         return t, y, h, EV_LCP, -1, iout, 0, nrhs
@@ -139,20 +152,20 @@ def integrate(t, y, t_end, h, sig, closed, verts, minv, par, ex, tab_h, tab_v,
             return t, y, h, EV_UNDERFLOW, -1, iout, nsteps, nrhs
         copy_vec(k[0], f0)
         y2 = y + h * (0.2 * k[0])
-        copy_vec(k[1], rhs(t + 0.2 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
+        copy_vec(k[1], rhs_t(t + 0.2 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
         y2 = y + h * (3 / 40 * k[0] + 9 / 40 * k[1])
-        copy_vec(k[2], rhs(t + 0.3 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
+        copy_vec(k[2], rhs_t(t + 0.3 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
         y2 = y + h * (44 / 45 * k[0] - 56 / 15 * k[1] + 32 / 9 * k[2])
-        copy_vec(k[3], rhs(t + 0.8 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
+        copy_vec(k[3], rhs_t(t + 0.8 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
         y2 = y + h * (19372 / 6561 * k[0] - 25360 / 2187 * k[1] + 64448 / 6561 * k[2]
                       - 212 / 729 * k[3])  # fmt: skip
-        copy_vec(k[4], rhs(t + 8 / 9 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
+        copy_vec(k[4], rhs_t(t + 8 / 9 * h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
         y2 = y + h * (9017 / 3168 * k[0] - 355 / 33 * k[1] + 46732 / 5247 * k[2]
                       + 49 / 176 * k[3] - 5103 / 18656 * k[4])  # fmt: skip
-        copy_vec(k[5], rhs(t + h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
+        copy_vec(k[5], rhs_t(t + h, y2, sig, closed, verts, minv, par, ex, tab_h, tab_v)[0])
         y1 = y + h * (35 / 384 * k[0] + 500 / 1113 * k[2] + 125 / 192 * k[3]
                       - 2187 / 6784 * k[4] + 11 / 84 * k[5])  # fmt: skip
-        f1, ind1, _, _, st = rhs(t + h, y1, sig, closed, verts, minv, par, ex, tab_h, tab_v)
+        f1, ind1, _, _, st = rhs_t(t + h, y1, sig, closed, verts, minv, par, ex, tab_h, tab_v)
         nrhs += 6
         copy_vec(k[6], f1)
         err = h * (71 / 57600 * k[0] - 71 / 16695 * k[2] + 71 / 1920 * k[3]
@@ -181,7 +194,7 @@ def integrate(t, y, t_end, h, sig, closed, verts, minv, par, ex, tab_h, tab_v,
                     tc = (fb * ta - fa * tb) / (fb - fa)
                     tc = min(max(tc, ta), tb)
                     yc = _hermite(t, h, y, f0, y1, f1, tc)
-                    fc = rhs(tc, yc, sig, closed, verts, minv, par, ex, tab_h, tab_v)[1][i]
+                    fc = rhs_t(tc, yc, sig, closed, verts, minv, par, ex, tab_h, tab_v)[1][i]
                     nrhs += 1
                     if fc >= 0.0:
                         ta, fa = tc, fc

@@ -33,6 +33,7 @@ from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kevent as ke
 from nsdyn.models.contact._kgeom import body_mode, contact_rows, mu_of, solve_contacts
 from nsdyn.models.contact.body import RigidBody
+from nsdyn.models.contact.contact_compile import run_integrate, warm
 from nsdyn.models.contact.excite import BaseMotion
 from nsdyn.models.contact.friction import FrictionLaw
 from nsdyn.models.contact.results import MODE_NAMES, ContactResult, state_mode
@@ -170,6 +171,7 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
     if not 0.0 <= e_n <= 1.0:
         raise ValueError(f"e_n: expected a restitution coefficient in [0, 1], got {e_n!r}")
     e = 0.0 if impact_law == "housner" else float(e_n)
+    warm()  # a first run: the loop here, the right-hand side in a helper
     mo = motion or BaseMotion.none()
     par = _params(body, friction, g)
     verts, minv = body.contacts, body.minv
@@ -200,9 +202,9 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
     t_over = None
     while t < t_end:
         nxt = min([t_end] + [tj for tj, _ in jumps if tj > t])
-        t, y, h, code, which, iout, ns, nr = ke.integrate(
+        t, y, h, code, which, iout, ns, nr = run_integrate((
             t, y, nxt, h, sig, closed.astype(np.float64), verts, minv, par, mo.ex, mo.tab_h,
-            mo.tab_v, rtol, atol, t_out, y_out, iout, 1_000_000, h_max)  # fmt: skip
+            mo.tab_v, rtol, atol, t_out, y_out, iout, 1_000_000, h_max))  # fmt: skip
         n_steps += ns
         n_rhs += nr
         if code < 0:

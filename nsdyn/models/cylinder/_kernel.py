@@ -33,6 +33,7 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn import _kborrow as kb
 from nsdyn import _kdp5 as dp
 from nsdyn._klinalg import copy_vec, lu_factor, lu_solve
@@ -223,6 +224,18 @@ def rhs(
     aux[8] = fy
 
 
+# the right-hand side by address (:func:`nsdyn._kaddress.tcall`, declared and put in the table
+# by nsdyn.models.cylinder.cylinder_compile): the mode switch, the output and the time loop
+# would otherwise each link, LLVM optimise and translate again their own copy of it
+ka.tslot("cyl.rhs", rhs, "nsdyn.models.cylinder.cylinder_compile:callees")
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def rhs_t(y, ag, p, fr, dy, aux) -> None:
+    """:func:`rhs` called by its address in the table of :mod:`nsdyn._kaddress`."""
+    ka.tcall("cyl.rhs", (y, ag, p, fr, dy, aux))
+
+
 @njit(cache=True, error_model="numpy")
 def contact_kind(y: np.ndarray, r: float) -> int:
     """0 lifted off, 1 partial contact, 2 full contact (tensionless foundation)."""
@@ -251,18 +264,18 @@ def set_mode(y, a, p, fr, k1, aux) -> None:
     """Stick if the force that keeps the base still is within the friction cone, else slip
     starting in the direction opposite to that force; k1 = rhs(y) in the chosen mode."""
     fr[0] = STICK
-    rhs(y, a, p, fr, k1, aux)
+    rhs_t(y, a, p, fr, k1, aux)
     fmag = math.hypot(aux[7], aux[8])
     if fmag > p[9] * max(aux[0], 0.0):
         fr[0] = SLIP
         fr[1] = -aux[7] / fmag
         fr[2] = -aux[8] / fmag
-        rhs(y, a, p, fr, k1, aux)
+        rhs_t(y, a, p, fr, k1, aux)
 
 
 @njit(cache=True, error_model="numpy")
 def store(hist: np.ndarray, i: int, t: float, y: np.ndarray, ag, p, fr, dy, aux) -> None:
-    rhs(y, ag, p, fr, dy, aux)
+    rhs_t(y, ag, p, fr, dy, aux)
     hist[i, 0] = t
     copy_vec(hist[i, 1 : 1 + NY], y)
     hist[i, 1 + NY] = dy[IUD]
@@ -315,7 +328,7 @@ def integrate(
     if mu >= 0.0:
         set_mode(y, ag[0], p, fr, k[0], aux)
     else:
-        rhs(y, ag[0], p, fr, k[0], aux)
+        rhs_t(y, ag[0], p, fr, k[0], aux)
     slips = int(fr[0])
     store(hist, 0, t0, y, ag[0], p, fr, dy, aux)
     nfev = 2
@@ -341,7 +354,7 @@ def integrate(
             for j in range(1, 7):  # the last stage is evaluated at the solution yn
                 copy_vec(a, ag[i] + slope * (t + dp.C[j] * hs - ta))
                 dp.stage(y, k, hs, j, yn)
-                rhs(yn, a, p, fr, k[j], aux)
+                rhs_t(yn, a, p, fr, k[j], aux)
             nfev += 6
             err = 0.0
             for j in range(NY):
@@ -378,7 +391,7 @@ def integrate(
                 if ev == 2:  # the slip stopped: impulse onto u̇ = 0, its energy loss booked
                     e_before = aux[6]
                     stop_slip(y, p)
-                    rhs(y, a, p, fr, dy, aux)
+                    rhs_t(y, a, p, fr, dy, aux)
                     y[IEF] += e_before - aux[6]
                 if ev != 0:
                     set_mode(y, a, p, fr, k[0], aux)

@@ -19,6 +19,7 @@ import numpy as np
 from nsdyn._tabular import Tabular
 from nsdyn.ground import GroundMotion, modulated_white_noise
 from nsdyn.models.cylinder import _kernel as K
+from nsdyn.models.cylinder.cylinder_compile import run_integrate
 from nsdyn.models.cylinder.design import static_settlement
 from nsdyn.models.cylinder.params import G_STD, CylinderParams
 from nsdyn.models.tilt import initial_tilt
@@ -241,10 +242,10 @@ def simulate(
     stats = np.zeros(6)
     cos_top = math.cos(theta_topple)
     tic = time.perf_counter()
-    status = K.integrate(
+    status = run_integrate((
         t0, dt, ag, y0, p.kernel_array(), rtol, atol, h_kink, H_MIN, int(max_steps), cos_top,
         hist, stats,
-    )  # fmt: skip
+    ))  # fmt: skip
     wall = time.perf_counter() - tic
     if status in _STATUS:
         raise SimulationError(f"cylinder integration failed at t = {stats[0]:.6g} s: "

@@ -86,18 +86,10 @@ def run_loop(loop, args: tuple, switch: bool):
     shared with a helper process where one may run (:func:`nsdyn._numba_cache.helper_enabled`):
     it compiles the callees (:func:`helper_part`) while this process compiles the loop for
     ``args``' types."""
-    from nsdyn._numba_cache import Helper, all_cached, helper_enabled
+    from nsdyn._kaddress import run_split
 
-    kernels = [c.kernel for c in _needed(switch)]
-    if helper_enabled() and not all_cached([loop, *kernels]):
-        from numba import typeof
-
-        target = "helper_part" if switch else "helper_force"
-        with Helper(f"nsdyn.models.isolated.deck_compile:{target}") as helper:
-            loop.compile(tuple(typeof(a) for a in args))
-            helper.wait_for(kernels)
-    ready(switch)
-    return loop(*args)
+    target = "helper_part" if switch else "helper_force"
+    return run_split(loop, args, _needed(switch), f"nsdyn.models.isolated.deck_compile:{target}")
 
 
 def helper_part() -> None:
