@@ -136,15 +136,6 @@ def _lu_small(A, y, m):
     return True
 
 
-@njit(cache=True, error_model="numpy")
-def _small_solve(G, b, m):
-    """Solve G y = b (m x m, m small); returns (y, ok), ok False when G is singular."""
-    A = G[:m, :m].copy()
-    y = b[:m].copy()
-    ok = _lu_small(A, y, m)
-    return y, ok
-
-
 @njit(cache=True, error_model="numpy", inline="always")
 def _direction(v, law, eps):
     """Friction direction s(v) and its slope ds/dv for the smooth laws."""
@@ -352,15 +343,13 @@ def evaluate(t, x, P, qdd, lam, tau, modes):
     ws = _views(P)
     y, s, stuck = ws[4], ws[6], ws[9]
     _directions(x, P, ws)
-    # one solve, then (switch law) up to MAX_SWITCH_PASSES re-solves; written as one loop so
-    # that the inlined solve is compiled once
-    ok = True
+    ok = True  # a solve, then up to MAX_SWITCH_PASSES re-solves: the inlined solve once
     for p in range(MAX_SWITCH_PASSES + 1):
         m, ok = _solve(t, x, P, qdd, ws)
         if law != LAW_SWITCH or p == MAX_SWITCH_PASSES:
             break
         # Leine's switch model: inside the band, stick while |tau| <= mu lamf, else transition
-        # with the friction saturated in the direction of the would-be stick force.
+        # with the friction saturated in the direction of the would-be stick force
         changed = False
         kk = nc
         for i in range(ni):
@@ -527,13 +516,6 @@ def jac_at(t, x, P, J, lam, modes):
             for k in range(m):
                 acc += BG[r, k] * CJ[k, c]
             J[n + r, c] -= acc
-
-
-@njit(cache=True, error_model="numpy")
-def sliding_velocities(x, P):
-    """Sliding velocities v_i = D_i qd of all isolators."""
-    n = P[I_MIK].shape[0]
-    return P[I_D] @ x[n:]
 
 
 @njit(cache=True, error_model="numpy")
