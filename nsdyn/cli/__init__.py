@@ -16,6 +16,6 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
-from nsdyn.cli.app import COMMANDS, Command, build_parser, main  # noqa: E402
+from nsdyn.cli.app import COMMANDS, Command, build_parser, main, script  # noqa: E402
 
-__all__ = ["COMMANDS", "Command", "build_parser", "main"]
+__all__ = ["COMMANDS", "Command", "build_parser", "main", "script"]

@@ -2,6 +2,6 @@
 
 import sys
 
-from nsdyn.cli.app import main
+from nsdyn.cli.app import script
 
-sys.exit(main())
+sys.exit(script())

@@ -2,8 +2,9 @@
 (the benchmarks themselves are in :mod:`nsdyn.bench`).
 
 ``nsdyn bench NAME | all [--quick] [--out DIR] [--repeats N] [--records LIST] [--cold-compile]
-[--families] [--curve] [--no-figures] [--json]`` runs benchmark NAME of :data:`nsdyn.bench.BENCHMARKS`
-(``all``: each in the table's order) through its ``run_bench(out_dir, quick, **options)``,
+[--families] [--curve] [--no-figures] [--json]`` runs benchmark NAME of
+:data:`nsdyn.bench.BENCHMARKS` (``all``: each in the table's order) through its
+``run_bench(out_dir, quick, **options)``,
 passing only the options its ``OPTIONS`` lists, then prints its ``report`` (or its summary)
 and the files it wrote, or with ``--json`` one JSON object ``{name: summary}`` and nothing else.
 """
