@@ -18,7 +18,7 @@ def _mag(a):
 
 
 @njit(cache=True, error_model="numpy")
-def lu_factor(A, piv, rtol=0.0):
+def lu_factor(A, piv, rtol):
     """In-place LU of the square ``A`` with row pivots ``piv``.
 
     Returns False on a pivot that is zero, non-finite, or (``rtol > 0``) at most ``rtol``

@@ -296,3 +296,55 @@ def first_compile(family: str, about_s: float, cached: bool) -> Iterator[bool]:
     yield cold
     if cold:
         print(f"  compiled in {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
+
+
+# ---- one compilation per kernel and argument types ------------------------------------------
+
+
+def runtime_types(sig: tuple) -> tuple:
+    """The argument types ``sig`` stands for at run time: a literal argument (``0``, ``True``,
+    ``-1`` written in the caller) as its plain type, an omitted default as its value's type."""
+    from numba import typeof, types
+
+    out = []
+    for t in sig:
+        if isinstance(t, types.Omitted):
+            t = typeof(t.value)
+        out.append(types.unliteral(t))
+    return tuple(out)
+
+
+def _on_disk_signatures(disp) -> list[tuple]:
+    """The signatures numba's on-disk cache holds for ``disp``'s current source (any process
+    may have compiled them: a compile helper, a test worker); [] when it cannot be read."""
+    try:
+        return [key[0] for key in disp._cache._cache_file._load_index()]
+    except Exception:  # noqa: BLE001  (a private numba API: any failure means "none known")
+        return []
+
+
+def repeated_compilations(prefix: str = "nsdyn") -> list[tuple[str, list[tuple]]]:
+    """The kernels of the loaded modules under ``prefix`` compiled more than once for the same
+    run-time argument types (in this process or, as numba's on-disk cache records, in any
+    other), with their signatures.
+
+    numba compiles a kernel once per signature, and a constant argument is a signature of its
+    own: ``f(x, 0)`` beside ``f(x, i)`` compiles ``f`` twice, as does ``g(A, piv)`` beside
+    ``g(A, piv, tol)``. The kernels pass such arguments as typed values (``np.int64(0)``,
+    ``np.bool_(True)``) and write defaults out, so that each compiles once."""
+    import sys
+
+    from numba.core.dispatcher import Dispatcher
+
+    seen: dict[int, tuple[str, list[tuple]]] = {}
+    for name, mod in list(sys.modules.items()):
+        if mod is None or not (name == prefix or name.startswith(prefix + ".")):
+            continue
+        for obj in list(vars(mod).values()):
+            if not isinstance(obj, Dispatcher) or id(obj) in seen:
+                continue
+            sigs = list(dict.fromkeys([*obj.signatures, *_on_disk_signatures(obj)]))
+            if len({runtime_types(s) for s in sigs}) < len(sigs):
+                qual = f"{obj.py_func.__module__}.{obj.py_func.__qualname__}"
+                seen[id(obj)] = (qual, sigs)
+    return sorted(seen.values(), key=lambda r: r[0])

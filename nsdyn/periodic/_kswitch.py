@@ -353,7 +353,7 @@ def period_map(AB, V, TAU, LF, mu, x0, w, T, N, v_zero, want_sens, store, ev_t, 
             y1 = Es @ y
             fy = AB[k] @ y
             fy1 = AB[k] @ y1
-            nr = 0
+            nr = np.int64(0)
             for i in range(ni):
                 c1, c2, m = _rows(k, modes, V, TAU, LF, mu, i)
                 sc = vmax[i] if m == 1 else abs(mu[i] * (LF[k, i] @ y))

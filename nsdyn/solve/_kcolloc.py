@@ -108,7 +108,7 @@ def _factor(h, J, LUr, pr, LUc, pc):
             LUc[i, j] = -jv - jq * igc
         LUr[i, i] += gr
         LUc[i, i] += gc
-    if not (ki.lu_factor(LUr, pr) and ki.lu_factor(LUc, pc)):
+    if not (ki.lu_factor(LUr, pr, 0.0) and ki.lu_factor(LUc, pc, 0.0)):
         return False
     invert_diagonal(LUr)
     invert_diagonal(LUc)

@@ -112,8 +112,9 @@ def dopri5(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mod
     if h0 > 0.0:
         h = h0
     else:
+        order = np.int64(4)  # typed: initial_finish compiles once for every method
         h = ki.initial_step(
-            t, y, K[0], t_end, max_step, 4, rtol, atol, P, ytmp, K[1], qdd, lam, tau, modes
+            t, y, K[0], t_end, max_step, order, rtol, atol, P, ytmp, K[1], qdd, lam, tau, modes
         )
         stats[ki.S_NFEV] += 1
     rejected = False

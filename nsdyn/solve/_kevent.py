@@ -135,7 +135,7 @@ def illinois_step(a, b, fa, fb, c, fc, side):
 def _root(kind, i, sgn, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
     """Illinois on x in [a, b] for g(a) = fa >= 0 > fb = g(b). Returns x with g(x) <= 0."""
     xtol = EVENT_TTOL / h
-    side = 0
+    side = np.int64(0)
     for _ in range(ROOT_MAXITER):
         if b - a <= xtol:
             break
@@ -276,7 +276,7 @@ def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
             pm[i] = 0
         elif pm[i] != 0:
             s = float(pm[i])
-            ga = s * _dot_row(D, i, qdd, 0)
+            ga = s * _dot_row(D, i, qdd, np.int64(0))
             if i == trigger or (-ga > A_NOISE and s * v <= EVENT_TTOL * -ga):
                 if abs(v) > v_tol:
                     pm[i] = 1 if v > 0.0 else -1

@@ -135,7 +135,7 @@ def _iteration_matrix(ta, h, coef, P, gw, J, S, piv, t, stats, rinfo):
         for j in range(n):
             S[i, j] = -(c1 * J[n + i, j] + c2 * J[n + i, n + j])
         S[i, i] += 1.0 - am
-    if ki.lu_factor(S, piv):
+    if ki.lu_factor(S, piv, 0.0):
         return True
     stats[ki.S_STATUS] = ki.ST_LU_SINGULAR
     rinfo[ki.R_T] = t

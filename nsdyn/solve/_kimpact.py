@@ -77,7 +77,7 @@ def _land(t, y, P, k, e_rest, g_tol, clog, cnt, dT):
     rest = abs(vm[k]) <= V_REST
     g_near = G_REST if rest else g_tol
     for j in range(nc):
-        cand[j] = opn[j] == 0 or j == k or ke._dot_row(R, j, y, 0) <= g_near
+        cand[j] = opn[j] == 0 or j == k or ke._dot_row(R, j, y, np.int64(0)) <= g_near
     opn[k] = 0
     lamI = np.zeros(nc)
     vp = vm.copy()
@@ -157,7 +157,7 @@ def _baumgarte(P, k, y):
     n = y.shape[0] // 2
     al, be = fp[ks.F_ALPHA], fp[ks.F_BETA]
     R = P[ks.I_R]
-    return 2.0 * al * be * ke._dot_row(R, k, y, n) + al * al * ke._dot_row(R, k, y, 0)
+    return 2.0 * al * be * ke._dot_row(R, k, y, n) + al * al * ke._dot_row(R, k, y, np.int64(0))
 
 
 @njit(cache=True, error_model="numpy")
@@ -193,7 +193,7 @@ def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats, lift):
     for k in range(nc):
         ground[k] = opn[k] == 0 or (
             t - lift[0, k] > ke.BURST_DT
-            and ke._dot_row(R, k, y, 0) <= g_tol
+            and ke._dot_row(R, k, y, np.int64(0)) <= g_tol
             and abs(ke._dot_row(R, k, y, n)) <= V_SEP
         )
     changed = False
@@ -207,7 +207,10 @@ def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats, lift):
             if opn[k] == 0 and lam[k] < -lam_tol:
                 flip = k
                 break
-            if opn[k] != 0 and ke._dot_row(R, k, qdd, 0) + _baumgarte(P, k, y) < -ACC_ATOL:
+            if (
+                opn[k] != 0
+                and ke._dot_row(R, k, qdd, np.int64(0)) + _baumgarte(P, k, y) < -ACC_ATOL
+            ):
                 flip = k
                 break
         if flip < 0:
@@ -216,7 +219,7 @@ def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats, lift):
         opn[flip] = 1 - opn[flip]
         if kind == KIND_LIFT:
             lift[0, flip] = t
-            lift[1, flip] = min(ke._dot_row(R, flip, y, 0), 0.0)
+            lift[1, flip] = min(ke._dot_row(R, flip, y, np.int64(0)), 0.0)
         changed = True
         if not _log(clog, cnt, t, flip, kind, ke._dot_row(R, flip, y, n), 0.0):
             return False, changed
@@ -249,7 +252,7 @@ def _g(kind, k, x, y, Qd, t, h, P, ew, off, stats):
 def _root(kind, k, a, b, fa, fb, y, Qd, t, h, P, ew, off, stats):
     """Illinois on x in [a, b] for fa > 0 >= fb; returns x with g(x) <= 0."""
     xtol = ke.EVENT_TTOL / h
-    side = 0
+    side = np.int64(0)
     for _ in range(ke.ROOT_MAXITER):
         if b - a <= xtol:
             break

@@ -77,7 +77,7 @@ def friction(phi, Lc, Ld, w0, Wp, mu, eps, work):
                     (1.0 if i == j else 0.0) - mu[i] * s * Ld[i, j] - mu[i] * L[i] * ds * Wp[i, j]
                 )
             d[i] = r[i]
-        if not lu_factor(J, piv):
+        if not lu_factor(J, piv, 0.0):
             return False, it, np.inf
         lu_solve(J, piv, d)
         dn = 0.0

@@ -378,7 +378,7 @@ def _start(
             if not ok:
                 general(kc.G_ONE, P, t1, ys, 0.0, Z, F, ys, err, J, qdd, lam, tau, modes)
             stats[ki.S_NFEV] += 1
-            h1 = ki.initial_finish(h1, y, f, err, t_eval[-1] - t, max_step, 3, rtol, atol)
+            h1 = ki.initial_finish(h1, y, f, err, t_eval[-1] - t, max_step, np.int64(3), rtol, atol)
         ctl[C_H] = h1
     ctl[C_CURJ] = 1.0
     return iout, ctl

@@ -81,7 +81,7 @@ def _event_at(t, kind, idx, h_resume, run):
     if kind == KIND_LIFT:
         opn[idx] = 1
         lift[0, idx] = t
-        lift[1, idx] = min(ke._dot_row(P[ks.I_R], idx, y, 0), 0.0)
+        lift[1, idx] = min(ke._dot_row(P[ks.I_R], idx, y, np.int64(0)), 0.0)
         ok = _log(clog, cnt, t, idx, np.int64(KIND_LIFT), ke._dot_row(P[ks.I_R], idx, y, n), 0.0)
     elif kind == KIND_LAND:
         was = opn.copy()

@@ -76,7 +76,7 @@ def test_one_column_solve_is_the_vector_solve_and_the_block_solve():
     A = rng.standard_normal((n, n))
     piv = np.zeros(n, dtype=np.int64)
     LU = A.copy()
-    assert lu_factor(LU, piv)
+    assert lu_factor(LU, piv, 0.0)
     B = rng.standard_normal((n, 4))
     Xb = B.copy()
     lu_solve_columns(LU, piv, Xb)

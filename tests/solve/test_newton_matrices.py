@@ -55,7 +55,7 @@ def test_complex_pivots_rank_by_real_plus_imaginary_size():
     A = np.array([[3.2, 1.0, 0.5], [2.2 + 2.2j, -1.0, 2.0], [0.1j, 0.3, 1.0]], dtype=complex)
     LU = A.copy()
     piv = np.zeros(3, dtype=np.int64)
-    assert lu_factor(LU, piv)
+    assert lu_factor(LU, piv, 0.0)
     assert piv[0] == 1
     b = np.array([1.0, 2.0 - 1j, 0.5j])
     x = b.copy()
@@ -64,4 +64,4 @@ def test_complex_pivots_rank_by_real_plus_imaginary_size():
     # real matrices: the size is |a| as before (cabs1 of a real number)
     R = np.array([[1.0, 2.0], [-3.0, 1.0]])
     pr = np.zeros(2, dtype=np.int64)
-    assert lu_factor(R.copy(), pr) and pr[0] == 1
+    assert lu_factor(R.copy(), pr, 0.0) and pr[0] == 1

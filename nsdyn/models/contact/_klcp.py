@@ -87,7 +87,7 @@ def lemke(M, q):
     b = q.copy()
     basis = np.arange(n)
     # first pivot: z0 enters, the most negative q leaves (lexicographic tie-break)
-    r = 0
+    r = np.int64(0)
     for i in range(1, n):
         if b[i] < b[r] - LEX_TOL * max(1.0, abs(b[r])):
             r = i
@@ -101,7 +101,7 @@ def lemke(M, q):
         for i in range(n):
             cmax = max(cmax, abs(T[i, entering]))
         tol = PIVOT_TOL * max(1.0, cmax)
-        r = -1
+        r = np.int64(-1)
         for i in range(n):
             if T[i, entering] > tol:
                 if r < 0 or _lex_less(T, b, i, r, entering, n):

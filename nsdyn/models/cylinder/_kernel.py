@@ -79,7 +79,7 @@ def solve_block(M: np.ndarray, b: np.ndarray, o: int) -> np.ndarray:
     A = M[o:, o:].copy()
     x = b[o:].copy()
     piv = np.empty(x.shape[0], np.int64)
-    if not lu_factor(A, piv):
+    if not lu_factor(A, piv, 0.0):
         x[:] = np.nan
         return x
     lu_solve(A, piv, x)
@@ -118,7 +118,7 @@ def stop_slip(y: np.ndarray, p: np.ndarray) -> None:
     for j in range(2):
         e = np.zeros(6)
         e[j] = 1.0
-        copy_vec(G[:, j], solve_block(Mm, e, 0))
+        copy_vec(G[:, j], solve_block(Mm, e, np.int64(0)))
     det = G[0, 0] * G[1, 1] - G[0, 1] * G[1, 0]
     ux, uy = y[IUD], y[IUD + 1]
     px = -(G[1, 1] * ux - G[0, 1] * uy) / det
@@ -185,9 +185,9 @@ def rhs(
         fx, fy = -mu * N * dx, -mu * N * dyy
         b[0] += fx
         b[1] += fy
-        copy_vec(acc, solve_block(Mm, b, 0))
+        copy_vec(acc, solve_block(Mm, b, np.int64(0)))
     else:
-        copy_vec(acc[2:], solve_block(Mm, b, 2))
+        copy_vec(acc[2:], solve_block(Mm, b, np.int64(2)))
         # force that keeps ü = 0: the horizontal rows with ü = 0
         fx = -b[0] + Mm[0, 3] * acc[3] + Mm[0, 4] * acc[4] + Mm[0, 5] * acc[5]
         fy = -b[1] + Mm[1, 3] * acc[3] + Mm[1, 4] * acc[4] + Mm[1, 5] * acc[5]
@@ -242,7 +242,7 @@ def contact_kind(y: np.ndarray, r: float) -> int:
     R = np.empty((3, 3))
     rotation(y[1:5], R)
     mom = np.empty(11)
-    return contact_moments(y[0], R[2, 0], R[2, 1], r, False, mom)
+    return contact_moments(y[0], R[2, 0], R[2, 1], r, np.bool_(False), mom)
 
 
 @njit(cache=True, error_model="numpy")
@@ -330,7 +330,7 @@ def integrate(
     else:
         rhs_t(y, ag[0], p, fr, k[0], aux)
     slips = int(fr[0])
-    store(hist, 0, t0, y, ag[0], p, fr, dy, aux)
+    store(hist, np.int64(0), t0, y, ag[0], p, fr, dy, aux)
     nfev = 2
     h = min(dt, 1e-3)
     acc = 0

@@ -496,4 +496,4 @@ def start_direction(i, tx, ty, mu_n, ws, dirs):
         for b in range(2):
             if not math.isfinite(Am[a, b]):
                 Am[a, b] = 0.0
-    kp.start_direction(0, tx, ty, mu_n, Am, np.zeros((1, 2)), dirs[i:])
+    kp.start_direction(np.int64(0), tx, ty, mu_n, Am, np.zeros((1, 2)), dirs[i:])

@@ -100,7 +100,7 @@ def land(t, y, k, modes, dirs, op, ws, EV, info, switch_law, eta):
             for c in range(idx.size):
                 A[a, c] = RMiRt[idx[a], idx[c]]
         x = np.linalg.solve(A, b)
-        worst = -1
+        worst = np.int64(-1)
         big = 0.0
         for a in range(idx.size):
             big = max(big, abs(x[a]))
@@ -162,7 +162,7 @@ def settle_contacts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, inf
         st = kq.evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
         if st != kq.ST_OK:
             return kr.ST_SINGULAR
-        worst = -1
+        worst = np.int64(-1)
         for j in range(opn.shape[0]):
             if opn[j] == 0.0 and lam[j] <= 0.0 and (worst < 0 or lam[j] < lam[worst]):
                 worst = j

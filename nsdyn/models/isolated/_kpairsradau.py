@@ -161,7 +161,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     nt = t_eval.shape[0]
     t_end = t_eval[nt - 1]
     ntab = tab.shape[1]
-    iout = 1
+    iout = np.int64(1)
     h = min(cfg[kr.C_H0], hmax)
     need_jac = True
     f0_ready = False
@@ -172,9 +172,9 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     ok = False
     it = 0
     fac = 1.0
-    nstep = 0
-    nrej = 0
-    nfev = 0
+    nstep = np.int64(0)
+    nrej = np.int64(0)
+    nfev = np.int64(0)
     status = kr.ST_OK
     newton_failed = False
     while t < t_end and iout < nt:

@@ -84,7 +84,7 @@ def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
     for _ in range(kr.SETTLE_PASSES):
         if _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out) != kq.ST_OK:
             return kr.ST_SINGULAR
-        worst = -1
+        worst = np.int64(-1)
         ratio = 1.0 + kr.STICK_RTOL
         for i in range(ni):
             if modes[i] == kp.MODE_STICK:
@@ -258,7 +258,8 @@ def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, E
     if st == kr.ST_OK and uni:  # a contact without compression at the start is open
         st = kc.settle_contacts(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
     if st == kr.ST_OK:
-        outputs(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, 0, X, NO, FF, FR, FO, MO)
+        k0 = np.int64(0)  # typed: one compilation of outputs
+        outputs(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k0, X, NO, FF, FR, FO, MO)
         bil = int(sp[kq.S_CONTACT]) == kp.CONTACT_BILATERAL
         kr.tension_start(info, t0, out[1], bil)
         if kr._min_normal(out[1]) <= 0.0 and not (bil or uni):
@@ -442,12 +443,12 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     nt = t_eval.shape[0]
     t_end = t_eval[nt - 1]
     ntab = tab.shape[1]
-    iout = 1
+    iout = np.int64(1)
     fresh = True
     h = min(cfg[kr.C_H0], hmax)
-    nstep = 0
-    nrej = 0
-    nfev = 0
+    nstep = np.int64(0)
+    nrej = np.int64(0)
+    nfev = np.int64(0)
     burst_t = -math.inf
     burst_n = 0
     status = kr.ST_OK

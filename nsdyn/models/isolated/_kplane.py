@@ -318,7 +318,7 @@ def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, 
             Am[a, b] = M[a, b]
         fv[a] = -(M[a, 0] * ag[0] + M[a, 1] * ag[1])
     nst = 0
-    ist = -1
+    ist = np.int64(-1)
     for i in range(ni):
         X = pos[i, 0]
         Y = pos[i, 1]

@@ -168,9 +168,10 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
     ntab = tab.shape[1]
     info[kr.I_TFAIL] = np.nan
     info[kr.I_IFAIL] = -1
-    kr._outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, 0, X, NO, FF, FR,
+    k0 = np.int64(0)  # typed: one compilation of _outputs (a literal 0 would be a second)
+    kr._outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, k0, X, NO, FF, FR,
                 FO, MO)  # fmt: skip
-    iout = 1
+    iout = np.int64(1)
     bil = int(sp[kp.S_CONTACT]) == kp.CONTACT_BILATERAL
     tens = kr.tension_start(info, t, N, bil)
     if kr._min_normal(N) <= 0.0 and not bil:

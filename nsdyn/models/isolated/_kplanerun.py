@@ -160,7 +160,7 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
         st = kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
         if st != kp.ST_OK:
             return ST_SINGULAR
-        worst = -1
+        worst = np.int64(-1)
         ratio = 0.0
         for i in range(pos.shape[0]):
             if modes[i] == kp.MODE_STICK:
@@ -386,8 +386,9 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         if st != ST_OK:
             info[I_TFAIL] = t
             return st
-    _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, 0, X, NO, FF, FR, FO, MO)
-    iout = 1
+    k0 = np.int64(0)  # typed: one compilation of _outputs (a literal 0 would be a second)
+    _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, k0, X, NO, FF, FR, FO, MO)
+    iout = np.int64(1)
     tens = tension_start(info, t, N, bil)
     if _min_normal(N) <= 0.0 and not bil:
         info[I_TFAIL] = t

@@ -31,6 +31,8 @@ from nsdyn import _kborrow as kb
 from nsdyn import _kdp5 as dp
 from nsdyn.models.rocking._kground import (
     GK_NONE,
+    LEFT_LIMIT,
+    RIGHT_LIMIT,
     ground,
     next_breakpoint,
     rest_step,
@@ -48,6 +50,10 @@ P_HMAX = 6  # largest step [s]
 P_VREST = 7  # Zeno rest threshold on |theta'| after an impact [rad/s]
 P_THFALL = 8  # |theta| at which the block counts as overturned [rad]
 N_PAR = 9
+
+# components of the state (theta, theta') as typed values: one compilation of their callees
+C_TH = np.int64(0)
+C_THD = np.int64(1)
 
 # ---- info vector ----------------------------------------------------------------------------
 I_NIMP = 0  # impacts recorded
@@ -111,7 +117,7 @@ def uplift_side(t, left, par, gk, gp, tab_h, tab_v):
 @njit(cache=True, error_model="numpy")
 def _root(rc, comp, sgn, off, a, b, fa, fb):
     """Illinois root of ``sgn * y_comp(sigma) - off`` on [a, b] with fa > 0 >= fb."""
-    side = 0
+    side = np.int64(0)
     for _ in range(ROOT_ITERS):
         if b - a <= ROOT_TOL:
             break
@@ -197,7 +203,7 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
         if not rocking:
             side = 0
             if check_now:
-                side = uplift_side(t, False, par, gk, gp, tab_h, tab_v)
+                side = uplift_side(t, RIGHT_LIMIT, par, gk, gp, tab_h, tab_v)
             check_now = True
             if side == -2:
                 status = ST_FLIGHT
@@ -209,7 +215,7 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
                 else:
                     t_next = min(t + rest_step(t, gk, gp, n_tab), next_breakpoint(t, gk, gp, n_tab))
                     t_next = min(t_next, t_end)
-                side2 = uplift_side(t_next, True, par, gk, gp, tab_h, tab_v)
+                side2 = uplift_side(t_next, LEFT_LIMIT, par, gk, gp, tab_h, tab_v)
                 if side2 == 0:
                     while k_out < n_out and t0 + k_out * out_dt <= t_next:
                         out[k_out, 0] = 0.0
@@ -221,14 +227,14 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
                 b = t_next
                 for _ in range(UPLIFT_BISECT):
                     m = 0.5 * (a + b)
-                    if uplift_side(m, False, par, gk, gp, tab_h, tab_v) != 0:
+                    if uplift_side(m, RIGHT_LIMIT, par, gk, gp, tab_h, tab_v) != 0:
                         b = m
                     else:
                         a = m
                     if b - a <= 1e-14 * (1.0 + abs(b)):
                         break
                 t = b
-                side = uplift_side(t, False, par, gk, gp, tab_h, tab_v)
+                side = uplift_side(t, RIGHT_LIMIT, par, gk, gp, tab_h, tab_v)
                 if side == 0:
                     side = side2
                 if side == -2:
@@ -257,7 +263,7 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
         y[1] = thd
         if not fsal:
             k[0, 0] = thd
-            k[0, 1] = accel(t, False, th, s, par, gk, gp, tab_h, tab_v)
+            k[0, 1] = accel(t, RIGHT_LIMIT, th, s, par, gk, gp, tab_h, tab_v)
             n_rhs += 1
         for j in range(1, 7):  # the last stage is evaluated at the solution y1
             dp.stage(y, k, hh, j, y1)
@@ -297,9 +303,9 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
         g_prev = s * th
         for j in range(1, N_SCAN + 1):
             sg = j / N_SCAN
-            gj = s * dp.dense(rc, 0, sg)
+            gj = s * dp.dense(rc, C_TH, sg)
             if gj >= thfall:
-                sig = _root(rc, 0, -s, -thfall, sg_prev, sg, thfall - g_prev, thfall - gj)
+                sig = _root(rc, C_TH, -s, -thfall, sg_prev, sg, thfall - g_prev, thfall - gj)
                 event = 2
                 break
             if gj < 0.0:
@@ -310,7 +316,7 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
                     fa = -1.0
                     for _ in range(50):
                         m *= 0.5
-                        fm = s * dp.dense(rc, 0, m)
+                        fm = s * dp.dense(rc, C_TH, m)
                         if fm > 0.0:
                             a = m
                             fa = fm
@@ -319,7 +325,7 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
                     sig = 0.0
                     event = 3  # no flight at all: the block stays on the ground
                 else:
-                    sig = _root(rc, 0, s, 0.0, a, sg, fa, gj)
+                    sig = _root(rc, C_TH, s, 0.0, a, sg, fa, gj)
                     event = 1
                 break
             sg_prev = sg
@@ -327,14 +333,14 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
 
         # ---- peaks of |theta| (s theta' from + to -) up to sig --------------------------------
         if sig > 0.0:
-            v_prev = s * dp.dense(rc, 1, 0.0)
+            v_prev = s * dp.dense(rc, C_THD, 0.0)
             sp = 0.0
             for j in range(1, N_SCAN + 1):
                 sg = sig * j / N_SCAN
-                vj = s * dp.dense(rc, 1, sg)
+                vj = s * dp.dense(rc, C_THD, sg)
                 if v_prev > 0.0 and vj <= 0.0:
-                    sk = _root(rc, 1, s, 0.0, sp, sg, v_prev, vj)
-                    thk = dp.dense(rc, 0, sk)
+                    sk = _root(rc, C_THD, s, 0.0, sp, sg, v_prev, vj)
+                    thk = dp.dense(rc, C_TH, sk)
                     if n_pk < peaks.shape[0]:
                         peaks[n_pk, 0] = t + sk * hh
                         peaks[n_pk, 1] = thk
@@ -345,10 +351,10 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
         t_ev = t + sig * hh
         while k_out < n_out and t0 + k_out * out_dt <= t_ev:
             sk = (t0 + k_out * out_dt - t) / hh
-            out[k_out, 0] = dp.dense(rc, 0, sk)
-            out[k_out, 1] = dp.dense(rc, 1, sk)
+            out[k_out, 0] = dp.dense(rc, C_TH, sk)
+            out[k_out, 1] = dp.dense(rc, C_THD, sk)
             k_out += 1
-        maxth = max(maxth, abs(dp.dense(rc, 0, sig)))
+        maxth = max(maxth, abs(dp.dense(rc, C_TH, sig)))
 
         if event == 2:
             info[I_TOVER] = t_ev
@@ -356,7 +362,7 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
             t = t_ev
             break
         if event == 1 or event == 3:
-            thd_m = dp.dense(rc, 1, sig)
+            thd_m = dp.dense(rc, C_THD, sig)
             t = t_ev
             th = 0.0
             fsal = False
@@ -383,7 +389,7 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
                 thd = 0.0
                 info[I_TREST] = t
                 continue
-            ah, av = ground(t, False, gk, gp, tab_h, tab_v)
+            ah, av = ground(t, RIGHT_LIMIT, gk, gp, tab_h, tab_v)
             dec = p2 * ((1.0 + av / g) * math.sin(alpha) - abs(ah) / g * math.cos(alpha))
             if dec > 0.0:
                 h = min(h, abs(thd) / dec)  # half the estimated flight time 2|theta'|/dec

@@ -27,7 +27,7 @@ from numba import njit
 from nsdyn import _kborrow as kb
 from nsdyn import _kdp5 as dp
 from nsdyn._klinalg import copy_vec
-from nsdyn.models.rocking._kground import ground, step_to_breakpoint
+from nsdyn.models.rocking._kground import RIGHT_LIMIT, ground, step_to_breakpoint
 
 Q_M = 0  # mass [kg]
 Q_I = 1  # moment of inertia about the centre of gravity [kg m²]
@@ -124,7 +124,7 @@ def integrate(q, atol, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, info):
     while t < t_end * (1.0 - 1e-15):
         hh, at_bp = step_to_breakpoint(t, min(h, hmax), t_end, gk, gp, n_tab)
         if not fsal:
-            rhs(t, False, y, q, gk, gp, tab_h, tab_v, k[0])
+            rhs(t, RIGHT_LIMIT, y, q, gk, gp, tab_h, tab_v, k[0])
         for j in range(1, 7):  # the last stage is evaluated at the solution y1
             dp.stage(y, k, hh, j, y1)
             rhs(t + dp.C[j] * hh, at_bp and j >= 5, y1, q, gk, gp, tab_h, tab_v, k[j])

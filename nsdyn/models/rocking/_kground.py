@@ -17,11 +17,16 @@ ending there must see), otherwise the right limit.
 
 import math
 
+import numpy as np
 from numba import njit
 
 GK_NONE = 0  # no excitation
 GK_TABLE = 1  # sampled record, linear interpolation
 GK_PULSE = 2  # closed-form pulse
+# the one-sided limit ``ground`` takes at a breakpoint, as typed values (a literal True or
+# False beside a variable would compile ``ground`` and its callers once more)
+LEFT_LIMIT = np.bool_(True)
+RIGHT_LIMIT = np.bool_(False)
 BP_EPS = 1e-12  # relative tolerance in time when deciding whether t sits on a breakpoint
 
 
