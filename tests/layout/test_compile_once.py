@@ -71,6 +71,8 @@ def _probe_module(name: str) -> types.ModuleType:
 
 @pytest.mark.skipif(not JIT, reason="NUMBA_DISABLE_JIT: nothing compiles")
 def test_the_rule_finds_literal_and_omitted_twins():
+    """The detector on a probe module: a kernel called with ``0`` and with an int variable,
+    and one called with and without its default, are found; typed values are not."""
     name = "nsdyn_compile_once_probe"
     mod = sys.modules[name] = _probe_module(name)
     try:
@@ -79,11 +81,12 @@ def test_the_rule_finds_literal_and_omitted_twins():
         found = {q.rsplit(".", 1)[-1] for q, _ in repeated_compilations(name)}
     finally:
         del sys.modules[name]
-    # f: Literal[int](0) and int64; h: omitted(default=0.0) and float64; g: int64 only
+    # f: `Literal[int](0)` and `int64`; h: `omitted(default=0.0)` and `float64`; g: `int64`
     assert found == {"f", "h"}
 
 
 def test_runtime_types_of_literals_and_defaults():
+    """A literal stands for its plain type, an omitted default for its value's type."""
     from numba import types as nt
 
     sig = (nt.literal(0), nt.literal(True), nt.Omitted(0.0), nt.float64[:, ::1])
@@ -112,6 +115,8 @@ def _warm_families() -> None:
 
 @pytest.mark.skipif(not JIT, reason="NUMBA_DISABLE_JIT: nothing compiles")
 def test_every_kernel_compiles_once_per_argument_types():
+    """After every family's warm-up no kernel is held twice for the same run-time types
+    (this process and numba's on-disk cache index), but those specialised on purpose."""
     for path in sorted(PKG.rglob("_k*.py")):
         if "__pycache__" not in path.parts:
             rel = path.relative_to(PKG.parent).with_suffix("")
