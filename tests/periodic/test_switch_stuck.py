@@ -10,8 +10,9 @@ mass's steady state is the linear FRF; (ii) the office
 frame (CB-5, A = 0.5 m/s^2) at 1.0, 2.0 and 2.95 Hz: one Newton step to the round-off of the
 map (the period map is affine on the stuck orbit), and against the event-driven switch
 integrator (``nsdyn.simulate(method="event")``, independent code): from rest its isolators
-come to rest at the shooting orbit's displacements, and started on the orbit it is back after
-one period, both to 1e-5 of the orbit's amplitudes (the integrator runs at rtol 1e-9).
+come to rest on a member of the stuck family (shooting from its end state converges to a
+stuck orbit), and started on the orbit it is back after one period to 1e-5 of the orbit's
+amplitudes (the integrator runs at rtol 1e-9).
 """
 
 import math
@@ -102,17 +103,31 @@ def test_frame_stuck_orbit_converges(frame_problem, stuck_orbits, f, newton_roun
 @pytest.mark.slow
 @pytest.mark.parametrize("f", STUCK_FREQS)
 def test_frame_stuck_orbit_against_event_driven(frame_problem, stuck_orbits, f):
+    """From rest the event-driven run comes to rest in the stuck family: its isolators are
+    frozen over the last period, and shooting from its end state converges to an orbit on
+    which both isolators stick all period. Which member is not compared: at 2.95 Hz the
+    family's peak stick force meets the friction cone, and whether an isolator slips there
+    once (1e-5 m) is decided by round-off (the warm start's period map and this machine's
+    arithmetic pick it; see the test above). Started on the shooting orbit the run is back
+    after one period, each coordinate to 1e-5 of its excursion (the integrator runs at
+    rtol 1e-9)."""
     system, pb = frame_problem
     res = stuck_orbits[f]
     T = 1.0 / f
     n, m = system.n, pb.m
     x_orbit = pb.to_full(res.x0[None])[0]
-    xi_orbit = system.D @ x_orbit[:n]
-    # from rest: the isolators slip (or not) in the first periods, then stay at the orbit's
-    # frozen displacements
-    run = nsdyn.simulate(system, Harmonic(A_BASE, f), method="event", n_periods=4, rtol=1e-9)
-    xi_end = system.D @ run.x[-1, :n]
-    assert np.all(np.abs(xi_end - xi_orbit) <= 1e-5 * np.abs(xi_orbit))
+    # from rest: the isolators slip (or not) in the first periods, then stay frozen
+    t_eval = np.concatenate([[0.0], np.linspace(3 * T, 4 * T, 33)])
+    run = nsdyn.simulate(system, Harmonic(A_BASE, f), method="event", t_eval=t_eval, rtol=1e-9)
+    xi_last = run.x[1:, :n] @ system.D.T
+    xi_end = xi_last[-1]
+    # frozen: equal over the period to 1e-12 m (the round-off of D x is ~1e-16 of the
+    # millimetre-scale state: a stuck isolator does not drift)
+    assert np.all(np.abs(xi_last - xi_end) <= 1e-12 + 1e-9 * np.abs(xi_end))
+    fam = shoot_switch(pb, f, pb.to_minimal(run.x[-1][None])[0])
+    assert fam.converged, fam.message
+    pm = pb.period_map(fam.x0, f, n_steps=fam.n_steps, sens=False)
+    assert list(pb.stuck_all_period(pm)) == [0, 1]
     # started on the orbit: back after one period, each coordinate to 1e-5 of its excursion
     # (floored at 1e-4 of its block's: stiff coordinates hardly move)
     one = nsdyn.simulate(
