@@ -32,7 +32,7 @@ from nsdyn.studies.scenes import run_batch
 from nsdyn.studies.study import Study
 from nsdyn.studies.table import ResultsStore, Table
 from nsdyn.studies.tasks import Task, batch_size, batches, expand
-from nsdyn.studies.workers import process_pool, stop_pool
+from nsdyn.studies.workers import Interrupts, process_pool, stop_pool
 
 PROGRESS_S = 2.0  # seconds between progress lines
 DASK_HINT = 'Dask is an optional extra: pip install "nsdyn[dask]"'
@@ -144,39 +144,41 @@ def run_study(
     prog = _Progress(study.name, len(tasks), len(tasks) - len(todo), progress)
     t0 = time.perf_counter()
     try:
-        pending = {executor.submit(run_batch, b): (b, False) for b in batches(todo, size)}
-        while pending:
-            finished, _ = wait(pending, timeout=PROGRESS_S, return_when=FIRST_COMPLETED)
-            resubmit: list[Task] = []
-            broken = False
-            for f in finished:
-                b, retried = pending.pop(f)
-                try:
-                    rows = f.result()
-                except Exception as e:  # the worker, not the task, failed
-                    broken |= isinstance(e, BrokenProcessPool)
-                    why = " ".join(f"worker lost: {type(e).__name__}: {e}".split())[:400]
-                    if retried:
-                        rows = _failed_rows(b, why)
-                    else:
+        with Interrupts() as stop:  # signals act between waits (workers.Interrupts)
+            pending = {executor.submit(run_batch, b): (b, False) for b in batches(todo, size)}
+            while pending:
+                finished, _ = wait(pending, timeout=PROGRESS_S, return_when=FIRST_COMPLETED)
+                resubmit: list[Task] = []
+                broken = False
+                for f in finished:
+                    b, retried = pending.pop(f)
+                    try:
+                        rows = f.result()
+                    except Exception as e:  # the worker, not the task, failed
+                        broken |= isinstance(e, BrokenProcessPool)
+                        why = " ".join(f"worker lost: {type(e).__name__}: {e}".split())[:400]
+                        if retried:
+                            rows = _failed_rows(b, why)
+                        else:
+                            resubmit += b
+                            continue
+                    store.append(rows)
+                    prog.add(rows)
+                if broken and own:
+                    # every future of a broken pool fails: take them all back, start a new pool
+                    for f, (b, retried) in list(pending.items()):
+                        if retried:
+                            continue
+                        pending.pop(f)
                         resubmit += b
-                        continue
-                store.append(rows)
-                prog.add(rows)
-            if broken and own:
-                # every future of a broken pool fails: take them all back, start a new pool
-                for f, (b, retried) in list(pending.items()):
-                    if retried:
-                        continue
-                    pending.pop(f)
-                    resubmit += b
-                executor.shutdown(wait=False, cancel_futures=True)
-                executor = process_pool(workers)
-            elif broken:
-                raise RuntimeError("the given process pool broke; rerun the study to resume")
-            for t in resubmit:
-                pending[executor.submit(run_batch, [t])] = ([t], True)
-            prog.tick()
+                    executor.shutdown(wait=False, cancel_futures=True)
+                    executor = process_pool(workers)
+                elif broken:
+                    raise RuntimeError("the given process pool broke; rerun the study to resume")
+                for t in resubmit:
+                    pending[executor.submit(run_batch, [t])] = ([t], True)
+                prog.tick()
+                stop.check()  # a Ctrl-C or SIGTERM since the last wait: rows kept
     except BaseException:  # an interrupt or an error: the pool's running tasks are abandoned
         if own:
             stop_pool(executor, kill=True)

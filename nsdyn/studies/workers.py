@@ -13,6 +13,11 @@ until someone finds them. Every pool of the studies and the command line is made
 A parent that dies between the fork and the ``prctl`` call is caught by the same pid check, made
 once right after it.
 
+A Ctrl-C or SIGTERM while a pool runs is held until the waiting loop can act on it
+(:class:`Interrupts`): raised anywhere, it could leave the lock of a future held by the
+waiting thread (``concurrent.futures.wait`` takes every pending future's lock), and the
+pool's manager thread, which needs that lock, would then keep the process from ending.
+
 Also here: :func:`warm_isolated`, the isolated frame's kernels compiled (or loaded) in the
 parent before a pool's workers start, so that the workers load them from numba's cache instead
 of each compiling them at the same time.
@@ -104,6 +109,41 @@ def stop_pool(executor, *, kill: bool) -> None:
             except (OSError, AttributeError):
                 pass  # already gone
     executor.shutdown(wait=False, cancel_futures=True)
+
+
+class Interrupts:
+    """SIGINT and SIGTERM held while the block runs: a signal only sets :attr:`requested`,
+    and :meth:`check` (called by the waiting loop between its waits) raises
+    ``KeyboardInterrupt`` then; leaving the block restores the handlers and raises it if a
+    signal came after the last check. Outside the main thread nothing is held (Python
+    delivers signals to the main thread only)."""
+
+    def __init__(self) -> None:
+        self.requested = False
+        self._old: dict = {}
+
+    def _hold(self, signum, frame) -> None:
+        self.requested = True
+
+    def check(self) -> None:
+        """Raise ``KeyboardInterrupt`` once for the signals held since the last check."""
+        if self.requested:
+            self.requested = False
+            raise KeyboardInterrupt
+
+    def __enter__(self) -> Interrupts:
+        if threading.current_thread() is threading.main_thread():
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self._old[sig] = signal.signal(sig, self._hold)
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> bool:
+        for sig, old in self._old.items():
+            signal.signal(sig, old)
+        self._old.clear()
+        if exc_type is None:
+            self.check()
+        return False
 
 
 def warm_isolated(method: str, law: str) -> bool:
