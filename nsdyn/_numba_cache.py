@@ -249,6 +249,14 @@ def helper_main(argv: list[str]) -> int:
     return 0
 
 
+def _cache_index(disp) -> tuple:
+    """numba's on-disk cache file of the dispatcher ``disp`` and its index for the current
+    source ({key: data file}; keys start with the signature): private numba API, read here
+    only (raises whatever numba's internals raise)."""
+    cf = disp._cache._cache_file
+    return cf, cf._load_index()
+
+
 def dispatcher_cached(disp) -> bool:
     """True when the numba dispatcher ``disp`` is compiled in this process or numba's on-disk
     cache holds it for its current source (False: its first call compiles, or the cache
@@ -258,8 +266,7 @@ def dispatcher_cached(disp) -> bool:
     if disp.signatures:
         return True
     try:
-        cf = disp._cache._cache_file
-        index = cf._load_index()  # {} when absent or stale
+        cf, index = _cache_index(disp)  # {} when absent or stale
         # numba writes the index before the data file (each atomically): an entry whose
         # file is not there yet is not loadable yet (a helper is still saving it)
         return bool(index) and all(os.path.exists(cf._data_path(f)) for f in index.values())
@@ -318,7 +325,7 @@ def _on_disk_signatures(disp) -> list[tuple]:
     """The signatures numba's on-disk cache holds for ``disp``'s current source (any process
     may have compiled them: a compile helper, a test worker); [] when it cannot be read."""
     try:
-        return [key[0] for key in disp._cache._cache_file._load_index()]
+        return [key[0] for key in _cache_index(disp)[1]]
     except Exception:  # noqa: BLE001  (a private numba API: any failure means "none known")
         return []
 
