@@ -197,12 +197,12 @@ def prepare_kernels(method: str, flat: bool = True) -> float:
     how long it took. ``flat``: the run's law is a smooth one (arctan or none), served by the
     flat kernel alone (see :func:`nsdyn.solve.methods.kernel_for`). Returns the seconds
     spent."""
-    from nsdyn.solve.methods import METHODS, is_cached, kernel_for, warmup_kernel
+    from nsdyn.solve.methods import METHODS, is_cached, kernel_for, metrics_for, warmup_kernel
 
     if method not in METHODS:  # the run reports the unknown method with the valid names
         return 0.0
     kernel = kernel_for(method, flat=flat)
-    metrics = "metrics" if flat else "metrics-general"
+    metrics = metrics_for(kernel)
     cold = not (is_cached(kernel) and is_cached(metrics))
     if cold:
         print(

@@ -134,10 +134,12 @@ def unilateral_steady_state(
 def _quantities(problem, sol, T: float) -> dict:
     """Metrics of the last integrated period (module text)."""
     from nsdyn.models.isolated.metrics import response
+    from nsdyn.solve.transient import general_evaluations
 
     system = problem.system
     P, _ = problem.at(1.0 / T)
-    r = response(system, sol.t, sol.x, P, sol.open_contacts)
+    ev = general_evaluations(P, sol.t, sol.x, sol.open_contacts)
+    r = response(system, sol.t, sol.x, P, sol.open_contacts, evaluated=ev)
     xi = r.x_iso
     opened = sol.open_contacts if sol.open_contacts is not None else np.zeros((sol.t.size, 1))
     closed = opened == 0

@@ -196,6 +196,24 @@ ka.tslot("sys.evaluate", ks.evaluate, "nsdyn.solve.compile_split:event_callees")
 ka.tslot("sys.jac", jac_table, "nsdyn.solve.compile_split:event_callees")
 
 
+@njit(cache=True, error_model="numpy")
+def evaluate_many_t(t, X, P, QDD, LAM, TAU, MODES):
+    """:func:`nsdyn.models.isolated._kernel.evaluate_many` with the system kernel called by its
+    address (``"sys.evaluate"``): the response metrics of a run whose loop compiled the system
+    kernel compile only this loop, not a second copy of it. Returns the number of states
+    where the solve failed."""
+    qdd, lam, tau, modes = ks.outputs(P)
+    bad = 0
+    for k in range(t.shape[0]):
+        if not ka.tcall("sys.evaluate", (t[k], X[k], P, qdd, lam, tau, modes)):
+            bad += 1
+        copy_vec(QDD[k], qdd)
+        copy_vec(LAM[k], lam)
+        copy_vec(TAU[k], tau)
+        copy_vec(MODES[k], modes)
+    return bad
+
+
 @njit(cache=True, error_model="numpy", inline="always")
 def feval_t(t, x, P, out, qdd, lam, tau, modes):
     """:func:`feval` with the system kernel called by its address in the table of

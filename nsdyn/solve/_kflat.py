@@ -60,29 +60,26 @@ def _offsets(n, nc, ni):
             o_s, end, o_band)  # fmt: skip
 
 
-@njit(cache=True, error_model="numpy")
 def pack_flat(P):
     """The flat array F of ``P`` (header, matrices, products, scratch). ``F[H_OK]`` is 1.0 when
-    :func:`feval_flat` applies to the law of ``P`` (arctan or none), else 0.0."""
+    :func:`feval_flat` applies to the law of ``P`` (arctan or none), else 0.0.
+
+    numpy, called from Python once per run (a kernel compiled for it took ~1.5 s of every
+    first run). The products ``R M^-1 R^T``, ``R M^-1 D^T`` are summed over the columns in
+    order, one product and one sum at a time, as the loop ``acc += R[k, c] * MiRt[c, j]`` of
+    a kernel does (the same floats; a BLAS product may sum in another order)."""
     MiK, MiC, Gam = P[ks.I_MIK], P[ks.I_MIC], P[ks.I_GAM]
     R, MiRt, D, MiDt = P[ks.I_R], P[ks.I_MIRT], P[ks.I_D], P[ks.I_MIDT]
     fp, ip = P[ks.I_FPAR], P[ks.I_IPAR]
-    n = MiK.shape[0]
-    nc = R.shape[0]
-    ni = D.shape[0]
-    o = _offsets(n, nc, ni)
+    n, nc, ni = MiK.shape[0], R.shape[0], D.shape[0]
+    o = getattr(_offsets, "py_func", _offsets)(n, nc, ni)
     npts = P[ks.I_AH].shape[0]
     F = np.zeros(o[14] + 2 * npts)
     F[H_HARMONIC] = 1.0 if ip[ks.K_GROUND] == ks.GROUND_HARMONIC else 0.0
     F[H_NPTS] = npts
-    # element loops, not slice assignments: each slice form compiles its own numba
-    # implementation (this function compiled in 4.1-6.1 s with them, 1.45 s without)
-    gp, ah, av = P[ks.I_GPAR], P[ks.I_AH], P[ks.I_AV]
-    for k in range(ks.N_GPAR):
-        F[H_GPAR + k] = gp[k]
-    for k in range(npts):
-        F[o[14] + k] = ah[k]
-        F[o[14] + npts + k] = av[k]
+    F[H_GPAR : H_GPAR + ks.N_GPAR] = P[ks.I_GPAR][: ks.N_GPAR]
+    F[o[14] : o[14] + npts] = P[ks.I_AH]
+    F[o[14] + npts : o[14] + 2 * npts] = P[ks.I_AV]
     law = ip[ks.K_LAW]
     frozen = ip[ks.K_FROZEN] == 1
     F[H_N], F[H_NC], F[H_NI] = n, nc, ni
@@ -90,45 +87,33 @@ def pack_flat(P):
     F[H_OK] = 1.0 if ok and (frozen or law == ks.LAW_NONE or ni <= nc) else 0.0
     F[H_FROZEN] = 1.0 if frozen else 0.0
     F[H_ARCTAN] = 1.0 if law == ks.LAW_ARCTAN else 0.0
-    F[H_EPS], F[H_ALPHA], F[H_BETA], F[H_G] = (
-        fp[ks.F_EPS],
-        fp[ks.F_ALPHA],
-        fp[ks.F_BETA],
-        fp[ks.F_G],
-    )
-    for r in range(n):
-        for c in range(n):
-            F[o[0] + c * n + r] = MiK[r, c]  # transposed: columns contiguous (feval_flat)
-            F[o[1] + c * n + r] = MiC[r, c]
-        F[o[2] + r] = Gam[r, 0]
-        F[o[2] + n + r] = Gam[r, 1]
-    for k in range(nc):
-        for c in range(n):
-            F[o[3] + k * n + c] = MiRt[c, k]
-            F[o[4] + k * n + c] = R[k, c]
-        for j in range(nc):
-            acc = 0.0
-            for c in range(n):
-                acc += R[k, c] * MiRt[c, j]
-            F[o[9] + k * nc + j] = acc
-        for i in range(ni):
-            acc = 0.0
-            for c in range(n):
-                acc += R[k, c] * MiDt[c, i]
-            F[o[10] + k * ni + i] = acc
-    for i in range(ni):
-        for c in range(n):
-            F[o[5] + i * n + c] = MiDt[c, i]
-            F[o[6] + i * n + c] = D[i, c]
-        F[o[7] + i] = P[ks.I_MU][i]
-        F[o[8] + i] = P[ks.I_LAM0][i]
+    F[H_EPS], F[H_ALPHA] = fp[ks.F_EPS], fp[ks.F_ALPHA]
+    F[H_BETA], F[H_G] = fp[ks.F_BETA], fp[ks.F_G]
+
+    def put(k, block):
+        F[o[k] : o[k] + block.size] = block.ravel()
+
+    put(0, MiK.T)  # transposed: columns contiguous (feval_flat)
+    put(1, MiC.T)
+    put(2, Gam[:, :2].T)
+    put(3, MiRt.T)
+    put(4, R)
+    put(5, MiDt.T)
+    put(6, D)
+    put(7, P[ks.I_MU][:ni])
+    put(8, P[ks.I_LAM0][:ni])
+    RMiR, RMiD = np.zeros((nc, nc)), np.zeros((nc, ni))
+    for c in range(n):
+        RMiR += np.multiply.outer(R[:, c], MiRt[c, :])
+        RMiD += np.multiply.outer(R[:, c], MiDt[c, :])
+    put(9, RMiR)
+    put(10, RMiD)
     # the bands of R's and D's rows: a contact or isolator row of a frame touches a few dofs
     # (one, in Craig-Bampton coordinates), and the products with it skip the zeros outside
     # (the same sums: only exact zeros are left out)
-    for k in range(nc):
-        F[o[15] + 2 * k], F[o[15] + 2 * k + 1] = _band(R, k)
-    for i in range(ni):
-        F[o[15] + 2 * (nc + i)], F[o[15] + 2 * (nc + i) + 1] = _band(D, i)
+    for k, row in enumerate([*R, *D]):
+        nz = np.flatnonzero(row != 0.0)
+        F[o[15] + 2 * k : o[15] + 2 * k + 2] = (nz[0], nz[-1] + 1) if nz.size else (0, 0)
     return F
 
 
@@ -136,20 +121,6 @@ def pack_flat(P):
 def _row_band(F, o_band, k):
     """The band [lo, hi) of row k of R (k < nc) or of D (row k - nc), from F's band block."""
     return int(F[o_band + 2 * k]), int(F[o_band + 2 * k + 1])
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _band(A, k):
-    """[lo, hi) holding every nonzero of row k of A (as floats; (0, 0) for a zero row)."""
-    lo = A.shape[1]
-    hi = 0
-    for c in range(A.shape[1]):
-        if A[k, c] != 0.0:
-            lo = min(lo, c)
-            hi = c + 1
-    if hi == 0:
-        lo = 0
-    return float(lo), float(hi)
 
 
 @njit(cache=True, error_model="numpy", inline="always")

@@ -322,19 +322,20 @@ owned_inline = njit(cache=True, error_model="numpy", inline="always")(_owned)
 
 
 @njit(cache=True, error_model="numpy")
-def setup(P, x0, t_eval, nc):
+def setup(P, x0, t_eval, nc, F):
     """The arrays of a run from x0 with nc contacts: (stats, rinfo, ws, y, f, lam_old), with
     y = x0 (a copy) and the time reached ``rinfo[R_T] = t_eval[0]``; ``ws`` is
-    :func:`workspace` plus the flat parameter array of :func:`nsdyn.solve._kflat.pack_flat`."""
-    ws = workspace(x0.shape[0], nc, P[ks.I_D].shape[0]) + (kf.pack_flat(P),)
+    :func:`workspace` plus ``F``, the flat parameter array of ``P``
+    (:func:`nsdyn.solve._kflat.pack_flat`, numpy)."""
+    ws = workspace(x0.shape[0], nc, P[ks.I_D].shape[0]) + (F,)
     return owned_inline(ws, x0, t_eval, nc)
 
 
 def setup_here(P, x0, t_eval, nc):
     """:func:`setup` in the calling Python process: the arrays by numpy (the Python function
-    of :func:`workspace`), only :func:`nsdyn.solve._kflat.pack_flat` compiled. The default
-    loop (:func:`radau_flat`) takes them so that no compiled set-up is needed before its first
-    run (~2 s of its first compilation; ~20 us per call here)."""
+    of :func:`workspace`), nothing compiled. The default loop (:func:`radau_flat`) takes them
+    so that no compiled set-up is needed before its first run (~2 s of its first
+    compilation; ~20 us per call here)."""
     work = getattr(workspace, "py_func", workspace)
     return _owned(work(x0.shape[0], nc, P[ks.I_D].shape[0]) + (kf.pack_flat(P),), x0, t_eval, nc)
 
@@ -500,15 +501,25 @@ def _loop(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode
     return stats_own, rinfo_own
 
 
-@njit(cache=True, error_model="numpy")
 def radau(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, flat):
     """Integrate from ``t_eval[0]`` to ``t_eval[-1]`` with Radau IIA; state at t_eval into X.
 
     Same arguments and returns as :func:`nsdyn.solve._kdopri.dopri5`. With ``fixed`` the steps are
     exactly ``h0`` and rtol/atol only set the Newton tolerance. ``flat``: evaluate smooth laws
     through :mod:`nsdyn.solve._kflat` (False: the general kernel everywhere, the baseline).
+    The loop is :func:`radau_general` (the flat parameters made here, by numpy).
     """
-    owned = setup(P, x0, t_eval, upl_t.shape[0])
+    args = (P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t)
+    return radau_general(*args, flat, kf.pack_flat(P))
+
+
+@njit(cache=True, error_model="numpy")
+def radau_general(
+    P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, flat, F
+):  # fmt: skip
+    """:func:`radau` with the flat parameter array ``F`` of ``P`` given: the general kernel's
+    loop, its callees linked."""
+    owned = setup(P, x0, t_eval, upl_t.shape[0], F)
     return _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X,
                 upl_t, flat, kc.general_called, None, owned)  # fmt: skip
 

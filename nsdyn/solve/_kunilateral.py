@@ -363,11 +363,11 @@ def callees(friction: bool, contacts: bool) -> tuple:
 
 def kernels(friction: bool, contacts: bool, flat: bool) -> tuple:
     """Every compiled kernel a run of the loop needs (the loop, its callees in the table, the
-    step's callees in ``K``, the set-up's ``pack_flat``): what a first run compiles."""
+    step's callees in ``K``): what a first run compiles."""
     newton = kcol.newton_table if flat else kcol.newton_general
     K = (kr._factor, newton) + (kf.feval_flat, kf.jac_flat_here) * bool(flat)
     table = tuple(ka.TSLOTS[name] for name in callees(friction, contacts))
-    return (_run, *table, *K, kf.pack_flat)
+    return (_run, *table, *K)
 
 
 def tables(friction: bool, contacts: bool, owned):

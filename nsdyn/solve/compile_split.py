@@ -12,8 +12,8 @@ right-hand side by address too (:func:`flat_calls`).
 
 numba compiles on one thread per process, under a global lock, so a first run's compilation
 uses one core. :func:`nsdyn.solve.methods.warmup_kernel` starts a helper process
-(:class:`nsdyn._numba_cache.Helper`) on :func:`radau_helper_part` (``pack_flat``, the flat
-right-hand side, Newton, the Jacobian; :func:`radau_helper_part_and_metrics` then also the
+(:class:`nsdyn._numba_cache.Helper`) on :func:`radau_helper_part` (the flat right-hand
+side, Newton, the Jacobian; :func:`radau_helper_part_and_metrics` then also the
 metrics, which a run needs only after its loop) while the calling process compiles
 :func:`radau_parts_here` (the loop itself, the factorisation, the start-up), then loads the
 helper's kernels from numba's on-disk cache. Neither waits for the other.
@@ -30,6 +30,12 @@ the friction detector and the settling, with the general metrics after the syste
 (:func:`event_helper_part_and_metrics`); this process the factorisation, Newton (without the
 flat right-hand side for a law it does not serve), the step, the start-up, the event handler,
 the acceptance and the loop (:func:`event_parts_here`).
+
+Generalized-alpha calls the system kernel and its Jacobian through the table too: the helper
+compiles the two (:func:`system_helper_part`) while this process compiles the loop and the
+metrics (:func:`genalpha_parts_here`). The general metrics of every loop but the flat Radau
+one call the system kernel by address (:func:`nsdyn.solve._kcommon.evaluate_many_t`), and a
+process that may not have it yet compiles them without running them (:func:`metrics_here`).
 
 genalpha-lowrank (:mod:`nsdyn.solve.sparse`) calls the system kernel only once, from Python,
 for the start's accelerations: the helper compiles it while this process compiles the dense
@@ -79,7 +85,7 @@ def _tiny_args(method: str, law: str | None = None):
     if law is not None:
         P = methods.with_law(P, law, np.zeros(P[ks.I_D].shape[0], dtype=np.int64))
     ws = _py(_kradau.workspace)(x0.size, upl_t.size, P[ks.I_D].shape[0])
-    return P, x0, t_eval, o, X, upl_t, ws + (_py(_kflat.pack_flat)(P),)
+    return P, x0, t_eval, o, X, upl_t, ws + (_kflat.pack_flat(P),)
 
 
 @functools.cache
@@ -176,18 +182,16 @@ def radau_flat(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift
 
 def radau_helper_part() -> None:
     """The helper process's share of the flat Radau loop's first compilation (see
-    :func:`nsdyn.solve.methods.warmup_kernel`): ``pack_flat`` (the run's set-up calls it from
-    Python), the flat right-hand side, Newton (which links it) and the Jacobian, each for
-    the types the loop calls it with."""
-    _compile(_kflat.pack_flat, _tiny_args("radau")[0])  # the loop's set-up (setup_here) needs it
+    :func:`nsdyn.solve.methods.warmup_kernel`): the flat right-hand side, Newton (which links
+    it) and the Jacobian, each for the types the loop calls it with."""
     K = radau_callees()
     for k in (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC):
         K[k].compiled()
 
 
 def radau_helper_part_and_metrics() -> None:
-    """:func:`radau_helper_part`, then the flat metrics kernels (``pack_flat``,
-    ``evaluate_flat_many``, ``ground_many``), which a run needs only after its loop."""
+    """:func:`radau_helper_part`, then the flat metrics kernels (``evaluate_flat_many``,
+    ``ground_many``), which a run needs only after its loop."""
     radau_helper_part()
     methods.warmup_metrics(True)
 
@@ -210,10 +214,9 @@ def radau_parts_here(helper: Helper, metrics: str | None) -> None:
     K = radau_callees()
     for k in (_kcolloc.K_FACTOR, _kcolloc.K_START):
         K[k].compiled()
-    if metrics is not None:
-        methods.warmup_metrics(metrics == "metrics")
+    metrics_here(metrics)
     kernels = [K[k].kernel for k in (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC)]
-    helper.wait_for([_kflat.pack_flat, *kernels])
+    helper.wait_for(kernels)
 
 
 def radau_callees_part() -> None:
@@ -229,7 +232,7 @@ def radau_callees_part() -> None:
 def radau_loop_here(helper: Helper) -> None:
     """The loop alone, then wait for a helper's :func:`radau_callees_part`."""
     _compile_radau_loop()
-    helper.wait_for([_kflat.pack_flat, *(c.kernel for c in radau_callees())])
+    helper.wait_for([c.kernel for c in radau_callees()])
 
 
 # ---- the event-driven loop (switch model; unilateral contacts) ------------------------------
@@ -320,6 +323,40 @@ def event_callees() -> list:
 
 
 SYSTEM = ("sys.evaluate", "sys.jac")  # the system kernel and its Jacobian in the table
+
+
+@functools.cache
+def evaluate_table() -> None:
+    """The system kernel alone in the address table (:func:`fill_table`), for the general
+    metrics (:func:`nsdyn.solve._kcommon.evaluate_many_t`). Once per process."""
+    by_name = {c.name: c for c in event_callees()}
+    fill_table([by_name[SYSTEM[0]]])
+
+
+def evaluate_inputs(P, X):
+    """``P`` and the history ``X`` of :func:`nsdyn.solve._kcommon.evaluate_many_t`, with the
+    system kernel in the table (:func:`evaluate_table`) and the arrays in its declared form
+    (C-contiguous float64, writable: a copy of one that is not)."""
+    evaluate_table()
+    if not all(a.flags.c_contiguous and a.flags.writeable for a in P):
+        P = tuple(_declared_form(a) for a in P)
+    X = np.ascontiguousarray(X, dtype=float)
+    return P, (X if X.flags.writeable else X.copy())
+
+
+def metrics_here(metrics: str | None) -> None:
+    """Compile the ``metrics`` kernels of a run (:func:`nsdyn.solve.methods.metrics_for`)
+    without running them: the general ones call the system kernel by address, which the
+    helper may still be compiling (a run here would compile it a second time). None: none."""
+    if metrics == "metrics":  # the flat ones call no system kernel
+        methods.warmup_metrics(True)
+    elif metrics is not None:
+        from nsdyn.solve.transient import evaluation_arrays
+
+        P, x0 = methods._tiny_problem()
+        t = np.zeros(1)
+        _compile(ki.evaluate_many_t, t, x0[None, :].copy(), P, *evaluation_arrays(P, 1))
+        _compile(ks.ground_many, t, P)
 
 
 @functools.cache
@@ -435,12 +472,10 @@ def event_helper_part_and_metrics() -> None:
 
 
 def event_parts_here(helper: Helper, metrics: str | None) -> None:
-    """This process's share before the loop runs: ``pack_flat`` (the run's set-up), the
-    callees named in :data:`EVENT_HERE`, the loop itself (which needs none of its callees
-    compiled) and the ``metrics`` (None when the helper takes them); then wait for the
-    helper's callees."""
+    """This process's share before the loop runs: the callees named in :data:`EVENT_HERE`,
+    the loop itself (which needs none of its callees compiled) and the ``metrics`` (None when
+    the helper takes them); then wait for the helper's callees."""
     a = _event_args()
-    _compile(_kflat.pack_flat, a["P"])
     _event_part(EVENT_HERE)
     owned = _kradau._owned(a["ws"], a["x0"], a["t_eval"], a["upl_t"].shape[0])
     o = a["o"]
@@ -450,8 +485,7 @@ def event_parts_here(helper: Helper, metrics: str | None) -> None:
         (True, False, 0), 0.0, a["X"], a["upl_t"], np.zeros((0, 1), dtype=np.int64),
         a["logs"], owned, np.zeros((2, len(radau_callees())), dtype=np.int64),
     )  # fmt: skip
-    if metrics is not None:
-        methods.warmup_metrics(metrics == "metrics")
+    metrics_here(metrics)
     by_name = _event_pieces()
     helper.wait_for([by_name[n].kernel for n in EVENT_HELPER])
 
@@ -460,31 +494,21 @@ def event_parts_here(helper: Helper, metrics: str | None) -> None:
 
 
 def evaluate_helper_part() -> None:
-    """A helper's share of generalized-alpha's and genalpha-lowrank's first compilation: the
-    system kernel (its Jacobian, which calls it by address, compiles in the calling process
-    beside it)."""
+    """A helper's share of genalpha-lowrank's first compilation: the system kernel."""
     _event_part(SYSTEM[:1])
 
 
-def evaluate_helper_part_and_metrics() -> None:
-    """:func:`evaluate_helper_part`, then the flat metrics' kernels."""
-    evaluate_helper_part()
-    methods.warmup_metrics(True)
-
-
-def evaluate_helper_part_and_metrics_general() -> None:
-    """:func:`evaluate_helper_part`, then the general metrics' kernels (which link the system
-    kernel compiled first)."""
-    evaluate_helper_part()
-    methods.warmup_metrics(False)
+def system_helper_part() -> None:
+    """A helper's share of generalized-alpha's first compilation: the system kernel and its
+    Jacobian (which calls it by address)."""
+    _event_part(SYSTEM)
 
 
 def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
     """This process's share of generalized-alpha's first compilation: the loop itself (which
-    needs neither the system kernel nor its Jacobian compiled), its Jacobian (which calls the
-    system kernel by address: it needs no copy of it) and the ``metrics`` (None when the helper
-    takes them); then wait for the helper's system kernel. The loop (~5 s) and the Jacobian
-    here against the system kernel (~6 s) and the metrics (~3 s) in the helper."""
+    needs neither the system kernel nor its Jacobian compiled) and the ``metrics`` (compiled,
+    not run: :func:`metrics_here`); then wait for the helper's system kernel and Jacobian.
+    The loop (~10 s of CPU) here against the system kernel (~8 s) and the Jacobian (~8 s)."""
     event_callees()  # the declarations its calls by address are typed against
     m = methods.METHODS["genalpha"]
     P, x0, t_eval, o, X, upl_t = methods.tiny_run(m)
@@ -493,10 +517,8 @@ def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
         _kgenalpha.genalpha_loop, P, x0, t_eval, o.atol, o.rtol, o.dt, coef, o.max_steps,
         o.uplift_mode, X, upl_t,
     )  # fmt: skip
-    _event_part(SYSTEM[1:])
-    if metrics is not None:
-        methods.warmup_metrics(metrics == "metrics")
-    helper.wait_for([ks.evaluate])
+    metrics_here(metrics)
+    helper.wait_for([ks.evaluate, ki.jac_table])
 
 
 # ---- genalpha-lowrank: its dense loop here, the system kernel in the helper ---------------------
@@ -512,6 +534,5 @@ def lowrank_parts_here(helper: Helper, metrics: str | None) -> None:
     P, x0, t_eval, o, X, upl_t = methods.tiny_run(methods.METHODS[sparse.METHOD])
     _compile(_klowrank.run_steps, *sparse.loop_args(P, x0, t_eval, o.dt, X, upl_t,
                                                      o.uplift_mode))  # fmt: skip
-    if metrics is not None:
-        methods.warmup_metrics(metrics == "metrics")
+    metrics_here(metrics)
     helper.wait_for([ks.evaluate])

@@ -32,6 +32,7 @@ __all__ = [
     "flat_applies",
     "is_cached",
     "kernel_for",
+    "metrics_for",
     "make_options",
     "warmup",
     "warmup_kernel",
@@ -138,21 +139,8 @@ def _one_step_runner(kernel, *extra):
     def run(P, x0, t_eval, o: Options, X, upl_t):
         fixed = not o.adaptive
         h0 = o.dt if fixed else o.h0
-        stats, rinfo = kernel(
-            P,
-            x0,
-            t_eval,
-            o.atol,
-            o.rtol,
-            h0,
-            o.max_step,
-            o.max_steps,
-            fixed,
-            o.uplift_mode,
-            X,
-            upl_t,
-            *extra,
-        )
+        args = (P, x0, t_eval, o.atol, o.rtol, h0, o.max_step, o.max_steps, fixed, o.uplift_mode)
+        stats, rinfo = kernel(*args, X, upl_t, *extra)
         return stats, rinfo, [], None
 
     return run
@@ -322,6 +310,14 @@ def kernel_for(method: str, P=None, *, flat: bool | None = None) -> str:
     return m.kernel
 
 
+def metrics_for(kernel: str) -> str:
+    """The metrics kernels a run with ``kernel`` evaluates its history with: the flat ones
+    ("metrics") after the flat Radau loop, which compiled the flat right-hand side; else the
+    general ones ("metrics-general"), which call the system kernel by address (the other
+    loops compile it, or call it)."""
+    return "metrics" if kernel == "radau" else "metrics-general"
+
+
 def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
     """Compile (or load) one kernel by name and, with ``metrics`` ("metrics" or
     "metrics-general", see :func:`warmup_metrics`), the response metrics' kernels too.
@@ -396,7 +392,6 @@ def _warm(kname: str, m: Method, helper: Helper | None = None, metrics: str | No
     return _COMPILED[kname]
 
 
-_METRICS = ("metrics", "metrics-general")  # the kinds of metrics kernels (see warmup_metrics)
 # the kernels whose first compilation a helper process shares (nsdyn.solve.compile_split): the
 # helper's part, this process's, and {metrics kind: the helper's part that also compiles them}
 _SPLIT = {
@@ -404,19 +399,18 @@ _SPLIT = {
               {"metrics": "radau_helper_part_and_metrics"}),
     "event": ("event_helper_part", "event_parts_here",
               {"metrics-general": "event_helper_part_and_metrics"}),
-    "genalpha": ("evaluate_helper_part", "genalpha_parts_here",
-                 {m: f"evaluate_helper_part_and_{m.replace('-', '_')}" for m in _METRICS}),
+    "genalpha": ("system_helper_part", "genalpha_parts_here", {}),
 }  # fmt: skip
 
 # the top-level numba dispatcher of each kernel (its on-disk cache entry stands for the kernel)
 _ENTRY = {  # the default loop's callees are compiled apart from it (nsdyn._kaddress)
-    "radau": (_kradau.radau_flat, *_kradau.FLAT_CALLEES, _kflat.pack_flat),
-    "radau-general": _kradau.radau,
+    "radau": (_kradau.radau_flat, *_kradau.FLAT_CALLEES),
+    "radau-general": _kradau.radau_general,
     "dopri5": _kdopri.dopri5,
     "genalpha": (_kgenalpha.genalpha_loop, ks.evaluate, ki.jac_table),  # those two by address
     "event": _kunilateral.kernels(True, False, False),  # its callees by address too
-    "metrics": (_kflat.evaluate_flat_many, _kflat.feval_flat, _kflat.pack_flat),
-    "metrics-general": ks.evaluate_many,
+    "metrics": (_kflat.evaluate_flat_many, _kflat.feval_flat),
+    "metrics-general": (ki.evaluate_many_t, ks.evaluate),
 }
 
 
@@ -435,9 +429,10 @@ def is_cached(kernel: str) -> bool:
 
 def warmup_metrics(flat: bool = True) -> float:
     """Compile (or load) the kernels of the response metrics on the tiny system: the flat
-    kernel's (``pack_flat``, ``evaluate_flat_many``) for a smooth law with closed contacts
-    (``flat``), else the general ``evaluate_many``; and ``ground_many``. Seconds spent now
-    (0.0 when already done)."""
+    kernel's (``evaluate_flat_many``, ``feval_flat``) for a smooth law with closed contacts
+    (``flat``), else the general ``evaluate_many_t`` and the system kernel it calls by
+    address (:func:`metrics_for`); and ``ground_many``. Seconds spent now (0.0 when already
+    done)."""
     key = "metrics" if flat else "metrics-general"
     if key in _COMPILED:
         return 0.0

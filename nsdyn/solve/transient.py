@@ -203,8 +203,16 @@ def _prepare_kernels(method: str, P: tuple, contact: str | None) -> float:
     kernel = methods.kernel_for(method, P)
     if methods.compiled(kernel):
         return 0.0
-    metrics = "metrics" if methods.flat_applies(P) else "metrics-general"
-    return methods.warmup_kernel(kernel, metrics=metrics)
+    return methods.warmup_kernel(kernel, metrics=methods.metrics_for(kernel))
+
+
+def evaluation_arrays(P: tuple, nt: int) -> tuple:
+    """Empty accelerations (nt, n), normal forces (nt, nc), friction forces (nt, ni) and
+    modes (nt, ni; int64) for the evaluations of ``nt`` states of ``P``."""
+    from nsdyn.models.isolated import _kernel as ks
+
+    n, nc, ni = P[ks.I_MIK].shape[0], P[ks.I_R].shape[0], P[ks.I_D].shape[0]
+    return np.empty((nt, n)), np.empty((nt, nc)), np.empty((nt, ni)), np.empty((nt, ni), np.int64)
 
 
 def flat_evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple | None:
@@ -225,40 +233,56 @@ def flat_evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple | None:
     if not X.flags.writeable:  # the flat kernel is declared for writable rows (by address)
         X = X.copy()
     n = P[ks.I_MIK].shape[0]
-    nt, nc, ni = t.size, P[ks.I_R].shape[0], P[ks.I_D].shape[0]
     A0 = -(X[:, :n] @ P[ks.I_MIK].T)
     A0 -= X[:, n:] @ P[ks.I_MIC].T
-    out = (np.empty((nt, n)), np.empty((nt, nc)), np.empty((nt, ni)), np.empty((nt, ni), np.int64))
-    ok = np.ones(nt, dtype=np.bool_)
+    out = evaluation_arrays(P, t.size)
+    ok = np.ones(t.size, dtype=np.bool_)
     kf.evaluate_flat_many(t, X, F, np.ascontiguousarray(A0), *out, ok, flat_calls())
     bad = np.flatnonzero(~ok)
     if bad.size:
-        part = [np.empty((bad.size, a.shape[1]), a.dtype) for a in out]
-        ks.evaluate_many(t[bad], np.ascontiguousarray(X[bad]), P, *part)
+        part = general_evaluations(P, t[bad], X[bad])
         for a, b in zip(out, part, strict=True):
             a[bad] = b
     return out
 
 
-def general_evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple:
-    """Accelerations, normal forces, friction forces and modes along ``X`` by the general
-    kernel (``evaluate_many``, any law; every contact closed)."""
-    from nsdyn.models.isolated import _kernel as ks
+def general_evaluations(P: tuple, t: np.ndarray, X: np.ndarray, open_contacts=None) -> tuple:
+    """Accelerations, normal forces, friction forces and modes along ``X`` by the system
+    kernel (any law), called by its address (:func:`nsdyn.solve._kcommon.evaluate_many_t`:
+    a run whose loop compiled the system kernel compiles no second copy of it for its
+    metrics). Every contact closed, or with ``open_contacts`` (nt, nc; 1 open, a unilateral
+    run) one evaluation per contact pattern, with its own open set."""
+    from nsdyn.models.isolated.params import with_open
+    from nsdyn.solve import _kcommon as ki
+    from nsdyn.solve.compile_split import evaluate_inputs
 
-    nt, n = len(t), P[ks.I_MIK].shape[0]
-    nc, ni = P[ks.I_R].shape[0], P[ks.I_D].shape[0]
-    out = (np.empty((nt, n)), np.empty((nt, nc)), np.empty((nt, ni)))
-    out += (np.empty((nt, ni), np.int64),)
-    ks.evaluate_many(
-        np.ascontiguousarray(t, dtype=float), np.ascontiguousarray(X, dtype=float), P, *out
-    )
+    P, X = evaluate_inputs(P, X)
+    t = np.ascontiguousarray(t, dtype=float)
+    out = evaluation_arrays(P, t.size)
+    if open_contacts is None or not np.any(open_contacts):
+        ki.evaluate_many_t(t, X, P, *out)
+        return out
+    pats, which = np.unique(np.asarray(open_contacts, np.int64), axis=0, return_inverse=True)
+    which = np.asarray(which).reshape(-1)
+    for j, pat in enumerate(pats):
+        sel = np.flatnonzero(which == j)
+        part = evaluation_arrays(P, sel.size)
+        ki.evaluate_many_t(t[sel], np.ascontiguousarray(X[sel]), with_open(P, pat), *part)
+        for a, b in zip(out, part, strict=True):
+            a[sel] = b
     return out
 
 
-def evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple:
-    """:func:`flat_evaluations` for a smooth law, else :func:`general_evaluations`."""
-    out = flat_evaluations(P, t, X)
-    return general_evaluations(P, t, X) if out is None else out
+def evaluations(P: tuple, t: np.ndarray, X: np.ndarray, open_contacts=None, *, flat=True):
+    """The accelerations, normal forces, friction forces and modes along ``X``:
+    :func:`flat_evaluations` when ``flat`` and it serves ``P`` (a smooth law, every contact
+    closed), else :func:`general_evaluations`. ``flat``: the run compiled the flat kernel
+    (:func:`nsdyn.solve.methods.metrics_for`)."""
+    if flat and (open_contacts is None or not np.any(open_contacts)):
+        out = flat_evaluations(P, t, X)
+        if out is not None:
+            return out
+    return general_evaluations(P, t, X, open_contacts)
 
 
 def simulate(
@@ -419,7 +443,10 @@ def simulate(
     open_hist = np.concatenate(opens) if contact == "unilateral" else None
     if open_hist is not None and open_hist.shape[0] != t.size:
         open_hist = None  # resumed from a checkpoint: the states before it are not kept
-    evaluated = None if open_hist is not None and np.any(open_hist) else flat_evaluations(Pm, t, x)
+    from nsdyn.solve import methods
+
+    flat = methods.metrics_for(methods.kernel_for(method, Pm)) == "metrics"
+    evaluated = evaluations(Pm, t, x, open_hist, flat=flat)
     resp = response(system, t, x, Pm, open_hist, impact, evaluated=evaluated)
     return TransientResult(
         system,

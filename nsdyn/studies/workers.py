@@ -156,12 +156,19 @@ def warm_isolated(method: str, law: str) -> bool:
     (:func:`nsdyn.solve.methods.warmup_kernel`). Says so on stderr, before it starts and
     with the time it took. Nothing when numba's cache holds them already. True when they
     compiled."""
-    from nsdyn.solve.methods import FLAT_LAWS, METHODS, is_cached, kernel_for, warmup_kernel
+    from nsdyn.solve.methods import (
+        FLAT_LAWS,
+        METHODS,
+        is_cached,
+        kernel_for,
+        metrics_for,
+        warmup_kernel,
+    )
 
     method = method if method in METHODS else "radau"
     flat = law in FLAT_LAWS
     kernel = kernel_for(method, flat=flat)
-    metrics = "metrics" if flat else "metrics-general"
+    metrics = metrics_for(kernel)
     if is_cached(kernel) and is_cached(metrics):
         return False  # nothing to compile: the workers load them (loading here too costs time)
     print(f"compiling the isolated-frame kernels ({method}) once, before the workers start "

@@ -54,6 +54,37 @@ def test_call_by_address_equals_the_direct_call():
     assert np.all(np.isfinite(out_d)) and np.array_equal(out_d, out_a)
 
 
+def test_general_metrics_by_address_equal_the_direct_calls():
+    # the metrics of a run whose loop compiled the system kernel call it through its address
+    # (transient.general_evaluations -> _kcommon.evaluate_many_t, no second copy compiled):
+    # the same compiled arithmetic as evaluate_many's linked copy, so the same bits, for a
+    # smooth law and the switch law; with a contact open on part of the history (a unilateral
+    # run) each pattern is evaluated with its own open set, and an open contact carries no
+    # normal force
+    from nsdyn.models.isolated.params import with_law, with_open
+    from nsdyn.solve.transient import evaluation_arrays, general_evaluations
+
+    P, x0 = _tiny_problem()
+    t = np.linspace(0.0, 0.8, 6)
+    X = x0 + 1e-3 * np.sin(np.add.outer(np.arange(t.size), np.arange(x0.size)))
+    for law in ("arctan", "switch"):
+        Q = with_law(P, law)
+        direct = evaluation_arrays(Q, t.size)
+        ks.evaluate_many(t, X, Q, *direct)
+        for a, b in zip(direct, general_evaluations(Q, t, X), strict=True):
+            assert np.array_equal(a, b)
+    nc = P[ks.I_R].shape[0]
+    pattern = np.zeros((t.size, nc), np.int64)
+    pattern[3:, 0] = 1
+    out = general_evaluations(P, t, X, pattern)
+    for rows, pat in ((slice(0, 3), pattern[0]), (slice(3, None), pattern[-1])):
+        ref = evaluation_arrays(P, t[rows].size)
+        ks.evaluate_many(t[rows], np.ascontiguousarray(X[rows]), with_open(P, pat), *ref)
+        for a, b in zip(ref, out, strict=True):
+            assert np.array_equal(a, b[rows])
+    assert np.all(out[1][3:, 0] == 0.0) and np.all(out[1][:3, 0] != 0.0)
+
+
 def test_metrics_by_address_equal_the_direct_calls():
     # a flat run's response metrics call the flat right-hand side through its address
     # (compile_split.flat_calls): the same bits as with it called directly, and the flat
@@ -362,7 +393,7 @@ def test_event_loop_compiles_without_its_callees(tmp_path):
     ).stdout.split("\n")
     rows = [r.split() for r in out if r]
     event_rows = [n for n in ka.TABLE_NAMES if n.split(".")[0] in ("sys", "event")]
-    assert len(rows) == len(event_rows) + 5  # the callees, K's four, pack_flat
+    assert len(rows) == len(event_rows) + 4  # the callees, K's four
     assert all(r[1:] == ["0", "False"] for r in rows), rows
 
 

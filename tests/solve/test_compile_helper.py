@@ -129,23 +129,24 @@ def _compiled_in_a_fresh_warmup(cache, kernel, metrics) -> set[str]:
 # default loop (~15-40 s on two cores; its helper also takes the metrics, which it would
 # otherwise sit idle beside the loop's compilation for) and the switch model's, whose callees
 # by address each process compiles by type for the signatures the loop declares, without
-# running them
+# running them. The metrics are those of nsdyn.solve.methods.metrics_for: the flat ones after
+# the flat Radau loop, else the general ones, which call the system kernel by address
 SPLITS = [
     ("radau", "metrics", {"_loop", "start_flat", "_factor"},
-     {"pack_flat", "feval_flat", "jac_flat_here", "newton_flat", "evaluate_flat_many",
-      "setup", "workspace"}),
+     {"feval_flat", "jac_flat_here", "newton_flat", "evaluate_flat_many", "setup",
+      "workspace"}),
     ("event", "metrics-general",
      {"_run", "_step", "_start", "newton_general", "_event_at", "accept"},
-     {"evaluate", "jac_table", "jac_at", "_detect", "_settle", "evaluate_many", "_factor"}),
-    # generalized-alpha: its loop and the Jacobian (which calls the system kernel by address)
-    # here; the system kernel and the metrics in the helper
-    ("genalpha", "metrics",
-     {"genalpha_loop", "_residual", "_iteration_matrix", "jac_table", "jac_at"},
-     {"evaluate", "evaluate_flat_many", "pack_flat"}),
+     {"evaluate", "jac_table", "jac_at", "_detect", "_settle", "evaluate_many_t", "_factor"}),
+    # generalized-alpha: its loop and the metrics (compiled, not run) here; the system
+    # kernel and its Jacobian (which calls it by address) in the helper
+    ("genalpha", "metrics-general",
+     {"genalpha_loop", "_residual", "_iteration_matrix", "evaluate_many_t"},
+     {"evaluate", "jac_table", "jac_at"}),
     # genalpha-lowrank's set-up calls the system kernel once from Python; its dense loop
     # compiles here from the run's argument types (sparse.loop_args), with the metrics,
     # while the helper compiles the system kernel
-    ("genalpha-lowrank", "metrics", {"run_steps", "step", "friction", "evaluate_flat_many"},
+    ("genalpha-lowrank", "metrics-general", {"run_steps", "step", "friction", "evaluate_many_t"},
      {"evaluate"}),
 ]  # fmt: skip
 

@@ -55,6 +55,12 @@ def test_kernel_choice(system):
     assert methods.kernel_for("radau", system.params(law="switch")) == "radau-general"
     assert methods.kernel_for("radau-generic", P) == "radau-general"
     assert methods.kernel_for("dopri5", P) == "dopri5"
+    # the metrics: the flat ones after the flat loop (which compiled the flat right-hand side),
+    # the general ones (the system kernel by address) after every loop that compiles or calls
+    # the system kernel
+    assert methods.metrics_for("radau") == "metrics"
+    for kernel in ("radau-general", "dopri5", "genalpha", "event", "genalpha-lowrank"):
+        assert methods.metrics_for(kernel) == "metrics-general"
 
 
 def test_singular_flat_run_is_repeated_by_the_general_loop(system, monkeypatch):
@@ -118,7 +124,7 @@ def test_default_run_never_compiles_the_general_kernel(tmp_path):
             "from nsdyn.models.isolated import _kernel as ks\n"
             "methods.warmup(['radau']); methods.warmup_metrics()\n"
             "print(len(ks.evaluate.signatures), len(ks.jac.signatures),"
-            " len(ki.feval_called.signatures), len(kr.radau.signatures),"
+            " len(ki.feval_called.signatures), len(kr.radau_general.signatures),"
             " len(kr.radau_flat.signatures))\n"
         )
         + SHAPE_MESSAGES

@@ -90,8 +90,9 @@ def test_default_tolerances_reproduce_tight_peaks(office, law, method):
 
 def test_a_first_run_warms_its_kernel_with_the_metrics(office, monkeypatch):
     # a run's kernel (the one solve() picks) is warmed together with the metrics kernels the
-    # run evaluates after it (flat for a smooth law, general for the switch law), so that a
-    # first run compiles the metrics in the compile helper beside the loop; unilateral runs
+    # run evaluates after it (the flat ones after the flat Radau loop, which compiled the flat
+    # right-hand side; the general ones, the system kernel by address, after every other
+    # loop), so that a first run compiles them beside the loop; unilateral runs
     # (their own warm-up), unknown methods (solve() reports them) and ready kernels are left
     from nsdyn.solve import methods, transient
 
@@ -108,7 +109,7 @@ def test_a_first_run_warms_its_kernel_with_the_metrics(office, monkeypatch):
     assert transient._prepare_kernels("event", Psw, None) == 1.5
     assert calls == [
         ("radau", "metrics"),
-        ("genalpha", "metrics"),
+        ("genalpha", "metrics-general"),
         ("radau-general", "metrics-general"),
         ("event", "metrics-general"),
     ]
