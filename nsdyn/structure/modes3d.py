@@ -29,6 +29,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from nsdyn.structure.frame3d import DOFS_PER_NODE, Frame3D
+from nsdyn.structure.reduction import lanczos_start
 
 DENSE_MAX = 400  # interior dofs up to which "auto" solves densely
 # massless directions have mu = 1/omega^2 = 0; the symmetric eigensolver returns them within
@@ -109,7 +110,8 @@ def _eig_dense(K, M, k):
 
 def _eig_sparse(K, M, k):
     try:
-        lam, V = spla.eigsh(sp.csc_array(K), k=k, M=sp.csc_array(M), sigma=0.0, which="LM")
+        v0 = lanczos_start(K.shape[0])
+        lam, V = spla.eigsh(sp.csc_array(K), k=k, M=sp.csc_array(M), sigma=0.0, which="LM", v0=v0)
     except spla.ArpackError as exc:  # e.g. M of rank close to k: the Lanczos space collapses
         raise ValueError(
             f"the sparse eigensolver failed ({exc}); if few dofs carry mass, use method='dense'"

@@ -78,7 +78,9 @@ def _compare(frame: Frame3D, mass: str, n: int, tmp_path) -> None:
     ref = fixed_base_modes_3d(frame, n_modes=n, lumped=mass == "lumped")
     assert len(f_ops) == len(ref.f_hz) == n
     assert f_ops == pytest.approx(ref.f_hz, rel=RTOL)
-    assert mod.DATA["nsdyn_f_hz"] == pytest.approx(ref.f_hz.tolist(), rel=1e-12)
+    # the script stores nsdyn's frequencies of the same solve: a fixed Lanczos start
+    # (structure.reduction.lanczos_start) gives the same numbers on every call
+    assert mod.DATA["nsdyn_f_hz"] == ref.f_hz.tolist()
 
 
 @needs_opensees
