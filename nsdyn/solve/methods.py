@@ -329,9 +329,11 @@ def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
     compiles the rest and then loads the helper's. The loops whose callees are called by
     address (:data:`_SPLIT`: the default Radau loop, the event loop, generalized-alpha;
     genalpha-lowrank, whose loop needs no system kernel compiled) are
-    split between the two (:mod:`nsdyn.solve.compile_split`), the helper also taking the
-    metrics; for the other kernels the helper takes the metrics. What the helper does not
-    deliver, this process compiles itself: the kernels are the same either way.
+    split between the two (:mod:`nsdyn.solve.compile_split`), the metrics going to the process
+    with the shorter share; for the other kernels the helper takes the flat metrics (the
+    general ones call the system kernel by address, which the loop compiles: they follow it
+    here). What the helper does not deliver, this process compiles itself: the kernels are
+    the same either way.
     """
     m = next((mm for mm in METHODS.values() if mm.kernel == kernel), None)
     if m is None:
@@ -349,8 +351,8 @@ def warmup_kernel(kernel: str, metrics: str | None = None) -> float:
                 # the helper is idle while this process compiles the loop: it takes them
                 part, here = with_metrics[metrics], None
             target = f"nsdyn.solve.compile_split:{part}"
-        elif metrics is not None and not is_cached(metrics):
-            target = f"nsdyn.solve.methods:{_METRICS_PART[metrics]}"
+        elif metrics == "metrics" and not is_cached(metrics):
+            target = "nsdyn.solve.methods:warmup_metrics"
     if target is None:
         _warm(kernel, m)
     else:
@@ -447,14 +449,6 @@ def warmup_metrics(flat: bool = True) -> float:
         ks.ground_many(t, P)
     _COMPILED[key] = time.perf_counter() - t0
     return _COMPILED[key]
-
-
-def warmup_metrics_general() -> float:
-    """:func:`warmup_metrics` of the general kernel (a helper process's target)."""
-    return warmup_metrics(False)
-
-
-_METRICS_PART = {"metrics": "warmup_metrics", "metrics-general": "warmup_metrics_general"}
 
 
 # ---- generalized-alpha with the linear part factored once (nsdyn.solve.sparse) ---------------

@@ -208,7 +208,7 @@ def test_an_index_entry_counts_only_once_its_data_file_is_written(tmp_path):
 
 def test_a_kernel_without_a_split_warms_up_beside_a_metrics_helper(monkeypatch):
     # for a kernel the helper does not share (dopri5, the general Radau loop) the helper only
-    # compiles the metrics: this process warms the whole kernel itself and asks the split
+    # compiles the flat metrics: this process warms the whole kernel itself and asks the split
     # table nothing (a first `nsdyn run --method genalpha` took that path and failed, when
     # generalized-alpha had no split)
     from nsdyn.solve import methods
@@ -219,6 +219,35 @@ def test_a_kernel_without_a_split_warms_up_beside_a_metrics_helper(monkeypatch):
         assert m.kernel not in methods._SPLIT
         assert methods._warm(m.kernel, m, helper=object()) >= 0.0
         assert m.kernel in methods._COMPILED
+
+
+def test_general_metrics_follow_an_unsplit_loop_in_its_own_process(monkeypatch):
+    # the general metrics call the system kernel by address: a helper compiling them beside
+    # dopri5 or the general Radau loop would compile the system kernel a second time (the
+    # loop compiles it too); they follow the loop in this process, and only the flat
+    # metrics (which need no system kernel) go to a helper
+    from nsdyn.solve import methods
+
+    started, warmed = [], []
+    monkeypatch.setattr(methods, "_COMPILED", {})
+    monkeypatch.setattr(methods, "helper_enabled", lambda: True)
+    monkeypatch.setattr(methods, "is_cached", lambda kernel: False)
+    monkeypatch.setattr(methods, "Helper", lambda target: started.append(target) or _NoHelper())
+    monkeypatch.setattr(methods, "_warm", lambda k, m, helper=None, here=None: warmed.append(k))
+    monkeypatch.setattr(methods, "warmup_metrics", lambda flat=True: warmed.append(flat))
+    methods.warmup_kernel("dopri5", metrics="metrics-general")
+    methods.warmup_kernel("radau-general", metrics="metrics-general")
+    assert started == [] and warmed == ["dopri5", False, "radau-general", False]
+    methods.warmup_kernel("dopri5", metrics="metrics")
+    assert started == ["nsdyn.solve.methods:warmup_metrics"]
+
+
+class _NoHelper:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
 
 
 @pytest.mark.slow
