@@ -207,10 +207,7 @@ def evaluate_many_t(t, X, P, QDD, LAM, TAU, MODES):
     for k in range(t.shape[0]):
         if not ka.tcall("sys.evaluate", (t[k], X[k], P, qdd, lam, tau, modes)):
             bad += 1
-        copy_vec(QDD[k], qdd)
-        copy_vec(LAM[k], lam)
-        copy_vec(TAU[k], tau)
-        copy_vec(MODES[k], modes)
+        ks.store_row(k, QDD, LAM, TAU, MODES, qdd, lam, tau, modes)
     return bad
 
 

@@ -351,7 +351,7 @@ def metrics_here(metrics: str | None) -> None:
     if metrics == "metrics":  # the flat ones call no system kernel
         methods.warmup_metrics(True)
     elif metrics is not None:
-        from nsdyn.solve.transient import evaluation_arrays
+        from nsdyn.models.isolated.metrics import evaluation_arrays
 
         P, x0 = methods._tiny_problem()
         t = np.zeros(1)

@@ -27,7 +27,7 @@ import numpy as np
 from nsdyn._tabular import Tabular
 from nsdyn.atomic import atomic_open
 from nsdyn.ground.excitation import is_force, natural_end
-from nsdyn.models.isolated.metrics import Response, response
+from nsdyn.models.isolated.metrics import Response, evaluate_along, evaluation_arrays, response
 from nsdyn.models.isolated.system import IsolatedSystem
 from nsdyn.models.isolated.tolerances import FAST_ATOL, RUN_RTOL, run_atol
 from nsdyn.solve import integrate
@@ -206,15 +206,6 @@ def _prepare_kernels(method: str, P: tuple, contact: str | None) -> float:
     return methods.warmup_kernel(kernel, metrics=methods.metrics_for(kernel))
 
 
-def evaluation_arrays(P: tuple, nt: int) -> tuple:
-    """Empty accelerations (nt, n), normal forces (nt, nc), friction forces (nt, ni) and
-    modes (nt, ni; int64) for the evaluations of ``nt`` states of ``P``."""
-    from nsdyn.models.isolated import _kernel as ks
-
-    n, nc, ni = P[ks.I_MIK].shape[0], P[ks.I_R].shape[0], P[ks.I_D].shape[0]
-    return np.empty((nt, n)), np.empty((nt, nc)), np.empty((nt, ni)), np.empty((nt, ni), np.int64)
-
-
 def flat_evaluations(P: tuple, t: np.ndarray, X: np.ndarray) -> tuple | None:
     """Accelerations, normal forces, friction forces and modes along the history ``X``
     (every contact closed) by the flat kernel, its linear part ``-X_q (M^-1 K)^T - X_v
@@ -252,25 +243,12 @@ def general_evaluations(P: tuple, t: np.ndarray, X: np.ndarray, open_contacts=No
     a run whose loop compiled the system kernel compiles no second copy of it for its
     metrics). Every contact closed, or with ``open_contacts`` (nt, nc; 1 open, a unilateral
     run) one evaluation per contact pattern, with its own open set."""
-    from nsdyn.models.isolated.params import with_open
     from nsdyn.solve import _kcommon as ki
     from nsdyn.solve.compile_split import evaluate_inputs
 
     P, X = evaluate_inputs(P, X)
-    t = np.ascontiguousarray(t, dtype=float)
-    out = evaluation_arrays(P, t.size)
-    if open_contacts is None or not np.any(open_contacts):
-        ki.evaluate_many_t(t, X, P, *out)
-        return out
-    pats, which = np.unique(np.asarray(open_contacts, np.int64), axis=0, return_inverse=True)
-    which = np.asarray(which).reshape(-1)
-    for j, pat in enumerate(pats):
-        sel = np.flatnonzero(which == j)
-        part = evaluation_arrays(P, sel.size)
-        ki.evaluate_many_t(t[sel], np.ascontiguousarray(X[sel]), with_open(P, pat), *part)
-        for a, b in zip(out, part, strict=True):
-            a[sel] = b
-    return out
+    return evaluate_along(ki.evaluate_many_t, P, np.ascontiguousarray(t, dtype=float), X,
+                          open_contacts)  # fmt: skip
 
 
 def evaluations(P: tuple, t: np.ndarray, X: np.ndarray, open_contacts=None, *, flat=True):

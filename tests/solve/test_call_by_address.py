@@ -61,8 +61,9 @@ def test_general_metrics_by_address_equal_the_direct_calls():
     # smooth law and the switch law; with a contact open on part of the history (a unilateral
     # run) each pattern is evaluated with its own open set, and an open contact carries no
     # normal force
+    from nsdyn.models.isolated.metrics import evaluation_arrays
     from nsdyn.models.isolated.params import with_law, with_open
-    from nsdyn.solve.transient import evaluation_arrays, general_evaluations
+    from nsdyn.solve.transient import general_evaluations
 
     P, x0 = _tiny_problem()
     t = np.linspace(0.0, 0.8, 6)

@@ -518,6 +518,16 @@ def jac_at(t, x, P, J, lam, modes):
             J[n + r, c] -= acc
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def store_row(k, QDD, LAM, TAU, MODES, qdd, lam, tau, modes):
+    """Row ``k`` of the histories of an evaluation along a history (:func:`evaluate_many`)
+    from the outputs of one evaluation."""
+    copy_vec(QDD[k], qdd)
+    copy_vec(LAM[k], lam)
+    copy_vec(TAU[k], tau)
+    copy_vec(MODES[k], modes)
+
+
 @njit(cache=True, error_model="numpy")
 def evaluate_many(t, X, P, QDD, LAM, TAU, MODES):
     """:func:`evaluate` along a history: t (nt,), X (nt, 2n) -> QDD (nt, n), LAM (nt, nc),
@@ -525,13 +535,9 @@ def evaluate_many(t, X, P, QDD, LAM, TAU, MODES):
     qdd, lam, tau, modes = outputs(P)
     bad = 0
     for k in range(t.shape[0]):
-        ok = evaluate(t[k], X[k], P, qdd, lam, tau, modes)
-        if not ok:
+        if not evaluate(t[k], X[k], P, qdd, lam, tau, modes):
             bad += 1
-        copy_vec(QDD[k], qdd)
-        copy_vec(LAM[k], lam)
-        copy_vec(TAU[k], tau)
-        copy_vec(MODES[k], modes)
+        store_row(k, QDD, LAM, TAU, MODES, qdd, lam, tau, modes)
     return bad
 
 

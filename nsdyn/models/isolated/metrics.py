@@ -233,6 +233,34 @@ def energy_balance(system, t, X, P, LAM, TAU, G, impact_energy: float = 0.0) -> 
     }
 
 
+def evaluation_arrays(P: tuple, nt: int) -> tuple:
+    """Empty accelerations (nt, n), normal forces (nt, nc), friction forces (nt, ni) and
+    modes (nt, ni; int64) for the evaluations of ``nt`` states of ``P``."""
+    n, nc, ni = P[ks.I_MIK].shape[0], P[ks.I_R].shape[0], P[ks.I_D].shape[0]
+    return np.empty((nt, n)), np.empty((nt, nc)), np.empty((nt, ni)), np.empty((nt, ni), np.int64)
+
+
+def evaluate_along(evaluate_many, P: tuple, t, X, open_contacts=None) -> tuple:
+    """The accelerations, normal forces, friction forces and modes along the history ``X``
+    by ``evaluate_many(t, X, P, QDD, LAM, TAU, MODES)`` (a kernel of the system kernel along
+    a history): every contact closed, or with ``open_contacts`` (nt, nc; 1 open, a
+    unilateral run) one call per contact pattern, with its own open set. ``t`` and ``X``
+    C-contiguous float arrays."""
+    out = evaluation_arrays(P, t.size)
+    if open_contacts is None or not np.any(open_contacts):
+        evaluate_many(t, X, P, *out)
+        return out
+    pats, which = np.unique(np.asarray(open_contacts, np.int64), axis=0, return_inverse=True)
+    which = np.asarray(which).reshape(-1)
+    for j, pat in enumerate(pats):
+        sel = np.flatnonzero(which == j)
+        part = evaluation_arrays(P, sel.size)
+        evaluate_many(t[sel], np.ascontiguousarray(X[sel]), with_open(P, pat), *part)
+        for a, b in zip(out, part, strict=True):
+            a[sel] = b
+    return out
+
+
 def response(
     system, t, X, P, open_contacts=None, impact_energy: float = 0.0, *, evaluated=None
 ) -> Response:
@@ -248,23 +276,9 @@ def response(
     t = np.ascontiguousarray(t, dtype=float)
     X = np.ascontiguousarray(X, dtype=float)
     n, nt = system.n, t.size
-    nc, ni = system.n_contacts, system.n_isolators
-    QDD = np.empty((nt, n))
-    LAM = np.empty((nt, nc))
-    TAU = np.empty((nt, ni))
-    MODES = np.empty((nt, ni), dtype=np.int64)
-    if evaluated is not None:
-        QDD, LAM, TAU, MODES = evaluated
-    elif open_contacts is None or not np.any(open_contacts):
-        ks.evaluate_many(t, X, P, QDD, LAM, TAU, MODES)
-    else:  # one evaluation per contact pattern, with its own open set
-        pats, which = np.unique(np.asarray(open_contacts, np.int64), axis=0, return_inverse=True)
-        which = np.asarray(which).reshape(-1)
-        for j, pat in enumerate(pats):
-            sel = np.flatnonzero(which == j)
-            out = [np.empty((sel.size, a.shape[1]), a.dtype) for a in (QDD, LAM, TAU, MODES)]
-            ks.evaluate_many(t[sel], np.ascontiguousarray(X[sel]), with_open(P, pat), *out)
-            QDD[sel], LAM[sel], TAU[sel], MODES[sel] = out
+    if evaluated is None:
+        evaluated = evaluate_along(ks.evaluate_many, P, t, X, open_contacts)
+    QDD, LAM, TAU, MODES = evaluated
     G = ks.ground_many(t, P)
     kpar = KernelParams(P)
     ug_hor = np.zeros((nt, 1)) if kpar.force else G[:, :1]  # ground acceleration (0: force)
