@@ -345,13 +345,15 @@ def warmup(radau: bool = False) -> float:
     (:func:`uplift_probe`) too. When they compile, a helper process
     (:class:`nsdyn._numba_cache.Helper`, :func:`helper_part`, :func:`helper_part_and_radau`)
     takes the Jacobian, the Radau loop's callees and the orbit quantities while this one
-    compiles the period map and its step (which need neither first), then the Radau loop
-    itself; then short runs load everything. Seconds spent."""
+    compiles the Radau loop itself and then the period map and its step (which need none of
+    them first; the frame's right-hand side, which the period map and the Jacobian both link,
+    is by then in the cache: compiled once, by the helper); then short runs load everything.
+    Seconds spent."""
     import time
     from contextlib import nullcontext
 
     from nsdyn._numba_cache import Helper, compiling, helper_enabled
-    from nsdyn.solve.compile_split import _compile, radau_loop_here
+    from nsdyn.solve.compile_split import _compile, _compile_radau_loop, radau_loop_here
     from nsdyn.solve.methods import is_cached, warmup_kernel, warmup_metrics
 
     t0 = time.perf_counter()
@@ -362,6 +364,9 @@ def warmup(radau: bool = False) -> float:
     helper = Helper(f"nsdyn.periodic.problem:{part}") if cold and helper_enabled() else None
     with helper or nullcontext(), compiling():
         if helper is not None:
+            if both:  # first the loop, which needs nothing compiled, while the helper
+                _compile_radau_loop()  # compiles the frame's right-hand side (frame_flat)
+                helper.wait_for([kp.frame_flat])  # linked by the period map too: loaded
             _jeval_callee()  # declared: the period map's typing checks its call against it
             K0 = np.zeros((2, 1), dtype=np.int64)  # only its type matters here
             _, args = prob._map_args(prob.x_ref, 0.2, 4, None, True, True)

@@ -252,16 +252,20 @@ class _NoHelper:
 
 @pytest.mark.slow
 @pytest.mark.skipif(not JIT, reason="nothing compiles under NUMBA_DISABLE_JIT")
-def test_first_sweep_warmup_leaves_the_jacobian_to_its_helper(tmp_path):
+@pytest.mark.parametrize("radau", [False, True], ids=["period-map", "with-uplift-probe"])
+def test_first_sweep_warmup_leaves_the_jacobian_to_its_helper(tmp_path, radau):
     # the period map calls its Jacobian by address: a first sweep's warm-up compiles the
-    # period map and its step here while the helper compiles the Jacobian (and the metrics)
+    # period map and its step here while the helper compiles the Jacobian (and the metrics);
+    # with the uplift probe's Radau loop, this process compiles the loop first and then loads
+    # the frame's right-hand side the helper compiled with the Jacobian (the period map links
+    # it too: compiled once, not in both processes), the helper the loop's callees
     if not helper_enabled():
         pytest.skip("a helper process needs two usable cores and NSDYN_COMPILE_HELPER != 0")
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
     env[HELPER_ENV] = "1"
     code = FRESH_WARMUP.replace(
         "from nsdyn.solve import methods\nmethods.warmup_kernel({kernel!r}, metrics={metrics!r})\n",
-        "from nsdyn.periodic.problem import warmup\nwarmup()\n",
+        f"from nsdyn.periodic.problem import warmup\nwarmup(radau={radau})\n",
     )
     out = subprocess.run(
         [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
@@ -269,3 +273,6 @@ def test_first_sweep_warmup_leaves_the_jacobian_to_its_helper(tmp_path):
     here = set(out.stdout.split())
     assert {"period_map", "dirk_step"} <= here
     assert not here & {"j_eval", "frame_flat_jac", "evaluate_flat_many"}, here
+    if radau:
+        assert "_loop" in here
+        assert not here & {"frame_flat", "newton_flat", "feval_flat"}, here
