@@ -13,10 +13,10 @@ right-hand side by address too (:func:`flat_calls`).
 numba compiles on one thread per process, under a global lock, so a first run's compilation
 uses one core. :func:`nsdyn.solve.methods.warmup_kernel` starts a helper process
 (:class:`nsdyn._numba_cache.Helper`) on :func:`radau_helper_part` (the flat right-hand
-side, Newton, the Jacobian; :func:`radau_helper_part_and_metrics` then also the
-metrics, which a run needs only after its loop) while the calling process compiles
-:func:`radau_parts_here` (the loop itself, the factorisation, the start-up), then loads the
-helper's kernels from numba's on-disk cache. Neither waits for the other.
+side, Newton, the Jacobian, the factorisation; :func:`radau_helper_part_and_metrics` then
+also the metrics, which a run needs only after its loop) while the calling process compiles
+:func:`radau_parts_here` (the loop itself, the start-up), then loads the helper's kernels
+from numba's on-disk cache. Neither waits for the other.
 
 The event-driven loop (:func:`nsdyn.solve._kunilateral._run`: the switch model, unilateral
 contacts) has a deep call tree, each of whose kernels evaluates the ~250-block system kernel:
@@ -32,15 +32,16 @@ flat right-hand side for a law it does not serve), the step, the start-up, the e
 the acceptance and the loop (:func:`event_parts_here`).
 
 Generalized-alpha calls the system kernel and its Jacobian through the table too: the helper
-compiles the two (:func:`system_helper_part`) while this process compiles the loop and the
-metrics (:func:`genalpha_parts_here`). The general metrics of every loop but the flat Radau
-one call the system kernel by address (:func:`nsdyn.solve._kcommon.evaluate_many_t`), and a
-process that may not have it yet compiles them without running them (:func:`metrics_here`).
+compiles the system kernel and the Jacobian's own kernel (:func:`system_helper_part`), this
+process the loop, the metrics and the Jacobian by address, which links the helper's from the
+cache (:func:`genalpha_parts_here`). The general metrics of every loop but the flat Radau one
+call the system kernel by address (:func:`nsdyn.solve._kcommon.evaluate_many_t`); a process
+that may not have it yet compiles them without running them (:func:`metrics_here`).
 
 genalpha-lowrank (:mod:`nsdyn.solve.sparse`) calls the system kernel only once, from Python,
-for the start's accelerations: the helper compiles it while this process compiles the dense
-loop from the argument types the run gives it (:func:`nsdyn.solve.sparse.loop_args`) and the
-metrics (:func:`lowrank_parts_here`).
+for the start's accelerations: the helper compiles it (and the metrics) while this process
+compiles the dense loop from the argument types the run gives it
+(:func:`nsdyn.solve.sparse.loop_args`, :func:`lowrank_parts_here`).
 
 Each piece is compiled for the signature the loop asks for, by ``Dispatcher.compile`` with the
 numba types of arguments built as the loop builds them, on the tiny problem.
@@ -54,7 +55,7 @@ import functools
 
 import numpy as np
 
-from nsdyn._kaddress import Callee, fill_table  # noqa: F401 (this module's callers use them)
+from nsdyn._kaddress import Callee, digest, fill_table  # noqa: F401 (callers use them)
 from nsdyn._numba_cache import Helper
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import (
@@ -180,12 +181,16 @@ def radau_flat(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift
     )  # fmt: skip
 
 
+# the flat Radau loop's callees a helper compiles (radau_helper_part), the rest this process
+RADAU_HELPER = (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC, _kcolloc.K_FACTOR)
+
+
 def radau_helper_part() -> None:
     """The helper process's share of the flat Radau loop's first compilation (see
     :func:`nsdyn.solve.methods.warmup_kernel`): the flat right-hand side, Newton (which links
-    it) and the Jacobian, each for the types the loop calls it with."""
+    it), the Jacobian and the factorisation, each for the types the loop calls it with."""
     K = radau_callees()
-    for k in (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC):
+    for k in RADAU_HELPER:
         K[k].compiled()
 
 
@@ -208,25 +213,21 @@ def _compile_radau_loop() -> None:
 
 
 def radau_parts_here(helper: Helper, metrics: str | None) -> None:
-    """This process's share: the loop itself, the factorisation, the start-up and the
-    ``metrics`` (None when the helper takes them); then wait for the helper's part."""
+    """This process's share: the loop itself, the start-up and the ``metrics`` (None when
+    the helper takes them); then wait for the helper's part (:data:`RADAU_HELPER`)."""
     _compile_radau_loop()
     K = radau_callees()
-    for k in (_kcolloc.K_FACTOR, _kcolloc.K_START):
-        K[k].compiled()
+    K[_kcolloc.K_START].compiled()
     metrics_here(metrics)
-    kernels = [K[k].kernel for k in (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC)]
-    helper.wait_for(kernels)
+    helper.wait_for([K[k].kernel for k in RADAU_HELPER])
 
 
 def radau_callees_part() -> None:
     """Every piece of the flat Radau loop but the loop itself (:func:`radau_helper_part`,
-    the factorisation, the start-up): a helper's share when its caller compiles the loop
-    after other kernels of its own (the sweep's period map, :func:`radau_loop_here`)."""
+    the start-up): a helper's share when its caller compiles the loop after other kernels of
+    its own (the sweep's period map, :func:`radau_loop_here`)."""
     radau_helper_part()
-    K = radau_callees()
-    for k in (_kcolloc.K_FACTOR, _kcolloc.K_START):
-        K[k].compiled()
+    radau_callees()[_kcolloc.K_START].compiled()
 
 
 def radau_loop_here(helper: Helper) -> None:
@@ -424,14 +425,8 @@ def event_calls(flat: bool):
     out = np.zeros((2, len(radau_callees())), dtype=np.int64)
     for i, c in enumerate(_event_K(flat)):
         if c is not None:
-            out[:, i] = c.address(), _kaddress_digest(c.name)
+            out[:, i] = c.address(), digest(c.name)
     return out
-
-
-def _kaddress_digest(name: str) -> int:
-    from nsdyn import _kaddress
-
-    return _kaddress.digest(name)
 
 
 # the event loop's first compilation, shared by two processes: the callees each compiles (by
@@ -498,17 +493,38 @@ def evaluate_helper_part() -> None:
     _event_part(SYSTEM[:1])
 
 
+def evaluate_helper_part_and_metrics() -> None:
+    """:func:`evaluate_helper_part`, then the general metrics (they call it by address)."""
+    evaluate_helper_part()
+    methods.warmup_metrics(False)
+
+
+def _compile_jac_at() -> None:
+    """:func:`nsdyn.models.isolated._kernel.jac_at` for the types ``"sys.jac"`` calls it with:
+    the declared ``(t, x, P, J)``, then ``lam`` and ``modes`` (:func:`ks.outputs`)."""
+    from numba import types
+
+    jac = {c.name: c for c in event_callees()}[SYSTEM[1]]
+    if hasattr(ks.jac_at, "compile"):  # not under NUMBA_DISABLE_JIT
+        ks.jac_at.compile((*jac.args, types.float64[::1], types.int64[::1]))
+
+
 def system_helper_part() -> None:
-    """A helper's share of generalized-alpha's first compilation: the system kernel and its
-    Jacobian (which calls it by address)."""
-    _event_part(SYSTEM)
+    """A helper's share of generalized-alpha's first compilation: the Jacobian's own kernel
+    (:func:`nsdyn.models.isolated._kernel.jac_at`), then the system kernel. This process
+    compiles the Jacobian by address, which links the first from the cache
+    (:func:`genalpha_parts_here`)."""
+    _compile_jac_at()
+    _event_part(SYSTEM[:1])
 
 
 def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
     """This process's share of generalized-alpha's first compilation: the loop itself (which
-    needs neither the system kernel nor its Jacobian compiled) and the ``metrics`` (compiled,
-    not run: :func:`metrics_here`); then wait for the helper's system kernel and Jacobian.
-    The loop (~10 s of CPU) here against the system kernel (~8 s) and the Jacobian (~8 s)."""
+    needs neither the system kernel nor its Jacobian compiled), the ``metrics`` (compiled,
+    not run: :func:`metrics_here`) and the Jacobian by address (``jac_table``, once the
+    helper's ``jac_at``, which it links, is in the cache); then wait for the helper's system
+    kernel. The loop, the metrics and ``jac_table`` here (~12 s of CPU), ``jac_at`` and the
+    system kernel there (~11 s)."""
     event_callees()  # the declarations its calls by address are typed against
     m = methods.METHODS["genalpha"]
     P, x0, t_eval, o, X, upl_t = methods.tiny_run(m)
@@ -518,7 +534,9 @@ def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
         o.uplift_mode, X, upl_t,
     )  # fmt: skip
     metrics_here(metrics)
-    helper.wait_for([ks.evaluate, ki.jac_table])
+    helper.wait_for([ks.jac_at])
+    _event_part(SYSTEM[1:])
+    helper.wait_for([ks.evaluate])
 
 
 # ---- genalpha-lowrank: its dense loop here, the system kernel in the helper ---------------------
@@ -527,8 +545,8 @@ def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
 def lowrank_parts_here(helper: Helper, metrics: str | None) -> None:
     """This process's share of genalpha-lowrank's first compilation: its dense loop, from the
     arguments the run gives it (:func:`nsdyn.solve.sparse.loop_args`, which need no system
-    kernel), and the ``metrics`` (the helper's system kernel alone takes as long as the
-    loop); then wait for the helper's system kernel."""
+    kernel), and the ``metrics`` unless the helper takes them; then wait for the helper's
+    system kernel."""
     from nsdyn.solve import sparse
 
     P, x0, t_eval, o, X, upl_t = methods.tiny_run(methods.METHODS[sparse.METHOD])

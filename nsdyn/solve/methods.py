@@ -456,8 +456,9 @@ from nsdyn.solve import sparse as _sparse  # noqa: E402  (registers after the nu
 
 METHODS[_sparse.METHOD] = Method(_sparse.METHOD, _sparse.METHOD, True, _sparse.run)
 _ENTRY[_sparse.METHOD] = _sparse._klowrank.run_steps  # the dense loop its warm-up compiles
-# (the helper's system kernel takes as long as this process's loop: the metrics stay here)
-_SPLIT[_sparse.METHOD] = ("evaluate_helper_part", "lowrank_parts_here", {})
+# (the helper's system kernel takes less than this process's loop: it takes the metrics too)
+_SPLIT[_sparse.METHOD] = ("evaluate_helper_part", "lowrank_parts_here",
+                          {"metrics-general": "evaluate_helper_part_and_metrics"})  # fmt: skip
 
 # ---- unilateral contact: lift-off, flight and landing (nsdyn.solve._kunilateral) -------------
 
