@@ -182,6 +182,7 @@ TABLE_NAMES = (
     "deck.settle",
     "cyl.rhs",
     "contact.rhs",
+    "deck.switch",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration

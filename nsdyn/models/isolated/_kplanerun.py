@@ -301,6 +301,10 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
     return settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
 
 
+# by address too (the loop's own compilation, the settling's and the force kernel's apart)
+ka.tslot("deck.switch", switch, "nsdyn.models.isolated.deck_compile:callees")
+
+
 @njit(cache=True, error_model="numpy")
 def _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO):
     qdd, N, Ff, Fr, Fo = out
@@ -534,9 +538,9 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             else:
                 burst_t = t
                 burst_n = 0
-            st = switch(
+            st = ka.tcall("deck.switch", (
                 t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
-            )
+            ))  # fmt: skip
             if st != ST_OK:
                 status = st
                 info[I_TFAIL] = t

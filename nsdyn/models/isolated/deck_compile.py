@@ -9,8 +9,10 @@ of them and LLVM would optimise and translate every copy again; called by its ad
 once, on its own. :func:`callees` declares it for the argument types the loops give it,
 :func:`ready` puts its address in the table before a loop runs.
 
-A first run compiles in two processes (numba compiles on one thread per process): a helper
-(:class:`nsdyn._numba_cache.Helper`) compiles the force kernel (:func:`helper_part`) while
+The switch law's settling and its mode switch at an event are called by address too (rows
+``"deck.settle"``, ``"deck.switch"``). A first run compiles in two processes (numba compiles
+on one thread per process): a helper (:class:`nsdyn._numba_cache.Helper`) compiles the force
+kernel, the settling and the mode switch (:func:`helper_part`) while
 this process compiles the time loop from the run's own argument types (:func:`warm_loop`),
 then loads the helper's kernel from numba's on-disk cache. What the helper does not deliver
 this process compiles itself: the kernels are the same either way.
@@ -27,8 +29,9 @@ def _py(kernel):
 
 
 def tiny_args() -> tuple:
-    """The arguments of the force kernel and of the settling as the loops pass them, on a
-    one-isolator deck under a harmonic orbit (made with numpy only: nothing is compiled)."""
+    """The arguments of the force kernel, the settling and the mode switch as the loops pass
+    them, on a one-isolator deck under a harmonic orbit (made with numpy only: nothing is
+    compiled)."""
     import numpy as np
 
     from nsdyn.models.isolated import _kplane as kp
@@ -45,29 +48,33 @@ def tiny_args() -> tuple:
     ws = _py(kp.workspace)(ni)
     force = (0.0, np.zeros(n), modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, *out)
     EV, info = np.zeros((1, 6)), np.zeros(kr.N_INFO)
-    return force, (*force[:13], out, EV, info)
+    settle = (*force[:13], out, EV, info)
+    return force, settle, (*settle[:2], np.ones((ni, 3)), np.ones((ni, 3)), *settle[2:])
 
 
 @functools.cache
 def callees() -> list:
     """The deck loops' callees by address (:class:`nsdyn._kaddress.Callee`): the force
-    kernel (``"deck.evaluate"``) and the switch law's settling (``"deck.settle"``), declared
-    for the types of :func:`tiny_args`, each returning a status (int64). Once per process."""
+    kernel (``"deck.evaluate"``), the switch law's settling (``"deck.settle"``) and its mode
+    switch at an event (``"deck.switch"``), declared for the types of :func:`tiny_args`, each
+    returning a status (int64). Once per process."""
     from numba import typeof, types
 
     from nsdyn._kaddress import Callee
     from nsdyn.models.isolated import _kplane as kp
     from nsdyn.models.isolated import _kplanerun as kr
 
-    force, settle = (tuple(typeof(a) for a in args) for args in tiny_args())
+    force, settle, switch = (tuple(typeof(a) for a in args) for args in tiny_args())
     return [
         Callee("deck.evaluate", kp.evaluate, force, types.int64),
         Callee("deck.settle", kr.settle, settle, types.int64),
+        Callee("deck.switch", kr.switch, switch, types.int64),
     ]
 
 
 def _needed(switch: bool) -> list:
-    """The callees a run calls: the force kernel, and the settling under the switch law."""
+    """The callees a run calls: the force kernel, and the settling and the mode switch under
+    the switch law."""
     return callees() if switch else callees()[:1]
 
 
@@ -93,8 +100,8 @@ def run_loop(loop, args: tuple, switch: bool):
 
 
 def helper_part() -> None:
-    """The helper's share of a first compilation of the switch law's loop: the force kernel
-    and the settling."""
+    """The helper's share of a first compilation of the switch law's loop: the force kernel,
+    the settling and the mode switch."""
     for c in callees():
         c.compiled()
 

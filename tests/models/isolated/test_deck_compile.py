@@ -24,13 +24,13 @@ JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
 def test_the_deck_rows_are_registered_and_declared_for_the_loops():
     # each callee has a fixed row, a kernel to call without addresses and one declaration
     names = [c.name for c in dc.callees()]
-    assert names == ["deck.evaluate", "deck.settle"]
+    assert names == ["deck.evaluate", "deck.settle", "deck.switch"]
     assert set(names) <= set(ka.TABLE_NAMES) and set(names) <= set(ka.TSLOTS)
     assert all(ka.DECLARED[c.name] == (c.ret, c.args) for c in dc.callees())
 
 
 @pytest.mark.skipif(not JIT or PLAIN, reason="the table is filled only for compiled code")
-def test_a_regularised_run_fills_only_the_force_kernel_and_a_switch_run_both():
+def test_a_regularised_run_fills_only_the_force_kernel_and_a_switch_run_all():
     # the regularised law's loops never settle: its run takes no address of the settling
     deck = rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [5.0, 3.0], [-5.0, 3.0]],
                       Bearing(Friction(0.05), radius=2.0))  # fmt: skip
@@ -38,10 +38,13 @@ def test_a_regularised_run_fills_only_the_force_kernel_and_a_switch_run_both():
     saved = ka.TABLE.copy()
     try:
         ka.TABLE[ka.index("deck.settle")] = 0
+        ka.TABLE[ka.index("deck.switch")] = 0
         simulate_plane(deck, orbit, law="arctan", t_end=0.2)
         assert ka.filled("deck.evaluate") and not ka.filled("deck.settle")
+        assert not ka.filled("deck.switch")
         r = simulate_plane(deck, orbit, law="switch", t_end=0.2)
-        assert ka.filled("deck.settle") and np.all(np.isfinite(r.q))
+        assert ka.filled("deck.settle") and ka.filled("deck.switch")
+        assert np.all(np.isfinite(r.q))
     finally:
         ka.TABLE[:] = saved
 
@@ -62,7 +65,7 @@ dc.callees()
 kr.integrate.compile(tuple(typeof(a) for a in args))
 lib = next(iter(kr.integrate.overloads.values())).library
 linked = str({l.name for l in getattr(lib, "_linking_libraries", ())})
-for k in (kp.evaluate, kp.evaluate_pressure, kp.evaluate_at, kr.settle):
+for k in (kp.evaluate, kp.evaluate_pressure, kp.evaluate_at, kr.settle, kr.switch):
     print(k.py_func.__qualname__, len(k.signatures), k.py_func.__qualname__ in linked)
 """
 
@@ -71,10 +74,12 @@ for k in (kp.evaluate, kp.evaluate_pressure, kp.evaluate_at, kr.settle):
 @pytest.mark.skipif(not JIT or PLAIN, reason="calls by address only in compiled code")
 def test_the_switch_loop_compiles_without_its_callees(tmp_path):
     # a fresh process with an empty cache compiles the loop alone: neither the force kernel
-    # (nor what it calls) nor the settling is compiled with it or linked into its code
+    # (nor what it calls) nor the settling nor the mode switch is compiled with it or linked
+    # into its code
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
     out = subprocess.run([sys.executable, "-c", _LOOP_ALONE], env=env, capture_output=True,
                          text=True, check=True).stdout  # fmt: skip
     rows = [r.split() for r in out.splitlines() if r]
-    assert [r[0] for r in rows] == ["evaluate", "evaluate_pressure", "evaluate_at", "settle"]
+    names = ["evaluate", "evaluate_pressure", "evaluate_at", "settle", "switch"]
+    assert [r[0] for r in rows] == names
     assert all(r[1:] == ["0", "False"] for r in rows), rows
