@@ -15,29 +15,27 @@ between events; the switching functions, each crossing from > 0 to <= 0, are
                 g = v·d                        → stick test (the start reverses)
     stick       g = μ_s N (1 + STICK_RTOL) − |τ| → slip-start, d = τ/|τ|
 
-The stick test sticks the isolator if its stick force, computed with it stuck, lies strictly
-inside the disc |τ| < μ_s k_p N (1 + STICK_RTOL) (k_p the pressure factor, 1 without pressure
-dependence), else it starts slipping in the direction of that force. After each event the stuck
-isolators are settled: while one violates its disc (the one with the largest |τ|/μ_s N first)
-it starts to slip. The stick switching function carries the same bound, so every isolator
-settle leaves stuck starts its switching function strictly above zero and its next break-away
-is seen (a bound of μ_s N alone would leave one re-stuck just past the rim at g <= 0, held
-outside its disc without an event). Slip-start directions come from
-:func:`nsdyn.models.isolated._kplane.start_direction`, exact for one released isolator; several
-released together are aligned with their accelerations by :func:`align_starts`. Events are
-located by sampling g on the dense output and bisecting the earliest sample interval with a
-crossing to EVENT_TTOL; the step is cut there and the integration restarts (no first-same-as-last
-stage). A normal force reaching zero (uplift) is located the same way and ends the run
-(ST_UPLIFT) under the detecting contact; a bilateral contact goes on through it, and each
-onset of tension (the smallest N from > 0 to <= 0 between accepted states) is located the same
-way and counted (info I_TTEN: the first, I_NTEN, I_NMIN: the smallest N at accepted states).
-Under the switch law N_i is then a switching function too: stick, slip or slip-start → free
-(no friction) where N_i reaches zero, free → stick test or slip where it returns. The
-regularised law runs the same loop without switching functions. A rim
-contact (|u| > d_cap) is located on the dense output too, so one shorter than a step is
-reported at its first time. Steps collapsing far beyond what the record needs (STALL_STEPS,
-STALL_RATE per largest step: a stick band η too narrow for the slip direction turning near
-|v| = 0) end the run with ST_STALL.
+The stick test sticks the isolator if its stick force, computed with it stuck, lies strictly inside
+the disc |τ| < μ_s k_p N (1 + STICK_RTOL) (k_p the pressure factor, 1 without pressure dependence),
+else it starts slipping in the direction of that force. After each event the stuck isolators are
+settled: while one violates its disc (the one with the largest |τ|/μ_s N first) it starts to slip.
+The stick switching function carries the same bound, so every isolator settle leaves stuck starts
+its switching function strictly above zero and its next break-away is seen (a bound of μ_s N alone
+would leave one re-stuck just past the rim at g <= 0, held outside its disc without an event).
+Slip-start directions come from :func:`nsdyn.models.isolated._kplane.start_direction`, exact for
+one released isolator; several released together are aligned with their accelerations by
+:func:`align_starts`. Events are located by sampling g on the dense output and bisecting the
+earliest sample interval with a crossing to EVENT_TTOL; the step is cut there and the integration
+restarts (no first-same-as-last stage). A normal force reaching zero (uplift) is located the same
+way and ends the run (ST_UPLIFT) under the detecting contact; a bilateral contact goes on through
+it, and each onset of tension (the smallest N from > 0 to <= 0 between accepted states) is located
+the same way and counted (info I_TTEN: the first, I_NTEN, I_NMIN: the smallest N at accepted
+states). Under the switch law N_i is then a switching function too: stick, slip or slip-start →
+free (no friction) where N_i reaches zero, free → stick test or slip where it returns. The
+regularised law runs the same loop without switching functions. A rim contact (|u| > d_cap) is
+located on the dense output too, so one shorter than a step is reported at its first time. Steps
+collapsing far beyond what the record needs (STALL_STEPS, STALL_RATE per largest step: a stick band
+η too narrow for the slip direction turning near |v| = 0) end the run with ST_STALL.
 """
 
 import math
@@ -301,8 +299,7 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
     return settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
 
 
-# by address too (the loop's own compilation, the settling's and the force kernel's apart)
-ka.tslot("deck.switch", switch, "nsdyn.models.isolated.deck_compile:callees")
+ka.tslot("deck.switch", switch, "nsdyn.models.isolated.deck_compile:callees")  # by address too
 
 
 @njit(cache=True, error_model="numpy")
@@ -538,9 +535,8 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             else:
                 burst_t = t
                 burst_n = 0
-            st = ka.tcall("deck.switch", (
-                t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
-            ))  # fmt: skip
+            st = ka.tcall("deck.switch", (t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp,
+                                          tab, ws, out, EV, info))  # fmt: skip
             if st != ST_OK:
                 status = st
                 info[I_TFAIL] = t
