@@ -337,6 +337,11 @@ def helper_part_and_radau() -> None:
     warmup_metrics(True)
 
 
+# longest wait for the helper's frame right-hand side (~2.5 s of compilation, its first piece;
+# a helper that cannot write the cache would otherwise keep this process idle till it ends)
+FRAME_WAIT_S = 30.0
+
+
 def warmup(radau: bool = False) -> float:
     """Compile (or load) the kernels of a smooth-law sweep: the period map (one signature
     serves every problem; compiled here for a Duffing oscillator's arguments, with
@@ -345,15 +350,16 @@ def warmup(radau: bool = False) -> float:
     (:func:`uplift_probe`) too. When they compile, a helper process
     (:class:`nsdyn._numba_cache.Helper`, :func:`helper_part`, :func:`helper_part_and_radau`)
     takes the Jacobian, the Radau loop's callees and the orbit quantities while this one
-    compiles the Radau loop itself and then the period map and its step (which need none of
-    them first; the frame's right-hand side, which the period map and the Jacobian both link,
-    is by then in the cache: compiled once, by the helper); then short runs load everything.
-    Seconds spent."""
+    compiles the period map and its step (which need none of them first) and, with
+    ``radau``, the Radau loop itself before them: the frame's right-hand side, which the
+    period map and the helper's Jacobian both link, is by then in the cache (compiled once,
+    by the helper; without ``radau`` both processes compile it). Then short runs load
+    everything. Seconds spent."""
     import time
     from contextlib import nullcontext
 
     from nsdyn._numba_cache import Helper, compiling, helper_enabled
-    from nsdyn.solve.compile_split import _compile, _compile_radau_loop, radau_loop_here
+    from nsdyn.solve.compile_split import _compile, _compile_radau_loop, radau_callees
     from nsdyn.solve.methods import is_cached, warmup_kernel, warmup_metrics
 
     t0 = time.perf_counter()
@@ -364,9 +370,11 @@ def warmup(radau: bool = False) -> float:
     helper = Helper(f"nsdyn.periodic.problem:{part}") if cold and helper_enabled() else None
     with helper or nullcontext(), compiling():
         if helper is not None:
-            if both:  # first the loop, which needs nothing compiled, while the helper
-                _compile_radau_loop()  # compiles the frame's right-hand side (frame_flat)
-                helper.wait_for([kp.frame_flat])  # linked by the period map too: loaded
+            if both:
+                # the Radau loop first (it needs nothing compiled) while the helper compiles
+                # the frame's right-hand side, which the period map links too: loaded here
+                _compile_radau_loop()
+                helper.wait_for([kp.frame_flat], timeout=FRAME_WAIT_S)
             _jeval_callee()  # declared: the period map's typing checks its call against it
             K0 = np.zeros((2, 1), dtype=np.int64)  # only its type matters here
             _, args = prob._map_args(prob.x_ref, 0.2, 4, None, True, True)
@@ -374,7 +382,7 @@ def warmup(radau: bool = False) -> float:
             helper.wait_for([kp.j_eval])
         prob.period_map(prob.x_ref, 0.2, n_steps=4, sens=True, store=True)
         if both and helper is not None:
-            radau_loop_here(helper)
+            helper.wait_for([c.kernel for c in radau_callees()])
     if radau:  # loaded (or, when only it was missing, compiled with a helper of its own)
         warmup_kernel("radau")
     warmup_metrics(True)

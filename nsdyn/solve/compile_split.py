@@ -26,10 +26,10 @@ linked, its code was optimised and translated again in every one of them (the lo
 :func:`event_ready` fills the rows a run calls), the system kernel and its Jacobian among them,
 and its step's by ``K`` (:func:`event_calls`). Each compiles once, on its own, so the first
 compilation splits into independent pieces: the helper takes the system kernel, its Jacobian,
-the friction detector and the settling, with the general metrics after the system kernel
-(:func:`event_helper_part_and_metrics`); this process the factorisation, Newton (without the
-flat right-hand side for a law it does not serve), the step, the start-up, the event handler,
-the acceptance and the loop (:func:`event_parts_here`).
+the friction detector, the settling and the factorisation, with the general metrics after the
+system kernel (:func:`event_helper_part_and_metrics`); this process Newton (without the flat
+right-hand side for a law it does not serve), the step, the start-up, the event handler, the
+acceptance and the loop (:func:`event_parts_here`).
 
 Generalized-alpha calls the system kernel and its Jacobian through the table too: the helper
 compiles the system kernel and the Jacobian's own kernel (:func:`system_helper_part`), this
@@ -224,16 +224,10 @@ def radau_parts_here(helper: Helper, metrics: str | None) -> None:
 
 def radau_callees_part() -> None:
     """Every piece of the flat Radau loop but the loop itself (:func:`radau_helper_part`,
-    the start-up): a helper's share when its caller compiles the loop after other kernels of
-    its own (the sweep's period map, :func:`radau_loop_here`)."""
+    the start-up): a helper's share when its caller compiles the loop with other kernels of
+    its own (the sweep's, :func:`nsdyn.periodic.problem.warmup`)."""
     radau_helper_part()
     radau_callees()[_kcolloc.K_START].compiled()
-
-
-def radau_loop_here(helper: Helper) -> None:
-    """The loop alone, then wait for a helper's :func:`radau_callees_part`."""
-    _compile_radau_loop()
-    helper.wait_for([c.kernel for c in radau_callees()])
 
 
 # ---- the event-driven loop (switch model; unilateral contacts) ------------------------------

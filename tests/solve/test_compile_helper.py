@@ -2,10 +2,12 @@
 
 What must hold: a kernel passed as an argument has the same identity in every process (else
 the helper's cache entries are never found), a helper that fails or delivers nothing only
-costs the wait for its end, the default run's warm-up with a helper leaves the flat
-right-hand side, its Jacobian and Newton to the helper (loaded, not compiled, here), and the
-switch model's leaves the system kernel, its Jacobian, the friction detector, the settling, the
-event handler and the general metrics to it.
+costs the wait for its end, and each first compilation split with a helper leaves the
+helper's share to it (loaded, not compiled, here; SPLITS below): the default run's flat
+right-hand side, its Jacobian, Newton and the factorisation; the switch model's system kernel,
+its Jacobian, the friction detector, the settling, the factorisation and the general metrics;
+generalized-alpha's system kernel and the Jacobian's own kernel; genalpha-lowrank's system
+kernel and metrics; the sweep's Jacobian (and the uplift probe's Radau pieces).
 """
 
 import os

@@ -96,7 +96,7 @@ sol = solve(P, x0, np.linspace(0.0, 0.75, 151), method="event", contact="unilate
             restitution=0.5, rtol=1e-8, atol=1e-10)
 out["contact_x"] = sol.x
 out["contact_events"] = np.array([(e[0], e[1], e[3], e[4]) for e in sol.contact_events])
-# a deck on four pendulums under the switch law: the force kernel and settling by address
+# a deck on four pendulums under the switch law: force kernel, settling, mode switch by address
 from nsdyn.models.isolated import Bearing, Friction, rigid_deck, simulate_plane
 deck = rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [5.0, 3.0], [-5.0, 3.0]],
                   Bearing(Friction(0.04, 0.07, 30.0, 0.075), radius=2.2), ecc=(0.5, 0.3), h=1.0)

@@ -12,10 +12,10 @@ once, on its own. :func:`callees` declares it for the argument types the loops g
 The switch law's settling and its mode switch at an event are called by address too (rows
 ``"deck.settle"``, ``"deck.switch"``). A first run compiles in two processes (numba compiles
 on one thread per process): a helper (:class:`nsdyn._numba_cache.Helper`) compiles the force
-kernel, the settling and the mode switch (:func:`helper_part`) while
-this process compiles the time loop from the run's own argument types (:func:`warm_loop`),
-then loads the helper's kernel from numba's on-disk cache. What the helper does not deliver
-this process compiles itself: the kernels are the same either way.
+kernel, the settling and the mode switch (:func:`helper_part`) while this process compiles
+the time loop from the run's own argument types (:func:`warm_loop`), then loads the helper's
+kernels from numba's on-disk cache. What the helper does not deliver this process compiles
+itself: the kernels are the same either way.
 """
 
 from __future__ import annotations

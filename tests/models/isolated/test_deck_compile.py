@@ -1,8 +1,8 @@
-"""The deck's force kernel and settling by address (nsdyn.models.isolated.deck_compile).
+"""The deck's force kernel, settling and mode switch by address (deck_compile).
 
-The time loops of the deck call the force kernel and the switch law's settling through the
-process-wide address table: each compiles once, on its own, and a first run shares the
-compilation with a helper process. The histories are those of the direct calls bit for bit
+The time loops of the deck call the force kernel, the switch law's settling and its mode
+switch through the process-wide address table: each compiles once, on its own, and a first
+run shares the compilation with a helper process. The histories are those of the direct calls bit for bit
 (tests/solve/test_plain_numba.py runs the deck in both modes); here: what is compiled where.
 """
 
