@@ -317,6 +317,12 @@ def event_callees() -> list:
     return [Callee(name, kernel, args, ret) for name, (kernel, args, ret) in sigs.items()]
 
 
+@functools.cache
+def _event_by_name() -> dict:
+    """{name: Callee} of :func:`event_callees` (once per process; copy before changing it)."""
+    return {c.name: c for c in event_callees()}
+
+
 SYSTEM = ("sys.evaluate", "sys.jac")  # the system kernel and its Jacobian in the table
 
 
@@ -324,8 +330,7 @@ SYSTEM = ("sys.evaluate", "sys.jac")  # the system kernel and its Jacobian in th
 def evaluate_table() -> None:
     """The system kernel alone in the address table (:func:`fill_table`), for the general
     metrics (:func:`nsdyn.solve._kcommon.evaluate_many_t`). Once per process."""
-    by_name = {c.name: c for c in event_callees()}
-    fill_table([by_name[SYSTEM[0]]])
+    fill_table([_event_by_name()[SYSTEM[0]]])
 
 
 def evaluate_inputs(P, X):
@@ -358,8 +363,7 @@ def metrics_here(metrics: str | None) -> None:
 def system_table() -> None:
     """The system kernel and its Jacobian in the address table (:func:`fill_table`), for the
     kernels that call them so outside the event loop (generalized-alpha). Once per process."""
-    by_name = {c.name: c for c in event_callees()}
-    fill_table([by_name[n] for n in SYSTEM])
+    fill_table([_event_by_name()[n] for n in SYSTEM])
 
 
 def system_inputs(P, x0):
@@ -376,8 +380,7 @@ def event_ready(friction: bool, contacts: bool, flat: bool):
     """The address table filled for an event-loop run with friction and/or contact events
     (:func:`nsdyn.solve._kunilateral.callees`, :func:`fill_table`); its step's ``K``
     (:func:`event_calls`)."""
-    by_name = {c.name: c for c in event_callees()}
-    fill_table([by_name[n] for n in _kunilateral.callees(friction, contacts)])
+    fill_table([_event_by_name()[n] for n in _kunilateral.callees(friction, contacts)])
     return event_calls(flat)
 
 
@@ -435,7 +438,7 @@ EVENT_HERE = ("radau.newton", "event.step", "event.start", "event.handle", "even
 
 def _event_pieces() -> dict:
     """{name: Callee} of every piece :data:`EVENT_HELPER` and :data:`EVENT_HERE` name."""
-    by_name = {c.name: c for c in event_callees()}
+    by_name = dict(_event_by_name())
     by_name["radau.factor"] = radau_callees()[_kcolloc.K_FACTOR]
     by_name["radau.newton"] = event_newton()
     return by_name
@@ -498,7 +501,7 @@ def _compile_jac_at() -> None:
     the declared ``(t, x, P, J)``, then ``lam`` and ``modes`` (:func:`ks.outputs`)."""
     from numba import types
 
-    jac = {c.name: c for c in event_callees()}[SYSTEM[1]]
+    jac = _event_by_name()[SYSTEM[1]]
     if hasattr(ks.jac_at, "compile"):  # not under NUMBA_DISABLE_JIT
         ks.jac_at.compile((*jac.args, types.float64[::1], types.int64[::1]))
 
