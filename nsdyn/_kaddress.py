@@ -37,6 +37,11 @@ each address and the digest of its declaration in the table before a caller runs
 call checks that digest (an empty row has digest 0: a RuntimeError naming the callee, never a
 jump to address 0). With plain numba (:data:`nsdyn._numba_cache.PLAIN`) and without the JIT,
 ``tcall`` calls the kernel registered with :func:`tslot` directly.
+
+``call`` (with ``K`` an array) and ``tcall`` are typed and lowered at their call sites
+(numba's low-level extension API, ``type_callable`` and ``lower_builtin``); an
+``@overload``'s implementation would be a function of its own, compiled for every callee
+(~1.8 s of the event method's first compilation).
 """
 
 import hashlib
@@ -46,7 +51,8 @@ from llvmlite import binding as llvm
 from llvmlite import ir
 from numba import types
 from numba.core import cgutils, errors
-from numba.extending import intrinsic, overload
+from numba.extending import intrinsic, lower_builtin, overload, type_callable
+from numba.np.arrayobj import make_array
 
 from nsdyn._numba_cache import PLAIN
 
@@ -157,7 +163,60 @@ def _call_impl(K, name, args, general):
         return lambda K, name, args, general: kernel(*args)
     if not (isinstance(K, types.Array) and K.ndim == 2 and K.dtype == types.int64):
         raise errors.TypingError(f"call of {name.literal_value!r}: K must be a 2-row int64 array")
+    if not PLAIN:
+        return None  # typed and lowered at the call site (_type_call, _lower_call)
     return lambda K, name, args, general: _at(K[0, index], K[1, index], name, args)
+
+
+def _type_call(context):
+    def typer(K, name, args, general):
+        if not isinstance(K, types.Array) or not isinstance(name, types.StringLiteral):
+            return None
+        if name.literal_value not in SLOTS or not isinstance(args, types.BaseTuple):
+            return None
+        if not (K.ndim == 2 and K.dtype == types.int64):
+            raise errors.TypingError(
+                f"call of {name.literal_value!r}: K must be a 2-row int64 array"
+            )
+        ret, declared = _checked(name, args)[1:]
+        return ret(K, name, types.Tuple(declared), general)
+
+    return typer
+
+
+def _k_entry(context, builder, kty, kval, column):
+    """(K[0, column], K[1, column]) of the int64 array ``K``."""
+    arr = make_array(kty)(context, builder, value=kval)
+    shape = cgutils.unpack_tuple(builder, arr.shape)
+    strides = cgutils.unpack_tuple(builder, arr.strides)
+    col = context.get_constant(types.intp, column)
+    out = []
+    for row in (0, 1):
+        inds = [context.get_constant(types.intp, row), col]
+        ptr = cgutils.get_item_pointer2(
+            context, builder, arr.data, shape, strides, kty.layout, inds, wraparound=False
+        )
+        out.append(builder.load(ptr))
+    return out
+
+
+if not PLAIN:
+    # with K an array, typed and lowered at the call site (numba's low-level extension API):
+    # no function of its own to compile for each callee, as the overload's implementation
+    type_callable(call)(_type_call)
+
+    @lower_builtin(call, types.Array, types.StringLiteral, types.BaseTuple, types.Any)
+    def _lower_call(context, builder, sig, llargs):
+        key = sig.args[1].literal_value
+        ret, declared = DECLARED[key]
+        column = SLOTS[key][0]
+        kty = sig.args[0]
+
+        def fetch(c, b, llargs):
+            return _k_entry(c, b, kty, llargs[0], column)
+
+        codegen = _codegen_call(key, ret, declared, fetch)
+        return codegen(context, builder, sig, (llargs[0], llargs[2]))
 
 
 # ---- the process-wide table: calls by address without ``K`` ----------------------------------
@@ -243,24 +302,37 @@ def _table_entry(context, builder, row):
     return addr, check
 
 
-@intrinsic
-def _tat(typingctx, name, args):
-    if not isinstance(name, types.StringLiteral) or not isinstance(args, types.BaseTuple):
-        return None
-    key, ret, declared = _checked(name, args)
-    row = index(key)
-    sig = ret(name, types.Tuple(declared))
-    return sig, _codegen_call(key, ret, declared, lambda c, b, llargs: _table_entry(c, b, row))
+def _type_tcall(context):
+    def typer(name, args):
+        if not isinstance(name, types.StringLiteral) or not isinstance(args, types.BaseTuple):
+            return None
+        ret, declared = _checked(name, args)[1:]
+        return ret(name, types.Tuple(declared))
+
+    return typer
 
 
-@overload(tcall, prefer_literal=True, inline="always")
-def _tcall_impl(name, args):
-    if not isinstance(name, types.StringLiteral) or name.literal_value not in TSLOTS:
-        return None
-    if PLAIN:
+if PLAIN:
+
+    @overload(tcall, prefer_literal=True, inline="always")
+    def _tcall_plain(name, args):
+        if not isinstance(name, types.StringLiteral) or name.literal_value not in TSLOTS:
+            return None
         kernel = TSLOTS[name.literal_value]
         return lambda name, args: kernel(*args)
-    return lambda name, args: _tat(name, args)
+
+else:
+    # typed and lowered at the call site (numba's low-level extension API): no function of
+    # its own to compile for each callee, as an overload's implementation would be
+    type_callable(tcall)(_type_tcall)
+
+    @lower_builtin(tcall, types.StringLiteral, types.BaseTuple)
+    def _lower_tcall(context, builder, sig, llargs):
+        key = sig.args[0].literal_value
+        ret, declared = DECLARED[key]
+        row = index(key)
+        fetch = lambda c, b, llargs: _table_entry(c, b, row)  # noqa: E731
+        return _codegen_call(key, ret, declared, fetch)(context, builder, sig, llargs)
 
 
 # ---- the callees: declared, compiled, their addresses in the table ---------------------------

@@ -17,6 +17,10 @@ For (nested) tuples of arrays it borrows every member. The view does not keep ``
 - a borrowed view must never be returned to Python (boxing it would give NumPy an array
   whose memory nobody owns): a kernel returns its owned arrays.
 
+Both are typed and lowered at each call site (numba's low-level extension API,
+``type_callable`` and ``lower_builtin``): an ``@overload`` would compile a function of its own
+for each argument type, ~0.5 s of a first run's compilation.
+
 Without the JIT (``NUMBA_DISABLE_JIT=1``) both are plain Python: ``borrowed`` returns its
 argument and ``alive`` does nothing; with plain numba (``NSDYN_PLAIN_NUMBA=1``,
 :data:`nsdyn._numba_cache.PLAIN`) the compiled code does the same (numba counts references
@@ -25,7 +29,7 @@ as usual), so nothing here depends on numba's array layout.
 
 from numba import types
 from numba.core import cgutils, errors
-from numba.extending import intrinsic, overload
+from numba.extending import lower_builtin, overload, type_callable
 from numba.np.arrayobj import make_array
 
 from nsdyn._numba_cache import PLAIN
@@ -71,36 +75,44 @@ def _borrow(context, builder, aty, value):
     return out
 
 
-@intrinsic
-def _borrowed(typingctx, a):
-    if not _arrays(a):
-        return None
+def _typer_borrowed(context):
+    def typer(a):
+        if not _arrays(a):
+            raise errors.TypingError(f"borrowed: expected an array or a tuple of arrays, got {a}")
+        return a
 
-    def codegen(context, builder, sig, args):
-        return _borrow(context, builder, a, args[0])
-
-    return a(a), codegen
+    return typer
 
 
-@intrinsic
-def _alive(typingctx, owners):
-    def codegen(context, builder, sig, args):
-        return context.get_dummy_value()
+def _typer_alive(context):
+    def typer(owners):
+        return types.none
 
-    return types.none(owners), codegen
+    return typer
 
 
-@overload(borrowed)
-def _borrowed_impl(a):
-    if not _arrays(a):
-        raise errors.TypingError(f"borrowed: expected an array or a tuple of arrays, got {a}")
-    if PLAIN:
+if PLAIN:
+
+    @overload(borrowed)
+    def _borrowed_plain(a):
+        if not _arrays(a):
+            raise errors.TypingError(f"borrowed: expected an array or a tuple of arrays, got {a}")
         return lambda a: a
-    return lambda a: _borrowed(a)
 
-
-@overload(alive)
-def _alive_impl(owners):
-    if PLAIN:
+    @overload(alive)
+    def _alive_plain(owners):
         return lambda owners: None
-    return lambda owners: _alive(owners)
+
+else:
+    # typed and lowered at the call site (numba's low-level extension API): no function of
+    # their own to compile for each argument type, as an overload's implementation would be
+    type_callable(borrowed)(_typer_borrowed)
+    type_callable(alive)(_typer_alive)
+
+    @lower_builtin(borrowed, types.Any)
+    def _lower_borrowed(context, builder, sig, args):
+        return _borrow(context, builder, sig.args[0], args[0])
+
+    @lower_builtin(alive, types.Any)
+    def _lower_alive(context, builder, sig, args):
+        return context.get_dummy_value()
