@@ -227,3 +227,79 @@ def copy_mat(dst, src):
     for i in range(dst.shape[0]):
         for j in range(dst.shape[1]):
             dst[i, j] = src[i, j]
+
+
+PINV_RCOND = 1e-13  # singular values at most this x the largest count as zero (pinv_small)
+JACOBI_SWEEPS = 40  # most sweeps of pinv_small's rotations (a few suffice for small m)
+
+
+@njit(cache=True, error_model="numpy")
+def pinv_small(A, m):
+    """The Moore-Penrose pseudo-inverse of ``A[:m, :m]`` (a new m x m array).
+
+    One-sided Jacobi SVD (Hestenes): plane rotations ``V`` of the columns of ``U = A`` until
+    every pair is orthogonal to working precision, so ``A V = U`` with the column norms of
+    ``U`` the singular values ``s_j``; then ``A+ = sum_j v_j u_j^T / s_j^2`` over the
+    ``s_j > PINV_RCOND max(s)``. The threshold: the callers' ``A`` (a product ``C B`` of two
+    rows-of-n matrices) carries relative errors of ~n machine epsilons, and singular values
+    below that are round-off of exact zeros (redundant constraints). A few hundred flops for
+    the callers' m <= ~10, and a few lines where LAPACK's SVD through numba compiled
+    for seconds.
+    """
+    U = np.empty((m, m))
+    V = np.zeros((m, m))
+    for i in range(m):
+        V[i, i] = 1.0
+        for j in range(m):
+            U[i, j] = A[i, j]
+            if not np.isfinite(A[i, j]):
+                return np.full((m, m), np.nan)  # no pseudo-inverse: NaN, for the caller's check
+    eps = 2.220446049250313e-16
+    for _ in range(JACOBI_SWEEPS):
+        rotated = False
+        for p in range(m - 1):
+            for q in range(p + 1, m):
+                a = 0.0
+                b = 0.0
+                g = 0.0
+                for k in range(m):
+                    a += U[k, p] * U[k, p]
+                    b += U[k, q] * U[k, q]
+                    g += U[k, p] * U[k, q]
+                if not abs(g) > eps * np.sqrt(a * b):
+                    continue
+                rotated = True
+                zeta = (b - a) / (2.0 * g)
+                t = (1.0 if zeta >= 0.0 else -1.0) / (abs(zeta) + np.sqrt(1.0 + zeta * zeta))
+                c = 1.0 / np.sqrt(1.0 + t * t)
+                s = c * t
+                for k in range(m):
+                    up = U[k, p]
+                    uq = U[k, q]
+                    U[k, p] = c * up - s * uq
+                    U[k, q] = s * up + c * uq
+                    vp = V[k, p]
+                    vq = V[k, q]
+                    V[k, p] = c * vp - s * vq
+                    V[k, q] = s * vp + c * vq
+        if not rotated:
+            break
+    s2 = np.empty(m)
+    smax = 0.0
+    for j in range(m):
+        acc = 0.0
+        for k in range(m):
+            acc += U[k, j] * U[k, j]
+        s2[j] = acc
+        smax = max(smax, np.sqrt(acc))
+    out = np.zeros((m, m))
+    cut = PINV_RCOND * smax
+    for j in range(m):
+        if not np.sqrt(s2[j]) > cut:
+            continue
+        w = 1.0 / s2[j]
+        for r in range(m):
+            vr = V[r, j] * w
+            for c in range(m):
+                out[r, c] += vr * U[c, j]
+    return out

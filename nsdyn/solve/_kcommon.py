@@ -133,7 +133,7 @@ def scaled_rms(e, y0, y1, atol, rtol):
 @njit(cache=True, error_model="numpy", inline="always")
 def finite_input(t, x, out):
     """False (out NaN-filled) for a non-finite state or time: the system kernel never sees
-    NaN (its pinv fallback raises on NaN)."""
+    NaN (its minimum-norm fallback would only return NaN)."""
     if all_finite(x) and np.isfinite(t):
         return True
     out[:] = np.nan

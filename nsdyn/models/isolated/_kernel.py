@@ -29,7 +29,7 @@ Unknowns ``y = [lam, tau_stuck]`` come from a small dense solve ``G y = -(C a0 +
 import numpy as np
 from numba import njit
 
-from nsdyn._klinalg import copy_mat, copy_vec
+from nsdyn._klinalg import copy_vec, pinv_small
 
 # ---- layout of the parameter tuple P -------------------------------------------------------
 I_MIK = 0  # M^-1 K*           (n, n)
@@ -276,9 +276,14 @@ def _solve(t, x, P, qdd, ws):
     if not ok:
         # redundant constraints (e.g. two isolators sticking on one rigid base): the split of
         # the constraint forces is indeterminate; take the minimum-norm one (allocates; rare)
-        yy = np.linalg.pinv(np.ascontiguousarray(G[:m, :m])) @ rhs_[:m]
-        ok = np.all(np.isfinite(yy))
-        copy_vec(y[:m], yy)
+        Gp = pinv_small(G, m)
+        ok = True
+        for i in range(m):
+            acc = 0.0
+            for k in range(m):
+                acc += Gp[i, k] * rhs_[k]
+            y[i] = acc
+            ok = ok and np.isfinite(acc)
     for r in range(n):
         acc = a0[r]
         for k in range(m):
@@ -483,8 +488,13 @@ def jac_at(t, x, P, J, lam, modes):
             for j in range(m):
                 Gt[i, j] = G[j, i]
         if not _lu_small(Gt, col, m):
-            Gp = np.linalg.pinv(np.ascontiguousarray(G[:m, :m]))
-            copy_mat(BG, np.ascontiguousarray(B[:m, :].T) @ Gp)
+            Gp = pinv_small(G, m)  # BG = B^T G+
+            for rr in range(n):
+                for k in range(m):
+                    acc = 0.0
+                    for i2 in range(m):
+                        acc += B[i2, rr] * Gp[i2, k]
+                    BG[rr, k] = acc
             break
         for k in range(m):
             BG[r, k] = col[k]

@@ -42,7 +42,7 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
-from nsdyn._klinalg import lu_factor, lu_solve
+from nsdyn._klinalg import lu_factor, lu_solve, pinv_small
 from nsdyn._numba_cache import drop_stale
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated.bearings import (
@@ -426,8 +426,8 @@ def proportional_split(Q, nr, m, ws, uni):
 @njit(cache=True, error_model="numpy")
 def least_norm(G, r, out):
     """out = G⁺ r when G y = r is consistent (redundant constraints); False otherwise."""
-    Gp = np.linalg.pinv(np.ascontiguousarray(G))
     m = G.shape[0]
+    Gp = pinv_small(G, m)
     ny = 0.0
     nr = 0.0
     ng = 0.0
