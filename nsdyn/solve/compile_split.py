@@ -13,10 +13,10 @@ right-hand side by address too (:func:`flat_calls`).
 numba compiles on one thread per process, under a global lock, so a first run's compilation
 uses one core. :func:`nsdyn.solve.methods.warmup_kernel` starts a helper process
 (:class:`nsdyn._numba_cache.Helper`) on :func:`radau_helper_part` (the flat right-hand
-side, Newton, the Jacobian, the factorisation; :func:`radau_helper_part_and_metrics` then
-also the metrics, which a run needs only after its loop) while the calling process compiles
-:func:`radau_parts_here` (the loop itself, the start-up), then loads the helper's kernels
-from numba's on-disk cache. Neither waits for the other.
+side, Newton, the Jacobian; :func:`radau_helper_part_and_metrics` then also the metrics,
+which a run needs only after its loop) while the calling process compiles
+:func:`radau_parts_here` (the loop itself, the factorisation, the start-up), then loads the
+helper's kernels from numba's on-disk cache. Neither waits for the other.
 
 The event-driven loop (:func:`nsdyn.solve._kunilateral._run`: the switch model, unilateral
 contacts) has a deep call tree, each of whose kernels evaluates the ~250-block system kernel:
@@ -32,9 +32,9 @@ right-hand side for a law it does not serve), the step, the start-up, the event 
 acceptance and the loop (:func:`event_parts_here`).
 
 Generalized-alpha calls the system kernel and its Jacobian through the table too: the helper
-compiles the system kernel and the Jacobian's own kernel (:func:`system_helper_part`), this
-process the loop, the metrics and the Jacobian by address, which links the helper's from the
-cache (:func:`genalpha_parts_here`). The general metrics of every loop but the flat Radau one
+compiles the Jacobian (its own kernel, then the one by address that links it) and the system
+kernel (:func:`system_helper_part`), this process the loop and the metrics
+(:func:`genalpha_parts_here`). The general metrics of every loop but the flat Radau one
 call the system kernel by address (:func:`nsdyn.solve._kcommon.evaluate_many_t`); a process
 that may not have it yet compiles them without running them (:func:`metrics_here`).
 
@@ -182,13 +182,13 @@ def radau_flat(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift
 
 
 # the flat Radau loop's callees a helper compiles (radau_helper_part), the rest this process
-RADAU_HELPER = (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC, _kcolloc.K_FACTOR)
+RADAU_HELPER = (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC)
 
 
 def radau_helper_part() -> None:
     """The helper process's share of the flat Radau loop's first compilation (see
     :func:`nsdyn.solve.methods.warmup_kernel`): the flat right-hand side, Newton (which links
-    it), the Jacobian and the factorisation, each for the types the loop calls it with."""
+    it) and the Jacobian, each for the types the loop calls it with."""
     K = radau_callees()
     for k in RADAU_HELPER:
         K[k].compiled()
@@ -213,11 +213,14 @@ def _compile_radau_loop() -> None:
 
 
 def radau_parts_here(helper: Helper, metrics: str | None) -> None:
-    """This process's share: the loop itself, the start-up and the ``metrics`` (None when
-    the helper takes them); then wait for the helper's part (:data:`RADAU_HELPER`)."""
+    """This process's share: the loop itself, the callees :data:`RADAU_HELPER` leaves (the
+    factorisation, the start-up) and the ``metrics`` (None when the helper takes them); then
+    wait for the helper's part."""
     _compile_radau_loop()
     K = radau_callees()
-    K[_kcolloc.K_START].compiled()
+    for k, callee in enumerate(K):
+        if k not in RADAU_HELPER:
+            callee.compiled()
     metrics_here(metrics)
     helper.wait_for([K[k].kernel for k in RADAU_HELPER])
 
@@ -227,7 +230,9 @@ def radau_callees_part() -> None:
     the start-up): a helper's share when its caller compiles the loop with other kernels of
     its own (the sweep's, :func:`nsdyn.periodic.problem.warmup`)."""
     radau_helper_part()
-    radau_callees()[_kcolloc.K_START].compiled()
+    for k, callee in enumerate(radau_callees()):
+        if k not in RADAU_HELPER:
+            callee.compiled()
 
 
 # ---- the event-driven loop (switch model; unilateral contacts) ------------------------------
@@ -508,20 +513,19 @@ def _compile_jac_at() -> None:
 
 def system_helper_part() -> None:
     """A helper's share of generalized-alpha's first compilation: the Jacobian's own kernel
-    (:func:`nsdyn.models.isolated._kernel.jac_at`), then the system kernel. This process
-    compiles the Jacobian by address, which links the first from the cache
-    (:func:`genalpha_parts_here`)."""
+    (:func:`nsdyn.models.isolated._kernel.jac_at`), the Jacobian by address (``jac_table``,
+    which links it), then the system kernel."""
     _compile_jac_at()
+    _event_part(SYSTEM[1:])
     _event_part(SYSTEM[:1])
 
 
 def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
     """This process's share of generalized-alpha's first compilation: the loop itself (which
-    needs neither the system kernel nor its Jacobian compiled), the ``metrics`` (compiled,
-    not run: :func:`metrics_here`) and the Jacobian by address (``jac_table``, once the
-    helper's ``jac_at``, which it links, is in the cache); then wait for the helper's system
-    kernel. The loop, the metrics and ``jac_table`` here (~12 s of CPU), ``jac_at`` and the
-    system kernel there (~11 s)."""
+    needs neither the system kernel nor its Jacobian compiled) and the ``metrics`` (compiled,
+    not run: :func:`metrics_here`); then wait for the helper's Jacobian and system kernel
+    (:func:`system_helper_part`). The loop and the metrics here, ``jac_at``, ``jac_table`` and
+    the system kernel there: about even shares of CPU."""
     event_callees()  # the declarations its calls by address are typed against
     m = methods.METHODS["genalpha"]
     P, x0, t_eval, o, X, upl_t = methods.tiny_run(m)
@@ -531,9 +535,7 @@ def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
         o.uplift_mode, X, upl_t,
     )  # fmt: skip
     metrics_here(metrics)
-    helper.wait_for([ks.jac_at])
-    _event_part(SYSTEM[1:])
-    helper.wait_for([ks.evaluate])
+    helper.wait_for([ks.jac_at, *(_event_by_name()[name].kernel for name in SYSTEM)])
 
 
 # ---- genalpha-lowrank: its dense loop here, the system kernel in the helper ---------------------

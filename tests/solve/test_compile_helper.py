@@ -4,9 +4,9 @@ What must hold: a kernel passed as an argument has the same identity in every pr
 the helper's cache entries are never found), a helper that fails or delivers nothing only
 costs the wait for its end, and each first compilation split with a helper leaves the
 helper's share to it (loaded, not compiled, here; SPLITS below): the default run's flat
-right-hand side, its Jacobian, Newton and the factorisation; the switch model's system kernel,
+right-hand side, its Jacobian and Newton; the switch model's system kernel,
 its Jacobian, the friction detector, the settling, the factorisation and the general metrics;
-generalized-alpha's system kernel and the Jacobian's own kernel; genalpha-lowrank's system
+generalized-alpha's system kernel and Jacobian; genalpha-lowrank's system
 kernel and metrics; the sweep's Jacobian (and the uplift probe's Radau pieces).
 """
 
@@ -134,18 +134,17 @@ def _compiled_in_a_fresh_warmup(cache, kernel, metrics) -> set[str]:
 # running them. The metrics are those of nsdyn.solve.methods.metrics_for: the flat ones after
 # the flat Radau loop, else the general ones, which call the system kernel by address
 SPLITS = [
-    ("radau", "metrics", {"_loop", "start_flat"},
-     {"feval_flat", "jac_flat_here", "newton_flat", "_factor", "evaluate_flat_many", "setup",
+    ("radau", "metrics", {"_loop", "start_flat", "_factor"},
+     {"feval_flat", "jac_flat_here", "newton_flat", "evaluate_flat_many", "setup",
       "workspace"}),
     ("event", "metrics-general",
      {"_run", "_step", "_start", "newton_general", "_event_at", "accept"},
      {"evaluate", "jac_table", "jac_at", "_detect", "_settle", "evaluate_many_t", "_factor"}),
-    # generalized-alpha: its loop, the metrics (compiled, not run) and the Jacobian by
-    # address here; the system kernel and the Jacobian's own kernel, which the Jacobian by
-    # address links from the cache, in the helper
+    # generalized-alpha: its loop and the metrics (compiled, not run) here; the Jacobian's own
+    # kernel, the Jacobian by address (which links it) and the system kernel in the helper
     ("genalpha", "metrics-general",
-     {"genalpha_loop", "_residual", "_iteration_matrix", "evaluate_many_t", "jac_table"},
-     {"evaluate", "jac_at"}),
+     {"genalpha_loop", "_residual", "_iteration_matrix", "evaluate_many_t"},
+     {"evaluate", "jac_at", "jac_table"}),
     # genalpha-lowrank's set-up calls the system kernel once from Python; its dense loop
     # compiles here from the run's argument types (sparse.loop_args) while the helper
     # compiles the system kernel and then the metrics
