@@ -1,8 +1,10 @@
-"""Small dense LU with partial pivoting, shared by the numba kernels of every family.
+"""Small dense linear algebra shared by the numba kernels of every family: LU with partial
+pivoting and the pseudo-inverse of a few constraint rows.
 
 ``P A = L U`` factored in place (unit-diagonal L below, U on and above the diagonal, row
 swaps in ``piv``), then ``A x = b`` solved by forward and back substitution. Real or complex
 matrices (numba compiles one version per type); vectors or blocks of columns on the right.
+:func:`pinv_small` gives the minimum-norm solution of redundant constraints.
 """
 
 import numpy as np
