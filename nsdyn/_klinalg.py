@@ -268,11 +268,12 @@ def pinv_small(A, m):
                     a += U[k, p] * U[k, p]
                     b += U[k, q] * U[k, q]
                     g += U[k, p] * U[k, q]
-                if not abs(g) > eps * np.sqrt(a * b):
+                # orthogonal to working precision; or a column whose squares underflowed
+                if a == 0.0 or b == 0.0 or not abs(g) > eps * np.sqrt(a) * np.sqrt(b):
                     continue
                 rotated = True
-                zeta = (b - a) / (2.0 * g)
-                t = (1.0 if zeta >= 0.0 else -1.0) / (abs(zeta) + np.sqrt(1.0 + zeta * zeta))
+                zeta = (b - a) / (2.0 * g)  # |zeta| may pass 1e154: hypot, not sqrt(1 + zeta^2)
+                t = (1.0 if zeta >= 0.0 else -1.0) / (abs(zeta) + np.hypot(1.0, zeta))
                 c = 1.0 / np.sqrt(1.0 + t * t)
                 s = c * t
                 for k in range(m):
