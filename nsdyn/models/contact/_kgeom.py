@@ -34,6 +34,13 @@ from nsdyn.models.contact._klcp import lemke
 
 RETRY_SHIFT = 1e-10  # relative shift of q when Lemke's first attempt ray-terminates
 REG = 0.0  # relative diagonal regularisation of the LCP (none: the lexicographic rule copes)
+# ... except where two contacts' rows agree to ~1e-9 (a body sliding flat on one edge): Lemke
+# then may ray-terminate with its artificial variable at ~1e-8-1e-7 of the data, its last
+# pivots at round-off (which side depends on the last bits: numpy and numba versions, or the
+# JIT on or off). A compliance of RETRY_REG x the largest inverse mass on the normal and
+# tangential diagonal separates the rows, the smaller first; the impulses move by about that
+# relative amount (1e-6 of a resting body's impact: below the event loop's at-rest V_ON).
+RETRY_REG = np.array([1e-8, 1e-6])
 
 # body modes (also the index of the time-in-mode summary)
 REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT, OVERTURNED = 0, 1, 2, 3, 4, 5
@@ -181,6 +188,15 @@ def solve_contacts(Wn, Wt, minv, bN, bT, mu, sig, idx):
     if status != 0:  # degenerate start: retry slightly perturbed
         z, w, status = lemke(A, qv / qs + RETRY_SHIFT)
         w -= RETRY_SHIFT
+    reg = 0.0
+    for r in range(RETRY_REG.shape[0]):
+        if status == 0:
+            break
+        # degenerate rows (one edge's two contacts): retry regularised, least first
+        for a in range(k + 2 * ks):
+            A[a, a] += (RETRY_REG[r] - reg) * scale
+        reg = RETRY_REG[r]
+        z, w, status = lemke(A, qv / qs)
     z *= qs
     w *= qs
     for a in range(k):

@@ -88,3 +88,35 @@ def test_frictional_contact_lcp_solution_is_a_complementary_basis(data):
     sl = np.abs(vT) > 1e-6
     assert np.all(lamT[sl] * vT[sl] <= s)
     assert np.allclose(np.abs(lamT[sl]), (mu * lamN)[sl], atol=1e-6)
+
+
+# A body sliding flat on one edge at an impact: its two contacts' tangent rows agree to 6e-10
+# (both points at the same height), and Lemke's pivots on the frictional LCP end at round-off.
+# Which way they end depends on the last bits (these rows made it ray-terminate with numpy
+# 1.26 / numba 0.59 and not with newer versions); the regularised retries must solve it.
+# Physics of the answer, to the largest retry's 1e-6 (relative): contact 0 is hit and sliding,
+# so its post-impact normal velocity is zero and its friction impulse on the cone's edge
+# opposing the slip; contact 1 separates, carrying nothing.
+_FLAT_EDGE = dict(
+    Wn=np.array([[0.0, 1.0, -0.3836734687735063], [0.0, 1.0, 0.5163265312264937]]),
+    Wt=np.array([[1.0, 0.0, 0.9843537417360156], [1.0, 0.0, 0.9843537411744046]]),
+    minv=np.array([0.5, 0.5, 1.2595358445167728]),
+    bN=np.array([-9.338965551900991e-03, 4.764552511207776e-11]),
+    bT=np.array([0.04481876284349336, 0.04481876283960828]),
+)
+
+
+def test_impact_on_two_contacts_of_one_edge_is_solved():
+    d = _FLAT_EDGE
+    mu = np.array([0.24, 0.24])
+    lamN, lamT, wN, _, status = solve_contacts(
+        d["Wn"], d["Wt"], d["minv"], d["bN"], d["bT"], mu, np.zeros(2), np.array([0, 1])
+    )
+    assert status == 0
+    scale = abs(d["bN"][0])
+    tol = 1e-6
+    assert abs(wN[0]) <= tol * scale and lamN[0] > 0.0
+    assert lamN[1] == 0.0 and wN[1] > 0.0 and abs(lamT[1]) <= tol * lamN[0]
+    assert abs(lamT[0] + mu[0] * lamN[0]) <= tol * lamN[0]  # on the cone, against the slip
+    v = d["minv"] * (d["Wn"].T @ lamN + d["Wt"].T @ lamT)
+    assert abs(d["Wt"][0] @ v + d["bT"][0]) < abs(d["bT"][0])  # the slip slowed, not reversed
