@@ -95,8 +95,7 @@ if PLAIN:
 
     @overload(borrowed)
     def _borrowed_plain(a):
-        if not _arrays(a):
-            raise errors.TypingError(f"borrowed: expected an array or a tuple of arrays, got {a}")
+        _typer_borrowed(None)(a)  # the same typing error for anything but arrays
         return lambda a: a
 
     @overload(alive)

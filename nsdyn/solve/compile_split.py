@@ -217,22 +217,24 @@ def radau_parts_here(helper: Helper, metrics: str | None) -> None:
     factorisation, the start-up) and the ``metrics`` (None when the helper takes them); then
     wait for the helper's part."""
     _compile_radau_loop()
-    K = radau_callees()
-    for k, callee in enumerate(K):
+    _radau_rest()
+    metrics_here(metrics)
+    helper.wait_for([radau_callees()[k].kernel for k in RADAU_HELPER])
+
+
+def _radau_rest() -> None:
+    """The flat Radau loop's callees that :data:`RADAU_HELPER` leaves to this process."""
+    for k, callee in enumerate(radau_callees()):
         if k not in RADAU_HELPER:
             callee.compiled()
-    metrics_here(metrics)
-    helper.wait_for([K[k].kernel for k in RADAU_HELPER])
 
 
 def radau_callees_part() -> None:
     """Every piece of the flat Radau loop but the loop itself (:func:`radau_helper_part`,
-    the start-up): a helper's share when its caller compiles the loop with other kernels of
+    then the rest): a helper's share when its caller compiles the loop with other kernels of
     its own (the sweep's, :func:`nsdyn.periodic.problem.warmup`)."""
     radau_helper_part()
-    for k, callee in enumerate(radau_callees()):
-        if k not in RADAU_HELPER:
-            callee.compiled()
+    _radau_rest()
 
 
 # ---- the event-driven loop (switch model; unilateral contacts) ------------------------------
