@@ -242,6 +242,7 @@ TABLE_NAMES = (
     "cyl.rhs",
     "contact.rhs",
     "deck.switch",
+    "radau.feval",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration

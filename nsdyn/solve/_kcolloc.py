@@ -233,7 +233,7 @@ def jeval(t, y, P, Fl, flat, general, K, J, ys, qdd, lam, tau, modes):
 
 def _newton(
     P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
-    modes, Fl, flat, general,
+    modes, Fl, flat, general, feval_flat,
 ):  # fmt: skip
     """Simplified Newton on the collocation system; Z holds the start guess on entry.
 
@@ -247,7 +247,8 @@ def _newton(
     The arrays are those of the workspace (:func:`nsdyn.solve._kradau.workspace`), ``Fl`` the
     flat parameters of :func:`nsdyn.solve._kflat.pack_flat`, used when ``flat``; ``general``
     (:func:`general_called`, :func:`general_table` or :func:`flat_only`) evaluates the
-    stages otherwise.
+    stages otherwise. ``feval_flat``: :func:`nsdyn.solve._kflat.feval_flat` itself (linked)
+    or :func:`feval_flat_t` (by its address).
 
     Returns (converged, n_iter, rate, nonfinite, singular, dW_norm).
     """
@@ -272,7 +273,7 @@ def _newton(
             for i in range(3):
                 for j in range(n2):
                     ys[j] = y[j] + Z[i, j]
-                ok = ok and kf.feval_flat(t + C[i] * h, ys, Fl, F[i], qdd, lam, tau, modes)
+                ok = ok and feval_flat(t + C[i] * h, ys, Fl, F[i], qdd, lam, tau, modes)
         if not ok:
             singular = not general(G_STAGES, P, t, y, h, Z, F, ys, ys, J, qdd, lam, tau, modes)
         stats[ki.S_NFEV] += 3
@@ -322,10 +323,32 @@ def _newton(
 # the Radau loop's callees by address (:mod:`nsdyn._kaddress`): their indices in ``K``
 K_FEVAL, K_JAC, K_FACTOR, K_NEWTON, K_START = range(5)
 
-newton = njit(cache=True, error_model="numpy")(_newton)
-# Newton with :func:`flat_only` in a kernel of its own: the address of a kernel with a kernel
-# argument would have the argument's dispatcher in its declared type
 newton_inline = njit(cache=True, error_model="numpy", inline="always")(_newton)
+
+
+@njit(cache=True, error_model="numpy")
+def newton(
+    P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
+    modes, Fl, flat, general,
+):  # fmt: skip
+    """:func:`_newton` with the flat right-hand side linked (the general kernel's loop)."""
+    return newton_inline(
+        P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam,
+        tau, modes, Fl, flat, general, kf.feval_flat,
+    )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def feval_flat_t(t, x, F, out, qdd, lam, tau, modes):
+    """:func:`nsdyn.solve._kflat.feval_flat` by its address in the table of
+    :mod:`nsdyn._kaddress` (row ``"radau.feval"``, filled by
+    :func:`nsdyn.solve.compile_split.radau_calls`): the default loop's Newton then holds no copy
+    of the flat right-hand side, which the loop calls by address too (linked, its code went
+    through LLVM again in Newton's: ~1 s of one core in a first run)."""
+    return ka.tcall("radau.feval", (t, x, F, out, qdd, lam, tau, modes))
+
+
+ka.tslot("radau.feval", kf.feval_flat, "nsdyn.solve.compile_split:radau_callees")
 
 
 @njit(cache=True, error_model="numpy")
@@ -337,7 +360,7 @@ def newton_general(
     call): the flat branch is pruned, so the flat right-hand side is not compiled with it."""
     return newton_inline(
         P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam,
-        tau, modes, Fl, False, general_table,
+        tau, modes, Fl, False, general_table, kf.feval_flat,
     )  # fmt: skip
 
 
@@ -346,10 +369,12 @@ def newton_flat(
     P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
     modes, Fl, flat,
 ):  # fmt: skip
-    """:func:`newton` with :func:`flat_only` (the default loop's, called by address)."""
+    """:func:`newton` with :func:`flat_only` and :func:`feval_flat_t` (the default loop's,
+    called by address: a kernel with a kernel argument would have the argument's dispatcher
+    in its declared type)."""
     return newton_inline(
         P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam,
-        tau, modes, Fl, flat, flat_only,
+        tau, modes, Fl, flat, flat_only, feval_flat_t,
     )  # fmt: skip
 
 
@@ -361,5 +386,5 @@ def newton_table(
     """:func:`newton` with :func:`general_table` (the event loop's step calls it by address)."""
     return newton_inline(
         P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam,
-        tau, modes, Fl, flat, general_table,
+        tau, modes, Fl, flat, general_table, kf.feval_flat,
     )  # fmt: skip

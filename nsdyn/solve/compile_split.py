@@ -146,8 +146,11 @@ def calls(callees) -> np.ndarray | tuple:
 @functools.cache
 def radau_calls():
     """``K`` of the flat Radau loop: :func:`calls` of :func:`radau_callees` (the loop reads
-    it, never writes it)."""
-    return calls(radau_callees())
+    it, never writes it); the flat right-hand side's address also in the table's row
+    ``"radau.feval"`` (:mod:`nsdyn._kaddress`), for :func:`nsdyn.solve._kcolloc.newton_flat`."""
+    K = radau_callees()
+    fill_table([K[_kcolloc.K_FEVAL]])
+    return calls(K)
 
 
 @functools.cache
