@@ -42,6 +42,12 @@ jump to address 0). With plain numba (:data:`nsdyn._numba_cache.PLAIN`) and with
 (numba's low-level extension API, ``type_callable`` and ``lower_builtin``); an
 ``@overload``'s implementation would be a function of its own, compiled for every callee
 (~1.8 s of the event method's first compilation).
+
+A kernel that only compiled code calls (by address or linked) is compiled without numba's
+Python entry point (:data:`NO_ENTRY`, :func:`no_entry`): the entry unboxes every argument
+from Python objects, ~0.2-0.5 s of the first compilation of a kernel with ~25 arguments
+(~2 s of the event method's). Called from Python, such a kernel raises a TypeError (numba
+itself would jump to the missing entry).
 """
 
 import hashlib
@@ -55,6 +61,10 @@ from numba.extending import intrinsic, lower_builtin, overload, type_callable
 from numba.np.arrayobj import make_array
 
 from nsdyn._numba_cache import PLAIN
+
+# the options of a kernel only compiled code calls (:func:`no_entry`): no Python entry point,
+# no C entry point (numba's own options; plain numba keeps both)
+NO_ENTRY = {} if PLAIN else {"no_cpython_wrapper": True, "no_cfunc_wrapper": True}
 
 # name -> (return type, argument types): what an address declared under name is compiled for
 DECLARED: dict = {}
@@ -406,3 +416,36 @@ def run_split(loop, args: tuple, callees, helper: str):
         compile_beside(loop, tuple(typeof(a) for a in args), callees, helper)
     fill_table(callees)
     return loop(*args)
+
+
+# ---- kernels without a Python entry point ----------------------------------------------------
+
+
+def _no_entry_class(base):
+    class NoEntry(base):
+        """A kernel compiled without numba's Python entry point (:data:`NO_ENTRY`)."""
+
+        def __call__(self, *args, **kws):
+            name = self.py_func.__qualname__
+            raise TypeError(
+                f"{self.py_func.__module__}.{name} is compiled without a Python entry point: "
+                "compiled code calls it (by its address or linked), Python calls its caller"
+            )
+
+    return NoEntry
+
+
+_NO_ENTRY_CLASSES: dict = {}
+
+
+def no_entry(kernel):
+    """Mark ``kernel``, an ``njit(..., **NO_ENTRY)`` dispatcher, as called from compiled
+    code only: a call from Python raises a TypeError instead of crashing. Unchanged with plain
+    numba and without the JIT (a plain function)."""
+    if not NO_ENTRY or not hasattr(kernel, "targetoptions"):
+        return kernel
+    if any(kernel.targetoptions.get(k) is not v for k, v in NO_ENTRY.items()):
+        raise ValueError(f"{kernel.py_func.__qualname__}: compile it with njit(..., **NO_ENTRY)")
+    base = type(kernel)
+    kernel.__class__ = _NO_ENTRY_CLASSES.setdefault(base, _no_entry_class(base))
+    return kernel

@@ -351,7 +351,8 @@ def feval_flat_t(t, x, F, out, qdd, lam, tau, modes):
 ka.tslot("radau.feval", kf.feval_flat, "nsdyn.solve.compile_split:radau_callees")
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def newton_general(
     P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
     modes, Fl, flat,
@@ -364,7 +365,8 @@ def newton_general(
     )  # fmt: skip
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def newton_flat(
     P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
     modes, Fl, flat,
@@ -378,7 +380,8 @@ def newton_flat(
     )  # fmt: skip
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def newton_table(
     P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
     modes, Fl, flat,

@@ -180,7 +180,8 @@ def jeval(t, x, P, J):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def jac_table(t, x, P, J):
     """:func:`nsdyn.models.isolated._kernel.jac` with the system kernel called by its address
     (``"sys.evaluate"``): compiled without a copy of it, so beside it."""

@@ -37,6 +37,7 @@ no step history). A sign change and its reversal within one step are not seen: l
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve import _kradau as kr
@@ -149,7 +150,8 @@ def _root(kind, i, sgn, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
     return b
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def _detect(t, h, y, ynew, Qd, P, ew, stats):
     """Earliest switching instant in the step [t, t + h]: returns (x, isolator, kind), x = 2
     when none. The switching functions are scanned at SLIP_SAMPLES / STICK_SAMPLES points of
@@ -247,7 +249,8 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
     return x_best, i_best, k_best
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
     """Consistent mode set at an event (t, y); records the changes in ``log = (ev_t, ev_i,
     ev_m)``. Returns ok (False: the event buffer is full).

@@ -23,6 +23,7 @@ step, split at the extrema of the cubic gap, located by Illinois).
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn._klinalg import copy_vec, lu_factor, lu_solve
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.solve import _kcommon as ki
@@ -52,7 +53,8 @@ def _log(clog, cnt, t, k, kind, v, imp):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def _land(t, y, P, k, e_rest, g_tol, clog, cnt, dT):
     """Impact at the touchdown of contact k: velocities of ``y`` jump, contacts close or open.
 
@@ -160,7 +162,8 @@ def _baumgarte(P, k, y):
     return 2.0 * al * be * ke._dot_row(R, k, y, n) + al * al * ke._dot_row(R, k, y, np.int64(0))
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats, lift):
     """Consistent contact set at (t, y): the acceleration-level complementarity problem over
     the contacts at rest at the ground (closed ones, and open ones with g_k <= g_tol and
@@ -295,7 +298,8 @@ def _monotone_breaks(k, Qd, P, xs):
     return nx + 1
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def _detect(t, h, y, Qd, P, ew, g_tol, g_lift, x_max, stats):
     """Earliest contact event in the step before ``x_max``: (x, contact, kind), contact -1
     when none. Leaves lam, tau at the step end.
