@@ -32,8 +32,8 @@ right-hand side for a law it does not serve), the step, the start-up, the event 
 acceptance and the loop (:func:`event_parts_here`).
 
 Generalized-alpha calls the system kernel and its Jacobian through the table too: the helper
-compiles the Jacobian's own kernel and the system kernel (:func:`system_helper_part`), this
-process the loop, the metrics and the Jacobian by address, which links the helper's
+compiles the Jacobian (its own kernel, then the one by address that links it) and the system
+kernel (:func:`system_helper_part`), this process the loop and the metrics
 (:func:`genalpha_parts_here`). The general metrics of every loop but the flat Radau one
 call the system kernel by address (:func:`nsdyn.solve._kcommon.evaluate_many_t`); a process
 that may not have it yet compiles them without running them (:func:`metrics_here`).
@@ -518,17 +518,19 @@ def _compile_jac_at() -> None:
 
 def system_helper_part() -> None:
     """A helper's share of generalized-alpha's first compilation: the Jacobian's own kernel
-    (:func:`nsdyn.models.isolated._kernel.jac_at`), then the system kernel."""
+    (:func:`nsdyn.models.isolated._kernel.jac_at`), the Jacobian by address (``jac_table``,
+    which links it), then the system kernel."""
     _compile_jac_at()
+    _event_part(SYSTEM[1:])
     _event_part(SYSTEM[:1])
 
 
 def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
     """This process's share of generalized-alpha's first compilation: the loop itself (which
     needs neither the system kernel nor its Jacobian compiled) and the ``metrics`` (compiled,
-    not run: :func:`metrics_here`), then the Jacobian by address (``jac_table``, which links
-    the helper's ``jac_at`` from the cache), waiting for the helper's system kernel last
-    (:func:`system_helper_part`): about even shares of CPU."""
+    not run: :func:`metrics_here`); then wait for the helper's Jacobian and system kernel
+    (:func:`system_helper_part`). The loop and the metrics here, ``jac_at``, ``jac_table`` and
+    the system kernel there: about even shares of CPU."""
     event_callees()  # the declarations its calls by address are typed against
     m = methods.METHODS["genalpha"]
     P, x0, t_eval, o, X, upl_t = methods.tiny_run(m)
@@ -538,9 +540,7 @@ def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
         o.uplift_mode, X, upl_t,
     )  # fmt: skip
     metrics_here(metrics)
-    helper.wait_for([ks.jac_at])
-    _event_part(SYSTEM[1:])
-    helper.wait_for([_event_by_name()[SYSTEM[0]].kernel])
+    helper.wait_for([ks.jac_at, *(_event_by_name()[name].kernel for name in SYSTEM)])
 
 
 # ---- genalpha-lowrank: its dense loop here, the system kernel in the helper ---------------------

@@ -194,7 +194,7 @@ def _views(P):
     return a0, B, Cr, b, y, rhs_, s, ds, v, stuck, G, G2
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _assemble(t, x, P, s, stuck, a0, Bt, Crow, b):
     """Fill a0 (n,), Bt = B^T (m, n), constraint rows Crow (m, n), b (m,) for given directions.
 
@@ -292,7 +292,7 @@ def _solve(t, x, P, qdd, ws):
     return m, ok
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _directions(x, P, ws):
     """Set s, ds, stuck in ``ws`` from the law and the sliding velocities of state ``x``."""
     a0, B, Cr, b, y, rhs_, s, ds, v, stuck, G, G2 = ws
