@@ -211,7 +211,8 @@ def run(args: argparse.Namespace) -> int:
         frame, fm = results[0]["frame"], results[0]["f_max"] or 5.0
         fixed = None  # the fixed-base reference needs a frame
         if frame is not None:
-            fixed = {r["A"]: fixed_base_response(frame, r["A"], freqs, f_max=fm) for r in results}
+            amps = [r["A"] for r in results]  # linear: one solve for every amplitude
+            fixed = dict(zip(amps, fixed_base_response(frame, amps, freqs, f_max=fm), strict=True))
         fig_path = out / "sweep.png"
         from nsdyn.plot import sweep_figure
 

@@ -2,8 +2,8 @@
 
 Under ``u''_hor = A sin(2 pi f t)`` the isolated frame's periodic responses are continued in f
 (:mod:`nsdyn.periodic.continuation` on :func:`nsdyn.periodic.problem.frame_problem`). The
-fixed-base frame is linear, so its steady response is the frequency response ``H(j w)`` of its
-state-space model from ``u''_hor`` to the displacements ``q``:
+fixed-base frame is linear, so its steady response is its receptance ``H(w)`` from ``u''_hor``
+to the displacements ``q``, the frequency response of its state-space model:
 
     drift_i = A |H_top,i - H_bottom,i| / h_i,        a_abs = A |1 - w^2 H|.
 """
@@ -29,16 +29,18 @@ def frequency_response(system, amplitude: float, *, load=None, **options) -> Cur
     return c
 
 
-def fixed_base_response(frame, amplitude: float, freqs, *, f_max: float = 5.0) -> dict:
+def fixed_base_response(frame, amplitude, freqs, *, f_max: float = 5.0) -> dict:
     """Steady harmonic IDR and absolute floor acceleration of the fixed-base frame (linear).
 
-    From python-control's frequency response of
-    :func:`nsdyn.models.isolated.statespace.fixed_base_statespace` with the column-joint and
-    level-node x displacements as outputs: a drift amplitude is ``A |H_top - H_bottom| / h``,
-    an absolute acceleration ``A |1 - w^2 H|``.
+    The receptance of the fixed-base model (fidelity ``"fixed"``) from ``u''_hor`` to the
+    column-joint and level-node x displacements, ``H(w) = T (K - w^2 M + i w C)^-1 (-M Gamma)``
+    (one batched solve over the frequencies: the frequency response of
+    :func:`nsdyn.models.isolated.statespace.fixed_base_statespace`, without building it): a
+    drift amplitude is ``A |H_top - H_bottom| / h``, an absolute acceleration ``A |1 - w^2 H|``.
+    ``amplitude`` is a number, or a sequence of them: the response is linear in it, so the
+    solve is done once and a list of results (one per amplitude) is returned.
     """
     from nsdyn.models.isolated.metrics import output_dofs
-    from nsdyn.models.isolated.statespace import fixed_base_statespace
     from nsdyn.models.isolated.system import build_system
 
     if frame is None:
@@ -51,14 +53,17 @@ def fixed_base_response(frame, amplitude: float, freqs, *, f_max: float = 5.0) -
     jx = od["joints_x"]
     lev = od["levels_x"]
     dofs = np.concatenate([jx.ravel()] + [np.asarray(v) for v in lev])
-    ss = fixed_base_statespace(sysf, dofs)
     freqs = np.asarray(freqs, dtype=float)
     w = 2 * np.pi * freqs
-    H = np.stack([np.asarray(ss(1j * wk)).reshape(-1) for wk in w])  # (nf, n_out)
+    M, C, K = (np.asarray(a, dtype=float) for a in (sysf.M, sysf.C, sysf.K))
+    Z = K[None] - (w**2)[:, None, None] * M[None] + (1j * w)[:, None, None] * C[None]
+    load = np.broadcast_to(-(M @ sysf.Gamma[:, 0]), (w.size, M.shape[0]))
+    H = np.linalg.solve(Z, load[..., None])[..., 0] @ sysf.T[dofs].T  # (nf, n_out)
     nj = jx.size
     Hj = H[:, :nj].reshape(len(w), *jx.shape)
-    drift = np.abs(np.diff(Hj, axis=1)) / od["heights"][None, :, None]
-    idr = amplitude * drift.reshape(len(w), -1).max(axis=1)
-    Hl = H[:, nj:]
-    acc = amplitude * np.abs(1.0 - (w**2)[:, None] * Hl).max(axis=1)
-    return {"f": freqs, "idr": idr, "acc": acc}
+    drift = (np.abs(np.diff(Hj, axis=1)) / od["heights"][None, :, None]).reshape(len(w), -1)
+    acc = np.abs(1.0 - (w**2)[:, None] * H[:, nj:]).max(axis=1)
+    unit = {"f": freqs, "idr": drift.max(axis=1), "acc": acc}
+    if np.ndim(amplitude) == 0:
+        return {"f": freqs, "idr": amplitude * unit["idr"], "acc": amplitude * unit["acc"]}
+    return [{"f": freqs, "idr": a * unit["idr"], "acc": a * unit["acc"]} for a in amplitude]

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from nsdyn.plot.layout import fixed_margins
 from nsdyn.structure import Frame, rotation
 
 N_SUB = 8  # points per element when drawing deformed (Hermite-interpolated) members
@@ -164,7 +165,7 @@ def sweep_figure(results: list[dict], fixed: dict | None = None):
         axes[1].legend(fontsize=8)  # the amplitudes, as on the first panel
     if len(axes[2].get_lines()) > 1:
         axes[2].legend(fontsize=8)
-    fig.tight_layout()
+    fixed_margins(fig, 3, 1, top=0.4, hspace=0.25)
     return fig
 
 

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import save_figure
+from nsdyn.plot.layout import fixed_margins
 
 MAX_ORBITS = 4
 
@@ -44,7 +45,7 @@ def plane_figure(result, title: str = ""):
     t, u, theta, N, F, cap = a["t"], a["u"], a["theta"], a["N"], a["force"], a["d_cap"]
     ni = u.shape[1]
     no = min(ni, MAX_ORBITS)
-    fig = Figure(figsize=(3.2 * max(no, 3), 6.4), layout="constrained")
+    fig = Figure(figsize=(3.2 * max(no, 3), 6.4))
     grid = fig.add_gridspec(2, max(no, 3))
     ru = np.hypot(u[..., 0], u[..., 1])
     for i in range(no):
@@ -88,6 +89,9 @@ def plane_figure(result, title: str = ""):
     ax2.set_ylabel("normal forces N_i [kN]")
     if title:
         fig.suptitle(title, fontsize=10)
+    # the twin axis's label on the right; the orbits keep their equal aspect inside their cells
+    fixed_margins(fig, 2, max(no, 3), top=0.6 if title else 0.35, right=0.75, wspace=1.15,
+                  hspace=0.75)  # fmt: skip
     return fig
 
 

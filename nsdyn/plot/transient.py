@@ -22,6 +22,8 @@ import math
 
 import numpy as np
 
+from nsdyn.plot.layout import fixed_margins
+
 G = 9.81  # [m/s²], for the PGA in g of the title
 
 
@@ -122,8 +124,9 @@ def plot_transient(result, motion=None, *, fixed=None, note: str | None = None,
         panels.append("levels")
     n_cols = 2 if len(panels) > 2 else 1
     n_rows = max(1, math.ceil(len(panels) / n_cols))
-    fig = Figure(figsize=(10.5 if n_cols == 2 else 7, 2.9 * n_rows + 0.8), layout="constrained")
+    fig = Figure(figsize=(10.5 if n_cols == 2 else 7, 2.9 * n_rows + 0.8))
     axes = np.atleast_1d(fig.subplots(n_rows, n_cols)).ravel()
+    fixed_margins(fig, n_rows, n_cols, top=0.6 if note else 0.4)
     for ax in axes[len(panels) :]:
         ax.remove()
     iso, fb = "isolated", "fixed base"
@@ -157,6 +160,7 @@ def plot_transient(result, motion=None, *, fixed=None, note: str | None = None,
             ax.set_xlabel("peak interstorey drift ratio [-]" if ratio else "peak storey drift [m]")
             ax.set_ylabel("storey")
             ax.yaxis.set_major_locator(MaxNLocator(integer=True))
+            ax.xaxis.set_major_locator(MaxNLocator(nbins=5))  # drift ratios: long labels
             ax.set_xlim(left=0.0)
         else:  # levels
             a = r.floor_acc_by_level

@@ -1,0 +1,62 @@
+"""The fixed-base frame's steady harmonic response (:func:`nsdyn.periodic.fixed_base_response`).
+
+What must hold: the batched receptance ``T (K - w^2 M + i w C)^-1 (-M Gamma)`` is the frequency
+response of the python-control state-space model of the same frame
+(:func:`nsdyn.models.isolated.statespace.fixed_base_statespace`, an independent evaluation
+through ``(sI - A)^-1 B``) to the round-off of the two solves; the response is linear in the
+amplitude (a list of amplitudes gives each one's result).
+"""
+
+import numpy as np
+import pytest
+
+from nsdyn.models.isolated.metrics import output_dofs
+from nsdyn.models.isolated.statespace import fixed_base_statespace
+from nsdyn.models.isolated.system import build_system
+from nsdyn.periodic import fixed_base_response
+
+EPS = np.finfo(float).eps
+
+
+def test_receptance_is_the_state_space_frequency_response(office):
+    freqs = np.geomspace(0.05, 20.0, 60)  # below, through and above the fixed-base modes
+    got = fixed_base_response(office, 1.0, freqs)
+    sysf = build_system(office, fidelity="fixed", f_max=5.0)
+    od = output_dofs(office)
+    jx = od["joints_x"]
+    dofs = np.concatenate([jx.ravel()] + [np.asarray(v) for v in od["levels_x"]])
+    w = 2 * np.pi * freqs
+    H = np.asarray(fixed_base_statespace(sysf, dofs)(1j * w)).reshape(len(dofs), len(w)).T
+    nj = jx.size
+    drift = np.abs(np.diff(H[:, :nj].reshape(len(w), *jx.shape), axis=1))
+    idr = (drift / od["heights"][None, :, None]).reshape(len(w), -1).max(axis=1)
+    acc = np.abs(1.0 - (w**2)[:, None] * H[:, nj:]).max(axis=1)
+    # round-off of two solves of size n (LU: ~n eps times the condition number each; the
+    # state-space path also inverts M), carried by |.|, differences and max: the bound below
+    M, C, K = sysf.M, sysf.C, sysf.K
+    n = M.shape[0]
+    kappa = np.array([np.linalg.cond(K - wk**2 * M + 1j * wk * C) for wk in w])
+    dH = 10 * n * (kappa + np.linalg.cond(M)) * EPS * np.abs(H).max(axis=1)
+    assert np.all(dH < 1e-6 * np.abs(H).max(axis=1))  # a bound that can fail
+    assert np.all(np.abs(got["idr"] - idr) <= 2 * dH / od["heights"].min())
+    assert np.all(np.abs(got["acc"] - acc) <= w**2 * dH)
+    assert np.array_equal(got["f"], freqs)
+
+
+def test_response_is_linear_in_the_amplitude(office):
+    freqs = np.geomspace(0.1, 5.0, 25)
+    amps = [0.1, 0.5, 2.0]
+    many = fixed_base_response(office, amps, freqs)
+    assert len(many) == len(amps)
+    for A, r in zip(amps, many, strict=True):
+        one = fixed_base_response(office, A, freqs)
+        for key in ("idr", "acc"):  # the same products of the same unit response
+            assert np.array_equal(r[key], one[key])
+        assert np.all(one["idr"] > 0) and np.all(one["acc"] > 0)
+    unit = fixed_base_response(office, 1.0, freqs)
+    assert many[2]["idr"] == pytest.approx(2.0 * unit["idr"], rel=EPS)
+
+
+def test_needs_a_frame():
+    with pytest.raises(ValueError, match="needs a frame"):
+        fixed_base_response(None, 1.0, [1.0])
