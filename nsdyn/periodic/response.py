@@ -29,7 +29,7 @@ def frequency_response(system, amplitude: float, *, load=None, **options) -> Cur
     return c
 
 
-def fixed_base_response(frame, amplitude, freqs, *, f_max: float = 5.0) -> dict:
+def fixed_base_response(frame, amplitude, freqs, *, f_max: float = 5.0) -> dict | list[dict]:
     """Steady harmonic IDR and absolute floor acceleration of the fixed-base frame (linear).
 
     The receptance of the fixed-base model (fidelity ``"fixed"``) from ``u''_hor`` to the
@@ -57,6 +57,8 @@ def fixed_base_response(frame, amplitude, freqs, *, f_max: float = 5.0) -> dict:
     w = 2 * np.pi * freqs
     M, C, K = (np.asarray(a, dtype=float) for a in (sysf.M, sysf.C, sysf.K))
     Z = K[None] - (w**2)[:, None, None] * M[None] + (1j * w)[:, None, None] * C[None]
+    # the load -M Gamma u''_hor (the fixed model's modal M is the identity: fixed_base_statespace
+    # takes -Gamma, the same numbers)
     load = np.broadcast_to(-(M @ sysf.Gamma[:, 0]), (w.size, M.shape[0]))
     H = np.linalg.solve(Z, load[..., None])[..., 0] @ sysf.T[dofs].T  # (nf, n_out)
     nj = jx.size
