@@ -131,7 +131,8 @@ def _solve(LU, piv, J, g, b):
         b[i] = (b[i] + b[n + i]) * ig
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def _error_norm(err, Z, h, LUr, pr, J, luh, y, ynew, atol, rtol):
     """Scaled norm of the embedded error estimate ``(eig_real/h I - J)^-1 (err + E Z / h)``
     (err holds f(t, y) or the filtered estimate of a first try); the estimate is left in err."""
@@ -183,7 +184,8 @@ def general_called(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     return _stages_called(P, t, y, h, Z, F, ys, qdd, lam, tau, modes)
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def general_table(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     """:func:`general_called` with the system kernel and its Jacobian called by their
     addresses in the table of :mod:`nsdyn._kaddress` (:func:`nsdyn.solve._kcommon.feval_t`),

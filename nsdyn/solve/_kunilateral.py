@@ -128,7 +128,8 @@ def _event_at(t, kind, idx, h_resume, run):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def _on_target(ev_kind, ev_idx, polish, t_new, t_target, h, P, ynew, fnew):
     """The step ended on the located event ``t_target``. A slip -> stick landing is polished by
     Newton corrections dt = -g/g' (at most POLISH_MAX): step once more (ACT_STEP) or redo the
