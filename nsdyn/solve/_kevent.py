@@ -62,7 +62,8 @@ V_SLIP_ATOL = 10.0  # |v| > this x atol (velocities) counts as motion when choos
 SLIP, STICK = 0, 1
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def _lamf(i, lam, P):
     if P[ks.I_IPAR][ks.K_FROZEN] == 1:
         return P[ks.I_LAM0][i]
@@ -79,12 +80,14 @@ def _dot_row(D, i, y, off):
     return s
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def _g_stick(i, lam, tau, P):
     return P[ks.I_MU][i] * _lamf(i, lam, P) - abs(tau[i])
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def _g_dense(kind, i, sgn, x, y, Qd, t, h, P, ew):
     """Switching function of isolator i on the dense output at t + x h.
 
@@ -132,7 +135,8 @@ def illinois_step(a, b, fa, fb, c, fc, side):
     return a, b, fa, fb, side, False
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def _root(kind, i, sgn, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
     """Illinois on x in [a, b] for g(a) = fa >= 0 > fb = g(b). Returns x with g(x) <= 0."""
     xtol = EVENT_TTOL / h
@@ -318,7 +322,8 @@ def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@ka.no_entry
+@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
 def _initial_modes(P, y, modes0):
     pm = P[ks.I_MODE]
     D = P[ks.I_D]
