@@ -55,7 +55,7 @@ import hashlib
 import numpy as np
 from llvmlite import binding as llvm
 from llvmlite import ir
-from numba import types
+from numba import njit, types
 from numba.core import cgutils, errors
 from numba.extending import intrinsic, lower_builtin, overload, type_callable
 from numba.np.arrayobj import make_array
@@ -449,3 +449,9 @@ def no_entry(kernel):
     base = type(kernel)
     kernel.__class__ = _NO_ENTRY_CLASSES.setdefault(base, _no_entry_class(base))
     return kernel
+
+
+def compiled_only(func):
+    """The decorator of a kernel that only compiled code calls (by its address or linked):
+    ``njit(cache=True, error_model="numpy", **NO_ENTRY)``, then :func:`no_entry`."""
+    return no_entry(njit(cache=True, error_model="numpy", **NO_ENTRY)(func))

@@ -65,7 +65,6 @@ def fixed_base_response(frame, amplitude, freqs, *, f_max: float = 5.0) -> dict 
     Hj = H[:, :nj].reshape(len(w), *jx.shape)
     drift = (np.abs(np.diff(Hj, axis=1)) / od["heights"][None, :, None]).reshape(len(w), -1)
     acc = np.abs(1.0 - (w**2)[:, None] * H[:, nj:]).max(axis=1)
-    unit = {"f": freqs, "idr": drift.max(axis=1), "acc": acc}
-    if np.ndim(amplitude) == 0:
-        return {"f": freqs, "idr": amplitude * unit["idr"], "acc": amplitude * unit["acc"]}
-    return [{"f": freqs, "idr": a * unit["idr"], "acc": a * unit["acc"]} for a in amplitude]
+    idr = drift.max(axis=1)
+    out = [{"f": freqs, "idr": a * idr, "acc": a * acc} for a in np.atleast_1d(amplitude)]
+    return out[0] if np.ndim(amplitude) == 0 else out

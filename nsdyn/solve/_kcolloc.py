@@ -131,8 +131,7 @@ def _solve(LU, piv, J, g, b):
         b[i] = (b[i] + b[n + i]) * ig
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _error_norm(err, Z, h, LUr, pr, J, luh, y, ynew, atol, rtol):
     """Scaled norm of the embedded error estimate ``(eig_real/h I - J)^-1 (err + E Z / h)``
     (err holds f(t, y) or the filtered estimate of a first try); the estimate is left in err."""
@@ -184,8 +183,7 @@ def general_called(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     return _stages_called(P, t, y, h, Z, F, ys, qdd, lam, tau, modes)
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def general_table(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     """:func:`general_called` with the system kernel and its Jacobian called by their
     addresses in the table of :mod:`nsdyn._kaddress` (:func:`nsdyn.solve._kcommon.feval_t`),
@@ -353,8 +351,7 @@ def feval_flat_t(t, x, F, out, qdd, lam, tau, modes):
 ka.tslot("radau.feval", kf.feval_flat, "nsdyn.solve.compile_split:radau_callees")
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def newton_general(
     P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
     modes, Fl, flat,
@@ -367,8 +364,7 @@ def newton_general(
     )  # fmt: skip
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def newton_flat(
     P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
     modes, Fl, flat,
@@ -382,8 +378,7 @@ def newton_flat(
     )  # fmt: skip
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def newton_table(
     P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
     modes, Fl, flat,

@@ -180,8 +180,7 @@ def jeval(t, x, P, J):
     return True
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def jac_table(t, x, P, J):
     """:func:`nsdyn.models.isolated._kernel.jac` with the system kernel called by its address
     (``"sys.evaluate"``): compiled without a copy of it, so beside it."""
@@ -258,8 +257,7 @@ def check_contacts(t_old, t_new, lam_old, lam_new, upl_t, uplift_mode, stats, ri
     return stop
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def advance(t, t_new, y, ynew, lam_old, lam, iout, upl_t, uplift_mode, stats, rinfo):
     """Bookkeeping of an accepted step [t, t_new] whose outputs up to ``iout`` are written:
     the contact check, then y = ynew, lam_old = lam and the time reached (unless stopped).
@@ -287,8 +285,7 @@ def start(t, y, P, f, qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mo
     return start_from(ok, t, y, f, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo)
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def start_from(ok, t, y, f, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo):
     """:func:`start` once the caller has evaluated f = f(t, y) and lam (``ok``: its flag)."""
     stats[S_NFEV] += 1
@@ -320,8 +317,7 @@ def initial_step(t0, y0, f0, t_end, max_step, order, rtol, atol, P, y1, f1, qdd,
     return initial_finish(h0, y0, f0, f1, t_end - t0, max_step, order, rtol, atol)
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def initial_probe(t0, y0, f0, t_end, rtol, atol, y1):
     """First half of :func:`initial_step`: the trial step h0 (0.0 for an empty interval) and
     the Euler state ``y1 = y0 + h0 f0`` at which the caller evaluates ``f1``."""
@@ -347,8 +343,7 @@ def initial_probe(t0, y0, f0, t_end, rtol, atol, y1):
     return h0
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def initial_finish(h0, y0, f0, f1, length, max_step, order, rtol, atol):
     """Second half of :func:`initial_step`, given ``f1 = f(t0 + h0, y1)``."""
     n = y0.shape[0]

@@ -62,8 +62,7 @@ V_SLIP_ATOL = 10.0  # |v| > this x atol (velocities) counts as motion when choos
 SLIP, STICK = 0, 1
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _lamf(i, lam, P):
     if P[ks.I_IPAR][ks.K_FROZEN] == 1:
         return P[ks.I_LAM0][i]
@@ -80,14 +79,12 @@ def _dot_row(D, i, y, off):
     return s
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _g_stick(i, lam, tau, P):
     return P[ks.I_MU][i] * _lamf(i, lam, P) - abs(tau[i])
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _g_dense(kind, i, sgn, x, y, Qd, t, h, P, ew):
     """Switching function of isolator i on the dense output at t + x h.
 
@@ -135,8 +132,7 @@ def illinois_step(a, b, fa, fb, c, fc, side):
     return a, b, fa, fb, side, False
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _root(kind, i, sgn, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
     """Illinois on x in [a, b] for g(a) = fa >= 0 > fb = g(b). Returns x with g(x) <= 0."""
     xtol = EVENT_TTOL / h
@@ -154,8 +150,7 @@ def _root(kind, i, sgn, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
     return b
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _detect(t, h, y, ynew, Qd, P, ew, stats):
     """Earliest switching instant in the step [t, t + h]: returns (x, isolator, kind), x = 2
     when none. The switching functions are scanned at SLIP_SAMPLES / STICK_SAMPLES points of
@@ -253,8 +248,7 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
     return x_best, i_best, k_best
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
     """Consistent mode set at an event (t, y); records the changes in ``log = (ev_t, ev_i,
     ev_m)``. Returns ok (False: the event buffer is full).
@@ -322,8 +316,7 @@ def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
     return True
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _initial_modes(P, y, modes0):
     pm = P[ks.I_MODE]
     D = P[ks.I_D]

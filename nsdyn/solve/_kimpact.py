@@ -53,8 +53,7 @@ def _log(clog, cnt, t, k, kind, v, imp):
     return True
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _land(t, y, P, k, e_rest, g_tol, clog, cnt, dT):
     """Impact at the touchdown of contact k: velocities of ``y`` jump, contacts close or open.
 
@@ -162,8 +161,7 @@ def _baumgarte(P, k, y):
     return 2.0 * al * be * ke._dot_row(R, k, y, n) + al * al * ke._dot_row(R, k, y, np.int64(0))
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats, lift):
     """Consistent contact set at (t, y): the acceleration-level complementarity problem over
     the contacts at rest at the ground (closed ones, and open ones with g_k <= g_tol and
@@ -298,8 +296,7 @@ def _monotone_breaks(k, Qd, P, xs):
     return nx + 1
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _detect(t, h, y, Qd, P, ew, g_tol, g_lift, x_max, stats):
     """Earliest contact event in the step before ``x_max``: (x, contact, kind), contact -1
     when none. Leaves lam, tau at the step end.

@@ -400,8 +400,7 @@ def start(
     )  # fmt: skip
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def start_flat(
     P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats, rinfo, K
 ):  # fmt: skip
@@ -413,8 +412,7 @@ def start_flat(
     )  # fmt: skip
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def accept(t, y, f, ctl, ws, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats, rinfo):
     """Move to the end of the step :func:`_step` accepted: outputs at the t_eval it
     covers (from ``iout``, dense output), contact check, y, f, lam_old at the step end.

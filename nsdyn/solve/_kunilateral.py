@@ -62,8 +62,7 @@ ACT_NOW = 2  # discard the step, handle the event at its start
 ACT_REDO = 3  # discard the step, redo it to end on t_target
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _event_at(t, kind, idx, h_resume, run):
     """Handle an event (friction kinds 0/1, KIND_LIFT, KIND_LAND) at (t, y) and restart the
     stepper there. ``run = (y, P, f, ws, ew, ctl, burst, stats, (friction, contacts, v_tol,
@@ -128,8 +127,7 @@ def _event_at(t, kind, idx, h_resume, run):
     return True
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _on_target(ev_kind, ev_idx, polish, t_new, t_target, h, P, ynew, fnew):
     """The step ended on the located event ``t_target``. A slip -> stick landing is polished by
     Newton corrections dt = -g/g' (at most POLISH_MAX): step once more (ACT_STEP) or redo the
@@ -162,8 +160,7 @@ def _plan(t, t_new, h, x_best):
     return ACT_REDO, t_star
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _start(P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
            rinfo, K):  # fmt: skip
     """The Radau start-up (:func:`nsdyn.solve._kradau.start`) with the general kernel of the
@@ -175,8 +172,7 @@ def _start(P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_
     )  # fmt: skip
 
 
-@ka.no_entry
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def _step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo, K):
     """One Radau step (:func:`nsdyn.solve._kradau._step`) with the general kernel of the
     address table (:func:`nsdyn.solve._kcolloc.general_table`), the flat kernels, the

@@ -126,7 +126,7 @@ def _dense_state(rc, s, ys):
         ys[i] = dp.dense(rc, i, s)
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
     """Release stuck isolators outside their disc, worst first; returns a status."""
     qdd, N, Ff, Fr, Fo = out
@@ -179,7 +179,7 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
 
 
 # settling by address (compiled once, on its own: see nsdyn.models.isolated.deck_compile)
-ka.tslot("deck.settle", ka.no_entry(settle), "nsdyn.models.isolated.deck_compile:callees")
+ka.tslot("deck.settle", settle, "nsdyn.models.isolated.deck_compile:callees")
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -267,7 +267,7 @@ def initial_modes(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
     return settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_ENTRY)
+@ka.compiled_only
 def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
     """Mode changes at a located event (g0 before it, g just after); returns a status."""
     qdd, N, Ff, Fr, Fo = out
@@ -299,7 +299,7 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
     return settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
 
 
-ka.tslot("deck.switch", ka.no_entry(switch), "nsdyn.models.isolated.deck_compile:callees")
+ka.tslot("deck.switch", switch, "nsdyn.models.isolated.deck_compile:callees")
 
 
 @njit(cache=True, error_model="numpy")
