@@ -157,10 +157,11 @@ def newton_step(problem, pm: PeriodMap, x: np.ndarray, W: np.ndarray) -> np.ndar
     return dx
 
 
-def _evaluate(problem, x, f, N, disc):
-    """Period map from ``x`` with sensitivities and orbit, its scaling ``W`` and the scaled
-    residual ``max |W (phi_T(x) - x)|`` (inf when the period could not be integrated)."""
-    pm = problem.period_map(x, f, n_steps=N, disc=disc, sens=True, store=True)
+def _evaluate(problem, x, f, N, disc, sens=True):
+    """Period map from ``x`` with the orbit (and sensitivities, with ``sens``), its scaling
+    ``W`` and the scaled residual ``max |W (phi_T(x) - x)|`` (inf when the period could not
+    be integrated)."""
+    pm = problem.period_map(x, f, n_steps=N, disc=disc, sens=sens, store=True)
     if pm.status != STATUS_OK:
         return pm, None, np.inf
     amp = orbit_amplitudes(problem, pm.X)
@@ -213,14 +214,20 @@ def shoot(
         merit = float(np.linalg.norm(W * H))
         alpha = 1.0
         accepted = False
-        for _ in range(LS_HALVINGS + 1):
+        for k in range(LS_HALVINGS + 1):
+            # the full step with sensitivities (the next iteration needs them where it is
+            # accepted, as it mostly is); a shortened one first without, then with them
+            # where accepted: a trial without costs a fraction of one with (no monodromy)
             xt = x + alpha * dx
-            pt, Wt, rt = _evaluate(problem, xt, f, N, disc)
+            pt, Wt, rt = _evaluate(problem, xt, f, N, disc, sens=k == 0)
             if pt.status == STATUS_OK:
                 mt = float(np.linalg.norm(W * (pt.xT - xt)))
                 if mt <= (1.0 - LS_ALPHA * alpha) * merit or rt <= tol:
-                    accepted = True
-                    break
+                    if k > 0:
+                        pt, Wt, rt = _evaluate(problem, xt, f, N, disc)
+                    if pt.status == STATUS_OK:
+                        accepted = True
+                        break
             alpha *= 0.5
         if not accepted:
             if r <= SHOOT_STALL * tol:

@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from nsdyn import periodic as pr
 from nsdyn.models.isolated.statespace import linear_statespace
 from nsdyn.models.isolated.system import Isolation
-from nsdyn.periodic.shooting import _weights
+from nsdyn.periodic.shooting import SHOOT_TOL, _weights
 
 
 def _python_control_state(system, prob, A, f):
@@ -113,6 +113,33 @@ def test_monodromy_is_the_derivative_of_the_period_map(smooth_frame):
 
     t4, t5 = fdT_error(1e-4), fdT_error(1e-5)
     assert t5 < 1e-4 and (t4 / t5 > 30.0 or t4 < 1e-6)
+
+
+def test_shortened_line_search_trials_skip_the_monodromy(monkeypatch):
+    # A shortened Newton step's trial period needs only its end state (the Armijo test), not
+    # its monodromy: it runs without sensitivities, and the step accepted runs once more with
+    # them, so the result carries the monodromy of the map at the state it returns. Duffing
+    # (gamma = 1, F = 5, f = 0.2 Hz) from x0 = [0, 5] needs shortened steps. The monodromy
+    # returned must equal that of a fresh period with sensitivities from the returned x0 bit
+    # for bit (the same deterministic integration), the orbit its residual below tolerance.
+    from nsdyn.periodic import problem as pp
+
+    sens = []
+    period_map = pp.PeriodicProblem.period_map
+
+    def recorded(self, x0, f, **kw):
+        sens.append(kw.get("sens", True))
+        return period_map(self, x0, f, **kw)
+
+    monkeypatch.setattr(pp.PeriodicProblem, "period_map", recorded)
+    prob = pr.duffing_problem(0.05, 1.0, 1.0, 5.0)
+    f = 0.2
+    res = pr.shoot(prob, f, np.array([0.0, 5.0]))
+    assert res.converged and res.residual <= SHOOT_TOL, res.message
+    assert False in sens  # shortened trials ran, without sensitivities
+    fresh = period_map(prob, res.x0, f, n_steps=res.n_steps, sens=True, store=True)
+    assert np.array_equal(res.monodromy, fresh.monodromy)
+    assert np.array_equal(res.X, fresh.X)
 
 
 def test_floquet_multipliers_of_a_damped_oscillator():
