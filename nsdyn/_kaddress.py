@@ -253,6 +253,7 @@ TABLE_NAMES = (
     "contact.rhs",
     "deck.switch",
     "radau.feval",
+    "sys.jac_at",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration

@@ -172,7 +172,7 @@ def _res_norm(res, half, sz, sv):
     return np.sqrt(acc)
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, tmp, out, K):
     """One SDIRK step of size ``h`` from (t, x) into ``out = (xn, Sn, wn)`` (the state and its
     derivatives). ``problem = (prob, pf)`` (``pf``: a frame's flat array, see
@@ -208,7 +208,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, tmp, out, K):
                 acc += A[i, j] * Fs[j, k]
             r[k] = x[k] + h * acc
             Y[k] = x[k] + c[i] * h * Fprev[k]  # explicit predictor
-        if not f_eval(prob, ti, Y, pf, Fi):
+        if not ka.call(K, "periodic.feval", (prob, ti, Y, pf, Fi), None):
             return STATUS_SINGULAR, nfev
         nfev += 1
         for k in range(d):
@@ -242,7 +242,7 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, tmp, out, K):
             for _ in range(STAGE_HALVINGS):
                 for k in range(d):
                     Yt[k] = Y[k] + alpha * dY[k, 0]
-                ok = f_eval(prob, ti, Yt, pf, Fi)
+                ok = ka.call(K, "periodic.feval", (prob, ti, Yt, pf, Fi), None)
                 nfev += 1
                 for k in range(d):
                     rest[k, 0] = -(Yt[k] - r[k] - hg * Fi[k])
@@ -299,6 +299,10 @@ def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, tmp, out, K):
     return STATUS_OK, nfev
 
 
+# the period map's call of its step (:mod:`nsdyn._kaddress`): index 2 of its K
+ka.slot("periodic.step", 2, dirk_step)
+
+
 @njit(cache=True, error_model="numpy")
 def step_scratch(s, d, want_sens):
     """Scratch of :func:`dirk_step` for ``s`` stages and ``d`` states (allocated once per
@@ -315,10 +319,15 @@ def step_scratch(s, d, want_sens):
 def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol, K):
     """Integrate one period ``T`` in ``N`` SDIRK steps from ``x0`` (at t = 0).
 
-    The Jacobian (:func:`nsdyn.periodic._kproblems.j_eval`, ~4 s of a first compilation) is
-    called through :func:`nsdyn._kaddress.call` as ``"periodic.jeval"``: directly (``K``
-    None) or by its address (``K`` from :func:`nsdyn.periodic.problem.periodic_calls`), so
-    this kernel and the step compile without a copy of it, beside it in a second process.
+    The step (:func:`dirk_step`), the Jacobian (:func:`nsdyn.periodic._kproblems.j_eval`,
+    ~4 s of a first compilation) and the right-hand side
+    (:func:`~nsdyn.periodic._kproblems.f_eval`, which the step calls) are called through
+    :func:`nsdyn._kaddress.call` as ``"periodic.step"``, ``"periodic.jeval"`` and
+    ``"periodic.feval"``: directly (``K`` None) or by their addresses (``K`` from
+    :func:`nsdyn.periodic.problem.periodic_calls`). Linked, numba would optimise and
+    translate each callee's code once more in every caller (the step's in this kernel, the
+    frame's right-hand side in both); by address each compiles once, the right-hand side and
+    the Jacobian beside this kernel and the step in a second process.
 
     A step whose stages do not converge is retried once with a fresh Jacobian, then as 2, 4,
     ... ``MAX_SUBSTEPS`` substeps (the derivative is that of the substepped map). Returns
@@ -368,21 +377,10 @@ def period_map(prob, x0, T, N, pf, A, c, want_sens, store, rtol, atol, K):
                 copy_vec(ws, w)
             status = STATUS_OK
             for j in range(ksub):
-                status, nf = dirk_step(
-                    tn + j * hs,
-                    hs,
-                    hs / T,
-                    xs,
-                    Ss,
-                    ws,
-                    want_sens,
-                    problem,
-                    method,
-                    work,
-                    tmp,
-                    (xn, Sn, wn),
-                    K,
-                )
+                status, nf = ka.call(K, "periodic.step", (
+                    tn + j * hs, hs, hs / T, xs, Ss, ws, want_sens, problem, method, work, tmp,
+                    (xn, Sn, wn), K,
+                ), None)  # fmt: skip
                 n_fev += nf
                 if status != STATUS_OK:
                     break

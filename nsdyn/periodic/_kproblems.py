@@ -267,5 +267,7 @@ def j_eval(prob, t, x, pf, F, J):
     return True
 
 
-# the period map's call of the Jacobian (:mod:`nsdyn._kaddress`): index 0 of its K
+# the period map's calls of the Jacobian and (from its step) the right-hand side
+# (:mod:`nsdyn._kaddress`): indices 0 and 1 of its K
 ka.slot("periodic.jeval", 0, j_eval)
+ka.slot("periodic.feval", 1, f_eval)

@@ -288,25 +288,41 @@ def frame_problem(
 
 
 @functools.cache
-def _jeval_callee():
-    """:func:`nsdyn.periodic._kproblems.j_eval` declared as ``"periodic.jeval"`` for the
-    types the period map calls it with (problem id, t, x, pf, F, J)."""
-    from numba import types
+@functools.cache
+def _callees() -> tuple:
+    """The period map's callees by address (:mod:`nsdyn._kaddress`), in the order of its K:
+    :func:`nsdyn.periodic._kproblems.j_eval` as ``"periodic.jeval"`` (problem id, t, x, pf,
+    F, J), :func:`~nsdyn.periodic._kproblems.f_eval` as ``"periodic.feval"`` (problem id, t,
+    x, pf, F) and the step :func:`nsdyn.periodic._kperiodic.dirk_step` as ``"periodic.step"``,
+    each declared for the types the period map and its step call it with (those of the arrays
+    :func:`~nsdyn.periodic._kperiodic.period_map` makes, whatever the problem)."""
+    from numba import typeof, types
 
     from nsdyn.solve.compile_split import Callee
 
-    v = types.float64[::1]
-    args = (types.int64, types.float64, v, v, v, types.float64[:, ::1])
-    return Callee("periodic.jeval", kp.j_eval, args, types.boolean)
+    f8, i8, b1 = types.float64, types.int64, types.boolean
+    v, m = types.float64[::1], types.float64[:, ::1]
+    scratch = getattr(kp.step_scratch, "py_func", kp.step_scratch)  # (no JIT: the function)
+    tmp = typeof(scratch(2, 2, True))
+    step_args = (
+        f8, f8, f8, v, m, v, b1, types.Tuple((i8, v)), types.Tuple((m, v, f8, f8)),
+        types.Tuple((m, m, types.int64[::1], v, v)), tmp, types.Tuple((v, m, v)),
+        types.int64[:, ::1],
+    )  # fmt: skip
+    return (
+        Callee("periodic.jeval", kp.j_eval, (i8, f8, v, v, v, m), b1),
+        Callee("periodic.feval", kp.f_eval, (i8, f8, v, v, v), b1),
+        Callee("periodic.step", kp.dirk_step, step_args, types.UniTuple(i8, 2)),
+    )
 
 
 @functools.cache
 def periodic_calls():
-    """``K`` of :func:`nsdyn.periodic._kperiodic.period_map`: the address of the Jacobian
-    kernel (:func:`nsdyn.solve.compile_split.calls`; compiles or loads only that kernel)."""
+    """``K`` of :func:`nsdyn.periodic._kperiodic.period_map`: the addresses of its callees
+    (:func:`_callees`, :func:`nsdyn.solve.compile_split.calls`; compiles or loads only them)."""
     from nsdyn.solve.compile_split import calls
 
-    return calls([_jeval_callee()])
+    return calls(list(_callees()))
 
 
 def kernels_cached() -> bool:
@@ -317,49 +333,54 @@ def kernels_cached() -> bool:
     return all(dispatcher_cached(d) for d in (kp.period_map, kp.j_eval)) and is_cached("metrics")
 
 
+def _helper_callees() -> None:
+    """The period map's Jacobian and right-hand side (its callees by address but the step)."""
+    for c in _callees()[:2]:
+        c.compiled()
+
+
 def helper_part() -> None:
     """A helper process's share of a first sweep's compilation (see :func:`warmup`): the
-    Jacobian the period map calls by address, then the orbit quantities' flat kernels."""
+    Jacobian and the right-hand side the period map calls by address, then the orbit
+    quantities' flat kernels."""
     from nsdyn.solve.methods import warmup_metrics
 
-    _jeval_callee().compiled()
+    _helper_callees()
     warmup_metrics(True)
 
 
 def helper_part_and_radau() -> None:
-    """:func:`helper_part` with, between the two, every piece of the uplift probe's Radau
-    loop but the loop itself (:func:`nsdyn.solve.compile_split.radau_callees_part`)."""
+    """:func:`helper_part` with, between the two, the uplift probe's Radau loop's callees
+    but its start-up (:func:`nsdyn.solve.compile_split.radau_callees_part`)."""
     from nsdyn.solve import compile_split
     from nsdyn.solve.methods import warmup_metrics
 
-    _jeval_callee().compiled()
-    compile_split.radau_callees_part()
+    _helper_callees()
+    compile_split.radau_callees_part(here=False)
     warmup_metrics(True)
-
-
-# longest wait for the helper's frame right-hand side (~2.5 s of compilation, its first piece;
-# a helper that cannot write the cache would otherwise keep this process idle till it ends)
-FRAME_WAIT_S = 30.0
 
 
 def warmup(radau: bool = False) -> float:
     """Compile (or load) the kernels of a smooth-law sweep: the period map (one signature
     serves every problem; compiled here for a Duffing oscillator's arguments, with
-    sensitivities and the stored orbit), the Jacobian it calls by address and the flat kernel
-    of the orbit quantities; with ``radau`` the default Radau loop of the uplift probe
-    (:func:`uplift_probe`) too. When they compile, a helper process
-    (:class:`nsdyn._numba_cache.Helper`, :func:`helper_part`, :func:`helper_part_and_radau`)
-    takes the Jacobian, the Radau loop's callees and the orbit quantities while this one
-    compiles the period map and its step (which need none of them first) and, with
-    ``radau``, the Radau loop itself before them: the frame's right-hand side, which the
-    period map and the helper's Jacobian both link, is by then in the cache (compiled once,
-    by the helper; without ``radau`` both processes compile it). Then short runs load
-    everything. Seconds spent."""
+    sensitivities and the stored orbit), its step, Jacobian and right-hand side (all three
+    called by address, :func:`_callees`) and the flat kernel of the orbit quantities; with
+    ``radau`` the default Radau loop of the uplift probe (:func:`uplift_probe`) too. When
+    they compile, a helper process (:class:`nsdyn._numba_cache.Helper`, :func:`helper_part`,
+    :func:`helper_part_and_radau`) takes the Jacobian, the right-hand side, the Radau loop's
+    callees and the orbit quantities while this one compiles the period map and its step
+    (which need none of them compiled, only declared) and, with ``radau``, the Radau loop
+    itself before them. Then short runs load everything. Seconds spent."""
     import time
     from contextlib import nullcontext
 
     from nsdyn._numba_cache import Helper, compiling, helper_enabled
-    from nsdyn.solve.compile_split import _compile, _compile_radau_loop, radau_callees
+    from nsdyn.solve.compile_split import (
+        _compile,
+        _compile_radau_loop,
+        radau_callees,
+        radau_callees_part,
+    )
     from nsdyn.solve.methods import is_cached, warmup_kernel, warmup_metrics
 
     t0 = time.perf_counter()
@@ -370,16 +391,15 @@ def warmup(radau: bool = False) -> float:
     helper = Helper(f"nsdyn.periodic.problem:{part}") if cold and helper_enabled() else None
     with helper or nullcontext(), compiling():
         if helper is not None:
-            if both:
-                # the Radau loop first (it needs nothing compiled) while the helper compiles
-                # the frame's right-hand side, which the period map links too: loaded here
+            if both:  # the loop and its start-up (they need nothing compiled first)
                 _compile_radau_loop()
-                helper.wait_for([kp.frame_flat], timeout=FRAME_WAIT_S)
-            _jeval_callee()  # declared: the period map's typing checks its call against it
+                radau_callees_part(here=True)
+            callees = _callees()  # declared: the typing checks each call against them
+            callees[2].compiled()  # the step
             K0 = np.zeros((2, 1), dtype=np.int64)  # only its type matters here
             _, args = prob._map_args(prob.x_ref, 0.2, 4, None, True, True)
             _compile(kp.period_map, *args, K0)
-            helper.wait_for([kp.j_eval])
+            helper.wait_for([c.kernel for c in callees[:2]])
         prob.period_map(prob.x_ref, 0.2, n_steps=4, sens=True, store=True)
         if both and helper is not None:
             helper.wait_for([c.kernel for c in radau_callees()])

@@ -182,11 +182,13 @@ def jeval(t, x, P, J):
 
 @ka.compiled_only
 def jac_table(t, x, P, J):
-    """:func:`nsdyn.models.isolated._kernel.jac` with the system kernel called by its address
-    (``"sys.evaluate"``): compiled without a copy of it, so beside it."""
+    """:func:`nsdyn.models.isolated._kernel.jac` with the system kernel and the Jacobian's
+    own kernel (:func:`~nsdyn.models.isolated._kernel.jac_at`) called by their addresses
+    (``"sys.evaluate"``, ``"sys.jac_at"``): compiled without a copy of either, so beside
+    them."""
     qdd, lam, tau, modes = ks.outputs(P)
     ka.tcall("sys.evaluate", (t, x, P, qdd, lam, tau, modes))
-    ks.jac_at(t, x, P, J, lam, modes)
+    ka.tcall("sys.jac_at", (t, x, P, J, lam, modes))
 
 
 # the system kernel and its Jacobian by address (:func:`nsdyn._kaddress.tcall`): the kernels
@@ -194,6 +196,7 @@ def jac_table(t, x, P, J):
 # and translate again) its own copy of the ~250-block system kernel
 ka.tslot("sys.evaluate", ks.evaluate, "nsdyn.solve.compile_split:event_callees")
 ka.tslot("sys.jac", jac_table, "nsdyn.solve.compile_split:event_callees")
+ka.tslot("sys.jac_at", ks.jac_at, "nsdyn.solve.compile_split:event_callees")
 
 
 @njit(cache=True, error_model="numpy")

@@ -351,7 +351,10 @@ ka.tslot("event.handle", _event_at, _DECLARE)
 ka.tslot("event.land", _land, _DECLARE)
 # the names of the loop's callees in the table: those of every run, of friction events (the
 # switch model) and of contact events (unilateral contacts); a run fills the rows it calls
-CALLEES = ("sys.evaluate", "sys.jac", "event.start", "event.step", "event.accept", "event.handle")
+CALLEES = (
+    "sys.evaluate", "sys.jac", "sys.jac_at", "event.start", "event.step", "event.accept",
+    "event.handle",
+)  # fmt: skip
 CALLEES_FRICTION = ("event.settle", "event.detect_friction")
 CALLEES_CONTACTS = ("event.settle_contacts", "event.detect_contacts", "event.land")
 

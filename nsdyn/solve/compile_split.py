@@ -232,12 +232,17 @@ def _radau_rest() -> None:
             callee.compiled()
 
 
-def radau_callees_part() -> None:
-    """Every piece of the flat Radau loop but the loop itself (:func:`radau_helper_part`,
-    then the rest): a helper's share when its caller compiles the loop with other kernels of
-    its own (the sweep's, :func:`nsdyn.periodic.problem.warmup`)."""
+def radau_callees_part(here: bool) -> None:
+    """The flat Radau loop's callees between two processes when each compiles the loop
+    beside other kernels of its own (the sweep's, :func:`nsdyn.periodic.problem.warmup`):
+    the start-up in the process that compiles the loop (``here``), the rest
+    (:func:`radau_helper_part` and the factorisation) in its helper."""
+    K = radau_callees()
+    if here:
+        K[_kcolloc.K_START].compiled()
+        return
     radau_helper_part()
-    _radau_rest()
+    K[_kcolloc.K_FACTOR].compiled()
 
 
 # ---- the event-driven loop (switch model; unilateral contacts) ------------------------------
@@ -294,6 +299,7 @@ def event_callees() -> list:
     sigs = {  # name: (kernel, argument types, return type)
         "sys.evaluate": (ks.evaluate, (f8, v, P, v, v, v, vi), b1),
         "sys.jac": (ki.jac_table, (f8, v, P, m), types.none),
+        "sys.jac_at": (ks.jac_at, (f8, v, P, m, v, vi), types.none),
         "event.settle": (_kevent._settle, (f8, v, P, v, ew, i8, f8, logs.types[0], vi), b1),
         "event.settle_contacts": (
             _kimpact._settle_contacts,
@@ -333,7 +339,8 @@ def _event_by_name() -> dict:
     return {c.name: c for c in event_callees()}
 
 
-SYSTEM = ("sys.evaluate", "sys.jac")  # the system kernel and its Jacobian in the table
+# the system kernel and its Jacobian (by address, then its own kernel) in the table
+SYSTEM = ("sys.evaluate", "sys.jac", "sys.jac_at")
 
 
 @functools.cache
@@ -441,9 +448,9 @@ def event_calls(flat: bool):
 # compiles on its own (nothing is linked into the loop), so neither process waits for the
 # other's. The helper also takes the general metrics (which link the system kernel it compiles
 # first); this process the loop itself.
-EVENT_HELPER = ("sys.evaluate", "sys.jac", "event.detect_friction", "event.settle",
-                "radau.factor")  # fmt: skip
-EVENT_HERE = ("radau.newton", "event.step", "event.start", "event.handle", "event.accept")
+EVENT_HELPER = ("sys.evaluate", "sys.jac", "sys.jac_at", "event.detect_friction",
+                "event.settle", "radau.factor", "event.accept")  # fmt: skip
+EVENT_HERE = ("radau.newton", "event.step", "event.start", "event.handle")
 
 
 def _event_pieces() -> dict:
@@ -506,21 +513,10 @@ def evaluate_helper_part_and_metrics() -> None:
     methods.warmup_metrics(False)
 
 
-def _compile_jac_at() -> None:
-    """:func:`nsdyn.models.isolated._kernel.jac_at` for the types ``"sys.jac"`` calls it with:
-    the declared ``(t, x, P, J)``, then ``lam`` and ``modes`` (:func:`ks.outputs`)."""
-    from numba import types
-
-    jac = _event_by_name()[SYSTEM[1]]
-    if hasattr(ks.jac_at, "compile"):  # not under NUMBA_DISABLE_JIT
-        ks.jac_at.compile((*jac.args, types.float64[::1], types.int64[::1]))
-
-
 def system_helper_part() -> None:
-    """A helper's share of generalized-alpha's first compilation: the Jacobian's own kernel
-    (:func:`nsdyn.models.isolated._kernel.jac_at`), the Jacobian by address (``jac_table``,
-    which links it), then the system kernel."""
-    _compile_jac_at()
+    """A helper's share of generalized-alpha's first compilation: the Jacobian by address
+    (``jac_table``), its own kernel (:func:`nsdyn.models.isolated._kernel.jac_at`, which
+    ``jac_table`` calls by address), then the system kernel."""
     _event_part(SYSTEM[1:])
     _event_part(SYSTEM[:1])
 
@@ -540,7 +536,7 @@ def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
         o.uplift_mode, X, upl_t,
     )  # fmt: skip
     metrics_here(metrics)
-    helper.wait_for([ks.jac_at, *(_event_by_name()[name].kernel for name in SYSTEM)])
+    helper.wait_for([_event_by_name()[name].kernel for name in SYSTEM])
 
 
 # ---- genalpha-lowrank: its dense loop here, the system kernel in the helper ---------------------

@@ -267,9 +267,10 @@ def test_default_loop_counts_as_cached_only_with_its_callees(monkeypatch):
 
 @pytest.mark.slow
 def test_period_map_by_address_equals_the_direct_call():
-    # the period map calls its Jacobian by address (nsdyn.periodic.problem.periodic_calls):
-    # one period of the Duffing oscillator with sensitivities, the same bits as with the
-    # Jacobian called directly (K None, a second compilation of the period map, ~10 s)
+    # the period map calls its step, Jacobian and right-hand side by address
+    # (nsdyn.periodic.problem.periodic_calls): one period of the Duffing oscillator with
+    # sensitivities, the same bits as with them called directly (K None, a second
+    # compilation of the period map and its step, ~10 s)
     from nsdyn.periodic import _kperiodic as kp
     from nsdyn.periodic.problem import duffing_problem, periodic_calls
 

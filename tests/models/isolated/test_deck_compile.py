@@ -2,8 +2,9 @@
 
 The time loops of the deck call the force kernel, the switch law's settling and its mode
 switch through the process-wide address table: each compiles once, on its own, and a first
-run shares the compilation with a helper process. The histories are those of the direct calls bit for bit
-(tests/solve/test_plain_numba.py runs the deck in both modes); here: what is compiled where.
+run shares the compilation with a helper process. The histories are those of the direct
+calls bit for bit (tests/solve/test_plain_numba.py runs the deck in both modes); here: what is
+compiled where.
 """
 
 import os
