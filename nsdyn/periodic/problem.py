@@ -288,7 +288,6 @@ def frame_problem(
 
 
 @functools.cache
-@functools.cache
 def _callees() -> tuple:
     """The period map's callees by address (:mod:`nsdyn._kaddress`), in the order of its K:
     :func:`nsdyn.periodic._kproblems.j_eval` as ``"periodic.jeval"`` (problem id, t, x, pf,
@@ -326,11 +325,13 @@ def periodic_calls():
 
 
 def kernels_cached() -> bool:
-    """True when the period map's kernel, its Jacobian and the orbit quantities' flat kernel
-    are compiled in this process or in numba's on-disk cache (a sweep then only loads them)."""
+    """True when the period map's kernel, its step, Jacobian and right-hand side and the orbit
+    quantities' flat kernel are compiled in this process or in numba's on-disk cache (a sweep
+    then only loads them)."""
     from nsdyn.solve.methods import dispatcher_cached, is_cached
 
-    return all(dispatcher_cached(d) for d in (kp.period_map, kp.j_eval)) and is_cached("metrics")
+    kernels = (kp.period_map, kp.dirk_step, kp.j_eval, kp.f_eval)
+    return all(dispatcher_cached(d) for d in kernels) and is_cached("metrics")
 
 
 def _helper_callees() -> None:
