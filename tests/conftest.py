@@ -42,7 +42,7 @@ WARMUP_SLOTS = (
     (
         ("nsdyn.solve.methods", "warmup_kernel", ["event"]),
         ("nsdyn.solve.methods", "warmup_unilateral", []),
-        ("conftest", "warm_switch_shooting", []),
+        ("nsdyn.periodic.switch_compile", "warmup", []),
         ("conftest", "warm_cylinder", []),
         ("conftest", "warm_pairs", []),
     ),
@@ -68,20 +68,6 @@ for module, name, args in json.loads(sys.argv[1]):
     t, c = time.perf_counter() - t0, time.process_time() - c0
     print(f"{module}.{name}{tuple(args)}: {t:.1f} s ({c:.1f} s CPU)", flush=True)
 """
-
-
-def warm_switch_shooting():
-    """The switch model's period map with sensitivities (a one-dof Coulomb oscillator)."""
-    from nsdyn.models.isolated.builders import system_from_matrices
-    from nsdyn.models.isolated.system import Isolation
-    from nsdyn.periodic.switch import shoot_switch, switch_problem
-
-    iso = Isolation(k_lam=0.0, c=0.0, mu=0.1, law="switch")
-    sysm = system_from_matrices(
-        [[1.0]], [[0.1]], [[(2 * np.pi) ** 2]], iso_dofs=[0], influence=[1.0], isolation=iso,
-        weight=iso.g, levels=[[0]],
-    )  # fmt: skip
-    shoot_switch(switch_problem(sysm, 1.0), 1.0, max_iter=1)
 
 
 def warm_contact():

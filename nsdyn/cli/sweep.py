@@ -103,26 +103,33 @@ def configure(p: argparse.ArgumentParser) -> None:
 
 
 def prepare_kernels(friction: str) -> float:
-    """Compile (or load) the kernels of a smooth-law sweep in this process before the workers
-    start (they then load them from numba's cache): the period map and the default Radau loop
-    of the uplift probe (:func:`nsdyn.periodic.problem.uplift_probe`, run where a fixed-step
-    period fails), saying on stderr what compiles while it does (a first use, or after an
-    upgrade) and how long it took. The switch law's exact-flow kernels compile in the
-    workers, unannounced (as do the unilateral ones that recompute uplift points). Returns
-    the seconds spent."""
+    """Compile (or load) the kernels of a sweep in this process before the workers start
+    (they then load them from numba's cache), saying on stderr what compiles while it does (a
+    first use, or after an upgrade) and how long it took: for a smooth law the period map and
+    the default Radau loop of the uplift probe (:func:`nsdyn.periodic.problem.uplift_probe`,
+    run where a fixed-step period fails), for the switch law its exact-flow period map and
+    the system kernels of its tables (:mod:`nsdyn.periodic.switch_compile`). The unilateral
+    kernels that recompute uplift points (``--contact unilateral``) compile in the workers.
+    Returns the seconds spent."""
     if friction == "switch":
-        return 0.0
-    from nsdyn.periodic.problem import kernels_cached, warmup
-    from nsdyn.solve.methods import is_cached
+        from nsdyn.periodic import switch_compile
 
-    cold = not (kernels_cached() and is_cached("radau"))
+        cold = not switch_compile.kernels_cached()
+        what = "the switch model's periodic kernels"
+    else:
+        from nsdyn.periodic.problem import kernels_cached
+        from nsdyn.solve.methods import is_cached
+
+        cold = not (kernels_cached() and is_cached("radau"))
+        what = "the periodic kernels"
     if cold:
-        print(
-            "compiling the periodic kernels (first use only, cached afterwards)…",
-            file=sys.stderr,
-            flush=True,
-        )
-    spent = warmup(radau=cold)  # cached: the workers load the Radau loop themselves
+        print(f"compiling {what} (first use only, cached afterwards)…", file=sys.stderr, flush=True)
+    if friction == "switch":
+        spent = switch_compile.warmup()
+    else:
+        from nsdyn.periodic.problem import warmup
+
+        spent = warmup(radau=cold)  # cached: the workers load the Radau loop themselves
     if cold:
         print(f"  compiled in {spent:.1f} s", file=sys.stderr, flush=True)
     return spent

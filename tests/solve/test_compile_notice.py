@@ -64,26 +64,42 @@ def test_sweep_notice_names_the_periodic_kernels(monkeypatch, capsys):
     assert methods.is_cached("radau")  # the loop of the uplift probe the workers may run
 
 
-def test_no_sweep_notice_when_cached_or_for_the_switch_law(monkeypatch, capsys):
+def test_no_sweep_notice_when_cached(monkeypatch, capsys):
     from nsdyn.cli import sweep as cli_sweep
-    from nsdyn.periodic import problem
+    from nsdyn.periodic import problem, switch_compile
 
     monkeypatch.setattr(problem, "kernels_cached", lambda: True)
     monkeypatch.setattr(methods, "is_cached", lambda kernel: True)  # the uplift probe's loop
     cli_sweep.prepare_kernels("arctan")
+    monkeypatch.setattr(switch_compile, "kernels_cached", lambda: True)
+    cli_sweep.prepare_kernels("switch")
     assert capsys.readouterr().err == ""
-    monkeypatch.setattr(problem, "kernels_cached", lambda: False)
-    assert cli_sweep.prepare_kernels("switch") == 0.0  # its kernels compile in the workers
-    assert capsys.readouterr().err == ""
+
+
+def test_switch_sweep_notice_names_its_kernels(monkeypatch, capsys):
+    # nsdyn sweep --friction switch: a cold cache makes it say what compiles before the
+    # workers start, then how long; afterwards the exact-flow period map and the system
+    # kernels of the mode-set tables are ready here (the workers load them, none compiles)
+    from nsdyn.cli import sweep as cli_sweep
+    from nsdyn.periodic import switch_compile
+
+    monkeypatch.setattr(switch_compile, "kernels_cached", lambda: False)
+    spent = cli_sweep.prepare_kernels("switch")
+    err = capsys.readouterr().err
+    assert "compiling the switch model's periodic kernels (first use only, cached" in err
+    assert "compiled in" in err
+    assert np.isfinite(spent) and spent >= 0.0
+    monkeypatch.undo()
+    assert switch_compile.kernels_cached()
 
 
 @pytest.mark.parametrize("jit", [True, False], ids=["jit", "no-jit"])
 def test_every_method_is_announced_with_an_empty_cache(tmp_path, jit):
     # a fresh process with an empty NUMBA_CACHE_DIR: the probe of every method's kernel (the
-    # factor-once generalized-alpha's too) and of the sweep's says "not cached", so each first
-    # run announces its compilation; without the JIT (NUMBA_DISABLE_JIT=1, the debugging mode)
-    # nothing compiles, so every probe says "cached" and no run announces a compilation. The
-    # process's mode is set explicitly, whatever the mode this test itself runs in.
+    # factor-once generalized-alpha's too) and of the sweeps' (either law) says "not cached",
+    # so each first run announces its compilation; without the JIT (NUMBA_DISABLE_JIT=1, the
+    # debugging mode) nothing compiles, so every probe says "cached" and no run announces a
+    # compilation. The process's mode is set explicitly, whatever the mode this test runs in.
     import json
     import os
     import subprocess
@@ -91,10 +107,12 @@ def test_every_method_is_announced_with_an_empty_cache(tmp_path, jit):
     from pathlib import Path
 
     code = (
-        "import json\nfrom nsdyn.solve import methods\nfrom nsdyn.periodic import problem\n"
+        "import json\nfrom nsdyn.solve import methods\n"
+        "from nsdyn.periodic import problem, switch_compile\n"
         "k = {m.kernel for m in methods.METHODS.values()} | {'radau-general', 'metrics'}\n"
         "out = {n: methods.is_cached(n) for n in sorted(k)}\n"
-        "out['sweep'] = problem.kernels_cached()\nprint(json.dumps(out))"
+        "out['sweep'] = problem.kernels_cached()\n"
+        "out['sweep-switch'] = switch_compile.kernels_cached()\nprint(json.dumps(out))"
     )
     root = str(Path(__file__).resolve().parents[2])
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0" if jit else "1")
