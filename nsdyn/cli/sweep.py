@@ -102,15 +102,18 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
 
 
-def prepare_kernels(friction: str) -> float:
+def prepare_kernels(friction: str, contact: str = "bilateral") -> float:
     """Compile (or load) the kernels of a sweep in this process before the workers start
     (they then load them from numba's cache), saying on stderr what compiles while it does (a
     first use, or after an upgrade) and how long it took: for a smooth law the period map and
     the default Radau loop of the uplift probe (:func:`nsdyn.periodic.problem.uplift_probe`,
     run where a fixed-step period fails), for the switch law its exact-flow period map and
-    the system kernels of its tables (:mod:`nsdyn.periodic.switch_compile`). The unilateral
-    kernels that recompute uplift points (``--contact unilateral``) compile in the workers.
-    Returns the seconds spent."""
+    the system kernels of its tables (:mod:`nsdyn.periodic.switch_compile`); with
+    ``contact="unilateral"`` also the event-driven loop with lift-off and landing and its
+    metrics, which recompute the uplift points (:mod:`nsdyn.periodic.unilateral`). Returns
+    the seconds spent."""
+    from nsdyn.solve import methods
+
     if friction == "switch":
         from nsdyn.periodic import switch_compile
 
@@ -118,19 +121,30 @@ def prepare_kernels(friction: str) -> float:
         what = "the switch model's periodic kernels"
     else:
         from nsdyn.periodic.problem import kernels_cached
-        from nsdyn.solve.methods import is_cached
 
-        cold = not (kernels_cached() and is_cached("radau"))
+        cold = not (kernels_cached() and methods.is_cached("radau"))
         what = "the periodic kernels"
-    if cold:
+    uni = contact == "unilateral" and not all(
+        methods.is_cached(k) for k in ("unilateral", "metrics-general")
+    )
+    if cold or uni:
+        if uni:
+            what = (
+                f"{what} and the unilateral-contact loop" if cold else "the unilateral-contact loop"
+            )
         print(f"compiling {what} (first use only, cached afterwards)…", file=sys.stderr, flush=True)
+    t0 = time.perf_counter()
     if friction == "switch":
-        spent = switch_compile.warmup()
+        switch_compile.warmup()
     else:
         from nsdyn.periodic.problem import warmup
 
-        spent = warmup(radau=cold)  # cached: the workers load the Radau loop themselves
-    if cold:
+        warmup(radau=cold)  # cached: the workers load the Radau loop themselves
+    if contact == "unilateral":
+        methods.warmup_unilateral()
+        methods.warmup_metrics(False)
+    spent = time.perf_counter() - t0
+    if cold or uni:
         print(f"  compiled in {spent:.1f} s", file=sys.stderr, flush=True)
     return spent
 
@@ -192,7 +206,7 @@ def run(args: argparse.Namespace) -> int:
     )
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    compile_s = prepare_kernels(settings.friction)  # apart from the sweep's own wall time
+    compile_s = prepare_kernels(settings.friction, settings.contact)  # apart from its wall time
     t0 = time.perf_counter()
     results = sweep_amplitudes(
         cfg,

@@ -93,6 +93,28 @@ def test_switch_sweep_notice_names_its_kernels(monkeypatch, capsys):
     assert switch_compile.kernels_cached()
 
 
+def test_unilateral_sweep_compiles_its_loop_before_the_workers(monkeypatch, capsys):
+    # nsdyn sweep --contact unilateral recomputes uplift points with the event-driven loop
+    # (lift-off and landing) and the general metrics: compiled here, announced, before the
+    # workers start (each would otherwise compile them when its first uplift point comes)
+    from nsdyn.cli import sweep as cli_sweep
+    from nsdyn.periodic import problem
+
+    warmed = []
+    monkeypatch.setattr(problem, "kernels_cached", lambda: True)
+    monkeypatch.setattr(problem, "warmup", lambda radau=False: 0.0)
+    monkeypatch.setattr(methods, "is_cached", lambda kernel: kernel == "radau")
+    monkeypatch.setattr(methods, "warmup_unilateral", lambda: warmed.append("unilateral"))
+    monkeypatch.setattr(methods, "warmup_metrics", lambda flat=True: warmed.append(flat))
+    cli_sweep.prepare_kernels("arctan", "unilateral")
+    err = capsys.readouterr().err
+    assert "compiling the unilateral-contact loop (first use only, cached afterwards)" in err
+    assert warmed == ["unilateral", False]
+    warmed.clear()
+    cli_sweep.prepare_kernels("arctan")  # bilateral: not needed
+    assert warmed == [] and capsys.readouterr().err == ""
+
+
 @pytest.mark.parametrize("jit", [True, False], ids=["jit", "no-jit"])
 def test_every_method_is_announced_with_an_empty_cache(tmp_path, jit):
     # a fresh process with an empty NUMBA_CACHE_DIR: the probe of every method's kernel (the
