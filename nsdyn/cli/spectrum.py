@@ -56,7 +56,15 @@ def run(args: argparse.Namespace) -> int:
         raise SceneError(f"--workers: expected a positive integer, got {args.workers}")
     model = build_model(cfg, src)
     ratios = np.geomspace(args.wmin, args.wmax, args.n)
+    from nsdyn._numba_cache import first_compile
+    from nsdyn.models.rocking import block as blk
+    from nsdyn.models.rocking.scene import COMPILE_ABOUT_S, kernels_cached
     from nsdyn.studies.workers import process_pool
+
+    # the kernel compiled (or loaded) here, announced on a first use, before the workers
+    # start: they load it instead of each compiling it at once
+    with first_compile("rocking", COMPILE_ABOUT_S, kernels_cached(model)):
+        compile_s = blk.warmup()
 
     with process_pool(args.workers) as ex:
         sp = overturning_spectrum(model, ratios, args.shape, rtol=args.rtol, executor=ex)
@@ -79,6 +87,7 @@ def run(args: argparse.Namespace) -> int:
         "p_rad_s": sp.p,
         "n_runs": sp.n_runs,
         "wall_s": sp.wall_s,
+        "compile_s": compile_s,
         "csv": str(csv_path),
         "omega_ratio": sp.omega_ratio.tolist(),
         "a_min_ratio": [None if math.isnan(v) else float(v) for v in sp.a_min_ratio],

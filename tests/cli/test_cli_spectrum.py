@@ -28,6 +28,22 @@ def test_spectrum_command_writes_a_physical_spectrum(tmp_path, capsys):
     assert np.all(a >= 1.0)
     assert np.all(np.diff(a) > 0)
     assert Path(rep["csv"]).is_file() and Path(rep["figure"]).is_file()
+    assert rep["compile_s"] >= 0.0  # the kernel compiled (or loaded) before the workers
+
+
+def test_spectrum_announces_a_first_compilation(tmp_path, capsys, monkeypatch):
+    # a cold cache: the rocking kernel compiles once, before the workers start, saying so on
+    # stderr (stdout keeps the one JSON object)
+    from nsdyn.models.rocking import scene as rocking_scene
+
+    monkeypatch.setattr(rocking_scene, "kernels_cached", lambda model: False)
+    scene = str(SCENES / "rocking-seed003-column.toml")
+    argv = ["spectrum", scene, "--n", "2", "--wmin", "1.5", "--wmax", "3", "--rtol", "1e-2",
+            "--workers", "1", "--no-figures", "--out", str(tmp_path), "--json"]  # fmt: skip
+    assert main(argv) == 0
+    out = capsys.readouterr()
+    assert "compiling the rocking kernels once" in out.err
+    assert json.loads(out.out)["compile_s"] >= 0.0
 
 
 @pytest.mark.parametrize(

@@ -36,6 +36,21 @@ def test_json_lists_every_frequency_and_writes_the_files(tmp_path, capsys):
         else:
             assert p["a_crit"] is None and p["status"]
     assert pts[0]["status"] == "ok"
+    assert rep["compile_s"] >= 0.0 and rep["wall_s"] > 0.0  # the compilation reported apart
+
+
+def test_first_use_announces_the_periodic_kernels(tmp_path, capsys, monkeypatch):
+    # a cold cache: the periodic kernels compile before the boundary search, saying so on
+    # stderr (stdout keeps the one JSON object)
+    from nsdyn.periodic import problem
+
+    monkeypatch.setattr(problem, "kernels_cached", lambda: False)
+    rc = run_cli(["--fmin", "2", "--fmax", "3", "--points", "2", "--a-max", "0.2", "--json",
+                  "--no-figures", "--out", str(tmp_path)])  # fmt: skip
+    assert rc == 0
+    out = capsys.readouterr()
+    assert "compiling the periodic kernels (first use only, cached afterwards)" in out.err
+    assert json.loads(out.out)["compile_s"] >= 0.0
 
 
 def test_table_prints_one_row_per_frequency(tmp_path, capsys):
