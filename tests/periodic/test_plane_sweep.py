@@ -83,13 +83,20 @@ def test_nsdyn_sweep_on_the_example_scene_gives_the_closed_form_and_resumes(tmp_
     assert list(csv.DictReader((out / "sweep.csv").open())) == rows
 
 
-def test_default_range_and_amplitude_come_from_the_scene(tmp_path, capsys):
-    # f0/4 .. 4 f0 around the orbit's 0.7 Hz, at its amplitude 0.981 m/s^2 (progress on stderr)
+def test_default_range_and_amplitude_come_from_the_scene(tmp_path, capsys, monkeypatch):
+    # f0/4 .. 4 f0 around the orbit's 0.7 Hz, at its amplitude 0.981 m/s^2 (progress on stderr;
+    # a cold cache: the deck's loop compiles first, before the workers, saying so)
+    from nsdyn.models.isolated import deck_scene
+
+    monkeypatch.setattr(deck_scene, "kernels_cached", lambda law: False)
     out = tmp_path / "out"
     assert nsdyn_main(["sweep", str(SCENE), "--points", "3", "--out", str(out),
                        "--no-figures"]) == 0  # fmt: skip
     cap = capsys.readouterr()
     assert "3/3 f=" in cap.err and "|u|max" in cap.out
+    assert "compiling the deck kernels once" in cap.err
+    assert cap.err.index("compiling the deck kernels") < cap.err.index("1/3 f=")
+    assert json.loads((out / "sweep.json").read_text())["compile_s"] >= 0.0
     rows = list(csv.DictReader((out / "sweep.csv").open()))
     f = np.array([float(r["f"]) for r in rows])
     np.testing.assert_allclose(f, [0.175, 0.7, 2.8], rtol=1e-9)
