@@ -56,15 +56,12 @@ def run(args: argparse.Namespace) -> int:
         raise SceneError(f"--workers: expected a positive integer, got {args.workers}")
     model = build_model(cfg, src)
     ratios = np.geomspace(args.wmin, args.wmax, args.n)
-    from nsdyn._numba_cache import first_compile
-    from nsdyn.models.rocking import block as blk
-    from nsdyn.models.rocking.scene import COMPILE_ABOUT_S, kernels_cached
+    from nsdyn.models.rocking.scene import warm
     from nsdyn.studies.workers import process_pool
 
     # the kernel compiled (or loaded) here, announced on a first use, before the workers
     # start: they load it instead of each compiling it at once
-    with first_compile("rocking", COMPILE_ABOUT_S, kernels_cached(model)):
-        compile_s = blk.warmup()
+    compile_s = warm(model)
 
     with process_pool(args.workers) as ex:
         sp = overturning_spectrum(model, ratios, args.shape, rtol=args.rtol, executor=ex)

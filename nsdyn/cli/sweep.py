@@ -281,20 +281,6 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def prepare_plane_kernels(system, law: str) -> float:
-    """Compile (or load) the deck's time loop of ``law`` (the period map of a deck or rigid
-    building sweep integrates with it) in this process before the workers start, announced
-    on a first use (as ``nsdyn run`` on a deck scene); the workers then load it. Seconds."""
-    from nsdyn._numba_cache import first_compile
-    from nsdyn.models.isolated.deck import simulate_plane
-    from nsdyn.models.isolated.deck_scene import COMPILE_ABOUT_S, kernels_cached
-
-    t0 = time.perf_counter()
-    with first_compile("deck", COMPILE_ABOUT_S, kernels_cached(law)):
-        simulate_plane(system, {"f": 1.0, "ax": 0.0, "ay": 0.0}, t_end=0.04, law=law)
-    return time.perf_counter() - t0
-
-
 def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     """``nsdyn sweep`` on a deck or rigid building3d scene under a harmonic orbit: the curves
     of the peak resultant isolator displacement (sweep.csv, sweep.json, sweep.png)."""
@@ -344,7 +330,9 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
                                   not args.no_fallback, law)  # fmt: skip
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    compile_s = prepare_plane_kernels(sc["system"], law)
+    from nsdyn.models.isolated.deck_scene import warm
+
+    compile_s = warm(sc["system"], law)  # announced on a first use, before the workers
     t0 = time.perf_counter()
     try:
         results = sweep_plane(cfg, source, amplitudes, settings, out, workers=args.workers,

@@ -330,7 +330,7 @@ def kernels_cached() -> bool:
     then only loads them)."""
     from nsdyn.solve.methods import dispatcher_cached, is_cached
 
-    kernels = (kp.period_map, kp.dirk_step, kp.j_eval, kp.f_eval)
+    kernels = (kp.period_map, *(c.kernel for c in _callees()))
     return all(dispatcher_cached(d) for d in kernels) and is_cached("metrics")
 
 

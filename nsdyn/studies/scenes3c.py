@@ -333,10 +333,9 @@ def warm_kernels(tasks) -> list[str]:
     kernels of building3d tasks on the cb, full and auto rungs (the dense or sparse path, the
     law), on a short run of the bundled portal. Returns the laws (and "building3d <path>
     <law>") it compiled (none when the cache holds them)."""
-    from nsdyn._numba_cache import first_compile
     from nsdyn.models.isolated.bearings import bearing_from_config
-    from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
-    from nsdyn.models.isolated.deck_scene import COMPILE_ABOUT_S, kernels_cached
+    from nsdyn.models.isolated.deck import sdof_plane
+    from nsdyn.models.isolated.deck_scene import kernels_cached, warm
 
     done = []
     for law in sorted(_plane_laws(tasks)):
@@ -344,8 +343,7 @@ def warm_kernels(tasks) -> list[str]:
             continue  # a bad law is the task check's to report
         system = sdof_plane(1.0, bearing_from_config({"type": "fps", "radius": 1.0, "mu": 0.05},
                                                      "bearing"))  # fmt: skip
-        with first_compile("deck", COMPILE_ABOUT_S, False):
-            simulate_plane(system, {"f": 1.0, "ax": 0.0, "ay": 0.0}, t_end=0.04, law=law)
+        warm(system, law)
         done.append(law)
     from nsdyn._numba_cache import all_cached
     from nsdyn.models.isolated.building3d_pairs_run import pair_kernels, warm_pairs

@@ -47,21 +47,31 @@ def test_non_smooth_law_prepares_the_general_loop(monkeypatch, capsys):
     assert methods.compiled("radau-general")
 
 
-def test_sweep_notice_names_the_periodic_kernels(monkeypatch, capsys):
+@pytest.mark.parametrize(
+    "friction, module, what",
+    [("arctan", "nsdyn.periodic.problem", "the periodic kernels"),
+     ("switch", "nsdyn.periodic.switch_compile", "the switch model's periodic kernels")],
+)  # fmt: skip
+def test_sweep_notice_names_its_kernels(monkeypatch, capsys, friction, module, what):
     # nsdyn sweep: a cold cache makes it say what compiles before the workers start, then how
-    # long; afterwards the period map and the orbit quantities' kernel are ready here
-    from nsdyn.cli import sweep as cli_sweep
-    from nsdyn.periodic import problem
+    # long; afterwards the kernels are ready here and the workers load them: for a smooth law
+    # the period map and the orbit quantities' kernel (and the uplift probe's loop), for the
+    # switch law the exact-flow period map and the system kernels of its mode-set tables
+    import importlib
 
-    monkeypatch.setattr(problem, "kernels_cached", lambda: False)
-    spent = cli_sweep.prepare_kernels("arctan")
+    from nsdyn.cli import sweep as cli_sweep
+
+    mod = importlib.import_module(module)
+    monkeypatch.setattr(mod, "kernels_cached", lambda: False)
+    spent = cli_sweep.prepare_kernels(friction)
     err = capsys.readouterr().err
-    assert "compiling the periodic kernels (first use only, cached afterwards)" in err
+    assert f"compiling {what} (first use only, cached afterwards)" in err
     assert "compiled in" in err
     assert np.isfinite(spent) and spent >= 0.0
     monkeypatch.undo()
-    assert problem.kernels_cached()
-    assert methods.is_cached("radau")  # the loop of the uplift probe the workers may run
+    assert mod.kernels_cached()
+    if friction == "arctan":
+        assert methods.is_cached("radau")  # the loop of the uplift probe the workers may run
 
 
 def test_no_sweep_notice_when_cached(monkeypatch, capsys):
@@ -74,23 +84,6 @@ def test_no_sweep_notice_when_cached(monkeypatch, capsys):
     monkeypatch.setattr(switch_compile, "kernels_cached", lambda: True)
     cli_sweep.prepare_kernels("switch")
     assert capsys.readouterr().err == ""
-
-
-def test_switch_sweep_notice_names_its_kernels(monkeypatch, capsys):
-    # nsdyn sweep --friction switch: a cold cache makes it say what compiles before the
-    # workers start, then how long; afterwards the exact-flow period map and the system
-    # kernels of the mode-set tables are ready here (the workers load them, none compiles)
-    from nsdyn.cli import sweep as cli_sweep
-    from nsdyn.periodic import switch_compile
-
-    monkeypatch.setattr(switch_compile, "kernels_cached", lambda: False)
-    spent = cli_sweep.prepare_kernels("switch")
-    err = capsys.readouterr().err
-    assert "compiling the switch model's periodic kernels (first use only, cached" in err
-    assert "compiled in" in err
-    assert np.isfinite(spent) and spent >= 0.0
-    monkeypatch.undo()
-    assert switch_compile.kernels_cached()
 
 
 def test_unilateral_sweep_compiles_its_loop_before_the_workers(monkeypatch, capsys):

@@ -72,6 +72,16 @@ def kernels_cached(law: str) -> bool:
     return all_cached([_kplanerun.integrate if law == "switch" else _kplaneradau.integrate])
 
 
+def warm(system, law: str) -> float:
+    """Compile (or load) the time loop of ``law`` by a tiny run of ``system``, saying so on
+    stderr when it compiles (:func:`nsdyn._numba_cache.first_compile`); the seconds it took.
+    A run, a sweep and a study of deck scenes each call it before their work starts."""
+    t0 = time.perf_counter()
+    with first_compile("deck", COMPILE_ABOUT_S, kernels_cached(law)):
+        simulate_plane(system, {"f": 1.0, "ax": 0.0, "ay": 0.0}, t_end=0.04, law=law)
+    return time.perf_counter() - t0
+
+
 def _pairs(source: str, name: str, v) -> np.ndarray:
     ok = isinstance(v, list) and v and all(
         isinstance(p, list) and len(p) == 2
@@ -221,10 +231,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"deck: {name}: {system.n_isolators} isolator(s), law {kw['law']}, "
         f"{getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
-    w0 = time.perf_counter()
-    with first_compile("deck", COMPILE_ABOUT_S, kernels_cached(kw["law"])):
-        simulate_plane(system, {"f": 1.0, "ax": 0.0, "ay": 0.0}, t_end=0.04, law=kw["law"])
-    compile_s = time.perf_counter() - w0
+    compile_s = warm(system, kw["law"])
     w0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -180,6 +180,22 @@ def build_solver(cfg: dict, source: str) -> tuple[float, float | None]:
     return tol, dt_out
 
 
+def warm(model) -> float:
+    """Compile (or load) the kernel a run of ``model`` calls, by a tiny run, saying so on
+    stderr when it compiles (:func:`nsdyn._numba_cache.first_compile`); the seconds it took.
+    A run and an overturning spectrum call it before their work starts."""
+    from nsdyn.models.rocking import block as blk
+    from nsdyn.models.rocking.compliant import CompliantBlock, simulate_compliant
+
+    w0 = time.perf_counter()
+    with first_compile("rocking", COMPILE_ABOUT_S, kernels_cached(model)):
+        if isinstance(model, CompliantBlock):
+            simulate_compliant(model, t_end=1e-3, dt_out=1e-3)
+        else:
+            blk.warmup()
+    return time.perf_counter() - w0
+
+
 def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:
     """Run a rocking scene; writes ``rocking.npz`` (and ``rocking.png``) into ``out_dir``."""
     from nsdyn.models.rocking import block as blk
@@ -193,13 +209,10 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     say(f"rocking: {name}: {type(model).__name__}, {what}, t_end = {t_end:g} s")
     out_dir = Path(out_dir)
     w0 = time.perf_counter()
-    announce = first_compile("rocking", COMPILE_ABOUT_S, kernels_cached(model))
+    compile_s = warm(model)
     if isinstance(model, CompliantBlock):
         from nsdyn.models.rocking import compliant as cm
 
-        with announce:
-            simulate_compliant(model, t_end=1e-3, dt_out=1e-3)
-        compile_s = time.perf_counter() - w0
         res = simulate_compliant(model, exc, t_end=t_end, tol=min(tol * 10, 1e-6),
                                  dt_out=dt_out or cm.DT_OUT, **th0)  # fmt: skip
         s = res.summary()
@@ -207,8 +220,6 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
                   "peaks": res.peaks()}  # fmt: skip
         s["r_housner"] = blk.housner_restitution(model.alpha)
     else:
-        with announce:
-            compile_s = blk.warmup()
         res = blk.simulate_rocking(model, exc, t_end=t_end, tol=tol, dt_out=dt_out,
                                    **th0)  # fmt: skip
         s = res.summary()
