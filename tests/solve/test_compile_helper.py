@@ -281,3 +281,23 @@ def test_first_sweep_warmup_leaves_the_jacobian_to_its_helper(tmp_path, radau):
     if radau:
         assert {"_loop", "start_flat"} <= here
         assert not here & {"newton_flat", "feval_flat", "jac_flat_here", "_factor"}, here
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not JIT, reason="nothing compiles under NUMBA_DISABLE_JIT")
+def test_switch_warmup_compiles_its_period_map_once(tmp_path):
+    # the switch model's warm-up compiles the exact-flow period map from argument values it
+    # builds itself (beside the helper's system kernels); the tiny problem's own call after it
+    # must find that compilation (the types every problem's call has), not compile another
+    if not helper_enabled():
+        pytest.skip("a helper process needs two usable cores and NSDYN_COMPILE_HELPER != 0")
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
+    env[HELPER_ENV] = "1"
+    code = (
+        "from nsdyn.periodic import _kswitch as kw, switch_compile\n"
+        "switch_compile.warmup()\nprint(len(kw.period_map.signatures))\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    )
+    assert out.stdout.split()[-1] == "1"
