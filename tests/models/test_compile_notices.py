@@ -83,7 +83,9 @@ def test_no_notice_when_the_kernels_are_ready(family, capsys, tmp_path):
 
 
 def _env(cache: Path) -> dict:
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
+    # the JIT on in the child whatever this run's mode (under NUMBA_DISABLE_JIT=1 nothing
+    # compiles, so no probe could say "not cached")
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache), NUMBA_DISABLE_JIT="0")
     env["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), env.get("PYTHONPATH")) if p)
     return env
 
