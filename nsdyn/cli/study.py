@@ -120,8 +120,9 @@ def announce_compile(study) -> bool:
     """Compile (or load) the isolated frame's kernels in this process before the workers
     start, saying so on stderr when numba's cache does not hold them
     (:func:`nsdyn.studies.workers.warm_isolated`): the workers then load them instead of each
-    compiling them at the same time (the rocking, contact and cylinder runners say so
-    themselves, in each worker). True when they compiled."""
+    compiling them at the same time (the other families' kernels compile in
+    :func:`nsdyn.studies.execute.run_study`, before its workers start). True when they
+    compiled."""
     if study.kind != "isolated":
         return False
     from nsdyn.studies.workers import warm_isolated

@@ -9,7 +9,9 @@ scheduler). A task that raises is a ``failed`` row. A batch whose worker died (a
 process pool, a Dask ``KilledWorker``) is split and its tasks resubmitted one by one, on a new
 pool if the pool was ours; a task that takes its worker down twice is a ``failed`` row.
 Kernels a worker would compile on its first task are compiled once here first
-(:func:`nsdyn.studies.scenes3c.warm_kernels`), so the workers load them from numba's cache.
+(:func:`nsdyn.studies.scenes3c.warm_kernels` for deck and building3d tasks,
+:func:`nsdyn.studies.scenes.warm_scene_kernels` for rocking, contact and cylinder tasks), so
+the workers load them from numba's cache.
 
 Progress (stderr, every PROGRESS_S): tasks done / total, failed, skipped (already in the
 table), elapsed wall time and the time left, estimated as
@@ -131,10 +133,12 @@ def run_study(
         for t in tasks
         if t.key not in done or (retry_failed and done[t.key].get("status") != "ok")
     ]
-    if todo:  # compiled here once, loaded by every worker (scenes3c.warm_kernels)
+    if todo:  # compiled here once, loaded by every worker
+        from nsdyn.studies.scenes import warm_scene_kernels
         from nsdyn.studies.scenes3c import warm_kernels
 
         warm_kernels(todo)
+        warm_scene_kernels(todo)
     own = executor is None
     if own:
         workers = workers or os.cpu_count() or 1

@@ -197,12 +197,7 @@ def check_scene(cfg: dict, source: str) -> None:
         _check_isolated(cfg, source)
         return
     mod = importlib.import_module(scene_module(kind))
-    cfg = copy.deepcopy(cfg)
-    sim = cfg.get("motion", {}).pop("simulated", None)
-    if sim is not None:  # any record stands for it: its own fields were checked with the study
-        from nsdyn.ground import bundled_records, bundled_records3
-
-        cfg["motion"]["record"] = (bundled_records3() if kind in KINDS3C else bundled_records())[0]
+    cfg = _record_for_simulated(cfg, kind)
     try:
         for name in _BUILDERS.get(kind, ()):
             if kind in KINDS3C and name == "build_system":  # kept per process (the frame)
@@ -215,6 +210,45 @@ def check_scene(cfg: dict, source: str) -> None:
         raise
     except (OSError, ValueError) as e:  # a bad value the family's reader let through
         raise SceneError(f"{source}: {' '.join(str(e).split())}") from None
+
+
+def _record_for_simulated(cfg: dict, kind: str) -> dict:
+    """A copy of ``cfg`` whose simulated record (written to a file in the worker) is a bundled
+    record: any record stands for it where its samples do not matter."""
+    cfg = copy.deepcopy(cfg)
+    if cfg.get("motion", {}).pop("simulated", None) is not None:
+        from nsdyn.ground import bundled_records, bundled_records3
+
+        cfg["motion"]["record"] = (bundled_records3() if kind in KINDS3C else bundled_records())[0]
+    return cfg
+
+
+WARMED_KINDS = ("rocking", "contact", "cylinder")  # scene modules with warm_key, warm_scene
+
+
+def warm_scene_kernels(tasks) -> list[str]:
+    """Compile the rocking, contact and cylinder kernels the tasks call once, here, before the
+    workers start (each family's ``warm_scene``, announced on stderr when it compiles): every
+    worker then loads them from numba's cache instead of compiling them side by side, each
+    with its own helper process. One task per family and ``warm_key`` (what selects the
+    compiled code); a faulty scene is left to the task's check. Returns the families it
+    warmed."""
+    seen, done = set(), []
+    for t in tasks:
+        if t.kind not in WARMED_KINDS:
+            continue
+        mod = importlib.import_module(scene_module(t.kind))
+        cfg = _record_for_simulated(t.cfg, t.kind)
+        key = (t.kind, mod.warm_key(cfg))
+        if key in seen:
+            continue
+        seen.add(key)
+        try:
+            mod.warm_scene(cfg, t.source)
+        except (SceneError, OSError, ValueError):
+            continue
+        done.append(t.kind)
+    return done
 
 
 def _check_isolated(cfg: dict, source: str) -> None:

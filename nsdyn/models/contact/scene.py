@@ -79,6 +79,30 @@ def kernels_cached(opts: dict) -> bool:
     return all_cached(kernels)
 
 
+def warm(body, law, motion, t_end, opts) -> float:
+    """Compile (or load) the kernels a run of the built scene calls, by its first 0.02 s,
+    saying so on stderr when it compiles (:func:`nsdyn._numba_cache.first_compile`); the
+    seconds it took. A run and a study (before its workers start) call it."""
+    w0 = time.perf_counter()
+    with first_compile("contact", COMPILE_ABOUT_S, kernels_cached(opts)):
+        simulate(body, law, motion, min(t_end, 0.02), opts)
+    return time.perf_counter() - w0
+
+
+def warm_key(cfg: dict):
+    """What of a scene selects the kernels its run compiles (the ground model, the method,
+    the kind of motion): scenes with equal keys call the same compiled code."""
+    mo = cfg.get("motion", {})
+    kind = "record" if "record" in mo else "sine" if "period" in mo else "free"
+    return repr(cfg.get("ground")), cfg.get("solver", {}).get("method", "event"), kind
+
+
+def warm_scene(cfg: dict, source: str) -> float:
+    """:func:`warm` for a parsed scene."""
+    body, law, motion, t_end, opts = build(cfg, source)
+    return warm(body, law, motion, t_end, opts)
+
+
 def build(cfg: dict, source: str):
     """(body, friction law, base motion, t_end, options) of a parsed scene."""
     from nsdyn.models.contact.body import RigidBody
@@ -243,10 +267,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"contact: {name}: {opts['what']}, {opts['method']}, t_end = {t_end:g} s")
-    w0 = time.perf_counter()
-    with first_compile("contact", COMPILE_ABOUT_S, kernels_cached(opts)):
-        simulate(body, law, motion, min(t_end, 0.02), opts)  # compile / load the kernels
-    compile_s = time.perf_counter() - w0
+    compile_s = warm(body, law, motion, t_end, opts)
     w0 = time.perf_counter()
     res = simulate(body, law, motion, t_end, opts)
     wall = time.perf_counter() - w0

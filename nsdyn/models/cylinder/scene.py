@@ -178,6 +178,28 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
     return p, dt, ag, opts
 
 
+def warm(p: CylinderParams, dt: float, ag: np.ndarray, opts: dict) -> float:
+    """Compile (or load) the kernel a run of the built scene calls, by its first three
+    samples, saying so on stderr when it compiles (:func:`nsdyn._numba_cache.first_compile`);
+    the seconds it took. A run and a study (before its workers start) call it."""
+    tic = time.perf_counter()
+    with first_compile("cylinder", COMPILE_ABOUT_S, kernels_cached(p)):
+        simulate(p, ag[:3], dt, rtol=opts["rtol"])
+    return time.perf_counter() - tic
+
+
+def warm_key(cfg: dict):
+    """What of a scene selects the kernel its run compiles (the foundation's case): scenes
+    with equal keys call the same compiled code."""
+    return cfg.get("foundation", {}).get("case", "tensionless")
+
+
+def warm_scene(cfg: dict, source: str) -> float:
+    """:func:`warm` for a parsed scene."""
+    p, dt, ag, opts = build(cfg, source)
+    return warm(p, dt, ag, opts)
+
+
 def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:
     """Run a cylinder scene; write histories (NPZ) and a figure (PNG); return the summary."""
     p, dt, ag, opts = build(cfg, source)
@@ -186,10 +208,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     log = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     log(f"cylinder {name}: {p.foundation}, k = {p.k:.6g} N/m³, c = {p.c:.6g} N s/m³, "
         f"{len(ag)} samples")  # fmt: skip
-    tic = time.perf_counter()
-    with first_compile("cylinder", COMPILE_ABOUT_S, kernels_cached(p)):
-        simulate(p, ag[:3], dt, rtol=opts["rtol"])  # compiles the kernel (cached on disk)
-    compile_s = time.perf_counter() - tic
+    compile_s = warm(p, dt, ag, opts)
     tic = time.perf_counter()
     res = simulate(p, ag, dt, rtol=opts["rtol"], azimuth0=opts["azimuth0"], **opts["tilt"])
     wall = time.perf_counter() - tic

@@ -183,7 +183,7 @@ def build_solver(cfg: dict, source: str) -> tuple[float, float | None]:
 def warm(model) -> float:
     """Compile (or load) the kernel a run of ``model`` calls, by a tiny run, saying so on
     stderr when it compiles (:func:`nsdyn._numba_cache.first_compile`); the seconds it took.
-    A run and an overturning spectrum call it before their work starts."""
+    A run, an overturning spectrum and a study call it before their work starts."""
     from nsdyn.models.rocking import block as blk
     from nsdyn.models.rocking.compliant import CompliantBlock, simulate_compliant
 
@@ -194,6 +194,17 @@ def warm(model) -> float:
         else:
             blk.warmup()
     return time.perf_counter() - w0
+
+
+def warm_key(cfg: dict):
+    """What of a scene selects the kernel its run compiles (the model): scenes with equal
+    keys call the same compiled code."""
+    return cfg.get("scene", {}).get("model", "block")
+
+
+def warm_scene(cfg: dict, source: str) -> float:
+    """:func:`warm` for a parsed scene (its model; the motion does not select the kernel)."""
+    return warm(build_model(cfg, source))
 
 
 def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:
