@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn.ground.excitation import Harmonic, HarmonicForce
-from nsdyn.models.isolated import _kernel as ks
+from nsdyn.models.isolated.excitation import ground_many
 from nsdyn.models.isolated.friction import sticks
 from nsdyn.models.isolated.params import KernelParams, pack, with_ground
 from nsdyn.periodic import _kperiodic as kp
@@ -157,7 +157,7 @@ class PeriodicProblem(MinimalStates):
         from nsdyn.solve.transient import evaluations
 
         QDD, LAM, TAU, MODES = evaluations(P, t, Xf)
-        G = ks.ground_many(t, P)
+        G = ground_many(t, P)
         ug = np.zeros((N + 1, 1)) if self.load is not None else G[:, :1]
         od = cache["od"]
         q = Xf[:, :n]

@@ -198,8 +198,8 @@ def radau_helper_part() -> None:
 
 
 def radau_helper_part_and_metrics() -> None:
-    """:func:`radau_helper_part`, then the flat metrics kernels (``evaluate_flat_many``,
-    ``ground_many``), which a run needs only after its loop."""
+    """:func:`radau_helper_part`, then the flat metrics kernel (``evaluate_flat_many``), which
+    a run needs only after its loop."""
     radau_helper_part()
     methods.warmup_metrics(True)
 
@@ -373,7 +373,6 @@ def metrics_here(metrics: str | None) -> None:
         P, x0 = methods._tiny_problem()
         t = np.zeros(1)
         _compile(ki.evaluate_many_t, t, x0[None, :].copy(), P, *evaluation_arrays(P, 1))
-        _compile(ks.ground_many, t, P)
 
 
 @functools.cache

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from nsdyn.models.isolated import _kernel as ks
+from nsdyn.models.isolated.excitation import ground_many
 from nsdyn.models.isolated.params import KernelParams
 from nsdyn.solve import _klowrank
 
@@ -87,7 +87,7 @@ class FullOps:
         ab, bb = kp.alpha, kp.beta
         mu, lam0 = np.asarray(kp.mu, float), np.asarray(kp.lam_static, float)
         friction = kp.law == "arctan" and ni > 0 and bool(np.any(mu != 0.0))
-        Ug = ks.ground_many(np.ascontiguousarray(t, dtype=float), P)
+        Ug = ground_many(np.ascontiguousarray(t, dtype=float), P)
         Ug[:, 1] += kp.g
         X = np.ascontiguousarray(X, dtype=float)
         QDD = np.empty((nt, n))

@@ -433,8 +433,7 @@ def warmup_metrics(flat: bool = True) -> float:
     """Compile (or load) the kernels of the response metrics on the tiny system: the flat
     kernel's (``evaluate_flat_many``, ``feval_flat``) for a smooth law with closed contacts
     (``flat``), else the general ``evaluate_many_t`` and the system kernel it calls by
-    address (:func:`metrics_for`); and ``ground_many``. Seconds spent now (0.0 when already
-    done)."""
+    address (:func:`metrics_for`). Seconds spent now (0.0 when already done)."""
     key = "metrics" if flat else "metrics-general"
     if key in _COMPILED:
         return 0.0
@@ -446,7 +445,6 @@ def warmup_metrics(flat: bool = True) -> float:
 
     with compiling():
         (flat_evaluations if flat else general_evaluations)(P, t, X)
-        ks.ground_many(t, P)
     _COMPILED[key] = time.perf_counter() - t0
     return _COMPILED[key]
 

@@ -51,6 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from nsdyn.models.isolated import _kernel as ks
+from nsdyn.models.isolated.excitation import ground_many
 from nsdyn.models.isolated.params import KernelParams
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve import _kgenalpha, _klowrank
@@ -373,7 +374,7 @@ def integrate(
     # excitation at every alpha point of the regular steps, one kernel call
     n_steps = int(np.ceil((t_end - t0) / dt - 1e-9))
     k_all = np.arange(n_steps)
-    u_all = ks.ground_many(t0 + (k_all + (1.0 - af)) * dt, P)
+    u_all = ground_many(t0 + (k_all + (1.0 - af)) * dt, P)
     u_all[:, 1] += kp.g
     # the step grid: steps of dt, the last one ending on t_end (shortened if need be)
     t_steps = t0 + (k_all + 1.0) * dt
@@ -392,7 +393,7 @@ def integrate(
         st = _stepper(P, h, coef, backend, ops)
         u = u_all[k0:k1]
         if h != dt:
-            u = ks.ground_many(np.array([t + (1.0 - af) * h]), P)
+            u = ground_many(np.array([t + (1.0 - af) * h]), P)
             u[:, 1] += kp.g
         ops = (st.G, st.RGr_inv, st.Lam, st.DGr, st.Wp, R, D)
         if st.lin is not None:  # full-order operators: the whole segment in the kernel
@@ -441,7 +442,7 @@ def loop_args(P, x0, t_eval, dt, X, upl_t, uplift_mode) -> tuple:
                             t_eval, X, upl_t, stats, rinfo)  # fmt: skip
     st = _stepper(P, dt, coef, "dense")
     ops = (st.G, st.RGr_inv, st.Lam, st.DGr, st.Wp, R, D)
-    u = ks.ground_many(np.array([float(t_eval[0])]), P)
+    u = ground_many(np.array([float(t_eval[0])]), P)
     t_steps = float(t_eval[0]) + dt * np.arange(1.0, 2.0)
     return float(t_eval[0]), t_steps, u, st.W, np.empty(n), state, ops, par, out, 10**9
 

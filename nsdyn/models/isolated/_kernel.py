@@ -549,12 +549,3 @@ def evaluate_many(t, X, P, QDD, LAM, TAU, MODES):
             bad += 1
         store_row(k, QDD, LAM, TAU, MODES, qdd, lam, tau, modes)
     return bad
-
-
-@njit(cache=True, error_model="numpy")
-def ground_many(t, P):
-    """Ground acceleration [u_hor, u_ver] (without g) at many times, shape (nt, 2)."""
-    out = np.empty((t.shape[0], 2))
-    for k in range(t.shape[0]):
-        out[k, 0], out[k, 1] = ground_accel(t[k], P)
-    return out

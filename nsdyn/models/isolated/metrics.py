@@ -34,6 +34,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from nsdyn.models.isolated import _kernel as ks
+from nsdyn.models.isolated.excitation import ground_many
 from nsdyn.models.isolated.friction import sticks
 from nsdyn.models.isolated.params import KernelParams, with_open
 
@@ -279,7 +280,7 @@ def response(
     if evaluated is None:
         evaluated = evaluate_along(ks.evaluate_many, P, t, X, open_contacts)
     QDD, LAM, TAU, MODES = evaluated
-    G = ks.ground_many(t, P)
+    G = ground_many(t, P)
     kpar = KernelParams(P)
     ug_hor = np.zeros((nt, 1)) if kpar.force else G[:, :1]  # ground acceleration (0: force)
     od = output_rows(system)
