@@ -81,9 +81,12 @@ def test_one_warm_up_per_family_and_kernel_key(tmp_path, monkeypatch):
     assert [c["scene"]["model"] for c in calls] == ["block", "compliant"]
 
 
-def test_other_kinds_are_not_warmed_here_and_a_faulty_scene_is_skipped(tmp_path, monkeypatch):
-    def faulty(cfg, src):
-        raise SceneError(f"{src}: block.width: expected a positive number")
+@pytest.mark.parametrize("error", [SceneError, RuntimeError])
+def test_other_kinds_are_not_warmed_here_and_a_faulty_scene_is_skipped(
+    tmp_path, monkeypatch, error
+):
+    def faulty(cfg, src):  # a bad field, or a run that fails at once: the task's to report
+        raise error(f"{src}: block.width: expected a positive number")
 
     monkeypatch.setattr(rocking_scene, "warm_scene", faulty)
     tasks = _tasks(tmp_path, '"motion.a_p_g" = [0.6, 0.8]')
