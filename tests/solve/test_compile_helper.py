@@ -288,9 +288,11 @@ def test_first_sweep_warmup_leaves_the_jacobian_to_its_helper(tmp_path, radau):
 def test_switch_warmup_compiles_its_period_map_once(tmp_path):
     # the switch model's warm-up compiles the exact-flow period map from argument values it
     # builds itself (beside the helper's system kernels); the tiny problem's own call after it
-    # must find that compilation (the types every problem's call has), not compile another
+    # must find that compilation (the types every problem's call has), not compile another.
+    # Without a helper the warm-up compiles from the problem's own call alone: nothing to check
     if not helper_enabled():
-        pytest.skip("a helper process needs two usable cores and NSDYN_COMPILE_HELPER != 0")
+        pytest.skip("the hand-built arguments are compiled only beside a helper process, which "
+                    "needs two usable cores and NSDYN_COMPILE_HELPER != 0")  # fmt: skip
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
     env[HELPER_ENV] = "1"
     code = (
