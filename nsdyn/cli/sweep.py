@@ -105,9 +105,10 @@ def configure(p: argparse.ArgumentParser) -> None:
 def prepare_kernels(friction: str, contact: str = "bilateral") -> float:
     """Compile (or load) the kernels of a sweep in this process before the workers start
     (they then load them from numba's cache), saying on stderr what compiles while it does (a
-    first use, or after an upgrade) and how long it took: for a smooth law the period map and
-    the default Radau loop of the uplift probe (:func:`nsdyn.periodic.problem.uplift_probe`,
-    run where a fixed-step period fails), for the switch law its exact-flow period map and
+    first use, or after an upgrade) and how long it took: for a smooth law the period map,
+    its right-hand side and Jacobian (which the uplift probe,
+    :func:`nsdyn.periodic.problem.uplift_probe`, calls too) and the orbit quantities' kernel,
+    for the switch law its exact-flow period map and
     the system kernels of its tables (:mod:`nsdyn.periodic.switch_compile`); with
     ``contact="unilateral"`` also the event-driven loop with lift-off and landing and its
     metrics, which recompute the uplift points (:mod:`nsdyn.periodic.unilateral`). Returns
@@ -122,7 +123,7 @@ def prepare_kernels(friction: str, contact: str = "bilateral") -> float:
     else:
         from nsdyn.periodic.problem import kernels_cached
 
-        cold = not (kernels_cached() and methods.is_cached("radau"))
+        cold = not kernels_cached()
         what = "the periodic kernels"
     uni = contact == "unilateral" and not all(
         methods.is_cached(k) for k in ("unilateral", "metrics-general")
@@ -139,7 +140,7 @@ def prepare_kernels(friction: str, contact: str = "bilateral") -> float:
     else:
         from nsdyn.periodic.problem import warmup
 
-        warmup(radau=cold)  # cached: the workers load the Radau loop themselves
+        warmup()
     if contact == "unilateral":
         methods.warmup_unilateral()
         methods.warmup_metrics(False)

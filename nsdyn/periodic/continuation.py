@@ -42,7 +42,7 @@ from nsdyn.periodic.shooting import (
     orbit_amplitudes,
     shoot,
 )
-from nsdyn.periodic.sweeps import steady_state_sweep, warm_start
+from nsdyn.periodic.sweeps import WARMUP_PERIODS, steady_state_sweep, warm_start
 
 ARC_MAXIT = 8  # corrector iterations per arclength step
 ARC_GOOD = 3  # corrector iterations at or below which the step grows
@@ -71,8 +71,9 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
     periods along at ``f`` (near a grazing or an event-sequence change a guess on the
     attracting orbit's side often converges where extrapolation does not); if the period
     could not even be integrated, once more with ``REFINE_FACTOR`` times more steps, unless
-    the model's probe finds a contact lifting off within a period of the first guess (the
-    model's limit, not the step's); then the sweep from the first guess."""
+    the model's probe finds a contact lifting off within ``sweeps.WARMUP_PERIODS`` periods of
+    the first guess (the motion the warm start offered to shooting: the model's limit, not
+    the step's); then the sweep from the first guess."""
     why = "no initial guess"
     integration_failed = False
     tries = list(guesses)
@@ -88,8 +89,9 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
         integration_failed |= res.monodromy is None
     if integration_failed and guesses:
         # more steps cannot help where a contact lifts off (the model's own limit): the
-        # probe (the model's quantities_without_orbit) decides before the costly retry
-        lifts, probe = problem.quantities_without_orbit(f, guesses[0])
+        # probe (the model's quantities_without_orbit) decides before the costly retry, over
+        # the periods the warm start integrated (the motion shooting was offered)
+        lifts, probe = problem.quantities_without_orbit(f, guesses[0], WARMUP_PERIODS)
         if lifts.get("uplift"):
             why = f"{why}; not retried with {REFINE_FACTOR}x steps ({probe})"
         else:

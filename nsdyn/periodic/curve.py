@@ -22,7 +22,7 @@ from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.protocol import PeriodicModel
 from nsdyn.periodic.shooting import ShootingResult, floquet_multipliers
 from nsdyn.periodic.stability import check_verdict
-from nsdyn.periodic.sweeps import SweepResult
+from nsdyn.periodic.sweeps import WARMUP_PERIODS, SweepResult
 
 
 @dataclass
@@ -141,7 +141,8 @@ def _point_from_sweep(
     if sw.periods_done > 0:
         q = problem.orbit_quantities(sw.f, sw.X)
     else:
-        q, probe = problem.quantities_without_orbit(sw.f, sw.x0)
+        # the horizon of continuation's retry decision (the periods the warm start offered)
+        q, probe = problem.quantities_without_orbit(sw.f, sw.x0, WARMUP_PERIODS)
     notes = (f"shooting failed: {why}", f"sweep: {sw.message}", check, probe,
              problem.validity_note(q))  # fmt: skip
     return OrbitPoint(

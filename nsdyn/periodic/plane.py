@@ -339,10 +339,17 @@ class PlaneProblem:
             "uplift": False,
         }
 
-    def quantities_without_orbit(self, f: float, x0: np.ndarray) -> tuple[dict, str]:
+    def quantities_without_orbit(
+        self, f: float, x0: np.ndarray, periods: int = 1
+    ) -> tuple[dict, str]:
         """NaN quantities of a point whose period could not be integrated, and why (the
-        period from ``x0``: uplift, or the loop's failure)."""
-        st, _, _ = self.run(np.asarray(x0, dtype=float), f, 1)
+        ``periods`` periods from ``x0``: uplift, or the loop's failure)."""
+        x = np.asarray(x0, dtype=float)
+        for _ in range(periods):  # the forcing is T-periodic: each period from the last state
+            st, X, _ = self.run(x, f, 1)
+            if st != STATUS_OK:
+                break
+            x = X[-1]
         nan = math.nan
         q = {"u_peak_m": nan, "u_component_peak_m": nan, "friction_peak_N": nan,
              "restoring_peak_N": nan, "torsion_peak_rad": nan, "normal_min_N": nan,

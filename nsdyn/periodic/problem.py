@@ -31,12 +31,17 @@ from nsdyn.models.isolated.excitation import ground_many
 from nsdyn.models.isolated.friction import sticks
 from nsdyn.models.isolated.params import KernelParams, pack, with_ground
 from nsdyn.periodic import _kperiodic as kp
+from nsdyn.periodic import _kproblems as kq
 from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.extrema import dense_half_range
 from nsdyn.periodic.protocol import MinimalStates, PeriodMap, check_amplitude, check_frequency
 
 DUFFING_W = 4  # index of the forcing circular frequency w in pf = [zeta, w0, gamma, F, w]
-PROBE_SAMPLES = 65  # output times of the radau uplift probe over one period
+# the uplift probe (SciPy's Radau on the minimal coordinates): its tolerances (a verdict and
+# an instant: on the test frames the lift-off instants at 1e-4 agree with those at 1e-6 to
+# five digits, in a tenth of the steps) and its budget of right-hand sides
+PROBE_RTOL, PROBE_ATOL = 1e-4, 1e-6
+PROBE_MAX_EVALS = 200_000
 
 _DUMMY_P = None
 
@@ -186,16 +191,18 @@ class PeriodicProblem(MinimalStates):
             "uplift": bool(LAM.size and LAM.min() <= 0.0),
         }
 
-    def quantities_without_orbit(self, f: float, x0: np.ndarray) -> tuple[dict, str]:
+    def quantities_without_orbit(
+        self, f: float, x0: np.ndarray, periods: int = 1
+    ) -> tuple[dict, str]:
         """NaN quantities for a point whose period from ``x0`` could not be integrated; for
-        a frame, ``uplift`` and the note come from :func:`uplift_probe`."""
+        a frame, ``uplift`` and the note come from :func:`uplift_probe` over ``periods``."""
         keys = ("idr", "acc", "acc_floors", "x_iso", "v_slip_max", "min_normal_force")
         q = dict.fromkeys(keys, math.nan)
         q["stick_all_period"] = None
         q["uplift"] = None  # unknown unless the frame's probe decides
         probe = ""
         if self.prob == kp.PROB_FRAME:
-            q["uplift"], probe = uplift_probe(self, f, x0)
+            q["uplift"], probe = uplift_probe(self, f, x0, periods)
         return q, probe
 
     def validity_note(self, quantities: dict) -> str:
@@ -214,24 +221,72 @@ def orbit_quantities(problem: PeriodicProblem, f: float, X: np.ndarray) -> dict:
     return problem.orbit_quantities(f, X)
 
 
-def uplift_probe(problem: PeriodicProblem, f: float, x0: np.ndarray) -> tuple[bool | None, str]:
-    """Does a contact lift off within one period from ``x0`` (minimal coordinates)?
+def uplift_probe(
+    problem: PeriodicProblem, f: float, x0: np.ndarray, periods: int = 1
+) -> tuple[bool | None, str]:
+    """Does a contact lift off within ``periods`` periods from ``x0`` (minimal coordinates)?
 
-    Adaptive radau in the coordinates q (Baumgarte contacts, normal forces checked at every
-    step), for points whose fixed-step period could not be integrated. Returns (True: a
-    normal force reached zero, False: none did, None: radau failed too; a note saying which).
+    For points whose fixed-step period could not be integrated: SciPy's adaptive Radau IIA
+    (``solve_ivp``, ``PROBE_RTOL``, ``PROBE_ATOL``) on the manifold equations with the period
+    map's own right-hand side and Jacobian (:func:`nsdyn.periodic._kproblems.f_eval`,
+    :func:`~nsdyn.periodic._kproblems.j_eval`, called from Python: the probe compiles nothing
+    a sweep does not compile anyway), the smallest contact force ``lam`` (the multipliers the
+    right-hand side solves for) an event located between steps. Returns (True: a normal force
+    reached zero, False: none did, None: the probe failed too; a note saying which).
     """
-    from nsdyn.solve.integrate import IntegrationError, UpliftError, solve
+    from scipy.integrate import solve_ivp
 
-    P, _ = problem.at(f)
-    t = np.linspace(0.0, 1.0 / f, PROBE_SAMPLES)
+    if periods < 1:
+        raise ValueError(f"periods: expected an integer >= 1, got {periods!r}")
+    _, pf = problem.at(f)
+    pf = pf.copy()  # its scratch (s, G, lam) is written by every evaluation
+    d, prob = problem.dim, problem.prob
+    m, nc, ni = int(pf[kq.FH_M]), int(pf[kq.FH_NC]), int(pf[kq.FH_NI])
+    o_lam = getattr(kq._frame_offsets, "py_func", kq._frame_offsets)(m, nc, ni)[17]
+    out, F, J = np.empty(d), np.empty(d), np.empty((d, d))
+    evals = [0]
+
+    def rhs(t, x):
+        evals[0] += 1
+        if evals[0] > PROBE_MAX_EVALS:
+            raise _ProbeFailed(t, f"gave up after {PROBE_MAX_EVALS} evaluations")
+        if not kq.f_eval(prob, float(t), np.array(x, dtype=float), pf, out):
+            raise _ProbeFailed(t, "singular constraint matrix G")
+        return out.copy()
+
+    def jac(t, x):
+        if not kq.j_eval(prob, float(t), np.array(x, dtype=float), pf, F, J):
+            raise _ProbeFailed(t, "singular constraint matrix G")
+        return J.copy()
+
+    def normal(t, x):  # the smallest contact force at (t, x)
+        rhs(t, x)
+        return float(pf[o_lam : o_lam + nc].min()) if nc else math.inf
+
+    normal.terminal, normal.direction = True, -1.0
+    x0 = np.array(x0, dtype=float)
+    where = "radau probe from the period's start"
     try:
-        solve(P, problem.to_full(x0), t, method="radau", uplift="raise")
-    except UpliftError as e:
-        return True, f"radau probe from the period's start: uplift at t = {e.t:.4g} s"
-    except IntegrationError as e:
-        return None, f"radau probe from the period's start failed at t = {e.t:.4g} s: {e.reason}"
-    return False, "radau probe from the period's start: no uplift over one period"
+        if normal(0.0, x0) <= 0.0:
+            return True, f"{where}: uplift at t = 0 s"
+        sol = solve_ivp(rhs, (0.0, periods / f), x0, method="Radau", jac=jac, events=normal,
+                        rtol=PROBE_RTOL, atol=PROBE_ATOL)  # fmt: skip
+    except _ProbeFailed as e:
+        return None, f"{where} failed at t = {e.t:.4g} s: {e.reason}"
+    if sol.t_events[0].size:
+        return True, f"{where}: uplift at t = {sol.t_events[0][0]:.4g} s"
+    if sol.status != 0:
+        return None, f"{where} failed at t = {sol.t[-1]:.4g} s: {sol.message}"
+    span = "one period" if periods == 1 else f"{periods} periods"
+    return False, f"{where}: no uplift over {span}"
+
+
+class _ProbeFailed(Exception):
+    """The probe's right-hand side could not be evaluated (or it took too many)."""
+
+    def __init__(self, t: float, reason: str):
+        super().__init__(reason)
+        self.t, self.reason = float(t), reason
 
 
 def manifold_matrices(system, P: tuple) -> tuple:
@@ -350,51 +405,29 @@ def helper_part() -> None:
     warmup_metrics(True)
 
 
-def helper_part_and_radau() -> None:
-    """:func:`helper_part` with, between the two, the uplift probe's Radau loop's callees
-    but its start-up (:func:`nsdyn.solve.compile_split.radau_callees_part`)."""
-    from nsdyn.solve import compile_split
-    from nsdyn.solve.methods import warmup_metrics
-
-    _helper_callees()
-    compile_split.radau_callees_part(here=False)
-    warmup_metrics(True)
-
-
-def warmup(radau: bool = False) -> float:
+def warmup() -> float:
     """Compile (or load) the kernels of a smooth-law sweep: the period map (one signature
     serves every problem; compiled here for a Duffing oscillator's arguments, with
     sensitivities and the stored orbit), its step, Jacobian and right-hand side (all three
-    called by address, :func:`_callees`) and the flat kernel of the orbit quantities; with
-    ``radau`` the default Radau loop of the uplift probe (:func:`uplift_probe`) too. When
-    they compile, a helper process (:class:`nsdyn._numba_cache.Helper`, :func:`helper_part`,
-    :func:`helper_part_and_radau`) takes the Jacobian, the right-hand side, the Radau loop's
-    callees and the orbit quantities while this one compiles the period map and its step
-    (which need none of them compiled, only declared) and, with ``radau``, the Radau loop
-    itself before them. Then short runs load everything. Seconds spent."""
+    called by address, :func:`_callees`; the uplift probe calls the last two from Python)
+    and the flat kernel of the orbit quantities. When they compile, a helper process
+    (:class:`nsdyn._numba_cache.Helper`, :func:`helper_part`) takes the Jacobian, the
+    right-hand side and the orbit quantities while this one compiles the period map and its
+    step (which need neither compiled, only declared). Then short runs load everything.
+    Seconds spent."""
     import time
     from contextlib import nullcontext
 
     from nsdyn._numba_cache import Helper, compiling, helper_enabled
-    from nsdyn.solve.compile_split import (
-        _compile,
-        _compile_radau_loop,
-        radau_callees,
-        radau_callees_part,
-    )
-    from nsdyn.solve.methods import is_cached, warmup_kernel, warmup_metrics
+    from nsdyn.solve.compile_split import _compile
+    from nsdyn.solve.methods import warmup_metrics
 
     t0 = time.perf_counter()
     prob = duffing_problem(0.05, 1.0, 0.1, 0.5)
     cold = not kernels_cached()
-    both = radau and cold and not is_cached("radau")  # the Radau loop's pieces in the helper
-    part = "helper_part_and_radau" if both else "helper_part"
-    helper = Helper(f"nsdyn.periodic.problem:{part}") if cold and helper_enabled() else None
+    helper = Helper("nsdyn.periodic.problem:helper_part") if cold and helper_enabled() else None
     with helper or nullcontext(), compiling():
         if helper is not None:
-            if both:  # the loop and its start-up (they need nothing compiled first)
-                _compile_radau_loop()
-                radau_callees_part(here=True)
             callees = _callees()  # declared: the typing checks each call against them
             callees[2].compiled()  # the step
             K0 = np.zeros((2, 1), dtype=np.int64)  # only its type matters here
@@ -402,10 +435,6 @@ def warmup(radau: bool = False) -> float:
             _compile(kp.period_map, *args, K0)
             helper.wait_for([c.kernel for c in callees[:2]])
         prob.period_map(prob.x_ref, 0.2, n_steps=4, sens=True, store=True)
-        if both and helper is not None:
-            helper.wait_for([c.kernel for c in radau_callees()])
-    if radau:  # loaded (or, when only it was missing, compiled with a helper of its own)
-        warmup_kernel("radau")
     warmup_metrics(True)
     return time.perf_counter() - t0
 

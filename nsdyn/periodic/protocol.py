@@ -174,9 +174,12 @@ class PeriodicModel(Protocol):
         """Response quantities of the orbit ``X`` (shape (N + 1, dim), one period)."""
         ...
 
-    def quantities_without_orbit(self, f: float, x0: np.ndarray) -> tuple[dict, str]:
+    def quantities_without_orbit(
+        self, f: float, x0: np.ndarray, periods: int = 1
+    ) -> tuple[dict, str]:
         """The quantities (NaN or None where unknown) of a point whose period from ``x0`` could
-        not be integrated, and a note on why (may be empty)."""
+        not be integrated, and a note on why (may be empty); where the model can tell, whether
+        a contact lifts off (``uplift``) within ``periods`` periods from ``x0``."""
         ...
 
     def validity_note(self, quantities: dict) -> str:

@@ -391,8 +391,11 @@ class SwitchProblem(MinimalStates):
         Y = np.column_stack([X, np.ones(N + 1), np.sin(w * t), np.cos(w * t)])
         return np.einsum("tij,tj->ti", self.LF[MK], Y)
 
-    def quantities_without_orbit(self, f: float, x0: np.ndarray) -> tuple[dict, str]:
-        """NaN quantities for a point whose period could not be integrated."""
+    def quantities_without_orbit(
+        self, f: float, x0: np.ndarray, periods: int = 1
+    ) -> tuple[dict, str]:
+        """NaN quantities for a point whose period could not be integrated (``uplift``
+        unknown: no probe here, whatever ``periods``)."""
         keys = ("idr", "acc", "acc_floors", "x_iso", "v_slip_max", "min_normal_force", "graze")
         q = dict.fromkeys(keys, math.nan)
         q.update(stick_all_period=None, uplift=None, law=LAW_NAME, map=METHOD_NAME)

@@ -232,19 +232,6 @@ def _radau_rest() -> None:
             callee.compiled()
 
 
-def radau_callees_part(here: bool) -> None:
-    """The flat Radau loop's callees between two processes when each compiles the loop
-    beside other kernels of its own (the sweep's, :func:`nsdyn.periodic.problem.warmup`):
-    the start-up in the process that compiles the loop (``here``), the rest
-    (:func:`radau_helper_part` and the factorisation) in its helper."""
-    K = radau_callees()
-    if here:
-        K[_kcolloc.K_START].compiled()
-        return
-    radau_helper_part()
-    K[_kcolloc.K_FACTOR].compiled()
-
-
 # ---- the event-driven loop (switch model; unilateral contacts) ------------------------------
 
 

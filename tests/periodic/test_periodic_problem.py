@@ -122,13 +122,16 @@ def test_orbit_quantities_by_the_flat_kernel_equal_the_general_kernel(frame, mon
 def test_steps_are_refined_only_where_no_contact_lifts_off(monkeypatch):
     # A point whose fixed-step period fails is retried with REFINE_FACTOR x the steps, unless
     # the radau probe (normal forces checked at every step) finds a contact lifting off within
-    # one period of the guess: then the failure is the bilateral model's limit, which more
-    # steps cannot remove. Office frame near f_bis at A = 2 m/s^2 (lift-off, see the test
-    # above) against A = 0.5 m/s^2 at 0.46 Hz, made to fail by an unreachable stage
+    # WARMUP_PERIODS periods of the guess (the motion the warm start offered to shooting):
+    # then the failure is the bilateral model's limit, which more steps cannot remove. Office
+    # frame near f_bis at A = 2 m/s^2 (lift-off in the first period, see the test above) and
+    # at A = 1 m/s^2 (lift-off in the second period only: the probe over one period finds
+    # none), against A = 0.5 m/s^2 at 0.46 Hz, made to fail by an unreachable stage
     # tolerance (1e-20; no lift-off there).
     from nsdyn import bench
     from nsdyn.periodic import continuation as co
     from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation
+    from nsdyn.periodic.sweeps import WARMUP_PERIODS
 
     system = build_system(bench.bench_frame(), bench.bench_isolation(), fidelity="cb", f_max=5.0)
     calls = []
@@ -141,9 +144,17 @@ def test_steps_are_refined_only_where_no_contact_lifts_off(monkeypatch):
     assert point.method == "sweep" and point.quantities["uplift"] is True
     assert f"not retried with {REFINE_FACTOR}x steps" in point.note
     assert 0.0 < float(point.note.split("uplift at t = ")[1].split()[0].rstrip(")")) < 1.0 / f
+    stiff = Discretisation(rtol=1e-20, atol=0.0)  # no period integrates: the probe decides
+    later = pr.frame_problem(system, 1.0)
+    assert pr.uplift_probe(later, f, later.x_ref.copy())[0] is False  # none in the first period
+    point, _ = co._solve_point(later, f, [later.x_ref.copy()], stiff, 1e-6, 12, True)
+    assert calls == []
+    assert point.method == "sweep" and point.quantities["uplift"] is True
+    assert f"not retried with {REFINE_FACTOR}x steps" in point.note
+    t_up = float(point.note.split("uplift at t = ")[1].split()[0].rstrip(")"))
+    assert 1.0 / f < t_up < WARMUP_PERIODS / f
     weak = pr.frame_problem(system, 0.5)
-    stiff = Discretisation(rtol=1e-20, atol=0.0)
     point, _ = co._solve_point(weak, 0.46, [weak.x_ref.copy()], stiff, 1e-6, 12, True)
     assert len(calls) == 1
     assert f"with {REFINE_FACTOR}x steps:" in point.note
-    assert "no uplift over one period" in point.note
+    assert f"no uplift over {WARMUP_PERIODS} periods" in point.note

@@ -7,7 +7,7 @@ helper's share to it (loaded, not compiled, here; SPLITS below): the default run
 right-hand side, its Jacobian and Newton; the switch model's system kernel,
 its Jacobian, the friction detector, the settling, the factorisation and the general metrics;
 generalized-alpha's system kernel and Jacobian; genalpha-lowrank's system
-kernel and metrics; the sweep's Jacobian (and the uplift probe's Radau pieces).
+kernel and metrics; the sweep's Jacobian.
 """
 
 import os
@@ -256,20 +256,19 @@ class _NoHelper:
 
 @pytest.mark.slow
 @pytest.mark.skipif(not JIT, reason="nothing compiles under NUMBA_DISABLE_JIT")
-@pytest.mark.parametrize("radau", [False, True], ids=["period-map", "with-uplift-probe"])
-def test_first_sweep_warmup_leaves_the_jacobian_to_its_helper(tmp_path, radau):
+def test_first_sweep_warmup_leaves_the_jacobian_to_its_helper(tmp_path):
     # the period map calls its step, Jacobian and right-hand side by address: a first
     # sweep's warm-up compiles the period map and its step here while the helper compiles
     # the Jacobian and the right-hand side (and the metrics), so the frame's right-hand side
-    # compiles in one process only; with the uplift probe's Radau loop, this process also
-    # compiles the loop and its start-up, the helper the loop's other callees
+    # compiles in one process only; no Radau loop compiles (the uplift probe is SciPy's
+    # Radau on the period map's own right-hand side and Jacobian)
     if not helper_enabled():
         pytest.skip("a helper process needs two usable cores and NSDYN_COMPILE_HELPER != 0")
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
     env[HELPER_ENV] = "1"
     code = FRESH_WARMUP.replace(
         "from nsdyn.solve import methods\nmethods.warmup_kernel({kernel!r}, metrics={metrics!r})\n",
-        f"from nsdyn.periodic.problem import warmup\nwarmup(radau={radau})\n",
+        "from nsdyn.periodic.problem import warmup\nwarmup()\n",
     )
     out = subprocess.run(
         [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
@@ -278,9 +277,7 @@ def test_first_sweep_warmup_leaves_the_jacobian_to_its_helper(tmp_path, radau):
     assert {"period_map", "dirk_step"} <= here
     helpers = {"j_eval", "f_eval", "frame_flat", "frame_flat_jac", "evaluate_flat_many"}
     assert not here & helpers, here
-    if radau:
-        assert {"_loop", "start_flat"} <= here
-        assert not here & {"newton_flat", "feval_flat", "jac_flat_here", "_factor"}, here
+    assert not here & {"_loop", "start_flat", "newton_flat", "jac_flat_here", "_factor"}, here
 
 
 @pytest.mark.slow

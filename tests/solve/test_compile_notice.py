@@ -55,7 +55,7 @@ def test_non_smooth_law_prepares_the_general_loop(monkeypatch, capsys):
 def test_sweep_notice_names_its_kernels(monkeypatch, capsys, friction, module, what):
     # nsdyn sweep: a cold cache makes it say what compiles before the workers start, then how
     # long; afterwards the kernels are ready here and the workers load them: for a smooth law
-    # the period map and the orbit quantities' kernel (and the uplift probe's loop), for the
+    # the period map and the orbit quantities' kernel, for the
     # switch law the exact-flow period map and the system kernels of its mode-set tables
     import importlib
 
@@ -70,8 +70,6 @@ def test_sweep_notice_names_its_kernels(monkeypatch, capsys, friction, module, w
     assert np.isfinite(spent) and spent >= 0.0
     monkeypatch.undo()
     assert mod.kernels_cached()
-    if friction == "arctan":
-        assert methods.is_cached("radau")  # the loop of the uplift probe the workers may run
 
 
 def test_no_sweep_notice_when_cached(monkeypatch, capsys):
@@ -79,7 +77,6 @@ def test_no_sweep_notice_when_cached(monkeypatch, capsys):
     from nsdyn.periodic import problem, switch_compile
 
     monkeypatch.setattr(problem, "kernels_cached", lambda: True)
-    monkeypatch.setattr(methods, "is_cached", lambda kernel: True)  # the uplift probe's loop
     cli_sweep.prepare_kernels("arctan")
     monkeypatch.setattr(switch_compile, "kernels_cached", lambda: True)
     cli_sweep.prepare_kernels("switch")
@@ -95,7 +92,7 @@ def test_unilateral_sweep_compiles_its_loop_before_the_workers(monkeypatch, caps
 
     warmed = []
     monkeypatch.setattr(problem, "kernels_cached", lambda: True)
-    monkeypatch.setattr(problem, "warmup", lambda radau=False: 0.0)
+    monkeypatch.setattr(problem, "warmup", lambda: 0.0)
     monkeypatch.setattr(methods, "is_cached", lambda kernel: kernel == "radau")
     monkeypatch.setattr(methods, "warmup_unilateral", lambda: warmed.append("unilateral"))
     monkeypatch.setattr(methods, "warmup_metrics", lambda flat=True: warmed.append(flat))
