@@ -242,7 +242,7 @@ def uplift_probe(
     pf = pf.copy()  # its scratch (s, G, lam) is written by every evaluation
     d, prob = problem.dim, problem.prob
     m, nc, ni = int(pf[kq.FH_M]), int(pf[kq.FH_NC]), int(pf[kq.FH_NI])
-    o_lam = getattr(kq._frame_offsets, "py_func", kq._frame_offsets)(m, nc, ni)[17]
+    *_, o_lam, _, _ = getattr(kq._frame_offsets, "py_func", kq._frame_offsets)(m, nc, ni)
     out, F, J = np.empty(d), np.empty(d), np.empty((d, d))
     evals = [0]
 
@@ -274,7 +274,7 @@ def uplift_probe(
     except _ProbeFailed as e:
         return None, f"{where} failed at t = {e.t:.4g} s: {e.reason}"
     if sol.t_events[0].size:
-        return True, f"{where}: uplift at t = {sol.t_events[0][0]:.4g} s"
+        return True, f"{where}: uplift at t = {sol.t_events[0][0]:.6g} s"
     if sol.status != 0:
         return None, f"{where} failed at t = {sol.t[-1]:.4g} s: {sol.message}"
     span = "one period" if periods == 1 else f"{periods} periods"

@@ -158,3 +158,31 @@ def test_steps_are_refined_only_where_no_contact_lifts_off(monkeypatch):
     assert len(calls) == 1
     assert f"with {REFINE_FACTOR}x steps:" in point.note
     assert f"no uplift over {WARMUP_PERIODS} periods" in point.note
+
+
+@pytest.mark.parametrize("A", [2.0, 1.0], ids=["first-period", "second-period"])
+def test_probe_lift_off_instant_is_where_a_full_coordinate_run_loses_contact(A):
+    # The probe (SciPy's Radau on the minimal coordinates, rtol PROBE_RTOL) against an
+    # independent integration: the compiled Radau loop in the full coordinates (Baumgarte
+    # contacts, rtol 1e-6), continued past the lift-off (uplift="warn"). Its smallest normal
+    # force must change sign within DT of the probe's instant: the probe's states are good to
+    # ~PROBE_RTOL relative, so its normal forces to ~1e-4 of the static ~3.4e6 N (~350 N),
+    # and near these crossings the force falls by ~5e5 N/s: ~1 ms; DT is ten times that.
+    from nsdyn import bench
+    from nsdyn.solve.integrate import UpliftWarning, solve
+    from nsdyn.solve.transient import evaluations
+
+    DT = 0.01
+    system = build_system(bench.bench_frame(), bench.bench_isolation(), fidelity="cb", f_max=5.0)
+    f = 0.06
+    prob = pr.frame_problem(system, A)
+    lifts, note = pr.uplift_probe(prob, f, prob.x_ref.copy(), 2)
+    assert lifts is True
+    t_up = float(note.split("uplift at t = ")[1].split()[0])
+    assert (A == 1.0) == (t_up > 1.0 / f)  # A = 1 m/s^2 lifts off in the second period only
+    P, _ = prob.at(f)
+    t = np.array([0.0, t_up - DT, t_up + DT])
+    with pytest.warns(UpliftWarning):
+        sol = solve(P, prob.to_full(prob.x_ref.copy()), t, method="radau", uplift="warn")
+    lam = evaluations(P, t, np.ascontiguousarray(sol.x))[1].min(axis=1)
+    assert lam[0] > 0 and lam[1] > 0 and lam[2] < 0, lam
