@@ -349,7 +349,7 @@ class PlaneProblem:
             st, X, _ = self.run(x, f, 1)
             if st != STATUS_OK:
                 break
-            x = X[-1]
+            x = X[-1, self.rows]  # the problem's state (as the period map's end)
         nan = math.nan
         q = {"u_peak_m": nan, "u_component_peak_m": nan, "friction_peak_N": nan,
              "restoring_peak_N": nan, "torsion_peak_rad": nan, "normal_min_N": nan,

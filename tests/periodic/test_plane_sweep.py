@@ -207,6 +207,22 @@ def test_failures_are_reported_by_frequency_and_reason():
     assert all("no fallback" in d["reason"] for d in bare.info["failures"])
 
 
+def test_the_plane_probe_follows_the_motion_over_the_periods_asked():
+    # quantities_without_orbit integrates `periods` periods from x0, each from the last
+    # state: without a vertical component the normal force is m g in every period (no
+    # uplift, no failure over one or two); with 12 m/s^2 > g vertically it reaches zero in
+    # the first period, which ends the probe whatever the periods asked
+    from nsdyn.ground.orbit import HarmonicPlane
+
+    flat = plane_problem(sdof(), circular(A0, F0), law="switch")
+    for periods in (1, 2):
+        q, why = flat.quantities_without_orbit(F0, flat.x_ref, periods)
+        assert q["uplift"] is False and why == ""
+    lifting = plane_problem(sdof(), HarmonicPlane.circular(0.7, A0, az=12.0), law="switch")
+    q, why = lifting.quantities_without_orbit(0.7, lifting.x_ref, 2)
+    assert q["uplift"] is True and why
+
+
 def _with_sweep(tmp_path, table: str) -> Path:
     text = SCENE.read_text()
     head = text.split("\n[sweep]")[0] + "\n"
