@@ -30,6 +30,7 @@ from nsdyn.ground.excitation import Harmonic, HarmonicForce
 from nsdyn.models.isolated.excitation import ground_many
 from nsdyn.models.isolated.friction import sticks
 from nsdyn.models.isolated.params import KernelParams, pack, with_ground
+from nsdyn.periodic import _korbit as ko
 from nsdyn.periodic import _kperiodic as kp
 from nsdyn.periodic import _kproblems as kq
 from nsdyn.periodic.discretisation import Discretisation
@@ -157,11 +158,7 @@ class PeriodicProblem(MinimalStates):
         n = self.Q.shape[0]
         Xf = np.ascontiguousarray(self.to_full(X))
         P, _ = self.at(f)
-        # smooth laws through the flat kernel (the transient run's; the general one is then
-        # not compiled for a sweep), the switch law through the general kernel
-        from nsdyn.solve.transient import evaluations
-
-        QDD, LAM, TAU, MODES = evaluations(P, t, Xf)
+        QDD, LAM = self.orbit_forces(f, t, X)
         G = ground_many(t, P)
         ug = np.zeros((N + 1, 1)) if self.load is not None else G[:, :1]
         od = cache["od"]
@@ -190,6 +187,31 @@ class PeriodicProblem(MinimalStates):
             "min_normal_force": float(LAM.min()) if LAM.size else math.nan,
             "uplift": bool(LAM.size and LAM.min() <= 0.0),
         }
+
+    def orbit_forces(self, f: float, t: np.ndarray, X: np.ndarray) -> tuple:
+        """The accelerations ``qdd = Q zdd`` (nt, n) and contact forces (nt, nc) of a frame
+        along the minimal states ``X`` at the times ``t``: the period map's right-hand side
+        at each sample (:func:`nsdyn.periodic._korbit.orbit_forces`, the multipliers it
+        solves for); a sample where its constraint matrix is singular by the system kernel
+        (the constrained equations in full coordinates)."""
+        _, pf = self.at(f)
+        pf = pf.copy()  # its scratch holds each sample's multipliers
+        nt = X.shape[0]
+        nc = int(pf[kq.FH_NC])
+        ZDD, LAM = np.empty((nt, self.m)), np.empty((nt, nc))
+        ok = np.ones(nt, dtype=np.bool_)
+        Xc = np.array(X, dtype=float, order="C")
+        tc = np.array(t, dtype=float, order="C")
+        ko.orbit_forces(self.prob, tc, Xc, pf, ZDD, LAM, ok, periodic_calls())
+        QDD = ZDD @ self.Q.T
+        bad = np.flatnonzero(~ok)
+        if bad.size:
+            from nsdyn.solve.transient import general_evaluations
+
+            P, _ = self.at(f)
+            part = general_evaluations(P, tc[bad], np.ascontiguousarray(self.to_full(Xc[bad])))
+            QDD[bad], LAM[bad] = part[0], part[1]
+        return QDD, LAM
 
     def quantities_without_orbit(
         self, f: float, x0: np.ndarray, periods: int = 1
@@ -381,12 +403,12 @@ def periodic_calls():
 
 def kernels_cached() -> bool:
     """True when the period map's kernel, its step, Jacobian and right-hand side and the orbit
-    quantities' flat kernel are compiled in this process or in numba's on-disk cache (a sweep
+    quantities' kernel are compiled in this process or in numba's on-disk cache (a sweep
     then only loads them)."""
-    from nsdyn.solve.methods import dispatcher_cached, is_cached
+    from nsdyn.solve.methods import dispatcher_cached
 
-    kernels = (kp.period_map, *(c.kernel for c in _callees()))
-    return all(dispatcher_cached(d) for d in kernels) and is_cached("metrics")
+    kernels = (kp.period_map, *(c.kernel for c in _callees()), ko.orbit_forces)
+    return all(dispatcher_cached(d) for d in kernels)
 
 
 def _helper_callees() -> None:
@@ -395,14 +417,22 @@ def _helper_callees() -> None:
         c.compiled()
 
 
+def _orbit_forces_types() -> tuple:
+    """Arguments of :func:`nsdyn.periodic._korbit.orbit_forces` of the types a frame's
+    orbit quantities call it with (values unused; ``K`` of the period map's type)."""
+    v, m = np.zeros(2), np.zeros((2, 2))
+    K0 = np.zeros((2, 1), dtype=np.int64)
+    return (kp.PROB_FRAME, v, m, v, m, m, np.ones(2, dtype=np.bool_), K0)
+
+
 def helper_part() -> None:
     """A helper process's share of a first sweep's compilation (see :func:`warmup`): the
     Jacobian and the right-hand side the period map calls by address, then the orbit
-    quantities' flat kernels."""
-    from nsdyn.solve.methods import warmup_metrics
+    quantities' kernel (which calls the right-hand side by address too)."""
+    from nsdyn.solve.compile_split import _compile
 
     _helper_callees()
-    warmup_metrics(True)
+    _compile(ko.orbit_forces, *_orbit_forces_types())
 
 
 def warmup() -> float:
@@ -410,17 +440,16 @@ def warmup() -> float:
     serves every problem; compiled here for a Duffing oscillator's arguments, with
     sensitivities and the stored orbit), its step, Jacobian and right-hand side (all three
     called by address, :func:`_callees`; the uplift probe calls the last two from Python)
-    and the flat kernel of the orbit quantities. When they compile, a helper process
-    (:class:`nsdyn._numba_cache.Helper`, :func:`helper_part`) takes the Jacobian, the
-    right-hand side and the orbit quantities while this one compiles the period map and its
-    step (which need neither compiled, only declared). Then short runs load everything.
-    Seconds spent."""
+    and the orbit quantities' kernel (:func:`nsdyn.periodic._korbit.orbit_forces`). When
+    they compile, a helper process (:class:`nsdyn._numba_cache.Helper`,
+    :func:`helper_part`) takes the Jacobian, the right-hand side and the orbit quantities
+    while this one compiles the period map and its step (which need none of them compiled,
+    only declared). Then short runs load everything. Seconds spent."""
     import time
     from contextlib import nullcontext
 
     from nsdyn._numba_cache import Helper, compiling, helper_enabled
     from nsdyn.solve.compile_split import _compile
-    from nsdyn.solve.methods import warmup_metrics
 
     t0 = time.perf_counter()
     prob = duffing_problem(0.05, 1.0, 0.1, 0.5)
@@ -433,9 +462,9 @@ def warmup() -> float:
             K0 = np.zeros((2, 1), dtype=np.int64)  # only its type matters here
             _, args = prob._map_args(prob.x_ref, 0.2, 4, None, True, True)
             _compile(kp.period_map, *args, K0)
-            helper.wait_for([c.kernel for c in callees[:2]])
+            helper.wait_for([c.kernel for c in callees[:2]] + [ko.orbit_forces])
         prob.period_map(prob.x_ref, 0.2, n_steps=4, sens=True, store=True)
-    warmup_metrics(True)
+        _compile(ko.orbit_forces, *_orbit_forces_types()[:-1], periodic_calls())
     return time.perf_counter() - t0
 
 

@@ -261,7 +261,8 @@ def test_first_sweep_warmup_leaves_the_jacobian_to_its_helper(tmp_path):
     # sweep's warm-up compiles the period map and its step here while the helper compiles
     # the Jacobian and the right-hand side (and the metrics), so the frame's right-hand side
     # compiles in one process only; no Radau loop compiles (the uplift probe is SciPy's
-    # Radau on the period map's own right-hand side and Jacobian)
+    # Radau on the period map's own right-hand side and Jacobian), and the orbit quantities
+    # call that right-hand side too (orbit_forces, in the helper)
     if not helper_enabled():
         pytest.skip("a helper process needs two usable cores and NSDYN_COMPILE_HELPER != 0")
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
@@ -275,9 +276,10 @@ def test_first_sweep_warmup_leaves_the_jacobian_to_its_helper(tmp_path):
     )
     here = set(out.stdout.split())
     assert {"period_map", "dirk_step"} <= here
-    helpers = {"j_eval", "f_eval", "frame_flat", "frame_flat_jac", "evaluate_flat_many"}
+    helpers = {"j_eval", "f_eval", "frame_flat", "frame_flat_jac", "orbit_forces"}
     assert not here & helpers, here
     assert not here & {"_loop", "start_flat", "newton_flat", "jac_flat_here", "_factor"}, here
+    assert not here & {"feval_flat", "evaluate_flat_many"}, here  # nothing of full coordinates
 
 
 @pytest.mark.slow
