@@ -263,8 +263,8 @@ def run(args: argparse.Namespace) -> int:
         )
     if any(s["uplift_points"] for s in report["amplitudes"]):
         print(
-            "   (uplift: a normal force <= 0 somewhere in the period, or from the period's start"
-            " where no period could be integrated; maxima skip those points"
+            "   (uplift: a normal force <= 0 somewhere in the period, or, where no period could"
+            " be integrated, within two periods of the guess; maxima skip those points"
             + (
                 ", except those the unilateral sweep settled)"
                 if settings.contact == "unilateral"

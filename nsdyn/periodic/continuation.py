@@ -72,8 +72,8 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
     attracting orbit's side often converges where extrapolation does not); if the period
     could not even be integrated, once more with ``REFINE_FACTOR`` times more steps, unless
     the model's probe finds a contact lifting off within ``sweeps.WARMUP_PERIODS`` periods of
-    the first guess (the motion the warm start offered to shooting: the model's limit, not
-    the step's); then the sweep from the first guess."""
+    the first guess, the one the retry would shoot from (as long as the warm start carries a
+    guess: the model's limit, not the step's); then the sweep from the first guess."""
     why = "no initial guess"
     integration_failed = False
     tries = list(guesses)
@@ -89,8 +89,8 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
         integration_failed |= res.monodromy is None
     if integration_failed and guesses:
         # more steps cannot help where a contact lifts off (the model's own limit): the
-        # probe (the model's quantities_without_orbit) decides before the costly retry, over
-        # the periods the warm start integrated (the motion shooting was offered)
+        # probe (the model's quantities_without_orbit) decides before the costly retry, from
+        # the guess the retry would start from, over as many periods as the warm start runs
         lifts, probe = problem.quantities_without_orbit(f, guesses[0], WARMUP_PERIODS)
         if lifts.get("uplift"):
             why = f"{why}; not retried with {REFINE_FACTOR}x steps ({probe})"

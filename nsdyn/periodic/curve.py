@@ -141,7 +141,7 @@ def _point_from_sweep(
     if sw.periods_done > 0:
         q = problem.orbit_quantities(sw.f, sw.X)
     else:
-        # the horizon of continuation's retry decision (the periods the warm start offered)
+        # the horizon of continuation's retry decision (as many periods as the warm start)
         q, probe = problem.quantities_without_orbit(sw.f, sw.x0, WARMUP_PERIODS)
     notes = (f"shooting failed: {why}", f"sweep: {sw.message}", check, probe,
              problem.validity_note(q))  # fmt: skip

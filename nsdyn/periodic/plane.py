@@ -344,6 +344,8 @@ class PlaneProblem:
     ) -> tuple[dict, str]:
         """NaN quantities of a point whose period could not be integrated, and why (the
         ``periods`` periods from ``x0``: uplift, or the loop's failure)."""
+        if periods < 1:
+            raise ValueError(f"periods: expected an integer >= 1, got {periods!r}")
         x = np.asarray(x0, dtype=float)
         for _ in range(periods):  # the forcing is T-periodic: each period from the last state
             st, X, _ = self.run(x, f, 1)

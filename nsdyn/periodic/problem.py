@@ -42,6 +42,7 @@ DUFFING_W = 4  # index of the forcing circular frequency w in pf = [zeta, w0, ga
 # an instant: on the test frames the lift-off instants at 1e-4 agree with those at 1e-6 to
 # five digits, in a tenth of the steps) and its budget of right-hand sides
 PROBE_RTOL, PROBE_ATOL = 1e-4, 1e-6
+PROBE_STEPS = 64  # at least this many steps per period (the sign of the force at each end)
 PROBE_MAX_EVALS = 200_000
 
 _DUMMY_P = None
@@ -197,7 +198,7 @@ class PeriodicProblem(MinimalStates):
         _, pf = self.at(f)
         pf = pf.copy()  # its scratch holds each sample's multipliers
         nt = X.shape[0]
-        nc = int(pf[kq.FH_NC])
+        nc = int(pf[kq.FH_NC]) if self.prob == kp.PROB_FRAME else 0
         ZDD, LAM = np.empty((nt, self.m)), np.empty((nt, nc))
         ok = np.ones(nt, dtype=np.bool_)
         Xc = np.array(X, dtype=float, order="C")
@@ -249,7 +250,8 @@ def uplift_probe(
     """Does a contact lift off within ``periods`` periods from ``x0`` (minimal coordinates)?
 
     For points whose fixed-step period could not be integrated: SciPy's adaptive Radau IIA
-    (``solve_ivp``, ``PROBE_RTOL``, ``PROBE_ATOL``) on the manifold equations with the period
+    (``solve_ivp``, ``PROBE_RTOL``, ``PROBE_ATOL``, at least ``PROBE_STEPS`` steps per
+    period) on the manifold equations with the period
     map's own right-hand side and Jacobian (:func:`nsdyn.periodic._kproblems.f_eval`,
     :func:`~nsdyn.periodic._kproblems.j_eval`, called from Python: the probe compiles nothing
     a sweep does not compile anyway), the smallest contact force ``lam`` (the multipliers the
@@ -288,11 +290,14 @@ def uplift_probe(
     normal.terminal, normal.direction = True, -1.0
     x0 = np.array(x0, dtype=float)
     where = "radau probe from the period's start"
+    if nc == 0:
+        return False, f"{where}: no contact to lift off"
     try:
         if normal(0.0, x0) <= 0.0:
             return True, f"{where}: uplift at t = 0 s"
         sol = solve_ivp(rhs, (0.0, periods / f), x0, method="Radau", jac=jac, events=normal,
-                        rtol=PROBE_RTOL, atol=PROBE_ATOL)  # fmt: skip
+                        rtol=PROBE_RTOL, atol=PROBE_ATOL,
+                        max_step=1.0 / (PROBE_STEPS * f))  # fmt: skip
     except _ProbeFailed as e:
         return None, f"{where} failed at t = {e.t:.4g} s: {e.reason}"
     if sol.t_events[0].size:

@@ -135,7 +135,7 @@ def test_orbit_quantities_on_the_manifold_equal_the_general_kernel(frame, monkey
 def test_steps_are_refined_only_where_no_contact_lifts_off(monkeypatch):
     # A point whose fixed-step period fails is retried with REFINE_FACTOR x the steps, unless
     # the radau probe (normal forces checked at every step) finds a contact lifting off within
-    # WARMUP_PERIODS periods of the guess (the motion the warm start offered to shooting):
+    # WARMUP_PERIODS periods of the guess (as many as the warm start carries a guess along):
     # then the failure is the bilateral model's limit, which more steps cannot remove. Office
     # frame near f_bis at A = 2 m/s^2 (lift-off in the first period, see the test above) and
     # at A = 1 m/s^2 (lift-off in the second period only: the probe over one period finds

@@ -218,6 +218,22 @@ def test_the_plane_probe_follows_the_motion_over_the_periods_asked():
     for periods in (1, 2):
         q, why = flat.quantities_without_orbit(F0, flat.x_ref, periods)
         assert q["uplift"] is False and why == ""
+    starts, ends, run = [], [], flat.run
+
+    def recorded(x, f, samples, full=False):
+        starts.append(np.array(x, dtype=float))
+        out = run(x, f, samples, full)
+        ends.append(out[1][-1, flat.rows])
+        return out
+
+    flat.run = recorded
+    flat.quantities_without_orbit(F0, flat.x_ref, 3)
+    assert len(starts) == 3  # each period from where the last one ended
+    for k in (1, 2):
+        np.testing.assert_array_equal(starts[k], ends[k - 1])
+    assert np.abs(ends[0] - flat.x_ref).max() > 1e-3  # (the motion moved: a real check)
+    with pytest.raises(ValueError, match="periods"):
+        flat.quantities_without_orbit(F0, flat.x_ref, 0)
     lifting = plane_problem(sdof(), HarmonicPlane.circular(0.7, A0, az=12.0), law="switch")
     q, why = lifting.quantities_without_orbit(0.7, lifting.x_ref, 2)
     assert q["uplift"] is True and why

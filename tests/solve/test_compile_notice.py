@@ -93,7 +93,7 @@ def test_unilateral_sweep_compiles_its_loop_before_the_workers(monkeypatch, caps
     warmed = []
     monkeypatch.setattr(problem, "kernels_cached", lambda: True)
     monkeypatch.setattr(problem, "warmup", lambda: 0.0)
-    monkeypatch.setattr(methods, "is_cached", lambda kernel: kernel == "radau")
+    monkeypatch.setattr(methods, "is_cached", lambda kernel: False)
     monkeypatch.setattr(methods, "warmup_unilateral", lambda: warmed.append("unilateral"))
     monkeypatch.setattr(methods, "warmup_metrics", lambda flat=True: warmed.append(flat))
     cli_sweep.prepare_kernels("arctan", "unilateral")
