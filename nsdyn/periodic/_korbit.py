@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 from nsdyn import _kaddress as ka
-from nsdyn.periodic._kproblems import FH_M, FH_NC, FH_NI, PROB_FRAME, _frame_offsets
+from nsdyn.periodic._kproblems import FH_M, FH_NC, FH_NI, O_LAM, PROB_FRAME, _frame_offsets
 
 
 @njit(cache=True, error_model="numpy")
@@ -29,7 +29,7 @@ def orbit_forces(prob, t, X, pf, ZDD, LAM, ok, K):
     nc = 0
     if prob == PROB_FRAME:
         m, nc, ni = int(pf[FH_M]), int(pf[FH_NC]), int(pf[FH_NI])
-        o_lam = _frame_offsets(m, nc, ni)[17]
+        o_lam = _frame_offsets(m, nc, ni)[O_LAM]
     Y = np.empty(d)
     Fi = np.empty(d)
     for k in range(nt):

@@ -70,6 +70,9 @@ FH_END = FH_GPAR + ks.N_GPAR
 G_RTOL = 1e-14  # a pivot of G below this times its largest entry: singular (as _kernel)
 
 
+O_LAM = 17  # the position of o_lam (the multipliers) in the tuple of _frame_offsets
+
+
 @njit(cache=True, error_model="numpy", inline="always")
 def _frame_offsets(m, nc, ni):
     """Offsets in the flat array: Kz, Cz (m, m), QG (m, 2), QMiRT (m, nc), QMiDT (m, ni), RAz,

@@ -195,8 +195,7 @@ class PeriodicProblem(MinimalStates):
         at each sample (:func:`nsdyn.periodic._korbit.orbit_forces`, the multipliers it
         solves for); a sample where its constraint matrix is singular by the system kernel
         (the constrained equations in full coordinates)."""
-        _, pf = self.at(f)
-        pf = pf.copy()  # its scratch holds each sample's multipliers
+        P, pf = self.at(f)  # a new pf: its scratch holds each sample's multipliers
         nt = X.shape[0]
         nc = int(pf[kq.FH_NC]) if self.prob == kp.PROB_FRAME else 0
         ZDD, LAM = np.empty((nt, self.m)), np.empty((nt, nc))
@@ -209,7 +208,6 @@ class PeriodicProblem(MinimalStates):
         if bad.size:
             from nsdyn.solve.transient import general_evaluations
 
-            P, _ = self.at(f)
             part = general_evaluations(P, tc[bad], np.ascontiguousarray(self.to_full(Xc[bad])))
             QDD[bad], LAM[bad] = part[0], part[1]
         return QDD, LAM
@@ -262,11 +260,10 @@ def uplift_probe(
 
     if periods < 1:
         raise ValueError(f"periods: expected an integer >= 1, got {periods!r}")
-    _, pf = problem.at(f)
-    pf = pf.copy()  # its scratch (s, G, lam) is written by every evaluation
+    _, pf = problem.at(f)  # a new array: its scratch (s, G, lam) is this probe's
     d, prob = problem.dim, problem.prob
     m, nc, ni = int(pf[kq.FH_M]), int(pf[kq.FH_NC]), int(pf[kq.FH_NI])
-    *_, o_lam, _, _ = getattr(kq._frame_offsets, "py_func", kq._frame_offsets)(m, nc, ni)
+    o_lam = getattr(kq._frame_offsets, "py_func", kq._frame_offsets)(m, nc, ni)[kq.O_LAM]
     out, F, J = np.empty(d), np.empty(d), np.empty((d, d))
     evals = [0]
 
