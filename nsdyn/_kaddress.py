@@ -87,18 +87,29 @@ def digest(name: str) -> int:
     return int.from_bytes(hashlib.sha1(text.encode()).digest()[:8], "little") >> 1
 
 
-def slot(name: str, index: int, kernel, with_general: bool = False) -> None:
+def slot(name: str, index: int, kernel) -> None:
     """Register callee ``name``: its address is ``K[index]``; without addresses (``K`` None)
-    ``kernel`` is called directly, with the caller's ``general`` kernel appended to the
-    arguments when ``with_general``."""
-    SLOTS[name] = (index, kernel, with_general)
+    ``kernel`` is called directly, or, where ``kernel`` is a dict, the kernel it gives for the
+    caller's ``general`` kernel (the callee's copy made for it, :func:`specialised`)."""
+    SLOTS[name] = (index, kernel)
+
+
+def _for_general(name: str, kernel, general):
+    """The kernel of slot ``name`` called directly by a caller whose ``general`` kernel is
+    ``general`` (a dispatcher, or the Python function without the JIT)."""
+    if not isinstance(kernel, dict):
+        return kernel
+    key = getattr(general, "py_func", general)
+    for g, k in kernel.items():
+        if getattr(g, "py_func", g) is key:
+            return k
+    raise TypeError(f"call of {name!r}: no copy of it for the general kernel {key!r}")
 
 
 def call(K, name, args, general):
     """Callee ``name`` on ``args``: through its address in ``K``, or (``K`` None) directly."""
     if K is None:
-        index, kernel, with_general = SLOTS[name]
-        return kernel(*args, general) if with_general else kernel(*args)
+        return _for_general(name, SLOTS[name][1], general)(*args)
     return K[SLOTS[name][0]](*args)  # without the JIT: a tuple of the kernels
 
 
@@ -166,10 +177,10 @@ def _at(typingctx, addr, check, name, args):
 def _call_impl(K, name, args, general):
     if not isinstance(name, types.StringLiteral) or name.literal_value not in SLOTS:
         return None
-    index, kernel, with_general = SLOTS[name.literal_value]
+    index, kernel = SLOTS[name.literal_value]
     if isinstance(K, types.NoneType):
-        if with_general:
-            return lambda K, name, args, general: kernel(*args, general)
+        gen = getattr(general, "dispatcher", None)
+        kernel = _for_general(name.literal_value, kernel, gen)
         return lambda K, name, args, general: kernel(*args)
     if not (isinstance(K, types.Array) and K.ndim == 2 and K.dtype == types.int64):
         raise errors.TypingError(f"call of {name.literal_value!r}: K must be a 2-row int64 array")
@@ -456,3 +467,34 @@ def compiled_only(func):
     """The decorator of a kernel that only compiled code calls (by its address or linked):
     ``njit(cache=True, error_model="numpy", **NO_ENTRY)``, then :func:`no_entry`."""
     return no_entry(njit(cache=True, error_model="numpy", **NO_ENTRY)(func))
+
+
+def specialised(func, name: str, **bindings):
+    """A copy of the Python function ``func`` named ``name`` in which the global names given
+    in ``bindings`` refer to the objects given: one source, compiled as separate kernels that
+    each call their own callees (Newton with the general kernel of the table, with the flat
+    right-hand side by address, ...).
+
+    It replaces a kernel whose body was only an ``inline="always"`` call of ``func`` with
+    those callees as arguments: numba inlines a function by copying its IR once per block
+    together with the function's whole variable scope (blocks x variables), ~1.5 s of one
+    core for Newton's ~2 000 lines of IR, to make the code the copy compiles from directly.
+    The copy sees ``func``'s module globals as they are when it is made (make it after
+    everything its body uses is defined), and numba caches it apart from ``func`` and from
+    the other copies by its name (the cache files are named by the module's file and the
+    kernel's qualified name): ``name`` must be unique among the kernels of ``func``'s file.
+    """
+    import types as pytypes
+
+    func = getattr(func, "py_func", func)
+    unknown = sorted(set(bindings) - set(func.__code__.co_names))
+    if unknown:
+        raise ValueError(f"{func.__qualname__} uses no global named {', '.join(unknown)}")
+    env = dict(func.__globals__)
+    env.update(bindings)
+    code = func.__code__.replace(co_name=name, co_qualname=name)
+    out = pytypes.FunctionType(code, env, name, func.__defaults__, func.__closure__)
+    out.__qualname__ = name
+    out.__module__ = func.__module__
+    out.__doc__ = func.__doc__
+    return out

@@ -8,11 +8,12 @@ solved by simplified Newton with the eigen-split of the Radau matrix: ``W = T^-1
 into one real and one complex system with the matrices ``(eig/h) I - J`` (Hairer & Wanner,
 *Solving ODEs II*, sec. IV.8). The stepper around it is :mod:`nsdyn.solve._kradau`. The Newton
 loop evaluates smooth laws through :func:`nsdyn.solve._kflat.feval_flat` and other laws through
-a ``general`` kernel passed in by the caller: :func:`general_called` (the general kernel called,
-for the run loop, which rarely needs it), :func:`general_table` (the system kernel called by its
-address, for the event-driven runs, which always need it) or :func:`flat_only` (none: the
-default run's loop, which then never compiles the general kernel). Newton itself is called, not
-inlined. Inlining costs compile time at every call site (numba types and lowers the callee
+a ``general`` kernel: :func:`general_called` (the general kernel called, for the run loop,
+which rarely needs it), :func:`general_table` (the system kernel called by its address, for
+the event-driven runs, which always need it) or :func:`flat_only` (none: the default run's
+loop, which then never compiles the general kernel); each of Newton's kernels is a copy of
+:func:`_newton` with its own (:func:`nsdyn._kaddress.specialised`). Newton itself is called,
+not inlined. Inlining costs compile time at every call site (numba types and lowers the callee
 again in each caller): inlining Newton and the general kernel into every stepper doubled the
 first-run compilation (110 s to 52 s for ``radau``, 103 s to 84 s for ``event``) for ~4 ms of a
 60 ms run; calling the flat kernel instead of inlining it at its three sites, and the general
@@ -231,9 +232,15 @@ def jeval(t, y, P, Fl, flat, general, K, J, ys, qdd, lam, tau, modes):
     return ok
 
 
+# what each copy of :func:`_newton` calls (:func:`nsdyn._kaddress.specialised` binds them):
+# the general kernel and the flat right-hand side
+_GENERAL = general_called
+_FEVAL_FLAT = kf.feval_flat
+
+
 def _newton(
     P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
-    modes, Fl, flat, general, feval_flat,
+    modes, Fl, flat,
 ):  # fmt: skip
     """Simplified Newton on the collocation system; Z holds the start guess on entry.
 
@@ -245,10 +252,11 @@ def _newton(
     ``iscale`` holds the reciprocal error scales ``1 / (atol + |y| rtol)`` (the norm of dW
     multiplies: 78 divisions per iteration fewer).
     The arrays are those of the workspace (:func:`nsdyn.solve._kradau.workspace`), ``Fl`` the
-    flat parameters of :func:`nsdyn.solve._kflat.pack_flat`, used when ``flat``; ``general``
-    (:func:`general_called`, :func:`general_table` or :func:`flat_only`) evaluates the
-    stages otherwise. ``feval_flat``: :func:`nsdyn.solve._kflat.feval_flat` itself (linked)
-    or :func:`feval_flat_t` (by its address).
+    flat parameters of :func:`nsdyn.solve._kflat.pack_flat`, used when ``flat``; the general
+    kernel ``_GENERAL`` (:func:`general_called`, :func:`general_table` or :func:`flat_only`)
+    evaluates the stages otherwise. ``_FEVAL_FLAT``: :func:`nsdyn.solve._kflat.feval_flat`
+    itself (linked), :func:`feval_flat_t` (by its address) or :func:`_no_flat`. Each kernel
+    of Newton is a copy of this function with its own two (:func:`nsdyn._kaddress.specialised`).
 
     Returns (converged, n_iter, rate, nonfinite, singular, dW_norm).
     """
@@ -273,9 +281,9 @@ def _newton(
             for i in range(3):
                 for j in range(n2):
                     ys[j] = y[j] + Z[i, j]
-                ok = ok and feval_flat(t + C[i] * h, ys, Fl, F[i], qdd, lam, tau, modes)
+                ok = ok and _FEVAL_FLAT(t + C[i] * h, ys, Fl, F[i], qdd, lam, tau, modes)
         if not ok:
-            singular = not general(G_STAGES, P, t, y, h, Z, F, ys, ys, J, qdd, lam, tau, modes)
+            singular = not _GENERAL(G_STAGES, P, t, y, h, Z, F, ys, ys, J, qdd, lam, tau, modes)
         stats[ki.S_NFEV] += 3
         if not kf.finite_rows(F):
             nonfinite = True
@@ -323,20 +331,6 @@ def _newton(
 # the Radau loop's callees by address (:mod:`nsdyn._kaddress`): their indices in ``K``
 K_FEVAL, K_JAC, K_FACTOR, K_NEWTON, K_START = range(5)
 
-newton_inline = njit(cache=True, error_model="numpy", inline="always")(_newton)
-
-
-@njit(cache=True, error_model="numpy")
-def newton(
-    P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
-    modes, Fl, flat, general,
-):  # fmt: skip
-    """:func:`_newton` with the flat right-hand side linked (the general kernel's loop)."""
-    return newton_inline(
-        P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam,
-        tau, modes, Fl, flat, general, kf.feval_flat,
-    )  # fmt: skip
-
 
 @njit(cache=True, error_model="numpy", inline="always")
 def feval_flat_t(t, x, F, out, qdd, lam, tau, modes):
@@ -351,40 +345,37 @@ def feval_flat_t(t, x, F, out, qdd, lam, tau, modes):
 ka.tslot("radau.feval", kf.feval_flat, "nsdyn.solve.compile_split:radau_callees")
 
 
-@ka.compiled_only
-def newton_general(
-    P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
-    modes, Fl, flat,
-):  # fmt: skip
-    """:func:`newton_table` for a law the flat kernels do not serve (``flat`` False at every
-    call): the flat branch is pruned, so the flat right-hand side is not compiled with it."""
-    return newton_inline(
-        P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam,
-        tau, modes, Fl, False, general_table, kf.feval_flat,
-    )  # fmt: skip
+@njit(cache=True, error_model="numpy", inline="always")
+def _no_flat(t, x, F, out, qdd, lam, tau, modes):
+    """No flat right-hand side (Newton for a law the flat kernels do not serve)."""
+    return False
 
 
-@ka.compiled_only
-def newton_flat(
-    P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
-    modes, Fl, flat,
-):  # fmt: skip
-    """:func:`newton` with :func:`flat_only` and :func:`feval_flat_t` (the default loop's,
-    called by address: a kernel with a kernel argument would have the argument's dispatcher
-    in its declared type)."""
-    return newton_inline(
-        P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam,
-        tau, modes, Fl, flat, flat_only, feval_flat_t,
-    )  # fmt: skip
+# Newton's kernels: copies of _newton, each with its general kernel and flat right-hand side
+newton = njit(cache=True, error_model="numpy")(
+    ka.specialised(_newton, "newton", _GENERAL=general_called, _FEVAL_FLAT=kf.feval_flat)
+)
+"""Newton with :func:`general_called` and the flat right-hand side linked (the general
+kernel's loop, :func:`nsdyn.solve._kradau.radau_general`)."""
 
+newton_general = ka.compiled_only(
+    ka.specialised(_newton, "newton_general", _GENERAL=general_table, _FEVAL_FLAT=_no_flat)
+)
+"""Newton for a law the flat kernels do not serve (``flat`` False at every call): the event
+loop's step calls it by address; no flat right-hand side is compiled with it."""
 
-@ka.compiled_only
-def newton_table(
-    P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam, tau,
-    modes, Fl, flat,
-):  # fmt: skip
-    """:func:`newton` with :func:`general_table` (the event loop's step calls it by address)."""
-    return newton_inline(
-        P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale, qdd, lam,
-        tau, modes, Fl, flat, general_table, kf.feval_flat,
-    )  # fmt: skip
+newton_flat = ka.compiled_only(
+    ka.specialised(_newton, "newton_flat", _GENERAL=flat_only, _FEVAL_FLAT=feval_flat_t)
+)
+"""Newton with :func:`flat_only` and :func:`feval_flat_t` (the default loop's, called by
+address: a kernel with a kernel argument would have the argument's dispatcher in its
+declared type)."""
+
+newton_table = ka.compiled_only(
+    ka.specialised(_newton, "newton_table", _GENERAL=general_table, _FEVAL_FLAT=kf.feval_flat)
+)
+"""Newton with :func:`general_table` (the event loop's step calls it by address)."""
+
+# Newton called directly (``K`` None, :func:`nsdyn._kaddress.call`): the copy for the caller's
+# general kernel
+NEWTON_FOR = {general_called: newton, general_table: newton_table, flat_only: newton_flat}

@@ -15,9 +15,9 @@ and the stiff arctan slope mu lam (2/pi) eps, eps up to 1e5, are damped in one s
 being resolved), of order 5 on the slow physics, and stiffly accurate (the step end is the
 last stage, so no stiff error is propagated from the stages).
 
-The step is exposed as :func:`radau_step_inline` (one accepted step with retries, state in
-``ctl``) so the event-driven integrator (:mod:`nsdyn.solve._kunilateral`) drives the same
-stepper.
+The step is :func:`_step` (one accepted step with retries, state in ``ctl``), so the
+event-driven integrator (:mod:`nsdyn.solve._kunilateral`) drives the same stepper: its step
+kernel is a copy of it with the general kernel of the address table.
 """
 
 import numpy as np
@@ -128,9 +128,13 @@ def dense(y, Qd, x, out):
         out[i] = y[i] + x * (Qd[i, 0] + x * (Qd[i, 1] + x * Qd[i, 2]))
 
 
-def _step(
-    P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo, general, K
-):
+# the general kernel of each copy of :func:`_step`, :func:`_start` and :func:`_loop`, and the
+# step of each copy of :func:`_loop` (:func:`nsdyn._kaddress.specialised` binds them)
+_GENERAL = kc.general_called
+_STEP = None
+
+
+def _step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo, K):
     """Take one accepted step from (t, y) (f = f(t, y)), retrying with smaller steps.
 
     On success returns 0 and leaves the new state in ``ws`` (ynew, fnew and lam, tau, modes
@@ -138,10 +142,12 @@ def _step(
     negative status (ST_*) with ``rinfo`` describing where.
     With ``fixed`` the step is ``ctl[C_H]`` (shortened only to land on ``t_lim``) and a Newton
     failure is reported instead of retried. Smooth laws with closed contacts are evaluated by
-    the flat kernel; ``general`` (:func:`nsdyn.solve._kcolloc.general_called` and its
-    siblings) serves the rest. The flat right-hand side and Jacobian, the factorisation and
-    Newton are called through :func:`nsdyn._kaddress.call`: directly (``K`` None) or by their
-    addresses in the int64 array ``K`` (:func:`radau_flat`; the slots at the end of this
+    the flat kernel; the general kernel ``_GENERAL``
+    (:func:`nsdyn.solve._kcolloc.general_called` and its siblings, one per copy of this
+    function, :func:`nsdyn._kaddress.specialised`) serves the rest. The flat right-hand side
+    and Jacobian, the factorisation and Newton are called through
+    :func:`nsdyn._kaddress.call`: directly (``K`` None) or by their addresses in the int64
+    array ``K`` (:func:`radau_flat`; the slots at the end of this
     module).
     """
     J, LUr, pr, LUc, pc, Z, Z0, W, F, dW, fr, fc, ys, iscale, err, ynew, fnew, Qd = ws[:18]
@@ -201,7 +207,7 @@ def _step(
         while True:
             if abs(ctl[C_LUH] - h) > LU_RTOL * h:
                 stats[ki.S_NLU] += 2
-                if not ka.call(K, "radau.factor", (h, J, LUr, pr, LUc, pc), general):
+                if not ka.call(K, "radau.factor", (h, J, LUr, pr, LUc, pc), _GENERAL):
                     rinfo[ki.R_H] = h
                     return ki.ST_LU_SINGULAR
                 ctl[C_LUH] = h
@@ -211,13 +217,13 @@ def _step(
             converged, n_iter, rate, nf, singular, dw = ka.call(K, "radau.newton", (
                 P, t, y, h, ctl, stats, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale,
                 qdd, lam, tau, modes, Fl, flat,
-            ), general)  # fmt: skip
+            ), _GENERAL)  # fmt: skip
             if nf:
                 nonfinite = True
             if converged or ctl[C_CURJ] == 1.0 or nf or singular:
                 break
             stats[ki.S_NJEV] += 1
-            if not kc.jeval(t, y, P, Fl, flat, general, K, J, ys, qdd, lam, tau, modes):
+            if not kc.jeval(t, y, P, Fl, flat, _GENERAL, K, J, ys, qdd, lam, tau, modes):
                 rinfo[ki.R_H] = h
                 return ki.ST_SINGULAR
             ctl[C_CURJ] = 1.0
@@ -246,9 +252,9 @@ def _step(
             for j in range(n2):
                 ys[j] = y[j] + err[j]
             if not (
-                flat and ka.call(K, "radau.feval", (t, ys, Fl, err, qdd, lam, tau, modes), general)
+                flat and ka.call(K, "radau.feval", (t, ys, Fl, err, qdd, lam, tau, modes), _GENERAL)
             ):
-                general(kc.G_ONE, P, t, ys, h, Z, F, ys, err, J, qdd, lam, tau, modes)
+                _GENERAL(kc.G_ONE, P, t, ys, h, Z, F, ys, err, J, qdd, lam, tau, modes)
             stats[ki.S_NFEV] += 1
             en = _error_norm(err, Z, h, LUr, pr, J, ctl[C_LUH], y, ynew, atol, rtol)
         if not (en <= 1.0):
@@ -263,9 +269,9 @@ def _step(
             continue
         break
     # accepted: the state at the step end (also its normal forces for the contact monitor)
-    ok = flat and ka.call(K, "radau.feval", (t_new, ynew, Fl, fnew, qdd, lam, tau, modes), general)
+    ok = flat and ka.call(K, "radau.feval", (t_new, ynew, Fl, fnew, qdd, lam, tau, modes), _GENERAL)
     if not ok:
-        ok = general(kc.G_ONE, P, t_new, ynew, h, Z, F, ys, fnew, J, qdd, lam, tau, modes)
+        ok = _GENERAL(kc.G_ONE, P, t_new, ynew, h, Z, F, ys, fnew, J, qdd, lam, tau, modes)
     stats[ki.S_NFEV] += 1
     if not (ki.all_finite(ynew) and ki.all_finite(fnew)):
         rinfo[ki.R_H] = h
@@ -288,7 +294,7 @@ def _step(
     ctl[C_CURJ] = 0.0
     if recompute_jac:
         stats[ki.S_NJEV] += 1
-        if not kc.jeval(t_new, ynew, P, Fl, flat, general, K, J, ys, qdd, lam, tau, modes):
+        if not kc.jeval(t_new, ynew, P, Fl, flat, _GENERAL, K, J, ys, qdd, lam, tau, modes):
             rinfo[ki.R_H] = h
             return ki.ST_SINGULAR
         ctl[C_CURJ] = 1.0
@@ -301,12 +307,6 @@ def _step(
     ctl[C_HSTEP] = h
     stats[ki.S_NSTEP] += 1
     return ki.ST_SUCCESS
-
-
-# the step inlined into the run loop (a called step cost the default run 18 %, measured with
-# its callees called by address) and into the event-driven loop's step kernel
-# (:func:`nsdyn.solve._kunilateral._step`)
-radau_step_inline = njit(cache=True, error_model="numpy", inline="always")(_step)
 
 
 def _owned(ws, x0, t_eval, nc):
@@ -341,13 +341,13 @@ def setup_here(P, x0, t_eval, nc):
 
 
 def _start(
-    P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats, rinfo,
-    general, K,
+    P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats, rinfo, K
 ):  # fmt: skip
     """Start-up of a Radau run at (t, y), t = t_eval[0]: f = f(t, y) and
     :func:`nsdyn.solve._kcommon.start_from` (the outputs at t_eval <= t, the contact check),
     then the Jacobian at the start and the first step size (automatic when ``h0 <= 0``);
-    the flat kernel where it applies, else ``general``.
+    the flat kernel where it applies, else the general kernel ``_GENERAL`` (one per copy of
+    this function, as :func:`_step`).
 
     Returns (iout, ctl): the first output still to write (-1 when the run stops here, status
     in ``stats``; nothing to step when ``iout >= nt``) and the stepper state. ``K``: see
@@ -358,15 +358,15 @@ def _start(
     flat = kf.usable(P[ks.I_OPEN], Fl)
     t = t_eval[0]
     ctl = new_control(h0, rtol)
-    ok = flat and ka.call(K, "radau.feval", (t, y, Fl, f, qdd, lam, tau, modes), general)
+    ok = flat and ka.call(K, "radau.feval", (t, y, Fl, f, qdd, lam, tau, modes), _GENERAL)
     if not ok:
-        ok = general(kc.G_ONE, P, t, y, 0.0, Z, F, ys, f, J, qdd, lam, tau, modes)
+        ok = _GENERAL(kc.G_ONE, P, t, y, 0.0, Z, F, ys, f, J, qdd, lam, tau, modes)
     iout = ki.start_from(ok, t, y, f, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo)
     if iout < 0 or iout >= t_eval.shape[0]:
         return iout, ctl
     # lam at the start is in lam_old; the Jacobian and the trial evaluation overwrite lam
     stats[ki.S_NJEV] += 1
-    if not kc.jeval(t, y, P, Fl, flat, general, K, J, ys, qdd, lam, tau, modes):
+    if not kc.jeval(t, y, P, Fl, flat, _GENERAL, K, J, ys, qdd, lam, tau, modes):
         stats[ki.S_STATUS] = ki.ST_SINGULAR
         return -1, ctl
     if h0 <= 0.0:
@@ -374,42 +374,15 @@ def _start(
         if h1 > 0.0:
             t1 = t + h1
             ok = flat and ka.call(
-                K, "radau.feval", (t1, ys, Fl, err, qdd, lam, tau, modes), general
+                K, "radau.feval", (t1, ys, Fl, err, qdd, lam, tau, modes), _GENERAL
             )
             if not ok:
-                general(kc.G_ONE, P, t1, ys, 0.0, Z, F, ys, err, J, qdd, lam, tau, modes)
+                _GENERAL(kc.G_ONE, P, t1, ys, 0.0, Z, F, ys, err, J, qdd, lam, tau, modes)
             stats[ki.S_NFEV] += 1
             h1 = ki.initial_finish(h1, y, f, err, t_eval[-1] - t, max_step, np.int64(3), rtol, atol)
         ctl[C_H] = h1
     ctl[C_CURJ] = 1.0
     return iout, ctl
-
-
-start_inline = njit(cache=True, error_model="numpy", inline="always")(_start)
-
-
-@njit(cache=True, error_model="numpy")
-def start(
-    P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats, rinfo,
-    K, general,
-):  # fmt: skip
-    """:func:`_start` (``K`` None: its callees called directly)."""
-    return start_inline(
-        P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
-        rinfo, general, K,
-    )  # fmt: skip
-
-
-@ka.compiled_only
-def start_flat(
-    P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats, rinfo, K
-):  # fmt: skip
-    """:func:`start` with :func:`nsdyn.solve._kcolloc.flat_only` (the default loop's, called
-    by address: a kernel argument would be in its declared type)."""
-    return start_inline(
-        P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
-        rinfo, kc.flat_only, K,
-    )  # fmt: skip
 
 
 @ka.compiled_only
@@ -440,14 +413,15 @@ def accept_arrays(
 
 
 def _loop(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, flat,
-         general, K, owned):  # fmt: skip
+          K, owned):  # fmt: skip
     """The run loop of :func:`radau` (inlined, ``K`` None: its callees called directly) and
-    :func:`radau_flat` (this function compiled as it is; ``general`` and ``K`` see
-    :func:`_step`; the start-up is a callee too). ``owned``: the arrays of the run as
+    :func:`radau_flat` (compiled; ``K`` see :func:`_step`; the start-up is a callee too), each
+    a copy of this function with its general kernel ``_GENERAL`` and its step ``_STEP``
+    (:func:`_step` inlined, with the same general kernel). ``owned``: the arrays of the run as
     :func:`setup` returns them (:func:`radau_flat` is given those of :func:`setup_here`).
 
     :func:`radau_flat` is the default run's loop: a smooth law with every contact closed,
-    through the flat kernel only (``flat`` True, ``general``
+    through the flat kernel only (``flat`` True, the general kernel
     :func:`nsdyn.solve._kcolloc.flat_only`), its callees called by address (``K`` from
     :func:`nsdyn.solve.compile_split.radau_calls`; :mod:`nsdyn._kaddress`): its code holds
     none of theirs, so it compiles before or beside them, and it never compiles the general
@@ -473,7 +447,7 @@ def _loop(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode
     iout, ctl = ka.call(K, "radau.start", (
         P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
         rinfo, K,
-    ), general)  # fmt: skip
+    ), _GENERAL)  # fmt: skip
     if iout < 0 or iout >= nt:
         return stats_own, rinfo_own
     ctl_own = ctl
@@ -481,10 +455,9 @@ def _loop(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode
     ynew, fnew, Qd, lam = ws[15], ws[16], ws[17], ws[19]
     while iout < nt:
         t_lim = t_end if fixed else min(t_end, ki.next_kink(t, P))
-        st = radau_step_inline(
-            P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo,
-            general, K,
-        )  # fmt: skip
+        st = _STEP(
+            P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo, K
+        )
         if st != ki.ST_SUCCESS:
             stats[ki.S_STATUS] = st
             rinfo[ki.R_T] = t
@@ -521,20 +494,50 @@ def radau_general(
     loop, its callees linked."""
     owned = setup(P, x0, t_eval, upl_t.shape[0], F)
     return _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X,
-                upl_t, flat, kc.general_called, None, owned)  # fmt: skip
+                upl_t, flat, None, owned)  # fmt: skip
 
 
-_run = njit(cache=True, error_model="numpy", inline="always")(_loop)
-radau_flat = njit(cache=True, error_model="numpy")(_loop)  # called with flat_only and addresses
+# ---- the copies of the step, the start-up and the loop, each with its general kernel --------
+# (:func:`nsdyn._kaddress.specialised`: one source each, no kernel that only inlines another)
 
+# the step inlined into the run loops (called, it cost the default run's loop ~7 %: ~40
+# arrays passed per step)
+step_flat_inline = njit(cache=True, error_model="numpy", inline="always")(
+    ka.specialised(_step, "step_flat", _GENERAL=kc.flat_only)
+)
+step_called_inline = njit(cache=True, error_model="numpy", inline="always")(
+    ka.specialised(_step, "step_called", _GENERAL=kc.general_called)
+)
+"""One Radau step (:func:`_step`) with :func:`nsdyn.solve._kcolloc.flat_only` (the default
+loop's), :func:`~nsdyn.solve._kcolloc.general_called` (the general kernel's loop)."""
+
+start = njit(cache=True, error_model="numpy")(
+    ka.specialised(_start, "start", _GENERAL=kc.general_called)
+)
+"""The start-up (:func:`_start`) of the general kernel's loop (``K`` None: its callees called
+directly)."""
+
+start_flat = ka.compiled_only(ka.specialised(_start, "start_flat", _GENERAL=kc.flat_only))
+"""The start-up with :func:`nsdyn.solve._kcolloc.flat_only` (the default loop's, called by
+address: a kernel argument would be in its declared type)."""
+
+radau_flat = njit(cache=True, error_model="numpy")(
+    ka.specialised(_loop, "radau_flat", _GENERAL=kc.flat_only, _STEP=step_flat_inline)
+)
+"""The default run's loop (:func:`_loop`): the flat kernel only, its callees by address."""
+
+_run = njit(cache=True, error_model="numpy", inline="always")(
+    ka.specialised(_loop, "loop_called", _GENERAL=kc.general_called, _STEP=step_called_inline)
+)
 
 # the callees of the step, the start-up and the loop (:mod:`nsdyn._kaddress`): their index in
-# ``K`` and the kernel called directly when ``K`` is None
+# ``K`` and the kernel called directly when ``K`` is None (Newton and the start-up: the copy
+# for the caller's general kernel)
 ka.slot("radau.feval", K_FEVAL, kf.feval_flat)
 ka.slot("radau.jac", K_JAC, kf.jac_flat_here)
 ka.slot("radau.factor", K_FACTOR, _factor)
-ka.slot("radau.newton", K_NEWTON, kc.newton, with_general=True)
-ka.slot("radau.start", K_START, start, with_general=True)
+ka.slot("radau.newton", K_NEWTON, kc.NEWTON_FOR)
+ka.slot("radau.start", K_START, {kc.general_called: start, kc.flat_only: start_flat})
 
 # the kernels whose addresses the default loop (radau_flat) takes, in the order of K
 FLAT_CALLEES = (kf.feval_flat, kf.jac_flat_here, _factor, kc.newton_flat, start_flat)

@@ -160,29 +160,12 @@ def _plan(t, t_new, h, x_best):
     return ACT_REDO, t_star
 
 
-@ka.compiled_only
-def _start(P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
-           rinfo, K):  # fmt: skip
-    """The Radau start-up (:func:`nsdyn.solve._kradau.start`) with the general kernel of the
-    address table (:func:`nsdyn.solve._kcolloc.general_table`), the flat kernels by their
-    addresses in ``K`` (:func:`nsdyn.solve.compile_split.event_calls`)."""
-    return kr.start_inline(
-        P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
-        rinfo, kcol.general_table, K,
-    )  # fmt: skip
-
-
-@ka.compiled_only
-def _step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo, K):
-    """One Radau step (:func:`nsdyn.solve._kradau._step`) with the general kernel of the
-    address table (:func:`nsdyn.solve._kcolloc.general_table`), the flat kernels, the
-    factorisation and Newton (:func:`nsdyn.solve._kcolloc.newton_table`, or
-    :func:`~nsdyn.solve._kcolloc.newton_general` for a law without flat kernels) by their
-    addresses in ``K``."""
-    return kr.radau_step_inline(
-        P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, stats, rinfo,
-        kcol.general_table, K,
-    )  # fmt: skip
+# the Radau start-up and step (nsdyn.solve._kradau._start, _step), copies with the general
+# kernel of the address table (nsdyn.solve._kcolloc.general_table); the flat kernels, the
+# factorisation and Newton (nsdyn.solve._kcolloc.newton_table, or newton_general for a law
+# without flat kernels) by their addresses in K (nsdyn.solve.compile_split.event_calls)
+_start = ka.compiled_only(ka.specialised(kr._start, "event_start", _GENERAL=kcol.general_table))
+_step = ka.compiled_only(ka.specialised(kr._step, "event_step", _GENERAL=kcol.general_table))
 
 
 @njit(cache=True, error_model="numpy")

@@ -180,7 +180,7 @@ def radau_flat(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift
     owned = _kradau.setup_here(P, x0, t_eval, upl_t.shape[0])
     return _kradau.radau_flat(
         P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, True,
-        _kcolloc.flat_only, radau_calls(), owned,
+        radau_calls(), owned,
     )  # fmt: skip
 
 
@@ -211,7 +211,7 @@ def _compile_radau_loop() -> None:
     K0 = np.zeros((2, len(radau_callees())), dtype=np.int64)  # only its type matters here
     owned = _kradau._owned(ws, x0, t_eval, upl_t.shape[0])  # as setup_here makes them
     args = (P, x0, t_eval, o.atol, o.rtol, o.h0, o.max_step, o.max_steps, False, o.uplift_mode,
-            X, upl_t, True, _kcolloc.flat_only, K0, owned)  # fmt: skip
+            X, upl_t, True, K0, owned)  # fmt: skip
     _compile(_kradau.radau_flat, *args)
 
 

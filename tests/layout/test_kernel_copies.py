@@ -28,12 +28,20 @@ def _is_njit(expr: ast.expr) -> bool:
     return isinstance(f, ast.Name) and f.id == "njit"
 
 
+def _is_copy(expr: ast.expr) -> bool:
+    """``specialised(...)`` or ``ka.specialised(...)`` (nsdyn._kaddress: a kernel's copy)."""
+    f = expr.func if isinstance(expr, ast.Call) else None
+    name = f.attr if isinstance(f, ast.Attribute) else getattr(f, "id", None)
+    return name == "specialised"
+
+
 def _jitted(tree: ast.Module) -> list[ast.FunctionDef]:
-    """Functions compiled by numba: decorated with ``njit`` or wrapped as ``njit(...)(f)``."""
+    """Functions compiled by numba: decorated with ``njit``, wrapped as ``njit(...)(f)``, or
+    copied by ``specialised(f, ...)`` (which is then compiled)."""
     wrapped = {
         node.args[0].id
         for node in ast.walk(tree)
-        if isinstance(node, ast.Call) and _is_njit(node.func) and node.args
+        if isinstance(node, ast.Call) and (_is_njit(node.func) or _is_copy(node)) and node.args
         and isinstance(node.args[0], ast.Name)
     }  # fmt: skip
     return [
@@ -83,8 +91,10 @@ def test_the_rule_finds_slice_copies():
         f"def w(a, b):\n{body}"
         f"@njit\ndef k2(a, b):\n    a[:] = b\n"
         f"def k3(a, b):\n    a[1:] = b\nk3i = njit(inline='always')(k3)\n"
+        f"def k4(a, b):\n    a[2:] = b\nk4c = compiled_only(ka.specialised(k4, 'k4c', g=1))\n"
     )
-    assert [h.split(":")[0] for h in _slice_copies(src)] == ["3", "4", "5", "6", "12", "28", "30"]
+    hits = [h.split(":")[0] for h in _slice_copies(src)]
+    assert hits == ["3", "4", "5", "6", "12", "28", "30", "33"]
 
 
 def test_kernel_modules_exist():

@@ -134,11 +134,11 @@ def _compiled_in_a_fresh_warmup(cache, kernel, metrics) -> set[str]:
 # running them. The metrics are those of nsdyn.solve.methods.metrics_for: the flat ones after
 # the flat Radau loop, else the general ones, which call the system kernel by address
 SPLITS = [
-    ("radau", "metrics", {"_loop", "start_flat", "_factor"},
+    ("radau", "metrics", {"radau_flat", "start_flat", "_factor"},
      {"feval_flat", "jac_flat_here", "newton_flat", "evaluate_flat_many", "setup",
       "workspace"}),
     ("event", "metrics-general",
-     {"_run", "_step", "_start", "newton_general", "_event_at"},
+     {"_run", "event_step", "event_start", "newton_general", "_event_at"},
      {"evaluate", "jac_table", "jac_at", "_detect", "_settle", "evaluate_many_t", "_factor",
       "accept"}),
     # generalized-alpha: its loop and the metrics (compiled, not run) here; the Jacobian by
@@ -278,7 +278,7 @@ def test_first_sweep_warmup_leaves_the_jacobian_to_its_helper(tmp_path):
     assert {"period_map", "dirk_step"} <= here
     helpers = {"j_eval", "f_eval", "frame_flat", "frame_flat_jac", "orbit_forces"}
     assert not here & helpers, here
-    assert not here & {"_loop", "start_flat", "newton_flat", "jac_flat_here", "_factor"}, here
+    assert not here & {"radau_flat", "start_flat", "newton_flat", "jac_flat_here", "_factor"}, here
     assert not here & {"feval_flat", "evaluate_flat_many"}, here  # nothing of full coordinates
 
 

@@ -44,7 +44,7 @@ def _kernels_without_entry() -> dict:
 def test_every_entryless_kernel_raises_when_called_from_python():
     kernels = _kernels_without_entry()
     # the address-only callees of the default and the event-driven loops at least
-    for name in ("_kcolloc.newton_flat", "_kradau.start_flat", "_kunilateral._step",
+    for name in ("_kcolloc.newton_flat", "_kradau.start_flat", "_kradau.event_step",
                  "_kevent._settle", "_kcommon.jac_table"):  # fmt: skip
         assert f"nsdyn.solve.{name}" in kernels
     for name, k in kernels.items():
