@@ -123,10 +123,15 @@ def pack_frame(P: tuple, Z: tuple) -> np.ndarray:
     return F
 
 
-@njit(cache=True, error_model="numpy", inline="always")
-def _frame_rhs(t, x, F, out):
-    """Seed eqs (25)-(27) on the manifold for the smooth laws ("none", "arctan"), from the flat
-    array: ``out``, and s, s', the factors of G and lam in its scratch. False when G is singular.
+@njit(cache=True, error_model="numpy")
+def frame_flat(t, x, F, out):
+    """The frame's right-hand side on the manifold from the flat array ``F`` of
+    :func:`pack_frame`, seed eqs (25)-(27) for the smooth laws ("none", "arctan"): ``out``, and
+    s, s', the factors of G and lam in its scratch. False when G is singular.
+
+    Compiled once and called (:func:`frame_flat_jac` calls it too): inlined, numba copies a
+    function's IR once per block with its whole variable scope (~5 s of a sweep's first
+    compilation when the Jacobian inlined it as well).
 
     ``M qdd = h + R^T lam - D^T diag(mu s) L`` with ``R qdd = 0`` (R Q = 0: the Baumgarte
     terms vanish), ``L = lam`` (or the static normal forces when frozen):
@@ -183,18 +188,6 @@ def _frame_rhs(t, x, F, out):
         out[k] = x[m + k]
         out[m + k] = acc
     return True
-
-
-@njit(cache=True, error_model="numpy")
-def frame_flat(t, x, F, out):
-    """The frame's right-hand side on the manifold from the flat array ``F`` of
-    :func:`pack_frame`; False when G is singular.
-
-    The only place :func:`_frame_rhs` is inlined; :func:`frame_flat_jac` calls this function.
-    Inlining it there as well cost ~5 s of a sweep's first compilation (numba copies an
-    inlined function's IR once per block with its whole variable scope) for a call that
-    costs a few array reference counts per Jacobian."""
-    return _frame_rhs(t, x, F, out)
 
 
 @njit(cache=True, error_model="numpy")

@@ -382,16 +382,6 @@ def evaluate(t, x, P, qdd, lam, tau, modes):
     return ok
 
 
-# The same function inlined into its caller: the Radau stage evaluations call it ~6 times per
-# step, and the call itself (P is a tuple of 16 arrays) costs about as much as the 13-dof
-# evaluation. Only the Newton loop uses it: inlining every call site multiplied the compile time.
-# (Same Python function, so the same compiled code and cache entry as evaluate; py_func is
-# absent under NUMBA_DISABLE_JIT.)
-evaluate_inline = njit(cache=True, error_model="numpy", inline="always")(
-    getattr(evaluate, "py_func", evaluate)
-)
-
-
 @njit(cache=True, error_model="numpy")
 def outputs(P):
     """Fresh output arrays of :func:`evaluate`: (qdd (n,), lam (nc,), tau (ni,), modes (ni,))."""
