@@ -184,14 +184,17 @@ def radau_flat(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift
     )  # fmt: skip
 
 
-# the flat Radau loop's callees a helper compiles (radau_helper_part), the rest this process
-RADAU_HELPER = (_kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_JAC)
+# the flat Radau loop's callees a helper compiles (radau_helper_part), in this order, the rest
+# this process; the Jacobian first: it compiles the real LU factorisation (linked), which this
+# process's factorisation then finds in the cache (~0.4-0.6 s of a first run compiled twice
+# when the two reached it at the same time)
+RADAU_HELPER = (_kcolloc.K_JAC, _kcolloc.K_FEVAL, _kcolloc.K_NEWTON)
 
 
 def radau_helper_part() -> None:
     """The helper process's share of the flat Radau loop's first compilation (see
-    :func:`nsdyn.solve.methods.warmup_kernel`): the flat right-hand side, Newton (which links
-    it) and the Jacobian, each for the types the loop calls it with."""
+    :func:`nsdyn.solve.methods.warmup_kernel`): the Jacobian, the flat right-hand side and
+    Newton (which calls it by address), each for the types the loop calls it with."""
     K = radau_callees()
     for k in RADAU_HELPER:
         K[k].compiled()
