@@ -7,11 +7,10 @@ depend on and deletes those kernels' cache files when the fingerprint changes. E
 family calls it once at import, before any of its kernels is loaded.
 
 Also here: :func:`compiling` (the garbage collector held back while numba compiles),
-:func:`stable_identity` (kernels passed as arguments keep one identity across processes, so
-cached signatures holding them are found by any process), :class:`Helper` (a second process
+:class:`Helper` (a second process
 that compiles part of a first run into the cache while this one compiles the rest) and the
 switch :data:`PLAIN` (``NSDYN_PLAIN_NUMBA=1``): plain numba, without the techniques that rely
-on numba's internals (calls by address, borrowed views, fixed identities, the helper), for
+on numba's internals (calls by address, borrowed views, the helper), for
 a numba whose internals changed; the kernels compute the same numbers either way.
 """
 
@@ -112,33 +111,6 @@ def compiling() -> Iterator[None]:
         gc.unfreeze()
 
 
-# ---- kernels passed as arguments: a name that is the same in every process -------------------
-
-
-def stable_identity(*dispatchers) -> None:
-    """Give each numba dispatcher a fixed identity (its module and name) in place of the random
-    one numba draws per process.
-
-    A kernel that takes another kernel as an argument (the Radau stepper's ``general``) has that
-    kernel's dispatcher in its compiled signature, and numba's on-disk cache index keys the
-    signature with the dispatcher's identity: with a random one, a process never finds what
-    another process compiled for that signature and compiles it again. With a fixed one the
-    cache entry is found in any process (what :class:`Helper` relies on). Does nothing under
-    ``NUMBA_DISABLE_JIT``, under :data:`PLAIN` or where numba's internals differ (each process
-    then compiles its own, as before).
-    """
-    if PLAIN:
-        return
-    for d in dispatchers:
-        set_uuid = getattr(d, "_set_uuid", None)
-        if set_uuid is None:
-            continue
-        try:
-            set_uuid(f"nsdyn:{d.py_func.__module__}.{d.py_func.__qualname__}")
-        except (AssertionError, AttributeError, TypeError):  # already set, or another numba
-            pass
-
-
 # ---- a second process compiling beside this one ----------------------------------------------
 
 HELPER_ENV = "NSDYN_COMPILE_HELPER"  # "0": compile everything in the calling process
@@ -148,7 +120,8 @@ def helper_enabled() -> bool:
     """True when a first compilation may use a helper process: numba compiles (no
     ``NUMBA_DISABLE_JIT``), this process may use at least two cores, it is not itself a worker
     of a process pool (a study's workers keep the other cores busy), not :data:`PLAIN` (the
-    helper relies on fixed identities), and ``NSDYN_COMPILE_HELPER`` is not ``0``."""
+    helper splits the loops whose callees are called by address), and
+    ``NSDYN_COMPILE_HELPER`` is not ``0``."""
     import multiprocessing
 
     if PLAIN or os.environ.get(HELPER_ENV, "1") == "0":

@@ -29,7 +29,6 @@ from numba import njit
 
 from nsdyn import _kaddress as ka
 from nsdyn._klinalg import invert_diagonal, lu_solve_inverted
-from nsdyn._numba_cache import stable_identity
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve import _kflat as kf
 
@@ -210,11 +209,6 @@ def flat_only(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     with :func:`general_called`. A run loop given this kernel never compiles the general
     right-hand side or its Jacobian (~40 % of the default run's first compilation)."""
     return False
-
-
-# fixed identities: these kernels are arguments of the stepper's kernels, hence in their cached
-# signatures (another process then finds what this one compiled, see stable_identity)
-stable_identity(general_called, general_table, flat_only)
 
 
 @njit(cache=True, error_model="numpy", inline="always")

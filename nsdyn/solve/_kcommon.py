@@ -9,9 +9,11 @@ Radau stepper). Each integrates the first-order system of the isolated frame::
 
 (accelerations, normal forces lam and friction forces tau from the system kernel
 :mod:`nsdyn.models.isolated._kernel`), runs its whole time loop inside numba and calls the
-system kernels as module globals (a jitted function passed as an argument keeps numba's
-on-disk cache only with a fixed identity, :func:`nsdyn._numba_cache.stable_identity`; the
-default Radau loop's callees are passed as addresses, :mod:`nsdyn._kaddress`).
+system kernels as module globals, never as arguments (a kernel's type holds its dispatcher's
+identity, random per process: numba's cache entries of a caller typed with it would never be
+found by another process, the compile helper's included); the default Radau loop's callees
+are passed as addresses (:mod:`nsdyn._kaddress`), and kernels that differ only in their
+callees are copies of one source (:func:`nsdyn._kaddress.specialised`).
 
 Every stepper reports through two small arrays: ``stats`` (int64, layout ``S_*``) and
 ``rinfo`` (float64, layout ``R_*``); the front door :mod:`nsdyn.solve.integrate` turns them

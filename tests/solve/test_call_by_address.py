@@ -218,14 +218,13 @@ def test_default_loop_compiles_without_its_callees(tmp_path):
     # its callees is compiled with it, and no callee's code is linked into it
     code = (
         "import numpy as np\n"
-        "from nsdyn.solve import compile_split as cs, methods, _kradau as kr, _kcolloc as kc\n"
+        "from nsdyn.solve import compile_split as cs, methods, _kradau as kr\n"
         "P, x0, t_eval, o, X, upl_t = methods.tiny_run(methods.METHODS['radau'])\n"
         "K = cs.radau_callees()\n"
         "ws = cs._tiny_args('radau')[-1]\n"
         "owned = kr._owned(ws, x0, t_eval, upl_t.shape[0])\n"
         "args = (P, x0, t_eval, o.atol, o.rtol, o.h0, o.max_step, o.max_steps, False,\n"
-        "        o.uplift_mode, X, upl_t, True, kc.flat_only, np.zeros((2, len(K)), np.int64),\n"
-        "        owned)\n"
+        "        o.uplift_mode, X, upl_t, True, np.zeros((2, len(K)), np.int64), owned)\n"
         "cs._compile(kr.radau_flat, *args)\n"
         "lib = next(iter(kr.radau_flat.overloads.values())).library\n"
         "linked = {l.name for l in getattr(lib, '_linking_libraries', ())}\n"

@@ -1,7 +1,8 @@
 """A first compilation shared with a helper process (:class:`nsdyn._numba_cache.Helper`).
 
-What must hold: a kernel passed as an argument has the same identity in every process (else
-the helper's cache entries are never found), a helper that fails or delivers nothing only
+What must hold: no kernel is compiled with another kernel as an argument (its type holds a
+dispatcher identity that differs per process, so the helper's cache entries would never be
+found), a helper that fails or delivers nothing only
 costs the wait for its end, and each first compilation split with a helper leaves the
 helper's share to it (loaded, not compiled, here; SPLITS below): the default run's flat
 right-hand side, its Jacobian and Newton; the switch model's system kernel,
@@ -11,42 +12,41 @@ kernel and metrics; the sweep's Jacobian.
 """
 
 import os
-import pickle
 import subprocess
 import sys
 
 import pytest
-from numba import njit, typeof
+from numba import njit, types
+from numba.core.registry import CPUDispatcher as Dispatcher
 
-from nsdyn._numba_cache import HELPER_ENV, PLAIN, Helper, helper_enabled
-from nsdyn.solve import _kcolloc as kc
+from nsdyn._numba_cache import HELPER_ENV, Helper, helper_enabled
+from nsdyn.solve import methods
 
 JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
 
 
-def _pickled_type_from_another_process(name: str) -> bytes:
-    code = (
-        "import pickle, sys\n"
-        "from numba import typeof\n"
-        "from nsdyn.solve import _kcolloc as kc\n"
-        f"sys.stdout.buffer.write(pickle.dumps(typeof(kc.{name})))\n"
-    )
-    env = dict(os.environ, NUMBA_DISABLE_JIT="0")
-    return subprocess.run(
-        [sys.executable, "-c", code], env=env, capture_output=True, check=True
-    ).stdout
-
-
-@pytest.mark.skipif(not JIT, reason="dispatcher identities exist only with numba compiling")
-@pytest.mark.skipif(PLAIN, reason="plain numba (NSDYN_PLAIN_NUMBA=1) keeps random identities")
-def test_kernel_arguments_are_the_same_type_in_every_process():
-    # the cache index keys a signature holding a dispatcher by the dispatcher's identity:
-    # flat_only (the default loop's `general`) must unpickle to this process's own type ...
-    assert pickle.loads(_pickled_type_from_another_process("flat_only")) == typeof(kc.flat_only)
-    # ... which a dispatcher with numba's per-process random identity does not (the control)
-    assert pickle.loads(_pickled_type_from_another_process("_predict_factor")) != typeof(
-        kc._predict_factor
-    )
+@pytest.mark.skipif(not JIT, reason="no compiled signatures under NUMBA_DISABLE_JIT")
+def test_no_kernel_takes_a_kernel_argument():
+    # a kernel's numba type holds its dispatcher's identity, which numba draws at random per
+    # process: a caller compiled for such an argument would be cached under a key no other
+    # process (the helper included) ever finds. The loops' callees are module globals,
+    # addresses, or copies of one source (nsdyn._kaddress.specialised), never arguments
+    for kernel in ("radau", "event", "genalpha"):
+        methods.warmup_kernel(methods.METHODS[kernel].kernel, "metrics")
+    found = [
+        f"{mod.__name__}.{name}{sig}"
+        for mod in list(sys.modules.values())
+        if getattr(mod, "__name__", "").startswith("nsdyn.")
+        for name, obj in list(vars(mod).items())
+        for sig in getattr(obj, "signatures", None) or ()
+        if isinstance(obj, Dispatcher)
+        if any(isinstance(t, types.Dispatcher) for t in sig)
+    ]
+    assert not found, found
+    # the rule's detector: a kernel compiled with a kernel argument is found
+    outer = njit(cache=False)(lambda f, x: f(x))
+    outer(njit(cache=False)(lambda x: x + 1.0), 1.0)
+    assert any(isinstance(t, types.Dispatcher) for t in outer.signatures[0])
 
 
 def _report_enabled(q):
