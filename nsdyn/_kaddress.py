@@ -477,8 +477,9 @@ def specialised(func, name: str, **bindings):
 
     It replaces a kernel whose body was only an ``inline="always"`` call of ``func`` with
     those callees as arguments: numba inlines a function by copying its IR once per block
-    together with the function's whole variable scope (blocks x variables), ~1.5 s of one
-    core for Newton's ~2 000 lines of IR, to make the code the copy compiles from directly.
+    together with the function's whole variable scope (blocks x variables): 1.4-1.7 s of
+    one core for Newton (numba's ``inline_inlinables`` pass, docs/dev/first-runs.md), to make
+    the code the copy compiles from directly.
     The copy sees ``func``'s module globals as they are when it is made (make it after
     everything its body uses is defined), and numba caches it apart from ``func`` and from
     the other copies by its name (the cache files are named by the module's file and the

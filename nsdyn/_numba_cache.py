@@ -153,25 +153,10 @@ class Helper:
     POLL_S = 0.05
 
     def __init__(self, target: str):
-        import subprocess
-        import sys
-
         self.target = target
-        # the same nsdyn as this process, also when a script put it on sys.path by hand; -P:
-        # not the working directory first (``nsdyn run`` in a source checkout with nsdyn
-        # installed: the helper imported the checkout's nsdyn, whose kernels have another
-        # cache, and this process found nothing the helper compiled)
-        env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
-        try:
-            self.proc = subprocess.Popen(
-                [sys.executable, "-P", "-c", _HELPER_CODE, target],
-                env=env,
-                stdin=subprocess.DEVNULL,
-                stdout=subprocess.DEVNULL,
-                stderr=subprocess.DEVNULL,
-            )
-        except OSError:  # no way to start one: compile everything here
-            self.proc = None
+        self.proc = _take_standby(target)  # one started early (:func:`start_standby`), or
+        if self.proc is None:  # a new one (None: none can start, this process compiles all)
+            self.proc = _spawn(_HELPER_CODE, target)
 
     def running(self) -> bool:
         return self.proc is not None and self.proc.poll() is None
@@ -207,6 +192,32 @@ class Helper:
 _HELPER_CODE = (
     "import sys; from nsdyn._numba_cache import helper_main; sys.exit(helper_main(sys.argv[1:]))"
 )
+_STANDBY_CODE = (
+    "import sys; from nsdyn._numba_cache import standby_main; sys.exit(standby_main(sys.argv[1:]))"
+)
+
+
+def _spawn(code: str, *argv: str, stdin=None):
+    """A Python process running ``code`` with ``argv`` (its output discarded); None when none
+    can start. ``stdin``: ``subprocess.PIPE`` for a standby, else nothing to read."""
+    import subprocess
+    import sys
+
+    # the same nsdyn as this process, also when a script put it on sys.path by hand; -P: not
+    # the working directory first (``nsdyn run`` in a source checkout with nsdyn installed:
+    # the helper imported the checkout's nsdyn, whose kernels have another cache, and this
+    # process found nothing the helper compiled)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
+    try:
+        return subprocess.Popen(
+            [sys.executable, "-P", "-c", code, *argv],
+            env=env,
+            stdin=subprocess.DEVNULL if stdin is None else stdin,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+    except OSError:
+        return None
 
 
 def helper_main(argv: list[str]) -> int:
@@ -220,6 +231,110 @@ def helper_main(argv: list[str]) -> int:
     with compiling():
         fn()
     return 0
+
+
+# ---- a helper started early: its imports beside this process's --------------------------------
+
+_STANDBY = None  # the process start_standby started, until a Helper takes it or it is released
+
+
+def start_standby(preload: str = "nsdyn.solve.compile_split") -> bool:
+    """Start a helper process now, before its target is known: it imports numba and
+    ``preload`` (the modules every helper of a family imports, ~1 s: a process of its own
+    takes as long to start as this one takes to reach its first compilation) and waits for
+    the target the first :class:`Helper` of this process hands it (:func:`standby_main`).
+    Unused, :func:`release_standby` ends it; it also ends when this process does (its
+    standard input closes). True when one was started. Only where a helper may run
+    (:func:`helper_enabled`) and none is waiting already."""
+    global _STANDBY
+    import subprocess
+
+    if _STANDBY is not None or not helper_enabled():
+        return False
+    _STANDBY = _spawn(_STANDBY_CODE, preload, stdin=subprocess.PIPE)
+    return _STANDBY is not None
+
+
+def _take_standby(target: str):
+    """The waiting standby process, given ``target`` to run (None: none is waiting, or it
+    ended)."""
+    global _STANDBY
+    proc, _STANDBY = _STANDBY, None
+    if proc is None:
+        return None
+    try:
+        proc.stdin.write((target + "\n").encode())
+        proc.stdin.close()
+    except (OSError, ValueError):  # it ended (its pipe is closed): start a new helper
+        proc.wait()
+        return None
+    return proc
+
+
+def release_standby(timeout: float = 5.0) -> None:
+    """End a standby process no :class:`Helper` took (nothing compiled, or all was cached):
+    it reads the end of its input and exits, at once or after its imports."""
+    global _STANDBY
+    proc, _STANDBY = _STANDBY, None
+    if proc is None:
+        return
+    try:
+        proc.stdin.close()
+        proc.wait(timeout)
+    except (OSError, ValueError):
+        pass
+    except Exception:  # noqa: BLE001  (subprocess.TimeoutExpired: still importing; stop it)
+        proc.kill()
+        proc.wait()
+
+
+def standby_main(argv: list[str]) -> int:
+    """What a standby process runs (:func:`start_standby`): import the modules in ``argv``,
+    then run the ``"module:function"`` of its first input line as :func:`helper_main` does;
+    exit at once on an empty input."""
+    import importlib
+    import sys
+
+    try:
+        for module in argv:
+            importlib.import_module(module)
+    except ImportError:  # the target's own imports will say what is missing, if it runs
+        pass
+    line = sys.stdin.readline().strip()
+    return helper_main([line]) if line else 0
+
+
+def cache_folder(py_file: str | Path) -> Path | None:
+    """The folder where numba keeps the cache files of the kernels of ``py_file``, found
+    without importing numba (as numba's cache locators find it: ``NUMBA_CACHE_DIR`` and a
+    folder named after the source's, else ``__pycache__`` beside the source); None where numba
+    would choose another (a source folder that is not writable)."""
+    folder = os.path.dirname(os.path.abspath(py_file))
+    root = os.environ.get("NUMBA_CACHE_DIR")
+    if root:
+        tag = hashlib.sha1(folder.encode()).hexdigest()
+        return Path(root) / f"{os.path.basename(folder)}_{tag}"
+    pycache = os.path.join(folder, "__pycache__")
+    if not os.access(pycache if os.path.isdir(pycache) else folder, os.W_OK):
+        return None
+    return Path(pycache)
+
+
+def never_compiled(py_file: str | Path) -> bool:
+    """True when numba's cache holds no kernel of the folder of ``py_file`` at all: its
+    kernels have never been compiled into this cache (a fresh install, a new
+    ``NUMBA_CACHE_DIR``), a first run's cheap guess, made before numba is imported. False when
+    it holds some (they may still be stale: the run's own probe decides then) or the folder
+    is unknown."""
+    folder = cache_folder(py_file)
+    if folder is None:
+        return False
+    try:
+        return not any(name.endswith(".nbi") for name in os.listdir(folder))
+    except FileNotFoundError:
+        return True
+    except OSError:
+        return False
 
 
 def _cache_index(disp) -> tuple:

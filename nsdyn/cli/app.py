@@ -176,15 +176,49 @@ def main(argv: list[str] | None = None) -> int:
             signal.signal(signal.SIGTERM, old)
 
 
+# the commands whose first run compiles beside a helper process: the package whose kernels
+# tell whether numba's cache ever held them, and the module every such helper imports first
+_STANDBY_FOR = {
+    "run": ("solve", "nsdyn.solve.compile_split"),
+    "study": ("solve", "nsdyn.solve.compile_split"),
+    "sweep": ("periodic", "nsdyn.periodic.problem"),
+    "uplift": ("periodic", "nsdyn.periodic.problem"),
+}
+
+
+def _start_standby(argv: list[str]) -> None:
+    """Start the compile helper's process now (:func:`nsdyn._numba_cache.start_standby`) when
+    ``argv`` is a command that compiles with one and numba's cache has never held its
+    package's kernels (:func:`nsdyn._numba_cache.never_compiled`): its imports then run beside
+    this process's, not after them."""
+    from pathlib import Path
+
+    from nsdyn import _numba_cache as nc
+
+    pick = _STANDBY_FOR.get(argv[0]) if argv else None
+    if pick is None or "-h" in argv or "--help" in argv:
+        return
+    package, preload = pick
+    if nc.never_compiled(Path(nc.__file__).parent / package / "__init__.py"):
+        nc.start_standby(preload)
+
+
 def script(argv: list[str] | None = None) -> int:
     """The ``nsdyn`` script and ``python -m nsdyn.cli``: :func:`main`, then every object left
     is moved out of the garbage collector's reach (:func:`gc.freeze`) for the process's end.
     The interpreter's last collection would otherwise traverse every object numba's typing and
     lowering left behind: about 0.35 s after a first compilation, 0.13 s after a cached start
     (docs/dev/first-runs.md); the exit handlers still run (pools, temporary files) and every
-    output is already complete on disk. Not for callers that go on (tests, notebooks): they
-    call :func:`main`."""
-    code = main(argv)
+    output is already complete on disk. Into a cache that never held the command's kernels, the
+    compile helper's process starts first (:func:`_start_standby`). Not for callers that go on
+    (tests, notebooks): they call :func:`main`."""
+    from nsdyn._numba_cache import release_standby
+
+    _start_standby(sys.argv[1:] if argv is None else argv)
+    try:
+        code = main(argv)
+    finally:
+        release_standby()
     gc.freeze()
     return code
 

@@ -13,9 +13,8 @@ right-hand side by address too (:func:`flat_calls`).
 numba compiles on one thread per process, under a global lock, so a first run's compilation
 uses one core. :func:`nsdyn.solve.methods.warmup_kernel` starts a helper process
 (:class:`nsdyn._numba_cache.Helper`) on :func:`radau_helper_part` (the flat right-hand
-side, Newton, the Jacobian; :func:`radau_helper_part_and_metrics` then also the metrics,
-which a run needs only after its loop) while the calling process compiles
-:func:`radau_parts_here` (the loop itself, the factorisation, the start-up), then loads the
+side, Newton, the Jacobian, the factorisation) while the calling process compiles
+:func:`radau_parts_here` (the loop itself, the start-up and the metrics), then loads the
 helper's kernels from numba's on-disk cache. Neither waits for the other.
 
 The event-driven loop (:func:`nsdyn.solve._kunilateral._run`: the switch model, unilateral
@@ -185,26 +184,20 @@ def radau_flat(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift
 
 
 # the flat Radau loop's callees a helper compiles (radau_helper_part), in this order, the rest
-# this process; the Jacobian first: it compiles the real LU factorisation (linked), which this
-# process's factorisation then finds in the cache (~0.4-0.6 s of a first run compiled twice
-# when the two reached it at the same time)
-RADAU_HELPER = (_kcolloc.K_JAC, _kcolloc.K_FEVAL, _kcolloc.K_NEWTON)
+# (the start-up) this process, with the loop and the metrics: shares of about equal CPU now
+# that the helper starts with this process (nsdyn._numba_cache.start_standby). The Jacobian and
+# the factorisation link the real LU factorisation: one process compiles both
+RADAU_HELPER = (_kcolloc.K_JAC, _kcolloc.K_FEVAL, _kcolloc.K_NEWTON, _kcolloc.K_FACTOR)
 
 
 def radau_helper_part() -> None:
     """The helper process's share of the flat Radau loop's first compilation (see
-    :func:`nsdyn.solve.methods.warmup_kernel`): the Jacobian, the flat right-hand side and
-    Newton (which calls it by address), each for the types the loop calls it with."""
+    :func:`nsdyn.solve.methods.warmup_kernel`): the Jacobian, the flat right-hand side,
+    Newton (which calls it by address) and the factorisation, each for the types the loop
+    calls it with."""
     K = radau_callees()
     for k in RADAU_HELPER:
         K[k].compiled()
-
-
-def radau_helper_part_and_metrics() -> None:
-    """:func:`radau_helper_part`, then the flat metrics kernel (``evaluate_flat_many``), which
-    a run needs only after its loop."""
-    radau_helper_part()
-    methods.warmup_metrics(True)
 
 
 def _compile_radau_loop() -> None:
@@ -219,9 +212,8 @@ def _compile_radau_loop() -> None:
 
 
 def radau_parts_here(helper: Helper, metrics: str | None) -> None:
-    """This process's share: the loop itself, the callees :data:`RADAU_HELPER` leaves (the
-    factorisation, the start-up) and the ``metrics`` (None when the helper takes them); then
-    wait for the helper's part."""
+    """This process's share: the loop itself, the callee :data:`RADAU_HELPER` leaves (the
+    start-up) and the ``metrics``; then wait for the helper's part."""
     _compile_radau_loop()
     _radau_rest()
     metrics_here(metrics)

@@ -397,8 +397,7 @@ def _warm(kname: str, m: Method, helper: Helper | None = None, metrics: str | No
 # the kernels whose first compilation a helper process shares (nsdyn.solve.compile_split): the
 # helper's part, this process's, and {metrics kind: the helper's part that also compiles them}
 _SPLIT = {
-    "radau": ("radau_helper_part", "radau_parts_here",
-              {"metrics": "radau_helper_part_and_metrics"}),
+    "radau": ("radau_helper_part", "radau_parts_here", {}),
     "event": ("event_helper_part", "event_parts_here",
               {"metrics-general": "event_helper_part_and_metrics"}),
     "genalpha": ("system_helper_part", "genalpha_parts_here", {}),

@@ -5,7 +5,7 @@ dispatcher identity that differs per process, so the helper's cache entries woul
 found), a helper that fails or delivers nothing only
 costs the wait for its end, and each first compilation split with a helper leaves the
 helper's share to it (loaded, not compiled, here; SPLITS below): the default run's flat
-right-hand side, its Jacobian and Newton; the switch model's system kernel,
+right-hand side, its Jacobian, Newton and the factorisation; the switch model's system kernel,
 its Jacobian, the friction detector, the settling, the factorisation and the general metrics;
 generalized-alpha's system kernel and Jacobian; genalpha-lowrank's system
 kernel and metrics; the sweep's Jacobian.
@@ -128,15 +128,14 @@ def _compiled_in_a_fresh_warmup(cache, kernel, metrics) -> set[str]:
 
 
 # (kernel, metrics, compiled by the calling process, compiled by the helper only): the
-# default loop (~15-40 s on two cores; its helper also takes the metrics, which it would
-# otherwise sit idle beside the loop's compilation for) and the switch model's, whose callees
+# default loop (~15-40 s on two cores; its helper also takes the factorisation, this process
+# the metrics) and the switch model's, whose callees
 # by address each process compiles by type for the signatures the loop declares, without
 # running them. The metrics are those of nsdyn.solve.methods.metrics_for: the flat ones after
 # the flat Radau loop, else the general ones, which call the system kernel by address
 SPLITS = [
-    ("radau", "metrics", {"radau_flat", "start_flat", "_factor"},
-     {"feval_flat", "jac_flat_here", "newton_flat", "evaluate_flat_many", "setup",
-      "workspace"}),
+    ("radau", "metrics", {"radau_flat", "start_flat", "evaluate_flat_many"},
+     {"feval_flat", "jac_flat_here", "newton_flat", "_factor", "setup", "workspace"}),
     ("event", "metrics-general",
      {"_run", "event_step", "event_start", "newton_general", "_event_at"},
      {"evaluate", "jac_table", "jac_at", "_detect", "_settle", "evaluate_many_t", "_factor",
