@@ -427,12 +427,26 @@ def _orbit_forces_types() -> tuple:
     return (kp.PROB_FRAME, v, m, v, m, m, np.ones(2, dtype=np.bool_), K0)
 
 
+def _step_pieces() -> None:
+    """The step's iteration matrix (:func:`nsdyn.periodic._kperiodic._iteration_matrix`, with
+    the LU factorisation it links) for the types the step calls it with: the helper compiles
+    it first, and this process, which compiles the step after the period map, finds it in the
+    cache (the shares of the two processes about even)."""
+    from numba import types
+
+    m = types.float64[:, ::1]
+    if hasattr(kp._iteration_matrix, "compile"):  # not under NUMBA_DISABLE_JIT
+        kp._iteration_matrix.compile((m, types.float64, m, types.int64[::1]))
+
+
 def helper_part() -> None:
     """A helper process's share of a first sweep's compilation (see :func:`warmup`): the
-    Jacobian and the right-hand side the period map calls by address, then the orbit
-    quantities' kernel (which calls the right-hand side by address too)."""
+    step's iteration matrix (:func:`_step_pieces`), the Jacobian and the right-hand side the
+    period map calls by address, then the orbit quantities' kernel (which calls the
+    right-hand side by address too)."""
     from nsdyn.solve.compile_split import _compile
 
+    _step_pieces()
     _helper_callees()
     _compile(ko.orbit_forces, *_orbit_forces_types())
 
@@ -444,9 +458,10 @@ def warmup() -> float:
     called by address, :func:`_callees`; the uplift probe calls the last two from Python)
     and the orbit quantities' kernel (:func:`nsdyn.periodic._korbit.orbit_forces`). When
     they compile, a helper process (:class:`nsdyn._numba_cache.Helper`,
-    :func:`helper_part`) takes the Jacobian, the right-hand side and the orbit quantities
-    while this one compiles the period map and its step (which need none of them compiled,
-    only declared). Then short runs load everything. Seconds spent."""
+    :func:`helper_part`) takes the step's iteration matrix, the Jacobian, the right-hand side
+    and the orbit quantities while this one compiles the period map and then its step (which
+    need none of them compiled, only declared; the step loads the iteration matrix from the
+    cache). Then short runs load everything. Seconds spent."""
     import time
     from contextlib import nullcontext
 
@@ -460,10 +475,10 @@ def warmup() -> float:
     with helper or nullcontext(), compiling():
         if helper is not None:
             callees = _callees()  # declared: the typing checks each call against them
-            callees[2].compiled()  # the step
             K0 = np.zeros((2, 1), dtype=np.int64)  # only its type matters here
             _, args = prob._map_args(prob.x_ref, 0.2, 4, None, True, True)
             _compile(kp.period_map, *args, K0)
+            callees[2].compiled()  # the step, after the helper's iteration matrix
             helper.wait_for([c.kernel for c in callees[:2]] + [ko.orbit_forces])
         prob.period_map(prob.x_ref, 0.2, n_steps=4, sens=True, store=True)
         _compile(ko.orbit_forces, *_orbit_forces_types()[:-1], periodic_calls())

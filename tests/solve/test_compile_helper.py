@@ -258,10 +258,11 @@ class _NoHelper:
 def test_first_sweep_warmup_leaves_the_jacobian_to_its_helper(tmp_path):
     # the period map calls its step, Jacobian and right-hand side by address: a first
     # sweep's warm-up compiles the period map and its step here while the helper compiles
-    # the Jacobian and the right-hand side (and the metrics), so the frame's right-hand side
-    # compiles in one process only; no Radau loop compiles (the uplift probe is SciPy's
-    # Radau on the period map's own right-hand side and Jacobian), and the orbit quantities
-    # call that right-hand side too (orbit_forces, in the helper)
+    # the step's iteration matrix (with its LU factorisation: the step, compiled after the
+    # period map, loads them), the Jacobian and the right-hand side (and the metrics), so the
+    # frame's right-hand side compiles in one process only; no Radau loop compiles (the
+    # uplift probe is SciPy's Radau on the period map's own right-hand side and Jacobian),
+    # and the orbit quantities call that right-hand side too (orbit_forces, in the helper)
     if not helper_enabled():
         pytest.skip("a helper process needs two usable cores and NSDYN_COMPILE_HELPER != 0")
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
@@ -275,7 +276,8 @@ def test_first_sweep_warmup_leaves_the_jacobian_to_its_helper(tmp_path):
     )
     here = set(out.stdout.split())
     assert {"period_map", "dirk_step"} <= here
-    helpers = {"j_eval", "f_eval", "frame_flat", "frame_flat_jac", "orbit_forces"}
+    helpers = {"j_eval", "f_eval", "frame_flat", "frame_flat_jac", "orbit_forces",
+               "_iteration_matrix", "lu_factor"}  # fmt: skip
     assert not here & helpers, here
     assert not here & {"radau_flat", "start_flat", "newton_flat", "jac_flat_here", "_factor"}, here
     assert not here & {"feval_flat", "evaluate_flat_many"}, here  # nothing of full coordinates
