@@ -142,7 +142,9 @@ class Helper:
     others (numba compiles on one thread per process, under a global lock).
 
     ``target`` is ``"module:function"``; the helper imports the module and calls the function
-    with the garbage collector held back (:func:`compiling`). It shares this process's
+    with the garbage collector held back (:func:`compiling`). Where a standby process is
+    waiting (:func:`start_standby`, its imports done beside this process's), it is the helper;
+    else a new process starts. It shares this process's
     environment, hence numba's cache directory. This process waits for what it needs with
     :meth:`wait_for` and then loads it from the cache; whatever the helper did not deliver
     (it failed, was slower, or the cache is not writable) this process compiles itself, so the
@@ -203,11 +205,15 @@ def _spawn(code: str, *argv: str, stdin=None):
     import subprocess
     import sys
 
-    # the same nsdyn as this process, also when a script put it on sys.path by hand; -P: not
-    # the working directory first (``nsdyn run`` in a source checkout with nsdyn installed:
-    # the helper imported the checkout's nsdyn, whose kernels have another cache, and this
-    # process found nothing the helper compiled)
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
+    # the same nsdyn as this process: the folder it was imported from first, then this
+    # process's path (also where a script put it there by hand); -P: not the working
+    # directory first (``nsdyn run`` in a source checkout with nsdyn installed: the helper
+    # imported the checkout's nsdyn, whose kernels have another cache, and this process found
+    # nothing the helper compiled), unless this process's nsdyn is the checkout's (``python
+    # -c`` there: the working directory, '' on its path, comes before the installed one)
+    ours = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    path = [ours, *(p for p in sys.path if p and os.path.abspath(p) != ours)]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(path))
     try:
         return subprocess.Popen(
             [sys.executable, "-P", "-c", code, *argv],

@@ -14,6 +14,7 @@ kernel and metrics; the sweep's Jacobian.
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 from numba import njit, types
@@ -100,6 +101,36 @@ def test_helper_imports_this_process_nsdyn_not_the_working_directory_one(tmp_pat
     with Helper("nsdyn._numba_cache:helper_enabled") as h:
         pass
     assert h.close() == 0
+
+
+REPORT = "import os, nsdyn\ndef main():\n    open(os.environ['OUT'], 'w').write(nsdyn.__file__)\n"
+
+
+def test_helper_imports_the_checkout_nsdyn_this_process_imported(tmp_path):
+    # ``python -c`` in a source checkout (as the tests of an installed copy run): this process
+    # imports the checkout's nsdyn (the working directory, '' on its path, comes first) and
+    # the helper must import that one too, not the installed one (whose kernels have another
+    # cache: this process compiled everything again)
+    import nsdyn
+
+    checkout = tmp_path / "checkout"
+    checkout.mkdir()
+    (checkout / "nsdyn").symlink_to(Path(nsdyn.__file__).parent, target_is_directory=True)
+    probe = tmp_path / "probe"
+    probe.mkdir()
+    (probe / "report_nsdyn.py").write_text(REPORT)
+    out = tmp_path / "helper-nsdyn.txt"
+    code = (
+        "import nsdyn\nfrom nsdyn._numba_cache import Helper\n"
+        "h = Helper('report_nsdyn:main')\nassert h.close() == 0\nprint(nsdyn.__file__)\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(probe), OUT=str(out))
+    ran = subprocess.run(
+        [sys.executable, "-c", code], cwd=checkout, env=env, capture_output=True, text=True
+    )
+    assert ran.returncode == 0, ran.stderr
+    assert ran.stdout.strip().startswith(str(checkout))  # this process: the checkout's
+    assert out.read_text() == ran.stdout.strip()  # the helper: the same file
 
 
 FRESH_WARMUP = (
