@@ -284,12 +284,14 @@ def release_standby(timeout: float = 5.0) -> None:
     proc, _STANDBY = _STANDBY, None
     if proc is None:
         return
+    import subprocess
+
     try:
         proc.stdin.close()
         proc.wait(timeout)
     except (OSError, ValueError):
         pass
-    except Exception:  # noqa: BLE001  (subprocess.TimeoutExpired: still importing; stop it)
+    except subprocess.TimeoutExpired:  # still importing after ``timeout`` s: stop it
         proc.kill()
         proc.wait()
 

@@ -434,9 +434,11 @@ def _step_pieces() -> None:
     cache (the shares of the two processes about even)."""
     from numba import types
 
-    m = types.float64[:, ::1]
     if hasattr(kp._iteration_matrix, "compile"):  # not under NUMBA_DISABLE_JIT
-        kp._iteration_matrix.compile((m, types.float64, m, types.int64[::1]))
+        # the step's declared work tuple (J, LU, piv, hg_lu, Fprev): _iteration_matrix(J, hg,
+        # LU, piv), hg a float
+        J, LU, piv = _callees()[2].args[9].types[:3]
+        kp._iteration_matrix.compile((J, types.float64, LU, piv))
 
 
 def helper_part() -> None:

@@ -153,13 +153,20 @@ def radau_calls():
 
 
 @functools.cache
+def flat_callee() -> Callee:
+    """:func:`nsdyn.solve._kflat.feval_flat` declared as ``"flat.feval"`` for the types of the
+    loop's ``"radau.feval"``: the call of the metrics' kernel (``evaluate_flat_many``) is
+    typed against it (nothing compiled; once per process)."""
+    feval = radau_callees()[_kcolloc.K_FEVAL]
+    return Callee("flat.feval", feval.kernel, feval.args, feval.ret)
+
+
+@functools.cache
 def flat_calls():
     """``K`` of :func:`nsdyn.solve._kflat.evaluate_flat_many` (the metrics of a flat run): the
-    address of :func:`nsdyn.solve._kflat.feval_flat`, declared as ``"flat.feval"`` for the
-    types of the loop's ``"radau.feval"`` (:func:`calls`). Compiles (or loads) only the flat
+    address of :func:`flat_callee` (:func:`calls`). Compiles (or loads) only the flat
     right-hand side."""
-    feval = radau_callees()[_kcolloc.K_FEVAL]
-    return calls([Callee("flat.feval", feval.kernel, feval.args, feval.ret)])
+    return calls([flat_callee()])
 
 
 def _declared_form(a):
@@ -345,16 +352,23 @@ def evaluate_inputs(P, X):
 
 def metrics_here(metrics: str | None) -> None:
     """Compile the ``metrics`` kernels of a run (:func:`nsdyn.solve.methods.metrics_for`)
-    without running them: the general ones call the system kernel by address, which the
-    helper may still be compiling (a run here would compile it a second time). None: none."""
-    if metrics == "metrics":  # the flat ones call no system kernel
-        methods.warmup_metrics(True)
-    elif metrics is not None:
-        from nsdyn.models.isolated.metrics import evaluation_arrays
+    without running them: the flat ones call the flat right-hand side by address, the
+    general ones the system kernel, which the helper may still be compiling (a run here
+    would compile it a second time). None: none."""
+    if metrics is None:
+        return
+    from nsdyn.models.isolated.metrics import evaluation_arrays
 
-        P, x0 = methods._tiny_problem()
-        t = np.zeros(1)
-        _compile(ki.evaluate_many_t, t, x0[None, :].copy(), P, *evaluation_arrays(P, 1))
+    P, x0 = methods._tiny_problem()
+    t, X = np.zeros(1), x0[None, :].copy()
+    out = evaluation_arrays(P, 1)
+    if metrics == "metrics":  # as nsdyn.solve.transient.flat_evaluations calls it
+        flat_callee()  # its call of the flat right-hand side is typed against this
+        K0 = np.zeros((2, 1), dtype=np.int64)  # only its type matters here
+        A0, ok = np.zeros((1, x0.size // 2)), np.ones(1, dtype=np.bool_)
+        _compile(_kflat.evaluate_flat_many, t, X, _kflat.pack_flat(P), A0, *out, ok, K0)
+    else:
+        _compile(ki.evaluate_many_t, t, X, P, *out)
 
 
 @functools.cache
