@@ -132,21 +132,27 @@ def _caused_by_interrupt(exc: BaseException) -> bool:
     return False
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The parser of every command; with ``only`` (a command's name) the options of that one
+    alone are set up, and the other commands' modules are not imported (a command's start
+    pays only for its own imports). ``nsdyn --help`` lists every command either way."""
     parser = _Parser(
         prog="nsdyn", description="Non-smooth dynamics of friction base-isolated frames."
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, cmd in COMMANDS.items():
         p = sub.add_parser(name, help=cmd.help, description=cmd.help)
-        cmd.configure(p)
+        if only is None or name == only:
+            cmd.configure(p)
         p.set_defaults(_run=cmd.run)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``nsdyn`` script; returns the exit status."""
-    args = build_parser().parse_args(argv)  # a usage error: one line, SystemExit(2)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    only = argv[0] if argv and argv[0] in COMMANDS else None
+    args = build_parser(only).parse_args(argv)  # a usage error: one line, SystemExit(2)
     try:  # SIGTERM stops a command the way Ctrl-C does (atomic files; checkpoints kept)
         old = signal.signal(signal.SIGTERM, _on_sigterm)
     except ValueError:  # not the main thread: leave signals alone

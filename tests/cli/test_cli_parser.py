@@ -1,0 +1,52 @@
+"""The ``nsdyn`` parser sets up only the options of the command typed.
+
+``main`` builds the parser with ``build_parser(only=<the command>)``: the other commands are
+listed (``nsdyn --help``, an unknown command's error) but their modules are not imported, so a
+command's start pays for its own imports alone (``nsdyn run --help`` on a cached install:
+docs/dev/first-runs.md). The typed command must parse exactly as with every command set up.
+"""
+
+import contextlib
+import io
+import subprocess
+import sys
+
+import pytest
+
+from nsdyn.cli.app import COMMANDS, build_parser
+
+
+def _help(parser, argv) -> str:
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), pytest.raises(SystemExit) as e:
+        parser.parse_args(argv)
+    assert e.value.code == 0
+    return out.getvalue()
+
+
+@pytest.mark.parametrize("name", sorted(COMMANDS))
+def test_a_command_parses_as_with_every_command_set_up(name):
+    assert _help(build_parser(name), [name, "--help"]) == _help(build_parser(), [name, "--help"])
+
+
+def test_the_command_list_is_complete_with_one_command_set_up():
+    assert _help(build_parser("run"), ["--help"]) == _help(build_parser(), ["--help"])
+
+
+def test_the_parsed_run_options_are_those_of_the_full_parser():
+    argv = ["run", "--t-end", "2", "--method", "event", "--no-figures"]
+    one, every = vars(build_parser("run").parse_args(argv)), vars(build_parser().parse_args(argv))
+    assert one == every
+
+
+def test_a_command_imports_no_other_commands_module():
+    probe = (
+        "import sys; from nsdyn.cli.app import main\n"
+        "try:\n    main(['modes', '--help'])\nexcept SystemExit:\n    pass\n"
+        "print(' '.join(m for m in sys.modules if m.startswith('nsdyn.')))"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         check=True).stdout.split()  # fmt: skip
+    assert "nsdyn.cli.modes" in out
+    others = {f"nsdyn.cli.{n}" for n in COMMANDS if n != "modes"} | {"nsdyn.bench"}
+    assert not others & set(out)
