@@ -37,6 +37,12 @@ HELP = {
     "switch_shooting": "shooting on the switch model against arctan shooting and event-driven runs",
     "full-model": "the 435-dof frame with the low-rank generalized-α against radau",
     "opensees": "the full frame in OpenSees (exported script) against nsdyn full and CB-5",
+    "opensees3d": "the 3D office building in OpenSees (exported script) against nsdyn's "
+    "building rungs",
+    "scale": "cost against model size: nsdyn's full-order methods and CB against the exported "
+    "OpenSees model, with fitted exponents",
+    "scale3d": "cost of the full 3D rung against building size, against exported OpenSees",
+    "isolators": "bidirectional isolators: work-precision of the two laws, cost per isolator",
 }
 EXIT_UNAVAILABLE = 1  # `all`: a benchmark module exists but does not import
 

@@ -97,7 +97,7 @@ def configure(p: argparse.ArgumentParser) -> None:
         "--compare-fixed",
         action="store_true",
         help="also run the fixed-base frame under the same motion and draw it in the figure "
-        "(a second run; its kernel compiles once, about a minute, then loads from the cache)",
+        "(a second run, by radau: the default run's kernels, compiled once for every model)",
     )
     p.add_argument(
         "--resume", action="store_true", help="continue an interrupted run from its checkpoint"

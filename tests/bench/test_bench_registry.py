@@ -107,3 +107,10 @@ def test_every_registered_benchmark_loads_with_the_common_entry_point():
         module = registry.load_benchmark(name)
         params = list(inspect.signature(module.run_bench).parameters)
         assert params[:2] == ["out_dir", "quick"], name
+
+
+def test_every_registered_benchmark_has_a_line_of_help():
+    """``nsdyn bench --help`` says what each benchmark measures, not its module's name (the
+    fallback for a benchmark registered from outside the package)."""
+    assert set(command.HELP) == set(registry.BENCHMARKS)
+    assert all(not line.startswith("nsdyn.") for line in command.HELP.values())
