@@ -277,23 +277,21 @@ def _take_standby(target: str):
     return proc
 
 
-def release_standby(timeout: float = 5.0) -> None:
-    """End a standby process no :class:`Helper` took (nothing compiled, or all was cached):
-    it reads the end of its input and exits, at once or after its imports."""
+def release_standby() -> None:
+    """End a standby process no :class:`Helper` took (nothing compiled, all was cached, or a
+    command that ended early: its help, a usage error): it is killed at once, its imports
+    unfinished or not (it has written nothing), so that a short command does not wait for
+    them."""
     global _STANDBY
     proc, _STANDBY = _STANDBY, None
     if proc is None:
         return
-    import subprocess
-
+    proc.kill()  # no error if it has exited already
     try:
         proc.stdin.close()
-        proc.wait(timeout)
-    except (OSError, ValueError):
+    except OSError:  # a broken pipe: it has exited
         pass
-    except subprocess.TimeoutExpired:  # still importing after ``timeout`` s: stop it
-        proc.kill()
-        proc.wait()
+    proc.wait()
 
 
 def standby_main(argv: list[str]) -> int:
