@@ -160,7 +160,7 @@ def run(args: argparse.Namespace) -> int:
             raw = read_toml(args.scene)
             kind = scene_kind(raw, str(args.scene))
         except SceneError as e:
-            print(f"nsdyn sweep: {e}", file=sys.stderr)
+            print(f"nsdyn sweep: error: {e}", file=sys.stderr)
             return EXIT_USER_ERROR
         if kind == "building3d" and raw.get("structure", {}).get("fidelity") == "fixed":
             from nsdyn.cli.sweep_fixed3d import run_fixed3d  # linear: the exact steady state
@@ -169,7 +169,7 @@ def run(args: argparse.Namespace) -> int:
         if kind in PLANE_KINDS:
             return run_plane(args, raw)
         if kind != "isolated":
-            print(f"nsdyn sweep: {args.scene}: scene.kind: sweeps take isolated, deck and "
+            print(f"nsdyn sweep: error: {args.scene}: scene.kind: sweeps take isolated, deck and "
                   f"building3d scenes, got {kind!r}", file=sys.stderr)  # fmt: skip
             return EXIT_USER_ERROR
     args.amplitudes = args.amplitudes or _amplitude_list(DEFAULT_AMPLITUDES)
@@ -180,17 +180,18 @@ def run(args: argparse.Namespace) -> int:
     try:
         cfg = load_scene(args.scene, overrides)
     except SceneError as e:
-        print(f"nsdyn sweep: {e}", file=sys.stderr)
+        print(f"nsdyn sweep: error: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
     if cfg["scene"].get("fidelity", "cb") == "fixed":
         print(
-            "nsdyn sweep: the fixed-base model is linear; use an isolated fidelity", file=sys.stderr
+            "nsdyn sweep: error: the fixed-base model is linear; use an isolated fidelity",
+            file=sys.stderr,
         )
         return EXIT_USER_ERROR
     friction = args.friction or cfg.get("isolation", {}).get("law", "arctan")
     if not args.fmax > args.fmin:
         print(
-            f"nsdyn sweep: --fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})",
+            f"nsdyn sweep: error: --fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})",
             file=sys.stderr,
         )
         return EXIT_USER_ERROR
@@ -302,27 +303,29 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
              ("--steps-factor", args.steps_factor != 1.0))  # fmt: skip
     unused = [flag for flag, off in given if off]
     if unused:
-        print(f"nsdyn sweep: {', '.join(unused)}: not for deck scenes (their period map is "
+        print(f"nsdyn sweep: error: {', '.join(unused)}: not for deck scenes (their period map is "
               "integrated adaptively, with bilateral contact)", file=sys.stderr)  # fmt: skip
         return EXIT_USER_ERROR
     try:
         sc = plane_scene(cfg, source)
     except SceneError as e:
-        print(f"nsdyn sweep: {' '.join(str(e).split())}", file=sys.stderr)
+        print(f"nsdyn sweep: error: {' '.join(str(e).split())}", file=sys.stderr)
         return EXIT_USER_ERROR
     lo, hi = default_range(sc["orbit"])
     sw = sc["sweep"]  # the scene's [sweep] table; the flags win
     fmin = sw.get("f_min", lo) if args.fmin is None else args.fmin
     fmax = sw.get("f_max", hi) if args.fmax is None else args.fmax
     if not fmax > fmin:
-        print(f"nsdyn sweep: --fmax ({fmax:g}) must exceed --fmin ({fmin:g})", file=sys.stderr)
+        print(
+            f"nsdyn sweep: error: --fmax ({fmax:g}) must exceed --fmin ({fmin:g})", file=sys.stderr
+        )
         return EXIT_USER_ERROR
     from nsdyn.periodic.plane import orbit_shape
 
     amplitudes = args.amplitudes or sw.get("amplitudes") or [orbit_shape(sc["orbit"])[0]]
     law = args.friction or sw.get("law") or sc["solver"]["law"]
     if getattr(sc["system"], "has_tfp", False) and law != "arctan":
-        print(f"nsdyn sweep: {source}: solver.law: a triple friction pendulum runs with the "
+        print(f"nsdyn sweep: error: {source}: solver.law: a triple friction pendulum runs with the "
               f"regularised law 'arctan' (its series model has no stick events), got {law!r}",
               file=sys.stderr)  # fmt: skip
         return EXIT_USER_ERROR
@@ -339,7 +342,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         results = sweep_plane(cfg, source, amplitudes, settings, out, workers=args.workers,
                               restart=args.restart, quiet=args.json)  # fmt: skip
     except SceneError as e:
-        print(f"nsdyn sweep: {e}", file=sys.stderr)
+        print(f"nsdyn sweep: error: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
     csv_path = out / "sweep.csv"
     write_csv(csv_path, results)

@@ -39,22 +39,23 @@ def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
     source = str(args.scene)
     unused = [flag for flag, key, off in _NOT_HERE if getattr(args, key, off) != off]
     if unused:
-        print(f"nsdyn sweep: {', '.join(unused)}: not for the fixed rung (a linear model: its "
-              "steady state is solved exactly, no friction)", file=sys.stderr)  # fmt: skip
+        print(f"nsdyn sweep: error: {', '.join(unused)}: not for the fixed rung (a linear "
+              "model: its steady state is solved exactly, no friction)",
+              file=sys.stderr)  # fmt: skip
         return EXIT_USER_ERROR
     t0 = time.perf_counter()
     try:
         sc = fixed_sweep_scene(cfg, source)
         modes = fixed_base_modes_3d(sc["frame"], n_modes=sc["n_modes"])
     except (SceneError, ValueError) as e:
-        print(f"nsdyn sweep: {' '.join(str(e).split())}", file=sys.stderr)
+        print(f"nsdyn sweep: error: {' '.join(str(e).split())}", file=sys.stderr)
         return EXIT_USER_ERROR
     lo, hi = default_range(modes)
     fmin = lo if args.fmin is None else args.fmin
     fmax = hi if args.fmax is None else args.fmax
     if not (fmax > fmin > 0):
-        print(f"nsdyn sweep: --fmin/--fmax: expected 0 < fmin < fmax, got {fmin:g}, {fmax:g}",
-              file=sys.stderr)  # fmt: skip
+        print(f"nsdyn sweep: error: --fmin/--fmax: expected 0 < fmin < fmax, got {fmin:g}, "
+              f"{fmax:g}", file=sys.stderr)  # fmt: skip
         return EXIT_USER_ERROR
     f = np.geomspace(fmin, fmax, args.points or POINTS_DEFAULT)
     unit = fixed_frf(sc["frame"], sc["A"], f, modes=modes)  # per m/s² of the orbit's amplitude

@@ -70,16 +70,19 @@ def run(args: argparse.Namespace) -> int:
             )
         system, excitation = build_scene(cfg)
     except SceneError as e:
-        print(f"nsdyn uplift: {e}", file=sys.stderr)
+        print(f"nsdyn uplift: error: {e}", file=sys.stderr)
         return EXIT_USER_ERROR
     if not args.fmax > args.fmin:
         print(
-            f"nsdyn uplift: --fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})",
+            f"nsdyn uplift: error: --fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})",
             file=sys.stderr,
         )
         return EXIT_USER_ERROR
     if system.n_contacts == 0:
-        print("nsdyn uplift: the scene's structure has no contacts to lift off", file=sys.stderr)
+        print(
+            "nsdyn uplift: error: the scene's structure has no contacts to lift off",
+            file=sys.stderr,
+        )
         return EXIT_USER_ERROR
     load = excitation if isinstance(excitation, HarmonicForce) else None
     unit = "N" if load is not None else "m/s²"

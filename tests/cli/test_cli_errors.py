@@ -1,0 +1,32 @@
+"""Every command says a user error the same way: one line ``nsdyn <command>: error: ...``
+naming what is wrong, exit status 2 (``nsdyn.cli.args.EXIT_USER_ERROR``), nothing on stdout
+and nothing written (no output folder left behind)."""
+
+import pytest
+
+from nsdyn.cli import main
+from nsdyn.cli.args import EXIT_USER_ERROR
+
+CASES = [
+    ("run", ["no-such.toml"], "no-such.toml: no such scene file"),
+    ("sweep", ["no-such.toml"], "no-such.toml: no such scene file"),
+    ("uplift", ["no-such.toml"], "no-such.toml: no such scene file"),
+    ("study", ["no-such.toml"], "no-such.toml: no such study file"),
+    ("export", ["opensees", "no-such.toml"], "no-such.toml: no such scene file"),
+    ("spectrum", ["no-such.toml"], "no-such.toml: no such scene file"),
+    ("modes", ["no-such.toml"], "no-such.toml: no such frame file"),
+    ("sweep", ["--fmin", "2", "--fmax", "1"], "--fmax (1) must exceed --fmin (2)"),
+    ("uplift", ["--fmin", "2", "--fmax", "1"], "--fmax (1) must exceed --fmin (2)"),
+]
+
+
+@pytest.mark.parametrize(("command", "argv", "says"), CASES)
+def test_a_user_error_is_one_line_naming_the_command(
+    command, argv, says, capsys, tmp_path, monkeypatch
+):
+    monkeypatch.chdir(tmp_path)  # the commands' default output folders are relative
+    assert main([command, *argv]) == EXIT_USER_ERROR
+    out, err = capsys.readouterr()
+    assert out == ""
+    assert err == f"nsdyn {command}: error: {says}\n"
+    assert list(tmp_path.iterdir()) == []
