@@ -219,15 +219,16 @@ def prepare_kernels(method: str, flat: bool = True) -> float:
 
 
 def _check_method(method: str, cfg: dict) -> None:
-    """``solver.method`` must name an integrator (a SceneError naming the field otherwise)."""
+    """``solver.method`` must be ``auto`` or name an integrator (a SceneError naming the field
+    otherwise)."""
     from nsdyn.models.scenefile import SceneError
     from nsdyn.solve.methods import METHODS
 
-    if method not in METHODS:
+    if method != "auto" and method not in METHODS:
         source = cfg.get("_source", "<scene>")
         raise SceneError(
-            f"{source}: solver.method: unknown integrator {method!r}; expected one of "
-            f"{sorted(METHODS)}"
+            f"{source}: solver.method: unknown integrator {method!r}; expected 'auto' or one "
+            f"of {sorted(METHODS)}"
         )
 
 
@@ -285,6 +286,7 @@ def run(args: argparse.Namespace) -> int:
     cfg = load_scene(args.scene, _scene_overrides(args))
     if args.friction:
         cfg.setdefault("isolation", {})["law"] = args.friction
+    _check_method(cfg.get("solver", {}).get("method", "auto"), cfg)  # before the model's build
     system, motion, duration = build_scene_run(cfg)
     if args.fidelity == "auto" and system.frame is None:
         from nsdyn.models.scenefile import SceneError

@@ -58,7 +58,9 @@ def unknown_key(source: str, where: str, key: str, valid) -> SceneError:
     valid = sorted(valid)
     close = difflib.get_close_matches(key, valid, n=1)
     hint = f"; did you mean {close[0]!r}?" if close else ""
-    return SceneError(f"{source}: {where}{key}: unknown field{hint} expected some of {valid}")
+    return SceneError(
+        f"{source}: {where}{key}: unknown field{hint or ';'} expected some of {valid}"
+    )
 
 
 def check_fields(cfg: Mapping, fields: Mapping, source: str) -> None:

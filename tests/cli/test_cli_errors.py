@@ -30,3 +30,27 @@ def test_a_user_error_is_one_line_naming_the_command(
     assert out == ""
     assert err == f"nsdyn {command}: error: {says}\n"
     assert list(tmp_path.iterdir()) == []
+
+
+def test_an_unknown_method_lists_auto_among_the_choices(capsys):
+    from nsdyn.solve.methods import METHODS
+
+    assert main(["run", "--method", "foo"]) == EXIT_USER_ERROR
+    err = capsys.readouterr().err
+    assert err == (
+        "nsdyn run: error: <default scene>: solver.method: unknown integrator 'foo'; "
+        f"expected 'auto' or one of {sorted(METHODS)}\n"
+    )
+
+
+@pytest.mark.parametrize(
+    ("key", "says"),
+    [("pga", "scene.pga: unknown field; expected some of"),
+     ("fidelty", "scene.fidelty: unknown field; did you mean 'fidelity'? expected some of")],
+)  # fmt: skip
+def test_an_unknown_key_is_named_with_the_valid_ones(key, says, capsys, tmp_path):
+    scene = tmp_path / "s.toml"
+    scene.write_text(f'[scene]\nkind = "isolated"\n{key} = 3\n')
+    assert main(["run", str(scene)]) == EXIT_USER_ERROR
+    err = capsys.readouterr().err
+    assert err.startswith(f"nsdyn run: error: {scene}: {says} [")
