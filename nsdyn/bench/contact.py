@@ -252,8 +252,9 @@ def run_bench(out_dir: Path, quick: bool) -> dict:
                 and r["err_theta_early"] <= 1e-4), default=math.nan)  # fmt: skip
     return {
         "compile_s": compile_s,
-        "reference": {k: ref[k] for k in ("max_tilt_rad", "max_slide_m", "n_impacts",
-                                          "overturned")},  # fmt: skip
+        "reference": {
+            k: ref[k] for k in ("max_tilt_rad", "max_slide_m", "n_impacts", "overturned")
+        },
         "wall_ms_err1e-3_event": ev * 1e3,
         "wall_ms_err1e-3_moreau": mj * 1e3,
         "speedup_event_over_moreau_at_err1e-3": mj / ev,

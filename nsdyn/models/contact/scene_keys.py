@@ -127,10 +127,20 @@ SCHEMA = Schema(
                     default="(record end; n T + 2 s for a sine; 5 free)",
                     **_POS,
                 ),
-                Key("theta0", "number", "initial tilt (or `theta0_over_alpha`, not both)", "rad",
-                    default=0.0),  # fmt: skip
-                Key("theta0_over_alpha", "number", "initial tilt / the base corner's slenderness α "
-                    "(or `theta0`, not both)", "—", default=0.0),  # fmt: skip
+                Key(
+                    "theta0",
+                    "number",
+                    "initial tilt (or `theta0_over_alpha`, not both)",
+                    "rad",
+                    default=0.0,
+                ),
+                Key(
+                    "theta0_over_alpha",
+                    "number",
+                    "initial tilt / the base corner's slenderness α (or `theta0`, not both)",
+                    "—",
+                    default=0.0,
+                ),
             ),
         ),
         Table(

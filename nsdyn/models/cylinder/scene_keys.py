@@ -33,10 +33,20 @@ SCHEMA = Schema(
             "The rigid cylinder.",
             (
                 Key("r", "number", "radius", "m", default=1.0, **_POS),
-                Key("height", "number", "full height 2H (or `H`, not both)", "m", default=8.0,
-                    **_POS),  # fmt: skip
                 Key(
-                    "H", "number", "half height (or `height` = 2H, not both)", "m", default=4.0,
+                    "height",
+                    "number",
+                    "full height 2H (or `H`, not both)",
+                    "m",
+                    default=8.0,
+                    **_POS,
+                ),
+                Key(
+                    "H",
+                    "number",
+                    "half height (or `height` = 2H, not both)",
+                    "m",
+                    default=4.0,
                     **_POS,
                 ),
                 Key("m", "number", "mass", "kg", default=1.0, **_POS),
@@ -149,12 +159,28 @@ SCHEMA = Schema(
                 Key("record_z", "string", "record file of the vertical component"),
                 Key("pga", "number", "scale to this peak horizontal acceleration", "m/s²", **_POS),
                 Key("t_end", "number", "end of the run", "s", default="(the motion's end)", **_POS),
-                Key("theta0", "number", "initial tilt of the axis (or `theta0_over_alpha`, not "
-                    "both; not for a fixed base)", "rad", default=0.0),  # fmt: skip
-                Key("theta0_over_alpha", "number", "initial tilt / α, α = atan(r / H) (or "
-                    "`theta0`, not both)", "—", default=0.0),  # fmt: skip
-                Key("azimuth0", "number", "direction the axis initially leans to, from x "
-                    "towards y", "rad", default=0.0),  # fmt: skip
+                Key(
+                    "theta0",
+                    "number",
+                    "initial tilt of the axis (or `theta0_over_alpha`, not "
+                    "both; not for a fixed base)",
+                    "rad",
+                    default=0.0,
+                ),
+                Key(
+                    "theta0_over_alpha",
+                    "number",
+                    "initial tilt / α, α = atan(r / H) (or `theta0`, not both)",
+                    "—",
+                    default=0.0,
+                ),
+                Key(
+                    "azimuth0",
+                    "number",
+                    "direction the axis initially leans to, from x towards y",
+                    "rad",
+                    default=0.0,
+                ),
             ),
         ),
         Table(

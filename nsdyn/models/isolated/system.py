@@ -381,8 +381,20 @@ def build_system(
         name = f"{getattr(frame, 'name', 'frame')} full (n={n})"
         f = {k: fo[k] for k in ("M", "C", "K", "Gamma", "R", "D", "T")}
         return IsolatedSystem(
-            name, "full", f["M"], f["C"], f["K"], f["Gamma"], f["R"], f["D"], f["T"], iso,
-            frame, np.inf, info, sparse=fo["sparse"],
+            name,
+            "full",
+            f["M"],
+            f["C"],
+            f["K"],
+            f["Gamma"],
+            f["R"],
+            f["D"],
+            f["T"],
+            iso,
+            frame,
+            np.inf,
+            info,
+            sparse=fo["sparse"],
         )
     Kf, Mf = frame.assemble(lumped=lumped)
     if frame.n_dof <= DENSE_FRAME_MAX:  # large frames stay sparse (Craig-Bampton: Lanczos)

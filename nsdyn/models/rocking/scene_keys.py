@@ -124,10 +124,20 @@ SCHEMA = Schema(
                     default="(record end; max(10, 3 pulse durations); 10 free)",
                     **_POS,
                 ),
-                Key("theta0", "number", "initial tilt θ₀ (or `theta0_over_alpha`, not both)",
-                    "rad", default=0.0),  # fmt: skip
-                Key("theta0_over_alpha", "number", "initial tilt θ₀/α (or `theta0`, not both)", "—",
-                    default=0.0),  # fmt: skip
+                Key(
+                    "theta0",
+                    "number",
+                    "initial tilt θ₀ (or `theta0_over_alpha`, not both)",
+                    "rad",
+                    default=0.0,
+                ),
+                Key(
+                    "theta0_over_alpha",
+                    "number",
+                    "initial tilt θ₀/α (or `theta0`, not both)",
+                    "—",
+                    default=0.0,
+                ),
             ),
         ),
         Table(
