@@ -279,7 +279,7 @@ def _take_standby(target: str):
 
 def release_standby() -> None:
     """End a standby process no :class:`Helper` took (nothing compiled, all was cached, or a
-    command that ended early: its help, a usage error): it is killed at once, its imports
+    command that ended early: a usage error, a missing scene): it is killed at once, its imports
     unfinished or not (it has written nothing), so that a short command does not wait for
     them."""
     global _STANDBY
