@@ -48,6 +48,14 @@ Python entry point (:data:`NO_ENTRY`, :func:`no_entry`): the entry unboxes every
 from Python objects, ~0.2-0.5 s of the first compilation of a kernel with ~25 arguments
 (~2 s of the event method's). Called from Python, such a kernel raises a TypeError (numba
 itself would jump to the missing entry).
+
+A run loop that allocates nothing is compiled without numba's reference counting
+(:data:`NO_NRT`): numba otherwise emits an increment and a decrement for every array of every
+tuple it copies, passes or drops, each unpacking the whole tuple's type. The event loop's
+unoptimised code was 39 000 lines, 28 000 of them such unpacking (the parameter tuple ``P``
+holds 17 arrays, the workspace 23), and its first compilation took 8.5 s of one core; without
+reference counting, 3.6 s. Such a kernel gets every array it uses from its caller (Python,
+which keeps them alive), calls kernels that return no new arrays, and returns none itself.
 """
 
 import hashlib
@@ -65,6 +73,9 @@ from nsdyn._numba_cache import PLAIN
 # the options of a kernel only compiled code calls (:func:`no_entry`): no Python entry point,
 # no C entry point (numba's own options; plain numba keeps both)
 NO_ENTRY = {} if PLAIN else {"no_cpython_wrapper": True, "no_cfunc_wrapper": True}
+# the options of a run loop that allocates no array (numba's internal ``_nrt``: no reference
+# counts; plain numba counts them)
+NO_NRT = {} if PLAIN else {"_nrt": False}
 
 # name -> (return type, argument types): what an address declared under name is compiled for
 DECLARED: dict = {}
@@ -467,6 +478,12 @@ def compiled_only(func):
     """The decorator of a kernel that only compiled code calls (by its address or linked):
     ``njit(cache=True, error_model="numpy", **NO_ENTRY)``, then :func:`no_entry`."""
     return no_entry(njit(cache=True, error_model="numpy", **NO_ENTRY)(func))
+
+
+def compiled_uncounted(func):
+    """:func:`compiled_only` without numba's reference counts (:data:`NO_NRT`), for a kernel
+    that allocates no array and returns none (plain numba counts them)."""
+    return no_entry(njit(cache=True, error_model="numpy", **NO_ENTRY, **NO_NRT)(func))
 
 
 def specialised(func, name: str, **bindings):

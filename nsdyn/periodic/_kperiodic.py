@@ -172,7 +172,7 @@ def _res_norm(res, half, sz, sv):
     return np.sqrt(acc)
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def dirk_step(t, h, hT, x, S, w, want_sens, problem, method, work, tmp, out, K):
     """One SDIRK step of size ``h`` from (t, x) into ``out = (xn, Sn, wn)`` (the state and its
     derivatives). ``problem = (prob, pf)`` (``pf``: a frame's flat array, see

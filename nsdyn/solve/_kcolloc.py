@@ -183,7 +183,7 @@ def general_called(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     return _stages_called(P, t, y, h, Z, F, ys, qdd, lam, tau, modes)
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def general_table(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     """:func:`general_called` with the system kernel and its Jacobian called by their
     addresses in the table of :mod:`nsdyn._kaddress` (:func:`nsdyn.solve._kcommon.feval_t`),
@@ -352,20 +352,20 @@ newton = njit(cache=True, error_model="numpy")(
 """Newton with :func:`general_called` and the flat right-hand side linked (the general
 kernel's loop, :func:`nsdyn.solve._kradau.radau_general`)."""
 
-newton_general = ka.compiled_only(
+newton_general = ka.compiled_uncounted(
     ka.specialised(_newton, "newton_general", _GENERAL=general_table, _FEVAL_FLAT=_no_flat)
 )
 """Newton for a law the flat kernels do not serve (``flat`` False at every call): the event
 loop's step calls it by address; no flat right-hand side is compiled with it."""
 
-newton_flat = ka.compiled_only(
+newton_flat = ka.compiled_uncounted(
     ka.specialised(_newton, "newton_flat", _GENERAL=flat_only, _FEVAL_FLAT=feval_flat_t)
 )
 """Newton with :func:`flat_only` and :func:`feval_flat_t` (the default loop's, called by
 address: a kernel with a kernel argument would have the argument's dispatcher in its
 declared type)."""
 
-newton_table = ka.compiled_only(
+newton_table = ka.compiled_uncounted(
     ka.specialised(_newton, "newton_table", _GENERAL=general_table, _FEVAL_FLAT=kf.feval_flat)
 )
 """Newton with :func:`general_table` (the event loop's step calls it by address)."""

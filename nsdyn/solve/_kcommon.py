@@ -113,6 +113,17 @@ def next_kink(t, P):
     return tk
 
 
+@njit(cache=True, error_model="numpy")
+def largest(a):
+    """The largest entry of a non-empty vector of finite values (``np.max`` without its
+    temporaries: callable from a loop without reference counts, :data:`nsdyn._kaddress.NO_NRT`)."""
+    m = a[0]
+    for i in range(1, a.shape[0]):
+        if a[i] > m:
+            m = a[i]
+    return m
+
+
 @njit(cache=True, error_model="numpy", inline="always")
 def all_finite(a):
     for i in range(a.shape[0]):
@@ -262,7 +273,7 @@ def check_contacts(t_old, t_new, lam_old, lam_new, upl_t, uplift_mode, stats, ri
     return stop
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def advance(t, t_new, y, ynew, lam_old, lam, iout, upl_t, uplift_mode, stats, rinfo):
     """Bookkeeping of an accepted step [t, t_new] whose outputs up to ``iout`` are written:
     the contact check, then y = ynew, lam_old = lam and the time reached (unless stopped).
@@ -290,7 +301,7 @@ def start(t, y, P, f, qdd, lam, tau, modes, t_eval, X, lam_old, upl_t, uplift_mo
     return start_from(ok, t, y, f, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo)
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def start_from(ok, t, y, f, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo):
     """:func:`start` once the caller has evaluated f = f(t, y) and lam (``ok``: its flag)."""
     stats[S_NFEV] += 1
@@ -322,7 +333,7 @@ def initial_step(t0, y0, f0, t_end, max_step, order, rtol, atol, P, y1, f1, qdd,
     return initial_finish(h0, y0, f0, f1, t_end - t0, max_step, order, rtol, atol)
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def initial_probe(t0, y0, f0, t_end, rtol, atol, y1):
     """First half of :func:`initial_step`: the trial step h0 (0.0 for an empty interval) and
     the Euler state ``y1 = y0 + h0 f0`` at which the caller evaluates ``f1``."""
@@ -348,7 +359,7 @@ def initial_probe(t0, y0, f0, t_end, rtol, atol, y1):
     return h0
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def initial_finish(h0, y0, f0, f1, length, max_step, order, rtol, atol):
     """Second half of :func:`initial_step`, given ``f1 = f(t0 + h0, y1)``."""
     n = y0.shape[0]

@@ -62,7 +62,7 @@ V_SLIP_ATOL = 10.0  # |v| > this x atol (velocities) counts as motion when choos
 SLIP, STICK = 0, 1
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def _lamf(i, lam, P):
     if P[ks.I_IPAR][ks.K_FROZEN] == 1:
         return P[ks.I_LAM0][i]
@@ -79,18 +79,21 @@ def _dot_row(D, i, y, off):
     return s
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def _g_stick(i, lam, tau, P):
     return P[ks.I_MU][i] * _lamf(i, lam, P) - abs(tau[i])
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def _g_dense(kind, i, sgn, x, y, Qd, t, h, P, ew):
     """Switching function of isolator i on the dense output at t + x h.
 
-    ``ew = (ys, fs, qdd, lam, tau, modes)``: scratch state and right-hand side, then the
-    outputs of the system kernel (lam, tau are left at t + x h for the stick function)."""
-    ys, fs, qdd, lam, tau, modes = ew
+    ``ew = (ys, fs, qdd, lam, tau, modes, g0, m_old, o_old)``: scratch state and right-hand
+    side, then the outputs of the system kernel (lam, tau are left at t + x h for the stick
+    function), then scratch of the detector, the settling and the event handler (ni floats, ni
+    and nc integers: the kernels of the loop allocate nothing, :data:`nsdyn._kaddress.NO_NRT`).
+    """
+    ys, fs, qdd, lam, tau, modes = ew[:6]
     D = P[ks.I_D]
     n = D.shape[1]
     if kind == SLIP:
@@ -132,7 +135,7 @@ def illinois_step(a, b, fa, fb, c, fc, side):
     return a, b, fa, fb, side, False
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def _root(kind, i, sgn, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
     """Illinois on x in [a, b] for g(a) = fa >= 0 > fb = g(b). Returns x with g(x) <= 0."""
     xtol = EVENT_TTOL / h
@@ -150,14 +153,14 @@ def _root(kind, i, sgn, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
     return b
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def _detect(t, h, y, ynew, Qd, P, ew, stats):
     """Earliest switching instant in the step [t, t + h]: returns (x, isolator, kind), x = 2
     when none. The switching functions are scanned at SLIP_SAMPLES / STICK_SAMPLES points of
     the dense output (a stuck, locked structure has no local error, so its steps grow large
     while the stick forces follow the excitation) and the first bracket is refined by
     Illinois. Leaves lam, tau at the step end."""
-    ys, fs, qdd, lam, tau, modes = ew
+    ys, fs, qdd, lam, tau, modes = ew[:6]
     D = P[ks.I_D]
     n = D.shape[1]
     pm = P[ks.I_MODE]
@@ -197,7 +200,7 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
     if any_stick:
         # g at the step start, then at the samples (one evaluation each, shared by isolators)
         ni = D.shape[0]
-        g0 = np.empty(ni)
+        g0 = ew[6]
         ki.feval_t(t, y, P, fs, qdd, lam, tau, modes)
         stats[ki.S_NFEV] += 1
         for i in range(ni):
@@ -248,7 +251,7 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
     return x_best, i_best, k_best
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
     """Consistent mode set at an event (t, y); records the changes in ``log = (ev_t, ev_i,
     ev_m)``. Returns ok (False: the event buffer is full).
@@ -259,14 +262,16 @@ def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
     the friction cone slips. A new slip direction opposes the velocity when |v| > v_tol
     (Coulomb), else it follows the stick force it replaces.
     """
-    qdd, lam, tau, modes = ew[2:]
+    qdd, lam, tau, modes = ew[2:6]
     ev_t, ev_i, ev_m = log
     pm = P[ks.I_MODE]
     D = P[ks.I_D]
     mu = P[ks.I_MU]
     n = D.shape[1]
     ni = D.shape[0]
-    old = pm.copy()
+    old = ew[7]
+    for i in range(ni):
+        old[i] = pm[i]
     ki.feval_t(t, y, P, f, qdd, lam, tau, modes)
     stats[ki.S_NFEV] += 1
     for i in range(ni):
@@ -316,7 +321,7 @@ def _settle(t, y, P, f, ew, trigger, v_tol, log, stats):
     return True
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def _initial_modes(P, y, modes0):
     pm = P[ks.I_MODE]
     D = P[ks.I_D]

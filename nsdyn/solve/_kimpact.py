@@ -184,7 +184,7 @@ def _settle_contacts(t, y, P, f, ew, g_tol, clog, cnt, stats, lift):
     ground and close it at once. Two contacts reaching lam = 0 together (a symmetric frame
     under vertical shaking) would otherwise close each other in turn without end. If one
     should not have opened, its gap sinks and the touchdown scan lands it."""
-    qdd, lam, tau, modes = ew[2:]
+    qdd, lam, tau, modes = ew[2:6]
     opn = P[ks.I_OPEN]
     R = P[ks.I_R]
     nc = opn.shape[0]
@@ -242,7 +242,7 @@ def _g(kind, k, x, y, Qd, t, h, P, ew, off, stats):
     """Switching function of contact k at t + x h: lam_k (closed) or g_k + off (open)."""
     if kind == KIND_LAND:
         return _gap_dense(k, x, y, Qd, P) + off
-    ys, fs, qdd, lam, tau, modes = ew
+    ys, fs, qdd, lam, tau, modes = ew[:6]
     kr.dense(y, Qd, x, ys)
     ki.feval_t(t + x * h, ys, P, fs, qdd, lam, tau, modes)
     stats[ki.S_NFEV] += 1
@@ -355,7 +355,7 @@ def _detect(t, h, y, Qd, P, ew, g_tol, g_lift, x_max, stats):
                 break
             xa, ga = xb, gb
     if any_closed:
-        ys, fs, qdd, lam, tau, modes = ew
+        ys, fs, qdd, lam, tau, modes = ew[:6]
         la = np.empty(nc)
         ki.feval_t(t, y, P, fs, qdd, lam, tau, modes)
         stats[ki.S_NFEV] += 1

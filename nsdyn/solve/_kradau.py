@@ -112,13 +112,13 @@ def restart(ctl):
 
 
 @njit(cache=True, error_model="numpy")
-def new_control(h0, rtol):
-    """Fresh stepper state: first step h0, no history, Newton tolerance from rtol."""
-    ctl = np.zeros(N_CTL)
+def init_control(ctl, h0, rtol):
+    """Fresh stepper state in ``ctl`` (N_CTL,): first step h0, no history, Newton tolerance
+    from rtol."""
+    ctl[:] = 0.0
     restart(ctl)
     ctl[C_H] = h0
     ctl[C_NTOL] = max(10.0 * 2.220446049250313e-16 / rtol, min(0.03, rtol**0.5))
-    return ctl
 
 
 @njit(cache=True, error_model="numpy")
@@ -310,12 +310,13 @@ def _step(P, t, y, f, t_lim, fixed, atol, rtol, max_step, max_steps, ws, ctl, st
 
 
 def _owned(ws, x0, t_eval, nc):
-    """The arrays a run owns, around its workspace ``ws``: (stats, rinfo, ws, y, f, lam_old),
-    with y = x0 (a copy) and the time reached ``rinfo[R_T] = t_eval[0]``."""
+    """The arrays a run owns, around its workspace ``ws``: (stats, rinfo, ws, y, f, lam_old,
+    ctl), with y = x0 (a copy), the time reached ``rinfo[R_T] = t_eval[0]`` and the stepper
+    state ``ctl`` (its start-up fills it)."""
     stats = np.zeros(ki.N_STATS, dtype=np.int64)
     rinfo = np.zeros(ki.N_RINFO)
     rinfo[ki.R_T] = t_eval[0]
-    return stats, rinfo, ws, x0.copy(), np.empty(x0.shape[0]), np.empty(nc)
+    return stats, rinfo, ws, x0.copy(), np.empty(x0.shape[0]), np.empty(nc), np.zeros(N_CTL)
 
 
 owned_inline = njit(cache=True, error_model="numpy", inline="always")(_owned)
@@ -341,7 +342,8 @@ def setup_here(P, x0, t_eval, nc):
 
 
 def _start(
-    P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats, rinfo, K
+    P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats, rinfo,
+    ctl, K,
 ):  # fmt: skip
     """Start-up of a Radau run at (t, y), t = t_eval[0]: f = f(t, y) and
     :func:`nsdyn.solve._kcommon.start_from` (the outputs at t_eval <= t, the contact check),
@@ -349,26 +351,26 @@ def _start(
     the flat kernel where it applies, else the general kernel ``_GENERAL`` (one per copy of
     this function, as :func:`_step`).
 
-    Returns (iout, ctl): the first output still to write (-1 when the run stops here, status
-    in ``stats``; nothing to step when ``iout >= nt``) and the stepper state. ``K``: see
-    :func:`_step`.
+    Returns iout, the first output still to write (-1 when the run stops here, status in
+    ``stats``; nothing to step when ``iout >= nt``); the stepper state is made in ``ctl``.
+    ``K``: see :func:`_step`.
     """
     J, Z, F, ys, err = ws[0], ws[5], ws[8], ws[12], ws[14]
     qdd, lam, tau, modes, Fl = ws[18:23]
     flat = kf.usable(P[ks.I_OPEN], Fl)
     t = t_eval[0]
-    ctl = new_control(h0, rtol)
+    init_control(ctl, h0, rtol)
     ok = flat and ka.call(K, "radau.feval", (t, y, Fl, f, qdd, lam, tau, modes), _GENERAL)
     if not ok:
         ok = _GENERAL(kc.G_ONE, P, t, y, 0.0, Z, F, ys, f, J, qdd, lam, tau, modes)
     iout = ki.start_from(ok, t, y, f, lam, t_eval, X, lam_old, upl_t, uplift_mode, stats, rinfo)
     if iout < 0 or iout >= t_eval.shape[0]:
-        return iout, ctl
+        return iout
     # lam at the start is in lam_old; the Jacobian and the trial evaluation overwrite lam
     stats[ki.S_NJEV] += 1
     if not kc.jeval(t, y, P, Fl, flat, _GENERAL, K, J, ys, qdd, lam, tau, modes):
         stats[ki.S_STATUS] = ki.ST_SINGULAR
-        return -1, ctl
+        return -1
     if h0 <= 0.0:
         h1 = ki.initial_probe(t, y, f, t_eval[-1], rtol, atol, ys)
         if h1 > 0.0:
@@ -382,10 +384,10 @@ def _start(
             h1 = ki.initial_finish(h1, y, f, err, t_eval[-1] - t, max_step, np.int64(3), rtol, atol)
         ctl[C_H] = h1
     ctl[C_CURJ] = 1.0
-    return iout, ctl
+    return iout
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def accept(t, y, f, ctl, ws, t_eval, iout, X, lam_old, upl_t, uplift_mode, stats, rinfo):
     """Move to the end of the step :func:`_step` accepted: outputs at the t_eval it
     covers (from ``iout``, dense output), contact check, y, f, lam_old at the step end.
@@ -430,11 +432,13 @@ def _loop(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode
     :func:`radau`, whose results equal this one's where both apply.
 
     The loop works on borrowed views (:mod:`nsdyn._kborrow`) of the arrays it owns and of its
-    arguments, and returns its owned ``stats, rinfo``: bit for bit the same run, without the
-    ~480 atomic reference-count updates per step of passing ~40 arrays around.
+    arguments: bit for bit the same run, without the ~480 atomic reference-count updates per
+    step of passing ~40 arrays around. It returns nothing (the results are in ``owned`` and
+    ``X``); :func:`radau_flat` allocates nothing and is compiled without reference counts
+    (:data:`nsdyn._kaddress.NO_NRT`).
     """
     nt = t_eval.shape[0]
-    stats_own, rinfo_own, ws_own, y_own, f_own, lam_own = owned
+    stats_own, rinfo_own, ws_own, y_own, f_own, lam_own, ctl_own = owned
     if not flat:
         ws_own[22][kf.H_OK] = 0.0
     ws = kb.borrowed(ws_own)
@@ -442,16 +446,15 @@ def _loop(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode
     stats, rinfo = kb.borrowed((stats_own, rinfo_own))
     P = kb.borrowed(P)
     t_eval, atol, X, upl_t = kb.borrowed((t_eval, atol, X, upl_t))
+    ctl = kb.borrowed(ctl_own)
     t = t_eval[0]
     t_end = t_eval[-1]
-    iout, ctl = ka.call(K, "radau.start", (
+    iout = ka.call(K, "radau.start", (
         P, y, f, t_eval, h0, max_step, atol, rtol, lam_old, X, upl_t, uplift_mode, ws, stats,
-        rinfo, K,
+        rinfo, ctl, K,
     ), _GENERAL)  # fmt: skip
     if iout < 0 or iout >= nt:
-        return stats_own, rinfo_own
-    ctl_own = ctl
-    ctl = kb.borrowed(ctl_own)
+        return
     ynew, fnew, Qd, lam = ws[15], ws[16], ws[17], ws[19]
     while iout < nt:
         t_lim = t_end if fixed else min(t_end, ki.next_kink(t, P))
@@ -471,7 +474,6 @@ def _loop(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode
             break
     rinfo[ki.R_HNEXT] = ctl[C_H]
     kb.alive((ws_own, y_own, f_own, lam_own, ctl_own))
-    return stats_own, rinfo_own
 
 
 def radau(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, flat):
@@ -493,8 +495,9 @@ def radau_general(
     """:func:`radau` with the flat parameter array ``F`` of ``P`` given: the general kernel's
     loop, its callees linked."""
     owned = setup(P, x0, t_eval, upl_t.shape[0], F)
-    return _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X,
-                upl_t, flat, None, owned)  # fmt: skip
+    _run(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, flat,
+         None, owned)  # fmt: skip
+    return owned[0], owned[1]
 
 
 # ---- the copies of the step, the start-up and the loop, each with its general kernel --------
@@ -517,11 +520,11 @@ start = njit(cache=True, error_model="numpy")(
 """The start-up (:func:`_start`) of the general kernel's loop (``K`` None: its callees called
 directly)."""
 
-start_flat = ka.compiled_only(ka.specialised(_start, "start_flat", _GENERAL=kc.flat_only))
+start_flat = ka.compiled_uncounted(ka.specialised(_start, "start_flat", _GENERAL=kc.flat_only))
 """The start-up with :func:`nsdyn.solve._kcolloc.flat_only` (the default loop's, called by
 address: a kernel argument would be in its declared type)."""
 
-radau_flat = njit(cache=True, error_model="numpy")(
+radau_flat = njit(cache=True, error_model="numpy", **ka.NO_NRT)(
     ka.specialised(_loop, "radau_flat", _GENERAL=kc.flat_only, _STEP=step_flat_inline)
 )
 """The default run's loop (:func:`_loop`): the flat kernel only, its callees by address."""

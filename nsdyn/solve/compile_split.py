@@ -106,13 +106,13 @@ def radau_callees() -> list:
     newton_args = (tP, f8, v, f8, v, vi, J, LUr, pr, LUc, pc, Z, W, F, dW, fr, fc, ys, iscale,
                    qdd, lam, tau, modes, Fl, b1)  # fmt: skip
     tK = types.int64[:, ::1]  # K itself (the start-up calls the flat kernels through it)
-    start_args = (tP, v, v, tte, f8, f8, tatol, f8, v, tX, tupl_t, i8, tws, vi, v, tK)
+    start_args = (tP, v, v, tte, f8, f8, tatol, f8, v, tX, tupl_t, i8, tws, vi, v, v, tK)
     sigs = {  # name: (argument types, return type), in the order of K (_kcolloc.K_FEVAL, ...)
         "radau.feval": ((f8, v, Fl, v, qdd, lam, tau, modes), b1),
         "radau.jac": ((v, Fl, J, lam), b1),
         "radau.factor": ((f8, J, LUr, pr, LUc, pc), b1),
         "radau.newton": (newton_args, types.Tuple((b1, i8, f8, b1, b1, f8))),
-        "radau.start": (start_args, types.Tuple((i8, v))),
+        "radau.start": (start_args, i8),
     }
     return [
         Callee(name, kernel, *sig)
@@ -184,10 +184,11 @@ def radau_flat(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift
         P = tuple(_declared_form(a) for a in P)
         x0, t_eval, atol = (_declared_form(a) for a in (x0, t_eval, atol))
     owned = _kradau.setup_here(P, x0, t_eval, upl_t.shape[0])
-    return _kradau.radau_flat(
+    _kradau.radau_flat(
         P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, True,
         radau_calls(), owned,
     )  # fmt: skip
+    return owned[0], owned[1]
 
 
 # the flat Radau loop's callees a helper compiles (radau_helper_part), in this order, the rest
@@ -256,8 +257,8 @@ def _event_args():
     a["stats"] = np.zeros(ki.N_STATS, dtype=np.int64)
     a["rinfo"] = np.zeros(ki.N_RINFO)
     a["lam_old"] = np.zeros(nc)
-    a["ew"] = (ws[12], np.empty(n2), ws[18], ws[19], ws[20], ws[21])
-    a["ctl"] = _py(_kradau.new_control)(1e-3, o.rtol)
+    scratch = _kunilateral.loop_arrays(n2, nc, P[ks.I_D].shape[0])[3:]
+    a["ew"] = (ws[12], np.empty(n2), ws[18], ws[19], ws[20], ws[21], *scratch)
     a["log"] = (np.zeros(1), np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64))
     a["logs"] = (a["log"], np.zeros((1, _kunilateral.CLOG_COLS)), np.zeros(1, dtype=np.int64),
                  np.zeros(1))  # fmt: skip
@@ -297,8 +298,8 @@ def event_callees() -> list:
         ),
         "event.start": (
             _kunilateral._start,
-            (P, v, v, te, f8, f8, atol, f8, v, X, upl_t, i8, ws, vi, v, tK),
-            types.Tuple((i8, v)),
+            (P, v, v, te, f8, f8, atol, f8, v, X, upl_t, i8, ws, vi, v, v, tK),
+            i8,
         ),
         "event.step": (
             _kunilateral._step,
@@ -444,8 +445,8 @@ def event_calls(flat: bool):
 # other's. The helper also takes the general metrics (which link the system kernel it compiles
 # first); this process the loop itself.
 EVENT_HELPER = ("sys.evaluate", "sys.jac", "sys.jac_at", "event.detect_friction",
-                "event.settle", "radau.factor", "event.accept")  # fmt: skip
-EVENT_HERE = ("radau.newton", "event.step", "event.start", "event.handle")
+                "radau.factor", "event.accept")  # fmt: skip
+EVENT_HERE = ("radau.newton", "event.step", "event.start", "event.handle", "event.settle")
 
 
 def _event_pieces() -> dict:
@@ -475,20 +476,28 @@ def event_helper_part_and_metrics() -> None:
     _event_part(EVENT_HELPER[1:])
 
 
-def event_parts_here(helper: Helper, metrics: str | None) -> None:
-    """This process's share before the loop runs: the callees named in :data:`EVENT_HERE`,
-    the loop itself (which needs none of its callees compiled) and the ``metrics`` (None when
-    the helper takes them); then wait for the helper's callees."""
+def compile_event_loop() -> None:
+    """The event loop alone (:func:`nsdyn.solve._kunilateral._run`), for the types of every
+    run: it calls its callees by address, so it needs none of them compiled."""
     a = _event_args()
-    _event_part(EVENT_HERE)
     owned = _kradau._owned(a["ws"], a["x0"], a["t_eval"], a["upl_t"].shape[0])
     o = a["o"]
     _compile(
         _kunilateral._run, a["P"], a["x0"], a["t_eval"], (o.atol, float(o.rtol)),
         (float(o.h0), float(o.max_step), int(o.max_steps)), np.zeros(1, dtype=np.int64),
         (True, False, 0), 0.0, a["X"], a["upl_t"], np.zeros((0, 1), dtype=np.int64),
-        a["logs"], owned, np.zeros((2, len(radau_callees())), dtype=np.int64),
+        a["logs"], owned,
+        _kunilateral.loop_arrays(a["x0"].size, a["upl_t"].size, a["P"][ks.I_D].shape[0]),
+        np.zeros((2, len(radau_callees())), dtype=np.int64),
     )  # fmt: skip
+
+
+def event_parts_here(helper: Helper, metrics: str | None) -> None:
+    """This process's share before the loop runs: the callees named in :data:`EVENT_HERE`,
+    the loop itself (which needs none of its callees compiled) and the ``metrics`` (None when
+    the helper takes them); then wait for the helper's callees."""
+    _event_part(EVENT_HERE)
+    compile_event_loop()
     metrics_here(metrics)
     by_name = _event_pieces()
     helper.wait_for([by_name[n].kernel for n in EVENT_HELPER])

@@ -370,18 +370,9 @@ def test_event_loop_compiles_without_its_callees(tmp_path):
     # a fresh process with an empty cache compiles the event loop alone: none of its callees
     # (in the table or in K) is compiled with it, and no callee's code is linked into it
     code = (
-        "import numpy as np\n"
-        "from numba import config\n"
-        "from nsdyn import _kaddress as ka\n"
-        "from nsdyn.solve import compile_split as cs, _kradau as kr, _kunilateral as ku\n"
+        "from nsdyn.solve import compile_split as cs, _kunilateral as ku\n"
         "cs.event_callees()\n"
-        "a = cs._event_args()\n"
-        "o = a['o']\n"
-        "owned = kr._owned(a['ws'], a['x0'], a['t_eval'], a['upl_t'].shape[0])\n"
-        "cs._compile(ku._run, a['P'], a['x0'], a['t_eval'], (o.atol, float(o.rtol)),\n"
-        "    (float(o.h0), float(o.max_step), int(o.max_steps)), np.zeros(1, np.int64),\n"
-        "    (True, False, 0), 0.0, a['X'], a['upl_t'], np.zeros((0, 1), np.int64), a['logs'],\n"
-        "    owned, np.zeros((2, 5), np.int64))\n"
+        "cs.compile_event_loop()\n"
         "lib = next(iter(ku._run.overloads.values())).library\n"
         "linked = {l.name for l in getattr(lib, '_linking_libraries', ())}\n"
         "for k in ku.kernels(True, True, True)[1:]:\n"

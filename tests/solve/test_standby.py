@@ -37,17 +37,18 @@ def test_cache_folder_is_where_numba_keeps_the_kernels():
     # numba's own cache locator, read back from a cached kernel of the package
     from nsdyn.solve import _kradau
 
-    assert nc.cache_folder(_kradau.__file__) == Path(_kradau.new_control._cache._cache_path)
+    assert nc.cache_folder(_kradau.__file__) == Path(_kradau.restart._cache._cache_path)
 
 
 PROBE = (
     "from pathlib import Path\n"
+    "import numpy as np\n"
     "from nsdyn import _numba_cache as nc\n"
     "from nsdyn.solve import _kradau\n"
     "f = Path(nc.__file__).parent / 'solve' / '__init__.py'\n"
     "before = nc.never_compiled(f)\n"
-    "same = nc.cache_folder(f) == Path(_kradau.new_control._cache._cache_path)\n"
-    "_kradau.new_control(1e-3, 1e-6)\n"
+    "same = nc.cache_folder(f) == Path(_kradau.restart._cache._cache_path)\n"
+    "_kradau.restart(np.zeros(_kradau.N_CTL))\n"
     "print(before, same, nc.never_compiled(f))\n"
 )
 
