@@ -25,10 +25,8 @@ def _counts():
 
 @pytest.fixture
 def nrt_stats():
-    from numba.core.runtime import _nrt_python
+    from numba.core.runtime import _nrt_python  # the statistics' switch (numba >= 0.57)
 
-    if not hasattr(_nrt_python, "memsys_enable_stats"):
-        pytest.skip("this numba has no switch for its allocation statistics")
     was = _nrt_python.memsys_stats_enabled()
     _nrt_python.memsys_enable_stats()
     yield
