@@ -4,11 +4,14 @@ pivoting and the pseudo-inverse of a few constraint rows.
 ``P A = L U`` factored in place (unit-diagonal L below, U on and above the diagonal, row
 swaps in ``piv``), then ``A x = b`` solved by forward and back substitution. Real or complex
 matrices (numba compiles one version per type); vectors or blocks of columns on the right.
-:func:`pinv_small` gives the minimum-norm solution of redundant constraints.
+:func:`solve_small` solves a few constraint rows in place, :func:`pinv_small` (or
+:func:`pinv_into`, which allocates nothing) gives the minimum-norm solution of redundant ones.
 """
 
 import numpy as np
 from numba import njit
+
+from nsdyn._kaddress import NO_NRT
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -231,13 +234,61 @@ def copy_mat(dst, src):
             dst[i, j] = src[i, j]
 
 
+@njit(cache=True, error_model="numpy", **NO_NRT)
+def solve_small(A, y, m):
+    """Solve A[:m, :m] y = y[:m] in place (Gaussian elimination, partial pivoting), for the
+    constraint forces of the system kernel (nsdyn.models.isolated._kernel).
+
+    ``A`` is overwritten by its factors. Returns False when A is (numerically) singular: a pivot
+    at most 1e-14 times the largest entry. Allocates nothing (NO_NRT).
+    """
+    scale = 0.0
+    for i in range(m):
+        for j in range(m):
+            scale = max(scale, abs(A[i, j]))
+    if scale == 0.0 and m > 0:
+        return False
+    for k in range(m):
+        p = k
+        for i in range(k + 1, m):
+            if abs(A[i, k]) > abs(A[p, k]):
+                p = i
+        if abs(A[p, k]) <= 1e-14 * scale:
+            return False
+        if p != k:
+            for j in range(m):
+                A[k, j], A[p, j] = A[p, j], A[k, j]
+            y[k], y[p] = y[p], y[k]
+        for i in range(k + 1, m):
+            f = A[i, k] / A[k, k]
+            for j in range(k, m):
+                A[i, j] -= f * A[k, j]
+            y[i] -= f * y[k]
+    for k in range(m - 1, -1, -1):
+        s = y[k]
+        for j in range(k + 1, m):
+            s -= A[k, j] * y[j]
+        y[k] = s / A[k, k]
+    return True
+
+
 PINV_RCOND = 1e-13  # singular values at most this x the largest count as zero (pinv_small)
 JACOBI_SWEEPS = 40  # most sweeps of pinv_small's rotations (a few suffice for small m)
 
 
 @njit(cache=True, error_model="numpy")
 def pinv_small(A, m):
-    """The Moore-Penrose pseudo-inverse of ``A[:m, :m]`` (a new m x m array).
+    """The Moore-Penrose pseudo-inverse of ``A[:m, :m]`` (a new m x m array; :func:`pinv_into`)."""
+    out = np.empty((m, m))
+    pinv_into(A, m, out, np.empty((m, m)), np.empty((m, m)), np.empty(m))
+    return out
+
+
+@njit(cache=True, error_model="numpy", **NO_NRT)
+def pinv_into(A, m, out, U, V, s2):
+    """``out[:m, :m]`` = the Moore-Penrose pseudo-inverse of ``A[:m, :m]`` (all NaN when ``A``
+    holds a non-finite entry), with ``U``, ``V`` (at least m x m) and ``s2`` (m) as scratch:
+    allocates nothing (:data:`nsdyn._kaddress.NO_NRT`).
 
     One-sided Jacobi SVD (Hestenes): plane rotations ``V`` of the columns of ``U = A`` until
     every pair is orthogonal to working precision, so ``A V = U`` with the column norms of
@@ -248,14 +299,19 @@ def pinv_small(A, m):
     the callers' m <= ~10, and a few lines where LAPACK's SVD through numba compiled
     for seconds.
     """
-    U = np.empty((m, m))
-    V = np.zeros((m, m))
     for i in range(m):
-        V[i, i] = 1.0
         for j in range(m):
+            out[i, j] = 0.0
+            V[i, j] = 0.0
             U[i, j] = A[i, j]
+        V[i, i] = 1.0
+    for i in range(m):
+        for j in range(m):
             if not np.isfinite(A[i, j]):
-                return np.full((m, m), np.nan)  # no pseudo-inverse: NaN, for the caller's check
+                for r in range(m):
+                    for c in range(m):
+                        out[r, c] = np.nan  # no pseudo-inverse: NaN, for the caller's check
+                return
     eps = 2.220446049250313e-16
     for _ in range(JACOBI_SWEEPS):
         rotated = False
@@ -287,7 +343,6 @@ def pinv_small(A, m):
                     V[k, q] = s * vp + c * vq
         if not rotated:
             break
-    s2 = np.empty(m)
     smax = 0.0
     for j in range(m):
         acc = 0.0
@@ -295,7 +350,6 @@ def pinv_small(A, m):
             acc += U[k, j] * U[k, j]
         s2[j] = acc
         smax = max(smax, np.sqrt(acc))
-    out = np.zeros((m, m))
     cut = PINV_RCOND * smax
     for j in range(m):
         if not np.sqrt(s2[j]) > cut:
@@ -305,4 +359,3 @@ def pinv_small(A, m):
             vr = V[r, j] * w
             for c in range(m):
                 out[r, c] += vr * U[c, j]
-    return out

@@ -172,7 +172,7 @@ def frame_flat(t, x, F, out):
                 F[o_lam + a] += gdi * F[o_l0 + i]
             elif i < nc:
                 F[o_g + a * nc + i] -= gdi
-    # LU of G with partial pivoting (the pivot floor of _kernel._lu_small), then lam
+    # LU of G with partial pivoting (the pivot floor of nsdyn._klinalg.solve_small), then lam
     if not lu_factor_flat(F, o_g, nc, o_piv, G_RTOL):
         return False
     lu_solve_flat(F, o_g, o_piv, nc, F, o_lam, 1, 1)

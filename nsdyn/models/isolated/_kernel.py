@@ -29,7 +29,8 @@ Unknowns ``y = [lam, tau_stuck]`` come from a small dense solve ``G y = -(C a0 +
 import numpy as np
 from numba import njit
 
-from nsdyn._klinalg import copy_vec, pinv_small
+from nsdyn._kaddress import NO_NRT
+from nsdyn._klinalg import copy_vec, pinv_into, solve_small
 
 # ---- layout of the parameter tuple P -------------------------------------------------------
 I_MIK = 0  # M^-1 K*           (n, n)
@@ -100,42 +101,6 @@ def contact_open(P, k):
     return k < P[I_OPEN].shape[0] and P[I_OPEN][k] != 0
 
 
-@njit(cache=True, error_model="numpy")
-def _lu_small(A, y, m):
-    """Solve A[:m, :m] y = y[:m] in place (Gaussian elimination, partial pivoting).
-
-    ``A`` is overwritten by its factors. Returns False when A is (numerically) singular.
-    """
-    scale = 0.0
-    for i in range(m):
-        for j in range(m):
-            scale = max(scale, abs(A[i, j]))
-    if scale == 0.0 and m > 0:
-        return False
-    for k in range(m):
-        p = k
-        for i in range(k + 1, m):
-            if abs(A[i, k]) > abs(A[p, k]):
-                p = i
-        if abs(A[p, k]) <= 1e-14 * scale:
-            return False
-        if p != k:
-            for j in range(m):
-                A[k, j], A[p, j] = A[p, j], A[k, j]
-            y[k], y[p] = y[p], y[k]
-        for i in range(k + 1, m):
-            f = A[i, k] / A[k, k]
-            for j in range(k, m):
-                A[i, j] -= f * A[k, j]
-            y[i] -= f * y[k]
-    for k in range(m - 1, -1, -1):
-        s = y[k]
-        for j in range(k + 1, m):
-            s -= A[k, j] * y[j]
-        y[k] = s / A[k, k]
-    return True
-
-
 @njit(cache=True, error_model="numpy", inline="always")
 def _direction(v, law, eps):
     """Friction direction s(v) and its slope ds/dv for the smooth laws."""
@@ -149,14 +114,25 @@ def _direction(v, law, eps):
 # ---- scratch space ------------------------------------------------------------------------
 # The kernels evaluate the right-hand side ~1e5 times per run; they allocate nothing but work
 # in P[I_WORK], a float64 buffer sized by :func:`work_size` (so one P must not be used by two
-# threads at once; processes each have their own copy).
+# threads at once; processes each have their own copy). Allocating nothing, the system kernel
+# and its Jacobian are compiled without numba's reference counts (NO_NRT, see
+# :mod:`nsdyn._kaddress`): about half of their unoptimised code was that counting.
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _solve_size(n, nc, ni):
+    """Length of the solve's blocks of P[I_WORK] (:func:`_views`), where the Jacobian's start."""
+    mm = max(nc + ni, 1)
+    return n + 2 * mm * n + 3 * mm + 4 * ni + 2 * mm * mm
 
 
 @njit(cache=True, error_model="numpy")
 def work_size(n, nc, ni):
-    """Length of the scratch buffer P[I_WORK] for n dofs, nc contacts, ni isolators."""
+    """Length of the scratch buffer P[I_WORK] for n dofs, nc contacts, ni isolators: the
+    solve's blocks (:func:`_views`), then the Jacobian's and the pseudo-inverse's
+    (:func:`_jac_views`)."""
     mm = max(nc + ni, 1)
-    return n + 2 * mm * n + 5 * mm + 4 * ni + 2 * mm * mm
+    return _solve_size(n, nc, ni) + 3 * mm * n + 4 * mm * mm + 2 * mm
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -194,7 +170,36 @@ def _views(P):
     return a0, B, Cr, b, y, rhs_, s, ds, v, stuck, G, G2
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
+def _jac_views(P):
+    """(BG (n, mm), CJ (mm, 2n), Gt, Gp, U, V (mm, mm), col, s2 (mm,)) of P[I_WORK] after the
+    solve's blocks: the Jacobian's B^T G^-1 and C J, the transposed G it factors, and the
+    pseudo-inverse of G with its scratch (:func:`nsdyn._klinalg.pinv_into`)."""
+    W = P[I_WORK]
+    n = P[I_MIK].shape[0]
+    nc = P[I_R].shape[0]
+    ni = P[I_D].shape[0]
+    mm = max(nc + ni, 1)
+    o = _solve_size(n, nc, ni)
+    BG = W[o : o + mm * n].reshape((n, mm))
+    o += mm * n
+    CJ = W[o : o + 2 * mm * n].reshape((mm, 2 * n))
+    o += 2 * mm * n
+    sq = W[o : o + 4 * mm * mm].reshape((4, mm, mm))
+    o += 4 * mm * mm
+    vec = W[o : o + 2 * mm].reshape((2, mm))
+    return BG, CJ, sq[0], sq[1], sq[2], sq[3], vec[0], vec[1]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _pinv(G, m, P):
+    """The pseudo-inverse of G[:m, :m] in P[I_WORK] (:func:`_jac_views`' Gp)."""
+    _BG, _CJ, _Gt, Gp, U, V, _col, s2 = _jac_views(P)
+    pinv_into(G, m, Gp, U, V, s2)
+    return Gp
+
+
+@njit(cache=True, error_model="numpy", **NO_NRT)
 def _assemble(t, x, P, s, stuck, a0, Bt, Crow, b):
     """Fill a0 (n,), Bt = B^T (m, n), constraint rows Crow (m, n), b (m,) for given directions.
 
@@ -272,11 +277,11 @@ def _solve(t, x, P, qdd, ws):
     for k in range(P[I_R].shape[0]):
         if contact_open(P, k):
             G[k, k] = G2[k, k] = 1.0
-    ok = _lu_small(G2, y, m)
+    ok = solve_small(G2, y, m)
     if not ok:
         # redundant constraints (e.g. two isolators sticking on one rigid base): the split of
-        # the constraint forces is indeterminate; take the minimum-norm one (allocates; rare)
-        Gp = pinv_small(G, m)
+        # the constraint forces is indeterminate; take the minimum-norm one (rare)
+        Gp = _pinv(G, m, P)
         ok = True
         for i in range(m):
             acc = 0.0
@@ -292,7 +297,7 @@ def _solve(t, x, P, qdd, ws):
     return m, ok
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **NO_NRT)
 def _directions(x, P, ws):
     """Set s, ds, stuck in ``ws`` from the law and the sliding velocities of state ``x``."""
     a0, B, Cr, b, y, rhs_, s, ds, v, stuck, G, G2 = ws
@@ -326,7 +331,7 @@ def _directions(x, P, ws):
                 stuck[i] = 1.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **NO_NRT)
 def evaluate(t, x, P, qdd, lam, tau, modes):
     """Full evaluation at a state: accelerations, normal forces, friction forces and modes.
 
@@ -337,7 +342,8 @@ def evaluate(t, x, P, qdd, lam, tau, modes):
     tau : ndarray, shape (ni,)       -- out: friction force of each isolator (acting on the
                                         structure as -D_i^T tau_i), stick or slip
     modes : int64 ndarray, (ni,)     -- out: +1/-1 slip direction, 0 stick
-    Returns ok (False if the constraint system is singular). Allocation-free (uses P[I_WORK]).
+    Returns ok (False if the constraint system is singular). Allocation-free (uses P[I_WORK]),
+    so compiled without reference counts (NO_NRT).
     """
     ni = P[I_D].shape[0]
     nc = P[I_R].shape[0]
@@ -419,7 +425,7 @@ def jac(t, x, P, J):
     jac_at(t, x, P, J, lam, modes)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **NO_NRT)
 def jac_at(t, x, P, J, lam, modes):
     """:func:`jac` once :func:`evaluate` at (t, x) left ``lam``, ``modes`` and its workspace
     (apart, a caller may evaluate by address: nsdyn.solve._kcommon.jac_table)."""
@@ -469,16 +475,14 @@ def jac_at(t, x, P, J, lam, modes):
         if contact_open(P, k):
             G[k, k] = 1.0
     # BG = B^T G^-1 (n, m): solve G^T BG^T = B row by row of B^T
-    BG = np.empty((n, m))
-    Gt = np.empty((m, m))
-    col = np.empty(m)
+    BG, CJ, Gt, _Gp, _U, _V, col, _s2 = _jac_views(P)
     for r in range(n):
         for i in range(m):
             col[i] = B[i, r]
             for j in range(m):
                 Gt[i, j] = G[j, i]
-        if not _lu_small(Gt, col, m):
-            Gp = pinv_small(G, m)  # BG = B^T G+
+        if not solve_small(Gt, col, m):
+            Gp = _pinv(G, m, P)  # BG = B^T G+
             for rr in range(n):
                 for k in range(m):
                     acc = 0.0
@@ -489,7 +493,6 @@ def jac_at(t, x, P, J, lam, modes):
         for k in range(m):
             BG[r, k] = col[k]
     # projector (I - B G^-1 C) on the unconstrained rows: J[n:, :] -= BG (C J[n:, :])
-    CJ = np.empty((m, 2 * n))
     for k in range(m):
         for c in range(2 * n):
             acc = 0.0
