@@ -240,7 +240,11 @@ def solve_small(A, y, m):
     constraint forces of the system kernel (nsdyn.models.isolated._kernel).
 
     ``A`` is overwritten by its factors. Returns False when A is (numerically) singular: a pivot
-    at most 1e-14 times the largest entry. Allocates nothing (NO_NRT).
+    at most 1e-14 times the largest entry. Allocates nothing (NO_NRT). Not :func:`lu_factor`
+    with :func:`lu_solve`: this one eliminates the right-hand side with the rows and forms each
+    multiplier by a division where lu_factor multiplies by the pivot's reciprocal, so its
+    round-off differs, and the switch model's histories (stick-slip magnifies a last bit) were
+    measured and published with it.
     """
     scale = 0.0
     for i in range(m):
