@@ -227,7 +227,15 @@ def _spawn(code: str, *argv: str, stdin=None):
 
 
 def helper_main(argv: list[str]) -> int:
-    """What a :class:`Helper` process runs: ``argv = ["module:function"]``."""
+    """What a :class:`Helper` process runs: ``argv = ["module:function"]``.
+
+    Its kernels are in the cache when ``function`` returns; the process then only ends, and
+    the calling process waits for that (:meth:`Helper.close`). So every object left is moved
+    out of the garbage collector's reach first (:func:`gc.freeze`), as the ``nsdyn`` script
+    does for itself (:func:`nsdyn.cli.app.script`): the interpreter's last collections would
+    otherwise traverse all that numba's compilation left behind, and the calling process sat
+    idle for it (0.4-1.0 s of a first run in a slow hour, 0-0.2 s with the objects frozen;
+    docs/dev/first-runs.md)."""
     import importlib
 
     if len(argv) != 1 or ":" not in argv[0]:
@@ -236,6 +244,7 @@ def helper_main(argv: list[str]) -> int:
     fn = getattr(importlib.import_module(module), name)
     with compiling():
         fn()
+    gc.freeze()
     return 0
 
 

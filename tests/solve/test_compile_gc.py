@@ -51,3 +51,15 @@ def test_cyclic_garbage_made_while_compiling_is_collected_afterwards(default_gc)
         del a, b
     gc.collect()
     assert probe() is None
+
+
+def test_a_helper_ends_with_its_objects_out_of_the_collectors_reach(default_gc):
+    """A helper process only exits after its target: what its compilation left is frozen
+    (:func:`gc.freeze`) so that the interpreter's last collections, which the calling process
+    waits for, do not traverse it; the target itself still ran with the thresholds restored
+    after it."""
+    from nsdyn._numba_cache import helper_main
+
+    assert helper_main(["gc:collect"]) == 0
+    assert gc.get_freeze_count() > 0
+    assert gc.get_threshold() == default_gc
