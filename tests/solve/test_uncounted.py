@@ -1,7 +1,10 @@
 """Kernels compiled without reference counts (``nsdyn._kaddress.NO_NRT``).
 
 The default Radau loop and the event loop, with their step, start-up, Newton and event
-kernels, and the sweep's step are compiled without numba's reference counting: they must
+kernels, the sweep's step, and the deck's two time loops (Dormand–Prince under the switch law,
+with its settling and mode switch; Radau IIA under the regularised law, with a triple friction
+pendulum's internal slips) with the deck's force kernel are compiled without numba's
+reference counting: they must
 allocate no array and keep none that a counted callee returns, since nothing would free it.
 numba's runtime counts every allocation and free of compiled code (its NRT statistics): over a
 run, after the one that compiled the kernels, the two counts must grow alike. The histories
@@ -44,6 +47,20 @@ def _run(case: str) -> None:
     from nsdyn.periodic import frame_problem, shoot
     from nsdyn.solve.integrate import solve
 
+    if case.startswith("deck"):  # a deck on four pendulums: stick, break-away, settling
+        import tomllib
+        from pathlib import Path
+
+        from nsdyn.models.isolated import deck_scene as ds
+        from nsdyn.models.isolated.deck import simulate_plane
+
+        name, law = ("deck-tfp4-3c", "arctan") if case == "deck-tfp" else ("deck-fps4-3c", "switch")
+        path = Path(__file__).parents[2] / "examples" / "scenes" / f"{name}.toml"
+        cfg = tomllib.loads(path.read_text())
+        system, (motion, _) = ds.build_system(cfg, name), ds.build_motion(cfg, name)
+        r = simulate_plane(system, motion, law=law, t_end=1.5)
+        assert r.stats["steps"] > 0 and (law == "arctan" or r.stats["events"] > 0)
+        return
     frame, _ = build_scene(load_scene(None))
     if case == "sweep":  # the period map's step
         assert shoot(frame_problem(frame, 0.5), 2.0).converged
@@ -67,7 +84,7 @@ def _run(case: str) -> None:
 
 
 @pytest.mark.skipif(not JIT, reason="no compiled code under NUMBA_DISABLE_JIT")
-@pytest.mark.parametrize("method", ["radau", "event", "unilateral", "sweep"])
+@pytest.mark.parametrize("method", ["radau", "event", "unilateral", "sweep", "deck", "deck-tfp"])
 def test_a_run_frees_every_array_compiled_code_allocates(nrt_stats, method):
     _run(method)  # compiles (or loads) the kernels, fills the process's caches
     gc.collect()

@@ -496,4 +496,5 @@ def start_direction(i, tx, ty, mu_n, ws, dirs):
         for b in range(2):
             if not math.isfinite(Am[a, b]):
                 Am[a, b] = 0.0
-    kp.start_direction(np.int64(0), tx, ty, mu_n, Am, np.zeros((1, 2)), dirs[i:])
+    kp.start_direction(np.int64(0), tx, ty, mu_n, Am, np.zeros((1, 2)), dirs[i:],
+                       np.empty((3, 3)), np.zeros(3, dtype=np.int64), np.empty((2, 3)))  # fmt: skip

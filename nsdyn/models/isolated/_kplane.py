@@ -46,6 +46,7 @@ import numpy as np
 from numba import njit
 
 from nsdyn import _kaddress as ka
+from nsdyn._kaddress import NO_NRT
 from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn._numba_cache import drop_stale
 from nsdyn.models.isolated._kplaneground import (  # noqa: F401 (the loops' and packers' names)
@@ -125,15 +126,24 @@ def slip_kinematics(y, pos, i):
     return (y[0] - Y * y[2], y[1] + X * y[2], y[3] - Y * y[5], y[4] + X * y[5])
 
 
-@njit(cache=True, error_model="numpy")
 def workspace(ni):
-    """Work arrays of :func:`evaluate` (made once per run); the last, (ni, 8), receives the
+    """Work arrays of :func:`evaluate` (made once per run, in Python: the loops allocate
+    nothing); the last, (ni, 8), receives the
     rates of the triple friction pendulums' internal slips, the (ni,) one the pressure factors
     of the friction at the last evaluation, the last (ni,) the compression flags (1: N_i
-    carries its normal-force terms, 0: tensile under a bilateral contact)."""
+    carries its normal-force terms, 0: tensile under a bilateral contact). After those: the
+    scratch of :func:`start_direction` (a 3 × 3 factor, its pivots, two 3-vectors) and the
+    switch law's re-stick candidates (ni,) of its settling."""
     return (np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((5, 5)), np.zeros(5),
             np.zeros(5, dtype=np.int64), np.zeros((ni, 3)), np.zeros(ni), np.zeros((ni, 2)),
-            np.zeros(3), np.zeros(3), np.zeros((ni, 8)), np.ones(ni), np.ones(ni))  # fmt: skip
+            np.zeros(3), np.zeros(3), np.zeros((ni, 8)), np.ones(ni), np.ones(ni),
+            np.zeros((3, 3)), np.zeros(3, dtype=np.int64), np.zeros((2, 3)),
+            np.zeros(ni, dtype=np.bool_))  # fmt: skip
+
+
+def forces(ni):
+    """The evaluation's outputs ``out = (qdd, N, Ff, Fr, Fo)`` for ``ni`` isolators."""
+    return (np.zeros(3), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
 
 
 @njit(cache=True, error_model="numpy")
@@ -201,7 +211,7 @@ def tfp_force(y, bp, i, ux, uy, sd):
     return px, py
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **NO_NRT)
 def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo):
     """:func:`evaluate_pressure`; a bilateral contact's tensile set (ws[12]) re-evaluated
     until it is N_i <= 0 (a set still changing after TENSION_PASSES, N_i ≈ 0, is kept)."""
@@ -247,7 +257,7 @@ def tension_flags(N, on):
     return changed
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **NO_NRT)
 def evaluate_pressure(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr,
                       Fo):  # fmt: skip
     """q̈ and the isolator forces at (t, y): normal forces N (ni,), resisting friction Ff
@@ -298,10 +308,10 @@ def damper_and_rim(bp, i, ux, uy, vx, vy):
     return ox, oy
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **NO_NRT)
 def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo):
     """:func:`evaluate` with the friction coefficients scaled by the pressure factors ws[11]."""
-    Am, A3, K5, r5, piv, n1, n0, cN, fv, ag, sd, pf, on = ws
+    Am, A3, K5, r5, piv, n1, n0, cN, fv, ag, sd, pf, on = ws[:13]
     ni = pos.shape[0]
     ground(t, gk, gp, tab, ag)
     m = sp[S_M]
@@ -462,7 +472,7 @@ def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, 
     return ST_OK
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **NO_NRT)
 def rhs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, dy):
     """First-order right-hand side dy = [q̇, q̈, ṡ] (ṡ: the internal slips of triple friction
     pendulums, after [q, q̇], when y has them); ``out = (qdd, N, Ff, Fr, Fo)`` filled."""
@@ -481,8 +491,8 @@ def rhs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, dy):
     return st
 
 
-@njit(cache=True, error_model="numpy")
-def start_direction(i, tx, ty, mu_n, Am, pos, dirs):
+@njit(cache=True, error_model="numpy", **NO_NRT)
+def start_direction(i, tx, ty, mu_n, Am, pos, dirs, A3, piv, C):
     """Direction d_i in which a stuck isolator starts to slip when its stick force
     τ = (tx, ty) leaves the disc: the one in which it then accelerates (maximum dissipation).
 
@@ -490,14 +500,13 @@ def start_direction(i, tx, ty, mu_n, Am, pos, dirs):
     deck's matrix ``Am`` of :func:`evaluate` with isolator i stuck); a ∥ d, a·d > 0 gives
     d = (λ W⁻¹ + μN I)⁻¹ τ with the λ >= 0 that makes |d| = 1 (|d| falls monotonically from
     |τ|/μN > 1 at λ = 0), found by bisection. A single mass (W = I/m) gives d = τ/|τ|.
-    Writes ``dirs[i]``."""
+    Writes ``dirs[i]``; ``A3`` (3 × 3), ``piv`` (3,) and ``C`` (2, 3) are its scratch."""
     X = pos[i, 0]
     Y = pos[i, 1]
-    A3 = np.empty((3, 3))
     for a in range(3):
+        piv[a] = 0
         for b in range(3):
             A3[a, b] = Am[a, b]
-    piv = np.zeros(3, dtype=np.int64)
     tn = math.sqrt(tx * tx + ty * ty)
     if tn == 0.0:  # (no stick force, an unloaded isolator: any direction, its friction is 0)
         dirs[i, 0] = 1.0
@@ -507,8 +516,10 @@ def start_direction(i, tx, ty, mu_n, Am, pos, dirs):
         dirs[i, 0] = tx / tn
         dirs[i, 1] = ty / tn
         return
-    cx = np.array([1.0, 0.0, -Y])
-    cy = np.array([0.0, 1.0, X])
+    cx = C[0]
+    cy = C[1]
+    cx[0], cx[1], cx[2] = 1.0, 0.0, -Y
+    cy[0], cy[1], cy[2] = 0.0, 1.0, X
     lu_solve(A3, piv, cx)
     lu_solve(A3, piv, cy)
     w11 = cx[0] - Y * cx[2]  # W = B A⁻¹ Bᵀ

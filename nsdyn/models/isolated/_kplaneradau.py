@@ -32,6 +32,7 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn._kaddress import NO_NRT
 from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplanerun as kr
@@ -55,7 +56,7 @@ NEWTON_MAXITER = 8
 NEWTON_TOL = 0.1  # scaled Newton correction accepted (RADAU5's kappa * tol, with tol ~ 1)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **NO_NRT)
 def _dense(y, Z, s, ys):
     """Collocation polynomial at t + s h through (0, 0), (c_1, Z_1), (c_2, Z_2), (1, Z_3)."""
     l1 = s * (s - C2) * (s - 1.0) / (C1 * (C1 - C2) * (C1 - 1.0))
@@ -65,7 +66,7 @@ def _dense(y, Z, s, ys):
         ys[k] = y[k] + l1 * Z[0, k] + l2 * Z[1, k] + l3 * Z[2, k]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **NO_NRT)
 def _locate_stops(t, hh, s_end, y, Z, ys, pos, bp, stops):
     """First rim contacts inside a step on its collocation polynomial, as
     :func:`nsdyn.models.isolated._kplanerun._locate_stops` does on the Dormand–Prince one."""
@@ -91,11 +92,12 @@ def _locate_stops(t, hh, s_end, y, Z, ys, pos, bp, stops):
             sa = sb
 
 
-@njit(cache=True, error_model="numpy")
-def _tfp_columns(y, pos, bp, J, sd):
+@njit(cache=True, error_model="numpy", **NO_NRT)
+def _tfp_columns(y, pos, bp, J, sd, base):
     """Jacobian columns of the internal slips of elements 2-4 of every triple pendulum: the
     deck's rows (q̇, q̈) from element 1's column (the force depends on Σ_k s_k), its own
-    internal rows by forward differences of its flow alone, zero for the other bearings."""
+    internal rows by forward differences of its flow alone, zero for the other bearings
+    (``base`` (8,): scratch)."""
     n = y.shape[0]
     for i in range(pos.shape[0]):
         if bp[i, B_KIND] != KIND_TFP:
@@ -103,7 +105,6 @@ def _tfp_columns(y, pos, bp, J, sd):
         o = int(bp[i, B_IOFF])
         ux, uy, _, _ = kp.slip_kinematics(y, pos, i)
         kp.tfp_force(y, bp, i, ux, uy, sd)
-        base = np.empty(8)
         for m in range(8):
             base[m] = sd[i, m]
         for j in range(o + 2, o + 8):
@@ -121,37 +122,21 @@ def _tfp_columns(y, pos, bp, J, sd):
             sd[i, m] = base[m]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **NO_NRT)
 def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
-              X, NO, FF, FR, FO, MO, EV, stops, info):  # fmt: skip
+              X, NO, FF, FR, FO, MO, EV, stops, info, ws, out, S):  # fmt: skip
     """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
     (the codes of :mod:`nsdyn.models.isolated._kplanerun`). The state is [q, q̇] and the
-    internal slips of triple friction pendulums, if any (y0's length)."""
+    internal slips of triple friction pendulums, if any (y0's length). ``ws, out, S``: its
+    scratch (:func:`nsdyn.models.isolated.deck_compile.loop_arrays`)."""
     n = y0.shape[0]
     ni = pos.shape[0]
-    ws = kp.workspace(ni)
-    out = (np.zeros(3), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
     N = out[1]
-    y = np.zeros(n)
-    ys = np.zeros(n)
-    f0 = np.zeros(n)
-    f1 = np.zeros(n)
-    J = np.zeros((n, n))
-    Z = np.zeros((3, n))
-    F = np.zeros((3, n))
-    r1 = np.zeros(n)
-    rc = np.zeros(n, dtype=np.complex128)
-    EC = np.zeros((n, n), dtype=np.complex128)
-    pc = np.zeros(n, dtype=np.int64)
-    LE = np.zeros((n, n))
-    pe = np.zeros(n, dtype=np.int64)
-    err = np.zeros(n)
-    sc = np.zeros(n)
-    ynew = np.zeros(n)
+    y, ys, f0, f1, J, Z, F, r1, rc, EC, pc, LE, pe, err, sc, ynew, copied, sdw, yp, Zp, base = S
     # a triple pendulum's force depends on its internal slips through their sum only: the
     # deck's rows of the columns of its elements 2-4 are those of element 1 (copied)
-    copied = np.zeros(n, dtype=np.bool_)
-    sdw = np.zeros((ni, 8))
+    for j in range(n):
+        copied[j] = False
     for i in range(ni):
         if bp[i, B_KIND] == KIND_TFP:
             o = int(bp[i, B_IOFF])
@@ -183,8 +168,6 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
     f0_ready = False
     en_old = 0.0
     have_prev = False
-    yp = np.zeros(n)
-    Zp = np.zeros((3, n))
     hp = 1.0
     lu_h = -1.0
     ok = False
@@ -237,7 +220,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                     J[k, j] = (f1[k] - f0[k]) / d
                 nfev += 1
             if n > 6:
-                _tfp_columns(y, pos, bp, J, sdw)
+                _tfp_columns(y, pos, bp, J, sdw, base)
             need_jac = False
             jac_here = True
             lu_h = -1.0

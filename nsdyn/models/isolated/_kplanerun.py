@@ -78,7 +78,7 @@ I_NSTEP, I_NREJ, I_NFEV, I_NEV, I_TFAIL, I_IFAIL, I_NOUT, I_TTEN, I_NTEN, I_NMIN
 N_INFO = 11  # (I_IFAIL: uplift's / first tensile isolator; I_EIMP: landings' energy change)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
     """Switching functions (ni, 3) at (t, y); stuck isolators (and a bilateral contact's
     normal forces, column 2) need one evaluation."""
@@ -111,7 +111,7 @@ def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
     return st
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def _crossed(g0, g):
     for i in range(g.shape[0]):
         for k in range(g.shape[1]):
@@ -120,13 +120,13 @@ def _crossed(g0, g):
     return False
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def _dense_state(rc, s, ys):
     for i in range(ys.shape[0]):
         ys[i] = dp.dense(rc, i, s)
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
     """Release stuck isolators outside their disc, worst first; returns a status."""
     qdd, N, Ff, Fr, Fo = out
@@ -136,14 +136,17 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
             nst += 1
     if nst >= 2:  # a held deck: its slip-starts, stopped by the others, stick again if
         # their stick force falls below the kinetic level mu_d(0) N (1 - RESTICK_MARGIN)
-        cand = np.zeros(pos.shape[0], dtype=np.bool_)
+        cand = ws[16]
+        anyc = False
         for i in range(pos.shape[0]):
+            cand[i] = False
             if modes[i] == kp.MODE_START:
                 _, _, vx, vy = kp.slip_kinematics(y, pos, i)
                 if math.sqrt(vx * vx + vy * vy) <= sp[kp.S_ETA]:
                     modes[i] = kp.MODE_STICK
                     cand[i] = True
-        if np.any(cand):
+                    anyc = True
+        if anyc:
             st = kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
             if st != kp.ST_OK:
                 return ST_SINGULAR
@@ -172,7 +175,7 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
             return align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
         kp.start_direction(worst, Ff[worst, 0], Ff[worst, 1],
                            kp.mu_kinetic(bp, worst, 0.0) * ws[11][worst] * N[worst], ws[0], pos,
-                           dirs)  # fmt: skip
+                           dirs, ws[13], ws[14], ws[15])  # fmt: skip
         _record(EV, info, t, worst, kp.MODE_STICK, kp.MODE_START, dirs)
         modes[worst] = kp.MODE_START
     return ST_CHATTER
@@ -189,7 +192,7 @@ def settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, in
                                     EV, info))  # fmt: skip
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
     """Slip-start directions consistent with the deck's motion when several are released
     together: each d_i along the acceleration a_i = B_i q̈ its slip point gets with every
@@ -232,7 +235,7 @@ def align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
     return ST_OK
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def _record(EV, info, t, i, old, new, dirs):
     """Row of the event table: t, isolator, old mode, new mode, its slip-start direction."""
     k = int(info[I_NEV])
@@ -246,7 +249,7 @@ def _record(EV, info, t, i, old, new, dirs):
     info[I_NEV] = k + 1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def initial_modes(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
     """Modes at the start: slip where |v| > η, else stick, then settled."""
     for i in range(pos.shape[0]):
@@ -267,7 +270,7 @@ def initial_modes(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
     return settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
 
 
-@ka.compiled_only
+@ka.compiled_uncounted
 def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
     """Mode changes at a located event (g0 before it, g just after); returns a status."""
     qdd, N, Ff, Fr, Fo = out
@@ -283,7 +286,7 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
             modes[i] = kp.MODE_FREE if m0 != kp.MODE_FREE else kp.MODE_SLIP
         elif m0 == kp.MODE_STICK and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
             kp.start_direction(i, Ff[i, 0], Ff[i, 1], kp.mu_kinetic(bp, i, 0.0) * ws[11][i] * N[i],
-                               ws[0], pos, dirs)  # fmt: skip
+                               ws[0], pos, dirs, ws[13], ws[14], ws[15])  # fmt: skip
             modes[i] = kp.MODE_START
         elif m0 == kp.MODE_START and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
             modes[i] = kp.MODE_SLIP
@@ -302,7 +305,7 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
 ka.tslot("deck.switch", switch, "nsdyn.models.isolated.deck_compile:callees")
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO):
     qdd, N, Ff, Fr, Fo = out
     kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
@@ -317,13 +320,13 @@ def _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, k, X, 
             FO[k, i, c] = Fo[i, c]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def _eval(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
     qdd, N, Ff, Fr, Fo = out
     return kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def tension_start(info, t, N, bil):
     """A bilateral run's tension record at its start (nothing counted, N_min = min N, an
     onset at t when a normal force starts tensile); returns whether one is tensile."""
@@ -336,7 +339,7 @@ def tension_start(info, t, N, bil):
     return bil and info[I_NMIN] <= 0.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def tension_onset(info, t):
     """Count a located onset of tension at t (the first kept in I_TTEN)."""
     if not info[I_TTEN] == info[I_TTEN]:
@@ -344,7 +347,7 @@ def tension_onset(info, t):
     info[I_NTEN] += 1.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def _min_normal(N):
     v = math.inf
     for i in range(N.shape[0]):
@@ -352,23 +355,20 @@ def _min_normal(N):
     return v
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
-              X, NO, FF, FR, FO, MO, EV, stops, info):  # fmt: skip
-    """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status."""
+              X, NO, FF, FR, FO, MO, EV, stops, info, ws, out, S):  # fmt: skip
+    """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status.
+    ``ws, out, S``: its scratch (:func:`nsdyn.models.isolated.deck_compile.loop_arrays`)."""
     n = 6
     ni = pos.shape[0]
-    ws = kp.workspace(ni)
-    out = (np.zeros(3), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
     N = out[1]
-    k = np.zeros((7, n))
-    y = np.zeros(n)
-    y1 = np.zeros(n)
-    ys = np.zeros(n)
-    rc = np.zeros((5, n))
-    g0 = np.ones((ni, 3))
-    g = np.ones((ni, 3))
-    ga = np.ones((ni, 3))
+    k, y, y1, ys, rc, g0, g, ga = S
+    for i in range(ni):
+        for c in range(3):
+            g0[i, c] = 1.0
+            g[i, c] = 1.0
+            ga[i, c] = 1.0
     for j in range(n):
         y[j] = y0[j]
     bil = int(sp[kp.S_CONTACT]) == kp.CONTACT_BILATERAL

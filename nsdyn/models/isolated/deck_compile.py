@@ -23,11 +23,6 @@ from __future__ import annotations
 import functools
 
 
-def _py(kernel):
-    """The Python function of a kernel (itself under ``NUMBA_DISABLE_JIT``)."""
-    return getattr(kernel, "py_func", kernel)
-
-
 def tiny_args() -> tuple:
     """The arguments of the force kernel, the settling and the mode switch as the loops pass
     them, on a one-isolator deck under a harmonic orbit (made with numpy only: nothing is
@@ -44,8 +39,7 @@ def tiny_args() -> tuple:
     gk, gp, tab, _ = pack_ground({"f": 1.0, "ax": 1.0})
     ni, n = 1, 6
     modes, dirs = np.full(ni, kp.MODE_SLIP, dtype=np.int64), np.zeros((ni, 2))
-    out = (np.zeros(3), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
-    ws = _py(kp.workspace)(ni)
+    out, ws = kp.forces(ni), kp.workspace(ni)
     force = (0.0, np.zeros(n), modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, *out)
     EV, info = np.zeros((1, 6)), np.zeros(kr.N_INFO)
     settle = (*force[:13], out, EV, info)
@@ -87,14 +81,40 @@ def ready(switch: bool = True) -> None:
     fill_table(_needed(switch))
 
 
+def loop_arrays(loop, n: int, ni: int) -> tuple:
+    """The scratch of the time loop ``loop`` (``_kplanerun.integrate`` or
+    ``_kplaneradau.integrate``) for ``n`` states and ``ni`` isolators, its last three
+    arguments: (the force kernel's workspace, its outputs, the loop's own arrays). Made here,
+    in Python, so that the loops and their callees allocate nothing and compile without
+    numba's reference counts (:data:`nsdyn._kaddress.NO_NRT`)."""
+    import numpy as np
+
+    from nsdyn.models.isolated import _kplane as kp
+    from nsdyn.models.isolated import _kplaneradau as krad
+
+    if loop is krad.integrate:  # Radau IIA: its Newton's and error estimate's arrays
+        v = [np.zeros(n) for _ in range(4)]  # y, ys, f0, f1
+        S = (*v, np.zeros((n, n)), np.zeros((3, n)), np.zeros((3, n)), np.zeros(n),
+             np.zeros(n, dtype=np.complex128), np.zeros((n, n), dtype=np.complex128),
+             np.zeros(n, dtype=np.int64), np.zeros((n, n)), np.zeros(n, dtype=np.int64),
+             np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n, dtype=np.bool_),
+             np.zeros((ni, 8)), np.zeros(n), np.zeros((3, n)), np.zeros(8))  # fmt: skip
+    else:  # Dormand-Prince: its stages, states, dense output and switching functions
+        S = (np.zeros((7, n)), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros((5, n)),
+             np.ones((ni, 3)), np.ones((ni, 3)), np.ones((ni, 3)))  # fmt: skip
+    return kp.workspace(ni), kp.forces(ni), S
+
+
 def run_loop(loop, args: tuple, switch: bool):
-    """``loop(*args)`` (a time loop of the deck: ``_kplanerun.integrate`` or
-    ``_kplaneradau.integrate``), its callees in the table first. A first compilation is
+    """``loop(*args, *scratch)`` (a time loop of the deck: ``_kplanerun.integrate`` or
+    ``_kplaneradau.integrate``; ``args`` up to its ``info``, the scratch from
+    :func:`loop_arrays`), its callees in the table first. A first compilation is
     shared with a helper process where one may run (:func:`nsdyn._numba_cache.helper_enabled`):
     it compiles the callees (:func:`helper_part`) while this process compiles the loop for
     ``args``' types."""
     from nsdyn._kaddress import run_split
 
+    args = (*args, *loop_arrays(loop, args[0].shape[0], args[5].shape[0]))
     target = "helper_part" if switch else "helper_force"
     return run_split(loop, args, _needed(switch), f"nsdyn.models.isolated.deck_compile:{target}")
 

@@ -62,6 +62,7 @@ gk, gp, tab, dur = d.pack_ground({"f": 1.0, "ax": 1.0})
 t_eval, hmax = d.run_grid(gk, gp, dur, 0.1, None, None, None)
 b = d.run_buffers("switch", 1e4, 1e-6, (1e-8, 1e-8), hmax, 1000, t_eval.size, 1, 6)
 args = (np.zeros(6), t_eval, *b[:2], M, pos, bp, nd, sp, gk, gp, tab, *b[2:])
+args = (*args, *dc.loop_arrays(kr.integrate, 6, 1))
 dc.callees()
 kr.integrate.compile(tuple(typeof(a) for a in args))
 lib = next(iter(kr.integrate.overloads.values())).library
