@@ -59,7 +59,7 @@ _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 METHODS = ("event", "moreau")  # solver.method
 T_END = 5.0  # default duration of free motion [s]
 # seconds a first run compiles the kernels (2-core machine, empty cache; docs/dev/first-runs.md)
-COMPILE_ABOUT_S = 7.0
+COMPILE_ABOUT_S = 12.0
 
 
 def kernels_cached(opts: dict) -> bool:

@@ -47,7 +47,7 @@ TABLES = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 STAR_QUANTITIES = ("k", "c", "H", "r")  # quantities a star case may scale
 METHODS = ("dopri5",)  # integrators of this family
 # seconds a first run compiles the kernel (2-core machine, empty cache; docs/dev/first-runs.md)
-COMPILE_ABOUT_S = 5.0
+COMPILE_ABOUT_S = 10.0
 
 
 def kernels_cached(p: CylinderParams) -> bool:

@@ -61,7 +61,7 @@ FIGURE_MODULE = "nsdyn.plot.isolators"  # draws the figure from deck.npz (a late
 RTOL = 1e-6
 # seconds a first run compiles the kernels (2-core machine, empty cache: the switch law's loop
 # and, in a helper process beside it, its callees; docs/dev/first-runs.md)
-COMPILE_ABOUT_S = 10.0
+COMPILE_ABOUT_S = 14.0
 
 
 def kernels_cached(law: str) -> bool:

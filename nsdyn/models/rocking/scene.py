@@ -56,7 +56,7 @@ _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 T_END = 10.0  # default duration without a record [s]
 METHODS = ("dopri5",)  # the rocking integrator (event-located Dormand-Prince 5(4))
 # seconds a first run compiles the kernels (2-core machine, empty cache; docs/dev/first-runs.md)
-COMPILE_ABOUT_S = 5.0
+COMPILE_ABOUT_S = 7.0
 
 
 def kernels_cached(model) -> bool:
