@@ -3,13 +3,17 @@
 from __future__ import annotations
 
 import json
+import sys
 
 from nsdyn.cli import main
 
 SCENE = '[scene]\nframe = "office-11"\n[motion]\nrecord = "synthetic-wn-40s"\nt_end = 1.0\n'
 
 
-def test_export_writes_script(tmp_path, capsys):
+def test_export_writes_script(tmp_path, capsys, monkeypatch):
+    # Python writes bytecode caches here (an environment may turn that off): reading the
+    # script back for the summary must leave nothing beside it
+    monkeypatch.setattr(sys, "dont_write_bytecode", False)
     scene = tmp_path / "s.toml"
     scene.write_text(SCENE)
     out = tmp_path / "sub" / "m.py"

@@ -358,10 +358,12 @@ def export_opensees(
 
 
 def load_script(path):
-    """The exported script at ``path`` as a module (its ``DATA``, ``build``, ``run``, …)."""
-    import importlib.util
+    """The exported script at ``path`` as a module (its ``DATA``, ``build``, ``run``, …),
+    run from its source: no bytecode cache (``__pycache__``) is written beside it."""
+    import types
 
-    spec = importlib.util.spec_from_file_location(f"_nsdyn_opensees_{abs(hash(str(path)))}", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    path = Path(path)
+    module = types.ModuleType(f"_nsdyn_opensees_{abs(hash(str(path)))}")
+    module.__file__ = str(path)
+    exec(compile(path.read_bytes(), str(path), "exec"), module.__dict__)
     return module
