@@ -140,11 +140,13 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
         prog="nsdyn", description="Non-smooth dynamics of friction base-isolated frames."
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    parser.commands = {}  # name -> the command's own parser (its usage errors name it)
     for name, cmd in COMMANDS.items():
         p = sub.add_parser(name, help=cmd.help, description=cmd.help)
         if only is None or name == only:
             cmd.configure(p)
         p.set_defaults(_run=cmd.run)
+        parser.commands[name] = p
     return parser
 
 
@@ -152,7 +154,10 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``nsdyn`` script; returns the exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
     only = argv[0] if argv and argv[0] in COMMANDS else None
-    args = build_parser(only).parse_args(argv)  # a usage error: one line, SystemExit(2)
+    parser = build_parser(only)
+    args, extra = parser.parse_known_args(argv)  # a usage error: one line, SystemExit(2)
+    if extra:  # reported by the command's own parser: "nsdyn run: error: …"
+        parser.commands[args.command].error(f"unrecognized arguments: {' '.join(extra)}")
     try:  # SIGTERM stops a command the way Ctrl-C does (atomic files; checkpoints kept)
         old = signal.signal(signal.SIGTERM, _on_sigterm)
     except ValueError:  # not the main thread: leave signals alone

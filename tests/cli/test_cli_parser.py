@@ -50,3 +50,17 @@ def test_a_command_imports_no_other_commands_module():
     assert "nsdyn.cli.modes" in out
     others = {f"nsdyn.cli.{n}" for n in COMMANDS if n != "modes"} | {"nsdyn.bench"}
     assert not others & set(out)
+
+
+@pytest.mark.parametrize("name", ["run", "modes", "sweep"])
+def test_an_unknown_option_is_reported_by_its_command(name, capsys):
+    # argparse's top-level parser would report it as "nsdyn: error: ... (see nsdyn --help)",
+    # pointing at the wrong help page: the command's own parser names itself
+    from nsdyn.cli.app import EXIT_USER_ERROR, main
+
+    with pytest.raises(SystemExit) as e:
+        main([name, "--no-such-option", "1"])
+    assert e.value.code == EXIT_USER_ERROR
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"nsdyn {name}: error: unrecognized arguments: --no-such-option")
+    assert err.endswith(f"(see nsdyn {name} --help)")
