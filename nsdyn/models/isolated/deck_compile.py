@@ -92,14 +92,15 @@ def loop_arrays(loop, n: int, ni: int) -> tuple:
     from nsdyn.models.isolated import _kplane as kp
     from nsdyn.models.isolated import _kplaneradau as krad
 
-    if loop is krad.integrate:  # Radau IIA: its Newton's and error estimate's arrays
-        v = [np.zeros(n) for _ in range(4)]  # y, ys, f0, f1
+    if loop is krad.integrate:  # Radau IIA, in the order the loop unpacks them: y, ys, f0,
+        # f1, J, Z, F, r1, rc, EC, pc, LE, pe, err, sc, ynew, copied, sdw, yp, Zp, base
+        v = [np.zeros(n) for _ in range(4)]
         S = (*v, np.zeros((n, n)), np.zeros((3, n)), np.zeros((3, n)), np.zeros(n),
              np.zeros(n, dtype=np.complex128), np.zeros((n, n), dtype=np.complex128),
              np.zeros(n, dtype=np.int64), np.zeros((n, n)), np.zeros(n, dtype=np.int64),
              np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n, dtype=np.bool_),
              np.zeros((ni, 8)), np.zeros(n), np.zeros((3, n)), np.zeros(8))  # fmt: skip
-    else:  # Dormand-Prince: its stages, states, dense output and switching functions
+    else:  # Dormand-Prince: k (stages), y, y1, ys, rc (dense output), g0, g, ga
         S = (np.zeros((7, n)), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros((5, n)),
              np.ones((ni, 3)), np.ones((ni, 3)), np.ones((ni, 3)))  # fmt: skip
     return kp.workspace(ni), kp.forces(ni), S
