@@ -132,13 +132,39 @@ def _caused_by_interrupt(exc: BaseException) -> bool:
     return False
 
 
+def _version() -> str:
+    """``nsdyn --version``: this package's version and those of the libraries its numbers
+    depend on (what a bug report needs)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    import nsdyn
+
+    def v(dist: str) -> str:
+        try:
+            return version(dist)
+        except PackageNotFoundError:
+            return "not installed"
+
+    libs = ", ".join(f"{d} {v(d)}" for d in ("numpy", "scipy", "numba"))
+    return f"nsdyn {nsdyn.__version__} (Python {sys.version.split()[0]}; {libs})"
+
+
+class _VersionAction(argparse.Action):
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(_version())
+        parser.exit()
+
+
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     """The parser of every command; with ``only`` (a command's name) the options of that one
     alone are set up, and the other commands' modules are not imported (a command's start
-    pays only for its own imports). ``nsdyn --help`` lists every command either way."""
+    pays only for its own imports); with ``only=""`` none are (the top-level options and
+    ``nsdyn --help``, which lists every command either way)."""
     parser = _Parser(
         prog="nsdyn", description="Non-smooth dynamics of friction base-isolated frames."
     )
+    parser.add_argument("--version", action=_VersionAction, nargs=0, help="print the "
+                        "versions of nsdyn, numpy, scipy and numba and exit")  # fmt: skip
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     parser.commands = {}  # name -> the command's own parser (its usage errors name it)
     for name, cmd in COMMANDS.items():
@@ -153,8 +179,17 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``nsdyn`` script; returns the exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
-    only = argv[0] if argv and argv[0] in COMMANDS else None
+    only = argv[0] if argv and argv[0] in COMMANDS else ""  # no command: configure none
     parser = build_parser(only)
+    if not argv:  # `nsdyn` alone: what it can do, not one line of usage error
+        parser.print_help(sys.stderr)
+        return EXIT_USER_ERROR
+    if not only and not argv[0].startswith("-"):  # a mistyped command: the closest one
+        import difflib
+
+        close = difflib.get_close_matches(argv[0], list(COMMANDS), n=1)
+        hint = f"; did you mean {close[0]!r}?" if close else ""
+        parser.error(f"unknown command {argv[0]!r}{hint} (commands: {', '.join(COMMANDS)})")
     args, extra = parser.parse_known_args(argv)  # a usage error: one line, SystemExit(2)
     if extra:  # reported by the command's own parser: "nsdyn run: error: …"
         parser.commands[args.command].error(f"unrecognized arguments: {' '.join(extra)}")

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.bench.common import DEFAULT_OUT, RECORDS, REPEATS
-from nsdyn.cli.args import EXIT_USER_ERROR, positive_int
+from nsdyn.cli.args import EXIT_USER_ERROR, out_dir, positive_int
 
 __all__ = ["configure", "main", "run"]
 
@@ -58,7 +58,9 @@ def configure(p: argparse.ArgumentParser) -> None:
         + "; all: each in this order",
     )
     p.add_argument("--quick", action="store_true", help="short windows and few points (CI)")
-    p.add_argument("--out", default=str(DEFAULT_OUT), metavar="DIR", help="output directory")
+    p.add_argument(
+        "--out", type=out_dir, default=str(DEFAULT_OUT), metavar="DIR", help="output directory"
+    )
     p.add_argument(
         "--repeats",
         type=positive_int,

@@ -17,7 +17,7 @@ import argparse
 import json
 from pathlib import Path
 
-from nsdyn.cli.args import positive_float
+from nsdyn.cli.args import out_file, positive_float
 
 __all__ = ["configure", "run"]
 
@@ -36,6 +36,7 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "-o",
         "--out",
+        type=out_file,
         default=None,
         metavar="FILE",
         help="script to write (default: the scene's name with _opensees.py)",

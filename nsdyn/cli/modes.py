@@ -14,9 +14,11 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import save_figure
+from nsdyn.cli.args import out_dir
 from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
 from nsdyn.models.isolated.defaults import F_MAX as DEFAULT_FMAX
+from nsdyn.models.isolated.defaults import FRAME as DEFAULT_FRAME
 from nsdyn.models.isolated.defaults import K_LAM as DEFAULT_KLAM
 from nsdyn.structure import base_isolation_frequency, load_frame
 
@@ -27,7 +29,13 @@ N_LIST_3D = 12  # fixed-base modes listed for a 3D frame (four of each family, t
 
 
 def configure(p: argparse.ArgumentParser) -> None:
-    p.add_argument("frame", help="bundled frame name (e.g. office-11) or path to a .toml file")
+    p.add_argument(
+        "frame",
+        nargs="?",
+        default=DEFAULT_FRAME,
+        help="bundled frame name or path to a frame .toml file (default: the default "
+        f"scene's frame, {DEFAULT_FRAME})",
+    )
     p.add_argument(
         "--fmax",
         type=_positive_float,
@@ -45,6 +53,7 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
     p.add_argument(
         "--out",
+        type=out_dir,
         metavar="DIR",
         default=None,
         help=f"directory for the mode-shape PNG (default {DEFAULT_OUT}/; with --json, none)",

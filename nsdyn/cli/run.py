@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, save_figure
+from nsdyn.cli.args import out_dir
 from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
 from nsdyn.cli.args import positive_int as _positive_int
@@ -90,7 +91,9 @@ def configure(p: argparse.ArgumentParser) -> None:
         metavar="N",
         help="step attempts per 5 s chunk of the run before it gives up (default 2000000)",
     )
-    p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR", help="output directory")
+    p.add_argument(
+        "--out", type=out_dir, default=DEFAULT_OUT, metavar="DIR", help="output directory"
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
     p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
     p.add_argument(

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.cli.args import count, positive_finite
+from nsdyn.cli.args import count, out_dir, positive_finite
 
 SHAPES = ("sine", "cosine", "ricker", "rect")
 DEFAULT_OUT = "nsdyn-out"
@@ -34,7 +34,9 @@ def configure(p: argparse.ArgumentParser) -> None:
         "--rtol", type=positive_finite, default=1e-4, help="bisection width (default 1e-4)"
     )
     p.add_argument("--workers", type=int, default=None, metavar="N", help="parallel processes")
-    p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR", help="output directory")
+    p.add_argument(
+        "--out", type=out_dir, default=DEFAULT_OUT, metavar="DIR", help="output directory"
+    )
     p.add_argument("--no-figures", action="store_true", help="skip the PNG")
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
 

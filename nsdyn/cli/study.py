@@ -10,7 +10,7 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
-from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, positive_int
+from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, out_dir, positive_int
 
 DEFAULT_OUT = "nsdyn-study"  # output directory (a subdirectory per study name)
 MAX_FAILED_LINES = 10  # failed tasks named one per line on the console (all are in the table)
@@ -29,7 +29,9 @@ def configure(p: argparse.ArgumentParser) -> None:
     where.add_argument(
         "--workers", type=positive_int, metavar="N", help="local process pool size (default: CPUs)"
     )
-    p.add_argument("--out", metavar="DIR", help=f"output directory (default {DEFAULT_OUT}/NAME)")
+    p.add_argument(
+        "--out", type=out_dir, metavar="DIR", help=f"output directory (default {DEFAULT_OUT}/NAME)"
+    )
     p.add_argument("--fresh", action="store_true", help="discard earlier results and start over")
     p.add_argument("--retry-failed", action="store_true", help="rerun tasks recorded as failed")
     p.add_argument("--parquet", action="store_true", help="also write results.parquet (pyarrow)")

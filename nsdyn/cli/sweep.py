@@ -16,7 +16,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.cli.args import EXIT_USER_ERROR, positive_int
+from nsdyn.cli.args import EXIT_USER_ERROR, out_dir, positive_int
 from nsdyn.cli.args import amplitude_list as _amplitude_list
 from nsdyn.cli.args import count as _count
 from nsdyn.cli.args import positive_finite as _positive
@@ -96,7 +96,9 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--workers", type=positive_int, default=None, metavar="N", help="parallel processes"
     )
-    p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR", help="output directory")
+    p.add_argument(
+        "--out", type=out_dir, default=DEFAULT_OUT, metavar="DIR", help="output directory"
+    )
     p.add_argument("--restart", action="store_true", help="ignore checkpoints, start afresh")
     p.add_argument("--no-figures", action="store_true", help="skip the PNG")
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")

@@ -18,7 +18,7 @@ import time
 from pathlib import Path
 
 from nsdyn.atomic import atomic_open
-from nsdyn.cli.args import EXIT_NUMERICS, EXIT_USER_ERROR
+from nsdyn.cli.args import EXIT_NUMERICS, EXIT_USER_ERROR, out_dir
 from nsdyn.cli.args import count as _count
 from nsdyn.cli.args import positive_finite as _positive
 
@@ -43,7 +43,9 @@ def configure(p: argparse.ArgumentParser) -> None:
         help=f"largest amplitude searched [m/s², or N for a force scene] (default {A_MAX:g})",
     )
     p.add_argument("--fidelity", choices=["rigid", "cb", "full"], help="override the scene's")
-    p.add_argument("--out", default=DEFAULT_OUT, metavar="DIR", help="output directory")
+    p.add_argument(
+        "--out", type=out_dir, default=DEFAULT_OUT, metavar="DIR", help="output directory"
+    )
     p.add_argument("--no-figures", action="store_true", help="skip the PNG")
     p.add_argument(
         "--json", action="store_true", help="write uplift.json and print it (nothing else)"

@@ -50,6 +50,17 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
             f"{path}: empty {what} file (no table or key); expected TOML tables such as "
             f"{example} (see the examples)"
         )
+    if what == "scene" and "scene" not in data and "frame" in data:
+        raise SceneError(
+            f"{path}: a frame file (its [frame] table), not a scene; run it with "
+            f'nsdyn run --frame {path}, or name it in a scene as [scene] frame = "{path}"'
+        )
+    if what == "scene" and "scene" not in data and "frame3d" in data:
+        raise SceneError(
+            f"{path}: a 3D frame file (its [frame3d] table), not a scene; name it in a scene "
+            f"of kind 'building3d' as [scene] frame3d = \"{path}\" "
+            "(examples/scenes/building3d-office-cb.toml)"
+        )
     return data
 
 

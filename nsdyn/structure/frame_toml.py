@@ -23,7 +23,12 @@ from nsdyn.structure.frame import Frame, Section, regular_frame
 
 class FrameFileError(ValueError):
     """A frame file is missing, unreadable or invalid. The message names the file, the
-    field (dotted path) and what was expected."""
+    field (dotted path) and what was expected; ``field`` is that dotted path ("" when the
+    file itself is missing or unreadable)."""
+
+    def __init__(self, message: str, field: str = ""):
+        super().__init__(message)
+        self.field = field
 
 
 class _Reader:
@@ -37,7 +42,7 @@ class _Reader:
         msg = f"{self.file}: {path}: expected {expected}"
         if got is not None or raw:
             msg += f", got {got_s}"
-        raise FrameFileError(msg)
+        raise FrameFileError(msg, path)
 
     def table(self, tbl: Mapping, key: str, path: str) -> Mapping:
         if key not in tbl:

@@ -54,3 +54,37 @@ def test_an_unknown_key_is_named_with_the_valid_ones(key, says, capsys, tmp_path
     assert main(["run", str(scene)]) == EXIT_USER_ERROR
     err = capsys.readouterr().err
     assert err.startswith(f"nsdyn run: error: {scene}: {says} [")
+
+
+# -------------------------------------------------------------- a frame file given as a scene
+
+_PLANE = '[frame]\nname = "p"\nkind = "regular"\n'  # read_toml refuses it before any field
+_SPACE = '[frame3d]\nname = "s"\n'
+
+
+@pytest.mark.parametrize("command", ["run", "sweep", "export"])
+def test_a_plane_frame_file_given_as_a_scene_says_how_to_run_it(command, capsys, tmp_path):
+    f = tmp_path / "f.toml"
+    f.write_text(_PLANE)
+    argv = [command, *(["opensees"] if command == "export" else []), str(f)]
+    assert main(argv) == EXIT_USER_ERROR
+    err = capsys.readouterr().err
+    assert err.startswith(f"nsdyn {command}: error: {f}: a frame file (its [frame] table)")
+    assert f"nsdyn run --frame {f}" in err and f'[scene] frame = "{f}"' in err
+
+
+def test_a_space_frame_file_given_as_a_scene_names_the_building3d_scene(capsys, tmp_path):
+    f = tmp_path / "f.toml"
+    f.write_text(_SPACE)
+    assert main(["run", str(f)]) == EXIT_USER_ERROR
+    err = capsys.readouterr().err
+    assert "a 3D frame file (its [frame3d] table)" in err
+    assert f"kind 'building3d' as [scene] frame3d = \"{f}\"" in err
+
+
+def test_a_space_frame_given_to_frame_names_the_building3d_scene(capsys, tmp_path):
+    assert main(["run", "--frame", "office-11-3d", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("nsdyn run: error: <default scene>: scene.frame: office-11-3d is a 3D")
+    assert "scene of kind 'building3d'" in err
+    assert not (tmp_path / "o").exists()

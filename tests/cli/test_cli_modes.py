@@ -25,6 +25,13 @@ def test_modes_json_office(capsys):
     assert s["f_bis_hz"] == pytest.approx(0.060, abs=0.003)
 
 
+def test_modes_without_a_frame_lists_the_default_scenes_frame(capsys):
+    # `nsdyn run` with no scene runs office-11; `nsdyn modes` with no frame lists its modes
+    assert main(["modes", "--json"]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["frame"] == "office-11" and s["n_dof"] == 435 and s["n_reduced"] == 13
+
+
 def test_modes_options_change_counts_and_f_bis(capsys):
     # f_bis scales with sqrt(K_lam) (seed eq. 28): 4x K_lam doubles it.
     main(["modes", "office-11", "--json"])

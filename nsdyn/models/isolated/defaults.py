@@ -13,3 +13,4 @@ ETA = 1e-5  # switch model's stick band η [m/s] (seed 004 §4)
 ALPHA = 2 * math.pi  # Baumgarte α [1/s] (seed 004 §3)
 BETA = 1.0  # Baumgarte β [-]
 F_MAX = 5.0  # Hz, Craig–Bampton cut-off (seed 004: 13 dofs)
+FRAME = "office-11"  # the default scene's frame (seed 004's office), bundled

@@ -45,7 +45,7 @@ import copy
 import math
 from pathlib import Path
 
-from nsdyn.models.isolated.defaults import C_DAMPER, EPS, F_MAX, K_LAM, MU
+from nsdyn.models.isolated.defaults import C_DAMPER, EPS, F_MAX, FRAME, K_LAM, MU
 from nsdyn.models.isolated.scene_keys import MOTION_RECORD, SCENE, SOLVER, checked_types
 from nsdyn.models.isolated.scene_structure import (
     build_structure,
@@ -65,7 +65,7 @@ from nsdyn.models.isolated.tolerances import RUN_RTOL
 from nsdyn.models.scenefile import SceneError, read_toml, unknown_key
 
 DEFAULT_SCENE = {
-    "scene": {"name": "office-11 isolated", "frame": "office-11", "fidelity": "cb", "f_max": F_MAX},
+    "scene": {"name": f"{FRAME} isolated", "frame": FRAME, "fidelity": "cb", "f_max": F_MAX},
     "isolation": {"k_lam": K_LAM, "c": C_DAMPER, "mu": MU, "law": "arctan", "eps": EPS},
     "motion": {"record": "synthetic-wn-40s", "pga": 3.0, "vertical": True},
     "solver": {
@@ -233,9 +233,18 @@ def build_scene_run(cfg: dict):
             )
         system = build_structure(cfg, iso, source)
     else:
-        from nsdyn.structure import load_frame
+        from nsdyn.structure import FrameFileError, load_frame
 
-        frame = load_frame(sc["frame"])
+        try:
+            frame = load_frame(sc["frame"])
+        except FrameFileError as e:
+            if e.field != "frame3d":
+                raise
+            raise SceneError(
+                f"{source}: scene.frame: {sc['frame']} is a 3D frame ([frame3d]); a 3D "
+                "building is a scene of kind 'building3d' that names it as [scene] frame3d "
+                "(examples/scenes/building3d-office-cb.toml)"
+            ) from None
         fidelity = sc.get("fidelity", "cb")
         system = build_system(frame, iso, fidelity=fidelity, f_max=float(sc.get("f_max", F_MAX)))
     if "force" in cfg:

@@ -1,0 +1,41 @@
+"""The top level of ``nsdyn``: ``nsdyn`` alone shows what it can do, ``--version`` prints
+the versions a bug report needs, a mistyped command is answered with the closest one."""
+
+import sys
+from importlib.metadata import version
+
+import pytest
+
+import nsdyn
+from nsdyn.cli.app import COMMANDS, main
+from nsdyn.cli.args import EXIT_USER_ERROR
+
+
+def test_nsdyn_alone_prints_the_help_with_every_command(capsys):
+    assert main([]) == EXIT_USER_ERROR
+    out, err = capsys.readouterr()
+    assert out == "" and err.startswith("usage: nsdyn")
+    for name in COMMANDS:
+        assert f"    {name}" in err
+
+
+def test_version_names_nsdyn_and_its_numerical_libraries(capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["--version"])
+    assert e.value.code == 0
+    out = capsys.readouterr().out.strip()
+    assert out.startswith(f"nsdyn {nsdyn.__version__} (Python {sys.version.split()[0]}; ")
+    for lib in ("numpy", "scipy", "numba"):
+        assert f"{lib} {version(lib)}" in out
+
+
+@pytest.mark.parametrize(("typed", "hint"), [("rn", "; did you mean 'run'?"),
+                                             ("mode", "; did you mean 'modes'?"),
+                                             ("xyz", "")])  # fmt: skip
+def test_a_mistyped_command_is_answered_with_the_closest(typed, hint, capsys):
+    with pytest.raises(SystemExit) as e:
+        main([typed])
+    assert e.value.code == EXIT_USER_ERROR
+    err = capsys.readouterr().err
+    assert err == (f"nsdyn: error: unknown command {typed!r}{hint} (commands: "
+                   f"{', '.join(COMMANDS)}) (see nsdyn --help)\n")  # fmt: skip
