@@ -181,9 +181,8 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     only = argv[0] if argv and argv[0] in COMMANDS else ""  # no command: configure none
     parser = build_parser(only)
-    if not argv:  # `nsdyn` alone: what it can do, not one line of usage error
-        parser.print_help(sys.stderr)
-        return EXIT_USER_ERROR
+    if not argv:  # `nsdyn` alone: one line, every command named
+        parser.error(f"a command is required: {', '.join(COMMANDS)}")
     if not only and not argv[0].startswith("-"):  # a mistyped command: the closest one
         import difflib
 
