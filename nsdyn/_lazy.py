@@ -18,7 +18,11 @@ def exports(namespace: dict, api: dict[str, str]) -> tuple[Callable, Callable]:
     def __getattr__(name: str):
         where = api.get(name)
         if where is None:
-            raise AttributeError(f"module {package!r} has no attribute {name!r}")
+            import difflib
+
+            close = difflib.get_close_matches(name, list(api), n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise AttributeError(f"module {package!r} has no attribute {name!r}{hint}")
         module, _, attr = where.partition(":")
         value = getattr(importlib.import_module(module), attr or name)
         namespace[name] = value  # later lookups skip this hook

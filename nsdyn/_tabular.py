@@ -16,6 +16,8 @@ import importlib
 
 import numpy as np
 
+from nsdyn._brief import brief_repr
+
 EXTRA = "frames"  # pyproject's optional dependency group holding pandas and xarray
 INDEX = "t_s"  # name of the time index of every table [s]
 
@@ -74,6 +76,8 @@ def to_xarray(t: np.ndarray, named: dict, attrs: dict | None = None):
 class Tabular:
     """Mix-in of a result with ``t``, ``histories()`` (name -> array on ``t``) and ``summary()``:
     ``to_dataframe()`` and ``to_xarray()`` of those histories, the summary as attributes."""
+
+    __repr__ = brief_repr  # arrays by shape, not in full (its dataclasses set repr=False)
 
     def histories(self) -> dict:  # pragma: no cover - every result defines it
         raise NotImplementedError

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nsdyn._brief import brief_repr
 from nsdyn.periodic.bifurcation import STABLE_MARGIN
 from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.protocol import PeriodicModel
@@ -54,9 +55,11 @@ class OrbitPoint:
         return bool(self.max_multiplier < 1.0 + STABLE_MARGIN)
 
 
-@dataclass
+@dataclass(repr=False)
 class Curve:
     """A frequency-response curve of periodic solutions at one forcing amplitude."""
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     amplitude: float
     points: list[OrbitPoint]

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nsdyn._brief import brief_repr
 from nsdyn.ground.excitation import Harmonic, HarmonicForce
 from nsdyn.models.isolated.excitation import ground_many
 from nsdyn.models.isolated.friction import sticks
@@ -59,7 +60,7 @@ def _dummy_params() -> tuple:
 _DUMMY_Z = tuple(np.zeros((1, 1)) for _ in range(kp.N_Z))
 
 
-@dataclass
+@dataclass(repr=False)
 class PeriodicProblem(MinimalStates):
     """A harmonically forced system whose period map the kernels integrate.
 
@@ -67,6 +68,8 @@ class PeriodicProblem(MinimalStates):
     the state is ``[z, zd]`` with ``m`` position coordinates. ``Z`` holds the precomputed
     manifold matrices of :mod:`nsdyn.periodic._kperiodic` (``Z[0] = Q``).
     """
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     prob: int
     P: tuple

@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nsdyn._brief import brief_repr
 from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.protocol import (
     STATUS_MESSAGES,
@@ -67,9 +68,11 @@ def _weights(problem: PeriodicModel, amp: tuple[float, float]) -> np.ndarray:
     return np.concatenate([np.full(m, 1.0 / amp[0]), np.full(m, 1.0 / amp[1])])
 
 
-@dataclass
+@dataclass(repr=False)
 class ShootingResult:
     """Outcome of one shooting solve at frequency ``f``."""
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     f: float
     x0: np.ndarray

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._brief import brief_repr
 from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.protocol import (
     STATUS_MESSAGES,
@@ -37,9 +38,11 @@ WARMUP_PERIODS = 2  # plain periods integrated before the first shooting solve
 SS_WINDOW = 50  # periods over which the sweep measures its contraction (stagnation test)
 
 
-@dataclass
+@dataclass(repr=False)
 class SweepResult:
     """Outcome of a stepped sweep at frequency ``f``."""
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     f: float
     x0: np.ndarray  # state at the start of the last period

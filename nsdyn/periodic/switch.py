@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.linalg import matrix_balance
 
+from nsdyn._brief import brief_repr
 from nsdyn.ground.excitation import Harmonic, HarmonicForce
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.params import with_law
@@ -160,7 +161,7 @@ def balancing(A0: np.ndarray) -> np.ndarray:
     return sc
 
 
-@dataclass
+@dataclass(repr=False)
 class SwitchProblem(MinimalStates):
     """The isolated system with the switch model under harmonic forcing, on ``z = Q^T q``.
 
@@ -168,6 +169,8 @@ class SwitchProblem(MinimalStates):
     entries zero; ``V``, ``TAU``, ``LF``: sliding velocity, friction force and friction
     normal-force rows (see :mod:`nsdyn.periodic._kswitch`).
     """
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     system: object
     amplitude: float
@@ -466,7 +469,7 @@ def switch_problem(system, amplitude: float, *, load: HarmonicForce | None = Non
     )
 
 
-@dataclass
+@dataclass(repr=False)
 class SwitchShootingResult(ShootingResult):
     """A :class:`ShootingResult` with the switching events and grazing measure of the orbit."""
 

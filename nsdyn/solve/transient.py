@@ -49,7 +49,7 @@ CHUNK_S = 5.0  # seconds of simulated time per chunk (progress / checkpoint gran
 HARMONIC_SAMPLES = 100  # output instants per period of a harmonic excitation (default dt_out)
 
 
-@dataclass
+@dataclass(repr=False)
 class TransientResult(Tabular):
     """Histories and metrics of one transient run."""
 
@@ -312,6 +312,13 @@ def simulate(
     progress : callable(t_done, t_end, wall_s), optional
     checkpoint : path, optional   resume from / save to this file after each chunk
     """
+    if isinstance(motion, str | Path | np.ndarray | list | tuple):
+        read = f"nsdyn.read_motion({str(motion)!r})" if isinstance(motion, str | Path) else (
+            "nsdyn.GroundMotion(t0, dt, a_hor)")  # fmt: skip
+        raise TypeError(
+            f"motion: expected a ground motion or a force (GroundMotion, Harmonic, Table, "
+            f"HarmonicForce, ForceTable) or None, got {type(motion).__name__}; {read} makes one"
+        )
     if t_eval is None:
         t_eval = output_grid(motion, dt_out, t_end, n_periods)
     elif t_end is not None or n_periods is not None or dt_out is not None:

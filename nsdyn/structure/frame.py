@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from nsdyn._brief import brief_repr
 from nsdyn.structure.elements import element_matrices
 
 DOFS_PER_NODE = 3  # x, y, theta
@@ -47,7 +48,7 @@ def _frozen(a, dtype) -> np.ndarray:
     return a
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class Frame:
     """A plane frame: geometry, members, added masses and modal damping ratios.
 
@@ -81,6 +82,8 @@ class Frame:
     and the column joints are the nodes there that touch a vertical member.
     Arrays are stored read-only.
     """
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     name: str
     nodes: np.ndarray

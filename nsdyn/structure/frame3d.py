@@ -28,6 +28,7 @@ from functools import cached_property
 import numpy as np
 import scipy.sparse as sp
 
+from nsdyn._brief import brief_repr
 from nsdyn.structure.elements3d import global_matrices, local_axes
 
 DOFS_PER_NODE = 6  # u_x, u_y, u_z, θ_x, θ_y, θ_z
@@ -106,7 +107,7 @@ class Diaphragm:
             object.__setattr__(self, k, v)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class Frame3D:
     """A space frame: geometry, members with local axes, masses, diaphragms, damping.
 
@@ -125,6 +126,8 @@ class Frame3D:
         each level (row 0 = base), set by the generator of regular buildings.
     Arrays are stored read-only; invalid data raises ``ValueError``.
     """
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     name: str
     nodes: np.ndarray

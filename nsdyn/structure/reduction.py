@@ -30,6 +30,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from nsdyn._brief import brief_repr
 from nsdyn.structure.frame import Frame
 
 __all__ = [
@@ -48,7 +49,7 @@ EIGSH_K0 = 20  # first batch of modes requested from eigsh; doubled until f_max 
 EIGSH_PAD = 8  # modes requested beyond those counted below f_max (inertia), or asked for
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class CBModel:
     """A Craig–Bampton reduced model ``M q'' + C q' + K q = -M Gamma u''``.
 
@@ -70,6 +71,8 @@ class CBModel:
     f_max : float
         Cut-off frequency [Hz] (``inf``: all modes).
     """
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     T: np.ndarray
     K: np.ndarray

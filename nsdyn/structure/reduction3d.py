@@ -34,6 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._brief import brief_repr
 from nsdyn.structure.frame3d import DOFS_PER_NODE, Frame3D
 from nsdyn.structure.reduction import CBModel, craig_bampton
 
@@ -44,7 +45,7 @@ DENSE_MAX_3D = 400  # internal dofs up to which the fixed-interface modes are so
 _NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class CBModel3D:
     """A space frame's Craig–Bampton model ``M q̈ + C q̇ + K q = −M Γ ü_g`` (+ interface forces).
 
@@ -53,6 +54,8 @@ class CBModel3D:
     ``Γ`` (n_cb, 3): the rigid translations x, y, z. ``cb`` holds the matrices (``T`` maps to
     the frame's diaphragm-constrained coordinates ``q_r``).
     """
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     frame: Frame3D
     cb: CBModel

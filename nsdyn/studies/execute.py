@@ -30,6 +30,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, fields
 from pathlib import Path
 
+from nsdyn._brief import brief_repr
 from nsdyn.studies.scenes import run_batch
 from nsdyn.studies.study import Study
 from nsdyn.studies.table import ResultsStore, Table
@@ -40,9 +41,11 @@ PROGRESS_S = 2.0  # seconds between progress lines
 DASK_HINT = 'Dask is an optional extra: pip install "nsdyn[dask]"'
 
 
-@dataclass
+@dataclass(repr=False)
 class StudyRun:
     """What a run of a study did and the table it left."""
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     table: Table
     n_tasks: int

@@ -73,7 +73,7 @@ class CompliantGround:
         return body.mass * g / (len(body.base) * self.k)
 
 
-@dataclass
+@dataclass(repr=False)
 class CompliantResult(ContactResult):
     """A :class:`ContactResult` plus the energy terms of the compliant ground.
 

@@ -34,7 +34,7 @@ def slenderness(body) -> float:
     return min(body.corner_geometry(-1)[1], body.corner_geometry(1)[1])
 
 
-@dataclass
+@dataclass(repr=False)
 class ContactResult(Tabular):
     """Sampled history of a body on the ground (ground frame).
 

@@ -41,7 +41,7 @@ class SimulationError(RuntimeError):
     """The integrator failed; the message gives the time and the reason."""
 
 
-@dataclass
+@dataclass(repr=False)
 class CylinderResult(Tabular):
     """Histories at the sample times (n,) of the ground record; world axes throughout."""
 

@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nsdyn._brief import brief_repr
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
@@ -60,9 +61,11 @@ ATOL_V_EPS = 0.1
 PLANE_ATOL = {"switch": (1e-8, 1e-8), "arctan": (1e-8, 1e-6)}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class PlaneSystem:
     """A rigid deck (or a single mass) on bidirectional isolators (see the module text)."""
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     m: float
     J: float

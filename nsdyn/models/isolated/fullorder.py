@@ -36,6 +36,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from nsdyn._brief import brief_repr
+
 __all__ = [
     "DAMPINGS",
     "DENSE_MAX_DOF",
@@ -52,11 +54,13 @@ MODAL_ALL_MAX_DOF = 1000  # "modal" damps every fixed-interface mode up to this 
 MODAL_F_MAX = 50.0  # Hz, above MODAL_ALL_MAX_DOF: the damped modes' cut-off (as the export)
 
 
-@dataclass(eq=False)
+@dataclass(eq=False, repr=False)
 class SparseModel:
     """The operators of a full-order model: ``M``, ``K`` (K*) and ``C`` (sparse part of C*,
     CSR) and the low-rank damping ``C* = C + U diag(c) U^T`` (``U`` (n, m), ``c`` (m,) > 0;
     computed by ``lowrank()`` on first use)."""
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     M: sp.csr_array
     K: sp.csr_array

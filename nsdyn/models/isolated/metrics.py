@@ -33,15 +33,18 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from nsdyn._brief import brief_repr
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.excitation import ground_many
 from nsdyn.models.isolated.friction import sticks
 from nsdyn.models.isolated.params import KernelParams, with_open
 
 
-@dataclass
+@dataclass(repr=False)
 class Response:
     """Response histories and peak metrics of one run."""
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     t: np.ndarray  # (nt,)
     x_iso: np.ndarray  # (nt, ni) isolator slip D_i q

@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg as sla
 
+from nsdyn._brief import brief_repr
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kpairs as kq
 from nsdyn.models.isolated import _kpairsradau as kqa
@@ -99,7 +100,7 @@ def _symmetric(name: str, a: np.ndarray) -> np.ndarray:
     return 0.5 * (a + a.T)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class PairSystem:
     """A linear structure from matrices on isolators that slide in a plane (module text).
 
@@ -107,6 +108,8 @@ class PairSystem:
     gravity acts along the z column); D (ni, 2, n) slip rows; R (ni, n) contact rows;
     positions (ni, 2) plan positions [m]; T (m, n) optional output map.
     """
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     M: np.ndarray  # (n, n) symmetric positive definite
     K: np.ndarray  # (n, n) symmetric (structure only; the bearings add their own terms)
@@ -371,7 +374,7 @@ def twist_row(system: PairSystem) -> np.ndarray | None:
     return coef[2]
 
 
-@dataclass
+@dataclass(repr=False)
 class PairResult(PlaneResult):
     """A run of a :class:`PairSystem`: the deck's result (:class:`PlaneResult`: slips u
     (nt, ni, 2), normal forces N, friction, restoring and other forces, modes, events, rim

@@ -43,6 +43,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from nsdyn._brief import brief_repr
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated.bearings import B_KIND, KIND_TFP, N_BCOL, Bearing
 from nsdyn.models.isolated.pairs import PairSystemError
@@ -77,13 +78,15 @@ def _sym(w: str, a: sp.csr_array) -> sp.csr_array:
     return ((a + a.T) * 0.5).tocsr()
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class SparsePairSystem:
     """A structure from sparse matrices on isolators that slide in a plane (module text).
 
     Shapes: M, K, C (n, n) sparse; U (n, m), c (m,) the low-rank damping; Gamma (n, 3); D the
     slip rows, sparse (2ni, n) stacked or dense (ni, 2, n); R (ni, n); positions (ni, 2);
     T (k, n) optional output map (sparse or dense)."""
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     M: object
     K: object

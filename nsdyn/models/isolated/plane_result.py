@@ -133,7 +133,7 @@ def _crossing(t: np.ndarray, n: np.ndarray, k: int) -> float:
     return float(t[k - 1] + (t[k] - t[k - 1]) * a / (a - b)) if a != b else float(t[k])
 
 
-@dataclass
+@dataclass(repr=False)
 class PlaneResult(Tabular):
     """Histories of one run (outputs at ``t``) and its summary (:meth:`summary`)."""
 

@@ -27,11 +27,13 @@ are recovered the same way for all fidelities.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.linalg as sla
 
+from nsdyn._brief import brief_repr
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.defaults import ALPHA, BETA, C_DAMPER, EPS, ETA, K_LAM, MU
@@ -100,7 +102,7 @@ class Isolation:
         return v
 
 
-@dataclass
+@dataclass(repr=False)
 class IsolatedSystem:
     """One fidelity of the isolated (or fixed-base) structure in the common form.
 
@@ -114,6 +116,8 @@ class IsolatedSystem:
     normal_force : ndarray (ni,), optional   frozen normal forces of models without contacts
                                         (:mod:`nsdyn.models.isolated.builders`)
     """
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     name: str
     fidelity: str
@@ -356,15 +360,23 @@ def build_system(
 
     Parameters
     ----------
-    frame : nsdyn.structure.frame.Frame
+    frame : nsdyn.structure.frame.Frame, or a bundled frame's name or a frame file's path
+                                         (read by :func:`nsdyn.structure.load_frame`)
     isolation : Isolation, optional      ignored for ``fidelity="fixed"``; default seed values
     fidelity : {"fixed", "rigid", "cb", "full"}
     f_max : float                        Craig-Bampton / modal cut-off [Hz] ("cb", "fixed")
     damping : {"modal", "stiffness"}     superstructure damping of the full model (nodal
                                          coordinates, :mod:`nsdyn.models.isolated.fullorder`)
     """
-    from nsdyn.structure import craig_bampton
+    from nsdyn.structure import craig_bampton, load_frame
 
+    if isinstance(frame, str | os.PathLike):
+        frame = load_frame(frame)
+    if not hasattr(frame, "assemble"):
+        raise TypeError(
+            f"frame: expected a plane Frame (nsdyn.load_frame), a bundled frame's name or a "
+            f"frame file's path, got {type(frame).__name__}"
+        )
     if fidelity not in FIDELITIES:
         raise ValueError(f"fidelity: expected one of {FIDELITIES}, got {fidelity!r}")
     iso = Isolation() if isolation is None else isolation

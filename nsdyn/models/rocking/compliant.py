@@ -101,7 +101,7 @@ class CompliantBlock(HalfSizes):
         return self.mass * (self.B**2 + self.H**2) / 3.0
 
 
-@dataclass
+@dataclass(repr=False)
 class CompliantResult(Tabular):
     """Time history ``t`` (n,), ``y`` (n, 8) = [x, y, phi, x', y', phi', e_0, e_1]; theta = -phi."""
 

@@ -21,7 +21,7 @@ from nsdyn._tabular import Tabular
 OUTCOMES = ("rest", "rocking", "overturned")  # kernel outcome code -> name
 
 
-@dataclass
+@dataclass(repr=False)
 class RockingResult(Tabular):
     """One rocking time history.
 

@@ -1,0 +1,107 @@
+"""The library answers a newcomer's first steps: objects print in brief, the common mistakes
+of the public API (a name where an object is wanted, a misspelt name, a negative PGA) raise
+an error that says what was expected and how to make it."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+import nsdyn
+from nsdyn._brief import WIDTH, brief, brief_repr
+
+# ---- brief repr ------------------------------------------------------------------------------
+
+
+def test_brief_shows_arrays_by_shape_and_short_values_as_themselves():
+    assert brief(np.zeros((2001, 26))) == "<array (2001, 26) float64>"
+    assert brief(np.array([1.0, 2.5])) == "[1. , 2.5]"
+    assert brief(sp.eye(5, format="csr")) == "<sparse (5, 5) nnz=5>"
+    assert brief(list(range(100))) == "<list of 100>"
+    assert brief([1, 2]) == "[1, 2]" and brief(0.1 + 0.2) == "0.3" and brief(None) == "None"
+    assert len(brief("x" * 500)) == WIDTH
+
+
+@dataclasses.dataclass
+class Small:
+    a: int = 1
+
+
+@dataclasses.dataclass(repr=False)
+class Big:
+    name: str = "b"
+    x: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(1000))
+    y: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((3, 3)))
+    __repr__ = brief_repr
+
+
+def test_a_nested_dataclass_is_shown_whole_when_short_else_by_type_and_name():
+    assert brief(Small()) == "Small(a=1)"
+    assert brief(Big()) == "<Big 'b'>"
+    assert repr(Big()) == "Big(name='b', x=<array (1000,) float64>, y=<array (3, 3) float64>)"
+
+
+def test_a_frame_and_a_system_print_every_field_in_brief():
+    frame = nsdyn.load_frame("office-11")
+    system = nsdyn.build_system(frame, nsdyn.Isolation(mu=0.03), fidelity="cb")
+    for obj in (frame, system):
+        r = repr(obj)
+        # every field named, each value within WIDTH + its name (the dataclass repr of the
+        # system printed its 13x13 matrices and the 435x13 map T in full)
+        names = [f.name for f in dataclasses.fields(obj) if f.repr]
+        assert r.startswith(type(obj).__name__ + "(") and all(f"{n}=" in r for n in names)
+        assert len(r) <= sum(len(n) + WIDTH + 3 for n in names) + 40
+    assert "T=<array (435, 13) float64>" in repr(system)
+
+
+def test_a_transient_result_prints_in_brief():
+    system = nsdyn.build_system("office-11", nsdyn.Isolation(mu=0.03), fidelity="rigid")
+    res = nsdyn.simulate(system, nsdyn.read_motion("synthetic-wn-40s"), t_end=0.5, dt_out=0.01)
+    r = repr(res)
+    assert r.startswith("TransientResult(system=<IsolatedSystem ")
+    assert f"x=<array {res.x.shape} float64>" in r and "response=<Response>" in r
+    assert len(r) < 1000  # the dataclass repr: tens of thousands of characters
+    assert "x_iso=<array" in repr(res.response)
+
+
+# ---- the public API's common mistakes --------------------------------------------------------
+
+
+def test_build_system_takes_a_frame_name_or_path_as_load_frame_reads_it():
+    by_name = nsdyn.build_system("office-11", fidelity="cb")
+    by_path = nsdyn.build_system(Path(nsdyn.structure.frame_toml.FRAMES.find("office-11")))
+    by_frame = nsdyn.build_system(nsdyn.load_frame("office-11"), fidelity="cb")
+    for s in (by_name, by_path):
+        assert np.array_equal(s.M, by_frame.M) and np.array_equal(s.K, by_frame.K)
+
+
+def test_build_system_refuses_what_is_not_a_frame():
+    with pytest.raises(TypeError, match=r"frame: expected a plane Frame .* got int"):
+        nsdyn.build_system(11)
+
+
+@pytest.mark.parametrize("motion", ["synthetic-wn-40s", Path("rec.txt"), np.zeros(10)])
+def test_simulate_says_how_to_make_a_motion_from_a_name_or_an_array(motion):
+    system = nsdyn.build_system("office-11", fidelity="rigid")
+    with pytest.raises(TypeError, match=r"^motion: expected a ground motion or a force") as e:
+        nsdyn.simulate(system, motion, t_end=1.0)
+    made = "read_motion(" if isinstance(motion, str | Path) else "GroundMotion(t0, dt, a_hor)"
+    assert made in str(e.value)
+
+
+@pytest.mark.parametrize("pga", [-1.0, float("nan"), float("inf")])
+def test_scaling_to_a_negative_or_non_finite_pga_is_refused(pga):
+    m = nsdyn.read_motion("synthetic-wn-40s")
+    with pytest.raises(ValueError, match=r"target: expected a finite PGA >= 0"):
+        m.scaled_to_pga(pga)
+
+
+def test_a_misspelt_public_name_suggests_the_closest():
+    with pytest.raises(AttributeError, match=r"no attribute 'simulat'; did you mean 'simulate'"):
+        nsdyn.simulat  # noqa: B018
+    with pytest.raises(AttributeError, match=r"no attribute 'zzzz'$"):
+        nsdyn.zzzz  # noqa: B018
