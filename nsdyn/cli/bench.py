@@ -51,9 +51,13 @@ def configure(p: argparse.ArgumentParser) -> None:
     """Arguments of ``nsdyn bench``."""
     from nsdyn.bench import BENCHMARKS
 
+    names = [*BENCHMARKS, "all"]
+    spelt = {n.replace("_", "-"): n for n in names}  # switch-shooting, full_model: either
+
     p.add_argument(
         "what",
-        choices=[*BENCHMARKS, "all"],
+        type=lambda s: spelt.get(s.replace("_", "-"), s),
+        choices=names,
         help="; ".join(f"{name}: {HELP.get(name, BENCHMARKS[name])}" for name in BENCHMARKS)
         + "; all: each in this order",
     )

@@ -64,3 +64,12 @@ def test_an_unknown_option_is_reported_by_its_command(name, capsys):
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"nsdyn {name}: error: unrecognized arguments: --no-such-option")
     assert err.endswith(f"(see nsdyn {name} --help)")
+
+
+def test_a_benchmark_name_may_be_spelt_with_a_hyphen_or_an_underscore():
+    from nsdyn.bench import BENCHMARKS
+
+    parser = build_parser("bench")
+    for name in BENCHMARKS:
+        for spelt in (name, name.replace("_", "-"), name.replace("-", "_")):
+            assert parser.parse_args(["bench", spelt]).what == name
