@@ -17,6 +17,7 @@ import gc
 import importlib
 import signal
 import sys
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -119,6 +120,22 @@ def _on_sigterm(signum, frame):
     raise KeyboardInterrupt
 
 
+def _one_line_warnings(command: str, default: Callable) -> Callable:
+    """``warnings.showwarning`` that prints nsdyn's own warnings about the user's input (a
+    record's units) as one line, ``nsdyn CMD: warning: ...``, without Python's file, line and
+    source echo; any other warning as Python shows it."""
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        from nsdyn.ground.motion import UnitWarning
+
+        if issubclass(category, UnitWarning):
+            print(f"nsdyn {command}: warning: {message}", file=sys.stderr if file is None else file)
+            return
+        default(message, category, filename, lineno, file, line)
+
+    return show
+
+
 def _caused_by_interrupt(exc: BaseException) -> bool:
     """True if a KeyboardInterrupt is in ``exc``'s chain of causes (numba's dispatcher turns
     an exception raised by a signal handler during a kernel into SystemError from it)."""
@@ -196,6 +213,8 @@ def main(argv: list[str] | None = None) -> int:
         old = signal.signal(signal.SIGTERM, _on_sigterm)
     except ValueError:  # not the main thread: leave signals alone
         old = None
+    shown = warnings.showwarning
+    warnings.showwarning = _one_line_warnings(args.command, shown)
     try:
         try:
             return int(args._run(args))
@@ -217,6 +236,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"nsdyn {args.command}: numerical failure: {exc}", file=sys.stderr)
         return EXIT_NUMERICS
     finally:
+        warnings.showwarning = shown
         if old is not None:
             signal.signal(signal.SIGTERM, old)
 

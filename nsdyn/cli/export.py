@@ -29,9 +29,12 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("target", choices=TARGETS, help="what to export to: opensees (openseespy)")
     p.add_argument(
         "scene",
+        nargs="?",
+        default=None,
         help="scene TOML of an isolated frame (kind 'isolated', a frame) or of a 3D building "
         "(kind 'building3d': the frame on its bearings, the record), or a 3D frame file "
-        "or bundled 3D frame (fixed base, eigen analysis)",
+        "or bundled 3D frame (fixed base, eigen analysis); default: the default scene, as "
+        "nsdyn run runs it (written to office-11_opensees.py)",
     )
     p.add_argument(
         "-o",
@@ -158,13 +161,23 @@ def run(args: argparse.Namespace) -> int:
     """Write the script; print where (and the model's key numbers)."""
     from nsdyn.models.isolated.opensees import export_opensees
 
-    stem = _frame3d_name(args.scene)
+    if args.scene is None:  # the default scene, the one `nsdyn run` runs without a file
+        from nsdyn.models.isolated.defaults import FRAME
+        from nsdyn.models.isolated.scene import load_scene
+
+        default = load_scene(None, {"scene": {"fidelity": "full"}})
+        args.scene, args.default = default, Path(f"{FRAME}_opensees.py")
+    stem = None if isinstance(args.scene, dict) else _frame3d_name(args.scene)
     if stem is not None:
         return _run_frame3d(args, stem)
-    if _is_building3d(args.scene):
+    if not isinstance(args.scene, dict) and _is_building3d(args.scene):
         return _run_building3d(args)
-    scene = Path(args.scene)
-    out = Path(args.out) if args.out else scene.with_name(f"{scene.stem}_opensees.py")
+    if isinstance(args.scene, dict):
+        scene, named = args.scene, args.default
+    else:
+        scene = Path(args.scene)
+        named = scene.with_name(f"{scene.stem}_opensees.py")
+    out = Path(args.out) if args.out else named
     export_opensees(scene, out, dt=args.dt, t_end=args.t_end, damping=args.damping)
     data = load_script_data(out) if args.json else None
     if args.json:

@@ -395,7 +395,9 @@ def run(args: argparse.Namespace) -> int:
     s["compile_s"] = float(s["compile_s"]) + compile_s
     s["record"] = getattr(motion, "name", s["excitation"])
     if hasattr(motion, "pga"):
-        s["pga_mps2"] = float(motion.pga)
+        s["pga_mps2"] = float(motion.pga)  # of the motion run: the window, with --t-end
+        if "pga" in cfg.get("motion", {}):  # the record was scaled to this before the window
+            s["record_pga_mps2"] = float(cfg["motion"]["pga"])
     hist = out / f"{stem}-histories.npz"
     with atomic_open(hist, "wb") as fh:
         np.savez(
@@ -425,6 +427,9 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(s))
         return 0
     pga = f" (PGA {s['pga_mps2']:.2f} m/s²)" if "pga_mps2" in s else ""
+    if abs(s.get("record_pga_mps2", s.get("pga_mps2", 0.0)) - s.get("pga_mps2", 0.0)) > 5e-3:
+        pga = (f" (record scaled to PGA {s['record_pga_mps2']:.2f} m/s²; peak "
+               f"{s['pga_mps2']:.2f} m/s² over the run)")  # fmt: skip
     print(f"outcome {text}")
     print(f"model   {s['model']}   excitation {s['record']}{pga}")
     print(f"method  {s['method']}: {s['n_steps']} steps, run {s['wall_s']:.3f} s", end="")

@@ -54,6 +54,10 @@ class RecordFileError(ValueError):
         super().__init__(f"{where}: {message}")
 
 
+# how a user gives a record's units, in the library and in a scene file
+UNITS_HINT = "units='gal', 'g' or 'm/s2'; in a scene, [motion] units"
+
+
 class UnitWarning(UserWarning):
     """The units of a record were assumed, or its PGA looks like the wrong unit."""
 
@@ -348,14 +352,16 @@ def check_pga(motion: GroundMotion) -> None:
     if pga > PGA_MAX_PLAUSIBLE:
         warnings.warn(
             f"{motion.source}: PGA = {pga:.4g} m/s² > {PGA_MAX_PLAUSIBLE:g} m/s²; the file is "
-            "probably in cm/s² (gal) read as m/s², or in m/s² read as g: pass units=",
+            "probably in cm/s² (gal) read as m/s², or in m/s² read as g: give its units "
+            f"({UNITS_HINT})",
             UnitWarning,
             stacklevel=3,
         )
     elif pga < PGA_MIN_PLAUSIBLE:
         warnings.warn(
             f"{motion.source}: PGA = {pga:.4g} m/s² < {PGA_MIN_PLAUSIBLE:g} m/s²; the file is "
-            "probably in g read as m/s² (or the record is empty): pass units=",
+            "probably in g read as m/s² (or the record is empty): give its units "
+            f"({UNITS_HINT})",
             UnitWarning,
             stacklevel=3,
         )
@@ -376,7 +382,7 @@ def resolve_units(explicit: str | None, stated: str | None, source: str) -> tupl
     if stated is not None:
         return unit_factor(stated)
     warnings.warn(
-        f"{source}: the file does not state its units; assuming m/s² (pass units=)",
+        f"{source}: the file does not state its units; assuming m/s² (give them: {UNITS_HINT})",
         UnitWarning,
         stacklevel=4,
     )

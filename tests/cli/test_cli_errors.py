@@ -88,3 +88,25 @@ def test_a_space_frame_given_to_frame_names_the_building3d_scene(capsys, tmp_pat
     assert err.startswith("nsdyn run: error: <default scene>: scene.frame: office-11-3d is a 3D")
     assert "scene of kind 'building3d'" in err
     assert not (tmp_path / "o").exists()
+
+
+def test_a_units_warning_is_one_line_naming_the_command(capsys, tmp_path):
+    # a record without a units header: read as m/s² with a UnitWarning, which the command
+    # line shows as one line (Python's form adds the file, the line and its source)
+    import warnings
+
+    import numpy as np
+
+    rec = tmp_path / "rec.txt"
+    t = np.arange(0.0, 2.0, 0.01)
+    rec.write_text("\n".join(f"{a:.3f} {b:.6e}" for a, b in zip(t, np.sin(t), strict=True)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        rc = main(["run", "--record", str(rec), "--t-end", "1", "--json", "--no-figures",
+                   "--out", str(tmp_path / "o")])  # fmt: skip
+    assert rc == 0
+    err = [ln for ln in capsys.readouterr().err.splitlines() if "warning" in ln.lower()]
+    assert err == [
+        f"nsdyn run: warning: {rec}: the file does not state its units; assuming m/s² (give "
+        "them: units='gal', 'g' or 'm/s2'; in a scene, [motion] units)"
+    ]

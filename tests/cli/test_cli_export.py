@@ -25,6 +25,17 @@ def test_export_writes_script(tmp_path, capsys, monkeypatch):
     assert not [p for p in out.parent.iterdir() if p.name != "m.py"]  # no temporary left
 
 
+def test_export_without_a_scene_writes_the_default_scene(tmp_path, capsys, monkeypatch):
+    # as `nsdyn run` without a file runs it: office-11 (seed 004: 145 nodes, 154 members) on
+    # its isolators under the bundled record, the whole 40 s unless cut
+    monkeypatch.chdir(tmp_path)
+    assert main(["export", "opensees", "--json"]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["script"] == "office-11_opensees.py" and (tmp_path / s["script"]).is_file()
+    assert s["frame"] == "office-11" and s["n_nodes"] == 145 and s["n_elements"] == 154
+    assert s["duration_s"] == 40.0
+
+
 def test_export_default_name_and_dt(tmp_path, capsys):
     scene = tmp_path / "s.toml"
     scene.write_text(SCENE)

@@ -80,3 +80,18 @@ def test_ladder_flags_on_a_scene_without_a_frame_name_the_flag(tmp_path, capsys)
         assert main(["run", str(scene), *flags, "--no-figures", "--out", str(tmp_path)]) == 2
         err = capsys.readouterr().err
         assert flags[0] in err and "[structure]" in err and "shear" in err
+
+
+def test_a_shortened_run_reports_the_peak_it_ran_and_the_pga_it_scaled_to(tmp_path, capsys):
+    # the scene scales the whole record to 3 m/s², then --t-end keeps its first 2 s, whose
+    # peak is lower: both are said, the run's own peak as pga_mps2
+    import nsdyn
+
+    out = str(tmp_path / "o")
+    assert main(["run", "--t-end", "2", "--json", "--no-figures", "--out", out]) == 0
+    s = json.loads(capsys.readouterr().out)
+    ran = nsdyn.read_motion("synthetic-wn-40s").scaled_to_pga(3.0).window(0.0, 2.0)
+    assert s["record_pga_mps2"] == 3.0 and s["pga_mps2"] == ran.pga < 3.0
+    assert main(["run", "--t-end", "2", "--no-figures", "--out", out]) == 0
+    text = capsys.readouterr().out
+    assert f"(record scaled to PGA 3.00 m/s²; peak {ran.pga:.2f} m/s² over the run)" in text

@@ -118,7 +118,8 @@ def _scene_system(scene, source: str):
     if kind != "isolated":
         raise SceneError(
             f"{source}: scene.kind: OpenSees export is for the isolated frame (kind "
-            f"'isolated'), got {kind!r}"
+            f"'isolated') and the 3D building (kind 'building3d'), or a 3D frame file, got "
+            f"{kind!r}"
         )
     if isinstance(scene, str | Path):
         cfg = load_scene(scene, {"scene": {"fidelity": "full"}} if "structure" not in raw else None)
