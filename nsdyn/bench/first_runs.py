@@ -67,6 +67,7 @@ def cases() -> list[tuple[str, str, list[str]]]:
         ("cylinder", "tensionless", ["run", str(_SCENES / "cylinder-uplift.toml"), *out]),
         ("deck", "fps", ["run", str(_SCENES / "deck-fps4-3c.toml"), *out]),
         ("study", "isolated, 2 tasks", ["study", "{study}", *out]),
+        ("building3d", "cb", ["run", str(_SCENES / "building3d-office-cb.toml"), *out]),
     ]
     return rows
 

@@ -15,7 +15,7 @@ def test_every_family_and_method_has_a_case():
     got = {(fam, what.split(" ")[0]) for fam, what, _ in first_runs.cases()}
     want = {("isolated", m) for m in ("radau", "event", "genalpha", "genalpha-lowrank", "sweep")}
     want |= {("rocking", "block"), ("contact", "event"), ("cylinder", "tensionless")}
-    want |= {("deck", "fps"), ("study", "isolated,")}
+    want |= {("deck", "fps"), ("study", "isolated,"), ("building3d", "cb")}
     assert got == want
     for _, _, args in first_runs.cases():  # every case writes JSON into its own directory
         assert "--json" in args and "{out}" in args

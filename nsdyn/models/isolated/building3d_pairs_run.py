@@ -37,6 +37,10 @@ __all__ = ["DT_SPARSE", "full_path", "pair_kernels", "path_line", "peak_field", 
            "sparse_solver", "sparse_step", "warm_pairs"]  # fmt: skip
 
 DT_SPARSE = 0.005  # s: the sparse full rung's default step (module text)
+# seconds the pair kernels' first compilation takes (the first-run notice): 119 s of one core
+# in one process on the AMD EPYC of docs/dev/first-runs.md (the office's cb rung, regularised
+# law); the whole family compiles here, with no helper process
+PAIRS_COMPILE_ABOUT_S = 120.0
 
 
 def full_path(frame, base: str) -> tuple[str, str]:
@@ -97,13 +101,12 @@ def warm_pairs(path: str, law: str, system=None) -> float:
     """Compile (or load) the pair kernels of ``path`` ("dense" | "sparse") and ``law`` on a
     short run of ``system`` (default: the bundled portal's); the seconds spent."""
     from nsdyn._numba_cache import all_cached, first_compile
-    from nsdyn.models.isolated.deck_scene import COMPILE_ABOUT_S
 
     sparse = path == "sparse"
     system = _small_pairs(sparse) if system is None or sparse else system
     still = {"f": 1.0, "ax": 0.0, "ay": 0.0}
     w0 = time.perf_counter()
-    with first_compile("building3d", COMPILE_ABOUT_S, all_cached(pair_kernels(path, law))):
+    with first_compile("building3d", PAIRS_COMPILE_ABOUT_S, all_cached(pair_kernels(path, law))):
         if sparse:
             from nsdyn.models.isolated.pairs_sparse_run import simulate_pairs_sparse
 
