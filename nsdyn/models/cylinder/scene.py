@@ -262,12 +262,14 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
                  rim_lift=res.rim_lift, F=res.F, M=res.M, E_mech=res.E_mech, E_in=res.E_in,
                  E_d=res.E_d, u=res.u, ud=res.ud, f_base=res.f_base, E_f=res.E_f)  # fmt: skip
     summary["histories"] = str(npz)
+    summary["files"] = [str(npz)]  # every file written, as the other scene kinds list them
     if figures and p.foundation != "fixed":
         from nsdyn.models.cylinder.figures import motion_figure
 
         png = out_dir / f"{name}.png"
         save_figure(motion_figure(res, title=f"{name}: {p.foundation}: {text}"), png)
         summary["figure"] = str(png)
+        summary["files"].append(str(png))
     log(f"done in {wall:.3f} s (+{compile_s:.2f} s compile)")
     return summary
 
@@ -314,4 +316,5 @@ def format_summary(s: dict) -> str:
         ("wall [s] (compile)", f"{s['wall_s']:.3f} ({s['compile_s']:.2f})"),
     ]
     lines += [f"  {k:<24} {v:.4g}" if isinstance(v, float) else f"  {k:<24} {v}" for k, v in rows]
+    lines += [f"  {'file':<24} {f}" for f in s.get("files", [])]
     return "\n".join(lines)

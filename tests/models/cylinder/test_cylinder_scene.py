@@ -60,6 +60,10 @@ def test_run_scene_end_to_end(cfg, tmp_path):
     assert s["energy_error"] < 1e-5
     json.dumps(s)
     assert "max tilt" in format_summary(s)
+    # every file written is listed, as the other scene kinds list theirs
+    assert s["files"] == [s["histories"], s["figure"]]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(Path(f).name for f in s["files"])
+    assert all(f"  file                     {f}" in format_summary(s) for f in s["files"])
 
 
 def test_cli_run_json(tmp_path, capsys):
