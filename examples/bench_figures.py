@@ -15,6 +15,7 @@ import argparse
 import csv
 import math
 import shutil
+import sys
 from pathlib import Path
 
 from nsdyn import bench
@@ -141,6 +142,10 @@ if __name__ == "__main__":
     ap.add_argument("--figures", default=str(FIGURES), metavar="FIG_DIR")
     a = ap.parse_args()
     res = main(a.dir, a.figures)
+    if not {"ratios", "fidelity", "speed", "periodic"} & set(res):
+        print(f"{a.dir}: no benchmark tables to redraw from (run nsdyn bench accuracy, fidelity, "
+              f"speed, periodic or stability into it first); the figures already in "
+              f"{a.figures}:", file=sys.stderr)  # fmt: skip
     for key in ("speed", "periodic"):
         if key in res:
             print(res[key], end="\n\n")

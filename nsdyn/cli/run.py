@@ -132,6 +132,13 @@ def _scene_overrides(args: argparse.Namespace) -> dict:
     return o
 
 
+def _t_end_wins(args: argparse.Namespace, cfg: dict) -> None:
+    """``--t-end`` replaces a harmonic scene's ``n_periods`` (the duration is given once)."""
+    if args.t_end:
+        for table in ("motion", "force"):
+            cfg.get(table, {}).pop("n_periods", None)
+
+
 _ISOLATED_ONLY = (
     "frame",
     "fidelity",
@@ -179,6 +186,7 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
         raise SceneError(f"{args.scene}: {', '.join(bad)} apply to isolated-frame scenes only")
     for table, vals in _scene_overrides(args).items():
         cfg.setdefault(table, {}).update(vals)
+    _t_end_wins(args, cfg)
     mod = importlib.import_module(scene_module(kind))
     with output_dir(Path(args.out)) as out:
         s = mod.run_scene(
@@ -227,11 +235,20 @@ def _check_method(method: str, cfg: dict) -> None:
     from nsdyn.models.scenefile import SceneError
     from nsdyn.solve.methods import METHODS
 
+    source = cfg.get("_source", "<scene>")
     if method != "auto" and method not in METHODS:
-        source = cfg.get("_source", "<scene>")
         raise SceneError(
             f"{source}: solver.method: unknown integrator {method!r}; expected 'auto' or one "
             f"of {sorted(METHODS)}"
+        )
+    from nsdyn.solve.methods import UNILATERAL_METHODS
+
+    unilateral = cfg.get("isolation", {}).get("contact") == "unilateral"
+    if unilateral and method != "auto" and method not in UNILATERAL_METHODS:
+        raise SceneError(
+            f"{source}: solver.method: {method!r} cannot integrate isolation.contact = "
+            f"'unilateral' (lift-off and landing); expected 'auto' or one of "
+            f"{list(UNILATERAL_METHODS)}"
         )
 
 
@@ -287,6 +304,7 @@ def run(args: argparse.Namespace) -> int:
     from nsdyn.solve.transient import output_grid, simulate
 
     cfg = load_scene(args.scene, _scene_overrides(args))
+    _t_end_wins(args, cfg)
     if args.friction:
         cfg.setdefault("isolation", {})["law"] = args.friction
     _check_method(cfg.get("solver", {}).get("method", "auto"), cfg)  # before the model's build

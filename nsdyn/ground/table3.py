@@ -82,9 +82,13 @@ def _number(source: str, table: dict, key: str, default=None, *, positive=False,
 
 
 def _check_keys(source: str, table: dict, valid) -> None:
+    import difflib
+
     for key in table:
         if key not in valid:
-            raise _err(source, key, f"unknown field; expected some of {sorted(valid)}")
+            close = difflib.get_close_matches(key, sorted(valid), n=1)
+            hint = f"did you mean {close[0]!r}? " if close else ""
+            raise _err(source, key, f"unknown field; {hint}expected some of {sorted(valid)}")
 
 
 def motion3_from_table(
@@ -136,9 +140,10 @@ def _record3(table: dict, source: str) -> GroundMotion3:
         pga = _number(source, table, "pga", nonneg=True)  # its own message, named once
         try:
             motion = motion.scaled_to_pga(pga, comp)
-        except ValueError as e:
+        except ValueError as e:  # GroundMotion3 names its argument ("component: ...")
             key = "pga_component" if "component" in str(e) else "pga"
-            raise _err(source, key, str(e)) from None
+            text = str(e).removeprefix("component: ").removeprefix("target: ")
+            raise _err(source, key, text) from None
     elif "pga_component" in table:
         raise _err(source, "pga_component", "given without pga")
     if "t_end" in table:

@@ -412,7 +412,8 @@ def simulate(
         n_steps += sol.n_steps
         wall += sol.wall_s
         compile_s += getattr(sol, "compile_s", 0.0)
-        uplifts.extend(getattr(sol, "uplift", []) or [])
+        if contact != "unilateral":  # a unilateral run's lift-offs are its contact events
+            uplifts.extend(getattr(sol, "uplift", []) or [])
         for key in ("nfev", "njev", "n_lu", "n_rejected", "n_events"):
             stats[key] = stats.get(key, 0) + int(getattr(sol, key, 0) or 0)
         ts.append(sol.t[1:])

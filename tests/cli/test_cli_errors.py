@@ -110,3 +110,17 @@ def test_a_units_warning_is_one_line_naming_the_command(capsys, tmp_path):
         f"nsdyn run: warning: {rec}: the file does not state its units; assuming m/s² (give "
         "them: units='gal', 'g' or 'm/s2'; in a scene, [motion] units)"
     ]
+
+
+def test_a_method_that_cannot_integrate_unilateral_contact_is_named(capsys, tmp_path):
+    # lift-off and landing run on event and radau only: said before the model is built, one
+    # line naming the field (it was a 25-line traceback from the integrator)
+    scene = tmp_path / "s.toml"
+    scene.write_text('[isolation]\ncontact = "unilateral"\n[solver]\nmethod = "dopri5"\n')
+    assert main(["run", str(scene), "--out", str(tmp_path / "o")]) == EXIT_USER_ERROR
+    out, err = capsys.readouterr()
+    assert out == "" and err == (
+        f"nsdyn run: error: {scene}: solver.method: 'dopri5' cannot integrate "
+        "isolation.contact = 'unilateral' (lift-off and landing); expected 'auto' or one of "
+        "['event', 'radau']\n"
+    )

@@ -95,3 +95,14 @@ def test_a_shortened_run_reports_the_peak_it_ran_and_the_pga_it_scaled_to(tmp_pa
     assert main(["run", "--t-end", "2", "--no-figures", "--out", out]) == 0
     text = capsys.readouterr().out
     assert f"(record scaled to PGA 3.00 m/s²; peak {ran.pga:.2f} m/s² over the run)" in text
+
+
+def test_t_end_replaces_a_harmonic_scenes_number_of_periods(tmp_path, capsys):
+    # the scene gives its duration as n_periods = 30; --t-end is the user's, and wins (a
+    # scene could not be shortened from the command line: "give one, not both")
+    from pathlib import Path
+
+    scene = Path(__file__).resolve().parents[2] / "examples/scenes/isolated-uplift-pocket.toml"
+    argv = ["run", str(scene), "--t-end", "1", "--json", "--no-figures", "--out", str(tmp_path)]
+    assert main(argv) == 0
+    assert json.loads(capsys.readouterr().out)["t_end_s"] == 1.0

@@ -114,3 +114,14 @@ def test_a_bad_component_file_is_named_by_its_own_key(tmp_path):
             motion3_from_table({"kind": "record3", **files}, SRC)
         msg = str(ei.value)
         assert "\n" not in msg and msg.startswith(f"{SRC}: motion.{key}:") and needle in msg, msg
+
+
+def test_a_misspelt_key_suggests_the_field_and_a_bad_component_names_it_once():
+    base = {"kind": "record3", "record": "synthetic-wn-40s"}
+    with pytest.raises(ValueError, match=r"motion\.records: unknown field; did you mean "
+                                         r"'record'\? expected some of"):  # fmt: skip
+        motion3_from_table({"kind": "record3", "records": "synthetic-wn-40s"}, SRC)
+    with pytest.raises(ValueError) as ei:
+        motion3_from_table({**base, "pga": 3.0, "pga_component": "geo"}, SRC)
+    assert str(ei.value) == (f"{SRC}: motion.pga_component: expected one of ('resultant', "
+                             "'x', 'y', 'geomean'), got 'geo'")  # fmt: skip

@@ -74,14 +74,14 @@ class PairSystemError(BearingError):
     """A PairSystem field is invalid; the message names the field and the expected form."""
 
 
-def _matrix(name: str, A, shape: tuple) -> np.ndarray:
+def _matrix(name: str, A, shape: tuple, why: str = "") -> np.ndarray:
     try:
         a = np.array(A, dtype=float)
     except (TypeError, ValueError) as e:
         raise PairSystemError(f"{name}: expected an array of numbers of shape {shape} "
                               f"({e})") from None  # fmt: skip
     if a.shape != shape:
-        raise PairSystemError(f"{name}: expected shape {shape}, got {a.shape}")
+        raise PairSystemError(f"{name}: expected shape {shape}{why}, got {a.shape}")
     bad = np.argwhere(~np.isfinite(a))
     if bad.size:
         idx = tuple(int(i) for i in bad[0])
@@ -136,9 +136,10 @@ class PairSystem:
         if not ev[0] > SPD_RTOL * max(abs(ev[-1]), 1e-300):
             raise PairSystemError(f"{w}.M: expected a positive definite mass matrix, smallest "
                                   f"eigenvalue {ev[0]:.6g} (largest {ev[-1]:.6g})")  # fmt: skip
-        K = _symmetric(f"{w}.K", _matrix(f"{w}.K", self.K, (n, n)))
-        C = _matrix(f"{w}.C", self.C, (n, n))
-        Gam = _matrix(f"{w}.Gamma", self.Gamma, (n, 3))
+        by_m = f" (n = {n}, the size of M)"
+        K = _symmetric(f"{w}.K", _matrix(f"{w}.K", self.K, (n, n), by_m))
+        C = _matrix(f"{w}.C", self.C, (n, n), by_m)
+        Gam = _matrix(f"{w}.Gamma", self.Gamma, (n, 3), by_m)
         Draw = np.asarray(self.D) if not isinstance(self.D, list) else np.array(self.D, float)
         if Draw.ndim != 3 or Draw.shape[1:] != (2, n) or Draw.shape[0] < 1:
             raise PairSystemError(f"{w}.D: expected slip rows of shape (ni, 2, {n}) (x and y "

@@ -292,7 +292,7 @@ def outcome(s: dict) -> tuple[str, str]:
     if s.get("fidelity") == "fixed":
         return "fixed base", "fixed base (no isolators to lift off)"
     up = s.get("uplift") or []
-    if up:
+    if up and s.get("contact") != "unilateral":  # the unilateral model lets them lift off
         first = min(up, key=lambda u: u["t_s"])
         more = f"; {len(up) - 1} more uplift events" if len(up) > 1 else ""
         return "uplift", (

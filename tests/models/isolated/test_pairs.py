@@ -213,7 +213,7 @@ def _fields(**over):
 @pytest.mark.parametrize(
     ("over", "match"),
     [
-        ({"M": np.eye(2)}, r"box\.K: expected shape \(2, 2\)"),
+        ({"M": np.eye(2)}, r"box\.K: expected shape \(2, 2\) \(n = 2, the size of M\), got"),
         ({"M": np.ones(3)}, r"box\.M: expected a square"),
         ({"M": np.diag([1.0, 1.0, -1.0])}, r"box\.M: expected a positive definite"),
         ({"M": np.array([[1.0, 0.5, 0], [0, 1, 0], [0, 0, 1]])}, r"box\.M: not symmetric"),
