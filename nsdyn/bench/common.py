@@ -27,6 +27,7 @@ ENERGY_CLOSURE_MAX is flagged by the benchmark itself. Tables are written throug
 from __future__ import annotations
 
 import csv
+import inspect
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -125,6 +126,17 @@ def entry_point(bench: Callable[..., dict]) -> Callable[..., dict]:
         return bench(quick=quick, out=out_dir, **options)
 
     run_bench.__doc__ = f":func:`{bench.__name__}` writing into ``out_dir``; options: OPTIONS."
+    # its signature: (out_dir, quick, *, the options of ``bench``), as callers inspect it
+    pos = inspect.Parameter.POSITIONAL_OR_KEYWORD
+    opts = [p for n, p in inspect.signature(bench).parameters.items() if n not in ("quick", "out")]
+    run_bench.__signature__ = inspect.Signature(
+        [
+            inspect.Parameter("out_dir", pos, annotation="Path"),
+            inspect.Parameter("quick", pos, annotation="bool"),
+            *opts,
+        ],
+        return_annotation="dict",
+    )
     return run_bench
 
 

@@ -44,6 +44,7 @@ MAP_RTOLS = (1e-5, 1e-7, 1e-9, 1e-11)  # event-driven tolerances of the map
 MAP_T = 4.0  # s, map runs (hops and accumulations from about 2 s on for e_n >= 0.6)
 MAP_MAX_EVENTS = 3000  # event budget of a map run
 FAIL_ERR = 0.1  # err_theta above which a map run counts as inaccurate
+OPTIONS = ("figures",)  # options run_bench takes
 T_SPLIT = 2.2  # s, the two solvers' limits part in a near-threshold accumulation at 2.29-2.34 s
 
 
@@ -226,9 +227,10 @@ def _figure_map(rows):
     return fig
 
 
-def run_bench(out_dir: Path, quick: bool) -> dict:
-    """Run the contact benchmark; writes ``contact-wp.csv``, ``contact-map.csv`` and the charts
-    ``contact-wp.png``, ``contact-map.png`` into ``out_dir``; returns the headline numbers."""
+def run_bench(out_dir: Path, quick: bool, figures: bool = True) -> dict:
+    """Run the contact benchmark; writes ``contact-wp.csv``, ``contact-map.csv`` and
+    (``figures``) the charts ``contact-wp.png``, ``contact-map.png`` into ``out_dir``; returns
+    the headline numbers."""
     out_dir = Path(out_dir)
     repeats = 3 if quick else 5
     rows, compile_s, ref = work_precision(quick, repeats)
@@ -236,9 +238,12 @@ def run_bench(out_dir: Path, quick: bool) -> dict:
     files = [
         str(write_csv_atomic(out_dir / "contact-wp.csv", rows)),
         str(write_csv_atomic(out_dir / "contact-map.csv", maprows)),
-        str(save_figure(_figure_wp(rows, compile_s), out_dir / "contact-wp.png")),
-        str(save_figure(_figure_map(maprows), out_dir / "contact-map.png")),
     ]
+    if figures:
+        files += [
+            str(save_figure(_figure_wp(rows, compile_s), out_dir / "contact-wp.png")),
+            str(save_figure(_figure_map(maprows), out_dir / "contact-map.png")),
+        ]
     ok = [r for r in rows if r["status"] == "ok"]
 
     def cheapest(solver, tol):

@@ -23,7 +23,7 @@
    solution at rtol 1e-11, atol 1e-13 (the integrator's error, not the law's).
 Wall times are medians of repeats after a first run that compiles (or loads) the kernels; the
 compile/load time is reported apart. Writes ``isolators-wp.csv``, ``isolators-scale.csv`` and
-``isolators-wp.png`` through nsdyn.atomic.
+``isolators-wp.png`` (unless ``figures`` is False) through nsdyn.atomic.
 """
 
 from __future__ import annotations
@@ -48,7 +48,7 @@ RTOL_REF = 1e-10
 GRIDS = (2, 3, 4, 6)  # n x n isolators
 GRIDS_QUICK = (2, 4)
 REPEATS = 5
-OPTIONS = ("repeats", "quiet")
+OPTIONS = ("repeats", "quiet", "figures")
 BEARING = Bearing(Friction(0.04, mu_fast=0.07, rate=30.0, mu_static=0.075), radius=2.2)
 TRIPLE = dict(R1=2.2, R2=0.3, R3=0.3, R4=2.2, mu1=0.06, mu2=0.02, mu3=0.02, mu4=0.10, d1=0.40,
               d2=0.06, d3=0.06, d4=0.40)  # fmt: skip
@@ -125,8 +125,15 @@ def _timed(fn, repeats: int):
     return res, float(np.median(walls))
 
 
-def run_bench(out_dir: Path, quick: bool, repeats: int | None = None, quiet: bool = True) -> dict:
-    """Run both parts; returns the numbers and the paths of the files written."""
+def run_bench(
+    out_dir: Path,
+    quick: bool,
+    repeats: int | None = None,
+    quiet: bool = True,
+    figures: bool = True,
+) -> dict:
+    """Run both parts; returns the numbers and the paths of the files written (the chart only
+    with ``figures``)."""
     out_dir = Path(out_dir)
     reps = repeats or (2 if quick else REPEATS)
     motion = read_motion3(RECORD)
@@ -169,8 +176,9 @@ def run_bench(out_dir: Path, quick: bool, repeats: int | None = None, quiet: boo
     files = [
         write_csv_atomic(out_dir / "isolators-wp.csv", rows),
         write_csv_atomic(out_dir / "isolators-scale.csv", scale),
-        save_figure(figure(rows), out_dir / "isolators-wp.png"),
     ]
+    if figures:
+        files.append(save_figure(figure(rows), out_dir / "isolators-wp.png"))
     if tol:
         files.append(write_csv_atomic(out_dir / "isolators-atol.csv", tol))
     return {"rows": rows, "scale": scale, "triple": triple, "planar": planar, "atol": tol,

@@ -36,7 +36,7 @@ from nsdyn.bench import common
 
 __all__ = ["SIZES", "fit_exponent", "peak_rss_mb", "run_bench", "scale_bench", "scale_frame"]
 
-OPTIONS = ("repeats", "quiet")
+OPTIONS = ("repeats", "quiet", "figures")
 RECORD_S = 4.0  # s of the bundled record (the window with its PGA)
 QUICK_RECORD_S = 2.0
 DT = 0.005  # s, the fixed step of nsdyn's full-order runs and of OpenSees
@@ -175,8 +175,11 @@ def _os_run(script: Path, rec_s: float) -> dict:
     return r
 
 
-def scale_bench(*, quick: bool, out: Path, repeats: int | None = None, quiet=False) -> dict:
-    """Run the sizes (interleaved, whole processes); write ``scale.csv`` and ``scale.png``."""
+def scale_bench(
+    *, quick: bool, out: Path, repeats: int | None = None, quiet=False, figures: bool = True
+) -> dict:
+    """Run the sizes (interleaved, whole processes); write ``scale.csv`` and (``figures``;
+    else ``"png"`` is None) ``scale.png``."""
     from nsdyn.models.isolated.opensees import OpenSeesUnavailable, load_opensees
 
     out = Path(out)
@@ -212,8 +215,8 @@ def scale_bench(*, quick: bool, out: Path, repeats: int | None = None, quiet=Fal
     rows = _rows(runs, have_os, rec_s, reps, quick)
     fits = _fits(rows)
     path = common.write_csv_atomic(out / "scale.csv", rows)
-    png = _figure(rows, fits, out / "scale.png")
-    res = {"rows": rows, "fits": fits, "csv": str(path), "png": str(png), "quick": quick}
+    png = str(_figure(rows, fits, out / "scale.png")) if figures else None
+    res = {"rows": rows, "fits": fits, "csv": str(path), "png": png, "quick": quick}
     common.log(report(res), quiet)
     return res
 

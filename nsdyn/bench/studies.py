@@ -35,6 +35,7 @@ QUICK_TASKS = 16  # tasks per engine, --quick
 FULL_TASKS = 64  # tasks per engine
 WORKERS = 2  # processes per engine (the machine's cores)
 PROJECT_WORKERS = (1, 2, 8, 32, 128)  # cluster sizes of the projection
+OPTIONS = ("figures",)  # options run_bench takes
 PROJECT_STUDIES = {"seed design search (320 runs)": 320, "Monte-Carlo, 1000 records": 1000}
 
 _STUDY = """
@@ -106,8 +107,9 @@ def _csv(rows: list[dict]) -> str:
     return buf.getvalue()
 
 
-def run_bench(out_dir: Path, quick: bool) -> dict:
-    """Run the throughput benchmark; write studies.csv, studies-projection.csv, studies.png."""
+def run_bench(out_dir: Path, quick: bool, figures: bool = True) -> dict:
+    """Run the throughput benchmark; write studies.csv, studies-projection.csv and
+    (``figures``) studies.png."""
     out = Path(out_dir)
     n = QUICK_TASKS if quick else FULL_TASKS
     engines = [("local-pool", 0), ("local-pool", 1)]
@@ -126,15 +128,18 @@ def run_bench(out_dir: Path, quick: bool) -> dict:
         fh.write(_csv(rows))
     with atomic_open(out / "studies-projection.csv", "w", newline="") as fh:
         fh.write(_csv(proj))
-    from nsdyn.studies.figures import throughput_figure
+    written = ["studies.csv", "studies-projection.csv"]
+    if figures:
+        from nsdyn.studies.figures import throughput_figure
 
-    save_figure(throughput_figure(rows, proj), out / "studies.png")
+        save_figure(throughput_figure(rows, proj), out / "studies.png")
+        written.append("studies.png")
     pool = next(r for r in rows if r["engine"] == "local-pool" and r["batch"] > 1)
     res = {
         "engines": rows,
         "projection": proj,
         "projection_basis": ref["engine"],
-        "files": [str(out / f) for f in ("studies.csv", "studies-projection.csv", "studies.png")],
+        "files": [str(out / f) for f in written],
     }
     if ref is not pool:
         res["dask_over_pool_wall"] = ref["wall_s"] / pool["wall_s"]

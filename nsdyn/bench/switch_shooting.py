@@ -46,7 +46,7 @@ OSC_FREQS = (0.3, 0.5, 0.7, 0.9, 1.1, 1.5, 2.0)
 OSC_FREQS_QUICK = (0.5, 0.9, 1.5)
 PERIODS = 40  # event-driven integration length [periods] (oscillator)
 PERIODS_FRAME = 12  # ... frame (quick: 6)
-OPTIONS = ("repeats", "curve")  # options run_bench takes
+OPTIONS = ("repeats", "curve", "figures")  # options run_bench takes
 CURVE_FMIN, CURVE_FMAX, CURVE_POINTS = 0.01, 10.0, 150  # the sweep's default grid
 CURVE_POINTS_QUICK = 40
 REF_TOL = 1e-10  # reference shooting tolerance
@@ -238,8 +238,11 @@ def run_curve_bench(out_dir: Path, quick: bool, repeats: int = 3) -> dict:
     }
 
 
-def run_bench(out_dir: Path, quick: bool, repeats: int = 3, curve: bool = False) -> dict:
-    """Error against time per point for both systems; writes switch_shooting.csv and .png.
+def run_bench(
+    out_dir: Path, quick: bool, repeats: int = 3, curve: bool = False, figures: bool = True
+) -> dict:
+    """Error against time per point for both systems; writes switch_shooting.csv and (with
+    ``figures``; else ``"png"`` is None) .png.
     ``curve``: the whole-curve timing instead (:func:`run_curve_bench`)."""
     if curve:
         return run_curve_bench(out_dir, quick, repeats)
@@ -265,8 +268,9 @@ def run_bench(out_dir: Path, quick: bool, repeats: int = 3, curve: bool = False)
         for name, rows in tables.items():
             for r in rows:
                 w.writerow([name] + [r[c] for c in cols[1:]])
-    png = out_dir / "switch_shooting.png"
-    save_figure(_figure(tables), png, dpi=110)
+    png = None
+    if figures:
+        png = save_figure(_figure(tables), out_dir / "switch_shooting.png", dpi=110)
     summary = {}
     for name, rows in tables.items():
         for method in sorted({(r["method"], r["eps"]) for r in rows}, key=str):
@@ -285,7 +289,7 @@ def run_bench(out_dir: Path, quick: bool, repeats: int = 3, curve: bool = False)
             }
     return {
         "csv": str(csv_path),
-        "png": str(png),
+        "png": None if png is None else str(png),
         "wall_s": time.perf_counter() - t0,
         "methods": summary,
     }
