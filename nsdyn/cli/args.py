@@ -67,21 +67,22 @@ def amplitude_list(s: str) -> list[float]:
 
 
 def _creatable(p: Path, s: str) -> None:
-    """ArgumentTypeError unless directory ``p`` exists or can be made: its first existing
-    ancestor is a directory this process may write into."""
-    if p.exists():
-        if not p.is_dir():
-            raise argparse.ArgumentTypeError(f"{s!r} exists and is not a directory")
-        if not os.access(p, os.W_OK | os.X_OK):
-            raise argparse.ArgumentTypeError(f"directory {s!r} is not writable")
+    """ArgumentTypeError unless directory ``p`` exists or can be made: ``p`` itself, else its
+    first existing ancestor, is a directory this process may write into."""
+    d = next((a for a in (p, *p.absolute().parents) if a.exists()), None)
+    if d is None:
         return
-    for a in p.absolute().parents:
-        if a.exists():
-            if not a.is_dir():
-                raise argparse.ArgumentTypeError(f"cannot create {s!r}: {a} is not a directory")
-            if not os.access(a, os.W_OK | os.X_OK):
-                raise argparse.ArgumentTypeError(f"cannot create {s!r}: {a} is not writable")
-            return
+    made = d is not p  # p is to be made inside d
+    if not d.is_dir():
+        raise argparse.ArgumentTypeError(
+            f"cannot create {s!r}: {d} is not a directory" if made
+            else f"{s!r} exists and is not a directory"
+        )  # fmt: skip
+    if not os.access(d, os.W_OK | os.X_OK):
+        raise argparse.ArgumentTypeError(
+            f"cannot create {s!r}: {d} is not writable" if made
+            else f"directory {s!r} is not writable"
+        )  # fmt: skip
 
 
 def out_dir(s: str) -> str:

@@ -165,16 +165,14 @@ def run(args: argparse.Namespace) -> int:
         from nsdyn.models.isolated.defaults import FRAME
         from nsdyn.models.isolated.scene import load_scene
 
-        default = load_scene(None, {"scene": {"fidelity": "full"}})
-        args.scene, args.default = default, Path(f"{FRAME}_opensees.py")
-    stem = None if isinstance(args.scene, dict) else _frame3d_name(args.scene)
-    if stem is not None:
-        return _run_frame3d(args, stem)
-    if not isinstance(args.scene, dict) and _is_building3d(args.scene):
-        return _run_building3d(args)
-    if isinstance(args.scene, dict):
-        scene, named = args.scene, args.default
+        scene = load_scene(None, {"scene": {"fidelity": "full"}})
+        named = Path(f"{FRAME}_opensees.py")
     else:
+        stem = _frame3d_name(args.scene)
+        if stem is not None:
+            return _run_frame3d(args, stem)
+        if _is_building3d(args.scene):
+            return _run_building3d(args)
         scene = Path(args.scene)
         named = scene.with_name(f"{scene.stem}_opensees.py")
     out = Path(args.out) if args.out else named

@@ -233,7 +233,7 @@ def _check_method(method: str, cfg: dict) -> None:
     """``solver.method`` must be ``auto`` or name an integrator (a SceneError naming the field
     otherwise)."""
     from nsdyn.models.scenefile import SceneError
-    from nsdyn.solve.methods import METHODS
+    from nsdyn.solve.methods import METHODS, UNILATERAL_METHODS
 
     source = cfg.get("_source", "<scene>")
     if method != "auto" and method not in METHODS:
@@ -241,8 +241,6 @@ def _check_method(method: str, cfg: dict) -> None:
             f"{source}: solver.method: unknown integrator {method!r}; expected 'auto' or one "
             f"of {sorted(METHODS)}"
         )
-    from nsdyn.solve.methods import UNILATERAL_METHODS
-
     unilateral = cfg.get("isolation", {}).get("contact") == "unilateral"
     if unilateral and method != "auto" and method not in UNILATERAL_METHODS:
         raise SceneError(
@@ -445,7 +443,8 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(s))
         return 0
     pga = f" (PGA {s['pga_mps2']:.2f} m/s²)" if "pga_mps2" in s else ""
-    if abs(s.get("record_pga_mps2", s.get("pga_mps2", 0.0)) - s.get("pga_mps2", 0.0)) > 5e-3:
+    scaled = s.get("record_pga_mps2")
+    if scaled is not None and abs(scaled - s["pga_mps2"]) > 5e-3:  # a shortened record
         pga = (f" (record scaled to PGA {s['record_pga_mps2']:.2f} m/s²; peak "
                f"{s['pga_mps2']:.2f} m/s² over the run)")  # fmt: skip
     print(f"outcome {text}")
