@@ -276,6 +276,9 @@ TABLE_NAMES = (
     "deck.switch",
     "radau.feval",
     "sys.jac_at",
+    "pairs.evaluate",
+    "pairs.settle",
+    "pairs.settle_contacts",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration

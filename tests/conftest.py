@@ -192,6 +192,23 @@ def pytest_terminal_summary(terminalreporter, config):
             tr.write_line(f"  {line}")
 
 
+@pytest.fixture
+def compile_alone(tmp_path):
+    """``run(code)``: ``code`` run in a fresh Python process whose numba cache is an empty
+    folder (a first compilation, with the JIT whatever this run's mode); its stdout's lines,
+    each split into fields."""
+    import subprocess
+    import sys
+
+    def run(code: str) -> list[list[str]]:
+        env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
+        out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                             text=True, check=True).stdout  # fmt: skip
+        return [r.split() for r in out.splitlines() if r]
+
+    return run
+
+
 # A slender steel-like bar: L / radius of gyration = 10 / sqrt(1e-5 / 1e-2) ~ 316, so the
 # first axial frequency lies far above the first two bending frequencies.
 CANTILEVER = {"L": 10.0, "E": 2.1e11, "A": 1e-2, "I": 1e-5, "rho_A": 78.5}

@@ -8,8 +8,6 @@ declarations, and what is compiled where.
 """
 
 import os
-import subprocess
-import sys
 
 import pytest
 
@@ -49,12 +47,9 @@ for loop, rhs in ((ke.integrate, ke.rhs), (kc.integrate, kc.rhs)):
 
 @pytest.mark.slow  # compiles both loops into an empty cache (~5 s)
 @pytest.mark.skipif(not JIT or PLAIN, reason="calls by address only in compiled code")
-def test_the_loops_compile_without_their_right_hand_sides(tmp_path):
+def test_the_loops_compile_without_their_right_hand_sides(compile_alone):
     # a fresh process with an empty cache compiles each loop alone: its right-hand side is
     # neither compiled with it nor linked into its code
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
-    out = subprocess.run([sys.executable, "-c", _LOOPS_ALONE], env=env, capture_output=True,
-                         text=True, check=True).stdout  # fmt: skip
-    rows = [r.split() for r in out.splitlines() if r]
+    rows = compile_alone(_LOOPS_ALONE)
     assert [r[0] for r in rows] == ["nsdyn.models.contact._kevent", "nsdyn.models.cylinder._kernel"]
     assert all(r[1:] == ["0", "False"] for r in rows), rows

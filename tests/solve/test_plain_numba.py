@@ -103,6 +103,17 @@ deck = rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [5.0, 3.0], [-5.0, 3
 dr = simulate_plane(deck, {"f": 0.5, "ax": 3.0, "ay": 2.0, "phase_y_deg": 90.0}, law="switch",
                     t_end=3.0)
 out["deck_q"], out["deck_events"] = dr.q, np.asarray(dr.events)
+# pair systems: the force kernel and the settlings of stick and of contacts by address
+from nsdyn.models.isolated.pairs import from_deck, simulate_pairs
+orbit = {"f": 0.5, "ax": 3.0, "ay": 2.0, "phase_y_deg": 90.0}
+pr = simulate_pairs(from_deck(deck), orbit, law="switch", t_end=3.0)
+out["pairs_q"], out["pairs_events"] = pr.q, np.asarray(pr.events)
+out["pairs_radau_q"] = simulate_pairs(from_deck(deck), orbit, law="arctan", t_end=1.0).q
+tri = from_deck(rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [0.0, 4.0]],
+                           Bearing(Friction(0.05), radius=2.2), h=1.0))
+lift = simulate_pairs(tri, {"f": 2.0, "ax": 3.0, "az": 1.5 * 9.81}, law="switch", t_end=1.0,
+                      contact="unilateral")
+out["lift_q"], out["lift_offs"] = lift.q, np.array([lift.flights["lift_offs"]])
 # a body dropped tilted onto the ground and a cylinder lifting off its tensionless foundation
 # under a sliding base: their loops call the right-hand side by address
 from nsdyn.models.contact.body import RigidBody
@@ -124,8 +135,8 @@ np.savez(sys.argv[1], **out)
 
 
 @pytest.mark.slow  # compiles the default loop, the event loop (friction and contact events),
-# the period map, generalized-alpha, the deck's switch loop, a body's event loop and the
-# cylinder's loop as plain numba
+# the period map, generalized-alpha, the deck's switch loop, a pair system's loops, a body's
+# event loop and the cylinder's loop as plain numba
 def test_plain_numba_gives_identical_histories(tmp_path):
     files = {}
     for mode in ("0", "1"):
@@ -138,6 +149,8 @@ def test_plain_numba_gives_identical_histories(tmp_path):
     assert set(by_address.files) == set(plain.files)
     assert by_address["contact_events"].shape[0] > 0  # the contact callees did run
     assert by_address["deck_events"].shape[0] > 0  # the deck settled stick
+    assert by_address["pairs_events"].shape[0] > 0  # the pair system settled stick
+    assert by_address["lift_offs"][0] > 0  # its contacts opened and settled
     assert by_address["body_impacts"][0] > 0  # the body's events did run
     assert np.abs(by_address["cylinder_u"]).max() > 0.0  # the cylinder's base slid
     for key in by_address.files:

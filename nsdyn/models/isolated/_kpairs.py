@@ -42,6 +42,7 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn._klinalg import lu_factor, lu_solve, pinv_small
 from nsdyn._numba_cache import drop_stale
 from nsdyn.models.isolated import _kplane as kp
@@ -60,7 +61,8 @@ drop_stale(
     ["_kpairs", "_kpairsrun", "_kpairsradau", "_kpairscontact"],
     [_HERE / f for f in ("_kpairs.py", "_kpairsrun.py", "_kpairsradau.py", "_kpairscontact.py",
                          "_kplane.py", "_kplaneground.py",
-                         "_kplanerun.py", "_kplaneradau.py", "_kplanestops.py", "bearings.py")]
+                         "_kplanerun.py", "_kplaneradau.py", "_kplanestops.py", "bearings.py",
+                         "pairs_compile.py")]
     + [_HERE.parents[1] / f for f in ("_kdp5.py", "_klinalg.py")],
 )  # fmt: skip
 
@@ -144,6 +146,22 @@ def evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, F
         st = evaluate_pressure(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr,
                                Fo)  # fmt: skip
     return st
+
+
+# the force kernel by address (:func:`nsdyn._kaddress.tcall`, declared and put in the table
+# by nsdyn.models.isolated.pairs_compile): the right-hand side, the settling of stick and of
+# contacts, the event functions and the outputs would otherwise each link, LLVM optimise and
+# translate again their own copy of it (with evaluate_pressure and evaluate_at)
+ka.tslot("pairs.evaluate", evaluate, "nsdyn.models.isolated.pairs_compile:callees")
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def evaluate_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
+    """:func:`evaluate` into ``out = (qdd, lam, Ff, Fr, Fo)``, called by its address in the
+    table of :mod:`nsdyn._kaddress`."""
+    qdd, lam, Ff, Fr, Fo = out
+    args = (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
+    return ka.tcall("pairs.evaluate", args)
 
 
 @njit(cache=True, error_model="numpy")
@@ -452,8 +470,8 @@ def least_norm(G, r, out):
 def rhs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, dy):
     """First-order right-hand side dy = [q̇, q̈, ṡ] (ṡ: the internal slips of triple friction
     pendulums, when y has them); ``out = (qdd, lam, Ff, Fr, Fo)`` filled."""
-    qdd, lam, Ff, Fr, Fo = out
-    st = evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
+    qdd = out[0]
+    st = evaluate_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
     n = op[O_MIK].shape[0]
     for a in range(n):
         dy[a] = y[n + a]

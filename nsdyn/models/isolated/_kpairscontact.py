@@ -24,7 +24,8 @@ at the ground (gap R_j q ≤ GAP_REST) to rest with it, a pulling impulse of at 
 the effective mass accepted: the ever slower landings of a rocking base (Zeno: infinitely many
 in finite time) end there. After each lift-off or landing the closed contacts are
 settled: one whose λ ≤ 0 opens too, the most negative first (ties: a symmetric structure's
-contacts lifting together).
+contacts lifting together). The rim contacts of the bearings (a slip reaching its disc's
+capacity, "stops") are tracked here too (:func:`track_stops`).
 """
 
 import math
@@ -32,9 +33,11 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn.models.isolated import _kpairs as kq
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplanerun as kr
+from nsdyn.models.isolated.bearings import B_DCAP
 
 GAP_ARM = 1e-12  # m, an open gap's switching function starts at this
 IMPACT_RTOL = 1e-12  # an impulse below this x the largest counts as zero (stays in S)
@@ -156,10 +159,10 @@ def land(t, y, k, modes, dirs, op, ws, EV, info, switch_law, eta):
 def settle_contacts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
     """Open the closed contacts whose normal force is not compressive, the most negative
     first, each time re-evaluated; returns a status of the loop."""
-    qdd, lam, Ff, Fr, Fo = out
+    lam = out[1]
     opn = ws[20]
     for _ in range(opn.shape[0] + 1):
-        st = kq.evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
+        st = kq.evaluate_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
         if st != kq.ST_OK:
             return kr.ST_SINGULAR
         worst = np.int64(-1)
@@ -170,3 +173,21 @@ def settle_contacts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, inf
             return kr.ST_OK
         open_contact(t, y, worst, modes, dirs, op, ws, EV, info)
     return kr.ST_CHATTER
+
+
+# by address (compiled once, on its own: see nsdyn.models.isolated.pairs_compile)
+ka.tslot("pairs.settle_contacts", settle_contacts, "nsdyn.models.isolated.pairs_compile:callees")
+
+
+@njit(cache=True, error_model="numpy")
+def track_stops(t, y, op, bp, ws, stops):
+    """Rim contacts: first time, peak overshoot |u| − d_cap and samples in contact."""
+    u = ws[0]
+    kq.slips(y, op[kq.O_D2], op[kq.O_MIK].shape[0], u, ws[1])
+    for i in range(bp.shape[0]):
+        d = math.sqrt(u[2 * i] ** 2 + u[2 * i + 1] ** 2) - bp[i, B_DCAP]
+        if d > 0.0:
+            if not stops[i, kr.P_TFIRST] == stops[i, kr.P_TFIRST]:  # nan: first contact
+                stops[i, kr.P_TFIRST] = t
+            stops[i, kr.P_PEAK] = max(stops[i, kr.P_PEAK], d)
+            stops[i, kr.P_NSTEPS] += 1

@@ -31,6 +31,7 @@ from numba import njit
 
 from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn.models.isolated import _kpairs as kq
+from nsdyn.models.isolated import _kpairscontact as kc
 from nsdyn.models.isolated import _kpairsrun as kqr
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
@@ -359,7 +360,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         have_prev = s_end >= 1.0
         f0_ready = s_end >= 1.0
         t = t_new
-        kqr.track_stops(t, y, op, bp, ws, stops)
+        kc.track_stops(t, y, op, bp, ws, stops)
         if status == kr.ST_UPLIFT:
             info[kr.I_TFAIL] = t
             break

@@ -24,18 +24,18 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn import _kdp5 as dp
 from nsdyn.models.isolated import _kpairs as kq
 from nsdyn.models.isolated import _kpairscontact as kc
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplanerun as kr
-from nsdyn.models.isolated.bearings import B_DCAP, B_MUS
+from nsdyn.models.isolated.bearings import B_MUS
 
 
 @njit(cache=True, error_model="numpy")
 def _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
-    qdd, lam, Ff, Fr, Fo = out
-    return kq.evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
+    return kq.evaluate_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
 
 
 @njit(cache=True, error_model="numpy")
@@ -104,6 +104,10 @@ def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
     return kr.ST_CHATTER
 
 
+# the settling by address (compiled once, on its own: see nsdyn.models.isolated.pairs_compile)
+ka.tslot("pairs.settle", settle, "nsdyn.models.isolated.pairs_compile:callees")
+
+
 @njit(cache=True, error_model="numpy")
 def align_starts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
     """Each slip-start direction d_i along the acceleration D_i q̈ its slip point gets with
@@ -148,7 +152,7 @@ def initial_modes(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
         sp_i = math.sqrt(v[2 * i] ** 2 + v[2 * i + 1] ** 2)
         if ws[20][i] == 0.0:  # (an open contact stays free)
             modes[i] = kp.MODE_SLIP if sp_i > sp[kq.S_ETA] else kp.MODE_STICK
-    st = settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+    st = ka.tcall("pairs.settle", (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info))
     if st != kr.ST_OK or int(sp[kq.S_CONTACT]) != kp.CONTACT_BILATERAL:
         return st
     if _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out) != kq.ST_OK:
@@ -160,7 +164,7 @@ def initial_modes(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
             free = True
     if not free:
         return st
-    return settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+    return ka.tcall("pairs.settle", (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info))
 
 
 @njit(cache=True, error_model="numpy")
@@ -180,7 +184,9 @@ def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
                     kc.land(t, y, i, modes, dirs, op, ws, EV, info, law_switch, sp[kq.S_ETA])
                 else:
                     kc.open_contact(t, y, i, modes, dirs, op, ws, EV, info)
-        st = kc.settle_contacts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+        st = ka.tcall(
+            "pairs.settle_contacts", (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+        )
         if st != kr.ST_OK or not law_switch:
             return st
         kq.slips(y, op[kq.O_D2], out[0].shape[0], ws[0], v)
@@ -203,21 +209,7 @@ def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
                 modes[i] = kp.MODE_STICK
         if modes[i] != m0:
             kr._record(EV, info, t, i, m0, modes[i], dirs)
-    return settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
-
-
-@njit(cache=True, error_model="numpy")
-def track_stops(t, y, op, bp, ws, stops):
-    """Rim contacts: first time, peak overshoot |u| − d_cap and samples in contact."""
-    u = ws[0]
-    kq.slips(y, op[kq.O_D2], op[kq.O_MIK].shape[0], u, ws[1])
-    for i in range(bp.shape[0]):
-        d = math.sqrt(u[2 * i] ** 2 + u[2 * i + 1] ** 2) - bp[i, B_DCAP]
-        if d > 0.0:
-            if not stops[i, kr.P_TFIRST] == stops[i, kr.P_TFIRST]:  # nan: first contact
-                stops[i, kr.P_TFIRST] = t
-            stops[i, kr.P_PEAK] = max(stops[i, kr.P_PEAK], d)
-            stops[i, kr.P_NSTEPS] += 1
+    return ka.tcall("pairs.settle", (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info))
 
 
 @njit(cache=True, error_model="numpy")
@@ -256,7 +248,10 @@ def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, E
     if int(sp[kq.S_LAW]) == kp.LAW_SWITCH:
         st = initial_modes(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
     if st == kr.ST_OK and uni:  # a contact without compression at the start is open
-        st = kc.settle_contacts(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+        st = ka.tcall(
+            "pairs.settle_contacts",
+            (t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info),
+        )
     if st == kr.ST_OK:
         k0 = np.int64(0)  # typed: one compilation of outputs
         outputs(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k0, X, NO, FF, FR, FO, MO)
@@ -274,7 +269,7 @@ def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, E
 def emit(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO, stops):
     """Row k of the outputs at the state y and the rim contacts there."""
     outputs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO)
-    track_stops(t, y, op, bp, ws, stops)
+    kc.track_stops(t, y, op, bp, ws, stops)
 
 
 @njit(cache=True, error_model="numpy")
@@ -528,7 +523,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             for j in range(n2):
                 y[j] = y1[j]
         t = t_new
-        track_stops(t, y, op, bp, ws, stops)
+        kc.track_stops(t, y, op, bp, ws, stops)
         if status == kr.ST_UPLIFT:
             info[kr.I_TFAIL] = t
             break

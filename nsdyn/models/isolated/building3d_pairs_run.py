@@ -37,10 +37,10 @@ __all__ = ["DT_SPARSE", "full_path", "pair_kernels", "path_line", "peak_field", 
            "sparse_solver", "sparse_step", "warm_pairs"]  # fmt: skip
 
 DT_SPARSE = 0.005  # s: the sparse full rung's default step (module text)
-# seconds the pair kernels' first compilation takes (the first-run notice): 119 s of one core
-# in one process on the AMD EPYC of docs/dev/first-runs.md (the office's cb rung, regularised
-# law); the whole family compiles here, with no helper process
-PAIRS_COMPILE_ABOUT_S = 120.0
+# seconds the pair kernels' first compilation takes (the first-run notice): 30-36 s on the AMD
+# EPYC of docs/dev/first-runs.md (the office's cb rung, regularised law; the force kernel and
+# the settlings compiled in a helper process beside the loop, pairs_compile)
+PAIRS_COMPILE_ABOUT_S = 35.0
 
 
 def full_path(frame, base: str) -> tuple[str, str]:
@@ -90,11 +90,11 @@ def _small_pairs(sparse: bool):
 
 def pair_kernels(path: str, law: str) -> list:
     """The numba loops a run of the cb or full rung needs: its path's and law's."""
-    from nsdyn.models.isolated import _kpairsparse, _kpairsradau, _kpairsrun
+    from nsdyn.models.isolated import _kpairsparse, pairs_compile
 
     if path == "sparse":
         return [_kpairsparse.newton, _kpairsparse.lu_solve_csc]
-    return [_kpairsrun.integrate if law == "switch" else _kpairsradau.integrate]
+    return pairs_compile.kernels(law == "switch")  # the loop and its callees by address
 
 
 def warm_pairs(path: str, law: str, system=None) -> float:

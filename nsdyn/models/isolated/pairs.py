@@ -49,6 +49,7 @@ from nsdyn.models.isolated import _kpairs as kq
 from nsdyn.models.isolated import _kpairsradau as kqa
 from nsdyn.models.isolated import _kpairsrun as kqr
 from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated import pairs_compile
 from nsdyn.models.isolated.bearings import B_IOFF, N_BCOL, Bearing, BearingError
 from nsdyn.models.isolated.deck import (
     PLANE_LAWS,
@@ -526,8 +527,9 @@ def simulate_pairs(
     modes, dirs, cfg, X, NO, FF, FR, FO, MO, EV, stops, info = run_buffers(
         law, eps, rtol, atol, max_step, max_steps, nt, ni, ns
     )
-    status = loop(y, t_eval, modes, dirs, system.operators(), system.bearing_table(), sp, gk,
-                  gp, tab, cfg, X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
+    args = (y, t_eval, modes, dirs, system.operators(), system.bearing_table(), sp, gk, gp,
+            tab, cfg, X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
+    status = pairs_compile.run_loop(loop, args)
     # the deck's result handles statuses, events, rim contacts and uplift; q is n wide here,
     # the internal slips are the deck's columns 6 on (its q, q̇ replaced below)
     Xd = np.concatenate([np.zeros((nt, 6)), X[:, 2 * n :]], axis=1)

@@ -8,8 +8,6 @@ compiled where.
 """
 
 import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -74,14 +72,11 @@ for k in (kp.evaluate, kp.evaluate_pressure, kp.evaluate_at, kr.settle, kr.switc
 
 @pytest.mark.slow  # compiles the switch law's loop into an empty cache (~10 s)
 @pytest.mark.skipif(not JIT or PLAIN, reason="calls by address only in compiled code")
-def test_the_switch_loop_compiles_without_its_callees(tmp_path):
+def test_the_switch_loop_compiles_without_its_callees(compile_alone):
     # a fresh process with an empty cache compiles the loop alone: neither the force kernel
     # (nor what it calls) nor the settling nor the mode switch is compiled with it or linked
     # into its code
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_DISABLE_JIT="0")
-    out = subprocess.run([sys.executable, "-c", _LOOP_ALONE], env=env, capture_output=True,
-                         text=True, check=True).stdout  # fmt: skip
-    rows = [r.split() for r in out.splitlines() if r]
+    rows = compile_alone(_LOOP_ALONE)
     names = ["evaluate", "evaluate_pressure", "evaluate_at", "settle", "switch"]
     assert [r[0] for r in rows] == names
     assert all(r[1:] == ["0", "False"] for r in rows), rows

@@ -1,0 +1,117 @@
+"""The pair systems' force kernel by address, and their first compilation shared by two processes.
+
+Every kernel of a pair system's time loops that evaluates it (the right-hand side of both
+loops, the settling of stick and of unilateral contacts, the event functions, the outputs)
+calls the force kernel :func:`nsdyn.models.isolated._kpairs.evaluate` (with
+``evaluate_pressure`` and ``evaluate_at``: the contact and stick rows, the friction forces,
+the small solve for λ and τ). Linked, numba would copy it into each of them and LLVM would
+optimise and translate every copy again; called by its address
+(:func:`nsdyn._kaddress.tcall`, row ``"pairs.evaluate"`` of the process-wide table) it
+compiles once, on its own. :func:`callees` declares it for the argument types the loops give
+it.
+
+A first run compiles in two processes (numba compiles on one thread per process): a helper
+(:class:`nsdyn._numba_cache.Helper`) compiles the force kernel (:func:`helper_part`) while
+this process compiles the time loop from the run's own argument types, then loads the
+helper's kernel from numba's on-disk cache (:func:`nsdyn._kaddress.run_split`). What the
+helper does not deliver this process compiles itself: the kernels are the same either way.
+"""
+
+from __future__ import annotations
+
+import functools
+
+
+def tiny_args() -> tuple:
+    """The arguments of the force kernel and of the two settlings as the loops pass them, for
+    one isolator and two dofs (made with numpy only: nothing is compiled; only their types
+    matter): (force kernel's, settlings')."""
+    import numpy as np
+
+    from nsdyn.models.isolated import _kpairs as kq
+    from nsdyn.models.isolated import _kplanerun as kr
+    from nsdyn.models.isolated.bearings import N_BCOL
+    from nsdyn.models.isolated.deck import pack_ground
+
+    n, ni = 2, 1
+    op = tuple(np.zeros((2, 2)) for _ in range(kq.O_Q + 1))  # the operators: 12 C arrays
+    gk, gp, tab, _ = pack_ground({"f": 1.0, "ax": 1.0})
+    modes, dirs = np.zeros(ni, dtype=np.int64), np.zeros((ni, 2))
+    make = getattr(kq.workspace, "py_func", kq.workspace)  # numpy's arrays, of numba's types
+    ws = make(n, ni)
+    out = (np.zeros(n), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
+    bp, sp = np.zeros((ni, N_BCOL)), np.zeros(kq.N_SP)
+    head = (0.0, np.zeros(2 * n), modes, dirs, op, bp, sp, gk, gp, tab, ws)
+    return (*head, *out), (*head, out, np.zeros((1, 6)), np.zeros(kr.N_INFO))
+
+
+@functools.cache
+def callees() -> list:
+    """The pair loops' callees by address (:class:`nsdyn._kaddress.Callee`): the force kernel
+    (``"pairs.evaluate"``), the switch law's settling of stick (``"pairs.settle"``) and the
+    settling of unilateral contacts (``"pairs.settle_contacts"``), declared for the types of
+    :func:`tiny_args`, each returning a status (int64). Once per process."""
+    from numba import typeof, types
+
+    from nsdyn._kaddress import Callee
+    from nsdyn.models.isolated import _kpairs as kq
+    from nsdyn.models.isolated import _kpairscontact as kc
+    from nsdyn.models.isolated import _kpairsrun as kqr
+
+    force, settle = (tuple(typeof(a) for a in args) for args in tiny_args())
+    return [
+        Callee("pairs.evaluate", kq.evaluate, force, types.int64),
+        Callee("pairs.settle", kqr.settle, settle, types.int64),
+        Callee("pairs.settle_contacts", kc.settle_contacts, settle, types.int64),
+    ]
+
+
+def _needed(events: bool) -> list:
+    """The callees a run calls: the force kernel, and the settlings on the loop with located
+    events (the switch law's stick, unilateral contacts)."""
+    return callees() if events else callees()[:1]
+
+
+def ready(events: bool = True) -> None:
+    """The table filled for a run of the pair loops (each callee loaded from numba's cache,
+    or compiled); ``events``: a run of the loop with located events (``_kpairsrun``: it
+    settles stick and contacts); nothing without the JIT or with plain numba."""
+    from nsdyn._kaddress import fill_table
+
+    fill_table(_needed(events))
+
+
+def kernels(events: bool) -> list:
+    """The numba kernels a run compiles: its loop (``_kpairsrun.integrate`` with located
+    events, else ``_kpairsradau.integrate``) and the callees it calls by address."""
+    from nsdyn.models.isolated import _kpairsradau as kqa
+    from nsdyn.models.isolated import _kpairsrun as kqr
+
+    loop = kqr.integrate if events else kqa.integrate
+    return [loop, *(c.kernel for c in _needed(events))]
+
+
+def run_loop(loop, args: tuple):
+    """``loop(*args)`` (a time loop of a pair system: ``_kpairsrun.integrate``, which locates
+    events, or ``_kpairsradau.integrate``), the addresses of its callees in the table first.
+    A first compilation is shared with a helper process where one may run
+    (:func:`nsdyn._numba_cache.helper_enabled`): it compiles the callees (:func:`helper_part`
+    or :func:`helper_force`) while this process compiles the loop for ``args``' types."""
+    from nsdyn._kaddress import run_split
+    from nsdyn.models.isolated import _kpairsradau as kqa
+
+    events = loop is not kqa.integrate
+    target = "helper_part" if events else "helper_force"
+    return run_split(loop, args, _needed(events), f"nsdyn.models.isolated.pairs_compile:{target}")
+
+
+def helper_part() -> None:
+    """The helper's share of a first compilation of the loop with located events: the force
+    kernel and both settlings."""
+    for c in callees():
+        c.compiled()
+
+
+def helper_force() -> None:
+    """The helper's share of a first compilation of the Radau IIA loop: the force kernel."""
+    callees()[0].compiled()

@@ -1,0 +1,91 @@
+"""The pair systems' force kernel and settlings by address (pairs_compile).
+
+The time loops of a pair system (a 3D building's cb and full rungs, any PairSystem) call the
+force kernel and the two settlings (stick, unilateral contacts) through the process-wide
+address table: each compiles once, on its own, and a first run shares the compilation with a
+helper process. The histories are those of the direct calls bit for bit
+(tests/solve/test_plain_numba.py runs pair systems in both modes); here: what is registered,
+what a run fills, and what is compiled where.
+"""
+
+import os
+
+import numpy as np
+import pytest
+
+from nsdyn import _kaddress as ka
+from nsdyn._numba_cache import PLAIN
+from nsdyn.models.isolated import Bearing, Friction, rigid_deck
+from nsdyn.models.isolated import _kpairsradau as kqa
+from nsdyn.models.isolated import _kpairsrun as kqr
+from nsdyn.models.isolated import pairs_compile as pc
+from nsdyn.models.isolated.pairs import from_deck, simulate_pairs
+
+JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
+NAMES = ["pairs.evaluate", "pairs.settle", "pairs.settle_contacts"]
+
+
+def test_the_pair_rows_are_registered_and_declared_for_the_loops():
+    # each callee has a fixed row, a kernel to call without addresses and one declaration
+    assert [c.name for c in pc.callees()] == NAMES
+    assert set(NAMES) <= set(ka.TABLE_NAMES) and set(NAMES) <= set(ka.TSLOTS)
+    assert all(ka.DECLARED[c.name] == (c.ret, c.args) for c in pc.callees())
+    # what a run compiles: the Radau loop and the force kernel; the event loop and all three
+    assert pc.kernels(False) == [kqa.integrate, pc.callees()[0].kernel]
+    assert pc.kernels(True) == [kqr.integrate, *(c.kernel for c in pc.callees())]
+
+
+@pytest.mark.skipif(not JIT or PLAIN, reason="the table is filled only for compiled code")
+def test_a_radau_run_fills_only_the_force_kernel_and_an_event_run_all():
+    # the Radau loop never settles stick or contacts: its run takes no address of a settling
+    deck = rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [0.0, 4.0]],
+                      Bearing(Friction(0.05), radius=2.0))  # fmt: skip
+    ps = from_deck(deck)
+    orbit = {"f": 0.5, "ax": 2.0, "ay": 1.0, "phase_y_deg": 90.0}
+    saved = ka.TABLE.copy()
+    try:
+        for name in NAMES[1:]:
+            ka.TABLE[ka.index(name)] = 0
+        simulate_pairs(ps, orbit, law="arctan", t_end=0.2)
+        assert ka.filled("pairs.evaluate")
+        assert not any(ka.filled(n) for n in NAMES[1:])
+        r = simulate_pairs(ps, orbit, law="switch", t_end=0.2)
+        assert all(ka.filled(n) for n in NAMES)
+        assert np.all(np.isfinite(r.q))
+    finally:
+        ka.TABLE[:] = saved
+
+
+_LOOP_ALONE = """
+import numpy as np
+from numba import typeof
+from nsdyn.models.isolated import _kpairs as kq, _kpairscontact as kc, _kpairsrun as kqr
+from nsdyn.models.isolated import deck as d, pairs_compile as pc
+from nsdyn.models.isolated.bearings import Bearing, Friction
+from nsdyn.models.isolated.pairs import _kernel_inputs, from_deck
+ps = from_deck(d.rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [0.0, 4.0]],
+                            Bearing(Friction(0.05), radius=2.0)))
+sp = _kernel_inputs(ps, "switch", 1e4, 1e-4, None, 20.0, 1.0)
+gk, gp, tab, dur = d.pack_ground({"f": 1.0, "ax": 1.0})
+t_eval, hmax = d.run_grid(gk, gp, dur, 0.1, None, None, None)
+b = d.run_buffers("switch", 1e4, 1e-6, (1e-8, 1e-8), hmax, 1000, t_eval.size, 3, 2 * ps.n)
+args = (np.zeros(2 * ps.n), t_eval, *b[:2], ps.operators(), ps.bearing_table(), sp, gk, gp,
+        tab, *b[2:])
+pc.callees()
+kqr.integrate.compile(tuple(typeof(a) for a in args))
+lib = next(iter(kqr.integrate.overloads.values())).library
+linked = str({l.name for l in getattr(lib, "_linking_libraries", ())})
+for k in (kq.evaluate, kq.evaluate_pressure, kq.evaluate_at, kqr.settle, kc.settle_contacts):
+    print(k.py_func.__qualname__, len(k.signatures), k.py_func.__qualname__ in linked)
+"""
+
+
+@pytest.mark.slow  # compiles the event loop of a pair system into an empty cache (~25 s)
+@pytest.mark.skipif(not JIT or PLAIN, reason="calls by address only in compiled code")
+def test_the_event_loop_compiles_without_its_callees(compile_alone):
+    # a fresh process with an empty cache compiles the loop alone: neither the force kernel
+    # (nor what it calls) nor either settling is compiled with it or linked into its code
+    rows = compile_alone(_LOOP_ALONE)
+    names = ["evaluate", "evaluate_pressure", "evaluate_at", "settle", "settle_contacts"]
+    assert [r[0] for r in rows] == names
+    assert all(r[1:] == ["0", "False"] for r in rows), rows
