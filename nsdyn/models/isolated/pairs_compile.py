@@ -72,15 +72,6 @@ def _needed(events: bool) -> list:
     return callees() if events else callees()[:1]
 
 
-def ready(events: bool = True) -> None:
-    """The table filled for a run of the pair loops (each callee loaded from numba's cache,
-    or compiled); ``events``: a run of the loop with located events (``_kpairsrun``: it
-    settles stick and contacts); nothing without the JIT or with plain numba."""
-    from nsdyn._kaddress import fill_table
-
-    fill_table(_needed(events))
-
-
 def kernels(events: bool) -> list:
     """The numba kernels a run compiles: its loop (``_kpairsrun.integrate`` with located
     events, else ``_kpairsradau.integrate``) and the callees it calls by address."""
