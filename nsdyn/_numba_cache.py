@@ -6,7 +6,8 @@ old code compiled in. :func:`drop_stale` fingerprints every source a family's co
 depend on and deletes those kernels' cache files when the fingerprint changes. Each kernel
 family calls it once at import, before any of its kernels is loaded.
 
-Also here: :func:`compiling` (the garbage collector held back while numba compiles),
+Also here: :func:`light_loads` (cached kernels loaded without numba's compile-time
+registries), :func:`compiling` (the garbage collector held back while numba compiles),
 :class:`Helper` (a second process
 that compiles part of a first run into the cache while this one compiles the rest) and the
 switch :data:`PLAIN` (``NSDYN_PLAIN_NUMBA=1``): plain numba, without the techniques that rely
@@ -45,9 +46,55 @@ if PLAIN:
     _plain_cache_dir()
 
 
+_LIGHT_LOADS = []  # the loader light_loads installed (at most one)
+
+
+def _noop() -> None:
+    return None
+
+
+def light_loads() -> bool:
+    """Load cached kernels without numba's compile-time registries (True when installed).
+
+    Before it loads a kernel from its on-disk cache, numba refreshes its compiler contexts:
+    it imports ~60 modules of typing and lowering implementations and installs their
+    registries (0.3-0.5 s of a cached start, a third of it), which only a compilation
+    uses. Loading needs the code generator and the C symbols the code calls: numba's helpers
+    and math functions, installed when the context is made, and its runtime's (NRT), which
+    :func:`numba.core.runtime.rtsys.initialize` installs. So the loader initialises the
+    runtime and skips the refresh for the load; a compilation refreshes the contexts itself
+    (numba's compiler does so before it types a kernel), as does the lowering of any call it
+    does not know. Not with plain numba (:data:`PLAIN`). Installed once per process, by the
+    first kernel family imported (:func:`drop_stale`)."""
+    if PLAIN or _LIGHT_LOADS:
+        return bool(_LIGHT_LOADS)
+    from numba.core import caching
+    from numba.core.runtime import rtsys
+
+    full = caching.Cache.load_overload
+
+    def load_overload(self, sig, target_context):
+        rtsys.initialize(target_context)
+        outer = "refresh" in vars(target_context)  # a load within a load: the outer restores
+        if not outer:  # this load only (numba loads under its compiler lock)
+            target_context.refresh = _noop
+        try:
+            return full(self, sig, target_context)
+        finally:
+            if not outer:
+                vars(target_context).pop("refresh", None)
+
+    load_overload.full = full
+    caching.Cache.load_overload = load_overload
+    _LIGHT_LOADS.append(load_overload)
+    return True
+
+
 def drop_stale(folder: Path, kernel_modules: Iterable[str], sources: Iterable[Path]) -> None:
     """Delete the cache files of ``kernel_modules`` (module stems in ``folder``) when any of
-    ``sources`` changed since the stamp in ``folder/__pycache__`` was written."""
+    ``sources`` changed since the stamp in ``folder/__pycache__`` was written. Every kernel
+    family calls it at import, before its kernels load: it also installs :func:`light_loads`."""
+    light_loads()
     kernel_modules = list(kernel_modules)
     try:
         h = hashlib.sha1()
