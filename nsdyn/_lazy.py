@@ -32,3 +32,36 @@ def exports(namespace: dict, api: dict[str, str]) -> tuple[Callable, Callable]:
         return sorted(set(api) | {k for k in namespace if not k.startswith("_")})
 
     return __getattr__, __dir__
+
+
+class LazyModule:
+    """A module imported on its first attribute lookup: ``sp = LazyModule("scipy.sparse")`` at
+    the top of a module, ``sp.csr_array(...)`` in its functions. For the SciPy modules the
+    frame's assembly and reduction use: importing any of them imports SciPy's array-API layer
+    (~0.2 s), which a run of a model loaded from the model cache
+    (:mod:`nsdyn._model_cache`) never needs."""
+
+    __slots__ = ("_name", "_module")
+
+    def __init__(self, name: str):
+        object.__setattr__(self, "_name", name)
+        object.__setattr__(self, "_module", None)
+
+    def __getattr__(self, attr: str):
+        module = self._module
+        if module is None:
+            module = importlib.import_module(self._name)
+            object.__setattr__(self, "_module", module)
+        return getattr(module, attr)
+
+    def __repr__(self) -> str:
+        return f"<lazy module {self._name!r}{'' if self._module is None else ' (imported)'}>"
+
+
+def issparse(x) -> bool:
+    """``scipy.sparse.issparse(x)`` without importing SciPy: a matrix can only be sparse when
+    ``scipy.sparse`` has been imported already."""
+    import sys
+
+    sparse = sys.modules.get("scipy.sparse")
+    return sparse is not None and bool(sparse.issparse(x))

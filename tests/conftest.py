@@ -14,6 +14,16 @@ from pathlib import Path
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
+# the model cache (nsdyn._model_cache) of this test session, not the user's: set in the
+# controller before the xdist workers start (they inherit it and share it), removed at its end
+if "NSDYN_MODEL_CACHE" not in os.environ:
+    import atexit
+    import shutil
+    import tempfile
+
+    os.environ["NSDYN_MODEL_CACHE"] = tempfile.mkdtemp(prefix="nsdyn-test-models-")
+    atexit.register(shutil.rmtree, os.environ["NSDYN_MODEL_CACHE"], True)
+
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from hypothesis import settings  # noqa: E402

@@ -2,8 +2,9 @@
 
 Each case (a family's default scene, the isolated frame once per method, a sweep, a study)
 runs as a whole ``nsdyn`` command in a fresh Python process whose ``NUMBA_CACHE_DIR`` is a new
-empty directory (a first run: every kernel it needs compiles), then once more in a fresh
-process with the cache that run filled (every later start). Per case and process::
+empty directory, the model cache (``NSDYN_MODEL_CACHE``) a new one inside it (a first run:
+every kernel it needs compiles, its model is built), then once more in a fresh process with
+the caches that run filled (every later start). Per case and process::
 
     process_s   wall time of the whole process (interpreter start, imports, compile, run, output)
     compile_s   the seconds the command reports compiling or loading its kernels (JSON summary)
@@ -74,6 +75,7 @@ def cases() -> list[tuple[str, str, list[str]]]:
 
 def _env(cache: str) -> dict:
     env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+    env["NSDYN_MODEL_CACHE"] = os.path.join(cache, "models")  # empty with the kernels'
     env["PYTHONPATH"] = os.pathsep.join(p for p in (str(_ROOT), env.get("PYTHONPATH")) if p)
     return env
 

@@ -221,6 +221,7 @@ def cold_compile_s(methods=("radau",)) -> float:
 
 def _cli_env(cache: str) -> dict:
     env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+    env["NSDYN_MODEL_CACHE"] = os.path.join(cache, "models")  # empty with the kernels'
     root = str(Path(__file__).resolve().parents[2])
     env["PYTHONPATH"] = os.pathsep.join(p for p in (root, env.get("PYTHONPATH")) if p)
     return env

@@ -290,7 +290,12 @@ def _fixed_base_run(system, motion, t_eval, quiet: bool):
 
 
 def run(args: argparse.Namespace) -> int:
-    from nsdyn.models.isolated.scene import build_scene_run, load_scene, outcome
+    from nsdyn.models.isolated.scene import (
+        build_scene_run,
+        load_scene,
+        outcome,
+        with_isolation_cached,
+    )
     from nsdyn.models.scenefile import SceneError, read_toml, scene_kind
 
     if args.scene is not None:
@@ -341,7 +346,7 @@ def run(args: argparse.Namespace) -> int:
     if METHODS[method].fixed_step and "dt" not in sv:
         sv["dt"] = FIXED_DT  # the fixed-step methods' default step
     if method == "event" and system.isolation is not None:
-        system = system.with_isolation(law="switch")
+        system = with_isolation_cached(system, law="switch")
     source = cfg.get("_source", "<scene>")
     try:
         t_eval = output_grid(motion, sv.get("dt_out"), **duration)

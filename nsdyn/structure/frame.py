@@ -22,10 +22,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
 
 from nsdyn._brief import brief_repr
+from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements import element_matrices
+
+sp = LazyModule("scipy.sparse")
 
 DOFS_PER_NODE = 3  # x, y, theta
 GEOM_RTOL = 1e-9  # relative tolerance for "same elevation" / "vertical member" tests

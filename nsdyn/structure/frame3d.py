@@ -26,10 +26,12 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
-import scipy.sparse as sp
 
 from nsdyn._brief import brief_repr
+from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements3d import global_matrices, local_axes
+
+sp = LazyModule("scipy.sparse")
 
 DOFS_PER_NODE = 6  # u_x, u_y, u_z, θ_x, θ_y, θ_z
 GEOM_RTOL = 1e-9  # relative tolerance of "same level" and "horizontal member"

@@ -24,12 +24,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
+from nsdyn._lazy import LazyModule
 from nsdyn.structure.frame3d import DOFS_PER_NODE, Frame3D
 from nsdyn.structure.reduction import lanczos_start
+
+sla = LazyModule("scipy.linalg")
+sp = LazyModule("scipy.sparse")
+spla = LazyModule("scipy.sparse.linalg")
 
 DENSE_MAX = 400  # interior dofs up to which "auto" solves densely
 # massless directions have mu = 1/omega^2 = 0; the symmetric eigensolver returns them within

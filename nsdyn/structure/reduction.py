@@ -26,12 +26,14 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from nsdyn._brief import brief_repr
+from nsdyn._lazy import LazyModule
 from nsdyn.structure.frame import Frame
+
+sla = LazyModule("scipy.linalg")
+sp = LazyModule("scipy.sparse")
+spla = LazyModule("scipy.sparse.linalg")
 
 __all__ = [
     "CBModel",

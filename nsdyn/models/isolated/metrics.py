@@ -31,13 +31,15 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
 
 from nsdyn._brief import brief_repr
+from nsdyn._lazy import LazyModule, issparse
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.excitation import ground_many
 from nsdyn.models.isolated.friction import sticks
 from nsdyn.models.isolated.params import KernelParams, with_open
+
+sp = LazyModule("scipy.sparse")
 
 
 @dataclass(repr=False)
@@ -124,7 +126,7 @@ def output_rows(system) -> dict:
     if system.frame is not None:
         od = output_dofs(system.frame)
         T = system.T
-        if sp.issparse(T):  # a large full-order model (nodal coordinates): sparse rows
+        if issparse(T):  # a large full-order model (nodal coordinates): sparse rows
             J = od["joints_x"]
             return {
                 "joints": T[J.ravel()],
@@ -187,7 +189,7 @@ def level_peaks(od: dict, q: np.ndarray, QDD: np.ndarray, ug_hor: np.ndarray) ->
         top_drift = UT[(n_lev - 1) * n_lin] - UT[0]
     acc = np.zeros(0)
     if od["levels"]:
-        stack = sp.vstack if sp.issparse(od["levels"][0]) else np.concatenate
+        stack = sp.vstack if issparse(od["levels"][0]) else np.concatenate
         AT = np.asarray(stack(od["levels"]) @ QDD.T)
         AT += ug_hor.T
         peak = np.abs(AT, out=AT).max(axis=1)

@@ -245,8 +245,7 @@ def build_scene_run(cfg: dict):
                 "building is a scene of kind 'building3d' that names it as [scene] frame3d "
                 "(examples/scenes/building3d-office-cb.toml)"
             ) from None
-        fidelity = sc.get("fidelity", "cb")
-        system = build_system(frame, iso, fidelity=fidelity, f_max=float(sc.get("f_max", F_MAX)))
+        system = _cached_system(frame, iso, sc.get("fidelity", "cb"), float(sc.get("f_max", F_MAX)))
     if "force" in cfg:
         extra = {k: v for k, v in mo.items() if k != "t_end"}
         if extra:
@@ -279,6 +278,32 @@ def build_scene_run(cfg: dict):
         except ValueError as e:  # a t_end before the record's first sample
             raise SceneError(f"{source}: motion.t_end: {e}") from None
     return system, motion, {}
+
+
+def _cached_system(frame, iso, fidelity: str, f_max: float, **kw):
+    """:func:`build_system` through the model cache (:mod:`nsdyn._model_cache`): a scene run
+    again loads its model, static state included, instead of assembling and reducing the frame
+    (and importing SciPy) again."""
+    from nsdyn._model_cache import cached_build
+
+    return cached_build(
+        "isolated-frame",
+        (frame, iso, fidelity, f_max, sorted(kw.items())),
+        lambda: build_system(frame, iso, fidelity=fidelity, f_max=f_max, **kw),
+        prepare=lambda system: system.static_equilibrium(),
+    )
+
+
+def with_isolation_cached(system, **changes):
+    """``system.with_isolation(**changes)`` (the event method's switch law) through the model
+    cache, for a model built from a frame; otherwise as it is."""
+    if system.frame is None or system.isolation is None:
+        return system.with_isolation(**changes)
+    from dataclasses import replace
+
+    kw = {"damping": system.info["damping"]} if "damping" in system.info else {}
+    iso = replace(system.isolation, **changes)
+    return _cached_system(system.frame, iso, system.fidelity, system.f_max, **kw)
 
 
 def outcome(s: dict) -> tuple[str, str]:

@@ -31,13 +31,15 @@ import os
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-import scipy.linalg as sla
 
 from nsdyn._brief import brief_repr
+from nsdyn._lazy import LazyModule
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.defaults import ALPHA, BETA, C_DAMPER, EPS, ETA, K_LAM, MU
 from nsdyn.models.isolated.params import pack
+
+sla = LazyModule("scipy.linalg")
 
 FIDELITIES = ("fixed", "rigid", "cb", "full")
 DENSE_FRAME_MAX = 2000  # frames with more dofs are reduced from their sparse K, M
