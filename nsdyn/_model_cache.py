@@ -1,8 +1,9 @@
 """Built models kept on disk between runs, as numba keeps compiled kernels.
 
 A scene's run builds its model (the frame's assembly, the Craig–Bampton reduction, the static
-state under gravity) before it integrates; run again, it loads the model it built. The entry
-is named by the SHA-256 of what the model is built from (its inputs, pickled), of nsdyn's own
+state under gravity; for a 3D building its pair system) before it integrates; run again, it
+loads the model it built. The entry is named by the SHA-256 of what the model is built from
+(its inputs, pickled: a dataclass by its fields), of nsdyn's own
 sources and of the numpy and SciPy versions, so any change of an input, of the code or of
 the linear algebra builds anew; the model is the pickled object, loaded as it was stored
 (its arrays bit for bit, so a run from it equals a run from a fresh build bit for bit).
@@ -18,6 +19,7 @@ it trusts what the user's own cache folder holds.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import os
 import pickle
@@ -42,7 +44,12 @@ def folder() -> Path | None:
     given = os.environ.get(ENV)
     if given is not None:
         return None if given.strip() in ("", "0") else Path(given)
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    base = os.environ.get("XDG_CACHE_HOME")
+    if not base:
+        home = os.path.expanduser("~")
+        if home.startswith("~"):  # no home folder known: no cache (never a "~" folder here)
+            return None
+        base = os.path.join(home, ".cache")
     return Path(base) / "nsdyn" / "models"
 
 
@@ -74,11 +81,23 @@ def sources_digest() -> str:
     return _SOURCES[0]
 
 
+def _defining(x):
+    """``x`` by what defines it: a dataclass instance as its class and fields (not what it
+    computed and kept since, as a ``cached_property``), tuples and lists item by item."""
+    if dataclasses.is_dataclass(x) and not isinstance(x, type):
+        fields = tuple((f.name, _defining(getattr(x, f.name))) for f in dataclasses.fields(x))
+        return (type(x).__module__, type(x).__qualname__, fields)
+    if type(x) in (tuple, list):
+        return type(x)(_defining(v) for v in x)
+    return x
+
+
 def key(kind: str, inputs) -> str:
-    """The entry name of a model of ``kind`` built from ``inputs`` (any picklable object)."""
+    """The entry name of a model of ``kind`` built from ``inputs`` (picklable; dataclasses
+    count by their fields)."""
     h = hashlib.sha256(kind.encode())
     h.update(sources_digest().encode())
-    h.update(pickle.dumps(inputs, protocol=5))
+    h.update(pickle.dumps(_defining(inputs), protocol=5))
     return h.hexdigest()
 
 
@@ -153,17 +172,20 @@ def cached_build(kind: str, inputs, build: Callable[[], T], prepare=None) -> T:
     model = load(name)
     if model is not None:
         return model
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        model = build()
-        ready = True
-        if prepare is not None:
-            try:
-                prepare(model)
-            except Exception:  # noqa: BLE001  (the run reports it where it needs it)
-                ready = False
-    for w in caught:  # the caller's filters decide, as if nothing had caught them
-        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno, source=w.source)
+    caught: list = []
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            model = build()
+            ready = True
+            if prepare is not None:
+                try:
+                    prepare(model)
+                except Exception:  # noqa: BLE001  (the run reports it where it needs it)
+                    ready = False
+    finally:  # also when the build fails: the caller's filters decide, as if not caught
+        for w in caught:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno, source=w.source)
     if ready and not caught:
         store(name, model)
     return model

@@ -167,9 +167,13 @@ def build_pairs(frame, bearing, fid: str, opts: dict, source: str, cfg: dict | N
         path, why = full_path(frame, opts["base"])
     if path == "sparse":
         return _sparse_pairs(frame, bearing, opts, cfg or {}, source, why)
-    try:
-        system = building_pairs(frame, bearing, fidelity=fid, f_max=opts["f_max"],
-                                min_mass=opts["min_mass"] or None, base=opts["base"])  # fmt: skip
+    from nsdyn._model_cache import cached_build
+
+    kw = {"fidelity": fid, "f_max": opts["f_max"], "min_mass": opts["min_mass"] or None,
+          "base": opts["base"]}  # fmt: skip
+    try:  # a scene run again loads its pair system (the reduction's eigenproblem: seconds)
+        system = cached_build("building3d-pairs", (frame, bearing, sorted(kw.items())),
+                              lambda: building_pairs(frame, bearing, **kw))  # fmt: skip
     except BearingError as e:
         raise SceneError(f"{source}: {e}") from None
     except ValueError as e:

@@ -137,3 +137,29 @@ def test_a_scene_run_from_the_cache_imports_no_scipy_linear_algebra(tmp_path):
     assert runs[1] == []  # the model loaded: no assembly, no reduction, no static solve
     h0, h1 = (np.load(tmp_path / f"out{i}" / "run-histories.npz") for i in range(2))
     assert all(np.array_equal(h0[k], h1[k]) for k in h0.files)
+
+
+def _arrays(obj) -> dict:
+    return {k: v for k, v in vars(obj).items() if isinstance(v, np.ndarray)}
+
+
+def test_a_3d_buildings_pair_system_from_the_cache_is_the_built_one(cache):
+    from nsdyn.models.isolated.bearings import Bearing, Friction
+    from nsdyn.models.isolated.building3d_scene import build_pairs
+    from nsdyn.structure import Section3D, regular_building_3d
+
+    col = Section3D(2.1e11, 8.1e10, 1e-2, 2e-4, 9e-5, 3e-5, 80.0)
+    beam = Section3D(2.1e11, 8.1e10, 8e-3, 3e-4, 2e-5, 1e-6, 65.0)
+    frame = regular_building_3d("mc", [5.0], [6.0], [4.0, 3.5], col, beam, beam, n_v=1, n_h=1,
+                                floor_mass=[3e4, 2e4], zeta=0.05)  # fmt: skip
+    fps = Bearing(Friction(0.05), radius=2.0)
+    opts = {"f_max": 20.0, "min_mass": None, "base": "grid"}
+    built = build_pairs(frame, fps, "cb", opts, "test")
+    assert len(_entries(cache)) == 1
+    loaded = build_pairs(frame, fps, "cb", opts, "test")
+    assert loaded is not built and loaded.info["path"] == "dense"
+    a, b = _arrays(built), _arrays(loaded)
+    assert a.keys() == b.keys() and len(a) >= 3
+    assert all(np.array_equal(a[k], b[k]) for k in a)
+    build_pairs(frame, fps, "cb", dict(opts, f_max=30.0), "test")  # another cut-off: built
+    assert len(_entries(cache)) == 2
