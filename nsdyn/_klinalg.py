@@ -216,6 +216,31 @@ def lu_solve_flat(F, o, o_piv, n, B, o_b, stride, ncols):
             B[o_b + k * stride + c] = acc / d
 
 
+# numpy's reductions written out: numba's own (np.argmin, np.all, np.min, ...) live in
+# numba.np.arraymath, which numba's loader imports for a cached kernel that uses one, and which
+# imports SciPy's linear algebra to check for its BLAS (~0.2 s of every cached start)
+@njit(cache=True, error_model="numpy", inline="always")
+def argmin(x):
+    """``np.argmin`` of a float vector: the first minimum, or the first NaN where there is one
+    (as numpy's)."""
+    k = 0
+    for i in range(x.shape[0]):
+        if x[i] != x[i]:
+            return i
+        if x[i] < x[k]:
+            k = i
+    return k
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def all_finite(x):
+    """``np.all(np.isfinite(x))`` of a vector."""
+    for i in range(x.shape[0]):
+        if not np.isfinite(x[i]):
+            return False
+    return True
+
+
 # copies by element loops: numba's slice assignment from an array (``a[:] = b``, ``A[i] = b``)
 # compiles a shape-mismatch message (string formatting) once per dimension and process, ~2 s
 # each of a cold start; a kernel family that never assigns slices from arrays never pays it

@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit
 
 from nsdyn import _kaddress as ka
-from nsdyn._klinalg import copy_vec, lu_factor, lu_solve  # noqa: F401  (the integrators' LU)
+from nsdyn._klinalg import all_finite, copy_vec, lu_factor, lu_solve  # noqa: F401  (the integrators' LU)
 from nsdyn._numba_cache import guard_family
 from nsdyn.models.isolated import _kernel as ks
 
@@ -122,14 +122,6 @@ def largest(a):
         if a[i] > m:
             m = a[i]
     return m
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def all_finite(a):
-    for i in range(a.shape[0]):
-        if not np.isfinite(a[i]):
-            return False
-    return True
 
 
 @njit(cache=True, error_model="numpy")

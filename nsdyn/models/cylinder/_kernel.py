@@ -36,7 +36,7 @@ from numba import njit
 from nsdyn import _kaddress as ka
 from nsdyn import _kborrow as kb
 from nsdyn import _kdp5 as dp
-from nsdyn._klinalg import copy_vec, lu_factor, lu_solve
+from nsdyn._klinalg import all_finite, copy_vec, lu_factor, lu_solve
 from nsdyn.models.cylinder._kfound import contact_moments, resultants
 
 NY = 16  # state size
@@ -363,7 +363,7 @@ def integrate(
                 sc = atol[j] + rtol * max(abs(y[j]), abs(yn[j]))
                 err += (dp.error(k, hs, j) / sc) ** 2
             err = math.sqrt(err / nerr)
-            if not (err == err) or not np.all(np.isfinite(yn)):
+            if not (err == err) or not all_finite(yn):
                 if hs > h_min:
                     h = 0.25 * hs
                     rej += 1

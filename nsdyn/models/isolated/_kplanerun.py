@@ -45,6 +45,7 @@ from numba import njit
 
 from nsdyn import _kaddress as ka
 from nsdyn import _kdp5 as dp
+from nsdyn._klinalg import argmin
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated._kplanestops import (  # noqa: F401 (the loops' shared names)
     EVENT_TTOL,
@@ -328,13 +329,12 @@ def _eval(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
 
 @njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def tension_start(info, t, N, bil):
-    """A bilateral run's tension record at its start (nothing counted, N_min = min N, an
-    onset at t when a normal force starts tensile); returns whether one is tensile."""
+    """A bilateral run's tension record at its start (N_min, an onset if tensile); tensile?"""
     info[I_TTEN] = np.nan
     info[I_NTEN] = 0.0
     info[I_NMIN] = _min_normal(N)
     if bil and info[I_NMIN] <= 0.0:
-        info[I_IFAIL] = np.argmin(N)
+        info[I_IFAIL] = argmin(N)
         tension_onset(info, t)
     return bil and info[I_NMIN] <= 0.0
 

@@ -1,0 +1,58 @@
+"""What a cached run imports: none of SciPy's linear algebra where the model does not need it.
+
+Importing any SciPy module that the frame's assembly and reduction use imports SciPy's
+array-API layer (~0.2 s of a cached start), and so does numba's ``numba.np.arraymath``, which
+numba's loader imports for a cached kernel that uses one of numba's array reductions
+(``np.argmin``, ``np.all``, ...; the module checks for SciPy's BLAS at import). The kernels of
+the deck and the cylinder write those reductions out (``nsdyn._klinalg.argmin``,
+``all_finite``); these tests check they agree with numpy's and that a cached
+run of either scene loads neither SciPy's linear algebra nor numba's array math.
+"""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from nsdyn._klinalg import all_finite, argmin
+
+JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
+SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+
+floats = st.floats(allow_nan=True, allow_infinity=True, width=64)
+
+
+@given(st.lists(st.sampled_from([0.0, -1.0, 2.5, -1.0, np.nan, np.inf, -np.inf]) | floats,
+                min_size=1, max_size=12))  # fmt: skip
+def test_the_written_out_reductions_are_numpys(values):
+    x = np.array(values, dtype=float)
+    assert argmin(x) == np.argmin(x)  # the first minimum, or the first NaN
+    assert all_finite(x) == bool(np.all(np.isfinite(x)))
+
+
+PROBE = """
+import contextlib, io, json, sys
+from nsdyn.cli.app import main
+with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+    main(["run", sys.argv[1], "--no-figures", "--out", sys.argv[2]])
+names = ("scipy.linalg", "scipy.sparse", "numba.np.arraymath")
+print(json.dumps([m for m in names if m in sys.modules]))
+"""
+
+
+@pytest.mark.skipif(not JIT, reason="a cached start is numba's: nothing to load without the JIT")
+@pytest.mark.parametrize("scene", ["deck-fps4-3c.toml", "cylinder-uplift.toml"])
+def test_a_cached_run_loads_no_scipy_linear_algebra(scene, tmp_path):
+    loaded = []
+    for i in range(2):  # the first fills numba's cache where the test session has not yet
+        argv = [sys.executable, "-c", PROBE, str(SCENES / scene), str(tmp_path / str(i))]
+        r = subprocess.run(argv, capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        loaded.append(json.loads(r.stdout.strip().splitlines()[-1]))
+    assert loaded[1] == []
