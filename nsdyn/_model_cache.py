@@ -63,15 +63,15 @@ def sources_digest() -> str:
     import numpy as np
 
     root = os.path.dirname(os.path.abspath(__file__))
+    paths = []
+    for top, dirs, files in os.walk(root):
+        dirs[:] = [d for d in dirs if d != "__pycache__"]  # numba's and Python's caches: unread
+        paths += [os.path.join(top, f) for f in files if f.endswith(".py")]
     h = hashlib.sha256()
-    for top, dirs, files in sorted(os.walk(root)):
-        dirs[:] = sorted(d for d in dirs if d != "__pycache__")  # numba's and Python's caches
-        for f in sorted(files):
-            if f.endswith(".py"):
-                path = os.path.join(top, f)
-                h.update(os.path.relpath(path, root).encode())
-                with open(path, "rb") as src:
-                    h.update(src.read())
+    for path in sorted(paths):
+        h.update(os.path.relpath(path, root).encode())
+        with open(path, "rb") as src:
+            h.update(src.read())
     h.update(np.__version__.encode())
     spec = importlib.util.find_spec("scipy")
     if spec is not None and spec.origin:

@@ -203,6 +203,19 @@ def pytest_terminal_summary(terminalreporter, config):
 
 
 @pytest.fixture
+def child_env():
+    """The environment of a child Python process, run with ``-P``, that imports the nsdyn this
+    test process imported (an installed one: the kernels the session's warm-up compiled), not
+    the checkout beside the working directory (whose kernels have a numba cache of their own)."""
+    import nsdyn
+
+    ours = os.path.dirname(os.path.dirname(os.path.abspath(nsdyn.__file__)))
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (ours, env.get("PYTHONPATH")) if p)
+    return env
+
+
+@pytest.fixture
 def compile_alone(tmp_path):
     """``run(code)``: ``code`` run in a fresh Python process whose numba cache is an empty
     folder (a first compilation, with the JIT whatever this run's mode); its stdout's lines,

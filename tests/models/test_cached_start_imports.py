@@ -48,11 +48,11 @@ print(json.dumps([m for m in names if m in sys.modules]))
 
 @pytest.mark.skipif(not JIT, reason="a cached start is numba's: nothing to load without the JIT")
 @pytest.mark.parametrize("scene", ["deck-fps4-3c.toml", "cylinder-uplift.toml"])
-def test_a_cached_run_loads_no_scipy_linear_algebra(scene, tmp_path):
+def test_a_cached_run_loads_no_scipy_linear_algebra(scene, tmp_path, child_env):
     loaded = []
     for i in range(2):  # the first fills numba's cache where the test session has not yet
-        argv = [sys.executable, "-c", PROBE, str(SCENES / scene), str(tmp_path / str(i))]
-        r = subprocess.run(argv, capture_output=True, text=True)
+        argv = [sys.executable, "-P", "-c", PROBE, str(SCENES / scene), str(tmp_path / str(i))]
+        r = subprocess.run(argv, env=child_env, capture_output=True, text=True)
         assert r.returncode == 0, r.stderr
         loaded.append(json.loads(r.stdout.strip().splitlines()[-1]))
     assert loaded[1] == []

@@ -121,12 +121,12 @@ print(json.dumps(sorted(m for m in ("scipy.linalg", "scipy.sparse") if m in sys.
 
 
 @pytest.mark.skipif(not JIT, reason="a cached start is numba's: nothing to load without the JIT")
-def test_a_scene_run_from_the_cache_imports_no_scipy_linear_algebra(tmp_path):
-    env = dict(os.environ, **{mc.ENV: str(tmp_path / "models")})
+def test_a_scene_run_from_the_cache_imports_no_scipy_linear_algebra(tmp_path, child_env):
+    env = dict(child_env, **{mc.ENV: str(tmp_path / "models")})
     runs = []
     for i in range(2):
         r = subprocess.run(
-            [sys.executable, "-c", PROBE, str(tmp_path / f"out{i}")],
+            [sys.executable, "-P", "-c", PROBE, str(tmp_path / f"out{i}")],
             env=env,
             capture_output=True,
             text=True,
