@@ -241,6 +241,65 @@ def all_finite(x):
     return True
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def max_abs(x):
+    """``np.max(np.abs(x))`` of a non-empty float vector (a NaN where there is one)."""
+    m = abs(x[0])
+    for i in range(1, x.shape[0]):
+        a = abs(x[i])
+        if a != a:
+            return a
+        if a > m:
+            m = a
+    return m
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def min_of(x):
+    """``np.min(x)`` of a non-empty float vector (a NaN where there is one)."""
+    m = x[0]
+    for i in range(1, x.shape[0]):
+        if x[i] != x[i]:
+            return x[i]
+        if x[i] < m:
+            m = x[i]
+    return m
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def dot3(a, w, b):
+    """``np.sum(a * w * b)`` of three vectors of one length, summed in order from 0.0 (as
+    numba's ``np.sum``)."""
+    s = 0.0
+    for i in range(a.shape[0]):
+        s += a[i] * w[i] * b[i]
+    return s
+
+
+# matrix-vector products by loops: numba's ``@`` calls BLAS through ``numba.np.linalg``, which
+# numba's loader imports for a cached kernel that uses it (SciPy's BLAS, ~0.2 s of a cached start)
+@njit(cache=True, error_model="numpy", inline="always")
+def matvec(A, x):
+    """``A @ x`` for a 2-d ``A`` and a vector ``x``, each row summed in order."""
+    y = np.empty(A.shape[0])
+    for i in range(A.shape[0]):
+        s = 0.0
+        for j in range(A.shape[1]):
+            s += A[i, j] * x[j]
+        y[i] = s
+    return y
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def tmatvec(A, x):
+    """``A.T @ x`` for a 2-d ``A`` and a vector ``x``, each column summed in order."""
+    y = np.zeros(A.shape[1])
+    for i in range(A.shape[0]):
+        for j in range(A.shape[1]):
+            y[j] += A[i, j] * x[i]
+    return y
+
+
 # copies by element loops: numba's slice assignment from an array (``a[:] = b``, ``A[i] = b``)
 # compiles a shape-mismatch message (string formatting) once per dimension and process, ~2 s
 # each of a cold start; a kernel family that never assigns slices from arrays never pays it

@@ -1,12 +1,13 @@
 """What a cached run imports: none of SciPy's linear algebra where the model does not need it.
 
 Importing any SciPy module that the frame's assembly and reduction use imports SciPy's
-array-API layer (~0.2 s of a cached start), and so does numba's ``numba.np.arraymath``, which
-numba's loader imports for a cached kernel that uses one of numba's array reductions
-(``np.argmin``, ``np.all``, ...; the module checks for SciPy's BLAS at import). The kernels of
-the deck and the cylinder write those reductions out (``nsdyn._klinalg.argmin``,
-``all_finite``); these tests check they agree with numpy's and that a cached
-run of either scene loads neither SciPy's linear algebra nor numba's array math.
+array-API layer (~0.2 s of a cached start), and so does numba's ``numba.np.arraymath`` and
+``numba.np.linalg``, which numba's loader imports for a cached kernel that uses one of numba's
+array reductions (``np.argmin``, ``np.all``, ``np.sum``, ...) or a matrix product (``@``): both
+check for SciPy's BLAS at import. The kernels of the deck, the cylinder and the contact body
+write those out (``nsdyn._klinalg.argmin``, ``all_finite``, ``max_abs``, ``min_of``, ``dot3``,
+``matvec``, ``tmatvec``); these tests check they agree with numpy's and that a cached run of
+each scene loads neither SciPy's linear algebra nor numba's array math or linear algebra.
 """
 
 import json
@@ -20,7 +21,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from nsdyn._klinalg import all_finite, argmin
+from nsdyn._klinalg import all_finite, argmin, dot3, matvec, max_abs, min_of, tmatvec
 
 JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
@@ -34,6 +35,27 @@ def test_the_written_out_reductions_are_numpys(values):
     x = np.array(values, dtype=float)
     assert argmin(x) == np.argmin(x)  # the first minimum, or the first NaN
     assert all_finite(x) == bool(np.all(np.isfinite(x)))
+    np.testing.assert_array_equal(max_abs(x), np.max(np.abs(x)))  # equal, NaN where numpy's is
+    np.testing.assert_array_equal(min_of(x), np.min(x))
+
+
+finite = st.floats(min_value=-1e6, max_value=1e6, width=64)
+
+
+@given(st.integers(1, 5), st.integers(1, 4), st.data())
+def test_the_written_out_products_are_the_sums_in_order(n, m, data):
+    A = np.array(data.draw(st.lists(finite, min_size=n * m, max_size=n * m))).reshape(n, m)
+    x = np.array(data.draw(st.lists(finite, min_size=m, max_size=m)))
+    u = np.array(data.draw(st.lists(finite, min_size=n, max_size=n)))
+    # a sum of n terms in any order is within (n - 1) eps sum|terms| of the exact one (Higham,
+    # Accuracy and Stability, eq. 3.5): BLAS's and the loop's may differ by twice that
+    eps = np.finfo(float).eps
+    bound = 2 * max(n, m) * eps * (np.abs(A) @ np.abs(x))
+    assert np.all(np.abs(matvec(A, x) - A @ x) <= bound)
+    bound = 2 * max(n, m) * eps * (np.abs(A.T) @ np.abs(u))
+    assert np.all(np.abs(tmatvec(A, u) - A.T @ u) <= bound)
+    w = np.abs(x) + 0.5
+    assert dot3(x, w, x) == sum(x[i] * w[i] * x[i] for i in range(m))  # numba's np.sum's order
 
 
 PROBE = """
@@ -41,13 +63,15 @@ import contextlib, io, json, sys
 from nsdyn.cli.app import main
 with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
     main(["run", sys.argv[1], "--no-figures", "--out", sys.argv[2]])
-names = ("scipy.linalg", "scipy.sparse", "numba.np.arraymath")
+names = ("scipy.linalg", "scipy.sparse", "numba.np.arraymath", "numba.np.linalg")
 print(json.dumps([m for m in names if m in sys.modules]))
 """
 
 
 @pytest.mark.skipif(not JIT, reason="a cached start is numba's: nothing to load without the JIT")
-@pytest.mark.parametrize("scene", ["deck-fps4-3c.toml", "cylinder-uplift.toml"])
+@pytest.mark.parametrize(
+    "scene", ["deck-fps4-3c.toml", "cylinder-uplift.toml", "contact-seed002-A5.toml"]
+)
 def test_a_cached_run_loads_no_scipy_linear_algebra(scene, tmp_path, child_env):
     loaded = []
     for i in range(2):  # the first fills numba's cache where the test session has not yet

@@ -28,7 +28,7 @@ from numba import njit
 
 from nsdyn import _kaddress as ka
 from nsdyn import _kborrow as kb
-from nsdyn._klinalg import copy_vec
+from nsdyn._klinalg import copy_vec, matvec, tmatvec
 from nsdyn.models.contact._kgeom import contact_rows, ground_acc, mu_of, solve_contacts
 
 SAFETY = 0.9  # step-size controller safety factor
@@ -61,8 +61,8 @@ def rhs(t, y, sig, closed, verts, minv, par, ex, tab_h, tab_v):
     f = np.array([-m * ah, -m * (grav + av), 0.0])
     g, Wn, Wt, bn, bt, gd, vt = contact_rows(q, v, verts)
     a0 = minv * f
-    bN = Wn @ a0 + bn
-    bT = Wt @ a0 + bt
+    bN = matvec(Wn, a0) + bn
+    bT = matvec(Wt, a0) + bt
     mu = np.empty(nc)
     nk = 0
     for i in range(nc):
@@ -76,7 +76,7 @@ def rhs(t, y, sig, closed, verts, minv, par, ex, tab_h, tab_v):
             idx[j] = i
             j += 1
     lamN, lamT, wN, slack, status = solve_contacts(Wn, Wt, minv, bN, bT, mu, sig, idx)
-    F = f + Wn.T @ lamN + Wt.T @ lamT
+    F = f + tmatvec(Wn, lamN) + tmatvec(Wt, lamT)
     dy = np.empty(6)
     copy_vec(dy[:3], v)
     copy_vec(dy[3:], minv * F)

@@ -30,6 +30,7 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn._klinalg import dot3, max_abs
 from nsdyn.models.contact._klcp import lemke
 
 RETRY_SHIFT = 1e-10  # relative shift of q when Lemke's first attempt ray-terminates
@@ -148,9 +149,9 @@ def solve_contacts(Wn, Wt, minv, bN, bT, mu, sig, idx):
         i = idx[a]
         qv[a] = bN[i]
         for c in range(k):
-            A[a, c] = np.sum(Wn[i] * minv * Fn[c])
+            A[a, c] = dot3(Wn[i], minv, Fn[c])
         for c in range(ks):
-            dnt = np.sum(Wn[i] * minv * Wt[sidx[c]])
+            dnt = dot3(Wn[i], minv, Wt[sidx[c]])
             A[a, k + c] = dnt
             A[a, k + ks + c] = -dnt
         A[a, a] += REG * scale
@@ -162,11 +163,11 @@ def solve_contacts(Wn, Wt, minv, bN, bT, mu, sig, idx):
         qv[rp] = bT[i]
         qv[rm] = -bT[i]
         for c in range(k):
-            dtn = np.sum(Wt[i] * minv * Fn[c])
+            dtn = dot3(Wt[i], minv, Fn[c])
             A[rp, c] = dtn
             A[rm, c] = -dtn
         for c in range(ks):
-            dtt = np.sum(Wt[i] * minv * Wt[sidx[c]])
+            dtt = dot3(Wt[i], minv, Wt[sidx[c]])
             A[rp, k + c] = dtt
             A[rp, k + ks + c] = -dtt
             A[rm, k + c] = -dtt
@@ -181,7 +182,7 @@ def solve_contacts(Wn, Wt, minv, bN, bT, mu, sig, idx):
         A[rs, rp] = -1.0
         A[rs, rm] = -1.0
     # the LCP is homogeneous in q: solve it for q / max|q| (Lemke's tolerances are absolute)
-    qs = np.max(np.abs(qv))
+    qs = max_abs(qv)
     if qs == 0.0:
         return lamN, lamT, wN, slack, 0
     z, w, status = lemke(A, qv / qs)

@@ -13,6 +13,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from nsdyn._klinalg import matvec, min_of
+
 PIVOT_TOL = 1e-10  # a column entry must exceed this (relative to the column max) to pivot on
 LEX_TOL = 1e-12  # ratios closer than this (relative) are ties broken lexicographically
 MAX_PIVOTS_PER_N = 50  # pivot budget: MAX_PIVOTS_PER_N * n
@@ -75,7 +77,7 @@ def lemke(M, q):
     z = np.zeros(n)
     if n == 0:
         return z, q.copy(), 0
-    if np.min(q) >= 0.0:
+    if min_of(q) >= 0.0:
         return z, q.copy(), 0
     # tableau for  I w - M z - e z0 = q ; columns: w 0..n-1, z n..2n-1, z0 2n
     T = np.zeros((n, 2 * n + 1))
@@ -124,5 +126,5 @@ def lemke(M, q):
         elif k < 2 * n:
             z[k - n] = val
     if status == 0:
-        w = M @ z + q
+        w = matvec(M, z) + q
     return z, w, status

@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit
 
 from nsdyn import _kborrow as kb
-from nsdyn._klinalg import copy_vec
+from nsdyn._klinalg import all_finite, copy_vec, matvec, tmatvec
 from nsdyn.models.contact._kgeom import (
     FLIGHT,
     OVERTURNED,
@@ -52,8 +52,8 @@ def step_mode(q, v, PN, Wn, Wt, verts, g_tol, v_tol, on, slipping):
     midpoint): those the LCP holds at zero for a sticking corner (at q_k+1 the rows turn by
     theta' h / 2, and a sticking pivot would show a slip ~ theta'^2 h b)."""
     g = contact_rows(q, v, verts)[0]
-    gd = Wn @ v
-    vt = Wt @ v
+    gd = matvec(Wn, v)
+    vt = matvec(Wt, v)
     n_on = 0
     slip = False
     for i in range(g.shape[0]):
@@ -148,17 +148,17 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
         mu = np.empty(nc)
         for i in range(nc):
             mu[i] = mu_of(vt[i], par[2], par[3], par[4])
-        bN = Wn @ vf + e_n * (Wn @ vk)
-        bT = Wt @ vf
+        bN = matvec(Wn, vf) + e_n * matvec(Wn, vk)
+        bT = matvec(Wt, vf)
         PN, PT, wN, slack, st = solve_contacts(Wn, Wt, minv, bN, bT, mu, sig, idx)
         if st != 0:
             status = -1
             break
-        v = vf + minv * (Wn.T @ PN + Wt.T @ PT)
+        v = vf + minv * (tmatvec(Wn, PN) + tmatvec(Wt, PT))
         q = q + h * ((1.0 - theta) * vk + theta * v)
         k += 1
         t = t0 + k * h
-        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
+        if not (all_finite(q) and all_finite(v)):
             status = -2
             break
         over = abs(q[2]) >= par[5]
