@@ -1,5 +1,6 @@
 """Small dense linear algebra shared by the numba kernels of every family: LU with partial
-pivoting and the pseudo-inverse of a few constraint rows.
+pivoting, the pseudo-inverse of a few constraint rows, and numpy's small products and
+reductions written out (numba's own import SciPy's BLAS when a cached kernel loads).
 
 ``P A = L U`` factored in place (unit-diagonal L below, U on and above the diagonal, row
 swaps in ``piv``), then ``A x = b`` solved by forward and back substitution. Real or complex

@@ -297,13 +297,7 @@ def _cached_system(frame, iso, fidelity: str, f_max: float, **kw):
 def with_isolation_cached(system, **changes):
     """``system.with_isolation(**changes)`` (the event method's switch law) through the model
     cache, for a model built from a frame; otherwise as it is."""
-    if system.frame is None or system.isolation is None:
-        return system.with_isolation(**changes)
-    from dataclasses import replace
-
-    kw = {"damping": system.info["damping"]} if "damping" in system.info else {}
-    iso = replace(system.isolation, **changes)
-    return _cached_system(system.frame, iso, system.fidelity, system.f_max, **kw)
+    return system.with_isolation(builder=_cached_system, **changes)
 
 
 def outcome(s: dict) -> tuple[str, str]:

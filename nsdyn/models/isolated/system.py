@@ -159,15 +159,19 @@ class IsolatedSystem:
         gh = self.Gamma[:, 0]
         return float(gh @ self.M @ gh)
 
-    def with_isolation(self, **changes) -> IsolatedSystem:
-        """A copy with isolator or friction settings changed (matrices rebuilt if needed)."""
+    def with_isolation(self, *, builder=None, **changes) -> IsolatedSystem:
+        """A copy with isolator or friction settings changed (matrices rebuilt if needed).
+
+        ``builder(frame, isolation, fidelity=, f_max=, **kw)`` builds a model from a frame
+        (default :func:`build_system`; the scenes pass one through the model cache)."""
         if self.isolation is None:
             raise ValueError("a fixed-base model has no isolation to change")
         iso = replace(self.isolation, **changes)
         if self.frame is None:  # built from matrices: the builder kept its arguments
             return self.info["rebuild"](isolation=iso)
         kw = {"damping": self.info["damping"]} if "damping" in self.info else {}
-        return build_system(self.frame, iso, fidelity=self.fidelity, f_max=self.f_max, **kw)
+        build = builder or build_system
+        return build(self.frame, iso, fidelity=self.fidelity, f_max=self.f_max, **kw)
 
     # ---- static state -------------------------------------------------------------------
     def static_equilibrium(self) -> tuple[np.ndarray, np.ndarray]:
