@@ -281,7 +281,9 @@ def dot3(a, w, b):
 # numba's loader imports for a cached kernel that uses it (SciPy's BLAS, ~0.2 s of a cached start)
 @njit(cache=True, error_model="numpy", inline="always")
 def matvec(A, x):
-    """``A @ x`` for a 2-d ``A`` and a vector ``x``, each row summed in order."""
+    """``A @ x`` for a 2-d ``A`` and a vector ``x``, each row summed in order (for the few
+    contact rows; the low-rank step's large operators use the vectorised
+    :func:`nsdyn.solve._klowrank.matvec`, whose sums LLVM may reorder)."""
     y = np.empty(A.shape[0])
     for i in range(A.shape[0]):
         s = 0.0

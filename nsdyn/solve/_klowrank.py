@@ -34,7 +34,8 @@ K2 = 2.0 / np.pi
 
 @njit(cache=True, error_model="numpy", fastmath=True)
 def matvec(W, y, out):
-    """out = W y (row-wise sums; ``fastmath`` lets LLVM vectorise them)."""
+    """out = W y (row-wise sums; ``fastmath`` lets LLVM vectorise them: for the step's large
+    operators; :func:`nsdyn._klinalg.matvec` keeps numpy's order for small ones)."""
     for i in range(W.shape[0]):
         s = 0.0
         for j in range(W.shape[1]):
