@@ -66,7 +66,6 @@ from llvmlite import ir
 from numba import njit, types
 from numba.core import cgutils, errors
 from numba.extending import intrinsic, lower_builtin, overload, type_callable
-from numba.np.arrayobj import make_array
 
 from nsdyn._numba_cache import PLAIN
 
@@ -218,6 +217,8 @@ def _type_call(context):
 
 def _k_entry(context, builder, kty, kval, column):
     """(K[0, column], K[1, column]) of the int64 array ``K``."""
+    from numba.np.arrayobj import make_array  # compiling only: its import is ~50 ms
+
     arr = make_array(kty)(context, builder, value=kval)
     shape = cgutils.unpack_tuple(builder, arr.shape)
     strides = cgutils.unpack_tuple(builder, arr.strides)

@@ -30,7 +30,6 @@ as usual), so nothing here depends on numba's array layout.
 from numba import types
 from numba.core import cgutils, errors
 from numba.extending import lower_builtin, overload, type_callable
-from numba.np.arrayobj import make_array
 
 from nsdyn._numba_cache import PLAIN
 
@@ -46,6 +45,8 @@ def alive(owners):
 
 
 def _borrow_one(context, builder, aty, value):
+    from numba.np.arrayobj import make_array  # compiling only: its import is ~50 ms
+
     src = make_array(aty)(context, builder, value=value)
     dst = make_array(aty)(context, builder)
     dst.meminfo = cgutils.get_null_value(dst.meminfo.type)

@@ -86,8 +86,36 @@ def light_loads() -> bool:
 
     load_overload.full = full
     caching.Cache.load_overload = load_overload
+    _light_typeof()
     _LIGHT_LOADS.append(load_overload)
     return True
+
+
+def _light_typeof() -> None:
+    """numba's type of an ndarray argument without its question whether the array is one of
+    numpy's masked arrays (``isinstance(val, np.ma.MaskedArray)``), for which numpy 2 imports
+    ``numpy.ma`` (~20 ms of a cached start): registered for exactly ``np.ndarray`` through
+    numba's extension API (``numba.extending.typeof_impl``); any other array, a subclass (a
+    masked one) or an unsupported dtype, goes to numba's own. The same types
+    (``tests/solve/test_arg_type.py``)."""
+    import numpy as np
+    from numba import types
+    from numba.extending import typeof_impl
+    from numba.np.numpy_support import from_dtype
+
+    numbas = typeof_impl.dispatch(np.ndarray)
+
+    @typeof_impl.register(np.ndarray)
+    def _typeof_ndarray(val, c):
+        if type(val) is not np.ndarray:
+            return numbas(val, c)
+        try:
+            dtype = from_dtype(val.dtype)
+        except Exception:  # noqa: BLE001  (numba's own says what it does not support)
+            return numbas(val, c)
+        flags = val.flags
+        layout = "C" if flags.c_contiguous else "F" if flags.f_contiguous else "A"
+        return types.Array(dtype, val.ndim, layout, readonly=not flags.writeable)
 
 
 def drop_stale(folder: Path, kernel_modules: Iterable[str], sources: Iterable[Path]) -> None:
@@ -132,6 +160,21 @@ def guard_family(package_init: str, extra_sources: Iterable[Path] = ()) -> None:
 
 
 COMPILE_GC_THRESHOLDS = (50_000, 20, 100)  # while numba compiles (Python default: 700, 10, 10)
+SCRIPT_GC_THRESHOLD = 1_000_000  # the first generation's, for the nsdyn script's process
+
+
+def hold_collections() -> None:
+    """For the ``nsdyn`` script's own process: the cyclic garbage collector's first generation
+    collected after a million new container objects instead of 700.
+
+    A cached start makes ~150 000 objects that live as long as the process (the modules,
+    numba's types, the loaded kernels) and little cyclic garbage; with Python's thresholds
+    it traversed them in ~190 collections, ~0.1 s of a ~1.1 s start (one full collection
+    ~50 ms). Held back: none. Garbage that reference counting frees does not count towards
+    the threshold, so what waits is cyclic garbage or live objects, a million at most
+    (:func:`compiling` collects more often while numba compiles, and restores this on exit).
+    Not for callers that go on (tests, notebooks): they keep Python's."""
+    gc.set_threshold(SCRIPT_GC_THRESHOLD, *gc.get_threshold()[1:])
 
 
 @contextmanager

@@ -4,7 +4,8 @@ Each case (a family's default scene, the isolated frame once per method, a sweep
 runs as a whole ``nsdyn`` command in a fresh Python process whose ``NUMBA_CACHE_DIR`` is a new
 empty directory, the model cache (``NSDYN_MODEL_CACHE``) a new one inside it (a first run:
 every kernel it needs compiles, its model is built), then once more in a fresh process with
-the caches that run filled (every later start). Per case and process::
+the caches that run filled (every later start; Python writes and reads its bytecode cache, as
+on a user's machine). Per case and process::
 
     process_s   wall time of the whole process (interpreter start, imports, compile, run, output)
     compile_s   the seconds the command reports compiling or loading its kernels (JSON summary)
@@ -77,6 +78,9 @@ def _env(cache: str) -> dict:
     env = dict(os.environ, NUMBA_CACHE_DIR=cache)
     env["NSDYN_MODEL_CACHE"] = os.path.join(cache, "models")  # empty with the kernels'
     env["PYTHONPATH"] = os.pathsep.join(p for p in (str(_ROOT), env.get("PYTHONPATH")) if p)
+    # Python's bytecode cache on, as on a user's machine: without it every process compiles
+    # the source of each module whose .pyc is missing or stale (nsdyn's own: ~0.08 s)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
     return env
 
 
