@@ -68,6 +68,9 @@ from numba.core import cgutils, errors
 from numba.extending import intrinsic, lower_builtin, overload, type_callable
 
 from nsdyn._numba_cache import PLAIN
+from nsdyn._numba_light import light_loads
+
+light_loads()  # before any kernel is defined: nsdyn's first kernels import this module
 
 # the options of a kernel only compiled code calls (:func:`no_entry`): no Python entry point,
 # no C entry point (numba's own options; plain numba keeps both)

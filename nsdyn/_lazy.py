@@ -39,7 +39,8 @@ class LazyModule:
     the top of a module, ``sp.csr_array(...)`` in its functions. For the SciPy modules the
     frame's assembly and reduction use: importing any of them imports SciPy's array-API layer
     (~0.2 s), which a run of a model loaded from the model cache
-    (:mod:`nsdyn._model_cache`) never needs."""
+    (:mod:`nsdyn._model_cache`) never needs; and for the kernel modules of the integration
+    methods a run does not use (numba makes a dispatcher for each kernel at import)."""
 
     __slots__ = ("_name", "_module")
 

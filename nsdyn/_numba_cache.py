@@ -6,8 +6,7 @@ old code compiled in. :func:`drop_stale` fingerprints every source a family's co
 depend on and deletes those kernels' cache files when the fingerprint changes. Each kernel
 family calls it once at import, before any of its kernels is loaded.
 
-Also here: :func:`light_loads` (cached kernels loaded without numba's compile-time
-registries), :func:`compiling` (the garbage collector held back while numba compiles),
+Also here: :func:`compiling` (the garbage collector held back while numba compiles),
 :class:`Helper` (a second process
 that compiles part of a first run into the cache while this one compiles the rest) and the
 switch :data:`PLAIN` (``NSDYN_PLAIN_NUMBA=1``): plain numba, without the techniques that rely
@@ -24,8 +23,7 @@ from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-PLAIN_ENV = "NSDYN_PLAIN_NUMBA"  # "1": plain numba (read once, when nsdyn is imported)
-PLAIN = os.environ.get(PLAIN_ENV, "0") not in ("", "0")
+from nsdyn._numba_light import PLAIN, PLAIN_ENV, light_loads  # noqa: F401  (re-exported)
 
 
 def _plain_cache_dir() -> None:
@@ -46,82 +44,11 @@ if PLAIN:
     _plain_cache_dir()
 
 
-_LIGHT_LOADS = []  # the loader light_loads installed (at most one)
-
-
-def _noop() -> None:
-    return None
-
-
-def light_loads() -> bool:
-    """Load cached kernels without numba's compile-time registries (True when installed).
-
-    Before it loads a kernel from its on-disk cache, numba refreshes its compiler contexts:
-    it imports ~60 modules of typing and lowering implementations and installs their
-    registries (0.3-0.5 s of a cached start, a third of it), which only a compilation
-    uses. Loading needs the code generator and the C symbols the code calls: numba's helpers
-    and math functions, installed when the context is made, and its runtime's (NRT), which
-    :func:`numba.core.runtime.rtsys.initialize` installs. So the loader initialises the
-    runtime and skips the refresh for the load; a compilation refreshes the contexts itself
-    (numba's compiler does so before it types a kernel), as does the lowering of any call it
-    does not know. Not with plain numba (:data:`PLAIN`). Installed once per process, by the
-    first kernel family imported (:func:`drop_stale`)."""
-    if PLAIN or _LIGHT_LOADS:
-        return bool(_LIGHT_LOADS)
-    from numba.core import caching
-    from numba.core.runtime import rtsys
-
-    full = caching.Cache.load_overload
-
-    def load_overload(self, sig, target_context):
-        rtsys.initialize(target_context)
-        outer = "refresh" in vars(target_context)  # a load within a load: the outer restores
-        if not outer:  # this load only (numba loads under its compiler lock)
-            target_context.refresh = _noop
-        try:
-            return full(self, sig, target_context)
-        finally:
-            if not outer:
-                vars(target_context).pop("refresh", None)
-
-    load_overload.full = full
-    caching.Cache.load_overload = load_overload
-    _light_typeof()
-    _LIGHT_LOADS.append(load_overload)
-    return True
-
-
-def _light_typeof() -> None:
-    """numba's type of an ndarray argument without its question whether the array is one of
-    numpy's masked arrays (``isinstance(val, np.ma.MaskedArray)``), for which numpy 2 imports
-    ``numpy.ma`` (~20 ms of a cached start): registered for exactly ``np.ndarray`` through
-    numba's extension API (``numba.extending.typeof_impl``); any other array, a subclass (a
-    masked one) or an unsupported dtype, goes to numba's own. The same types
-    (``tests/solve/test_arg_type.py``)."""
-    import numpy as np
-    from numba import types
-    from numba.extending import typeof_impl
-    from numba.np.numpy_support import from_dtype
-
-    numbas = typeof_impl.dispatch(np.ndarray)
-
-    @typeof_impl.register(np.ndarray)
-    def _typeof_ndarray(val, c):
-        if type(val) is not np.ndarray:
-            return numbas(val, c)
-        try:
-            dtype = from_dtype(val.dtype)
-        except Exception:  # noqa: BLE001  (numba's own says what it does not support)
-            return numbas(val, c)
-        flags = val.flags
-        layout = "C" if flags.c_contiguous else "F" if flags.f_contiguous else "A"
-        return types.Array(dtype, val.ndim, layout, readonly=not flags.writeable)
-
-
 def drop_stale(folder: Path, kernel_modules: Iterable[str], sources: Iterable[Path]) -> None:
     """Delete the cache files of ``kernel_modules`` (module stems in ``folder``) when any of
     ``sources`` changed since the stamp in ``folder/__pycache__`` was written. Every kernel
-    family calls it at import, before its kernels load: it also installs :func:`light_loads`."""
+    family calls it at import, before its kernels load: it also installs
+    :func:`nsdyn._numba_light.light_loads`."""
     light_loads()
     kernel_modules = list(kernel_modules)
     try:

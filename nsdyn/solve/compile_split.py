@@ -55,20 +55,18 @@ import functools
 import numpy as np
 
 from nsdyn._kaddress import Callee, digest, fill_table  # noqa: F401 (callers use them)
+from nsdyn._lazy import LazyModule
 from nsdyn._numba_cache import Helper
 from nsdyn.models.isolated import _kernel as ks
-from nsdyn.solve import (
-    _kcolloc,
-    _kevent,
-    _kflat,
-    _kgenalpha,
-    _kimpact,
-    _klowrank,
-    _kradau,
-    _kunilateral,
-    methods,
-)
+from nsdyn.solve import _kcolloc, _kflat, _kradau, methods
 from nsdyn.solve import _kcommon as ki
+
+# the other methods' kernel modules: imported when their kernels are compiled or loaded
+_kevent = LazyModule("nsdyn.solve._kevent")
+_kgenalpha = LazyModule("nsdyn.solve._kgenalpha")
+_kimpact = LazyModule("nsdyn.solve._kimpact")
+_klowrank = LazyModule("nsdyn.solve._klowrank")
+_kunilateral = LazyModule("nsdyn.solve._kunilateral")
 
 
 def _py(kernel):

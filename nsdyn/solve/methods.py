@@ -19,12 +19,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._lazy import LazyModule
 from nsdyn._numba_cache import Helper, compiling, dispatcher_cached, helper_enabled
 from nsdyn.ground.excitation import Harmonic
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.params import KernelParams, pack, with_law, with_open
 from nsdyn.solve import _kcommon as ki
-from nsdyn.solve import _kdopri, _kevent, _kflat, _kgenalpha, _kradau, _kunilateral
+from nsdyn.solve import _kflat, _kradau
+
+# the other methods' kernel modules, imported when a run of one uses them (each ~50 numba
+# dispatchers made at import would be most of nsdyn's share of a cached default run's start)
+_kdopri = LazyModule("nsdyn.solve._kdopri")
+_kevent = LazyModule("nsdyn.solve._kevent")
+_kgenalpha = LazyModule("nsdyn.solve._kgenalpha")
+_kunilateral = LazyModule("nsdyn.solve._kunilateral")
 
 __all__ = [
     "METHODS",
@@ -146,10 +154,13 @@ def _one_step_runner(kernel, *extra):
     return run
 
 
-def _genalpha_runner(name, family):
+def _genalpha_runner(name, family: str):
+    """The runner of the generalized-alpha family named ``family`` (``_kgenalpha``'s
+    ``FAMILY_*`` constant of that name)."""
+
     def run(P, x0, t_eval, o: Options, X, upl_t):
         rho = DEFAULT_RHO_INF[name] if o.rho_inf is None else o.rho_inf
-        coef = _kgenalpha.parameters(family, rho)
+        coef = _kgenalpha.parameters(getattr(_kgenalpha, family), rho)
         stats, rinfo = _kgenalpha.genalpha(
             P, x0, t_eval, o.atol, o.rtol, o.dt, coef, o.max_steps, o.uplift_mode, X, upl_t
         )
@@ -236,15 +247,13 @@ METHODS: dict[str, Method] = {
     "radau-generic": Method(
         "radau-generic", "radau-general", False, _one_step_runner(_kradau.radau, False)
     ),
-    "dopri5": Method("dopri5", "dopri5", False, _one_step_runner(_kdopri.dopri5)),
+    "dopri5": Method("dopri5", "dopri5", False, _one_step_runner(lambda *a: _kdopri.dopri5(*a))),
     "event": Method("event", "event", False, _run_event),
     "genalpha": Method(
-        "genalpha", "genalpha", True, _genalpha_runner("genalpha", _kgenalpha.FAMILY_GENALPHA)
+        "genalpha", "genalpha", True, _genalpha_runner("genalpha", "FAMILY_GENALPHA")
     ),
-    "hht": Method("hht", "genalpha", True, _genalpha_runner("hht", _kgenalpha.FAMILY_HHT)),
-    "newmark": Method(
-        "newmark", "genalpha", True, _genalpha_runner("newmark", _kgenalpha.FAMILY_NEWMARK)
-    ),
+    "hht": Method("hht", "genalpha", True, _genalpha_runner("hht", "FAMILY_HHT")),
+    "newmark": Method("newmark", "genalpha", True, _genalpha_runner("newmark", "FAMILY_NEWMARK")),
 }
 
 
@@ -404,14 +413,16 @@ _SPLIT = {
 }  # fmt: skip
 
 # the top-level numba dispatcher of each kernel (its on-disk cache entry stands for the kernel)
+# (each a function: the other methods' modules are imported only when asked about)
 _ENTRY = {  # the default loop's callees are compiled apart from it (nsdyn._kaddress)
-    "radau": (_kradau.radau_flat, *_kradau.FLAT_CALLEES),
-    "radau-general": _kradau.radau_general,
-    "dopri5": _kdopri.dopri5,
-    "genalpha": (_kgenalpha.genalpha_loop, ks.evaluate, ki.jac_table),  # those two by address
-    "event": _kunilateral.kernels(True, False, False),  # its callees by address too
-    "metrics": (_kflat.evaluate_flat_many, _kflat.feval_flat),
-    "metrics-general": (ki.evaluate_many_t, ks.evaluate),
+    "radau": lambda: (_kradau.radau_flat, *_kradau.FLAT_CALLEES),
+    "radau-general": lambda: _kradau.radau_general,
+    "dopri5": lambda: _kdopri.dopri5,
+    # the system kernel and its Jacobian: called by address
+    "genalpha": lambda: (_kgenalpha.genalpha_loop, ks.evaluate, ki.jac_table),
+    "event": lambda: _kunilateral.kernels(True, False, False),  # its callees by address too
+    "metrics": lambda: (_kflat.evaluate_flat_many, _kflat.feval_flat),
+    "metrics-general": lambda: (ki.evaluate_many_t, ks.evaluate),
 }
 
 
@@ -424,7 +435,7 @@ def is_cached(kernel: str) -> bool:
     """
     if kernel in _COMPILED:
         return True
-    disp = _ENTRY.get(kernel, ())
+    disp = _ENTRY[kernel]() if kernel in _ENTRY else ()
     return all(dispatcher_cached(d) for d in (disp if isinstance(disp, tuple) else (disp,)))
 
 
@@ -452,7 +463,7 @@ def warmup_metrics(flat: bool = True) -> float:
 from nsdyn.solve import sparse as _sparse  # noqa: E402  (registers after the numba methods)
 
 METHODS[_sparse.METHOD] = Method(_sparse.METHOD, _sparse.METHOD, True, _sparse.run)
-_ENTRY[_sparse.METHOD] = _sparse._klowrank.run_steps  # the dense loop its warm-up compiles
+_ENTRY[_sparse.METHOD] = lambda: _sparse._klowrank.run_steps  # the loop its warm-up compiles
 # (the helper's system kernel takes less than this process's loop: it takes the metrics too)
 _SPLIT[_sparse.METHOD] = ("evaluate_helper_part", "lowrank_parts_here",
                           {"metrics-general": "evaluate_helper_part_and_metrics"})  # fmt: skip
@@ -461,7 +472,7 @@ _SPLIT[_sparse.METHOD] = ("evaluate_helper_part", "lowrank_parts_here",
 
 MAX_CONTACT_EVENTS = 100_000  # lift-offs and landings recorded by a unilateral run
 UNILATERAL_METHODS = ("event", "radau")  # event: switch model; radau: the law packed in P
-CONTACT_KINDS = {_kunilateral.KIND_LIFT: "lift-off", _kunilateral.KIND_LAND: "landing"}
+CONTACT_KINDS = {"KIND_LIFT": "lift-off", "KIND_LAND": "landing"}  # _kunilateral's kinds
 
 
 @dataclass
@@ -513,8 +524,9 @@ def run_unilateral(P, x0, t_eval, o: Options, X, upl_t, method: str, e_rest: flo
     )  # fmt: skip
     ev_t, ev_i, ev_m = log
     events = [(float(ev_t[k]), int(ev_i[k]), int(ev_m[k])) for k in range(int(stats[ki.S_NEVENT]))]
+    kinds = {getattr(_kunilateral, k): name for k, name in CONTACT_KINDS.items()}
     cev = [
-        (float(r[0]), int(r[1]), CONTACT_KINDS[int(r[2])], float(r[3]), float(r[4]))
+        (float(r[0]), int(r[1]), kinds[int(r[2])], float(r[3]), float(r[4]))
         for r in clog[: int(cnt[0])]
     ]
     kpm = KernelParams(P)
@@ -539,4 +551,4 @@ def warmup_unilateral() -> float:
     return _COMPILED["unilateral"]
 
 
-_ENTRY["unilateral"] = _kunilateral.kernels(True, True, True)
+_ENTRY["unilateral"] = lambda: _kunilateral.kernels(True, True, True)

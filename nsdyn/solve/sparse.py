@@ -50,11 +50,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._lazy import LazyModule
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.excitation import ground_many
 from nsdyn.models.isolated.params import KernelParams
 from nsdyn.solve import _kcommon as ki
-from nsdyn.solve import _kgenalpha, _klowrank
+
+_kgenalpha = LazyModule("nsdyn.solve._kgenalpha")  # imported when a run uses the method
+_klowrank = LazyModule("nsdyn.solve._klowrank")
 
 __all__ = ["METHOD", "RHO_INF", "Stepper", "integrate", "run", "setup_stats"]
 

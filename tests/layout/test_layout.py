@@ -16,6 +16,7 @@ PKG = ROOT / "nsdyn"
 # the pipeline, bottom to top: a module may import its own stage or any stage before it
 STAGES = [
     "atomic",
+    "_numba_light",
     "_numba_cache",
     "_klinalg",
     "_kdp5",

@@ -8,7 +8,7 @@ check for SciPy's BLAS at import. The kernels of the deck, the cylinder and the 
 write those out (``nsdyn._klinalg.argmin``, ``all_finite``, ``max_abs``, ``min_of``, ``dot3``,
 ``matvec``, ``tmatvec``); these tests check they agree with numpy's and that a cached run of
 each scene (and of the default one) loads neither SciPy's linear algebra nor numba's array
-math or linear algebra, nor numpy's masked arrays.
+math or linear algebra, nor numpy's masked arrays, nor the other integration methods' kernels.
 """
 
 import json
@@ -64,7 +64,9 @@ import contextlib, io, json, sys
 from nsdyn.cli.app import main
 with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
     main(["run", *filter(None, sys.argv[1:2]), "--no-figures", "--out", sys.argv[2]])
-names = ("scipy.linalg", "scipy.sparse", "numba.np.arraymath", "numba.np.linalg", "numpy.ma")
+names = ("scipy.linalg", "scipy.sparse", "numba.np.arraymath", "numba.np.linalg", "numpy.ma",
+         "nsdyn.solve._kevent", "nsdyn.solve._kgenalpha", "nsdyn.solve._klowrank",
+         "nsdyn.solve._kdopri")
 print(json.dumps([m for m in names if m in sys.modules]))
 """
 
@@ -75,7 +77,9 @@ print(json.dumps([m for m in names if m in sys.modules]))
 )
 def test_a_cached_run_loads_no_scipy_linear_algebra(scene, tmp_path, child_env):
     """Nor numpy's masked arrays (``numpy.ma``, ~20 ms), which numpy 2's ``np.unique`` and
-    ``np.median`` and numba's own typeof of an array import; "" is the default scene."""
+    ``np.median`` and numba's own typeof of an array import, nor the kernel modules of the
+    integration methods the run does not use (numba makes a dispatcher for each of their
+    kernels at import); "" is the default scene (Radau IIA)."""
     loaded = []
     path = str(SCENES / scene) if scene else ""
     for i in range(2):  # the first fills numba's cache where the test session has not yet

@@ -1,11 +1,12 @@
 """Cached kernels loaded without numba's compile-time registries
-(:func:`nsdyn._numba_cache.light_loads`).
+(:func:`nsdyn._numba_light.light_loads`).
 
 What must hold: a kernel loaded from the on-disk cache in a new process runs and returns the
 numbers the compiled one returned, with its runtime (allocations freed) and numba's helpers
 (math, exceptions) resolved, while numba's compiler contexts are never refreshed for the
 load; a kernel compiled afterwards in the same process still compiles (the compiler refreshes
-the contexts itself); with plain numba the loader is numba's own.
+the contexts itself); the writable cache folder is checked once for all the kernels in it,
+not once per kernel; with plain numba the loader and the checks are numba's own.
 """
 
 import json
@@ -51,10 +52,18 @@ def counted(self):
     calls.append(1)
     return full(self)
 base.BaseContext.refresh = counted
-from nsdyn import _numba_cache as nc
+from nsdyn import _numba_light as nc
 installed = nc.light_loads()
 sys.path.insert(0, sys.argv[1])
-import kern
+import tempfile
+checks = []
+made = tempfile.TemporaryFile
+def counted_file(*a, **k):
+    checks.append(k.get("dir"))
+    return made(*a, **k)
+tempfile.TemporaryFile = counted_file
+import kern  # its two kernels' dispatchers: numba checks their cache folder is writable
+tempfile.TemporaryFile = made
 x = np.linspace(0.0, 1.0, 7)
 kern.grown(x)  # loaded (and numba's runtime started, its statistics with it)
 stats0 = rtsys.get_allocation_stats()
@@ -76,7 +85,8 @@ z = [fresh(np.ones(3))] if sys.argv[2] == "1" else [1.5]
 print(json.dumps({"installed": installed, "loads_refreshed": loads_refreshed,
     "grown": kern.grown(x).tolist(), "raised": raised, "root": root,
     "allocs": stats1.alloc - stats0.alloc, "frees": stats1.free - stats0.free,
-    "fresh": [float(v) for v in z], "refreshed_after": len(calls) > loads_refreshed}))
+    "fresh": [float(v) for v in z], "refreshed_after": len(calls) > loads_refreshed,
+    "folder_checks": len(checks)}))
 """
 
 
@@ -112,6 +122,7 @@ def test_a_cached_kernel_runs_without_a_refresh_and_later_compilations_still_wor
     assert r["allocs"] == r["frees"] >= 1  # the runtime freed what it allocated
     assert r["fresh"] == [1.5]  # 3 x 0.5, exact in binary
     assert r["refreshed_after"] is True  # the compilation refreshed the contexts itself
+    assert r["folder_checks"] == 1  # one folder, checked once for both kernels
 
 
 @pytest.mark.skipif(not JIT, reason="nothing is loaded from a cache under NUMBA_DISABLE_JIT")
@@ -119,4 +130,5 @@ def test_plain_numba_keeps_numbas_own_loader(tmp_path):
     r = _probe(tmp_path, plain=True, compile_after=False)
     assert r["installed"] is False
     assert r["loads_refreshed"] >= 1
+    assert r["folder_checks"] == 2  # numba checks the folder for each kernel
     assert r["raised"] == "negative"

@@ -1,4 +1,4 @@
-"""numba's type of an ndarray argument as nsdyn registers it (``nsdyn._numba_cache``, with the
+"""numba's type of an ndarray argument as nsdyn registers it (``nsdyn._numba_light``, with the
 light loads): the type numba's own ``typeof`` gives — dtype, dimensions, layout, read-only
 flag; tuples of arrays, nested — found without numba's check for numpy's masked arrays, which
 imports ``numpy.ma``. Exact equality of numba types, against numba's own function for arrays
@@ -13,7 +13,8 @@ from numba import typeof, types
 from numba.core.typing.typeof import _typeof_ndarray
 from numba.extending import typeof_impl
 
-from nsdyn._numba_cache import PLAIN, light_loads
+from nsdyn._numba_cache import PLAIN
+from nsdyn._numba_light import light_loads
 
 
 def _readonly(a):

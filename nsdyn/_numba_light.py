@@ -1,0 +1,112 @@
+"""Cached kernels loaded light: what numba does at a process's start that only a compilation
+needs, left out (:func:`light_loads`, installed by :mod:`nsdyn._kaddress` and by
+:func:`nsdyn._numba_cache.drop_stale`).
+
+Three pieces, each a wrap or a registration on numba's side (the compiled-kernels page lists
+what each relies on): the load of a cached kernel without numba's refresh of its compiler
+contexts, numba's type of an ndarray argument without its question about numpy's masked
+arrays, and the check that a cache folder is writable once per folder, not once per kernel.
+None with plain numba (:data:`PLAIN`, ``NSDYN_PLAIN_NUMBA=1``; see :mod:`nsdyn._numba_cache`).
+"""
+
+from __future__ import annotations
+
+import os
+
+PLAIN_ENV = "NSDYN_PLAIN_NUMBA"  # "1": plain numba (read once, when nsdyn is imported)
+PLAIN = os.environ.get(PLAIN_ENV, "0") not in ("", "0")
+
+_LIGHT_LOADS = []  # the loader light_loads installed (at most one)
+
+
+def _noop() -> None:
+    return None
+
+
+def light_loads() -> bool:
+    """Load cached kernels without numba's compile-time registries (True when installed).
+
+    Before it loads a kernel from its on-disk cache, numba refreshes its compiler contexts:
+    it imports ~60 modules of typing and lowering implementations and installs their
+    registries (0.3-0.5 s of a cached start, a third of it), which only a compilation
+    uses. Loading needs the code generator and the C symbols the code calls: numba's helpers
+    and math functions, installed when the context is made, and its runtime's (NRT), which
+    :func:`numba.core.runtime.rtsys.initialize` installs. So the loader initialises the
+    runtime and skips the refresh for the load; a compilation refreshes the contexts itself
+    (numba's compiler does so before it types a kernel), as does the lowering of any call it
+    does not know. Also numba's type of an ndarray argument without ``numpy.ma``
+    (:func:`_light_typeof`) and its check of a cache folder once, not once per kernel
+    (:func:`_light_locators`). Not with plain numba (:data:`PLAIN`). Installed once per
+    process, by :mod:`nsdyn._kaddress` (which nsdyn's first kernels import) or the first
+    kernel family imported (:func:`drop_stale`)."""
+    if PLAIN or _LIGHT_LOADS:
+        return bool(_LIGHT_LOADS)
+    from numba.core import caching
+    from numba.core.runtime import rtsys
+
+    full = caching.Cache.load_overload
+
+    def load_overload(self, sig, target_context):
+        rtsys.initialize(target_context)
+        outer = "refresh" in vars(target_context)  # a load within a load: the outer restores
+        if not outer:  # this load only (numba loads under its compiler lock)
+            target_context.refresh = _noop
+        try:
+            return full(self, sig, target_context)
+        finally:
+            if not outer:
+                vars(target_context).pop("refresh", None)
+
+    load_overload.full = full
+    caching.Cache.load_overload = load_overload
+    _light_typeof()
+    _light_locators()
+    _LIGHT_LOADS.append(load_overload)
+    return True
+
+
+def _light_locators() -> None:
+    """numba checks that a kernel's cache folder is writable when it makes the kernel's
+    dispatcher (at import), by creating and deleting a temporary file in it: once per kernel,
+    ~150 for the default run, ~30 ms of a cached start. Checked once per folder and process
+    instead (a folder that fails the check is asked again, as numba would)."""
+    from numba.core import caching
+
+    checked = set()
+    full = caching._CacheLocator.ensure_cache_path
+
+    def ensure_cache_path(self):
+        path = self.get_cache_path()
+        if path not in checked:
+            full(self)
+            checked.add(path)
+
+    ensure_cache_path.full = full
+    caching._CacheLocator.ensure_cache_path = ensure_cache_path
+
+
+def _light_typeof() -> None:
+    """numba's type of an ndarray argument without its question whether the array is one of
+    numpy's masked arrays (``isinstance(val, np.ma.MaskedArray)``), for which numpy 2 imports
+    ``numpy.ma`` (~20 ms of a cached start): registered for exactly ``np.ndarray`` through
+    numba's extension API (``numba.extending.typeof_impl``); any other array, a subclass (a
+    masked one) or an unsupported dtype, goes to numba's own. The same types
+    (``tests/solve/test_arg_type.py``)."""
+    import numpy as np
+    from numba import types
+    from numba.extending import typeof_impl
+    from numba.np.numpy_support import from_dtype
+
+    numbas = typeof_impl.dispatch(np.ndarray)
+
+    @typeof_impl.register(np.ndarray)
+    def _typeof_ndarray(val, c):
+        if type(val) is not np.ndarray:
+            return numbas(val, c)
+        try:
+            dtype = from_dtype(val.dtype)
+        except Exception:  # noqa: BLE001  (numba's own says what it does not support)
+            return numbas(val, c)
+        flags = val.flags
+        layout = "C" if flags.c_contiguous else "F" if flags.f_contiguous else "A"
+        return types.Array(dtype, val.ndim, layout, readonly=not flags.writeable)
