@@ -91,7 +91,7 @@ def _light_typeof() -> None:
     ``numpy.ma`` (~20 ms of a cached start): registered for exactly ``np.ndarray`` through
     numba's extension API (``numba.extending.typeof_impl``); any other array, a subclass (a
     masked one) or an unsupported dtype, goes to numba's own. The same types
-    (``tests/solve/test_arg_type.py``)."""
+    (``tests/solve/test_light_typeof.py``)."""
     import numpy as np
     from numba import types
     from numba.extending import typeof_impl
