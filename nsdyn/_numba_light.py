@@ -68,7 +68,7 @@ def light_loads() -> bool:
 def _light_locators() -> None:
     """numba checks that a kernel's cache folder is writable when it makes the kernel's
     dispatcher (at import), by creating and deleting a temporary file in it: once per kernel,
-    ~150 for the default run, ~30 ms of a cached start. Checked once per folder and process
+    ~100 for the default run (101 dispatchers), 20-30 ms of a cached start. Checked once per folder
     instead (a folder that fails the check is asked again, as numba would)."""
     from numba.core import caching
 
