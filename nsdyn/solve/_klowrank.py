@@ -23,6 +23,7 @@ from numba import njit
 
 from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_mat, copy_vec, lu_factor, lu_solve
+from nsdyn._klinalg import matvec as small_mv
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve._kgenalpha import _hermite
 
@@ -41,6 +42,16 @@ def matvec(W, y, out):
         for j in range(W.shape[1]):
             s += W[i, j] * y[j]
         out[i] = s
+
+
+@njit(cache=True, error_model="numpy")
+def long_mv(A, x):
+    """``A @ x`` into a new array by :func:`matvec`: for the contact and isolator rows over all
+    n coordinates (numba's ``@`` calls BLAS through SciPy, whose import a cached start would
+    pay)."""
+    out = np.empty(A.shape[0])
+    matvec(A, x, out)
+    return out
 
 
 @njit(cache=True, error_model="numpy")
@@ -128,10 +139,10 @@ def step(t, t_new, A0, state, ops, par, out):
     vt = v + (1.0 - af) * h * (1.0 - gamma) * a
     lam_c = np.zeros(nc)
     if nc:
-        c0 = kR * (R @ A0) + R @ (am * a + 2.0 * ab * bb * vt + ab * ab * qt)
-        lam_c = -(RGr_inv @ c0) / kR
+        c0 = kR * long_mv(R, A0) + long_mv(R, am * a + 2.0 * ab * bb * vt + ab * ab * qt)
+        lam_c = -small_mv(RGr_inv, c0) / kR
     if active:
-        w0 = D @ vt + c2 * (D @ A0 + DGr @ lam_c)
+        w0 = long_mv(D, vt) + c2 * (long_mv(D, A0) + small_mv(DGr, lam_c))
         Ld = np.zeros((ni, ni))  # normal forces per unit friction force (none when frozen)
         Lc = lam0.copy()
         if not frozen:
@@ -146,9 +157,9 @@ def step(t, t_new, A0, state, ops, par, out):
             return int(stats[ki.S_NOUT]), True
     else:
         phi[:] = 0.0
-    lam_a = lam_c + Lam @ phi if nc else np.zeros(0)
+    lam_a = lam_c + small_mv(Lam, phi) if nc else np.zeros(0)
     z = np.concatenate((lam_a, phi))
-    an = A0 + G @ z
+    an = A0 + small_mv(G, z)
     qn = q + h * v + h * h * ((0.5 - beta) * a + beta * an)
     vn = v + h * ((1.0 - gamma) * a + gamma * an)
     if not (ki.all_finite(an) and ki.all_finite(vn)):

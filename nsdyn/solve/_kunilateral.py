@@ -182,6 +182,25 @@ def loop_arrays(n2: int, nc: int, ni: int) -> tuple:
             np.empty(nc, dtype=np.int64))  # fmt: skip
 
 
+def typing_locals(P, x0, t_eval, o, X, upl_t, ws) -> dict:
+    """The loop's local variables as :func:`_run` makes them, from the run's arguments (values
+    are placeholders: only their numba types matter, for the declarations of its callees by
+    address, :func:`nsdyn.solve.compile_split.event_callees`)."""
+    n2, nc = x0.size, upl_t.size
+    a = dict(P=P, x0=x0, t_eval=t_eval, o=o, X=X, upl_t=upl_t, ws=ws, y=x0.copy())
+    a["f"] = np.zeros(n2)
+    a["stats"] = np.zeros(ki.N_STATS, dtype=np.int64)
+    a["rinfo"] = np.zeros(ki.N_RINFO)
+    a["lam_old"] = np.zeros(nc)
+    scratch = loop_arrays(n2, nc, P[ks.I_D].shape[0])[3:]
+    a["ew"] = (ws[12], np.empty(n2), ws[18], ws[19], ws[20], ws[21], *scratch)
+    a["log"] = (np.zeros(1), np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64))
+    a["logs"] = (a["log"], np.zeros((1, CLOG_COLS)), np.zeros(1, dtype=np.int64), np.zeros(1))
+    a["lift"] = np.zeros((2, nc))
+    a["i64"] = np.int64(0)
+    return a
+
+
 @njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, logs, owned, mine,
          K):  # fmt: skip

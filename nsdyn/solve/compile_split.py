@@ -245,32 +245,33 @@ def _compile(disp, *args) -> None:
 
 
 def _event_args():
-    """The event loop's local variables as :func:`nsdyn.solve._kunilateral._run` makes them, on
-    the tiny problem (values are placeholders: only their numba types matter)."""
-    P, x0, t_eval, o, X, upl_t, ws = _tiny_args("event", "modes")
-    n2 = x0.size
-    nc = upl_t.size
-    a = dict(P=P, x0=x0, t_eval=t_eval, o=o, X=X, upl_t=upl_t, ws=ws, y=x0.copy())
-    a["f"] = np.zeros(n2)
-    a["stats"] = np.zeros(ki.N_STATS, dtype=np.int64)
-    a["rinfo"] = np.zeros(ki.N_RINFO)
-    a["lam_old"] = np.zeros(nc)
-    scratch = _kunilateral.loop_arrays(n2, nc, P[ks.I_D].shape[0])[3:]
-    a["ew"] = (ws[12], np.empty(n2), ws[18], ws[19], ws[20], ws[21], *scratch)
-    a["log"] = (np.zeros(1), np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64))
-    a["logs"] = (a["log"], np.zeros((1, _kunilateral.CLOG_COLS)), np.zeros(1, dtype=np.int64),
-                 np.zeros(1))  # fmt: skip
-    a["lift"] = np.zeros((2, nc))
-    a["i64"] = np.int64(0)
-    return a
+    """The event loop's local variables on the tiny problem (their numba types)."""
+    return _kunilateral.typing_locals(*_tiny_args("event", "modes"))
+
+
+@functools.cache
+def system_callees() -> list:
+    """The system kernel, its Jacobian by address and the Jacobian's own kernel (:data:`SYSTEM`),
+    declared for the parameter tuple's type on every run (the tiny problem's): the first of
+    :func:`event_callees`, and all the general metrics need, without the event loop's modules.
+    Once per process."""
+    from numba import typeof, types
+
+    P, f8 = typeof(_tiny_args("event", "modes")[0]), types.float64
+    v, vi, m = types.float64[::1], types.int64[::1], types.float64[:, ::1]
+    return [  # name, kernel, argument types, return type
+        Callee("sys.evaluate", ks.evaluate, (f8, v, P, v, v, v, vi), types.boolean),
+        Callee("sys.jac", ki.jac_table, (f8, v, P, m), types.none),
+        Callee("sys.jac_at", ks.jac_at, (f8, v, P, m, v, vi), types.none),
+    ]
 
 
 @functools.cache
 def event_callees() -> list:
     """The event loop's callees by address (:func:`nsdyn._kaddress.tcall`), declared for the
     argument types the loop (and its callees) give them; the system kernel and its Jacobian
-    first. Once per process (after the step's callees by ``K``, whose declarations the step
-    and the start-up are typed with)."""
+    first (:func:`system_callees`). Once per process (after the step's callees by ``K``, whose
+    declarations the step and the start-up are typed with)."""
     from numba import typeof, types
 
     event_newton()
@@ -285,9 +286,6 @@ def event_callees() -> list:
     run = types.Tuple((v, P, v, ws, ew, v, v, vi, opts, logs, lift))
     detected = types.Tuple((f8, i8, i8))
     sigs = {  # name: (kernel, argument types, return type)
-        "sys.evaluate": (ks.evaluate, (f8, v, P, v, v, v, vi), b1),
-        "sys.jac": (ki.jac_table, (f8, v, P, m), types.none),
-        "sys.jac_at": (ks.jac_at, (f8, v, P, m, v, vi), types.none),
         "event.settle": (_kevent._settle, (f8, v, P, v, ew, i8, f8, logs.types[0], vi), b1),
         "event.settle_contacts": (
             _kimpact._settle_contacts,
@@ -318,7 +316,8 @@ def event_callees() -> list:
         "event.handle": (_kunilateral._event_at, (f8, i8, i8, f8, run), b1),
         "event.land": (_kimpact._land, (f8, v, P, i8, f8, f8, m, vi, v), b1),
     }
-    return [Callee(name, kernel, args, ret) for name, (kernel, args, ret) in sigs.items()]
+    others = [Callee(name, kernel, args, ret) for name, (kernel, args, ret) in sigs.items()]
+    return [*system_callees(), *others]
 
 
 @functools.cache
@@ -335,7 +334,7 @@ SYSTEM = ("sys.evaluate", "sys.jac", "sys.jac_at")
 def evaluate_table() -> None:
     """The system kernel alone in the address table (:func:`fill_table`), for the general
     metrics (:func:`nsdyn.solve._kcommon.evaluate_many_t`). Once per process."""
-    fill_table([_event_by_name()[SYSTEM[0]]])
+    fill_table(system_callees()[:1])
 
 
 def evaluate_inputs(P, X):
@@ -374,7 +373,7 @@ def metrics_here(metrics: str | None) -> None:
 def system_table() -> None:
     """The system kernel and its Jacobian in the address table (:func:`fill_table`), for the
     kernels that call them so outside the event loop (generalized-alpha). Once per process."""
-    fill_table([_event_by_name()[n] for n in SYSTEM])
+    fill_table(system_callees())
 
 
 def system_inputs(P, x0):

@@ -40,7 +40,9 @@ modes; ``A0 = S_M^-1 (-am M a - K* qt - C* vt - M Gamma u)`` and ``G = S_M^-1 [R
 
 This module factors and caches the operators (:class:`Stepper`); the steps themselves run in
 the numba kernel :mod:`nsdyn.solve._klowrank` (the whole loop with the dense backend; with the
-sparse ones, SuperLU gives ``A0`` here and the kernel does the rest of each step).
+sparse ones, SuperLU gives ``A0`` here and the kernel does the rest of each step). The dense
+backend factors with numpy's LAPACK (``gesv``) and the kernel's products are written out, so a
+dense run (a reduced model) imports none of SciPy's linear algebra.
 """
 
 from __future__ import annotations
@@ -140,13 +142,17 @@ class Stepper:
                 return -lu.solve(am * a + Ks @ qt + Cs @ vt + Gam @ u)
 
         elif backend == "dense":
-            import scipy.linalg as sla
-
             S = (1.0 - am) * np.eye(n) + c1 * MiK + c2 * MiC
-            lu = sla.lu_factor(S, check_finite=True)
+            if not np.all(np.isfinite(S)):
+                raise FloatingPointError(f"{METHOD}: iteration matrix not finite at step {h:g} s")
             # A0 = W [q; v; a] + Wg u with W = -S^-1 [MiK, kq MiK + MiC, am I + ka_q MiK + ...]
             rhs = np.hstack([MiK, kq * MiK + MiC, am * np.eye(n) + ka_q * MiK + ka_v * MiC, Gam, B])
-            X = sla.lu_solve(lu, rhs)
+            try:  # LAPACK's gesv (LU with partial pivoting) through numpy: no SciPy to import
+                X = np.linalg.solve(S, rhs)
+            except np.linalg.LinAlgError as e:
+                raise FloatingPointError(
+                    f"{METHOD}: singular iteration matrix at step {h:g} s"
+                ) from e
             W = np.ascontiguousarray(-X[:, : 3 * n + 2])
             G = np.ascontiguousarray(X[:, 3 * n + 2 :])
             y = np.empty(3 * n + 2)
