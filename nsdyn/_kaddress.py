@@ -283,6 +283,8 @@ TABLE_NAMES = (
     "pairs.evaluate",
     "pairs.settle",
     "pairs.settle_contacts",
+    "rock.ground",
+    "cyl.stop_slip",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration

@@ -9,7 +9,7 @@ Stages ``k_i = f(t + c_i h, y + h sum_j a_ij k_j)``, solution ``y1 = y + h sum_i
     r0 = y, r1 = y1 - y, r2 = h k1 - r1, r3 = r1 - h k7 - r2, r4 = h sum d_i k_i
 """
 
-from numba import njit
+from nsdyn import _kaddress as ka
 
 C2, C3, C4, C5 = 0.2, 0.3, 0.8, 8.0 / 9.0
 A21 = 0.2
@@ -31,7 +31,7 @@ FAC_MAX = 5.0  # largest step growth factor
 C = (0.0, C2, C3, C4, C5, 1.0, 1.0)  # time of stage j (k_j) as a fraction of the step
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def stage(y, k, h, j, out):
     """``out = y + h sum_m a_(j+1)m k_m``: the state at which stage ``k_j`` (j = 1..6) is
     evaluated, from the stages ``k`` (7, n) before it; j = 6 gives the solution ``y1``."""
@@ -54,7 +54,7 @@ def stage(y, k, h, j, out):
             )
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def error(k, h, i):
     """Component ``i`` of the local error estimate ``h sum_m e_m k_m`` of a step of size h."""
     return h * (
@@ -62,7 +62,7 @@ def error(k, h, i):
     )
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def dense_coefficients(y, y1, k, h, rc):
     """The coefficients ``rc`` (5, n) of the continuous extension over the step ``y -> y1``."""
     for i in range(y.shape[0]):
@@ -76,14 +76,14 @@ def dense_coefficients(y, y1, k, h, rc):
         )
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def dense(rc, i, s):
     """Component ``i`` of the continuous extension at ``s`` in [0, 1]; ``rc`` shape (5, n)."""
     s1 = 1.0 - s
     return rc[0, i] + s * (rc[1, i] + s1 * (rc[2, i] + s * (rc[3, i] + s1 * rc[4, i])))
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def new_step(h, err):
     """Next step size from the scaled error norm ``err`` of a step of size ``h``."""
     if err <= 0.0:

@@ -130,13 +130,19 @@ ag = np.zeros((t.size, 3))
 ag[:, 0] = 12.0 * np.sin(2 * np.pi * 2.0 * t)
 cy = simulate_cylinder(CylinderParams().with_(foundation="tensionless", mu=0.3), ag, 1e-3)
 out["cylinder_q"], out["cylinder_u"] = cy.q, cy.u
+# a rocking block under a record-like table: its loop calls the ground motion by address
+from nsdyn.ground import GroundMotion
+from nsdyn.models.rocking import RockingBlock, simulate_rocking
+rb = simulate_rocking(RockingBlock(width=0.4, height=2.0),
+                      GroundMotion(0.0, 1e-3, 0.25 * ag[:, 0]), t_end=1.0)
+out["rocking_theta"], out["rocking_impacts"] = rb.theta, rb.impacts
 np.savez(sys.argv[1], **out)
 """
 
 
 @pytest.mark.slow  # compiles the default loop, the event loop (friction and contact events),
 # the period map, generalized-alpha, the deck's switch loop, a pair system's loops, a body's
-# event loop and the cylinder's loop as plain numba
+# event loop, the cylinder's loop and the rocking block's loop as plain numba
 def test_plain_numba_gives_identical_histories(tmp_path):
     files = {}
     for mode in ("0", "1"):
@@ -153,5 +159,6 @@ def test_plain_numba_gives_identical_histories(tmp_path):
     assert by_address["lift_offs"][0] > 0  # its contacts opened and settled
     assert by_address["body_impacts"][0] > 0  # the body's events did run
     assert np.abs(by_address["cylinder_u"]).max() > 0.0  # the cylinder's base slid
+    assert by_address["rocking_impacts"].shape[0] > 0  # the block rocked and struck
     for key in by_address.files:
         assert np.array_equal(by_address[key], plain[key]), key

@@ -50,7 +50,7 @@ STICK, SLIP = 0, 1  # friction modes
 OK, UNDERFLOW, NONFINITE, TOPPLED, MAXSTEPS = 0, 1, 2, 3, 4
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def rotation(q: np.ndarray, R: np.ndarray) -> None:
     """R = rotation matrix of the quaternion q (normalised here)."""
     n = math.sqrt(q[0] ** 2 + q[1] ** 2 + q[2] ** 2 + q[3] ** 2)
@@ -66,14 +66,14 @@ def rotation(q: np.ndarray, R: np.ndarray) -> None:
     R[2, 2] = 1 - 2 * (x * x + y * y)
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.array(
         [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
     )
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def solve_block(M: np.ndarray, b: np.ndarray, o: int) -> np.ndarray:
     """x with M[o:, o:] x = b[o:] (dense LU; nan if the block is singular or not finite)."""
     A = M[o:, o:].copy()
@@ -86,7 +86,7 @@ def solve_block(M: np.ndarray, b: np.ndarray, o: int) -> np.ndarray:
     return x
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def mass(e3: np.ndarray, p: np.ndarray, Mm: np.ndarray) -> None:
     """Mm = 6×6 mass matrix of x = (ü_x, ü_y, ẅ, ω̇) for the body axis e3."""
     m, H, It, Ia = p[0], p[1], p[3], p[4]
@@ -106,7 +106,7 @@ def mass(e3: np.ndarray, p: np.ndarray, Mm: np.ndarray) -> None:
             Mm[3 + i, 3 + j] = Jij - m * rho[i] * rho[j]
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def stop_slip(y: np.ndarray, p: np.ndarray) -> None:
     """Bring the slip velocity to zero by a horizontal impulse P at the base centre:
     M Δv = (P, 0), Δu̇ = −u̇, so P = −(M⁻¹)_hh⁻¹ u̇; dissipates ½ u̇ᵀ((M⁻¹)_hh)⁻¹u̇ ≥ 0."""
@@ -130,7 +130,7 @@ def stop_slip(y: np.ndarray, p: np.ndarray) -> None:
         y[6 + i] += G[3 + i, 0] * px + G[3 + i, 1] * py
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def rhs(
     y: np.ndarray, ag: np.ndarray, p: np.ndarray, fr: np.ndarray, dy: np.ndarray, aux: np.ndarray
 ) -> None:
@@ -236,7 +236,18 @@ def rhs_t(y, ag, p, fr, dy, aux) -> None:
     ka.tcall("cyl.rhs", (y, ag, p, fr, dy, aux))
 
 
-@njit(cache=True, error_model="numpy")
+# the slip stop by address too, compiled in the helper beside the right-hand side, whose mass
+# matrix and block solve it shares (linked into the loop, this process compiled them as well)
+ka.tslot("cyl.stop_slip", stop_slip, "nsdyn.models.cylinder.cylinder_compile:callees")
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def stop_slip_t(y, p) -> None:
+    """:func:`stop_slip` called by its address in the table of :mod:`nsdyn._kaddress`."""
+    ka.tcall("cyl.stop_slip", (y, p))
+
+
+@ka.compiled_only
 def contact_kind(y: np.ndarray, r: float) -> int:
     """0 lifted off, 1 partial contact, 2 full contact (tensionless foundation)."""
     R = np.empty((3, 3))
@@ -245,7 +256,7 @@ def contact_kind(y: np.ndarray, r: float) -> int:
     return contact_moments(y[0], R[2, 0], R[2, 1], r, np.bool_(False), mom)
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def friction_event(yn: np.ndarray, fr: np.ndarray, aux: np.ndarray, mu: float) -> int:
     """Mode change due at the end yn of a step (aux: rhs at yn in the current mode).
 
@@ -259,7 +270,7 @@ def friction_event(yn: np.ndarray, fr: np.ndarray, aux: np.ndarray, mu: float) -
     return 2 if yn[IUD] * fr[1] + yn[IUD + 1] * fr[2] <= 0.0 else 0
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def set_mode(y, a, p, fr, k1, aux) -> None:
     """Stick if the force that keeps the base still is within the friction cone, else slip
     starting in the direction opposite to that force; k1 = rhs(y) in the chosen mode."""
@@ -273,7 +284,7 @@ def set_mode(y, a, p, fr, k1, aux) -> None:
         rhs_t(y, a, p, fr, k1, aux)
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def store(hist: np.ndarray, i: int, t: float, y: np.ndarray, ag, p, fr, dy, aux) -> None:
     rhs_t(y, ag, p, fr, dy, aux)
     hist[i, 0] = t
@@ -284,12 +295,19 @@ def store(hist: np.ndarray, i: int, t: float, y: np.ndarray, ag, p, fr, dy, aux)
     copy_vec(hist[i, 7 + NY :], aux)
 
 
+def workspace() -> tuple:
+    """The time loop's workspace: dy, aux, the friction state fr, the Dormand-Prince stages k
+    (7, NY), a stage's state yn, the ground acceleration a at a stage and its slope sl."""
+    return (np.empty(NY), np.empty(NAUX), np.zeros(3), np.empty((7, NY)), np.empty(NY),
+            np.empty(3), np.empty(3))  # fmt: skip
+
+
 @njit(cache=True, error_model="numpy")
 def integrate(
     t0: float,
     dt: float,
     ag: np.ndarray,
-    y0: np.ndarray,
+    y: np.ndarray,
     p: np.ndarray,
     rtol: float,
     atol: np.ndarray,
@@ -299,6 +317,7 @@ def integrate(
     cos_topple: float,
     hist: np.ndarray,
     stats: np.ndarray,
+    work: tuple,
 ) -> int:
     """Integrate over the samples of ag (n, 3); hist (n, NOUT) rows at the sample times.
 
@@ -308,23 +327,18 @@ def integrate(
     stops has its residual velocity (|u̇| ≲ h_kink |ü|) removed by a base impulse
     (``stop_slip``) and the kinetic energy it takes booked in E_f. stats = (t reached,
     accepted, rejected, event halvings, rhs calls, slip starts). Returns the status.
+    ``y``: the initial state, overwritten by the state reached; ``work``: the workspace of
+    :func:`workspace` (from the caller: the loop allocates nothing).
     """
     n = ag.shape[0]
-    y = y0.copy()
+    # borrowed views (nsdyn._kborrow): no atomic reference counts per stage and step
+    dy, aux, fr, k, yn, a, sl = kb.borrowed(work)
+    y, ag, p, atol, hist, stats = kb.borrowed((y, ag, p, atol, hist, stats))
     tensionless = p[8] < 0.5
     r = p[2]
     mu = p[9]
     nerr = 9 if mu < 0.0 else 13
-    dy = np.empty(NY)
-    aux = np.empty(NAUX)
-    fr = np.zeros(3)
-    k = np.empty((7, NY))  # Dormand-Prince stages
-    yn = np.empty(NY)  # a stage's state; after the last stage the step's solution
-    a = np.empty(3)
-    # borrowed views (nsdyn._kborrow): no atomic reference counts per stage and step
-    own = (y, dy, aux, fr, k, yn, a)
-    y, dy, aux, fr, k, yn, a = kb.borrowed(own)
-    ag, p, atol, hist, stats = kb.borrowed((ag, p, atol, hist, stats))
+    fr[:] = 0.0
     if mu >= 0.0:
         set_mode(y, ag[0], p, fr, k[0], aux)
     else:
@@ -341,7 +355,8 @@ def integrate(
     for i in range(n - 1):
         ta = t0 + i * dt
         tb = ta + dt
-        slope = (ag[i + 1] - ag[i]) / dt
+        for c in range(3):
+            sl[c] = (ag[i + 1, c] - ag[i, c]) / dt
         t = ta
         while tb - t > 1e-12 * dt:
             hs = min(h, tb - t)
@@ -352,7 +367,9 @@ def integrate(
                     fr[1] = y[IUD] / s
                     fr[2] = y[IUD + 1] / s
             for j in range(1, 7):  # the last stage is evaluated at the solution yn
-                copy_vec(a, ag[i] + slope * (t + dp.C[j] * hs - ta))
+                tau = t + dp.C[j] * hs - ta
+                for c in range(3):
+                    a[c] = ag[i, c] + sl[c] * tau
                 dp.stage(y, k, hs, j, yn)
                 rhs_t(yn, a, p, fr, k[j], aux)
             nfev += 6
@@ -390,7 +407,7 @@ def integrate(
                 acc += 1
                 if ev == 2:  # the slip stopped: impulse onto u̇ = 0, its energy loss booked
                     e_before = aux[6]
-                    stop_slip(y, p)
+                    stop_slip_t(y, p)
                     rhs_t(y, a, p, fr, dy, aux)
                     y[IEF] += e_before - aux[6]
                 if ev != 0:
@@ -421,5 +438,4 @@ def integrate(
     stats[3] = kinks
     stats[4] = nfev
     stats[5] = slips
-    kb.alive(own)
     return status

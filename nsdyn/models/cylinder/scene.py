@@ -47,7 +47,7 @@ TABLES = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 STAR_QUANTITIES = ("k", "c", "H", "r")  # quantities a star case may scale
 METHODS = ("dopri5",)  # integrators of this family
 # seconds a first run compiles the kernel (2-core machine, empty cache; docs/dev/first-runs.md)
-COMPILE_ABOUT_S = 10.0
+COMPILE_ABOUT_S = 9.0
 
 
 def kernels_cached(p: CylinderParams) -> bool:
@@ -57,7 +57,8 @@ def kernels_cached(p: CylinderParams) -> bool:
     from nsdyn._numba_cache import all_cached
     from nsdyn.models.cylinder import _kernel
 
-    return p.foundation == "fixed" or all_cached([_kernel.integrate, _kernel.rhs])
+    kernels = [_kernel.integrate, _kernel.rhs, _kernel.stop_slip]  # the loop, its callees
+    return p.foundation == "fixed" or all_cached(kernels)
 
 
 def _friction(fd: dict, case: str, source: str) -> float | None:

@@ -243,8 +243,8 @@ def simulate(
     cos_top = math.cos(theta_topple)
     tic = time.perf_counter()
     status = run_integrate((
-        t0, dt, ag, y0, p.kernel_array(), rtol, atol, h_kink, H_MIN, int(max_steps), cos_top,
-        hist, stats,
+        t0, dt, ag, y0.copy(), p.kernel_array(), rtol, atol, h_kink, H_MIN, int(max_steps),
+        cos_top, hist, stats, K.workspace(),
     ))  # fmt: skip
     wall = time.perf_counter() - tic
     if status in _STATUS:

@@ -27,13 +27,14 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn import _kborrow as kb
 from nsdyn import _kdp5 as dp
 from nsdyn.models.rocking._kground import (
     GK_NONE,
     LEFT_LIMIT,
     RIGHT_LIMIT,
-    ground,
+    ground_t,
     next_breakpoint,
     rest_step,
     step_to_breakpoint,
@@ -88,10 +89,10 @@ H_MIN = 1e-13  # step-size underflow threshold [s] (relative to 1 + |t|)
 UPLIFT_BISECT = 80  # bisection iterations locating a lift-off time
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def accel(t, left, th, s, par, gk, gp, tab_h, tab_v):
     """theta'' on pivot side ``s``."""
-    ah, av = ground(t, left, gk, gp, tab_h, tab_v)
+    ah, av = ground_t(t, left, gk, gp, tab_h, tab_v)
     g = par[P_G]
     ge = 1.0 + av / g
     phi = s * par[P_ALPHA] - th
@@ -100,10 +101,10 @@ def accel(t, left, th, s, par, gk, gp, tab_h, tab_v):
     return -par[P_P2] * (ge * math.sin(phi) + ah / g * math.cos(phi))
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def uplift_side(t, left, par, gk, gp, tab_h, tab_v):
     """Side (+1/-1) the ground lifts a resting block onto, 0 if none, -2 if g + ü_v <= 0."""
-    ah, av = ground(t, left, gk, gp, tab_h, tab_v)
+    ah, av = ground_t(t, left, gk, gp, tab_h, tab_v)
     g = par[P_G]
     ge = 1.0 + av / g
     if ge <= 0.0:
@@ -114,7 +115,7 @@ def uplift_side(t, left, par, gk, gp, tab_h, tab_v):
     return 0
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def _root(rc, comp, sgn, off, a, b, fa, fb):
     """Illinois root of ``sgn * y_comp(sigma) - off`` on [a, b] with fa > 0 >= fb."""
     side = np.int64(0)
@@ -140,13 +141,19 @@ def _root(rc, comp, sgn, off, a, b, fa, fb):
     return b
 
 
-@njit(cache=True, error_model="numpy")
-def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks, info):
+# no reference counts (NO_NRT): the loop allocates nothing, every array is its caller's
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+def integrate(
+    par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks, info, k, rc, y, y1
+):
     """Integrate from ``y0 = (theta, theta')`` at ``t0`` to ``t_end``; returns an ST_* status.
 
     ``out`` (n_out, 2): theta, theta' at ``t0 + k out_dt`` (filled up to ``info[I_NOUT]``);
     ``imp`` (n_imp_max, 3): impact time, theta' before, theta' after; ``peaks`` (n_pk_max, 2):
     time and theta of each extremum of |theta|; ``info`` (N_INFO,): see the I_* indices.
+    Workspace (overwritten): ``k`` (7, 2) the stages, ``rc`` (5, 2) the dense output's
+    coefficients, ``y`` and ``y1`` (2,) a step's start and a stage's state (the caller
+    allocates them: the kernel then compiles without numba's allocation routines).
     """
     p2 = par[P_P2]
     alpha = par[P_ALPHA]
@@ -166,10 +173,6 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
     info[I_TREST] = np.nan
     info[I_TUPL] = np.nan
     info[I_TFAIL] = np.nan
-    k = np.zeros((7, 2))
-    rc = np.zeros((5, 2))
-    y = np.zeros(2)  # (theta, theta') at the start of a step
-    y1 = np.zeros(2)  # a stage's state; after the last stage the step's solution
     # borrowed views (nsdyn._kborrow): no atomic reference counts per stage and step
     own = (k, rc, y, y1)
     k, rc, y, y1 = kb.borrowed(own)
@@ -389,7 +392,7 @@ def integrate(par, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, imp, peaks,
                 thd = 0.0
                 info[I_TREST] = t
                 continue
-            ah, av = ground(t, RIGHT_LIMIT, gk, gp, tab_h, tab_v)
+            ah, av = ground_t(t, RIGHT_LIMIT, gk, gp, tab_h, tab_v)
             dec = p2 * ((1.0 + av / g) * math.sin(alpha) - abs(ah) / g * math.cos(alpha))
             if dec > 0.0:
                 h = min(h, abs(thd) / dec)  # half the estimated flight time 2|theta'|/dec

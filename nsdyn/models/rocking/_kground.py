@@ -20,6 +20,8 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
+
 GK_NONE = 0  # no excitation
 GK_TABLE = 1  # sampled record, linear interpolation
 GK_PULSE = 2  # closed-form pulse
@@ -30,7 +32,7 @@ RIGHT_LIMIT = np.bool_(False)
 BP_EPS = 1e-12  # relative tolerance in time when deciding whether t sits on a breakpoint
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def ground(t, left, gk, gp, tab_h, tab_v):
     """(ü_hor, ü_ver) at time ``t`` [m/s²]."""
     if gk == GK_TABLE:
@@ -79,7 +81,20 @@ def ground(t, left, gk, gp, tab_h, tab_v):
     return 0.0, 0.0
 
 
-@njit(cache=True, error_model="numpy")
+# the ground motion by address (:func:`nsdyn._kaddress.tcall`, declared and put in the table
+# by nsdyn.models.rocking.rocking_compile): the rocking block's loop evaluates it at seven
+# places (its right-hand side, the uplift test, the impact), each of which would otherwise
+# link, LLVM optimise and translate again a copy of it
+ka.tslot("rock.ground", ground, "nsdyn.models.rocking.rocking_compile:callees")
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def ground_t(t, left, gk, gp, tab_h, tab_v):
+    """:func:`ground` called by its address in the table of :mod:`nsdyn._kaddress`."""
+    return ka.tcall("rock.ground", (t, left, gk, gp, tab_h, tab_v))
+
+
+@ka.compiled_only
 def next_breakpoint(t, gk, gp, n_tab):
     """The first breakpoint strictly after ``t`` (``inf`` if none)."""
     tol = BP_EPS * (1.0 + abs(t))
@@ -103,7 +118,7 @@ def next_breakpoint(t, gk, gp, n_tab):
     return math.inf
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def step_to_breakpoint(t, h, t_end, gk, gp, n_tab):
     """(step, ends there): the step ``h`` from ``t``, shortened to end on the next breakpoint
     or on ``t_end`` if it would pass one."""
@@ -118,7 +133,7 @@ def step_to_breakpoint(t, h, t_end, gk, gp, n_tab):
     return h, at_bp
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def rest_step(t, gk, gp, n_tab):
     """Step of the uplift scan while the block is at rest (table dt, or T_p / 64)."""
     if gk == GK_TABLE:

@@ -26,6 +26,7 @@ from nsdyn.ground.pulses import Pulse
 from nsdyn.models.rocking import _kblock as kb
 from nsdyn.models.rocking._kground import GK_NONE, GK_PULSE, GK_TABLE
 from nsdyn.models.rocking.results import OUTCOMES, RockingResult
+from nsdyn.models.rocking.rocking_compile import run_integrate
 from nsdyn.models.tilt import initial_tilt
 
 TOL = 1e-9  # default relative tolerance of the Dormand-Prince integrator
@@ -263,8 +264,9 @@ def simulate_rocking(
     par = model_params(model, tol, h_max, v_rest, theta_fall)
     y0 = np.array([initial_tilt(theta0, theta0_over_alpha, model.alpha), float(thetad0)])
     w0 = time.perf_counter()
-    st = kb.integrate(par, gk, gp, tab_h, tab_v, y0, float(t0), float(t_end), dt_out or 1.0,
-                      out, imp, peaks, info)  # fmt: skip
+    work = (np.zeros((7, 2)), np.zeros((5, 2)), np.zeros(2), np.zeros(2))
+    st = run_integrate((par, gk, gp, tab_h, tab_v, y0, float(t0), float(t_end), dt_out or 1.0,
+                        out, imp, peaks, info, *work))  # fmt: skip
     wall = time.perf_counter() - w0
     if st != kb.ST_OK:
         raise RuntimeError(f"rocking integration failed at t = {info[kb.I_TFAIL]:.6g} s: "

@@ -56,18 +56,19 @@ _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 T_END = 10.0  # default duration without a record [s]
 METHODS = ("dopri5",)  # the rocking integrator (event-located Dormand-Prince 5(4))
 # seconds a first run compiles the kernels (2-core machine, empty cache; docs/dev/first-runs.md)
-COMPILE_ABOUT_S = 7.0
+COMPILE_ABOUT_S = 6.5
 
 
 def kernels_cached(model) -> bool:
     """True when the kernel a run of ``model`` calls is compiled in this process or in numba's
     on-disk cache (the run then only loads it; else a first run announces its compilation)."""
     from nsdyn._numba_cache import all_cached
-    from nsdyn.models.rocking import _kblock, _kcompliant
+    from nsdyn.models.rocking import _kblock, _kcompliant, _kground
     from nsdyn.models.rocking.compliant import CompliantBlock
 
-    kernel = _kcompliant if isinstance(model, CompliantBlock) else _kblock
-    return all_cached([kernel.integrate])
+    if isinstance(model, CompliantBlock):
+        return all_cached([_kcompliant.integrate])
+    return all_cached([_kblock.integrate, _kground.ground])  # the loop and its callee
 
 
 def build_model(cfg: dict, source: str):

@@ -206,13 +206,19 @@ def test_perfectly_elastic_block_keeps_rocking():
 
 def test_pulse_closed_forms_match_kernel_samples():
     """The kernel evaluates the same closed forms as nsdyn.ground.pulses (one formula each)."""
-    from nsdyn.models.rocking._kground import GK_PULSE, ground
+    from numba import njit
+
+    from nsdyn.models.rocking._kground import GK_PULSE, RIGHT_LIMIT, ground
+
+    @njit  # ground has no Python entry point (only compiled code calls it); the limit and the
+    def sample(t, left, kind, gp, tab):  # kind as arguments: typed as the loop's, not literal
+        return ground(t, left, kind, gp, tab, tab)
 
     t = np.linspace(-0.1, 2.0, 97)
     for pl in (Pulse("sine", 2.0, 7.0, 2), Pulse("cosine", -1.5, 9.0), Pulse("ricker", 3.0, 11.0),
                Pulse("rect", 1.0, 5.0, 1, 0.2, 0.3)):  # fmt: skip
         ref = pl.accel(t)
-        got = np.array([ground(ti, False, GK_PULSE, pl.code(), ref, ref) for ti in t])
+        got = np.array([sample(ti, RIGHT_LIMIT, np.int64(GK_PULSE), pl.code(), ref) for ti in t])
         np.testing.assert_allclose(got[:, 0], ref, atol=1e-14)
         np.testing.assert_allclose(got[:, 1], pl.ver_ratio * ref, atol=1e-14)
 
