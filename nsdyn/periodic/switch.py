@@ -30,9 +30,9 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg import matrix_balance
 
 from nsdyn._brief import brief_repr
+from nsdyn._lazy import LazyModule
 from nsdyn.ground.excitation import Harmonic, HarmonicForce
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.params import with_law
@@ -47,6 +47,8 @@ from nsdyn.periodic.protocol import (
     check_frequency,
 )
 from nsdyn.periodic.shooting import ShootingResult, shoot
+
+sla = LazyModule("scipy.linalg")  # the switch model only: an arctan-law sweep never imports it
 
 MAX_ISOLATORS = 6  # 3^ni mode sets are tabulated
 GRAZE_TOL = 1e-3  # normalised |n^T f-| (or touch depth) below which an orbit counts as grazing
@@ -155,7 +157,7 @@ def balancing(A0: np.ndarray) -> np.ndarray:
     M = np.abs(A0).sum(axis=0)
     D = M.shape[0]
     M[D - 2, D - 1] = M[D - 1, D - 2] = 1.0  # couple sin and cos as the w entries will
-    _, (sc, _) = matrix_balance(M, permute=False, separate=True)
+    _, (sc, _) = sla.matrix_balance(M, permute=False, separate=True)
     sc = np.asarray(sc, dtype=float) / 2.0 ** np.round(np.log2(sc[D - 2 :]).mean())
     sc[D - 3 :] = 1.0  # the kernel starts the forcing states at [1, 0, 1]
     return sc

@@ -85,6 +85,18 @@ def _g_stick(i, lam, tau, P):
 
 
 @ka.compiled_uncounted
+def _v_dense(i, sgn, x, y, Qd, D):
+    """Slip switching function of isolator i on the dense output at t + x h: its sliding
+    velocity, signed by ``sgn``."""
+    n = D.shape[1]
+    v = 0.0
+    for j in range(n):
+        k = n + j
+        v += D[i, j] * (y[k] + x * (Qd[k, 0] + x * (Qd[k, 1] + x * Qd[k, 2])))
+    return sgn * v
+
+
+@ka.compiled_uncounted
 def _g_dense(kind, i, sgn, x, y, Qd, t, h, P, ew):
     """Switching function of isolator i on the dense output at t + x h.
 
@@ -94,14 +106,8 @@ def _g_dense(kind, i, sgn, x, y, Qd, t, h, P, ew):
     and nc integers: the kernels of the loop allocate nothing, :data:`nsdyn._kaddress.NO_NRT`).
     """
     ys, fs, qdd, lam, tau, modes = ew[:6]
-    D = P[ks.I_D]
-    n = D.shape[1]
     if kind == SLIP:
-        v = 0.0
-        for j in range(n):
-            k = n + j
-            v += D[i, j] * (y[k] + x * (Qd[k, 0] + x * (Qd[k, 1] + x * Qd[k, 2])))
-        return sgn * v
+        return _v_dense(i, sgn, x, y, Qd, P[ks.I_D])
     kr.dense(y, Qd, x, ys)
     ki.feval_t(t + x * h, ys, P, fs, qdd, lam, tau, modes)
     return _g_stick(i, lam, tau, P)
@@ -183,10 +189,8 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
                 break
             if k == SLIP_SAMPLES:
                 gb = sg * _dot_row(D, i, ynew, n)
-            else:
-                # literal SLIP on purpose: this specialisation reduces to the velocity branch,
-                # which LLVM inlines into the scan (8 samples per slipping isolator and step)
-                gb = _g_dense(SLIP, i, sg, xb, y, Qd, t, h, P, ew)
+            else:  # the velocity alone (8 samples per slipping isolator and step)
+                gb = _v_dense(i, sg, xb, y, Qd, D)
             # a genuine crossing, not round-off around v = 0 (a slipping isolator held at
             # v = 0 by a stuck one on the same rigid base)
             if gb < 0.0 and (gb < -V_NOISE or ga > V_NOISE):

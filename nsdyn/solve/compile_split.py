@@ -25,10 +25,10 @@ linked, its code was optimised and translated again in every one of them (the lo
 :func:`event_ready` fills the rows a run calls), the system kernel and its Jacobian among them,
 and its step's by ``K`` (:func:`event_calls`). Each compiles once, on its own, so the first
 compilation splits into independent pieces: the helper takes the system kernel, its Jacobian,
-the friction detector, the settling and the factorisation, with the general metrics after the
-system kernel (:func:`event_helper_part_and_metrics`); this process Newton (without the flat
-right-hand side for a law it does not serve), the step, the start-up, the event handler, the
-acceptance and the loop (:func:`event_parts_here`).
+the friction detector, the factorisation and the step's acceptance (:func:`event_helper_part`);
+this process Newton (without the flat right-hand side for a law it does not serve), the step,
+the start-up, the event handler, the settling, the loop and the general metrics, which call
+the system kernel by address (:func:`event_parts_here`).
 
 Generalized-alpha calls the system kernel and its Jacobian through the table too: the helper
 compiles the Jacobian (its own kernel, then the one by address that links it) and the system
@@ -439,8 +439,8 @@ def event_calls(flat: bool):
 # the event loop's first compilation, shared by two processes: the callees each compiles (by
 # their names in the address table or in ``K``), in an order that keeps both busy; every piece
 # compiles on its own (nothing is linked into the loop), so neither process waits for the
-# other's. The helper also takes the general metrics (which link the system kernel it compiles
-# first); this process the loop itself.
+# other's. This process also takes the loop itself and the general metrics (they call the
+# system kernel by address: compiled, not run, before the helper has it).
 EVENT_HELPER = ("sys.evaluate", "sys.jac", "sys.jac_at", "event.detect_friction",
                 "radau.factor", "event.accept")  # fmt: skip
 EVENT_HERE = ("radau.newton", "event.step", "event.start", "event.handle", "event.settle")
@@ -464,13 +464,6 @@ def event_helper_part() -> None:
     """The helper process's share of the event loop's first compilation (see
     :func:`nsdyn.solve.methods.warmup_kernel`): the callees named in :data:`EVENT_HELPER`."""
     _event_part(EVENT_HELPER)
-
-
-def event_helper_part_and_metrics() -> None:
-    """:func:`event_helper_part` with the general metrics' kernels after the system kernel."""
-    _event_part(EVENT_HELPER[:1])
-    methods.warmup_metrics(False)
-    _event_part(EVENT_HELPER[1:])
 
 
 def compile_event_loop() -> None:

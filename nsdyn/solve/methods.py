@@ -407,8 +407,7 @@ def _warm(kname: str, m: Method, helper: Helper | None = None, metrics: str | No
 # helper's part, this process's, and {metrics kind: the helper's part that also compiles them}
 _SPLIT = {
     "radau": ("radau_helper_part", "radau_parts_here", {}),
-    "event": ("event_helper_part", "event_parts_here",
-              {"metrics-general": "event_helper_part_and_metrics"}),
+    "event": ("event_helper_part", "event_parts_here", {}),  # the metrics here
     "genalpha": ("system_helper_part", "genalpha_parts_here", {}),
 }  # fmt: skip
 

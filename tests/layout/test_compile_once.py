@@ -33,12 +33,9 @@ TESTS = Path(__file__).resolve().parents[1]
 PKG = TESTS.parent / "nsdyn"
 JIT = not __import__("numba").config.DISABLE_JIT
 
-# kernels specialised on purpose, with the reason
-SPECIALISED = {
-    # the switching scan calls it with a literal SLIP: that copy reduces to the velocity
-    # branch, inlined into the scan (8 samples per slipping isolator and step)
-    "nsdyn.solve._kevent._g_dense",
-}
+# kernels specialised on purpose, with the reason (none now: the event method's switching scan
+# calls the velocity alone, ``_kevent._v_dense``, instead of a literal-SLIP copy of ``_g_dense``)
+SPECIALISED: set[str] = set()
 
 
 def _probe_module(name: str) -> types.ModuleType:

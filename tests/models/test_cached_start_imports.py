@@ -66,7 +66,7 @@ PROBE = """
 import contextlib, io, json, sys
 from nsdyn.cli.app import main
 with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
-    main(["run", *json.loads(sys.argv[1]), "--no-figures", "--out", sys.argv[2]])
+    main([*json.loads(sys.argv[1]), "--no-figures", "--out", sys.argv[2]])
 names = ("scipy.linalg", "scipy.sparse", "numba.np.arraymath", "numba.np.linalg", "numpy.ma",
          "numba.np.arrayobj",
          "nsdyn.solve._kevent", "nsdyn.solve._kunilateral", "nsdyn.solve._kgenalpha",
@@ -78,7 +78,7 @@ print(json.dumps([m for m in names if m in sys.modules]))
 @pytest.mark.skipif(not JIT or PLAIN, reason="a light cached start: with numba's JIT, not plain")
 @pytest.mark.parametrize(
     "scene", ["", "deck-fps4-3c.toml", "cylinder-uplift.toml", "contact-seed002-A5.toml",
-              "--method genalpha", "--method genalpha-lowrank"]
+              "--method genalpha", "--method genalpha-lowrank", "sweep"]
 )  # fmt: skip
 def test_a_cached_run_loads_no_scipy_linear_algebra(scene, tmp_path, child_env):
     """Nor numpy's masked arrays (``numpy.ma``, ~20 ms), which numpy 2's ``np.unique`` and
@@ -87,13 +87,19 @@ def test_a_cached_run_loads_no_scipy_linear_algebra(scene, tmp_path, child_env):
     kernels at import); "" is the default scene (Radau IIA). Generalized-alpha's metrics call
     the system kernel by address without the event loop's modules; genalpha-lowrank on the
     default scene (13 coordinates: its dense backend) factors with numpy's LAPACK, not
-    SciPy's, and its step's products are written out (numba's ``@`` calls SciPy's BLAS)."""
+    SciPy's, and its step's products are written out (numba's ``@`` calls SciPy's BLAS).
+    "sweep" is two points of the default sweep (arctan law) in one worker: the switch model's
+    period map balances its matrices with SciPy, imported only when a sweep uses it."""
     loaded = []
-    if scene.startswith("--"):
+    if scene == "sweep":
+        args = ["sweep", "--points", "2", "--amplitudes", "1", "--fmin", "0.5", "--fmax", "1",
+                "--workers", "1"]  # fmt: skip
+        uses = set()
+    elif scene.startswith("--"):
         uses = {"nsdyn.solve._kgenalpha", "nsdyn.solve._klowrank"}
-        args = [*scene.split(), "--t-end", "2"]
+        args = ["run", *scene.split(), "--t-end", "2"]
     else:
-        args, uses = [str(SCENES / scene)] if scene else [], set()
+        args, uses = ["run", *([str(SCENES / scene)] if scene else [])], set()
     for i in range(2):  # the first fills numba's cache where the test session has not yet
         argv = [sys.executable, "-P", "-c", PROBE, json.dumps(args), str(tmp_path / str(i))]
         r = subprocess.run(argv, env=child_env, capture_output=True, text=True)

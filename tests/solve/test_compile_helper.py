@@ -168,8 +168,9 @@ SPLITS = [
     ("radau", "metrics", {"radau_flat", "start_flat", "evaluate_flat_many"},
      {"feval_flat", "jac_flat_here", "newton_flat", "_factor", "setup", "workspace"}),
     ("event", "metrics-general",
-     {"_run", "event_step", "event_start", "newton_general", "_event_at", "_settle"},
-     {"evaluate", "jac_table", "jac_at", "_detect", "evaluate_many_t", "_factor", "accept"}),
+     {"_run", "event_step", "event_start", "newton_general", "_event_at", "_settle",
+      "evaluate_many_t"},
+     {"evaluate", "jac_table", "jac_at", "_detect", "_factor", "accept"}),
     # generalized-alpha: its loop and the metrics (compiled, not run) here; the Jacobian by
     # address, the Jacobian's own kernel (which it calls by address) and the system kernel in
     # the helper

@@ -126,13 +126,14 @@ def _solve_size(n, nc, ni):
     return n + 2 * mm * n + 3 * mm + 4 * ni + 2 * mm * mm
 
 
-@njit(cache=True, error_model="numpy")
-def work_size(n, nc, ni):
+def work_size(n: int, nc: int, ni: int) -> int:
     """Length of the scratch buffer P[I_WORK] for n dofs, nc contacts, ni isolators: the
     solve's blocks (:func:`_views`), then the Jacobian's and the pseudo-inverse's
-    (:func:`_jac_views`)."""
+    (:func:`_jac_views`). Plain Python: a kernel called once from Python, numba compiled it
+    in both processes of a first run (~0.4 s each)."""
     mm = max(nc + ni, 1)
-    return _solve_size(n, nc, ni) + 3 * mm * n + 4 * mm * mm + 2 * mm
+    solve = getattr(_solve_size, "py_func", _solve_size)  # the kernels' own formula
+    return solve(n, nc, ni) + 3 * mm * n + 4 * mm * mm + 2 * mm
 
 
 @njit(cache=True, error_model="numpy", inline="always")
