@@ -55,10 +55,12 @@ def kernels_cached(p: CylinderParams) -> bool:
     on-disk cache, or when the run calls none (a fixed foundation moves with the ground):
     the run then compiles nothing (else a first run announces the compilation)."""
     from nsdyn._numba_cache import all_cached
-    from nsdyn.models.cylinder import _kernel
+    from nsdyn.models.cylinder import _kernel, cylinder_compile
 
-    kernels = [_kernel.integrate, _kernel.rhs, _kernel.stop_slip]  # the loop, its callees
-    return p.foundation == "fixed" or all_cached(kernels)
+    if p.foundation == "fixed":
+        return True
+    # the loop and its callees by address (one list: the helper's share is the same)
+    return all_cached([_kernel.integrate, *(c.kernel for c in cylinder_compile.callees())])
 
 
 def _friction(fd: dict, case: str, source: str) -> float | None:

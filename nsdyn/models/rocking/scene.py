@@ -63,12 +63,13 @@ def kernels_cached(model) -> bool:
     """True when the kernel a run of ``model`` calls is compiled in this process or in numba's
     on-disk cache (the run then only loads it; else a first run announces its compilation)."""
     from nsdyn._numba_cache import all_cached
-    from nsdyn.models.rocking import _kblock, _kcompliant, _kground
+    from nsdyn.models.rocking import _kblock, _kcompliant, rocking_compile
     from nsdyn.models.rocking.compliant import CompliantBlock
 
     if isinstance(model, CompliantBlock):
         return all_cached([_kcompliant.integrate])
-    return all_cached([_kblock.integrate, _kground.ground])  # the loop and its callee
+    # the loop and its callee by address (one list: the helper's share is the same)
+    return all_cached([_kblock.integrate, *(c.kernel for c in rocking_compile.callees())])
 
 
 def build_model(cfg: dict, source: str):
