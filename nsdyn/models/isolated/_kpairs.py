@@ -77,9 +77,8 @@ REDUNDANT_RTOL = 1e-10  # singular values below this x the largest: redundant st
 CONSISTENT_RTOL = 1e-8  # |G y − r| allowed, relative to |G| |y| + |r|, of a least-norm split
 
 
-@njit(cache=True, error_model="numpy")
 def workspace(n, ni):
-    """Work arrays of :func:`evaluate` (made once per run): u, v, c, f0 (2ni); a0 (n);
+    """Work arrays of :func:`evaluate` (made once per run, in Python): u, v, c, f0 (2ni); a0 (n);
     ground (3); G, G copy (3ni, 3ni); r, r copy (3ni); pivots (3ni); row map (ni); LU flag;
     pressure factors (ni); the stick basis: its modes (ni), Q_s (2ni, 2ni), rank; G3 (3ni,
     3ni), a vector (3ni); the compression flags (ni) of a bilateral contact; a unilateral
@@ -93,6 +92,12 @@ def workspace(n, ni):
             np.zeros((2 * ni, 2 * ni)), np.zeros(1, dtype=np.int64), np.zeros((mm, mm)),
             np.zeros(mm), np.ones(ni), np.zeros(ni), np.zeros(ni), np.zeros((ni, 8)),
             np.zeros((mm, 2 * ni)), np.zeros(1, dtype=np.int64))  # fmt: skip
+
+
+def outputs_at(n, ni):
+    """The arrays the force kernel fills (made once per run, in Python):
+    q̈ (n), λ (ni), the friction, bearing and other forces (ni, 2) each."""
+    return (np.zeros(n), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
 
 
 @njit(cache=True, error_model="numpy")

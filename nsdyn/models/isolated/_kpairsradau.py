@@ -29,6 +29,7 @@ import math
 import numpy as np
 from numba import njit
 
+from nsdyn import _kaddress as ka
 from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn.models.isolated import _kpairs as kq
 from nsdyn.models.isolated import _kpairscontact as kc
@@ -121,41 +122,45 @@ def _jacobian(t, y, f0, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, Jx, f1):
     return kq.ST_OK
 
 
-@njit(cache=True, error_model="numpy")
+def work(n_states, n, ni):
+    """The arrays of a run of :func:`integrate`, made once per run in Python (the loop
+    allocates nothing): the force kernel's workspace and outputs, the state, and the loop's
+    scratch for ``n_states`` states of n coordinates (k1 = n_states − n rows of q̈ and ṡ)."""
+    N, k1 = n_states, n_states - n
+    c = np.complex128
+    return (kq.workspace(n, ni), kq.outputs_at(n, ni), np.zeros(N),  # ws, out, y
+            np.zeros((6, N)),  # ys, f0, f1, ynew, err, sc
+            np.zeros((k1, N)), np.zeros((k1, k1)), np.zeros((k1, k1), dtype=c),  # Jx, Sr, Sc
+            np.zeros(k1, dtype=np.int64), np.zeros(k1, dtype=np.int64),  # pr, pc
+            np.zeros(k1), np.zeros(k1, dtype=c),  # wr, wc
+            *(np.zeros((3, N)) for _ in range(5)),  # Z, W, F, rw, dW
+            np.zeros(N, dtype=c), np.zeros(N, dtype=c),  # cr, cz
+            np.zeros(N), np.zeros((3, N)))  # yp, Zp  # fmt: skip
+
+
+# no reference counts (NO_NRT): the loop allocates nothing, every array is its caller's
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
-              X, NO, FF, FR, FO, MO, EV, stops, info):  # fmt: skip
+              X, NO, FF, FR, FO, MO, EV, stops, info, wk):  # fmt: skip
     """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
-    (the codes of :mod:`nsdyn.models.isolated._kplanerun`)."""
+    (the codes of :mod:`nsdyn.models.isolated._kplanerun`); ``wk``: :func:`work`."""
     N = y0.shape[0]
     n = op[kq.O_MIK].shape[0]
-    k1 = N - n  # the rows of q̈ and ṡ (n + m)
     ni = modes.shape[0]
     t = t_eval[0]
-    ws, out, y, st = kqr.begin(y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO,
-                               MO, EV, info)  # fmt: skip
+    ws, out, y = wk[0], wk[1], wk[2]
+    st = kqr.begin(y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV,
+                    info, ws, out, y)  # fmt: skip
     if st != kr.ST_OK:
         return st
     lam = out[1]
     bil = int(sp[kq.S_CONTACT]) == kp.CONTACT_BILATERAL
     tens = bil and kr._min_normal(lam) <= 0.0
-    V6 = np.zeros((6, N))
+    V6 = wk[3]
     ys, f0, f1, ynew, err, sc = V6[0], V6[1], V6[2], V6[3], V6[4], V6[5]
-    Jx = np.zeros((k1, N))
-    Sr = np.zeros((k1, k1))
-    Sc = np.zeros((k1, k1), dtype=np.complex128)
-    pr = np.zeros(k1, dtype=np.int64)
-    pc = np.zeros(k1, dtype=np.int64)
-    wr = np.zeros(k1)
-    wc = np.zeros(k1, dtype=np.complex128)
-    Z = np.zeros((3, N))
-    W = np.zeros((3, N))
-    F = np.zeros((3, N))
-    rw = np.zeros((3, N))
-    dW = np.zeros((3, N))
-    cr = np.zeros(N, dtype=np.complex128)
-    cz = np.zeros(N, dtype=np.complex128)
-    yp = np.zeros(N)
-    Zp = np.zeros((3, N))
+    Jx, Sr, Sc, pr, pc, wr, wc = wk[4], wk[5], wk[6], wk[7], wk[8], wk[9], wk[10]
+    Z, W, F, rw, dW = wk[11], wk[12], wk[13], wk[14], wk[15]
+    cr, cz, yp, Zp = wk[16], wk[17], wk[18], wk[19]
     rtol = cfg[kr.C_RTOL]
     hmax = cfg[kr.C_HMAX]
     max_steps = int(cfg[kr.C_MAXSTEPS])

@@ -228,16 +228,24 @@ def outputs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, F
             FO[k, i, c] = Fo[i, c]
 
 
-@njit(cache=True, error_model="numpy")
-def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV, info):
-    """Work arrays, the state y, the switch law's initial modes and the first output row of
-    a loop: (ws, out, y, status); status ST_UPLIFT when a normal force is not compressive."""
+def work(n2, ni):
+    """The arrays of a run of :func:`integrate` on n2 = 2n states, made once per run in Python
+    (the loop allocates nothing): the force kernel's workspace and outputs, the state, the
+    Dormand–Prince stages k (7, n2), a stage y1, a dense state ys, the dense coefficients rc
+    (5, n2) and four arrays of switching functions (ni, 3)."""
+    return (kq.workspace(n2 // 2, ni), kq.outputs_at(n2 // 2, ni), np.zeros(n2), np.zeros((7, n2)),
+            np.zeros(n2), np.zeros(n2), np.zeros((5, n2)),
+            *(np.ones((ni, 3)) for _ in range(4)))  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV, info,
+          ws, out, y):  # fmt: skip
+    """The start of a loop into the caller's work arrays ``ws`` (:func:`kq.workspace`),
+    ``out`` (:func:`kq.outputs_at`) and state ``y`` (y0 copied): the switch law's initial modes
+    and the first output row; returns the status, ST_UPLIFT when a normal force is not
+    compressive. Allocates nothing."""
     N = y0.shape[0]
-    ni = modes.shape[0]
-    ws = kq.workspace(N // 2, ni)
-    out = (np.zeros(N // 2), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)),
-           np.zeros((ni, 2)))  # fmt: skip
-    y = np.zeros(N)
     for j in range(N):
         y[j] = y0[j]
     info[kr.I_TFAIL] = np.nan
@@ -262,7 +270,7 @@ def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, E
             st = kr.ST_UPLIFT
     if st != kr.ST_OK:
         info[kr.I_TFAIL] = t0
-    return ws, out, y, st
+    return st
 
 
 @njit(cache=True, error_model="numpy")
@@ -406,28 +414,23 @@ def locate_event(t, hh, rc, ys, y1, g0, g, ga, ge, modes, dirs, op, bp, sp, gk, 
     return False, 1.0, nfev
 
 
+# with reference counts: the unilateral contact's landing (a callee) allocates its small solve
 @njit(cache=True, error_model="numpy")
 def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
-              X, NO, FF, FR, FO, MO, EV, stops, info):  # fmt: skip
+              X, NO, FF, FR, FO, MO, EV, stops, info, wk):  # fmt: skip
     """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
-    (the codes of :mod:`nsdyn.models.isolated._kplanerun`)."""
+    (the codes of :mod:`nsdyn.models.isolated._kplanerun`); ``wk``: :func:`work`."""
     n2 = y0.shape[0]
     ni = modes.shape[0]
     t = t_eval[0]
-    ws, out, y, st = begin(y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO,
-                           EV, info)  # fmt: skip
+    ws, out, y = wk[0], wk[1], wk[2]
+    st = begin(y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV, info,
+               ws, out, y)  # fmt: skip
     if st != kr.ST_OK:
         return st
     n = n2 // 2
     lam = out[1]
-    k = np.zeros((7, n2))
-    y1 = np.zeros(n2)
-    ys = np.zeros(n2)
-    rc = np.zeros((5, n2))
-    g0 = np.ones((ni, 3))
-    g = np.ones((ni, 3))
-    ga = np.ones((ni, 3))
-    ge = np.ones((ni, 3))
+    k, y1, ys, rc, g0, g, ga, ge = wk[3], wk[4], wk[5], wk[6], wk[7], wk[8], wk[9], wk[10]
     bil = int(sp[kq.S_CONTACT]) == kp.CONTACT_BILATERAL
     tens = bil and kr._min_normal(lam) <= 0.0
     uni = int(sp[kq.S_CONTACT]) == kp.CONTACT_UNILATERAL

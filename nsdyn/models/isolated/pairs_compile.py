@@ -37,9 +37,8 @@ def tiny_args() -> tuple:
     op = tuple(np.zeros((2, 2)) for _ in range(kq.O_Q + 1))  # the operators: 12 C arrays
     gk, gp, tab, _ = pack_ground({"f": 1.0, "ax": 1.0})
     modes, dirs = np.zeros(ni, dtype=np.int64), np.zeros((ni, 2))
-    make = getattr(kq.workspace, "py_func", kq.workspace)  # numpy's arrays, of numba's types
-    ws = make(n, ni)
-    out = (np.zeros(n), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
+    ws = kq.workspace(n, ni)
+    out = kq.outputs_at(n, ni)
     bp, sp = np.zeros((ni, N_BCOL)), np.zeros(kq.N_SP)
     head = (0.0, np.zeros(2 * n), modes, dirs, op, bp, sp, gk, gp, tab, ws)
     return (*head, *out), (*head, out, np.zeros((1, 6)), np.zeros(kr.N_INFO))

@@ -70,7 +70,7 @@ gk, gp, tab, dur = d.pack_ground({"f": 1.0, "ax": 1.0})
 t_eval, hmax = d.run_grid(gk, gp, dur, 0.1, None, None, None)
 b = d.run_buffers("switch", 1e4, 1e-6, (1e-8, 1e-8), hmax, 1000, t_eval.size, 3, 2 * ps.n)
 args = (np.zeros(2 * ps.n), t_eval, *b[:2], ps.operators(), ps.bearing_table(), sp, gk, gp,
-        tab, *b[2:])
+        tab, *b[2:], kqr.work(2 * ps.n, 3))
 pc.callees()
 kqr.integrate.compile(tuple(typeof(a) for a in args))
 lib = next(iter(kqr.integrate.overloads.values())).library
