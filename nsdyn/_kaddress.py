@@ -285,6 +285,7 @@ TABLE_NAMES = (
     "pairs.settle_contacts",
     "rock.ground",
     "cyl.stop_slip",
+    "pairs.initial_modes",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration

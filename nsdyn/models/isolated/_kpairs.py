@@ -136,27 +136,49 @@ def bearing_terms(bp, i, ux, uy, vx, vy, law, eps, mode, dx, dy, kpr):
 
 @njit(cache=True, error_model="numpy")
 def evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo):
-    """:func:`evaluate_pressure`; a bilateral contact's tensile set (ws[19]) re-evaluated
-    until it is λ_i <= 0 (:func:`nsdyn.models.isolated._kplane.tension_flags`)."""
+    """:func:`evaluate_at` with pressure-dependent friction, and a bilateral contact's tensile
+    set (ws[19]) re-evaluated until it is λ_i <= 0
+    (:func:`nsdyn.models.isolated._kplane.tension_flags`). In each tensile pass the pressure
+    factors k_p(λ_i) (:func:`nsdyn.models.isolated._kplane.pressure_factor`) are iterated at
+    the normal forces they give, from 1 to PRESSURE_TOL (left in ws[13]); ST_SINGULAR when
+    they do not settle. One call of evaluate_at, inlined (numba's IR), so LLVM optimises its
+    body once: two layers of kernels each linked a copy of it and optimised it again."""
     on = ws[19]
+    pf = ws[13]
     uni = int(sp[S_CONTACT]) == kp.CONTACT_UNILATERAL
+    bil = int(sp[S_CONTACT]) == kp.CONTACT_BILATERAL
     for i in range(on.shape[0]):
         on[i] = 0.0 if uni and ws[20][i] != 0.0 else 1.0
-    st = evaluate_pressure(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
-    if int(sp[S_CONTACT]) != kp.CONTACT_BILATERAL:
-        return st
-    for _ in range(kp.TENSION_PASSES):
-        if st != ST_OK or not kp.tension_flags(lam, on):
+    st = ST_OK
+    for p in range(kp.TENSION_PASSES + 1):
+        if p > 0 and (not bil or st != ST_OK or not kp.tension_flags(lam, on)):
             return st
-        st = evaluate_pressure(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr,
-                               Fo)  # fmt: skip
+        press = False
+        for i in range(pf.shape[0]):
+            pf[i] = 1.0
+            press = press or bp[i, B_AREA] > 0.0
+        change = math.inf
+        settled = False
+        for it in range(kp.PRESSURE_ITER + 1):
+            if it > 0:
+                change = 0.0
+                for i in range(pf.shape[0]):
+                    k = kp.pressure_factor(bp, i, lam[i])
+                    change = max(change, abs(k - pf[i]))
+                    pf[i] = k
+            st = evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
+            if (it == 0 and not press) or st != ST_OK or change <= kp.PRESSURE_TOL:
+                settled = True
+                break
+        if not settled:
+            st = ST_SINGULAR
     return st
 
 
 # the force kernel by address (:func:`nsdyn._kaddress.tcall`, declared and put in the table
 # by nsdyn.models.isolated.pairs_compile): the right-hand side, the settling of stick and of
 # contacts, the event functions and the outputs would otherwise each link, LLVM optimise and
-# translate again their own copy of it (with evaluate_pressure and evaluate_at)
+# translate again their own copy of it (with evaluate_at, inlined into it)
 ka.tslot("pairs.evaluate", evaluate, "nsdyn.models.isolated.pairs_compile:callees")
 
 
@@ -169,32 +191,7 @@ def evaluate_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
     return ka.tcall("pairs.evaluate", args)
 
 
-@njit(cache=True, error_model="numpy")
-def evaluate_pressure(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo):
-    """:func:`evaluate_at` with pressure-dependent friction: the factors k_p(λ_i)
-    (:func:`nsdyn.models.isolated._kplane.pressure_factor`) at the normal forces they give,
-    iterated from 1 to PRESSURE_TOL (left in ws[13]); ST_SINGULAR when they do not settle."""
-    pf = ws[13]
-    press = False
-    for i in range(pf.shape[0]):
-        pf[i] = 1.0
-        press = press or bp[i, B_AREA] > 0.0
-    st = evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
-    if not press or st != ST_OK:
-        return st
-    for _ in range(kp.PRESSURE_ITER):
-        change = 0.0
-        for i in range(pf.shape[0]):
-            k = kp.pressure_factor(bp, i, lam[i])
-            change = max(change, abs(k - pf[i]))
-            pf[i] = k
-        st = evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
-        if st != ST_OK or change <= kp.PRESSURE_TOL:
-            return st
-    return ST_SINGULAR
-
-
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo):
     """q̈ and the isolator forces at (t, y): normal forces λ (ni,), resisting friction Ff
     (ni, 2) (the stick force τ_i of a stuck isolator), restoring Fr = λ u/R + K_lam u and

@@ -167,6 +167,9 @@ def initial_modes(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
     return ka.tcall("pairs.settle", (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info))
 
 
+ka.tslot("pairs.initial_modes", initial_modes, "nsdyn.models.isolated.pairs_compile:callees")
+
+
 @njit(cache=True, error_model="numpy")
 def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
     """Mode changes at a located event (g0 before it, g just after); returns a status."""
@@ -253,13 +256,11 @@ def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, E
     st = kr.ST_OK
     info[kr.I_EIMP] = 0.0
     uni = int(sp[kq.S_CONTACT]) == kp.CONTACT_UNILATERAL
-    if int(sp[kq.S_LAW]) == kp.LAW_SWITCH:
-        st = initial_modes(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+    a = (t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+    if int(sp[kq.S_LAW]) == kp.LAW_SWITCH:  # (by address: the Radau loop never calls it)
+        st = ka.tcall("pairs.initial_modes", a)
     if st == kr.ST_OK and uni:  # a contact without compression at the start is open
-        st = ka.tcall(
-            "pairs.settle_contacts",
-            (t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info),
-        )
+        st = ka.tcall("pairs.settle_contacts", a)
     if st == kr.ST_OK:
         k0 = np.int64(0)  # typed: one compilation of outputs
         outputs(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k0, X, NO, FF, FR, FO, MO)

@@ -213,20 +213,46 @@ def tfp_force(y, bp, i, ux, uy, sd):
 
 @njit(cache=True, error_model="numpy", **NO_NRT)
 def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo):
-    """:func:`evaluate_pressure`; a bilateral contact's tensile set (ws[12]) re-evaluated
-    until it is N_i <= 0 (a set still changing after TENSION_PASSES, N_i ≈ 0, is kept)."""
+    """q̈ and the isolator forces at (t, y) (:func:`evaluate_at`); a bilateral contact's
+    tensile set (ws[12]) re-evaluated until it is N_i <= 0 (a set still changing after
+    TENSION_PASSES, N_i ≈ 0, is kept). Returns ST_OK or ST_SINGULAR.
+
+    With pressure-dependent friction the coefficients carry k_p(N_i) at the live normal
+    forces, which depend on q̈: in each pass the fixed point N = N(q̈(k_p(N))) is iterated
+    from k_p = 1 to PRESSURE_TOL (its contraction is the weak overturning share of the
+    friction, ~1e-3); the factors are left in ws[11]; ST_SINGULAR when they do not settle.
+    One call of evaluate_at, inlined (numba's IR), so LLVM optimises its body once."""
     on = ws[12]
+    pf = ws[11]
+    ni = pos.shape[0]
+    bil = int(sp[S_CONTACT]) == CONTACT_BILATERAL
     for i in range(on.shape[0]):
         on[i] = 1.0
-    st = evaluate_pressure(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
-                           Fr, Fo)  # fmt: skip
-    if int(sp[S_CONTACT]) != CONTACT_BILATERAL:
-        return st
-    for _ in range(TENSION_PASSES):
-        if st != ST_OK or not tension_flags(N, on):
+    st = ST_OK
+    for p in range(TENSION_PASSES + 1):
+        if p > 0 and (not bil or st != ST_OK or not tension_flags(N, on)):
             return st
-        st = evaluate_pressure(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N,
-                               Ff, Fr, Fo)  # fmt: skip
+        press = False
+        for i in range(ni):
+            pf[i] = 1.0
+            if bp[i, B_AREA] > 0.0:
+                press = True
+        change = math.inf
+        settled = False
+        for it in range(PRESSURE_ITER + 1):
+            if it > 0:
+                change = 0.0
+                for i in range(ni):
+                    k = pressure_factor(bp, i, N[i])
+                    change = max(change, abs(k - pf[i]))
+                    pf[i] = k
+            st = evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
+                             Fr, Fo)  # fmt: skip
+            if (it == 0 and not press) or st != ST_OK or change <= PRESSURE_TOL:
+                settled = True
+                break
+        if not settled:
+            st = ST_SINGULAR
     return st
 
 
@@ -257,40 +283,6 @@ def tension_flags(N, on):
     return changed
 
 
-@njit(cache=True, error_model="numpy", **NO_NRT)
-def evaluate_pressure(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr,
-                      Fo):  # fmt: skip
-    """q̈ and the isolator forces at (t, y): normal forces N (ni,), resisting friction Ff
-    (ni, 2) (the stick force τ_i of a stuck isolator), restoring Fr = N u/R + K_lam u and
-    damper + stop Fo (ni, 2). Returns ST_OK or ST_SINGULAR.
-
-    With pressure-dependent friction the coefficients carry k_p(N_i) at the live normal
-    forces, which depend on q̈: the fixed point N = N(q̈(k_p(N))) is iterated from k_p = 1
-    to PRESSURE_TOL (its contraction is the weak overturning share of the friction, ~1e-3);
-    the factors are left in ws[11]."""
-    pf = ws[11]
-    ni = pos.shape[0]
-    press = False
-    for i in range(ni):
-        pf[i] = 1.0
-        if bp[i, B_AREA] > 0.0:
-            press = True
-    st = evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
-    if not press or st != ST_OK:
-        return st
-    for _ in range(PRESSURE_ITER):
-        change = 0.0
-        for i in range(ni):
-            k = pressure_factor(bp, i, N[i])
-            change = max(change, abs(k - pf[i]))
-            pf[i] = k
-        st = evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr,
-                         Fo)  # fmt: skip
-        if st != ST_OK or change <= PRESSURE_TOL:
-            return st
-    return ST_SINGULAR
-
-
 @njit(cache=True, error_model="numpy")
 def damper_and_rim(bp, i, ux, uy, vx, vy):
     """(F_x, F_y) of isolator i's damper c v and rim stop max(0, k_stop δ + c_stop δ̇) u/|u|
@@ -308,7 +300,7 @@ def damper_and_rim(bp, i, ux, uy, vx, vy):
     return ox, oy
 
 
-@njit(cache=True, error_model="numpy", **NO_NRT)
+@njit(cache=True, error_model="numpy", inline="always", **NO_NRT)
 def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo):
     """:func:`evaluate` with the friction coefficients scaled by the pressure factors ws[11]."""
     Am, A3, K5, r5, piv, n1, n0, cN, fv, ag, sd, pf, on = ws[:13]

@@ -2,9 +2,9 @@
 
 Every kernel of a pair system's time loops that evaluates it (the right-hand side of both
 loops, the settling of stick and of unilateral contacts, the event functions, the outputs)
-calls the force kernel :func:`nsdyn.models.isolated._kpairs.evaluate` (with
-``evaluate_pressure`` and ``evaluate_at``: the contact and stick rows, the friction forces,
-the small solve for λ and τ). Linked, numba would copy it into each of them and LLVM would
+calls the force kernel :func:`nsdyn.models.isolated._kpairs.evaluate` (its tensile and
+pressure passes around ``evaluate_at``, inlined: the contact and stick rows, the friction
+forces, the small solve for λ and τ). Linked, numba would copy it into each of them and LLVM would
 optimise and translate every copy again; called by its address
 (:func:`nsdyn._kaddress.tcall`, row ``"pairs.evaluate"`` of the process-wide table) it
 compiles once, on its own. :func:`callees` declares it for the argument types the loops give
@@ -47,9 +47,11 @@ def tiny_args() -> tuple:
 @functools.cache
 def callees() -> list:
     """The pair loops' callees by address (:class:`nsdyn._kaddress.Callee`): the force kernel
-    (``"pairs.evaluate"``), the switch law's settling of stick (``"pairs.settle"``) and the
-    settling of unilateral contacts (``"pairs.settle_contacts"``), declared for the types of
-    :func:`tiny_args`, each returning a status (int64). Once per process."""
+    (``"pairs.evaluate"``), the switch law's settling of stick (``"pairs.settle"``), the
+    settling of unilateral contacts (``"pairs.settle_contacts"``) and the switch law's initial
+    modes (``"pairs.initial_modes"``, called by the loops' start, which the Radau loop shares
+    without the switch law), declared for the types of :func:`tiny_args`, each returning a
+    status (int64). Once per process."""
     from numba import typeof, types
 
     from nsdyn._kaddress import Callee
@@ -62,12 +64,13 @@ def callees() -> list:
         Callee("pairs.evaluate", kq.evaluate, force, types.int64),
         Callee("pairs.settle", kqr.settle, settle, types.int64),
         Callee("pairs.settle_contacts", kc.settle_contacts, settle, types.int64),
+        Callee("pairs.initial_modes", kqr.initial_modes, settle, types.int64),
     ]
 
 
 def _needed(events: bool) -> list:
-    """The callees a run calls: the force kernel, and the settlings on the loop with located
-    events (the switch law's stick, unilateral contacts)."""
+    """The callees a run calls: the force kernel, and on the loop with located events the
+    settlings (the switch law's stick, unilateral contacts) and the initial modes."""
     return callees() if events else callees()[:1]
 
 
@@ -97,7 +100,7 @@ def run_loop(loop, args: tuple):
 
 def helper_part() -> None:
     """The helper's share of a first compilation of the loop with located events: the force
-    kernel and both settlings."""
+    kernel, both settlings and the initial modes."""
     for c in callees():
         c.compiled()
 

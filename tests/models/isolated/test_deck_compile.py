@@ -65,7 +65,7 @@ dc.callees()
 kr.integrate.compile(tuple(typeof(a) for a in args))
 lib = next(iter(kr.integrate.overloads.values())).library
 linked = str({l.name for l in getattr(lib, "_linking_libraries", ())})
-for k in (kp.evaluate, kp.evaluate_pressure, kp.evaluate_at, kr.settle, kr.switch):
+for k in (kp.evaluate, kp.evaluate_at, kr.settle, kr.switch):
     print(k.py_func.__qualname__, len(k.signatures), k.py_func.__qualname__ in linked)
 """
 
@@ -77,6 +77,6 @@ def test_the_switch_loop_compiles_without_its_callees(compile_alone):
     # (nor what it calls) nor the settling nor the mode switch is compiled with it or linked
     # into its code
     rows = compile_alone(_LOOP_ALONE)
-    names = ["evaluate", "evaluate_pressure", "evaluate_at", "settle", "switch"]
+    names = ["evaluate", "evaluate_at", "settle", "switch"]
     assert [r[0] for r in rows] == names
     assert all(r[1:] == ["0", "False"] for r in rows), rows

@@ -22,7 +22,7 @@ from nsdyn.models.isolated import pairs_compile as pc
 from nsdyn.models.isolated.pairs import from_deck, simulate_pairs
 
 JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
-NAMES = ["pairs.evaluate", "pairs.settle", "pairs.settle_contacts"]
+NAMES = ["pairs.evaluate", "pairs.settle", "pairs.settle_contacts", "pairs.initial_modes"]
 
 
 def test_the_pair_rows_are_registered_and_declared_for_the_loops():
@@ -75,7 +75,7 @@ pc.callees()
 kqr.integrate.compile(tuple(typeof(a) for a in args))
 lib = next(iter(kqr.integrate.overloads.values())).library
 linked = str({l.name for l in getattr(lib, "_linking_libraries", ())})
-for k in (kq.evaluate, kq.evaluate_pressure, kq.evaluate_at, kqr.settle, kc.settle_contacts):
+for k in (kq.evaluate, kq.evaluate_at, kqr.settle, kc.settle_contacts, kqr.initial_modes):
     print(k.py_func.__qualname__, len(k.signatures), k.py_func.__qualname__ in linked)
 """
 
@@ -84,8 +84,9 @@ for k in (kq.evaluate, kq.evaluate_pressure, kq.evaluate_at, kqr.settle, kc.sett
 @pytest.mark.skipif(not JIT or PLAIN, reason="calls by address only in compiled code")
 def test_the_event_loop_compiles_without_its_callees(compile_alone):
     # a fresh process with an empty cache compiles the loop alone: neither the force kernel
-    # (nor what it calls) nor either settling is compiled with it or linked into its code
+    # (nor what it calls) nor either settling nor the initial modes is compiled with it or
+    # linked into its code
     rows = compile_alone(_LOOP_ALONE)
-    names = ["evaluate", "evaluate_pressure", "evaluate_at", "settle", "settle_contacts"]
+    names = ["evaluate", "evaluate_at", "settle", "settle_contacts", "initial_modes"]
     assert [r[0] for r in rows] == names
     assert all(r[1:] == ["0", "False"] for r in rows), rows
