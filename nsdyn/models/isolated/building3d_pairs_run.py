@@ -37,10 +37,11 @@ __all__ = ["DT_SPARSE", "full_path", "pair_kernels", "path_line", "peak_field", 
            "sparse_solver", "sparse_step", "warm_pairs"]  # fmt: skip
 
 DT_SPARSE = 0.005  # s: the sparse full rung's default step (module text)
-# seconds the pair kernels' first compilation takes (the first-run notice): 30-36 s on the AMD
-# EPYC of docs/dev/first-runs.md (the office's cb rung, regularised law; the force kernel and
-# the settlings compiled in a helper process beside the loop, pairs_compile)
-PAIRS_COMPILE_ABOUT_S = 35.0
+# seconds the pair kernels' first compilation takes (the first-run notice) on the AMD EPYC of
+# docs/dev/first-runs.md: 13 s in a fast hour, ~30 s in a middling one (39 s at 99bff70, before
+# the Radau loop lost its reference counts and the force kernel its layers: 1.28x); the office's
+# cb rung, regularised law; the force kernel compiled in a helper process beside the loop
+PAIRS_COMPILE_ABOUT_S = 30.0
 
 
 def full_path(frame, base: str) -> tuple[str, str]:

@@ -529,7 +529,7 @@ def simulate_pairs(
     )
     args = (y, t_eval, modes, dirs, system.operators(), system.bearing_table(), sp, gk, gp,
             tab, cfg, X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
-    # the loop's arrays, made here (the loops allocate nothing)
+    # the loop's work arrays, made here: neither loop makes arrays of its own
     args = (*args, kqa.work(ns, n, ni) if loop is kqa.integrate else kqr.work(ns, ni))
     status = pairs_compile.run_loop(loop, args)
     # the deck's result handles statuses, events, rim contacts and uplift; q is n wide here,
