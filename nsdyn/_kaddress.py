@@ -286,6 +286,7 @@ TABLE_NAMES = (
     "rock.ground",
     "cyl.stop_slip",
     "pairs.initial_modes",
+    "pairs.outputs",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration

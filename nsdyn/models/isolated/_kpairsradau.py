@@ -122,28 +122,12 @@ def _jacobian(t, y, f0, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, Jx, f1):
     return kq.ST_OK
 
 
-def work(n_states, n, ni):
-    """The arrays of a run of :func:`integrate`, made once per run in Python (the loop
-    allocates nothing): the force kernel's workspace and outputs, the state, and the loop's
-    scratch for ``n_states`` states of n coordinates (k1 = n_states − n rows of q̈ and ṡ)."""
-    N, k1 = n_states, n_states - n
-    c = np.complex128
-    return (kq.workspace(n, ni), kq.outputs_at(n, ni), np.zeros(N),  # ws, out, y
-            np.zeros((6, N)),  # ys, f0, f1, ynew, err, sc
-            np.zeros((k1, N)), np.zeros((k1, k1)), np.zeros((k1, k1), dtype=c),  # Jx, Sr, Sc
-            np.zeros(k1, dtype=np.int64), np.zeros(k1, dtype=np.int64),  # pr, pc
-            np.zeros(k1), np.zeros(k1, dtype=c),  # wr, wc
-            *(np.zeros((3, N)) for _ in range(5)),  # Z, W, F, rw, dW
-            np.zeros(N, dtype=c), np.zeros(N, dtype=c),  # cr, cz
-            np.zeros(N), np.zeros((3, N)))  # yp, Zp  # fmt: skip
-
-
 # no reference counts (NO_NRT): the loop allocates nothing, every array is its caller's
 @njit(cache=True, error_model="numpy", **ka.NO_NRT)
 def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
               X, NO, FF, FR, FO, MO, EV, stops, info, wk):  # fmt: skip
     """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
-    (the codes of :mod:`nsdyn.models.isolated._kplanerun`); ``wk``: :func:`work`."""
+    (codes of :mod:`nsdyn.models.isolated._kplanerun`); ``wk``: ``pairs_compile.loop_arrays``."""
     N = y0.shape[0]
     n = op[kq.O_MIK].shape[0]
     ni = modes.shape[0]
@@ -189,8 +173,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             break
         if t_end - t <= 1e-12 * max(1.0, abs(t_end)):  # at the end up to round-off
             while iout < nt:
-                kqr.outputs(t_eval[iout], y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out,
-                            iout, X, NO, FF, FR, FO, MO)  # fmt: skip
+                kqr.outputs_t(t_eval[iout], y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out,
+                              iout, X, NO, FF, FR, FO, MO)  # fmt: skip
                 iout += 1
             break
         hh = min(h, hmax, t_end - t)

@@ -217,9 +217,10 @@ def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
 
 @njit(cache=True, error_model="numpy")
 def outputs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO):
-    """Row k of the output histories at the state y."""
+    """Row k of the output histories at the state y; returns the force kernel's status (the
+    loops call it by address, row ``"pairs.outputs"``: one copy, compiled in the helper)."""
     _, lam, Ff, Fr, Fo = out
-    _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
+    st = _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
     for j in range(y.shape[0]):
         X[k, j] = y[j]
     for i in range(modes.shape[0]):
@@ -229,16 +230,17 @@ def outputs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, F
             FF[k, i, c] = Ff[i, c]
             FR[k, i, c] = Fr[i, c]
             FO[k, i, c] = Fo[i, c]
+    return st
 
 
-def work(n2, ni):
-    """The arrays of a run of :func:`integrate` on n2 = 2n states, made once per run in Python
-    (the loop allocates nothing): the force kernel's workspace and outputs, the state, the
-    Dormand–Prince stages k (7, n2), a stage y1, a dense state ys, the dense coefficients rc
-    (5, n2) and four arrays of switching functions (ni, 3)."""
-    return (kq.workspace(n2 // 2, ni), kq.outputs_at(n2 // 2, ni), np.zeros(n2), np.zeros((7, n2)),
-            np.zeros(n2), np.zeros(n2), np.zeros((5, n2)),
-            *(np.ones((ni, 3)) for _ in range(4)))  # fmt: skip
+ka.tslot("pairs.outputs", outputs, "nsdyn.models.isolated.pairs_compile:callees")
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def outputs_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO):
+    """:func:`outputs` by its address."""
+    a = (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO)
+    return ka.tcall("pairs.outputs", a)
 
 
 @njit(cache=True, error_model="numpy", **ka.NO_NRT)
@@ -263,7 +265,7 @@ def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, E
         st = ka.tcall("pairs.settle_contacts", a)
     if st == kr.ST_OK:
         k0 = np.int64(0)  # typed: one compilation of outputs
-        outputs(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k0, X, NO, FF, FR, FO, MO)
+        outputs_t(t0, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k0, X, NO, FF, FR, FO, MO)
         bil = int(sp[kq.S_CONTACT]) == kp.CONTACT_BILATERAL
         kr.tension_start(info, t0, out[1], bil)
         if kr._min_normal(out[1]) <= 0.0 and not (bil or uni):
@@ -277,7 +279,7 @@ def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, E
 @njit(cache=True, error_model="numpy")
 def emit(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO, stops):
     """Row k of the outputs at the state y and the rim contacts there."""
-    outputs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO)
+    outputs_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO)
     kc.track_stops(t, y, op, bp, ws, stops)
 
 
@@ -415,12 +417,11 @@ def locate_event(t, hh, rc, ys, y1, g0, g, ga, ge, modes, dirs, op, bp, sp, gk, 
     return False, 1.0, nfev
 
 
-# with reference counts: the unilateral contact's landing (a callee) allocates its small solve
 @njit(cache=True, error_model="numpy")
 def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
               X, NO, FF, FR, FO, MO, EV, stops, info, wk):  # fmt: skip
     """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
-    (the codes of :mod:`nsdyn.models.isolated._kplanerun`); ``wk``: :func:`work`."""
+    (codes of :mod:`nsdyn.models.isolated._kplanerun`); ``wk``: ``pairs_compile.loop_arrays``."""
     n2 = y0.shape[0]
     ni = modes.shape[0]
     t = t_eval[0]

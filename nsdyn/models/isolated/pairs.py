@@ -529,8 +529,7 @@ def simulate_pairs(
     )
     args = (y, t_eval, modes, dirs, system.operators(), system.bearing_table(), sp, gk, gp,
             tab, cfg, X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
-    # the loop's work arrays, made here: neither loop makes arrays of its own
-    args = (*args, kqa.work(ns, n, ni) if loop is kqa.integrate else kqr.work(ns, ni))
+    args = (*args, pairs_compile.loop_arrays(loop, ns, n, ni))  # (the loops make none)
     status = pairs_compile.run_loop(loop, args)
     # the deck's result handles statuses, events, rim contacts and uplift; q is n wide here,
     # the internal slips are the deck's columns 6 on (its q, q̇ replaced below)

@@ -41,7 +41,10 @@ def tiny_args() -> tuple:
     out = kq.outputs_at(n, ni)
     bp, sp = np.zeros((ni, N_BCOL)), np.zeros(kq.N_SP)
     head = (0.0, np.zeros(2 * n), modes, dirs, op, bp, sp, gk, gp, tab, ws)
-    return (*head, *out), (*head, out, np.zeros((1, 6)), np.zeros(kr.N_INFO))
+    rows = (np.zeros((1, 2 * n)), np.zeros((1, ni)), *(np.zeros((1, ni, 2)) for _ in range(3)),
+            np.zeros((1, ni), dtype=np.int64))  # X, NO, FF, FR, FO, MO  # fmt: skip
+    return ((*head, *out), (*head, out, np.zeros((1, 6)), np.zeros(kr.N_INFO)),
+            (*head, out, np.int64(0), *rows))  # fmt: skip
 
 
 @functools.cache
@@ -59,9 +62,10 @@ def callees() -> list:
     from nsdyn.models.isolated import _kpairscontact as kc
     from nsdyn.models.isolated import _kpairsrun as kqr
 
-    force, settle = (tuple(typeof(a) for a in args) for args in tiny_args())
+    force, settle, outs = (tuple(typeof(a) for a in args) for args in tiny_args())
     return [
         Callee("pairs.evaluate", kq.evaluate, force, types.int64),
+        Callee("pairs.outputs", kqr.outputs, outs, types.int64),
         Callee("pairs.settle", kqr.settle, settle, types.int64),
         Callee("pairs.settle_contacts", kc.settle_contacts, settle, types.int64),
         Callee("pairs.initial_modes", kqr.initial_modes, settle, types.int64),
@@ -71,7 +75,7 @@ def callees() -> list:
 def _needed(events: bool) -> list:
     """The callees a run calls: the force kernel, and on the loop with located events the
     settlings (the switch law's stick, unilateral contacts) and the initial modes."""
-    return callees() if events else callees()[:1]
+    return callees() if events else callees()[:2]
 
 
 def kernels(events: bool) -> list:
@@ -82,6 +86,34 @@ def kernels(events: bool) -> list:
 
     loop = kqr.integrate if events else kqa.integrate
     return [loop, *(c.kernel for c in _needed(events))]
+
+
+def loop_arrays(loop, n_states: int, n: int, ni: int) -> tuple:
+    """The arrays of a run of the time loop ``loop`` (``_kpairsradau.integrate`` or
+    ``_kpairsrun.integrate``) for ``n_states`` states of n coordinates and ``ni`` isolators,
+    its last argument, in the order the loop unpacks them: the force kernel's workspace and
+    outputs, the state, then the loop's scratch. Made here, in Python, so that the loops
+    allocate nothing: the Radau loop compiles without numba's reference counts
+    (:data:`nsdyn._kaddress.NO_NRT`); the Dormand-Prince loop keeps them, since the unilateral
+    contacts' landing, a callee, allocates its small solve."""
+    import numpy as np
+
+    from nsdyn.models.isolated import _kpairs as kq
+    from nsdyn.models.isolated import _kpairsradau as kqa
+
+    N, k1, c = n_states, n_states - n, np.complex128  # k1: the rows of q̈ and ṡ
+    head = (kq.workspace(n, ni), kq.outputs_at(n, ni), np.zeros(N))
+    if loop is kqa.integrate:  # V6 (ys, f0, f1, ynew, err, sc), Jx, Sr, Sc, pr, pc, wr, wc,
+        # Z, W, F, rw, dW, cr, cz, yp, Zp
+        return (*head, np.zeros((6, N)), np.zeros((k1, N)), np.zeros((k1, k1)),
+                np.zeros((k1, k1), dtype=c), np.zeros(k1, dtype=np.int64),
+                np.zeros(k1, dtype=np.int64), np.zeros(k1), np.zeros(k1, dtype=c),
+                *(np.zeros((3, N)) for _ in range(5)), np.zeros(N, dtype=c),
+                np.zeros(N, dtype=c), np.zeros(N), np.zeros((3, N)))  # fmt: skip
+    # Dormand-Prince: the stages k, a stage y1, a dense state ys, the dense coefficients rc,
+    # four arrays of switching functions
+    return (*head, np.zeros((7, N)), np.zeros(N), np.zeros(N), np.zeros((5, N)),
+            *(np.ones((ni, 3)) for _ in range(4)))  # fmt: skip
 
 
 def run_loop(loop, args: tuple):
@@ -106,5 +138,7 @@ def helper_part() -> None:
 
 
 def helper_force() -> None:
-    """The helper's share of a first compilation of the Radau IIA loop: the force kernel."""
-    callees()[0].compiled()
+    """The helper's share of a first compilation of the Radau IIA loop: the force kernel and
+    the outputs."""
+    for c in _needed(False):
+        c.compiled()

@@ -22,7 +22,8 @@ from nsdyn.models.isolated import pairs_compile as pc
 from nsdyn.models.isolated.pairs import from_deck, simulate_pairs
 
 JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
-NAMES = ["pairs.evaluate", "pairs.settle", "pairs.settle_contacts", "pairs.initial_modes"]
+NAMES = ["pairs.evaluate", "pairs.outputs", "pairs.settle", "pairs.settle_contacts",
+         "pairs.initial_modes"]  # fmt: skip
 
 
 def test_the_pair_rows_are_registered_and_declared_for_the_loops():
@@ -30,25 +31,27 @@ def test_the_pair_rows_are_registered_and_declared_for_the_loops():
     assert [c.name for c in pc.callees()] == NAMES
     assert set(NAMES) <= set(ka.TABLE_NAMES) and set(NAMES) <= set(ka.TSLOTS)
     assert all(ka.DECLARED[c.name] == (c.ret, c.args) for c in pc.callees())
-    # what a run compiles: the Radau loop and the force kernel; the event loop and all three
-    assert pc.kernels(False) == [kqa.integrate, pc.callees()[0].kernel]
+    # what a run compiles: the Radau loop, the force kernel and the outputs; the event loop
+    # and all the callees
+    assert pc.kernels(False) == [kqa.integrate, *(c.kernel for c in pc.callees()[:2])]
     assert pc.kernels(True) == [kqr.integrate, *(c.kernel for c in pc.callees())]
 
 
 @pytest.mark.skipif(not JIT or PLAIN, reason="the table is filled only for compiled code")
-def test_a_radau_run_fills_only_the_force_kernel_and_an_event_run_all():
-    # the Radau loop never settles stick or contacts: its run takes no address of a settling
+def test_a_radau_run_fills_only_the_force_kernel_and_outputs_and_an_event_run_all():
+    # the Radau loop never settles stick or contacts, nor starts the switch law's modes: its
+    # run takes no address of a settling or of the initial modes
     deck = rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [0.0, 4.0]],
                       Bearing(Friction(0.05), radius=2.0))  # fmt: skip
     ps = from_deck(deck)
     orbit = {"f": 0.5, "ax": 2.0, "ay": 1.0, "phase_y_deg": 90.0}
     saved = ka.TABLE.copy()
     try:
-        for name in NAMES[1:]:
+        for name in NAMES[2:]:
             ka.TABLE[ka.index(name)] = 0
         simulate_pairs(ps, orbit, law="arctan", t_end=0.2)
-        assert ka.filled("pairs.evaluate")
-        assert not any(ka.filled(n) for n in NAMES[1:])
+        assert all(ka.filled(n) for n in NAMES[:2])
+        assert not any(ka.filled(n) for n in NAMES[2:])
         r = simulate_pairs(ps, orbit, law="switch", t_end=0.2)
         assert all(ka.filled(n) for n in NAMES)
         assert np.all(np.isfinite(r.q))
@@ -70,7 +73,7 @@ gk, gp, tab, dur = d.pack_ground({"f": 1.0, "ax": 1.0})
 t_eval, hmax = d.run_grid(gk, gp, dur, 0.1, None, None, None)
 b = d.run_buffers("switch", 1e4, 1e-6, (1e-8, 1e-8), hmax, 1000, t_eval.size, 3, 2 * ps.n)
 args = (np.zeros(2 * ps.n), t_eval, *b[:2], ps.operators(), ps.bearing_table(), sp, gk, gp,
-        tab, *b[2:], kqr.work(2 * ps.n, 3))
+        tab, *b[2:], pc.loop_arrays(kqr.integrate, 2 * ps.n, ps.n, 3))
 pc.callees()
 kqr.integrate.compile(tuple(typeof(a) for a in args))
 lib = next(iter(kqr.integrate.overloads.values())).library
