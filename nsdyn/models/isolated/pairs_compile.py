@@ -23,9 +23,9 @@ import functools
 
 
 def tiny_args() -> tuple:
-    """The arguments of the force kernel and of the two settlings as the loops pass them, for
-    one isolator and two dofs (made with numpy only: nothing is compiled; only their types
-    matter): (force kernel's, settlings')."""
+    """The arguments of the force kernel, of the settlings (and the initial modes) and of the
+    outputs as the loops pass them, for one isolator and two dofs (made with numpy only:
+    nothing is compiled; only their types matter): (force kernel's, settlings', outputs')."""
     import numpy as np
 
     from nsdyn.models.isolated import _kpairs as kq
@@ -50,11 +50,12 @@ def tiny_args() -> tuple:
 @functools.cache
 def callees() -> list:
     """The pair loops' callees by address (:class:`nsdyn._kaddress.Callee`): the force kernel
-    (``"pairs.evaluate"``), the switch law's settling of stick (``"pairs.settle"``), the
-    settling of unilateral contacts (``"pairs.settle_contacts"``) and the switch law's initial
-    modes (``"pairs.initial_modes"``, called by the loops' start, which the Radau loop shares
-    without the switch law), declared for the types of :func:`tiny_args`, each returning a
-    status (int64). Once per process."""
+    (``"pairs.evaluate"``), a row of the outputs (``"pairs.outputs"``: the start, the output
+    step and the Radau loop's end call it), the switch law's settling of stick
+    (``"pairs.settle"``), the settling of unilateral contacts (``"pairs.settle_contacts"``)
+    and the switch law's initial modes (``"pairs.initial_modes"``, called by the loops'
+    start, which the Radau loop shares without the switch law), declared for the types of
+    :func:`tiny_args`, each returning a status (int64). Once per process."""
     from numba import typeof, types
 
     from nsdyn._kaddress import Callee
@@ -73,8 +74,8 @@ def callees() -> list:
 
 
 def _needed(events: bool) -> list:
-    """The callees a run calls: the force kernel, and on the loop with located events the
-    settlings (the switch law's stick, unilateral contacts) and the initial modes."""
+    """The callees a run calls: the force kernel and the outputs, and on the loop with located
+    events the settlings (the switch law's stick, unilateral contacts) and the initial modes."""
     return callees() if events else callees()[:2]
 
 
@@ -132,7 +133,7 @@ def run_loop(loop, args: tuple):
 
 def helper_part() -> None:
     """The helper's share of a first compilation of the loop with located events: the force
-    kernel, both settlings and the initial modes."""
+    kernel, the outputs, both settlings and the initial modes."""
     for c in callees():
         c.compiled()
 
