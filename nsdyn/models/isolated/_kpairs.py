@@ -47,7 +47,6 @@ from nsdyn._klinalg import lu_factor, lu_solve, pinv_small
 from nsdyn._numba_cache import drop_stale
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated.bearings import (
-    B_AREA,
     B_IOFF,
     B_KIND,
     B_KLAM,
@@ -153,25 +152,16 @@ def evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, F
     for p in range(kp.TENSION_PASSES + 1):
         if p > 0 and (not bil or st != ST_OK or not kp.tension_flags(lam, on)):
             return st
-        press = False
-        for i in range(pf.shape[0]):
-            pf[i] = 1.0
-            press = press or bp[i, B_AREA] > 0.0
+        press = kp.pressure_reset(bp, pf)
         change = math.inf
-        settled = False
         for it in range(kp.PRESSURE_ITER + 1):
             if it > 0:
-                change = 0.0
-                for i in range(pf.shape[0]):
-                    k = kp.pressure_factor(bp, i, lam[i])
-                    change = max(change, abs(k - pf[i]))
-                    pf[i] = k
+                change = kp.pressure_update(bp, lam, pf)
             st = evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo)
             if (it == 0 and not press) or st != ST_OK or change <= kp.PRESSURE_TOL:
-                settled = True
                 break
-        if not settled:
-            st = ST_SINGULAR
+            if it == kp.PRESSURE_ITER:  # not settled
+                st = ST_SINGULAR
     return st
 
 

@@ -156,6 +156,27 @@ def pressure_factor(bp, i, n):
 
 
 @njit(cache=True, error_model="numpy")
+def pressure_reset(bp, pf):
+    """pf (ni) = 1; True when an isolator has a contact area (pressure-dependent friction)."""
+    press = False
+    for i in range(pf.shape[0]):
+        pf[i] = 1.0
+        press = press or bp[i, B_AREA] > 0.0
+    return press
+
+
+@njit(cache=True, error_model="numpy")
+def pressure_update(bp, N, pf):
+    """One fixed-point pass of the pressure factors, pf_i = k_p(N_i); the largest change."""
+    change = 0.0
+    for i in range(pf.shape[0]):
+        k = pressure_factor(bp, i, N[i])
+        change = max(change, abs(k - pf[i]))
+        pf[i] = k
+    return change
+
+
+@njit(cache=True, error_model="numpy")
 def tfp_speed(gn, mu, mu_fast, a, rate):
     """Slip speed w of a yielding series element, |g| = μ(w) + w/rate with μ(w) = μ_fast −
     (μ_fast − μ) exp(−a w) (constant μ: w = rate (|g| − μ)); Newton from w = 0, which rises
@@ -218,13 +239,11 @@ def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
     TENSION_PASSES, N_i ≈ 0, is kept). Returns ST_OK or ST_SINGULAR.
 
     With pressure-dependent friction the coefficients carry k_p(N_i) at the live normal
-    forces, which depend on q̈: in each pass the fixed point N = N(q̈(k_p(N))) is iterated
-    from k_p = 1 to PRESSURE_TOL (its contraction is the weak overturning share of the
-    friction, ~1e-3); the factors are left in ws[11]; ST_SINGULAR when they do not settle.
-    One call of evaluate_at, inlined (numba's IR), so LLVM optimises its body once."""
-    on = ws[12]
-    pf = ws[11]
-    ni = pos.shape[0]
+    forces, which depend on q̈: in each pass N = N(q̈(k_p(N))) is iterated from k_p = 1 to
+    PRESSURE_TOL (contraction: the weak overturning share of the friction, ~1e-3), the factors
+    left in pf = ws[11]; ST_SINGULAR when they do not settle. One call of evaluate_at, inlined
+    (numba's IR): LLVM optimises its body once."""
+    on, pf = ws[12], ws[11]
     bil = int(sp[S_CONTACT]) == CONTACT_BILATERAL
     for i in range(on.shape[0]):
         on[i] = 1.0
@@ -232,27 +251,17 @@ def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
     for p in range(TENSION_PASSES + 1):
         if p > 0 and (not bil or st != ST_OK or not tension_flags(N, on)):
             return st
-        press = False
-        for i in range(ni):
-            pf[i] = 1.0
-            if bp[i, B_AREA] > 0.0:
-                press = True
+        press = pressure_reset(bp, pf)
         change = math.inf
-        settled = False
         for it in range(PRESSURE_ITER + 1):
             if it > 0:
-                change = 0.0
-                for i in range(ni):
-                    k = pressure_factor(bp, i, N[i])
-                    change = max(change, abs(k - pf[i]))
-                    pf[i] = k
+                change = pressure_update(bp, N, pf)
             st = evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
                              Fr, Fo)  # fmt: skip
             if (it == 0 and not press) or st != ST_OK or change <= PRESSURE_TOL:
-                settled = True
                 break
-        if not settled:
-            st = ST_SINGULAR
+            if it == PRESSURE_ITER:  # not settled
+                st = ST_SINGULAR
     return st
 
 
