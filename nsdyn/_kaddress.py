@@ -287,6 +287,7 @@ TABLE_NAMES = (
     "cyl.stop_slip",
     "pairs.initial_modes",
     "pairs.outputs",
+    "event.general",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration

@@ -12,7 +12,7 @@ matrices (numba compiles one version per type); vectors or blocks of columns on 
 import numpy as np
 from numba import njit
 
-from nsdyn._kaddress import NO_NRT
+from nsdyn._kaddress import compiled_uncounted
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -321,7 +321,7 @@ def copy_mat(dst, src):
             dst[i, j] = src[i, j]
 
 
-@njit(cache=True, error_model="numpy", **NO_NRT)
+@compiled_uncounted
 def solve_small(A, y, m):
     """Solve A[:m, :m] y = y[:m] in place (Gaussian elimination, partial pivoting), for the
     constraint forces of the system kernel (nsdyn.models.isolated._kernel).
@@ -375,7 +375,7 @@ def pinv_small(A, m):
     return out
 
 
-@njit(cache=True, error_model="numpy", **NO_NRT)
+@compiled_uncounted
 def pinv_into(A, m, out, U, V, s2):
     """``out[:m, :m]`` = the Moore-Penrose pseudo-inverse of ``A[:m, :m]`` (all NaN when ``A``
     holds a non-finite entry), with ``U``, ``V`` (at least m x m) and ``s2`` (m) as scratch:

@@ -9,8 +9,9 @@ into one real and one complex system with the matrices ``(eig/h) I - J`` (Hairer
 *Solving ODEs II*, sec. IV.8). The stepper around it is :mod:`nsdyn.solve._kradau`. The Newton
 loop evaluates smooth laws through :func:`nsdyn.solve._kflat.feval_flat` and other laws through
 a ``general`` kernel: :func:`general_called` (the general kernel called, for the run loop,
-which rarely needs it), :func:`general_table` (the system kernel called by its address, for
-the event-driven runs, which always need it) or :func:`flat_only` (none: the default run's
+which rarely needs it), :func:`general_t` (:func:`general_table`, which calls the system
+kernel by its address, itself called by its address: the event-driven runs, which always
+need it) or :func:`flat_only` (none: the default run's
 loop, which then never compiles the general kernel); each of Newton's kernels is a copy of
 :func:`_newton` with its own (:func:`nsdyn._kaddress.specialised`). Newton itself is called,
 not inlined. Inlining costs compile time at every call site (numba types and lowers the callee
@@ -21,7 +22,8 @@ one at the cold sites (:func:`nsdyn.solve._kcommon.feval_called`), took the defa
 compilation from 157 s to 113 s in one slow hour, with no measurable change of run time.
 Linking costs too: numba optimises and translates a kernel's code again in every caller it is
 linked into, so the event loop's kernels reach the ~250-block system kernel through its address
-(:func:`general_table`), compiled once.
+(:func:`general_table`), compiled once, and its Newton, step and start-up reach
+:func:`general_table` itself through its address too (:func:`general_t`).
 """
 
 import numpy as np
@@ -202,6 +204,18 @@ def general_table(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     return ok_all
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def general_t(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
+    """:func:`general_table` by its address in the table of :mod:`nsdyn._kaddress` (row
+    ``"event.general"``): the general kernel of the event loop's Newton, step and start-up,
+    compiled once instead of linked into each of the three (where LLVM optimised and
+    translated its code again)."""
+    return ka.tcall("event.general", (kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes))
+
+
+ka.tslot("event.general", general_table, "nsdyn.solve.compile_split:event_callees")
+
+
 @njit(cache=True, error_model="numpy")
 def flat_only(kind, P, t, y, h, Z, F, ys, out, J, qdd, lam, tau, modes):
     """No general kernel: every request fails, so a step that leaves the flat kernel's
@@ -353,7 +367,7 @@ newton = njit(cache=True, error_model="numpy")(
 kernel's loop, :func:`nsdyn.solve._kradau.radau_general`)."""
 
 newton_general = ka.compiled_uncounted(
-    ka.specialised(_newton, "newton_general", _GENERAL=general_table, _FEVAL_FLAT=_no_flat)
+    ka.specialised(_newton, "newton_general", _GENERAL=general_t, _FEVAL_FLAT=_no_flat)
 )
 """Newton for a law the flat kernels do not serve (``flat`` False at every call): the event
 loop's step calls it by address; no flat right-hand side is compiled with it."""
@@ -366,10 +380,10 @@ address: a kernel with a kernel argument would have the argument's dispatcher in
 declared type)."""
 
 newton_table = ka.compiled_uncounted(
-    ka.specialised(_newton, "newton_table", _GENERAL=general_table, _FEVAL_FLAT=kf.feval_flat)
+    ka.specialised(_newton, "newton_table", _GENERAL=general_t, _FEVAL_FLAT=kf.feval_flat)
 )
 """Newton with :func:`general_table` (the event loop's step calls it by address)."""
 
 # Newton called directly (``K`` None, :func:`nsdyn._kaddress.call`): the copy for the caller's
 # general kernel
-NEWTON_FOR = {general_called: newton, general_table: newton_table, flat_only: newton_flat}
+NEWTON_FOR = {general_called: newton, general_t: newton_table, flat_only: newton_flat}

@@ -161,14 +161,12 @@ def _plan(t, t_new, h, x_best):
     return ACT_REDO, t_star
 
 
-# the Radau start-up and step (nsdyn.solve._kradau._start, _step), copies with the general
-# kernel of the address table (nsdyn.solve._kcolloc.general_table); the flat kernels, the
+# the Radau start-up and step (nsdyn.solve._kradau._start, _step), copies whose general kernel
+# is the stage evaluation by its address (nsdyn.solve._kcolloc.general_t); the flat kernels, the
 # factorisation and Newton (nsdyn.solve._kcolloc.newton_table, or newton_general for a law
 # without flat kernels) by their addresses in K (nsdyn.solve.compile_split.event_calls)
-_start = ka.compiled_uncounted(
-    ka.specialised(kr._start, "event_start", _GENERAL=kcol.general_table)
-)
-_step = ka.compiled_uncounted(ka.specialised(kr._step, "event_step", _GENERAL=kcol.general_table))
+_start = ka.compiled_uncounted(ka.specialised(kr._start, "event_start", _GENERAL=kcol.general_t))
+_step = ka.compiled_uncounted(ka.specialised(kr._step, "event_step", _GENERAL=kcol.general_t))
 
 
 def loop_arrays(n2: int, nc: int, ni: int) -> tuple:
@@ -357,7 +355,7 @@ ka.tslot("event.land", _land, _DECLARE)
 # switch model) and of contact events (unilateral contacts); a run fills the rows it calls
 CALLEES = (
     "sys.evaluate", "sys.jac", "sys.jac_at", "event.start", "event.step", "event.accept",
-    "event.handle",
+    "event.handle", "event.general",
 )  # fmt: skip
 CALLEES_FRICTION = ("event.settle", "event.detect_friction")
 CALLEES_CONTACTS = ("event.settle_contacts", "event.detect_contacts", "event.land")

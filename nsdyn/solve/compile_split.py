@@ -26,9 +26,11 @@ linked, its code was optimised and translated again in every one of them (the lo
 and its step's by ``K`` (:func:`event_calls`). Each compiles once, on its own, so the first
 compilation splits into independent pieces: the helper takes the system kernel, its Jacobian,
 the friction detector, the factorisation and the step's acceptance (:func:`event_helper_part`);
-this process Newton (without the flat right-hand side for a law it does not serve), the step,
-the start-up, the event handler, the settling, the loop and the general metrics, which call
-the system kernel by address (:func:`event_parts_here`).
+this process Newton (without the flat right-hand side for a law it does not serve), the stage
+evaluation (:func:`nsdyn.solve._kcolloc.general_table`, which Newton, the step and the start-up
+call by address, row ``"event.general"``), the step, the start-up, the event handler, the
+settling, the loop and the general metrics, which call the system kernel by address
+(:func:`event_parts_here`).
 
 Generalized-alpha calls the system kernel and its Jacobian through the table too: the helper
 compiles the Jacobian (its own kernel, then the one by address that links it) and the system
@@ -315,6 +317,11 @@ def event_callees() -> list:
         ),
         "event.handle": (_kunilateral._event_at, (f8, i8, i8, f8, run), b1),
         "event.land": (_kimpact._land, (f8, v, P, i8, f8, f8, m, vi, v), b1),
+        "event.general": (
+            _kcolloc.general_table,
+            (f8, P, f8, v, f8, m, m, v, v, m, v, v, v, vi),
+            b1,
+        ),
     }
     others = [Callee(name, kernel, args, ret) for name, (kernel, args, ret) in sigs.items()]
     return [*system_callees(), *others]
@@ -443,7 +450,8 @@ def event_calls(flat: bool):
 # system kernel by address: compiled, not run, before the helper has it).
 EVENT_HELPER = ("sys.evaluate", "sys.jac", "sys.jac_at", "event.detect_friction",
                 "radau.factor", "event.accept")  # fmt: skip
-EVENT_HERE = ("radau.newton", "event.step", "event.start", "event.handle", "event.settle")
+EVENT_HERE = ("radau.newton", "event.general", "event.step", "event.start", "event.handle",
+              "event.settle")  # fmt: skip
 
 
 def _event_pieces() -> dict:

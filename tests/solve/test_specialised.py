@@ -91,7 +91,7 @@ def test_a_direct_call_takes_the_copy_for_the_callers_general_kernel():
 
     newton = ka.SLOTS["radau.newton"][1]
     assert ka._for_general("radau.newton", newton, kc.flat_only) is kc.newton_flat
-    assert ka._for_general("radau.newton", newton, kc.general_table) is kc.newton_table
+    assert ka._for_general("radau.newton", newton, kc.general_t) is kc.newton_table
     assert ka._for_general("radau.newton", newton, kc.general_called) is kc.newton
     with pytest.raises(TypeError, match="no copy of it for the general kernel"):
         ka._for_general("radau.newton", newton, kc.jeval)

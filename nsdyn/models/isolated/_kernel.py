@@ -29,7 +29,7 @@ Unknowns ``y = [lam, tau_stuck]`` come from a small dense solve ``G y = -(C a0 +
 import numpy as np
 from numba import njit
 
-from nsdyn._kaddress import NO_NRT
+from nsdyn._kaddress import NO_NRT, compiled_uncounted
 from nsdyn._klinalg import copy_vec, pinv_into, solve_small
 
 # ---- layout of the parameter tuple P -------------------------------------------------------
@@ -200,7 +200,7 @@ def _pinv(G, m, P):
     return Gp
 
 
-@njit(cache=True, error_model="numpy", **NO_NRT)
+@compiled_uncounted
 def _assemble(t, x, P, s, stuck, a0, Bt, Crow, b):
     """Fill a0 (n,), Bt = B^T (m, n), constraint rows Crow (m, n), b (m,) for given directions.
 
@@ -298,7 +298,7 @@ def _solve(t, x, P, qdd, ws):
     return m, ok
 
 
-@njit(cache=True, error_model="numpy", **NO_NRT)
+@compiled_uncounted
 def _directions(x, P, ws):
     """Set s, ds, stuck in ``ws`` from the law and the sliding velocities of state ``x``."""
     a0, B, Cr, b, y, rhs_, s, ds, v, stuck, G, G2 = ws
