@@ -99,7 +99,7 @@ def outputs_at(n, ni):
     return (np.zeros(n), np.zeros(ni), np.zeros((ni, 2)), np.zeros((ni, 2)), np.zeros((ni, 2)))
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def slips(y, D2, n, u, v):
     """u = D2 q, v = D2 q̇ (2ni)."""
     for r in range(D2.shape[0]):
@@ -112,7 +112,7 @@ def slips(y, D2, n, u, v):
         v[r] = sv
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def bearing_terms(bp, i, ux, uy, vx, vy, law, eps, mode, dx, dy, kpr):
     """(ox, oy, fx, fy): damper + rim stop of isolator i and its friction per unit normal
     force f̂ (zero in stick), the coefficients scaled by the pressure factor kpr."""
@@ -133,7 +133,7 @@ def bearing_terms(bp, i, ux, uy, vx, vy, law, eps, mode, dx, dy, kpr):
     return ox, oy, 0.0, 0.0
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def evaluate(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr, Fo):
     """:func:`evaluate_at` with pressure-dependent friction, and a bilateral contact's tensile
     set (ws[19]) re-evaluated until it is λ_i <= 0
@@ -325,7 +325,7 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
     return ST_OK
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def stick_basis(modes, row, D2, nr, m, ws):
     """Rank ρ of the stuck isolators' slip rows D_s (2n_s × n) and an orthonormal basis Q_s
     of their range (ws[15][:2n_s, :ρ]), computed when the modes change (cached in ws)."""
@@ -357,7 +357,7 @@ def stick_basis(modes, row, D2, nr, m, ws):
     return k
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def proportional_split(Q, nr, m, ws, uni):
     """Solve the constraints with redundant stick rows (G2, r2 of :func:`evaluate_at`): rows
     and stick forces in the range of the stuck slip rows, τ = Λ Q_s ζ with Λ the stuck
@@ -433,7 +433,7 @@ def proportional_split(Q, nr, m, ws, uni):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def least_norm(G, r, out):
     """out = G⁺ r when G y = r is consistent (redundant constraints); False otherwise."""
     m = G.shape[0]
@@ -458,7 +458,7 @@ def least_norm(G, r, out):
     return math.isfinite(res) and res <= CONSISTENT_RTOL * (m * ng * ny + nr)
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def rhs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, dy):
     """First-order right-hand side dy = [q̇, q̈, ṡ] (ṡ: the internal slips of triple friction
     pendulums, when y has them); ``out = (qdd, lam, Ff, Fr, Fo)`` filled."""
@@ -478,7 +478,7 @@ def rhs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, dy):
     return st
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def start_direction(i, tx, ty, mu_n, ws, dirs):
     """Direction in which stuck isolator i starts to slip when its stick force τ = (tx, ty)
     leaves the disc (the one it then accelerates in): its compliance W from the stick rows'

@@ -31,7 +31,6 @@ capacity, "stops") are tracked here too (:func:`track_stops`).
 import math
 
 import numpy as np
-from numba import njit
 
 from nsdyn import _kaddress as ka
 from nsdyn.models.isolated import _kpairs as kq
@@ -45,7 +44,7 @@ V_REST = 1e-3  # m/s, landings slower than this bring the contacts at the ground
 GAP_REST = 1e-6  # m, an open contact this close to the ground is at the ground
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def gap(y, op, i):
     """R_i q of contact i at the state y."""
     R = op[kq.O_R]
@@ -55,7 +54,7 @@ def gap(y, op, i):
     return s
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def switching(y, op, ws, lam, i):
     """Column 2 of the switching functions: λ_i closed, R_i q − g0_i open."""
     if ws[20][i] != 0.0:
@@ -63,7 +62,7 @@ def switching(y, op, ws, lam, i):
     return lam[i]
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def open_contact(t, y, i, modes, dirs, op, ws, EV, info):
     """Lift-off of contact i at (t, y): open, its gap armed, free; the event recorded."""
     ws[20][i] = 1.0
@@ -73,7 +72,7 @@ def open_contact(t, y, i, modes, dirs, op, ws, EV, info):
     kr._record(EV, info, t, i, m0, kp.MODE_FREE, dirs)
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def land(t, y, k, modes, dirs, op, ws, EV, info, switch_law, eta):
     """Landing of contact k at (t, y): the plastic impact on the contact set (module text),
     y's velocities jumped in place; contacts whose impulse would pull open. Returns
@@ -155,7 +154,7 @@ def land(t, y, k, modes, dirs, op, ws, EV, info, switch_law, eta):
     return vrel[k], lam[k]
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def settle_contacts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
     """Open the closed contacts whose normal force is not compressive, the most negative
     first, each time re-evaluated; returns a status of the loop."""
@@ -179,7 +178,7 @@ def settle_contacts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, inf
 ka.tslot("pairs.settle_contacts", settle_contacts, "nsdyn.models.isolated.pairs_compile:callees")
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def track_stops(t, y, op, bp, ws, stops):
     """Rim contacts: first time, peak overshoot |u| − d_cap and samples in contact."""
     u = ws[0]

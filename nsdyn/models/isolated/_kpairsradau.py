@@ -62,7 +62,7 @@ NEWTON_MAXITER = 8
 NEWTON_TOL = krad.NEWTON_TOL  # scaled Newton correction accepted
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def _factor(sig, Jx, S, piv):
     """S = [[σ² I − σ J_v − J_q, −J_s], [−S_q, σ I − S_s]] (module text), factored (real or
     complex σ, S of σ's type); Jx (n + m, 2n + m): the rows of q̈ and ṡ over all states."""
@@ -80,7 +80,7 @@ def _factor(sig, Jx, S, piv):
     return lu_factor(S, piv, 0.0)
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def _solve(sig, Jx, S, piv, r, z, w):
     """(σ I − J) z = r for the full state (length 2n + m) with S from _factor; w: work
     (n + m) of σ's type."""
@@ -103,7 +103,7 @@ def _solve(sig, Jx, S, piv, r, z, w):
             z[n + a] = w[a]
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def _jacobian(t, y, f0, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, Jx, f1):
     """Jx: the rows of q̈ and ṡ of f by forward differences at (t, y), f0 = f(t, y) (f1:
     work); returns a status."""

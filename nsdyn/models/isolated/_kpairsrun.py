@@ -33,12 +33,12 @@ from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.bearings import B_MUS
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
     return kq.evaluate_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def gvals(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g):
     """Switching functions (ni, 3) at (t, y) (column 2: a bilateral contact's ±λ_i)."""
     st = _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
@@ -46,7 +46,7 @@ def gvals(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g):
     return st
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def gfill(y, modes, dirs, op, bp, sp, ws, out, g):
     """:func:`gvals` from the evaluation at y already in ``out`` and ws."""
     lam, Ff = out[1], out[2]
@@ -75,7 +75,7 @@ def gfill(y, modes, dirs, op, bp, sp, ws, out, g):
             g[i, 0] = bp[i, B_MUS] * ws[13][i] * lam[i] - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
     """Release stuck isolators outside their disc, worst first, then align the slip-start
     directions with the accelerations of their slip points; returns a status."""
@@ -108,7 +108,7 @@ def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
 ka.tslot("pairs.settle", settle, "nsdyn.models.isolated.pairs_compile:callees")
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def align_starts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
     """Each slip-start direction d_i along the acceleration D_i q̈ its slip point gets with
     every friction in place (fixed-point passes; one released isolator is consistent)."""
@@ -143,7 +143,7 @@ def align_starts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
     return kr.ST_OK
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def initial_modes(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
     """Modes at the start: slip where |v| > η, else stick, then settled."""
     v = ws[1]
@@ -170,7 +170,7 @@ def initial_modes(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
 ka.tslot("pairs.initial_modes", initial_modes, "nsdyn.models.isolated.pairs_compile:callees")
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
     """Mode changes at a located event (g0 before it, g just after); returns a status."""
     lam, Ff = out[1], out[2]
@@ -215,7 +215,7 @@ def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
     return ka.tcall("pairs.settle", (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info))
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def outputs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO):
     """Row k of the output histories at the state y; returns the force kernel's status (the
     loops call it by address, row ``"pairs.outputs"``: one copy, compiled in the helper)."""
@@ -243,7 +243,7 @@ def outputs_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF,
     return ka.tcall("pairs.outputs", a)
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+@ka.compiled_uncounted
 def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV, info,
           ws, out, y):  # fmt: skip
     """The start of a loop into the caller's work arrays ``ws`` (:func:`kq.workspace`),
@@ -276,14 +276,14 @@ def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, E
     return st
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def emit(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO, stops):
     """Row k of the outputs at the state y and the rim contacts there."""
     outputs_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO)
     kc.track_stops(t, y, op, bp, ws, stops)
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def finish(status, t, nstep, nrej, nfev, iout, info):
     """The run's counters into info (and its end time when it failed); returns status."""
     if status != kr.ST_OK and not info[kr.I_TFAIL] == info[kr.I_TFAIL]:
@@ -295,7 +295,7 @@ def finish(status, t, nstep, nrej, nfev, iout, info):
     return status
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def locate_uplift(t, hh, sb, rc, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, info):
     """First λ_i = 0 in (0, sb] of the step (DP5 dense output ``rc``); returns its fraction."""
     lam = out[1]
@@ -316,7 +316,7 @@ def locate_uplift(t, hh, sb, rc, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, o
     return sb
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def slip_only(modes, sp):
     """True when the switching functions are the slip velocities' alone: the switch law, no
     isolator stuck and contacts only watched (no λ among them), so :func:`gslip` gives them."""
@@ -328,7 +328,7 @@ def slip_only(modes, sp):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def gslip(rc, s, ys, modes, dirs, op, sp, ws, g):
     """:func:`gvals` at the dense output's s when :func:`slip_only`: the slip velocities
     v = D2 q̇ (the same sums as :func:`nsdyn.models.isolated._kpairs.slips`) from the dense
@@ -357,7 +357,7 @@ def gslip(rc, s, ys, modes, dirs, op, sp, ws, g):
             g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def end_state(rc, ys, y1):
     """ys = the dense state at s = 1; True when it is y1 bit for bit (signs of zeros too)."""
     kr._dense_state(rc, 1.0, ys)
@@ -367,7 +367,7 @@ def end_state(rc, ys, y1):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def locate_event(t, hh, rc, ys, y1, g0, g, ga, ge, modes, dirs, op, bp, sp, gk, gp, tab, ws,
                  out):  # fmt: skip
     """(found, s, evaluations): the earliest switching-function crossing in the step, from

@@ -118,7 +118,7 @@ def mu_kinetic(bp, i, speed):
     return bp[i, B_MUFAST] - (bp[i, B_MUFAST] - bp[i, B_MUSLOW]) * math.exp(-bp[i, B_RATE] * speed)
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def slip_kinematics(y, pos, i):
     """(u_x, u_y, v_x, v_y) of isolator i in the state y = [q, q̇]."""
     X = pos[i, 0]
@@ -165,7 +165,7 @@ def pressure_reset(bp, pf):
     return press
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def pressure_update(bp, N, pf):
     """One fixed-point pass of the pressure factors, pf_i = k_p(N_i); the largest change."""
     change = 0.0
@@ -292,7 +292,7 @@ def tension_flags(N, on):
     return changed
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def damper_and_rim(bp, i, ux, uy, vx, vy):
     """(F_x, F_y) of isolator i's damper c v and rim stop max(0, k_stop δ + c_stop δ̇) u/|u|
     (δ = |u| − d_cap > 0) at slip u, slip velocity v."""
@@ -473,7 +473,7 @@ def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, 
     return ST_OK
 
 
-@njit(cache=True, error_model="numpy", **NO_NRT)
+@ka.compiled_uncounted
 def rhs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, dy):
     """First-order right-hand side dy = [q̇, q̈, ṡ] (ṡ: the internal slips of triple friction
     pendulums, after [q, q̇], when y has them); ``out = (qdd, N, Ff, Fr, Fo)`` filled."""
@@ -492,7 +492,7 @@ def rhs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, dy):
     return st
 
 
-@njit(cache=True, error_model="numpy", **NO_NRT)
+@ka.compiled_uncounted
 def start_direction(i, tx, ty, mu_n, Am, pos, dirs, A3, piv, C):
     """Direction d_i in which a stuck isolator starts to slip when its stick force
     τ = (tx, ty) leaves the disc: the one in which it then accelerates (maximum dissipation).

@@ -79,7 +79,7 @@ I_NSTEP, I_NREJ, I_NFEV, I_NEV, I_TFAIL, I_IFAIL, I_NOUT, I_TTEN, I_NTEN, I_NMIN
 N_INFO = 11  # (I_IFAIL: uplift's / first tensile isolator; I_EIMP: landings' energy change)
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+@ka.compiled_uncounted
 def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
     """Switching functions (ni, 3) at (t, y); stuck isolators (and a bilateral contact's
     normal forces, column 2) need one evaluation."""
@@ -121,7 +121,7 @@ def _crossed(g0, g):
     return False
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+@ka.compiled_uncounted
 def _dense_state(rc, s, ys):
     for i in range(ys.shape[0]):
         ys[i] = dp.dense(rc, i, s)
@@ -193,7 +193,7 @@ def settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, in
                                     EV, info))  # fmt: skip
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+@ka.compiled_uncounted
 def align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
     """Slip-start directions consistent with the deck's motion when several are released
     together: each d_i along the acceleration a_i = B_i q̈ its slip point gets with every
@@ -236,7 +236,7 @@ def align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
     return ST_OK
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+@ka.compiled_uncounted
 def _record(EV, info, t, i, old, new, dirs):
     """Row of the event table: t, isolator, old mode, new mode, its slip-start direction."""
     k = int(info[I_NEV])
@@ -250,7 +250,7 @@ def _record(EV, info, t, i, old, new, dirs):
     info[I_NEV] = k + 1
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+@ka.compiled_uncounted
 def initial_modes(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
     """Modes at the start: slip where |v| > η, else stick, then settled."""
     for i in range(pos.shape[0]):
@@ -306,7 +306,7 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
 ka.tslot("deck.switch", switch, "nsdyn.models.isolated.deck_compile:callees")
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+@ka.compiled_uncounted
 def _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO):
     qdd, N, Ff, Fr, Fo = out
     kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
@@ -321,13 +321,13 @@ def _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, k, X, 
             FO[k, i, c] = Fo[i, c]
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+@ka.compiled_uncounted
 def _eval(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
     qdd, N, Ff, Fr, Fo = out
     return kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+@ka.compiled_uncounted
 def tension_start(info, t, N, bil):
     """A bilateral run's tension record at its start (N_min, an onset if tensile); tensile?"""
     info[I_TTEN] = np.nan
@@ -347,7 +347,7 @@ def tension_onset(info, t):
     info[I_NTEN] += 1.0
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+@ka.compiled_uncounted
 def _min_normal(N):
     v = math.inf
     for i in range(N.shape[0]):

@@ -10,8 +10,7 @@ largest δ_i and the number of samples in contact.
 
 import math
 
-from numba import njit
-
+from nsdyn import _kaddress as ka
 from nsdyn import _kdp5 as dp
 from nsdyn.models.isolated._kplane import slip_kinematics
 from nsdyn.models.isolated.bearings import B_DCAP
@@ -21,13 +20,13 @@ EVENT_TTOL = 1e-11  # s, width of a located event bracket (every event of the lo
 SAMPLES = 4  # dense-output samples per step scanned for a sign change
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def _dense_state(rc, s, ys):
     for i in range(ys.shape[0]):
         ys[i] = dp.dense(rc, i, s)
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def track_stops(t, y, pos, bp, stops):
     for i in range(pos.shape[0]):
         ux, uy, _, _ = slip_kinematics(y, pos, i)
@@ -39,14 +38,14 @@ def track_stops(t, y, pos, bp, stops):
             stops[i, P_NSTEPS] += 1
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def overshoot(ys, pos, bp, i):
     """|u_i| − d_cap,i at the state ys (> 0: isolator i presses its rim)."""
     ux, uy, _, _ = slip_kinematics(ys, pos, i)
     return math.sqrt(ux * ux + uy * uy) - bp[i, B_DCAP]
 
 
-@njit(cache=True, error_model="numpy")
+@ka.compiled_only
 def locate_stops(t, hh, s_end, rc, ys, pos, bp, stops):
     """First rim contact of each isolator inside a step, located on its dense output: the
     overshoot |u| − d_cap sampled at SAMPLES points up to ``s_end``, the first positive one
