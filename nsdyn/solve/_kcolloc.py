@@ -382,7 +382,9 @@ declared type)."""
 newton_table = ka.compiled_uncounted(
     ka.specialised(_newton, "newton_table", _GENERAL=general_t, _FEVAL_FLAT=kf.feval_flat)
 )
-"""Newton with :func:`general_table` (the event loop's step calls it by address)."""
+"""Newton with :func:`general_t` (:func:`general_table` by its address) and the flat
+right-hand side linked (the event loop's step calls it by address, for a law the flat
+kernels serve)."""
 
 # Newton called directly (``K`` None, :func:`nsdyn._kaddress.call`): the copy for the caller's
 # general kernel
