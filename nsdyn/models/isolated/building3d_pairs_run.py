@@ -38,10 +38,12 @@ __all__ = ["DT_SPARSE", "full_path", "pair_kernels", "path_line", "peak_field", 
 
 DT_SPARSE = 0.005  # s: the sparse full rung's default step (module text)
 # seconds the pair kernels' first compilation takes (the first-run notice) on the AMD EPYC of
-# docs/dev/first-runs.md: 13 s in a fast hour, ~30 s in a middling one (39 s at 99bff70, before
-# the Radau loop lost its reference counts and the force kernel its layers: 1.28x); the office's
-# cb rung, regularised law; the force kernel compiled in a helper process beside the loop
-PAIRS_COMPILE_ABOUT_S = 30.0
+# docs/dev/first-runs.md, in a middling hour: 46 s for the whole first run at 99bff70, since
+# divided by the measured ratios of the changes that followed (1.22, 1.05, 1.12, 1.20: the
+# Radau loop without reference counts, the force kernel one kernel, the outputs by address,
+# the callees without Python entry points); less in a fast hour. The office's cb rung,
+# regularised law; the force kernel compiled in a helper process beside the loop
+PAIRS_COMPILE_ABOUT_S = 25.0
 
 
 def full_path(frame, base: str) -> tuple[str, str]:
