@@ -288,6 +288,9 @@ TABLE_NAMES = (
     "pairs.initial_modes",
     "pairs.outputs",
     "event.general",
+    "sys.assemble",
+    "sys.solve_small",
+    "sys.pinv",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration

@@ -26,8 +26,9 @@ import numpy as np
 from numba import njit
 
 from nsdyn import _kaddress as ka
+from nsdyn import _klinalg as kl
 from nsdyn._klinalg import all_finite, copy_vec, lu_factor, lu_solve  # noqa: F401  (the integrators' LU)
-from nsdyn._numba_cache import guard_family
+from nsdyn._numba_cache import drop_stale, guard_family
 from nsdyn.models.isolated import _kernel as ks
 
 # integrator kernel modules (numba-cached, in this folder); their compiled code also depends on
@@ -51,6 +52,14 @@ _NSDYN = Path(__file__).resolve().parents[1]
 guard_family(
     __file__,
     [_NSDYN / "models" / "isolated" / "_kernel.py", _NSDYN / "_klinalg.py", _NSDYN / "_kborrow.py",
+     _NSDYN / "_kaddress.py", Path(__file__).resolve().parent / "compile_split.py"],
+)  # fmt: skip
+# the table's Jacobian kernel (jac_at_t below) is a copy of _kernel.jac_at cached beside it,
+# compiled with this file's calls by address: the system kernel's cache goes with ours
+drop_stale(
+    _NSDYN / "models" / "isolated",
+    ["_kernel"],
+    [_NSDYN / "models" / "isolated" / "_kernel.py", Path(__file__), _NSDYN / "_klinalg.py",
      _NSDYN / "_kaddress.py", Path(__file__).resolve().parent / "compile_split.py"],
 )  # fmt: skip
 
@@ -188,7 +197,7 @@ def jeval(t, x, P, J):
 @ka.compiled_only
 def jac_table(t, x, P, J):
     """:func:`nsdyn.models.isolated._kernel.jac` with the system kernel and the Jacobian's
-    own kernel (:func:`~nsdyn.models.isolated._kernel.jac_at`) called by their addresses
+    own kernel (:func:`jac_at_t`) called by their addresses
     (``"sys.evaluate"``, ``"sys.jac_at"``): compiled without a copy of either, so beside
     them."""
     qdd, lam, tau, modes = ks.outputs(P)
@@ -199,9 +208,47 @@ def jac_table(t, x, P, J):
 # the system kernel and its Jacobian by address (:func:`nsdyn._kaddress.tcall`): the kernels
 # of the event-driven loop call them so, each of which would otherwise link (and LLVM optimise
 # and translate again) its own copy of the ~250-block system kernel
-ka.tslot("sys.evaluate", ks.evaluate, "nsdyn.solve.compile_split:event_callees")
-ka.tslot("sys.jac", jac_table, "nsdyn.solve.compile_split:event_callees")
-ka.tslot("sys.jac_at", ks.jac_at, "nsdyn.solve.compile_split:event_callees")
+_DECLARE = "nsdyn.solve.compile_split:event_callees"
+ka.tslot("sys.evaluate", ks.evaluate, _DECLARE)
+ka.tslot("sys.jac", jac_table, _DECLARE)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def assemble_t(t, x, P, s, stuck, a0, Bt, Crow, b):
+    """The system kernel's assembly (:func:`nsdyn.models.isolated._kernel._assemble`) by its
+    address (``"sys.assemble"``)."""
+    return ka.tcall("sys.assemble", (t, x, P, s, stuck, a0, Bt, Crow, b))
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def solve_small_t(A, y, m):
+    """:func:`nsdyn._klinalg.solve_small` by its address (``"sys.solve_small"``)."""
+    return ka.tcall("sys.solve_small", (A, y, m))
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def pinv_into_t(A, m, out, U, V, s2):
+    """:func:`nsdyn._klinalg.pinv_into` by its address (``"sys.pinv"``)."""
+    ka.tcall("sys.pinv", (A, m, out, U, V, s2))
+
+
+# the Jacobian's own kernel of the table (row "sys.jac_at"): the same source as
+# nsdyn.models.isolated._kernel.jac_at, with the assembly, the small solve and the
+# pseudo-inverse called by their addresses instead of linked. The system kernel links them
+# (its hot path), so each compiles once, beside it; a linked copy in the Jacobian was LLVM
+# optimised and translated again: half of its code (docs/dev/first-runs.md)
+_pinv_t = njit(cache=True, error_model="numpy", inline="always")(
+    ka.specialised(ks._pinv, "_pinv_t", pinv_into=pinv_into_t)
+)
+jac_at_t = ka.compiled_uncounted(
+    ka.specialised(
+        ks.jac_at, "jac_at_t", _assemble=assemble_t, solve_small=solve_small_t, _pinv=_pinv_t
+    )
+)
+ka.tslot("sys.jac_at", jac_at_t, _DECLARE)
+ka.tslot("sys.assemble", ks._assemble, _DECLARE)
+ka.tslot("sys.solve_small", kl.solve_small, _DECLARE)
+ka.tslot("sys.pinv", kl.pinv_into, _DECLARE)
 
 
 @njit(cache=True, error_model="numpy")

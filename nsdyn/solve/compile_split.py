@@ -56,6 +56,7 @@ import functools
 
 import numpy as np
 
+from nsdyn import _klinalg as kl
 from nsdyn._kaddress import Callee, digest, fill_table  # noqa: F401 (callers use them)
 from nsdyn._lazy import LazyModule
 from nsdyn._numba_cache import Helper
@@ -253,10 +254,10 @@ def _event_args():
 
 @functools.cache
 def system_callees() -> list:
-    """The system kernel, its Jacobian by address and the Jacobian's own kernel (:data:`SYSTEM`),
-    declared for the parameter tuple's type on every run (the tiny problem's): the first of
-    :func:`event_callees`, and all the general metrics need, without the event loop's modules.
-    Once per process."""
+    """The system kernel, its Jacobian by address, the Jacobian's own kernel and the three it
+    calls by address (:data:`SYSTEM`), declared for the parameter tuple's type on every run
+    (the tiny problem's): the first of :func:`event_callees`, and all the general metrics
+    need, without the event loop's modules. Once per process."""
     from numba import typeof, types
 
     P, f8 = typeof(_tiny_args("event", "modes")[0]), types.float64
@@ -264,7 +265,10 @@ def system_callees() -> list:
     return [  # name, kernel, argument types, return type
         Callee("sys.evaluate", ks.evaluate, (f8, v, P, v, v, v, vi), types.boolean),
         Callee("sys.jac", ki.jac_table, (f8, v, P, m), types.none),
-        Callee("sys.jac_at", ks.jac_at, (f8, v, P, m, v, vi), types.none),
+        Callee("sys.jac_at", ki.jac_at_t, (f8, v, P, m, v, vi), types.none),
+        Callee("sys.assemble", ks._assemble, (f8, v, P, v, v, v, m, m, v), types.int64),
+        Callee("sys.solve_small", kl.solve_small, (m, v, types.int64), types.boolean),
+        Callee("sys.pinv", kl.pinv_into, (m, types.int64, m, m, m, v), types.none),
     ]
 
 
@@ -333,8 +337,8 @@ def _event_by_name() -> dict:
     return {c.name: c for c in event_callees()}
 
 
-# the system kernel and its Jacobian (by address, then its own kernel) in the table
-SYSTEM = ("sys.evaluate", "sys.jac", "sys.jac_at")
+# the system kernel, its Jacobian (by address, then its own kernel, then what that calls so)
+SYSTEM = ("sys.evaluate", "sys.jac", "sys.jac_at", "sys.assemble", "sys.solve_small", "sys.pinv")
 
 
 @functools.cache
@@ -448,8 +452,7 @@ def event_calls(flat: bool):
 # compiles on its own (nothing is linked into the loop), so neither process waits for the
 # other's. This process also takes the loop itself and the general metrics (they call the
 # system kernel by address: compiled, not run, before the helper has it).
-EVENT_HELPER = ("sys.evaluate", "sys.jac", "sys.jac_at", "event.detect_friction",
-                "radau.factor", "event.accept")  # fmt: skip
+EVENT_HELPER = (*SYSTEM, "event.detect_friction", "radau.factor", "event.accept")
 EVENT_HERE = ("radau.newton", "event.general", "event.step", "event.start", "event.handle",
               "event.settle")  # fmt: skip
 
@@ -517,10 +520,9 @@ def evaluate_helper_part_and_metrics() -> None:
 
 def system_helper_part() -> None:
     """A helper's share of generalized-alpha's first compilation: the Jacobian by address
-    (``jac_table``), its own kernel (:func:`nsdyn.models.isolated._kernel.jac_at`, which
-    ``jac_table`` calls by address), then the system kernel."""
-    _event_part(SYSTEM[1:])
-    _event_part(SYSTEM[:1])
+    (``jac_table``), its own kernel (:func:`nsdyn.solve._kcommon.jac_at_t`, which
+    ``jac_table`` calls by address) and the three that calls so, then the system kernel."""
+    _event_part(SYSTEM[1:] + SYSTEM[:1])
 
 
 def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
