@@ -54,8 +54,8 @@ guard_family(
     [_NSDYN / "models" / "isolated" / "_kernel.py", _NSDYN / "_klinalg.py", _NSDYN / "_kborrow.py",
      _NSDYN / "_kaddress.py", Path(__file__).resolve().parent / "compile_split.py"],
 )  # fmt: skip
-# the table's Jacobian kernel (jac_at_t below) is a copy of _kernel.jac_at cached beside it,
-# compiled with this file's calls by address: the system kernel's cache goes with ours
+# the table's system kernel and Jacobian (sys_evaluate, sys_jac_at below) are copies of
+# _kernel's, cached beside them, with this file's calls by address: its cache goes with ours
 drop_stale(
     _NSDYN / "models" / "isolated",
     ["_kernel"],
@@ -197,7 +197,7 @@ def jeval(t, x, P, J):
 @ka.compiled_only
 def jac_table(t, x, P, J):
     """:func:`nsdyn.models.isolated._kernel.jac` with the system kernel and the Jacobian's
-    own kernel (:func:`jac_at_t`) called by their addresses
+    own kernel (:func:`sys_jac_at`) called by their addresses
     (``"sys.evaluate"``, ``"sys.jac_at"``): compiled without a copy of either, so beside
     them."""
     qdd, lam, tau, modes = ks.outputs(P)
@@ -207,9 +207,8 @@ def jac_table(t, x, P, J):
 
 # the system kernel and its Jacobian by address (:func:`nsdyn._kaddress.tcall`): the kernels
 # of the event-driven loop call them so, each of which would otherwise link (and LLVM optimise
-# and translate again) its own copy of the ~250-block system kernel
+# and translate again) its own copy of the ~250-block system kernel (its rows below)
 _DECLARE = "nsdyn.solve.compile_split:event_callees"
-ka.tslot("sys.evaluate", ks.evaluate, _DECLARE)
 ka.tslot("sys.jac", jac_table, _DECLARE)
 
 
@@ -232,23 +231,25 @@ def pinv_into_t(A, m, out, U, V, s2):
     ka.tcall("sys.pinv", (A, m, out, U, V, s2))
 
 
-# the Jacobian's own kernel of the table (row "sys.jac_at"): the same source as
-# nsdyn.models.isolated._kernel.jac_at, with the assembly, the small solve and the
-# pseudo-inverse called by their addresses instead of linked. The system kernel links them
-# (its hot path), so each compiles once, beside it; a linked copy in the Jacobian was LLVM
-# optimised and translated again: half of its code (docs/dev/first-runs.md)
-_pinv_t = njit(cache=True, error_model="numpy", inline="always")(
-    ka.specialised(ks._pinv, "_pinv_t", pinv_into=pinv_into_t)
-)
-jac_at_t = ka.compiled_uncounted(
-    ka.specialised(
-        ks.jac_at, "jac_at_t", _assemble=assemble_t, solve_small=solve_small_t, _pinv=_pinv_t
-    )
-)
-ka.tslot("sys.jac_at", jac_at_t, _DECLARE)
+# the system kernel and its Jacobian's own kernel of the table (rows "sys.evaluate",
+# "sys.jac_at"): the sources of nsdyn.models.isolated._kernel.evaluate and jac_at, with the
+# assembly, the small solve and the pseudo-inverse called by their addresses instead of
+# linked, so each compiles once, beside them: a linked copy was LLVM optimised and translated
+# again in each kernel, half of its code (docs/dev/first-runs.md)
+_inline = njit(cache=True, error_model="numpy", inline="always")
+_pinv_t = _inline(ka.specialised(ks._pinv, "_pinv_t", pinv_into=pinv_into_t))
+_by_address = {"_assemble": assemble_t, "solve_small": solve_small_t, "_pinv": _pinv_t}
+_solve_t = _inline(ka.specialised(ks._solve, "_solve_t", **_by_address))
+sys_evaluate = ka.compiled_uncounted(ka.specialised(ks.evaluate, "sys_evaluate", _solve=_solve_t))
+sys_jac_at = ka.compiled_uncounted(ka.specialised(ks.jac_at, "sys_jac_at", **_by_address))
+ka.tslot("sys.evaluate", sys_evaluate, _DECLARE)
+ka.tslot("sys.jac_at", sys_jac_at, _DECLARE)
 ka.tslot("sys.assemble", ks._assemble, _DECLARE)
 ka.tslot("sys.solve_small", kl.solve_small, _DECLARE)
 ka.tslot("sys.pinv", kl.pinv_into, _DECLARE)
+# the kernels a run that calls the system kernel by address needs compiled
+EVALUATE_KERNELS = (sys_evaluate, ks._assemble, kl.solve_small, kl.pinv_into)
+JAC_KERNELS = (jac_table, sys_jac_at)  # and its Jacobian (by address, its own kernel)
 
 
 @njit(cache=True, error_model="numpy")

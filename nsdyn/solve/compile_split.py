@@ -254,21 +254,20 @@ def _event_args():
 
 @functools.cache
 def system_callees() -> list:
-    """The system kernel, its Jacobian by address, the Jacobian's own kernel and the three it
-    calls by address (:data:`SYSTEM`), declared for the parameter tuple's type on every run
-    (the tiny problem's): the first of :func:`event_callees`, and all the general metrics
-    need, without the event loop's modules. Once per process."""
+    """The system kernel, the three it calls by address, its Jacobian by address and the
+    Jacobian's own kernel (:data:`SYSTEM`), declared for the parameter tuple's type on every
+    run (the tiny problem's): the first of :func:`event_callees`. Once per process."""
     from numba import typeof, types
 
     P, f8 = typeof(_tiny_args("event", "modes")[0]), types.float64
     v, vi, m = types.float64[::1], types.int64[::1], types.float64[:, ::1]
     return [  # name, kernel, argument types, return type
-        Callee("sys.evaluate", ks.evaluate, (f8, v, P, v, v, v, vi), types.boolean),
-        Callee("sys.jac", ki.jac_table, (f8, v, P, m), types.none),
-        Callee("sys.jac_at", ki.jac_at_t, (f8, v, P, m, v, vi), types.none),
+        Callee("sys.evaluate", ki.sys_evaluate, (f8, v, P, v, v, v, vi), types.boolean),
         Callee("sys.assemble", ks._assemble, (f8, v, P, v, v, v, m, m, v), types.int64),
         Callee("sys.solve_small", kl.solve_small, (m, v, types.int64), types.boolean),
         Callee("sys.pinv", kl.pinv_into, (m, types.int64, m, m, m, v), types.none),
+        Callee("sys.jac", ki.jac_table, (f8, v, P, m), types.none),
+        Callee("sys.jac_at", ki.sys_jac_at, (f8, v, P, m, v, vi), types.none),
     ]
 
 
@@ -337,15 +336,16 @@ def _event_by_name() -> dict:
     return {c.name: c for c in event_callees()}
 
 
-# the system kernel, its Jacobian (by address, then its own kernel, then what that calls so)
-SYSTEM = ("sys.evaluate", "sys.jac", "sys.jac_at", "sys.assemble", "sys.solve_small", "sys.pinv")
+# the system kernel and what it calls by address, its Jacobian (by address, its own kernel)
+EVALUATE = ("sys.evaluate", "sys.assemble", "sys.solve_small", "sys.pinv")
+SYSTEM = (*EVALUATE, "sys.jac", "sys.jac_at")
 
 
 @functools.cache
 def evaluate_table() -> None:
-    """The system kernel alone in the address table (:func:`fill_table`), for the general
-    metrics (:func:`nsdyn.solve._kcommon.evaluate_many_t`). Once per process."""
-    fill_table(system_callees()[:1])
+    """The system kernel and its callees (:data:`EVALUATE`) in the address table, for the
+    general metrics (:func:`nsdyn.solve._kcommon.evaluate_many_t`). Once per process."""
+    fill_table(system_callees()[: len(EVALUATE)])
 
 
 def evaluate_inputs(P, X):
@@ -508,8 +508,8 @@ def event_parts_here(helper: Helper, metrics: str | None) -> None:
 
 
 def evaluate_helper_part() -> None:
-    """A helper's share of genalpha-lowrank's first compilation: the system kernel."""
-    _event_part(SYSTEM[:1])
+    """A helper's share of genalpha-lowrank's first compilation: :data:`EVALUATE`."""
+    _event_part(EVALUATE)
 
 
 def evaluate_helper_part_and_metrics() -> None:
@@ -520,9 +520,9 @@ def evaluate_helper_part_and_metrics() -> None:
 
 def system_helper_part() -> None:
     """A helper's share of generalized-alpha's first compilation: the Jacobian by address
-    (``jac_table``), its own kernel (:func:`nsdyn.solve._kcommon.jac_at_t`, which
-    ``jac_table`` calls by address) and the three that calls so, then the system kernel."""
-    _event_part(SYSTEM[1:] + SYSTEM[:1])
+    (``jac_table``), its own kernel (:func:`nsdyn.solve._kcommon.sys_jac_at`, which
+    ``jac_table`` calls by address), then the system kernel and the three both call so."""
+    _event_part(SYSTEM[len(EVALUATE) :] + EVALUATE)
 
 
 def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
@@ -557,4 +557,4 @@ def lowrank_parts_here(helper: Helper, metrics: str | None) -> None:
     _compile(_klowrank.run_steps, *sparse.loop_args(P, x0, t_eval, o.dt, X, upl_t,
                                                      o.uplift_mode))  # fmt: skip
     metrics_here(metrics)
-    helper.wait_for([ks.evaluate])
+    helper.wait_for([_event_by_name()[name].kernel for name in EVALUATE])

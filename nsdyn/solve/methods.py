@@ -418,10 +418,10 @@ _ENTRY = {  # the default loop's callees are compiled apart from it (nsdyn._kadd
     "radau-general": lambda: _kradau.radau_general,
     "dopri5": lambda: _kdopri.dopri5,
     # the system kernel and its Jacobian: called by address
-    "genalpha": lambda: (_kgenalpha.genalpha_loop, ks.evaluate, ki.jac_table),
+    "genalpha": lambda: (_kgenalpha.genalpha_loop, *ki.EVALUATE_KERNELS, *ki.JAC_KERNELS),
     "event": lambda: _kunilateral.kernels(True, False, False),  # its callees by address too
     "metrics": lambda: (_kflat.evaluate_flat_many, _kflat.feval_flat),
-    "metrics-general": lambda: (ki.evaluate_many_t, ks.evaluate),
+    "metrics-general": lambda: (ki.evaluate_many_t, *ki.EVALUATE_KERNELS),
 }
 
 

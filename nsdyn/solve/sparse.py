@@ -356,9 +356,14 @@ def integrate(
     q, v = x0[:n].copy(), x0[n:].copy()
     t = float(t_eval[0])
     rinfo[ki.R_T], rinfo[ki.R_H], rinfo[ki.R_HNEXT] = t, dt, dt
-    if ops is None:
-        qdd, lam, tau, modes = ks.outputs(P)
-        ok = ks.evaluate(t, np.ascontiguousarray(x0), P, qdd, lam, tau, modes)
+    if ops is None:  # the system kernel of the metrics' table (compile_split.lowrank_parts_here)
+        from nsdyn.models.isolated.metrics import evaluation_arrays
+        from nsdyn.solve.compile_split import evaluate_inputs
+
+        Pt, X0 = evaluate_inputs(P, x0[None, :])
+        ev = evaluation_arrays(Pt, 1)
+        ok = ki.evaluate_many_t(np.array([t]), X0, Pt, *ev) == 0
+        qdd, lam, tau = ev[0][0], ev[1][0], ev[2][0]
     else:
         ev = ops.evaluate(P, np.array([t]), x0[None, :])
         qdd, lam, tau, ok = ev[0][0], ev[1][0], ev[2][0], True

@@ -302,8 +302,9 @@ def _switch_inputs():
 
 
 def test_call_through_the_table_equals_the_direct_call():
-    # the system kernel through its row of the table and directly: the same compiled code,
-    # so the same bits (accelerations, normal and friction forces, modes)
+    # the system kernel through its row of the table (nsdyn.solve._kcommon.sys_evaluate, its
+    # assembly, small solve and pseudo-inverse by address) and directly (linked): one source,
+    # the same arithmetic, so the same bits (accelerations, normal and friction forces, modes)
     compile_split.event_ready(True, False, False)
     P, y, (direct, table) = _switch_inputs()
     ok_d, ok_t = _evaluate_both(0.3, y, P, direct, table)

@@ -158,6 +158,9 @@ def _compiled_in_a_fresh_warmup(cache, kernel, metrics) -> set[str]:
     return set(out.stdout.split())
 
 
+# the table's system kernel and the three it calls by address, then its Jacobian (by address
+# and its own kernel): nsdyn.solve.compile_split.SYSTEM, by the kernels' names
+SYSTEM = ("sys_evaluate", "_assemble", "solve_small", "pinv_into", "jac_table", "sys_jac_at")
 # (kernel, metrics, compiled by the calling process, compiled by the helper only): the
 # default loop (~15-40 s on two cores; its helper also takes the factorisation, this process
 # the metrics) and the switch model's, whose callees
@@ -170,18 +173,17 @@ SPLITS = [
     ("event", "metrics-general",
      {"_run", "event_step", "event_start", "newton_general", "_event_at", "_settle",
       "evaluate_many_t"},
-     {"evaluate", "jac_table", "jac_at", "_detect", "_factor", "accept"}),
+     {*SYSTEM, "_detect", "_factor", "accept"}),
     # generalized-alpha: its loop and the metrics (compiled, not run) here; the Jacobian by
     # address, the Jacobian's own kernel (which it calls by address) and the system kernel in
     # the helper
     ("genalpha", "metrics-general",
-     {"genalpha_loop", "_residual", "_iteration_matrix", "evaluate_many_t"},
-     {"evaluate", "jac_at", "jac_table"}),
-    # genalpha-lowrank's set-up calls the system kernel once from Python; its dense loop
-    # compiles here from the run's argument types (sparse.loop_args) while the helper
-    # compiles the system kernel and then the metrics
+     {"genalpha_loop", "_residual", "_iteration_matrix", "evaluate_many_t"}, set(SYSTEM)),
+    # genalpha-lowrank's set-up evaluates the system kernel once from Python, through the
+    # metrics' kernel; its dense loop compiles here from the run's argument types
+    # (sparse.loop_args) while the helper compiles the system kernel and then the metrics
     ("genalpha-lowrank", "metrics-general", {"run_steps", "step", "friction"},
-     {"evaluate", "evaluate_many_t"}),
+     {*SYSTEM[:4], "evaluate_many_t"}),
 ]  # fmt: skip
 
 
