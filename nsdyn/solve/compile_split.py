@@ -550,11 +550,11 @@ def lowrank_parts_here(helper: Helper, metrics: str | None) -> None:
     """This process's share of genalpha-lowrank's first compilation: its dense loop, from the
     arguments the run gives it (:func:`nsdyn.solve.sparse.loop_args`, which need no system
     kernel), and the ``metrics`` unless the helper takes them; then wait for the helper's
-    system kernel."""
+    system kernel and the metrics' kernel (the run's start evaluates through it)."""
     from nsdyn.solve import sparse
 
     P, x0, t_eval, o, X, upl_t = methods.tiny_run(methods.METHODS[sparse.METHOD])
     _compile(_klowrank.run_steps, *sparse.loop_args(P, x0, t_eval, o.dt, X, upl_t,
                                                      o.uplift_mode))  # fmt: skip
     metrics_here(metrics)
-    helper.wait_for([_event_by_name()[name].kernel for name in EVALUATE])
+    helper.wait_for([*(_event_by_name()[name].kernel for name in EVALUATE), ki.evaluate_many_t])
