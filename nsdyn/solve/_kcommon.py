@@ -247,9 +247,12 @@ ka.tslot("sys.jac_at", sys_jac_at, _DECLARE)
 ka.tslot("sys.assemble", ks._assemble, _DECLARE)
 ka.tslot("sys.solve_small", kl.solve_small, _DECLARE)
 ka.tslot("sys.pinv", kl.pinv_into, _DECLARE)
-# the kernels a run that calls the system kernel by address needs compiled
-EVALUATE_KERNELS = (sys_evaluate, ks._assemble, kl.solve_small, kl.pinv_into)
-JAC_KERNELS = (jac_table, sys_jac_at)  # and its Jacobian (by address, its own kernel)
+# the rows of the system kernel and what it calls by address, then of its Jacobian (by
+# address, its own kernel), and their kernels: what a run that calls them needs compiled
+EVALUATE_ROWS = ("sys.evaluate", "sys.assemble", "sys.solve_small", "sys.pinv")
+SYSTEM_ROWS = (*EVALUATE_ROWS, "sys.jac", "sys.jac_at")
+EVALUATE_KERNELS = tuple(ka.TSLOTS[name] for name in EVALUATE_ROWS)
+JAC_KERNELS = tuple(ka.TSLOTS[name] for name in SYSTEM_ROWS[len(EVALUATE_ROWS) :])
 
 
 @njit(cache=True, error_model="numpy")

@@ -354,8 +354,8 @@ ka.tslot("event.land", _land, _DECLARE)
 # the names of the loop's callees in the table: those of every run, of friction events (the
 # switch model) and of contact events (unilateral contacts); a run fills the rows it calls
 CALLEES = (
-    "sys.evaluate", "sys.jac", "sys.jac_at", "sys.assemble", "sys.solve_small", "sys.pinv",
-    "event.start", "event.step", "event.accept", "event.handle", "event.general",
+    *ki.SYSTEM_ROWS, "event.start", "event.step", "event.accept", "event.handle",
+    "event.general",
 )  # fmt: skip
 CALLEES_FRICTION = ("event.settle", "event.detect_friction")
 CALLEES_CONTACTS = ("event.settle_contacts", "event.detect_contacts", "event.land")

@@ -337,8 +337,7 @@ def _event_by_name() -> dict:
 
 
 # the system kernel and what it calls by address, its Jacobian (by address, its own kernel)
-EVALUATE = ("sys.evaluate", "sys.assemble", "sys.solve_small", "sys.pinv")
-SYSTEM = (*EVALUATE, "sys.jac", "sys.jac_at")
+EVALUATE, SYSTEM = ki.EVALUATE_ROWS, ki.SYSTEM_ROWS
 
 
 @functools.cache
