@@ -58,8 +58,9 @@ from nsdyn.models.tilt import scene_tilt
 _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 METHODS = ("event", "moreau")  # solver.method
 T_END = 5.0  # default duration of free motion [s]
-# seconds a first run compiles the kernels (2-core machine, empty cache; docs/dev/first-runs.md)
-COMPILE_ABOUT_S = 12.0
+# seconds a first run compiles the kernels (2-core machine, empty cache): a middling hour's,
+# 1.8x the fast hour's in the family table of docs/dev/first-runs.md
+COMPILE_ABOUT_S = 8.0
 
 
 def kernels_cached(opts: dict) -> bool:

@@ -46,8 +46,9 @@ from nsdyn.models.tilt import scene_tilt
 TABLES = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 STAR_QUANTITIES = ("k", "c", "H", "r")  # quantities a star case may scale
 METHODS = ("dopri5",)  # integrators of this family
-# seconds a first run compiles the kernel (2-core machine, empty cache; docs/dev/first-runs.md)
-COMPILE_ABOUT_S = 9.0
+# seconds a first run compiles the kernel (2-core machine, empty cache): a middling hour's,
+# 1.8x the fast hour's in the family table of docs/dev/first-runs.md
+COMPILE_ABOUT_S = 6.0
 
 
 def kernels_cached(p: CylinderParams) -> bool:

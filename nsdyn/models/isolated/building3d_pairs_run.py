@@ -26,24 +26,24 @@ to that instant (the same steps, so the same state).
 
 from __future__ import annotations
 
+import threading
 import time
 import warnings
+from contextlib import contextmanager
 
 import numpy as np
 
 from nsdyn.models.scenefile import SceneError, number
 
 __all__ = ["DT_SPARSE", "full_path", "pair_kernels", "path_line", "peak_field", "run_pairs",
-           "sparse_solver", "sparse_step", "warm_pairs"]  # fmt: skip
+           "sparse_solver", "sparse_step", "warm_pairs", "warming"]  # fmt: skip
 
 DT_SPARSE = 0.005  # s: the sparse full rung's default step (module text)
 # seconds the pair kernels' first compilation takes (the first-run notice) on the AMD EPYC of
-# docs/dev/first-runs.md, in a middling hour: 46 s for the whole first run at 99bff70, since
-# divided by the measured ratios of the changes that followed (1.22, 1.05, 1.12, 1.20: the
-# Radau loop without reference counts, the force kernel one kernel, the outputs by address,
-# the callees without Python entry points); less in a fast hour. The office's cb rung,
-# regularised law; the force kernel compiled in a helper process beside the loop
-PAIRS_COMPILE_ABOUT_S = 25.0
+# docs/dev/first-runs.md, in a middling hour: 1.8x the fast hour's (~8.5 s, the family
+# table's building3d row); the office's cb rung, regularised law, the force kernel compiled in
+# a helper process beside the loop
+PAIRS_COMPILE_ABOUT_S = 15.0
 
 
 def full_path(frame, base: str) -> tuple[str, str]:
@@ -119,6 +119,44 @@ def warm_pairs(path: str, law: str, system=None) -> float:
 
             simulate_pairs(system, still, t_end=0.04, law=law, y0=system.info["y0"])
     return time.perf_counter() - w0
+
+
+@contextmanager
+def warming(path: str, law: str):
+    """Around the build of a scene's pair system: a first compilation of the pair kernels of
+    ``path`` and ``law`` (:func:`warm_pairs` on the bundled portal) on a thread of its own
+    while the block builds the model, whose reduction (an eigenproblem of the frame, ~1.5 s of
+    the office's cb rung) would otherwise come first and leave the compile helper's core idle.
+    Nothing starts when the kernels are cached (or ``law`` is not one the kernels take: the
+    run's check then says so). Yields a dict whose ``"compile_s"`` (the warm-up's seconds)
+    and ``"wait_s"`` (the block's wait for it at its end) are set when the block ends. The
+    block always waits for the thread, also when it raises (no compiling thread outlives the
+    build); the warm-up's own error is raised when the block ended without one."""
+    from nsdyn._numba_cache import all_cached
+
+    times = {"compile_s": 0.0, "wait_s": 0.0}
+    takes = ("arctan",) if path == "sparse" else ("arctan", "switch")
+    if law not in takes or all_cached(pair_kernels(path, law)):
+        yield times
+        return
+    box: dict = {}
+
+    def work():
+        try:
+            box["s"] = warm_pairs(path, law)
+        except BaseException as e:  # noqa: BLE001  (raised again on the building thread)
+            box["e"] = e
+
+    th = threading.Thread(target=work, name="nsdyn-warm-pairs", daemon=True)
+    th.start()
+    try:
+        yield times
+    finally:
+        w0 = time.perf_counter()
+        th.join()
+        times.update(compile_s=box.get("s", 0.0), wait_s=time.perf_counter() - w0)
+    if "e" in box:
+        raise box["e"]
 
 
 def sparse_step(dt, exc) -> float:

@@ -60,9 +60,9 @@ TABLES = {
 FIGURE_MODULE = "nsdyn.plot.isolators"  # draws the figure from deck.npz (a later stage)
 RTOL = 1e-6
 # seconds a first run compiles the kernels (2-core machine, empty cache: the switch law's loop
-# and, in a helper process beside it, its callees; docs/dev/first-runs.md): a middling hour's,
-# 17 s at 99bff70 divided by the measured ratios of the changes since (1.08, 1.19)
-COMPILE_ABOUT_S = 13.0
+# and, in a helper process beside it, its callees): a middling hour's, 1.8x the fast hour's
+# in the family table of docs/dev/first-runs.md (4.9 s)
+COMPILE_ABOUT_S = 9.0
 
 
 def kernels_cached(law: str) -> bool:

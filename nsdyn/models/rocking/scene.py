@@ -55,8 +55,9 @@ MODELS = ("block", "frame", "compliant")  # [scene] model
 _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 T_END = 10.0  # default duration without a record [s]
 METHODS = ("dopri5",)  # the rocking integrator (event-located Dormand-Prince 5(4))
-# seconds a first run compiles the kernels (2-core machine, empty cache; docs/dev/first-runs.md)
-COMPILE_ABOUT_S = 6.5
+# seconds a first run compiles the kernels (2-core machine, empty cache): a middling hour's,
+# 1.8x the fast hour's in the family table of docs/dev/first-runs.md
+COMPILE_ABOUT_S = 4.0
 
 
 def kernels_cached(model) -> bool:

@@ -93,3 +93,60 @@ def test_the_event_loop_compiles_without_its_callees(compile_alone):
     names = ["evaluate", "evaluate_at", "settle", "settle_contacts", "initial_modes"]
     assert [r[0] for r in rows] == names
     assert all(r[1:] == ["0", "False"] for r in rows), rows
+
+
+def _slow_warm(calls: list, fail: bool = False):
+    import time
+
+    def warm(path, law):
+        time.sleep(0.2)
+        calls.append((path, law))
+        if fail:
+            raise RuntimeError("warm-up failed")
+        return 0.2
+
+    return warm
+
+
+def _warm_threads() -> list:
+    import threading
+
+    return [t for t in threading.enumerate() if t.name == "nsdyn-warm-pairs"]
+
+
+def test_the_warm_up_beside_a_build_is_waited_for_even_when_the_build_fails(monkeypatch):
+    # a scene's first run compiles the pair kernels on a thread while its model builds: the
+    # build's error comes out only once the thread has ended (no compiling thread at exit)
+    from nsdyn.models.isolated import building3d_pairs_run as bpr
+
+    calls: list = []
+    monkeypatch.setattr(bpr, "warm_pairs", _slow_warm(calls))
+    monkeypatch.setattr("nsdyn._numba_cache.all_cached", lambda ks: False)
+    with pytest.raises(ValueError, match="bad frame"):
+        with bpr.warming("dense", "switch"):
+            raise ValueError("bad frame")
+    assert calls == [("dense", "switch")] and not _warm_threads()
+    with bpr.warming("sparse", "arctan") as times:
+        pass  # the build ends before the warm-up: its wait is the warm-up's rest
+    assert calls[-1] == ("sparse", "arctan") and times["compile_s"] == 0.2
+    assert 0.0 < times["wait_s"] and not _warm_threads()
+
+
+def test_the_warm_up_s_error_is_raised_and_nothing_starts_when_not_needed(monkeypatch):
+    from nsdyn.models.isolated import building3d_pairs_run as bpr
+
+    calls: list = []
+    monkeypatch.setattr(bpr, "warm_pairs", _slow_warm(calls, fail=True))
+    monkeypatch.setattr("nsdyn._numba_cache.all_cached", lambda ks: False)
+    with pytest.raises(RuntimeError, match="warm-up failed"):
+        with bpr.warming("dense", "arctan"):
+            pass
+    # a law the path does not take (the run's check names it) or kernels already cached
+    for path, law in (("dense", "coulomb"), ("sparse", "switch")):
+        with bpr.warming(path, law) as times:
+            pass
+        assert times == {"compile_s": 0.0, "wait_s": 0.0}
+    monkeypatch.setattr("nsdyn._numba_cache.all_cached", lambda ks: True)
+    with bpr.warming("dense", "arctan"):
+        pass
+    assert calls == [("dense", "arctan")]
