@@ -291,6 +291,10 @@ TABLE_NAMES = (
     "sys.assemble",
     "sys.solve_small",
     "sys.pinv",
+    "pairs.factor_real",
+    "pairs.factor_complex",
+    "pairs.solve_real",
+    "pairs.solve_complex",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration
@@ -428,30 +432,34 @@ def fill_table(callees) -> None:
             fill(c.name, c.address())
 
 
-def compile_beside(loop, argtypes: tuple, callees, helper: str) -> None:
+def compile_beside(loop, argtypes: tuple, callees, helper: str, here=()) -> None:
     """Compile ``loop`` (a numba dispatcher that calls ``callees`` by address) for the numba
     types ``argtypes`` unless it and its callees are in numba's cache: where a helper process
     may run (:func:`nsdyn._numba_cache.helper_enabled`), ``helper`` ("module:function")
-    compiles the callees meanwhile, and this process then loads them from the cache (what the
-    helper does not deliver this process compiles itself when it takes the addresses)."""
+    compiles the callees meanwhile but those of ``here``, which this process compiles after
+    the loop, and this process then loads the helper's from the cache (what the helper does
+    not deliver this process compiles itself when it takes the addresses)."""
     from nsdyn._numba_cache import Helper, all_cached, helper_enabled
 
     kernels = [c.kernel for c in callees]
     if helper_enabled() and not all_cached([loop, *kernels]):
         with Helper(helper) as h:
             loop.compile(argtypes)
-            h.wait_for(kernels)
+            for c in here:
+                c.compiled()
+            h.wait_for([c.kernel for c in callees if c not in here])
 
 
-def run_split(loop, args: tuple, callees, helper: str):
+def run_split(loop, args: tuple, callees, helper: str, here=()):
     """``loop(*args)`` with the addresses of its ``callees`` (:class:`Callee`) in the table; a
-    first compilation (for ``args``' types) shared with a helper (:func:`compile_beside`)."""
+    first compilation (for ``args``' types) shared with a helper (:func:`compile_beside`;
+    ``here``: the callees this process compiles)."""
     from numba import typeof
 
     from nsdyn._numba_cache import all_cached
 
     if not all_cached([loop]):
-        compile_beside(loop, tuple(typeof(a) for a in args), callees, helper)
+        compile_beside(loop, tuple(typeof(a) for a in args), callees, helper, here)
     fill_table(callees)
     return loop(*args)
 

@@ -103,6 +103,13 @@ def _solve(sig, Jx, S, piv, r, z, w):
             z[n + a] = w[a]
 
 
+# the Radau loop calls them by address (rows "pairs.factor_real", ...): one compilation each
+# for real and for complex σ, where the loop linked copies of them and of their LU
+for _row, _kernel in (("pairs.factor_real", _factor), ("pairs.factor_complex", _factor),
+                      ("pairs.solve_real", _solve), ("pairs.solve_complex", _solve)):  # fmt: skip
+    ka.tslot(_row, _kernel, "nsdyn.models.isolated.pairs_compile:callees")
+
+
 @ka.compiled_only
 def _jacobian(t, y, f0, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, Jx, f1):
     """Jx: the rows of q̈ and ṡ of f by forward differences at (t, y), f0 = f(t, y) (f1:
@@ -199,8 +206,9 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             need_jac = False
             lu_h = -1.0
         if abs(hh - lu_h) > 1e-9 * hh:
-            ok = _factor(GAMMA / hh, Jx, Sr, pr)
-            ok = _factor(complex(ALPHA_C, -BETA_C) / hh, Jx, Sc, pc) and ok
+            ok = ka.tcall("pairs.factor_real", (GAMMA / hh, Jx, Sr, pr))
+            sig_c = complex(ALPHA_C, -BETA_C) / hh
+            ok = ka.tcall("pairs.factor_complex", (sig_c, Jx, Sc, pc)) and ok
             lu_h = hh
         for k in range(N):  # (the internal slips: displacements)
             sc[k] = (cfg[kr.C_ATOLV] if n <= k < 2 * n else cfg[kr.C_ATOLQ]) + rtol * abs(y[k])
@@ -239,10 +247,11 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
                 rw[0, k] = g0 - GAMMA / hh * W[0, k]
                 rw[1, k] = g1 - (ALPHA_C * W[1, k] + BETA_C * W[2, k]) / hh
                 rw[2, k] = g2 - (-BETA_C * W[1, k] + ALPHA_C * W[2, k]) / hh
-            _solve(GAMMA / hh, Jx, Sr, pr, rw[0], dW[0], wr)
+            ka.tcall("pairs.solve_real", (GAMMA / hh, Jx, Sr, pr, rw[0], dW[0], wr))
             for k in range(N):
                 cr[k] = complex(rw[1, k], rw[2, k])
-            _solve(complex(ALPHA_C, -BETA_C) / hh, Jx, Sc, pc, cr, cz, wc)
+            sig_c = complex(ALPHA_C, -BETA_C) / hh
+            ka.tcall("pairs.solve_complex", (sig_c, Jx, Sc, pc, cr, cz, wc))
             for k in range(N):
                 dW[1, k] = cz[k].real
                 dW[2, k] = cz[k].imag
@@ -274,7 +283,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         # error estimate (RADAU5): (γ/h I − J)⁻¹ (f(y) + Σ e_i Z_i / h)
         for k in range(N):
             f1[k] = f0[k] + (E1 * Z[0, k] + E2 * Z[1, k] + E3 * Z[2, k]) / hh
-        _solve(GAMMA / hh, Jx, Sr, pr, f1, err, wr)
+        ka.tcall("pairs.solve_real", (GAMMA / hh, Jx, Sr, pr, f1, err, wr))
         en = 0.0
         for k in range(N):
             ynew[k] = y[k] + Z[2, k]

@@ -55,28 +55,53 @@ def callees() -> list:
     (``"pairs.settle"``), the settling of unilateral contacts (``"pairs.settle_contacts"``)
     and the switch law's initial modes (``"pairs.initial_modes"``, called by the loops'
     start, which the Radau loop shares without the switch law), declared for the types of
-    :func:`tiny_args`, each returning a status (int64). Once per process."""
+    :func:`tiny_args`, each returning a status (int64); then the Radau loop's factorisation
+    and solve of σ I − J for real and complex σ (``"pairs.factor_real"``,
+    ``"pairs.factor_complex"``: True when factored; ``"pairs.solve_real"``,
+    ``"pairs.solve_complex"``), declared for the arrays of :func:`loop_arrays`. Once per
+    process."""
+    import numpy as np
     from numba import typeof, types
 
     from nsdyn._kaddress import Callee
     from nsdyn.models.isolated import _kpairs as kq
     from nsdyn.models.isolated import _kpairscontact as kc
+    from nsdyn.models.isolated import _kpairsradau as kqa
     from nsdyn.models.isolated import _kpairsrun as kqr
 
     force, settle, outs = (tuple(typeof(a) for a in args) for args in tiny_args())
+    real, cplx = (typeof(np.zeros(2, dtype=d)) for d in (np.float64, np.complex128))
+    mat_r, mat_c = real.copy(ndim=2), cplx.copy(ndim=2)  # C-contiguous, as loop_arrays
+    piv = typeof(np.zeros(2, dtype=np.int64))
     return [
         Callee("pairs.evaluate", kq.evaluate, force, types.int64),
         Callee("pairs.outputs", kqr.outputs, outs, types.int64),
         Callee("pairs.settle", kqr.settle, settle, types.int64),
         Callee("pairs.settle_contacts", kc.settle_contacts, settle, types.int64),
         Callee("pairs.initial_modes", kqr.initial_modes, settle, types.int64),
-    ]
+        Callee("pairs.factor_real", kqa._factor, (types.float64, mat_r, mat_r, piv),
+               types.boolean),
+        Callee("pairs.factor_complex", kqa._factor, (types.complex128, mat_r, mat_c, piv),
+               types.boolean),
+        Callee("pairs.solve_real", kqa._solve, (types.float64, mat_r, mat_r, piv, real, real,
+                                                real), types.none),
+        Callee("pairs.solve_complex", kqa._solve, (types.complex128, mat_r, mat_c, piv, cplx,
+                                                   cplx, cplx), types.none),
+    ]  # fmt: skip
 
 
 def _needed(events: bool) -> list:
     """The callees a run calls: the force kernel and the outputs, and on the loop with located
-    events the settlings (the switch law's stick, unilateral contacts) and the initial modes."""
-    return callees() if events else callees()[:2]
+    events the settlings (the switch law's stick, unilateral contacts) and the initial modes,
+    on the Radau loop its factorisations and solves (:func:`_here`)."""
+    return callees()[:5] if events else callees()[:2] + _here(False)
+
+
+def _here(events: bool) -> list:
+    """The callees this process compiles after the loop while the helper compiles the others:
+    the Radau loop's factorisations and solves (their compilation was the loop's before they
+    were called by address: the two shares stay as they were)."""
+    return [] if events else callees()[5:]
 
 
 def kernels(events: bool) -> list:
@@ -128,7 +153,8 @@ def run_loop(loop, args: tuple):
 
     events = loop is not kqa.integrate
     target = "helper_part" if events else "helper_force"
-    return run_split(loop, args, _needed(events), f"nsdyn.models.isolated.pairs_compile:{target}")
+    return run_split(loop, args, _needed(events), f"nsdyn.models.isolated.pairs_compile:{target}",
+                     _here(events))  # fmt: skip
 
 
 def helper_part() -> None:
@@ -141,5 +167,5 @@ def helper_part() -> None:
 def helper_force() -> None:
     """The helper's share of a first compilation of the Radau IIA loop: the force kernel and
     the outputs."""
-    for c in _needed(False):
+    for c in callees()[:2]:
         c.compiled()

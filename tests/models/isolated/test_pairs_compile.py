@@ -23,7 +23,10 @@ from nsdyn.models.isolated.pairs import from_deck, simulate_pairs
 
 JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
 NAMES = ["pairs.evaluate", "pairs.outputs", "pairs.settle", "pairs.settle_contacts",
-         "pairs.initial_modes"]  # fmt: skip
+         "pairs.initial_modes", "pairs.factor_real", "pairs.factor_complex", "pairs.solve_real",
+         "pairs.solve_complex"]  # fmt: skip
+RADAU = NAMES[:2] + NAMES[5:]  # the Radau loop's: the force kernel, outputs, LU of σ I - J
+EVENTS = NAMES[:5]  # the event loop's: the force kernel, outputs, settlings, initial modes
 
 
 def test_the_pair_rows_are_registered_and_declared_for_the_loops():
@@ -31,29 +34,33 @@ def test_the_pair_rows_are_registered_and_declared_for_the_loops():
     assert [c.name for c in pc.callees()] == NAMES
     assert set(NAMES) <= set(ka.TABLE_NAMES) and set(NAMES) <= set(ka.TSLOTS)
     assert all(ka.DECLARED[c.name] == (c.ret, c.args) for c in pc.callees())
-    # what a run compiles: the Radau loop, the force kernel and the outputs; the event loop
-    # and all the callees
-    assert pc.kernels(False) == [kqa.integrate, *(c.kernel for c in pc.callees()[:2])]
-    assert pc.kernels(True) == [kqr.integrate, *(c.kernel for c in pc.callees())]
+    # what a run compiles: the Radau loop, the force kernel, the outputs and the factorisation
+    # and solve (for real and complex σ); the event loop and the settlings and initial modes
+    byname = {c.name: c.kernel for c in pc.callees()}
+    assert pc.kernels(False) == [kqa.integrate, *(byname[n] for n in RADAU)]
+    assert pc.kernels(True) == [kqr.integrate, *(byname[n] for n in EVENTS)]
+    assert [byname[n] for n in NAMES[5:]] == [kqa._factor, kqa._factor, kqa._solve, kqa._solve]
 
 
 @pytest.mark.skipif(not JIT or PLAIN, reason="the table is filled only for compiled code")
-def test_a_radau_run_fills_only_the_force_kernel_and_outputs_and_an_event_run_all():
+def test_a_radau_run_and_an_event_run_fill_only_the_rows_of_their_callees():
     # the Radau loop never settles stick or contacts, nor starts the switch law's modes: its
-    # run takes no address of a settling or of the initial modes
+    # run takes no address of a settling or of the initial modes; the event loop takes none
+    # of the Radau loop's factorisations
     deck = rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [0.0, 4.0]],
                       Bearing(Friction(0.05), radius=2.0))  # fmt: skip
     ps = from_deck(deck)
     orbit = {"f": 0.5, "ax": 2.0, "ay": 1.0, "phase_y_deg": 90.0}
     saved = ka.TABLE.copy()
     try:
-        for name in NAMES[2:]:
+        for name in NAMES:
             ka.TABLE[ka.index(name)] = 0
         simulate_pairs(ps, orbit, law="arctan", t_end=0.2)
-        assert all(ka.filled(n) for n in NAMES[:2])
-        assert not any(ka.filled(n) for n in NAMES[2:])
+        assert [ka.filled(n) for n in NAMES] == [n in RADAU for n in NAMES]
+        for name in NAMES:
+            ka.TABLE[ka.index(name)] = 0
         r = simulate_pairs(ps, orbit, law="switch", t_end=0.2)
-        assert all(ka.filled(n) for n in NAMES)
+        assert [ka.filled(n) for n in NAMES] == [n in EVENTS for n in NAMES]
         assert np.all(np.isfinite(r.q))
     finally:
         ka.TABLE[:] = saved
@@ -81,6 +88,40 @@ linked = str({l.name for l in getattr(lib, "_linking_libraries", ())})
 for k in (kq.evaluate, kq.evaluate_at, kqr.settle, kc.settle_contacts, kqr.initial_modes):
     print(k.py_func.__qualname__, len(k.signatures), k.py_func.__qualname__ in linked)
 """
+
+
+_RADAU_ALONE = """
+import numpy as np
+from numba import typeof
+from nsdyn._klinalg import lu_factor, lu_solve
+from nsdyn.models.isolated import _kpairsradau as kqa, deck as d, pairs_compile as pc
+from nsdyn.models.isolated.bearings import Bearing, Friction
+from nsdyn.models.isolated.pairs import _kernel_inputs, from_deck
+ps = from_deck(d.rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [0.0, 4.0]],
+                            Bearing(Friction(0.05), radius=2.0)))
+sp = _kernel_inputs(ps, "arctan", 1e4, 1e-4, None, 20.0, 1.0)
+gk, gp, tab, dur = d.pack_ground({"f": 1.0, "ax": 1.0})
+t_eval, hmax = d.run_grid(gk, gp, dur, 0.1, None, None, None)
+b = d.run_buffers("arctan", 1e4, 1e-6, (1e-8, 1e-8), hmax, 1000, t_eval.size, 3, 2 * ps.n)
+args = (np.zeros(2 * ps.n), t_eval, *b[:2], ps.operators(), ps.bearing_table(), sp, gk, gp,
+        tab, *b[2:], pc.loop_arrays(kqa.integrate, 2 * ps.n, ps.n, 3))
+pc.callees()
+kqa.integrate.compile(tuple(typeof(a) for a in args))
+lib = next(iter(kqa.integrate.overloads.values())).library
+linked = str({l.name for l in getattr(lib, "_linking_libraries", ())})
+for k in (kqa._factor, kqa._solve, lu_factor, lu_solve):
+    print(k.py_func.__qualname__, len(k.signatures), k.py_func.__qualname__ in linked)
+"""
+
+
+@pytest.mark.slow  # compiles the Radau loop of a pair system into an empty cache (~10 s)
+@pytest.mark.skipif(not JIT or PLAIN, reason="calls by address only in compiled code")
+def test_the_radau_loop_compiles_without_its_factorisation_and_solve(compile_alone):
+    # a fresh process with an empty cache compiles the Radau loop alone: the factorisation and
+    # solve of σ I - J (nor the LU they call) are neither compiled with it nor linked into it
+    rows = compile_alone(_RADAU_ALONE)
+    assert [r[0] for r in rows] == ["_factor", "_solve", "lu_factor", "lu_solve"]
+    assert all(r[1:] == ["0", "False"] for r in rows), rows
 
 
 @pytest.mark.slow  # compiles the event loop of a pair system into an empty cache (~25 s)
