@@ -295,6 +295,8 @@ TABLE_NAMES = (
     "pairs.factor_complex",
     "pairs.solve_real",
     "pairs.solve_complex",
+    "pairs.proportional_split",
+    "pairs.least_norm",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration

@@ -288,13 +288,14 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
     Gm = G[:m, :m]
     if m > nr and stick_basis(modes, row, D2, nr, m, ws) < m - nr:
         luok[0] = 0  # redundant stick rows: their forces in proportion to λ
-        if not proportional_split(Q, nr, m, ws, int(sp[S_CONTACT]) == kp.CONTACT_UNILATERAL):
+        uni = int(sp[S_CONTACT]) == kp.CONTACT_UNILATERAL
+        if not ka.tcall("pairs.proportional_split", (Q, nr, m, ws, uni)):
             return ST_SINGULAR
     else:
         luok[0] = 1 if lu_factor(Gm, piv[:m], PIVOT_RTOL) else 0
         if luok[0] == 1:
             lu_solve(Gm, piv[:m], r[:m])
-        elif not least_norm(G2[:m, :m], r2[:m], r[:m]):
+        elif not ka.tcall("pairs.least_norm", (G2[:m, :m], r2[:m], r[:m])):
             return ST_SINGULAR
     for i in range(ni):  # λ = Q ξ and the bearings' multiplier forces λ_i c_i (+ τ_i) in f0
         li = 0.0
@@ -456,6 +457,13 @@ def least_norm(G, r, out):
             s += G[a, b] * out[b]
         res = max(res, abs(s))
     return math.isfinite(res) and res <= CONSISTENT_RTOL * (m * ng * ny + nr)
+
+
+# the force kernel's two rarer solves by address (declared by pairs_compile): linked, the force
+# kernel held a copy of each, with their LU and pseudo-inverse, optimised by LLVM again
+_DECLARE = "nsdyn.models.isolated.pairs_compile:callees"
+ka.tslot("pairs.proportional_split", proportional_split, _DECLARE)
+ka.tslot("pairs.least_norm", least_norm, _DECLARE)
 
 
 @ka.compiled_only

@@ -58,7 +58,9 @@ def callees() -> list:
     :func:`tiny_args`, each returning a status (int64); then the Radau loop's factorisation
     and solve of σ I − J for real and complex σ (``"pairs.factor_real"``,
     ``"pairs.factor_complex"``: True when factored; ``"pairs.solve_real"``,
-    ``"pairs.solve_complex"``), declared for the arrays of :func:`loop_arrays`. Once per
+    ``"pairs.solve_complex"``), declared for the arrays of :func:`loop_arrays`; last the
+    force kernel's two rarer solves (``"pairs.proportional_split"`` with redundant stick rows,
+    ``"pairs.least_norm"`` when the LU fails), each returning True when solved. Once per
     process."""
     import numpy as np
     from numba import typeof, types
@@ -87,21 +89,32 @@ def callees() -> list:
                                                 real), types.none),
         Callee("pairs.solve_complex", kqa._solve, (types.complex128, mat_r, mat_c, piv, cplx,
                                                    cplx, cplx), types.none),
+        Callee("pairs.proportional_split", kq.proportional_split, (mat_r, types.int64,
+               types.int64, typeof(kq.workspace(2, 1)), types.boolean), types.boolean),
+        Callee("pairs.least_norm", kq.least_norm, (types.Array(types.float64, 2, "A"), real,
+               real), types.boolean),
     ]  # fmt: skip
 
 
+def _force() -> list:
+    """The force kernel, the solves it calls by address and the outputs: the helper's share
+    of a first compilation of the Radau loop."""
+    c = callees()
+    return [c[0], *c[9:], c[1]]
+
+
 def _needed(events: bool) -> list:
-    """The callees a run calls: the force kernel and the outputs, and on the loop with located
-    events the settlings (the switch law's stick, unilateral contacts) and the initial modes,
-    on the Radau loop its factorisations and solves (:func:`_here`)."""
-    return callees()[:5] if events else callees()[:2] + _here(False)
+    """The callees a run calls: the force kernel (with its solves) and the outputs, and on the
+    loop with located events the settlings (the switch law's stick, unilateral contacts) and
+    the initial modes, on the Radau loop its factorisations and solves (:func:`_here`)."""
+    return _force() + (callees()[2:5] if events else _here(False))
 
 
 def _here(events: bool) -> list:
     """The callees this process compiles after the loop while the helper compiles the others:
     the Radau loop's factorisations and solves (their compilation was the loop's before they
     were called by address: the two shares stay as they were)."""
-    return [] if events else callees()[5:]
+    return [] if events else callees()[5:9]
 
 
 def kernels(events: bool) -> list:
@@ -159,13 +172,13 @@ def run_loop(loop, args: tuple):
 
 def helper_part() -> None:
     """The helper's share of a first compilation of the loop with located events: the force
-    kernel, the outputs, both settlings and the initial modes."""
-    for c in callees():
+    kernel with its solves, the outputs, both settlings and the initial modes."""
+    for c in _needed(True):
         c.compiled()
 
 
 def helper_force() -> None:
-    """The helper's share of a first compilation of the Radau IIA loop: the force kernel and
-    the outputs."""
-    for c in callees()[:2]:
+    """The helper's share of a first compilation of the Radau IIA loop: the force kernel with
+    its solves, and the outputs."""
+    for c in _force():
         c.compiled()

@@ -16,6 +16,7 @@ import pytest
 from nsdyn import _kaddress as ka
 from nsdyn._numba_cache import PLAIN
 from nsdyn.models.isolated import Bearing, Friction, rigid_deck
+from nsdyn.models.isolated import _kpairs as kq
 from nsdyn.models.isolated import _kpairsradau as kqa
 from nsdyn.models.isolated import _kpairsrun as kqr
 from nsdyn.models.isolated import pairs_compile as pc
@@ -24,9 +25,11 @@ from nsdyn.models.isolated.pairs import from_deck, simulate_pairs
 JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
 NAMES = ["pairs.evaluate", "pairs.outputs", "pairs.settle", "pairs.settle_contacts",
          "pairs.initial_modes", "pairs.factor_real", "pairs.factor_complex", "pairs.solve_real",
-         "pairs.solve_complex"]  # fmt: skip
-RADAU = NAMES[:2] + NAMES[5:]  # the Radau loop's: the force kernel, outputs, LU of σ I - J
-EVENTS = NAMES[:5]  # the event loop's: the force kernel, outputs, settlings, initial modes
+         "pairs.solve_complex", "pairs.proportional_split", "pairs.least_norm"]  # fmt: skip
+# the force kernel with its two solves by address, and the outputs: both loops call them
+FORCE = ["pairs.evaluate", "pairs.proportional_split", "pairs.least_norm", "pairs.outputs"]
+RADAU = FORCE + NAMES[5:9]  # the Radau loop's: and the LU of σ I - J
+EVENTS = FORCE + NAMES[2:5]  # the event loop's: and the settlings, the initial modes
 
 
 def test_the_pair_rows_are_registered_and_declared_for_the_loops():
@@ -39,7 +42,8 @@ def test_the_pair_rows_are_registered_and_declared_for_the_loops():
     byname = {c.name: c.kernel for c in pc.callees()}
     assert pc.kernels(False) == [kqa.integrate, *(byname[n] for n in RADAU)]
     assert pc.kernels(True) == [kqr.integrate, *(byname[n] for n in EVENTS)]
-    assert [byname[n] for n in NAMES[5:]] == [kqa._factor, kqa._factor, kqa._solve, kqa._solve]
+    assert [byname[n] for n in NAMES[5:9]] == [kqa._factor, kqa._factor, kqa._solve, kqa._solve]
+    assert [byname[n] for n in NAMES[9:]] == [kq.proportional_split, kq.least_norm]
 
 
 @pytest.mark.skipif(not JIT or PLAIN, reason="the table is filled only for compiled code")
@@ -112,6 +116,27 @@ linked = str({l.name for l in getattr(lib, "_linking_libraries", ())})
 for k in (kqa._factor, kqa._solve, lu_factor, lu_solve):
     print(k.py_func.__qualname__, len(k.signatures), k.py_func.__qualname__ in linked)
 """
+
+
+_FORCE_ALONE = """
+from nsdyn._klinalg import lu_factor, pinv_small
+from nsdyn.models.isolated import _kpairs as kq, pairs_compile as pc
+cres = pc.callees()[0].compiled()  # the force kernel, for the loops' types
+linked = str({l.name for l in getattr(cres.library, "_linking_libraries", ())})
+for k in (kq.proportional_split, kq.least_norm, lu_factor, pinv_small):
+    print(k.py_func.__qualname__, len(k.signatures), k.py_func.__qualname__ in linked)
+"""
+
+
+@pytest.mark.slow  # compiles the force kernel of a pair system into an empty cache (~8 s)
+@pytest.mark.skipif(not JIT or PLAIN, reason="calls by address only in compiled code")
+def test_the_force_kernel_compiles_without_its_two_rarer_solves(compile_alone):
+    # the proportional split (redundant stick rows) and the least-norm solve are called by
+    # address: compiling the force kernel alone compiles neither, nor the pseudo-inverse;
+    # the LU it calls itself is compiled
+    rows = compile_alone(_FORCE_ALONE)
+    assert [r[0] for r in rows] == ["proportional_split", "least_norm", "lu_factor", "pinv_small"]
+    assert [r[1] for r in rows] == ["0", "0", "1", "0"], rows
 
 
 @pytest.mark.slow  # compiles the Radau loop of a pair system into an empty cache (~10 s)
