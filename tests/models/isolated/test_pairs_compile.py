@@ -70,52 +70,43 @@ def test_a_radau_run_and_an_event_run_fill_only_the_rows_of_their_callees():
         ka.TABLE[:] = saved
 
 
-_LOOP_ALONE = """
-import numpy as np
-from numba import typeof
-from nsdyn.models.isolated import _kpairs as kq, _kpairscontact as kc, _kpairsrun as kqr
-from nsdyn.models.isolated import deck as d, pairs_compile as pc
-from nsdyn.models.isolated.bearings import Bearing, Friction
-from nsdyn.models.isolated.pairs import _kernel_inputs, from_deck
-ps = from_deck(d.rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [0.0, 4.0]],
-                            Bearing(Friction(0.05), radius=2.0)))
-sp = _kernel_inputs(ps, "switch", 1e4, 1e-4, None, 20.0, 1.0)
-gk, gp, tab, dur = d.pack_ground({"f": 1.0, "ax": 1.0})
-t_eval, hmax = d.run_grid(gk, gp, dur, 0.1, None, None, None)
-b = d.run_buffers("switch", 1e4, 1e-6, (1e-8, 1e-8), hmax, 1000, t_eval.size, 3, 2 * ps.n)
-args = (np.zeros(2 * ps.n), t_eval, *b[:2], ps.operators(), ps.bearing_table(), sp, gk, gp,
-        tab, *b[2:], pc.loop_arrays(kqr.integrate, 2 * ps.n, ps.n, 3))
-pc.callees()
-kqr.integrate.compile(tuple(typeof(a) for a in args))
-lib = next(iter(kqr.integrate.overloads.values())).library
-linked = str({l.name for l in getattr(lib, "_linking_libraries", ())})
-for k in (kq.evaluate, kq.evaluate_at, kqr.settle, kc.settle_contacts, kqr.initial_modes):
-    print(k.py_func.__qualname__, len(k.signatures), k.py_func.__qualname__ in linked)
-"""
-
-
-_RADAU_ALONE = """
+_ALONE = """
 import numpy as np
 from numba import typeof
 from nsdyn._klinalg import lu_factor, lu_solve
+from nsdyn.models.isolated import _kpairs as kq, _kpairscontact as kc, _kpairsrun as kqr
 from nsdyn.models.isolated import _kpairsradau as kqa, deck as d, pairs_compile as pc
 from nsdyn.models.isolated.bearings import Bearing, Friction
 from nsdyn.models.isolated.pairs import _kernel_inputs, from_deck
 ps = from_deck(d.rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [0.0, 4.0]],
                             Bearing(Friction(0.05), radius=2.0)))
-sp = _kernel_inputs(ps, "arctan", 1e4, 1e-4, None, 20.0, 1.0)
+sp = _kernel_inputs(ps, LAW, 1e4, 1e-4, None, 20.0, 1.0)
 gk, gp, tab, dur = d.pack_ground({"f": 1.0, "ax": 1.0})
 t_eval, hmax = d.run_grid(gk, gp, dur, 0.1, None, None, None)
-b = d.run_buffers("arctan", 1e4, 1e-6, (1e-8, 1e-8), hmax, 1000, t_eval.size, 3, 2 * ps.n)
+b = d.run_buffers(LAW, 1e4, 1e-6, (1e-8, 1e-8), hmax, 1000, t_eval.size, 3, 2 * ps.n)
 args = (np.zeros(2 * ps.n), t_eval, *b[:2], ps.operators(), ps.bearing_table(), sp, gk, gp,
-        tab, *b[2:], pc.loop_arrays(kqa.integrate, 2 * ps.n, ps.n, 3))
+        tab, *b[2:], pc.loop_arrays(LOOP, 2 * ps.n, ps.n, 3))
 pc.callees()
-kqa.integrate.compile(tuple(typeof(a) for a in args))
-lib = next(iter(kqa.integrate.overloads.values())).library
+LOOP.compile(tuple(typeof(a) for a in args))
+lib = next(iter(LOOP.overloads.values())).library
 linked = str({l.name for l in getattr(lib, "_linking_libraries", ())})
-for k in (kqa._factor, kqa._solve, lu_factor, lu_solve):
+for k in KERNELS:
     print(k.py_func.__qualname__, len(k.signatures), k.py_func.__qualname__ in linked)
 """
+
+
+def _loop_alone(law: str, loop: str, kernels: str) -> str:
+    """The code of a process that compiles the pair loop ``loop`` alone (a rigid deck on three
+    friction pendulums, ``law``) and prints, for each kernel of ``kernels``, its name, how
+    many signatures it has compiled and whether the loop's code links it."""
+    return _ALONE.replace("LAW", repr(law)).replace("LOOP", loop).replace("KERNELS", kernels)
+
+
+_LOOP_ALONE = _loop_alone("switch", "kqr.integrate",
+                          "(kq.evaluate, kq.evaluate_at, kqr.settle, kc.settle_contacts, "
+                          "kqr.initial_modes)")  # fmt: skip
+_RADAU_ALONE = _loop_alone("arctan", "kqa.integrate",
+                           "(kqa._factor, kqa._solve, lu_factor, lu_solve)")  # fmt: skip
 
 
 _FORCE_ALONE = """
