@@ -96,25 +96,33 @@ def callees() -> list:
     ]  # fmt: skip
 
 
-def _force() -> list:
-    """The force kernel, the solves it calls by address and the outputs: the helper's share
-    of a first compilation of the Radau loop."""
-    c = callees()
-    return [c[0], *c[9:], c[1]]
+# the rows of :func:`callees` by who calls them: the force kernel with the solves it calls by
+# address and the outputs (both loops), the settlings and initial modes (the loop with located
+# events), the factorisations and solves of σ I − J (the Radau loop)
+FORCE_ROWS = ("pairs.evaluate", "pairs.proportional_split", "pairs.least_norm", "pairs.outputs")
+EVENT_ROWS = ("pairs.settle", "pairs.settle_contacts", "pairs.initial_modes")
+RADAU_ROWS = ("pairs.factor_real", "pairs.factor_complex", "pairs.solve_real",
+              "pairs.solve_complex")  # fmt: skip
+
+
+def _rows(names) -> list:
+    """The callees of ``names``, in that order."""
+    by_name = {c.name: c for c in callees()}
+    return [by_name[n] for n in names]
 
 
 def _needed(events: bool) -> list:
     """The callees a run calls: the force kernel (with its solves) and the outputs, and on the
     loop with located events the settlings (the switch law's stick, unilateral contacts) and
     the initial modes, on the Radau loop its factorisations and solves (:func:`_here`)."""
-    return _force() + (callees()[2:5] if events else _here(False))
+    return _rows(FORCE_ROWS + (EVENT_ROWS if events else RADAU_ROWS))
 
 
 def _here(events: bool) -> list:
     """The callees this process compiles after the loop while the helper compiles the others:
     the Radau loop's factorisations and solves (their compilation was the loop's before they
     were called by address: the two shares stay as they were)."""
-    return [] if events else callees()[5:9]
+    return [] if events else _rows(RADAU_ROWS)
 
 
 def kernels(events: bool) -> list:
@@ -180,5 +188,5 @@ def helper_part() -> None:
 def helper_force() -> None:
     """The helper's share of a first compilation of the Radau IIA loop: the force kernel with
     its solves, and the outputs."""
-    for c in _force():
+    for c in _rows(FORCE_ROWS):
         c.compiled()
