@@ -297,6 +297,10 @@ TABLE_NAMES = (
     "pairs.solve_complex",
     "pairs.proportional_split",
     "pairs.least_norm",
+    "pairs.stick_basis",
+    "pairs.begin",
+    "pairs.emit",
+    "pairs.track_stops",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration

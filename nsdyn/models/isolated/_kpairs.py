@@ -286,7 +286,7 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
         for b in range(m):
             G2[a, b] = G[a, b]
     Gm = G[:m, :m]
-    if m > nr and stick_basis(modes, row, D2, nr, m, ws) < m - nr:
+    if m > nr and ka.tcall("pairs.stick_basis", (modes, row, D2, nr, m, ws)) < m - nr:
         luok[0] = 0  # redundant stick rows: their forces in proportion to λ
         uni = int(sp[S_CONTACT]) == kp.CONTACT_UNILATERAL
         if not ka.tcall("pairs.proportional_split", (Q, nr, m, ws, uni)):
@@ -459,11 +459,14 @@ def least_norm(G, r, out):
     return math.isfinite(res) and res <= CONSISTENT_RTOL * (m * ng * ny + nr)
 
 
-# the force kernel's two rarer solves by address (declared by pairs_compile): linked, the force
-# kernel held a copy of each, with their LU and pseudo-inverse, optimised by LLVM again
+# the force kernel's two rarer solves and the stick basis by address (declared by
+# pairs_compile): linked, the force kernel held a copy of each, with their LU, pseudo-inverse
+# and SVD, optimised by LLVM again. The stick rows (the basis and the proportional split) exist
+# only with the switch law: a run of the regularised law takes neither's address
 _DECLARE = "nsdyn.models.isolated.pairs_compile:callees"
 ka.tslot("pairs.proportional_split", proportional_split, _DECLARE)
 ka.tslot("pairs.least_norm", least_norm, _DECLARE)
+ka.tslot("pairs.stick_basis", stick_basis, _DECLARE)
 
 
 @ka.compiled_only

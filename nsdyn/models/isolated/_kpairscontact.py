@@ -190,3 +190,8 @@ def track_stops(t, y, op, bp, ws, stops):
                 stops[i, kr.P_TFIRST] = t
             stops[i, kr.P_PEAK] = max(stops[i, kr.P_PEAK], d)
             stops[i, kr.P_NSTEPS] += 1
+
+
+# by address (declared by pairs_compile): the Radau loop tracks the rim contacts at every step
+# and the output step at every output; linked, each held a copy, optimised by LLVM again
+ka.tslot("pairs.track_stops", track_stops, "nsdyn.models.isolated.pairs_compile:callees")

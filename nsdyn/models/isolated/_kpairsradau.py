@@ -32,7 +32,6 @@ from numba import njit
 from nsdyn import _kaddress as ka
 from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn.models.isolated import _kpairs as kq
-from nsdyn.models.isolated import _kpairscontact as kc
 from nsdyn.models.isolated import _kpairsrun as kqr
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
@@ -140,8 +139,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     ni = modes.shape[0]
     t = t_eval[0]
     ws, out, y = wk[0], wk[1], wk[2]
-    st = kqr.begin(y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV,
-                    info, ws, out, y)  # fmt: skip
+    a = (y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV, info, ws, out, y)
+    st = ka.tcall("pairs.begin", a)
     if st != kr.ST_OK:
         return st
     lam = out[1]
@@ -340,8 +339,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         t_new = t + s_end * hh
         while iout < nt and t_eval[iout] <= t_new:
             krad._dense(y, Z, (t_eval[iout] - t) / hh, ys)
-            kqr.emit(t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, iout, X, NO,
-                     FF, FR, FO, MO, stops)  # fmt: skip
+            ka.tcall("pairs.emit", (t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws,
+                                    out, iout, X, NO, FF, FR, FO, MO, stops))  # fmt: skip
             iout += 1
         if s_end < 1.0:
             krad._dense(y, Z, s_end, ys)
@@ -358,7 +357,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         have_prev = s_end >= 1.0
         f0_ready = s_end >= 1.0
         t = t_new
-        kc.track_stops(t, y, op, bp, ws, stops)
+        ka.tcall("pairs.track_stops", (t, y, op, bp, ws, stops))
         if status == kr.ST_UPLIFT:
             info[kr.I_TFAIL] = t
             break

@@ -11,12 +11,11 @@ event location are the deck's (:mod:`nsdyn.models.isolated._kplanerun`, whose ge
     stick       g = μ_s k_p λ − |τ|    → slip-start in the direction of τ (start_direction)
 
 A normal force reaching zero (uplift) is located on the dense output and ends the run
-(ST_UPLIFT); a bilateral contact goes on, its onsets of tension located and counted, and its
-λ_i a switching function of the switch law (→ free, no friction; back → stick test or slip),
-all as in the deck's loop. A unilateral contact lifts off where λ_i reaches zero and lands where
-its gap closes (:mod:`nsdyn.models.isolated._kpairscontact`: plastic impact, the velocities
-jumped), events of either law. The regularised law runs the same loop without the stick-slip
-events.
+(ST_UPLIFT); a bilateral contact goes on, its onsets of tension located and counted, its λ_i a
+switching function of the switch law (→ free, no friction; back → stick test or slip), as in
+the deck's loop. A unilateral contact lifts off where λ_i reaches zero and lands where its gap
+closes (:mod:`nsdyn.models.isolated._kpairscontact`: plastic impact), events of either law.
+The regularised law runs the same loop without the stick-slip events.
 """
 
 import math
@@ -57,9 +56,7 @@ def gfill(y, modes, dirs, op, bp, sp, ws, out, g):
         vx = v[2 * i]
         vy = v[2 * i + 1]
         speed = math.sqrt(vx * vx + vy * vy)
-        g[i, 0] = 1.0
-        g[i, 1] = 1.0
-        g[i, 2] = 1.0
+        g[i, 0] = g[i, 1] = g[i, 2] = 1.0
         if int(sp[kq.S_CONTACT]) == kp.CONTACT_BILATERAL:
             g[i, 2] = -lam[i] if modes[i] == kp.MODE_FREE else lam[i]
         elif int(sp[kq.S_CONTACT]) == kp.CONTACT_UNILATERAL:
@@ -250,8 +247,7 @@ def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, E
     ``out`` (:func:`kq.outputs_at`) and state ``y`` (y0 copied): the switch law's initial modes
     and the first output row; returns the status, ST_UPLIFT when a normal force is not
     compressive. Allocates nothing."""
-    N = y0.shape[0]
-    for j in range(N):
+    for j in range(y0.shape[0]):
         y[j] = y0[j]
     info[kr.I_TFAIL] = np.nan
     info[kr.I_IFAIL] = -1
@@ -280,7 +276,13 @@ def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, E
 def emit(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO, stops):
     """Row k of the outputs at the state y and the rim contacts there."""
     outputs_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO)
-    kc.track_stops(t, y, op, bp, ws, stops)
+    ka.tcall("pairs.track_stops", (t, y, op, bp, ws, stops))
+
+
+# the loops' start and output step by address (declared by pairs_compile): linked, each loop
+# held a copy of both (the uplift check, the rim contacts' tracking), optimised by LLVM again
+ka.tslot("pairs.begin", begin, "nsdyn.models.isolated.pairs_compile:callees")
+ka.tslot("pairs.emit", emit, "nsdyn.models.isolated.pairs_compile:callees")
 
 
 @ka.compiled_only
@@ -347,9 +349,7 @@ def gslip(rc, s, ys, modes, dirs, op, sp, ws, g):
     for i in range(modes.shape[0]):
         vx = v[2 * i]
         vy = v[2 * i + 1]
-        g[i, 0] = 1.0
-        g[i, 1] = 1.0
-        g[i, 2] = 1.0
+        g[i, 0] = g[i, 1] = g[i, 2] = 1.0
         if modes[i] == kp.MODE_SLIP:
             g[i, 0] = math.sqrt(vx * vx + vy * vy) - eta
         elif modes[i] == kp.MODE_START:
@@ -426,8 +426,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     ni = modes.shape[0]
     t = t_eval[0]
     ws, out, y = wk[0], wk[1], wk[2]
-    st = begin(y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV, info,
-               ws, out, y)  # fmt: skip
+    a = (y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV, info, ws, out, y)
+    st = ka.tcall("pairs.begin", a)
     if st != kr.ST_OK:
         return st
     n = n2 // 2
@@ -517,8 +517,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         t_new = t + s_end * hh if s_end < 1.0 else t + hh
         while iout < nt and t_eval[iout] <= t_new:
             kr._dense_state(rc, (t_eval[iout] - t) / hh, ys)
-            emit(t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, iout, X, NO, FF,
-                 FR, FO, MO, stops)  # fmt: skip
+            ka.tcall("pairs.emit", (t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws,
+                                    out, iout, X, NO, FF, FR, FO, MO, stops))  # fmt: skip
             iout += 1
         if s_end < 1.0:
             kr._dense_state(rc, s_end, ys)
@@ -528,7 +528,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             for j in range(n2):
                 y[j] = y1[j]
         t = t_new
-        kc.track_stops(t, y, op, bp, ws, stops)
+        ka.tcall("pairs.track_stops", (t, y, op, bp, ws, stops))
         if status == kr.ST_UPLIFT:
             info[kr.I_TFAIL] = t
             break

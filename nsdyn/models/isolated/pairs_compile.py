@@ -60,7 +60,8 @@ def callees() -> list:
     ``"pairs.factor_complex"``: True when factored; ``"pairs.solve_real"``,
     ``"pairs.solve_complex"``), declared for the arrays of :func:`loop_arrays`; last the
     force kernel's two rarer solves (``"pairs.proportional_split"`` with redundant stick rows,
-    ``"pairs.least_norm"`` when the LU fails), each returning True when solved. Once per
+    ``"pairs.least_norm"`` when the LU fails), each returning True when solved, and the basis
+    of the stuck isolators' slip rows (``"pairs.stick_basis"``, returning its rank). Once per
     process."""
     import numpy as np
     from numba import typeof, types
@@ -93,14 +94,25 @@ def callees() -> list:
                types.int64, typeof(kq.workspace(2, 1)), types.boolean), types.boolean),
         Callee("pairs.least_norm", kq.least_norm, (types.Array(types.float64, 2, "A"), real,
                real), types.boolean),
+        Callee("pairs.stick_basis", kq.stick_basis, (force[2], piv, mat_r, types.int64,
+               types.int64, force[10]), types.int64),
+        Callee("pairs.begin", kqr.begin, (outs[1], types.float64, *outs[2:10], *outs[13:],
+               *settle[-2:], outs[10], outs[11], outs[1]), types.int64),
+        Callee("pairs.emit", kqr.emit, (*outs, mat_r), types.none),
+        Callee("pairs.track_stops", kc.track_stops, (types.float64, outs[1], outs[4], outs[5],
+               outs[10], mat_r), types.none),
     ]  # fmt: skip
 
 
-# the rows of :func:`callees` by who calls them: the force kernel with the solves it calls by
-# address and the outputs (both loops), the settlings and initial modes (the loop with located
-# events), the factorisations and solves of σ I − J (the Radau loop)
-FORCE_ROWS = ("pairs.evaluate", "pairs.proportional_split", "pairs.least_norm", "pairs.outputs")
-EVENT_ROWS = ("pairs.settle", "pairs.settle_contacts", "pairs.initial_modes")
+# the rows of :func:`callees` by who calls them: the force kernel with its least-norm solve and
+# the outputs (both loops); the force kernel's stick rows, the settlings and initial modes (the
+# loop with located events: the switch law runs on it); the factorisations and solves of σ I − J
+# (the Radau loop, which runs the regularised law only: without stuck isolators its force
+# kernel never reaches its stick rows, whose rows the run leaves empty: a call would raise)
+FORCE_ROWS = ("pairs.evaluate", "pairs.least_norm", "pairs.outputs")
+LOOP_ROWS = ("pairs.begin", "pairs.emit", "pairs.track_stops")
+EVENT_ROWS = ("pairs.stick_basis", "pairs.proportional_split", "pairs.settle",
+              "pairs.settle_contacts", "pairs.initial_modes")  # fmt: skip
 RADAU_ROWS = ("pairs.factor_real", "pairs.factor_complex", "pairs.solve_real",
               "pairs.solve_complex")  # fmt: skip
 
@@ -112,17 +124,18 @@ def _rows(names) -> list:
 
 
 def _needed(events: bool) -> list:
-    """The callees a run calls: the force kernel (with its solves) and the outputs, and on the
-    loop with located events the settlings (the switch law's stick, unilateral contacts) and
-    the initial modes, on the Radau loop its factorisations and solves (:func:`_here`)."""
-    return _rows(FORCE_ROWS + (EVENT_ROWS if events else RADAU_ROWS))
+    """The callees a run calls: the force kernel (with its least-norm solve) and the outputs,
+    and on the loop with located events the force kernel's stick rows (their basis and
+    proportional split), the settlings (the switch law's stick, unilateral contacts) and the
+    initial modes, on the Radau loop its factorisations and solves (:func:`_here`)."""
+    return _rows(FORCE_ROWS + LOOP_ROWS + (EVENT_ROWS if events else RADAU_ROWS))
 
 
 def _here(events: bool) -> list:
     """The callees this process compiles after the loop while the helper compiles the others:
-    the Radau loop's factorisations and solves (their compilation was the loop's before they
-    were called by address: the two shares stay as they were)."""
-    return [] if events else _rows(RADAU_ROWS)
+    the Radau loop's factorisations (the helper compiles the solves after the force kernel:
+    this process also builds the model meanwhile, and the two shares stay even)."""
+    return [] if events else _rows(RADAU_ROWS[:2] + LOOP_ROWS[1:])
 
 
 def kernels(events: bool) -> list:
@@ -180,13 +193,13 @@ def run_loop(loop, args: tuple):
 
 def helper_part() -> None:
     """The helper's share of a first compilation of the loop with located events: the force
-    kernel with its solves, the outputs, both settlings and the initial modes."""
+    kernel with its solves and stick rows, the outputs, both settlings and the initial modes."""
     for c in _needed(True):
         c.compiled()
 
 
 def helper_force() -> None:
     """The helper's share of a first compilation of the Radau IIA loop: the force kernel with
-    its solves, and the outputs."""
-    for c in _rows(FORCE_ROWS):
+    its least-norm solve, the outputs, and the loop's solves with σ I − J factored."""
+    for c in _rows(FORCE_ROWS + RADAU_ROWS[2:] + LOOP_ROWS[:1]):
         c.compiled()

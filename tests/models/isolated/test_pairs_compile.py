@@ -17,6 +17,7 @@ from nsdyn import _kaddress as ka
 from nsdyn._numba_cache import PLAIN
 from nsdyn.models.isolated import Bearing, Friction, rigid_deck
 from nsdyn.models.isolated import _kpairs as kq
+from nsdyn.models.isolated import _kpairscontact as kc
 from nsdyn.models.isolated import _kpairsradau as kqa
 from nsdyn.models.isolated import _kpairsrun as kqr
 from nsdyn.models.isolated import pairs_compile as pc
@@ -25,11 +26,15 @@ from nsdyn.models.isolated.pairs import from_deck, simulate_pairs
 JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
 NAMES = ["pairs.evaluate", "pairs.outputs", "pairs.settle", "pairs.settle_contacts",
          "pairs.initial_modes", "pairs.factor_real", "pairs.factor_complex", "pairs.solve_real",
-         "pairs.solve_complex", "pairs.proportional_split", "pairs.least_norm"]  # fmt: skip
-# the force kernel with its two solves by address, and the outputs: both loops call them
-FORCE = ["pairs.evaluate", "pairs.proportional_split", "pairs.least_norm", "pairs.outputs"]
+         "pairs.solve_complex", "pairs.proportional_split", "pairs.least_norm",
+         "pairs.stick_basis", "pairs.begin", "pairs.emit", "pairs.track_stops"]  # fmt: skip
+# the force kernel with its least-norm solve by address, the outputs, the loops' start and
+# output step, the rim contacts' tracking: both loops call them
+FORCE = ["pairs.evaluate", "pairs.least_norm", "pairs.outputs", *NAMES[12:]]
 RADAU = FORCE + NAMES[5:9]  # the Radau loop's: and the LU of σ I - J
-EVENTS = FORCE + NAMES[2:5]  # the event loop's: and the settlings, the initial modes
+# the event loop's: and the force kernel's stick rows (switch law only), the settlings, the
+# initial modes
+EVENTS = FORCE + ["pairs.stick_basis", "pairs.proportional_split", *NAMES[2:5]]
 
 
 def test_the_pair_rows_are_registered_and_declared_for_the_loops():
@@ -43,14 +48,17 @@ def test_the_pair_rows_are_registered_and_declared_for_the_loops():
     assert pc.kernels(False) == [kqa.integrate, *(byname[n] for n in RADAU)]
     assert pc.kernels(True) == [kqr.integrate, *(byname[n] for n in EVENTS)]
     assert [byname[n] for n in NAMES[5:9]] == [kqa._factor, kqa._factor, kqa._solve, kqa._solve]
-    assert [byname[n] for n in NAMES[9:]] == [kq.proportional_split, kq.least_norm]
+    assert [byname[n] for n in NAMES[9:12]] == [kq.proportional_split, kq.least_norm,
+                                                 kq.stick_basis]  # fmt: skip
+    assert [byname[n] for n in NAMES[12:]] == [kqr.begin, kqr.emit, kc.track_stops]
 
 
 @pytest.mark.skipif(not JIT or PLAIN, reason="the table is filled only for compiled code")
 def test_a_radau_run_and_an_event_run_fill_only_the_rows_of_their_callees():
-    # the Radau loop never settles stick or contacts, nor starts the switch law's modes: its
-    # run takes no address of a settling or of the initial modes; the event loop takes none
-    # of the Radau loop's factorisations
+    # the Radau loop never settles stick or contacts, nor starts the switch law's modes, nor
+    # has stuck isolators (the regularised law only): its run takes no address of a settling,
+    # of the initial modes or of the force kernel's stick rows; the event loop takes none of
+    # the Radau loop's factorisations
     deck = rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [0.0, 4.0]],
                       Bearing(Friction(0.05), radius=2.0))  # fmt: skip
     ps = from_deck(deck)
@@ -104,9 +112,10 @@ def _loop_alone(law: str, loop: str, kernels: str) -> str:
 
 _LOOP_ALONE = _loop_alone("switch", "kqr.integrate",
                           "(kq.evaluate, kq.evaluate_at, kqr.settle, kc.settle_contacts, "
-                          "kqr.initial_modes)")  # fmt: skip
+                          "kqr.initial_modes, kqr.begin, kqr.emit)")  # fmt: skip
 _RADAU_ALONE = _loop_alone("arctan", "kqa.integrate",
-                           "(kqa._factor, kqa._solve, lu_factor, lu_solve)")  # fmt: skip
+                           "(kqa._factor, kqa._solve, lu_factor, lu_solve, kqr.begin, kqr.emit, "
+                           "kc.track_stops)")  # fmt: skip
 
 
 _FORCE_ALONE = """
@@ -114,29 +123,32 @@ from nsdyn._klinalg import lu_factor, pinv_small
 from nsdyn.models.isolated import _kpairs as kq, pairs_compile as pc
 cres = pc.callees()[0].compiled()  # the force kernel, for the loops' types
 linked = str({l.name for l in getattr(cres.library, "_linking_libraries", ())})
-for k in (kq.proportional_split, kq.least_norm, lu_factor, pinv_small):
+for k in (kq.proportional_split, kq.least_norm, lu_factor, pinv_small, kq.stick_basis):
     print(k.py_func.__qualname__, len(k.signatures), k.py_func.__qualname__ in linked)
 """
 
 
 @pytest.mark.slow  # compiles the force kernel of a pair system into an empty cache (~8 s)
 @pytest.mark.skipif(not JIT or PLAIN, reason="calls by address only in compiled code")
-def test_the_force_kernel_compiles_without_its_two_rarer_solves(compile_alone):
-    # the proportional split (redundant stick rows) and the least-norm solve are called by
-    # address: compiling the force kernel alone compiles neither, nor the pseudo-inverse;
-    # the LU it calls itself is compiled
+def test_the_force_kernel_compiles_without_its_rarer_solves_and_stick_basis(compile_alone):
+    # the proportional split (redundant stick rows), the least-norm solve and the stick basis
+    # (an SVD) are called by address: compiling the force kernel alone compiles none of them,
+    # nor the pseudo-inverse; the LU it calls itself is compiled
     rows = compile_alone(_FORCE_ALONE)
-    assert [r[0] for r in rows] == ["proportional_split", "least_norm", "lu_factor", "pinv_small"]
-    assert [r[1] for r in rows] == ["0", "0", "1", "0"], rows
+    names = ["proportional_split", "least_norm", "lu_factor", "pinv_small", "stick_basis"]
+    assert [r[0] for r in rows] == names
+    assert [r[1] for r in rows] == ["0", "0", "1", "0", "0"], rows
 
 
 @pytest.mark.slow  # compiles the Radau loop of a pair system into an empty cache (~10 s)
 @pytest.mark.skipif(not JIT or PLAIN, reason="calls by address only in compiled code")
 def test_the_radau_loop_compiles_without_its_factorisation_and_solve(compile_alone):
     # a fresh process with an empty cache compiles the Radau loop alone: the factorisation and
-    # solve of σ I - J (nor the LU they call) are neither compiled with it nor linked into it
+    # solve of σ I - J (nor the LU they call), the loop's start and output step (nor the rim
+    # contacts' tracking they call) are neither compiled with it nor linked into it
     rows = compile_alone(_RADAU_ALONE)
-    assert [r[0] for r in rows] == ["_factor", "_solve", "lu_factor", "lu_solve"]
+    names = ["_factor", "_solve", "lu_factor", "lu_solve", "begin", "emit", "track_stops"]
+    assert [r[0] for r in rows] == names
     assert all(r[1:] == ["0", "False"] for r in rows), rows
 
 
@@ -145,9 +157,10 @@ def test_the_radau_loop_compiles_without_its_factorisation_and_solve(compile_alo
 def test_the_event_loop_compiles_without_its_callees(compile_alone):
     # a fresh process with an empty cache compiles the loop alone: neither the force kernel
     # (nor what it calls) nor either settling nor the initial modes is compiled with it or
-    # linked into its code
+    # linked into its code, nor its start and output step
     rows = compile_alone(_LOOP_ALONE)
-    names = ["evaluate", "evaluate_at", "settle", "settle_contacts", "initial_modes"]
+    names = ["evaluate", "evaluate_at", "settle", "settle_contacts", "initial_modes", "begin",
+             "emit"]  # fmt: skip
     assert [r[0] for r in rows] == names
     assert all(r[1:] == ["0", "False"] for r in rows), rows
 
