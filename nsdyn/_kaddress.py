@@ -301,6 +301,9 @@ TABLE_NAMES = (
     "pairs.begin",
     "pairs.emit",
     "pairs.track_stops",
+    "pairs.rhs",
+    "pairs.jacobian",
+    "pairs.dense",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration

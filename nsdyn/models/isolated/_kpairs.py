@@ -489,6 +489,15 @@ def rhs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, dy):
     return st
 
 
+ka.tslot("pairs.rhs", rhs, _DECLARE)  # by address: the loops' Newton, stages and Jacobian
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def rhs_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, dy):
+    """:func:`rhs` by its address."""
+    return ka.tcall("pairs.rhs", (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, dy))
+
+
 @ka.compiled_only
 def start_direction(i, tx, ty, mu_n, ws, dirs):
     """Direction in which stuck isolator i starts to slip when its stick force τ = (tx, ty)

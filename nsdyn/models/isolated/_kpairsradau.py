@@ -119,13 +119,18 @@ def _jacobian(t, y, f0, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, Jx, f1):
         d = 1e-8 * max(abs(y[j]), 1e-3)
         yj = y[j]
         y[j] = yj + d
-        st = kq.rhs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, f1)
+        st = kq.rhs_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, f1)
         y[j] = yj
         if st != kq.ST_OK:
             return st
         for a in range(Jx.shape[0]):
             Jx[a, j] = (f1[n + a] - f0[n + a]) / d
     return kq.ST_OK
+
+
+# by address: the loop linked a copy of each (the Jacobian with its own of the right-hand side)
+ka.tslot("pairs.jacobian", _jacobian, "nsdyn.models.isolated.pairs_compile:callees")
+ka.tslot("pairs.dense", krad._dense, "nsdyn.models.isolated.pairs_compile:callees")
 
 
 # no reference counts (NO_NRT): the loop allocates nothing, every array is its caller's
@@ -139,8 +144,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     ni = modes.shape[0]
     t = t_eval[0]
     ws, out, y = wk[0], wk[1], wk[2]
-    a = (y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV, info, ws, out, y)
-    st = ka.tcall("pairs.begin", a)
+    sa = (y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV, info, ws, out, y)
+    st = ka.tcall("pairs.begin", sa)
     if st != kr.ST_OK:
         return st
     lam = out[1]
@@ -191,14 +196,14 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             status = kr.ST_NEWTON if newton_failed else kr.ST_UNDERFLOW
             break
         if not f0_ready:
-            if kq.rhs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, f0) != kq.ST_OK:
+            if kq.rhs_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, f0) != kq.ST_OK:
                 status = kr.ST_SINGULAR
                 break
             nfev += 1
             f0_ready = True
         if need_jac:
-            if _jacobian(t, y, f0, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, Jx,
-                         f1) != kq.ST_OK:  # fmt: skip
+            ja = (t, y, f0, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, Jx, f1)
+            if ka.tcall("pairs.jacobian", ja) != kq.ST_OK:
                 status = kr.ST_SINGULAR
                 break
             nfev += N
@@ -214,7 +219,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         if have_prev:  # predictor: the previous collocation polynomial, extrapolated
             for a in range(3):
                 ca = krad.C1 if a == 0 else (krad.C2 if a == 1 else 1.0)
-                krad._dense(yp, Zp, 1.0 + ca * hh / hp, ys)
+                ka.tcall("pairs.dense", (yp, Zp, 1.0 + ca * hh / hp, ys))
                 for k in range(N):
                     Z[a, k] = ys[k] - y[k]
         else:
@@ -233,7 +238,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
                 ca = krad.C1 if a == 0 else (krad.C2 if a == 1 else 1.0)
                 for k in range(N):
                     ys[k] = y[k] + Z[a, k]
-                if kq.rhs(t + ca * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out,
+                if kq.rhs_t(t + ca * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out,
                           F[a]) != kq.ST_OK:  # fmt: skip
                     bad = True
             nfev += 3
@@ -307,7 +312,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         nstep += 1
         en_old = max(en, 1e-4)
         s_end = 1.0
-        if kq.rhs(t + hh, ynew, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, f1) != kq.ST_OK:
+        if kq.rhs_t(t + hh, ynew, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, f1) != kq.ST_OK:
             status = kr.ST_SINGULAR
             break
         nfev += 1
@@ -317,13 +322,13 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             sb = 1.0
             while (sb - sa) * hh > kr.EVENT_TTOL:
                 sm = 0.5 * (sa + sb)
-                krad._dense(y, Z, sm, ys)
+                ka.tcall("pairs.dense", (y, Z, sm, ys))
                 kqr._ev(t + sm * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
                 if kr._min_normal(lam) <= 0.0:
                     sb = sm
                 else:
                     sa = sm
-            krad._dense(y, Z, sb, ys)
+            ka.tcall("pairs.dense", (y, Z, sb, ys))
             kqr._ev(t + sb * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
             for i in range(ni):
                 if lam[i] <= 0.0 and info[kr.I_IFAIL] < 0:
@@ -338,12 +343,12 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             info[kr.I_NMIN] = min(info[kr.I_NMIN], n_end)
         t_new = t + s_end * hh
         while iout < nt and t_eval[iout] <= t_new:
-            krad._dense(y, Z, (t_eval[iout] - t) / hh, ys)
+            ka.tcall("pairs.dense", (y, Z, (t_eval[iout] - t) / hh, ys))
             ka.tcall("pairs.emit", (t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws,
                                     out, iout, X, NO, FF, FR, FO, MO, stops))  # fmt: skip
             iout += 1
         if s_end < 1.0:
-            krad._dense(y, Z, s_end, ys)
+            ka.tcall("pairs.dense", (y, Z, s_end, ys))
             for k in range(N):
                 y[k] = ys[k]
         else:

@@ -426,8 +426,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     ni = modes.shape[0]
     t = t_eval[0]
     ws, out, y = wk[0], wk[1], wk[2]
-    a = (y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV, info, ws, out, y)
-    st = ka.tcall("pairs.begin", a)
+    sa = (y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV, info, ws, out, y)
+    st = ka.tcall("pairs.begin", sa)
     if st != kr.ST_OK:
         return st
     n = n2 // 2
@@ -454,7 +454,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     status = kr.ST_OK
     while t < t_end and iout < nt:
         if fresh:
-            if kq.rhs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k[0]) != kq.ST_OK:
+            if kq.rhs_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k[0]) != kq.ST_OK:
                 status = kr.ST_SINGULAR
                 break
             nfev += 1
@@ -468,7 +468,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         bad = False
         for j in range(1, 7):
             dp.stage(y, k, hh, j, y1)
-            if kq.rhs(t + dp.C[j] * hh, y1, modes, dirs, op, bp, sp, gk, gp, tab, ws, out,
+            if kq.rhs_t(t + dp.C[j] * hh, y1, modes, dirs, op, bp, sp, gk, gp, tab, ws, out,
                       k[j]) != kq.ST_OK:  # fmt: skip
                 bad = True
         nfev += 6

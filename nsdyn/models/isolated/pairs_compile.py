@@ -71,6 +71,7 @@ def callees() -> list:
     from nsdyn.models.isolated import _kpairscontact as kc
     from nsdyn.models.isolated import _kpairsradau as kqa
     from nsdyn.models.isolated import _kpairsrun as kqr
+    from nsdyn.models.isolated import _kplaneradau as krad
 
     force, settle, outs = (tuple(typeof(a) for a in args) for args in tiny_args())
     real, cplx = (typeof(np.zeros(2, dtype=d)) for d in (np.float64, np.complex128))
@@ -101,20 +102,29 @@ def callees() -> list:
         Callee("pairs.emit", kqr.emit, (*outs, mat_r), types.none),
         Callee("pairs.track_stops", kc.track_stops, (types.float64, outs[1], outs[4], outs[5],
                outs[10], mat_r), types.none),
+        Callee("pairs.rhs", kq.rhs, (*settle[:12], real), types.int64),
+        Callee("pairs.jacobian", kqa._jacobian, (types.float64, real, real, *settle[2:12], mat_r,
+               real), types.int64),
+        Callee("pairs.dense", krad._dense, (real, mat_r, types.float64, real), types.none),
     ]  # fmt: skip
 
 
-# the rows of :func:`callees` by who calls them: the force kernel with its least-norm solve and
-# the outputs (both loops); the force kernel's stick rows, the settlings and initial modes (the
-# loop with located events: the switch law runs on it); the factorisations and solves of σ I − J
-# (the Radau loop, which runs the regularised law only: without stuck isolators its force
-# kernel never reaches its stick rows, whose rows the run leaves empty: a call would raise)
+# the rows of :func:`callees` by who calls them: the force kernel with its least-norm solve, the
+# outputs, the loops' start, output step, rim tracking and right-hand side (both loops); the
+# force kernel's stick rows, the settlings and initial modes (the loop with located events:
+# the switch law runs on it); the factorisations and solves of σ I − J, the Jacobian and the
+# dense output (the Radau loop, which runs the regularised law only: without stuck isolators
+# its force kernel never reaches its stick rows, whose rows the run leaves empty: a call would
+# raise)
 FORCE_ROWS = ("pairs.evaluate", "pairs.least_norm", "pairs.outputs")
-LOOP_ROWS = ("pairs.begin", "pairs.emit", "pairs.track_stops")
+LOOP_ROWS = ("pairs.begin", "pairs.emit", "pairs.track_stops", "pairs.rhs")
 EVENT_ROWS = ("pairs.stick_basis", "pairs.proportional_split", "pairs.settle",
               "pairs.settle_contacts", "pairs.initial_modes")  # fmt: skip
 RADAU_ROWS = ("pairs.factor_real", "pairs.factor_complex", "pairs.solve_real",
-              "pairs.solve_complex")  # fmt: skip
+              "pairs.solve_complex", "pairs.jacobian", "pairs.dense")  # fmt: skip
+# this process's share of a first run beside its loop (:func:`_here`), the helper's the rest:
+# the shares measured even (this process also builds the model meanwhile)
+HERE_ROWS = {False: RADAU_ROWS, True: ()}
 
 
 def _rows(names) -> list:
@@ -124,18 +134,24 @@ def _rows(names) -> list:
 
 
 def _needed(events: bool) -> list:
-    """The callees a run calls: the force kernel (with its least-norm solve) and the outputs,
-    and on the loop with located events the force kernel's stick rows (their basis and
-    proportional split), the settlings (the switch law's stick, unilateral contacts) and the
-    initial modes, on the Radau loop its factorisations and solves (:func:`_here`)."""
+    """The callees a run calls: the force kernel (with its least-norm solve), the outputs and
+    the loop's start, output step, rim tracking and right-hand side, and on the loop with
+    located events the force kernel's stick rows (their basis and proportional split), the
+    settlings (the switch law's stick, unilateral contacts) and the initial modes, on the
+    Radau loop its factorisations and solves, its Jacobian and its dense output."""
     return _rows(FORCE_ROWS + LOOP_ROWS + (EVENT_ROWS if events else RADAU_ROWS))
 
 
 def _here(events: bool) -> list:
-    """The callees this process compiles after the loop while the helper compiles the others:
-    the Radau loop's factorisations (the helper compiles the solves after the force kernel:
-    this process also builds the model meanwhile, and the two shares stay even)."""
-    return [] if events else _rows(RADAU_ROWS[:2] + LOOP_ROWS[1:])
+    """The callees this process compiles after the loop while the helper compiles the others
+    (:data:`HERE_ROWS`)."""
+    return _rows(HERE_ROWS[events])
+
+
+def _helper(events: bool) -> list:
+    """The helper's share: the callees of :func:`_needed` but :func:`_here`'s."""
+    here = set(HERE_ROWS[events])
+    return [c for c in _needed(events) if c.name not in here]
 
 
 def kernels(events: bool) -> list:
@@ -194,12 +210,12 @@ def run_loop(loop, args: tuple):
 def helper_part() -> None:
     """The helper's share of a first compilation of the loop with located events: the force
     kernel with its solves and stick rows, the outputs, both settlings and the initial modes."""
-    for c in _needed(True):
+    for c in _helper(True):
         c.compiled()
 
 
 def helper_force() -> None:
     """The helper's share of a first compilation of the Radau IIA loop: the force kernel with
     its least-norm solve, the outputs, and the loop's solves with σ I − J factored."""
-    for c in _rows(FORCE_ROWS + RADAU_ROWS[2:] + LOOP_ROWS[:1]):
+    for c in _helper(False):
         c.compiled()

@@ -20,6 +20,7 @@ from nsdyn.models.isolated import _kpairs as kq
 from nsdyn.models.isolated import _kpairscontact as kc
 from nsdyn.models.isolated import _kpairsradau as kqa
 from nsdyn.models.isolated import _kpairsrun as kqr
+from nsdyn.models.isolated import _kplaneradau as krad
 from nsdyn.models.isolated import pairs_compile as pc
 from nsdyn.models.isolated.pairs import from_deck, simulate_pairs
 
@@ -27,11 +28,13 @@ JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
 NAMES = ["pairs.evaluate", "pairs.outputs", "pairs.settle", "pairs.settle_contacts",
          "pairs.initial_modes", "pairs.factor_real", "pairs.factor_complex", "pairs.solve_real",
          "pairs.solve_complex", "pairs.proportional_split", "pairs.least_norm",
-         "pairs.stick_basis", "pairs.begin", "pairs.emit", "pairs.track_stops"]  # fmt: skip
+         "pairs.stick_basis", "pairs.begin", "pairs.emit", "pairs.track_stops", "pairs.rhs",
+         "pairs.jacobian", "pairs.dense"]  # fmt: skip
 # the force kernel with its least-norm solve by address, the outputs, the loops' start and
-# output step, the rim contacts' tracking: both loops call them
-FORCE = ["pairs.evaluate", "pairs.least_norm", "pairs.outputs", *NAMES[12:]]
-RADAU = FORCE + NAMES[5:9]  # the Radau loop's: and the LU of σ I - J
+# output step, the rim contacts' tracking and the right-hand side: both loops call them
+FORCE = ["pairs.evaluate", "pairs.least_norm", "pairs.outputs", *NAMES[12:16]]
+# the Radau loop's: and the LU of σ I - J, the Jacobian, the dense output
+RADAU = FORCE + NAMES[5:9] + NAMES[16:]
 # the event loop's: and the force kernel's stick rows (switch law only), the settlings, the
 # initial modes
 EVENTS = FORCE + ["pairs.stick_basis", "pairs.proportional_split", *NAMES[2:5]]
@@ -50,7 +53,11 @@ def test_the_pair_rows_are_registered_and_declared_for_the_loops():
     assert [byname[n] for n in NAMES[5:9]] == [kqa._factor, kqa._factor, kqa._solve, kqa._solve]
     assert [byname[n] for n in NAMES[9:12]] == [kq.proportional_split, kq.least_norm,
                                                  kq.stick_basis]  # fmt: skip
-    assert [byname[n] for n in NAMES[12:]] == [kqr.begin, kqr.emit, kc.track_stops]
+    assert [byname[n] for n in NAMES[12:]] == [kqr.begin, kqr.emit, kc.track_stops, kq.rhs,
+                                                kqa._jacobian, krad._dense]  # fmt: skip
+    for events in (False, True):  # a first run's two shares: each callee compiled once
+        here, there = pc._here(events), pc._helper(events)
+        assert sorted(c.name for c in here + there) == sorted(c.name for c in pc._needed(events))
 
 
 @pytest.mark.skipif(not JIT or PLAIN, reason="the table is filled only for compiled code")
@@ -84,6 +91,7 @@ from numba import typeof
 from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn.models.isolated import _kpairs as kq, _kpairscontact as kc, _kpairsrun as kqr
 from nsdyn.models.isolated import _kpairsradau as kqa, deck as d, pairs_compile as pc
+from nsdyn.models.isolated import _kplaneradau as krad
 from nsdyn.models.isolated.bearings import Bearing, Friction
 from nsdyn.models.isolated.pairs import _kernel_inputs, from_deck
 ps = from_deck(d.rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [0.0, 4.0]],
@@ -112,10 +120,10 @@ def _loop_alone(law: str, loop: str, kernels: str) -> str:
 
 _LOOP_ALONE = _loop_alone("switch", "kqr.integrate",
                           "(kq.evaluate, kq.evaluate_at, kqr.settle, kc.settle_contacts, "
-                          "kqr.initial_modes, kqr.begin, kqr.emit)")  # fmt: skip
+                          "kqr.initial_modes, kqr.begin, kqr.emit, kq.rhs)")  # fmt: skip
 _RADAU_ALONE = _loop_alone("arctan", "kqa.integrate",
                            "(kqa._factor, kqa._solve, lu_factor, lu_solve, kqr.begin, kqr.emit, "
-                           "kc.track_stops)")  # fmt: skip
+                           "kc.track_stops, kq.rhs, kqa._jacobian, krad._dense)")  # fmt: skip
 
 
 _FORCE_ALONE = """
@@ -144,10 +152,12 @@ def test_the_force_kernel_compiles_without_its_rarer_solves_and_stick_basis(comp
 @pytest.mark.skipif(not JIT or PLAIN, reason="calls by address only in compiled code")
 def test_the_radau_loop_compiles_without_its_factorisation_and_solve(compile_alone):
     # a fresh process with an empty cache compiles the Radau loop alone: the factorisation and
-    # solve of σ I - J (nor the LU they call), the loop's start and output step (nor the rim
-    # contacts' tracking they call) are neither compiled with it nor linked into it
+    # solve of σ I - J (nor the LU they call), the loop's start and output step, the rim
+    # contacts' tracking, the right-hand side, the Jacobian and the dense output are neither
+    # compiled with it nor linked into it
     rows = compile_alone(_RADAU_ALONE)
-    names = ["_factor", "_solve", "lu_factor", "lu_solve", "begin", "emit", "track_stops"]
+    names = ["_factor", "_solve", "lu_factor", "lu_solve", "begin", "emit", "track_stops", "rhs",
+             "_jacobian", "_dense"]  # fmt: skip
     assert [r[0] for r in rows] == names
     assert all(r[1:] == ["0", "False"] for r in rows), rows
 
@@ -157,10 +167,10 @@ def test_the_radau_loop_compiles_without_its_factorisation_and_solve(compile_alo
 def test_the_event_loop_compiles_without_its_callees(compile_alone):
     # a fresh process with an empty cache compiles the loop alone: neither the force kernel
     # (nor what it calls) nor either settling nor the initial modes is compiled with it or
-    # linked into its code, nor its start and output step
+    # linked into its code, nor its start, output step and right-hand side
     rows = compile_alone(_LOOP_ALONE)
     names = ["evaluate", "evaluate_at", "settle", "settle_contacts", "initial_modes", "begin",
-             "emit"]  # fmt: skip
+             "emit", "rhs"]  # fmt: skip
     assert [r[0] for r in rows] == names
     assert all(r[1:] == ["0", "False"] for r in rows), rows
 
