@@ -304,6 +304,11 @@ TABLE_NAMES = (
     "pairs.rhs",
     "pairs.jacobian",
     "pairs.dense",
+    "pairs.switch",
+    "pairs.locate_event",
+    "pairs.locate_uplift",
+    "pairs.land",
+    "pairs.start_direction",
 )
 assert len(TABLE_NAMES) <= TABLE_ROWS
 # row i: the address of the kernel declared as TABLE_NAMES[i], the digest of its declaration

@@ -303,9 +303,9 @@ def _plane_laws(tasks) -> set[str]:
     return laws
 
 
-def _pair_runs(tasks) -> set[tuple[str, str]]:
-    """(path, law) of the building3d tasks on the cb, full and auto rungs (auto probes cb);
-    a task whose scene is faulty is left to its own check."""
+def _pair_runs(tasks) -> set[tuple[str, str, str]]:
+    """(path, law, contact) of the building3d tasks on the cb, full and auto rungs (auto
+    probes cb); a task whose scene is faulty is left to its own check."""
     from nsdyn.models.isolated import building3d_scene as b3
 
     out, paths = set(), {}
@@ -317,12 +317,14 @@ def _pair_runs(tasks) -> set[tuple[str, str]]:
         try:
             if key not in paths:
                 paths[key] = b3.pairs_path(t.cfg, t.source)
-            law = b3.build_solver(t.cfg, t.source)["law"]
+            kw = b3.build_solver(t.cfg, t.source)
+            law, contact = kw["law"], kw["contact"]
         except SceneError:
             continue
         path = paths[key]
         if path == "dense" or "law" not in t.cfg.get("solver", {}) or law == "arctan":
-            out.add((path, "arctan" if path == "sparse" else law))
+            sparse = path == "sparse"
+            out.add((path, "arctan" if sparse else law, "detect" if sparse else contact))
     return out
 
 
@@ -348,8 +350,8 @@ def warm_kernels(tasks) -> list[str]:
     from nsdyn._numba_cache import all_cached
     from nsdyn.models.isolated.building3d_pairs_run import pair_kernels, warm_pairs
 
-    for path, law in sorted(_pair_runs(tasks)):
-        if law in ("switch", "arctan") and not all_cached(pair_kernels(path, law)):
-            warm_pairs(path, law)
-            done.append(f"building3d {path} {law}")
+    for path, law, contact in sorted(_pair_runs(tasks)):
+        if law in ("switch", "arctan") and not all_cached(pair_kernels(path, law, contact)):
+            warm_pairs(path, law, contact=contact)
+            done.append(f"building3d {path} {law}" + (f" {contact}" if contact != "detect" else ""))
     return done

@@ -143,15 +143,19 @@ def test_the_cb_rung_reports_its_outputs_and_the_quarter_turn_symmetry(study, tm
 
 def test_the_parent_compiles_the_pair_kernels_of_the_tasks_path_and_law(study):
     tasks = expand(study)
-    assert _pair_runs(tasks) == {("dense", "arctan")}
+    assert _pair_runs(tasks) == {("dense", "arctan", "detect")}
     # the office's full rung is above the dense limit: the sparse kernels, the regularised law
     cfg = {**tasks[0].cfg, "structure": {"frame3d": "office-11-3d", "fidelity": "full"},
            "solver": {}}  # fmt: skip
     office = Task(0, "k", "building3d", cfg, {}, source=tasks[0].source)
-    assert _pair_runs([office]) == {("sparse", "arctan")}
+    assert _pair_runs([office]) == {("sparse", "arctan", "detect")}
     switch = Task(1, "k", "building3d", {**cfg, "structure": {**cfg["structure"],
                   "fidelity": "cb"}, "solver": {"law": "switch"}}, {})  # fmt: skip
-    assert _pair_runs([switch]) == {("dense", "switch")}
+    assert _pair_runs([switch]) == {("dense", "switch", "detect")}
+    # unilateral contacts: the loop with located events and their landing
+    uni = Task(2, "k", "building3d", {**switch.cfg, "solver": {"law": "arctan",
+               "contact": "unilateral"}}, {})  # fmt: skip
+    assert _pair_runs([uni]) == {("dense", "arctan", "unilateral")}
 
 
 def test_a_task_on_the_sparse_path_takes_its_own_solver(tmp_path, monkeypatch):

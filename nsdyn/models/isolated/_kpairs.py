@@ -528,3 +528,8 @@ def start_direction(i, tx, ty, mu_n, ws, dirs):
                 Am[a, b] = 0.0
     kp.start_direction(np.int64(0), tx, ty, mu_n, Am, np.zeros((1, 2)), dirs[i:],
                        np.empty((3, 3)), np.zeros(3, dtype=np.int64), np.empty((2, 3)))  # fmt: skip
+
+
+# by address (declared by pairs_compile): the settling of stick and the mode switch linked a
+# copy each, with its small solves
+ka.tslot("pairs.start_direction", start_direction, _DECLARE)

@@ -195,3 +195,5 @@ def track_stops(t, y, op, bp, ws, stops):
 # by address (declared by pairs_compile): the Radau loop tracks the rim contacts at every step
 # and the output step at every output; linked, each held a copy, optimised by LLVM again
 ka.tslot("pairs.track_stops", track_stops, "nsdyn.models.isolated.pairs_compile:callees")
+# the landing by address: the mode switch linked a copy, with numpy's solve (half its code)
+ka.tslot("pairs.land", land, "nsdyn.models.isolated.pairs_compile:callees")

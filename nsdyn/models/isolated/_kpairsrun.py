@@ -93,16 +93,11 @@ def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
                     worst = i
         if worst < 0:
             return align_starts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
-        kq.start_direction(worst, Ff[worst, 0], Ff[worst, 1],
-                           kp.mu_kinetic(bp, worst, 0.0) * ws[13][worst] * lam[worst], ws,
-                           dirs)  # fmt: skip
+        mu_n = kp.mu_kinetic(bp, worst, 0.0) * ws[13][worst] * lam[worst]
+        ka.tcall("pairs.start_direction", (worst, Ff[worst, 0], Ff[worst, 1], mu_n, ws, dirs))
         kr._record(EV, info, t, worst, kp.MODE_STICK, kp.MODE_START, dirs)
         modes[worst] = kp.MODE_START
     return kr.ST_CHATTER
-
-
-# the settling by address (compiled once, on its own: see nsdyn.models.isolated.pairs_compile)
-ka.tslot("pairs.settle", settle, "nsdyn.models.isolated.pairs_compile:callees")
 
 
 @ka.compiled_only
@@ -164,9 +159,6 @@ def initial_modes(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
     return ka.tcall("pairs.settle", (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info))
 
 
-ka.tslot("pairs.initial_modes", initial_modes, "nsdyn.models.isolated.pairs_compile:callees")
-
-
 @ka.compiled_only
 def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
     """Mode changes at a located event (g0 before it, g just after); returns a status."""
@@ -181,7 +173,8 @@ def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
         for i in range(ni):  # lift-offs and landings (the velocities may jump)
             if g0[i, 2] > 0.0 and g[i, 2] <= 0.0:
                 if ws[20][i] != 0.0:
-                    kc.land(t, y, i, modes, dirs, op, ws, EV, info, law_switch, sp[kq.S_ETA])
+                    ka.tcall("pairs.land", (t, y, i, modes, dirs, op, ws, EV, info, law_switch,
+                                            sp[kq.S_ETA]))  # fmt: skip
                 else:
                     kc.open_contact(t, y, i, modes, dirs, op, ws, EV, info)
         st = ka.tcall(
@@ -196,7 +189,7 @@ def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
             modes[i] = kp.MODE_FREE if m0 != kp.MODE_FREE else kp.MODE_SLIP
         elif m0 == kp.MODE_STICK and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
             mu_n = kp.mu_kinetic(bp, i, 0.0) * ws[13][i] * lam[i]
-            kq.start_direction(i, Ff[i, 0], Ff[i, 1], mu_n, ws, dirs)
+            ka.tcall("pairs.start_direction", (i, Ff[i, 0], Ff[i, 1], mu_n, ws, dirs))
             modes[i] = kp.MODE_START
         elif m0 == kp.MODE_START and g0[i, 0] > 0.0 and g[i, 0] <= 0.0:
             modes[i] = kp.MODE_SLIP
@@ -228,9 +221,6 @@ def outputs(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, F
             FR[k, i, c] = Fr[i, c]
             FO[k, i, c] = Fo[i, c]
     return st
-
-
-ka.tslot("pairs.outputs", outputs, "nsdyn.models.isolated.pairs_compile:callees")
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -277,12 +267,6 @@ def emit(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, 
     """Row k of the outputs at the state y and the rim contacts there."""
     outputs_t(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, k, X, NO, FF, FR, FO, MO)
     ka.tcall("pairs.track_stops", (t, y, op, bp, ws, stops))
-
-
-# the loops' start and output step by address (declared by pairs_compile): linked, each loop
-# held a copy of both (the uplift check, the rim contacts' tracking), optimised by LLVM again
-ka.tslot("pairs.begin", begin, "nsdyn.models.isolated.pairs_compile:callees")
-ka.tslot("pairs.emit", emit, "nsdyn.models.isolated.pairs_compile:callees")
 
 
 @ka.compiled_only
@@ -417,6 +401,16 @@ def locate_event(t, hh, rc, ys, y1, g0, g, ga, ge, modes, dirs, op, bp, sp, gk, 
     return False, 1.0, nfev
 
 
+# by address (declared by nsdyn.models.isolated.pairs_compile: each compiles once, on its own):
+# linked, every caller held a copy, optimised by LLVM again (the mode switch alone was 45 % of
+# the event loop's code)
+_BY_ADDRESS = {"settle": settle, "initial_modes": initial_modes, "outputs": outputs,
+               "begin": begin, "emit": emit, "switch": switch, "locate_event": locate_event,
+               "locate_uplift": locate_uplift}  # fmt: skip
+for _row, _kernel in _BY_ADDRESS.items():
+    ka.tslot(f"pairs.{_row}", _kernel, "nsdyn.models.isolated.pairs_compile:callees")
+
+
 @njit(cache=True, error_model="numpy")
 def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
               X, NO, FF, FR, FO, MO, EV, stops, info, wk):  # fmt: skip
@@ -494,8 +488,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         s_end = 1.0
         event = False
         if switching:
-            event, s_end, ne = locate_event(t, hh, rc, ys, y1, g0, g, ga, ge, modes, dirs, op,
-                                            bp, sp, gk, gp, tab, ws, out)  # fmt: skip
+            event, s_end, ne = ka.tcall("pairs.locate_event", (t, hh, rc, ys, y1, g0, g, ga, ge,
+                                        modes, dirs, op, bp, sp, gk, gp, tab, ws, out))  # fmt: skip
             nfev += ne
         n_cut = n_end_min
         if not uni and (event or n_end_min <= 0.0):  # normal force at the cut (or step end)
@@ -503,8 +497,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             _ev(t + s_end * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
             n_cut = kr._min_normal(lam)
             if n_cut <= 0.0 and not tens:
-                sb = locate_uplift(t, hh, s_end, rc, ys, modes, dirs, op, bp, sp, gk, gp, tab,
-                                   ws, out, info)  # fmt: skip
+                sb = ka.tcall("pairs.locate_uplift", (t, hh, s_end, rc, ys, modes, dirs, op, bp,
+                                                      sp, gk, gp, tab, ws, out, info))  # fmt: skip
                 if bil:  # the contact holds: recorded, the step kept
                     kr.tension_onset(info, t + sb * hh)
                 else:
@@ -542,7 +536,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             else:
                 burst_t = t
                 burst_n = 0
-            st = switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+            sw = (t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
+            st = ka.tcall("pairs.switch", sw)
             if st != kr.ST_OK:
                 status = st
                 info[kr.I_TFAIL] = t

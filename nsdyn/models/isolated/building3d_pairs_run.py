@@ -91,25 +91,28 @@ def _small_pairs(sparse: bool):
     return building_pairs(frame, fps, fidelity="full")
 
 
-def pair_kernels(path: str, law: str) -> list:
-    """The numba loops a run of the cb or full rung needs: its path's and law's."""
+def pair_kernels(path: str, law: str, contact: str = "detect") -> list:
+    """The numba loops a run of the cb or full rung needs: its path's, law's and contact's."""
     from nsdyn.models.isolated import _kpairsparse, pairs_compile
 
     if path == "sparse":
         return [_kpairsparse.newton, _kpairsparse.lu_solve_csc]
-    return pairs_compile.kernels(law == "switch")  # the loop and its callees by address
+    uni = contact == "unilateral"  # (located lift-offs and landings: the event loop)
+    return pairs_compile.kernels(law == "switch" or uni, uni)  # the loop and its callees
 
 
-def warm_pairs(path: str, law: str, system=None) -> float:
-    """Compile (or load) the pair kernels of ``path`` ("dense" | "sparse") and ``law`` on a
-    short run of ``system`` (default: the bundled portal's); the seconds spent."""
+def warm_pairs(path: str, law: str, system=None, contact: str = "detect") -> float:
+    """Compile (or load) the pair kernels of ``path`` ("dense" | "sparse"), ``law`` and
+    ``contact`` on a short run of ``system`` (default: the bundled portal's); the seconds
+    spent."""
     from nsdyn._numba_cache import all_cached, first_compile
 
     sparse = path == "sparse"
     system = _small_pairs(sparse) if system is None or sparse else system
     still = {"f": 1.0, "ax": 0.0, "ay": 0.0}
     w0 = time.perf_counter()
-    with first_compile("building3d", PAIRS_COMPILE_ABOUT_S, all_cached(pair_kernels(path, law))):
+    cached = all_cached(pair_kernels(path, law, contact))
+    with first_compile("building3d", PAIRS_COMPILE_ABOUT_S, cached):
         if sparse:
             from nsdyn.models.isolated.pairs_sparse_run import simulate_pairs_sparse
 
@@ -117,16 +120,18 @@ def warm_pairs(path: str, law: str, system=None) -> float:
         else:
             from nsdyn.models.isolated.pairs import simulate_pairs
 
-            simulate_pairs(system, still, t_end=0.04, law=law, y0=system.info["y0"])
+            simulate_pairs(system, still, t_end=0.04, law=law, y0=system.info["y0"],
+                           contact=contact)  # fmt: skip
     return time.perf_counter() - w0
 
 
 @contextmanager
-def warming(path: str, law: str):
+def warming(path: str, law: str, contact: str = "detect"):
     """Around the build of a scene's pair system: a first compilation of the pair kernels of
-    ``path`` and ``law`` (:func:`warm_pairs` on the bundled portal) on a thread of its own
-    while the block builds the model, whose reduction (an eigenproblem of the frame, ~1.5 s of
-    the office's cb rung) would otherwise come first and leave the compile helper's core idle.
+    ``path``, ``law`` and ``contact`` (:func:`warm_pairs` on the bundled portal) on a thread
+    of its own while the block builds the model, whose reduction (an eigenproblem of the
+    frame, ~1.5 s of the office's cb rung) would otherwise come first and leave the compile
+    helper's core idle.
     Nothing starts when the kernels are cached (or ``law`` is not one the kernels take: the
     run's check then says so). Yields a dict whose ``"compile_s"`` (the warm-up's seconds)
     and ``"wait_s"`` (the block's wait for it at its end) are set when the block ends. The
@@ -136,14 +141,15 @@ def warming(path: str, law: str):
 
     times = {"compile_s": 0.0, "wait_s": 0.0}
     takes = ("arctan",) if path == "sparse" else ("arctan", "switch")
-    if law not in takes or all_cached(pair_kernels(path, law)):
+    contact = contact if contact == "unilateral" else "detect"  # (a bad one: the run's check)
+    if law not in takes or all_cached(pair_kernels(path, law, contact)):
         yield times
         return
     box: dict = {}
 
     def work():
         try:
-            box["s"] = warm_pairs(path, law)
+            box["s"] = warm_pairs(path, law, contact=contact)
         except BaseException as e:  # noqa: BLE001  (raised again on the building thread)
             box["e"] = e
 

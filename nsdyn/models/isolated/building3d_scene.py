@@ -222,7 +222,8 @@ def build_system(cfg: dict, source: str, warm: bool = False) -> dict:
     elif fid in ("cb", "full"):
         path = "dense" if fid == "cb" else full_path(frame, opts["base"])[0]
         law = cfg.get("solver", {}).get("law", "arctan")
-        with warming(path, law) if warm else nullcontext(times) as times:
+        contact = cfg.get("solver", {}).get("contact", "detect")
+        with warming(path, law, contact) if warm else nullcontext(times) as times:
             pairs = build_pairs(frame, bearing, fid, opts, source, cfg)
     return {"fidelity": fid, "frame": frame, "deck": deck, "pairs": pairs, "bearing": bearing,
             "n_modes": n_modes, "cb": opts, **times}  # fmt: skip
@@ -298,7 +299,7 @@ def _run_fixed(sysd, exc, source: str, out_dir: Path) -> dict:
 def _run_pairs(sysd, exc, t_end, kw, out_dir: Path, say, dt=None) -> dict:
     system = sysd["pairs"]
     info = system.info
-    compile_s = warm_pairs(info.get("path", "dense"), kw["law"], system)
+    compile_s = warm_pairs(info.get("path", "dense"), kw["law"], system, kw["contact"])
     compile_s += sysd.get("compile_s", 0.0)
     say(f"building3d: {info['fidelity']} rung, {path_line(info)}")
     r, s, caught = run_pairs(sysd, exc, t_end, kw, dt)
@@ -330,7 +331,7 @@ def _advise(sysd, cfg, exc, kw, source: str, say) -> None:
     pairs = build_pairs(sysd["frame"], sysd["bearing"], "cb", opts, source)
     build_s = time.perf_counter() - w0
     sysd["build_s"] += build_s
-    sysd["compile_s"] = warm_pairs("dense", kw["law"], pairs)
+    sysd["compile_s"] = warm_pairs("dense", kw["law"], pairs, kw["contact"])
     advice = advise_building(sysd["frame"], sysd["bearing"], exc, solver=kw, system=pairs)
     advice["evidence"]["cb_probe"]["build_s"] = build_s
     say(report(advice))

@@ -530,7 +530,7 @@ def simulate_pairs(
     args = (y, t_eval, modes, dirs, system.operators(), system.bearing_table(), sp, gk, gp,
             tab, cfg, X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
     args = (*args, pairs_compile.loop_arrays(loop, ns, n, ni))  # (the loops make none)
-    status = pairs_compile.run_loop(loop, args)
+    status = pairs_compile.run_loop(loop, args, contact == "unilateral")
     # the deck's result handles statuses, events, rim contacts and uplift; q is n wide here,
     # the internal slips are the deck's columns 6 on (its q, q̇ replaced below)
     Xd = np.concatenate([np.zeros((nt, 6)), X[:, 2 * n :]], axis=1)

@@ -106,6 +106,18 @@ def callees() -> list:
         Callee("pairs.jacobian", kqa._jacobian, (types.float64, real, real, *settle[2:12], mat_r,
                real), types.int64),
         Callee("pairs.dense", krad._dense, (real, mat_r, types.float64, real), types.none),
+        Callee("pairs.switch", kqr.switch, (types.float64, real, mat_r, mat_r, *settle[2:]),
+               types.int64),
+        Callee("pairs.locate_event", kqr.locate_event, (types.float64, types.float64, mat_r, real,
+               real, mat_r, mat_r, mat_r, mat_r, *settle[2:12]),
+               types.Tuple((types.boolean, types.float64, types.int64))),
+        Callee("pairs.locate_uplift", kqr.locate_uplift, (types.float64, types.float64,
+               types.float64, mat_r, real, *settle[2:12], real), types.float64),
+        Callee("pairs.land", kc.land, (types.float64, real, types.int64, *settle[2:5],
+               settle[10], mat_r, real, types.boolean, types.float64),
+               types.UniTuple(types.float64, 2)),
+        Callee("pairs.start_direction", kq.start_direction, (types.int64, types.float64,
+               types.float64, types.float64, settle[10], settle[3]), types.none),
     ]  # fmt: skip
 
 
@@ -119,12 +131,15 @@ def callees() -> list:
 FORCE_ROWS = ("pairs.evaluate", "pairs.least_norm", "pairs.outputs")
 LOOP_ROWS = ("pairs.begin", "pairs.emit", "pairs.track_stops", "pairs.rhs")
 EVENT_ROWS = ("pairs.stick_basis", "pairs.proportional_split", "pairs.settle",
-              "pairs.settle_contacts", "pairs.initial_modes")  # fmt: skip
+              "pairs.settle_contacts", "pairs.initial_modes", "pairs.switch",
+              "pairs.locate_event", "pairs.locate_uplift", "pairs.start_direction")  # fmt: skip
 RADAU_ROWS = ("pairs.factor_real", "pairs.factor_complex", "pairs.solve_real",
               "pairs.solve_complex", "pairs.jacobian", "pairs.dense")  # fmt: skip
+# the unilateral contacts' landing (the loop with located events, contact "unilateral" only)
+CONTACT_ROWS = ("pairs.land",)
 # this process's share of a first run beside its loop (:func:`_here`), the helper's the rest:
 # the shares measured even (this process also builds the model meanwhile)
-HERE_ROWS = {False: RADAU_ROWS, True: ()}
+HERE_ROWS = {False: RADAU_ROWS, True: ("pairs.switch", "pairs.locate_event", "pairs.locate_uplift")}
 
 
 def _rows(names) -> list:
@@ -133,35 +148,39 @@ def _rows(names) -> list:
     return [by_name[n] for n in names]
 
 
-def _needed(events: bool) -> list:
+def _needed(events: bool, unilateral: bool = False) -> list:
     """The callees a run calls: the force kernel (with its least-norm solve), the outputs and
     the loop's start, output step, rim tracking and right-hand side, and on the loop with
     located events the force kernel's stick rows (their basis and proportional split), the
-    settlings (the switch law's stick, unilateral contacts) and the initial modes, on the
-    Radau loop its factorisations and solves, its Jacobian and its dense output."""
-    return _rows(FORCE_ROWS + LOOP_ROWS + (EVENT_ROWS if events else RADAU_ROWS))
+    settlings (the switch law's stick, unilateral contacts), the initial modes, the mode
+    switch and the location of events and of uplift (with ``unilateral`` contacts also their
+    landing), on the Radau loop its factorisations and solves, its Jacobian and its dense
+    output."""
+    rows = FORCE_ROWS + LOOP_ROWS + (EVENT_ROWS if events else RADAU_ROWS)
+    return _rows(rows + (CONTACT_ROWS if events and unilateral else ()))
 
 
-def _here(events: bool) -> list:
+def _here(events: bool, unilateral: bool = False) -> list:
     """The callees this process compiles after the loop while the helper compiles the others
-    (:data:`HERE_ROWS`)."""
-    return _rows(HERE_ROWS[events])
+    (:data:`HERE_ROWS`; and the landing of unilateral contacts)."""
+    return _rows(HERE_ROWS[events] + (CONTACT_ROWS if events and unilateral else ()))
 
 
 def _helper(events: bool) -> list:
-    """The helper's share: the callees of :func:`_needed` but :func:`_here`'s."""
+    """The helper's share: the callees of :func:`_needed` but :data:`HERE_ROWS`'."""
     here = set(HERE_ROWS[events])
     return [c for c in _needed(events) if c.name not in here]
 
 
-def kernels(events: bool) -> list:
+def kernels(events: bool, unilateral: bool = False) -> list:
     """The numba kernels a run compiles: its loop (``_kpairsrun.integrate`` with located
-    events, else ``_kpairsradau.integrate``) and the callees it calls by address."""
+    events, else ``_kpairsradau.integrate``) and the callees it calls by address (with
+    ``unilateral`` contacts, on the loop with located events, also their landing)."""
     from nsdyn.models.isolated import _kpairsradau as kqa
     from nsdyn.models.isolated import _kpairsrun as kqr
 
     loop = kqr.integrate if events else kqa.integrate
-    return [loop, *(c.kernel for c in _needed(events))]
+    return [loop, *(c.kernel for c in _needed(events, unilateral))]
 
 
 def loop_arrays(loop, n_states: int, n: int, ni: int) -> tuple:
@@ -192,9 +211,10 @@ def loop_arrays(loop, n_states: int, n: int, ni: int) -> tuple:
             *(np.ones((ni, 3)) for _ in range(4)))  # fmt: skip
 
 
-def run_loop(loop, args: tuple):
+def run_loop(loop, args: tuple, unilateral: bool = False):
     """``loop(*args)`` (a time loop of a pair system: ``_kpairsrun.integrate``, which locates
-    events, or ``_kpairsradau.integrate``), the addresses of its callees in the table first.
+    events, or ``_kpairsradau.integrate``), the addresses of its callees in the table first
+    (``unilateral``: the run's contacts are, and the loop locates their landings).
     A first compilation is shared with a helper process where one may run
     (:func:`nsdyn._numba_cache.helper_enabled`): it compiles the callees (:func:`helper_part`
     or :func:`helper_force`) while this process compiles the loop for ``args``' types."""
@@ -203,19 +223,22 @@ def run_loop(loop, args: tuple):
 
     events = loop is not kqa.integrate
     target = "helper_part" if events else "helper_force"
-    return run_split(loop, args, _needed(events), f"nsdyn.models.isolated.pairs_compile:{target}",
-                     _here(events))  # fmt: skip
+    return run_split(loop, args, _needed(events, unilateral),
+                     f"nsdyn.models.isolated.pairs_compile:{target}",
+                     _here(events, unilateral))  # fmt: skip
 
 
 def helper_part() -> None:
     """The helper's share of a first compilation of the loop with located events: the force
-    kernel with its solves and stick rows, the outputs, both settlings and the initial modes."""
+    kernel with its solves and stick rows, the outputs, the start, output step, rim tracking
+    and right-hand side, both settlings, the initial modes and the start direction."""
     for c in _helper(True):
         c.compiled()
 
 
 def helper_force() -> None:
     """The helper's share of a first compilation of the Radau IIA loop: the force kernel with
-    its least-norm solve, the outputs, and the loop's solves with σ I − J factored."""
+    its least-norm solve, the outputs, the start, output step, rim tracking and right-hand
+    side."""
     for c in _helper(False):
         c.compiled()

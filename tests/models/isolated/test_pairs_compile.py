@@ -29,15 +29,19 @@ NAMES = ["pairs.evaluate", "pairs.outputs", "pairs.settle", "pairs.settle_contac
          "pairs.initial_modes", "pairs.factor_real", "pairs.factor_complex", "pairs.solve_real",
          "pairs.solve_complex", "pairs.proportional_split", "pairs.least_norm",
          "pairs.stick_basis", "pairs.begin", "pairs.emit", "pairs.track_stops", "pairs.rhs",
-         "pairs.jacobian", "pairs.dense"]  # fmt: skip
+         "pairs.jacobian", "pairs.dense", "pairs.switch", "pairs.locate_event",
+         "pairs.locate_uplift", "pairs.land", "pairs.start_direction"]  # fmt: skip
 # the force kernel with its least-norm solve by address, the outputs, the loops' start and
 # output step, the rim contacts' tracking and the right-hand side: both loops call them
 FORCE = ["pairs.evaluate", "pairs.least_norm", "pairs.outputs", *NAMES[12:16]]
 # the Radau loop's: and the LU of σ I - J, the Jacobian, the dense output
-RADAU = FORCE + NAMES[5:9] + NAMES[16:]
+RADAU = FORCE + NAMES[5:9] + NAMES[16:18]
 # the event loop's: and the force kernel's stick rows (switch law only), the settlings, the
-# initial modes
-EVENTS = FORCE + ["pairs.stick_basis", "pairs.proportional_split", *NAMES[2:5]]
+# initial modes, the mode switch, the location of events and of uplift, the start direction;
+# with unilateral contacts also their landing
+EVENTS = FORCE + ["pairs.stick_basis", "pairs.proportional_split", *NAMES[2:5], *NAMES[18:21],
+                  "pairs.start_direction"]  # fmt: skip
+LANDING = EVENTS + ["pairs.land"]
 
 
 def test_the_pair_rows_are_registered_and_declared_for_the_loops():
@@ -54,10 +58,16 @@ def test_the_pair_rows_are_registered_and_declared_for_the_loops():
     assert [byname[n] for n in NAMES[9:12]] == [kq.proportional_split, kq.least_norm,
                                                  kq.stick_basis]  # fmt: skip
     assert [byname[n] for n in NAMES[12:]] == [kqr.begin, kqr.emit, kc.track_stops, kq.rhs,
-                                                kqa._jacobian, krad._dense]  # fmt: skip
-    for events in (False, True):  # a first run's two shares: each callee compiled once
-        here, there = pc._here(events), pc._helper(events)
-        assert sorted(c.name for c in here + there) == sorted(c.name for c in pc._needed(events))
+                                                kqa._jacobian, krad._dense, kqr.switch,
+                                                kqr.locate_event, kqr.locate_uplift, kc.land,
+                                                kq.start_direction]  # fmt: skip
+    assert pc.kernels(True, True) == [kqr.integrate, *(byname[n] for n in LANDING)]
+    for events, uni in ((False, False), (True, False), (True, True)):
+        # a first run's two shares: each callee compiled once, the landing here
+        here, there = pc._here(events, uni), pc._helper(events)
+        names = sorted(c.name for c in pc._needed(events, uni))
+        assert sorted(c.name for c in here + there) == names
+        assert ("pairs.land" in names) == uni and "pairs.land" not in [c.name for c in there]
 
 
 @pytest.mark.skipif(not JIT or PLAIN, reason="the table is filled only for compiled code")
@@ -81,6 +91,10 @@ def test_a_radau_run_and_an_event_run_fill_only_the_rows_of_their_callees():
         r = simulate_pairs(ps, orbit, law="switch", t_end=0.2)
         assert [ka.filled(n) for n in NAMES] == [n in EVENTS for n in NAMES]
         assert np.all(np.isfinite(r.q))
+        for name in NAMES:
+            ka.TABLE[ka.index(name)] = 0
+        simulate_pairs(ps, orbit, law="switch", t_end=0.2, contact="unilateral")
+        assert [ka.filled(n) for n in NAMES] == [n in LANDING for n in NAMES]
     finally:
         ka.TABLE[:] = saved
 
@@ -120,7 +134,9 @@ def _loop_alone(law: str, loop: str, kernels: str) -> str:
 
 _LOOP_ALONE = _loop_alone("switch", "kqr.integrate",
                           "(kq.evaluate, kq.evaluate_at, kqr.settle, kc.settle_contacts, "
-                          "kqr.initial_modes, kqr.begin, kqr.emit, kq.rhs)")  # fmt: skip
+                          "kqr.initial_modes, kqr.begin, kqr.emit, kq.rhs, kqr.switch, "
+                          "kqr.locate_event, kqr.locate_uplift, kc.land, "
+                          "kq.start_direction)")  # fmt: skip
 _RADAU_ALONE = _loop_alone("arctan", "kqa.integrate",
                            "(kqa._factor, kqa._solve, lu_factor, lu_solve, kqr.begin, kqr.emit, "
                            "kc.track_stops, kq.rhs, kqa._jacobian, krad._dense)")  # fmt: skip
@@ -167,10 +183,12 @@ def test_the_radau_loop_compiles_without_its_factorisation_and_solve(compile_alo
 def test_the_event_loop_compiles_without_its_callees(compile_alone):
     # a fresh process with an empty cache compiles the loop alone: neither the force kernel
     # (nor what it calls) nor either settling nor the initial modes is compiled with it or
-    # linked into its code, nor its start, output step and right-hand side
+    # linked into its code, nor its start, output step, right-hand side, mode switch (with the
+    # landing and the start direction it calls) and location of events and of uplift
     rows = compile_alone(_LOOP_ALONE)
     names = ["evaluate", "evaluate_at", "settle", "settle_contacts", "initial_modes", "begin",
-             "emit", "rhs"]  # fmt: skip
+             "emit", "rhs", "switch", "locate_event", "locate_uplift", "land",
+             "start_direction"]  # fmt: skip
     assert [r[0] for r in rows] == names
     assert all(r[1:] == ["0", "False"] for r in rows), rows
 
@@ -178,9 +196,9 @@ def test_the_event_loop_compiles_without_its_callees(compile_alone):
 def _slow_warm(calls: list, fail: bool = False):
     import time
 
-    def warm(path, law):
+    def warm(path, law, contact="detect"):
         time.sleep(0.2)
-        calls.append((path, law))
+        calls.append((path, law) if contact == "detect" else (path, law, contact))
         if fail:
             raise RuntimeError("warm-up failed")
         return 0.2
@@ -210,6 +228,12 @@ def test_the_warm_up_beside_a_build_is_waited_for_even_when_the_build_fails(monk
         pass  # the build ends before the warm-up: its wait is the warm-up's rest
     assert calls[-1] == ("sparse", "arctan") and times["compile_s"] == 0.2
     assert 0.0 < times["wait_s"] and not _warm_threads()
+    # unilateral contacts warm the loop with located events and the landing; a contact the run
+    # does not take warms the default's (the run's check names the bad one)
+    for contact in ("unilateral", "sideways"):
+        with bpr.warming("dense", "arctan", contact):
+            pass
+    assert calls[-2:] == [("dense", "arctan", "unilateral"), ("dense", "arctan")]
 
 
 def test_the_warm_up_s_error_is_raised_and_nothing_starts_when_not_needed(monkeypatch):
