@@ -138,8 +138,12 @@ RADAU_ROWS = ("pairs.factor_real", "pairs.factor_complex", "pairs.solve_real",
 # the unilateral contacts' landing (the loop with located events, contact "unilateral" only)
 CONTACT_ROWS = ("pairs.land",)
 # this process's share of a first run beside its loop (:func:`_here`), the helper's the rest:
-# the shares measured even (this process also builds the model meanwhile)
-HERE_ROWS = {False: RADAU_ROWS, True: ("pairs.switch", "pairs.locate_event", "pairs.locate_uplift")}
+# the shares measured even (this process also builds the model meanwhile): the Radau loop
+# with its own pieces; the event loop with the mode switch, the location of events and of
+# uplift and the stick rows (the helper: the force kernel, the settlings, the start direction)
+HERE_ROWS = {False: RADAU_ROWS,
+             True: ("pairs.switch", "pairs.locate_event", "pairs.locate_uplift",
+                    "pairs.stick_basis", "pairs.proportional_split")}  # fmt: skip
 
 
 def _rows(names) -> list:
