@@ -420,8 +420,8 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     ni = modes.shape[0]
     t = t_eval[0]
     ws, out, y = wk[0], wk[1], wk[2]
-    sa = (y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV, info, ws, out, y)
-    st = ka.tcall("pairs.begin", sa)
+    bq = (y0, t, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, EV, info, ws, out, y)
+    st = ka.tcall("pairs.begin", bq)
     if st != kr.ST_OK:
         return st
     n = n2 // 2

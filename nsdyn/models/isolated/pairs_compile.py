@@ -60,8 +60,12 @@ def callees() -> list:
     ``"pairs.factor_complex"``: True when factored; ``"pairs.solve_real"``,
     ``"pairs.solve_complex"``), declared for the arrays of :func:`loop_arrays`; last the
     force kernel's two rarer solves (``"pairs.proportional_split"`` with redundant stick rows,
-    ``"pairs.least_norm"`` when the LU fails), each returning True when solved, and the basis
-    of the stuck isolators' slip rows (``"pairs.stick_basis"``, returning its rank). Once per
+    ``"pairs.least_norm"`` when the LU fails), each returning True when solved; then the
+    basis of the stuck isolators' slip rows (``"pairs.stick_basis"``, returning its rank),
+    the loops' start, output step, rim tracking and right-hand side, the Radau loop's
+    Jacobian and dense output, the event loop's mode switch, location of events and of
+    uplift, the landing of unilateral contacts and the start direction of a stuck isolator
+    (:data:`FORCE_ROWS` ... :data:`CONTACT_ROWS` say which loop calls which). Once per
     process."""
     import numpy as np
     from numba import typeof, types
