@@ -40,9 +40,9 @@ __all__ = ["DT_SPARSE", "full_path", "pair_kernels", "path_line", "peak_field", 
 
 DT_SPARSE = 0.005  # s: the sparse full rung's default step (module text)
 # seconds the pair kernels' first compilation takes (the first-run notice) on the AMD EPYC of
-# docs/dev/first-runs.md, in a middling hour: 1.8x the fast hour's (~8.5 s, the family
-# table's building3d row); the office's cb rung, regularised law, the force kernel compiled in
-# a helper process beside the loop
+# docs/dev/first-runs.md, in a middling hour: 1.9x the fast hour's (7.7 s, the family table's
+# building3d row: the office's cb rung, regularised law, the force kernel compiled in a helper
+# process beside the loop), 1.3x the switch law's (its loop with located events, ~11.5 s)
 PAIRS_COMPILE_ABOUT_S = 15.0
 
 
