@@ -58,6 +58,34 @@ def _uplift_cell(v) -> str:
     return f"t = {first['t_s']:.4f} s (contact {first['contact']}){more}"
 
 
+def summary_rows(s: dict) -> list[str]:
+    """The printed rows of a run's summary ``s`` (label, value): the metrics the model
+    defines. A run with unilateral contacts models lift-off, so it has no uplift row (that
+    row reports the no-uplift model's violations); its lift-off rows say what happened."""
+    rows = [  # (label, key, format): metrics the model does not define are absent
+        ("duration / output step", "t_end_s", lambda v: f"{v:g} s / {s['dt_out_s']:g} s"),
+        ("peak isolator displacement x_iso", "x_iso_max_m", lambda v: f"{v:.4f} m"),
+        ("peak interstorey drift ratio", "idr_max", lambda v: f"{v:.3e}"),
+        ("peak absolute floor acceleration", "floor_acc_max_mps2", lambda v: f"{v:.3f} m/s²"),
+        ("peak roof drift x_top - x_iso", "roof_drift_max_m", lambda v: f"{v:.4f} m"),
+        ("minimum normal force", "min_normal_force_N", lambda v: f"{v + 0.0:.4g} N"),  # no "-0"
+        ("share of time all isolators stick", "stick_fraction", lambda v: f"{v:.2f}"),
+        ("energy balance closure error", "energy_closure", lambda v: f"{v:.2e}"),
+        ("uplift", "uplift", _uplift_cell),
+        ("contact assumption", "contact", str),
+        ("a normal force < 0 (lift-off)", "would_lift_off", lambda v: "yes" if v else "no"),
+        ("lift-offs / landings", "lift_offs", lambda v: f"{v} / {s.get('landings', 0)}"),
+        ("first lift-off", "first_lift_off_s", lambda v: f"{v:.4f} s"),
+        ("flight time per contact", "flight_time_s", lambda v: ", ".join(f"{x:.3f} s" for x in v)),
+        ("peak landing velocity", "max_landing_velocity_mps", lambda v: f"{v:.4f} m/s"),
+        ("peak landing impulse", "max_landing_impulse_Ns", lambda v: f"{v:.4g} N s"),
+        ("energy lost at landings", "impact_energy_J", lambda v: f"{abs(v):.4g} J"),
+    ]
+    skip = {"uplift"} if s.get("contact") == "unilateral" else set()
+    return [f"  {label:36s} {fmt(s[key])}" for label, key, fmt in rows
+            if key not in skip and s.get(key) is not None]  # fmt: skip
+
+
 def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "scene", nargs="?", default=None, help="scene TOML (default: the bundled default scene)"
@@ -456,28 +484,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"model   {s['model']}   excitation {s['record']}{pga}")
     print(f"method  {s['method']}: {s['n_steps']} steps, run {s['wall_s']:.3f} s", end="")
     print(f" (+ JIT compile/load {s['compile_s']:.1f} s)")
-    rows = [  # (label, key, format): metrics the model does not define are absent
-        ("duration / output step", "t_end_s", lambda v: f"{v:g} s / {s['dt_out_s']:g} s"),
-        ("peak isolator displacement x_iso", "x_iso_max_m", lambda v: f"{v:.4f} m"),
-        ("peak interstorey drift ratio", "idr_max", lambda v: f"{v:.3e}"),
-        ("peak absolute floor acceleration", "floor_acc_max_mps2", lambda v: f"{v:.3f} m/s²"),
-        ("peak roof drift x_top - x_iso", "roof_drift_max_m", lambda v: f"{v:.4f} m"),
-        ("minimum normal force", "min_normal_force_N", lambda v: f"{v:.4g} N"),
-        ("share of time all isolators stick", "stick_fraction", lambda v: f"{v:.2f}"),
-        ("energy balance closure error", "energy_closure", lambda v: f"{v:.2e}"),
-        ("uplift", "uplift", _uplift_cell),
-        ("contact assumption", "contact", str),
-        ("a normal force < 0 (lift-off)", "would_lift_off", lambda v: "yes" if v else "no"),
-        ("lift-offs / landings", "lift_offs", lambda v: f"{v} / {s.get('landings', 0)}"),
-        ("first lift-off", "first_lift_off_s", lambda v: f"{v:.4f} s"),
-        ("flight time per contact", "flight_time_s", lambda v: ", ".join(f"{x:.3f} s" for x in v)),
-        ("peak landing velocity", "max_landing_velocity_mps", lambda v: f"{v:.4f} m/s"),
-        ("peak landing impulse", "max_landing_impulse_Ns", lambda v: f"{v:.4g} N s"),
-        ("energy lost at landings", "impact_energy_J", lambda v: f"{abs(v):.4g} J"),
-    ]
-    for label, key, fmt in rows:
-        if s.get(key) is not None:
-            print(f"  {label:36s} {fmt(s[key])}")
+    for line in summary_rows(s):
+        print(line)
     print(f"histories: {hist}")
     if "figure" in s:
         print(f"figure:    {s['figure']}")

@@ -106,3 +106,18 @@ def test_t_end_replaces_a_harmonic_scenes_number_of_periods(tmp_path, capsys):
     argv = ["run", str(scene), "--t-end", "1", "--json", "--no-figures", "--out", str(tmp_path)]
     assert main(argv) == 0
     assert json.loads(capsys.readouterr().out)["t_end_s"] == 1.0
+
+
+def test_summary_rows_of_a_unilateral_run_report_lift_off_not_uplift():
+    # the "uplift" row reports where the no-uplift model was violated; a run with unilateral
+    # contacts models lift-off, so it reports lift-offs instead; a normal force that ends at
+    # exactly zero (in flight) prints as 0, not -0 (IEEE: -0.0 + 0.0 = +0.0)
+    from nsdyn.cli.run import summary_rows
+
+    base = {"min_normal_force_N": -0.0, "uplift": []}
+    held = "\n".join(summary_rows({**base, "contact": "bilateral"}))
+    lifted = "\n".join(summary_rows({**base, "contact": "unilateral", "lift_offs": 3,
+                                     "landings": 2}))  # fmt: skip
+    assert "uplift " in held and "none" in held
+    assert "uplift " not in lifted and "lift-offs / landings" in lifted and "3 / 2" in lifted
+    assert "minimum normal force                 0 N" in lifted and "-0" not in lifted
