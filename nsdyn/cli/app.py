@@ -7,7 +7,8 @@ pair and add a :class:`Command` entry; :func:`main` builds the parser from the t
 Errors the user can fix (bad frame file, unwritable output directory, an argument out of
 range) print one line to stderr and exit with status 2; no traceback. SIGINT or SIGTERM stops
 a command with one line and status 130: every file is written atomically, so what is on disk
-is complete, and a rerun resumes from the command's checkpoint where it has one.
+is complete; ``run --resume`` continues from a run's checkpoint, and a rerun of ``sweep`` or
+``study`` resumes by itself (the line says which).
 """
 
 from __future__ import annotations
@@ -109,15 +110,50 @@ COMMANDS: dict[str, Command] = {
 
 
 class _Parser(argparse.ArgumentParser):
-    """An argument parser whose usage errors are one line on stderr and status 2."""
+    """An argument parser whose usage errors are one line on stderr and status 2, and whose
+    commands take their options before, between and after their positionals
+    (``nsdyn export opensees --t-end 2 SCENE``: argparse alone would have matched the optional
+    SCENE, empty, together with ``opensees``)."""
+
+    _intermixing = False
+
+    def parse_known_args(self, args=None, namespace=None):
+        if self._subparsers is not None or self._intermixing:  # nsdyn itself; the inner passes
+            return super().parse_known_args(args, namespace)
+        self._intermixing = True
+        try:
+            return self.parse_known_intermixed_args(args, namespace)
+        finally:
+            self._intermixing = False
 
     def error(self, message: str):
         print(f"{self.prog}: error: {message} (see {self.prog} --help)", file=sys.stderr)
         raise SystemExit(EXIT_USER_ERROR)
 
 
-def _on_sigterm(signum, frame):
+_SIGNALLED = [False]  # set by the handler: an error after a signal is the signal's doing
+
+
+def _on_signal(signum, frame):
+    """SIGINT and SIGTERM: note that the command was stopped, then stop it."""
+    _SIGNALLED[0] = True
     raise KeyboardInterrupt
+
+
+def _interrupt_line(args: argparse.Namespace) -> str:
+    """What an interrupted command leaves and how to go on: only ``run`` (with ``--resume``)
+    and ``sweep`` (by itself) continue from a checkpoint; the others start over."""
+    from pathlib import Path
+
+    done = f"nsdyn {args.command}: interrupted; files on disk are complete"
+    if args.command == "sweep":
+        return f"{done}, rerun the same command to resume"
+    if args.command == "run":
+        out = Path(getattr(args, "out", None) or "nsdyn-out")
+        if (out / ".run-checkpoint.npz").is_file():
+            return f"{done}, rerun it with --resume to continue from its checkpoint in {out}"
+        return f"{done}; it stopped before its first checkpoint, a rerun starts over"
+    return f"{done}; this command keeps no checkpoint, a rerun starts over"
 
 
 def _one_line_warnings(command: str, default: Callable) -> Callable:
@@ -209,8 +245,9 @@ def main(argv: list[str] | None = None) -> int:
     args, extra = parser.parse_known_args(argv)  # a usage error: one line, SystemExit(2)
     if extra:  # reported by the command's own parser: "nsdyn run: error: …"
         parser.commands[args.command].error(f"unrecognized arguments: {' '.join(extra)}")
+    _SIGNALLED[0] = False
     try:  # SIGTERM stops a command the way Ctrl-C does (atomic files; checkpoints kept)
-        old = signal.signal(signal.SIGTERM, _on_sigterm)
+        old = signal.signal(signal.SIGTERM, _on_signal), signal.signal(signal.SIGINT, _on_signal)
     except ValueError:  # not the main thread: leave signals alone
         old = None
     shown = warnings.showwarning
@@ -218,16 +255,14 @@ def main(argv: list[str] | None = None) -> int:
     try:
         try:
             return int(args._run(args))
-        except SystemError as exc:  # a signal raised inside a jitted kernel surfaces wrapped
-            if not _caused_by_interrupt(exc):
+        except Exception as exc:  # a signal raised inside a jitted kernel surfaces wrapped;
+            # one inside numba's compiler can be swallowed by a callback and leave an error
+            # of its own: after a signal, any error is the signal's
+            if not (_SIGNALLED[0] or _caused_by_interrupt(exc)):
                 raise
             raise KeyboardInterrupt from exc
     except KeyboardInterrupt:
-        print(
-            f"nsdyn {args.command}: interrupted; files on disk are complete, "
-            "rerun the same command to resume",
-            file=sys.stderr,
-        )
+        print(_interrupt_line(args), file=sys.stderr)
         return EXIT_INTERRUPTED
     except _user_errors() as exc:
         print(f"nsdyn {args.command}: error: {exc}", file=sys.stderr)
@@ -238,7 +273,8 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         warnings.showwarning = shown
         if old is not None:
-            signal.signal(signal.SIGTERM, old)
+            signal.signal(signal.SIGTERM, old[0])
+            signal.signal(signal.SIGINT, old[1])
 
 
 # the commands whose first run compiles beside a helper process: the package whose kernels

@@ -63,6 +63,8 @@ def amplitude_list(s: str) -> list[float]:
         ) from None
     if not vals or any(not (v > 0 and math.isfinite(v)) for v in vals):
         raise argparse.ArgumentTypeError(f"expected positive amplitudes [m/s^2], got {s!r}")
+    if len(set(vals)) < len(vals):  # each would be computed again
+        raise argparse.ArgumentTypeError(f"expected distinct amplitudes, got {s!r}")
     return vals
 
 

@@ -44,6 +44,15 @@ HELP = {
     "scale3d": "cost of the full 3D rung against building size, against exported OpenSees",
     "isolators": "bidirectional isolators: work-precision of the two laws, cost per isolator",
 }
+RECORDS_DEFAULT = "wn,kt"
+# (flag, option) of the options that only some benchmarks take (their OPTIONS)
+_GIVEN = (
+    ("--repeats", "repeats"),
+    ("--records", "records"),
+    ("--cold-compile", "cold_compile"),
+    ("--families", "families"),
+    ("--curve", "curve"),
+)
 EXIT_UNAVAILABLE = 1  # `all`: a benchmark module exists but does not import
 
 
@@ -74,7 +83,7 @@ def configure(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--records",
-        default="wn,kt",
+        default=RECORDS_DEFAULT,
         metavar="LIST",
         help="accuracy: comma-separated records among wn (white noise), kt (Kanai-Tajimi)",
     )
@@ -110,6 +119,36 @@ def _jsonable(obj):
     return obj
 
 
+def _cell(v) -> str:
+    if isinstance(v, bool) or v is None:
+        return str(v).lower() if v is not None else "-"
+    if isinstance(v, float | np.floating):
+        return f"{float(v):.4g}"
+    return str(v)
+
+
+def _plain(obj, indent: str = "") -> list[str]:
+    """A benchmark's summary as text (for those without a report of their own): one
+    ``key  value`` line per number, nested tables indented, a list of rows as a table."""
+    lines: list[str] = []
+    for k, v in obj.items():
+        if isinstance(v, dict):
+            lines += [f"{indent}{k}:", *_plain(v, indent + "  ")]
+        elif isinstance(v, list | tuple) and v and all(isinstance(r, dict) for r in v):
+            cols = list(dict.fromkeys(c for r in v for c in r))
+            cells = [[_cell(r.get(c)) for c in cols] for r in v]
+            w = [max(len(c), *(len(row[i]) for row in cells)) for i, c in enumerate(cols)]
+            lines.append(f"{indent}{k}:")
+            lines.append(indent + "  " + "  ".join(c.rjust(w[i]) for i, c in enumerate(cols)))
+            lines += [indent + "  " + "  ".join(x.rjust(w[i]) for i, x in enumerate(row))
+                      for row in cells]  # fmt: skip
+        elif isinstance(v, list | tuple):
+            lines.append(f"{indent}{k}  {', '.join(_cell(x) for x in v)}")
+        else:
+            lines.append(f"{indent}{k}  {_cell(v)}")
+    return lines
+
+
 def _files(res) -> list[tuple[str, str]]:
     """(key, path) of each file a result lists under "files" (a dict or a list of paths)."""
     files = res.get("files", {}) if isinstance(res, dict) else {}
@@ -140,6 +179,13 @@ def run(args: argparse.Namespace) -> int:
         "families": getattr(args, "families", False),
         "curve": getattr(args, "curve", False),
     }
+    given = {  # the benchmark-specific options the user set
+        "repeats": args.repeats is not None,
+        "records": args.records != RECORDS_DEFAULT,
+        "cold_compile": options["cold_compile"],
+        "families": options["families"],
+        "curve": options["curve"],
+    }
     whats = list(BENCHMARKS) if args.what == "all" else [args.what]
     summary, status = {}, 0
     for what in whats:
@@ -153,6 +199,11 @@ def run(args: argparse.Namespace) -> int:
             status = status if e.absent else EXIT_UNAVAILABLE
             continue
         taken = {k: options[k] for k in getattr(module, "OPTIONS", ()) if k in options}
+        unused = [f for f, k in _GIVEN if k not in getattr(module, "OPTIONS", ()) and given[k]]
+        if unused and args.what != "all":  # `all` hands each benchmark the options it takes
+            print(f"nsdyn bench: error: {', '.join(unused)}: not an option of benchmark "
+                  f"{what!r}", file=sys.stderr)  # fmt: skip
+            return EXIT_USER_ERROR
         res = module.run_bench(Path(args.out), args.quick, **taken)
         summarise = getattr(module, "summarise", None)
         summary[what] = summarise(res) if summarise is not None else res
@@ -160,8 +211,12 @@ def run(args: argparse.Namespace) -> int:
             report = getattr(module, "report", None)
             if report is not None:
                 print(report(res))
+            elif isinstance(summary[what], dict):
+                print(f"{what}:")
+                body = {k: v for k, v in summary[what].items() if k != "files"}  # listed below
+                print("\n".join(_plain(_jsonable(body), "  ")))
             else:
-                print(json.dumps(_jsonable(summary[what]), indent=2))
+                print(f"{what}: {summary[what]}")
             for k, v in _files(res):
                 print(f"{k}: {v}")
     if args.json:

@@ -33,8 +33,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         "frame",
         nargs="?",
         default=DEFAULT_FRAME,
-        help="bundled frame name or path to a frame .toml file (default: the default "
-        f"scene's frame, {DEFAULT_FRAME})",
+        help="bundled frame name, path to a frame .toml file, or a scene naming a frame "
+        f"(default: the default scene's frame, {DEFAULT_FRAME})",
     )
     p.add_argument(
         "--fmax",
@@ -85,9 +85,39 @@ def modes_summary(frame, f_max: float, k_lam: float) -> tuple[dict, np.ndarray, 
     return summary, f, Phi
 
 
+def _scene_frame(arg: str) -> str:
+    """The frame ``nsdyn modes ARG`` lists: ``arg`` itself (a frame file or bundled name), or
+    the frame a scene file names (``[scene] frame``, ``[structure] frame3d``; an isolated
+    scene without either runs the default frame); a scene without a frame is refused."""
+    import tomllib
+
+    from nsdyn.models.scenefile import SceneError, resolve_paths
+
+    p = Path(arg)
+    try:
+        data = tomllib.loads(p.read_text()) if p.suffix == ".toml" and p.is_file() else {}
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return arg  # the frame reader names the problem
+    if not isinstance(data.get("scene"), dict):
+        return arg
+    data = resolve_paths(data, p.parent)
+    kind = data["scene"].get("kind", "isolated")
+    frame = data["scene"].get("frame") or data.get("structure", {}).get("frame3d")
+    if kind == "isolated" and frame is None and "structure" not in data:
+        frame = DEFAULT_FRAME
+    if not isinstance(frame, str):
+        raise SceneError(
+            f"{arg}: a scene of kind {kind!r} without a frame; nsdyn modes takes a frame file, "
+            "a bundled frame's name, or a scene that names a frame ([scene] frame, "
+            "[structure] frame3d)"
+        )
+    return frame
+
+
 def run(args: argparse.Namespace) -> int:
     from nsdyn.structure import is_frame3d
 
+    args.frame = _scene_frame(str(args.frame))
     if is_frame3d(args.frame):
         return _run3d(args)
     frame = load_frame(args.frame)

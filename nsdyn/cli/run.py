@@ -104,7 +104,8 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--method",
         help="integrator: auto (default: chosen from the model, reason printed), radau, "
-        "dopri5, event (adaptive); genalpha, hht, newmark, genalpha-lowrank (fixed step, --dt)",
+        "radau-generic, dopri5, event (adaptive); genalpha, hht, newmark, genalpha-lowrank "
+        "(fixed step, --dt)",
     )
     p.add_argument(
         "--dt",
@@ -142,6 +143,13 @@ def _scene_overrides(args: argparse.Namespace) -> dict:
     if args.fidelity and args.fidelity != "auto":
         o.setdefault("scene", {})["fidelity"] = args.fidelity
     if args.fixed_base:
+        from nsdyn.models.scenefile import SceneError
+
+        clash = [f for f, v in (("--fidelity", args.fidelity), ("--friction", args.friction),
+                                ("--compare-fixed", args.compare_fixed)) if v]  # fmt: skip
+        if clash:
+            raise SceneError(f"--fixed-base: the clamped linear frame has no isolators; "
+                             f"{', '.join(clash)} cannot apply to it")  # fmt: skip
         o.setdefault("scene", {})["fidelity"] = "fixed"
     if args.fmax:
         o.setdefault("scene", {})["f_max"] = args.fmax
@@ -165,6 +173,17 @@ def _t_end_wins(args: argparse.Namespace, cfg: dict) -> None:
     if args.t_end:
         for table in ("motion", "force"):
             cfg.get(table, {}).pop("n_periods", None)
+
+
+def _note_short_record(cfg: dict, motion, quiet: bool) -> None:
+    """A ``t_end`` past the record's last sample ends the run there: said in one line."""
+    t_req = cfg.get("motion", {}).get("t_end")
+    if quiet or t_req is None or not hasattr(motion, "n") or not hasattr(motion, "dt"):
+        return
+    last = motion.t0 + (motion.n - 1) * motion.dt
+    if float(t_req) > last + 0.5 * motion.dt:
+        print(f"nsdyn run: note: t_end = {float(t_req):g} s is past the record's last sample; "
+              f"the run ends there, at {last:g} s", file=sys.stderr)  # fmt: skip
 
 
 _ISOLATED_ONLY = (
@@ -211,7 +230,8 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
 
     bad = [f"--{k.replace('_', '-')}" for k in _ISOLATED_ONLY if getattr(args, k, None)]
     if bad:
-        raise SceneError(f"{args.scene}: {', '.join(bad)} apply to isolated-frame scenes only")
+        verb = "applies" if len(bad) == 1 else "apply"
+        raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes only")
     for table, vals in _scene_overrides(args).items():
         cfg.setdefault(table, {}).update(vals)
     _t_end_wins(args, cfg)
@@ -340,6 +360,7 @@ def run(args: argparse.Namespace) -> int:
         cfg.setdefault("isolation", {})["law"] = args.friction
     _check_method(cfg.get("solver", {}).get("method", "auto"), cfg)  # before the model's build
     system, motion, duration = build_scene_run(cfg)
+    _note_short_record(cfg, motion, args.json)
     if args.fidelity == "auto" and system.frame is None:
         from nsdyn.models.scenefile import SceneError
 
@@ -399,6 +420,9 @@ def run(args: argparse.Namespace) -> int:
 
     with output_dir(out):
         if not args.resume:
+            if ckpt.is_file() and not quiet:
+                print(f"nsdyn run: starting afresh; the checkpoint an interrupted run left in "
+                      f"{out} is discarded (--resume continues it)", file=sys.stderr)  # fmt: skip
             ckpt.unlink(missing_ok=True)
             identity.unlink(missing_ok=True)
         elif ckpt.is_file():

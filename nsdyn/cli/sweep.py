@@ -250,8 +250,10 @@ def run(args: argparse.Namespace) -> int:
         f"model {report['model']}: {settings.points} frequencies "
         f"{settings.fmin:g}-{settings.fmax:g} Hz, {settings.continuation} continuation"
     )
+    unit = "[N]   " if "force" in cfg else "[m/s²]"  # a harmonic force's amplitude, or A_hor
     print(
-        "   A [m/s²]  points  fallback  uplift  unstable  stick above [Hz]  x_iso max [m]  wall [s]"
+        f"   A {unit}  points  fallback  uplift  unstable  stick above [Hz]  x_iso max [m]  "
+        "wall [s]"
     )
 
     def g(v, fmt):
@@ -299,6 +301,11 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     )
 
     source = str(args.scene)
+    if args.fidelity is not None and cfg.get("scene", {}).get("kind") == "deck":
+        print(f"nsdyn sweep: error: {source}: --fidelity: a deck scene has one model, the rigid "
+              "deck; the fidelities are those of isolated and building3d scenes",
+              file=sys.stderr)  # fmt: skip
+        return EXIT_USER_ERROR
     if args.fidelity is not None:
         cfg = {**cfg, "structure": {**cfg.get("structure", {}), "fidelity": args.fidelity}}
     given = (("--contact", args.contact != "bilateral"), ("--tableau", args.tableau != "sdirk2"),

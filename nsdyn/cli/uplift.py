@@ -64,6 +64,15 @@ def run(args: argparse.Namespace) -> int:
 
     overrides = {"scene": {"fidelity": args.fidelity}} if args.fidelity else None
     try:
+        if args.scene is not None:
+            from nsdyn.models.scenefile import read_toml, scene_kind
+
+            kind = scene_kind(read_toml(args.scene), str(args.scene))
+            if kind != "isolated":
+                raise SceneError(
+                    f"{args.scene}: scene.kind: nsdyn uplift takes isolated-frame scenes (kind "
+                    f"'isolated'), got {kind!r}"
+                )
         cfg = load_scene(args.scene, overrides)
         if cfg["scene"].get("fidelity", "cb") == "fixed":
             raise SceneError(

@@ -194,7 +194,11 @@ class GroundMotion(Sampled):
             raise ValueError(f"target: expected a finite PGA >= 0 [m/s²], got {target!r}")
         peak = float(np.max(np.abs(self._component(component))))
         if peak == 0.0:
-            raise ValueError(f"{self.name!r}: the {component} component is zero; cannot scale")
+            what = "horizontal" if component == "hor" else "vertical"
+            raise ValueError(
+                f"record {self.name!r}: the {what} acceleration is zero at every sample; "
+                "it cannot be scaled to a peak"
+            )
         factor = float(target) / peak
         a_ver = None if self.a_ver is None else self.a_ver * factor
         total = factor * float(self.meta.get("scale_factor", 1.0))
@@ -346,22 +350,25 @@ def header_units(header: list[str]) -> str | None:
     return None
 
 
-def check_pga(motion: GroundMotion) -> None:
-    """Warn (UnitWarning) when the PGA lies outside the plausible range of m/s²."""
+def check_pga(motion: GroundMotion, units: str | None = None) -> None:
+    """Warn (UnitWarning) when the PGA lies outside the plausible range of m/s² (the advice
+    depends on whether the reader was given the file's ``units``)."""
     pga = motion.pga
-    if pga > PGA_MAX_PLAUSIBLE:
+    fix = f"check units={units!r}" if units is not None else f"give its units ({UNITS_HINT})"
+    if pga == 0.0:
+        warnings.warn(f"{motion.source}: the record is zero at every sample", UnitWarning,
+                      stacklevel=3)  # fmt: skip
+    elif pga > PGA_MAX_PLAUSIBLE:
         warnings.warn(
             f"{motion.source}: PGA = {pga:.4g} m/s² > {PGA_MAX_PLAUSIBLE:g} m/s²; the file is "
-            "probably in cm/s² (gal) read as m/s², or in m/s² read as g: give its units "
-            f"({UNITS_HINT})",
+            f"probably in cm/s² (gal) read as m/s², or in m/s² read as g: {fix}",
             UnitWarning,
             stacklevel=3,
         )
     elif pga < PGA_MIN_PLAUSIBLE:
         warnings.warn(
             f"{motion.source}: PGA = {pga:.4g} m/s² < {PGA_MIN_PLAUSIBLE:g} m/s²; the file is "
-            "probably in g read as m/s² (or the record is empty): give its units "
-            f"({UNITS_HINT})",
+            f"probably in g read as m/s²: {fix}",
             UnitWarning,
             stacklevel=3,
         )

@@ -211,7 +211,10 @@ class GroundMotion3(Sampled):
             "geomean": lambda: self.pga_geomean,
         }[component]()
         if peak == 0.0:
-            raise ValueError(f"{self.name!r}: the {component} peak is zero; cannot scale")
+            raise ValueError(
+                f"record {self.name!r}: the {component} peak acceleration is zero (every "
+                "sample); it cannot be scaled to a peak"
+            )
         c = target / peak
         total = c * float(self.meta.get("scale_factor", 1.0))
         az = None if self.az is None else c * self.az

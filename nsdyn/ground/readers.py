@@ -146,7 +146,7 @@ def read_motion(
         motion, unit_name = parse_jma(text, source, opt)
     else:
         motion, unit_name = parse_table_motion(text, source, kind, opt)
-    check_pga(motion)
+    check_pga(motion, units)
     if vertical_ratio is not None:
         return motion.with_vertical(vertical_ratio)
     if vertical_file is None:

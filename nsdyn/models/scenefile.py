@@ -28,14 +28,52 @@ class SceneError(ValueError):
     """A scene file or option is invalid; the message names the file and field."""
 
 
+# the fields of every scene family that name a file (a frame, a record or its components)
+FILE_FIELDS = (
+    ("scene", "frame"),
+    ("structure", "frame3d"),
+    ("force", "record"),
+    *(("motion", k) for k in ("record", "record_y", "record_z", "x", "y", "z")),
+)
+
+
+def resolve_paths(cfg: Mapping, folder: str | Path) -> dict:
+    """``cfg`` with its relative file names (:data:`FILE_FIELDS`) read from ``folder``, the
+    scene file's: a name with a file of that name in ``folder`` becomes that file's absolute
+    path (unless it names the same file from the current folder); any other value (a bundled
+    name, an absolute path, a file missing there) is kept as written."""
+    folder = Path(folder)
+    out = {k: dict(v) if isinstance(v, Mapping) else v for k, v in cfg.items()}
+    for table, key in FILE_FIELDS:
+        v = out.get(table, {}).get(key) if isinstance(out.get(table), dict) else None
+        if not isinstance(v, str) or not v or Path(v).is_absolute():
+            continue
+        there = folder / v
+        if there.is_file() and not (Path(v).is_file() and Path(v).resolve() == there.resolve()):
+            out[table][key] = str(there.resolve())
+    return out
+
+
+def scaled_to_pga(motion, pga: float, source: str, field: str = "motion.pga"):
+    """``motion.scaled_to_pga(pga)``, its refusal (a record that is zero everywhere, a bad
+    target) a :class:`SceneError` naming the scene file and ``field``."""
+    try:
+        return motion.scaled_to_pga(pga)
+    except ValueError as e:
+        raise SceneError(f"{source}: {field}: {e}") from None
+
+
 def read_toml(path: str | Path, what: str = "scene") -> dict:
     """The parsed TOML file, or :class:`SceneError` naming the file and the syntax error.
 
     A file without a single table or key (empty, or comments only) is refused: it would
     otherwise run the defaults, which is never what a file named on the command line means.
-    ``what`` names the kind of file in the messages ("scene", "study").
+    ``what`` names the kind of file in the messages ("scene", "study"). A scene's file names
+    are read from the scene's folder first (:func:`resolve_paths`).
     """
     p = Path(path)
+    if p.is_dir():
+        raise SceneError(f"{path}: a folder; expected a {what} file (.toml)")
     if not p.is_file():
         raise SceneError(f"{path}: no such {what} file")
     try:
@@ -61,7 +99,7 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
             f"of kind 'building3d' as [scene] frame3d = \"{path}\" "
             "(examples/scenes/building3d-office-cb.toml)"
         )
-    return data
+    return resolve_paths(data, p.parent) if what == "scene" else data
 
 
 def unknown_key(source: str, where: str, key: str, valid) -> SceneError:

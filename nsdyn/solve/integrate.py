@@ -113,8 +113,9 @@ MESSAGES = {
     ),
     ki.ST_UPLIFT: (
         "uplift at t = {t:.6g} s: the normal force of contact {contact} reached zero, so the "
-        "no-uplift assumption of the model is violated; reduce the excitation or pass "
-        "uplift='warn' to continue outside the model's domain"
+        "no-uplift assumption of the model is violated; reduce the excitation, or pass "
+        "uplift='warn' (in a scene: [solver] uplift = \"warn\") to continue outside the "
+        "model's domain, or integrate lift-off and landing (isolation.contact = 'unilateral')"
     ),
     ki.ST_LU_SINGULAR: (
         "singular iteration matrix at t = {t:.6g} s (step {h:.3g} s): the Jacobian is not "

@@ -335,6 +335,11 @@ def simulate(
         method, reason = choose_for_system(system, contact)
         if METHODS[method].fixed_step and dt is None:
             dt = AUTO_DT
+        elif not METHODS[method].fixed_step and dt is not None:
+            raise ValueError(
+                f"dt={dt:g} is the step of a fixed-step method, but method 'auto' chose the "
+                f"adaptive {method!r} ({reason}); name a fixed-step method with dt, or drop dt"
+            )
     if atol is None:
         atol = run_atol(method)
     full_order = getattr(system, "sparse", None) is not None

@@ -35,7 +35,7 @@ from dataclasses import replace
 from functools import lru_cache
 from pathlib import Path
 
-from nsdyn.models.scenefile import SceneError, scene_kind, scene_module
+from nsdyn.models.scenefile import SceneError, scaled_to_pga, scene_kind, scene_module
 from nsdyn.studies.study import KINDS3C
 
 ERROR_CHARS = 400  # longest error text kept in a failed row
@@ -66,7 +66,7 @@ def simulated_motion(spec: dict):
     return modulated_white_noise(spec["duration"], dt=spec["dt"], seed=spec["seed"], name=name)
 
 
-def scene_motion(cfg: dict):
+def scene_motion(cfg: dict, source: str = "<scene>"):
     """The ground motion of a scene's ``[motion]`` table (record or simulated; vertical, pga,
     t_end applied as ``nsdyn run`` applies them)."""
     mo = cfg["motion"]
@@ -77,7 +77,7 @@ def scene_motion(cfg: dict):
     if not mo.get("vertical", True):
         motion = motion.with_vertical(None)
     if "pga" in mo:
-        motion = motion.scaled_to_pga(float(mo["pga"]))
+        motion = scaled_to_pga(motion, float(mo["pga"]), source)
     if "t_end" in mo:
         motion = motion.window(motion.t0, float(mo["t_end"]))
     return motion
@@ -135,7 +135,7 @@ def _run_isolated(cfg: dict, source: str) -> dict:
         system, motion, duration = build_scene_run({**cfg, "_source": source})
     else:
         system = _isolated_system(cfg, source)
-        motion = scene_motion(cfg)
+        motion = scene_motion(cfg, source)
     sv = cfg["solver"]
     method = sv.get("method", "auto")
     if method == "event" and system.isolation is not None:
@@ -282,7 +282,7 @@ def _check_isolated(cfg: dict, source: str) -> None:
         elif cfg.get("motion", {}).get("kind") == "harmonic":
             excitation, duration = harmonic_motion(cfg["motion"], source)
         else:
-            excitation = scene_motion(cfg)
+            excitation = scene_motion(cfg, source)
         t_eval = output_grid(excitation, sv.get("dt_out"), **duration)
     except SceneError:
         raise
@@ -326,7 +326,7 @@ def _cell(v):
     return json.dumps(v)
 
 
-def result_columns(summary: dict, keep) -> dict:
+def result_columns(summary: dict, keep, source: str = "<study>") -> dict:
     """The kept fields of a summary: ``keep`` (any type, non-scalars as JSON) or every scalar."""
     if keep is None:
         return {
@@ -334,7 +334,19 @@ def result_columns(summary: dict, keep) -> dict:
             for k, v in summary.items()
             if v is None or isinstance(v, bool | int | float | str)
         }
-    return {k: _cell(summary.get(k)) for k in keep}
+    missing = [k for k in keep if k not in summary]
+    if missing:  # a misspelt name: the task says so (a column of None would hide it)
+        import difflib
+
+        hints = []
+        for k in missing:
+            close = difflib.get_close_matches(k, list(summary), n=1)
+            hints.append(f"{k!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
+        raise SceneError(
+            f"{source}: study.keep: {', '.join(hints)} not in this scene's run summary; its "
+            f"fields: {', '.join(sorted(summary))}"
+        )
+    return {k: _cell(summary[k]) for k in keep}
 
 
 def run_task(task) -> dict:
@@ -343,7 +355,7 @@ def run_task(task) -> dict:
     t0 = time.perf_counter()
     try:
         s = run_scene_summary(task.cfg, task.source)
-        row.update(result_columns(s, task.keep))
+        row.update(result_columns(s, task.keep, task.source))
         row["status"], row["error"] = "ok", ""
     except Exception as e:  # a failing task is a result, not the end of the study
         msg = " ".join(f"{type(e).__name__}: {e}".split())
@@ -362,7 +374,8 @@ def is_number(v) -> bool:
 
 
 def check_step_count(source: str, method: str, dt, t_eval, max_steps=None) -> None:
-    """A fixed-step run whose steps do not fit ``max_steps`` is refused before it starts.
+    """A fixed-step run whose steps do not fit ``max_steps`` is refused before it starts, and
+    so is a step ``dt`` given to an adaptive method (which chooses its own steps).
 
     A run is integrated in chunks of about ``CHUNK_S`` of simulated time (one solver call
     each, a checkpoint after each), and ``max_steps`` bounds the steps of one call: a fixed
@@ -373,6 +386,13 @@ def check_step_count(source: str, method: str, dt, t_eval, max_steps=None) -> No
     from nsdyn.solve.methods import METHODS
     from nsdyn.solve.transient import CHUNK_S
 
+    if method in METHODS and not METHODS[method].fixed_step and dt is not None:
+        fixed = ", ".join(k for k, m in METHODS.items() if m.fixed_step)
+        raise SceneError(
+            f"{source}: solver.dt: the adaptive method {method!r} chooses its own steps; dt "
+            f"(--dt) is the step of the fixed-step methods ({fixed}): remove dt, or set "
+            "solver.method (--method) to one of them"
+        )
     if method not in METHODS or not METHODS[method].fixed_step or not dt or len(t_eval) < 2:
         return
     span = float(t_eval[-1] - t_eval[0])

@@ -138,17 +138,6 @@ def check_two_components(source: str, records: list[RecordSpec]) -> None:
                        "CSV or [records] pairs")  # fmt: skip
 
 
-def resolve_paths(cfg: dict, scene_dir: Path) -> dict:
-    """The scene's files (``structure.frame3d``, ``motion.record/x/y/z``) made absolute when
-    they name a file beside the scene file, so that a task finds them from anywhere."""
-    out = copy.deepcopy(cfg)
-    for table, key in (("structure", "frame3d"), *(("motion", k) for k in "record x y z".split())):
-        v = out.get(table, {}).get(key)
-        if isinstance(v, str) and not Path(v).is_absolute() and (scene_dir / v).is_file():
-            out[table][key] = str((scene_dir / v).resolve())
-    return out
-
-
 # ---- one run ---------------------------------------------------------------------------------
 def simulated_pair(spec: dict):
     """The two-component record of a ``[motion] simulated`` table: a_x as the planar studies'
@@ -171,8 +160,9 @@ def build_system(kind: str, cfg: dict, source: str):
     bearing (the frame's reading and its mass integrals are the slow part of a check)."""
     mod = importlib.import_module(scene_module(kind))
     frame = cfg.get("structure", {}).get("frame3d")
-    local = Path(source).parent / frame if isinstance(frame, str) else None
-    ident = str(local.resolve()) if local is not None and local.is_file() else frame
+    ident = (
+        str(Path(frame).resolve()) if isinstance(frame, str) and Path(frame).is_file() else frame
+    )
     key = json.dumps([kind, ident, {k: v for k, v in cfg.items() if k not in ("motion", "solver",
                       "scene")}], sort_keys=True, default=str)  # fmt: skip
     with _lock:

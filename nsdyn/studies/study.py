@@ -49,7 +49,14 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from nsdyn.models.scenefile import SceneError, number, read_toml, scene_kind, unknown_key
+from nsdyn.models.scenefile import (
+    SceneError,
+    number,
+    read_toml,
+    resolve_paths,
+    scene_kind,
+    unknown_key,
+)
 
 KINDS3C = ("deck", "building3d")  # scene kinds whose records have two horizontal components
 NUMERIC_FIELDS = {"motion.rotate": "angles in degrees"}  # parameters that must be numbers
@@ -365,13 +372,9 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict) -> tupl
         raw = read_toml(scene_path)
     else:
         raw = {}
-    merged = _merge(raw, base_over)
+    base_over = resolve_paths(base_over, study_dir)  # [base] files: beside the study file
+    merged = _merge(raw, base_over)  # (the scene's: beside the scene file, by read_toml)
     kind = scene_kind(merged, source)
-    if kind in KINDS3C:  # files named beside the scene file (or the study file) found anywhere
-        from nsdyn.studies.scenes3c import resolve_paths
-
-        raw = resolve_paths(raw, scene_path.parent) if scene_path is not None else raw
-        merged = _merge(raw, resolve_paths(base_over, study_dir))
     if kind == "isolated":
         from nsdyn.models.isolated.scene import _check, load_scene
 

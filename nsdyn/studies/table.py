@@ -32,6 +32,19 @@ import numpy as np
 from nsdyn.atomic import atomic_open
 
 RESULTS = "results.csv"
+# what a study's analyses (and --parquet) write beside the table: a fresh start removes them,
+# so that an interrupted fresh run never leaves the previous run's analyses beside its table
+ANALYSIS_FILES = (
+    "design.csv",
+    "pareto.png",
+    "fragility.csv",
+    "fragility.png",
+    "percentiles.csv",
+    "distributions.png",
+    "incidence.csv",
+    "incidence.png",
+    "results.parquet",
+)
 PARTS = "parts"
 LEAD_COLUMNS = ("index", "key", "record", "sample")  # first columns, in this order
 TAIL_COLUMNS = ("status", "error", "task_s")  # after the parameters
@@ -198,7 +211,8 @@ class ResultsStore:
         return table
 
     def reset(self) -> None:
-        """Forget every result (a fresh start)."""
-        (self.out / RESULTS).unlink(missing_ok=True)
+        """Forget every result and the analyses made from them (a fresh start)."""
+        for name in (RESULTS, *ANALYSIS_FILES):
+            (self.out / name).unlink(missing_ok=True)
         for p in self._part_files():
             p.unlink(missing_ok=True)

@@ -88,10 +88,11 @@ def test_all_reports_unavailable_modules_and_passes_only_named_options(
     calls = sys.modules["fake_bench_ok"].CALLS
     assert calls == [{"out_dir": str(tmp_path), "quick": True, "quiet": True}]
 
-    # without --json: the summary (no report function) and the files it lists
+    # without --json: the summary as text (no report function) and the files it lists
     assert command.main(["fake", "--out", str(tmp_path)]) == 0
     printed = capsys.readouterr().out
-    assert '"peak": 1.5' in printed and f"file: {tmp_path}/fake.csv" in printed
+    assert "\n  peak  1.5\n" in printed and f"file: {tmp_path}/fake.csv" in printed
+    assert "{" not in printed  # not JSON
 
     monkeypatch.setattr(registry, "BENCHMARKS", fake_modules)
     assert command.main(["all", "--json", "--out", str(tmp_path)]) == 1

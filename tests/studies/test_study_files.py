@@ -123,3 +123,25 @@ def test_cli_bad_file_one_line_exit_2(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "did you mean 'isolation.mu'" in err[0]
     assert main(["study", str(tmp_path / "missing.toml")]) == 2
+
+
+def test_fresh_start_removes_the_previous_analyses_only(tmp_path):
+    """``--fresh`` forgets the table and every file the analyses write (an interrupted fresh
+    run must not leave the previous run's Pareto front beside its new partial table); a file
+    of the user's in the same folder stays. The names are those the analysis modules write."""
+    import re
+    from pathlib import Path
+
+    import nsdyn.cli.study as cli_study
+    import nsdyn.studies.analyses as analyses
+    import nsdyn.studies.incidence as incidence
+    from nsdyn.studies.table import ANALYSIS_FILES, RESULTS, ResultsStore
+
+    written = set()
+    for mod in (analyses, incidence, cli_study):
+        written |= set(re.findall(r'out / "([^"]+)"', Path(mod.__file__).read_text()))
+    assert written and written <= {RESULTS, *ANALYSIS_FILES}, written - {RESULTS, *ANALYSIS_FILES}
+    for name in (RESULTS, *ANALYSIS_FILES, "notes.txt"):
+        (tmp_path / name).write_text("x")
+    ResultsStore(tmp_path, ["isolation.mu"]).reset()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]

@@ -52,7 +52,7 @@ from nsdyn.atomic import atomic_open
 from nsdyn.ground import read_motion
 from nsdyn.models.contact.results import TILT_FLOOR, slenderness
 from nsdyn.models.contact.scene_keys import SCHEMA
-from nsdyn.models.scenefile import SceneError, check_fields, number
+from nsdyn.models.scenefile import SceneError, check_fields, number, scaled_to_pga
 from nsdyn.models.tilt import scene_tilt
 
 _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
@@ -157,16 +157,13 @@ def build(cfg: dict, source: str):
     if "record" in mo and "period" in mo:
         raise SceneError(f"{source}: motion.period: give a record or a sine period, not both")
     if "record" in mo:
-        rec = str(mo["record"])
-        p = Path(rec)
-        if not p.is_absolute() and not p.exists() and Path(source).parent.joinpath(rec).exists():
-            p = Path(source).parent / rec
+        rec = str(mo["record"])  # a file beside the scene: made findable by read_toml
         try:
-            gm = read_motion(p if p.exists() else rec)
+            gm = read_motion(rec)
         except Exception as e:
             raise SceneError(f"{source}: motion.record: cannot read {rec!r}: {e}") from None
         if "pga" in mo:
-            gm = gm.scaled_to_pga(number(source, "motion.pga", mo["pga"]))
+            gm = scaled_to_pga(gm, number(source, "motion.pga", mo["pga"]), source)
         motion = BaseMotion.from_motion(gm)
         t_end = t_end or gm.t0 + gm.duration
         what = gm.name

@@ -93,8 +93,8 @@ SCHEMA = Schema(
                 Key(
                     "record",
                     "string",
-                    "bundled record name or path (relative to the scene file "
-                    "too); not with `period`",
+                    "bundled record name or path (a relative path: the scene file's folder "
+                    "first); not with `period`",
                 ),
                 Key(
                     "pga",

@@ -72,9 +72,8 @@ def _frame(t: dict, source: str):
     if not isinstance(name, str) or not name:
         raise SceneError(f"{source}: structure.frame3d: missing; expected a bundled 3D frame "
                          "name (office-11-3d) or a 3D frame file")  # fmt: skip
-    local = Path(source).parent / name
-    try:
-        frame = load_frame3d(local if local.is_file() else name)
+    try:  # a file beside the scene: made findable by read_toml
+        frame = load_frame3d(name)
     except (OSError, ValueError) as e:
         raise SceneError(f"{source}: structure.frame3d: {' '.join(str(e).split())}") from None
     ecc = t.get("eccentricity", [0.0, 0.0])

@@ -62,7 +62,7 @@ from nsdyn.models.isolated.system import (
     isolation_from_config,
 )
 from nsdyn.models.isolated.tolerances import RUN_RTOL
-from nsdyn.models.scenefile import SceneError, read_toml, unknown_key
+from nsdyn.models.scenefile import SceneError, read_toml, scaled_to_pga, unknown_key
 
 DEFAULT_SCENE = {
     "scene": {"name": f"{FRAME} isolated", "frame": FRAME, "fidelity": "cb", "f_max": F_MAX},
@@ -271,7 +271,7 @@ def build_scene_run(cfg: dict):
     if not mo.get("vertical", True):
         motion = motion.with_vertical(None)
     if "pga" in mo:
-        motion = motion.scaled_to_pga(float(mo["pga"]))
+        motion = scaled_to_pga(motion, float(mo["pga"]), source)
     if "t_end" in mo:
         try:
             motion = motion.window(motion.t0, float(mo["t_end"]))

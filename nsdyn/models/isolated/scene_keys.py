@@ -74,7 +74,8 @@ SCENE = Table(
         Key(
             "frame",
             "string",
-            "bundled frame name or path to a frame TOML (not with [structure])",
+            "bundled frame name or path to a frame TOML (a relative path: the scene file's folder "
+            "first; not with [structure])",
             default="office-11",
         ),
         Key(
@@ -189,7 +190,8 @@ MOTION_RECORD = Table(
         Key(
             "record",
             "string",
-            "bundled record name or path to a record file",
+            "bundled record name or path to a record file (a relative path: the scene file's "
+            "folder first)",
             default="synthetic-wn-40s",
         ),
         Key(

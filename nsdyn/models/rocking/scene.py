@@ -48,7 +48,7 @@ from nsdyn.atomic import atomic_open
 from nsdyn.ground import G_EARTH, read_motion
 from nsdyn.ground.pulses import SHAPES, Pulse
 from nsdyn.models.rocking.scene_keys import SCHEMA
-from nsdyn.models.scenefile import SceneError, check_fields, number
+from nsdyn.models.scenefile import SceneError, check_fields, number, scaled_to_pga
 from nsdyn.models.tilt import scene_tilt
 
 MODELS = ("block", "frame", "compliant")  # [scene] model
@@ -120,22 +120,15 @@ def build_motion(cfg: dict, source: str):
     t_end = number(source, "motion.t_end", mo["t_end"]) if "t_end" in mo else None
     th0 = scene_tilt(mo, source)
     if "record" in mo:
-        rec = str(mo["record"])
-        path = Path(rec)
-        if (
-            not path.is_absolute()
-            and not path.exists()
-            and Path(source).parent.joinpath(rec).exists()
-        ):
-            path = Path(source).parent / rec
+        rec = str(mo["record"])  # a file beside the scene: made findable by read_toml
         try:
-            motion = read_motion(path if path.exists() else rec)
+            motion = read_motion(rec)
         except Exception as e:
             raise SceneError(f"{source}: motion.record: cannot read {rec!r}: {e}") from None
         if mo.get("vertical", True) is False and motion.a_ver is not None:
             motion = motion.with_vertical(None)
         if "pga" in mo:
-            motion = motion.scaled_to_pga(number(source, "motion.pga", mo["pga"]))
+            motion = scaled_to_pga(motion, number(source, "motion.pga", mo["pga"]), source)
         t_end = t_end or motion.t0 + motion.duration
         return motion, t_end, th0, motion.name
     if "pulse" in mo:

@@ -92,7 +92,7 @@ SCHEMA = Schema(
                 Key(
                     "record",
                     "string",
-                    "bundled record name or path (relative to the scene file too)",
+                    "bundled record name or path (a relative path: the scene file's folder first)",
                 ),
                 Key(
                     "pga",

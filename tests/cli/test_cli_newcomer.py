@@ -1,0 +1,229 @@
+"""Commands tried as a newcomer tries them: each mistake ends in one line naming the file,
+field or option and what is expected (exit 2), before anything is computed or written; an
+interrupt says truthfully how to go on (exit 130).
+
+Source of the expected behaviour: the command-line conventions of nsdyn.cli.app (usage and
+input errors exit 2 with one line; SIGINT/SIGTERM exit 130) and docs/reference/cli.md.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import textwrap
+from argparse import Namespace
+
+import pytest
+
+from nsdyn.cli import main
+from nsdyn.cli.app import _interrupt_line, build_parser
+from nsdyn.models.scenefile import read_toml
+from nsdyn.studies.scenes import result_columns
+
+
+def _one_line_error(capsys, *needles) -> str:
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err, err
+    for n in needles:
+        assert n in err, (n, err)
+    return err
+
+
+@pytest.mark.parametrize("method", ["radau", "dopri5", "event"])
+def test_a_step_for_an_adaptive_method_is_refused_before_the_run(tmp_path, capsys, method):
+    """dt is the fixed-step methods' step; an adaptive method chooses its own."""
+    out = tmp_path / "out"
+    rc = main(["run", "--method", method, "--dt", "0.02", "--out", str(out), "--no-figures"])
+    assert rc == 2
+    _one_line_error(capsys, "solver.dt", "--dt", repr(method), "genalpha")
+    assert not out.exists()  # refused before the output folder is made
+
+
+def test_auto_choosing_an_adaptive_method_refuses_dt_too(tmp_path, capsys):
+    rc = main(["run", "--dt", "0.02", "--out", str(tmp_path / "o"), "--no-figures", "--json"])
+    assert rc == 2
+    _one_line_error(capsys, "solver.dt", "'radau'")
+
+
+def test_a_record_that_is_zero_everywhere_names_the_scene_and_field(tmp_path, capsys):
+    (tmp_path / "zeros.csv").write_text("t,a\n0,0\n0.01,0\n0.02,0\n")
+    scene = tmp_path / "z.toml"
+    scene.write_text('[motion]\nrecord = "zeros.csv"\nunits = "m/s2"\npga = 3.0\n')
+    rc = main(["run", str(scene), "--out", str(tmp_path / "o"), "--no-figures"])
+    assert rc == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 2 and "zero at every sample" in err[0]  # the reader's warning
+    assert f"{scene}: motion.pga:" in err[1] and "zero at every sample" in err[1]
+
+
+def test_files_a_scene_names_are_read_beside_it_from_any_folder(tmp_path, monkeypatch):
+    """A scene and its record in one folder run the same from any current folder."""
+    d = tmp_path / "project"
+    d.mkdir()
+    (d / "rec.csv").write_text("t,a\n0,0\n0.01,1\n")
+    (d / "s.toml").write_text('[motion]\nrecord = "rec.csv"\n[scene]\nframe = "office-11"\n')
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    cfg = read_toml(d / "s.toml")
+    assert cfg["motion"]["record"] == str((d / "rec.csv").resolve())
+    assert cfg["scene"]["frame"] == "office-11"  # a bundled name is kept as written
+    monkeypatch.chdir(d)  # from the scene's own folder the name is kept as written
+    assert read_toml("s.toml")["motion"]["record"] == "rec.csv"
+
+
+def test_options_may_come_before_a_command_s_positionals():
+    args, extra = build_parser("export").parse_known_args(
+        ["export", "opensees", "--t-end", "2", "scene.toml", "-o", "y.py"]
+    )
+    assert not extra and args.scene == "scene.toml" and args.t_end == 2.0
+
+
+def test_a_misspelt_kept_field_fails_the_task_with_the_nearest_name():
+    summary = {"x_iso_max_m": 0.1, "idr_max": 1e-3}
+    assert result_columns(summary, ["idr_max"]) == {"idr_max": 1e-3}
+    with pytest.raises(ValueError, match=r"'x_iso_mx_m' \(did you mean 'x_iso_max_m'\?\)"):
+        result_columns(summary, ["x_iso_mx_m", "idr_max"], "s.toml")
+
+
+@pytest.mark.parametrize(
+    "argv, needles",
+    [
+        (["uplift", "examples/scenes/rocking-seed003-column.toml"], ["scene.kind", "'rocking'"]),
+        (["uplift", "examples/scenes/deck-fps4-3c.toml"], ["scene.kind", "'deck'"]),
+        (["sweep", "examples/scenes/deck-fps4-3c.toml", "--fidelity", "cb"], ["--fidelity"]),
+        (["modes", "examples/scenes/rocking-seed003-column.toml"], ["'rocking'", "frame"]),
+        (["modes", "examples/scenes/isolated-shear-3storey.toml"], ["without a frame"]),
+    ],
+)
+def test_a_scene_of_the_wrong_kind_is_named_as_such(tmp_path, capsys, argv, needles):
+    root = os.path.dirname(os.path.dirname(os.path.dirname(__file__)))
+    argv = [os.path.join(root, a) if a.endswith(".toml") else a for a in argv]
+    assert main([*argv, "--out", str(tmp_path / "o")]) == 2
+    _one_line_error(capsys, *needles)
+
+
+def test_modes_of_a_scene_lists_the_frame_it_names(capsys, tmp_path):
+    scene = tmp_path / "s.toml"
+    scene.write_text('[scene]\nframe = "office-11"\n')
+    assert main(["modes", str(scene), "--json"]) == 0
+    assert '"frame": "office-11"' in capsys.readouterr().out
+
+
+def test_the_interrupt_line_says_how_each_command_goes_on(tmp_path):
+    out = tmp_path / "o"
+    run = Namespace(command="run", out=str(out))
+    assert "starts over" in _interrupt_line(run)  # stopped before its first checkpoint
+    out.mkdir()
+    (out / ".run-checkpoint.npz").write_bytes(b"")
+    assert "--resume" in _interrupt_line(run)
+    assert "rerun the same command to resume" in _interrupt_line(Namespace(command="sweep"))
+    assert "no checkpoint" in _interrupt_line(Namespace(command="uplift"))
+
+
+def test_an_error_left_by_a_swallowed_interrupt_is_an_interrupt(monkeypatch, capsys):
+    """numba's compiler can swallow Ctrl-C in a callback and fail later with an error of its
+    own ('no compiled object yet'): after a signal, the command reports the interrupt."""
+    import nsdyn.cli.modes as modes
+
+    def swallowed(args):
+        try:
+            os.kill(os.getpid(), signal.SIGINT)
+            signal.pthread_sigmask(signal.SIG_BLOCK, [])  # let the handler run here
+        except KeyboardInterrupt:
+            pass  # what a C callback does with it
+        raise RuntimeError("no compiled object yet for <Library>")
+
+    monkeypatch.setattr(modes, "run", swallowed)
+    assert main(["modes"]) == 130
+    assert "interrupted" in capsys.readouterr().err
+
+
+def test_a_study_step_for_an_adaptive_method_is_refused_before_it_starts(tmp_path, capsys):
+    study = tmp_path / "s.toml"
+    study.write_text(
+        textwrap.dedent(
+            """
+            [study]
+            name = "s"
+            [base.solver]
+            method = "radau"
+            dt = 0.01
+            [parameters]
+            "isolation.mu" = [0.02, 0.03]
+            [records]
+            names = ["synthetic-wn-40s"]
+            """
+        )
+    )
+    assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 2
+    _one_line_error(capsys, "solver.dt", "'radau'")
+
+
+@pytest.mark.parametrize(
+    "argv, needles",
+    [
+        (["run", "--fixed-base", "--fidelity", "cb"], ["--fixed-base", "--fidelity"]),
+        (["run", "--fixed-base", "--friction", "switch"], ["--friction"]),
+        (["sweep", "--amplitudes", "1,1"], ["distinct amplitudes"]),
+        (["bench", "rocking", "--curve"], ["--curve", "'rocking'"]),
+        (["bench", "cylinder", "--repeats", "3"], ["--repeats", "'cylinder'"]),
+    ],
+)
+def test_an_option_that_cannot_apply_is_refused_not_ignored(tmp_path, capsys, argv, needles):
+    try:
+        status = main([*argv, "--out", str(tmp_path / "o")])
+    except SystemExit as e:  # a usage error, found by the parser
+        status = e.code
+    assert status == 2
+    _one_line_error(capsys, *needles)
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_folder_given_as_the_scene_is_named_as_a_folder(tmp_path, capsys):
+    assert main(["run", str(tmp_path), "--out", str(tmp_path / "o")]) == 2
+    _one_line_error(capsys, f"{tmp_path}: a folder; expected a scene file")
+
+
+def _short_scene(tmp_path):
+    (tmp_path / "short.csv").write_text(
+        "t,a\n" + "".join(f"{i / 100},{i % 3}\n" for i in range(11))
+    )
+    scene = tmp_path / "s.toml"
+    scene.write_text(
+        '[scene]\nfidelity = "rigid"\n[motion]\nrecord = "short.csv"\nunits = "m/s2"\n'
+    )
+    return scene
+
+
+def test_a_t_end_past_the_record_is_said(tmp_path, capsys):
+    """The record ends at 0.1 s: a run asked to go to 1 s ends there and says so."""
+    scene = _short_scene(tmp_path)
+    assert (
+        main(["run", str(scene), "--t-end", "1", "--no-figures", "--out", str(tmp_path / "o")]) == 0
+    )
+    err = capsys.readouterr().err
+    assert "t_end = 1 s is past the record's last sample" in err and "at 0.1 s" in err
+
+
+def test_a_plain_rerun_says_it_discards_a_checkpoint(tmp_path, capsys):
+    scene, out = _short_scene(tmp_path), tmp_path / "o"
+    out.mkdir()
+    (out / ".run-checkpoint.npz").write_bytes(b"")
+    assert main(["run", str(scene), "--no-figures", "--out", str(out)]) == 0
+    assert "starting afresh; the checkpoint an interrupted run left" in capsys.readouterr().err
+    assert not (out / ".run-checkpoint.npz").exists()
+
+
+def test_a_benchmark_without_a_report_prints_text_not_json():
+    from nsdyn.cli.bench import _plain
+
+    lines = _plain({"compile_s": 0.123456, "rows": [{"rtol": 1e-4, "n": 12}], "sub": {"ok": True}})
+    assert lines == [
+        "compile_s  0.1235",
+        "rows:",
+        "    rtol   n",
+        "  0.0001  12",
+        "sub:",
+        "  ok  true",
+    ]
