@@ -24,6 +24,10 @@ def _file_mode() -> int:
 FILE_MODE = _file_mode()
 
 
+class CheckpointError(ValueError):
+    """A checkpoint file written by another run (other system, motion, start or options)."""
+
+
 @contextmanager
 def atomic_open(path: str | Path, mode: str = "w", **kwargs) -> Iterator:
     """``open(path, mode)`` for writing, atomically.

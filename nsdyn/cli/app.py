@@ -28,11 +28,12 @@ __all__ = ["COMMANDS", "Command", "build_parser", "main", "script"]
 
 
 def _user_errors() -> tuple[type[BaseException], ...]:
+    from nsdyn.atomic import CheckpointError
     from nsdyn.ground import RecordFileError
     from nsdyn.models.scenefile import SceneError
     from nsdyn.structure import FrameFileError
 
-    return (FrameFileError, OSError, SceneError, RecordFileError)
+    return (FrameFileError, OSError, SceneError, RecordFileError, CheckpointError)
 
 
 def _numerics_errors() -> tuple[type[BaseException], ...]:

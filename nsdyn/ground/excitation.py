@@ -173,7 +173,13 @@ class ForceTable(_ForceLoad):
     name: str = "force"
 
     def __post_init__(self) -> None:
-        F = np.ascontiguousarray(self.F, dtype=float).reshape(-1)
+        F = np.ascontiguousarray(self.F, dtype=float)
+        if F.ndim > 1 and max(F.shape) != F.size:  # a table of several columns
+            raise ValueError(
+                f"ForceTable.F: expected one force history (shape (n,)), got shape {F.shape}; "
+                "the load pattern is the vector b (one force applied at dofs)"
+            )
+        F = F.reshape(-1)
         if F.size == 0 or not np.all(np.isfinite(F)):
             raise ValueError("ForceTable.F: expected a non-empty array of finite forces [N]")
         if not (math.isfinite(self.dt) and self.dt > 0):

@@ -122,6 +122,8 @@ class GroundMotion(Sampled):
             raise ValueError(f"dt must be positive and finite, got {self.dt!r}")
         object.__setattr__(self, "a_hor", a_hor)
         object.__setattr__(self, "dt", dt)
+        if not math.isfinite(float(self.t0)):
+            raise ValueError(f"t0 must be a finite time [s], got {self.t0!r}")
         object.__setattr__(self, "t0", float(self.t0))
         if self.a_ver is not None:
             a_ver = np.ascontiguousarray(self.a_ver, dtype=np.float64)

@@ -55,6 +55,10 @@ def _rng(seed: int | np.random.Generator | None) -> tuple[np.random.Generator, A
     if seed is None:
         ss = np.random.SeedSequence()
         return np.random.default_rng(ss), int(ss.entropy)
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise ValueError(
+            f"seed: expected a non-negative integer, a numpy Generator or None, got {seed!r}"
+        )
     return np.random.default_rng(seed), int(seed)
 
 
@@ -118,6 +122,10 @@ def modulated_white_noise(
     scales its amplitude (so RMS(a_ver)/RMS(a_hor) = r in expectation; its intensity is r² S0).
     ``modulate=False`` gives the stationary process W itself (same random numbers).
     """
+    if not (math.isfinite(S0) and S0 >= 0):
+        raise ValueError(f"S0: expected a non-negative spectral intensity [m²/s³], got {S0!r}")
+    if not (math.isfinite(dt_ord) and dt_ord > 0):
+        raise ValueError(f"dt_ord: expected a positive ordinate step [s], got {dt_ord!r}")
     rng, seed_record = _rng(seed)
     t = _grid(duration, dt)
     n_ord = int(math.ceil(t[-1] / dt_ord - 1e-9)) + 1
@@ -200,6 +208,8 @@ def kanai_tajimi(
     """
     if not (omega_g > 0.0 and zeta_g > 0.0):
         raise ValueError("omega_g and zeta_g must be positive")
+    if not (math.isfinite(S0) and S0 >= 0):
+        raise ValueError(f"S0: expected a non-negative spectral intensity [m²/s³], got {S0!r}")
     rng, seed_record = _rng(seed)
     t = _grid(duration, dt)
     a_hor = _kt_stationary(t.size, dt, omega_g, zeta_g, S0, rng)
@@ -251,6 +261,10 @@ def sine_pulse(
         raise ValueError(f"kind must be 'sine' or 'cosine', got {kind!r}")
     if n_cycles < 1:
         raise ValueError("n_cycles must be >= 1")
+    if not (math.isfinite(f) and f > 0):
+        raise ValueError(f"f: expected a positive pulse frequency [Hz], got {f!r}")
+    if not math.isfinite(A):
+        raise ValueError(f"A: expected a finite amplitude [m/s²], got {A!r}")
     tp = n_cycles / f
     t = _grid(max(duration or tp, tp), dt)
     inside = t <= tp * (1.0 + 1e-12)

@@ -93,6 +93,8 @@ def make_options(
     the option and the expected form.
     """
     n2 = x0.size
+    if isinstance(rtol, str | bool) or isinstance(atol, str | bool):
+        raise TypeError(f"rtol, atol: expected numbers, got {rtol!r}, {atol!r}")
     a = np.asarray(atol, dtype=float)
     if a.ndim == 0:
         atol_arr = np.full(n2, float(a))

@@ -18,6 +18,7 @@ duration is guessed. Outputs are the record's samples, or ``HARMONIC_SAMPLES`` p
 
 from __future__ import annotations
 
+import inspect
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn._tabular import Tabular
-from nsdyn.atomic import atomic_open
+from nsdyn.atomic import CheckpointError, atomic_open
 from nsdyn.ground.excitation import is_force, natural_end
 from nsdyn.models.isolated.metrics import Response, evaluate_along, evaluation_arrays, response
 from nsdyn.models.isolated.system import IsolatedSystem
@@ -36,6 +37,7 @@ from nsdyn.solve import integrate
 DEFAULT_RTOL = RUN_RTOL
 default_atol = run_atol
 __all__ = [
+    "CheckpointError",
     "DEFAULT_RTOL",
     "FAST_ATOL",
     "TransientResult",
@@ -142,6 +144,33 @@ def _atomic_save(path: Path, **arrays) -> None:
         np.savez(fh, **arrays)
 
 
+def run_key(P, x0, t_eval, options: dict) -> str:
+    """A fingerprint of everything a run's histories depend on: the kernel tuple ``P`` (the
+    model and its excitation), an explicit start ``x0``, the output times and the solver's
+    options. A checkpoint carries it and is continued only by the run that wrote it."""
+    import hashlib
+
+    h = hashlib.sha256()
+
+    def feed(v):
+        if isinstance(v, tuple | list):
+            h.update(b"(")
+            for e in v:
+                feed(e)
+            h.update(b")")
+        elif isinstance(v, np.ndarray):
+            h.update(f"{v.dtype}{v.shape}".encode())
+            h.update(np.ascontiguousarray(v).tobytes())
+        else:
+            h.update(repr(v).encode())
+
+    feed(tuple(P))
+    feed(x0)
+    feed(np.asarray(t_eval, dtype=float))
+    feed([(k, options[k]) for k in sorted(options)])
+    return h.hexdigest()
+
+
 def _period(motion) -> float | None:
     p = getattr(motion, "period", None)
     return float(p) if p is not None and np.isfinite(p) else None
@@ -170,12 +199,20 @@ def output_grid(
                 f"{type(motion).__name__} has no natural end: give the duration, t_end=... [s] "
                 "or n_periods=..."
             )
+    if dt_out is not None and not (np.isfinite(dt_out) and dt_out > 0):
+        raise ValueError(f"dt_out: expected a positive output step [s], got {dt_out!r}")
     dt = dt_out or getattr(motion, "dt", None) or (T / HARMONIC_SAMPLES if T else None)
     if dt is None or not dt > 0:
-        raise ValueError("dt_out: expected a positive output step [s] for this excitation")
+        what = "free vibration (motion None)" if motion is None else "this excitation"
+        raise ValueError(f"dt_out: {what} has no natural output step; give dt_out=... [s]")
     if not float(t_end) > t0:
         raise ValueError(f"t_end: expected a time after the start {t0:g} s, got {t_end}")
     n = int(np.floor((float(t_end) - t0) / float(dt) + 1e-9)) + 1
+    if n < 2:
+        raise ValueError(
+            f"dt_out: an output step of {float(dt):g} s is longer than the run "
+            f"({float(t_end) - t0:g} s); expected at least two output times"
+        )
     return t0 + float(dt) * np.arange(n)
 
 
@@ -312,6 +349,22 @@ def simulate(
     progress : callable(t_done, t_end, wall_s), optional
     checkpoint : path, optional   resume from / save to this file after each chunk
     """
+    if not isinstance(system, IsolatedSystem):
+        raise TypeError(
+            "system: expected an IsolatedSystem (nsdyn.build_system, nsdyn.shear_building, "
+            f"nsdyn.system_from_matrices), got {type(system).__name__}"
+        )
+    if hasattr(motion, "ax") and hasattr(motion, "ay"):  # a bidirectional excitation
+        raise TypeError(
+            f"motion: a bidirectional excitation ({type(motion).__name__}) drives the decks "
+            "and 3D buildings; a plane model takes one direction of a three-component record: "
+            "motion.planar() or motion.planar(angle_deg)"
+        )
+    if isinstance(motion, int | float):
+        raise TypeError(
+            f"motion: expected a ground motion or a force, got the number {motion!r}; "
+            "nsdyn.Harmonic(A_hor, f_hor) is a harmonic ground acceleration"
+        )
     if isinstance(motion, str | Path | np.ndarray | list | tuple):
         read = f"nsdyn.read_motion({str(motion)!r})" if isinstance(motion, str | Path) else (
             "nsdyn.GroundMotion(t0, dt, a_hor)")  # fmt: skip
@@ -319,6 +372,16 @@ def simulate(
             f"motion: expected a ground motion or a force (GroundMotion, Harmonic, Table, "
             f"HarmonicForce, ForceTable) or None, got {type(motion).__name__}; {read} makes one"
         )
+    known = inspect.signature(integrate.solve).parameters
+    for k in solver_options:
+        if k not in known or k in ("P", "x0", "t_eval"):
+            import difflib
+
+            close = difflib.get_close_matches(k, [*known, "rtol", "atol", "dt_out", "t_end"], 1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise TypeError(f"simulate() got an unexpected keyword argument {k!r}{hint}")
+    if not (np.isfinite(chunk_s) and chunk_s > 0):
+        raise ValueError(f"chunk_s: expected a positive duration [s], got {chunk_s!r}")
     if t_eval is None:
         t_eval = output_grid(motion, dt_out, t_end, n_periods)
     elif t_end is not None or n_periods is not None or dt_out is not None:
@@ -351,6 +414,7 @@ def simulate(
             progress=progress, reason=reason, result=TransientResult, **solver_options,
         )  # fmt: skip
     P = system.params(motion)
+    given_x0 = x0 is not None
     if x0 is None:
         x0, _ = system.static_equilibrium()
     else:
@@ -360,8 +424,18 @@ def simulate(
     ts, xs = [t_eval[:1]], [x0[None, :]]
     k0 = 0
     ckpt = Path(checkpoint) if checkpoint else None
+    if ckpt is not None:
+        options = dict(method=method, rtol=rtol, atol=atol, dt=dt, uplift=uplift,
+                       contact=contact, restitution=restitution, **solver_options)  # fmt: skip
+        run_id = run_key(P, x0 if given_x0 else None, t_eval, options)
     if ckpt is not None and ckpt.exists():
         data = np.load(ckpt)
+        if "key" not in data.files or str(data["key"]) != run_id:
+            raise CheckpointError(
+                f"checkpoint {ckpt}: written by another run (its system, motion, start, output "
+                "times or solver options differ, or by an older nsdyn); delete it, or give "
+                "this run another checkpoint file"
+            )
         if data["t"].size and np.allclose(data["t"], t_eval[: data["t"].size]):
             ts, xs = [data["t"]], [data["x"]]
             k0 = data["t"].size - 1
@@ -424,7 +498,7 @@ def simulate(
         ts.append(sol.t[1:])
         xs.append(sol.x[1:])
         if ckpt is not None:
-            _atomic_save(ckpt, t=np.concatenate(ts), x=np.concatenate(xs))
+            _atomic_save(ckpt, t=np.concatenate(ts), x=np.concatenate(xs), key=np.str_(run_id))
         if progress is not None:
             progress(float(sol.t[-1]), t_end, time.perf_counter() - wall0)
     t = np.concatenate(ts)

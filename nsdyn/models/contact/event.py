@@ -170,13 +170,30 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
         raise ValueError(f"impact_law: expected 'newton' or 'housner', got {impact_law!r}")
     if not 0.0 <= e_n <= 1.0:
         raise ValueError(f"e_n: expected a restitution coefficient in [0, 1], got {e_n!r}")
+    for name, val in (("t_end", t_end), ("dt_out", dt_out), ("rtol", rtol), ("atol", atol)):
+        if isinstance(val, str | bool) or not (math.isfinite(float(val)) and val > 0):
+            raise ValueError(f"{name}: expected a positive number, got {val!r}")
+    if t_end / dt_out < 1.0:
+        raise ValueError(f"dt_out: {dt_out:g} s is longer than the run (t_end = {t_end:g} s)")
+    if motion is not None and not hasattr(motion, "jumps"):
+        raise TypeError(
+            f"motion: expected a BaseMotion (nsdyn.BaseMotion.displacement_sine, ...), got "
+            f"{type(motion).__name__}; nsdyn.BaseMotion.from_motion(record) makes one from a "
+            "ground-motion record"
+        )
     e = 0.0 if impact_law == "housner" else float(e_n)
+    tilt = tilt_angle(body, theta0, theta0_over_alpha)
+    if abs(tilt) >= body.theta_ov:
+        raise ValueError(
+            f"theta0: a tilt of {tilt:.4g} rad starts the body overturned (it lies on an edge "
+            f"from {body.theta_ov:.4g} rad); expected |theta0| < {body.theta_ov:.4g}"
+        )
     warm()  # a first run: the loop here, the right-hand side in a helper
     mo = motion or BaseMotion.none()
     par = _params(body, friction, g)
     verts, minv = body.contacts, body.minv
     nc = len(verts)
-    q, v = initial_state(body, tilt_angle(body, theta0, theta0_over_alpha))
+    q, v = initial_state(body, tilt)
     if q0 is not None:
         q = np.asarray(q0, float).copy()
     if v0 is not None:

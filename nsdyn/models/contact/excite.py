@@ -87,6 +87,15 @@ class BaseMotion:
         """
         if start not in ("impulsive", "smooth"):
             raise ValueError(f"start: expected 'impulsive' or 'smooth', got {start!r}")
+        for name, val, ok, what in (
+            ("A", A, lambda v: math.isfinite(v), "a finite amplitude [m]"),
+            ("period", period, lambda v: math.isfinite(v) and v > 0, "a positive period [s]"),
+            ("n_cycles", n_cycles, lambda v: v >= 1 and v == int(v), "a whole number >= 1"),
+        ):
+            if isinstance(val, str | bool) or not ok(float(val)):
+                raise ValueError(f"{name}: expected {what}, got {val!r}")
+        if t_ramp is not None and not (math.isfinite(t_ramp) and t_ramp > 0):
+            raise ValueError(f"t_ramp: expected a positive ramp length [s], got {t_ramp!r}")
         w = 2 * math.pi / period
         t_end = n_cycles * period
         if start == "impulsive":

@@ -217,6 +217,11 @@ def simulate(
     ``w0`` [m], angular velocity ``omega0`` [rad/s]). Raises :class:`SimulationError` on failure.
     """
     theta0 = initial_tilt(theta0, theta0_over_alpha, math.atan2(p.r, p.H))
+    if hasattr(ag, "ax"):  # a three-component record object
+        raise TypeError(
+            f"ag: expected an (n, 3) array of (a_x, a_y, a_z) [m/s²], got a "
+            f"{type(ag).__name__}; its as_arrays() gives (t0, dt, ax, ay, az) to stack"
+        )
     ag = np.ascontiguousarray(ag, dtype=float)
     if ag.ndim != 2 or ag.shape[1] != 3 or ag.shape[0] < 2:
         raise ValueError(f"ag: expected shape (n >= 2, 3), got {ag.shape}")
@@ -315,6 +320,8 @@ def earthquake(
     """
     if s0_units not in S0_UNITS:
         raise ValueError(f"s0_units: expected one of {list(S0_UNITS)}, got {s0_units!r}")
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise ValueError(f"seed: expected a non-negative integer, got {seed!r}")
     rng = np.random.default_rng(seed)
     m1 = modulated_white_noise(duration, dt=dt, seed=rng)
     m2 = modulated_white_noise(duration, dt=dt, seed=rng)

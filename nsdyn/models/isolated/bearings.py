@@ -95,7 +95,13 @@ class Friction:
         w = self.where
         slow = _number(f"{w}.mu_slow", self.mu_slow)
         fast = slow if self.mu_fast is None else _number(f"{w}.mu_fast", self.mu_fast)
-        _number(f"{w}.rate", self.rate)
+        rate = _number(f"{w}.rate", self.rate)
+        if fast != slow and rate == 0.0:
+            raise BearingError(
+                f"{w}.rate: mu_fast ({fast:g}) differs from mu_slow ({slow:g}), which needs a "
+                "positive rate a [s/m] of mu(v) = mu_fast - (mu_fast - mu_slow) exp(-a |v|) "
+                "(with a = 0, mu is mu_slow at every speed)"
+            )
         mu_d = max(slow, fast)
         if self.mu_static is not None:
             mus = _number(f"{w}.mu_static", self.mu_static)

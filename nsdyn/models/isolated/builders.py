@@ -284,6 +284,11 @@ def shear_building(
     The normal force of the isolator is frozen at the total weight ``g sum(masses)`` (no
     vertical dofs, so no uplift check).
     """
+    if not isinstance(isolation, Isolation):
+        raise TypeError(
+            f"isolation: expected an Isolation (nsdyn.Isolation(k_lam=..., mu=...)), got "
+            f"{type(isolation).__name__}"
+        )
     m = np.atleast_1d(np.asarray(masses, dtype=float))
     k = np.atleast_1d(np.asarray(stiffnesses, dtype=float)) if np.size(stiffnesses) else np.zeros(0)
     if m.ndim != 1 or m.size == 0 or not np.all(np.isfinite(m) & (m > 0)):
@@ -299,7 +304,8 @@ def shear_building(
         z = np.full(N, float(z[0]))
     if N and (z.shape != (N,) or not np.all(np.isfinite(z) & (z >= 0))):
         raise MatrixError(
-            f"damping_ratios: expected one or {N} non-negative ratios (fixed-base modes), "
+            f"damping_ratios: expected one non-negative ratio"
+            f"{'' if N == 1 else f' or {N} (one per fixed-base mode)'}, "
             f"got {damping_ratios!r}"
         )
     M, C, K = _storey_matrices(m, k, z[:N] if N else z)

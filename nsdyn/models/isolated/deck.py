@@ -347,6 +347,11 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
             raise ValueError(f"t_end: expected a positive duration [s], got {t_end}")
         if dt_out is None:
             dt_out = gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (50.0 * gp[kp.GP_F])
+        elif not (math.isfinite(dt_out) and 0 < dt_out <= t_end):
+            raise ValueError(
+                f"dt_out: expected a positive output step no longer than the run "
+                f"({t_end:g} s), got {dt_out!r}"
+            )
         n = int(math.floor(t_end / dt_out * (1 + 1e-12))) + 1
         t_eval = gp[kp.GP_T0] * (gk == kp.G_TABLE) + dt_out * np.arange(n)
     t_eval = np.ascontiguousarray(t_eval, dtype=float)

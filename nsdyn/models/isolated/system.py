@@ -27,6 +27,7 @@ are recovered the same way for all fidelities.
 
 from __future__ import annotations
 
+import numbers
 import os
 from dataclasses import dataclass, field, replace
 
@@ -86,6 +87,8 @@ class Isolation:
         for k in ISOLATION_NUMBERS:
             v = getattr(self, k)
             try:
+                if isinstance(v, str) or any(isinstance(e, str) for e in np.ravel(v)):
+                    raise TypeError  # a number written as text: refused, not converted
                 vals = np.atleast_1d(np.asarray(0.0 if v is None else v, dtype=float))
             except (TypeError, ValueError):
                 vals = np.array([np.nan])
@@ -94,13 +97,21 @@ class Isolation:
                 raise ValueError(
                     f"isolation.{k}: expected a finite non-negative number{per}, got {v!r}"
                 )
+        if not self.g > 0:
+            raise ValueError(f"isolation.g: expected a positive gravity [m/s²], got {self.g!r}")
+        if self.law == "arctan" and not self.eps > 0:
+            raise ValueError(
+                f"isolation.eps: the arctan law needs a positive sharpness [s/m], got "
+                f"{self.eps!r} (law 'switch' is the sharp limit)"
+            )
 
     def per_isolator(self, name: str, n: int) -> np.ndarray:
         v = np.atleast_1d(np.asarray(getattr(self, name), dtype=float))
         if v.size == 1:
             return np.full(n, float(v[0]))
         if v.size != n:
-            raise ValueError(f"isolation.{name}: expected 1 or {n} values, got {v.size}")
+            want = "one value (one isolator)" if n == 1 else f"one value or {n} (one per isolator)"
+            raise ValueError(f"isolation.{name}: expected {want}, got {v.size}")
         return v
 
 
@@ -138,6 +149,12 @@ class IsolatedSystem:
     normal_force: np.ndarray | None = None
     # full-order models: the sparse operators (nsdyn.models.isolated.fullorder.SparseModel)
     sparse: object = field(default=None, repr=False)
+
+    def __post_init__(self) -> None:
+        """Per-isolator values must match the isolators, said when the system is built."""
+        if isinstance(self.isolation, Isolation) and self.D is not None:
+            for name in ("k_lam", "c", "mu"):
+                self.isolation.per_isolator(name, self.D.shape[0])
 
     @property
     def n(self) -> int:
@@ -386,6 +403,15 @@ def build_system(
     if fidelity not in FIDELITIES:
         raise ValueError(f"fidelity: expected one of {FIDELITIES}, got {fidelity!r}")
     iso = Isolation() if isolation is None else isolation
+    if not isinstance(iso, Isolation):
+        raise TypeError(
+            f"isolation: expected an Isolation (nsdyn.Isolation(k_lam=..., mu=...)), got "
+            f"{type(iso).__name__}"
+        )
+    if not (isinstance(f_max, numbers.Real) and f_max > 0):  # NaN fails too; inf keeps all
+        raise ValueError(f"f_max: expected a positive frequency [Hz] or inf, got {f_max!r}")
+    if damping not in ("modal", "stiffness"):
+        raise ValueError(f"damping: expected 'modal' or 'stiffness', got {damping!r}")
     if damping != "modal" and fidelity != "full":
         raise ValueError(f"damping: {damping!r} is a choice of the full model only")
     if fidelity == "full":  # nodal coordinates, sparse operators

@@ -186,12 +186,14 @@ class TripleBearing(Bearing):
 
     def backbone(self, phi) -> np.ndarray:
         """Total slip u [m] of the rigid-plastic series model at force ratio φ = F/N on
-        monotonic loading from rest: Σ_k R̄_k clip(φ − μ_k, 0, d̄_k/R̄_k)."""
+        monotonic loading from rest: sign(φ) Σ_k R̄_k clip(|φ| − μ_k, 0, d̄_k/R̄_k) (odd in φ:
+        loading the other way slides the other way)."""
         phi = np.asarray(phi, dtype=float)
+        a = np.abs(phi)
         u = np.zeros_like(phi)
         for R, mu, d in self.elements():
-            u += R * np.clip(phi - mu, 0.0, d / R)
-        return u
+            u += R * np.clip(a - mu, 0.0, d / R)
+        return np.sign(phi) * u
 
     def row(self, n_static: float, g: float) -> np.ndarray:
         """The packed row (the internal states' offset B_IOFF is set by the system)."""

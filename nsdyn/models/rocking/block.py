@@ -254,6 +254,14 @@ def simulate_rocking(
     """
     if not (t_end > t0):
         raise ValueError(f"t_end: expected > t0 = {t0}, got {t_end}")
+    if not (math.isfinite(tol) and tol > 0):
+        raise ValueError(f"tol: expected a positive relative tolerance, got {tol!r}")
+    if dt_out is not None and dt_out != 0 and not (math.isfinite(dt_out) and
+                                                   0 < dt_out <= t_end - t0):  # fmt: skip
+        raise ValueError(
+            f"dt_out: expected a positive output step no longer than the run "
+            f"({t_end - t0:g} s), or 0 for no output, got {dt_out!r}"
+        )
     gk, gp, tab_h, tab_v, dt_nat = _excitation(excitation, t_end)
     dt_out = dt_nat if dt_out is None else dt_out
     n_out = int(math.floor((t_end - t0) / dt_out * (1 + 1e-12))) + 1 if dt_out > 0 else 0

@@ -201,7 +201,19 @@ def overturning_spectrum(
     executor : concurrent.futures.Executor, optional
         Where the frequencies run (default: a local ProcessPoolExecutor).
     """
-    x = np.asarray(omega_ratios, dtype=float)
+    x = np.asarray(omega_ratios, dtype=float).reshape(-1)
+    checks = (
+        ("omega_ratios", x.size > 0 and bool(np.all(np.isfinite(x) & (x > 0))),
+         "positive, finite frequency ratios omega_p / p"),
+        ("rtol", 0.0 < rtol < 1.0, "a relative width 0 < rtol < 1"),
+        ("scan", np.isfinite(scan) and scan > 1.0, "a growth factor > 1 of the bracketing scan"),
+        ("a_max", np.isfinite(a_max) and a_max > 0.0, "a positive largest amplitude ratio"),
+        ("tol", np.isfinite(tol) and tol > 0.0, "a positive integration tolerance"),
+    )  # fmt: skip
+    for name, ok, what in checks:
+        if not ok:
+            got = omega_ratios if name == "omega_ratios" else locals()[name]
+            raise ValueError(f"{name}: expected {what}, got {got!r}")
     w0 = time.perf_counter()
     own = executor is None
     ex = ProcessPoolExecutor() if own else executor
