@@ -148,7 +148,10 @@ def _interrupt_line(args: argparse.Namespace) -> str:
 
     done = f"nsdyn {args.command}: interrupted; files on disk are complete"
     if args.command == "sweep":
-        return f"{done}, rerun the same command to resume"
+        out = Path(getattr(args, "out", None) or "nsdyn-sweep")
+        if any(out.glob(".sweep-A*.ckpt.json")):
+            return f"{done}, rerun the same command to resume"
+        return f"{done}; it stopped before its first point, a rerun starts over"
     if args.command == "run":
         out = Path(getattr(args, "out", None) or "nsdyn-out")
         if (out / ".run-checkpoint.npz").is_file():
@@ -266,16 +269,25 @@ def main(argv: list[str] | None = None) -> int:
         print(_interrupt_line(args), file=sys.stderr)
         return EXIT_INTERRUPTED
     except _user_errors() as exc:
-        print(f"nsdyn {args.command}: error: {exc}", file=sys.stderr)
-        return EXIT_USER_ERROR
+        return _failed(args, EXIT_USER_ERROR, "error", exc)
     except _numerics_errors() as exc:
-        print(f"nsdyn {args.command}: numerical failure: {exc}", file=sys.stderr)
-        return EXIT_NUMERICS
+        return _failed(args, EXIT_NUMERICS, "numerical failure", exc)
     finally:
         warnings.showwarning = shown
         if old is not None:
             signal.signal(signal.SIGTERM, old[0])
             signal.signal(signal.SIGINT, old[1])
+
+
+def _failed(args: argparse.Namespace, status: int, what: str, exc: BaseException) -> int:
+    """One line on stderr; with ``--json`` also one JSON object on stdout, ``{"status",
+    "error"}``, so that a script reading the output reads every outcome."""
+    print(f"nsdyn {args.command}: {what}: {exc}", file=sys.stderr)
+    if getattr(args, "json", False):
+        import json
+
+        print(json.dumps({"status": status, "error": str(exc)}))
+    return status
 
 
 # the commands whose first run compiles beside a helper process: the package whose kernels

@@ -31,6 +31,14 @@ def positive_finite(s: str) -> float:
     return v
 
 
+def fraction(s: str) -> float:
+    """A number strictly between 0 and 1 (a relative width or tolerance)."""
+    v = positive_finite(s)
+    if not v < 1.0:
+        raise argparse.ArgumentTypeError(f"expected a number between 0 and 1, got {s!r}")
+    return v
+
+
 def _int_at_least(s: str, lowest: int) -> int:
     try:
         v = int(s)
@@ -55,8 +63,10 @@ def positive_int(s: str) -> int:
 
 def amplitude_list(s: str) -> list[float]:
     """Comma-separated positive amplitudes [m/s²]."""
+    if any(not v.strip() for v in s.split(",")):
+        raise argparse.ArgumentTypeError(f"expected numbers separated by commas, got {s!r}")
     try:
-        vals = [float(v) for v in s.split(",") if v.strip()]
+        vals = [float(v) for v in s.split(",")]
     except ValueError:
         raise argparse.ArgumentTypeError(
             f"expected numbers separated by commas, got {s!r}"

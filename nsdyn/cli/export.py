@@ -57,18 +57,22 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--damping",
         choices=("modal", "stiffness"),
-        default="modal",
+        default=None,
         help="modal: modalDampingQ on the sliding structure's modes with nsdyn's damping "
         "projected on them (default); stiffness: Rayleigh beta K on the members",
     )
     p.add_argument(
         "--mass",
         choices=("consistent", "lumped"),
-        default="consistent",
+        default=None,
         help="3D frames: element mass of the exported model and of nsdyn's reference modes",
     )
     p.add_argument(
-        "--modes", type=int, default=12, metavar="N", help="3D frames: frequencies to compute"
+        "--modes",
+        type=int,
+        default=None,
+        metavar="N",
+        help="3D frames: frequencies to compute (default 12)",
     )
     p.add_argument(
         "--fixed-base",
@@ -93,12 +97,14 @@ def _run_frame3d(args: argparse.Namespace, stem: str) -> int:
     from nsdyn.models.scenefile import SceneError
     from nsdyn.structure import load_frame3d
 
-    if args.modes < 1:
-        raise SceneError(f"--modes: expected a positive integer, got {args.modes}")
+    _only(args, "a 3D frame file", ("mass", "modes"))
+    modes = 12 if args.modes is None else args.modes
+    if modes < 1:
+        raise SceneError(f"--modes: expected a positive integer, got {modes}")
     frame = load_frame3d(args.scene)
     out = Path(args.out) if args.out else Path(f"{stem}_opensees.py")
     try:
-        export_opensees_3d(frame, out, mass=args.mass, n_modes=args.modes)
+        export_opensees_3d(frame, out, mass=args.mass or "consistent", n_modes=modes)
     except ValueError as exc:  # a frame the export cannot map (e.g. a clamped diaphragm node)
         raise SceneError(f"{args.scene}: {exc}") from None
     if args.json:
@@ -119,6 +125,21 @@ def _run_frame3d(args: argparse.Namespace, stem: str) -> int:
     return 0
 
 
+_OPTIONS = ("dt", "t_end", "damping", "mass", "modes", "fixed_base")
+
+
+def _only(args: argparse.Namespace, what: str, takes: tuple[str, ...]) -> None:
+    """Refuse the options given that the export of ``what`` does not use (one line)."""
+    from nsdyn.models.scenefile import SceneError
+
+    unused = [k for k in _OPTIONS if k not in takes and getattr(args, k) not in (None, False)]
+    if unused:
+        flags = ", ".join("--" + k.replace("_", "-") for k in unused)
+        ok = ", ".join("--" + k.replace("_", "-") for k in takes)
+        raise SceneError(f"{args.scene or '<default scene>'}: {flags}: not used by the export "
+                         f"of {what} (its options: {ok})")  # fmt: skip
+
+
 def _is_building3d(scene: str) -> bool:
     from nsdyn.models.scenefile import SceneError, read_toml, scene_kind
 
@@ -133,6 +154,7 @@ def _is_building3d(scene: str) -> bool:
 def _run_building3d(args: argparse.Namespace) -> int:
     from nsdyn.models.isolated.opensees3d_isolated import export_building_opensees
 
+    _only(args, "a 3D building scene", ("dt", "t_end", "fixed_base"))
     scene = Path(args.scene)
     out = Path(args.out) if args.out else scene.with_name(f"{scene.stem}_opensees.py")
     export_building_opensees(scene, out, dt=args.dt, t_end=args.t_end,
@@ -175,8 +197,9 @@ def run(args: argparse.Namespace) -> int:
             return _run_building3d(args)
         scene = Path(args.scene)
         named = scene.with_name(f"{scene.stem}_opensees.py")
+    _only(args, "an isolated-frame scene", ("dt", "t_end", "damping"))
     out = Path(args.out) if args.out else named
-    export_opensees(scene, out, dt=args.dt, t_end=args.t_end, damping=args.damping)
+    export_opensees(scene, out, dt=args.dt, t_end=args.t_end, damping=args.damping or "modal")
     data = load_script_data(out) if args.json else None
     if args.json:
         print(json.dumps({"script": str(out), **data}))

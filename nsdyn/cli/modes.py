@@ -39,14 +39,14 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--fmax",
         type=_positive_float,
-        default=DEFAULT_FMAX,
+        default=None,
         metavar="HZ",
         help=f"Craig–Bampton cut-off frequency (default {DEFAULT_FMAX:g}; 'inf' keeps all)",
     )
     p.add_argument(
         "--klam",
         type=_positive_finite,
-        default=DEFAULT_KLAM,
+        default=None,
         metavar="N_PER_M",
         help=f"lateral stiffness of one laminated bearing for f_bis (default {DEFAULT_KLAM:g})",
     )
@@ -121,7 +121,9 @@ def run(args: argparse.Namespace) -> int:
     if is_frame3d(args.frame):
         return _run3d(args)
     frame = load_frame(args.frame)
-    s, f, Phi = modes_summary(frame, args.fmax, args.klam)
+    fmax = DEFAULT_FMAX if args.fmax is None else args.fmax
+    klam = DEFAULT_KLAM if args.klam is None else args.klam
+    s, f, Phi = modes_summary(frame, fmax, klam)
     out = args.out if args.out is not None else (None if args.json else DEFAULT_OUT)
     if out is not None:
         from nsdyn.plot import plot_mode_shapes
@@ -153,8 +155,13 @@ def run(args: argparse.Namespace) -> int:
 
 def _run3d(args: argparse.Namespace) -> int:
     """``nsdyn modes`` of a space frame: families and participation; no Craig–Bampton yet."""
+    from nsdyn.models.scenefile import SceneError
     from nsdyn.structure import damping_ratios, fixed_base_modes_3d, load_frame3d
 
+    given = [f for f, v in (("--fmax", args.fmax), ("--klam", args.klam)) if v is not None]
+    if given:
+        raise SceneError(f"{args.frame}: {', '.join(given)}: for plane frames (Craig–Bampton "
+                         "cut-off, f_bis); a 3D frame lists its fixed-base modes")  # fmt: skip
     frame = load_frame3d(args.frame)
     m = fixed_base_modes_3d(frame, n_modes=N_LIST_3D)
     s = {

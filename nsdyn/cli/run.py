@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.cli.args import out_dir
+from nsdyn.cli.args import EXIT_NUMERICS, out_dir
 from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
 from nsdyn.cli.args import positive_int as _positive_int
@@ -33,20 +33,20 @@ def interrupted(exc: BaseException) -> bool:
 
 @contextmanager
 def output_dir(out: Path) -> Iterator[Path]:
-    """The output directory of a run, created if missing. A run that fails (not one that is
-    interrupted) removes the directories it created, when it left them empty; files and
-    directories that were there before are never touched."""
+    """The output directory of a run, created if missing. A run that fails or is interrupted
+    removes the directories it created, when it left them empty (an interrupted run's
+    checkpoint keeps its directory); files and directories that were there before are never
+    touched."""
     made = [d for d in (out, *out.parents) if not d.exists()]  # deepest first
     out.mkdir(parents=True, exist_ok=True)
     try:
         yield out
-    except BaseException as exc:
-        if not interrupted(exc):
-            for d in made:
-                try:
-                    d.rmdir()  # only an empty directory goes
-                except OSError:
-                    break
+    except BaseException:
+        for d in made:
+            try:
+                d.rmdir()  # only an empty directory goes
+            except OSError:
+                break
         raise
 
 
@@ -103,6 +103,7 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--friction", choices=["arctan", "switch", "none"], help="friction law")
     p.add_argument(
         "--method",
+        metavar="METHOD",
         help="integrator: auto (default: chosen from the model, reason printed), radau, "
         "radau-generic, dopri5, event (adaptive); genalpha, hht, newmark, genalpha-lowrank "
         "(fixed step, --dt)",
@@ -181,7 +182,7 @@ def _note_short_record(cfg: dict, motion, quiet: bool) -> None:
     if quiet or t_req is None or not hasattr(motion, "n") or not hasattr(motion, "dt"):
         return
     last = motion.t0 + (motion.n - 1) * motion.dt
-    if float(t_req) > last + 0.5 * motion.dt:
+    if float(t_req) > last + motion.dt:  # (a window ends within one sample of its t_end)
         print(f"nsdyn run: note: t_end = {float(t_req):g} s is past the record's last sample; "
               f"the run ends there, at {last:g} s", file=sys.stderr)  # fmt: skip
 
@@ -232,6 +233,10 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     if bad:
         verb = "applies" if len(bad) == 1 else "apply"
         raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes only")
+    if args.method and kind in ("deck", "building3d"):
+        raise SceneError(f"{args.scene}: --method: a {kind} scene's integrator follows its "
+                         "[solver] law (and fidelity); --method applies to isolated-frame, "
+                         "rocking, contact and cylinder scenes")  # fmt: skip
     for table, vals in _scene_overrides(args).items():
         cfg.setdefault(table, {}).update(vals)
     _t_end_wins(args, cfg)
@@ -243,11 +248,18 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
         fig_mod = getattr(mod, "FIGURE_MODULE", None)  # figures drawn by a later stage (plot)
         if fig_mod and not args.no_figures:
             s["files"] += importlib.import_module(fig_mod).scene_figures(s, out)
+    ran = s.get("t_end_s", s.get("t_end"))
+    if args.t_end and isinstance(ran, int | float) and ran < args.t_end - 1e-6 and not args.json:
+        print(f"nsdyn run: note: t_end = {args.t_end:g} s is past the excitation's end; the "
+              f"run ends there, at {ran:g} s", file=sys.stderr)  # fmt: skip
+    # a deck or 3D building whose normal force reached zero: written up to the uplift, and
+    # the status of a run that left the model's domain (as the isolated frame's uplift)
+    status = EXIT_NUMERICS if s.get("uplift") and kind in ("deck", "building3d") else 0
     if args.json:
         print(json.dumps(s))
-        return 0
+        return status
     print(mod.format_summary(s))
-    return 0
+    return status
 
 
 def prepare_kernels(method: str, flat: bool = True) -> float:
@@ -361,6 +373,13 @@ def run(args: argparse.Namespace) -> int:
     _check_method(cfg.get("solver", {}).get("method", "auto"), cfg)  # before the model's build
     system, motion, duration = build_scene_run(cfg)
     _note_short_record(cfg, motion, args.json)
+    if args.compare_fixed and (args.no_figures or system.frame is None):
+        why = (
+            "draws the fixed-base frame in the run's figure, and --no-figures draws none"
+            if args.no_figures
+            else "needs a frame; this scene's [structure] has none"
+        )
+        raise SceneError(f"{args.scene or '<default scene>'}: --compare-fixed {why}")
     if args.fidelity == "auto" and system.frame is None:
         from nsdyn.models.scenefile import SceneError
 
@@ -401,6 +420,12 @@ def run(args: argparse.Namespace) -> int:
         t_eval = output_grid(motion, sv.get("dt_out"), **duration)
     except ValueError as e:
         raise SceneError(f"{source}: motion: {e}") from None
+    t_req = cfg.get("motion", {}).get("t_end")
+    last = getattr(motion, "t0", 0.0) + (getattr(motion, "n", 0) - 1) * getattr(motion, "dt", 0.0)
+    if t_req is not None and not args.json and t_eval[-1] < min(float(t_req), last) - 1e-9:
+        print(f"nsdyn run: note: t_end = {float(t_req):g} s falls between output times "
+              f"(every {t_eval[1] - t_eval[0]:g} s); the run ends at {t_eval[-1]:g} s",
+              file=sys.stderr)  # fmt: skip
     from nsdyn.studies.scenes import check_step_count
 
     check_step_count(source, method, sv.get("dt"), t_eval, sv.get("max_steps"))
@@ -427,6 +452,9 @@ def run(args: argparse.Namespace) -> int:
             identity.unlink(missing_ok=True)
         elif ckpt.is_file():
             _refuse_foreign_checkpoint(identity, ident)
+        elif not quiet:
+            print(f"nsdyn run: --resume: no checkpoint in {out}; the run starts at the "
+                  "beginning", file=sys.stderr)  # fmt: skip
         resumed = ckpt.is_file()  # a checkpoint of an earlier run: never deleted here
         try:
             with atomic_open(identity, "w") as fh:
@@ -456,6 +484,8 @@ def run(args: argparse.Namespace) -> int:
         except BaseException as exc:
             if not resumed and not interrupted(exc):  # the failed run's own files go
                 ckpt.unlink(missing_ok=True)
+                identity.unlink(missing_ok=True)
+            elif not ckpt.is_file():  # stopped before its first checkpoint: nothing to resume
                 identity.unlink(missing_ok=True)
             raise
         ckpt.unlink(missing_ok=True)

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.cli.args import count, out_dir, positive_finite
+from nsdyn.cli.args import count, fraction, out_dir, positive_finite
 
 SHAPES = ("sine", "cosine", "ricker", "rect")
 DEFAULT_OUT = "nsdyn-out"
@@ -31,7 +31,10 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--wmin", type=positive_finite, default=1.0, help="smallest ω_p/p (default 1)")
     p.add_argument("--wmax", type=positive_finite, default=20.0, help="largest ω_p/p (default 20)")
     p.add_argument(
-        "--rtol", type=positive_finite, default=1e-4, help="bisection width (default 1e-4)"
+        "--rtol",
+        type=fraction,
+        default=1e-4,
+        help="relative bisection width, between 0 and 1 (default 1e-4)",
     )
     p.add_argument("--workers", type=int, default=None, metavar="N", help="parallel processes")
     p.add_argument(

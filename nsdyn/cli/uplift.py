@@ -91,7 +91,9 @@ def run(args: argparse.Namespace) -> int:
         return EXIT_USER_ERROR
     if system.n_contacts == 0:
         print(
-            "nsdyn uplift: error: the scene's structure has no contacts to lift off",
+            f"nsdyn uplift: error: {cfg['_source']}: [structure]: no contact rows, so no "
+            "normal force can reach zero (the isolators' normal forces are frozen at the "
+            "weight); give structure.contact_rows, or a frame ([scene] frame)",
             file=sys.stderr,
         )
         return EXIT_USER_ERROR

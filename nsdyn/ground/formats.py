@@ -158,7 +158,7 @@ def parse_table_motion(
     if tcol is not None:
         t = data[:, tcol]
         dt_file = check_time(t, tab.linenos, source)
-        for label, value in (("header", info.get("dt")), ("argument", opt.dt)):
+        for label, value in (("header", info.get("dt")), ("given", opt.dt)):
             if value is not None and abs(value - dt_file) > DT_RTOL * dt_file:
                 raise RecordFileError(
                     source,

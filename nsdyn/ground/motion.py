@@ -55,7 +55,7 @@ class RecordFileError(ValueError):
 
 
 # how a user gives a record's units, in the library and in a scene file
-UNITS_HINT = "units='gal', 'g' or 'm/s2'; in a scene, [motion] units"
+UNITS_HINT = 'in a scene [motion] units = "gal", "g" or "m/s2"; in Python units=\'gal\''
 
 
 class UnitWarning(UserWarning):
@@ -356,7 +356,8 @@ def check_pga(motion: GroundMotion, units: str | None = None) -> None:
     """Warn (UnitWarning) when the PGA lies outside the plausible range of m/s² (the advice
     depends on whether the reader was given the file's ``units``)."""
     pga = motion.pga
-    fix = f"check units={units!r}" if units is not None else f"give its units ({UNITS_HINT})"
+    fix = (f"check the units given, units={units!r}" if units is not None
+           else f"give its units ({UNITS_HINT})")  # fmt: skip
     if pga == 0.0:
         warnings.warn(f"{motion.source}: the record is zero at every sample", UnitWarning,
                       stacklevel=3)  # fmt: skip

@@ -77,8 +77,13 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
     if not p.is_file():
         raise SceneError(f"{path}: no such {what} file")
     try:
-        data = tomllib.loads(p.read_text())
+        data = tomllib.loads(p.read_text().removeprefix("\ufeff"))  # a byte-order mark: text
     except tomllib.TOMLDecodeError as e:
+        if p.suffix.lower() in (".csv", ".txt", ".at2", ".dat", ".acc") and what == "scene":
+            raise SceneError(
+                f"{path}: not a scene (TOML) file; a ground-motion record is given to a scene "
+                f'as [motion] record = "{path}", or to nsdyn run as --record {path}'
+            ) from None
         raise SceneError(f"{path}: not valid TOML: {e}") from None
     except UnicodeDecodeError as e:
         raise SceneError(f"{path}: not a text file: {e}") from None
@@ -88,6 +93,13 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
             f"{path}: empty {what} file (no table or key); expected TOML tables such as "
             f"{example} (see the examples)"
         )
+    if what == "scene" and "study" in data:
+        raise SceneError(f"{path}: a study file (its [study] table), not a scene; run it with "
+                         f"nsdyn study {path}")  # fmt: skip
+    if what == "study" and "study" not in data and ("scene" in data or "motion" in data):
+        raise SceneError(f"{path}: a scene file, not a study (no [study] table); run it with "
+                         f"nsdyn run {path}, or name it in a study as [study] scene = "
+                         f'"{path}"')  # fmt: skip
     if what == "scene" and "scene" not in data and "frame" in data:
         raise SceneError(
             f"{path}: a frame file (its [frame] table), not a scene; run it with "
@@ -96,7 +108,7 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
     if what == "scene" and "scene" not in data and "frame3d" in data:
         raise SceneError(
             f"{path}: a 3D frame file (its [frame3d] table), not a scene; name it in a scene "
-            f"of kind 'building3d' as [scene] frame3d = \"{path}\" "
+            f"of kind 'building3d' as [structure] frame3d = \"{path}\" "
             "(examples/scenes/building3d-office-cb.toml)"
         )
     return resolve_paths(data, p.parent) if what == "scene" else data

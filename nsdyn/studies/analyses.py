@@ -36,6 +36,7 @@ from nsdyn.studies.design import (
     design_points,
     find_design,
     percentile_table,
+    same_value,
 )
 from nsdyn.studies.fragility import CONFIDENCE, fit_lognormal
 from nsdyn.studies.table import Table
@@ -127,8 +128,15 @@ def check_analysis(study) -> None:
             raise SceneError(
                 f"{src}: analysis.design.aggregate: expected one of {list(AGGREGATES)}"
             )
-        for k in d.get("reference", {}):
+        grids = {p.name: p.values for p in study.parameters if not p.random}
+        for k, v in d.get("reference", {}).items():
             _check_column(src, "analysis.design.reference", k, study, result=False)
+            vals = grids.get(k, ())
+            if vals and not any(same_value(g, v) for g in vals):
+                raise SceneError(
+                    f"{src}: analysis.design.reference.{k}: {v!r} is not a value of the grid "
+                    f"{list(vals)}; the reference is one of the designs run"
+                )
     p = an.get("percentiles")
     if p is not None:
         where = "analysis.percentiles."

@@ -127,16 +127,17 @@ def compromise(points: list[DesignPoint], objectives: list[str]) -> DesignPoint 
     return min(front, key=lambda p: sum(p.objectives[k] / scale[k] for k in objectives))
 
 
+def same_value(a, b) -> bool:
+    """Two parameter values are the same design's: numbers to MATCH_RTOL, others equal."""
+    if isinstance(a, int | float) and isinstance(b, int | float):
+        return abs(a - b) <= MATCH_RTOL * max(abs(a), abs(b), 1e-300)
+    return a == b
+
+
 def find_design(points: list[DesignPoint], values: dict) -> DesignPoint | None:
     """The design whose variables equal ``values`` (numbers to MATCH_RTOL), if any."""
-
-    def same(a, b) -> bool:
-        if isinstance(a, int | float) and isinstance(b, int | float):
-            return abs(a - b) <= MATCH_RTOL * max(abs(a), abs(b), 1e-300)
-        return a == b
-
     for p in points:
-        if all(same(p.values.get(k), v) for k, v in values.items()):
+        if all(same_value(p.values.get(k), v) for k, v in values.items()):
             return p
     return None
 

@@ -192,8 +192,10 @@ def run_study(
             executor = None
         raise
     finally:
-        if own:
-            stop_pool(executor, kill=False)
+        if own and executor is not None:  # every task is done: the pool ends before we go on
+            # (shutdown without waiting lets the interpreter's exit hook write to the pool's
+            # wake-up pipe while its manager thread closes it: "Bad file descriptor" at exit)
+            executor.shutdown(wait=True)
     prog.tick(force=True)
     order = {t.key: t.index for t in tasks}
     table = store.compact(order)

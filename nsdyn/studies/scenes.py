@@ -396,6 +396,11 @@ def check_step_count(source: str, method: str, dt, t_eval, max_steps=None) -> No
     if method not in METHODS or not METHODS[method].fixed_step or not dt or len(t_eval) < 2:
         return
     span = float(t_eval[-1] - t_eval[0])
+    if dt > span:
+        raise SceneError(
+            f"{source}: solver.dt: a fixed step of {dt:g} s is longer than the run ({span:g} s); "
+            "use a step of the order of the record's sample step (the default is 0.005 s)"
+        )
     chunk = min(span, CHUNK_S + float(max(t_eval[1:] - t_eval[:-1])))
     per_chunk = math.ceil(chunk / dt * (1 - 1e-12))
     limit = int(max_steps or DEFAULT_MAX_STEPS)

@@ -217,14 +217,19 @@ def amplitude_job(
         start=start,
         load=load,
     )
-    if settings.friction == "switch":
-        from nsdyn.periodic.switch import switch_response
+    try:
+        if settings.friction == "switch":
+            from nsdyn.periodic.switch import switch_response
 
-        curve = switch_response(system, amplitude, **options)
-        law = "switch"
-    else:
-        curve = frequency_response(system, amplitude, **options)
-        law = system.isolation.law
+            curve = switch_response(system, amplitude, **options)
+            law = "switch"
+        else:
+            curve = frequency_response(system, amplitude, **options)
+            law = system.isolation.law
+    except KeyboardInterrupt:  # the points finished so far are kept for the rerun
+        if len(pts_done) > n_resumed:
+            save(pts_done)
+        raise
     save(curve.points, complete=True)
     rows = curve.rows()
     for row in rows:

@@ -79,7 +79,7 @@ def test_a_space_frame_file_given_as_a_scene_names_the_building3d_scene(capsys, 
     assert main(["run", str(f)]) == EXIT_USER_ERROR
     err = capsys.readouterr().err
     assert "a 3D frame file (its [frame3d] table)" in err
-    assert f"kind 'building3d' as [scene] frame3d = \"{f}\"" in err
+    assert f"kind 'building3d' as [structure] frame3d = \"{f}\"" in err
 
 
 def test_a_space_frame_given_to_frame_names_the_building3d_scene(capsys, tmp_path):
@@ -108,7 +108,7 @@ def test_a_units_warning_is_one_line_naming_the_command(capsys, tmp_path):
     err = [ln for ln in capsys.readouterr().err.splitlines() if "warning" in ln.lower()]
     assert err == [
         f"nsdyn run: warning: {rec}: the file does not state its units; assuming m/s² (give "
-        "them: units='gal', 'g' or 'm/s2'; in a scene, [motion] units)"
+        'them: in a scene [motion] units = "gal", "g" or "m/s2"; in Python units=\'gal\')'
     ]
 
 

@@ -64,7 +64,11 @@ def test_invalid_file_exits_2_naming_field(tmp_path, capsys):
     p.write_text('[frame]\nname = "x"\nkind = "regular"\nbays = [6.0]\n')
     assert main(["modes", str(p), "--json"]) == 2
     captured = capsys.readouterr()
-    assert captured.out == ""
+    # --json: the failure as one JSON object on stdout, the line on stderr
+    assert json.loads(captured.out) == {
+        "status": 2,
+        "error": captured.err.split("error: ", 1)[1].strip(),
+    }
     assert "broken.toml: frame.storey_heights" in captured.err
 
 

@@ -117,7 +117,11 @@ def test_the_interrupt_line_says_how_each_command_goes_on(tmp_path):
     out.mkdir()
     (out / ".run-checkpoint.npz").write_bytes(b"")
     assert "--resume" in _interrupt_line(run)
-    assert "rerun the same command to resume" in _interrupt_line(Namespace(command="sweep"))
+    sweep = Namespace(command="sweep", out=str(tmp_path / "s"))
+    assert "before its first point, a rerun starts over" in _interrupt_line(sweep)
+    (tmp_path / "s").mkdir()
+    (tmp_path / "s" / ".sweep-A1.ckpt.json").write_text("{}")
+    assert "rerun the same command to resume" in _interrupt_line(sweep)
     assert "no checkpoint" in _interrupt_line(Namespace(command="uplift"))
 
 
@@ -139,23 +143,16 @@ def test_an_error_left_by_a_swallowed_interrupt_is_an_interrupt(monkeypatch, cap
     assert "interrupted" in capsys.readouterr().err
 
 
-def test_a_study_step_for_an_adaptive_method_is_refused_before_it_starts(tmp_path, capsys):
+def _study(tmp_path, tables: str):
+    """A two-task study of the default scene with ``tables`` added."""
     study = tmp_path / "s.toml"
-    study.write_text(
-        textwrap.dedent(
-            """
-            [study]
-            name = "s"
-            [base.solver]
-            method = "radau"
-            dt = 0.01
-            [parameters]
-            "isolation.mu" = [0.02, 0.03]
-            [records]
-            names = ["synthetic-wn-40s"]
-            """
-        )
-    )
+    grid = '[parameters]\n"isolation.mu" = [0.02, 0.05]\n[records]\nnames = ["synthetic-wn-40s"]\n'
+    study.write_text(f'[study]\nname = "s"\n{grid}{textwrap.dedent(tables)}')
+    return study
+
+
+def test_a_study_step_for_an_adaptive_method_is_refused_before_it_starts(tmp_path, capsys):
+    study = _study(tmp_path, '[base.solver]\nmethod = "radau"\ndt = 0.01\n')
     assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 2
     _one_line_error(capsys, "solver.dt", "'radau'")
 
@@ -227,3 +224,92 @@ def test_a_benchmark_without_a_report_prints_text_not_json():
         "sub:",
         "  ok  true",
     ]
+
+
+def _status(argv) -> int:
+    try:
+        return main(argv)
+    except SystemExit as e:  # a usage error, found by the parser
+        return e.code
+
+
+def _scene(name: str) -> str:
+    root = os.path.dirname(os.path.dirname(os.path.dirname(__file__)))
+    return os.path.join(root, "examples", "scenes", name)
+
+
+@pytest.mark.parametrize(
+    "argv, needles",
+    [
+        (["run", "--method", "genalpha", "--dt", "5", "--t-end", "2"], ["longer than the run"]),
+        (["sweep", "--amplitudes", "1,,2"], ["separated by commas"]),
+        (["spectrum", "rocking-seed003-column.toml", "--rtol", "2"], ["between 0 and 1"]),
+        (["run", "isolated-shear-3storey.toml", "--compare-fixed"], ["needs a frame"]),
+        (["run", "--compare-fixed", "--no-figures"], ["--no-figures draws none"]),
+        (["run", "deck-fps4-3c.toml", "--method", "radau"], ["--method"]),
+        (["export", "opensees", "--modes", "3"], ["--modes: not used"]),
+        (["modes", "office-11-3d", "--fmax", "1"], ["--fmax: for plane frames"]),
+        (["uplift", "isolated-shear-3storey.toml"], ["[structure]: no contact rows"]),
+    ],
+)
+def test_more_inputs_that_cannot_apply_are_refused(tmp_path, capsys, argv, needles):
+    argv = [_scene(a) if a.endswith(".toml") else a for a in argv]
+    assert _status([*argv, "--out", str(tmp_path / "o")]) == 2
+    _one_line_error(capsys, *needles)
+
+
+def test_a_file_of_another_kind_is_named_for_what_it_is(tmp_path, capsys):
+    study = tmp_path / "s.toml"
+    study.write_text('[study]\nname = "s"\n')
+    assert main(["run", str(study)]) == 2
+    _one_line_error(capsys, "a study file", f"nsdyn study {study}")
+    assert main(["study", _scene("rocking-seed003-column.toml")]) == 2
+    _one_line_error(capsys, "a scene file, not a study", "nsdyn run")
+    rec = tmp_path / "r.csv"
+    rec.write_text("t,a\n0,0\n0.01,1\n")
+    assert main(["run", str(rec)]) == 2
+    _one_line_error(capsys, "a ground-motion record", f"--record {rec}")
+    bom = tmp_path / "bom.toml"  # a byte-order mark (some editors write one) is text
+    bom.write_text('\ufeff[scene]\nname = "x"\n')
+    assert read_toml(bom) == {"scene": {"name": "x"}}
+
+
+def test_a_pulse_given_twice_is_refused(tmp_path, capsys):
+    text = open(_scene("rocking-seed003-column.toml")).read()
+    scene = tmp_path / "r.toml"
+    scene.write_text(text.replace("a_p_g = 0.40", "a_p_g = 0.40\na_p = 3.0"))
+    assert main(["run", str(scene), "--out", str(tmp_path / "o")]) == 2
+    _one_line_error(capsys, "give a_p or a_p_g, not both")
+
+
+def test_a_failure_under_json_prints_a_json_object(tmp_path, capsys):
+    assert main(["run", "--record", "nosuch.csv", "--json", "--out", str(tmp_path)]) == 2
+    out, err = capsys.readouterr()
+    import json
+
+    assert json.loads(out) == {"status": 2, "error": err.split("error: ", 1)[1].strip()}
+
+
+def test_resume_without_a_checkpoint_says_so(tmp_path, capsys):
+    scene = _short_scene(tmp_path)
+    out = tmp_path / "o"
+    assert main(["run", str(scene), "--resume", "--no-figures", "--out", str(out)]) == 0
+    assert f"--resume: no checkpoint in {out}" in capsys.readouterr().err
+
+
+def test_a_design_reference_off_the_grid_is_refused(tmp_path, capsys):
+    tables = '[analysis.design]\nobjectives = ["idr_max"]\nreference = { "isolation.mu" = 0.03 }\n'
+    study = _study(tmp_path, tables)
+    assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 2
+    _one_line_error(capsys, "analysis.design.reference.isolation.mu: 0.03 is not a value")
+
+
+def test_a_deck_that_lifts_off_ends_with_status_3_and_a_zero_normal_force(tmp_path, capsys):
+    """The run ends at the uplift (normal force zero there): its files are written, the
+    status is that of a run outside the model's domain, and the summary's minimum is 0."""
+    import json
+
+    argv = ["run", _scene("deck-fps4-3c.toml"), "--pga", "60", "--t-end", "2", "--json"]
+    assert main([*argv, "--no-figures", "--out", str(tmp_path / "o")]) == 3
+    s = json.loads(capsys.readouterr().out)
+    assert s["uplift"] and s["min_normal_force_N"] == 0.0

@@ -319,7 +319,8 @@ class PlaneResult(Tabular):
             "peak_resultant_friction_N": float(rf.max()),
             "peak_resultant_restoring_N": float(rr.max()),
             "peak_torsion_rad": float(np.abs(self.theta).max()),
-            "min_normal_force_N": float(self.N.min()),
+            # the uplift instant (a normal force of zero) lies after the last output
+            "min_normal_force_N": 0.0 if self.uplift else float(self.N.min()),
             "max_normal_force_N": float(self.N.max()),
             "stick_fraction": float(np.mean(self.sticks())),
             "rim_contacts": self.stops,

@@ -242,7 +242,7 @@ def build_scene_run(cfg: dict):
                 raise
             raise SceneError(
                 f"{source}: scene.frame: {sc['frame']} is a 3D frame ([frame3d]); a 3D "
-                "building is a scene of kind 'building3d' that names it as [scene] frame3d "
+                "building is a scene of kind 'building3d' that names it as [structure] frame3d "
                 "(examples/scenes/building3d-office-cb.toml)"
             ) from None
         system = _cached_system(frame, iso, sc.get("fidelity", "cb"), float(sc.get("f_max", F_MAX)))
@@ -267,7 +267,10 @@ def build_scene_run(cfg: dict):
     try:
         motion = read_motion(mo["record"], **kw)
     except (OSError, ValueError) as e:  # a missing file, an unknown name, a bad record
-        raise SceneError(f"{source}: motion.record: {e}") from None
+        text = str(e)
+        field = ("motion.units" if "acceleration unit" in text
+                 else "motion.dt" if "s (given)" in text else "motion.record")  # fmt: skip
+        raise SceneError(f"{source}: {field}: {text}") from None
     if not mo.get("vertical", True):
         motion = motion.with_vertical(None)
     if "pga" in mo:

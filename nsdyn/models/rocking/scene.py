@@ -144,6 +144,11 @@ def build_motion(cfg: dict, source: str):
             raise SceneError(f"{source}: motion.a_p_g: missing (pulse amplitude in g, or a_p)")
         if "pga" in mo:
             a_p = math.copysign(number(source, "motion.pga", mo["pga"]), a_p)
+        for one, other in (("a_p", "a_p_g"), ("omega_p", "f_p")):
+            if one in mo and other in mo:  # each value checked first
+                for k in (one, other):
+                    number(source, f"motion.{k}", mo[k], positive=k[0] != "a")
+                raise SceneError(f"{source}: motion.{other}: give {one} or {other}, not both")
         if "omega_p" in mo:
             w = number(source, "motion.omega_p", mo["omega_p"])
         elif "f_p" in mo:
