@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from nsdyn._checks import expect
 from nsdyn.periodic.continuation import continue_range
 from nsdyn.periodic.curve import Curve
 from nsdyn.periodic.problem import frame_problem
@@ -24,6 +25,16 @@ def frequency_response(system, amplitude: float, *, load=None, **options) -> Cur
     ``continuation`` and those of the continuation) as for
     :func:`nsdyn.periodic.continuation.continue_range`.
     """
+    from nsdyn.models.isolated.system import IsolatedSystem
+
+    expect(
+        "system",
+        system,
+        isinstance(system, IsolatedSystem),
+        "an IsolatedSystem (nsdyn.build_system, nsdyn.shear_building, ...)",
+    )
+    if isinstance(amplitude, str | bool):
+        raise TypeError(f"amplitude: expected a number, got {amplitude!r}")
     c = continue_range(frame_problem(system, amplitude, load=load), **options)
     c.info["model"] = system.name
     return c

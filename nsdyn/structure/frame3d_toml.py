@@ -324,4 +324,9 @@ def is_frame3d(name_or_path) -> bool:
 def load_frame3d(name_or_path: str | Path) -> Frame3D:
     """Load a 3D frame from a TOML file or a bundled name (``"office-11-3d"``)."""
     data, fname = _read_frame_file(name_or_path)
+    if "frame" in data and "frame3d" not in data:
+        raise FrameFileError(
+            f"{fname}: a plane frame (its [frame] table); load it with nsdyn.load_frame, or "
+            "give a 3D frame ([frame3d]; bundled: office-11-3d, portal-3d)"
+        )
     return frame3d_from_dict(data, fname)

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._checks import expect
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.frame3d import DOFS_PER_NODE, Frame3D
 from nsdyn.structure.reduction import lanczos_start
@@ -141,6 +142,12 @@ def fixed_base_modes_3d(
     """
     if method not in ("auto", "sparse", "dense"):
         raise ValueError(f"method must be 'auto', 'sparse' or 'dense', got {method!r}")
+    expect(
+        "frame",
+        frame,
+        hasattr(frame, "reduced") and hasattr(frame, "diaphragms"),
+        "a Frame3D (nsdyn.structure.load_frame3d(name or file))",
+    )
     K, M = frame.reduced(lumped=lumped)
     b = frame.boundary_reduced
     i = np.setdiff1d(np.arange(frame.n_red), b)

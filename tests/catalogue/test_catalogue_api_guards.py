@@ -164,3 +164,25 @@ def test_rigid_body_runs_refuse_outputs_and_starts_they_cannot_give():
     for kw in ({"dt_out": -1.0}, {"tol": -1.0}):
         with pytest.raises(ValueError, match="expected a positive"):
             nsdyn.simulate_rocking(blk, pulse, t_end=6.0, **kw)
+
+
+def test_objects_of_the_wrong_kind_are_named_by_every_family():
+    from nsdyn.structure import fixed_base_modes_3d, load_frame3d
+
+    body = nsdyn.RigidBody.rectangle(1.1, 1.0, 1250.0)
+    law = nsdyn.FrictionLaw(0.57, 0.29)
+    dt, ag = nsdyn.cylinder_earthquake(0)
+    for call, match in (
+        (lambda: nsdyn.simulate_rocking("block", None, t_end=1.0), "model: expected a Rocking"),
+        (lambda: nsdyn.simulate_event(body, 0.5, None, t_end=1.0), "friction: expected a Fr"),
+        (lambda: nsdyn.simulate_event("box", law, None, t_end=1.0), "body: expected a RigidBody"),
+        (lambda: nsdyn.frequency_response("office-11", 0.5), "system: expected an Isolated"),
+        (lambda: nsdyn.simulate_cylinder("cyl", ag, dt), "p: expected CylinderParams"),
+        (lambda: fixed_base_modes_3d("portal-3d"), "frame: expected a Frame3D"),
+    ):
+        with pytest.raises(TypeError, match=match):
+            call()
+    with pytest.raises(ValueError, match="q0: expected 3 values"):
+        nsdyn.simulate_event(body, law, None, t_end=1.0, q0=[0.0])
+    with pytest.raises(ValueError, match=r"a plane frame \(its \[frame\] table\); load it"):
+        load_frame3d("office-11")

@@ -29,6 +29,7 @@ import math
 
 import numpy as np
 
+from nsdyn._checks import expect
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kevent as ke
 from nsdyn.models.contact._kgeom import body_mode, contact_rows, mu_of, solve_contacts
@@ -170,6 +171,18 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
         raise ValueError(f"impact_law: expected 'newton' or 'housner', got {impact_law!r}")
     if not 0.0 <= e_n <= 1.0:
         raise ValueError(f"e_n: expected a restitution coefficient in [0, 1], got {e_n!r}")
+    expect(
+        "body",
+        body,
+        hasattr(body, "verts") and hasattr(body, "contacts"),
+        "a RigidBody (nsdyn.RigidBody.rectangle(width, height, mass))",
+    )
+    expect(
+        "friction",
+        friction,
+        hasattr(friction, "mu_s"),
+        "a FrictionLaw (nsdyn.FrictionLaw(mu_s, mu_d))",
+    )
     for name, val in (("t_end", t_end), ("dt_out", dt_out), ("rtol", rtol), ("atol", atol)):
         if isinstance(val, str | bool) or not (math.isfinite(float(val)) and val > 0):
             raise ValueError(f"{name}: expected a positive number, got {val!r}")
@@ -194,6 +207,10 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
     verts, minv = body.contacts, body.minv
     nc = len(verts)
     q, v = initial_state(body, tilt)
+    for name, given in (("q0", q0), ("v0", v0)):
+        if given is not None and np.shape(given) != (3,):
+            raise ValueError(f"{name}: expected 3 values (x, y, theta), got shape "
+                             f"{np.shape(given)}")  # fmt: skip
     if q0 is not None:
         q = np.asarray(q0, float).copy()
     if v0 is not None:

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nsdyn._checks import expect
 from nsdyn._tabular import Tabular
 from nsdyn.ground import GroundMotion, modulated_white_noise
 from nsdyn.models.cylinder import _kernel as K
@@ -216,6 +217,7 @@ def simulate(
     ``theta0_over_alpha`` times alpha = atan(r / H), towards ``azimuth0`` [rad], base height
     ``w0`` [m], angular velocity ``omega0`` [rad/s]). Raises :class:`SimulationError` on failure.
     """
+    expect("p", p, isinstance(p, CylinderParams), "CylinderParams (nsdyn.CylinderParams(...))")
     theta0 = initial_tilt(theta0, theta0_over_alpha, math.atan2(p.r, p.H))
     if hasattr(ag, "ax"):  # a three-component record object
         raise TypeError(

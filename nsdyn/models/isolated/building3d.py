@@ -26,6 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from nsdyn._checks import expect
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated.bearings import Bearing, BearingError
 from nsdyn.models.isolated.deck import PlaneSystem, rigid_deck
@@ -78,8 +79,20 @@ def building_deck(
     (in the order of ``frame.base_nodes``). The deck's ``info`` holds ``origin`` (the plan
     point O the deck's (x, y, θ) refer to), ``centre``, ``m``, ``J``, ``h``, ``base_nodes``.
     """
+    expect(
+        "frame",
+        frame,
+        hasattr(frame, "base_nodes") and hasattr(frame, "diaphragms"),
+        "a Frame3D (nsdyn.structure.load_frame3d(name or file))",
+    )
     nb = len(frame.base_nodes)
     if not isinstance(bearings, Bearing):
+        expect(
+            "bearings",
+            bearings,
+            isinstance(bearings, list | tuple) and all(isinstance(b, Bearing) for b in bearings),
+            "a Bearing or one per base node (nsdyn.models.isolated.Bearing(...))",
+        )
         bearings = tuple(bearings)
         if len(bearings) != nb:
             raise BearingError(

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._checks import expect
 from nsdyn.ground import G_EARTH, GroundMotion, Harmonic
 from nsdyn.ground.pulses import Pulse
 from nsdyn.models.rocking import _kblock as kb
@@ -252,6 +253,12 @@ def simulate_rocking(
         With the time and the reason if the integration fails (step underflow, non-finite
         state, too many impacts, free flight).
     """
+    expect(
+        "model",
+        model,
+        hasattr(model, "alpha") and hasattr(model, "p"),
+        "a RockingBlock or RockingFrame (nsdyn.RockingBlock(width=..., height=...))",
+    )
     if not (t_end > t0):
         raise ValueError(f"t_end: expected > t0 = {t0}, got {t_end}")
     if not (math.isfinite(tol) and tol > 0):
