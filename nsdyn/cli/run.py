@@ -238,6 +238,11 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
                          "[solver] law (and fidelity); --method applies to isolated-frame, "
                          "rocking, contact and cylinder scenes")  # fmt: skip
     for table, vals in _scene_overrides(args).items():
+        for k, v in vals.items():  # the file stays checked where an option replaces its value
+            old = cfg.get(table, {}).get(k)
+            if isinstance(v, float) and old is not None and (
+                    isinstance(old, bool) or not isinstance(old, int | float)):  # fmt: skip
+                raise SceneError(f"{args.scene}: {table}.{k}: expected a number, got {old!r}")
         cfg.setdefault(table, {}).update(vals)
     _t_end_wins(args, cfg)
     mod = importlib.import_module(scene_module(kind))

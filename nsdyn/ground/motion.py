@@ -192,7 +192,7 @@ class GroundMotion(Sampled):
 
         The vertical component stays proportional to the horizontal one.
         """
-        if not (math.isfinite(float(target)) and float(target) >= 0.0):
+        if isinstance(target, str | bool) or not (math.isfinite(target) and target >= 0.0):
             raise ValueError(f"target: expected a finite PGA >= 0 [m/s²], got {target!r}")
         peak = float(np.max(np.abs(self._component(component))))
         if peak == 0.0:

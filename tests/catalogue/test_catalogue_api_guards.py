@@ -186,3 +186,20 @@ def test_objects_of_the_wrong_kind_are_named_by_every_family():
         nsdyn.simulate_event(body, law, None, t_end=1.0, q0=[0.0])
     with pytest.raises(ValueError, match=r"a plane frame \(its \[frame\] table\); load it"):
         load_frame3d("office-11")
+
+
+def test_numbers_given_as_text_are_refused_not_converted():
+    rec = nsdyn.read_motion("synthetic-wn-40s")
+    for call, match in (
+        (lambda: rec.scaled_to_pga("3"), "target: expected a finite PGA"),
+        (lambda: nsdyn.read_motion3("synthetic-wn-40s").rotated("30"), "angle_deg: expected"),
+        (lambda: nsdyn.read_motion3("synthetic-wn-40s").scaled_to_pga("3"), "target: expected"),
+        (lambda: nsdyn.CylinderParams(k="9814"), "k: expected a number"),
+    ):
+        with pytest.raises(ValueError, match=match):
+            call()
+
+
+def test_a_misspelt_continuation_option_names_the_nearest(building):
+    with pytest.raises(TypeError, match="'pionts'; did you mean 'points'"):
+        nsdyn.frequency_response(building, 0.5, fmin=0.3, fmax=1.0, pionts=3)

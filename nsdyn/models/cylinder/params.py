@@ -44,6 +44,9 @@ class CylinderParams:
     mu: float | None = None  # base friction coefficient; None: base restrained horizontally
 
     def __post_init__(self) -> None:
+        for name in ("r", "H", "m", "k", "g", "c", "I_t", "I_a", "mu"):
+            if isinstance(getattr(self, name), str | bool):  # text is not converted
+                raise ValueError(f"{name}: expected a number, got {getattr(self, name)!r}")
         for name in ("r", "H", "m", "k", "g"):
             _positive(name, float(getattr(self, name)))
         _positive("c", float(self.c), allow_zero=True)

@@ -265,10 +265,11 @@ def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
     for name in ("ax", "ay", "az"):
         a = _attr(ground, name)
         a = np.zeros(n) if a is None else np.asarray(a, dtype=float)
-        if a.shape != (n,) or not np.all(np.isfinite(a)):
-            raise ValueError(
-                f"ground.{name}: expected {n} finite samples (as ax), got shape {a.shape}"
-            )
+        if a.shape != (n,):
+            raise ValueError(f"ground.{name}: expected {n} samples (as ax), got shape {a.shape}")
+        if not np.all(np.isfinite(a)):
+            bad = int(np.flatnonzero(~np.isfinite(a))[0])
+            raise ValueError(f"ground.{name}: sample {bad} is {a[bad]}; expected finite values")
         rows.append(a)
     dt = float(_attr(ground, "dt"))
     if not (math.isfinite(dt) and dt > 0):

@@ -154,8 +154,8 @@ class TripleBearing(Bearing):
             inner = max(vals["d2"], vals["d3"])
             if vals[outer] < inner:
                 raise BearingError(
-                    f"{w}.{outer}: expected a displacement capacity >= the inner ones "
-                    f"(d2, d3 <= {vals[outer]:g} m), got {vals[outer]:g} < {inner:g}"
+                    f"{w}.{outer}: expected a displacement capacity >= the inner ones' "
+                    f"(max(d2, d3) = {inner:g} m), got {outer} = {vals[outer]:g} m"
                 )
         mu_min = min(vals[f"mu{j}"] for j in range(1, 5))
         object.__setattr__(self, "friction", Friction(mu_min, where=w))
