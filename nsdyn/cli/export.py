@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from pathlib import Path
 
 from nsdyn.cli.args import out_file, positive_float
@@ -200,7 +201,10 @@ def run(args: argparse.Namespace) -> int:
     _only(args, "an isolated-frame scene", ("dt", "t_end", "damping"))
     out = Path(args.out) if args.out else named
     export_opensees(scene, out, dt=args.dt, t_end=args.t_end, damping=args.damping or "modal")
-    data = load_script_data(out) if args.json else None
+    data = load_script_data(out) if args.json or args.t_end else None
+    if args.t_end and data["duration_s"] < args.t_end - 1e-6 and not args.json:
+        print(f"nsdyn export: note: --t-end {args.t_end:g} s is past the record's end; the "
+              f"script runs {data['duration_s']:g} s", file=sys.stderr)  # fmt: skip
     if args.json:
         print(json.dumps({"script": str(out), **data}))
         return 0

@@ -222,7 +222,12 @@ def describe(excitation) -> str:
         return "none (free vibration)"
     kind = "force" if is_force(excitation) else "ground"
     name = getattr(excitation, "name", None)
-    return f"{kind}: {name}" if name else f"{kind}: {excitation!r}"[:200]
+    if name:
+        return f"{kind}: {name}"
+    F, f = getattr(excitation, "F", None), getattr(excitation, "f", None)
+    if isinstance(F, int | float) and isinstance(f, int | float):  # a harmonic force
+        return f"{kind}: harmonic, {F:g} N at {f:g} Hz on dofs {list(excitation.dofs)}"
+    return f"{kind}: {excitation!r}"[:200]
 
 
 def _prepare_kernels(method: str, P: tuple, contact: str | None) -> float:
