@@ -254,7 +254,8 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
         if fig_mod and not args.no_figures:
             s["files"] += importlib.import_module(fig_mod).scene_figures(s, out)
     ran = s.get("t_end_s", s.get("t_end"))
-    if args.t_end and isinstance(ran, int | float) and ran < args.t_end - 1e-6 and not args.json:
+    short = isinstance(ran, int | float) and args.t_end and ran < args.t_end - 1e-6
+    if short and not s.get("uplift") and not args.json:  # (an uplift ends a run early too)
         print(f"nsdyn run: note: t_end = {args.t_end:g} s is past the excitation's end; the "
               f"run ends there, at {ran:g} s", file=sys.stderr)  # fmt: skip
     # a deck or 3D building whose normal force reached zero: written up to the uplift, and
