@@ -9,3 +9,27 @@ def expect(name: str, value, ok: bool, what: str) -> None:
     """Raise ``TypeError("{name}: expected {what}, got {type}")`` unless ``ok``."""
     if not ok:
         raise TypeError(f"{name}: expected {what}, got {type(value).__name__}")
+
+
+def keywords_of(func, passed_on, *, skip=(), also=(), caller: str = "") -> None:
+    """Each name in ``passed_on`` (keywords a function hands on to ``func``) must be a
+    parameter of ``func`` outside ``skip``; otherwise a TypeError naming the nearest of those
+    and of ``also`` (the caller's own keywords, a likely slip of the pen)."""
+    import difflib
+    import inspect
+
+    known = [k for k in inspect.signature(func).parameters if k not in skip]
+    for k in passed_on:
+        if k not in known:
+            close = difflib.get_close_matches(k, [*known, *also], n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise TypeError(f"{caller}got an unexpected keyword argument {k!r}{hint}")
+
+
+def non_negative_int(name: str, value) -> int:
+    """``value`` as an int, or ValueError naming ``name`` (a seed, a count)."""
+    import numpy as np
+
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
+        raise ValueError(f"{name}: expected a non-negative integer, got {value!r}")
+    return int(value)

@@ -148,13 +148,17 @@ def _interrupt_line(args: argparse.Namespace) -> str:
 
     done = f"nsdyn {args.command}: interrupted; files on disk are complete"
     if args.command == "sweep":
-        out = Path(getattr(args, "out", None) or "nsdyn-sweep")
-        if any(out.glob(".sweep-A*.ckpt.json")):
+        from nsdyn.studies.sweep import CHECKPOINT_NAME, DEFAULT_OUT
+
+        out = Path(getattr(args, "out", None) or DEFAULT_OUT)
+        if any(out.glob(CHECKPOINT_NAME.replace("{amplitude:g}", "*"))):
             return f"{done}, rerun the same command to resume"
         return f"{done}; it stopped before its first point, a rerun starts over"
     if args.command == "run":
-        out = Path(getattr(args, "out", None) or "nsdyn-out")
-        if (out / ".run-checkpoint.npz").is_file():
+        from nsdyn.cli.run import CHECKPOINT, DEFAULT_OUT
+
+        out = Path(getattr(args, "out", None) or DEFAULT_OUT)
+        if (out / CHECKPOINT).is_file():
             return f"{done}, rerun it with --resume to continue from its checkpoint in {out}"
         return f"{done}; it stopped before its first checkpoint, a rerun starts over"
     return f"{done}; this command keeps no checkpoint, a rerun starts over"

@@ -21,6 +21,7 @@ from nsdyn.cli.args import positive_int as _positive_int
 from nsdyn.studies.scenes import FIXED_DT  # the fixed-step methods' default step (re-exported)
 
 DEFAULT_OUT = "nsdyn-out"  # output directory
+CHECKPOINT = ".run-checkpoint.npz"  # an interrupted run's state, in its output directory
 
 
 def interrupted(exc: BaseException) -> bool:
@@ -437,7 +438,7 @@ def run(args: argparse.Namespace) -> int:
     check_step_count(source, method, sv.get("dt"), t_eval, sv.get("max_steps"))
     out = Path(args.out)
     stem = "run"
-    ckpt = out / f".{stem}-checkpoint.npz"
+    ckpt = out / CHECKPOINT
     identity = out / f".{stem}-checkpoint.json"
     ident = _run_identity(cfg, args)
     quiet = args.json

@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from nsdyn._checks import non_negative_int
 from nsdyn.ground.motion import GroundMotion
 
 KT_WARMUP_DECAYS = 30.0  # KT filter warm-up, in time constants 1/(ζ_g ω_g) (e^-30 ≈ 1e-13)
@@ -55,11 +56,8 @@ def _rng(seed: int | np.random.Generator | None) -> tuple[np.random.Generator, A
     if seed is None:
         ss = np.random.SeedSequence()
         return np.random.default_rng(ss), int(ss.entropy)
-    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
-        raise ValueError(
-            f"seed: expected a non-negative integer, a numpy Generator or None, got {seed!r}"
-        )
-    return np.random.default_rng(seed), int(seed)
+    seed = non_negative_int("seed", seed)
+    return np.random.default_rng(seed), seed
 
 
 def _grid(duration: float, dt: float) -> np.ndarray:

@@ -194,17 +194,11 @@ def continue_range(
     :func:`continue_arclength` (``disc``, ``tol``, ``max_iter``, ``fallback``, ``progress``,
     ``start``, ...).
     """
-    import inspect
+    from nsdyn._checks import keywords_of
 
     target = continue_sequential if continuation == "sequential" else continue_arclength
-    known = set(inspect.signature(target).parameters) - {"problem", "freqs", "fmin", "fmax"}
-    for k in options:
-        if k not in known:
-            import difflib
-
-            close = difflib.get_close_matches(k, [*known, "fmin", "fmax", "points"], n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
-            raise TypeError(f"unexpected keyword argument {k!r}{hint}")
+    keywords_of(target, options, skip=("problem", "freqs", "fmin", "fmax"),
+                also=("fmin", "fmax", "points"))  # fmt: skip
     if continuation == "sequential":
         return continue_sequential(problem, log_frequencies(fmin, fmax, points), **options)
     if continuation == "arclength":

@@ -18,13 +18,13 @@ duration is guessed. Outputs are the record's samples, or ``HARMONIC_SAMPLES`` p
 
 from __future__ import annotations
 
-import inspect
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import keywords_of
 from nsdyn._tabular import Tabular
 from nsdyn.atomic import CheckpointError, atomic_open
 from nsdyn.ground.excitation import is_force, natural_end
@@ -377,14 +377,8 @@ def simulate(
             f"motion: expected a ground motion or a force (GroundMotion, Harmonic, Table, "
             f"HarmonicForce, ForceTable) or None, got {type(motion).__name__}; {read} makes one"
         )
-    known = inspect.signature(integrate.solve).parameters
-    for k in solver_options:
-        if k not in known or k in ("P", "x0", "t_eval"):
-            import difflib
-
-            close = difflib.get_close_matches(k, [*known, "rtol", "atol", "dt_out", "t_end"], 1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
-            raise TypeError(f"simulate() got an unexpected keyword argument {k!r}{hint}")
+    keywords_of(integrate.solve, solver_options, skip=("P", "x0", "t_eval"),
+                also=("rtol", "atol", "dt_out", "t_end"), caller="simulate() ")  # fmt: skip
     if not (np.isfinite(chunk_s) and chunk_s > 0):
         raise ValueError(f"chunk_s: expected a positive duration [s], got {chunk_s!r}")
     if t_eval is None:

@@ -32,6 +32,7 @@ from nsdyn.studies.workers import process_pool
 
 DEFAULT_OUT = "nsdyn-sweep"
 DEFAULT_AMPLITUDES = "0.1,0.5,1,2"  # m/s^2, seed Fig. 9
+CHECKPOINT_NAME = ".sweep-A{amplitude:g}.ckpt.json"  # one per amplitude, in the output dir
 CHECKPOINT_EVERY_S = 2.0  # shortest interval between checkpoint writes [s]
 CSV_COLUMNS = (
     "f",
@@ -141,7 +142,7 @@ def _identity(cfg: dict, amplitude: float, settings: SweepSettings) -> dict:
 
 
 def checkpoint_path(out_dir: Path, amplitude: float) -> Path:
-    return Path(out_dir) / f".sweep-A{amplitude:g}.ckpt.json"
+    return Path(out_dir) / CHECKPOINT_NAME.format(amplitude=amplitude)
 
 
 def load_checkpoint(path: Path, identity: dict) -> list | None:

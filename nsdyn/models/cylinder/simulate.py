@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from nsdyn._checks import expect
+from nsdyn._checks import expect, non_negative_int
 from nsdyn._tabular import Tabular
 from nsdyn.ground import GroundMotion, modulated_white_noise
 from nsdyn.models.cylinder import _kernel as K
@@ -322,9 +322,7 @@ def earthquake(
     """
     if s0_units not in S0_UNITS:
         raise ValueError(f"s0_units: expected one of {list(S0_UNITS)}, got {s0_units!r}")
-    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
-        raise ValueError(f"seed: expected a non-negative integer, got {seed!r}")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(non_negative_int("seed", seed))
     m1 = modulated_white_noise(duration, dt=dt, seed=rng)
     m2 = modulated_white_noise(duration, dt=dt, seed=rng)
     return dt, S0_UNITS[s0_units] * np.stack([m1.a_hor, m2.a_hor, m1.a_ver], axis=1)
