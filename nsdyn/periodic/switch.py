@@ -337,9 +337,17 @@ class SwitchProblem(MinimalStates):
 
     def orbit_quantities(self, f: float, X: np.ndarray) -> dict:
         """The seed's Fig. 9 quantities of the orbit ``X`` (as for the arctan problem), the
-        switching events of the period from ``X[0]``, its grazing measure and the law."""
+        switching events of the period from ``X[0]``, its grazing measure and the law.
+
+        Switches before ``FROZEN_T_TOL T`` are a start velocity a round-off above ``V_ZERO``
+        slipping for no time: they are not events of the orbit, and the mode at ``X[0]`` is
+        then the one the orbit arrives with at ``T`` (the same state on a periodic orbit), not
+        the slip of no duration (whose acceleration would enter the peaks)."""
         pm = self.period_map(X[0], f, n_steps=X.shape[0] - 1, sens=False, store=False)
-        MK = pm.modes
+        MK = pm.modes.copy()
+        events = [e for e in pm.events if e[0] > FROZEN_T_TOL * pm.period]
+        if len(events) < len(pm.events):
+            MK[0] = MK[-1]
         sysm = self.system
         cache = self._cache
         if "od" not in cache:
@@ -368,18 +376,18 @@ class SwitchProblem(MinimalStates):
         n = self.Q.shape[0]
         xi = Xf[:, :n] @ sysm.D.T
         v = Xf[:, n:] @ sysm.D.T
-        stuck = np.all(mode_sets(sysm.n_isolators)[MK] == 0)
+        stuck = self.stuck_all_period(pm).size == sysm.n_isolators
         lam = self._normal_forces(f, X, MK)
         q = {
             "idr": idr,
             "acc": acc,
             "acc_floors": acc_floors,
             "x_iso": dense_half_range(xi, v, QDD @ sysm.D.T, 1.0 / (f * N)),
-            "stick_all_period": bool(stuck and not pm.events),
+            "stick_all_period": bool(stuck),
             "v_slip_max": float(np.max(np.abs(v))) if v.size else 0.0,
             "min_normal_force": float(lam.min()) if lam.size else math.nan,
             "uplift": bool(lam.size and lam.min() <= 0.0),
-            "events": len(pm.events),
+            "events": len(events),
             "graze": pm.graze,
             "law": LAW_NAME,
             "map": METHOD_NAME,

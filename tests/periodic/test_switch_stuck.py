@@ -27,7 +27,7 @@ from nsdyn.models.isolated.scene import build_scene, load_scene
 from nsdyn.models.isolated.system import Isolation
 from nsdyn.periodic import warm_start
 from nsdyn.periodic.shooting import orbit_amplitudes
-from nsdyn.periodic.switch import shoot_switch, switch_problem
+from nsdyn.periodic.switch import FROZEN_T_TOL, V_ZERO, shoot_switch, switch_problem
 
 A_BASE = 0.5  # m/s^2
 STUCK_FREQS = (1.0, 2.0, 2.95)  # Hz: the base sticks all period after the start
@@ -139,3 +139,28 @@ def test_frame_stuck_orbit_against_event_driven(frame_problem, stuck_orbits, f):
     block = np.repeat(orbit_amplitudes(pb, res.X), m)
     amp = np.maximum(dX.max(axis=0), 1e-4 * block)
     assert np.all(np.abs(back - res.x0) <= 1e-5 * amp)
+
+
+def test_round_off_start_velocity_is_no_slip(frame_problem, stuck_orbits):
+    """A stuck orbit whose start carries an isolator velocity a round-off above ``V_ZERO``
+    (10 V_ZERO = 1e-12 m/s, as a Newton update leaves it) starts in a slip mode that sticks
+    within ~1e-15 s. That slip of no duration is not an event of the orbit: the point is
+    stuck all period with no events, and its peaks are those of the clean start to 1e-6
+    relative (the start moves the isolators by ~V T = 5e-13 m against millimetres, and the
+    accelerations by O(1e-12)) -- not the slip mode's acceleration at t = 0 (~80 m/s² on the
+    base level before)."""
+    system, pb = frame_problem
+    f = 2.0
+    res = stuck_orbits[f]
+    clean = pb.orbit_quantities(f, res.X)
+    DQ = system.D @ pb.Q  # isolator velocities from the minimal velocities
+    dzd = np.linalg.lstsq(DQ, np.full(system.n_isolators, 10 * V_ZERO), rcond=None)[0]
+    X = res.X.copy()
+    X[0, pb.m :] += dzd
+    assert np.all(np.abs(DQ @ X[0, pb.m :]) > V_ZERO)
+    pm = pb.period_map(X[0], f, n_steps=X.shape[0] - 1, sens=False)
+    assert pm.events and max(e[0] for e in pm.events) <= FROZEN_T_TOL / f  # no duration
+    q = pb.orbit_quantities(f, X)
+    assert q["stick_all_period"] is True and q["events"] == 0
+    for key in ("idr", "acc", "acc_floors", "min_normal_force"):
+        assert q[key] == pytest.approx(clean[key], rel=1e-6), key
