@@ -75,3 +75,22 @@ def save_figure(fig, path: str | Path, dpi: int = 120) -> Path:
     with atomic_open(path, "wb") as fh:
         fig.savefig(fh, format="png", dpi=dpi)
     return Path(path)
+
+
+@contextmanager
+def output_dir(out: Path) -> Iterator[Path]:
+    """The output directory of a command, created if missing. A command that fails or is
+    interrupted removes the directories it created, when it left them empty (an interrupted
+    run's checkpoint, a sweep's finished points keep theirs); files and directories that were
+    there before are never touched."""
+    made = [d for d in (out, *out.parents) if not d.exists()]  # deepest first
+    out.mkdir(parents=True, exist_ok=True)
+    try:
+        yield out
+    except BaseException:
+        for d in made:
+            try:
+                d.rmdir()  # only an empty directory goes
+            except OSError:
+                break
+        raise

@@ -7,13 +7,11 @@ import json
 import sys
 import time
 import warnings
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
-from nsdyn.atomic import atomic_open, save_figure
+from nsdyn.atomic import atomic_open, output_dir, save_figure
 from nsdyn.cli.args import EXIT_NUMERICS, out_dir
 from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
@@ -30,25 +28,6 @@ def interrupted(exc: BaseException) -> bool:
     from nsdyn.cli.app import _caused_by_interrupt
 
     return isinstance(exc, KeyboardInterrupt) or _caused_by_interrupt(exc)
-
-
-@contextmanager
-def output_dir(out: Path) -> Iterator[Path]:
-    """The output directory of a run, created if missing. A run that fails or is interrupted
-    removes the directories it created, when it left them empty (an interrupted run's
-    checkpoint keeps its directory); files and directories that were there before are never
-    touched."""
-    made = [d for d in (out, *out.parents) if not d.exists()]  # deepest first
-    out.mkdir(parents=True, exist_ok=True)
-    try:
-        yield out
-    except BaseException:
-        for d in made:
-            try:
-                d.rmdir()  # only an empty directory goes
-            except OSError:
-                break
-        raise
 
 
 def _uplift_cell(v) -> str:

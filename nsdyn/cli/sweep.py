@@ -15,7 +15,7 @@ import time
 from dataclasses import asdict
 from pathlib import Path
 
-from nsdyn.atomic import atomic_open, save_figure
+from nsdyn.atomic import atomic_open, output_dir, save_figure
 from nsdyn.cli.args import EXIT_USER_ERROR, out_dir, positive_int
 from nsdyn.cli.args import amplitude_list as _amplitude_list
 from nsdyn.cli.args import count as _count
@@ -208,19 +208,18 @@ def run(args: argparse.Namespace) -> int:
         "switch" if friction == "switch" else "arctan",
         args.contact,
     )
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    compile_s = prepare_kernels(settings.friction, settings.contact)  # apart from its wall time
-    t0 = time.perf_counter()
-    results = sweep_amplitudes(
-        cfg,
-        args.amplitudes,
-        settings,
-        out,
-        workers=args.workers,
-        restart=args.restart,
-        quiet=args.json,
-    )
+    with output_dir(Path(args.out)) as out:  # no empty folder left by a failure
+        compile_s = prepare_kernels(settings.friction, settings.contact)  # apart from its wall
+        t0 = time.perf_counter()
+        results = sweep_amplitudes(
+            cfg,
+            args.amplitudes,
+            settings,
+            out,
+            workers=args.workers,
+            restart=args.restart,
+            quiet=args.json,
+        )
     csv_path = out / "sweep.csv"
     write_csv(csv_path, results)
     report = {
@@ -341,18 +340,13 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     points = args.points or sw.get("points") or POINTS_DEFAULT
     settings = PlaneSweepSettings(fmin, fmax, points, args.continuation,
                                   not args.no_fallback, law)  # fmt: skip
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     from nsdyn.models.isolated.deck_scene import warm
 
-    compile_s = warm(sc["system"], law)  # announced on a first use, before the workers
-    t0 = time.perf_counter()
-    try:
+    with output_dir(Path(args.out)) as out:  # no empty folder left by a failure
+        compile_s = warm(sc["system"], law)  # announced on a first use, before the workers
+        t0 = time.perf_counter()
         results = sweep_plane(cfg, source, amplitudes, settings, out, workers=args.workers,
                               restart=args.restart, quiet=args.json)  # fmt: skip
-    except SceneError as e:
-        print(f"nsdyn sweep: error: {e}", file=sys.stderr)
-        return EXIT_USER_ERROR
     csv_path = out / "sweep.csv"
     write_csv(csv_path, results)
     o = sc["orbit"]

@@ -110,6 +110,22 @@ def test_modes_of_a_scene_lists_the_frame_it_names(capsys, tmp_path):
     assert '"frame": "office-11"' in capsys.readouterr().out
 
 
+@pytest.mark.parametrize("made", [True, False])
+def test_a_sweep_stopped_before_its_first_point_leaves_no_folder(tmp_path, monkeypatch, made):
+    """Interrupted before any point finished, a sweep removes the folders it made (left empty)
+    and says a rerun starts over; a folder that was there before stays."""
+    import nsdyn.cli.sweep as cs
+
+    def stop(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cs, "prepare_kernels", lambda *a: 0.0)
+    monkeypatch.setattr(cs, "sweep_amplitudes", stop)
+    out = tmp_path / "new" / "deep" if made else tmp_path
+    assert main(["sweep", "--points", "2", "--out", str(out), "--no-figures"]) == 130
+    assert not (tmp_path / "new").exists() if made else tmp_path.is_dir()
+
+
 def test_the_interrupt_line_says_how_each_command_goes_on(tmp_path):
     out = tmp_path / "o"
     run = Namespace(command="run", out=str(out))
