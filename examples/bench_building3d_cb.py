@@ -58,7 +58,7 @@ RTOLS = {"arctan": (1e-2, 1e-3, 1e-4, 1e-5, 1e-6), "switch": (1e-4, 1e-5, 1e-6, 
 REFERENCE = {"arctan": 1e-9, "switch": 1e-10}  # rtol of the reference runs
 DEFAULT = {"arctan": 1e-3, "switch": 1e-6}  # the work–precision chart's choice (docs)
 PEAKS = ("peak_resultant_displacement_m", "peak_base_shear_N", "peak_drift_cm_x",
-         "peak_drift_cm_y", "peak_floor_acc_x_m_s2", "peak_floor_acc_y_m_s2",
+         "peak_drift_cm_y", "peak_floor_acc_x_mps2", "peak_floor_acc_y_mps2",
          "min_normal_force_N", "max_normal_force_N")  # fmt: skip
 MODES = {kp.MODE_STICK: "stick", kp.MODE_SLIP: "slip", kp.MODE_START: "start",
          kp.MODE_FREE: "free"}  # fmt: skip

@@ -36,7 +36,7 @@ ECC = (0.0, 0.05)
 RECORD = "synthetic-wn-40s"
 DT = 0.005
 PEAKS = ("peak_resultant_displacement_m", "peak_base_shear_N", "peak_drift_cm_x",
-         "peak_drift_cm_y", "peak_floor_acc_x_m_s2", "peak_floor_acc_y_m_s2")  # fmt: skip
+         "peak_drift_cm_y", "peak_floor_acc_x_mps2", "peak_floor_acc_y_mps2")  # fmt: skip
 
 
 def _clock():
@@ -93,7 +93,7 @@ def _print(rows, t_end) -> None:
               f"{v['run_wall_s']:5.1f}/{v['run_cpu_s']:5.1f} s "
               f"{v['peak_resultant_displacement_m']:7.4f} {v['peak_base_shear_N'] / 1e6:6.2f} "
               f"{100 * v['peak_drift_cm_x']:5.3f},{100 * v['peak_drift_cm_y']:5.3f} "
-              f"{v['peak_floor_acc_x_m_s2']:4.2f},{v['peak_floor_acc_y_m_s2']:4.2f} "
+              f"{v['peak_floor_acc_x_mps2']:4.2f},{v['peak_floor_acc_y_mps2']:4.2f} "
               f"{100 * v['largest_peak_difference']:5.1f}%")  # fmt: skip
     print("(build and run: wall/CPU seconds)")
 

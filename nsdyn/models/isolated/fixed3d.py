@@ -120,8 +120,8 @@ def response_peaks(drifts: StoreyDrifts, floor_acc, base_shear, torsion) -> dict
         "corner_amplification_y": float(corner[:, 1].max() / cm[:, 1].max())
         if cm[:, 1].max() > 0 else float("nan"),
         "corner_amplification_per_storey": amp.tolist(),
-        "peak_floor_acc_x_m_s2": float(np.abs(floor_acc[1:, 0]).max()),
-        "peak_floor_acc_y_m_s2": float(np.abs(floor_acc[1:, 1]).max()),
+        "peak_floor_acc_x_mps2": float(np.abs(floor_acc[1:, 0]).max()),
+        "peak_floor_acc_y_mps2": float(np.abs(floor_acc[1:, 1]).max()),
         "peak_base_shear_x_N": float(np.abs(base_shear[0]).max()),
         "peak_base_shear_y_N": float(np.abs(base_shear[1]).max()),
         "peak_torsional_moment_Nm": float(np.abs(torsion).max()),
