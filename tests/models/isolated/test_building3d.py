@@ -159,3 +159,27 @@ def test_eccentric_linear_deck_twists_as_the_direct_integration():
     assert np.abs(xc - ref[0]).max() <= 1e-4 * scale
     assert np.abs(yc - ref[1]).max() <= 1e-4 * scale
     assert np.abs(th - ref[2]).max() <= 1e-4 * np.abs(ref[2]).max()
+
+
+def test_friction_pendulums_under_an_eccentric_mass_do_not_twist():
+    # Self-centring in torsion: a pendulum's force is N_i (u_i / R + mu(|v_i|) v_i / |v_i|),
+    # the same vector f times N_i at every isolator while the deck does not twist. Their
+    # resultant f sum N_i acts at p = sum N_i r_i / sum N_i, which the overturning moment
+    # moves from the centre of mass c along the deck's acceleration, itself along f (f is
+    # the only horizontal force): (p - c) x f = 0, no torque, whatever the eccentricity and
+    # the velocity-dependent mu. With the smooth law the twist has only round-off sources,
+    # so its slip at the plan's corners stays below atol = 1e-10 m; flat sliders with rubber
+    # (stiffness centre at the isolators' centroid) twist the same eccentric deck.
+    f = accidental_eccentricity(_building(), f_y=0.05)
+    L = 0.5 * np.hypot(sum(BX), sum(BY))
+    _, rec = _record(scale=0.3)  # no uplift (as above)
+    atol = 1e-10
+    fps = Bearing(Friction(0.04, mu_fast=0.07, rate=30.0), radius=2.5)
+    rubber = Bearing(Friction(0.04), k_lam=2.0e6)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = simulate_plane(building_deck(f, fps), rec, law="arctan", atol=(atol, atol))
+        twisted = simulate_plane(building_deck(f, rubber), rec, law="arctan", atol=(atol, atol))
+    assert np.abs(res.u).max() > 1e-3  # it slid
+    assert np.abs(res.theta).max() * L <= atol
+    assert np.abs(twisted.theta).max() * L > 1e4 * atol
