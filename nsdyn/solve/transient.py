@@ -26,12 +26,15 @@ import numpy as np
 
 from nsdyn._checks import keywords_of
 from nsdyn._tabular import Tabular
-from nsdyn.atomic import CheckpointError, atomic_open
+from nsdyn.atomic import CheckpointError
 from nsdyn.ground.excitation import is_force, natural_end
 from nsdyn.models.isolated.metrics import Response, evaluate_along, evaluation_arrays, response
 from nsdyn.models.isolated.system import IsolatedSystem
 from nsdyn.models.isolated.tolerances import FAST_ATOL, RUN_RTOL, run_atol
 from nsdyn.solve import integrate
+from nsdyn.solve.checkpoint import Carry, run_key
+from nsdyn.solve.checkpoint import load as load_checkpoint
+from nsdyn.solve.checkpoint import save as save_checkpoint
 
 # the run defaults live in nsdyn.models.isolated.tolerances; the old names stay importable
 DEFAULT_RTOL = RUN_RTOL
@@ -137,38 +140,6 @@ class TransientResult(Tabular):
             }
         )
         return out
-
-
-def _atomic_save(path: Path, **arrays) -> None:
-    with atomic_open(path, "wb") as fh:
-        np.savez(fh, **arrays)
-
-
-def run_key(P, x0, t_eval, options: dict) -> str:
-    """A fingerprint of everything a run's histories depend on: the kernel tuple ``P`` (the
-    model and its excitation), an explicit start ``x0``, the output times and the solver's
-    options. A checkpoint carries it and is continued only by the run that wrote it."""
-    import hashlib
-
-    h = hashlib.sha256()
-
-    def feed(v):
-        if isinstance(v, tuple | list):
-            h.update(b"(")
-            for e in v:
-                feed(e)
-            h.update(b")")
-        elif isinstance(v, np.ndarray):
-            h.update(f"{v.dtype}{v.shape}".encode())
-            h.update(np.ascontiguousarray(v).tobytes())
-        else:
-            h.update(repr(v).encode())
-
-    feed(tuple(P))
-    feed(x0)
-    feed(np.asarray(t_eval, dtype=float))
-    feed([(k, options[k]) for k in sorted(options)])
-    return h.hexdigest()
 
 
 def _period(motion) -> float | None:
@@ -422,27 +393,19 @@ def simulate(
             raise ValueError(f"x0: expected [q, qd] of length {2 * system.n}, got {x0.size}")
     ts, xs = [t_eval[:1]], [x0[None, :]]
     k0 = 0
+    carry = Carry()  # what each chunk hands to the next (and a checkpoint to a resumed run)
     ckpt = Path(checkpoint) if checkpoint else None
     if ckpt is not None:
         options = dict(method=method, rtol=rtol, atol=atol, dt=dt, uplift=uplift,
                        contact=contact, restitution=restitution, **solver_options)  # fmt: skip
         run_id = run_key(P, x0 if given_x0 else None, t_eval, options)
-    if ckpt is not None and ckpt.exists():
-        data = np.load(ckpt)
-        if "key" not in data.files or str(data["key"]) != run_id:
-            raise CheckpointError(
-                f"checkpoint {ckpt}: written by another run (its system, motion, start, output "
-                "times or solver options differ, or by an older nsdyn); delete it, or give "
-                "this run another checkpoint file"
-            )
-        if data["t"].size and np.allclose(data["t"], t_eval[: data["t"].size]):
-            ts, xs = [data["t"]], [data["x"]]
-            k0 = data["t"].size - 1
-    n_steps = 0
+        found = load_checkpoint(ckpt, run_id, t_eval) if ckpt.exists() else None
+        if found is not None:
+            t_done, x_done, carry = found
+            ts, xs = [t_done], [x_done]
+            k0 = t_done.size - 1
     wall = 0.0
     compile_s = 0.0
-    uplifts: list = []
-    stats: dict = {}
     t_end = float(t_eval[-1])
     wall0 = time.perf_counter()
     # chunk boundaries on the output grid
@@ -452,12 +415,6 @@ def simulate(
         bounds.append(min(int(np.searchsorted(t_eval, t_next - 1e-12)), t_eval.size - 1))
         if bounds[-1] == bounds[-2]:
             bounds[-1] += 1
-    h0 = None
-    modes = None
-    open_end = None
-    cevents: list = []
-    opens: list = []  # unilateral: contact states at the outputs, per chunk
-    impact = 0.0
     if contact != "detect":
         solver_options.update(contact=contact)
     if contact == "unilateral":
@@ -466,67 +423,54 @@ def simulate(
         compile_s += _prepare_kernels(method, P, contact)
     for a, b in zip(bounds[:-1], bounds[1:], strict=True):
         x_start = xs[-1][-1]
-        if modes is not None and method == "event":
-            solver_options["modes0"] = modes
-        if open_end is not None:
-            solver_options["open0"] = open_end
+        if carry.modes is not None and method == "event":
+            solver_options["modes0"] = carry.modes
+        if carry.open_end is not None:
+            solver_options["open0"] = carry.open_end
         kw = dict(method=method, rtol=rtol, atol=atol, dt=dt, uplift=uplift, **solver_options)
         try:
             # continue with the step the previous chunk would have taken next
-            sol = integrate.solve(P, x_start, t_eval[a : b + 1], h0=h0, **kw)
+            sol = integrate.solve(P, x_start, t_eval[a : b + 1], h0=carry.h0, **kw)
         except integrate.IntegrationError as err:
-            if h0 is None or err.reason != "step_underflow":
+            if carry.h0 is None or err.reason != "step_underflow":
                 raise
             # a restart with the carried-over step can underflow where a fresh initial-step
             # estimate does not: retry the chunk once from scratch (same state, same model)
             sol = integrate.solve(P, x_start, t_eval[a : b + 1], h0=None, **kw)
-        h0 = sol.h_last if np.isfinite(sol.h_last) and sol.h_last > 0 and dt is None else None
-        modes = getattr(sol, "modes", None)
-        if contact == "unilateral":
-            open_end = sol.open_end
-            cevents.extend(sol.contact_events)
-            opens.append(sol.open_contacts[1:] if opens else sol.open_contacts)
-            impact += sol.impact_energy
-        n_steps += sol.n_steps
+        carry.take(sol, contact == "unilateral", adaptive=dt is None)
         wall += sol.wall_s
         compile_s += getattr(sol, "compile_s", 0.0)
-        if contact != "unilateral":  # a unilateral run's lift-offs are its contact events
-            uplifts.extend(getattr(sol, "uplift", []) or [])
-        for key in ("nfev", "njev", "n_lu", "n_rejected", "n_events"):
-            stats[key] = stats.get(key, 0) + int(getattr(sol, key, 0) or 0)
         ts.append(sol.t[1:])
         xs.append(sol.x[1:])
         if ckpt is not None:
-            _atomic_save(ckpt, t=np.concatenate(ts), x=np.concatenate(xs), key=np.str_(run_id))
+            save_checkpoint(ckpt, np.concatenate(ts), np.concatenate(xs), run_id, carry)
         if progress is not None:
             progress(float(sol.t[-1]), t_end, time.perf_counter() - wall0)
     t = np.concatenate(ts)
     x = np.concatenate(xs)
     law = "switch" if method == "event" else None
     Pm = system.params(motion, law=law) if law and system.isolation is not None else P
-    open_hist = np.concatenate(opens) if contact == "unilateral" else None
-    if open_hist is not None and open_hist.shape[0] != t.size:
-        open_hist = None  # resumed from a checkpoint: the states before it are not kept
+    open_hist = np.concatenate(carry.opens) if contact == "unilateral" else None
     from nsdyn.solve import methods
 
     flat = methods.metrics_for(methods.kernel_for(method, Pm)) == "metrics"
     evaluated = evaluations(Pm, t, x, open_hist, flat=flat)
-    resp = response(system, t, x, Pm, open_hist, impact, evaluated=evaluated)
+    resp = response(system, t, x, Pm, open_hist, carry.impact, evaluated=evaluated)
     return TransientResult(
         system,
         t,
         x,
         resp,
         method,
-        n_steps,
+        carry.n_steps,
         wall,
         compile_s,
-        stats,
-        sorted(set(uplifts)),
+        carry.stats,
+        sorted(set(carry.uplifts)),
         describe(motion),
         contact,
-        cevents,
+        carry.cevents,
         open_hist,
-        impact,
+        carry.impact,
         reason,
     )

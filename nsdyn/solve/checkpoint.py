@@ -1,0 +1,138 @@
+"""What a chunked transient run carries from one chunk to the next, and its checkpoint file.
+
+An interrupted run resumes as the same run: besides the histories, the checkpoint holds what
+the next chunk starts from -- the step the solver would take next, the event method's slip
+modes, the open contacts of a unilateral run -- and the records made so far: steps, solver
+statistics, uplifts, contact events (lift-offs, landings), the open contacts at the outputs and
+the landings' energy. A fingerprint of the model, excitation, start, output times and options
+(:func:`run_key`) ties the file to the run that wrote it.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.atomic import CheckpointError, atomic_open
+
+FORMAT = "nsdyn-checkpoint-2"  # in every fingerprint: files of an older layout are refused
+STAT_KEYS = ("nfev", "njev", "n_lu", "n_rejected", "n_events")  # solver counters summed
+
+
+@dataclass
+class Carry:
+    """The state one chunk hands to the next, and the records of the chunks so far."""
+
+    h0: float | None = None  # the step the solver would take next (adaptive methods)
+    modes: np.ndarray | None = None  # event method: slip modes at the chunk's end
+    open_end: np.ndarray | None = None  # unilateral: open contacts at the chunk's end
+    n_steps: int = 0
+    stats: dict = field(default_factory=dict)
+    uplifts: list = field(default_factory=list)  # (t, contact)
+    cevents: list = field(default_factory=list)  # (t, contact, kind, v_n, impulse)
+    opens: list = field(default_factory=list)  # unilateral: open contacts at the outputs
+    impact: float = 0.0  # kinetic energy change of the landings [J]
+
+    def take(self, sol, unilateral: bool, adaptive: bool) -> None:
+        """Carry the end of the chunk just solved (``sol``, an integrate.Solution)."""
+        h = sol.h_last
+        self.h0 = float(h) if adaptive and np.isfinite(h) and h > 0 else None
+        self.modes = getattr(sol, "modes", None)
+        self.n_steps += sol.n_steps
+        for key in STAT_KEYS:
+            self.stats[key] = self.stats.get(key, 0) + int(getattr(sol, key, 0) or 0)
+        if unilateral:
+            self.open_end = sol.open_end
+            self.cevents.extend(sol.contact_events)
+            self.opens.append(sol.open_contacts[1:] if self.opens else sol.open_contacts)
+            self.impact += sol.impact_energy
+        else:  # a unilateral run's lift-offs are its contact events
+            self.uplifts.extend(getattr(sol, "uplift", []) or [])
+
+    def arrays(self) -> dict:
+        a = {"h0": np.float64(np.nan if self.h0 is None else self.h0),
+             "n_steps": np.int64(self.n_steps), "impact": np.float64(self.impact),
+             "stats": np.array([self.stats.get(k, 0) for k in STAT_KEYS], dtype=np.int64),
+             "uplift_t": np.array([u[0] for u in self.uplifts], dtype=float),
+             "uplift_k": np.array([u[1] for u in self.uplifts], dtype=np.int64)}  # fmt: skip
+        if self.modes is not None:
+            a["modes"] = np.asarray(self.modes)
+        if self.open_end is not None:
+            a["open_end"] = np.asarray(self.open_end)
+        if self.opens:
+            a["opens"] = np.concatenate(self.opens)
+        ce = self.cevents
+        a.update(ce_t=np.array([e[0] for e in ce], dtype=float),
+                 ce_k=np.array([e[1] for e in ce], dtype=np.int64),
+                 ce_kind=np.array([e[2] for e in ce], dtype=np.str_),
+                 ce_v=np.array([e[3] for e in ce], dtype=float),
+                 ce_imp=np.array([e[4] for e in ce], dtype=float))  # fmt: skip
+        return a
+
+    @classmethod
+    def from_arrays(cls, d) -> Carry:
+        h0 = float(d["h0"])
+        stats = dict(zip(STAT_KEYS, (int(v) for v in d["stats"]), strict=True))
+        uplifts = [(float(t), int(k)) for t, k in zip(d["uplift_t"], d["uplift_k"], strict=True)]
+        cols = (d["ce_t"], d["ce_k"], d["ce_kind"], d["ce_v"], d["ce_imp"])
+        cevents = [(float(t), int(k), str(s), float(v), float(i))
+                   for t, k, s, v, i in zip(*cols, strict=True)]  # fmt: skip
+        files = set(d.files)
+        return cls(
+            h0=None if np.isnan(h0) else h0,
+            modes=d["modes"] if "modes" in files else None,
+            open_end=d["open_end"] if "open_end" in files else None,
+            n_steps=int(d["n_steps"]), stats=stats, uplifts=uplifts, cevents=cevents,
+            opens=[d["opens"]] if "opens" in files else [], impact=float(d["impact"]),
+        )  # fmt: skip
+
+
+def run_key(P, x0, t_eval, options: dict) -> str:
+    """A fingerprint of everything a run's histories depend on: the kernel tuple ``P`` (the
+    model and its excitation), an explicit start ``x0``, the output times and the solver's
+    options (and the checkpoint layout). A checkpoint is continued only by the run that
+    wrote it."""
+    h = hashlib.sha256(FORMAT.encode())
+
+    def feed(v):
+        if isinstance(v, tuple | list):
+            h.update(b"(")
+            for e in v:
+                feed(e)
+            h.update(b")")
+        elif isinstance(v, np.ndarray):
+            h.update(f"{v.dtype}{v.shape}".encode())
+            h.update(np.ascontiguousarray(v).tobytes())
+        else:
+            h.update(repr(v).encode())
+
+    feed(tuple(P))
+    feed(x0)
+    feed(np.asarray(t_eval, dtype=float))
+    feed([(k, options[k]) for k in sorted(options)])
+    return h.hexdigest()
+
+
+def save(path: Path, t: np.ndarray, x: np.ndarray, key: str, carry: Carry) -> None:
+    """Write the histories so far and the carried state, atomically."""
+    with atomic_open(path, "wb") as fh:
+        np.savez(fh, t=t, x=x, key=np.str_(key), **carry.arrays())
+
+
+def load(path: Path, key: str, t_eval: np.ndarray):
+    """(t, x, Carry) of the checkpoint at ``path`` written by the run ``key``, or None if it
+    holds nothing of these output times; :class:`CheckpointError` if another run wrote it."""
+    with np.load(path) as d:
+        if "key" not in d.files or str(d["key"]) != key:
+            raise CheckpointError(
+                f"checkpoint {path}: written by another run (its system, motion, start, output "
+                "times or solver options differ, or by an older nsdyn); delete it, or give "
+                "this run another checkpoint file"
+            )
+        t = d["t"]
+        if not (t.size and np.allclose(t, t_eval[: t.size])):
+            return None
+        return t, d["x"], Carry.from_arrays(d)

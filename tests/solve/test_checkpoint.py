@@ -1,0 +1,78 @@
+"""A run interrupted after a chunk and resumed from its checkpoint is the same run.
+
+Exact by construction: each chunk starts from the state, step, slip modes and open contacts
+the previous one ended with, and the checkpoint carries all of them with the records so far
+(steps, solver counters, lift-offs and landings, open contacts at the outputs, landing
+energy). So the resumed histories equal the uninterrupted run's bit for bit, and so do its
+counts. The system: the rigid block on two isolators of test_unilateral_contact.py, lifted
+off by a vertical ground acceleration above g (flights of ~0.2 s), with friction events.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from test_unilateral_contact import A_VER, F_VER, G, block
+
+import nsdyn
+from nsdyn.ground.excitation import Harmonic
+from nsdyn.solve.checkpoint import Carry
+
+MOTION = Harmonic(2.0, 1.3, A_ver=A_VER, f_ver=F_VER)  # horizontal too: slips and sticks
+RUN = dict(t_end=1.6, dt_out=0.01, method="event", rtol=1e-8, chunk_s=0.4)
+
+
+class Stop(Exception):
+    pass
+
+
+@pytest.mark.parametrize("contact", ["unilateral", "detect"])
+def test_a_resumed_run_is_the_uninterrupted_run(tmp_path, contact):
+    s = block("switch")
+    kw = dict(RUN, contact=contact, uplift="warn")
+    if contact == "detect":  # no lift-off: a vertical acceleration below g
+        motion = Harmonic(2.0, 1.3, A_ver=0.5 * G, f_ver=F_VER)
+    else:
+        motion = MOTION
+    whole = nsdyn.simulate(s, motion, **kw)
+    ck = tmp_path / "ck.npz"
+    done = []
+
+    def stop_after_two(t, t_end, wall):
+        done.append(t)
+        if len(done) == 2:
+            raise Stop
+
+    with pytest.raises(Stop):
+        nsdyn.simulate(s, motion, checkpoint=ck, progress=stop_after_two, **kw)
+    resumed = nsdyn.simulate(s, motion, checkpoint=ck, **kw)
+    assert np.array_equal(resumed.t, whole.t) and np.array_equal(resumed.x, whole.x)
+    assert resumed.n_steps == whole.n_steps and resumed.stats == whole.stats
+    assert resumed.contact_events == whole.contact_events
+    a, b = resumed.summary(), whole.summary()
+    for key in ("min_normal_force_N", "x_iso_max_m", "lift_offs", "first_lift_off_s",
+                "flight_time_s", "n_steps"):  # fmt: skip
+        if key in b:
+            assert a[key] == b[key], key
+    if contact == "unilateral":
+        assert b["lift_offs"] > 0 and np.array_equal(resumed.open_contacts, whole.open_contacts)
+
+
+def test_the_carried_state_survives_the_file():
+    c = Carry(h0=1e-3, modes=np.array([1, 0]), open_end=np.array([0, 1]), n_steps=7,
+              stats={"nfev": 3}, uplifts=[(0.5, 1)], cevents=[(0.1, 0, "lift-off", 0.0, 0.0)],
+              opens=[np.zeros((3, 2), dtype=np.int64)], impact=-2.5)  # fmt: skip
+    d = Carry.from_arrays(_roundtrip(c.arrays()))
+    assert d.h0 == c.h0 and np.array_equal(d.modes, c.modes)
+    assert np.array_equal(d.open_end, c.open_end) and d.n_steps == 7
+    assert d.stats["nfev"] == 3 and d.uplifts == c.uplifts and d.cevents == c.cevents
+    assert np.array_equal(d.opens[0], c.opens[0]) and d.impact == c.impact
+
+
+def _roundtrip(arrays: dict):
+    import io
+
+    buf = io.BytesIO()
+    np.savez(buf, **arrays)
+    buf.seek(0)
+    return np.load(buf)
