@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, save_figure
+from nsdyn.bench.common import timed_repeats
 
 EPS_LIST = (500.0, 2000.0, 7500.0)  # s/m, arctan sharpness values compared
 A_FRAME = 0.5  # m/s^2, frame amplitude (seed Fig. 11)
@@ -47,6 +48,7 @@ OSC_FREQS_QUICK = (0.5, 0.9, 1.5)
 PERIODS = 40  # event-driven integration length [periods] (oscillator)
 PERIODS_FRAME = 12  # ... frame (quick: 6)
 OPTIONS = ("repeats", "curve", "figures")  # options run_bench takes
+CURVE_REPEATS = 3  # timed repeats of each whole curve (--quick: 1)
 CURVE_FMIN, CURVE_FMAX, CURVE_POINTS = 0.01, 10.0, 150  # the sweep's default grid
 CURVE_POINTS_QUICK = 40
 REF_TOL = 1e-10  # reference shooting tolerance
@@ -199,12 +201,12 @@ def _curves(quick: bool, repeats: int) -> dict:
     return {"points": points, "walls": walls, "curves": curves}
 
 
-def run_curve_bench(out_dir: Path, quick: bool, repeats: int = 3) -> dict:
+def run_curve_bench(out_dir: Path, quick: bool, repeats: int | None = None) -> dict:
     """One full curve on the switch model against the arctan curve; writes switch_curve.csv."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    res = _curves(quick, 1 if quick else repeats)
+    res = _curves(quick, timed_repeats(quick, repeats, CURVE_REPEATS))
     sw, ar = res["curves"]["switch"].points, res["curves"]["arctan"].points
     xs = np.array([p.quantities.get("x_iso", math.nan) for p in sw])
     xa = np.array([p.quantities.get("x_iso", math.nan) for p in ar])
@@ -239,7 +241,11 @@ def run_curve_bench(out_dir: Path, quick: bool, repeats: int = 3) -> dict:
 
 
 def run_bench(
-    out_dir: Path, quick: bool, repeats: int = 3, curve: bool = False, figures: bool = True
+    out_dir: Path,
+    quick: bool,
+    repeats: int | None = None,
+    curve: bool = False,
+    figures: bool = True,
 ) -> dict:
     """Error against time per point for both systems; writes switch_shooting.csv and (with
     ``figures``; else ``"png"`` is None) .png.

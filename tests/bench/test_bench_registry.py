@@ -115,3 +115,20 @@ def test_every_registered_benchmark_has_a_line_of_help():
     fallback for a benchmark registered from outside the package)."""
     assert set(command.HELP) == set(registry.BENCHMARKS)
     assert all(not line.startswith("nsdyn.") for line in command.HELP.values())
+
+
+def test_every_benchmark_takes_none_as_the_default_repeats():
+    """The command line passes ``repeats=None`` when --repeats is not given (each benchmark's
+    own default, 1 with --quick): every benchmark listing ``repeats`` takes None for it."""
+    for name in registry.BENCHMARKS:
+        try:
+            module = registry.load_benchmark(name)
+        except registry.BenchmarkUnavailable:
+            continue
+        if "repeats" not in getattr(module, "OPTIONS", ()):
+            continue
+        fns = [module.run_bench, getattr(module, f"{name.replace('-', '_')}_bench", None)]
+        for fn in filter(None, fns):
+            p = inspect.signature(fn).parameters.get("repeats")
+            if p is not None:  # a run_bench of **options hands them on to the bench function
+                assert p.default is None, (name, fn.__name__, p.default)
