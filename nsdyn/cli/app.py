@@ -225,7 +225,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
         prog="nsdyn", description="Non-smooth dynamics of friction base-isolated frames."
     )
     parser.add_argument("--version", action=_VersionAction, nargs=0, help="print the "
-                        "versions of nsdyn, numpy, scipy and numba and exit")  # fmt: skip
+                        "versions of nsdyn, Python, numpy, scipy and numba and exit")  # fmt: skip
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     parser.commands = {}  # name -> the command's own parser (its usage errors name it)
     for name, cmd in COMMANDS.items():
