@@ -30,6 +30,15 @@ def interrupted(exc: BaseException) -> bool:
     return isinstance(exc, KeyboardInterrupt) or _caused_by_interrupt(exc)
 
 
+def _sparse_step(system, method: str) -> bool:
+    """A full-order model stepped on its sparse operators (not its dense copies)."""
+    if getattr(system, "sparse", None) is None or method != "genalpha-lowrank":
+        return False
+    from nsdyn.solve.fullorder import dense_step
+
+    return not dense_step(system)
+
+
 def _uplift_cell(v) -> str:
     if not v:
         return "none"
@@ -446,7 +455,7 @@ def run(args: argparse.Namespace) -> int:
             with atomic_open(identity, "w") as fh:
                 fh.write(json.dumps(ident, sort_keys=True))
             iso = system.isolation
-            if getattr(system, "sparse", None) is not None and method == "genalpha-lowrank":
+            if _sparse_step(system, method):
                 from nsdyn.solve.fullorder import warmup_operators  # the sparse path's kernels
 
                 compile_s = warmup_operators(lambda text: print(text, file=sys.stderr, flush=True))

@@ -8,8 +8,8 @@ friction law ``law`` under the contact assumption ``contact``:
 2. the switch law: ``radau`` (``event``, with true stick phases, only when asked for);
 3. a full-order model (sparse operators, :mod:`nsdyn.models.isolated.fullorder`) or
    ``n >= AUTO_LARGE_N`` coordinates with a smooth law (arctan, none): ``genalpha-lowrank`` at
-   ``AUTO_DT`` (factored once; sparse for full-order models), whose cost per step grows
-   linearly with the model;
+   ``AUTO_DT`` (factored once; sparse for full-order models, whose cost per step grows
+   linearly with the model, unless every mode is damped: then on the dense copies);
 4. otherwise ``radau`` (adaptive, L-stable: the default run).
 
 An explicit method always wins; the reason is one line, printed by ``nsdyn run`` and stored in
@@ -27,7 +27,9 @@ AUTO_DT = 0.005  # s, the step "auto" gives the factor-once generalized-alpha (2
 AUTO_LARGE_N = 200  # coordinates from which a smooth-law model goes to the factor-once method
 
 
-def choose_method(n: int, law: str, contact: str, *, full_order: bool = False) -> tuple[str, str]:
+def choose_method(
+    n: int, law: str, contact: str, *, full_order: bool = False, dense: str = ""
+) -> tuple[str, str]:
     """The method ``"auto"`` runs and the reason, one line (``docs/guide/full-models-and-
     scale.md``): for ``n`` coordinates, friction ``law`` and ``contact`` assumption,
 
@@ -37,6 +39,9 @@ def choose_method(n: int, law: str, contact: str, *, full_order: bool = False) -
     3. a full-order model (sparse operators) or ``n >= AUTO_LARGE_N`` coordinates with a
        smooth law (arctan, none): ``genalpha-lowrank`` at ``AUTO_DT`` (factor once, sparse);
     4. otherwise ``radau`` (adaptive, L-stable: the default run).
+
+    ``dense``: why a full-order model steps on its dense copies instead
+    (:func:`nsdyn.solve.fullorder.dense_step`), in the reason's words; empty: sparse.
     """
     if contact == "unilateral":
         if law == "switch":
@@ -45,7 +50,11 @@ def choose_method(n: int, law: str, contact: str, *, full_order: bool = False) -
     if law == "switch":
         return "radau", "auto: switch law -> radau (method 'event' for true stick phases)"
     if full_order or n >= AUTO_LARGE_N:
-        what = f"full-order model ({n} dofs, sparse)" if full_order else f"{n} coordinates"
+        what = (
+            f"full-order model ({n} dofs, {dense or 'sparse'})"
+            if full_order
+            else f"{n} coordinates"
+        )
         return (
             METHOD,
             f"auto: {what}, {law} law -> {METHOD} (dt {AUTO_DT:g} s, factored once)",
@@ -59,4 +68,9 @@ def choose_for_system(system, contact: str | None = None) -> tuple[str, str]:
     law = iso.law if iso is not None else "none"
     contact = contact or getattr(iso, "contact", "detect")
     full = getattr(system, "sparse", None) is not None
-    return choose_method(system.n, law, contact, full_order=full)
+    dense = ""
+    if full:
+        from nsdyn.solve.fullorder import dense_step
+
+        dense = dense_step(system)
+    return choose_method(system.n, law, contact, full_order=full, dense=dense)

@@ -34,6 +34,7 @@ from nsdyn.solve import _klowrank
 __all__ = ["FullOps", "full_ops", "simulate_full", "warmup_operators"]
 
 METHOD = "genalpha-lowrank"  # the sparse path's method (nsdyn.solve.sparse.METHOD)
+DENSE_STEP_RANK = 0.5  # damped modes per dof above which the dense step is cheaper (dense_step)
 
 K2 = 2.0 / np.pi
 
@@ -106,6 +107,28 @@ class FullOps:
         lam = lam_c + phi @ Lam.T if nc else lam_c
         QDD += np.hstack([lam, phi]) @ G0T
         return QDD, lam, phi, np.where(w >= 0.0, 1, -1).astype(np.int64)
+
+
+def dense_step(system) -> str:
+    """Why ``genalpha-lowrank`` steps a full-order ``system`` on its dense copies rather than
+    on the sparse operators (the reason's words), or "" (the sparse step). Dense when the
+    copies exist (up to ``DENSE_MAX_DOF`` dofs) and the low-rank damping has more than
+    ``DENSE_STEP_RANK`` n columns: per step the sparse path applies ``U`` and ``U^T`` at least
+    twice each (>= 4 n m flops for m damped modes), the dense one solves with a factorisation
+    made once (2 n^2 per solve). With every mode damped (m ~ n, the modal damping up to
+    ``MODAL_ALL_MAX_DOF`` dofs) the dense step is the cheaper one
+    (``docs/guide/full-models-and-scale.md``). A damping matrix put in place of the model's
+    own (e.g. the OpenSees export's) counts by its nonzeros: more than ``DENSE_STEP_RANK`` of
+    its entries."""
+    sp_model = getattr(system, "sparse", None)
+    if sp_model is None or not isinstance(system.M, np.ndarray):
+        return ""
+    C = system.C
+    if system.info.get("_C_of_sparse", C) is not C:  # a replaced damping matrix
+        fill = np.count_nonzero(C) / C.size if isinstance(C, np.ndarray) else 0.0
+        return f"dense: a damping matrix {fill:.0%} full" if fill > DENSE_STEP_RANK else ""
+    m = sp_model.U.shape[1]
+    return f"dense: modal damping of rank {m}" if m > DENSE_STEP_RANK * system.n else ""
 
 
 def full_ops(system) -> FullOps:

@@ -375,8 +375,12 @@ def simulate(
             )
     if atol is None:
         atol = run_atol(method)
-    full_order = getattr(system, "sparse", None) is not None
-    if full_order and method == "genalpha-lowrank" and contact != "unilateral":
+    sparse_step = False  # a full-order model on its sparse operators (else its dense copies)
+    if getattr(system, "sparse", None) is not None:
+        from nsdyn.solve.fullorder import dense_step
+
+        sparse_step = not dense_step(system)
+    if sparse_step and method == "genalpha-lowrank" and contact != "unilateral":
         from nsdyn.solve.fullorder import simulate_full
 
         return simulate_full(

@@ -95,6 +95,28 @@ def test_sparse_path_equals_the_dense_backend(models):
         assert np.abs(Xs[:, half] - Xd[:, half]).max() <= 1e-9 * np.abs(Xd[:, half]).max()
 
 
+def test_every_mode_damped_steps_on_the_dense_copies(frame, models):
+    # The rule of fullorder.dense_step: with every fixed-interface mode damped (m ~ n) the
+    # sparse step's low-rank products (>= 4 n m flops) exceed the dense solves (2 n^2), so a
+    # model with dense copies steps on them (the test above: the same histories to 1e-9);
+    # beta K damping (m = 0) keeps the sparse step. The reason line says which.
+    from nsdyn.ground import Harmonic
+
+    full, _ = models
+    assert full.sparse.U.shape[1] > fullorder.DENSE_STEP_RANK * full.n
+    assert fullorder.dense_step(full).startswith("dense: modal damping of rank")
+    stiff = build_system(frame, Isolation(mu=0.05, eps=200.0), fidelity="full", damping="stiffness")
+    assert not fullorder.dense_step(stiff)
+    # a damping matrix put in place of the model's own counts by its nonzeros
+    full_c = replace(full, C=2.0 * full.C, info=dict(full.info))  # modal: every entry
+    assert fullorder.dense_step(full_c).startswith("dense: a damping matrix")
+    banded = replace(stiff, C=2.0 * stiff.C, info=dict(stiff.info))  # beta K: banded
+    assert not fullorder.dense_step(banded)
+    r = simulate(full, Harmonic(3.0, 1.0), t_end=0.2)
+    assert r.method == "genalpha-lowrank" and "dense: modal damping of rank" in r.method_reason
+    assert "sparse" in simulate(stiff, Harmonic(3.0, 1.0), t_end=0.2).method_reason
+
+
 def test_sparse_evaluations_equal_the_kernel(models):
     # Accelerations, normal forces and friction forces along a history, from the sparse
     # operators and from the dense kernel (ks.evaluate_many): the same constrained equations
