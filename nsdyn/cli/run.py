@@ -30,15 +30,6 @@ def interrupted(exc: BaseException) -> bool:
     return isinstance(exc, KeyboardInterrupt) or _caused_by_interrupt(exc)
 
 
-def _sparse_step(system, method: str) -> bool:
-    """A full-order model stepped on its sparse operators (not its dense copies)."""
-    if getattr(system, "sparse", None) is None or method != "genalpha-lowrank":
-        return False
-    from nsdyn.solve.fullorder import dense_step
-
-    return not dense_step(system)
-
-
 def _uplift_cell(v) -> str:
     if not v:
         return "none"
@@ -435,6 +426,7 @@ def run(args: argparse.Namespace) -> int:
         if not quiet and wall > 1.0:
             print(f"  t = {t:7.2f} / {t_end:.2f} s   ({wall:5.1f} s)", file=sys.stderr)
 
+    from nsdyn.solve.auto import sparse_path
     from nsdyn.solve.integrate import UpliftWarning
     from nsdyn.solve.methods import FLAT_LAWS
 
@@ -455,7 +447,7 @@ def run(args: argparse.Namespace) -> int:
             with atomic_open(identity, "w") as fh:
                 fh.write(json.dumps(ident, sort_keys=True))
             iso = system.isolation
-            if _sparse_step(system, method):
+            if sparse_path(system, method):
                 from nsdyn.solve.fullorder import warmup_operators  # the sparse path's kernels
 
                 compile_s = warmup_operators(lambda text: print(text, file=sys.stderr, flush=True))

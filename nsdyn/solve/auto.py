@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from nsdyn.solve.sparse import METHOD
 
-__all__ = ["AUTO", "AUTO_DT", "AUTO_LARGE_N", "choose_for_system", "choose_method"]
+__all__ = ["AUTO", "AUTO_DT", "AUTO_LARGE_N", "choose_for_system", "choose_method", "sparse_path"]
 
 AUTO = "auto"
 AUTO_DT = 0.005  # s, the step "auto" gives the factor-once generalized-alpha (200 Hz records)
@@ -74,3 +74,17 @@ def choose_for_system(system, contact: str | None = None) -> tuple[str, str]:
 
         dense = dense_step(system)
     return choose_method(system.n, law, contact, full_order=full, dense=dense)
+
+
+def sparse_path(system, method: str, contact: str | None = None) -> bool:
+    """True when ``method`` runs the full-order ``system`` on its sparse operators
+    (:mod:`nsdyn.solve.fullorder`): ``genalpha-lowrank`` without unilateral contacts (default:
+    the system's contact assumption), unless the model steps on its dense copies
+    (:func:`nsdyn.solve.fullorder.dense_step`)."""
+    if getattr(system, "sparse", None) is None or method != METHOD:
+        return False
+    if (contact or getattr(system.isolation, "contact", "detect")) == "unilateral":
+        return False
+    from nsdyn.solve.fullorder import dense_step
+
+    return not dense_step(system)

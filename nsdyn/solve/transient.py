@@ -375,12 +375,9 @@ def simulate(
             )
     if atol is None:
         atol = run_atol(method)
-    sparse_step = False  # a full-order model on its sparse operators (else its dense copies)
-    if getattr(system, "sparse", None) is not None:
-        from nsdyn.solve.fullorder import dense_step
+    from nsdyn.solve.auto import sparse_path
 
-        sparse_step = not dense_step(system)
-    if sparse_step and method == "genalpha-lowrank" and contact != "unilateral":
+    if sparse_path(system, method, contact):  # else a full-order model's dense copies
         from nsdyn.solve.fullorder import simulate_full
 
         return simulate_full(
