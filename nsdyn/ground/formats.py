@@ -164,6 +164,7 @@ def parse_table_motion(
                     source,
                     first,
                     f"dt = {value:g} s ({label}) but the time column has {dt_file:g} s",
+                    argument="dt" if label == "given" else None,
                 )
         dt_used = opt.dt if opt.dt is not None else info.get("dt", dt_file)
         t0 = info.get("t0", float(t[0]))

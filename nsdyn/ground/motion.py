@@ -46,16 +46,25 @@ PGA_MIN_PLAUSIBLE = 0.01  # [m/s²] below this a record is probably in g read as
 class RecordFileError(ValueError):
     """A record file that cannot be read; names the file, the line and what was expected."""
 
-    def __init__(self, source: str | os.PathLike, line: int | None, message: str):
+    def __init__(
+        self, source: str | os.PathLike, line: int | None, message: str, argument: str | None = None
+    ):
         self.source = str(source)
         self.line = line
         self.reason = message
+        self.argument = argument  # the reader's keyword the file contradicts (e.g. "dt"), if any
         where = f"{self.source}:{line}" if line is not None else self.source
         super().__init__(f"{where}: {message}")
 
 
 # how a user gives a record's units, in the library and in a scene file
 UNITS_HINT = 'in a scene [motion] units = "gal", "g" or "m/s2"; in Python units=\'gal\''
+
+
+class UnitError(ValueError):
+    """An acceleration unit given to a reader that it does not know (``argument`` "units")."""
+
+    argument = "units"
 
 
 class UnitWarning(UserWarning):
@@ -380,7 +389,10 @@ def check_pga(motion: GroundMotion, units: str | None = None) -> None:
 def resolve_units(explicit: str | None, stated: str | None, source: str) -> tuple[str, float]:
     """``(unit name, factor to m/s²)``: the argument, else the header's, else m/s² (warns)."""
     if explicit is not None:
-        name, factor = unit_factor(explicit)
+        try:
+            name, factor = unit_factor(explicit)
+        except ValueError as e:  # the caller's argument, not the file
+            raise UnitError(str(e)) from None
         if stated is not None and stated != name:
             warnings.warn(
                 f"{source}: units={explicit!r} given, but the header states {stated!r}; "

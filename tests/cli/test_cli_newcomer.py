@@ -329,3 +329,19 @@ def test_a_deck_that_lifts_off_ends_with_status_3_and_a_zero_normal_force(tmp_pa
     assert main([*argv, "--no-figures", "--out", str(tmp_path / "o")]) == 3
     s = json.loads(capsys.readouterr().out)
     assert s["uplift"] and s["min_normal_force_N"] == 0.0
+
+
+@pytest.mark.parametrize(
+    "extra, field",
+    [('units = "furlongs"', "motion.units"), ("dt = 0.02", "motion.dt"), ("", None)],
+)
+def test_a_record_error_names_the_scene_key_at_fault(tmp_path, capsys, extra, field):
+    """A unit the reader does not know is the scene's motion.units; a dt that contradicts the
+    record's time column (0.01 s) is its motion.dt; a record that cannot be read at all is
+    its motion.record (the reader's error carries the keyword it blames)."""
+    rec = tmp_path / "r.csv"
+    rec.write_text("0,0.1\n0.01,0.2\n0.02,-0.3\n0.03,0.1\n" if field else "0,abc\n")
+    scene = tmp_path / "s.toml"
+    scene.write_text(f'[motion]\nrecord = "r.csv"\n{extra}\n')
+    assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 2
+    _one_line_error(capsys, f"s.toml: {field or 'motion.record'}: ")

@@ -267,10 +267,8 @@ def build_scene_run(cfg: dict):
     try:
         motion = read_motion(mo["record"], **kw)
     except (OSError, ValueError) as e:  # a missing file, an unknown name, a bad record
-        text = str(e)
-        field = ("motion.units" if "acceleration unit" in text
-                 else "motion.dt" if "s (given)" in text else "motion.record")  # fmt: skip
-        raise SceneError(f"{source}: {field}: {text}") from None
+        field = getattr(e, "argument", None) or "record"  # the key the reader names, if any
+        raise SceneError(f"{source}: motion.{field}: {e}") from None
     if not mo.get("vertical", True):
         motion = motion.with_vertical(None)
     if "pga" in mo:
