@@ -33,3 +33,19 @@ def non_negative_int(name: str, value) -> int:
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
         raise ValueError(f"{name}: expected a non-negative integer, got {value!r}")
     return int(value)
+
+
+def number(name: str, value, what: str, ok=None) -> float:
+    """``value`` as a float, or ``ValueError("{name}: expected {what}, got {value!r}")`` when
+    it is text or a bool (never converted), not a number, not finite, or fails ``ok``."""
+    import math
+
+    v = math.nan
+    if not isinstance(value, str | bool):
+        try:
+            v = float(value)
+        except (TypeError, ValueError):
+            pass
+    if not math.isfinite(v) or (ok is not None and not ok(v)):
+        raise ValueError(f"{name}: expected {what}, got {value!r}")
+    return v

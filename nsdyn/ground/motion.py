@@ -29,6 +29,8 @@ from typing import Any
 
 import numpy as np
 
+from nsdyn._checks import number
+
 
 def _cumulative_trapezoid(y, dx: float, initial: float = 0.0):
     """scipy.integrate.cumulative_trapezoid, imported on first use (scipy's integrate and signal
@@ -56,6 +58,8 @@ class RecordFileError(ValueError):
         where = f"{self.source}:{line}" if line is not None else self.source
         super().__init__(f"{where}: {message}")
 
+
+PGA_TARGET = "a finite PGA >= 0 [m/s²]"  # what scaled_to_pga takes (the message's words)
 
 # how a user gives a record's units, in the library and in a scene file
 UNITS_HINT = 'in a scene [motion] units = "gal", "g" or "m/s2"; in Python units=\'gal\''
@@ -201,8 +205,7 @@ class GroundMotion(Sampled):
 
         The vertical component stays proportional to the horizontal one.
         """
-        if isinstance(target, str | bool) or not (math.isfinite(target) and target >= 0.0):
-            raise ValueError(f"target: expected a finite PGA >= 0 [m/s²], got {target!r}")
+        target = number("target", target, PGA_TARGET, lambda v: v >= 0.0)
         peak = float(np.max(np.abs(self._component(component))))
         if peak == 0.0:
             what = "horizontal" if component == "hor" else "vertical"

@@ -37,7 +37,8 @@ from typing import Any
 
 import numpy as np
 
-from nsdyn.ground.motion import GroundMotion, Sampled
+from nsdyn._checks import number
+from nsdyn.ground.motion import PGA_TARGET, GroundMotion, Sampled
 
 _PEAKS = ("resultant", "x", "y", "geomean")
 
@@ -188,8 +189,7 @@ class GroundMotion3(Sampled):
     def rotated(self, angle_deg: float) -> GroundMotion3:
         """The motion turned by ``angle_deg`` counter-clockwise about z (seen from above):
         [a_x'; a_y'] = R(θ)[a_x; a_y]. The vertical is unchanged; ``rotated(−θ)`` undoes it."""
-        if isinstance(angle_deg, str | bool) or not math.isfinite(angle_deg):
-            raise ValueError(f"angle_deg: expected a finite angle [deg], got {angle_deg!r}")
+        angle_deg = number("angle_deg", angle_deg, "a finite angle [deg]")
         c, s = cos_sin_deg(angle_deg)
         total = float(self.meta.get("rotation_deg", 0.0)) + float(angle_deg)
         return self._replace(
@@ -203,11 +203,7 @@ class GroundMotion3(Sampled):
         ("resultant", "x", "y" or "geomean", see the module docstring) equals ``target`` [m/s²]."""
         if component not in _PEAKS:
             raise ValueError(f"component: expected one of {_PEAKS}, got {component!r}")
-        if isinstance(target, str | bool):
-            raise ValueError(f"target: expected a finite PGA >= 0 [m/s²], got {target!r}")
-        target = float(target)
-        if not (math.isfinite(target) and target >= 0.0):
-            raise ValueError(f"target: expected a finite PGA >= 0 [m/s²], got {target!r}")
+        target = number("target", target, PGA_TARGET, lambda v: v >= 0.0)
         peak = {
             "resultant": lambda: self.pga_resultant,
             "x": lambda: self.pga_x,

@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-from nsdyn._checks import expect
+from nsdyn._checks import expect, number
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kevent as ke
 from nsdyn.models.contact._kgeom import body_mode, contact_rows, mu_of, solve_contacts
@@ -184,8 +184,7 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
         "a FrictionLaw (nsdyn.FrictionLaw(mu_s, mu_d))",
     )
     for name, val in (("t_end", t_end), ("dt_out", dt_out), ("rtol", rtol), ("atol", atol)):
-        if isinstance(val, str | bool) or not (math.isfinite(float(val)) and val > 0):
-            raise ValueError(f"{name}: expected a positive number, got {val!r}")
+        number(name, val, "a positive number", lambda v: v > 0)
     if t_end / dt_out < 1.0:
         raise ValueError(f"dt_out: {dt_out:g} s is longer than the run (t_end = {t_end:g} s)")
     if motion is not None and not hasattr(motion, "jumps"):

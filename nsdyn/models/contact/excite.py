@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nsdyn._checks import number
 from nsdyn.ground import GroundMotion, Harmonic, Table
 
 N_PER_PERIOD = 4000  # samples per period of a tabulated displacement-driven sine
@@ -87,13 +88,9 @@ class BaseMotion:
         """
         if start not in ("impulsive", "smooth"):
             raise ValueError(f"start: expected 'impulsive' or 'smooth', got {start!r}")
-        for name, val, ok, what in (
-            ("A", A, lambda v: math.isfinite(v), "a finite amplitude [m]"),
-            ("period", period, lambda v: math.isfinite(v) and v > 0, "a positive period [s]"),
-            ("n_cycles", n_cycles, lambda v: v >= 1 and v == int(v), "a whole number >= 1"),
-        ):
-            if isinstance(val, str | bool) or not ok(float(val)):
-                raise ValueError(f"{name}: expected {what}, got {val!r}")
+        number("A", A, "a finite amplitude [m]")
+        number("period", period, "a positive period [s]", lambda v: v > 0)
+        number("n_cycles", n_cycles, "a whole number >= 1", lambda v: v >= 1 and v == int(v))
         if t_ramp is not None and not (math.isfinite(t_ramp) and t_ramp > 0):
             raise ValueError(f"t_ramp: expected a positive ramp length [s], got {t_ramp!r}")
         w = 2 * math.pi / period
