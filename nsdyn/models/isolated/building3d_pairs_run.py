@@ -173,9 +173,10 @@ def sparse_step(dt, exc) -> float:
     return min(DT_SPARSE, float(exc.dt)) if hasattr(exc, "dt") else DT_SPARSE
 
 
-def run_pairs(sysd: dict, exc, t_end, kw: dict, dt: float | None = None):
+def run_pairs(sysd: dict, exc, t_end, kw: dict, dt: float | None = None, progress=None):
     """Run the cb or full rung of a built scene (dense or sparse path, no files; ``dt`` the
-    sparse path's step, of :func:`sparse_solver`): (the
+    sparse path's step, of :func:`sparse_solver`; ``progress(t_done, t_end, wall_s)`` called
+    along a sparse run): (the
     :class:`~nsdyn.models.isolated.building3d_response.BuildingResponse3D`, its summary with
     the rung's facts, the warnings caught)."""
     system = sysd["pairs"]
@@ -189,7 +190,8 @@ def run_pairs(sysd: dict, exc, t_end, kw: dict, dt: float | None = None):
 
             extra = {"dt_out": kw["dt_out"]} if "dt_out" in kw else {}
             r = run_building_sparse(system, exc, dt=sparse_step(dt, exc),
-                                    t_end=t_end, eps=kw["eps"], keep_q=None, **extra)  # fmt: skip
+                                    t_end=t_end, eps=kw["eps"], keep_q=None, progress=progress,
+                                    **extra)  # fmt: skip
         else:
             from nsdyn.models.isolated.building3d_response import run_building
 

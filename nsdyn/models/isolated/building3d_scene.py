@@ -139,13 +139,15 @@ def pairs_path(cfg: dict, source: str) -> str:
 
 def _sparse_pairs(frame, bearing, opts: dict, cfg: dict, source: str, why: str):
     """The full rung's SparsePairSystem (module text; SceneError naming the field)."""
+    from nsdyn._model_cache import cached_build
     from nsdyn.models.isolated.pairs import PairSystemError
     from nsdyn.models.isolated.pairs_sparse import building_pairs_sparse
 
     sparse_solver(cfg, source, why)
-    try:
-        system = building_pairs_sparse(frame, bearing, damping=opts["damping"],
-                                       f_damp=opts["f_damp"], base=opts["base"])  # fmt: skip
+    kw = {"damping": opts["damping"], "f_damp": opts["f_damp"], "base": opts["base"]}
+    try:  # run again, it loads the system (the damped modes' eigenproblem: seconds)
+        system = cached_build("building3d-pairs-sparse", (frame, bearing, sorted(kw.items())),
+                              lambda: building_pairs_sparse(frame, bearing, **kw))  # fmt: skip
     except PairSystemError as e:
         msg = " ".join(str(e).split())
         where = "bearing" if ".bearings[" in msg else "structure"
@@ -301,7 +303,12 @@ def _run_pairs(sysd, exc, t_end, kw, out_dir: Path, say, dt=None) -> dict:
     compile_s = warm_pairs(info.get("path", "dense"), kw["law"], system, kw["contact"])
     compile_s += sysd.get("compile_s", 0.0)
     say(f"building3d: {info['fidelity']} rung, {path_line(info)}")
-    r, s, caught = run_pairs(sysd, exc, t_end, kw, dt)
+
+    def progress(t, t_end, wall):
+        if wall > 1.0:
+            say(f"  t = {t:7.2f} / {t_end:.2f} s   ({wall:5.1f} s)")
+
+    r, s, caught = run_pairs(sysd, exc, t_end, kw, dt, progress)
     for w in caught:
         say(f"building3d: warning: {w.message}")
     res = r.result

@@ -50,6 +50,7 @@ METHOD = "genalpha-sparse"
 RHO_INF = 0.8  # default spectral radius at infinity (as the other generalized-α runs)
 NEWTON_RTOL = 1e-10  # |ΔF| accepted relative to max |F| + μ λ₀
 NEWTON_MAXITER = 50
+PROGRESS_S = 5.0  # seconds of simulated time between two calls of ``progress``
 KEEP_Q_MB = 256.0  # keep the full histories q, q̇ when they take at most this many MB
 PERMC_SPECS = ("COLAMD", "MMD_AT_PLUS_A")  # SuperLU orderings tried; the sparser factors win
 
@@ -119,15 +120,17 @@ class _Stepper:
                     Uf.indices.astype(i8), Uf.data, np.ascontiguousarray(Uf.diagonal()),
                     self.lu.perm_r.astype(i8), self.lu.perm_c.astype(i8))  # fmt: skip
         self.w = np.zeros(s.n)
-        self.U, self.c = s.U, s.c
+        self.Ut, self.c = np.ascontiguousarray(s.U.T), s.c  # (rows: the fastest products)
         self.low = s.c.size > 0
         if self.low:
-            self.Z = self.lu.solve(np.asfortranarray(s.U))
-            self.cap = np.linalg.inv(np.diag(1.0 / (self.c2 * s.c)) + s.U.T @ self.Z)
+            self.Z = np.ascontiguousarray(self.lu.solve(np.asfortranarray(s.U)))
+            self.UtZ = self.Ut @ self.Z
+            self.cap = np.linalg.inv(np.diag(1.0 / (self.c2 * s.c)) + self.UtZ)
         ni = s.n_isolators
         B = sp.hstack([s.R.T, s.D.T]).toarray()  # (n, 3ni)
         G = self.solve(B)
         self.G = np.ascontiguousarray(G)
+        self.UtG = self.Ut @ self.G  # (m, 3ni): U^T of the rows' response
         P = sp.vstack([s.R, s.D]) @ G
         Prr, Prd, Pdr, Pdd = P[:ni, :ni], P[:ni, ni:], P[ni:, :ni], P[ni:, ni:]
         if np.linalg.cond(Prr) > 1e12:
@@ -148,22 +151,39 @@ class _Stepper:
         else:
             y = self.lu.solve(b)
         if self.low:
-            y = y - self.Z @ (self.cap @ (self.U.T @ y))
+            y = y - self.Z @ (self.cap @ (self.Ut @ y))
         return y
+
+    def solve_damped(self, r, uvt):
+        """``(x, U^T x)`` of ``x = S_*^-1 (r + U diag(c) uvt)``: a step's solve with the modal
+        damping's force at the α velocity, given its modal coordinates ``uvt = U^T v_α``.
+        With ``y = S^-1 r`` and ``w = c uvt``, Woodbury gives ``x = y + Z xi``,
+        ``xi = w - cap (U^T y + U^T Z w)``, and ``U^T x = U^T y + U^T Z xi`` (``U^T Z`` made
+        once): two products with an n x m matrix (``U^T y``, ``Z xi``, each on contiguous
+        rows) where applying the damping to v_α and then the solve takes four."""
+        y = np.empty(r.size)
+        kz.lu_solve_csc(*self.fac, np.ascontiguousarray(r, dtype=float), self.w, y)
+        if not self.low:
+            return y, uvt
+        w = self.c * uvt
+        uy = self.Ut @ y
+        xi = w - self.cap @ (uy + self.UtZ @ w)
+        return y + self.Z @ xi, uy + self.UtZ @ xi
 
 
 def simulate_pairs_sparse(
     system: SparsePairSystem, ground, *, dt: float, t_end: float | None = None,
     dt_out: float | None = None, eps: float = EPS, alpha: float = ALPHA, beta: float = BETA,
     rho_inf: float = RHO_INF, y0=None, keep_q: bool | None = None,
-    newton_maxiter: int = NEWTON_MAXITER,
+    newton_maxiter: int = NEWTON_MAXITER, progress=None,
 ) -> SparsePairResult:  # fmt: skip
     """Integrate ``system`` under ``ground`` (as :func:`~nsdyn.models.isolated.pairs.
     simulate_pairs` takes it) with the regularised law (arctan, ``eps``) by generalized-α at
     the fixed step ``dt`` (module text), from the static equilibrium or ``y0`` = [q, q̇].
     Outputs every ``dt_out`` (default: the record's step, else 1/50 of the orbit's period;
     rounded to a whole number of steps). ``keep_q``: store q, q̇ histories (default: when
-    they take at most ``KEEP_Q_MB``); slips, forces and T q are always stored."""
+    they take at most ``KEEP_Q_MB``); slips, forces and T q are always stored. ``progress``:
+    called as ``progress(t_done, t_end, wall_s)`` every ``PROGRESS_S`` of simulated time."""
     if not isinstance(system, SparsePairSystem):
         raise TypeError(f"system: expected a SparsePairSystem, got {type(system).__name__}")
     for k, v in (("dt", dt), ("eps", eps), ("alpha", alpha), ("beta", beta)):
@@ -253,14 +273,14 @@ def simulate_pairs_sparse(
                     stops[i, kr.P_TFIRST] = t
                 stops[i, kr.P_PEAK] = max(stops[i, kr.P_PEAK], over)
 
-    def step(S, t, h, q, v, a, F, ta):
+    def step(S, t, h, q, v, a, F, ta, uv, ua):
+        # uv, ua = U^T v, U^T a: the damped modes' coordinates, carried by the same updates
         qt = q + S.kq * v + S.ka_q * a
         vt = v + S.ka_v * a
         ug = ground_at(ta)
-        rhs = S.Wlin @ np.concatenate([q, v, a]) + S.MG @ ug
-        if S.low:
-            rhs += S.U @ (S.c * (S.U.T @ vt))
-        A0 = -S.solve(rhs)
+        A0, ua1 = S.solve_damped(S.Wlin @ np.concatenate([q, v, a]) + S.MG @ ug,
+                                 uv + S.ka_v * ua)  # fmt: skip
+        A0, ua1 = -A0, -ua1
         rc = -S.am * (R @ a) - 2 * alpha * beta * (R @ vt) - alpha**2 * (R @ qt)
         lam0 = S.Prr_inv @ (rc / S.kR - R @ A0)
         w0 = D @ A0 + S.Pdr @ lam0
@@ -271,25 +291,33 @@ def simulate_pairs_sparse(
         if code != kz.OK:
             return code, its, None
         lam_n = lam_w.copy()
-        a1 = A0 + S.G @ np.concatenate([lam_n, -Fn])
+        g = np.concatenate([lam_n, -Fn])
+        a1 = A0 + S.G @ g
         q1 = q + h * v + h * h * ((0.5 - be) * a + be * a1)
         v1 = v + h * ((1 - ga) * a + ga * a1)
-        return code, its, (q1, v1, a1, Fn, lam_n, parts.copy())
+        if S.low:
+            ua1 = ua1 + S.UtG @ g
+            uv = uv + h * ((1 - ga) * ua + ga * ua1)
+        return code, its, (q1, v1, a1, Fn, lam_n, parts.copy(), uv, ua1)
 
     # consistent start: one vanishing step gives a(t0), λ(t0), F(t0)
-    code, _, res = step(st0, t0, 0.0, q, v, a, F, t0)
+    uv = st.Ut @ v
+    code, _, res = step(st0, t0, 0.0, q, v, a, F, t0, uv, np.zeros_like(uv))
     if code != kz.OK:
         raise PlaneIntegrationError(f"{METHOD}: no consistent start at t = {t0:.6g} s (Newton "
                                     "on the isolator forces failed)")  # fmt: skip
-    _, _, a, F, lam, pr = res
+    _, _, a, F, lam, pr, _, _ = res
+    del st0  # (its factors and n x m arrays)
+    ua = st.Ut @ a
     record(0, t0, q, v, a, lam, pr)
     lam_prev, parts_prev = lam, pr
     t = t0
     nit = 0
+    report = max(1, int(round(PROGRESS_S / dt)))
     for k in range(1, n_steps + 1):
         h = float(dt)
         ta = t + (1 - af) * h
-        code, its, res = step(st, t, h, q, v, a, F, ta)
+        code, its, res = step(st, t, h, q, v, a, F, ta, uv, ua)
         nit += its
         if code != kz.OK:
             why = ("Newton's iterations on the isolator forces diverge" if code == kz.NEWTON_FAIL
@@ -299,7 +327,7 @@ def simulate_pairs_sparse(
                 "newton_maxiter)"
             )
         a_old = a
-        q, v, a, F, lam_a, pa = res
+        q, v, a, F, lam_a, pa, uv, ua = res
         if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
             raise PlaneIntegrationError(f"{METHOD}: NaN or inf in the state at t = {t + h:.6g} s")
         if np.any(lam_a <= 0.0):
@@ -318,6 +346,8 @@ def simulate_pairs_sparse(
             record(k // every, t, q, v, a_o, lam_o, parts_o)
             info[kr.I_NOUT] = k // every + 1
         lam_prev, parts_prev = lam_a, pa
+        if progress is not None and k % report == 0:
+            progress(t, t0 + n_steps * dt, time.perf_counter() - tw)
     info[kr.I_NOUT] = max(info[kr.I_NOUT], 1)
     info[kr.I_NSTEP], info[kr.I_NFEV] = k if n_steps else 0, nit
     wall = time.perf_counter() - tw

@@ -159,6 +159,26 @@ def test_f_damp_damps_exactly_the_modes_up_to_it(tmp_path, monkeypatch):
         assert "\n" not in msg and "s.toml: structure.f_damp: expected a positive" in msg, msg
 
 
+def test_a_scene_built_again_loads_its_sparse_system_from_the_model_cache(tmp_path,
+                                                                          monkeypatch):  # fmt: skip
+    # the model cache (nsdyn._model_cache, a test folder of its own): the second build never
+    # calls the builder and returns the stored system bit for bit
+    from nsdyn.models.isolated import pairs_sparse
+
+    monkeypatch.setattr(building3d_cb, "FULL_MAX", 0)
+    cfg = copy.deepcopy(SCENE)
+    first = build_system(cfg, str(tmp_path / "s.toml"))["pairs"]
+
+    def no_build(*a, **k):
+        raise AssertionError("built again")
+
+    monkeypatch.setattr(pairs_sparse, "building_pairs_sparse", no_build)
+    again = build_system(cfg, str(tmp_path / "s.toml"))["pairs"]
+    assert again is not first and again.info["path"] == "sparse"
+    assert np.array_equal(again.U, first.U) and np.array_equal(again.c, first.c)
+    assert (again.K != first.K).nnz == 0 and (again.M != first.M).nnz == 0
+
+
 @pytest.mark.parametrize("contact", ["bilateral", "unilateral"])
 def test_the_sparse_path_refuses_a_contact_other_than_detect(contact, tmp_path, monkeypatch):
     # the sparse loop keeps every contact closed and detects uplift; another assumption

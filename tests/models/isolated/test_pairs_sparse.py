@@ -141,6 +141,37 @@ def test_the_step_builds_no_dense_n_by_n_array():
         assert sp.issparse(getattr(s, k))
 
 
+def test_the_damped_solve_is_the_woodbury_identity(portal):
+    """A step's solve with the modal damping (``solve_damped``: U^T twice, Z once) against a
+    dense solve of S_* x = r + U diag(c) U^T v, S_* = (1 - a_m) M + c1 K + c2 (C + U diag(c)
+    U^T): backward stable solves agree to a few n eps cond(S_*) relative (Higham, ch. 7)."""
+    s = building_pairs_sparse(portal, FPS)
+    assert s.c.size > 0 and s.C.nnz == 0  # modal damping: the low-rank term alone
+    coef = genalpha_coefficients(0.8)
+    st = _Stepper(s, 1e-3, coef, 20.0, 1.0)
+    rng = np.random.default_rng(7)
+    r, v = rng.standard_normal(s.n), rng.standard_normal(s.n)
+    x, ux = st.solve_damped(r, st.Ut @ v)
+    U, c = s.U, s.c
+    S = (1 - coef[0]) * s.M.toarray() + st.c1 * s.K.toarray() + st.c2 * (U * c) @ U.T
+    ref = np.linalg.solve(S, r + (U * c) @ (U.T @ v))
+    bound = 10 * s.n * EPS * np.linalg.cond(S) * np.abs(ref).max()
+    assert np.abs(x - ref).max() <= bound
+    assert np.abs(ux - U.T @ ref).max() <= bound * np.abs(U).sum(axis=0).max()
+
+
+def test_progress_is_called_every_progress_s_of_simulated_time(portal, monkeypatch):
+    import nsdyn.models.isolated.pairs_sparse_run as run
+
+    monkeypatch.setattr(run, "PROGRESS_S", 0.25)
+    calls = []
+    simulate_pairs_sparse(building_pairs_sparse(portal, FPS), ORBIT, dt=2e-3, t_end=1.0,
+                          progress=lambda *a: calls.append(a))  # fmt: skip
+    np.testing.assert_allclose([c[0] for c in calls], [0.25, 0.5, 0.75, 1.0], rtol=1e-12)
+    assert all(c[1] == pytest.approx(1.0, rel=1e-12) for c in calls)
+    assert np.all(np.diff([c[2] for c in calls]) >= 0)  # wall time since the start
+
+
 def test_uplift_is_reported_with_time_and_isolator():
     """A vertical ground acceleration a_z = A sin(2π f t), A > g, takes the compression away
     when g + a_z = 0: first at t* = (π + asin(g/A)) / (2π f) for a rigid building. The portal
