@@ -90,6 +90,19 @@ class Carry:
         )  # fmt: skip
 
 
+def chunk_bounds(t_eval: np.ndarray, k0: int, chunk_s: float) -> list[int]:
+    """Indices into ``t_eval`` where the chunks of a run from output ``k0`` start and end:
+    every ``chunk_s`` seconds of simulated time, on the output grid (at least one output per
+    chunk), the last one at the grid's end."""
+    bounds = [k0]
+    while bounds[-1] < t_eval.size - 1:
+        t_next = t_eval[bounds[-1]] + chunk_s
+        bounds.append(min(int(np.searchsorted(t_eval, t_next - 1e-12)), t_eval.size - 1))
+        if bounds[-1] == bounds[-2]:
+            bounds[-1] += 1
+    return bounds
+
+
 def run_key(P, x0, t_eval, options: dict) -> str:
     """A fingerprint of everything a run's histories depend on: the kernel tuple ``P`` (the
     model and its excitation), an explicit start ``x0``, the output times and the solver's

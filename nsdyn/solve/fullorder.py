@@ -75,6 +75,22 @@ class FullOps:
         m = self._m
         return m["lin0"], m["lr0"], m["G0T"], m["RGr_inv"], m["Lam"]
 
+    def digest(self) -> str:
+        """SHA-256 of the operators (M, K, C, U, c, Gamma, R, D): what a run's checkpoint
+        key holds of the model beside the stand-in tuple."""
+        import hashlib
+
+        mo, h = self.model, hashlib.sha256()
+        for A in (mo.M, mo.K, mo.C):
+            A = A.tocsr()
+            for v in (A.indptr, A.indices, A.data):
+                h.update(np.ascontiguousarray(v).tobytes())
+        for v in (mo.U, mo.c, self.Gamma, self.R, self.D):
+            v = np.ascontiguousarray(v, dtype=float)
+            h.update(f"{v.shape}".encode())
+            h.update(v.tobytes())
+        return h.hexdigest()
+
     def evaluate(self, P: tuple, t: np.ndarray, X: np.ndarray) -> tuple:
         """(QDD, LAM, TAU, MODES) at the rows of ``X`` (nt, 2n), times ``t`` (module text);
         ``P`` the stand-in kernel tuple (friction law, Baumgarte parameters, excitation)."""
@@ -188,16 +204,20 @@ def warmup_operators(announce=None) -> float:
 def simulate_full(
     system, motion, t_eval, *, x0=None, dt=None, uplift="raise", contact="detect",
     progress=None, reason="", result=None, rho_inf=None, max_steps=None, rtol=None, atol=None,
-    checkpoint=None, chunk_s=None, **unused,
+    checkpoint=None, chunk_s=5.0, **unused,
 ):  # fmt: skip
     """:func:`nsdyn.solve.transient.simulate` of a full-order ``system`` with
-    ``genalpha-lowrank`` on its sparse operators, in one piece (``checkpoint``/``chunk_s``
-    are not used: nothing to resume); ``result`` the result class to fill."""
+    ``genalpha-lowrank`` on its sparse operators, in chunks of ``chunk_s`` seconds as the
+    dense path runs (each from the state the last one ended in, the factorisation made
+    once): ``progress`` after each, and with ``checkpoint`` a file an interrupted run resumes
+    from (the same run, bit for bit); ``result`` the result class to fill."""
     import time
+    from pathlib import Path
 
     from nsdyn.models.isolated.metrics import response
     from nsdyn.solve import _kcommon as ki
     from nsdyn.solve import _kgenalpha, integrate, methods, sparse
+    from nsdyn.solve.checkpoint import Carry, chunk_bounds, load, run_key, save
     from nsdyn.solve.transient import describe
 
     if unused:
@@ -209,6 +229,7 @@ def simulate_full(
     n = system.n
     ops = full_ops(system)
     P = system.params(motion, stub=True)
+    given_x0 = x0 is not None
     if x0 is None:
         x0, _ = system.static_equilibrium()
     x0 = np.ascontiguousarray(x0, dtype=float).reshape(-1)
@@ -219,32 +240,50 @@ def simulate_full(
     upl = uplift if contact == "detect" else "warn"
     steps = integrate.DEFAULT_MAX_STEPS if max_steps is None else max_steps
     opts = methods.make_options(x0, m, 1.0, 0.0, dt, None, True, np.inf, steps, upl, rho_inf, None)
-    compile_s = warmup_operators()
     rho = sparse.RHO_INF if rho_inf is None else float(rho_inf)
     coef = _kgenalpha.parameters(_kgenalpha.FAMILY_GENALPHA, rho)
-    X = np.zeros((t_eval.size, 2 * n))
-    upl_t = np.full(system.n_contacts, np.nan)
-    t0 = time.perf_counter()
-    try:
-        stats, rinfo, X, upl_t = sparse.integrate(
-            P, x0, t_eval, float(dt), coef=coef, max_steps=opts.max_steps,
-            uplift_mode=opts.uplift_mode, X=X, upl_t=upl_t, ops=ops,
-        )  # fmt: skip
-    except FloatingPointError:
-        stats, rinfo = np.zeros(ki.N_STATS, dtype=np.int64), np.zeros(ki.N_RINFO)
-        stats[ki.S_STATUS] = ki.ST_LU_SINGULAR
-        rinfo[ki.R_T], rinfo[ki.R_H] = float(t_eval[0]), float(dt)
-    wall = time.perf_counter() - t0
-    sol = integrate._finish(
-        m, opts, KernelParams(P).law, t_eval, X, upl_t, stats, rinfo, [], None, wall,
-        compile_s, "raise", warn_uplift=contact == "detect",
-    )  # fmt: skip
-    if progress is not None:
-        progress(float(sol.t[-1]), float(t_eval[-1]), wall)
-    t, x = sol.t, sol.x
+    law = KernelParams(P).law
+    carry, ts, xs, k0 = Carry(), [t_eval[:1]], [x0[None, :]], 0
+    ckpt = Path(checkpoint) if checkpoint else None
+    if ckpt is not None:  # the stand-in P holds no matrix: the operators join the key
+        options = dict(method=sparse.METHOD, dt=float(dt), uplift=uplift, contact=contact,
+                       rho_inf=rho, max_steps=steps, model=ops.digest())  # fmt: skip
+        run_id = run_key(P, x0 if given_x0 else None, t_eval, options)
+        found = load(ckpt, run_id, t_eval) if ckpt.exists() else None
+        if found is not None:
+            t_done, x_done, carry = found
+            ts, xs, k0 = [t_done], [x_done], t_done.size - 1
+    compile_s = warmup_operators()
+    wall, wall0 = 0.0, time.perf_counter()
+    bounds = chunk_bounds(t_eval, k0, chunk_s)
+    for a, b in zip(bounds[:-1], bounds[1:], strict=True):
+        te = t_eval[a : b + 1]
+        X = np.zeros((te.size, 2 * n))
+        upl_t = np.full(system.n_contacts, np.nan)
+        t0 = time.perf_counter()
+        try:
+            stats, rinfo, X, upl_t = sparse.integrate(
+                P, xs[-1][-1], te, float(dt), coef=coef, max_steps=opts.max_steps,
+                uplift_mode=opts.uplift_mode, X=X, upl_t=upl_t, ops=ops,
+            )  # fmt: skip
+        except FloatingPointError:
+            stats, rinfo = np.zeros(ki.N_STATS, dtype=np.int64), np.zeros(ki.N_RINFO)
+            stats[ki.S_STATUS] = ki.ST_LU_SINGULAR
+            rinfo[ki.R_T], rinfo[ki.R_H] = float(te[0]), float(dt)
+        chunk_wall = time.perf_counter() - t0
+        sol = integrate._finish(m, opts, law, te, X, upl_t, stats, rinfo, [], None, chunk_wall,
+                                0.0, "raise", warn_uplift=contact == "detect")  # fmt: skip
+        carry.take(sol, False, adaptive=False)
+        wall += chunk_wall
+        ts.append(sol.t[1:])
+        xs.append(sol.x[1:])
+        if ckpt is not None:
+            save(ckpt, np.concatenate(ts), np.concatenate(xs), run_id, carry)
+        if progress is not None:
+            progress(float(sol.t[-1]), float(t_eval[-1]), time.perf_counter() - wall0)
+    t, x = np.concatenate(ts), np.concatenate(xs)
     resp = response(system, t, x, P, evaluated=ops.evaluate(P, t, x))
-    stats_d = {"nfev": sol.nfev, "njev": 0, "n_lu": 0, "n_rejected": 0, "n_events": 0}
     return result(
-        system, t, x, resp, sol.method, sol.n_steps, wall, compile_s, stats_d, sol.uplift,
-        describe(motion), contact, method_reason=reason,
+        system, t, x, resp, sparse.METHOD, carry.n_steps, wall, compile_s, carry.stats,
+        sorted(set(carry.uplifts)), describe(motion), contact, method_reason=reason,
     )  # fmt: skip

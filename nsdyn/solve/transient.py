@@ -32,7 +32,7 @@ from nsdyn.models.isolated.metrics import Response, evaluate_along, evaluation_a
 from nsdyn.models.isolated.system import IsolatedSystem
 from nsdyn.models.isolated.tolerances import FAST_ATOL, RUN_RTOL, run_atol
 from nsdyn.solve import integrate
-from nsdyn.solve.checkpoint import Carry, run_key
+from nsdyn.solve.checkpoint import Carry, chunk_bounds, run_key
 from nsdyn.solve.checkpoint import load as load_checkpoint
 from nsdyn.solve.checkpoint import save as save_checkpoint
 
@@ -382,7 +382,8 @@ def simulate(
 
         return simulate_full(
             system, motion, t_eval, x0=x0, dt=dt, uplift=uplift, contact=contact,
-            progress=progress, reason=reason, result=TransientResult, **solver_options,
+            progress=progress, reason=reason, result=TransientResult, checkpoint=checkpoint,
+            chunk_s=chunk_s, **solver_options,
         )  # fmt: skip
     P = system.params(motion)
     given_x0 = x0 is not None
@@ -409,13 +410,7 @@ def simulate(
     compile_s = 0.0
     t_end = float(t_eval[-1])
     wall0 = time.perf_counter()
-    # chunk boundaries on the output grid
-    bounds = [k0]
-    while bounds[-1] < t_eval.size - 1:
-        t_next = t_eval[bounds[-1]] + chunk_s
-        bounds.append(min(int(np.searchsorted(t_eval, t_next - 1e-12)), t_eval.size - 1))
-        if bounds[-1] == bounds[-2]:
-            bounds[-1] += 1
+    bounds = chunk_bounds(t_eval, k0, chunk_s)  # on the output grid
     if contact != "detect":
         solver_options.update(contact=contact)
     if contact == "unilateral":
