@@ -277,21 +277,17 @@ def _lowrank_apply(U, w, s):
 
 
 @njit(cache=True, error_model="numpy")
-def _lowrank_add(U, s, out, sign):
-    """out += sign U s."""
-    for i in range(U.shape[0]):
-        acc = 0.0
-        for j in range(U.shape[1]):
-            acc += U[i, j] * s[j]
-        out[i] += sign * acc
-
-
-@njit(cache=True, error_model="numpy")
-def linear_part(q, v, a, u, lin, lr, y, r, work, s1, s2, A0):
+def linear_part(q, v, a, u, lin, lr, y, r, work, modal, A0):
     """A0 = -S_M^-1 (W [q; v; a] + M Gamma u + U diag(c) U^T (v + ka_v a)) with the
-    Woodbury correction of the low-rank damping (:mod:`nsdyn.solve.sparse`)."""
+    Woodbury correction of the low-rank damping (:mod:`nsdyn.solve.sparse`), and its modal
+    coordinates U^T A0. The damping force enters through ``uv, ua = U^T v, U^T a`` (``modal
+    = (uv, ua, uA0, s1, s2)``, carried by :func:`run_steps_ops`): with ``y = S^-1 r`` and
+    ``w = c (uv + ka_v ua)``, ``-A0 = y + Z xi``, ``xi = w - cap (U^T y + U^T Z w)`` and
+    ``-U^T A0 = U^T y + U^T Z xi``: two passes over n x m arrays (``U^T y``, ``Z xi``), each
+    a row-wise :func:`matvec`."""
     Wp, Wi, Wx, MG, lu = lin
-    U, c, kav, Z, capi = lr
+    Ut, c, kav, Z, capi, UtZ, _ = lr
+    uv, ua, uA0, s1, s2 = modal
     n, m = q.shape[0], c.shape[0]
     copy_vec(y[:n], q)
     copy_vec(y[n : 2 * n], v)
@@ -299,22 +295,23 @@ def linear_part(q, v, a, u, lin, lr, y, r, work, s1, s2, A0):
     csr_matvec(Wp, Wi, Wx, y, r)
     for i in range(n):
         r[i] += MG[i, 0] * u[0] + MG[i, 1] * u[1]
-    if m:
-        for i in range(n):
-            work[i] = v[i] + kav * a[i]
-        _lowrank_apply(U, work, s1)
-        for j in range(m):
-            s1[j] *= c[j]
-        _lowrank_add(U, s1, r, 1.0)
     lu_solve_sparse(lu, r, work, A0)
     if m:
-        _lowrank_apply(U, A0, s1)
         for j in range(m):
-            acc = 0.0
-            for k in range(m):
-                acc += capi[j, k] * s1[k]
-            s2[j] = acc
-        _lowrank_add(Z, s2, A0, -1.0)
+            s1[j] = c[j] * (uv[j] + kav * ua[j])  # w
+        matvec(Ut, A0, uA0)  # U^T y
+        matvec(UtZ, s1, s2)
+        for j in range(m):
+            work[j] = uA0[j] + s2[j]
+        matvec(capi, work[:m], s2)
+        for j in range(m):
+            s2[j] = s1[j] - s2[j]  # xi
+        matvec(Z, s2, r)
+        for i in range(n):
+            A0[i] += r[i]
+        matvec(UtZ, s2, s1)
+        for j in range(m):
+            uA0[j] = -(uA0[j] + s1[j])
     for i in range(n):
         A0[i] = -A0[i]
 
@@ -322,22 +319,42 @@ def linear_part(q, v, a, u, lin, lr, y, r, work, s1, s2, A0):
 @njit(cache=True, error_model="numpy")
 def run_steps_ops(t, t_steps, u_all, lin, lr, A0, state, ops, par, out, max_steps):
     """The steps ending at ``t_steps`` (one step size) of the ``"operators"`` backend: the
-    linear part by :func:`linear_part`, the rest by :func:`step`. Returns the time reached."""
-    q, v, a = state[0], state[1], state[2]
+    linear part by :func:`linear_part`, the rest by :func:`step`, and the damped modes'
+    coordinates ``U^T v``, ``U^T a`` carried along (``U^T a_(n+1) = U^T A0 + (U^T G) [lam;
+    phi]``, then the Newmark update of ``U^T v``). Returns the time reached."""
+    q, v, a, phi, lam = state[0], state[1], state[2], state[3], state[4]
     stats = out[3]
+    gamma = par[0][3]
     n, m = q.shape[0], lr[1].shape[0]
-    y, r, work = np.empty(3 * n), np.empty(n), np.empty(n)
-    s1, s2 = np.empty(m), np.empty(m)
+    Ut, UtG = lr[0], lr[6]
+    nc = lam.shape[0]
+    y, r, work = np.empty(3 * n), np.empty(n), np.empty(max(n, m))
+    modal = (np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m))
+    uv, ua, uA0 = modal[0], modal[1], modal[2]
+    if m:
+        matvec(Ut, v, uv)
+        matvec(Ut, a, ua)
+    z = np.empty(UtG.shape[1])
     for k in range(t_steps.shape[0]):
         if stats[ki.S_NOUT] >= out[0].shape[0]:
             break
         if stats[ki.S_NSTEP] >= max_steps:
             stats[ki.S_STATUS] = ki.ST_MAX_STEPS
             break
-        linear_part(q, v, a, u_all[k], lin, lr, y, r, work, s1, s2, A0)
+        linear_part(q, v, a, u_all[k], lin, lr, y, r, work, modal, A0)
         _, stop = step(t, t_steps[k], A0, state, ops, par, out)
         if stop:
             break
+        if m:  # a_(n+1) = A0 + G [lam; phi]: its modal coordinates, then v's update
+            h = t_steps[k] - t
+            copy_vec(z[:nc], lam)
+            copy_vec(z[nc:], phi)
+            for j in range(m):
+                acc = uA0[j]
+                for i in range(z.shape[0]):
+                    acc += UtG[j, i] * z[i]
+                uv[j] += h * ((1.0 - gamma) * ua[j] + gamma * acc)
+                ua[j] = acc
         t = t_steps[k]
     return t
 
@@ -361,7 +378,9 @@ def accelerations_rows(X, u, lin0, lr0, A0):
             _lowrank_apply(U, x[n:], s1)
             for j in range(m):
                 s1[j] *= c[j]
-            _lowrank_add(U, s1, r, 1.0)
+            matvec(U, s1, work)
+            for i in range(n):
+                r[i] += work[i]
         row = A0[k]
         lu_solve_sparse(lu, r, work, row)
         for i in range(n):

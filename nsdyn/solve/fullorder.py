@@ -129,10 +129,11 @@ def dense_step(system) -> str:
     """Why ``genalpha-lowrank`` steps a full-order ``system`` on its dense copies rather than
     on the sparse operators (the reason's words), or "" (the sparse step). Dense when the
     copies exist (up to ``DENSE_MAX_DOF`` dofs) and the low-rank damping has more than
-    ``DENSE_STEP_RANK`` n columns: per step the sparse path applies ``U`` and ``U^T`` at least
-    twice each (>= 4 n m flops for m damped modes), the dense one solves with a factorisation
-    made once (2 n^2 per solve). With every mode damped (m ~ n, the modal damping up to
-    ``MODAL_ALL_MAX_DOF`` dofs) the dense step is the cheaper one
+    ``DENSE_STEP_RANK`` n columns: per step the sparse path makes two passes over n x m
+    arrays and three m x m products (4 n m + 6 m^2 flops for m damped modes), the dense one
+    solves with a factorisation made once (2 n^2 per solve). With every mode damped (m ~ n,
+    the modal damping up to ``MODAL_ALL_MAX_DOF`` dofs) the two steps cost about the same and
+    the dense path's evaluations along a long record are the cheaper
     (``docs/guide/full-models-and-scale.md``). A damping matrix put in place of the model's
     own (e.g. the OpenSees export's) counts by its nonzeros: more than ``DENSE_STEP_RANK`` of
     its entries."""

@@ -109,7 +109,7 @@ class Stepper:
     Lam: np.ndarray = None  # lam per unit phi from the contact rows: RGr^-1 RGd
     Wp: np.ndarray = None  # sliding velocity per unit phi (/ c2): DGr Lam - DGd
     lin: tuple = None  # "operators": (W CSR, M Gamma, LU factors) of _klowrank.linear_part
-    lr: tuple = None  # "operators": (U, c, ka_v, Z, capacitance^-1), the low-rank damping
+    lr: tuple = None  # "operators": (U^T, c, ka_v, Z, capacitance^-1, U^T Z, U^T G): the damping
 
     @classmethod
     def build(cls, P: tuple, h: float, coef: tuple, backend: str = "auto") -> Stepper:
@@ -214,8 +214,10 @@ class Stepper:
         W.sort_indices()
         st.lin = (W.indptr.astype(np.int64), W.indices.astype(np.int64), W.data, MG,
                   lu_arrays(lu))  # fmt: skip
-        Uk = np.ascontiguousarray(U[:, :m]) if m else np.zeros((n, 0))
-        st.lr = (Uk, np.ascontiguousarray(c[:m]), float(ka_v), Z, cap_inv)
+        Ut = np.ascontiguousarray(U[:, :m].T) if m else np.zeros((0, n))
+        UtZ = np.ascontiguousarray(Ut @ Z) if m else np.zeros((0, 0))
+        UtG = np.ascontiguousarray(Ut @ G) if m else np.zeros((0, G.shape[1]))
+        st.lr = (Ut, np.ascontiguousarray(c[:m]), float(ka_v), Z, cap_inv, UtZ, UtG)
         return st
 
     @classmethod

@@ -97,8 +97,8 @@ def test_sparse_path_equals_the_dense_backend(models):
 
 def test_every_mode_damped_steps_on_the_dense_copies(frame, models):
     # The rule of fullorder.dense_step: with every fixed-interface mode damped (m ~ n) the
-    # sparse step's low-rank products (>= 4 n m flops) exceed the dense solves (2 n^2), so a
-    # model with dense copies steps on them (the test above: the same histories to 1e-9);
+    # sparse step's low-rank products (4 n m + 6 m^2 flops) reach the dense solves (2 n^2),
+    # so a model with dense copies steps on them (the test above: the same histories to 1e-9);
     # beta K damping (m = 0) keeps the sparse step. The reason line says which.
     from nsdyn.ground import Harmonic
 
