@@ -422,9 +422,9 @@ def run(args: argparse.Namespace) -> int:
     ident = _run_identity(cfg, args)
     quiet = args.json
 
-    def progress(t, t_end, wall):
-        if not quiet and wall > 1.0:
-            print(f"  t = {t:7.2f} / {t_end:.2f} s   ({wall:5.1f} s)", file=sys.stderr)
+    from nsdyn._progress import reporter
+
+    progress = None if quiet else reporter(lambda line: print(line, file=sys.stderr))
 
     from nsdyn.solve.auto import sparse_path
     from nsdyn.solve.integrate import UpliftWarning

@@ -75,21 +75,14 @@ class FullOps:
         m = self._m
         return m["lin0"], m["lr0"], m["G0T"], m["RGr_inv"], m["Lam"]
 
-    def digest(self) -> str:
-        """SHA-256 of the operators (M, K, C, U, c, Gamma, R, D): what a run's checkpoint
-        key holds of the model beside the stand-in tuple."""
-        import hashlib
-
-        mo, h = self.model, hashlib.sha256()
-        for A in (mo.M, mo.K, mo.C):
-            A = A.tocsr()
-            for v in (A.indptr, A.indices, A.data):
-                h.update(np.ascontiguousarray(v).tobytes())
-        for v in (mo.U, mo.c, self.Gamma, self.R, self.D):
-            v = np.ascontiguousarray(v, dtype=float)
-            h.update(f"{v.shape}".encode())
-            h.update(v.tobytes())
-        return h.hexdigest()
+    def arrays(self) -> tuple:
+        """The operators' arrays (M, K, C by their CSR parts; U, c, Gamma, R, D): what a
+        run's checkpoint key (:func:`nsdyn.solve.checkpoint.run_key`) holds of the model
+        beside the stand-in tuple."""
+        mo = self.model
+        parts = [getattr(A.tocsr(), k) for A in (mo.M, mo.K, mo.C)
+                 for k in ("indptr", "indices", "data")]  # fmt: skip
+        return (*parts, mo.U, mo.c, self.Gamma, self.R, self.D)
 
     def evaluate(self, P: tuple, t: np.ndarray, X: np.ndarray) -> tuple:
         """(QDD, LAM, TAU, MODES) at the rows of ``X`` (nt, 2n), times ``t`` (module text);
@@ -248,7 +241,7 @@ def simulate_full(
     ckpt = Path(checkpoint) if checkpoint else None
     if ckpt is not None:  # the stand-in P holds no matrix: the operators join the key
         options = dict(method=sparse.METHOD, dt=float(dt), uplift=uplift, contact=contact,
-                       rho_inf=rho, max_steps=steps, model=ops.digest())  # fmt: skip
+                       rho_inf=rho, max_steps=steps, model=ops.arrays())  # fmt: skip
         run_id = run_key(P, x0 if given_x0 else None, t_eval, options)
         found = load(ckpt, run_id, t_eval) if ckpt.exists() else None
         if found is not None:

@@ -298,17 +298,14 @@ def _run_fixed(sysd, exc, source: str, out_dir: Path) -> dict:
 
 
 def _run_pairs(sysd, exc, t_end, kw, out_dir: Path, say, dt=None) -> dict:
+    from nsdyn._progress import reporter
+
     system = sysd["pairs"]
     info = system.info
     compile_s = warm_pairs(info.get("path", "dense"), kw["law"], system, kw["contact"])
     compile_s += sysd.get("compile_s", 0.0)
     say(f"building3d: {info['fidelity']} rung, {path_line(info)}")
-
-    def progress(t, t_end, wall):
-        if wall > 1.0:
-            say(f"  t = {t:7.2f} / {t_end:.2f} s   ({wall:5.1f} s)")
-
-    r, s, caught = run_pairs(sysd, exc, t_end, kw, dt, progress)
+    r, s, caught = run_pairs(sysd, exc, t_end, kw, dt, reporter(say))
     for w in caught:
         say(f"building3d: warning: {w.message}")
     res = r.result

@@ -144,12 +144,10 @@ class _Stepper:
         self.MG = np.ascontiguousarray(s.M @ s.Gamma)
         self.nnz_lu = int(self.lu.L.nnz + self.lu.U.nnz)
 
-    def solve(self, b):
-        if b.ndim == 1:  # a step's right-hand side: the compiled triangular solves
-            y = np.empty(b.size)
-            kz.lu_solve_csc(*self.fac, np.ascontiguousarray(b, dtype=float), self.w, y)
-        else:
-            y = self.lu.solve(b)
+    def solve(self, B):
+        """``S_*^-1 B`` for a block ``B`` (n, k) (the rows' response, once; a step solves by
+        :meth:`solve_damped`)."""
+        y = self.lu.solve(B)
         if self.low:
             y = y - self.Z @ (self.cap @ (self.Ut @ y))
         return y
