@@ -26,6 +26,12 @@ def keywords_of(func, passed_on, *, skip=(), also=(), caller: str = "") -> None:
             raise TypeError(f"{caller}got an unexpected keyword argument {k!r}{hint}")
 
 
+def rel_tol(name: str, value) -> float:
+    """A relative tolerance ``0 < value < 1`` as a float, or ValueError naming ``name`` (a
+    tolerance of 1 or more lets an adaptive step accept any error: a run of nonsense)."""
+    return number(name, value, f"a relative tolerance 0 < {name} < 1", lambda v: 0 < v < 1)
+
+
 def non_negative_int(name: str, value) -> int:
     """``value`` as an int, or ValueError naming ``name`` (a seed, a count)."""
     import numpy as np

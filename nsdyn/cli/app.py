@@ -22,7 +22,7 @@ import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, EXIT_USER_ERROR
+from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, EXIT_USER_ERROR, fail
 
 __all__ = ["COMMANDS", "Command", "build_parser", "main", "script"]
 
@@ -129,7 +129,14 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str):
         print(f"{self.prog}: error: {message} (see {self.prog} --help)", file=sys.stderr)
+        if _JSON[0]:  # a usage error is an outcome too for a script reading the JSON
+            import json
+
+            print(json.dumps({"status": EXIT_USER_ERROR, "error": message}))
         raise SystemExit(EXIT_USER_ERROR)
+
+
+_JSON = [False]  # the command line holds --json (set by main before parsing)
 
 
 _SIGNALLED = [False]  # set by the handler: an error after a signal is the signal's doing
@@ -240,6 +247,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``nsdyn`` script; returns the exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
+    _JSON[0] = "--json" in argv
     only = argv[0] if argv and argv[0] in COMMANDS else ""  # no command: configure none
     parser = build_parser(only)
     if not argv:  # `nsdyn` alone: one line, every command named
@@ -273,25 +281,14 @@ def main(argv: list[str] | None = None) -> int:
         print(_interrupt_line(args), file=sys.stderr)
         return EXIT_INTERRUPTED
     except _user_errors() as exc:
-        return _failed(args, EXIT_USER_ERROR, "error", exc)
+        return fail(args, exc)
     except _numerics_errors() as exc:
-        return _failed(args, EXIT_NUMERICS, "numerical failure", exc)
+        return fail(args, exc, EXIT_NUMERICS, "numerical failure")
     finally:
         warnings.showwarning = shown
         if old is not None:
             signal.signal(signal.SIGTERM, old[0])
             signal.signal(signal.SIGINT, old[1])
-
-
-def _failed(args: argparse.Namespace, status: int, what: str, exc: BaseException) -> int:
-    """One line on stderr; with ``--json`` also one JSON object on stdout, ``{"status",
-    "error"}``, so that a script reading the output reads every outcome."""
-    print(f"nsdyn {args.command}: {what}: {exc}", file=sys.stderr)
-    if getattr(args, "json", False):
-        import json
-
-        print(json.dumps({"status": status, "error": str(exc)}))
-    return status
 
 
 # the commands whose first run compiles beside a helper process: the package whose kernels

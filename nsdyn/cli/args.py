@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import sys
+import tempfile
 from pathlib import Path
 
 EXIT_USER_ERROR = 2  # bad input the user can fix (same as argparse usage errors)
@@ -90,11 +92,14 @@ def _creatable(p: Path, s: str) -> None:
             f"cannot create {s!r}: {d} is not a directory" if made
             else f"{s!r} exists and is not a directory"
         )  # fmt: skip
-    if not os.access(d, os.W_OK | os.X_OK):
+    try:  # a directory made and removed in d: what the command will do (also as root, on a
+        # read-only or virtual file system, where permission bits do not tell)
+        os.rmdir(tempfile.mkdtemp(prefix=".nsdyn-probe-", dir=d))
+    except OSError as e:
         raise argparse.ArgumentTypeError(
-            f"cannot create {s!r}: {d} is not writable" if made
-            else f"directory {s!r} is not writable"
-        )  # fmt: skip
+            f"cannot create {s!r}: {d} is not writable ({e.strerror})" if made
+            else f"directory {s!r} is not writable ({e.strerror})"
+        ) from None  # fmt: skip
 
 
 def out_dir(s: str) -> str:
@@ -115,3 +120,16 @@ def out_file(s: str) -> str:
         raise argparse.ArgumentTypeError(f"expected a file name, got the directory {s!r}")
     _creatable(p.parent, str(p.parent))
     return s
+
+
+def fail(args: argparse.Namespace, message, status: int = EXIT_USER_ERROR,
+         what: str = "error") -> int:  # fmt: skip
+    """``status`` after one line ``nsdyn COMMAND: what: message`` on stderr and, with
+    ``--json``, one JSON object ``{"status", "error"}`` on stdout (a script reading the
+    output reads every outcome)."""
+    print(f"nsdyn {args.command}: {what}: {message}", file=sys.stderr)
+    if getattr(args, "json", False):
+        import json
+
+        print(json.dumps({"status": status, "error": str(message)}))
+    return status

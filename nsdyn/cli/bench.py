@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.bench.common import DEFAULT_OUT, RECORDS, REPEATS
-from nsdyn.cli.args import EXIT_USER_ERROR, out_dir, positive_int
+from nsdyn.cli.args import EXIT_USER_ERROR, fail, out_dir, positive_int
 
 __all__ = ["configure", "main", "run"]
 
@@ -58,6 +58,7 @@ EXIT_UNAVAILABLE = 1  # `all`: a benchmark module exists but does not import
 
 def configure(p: argparse.ArgumentParser) -> None:
     """Arguments of ``nsdyn bench``."""
+    p.set_defaults(command="bench")  # its messages name it also when run alone (tests)
     from nsdyn.bench import BENCHMARKS
 
     names = [*BENCHMARKS, "all"]
@@ -165,11 +166,7 @@ def run(args: argparse.Namespace) -> int:
     records = tuple(r.strip() for r in args.records.split(",") if r.strip())
     bad = [r for r in records if r not in RECORDS]
     if bad or not records:
-        print(
-            f"nsdyn bench: error: --records: expected some of {sorted(RECORDS)}, got {bad}",
-            file=sys.stderr,
-        )
-        return EXIT_USER_ERROR
+        return fail(args, f"--records: expected some of {sorted(RECORDS)}, got {bad}")
     options = {
         "repeats": args.repeats,
         "records": records,
@@ -201,9 +198,7 @@ def run(args: argparse.Namespace) -> int:
         taken = {k: options[k] for k in getattr(module, "OPTIONS", ()) if k in options}
         unused = [f for f, k in _GIVEN if k not in getattr(module, "OPTIONS", ()) and given[k]]
         if unused and args.what != "all":  # `all` hands each benchmark the options it takes
-            print(f"nsdyn bench: error: {', '.join(unused)}: not an option of benchmark "
-                  f"{what!r}", file=sys.stderr)  # fmt: skip
-            return EXIT_USER_ERROR
+            return fail(args, f"{', '.join(unused)}: not an option of benchmark {what!r}")
         res = module.run_bench(Path(args.out), args.quick, **taken)
         summarise = getattr(module, "summarise", None)
         summary[what] = summarise(res) if summarise is not None else res

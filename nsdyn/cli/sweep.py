@@ -16,9 +16,9 @@ from dataclasses import asdict
 from pathlib import Path
 
 from nsdyn.atomic import atomic_open, output_dir, save_figure
-from nsdyn.cli.args import EXIT_USER_ERROR, out_dir, positive_int
 from nsdyn.cli.args import amplitude_list as _amplitude_list
 from nsdyn.cli.args import count as _count
+from nsdyn.cli.args import fail, out_dir, positive_int
 from nsdyn.cli.args import positive_finite as _positive
 from nsdyn.studies.plane_sweep import KINDS as PLANE_KINDS
 from nsdyn.studies.plane_sweep import POINTS_DEFAULT
@@ -33,6 +33,7 @@ from nsdyn.studies.sweep import (
 
 
 def configure(p: argparse.ArgumentParser) -> None:
+    p.set_defaults(command="sweep")  # its messages name it also when run alone (tests)
     p.add_argument(
         "scene", nargs="?", default=None, help="scene TOML (default: the bundled default scene)"
     )
@@ -162,8 +163,7 @@ def run(args: argparse.Namespace) -> int:
             raw = read_toml(args.scene)
             kind = scene_kind(raw, str(args.scene))
         except SceneError as e:
-            print(f"nsdyn sweep: error: {e}", file=sys.stderr)
-            return EXIT_USER_ERROR
+            return fail(args, e)
         if kind == "building3d" and raw.get("structure", {}).get("fidelity") == "fixed":
             from nsdyn.cli.sweep_fixed3d import run_fixed3d  # linear: the exact steady state
 
@@ -171,9 +171,11 @@ def run(args: argparse.Namespace) -> int:
         if kind in PLANE_KINDS:
             return run_plane(args, raw)
         if kind != "isolated":
-            print(f"nsdyn sweep: error: {args.scene}: scene.kind: sweeps take isolated, deck and "
-                  f"building3d scenes, got {kind!r}", file=sys.stderr)  # fmt: skip
-            return EXIT_USER_ERROR
+            return fail(
+                args,
+                f"{args.scene}: scene.kind: sweeps take isolated, deck and "
+                f"building3d scenes, got {kind!r}",
+            )
     args.amplitudes = args.amplitudes or _amplitude_list(DEFAULT_AMPLITUDES)
     args.fmin = 0.01 if args.fmin is None else args.fmin
     args.fmax = 10.0 if args.fmax is None else args.fmax
@@ -182,21 +184,12 @@ def run(args: argparse.Namespace) -> int:
     try:
         cfg = load_scene(args.scene, overrides)
     except SceneError as e:
-        print(f"nsdyn sweep: error: {e}", file=sys.stderr)
-        return EXIT_USER_ERROR
+        return fail(args, e)
     if cfg["scene"].get("fidelity", "cb") == "fixed":
-        print(
-            "nsdyn sweep: error: the fixed-base model is linear; use an isolated fidelity",
-            file=sys.stderr,
-        )
-        return EXIT_USER_ERROR
+        return fail(args, "the fixed-base model is linear; use an isolated fidelity")
     friction = args.friction or cfg.get("isolation", {}).get("law", "arctan")
     if not args.fmax > args.fmin:
-        print(
-            f"nsdyn sweep: error: --fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})",
-            file=sys.stderr,
-        )
-        return EXIT_USER_ERROR
+        return fail(args, f"--fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})")
     settings = SweepSettings(
         args.fmin,
         args.fmax,
@@ -301,42 +294,42 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
 
     source = str(args.scene)
     if args.fidelity is not None and cfg.get("scene", {}).get("kind") == "deck":
-        print(f"nsdyn sweep: error: {source}: --fidelity: a deck scene has one model, the rigid "
-              "deck; the fidelities are those of isolated and building3d scenes",
-              file=sys.stderr)  # fmt: skip
-        return EXIT_USER_ERROR
+        return fail(
+            args,
+            f"{source}: --fidelity: a deck scene has one model, the rigid "
+            "deck; the fidelities are those of isolated and building3d scenes",
+        )
     if args.fidelity is not None:
         cfg = {**cfg, "structure": {**cfg.get("structure", {}), "fidelity": args.fidelity}}
     given = (("--contact", args.contact != "bilateral"), ("--tableau", args.tableau != "sdirk2"),
              ("--steps-factor", args.steps_factor != 1.0))  # fmt: skip
     unused = [flag for flag, off in given if off]
     if unused:
-        print(f"nsdyn sweep: error: {', '.join(unused)}: not for deck scenes (their period map is "
-              "integrated adaptively, with bilateral contact)", file=sys.stderr)  # fmt: skip
-        return EXIT_USER_ERROR
+        return fail(
+            args,
+            f"{', '.join(unused)}: not for deck scenes (their period map is "
+            "integrated adaptively, with bilateral contact)",
+        )
     try:
         sc = plane_scene(cfg, source)
     except SceneError as e:
-        print(f"nsdyn sweep: error: {' '.join(str(e).split())}", file=sys.stderr)
-        return EXIT_USER_ERROR
+        return fail(args, " ".join(str(e).split()))
     lo, hi = default_range(sc["orbit"])
     sw = sc["sweep"]  # the scene's [sweep] table; the flags win
     fmin = sw.get("f_min", lo) if args.fmin is None else args.fmin
     fmax = sw.get("f_max", hi) if args.fmax is None else args.fmax
     if not fmax > fmin:
-        print(
-            f"nsdyn sweep: error: --fmax ({fmax:g}) must exceed --fmin ({fmin:g})", file=sys.stderr
-        )
-        return EXIT_USER_ERROR
+        return fail(args, f"--fmax ({fmax:g}) must exceed --fmin ({fmin:g})")
     from nsdyn.periodic.plane import orbit_shape
 
     amplitudes = args.amplitudes or sw.get("amplitudes") or [orbit_shape(sc["orbit"])[0]]
     law = args.friction or sw.get("law") or sc["solver"]["law"]
     if getattr(sc["system"], "has_tfp", False) and law != "arctan":
-        print(f"nsdyn sweep: error: {source}: solver.law: a triple friction pendulum runs with the "
-              f"regularised law 'arctan' (its series model has no stick events), got {law!r}",
-              file=sys.stderr)  # fmt: skip
-        return EXIT_USER_ERROR
+        return fail(
+            args,
+            f"{source}: solver.law: a triple friction pendulum runs with the "
+            f"regularised law 'arctan' (its series model has no stick events), got {law!r}",
+        )
     points = args.points or sw.get("points") or POINTS_DEFAULT
     settings = PlaneSweepSettings(fmin, fmax, points, args.continuation,
                                   not args.no_fallback, law)  # fmt: skip

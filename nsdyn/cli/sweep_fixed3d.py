@@ -9,14 +9,13 @@ import argparse
 import csv
 import io
 import json
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.cli.args import EXIT_USER_ERROR
+from nsdyn.cli.args import fail
 
 _NOT_HERE = (  # flags of the nonlinear sweeps: (flag, attribute, its default)
     ("--friction", "friction", None), ("--contact", "contact", "bilateral"),
@@ -39,24 +38,22 @@ def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
     source = str(args.scene)
     unused = [flag for flag, key, off in _NOT_HERE if getattr(args, key, off) != off]
     if unused:
-        print(f"nsdyn sweep: error: {', '.join(unused)}: not for the fixed rung (a linear "
-              "model: its steady state is solved exactly, no friction)",
-              file=sys.stderr)  # fmt: skip
-        return EXIT_USER_ERROR
+        return fail(
+            args,
+            f"{', '.join(unused)}: not for the fixed rung (a linear "
+            "model: its steady state is solved exactly, no friction)",
+        )
     t0 = time.perf_counter()
     try:
         sc = fixed_sweep_scene(cfg, source)
         modes = fixed_base_modes_3d(sc["frame"], n_modes=sc["n_modes"])
     except (SceneError, ValueError) as e:
-        print(f"nsdyn sweep: error: {' '.join(str(e).split())}", file=sys.stderr)
-        return EXIT_USER_ERROR
+        return fail(args, " ".join(str(e).split()))
     lo, hi = default_range(modes)
     fmin = lo if args.fmin is None else args.fmin
     fmax = hi if args.fmax is None else args.fmax
     if not (fmax > fmin > 0):
-        print(f"nsdyn sweep: error: --fmin/--fmax: expected 0 < fmin < fmax, got {fmin:g}, "
-              f"{fmax:g}", file=sys.stderr)  # fmt: skip
-        return EXIT_USER_ERROR
+        return fail(args, f"--fmin/--fmax: expected 0 < fmin < fmax, got {fmin:g}, {fmax:g}")
     f = np.geomspace(fmin, fmax, args.points or POINTS_DEFAULT)
     unit = fixed_frf(sc["frame"], sc["A"], f, modes=modes)  # per m/s² of the orbit's amplitude
     amplitudes = [float(a) for a in (args.amplitudes or [sc["amplitude"]])]

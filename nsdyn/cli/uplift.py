@@ -18,7 +18,7 @@ import time
 from pathlib import Path
 
 from nsdyn.atomic import atomic_open
-from nsdyn.cli.args import EXIT_NUMERICS, EXIT_USER_ERROR, out_dir
+from nsdyn.cli.args import EXIT_NUMERICS, fail, out_dir
 from nsdyn.cli.args import count as _count
 from nsdyn.cli.args import positive_finite as _positive
 
@@ -27,6 +27,7 @@ FMIN, FMAX, POINTS, A_MAX = 0.01, 10.0, 40, 20.0
 
 
 def configure(p: argparse.ArgumentParser) -> None:
+    p.set_defaults(command="uplift")  # its messages name it also when run alone (tests)
     p.add_argument(
         "scene", nargs="?", default=None, help="scene TOML (default: the bundled default scene)"
     )
@@ -81,22 +82,16 @@ def run(args: argparse.Namespace) -> int:
             )
         system, excitation = build_scene(cfg)
     except SceneError as e:
-        print(f"nsdyn uplift: error: {e}", file=sys.stderr)
-        return EXIT_USER_ERROR
+        return fail(args, e)
     if not args.fmax > args.fmin:
-        print(
-            f"nsdyn uplift: error: --fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})",
-            file=sys.stderr,
-        )
-        return EXIT_USER_ERROR
+        return fail(args, f"--fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})")
     if system.n_contacts == 0:
-        print(
-            f"nsdyn uplift: error: {cfg['_source']}: [structure]: no contact rows, so no "
+        return fail(
+            args,
+            f"{cfg['_source']}: [structure]: no contact rows, so no "
             "normal force can reach zero (the isolators' normal forces are frozen at the "
             "weight); give structure.contact_rows, or a frame ([scene] frame)",
-            file=sys.stderr,
         )
-        return EXIT_USER_ERROR
     load = excitation if isinstance(excitation, HarmonicForce) else None
     unit = "N" if load is not None else "m/s²"
     law = system.isolation.law

@@ -175,7 +175,9 @@ def parse_table_motion(
                 source,
                 first,
                 "expected a sampling interval: the file has no time column and its header "
-                "states no dt; pass dt=",
+                "states no dt; give the step dt [s] (read_motion(..., dt=...); in a scene, "
+                "[motion] dt)",
+                argument="dt",
             )
         t0 = info.get("t0", 0.0)
 

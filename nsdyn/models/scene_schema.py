@@ -24,6 +24,8 @@ import importlib
 from dataclasses import dataclass, field
 
 NO_DEFAULT = object()  # a key that has no default (optional, or required if ``required``)
+# a relative tolerance: 0 < v < 1 (nsdyn._checks.rel_tol; from 1 on, any step passes the error test)
+REL_TOL = {"lo": 0.0, "lo_open": True, "hi": 1.0, "hi_open": True}
 
 
 @dataclass(frozen=True)

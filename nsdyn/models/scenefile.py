@@ -152,6 +152,18 @@ def scene_kind(cfg: Mapping, source: str = "<scene>") -> str:
     return kind
 
 
+def rel_tol(source: str, name: str, val) -> float:
+    """``val`` as a relative tolerance ``0 < val < 1``, or :class:`SceneError` naming
+    ``source: name`` (the check of :func:`nsdyn._checks.rel_tol`, before any run)."""
+    from nsdyn._checks import rel_tol as check
+
+    number(source, name, val)  # its type errors first
+    try:
+        return check(name, val)
+    except ValueError as e:
+        raise SceneError(f"{source}: {e}") from None
+
+
 def number(source: str, name: str, val, *, positive: bool = True, allow_zero: bool = False):
     """``val`` as a float, or :class:`SceneError` naming ``source: name`` and the form wanted."""
     if isinstance(val, bool) or not isinstance(val, int | float):

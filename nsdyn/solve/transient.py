@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._checks import keywords_of
+from nsdyn._checks import keywords_of, rel_tol
 from nsdyn._tabular import Tabular
 from nsdyn.atomic import CheckpointError
 from nsdyn.ground.excitation import is_force, natural_end
@@ -350,6 +350,7 @@ def simulate(
         )
     keywords_of(integrate.solve, solver_options, skip=("P", "x0", "t_eval"),
                 also=("rtol", "atol", "dt_out", "t_end"), caller="simulate() ")  # fmt: skip
+    rel_tol("rtol", rtol)
     if not (np.isfinite(chunk_s) and chunk_s > 0):
         raise ValueError(f"chunk_s: expected a positive duration [s], got {chunk_s!r}")
     if t_eval is None:

@@ -21,7 +21,13 @@ import numpy as np
 from nsdyn.structure.building3d import regular_building_3d
 from nsdyn.structure.elements3d import PARALLEL_SIN
 from nsdyn.structure.frame3d import GEOM_RTOL, Diaphragm, Frame3D, Section3D
-from nsdyn.structure.frame_toml import FrameFileError, _is_number, _read_frame_file, _Reader
+from nsdyn.structure.frame_toml import (
+    FrameFileError,
+    _is_number,
+    _read_frame_file,
+    _Reader,
+    not_a_frame,
+)
 
 TABLE = "frame3d"
 _SECTION_KEYS = {"E", "G", "nu", "A", "I_y", "I_z", "J", "rho", "rho_A", "rho_Ip"}
@@ -304,6 +310,7 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
 def frame3d_from_dict(data: Mapping, file: str = "<dict>") -> Frame3D:
     """Build a :class:`Frame3D` from parsed TOML data (``{"frame3d": {...}}``), strictly."""
     rd = _Reader(file)
+    not_a_frame(data, file, TABLE)
     rd.known(data, {TABLE}, "")
     f = rd.table(data, TABLE, TABLE)
     name = rd.string(f, "name", f"{TABLE}.name")

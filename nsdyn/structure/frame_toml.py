@@ -184,6 +184,16 @@ def _zeta(rd: _Reader, frame: Mapping) -> list[float]:
     return z
 
 
+def not_a_frame(data: Mapping, file: str, table: str) -> None:
+    """FrameFileError when ``data`` (without a ``[table]``) is a scene or a study file given
+    where a frame is read, naming it as what it is and the command that takes it."""
+    for key, what, how in (("scene", "a scene file", "nsdyn run"),
+                           ("study", "a study file", "nsdyn study")):  # fmt: skip
+        if key in data and table not in data:
+            raise FrameFileError(f"{file}: {what} (its [{key}] table), not a frame file; "
+                                 f"run it with {how} {file}")  # fmt: skip
+
+
 def frame_from_dict(data: Mapping, file: str = "<dict>") -> Frame:
     """Build a :class:`Frame` from parsed TOML data (``{"frame": {...}}``), strictly.
 
@@ -192,6 +202,7 @@ def frame_from_dict(data: Mapping, file: str = "<dict>") -> Frame:
     rd = _Reader(file)
     if "frame3d" in data:
         rd.fail("frame3d", "a plane [frame] table (a 3D frame file is read by load_frame3d)")
+    not_a_frame(data, file, "frame")
     rd.known(data, {"frame"}, "")
     frame = rd.table(data, "frame", "frame")
     name = rd.string(frame, "name", "frame.name")
@@ -321,7 +332,7 @@ def _read_frame_file(name_or_path: str | Path) -> tuple[dict, str]:
         path = Path(s)
         if not path.is_file():
             raise FrameFileError(f"{s}: no such frame file")
-        text, fname = path.read_bytes(), path.name
+        text, fname = path.read_bytes(), s  # messages name the file as it was given
     else:
         f = FRAMES.find(s)
         if f is None:

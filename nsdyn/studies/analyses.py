@@ -87,6 +87,9 @@ def _check_column(source: str, where: str, name, study, *, result: bool) -> None
     if result and results is None:
         return  # a scene kind whose result fields are known only after a run
     valid = params | results if result else params
+    if result and name not in valid and study.keep is not None and name in ISOLATED_RESULTS:
+        raise SceneError(f"{source}: {where}: {name!r} is a result the study does not keep; "
+                         f"add it to study.keep (now {list(study.keep)})")  # fmt: skip
     if name not in valid:
         close = difflib.get_close_matches(name, sorted(valid), n=1)
         hint = f"; did you mean {close[0]!r}?" if close else ""

@@ -326,6 +326,12 @@ def _cell(v):
     return json.dumps(v)
 
 
+class KeepError(SceneError):
+    """A name of ``study.keep`` that the scene's run summary lacks: an input error of the
+    study, the same for every task of its scene, so it ends the study (status 2) at the first
+    task that meets it instead of failing each task after its run."""
+
+
 def result_columns(summary: dict, keep, source: str = "<study>") -> dict:
     """The kept fields of a summary: ``keep`` (any type, non-scalars as JSON) or every scalar."""
     if keep is None:
@@ -342,7 +348,7 @@ def result_columns(summary: dict, keep, source: str = "<study>") -> dict:
         for k in missing:
             close = difflib.get_close_matches(k, list(summary), n=1)
             hints.append(f"{k!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
-        raise SceneError(
+        raise KeepError(
             f"{source}: study.keep: {', '.join(hints)} not in this scene's run summary; its "
             f"fields: {', '.join(sorted(summary))}"
         )
@@ -357,6 +363,8 @@ def run_task(task) -> dict:
         s = run_scene_summary(task.cfg, task.source)
         row.update(result_columns(s, task.keep, task.source))
         row["status"], row["error"] = "ok", ""
+    except KeepError:  # the study's input, not this task: it ends the study
+        raise
     except Exception as e:  # a failing task is a result, not the end of the study
         msg = " ".join(f"{type(e).__name__}: {e}".split())
         row["status"], row["error"] = "failed", msg[:ERROR_CHARS]

@@ -45,7 +45,8 @@ def test_a_checkpoint_is_continued_only_by_the_run_that_wrote_it(tmp_path, build
         ({"chunk_s": -1.0}, "chunk_s: expected a positive"),
         ({"dt_out": 20.0}, "longer than the run"),
         ({"dt_out": 0.0}, "dt_out: expected a positive"),
-        ({"rtol": "1e-4"}, "rtol, atol: expected numbers"),
+        ({"rtol": "1e-4"}, "rtol: expected a relative tolerance 0 < rtol < 1"),
+        ({"rtol": 1.0}, "rtol: expected a relative tolerance 0 < rtol < 1"),
         ({"rtoll": 1e-6}, "did you mean 'rtol'"),
     ],
 )
@@ -147,10 +148,12 @@ def test_rigid_body_runs_refuse_outputs_and_starts_they_cannot_give():
     body = nsdyn.RigidBody.rectangle(1.1, 1.0, 1250.0)
     law = nsdyn.FrictionLaw(0.57, 0.29)
     mo = nsdyn.BaseMotion.displacement_sine(0.193, 2.18, 5, "impulsive")
-    for kw, match in (({"t_end": -1.0}, "t_end"), ({"t_end": 5.0, "dt_out": 0.0}, "dt_out"),
-                      ({"t_end": 5.0, "rtol": -1.0}, "rtol")):  # fmt: skip
+    for kw, match in (({"t_end": -1.0}, "t_end"), ({"t_end": 5.0, "dt_out": 0.0}, "dt_out")):
         with pytest.raises(ValueError, match=f"{match}: expected a positive"):
             nsdyn.simulate_event(body, law, mo, **kw)
+    for rtol in (-1.0, 1.0):  # an error test err <= rtol |y| passes any step from rtol = 1
+        with pytest.raises(ValueError, match="rtol: expected a relative tolerance 0 < rtol < 1"):
+            nsdyn.simulate_event(body, law, mo, t_end=5.0, rtol=rtol)
     with pytest.raises(TypeError, match="BaseMotion.from_motion"):
         nsdyn.simulate_event(body, law, nsdyn.read_motion("synthetic-wn-40s"), t_end=1.0)
     # the rectangle lies on its side at theta_ov = pi/2: a start there is overturned already
@@ -161,9 +164,11 @@ def test_rigid_body_runs_refuse_outputs_and_starts_they_cannot_give():
             nsdyn.BaseMotion.displacement_sine(A, period, n, "impulsive")
     blk = nsdyn.RockingBlock(width=0.3, height=1.2)
     pulse = nsdyn.one_sine(0.4 * 9.81, 4 * math.pi)
-    for kw in ({"dt_out": -1.0}, {"tol": -1.0}):
-        with pytest.raises(ValueError, match="expected a positive"):
-            nsdyn.simulate_rocking(blk, pulse, t_end=6.0, **kw)
+    with pytest.raises(ValueError, match="expected a positive"):
+        nsdyn.simulate_rocking(blk, pulse, t_end=6.0, dt_out=-1.0)
+    for tol in (-1.0, 1.0):
+        with pytest.raises(ValueError, match="tol: expected a relative tolerance 0 < tol < 1"):
+            nsdyn.simulate_rocking(blk, pulse, t_end=6.0, tol=tol)
 
 
 def test_objects_of_the_wrong_kind_are_named_by_every_family():

@@ -554,7 +554,7 @@ def test_bad_frame_file(tmp_path, row):
     rid, example, old, new, needles = row
     p = _write(tmp_path, f"bad-{rid}.toml", _edit((FRAMES / example).read_text(), old, new))
     msg = _expect(FrameFileError, lambda: load_frame(p), *needles)
-    assert msg.startswith(f"{p.name}: "), f"file not named: {msg!r}"
+    assert msg.startswith(f"{p}: "), f"file not named: {msg!r}"
 
 
 def test_unknown_frame_name_lists_bundled():
@@ -598,7 +598,7 @@ def test_bad_frame3d_file(tmp_path, row):
     rid, example, old, new, needles = row
     p = _write(tmp_path, f"bad-{rid}.toml", _edit((FRAMES / example).read_text(), old, new))
     msg = _expect(FrameFileError, lambda: load_frame3d(p), *needles)
-    assert msg.startswith(f"{p.name}: ") and "\n" not in msg, f"file not named: {msg!r}"
+    assert msg.startswith(f"{p}: ") and "\n" not in msg, f"file not named: {msg!r}"
 
 
 # ----------------------------------------------------------------------------- records

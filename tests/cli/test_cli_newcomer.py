@@ -21,28 +21,20 @@ from nsdyn.models.scenefile import read_toml
 from nsdyn.studies.scenes import result_columns
 
 
-def _one_line_error(capsys, *needles) -> str:
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "Traceback" not in err, err
-    for n in needles:
-        assert n in err, (n, err)
-    return err
-
-
 @pytest.mark.parametrize("method", ["radau", "dopri5", "event"])
-def test_a_step_for_an_adaptive_method_is_refused_before_the_run(tmp_path, capsys, method):
+def test_a_step_for_an_adaptive_method_is_refused_before_the_run(tmp_path, method, one_line):
     """dt is the fixed-step methods' step; an adaptive method chooses its own."""
     out = tmp_path / "out"
     rc = main(["run", "--method", method, "--dt", "0.02", "--out", str(out), "--no-figures"])
     assert rc == 2
-    _one_line_error(capsys, "solver.dt", "--dt", repr(method), "genalpha")
+    one_line("solver.dt", "--dt", repr(method), "genalpha")
     assert not out.exists()  # refused before the output folder is made
 
 
-def test_auto_choosing_an_adaptive_method_refuses_dt_too(tmp_path, capsys):
+def test_auto_choosing_an_adaptive_method_refuses_dt_too(tmp_path, one_line):
     rc = main(["run", "--dt", "0.02", "--out", str(tmp_path / "o"), "--no-figures", "--json"])
     assert rc == 2
-    _one_line_error(capsys, "solver.dt", "'radau'")
+    one_line("solver.dt", "'radau'")
 
 
 def test_a_record_that_is_zero_everywhere_names_the_scene_and_field(tmp_path, capsys):
@@ -96,11 +88,11 @@ def test_a_misspelt_kept_field_fails_the_task_with_the_nearest_name():
         (["modes", "examples/scenes/isolated-shear-3storey.toml"], ["without a frame"]),
     ],
 )
-def test_a_scene_of_the_wrong_kind_is_named_as_such(tmp_path, capsys, argv, needles):
+def test_a_scene_of_the_wrong_kind_is_named_as_such(tmp_path, argv, needles, one_line):
     root = os.path.dirname(os.path.dirname(os.path.dirname(__file__)))
     argv = [os.path.join(root, a) if a.endswith(".toml") else a for a in argv]
     assert main([*argv, "--out", str(tmp_path / "o")]) == 2
-    _one_line_error(capsys, *needles)
+    one_line(*needles)
 
 
 def test_modes_of_a_scene_lists_the_frame_it_names(capsys, tmp_path):
@@ -167,10 +159,10 @@ def _study(tmp_path, tables: str):
     return study
 
 
-def test_a_study_step_for_an_adaptive_method_is_refused_before_it_starts(tmp_path, capsys):
+def test_a_study_step_for_an_adaptive_method_is_refused_before_it_starts(tmp_path, one_line):
     study = _study(tmp_path, '[base.solver]\nmethod = "radau"\ndt = 0.01\n')
     assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 2
-    _one_line_error(capsys, "solver.dt", "'radau'")
+    one_line("solver.dt", "'radau'")
 
 
 @pytest.mark.parametrize(
@@ -183,19 +175,19 @@ def test_a_study_step_for_an_adaptive_method_is_refused_before_it_starts(tmp_pat
         (["bench", "cylinder", "--repeats", "3"], ["--repeats", "'cylinder'"]),
     ],
 )
-def test_an_option_that_cannot_apply_is_refused_not_ignored(tmp_path, capsys, argv, needles):
+def test_an_option_that_cannot_apply_is_refused_not_ignored(tmp_path, argv, needles, one_line):
     try:
         status = main([*argv, "--out", str(tmp_path / "o")])
     except SystemExit as e:  # a usage error, found by the parser
         status = e.code
     assert status == 2
-    _one_line_error(capsys, *needles)
+    one_line(*needles)
     assert not (tmp_path / "o").exists()
 
 
-def test_a_folder_given_as_the_scene_is_named_as_a_folder(tmp_path, capsys):
+def test_a_folder_given_as_the_scene_is_named_as_a_folder(tmp_path, one_line):
     assert main(["run", str(tmp_path), "--out", str(tmp_path / "o")]) == 2
-    _one_line_error(capsys, f"{tmp_path}: a folder; expected a scene file")
+    one_line(f"{tmp_path}: a folder; expected a scene file")
 
 
 def _short_scene(tmp_path):
@@ -268,34 +260,34 @@ def _scene(name: str) -> str:
         (["uplift", "isolated-shear-3storey.toml"], ["[structure]: no contact rows"]),
     ],
 )
-def test_more_inputs_that_cannot_apply_are_refused(tmp_path, capsys, argv, needles):
+def test_more_inputs_that_cannot_apply_are_refused(tmp_path, argv, needles, one_line):
     argv = [_scene(a) if a.endswith(".toml") else a for a in argv]
     assert _status([*argv, "--out", str(tmp_path / "o")]) == 2
-    _one_line_error(capsys, *needles)
+    one_line(*needles)
 
 
-def test_a_file_of_another_kind_is_named_for_what_it_is(tmp_path, capsys):
+def test_a_file_of_another_kind_is_named_for_what_it_is(tmp_path, one_line):
     study = tmp_path / "s.toml"
     study.write_text('[study]\nname = "s"\n')
     assert main(["run", str(study)]) == 2
-    _one_line_error(capsys, "a study file", f"nsdyn study {study}")
+    one_line("a study file", f"nsdyn study {study}")
     assert main(["study", _scene("rocking-seed003-column.toml")]) == 2
-    _one_line_error(capsys, "a scene file, not a study", "nsdyn run")
+    one_line("a scene file, not a study", "nsdyn run")
     rec = tmp_path / "r.csv"
     rec.write_text("t,a\n0,0\n0.01,1\n")
     assert main(["run", str(rec)]) == 2
-    _one_line_error(capsys, "a ground-motion record", f"--record {rec}")
+    one_line("a ground-motion record", f"--record {rec}")
     bom = tmp_path / "bom.toml"  # a byte-order mark (some editors write one) is text
     bom.write_text('\ufeff[scene]\nname = "x"\n')
     assert read_toml(bom) == {"scene": {"name": "x"}}
 
 
-def test_a_pulse_given_twice_is_refused(tmp_path, capsys):
+def test_a_pulse_given_twice_is_refused(tmp_path, one_line):
     text = open(_scene("rocking-seed003-column.toml")).read()
     scene = tmp_path / "r.toml"
     scene.write_text(text.replace("a_p_g = 0.40", "a_p_g = 0.40\na_p = 3.0"))
     assert main(["run", str(scene), "--out", str(tmp_path / "o")]) == 2
-    _one_line_error(capsys, "give a_p or a_p_g, not both")
+    one_line("give a_p or a_p_g, not both")
 
 
 def test_a_failure_under_json_prints_a_json_object(tmp_path, capsys):
@@ -313,11 +305,11 @@ def test_resume_without_a_checkpoint_says_so(tmp_path, capsys):
     assert f"--resume: no checkpoint in {out}" in capsys.readouterr().err
 
 
-def test_a_design_reference_off_the_grid_is_refused(tmp_path, capsys):
+def test_a_design_reference_off_the_grid_is_refused(tmp_path, one_line):
     tables = '[analysis.design]\nobjectives = ["idr_max"]\nreference = { "isolation.mu" = 0.03 }\n'
     study = _study(tmp_path, tables)
     assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 2
-    _one_line_error(capsys, "analysis.design.reference.isolation.mu: 0.03 is not a value")
+    one_line("analysis.design.reference.isolation.mu: 0.03 is not a value")
 
 
 def test_a_deck_that_lifts_off_ends_with_status_3_and_a_zero_normal_force(tmp_path, capsys):
@@ -335,7 +327,7 @@ def test_a_deck_that_lifts_off_ends_with_status_3_and_a_zero_normal_force(tmp_pa
     "extra, field",
     [('units = "furlongs"', "motion.units"), ("dt = 0.02", "motion.dt"), ("", None)],
 )
-def test_a_record_error_names_the_scene_key_at_fault(tmp_path, capsys, extra, field):
+def test_a_record_error_names_the_scene_key_at_fault(tmp_path, extra, field, one_line):
     """A unit the reader does not know is the scene's motion.units; a dt that contradicts the
     record's time column (0.01 s) is its motion.dt; a record that cannot be read at all is
     its motion.record (the reader's error carries the keyword it blames)."""
@@ -344,4 +336,4 @@ def test_a_record_error_names_the_scene_key_at_fault(tmp_path, capsys, extra, fi
     scene = tmp_path / "s.toml"
     scene.write_text(f'[motion]\nrecord = "r.csv"\n{extra}\n')
     assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 2
-    _one_line_error(capsys, f"s.toml: {field or 'motion.record'}: ")
+    one_line(f"s.toml: {field or 'motion.record'}: ")

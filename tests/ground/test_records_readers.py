@@ -119,7 +119,7 @@ def test_single_column_with_dt(tmp_path):
     m = read_single_column(path, dt=0.005, units="m/s2")
     assert (m.n, m.dt) == (3, 0.005)
     np.testing.assert_array_equal(m.a_hor, [0.5, -1.5, 2.0])
-    with pytest.raises(RecordFileError, match="pass dt="):
+    with pytest.raises(RecordFileError, match=r"give the step dt \[s\]"):
         read_single_column(path, units="m/s2")
 
 

@@ -208,6 +208,6 @@ def test_bad_3d_frame_file_gives_one_line_naming_file_and_field(tmp_path, row):
         load_frame3d(p)
     msg = str(ei.value)
     assert "\n" not in msg
-    assert msg.startswith(f"{p.name}: ")
-    assert re.search(rf"^{re.escape(p.name)}: {field}: expected ", msg), msg
+    assert msg.startswith(f"{p}: ")
+    assert re.search(rf"^{re.escape(str(p))}: {field}: expected ", msg), msg
     assert re.search(needle, msg), msg

@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-from nsdyn._checks import expect, number
+from nsdyn._checks import expect, number, rel_tol
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kevent as ke
 from nsdyn.models.contact._kgeom import body_mode, contact_rows, mu_of, solve_contacts
@@ -183,8 +183,9 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
         hasattr(friction, "mu_s"),
         "a FrictionLaw (nsdyn.FrictionLaw(mu_s, mu_d))",
     )
-    for name, val in (("t_end", t_end), ("dt_out", dt_out), ("rtol", rtol), ("atol", atol)):
+    for name, val in (("t_end", t_end), ("dt_out", dt_out), ("atol", atol)):
         number(name, val, "a positive number", lambda v: v > 0)
+    rel_tol("rtol", rtol)
     if t_end / dt_out < 1.0:
         raise ValueError(f"dt_out: {dt_out:g} s is longer than the run (t_end = {t_end:g} s)")
     if motion is not None and not hasattr(motion, "jumps"):

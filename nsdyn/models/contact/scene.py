@@ -52,7 +52,7 @@ from nsdyn.atomic import atomic_open
 from nsdyn.ground import read_motion
 from nsdyn.models.contact.results import TILT_FLOOR, slenderness
 from nsdyn.models.contact.scene_keys import SCHEMA
-from nsdyn.models.scenefile import SceneError, check_fields, number, scaled_to_pga
+from nsdyn.models.scenefile import SceneError, check_fields, number, rel_tol, scaled_to_pga
 from nsdyn.models.tilt import scene_tilt
 
 _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
@@ -195,7 +195,7 @@ def build(cfg: dict, source: str):
         "method": method,
         "h": number(source, "solver.h", sv.get("h", 1e-3)),
         "theta": number(source, "solver.theta", sv.get("theta", 0.5)),
-        "rtol": number(source, "solver.rtol", sv.get("rtol", 1e-9)),
+        "rtol": rel_tol(source, "solver.rtol", sv.get("rtol", 1e-9)),
         "dt_out": number(source, "solver.dt_out", sv.get("dt_out", 0.005)),
         "e_n": e_n,
         "impact_law": impact_law,

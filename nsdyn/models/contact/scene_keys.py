@@ -7,7 +7,7 @@ scene-file reference is generated from it.
 
 from __future__ import annotations
 
-from nsdyn.models.scene_schema import Key, Schema, Table
+from nsdyn.models.scene_schema import REL_TOL, Key, Schema, Table
 
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
 _NONNEG = {"lo": 0.0}  # >= 0
@@ -156,7 +156,7 @@ SCHEMA = Schema(
                 ),
                 Key("h", "number", "Moreau–Jean step", "s", default=1e-3, **_POS),
                 Key("theta", "number", "Moreau–Jean θ", "—", default=0.5, lo=0.5, hi=1.0),
-                Key("rtol", "number", "event-driven tolerance", "—", default=1e-9, **_POS),
+                Key("rtol", "number", "event-driven tolerance", "—", default=1e-9, **REL_TOL),
                 Key("dt_out", "number", "output step", "s", default=0.005, **_POS),
             ),
         ),

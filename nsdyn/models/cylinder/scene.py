@@ -40,7 +40,7 @@ from nsdyn.models.cylinder.simulate import (
     simulate,
 )
 from nsdyn.models.cylinder.stresses import peak_stresses
-from nsdyn.models.scenefile import SceneError, check_fields, number
+from nsdyn.models.scenefile import SceneError, check_fields, number, rel_tol
 from nsdyn.models.tilt import scene_tilt
 
 TABLES = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
@@ -169,7 +169,7 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         raise SceneError(
             f"{source}: solver.method: expected one of {list(METHODS)}, got {method!r}"
         )
-    opts = {"rtol": number(source, "solver.rtol", so.get("rtol", RTOL))}
+    opts = {"rtol": rel_tol(source, "solver.rtol", so.get("rtol", RTOL))}
     opts["tilt"] = scene_tilt(mo, source)
     opts["azimuth0"] = number(source, "motion.azimuth0", mo.get("azimuth0", 0.0), positive=False)
     if p.foundation == "fixed" and any(opts["tilt"].values()):

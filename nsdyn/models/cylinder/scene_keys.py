@@ -8,7 +8,7 @@ scene-file reference is generated from it.
 
 from __future__ import annotations
 
-from nsdyn.models.scene_schema import Key, Schema, Table
+from nsdyn.models.scene_schema import REL_TOL, Key, Schema, Table
 
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
 _NONNEG = {"lo": 0.0}  # >= 0
@@ -187,7 +187,7 @@ SCHEMA = Schema(
             "solver",
             "The Dormand–Prince 5(4) integrator.",
             (
-                Key("rtol", "number", "relative tolerance", "—", default=1e-7, **_POS),
+                Key("rtol", "number", "relative tolerance", "—", default=1e-7, **REL_TOL),
                 Key("method", "string", "integrator", default="dopri5", choices=("dopri5",)),
             ),
         ),

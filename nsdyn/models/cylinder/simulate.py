@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from nsdyn._checks import expect, non_negative_int
+from nsdyn._checks import expect, non_negative_int, rel_tol
 from nsdyn._tabular import Tabular
 from nsdyn.ground import GroundMotion, modulated_white_noise
 from nsdyn.models.cylinder import _kernel as K
@@ -231,8 +231,7 @@ def simulate(
         raise ValueError("ag: contains non-finite values")
     if not dt > 0:
         raise ValueError(f"dt: expected a positive step, got {dt!r}")
-    if not 0 < rtol < 1:
-        raise ValueError(f"rtol: expected 0 < rtol < 1, got {rtol!r}")
+    rel_tol("rtol", rtol)
     n = ag.shape[0]
     if p.foundation == "fixed":
         return _fixed(p, ag, dt, t0)

@@ -350,17 +350,17 @@ def _advise(sysd, cfg, exc, kw, source: str, say) -> None:
 
 def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:
     """Run a 3D building scene; writes ``building3d.npz`` into ``out_dir``; the summary."""
-    w0 = time.perf_counter()
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     st = cfg.get("structure")
     fid = st.get("fidelity") if isinstance(st, dict) else None
+    exc, t_end = build_motion(cfg, source)  # their mistakes refused before a build of seconds
+    kw = build_solver(cfg, source)
     if fid in ("cb", "full", "auto"):  # a reduction or the damped modes: seconds before a run
         say(f"building3d: {name}: building the {fid} model…")
+    w0 = time.perf_counter()
     sysd = build_system(cfg, source, warm=True)
     sysd["build_s"] = time.perf_counter() - w0 - sysd.get("wait_s", 0.0)
-    exc, t_end = build_motion(cfg, source)
-    kw = build_solver(cfg, source)
     frame = sysd["frame"]
     say(f"building3d: {name}: {frame.name}, {len(frame.base_nodes)} column lines, "
         f"fidelity {sysd['fidelity']}, {getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip

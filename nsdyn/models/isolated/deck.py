@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._brief import brief_repr
+from nsdyn._checks import rel_tol
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
@@ -322,8 +323,7 @@ def kernel_params(
 
 def _check_run_options(rtol, atol, max_step, max_steps) -> None:
     """One-line errors for tolerances and step limits (rtol > 0, atol = (≥ 0, ≥ 0), ...)."""
-    if not (isinstance(rtol, int | float) and math.isfinite(rtol) and rtol > 0):
-        raise ValueError(f"rtol: expected a positive number, got {rtol!r}")
+    rel_tol("rtol", rtol)
     try:
         aq, av = (float(a) for a in atol)
     except (TypeError, ValueError):

@@ -46,7 +46,7 @@ from nsdyn.models.isolated.deck import (
     simulate_plane,
 )
 from nsdyn.models.isolated.defaults import EPS, ETA
-from nsdyn.models.scenefile import SceneError, check_fields, number
+from nsdyn.models.scenefile import SceneError, check_fields, number, rel_tol
 
 TABLES = {
     "scene": {"kind", "name"},
@@ -159,8 +159,9 @@ def build_solver(cfg: dict, source: str, unilateral: bool = False) -> dict:
         raise SceneError(f"{source}: solver.law: a triple friction pendulum (bearing.type = "
                          f"'tfp') runs with the regularised law 'arctan', got {law!r}")  # fmt: skip
     kw = {"law": law}
-    for key, default in (("eps", EPS), ("eta", ETA), ("rtol", RTOL)):
+    for key, default in (("eps", EPS), ("eta", ETA)):
         kw[key] = number(source, f"solver.{key}", t.get(key, default))
+    kw["rtol"] = rel_tol(source, "solver.rtol", t.get("rtol", RTOL))
     if "atol" in t:  # one number for both; else the law's (displacement, velocity) pair
         a = number(source, "solver.atol", t["atol"])
         kw["atol"] = (a, a)

@@ -10,7 +10,7 @@ behaviour both ways. ``[motion]`` is a three-component table read by
 from __future__ import annotations
 
 from nsdyn.models.isolated.defaults import EPS, ETA
-from nsdyn.models.scene_schema import Key, Schema, Table
+from nsdyn.models.scene_schema import REL_TOL, Key, Schema, Table
 
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
 _NONNEG = {"lo": 0.0}  # >= 0
@@ -169,7 +169,7 @@ SCHEMA = Schema(
                 default="switch", choices=("switch", "arctan")),
             Key("eps", "number", "sharpness ε of the arctan law", "s/m", default=EPS, **_POS),
             Key("eta", "number", "stick band η of the switch law", "m/s", default=ETA, **_POS),
-            Key("rtol", "number", "relative tolerance", "—", default=1e-6, **_POS),
+            Key("rtol", "number", "relative tolerance", "—", default=1e-6, **REL_TOL),
             Key("atol", "number", "absolute tolerance (displacements and velocities); default "
                 "1e-8 for both with the switch law, 1e-8 m and 1e-6 m/s with the arctan law",
                 "m, m/s", **_POS),

@@ -343,6 +343,14 @@ def export_opensees(
         system, step = scene, DEFAULT_DT
     else:
         if isinstance(scene, str | Path) and not Path(scene).is_file():
+            from nsdyn.structure import bundled_frames
+
+            if str(scene) in bundled_frames():
+                raise SceneError(
+                    f"{source}: a bundled plane frame, not a scene; a scene names it as "
+                    f'[scene] frame = "{source}" (the default scene is the office frame\'s: '
+                    "nsdyn export opensees with no scene)"
+                )
             raise SceneError(f"{source}: no such scene file")
         system, rec, step = _scene_system(scene, source)
         motion = rec if motion is None else motion

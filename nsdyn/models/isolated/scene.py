@@ -45,6 +45,8 @@ import copy
 import math
 from pathlib import Path
 
+import numpy as np
+
 from nsdyn.models.isolated.defaults import C_DAMPER, EPS, F_MAX, FRAME, K_LAM, MU
 from nsdyn.models.isolated.scene_keys import MOTION_RECORD, SCENE, SOLVER, checked_types
 from nsdyn.models.isolated.scene_structure import (
@@ -62,7 +64,7 @@ from nsdyn.models.isolated.system import (
     isolation_from_config,
 )
 from nsdyn.models.isolated.tolerances import RUN_RTOL
-from nsdyn.models.scenefile import SceneError, read_toml, scaled_to_pga, unknown_key
+from nsdyn.models.scenefile import SceneError, read_toml, rel_tol, scaled_to_pga, unknown_key
 
 DEFAULT_SCENE = {
     "scene": {"name": f"{FRAME} isolated", "frame": FRAME, "fidelity": "cb", "f_max": F_MAX},
@@ -166,6 +168,8 @@ def _check(cfg: dict, source: str) -> dict:
                 )
             if typ is float and val <= 0:
                 raise SceneError(f"{source}: {table}.{key}: expected a positive number, got {val}")
+            if (table, key) == ("solver", "rtol"):
+                rel_tol(source, "solver.rtol", val)
     sc = cfg.get("scene", {})
     if "fidelity" in sc and sc["fidelity"] not in FIDELITIES:
         raise SceneError(
@@ -246,6 +250,7 @@ def build_scene_run(cfg: dict):
                 "(examples/scenes/building3d-office-cb.toml)"
             ) from None
         system = _cached_system(frame, iso, sc.get("fidelity", "cb"), float(sc.get("f_max", F_MAX)))
+    _stands(system, cfg, source)
     if "force" in cfg:
         extra = {k: v for k, v in mo.items() if k != "t_end"}
         if extra:
@@ -279,6 +284,24 @@ def build_scene_run(cfg: dict):
         except ValueError as e:  # a t_end before the record's first sample
             raise SceneError(f"{source}: motion.t_end: {e}") from None
     return system, motion, {}
+
+
+def _stands(system, cfg: dict, source: str) -> None:
+    """SceneError when an isolator's normal force under gravity alone is not positive: the
+    structure cannot stand on its isolators (a base node missing, a mass off the base's
+    span), which no excitation changes; with ``[solver] uplift = "warn"`` it is let through."""
+    if not system.n_contacts or cfg.get("solver", {}).get("uplift", "raise") == "warn":
+        return
+    lam0 = system.static_equilibrium()[1]
+    bad = np.flatnonzero(~(lam0 > 0.0))
+    if bad.size:
+        where = (f"{source}: [structure]" if "structure" in cfg
+                 else f"{cfg['scene']['frame']} (the frame of {source})")  # fmt: skip
+        raise SceneError(
+            f"{where}: the normal force of isolator {int(bad[0])} under gravity alone "
+            f"is {lam0[bad[0]]:.4g} N, not positive: the structure cannot stand on its isolators "
+            "(check its base nodes, node positions and masses)"
+        )
 
 
 def _cached_system(frame, iso, fidelity: str, f_max: float, **kw):

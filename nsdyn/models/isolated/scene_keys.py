@@ -12,7 +12,7 @@ from __future__ import annotations
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated.defaults import ALPHA, BETA, C_DAMPER, EPS, ETA, F_MAX, K_LAM, MU
 from nsdyn.models.isolated.tolerances import RUN_ATOL, RUN_RTOL
-from nsdyn.models.scene_schema import Key, Schema, Table
+from nsdyn.models.scene_schema import REL_TOL, Key, Schema, Table
 
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
 _NONNEG = {"lo": 0.0}  # >= 0
@@ -242,7 +242,7 @@ SOLVER = Table(
             default="auto",
             choices=_METHODS,
         ),
-        Key("rtol", "number", "relative tolerance", "—", default=RUN_RTOL, **_POS),
+        Key("rtol", "number", "relative tolerance", "—", default=RUN_RTOL, **REL_TOL),
         Key(
             "atol",
             "number or pair",

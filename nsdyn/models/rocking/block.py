@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import expect
+from nsdyn._checks import expect, rel_tol
 from nsdyn.ground import G_EARTH, GroundMotion, Harmonic
 from nsdyn.ground.pulses import Pulse
 from nsdyn.models.rocking import _kblock as kb
@@ -189,13 +189,27 @@ def _excitation(excitation, t_end: float):
     )
 
 
+def restitution_of(model) -> float:
+    """The model's coefficient of restitution, or ValueError when the one from its shape is
+    not positive: Housner's ``1 - 1.5 sin² alpha`` is ≤ 0 for alpha ≥ 54.7° (a block with
+    width/height ≥ √2), whose impact in the model ends the rocking; r must then be given."""
+    r = model.restitution
+    if not 0.0 < r <= 1.0:
+        raise ValueError(
+            f"r: the coefficient of restitution from the shape is {r:.3g} (alpha = "
+            f"{math.degrees(model.alpha):.1f}°; Housner's 1 - 1.5 sin² alpha is positive only "
+            "for alpha < 54.7°, a block with width/height < √2): too squat to rock on; give r"
+        )
+    return r
+
+
 def model_params(model, tol: float, h_max: float | None, v_rest: float | None, theta_fall: float):
     """The kernel parameter vector of a block-like model."""
     par = np.zeros(kb.N_PAR)
     p = model.p
     par[kb.P_P2] = p * p
     par[kb.P_ALPHA] = model.alpha
-    par[kb.P_R] = model.restitution
+    par[kb.P_R] = restitution_of(model)
     par[kb.P_LINEAR] = 1.0 if model.linear else 0.0
     par[kb.P_G] = model.g
     par[kb.P_TOL] = tol
@@ -261,8 +275,7 @@ def simulate_rocking(
     )
     if not (t_end > t0):
         raise ValueError(f"t_end: expected > t0 = {t0}, got {t_end}")
-    if not (math.isfinite(tol) and tol > 0):
-        raise ValueError(f"tol: expected a positive relative tolerance, got {tol!r}")
+    rel_tol("tol", tol)
     if dt_out is not None and dt_out != 0 and not (math.isfinite(dt_out) and
                                                    0 < dt_out <= t_end - t0):  # fmt: skip
         raise ValueError(

@@ -48,7 +48,7 @@ from nsdyn.atomic import atomic_open
 from nsdyn.ground import G_EARTH, read_motion
 from nsdyn.ground.pulses import SHAPES, Pulse
 from nsdyn.models.rocking.scene_keys import SCHEMA
-from nsdyn.models.scenefile import SceneError, check_fields, number, scaled_to_pga
+from nsdyn.models.scenefile import SceneError, check_fields, number, rel_tol, scaled_to_pga
 from nsdyn.models.tilt import scene_tilt
 
 MODELS = ("block", "frame", "compliant")  # [scene] model
@@ -100,8 +100,8 @@ def build_model(cfg: dict, source: str):
         raise SceneError(f"{source}: block.linear: expected true or false, got {linear!r}")
     if model == "frame":
         gamma = number(source, "block.gamma", b.get("gamma", 0.0), allow_zero=True)
-        return RockingFrame(width=w, height=h, gamma=gamma, r=r, linear=linear, g=G_EARTH,
-                            column_mass=mass)  # fmt: skip
+        return _rocks(RockingFrame(width=w, height=h, gamma=gamma, r=r, linear=linear,
+                                   g=G_EARTH, column_mass=mass), source)  # fmt: skip
     if model == "compliant":
         if r is not None or linear:
             raise SceneError(f"{source}: block.r / block.linear: not used by the compliant model")
@@ -110,7 +110,18 @@ def build_model(cfg: dict, source: str):
         p = RockingBlock(width=w, height=h).p
         return CompliantBlock.from_frequency(width=w, height=h, mass=mass, omega_v=ratio * p,
                                              zeta=zeta)  # fmt: skip
-    return RockingBlock(width=w, height=h, r=r, linear=linear, g=G_EARTH, mass=mass)
+    return _rocks(RockingBlock(width=w, height=h, r=r, linear=linear, g=G_EARTH, mass=mass), source)
+
+
+def _rocks(model, source: str):
+    """``model``, or SceneError when the restitution from its shape is not positive."""
+    from nsdyn.models.rocking.block import restitution_of
+
+    try:
+        restitution_of(model)
+    except ValueError as e:
+        raise SceneError(f"{source}: block.{e}") from None
+    return model
 
 
 def build_motion(cfg: dict, source: str):
@@ -176,7 +187,7 @@ def build_solver(cfg: dict, source: str) -> tuple[float, float | None]:
     if method not in METHODS:
         raise SceneError(f"{source}: solver.method: rocking scenes use {list(METHODS)}, "
                          f"got {method!r}")  # fmt: skip
-    tol = number(source, "solver.tol", sv.get("tol", blk.TOL))
+    tol = rel_tol(source, "solver.tol", sv.get("tol", blk.TOL))
     dt_out = number(source, "solver.dt_out", sv["dt_out"]) if "dt_out" in sv else None
     return tol, dt_out
 

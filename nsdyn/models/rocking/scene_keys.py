@@ -7,7 +7,7 @@ scene-file reference is generated from it. Sizes are the full width 2B and heigh
 
 from __future__ import annotations
 
-from nsdyn.models.scene_schema import Key, Schema, Table
+from nsdyn.models.scene_schema import REL_TOL, Key, Schema, Table
 
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
 _NONNEG = {"lo": 0.0}  # >= 0
@@ -151,7 +151,7 @@ SCHEMA = Schema(
                     "relative tolerance (compliant: 10× this, at most 1e-6)",
                     "—",
                     default=1e-9,
-                    **_POS,
+                    **REL_TOL,
                 ),
                 Key(
                     "dt_out",
