@@ -105,3 +105,40 @@ def test_a_misspelt_public_name_suggests_the_closest():
         nsdyn.simulat  # noqa: B018
     with pytest.raises(AttributeError, match=r"no attribute 'zzzz'$"):
         nsdyn.zzzz  # noqa: B018
+
+
+# ---- inputs of the deck, orbit and record entry points -------------------------------------
+
+
+def test_an_orbit_as_a_dict_is_a_harmonic_plane():
+    """A dict is read as HarmonicPlane(**dict): the same defaults (φ_y = 90°), so the same
+    run bit for bit, and the same checks; an unknown key is named, not ignored."""
+    from nsdyn.ground.orbit import HarmonicPlane
+    from nsdyn.models.isolated.bearings import Bearing, Friction
+    from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
+
+    deck = sdof_plane(1000.0, Bearing(Friction(0.04, 0.07, rate=30.0), radius=2.2))
+    a = simulate_plane(deck, {"f": 0.5, "ax": 1.0, "ay": 1.0}, t_end=2.0)
+    b = simulate_plane(deck, HarmonicPlane(0.5, 1.0, 1.0), t_end=2.0)
+    assert np.array_equal(a.q, b.q) and np.array_equal(a.qd, b.qd)
+    with pytest.raises(ValueError, match="'a_x': no such field; did you mean 'ax'"):
+        simulate_plane(deck, {"f": 0.5, "a_x": 1.0}, t_end=2.0)
+    with pytest.raises(ValueError, match="ax: expected an amplitude >= 0"):
+        simulate_plane(deck, {"f": 0.5, "ax": -1.0}, t_end=2.0)
+    with pytest.raises(ValueError, match="a harmonic orbit has no natural end"):
+        simulate_plane(deck, HarmonicPlane(0.5, 1.0))
+    assert sdof_plane(np.float32(1000.0), deck.bearings[0]).m == 1000.0  # numpy's numbers
+
+
+def test_records_and_starts_that_cannot_run_are_input():
+    from nsdyn.models.isolated.scene import build_scene, load_scene
+    from nsdyn.structure import fixed_base_modes_3d, load_frame3d
+
+    system, motion = build_scene(load_scene())
+    with pytest.raises(ValueError, match="a record of 1 sample spans no time"):
+        nsdyn.simulate(system, nsdyn.GroundMotion(0.0, 0.01, np.ones(1)))
+    with pytest.raises(ValueError, match="x0: expected finite numbers"):
+        nsdyn.simulate(system, motion, x0=np.full(2 * system.n, np.nan), t_end=1.0)
+    for bad in (2.5, "12", True):
+        with pytest.raises(ValueError, match="n_modes: expected an integer >= 1"):
+            fixed_base_modes_3d(load_frame3d("portal-3d"), n_modes=bad)

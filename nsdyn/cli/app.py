@@ -247,7 +247,15 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``nsdyn`` script; returns the exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
-    _JSON[0] = "--json" in argv
+    # --json, or an abbreviation argparse accepts (--js); reset when main returns
+    _JSON[0] = any(len(a) > 2 and "--json".startswith(a) for a in argv)
+    try:
+        return _main(argv)
+    finally:
+        _JSON[0] = False
+
+
+def _main(argv: list[str]) -> int:
     only = argv[0] if argv and argv[0] in COMMANDS else ""  # no command: configure none
     parser = build_parser(only)
     if not argv:  # `nsdyn` alone: one line, every command named

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.bench.common import DEFAULT_OUT, RECORDS, REPEATS
-from nsdyn.cli.args import EXIT_USER_ERROR, fail, out_dir, positive_int
+from nsdyn.cli.args import fail, out_dir, positive_int
 
 __all__ = ["configure", "main", "run"]
 
@@ -189,9 +189,9 @@ def run(args: argparse.Namespace) -> int:
         try:
             module = load_benchmark(what)
         except BenchmarkUnavailable as e:
-            print(f"nsdyn bench: {e}", file=sys.stderr)
             if args.what != "all":
-                return EXIT_USER_ERROR
+                return fail(args, e)
+            print(f"nsdyn bench: {e}", file=sys.stderr)
             summary[what] = {"status": "unavailable", "reason": str(e)}
             status = status if e.absent else EXIT_UNAVAILABLE
             continue

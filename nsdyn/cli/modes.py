@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -117,7 +118,12 @@ def _scene_frame(arg: str) -> str:
 def run(args: argparse.Namespace) -> int:
     from nsdyn.structure import is_frame3d
 
-    args.frame = _scene_frame(str(args.frame))
+    given = str(args.frame)
+    args.frame = _scene_frame(given)
+    if args.frame != given:  # a scene: its frame alone, as the frame file defines it
+        print(f"nsdyn modes: note: the fixed-base modes of {args.frame}, the frame {given} "
+              "names, as its frame file defines it (without the scene's eccentricity, "
+              "bearings or mode count)", file=sys.stderr)  # fmt: skip
     if is_frame3d(args.frame):
         return _run3d(args)
     frame = load_frame(args.frame)

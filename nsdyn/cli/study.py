@@ -106,6 +106,18 @@ def failures(study, rows: list[dict]) -> list[dict]:
     return out
 
 
+def never_kept(study, rows: list[dict]) -> list[str]:
+    """Notes for the names of ``study.keep`` that no finished task's run summary had (a
+    misspelt name; the first such row's note names the nearest field), one per name."""
+    ok = [r for r in rows if r.get("status") == "ok"]
+    out = []
+    for k in study.keep or ():
+        if ok and all(r.get(k) is None for r in ok):
+            note = next((r["error"] for r in ok if repr(k) in (r.get("error") or "")), "")
+            out.append(note or f"study.keep: {k!r} is in no task's run summary")
+    return out
+
+
 def _failure_lines(failed: list[dict], table: str) -> list[str]:
     lines = [f"failed  {f['task']}: {f['error']}" for f in failed[:MAX_FAILED_LINES]]
     if len(failed) > MAX_FAILED_LINES:
@@ -169,6 +181,7 @@ def run(args: argparse.Namespace) -> int:
     summary = res.as_dict()
     failed = failures(study, res.table.rows)
     summary["failed"] = [{"index": f["index"], "error": f["error"]} for f in failed]
+    summary["never_kept"] = never_kept(study, res.table.rows)
     if args.parquet:
         summary["parquet"] = str(res.table.to_parquet(out / "results.parquet"))
     an = run_analyses(study, res.table, out, figures=not args.no_figures)
@@ -179,4 +192,6 @@ def run(args: argparse.Namespace) -> int:
     print(_format(study.name, summary, an))
     for line in _failure_lines(failed, summary["table"]):
         print(line, file=sys.stderr)
+    for note in summary["never_kept"]:  # every cell of that column is empty
+        print(f"nsdyn study: warning: no task has it: {note}", file=sys.stderr)
     return status

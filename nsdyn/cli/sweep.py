@@ -43,7 +43,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         default=None,
         metavar="A1,A2,...",
         help=f"excitation amplitudes A_hor [m/s^2] (default {DEFAULT_AMPLITUDES}; deck "
-        "scenes: the orbit's amplitude, its shape kept)",
+        "scenes: the orbit's amplitude, its shape kept; a scene's harmonic [force]: its "
+        "amplitude [N])",
     )
     p.add_argument("--fmin", type=_positive, default=None, metavar="HZ",
                    help="default 0.01 (deck scenes: f0/4, f0 the orbit's frequency)")  # fmt: skip
@@ -176,7 +177,6 @@ def run(args: argparse.Namespace) -> int:
                 f"{args.scene}: scene.kind: sweeps take isolated, deck and "
                 f"building3d scenes, got {kind!r}",
             )
-    args.amplitudes = args.amplitudes or _amplitude_list(DEFAULT_AMPLITUDES)
     args.fmin = 0.01 if args.fmin is None else args.fmin
     args.fmax = 10.0 if args.fmax is None else args.fmax
     args.points = 150 if args.points is None else args.points
@@ -187,6 +187,10 @@ def run(args: argparse.Namespace) -> int:
         return fail(args, e)
     if cfg["scene"].get("fidelity", "cb") == "fixed":
         return fail(args, "the fixed-base model is linear; use an isolated fidelity")
+    force = cfg.get("force", {})
+    if not args.amplitudes and "amplitude" in force:  # a force scene: its amplitude [N]
+        args.amplitudes = [abs(float(force["amplitude"]))]
+    args.amplitudes = args.amplitudes or _amplitude_list(DEFAULT_AMPLITUDES)
     friction = args.friction or cfg.get("isolation", {}).get("law", "arctan")
     if not args.fmax > args.fmin:
         return fail(args, f"--fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})")

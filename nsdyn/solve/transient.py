@@ -170,6 +170,9 @@ def output_grid(
                 f"{type(motion).__name__} has no natural end: give the duration, t_end=... [s] "
                 "or n_periods=..."
             )
+        if not t_end > t0:
+            raise ValueError(f"motion: a record of {getattr(motion, 'n', 1)} sample spans no "
+                             "time; give a record of two samples or more")  # fmt: skip
     if dt_out is not None and not (np.isfinite(dt_out) and dt_out > 0):
         raise ValueError(f"dt_out: expected a positive output step [s], got {dt_out!r}")
     dt = dt_out or getattr(motion, "dt", None) or (T / HARMONIC_SAMPLES if T else None)
@@ -394,6 +397,8 @@ def simulate(
         x0 = np.asarray(x0, dtype=float).reshape(-1)
         if x0.size != 2 * system.n:
             raise ValueError(f"x0: expected [q, qd] of length {2 * system.n}, got {x0.size}")
+        if not np.all(np.isfinite(x0)):
+            raise ValueError("x0: expected finite numbers, got NaN or inf")
     ts, xs = [t_eval[:1]], [x0[None, :]]
     k0 = 0
     carry = Carry()  # what each chunk hands to the next (and a checkpoint to a resumed run)

@@ -153,8 +153,8 @@ def fixed_base_modes_3d(
     i = np.setdiff1d(np.arange(frame.n_red), b)
     Kii, Mii = K[i][:, i], M[i][:, i]
     n = len(i)
-    if n_modes < 1:
-        raise ValueError("n_modes must be >= 1")
+    if isinstance(n_modes, bool) or not isinstance(n_modes, int | np.integer) or n_modes < 1:
+        raise ValueError(f"n_modes: expected an integer >= 1, got {n_modes!r}")
     k = min(n_modes, n)
     dense = method == "dense" or (method == "auto" and n <= DENSE_MAX) or k >= n - 1
     lam, V = _eig_dense(Kii, Mii, k) if dense else _eig_sparse(Kii, Mii, k)

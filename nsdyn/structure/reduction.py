@@ -167,26 +167,30 @@ def _count_below(K, M, w2) -> int | None:
     return int(np.count_nonzero(lu.U.diagonal() < 0))
 
 
-def _interior_modes(Kii, Mii, f_max, n_modes, dense_max=DENSE_MAX):
+def _interior_modes(Kii, Mii, f_max, n_modes, dense_max=None):
     """Lowest eigenpairs of ``Kii phi = w^2 Mii phi``, mass-normalised, by f_max / count;
-    dense up to ``dense_max`` internal dofs, else sparse shift-invert Lanczos."""
+    dense up to ``dense_max`` internal dofs (default :data:`DENSE_MAX`, read at the call),
+    else sparse shift-invert Lanczos."""
     n = Kii.shape[0]
+    dense_max = DENSE_MAX if dense_max is None else dense_max
     w2_max = (2 * np.pi * f_max) ** 2 if f_max is not None and np.isfinite(f_max) else np.inf
-    if n <= dense_max or (n_modes is None and not np.isfinite(w2_max)):
-        lam, V = sla.eigh(_dense(Kii), _dense(Mii))
-    else:
+    sparse_ok = n > dense_max and (n_modes is not None or np.isfinite(w2_max))
+    if sparse_ok:
         Kii, Mii = sp.csc_array(Kii), sp.csc_array(Mii)
         below = _count_below(Kii, Mii, w2_max) if n_modes is None else None
         k0 = n_modes if n_modes is not None else EIGSH_K0 if below is None else below + 1
-        k = min(n - 1, max(k0 + EIGSH_PAD, 1))
-        while True:
+        k = max(k0 + EIGSH_PAD, 1)
+        while k < n - 1:  # eigsh takes k < n; (nearly) every pair is a dense solve's work
             lam, V = spla.eigsh(Kii, k=k, M=Mii, sigma=0.0, which="LM", v0=lanczos_start(n))
             order = np.argsort(lam)
             lam, V = lam[order], V[:, order]
-            done_count = n_modes is not None and len(lam) >= n_modes
-            if (done_count or lam[-1] > w2_max) or k >= n - 1:
+            if (n_modes is not None and len(lam) >= n_modes) or lam[-1] > w2_max:
                 break
-            k = min(n - 1, 2 * k)
+            k *= 2
+        else:
+            sparse_ok = False
+    if not sparse_ok:
+        lam, V = sla.eigh(_dense(Kii), _dense(Mii))
     keep = lam <= w2_max
     if n_modes is not None:
         keep &= np.arange(len(lam)) < n_modes

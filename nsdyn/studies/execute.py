@@ -31,7 +31,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 
 from nsdyn._brief import brief_repr
-from nsdyn.studies.scenes import KeepError, run_batch
+from nsdyn.studies.scenes import run_batch
 from nsdyn.studies.study import Study
 from nsdyn.studies.table import ResultsStore, Table
 from nsdyn.studies.tasks import Task, batch_size, batches, expand
@@ -161,8 +161,6 @@ def run_study(
                     b, retried = pending.pop(f)
                     try:
                         rows = f.result()
-                    except KeepError:  # a name of study.keep no run summary has: bad input
-                        raise
                     except Exception as e:  # the worker, not the task, failed
                         broken |= isinstance(e, BrokenProcessPool)
                         why = " ".join(f"worker lost: {type(e).__name__}: {e}".split())[:400]

@@ -326,33 +326,33 @@ def _cell(v):
     return json.dumps(v)
 
 
-class KeepError(SceneError):
-    """A name of ``study.keep`` that the scene's run summary lacks: an input error of the
-    study, the same for every task of its scene, so it ends the study (status 2) at the first
-    task that meets it instead of failing each task after its run."""
-
-
 def result_columns(summary: dict, keep, source: str = "<study>") -> dict:
-    """The kept fields of a summary: ``keep`` (any type, non-scalars as JSON) or every scalar."""
+    """The kept fields of a summary: ``keep`` (any type, non-scalars as JSON; a name this
+    summary lacks an empty cell, see :func:`missing_kept`) or every scalar."""
     if keep is None:
         return {
             k: _cell(v)
             for k, v in summary.items()
             if v is None or isinstance(v, bool | int | float | str)
         }
-    missing = [k for k in keep if k not in summary]
-    if missing:  # a misspelt name: the task says so (a column of None would hide it)
-        import difflib
+    return {k: _cell(summary[k]) if k in summary else None for k in keep}
 
-        hints = []
-        for k in missing:
-            close = difflib.get_close_matches(k, list(summary), n=1)
-            hints.append(f"{k!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
-        raise KeepError(
-            f"{source}: study.keep: {', '.join(hints)} not in this scene's run summary; its "
-            f"fields: {', '.join(sorted(summary))}"
-        )
-    return {k: _cell(summary[k]) for k in keep}
+
+def missing_kept(summary: dict, keep, source: str = "<study>") -> str:
+    """A note naming the names of ``keep`` this summary lacks, each with its nearest field
+    (a misspelt name, or a field of another rung or scene kind of the study: a rigid deck's
+    summary has no corner drift), or "" when it has them all."""
+    missing = [k for k in keep or () if k not in summary]
+    if not missing:
+        return ""
+    import difflib
+
+    hints = []
+    for k in missing:
+        close = difflib.get_close_matches(k, list(summary), n=1)
+        hints.append(f"{k!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
+    return (f"{source}: study.keep: {', '.join(hints)} not in this task's run summary (an "
+            f"empty cell); its fields: {', '.join(sorted(summary))}")  # fmt: skip
 
 
 def run_task(task) -> dict:
@@ -362,9 +362,8 @@ def run_task(task) -> dict:
     try:
         s = run_scene_summary(task.cfg, task.source)
         row.update(result_columns(s, task.keep, task.source))
-        row["status"], row["error"] = "ok", ""
-    except KeepError:  # the study's input, not this task: it ends the study
-        raise
+        note = missing_kept(s, task.keep, task.source)  # the cell is empty, and says why
+        row["status"], row["error"] = "ok", note[:ERROR_CHARS]
     except Exception as e:  # a failing task is a result, not the end of the study
         msg = " ".join(f"{type(e).__name__}: {e}".split())
         row["status"], row["error"] = "failed", msg[:ERROR_CHARS]

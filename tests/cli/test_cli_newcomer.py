@@ -71,11 +71,16 @@ def test_options_may_come_before_a_command_s_positionals():
     assert not extra and args.scene == "scene.toml" and args.t_end == 2.0
 
 
-def test_a_misspelt_kept_field_fails_the_task_with_the_nearest_name():
+def test_a_kept_field_a_summary_lacks_is_an_empty_cell_with_the_nearest_name():
+    from nsdyn.studies.scenes import missing_kept
+
     summary = {"x_iso_max_m": 0.1, "idr_max": 1e-3}
     assert result_columns(summary, ["idr_max"]) == {"idr_max": 1e-3}
-    with pytest.raises(ValueError, match=r"'x_iso_mx_m' \(did you mean 'x_iso_max_m'\?\)"):
-        result_columns(summary, ["x_iso_mx_m", "idr_max"], "s.toml")
+    assert missing_kept(summary, ["idr_max"]) == ""
+    cols = result_columns(summary, ["x_iso_mx_m", "idr_max"], "s.toml")
+    assert cols == {"x_iso_mx_m": None, "idr_max": 1e-3}
+    note = missing_kept(summary, ["x_iso_mx_m", "idr_max"], "s.toml")
+    assert note.startswith("s.toml: study.keep: 'x_iso_mx_m' (did you mean 'x_iso_max_m'?)")
 
 
 @pytest.mark.parametrize(

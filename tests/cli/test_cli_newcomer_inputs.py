@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 from nsdyn.cli import main
+from nsdyn.cli.app import build_parser
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "examples" / "scenes"
@@ -81,6 +82,12 @@ def test_json_reports_usage_and_command_errors_too(capsys):
     assert out == {"status": 2, "error": "--fmax (1) must exceed --fmin (2)"}
     assert main(["uplift", "no-such-scene.toml", "--json"]) == 2
     assert json.loads(capsys.readouterr().out)["status"] == 2
+    with pytest.raises(SystemExit):  # an abbreviation argparse accepts counts as --json
+        main(["run", "--pga", "-1", "--js"])
+    assert json.loads(capsys.readouterr().out)["status"] == 2
+    with pytest.raises(SystemExit):  # and nothing of it stays for the next command line
+        build_parser("run").parse_args(["run", "--pga", "-1"])
+    assert capsys.readouterr().out == ""
 
 
 @pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux's /proc")
@@ -103,15 +110,6 @@ def _study(tmp_path: Path, keep: list[str], analysis: str = "") -> Path:
     return p
 
 
-def test_a_misspelt_keep_ends_the_study_with_no_row_written(tmp_path, one_line):
-    study = _study(tmp_path, ["x_iso_maxx", "idr_max"])
-    out = tmp_path / "out"
-    assert main(["study", str(study), "--out", str(out)]) == 2
-    err = one_line("study.keep: 'x_iso_maxx' (did you mean 'x_iso_max_m'?)")
-    assert str(study) in err
-    assert not list(out.glob("*.csv")) if out.exists() else True
-
-
 def test_a_constraint_on_a_result_not_kept_says_to_keep_it(tmp_path, one_line):
     analysis = '[analysis.design]\nobjectives = ["idr_max"]\nconstraints = { x_iso_max_m = 0.4 }\n'
     study = _study(tmp_path, ["idr_max"], analysis)
@@ -119,16 +117,21 @@ def test_a_constraint_on_a_result_not_kept_says_to_keep_it(tmp_path, one_line):
     one_line("'x_iso_max_m' is a result the study does not keep", "study.keep")
 
 
-@pytest.mark.parametrize("width, rocks", [(1.41, True), (1.42, False)])
+@pytest.mark.parametrize(
+    "model, width, rocks", [("block", 1.41, True), ("block", 1.42, False), ("frame", 1.2, False)]
+)
 def test_a_block_too_squat_for_housner_restitution_is_refused(
-    tmp_path, capsys, width, rocks, one_line
+    tmp_path, capsys, model, width, rocks, one_line
 ):
     """Housner's r = 1 - 1.5 sin² alpha (seed 003) is positive only for tan alpha =
-    width/height < √2 = 1.41421...; beyond, the run would use a negative r."""
+    width/height < √2 = 1.41421...; beyond, the run would use a negative r. A rocking frame's
+    r_f = (1 - 1.5 sin² alpha + 3 gamma cos 2 alpha)/(1 + 3 gamma) (seed 003) with gamma = 1
+    is (1 - 1.5 sin² 50.2° + 3 cos 100.4°)/4 = -0.107 < 0 for width/height 1.2."""
     scene = tmp_path / "squat.toml"
+    gamma = "gamma = 1.0\n" if model == "frame" else ""
     scene.write_text(
-        '[scene]\nkind = "rocking"\nmodel = "block"\n'
-        f"[block]\nwidth = {width}\nheight = 1.0\n"
+        f'[scene]\nkind = "rocking"\nmodel = "{model}"\n'
+        f"[block]\nwidth = {width}\nheight = 1.0\n{gamma}"
         '[motion]\npulse = "sine"\na_p_g = 2.0\nf_p = 1.0\nt_end = 0.5\n'
     )
     rc = main(["run", str(scene), "--out", str(tmp_path / "o"), "--no-figures"])
@@ -140,17 +143,46 @@ def test_a_block_too_squat_for_housner_restitution_is_refused(
         one_line(str(scene), "block.r:", "give r")
 
 
+OVERHANG = """[frame]
+name = "overhang"
+kind = "explicit"
+nodes = [[0.0, 0.0], [6.0, 0.0], [0.0, 2.0], [0.0, 4.0], [3.0, 4.0], [6.0, 4.0], [6.0, 2.0],
+         [12.0, 4.0]]
+elements = [[0, 2, 0], [2, 3, 0], [3, 4, 1], [4, 5, 1], [1, 6, 0], [6, 5, 0], [5, 7, 1]]
+base_nodes = [0, 1]
+node_mass = [0.0, 0.0, 0.0, 1000.0, 1000.0, 1000.0, 0.0, 9000.0]
+zeta = [0.02]
+[[frame.sections]]
+E = 2.1e11
+A = 0.0149
+I = 2.517e-4
+rho_A = 117.0
+[[frame.sections]]
+E = 2.1e11
+A = 0.00845
+I = 2.313e-4
+rho_A = 66.3
+"""
+
+
 def test_a_frame_that_cannot_stand_on_its_isolators_is_input_not_uplift(tmp_path, one_line):
-    """One base node under a two-column portal: the static normal force under gravity is not
-    positive, which no excitation changes (exit 2 naming the frame file, not exit 3)."""
-    text = (ROOT / "frames" / "portal.toml").read_text()
-    lines = [ln for ln in text.splitlines() if not ln.startswith("base_nodes")]
-    i = lines.index("[frame]") + 1
-    frame = tmp_path / "one-foot.toml"
-    frame.write_text("\n".join([*lines[:i], "base_nodes = [0]", *lines[i:]]) + "\n")
+    """A portal with a 9 t mass 6 m beyond its right foot: by statics (moments about the right
+    foot, x = 6 m) the left isolator pulls, N_0 = -g Σ m_i (x_i - 6)/6 over the node masses
+    and the members' own (columns 2 x 468 kg at x = 0 and 6, beams 397.8 kg at x = 3 and 9):
+    -42 192 kg m / 6 m x g. With the default contact that is input (exit 2, naming the frame
+    file), not an uplift at t = 0; a bilateral contact holds it down and is let through."""
+    from nsdyn.ground.excitation import G_EARTH
+    from nsdyn.models.isolated.scene import build_scene, load_scene
+
+    frame = tmp_path / "overhang.toml"
+    frame.write_text(OVERHANG)
     rc = main(["run", "--frame", str(frame), "--out", str(tmp_path / "o"), "--no-figures"])
     assert rc == 2
-    one_line(str(frame), "under gravity alone", "cannot stand")
+    err = one_line(str(frame), "under gravity alone", "cannot stand")
+    n0 = float(err.split("is ")[1].split(" N")[0])
+    assert n0 == pytest.approx(-42192.0 / 6.0 * G_EARTH, rel=2e-3)  # 4 digits printed
+    build_scene(load_scene(None, {"scene": {"frame": str(frame)},
+                                  "isolation": {"contact": "bilateral"}}))  # fmt: skip
 
 
 def test_misplaced_fields_and_files_are_named_as_what_they_are(tmp_path, one_line):
@@ -171,3 +203,23 @@ def test_a_large_closure_says_what_it_measures():
 
     assert _closure_cell(0.5 * CLOSURE_NOTE) == f"{0.5 * CLOSURE_NOTE:.2e}"
     assert "dt_out" in _closure_cell(2 * CLOSURE_NOTE)
+
+
+def test_a_force_scene_sweeps_its_own_force_amplitude(tmp_path, capsys):
+    """The Coulomb oscillator's 1 635 N exceeds its friction capacity μ m g = 0.05 x 9 810 N
+    = 490.5 N, so it slips at every frequency (the default amplitudes, read as N, would
+    never)."""
+    import json
+
+    scene = SCENES / "isolated-coulomb-force.toml"
+    rc = main(["sweep", str(scene), "--points", "3", "--out", str(tmp_path), "--json"])
+    assert rc == 0
+    (amp,) = json.loads(capsys.readouterr().out)["amplitudes"]
+    assert amp["A"] == 1635.0 and amp["x_iso_max_m"] > 0.0
+
+
+def test_modes_of_a_scene_says_it_lists_the_bare_frame(tmp_path, capsys):
+    scene = SCENES / "building3d-office-fixed.toml"
+    assert main(["modes", str(scene), "--out", str(tmp_path), "--json"]) == 0
+    err = capsys.readouterr().err
+    assert f"the fixed-base modes of office-11-3d, the frame {scene} names" in err

@@ -159,6 +159,19 @@ def test_sparse_shift_invert_path_matches_dense(office, office_km, monkeypatch):
     assert f6 == pytest.approx(dense_f[:6], rel=1e-8)
 
 
+def test_every_mode_below_f_max_is_returned_when_that_is_all_of_them(office, office_km,
+                                                                      monkeypatch):  # fmt: skip
+    # Source: the interior problem has exactly n eigenpairs; eigsh takes k < n, so a request
+    # for all of them must reach them another way (the dense solve), not stop at n - 1.
+    K, M = office_km
+    n = K.shape[0] - len(office.boundary_dofs)
+    dense_f, _ = fixed_base_modes(K, M, office.boundary_dofs, f_max=1e9)
+    assert len(dense_f) == n
+    monkeypatch.setattr(red, "DENSE_MAX", 10)  # the sparse path's turn
+    f, _ = fixed_base_modes(K, M, office.boundary_dofs, f_max=1e9)
+    assert len(f) == n and f == pytest.approx(dense_f, rel=1e-12)
+
+
 def test_sparse_modes_are_the_same_on_every_call(office, office_km, monkeypatch):
     # the shift-invert Lanczos solve starts from a fixed generic vector
     # (reduction.lanczos_start): with ARPACK's own random start two solves of one model

@@ -60,3 +60,38 @@ def test_design_search_example_quick(tmp_path):
             and (q["idr_max"] < p["idr_max"] or q["floor_acc_max_mps2"] < p["floor_acc_max_mps2"])
             for q in feas
         )
+
+
+def test_a_study_over_rungs_keeps_each_rungs_fields(tmp_path, capsys):
+    """The incidence example keeps fields of two rungs (the rigid deck's resultant slip and
+    torsion, the fixed frame's corner drift and torsional moment): every task runs, a field
+    its rung's summary lacks is an empty cell whose row says so, and no warning is given
+    since each kept name is some task's."""
+    from nsdyn.cli import main
+
+    out = tmp_path / "inc"
+    assert main(["study", str(EXAMPLES / "studies" / "office-3d-incidence.toml"),
+                 "--out", str(out), "--no-figures"]) == 0  # fmt: skip
+    assert "warning" not in capsys.readouterr().err
+    rows = read_csv(out / "results.csv")
+    assert len(rows) == 52 and all(r["status"] == "ok" for r in rows)
+    for r in rows:
+        own, other = (
+            ("peak_resultant_displacement_m", "peak_corner_drift")
+            if r["structure.fidelity"] == "rigid"
+            else ("peak_corner_drift", "peak_resultant_displacement_m")
+        )
+        assert r[own] is not None and r[own] > 0
+        assert r.get(other) is None and repr(other) in r["error"]  # an empty cell, said why
+
+
+def test_a_kept_name_no_task_has_is_warned_with_the_nearest_field(tmp_path, capsys):
+    from nsdyn.cli import main
+
+    study = tmp_path / "s.toml"
+    study.write_text('[study]\nname = "s"\nkeep = ["x_iso_maxx", "idr_max"]\n'
+                     '[base.motion]\npga = 3.0\nt_end = 1.0\n'
+                     '[parameters]\n"isolation.mu" = [0.02, 0.05]\n')  # fmt: skip
+    assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 0
+    err = capsys.readouterr().err
+    assert "warning: no task has it" in err and "did you mean 'x_iso_max_m'?" in err

@@ -27,6 +27,7 @@ from matrices have them: :mod:`nsdyn.models.isolated.pairs`).
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -81,8 +82,10 @@ class PlaneSystem:
     def __post_init__(self) -> None:
         for k in ("m", "J"):
             v = getattr(self, k)
-            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+            real = isinstance(v, numbers.Real) and not isinstance(v, bool)  # numpy's too
+            if not (real and math.isfinite(v) and v > 0):
                 raise BearingError(f"{self.name}.{k}: expected a positive number, got {v!r}")
+            object.__setattr__(self, k, float(v))
         pos = np.asarray(self.positions, dtype=float)
         if pos.ndim != 2 or pos.shape[1] != 2 or pos.shape[0] < 1 or not np.all(np.isfinite(pos)):
             raise BearingError(f"{self.name}.positions: expected finite (X, Y) pairs [m], "
@@ -212,16 +215,40 @@ def _attr(obj, name, default=None):
     return getattr(obj, name, default)
 
 
+def _orbit_of(d: dict):
+    """A harmonic orbit given as a dict: ``HarmonicPlane(**d)``, its defaults (φ_y = 90°) and
+    checks, an unknown key refused with the nearest field's name."""
+    import dataclasses
+    import difflib
+
+    from nsdyn.ground.orbit import HarmonicPlane
+
+    names = [f.name for f in dataclasses.fields(HarmonicPlane)]
+    for k in d:
+        if k not in names:
+            close = difflib.get_close_matches(str(k), names, n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise ValueError(f"harmonic orbit: {k!r}: no such field{hint} (the fields of "
+                             f"nsdyn.HarmonicPlane: {', '.join(names)})")  # fmt: skip
+    try:
+        return HarmonicPlane(**{"ax": 0.0, **d})  # a dict may leave out a component
+    except ValueError as e:
+        raise ValueError(f"harmonic orbit: {str(e).removeprefix('HarmonicPlane.')}") from None
+
+
 def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
     """(kind, gp, table (3, n), duration) of a ground description.
 
     ``ground``: an object with ``t0, dt, ax, ay, az`` (a three-component record, az may be
-    None), a harmonic orbit with ``f, ax, ay, phase_y_deg, az, f_z, phase_z_deg`` (object or
-    dict; a_x = A_x sin ωt, a_y = A_y sin(ωt + φ_y), a_z = A_z sin(ω_z t + φ_z), checked
-    against its ``accel(t)`` when it has one), or raw arrays ``(t0, dt, ax, ay, az)``.
+    None), a harmonic orbit with ``f, ax, ay, phase_y_deg, az, f_z, phase_z_deg`` (object, or
+    dict read as ``HarmonicPlane(**dict)`` with its defaults and checks; a_x = A_x sin ωt,
+    a_y = A_y sin(ωt + φ_y), a_z = A_z sin(ω_z t + φ_z), checked against its ``accel(t)``
+    when it has one), or raw arrays ``(t0, dt, ax, ay, az)``.
     """
     gp = np.zeros(kp.N_GP)
     gp[kp.GP_DT] = 1.0
+    if isinstance(ground, dict) and "f" in ground:
+        ground = _orbit_of(ground)
     if isinstance(ground, tuple):
         t0, dt, ax, ay, az = ground
         ground = {"t0": t0, "dt": dt, "ax": ax, "ay": ay, "az": az}
@@ -343,6 +370,9 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
     (default: the record's duration ``dur``) unless ``t_eval`` is given; the largest step
     defaults to the record's step or 1/20 of the shorter period."""
     if t_eval is None:
+        if t_end is None and not math.isfinite(dur):
+            raise ValueError("t_end: a harmonic orbit has no natural end: give the duration, "
+                             "t_end=... [s]")  # fmt: skip
         t_end = dur if t_end is None else float(t_end)
         if not (math.isfinite(t_end) and t_end > 0):
             raise ValueError(f"t_end: expected a positive duration [s], got {t_end}")

@@ -194,6 +194,9 @@ def simulate_pairs_sparse(
     coef = genalpha_coefficients(rho_inf)
     am, af, be, ga = coef
     gk, gp, tab, dur = pack_ground(ground)
+    if t_end is None and not math.isfinite(dur):
+        raise ValueError("t_end: a harmonic orbit has no natural end: give the duration, "
+                         "t_end=... [s]")  # fmt: skip
     t_end = dur if t_end is None else t_end
     if (
         isinstance(t_end, bool)

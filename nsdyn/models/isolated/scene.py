@@ -287,10 +287,15 @@ def build_scene_run(cfg: dict):
 
 
 def _stands(system, cfg: dict, source: str) -> None:
-    """SceneError when an isolator's normal force under gravity alone is not positive: the
-    structure cannot stand on its isolators (a base node missing, a mass off the base's
-    span), which no excitation changes; with ``[solver] uplift = "warn"`` it is let through."""
-    if not system.n_contacts or cfg.get("solver", {}).get("uplift", "raise") == "warn":
+    """SceneError when an isolator's normal force under gravity alone is not positive while
+    the contact assumption is "detect" (the default, which stops a run at the first zero
+    normal force): the structure cannot stand on its isolators (a base node missing, a mass
+    off the base's span), which no excitation changes. A bilateral contact holds it down, a
+    unilateral one models its lift-off, and ``[solver] uplift = "warn"`` runs it anyway."""
+    iso = system.isolation
+    if not system.n_contacts or getattr(iso, "contact", "detect") != "detect":
+        return
+    if cfg.get("solver", {}).get("uplift", "raise") == "warn":
         return
     lam0 = system.static_equilibrium()[1]
     bad = np.flatnonzero(~(lam0 > 0.0))
@@ -300,7 +305,8 @@ def _stands(system, cfg: dict, source: str) -> None:
         raise SceneError(
             f"{where}: the normal force of isolator {int(bad[0])} under gravity alone "
             f"is {lam0[bad[0]]:.4g} N, not positive: the structure cannot stand on its isolators "
-            "(check its base nodes, node positions and masses)"
+            "(check its base nodes, node positions and masses; isolation.contact = "
+            "'bilateral' holds it down, [solver] uplift = 'warn' runs it anyway)"
         )
 
 

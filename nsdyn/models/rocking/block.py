@@ -197,8 +197,10 @@ def restitution_of(model) -> float:
     if not 0.0 < r <= 1.0:
         raise ValueError(
             f"r: the coefficient of restitution from the shape is {r:.3g} (alpha = "
-            f"{math.degrees(model.alpha):.1f}°; Housner's 1 - 1.5 sin² alpha is positive only "
-            "for alpha < 54.7°, a block with width/height < √2): too squat to rock on; give r"
+            f"{math.degrees(model.alpha):.1f}°), not positive: the model's impact would end "
+            "the rocking (for a block, Housner's 1 - 1.5 sin² alpha is positive only below "
+            "alpha = 54.7°, width/height < √2; a rocking frame's lower still with its beam); "
+            "give r"
         )
     return r
 

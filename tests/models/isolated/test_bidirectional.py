@@ -7,6 +7,7 @@ below), and the stick threshold of a rigid block on a rough plane.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 
@@ -14,6 +15,7 @@ import numpy as np
 import pytest
 
 from nsdyn.ground.excitation import Table
+from nsdyn.ground.orbit import HarmonicPlane
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.bearings import Bearing, BearingError, Friction
@@ -191,9 +193,9 @@ def test_below_the_stick_threshold_the_mass_stays_stuck_in_any_direction(angle):
     # direction, also above the kinetic mu_d g: the static coefficient is the disc's radius.
     mu_d, mu_s = 0.05, 0.1
     A = 0.95 * mu_s * G  # > mu_d g
-    c, s = math.cos(math.radians(angle)), math.sin(math.radians(angle))
     sysm = sdof_plane(M, Bearing(Friction(mu_d, mu_static=mu_s)), g=G)
-    for orbit in ({"f": 1.3, "ax": A * c, "ay": A * s, "phase_y_deg": 0.0}, _circular(A, 1.3)):
+    line = dataclasses.asdict(HarmonicPlane.linear(1.3, A, angle))  # amplitudes >= 0
+    for orbit in (line, _circular(A, 1.3)):
         r = simulate_plane(sysm, orbit, t_end=5.0)
         # held: q'' = -kappa q' + the round-off of the 5 x 5 stick solve, ~ eps |a_g| per step,
         # which over 5 s (v ~ 1e-15 m/s damped by kappa) stays far below 1e-12 m

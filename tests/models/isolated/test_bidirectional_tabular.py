@@ -107,7 +107,7 @@ def test_bad_run_options_are_refused_with_the_field_named(kw, field):
 @pytest.mark.parametrize(
     ("orbit", "field"),
     [({"f": 1.0, "ax": "big"}, "ax"), ({"f": "1 Hz"}, "f"), ({"f": 1.0, "phase_y_deg": "x"},
-     "phase_y_deg"), ({"f": 1.0, "ax": 1.0, "f_z": 0.0}, "expected f, f_z > 0")],
+     "phase_y_deg"), ({"f": 1.0, "ax": 1.0, "f_z": 0.0}, "f_z: expected a frequency > 0")],
 )  # fmt: skip
 def test_bad_orbits_are_refused_with_the_field_named(orbit, field):
     s = rigid_deck(1.0e3, 1.0e3, [(0.0, 0.0)], Bearing(Friction(0.05)), g=G)

@@ -8,6 +8,7 @@ forms for stick, break-away and uplift of a rigid mass under a known ground acce
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 
@@ -15,6 +16,7 @@ import numpy as np
 import pytest
 
 from nsdyn.ground.excitation import Table
+from nsdyn.ground.orbit import HarmonicPlane
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated.bearings import Bearing, Friction
 from nsdyn.models.isolated.deck import rigid_deck, sdof_plane, simulate_plane
@@ -153,9 +155,9 @@ def test_below_the_stick_threshold_the_mass_stays_stuck_in_any_direction(angle):
     # the disc whatever the direction, so the switch law never releases the isolator.
     mu_d, mu_s = 0.05, 0.1
     A = 0.95 * mu_s * G
-    c, s = math.cos(math.radians(angle)), math.sin(math.radians(angle))
     sysm = single_mass(Bearing(Friction(mu_d, mu_static=mu_s), radius=3.0))
-    for orbit in ({"f": 1.3, "ax": A * c, "ay": A * s, "phase_y_deg": 0.0}, _circular(A, 1.3)):
+    line = dataclasses.asdict(HarmonicPlane.linear(1.3, A, angle))  # amplitudes >= 0
+    for orbit in (line, _circular(A, 1.3)):
         r = simulate_pairs(sysm, orbit, t_end=5.0)
         # stuck: D q̈ = −κ D q̇ from rest, q̈ the round-off of the 3 x 3 constraint solve
         # (~1e-16 |a_g|), integrated over 5 s: far below 1e-12 m
