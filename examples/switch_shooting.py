@@ -49,11 +49,12 @@ def main() -> dict:
     for f in (0.463, 1.26):
         r = shoot_switch(sw, f, warm_start(sw, f, None, None))
         a = shoot(ar, f, warm_start(ar, f, None, None))
-        out[f"frame {f} Hz"] = {
+        out[f"frame {f} Hz"] = {  # an orbit that did not converge has no x_iso: its reason
             "converged": r.converged,
-            "x_iso_switch": sw.orbit_quantities(f, r.X)["x_iso"],
-            "x_iso_arctan": ar.orbit_quantities(f, a.X)["x_iso"],
+            "x_iso_switch": sw.orbit_quantities(f, r.X)["x_iso"] if r.converged else None,
+            "x_iso_arctan": ar.orbit_quantities(f, a.X)["x_iso"] if a.converged else None,
             "events": len(r.events),
+            **({} if r.converged else {"why": r.message}),
         }
     for k, v in out.items():
         print(k, v)
