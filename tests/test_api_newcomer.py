@@ -128,6 +128,10 @@ def test_an_orbit_as_a_dict_is_a_harmonic_plane():
     with pytest.raises(ValueError, match="a harmonic orbit has no natural end"):
         simulate_plane(deck, HarmonicPlane(0.5, 1.0))
     assert sdof_plane(np.float32(1000.0), deck.bearings[0]).m == 1000.0  # numpy's numbers
+    from nsdyn.periodic.plane import orbit_shape
+
+    d = {"f": 0.5, "ax": 1.0, "ay": 1.0}  # a circle for the periodic solver too
+    assert orbit_shape(d) == orbit_shape(HarmonicPlane(**d))
 
 
 def test_records_and_starts_that_cannot_run_are_input():
@@ -137,8 +141,13 @@ def test_records_and_starts_that_cannot_run_are_input():
     system, motion = build_scene(load_scene())
     with pytest.raises(ValueError, match="a record of 1 sample spans no time"):
         nsdyn.simulate(system, nsdyn.GroundMotion(0.0, 0.01, np.ones(1)))
+    with pytest.raises(ValueError, match="a record of 1 sample spans no time"):
+        nsdyn.simulate(system, nsdyn.GroundMotion(0.0, 0.01, np.ones(1)), t_end=1.0)
     with pytest.raises(ValueError, match="x0: expected finite numbers"):
         nsdyn.simulate(system, motion, x0=np.full(2 * system.n, np.nan), t_end=1.0)
+    full, _ = build_scene(load_scene(None, {"scene": {"fidelity": "full"}}))
+    with pytest.raises(ValueError, match="x0: expected finite numbers"):  # the sparse path too
+        nsdyn.simulate(full, motion, x0=np.full(2 * full.n, np.nan), t_end=1.0)
     for bad in (2.5, "12", True):
         with pytest.raises(ValueError, match="n_modes: expected an integer >= 1"):
             fixed_base_modes_3d(load_frame3d("portal-3d"), n_modes=bad)

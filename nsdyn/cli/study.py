@@ -109,12 +109,13 @@ def failures(study, rows: list[dict]) -> list[dict]:
 def never_kept(study, rows: list[dict]) -> list[str]:
     """Notes for the names of ``study.keep`` that no finished task's run summary had (a
     misspelt name; the first such row's note names the nearest field), one per name."""
+    from nsdyn.studies.scenes import missing_names
+
     ok = [r for r in rows if r.get("status") == "ok"]
     out = []
     for k in study.keep or ():
-        if ok and all(r.get(k) is None for r in ok):
-            note = next((r["error"] for r in ok if repr(k) in (r.get("error") or "")), "")
-            out.append(note or f"study.keep: {k!r} is in no task's run summary")
+        if ok and all(k in missing_names(r.get("error")) for r in ok):
+            out.append(next(r["error"] for r in ok))
     return out
 
 

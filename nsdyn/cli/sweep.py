@@ -189,6 +189,9 @@ def run(args: argparse.Namespace) -> int:
         return fail(args, "the fixed-base model is linear; use an isolated fidelity")
     force = cfg.get("force", {})
     if not args.amplitudes and "amplitude" in force:  # a force scene: its amplitude [N]
+        if not abs(float(force["amplitude"])) > 0:
+            return fail(args, f"{args.scene}: force.amplitude: 0 N sweeps nothing; give a "
+                        "non-zero amplitude or --amplitudes")  # fmt: skip
         args.amplitudes = [abs(float(force["amplitude"]))]
     args.amplitudes = args.amplitudes or _amplitude_list(DEFAULT_AMPLITUDES)
     friction = args.friction or cfg.get("isolation", {}).get("law", "arctan")

@@ -111,8 +111,13 @@ def orbit_shape(orbit) -> tuple[float, tuple]:
     multiple k of f (a vertical component at another frequency is not periodic with T:
     ValueError)."""
 
+    if isinstance(orbit, dict):  # as the time histories read it (pack_ground)
+        from nsdyn.models.isolated.deck import orbit_of
+
+        orbit = orbit_of(orbit)
+
     def get(name, default=0.0):
-        v = orbit.get(name, default) if isinstance(orbit, dict) else getattr(orbit, name, default)
+        v = getattr(orbit, name, default)
         return default if v is None else float(v)
 
     f = get("f", math.nan)

@@ -154,6 +154,9 @@ def output_grid(
     ``HARMONIC_SAMPLES`` per period of a harmonic one) up to ``t_end``, ``n_periods``
     periods, or the record's end. ValueError when nothing fixes the end or the step."""
     t0 = float(getattr(motion, "t0", 0.0))
+    if getattr(motion, "n", 2) < 2:
+        raise ValueError(f"motion: a record of {motion.n} sample spans no time; give a record "
+                         "of two samples or more")  # fmt: skip
     T = _period(motion)
     if n_periods is not None:
         if t_end is not None:
@@ -170,9 +173,7 @@ def output_grid(
                 f"{type(motion).__name__} has no natural end: give the duration, t_end=... [s] "
                 "or n_periods=..."
             )
-        if not t_end > t0:
-            raise ValueError(f"motion: a record of {getattr(motion, 'n', 1)} sample spans no "
-                             "time; give a record of two samples or more")  # fmt: skip
+
     if dt_out is not None and not (np.isfinite(dt_out) and dt_out > 0):
         raise ValueError(f"dt_out: expected a positive output step [s], got {dt_out!r}")
     dt = dt_out or getattr(motion, "dt", None) or (T / HARMONIC_SAMPLES if T else None)
@@ -354,6 +355,8 @@ def simulate(
     keywords_of(integrate.solve, solver_options, skip=("P", "x0", "t_eval"),
                 also=("rtol", "atol", "dt_out", "t_end"), caller="simulate() ")  # fmt: skip
     rel_tol("rtol", rtol)
+    if x0 is not None and not np.all(np.isfinite(np.asarray(x0, dtype=float))):
+        raise ValueError("x0: expected finite numbers, got NaN or inf")
     if not (np.isfinite(chunk_s) and chunk_s > 0):
         raise ValueError(f"chunk_s: expected a positive duration [s], got {chunk_s!r}")
     if t_eval is None:
@@ -397,8 +400,7 @@ def simulate(
         x0 = np.asarray(x0, dtype=float).reshape(-1)
         if x0.size != 2 * system.n:
             raise ValueError(f"x0: expected [q, qd] of length {2 * system.n}, got {x0.size}")
-        if not np.all(np.isfinite(x0)):
-            raise ValueError("x0: expected finite numbers, got NaN or inf")
+
     ts, xs = [t_eval[:1]], [x0[None, :]]
     k0 = 0
     carry = Carry()  # what each chunk hands to the next (and a checkpoint to a resumed run)

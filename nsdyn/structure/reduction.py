@@ -235,7 +235,7 @@ def craig_bampton(
     f_max: float,
     zeta: float | Sequence[float],
     r: np.ndarray | None = None,
-    dense_max: int = DENSE_MAX,
+    dense_max: int | None = None,
 ) -> CBModel:
     """Craig–Bampton reduction (Craig & Bampton, AIAA J. 6(7):1313-1319, 1968).
 
@@ -255,9 +255,10 @@ def craig_bampton(
         Full influence vectors (columns horizontal, vertical). Default: boundary dofs are
         node triples ``(x, y, theta)``, i.e. ``r_b`` = 1 at every 1st / 2nd boundary dof.
         Any number of columns (e.g. x, y, z rigid translations of a space frame).
-    dense_max : int
+    dense_max : int, optional
         Fixed-interface modes by dense ``eigh`` up to this many internal dofs, above it by
-        sparse shift-invert Lanczos (no dense matrix of the internal size).
+        sparse shift-invert Lanczos (no dense matrix of the internal size); default
+        :data:`DENSE_MAX`.
 
     Returns
     -------

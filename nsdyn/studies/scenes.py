@@ -338,6 +338,9 @@ def result_columns(summary: dict, keep, source: str = "<study>") -> dict:
     return {k: _cell(summary[k]) if k in summary else None for k in keep}
 
 
+MISSING_MARK = "not in this task's run summary (an empty cell):"
+
+
 def missing_kept(summary: dict, keep, source: str = "<study>") -> str:
     """A note naming the names of ``keep`` this summary lacks, each with its nearest field
     (a misspelt name, or a field of another rung or scene kind of the study: a rigid deck's
@@ -350,9 +353,20 @@ def missing_kept(summary: dict, keep, source: str = "<study>") -> str:
     hints = []
     for k in missing:
         close = difflib.get_close_matches(k, list(summary), n=1)
-        hints.append(f"{k!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
-    return (f"{source}: study.keep: {', '.join(hints)} not in this task's run summary (an "
-            f"empty cell); its fields: {', '.join(sorted(summary))}")  # fmt: skip
+        if close:
+            hints.append(f"did you mean {close[0]!r} for {k!r}?")
+    return (f"{source}: study.keep: {MISSING_MARK} {', '.join(map(repr, missing))}; "
+            f"{' '.join(hints)} its fields: {', '.join(sorted(summary))}")  # fmt: skip
+
+
+def missing_names(note: str) -> list[str]:
+    """The kept names a row's note (:func:`missing_kept`) says its summary lacks."""
+    import ast
+
+    if MISSING_MARK not in (note or ""):
+        return []
+    names = note.split(MISSING_MARK, 1)[1].split(";", 1)[0]
+    return list(ast.literal_eval(f"[{names}]"))
 
 
 def run_task(task) -> dict:

@@ -3,12 +3,14 @@
 A task is one scene run: the base scene with one value of every parameter and one record.
 Its key is the first ``KEY_HEX`` hex digits of
 
-    sha256(canonical JSON of {format, kind, scene cfg, record identity, record file digest})
+    sha256(canonical JSON of {format, kind, scene cfg, record identity, record file digest,
+                              the kept fields})
 
-so the key changes whenever anything the run depends on changes (a parameter, a base field, a
-record file's bytes) and never otherwise: the results table is keyed by it and a resumed study
-runs exactly the tasks whose keys it lacks. Random parameters are drawn here, in the main
-process, from ``numpy.random.default_rng(study.seed)``; the drawn values enter the key.
+so the key changes whenever anything the row depends on changes (a parameter, a base field, a
+record file's bytes, ``study.keep``) and never otherwise: the results table is keyed by it
+and a resumed study runs exactly the tasks whose keys it lacks. Random parameters are drawn
+here, in the main process, from ``numpy.random.default_rng(study.seed)``; the drawn values
+enter the key.
 
 Order: grid values (first parameter slowest) x samples x records (fastest), so the records of
 one design sit next to each other; batches are consecutive runs of that order.
@@ -78,9 +80,11 @@ def _canonical(obj) -> str:
     return json.dumps(obj, sort_keys=True, separators=(",", ":"), allow_nan=True, default=str)
 
 
-def task_key(kind: str, cfg: dict, record: dict | None) -> str:
-    """The hash of a task's inputs (see the module docstring)."""
-    payload = {"format": TABLE_FORMAT, "kind": kind, "cfg": cfg, "record": record}
+def task_key(kind: str, cfg: dict, record: dict | None, keep=None) -> str:
+    """The hash of a task's inputs (see the module docstring), the kept fields among them
+    (a row holds them: a study whose ``keep`` changes runs its tasks again)."""
+    keep = None if keep is None else list(keep)
+    payload = {"format": TABLE_FORMAT, "kind": kind, "cfg": cfg, "record": record, "keep": keep}
     return hashlib.sha256(_canonical(payload).encode()).hexdigest()[:KEY_HEX]
 
 
@@ -140,7 +144,7 @@ def expand(study: Study) -> list[Task]:
                     if rec.components is not None:
                         ident["components"] = None
                     _place_record(cfg, rec, study.kind)
-                key = task_key(study.kind, _without_path(cfg, rec, digests), ident)
+                key = task_key(study.kind, _without_path(cfg, rec, digests), ident, study.keep)
                 tasks.append(
                     Task(
                         index=len(tasks),

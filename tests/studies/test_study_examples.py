@@ -94,4 +94,25 @@ def test_a_kept_name_no_task_has_is_warned_with_the_nearest_field(tmp_path, caps
                      '[parameters]\n"isolation.mu" = [0.02, 0.05]\n')  # fmt: skip
     assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 0
     err = capsys.readouterr().err
-    assert "warning: no task has it" in err and "did you mean 'x_iso_max_m'?" in err
+    assert "warning: no task has it" in err and "did you mean 'x_iso_max_m' for" in err
+    # the key holds the kept fields: the corrected study runs its tasks again, and a field
+    # present in every summary but empty (a block that never overturns) is no warning
+    study.write_text(study.read_text().replace('"x_iso_maxx"', '"x_iso_max_m"'))
+    assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 0
+    captured = capsys.readouterr()
+    assert "2 run now" in captured.out and "warning" not in captured.err
+
+
+def test_a_kept_field_that_is_empty_in_every_row_is_no_warning(tmp_path, capsys):
+    from nsdyn.cli import main
+
+    study = tmp_path / "r.toml"
+    scene = EXAMPLES / "scenes" / "rocking-seed001-cask.toml"
+    study.write_text(f'[study]\nname = "r"\nscene = "{scene}"\n'
+                     'keep = ["t_overturn_s", "overturned"]\n'
+                     '[base.motion]\na_p_g = 0.1\nt_end = 2.0\n'  # < tan alpha = 0.5
+                     '[parameters]\n"block.mass" = [1.0e5, 2.0e5]\n')  # fmt: skip
+    assert main(["study", str(study), "--out", str(tmp_path / "o"), "--no-figures"]) == 0
+    assert "warning" not in capsys.readouterr().err
+    rows = read_csv(tmp_path / "o" / "results.csv")
+    assert all(r["overturned"] is False and r.get("t_overturn_s") is None for r in rows)

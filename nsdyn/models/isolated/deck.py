@@ -215,7 +215,7 @@ def _attr(obj, name, default=None):
     return getattr(obj, name, default)
 
 
-def _orbit_of(d: dict):
+def orbit_of(d: dict):
     """A harmonic orbit given as a dict: ``HarmonicPlane(**d)``, its defaults (φ_y = 90°) and
     checks, an unknown key refused with the nearest field's name."""
     import dataclasses
@@ -248,7 +248,7 @@ def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
     gp = np.zeros(kp.N_GP)
     gp[kp.GP_DT] = 1.0
     if isinstance(ground, dict) and "f" in ground:
-        ground = _orbit_of(ground)
+        ground = orbit_of(ground)
     if isinstance(ground, tuple):
         t0, dt, ax, ay, az = ground
         ground = {"t0": t0, "dt": dt, "ax": ax, "ay": ay, "az": az}
