@@ -364,18 +364,27 @@ def _check_run_options(rtol, atol, max_step, max_steps) -> None:
         raise ValueError(f"max_steps: expected a positive integer, got {max_steps!r}")
 
 
+def run_end(t_end, dur: float) -> float:
+    """The end of a run on a ground of duration ``dur`` (:func:`pack_ground`): ``t_end``, or
+    the record's end; ValueError for an orbit (no natural end) without ``t_end``, or a
+    ``t_end`` that is not a positive duration."""
+    if t_end is None and not math.isfinite(dur):
+        raise ValueError("t_end: a harmonic orbit has no natural end: give the duration, "
+                         "t_end=... [s]")  # fmt: skip
+    t_end = dur if t_end is None else t_end
+    real = isinstance(t_end, numbers.Real) and not isinstance(t_end, bool)
+    if not (real and math.isfinite(t_end) and t_end > 0):
+        raise ValueError(f"t_end: expected a positive duration [s], got {t_end!r}")
+    return float(t_end)
+
+
 def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, float]:
     """(t_eval, max_step) of a run on the ground (gk, gp) of :func:`pack_ground`: outputs
     every ``dt_out`` (default: the record's step, or 1/50 period of an orbit) up to ``t_end``
     (default: the record's duration ``dur``) unless ``t_eval`` is given; the largest step
     defaults to the record's step or 1/20 of the shorter period."""
     if t_eval is None:
-        if t_end is None and not math.isfinite(dur):
-            raise ValueError("t_end: a harmonic orbit has no natural end: give the duration, "
-                             "t_end=... [s]")  # fmt: skip
-        t_end = dur if t_end is None else float(t_end)
-        if not (math.isfinite(t_end) and t_end > 0):
-            raise ValueError(f"t_end: expected a positive duration [s], got {t_end}")
+        t_end = run_end(t_end, dur)
         if dt_out is None:
             dt_out = gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (50.0 * gp[kp.GP_F])
         elif not (math.isfinite(dt_out) and 0 < dt_out <= t_end):

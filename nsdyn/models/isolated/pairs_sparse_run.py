@@ -38,7 +38,7 @@ from nsdyn.models.isolated import _kpairsparse as kz
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.bearings import B_DCAP
-from nsdyn.models.isolated.deck import pack_ground
+from nsdyn.models.isolated.deck import pack_ground, run_end
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
 from nsdyn.models.isolated.pairs import PairResult
 from nsdyn.models.isolated.pairs_sparse import SparsePairSystem
@@ -194,16 +194,7 @@ def simulate_pairs_sparse(
     coef = genalpha_coefficients(rho_inf)
     am, af, be, ga = coef
     gk, gp, tab, dur = pack_ground(ground)
-    if t_end is None and not math.isfinite(dur):
-        raise ValueError("t_end: a harmonic orbit has no natural end: give the duration, "
-                         "t_end=... [s]")  # fmt: skip
-    t_end = dur if t_end is None else t_end
-    if (
-        isinstance(t_end, bool)
-        or not isinstance(t_end, int | float)
-        or not (math.isfinite(t_end) and t_end > 0)
-    ):
-        raise ValueError(f"t_end: expected a positive duration [s], got {t_end!r}")
+    t_end = run_end(t_end, dur)
     if dt_out is None:
         dt_out = gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (50.0 * gp[kp.GP_F])
     every = max(1, int(round(dt_out / dt)))
