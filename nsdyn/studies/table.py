@@ -51,8 +51,8 @@ TAIL_COLUMNS = ("status", "error", "task_s")  # after the parameters
 TIMING_COLUMNS = ("task_s", "wall_s", "compile_s")  # differ between runs of the same task
 
 
-def _parse(s: str):
-    if s == "":
+def _parse(s: str | None):
+    if s is None or s == "":  # None: a short row (csv.DictReader's restval)
         return None
     if s in ("True", "False"):
         return s == "True"
@@ -139,10 +139,13 @@ class Table:
 
 
 def read_csv(path: str | Path) -> list[dict]:
-    """Rows of a results CSV, values parsed (int, float, bool, text; empty -> None)."""
+    """Rows of a results CSV, values parsed (int, float, bool, text; empty -> None).
+
+    Every column of the header stays in every row, an empty cell as None, so a column that is
+    empty in every row (a kept name no task's summary has) survives a write and a read."""
     with open(path, newline="") as fh:
         return [
-            {k: v if k == "key" else _parse(v) for k, v in row.items() if v != ""}
+            {k: v if k == "key" else _parse(v) for k, v in row.items()}
             for row in csv.DictReader(fh)
         ]
 
