@@ -16,13 +16,20 @@ from __future__ import annotations
 import argparse
 import gc
 import importlib
+import os
 import signal
 import sys
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, EXIT_USER_ERROR, fail
+from nsdyn.cli.args import (
+    EXIT_INTERRUPTED,
+    EXIT_NUMERICS,
+    EXIT_PIPE_CLOSED,
+    EXIT_USER_ERROR,
+    fail,
+)
 
 __all__ = ["COMMANDS", "Command", "build_parser", "main", "script"]
 
@@ -251,8 +258,23 @@ def main(argv: list[str] | None = None) -> int:
     _JSON[0] = any(len(a) > 2 and "--json".startswith(a) for a in argv)
     try:
         return _main(argv)
+    except BrokenPipeError:  # the reader closed stdout (`nsdyn modes F --json | head`)
+        return _pipe_closed()
     finally:
         _JSON[0] = False
+
+
+def _pipe_closed() -> int:
+    """Stop quietly when stdout's reader has gone: what is still buffered goes to /dev/null,
+    so that the interpreter's last flush raises nothing either (a process killed by SIGPIPE
+    would end with the same status, 128 + 13)."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):  # stdout replaced by an object without a fd
+        pass
+    return EXIT_PIPE_CLOSED
 
 
 def _main(argv: list[str]) -> int:
@@ -288,6 +310,8 @@ def _main(argv: list[str]) -> int:
     except KeyboardInterrupt:
         print(_interrupt_line(args), file=sys.stderr)
         return EXIT_INTERRUPTED
+    except BrokenPipeError:  # no error of the input: main stops quietly
+        raise
     except _user_errors() as exc:
         return fail(args, exc)
     except _numerics_errors() as exc:

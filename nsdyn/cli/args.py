@@ -12,6 +12,7 @@ from pathlib import Path
 EXIT_USER_ERROR = 2  # bad input the user can fix (same as argparse usage errors)
 EXIT_NUMERICS = 3  # the numerics failed (step underflow, Newton divergence, uplift, ...)
 EXIT_INTERRUPTED = 130  # stopped by SIGINT/SIGTERM (128 + SIGINT); rerun to resume
+EXIT_PIPE_CLOSED = 141  # the reader of stdout closed it (`nsdyn ... | head`; 128 + SIGPIPE)
 
 
 def positive_float(s: str) -> float:

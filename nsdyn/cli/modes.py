@@ -175,7 +175,7 @@ def _run3d(args: argparse.Namespace) -> int:
         "kind": "3d",
         "n_nodes": frame.n_nodes,
         "n_dof": frame.n_dof,
-        "n_constrained": frame.n_red,
+        "n_dof_after_diaphragms": frame.n_red,
         "n_diaphragms": len(frame.diaphragms),
         "frequencies_hz": [float(x) for x in m.f_hz],
         "families": list(m.family),
@@ -195,7 +195,8 @@ def _run3d(args: argparse.Namespace) -> int:
         print(json.dumps(s))
         return 0
     print(f"frame {s['frame']} (3D): {s['n_nodes']} nodes, {s['n_dof']} dofs,")
-    print(f"  {s['n_diaphragms']} rigid diaphragms: {s['n_constrained']} constrained dofs")
+    nd = s["n_diaphragms"]
+    print(f"  {nd} rigid diaphragm{'s' * (nd != 1)}: {s['n_dof_after_diaphragms']} dofs after them")
     print("fixed-base modes (effective-mass fractions in x, y and rotation θz):")
     print("   #   f [Hz]   family      m_x    m_y    J_θ   zeta")
     for k, (fk, fam) in enumerate(zip(s["frequencies_hz"], s["families"], strict=True)):

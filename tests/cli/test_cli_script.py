@@ -77,3 +77,16 @@ def test_a_cached_start_makes_no_full_collection(tmp_path, child_env):
     code, counts, threshold = rows[1]
     assert code == 0 and threshold == SCRIPT_GC_THRESHOLD
     assert counts[2] == 0  # no full collection
+
+
+def test_a_reader_that_closes_the_pipe_ends_the_command_quietly(child_env):
+    """`nsdyn modes portal --json | head -c 10`: the reader goes before the JSON is written;
+    the command stops with status 141 (128 + SIGPIPE, what a process killed by the signal
+    gives) and no traceback, also from the interpreter's last flush."""
+    from nsdyn.cli.args import EXIT_PIPE_CLOSED
+
+    argv = [sys.executable, "-m", "nsdyn.cli", "modes", "portal", "--json"]
+    p = subprocess.Popen(argv, env=child_env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    p.stdout.close()  # before the child has imported anything: its first write fails
+    err = p.stderr.read().decode()
+    assert p.wait() == EXIT_PIPE_CLOSED == 128 + 13 and err == ""
