@@ -288,6 +288,7 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
             rd.fail(f"{p}.nodes", "nodes at one level (equal z)", dn)
         dias.append(Diaphragm(dn, c, mass, inertia))
     S = [secs[i] for i in sid]
+    zeta = _zeta(rd, f)  # its own error, outside the model's checks below
     try:
         return Frame3D(
             name=name,
@@ -300,7 +301,7 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
             },
             node_mass=node_mass,
             base_nodes=np.array(base),
-            zeta=_zeta(rd, f),
+            zeta=zeta,
             diaphragms=tuple(dias),
         )
     except ValueError as exc:

@@ -59,7 +59,9 @@ class _Reader:
                 close = difflib.get_close_matches(str(k), sorted(allowed), n=1)
                 hint = f"; did you mean {close[0]!r}?" if close else ""
                 allow = ", ".join(sorted(allowed))
-                self.fail(where, f"no such field{hint} (allowed: {allow})", k)
+                raise FrameFileError(
+                    f"{self.file}: {where}: unknown field{hint} (allowed: {allow})", where
+                )
 
     def string(self, tbl, key, path):
         if key not in tbl:
@@ -80,8 +82,9 @@ class _Reader:
 
     def number_or_list(self, tbl, key, path, n, positive=True, nonneg=False):
         """A single number (broadcast to n) or a list of exactly n numbers."""
-        kind = "positive number" if positive else "number >= 0" if nonneg else "number"
-        expected = f"a {kind} or a list of {n} {kind}s"
+        kinds = "positive numbers" if positive else "numbers >= 0" if nonneg else "numbers"
+        kind = kinds.replace("numbers", "number")
+        expected = f"a {kind} or a list of {n} {kind if n == 1 else kinds}"
         if key not in tbl:
             self.fail(path, expected, "nothing (missing)", raw=True)
         v = tbl[key]
@@ -127,8 +130,9 @@ def _is_number(x) -> bool:
 
 
 def _describe(v) -> str:
-    if isinstance(v, list):
-        return f"a list of {len(v)}"
+    if isinstance(v, list):  # a short list shown whole, so that its bad entry shows
+        text = repr(v)
+        return text if len(v) <= 12 and len(text) <= 80 else f"a list of {len(v)}"
     if isinstance(v, Mapping):
         return "a table"
     if isinstance(v, bool):

@@ -75,9 +75,12 @@ class CBModel3D:
 
     def boundary_index(self, component: int | str) -> np.ndarray:
         """Indices in ``q`` of ``component`` ('ux', 'uy', 'uz', …) at each base node."""
+        kept = [_NAMES[j] for j in self.components]
+        if isinstance(component, str) and component not in _NAMES:
+            raise ValueError(f"component {component!r}: expected one of {kept} (or its index)")
         c = _NAMES.index(component) if isinstance(component, str) else int(component)
         if c not in self.components:
-            raise ValueError(f"component {component!r} is not an interface dof {self.components}")
+            raise ValueError(f"component {component!r} is not an interface dof: {kept}")
         k = len(self.components)
         return np.arange(len(self.boundary_nodes)) * k + self.components.index(c)
 

@@ -355,8 +355,19 @@ def missing_kept(summary: dict, keep, source: str = "<study>") -> str:
         close = difflib.get_close_matches(k, list(summary), n=1)
         if close:
             hints.append(f"did you mean {close[0]!r} for {k!r}?")
-    return (f"{source}: study.keep: {MISSING_MARK} {', '.join(map(repr, missing))}; "
-            f"{' '.join(hints)} its fields: {', '.join(sorted(summary))}")  # fmt: skip
+    head = (f"{source}: study.keep: {MISSING_MARK} {', '.join(map(repr, missing))}; "
+            f"{' '.join(hints)} its fields: ")  # fmt: skip
+    fields = sorted(summary)
+    text = ", ".join(fields)
+    if len(head) + len(text) > ERROR_CHARS:  # the row keeps ERROR_CHARS: end at a whole name
+        room = ERROR_CHARS - len(head) - len(f", ... ({len(fields)} in all)")
+        shown = []
+        for f in fields:
+            if len(", ".join([*shown, f])) > room:
+                break
+            shown.append(f)
+        text = ", ".join([*shown, "..."]) + f" ({len(fields)} in all)"
+    return head + text
 
 
 def missing_names(note: str) -> list[str]:

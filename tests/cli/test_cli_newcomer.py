@@ -83,6 +83,13 @@ def test_a_kept_field_a_summary_lacks_is_an_empty_cell_with_the_nearest_name():
     assert note.startswith("s.toml: study.keep: not in this task's run summary")
     assert "did you mean 'x_iso_max_m' for 'x_iso_mx_m'?" in note
     assert missing_names(note) == ["x_iso_mx_m"]  # the hint's name is not read as missing
+    # a summary of many fields: the note fits the row's error cell and ends at a whole name
+    from nsdyn.studies.scenes import ERROR_CHARS
+
+    many = {f"field_{j:03d}_of_a_long_summary": 1.0 for j in range(60)}
+    note = missing_kept(many, ["x"], "s.toml")
+    assert len(note) <= ERROR_CHARS and note.endswith(", ... (60 in all)")
+    assert note.split("its fields: ")[1].split(", ")[-2] in many  # the last one shown is whole
 
 
 @pytest.mark.parametrize(

@@ -205,3 +205,13 @@ def test_3d_office_cb_at_5_hz_keeps_the_fixed_base_modes():
     assert m.f_hz[-1] > 5.0 >= m.f_hz[-2]
     assert cb.f_hz == pytest.approx(m.f_hz[:-1], rel=1e-8)
     assert cb.n_red == 72 + cb.n_modes
+
+
+def test_boundary_index_names_the_interface_components():
+    cb = craig_bampton_3d(building(), 6.0, boundary="translations")
+    n = len(cb.boundary_nodes)
+    assert list(cb.boundary_index("uy")) == list(cb.boundary_index(1)) == list(range(1, 3 * n, 3))
+    with pytest.raises(ValueError, match=r"'vy': expected one of \['ux', 'uy', 'uz'\]"):
+        cb.boundary_index("vy")
+    with pytest.raises(ValueError, match=r"'rz' is not an interface dof: \['ux', 'uy', 'uz'\]"):
+        cb.boundary_index("rz")

@@ -62,9 +62,9 @@ def test_good_file_loads(tmp_path):
         ("floor_mass = 1000.0", "floor_mass = -1.0", "frame.floor_mass", ">= 0"),
         ("zeta = [0.02, 0.03]", "zeta = [0.02, 1.5]", "frame.zeta", "[0, 1)"),
         ('kind = "regular"', 'kind = "weird"', "frame.kind", "explicit"),
-        ("n_h = 2\n", "n_h = 2\nbayz = 3\n", "frame.bayz", "no such field"),
-        ("I = 1e-4", "Iy = 1e-4", "frame.beams.Iy", "no such field"),
-        ("[frame.beams]", "[frame.girders]", "frame.girders", "no such field"),
+        ("n_h = 2\n", "n_h = 2\nbayz = 3\n", "frame.bayz", "unknown field"),
+        ("I = 1e-4", "Iy = 1e-4", "frame.beams.Iy", "unknown field"),
+        ("[frame.beams]", "[frame.girders]", "frame.girders", "unknown field"),
     ],
 )
 def test_bad_file_names_file_and_field(tmp_path, old, new, field, words):
@@ -85,7 +85,11 @@ def test_wrong_list_length_message(tmp_path):
     named = rf"^{re.escape(str(p))}: frame\.columns\.I: expected "  # the file as given
     with pytest.raises(FrameFileError, match=named):
         load_frame(p)
-    with pytest.raises(FrameFileError, match="got a list of 3"):
+    with pytest.raises(FrameFileError, match=re.escape("got [0.0002, 0.0002, 0.0002]")):
+        load_frame(p)  # a short list is shown whole
+    # a long one by its length
+    p.write_text(GOOD.replace("I = 2e-4", f"I = [{', '.join(['2e-4'] * 13)}]"))
+    with pytest.raises(FrameFileError, match="got a list of 13$"):
         load_frame(p)
 
 

@@ -20,7 +20,8 @@ diaphragm-constrained coordinates)::
                 the slaves tied to U_x, U_y, Θ exactly as nsdyn's T), constraints
                 Transformation
     base        fix 1 1 1 1 1 1
-    eigen       ops.eigen(n) (ARPACK on the banded system; -fullGenLapack on request)
+    eigen       ops.eigen(n) (ARPACK on the banded system; -fullGenLapack when n reaches
+                the free dofs, or on request)
 
 With these, OpenSees assembles nsdyn's K and M, so the frequencies agree to the
 eigensolvers' round-off. The script also carries nsdyn's own frequencies for the same mass
@@ -117,8 +118,12 @@ def build(ops):
     ops.system("BandGeneral")
 
 
-def eigen_frequencies(n, solver="-genBandArpack"):
-    """The ``n`` lowest natural frequencies [Hz] of the clamped frame."""
+def eigen_frequencies(n, solver=None):
+    """The ``n`` lowest natural frequencies [Hz] of the clamped frame: ARPACK on the banded
+    system, or LAPACK's dense solver when ``n`` reaches the free dofs (ARPACK finds fewer
+    than N - 1 of N pairs)."""
+    if solver is None:
+        solver = "-genBandArpack" if n < DATA["n_free"] - 1 else "-fullGenLapack"
     ops = load_opensees()
     build(ops)
     lam = ops.eigen(solver, n)
@@ -219,6 +224,7 @@ def opensees_data_3d(frame: Frame3D, mass: str = "consistent", n_modes: int = N_
     data = frame_data_3d(frame, mass)
     modes = fixed_base_modes_3d(frame, n_modes=n_modes, lumped=mass == "lumped")
     data.update(
+        n_free=int(frame.n_red - len(frame.boundary_reduced)),
         n_modes=int(len(modes.f_hz)),
         nsdyn_f_hz=modes.f_hz.tolist(),
         nsdyn_families=list(modes.family),
