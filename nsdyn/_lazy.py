@@ -2,7 +2,8 @@
 
 A package lists its public names as ``{name: "module"}`` (or ``"module:attr"`` where the public
 name differs); each loads on first use and is then cached in the package namespace, so importing
-the package costs nothing until a name is used — the command line stays fast to start.
+the package costs nothing until a name is used — the command line stays fast to start. A
+subpackage loads the same way (``import nsdyn`` then ``nsdyn.plot.plot_transient``).
 """
 
 from __future__ import annotations
@@ -17,6 +18,8 @@ def exports(namespace: dict, api: dict[str, str]) -> tuple[Callable, Callable]:
 
     def __getattr__(name: str):
         where = api.get(name)
+        if where is None and not name.startswith("_") and _is_submodule(package, name):
+            return importlib.import_module(f"{package}.{name}")  # nsdyn.plot after import nsdyn
         if where is None:
             import difflib
 
@@ -32,6 +35,15 @@ def exports(namespace: dict, api: dict[str, str]) -> tuple[Callable, Callable]:
         return sorted(set(api) | {k for k in namespace if not k.startswith("_")})
 
     return __getattr__, __dir__
+
+
+def _is_submodule(package: str, name: str) -> bool:
+    import importlib.util
+
+    try:
+        return importlib.util.find_spec(f"{package}.{name}") is not None
+    except (ImportError, ValueError):
+        return False
 
 
 class LazyModule:

@@ -107,6 +107,18 @@ def test_a_misspelt_public_name_suggests_the_closest():
         nsdyn.zzzz  # noqa: B018
 
 
+def test_a_subpackage_loads_on_first_use_after_import_nsdyn():
+    # a fresh interpreter: in this one another test may have imported nsdyn.plot already
+    import subprocess
+    import sys
+
+    probe = ("import sys, nsdyn; assert 'nsdyn.plot' not in sys.modules; "
+             "print(nsdyn.plot.plot_transient.__module__, nsdyn.studies.__name__)")  # fmt: skip
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["nsdyn.plot.transient", "nsdyn.studies"]
+
+
 # ---- inputs of the deck, orbit and record entry points -------------------------------------
 
 

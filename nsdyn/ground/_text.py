@@ -139,6 +139,7 @@ def parse_table(text: str, source: str) -> Table:
     lines = numbered(text)
     header: list[str] = []
     names: list[str] | None = None
+    names_line = None  # the line that gave them (the header's last one, when a row follows)
     first = None  # index in ``lines`` of the first row of numbers
     for i, (_, s) in enumerate(lines):
         if not s:
@@ -151,9 +152,14 @@ def parse_table(text: str, source: str) -> Table:
             for tok in toks:
                 to_float(tok)
         except ValueError:
+            after_names = names is not None and header and header[-1] is names_line
+            if after_names and len(toks) == len(names) and _some_number(toks):  # a bad cell
+                bad = next(t for t in toks if not _is_float(t))
+                raise RecordFileError(source, lines[i][0], f"expected numbers, found {bad!r} "
+                                      f"in {s.strip()!r}") from None  # fmt: skip
             header.append(s)
             if all(re.fullmatch(r"[A-Za-z][\w()\[\]/^.-]*", tok) for tok in toks):
-                names = [tok.lower() for tok in toks]
+                names, names_line = [tok.lower() for tok in toks], s
             continue
         first = i
         break
@@ -171,6 +177,18 @@ def parse_table(text: str, source: str) -> Table:
     if names is not None and len(names) != ncol:
         names = None
     return Table(header, names, data, linenos)
+
+
+def _is_float(tok: str) -> bool:
+    try:
+        to_float(tok)
+    except ValueError:
+        return False
+    return True
+
+
+def _some_number(toks: list[str]) -> bool:
+    return any(_is_float(t) for t in toks)
 
 
 def _rows_at_once(rows: list[tuple[int, str]]) -> tuple[np.ndarray | None, np.ndarray]:

@@ -25,7 +25,7 @@ import os
 from pathlib import Path
 
 from nsdyn._bundled import RECORDS
-from nsdyn.ground._text import DT_RTOL, parse_table
+from nsdyn.ground._text import DT_RTOL, is_comment, parse_table
 from nsdyn.ground.motion import GroundMotion, RecordFileError
 from nsdyn.ground.motion3 import GroundMotion3
 from nsdyn.ground.readers import _resolve, _write_table, read_motion
@@ -94,6 +94,8 @@ def _columns(source: str, text: str) -> dict[str, str] | None:
     try:
         names = parse_table(text, source).names
     except RecordFileError:
+        if _names_x_and_y(text):  # a table of x and y with a bad row: its own error
+            raise
         return None
     if names is None:
         return None
@@ -103,6 +105,16 @@ def _columns(source: str, text: str) -> dict[str, str] | None:
         if hit is not None:
             found[key] = hit
     return found if {"x", "y"} <= set(found) else None
+
+
+def _names_x_and_y(text: str) -> bool:
+    """Whether the first line that is not a comment names an x and a y column."""
+    for line in text.splitlines():
+        s = line.strip()
+        if s and not is_comment(s):
+            toks = {t.lower() for t in s.replace(",", " ").split()}
+            return bool(toks & set(_X_NAMES)) and bool(toks & set(_Y_NAMES))
+    return False
 
 
 def _table3(path, source: str, cols: dict[str, str], units, dt) -> GroundMotion3:

@@ -333,6 +333,12 @@ def test_hand_written_csv_with_named_columns(tmp_path):
     bad.write_text("t,ax,az\n0,1,2\n0.5,3,4\n1.0,5,6\n")
     with pytest.raises(RecordFileError, match="missing component y"):
         read_motion3(bad)
+    # a bad cell is named with its line, in the first row or a later one (not as a missing y)
+    for rows, line in (("0,1,2,oops\n0.5,3,4,5\n", 2), ("0,1,2,3\n0.5,3,oops,5\n", 3)):
+        bad.write_text("t,ax,ay,az\n" + rows)
+        with pytest.raises(RecordFileError, match=rf"two.csv:{line}: expected .*'.*oops") as ei:
+            read_motion3(bad)
+        assert "missing component" not in str(ei.value)
 
 
 @pytest.mark.filterwarnings("error::UserWarning")
