@@ -254,8 +254,20 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     # a deck or 3D building whose normal force reached zero: written up to the uplift, and
     # the status of a run that left the model's domain (as the isolated frame's uplift)
     status = EXIT_NUMERICS if s.get("uplift") and kind in ("deck", "building3d") else 0
-    if args.json:
-        print(json.dumps(s))
+    if args.json:  # a failed run's JSON leads with status and error, as every failure's does
+        u = s.get("uplift") if status else None
+        head = (
+            {
+                "status": status,
+                "error": (
+                    f"UPLIFT isolator {u['isolator']} at t = {u['t_s']:.6g} s: its normal force reached "
+                    "zero and the run ended there (the files hold the run up to it)"
+                ),
+            }
+            if u
+            else {}
+        )
+        print(json.dumps({**head, **s}))
         return status
     print(mod.format_summary(s))
     return status

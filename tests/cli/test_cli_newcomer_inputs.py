@@ -223,3 +223,21 @@ def test_modes_of_a_scene_says_it_lists_the_bare_frame(tmp_path, capsys):
     assert main(["modes", str(scene), "--out", str(tmp_path), "--json"]) == 0
     err = capsys.readouterr().err
     assert f"the fixed-base modes of office-11-3d, the frame {scene} names" in err
+
+
+def test_a_deck_that_lifts_off_ends_with_status_3_and_its_json_says_so(tmp_path, capsys):
+    """The contract of docs/reference/cli.md: a failed command's JSON leads with status and
+    error. A deck's centre of mass 15 m up over isolators 6 m from it along y: the
+    overturning moment m a h exceeds the restoring m g 6 m once a > 0.4 g (lever rule), so
+    the 12 m/s² record lifts an isolator and the run ends there."""
+    scene = tmp_path / "tall.toml"
+    scene.write_text((SCENES / "deck-fps4-3c.toml").read_text().replace("h = 1.5 ", "h = 15.0"))
+    code = main(["run", str(scene), "--pga", "12", "--t-end", "4", "--json", "--no-figures",
+                 "--out", str(tmp_path / "o")])  # fmt: skip
+    import json
+
+    s = json.loads(capsys.readouterr().out)
+    assert code == 3 == s["status"] and list(s)[:2] == ["status", "error"]
+    u = s["uplift"]
+    assert s["error"].startswith(f"UPLIFT isolator {u['isolator']} at t = {u['t_s']:.6g} s")
+    assert s["t_end_s"] <= u["t_s"] < 4.0  # the run ended at the uplift

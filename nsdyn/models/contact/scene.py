@@ -206,6 +206,10 @@ def build(cfg: dict, source: str):
         raise SceneError(f"{source}: solver.theta: expected 0.5 <= theta <= 1")
     opts["ground"] = _ground(cfg.get("ground", {}), body, source)
     if opts["ground"] is not None:
+        if "method" in sv:  # refused, not ignored: the compliant ground has one integrator
+            raise SceneError(f"{source}: solver.method: a compliant ground (ground.kind = "
+                             "'compliant') runs its own integrator; solver.method applies to "
+                             "the rigid ground only")  # fmt: skip
         opts["method"] = "compliant"
     return body, law, motion, t_end, opts
 

@@ -123,6 +123,9 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
     if has_design:
         f = number(source, "foundation.f_rock", fd.get("f_rock", 3.0))
         z = number(source, "foundation.zeta", fd.get("zeta", 0.1), allow_zero=True)
+        if z >= 1.0:  # 10 typed for 10 %: an overdamped rocking mode is no design target
+            raise SceneError(f"{source}: foundation.zeta: expected a damping ratio in [0, 1) "
+                             f"(a fraction: 0.1 for 10 %), got {fd['zeta']!r}")  # fmt: skip
         k, c = design_foundation(f, z, base.r, base.H, base.m, I_t=geo.get("I_t"))
     else:
         k = number(source, "foundation.k", fd.get("k", base.k))

@@ -103,7 +103,16 @@ SCHEMA = Schema(
                     default=3.0,
                     **_POS,
                 ),
-                Key("zeta", "number", "design: rocking damping ratio", "—", default=0.1, **_NONNEG),
+                Key(
+                    "zeta",
+                    "number",
+                    "design: rocking damping ratio (a fraction)",
+                    "—",
+                    default=0.1,
+                    lo=0.0,
+                    hi=1.0,
+                    hi_open=True,
+                ),
                 Key(
                     "sliding",
                     "boolean",

@@ -106,3 +106,13 @@ def test_bad_ground(ground, field):
     with pytest.raises(SceneError, match=field):
         run_scene(cfg, source=str(SCENE), out_dir=Path("/nonexistent"), figures=False,
                   quiet=True)  # fmt: skip
+
+
+@pytest.mark.parametrize("method", ["moreau", "event"])
+def test_a_method_on_a_compliant_ground_is_refused_not_ignored(method):
+    cfg = read_toml(SCENE)
+    cfg["ground"] = {"kind": "compliant", "stiffness": 1e8}
+    cfg.setdefault("solver", {})["method"] = method
+    with pytest.raises(SceneError, match="solver.method: a compliant ground"):
+        run_scene(cfg, source=str(SCENE), out_dir=Path("/nonexistent"), figures=False,
+                  quiet=True)  # fmt: skip

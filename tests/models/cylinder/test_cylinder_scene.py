@@ -37,6 +37,7 @@ def cfg():
         ("foundation", "case", "glued", "foundation.case: expected one of"),
         ("motion", "seeed", 3, "motion.seeed: unknown field; did you mean 'seed'"),
         ("solver", "method", "rk4", "solver.method"),
+        ("foundation", "zeta", 10, r"foundation.zeta: expected a damping ratio in \[0, 1\)"),
     ],
 )
 def test_bad_input_names_the_field(cfg, table, key, value, match):
