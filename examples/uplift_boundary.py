@@ -53,7 +53,7 @@ def main(points: int = 40, fmin: float = 0.01, fmax: float = 1.0, figure=FIGURE)
     i_min = int(np.nanargmin(np.where(ok, res.a_crit, np.nan))) if ok.any() else None
     out = {
         "model": res.model,
-        "static_min_normal_force_n": res.static_force,
+        "static_min_normal_force_N": res.static_force,
         "rigid_overturning_threshold": a_rigid,
         "points": [p.to_dict() for p in res.points],
         "ok": int(ok.sum()),

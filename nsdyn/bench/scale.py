@@ -217,7 +217,6 @@ def scale_bench(
     path = common.write_csv_atomic(out / "scale.csv", rows)
     png = str(_figure(rows, fits, out / "scale.png")) if figures else None
     res = {"rows": rows, "fits": fits, "csv": str(path), "png": png, "quick": quick}
-    common.log(report(res), quiet)
     return res
 
 

@@ -170,7 +170,6 @@ def scale3d_bench(*, quick: bool, out: Path, repeats: int | None = None, quiet=F
             fits[tool] = fit_exponent(*zip(*pts, strict=True))[0]
     path = common.write_csv_atomic(out / "scale3d.csv", rows)
     res = {"rows": rows, "fits": fits, "csv": str(path), "quick": quick}
-    common.log(report(res), quiet)
     return res
 
 
@@ -199,10 +198,13 @@ def report(res: dict) -> str:
     lines = [f"{'tool':9s} {'dofs':>6s} {'process s':>9s} {'run s':>8s} {'MB':>6s} "
              f"{'OS/nsdyn':>8s}  u_iso  drift cm x/y  corner x/y (d vs OpenSees)"]  # fmt: skip
     for r in res["rows"]:
-        d = " ".join(f"{100 * r.get('d_' + k, np.nan):+6.2f}%" for k in PEAKS)
+        if "opensees_over_nsdyn" in r:
+            ratio = f"{r['opensees_over_nsdyn']:8.2f}"
+            d = " ".join(f"{100 * r.get('d_' + k, np.nan):+6.2f}%" for k in PEAKS)
+        else:  # OpenSees' own row (the reference), or nsdyn's without one
+            ratio, d = f"{'-':>8s}", "reference" if r["tool"] == "opensees" else "-"
         lines.append(f"{r['tool']:9s} {r['n_dof']:6d} {r['whole_process_s']:9.2f} "
-                     f"{r['run_s']:8.2f} {r['peak_rss_mb']:6.0f} "
-                     f"{r.get('opensees_over_nsdyn', np.nan):8.2f}  {d}")  # fmt: skip
+                     f"{r['run_s']:8.2f} {r['peak_rss_mb']:6.0f} {ratio}  {d}")  # fmt: skip
     for tool, p in res["fits"].items():
         lines.append(f"fitted exponent ({tool}, whole process): {p:.2f}")
     return "\n".join(lines)

@@ -369,7 +369,21 @@ def script(argv: list[str] | None = None) -> int:
     finally:
         release_standby()
     gc.freeze()
+    _stdout_kept_for_results()
     return code
+
+
+def _stdout_kept_for_results() -> None:
+    """When the command ran OpenSees in this process (``bench opensees``), route the process's
+    fd 1 to stderr for its end: OpenSees prints "Process 0 Terminating" on stdout at exit,
+    after the command's output (a ``--json`` summary would no longer parse)."""
+    if "openseespy.opensees" not in sys.modules:
+        return
+    try:
+        sys.stdout.flush()
+        os.dup2(sys.stderr.fileno(), sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # a stream without a file descriptor
+        pass
 
 
 if __name__ == "__main__":

@@ -255,18 +255,12 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     # the status of a run that left the model's domain (as the isolated frame's uplift)
     status = EXIT_NUMERICS if s.get("uplift") and kind in ("deck", "building3d") else 0
     if args.json:  # a failed run's JSON leads with status and error, as every failure's does
-        u = s.get("uplift") if status else None
-        head = (
-            {
-                "status": status,
-                "error": (
-                    f"UPLIFT isolator {u['isolator']} at t = {u['t_s']:.6g} s: its normal force reached "
-                    "zero and the run ended there (the files hold the run up to it)"
-                ),
-            }
-            if u
-            else {}
-        )
+        head = {}
+        if status:
+            u = s["uplift"]
+            head = {"status": status, "error": f"UPLIFT isolator {u['isolator']} at t = "
+                    f"{u['t_s']:.6g} s: its normal force reached zero and the run ended there "
+                    "(the files hold the run up to it)"}  # fmt: skip
         print(json.dumps({**head, **s}))
         return status
     print(mod.format_summary(s))

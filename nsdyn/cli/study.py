@@ -194,5 +194,8 @@ def run(args: argparse.Namespace) -> int:
     for line in _failure_lines(failed, summary["table"]):
         print(line, file=sys.stderr)
     for note in summary["never_kept"]:  # every cell of that column is empty
-        print(f"nsdyn study: warning: no task has it: {note}", file=sys.stderr)
+        from nsdyn.studies.scenes import MISSING_MARK
+
+        note = note.replace(MISSING_MARK, "in no task's run summary (a column of empty cells):")
+        print(f"nsdyn study: warning: {note}", file=sys.stderr)
     return status

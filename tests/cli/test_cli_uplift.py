@@ -32,7 +32,7 @@ def test_json_lists_every_frequency_and_writes_the_files(tmp_path, capsys):
     for p in pts:
         if p["status"] == "ok":
             assert p["a_below"] < p["a_crit"] <= p["a_above"] <= rep["a_hi"]
-            assert p["min_normal_force_below_n"] > 0 >= p["min_normal_force_above_n"]
+            assert p["min_normal_force_below_N"] > 0 >= p["min_normal_force_above_N"]
         else:
             assert p["a_crit"] is None and p["status"]
     assert pts[0]["status"] == "ok"

@@ -94,7 +94,8 @@ def test_a_kept_name_no_task_has_is_warned_with_the_nearest_field(tmp_path, caps
                      '[parameters]\n"isolation.mu" = [0.02, 0.05]\n')  # fmt: skip
     assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 0
     err = capsys.readouterr().err
-    assert "warning: no task has it" in err and "did you mean 'x_iso_max_m' for" in err
+    assert "warning: " + f"{study}: study.keep: in no task's run summary" in err
+    assert "did you mean 'x_iso_max_m' for 'x_iso_maxx'?" in err
     # the misspelt name is a column of empty cells, kept by the compaction that reads the parts
     rows = read_csv(tmp_path / "o" / "results.csv")
     assert all("x_iso_maxx" in r and r["x_iso_maxx"] is None for r in rows)
