@@ -55,3 +55,9 @@ def number(name: str, value, what: str, ok=None) -> float:
     if not math.isfinite(v) or (ok is not None and not ok(v)):
         raise ValueError(f"{name}: expected {what}, got {value!r}")
     return v
+
+
+class NumericalFailure(RuntimeError):
+    """A numerical method failed where the model is still valid: a step size underflow, a
+    contact problem with no solution, a step or event budget spent, a non-finite state. The
+    message says when (t or f) and why; the command line ends with status 3."""

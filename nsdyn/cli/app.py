@@ -44,11 +44,12 @@ def _user_errors() -> tuple[type[BaseException], ...]:
 
 
 def _numerics_errors() -> tuple[type[BaseException], ...]:
+    from nsdyn._checks import NumericalFailure
     from nsdyn.models.cylinder.simulate import SimulationError
     from nsdyn.models.isolated.plane_result import PlaneIntegrationError
     from nsdyn.solve.integrate import IntegrationError, UpliftError
 
-    return (IntegrationError, UpliftError, PlaneIntegrationError, SimulationError)
+    return (IntegrationError, UpliftError, PlaneIntegrationError, SimulationError, NumericalFailure)
 
 
 @dataclass(frozen=True)

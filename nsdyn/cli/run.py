@@ -306,6 +306,11 @@ def _check_method(method: str, cfg: dict) -> None:
             f"{source}: solver.method: unknown integrator {method!r}; expected 'auto' or one "
             f"of {sorted(METHODS)}"
         )
+    if method == "genalpha-lowrank" and cfg.get("isolation", {}).get("law") == "switch":
+        raise SceneError(
+            f"{source}: solver.method: 'genalpha-lowrank' takes the arctan law (or none); the "
+            "switch law's stick and slip events need 'event', 'radau' or 'genalpha' (or 'auto')"
+        )
     unilateral = cfg.get("isolation", {}).get("contact") == "unilateral"
     if unilateral and method != "auto" and method not in UNILATERAL_METHODS:
         raise SceneError(
@@ -375,7 +380,13 @@ def run(args: argparse.Namespace) -> int:
     _t_end_wins(args, cfg)
     if args.friction:
         cfg.setdefault("isolation", {})["law"] = args.friction
-    _check_method(cfg.get("solver", {}).get("method", "auto"), cfg)  # before the model's build
+    method = cfg.get("solver", {}).get("method", "auto")
+    if args.friction == "arctan" and method == "event":  # asked for both: neither is dropped
+        raise SceneError(f"{cfg.get('_source', '<default scene>')}: --friction arctan: the "
+                         "event method integrates the switch model (true stick); drop "
+                         "--friction, or choose a method of the smooth law ('radau', "
+                         "'genalpha', …)")  # fmt: skip
+    _check_method(method, cfg)  # before the model's build
     system, motion, duration = build_scene_run(cfg)
     _note_short_record(cfg, motion, args.json)
     if args.compare_fixed and (args.no_figures or system.frame is None):

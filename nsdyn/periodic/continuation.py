@@ -27,6 +27,7 @@ import time
 
 import numpy as np
 
+from nsdyn._checks import NumericalFailure
 from nsdyn.periodic.bifurcation import detect_bifurcations
 from nsdyn.periodic.curve import Curve, OrbitPoint, _point_from_shoot, _point_from_sweep
 from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation, refined
@@ -299,7 +300,7 @@ def continue_arclength(
         xg = warm_start(problem, fmin, x0, disc)
         pt, res = _solve_point(problem, fmin, [xg], disc, tol, max_iter, fallback, "arclength")
         if pt is None:
-            raise RuntimeError(f"no periodic solution found at f = {fmin:g} Hz")
+            raise NumericalFailure(f"no periodic solution found at f = {fmin:g} Hz")
         pt.s = 0.0
         add(pt)
     s_acc = pts[-1].s if np.isfinite(pts[-1].s) else 0.0

@@ -411,21 +411,25 @@ def integrate(
         if h != dt:
             u = ground_many(np.array([t + (1.0 - af) * h]), P)
             u[:, 1] += kp.g
-        ops = (st.G, st.RGr_inv, st.Lam, st.DGr, st.Wp, R, D)
+        # the step's low-rank parts (not ``ops``: the full-order operators serve the next
+        # segment's stepper too)
+        parts = (st.G, st.RGr_inv, st.Lam, st.DGr, st.Wp, R, D)
         if st.lin is not None:  # full-order operators: the whole segment in the kernel
             t = _klowrank.run_steps_ops(
-                t, t_steps[k0:k1], u, st.lin, st.lr, A0, state, ops, par, out, max_steps
+                t, t_steps[k0:k1], u, st.lin, st.lr, A0, state, parts, par, out, max_steps
             )
             continue
         if st.W is not None:  # dense: the whole segment in the kernel
-            t = _klowrank.run_steps(t, t_steps[k0:k1], u, st.W, A0, state, ops, par, out, max_steps)
+            t = _klowrank.run_steps(
+                t, t_steps[k0:k1], u, st.W, A0, state, parts, par, out, max_steps
+            )
             continue
         for k in range(k0, k1):  # sparse: A0 by SuperLU here, the rest of the step in the kernel
             if stats[ki.S_STATUS] != ki.ST_SUCCESS or stats[ki.S_NOUT] >= nt:
                 break
             A0[:] = st.apply(q, v, a, u[k - k0])
             t = _klowrank.run_steps(
-                t, t_steps[k : k + 1], u[k - k0 : k - k0 + 1], _NO_W, A0, state, ops, par, out,
+                t, t_steps[k : k + 1], u[k - k0 : k - k0 + 1], _NO_W, A0, state, parts, par, out,
                 max_steps,
             )  # fmt: skip
     return stats, rinfo, X, upl_t

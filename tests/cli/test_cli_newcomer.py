@@ -109,6 +109,20 @@ def test_a_scene_of_the_wrong_kind_is_named_as_such(tmp_path, argv, needles, one
     one_line(*needles)
 
 
+@pytest.mark.parametrize(
+    "argv, needles",
+    [  # a law and a method that do not go together: refused, never one of them dropped
+        (["--friction", "arctan", "--method", "event"], ["--friction arctan", "switch model"]),
+        (["--friction", "switch", "--method", "genalpha-lowrank"],
+         ["solver.method", "'genalpha-lowrank' takes the arctan law"]),
+    ],
+)  # fmt: skip
+def test_a_friction_law_its_method_cannot_integrate_is_refused(tmp_path, argv, needles, one_line):
+    assert main(["run", *argv, "--out", str(tmp_path / "o")]) == 2
+    one_line(*needles)
+    assert not (tmp_path / "o").exists()  # refused before the model's build
+
+
 def test_modes_of_a_scene_lists_the_frame_it_names(capsys, tmp_path):
     scene = tmp_path / "s.toml"
     scene.write_text('[scene]\nframe = "office-11"\n')

@@ -241,3 +241,16 @@ def test_a_deck_that_lifts_off_ends_with_status_3_and_its_json_says_so(tmp_path,
     u = s["uplift"]
     assert s["error"].startswith(f"UPLIFT isolator {u['isolator']} at t = {u['t_s']:.6g} s")
     assert s["t_end_s"] <= u["t_s"] < 4.0  # the run ended at the uplift
+
+
+def test_a_contact_problem_without_solution_is_a_numerical_failure(tmp_path, capsys):
+    """Friction 2.0 on the seed's block: at the first contact instant the rigid body's LCP
+    has no solution (Painlevé's paradox of rigid bodies with Coulomb friction), a failure of
+    the event-driven method, not of the input: status 3 with the time and the way out."""
+    scene = tmp_path / "mu2.toml"
+    text = (SCENES / "contact-seed002-A5.toml").read_text()
+    scene.write_text(text.replace("mu_s = 0.57", "mu_s = 2.0").replace("mu_d = 0.29", "mu_d = 2.0"))
+    assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 3
+    err = capsys.readouterr().err
+    assert "numerical failure: event-driven: contact LCP has no solution at t = 0 s" in err
+    assert "Traceback" not in err and "solver.method = 'moreau'" in err

@@ -167,3 +167,17 @@ def test_full_model_matches_radau(full_system):
     for key in ("x_iso_max", "idr_max", "floor_acc_max"):
         a, b = getattr(low.response, key), getattr(ref.response, key)
         assert abs(a / b - 1.0) <= 1e-3, key
+
+
+@pytest.mark.parametrize("backend", ["dense", "sparse"])
+def test_a_step_that_does_not_divide_the_span_ends_with_a_shortened_step(backend):
+    """33 steps of 3 ms and a last one of 1 ms (its own factorisation): the run reaches
+    t_end, and the states it shares with the run that stops after 33 steps are the same
+    steps, so equal bit for bit."""
+    P, n = _chain()
+    x0 = np.zeros(2 * n)
+    t_full, t_cut = np.array([0.0, 0.05, 0.1]), np.array([0.0, 0.05, 0.099])
+    stats, _, X, _ = lr.integrate(P, x0, t_full, 0.003, backend=backend)
+    stats_c, _, Xc, _ = lr.integrate(P, x0, t_cut, 0.003, backend=backend)
+    assert stats[0] == stats_c[0] == 0
+    assert np.array_equal(X[:2], Xc[:2]) and np.all(np.isfinite(X[2]))

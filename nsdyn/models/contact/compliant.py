@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._checks import NumericalFailure
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kcompliant as kc
 from nsdyn.models.contact.body import RigidBody
@@ -194,7 +195,7 @@ def simulate_compliant(
                                        mo.tab_h, mo.tab_v, acc, t_out, y_out, iout)  # fmt: skip
         n_steps += ns
         if st == kc.ST_NONFINITE:
-            raise RuntimeError(f"compliant ground: non-finite state at t = {t:.9g} s")
+            raise NumericalFailure(f"compliant ground: non-finite state at t = {t:.9g} s")
         if st == kc.ST_OVER:
             t_over = t
             break

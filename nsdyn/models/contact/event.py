@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-from nsdyn._checks import expect, number, rel_tol
+from nsdyn._checks import NumericalFailure, expect, number, rel_tol
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kevent as ke
 from nsdyn.models.contact._kgeom import body_mode, contact_rows, mu_of, solve_contacts
@@ -91,7 +91,7 @@ def impact(body, par, q, v, e_n, near):
     idx = np.flatnonzero(near).astype(np.int64)
     PN, PT, wN, _, st = solve_contacts(Wn, Wt, minv, bN, vt, mu, np.zeros(nc), idx)
     if st != 0:
-        raise RuntimeError("impact LCP has no solution")
+        raise NumericalFailure("impact LCP has no solution")
     return v + minv * (Wn.T @ PN + Wt.T @ PT)
 
 
@@ -119,7 +119,11 @@ def _settle(body, par, mo, t, y, e_n, closed, sig):
         dy, ind, lamN, lamT, st = ke.rhs(t, yy, sig, cl, verts, minv, par, mo.ex, mo.tab_h,
                                          mo.tab_v)  # fmt: skip
         if st != 0:
-            raise RuntimeError(f"event-driven: contact LCP has no solution at t = {t:.9g} s")
+            raise NumericalFailure(
+                f"event-driven: contact LCP has no solution at t = {t:.9g} s (with large "
+                "friction a rigid body's contact forces can have none, Painlevé's paradox; "
+                "the Moreau-Jean method, solver.method = 'moreau', resolves it by impulses)"
+            )
         nc = len(verts)
         changed = False
         for i in range(nc):
@@ -242,7 +246,7 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
         n_steps += ns
         n_rhs += nr
         if code < 0:
-            raise RuntimeError(f"event-driven: {FAIL[code]} at t = {t:.9g} s")
+            raise NumericalFailure(f"event-driven: {FAIL[code]} at t = {t:.9g} s")
         if code == ke.EV_OVER:
             t_over = t
             events.append((t, "overturn", -1))
@@ -257,7 +261,7 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
         else:
             events.append((t, EVENT_NAMES[code], which % nc))
         if len(events) > max_events:
-            raise RuntimeError(f"event-driven: more than {max_events} events by t = {t:.9g} s "
+            raise NumericalFailure(f"event-driven: more than {max_events} events by t = {t:.9g} s "
                                "(impact accumulation or chattering)")  # fmt: skip
         y, k = _settle(body, par, mo, t, y, e, closed, sig)
         n_imp += k

@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 
+from nsdyn._checks import NumericalFailure
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kmoreau as km
 from nsdyn.models.contact.body import RigidBody
@@ -51,7 +52,7 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
         _sorted_jumps(mo.jumps), stride,
         MODE_G_TOL * L, MODE_V_TOL * math.sqrt(g * L))  # fmt: skip
     if status < 0:
-        raise RuntimeError(f"Moreau-Jean: {STATUS[status]} at t = {t_stop:.9g} s")
+        raise NumericalFailure(f"Moreau-Jean: {STATUS[status]} at t = {t_stop:.9g} s")
     first_change = (float(first[0]), int(first[1])) if first[0] >= 0.0 else None
     res = ContactResult(t, qs, vs, md, "moreau", body.contacts.mean(axis=0), body.theta_ov,
                         0, t_stop if status == 1 else None, [], k, k, body.contacts,

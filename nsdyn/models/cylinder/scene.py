@@ -132,6 +132,12 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         c = number(source, "foundation.c", fd.get("c", base.c), allow_zero=True)
     p = _star(base.with_(k=k, c=c, foundation=case), cfg.get("star", {}), source)
     p = p.with_(mu=_friction(fd, case, source))
+    if static_settlement(p) >= p.r:  # the base would sink deeper than its radius
+        field = "foundation.f_rock" if has_design else "foundation.k"
+        raise SceneError(f"{source}: {field}: the static settlement m g / (pi r^2 k) = "
+                         f"{static_settlement(p):.4g} m exceeds the radius r = {p.r:g} m: the "
+                         f"foundation is too soft (k > {p.m * p.g / (p.area * p.r):.4g} N/m^3 "
+                         "needed)")  # fmt: skip
     mo = cfg.get("motion", {})
     if "record" in mo:
         from nsdyn.ground import read_motion

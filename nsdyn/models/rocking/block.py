@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import expect, rel_tol
+from nsdyn._checks import NumericalFailure, expect, rel_tol
 from nsdyn.ground import G_EARTH, GroundMotion, Harmonic
 from nsdyn.ground.pulses import Pulse
 from nsdyn.models.rocking import _kblock as kb
@@ -299,8 +299,8 @@ def simulate_rocking(
                         out, imp, peaks, info, *work))  # fmt: skip
     wall = time.perf_counter() - w0
     if st != kb.ST_OK:
-        raise RuntimeError(f"rocking integration failed at t = {info[kb.I_TFAIL]:.6g} s: "
-                           f"{_STATUS.get(st, st)}")  # fmt: skip
+        raise NumericalFailure(f"rocking integration failed at t = {info[kb.I_TFAIL]:.6g} s: "
+                               f"{_STATUS.get(st, st)}")  # fmt: skip
     n = int(info[kb.I_NOUT])
     n_imp = int(info[kb.I_NIMP])
     n_pk = int(info[kb.I_NPEAK])

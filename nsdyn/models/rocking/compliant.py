@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._checks import NumericalFailure
 from nsdyn._tabular import Tabular
 from nsdyn.ground import G_EARTH
 from nsdyn.models.rocking import _kcompliant as kc
@@ -208,7 +209,7 @@ def simulate_compliant(
     wall = time.perf_counter() - w0
     if st != kc.ST_OK:
         why = "step size underflow" if st == kc.ST_UNDERFLOW else "non-finite state"
-        raise RuntimeError(f"compliant block failed at t = {info[kc.J_TFAIL]:.6g} s: {why}")
+        raise NumericalFailure(f"compliant block failed at t = {info[kc.J_TFAIL]:.6g} s: {why}")
     n = int(info[kc.J_NOUT])
     return CompliantResult(dt_out * np.arange(n), out[:n].copy(), model.alpha,
                            int(info[kc.J_NSTEP]), wall)  # fmt: skip

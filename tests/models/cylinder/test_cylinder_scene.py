@@ -38,6 +38,7 @@ def cfg():
         ("motion", "seeed", 3, "motion.seeed: unknown field; did you mean 'seed'"),
         ("solver", "method", "rk4", "solver.method"),
         ("foundation", "zeta", 10, r"foundation.zeta: expected a damping ratio in \[0, 1\)"),
+        ("foundation", "k", 1.0, r"foundation.k: the static settlement .* exceeds the radius"),
     ],
 )
 def test_bad_input_names_the_field(cfg, table, key, value, match):
