@@ -387,11 +387,11 @@ def simulate(
     if sparse_path(system, method, contact):  # else a full-order model's dense copies
         from nsdyn.solve.fullorder import simulate_full
 
-        return simulate_full(
+        return _between_steps(simulate_full(
             system, motion, t_eval, x0=x0, dt=dt, uplift=uplift, contact=contact,
             progress=progress, reason=reason, result=TransientResult, checkpoint=checkpoint,
             chunk_s=chunk_s, **solver_options,
-        )  # fmt: skip
+        ), dt, uplift)  # fmt: skip
     P = system.params(motion)
     given_x0 = x0 is not None
     if x0 is None:
@@ -460,7 +460,7 @@ def simulate(
     flat = methods.metrics_for(methods.kernel_for(method, Pm)) == "metrics"
     evaluated = evaluations(Pm, t, x, open_hist, flat=flat)
     resp = response(system, t, x, Pm, open_hist, carry.impact, evaluated=evaluated)
-    return TransientResult(
+    res = TransientResult(
         system,
         t,
         x,
@@ -477,4 +477,28 @@ def simulate(
         open_hist,
         carry.impact,
         reason,
+    )
+    return _between_steps(res, dt, uplift)
+
+
+def _between_steps(res: TransientResult, dt, uplift: str) -> TransientResult:
+    """``res``, unless a fixed-step run under contact "detect" (whose kernel stops at a step
+    with a normal force <= 0) has one below zero between its steps, in the output: the step
+    does not resolve the response (an IntegrationError at the first such output time)."""
+    from nsdyn.solve.methods import METHODS
+
+    lam = res.response.lam
+    if res.contact != "detect" or uplift != "raise" or res.uplift or not lam.size:
+        return res
+    low = lam.reshape(lam.shape[0], -1).min(axis=1)
+    if not METHODS[res.method].fixed_step or low.min() >= 0.0:
+        return res
+    k = int(np.argmax(low < 0.0))
+    raise integrate.IntegrationError(
+        f"fixed step dt = {dt:g} s: a normal force between the steps reached {low.min():.4g} N "
+        f"(first below zero at t = {res.t[k]:.6g} s) while every step's stayed positive: the "
+        "step does not resolve the response; halve dt until the peaks settle, or use an "
+        "adaptive method ('radau')",
+        float(res.t[k]),
+        "step too large",
     )

@@ -120,3 +120,19 @@ def test_a_first_run_warms_its_kernel_with_the_metrics(office, monkeypatch):
     monkeypatch.setattr(methods, "compiled", lambda k: True)  # warmed before: nothing to do
     assert transient._prepare_kernels("radau", P, None) == 0.0
     assert calls == []
+
+
+def test_a_fixed_step_too_large_for_the_response_is_a_failure_not_a_result(office):
+    """genalpha with dt = 0.2 s on the cb rung (modes up to 5 Hz: one step per period of the
+    highest) under the default record at PGA 3 m/s²: the steps' normal forces stay positive
+    but the states between them do not; under contact "detect" that is an IntegrationError
+    at the first output time with a negative normal force, not a result with floor
+    accelerations of 10^5 m/s². The default step (5 ms) runs."""
+    from nsdyn.models.isolated.scene import build_scene_run, load_scene
+    from nsdyn.solve.integrate import IntegrationError
+
+    system, motion, _ = build_scene_run(load_scene(None, {}))
+    with pytest.raises(IntegrationError, match=r"fixed step dt = 0.2 s: a normal force between"):
+        simulate(system, motion, method="genalpha", dt=0.2, t_end=8.0)
+    s = simulate(system, motion, method="genalpha", dt=0.005, t_end=8.0).summary()
+    assert s["min_normal_force_N"] > 0
