@@ -69,7 +69,10 @@ def gfill(y, modes, dirs, op, bp, sp, ws, out, g):
             g[i, 0] = kr.START_EXIT * eta - speed
             g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
         elif modes[i] == kp.MODE_STICK:
-            g[i, 0] = bp[i, B_MUS] * ws[13][i] * lam[i] - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
+            cap = bp[i, B_MUS] * ws[13][i] * lam[i]
+            if cap <= 0.0 < lam[i]:  # no static friction: g = 0 at rest would never cross
+                cap = kr.ZERO_DISC * lam[i]
+            g[i, 0] = cap - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
 
 
 @ka.compiled_only
@@ -87,6 +90,8 @@ def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
             if modes[i] == kp.MODE_STICK:
                 tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
                 lim = bp[i, B_MUS] * ws[13][i] * lam[i]
+                if lim <= 0.0 < lam[i]:  # no static friction: gfill's disc
+                    lim = kr.ZERO_DISC * lam[i]
                 rat = tau / lim if lim > 0.0 else math.inf
                 if rat > ratio and tau > 0.0:
                     ratio = rat

@@ -169,3 +169,25 @@ def test_an_eccentric_deck_on_a_ramp_breaks_away_at_mu_s_g():
     np.testing.assert_allclose(starts[:4, 0], t_star, rtol=2e-9)
     assert sorted(starts[:4, 1].astype(int)) == [0, 1, 2, 3]
     assert np.abs(r.u[r.t < t_star]).max() < 1e-12  # held until then
+
+
+@pytest.mark.parametrize("law", ["switch", "arctan"])
+def test_a_frictionless_pendulum_deck_moves_as_the_linear_oscillator(law):
+    """μ = 0 (no static friction either): the stick disc has no radius, so the deck slides at
+    once. Friction pendulums of radius R under a symmetric deck (h = 0, no vertical ground
+    motion: N = m g/4 each) restore with m g u/R, a linear oscillator of ω0² = g/R; from rest
+    under a_g = A sin(ω t): u(t) = A/(ω0² − ω²) (ω/ω0 sin ω0 t − sin ω t) (undamped forced
+    response). Tolerance 1e-5 of the peak: the integrator's rtol 1e-8, and the record's
+    linear interpolation between samples of 1 ms (|Δa| <= A ω² dt²/8 = 2.5e-7 m/s²)."""
+    R, A, w = 2.0, 0.5, 2.0
+    w0 = math.sqrt(G / R)
+    fric = Friction(0.0, mu_static=0.0)
+    d = rigid_deck(1.0e5, 1.0e5 * 8.0, POS[:4], Bearing(fric, radius=R), h=0.0, g=G)
+    dt, T = 0.001, 10.0
+    t = np.arange(0.0, T + dt / 2, dt)
+    r = simulate_plane(d, (0.0, dt, A * np.sin(w * t), 0.0 * t, None), law=law, rtol=1e-8,
+                       dt_out=0.05)  # fmt: skip
+    exact = A / (w0**2 - w**2) * (w / w0 * np.sin(w0 * r.t) - np.sin(w * r.t))
+    ux = r.u[:, 0, 0]
+    assert np.abs(r.friction).max() == 0.0
+    assert np.abs(ux - exact).max() <= 1e-5 * np.abs(exact).max()
