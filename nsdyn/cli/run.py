@@ -180,6 +180,25 @@ def _note_short_record(cfg: dict, motion, quiet: bool) -> None:
               f"the run ends there, at {last:g} s", file=sys.stderr)  # fmt: skip
 
 
+SAMPLES_PER_PERIOD_MIN = 20  # fewer output samples per excitation period miss the peaks
+
+
+def _note_coarse_output(cfg: dict, motion, quiet: bool) -> None:
+    """A harmonic excitation sampled fewer than SAMPLES_PER_PERIOD_MIN times per period on the
+    output grid: its peaks fall between the samples (one line, with the dt_out to use)."""
+    f = max(getattr(motion, "f_hor", 0.0) or 0.0, getattr(motion, "f", 0.0) or 0.0)
+    if getattr(motion, "A_ver", 0.0):
+        f = max(f, getattr(motion, "f_ver", 0.0) or 0.0)
+    dt_out = cfg.get("solver", {}).get("dt_out")
+    if quiet or not f or not isinstance(dt_out, int | float):
+        return
+    if dt_out * f * SAMPLES_PER_PERIOD_MIN > 1.0:
+        fine = 1.0 / (SAMPLES_PER_PERIOD_MIN * f)
+        print(f"nsdyn run: note: dt_out = {dt_out:g} s samples the {f:g} Hz excitation "
+              f"{1.0 / (f * dt_out):.3g} times per period: the peaks fall between the "
+              f"samples; set solver.dt_out <= {fine:.3g} s", file=sys.stderr)  # fmt: skip
+
+
 _ISOLATED_ONLY = (
     "frame",
     "fidelity",
@@ -389,6 +408,7 @@ def run(args: argparse.Namespace) -> int:
     _check_method(method, cfg)  # before the model's build
     system, motion, duration = build_scene_run(cfg)
     _note_short_record(cfg, motion, args.json)
+    _note_coarse_output(cfg, motion, args.json)
     if args.compare_fixed and (args.no_figures or system.frame is None):
         why = (
             "draws the fixed-base frame in the run's figure, and --no-figures draws none"

@@ -254,3 +254,19 @@ def test_a_contact_problem_without_solution_is_a_numerical_failure(tmp_path, cap
     err = capsys.readouterr().err
     assert "numerical failure: event-driven: contact LCP has no solution at t = 0 s" in err
     assert "Traceback" not in err and "solver.method = 'moreau'" in err
+
+
+def test_an_output_grid_too_coarse_for_a_harmonic_is_noted(tmp_path, capsys):
+    """50 Hz sampled every 20 ms (the scene default) is one sample per period: the peaks are
+    aliased (the sampling theorem asks for more than two; 20 keeps the sampled peak of a sine
+    within 1.3 % of its amplitude, 1 - cos(pi / 20)). The run says so and how fine to go."""
+    scene = tmp_path / "h50.toml"
+    scene.write_text('[motion]\nkind = "harmonic"\namplitude = 3.0\nfrequency = 50.0\n'
+                     't_end = 0.2\n')  # fmt: skip
+    assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 0
+    err = capsys.readouterr().err
+    assert "dt_out = 0.02 s samples the 50 Hz excitation 1 times per period" in err
+    assert "set solver.dt_out <= 0.001 s" in err
+    scene.write_text(scene.read_text() + "[solver]\ndt_out = 0.001\n")
+    assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "p")]) == 0
+    assert "samples the" not in capsys.readouterr().err
