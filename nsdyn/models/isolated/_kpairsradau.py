@@ -174,6 +174,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
     it = 0
     fac = 1.0
     nstep = np.int64(0)
+    since_out = np.int64(0)
     nrej = np.int64(0)
     nfev = np.int64(0)
     status = kr.ST_OK
@@ -310,6 +311,11 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             need_jac = True
             continue
         nstep += 1
+        since_out += 1  # collapsed steps end the run as the Dormand-Prince kernel's do
+        if (since_out > kr.STALL_STEPS + 10.0 * (t_eval[iout] - t_eval[iout - 1]) / hmax
+                or nstep > kr.STALL_STEPS + kr.STALL_RATE * (t - t_eval[0]) / hmax):  # fmt: skip
+            status = kr.ST_STALL
+            break
         en_old = max(en, 1e-4)
         s_end = 1.0
         if kq.rhs_t(t + hh, ynew, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, f1) != kq.ST_OK:
@@ -343,6 +349,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             info[kr.I_NMIN] = min(info[kr.I_NMIN], n_end)
         t_new = t + s_end * hh
         while iout < nt and t_eval[iout] <= t_new:
+            since_out = 0
             ka.tcall("pairs.dense", (y, Z, (t_eval[iout] - t) / hh, ys))
             ka.tcall("pairs.emit", (t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws,
                                     out, iout, X, NO, FF, FR, FO, MO, stops))  # fmt: skip

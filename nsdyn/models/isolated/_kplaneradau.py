@@ -173,6 +173,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
     ok = False
     it = 0
     nstep = 0
+    since_out = 0
     nrej = 0
     nfev = 0
     status = kr.ST_OK
@@ -335,6 +336,11 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             need_jac = True
             continue
         nstep += 1
+        since_out += 1  # collapsed steps end the run as the Dormand-Prince kernel's do
+        if (since_out > kr.STALL_STEPS + 10.0 * (t_eval[iout] - t_eval[iout - 1]) / hmax
+                or nstep > kr.STALL_STEPS + kr.STALL_RATE * (t - t_eval[0]) / hmax):  # fmt: skip
+            status = kr.ST_STALL
+            break
         en_old = max(en, 1e-4)
         s_end = 1.0
         # f at the step's end: the next step's f0
@@ -370,6 +376,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         t_new = t + s_end * hh
         _locate_stops(t, hh, s_end, y, Z, ys, pos, bp, stops)
         while iout < nt and t_eval[iout] <= t_new:
+            since_out = 0
             _dense(y, Z, (t_eval[iout] - t) / hh, ys)
             kr._outputs(t_eval[iout], ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out,
                         iout, X, NO, FF, FR, FO, MO)  # fmt: skip

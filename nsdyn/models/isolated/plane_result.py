@@ -40,9 +40,10 @@ MESSAGES = {
     kr.ST_CHATTER: "chattering stick-slip events at t = {t:.6g} s (use law 'arctan')",
     kr.ST_EVENTS: "too many stick-slip events before t = {t:.6g} s",
     kr.ST_STALL: f"the steps collapsed before t = {{t:.6g}} s: over {kr.STALL_STEPS:,} "
-    "steps more than the record needs (the switch law's stick band eta = {eta:g} m/s is too "
-    "narrow for the velocities the steps resolve, and the slip direction "
-    f"turns fast near |v| = 0): raise eta (default {ETA:g} m/s), or use law 'arctan'",
+    "steps more than the record needs (the friction law is too sharp for the steps: the "
+    "switch law's stick band eta = {eta:g} m/s too narrow for the velocities they resolve, "
+    "or the arctan law's eps = {eps:g} s/m too large): raise eta (default "
+    f"{ETA:g} m/s), lower eps (default {EPS:g} s/m), or use the other law",
     kr.ST_NEWTON: "Radau IIA's Newton iterations diverge at t = {t:.6g} s, down to the smallest "
     "step (lower eps, or use law 'switch')",
 }
@@ -163,7 +164,7 @@ class PlaneResult(Tabular):
                  contact="detect"):  # fmt: skip
         if status not in (kr.ST_OK, kr.ST_UPLIFT):
             msg = MESSAGES.get(status, f"integration failed (status {status}) at t = {{t:.6g}} s")
-            raise PlaneIntegrationError(msg.format(t=info[kr.I_TFAIL], eta=eta))
+            raise PlaneIntegrationError(msg.format(t=info[kr.I_TFAIL], eta=eta, eps=eps))
         nout = int(info[kr.I_NOUT])
         ne = min(int(info[kr.I_NEV]), EV.shape[0])
         if int(info[kr.I_NEV]) > EV.shape[0]:
