@@ -260,22 +260,47 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return _main(argv)
     except BrokenPipeError:  # the reader closed stdout (`nsdyn modes F --json | head`)
-        return _pipe_closed()
+        if not _stdout_broken():  # another pipe's (a worker's): a real error
+            raise
+        return EXIT_PIPE_CLOSED
     finally:
         _JSON[0] = False
 
 
+def _stdout_broken() -> bool:
+    """Whether stdout is a pipe whose reader has gone (poll reports an error on it)."""
+    import select
+
+    try:
+        poller = select.poll()
+        poller.register(sys.stdout.fileno(), select.POLLOUT)
+        return any(ev & select.POLLERR for _, ev in poller.poll(0))
+    except (OSError, ValueError, AttributeError):  # a stream without a file descriptor
+        return False
+
+
 def _pipe_closed() -> int:
-    """Stop quietly when stdout's reader has gone: what is still buffered goes to /dev/null,
-    so that the interpreter's last flush raises nothing either (a process killed by SIGPIPE
-    would end with the same status, 128 + 13)."""
+    """The script's end when stdout's reader has gone: what is still buffered goes to
+    /dev/null, so that the interpreter's last flush raises nothing (a process killed by
+    SIGPIPE would end with the same status, 128 + 13)."""
     try:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         os.close(devnull)
-    except (OSError, ValueError, AttributeError):  # stdout replaced by an object without a fd
+    except (OSError, ValueError, AttributeError):
         pass
     return EXIT_PIPE_CLOSED
+
+
+def _flushed() -> bool:
+    """Flush stdout; False when its reader has gone."""
+    try:
+        sys.stdout.flush()
+    except BrokenPipeError:
+        return False
+    except (OSError, ValueError, AttributeError):
+        pass
+    return True
 
 
 def _main(argv: list[str]) -> int:
@@ -370,6 +395,8 @@ def script(argv: list[str] | None = None) -> int:
     finally:
         release_standby()
     gc.freeze()
+    if code == EXIT_PIPE_CLOSED or not _flushed():  # the output's reader has gone
+        return _pipe_closed()
     _stdout_kept_for_results()
     return code
 

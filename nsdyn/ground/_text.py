@@ -153,7 +153,7 @@ def parse_table(text: str, source: str) -> Table:
                 to_float(tok)
         except ValueError:
             after_names = names is not None and header and header[-1] is names_line
-            if after_names and len(toks) == len(names) and _some_number(toks):  # a bad cell
+            if after_names and _one_bad_cell(toks, len(names)):  # a data row, not a title
                 bad = next(t for t in toks if not _is_float(t))
                 raise RecordFileError(source, lines[i][0], f"expected numbers, found {bad!r} "
                                       f"in {s.strip()!r}") from None  # fmt: skip
@@ -187,8 +187,12 @@ def _is_float(tok: str) -> bool:
     return True
 
 
-def _some_number(toks: list[str]) -> bool:
-    return any(_is_float(t) for t in toks)
+def _one_bad_cell(toks: list[str], n_names: int) -> bool:
+    """A row of the named table with one cell that is not a number: as many cells as names
+    (two or more), a number first (the time) and every other cell a number but one. A header
+    line after a title (``dt = 0.02``, ``dt: 0.02``, ``1940 El Centro``) is none."""
+    numeric = [_is_float(t) for t in toks]
+    return len(toks) == n_names >= 2 and numeric[0] and sum(numeric) == len(toks) - 1
 
 
 def _rows_at_once(rows: list[tuple[int, str]]) -> tuple[np.ndarray | None, np.ndarray]:

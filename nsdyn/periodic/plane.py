@@ -90,8 +90,8 @@ _WHY = {
     kr.ST_CHATTER: "chattering stick-slip events",
     kr.ST_EVENTS: "too many stick-slip events",
     kr.ST_NEWTON: "Radau IIA's Newton iterations diverge (lower eps)",
-    kr.ST_STALL: "the steps collapsed near |v| = 0 (the switch law's stick band eta is too "
-    "narrow: raise eta, or use law 'arctan')",
+    kr.ST_STALL: "the steps collapsed (a friction law too sharp for the steps: the switch "
+    "law's stick band eta too narrow, or the arctan law's eps too large: raise eta or lower eps)",
 }
 _WHY[STATUS_HELD - STATUS_BASE] = (
     "a stuck isolator held outside its friction disc (a missed break-away of the time loop)"
@@ -255,6 +255,7 @@ class PlaneProblem:
                 continue
             lim = np.array([bp[i, B_MUS] * kp.pressure_factor(bp, i, float(n)) * n
                             for n in NO[k, i]])  # fmt: skip
+            lim = np.where((lim <= 0.0) & (NO[k, i] > 0.0), kr.ZERO_DISC * NO[k, i], lim)
             if np.any(np.hypot(FF[k, i, 0], FF[k, i, 1]) > lim * (1.0 + DISC_SLACK)):
                 return True
         return False

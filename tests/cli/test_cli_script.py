@@ -86,7 +86,8 @@ def test_a_reader_that_closes_the_pipe_ends_the_command_quietly(child_env):
     from nsdyn.cli.args import EXIT_PIPE_CLOSED
 
     argv = [sys.executable, "-m", "nsdyn.cli", "modes", "portal", "--json"]
-    p = subprocess.Popen(argv, env=child_env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    env = {k: v for k, v in child_env.items() if k != "PYTHONUNBUFFERED"}  # a buffered stdout
+    p = subprocess.Popen(argv, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     p.stdout.close()  # before the child has imported anything: its first write fails
     err = p.stderr.read().decode()
     assert p.wait() == EXIT_PIPE_CLOSED == 128 + 13 and err == ""

@@ -339,6 +339,12 @@ def test_hand_written_csv_with_named_columns(tmp_path):
         with pytest.raises(RecordFileError, match=rf"two.csv:{line}: expected .*'.*oops") as ei:
             read_motion3(bad)
         assert "missing component" not in str(ei.value)
+    # a title line then header lines with a number are no bad row: the record still reads
+    from nsdyn.ground import read_motion
+
+    title = tmp_path / "rec.txt"
+    title.write_text("El Centro NS\ndt = 0.02\nunits = g\n0.1\n0.2\n0.3\n")
+    assert (read_motion(title).n, read_motion(title).dt) == (3, 0.02)
 
 
 @pytest.mark.filterwarnings("error::UserWarning")

@@ -112,7 +112,7 @@ def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
         elif modes[i] == kp.MODE_STICK:
             lim = bp[i, B_MUS] * ws[11][i] * N[i] * (1.0 + STICK_RTOL)  # settle's own bound
             if lim <= 0.0 < N[i]:  # no static friction: g = 0 at rest would never cross
-                lim = ZERO_DISC * N[i]
+                lim = ZERO_DISC * N[i] * (1.0 + STICK_RTOL)
             g[i, 0] = lim - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
     return st
 
