@@ -16,6 +16,7 @@ from nsdyn.cli.args import EXIT_NUMERICS, out_dir
 from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
 from nsdyn.cli.args import positive_int as _positive_int
+from nsdyn.cli.run_checks import check_method, note_coarse_output, note_short_record
 from nsdyn.studies.scenes import FIXED_DT  # the fixed-step methods' default step (re-exported)
 
 DEFAULT_OUT = "nsdyn-out"  # output directory
@@ -169,36 +170,6 @@ def _t_end_wins(args: argparse.Namespace, cfg: dict) -> None:
             cfg.get(table, {}).pop("n_periods", None)
 
 
-def _note_short_record(cfg: dict, motion, quiet: bool) -> None:
-    """A ``t_end`` past the record's last sample ends the run there: said in one line."""
-    t_req = cfg.get("motion", {}).get("t_end")
-    if quiet or t_req is None or not hasattr(motion, "n") or not hasattr(motion, "dt"):
-        return
-    last = motion.t0 + (motion.n - 1) * motion.dt
-    if float(t_req) > last + motion.dt:  # (a window ends within one sample of its t_end)
-        print(f"nsdyn run: note: t_end = {float(t_req):g} s is past the record's last sample; "
-              f"the run ends there, at {last:g} s", file=sys.stderr)  # fmt: skip
-
-
-SAMPLES_PER_PERIOD_MIN = 20  # fewer output samples per excitation period miss the peaks
-
-
-def _note_coarse_output(cfg: dict, motion, quiet: bool) -> None:
-    """A harmonic excitation sampled fewer than SAMPLES_PER_PERIOD_MIN times per period on the
-    output grid: its peaks fall between the samples (one line, with the dt_out to use)."""
-    f = max(getattr(motion, "f_hor", 0.0) or 0.0, getattr(motion, "f", 0.0) or 0.0)
-    if getattr(motion, "A_ver", 0.0):
-        f = max(f, getattr(motion, "f_ver", 0.0) or 0.0)
-    dt_out = cfg.get("solver", {}).get("dt_out")
-    if quiet or not f or not isinstance(dt_out, int | float):
-        return
-    if dt_out * f * SAMPLES_PER_PERIOD_MIN > 1.0:
-        fine = 1.0 / (SAMPLES_PER_PERIOD_MIN * f)
-        print(f"nsdyn run: note: dt_out = {dt_out:g} s samples the {f:g} Hz excitation "
-              f"{1.0 / (f * dt_out):.3g} times per period: the peaks fall between the "
-              f"samples; set solver.dt_out <= {fine:.3g} s", file=sys.stderr)  # fmt: skip
-
-
 _ISOLATED_ONLY = (
     "frame",
     "fidelity",
@@ -313,32 +284,6 @@ def prepare_kernels(method: str, flat: bool = True) -> float:
     return spent
 
 
-def _check_method(method: str, cfg: dict) -> None:
-    """``solver.method`` must be ``auto`` or name an integrator (a SceneError naming the field
-    otherwise)."""
-    from nsdyn.models.scenefile import SceneError
-    from nsdyn.solve.methods import METHODS, UNILATERAL_METHODS
-
-    source = cfg.get("_source", "<scene>")
-    if method != "auto" and method not in METHODS:
-        raise SceneError(
-            f"{source}: solver.method: unknown integrator {method!r}; expected 'auto' or one "
-            f"of {sorted(METHODS)}"
-        )
-    if method == "genalpha-lowrank" and cfg.get("isolation", {}).get("law") == "switch":
-        raise SceneError(
-            f"{source}: solver.method: 'genalpha-lowrank' takes the arctan law (or none); the "
-            "switch law's stick and slip events need 'event', 'radau' or 'genalpha' (or 'auto')"
-        )
-    unilateral = cfg.get("isolation", {}).get("contact") == "unilateral"
-    if unilateral and method != "auto" and method not in UNILATERAL_METHODS:
-        raise SceneError(
-            f"{source}: solver.method: {method!r} cannot integrate isolation.contact = "
-            f"'unilateral' (lift-off and landing); expected 'auto' or one of "
-            f"{list(UNILATERAL_METHODS)}"
-        )
-
-
 def _run_identity(cfg: dict, args: argparse.Namespace) -> dict:
     """What a run's checkpoint depends on: the whole scene (after the command-line overrides)."""
     scene = {k: v for k, v in cfg.items() if not k.startswith("_")}
@@ -405,10 +350,10 @@ def run(args: argparse.Namespace) -> int:
                          "event method integrates the switch model (true stick); drop "
                          "--friction, or choose a method of the smooth law ('radau', "
                          "'genalpha', …)")  # fmt: skip
-    _check_method(method, cfg)  # before the model's build
+    check_method(method, cfg)  # before the model's build
     system, motion, duration = build_scene_run(cfg)
-    _note_short_record(cfg, motion, args.json)
-    _note_coarse_output(cfg, motion, args.json)
+    note_short_record(cfg, motion, args.json)
+    note_coarse_output(cfg, motion, args.json)
     if args.compare_fixed and (args.no_figures or system.frame is None):
         why = (
             "draws the fixed-base frame in the run's figure, and --no-figures draws none"
@@ -451,7 +396,7 @@ def run(args: argparse.Namespace) -> int:
         method, reason = choose_for_system(system)
         if not args.json:
             print(f"method  {reason}", file=sys.stderr)
-    _check_method(method, cfg)
+    check_method(method, cfg)
     from nsdyn.solve.methods import METHODS
 
     if METHODS[method].fixed_step and "dt" not in sv:

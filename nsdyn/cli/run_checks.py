@@ -1,0 +1,63 @@
+"""The checks and notes of ``nsdyn run`` on a loaded scene, before its model is built: a
+method that cannot integrate the scene's law or contact (input errors), a ``t_end`` past the
+record, an output grid too coarse for a harmonic excitation (notes on stderr)."""
+
+from __future__ import annotations
+
+import sys
+
+
+def note_short_record(cfg: dict, motion, quiet: bool) -> None:
+    """A ``t_end`` past the record's last sample ends the run there: said in one line."""
+    t_req = cfg.get("motion", {}).get("t_end")
+    if quiet or t_req is None or not hasattr(motion, "n") or not hasattr(motion, "dt"):
+        return
+    last = motion.t0 + (motion.n - 1) * motion.dt
+    if float(t_req) > last + motion.dt:  # (a window ends within one sample of its t_end)
+        print(f"nsdyn run: note: t_end = {float(t_req):g} s is past the record's last sample; "
+              f"the run ends there, at {last:g} s", file=sys.stderr)  # fmt: skip
+
+
+SAMPLES_PER_PERIOD_MIN = 20  # fewer output samples per excitation period miss the peaks
+
+
+def note_coarse_output(cfg: dict, motion, quiet: bool) -> None:
+    """A harmonic excitation sampled fewer than SAMPLES_PER_PERIOD_MIN times per period on the
+    output grid: its peaks fall between the samples (one line, with the dt_out to use)."""
+    f = max(getattr(motion, "f_hor", 0.0) or 0.0, getattr(motion, "f", 0.0) or 0.0)
+    if getattr(motion, "A_ver", 0.0):
+        f = max(f, getattr(motion, "f_ver", 0.0) or 0.0)
+    dt_out = cfg.get("solver", {}).get("dt_out")
+    if quiet or not f or not isinstance(dt_out, int | float):
+        return
+    if dt_out * f * SAMPLES_PER_PERIOD_MIN > 1.0:
+        fine = 1.0 / (SAMPLES_PER_PERIOD_MIN * f)
+        print(f"nsdyn run: note: dt_out = {dt_out:g} s samples the {f:g} Hz excitation "
+              f"{1.0 / (f * dt_out):.3g} times per period: the peaks fall between the "
+              f"samples; set solver.dt_out <= {fine:.3g} s", file=sys.stderr)  # fmt: skip
+
+
+def check_method(method: str, cfg: dict) -> None:
+    """``solver.method`` must be ``auto`` or name an integrator (a SceneError naming the field
+    otherwise)."""
+    from nsdyn.models.scenefile import SceneError
+    from nsdyn.solve.methods import METHODS, UNILATERAL_METHODS
+
+    source = cfg.get("_source", "<scene>")
+    if method != "auto" and method not in METHODS:
+        raise SceneError(
+            f"{source}: solver.method: unknown integrator {method!r}; expected 'auto' or one "
+            f"of {sorted(METHODS)}"
+        )
+    if method == "genalpha-lowrank" and cfg.get("isolation", {}).get("law") == "switch":
+        raise SceneError(
+            f"{source}: solver.method: 'genalpha-lowrank' takes the arctan law (or none); the "
+            "switch law's stick and slip events need 'event', 'radau' or 'genalpha' (or 'auto')"
+        )
+    unilateral = cfg.get("isolation", {}).get("contact") == "unilateral"
+    if unilateral and method != "auto" and method not in UNILATERAL_METHODS:
+        raise SceneError(
+            f"{source}: solver.method: {method!r} cannot integrate isolation.contact = "
+            f"'unilateral' (lift-off and landing); expected 'auto' or one of "
+            f"{list(UNILATERAL_METHODS)}"
+        )
