@@ -253,8 +253,8 @@ class PlaneProblem:
             k = np.flatnonzero(MO[:, i] == kp.MODE_STICK)
             if not k.size:
                 continue
-            mus = max(bp[i, B_MUS], kr.ZERO_DISC)  # the kernels' disc (μ_s = 0 has one too)
-            lim = np.array([mus * kp.pressure_factor(bp, i, float(n)) * n for n in NO[k, i]])
+            lim = np.array([bp[i, B_MUS] * kp.pressure_factor(bp, i, float(n)) * n
+                            for n in NO[k, i]])  # fmt: skip
             if np.any(np.hypot(FF[k, i, 0], FF[k, i, 1]) > lim * (1.0 + DISC_SLACK)):
                 return True
         return False

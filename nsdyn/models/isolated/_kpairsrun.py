@@ -69,8 +69,7 @@ def gfill(y, modes, dirs, op, bp, sp, ws, out, g):
             g[i, 0] = kr.START_EXIT * eta - speed
             g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
         elif modes[i] == kp.MODE_STICK:
-            cap = max(bp[i, B_MUS], kr.ZERO_DISC) * ws[13][i] * lam[i]  # (μ_s = 0: a disc)
-            g[i, 0] = cap - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
+            g[i, 0] = bp[i, B_MUS] * ws[13][i] * lam[i] - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
 
 
 @ka.compiled_only
@@ -87,7 +86,7 @@ def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
         for i in range(ni):
             if modes[i] == kp.MODE_STICK:
                 tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
-                lim = max(bp[i, B_MUS], kr.ZERO_DISC) * ws[13][i] * lam[i]
+                lim = bp[i, B_MUS] * ws[13][i] * lam[i]
                 rat = tau / lim if lim > 0.0 else math.inf
                 if rat > ratio and tau > 0.0:
                     ratio = rat

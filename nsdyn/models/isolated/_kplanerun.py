@@ -34,7 +34,8 @@ states). Under the switch law N_i is then a switching function too: stick, slip 
 free (no friction) where N_i reaches zero, free → stick test or slip where it returns. The
 regularised law runs the same loop without switching functions. A rim contact (|u| > d_cap) is
 located on the dense output too, so one shorter than a step is reported at its first time. Steps
-collapsing far beyond what the record needs (STALL_STEPS, STALL_RATE: a too sharp law): ST_STALL.
+collapsing far beyond what the record needs (STALL_STEPS, STALL_RATE per largest step: a stick band
+η too narrow for the slip direction turning near |v| = 0) end the run with ST_STALL.
 """
 
 import math
@@ -63,7 +64,6 @@ ST_UPLIFT, ST_CHATTER, ST_EVENTS, ST_NEWTON, ST_STALL = 5, 6, 7, 8, 9
 STALL_STEPS = 100_000  # steps beyond 10 per largest step between two outputs, or beyond
 STALL_RATE = 200  # this many per largest step since the start: collapsed steps (ST_STALL)
 STICK_RTOL = 1e-9  # relative slack of the disc test |τ| <= μ_s N
-ZERO_DISC = 1e-12  # floor of μ_s in the stick test: at μ_s = 0 a disc whose g > 0 at rest
 START_EXIT = 2.0  # a slip-start becomes a slip at |v| = this x eta (entered at |v| <= eta)
 RESTICK_MARGIN = 1e-6  # a slip-start held by a stuck deck sticks below (1 - this) mu_d(0) N
 SETTLE_PASSES = 64
@@ -107,7 +107,7 @@ def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
             if nst < 2:  # (two stuck isolators hold the deck: v = 0, no reversal to see)
                 g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
         elif modes[i] == kp.MODE_STICK:
-            lim = max(bp[i, B_MUS], ZERO_DISC) * ws[11][i] * N[i] * (1.0 + STICK_RTOL)  # as settle
+            lim = bp[i, B_MUS] * ws[11][i] * N[i] * (1.0 + STICK_RTOL)  # settle's own bound
             g[i, 0] = lim - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
     return st
 
@@ -167,7 +167,7 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
         for i in range(pos.shape[0]):
             if modes[i] == kp.MODE_STICK:
                 tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
-                lim = max(bp[i, B_MUS], ZERO_DISC) * ws[11][i] * N[i]
+                lim = bp[i, B_MUS] * ws[11][i] * N[i]
                 r = tau / lim if lim > 0.0 else math.inf
                 if r >= 1.0 + STICK_RTOL and r > ratio and tau > 0.0:  # kept: g > 0 strictly
                     ratio = r

@@ -45,6 +45,10 @@ STOP_DAMPING_RATIO = 0.1  # default rim damping ratio (on the bearing's static m
 
 # columns of the packed bearing table (one row per isolator), read by _kplane
 B_RINV, B_KLAM, B_C, B_MUS, B_MUSLOW, B_MUFAST, B_RATE, B_DCAP, B_KSTOP, B_CSTOP = range(10)
+# the least μ_s of a packed row: the stick tests' disc |τ| <= μ_s N keeps a radius at μ_s = 0,
+# so a frictionless isolator's stick function μ_s N − |τ| starts positive and its first shear
+# force releases it (at 0 it would start at 0 and never cross: stuck for ever)
+MU_S_FLOOR = 1e-12
 # a triple friction pendulum's series model (nsdyn.models.isolated.tfp; zero for the others):
 # its kind, the index of its internal slips in the state vector, the elastic stiffness and the
 # flow's time constant, then (1/R, mu, d, k_stop) of its four series elements
@@ -197,7 +201,8 @@ class Bearing:
         r = np.zeros(N_BCOL)
         r[B_RINV] = 0.0 if math.isinf(self.radius) else 1.0 / self.radius
         r[B_KLAM], r[B_C] = self.k_lam, self.c
-        r[B_MUS], r[B_MUSLOW], r[B_MUFAST], r[B_RATE] = f.static, f.mu_slow, f.fast, f.rate
+        r[B_MUS] = max(f.static, MU_S_FLOOR)
+        r[B_MUSLOW], r[B_MUFAST], r[B_RATE] = f.mu_slow, f.fast, f.rate
         r[B_DCAP] = self.d_cap
         k_post = n_static * r[B_RINV] + self.k_lam
         ks = STOP_STIFFNESS_FACTOR * k_post if self.k_stop is None else float(self.k_stop)

@@ -65,6 +65,7 @@ from nsdyn.models.isolated.bearings import (
     B_RINV,
     B_TAU,
     KIND_TFP,
+    MU_S_FLOOR,
     N_BCOL,
     Bearing,
     BearingError,
@@ -200,7 +201,8 @@ class TripleBearing(Bearing):
         r = np.zeros(N_BCOL)
         r[B_RINV] = 1.0 / self.radius
         mu_min = float(self.friction.mu_slow)
-        r[B_MUS] = r[B_MUSLOW] = r[B_MUFAST] = mu_min
+        r[B_MUSLOW] = r[B_MUFAST] = mu_min
+        r[B_MUS] = max(mu_min, MU_S_FLOOR)
         r[B_DCAP] = math.inf  # (the elements carry the rims; contacts read from their slips)
         r[B_KIND] = KIND_TFP
         r[B_KEL] = self.k_elastic
