@@ -44,12 +44,12 @@ def _user_errors() -> tuple[type[BaseException], ...]:
 
 
 def _numerics_errors() -> tuple[type[BaseException], ...]:
+    """Every family's numerical failure (IntegrationError and UpliftError, the deck's
+    PlaneIntegrationError, the cylinder's SimulationError, the rocking, contact and shooting
+    solvers' own) is a NumericalFailure."""
     from nsdyn._checks import NumericalFailure
-    from nsdyn.models.cylinder.simulate import SimulationError
-    from nsdyn.models.isolated.plane_result import PlaneIntegrationError
-    from nsdyn.solve.integrate import IntegrationError, UpliftError
 
-    return (IntegrationError, UpliftError, PlaneIntegrationError, SimulationError, NumericalFailure)
+    return (NumericalFailure,)
 
 
 @dataclass(frozen=True)
@@ -283,13 +283,19 @@ def _pipe_closed() -> int:
     """The script's end when stdout's reader has gone: what is still buffered goes to
     /dev/null, so that the interpreter's last flush raises nothing (a process killed by
     SIGPIPE would end with the same status, 128 + 13)."""
-    try:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-        os.close(devnull)
-    except (OSError, ValueError, AttributeError):
-        pass
+    _stdout_to(os.devnull)
     return EXIT_PIPE_CLOSED
+
+
+def _stdout_to(path: str | None) -> None:
+    """Point the process's fd 1 at ``path`` (None: at stderr's file) for the rest of its life."""
+    try:
+        fd = os.open(path, os.O_WRONLY) if path else sys.stderr.fileno()
+        os.dup2(fd, sys.stdout.fileno())
+        if path:
+            os.close(fd)
+    except (OSError, ValueError, AttributeError):  # a stream without a file descriptor
+        pass
 
 
 def _flushed() -> bool:
@@ -405,13 +411,8 @@ def _stdout_kept_for_results() -> None:
     """When the command ran OpenSees in this process (``bench opensees``), route the process's
     fd 1 to stderr for its end: OpenSees prints "Process 0 Terminating" on stdout at exit,
     after the command's output (a ``--json`` summary would no longer parse)."""
-    if "openseespy.opensees" not in sys.modules:
-        return
-    try:
-        sys.stdout.flush()
-        os.dup2(sys.stderr.fileno(), sys.stdout.fileno())
-    except (OSError, ValueError, AttributeError):  # a stream without a file descriptor
-        pass
+    if "openseespy.opensees" in sys.modules:  # (stdout was flushed by the caller)
+        _stdout_to(None)
 
 
 if __name__ == "__main__":

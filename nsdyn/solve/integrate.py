@@ -58,6 +58,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nsdyn._checks import NumericalFailure
 from nsdyn.models.isolated.params import KernelParams
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve.methods import (
@@ -148,7 +149,7 @@ FIXED_STEP_ADVICE = (
 )
 
 
-class IntegrationError(RuntimeError):
+class IntegrationError(NumericalFailure):
     """A time integration failed. ``t``: time reached; ``reason``: status name;
     ``solution``: the partial :class:`Solution`."""
 

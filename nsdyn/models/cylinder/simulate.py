@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from nsdyn._checks import expect, non_negative_int, rel_tol
+from nsdyn._checks import NumericalFailure, expect, non_negative_int, rel_tol
 from nsdyn._tabular import Tabular
 from nsdyn.ground import GroundMotion, modulated_white_noise
 from nsdyn.models.cylinder import _kernel as K
@@ -38,7 +38,7 @@ S0_UNITS = {"g2s": G_STD, "m2s3": 1.0}  # amplitude factor of the white-noise in
 _STATUS = {1: "step size underflow", 2: "non-finite state", 4: "step budget exhausted"}
 
 
-class SimulationError(RuntimeError):
+class SimulationError(NumericalFailure):
     """The integrator failed; the message gives the time and the reason."""
 
 

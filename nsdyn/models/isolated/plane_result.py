@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._checks import NumericalFailure
 from nsdyn._tabular import Tabular
 from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.defaults import EPS, ETA
@@ -52,7 +53,7 @@ FREE = 3
 MAX_INTERVALS = 100  # tensile intervals listed in a summary (the count says how many in all)
 
 
-class PlaneIntegrationError(RuntimeError):
+class PlaneIntegrationError(NumericalFailure):
     """A run of the deck on bidirectional isolators failed; the message names time and reason."""
 
 
