@@ -16,7 +16,12 @@ from nsdyn.cli.args import EXIT_NUMERICS, out_dir
 from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
 from nsdyn.cli.args import positive_int as _positive_int
-from nsdyn.cli.run_checks import check_method, note_coarse_output, note_short_record
+from nsdyn.cli.run_checks import (
+    check_method,
+    note_coarse_output,
+    note_short_record,
+    note_soft_law,
+)
 from nsdyn.studies.scenes import FIXED_DT  # the fixed-step methods' default step (re-exported)
 
 DEFAULT_OUT = "nsdyn-out"  # output directory
@@ -354,6 +359,7 @@ def run(args: argparse.Namespace) -> int:
     system, motion, duration = build_scene_run(cfg)
     note_short_record(cfg, motion, args.json)
     note_coarse_output(cfg, motion, args.json)
+    note_soft_law(cfg, args.json)
     if args.compare_fixed and (args.no_figures or system.frame is None):
         why = (
             "draws the fixed-base frame in the run's figure, and --no-figures draws none"

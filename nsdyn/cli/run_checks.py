@@ -1,6 +1,7 @@
 """The checks and notes of ``nsdyn run`` on a loaded scene, before its model is built: a
 method that cannot integrate the scene's law or contact (input errors), a ``t_end`` past the
-record, an output grid too coarse for a harmonic excitation (notes on stderr)."""
+record, an output grid too coarse for a harmonic excitation, an arctan law too soft to be
+friction (notes on stderr)."""
 
 from __future__ import annotations
 
@@ -35,6 +36,28 @@ def note_coarse_output(cfg: dict, motion, quiet: bool) -> None:
         print(f"nsdyn run: note: dt_out = {dt_out:g} s samples the {f:g} Hz excitation "
               f"{1.0 / (f * dt_out):.3g} times per period: the peaks fall between the "
               f"samples; set solver.dt_out <= {fine:.3g} s", file=sys.stderr)  # fmt: skip
+
+
+SLIP_V_MAX = 10.0  # m/s, beyond any isolator's slip velocity in an earthquake
+
+
+def note_soft_law(cfg: dict, quiet: bool) -> None:
+    """An arctan law whose ``eps`` puts its stick velocity (friction at
+    ``STICK_UTILISATION`` of its limit) beyond ``SLIP_V_MAX``: no friction to speak of, and
+    the stick share counts every instant (one line, on stderr)."""
+    from nsdyn.models.isolated.friction import STICK_UTILISATION, stick_velocity
+
+    iso = cfg.get("isolation", {})
+    eps = iso.get("eps")
+    if quiet or iso.get("law", "arctan") != "arctan" or not isinstance(eps, int | float):
+        return
+    v = stick_velocity("arctan", float(eps))
+    if v > SLIP_V_MAX:
+        print(f"nsdyn run: note: isolation.eps = {eps:g} s/m: the arctan friction reaches "
+              f"{STICK_UTILISATION:.0%} of mu N only at a slip velocity of {v:.2g} m/s; below "
+              "that it acts as a viscous damper (2/pi mu N eps), and the share of time all "
+              "isolators stick counts every instant (typical eps: 1e3-1e5 s/m)",
+              file=sys.stderr)  # fmt: skip
 
 
 def check_method(method: str, cfg: dict) -> None:

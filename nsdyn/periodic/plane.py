@@ -52,6 +52,7 @@ import math
 
 import numpy as np
 
+from nsdyn._checks import RTOL_MIN
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
 from nsdyn.models.isolated import _kplanerun as kr
@@ -165,8 +166,8 @@ class PlaneProblem:
             )
         if law not in LAWS:
             raise ValueError(f"law: expected one of {list(LAWS)}, got {law!r}")
-        if not (math.isfinite(rtol) and 0 < rtol < 1e-3):
-            raise ValueError(f"rtol: expected a number in (0, 1e-3), got {rtol!r}")
+        if not (math.isfinite(rtol) and RTOL_MIN <= rtol < 1e-3):
+            raise ValueError(f"rtol: expected a number in [{RTOL_MIN:.2g}, 1e-3), got {rtol!r}")
         self.system, self.law, self.eps, self.eta = system, law, float(eps), float(eta)
         self.amplitude = float(amplitude)
         if not (math.isfinite(self.amplitude) and self.amplitude >= 0):
