@@ -23,6 +23,10 @@ squares. A map may leave ``dxdT`` None; continuation then differentiates it in `
 Optional: ``exact_map = True`` for a map that is not a discretisation (its multipliers are
 the flow's; :mod:`nsdyn.periodic.stability` then checks no growth).
 
+Optional: ``cheap_sensitivities = True`` for a map whose monodromy costs little over the map
+itself: shooting's shortened line-search trials then take it at once instead of evaluating
+an accepted trial a second time.
+
 A period map reports a status: ``STATUS_OK`` (0) or a failure code of
 :data:`STATUS_MESSAGES` (the codes of the fixed-step kernels).
 

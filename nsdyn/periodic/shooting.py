@@ -195,6 +195,7 @@ def shoot(
     N = disc.steps(1.0 / f) if n_steps is None else int(n_steps)
     x = problem.x_ref.copy() if x0 is None else np.array(x0, dtype=float)
     pm, W, r = _evaluate(problem, x, f, N, disc)
+    cheap = bool(getattr(problem, "cheap_sensitivities", False))
     hist = [r]
     if pm.status != STATUS_OK:
         why = f"initial period: {STATUS_MESSAGES[pm.status]}"
@@ -220,13 +221,15 @@ def shoot(
         for k in range(LS_HALVINGS + 1):
             # the full step with sensitivities (the next iteration needs them where it is
             # accepted, as it mostly is); a shortened one first without, then with them
-            # where accepted: a trial without costs a fraction of one with (no monodromy)
+            # where accepted: a trial without costs a fraction of one with (no monodromy),
+            # unless the map's sensitivities come almost free (cheap_sensitivities)
             xt = x + alpha * dx
-            pt, Wt, rt = _evaluate(problem, xt, f, N, disc, sens=k == 0)
+            sens = k == 0 or cheap
+            pt, Wt, rt = _evaluate(problem, xt, f, N, disc, sens=sens)
             if pt.status == STATUS_OK:
                 mt = float(np.linalg.norm(W * (pt.xT - xt)))
                 if mt <= (1.0 - LS_ALPHA * alpha) * merit or rt <= tol:
-                    if k > 0:
+                    if not sens:
                         pt, Wt, rt = _evaluate(problem, xt, f, N, disc)
                     if pt.status == STATUS_OK:
                         accepted = True

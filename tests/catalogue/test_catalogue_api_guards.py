@@ -152,7 +152,7 @@ def test_rigid_body_runs_refuse_outputs_and_starts_they_cannot_give():
         with pytest.raises(ValueError, match=f"{match}: expected a positive"):
             nsdyn.simulate_event(body, law, mo, **kw)
     for rtol in (-1.0, 1.0):  # an error test err <= rtol |y| passes any step from rtol = 1
-        with pytest.raises(ValueError, match="rtol: expected a relative tolerance 2.2e-14 <= rtol < 1"):
+        with pytest.raises(ValueError, match="rtol: expected a relative tolerance 2.2e-14 <="):
             nsdyn.simulate_event(body, law, mo, t_end=5.0, rtol=rtol)
     with pytest.raises(TypeError, match="BaseMotion.from_motion"):
         nsdyn.simulate_event(body, law, nsdyn.read_motion("synthetic-wn-40s"), t_end=1.0)
@@ -167,7 +167,7 @@ def test_rigid_body_runs_refuse_outputs_and_starts_they_cannot_give():
     with pytest.raises(ValueError, match="expected a positive"):
         nsdyn.simulate_rocking(blk, pulse, t_end=6.0, dt_out=-1.0)
     for tol in (-1.0, 1.0):
-        with pytest.raises(ValueError, match="tol: expected a relative tolerance 2.2e-14 <= tol < 1"):
+        with pytest.raises(ValueError, match="tol: expected a relative tolerance 2.2e-14 <="):
             nsdyn.simulate_rocking(blk, pulse, t_end=6.0, tol=tol)
 
 

@@ -96,3 +96,31 @@ def test_frame_orbit_is_the_event_driven_steady_state(orbit):
     iso = system.isolation
     h = T / res.n_steps
     assert abs(q["x_iso"] - x_iso) <= 2 * iso.mu * iso.g * h * h / 8
+
+
+def test_line_search_trials_with_sensitivities_find_the_same_orbit(orbit, monkeypatch):
+    """The switch map declares ``cheap_sensitivities``: a shortened line-search trial takes
+    its monodromy at once instead of being evaluated a second time when accepted. The map's
+    end state does not depend on whether sensitivities are formed, so Newton takes the same
+    steps to the bit; only the repeated evaluations go (from rest at 0.3 Hz the search halves
+    at three iterations)."""
+    _, pb, _ = orbit
+    calls = []
+    real = type(pb).period_map
+
+    def counted(self, *args, **kw):
+        calls.append(kw.get("sens", True))
+        return real(self, *args, **kw)
+
+    monkeypatch.setattr(type(pb), "period_map", counted)
+    runs = {}
+    for cheap in (True, False):
+        monkeypatch.setattr(type(pb), "cheap_sensitivities", cheap)
+        calls.clear()
+        res = shoot_switch(pb, 0.3)
+        runs[cheap] = (res, list(calls))
+    (fast, fast_calls), (slow, slow_calls) = runs[True], runs[False]
+    assert fast.converged and slow.converged
+    assert np.array_equal(fast.x0, slow.x0) and fast.iterations == slow.iterations
+    assert fast_calls.count(False) == 1  # shoot_switch's closing map, outside Newton
+    assert slow_calls.count(False) > 1 and len(fast_calls) < len(slow_calls)
