@@ -266,7 +266,8 @@ def simulate_full(
             rinfo[ki.R_T], rinfo[ki.R_H] = float(te[0]), float(dt)
         chunk_wall = time.perf_counter() - t0
         sol = integrate._finish(m, opts, law, te, X, upl_t, stats, rinfo, [], None, chunk_wall,
-                                0.0, "raise", warn_uplift=contact == "detect")  # fmt: skip
+                                0.0, "raise", warn_uplift=contact == "detect",
+                                eps=KernelParams(P).eps)  # fmt: skip
         carry.take(sol, False, adaptive=False)
         wall += chunk_wall
         ts.append(sol.t[1:])

@@ -130,6 +130,11 @@ MESSAGES = {
     ),
 }
 
+# an arctan law from this sharpness on [s/m] turns over within 1e-6 m/s of slip: on the office
+# frame Radau then underflows its step (1e6), spends its step budget (1e7) or stops at an
+# uplift the switch law's event-driven run of the same scene does not have (1e8, 1e9)
+EPS_SHARP = 1e6
+
 # advice when a method runs into stiffness (step underflow / step budget)
 STIFF_ADVICE = {
     "dopri5": (
@@ -361,6 +366,7 @@ def solve(
         on_failure,
         warn_uplift=contact == "detect",
         extra=extra,
+        eps=kp.eps,
     )
     sol.contact = contact
     return sol
@@ -382,6 +388,7 @@ def _finish(
     on_failure,
     warn_uplift=True,
     extra=None,
+    eps=None,
 ):
     status = int(stats[ki.S_STATUS])
     nout = int(stats[ki.S_NOUT])
@@ -397,6 +404,14 @@ def _finish(
         stiff_advice=STIFF_ADVICE.get(m.name, FIXED_STEP_ADVICE),
     )
     message = MESSAGES[status].format(**fields)
+    if status == ki.ST_UPLIFT and law == "arctan" and eps is not None and eps >= EPS_SHARP:
+        message += (
+            f". With eps = {eps:.3g} s/m the friction turns over within {1.0 / eps:.1g} m/s of "
+            "slip, finer than the steps resolve: a normal force evaluated across such a switch "
+            "can dip to zero without the structure lifting off. Confirm with the switch law "
+            "(law 'switch', method 'event'; nsdyn run --friction switch --method event) or a "
+            "smaller eps"
+        )
     if status in (ki.ST_NEWTON, ki.ST_STEP_UNDERFLOW) and law == "switch" and m.name != "event":
         message += (
             "; the switch law is discontinuous (stick/slip decided inside the right-hand "

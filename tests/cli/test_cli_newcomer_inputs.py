@@ -9,6 +9,7 @@ by an error as large as the state itself).
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -290,3 +291,19 @@ def test_an_arctan_law_too_soft_to_be_friction_is_noted(tmp_path, capsys):
     scene.write_text("[motion]\nt_end = 0.2\n")
     assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "p")]) == 0
     assert "arctan friction reaches" not in capsys.readouterr().err
+
+
+def test_an_uplift_under_a_very_sharp_arctan_law_says_how_to_confirm_it(tmp_path, capsys):
+    """eps = 1e8 s/m on the default scene: Radau stops at an 'uplift' at 0.81 s. The switch
+    law is the arctan law's limit eps -> inf; its event-driven run of the same scene keeps
+    every normal force above 2e6 N (the structure's weight share), so that uplift is the
+    step's unresolved switch. The error says so and how to confirm."""
+    scene = tmp_path / "sharp.toml"
+    scene.write_text("[isolation]\neps = 1e8\n[motion]\nt_end = 1.0\n")
+    assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 3
+    err = capsys.readouterr().err
+    assert "uplift at t = " in err and "can dip to zero without the structure lifting off" in err
+    rc = main(["run", str(scene), "--friction", "switch", "--method", "event", "--json",
+               "--no-figures", "--out", str(tmp_path / "p")])  # fmt: skip
+    assert rc == 0
+    assert json.loads(capsys.readouterr().out)["min_normal_force_N"] > 2e6
