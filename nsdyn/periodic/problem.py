@@ -255,7 +255,13 @@ class PeriodicProblem(MinimalStates):
             what = (
                 f"min normal force {fmin:.3g} N < 0" if np.isfinite(fmin) else "a normal force <= 0"
             )
-            notes.append(f"uplift: {what} (the bilateral contact model is outside its validity)")
+            why = "the bilateral contact model is outside its validity"
+            if quantities.get("acc_resolved") is False:  # the normal force rides on the same
+                why += (  # right-hand side as the step ends' accelerations
+                    "; or the step's: its friction switch is unresolved (below), which can "
+                    "drive a normal force to zero; confirm with --friction switch or a smaller eps"
+                )
+            notes.append(f"uplift: {what} ({why})")
         if quantities.get("acc_resolved") is False:
             notes.append(
                 f"accelerations: the step ends give {quantities['acc_step_ends']:.3g} m/s², "

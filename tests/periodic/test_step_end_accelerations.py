@@ -60,3 +60,14 @@ def test_an_unresolved_switch_reports_the_velocity_change(resolved):
     assert q["x_iso"] == pytest.approx(ref["x_iso"], rel=0.03)
     assert q["idr"] == pytest.approx(ref["idr"], rel=0.03)
     assert f"the step ends give {q['acc_step_ends']:.3g} m/s²" in note
+
+
+def test_an_uplift_beside_an_unresolved_switch_is_not_blamed_on_the_structure_alone():
+    """The normal forces ride on the same right-hand side as the step ends' accelerations:
+    where those are the unresolved switch's, an uplift there may be the step's as well."""
+    system, _ = build_scene(copy.deepcopy(DEFAULT_SCENE))
+    pb = frame_problem(system, A)
+    lifted = {"uplift": True, "min_normal_force": -1e5}
+    assert "or the step's" not in pb.validity_note(lifted)
+    both = {**lifted, "acc_resolved": False, "acc_step_ends": 41.0, "acc": 3.7}
+    assert "or the step's: its friction switch is unresolved" in pb.validity_note(both)
