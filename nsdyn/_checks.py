@@ -26,16 +26,17 @@ def keywords_of(func, passed_on, *, skip=(), also=(), caller: str = "") -> None:
             raise TypeError(f"{caller}got an unexpected keyword argument {k!r}{hint}")
 
 
-# the tightest relative tolerance an adaptive step can meet in double precision: 100 times
-# its epsilon 2**-52, as SciPy's solve_ivp takes it (a tighter one is a step underflow or a
-# spent step budget whose message would blame the model)
+# the tightest meaningful relative tolerance: 100 times double precision's epsilon 2**-52, the
+# floor SciPy's solve_ivp raises a smaller rtol to; below it the relative error test measures
+# round-off, and with a tiny atol no step passes (a step underflow or a spent step budget
+# whose message would blame the model)
 RTOL_MIN = 100 * 2.0**-52
 
 
 def rel_tol(name: str, value) -> float:
     """A relative tolerance ``RTOL_MIN <= value < 1`` as a float, or ValueError naming
     ``name`` (a tolerance of 1 or more lets an adaptive step accept any error: a run of
-    nonsense; one below ``RTOL_MIN`` cannot be met in double precision)."""
+    nonsense; below ``RTOL_MIN`` the error test measures round-off)."""
     what = f"a relative tolerance {RTOL_MIN:.2g} <= {name} < 1 (100x double precision's epsilon)"
     return number(name, value, what, lambda v: RTOL_MIN <= v < 1)
 

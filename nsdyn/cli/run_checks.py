@@ -54,9 +54,10 @@ def note_soft_law(cfg: dict, quiet: bool) -> None:
     v = stick_velocity("arctan", float(eps))
     if v > SLIP_V_MAX:
         print(f"nsdyn run: note: isolation.eps = {eps:g} s/m: the arctan friction reaches "
-              f"{STICK_UTILISATION:.0%} of mu N only at a slip velocity of {v:.2g} m/s; below "
-              "that it acts as a viscous damper (2/pi mu N eps), and the share of time all "
-              "isolators stick counts every instant (typical eps: 1e3-1e5 s/m)",
+              f"{STICK_UTILISATION:.0%} of mu N only at a slip velocity of {v:.2g} m/s: at "
+              f"slips well below {1.0 / float(eps):.2g} m/s it is a viscous damper (2/pi mu N "
+              "eps), and the share of time all isolators stick counts every instant below "
+              f"{v:.2g} m/s (typical eps: 1e3-1e5 s/m)",
               file=sys.stderr)  # fmt: skip
 
 

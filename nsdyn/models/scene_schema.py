@@ -23,9 +23,12 @@ from __future__ import annotations
 import importlib
 from dataclasses import dataclass, field
 
+from nsdyn._checks import RTOL_MIN
+
 NO_DEFAULT = object()  # a key that has no default (optional, or required if ``required``)
-# a relative tolerance: 0 < v < 1 (nsdyn._checks.rel_tol; from 1 on, any step passes the error test)
-REL_TOL = {"lo": 0.0, "lo_open": True, "hi": 1.0, "hi_open": True}
+# a relative tolerance: RTOL_MIN <= v < 1 (nsdyn._checks.rel_tol; from 1 on, any step passes
+# the error test; below 100x double precision's epsilon it measures round-off)
+REL_TOL = {"lo": RTOL_MIN, "lo_open": False, "hi": 1.0, "hi_open": True}
 
 
 @dataclass(frozen=True)

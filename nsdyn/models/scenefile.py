@@ -153,7 +153,7 @@ def scene_kind(cfg: Mapping, source: str = "<scene>") -> str:
 
 
 def rel_tol(source: str, name: str, val) -> float:
-    """``val`` as a relative tolerance ``0 < val < 1``, or :class:`SceneError` naming
+    """``val`` as a relative tolerance ``RTOL_MIN <= val < 1``, or :class:`SceneError` naming
     ``source: name`` (the check of :func:`nsdyn._checks.rel_tol`, before any run)."""
     from nsdyn._checks import rel_tol as check
 

@@ -233,10 +233,13 @@ def simulate_full(
     m = methods.METHODS[sparse.METHOD]
     upl = uplift if contact == "detect" else "warn"
     steps = integrate.DEFAULT_MAX_STEPS if max_steps is None else max_steps
-    opts = methods.make_options(x0, m, 1.0, 0.0, dt, None, True, np.inf, steps, upl, rho_inf, None)
+    # (tolerances: the fixed step's Newton has its own; these are checked, not used)
+    opts = methods.make_options(
+        x0, m, integrate.SOLVE_RTOL, 0.0, dt, None, True, np.inf, steps, upl, rho_inf, None
+    )
     rho = sparse.RHO_INF if rho_inf is None else float(rho_inf)
     coef = _kgenalpha.parameters(_kgenalpha.FAMILY_GENALPHA, rho)
-    law = KernelParams(P).law
+    law, eps = KernelParams(P).law, KernelParams(P).eps
     carry, ts, xs, k0 = Carry(), [t_eval[:1]], [x0[None, :]], 0
     ckpt = Path(checkpoint) if checkpoint else None
     if ckpt is not None:  # the stand-in P holds no matrix: the operators join the key
@@ -267,7 +270,7 @@ def simulate_full(
         chunk_wall = time.perf_counter() - t0
         sol = integrate._finish(m, opts, law, te, X, upl_t, stats, rinfo, [], None, chunk_wall,
                                 0.0, "raise", warn_uplift=contact == "detect",
-                                eps=KernelParams(P).eps)  # fmt: skip
+                                eps=eps)  # fmt: skip
         carry.take(sol, False, adaptive=False)
         wall += chunk_wall
         ts.append(sol.t[1:])

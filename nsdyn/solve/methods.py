@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._checks import rel_tol
 from nsdyn._lazy import LazyModule
 from nsdyn._numba_cache import Helper, compiling, dispatcher_cached, helper_enabled
 from nsdyn.ground.excitation import Harmonic
@@ -106,8 +107,9 @@ def make_options(
         raise ValueError(
             f"atol: expected a number, a pair (atol_q, atol_v) or {n2} values, got shape {a.shape}"
         )
-    if not (rtol > 0 and np.all(atol_arr >= 0)) or not np.all(np.isfinite(atol_arr)):
-        raise ValueError(f"tolerances: expected rtol > 0 and atol >= 0, got {rtol}, {atol}")
+    rel_tol("rtol", rtol)
+    if not (np.all(atol_arr >= 0) and np.all(np.isfinite(atol_arr))):
+        raise ValueError(f"atol: expected values >= 0, got {atol}")
     if uplift not in ("raise", "warn"):
         raise ValueError(f"uplift: expected 'raise' or 'warn', got {uplift!r}")
     if (method.fixed_step or not adaptive) and (dt is None or not dt > 0):

@@ -287,8 +287,9 @@ def test_every_listed_key_is_accepted_and_a_misspelt_one_refused(entry, tmp_path
 def _outside(key: Key):
     """Values just outside the key's documented bounds (none for a key without bounds)."""
     out = []
-    if key.lo is not None:
-        out.append(key.lo if key.lo_open else key.lo - 1)
+    if key.lo is not None:  # (a positive closed bound of a number: half of it is outside)
+        below = key.lo / 2 if key.lo > 0 and key.type != "integer" else key.lo - 1
+        out.append(key.lo if key.lo_open else below)
     if key.hi is not None:
         out.append(key.hi if key.hi_open else key.hi + 1)
     if key.type == "integer":
