@@ -307,3 +307,20 @@ def test_an_uplift_under_a_very_sharp_arctan_law_says_how_to_confirm_it(tmp_path
                "--no-figures", "--out", str(tmp_path / "p")])  # fmt: skip
     assert rc == 0
     assert json.loads(capsys.readouterr().out)["min_normal_force_N"] > 2e6
+
+
+@pytest.mark.parametrize(
+    "extra, args, field",
+    [("", ["--t-end", "1e-9"], "motion.t_end: expected a positive duration"),
+     ("dt_out = 100.0\n", ["--t-end", "5"], "solver.dt_out: expected a positive output step")],
+)  # fmt: skip
+def test_a_deck_run_grid_out_of_range_is_an_input_error(tmp_path, capsys, extra, args, field):
+    """A deck run's end and output step are fields of the scene: refused as input (status 2,
+    the field named), not a traceback."""
+    scene = tmp_path / "deck.toml"
+    text = (SCENES / "deck-fps4-3c.toml").read_text()
+    scene.write_text(text.replace("[solver]\n", "[solver]\n" + extra))
+    rc = main(["run", str(scene), *args, "--no-figures", "--out", str(tmp_path / "o")])
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert f"{scene}: {field}" in err and "Traceback" not in err

@@ -26,6 +26,7 @@ to that instant (the same steps, so the same state).
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 import warnings
@@ -35,8 +36,9 @@ import numpy as np
 
 from nsdyn.models.scenefile import SceneError, number
 
-__all__ = ["DT_SPARSE", "full_path", "pair_kernels", "path_line", "peak_field", "run_pairs",
-           "sparse_solver", "sparse_step", "warm_pairs", "warming"]  # fmt: skip
+__all__ = ["DT_SPARSE", "check_sparse_step", "full_path", "pair_kernels", "path_line",
+           "peak_field", "run_pairs", "sparse_solver", "sparse_step", "warm_pairs",
+           "warming"]  # fmt: skip
 
 DT_SPARSE = 0.005  # s: the sparse full rung's default step (module text)
 # seconds the pair kernels' first compilation takes (the first-run notice) on the AMD EPYC of
@@ -171,6 +173,36 @@ def sparse_step(dt, exc) -> float:
     if dt is not None:
         return float(dt)
     return min(DT_SPARSE, float(exc.dt)) if hasattr(exc, "dt") else DT_SPARSE
+
+
+SPARSE_MAX_STEPS = 2_000_000  # steps of one sparse run, at most (as a run's max_steps)
+
+
+def check_sparse_step(dt: float | None, exc, t_end, source: str) -> None:
+    """A given ``solver.dt`` of the sparse rung: no longer than the record's sampling step
+    (a longer one steps over samples: at 1 s the peaks came out four times the converged
+    ones) nor than the run, and no more than :data:`SPARSE_MAX_STEPS` steps (SceneError)."""
+    if dt is None:
+        return
+    rec = float(exc.dt) if hasattr(exc, "dt") else math.inf
+    if dt > rec * (1 + 1e-9):
+        raise SceneError(
+            f"{source}: solver.dt: {dt:g} s is longer than the record's sampling step {rec:g} "
+            f"s: the steps would pass over its samples; expected at most {rec:g} s (default "
+            f"min({DT_SPARSE:g}, the record's step))"
+        )
+    dur = t_end if t_end is not None else getattr(exc, "duration", None)
+    if dur is None or not math.isfinite(float(dur)):
+        return
+    dur = float(dur)
+    if dt > dur:
+        raise SceneError(f"{source}: solver.dt: {dt:g} s is longer than the run ({dur:g} s)")
+    if dur / dt > SPARSE_MAX_STEPS:
+        raise SceneError(
+            f"{source}: solver.dt: {dt:g} s takes {dur / dt:.3g} steps over the {dur:g} s run, "
+            f"more than {SPARSE_MAX_STEPS}; expected a step of at least "
+            f"{dur / SPARSE_MAX_STEPS:.3g} s"
+        )
 
 
 def run_pairs(sysd: dict, exc, t_end, kw: dict, dt: float | None = None, progress=None):

@@ -43,6 +43,7 @@ import numpy as np
 from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.bearings import BearingError, bearing_from_config
 from nsdyn.models.isolated.building3d_pairs_run import (
+    check_sparse_step,
     full_path,
     path_line,
     peak_field,
@@ -381,6 +382,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
                              "type = 'tfp') runs on Radau IIA, whose contacts are 'detect' or "
                              "'bilateral', got 'unilateral'")  # fmt: skip
         dt = sparse_solver(cfg, source, info["path_why"]) if info["path"] == "sparse" else None
+        check_sparse_step(dt, exc, t_end, source)
         s = _run_pairs(sysd, exc, t_end, kw, out_dir, say, dt)
     else:
         s = _run_fixed(sysd, exc, source, out_dir)

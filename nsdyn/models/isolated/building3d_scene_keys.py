@@ -26,8 +26,8 @@ SOLVER = Table("solver", _DECK_SOLVER.meaning + " The full rung on sparse operat
         "rung takes `detect` and `bilateral`, the sparse full rung `detect`",
         default="detect", choices=("detect", "bilateral", "unilateral")),
     Key("dt", "number", "fixed time step of the full rung on sparse operators (its "
-        "generalized-α) and of `nsdyn export opensees` (Newmark); the adaptive rungs ignore "
-        "it", "s",
+        "generalized-α; at most the record's sampling step, and 2 000 000 steps per run) and "
+        "of `nsdyn export opensees` (Newmark); the adaptive rungs ignore it", "s",
         default="(0.005; the sparse rung: at most the record's step)", lo=0.0, lo_open=True),
 ))  # fmt: skip
 

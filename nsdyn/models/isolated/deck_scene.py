@@ -237,7 +237,13 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     w0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        res = simulate_plane(system, exc, t_end=t_end, **kw)
+        try:
+            res = simulate_plane(system, exc, t_end=t_end, **kw)
+        except ValueError as e:  # the run's grid: its table's field, before any step
+            field = {"t_end": "motion.t_end", "dt_out": "solver.dt_out"}.get(str(e).split(":")[0])
+            if field is None:
+                raise
+            raise SceneError(f"{source}: {field}:{str(e).split(':', 1)[1]}") from None
     wall = time.perf_counter() - w0
     for w in caught:
         say(f"deck: warning: {w.message}")

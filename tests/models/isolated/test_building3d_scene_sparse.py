@@ -238,3 +238,24 @@ def test_the_cb_rung_locates_the_same_uplift_under_all_three_contact_assumptions
         kd = td < t_up
         np.testing.assert_array_equal(t[k], td[kd])
         np.testing.assert_allclose(u[k], ud[kd], rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("dt", "words"),
+    [(0.02, "longer than the record's sampling step 0.01 s"),  # steps over its samples
+     (1e-7, "more than 2000000")],  # 2e7 steps over the 2 s run
+)  # fmt: skip
+def test_the_sparse_path_refuses_a_step_its_record_or_budget_cannot_take(dt, words, tmp_path,
+                                                                        monkeypatch):  # fmt: skip
+    """A step longer than the record's sampling step passes over samples: at 1 s the office's
+    peaks came out four times the converged ones, with status 0; a step that takes more than
+    SPARSE_MAX_STEPS never ends in practice. Both are refused before the run, naming dt."""
+    monkeypatch.setattr(building3d_cb, "FULL_MAX", 0)
+    cfg = copy.deepcopy(SCENE)
+    cfg["solver"]["dt"] = dt
+    with pytest.raises(SceneError) as e:
+        run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                  quiet=True)  # fmt: skip
+    msg = str(e.value)
+    assert "\n" not in msg and "s.toml: solver.dt:" in msg and words in msg, msg
+    assert not (tmp_path / "building3d.npz").exists()
