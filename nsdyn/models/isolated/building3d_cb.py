@@ -238,8 +238,8 @@ def static_state(K, M, Gamma, R, D, bearings, g: float) -> tuple[np.ndarray, np.
     rest is solved through a Cholesky factor of K* on the free coordinates: its conditioning
     is the structure's (the columns' axial stiffness against the bearings' lateral one), not
     that of a saddle system; when flat sliders without rubber leave the in-plane rigid
-    motions free, by the eigen-decomposition without those directions (gravity does not
-    load them)."""
+    motions free, with every slip held at zero (gravity does not load those directions and
+    friction holds them where they start)."""
     n = K.shape[0]
     held = np.array([int(np.flatnonzero(r)[0]) for r in R])
     free = np.setdiff1d(np.arange(n), held)
@@ -250,14 +250,22 @@ def static_state(K, M, Gamma, R, D, bearings, g: float) -> tuple[np.ndarray, np.
     lam = np.zeros(len(held))
     q = np.zeros(n)
     for _ in range(STATIC_ITER):
-        Ks = K + D2.T @ ((klam + rinv * np.repeat(lam, 2))[:, None] * D2)
+        k_iso = klam + rinv * np.repeat(lam, 2)
+        Ks = K + D2.T @ (k_iso[:, None] * D2)
         A, b = Ks[np.ix_(free, free)], f[free]
-        try:
-            q[free] = sla.cho_solve(sla.cho_factor(A), b)
-        except sla.LinAlgError:
-            w, V = np.linalg.eigh(A)
-            ok = w > 1e-12 * w[-1]
-            q[free] = V[:, ok] @ ((V[:, ok].T @ b) / w[ok])
+        if not np.any(k_iso):  # no bearing resists a slip (flat sliders without rubber, or
+            # pendulums before their first normal forces): the slips are held by friction
+            # where they start, at zero (K*'s null directions; its Cholesky factor exists in
+            # round-off and gave centimetres of arbitrary offset)
+            Zs = sla.null_space(D2[:, free])
+            q[free] = Zs @ sla.solve(Zs.T @ A @ Zs, Zs.T @ b, assume_a="sym")
+        else:
+            try:
+                q[free] = sla.cho_solve(sla.cho_factor(A), b)
+            except sla.LinAlgError:
+                w, V = np.linalg.eigh(A)
+                ok = w > 1e-12 * w[-1]
+                q[free] = V[:, ok] @ ((V[:, ok].T @ b) / w[ok])
         new = (Ks @ q - f)[held]  # Rᵀ λ balances the held rows
         done = np.abs(new - lam).max() <= 1e-13 * np.abs(new).max()
         lam = new

@@ -243,14 +243,26 @@ class PairSystem:
             Z = sla.null_space(Rr)
         lam = np.zeros(ni)
         q0 = np.zeros(n)
+        Zs = None  # the free coordinates with every slip held at zero (below)
         for _ in range(STATIC_ITER):
-            Ks = self.K + D2.T @ ((klam + rinv * np.repeat(lam, 2))[:, None] * D2)
+            k_iso = klam + rinv * np.repeat(lam, 2)
+            Ks = self.K + D2.T @ (k_iso[:, None] * D2)
             Kz = Z.T @ Ks @ Z
-            try:  # (Cholesky on the free coordinates: exact where K is definite there)
-                z = sla.cho_solve(sla.cho_factor(0.5 * (Kz + Kz.T)), Z.T @ f)
-            except (sla.LinAlgError, ValueError):
-                z = np.linalg.lstsq(Kz, Z.T @ f, rcond=None)[0]
-            q0 = Z @ z
+            if not np.any(k_iso):  # no bearing resists a slip (flat sliders, or the first
+                # pass of pendulums): the slips are the stiffness's null directions, held by
+                # friction where they start, at zero (a factor of the singular Kz would give
+                # round-off's arbitrary offset, centimetres on a 3D building)
+                if Zs is None:
+                    Zs = Z @ sla.null_space(D2 @ Z)
+                z = sla.lstsq(Zs.T @ Ks @ Zs, Zs.T @ f)[0]
+                q0 = Zs @ z
+                z = Z.T @ q0  # (Z orthonormal: its coordinates)
+            else:
+                try:  # (Cholesky on the free coordinates: exact where K is definite there)
+                    z = sla.cho_solve(sla.cho_factor(0.5 * (Kz + Kz.T)), Z.T @ f)
+                except (sla.LinAlgError, ValueError):
+                    z = np.linalg.lstsq(Kz, Z.T @ f, rcond=None)[0]
+                q0 = Z @ z
             rhs = Ks @ q0 - f  # = R̃ᵀ ξ
             xi = np.linalg.lstsq(Rr.T, rhs, rcond=None)[0]
             res = max(np.abs(Rr.T @ xi - rhs).max(), np.abs(Kz @ z - Z.T @ f).max())

@@ -305,3 +305,19 @@ def test_the_rest_state_carries_the_weight_on_held_contacts(base):
     assert np.abs(res).max() <= bound
     q_own, lam_own = sys.static_equilibrium()  # the pair system starts from this state
     assert np.array_equal(q_own, q0) and np.array_equal(lam_own, lam)
+
+
+def test_flat_sliders_without_rubber_start_with_every_slip_at_zero():
+    """Flat sliders (infinite radius, no rubber) give K* no stiffness along the slips: its
+    in-plane rigid motions are null directions, which gravity (vertical) does not load, and
+    friction holds the isolators where they start. The static state must carry no slip and
+    its normal forces must carry the weight exactly (sum of λ = m g). A Cholesky factor of
+    the singular K* exists in round-off and gave centimetres of arbitrary slip."""
+    flat = Bearing(Friction(0.05), radius=np.inf)
+    sys = building_pairs(building(), flat, f_max=5.0)
+    q0, lam0 = sys.static_equilibrium()
+    slips = sys.D.reshape(-1, sys.n) @ q0
+    r_z = sys.Gamma[:, 2]  # the rigid vertical translation: its mass is the building's
+    weight = float(r_z @ sys.M @ r_z) * sys.g
+    assert np.abs(slips).max() <= 1e-12
+    assert lam0.sum() == pytest.approx(weight, rel=1e-9)

@@ -339,3 +339,15 @@ def test_a_held_eccentric_deck_breaks_away_at_the_coulomb_demand():
         rtol=0,
         atol=1e-9 * mu_s * d.m * G,
     )
+
+
+def test_a_deck_on_flat_sliders_without_rubber_rests_with_no_slip():
+    # no bearing resists a slip: the deck's in-plane motions are K*'s null directions, which
+    # gravity does not load; friction holds the isolators where they start (slip 0), and the
+    # normal forces are the rigid plate's
+    pos = [(-4.0, -3.0), (4.0, -3.0), (4.0, 3.0), (-4.0, 3.0)]
+    d = rigid_deck(2e5, 2e5 * 8.0, pos, Bearing(Friction(0.05)), ecc=(0.6, -0.4), h=1.5, g=G)
+    p = from_deck(d)
+    q0, lam0 = p.static_equilibrium()
+    assert np.abs(p.D.reshape(-1, p.n) @ q0).max() <= 1e-12
+    np.testing.assert_allclose(lam0, d.static_normal(), rtol=1e-12)
