@@ -84,6 +84,7 @@ from nsdyn.models.isolated.bearings import (
     B_RATE,
     B_RINV,
     B_TAU,
+    K_P_FLOOR,
     KIND_TFP,
     PRESSURE_BASE,
     PRESSURE_SCALE,
@@ -148,11 +149,11 @@ def forces(ni):
 
 @njit(cache=True, error_model="numpy")
 def pressure_factor(bp, i, n):
-    """k_p = 0.7^((p − p_ref)/50 MPa) at p = max(n, 0)/area of isolator i (1 without area)."""
+    """k_p = 0.7^((p − p_ref)/50 MPa) ≥ K_P_FLOOR at p = max(n, 0)/area of isolator i (1: none)."""
     if bp[i, B_AREA] <= 0.0:
         return 1.0
     p = max(n, 0.0) / bp[i, B_AREA]
-    return PRESSURE_BASE ** ((p - bp[i, B_PREF]) / PRESSURE_SCALE)
+    return max(PRESSURE_BASE ** ((p - bp[i, B_PREF]) / PRESSURE_SCALE), K_P_FLOOR)
 
 
 @njit(cache=True, error_model="numpy")

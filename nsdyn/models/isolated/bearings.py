@@ -60,6 +60,9 @@ B_AREA, B_PREF = B_ELEM + 16, B_ELEM + 17
 B_EFAST, B_ERATE = B_ELEM + 18, B_ELEM + 22
 N_BCOL = B_ELEM + 23
 PRESSURE_BASE, PRESSURE_SCALE = 0.7, 50.0e6  # μ(p) = μ(p_ref) 0.7^((p − p_ref)/50 MPa)
+# the least pressure factor: 0.7^x underflows to 0 beyond x ~ 2090, and a zero factor makes
+# the stick disc μ_s k_p N a point again (stuck for ever, as MU_S_FLOOR above prevents)
+K_P_FLOOR = 1e-12
 KIND_SINGLE, KIND_TFP = 0, 1
 
 
@@ -184,7 +187,7 @@ class Bearing:
         if self.area is None:
             return np.ones_like(n)
         p = np.maximum(n, 0.0) / float(self.area)
-        return PRESSURE_BASE ** ((p - float(self.p_ref)) / PRESSURE_SCALE)
+        return np.maximum(PRESSURE_BASE ** ((p - float(self.p_ref)) / PRESSURE_SCALE), K_P_FLOOR)
 
     @property
     def period(self) -> float:
