@@ -99,7 +99,11 @@ def configure(p: argparse.ArgumentParser) -> None:
         help="model fidelity; 'auto' asks the model advisor and prints its choice and evidence",
     )
     p.add_argument("--fmax", type=_positive_float, metavar="HZ", help="Craig–Bampton cut-off")
-    p.add_argument("--friction", choices=["arctan", "switch", "none"], help="friction law")
+    p.add_argument(
+        "--friction",
+        choices=["arctan", "switch", "none"],
+        help="friction law (deck and building3d scenes: their [solver] law)",
+    )
     p.add_argument(
         "--method",
         metavar="METHOD",
@@ -217,6 +221,11 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
 
     from nsdyn.models.scenefile import SceneError, scene_module
 
+    if args.friction and kind in ("deck", "building3d"):  # their [solver] law
+        if args.friction == "none":
+            raise SceneError(f"{args.scene}: --friction none: a {kind} scene's bearings keep "
+                             "their friction; expected 'switch' or 'arctan'")  # fmt: skip
+        cfg.setdefault("solver", {})["law"], args.friction = args.friction, None
     bad = [f"--{k.replace('_', '-')}" for k in _ISOLATED_ONLY if getattr(args, k, None)]
     if bad:
         verb = "applies" if len(bad) == 1 else "apply"

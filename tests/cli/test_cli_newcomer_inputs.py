@@ -324,3 +324,22 @@ def test_a_deck_run_grid_out_of_range_is_an_input_error(tmp_path, capsys, extra,
     assert rc == 2
     err = capsys.readouterr().err
     assert f"{scene}: {field}" in err and "Traceback" not in err
+
+
+def test_friction_flag_on_a_deck_scene_is_its_solver_law(tmp_path, capsys):
+    """--friction on a deck scene sets its [solver] law (as nsdyn sweep already did): the
+    same run, to the bit, as the scene file with that law; 'none' is refused (a deck's
+    bearings keep their friction)."""
+    src = SCENES / "deck-fps4-3c.toml"
+    scene = tmp_path / "arctan.toml"
+    scene.write_text(src.read_text().replace('law = "switch"', 'law = "arctan"'))
+    runs = []
+    for argv in (["run", str(src), "--friction", "arctan"], ["run", str(scene)]):
+        rc = main([*argv, "--t-end", "1", "--json", "--no-figures",
+                   "--out", str(tmp_path / str(len(runs)))])  # fmt: skip
+        assert rc == 0
+        runs.append(json.loads(capsys.readouterr().out))
+    assert runs[0]["law"] == runs[1]["law"] == "arctan"
+    assert runs[0]["peak_resultant_displacement_m"] == runs[1]["peak_resultant_displacement_m"]
+    rc = main(["run", str(src), "--friction", "none", "--no-figures", "--out", str(tmp_path)])
+    assert rc == 2 and "--friction none: a deck scene's bearings keep" in capsys.readouterr().err
