@@ -290,6 +290,12 @@ def format_summary(s: dict) -> str:
             f"\n  TFP RIM isolator {c['isolator']} surface {c['surface']} at "
             f"t = {c['t_first_s']:.4g} s, peak overshoot {c['peak_overshoot_m']:.3g} m"
         )
+    for c in s.get("tfp_beyond_capacity", []):  # the whole bearing past d1 + d2 + d3 + d4
+        text += (
+            f"\n  TFP BEYOND CAPACITY isolator {c['isolator']}: peak |u| {c['peak_m']:.4g} m, "
+            f"{1e3 * c['beyond_m']:.3g} mm past d1+d2+d3+d4 = {c['capacity_m']:.4g} m (the rim "
+            "forces stretch its elastic element; its friction then includes them)"
+        )
     return text
 
 

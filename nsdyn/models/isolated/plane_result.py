@@ -335,8 +335,9 @@ class PlaneResult(Tabular):
         if self.flights is not None:
             s.update(self.flights)
         if getattr(self.system, "has_tfp", False):
-            from nsdyn.models.isolated.tfp import surface_limits
+            from nsdyn.models.isolated.tfp import beyond_capacity, surface_limits
 
             s["tfp_surface_limits"] = surface_limits(self)
+            s["tfp_beyond_capacity"] = beyond_capacity(self)
         s.update({f"{k}": v for k, v in self.stats.items()})
         return s

@@ -249,3 +249,20 @@ def surface_limits(res) -> list:
                             "t_first_s": float(res.t[hit[0]]),
                             "peak_overshoot_m": float(over.max())})  # fmt: skip
     return out
+
+
+def beyond_capacity(res) -> list:
+    """Every TFP whose resultant displacement passed its ultimate capacity d1 + d2 + d3 + d4:
+    dicts isolator, peak_m, capacity_m, beyond_m. The surfaces' own overshoots
+    (:func:`surface_limits`) stay small, because the stops hold each slip; the elastic
+    element in series then carries the rim forces (F/N well above μ) and stretches, so the
+    bearing's displacement beyond its capacity is larger than any surface's."""
+    out = []
+    for i, b in enumerate(res.system.bearings):
+        if not isinstance(b, TripleBearing):
+            continue
+        peak = float(np.hypot(res.u[:, i, 0], res.u[:, i, 1]).max())
+        if peak > b.d_cap:
+            out.append({"isolator": i, "peak_m": peak, "capacity_m": float(b.d_cap),
+                        "beyond_m": peak - float(b.d_cap)})  # fmt: skip
+    return out

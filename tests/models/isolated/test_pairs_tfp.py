@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 from nsdyn.models.isolated import tfp
+from nsdyn.models.isolated.bearings import Bearing, Friction
 from nsdyn.models.isolated.deck import rigid_deck, sdof_plane, simulate_plane
 from nsdyn.models.isolated.pairs import PairSystem, from_deck, simulate_pairs
 from nsdyn.models.isolated.tfp import TripleBearing
@@ -223,3 +224,23 @@ def test_the_cb_rung_refuses_a_tfp_with_the_switch_law_or_a_unilateral_contact(t
                       quiet=True)  # fmt: skip
         msg = str(e.value)
         assert "\n" not in msg and f"s.toml: {field}:" in msg and "triple friction" in msg, msg
+
+
+def test_a_tfp_past_its_ultimate_capacity_is_reported_with_its_whole_displacement():
+    # the surfaces' stops hold each slip near its d_k, but the bearing's resultant u is the
+    # slips' sum plus the elastic element's stretch under the rim forces: the part of u
+    # beyond d1 + d2 + d3 + d4 is reported for each TFP (flat sliders are not TFPs)
+    from types import SimpleNamespace
+
+    from nsdyn.models.isolated.tfp import beyond_capacity
+
+    tfp = TripleBearing(**TYPICAL)  # d1 + d2 + d3 + d4 = 0.92 m
+    u = np.zeros((3, 2, 2))
+    u[1, 0] = (0.57, 0.76)  # |u| = 0.95 m: 30 mm beyond
+    u[2, 1] = (2.0, 0.0)  # a flat slider far out: no TFP capacity
+    res = SimpleNamespace(system=SimpleNamespace(bearings=[tfp, Bearing(Friction(0.05))]), u=u)
+    (c,) = beyond_capacity(res)
+    assert c["isolator"] == 0 and c["capacity_m"] == pytest.approx(0.92, rel=1e-15)
+    assert c["beyond_m"] == pytest.approx(0.03, rel=1e-12)
+    res.u = 0.9 * u  # within its capacity (0.855 m)
+    assert beyond_capacity(res) == []
