@@ -105,6 +105,13 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
     if not fallback:
         return None, None
     sw = steady_state_sweep(problem, f, guesses[0] if guesses else None, disc=disc)
+    if guesses and not sw.steady and sw.periods_done <= WARMUP_PERIODS:
+        # the previous orbit can seed a transient that leaves the model (a contact lifting
+        # off in the first period) where the steady state stays in it: once more from rest
+        rest = steady_state_sweep(problem, f, None, disc=disc)
+        if rest.steady:
+            why = f"{why}; the sweep from the previous orbit stopped ({sw.message}), from rest"
+            sw = rest
     return _point_from_sweep(problem, sw, why, disc), None
 
 
