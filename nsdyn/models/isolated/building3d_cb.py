@@ -240,6 +240,8 @@ def static_state(K, M, Gamma, R, D, bearings, g: float) -> tuple[np.ndarray, np.
     that of a saddle system; when flat sliders without rubber leave the in-plane rigid
     motions free, with every slip held at zero (gravity does not load those directions and
     friction holds them where they start)."""
+    from nsdyn.models.isolated.pairs import slips_held
+
     n = K.shape[0]
     held = np.array([int(np.flatnonzero(r)[0]) for r in R])
     free = np.setdiff1d(np.arange(n), held)
@@ -257,8 +259,7 @@ def static_state(K, M, Gamma, R, D, bearings, g: float) -> tuple[np.ndarray, np.
             # pendulums before their first normal forces): the slips are held by friction
             # where they start, at zero (K*'s null directions; its Cholesky factor exists in
             # round-off and gave centimetres of arbitrary offset)
-            Zs = sla.null_space(D2[:, free])
-            q[free] = Zs @ sla.solve(Zs.T @ A @ Zs, Zs.T @ b, assume_a="sym")
+            q[free] = slips_held(A, b, D2[:, free])
         else:
             try:
                 q[free] = sla.cho_solve(sla.cho_factor(A), b)

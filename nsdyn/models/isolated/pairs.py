@@ -75,6 +75,14 @@ class PairSystemError(BearingError):
     """A PairSystem field is invalid; the message names the field and the expected form."""
 
 
+def slips_held(K: np.ndarray, f: np.ndarray, D: np.ndarray) -> np.ndarray:
+    """The x of ``K x = f`` with every slip ``D x`` held at zero (x = N y, N the null space of
+    ``D``): the static state where no bearing resists a slip and ``K`` is singular along the
+    slips (its Cholesky factor exists in round-off and gives an arbitrary offset there)."""
+    N = sla.null_space(D)
+    return N @ sla.lstsq(N.T @ K @ N, N.T @ f)[0]
+
+
 def _matrix(name: str, A, shape: tuple, why: str = "") -> np.ndarray:
     try:
         a = np.array(A, dtype=float)
@@ -243,7 +251,6 @@ class PairSystem:
             Z = sla.null_space(Rr)
         lam = np.zeros(ni)
         q0 = np.zeros(n)
-        Zs = None  # the free coordinates with every slip held at zero (below)
         for _ in range(STATIC_ITER):
             k_iso = klam + rinv * np.repeat(lam, 2)
             Ks = self.K + D2.T @ (k_iso[:, None] * D2)
@@ -252,17 +259,13 @@ class PairSystem:
                 # pass of pendulums): the slips are the stiffness's null directions, held by
                 # friction where they start, at zero (a factor of the singular Kz would give
                 # round-off's arbitrary offset, centimetres on a 3D building)
-                if Zs is None:
-                    Zs = Z @ sla.null_space(D2 @ Z)
-                z = sla.lstsq(Zs.T @ Ks @ Zs, Zs.T @ f)[0]
-                q0 = Zs @ z
-                z = Z.T @ q0  # (Z orthonormal: its coordinates)
+                z = slips_held(Kz, Z.T @ f, D2 @ Z)
             else:
                 try:  # (Cholesky on the free coordinates: exact where K is definite there)
                     z = sla.cho_solve(sla.cho_factor(0.5 * (Kz + Kz.T)), Z.T @ f)
                 except (sla.LinAlgError, ValueError):
                     z = np.linalg.lstsq(Kz, Z.T @ f, rcond=None)[0]
-                q0 = Z @ z
+            q0 = Z @ z
             rhs = Ks @ q0 - f  # = R̃ᵀ ξ
             xi = np.linalg.lstsq(Rr.T, rhs, rcond=None)[0]
             res = max(np.abs(Rr.T @ xi - rhs).max(), np.abs(Kz @ z - Z.T @ f).max())
