@@ -239,7 +239,8 @@ def simulate_full(
     )
     rho = sparse.RHO_INF if rho_inf is None else float(rho_inf)
     coef = _kgenalpha.parameters(_kgenalpha.FAMILY_GENALPHA, rho)
-    law, eps = KernelParams(P).law, KernelParams(P).eps
+    kp = KernelParams(P)
+    law, eps = kp.law, kp.eps
     carry, ts, xs, k0 = Carry(), [t_eval[:1]], [x0[None, :]], 0
     ckpt = Path(checkpoint) if checkpoint else None
     if ckpt is not None:  # the stand-in P holds no matrix: the operators join the key

@@ -55,6 +55,14 @@ def _run(tmp_path, name: str, **solver):
     return s, h
 
 
+def _refused(cfg: dict, tmp_path) -> str:
+    """The one-line SceneError of running ``cfg`` (the scene refused before any run)."""
+    with pytest.raises(SceneError) as e:
+        run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                  quiet=True)  # fmt: skip
+    return str(e.value)
+
+
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("sparse-scene")
@@ -186,10 +194,7 @@ def test_the_sparse_path_refuses_a_contact_other_than_detect(contact, tmp_path, 
     monkeypatch.setattr(building3d_cb, "FULL_MAX", 0)
     cfg = copy.deepcopy(SCENE)
     cfg["solver"]["contact"] = contact
-    with pytest.raises(SceneError) as e:
-        run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
-                  quiet=True)  # fmt: skip
-    msg = str(e.value)
+    msg = _refused(cfg, tmp_path)
     assert "\n" not in msg and "s.toml: solver.contact:" in msg and "'detect'" in msg, msg
     assert not (tmp_path / "building3d.npz").exists()
 
@@ -199,10 +204,7 @@ def test_the_rigid_rung_refuses_unilateral_contact(tmp_path):
     cfg = copy.deepcopy(SCENE)
     cfg["structure"]["fidelity"] = "rigid"
     cfg["solver"] = {"law": "arctan", "contact": "unilateral"}
-    with pytest.raises(SceneError) as e:
-        run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
-                  quiet=True)  # fmt: skip
-    msg = str(e.value)
+    msg = _refused(cfg, tmp_path)
     assert "\n" not in msg and "s.toml: solver.contact:" in msg and "rigid rung" in msg, msg
 
 
@@ -253,9 +255,6 @@ def test_the_sparse_path_refuses_a_step_its_record_or_budget_cannot_take(dt, wor
     monkeypatch.setattr(building3d_cb, "FULL_MAX", 0)
     cfg = copy.deepcopy(SCENE)
     cfg["solver"]["dt"] = dt
-    with pytest.raises(SceneError) as e:
-        run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
-                  quiet=True)  # fmt: skip
-    msg = str(e.value)
+    msg = _refused(cfg, tmp_path)
     assert "\n" not in msg and "s.toml: solver.dt:" in msg and words in msg, msg
     assert not (tmp_path / "building3d.npz").exists()
