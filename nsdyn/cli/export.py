@@ -53,7 +53,11 @@ def configure(p: argparse.ArgumentParser) -> None:
         help="fixed time step [s] (default: the scene's solver.dt, else 0.005)",
     )
     p.add_argument(
-        "--t-end", type=positive_float, default=None, metavar="S", help="cut the record here [s]"
+        "--t-end",
+        type=positive_float,
+        default=None,
+        metavar="S",
+        help="end the record at this time [s] (as nsdyn run --t-end)",
     )
     p.add_argument(
         "--damping",

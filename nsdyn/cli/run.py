@@ -19,6 +19,7 @@ from nsdyn.cli.args import positive_int as _positive_int
 from nsdyn.cli.run_checks import (
     check_method,
     note_coarse_output,
+    note_high_friction,
     note_short_record,
     note_soft_law,
 )
@@ -369,6 +370,7 @@ def run(args: argparse.Namespace) -> int:
     note_short_record(cfg, motion, args.json)
     note_coarse_output(cfg, motion, args.json)
     note_soft_law(cfg, args.json)
+    note_high_friction(cfg, args.json)
     if args.compare_fixed and (args.no_figures or system.frame is None):
         why = (
             "draws the fixed-base frame in the run's figure, and --no-figures draws none"
@@ -402,7 +404,8 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as e:  # the field it names: solver.dt_out, or motion's t_end / n_periods
         field = str(e).split(":")[0]
         table = {"dt_out": "solver.", "t_end": "motion.", "n_periods": "motion."}
-        raise SceneError(f"{source}: {table.get(field, 'motion: ')}{e}") from None
+        prefix = table.get(field, "" if field == "motion" else "motion: ")
+        raise SceneError(f"{source}: {prefix}{e}") from None
     method = sv.get("method", "auto")
     reason = ""
     if method == "auto":  # by the model's size, friction law and contact; said in one line

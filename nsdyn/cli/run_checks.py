@@ -61,6 +61,19 @@ def note_soft_law(cfg: dict, quiet: bool) -> None:
               file=sys.stderr)  # fmt: skip
 
 
+def note_high_friction(cfg: dict, quiet: bool) -> None:
+    """A friction coefficient above 1 in ``[isolation] mu`` (a number or one per isolator):
+    accepted, and said in one line on stderr (a percentage given as a number?)."""
+    from nsdyn.models.isolated.bearings import high_friction_note
+
+    mu = cfg.get("isolation", {}).get("mu")
+    values = mu if isinstance(mu, list) else [mu]
+    big = [float(v) for v in values if isinstance(v, int | float) and not isinstance(v, bool)]
+    note = high_friction_note("isolation.mu", max(big)) if big and not quiet else None
+    if note:
+        print(f"nsdyn run: note: {note}", file=sys.stderr)
+
+
 def check_method(method: str, cfg: dict) -> None:
     """``solver.method`` must be ``auto`` or name an integrator (a SceneError naming the field
     otherwise)."""

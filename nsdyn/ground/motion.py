@@ -312,6 +312,17 @@ class GroundMotion(Sampled):
             t0=self.t0 + i0 * self.dt, a_hor=self.a_hor[i0 : i1 + 1].copy(), a_ver=a_ver
         )
 
+    def until(self, t_end: float) -> GroundMotion:
+        """The record from its start to ``t_end`` (an absolute time, as a run's ``t_end``);
+        ValueError ("t_end: ...") unless the cut keeps at least one step of the record."""
+        t_end = float(t_end)
+        if not (math.isfinite(t_end) and t_end >= self.t0 + self.dt * (1 - 1e-9)):
+            raise ValueError(
+                f"t_end: expected an end at least one record step ({self.dt:g} s) after the "
+                f"record's start ({self.t0:g} s), got {t_end:g}"
+            )
+        return self.window(self.t0, t_end)
+
     def with_vertical(self, a_ver: np.ndarray | float | None) -> GroundMotion:
         """Set the vertical component: an array of shape (n,), a ratio r (a_ver = r a_hor, fully
         correlated), or None to remove it."""

@@ -242,6 +242,11 @@ class GroundMotion3(Sampled):
         x, y = self._planes()
         return self._from_planes(x.window(t_start, t_end), y.window(t_start, t_end))
 
+    def until(self, t_end: float) -> GroundMotion3:
+        """The record from its start to ``t_end``, as ``GroundMotion.until``."""
+        x, y = self._planes()
+        return self._from_planes(x.until(t_end), y.until(t_end))
+
     def resampled(self, dt: float, method: str = "band-limited") -> GroundMotion3:
         """Each component resampled onto t0 + k dt by ``GroundMotion.resampled`` (same method,
         same filter for all three, so the record stays one rigid motion)."""

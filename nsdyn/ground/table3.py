@@ -149,9 +149,9 @@ def _record3(table: dict, source: str) -> GroundMotion3:
     if "t_end" in table:
         t_end = _number(source, table, "t_end", positive=True)
         try:
-            motion = motion.window(motion.t0, t_end)
-        except ValueError as e:  # a t_end before the record's first sample
-            raise _err(source, "t_end", str(e)) from None
+            motion = motion.until(t_end)
+        except ValueError as e:  # an end within the record's first step
+            raise _err(source, "t_end", str(e).removeprefix("t_end: ")) from None
     return motion
 
 

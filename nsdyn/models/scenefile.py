@@ -13,6 +13,7 @@ from __future__ import annotations
 import difflib
 import tomllib
 from collections.abc import Mapping
+from contextlib import contextmanager
 from pathlib import Path
 
 # [scene] kind -> its runner
@@ -175,3 +176,19 @@ def number(source: str, name: str, val, *, positive: bool = True, allow_zero: bo
         what = "a non-negative" if allow_zero else "a positive"
         raise SceneError(f"{source}: {name}: expected {what} number, got {val!r}")
     return v
+
+
+GRID_FIELDS = {"t_end": "motion.t_end", "dt_out": "solver.dt_out"}
+
+
+@contextmanager
+def grid_fields(source: str, fields: Mapping = GRID_FIELDS):
+    """A run's grid refused by the library (ValueError "t_end: …" / "dt_out: …", raised before
+    any step) as a SceneError naming the scene's field; other errors pass unchanged."""
+    try:
+        yield
+    except ValueError as e:
+        name, _, text = str(e).partition(":")
+        if name not in fields or not text:
+            raise
+        raise SceneError(f"{source}: {fields[name]}:{text}") from None

@@ -79,7 +79,10 @@ def scene_motion(cfg: dict, source: str = "<scene>"):
     if "pga" in mo:
         motion = scaled_to_pga(motion, float(mo["pga"]), source)
     if "t_end" in mo:
-        motion = motion.window(motion.t0, float(mo["t_end"]))
+        try:
+            motion = motion.until(float(mo["t_end"]))
+        except ValueError as e:  # an end within the record's first step
+            raise SceneError(f"{source}: motion.{e}") from None
     return motion
 
 

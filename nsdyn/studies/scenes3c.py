@@ -50,7 +50,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn.models.scenefile import SceneError, scene_module
+from nsdyn.models.scenefile import SceneError, grid_fields, scene_module
 from nsdyn.studies.study import KINDS3C, PAIR_FIELDS, RecordSpec
 
 SYSTEM_CACHE = 16  # built systems (frame, deck constants) kept per process
@@ -184,7 +184,8 @@ def _plane(system, mod, cfg: dict, source: str) -> dict:
     kw = mod.build_solver(cfg, source)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        res = simulate_plane(system, exc, t_end=t_end, **kw)
+        with grid_fields(source):
+            res = simulate_plane(system, exc, t_end=t_end, **kw)
     s = res.summary()
     F = (res.friction + res.restoring + res.other).sum(axis=1)  # (nt, 2) on the ground
     s["peak_base_shear_N"] = float(np.hypot(F[:, 0], F[:, 1]).max())

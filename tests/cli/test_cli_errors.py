@@ -124,3 +124,35 @@ def test_a_method_that_cannot_integrate_unilateral_contact_is_named(capsys, tmp_
         "isolation.contact = 'unilateral' (lift-off and landing); expected 'auto' or one of "
         "['event', 'radau']\n"
     )
+
+
+# ------------------------------------------------------------- a run shorter than its grid
+
+_SCENES = "examples/scenes/"
+
+
+@pytest.mark.parametrize(
+    ("scene", "says"),
+    [(None, "motion.t_end: expected an end at least one record step (0.01 s) after the "
+            "record's start (0 s), got 1e-09"),
+     ("building3d-office-rigid", "motion.t_end: expected an end at least one record step"),
+     ("rocking-seed001-cask", "solver.dt_out: expected a positive output step no longer "
+                              "than the run (1e-09 s)"),
+     ("contact-seed002-A5", "solver.dt_out: 0.005 s is longer than the run")],
+)  # fmt: skip
+def test_a_run_shorter_than_a_step_names_the_field(scene, says, capsys, tmp_path):
+    # --t-end 1e-9 keeps one sample of a record (a run of no time), or is shorter than the
+    # scene's output step: each family says so in one line naming the scene's field (it was
+    # a traceback in the rocking, contact and 3D rigid families; the deck's: in
+    # test_cli_newcomer_inputs)
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    argv = ["run"] + ([] if scene is None else [str(root / _SCENES / f"{scene}.toml")])
+    out_dir = tmp_path / "o"
+    rc = main([*argv, "--t-end", "1e-9", "--no-figures", "--out", str(out_dir)])
+    assert rc == EXIT_USER_ERROR
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) >= 1 and err[-1].startswith("nsdyn run: error: ")
+    assert says in err[-1]
+    assert not any(out_dir.glob("*.npz"))

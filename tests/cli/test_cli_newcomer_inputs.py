@@ -311,7 +311,8 @@ def test_an_uplift_under_a_very_sharp_arctan_law_says_how_to_confirm_it(tmp_path
 
 @pytest.mark.parametrize(
     "extra, args, field",
-    [("", ["--t-end", "1e-9"], "motion.t_end: expected a positive duration"),
+    [("", ["--t-end", "1e-9"], "motion.t_end: expected an end at least one record step "
+                               "(0.01 s) after the record's start (0 s), got 1e-09"),
      ("dt_out = 100.0\n", ["--t-end", "5"], "solver.dt_out: expected a positive output step")],
 )  # fmt: skip
 def test_a_deck_run_grid_out_of_range_is_an_input_error(tmp_path, capsys, extra, args, field):

@@ -164,3 +164,16 @@ def test_scaled_to_vertical_pga(m, target):
     s = m.scaled_to_pga(target, component="ver")
     assert abs(s.pga_ver - target) <= 2 * np.spacing(target)
     np.testing.assert_allclose(_ratios(s.a_hor, m.a_hor), target / m.pga_ver, rtol=4 * EPS)
+
+
+def test_until_cuts_at_an_absolute_end_and_refuses_an_end_within_the_first_step():
+    # t_end is a time on the record's own clock (a run's t_end): a record that starts at
+    # 10 s cut at 10.5 s keeps the samples 10.00 … 10.50; an end before 10 + dt keeps one
+    # sample, a run of no time, and is refused naming t_end
+    m = GroundMotion(t0=10.0, dt=0.01, a_hor=np.arange(200.0))
+    cut = m.until(10.5)
+    assert cut.t0 == 10.0 and cut.n == 51 and cut.a_hor[-1] == 50.0
+    for bad in (10.0 + 1e-9, 10.0, 5.0, float("nan")):
+        with pytest.raises(ValueError, match=r"^t_end: expected an end at least one record step"):
+            m.until(bad)
+    assert m.until(10.01).n == 2

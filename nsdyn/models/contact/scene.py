@@ -52,7 +52,14 @@ from nsdyn.atomic import atomic_open
 from nsdyn.ground import read_motion
 from nsdyn.models.contact.results import TILT_FLOOR, slenderness
 from nsdyn.models.contact.scene_keys import SCHEMA
-from nsdyn.models.scenefile import SceneError, check_fields, number, rel_tol, scaled_to_pga
+from nsdyn.models.scenefile import (
+    SceneError,
+    check_fields,
+    grid_fields,
+    number,
+    rel_tol,
+    scaled_to_pga,
+)
 from nsdyn.models.tilt import scene_tilt
 
 _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
@@ -86,7 +93,8 @@ def warm(body, law, motion, t_end, opts) -> float:
     seconds it took. A run and a study (before its workers start) call it."""
     w0 = time.perf_counter()
     with first_compile("contact", COMPILE_ABOUT_S, kernels_cached(opts)):
-        simulate(body, law, motion, min(t_end, 0.02), opts)
+        t = min(t_end, 0.02)
+        simulate(body, law, motion, t, {**opts, "dt_out": min(opts["dt_out"], t)})
     return time.perf_counter() - w0
 
 
@@ -269,9 +277,10 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"contact: {name}: {opts['what']}, {opts['method']}, t_end = {t_end:g} s")
-    compile_s = warm(body, law, motion, t_end, opts)
-    w0 = time.perf_counter()
-    res = simulate(body, law, motion, t_end, opts)
+    with grid_fields(source):  # the run's grid: its table's field, before any step
+        compile_s = warm(body, law, motion, t_end, opts)
+        w0 = time.perf_counter()
+        res = simulate(body, law, motion, t_end, opts)
     wall = time.perf_counter() - w0
     out_dir = Path(out_dir)
     s = res.summary()

@@ -189,6 +189,12 @@ class Bearing:
         p = np.maximum(n, 0.0) / float(self.area)
         return np.maximum(PRESSURE_BASE ** ((p - float(self.p_ref)) / PRESSURE_SCALE), K_P_FLOOR)
 
+    def coefficients(self) -> dict:
+        """The friction coefficients given, by their field names."""
+        f, w = self.friction, self.where
+        named = {"mu_slow": f.mu_slow, "mu_fast": f.mu_fast, "mu_static": f.mu_static}
+        return {f"{w}.{k}": float(v) for k, v in named.items() if v is not None}
+
     @property
     def period(self) -> float:
         """Isolated period 2π√(R/g) of a pendulum without rubber [s] (inf when flat)."""
@@ -217,6 +223,41 @@ class Bearing:
         if self.area is not None:
             r[B_AREA], r[B_PREF] = self.area, self.p_ref
         return r
+
+
+MU_PLAUSIBLE = 1.0  # sliding isolators' coefficients are 0.01-0.2; above 1: a percentage?
+PRESSURE_RATIO_PLAUSIBLE = 10.0  # static pressure / p_ref beyond which the units are suspect
+
+
+def high_friction_note(field: str, mu: float) -> str | None:
+    """A line on a friction coefficient above ``MU_PLAUSIBLE`` (None for a plausible one)."""
+    if not mu > MU_PLAUSIBLE:
+        return None
+    return (f"{field} = {mu:g}: a friction coefficient above 1 (sliding isolators' are about "
+            "0.01-0.2); a percentage given as a number?")  # fmt: skip
+
+
+def bearing_notes(bearings, n_static) -> list[str]:
+    """Inputs a run accepts that are probably mistakes, one line each: a friction coefficient
+    above 1, or a static contact pressure N/area more than 10× from ``p_ref`` (area in cm²,
+    p_ref in MPa?), with the friction factor it gives. ``bearings``: one per isolator."""
+    n_static = np.asarray(n_static, dtype=float)
+    notes: list[str] = []
+    for k, v in {k: v for b in bearings for k, v in b.coefficients().items()}.items():
+        notes += [n for n in [high_friction_note(k, v)] if n]
+    for i, b in enumerate(bearings):
+        if b.area is None or not n_static[i] > 0:
+            continue
+        p = n_static[i] / b.area
+        if max(p / b.p_ref, b.p_ref / p) > PRESSURE_RATIO_PLAUSIBLE:
+            k_p = float(b.pressure_factor(n_static[i]))
+            notes.append(
+                f"{b.where}.area: the static pressure N/area at isolator {i} is {p / 1e6:.3g} "
+                f"MPa, {p / b.p_ref:.3g}x p_ref = {b.p_ref / 1e6:.3g} MPa, so its friction is "
+                f"{k_p:.3g}x the coefficients given; check area [m²] and p_ref [Pa]"
+            )
+            break  # one line names the mistake
+    return notes
 
 
 def friction_from_config(cfg: dict, where: str) -> Friction:

@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open
-from nsdyn.models.isolated.bearings import BearingError, bearing_from_config
+from nsdyn.models.isolated.bearings import BearingError, bearing_from_config, bearing_notes
 from nsdyn.models.isolated.building3d_pairs_run import (
     check_sparse_step,
     full_path,
@@ -57,7 +57,7 @@ from nsdyn.models.isolated.building3d_shape import fixed_peak_shape, rigid_peak_
 from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
 from nsdyn.models.isolated.deck_scene import build_solver as deck_solver
 from nsdyn.models.isolated.deck_scene import summary_table
-from nsdyn.models.scenefile import SceneError, check_fields, number
+from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number
 
 __all__ = ["build_motion", "build_solver", "build_system", "format_summary", "pairs_path",
            "run_scene"]  # fmt: skip
@@ -365,6 +365,12 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     frame = sysd["frame"]
     say(f"building3d: {name}: {frame.name}, {len(frame.base_nodes)} column lines, "
         f"fidelity {sysd['fidelity']}, {getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
+    if sysd["bearing"] is not None:
+        from nsdyn.models.isolated.building3d import building_deck
+
+        deck = sysd["deck"] or building_deck(frame, sysd["bearing"])  # its static forces
+        for note in bearing_notes(deck.bearings, deck.static_normal()):
+            say(f"building3d: note: {note}")
     out_dir = Path(out_dir)
     asked = sysd["fidelity"]
     if asked == "auto":
@@ -374,7 +380,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
             raise SceneError(f"{source}: solver.contact: the rigid rung (the building as a deck, "
                              "no vertical or rocking motion) takes 'detect' or 'bilateral', "
                              "got 'unilateral'")  # fmt: skip
-        s = _run_rigid(sysd, exc, t_end, kw, out_dir, say)
+        with grid_fields(source):  # the run's grid: its table's field, before any step
+            s = _run_rigid(sysd, exc, t_end, kw, out_dir, say)
     elif sysd["fidelity"] in ("cb", "full"):
         info = sysd["pairs"].info
         if getattr(sysd["pairs"], "has_tfp", False) and kw["contact"] == "unilateral":
@@ -383,7 +390,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
                              "'bilateral', got 'unilateral'")  # fmt: skip
         dt = sparse_solver(cfg, source, info["path_why"]) if info["path"] == "sparse" else None
         check_sparse_step(dt, exc, t_end, source)
-        s = _run_pairs(sysd, exc, t_end, kw, out_dir, say, dt)
+        with grid_fields(source):
+            s = _run_pairs(sysd, exc, t_end, kw, out_dir, say, dt)
     else:
         s = _run_fixed(sysd, exc, source, out_dir)
     s.update({"kind": "building3d", "name": name, "frame": frame.name,

@@ -37,7 +37,12 @@ import numpy as np
 
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
-from nsdyn.models.isolated.bearings import BEARING_KEYS, BearingError, bearing_from_config
+from nsdyn.models.isolated.bearings import (
+    BEARING_KEYS,
+    BearingError,
+    bearing_from_config,
+    bearing_notes,
+)
 from nsdyn.models.isolated.deck import (
     PLANE_ATOL,
     contact_code,
@@ -46,7 +51,7 @@ from nsdyn.models.isolated.deck import (
     simulate_plane,
 )
 from nsdyn.models.isolated.defaults import EPS, ETA
-from nsdyn.models.scenefile import SceneError, check_fields, number, rel_tol
+from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number, rel_tol
 
 TABLES = {
     "scene": {"kind", "name"},
@@ -233,17 +238,14 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"deck: {name}: {system.n_isolators} isolator(s), law {kw['law']}, "
         f"{getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
+    for note in bearing_notes(system.bearings, system.static_normal()):
+        say(f"deck: note: {note}")
     compile_s = warm(system, kw["law"])
     w0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        try:
+        with grid_fields(source):  # the run's grid: its table's field, before any step
             res = simulate_plane(system, exc, t_end=t_end, **kw)
-        except ValueError as e:  # the run's grid: its table's field, before any step
-            field = {"t_end": "motion.t_end", "dt_out": "solver.dt_out"}.get(str(e).split(":")[0])
-            if field is None:
-                raise
-            raise SceneError(f"{source}: {field}:{str(e).split(':', 1)[1]}") from None
     wall = time.perf_counter() - w0
     for w in caught:
         say(f"deck: warning: {w.message}")

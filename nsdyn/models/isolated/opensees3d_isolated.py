@@ -481,7 +481,10 @@ def export_building_opensees(
     if t_end is not None:
         if not (isinstance(t_end, int | float) and t_end > 0):
             raise SceneError(f"{source}: t_end: expected a positive end time [s], got {t_end!r}")
-        motion = motion.window(motion.t0, motion.t0 + float(t_end))
+        try:  # an end time, as a run's t_end
+            motion = motion.until(float(t_end))
+        except ValueError as e:  # an end within the record's first step
+            raise SceneError(f"{source}: {e}") from None
     data = building_data(frame, bearings, motion, step if dt is None else dt, fixed_base=fixed,
                          base=base, source=source)  # fmt: skip
     text = script_text_building(data, Path(path).name if path is not None else "model.py")

@@ -280,9 +280,9 @@ def build_scene_run(cfg: dict):
         motion = scaled_to_pga(motion, float(mo["pga"]), source)
     if "t_end" in mo:
         try:
-            motion = motion.window(motion.t0, float(mo["t_end"]))
-        except ValueError as e:  # a t_end before the record's first sample
-            raise SceneError(f"{source}: motion.t_end: {e}") from None
+            motion = motion.until(float(mo["t_end"]))
+        except ValueError as e:  # an end within the record's first step
+            raise SceneError(f"{source}: motion.{e}") from None
     return system, motion, {}
 
 

@@ -236,6 +236,9 @@ def force_excitation(fo: dict, source: str, motion_overrides: dict | None = None
     except (OSError, ValueError) as e:  # a missing file, an unknown name, a bad record
         raise SceneError(f"{source}: force.record: {' '.join(str(e).split())}") from None
     if "t_end" in fo:
-        motion = motion.window(motion.t0, number(source, "force.t_end", fo["t_end"]))
+        try:
+            motion = motion.until(number(source, "force.t_end", fo["t_end"]))
+        except ValueError as e:  # an end within the record's first step
+            raise SceneError(f"{source}: force.{e}") from None
     scale = number(source, "force.scale", fo["scale"], positive=False)
     return ForceTable.from_motion(motion, dofs, scale, weights), {}

@@ -163,6 +163,12 @@ class TripleBearing(Bearing):
         object.__setattr__(self, "radius", vals["R1"] + vals["R4"])
         object.__setattr__(self, "d_cap", sum(vals[f"d{j}"] for j in range(1, 5)))
 
+    def coefficients(self) -> dict:
+        """The surfaces' friction coefficients given, by their field names."""
+        names = [f"mu{j}" for j in range(1, 5)] + [f"mu_fast{j}" for j in range(1, 5)]
+        return {f"{self.where}.{k}": float(getattr(self, k)) for k in names
+                if getattr(self, k) is not None}  # fmt: skip
+
     def fast(self) -> list:
         """μ_fast of surfaces 1..4 (their μ where not given)."""
         return [float(getattr(self, f"mu{j}") if getattr(self, f"mu_fast{j}") is None

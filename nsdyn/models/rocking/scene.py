@@ -48,7 +48,14 @@ from nsdyn.atomic import atomic_open
 from nsdyn.ground import G_EARTH, read_motion
 from nsdyn.ground.pulses import SHAPES, Pulse
 from nsdyn.models.rocking.scene_keys import SCHEMA
-from nsdyn.models.scenefile import SceneError, check_fields, number, rel_tol, scaled_to_pga
+from nsdyn.models.scenefile import (
+    SceneError,
+    check_fields,
+    grid_fields,
+    number,
+    rel_tol,
+    scaled_to_pga,
+)
 from nsdyn.models.tilt import scene_tilt
 
 MODELS = ("block", "frame", "compliant")  # [scene] model
@@ -233,18 +240,20 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     out_dir = Path(out_dir)
     compile_s = warm(model)
     w0 = time.perf_counter()
-    if isinstance(model, CompliantBlock):
-        from nsdyn.models.rocking import compliant as cm
+    with grid_fields(source):  # the run's grid: its table's field, before any step
+        if isinstance(model, CompliantBlock):
+            from nsdyn.models.rocking import compliant as cm
 
-        res = simulate_compliant(model, exc, t_end=t_end, tol=min(tol * 10, 1e-6),
-                                 dt_out=dt_out or cm.DT_OUT, **th0)  # fmt: skip
+            res = simulate_compliant(model, exc, t_end=t_end, tol=min(tol * 10, 1e-6),
+                                     dt_out=dt_out or cm.DT_OUT, **th0)  # fmt: skip
+        else:
+            res = blk.simulate_rocking(model, exc, t_end=t_end, tol=tol, dt_out=dt_out, **th0)
+    if isinstance(model, CompliantBlock):
         s = res.summary()
         arrays = {"t": res.t, "y": res.y, "theta": res.theta, "thetad": res.thetad,
                   "peaks": res.peaks()}  # fmt: skip
         s["r_housner"] = blk.housner_restitution(model.alpha)
     else:
-        res = blk.simulate_rocking(model, exc, t_end=t_end, tol=tol, dt_out=dt_out,
-                                   **th0)  # fmt: skip
         s = res.summary()
         arrays = {"t": res.t, "theta": res.theta, "thetad": res.thetad, "energy": res.energy(),
                   "impacts": res.impacts, "peaks": res.peaks}  # fmt: skip

@@ -1,0 +1,73 @@
+"""Bearing inputs a run accepts but that are probably mistakes are said, one line each:
+a friction coefficient above 1 (sliding isolators' are 0.01-0.2: a percentage given as a
+number?), and a static contact pressure N/area more than ten times from ``p_ref`` (an area
+in cm² or a p_ref in MPa), with the friction factor 0.7^((p - p_ref)/50 MPa) it gives."""
+
+from __future__ import annotations
+
+import pytest
+
+from nsdyn.cli import main
+from nsdyn.models.isolated.bearings import Bearing, Friction, bearing_notes
+from nsdyn.models.isolated.tfp import TripleBearing
+
+TFP = dict(R1=2.2, R2=0.3, R3=0.3, R4=2.2, mu1=0.06, mu2=0.02, mu3=0.02, mu4=0.10,
+           d1=0.40, d2=0.06, d3=0.06, d4=0.40)  # fmt: skip
+N = [2.0e6, 3.0e6]  # static normal forces [N]
+
+
+def test_plausible_bearings_have_no_notes():
+    flat = Bearing(Friction(0.05, 0.08, rate=30.0, mu_static=0.09), area=0.1, p_ref=2.5e7)
+    assert bearing_notes([flat, flat], N) == []  # pressures 20 and 30 MPa against 25
+    assert bearing_notes([TripleBearing(**TFP)] * 2, N) == []
+    assert bearing_notes([Bearing(Friction(1.0))] * 2, N) == []  # 1 itself: the bound
+
+
+def test_a_coefficient_above_one_is_named_by_its_field():
+    b = Bearing(Friction(0.05, 5.0, rate=30.0), where="bearing")
+    assert bearing_notes([b, b], N) == [
+        "bearing.mu_fast = 5: a friction coefficient above 1 (sliding isolators' are about "
+        "0.01-0.2); a percentage given as a number?"
+    ]
+    t = TripleBearing(**{**TFP, "mu4": 6.0}, where="tfp")
+    (note,) = bearing_notes([t, t], N)
+    assert note.startswith("tfp.mu4 = 6: a friction coefficient above 1")
+
+
+@pytest.mark.parametrize(("area", "p_ref", "ratio"), [(0.1, 20.0, 1e6), (1000.0, 2e7, 1e-4)])
+def test_a_static_pressure_far_from_p_ref_is_said_with_its_friction_factor(area, p_ref, ratio):
+    # p_ref in MPa (20 Pa) or the area in cm² (1000 for 0.1 m²): the pressure at the first
+    # isolator, 2e6 / area, against p_ref, and the factor of the law at that pressure
+    b = Bearing(Friction(0.05), area=area, p_ref=p_ref, where="bearing")
+    (note,) = bearing_notes([b, b], N)
+    p = N[0] / area
+    assert p / p_ref == pytest.approx(ratio, rel=1e-12)
+    k_p = max(0.7 ** ((p - p_ref) / 50e6), 1e-12)
+    assert note == (
+        f"bearing.area: the static pressure N/area at isolator 0 is {p / 1e6:.3g} MPa, "
+        f"{p / p_ref:.3g}x p_ref = {p_ref / 1e6:.3g} MPa, so its friction is {k_p:.3g}x the "
+        "coefficients given; check area [m²] and p_ref [Pa]"
+    )
+
+
+def test_run_says_an_isolation_mu_above_one(capsys, tmp_path):
+    scene = tmp_path / "s.toml"
+    scene.write_text("[isolation]\nmu = [0.05, 1.5]\n[motion]\nt_end = 0.2\n")
+    argv = ["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]
+    assert main(argv) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert "nsdyn run: note: isolation.mu = 1.5: a friction coefficient above 1" in "\n".join(err)
+
+
+def test_a_deck_run_says_its_bearing_notes(capsys, tmp_path):
+    from pathlib import Path
+
+    src = Path(__file__).resolve().parents[3] / "examples/scenes/deck-fps4-3c.toml"
+    text = src.read_text().replace("d_cap = 0.35", "d_cap = 0.35\narea = 0.05\np_ref = 30.0")
+    scene = tmp_path / "deck.toml"
+    scene.write_text(text)
+    argv = ["run", str(scene), "--t-end", "0.2", "--no-figures", "--out", str(tmp_path / "o")]
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert "deck: note: bearing.area: the static pressure N/area at isolator 0 is " in err
+    assert "check area [m²] and p_ref [Pa]" in err
