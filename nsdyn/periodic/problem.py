@@ -168,14 +168,14 @@ class PeriodicProblem(MinimalStates):
         ug = np.zeros((N + 1, 1)) if self.load is not None else G[:, :1]
         od = cache["od"]
         q = Xf[:, :n]
-        drift, _, acc_levels = level_peaks(od, q, QDD, ug)
+        drift, _, _ = level_peaks(od, q, None, ug)  # the accelerations: step_end_peaks
         idr = math.nan
         if od["joints"] is not None and od["heights"] is not None:
             # max_t,c(dU / h) = max_t,c(dU) / h exactly (h > 0; rounded division is monotonic)
             idr = float(np.max(drift / np.asarray(od["heights"]))) if drift.size else 0.0
         acc = acc_floors = math.nan
         extra = {}
-        if acc_levels.size:  # step ends a sharp friction law spoils held (periodic.step_ends)
+        if od["levels"]:  # step ends a sharp friction law spoils held (periodic.step_ends)
             acc_levels, raw, n_held = step_end_peaks(od, QDD, Xf[:, n:], 1.0 / (f * N), ug)
             if raw.max() > acc_levels.max():
                 extra = {"acc_step_ends": float(raw.max()), "acc_resolved": False,

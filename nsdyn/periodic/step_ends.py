@@ -20,19 +20,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from nsdyn._lazy import LazyModule, issparse
-
-sp = LazyModule("scipy.sparse")  # (stacked only when the rows are sparse: a cached start skips it)
+from nsdyn.models.isolated.metrics import level_rows
 
 ACC_UNRESOLVED = 1.5  # a step end beyond the velocity changes beside it by 50 % is spoilt
 ACC_FLOOR = 1e-9  # m/s², an excess below this is round-off (an orbit at rest)
-
-
-def level_rows(od: dict):
-    """All levels' output rows stacked (rows, n), and the first row of each level."""
-    stack = sp.vstack if issparse(od["levels"][0]) else np.concatenate
-    starts = np.cumsum([0] + [rows.shape[0] for rows in od["levels"][:-1]])
-    return stack(od["levels"]), starts
 
 
 def step_end_peaks(od: dict, QDD: np.ndarray, V: np.ndarray, h: float, ug: np.ndarray) -> tuple:
