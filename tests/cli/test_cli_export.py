@@ -62,3 +62,23 @@ def test_export_stiffness_damping_option(tmp_path, capsys):
     assert main(args) == 0
     s = json.loads(capsys.readouterr().out)
     assert s["damping"] == "stiffness" and s["modal_modes"] == 0
+
+
+def test_export_t_end_is_an_end_time_as_a_run_s(tmp_path, capsys):
+    # a record whose time column starts at 10 s: `nsdyn run --t-end 12` runs 10 … 12 s
+    # (t_end on the record's clock), and the export cuts it at the same time: 2 s of record
+    import numpy as np
+
+    rec = tmp_path / "late.txt"
+    t = 10.0 + 0.01 * np.arange(501)
+    rows = "\n".join(f"{a:.2f} {b:.6e}" for a, b in zip(t, 0.5 * np.sin(6.0 * t), strict=True))
+    rec.write_text("# units: m/s2\n" + rows + "\n")
+    scene = tmp_path / "s.toml"
+    scene.write_text(f'[scene]\nframe = "office-11"\n[motion]\nrecord = "{rec}"\n')
+    out = tmp_path / "m.py"
+    argv = ["export", "opensees", str(scene), "-o", str(out), "--json"]
+    assert main([*argv, "--t-end", "12"]) == 0
+    assert json.loads(capsys.readouterr().out)["duration_s"] == 2.0
+    assert main([*argv, "--t-end", "10.001"]) == 2
+    assert "t_end: expected an end at least one record step (0.01 s) after the record's start " \
+           "(10 s), got 10.001" in capsys.readouterr().err  # fmt: skip
