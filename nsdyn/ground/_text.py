@@ -29,6 +29,7 @@ DT_DIGITS = 12  # significant digits kept of a dt fitted to a printed time colum
 
 COMMENT_PREFIXES = ("#", "%", ";", "!", "//")
 NUM = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][+-]?\d+)?"
+MILLISECONDS = ("ms", "msec", "msecs", "millisecond", "milliseconds")  # a header's dt unit
 _FORTRAN_RUN = re.compile(rf"(?:{NUM})+")
 _FORTRAN_ONE = re.compile(r"[+-]?(?:\d+\.\d*|\.\d+)(?:[EeDd][+-]?\d+)?")
 
@@ -60,7 +61,10 @@ def header_info(header: list[str]) -> dict[str, Any]:
         header, rf"\bdt\s*[:=]\s*({NUM})"
     )
     if dt is not None:
-        info["dt"] = to_float(dt)
+        # a unit after the number: milliseconds scaled, seconds (or none) as written
+        unit = header_value(header, rf"\bdt\s*[:=]\s*{NUM}\s*[\[(]?\s*([a-z]+)")
+        ms = unit is not None and unit.lower() in MILLISECONDS
+        info["dt"] = to_float(dt) * (1e-3 if ms else 1.0)
     else:
         rate = header_value(header, rf"\bsampling\s+(?:rate|freq\w*)\s*[:=]\s*({NUM})\s*hz")
         if rate is not None:
@@ -147,6 +151,11 @@ def parse_table(text: str, source: str) -> Table:
         if is_comment(s):
             header.append(strip_comment(s))
             continue
+        if _decimal_commas(s):
+            raise RecordFileError(source, lines[i][0], "expected decimal points, found decimal "
+                                  f"commas in {s!r} (fields split by tabs, spaces or ';', each "
+                                  "with one ',' inside); save the file with '.' as the decimal "
+                                  "separator")  # fmt: skip
         toks = s.replace(",", " ").split()
         try:
             for tok in toks:
@@ -177,6 +186,16 @@ def parse_table(text: str, source: str) -> Table:
     if names is not None and len(names) != ncol:
         names = None
     return Table(header, names, data, linenos)
+
+
+_DECIMAL_COMMA = re.compile(r"[+-]?\d*,\d+(?:[EeDd][+-]?\d+)?")
+
+
+def _decimal_commas(row: str) -> bool:
+    """A row of two or more fields, split by tabs, spaces or ';', each a number written with a
+    decimal comma ("0,01\t-0,0244"): read with ',' as a separator it gives wrong columns."""
+    fields = re.split(r"[\s;]+", row.strip())
+    return len(fields) >= 2 and all(_DECIMAL_COMMA.fullmatch(f) for f in fields)
 
 
 def _is_float(tok: str) -> bool:

@@ -11,6 +11,7 @@ Each sample is converted to m/s² by the factor of the file's units (ü = factor
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -170,6 +171,9 @@ def parse_table_motion(
         t0 = info.get("t0", float(t[0]))
     else:
         dt_used = opt.dt if opt.dt is not None else info.get("dt")
+        if dt_used is not None and not (math.isfinite(dt_used) and dt_used > 0):
+            raise RecordFileError(source, first, f"expected the header's dt > 0 [s], found "
+                                  f"{dt_used:g} (a decimal comma, 'dt = 0,01'?)")  # fmt: skip
         if dt_used is None:
             raise RecordFileError(
                 source,

@@ -114,6 +114,17 @@ def test_two_column(tmp_path):
 
 
 @pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
+@pytest.mark.parametrize(
+    ("header", "dt"),
+    [("dt = 10 ms", 0.01), ("dt: 5 msec", 0.005), ("dt = 0.02 s", 0.02), ("DT= .0050 SEC", 0.005),
+     ("dt = 0.01", 0.01), ("dt = 20 (ms); npts = 3", 0.02), ("dt = 0.005 npts = 3", 0.005)],
+)  # fmt: skip
+def test_a_header_dt_in_milliseconds_is_scaled(tmp_path, header, dt):
+    # "dt = 10 ms" was read as 10 s (a 5000 s record from 500 samples)
+    path = write(tmp_path, "ms.txt", f"# {header}\n0.5\n-1.5\n2.0\n")
+    assert read_motion(path, units="m/s2").dt == dt
+
+
 def test_single_column_with_dt(tmp_path):
     path = write(tmp_path, "sc.txt", "# acc in m/s2\n0.5\n-1.5\n2.0\n")
     m = read_single_column(path, dt=0.005, units="m/s2")
@@ -201,6 +212,9 @@ AT2_HEAD = "PEER NGA\nX, 0\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    4, 
         ("nohdr.AT2", "a\nb\nc\n.1 .2\n", 1, "NPTS and DT"),
         ("badat2.AT2", AT2_HEAD + "  .1E-01  .2E-01\n  .3E-01  x.4\n", 6, "expected numbers"),
         ("npts.txt", "# units: g; dt = 0.01 s; npts = 5\n0.0 1\n0.01 2\n0.02 3\n", 4, "npts = 5"),
+        ("comma.txt", "# units: g\n0,00\t0,00000\n0,01\t0,02440\n", 2, "decimal commas in"),
+        ("semi.txt", "0,00;-1,5E-02\n0,01;2,0E-02\n", 1, "expected decimal points"),
+        ("dtc.txt", "# dt = 0,01\n0.1\n0.2\n-0.1\n", 2, "a decimal comma, 'dt = 0,01'?"),
     ],
 )
 def test_bad_files_raise_with_line(tmp_path, name, text, line, expected):
