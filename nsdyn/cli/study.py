@@ -50,6 +50,11 @@ def _format(name: str, run: dict, an: dict) -> str:
         f"({run['wall_s']:.1f} s on {run['workers']} workers, batches of {run['batch']})",
         f"table: {run['table']}",
     ]
+    if run.get("n_outside"):
+        from nsdyn.studies.table import OUTSIDE
+
+        lines.append(f"kept: {run['n_outside']} finished rows of tasks outside this grid, in "
+                     f"{OUTSIDE} (a wider grid reuses them; --fresh forgets them)")  # fmt: skip
     d = an.get("design")
     if d:
         lines.append(

@@ -116,6 +116,9 @@ def check_analysis(study) -> None:
     for name, spec in an.items():
         if name not in FIELDS:
             raise unknown_key(src, "analysis.", name, FIELDS)
+        if not isinstance(spec, dict):
+            raise SceneError(f"{src}: analysis.{name}: expected a table [analysis.{name}], "
+                             f"got {spec!r}")  # fmt: skip
         for key in spec:
             if key not in FIELDS[name]:
                 raise unknown_key(src, f"analysis.{name}.", key, FIELDS[name])
@@ -124,9 +127,21 @@ def check_analysis(study) -> None:
         where = "analysis.design."
         _check_columns(src, where + "variables", d.get("variables", []), study, result=False)
         _check_columns(src, where + "objectives", d.get("objectives", []), study, result=True)
+        for key in ("constraints", "reference"):
+            if not isinstance(d.get(key, {}), dict):
+                raise SceneError(f"{src}: analysis.design.{key}: expected a table {{name = "
+                                 f"value, ...}}, got {d[key]!r}")  # fmt: skip
         for k, g in d.get("constraints", {}).items():
+            where = f"analysis.design.constraints.{k}"
             _check_column(src, "analysis.design.constraints", k, study, result=True)
-            number(src, f"analysis.design.constraints.{k}", g)
+            if isinstance(g, dict):  # {min = a, max = b}: either or both
+                if not g or set(g) - {"min", "max"}:
+                    raise SceneError(f"{src}: {where}: expected an upper bound or a table "
+                                     f"{{min = ..., max = ...}}, got {g!r}")  # fmt: skip
+                for side, v in g.items():
+                    number(src, f"{where}.{side}", v, positive=False)
+            else:
+                number(src, where, g)
         if d.get("aggregate", "mean") not in AGGREGATES:
             raise SceneError(
                 f"{src}: analysis.design.aggregate: expected one of {list(AGGREGATES)}"

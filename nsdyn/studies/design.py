@@ -6,7 +6,8 @@ records of a design, each objective f_k (e.g. peak IDR, peak absolute floor acce
 aggregated (mean, median or max over records) and each constraint g (e.g. the peak isolator
 displacement against the 400 mm seismic gap) is taken at its worst record:
 
-    feasible  ⇔  max_records g ≤ g_max  for every constraint.
+    feasible  ⇔  max_records g ≤ g_max  for every constraint
+                  (and min_records g ≥ g_min for a lower bound: {min = g_min}).
 
 Design p dominates q if f_k(p) ≤ f_k(q) for all k and < for one; the Pareto front is the set of
 feasible designs no feasible design dominates. One design is singled out as the compromise:
@@ -29,7 +30,8 @@ MATCH_RTOL = 1e-9  # a reference design matches a grid point to this relative to
 
 @dataclass
 class DesignPoint:
-    """One design: its variable values, aggregated objectives, worst constraints."""
+    """One design: its variable values, aggregated objectives, worst constraints (by their
+    columns: ``{name}_worst`` the largest over the records, ``{name}_least`` the smallest)."""
 
     values: dict
     objectives: dict
@@ -44,7 +46,7 @@ class DesignPoint:
         return (
             dict(self.values)
             | dict(self.objectives)
-            | {f"{k}_worst": v for k, v in self.constraints.items()}
+            | dict(self.constraints)
             | {
                 "n_records": self.n_records,
                 "n_failed": self.n_failed,
@@ -64,22 +66,34 @@ def _groups(table: Table, by: list[str]) -> dict[tuple, list[int]]:
 def _agg(x: np.ndarray, how: str) -> float:
     if x.size == 0 or not np.all(np.isfinite(x)):
         return float("nan")
-    return float({"mean": np.mean, "median": np.median, "max": np.max}[how](x))
+    return float({"mean": np.mean, "median": np.median, "max": np.max, "min": np.min}[how](x))
+
+
+def bounds(constraints: dict) -> list[tuple[str, str, float]]:
+    """``(name, "max" | "min", bound)`` of each constraint: a number is an upper bound, a
+    table ``{min = a, max = b}`` gives either or both."""
+    out = []
+    for k, g in constraints.items():
+        for side, v in g.items() if isinstance(g, dict) else [("max", g)]:
+            out.append((k, side, float(v)))
+    return out
 
 
 def design_points(
     table: Table,
     variables: list[str],
     objectives: list[str],
-    constraints: dict[str, float],
+    constraints: dict,
     aggregate: str = "mean",
 ) -> list[DesignPoint]:
     """Designs of ``table`` (grouped by ``variables``), aggregated, feasibility and front set.
 
-    A design with a failed task has NaN objectives and is neither feasible nor on the front.
+    ``constraints``: name -> upper bound, or {min = ..., max = ...} (:func:`bounds`). A design
+    with a failed task has NaN objectives and is neither feasible nor on the front.
     """
     if aggregate not in AGGREGATES:
         raise ValueError(f"aggregate: expected one of {AGGREGATES}, got {aggregate!r}")
+    limits = bounds(constraints)
     ok = np.array([r.get("status") == "ok" for r in table.rows], dtype=bool)
     cols = {k: table.column(k) for k in list(objectives) + list(constraints)}
     points = []
@@ -88,8 +102,11 @@ def design_points(
         good = idx[ok[idx]]
         n_failed = int(idx.size - good.size)
         obj = {k: _agg(cols[k][good], aggregate) if not n_failed else np.nan for k in objectives}
-        con = {k: _agg(cols[k][good], "max") if not n_failed else np.nan for k in constraints}
-        feasible = not n_failed and all(con[k] <= g for k, g in constraints.items())
+        con, feasible = {}, not n_failed
+        for k, side, g in limits:  # the worst record of each bound
+            worst = _agg(cols[k][good], side) if not n_failed else np.nan
+            con[f"{k}_{'worst' if side == 'max' else 'least'}"] = worst
+            feasible = feasible and (worst <= g if side == "max" else worst >= g)
         feasible = feasible and all(np.isfinite(v) for v in obj.values())
         points.append(
             DesignPoint(

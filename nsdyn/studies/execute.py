@@ -56,6 +56,7 @@ class StudyRun:
     workers: int
     batch: int
     out_dir: Path
+    n_outside: int = 0  # finished rows of tasks outside the grid, kept in table.OUTSIDE
 
     def as_dict(self) -> dict:
         """The counts and timings, and the path of the table (JSON-serialisable)."""
@@ -209,6 +210,7 @@ def run_study(
         workers=n_workers,
         batch=size,
         out_dir=out,
+        n_outside=store.n_outside,
     )
 
 
@@ -234,8 +236,10 @@ def dask_executor(
     else:
         try:
             client = Client(address, timeout="10s")
-        except (OSError, TimeoutError) as e:
-            raise OSError(f"no Dask scheduler at {address}: {e}") from None
+        except (OSError, TimeoutError, ValueError) as e:  # ValueError: not an address
+            why = " ".join(str(e).split())
+            raise OSError(f"no Dask scheduler at {address}: {why} (expected an address such "
+                          "as tcp://host:8786)") from None  # fmt: skip
     try:
         yield client.get_executor(pure=False)
     finally:

@@ -32,6 +32,9 @@ import numpy as np
 from nsdyn.atomic import atomic_open
 
 RESULTS = "results.csv"
+# the finished rows of tasks outside the current grid (it was narrowed, or a base field
+# changed): kept beside the table, so that a study that widens its grid again reuses them
+OUTSIDE = "outside-grid.csv"
 # what a study's analyses (and --parquet) write beside the table: a fresh start removes them,
 # so that an interrupted fresh run never leaves the previous run's analyses beside its table
 ANALYSIS_FILES = (
@@ -51,15 +54,21 @@ TAIL_COLUMNS = ("status", "error", "task_s")  # after the parameters
 TIMING_COLUMNS = ("task_s", "wall_s", "compile_s")  # differ between runs of the same task
 
 
+TEXT_COLUMNS = ("key", "record", "status", "error")  # names and words, whatever they look like
+
+
 def _parse(s: str | None):
+    """A cell as written: an int only if it is one as Python writes it ("001" stays text)."""
     if s is None or s == "":  # None: a short row (csv.DictReader's restval)
         return None
     if s in ("True", "False"):
         return s == "True"
     try:
-        return int(s)
+        i = int(s)
     except ValueError:
         pass
+    else:
+        return i if str(i) == s else s
     try:
         return float(s)
     except ValueError:
@@ -139,13 +148,14 @@ class Table:
 
 
 def read_csv(path: str | Path) -> list[dict]:
-    """Rows of a results CSV, values parsed (int, float, bool, text; empty -> None).
+    """Rows of a results CSV, values parsed (int, float, bool, text; empty -> None); the
+    :data:`TEXT_COLUMNS` stay text (a record named "001" is not record 1).
 
     Every column of the header stays in every row, an empty cell as None, so a column that is
     empty in every row (a kept name no task's summary has) survives a write and a read."""
     with open(path, newline="") as fh:
         return [
-            {k: v if k == "key" else _parse(v) for k, v in row.items()}
+            {k: v if k in TEXT_COLUMNS else _parse(v) for k, v in row.items()}
             for row in csv.DictReader(fh)
         ]
 
@@ -162,6 +172,7 @@ class ResultsStore:
         self.parts = self.out / PARTS
         self.param_names = list(param_names or [])
         self._n_written = 0
+        self.n_outside = 0  # finished rows kept outside the grid by the last compact
 
     def _part_files(self) -> list[Path]:
         if not self.parts.is_dir():
@@ -173,15 +184,15 @@ class ResultsStore:
         if self.parts.is_dir():
             for p in self.parts.glob(".part-*.tmp"):
                 p.unlink(missing_ok=True)
-        for p in self.out.glob(f".{RESULTS}-*.tmp"):
-            p.unlink(missing_ok=True)
+        for name in (RESULTS, OUTSIDE):
+            for p in self.out.glob(f".{name}-*.tmp"):
+                p.unlink(missing_ok=True)
 
     def read(self) -> dict[str, dict]:
         """key -> row over ``results.csv`` and every part (one row per key)."""
         rows: dict[str, dict] = {}
-        files = ([self.out / RESULTS] if (self.out / RESULTS).is_file() else []) + list(
-            self._part_files()
-        )
+        tables = [self.out / OUTSIDE, self.out / RESULTS]
+        files = [f for f in tables if f.is_file()] + list(self._part_files())
         for f in files:
             for r in read_csv(f):
                 k = str(r.get("key"))
@@ -201,10 +212,17 @@ class ResultsStore:
         """Merge everything into ``results.csv`` in task order and remove the parts.
 
         ``order``: key -> task index of the current study; rows of other keys (a grid was
-        narrowed) are dropped and every kept row takes its current index.
+        narrowed) move to ``OUTSIDE`` (its finished ones: a wider grid reuses them) and every
+        kept row takes its current index.
         """
         merged = self.read()
         if order is not None:
+            outside = [r for k, r in merged.items() if k not in order and r.get("status") == "ok"]
+            if outside:
+                Table(outside, self.param_names).write_csv(self.out / OUTSIDE)
+            else:
+                (self.out / OUTSIDE).unlink(missing_ok=True)
+            self.n_outside = len(outside)
             merged = {k: r | {"index": order[k]} for k, r in merged.items() if k in order}
         rows = sorted(merged.values(), key=lambda r: (r.get("index", 0), str(r.get("key"))))
         table = Table(rows, self.param_names)
@@ -215,7 +233,7 @@ class ResultsStore:
 
     def reset(self) -> None:
         """Forget every result and the analyses made from them (a fresh start)."""
-        for name in (RESULTS, *ANALYSIS_FILES):
+        for name in (RESULTS, OUTSIDE, *ANALYSIS_FILES):
             (self.out / name).unlink(missing_ok=True)
         for p in self._part_files():
             p.unlink(missing_ok=True)

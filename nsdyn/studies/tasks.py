@@ -7,7 +7,8 @@ Its key is the first ``KEY_HEX`` hex digits of
                               the kept fields})
 
 so the key changes whenever anything the row depends on changes (a parameter, a base field, a
-record file's bytes, ``study.keep``) and never otherwise: the results table is keyed by it
+record file's bytes, the bytes of any other file the scene names: a frame file, a record named
+in the base scene, ``study.keep``) and never otherwise: the results table is keyed by it
 and a resumed study runs exactly the tasks whose keys it lacks. Random parameters are drawn
 here, in the main process, from ``numpy.random.default_rng(study.seed)``; the drawn values
 enter the key.
@@ -28,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn.models.scenefile import FILE_FIELDS
 from nsdyn.studies.study import KINDS3C, RecordSpec, Study
 
 TABLE_FORMAT = 1  # bump when the meaning of a task's inputs changes (invalidates old keys)
@@ -127,6 +129,7 @@ def expand(study: Study) -> list[Task]:
             digests[r.name] = hashlib.sha256(",".join(parts).encode()).hexdigest()
         elif r is not None and r.path is not None and Path(r.path).is_file():
             digests[r.name] = file_digest(r.path)
+    file_digests: dict[str, str] = {}  # every other file a task reads, hashed once
     tasks = []
     keep = tuple(study.keep) if study.keep is not None else None
     for values in itertools.product(*[p.values for p in grid]):
@@ -144,7 +147,8 @@ def expand(study: Study) -> list[Task]:
                     if rec.components is not None:
                         ident["components"] = None
                     _place_record(cfg, rec, study.kind)
-                key = task_key(study.kind, _without_path(cfg, rec, digests), ident, study.keep)
+                hashed = _files_by_bytes(_without_path(cfg, rec, digests), file_digests)
+                key = task_key(study.kind, hashed, ident, study.keep)
                 tasks.append(
                     Task(
                         index=len(tasks),
@@ -194,6 +198,22 @@ def _without_path(cfg: dict, rec: RecordSpec | None, digests: dict) -> dict:
         return out
     out["motion"]["record"] = f"sha256:{digests[rec.name]}"
     return out
+
+
+def _files_by_bytes(cfg: dict, digests: dict) -> dict:
+    """The cfg as hashed: every file it names (:data:`~nsdyn.models.scenefile.FILE_FIELDS`: a
+    frame file, a record named in the base scene) enters by its bytes' digest, so an edit of
+    the file runs the tasks again (``digests``: path -> digest, filled as files are met)."""
+    out = None
+    for table, key in FILE_FIELDS:
+        v = cfg.get(table, {}).get(key) if isinstance(cfg.get(table), dict) else None
+        if not isinstance(v, str) or v.startswith("sha256:") or not Path(v).is_file():
+            continue
+        if v not in digests:
+            digests[v] = file_digest(v)
+        out = copy.deepcopy(cfg) if out is None else out
+        out[table][key] = f"sha256:{digests[v]}"
+    return cfg if out is None else out
 
 
 def batch_size(n_tasks: int, n_workers: int, requested: int = 0) -> int:

@@ -79,6 +79,27 @@ def test_design_points_constraint_front_and_choice():
     assert find_design(pts, {"isolation.mu": 0.03, "isolation.c": 1e4}) is by[(0.03, 1e4)]
 
 
+def test_a_lower_bound_takes_the_smallest_record():
+    # {min = g} holds when the smallest value over a design's records is >= g (the worst
+    # record of a lower bound); a number stays an upper bound on the largest
+    t = _table()
+    for r in t.rows:  # a stick margin that falls with the record: a, b, c -> 1.0, 0.8, 0.6 mu/0.05
+        r["stick_margin"] = r["isolation.mu"] / 0.05 * {"a": 1.0, "b": 0.8, "c": 0.6}[r["record"]]
+    objs = ["idr_max", "floor_acc_max_mps2"]
+    cons = {"x_iso_max_m": 0.4, "stick_margin": {"min": 0.3}}
+    pts = design_points(t, ["isolation.mu", "isolation.c"], objs, cons)
+    by = {(p.values["isolation.mu"], p.values["isolation.c"]): p for p in pts}
+    p = by[(0.03, 1e4)]
+    assert p.constraints["stick_margin_least"] == pytest.approx(0.03 / 0.05 * 0.6, rel=1e-14)
+    assert p.constraints["x_iso_max_m_worst"] == pytest.approx(0.008 / 0.03, rel=1e-14)
+    assert p.feasible  # 0.36 >= 0.3
+    assert not by[(0.01, 2e4)].feasible  # 0.12 < 0.3 (and x_iso 0.8 m > 0.4 m)
+    both = design_points(t, ["isolation.mu", "isolation.c"], objs,
+                         {"stick_margin": {"min": 0.3, "max": 0.7}})  # fmt: skip
+    feasible = {(q.values["isolation.mu"], q.values["isolation.c"]) for q in both if q.feasible}
+    assert feasible == {(0.03, 1e4), (0.03, 2e4)}  # mu 0.05: record a's 1.0 > 0.7
+
+
 def test_percentile_table_matches_numpy():
     t = _table()
     rows = percentile_table(t, ["idr_max"], ["isolation.mu"], q=(16, 50, 84))

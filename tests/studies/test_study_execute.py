@@ -322,3 +322,45 @@ def test_signals_during_the_pool_wait_act_between_waits():
         os.kill(os.getpid(), signal.SIGINT)
         time.sleep(0.05)
     assert (signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)) == before
+
+
+def test_a_narrowed_grid_keeps_the_dropped_rows_for_a_wider_one(tmp_path):
+    # the resume contract over grid edits: narrowing the grid takes its dropped points out of
+    # results.csv but keeps their finished rows (outside-grid.csv), and widening it again
+    # reruns nothing
+    from nsdyn.studies.table import OUTSIDE
+
+    wide = load_study(_study(tmp_path, t_end=1.0))
+    narrow = load_study(_study(tmp_path, name="n.toml", t_end=1.0, mu="[0.02]"))
+    out = tmp_path / "out"
+    first = run_study(wide, out, executor=ThreadPoolExecutor(1))  # 2 mu x 2 records
+    assert first.n_run == 4 and first.n_outside == 0 and not (out / OUTSIDE).exists()
+    cut = run_study(narrow, out, executor=ThreadPoolExecutor(1))
+    assert (cut.n_run, cut.n_skipped, cut.n_outside) == (0, 2, 2)
+    assert len(read_csv(out / RESULTS)) == 2 and len(read_csv(out / OUTSIDE)) == 2
+    again = run_study(wide, out, executor=ThreadPoolExecutor(1))
+    assert (again.n_run, again.n_skipped, again.n_outside) == (0, 4, 0)
+    assert not (out / OUTSIDE).exists()
+    assert [r["x_iso_max_m"] for r in again.table.rows] == [
+        r["x_iso_max_m"] for r in first.table.rows
+    ]
+
+
+def test_record_names_stay_text_in_the_table(tmp_path):
+    # two records named "001" and "1" are two records: read back from the CSV they must not
+    # become the number 1 (the analyses group by the record column)
+    from nsdyn.studies.table import Table
+
+    rows = [{"index": 0, "key": "0a", "record": "001", "status": "ok", "x": 0.5},
+            {"index": 1, "key": "0b", "record": "1", "status": "ok", "x": 7}]  # fmt: skip
+    back = read_csv(Table(rows).write_csv(tmp_path / RESULTS))
+    assert [r["record"] for r in back] == ["001", "1"]
+    assert [r["x"] for r in back] == [0.5, 7]
+
+
+def test_a_dask_address_that_is_not_one_is_an_oserror_naming_it():
+    # the command line turns an OSError into one line, exit 2 (it was a traceback)
+    pytest.importorskip("distributed")
+    with pytest.raises(OSError, match=r"^no Dask scheduler at notanaddress: .*tcp://host:8786"):
+        with execute.dask_executor("notanaddress"):
+            pass

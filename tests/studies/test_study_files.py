@@ -111,6 +111,17 @@ def test_bad_analysis_and_missing_pieces(tmp_path):
         load_study(_write(tmp_path, bad))
     with pytest.raises(SceneError, match="analysis.fragility.edp: missing"):
         load_study(_write(tmp_path, GOOD + '\n[analysis.fragility]\nim = "motion.pga"\n'))
+    for tail, says in [
+        ("[analysis]\ndesign = 3\n", r"analysis\.design: expected a table \[analysis\.design\]"),
+        ("[analysis.design]\nconstraints = 0.4\n",
+         r"analysis\.design\.constraints: expected a table \{name = value"),
+        ("[analysis.design]\nconstraints = { x_iso_max_m = { least = 0.1 } }\n",
+         r"constraints\.x_iso_max_m: expected an upper bound or a table \{min = \.\.\., max"),
+        ("[analysis.design]\nconstraints = { x_iso_max_m = { min = \"a\" } }\n",
+         r"constraints\.x_iso_max_m\.min: expected a number"),
+    ]:  # fmt: skip
+        with pytest.raises(SceneError, match=says):  # (tracebacks before: AttributeError ...)
+            load_study(_write(tmp_path, GOOD + "\n" + tail))
     with pytest.raises(SceneError, match="random parameters need samples"):
         load_study(_write(tmp_path, GOOD.replace("samples = 3", "samples = 0")))
     with pytest.raises(SceneError, match="study.scene: no such scene file"):
@@ -145,3 +156,42 @@ def test_fresh_start_removes_the_previous_analyses_only(tmp_path):
         (tmp_path / name).write_text("x")
     ResultsStore(tmp_path, ["isolation.mu"]).reset()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
+
+
+def test_key_follows_the_bytes_of_every_file_the_scene_reads(tmp_path):
+    # a frame file and a record named in the base scene (not under [records]) are read by
+    # every task: an edit of either must change the keys (a resumed study reused the rows
+    # run on the old file), and a copy elsewhere with the same bytes keeps them
+    from pathlib import Path
+
+    from nsdyn.ground import read_motion, write_motion
+
+    root = Path(__file__).resolve().parents[2]
+    frame = (root / "frames" / "portal.toml").read_text()
+    m = read_motion("synthetic-kt-20s").window(0.0, 2.0)
+    for d in ("a", "b"):
+        (tmp_path / d).mkdir()
+        (tmp_path / d / "f.toml").write_text(frame)
+        write_motion(m, tmp_path / d / "rec.csv")
+    text = """
+    [study]
+    name = "files"
+    [base.scene]
+    frame = "{d}/f.toml"
+    [base.motion]
+    record = "{d}/rec.csv"
+    t_end = 1.0
+    [parameters]
+    "isolation.mu" = [0.02, 0.05]
+    """
+
+    def keys(d: str, name: str) -> list[str]:
+        return [t.key for t in expand(load_study(_write(tmp_path, text.format(d=d), name)))]
+
+    ka = keys("a", "a.toml")
+    assert len(ka) == 2 and keys("b", "b.toml") == ka  # same bytes elsewhere: same keys
+    (tmp_path / "b" / "f.toml").write_text(frame.replace("[frame]", "[frame]\n# edited"))
+    assert set(keys("b", "c.toml")).isdisjoint(ka)  # the frame file's bytes changed
+    (tmp_path / "b" / "f.toml").write_text(frame)
+    write_motion(m.scaled_to_pga(2 * m.pga), tmp_path / "b" / "rec.csv")
+    assert set(keys("b", "d.toml")).isdisjoint(ka)  # the record's bytes changed
