@@ -108,12 +108,21 @@ def _columns(source: str, text: str) -> dict[str, str] | None:
 
 
 def _names_x_and_y(text: str) -> bool:
-    """Whether the first line that is not a comment names an x and a y column."""
+    """Whether the header's ``columns:`` line or the first line that is not a comment names an
+    x and a y column."""
+
+    def names(s: str) -> bool:
+        toks = {t.lower() for t in s.replace(",", " ").split()}
+        return bool(toks & set(_X_NAMES)) and bool(toks & set(_Y_NAMES))
+
     for line in text.splitlines():
         s = line.strip()
-        if s and not is_comment(s):
-            toks = {t.lower() for t in s.replace(",", " ").split()}
-            return bool(toks & set(_X_NAMES)) and bool(toks & set(_Y_NAMES))
+        if s and is_comment(s):
+            head, _, rest = s.lstrip("#%;!/ ").partition(":")
+            if head.strip().lower() == "columns" and names(rest):
+                return True
+        elif s:
+            return names(s)
     return False
 
 

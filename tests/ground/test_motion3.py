@@ -321,6 +321,22 @@ def test_three_column_csv_round_trip_is_bit_for_bit(tmp_path, m3, vertical):
     assert back.meta["seed"] == 7 and back.name == rec.name
 
 
+def test_a_bad_row_of_write_motion3_s_layout_is_named_with_its_line(tmp_path, m3):
+    # the columns named in the '# columns:' comment (the layout write_motion3 writes): a NaN
+    # or a short row is that file's line, not "missing component y"
+    path = write_motion3(m3.window(0.0, 0.5), tmp_path / "rec3.csv")
+    lines = path.read_text().splitlines()
+    first = next(i for i, s in enumerate(lines) if not s.startswith("#"))
+    nan = lambda s: s.split(",")[0] + ",nan," + ",".join(s.split(",")[2:])  # noqa: E731
+    short = lambda s: ",".join(s.split(",")[:-1])  # noqa: E731
+    for cut, says in ((nan, "expected a finite number"), (short, "expected 4 numbers per line")):
+        bad = list(lines)
+        bad[first + 5] = cut(bad[first + 5])
+        path.write_text("\n".join(bad) + "\n")
+        with pytest.raises(RecordFileError, match=rf"rec3.csv:{first + 6}: {says}"):
+            read_motion3(path)
+
+
 def test_hand_written_csv_with_named_columns(tmp_path):
     path = tmp_path / "hand.csv"
     path.write_text("# units: cm/s2\nt,ax,ay,az\n0,100,-50,20\n0.5,0,25,-10\n1.0,-300,0,5\n")
