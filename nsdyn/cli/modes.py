@@ -49,7 +49,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         type=_positive_finite,
         default=None,
         metavar="N_PER_M",
-        help=f"lateral stiffness of one laminated bearing for f_bis (default {DEFAULT_KLAM:g})",
+        help=f"lateral stiffness of one laminated bearing for f_bis (default: a scene's "
+        f"[isolation] k_lam, else {DEFAULT_KLAM:g})",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
     p.add_argument(
@@ -86,10 +87,14 @@ def modes_summary(frame, f_max: float, k_lam: float) -> tuple[dict, np.ndarray, 
     return summary, f, Phi
 
 
-def _scene_frame(arg: str) -> str:
+SCENE_TABLES = ("scene", "isolation", "motion", "solver", "structure", "force")
+
+
+def _scene_frame(arg: str) -> tuple[str, float | None]:
     """The frame ``nsdyn modes ARG`` lists: ``arg`` itself (a frame file or bundled name), or
     the frame a scene file names (``[scene] frame``, ``[structure] frame3d``; an isolated
-    scene without either runs the default frame); a scene without a frame is refused."""
+    scene without either, or a scene of tables alone, runs the default frame); a scene
+    without a frame is refused. With the scene's ``[isolation] k_lam`` (a number), or None."""
     import tomllib
 
     from nsdyn.models.scenefile import SceneError, resolve_paths
@@ -98,10 +103,15 @@ def _scene_frame(arg: str) -> str:
     try:
         data = tomllib.loads(p.read_text()) if p.suffix == ".toml" and p.is_file() else {}
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
-        return arg  # the frame reader names the problem
-    if not isinstance(data.get("scene"), dict):
-        return arg
-    data = resolve_paths(data, p.parent)
+        return arg, None  # the frame reader names the problem
+    scene_like = (
+        "frame" not in data
+        and "frame3d" not in data
+        and any(isinstance(data.get(t), dict) for t in SCENE_TABLES)
+    )
+    if not scene_like:
+        return arg, None
+    data = resolve_paths({"scene": {}} | data, p.parent)
     kind = data["scene"].get("kind", "isolated")
     frame = data["scene"].get("frame") or data.get("structure", {}).get("frame3d")
     if kind == "isolated" and frame is None and "structure" not in data:
@@ -112,23 +122,30 @@ def _scene_frame(arg: str) -> str:
             "a bundled frame's name, or a scene that names a frame ([scene] frame, "
             "[structure] frame3d)"
         )
-    return frame
+    k_lam = (
+        data.get("isolation", {}).get("k_lam") if isinstance(data.get("isolation"), dict) else None
+    )
+    real = isinstance(k_lam, int | float) and not isinstance(k_lam, bool) and k_lam > 0
+    return frame, float(k_lam) if real else None
 
 
 def run(args: argparse.Namespace) -> int:
     from nsdyn.structure import is_frame3d
 
     given = str(args.frame)
-    args.frame = _scene_frame(given)
+    args.frame, scene_klam = _scene_frame(given)
+    space = is_frame3d(args.frame)
+    klam_from_scene = args.klam is None and scene_klam is not None and not space
     if args.frame != given:  # a scene: its frame alone, as the frame file defines it
+        with_klam = f"; f_bis with its K_lam = {scene_klam:g} N/m" if klam_from_scene else ""
         print(f"nsdyn modes: note: the fixed-base modes of {args.frame}, the frame {given} "
               "names, as its frame file defines it (without the scene's eccentricity, "
-              "bearings or mode count)", file=sys.stderr)  # fmt: skip
-    if is_frame3d(args.frame):
+              f"bearings or mode count{with_klam})", file=sys.stderr)  # fmt: skip
+    if space:
         return _run3d(args)
     frame = load_frame(args.frame)
     fmax = DEFAULT_FMAX if args.fmax is None else args.fmax
-    klam = DEFAULT_KLAM if args.klam is None else args.klam
+    klam = scene_klam if klam_from_scene else DEFAULT_KLAM if args.klam is None else args.klam
     s, f, Phi = modes_summary(frame, fmax, klam)
     out = args.out if args.out is not None else (None if args.json else DEFAULT_OUT)
     if out is not None:

@@ -8,6 +8,7 @@ input errors exit 2 with one line; SIGINT/SIGTERM exit 130) and docs/reference/c
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import textwrap
@@ -128,6 +129,22 @@ def test_modes_of_a_scene_lists_the_frame_it_names(capsys, tmp_path):
     scene.write_text('[scene]\nframe = "office-11"\n')
     assert main(["modes", str(scene), "--json"]) == 0
     assert '"frame": "office-11"' in capsys.readouterr().out
+
+
+def test_modes_of_a_scene_of_tables_alone_takes_its_frame_and_k_lam(capsys, tmp_path):
+    # a scene `nsdyn run` runs without a [scene] table (the default frame), and its
+    # [isolation] k_lam in f_bis = sqrt(2 K_lam / M_s) / 2 pi (seed 004 eq. 28): a scene's
+    # 2e5 N/m against the default 5e4 doubles it; --klam still wins
+    scene = tmp_path / "s.toml"
+    scene.write_text("[isolation]\nk_lam = 2e5\n")
+    assert main(["modes", "--json"]) == 0
+    plain = json.loads(capsys.readouterr().out)
+    assert main(["modes", str(scene), "--json"]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["frame"] == "office-11" and s["k_lam_n_per_m"] == 2e5
+    assert s["f_bis_hz"] == pytest.approx(2 * plain["f_bis_hz"], rel=1e-12)
+    assert main(["modes", str(scene), "--json", "--klam", "5e4"]) == 0
+    assert json.loads(capsys.readouterr().out)["f_bis_hz"] == plain["f_bis_hz"]
 
 
 @pytest.mark.parametrize("made", [True, False])
