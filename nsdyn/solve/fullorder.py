@@ -285,4 +285,5 @@ def simulate_full(
     return result(
         system, t, x, resp, sparse.METHOD, carry.n_steps, wall, compile_s, carry.stats,
         sorted(set(carry.uplifts)), describe(motion), contact, method_reason=reason,
+        law=getattr(system.isolation, "law", None),
     )  # fmt: skip

@@ -30,11 +30,12 @@ from nsdyn.atomic import CheckpointError
 from nsdyn.ground.excitation import is_force, natural_end
 from nsdyn.models.isolated.metrics import Response, evaluate_along, evaluation_arrays, response
 from nsdyn.models.isolated.system import IsolatedSystem
-from nsdyn.models.isolated.tolerances import FAST_ATOL, RUN_RTOL, run_atol
+from nsdyn.models.isolated.tolerances import FAST_ATOL, RUN_RTOL, arctan_atol, run_atol
 from nsdyn.solve import integrate
 from nsdyn.solve.checkpoint import Carry, chunk_bounds, run_key
 from nsdyn.solve.checkpoint import load as load_checkpoint
 from nsdyn.solve.checkpoint import save as save_checkpoint
+from nsdyn.solve.run_inputs import check_run_inputs, event_law, integrated_law, vertical_felt
 
 # the run defaults live in nsdyn.models.isolated.tolerances; the old names stay importable
 DEFAULT_RTOL = RUN_RTOL
@@ -74,6 +75,8 @@ class TransientResult(Tabular):
     open_contacts: np.ndarray | None = None  # unilateral: (nt, nc), 1 where a contact is open
     impact_energy: float = 0.0  # unilateral: kinetic energy change of the landings [J]
     method_reason: str = ""  # why method "auto" chose the method (empty when given)
+    law: str | None = None  # the friction law integrated (None: no isolation)
+    failure: str = ""  # on_failure="return": why the run stopped before its end (else "")
 
     def contact_summary(self) -> dict:
         """The contact assumption and what it says: ``would_lift_off`` (a normal force < 0
@@ -133,6 +136,9 @@ class TransientResult(Tabular):
                 "dt_out_s": float(self.t[1] - self.t[0]) if self.t.size > 1 else 0.0,
                 "method": self.method,
                 "method_reason": self.method_reason,
+                "law": self.law,
+                "success": not self.failure,
+                **({"failure": self.failure} if self.failure else {}),
                 "uplift": [{"t_s": float(t), "contact": int(k)} for t, k in self.uplift],
                 "n_steps": int(self.n_steps),
                 "wall_s": float(self.wall_s),
@@ -158,6 +164,8 @@ def output_grid(
         raise ValueError(f"motion: a record of {motion.n} sample spans no time; give a record "
                          "of two samples or more")  # fmt: skip
     T = _period(motion)
+    if t_end is not None and not np.isfinite(float(t_end)):
+        raise ValueError(f"t_end: expected a finite end time [s], got {t_end}")
     if n_periods is not None:
         if t_end is not None:
             raise ValueError("give t_end or n_periods, not both")
@@ -319,7 +327,9 @@ def simulate(
                             (displacements, velocities), default
                             :func:`nsdyn.models.isolated.tolerances.run_atol`);
                             ``dt`` for fixed-step methods
-    t_eval : ndarray        output times (instead of t_end / n_periods / dt_out)
+    t_eval : ndarray        output times (instead of t_end / n_periods / dt_out); the run
+                            starts at t_eval[0] (from ``x0``, default the static
+                            equilibrium), on the excitation's own clock
     uplift : {"raise", "warn"}   what a normal force reaching zero does (contact "detect")
     contact : {"bilateral", "detect", "unilateral"}, optional   contact assumption (default:
                             the system's ``isolation.contact``; see
@@ -365,6 +375,7 @@ def simulate(
         raise ValueError("give t_eval or t_end / n_periods / dt_out, not both")
     else:
         t_eval = np.asarray(t_eval, dtype=float)
+    check_run_inputs(t_eval, progress, checkpoint)
     if contact is None:
         contact = getattr(system.isolation, "contact", "detect")
     reason = ""
@@ -380,8 +391,14 @@ def simulate(
                 f"dt={dt:g} is the step of a fixed-step method, but method 'auto' chose the "
                 f"adaptive {method!r} ({reason}); name a fixed-step method with dt, or drop dt"
             )
-    if atol is None:
+    event_law(system, method)
+    vertical_felt(system, motion)
+    if atol is None:  # the default, below the arctan law's turn (a given atol is kept)
+        from nsdyn.solve.methods import METHODS
+
         atol = run_atol(method)
+        if integrated_law(system, method) == "arctan" and not METHODS[method].fixed_step:
+            atol = arctan_atol(atol, system.isolation.eps)
     from nsdyn.solve.auto import sparse_path
 
     if sparse_path(system, method, contact):  # else a full-order model's dense copies
@@ -404,6 +421,7 @@ def simulate(
     ts, xs = [t_eval[:1]], [x0[None, :]]
     k0 = 0
     carry = Carry()  # what each chunk hands to the next (and a checkpoint to a resumed run)
+    carry.h0 = solver_options.pop("h0", None)  # the first step given: the first chunk's
     ckpt = Path(checkpoint) if checkpoint else None
     if ckpt is not None:
         options = dict(method=method, rtol=rtol, atol=atol, dt=dt, uplift=uplift,
@@ -416,6 +434,7 @@ def simulate(
             k0 = t_done.size - 1
     wall = 0.0
     compile_s = 0.0
+    failure = ""
     t_end = float(t_eval[-1])
     wall0 = time.perf_counter()
     bounds = chunk_bounds(t_eval, k0, chunk_s)  # on the output grid
@@ -446,6 +465,9 @@ def simulate(
         compile_s += getattr(sol, "compile_s", 0.0)
         ts.append(sol.t[1:])
         xs.append(sol.x[1:])
+        if not sol.success:  # on_failure="return": the run ends where the chunk stopped
+            failure = sol.message
+            break
         if ckpt is not None:
             save_checkpoint(ckpt, np.concatenate(ts), np.concatenate(xs), run_id, carry)
         if progress is not None:
@@ -477,6 +499,8 @@ def simulate(
         open_hist,
         carry.impact,
         reason,
+        integrated_law(system, method),
+        failure,
     )
     return _between_steps(res, dt, uplift)
 

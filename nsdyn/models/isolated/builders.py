@@ -224,7 +224,7 @@ def system_from_matrices(
         heights=heights,
         name=name,
     )
-    return IsolatedSystem(
+    system = IsolatedSystem(
         name,
         "matrices",
         M,
@@ -240,6 +240,16 @@ def system_from_matrices(
         info,
         normal_force=normal,
     )
+    if contact_rows is not None:  # each contact in compression at rest (cached for the runs)
+        lam = system.static_equilibrium()[1]
+        if lam.size and not np.all(lam > 0):
+            k = int(np.argmin(lam))
+            raise MatrixError(
+                f"contact_rows: contact {k} carries no compression at rest (normal force "
+                f"{lam[k]:.4g} N); check the rows' sign (R q is the gap, opening upwards; the "
+                "normal force is compressive positive) and the vertical influence"
+            )
+    return system
 
 
 def _storey_matrices(masses, stiffnesses, zeta) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import rel_tol
+from nsdyn._checks import number, rel_tol
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
@@ -44,15 +44,12 @@ from nsdyn.models.isolated.bearings import B_IOFF, N_BCOL, Bearing, BearingError
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
 from nsdyn.models.isolated.plane_result import PlaneResult
 from nsdyn.models.isolated.tfp import N_INTERNAL, TripleBearing
+from nsdyn.models.isolated.tolerances import ATOL_V_EPS
 
 PLANE_LAWS = ("switch", "arctan")  # the switch law with a stick disc; the regularised law
 # the contact assumptions of the planar family (system.CONTACTS) that these systems run
 PLANE_CONTACTS = {"detect": kp.CONTACT_DETECT, "bilateral": kp.CONTACT_BILATERAL}
 COLLINEAR_RTOL = 1e-9  # G's smallest/largest eigenvalue below this: isolators on one line
-# the regularised law's velocity tolerance is at most this / eps [m/s]: its transition from
-# stick to slip spans |v| ~ 1/eps, and a tolerance above that lets the error control accept
-# any friction direction in stick (a held deck then slides)
-ATOL_V_EPS = 0.1
 # default absolute tolerances (displacement [m], velocity [m/s]) per law. The switch law
 # locates stick at v = 0 and keeps 1e-8. The regularised law's velocity tolerance is the planar
 # family's (tolerances.RUN_ATOL): on the benchmark deck under the 40 s three-component record
@@ -250,6 +247,9 @@ def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
     if isinstance(ground, dict) and "f" in ground:
         ground = orbit_of(ground)
     if isinstance(ground, tuple):
+        if len(ground) != 5:
+            raise ValueError(f"ground: raw arrays are (t0, dt, ax, ay, az) (ay, az may be "
+                             f"None), got a tuple of {len(ground)}")  # fmt: skip
         t0, dt, ax, ay, az = ground
         ground = {"t0": t0, "dt": dt, "ax": ax, "ay": ay, "az": az}
     if _attr(ground, "f") is not None:
@@ -289,6 +289,8 @@ def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
         )
     ax = np.asarray(_attr(ground, "ax"), dtype=float)
     n = ax.size
+    if n < 2:
+        raise ValueError(f"ground.ax: expected a record of two samples or more, got {n}")
     rows = []
     for name in ("ax", "ay", "az"):
         a = _attr(ground, name)
@@ -322,6 +324,14 @@ def contact_code(contact: str, unilateral: bool = False) -> int:
     return PLANE_CONTACTS[contact]
 
 
+def positive_params(**values) -> None:
+    """Each given law and stabilisation parameter (eps, eta, alpha, beta, kappa; None: the
+    default) a positive finite number, or ValueError naming it."""
+    for k, v in values.items():
+        if v is not None:
+            number(k, v, "a positive number", lambda x: x > 0)
+
+
 def kernel_params(
     system: PlaneSystem, law: str, eps: float, eta: float, kappa: float | None,
     contact: str = "detect",
@@ -330,9 +340,7 @@ def kernel_params(
     code = contact_code(contact)
     if law not in PLANE_LAWS:
         raise ValueError(f"law: expected one of {list(PLANE_LAWS)}, got {law!r}")
-    for k, v in (("eps", eps), ("eta", eta)):
-        if not (math.isfinite(v) and v > 0):
-            raise ValueError(f"{k}: expected a positive number, got {v!r}")
+    positive_params(eps=eps, eta=eta, kappa=kappa)
     sp = np.zeros(kp.N_SP)
     sp[kp.S_M] = system.m
     sp[kp.S_EX], sp[kp.S_EY] = (float(e) for e in system.ecc)

@@ -235,7 +235,11 @@ def energy_balance(system, t, X, P, LAM, TAU, G, impact_energy: float = 0.0) -> 
     p_fric = np.sum(TAU * B[:, n + 2 + nc :], axis=1) if TAU.size else np.zeros(t.size)
     W_in, W_visc = _trapz(p_in, t), _trapz(p_visc, t)
     W_fric, W_con = _trapz(p_fric, t), _trapz(p_con, t) + impact_energy
-    scale = max(abs(W_in), W_visc + abs(W_fric), abs(dE), 1e-300)
+    # the energy a run from a given state starts with, above the static equilibrium's (0 for a
+    # run from rest): a free vibration's scale (its stored energy only changes by round-off)
+    dq0 = q[0] - system.static_equilibrium()[0][:n]
+    E0 = 0.5 * float(qd[0] @ M @ qd[0] + dq0 @ K @ dq0)
+    scale = max(abs(W_in), W_visc + abs(W_fric), abs(dE), E0, 1e-300)
     return {
         "input": W_in,
         "stored_change": dE,

@@ -56,6 +56,7 @@ from nsdyn.models.isolated.deck import (
     _check_run_options,
     contact_code,
     pack_ground,
+    positive_params,
     run_buffers,
     run_grid,
 )
@@ -445,16 +446,7 @@ def _kernel_inputs(system: PairSystem, law: str, eps, eta, kappa, alpha, beta,
         )
     if law not in PLANE_LAWS:
         raise ValueError(f"law: expected one of {list(PLANE_LAWS)}, got {law!r}")
-    for k, v in (("eps", eps), ("eta", eta), ("alpha", alpha), ("beta", beta)):
-        if (
-            isinstance(v, bool)
-            or not isinstance(v, int | float)
-            or not (math.isfinite(v) and v > 0)
-        ):
-            raise ValueError(f"{k}: expected a positive number, got {v!r}")
-    if kappa is not None and not (isinstance(kappa, int | float) and math.isfinite(kappa)
-                                  and kappa > 0):  # fmt: skip
-        raise ValueError(f"kappa: expected a positive number [1/s], got {kappa!r}")
+    positive_params(eps=eps, eta=eta, alpha=alpha, beta=beta, kappa=kappa)
     sp = np.zeros(kq.N_SP)
     sp[kq.S_G] = system.g
     sp[kq.S_ALPHA], sp[kq.S_BETA] = alpha, beta

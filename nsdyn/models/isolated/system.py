@@ -391,7 +391,7 @@ def build_system(
     damping : {"modal", "stiffness"}     superstructure damping of the full model (nodal
                                          coordinates, :mod:`nsdyn.models.isolated.fullorder`)
     """
-    from nsdyn.structure import craig_bampton, load_frame
+    from nsdyn.structure import craig_bampton, fixed_base_modes, load_frame
 
     if isinstance(frame, str | os.PathLike):
         frame = load_frame(frame)
@@ -474,6 +474,10 @@ def build_system(
     info["n_modes"] = len(cb.omega)
 
     if fidelity == "fixed":
+        if not len(cb.omega):  # nothing to run: the first mode lies above the cut-off
+            f1 = fixed_base_modes(Kf, Mf, frame.boundary_dofs, n_modes=1)[0][0]
+            raise ValueError(f"f_max: no fixed-base mode at or below {f_max:g} Hz (the first "
+                             f"is {f1:.3g} Hz); expected an f_max above it")  # fmt: skip
         M = np.eye(len(cb.omega))
         K = np.diag(cb.omega**2)
         C = np.diag(2 * cb.zeta * cb.omega)

@@ -20,8 +20,19 @@ RUN_RTOL = 1e-4
 RUN_ATOL = (1e-8, 1e-6)
 RUN_ATOL_BY_METHOD = {"event": (1e-8, 1e-7)}
 FAST_ATOL = (1e-8, 1e-4)  # arctan + radau when the base-level acceleration is not needed
+# the regularised law's velocity tolerance is at most this / eps [m/s]: its transition from
+# stick to slip spans |v| ~ 1/eps, and a tolerance above that lets the error control accept
+# any friction direction in stick (a held deck then slides; a sharp law's slip read 16 % low)
+ATOL_V_EPS = 0.1
 
 
 def run_atol(method: str) -> tuple[float, float]:
     """Default (displacement, velocity) atol of an earthquake run with ``method``."""
     return RUN_ATOL_BY_METHOD.get(method, RUN_ATOL)
+
+
+def arctan_atol(atol, eps: float) -> tuple[float, float]:
+    """(displacement, velocity) atol of an adaptive run of the arctan law of sharpness
+    ``eps`` [s/m]: the velocity tolerance capped at ``ATOL_V_EPS / eps``."""
+    a_d, a_v = (atol, atol) if isinstance(atol, int | float) else (float(atol[0]), float(atol[1]))
+    return float(a_d), min(float(a_v), ATOL_V_EPS / float(eps))

@@ -1,0 +1,73 @@
+"""What :func:`nsdyn.solve.transient.simulate` checks of its inputs before a run: the output
+times and callbacks, the friction law a method integrates (the event method's switch law), and
+a vertical excitation the model cannot feel. Each says what is wrong in one line, naming the
+argument."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+
+def check_run_inputs(t_eval: np.ndarray, progress, checkpoint) -> None:
+    """Given output times two or more, increasing and finite; ``progress`` callable;
+    ``checkpoint`` a file's path (ValueError / TypeError naming the argument)."""
+    if (
+        t_eval.ndim != 1
+        or t_eval.size < 2
+        or not np.all(np.isfinite(t_eval))
+        or np.any(np.diff(t_eval) <= 0)
+    ):
+        raise ValueError("t_eval: expected two or more increasing finite times [s]")
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress: expected a callable(t_done, t_end, wall_s), got {progress!r}")
+    if checkpoint is not None and Path(checkpoint).is_dir():
+        raise ValueError(f"checkpoint: expected a file's path, got the folder {checkpoint}")
+
+
+def vertical_felt(system, motion) -> None:
+    """A warning when ``motion`` has a vertical component that ``system`` cannot feel: no
+    vertical influence (a shear building, frozen normal forces given by ``weight``)."""
+    a_ver = getattr(motion, "a_ver", None)
+    has = (getattr(motion, "A_ver", 0.0) != 0.0) or (a_ver is not None and np.any(a_ver != 0))
+    if has and not np.any(np.asarray(system.Gamma)[:, 1]):
+        warnings.warn(
+            f"motion: its vertical component is not felt by {system.name!r}, which has no "
+            "vertical influence (a shear building or frozen normal forces, weight=): the run "
+            "is the horizontal motion's; model the vertical dofs (build_system from a frame, "
+            "or system_from_matrices with contact_rows) to feel it",
+            UserWarning,
+            stacklevel=3,
+        )
+
+
+def event_law(system, method: str) -> None:
+    """Method ``event`` integrates the switch law: refused for a system without friction (law
+    "none": it would add friction), said in a warning for the arctan law it replaces."""
+    iso = getattr(system, "isolation", None)
+    if method != "event" or iso is None or iso.law == "switch":
+        return
+    if iso.law == "none":
+        raise ValueError(
+            "method 'event' integrates the switch friction law (true stick), and this system's "
+            "isolation law is 'none' (no friction): use an adaptive method ('auto', 'radau'), "
+            "or system.with_isolation(law='switch') for friction"
+        )
+    warnings.warn(
+        f"method 'event' integrates the switch friction law (true stick), not this system's "
+        f"arctan law (eps = {iso.eps:g} s/m): the run is the switch law's (summary()['law']); "
+        "for the arctan law use 'auto' or 'radau', or pass system.with_isolation(law='switch')",
+        UserWarning,
+        stacklevel=3,
+    )
+
+
+def integrated_law(system, method: str) -> str | None:
+    """The friction law a run of ``method`` integrates: ``event`` the switch law, the others
+    the system's own (None without isolators)."""
+    iso = getattr(system, "isolation", None)
+    if iso is None:
+        return None
+    return "switch" if method == "event" else iso.law

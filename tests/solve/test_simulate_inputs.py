@@ -1,0 +1,140 @@
+"""What ``simulate`` does with inputs that used to run silently wrong or fail deep inside.
+
+Sources: the single-mass isolator (m, k_lam, mu) whose exact free vibration without friction is
+x(t) = x0 cos(w t), w = sqrt(k/m); the switch law as the arctan law's limit eps -> inf (seed 004
+eq. 7); energy conservation of an undamped oscillator; the static equilibrium (the weight on
+the contacts, compressive positive); seed 004's office frame, first fixed-base mode 0.46 Hz.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import nsdyn
+from nsdyn.models.isolated.builders import MatrixError
+
+M_, K_, MU = 1000.0, 4e4, 0.05
+
+
+def _mass(**iso):
+    return nsdyn.shear_building([M_], [], 0.0, isolation=nsdyn.Isolation(k_lam=K_, c=0.0, **iso))
+
+
+def test_event_refuses_a_law_without_friction_and_says_it_replaces_the_arctan_law():
+    with pytest.raises(ValueError, match=r"^method 'event' integrates the switch friction law"):
+        nsdyn.simulate(_mass(mu=MU, law="none"), None, method="event", t_end=1.0, dt_out=0.01,
+                       x0=[0.1, 0.0])  # fmt: skip
+    s = _mass(mu=MU, law="arctan", eps=50.0)
+    with pytest.warns(UserWarning, match=r"not this system's arctan law \(eps = 50 s/m\)"):
+        r = nsdyn.simulate(s, None, method="event", t_end=1.0, dt_out=0.01, x0=[0.1, 0.0])
+    assert r.summary()["law"] == "switch"
+    assert nsdyn.simulate(s, None, t_end=1.0, dt_out=0.01, x0=[0.1, 0.0]).summary()["law"] == (
+        "arctan"
+    )
+    # law "none" on an adaptive method: the exact undamped free vibration
+    r = nsdyn.simulate(_mass(mu=MU, law="none"), None, t_end=3.0, dt_out=1e-3, x0=[0.1, 0.0],
+                       rtol=1e-8, atol=1e-12)  # fmt: skip
+    exact = 0.1 * np.cos(math.sqrt(K_ / M_) * r.t)
+    assert np.max(np.abs(r.x[:, 0] - exact)) < 1e-6  # rtol 1e-8 over 3 s (~3 periods)
+
+
+def test_a_run_that_returns_on_failure_ends_where_it_failed():
+    # max_steps spent in the first chunk: the run stops there (no later chunk started from
+    # the failed state, which gave time gaps), and the summary says so
+    dt = 0.01
+    t = np.arange(0.0, 15.0 + dt / 2, dt)
+    gm = nsdyn.GroundMotion(0.0, dt, np.where((t > 5) & (t < 10), 3 * np.sin(10 * np.pi * t), 0))
+    r = nsdyn.simulate(_mass(mu=MU, law="switch"), gm, max_steps=60, on_failure="return")
+    assert r.t[-1] < 5.0 and np.allclose(np.diff(r.t), dt)
+    s = r.summary()
+    assert s["success"] is False and s["failure"] and s["t_end_s"] == r.t[-1]
+    ok = nsdyn.simulate(_mass(mu=MU, law="switch"), gm).summary()
+    assert ok["success"] is True and "failure" not in ok
+
+
+@pytest.mark.parametrize("eps", [1e8, 1e9])
+def test_a_sharp_arctan_law_reaches_the_switch_law_under_the_default_tolerance(eps):
+    # the velocity tolerance is held below the law's turn (0.1/eps): at eps 3e8-1e9 the
+    # default run read the slip 16 % low or stopped at 5e-5 m
+    H = nsdyn.Harmonic(1.0, 1.0)
+    ref = nsdyn.simulate(_mass(mu=MU, law="switch"), H, method="event", t_end=3.0, dt_out=0.01)
+    r = nsdyn.simulate(_mass(mu=MU, law="arctan", eps=eps), H, t_end=3.0, dt_out=0.01)
+    x_ref = ref.summary()["x_iso_max_m"]
+    assert r.summary()["x_iso_max_m"] == pytest.approx(x_ref, rel=0.01)  # the eps -> inf limit
+
+
+def test_a_first_step_can_be_given():
+    r = nsdyn.simulate(_mass(mu=MU, law="switch"), nsdyn.Harmonic(1.0, 1.0), t_end=1.0,
+                       method="radau", h0=1e-3)  # fmt: skip
+    assert r.t[-1] == 1.0
+
+
+def test_the_energy_closure_of_a_free_vibration_is_scaled_by_its_energy():
+    # undamped, frictionless: the stored energy (200 J) is conserved, so the closure is the
+    # integrator's drift relative to it, not 1 (the scale left the initial energy out)
+    r = nsdyn.simulate(_mass(mu=0.0, law="none"), None, t_end=3.0, dt_out=1e-3, x0=[0.1, 0.0])
+    e = r.response.energy
+    assert abs(e["stored_change"]) / (0.5 * K_ * 0.1**2) < 1e-3  # rtol 1e-4 per step
+    assert e["closure"] == pytest.approx(abs(e["stored_change"]) / 200.0, rel=1e-9)
+
+
+def test_contact_rows_that_pull_at_rest_are_refused():
+    Mm, Z = np.diag([M_, M_]), np.zeros((2, 2))
+    iso = nsdyn.Isolation(k_lam=0.0, c=0.0, mu=0.1, law="switch")
+
+    def build(sign):
+        return nsdyn.system_from_matrices(Mm, Z, Z, iso_dofs=[0], influence=[[1, 0], [0, 1]],
+                                          contact_rows=[[0, sign]], isolation=iso)  # fmt: skip
+
+    lam = build(1.0).static_equilibrium()[1]
+    assert lam == pytest.approx([M_ * 9.81], rel=1e-3)  # the weight, compressive positive
+    with pytest.raises(MatrixError, match=r"^contact_rows: contact 0 carries no compression"):
+        build(-1.0)
+
+
+def test_a_vertical_component_a_model_cannot_feel_is_said():
+    s = _mass(mu=MU, law="switch")
+    with pytest.warns(UserWarning, match="its vertical component is not felt"):
+        nsdyn.simulate(s, nsdyn.Harmonic(1.0, 1.0, A_ver=8.0, f_ver=2.0), t_end=0.5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        nsdyn.simulate(s, nsdyn.Harmonic(1.0, 1.0), t_end=0.5)
+
+
+def test_a_fixed_base_model_without_modes_is_refused_naming_the_first():
+    frame = nsdyn.load_frame("office-11")
+    with pytest.raises(ValueError, match=r"^f_max: no fixed-base mode at or below 0.1 Hz \(the "
+                                         r"first is 0.46\d Hz\)"):  # fmt: skip
+        nsdyn.build_system(frame, nsdyn.Isolation(), fidelity="fixed", f_max=0.1)
+
+
+@pytest.mark.parametrize(
+    ("kw", "error", "says"),
+    [({"t_end": math.inf}, ValueError, "t_end: expected a finite end time"),
+     ({"t_eval": np.array([])}, ValueError, "t_eval: expected two or more increasing"),
+     ({"t_eval": np.array([0.0, 0.2, 0.1])}, ValueError, "t_eval: expected two or more"),
+     ({"t_end": 1.0, "progress": 5}, TypeError, "progress: expected a callable"),
+     ({"t_end": 1.0, "checkpoint": "."}, ValueError, "checkpoint: expected a file's path")],
+)  # fmt: skip
+def test_bad_run_arguments_are_named(kw, error, says):
+    with pytest.raises(error, match=says):
+        nsdyn.simulate(_mass(mu=MU, law="switch"), nsdyn.Harmonic(1.0, 1.0), **kw)
+
+
+def test_plane_runs_name_their_bad_ground_and_kappa():
+    from nsdyn.models.isolated.bearings import Bearing, Friction
+    from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
+
+    s = sdof_plane(M_, Bearing(Friction(MU), radius=2.5))
+    z = np.zeros(101)
+    with pytest.raises(ValueError, match=r"^ground: raw arrays are \(t0, dt, ax, ay, az\)"):
+        simulate_plane(s, (0.0, 0.01, z))
+    with pytest.raises(ValueError, match=r"^ground.ax: expected a record of two samples or more"):
+        simulate_plane(s, (0.0, 0.01, z[:0], z[:0], z[:0]))
+    for kappa in (-50.0, 0.0, math.nan):
+        with pytest.raises(ValueError, match=r"^kappa: expected a positive number"):
+            simulate_plane(s, (0.0, 0.01, z, z, z), kappa=kappa)
