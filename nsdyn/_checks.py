@@ -4,6 +4,8 @@ AttributeError from deep inside a model)."""
 
 from __future__ import annotations
 
+import math
+
 
 def expect(name: str, value, ok: bool, what: str) -> None:
     """Raise ``TypeError("{name}: expected {what}, got {type}")`` unless ``ok``."""
@@ -64,6 +66,29 @@ def number(name: str, value, what: str, ok=None) -> float:
     if not math.isfinite(v) or (ok is not None and not ok(v)):
         raise ValueError(f"{name}: expected {what}, got {value!r}")
     return v
+
+
+MAX_OUTPUTS = 10_000_000  # output samples of one run (of 8 columns: 640 MB)
+MAX_STEPS = 200_000_000  # fixed or least steps of one run: refused beyond (hours of stepping)
+
+
+def output_count(t_end: float, dt_out: float) -> int:
+    """Output samples of a run of ``t_end`` every ``dt_out`` [s] (the first included), or
+    ValueError naming dt_out beyond ``MAX_OUTPUTS`` (an array of that size would not fit)."""
+    n = t_end / dt_out
+    if not n <= MAX_OUTPUTS:
+        raise ValueError(f"dt_out: {n:.3g} outputs of {dt_out:.3g} s over {t_end:.3g} s "
+                         f"exceed {MAX_OUTPUTS:.0e}; expected a longer output step")  # fmt: skip
+    return int(math.floor(n * (1 + 1e-12))) + 1
+
+
+def step_count(t_end: float, h: float, name: str = "h") -> float:
+    """Steps of ``h`` over ``t_end``, or ValueError naming ``name`` beyond ``MAX_STEPS``."""
+    n = t_end / h
+    if not n <= MAX_STEPS:
+        raise ValueError(f"{name}: {n:.3g} steps of {h:.3g} s exceed {MAX_STEPS:.0e}; expected "
+                         "a larger step or a shorter run")  # fmt: skip
+    return n
 
 
 class NumericalFailure(RuntimeError):

@@ -178,7 +178,12 @@ def number(source: str, name: str, val, *, positive: bool = True, allow_zero: bo
     return v
 
 
-GRID_FIELDS = {"t_end": "motion.t_end", "dt_out": "solver.dt_out"}
+GRID_FIELDS = {  # the fields of a run's grid and start, refused by a library before any step
+    "t_end": "motion.t_end",
+    "dt_out": "solver.dt_out",
+    "theta0": "motion.theta0",
+    "theta0_over_alpha": "motion.theta0_over_alpha",
+}
 
 
 @contextmanager

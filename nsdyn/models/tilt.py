@@ -31,9 +31,14 @@ def initial_tilt(theta0: float | None, theta0_over_alpha: float | None, alpha: f
         if v is not None and (isinstance(v, bool) or not isinstance(v, int | float)
                               or not math.isfinite(v)):  # fmt: skip
             raise ValueError(f"{name}: expected a finite number, got {v!r}")
+    tilt = 0.0 if theta0 is None else float(theta0)
     if theta0_over_alpha is not None:
-        return float(theta0_over_alpha) * float(alpha)
-    return 0.0 if theta0 is None else float(theta0)
+        tilt = float(theta0_over_alpha) * float(alpha)
+    if not abs(tilt) < 0.5 * math.pi:
+        name = "theta0" if theta0 is not None else "theta0_over_alpha"
+        raise ValueError(f"{name}: a tilt of {tilt:.4g} rad lays the body on its side or beyond; "
+                         f"expected |theta0| < pi/2 ({0.5 * math.pi:.4g} rad)")  # fmt: skip
+    return tilt
 
 
 def scene_tilt(table: Mapping, source: str, where: str = "motion") -> dict:

@@ -23,6 +23,9 @@ BASE_TOL = 1e-9  # relative height tolerance for a vertex to belong to the base
 COLLINEAR_TOL = 1e-12  # relative cross-product below which three vertices are collinear
 
 
+MAX_SIZE_M = 1e6  # a body's vertices lie within this of the origin [m]
+
+
 def _check_polygon(verts: np.ndarray, field: str) -> np.ndarray:
     """Counter-clockwise convex polygon, or ValueError naming ``field`` and the offending vertex."""
     p = np.asarray(verts, dtype=float)
@@ -31,6 +34,9 @@ def _check_polygon(verts: np.ndarray, field: str) -> np.ndarray:
                          f"{p.shape}")  # fmt: skip
     if not np.all(np.isfinite(p)):
         raise ValueError(f"{field}: vertices must be finite numbers")
+    if np.abs(p).max() > MAX_SIZE_M:
+        raise ValueError(f"{field}: a vertex {np.abs(p).max():.3g} m from the origin; expected "
+                         f"vertices in metres, within {MAX_SIZE_M:.0e} m")  # fmt: skip
     n = len(p)
     area2 = float(np.sum(p[:, 0] * np.roll(p[:, 1], -1) - np.roll(p[:, 0], -1) * p[:, 1]))
     size = float(np.ptp(p, axis=0).max())

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure
+from nsdyn._checks import MAX_STEPS, NumericalFailure, output_count
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kcompliant as kc
 from nsdyn.models.contact.body import RigidBody
@@ -34,7 +34,6 @@ from nsdyn.models.contact.results import MODE_NAMES, ContactResult
 
 H_FRAC = 0.02  # step as a fraction of the explicit stability limit (0.25 overturned C2 spuriously)
 H_PER_PERIOD = 40  # a sine excitation is sampled by at least this many steps per period
-MAX_STEPS = 200_000_000  # refuse runs longer than this many steps
 
 
 @dataclass(frozen=True)
@@ -181,6 +180,7 @@ def simulate_compliant(
     anchor = np.full(len(verts), np.nan)
     stuck = np.ones(len(verts))
     acc = np.zeros(2)
+    output_count(t_end, dt_out)
     t_out = np.arange(0.0, t_end + 0.5 * dt_out, dt_out)
     y_out = np.full((len(t_out), kc.N_OUT), np.nan)
     jumps = sorted(tuple(j) for j in mo.jumps if 0.0 <= j[0] <= t_end)

@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, expect, number, rel_tol
+from nsdyn._checks import NumericalFailure, expect, number, output_count, rel_tol
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kevent as ke
 from nsdyn.models.contact._kgeom import body_mode, contact_rows, mu_of, solve_contacts
@@ -219,6 +219,7 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
         q = np.asarray(q0, float).copy()
     if v0 is not None:
         v = np.asarray(v0, float).copy()
+    output_count(t_end, dt_out)
     t_out = np.arange(0.0, t_end + 0.5 * dt_out, dt_out)
     y_out = np.full((len(t_out), 6), np.nan)
     jumps = [tuple(j) for j in mo.jumps if 0.0 <= j[0] <= t_end]

@@ -38,6 +38,16 @@ class BaseMotion:
     jumps: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     name: str = "base motion"
 
+    def resolving_step(self, per_period: int = 40, per_sample: int = 10) -> float:
+        """The longest fixed step that follows this motion: ``per_sample`` sampling steps of
+        a table (a longer step skips its samples), or 1/``per_period`` of a sine's period
+        (inf without excitation)."""
+        if self.tab_h.size:
+            return per_sample * float(self.ex[2])
+        if self.ex[0] == 1.0 and self.ex[4] > 0:
+            return 2 * math.pi / float(self.ex[4]) / per_period
+        return math.inf
+
     @classmethod
     def none(cls) -> BaseMotion:
         """No excitation (free motion)."""

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure
+from nsdyn._checks import NumericalFailure, output_count, step_count
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kmoreau as km
 from nsdyn.models.contact.body import RigidBody
@@ -38,6 +38,14 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
     if not 0.0 <= e_n <= 1.0:
         raise ValueError(f"e_n: expected a restitution coefficient in [0, 1], got {e_n!r}")
     mo = motion or BaseMotion.none()
+    if not (math.isfinite(t_end) and t_end > 0):
+        raise ValueError(f"t_end: expected a positive duration [s], got {t_end!r}")
+    step_count(t_end, h)
+    output_count(t_end, max(dt_out or h, h))
+    if h > mo.resolving_step() * (1 + 1e-9):
+        raise ValueError(f"h: a step of {h:g} s does not follow the excitation; expected at "
+                         f"most {mo.resolving_step():.3g} s (ten of a record's sampling steps, or "
+                         "1/40 of a sine's period)")  # fmt: skip
     par = _params(body, friction, g)
     q, v = initial_state(body, tilt_angle(body, theta0, theta0_over_alpha))
     if q0 is not None:

@@ -53,6 +53,7 @@ from nsdyn.ground import read_motion
 from nsdyn.models.contact.results import TILT_FLOOR, slenderness
 from nsdyn.models.contact.scene_keys import SCHEMA
 from nsdyn.models.scenefile import (
+    GRID_FIELDS,
     SceneError,
     check_fields,
     grid_fields,
@@ -271,19 +272,49 @@ def simulate(body, law, motion, t_end, opts):
                           dt_out=opts["dt_out"])  # fmt: skip
 
 
+STEP_CHECK_RTOL = 0.1  # peaks at h and h/2 farther apart than this: the step is too long
+
+
+def moreau_step_check(body, law, motion, t_end, opts, s: dict) -> dict:
+    """The Moreau-Jean run repeated at half its step (the scheme is first order: the peaks
+    move by about their error): ``step_resolved`` when the peak tilt and slide of the two
+    agree within ``STEP_CHECK_RTOL`` (above a floor of 1 % of the slenderness and 1e-4 of
+    the body's size), else False with ``step_note`` saying both and what to do."""
+    half = simulate(body, law, motion, t_end, opts | {"h": 0.5 * opts["h"]}).summary()
+    alpha, size = slenderness(body), float(np.ptp(body.contacts, axis=0).max())
+    off = []
+    for k, floor in (("max_tilt_rad", 0.01 * alpha), ("max_slide_m", 1e-4 * size)):
+        a, b = s[k], half[k]
+        if abs(a - b) > STEP_CHECK_RTOL * max(abs(a), abs(b)) + floor:
+            off.append(f"{k} {a:.4g} at h = {opts['h']:g} s, {b:.4g} at h/2")
+    out = {
+        "step_resolved": not off,
+        "h_half_peaks": {k: half[k] for k in ("max_tilt_rad", "max_slide_m")},
+    }
+    if off:
+        out["step_note"] = ("the Moreau-Jean step does not resolve this response: "
+                            + "; ".join(off) + ": use a smaller solver.h (first order: halve "
+                            "it until the peaks settle) or solver.method = 'event'")  # fmt: skip
+    return out
+
+
 def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:
     """Run a contact scene; writes ``contact.npz`` (and ``contact.png``) into ``out_dir``."""
     body, law, motion, t_end, opts = build(cfg, source)
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"contact: {name}: {opts['what']}, {opts['method']}, t_end = {t_end:g} s")
-    with grid_fields(source):  # the run's grid: its table's field, before any step
+    with grid_fields(source, GRID_FIELDS | {"h": "solver.h"}):  # refused before any step
         compile_s = warm(body, law, motion, t_end, opts)
         w0 = time.perf_counter()
         res = simulate(body, law, motion, t_end, opts)
     wall = time.perf_counter() - w0
     out_dir = Path(out_dir)
     s = res.summary()
+    if opts["method"] == "moreau" and opts.get("ground") is None:
+        s.update(moreau_step_check(body, law, motion, t_end, opts, s))
+        if not s["step_resolved"]:
+            say(f"contact: note: {s['step_note']}")
     s["alpha_rad"] = slenderness(body)
     s["outcome"], text = outcome(s)
     files = [str(out_dir / "contact.npz")]
@@ -344,6 +375,7 @@ ROWS = (
     ("n_liftoffs", "lift-offs", ""),
     ("overturned", "overturned", ""),
     ("t_overturn_s", "overturned at", "s"),
+    ("step_resolved", "Moreau-Jean step resolved (h, h/2)", ""),
     ("t_end_s", "duration", "s"),
     ("wall_s", "run time", "s"),
     ("compile_s", "compile/load time", "s"),

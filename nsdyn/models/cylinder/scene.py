@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import MAX_OUTPUTS
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open, save_figure
 from nsdyn.models.cylinder.design import design_foundation, static_settlement, uplift_onset
@@ -40,7 +41,7 @@ from nsdyn.models.cylinder.simulate import (
     simulate,
 )
 from nsdyn.models.cylinder.stresses import peak_stresses
-from nsdyn.models.scenefile import SceneError, check_fields, number, rel_tol
+from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number, rel_tol
 from nsdyn.models.tilt import scene_tilt
 
 TABLES = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
@@ -164,6 +165,13 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
             )
         dur = number(source, "motion.duration", mo.get("duration", EQ_DURATION))
         dt = number(source, "motion.dt", mo.get("dt", EQ_DT))
+        if not 2 * dt <= dur:
+            raise SceneError(f"{source}: motion.dt: expected a step of at most half the "
+                             f"duration ({dur:g} s), got {dt:g}")  # fmt: skip
+        if dur / dt > MAX_OUTPUTS:
+            raise SceneError(f"{source}: motion.duration: {dur / dt:.3g} samples of {dt:g} s "
+                             f"exceed {MAX_OUTPUTS:.0e}; expected a shorter record or a "
+                             "longer step")  # fmt: skip
         dt, ag = earthquake(seed, dur, dt, s0_units=units)
     if "pga" in mo:
         pga = number(source, "motion.pga", mo["pga"])
@@ -171,6 +179,9 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         ag = ag * (pga / peak) if peak > 0 else ag
     if "t_end" in mo:
         t_end = number(source, "motion.t_end", mo["t_end"])
+        if t_end > (len(ag) - 1) * dt * (1 + 1e-9):
+            raise SceneError(f"{source}: motion.t_end: expected at most the motion's "
+                             f"{(len(ag) - 1) * dt:g} s, got {t_end:g}")  # fmt: skip
         ag = ag[: max(2, int(math.floor(t_end / dt + 1e-9)) + 1)]
     so = cfg.get("solver", {})
     method = so.get("method", "dopri5")
@@ -223,7 +234,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         f"{len(ag)} samples")  # fmt: skip
     compile_s = warm(p, dt, ag, opts)
     tic = time.perf_counter()
-    res = simulate(p, ag, dt, rtol=opts["rtol"], azimuth0=opts["azimuth0"], **opts["tilt"])
+    with grid_fields(source):  # the initial tilt, refused before any step
+        res = simulate(p, ag, dt, rtol=opts["rtol"], azimuth0=opts["azimuth0"], **opts["tilt"])
     wall = time.perf_counter() - tic
     th_u, M_u = uplift_onset(p)
     peaks = peak_stresses(res, opts["z_s"])

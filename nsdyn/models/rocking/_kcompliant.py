@@ -41,7 +41,8 @@ Q_G = 8  # gravity [m/s²]
 Q_TOL = 9  # relative tolerance
 Q_HMAX = 10  # largest step [s]
 Q_WV = 11  # relaxation rate of a lifted corner's horizontal spring [1/s]
-N_Q = 12
+Q_BUDGET = 12  # step attempts (accepted and rejected) before the run gives up
+N_Q = 13
 
 J_NSTEP = 0  # accepted steps
 J_NREJ = 1  # rejected steps
@@ -52,6 +53,7 @@ N_J = 4
 ST_OK = 0  # finished
 ST_UNDERFLOW = 2  # step-size underflow
 ST_NONFINITE = 3  # non-finite state
+ST_BUDGET = 4  # the step budget q[Q_BUDGET] spent
 H_MIN = 1e-14  # step-size underflow threshold [s] (relative to 1 + |t|)
 
 
@@ -122,6 +124,10 @@ def integrate(q, atol, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, info):
         copy_vec(out[k_out, :], y)
         k_out += 1
     while t < t_end * (1.0 - 1e-15):
+        if n_step + n_rej >= q[Q_BUDGET]:
+            status = ST_BUDGET
+            info[J_TFAIL] = t
+            break
         hh, at_bp = step_to_breakpoint(t, min(h, hmax), t_end, gk, gp, n_tab)
         if not fsal:
             rhs(t, RIGHT_LIMIT, y, q, gk, gp, tab_h, tab_v, k[0])

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, expect, rel_tol
+from nsdyn._checks import NumericalFailure, expect, output_count, rel_tol
 from nsdyn.ground import G_EARTH, GroundMotion, Harmonic
 from nsdyn.ground.pulses import Pulse
 from nsdyn.models.rocking import _kblock as kb
@@ -286,7 +286,7 @@ def simulate_rocking(
         )
     gk, gp, tab_h, tab_v, dt_nat = _excitation(excitation, t_end)
     dt_out = dt_nat if dt_out is None else dt_out
-    n_out = int(math.floor((t_end - t0) / dt_out * (1 + 1e-12))) + 1 if dt_out > 0 else 0
+    n_out = output_count(t_end - t0, dt_out) if dt_out > 0 else 0
     out = np.zeros((n_out, 2))
     imp = np.zeros((max_impacts, 3))
     peaks = np.zeros((max_peaks, 2))

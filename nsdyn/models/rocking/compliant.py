@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure
+from nsdyn._checks import NumericalFailure, output_count
 from nsdyn._tabular import Tabular
 from nsdyn.ground import G_EARTH
 from nsdyn.models.rocking import _kcompliant as kc
@@ -33,6 +33,7 @@ from nsdyn.models.tilt import initial_tilt
 TOL = 1e-8  # default relative tolerance
 PEAK_MIN = 0.05  # peaks below this fraction of alpha are not used for r_eff (contact noise)
 DT_OUT = 1e-3  # default output step [s]
+STEP_BUDGET = 20_000_000  # step attempts of one run (~6 s at 3.5e6 steps/s)
 H_MAX_P = 0.05  # largest step in units of 1/p
 H_MAX_CONTACT = 1.0  # largest step in units of 1/(omega_v (1 + 2 zeta)) (explicit stability)
 
@@ -185,6 +186,13 @@ def simulate_compliant(
         zeta = model.c / math.sqrt(2.0 * model.k * model.mass)
         h_max = min(H_MAX_P / model.p, H_MAX_CONTACT / (model.omega_v * (1.0 + 2.0 * zeta)))
     q[kc.Q_HMAX] = h_max
+    if t_end / h_max > STEP_BUDGET:  # the contact's steps over the run: minutes and more
+        raise ValueError(
+            f"omega_v: a contact of {model.omega_v:.3g} rad/s needs steps of {h_max:.3g} s, "
+            f"{t_end / h_max:.3g} over the run, beyond {STEP_BUDGET:.0e}; expected a softer "
+            "contact or a shorter run"
+        )
+    q[kc.Q_BUDGET] = STEP_BUDGET  # (the error control may take far smaller steps)
     d_static = model.mass * model.g / (2.0 * model.k)
     y0 = np.zeros(8)
     if theta0 == 0.0:
@@ -201,14 +209,16 @@ def simulate_compliant(
     atol = tol * np.array([scale_x, scale_x, 1e-3 * model.alpha,
                            model.p * scale_x, model.p * scale_x, 1e-3 * model.p * model.alpha,
                            scale_x, scale_x])  # fmt: skip
-    n_out = int(math.floor(t_end / dt_out * (1 + 1e-12))) + 1
+    n_out = output_count(t_end, dt_out)
     out = np.zeros((n_out, 8))
     info = np.zeros(kc.N_J)
     w0 = time.perf_counter()
     st = kc.integrate(q, atol, gk, gp, tab_h, tab_v, y0, 0.0, float(t_end), dt_out, out, info)
     wall = time.perf_counter() - w0
     if st != kc.ST_OK:
-        why = "step size underflow" if st == kc.ST_UNDERFLOW else "non-finite state"
+        why = {kc.ST_UNDERFLOW: "step size underflow", kc.ST_NONFINITE: "non-finite state"}.get(
+            st, f"{STEP_BUDGET:.0e} step attempts spent (a contact too stiff for the tolerance: "
+            "a softer contact or a shorter run)")  # fmt: skip
         raise NumericalFailure(f"compliant block failed at t = {info[kc.J_TFAIL]:.6g} s: {why}")
     n = int(info[kc.J_NOUT])
     return CompliantResult(dt_out * np.arange(n), out[:n].copy(), model.alpha,

@@ -49,6 +49,7 @@ from nsdyn.ground import G_EARTH, read_motion
 from nsdyn.ground.pulses import SHAPES, Pulse
 from nsdyn.models.rocking.scene_keys import SCHEMA
 from nsdyn.models.scenefile import (
+    GRID_FIELDS,
     SceneError,
     check_fields,
     grid_fields,
@@ -240,7 +241,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     out_dir = Path(out_dir)
     compile_s = warm(model)
     w0 = time.perf_counter()
-    with grid_fields(source):  # the run's grid: its table's field, before any step
+    fields = GRID_FIELDS | {"omega_v": "block.omega_v_over_p"}
+    with grid_fields(source, fields):  # the run's grid and steps, refused before any step
         if isinstance(model, CompliantBlock):
             from nsdyn.models.rocking import compliant as cm
 

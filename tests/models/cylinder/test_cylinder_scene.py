@@ -39,6 +39,10 @@ def cfg():
         ("solver", "method", "rk4", "solver.method"),
         ("foundation", "zeta", 10, r"foundation.zeta: expected a damping ratio in \[0, 1\)"),
         ("foundation", "k", 1.0, r"foundation.k: the static settlement .* exceeds the radius"),
+        # a simulated earthquake's grid (tracebacks, or an array of 1e11 samples, before)
+        ("motion", "dt", 50.0, r"motion.dt: expected a step of at most half the duration"),
+        ("motion", "duration", 1e9, r"motion.duration: 1e\+11 samples of 0.01 s exceed 1e\+07"),
+        ("motion", "t_end", 1e4, r"motion.t_end: expected at most the motion's"),
     ],
 )
 def test_bad_input_names_the_field(cfg, table, key, value, match):

@@ -115,6 +115,22 @@ def test_uplift_threshold_g_tan_alpha():
     assert up.t_uplift == pytest.approx(t_u, abs=1e-10)
 
 
+def test_a_ground_falling_faster_than_g_stops_a_rocking_block_too():
+    """Free flight is not modelled: with g + a_v <= 0 the block leaves the ground, whether at
+    rest or rocking (a rocking block went on with gravity reversed). A rectangular pulse of
+    a_v = -1.5 g starting at 0.2 s under a block released at half its slenderness: the run
+    stops at the pulse's start."""
+    from nsdyn._checks import NumericalFailure
+
+    blk = COLUMN
+    pulse = Pulse("rect", 0.05 * blk.g, 2.0 * math.pi, 1, 0.2, -30.0)  # a_v = -30 a_h
+    with pytest.raises(NumericalFailure, match=r"at t = 0.2 s: vertical ground acceleration"):
+        simulate_rocking(blk, pulse, t_end=1.0, theta0=0.5 * blk.alpha)
+    # the same pulse upwards (g + a_v = 2.5 g) is a rocking run
+    up = Pulse("rect", 0.05 * blk.g, 2.0 * math.pi, 1, 0.2, 30.0)
+    assert simulate_rocking(blk, up, t_end=1.0, theta0=0.5 * blk.alpha).t[-1] == 1.0
+
+
 def test_impact_times_converge_with_tolerance():
     """Impact times under a pulse approach the tight-tolerance solution as tol decreases
     (Dormand-Prince 5(4): error roughly proportional to tol)."""

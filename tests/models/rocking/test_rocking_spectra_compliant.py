@@ -65,3 +65,28 @@ def test_compliant_stiff_ground_follows_rigid_block_history():
     t_cross = r.t[np.argmax(r.theta < 0)]
     t_ref = simulate_rocking(rigid, t_end=1.5, theta0=0.5 * rigid.alpha).impacts[0, 0]
     assert abs(t_cross - t_ref) < 10.0 / blk.omega_v
+
+
+def test_a_run_too_long_for_its_contact_or_outputs_is_refused(monkeypatch):
+    # the compliant block steps at about 1/omega_v in contact (the rate its explicit stability
+    # and error control set): a contact of 1e8 rad/s over 2 s is 2e8 steps, hours of
+    # stepping that no signal could stop; and an error control that collapses the steps
+    # further (a contact of ~3e9 rad/s: steps of ~1e-12 s) spends the step budget
+    import nsdyn.models.rocking.compliant as cm
+    from nsdyn._checks import NumericalFailure
+
+    stiff = CompliantBlock.from_frequency(width=0.3, height=1.2, mass=100.0, omega_v=1e8,
+                                          zeta=0.1)  # fmt: skip
+    with pytest.raises(ValueError, match=r"^omega_v: a contact of 1e\+08 rad/s needs steps"):
+        cm.simulate_compliant(stiff, t_end=2.0, theta0_over_alpha=0.5)
+    monkeypatch.setattr(cm, "STEP_BUDGET", 1000)  # ~840 steps of 1/omega_v, far more taken
+    harder = CompliantBlock.from_frequency(width=0.3, height=1.2, mass=100.0, omega_v=3.5e9,
+                                           zeta=0.1)  # fmt: skip
+    with pytest.raises(NumericalFailure, match=r"1e\+03 step attempts spent"):
+        cm.simulate_compliant(harder, t_end=2e-7, theta0_over_alpha=0.5, dt_out=1e-7)
+    block = RockingBlock(width=0.3, height=1.2)
+    with pytest.raises(ValueError, match=r"^dt_out: 1e\+12 outputs of 1e-12 s"):
+        simulate_rocking(block, None, t_end=1.0, theta0=0.1, dt_out=1e-12)
+    for kw in ({"theta0": 100.0}, {"theta0_over_alpha": 10.0}):  # 10 alpha = 2.45 rad
+        with pytest.raises(ValueError, match=r"lays the body on its side or beyond"):
+            simulate_rocking(block, None, t_end=1.0, **kw)
