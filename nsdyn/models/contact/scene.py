@@ -124,6 +124,10 @@ def build(cfg: dict, source: str):
     mass = number(source, "body.mass", b.get("mass", 1.0))
     try:
         if "vertices" in b:
+            both = [k for k in ("width", "height") if k in b]
+            if both:
+                raise SceneError(f"{source}: body.{both[0]}: give the body as width and height "
+                                 "(a rectangle) or as vertices, not both")  # fmt: skip
             body = RigidBody.polygon(b["vertices"], mass)
         else:
             for key in ("width", "height"):
@@ -215,10 +219,12 @@ def build(cfg: dict, source: str):
         raise SceneError(f"{source}: solver.theta: expected 0.5 <= theta <= 1")
     opts["ground"] = _ground(cfg.get("ground", {}), body, source)
     if opts["ground"] is not None:
-        if "method" in sv:  # refused, not ignored: the compliant ground has one integrator
-            raise SceneError(f"{source}: solver.method: a compliant ground (ground.kind = "
-                             "'compliant') runs its own integrator; solver.method applies to "
-                             "the rigid ground only")  # fmt: skip
+        given = [k for k in ("method", "h", "theta", "rtol") if k in sv]
+        if given:  # refused, not ignored: the compliant ground has one integrator
+            raise SceneError(f"{source}: solver.{given[0]}: a compliant ground (ground.kind = "
+                             "'compliant') runs its own integrator (its step follows the "
+                             "ground's stiffness); solver.method, h, theta and rtol apply to the "
+                             "rigid ground only")  # fmt: skip
         opts["method"] = "compliant"
     return body, law, motion, t_end, opts
 

@@ -106,6 +106,9 @@ def build_model(cfg: dict, source: str):
     linear = b.get("linear", False)
     if not isinstance(linear, bool):
         raise SceneError(f"{source}: block.linear: expected true or false, got {linear!r}")
+    if model != "frame" and "gamma" in b:
+        raise SceneError(f"{source}: block.gamma: the beam-to-columns mass ratio of a rocking "
+                         f"frame (scene.model = 'frame'), not of a {model}")  # fmt: skip
     if model == "frame":
         gamma = number(source, "block.gamma", b.get("gamma", 0.0), allow_zero=True)
         return _rocks(RockingFrame(width=w, height=h, gamma=gamma, r=r, linear=linear,

@@ -50,12 +50,20 @@ def test_cli_json(tmp_path, capsys):
         ("body", "mass", -5.0, "body.mass"),
         ("friction", "mu_dd", 0.2, "did you mean 'mu_d'"),
         ("solver", "method", "rk4", "solver.method"),
+        ("body", "vertices+width", [[0, 0], [1, 0], [1, 1], [0, 1]],
+         "body.width: give the body as width and height"),
+        ("solver", "h+compliant", 1e-3, "solver.h: a compliant ground"),
     ],
-)
+)  # fmt: skip
 def test_bad_fields_name_the_field(tmp_path, table, key, val, match):
     cfg = copy.deepcopy(read_toml(SCENE))
     if key == "vertices":
         cfg["body"] = {"vertices": val}
+    elif key == "vertices+width":  # both ways of giving the body (vertices won, silently)
+        cfg["body"] = {"vertices": val, "width": 1.0}
+    elif key == "h+compliant":  # a rigid ground's step on a compliant ground (ignored before)
+        cfg["ground"] = {"kind": "compliant", "stiffness": 1e8}
+        cfg["solver"] = {"h": val}
     else:
         cfg[table][key] = val
     with pytest.raises(SceneError, match=match):

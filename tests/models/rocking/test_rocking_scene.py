@@ -26,6 +26,7 @@ def _cfg(**block):
         (_cfg(r=1.2), "block.r"),
         (_cfg(r=0.0), "block.r"),
         (_cfg(heigth=1.0), "block.heigth"),
+        (_cfg(gamma=5.0), "block.gamma: the beam-to-columns mass ratio of a rocking frame"),
         ({"scene": {"kind": "rocking", "model": "tower"}, "block": {"width": 1, "height": 2}},
          "scene.model"),
         ({"block": {"width": 1, "height": 2}, "motion": {"pulse": "square", "a_p_g": 1,
