@@ -49,11 +49,12 @@ import numpy as np
 
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
-from nsdyn.ground import read_motion
+from nsdyn.ground import G_EARTH, read_motion
 from nsdyn.models.contact.results import TILT_FLOOR, slenderness
 from nsdyn.models.contact.scene_keys import SCHEMA
 from nsdyn.models.scenefile import (
     GRID_FIELDS,
+    SETTLE_MAX,
     SceneError,
     check_fields,
     grid_fields,
@@ -245,6 +246,14 @@ def _ground(gr: dict, body, source: str):
         raise SceneError(f"{source}: ground.stiffness: missing (normal stiffness per base "
                          "corner, N/m)")  # fmt: skip
     k = number(source, "ground.stiffness", gr["stiffness"])
+    base = body.contacts
+    weight = body.mass * G_EARTH / len(base)  # per base corner
+    width = float(np.ptp(base[:, 0]))
+    if weight / k > SETTLE_MAX * width:
+        raise SceneError(f"{source}: ground.stiffness: the static settlement m g / (n k) = "
+                         f"{weight / k:.3g} m is more than {SETTLE_MAX:.0%} of the base "
+                         f"({width:.3g} m); expected k >= {weight / (SETTLE_MAX * width):.3g} "
+                         "N/m")  # fmt: skip
     if "damping" in gr and "damping_ratio" in gr:
         raise SceneError(f"{source}: ground.damping_ratio: give damping or damping_ratio, "
                          "not both")  # fmt: skip

@@ -53,6 +53,7 @@ def test_cli_json(tmp_path, capsys):
         ("body", "vertices+width", [[0, 0], [1, 0], [1, 1], [0, 1]],
          "body.width: give the body as width and height"),
         ("solver", "h+compliant", 1e-3, "solver.h: a compliant ground"),
+        ("ground", "stiffness", 1e-3, "ground.stiffness: the static settlement m g / "),
     ],
 )  # fmt: skip
 def test_bad_fields_name_the_field(tmp_path, table, key, val, match):
@@ -64,6 +65,9 @@ def test_bad_fields_name_the_field(tmp_path, table, key, val, match):
     elif key == "h+compliant":  # a rigid ground's step on a compliant ground (ignored before)
         cfg["ground"] = {"kind": "compliant", "stiffness": 1e8}
         cfg["solver"] = {"h": val}
+    elif table == "ground":  # a ground so soft the body sinks 1.2e7 m (it "stayed at rest")
+        cfg["ground"] = {"kind": "compliant", key: val}
+        cfg.pop("solver", None)
     else:
         cfg[table][key] = val
     with pytest.raises(SceneError, match=match):

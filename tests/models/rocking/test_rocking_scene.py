@@ -27,6 +27,9 @@ def _cfg(**block):
         (_cfg(r=0.0), "block.r"),
         (_cfg(heigth=1.0), "block.heigth"),
         (_cfg(gamma=5.0), "block.gamma: the beam-to-columns mass ratio of a rocking frame"),
+        ({"scene": {"kind": "rocking", "model": "compliant"},  # sinks 8e11 m under its weight
+          "block": {"width": 0.3, "height": 1.2, "omega_v_over_p": 1e-6}},
+         "block.omega_v_over_p: the corners' static settlement"),
         ({"scene": {"kind": "rocking", "model": "tower"}, "block": {"width": 1, "height": 2}},
          "scene.model"),
         ({"block": {"width": 1, "height": 2}, "motion": {"pulse": "square", "a_p_g": 1,
