@@ -114,7 +114,7 @@ def run(args: argparse.Namespace) -> int:
     for x, a, m, s in zip(sp.omega_ratio, sp.a_min_ratio, sp.mode, sp.status, strict=True):
         a_txt = f"{a:15.5g}" if math.isfinite(a) else f"{'> ' + format(sp.a_max, 'g'):>15s}"
         s = f"{s} = {sp.a_max:g}" if s.endswith("a_max") else s  # the bound, not a word
-        print(f"  {x:7.3f}  {a_txt}  {m if m else '-':>4}  {s}")
+        print(f"  {x:7.4g}  {a_txt}  {m if m else '-':>4}  {s}")
     print("(mode 1: overturns after an impact, 2: without one; > a_max: none found up to it)")
     print(f"(search: scan x{sp.scan:g} up to a_max = {sp.a_max:g}, refined where the overturning "
           f"mode changes; edges to {sp.rtol:g})")  # fmt: skip

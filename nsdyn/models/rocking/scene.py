@@ -190,6 +190,10 @@ def build_motion(cfg: dict, source: str):
         ratio = number(source, "motion.ver_ratio", mo.get("ver_ratio", 0.0), positive=False)
         t_s = number(source, "motion.t_start", mo.get("t_start", 0.0), allow_zero=True)
         pulse = Pulse(shape, a_p, w, n, t_s, ratio)
+        if t_end is not None and t_s >= t_end:
+            raise SceneError(f"{source}: motion.t_start: the pulse starts at {t_s:g} s, at or "
+                             f"after the run's end (t_end = {t_end:g} s); expected "
+                             "t_start < t_end")  # fmt: skip
         return pulse, t_end or max(T_END, 3 * pulse.duration), th0, f"{shape} pulse"
     if "pga" in mo:
         raise SceneError(f"{source}: motion.pga: needs a motion.record or a motion.pulse")

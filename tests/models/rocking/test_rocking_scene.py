@@ -34,6 +34,8 @@ def _cfg(**block):
          "scene.model"),
         ({"block": {"width": 1, "height": 2}, "motion": {"pulse": "square", "a_p_g": 1,
           "omega_p": 1}}, "motion.pulse"),
+        ({"block": {"width": 1, "height": 2}, "motion": {"pulse": "sine", "a_p_g": 1,
+          "omega_p": 10, "t_start": 5.0, "t_end": 3.0}}, "motion.t_start: the pulse starts"),
     ],
 )  # fmt: skip
 def test_bad_scene_input_raises_scene_error_naming_file_and_field(cfg, field):
