@@ -11,9 +11,10 @@ from pathlib import Path
 import numpy as np
 
 
-def check_run_inputs(t_eval: np.ndarray, progress, checkpoint) -> None:
+def check_run_inputs(t_eval: np.ndarray, progress, checkpoint, dt=None) -> None:
     """Given output times two or more, increasing and finite; ``progress`` callable;
-    ``checkpoint`` a file's path (ValueError / TypeError naming the argument)."""
+    ``checkpoint`` a file's path; a fixed step ``dt`` no longer than the run (ValueError /
+    TypeError naming the argument)."""
     if (
         t_eval.ndim != 1
         or t_eval.size < 2
@@ -25,6 +26,9 @@ def check_run_inputs(t_eval: np.ndarray, progress, checkpoint) -> None:
         raise TypeError(f"progress: expected a callable(t_done, t_end, wall_s), got {progress!r}")
     if checkpoint is not None and Path(checkpoint).is_dir():
         raise ValueError(f"checkpoint: expected a file's path, got the folder {checkpoint}")
+    span = float(t_eval[-1] - t_eval[0])
+    if dt is not None and np.isfinite(dt) and dt > span:  # (one step over everything: no run)
+        raise ValueError(f"dt: a fixed step of {dt:g} s is longer than the run ({span:g} s)")
 
 
 def vertical_felt(system, motion) -> None:

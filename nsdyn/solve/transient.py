@@ -375,7 +375,7 @@ def simulate(
         raise ValueError("give t_eval or t_end / n_periods / dt_out, not both")
     else:
         t_eval = np.asarray(t_eval, dtype=float)
-    check_run_inputs(t_eval, progress, checkpoint)
+    check_run_inputs(t_eval, progress, checkpoint, dt)
     if contact is None:
         contact = getattr(system.isolation, "contact", "detect")
     reason = ""

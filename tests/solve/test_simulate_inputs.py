@@ -118,7 +118,9 @@ def test_a_fixed_base_model_without_modes_is_refused_naming_the_first():
      ({"t_eval": np.array([])}, ValueError, "t_eval: expected two or more increasing"),
      ({"t_eval": np.array([0.0, 0.2, 0.1])}, ValueError, "t_eval: expected two or more"),
      ({"t_end": 1.0, "progress": 5}, TypeError, "progress: expected a callable"),
-     ({"t_end": 1.0, "checkpoint": "."}, ValueError, "checkpoint: expected a file's path")],
+     ({"t_end": 1.0, "checkpoint": "."}, ValueError, "checkpoint: expected a file's path"),
+     ({"t_end": 1.0, "method": "newmark", "dt": 5.0}, ValueError,
+      "dt: a fixed step of 5 s is longer than the run")],
 )  # fmt: skip
 def test_bad_run_arguments_are_named(kw, error, says):
     with pytest.raises(error, match=says):
