@@ -37,9 +37,10 @@ from nsdyn.atomic import save_figure
 from nsdyn.bench.common import write_csv_atomic
 from nsdyn.ground import read_motion3
 from nsdyn.models.isolated.bearings import Bearing, Friction
-from nsdyn.models.isolated.deck import ATOL_V_EPS, PLANE_ATOL, rigid_deck, simulate_plane
+from nsdyn.models.isolated.deck import PLANE_ATOL, rigid_deck, simulate_plane
 from nsdyn.models.isolated.defaults import EPS
 from nsdyn.models.isolated.tfp import TripleBearing
+from nsdyn.models.isolated.tolerances import ATOL_V_EPS
 
 RECORD = "synthetic-wn-40s"
 RTOLS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8)

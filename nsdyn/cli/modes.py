@@ -125,8 +125,12 @@ def _scene_frame(arg: str) -> tuple[str, float | None]:
     k_lam = (
         data.get("isolation", {}).get("k_lam") if isinstance(data.get("isolation"), dict) else None
     )
-    real = isinstance(k_lam, int | float) and not isinstance(k_lam, bool) and k_lam > 0
-    return frame, float(k_lam) if real else None
+    vals = k_lam if isinstance(k_lam, list) else [k_lam]  # one per isolator: their mean
+    if vals and all(
+        isinstance(v, int | float) and not isinstance(v, bool) and v >= 0 for v in vals
+    ):
+        return frame, float(sum(vals)) / len(vals)
+    return frame, None
 
 
 def run(args: argparse.Namespace) -> int:

@@ -62,7 +62,7 @@ def header_info(header: list[str]) -> dict[str, Any]:
     )
     if dt is not None:
         # a unit after the number: milliseconds scaled, seconds (or none) as written
-        unit = header_value(header, rf"\bdt\s*[:=]\s*{NUM}\s*[\[(]?\s*([a-z]+)")
+        unit = header_value(header, rf"\bdt[ \t]*[:=][ \t]*{NUM}[ \t]*[\[(]?[ \t]*([a-z]+)")
         ms = unit is not None and unit.lower() in MILLISECONDS
         info["dt"] = to_float(dt) * (1e-3 if ms else 1.0)
     else:

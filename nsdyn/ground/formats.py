@@ -171,7 +171,10 @@ def parse_table_motion(
         t0 = info.get("t0", float(t[0]))
     else:
         dt_used = opt.dt if opt.dt is not None else info.get("dt")
-        if dt_used is not None and not (math.isfinite(dt_used) and dt_used > 0):
+        if opt.dt is not None and not (math.isfinite(opt.dt) and opt.dt > 0):
+            raise RecordFileError(source, first, f"dt = {opt.dt!r} (given): expected a positive "
+                                  "sampling interval [s]", argument="dt")  # fmt: skip
+        if opt.dt is None and dt_used is not None and not (math.isfinite(dt_used) and dt_used > 0):
             raise RecordFileError(source, first, f"expected the header's dt > 0 [s], found "
                                   f"{dt_used:g} (a decimal comma, 'dt = 0,01'?)")  # fmt: skip
         if dt_used is None:

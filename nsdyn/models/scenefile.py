@@ -178,7 +178,6 @@ def number(source: str, name: str, val, *, positive: bool = True, allow_zero: bo
     return v
 
 
-SETTLE_MAX = 0.1  # a compliant contact's static settlement: at most this part of the base width
 GRID_FIELDS = {  # the fields of a run's grid and start, refused by a library before any step
     "t_end": "motion.t_end",
     "dt_out": "solver.dt_out",

@@ -58,9 +58,10 @@ from nsdyn.models.isolated import _kplaneradau as krad
 from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated import deck_compile
 from nsdyn.models.isolated.bearings import B_MUS
-from nsdyn.models.isolated.deck import ATOL_V_EPS, PlaneSystem, kernel_params
+from nsdyn.models.isolated.deck import PlaneSystem, kernel_params
 from nsdyn.models.isolated.defaults import EPS, ETA
 from nsdyn.models.isolated.friction import sticks
+from nsdyn.models.isolated.tolerances import arctan_atol
 from nsdyn.periodic.bifurcation import STABLE_MARGIN
 from nsdyn.periodic.continuation import continue_range
 from nsdyn.periodic.curve import Curve
@@ -176,8 +177,7 @@ class PlaneProblem:
         self.params = kernel_params(system, law, self.eps, self.eta, None)
         self.loop = krad.integrate if law == "arctan" else kr.integrate
         self.rtol = float(rtol)
-        atol_v = min(atol, ATOL_V_EPS / self.eps) if law == "arctan" else atol
-        self.atol = (float(atol), float(atol_v))
+        self.atol = arctan_atol(atol, self.eps) if law == "arctan" else (float(atol),) * 2
         ex, ey = (float(e) for e in system.ecc)
         self.twist = system.n_isolators > 1 or ex != 0.0 or ey != 0.0
         self.n_states = int(getattr(system, "n_states", 6))

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._checks import keywords_of, rel_tol
+from nsdyn._checks import keywords_of, output_count, rel_tol
 from nsdyn._tabular import Tabular
 from nsdyn.atomic import CheckpointError
 from nsdyn.ground.excitation import is_force, natural_end
@@ -190,6 +190,7 @@ def output_grid(
         raise ValueError(f"dt_out: {what} has no natural output step; give dt_out=... [s]")
     if not float(t_end) > t0:
         raise ValueError(f"t_end: expected a time after the start {t0:g} s, got {t_end}")
+    output_count(float(t_end) - t0, float(dt))  # (ValueError beyond MAX_OUTPUTS)
     n = int(np.floor((float(t_end) - t0) / float(dt) + 1e-9)) + 1
     if n < 2:
         raise ValueError(
@@ -375,7 +376,6 @@ def simulate(
         raise ValueError("give t_eval or t_end / n_periods / dt_out, not both")
     else:
         t_eval = np.asarray(t_eval, dtype=float)
-    check_run_inputs(t_eval, progress, checkpoint, dt)
     if contact is None:
         contact = getattr(system.isolation, "contact", "detect")
     reason = ""
@@ -391,6 +391,7 @@ def simulate(
                 f"dt={dt:g} is the step of a fixed-step method, but method 'auto' chose the "
                 f"adaptive {method!r} ({reason}); name a fixed-step method with dt, or drop dt"
             )
+    check_run_inputs(t_eval, progress, checkpoint, dt)  # (after "auto" chose dt)
     event_law(system, method)
     vertical_felt(system, motion)
     if atol is None:  # the default, below the arctan law's turn (a given atol is kept)

@@ -145,6 +145,9 @@ def test_modes_of_a_scene_of_tables_alone_takes_its_frame_and_k_lam(capsys, tmp_
     assert s["f_bis_hz"] == pytest.approx(2 * plain["f_bis_hz"], rel=1e-12)
     assert main(["modes", str(scene), "--json", "--klam", "5e4"]) == 0
     assert json.loads(capsys.readouterr().out)["f_bis_hz"] == plain["f_bis_hz"]
+    scene.write_text("[isolation]\nk_lam = [1e5, 3e5]\n")  # per isolator: their mean, 2e5
+    assert main(["modes", str(scene), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["f_bis_hz"] == pytest.approx(s["f_bis_hz"])
 
 
 @pytest.mark.parametrize("made", [True, False])

@@ -117,7 +117,8 @@ def test_two_column(tmp_path):
 @pytest.mark.parametrize(
     ("header", "dt"),
     [("dt = 10 ms", 0.01), ("dt: 5 msec", 0.005), ("dt = 0.02 s", 0.02), ("DT= .0050 SEC", 0.005),
-     ("dt = 0.01", 0.01), ("dt = 20 (ms); npts = 3", 0.02), ("dt = 0.005 npts = 3", 0.005)],
+     ("dt = 0.01", 0.01), ("dt = 20 (ms); npts = 3", 0.02), ("dt = 0.005 npts = 3", 0.005),
+     ("dt = 0.01\n# Ms 7.1 (surface-wave magnitude)", 0.01)],  # a unit is on dt's own line
 )  # fmt: skip
 def test_a_header_dt_in_milliseconds_is_scaled(tmp_path, header, dt):
     # "dt = 10 ms" was read as 10 s (a 5000 s record from 500 samples)

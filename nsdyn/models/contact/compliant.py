@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import MAX_STEPS, NumericalFailure, output_count
+from nsdyn._checks import NumericalFailure, output_count, step_count
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kcompliant as kc
 from nsdyn.models.contact.body import RigidBody
@@ -140,6 +140,21 @@ def stable_step(body: RigidBody, ground: CompliantGround) -> float:
     return 2.0 * (math.sqrt(1.0 + zeta * zeta) - zeta) / w
 
 
+SETTLE_MAX = 0.1  # the static settlement m g / (n k): at most this part of the body's base
+
+
+def check_settlement(body: RigidBody, ground: CompliantGround, g: float = G_EARTH) -> None:
+    """ValueError naming ``stiffness`` when the weight settles the base corners by more than
+    ``SETTLE_MAX`` of the base width (of the body's size when it rests on one vertex)."""
+    verts = body.verts
+    width = float(np.ptp(verts[body.base, 0])) or float(np.ptp(verts, axis=0).max())
+    weight = body.mass * g / len(body.base)  # per base corner
+    if weight / ground.k > SETTLE_MAX * width:
+        raise ValueError(f"stiffness: the static settlement m g / (n k) = {weight / ground.k:.3g} "
+                         f"m is more than {SETTLE_MAX:.0%} of the base ({width:.3g} m); "
+                         f"expected k >= {weight / (SETTLE_MAX * width):.3g} N/m")  # fmt: skip
+
+
 def simulate_compliant(
     body: RigidBody,
     friction: FrictionLaw,
@@ -158,6 +173,7 @@ def simulate_compliant(
     ``settled=False``) or from (q0, v0) [ground frame].  ``h`` defaults to H_FRAC times the
     stability limit.  Raises RuntimeError with the time on a non-finite state."""
     mo = motion or BaseMotion.none()
+    check_settlement(body, ground, g)
     h_stab = stable_step(body, ground)
     h = H_FRAC * h_stab if h is None else float(h)
     if not (0 < h < h_stab):
@@ -166,9 +182,7 @@ def simulate_compliant(
         h = min(h, 2 * math.pi / mo.ex[4] / H_PER_PERIOD)
     if mo.tab_h.size:
         h = min(h, mo.ex[2])
-    if t_end / h > MAX_STEPS:
-        raise ValueError(f"t_end: {t_end / h:.3g} steps of {h:.3g} s exceed {MAX_STEPS:.0e}; "
-                         "soften the ground or shorten the run")  # fmt: skip
+    step_count(t_end, h, "t_end")  # (h follows the ground: soften it or shorten the run)
     p = _params(body, friction, ground, g)
     verts = body.contacts
     q = np.array([0.0, body.y0, 0.0])

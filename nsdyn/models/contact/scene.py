@@ -47,14 +47,14 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import NumericalFailure
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
-from nsdyn.ground import G_EARTH, read_motion
+from nsdyn.ground import read_motion
 from nsdyn.models.contact.results import TILT_FLOOR, slenderness
 from nsdyn.models.contact.scene_keys import SCHEMA
 from nsdyn.models.scenefile import (
     GRID_FIELDS,
-    SETTLE_MAX,
     SceneError,
     check_fields,
     grid_fields,
@@ -213,14 +213,18 @@ def build(cfg: dict, source: str):
         "dt_out": number(source, "solver.dt_out", sv.get("dt_out", 0.005)),
         "e_n": e_n,
         "impact_law": impact_law,
+        "step_check": sv.get("step_check", True),
         "theta0": theta0,
         "what": what,
     }
+    if not isinstance(opts["step_check"], bool):
+        raise SceneError(f"{source}: solver.step_check: expected true or false, got "
+                         f"{opts['step_check']!r}")  # fmt: skip
     if not 0.5 <= opts["theta"] <= 1:
         raise SceneError(f"{source}: solver.theta: expected 0.5 <= theta <= 1")
     opts["ground"] = _ground(cfg.get("ground", {}), body, source)
     if opts["ground"] is not None:
-        given = [k for k in ("method", "h", "theta", "rtol") if k in sv]
+        given = [k for k in ("method", "h", "theta", "rtol", "step_check") if k in sv]
         if given:  # refused, not ignored: the compliant ground has one integrator
             raise SceneError(f"{source}: solver.{given[0]}: a compliant ground (ground.kind = "
                              "'compliant') runs its own integrator (its step follows the "
@@ -232,7 +236,7 @@ def build(cfg: dict, source: str):
 
 def _ground(gr: dict, body, source: str):
     """The [ground] section: None (rigid) or a CompliantGround."""
-    from nsdyn.models.contact.compliant import CompliantGround
+    from nsdyn.models.contact.compliant import CompliantGround, check_settlement
 
     kind = gr.get("kind", "rigid")
     if kind not in ("rigid", "compliant"):
@@ -246,14 +250,6 @@ def _ground(gr: dict, body, source: str):
         raise SceneError(f"{source}: ground.stiffness: missing (normal stiffness per base "
                          "corner, N/m)")  # fmt: skip
     k = number(source, "ground.stiffness", gr["stiffness"])
-    base = body.contacts
-    weight = body.mass * G_EARTH / len(base)  # per base corner
-    width = float(np.ptp(base[:, 0]))
-    if weight / k > SETTLE_MAX * width:
-        raise SceneError(f"{source}: ground.stiffness: the static settlement m g / (n k) = "
-                         f"{weight / k:.3g} m is more than {SETTLE_MAX:.0%} of the base "
-                         f"({width:.3g} m); expected k >= {weight / (SETTLE_MAX * width):.3g} "
-                         "N/m")  # fmt: skip
     if "damping" in gr and "damping_ratio" in gr:
         raise SceneError(f"{source}: ground.damping_ratio: give damping or damping_ratio, "
                          "not both")  # fmt: skip
@@ -262,9 +258,15 @@ def _ground(gr: dict, body, source: str):
     if "damping_ratio" in gr:
         zeta = number(source, "ground.damping_ratio", gr["damping_ratio"], allow_zero=True)
         g0 = CompliantGround.from_ratio(body, k, zeta)
-        return CompliantGround(g0.k, g0.c, kt)
+        gr = {**gr, "damping": g0.c}
+        gr.pop("damping_ratio")
     c = number(source, "ground.damping", gr.get("damping", 0.0), allow_zero=True)
-    return CompliantGround(k, c, kt)
+    ground = CompliantGround(k, c, kt)
+    try:
+        check_settlement(body, ground)
+    except ValueError as e:
+        raise SceneError(f"{source}: ground.{e}") from None
+    return ground
 
 
 def simulate(body, law, motion, t_end, opts):
@@ -295,7 +297,11 @@ def moreau_step_check(body, law, motion, t_end, opts, s: dict) -> dict:
     move by about their error): ``step_resolved`` when the peak tilt and slide of the two
     agree within ``STEP_CHECK_RTOL`` (above a floor of 1 % of the slenderness and 1e-4 of
     the body's size), else False with ``step_note`` saying both and what to do."""
-    half = simulate(body, law, motion, t_end, opts | {"h": 0.5 * opts["h"]}).summary()
+    half_opts = opts | {"h": 0.5 * opts["h"], "dt_out": max(opts["dt_out"], opts["h"])}
+    try:  # (the same outputs as the run: only its steps halve)
+        half = simulate(body, law, motion, t_end, half_opts).summary()
+    except (ValueError, NumericalFailure) as e:  # the run stands; the check could not be made
+        return {"step_resolved": None, "step_note": f"the check at h/2 failed: {e}"}
     alpha, size = slenderness(body), float(np.ptp(body.contacts, axis=0).max())
     off = []
     for k, floor in (("max_tilt_rad", 0.01 * alpha), ("max_slide_m", 1e-4 * size)):
@@ -326,9 +332,9 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     wall = time.perf_counter() - w0
     out_dir = Path(out_dir)
     s = res.summary()
-    if opts["method"] == "moreau" and opts.get("ground") is None:
+    if opts["method"] == "moreau" and opts.get("ground") is None and opts["step_check"]:
         s.update(moreau_step_check(body, law, motion, t_end, opts, s))
-        if not s["step_resolved"]:
+        if s["step_resolved"] is not True:
             say(f"contact: note: {s['step_note']}")
     s["alpha_rad"] = slenderness(body)
     s["outcome"], text = outcome(s)

@@ -158,6 +158,13 @@ SCHEMA = Schema(
                 Key("theta", "number", "Moreau–Jean θ", "—", default=0.5, lo=0.5, hi=1.0),
                 Key("rtol", "number", "event-driven tolerance", "—", default=1e-9, **REL_TOL),
                 Key("dt_out", "number", "output step", "s", default=0.005, **_POS),
+                Key(
+                    "step_check",
+                    "boolean",
+                    "Moreau–Jean: repeat the run at h/2 and say when the peaks move by more "
+                    "than 10 % (about twice the run's time)",
+                    default=True,
+                ),
             ),
         ),
         Table(

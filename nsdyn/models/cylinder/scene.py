@@ -147,6 +147,19 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
             mx = read_motion(mo["record"])
             my = read_motion(mo["record_y"]) if "record_y" in mo else None
             mz = read_motion(mo["record_z"]) if "record_z" in mo else None
+        except (OSError, ValueError) as e:
+            raise SceneError(f"{source}: motion.record: {e}") from None
+        if "t_end" in mo:  # an end on the record's clock, as every family's t_end
+            t_end = number(source, "motion.t_end", mo["t_end"])
+            end = mx.t0 + (mx.n - 1) * mx.dt
+            if t_end > end * (1 + 1e-9):
+                raise SceneError(f"{source}: motion.t_end: expected at most the record's end "
+                                 f"({end:g} s), got {t_end:g}")  # fmt: skip
+            try:
+                mx, my, mz = (None if m is None else m.until(t_end) for m in (mx, my, mz))
+            except ValueError as e:
+                raise SceneError(f"{source}: motion.{e}") from None
+        try:
             dt, ag = from_motions(mx, my, mz)
         except (OSError, ValueError) as e:
             raise SceneError(f"{source}: motion.record: {e}") from None
@@ -177,7 +190,7 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         pga = number(source, "motion.pga", mo["pga"])
         peak = np.abs(ag[:, :2]).max()
         ag = ag * (pga / peak) if peak > 0 else ag
-    if "t_end" in mo:
+    if "t_end" in mo and "record" not in mo:  # a simulated earthquake, from t = 0
         t_end = number(source, "motion.t_end", mo["t_end"])
         if t_end > (len(ag) - 1) * dt * (1 + 1e-9):
             raise SceneError(f"{source}: motion.t_end: expected at most the motion's "

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import number, rel_tol
+from nsdyn._checks import number, output_count, rel_tol
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
@@ -44,7 +44,7 @@ from nsdyn.models.isolated.bearings import B_IOFF, N_BCOL, Bearing, BearingError
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
 from nsdyn.models.isolated.plane_result import PlaneResult
 from nsdyn.models.isolated.tfp import N_INTERNAL, TripleBearing
-from nsdyn.models.isolated.tolerances import ATOL_V_EPS
+from nsdyn.models.isolated.tolerances import arctan_atol
 
 PLANE_LAWS = ("switch", "arctan")  # the switch law with a stick disc; the regularised law
 # the contact assumptions of the planar family (system.CONTACTS) that these systems run
@@ -400,7 +400,7 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
                 f"dt_out: expected a positive output step no longer than the run "
                 f"({t_end:g} s), got {dt_out!r}"
             )
-        n = int(math.floor(t_end / dt_out * (1 + 1e-12))) + 1
+        n = output_count(t_end, dt_out)
         t_eval = gp[kp.GP_T0] * (gk == kp.G_TABLE) + dt_out * np.arange(n)
     t_eval = np.ascontiguousarray(t_eval, dtype=float)
     if t_eval.ndim != 1 or t_eval.size < 2 or np.any(np.diff(t_eval) <= 0):
@@ -420,7 +420,7 @@ def run_buffers(law, eps, rtol, atol, max_step, max_steps, nt, ni, ns) -> tuple:
     dirs = np.zeros((ni, 2))
     atol_v = float(atol[1])
     if law == "arctan":  # the law's transition |v| ~ 1/eps must lie above the error tolerance
-        atol_v = min(atol_v, ATOL_V_EPS / eps)
+        atol_v = arctan_atol(atol, eps)[1]
     cfg = np.array([rtol, atol[0], atol_v, min(1e-4, max_step), max_step, float(max_steps)])
     X = np.full((nt, ns), np.nan)
     NO = np.full((nt, ni), np.nan)

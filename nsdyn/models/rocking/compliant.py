@@ -154,6 +154,20 @@ class CompliantResult(Tabular):
                 "spring_stretch_left_m": y[:, 6], "spring_stretch_right_m": y[:, 7]}  # fmt: skip
 
 
+SETTLE_MAX = 0.1  # the corners' static settlement g / omega_v^2: at most this part of the width
+
+
+def check_settlement(model: CompliantBlock) -> None:
+    """ValueError naming ``omega_v`` when the weight settles the corners by more than
+    ``SETTLE_MAX`` of the block's width (k = m omega_v^2 / 2 per corner)."""
+    settle = model.g / model.omega_v**2
+    if settle > SETTLE_MAX * model.width:
+        least = math.sqrt(model.g / (SETTLE_MAX * model.width))
+        raise ValueError(f"omega_v: the corners' static settlement g / omega_v^2 = {settle:.3g} "
+                         f"m is more than {SETTLE_MAX:.0%} of the width; expected omega_v >= "
+                         f"{least:.3g} rad/s ({least / model.p:.3g} p)")  # fmt: skip
+
+
 def simulate_compliant(
     model: CompliantBlock,
     excitation=None,
@@ -169,6 +183,7 @@ def simulate_compliant(
     static settlement) or tilted by ``theta0`` [rad] (or ``theta0_over_alpha`` times alpha) on
     one corner that carries the weight."""
     theta0 = initial_tilt(theta0, theta0_over_alpha, model.alpha)
+    check_settlement(model)
     gk, gp, tab_h, tab_v, _ = _excitation(excitation, t_end)
     q = np.zeros(kc.N_Q)
     q[kc.Q_M] = model.mass

@@ -50,7 +50,6 @@ from nsdyn.ground.pulses import SHAPES, Pulse
 from nsdyn.models.rocking.scene_keys import SCHEMA
 from nsdyn.models.scenefile import (
     GRID_FIELDS,
-    SETTLE_MAX,
     SceneError,
     check_fields,
     grid_fields,
@@ -85,7 +84,7 @@ def kernels_cached(model) -> bool:
 def build_model(cfg: dict, source: str):
     """The block, frame or compliant block of a parsed scene."""
     from nsdyn.models.rocking.block import RockingBlock
-    from nsdyn.models.rocking.compliant import CompliantBlock
+    from nsdyn.models.rocking.compliant import CompliantBlock, check_settlement
     from nsdyn.models.rocking.frame import RockingFrame
 
     check_fields(cfg, _FIELDS, source)
@@ -120,14 +119,14 @@ def build_model(cfg: dict, source: str):
         ratio = number(source, "block.omega_v_over_p", b.get("omega_v_over_p", 300.0))
         zeta = number(source, "block.zeta", b.get("zeta", 2.0), allow_zero=True)
         p = RockingBlock(width=w, height=h).p
-        settle = G_EARTH / (ratio * p) ** 2  # m g / 2k with k = m omega_v^2 / 2
-        if settle > SETTLE_MAX * w:
-            least = math.sqrt(G_EARTH / (SETTLE_MAX * w)) / p
-            raise SceneError(f"{source}: block.omega_v_over_p: the corners' static settlement "
-                             f"g / omega_v^2 = {settle:.3g} m is more than {SETTLE_MAX:.0%} of "
-                             f"the width; expected omega_v_over_p >= {least:.3g}")  # fmt: skip
-        return CompliantBlock.from_frequency(width=w, height=h, mass=mass, omega_v=ratio * p,
-                                             zeta=zeta)  # fmt: skip
+        model = CompliantBlock.from_frequency(width=w, height=h, mass=mass, omega_v=ratio * p,
+                                              zeta=zeta)  # fmt: skip
+        try:
+            check_settlement(model)  # (at the build: before a compile)
+        except ValueError as e:
+            raise SceneError(f"{source}: block.omega_v_over_p: {str(e).split(': ', 1)[1]}") \
+                from None  # fmt: skip
+        return model
     return _rocks(RockingBlock(width=w, height=h, r=r, linear=linear, g=G_EARTH, mass=mass), source)
 
 

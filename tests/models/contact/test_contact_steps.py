@@ -60,3 +60,23 @@ def test_a_scene_says_when_its_moreau_step_does_not_resolve_the_response(tmp_pat
 def test_a_polygon_in_other_units_than_metres_is_refused():
     with pytest.raises(ValueError, match=r"vertices in metres, within 1e\+06 m"):
         nsdyn.RigidBody.polygon([[0, 0], [1e200, 0], [1e200, 1e200], [0, 1e200]], 1.0)
+
+
+def test_a_ground_too_soft_for_the_weight_is_refused_and_a_vertex_base_runs():
+    # m g / (n k): a 1000 kg prism on two corners of k = 1e-3 N/m sinks 4.9e6 m (it ran, and
+    # a scene reported "stayed at rest"); a diamond resting on one vertex has no base width,
+    # and its settlement is measured against its size (a ZeroDivisionError before)
+    from nsdyn.models.contact.compliant import CompliantGround, simulate_compliant
+    from nsdyn.models.rocking.compliant import CompliantBlock
+    from nsdyn.models.rocking.compliant import simulate_compliant as rock_compliant
+
+    with pytest.raises(ValueError, match=r"^stiffness: the static settlement m g / \(n k\) = "
+                                         r"4.9\d*e\+06 m"):  # fmt: skip
+        simulate_compliant(BODY, LAW, CompliantGround(1e-3), t_end=0.1)
+    diamond = nsdyn.RigidBody.polygon([[0, 0], [0.3, 0.5], [0, 1], [-0.3, 0.5]], 100.0)
+    r = simulate_compliant(diamond, LAW, CompliantGround(1e9, 1e4), t_end=0.05, dt_out=0.01)
+    assert r.t.size >= 2  # (it runs; balanced on a vertex it may topple and stop early)
+    soft = CompliantBlock.from_frequency(width=0.3, height=1.2, mass=100.0, omega_v=3e-6,
+                                         zeta=0.1)  # fmt: skip
+    with pytest.raises(ValueError, match=r"^omega_v: the corners' static settlement"):
+        rock_compliant(soft, t_end=1.0, theta0_over_alpha=0.5)

@@ -104,3 +104,21 @@ def test_example_reproduces_source_design_and_ordering():
     assert r["M_u"] == pytest.approx(9.81 / 4, rel=1e-12)  # mgr/4
     assert r["bonded"]["uplift"] == 0.0 and r["tensionless"]["uplift"] > 0.5
     assert r["tensionless"]["tau_max"] < r["bonded"]["tau_max"]
+
+
+def test_a_record_s_t_end_is_on_its_own_clock(tmp_path):
+    # a record from 10 s to 15 s cut at t_end = 12 s runs its first 2 s, as every family's
+    # t_end (GroundMotion.until); beyond its end is refused naming the field
+    import numpy as np
+
+    t = 10.0 + 0.01 * np.arange(501)
+    rec = tmp_path / "late.txt"
+    rec.write_text("# units: m/s2\n" + "\n".join(f"{a:.2f} {0.5 * np.sin(6 * a):.6e}" for a in t))
+    base = {"scene": {"kind": "cylinder"}, "cylinder": {"r": 1.0, "H": 4.0, "m": 1.0},
+            "motion": {"record": str(rec), "t_end": 12.0}}  # fmt: skip
+    p, dt, ag, _ = build(base, "c.toml")
+    assert dt == 0.01 and len(ag) == 201  # 10.00 ... 12.00
+    base["motion"]["t_end"] = 16.0
+    with pytest.raises(SceneError, match=r"motion.t_end: expected at most the record's end "
+                                         r"\(15 s\), got 16"):  # fmt: skip
+        build(base, "c.toml")
