@@ -261,8 +261,8 @@ def integrate(
 
         # ---- one Dormand-Prince step on side s ------------------------------------------------
         if 1.0 + ground_t(t, RIGHT_LIMIT, gk, gp, tab_h, tab_v)[1] / par[P_G] <= 0.0:
-            status = ST_FLIGHT  # the ground falls faster than g under the rocking block
-            info[I_TFAIL] = t
+            status = ST_FLIGHT  # the ground falls faster than g under the rocking block (checked
+            info[I_TFAIL] = t  # at each step's start: a record's samples bound the steps)
             break
         h_before = min(h, hmax)
         hh, at_bp = step_to_breakpoint(t, h_before, t_end, gk, gp, n_tab)
@@ -301,10 +301,6 @@ def integrate(
                 break
             continue
         n_step += 1
-        if 1.0 + ground_t(t + hh, at_bp, gk, gp, tab_h, tab_v)[1] / par[P_G] <= 0.0:
-            status = ST_FLIGHT  # within the step (a record's samples bound its steps)
-            info[I_TFAIL] = t + hh
-            break
         dp.dense_coefficients(y, y1, k, hh, rc)
 
         # ---- events: impact (s theta -> 0) or overturning (s theta -> theta_fall) -------------
