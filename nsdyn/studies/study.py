@@ -59,6 +59,7 @@ from nsdyn.models.scenefile import (
 )
 
 KINDS3C = ("deck", "building3d")  # scene kinds whose records have two horizontal components
+PAIR_KINDS = (*KINDS3C, "cylinder")  # scene kinds that read a record's components from files
 NUMERIC_FIELDS = {"motion.rotate": "angles in degrees"}  # parameters that must be numbers
 
 STUDY_TABLES = ("study", "base", "parameters", "records", "analysis")
@@ -277,9 +278,10 @@ def _parse_records(source: str, study_dir: Path, rec: dict, kind: str, base: dic
     if "simulated" in rec:
         out += _simulated(source, rec["simulated"])
     if "pairs" in rec:
-        if kind not in KINDS3C:
-            raise _err(source, "records.pairs", f"two-component records need a scene of kind "
-                       f"{' or '.join(KINDS3C)}, this study's scene is {kind!r}")  # fmt: skip
+        if kind not in PAIR_KINDS:
+            raise _err(source, "records.pairs", f"records of several components need a scene "
+                       f"of kind {', '.join(PAIR_KINDS[:-1])} or {PAIR_KINDS[-1]}, this "
+                       f"study's scene is {kind!r}")  # fmt: skip
         from nsdyn.studies.scenes3c import parse_pairs
 
         out += parse_pairs(source, study_dir, rec["pairs"])

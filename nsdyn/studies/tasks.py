@@ -32,6 +32,8 @@ import numpy as np
 from nsdyn.models.scenefile import FILE_FIELDS
 from nsdyn.studies.study import KINDS3C, RecordSpec, Study
 
+CYLINDER_FILES = ("record", "record_y", "record_z")  # a cylinder's component files
+
 TABLE_FORMAT = 1  # bump when the meaning of a task's inputs changes (invalidates old keys)
 KEY_HEX = 16  # hex digits of the task key (64 bits: collisions negligible below 1e8 tasks)
 BATCHES_PER_WORKER = 6  # automatic batching: about this many batches per worker (balance)
@@ -167,16 +169,21 @@ def expand(study: Study) -> list[Task]:
 
 def _place_record(cfg: dict, rec: RecordSpec, kind: str) -> None:
     """Put ``rec`` into the task's ``[motion]``: ``record`` (a file or bundled name), the
-    component files ``x, y[, z]`` of a two-component record, or ``simulated``; for the kinds
-    of two-component records (``deck``, ``building3d``) the other ways are removed and
-    ``kind = "record3"`` is set."""
+    component files of a record of several components, or ``simulated``; for the kinds of
+    two-component records (``deck``, ``building3d``) the other ways are removed, ``kind =
+    "record3"`` is set and the files are ``x, y[, z]``; a cylinder's are ``record, record_y[,
+    record_z]``, and the base scene's second and vertical files never join another record."""
     mo = cfg.setdefault("motion", {})
     if kind in KINDS3C:
         for key in ("record", "x", "y", "z", "simulated"):
             mo.pop(key, None)
         mo["kind"] = "record3"
+    if kind == "cylinder":
+        for key in ("record_y", "record_z"):
+            mo.pop(key, None)
     if rec.components is not None:
-        for key, f in zip(("x", "y", "z"), rec.components, strict=True):
+        keys = CYLINDER_FILES if kind == "cylinder" else ("x", "y", "z")
+        for key, f in zip(keys, rec.components, strict=True):
             if f is not None:
                 mo[key] = f
     elif rec.path is not None:
@@ -192,8 +199,8 @@ def _without_path(cfg: dict, rec: RecordSpec | None, digests: dict) -> dict:
         return cfg
     out = copy.deepcopy(cfg)
     if rec.components is not None:
-        for key in ("x", "y", "z"):
-            if key in out["motion"]:
+        for key, f in out["motion"].items():
+            if isinstance(f, str) and f in rec.components:
                 out["motion"][key] = f"sha256:{digests[rec.name]}:{key}"
         return out
     out["motion"]["record"] = f"sha256:{digests[rec.name]}"

@@ -205,7 +205,7 @@ def test_pairs_need_a_two_component_scene(tmp_path):
 [records]
 pairs = [{{ x = "{x}", y = "{y}" }}]
 """)
-    _one_line_error(lambda: load_study(p), str(p), "records.pairs", "deck or building3d")
+    _one_line_error(lambda: load_study(p), str(p), "records.pairs", "deck, building3d or cylinder")
 
 
 def test_simulated_pairs_run_with_independent_components(tmp_path):
