@@ -18,7 +18,7 @@ from pathlib import Path
 from nsdyn.atomic import atomic_open, output_dir, save_figure
 from nsdyn.cli.args import amplitude_list as _amplitude_list
 from nsdyn.cli.args import count as _count
-from nsdyn.cli.args import fail, out_dir, positive_int
+from nsdyn.cli.args import fail, out_dir, positive_int, refinement
 from nsdyn.cli.args import positive_finite as _positive
 from nsdyn.studies.plane_sweep import KINDS as PLANE_KINDS
 from nsdyn.studies.plane_sweep import POINTS_DEFAULT
@@ -71,11 +71,11 @@ def configure(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--steps-factor",
-        type=_positive,
+        type=refinement,
         default=1.0,
         metavar="K",
-        help="K x the default steps per period (200 at least, one per 0.02 s); error ~ 1/K^2 "
-        "with sdirk2 (default 1)",
+        help="K >= 1 x the default steps per period (200 at least, one per 0.02 s); error ~ "
+        "1/K^2 with sdirk2 (default 1)",
     )
     p.add_argument(
         "--friction",

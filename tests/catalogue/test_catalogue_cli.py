@@ -69,6 +69,11 @@ CLI_ROWS = [
     ("sweep-amplitudes-negative", ["sweep", "--amplitudes", "1,-2"], r"--amplitudes.*positive"),
     ("sweep-amplitudes-text", ["sweep", "--amplitudes", "1,x"], r"--amplitudes.*numbers"),
     ("sweep-steps-factor-zero", ["sweep", "--steps-factor", "0"], r"--steps-factor.*positive"),
+    (
+        "sweep-steps-factor-below-one",
+        ["sweep", "--steps-factor", "0.01"],
+        r"--steps-factor.*a factor of 1 or more",
+    ),
     ("sweep-tableau", ["sweep", "--tableau", "rk4"], r"--tableau.*sdirk2"),
     ("sweep-contact", ["sweep", "--contact", "sticky"], r"--contact.*'bilateral'"),
     (
