@@ -23,7 +23,6 @@ from nsdyn.cli.run_checks import (
     note_short_record,
     note_soft_law,
 )
-from nsdyn.studies.scenes import FIXED_DT  # the fixed-step methods' default step (re-exported)
 
 DEFAULT_OUT = "nsdyn-out"  # output directory
 CHECKPOINT = ".run-checkpoint.npz"  # an interrupted run's state, in its output directory
@@ -416,9 +415,15 @@ def run(args: argparse.Namespace) -> int:
             print(f"method  {reason}", file=sys.stderr)
     check_method(method, cfg)
     from nsdyn.solve.methods import METHODS
+    from nsdyn.solve.run_inputs import check_fixed_step, default_step
 
     if METHODS[method].fixed_step and "dt" not in sv:
-        sv["dt"] = FIXED_DT  # the fixed-step methods' default step
+        sv["dt"] = default_step(motion)  # 5 ms, or the record's sampling step if shorter
+    try:
+        dt = sv["dt"] if METHODS[method].fixed_step else None
+        check_fixed_step(dt, motion, t_eval, "solver.dt")
+    except ValueError as e:
+        raise SceneError(f"{source}: {e}") from None
     if method == "event" and system.isolation is not None:
         system = with_isolation_cached(system, law="switch")
     t_req = cfg.get("motion", {}).get("t_end")

@@ -412,6 +412,12 @@ def _finish(
             "(law 'switch', method 'event'; nsdyn run --friction switch --method event) or a "
             "smaller eps"
         )
+    elif status == ki.ST_UPLIFT and m.fixed_step:
+        message += (
+            f". A fixed step of {fields['h']:.3g} s that does not resolve the response can also "
+            "dip a normal force to zero: confirm the uplift at half the step, or with an "
+            "adaptive method ('radau')"
+        )
     if status in (ki.ST_NEWTON, ki.ST_STEP_UNDERFLOW) and law == "switch" and m.name != "event":
         message += (
             "; the switch law is discontinuous (stick/slip decided inside the right-hand "

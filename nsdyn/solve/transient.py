@@ -35,7 +35,13 @@ from nsdyn.solve import integrate
 from nsdyn.solve.checkpoint import Carry, chunk_bounds, run_key
 from nsdyn.solve.checkpoint import load as load_checkpoint
 from nsdyn.solve.checkpoint import save as save_checkpoint
-from nsdyn.solve.run_inputs import check_run_inputs, event_law, integrated_law, vertical_felt
+from nsdyn.solve.run_inputs import (
+    check_run_inputs,
+    default_step,
+    event_law,
+    integrated_law,
+    vertical_felt,
+)
 
 # the run defaults live in nsdyn.models.isolated.tolerances; the old names stay importable
 DEFAULT_RTOL = RUN_RTOL
@@ -88,11 +94,14 @@ class TransientResult(Tabular):
             out["would_lift_off"] = bool(lam.size and lam.min() < 0.0)
         if self.contact != "unilateral":
             return out
+        from nsdyn.models.isolated.plane_result import flight_times
+
         lands = [e for e in self.contact_events if e[2] == "landing"]
-        flight = np.zeros(lam.shape[-1])
-        if self.open_contacts is not None and self.t.size > 1:
-            dt = np.diff(self.t)
-            flight = (self.open_contacts[:-1] * dt[:, None]).sum(axis=0)
+        ev = sorted(self.contact_events, key=lambda e: e[0])
+        open0 = None if self.open_contacts is None else (self.t[0], self.open_contacts[0])
+        flight = flight_times([e[0] for e in ev], [e[1] for e in ev],
+                              [e[2] == "lift-off" for e in ev], lam.shape[-1],
+                              float(self.t[-1]), open0)  # fmt: skip
         out.update(
             {
                 "would_lift_off": bool(self.contact_events),
@@ -380,18 +389,18 @@ def simulate(
         contact = getattr(system.isolation, "contact", "detect")
     reason = ""
     if method == "auto":
-        from nsdyn.solve.auto import AUTO_DT, choose_for_system
+        from nsdyn.solve.auto import choose_for_system
         from nsdyn.solve.methods import METHODS
 
         method, reason = choose_for_system(system, contact)
         if METHODS[method].fixed_step and dt is None:
-            dt = AUTO_DT
+            dt = default_step(motion)
         elif not METHODS[method].fixed_step and dt is not None:
             raise ValueError(
                 f"dt={dt:g} is the step of a fixed-step method, but method 'auto' chose the "
                 f"adaptive {method!r} ({reason}); name a fixed-step method with dt, or drop dt"
             )
-    check_run_inputs(t_eval, progress, checkpoint, dt)  # (after "auto" chose dt)
+    check_run_inputs(t_eval, progress, checkpoint, dt, motion)  # (after "auto" chose dt)
     event_law(system, method)
     vertical_felt(system, motion)
     if atol is None:  # the default, below the arctan law's turn (a given atol is kept)

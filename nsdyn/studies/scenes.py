@@ -39,7 +39,6 @@ from nsdyn.models.scenefile import SceneError, scaled_to_pga, scene_kind, scene_
 from nsdyn.studies.study import KINDS3C
 
 ERROR_CHARS = 400  # longest error text kept in a failed row
-FIXED_DT = 0.005  # s, the fixed-step methods' step when a scene gives none (records of 200 Hz)
 MOTION_CACHE = 32  # parsed records kept per process
 _systems: dict = {}  # (frame, fidelity, f_max, diaphragm) -> isolator-free system
 _lock = threading.Lock()  # the system cache is shared by the threads of a threaded worker
@@ -145,7 +144,7 @@ def _run_isolated(cfg: dict, source: str) -> dict:
         system = replace(system, isolation=replace(system.isolation, law="switch"), _static=None)
     atol = sv.get("atol")
     t_eval = output_grid(motion, sv.get("dt_out"), **duration)
-    dt = fixed_step(method, sv)
+    dt = fixed_step(method, sv, motion)
     check_step_count(source, method, dt, t_eval, sv.get("max_steps"))
     with warnings.catch_warnings():  # uplift = "warn": the summary's uplift and outcome say it
         warnings.simplefilter("ignore", UpliftWarning)
@@ -294,16 +293,25 @@ def _check_isolated(cfg: dict, source: str) -> None:
 
         field = "motion.record" if isinstance(e, OSError | RecordFileError) else "motion"
         raise SceneError(f"{source}: {field}: {' '.join(str(e).split())}") from None
-    check_step_count(source, method, fixed_step(method, sv), t_eval, sv.get("max_steps"))
+    from nsdyn.solve.run_inputs import check_fixed_step
+
+    dt = fixed_step(method, sv, excitation)
+    try:
+        check_fixed_step(dt, excitation, t_eval, "solver.dt")
+    except ValueError as e:
+        raise SceneError(f"{source}: {e}") from None
+    check_step_count(source, method, dt, t_eval, sv.get("max_steps"))
 
 
-def fixed_step(method: str, solver: dict) -> float | None:
-    """``solver.dt``, or ``FIXED_DT`` for a fixed-step method without one (as ``nsdyn run``)."""
+def fixed_step(method: str, solver: dict, motion=None) -> float | None:
+    """``solver.dt``, or for a fixed-step method without one ``FIXED_DT`` (the record's
+    sampling step where that is shorter), as ``nsdyn run``."""
     from nsdyn.solve.methods import METHODS
+    from nsdyn.solve.run_inputs import default_step
 
     if "dt" in solver or method not in METHODS or not METHODS[method].fixed_step:
         return solver.get("dt")
-    return FIXED_DT
+    return default_step(motion)
 
 
 def run_scene_summary(cfg: dict, source: str) -> dict:

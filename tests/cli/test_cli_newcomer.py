@@ -298,6 +298,16 @@ def _scene(name: str) -> str:
     "argv, needles",
     [
         (["run", "--method", "genalpha", "--dt", "5", "--t-end", "2"], ["longer than the run"]),
+        # a step over the record's samples: x_iso 1.79 m against 0.2765 (OpenSees, dt = 1 s),
+        # a stop at a false uplift (the full frame, dt = 0.2 s)
+        (
+            ["run", "--method", "genalpha", "--dt", "0.02"],
+            ["solver.dt: a fixed step of 0.02 s is longer than the record's sampling step 0.01 s"],
+        ),
+        (
+            ["run", "--fidelity", "full", "--method", "genalpha-lowrank", "--dt", "0.2"],
+            ["solver.dt: a fixed step of 0.2 s", "expected at most 0.01 s"],
+        ),
         (["sweep", "--amplitudes", "1,,2"], ["separated by commas"]),
         (["spectrum", "rocking-seed003-column.toml", "--rtol", "2"], ["between 0 and 1"]),
         (["run", "isolated-shear-3storey.toml", "--compare-fixed"], ["needs a frame"]),
@@ -312,6 +322,14 @@ def test_more_inputs_that_cannot_apply_are_refused(tmp_path, argv, needles, one_
     argv = [_scene(a) if a.endswith(".toml") else a for a in argv]
     assert _status([*argv, "--out", str(tmp_path / "o")]) == 2
     one_line(*needles)
+
+
+def test_an_export_step_over_the_records_samples_is_refused(tmp_path, one_line):
+    # the exported OpenSees run at dt = 1 s peaked at x_iso 1.79 m against 0.2765 (5 ms)
+    out = tmp_path / "m.py"
+    assert main(["export", "opensees", "--dt", "0.1", "-o", str(out)]) == 2
+    one_line("solver.dt: 0.1 s is longer than the record's sampling step 0.01 s")
+    assert not out.exists()
 
 
 def test_a_file_of_another_kind_is_named_for_what_it_is(tmp_path, one_line):

@@ -105,6 +105,21 @@ def test_flight_and_landing_match_the_ballistic_solution(method):
     assert np.all(np.isfinite(sol.x[:, n:]))
 
 
+def test_the_flight_time_is_the_ballistic_one_on_any_output_grid():
+    # the summary's flight time per contact is t2 - t1 of the closed form, from the located
+    # lift-off and landing (it was counted on the output grid: 8 % off at dt_out = 0.05 s on
+    # the office frame); runs to t2 + 0.1 s, before the next lift-off at t1 + 1/F_VER
+    from nsdyn.solve.transient import simulate
+
+    t1, t2, _ = ballistic()
+    s = block("arctan")
+    for dt_out in (0.005, 0.1):
+        r = simulate(s, Harmonic(0.0, 0.0, A_ver=A_VER, f_ver=F_VER), t_end=t2 + 0.1,
+                     dt_out=dt_out, method="radau", contact="unilateral", **TOL)  # fmt: skip
+        flight = r.contact_summary()["flight_time_s"]
+        assert flight == pytest.approx([t2 - t1] * 2, abs=1e-8)  # the event times' tolerance
+
+
 @pytest.mark.parametrize("e", [0.5, 1.0])
 def test_landing_loses_the_laws_energy_and_never_gains(e):
     _, _, v2 = ballistic()

@@ -212,8 +212,8 @@ def test_fixed_step_task_without_dt_takes_the_run_default(tmp_path):
     # `nsdyn run --method genalpha` steps 0.005 s when the scene gives no dt; a study task of
     # the same scene must be the same run (before, every such task failed asking for dt)
     from nsdyn.models.isolated.scene import build_scene, load_scene
+    from nsdyn.solve.run_inputs import FIXED_DT
     from nsdyn.solve.transient import output_grid, simulate
-    from nsdyn.studies.scenes import FIXED_DT
 
     cfg = load_scene(None, {"scene": {"fidelity": "rigid"}, "motion": {"t_end": 2.0},
                             "solver": {"method": "genalpha"}})  # fmt: skip
@@ -223,6 +223,20 @@ def test_fixed_step_task_without_dt_takes_the_run_default(tmp_path):
     got = run_scene_summary(cfg, "test")
     assert got["n_steps"] == ref["n_steps"]
     assert got["x_iso_max_m"] == ref["x_iso_max_m"]
+
+
+def test_a_fixed_step_over_the_records_samples_is_refused_before_any_task(tmp_path):
+    # a step that passes over the record's samples (module solve.run_inputs) is named when the
+    # study starts, with the task, as `nsdyn run` names it
+    from nsdyn.models.scenefile import SceneError
+
+    p = tmp_path / "s.toml"
+    p.write_text('[study]\nname = "s"\n[base.solver]\nmethod = "genalpha"\ndt = 0.02\n'
+                 '[parameters]\n"isolation.mu" = [0.05, 0.1]\n')  # fmt: skip
+    says = r"task 0 .*solver.dt: a fixed step of 0.02 s is longer than the record's sampling"
+    with pytest.raises(SceneError, match=says):
+        run_study(load_study(p), tmp_path / "out", workers=1)
+    assert not (tmp_path / "out" / RESULTS).exists()  # no task ran
 
 
 def _sleep_long(s: float) -> float:

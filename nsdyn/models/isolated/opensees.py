@@ -108,7 +108,8 @@ def load_opensees():
 
 
 def _scene_system(scene, source: str):
-    """(full system, motion, dt) of a scene file or loaded scene dict (isolated frames only)."""
+    """(full system, motion, dt or None) of a scene file or loaded scene dict (isolated frames
+    only)."""
     from nsdyn.models.isolated.scene import build_scene_run, load_scene
     from nsdyn.models.isolated.scene_structure import structure_kind
     from nsdyn.models.scenefile import read_toml, scene_kind
@@ -138,8 +139,8 @@ def _scene_system(scene, source: str):
         )
     cfg.setdefault("scene", {})["fidelity"] = "full"
     system, motion, _ = build_scene_run(cfg)
-    dt = cfg.get("solver", {}).get("dt", DEFAULT_DT)
-    return system, motion, float(dt)
+    dt = cfg.get("solver", {}).get("dt")
+    return system, motion, None if dt is None else float(dt)
 
 
 def _sliding_modes(full, f_max: float):
@@ -195,6 +196,10 @@ def opensees_data(
         raise SceneError(
             f"{source}: solver.dt: {dt:g} s is longer than the record ({motion.duration:g} s)"
         )
+    if dt > motion.dt * (1 + 1e-9):  # (dt = 1 s gave x_iso 1.79 m against 0.2765)
+        raise SceneError(f"{source}: solver.dt: {dt:g} s is longer than the record's sampling "
+                         f"step {motion.dt:g} s: the steps would pass over its samples; "
+                         f"expected at most {motion.dt:g} s")  # fmt: skip
     if damping not in DAMPINGS:
         raise SceneError(f"{source}: damping: expected one of {list(DAMPINGS)}, got {damping!r}")
     if frame.column_joints is None:
@@ -340,7 +345,7 @@ def export_opensees(
     if hasattr(scene, "fidelity") and hasattr(scene, "M"):
         if motion is None:
             raise SceneError(f"{source}: motion: a system needs a ground motion to export")
-        system, step = scene, DEFAULT_DT
+        system, step = scene, None
     else:
         if isinstance(scene, str | Path) and not Path(scene).is_file():
             from nsdyn.structure import bundled_frames
@@ -361,7 +366,9 @@ def export_opensees(
             motion = motion.until(float(t_end))
         except ValueError as e:  # an end within the record's first step
             raise SceneError(f"{source}: {e}") from None
-    data = opensees_data(system, motion, step if dt is None else dt, damping=damping, source=source)
+    if dt is None:  # the scene's; else every sample stepped on (a given step is checked)
+        dt = step if step is not None else min(DEFAULT_DT, getattr(motion, "dt", DEFAULT_DT))
+    data = opensees_data(system, motion, dt, damping=damping, source=source)
     text = script_text(data, Path(path).name if path is not None else "model.py")
     if path is not None:
         with atomic_open(path, "w") as fh:

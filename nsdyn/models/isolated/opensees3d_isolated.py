@@ -337,6 +337,10 @@ def building_data(
     if dt > duration:
         raise SceneError(f"{source}: solver.dt: {dt:g} s is longer than the record "
                          f"({duration:g} s)")  # fmt: skip
+    if dt > float(motion.dt) * (1 + 1e-9):
+        raise SceneError(f"{source}: solver.dt: {dt:g} s is longer than the record's sampling "
+                         f"step {float(motion.dt):g} s: the steps would pass over its "
+                         f"samples; expected at most {float(motion.dt):g} s")  # fmt: skip
     lo, hi = frame.nodes[:, :2].min(axis=0), frame.nodes[:, :2].max(axis=0)
     base_elems = []
     for e, (i, j) in enumerate(frame.elements.tolist()):
@@ -412,7 +416,7 @@ def script_text_building(data: dict, filename: str = "model.py") -> str:
 
 
 def _from_scene(scene, source: str):
-    """(frame, bearing or None, motion, dt, fixed) of a building3d scene file."""
+    """(frame, bearing or None, motion, dt or None, fixed) of a building3d scene file."""
     import copy
 
     from nsdyn.models.isolated.bearings import BearingError, bearing_from_config
@@ -435,7 +439,7 @@ def _from_scene(scene, source: str):
             bearing = bearing_from_config(cfg["bearing"], "bearing")
         except BearingError as e:
             raise SceneError(f"{source}: {e}") from None
-    dt = cfg.get("solver", {}).get("dt", DEFAULT_DT)
+    dt = cfg.get("solver", {}).get("dt")
     base = cfg.get("structure", {}).get("base", "grid")
     return frame, bearing, motion, dt, fixed, base
 
@@ -466,7 +470,7 @@ def export_building_opensees(
     if isinstance(scene, Frame3D):
         if motion is None:
             raise SceneError(f"{source}: motion: a frame needs a three-component record")
-        frame, step, fixed = scene, DEFAULT_DT, bool(fixed_base)
+        frame, step, fixed = scene, None, bool(fixed_base)
         base = base or "grid"
     else:
         if isinstance(scene, str | Path) and not Path(scene).is_file():
@@ -485,7 +489,9 @@ def export_building_opensees(
             motion = motion.until(float(t_end))
         except ValueError as e:  # an end within the record's first step
             raise SceneError(f"{source}: {e}") from None
-    data = building_data(frame, bearings, motion, step if dt is None else dt, fixed_base=fixed,
+    if dt is None:  # the scene's; else every sample stepped on (a given step is checked)
+        dt = step if step is not None else min(DEFAULT_DT, getattr(motion, "dt", DEFAULT_DT))
+    data = building_data(frame, bearings, motion, dt, fixed_base=fixed,
                          base=base, source=source)  # fmt: skip
     text = script_text_building(data, Path(path).name if path is not None else "model.py")
     if path is not None:

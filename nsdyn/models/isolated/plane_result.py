@@ -101,6 +101,25 @@ def contact_tension(t: np.ndarray, N: np.ndarray, info: np.ndarray) -> dict | No
     }  # fmt: skip
 
 
+def flight_times(times, contacts, lifts, n: int, t_end: float, open0=None) -> np.ndarray:
+    """Time in flight per contact [s] from the located events in time order (``lifts``: True
+    at a lift-off, False at a landing), a flight still open ending at ``t_end``; ``open0 =
+    (t0, mask)``: the contacts already open at the run's start t0. Exact to the event times,
+    whatever the output grid."""
+    flight = np.zeros(n)
+    since = np.full(n, np.nan)
+    if open0 is not None:
+        t0, mask = open0
+        since[np.asarray(mask, bool)] = t0
+    for t, i, new in zip(times, contacts, lifts, strict=True):
+        if new:
+            since[i] = t if np.isnan(since[i]) else since[i]
+        elif np.isfinite(since[i]):
+            flight[i] += t - since[i]
+            since[i] = np.nan
+    return flight + np.where(np.isfinite(since), t_end - since, 0.0)
+
+
 def contact_flights(t_end: float, EV: np.ndarray, info: np.ndarray, ni: int) -> dict:
     """The flight record of a unilateral run from its event table (lift-off: a mode change
     into MODE_FREE; landing: out of it, with the landing velocity R q̇⁻ and impulse in
@@ -108,15 +127,7 @@ def contact_flights(t_end: float, EV: np.ndarray, info: np.ndarray, ni: int) -> 
     max_landing_velocity_mps, max_landing_impulse_Ns, impact_energy_J (≤ 0)."""
     up = EV[:, 3] == FREE
     down = (EV[:, 2] == FREE) & ~up
-    flight = np.zeros(ni)
-    since = np.full(ni, np.nan)
-    for t, i, new in zip(EV[:, 0], EV[:, 1].astype(int), up, strict=True):
-        if new:
-            since[i] = t
-        elif np.isfinite(since[i]):
-            flight[i] += t - since[i]
-            since[i] = np.nan
-    flight += np.where(np.isfinite(since), t_end - since, 0.0)
+    flight = flight_times(EV[:, 0], EV[:, 1].astype(int), up, ni, t_end)
     return {
         "lift_offs": int(up.sum()), "landings": int(down.sum()),
         "first_lift_off_s": float(EV[up, 0].min()) if up.any() else None,
