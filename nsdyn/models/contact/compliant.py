@@ -162,6 +162,8 @@ def simulate_compliant(
     motion: BaseMotion | None = None,
     *,
     t_end: float,
+    theta0: float | None = None,
+    theta0_over_alpha: float | None = None,
     q0=None,
     v0=None,
     settled: bool = True,
@@ -170,8 +172,13 @@ def simulate_compliant(
     g: float = G_EARTH,
 ) -> CompliantResult:
     """Response of ``body`` on compliant ground from rest (settled by m g / (n k) unless
-    ``settled=False``) or from (q0, v0) [ground frame].  ``h`` defaults to H_FRAC times the
-    stability limit.  Raises RuntimeError with the time on a non-finite state."""
+    ``settled=False``), tilted by ``theta0`` [rad] (or ``theta0_over_alpha`` times the
+    slenderness) about the corner it rocks on, which then carries the weight (settled by
+    m g / k), or from (q0, v0) [ground frame].  ``h`` defaults to H_FRAC times the stability
+    limit.  Raises RuntimeError with the time on a non-finite state."""
+    from nsdyn.models.contact.event import initial_state, tilt_angle
+
+    tilt = tilt_angle(body, theta0, theta0_over_alpha)
     mo = motion or BaseMotion.none()
     check_settlement(body, ground, g)
     h_stab = stable_step(body, ground)
@@ -188,6 +195,9 @@ def simulate_compliant(
     q = np.array([0.0, body.y0, 0.0])
     if settled:
         q[1] -= ground.settlement(body, g)
+    if tilt != 0.0:  # (about the corner at rest on the ground, then settled under the weight)
+        q = initial_state(body, tilt)[0]
+        q[1] -= body.mass * g / ground.k if settled else 0.0
     if q0 is not None:
         q = np.asarray(q0, float).copy()
     vh = np.zeros(3) if v0 is None else np.asarray(v0, float).copy()

@@ -278,7 +278,7 @@ def simulate(body, law, motion, t_end, opts):
         from nsdyn.models.contact.compliant import simulate_compliant
 
         return simulate_compliant(body, law, opts["ground"], motion, t_end=t_end,
-                                  dt_out=opts["dt_out"])  # fmt: skip
+                                  theta0=opts["theta0"], dt_out=opts["dt_out"])  # fmt: skip
     if opts["method"] == "moreau":
         return simulate_moreau(body, law, motion, t_end=t_end, h=opts["h"], theta=opts["theta"],
                                e_n=opts["e_n"], theta0=opts["theta0"],

@@ -76,6 +76,39 @@ def test_converges_to_rigid_ground():
         assert 2.0 < errs[0][j] / errs[1][j] < 5.0 and 2.0 < errs[1][j] / errs[2][j] < 5.0, errs
 
 
+def test_a_tilted_start_rocks_as_the_rigid_block_from_its_scene_too(tmp_path):
+    """Released at theta0 = alpha / 2 on stiff ground, the 0.5 x 1.5 m block rocks back to
+    theta = 0 at the rigid block's time: the quadrature of I_O theta'' = -m g R sin(alpha -
+    theta) gives 0.4330091 s; the ground's compliance (settlement m g / k = 1e-5 m) shifts it
+    by O(1e-5) relative. A scene's motion.theta0 reaches the compliant run (it started upright
+    and reported a peak tilt of 0)."""
+    from scipy.integrate import solve_ivp
+
+    body = RigidBody.rectangle(0.5, 1.5, 1000.0)
+    alpha, R = math.atan(1.0 / 3.0), math.hypot(0.25, 0.75)
+    i_o = 1000.0 * (0.5**2 + 1.5**2) / 12 + 1000.0 * R**2
+
+    def down(t, y):
+        return y[0]
+
+    down.terminal, down.direction = True, -1
+    ref = solve_ivp(lambda t, y: [y[1], -1000.0 * G_EARTH * R * math.sin(alpha - y[0]) / i_o],
+                    [0.0, 2.0], [0.5 * alpha, 0.0], events=down, rtol=1e-12,
+                    atol=1e-14).t_events[0][0]  # fmt: skip
+    k = 1e9
+    r = simulate_compliant(body, FrictionLaw(0.8, 0.8, 0.0), CompliantGround(k, 0.1 * math.sqrt(
+        k * 1000.0)), t_end=0.5, theta0_over_alpha=0.5, dt_out=1e-4)  # fmt: skip
+    th = r.q[:, 2]
+    assert th[0] == pytest.approx(0.5 * alpha, rel=1e-14)
+    i = int(np.argmax(th <= 0.0))
+    t0 = r.t[i - 1] - th[i - 1] * (r.t[i] - r.t[i - 1]) / (th[i] - th[i - 1])
+    assert t0 == pytest.approx(ref, rel=1e-4)
+    cfg = read_toml(SCENE)
+    cfg["motion"] = {"theta0": 0.1, "t_end": 0.2}
+    s = run_scene(cfg, source=str(SCENE), out_dir=tmp_path, figures=False, quiet=True)
+    assert s["max_tilt_rad"] == pytest.approx(0.1, rel=1e-3)  # (it falls back from 0.1)
+
+
 def test_run_scene_and_cli(tmp_path, capsys):
     cfg = read_toml(SCENE)
     cfg["motion"]["t_end"] = 1.0
