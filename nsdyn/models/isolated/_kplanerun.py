@@ -18,24 +18,21 @@ between events; the switching functions, each crossing from > 0 to <= 0, are
 The stick test sticks the isolator if its stick force, computed with it stuck, lies strictly inside
 the disc |τ| < μ_s k_p N (1 + STICK_RTOL) (k_p the pressure factor, 1 without pressure dependence),
 else it starts slipping in the direction of that force. After each event the stuck isolators are
-settled: while one violates its disc (the one with the largest |τ|/μ_s N first) it starts to slip.
-The stick switching function carries the same bound, so every isolator settle leaves stuck starts
-its switching function strictly above zero and its next break-away is seen (a bound of μ_s N alone
-would leave one re-stuck just past the rim at g <= 0, held outside its disc without an event).
-Slip-start directions come from :func:`nsdyn.models.isolated._kplane.start_direction`, exact for
+settled: while one violates its disc, the one with the largest |τ|/μ_s N starts to slip, with any
+as loaded as it to TIE_RTOL (symmetric partners break away together). The stick switching
+function carries the same bound, so every isolator settle leaves stuck starts above zero and its
+next break-away is seen. Slip-start directions come from :func:`kp.start_direction`, exact for
 one released isolator; several released together are aligned with their accelerations by
 :func:`align_starts`. Events are located by sampling g on the dense output and bisecting the
-earliest sample interval with a crossing to EVENT_TTOL; the step is cut there and the integration
-restarts (no first-same-as-last stage). A normal force reaching zero (uplift) is located the same
-way and ends the run (ST_UPLIFT) under the detecting contact; a bilateral contact goes on through
-it, and each onset of tension (the smallest N from > 0 to <= 0 between accepted states) is located
-the same way and counted (info I_TTEN: the first, I_NTEN, I_NMIN: the smallest N at accepted
-states). Under the switch law N_i is then a switching function too: stick, slip or slip-start →
-free (no friction) where N_i reaches zero, free → stick test or slip where it returns. The
-regularised law runs the same loop without switching functions. A rim contact (|u| > d_cap) is
-located on the dense output too, so one shorter than a step is reported at its first time. Steps
-collapsing far beyond what the record needs (STALL_STEPS, STALL_RATE per largest step: a stick band
-η too narrow for the slip direction turning near |v| = 0) end the run with ST_STALL.
+earliest sample interval with a crossing to EVENT_TTOL; the step is cut there and restarts. A
+normal force reaching zero (uplift) is located the same way and ends the run (ST_UPLIFT) under the
+detecting contact; a bilateral contact goes on, each onset of tension located and counted (info
+I_TTEN: the first, I_NTEN, I_NMIN: the smallest N at accepted states), and under the switch law
+N_i is a switching function too: to free (no friction) where it reaches zero, back to a stick
+test or slip where it returns. The regularised law runs the loop without switching functions.
+Rim contacts: :mod:`._kplanestops`. Steps collapsing far beyond what the record needs
+(STALL_STEPS, STALL_RATE per largest step: a stick band η too narrow for the slip direction
+turning near |v| = 0) end the run with ST_STALL.
 """
 
 import math
@@ -67,16 +64,15 @@ STICK_RTOL = 1e-9  # relative slack of the disc test |τ| <= μ_s N
 START_EXIT = 2.0  # a slip-start becomes a slip at |v| = this x eta (entered at |v| <= eta)
 RESTICK_MARGIN = 1e-6  # a slip-start held by a stuck deck sticks below (1 - this) mu_d(0) N
 SETTLE_PASSES = 64
+TIE_RTOL = 1e-8  # stuck isolators this close to the worst's |τ|/μ_s N break away with it
 ALIGN_PASSES = 100  # fixed-point passes aligning slip-start directions with their accelerations
 ALIGN_TOL = 1e-12  # largest change of a slip-start direction accepted as converged
 BURST_DT = 1e-8  # s, events closer than this count as one burst
 MAX_BURST = 200  # events in one burst before reporting chattering
 H_MIN = 1e-14  # relative step floor
-# cfg entries
-C_RTOL, C_ATOLQ, C_ATOLV, C_H0, C_HMAX, C_MAXSTEPS = range(6)
-# info entries
+C_RTOL, C_ATOLQ, C_ATOLV, C_H0, C_HMAX, C_MAXSTEPS = range(6)  # cfg entries
 I_NSTEP, I_NREJ, I_NFEV, I_NEV, I_TFAIL, I_IFAIL, I_NOUT, I_TTEN, I_NTEN, I_NMIN, I_EIMP = range(11)
-N_INFO = 11  # (I_IFAIL: uplift's / first tensile isolator; I_EIMP: landings' energy change)
+N_INFO = 11  # info entries (I_IFAIL: uplift's / first tensile isolator; I_EIMP: landings' energy)
 
 
 @ka.compiled_uncounted
@@ -87,8 +83,7 @@ def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
     ni = pos.shape[0]
     nst = 0
     for i in range(ni):
-        if modes[i] == kp.MODE_STICK:
-            nst += 1
+        nst += modes[i] == kp.MODE_STICK
     st = kp.ST_OK
     bil = int(sp[kp.S_CONTACT]) == kp.CONTACT_BILATERAL
     if nst > 0 or bil:
@@ -97,8 +92,7 @@ def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
     for i in range(ni):
         _, _, vx, vy = kp.slip_kinematics(y, pos, i)
         speed = math.sqrt(vx * vx + vy * vy)
-        g[i, 1] = 1.0
-        g[i, 0] = 1.0
+        g[i, 0], g[i, 1] = 1.0, 1.0
         g[i, 2] = (-N[i] if modes[i] == kp.MODE_FREE else N[i]) if bil else 1.0
         if modes[i] == kp.MODE_SLIP:
             g[i, 0] = speed - eta
@@ -133,8 +127,7 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
     qdd, N, Ff, Fr, Fo = out
     nst = 0
     for i in range(pos.shape[0]):
-        if modes[i] == kp.MODE_STICK:
-            nst += 1
+        nst += modes[i] == kp.MODE_STICK
     if nst >= 2:  # a held deck: its slip-starts, stopped by the others, stick again if
         # their stick force falls below the kinetic level mu_d(0) N (1 - RESTICK_MARGIN)
         cand = ws[16]
@@ -173,12 +166,23 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
                     ratio = r
                     worst = i
         if worst < 0:
-            return align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
-        kp.start_direction(worst, Ff[worst, 0], Ff[worst, 1],
-                           kp.mu_kinetic(bp, worst, 0.0) * ws[11][worst] * N[worst], ws[0], pos,
-                           dirs, ws[13], ws[14], ws[15])  # fmt: skip
-        _record(EV, info, t, worst, kp.MODE_STICK, kp.MODE_START, dirs)
-        modes[worst] = kp.MODE_START
+            st = align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
+            for k in range(min(int(info[I_NEV]), EV.shape[0]) - 1, -1, -1):  # this event's rows
+                if EV[k, 0] != t:  # (they keep the aligned directions)
+                    break
+                if EV[k, 3] == kp.MODE_START:
+                    EV[k, 4], EV[k, 5] = dirs[int(EV[k, 1]), 0], dirs[int(EV[k, 1]), 1]
+            return st
+        # the worst and its ties (released alone, it moved its load onto its partners)
+        for i in range(pos.shape[0]):  # (directions from this evaluation, all stuck)
+            lim = bp[i, B_MUS] * ws[11][i] * N[i]
+            tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
+            tie = lim > 0.0 and tau >= ratio * (1.0 - TIE_RTOL) * lim
+            if modes[i] == kp.MODE_STICK and (i == worst or tie):
+                kp.start_direction(i, Ff[i, 0], Ff[i, 1], kp.mu_kinetic(bp, i, 0.0) * ws[11][i]
+                                   * N[i], ws[0], pos, dirs, ws[13], ws[14], ws[15])  # fmt: skip
+                _record(EV, info, t, i, kp.MODE_STICK, kp.MODE_START, dirs)
+                modes[i] = kp.MODE_START
     return ST_CHATTER
 
 
@@ -196,16 +200,12 @@ def settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, in
 @ka.compiled_uncounted
 def align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
     """Slip-start directions consistent with the deck's motion when several are released
-    together: each d_i along the acceleration a_i = B_i q̈ its slip point gets with every
-    friction in place (fixed-point iteration).
-
-    One released isolator is left alone: :func:`kp.start_direction` made it consistent
-    already, and the fixed point d ← a/|a| is unstable near the rim. (a's part along d is
-    |τ| − μN, nearly zero at a located break-away, while turning d by ε adds μNε across it:
-    round-off turned d away from the stick force and the slip-start re-stuck at once, held
-    outside its disc.) For several released together the iteration contracts where their
-    demand exceeds twice their kinetic friction (a translating deck: gain μΣN/(|F| − μΣN)
-    < 1); nearer the rim it ends after ALIGN_PASSES with the directions reached."""
+    together: each d_i along the acceleration a_i = B_i q̈ of its slip point with every
+    friction in place (fixed-point iteration). One released alone is left as
+    :func:`kp.start_direction` made it (d ← a/|a| is unstable near the rim: a's part along d,
+    |τ| − μN, is ~0 at a located break-away, and round-off turned d off the stick force).
+    Several contract where their demand exceeds twice their kinetic friction (a translating
+    deck: gain μΣN/(|F| − μΣN) < 1); nearer the rim it stops after ALIGN_PASSES."""
     qdd, N, Ff, Fr, Fo = out
     ni = pos.shape[0]
     nst = 0

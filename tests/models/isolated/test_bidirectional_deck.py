@@ -130,6 +130,33 @@ def test_symmetric_deck_moves_as_the_single_mass(law):
     assert np.abs(d.theta).max() * 5.0 < 1e-6 * peak
 
 
+@pytest.mark.parametrize("half", [(10.0, 6.0), (6.0, 10.0)])
+def test_symmetric_partners_break_away_together(half):
+    # The same exact single-mass answer with velocity-dependent friction, a large polar
+    # inertia and an x-only record, in both orientations of a 20 x 12 m plan: sum_i N_i (u/R +
+    # mu v^) = m g (u/R + mu v^) with no twist. The four reach their discs together; released
+    # one at a time (round-off picked the first), the first moved its load onto the others,
+    # which broke away with y directions |d_y| up to 0.96, and the 20 x 12 deck read 1.65e-2
+    # of the peak off (5 % on the residual), not converging with rtol. Now: round-off.
+    from nsdyn.ground import GroundMotion3, read_motion3
+    from nsdyn.models.isolated.deck import sdof_plane
+
+    rec = read_motion3("synthetic-wn-40s").until(15.0)
+    gx = GroundMotion3(rec.t0, rec.dt, rec.ax, np.zeros_like(rec.ax), None)
+    b = Bearing(Friction(0.04, mu_fast=0.07, rate=30.0, mu_static=0.075), radius=2.2, d_cap=0.35)
+    m = 2.0e6
+    hx, hy = half
+    pos = [(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)]
+    d = simulate_plane(rigid_deck(m, 8.93e7, pos, b, h=0.0), gx, rtol=1e-6)
+    s = simulate_plane(sdof_plane(m, b), gx, rtol=1e-6)
+    peak = np.abs(s.q[:, 0]).max()
+    assert peak > 0.05
+    assert np.abs(d.q[:, 0] - s.q[:, 0]).max() < 1e-9 * peak  # (4e-16 seen)
+    assert np.abs(d.q[:, 1]).max() < 1e-12 * peak and np.abs(d.q[:, 2]).max() * hx < 1e-12 * peak
+    starts = d.events[d.events[:, 3] == 2]
+    assert d.stats["events"] == 4 * s.stats["events"] and np.abs(starts[:, 5]).max() < 1e-9
+
+
 def test_a_very_sharp_regularised_law_holds_a_deck_below_its_friction():
     # A deck (eccentric, overturning) on four pendulums shaken at 0.8 mu g stays held under the
     # regularised law whatever eps: the friction resultant mu W s(|v|), s = (2/pi) arctan(eps |v|),
