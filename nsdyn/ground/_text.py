@@ -107,7 +107,7 @@ def parse_values(lines: list[tuple[int, str]], source: str) -> tuple[np.ndarray,
         if not s or is_comment(s):
             continue
         last = lineno
-        for tok in s.replace(",", " ").split():
+        for tok in fields(s):
             try:
                 x = to_float(tok)
             except ValueError:
@@ -137,6 +137,12 @@ class Table:
     linenos: np.ndarray  # (n,) file line of each row
 
 
+def fields(s: str) -> list[str]:
+    """The fields of a line split by commas, semicolons, tabs or spaces (a decimal comma is
+    refused before: :func:`_decimal_commas`)."""
+    return s.replace(",", " ").replace(";", " ").split()
+
+
 def parse_table(text: str, source: str) -> Table:
     """A header (comment lines, title lines, a line of column names) and then rows of numbers,
     every row with as many as the first."""
@@ -156,7 +162,7 @@ def parse_table(text: str, source: str) -> Table:
                                   f"commas in {s!r} (fields split by tabs, spaces or ';', each "
                                   "with one ',' inside); save the file with '.' as the decimal "
                                   "separator")  # fmt: skip
-        toks = s.replace(",", " ").split()
+        toks = fields(s)
         try:
             for tok in toks:
                 to_float(tok)
@@ -220,7 +226,7 @@ def _rows_at_once(rows: list[tuple[int, str]]) -> tuple[np.ndarray | None, np.nd
     :func:`_rows` reads, ~10 times sooner. (None, ...) otherwise: :func:`_rows` then reads
     them line by line and names the line that is wrong."""
     kept = [(n, s) for n, s in rows if s and not s.startswith(COMMENT_PREFIXES)]
-    toks = [s.replace(",", " ").split() for _, s in kept]
+    toks = [fields(s) for _, s in kept]
     ncol = len(toks[0])
     if any(len(t) != ncol for t in toks):
         return None, np.empty(0, np.int64)
@@ -242,7 +248,7 @@ def _rows(rows: list[tuple[int, str]], source: str) -> tuple[np.ndarray, np.ndar
     for lineno, s in rows:
         if not s or is_comment(s):
             continue
-        toks = s.replace(",", " ").split()
+        toks = fields(s)
         try:
             vals = [to_float(tok) for tok in toks]
         except ValueError:

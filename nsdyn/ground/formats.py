@@ -22,6 +22,7 @@ from nsdyn.ground._text import (
     NUM,
     check_time,
     column_index,
+    fields,
     header_info,
     is_comment,
     looks_like_time,
@@ -146,8 +147,9 @@ def parse_table_motion(
         raise RecordFileError(source, first, f"expected 2 columns (t, a), found {ncol}")
 
     tcol: int | None = None
-    if names is not None and names[0] in _TIME_NAMES:
-        tcol = 0
+    named_t = [j for j, nm in enumerate(names or ()) if nm in _TIME_NAMES]
+    if named_t:  # a column named t or time, wherever it stands
+        tcol = named_t[0]
     elif layout == "two-column" or (ncol >= 2 and looks_like_time(data[:, 0])):
         tcol = 0
 
@@ -257,7 +259,7 @@ def parse_jma(text: str, source: str, opt: ReadOptions) -> tuple[GroundMotion, s
     if not body:
         raise RecordFileError(source, len(lines), "expected a 'dt peak' line and data, found none")
     lineno, s = body[0]
-    toks = s.replace(",", " ").split()
+    toks = fields(s)
     try:
         dt_line, peak = (to_float(x) for x in toks)
     except ValueError:

@@ -22,10 +22,11 @@ x = 000, y = 090 is not (it is the mirror image).
 from __future__ import annotations
 
 import os
+import warnings
 from pathlib import Path
 
 from nsdyn._bundled import RECORDS
-from nsdyn.ground._text import DT_RTOL, is_comment, parse_table
+from nsdyn.ground._text import DT_RTOL, fields, is_comment, parse_table
 from nsdyn.ground.motion import GroundMotion, RecordFileError
 from nsdyn.ground.motion3 import GroundMotion3
 from nsdyn.ground.readers import _resolve, _write_table, read_motion
@@ -48,14 +49,14 @@ def _companion(name: str):
     return item if item.is_file() else None
 
 
-def _bundled3(name: str, units: str | None) -> GroundMotion3:
+def _bundled3(name: str, units: str | None, dt: float | None = None) -> GroundMotion3:
     item = _companion(name)
     if item is None:
         raise FileNotFoundError(
             f"{name!r}: the bundled record has one horizontal component (no "
             f"{name}{COMPANION_SUFFIX}); with two: {bundled_records3()}"
         )
-    x = read_motion(name, units=units)
+    x = read_motion(name, units=units, dt=dt)  # (a given dt checked against the record's)
     y = read_motion(Path(str(item)), units=units)  # a plain file, in the tree or installed
     _check_same_grid(x, y, "y")
     meta = {**x.meta, "y_source": y.source, "y_seed": y.meta.get("seed")}
@@ -112,7 +113,7 @@ def _names_x_and_y(text: str) -> bool:
     x and a y column."""
 
     def names(s: str) -> bool:
-        toks = {t.lower() for t in s.replace(",", " ").split()}
+        toks = {t.lower() for t in fields(s)}
         return bool(toks & set(_X_NAMES)) and bool(toks & set(_Y_NAMES))
 
     for line in text.splitlines():
@@ -127,10 +128,18 @@ def _names_x_and_y(text: str) -> bool:
 
 
 def _table3(path, source: str, cols: dict[str, str], units, dt) -> GroundMotion3:
-    x = read_motion(path, fmt="multi-column", column=cols["x"], vertical=cols.get("z"),
-                    units=units, dt=dt)  # fmt: skip
-    y = read_motion(path, fmt="multi-column", column=cols["y"], vertical=cols.get("z"),
-                    units=units, dt=dt)  # fmt: skip
+    with warnings.catch_warnings(record=True) as caught:  # the file's warnings, once each
+        warnings.simplefilter("always")
+        x = read_motion(path, fmt="multi-column", column=cols["x"], vertical=cols.get("z"),
+                        units=units, dt=dt)  # fmt: skip
+        y = read_motion(path, fmt="multi-column", column=cols["y"], vertical=cols.get("z"),
+                        units=units, dt=dt)  # fmt: skip
+    said = set()
+    for w in caught:  # (one zero component is a motion along the other: no warning)
+        text = str(w.message)
+        if text not in said and ("zero at every sample" not in text or x.pga == y.pga == 0.0):
+            said.add(text)
+            warnings.warn(w.message, stacklevel=3)
     meta = {**x.meta, "columns3": cols}
     return GroundMotion3(x.t0, x.dt, x.a_hor, y.a_hor, x.a_ver, x.name, source, meta)
 
@@ -196,7 +205,7 @@ def _read_one_source(x, units, dt) -> GroundMotion3:
     if not path.is_file():
         stem = str(x)[:-4] if str(x).endswith(".csv") else str(x)
         if "/" not in stem and os.sep not in stem and RECORDS.find(stem) is not None:
-            return _bundled3(stem, units)
+            return _bundled3(stem, units, dt)
     source, text = _resolve(x)
     cols = _columns(source, text)
     if cols is None:

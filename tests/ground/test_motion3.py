@@ -363,6 +363,47 @@ def test_hand_written_csv_with_named_columns(tmp_path):
     assert (read_motion(title).n, read_motion(title).dt) == (3, 0.02)
 
 
+def test_a_csv_along_x_warns_once_and_not_of_a_zero_record(tmp_path):
+    # ay = 0 at every sample is a motion along x (it was called "a record zero at every
+    # sample"); the file's own warning (no units stated) comes once, not once per component
+    import warnings
+
+    path = tmp_path / "xonly.csv"
+    path.write_text("t,ax,ay,az\n0,1.0,0,0.1\n0.5,-2.0,0,0.2\n1.0,0.5,0,0\n")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        m = read_motion3(path)
+    said = [str(w.message) for w in caught]
+    assert len(said) == 1 and "does not state its units" in said[0] and np.abs(m.ax).max() == 2
+    path.write_text("t,ax,ay\n0,0,0\n0.5,0,0\n1.0,0,0\n")  # (a zero record still warns)
+    with pytest.warns(UserWarning, match="zero at every sample"):
+        read_motion3(path, units="m/s2")
+
+
+def test_a_named_time_column_anywhere_and_semicolons_are_read():
+    # "ay,t,az,ax" said "the file has no time column"; "t;ax;ay" said "missing component y"
+    import tempfile
+    from pathlib import Path as P
+
+    with tempfile.TemporaryDirectory() as d:
+        a, b = P(d) / "swap.csv", P(d) / "semi.csv"
+        a.write_text("ay,t,az,ax\n0.5,0,0.1,1\n0.25,0.5,0.2,2\n0,1.0,0.3,3\n")
+        b.write_text("t;ax;ay\n0;1;2\n0.5;2;3\n1.0;3;4\n")
+        m, n = read_motion3(a, units="m/s2"), read_motion3(b, units="m/s2")
+    assert (m.dt, list(m.ax), list(m.ay), list(m.az)) == (0.5, [1, 2, 3], [0.5, 0.25, 0], [
+        0.1, 0.2, 0.3])  # fmt: skip
+    assert (n.dt, list(n.ax), list(n.ay)) == (0.5, [1, 2, 3], [2, 3, 4])
+
+
+def test_a_given_dt_is_checked_against_a_bundled_record():
+    # (it was ignored: the record ran at its own 0.01 s)
+    with pytest.raises(
+        RecordFileError, match=r"dt = 0.02 s \(given\) but the time column has 0.01"
+    ):
+        read_motion3("synthetic-wn-40s", dt=0.02)
+    assert read_motion3("synthetic-wn-40s", dt=0.01).dt == 0.01
+
+
 @pytest.mark.filterwarnings("error::UserWarning")
 @pytest.mark.parametrize("stem", ["synthetic-wn-40s", "synthetic-kt-20s"])
 def test_bundled_record_has_three_components(stem):
