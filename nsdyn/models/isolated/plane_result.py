@@ -48,6 +48,16 @@ MESSAGES = {
     kr.ST_NEWTON: "Radau IIA's Newton iterations diverge at t = {t:.6g} s, down to the smallest "
     "step (lower eps, or use law 'switch')",
 }
+# a triple pendulum's stiffness is its surfaces' elastic-plastic springs (yield displacement
+# u_y), not a friction law's eps or eta: a small u_y and the inner surfaces' stiff reversals
+TFP_MESSAGES = {
+    kr.ST_MAX_STEPS: "too many steps before t = {t:.6g} s (a triple pendulum's surfaces yield "
+    "within u_y, and each yield and reversal is stiff: the steps grow as u_y shrinks and as "
+    "rtol tightens; raise u_y, loosen rtol, or raise max_steps)",
+    kr.ST_STALL: f"the steps collapsed before t = {{t:.6g}} s: over {kr.STALL_STEPS:,} steps "
+    "more than the record needs (a triple pendulum's surfaces yield within u_y, too small for "
+    "the steps to follow): raise u_y",
+}
 MODE_NAMES = {0: "stick", 1: "slip", 2: "slip-start", 3: "free"}  # free: tensile or in flight
 FREE = 3
 MAX_INTERVALS = 100  # tensile intervals listed in a summary (the count says how many in all)
@@ -176,6 +186,8 @@ class PlaneResult(Tabular):
                  contact="detect"):  # fmt: skip
         if status not in (kr.ST_OK, kr.ST_UPLIFT):
             msg = MESSAGES.get(status, f"integration failed (status {status}) at t = {{t:.6g}} s")
+            if getattr(system, "has_tfp", False) and status in TFP_MESSAGES:  # its own advice
+                msg = TFP_MESSAGES[status]
             raise PlaneIntegrationError(msg.format(t=info[kr.I_TFAIL], eta=eta, eps=eps))
         nout = int(info[kr.I_NOUT])
         ne = min(int(info[kr.I_NEV]), EV.shape[0])

@@ -130,6 +130,11 @@ class TripleBearing(Bearing):
         _number(f"{w}.rate", self.rate)
         for j in range(1, 5):
             fast = getattr(self, f"mu_fast{j}")
+            if fast is not None and fast != vals[f"mu{j}"] and not self.rate > 0:
+                raise BearingError(f"{w}.rate: mu_fast{j} ({fast:g}) differs from mu{j} "
+                                   f"({vals[f'mu{j}']:g}), which needs a positive rate a [s/m] "
+                                   "of mu(v) = mu_fast - (mu_fast - mu) exp(-a |v|); got "
+                                   f"{self.rate:g}")  # fmt: skip
             if fast is not None and _number(f"{w}.mu_fast{j}", fast) < vals[f"mu{j}"]:
                 raise BearingError(
                     f"{w}.mu_fast{j}: expected mu_fast{j} >= mu{j} = {vals[f'mu{j}']:g} (a TFP "

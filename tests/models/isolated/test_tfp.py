@@ -208,6 +208,17 @@ def test_a_deck_on_four_tfps_under_a_three_component_record():
     np.testing.assert_allclose(r.N.sum(axis=1), m * (G + az), rtol=1e-9)
 
 
+def test_a_tfp_run_out_of_steps_is_advised_on_its_yield_displacement():
+    # the deck's advice (lower eps, raise eta) does not apply to a triple pendulum, whose
+    # stiffness is its surfaces' yield springs (u_y)
+    from nsdyn.models.isolated.plane_result import PlaneIntegrationError
+
+    s = sdof_plane(1000.0, TripleBearing(**TYPICAL))
+    with pytest.raises(PlaneIntegrationError, match=r"too many steps .*raise u_y") as err:
+        simulate_plane(s, {"f": 1.0, "ax": 3.0, "ay": 0.0}, t_end=2.0, law="arctan", max_steps=20)
+    assert "raise eta" not in str(err.value) and "lower eps" not in str(err.value)
+
+
 def test_tfp_runs_only_with_the_regularised_law():
     s = sdof_plane(1000.0, TripleBearing(**TYPICAL))
     with pytest.raises(ValueError, match=r"law: a triple friction pendulum runs with .*arctan"):
@@ -224,6 +235,8 @@ def test_tfp_runs_only_with_the_regularised_law():
         ({"d1": 0.03}, r"deck\.bearings\[2\]\.d1: expected a displacement capacity >= the inner"),
         ({"mu2": 0.08}, r"deck\.bearings\[2\]\.mu2: expected the inner slider's friction <="),
         ({"mu3": None}, r"deck\.bearings\[2\]\.mu3: missing"),
+        # a faster friction without its rate was ignored (the same peak with or without it)
+        ({"mu_fast1": 0.09}, r"deck\.bearings\[2\]\.rate: mu_fast1 \(0.09\) differs from mu1"),
     ],
 )
 def test_bad_tfp_input_is_a_one_line_error_naming_the_field(change, field):
