@@ -101,6 +101,9 @@ class FixedResponse3D:
         }
 
 
+AMP_FLOOR = 1e-9  # drifts below this part of the largest are round-off: no amplification
+
+
 def response_peaks(drifts: StoreyDrifts, floor_acc, base_shear, torsion) -> dict:
     """Peak drift ratios at the centres of mass and the corners (x, y), the corner
     amplification (overall and per storey), accelerations of the floors above the base
@@ -108,18 +111,22 @@ def response_peaks(drifts: StoreyDrifts, floor_acc, base_shear, torsion) -> dict
     of response histories (trailing time axis), units in the key names."""
     cm = np.abs(drifts.cm).max(axis=-1)  # (ns, 2)
     corner = np.abs(drifts.corner).max(axis=(1, -1))  # (ns, 2)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        amp = np.where(cm > 0, corner / np.where(cm > 0, cm, 1.0), np.nan)
+    # a ratio of drifts at round-off (a direction the record does not excite) is no
+    # amplification: None (it read 835 under an x-only record, NaN, invalid JSON, at rest)
+    floor = AMP_FLOOR * max(float(cm.max(initial=0.0)), float(corner.max(initial=0.0)))
+
+    def ratio(c, m):
+        return float(c / m) if m > floor and m > 0 else None
+
     return {
         "peak_drift_cm_x": float(cm[:, 0].max()),
         "peak_drift_cm_y": float(cm[:, 1].max()),
         "peak_drift_corner_x": float(corner[:, 0].max()),
         "peak_drift_corner_y": float(corner[:, 1].max()),
-        "corner_amplification_x": float(corner[:, 0].max() / cm[:, 0].max())
-        if cm[:, 0].max() > 0 else float("nan"),
-        "corner_amplification_y": float(corner[:, 1].max() / cm[:, 1].max())
-        if cm[:, 1].max() > 0 else float("nan"),
-        "corner_amplification_per_storey": amp.tolist(),
+        "corner_amplification_x": ratio(corner[:, 0].max(), cm[:, 0].max()),
+        "corner_amplification_y": ratio(corner[:, 1].max(), cm[:, 1].max()),
+        "corner_amplification_per_storey": [[ratio(c, m) for c, m in zip(*cm_c, strict=True)]
+                                            for cm_c in zip(corner, cm, strict=True)],  # fmt: skip
         "peak_floor_acc_x_mps2": float(np.abs(floor_acc[1:, 0]).max()),
         "peak_floor_acc_y_mps2": float(np.abs(floor_acc[1:, 1]).max()),
         "peak_base_shear_x_N": float(np.abs(base_shear[0]).max()),
