@@ -166,7 +166,7 @@ def _interrupt_line(args: argparse.Namespace) -> str:
         from nsdyn.studies.sweep import CHECKPOINT_NAME, DEFAULT_OUT
 
         out = Path(getattr(args, "out", None) or DEFAULT_OUT)
-        if any(out.glob(CHECKPOINT_NAME.replace("{amplitude:g}", "*"))):
+        if any(out.glob(CHECKPOINT_NAME.replace("{amplitude}", "*"))):
             return f"{done}, rerun the same command to resume"
         return f"{done}; it stopped before its first point, a rerun starts over"
     if args.command == "run":

@@ -17,7 +17,9 @@ from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
 from nsdyn.cli.args import positive_int as _positive_int
 from nsdyn.cli.run_checks import (
+    check_cutoff,
     check_method,
+    duration_text,
     note_coarse_output,
     note_high_friction,
     note_short_record,
@@ -62,7 +64,7 @@ def summary_rows(s: dict) -> list[str]:
     defines. A run with unilateral contacts models lift-off, so it has no uplift row (that
     row reports the no-uplift model's violations); its lift-off rows say what happened."""
     rows = [  # (label, key, format): metrics the model does not define are absent
-        ("duration / output step", "t_end_s", lambda v: f"{v:g} s / {s['dt_out_s']:g} s"),
+        ("duration / output step", "t_end_s", lambda v: duration_text(s, v)),
         ("peak isolator displacement x_iso", "x_iso_max_m", lambda v: f"{v:.4f} m"),
         ("peak interstorey drift ratio", "idr_max", lambda v: f"{v:.3e}"),
         ("peak absolute floor acceleration", "floor_acc_max_mps2", lambda v: f"{v:.3f} m/s²"),
@@ -251,9 +253,10 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
         if fig_mod and not args.no_figures:
             s["files"] += importlib.import_module(fig_mod).scene_figures(s, out)
     ran = s.get("t_end_s", s.get("t_end"))
-    short = isinstance(ran, int | float) and args.t_end and ran < args.t_end - 1e-6
+    req = args.t_end or cfg.get("motion", {}).get("t_end")  # (--t-end, or the scene's)
+    short = isinstance(ran, int | float) and isinstance(req, int | float) and ran < req - 1e-6
     if short and not s.get("uplift") and not args.json:  # (an uplift ends a run early too)
-        print(f"nsdyn run: note: t_end = {args.t_end:g} s is past the excitation's end; the "
+        print(f"nsdyn run: note: t_end = {req:g} s is past the excitation's end; the "
               f"run ends there, at {ran:g} s", file=sys.stderr)  # fmt: skip
     # a deck or 3D building whose normal force reached zero: written up to the uplift, and
     # the status of a run that left the model's domain (as the isolated frame's uplift)
@@ -352,6 +355,8 @@ def run(args: argparse.Namespace) -> int:
         if kind != "isolated":
             return _run_other_kind(args, kind, raw)
         _check_ladder_flags(args, raw)
+    scene_fid = (raw.get("scene") or {}).get("fidelity") if args.scene is not None else None
+    check_cutoff(args.fmax, args.fidelity or scene_fid)
     from nsdyn.solve.transient import output_grid, simulate
 
     cfg = load_scene(args.scene, _scene_overrides(args))

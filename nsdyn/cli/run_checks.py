@@ -98,3 +98,20 @@ def check_method(method: str, cfg: dict) -> None:
             f"'unilateral' (lift-off and landing); expected 'auto' or one of "
             f"{list(UNILATERAL_METHODS)}"
         )
+
+
+def check_cutoff(fmax, fidelity) -> None:
+    """``--fmax`` is the Craig-Bampton cut-off: refused for the fidelities without one (it
+    was ignored without a word)."""
+    if fmax and fidelity in ("full", "rigid"):
+        from nsdyn.models.scenefile import SceneError
+
+        raise SceneError(f"--fmax: the Craig-Bampton cut-off, and fidelity {fidelity!r} has no "
+                         "cut-off (full keeps every mode, rigid none)")  # fmt: skip
+
+
+def duration_text(s: dict, t_end: float) -> str:
+    """The summary's duration and output step; a record's start before t = 0 is said."""
+    t0 = s.get("t_start_s", 0.0)
+    span = f" (t = {t0:g} to {t_end:g} s)" if t0 else ""
+    return f"{t_end - t0:g} s / {s['dt_out_s']:g} s{span}"

@@ -248,6 +248,7 @@ def run(args: argparse.Namespace) -> int:
     print(
         f"model {report['model']}: {settings.points} frequencies "
         f"{settings.fmin:g}-{settings.fmax:g} Hz, {settings.continuation} continuation"
+        + (" (the curve's points: its own steps)" if settings.continuation == "arclength" else "")
     )
     unit = "[N]   " if "force" in cfg else "[m/s²]"  # a harmonic force's amplitude, or A_hor
     print(

@@ -141,8 +141,9 @@ class TransientResult(Tabular):
                 "model": self.system.name,
                 "fidelity": self.system.fidelity,
                 "excitation": self.excitation,
+                "t_start_s": float(self.t[0]),  # (a record may start before t = 0)
                 "t_end_s": float(self.t[-1]),
-                "dt_out_s": float(self.t[1] - self.t[0]) if self.t.size > 1 else 0.0,
+                "dt_out_s": float(f"{self.t[1] - self.t[0]:.12g}") if self.t.size > 1 else 0.0,
                 "method": self.method,
                 "method_reason": self.method_reason,
                 "law": self.law,

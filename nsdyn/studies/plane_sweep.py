@@ -33,6 +33,7 @@ from nsdyn.models.scenefile import SceneError
 from nsdyn.studies.sweep import (
     CHECKPOINT_EVERY_S,
     CheckpointMismatch,
+    amplitude_tag,
     format_csv_value,
     point_from_dict,
     point_to_dict,
@@ -121,7 +122,7 @@ def _identity(cfg: dict, amplitude: float, settings: PlaneSweepSettings) -> dict
 
 
 def checkpoint_path(out_dir: Path, amplitude: float) -> Path:
-    return Path(out_dir) / f".sweep-plane-A{amplitude:g}.ckpt.json"
+    return Path(out_dir) / f".sweep-plane-A{amplitude_tag(amplitude)}.ckpt.json"
 
 
 def _load(path: Path, identity: dict) -> list | None:

@@ -32,7 +32,15 @@ from nsdyn.studies.workers import process_pool
 
 DEFAULT_OUT = "nsdyn-sweep"
 DEFAULT_AMPLITUDES = "0.1,0.5,1,2"  # m/s^2, seed Fig. 9
-CHECKPOINT_NAME = ".sweep-A{amplitude:g}.ckpt.json"  # one per amplitude, in the output dir
+CHECKPOINT_NAME = ".sweep-A{amplitude}.ckpt.json"  # one per amplitude, in the output dir
+
+
+def amplitude_tag(a: float) -> str:
+    """The amplitude in a file name: ``{a:g}`` where that names it (the names of earlier
+    runs), else its shortest round-trip text (0.5 and 0.5000001 shared one file)."""
+    return f"{a:g}" if float(f"{a:g}") == a else repr(float(a))
+
+
 CHECKPOINT_EVERY_S = 2.0  # shortest interval between checkpoint writes [s]
 CSV_COLUMNS = (
     "f",
@@ -142,7 +150,7 @@ def _identity(cfg: dict, amplitude: float, settings: SweepSettings) -> dict:
 
 
 def checkpoint_path(out_dir: Path, amplitude: float) -> Path:
-    return Path(out_dir) / CHECKPOINT_NAME.format(amplitude=amplitude)
+    return Path(out_dir) / CHECKPOINT_NAME.format(amplitude=amplitude_tag(amplitude))
 
 
 def load_checkpoint(path: Path, identity: dict) -> list | None:
@@ -199,8 +207,9 @@ def amplitude_job(
             save(pts_done)
         if not quiet:
             q = pt.quantities
+            of = f"/{n}" if settings.continuation != "arclength" else " (arclength)"
             print(
-                f"[A={amplitude:g}] {k:4d}/{n} f={pt.f:8.4f} Hz {pt.method:9s} "
+                f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
                 f"it={pt.iterations:2d} x_iso={q.get('x_iso', math.nan):.2e} "
                 f"({q.get('wall_s', 0.0):.2f} s)",
                 file=sys.stderr,

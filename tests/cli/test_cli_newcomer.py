@@ -308,6 +308,8 @@ def _scene(name: str) -> str:
             ["run", "--fidelity", "full", "--method", "genalpha-lowrank", "--dt", "0.2"],
             ["solver.dt: a fixed step of 0.2 s", "expected at most 0.01 s"],
         ),
+        # a cut-off the fidelity has not (it was ignored)
+        (["run", "--fidelity", "full", "--fmax", "3"], ["--fmax: the Craig-Bampton cut-off"]),
         (["sweep", "--amplitudes", "1,,2"], ["separated by commas"]),
         (["spectrum", "rocking-seed003-column.toml", "--rtol", "2"], ["between 0 and 1"]),
         (["run", "isolated-shear-3storey.toml", "--compare-fixed"], ["needs a frame"]),
@@ -322,6 +324,37 @@ def test_more_inputs_that_cannot_apply_are_refused(tmp_path, argv, needles, one_
     argv = [_scene(a) if a.endswith(".toml") else a for a in argv]
     assert _status([*argv, "--out", str(tmp_path / "o")]) == 2
     one_line(*needles)
+
+
+def test_a_scene_t_end_past_the_record_is_said_for_a_deck(tmp_path, capsys):
+    # the deck and 3D scenes ended at the record's end without a word (--t-end said it)
+    text = open(_scene("deck-fps4-3c.toml"), encoding="utf-8").read()
+    text = text.replace('record = "synthetic-wn-40s"', 'record = "synthetic-kt-20s"\nt_end = 100.0')
+    scene = tmp_path / "deck.toml"
+    scene.write_text(text)
+    assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 0
+    assert "note: t_end = 100 s is past the excitation's end; the run ends there, at 20 s" in (
+        capsys.readouterr().err
+    )
+
+
+def test_a_record_starting_before_zero_reports_its_whole_duration(tmp_path, capsys):
+    # t from -1 to 0.98 s: the summary read "duration 0.98 s" and dt_out 0.019999999999999574
+    import numpy as np
+
+    t = np.arange(-100, 100) * 0.01
+    rec = tmp_path / "neg.txt"
+    np.savetxt(rec, np.c_[t, 0.5 * np.sin(3 * t)], header="units: m/s2", fmt="%.6f")
+    out = tmp_path / "o"
+    assert main(["run", "--record", str(rec), "--fidelity", "rigid", "--no-figures", "--out",
+                 str(out)]) == 0  # fmt: skip
+    assert "duration / output step               1.98 s / 0.02 s (t = -1 to 0.98 s)" in (
+        capsys.readouterr().out
+    )
+    assert main(["run", "--record", str(rec), "--fidelity", "rigid", "--no-figures", "--out",
+                 str(out), "--json"]) == 0  # fmt: skip
+    s = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert (s["t_start_s"], s["t_end_s"], s["dt_out_s"]) == (-1.0, 0.98, 0.02)
 
 
 def test_an_export_step_over_the_records_samples_is_refused(tmp_path, one_line):

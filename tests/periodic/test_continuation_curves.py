@@ -174,3 +174,14 @@ def test_sweep_command_writes_csv_and_resumes_from_its_checkpoint(tmp_path, caps
     # the default sdirk2 and sdirk3 agree to the discretisation error of the coarse default
     for r, r2 in zip(rows, rows2, strict=True):
         assert float(r2["x_iso"]) == pytest.approx(float(r["x_iso"]), rel=2e-2, abs=1e-9)
+
+
+def test_amplitudes_that_differ_have_checkpoints_of_their_own(tmp_path):
+    # 0.5 and 0.5000001 shared '.sweep-A0.5.ckpt.json' ({A:g}), written by two workers; an
+    # amplitude that {A:g} names keeps its name (earlier runs resume)
+    from nsdyn.studies import plane_sweep, sweep
+
+    for mod in (sweep, plane_sweep):
+        a, b = mod.checkpoint_path(tmp_path, 0.5), mod.checkpoint_path(tmp_path, 0.5000001)
+        assert a != b and a.name.endswith("A0.5.ckpt.json")
+        assert mod.checkpoint_path(tmp_path, 2.0).name.endswith("A2.ckpt.json")

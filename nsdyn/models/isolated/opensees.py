@@ -287,7 +287,7 @@ def _damping_text(d: dict) -> str:
     if d["damping"] == "modal":
         z = ", ".join(f"{z:.4f}" for z in d["modal_zeta"][:5])
         return (
-            f"Damping: modalDamping on the {len(d['modal_zeta'])} modes <= {max(d['modal_f']):.4g}"
+            f"Damping: modalDampingQ on the {len(d['modal_zeta'])} modes <= {max(d['modal_f']):.4g}"
             f" Hz of the sliding structure (no friction),\nratios nsdyn's damping projected on "
             f"them: {z}, ..."
         )
