@@ -86,7 +86,7 @@ def run(args: argparse.Namespace) -> int:
         "scene": src,
         "shape": args.shape,
         "alpha_rad": sp.alpha,
-        "p_rad_s": sp.p,
+        "p_per_s": sp.p,  # (the frequency parameter p [1/s], as every summary names it)
         "n_runs": sp.n_runs,
         "wall_s": sp.wall_s,
         "compile_s": compile_s,

@@ -137,6 +137,10 @@ class Table:
     linenos: np.ndarray  # (n,) file line of each row
 
 
+def _numbers(n: int) -> str:
+    return "number" if n == 1 else "numbers"
+
+
 def fields(s: str) -> list[str]:
     """The fields of a line split by commas, semicolons, tabs or spaces (a decimal comma is
     refused before: :func:`_decimal_commas`)."""
@@ -253,13 +257,15 @@ def _rows(rows: list[tuple[int, str]], source: str) -> tuple[np.ndarray, np.ndar
             vals = [to_float(tok) for tok in toks]
         except ValueError:
             raise RecordFileError(
-                source, lineno, f"expected {ncol} numbers per line, found {s!r}"
+                source, lineno, f"expected {ncol} {_numbers(ncol)} per line, found {s!r}"
             ) from None
         if not values:
             ncol = len(vals)
         elif len(vals) != ncol:
             raise RecordFileError(
-                source, lineno, f"expected {ncol} numbers per line, found {len(vals)}: {s!r}"
+                source,
+                lineno,
+                f"expected {ncol} {_numbers(ncol)} per line, found {len(vals)}: {s!r}",
             )
         for tok, x in zip(toks, vals, strict=True):
             if not math.isfinite(x):

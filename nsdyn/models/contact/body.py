@@ -48,11 +48,11 @@ def _check_polygon(verts: np.ndarray, field: str) -> np.ndarray:
         a, b, c = p[k - 1], p[k], p[(k + 1) % n]
         cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
         if cross < -COLLINEAR_TOL * size**2:
-            raise ValueError(f"{field}: polygon is not convex at vertex {k} {tuple(b)} "
+            raise ValueError(f"{field}: polygon is not convex at vertex {k} ({b[0]:g}, {b[1]:g}) "
                              "(expected a convex polygon, vertices in order)")  # fmt: skip
         if abs(cross) <= COLLINEAR_TOL * size**2:
-            raise ValueError(f"{field}: vertex {k} {tuple(b)} is collinear with its neighbours "
-                             "or repeated (remove it)")  # fmt: skip
+            raise ValueError(f"{field}: vertex {k} ({b[0]:g}, {b[1]:g}) is collinear with its "
+                             "neighbours or repeated (remove it)")  # fmt: skip
     # a simple polygon turns once: the turning angles sum to 2 pi
     e = np.roll(p, -1, axis=0) - p
     ang = np.arctan2(e[:, 1], e[:, 0])

@@ -68,5 +68,7 @@ def test_spectrum_command_reports_the_status(tmp_path, capsys):
     rep = json.loads(capsys.readouterr().out)
     assert len(rep["status"]) == 2 and all(s in STATUS for s in rep["status"])
     assert rep["search"]["scan"] > 1.0
+    # p = sqrt(3 g / (4 R)) of the 0.3 x 1.2 m column, named as every summary names it
+    assert rep["p_per_s"] == pytest.approx(math.sqrt(3 * 9.81 / (4 * math.hypot(0.15, 0.6))))
     header = Path(rep["csv"]).read_text().splitlines()[0]
     assert header.endswith(",status")
