@@ -91,6 +91,39 @@ def step_count(t_end: float, h: float, name: str = "h") -> float:
     return n
 
 
+FIXED_DT = 0.005  # s, a fixed-step method's step when none is given (records of 200 Hz)
+
+
+def sampling_step(motion) -> float | None:
+    """The sampling step [s] of a sampled excitation (a record, a table), else None."""
+    dt = getattr(motion, "dt", None)
+    return float(dt) if isinstance(dt, int | float) and dt > 0 else None
+
+
+def default_step(motion, dt: float = FIXED_DT) -> float:
+    """A fixed-step method's step when none is given: ``dt``, or the motion's sampling step
+    where that is shorter (every sample is stepped on)."""
+    rec = sampling_step(motion)
+    return dt if rec is None else min(dt, rec)
+
+
+def check_fixed_step(dt, motion, span: float | None = None, where: str = "dt") -> None:
+    """A fixed step ``dt`` no longer than the run's ``span`` (one step over everything: no
+    run), nor than the sampling step of ``motion``: a longer one passes over samples, and the
+    peaks come out wrong (x_iso 1.79 m against 0.2765 at dt = 1 s on the default scene's
+    record; a normal force dipping below zero at 0.2 s). ValueError naming ``where``."""
+    if dt is None:
+        return
+    if span is not None and math.isfinite(dt) and dt > span:
+        raise ValueError(f"{where}: a fixed step of {dt:g} s is longer than the run "
+                         f"({span:g} s)")  # fmt: skip
+    rec = sampling_step(motion)
+    if rec is not None and dt > rec * (1 + 1e-9):
+        raise ValueError(f"{where}: a fixed step of {dt:g} s is longer than the record's "
+                         f"sampling step {rec:g} s: the steps would pass over its samples; "
+                         f"expected at most {rec:g} s")  # fmt: skip
+
+
 class NumericalFailure(RuntimeError):
     """A numerical method failed where the model is still valid: a step size underflow, a
     contact problem with no solution, a step or event budget spent, a non-finite state. The

@@ -420,15 +420,10 @@ def run(args: argparse.Namespace) -> int:
             print(f"method  {reason}", file=sys.stderr)
     check_method(method, cfg)
     from nsdyn.solve.methods import METHODS
-    from nsdyn.solve.run_inputs import check_fixed_step, default_step
+    from nsdyn.studies.scenes import checked_step
 
-    if METHODS[method].fixed_step and "dt" not in sv:
-        sv["dt"] = default_step(motion)  # 5 ms, or the record's sampling step if shorter
-    try:
-        dt = sv["dt"] if METHODS[method].fixed_step else None
-        check_fixed_step(dt, motion, t_eval, "solver.dt")
-    except ValueError as e:
-        raise SceneError(f"{source}: {e}") from None
+    if METHODS[method].fixed_step:  # 5 ms, or the record's sampling step if shorter; checked
+        sv["dt"] = checked_step(method, sv, motion, t_eval, source)
     if method == "event" and system.isolation is not None:
         system = with_isolation_cached(system, law="switch")
     t_req = cfg.get("motion", {}).get("t_end")

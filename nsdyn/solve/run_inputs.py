@@ -10,20 +10,12 @@ from pathlib import Path
 
 import numpy as np
 
-FIXED_DT = 0.005  # s, the fixed-step methods' step when none is given (records of 200 Hz)
-
-
-def sampling_step(motion) -> float | None:
-    """The sampling step [s] of a sampled excitation (a record, a table), else None."""
-    dt = getattr(motion, "dt", None)
-    return float(dt) if isinstance(dt, int | float) and dt > 0 else None
-
-
-def default_step(motion) -> float:
-    """A fixed-step method's step when none is given: ``FIXED_DT``, or the motion's sampling
-    step where that is shorter (every sample is stepped on)."""
-    rec = sampling_step(motion)
-    return FIXED_DT if rec is None else min(FIXED_DT, rec)
+from nsdyn._checks import (  # noqa: F401 (the run's step rules, importable from here)
+    FIXED_DT,
+    check_fixed_step,
+    default_step,
+    sampling_step,
+)
 
 
 def check_run_inputs(t_eval: np.ndarray, progress, checkpoint, dt=None, motion=None) -> None:
@@ -41,23 +33,7 @@ def check_run_inputs(t_eval: np.ndarray, progress, checkpoint, dt=None, motion=N
         raise TypeError(f"progress: expected a callable(t_done, t_end, wall_s), got {progress!r}")
     if checkpoint is not None and Path(checkpoint).is_dir():
         raise ValueError(f"checkpoint: expected a file's path, got the folder {checkpoint}")
-    check_fixed_step(dt, motion, t_eval)
-
-
-def check_fixed_step(dt, motion, t_eval, where: str = "dt") -> None:
-    """A fixed step no longer than the run (one step over everything: no run), nor than the
-    sampling step of ``motion``: a longer one passes over samples, and the peaks come out
-    wrong (x_iso 1.79 m against 0.2765 at dt = 1 s on the default scene's record; a normal
-    force dipping below zero at 0.2 s)."""
-    span = float(t_eval[-1] - t_eval[0])
-    if dt is not None and np.isfinite(dt) and dt > span:
-        raise ValueError(f"{where}: a fixed step of {dt:g} s is longer than the run "
-                         f"({span:g} s)")  # fmt: skip
-    rec = sampling_step(motion)
-    if dt is not None and rec is not None and dt > rec * (1 + 1e-9):
-        raise ValueError(f"{where}: a fixed step of {dt:g} s is longer than the record's "
-                         f"sampling step {rec:g} s: the steps would pass over its samples; "
-                         f"expected at most {rec:g} s")  # fmt: skip
+    check_fixed_step(dt, motion, float(t_eval[-1] - t_eval[0]))
 
 
 def vertical_felt(system, motion) -> None:

@@ -293,25 +293,34 @@ def _check_isolated(cfg: dict, source: str) -> None:
 
         field = "motion.record" if isinstance(e, OSError | RecordFileError) else "motion"
         raise SceneError(f"{source}: {field}: {' '.join(str(e).split())}") from None
-    from nsdyn.solve.run_inputs import check_fixed_step
-
-    dt = fixed_step(method, sv, excitation)
-    try:
-        check_fixed_step(dt, excitation, t_eval, "solver.dt")
-    except ValueError as e:
-        raise SceneError(f"{source}: {e}") from None
+    dt = checked_step(method, sv, excitation, t_eval, source)
     check_step_count(source, method, dt, t_eval, sv.get("max_steps"))
 
 
 def fixed_step(method: str, solver: dict, motion=None) -> float | None:
     """``solver.dt``, or for a fixed-step method without one ``FIXED_DT`` (the record's
     sampling step where that is shorter), as ``nsdyn run``."""
+    from nsdyn._checks import default_step
     from nsdyn.solve.methods import METHODS
-    from nsdyn.solve.run_inputs import default_step
 
     if "dt" in solver or method not in METHODS or not METHODS[method].fixed_step:
         return solver.get("dt")
     return default_step(motion)
+
+
+def checked_step(method: str, solver: dict, motion, t_eval, source: str) -> float | None:
+    """:func:`fixed_step`, a fixed-step method's checked against the run and the record's
+    sampling step (:func:`nsdyn._checks.check_fixed_step`; SceneError naming solver.dt)."""
+    from nsdyn._checks import check_fixed_step
+    from nsdyn.solve.methods import METHODS
+
+    dt = fixed_step(method, solver, motion)
+    if method in METHODS and METHODS[method].fixed_step:
+        try:
+            check_fixed_step(dt, motion, float(t_eval[-1] - t_eval[0]), "solver.dt")
+        except ValueError as e:
+            raise SceneError(f"{source}: {e}") from None
+    return dt
 
 
 def run_scene_summary(cfg: dict, source: str) -> dict:

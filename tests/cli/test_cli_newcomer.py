@@ -361,7 +361,7 @@ def test_an_export_step_over_the_records_samples_is_refused(tmp_path, one_line):
     # the exported OpenSees run at dt = 1 s peaked at x_iso 1.79 m against 0.2765 (5 ms)
     out = tmp_path / "m.py"
     assert main(["export", "opensees", "--dt", "0.1", "-o", str(out)]) == 2
-    one_line("solver.dt: 0.1 s is longer than the record's sampling step 0.01 s")
+    one_line("solver.dt: a fixed step of 0.1 s is longer than the record's sampling step 0.01 s")
     assert not out.exists()
 
 

@@ -34,6 +34,7 @@ from contextlib import contextmanager
 
 import numpy as np
 
+from nsdyn._checks import check_fixed_step, default_step
 from nsdyn.models.scenefile import SceneError, number
 
 __all__ = ["DT_SPARSE", "check_sparse_step", "full_path", "pair_kernels", "path_line",
@@ -170,9 +171,7 @@ def warming(path: str, law: str, contact: str = "detect"):
 def sparse_step(dt, exc) -> float:
     """The sparse full rung's step: ``dt`` (``solver.dt``) or :data:`DT_SPARSE`, at most the
     record's step (module text)."""
-    if dt is not None:
-        return float(dt)
-    return min(DT_SPARSE, float(exc.dt)) if hasattr(exc, "dt") else DT_SPARSE
+    return float(dt) if dt is not None else default_step(exc, DT_SPARSE)
 
 
 SPARSE_MAX_STEPS = 2_000_000  # steps of one sparse run, at most (as a run's max_steps)
@@ -184,19 +183,14 @@ def check_sparse_step(dt: float | None, exc, t_end, source: str) -> None:
     ones) nor than the run, and no more than :data:`SPARSE_MAX_STEPS` steps (SceneError)."""
     if dt is None:
         return
-    rec = float(exc.dt) if hasattr(exc, "dt") else math.inf
-    if dt > rec * (1 + 1e-9):
-        raise SceneError(
-            f"{source}: solver.dt: {dt:g} s is longer than the record's sampling step {rec:g} "
-            f"s: the steps would pass over its samples; expected at most {rec:g} s (default "
-            f"min({DT_SPARSE:g}, the record's step))"
-        )
     dur = t_end if t_end is not None else getattr(exc, "duration", None)
-    if dur is None or not math.isfinite(float(dur)):
+    dur = float(dur) if dur is not None and math.isfinite(float(dur)) else None
+    try:
+        check_fixed_step(dt, exc, dur, "solver.dt")
+    except ValueError as e:
+        raise SceneError(f"{source}: {e} (default min({DT_SPARSE:g}, the record's step))") from None
+    if dur is None:
         return
-    dur = float(dur)
-    if dt > dur:
-        raise SceneError(f"{source}: solver.dt: {dt:g} s is longer than the run ({dur:g} s)")
     if dur / dt > SPARSE_MAX_STEPS:
         raise SceneError(
             f"{source}: solver.dt: {dt:g} s takes {dur / dt:.3g} steps over the {dur:g} s run, "

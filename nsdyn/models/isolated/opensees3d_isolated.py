@@ -87,6 +87,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import check_fixed_step, default_step
 from nsdyn.models.isolated.opensees import (
     K_ROTATION,
     K_VERTICAL,
@@ -334,13 +335,10 @@ def building_data(
     ax = np.asarray(motion.ax, float)
     comp = [ax, motion.ay, getattr(motion, "az", None)]
     duration = (len(ax) - 1) * float(motion.dt)
-    if dt > duration:
-        raise SceneError(f"{source}: solver.dt: {dt:g} s is longer than the record "
-                         f"({duration:g} s)")  # fmt: skip
-    if dt > float(motion.dt) * (1 + 1e-9):
-        raise SceneError(f"{source}: solver.dt: {dt:g} s is longer than the record's sampling "
-                         f"step {float(motion.dt):g} s: the steps would pass over its "
-                         f"samples; expected at most {float(motion.dt):g} s")  # fmt: skip
+    try:
+        check_fixed_step(dt, motion, duration, "solver.dt")
+    except ValueError as e:
+        raise SceneError(f"{source}: {e}") from None
     lo, hi = frame.nodes[:, :2].min(axis=0), frame.nodes[:, :2].max(axis=0)
     base_elems = []
     for e, (i, j) in enumerate(frame.elements.tolist()):
@@ -490,7 +488,7 @@ def export_building_opensees(
         except ValueError as e:  # an end within the record's first step
             raise SceneError(f"{source}: {e}") from None
     if dt is None:  # the scene's; else every sample stepped on (a given step is checked)
-        dt = step if step is not None else min(DEFAULT_DT, getattr(motion, "dt", DEFAULT_DT))
+        dt = step if step is not None else default_step(motion, DEFAULT_DT)
     data = building_data(frame, bearings, motion, dt, fixed_base=fixed,
                          base=base, source=source)  # fmt: skip
     text = script_text_building(data, Path(path).name if path is not None else "model.py")
