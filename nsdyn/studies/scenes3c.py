@@ -28,9 +28,9 @@ Outputs of each run, besides the family's summary (units in the key names):
                         accelerations and the torsional moment of the rung's summary)
     incident_angle_deg, pga_resultant_mps2           (the record as run: turned and scaled)
 
-The cb and full rungs also say their ``path`` ("dense", or "sparse" for a full rung above the
-dense limit) and why. The rigid, fixed, cb and full rungs run here from the family's readers
-(``build_system``, ``build_motion``, ``build_solver``; the pair rungs by
+The cb and full rungs also say their ``path`` ("dense", or "sparse" for a full rung on sparse
+operators, ``solver.path``) and why. The rigid, fixed, cb and full rungs run here from the
+family's readers (``build_system``, ``build_motion``, ``build_solver``; the pair rungs by
 :mod:`nsdyn.models.isolated.building3d_pairs_run`), without files; a rung this module does
 not know (a new fidelity of ``building3d``) runs through the family's ``run_scene`` in a
 temporary directory and keeps its summary as it is (:data:`RUNGS` is the place to add its
@@ -237,7 +237,7 @@ def _rigid(sysd: dict, mod, cfg: dict, source: str) -> dict:
 
 
 def _pairs(sysd: dict, mod, cfg: dict, source: str) -> dict:
-    """The cb and full rungs (dense, or sparse for a full rung above the dense limit) by
+    """The cb and full rungs (dense, or sparse for a full rung on sparse operators) by
     :func:`~nsdyn.models.isolated.building3d_pairs_run.run_pairs`, without files."""
     from nsdyn.models.isolated.building3d_pairs_run import run_pairs, sparse_solver
 

@@ -1,10 +1,11 @@
 """The building's cb and full rungs as scenes and studies run them: the path, the kernels, the run.
 
-The cb rung and the full rung of a frame within the dense limit
-:data:`~nsdyn.models.isolated.building3d_cb.FULL_MAX` (internal dofs: those off the isolator
-interface) are dense pair systems (:func:`~nsdyn.models.isolated.building3d_cb.building_pairs`)
-run by :func:`~nsdyn.models.isolated.building3d_response.run_building` (Radau IIA or the
-switch law's kernel, adaptive). A full rung above the limit is the same model in the frame's
+The cb rung, and the full rung on the dense path (:func:`full_path`: a frame of at most
+:data:`SPARSE_FROM` internal dofs, those off the isolator interface, or one up to
+:data:`~nsdyn.models.isolated.building3d_cb.FULL_MAX` whose law or bearings need it), are
+dense pair systems (:func:`~nsdyn.models.isolated.building3d_cb.building_pairs`) run by
+:func:`~nsdyn.models.isolated.building3d_response.run_building` (Radau IIA or the switch
+law's kernel, adaptive). The full rung on the sparse path is the same model in the frame's
 nodal coordinates on sparse operators
 (:func:`~nsdyn.models.isolated.pairs_sparse.building_pairs_sparse`; damping "modal", the cb
 rung's diag(0, 2ζω) on the fixed-interface modes as a low-rank term, or "stiffness", β K on
@@ -37,9 +38,9 @@ import numpy as np
 from nsdyn._checks import check_fixed_step, default_step
 from nsdyn.models.scenefile import SceneError, number
 
-__all__ = ["DT_SPARSE", "check_sparse_step", "full_path", "pair_kernels", "path_line",
-           "peak_field", "run_pairs", "sparse_solver", "sparse_step", "warm_pairs",
-           "warming"]  # fmt: skip
+__all__ = ["DT_SPARSE", "PATHS", "SPARSE_FROM", "check_sparse_step", "dense_only", "full_path",
+           "pair_kernels", "path_line", "peak_field", "run_pairs", "sparse_solver",
+           "sparse_step", "warm_pairs", "warming"]  # fmt: skip
 
 DT_SPARSE = 0.005  # s: the sparse full rung's default step (module text)
 # seconds the pair kernels' first compilation takes (the first-run notice) on the AMD EPYC of
@@ -49,18 +50,65 @@ DT_SPARSE = 0.005  # s: the sparse full rung's default step (module text)
 PAIRS_COMPILE_ABOUT_S = 15.0
 
 
-def full_path(frame, base: str) -> tuple[str, str]:
-    """("dense" | "sparse", why): where the full rung of ``frame`` on ``base`` runs, dense up
-    to :data:`~nsdyn.models.isolated.building3d_cb.FULL_MAX` internal dofs (read at call time)."""
+PATHS = ("auto", "dense", "sparse")  # solver.path of the full rung
+# internal dofs above which "auto" takes the sparse path where the scene allows it: the size
+# at which the two paths cost the same at the dense path's accuracy (Radau at rtol 1e-3:
+# peaks within 1e-5; the sparse path needs dt ~0.1 ms for that), between 78 (dense 2x
+# cheaper) and 134 (sparse 2x cheaper). At its default step the sparse path is 11x, 21x and
+# 99x faster at 78, 134 and 258, its peaks within 1-5 % (the floor accelerations; 0.03-0.2 %
+# at 1 ms): examples/bench_building3d_paths.py, docs/guide/frames-3d.md
+SPARSE_FROM = 100
+
+
+def dense_only(law: str, contact: str, bearing) -> str:
+    """Why the full rung of a scene with ``law``, ``contact`` and ``bearing`` needs the dense
+    path ("" when the sparse path runs it: the regularised law, contact "detect", a friction
+    pendulum or flat slider without pressure-dependent friction)."""
+    from nsdyn.models.isolated.tfp import TripleBearing
+
+    if law != "arctan":
+        return f"law {law!r} (the sparse path has the regularised law only)"
+    if contact != "detect":
+        return f"contact {contact!r} (the sparse path detects uplift only)"
+    if isinstance(bearing, TripleBearing):
+        return "a triple friction pendulum (not on the sparse path)"
+    if getattr(bearing, "area", None) is not None:
+        return "pressure-dependent friction (not on the sparse path)"
+    return ""
+
+
+def full_path(
+    frame, base: str, law: str = "arctan", contact: str = "detect", bearing=None, path: str = "auto"
+) -> tuple[str, str]:
+    """("dense" | "sparse", why): where the full rung of ``frame`` on ``base`` runs. ``path``
+    "auto": on sparse operators above :data:`SPARSE_FROM` internal dofs when the scene allows
+    it (:func:`dense_only`), and always above :data:`~nsdyn.models.isolated.building3d_cb.
+    FULL_MAX`; else dense (both limits read at call time). "dense" or "sparse": as asked
+    (the dense path within FULL_MAX only; SceneError)."""
     from nsdyn.models.isolated import building3d_cb as cbm
 
     model = cbm.base_grid(frame) if base == "grid" else frame
     n_int = model.n_red - cbm._interface(model, base)[0].size
-    if n_int <= cbm.FULL_MAX:
-        return "dense", (f"{n_int} internal dofs, within the dense limit {cbm.FULL_MAX}: every "
-                         "fixed-interface mode, dense matrices")  # fmt: skip
-    return "sparse", (f"{n_int} internal dofs, above the dense limit {cbm.FULL_MAX}: nodal "
-                      "coordinates on sparse operators")  # fmt: skip
+    dense = f"{n_int} internal dofs: every fixed-interface mode, dense matrices, adaptive steps"
+    sparse = f"{n_int} internal dofs: sparse operators, a fixed step without error control"
+    if path == "dense":
+        if n_int > cbm.FULL_MAX:
+            raise SceneError(f"solver.path: 'dense' takes frames of at most {cbm.FULL_MAX} "
+                             f"internal dofs, this one has {n_int}; expected 'auto' or "
+                             "'sparse'")  # fmt: skip
+        return "dense", f"{dense} (solver.path)"
+    if path == "sparse":
+        return "sparse", f"{sparse} (solver.path)"
+    if n_int > cbm.FULL_MAX:
+        return "sparse", f"{sparse}, above the dense limit {cbm.FULL_MAX}"
+    why = dense_only(law, contact, bearing)
+    if why:
+        return "dense", f"{dense}, within the dense limit {cbm.FULL_MAX}; {why}"
+    if n_int <= SPARSE_FROM:
+        return "dense", (f"{dense}, up to {SPARSE_FROM} (where it is the cheaper of the two "
+                         "at its accuracy)")  # fmt: skip
+    return "sparse", (f"{sparse}, above {SPARSE_FROM} (solver.path = 'dense' runs the "
+                      "dense path, adaptive)")  # fmt: skip
 
 
 def sparse_solver(cfg: dict, source: str, why: str) -> float | None:

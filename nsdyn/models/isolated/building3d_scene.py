@@ -43,6 +43,7 @@ import numpy as np
 from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.bearings import BearingError, bearing_from_config, bearing_notes
 from nsdyn.models.isolated.building3d_pairs_run import (
+    PATHS,
     check_sparse_step,
     full_path,
     path_line,
@@ -135,7 +136,18 @@ def pairs_path(cfg: dict, source: str) -> str:
     t = cfg.get("structure", {})
     if t.get("fidelity") != "full":
         return "dense"
-    return full_path(_frame(t, source), t.get("base", "grid"))[0]
+    return _full_path(_frame(t, source), _bearing(cfg, source, "full"), cfg, source)[0]
+
+
+def _full_path(frame, bearing, cfg: dict, source: str) -> tuple[str, str]:
+    """:func:`full_path` of a scene's full rung (its base, law, contact, bearing and
+    ``solver.path``; SceneError naming the field)."""
+    solver, base = cfg.get("solver", {}), cfg.get("structure", {}).get("base", "grid")
+    try:
+        return full_path(frame, base, solver.get("law", "arctan"),
+                         solver.get("contact", "detect"), bearing, _path(cfg, source))  # fmt: skip
+    except SceneError as e:
+        raise SceneError(f"{source}: {e}") from None
 
 
 def _sparse_pairs(frame, bearing, opts: dict, cfg: dict, source: str, why: str):
@@ -162,13 +174,13 @@ def _sparse_pairs(frame, bearing, opts: dict, cfg: dict, source: str, why: str):
 
 def build_pairs(frame, bearing, fid: str, opts: dict, source: str, cfg: dict | None = None):
     """The cb or full pair system of a scene's frame (SceneError naming the field): a dense
-    PairSystem, or for "full" above the dense limit a SparsePairSystem (:func:`full_path`);
+    PairSystem, or for "full" on the sparse path a SparsePairSystem (:func:`full_path`);
     ``info["path"]``, ``info["path_why"]`` say which and why."""
     from nsdyn.models.isolated.building3d_cb import building_pairs
 
     path, why = "dense", f"the cb rung: the fixed-interface modes up to {opts['f_max']:g} Hz"
     if fid == "full":
-        path, why = full_path(frame, opts["base"])
+        path, why = _full_path(frame, bearing, cfg or {}, source)
     if path == "sparse":
         return _sparse_pairs(frame, bearing, opts, cfg or {}, source, why)
     from nsdyn._model_cache import cached_build
@@ -222,7 +234,7 @@ def build_system(cfg: dict, source: str, warm: bool = False) -> dict:
         except (BearingError, ValueError) as e:
             raise SceneError(f"{source}: {e}") from None
     elif fid in ("cb", "full"):
-        path = "dense" if fid == "cb" else full_path(frame, opts["base"])[0]
+        path = "dense" if fid == "cb" else _full_path(frame, bearing, cfg, source)[0]
         law = cfg.get("solver", {}).get("law", "arctan")
         contact = cfg.get("solver", {}).get("contact", "detect")
         with warming(path, law, contact) if warm else nullcontext(times) as times:
@@ -231,9 +243,18 @@ def build_system(cfg: dict, source: str, warm: bool = False) -> dict:
             "n_modes": n_modes, "cb": opts, **times}  # fmt: skip
 
 
+def _path(cfg: dict, source: str) -> str:
+    """``solver.path`` (SceneError naming the field)."""
+    path = cfg.get("solver", {}).get("path", "auto")
+    if path not in PATHS:
+        raise SceneError(f"{source}: solver.path: expected one of {list(PATHS)}, got {path!r}")
+    return path
+
+
 def build_solver(cfg: dict, source: str) -> dict:
     """The run's keywords from ``[solver]`` (as the deck scene's, and ``contact =
-    "unilateral"``, which the cb and dense full rungs take)."""
+    "unilateral"``, which the cb and dense full rungs take; ``path`` checked on every rung)."""
+    _path(cfg, source)
     return deck_solver(cfg, source, unilateral=True)
 
 
@@ -349,6 +370,34 @@ def _advise(sysd, cfg, exc, kw, source: str, say) -> None:
         sysd["pairs"] = pairs
 
 
+def unused_keys(cfg: dict, fid: str, path: str | None) -> list[tuple[str, str]]:
+    """(key, why) of the keys given that the rung ``fid`` (on ``path``, the full rung's) does
+    not read: a run notes them rather than take them silently."""
+    st, solver = cfg.get("structure", {}), cfg.get("solver", {})
+    sparse = fid == "full" and path == "sparse"
+    rules = {
+        "structure.n_modes": (st, fid != "fixed", "the fixed rung's modes"),
+        "structure.f_max": (st, fid != "cb", "the cb rung's cut-off"),
+        "structure.min_mass": (st, fid != "cb", "the cb rung's filter"),
+        "structure.base": (st, fid not in ("cb", "full"), "the cb and full rungs' base"),
+        "structure.damping": (st, not sparse, "the full rung's on sparse operators"),
+        "structure.f_damp": (st, not sparse, "the full rung's on sparse operators"),
+        "solver.dt": (solver, not sparse, "the fixed step of the full rung on sparse operators"),
+        "solver.path": (solver, fid != "full", "the full rung's"),
+        "solver.rtol": (solver, sparse, "the sparse path steps at solver.dt (solver.path = "
+                        "'dense' runs adaptive)"),
+        "solver.atol": (solver, sparse, "the sparse path steps at solver.dt (solver.path = "
+                        "'dense' runs adaptive)"),
+    }  # fmt: skip
+    out = [(k, why) for k, (table, unused, why) in rules.items()
+           if unused and k.split(".")[1] in table]  # fmt: skip
+    if fid == "fixed":  # no bearing, no integration: the tables as a whole
+        out = [(k, w) for k, w in out if not k.startswith("solver.")]
+        out += [(f"[{t}]", "the fixed rung (a fixed base, modal histories)")
+                for t in ("bearing", "solver") if cfg.get(t)]  # fmt: skip
+    return out
+
+
 def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:
     """Run a 3D building scene; writes ``building3d.npz`` into ``out_dir``; the summary."""
     name = cfg.get("scene", {}).get("name", Path(source).stem)
@@ -375,6 +424,9 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     asked = sysd["fidelity"]
     if asked == "auto":
         _advise(sysd, cfg, exc, kw, source, say)
+    path = sysd["pairs"].info["path"] if sysd["pairs"] is not None else None
+    for key, why in unused_keys(cfg, sysd["fidelity"], path):
+        say(f"building3d: note: {key} not used: {why}")
     if sysd["fidelity"] == "rigid":
         if kw["contact"] == "unilateral":
             raise SceneError(f"{source}: solver.contact: the rigid rung (the building as a deck, "

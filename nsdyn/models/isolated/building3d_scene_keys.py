@@ -16,8 +16,8 @@ BASES = ("grid", "pinned")
 DAMPINGS = ("modal", "stiffness")  # the sparse full rung's (pairs_sparse.DAMPINGS)
 
 _DECK_SOLVER = next(t for t in DECK.tables if t.name == "solver")
-SOLVER = Table("solver", _DECK_SOLVER.meaning + " The full rung on sparse operators (a frame "
-               "above the dense limit) steps at a fixed dt with the regularised law.", (
+SOLVER = Table("solver", _DECK_SOLVER.meaning + " The full rung on sparse operators (its "
+               "default where the law allows) steps at a fixed dt with the regularised law.", (
     *(k for k in _DECK_SOLVER.keys if k.name != "contact"),
     Key("contact", "string", "what a normal force reaching zero does: stop the run there "
         "(`detect`: uplift), hold the isolator down and go on (`bilateral`: tension "
@@ -25,6 +25,12 @@ SOLVER = Table("solver", _DECK_SOLVER.meaning + " The full rung on sparse operat
         "switch law on Dormand–Prince). The rigid "
         "rung takes `detect` and `bilateral`, the sparse full rung `detect`",
         default="detect", choices=("detect", "bilateral", "unilateral")),
+    Key("path", "string", "where the full rung runs: on sparse operators above 100 internal "
+        "dofs when the law (`arctan`), contact (`detect`) and bearing (no `tfp`, no `area`) "
+        "allow it, else dense (`auto`); or as asked: `dense` (every fixed-interface mode, "
+        "adaptive steps to `rtol`; frames within the dense limit) or `sparse` (a fixed step "
+        "`dt`)",
+        default="auto", choices=("auto", "dense", "sparse")),
     Key("dt", "number", "fixed time step of the full rung on sparse operators (its "
         "generalized-α; at most the record's sampling step, and 2 000 000 steps per run) and "
         "of `nsdyn export opensees` (Newmark); the adaptive rungs ignore it", "s",
@@ -37,10 +43,10 @@ SCHEMA = Schema(
     "A 3D frame file (or a bundled one, `office-11-3d`) on one bidirectional isolator under "
     "every column line (the deck scene's `[bearing]`): taken rigid (`fidelity = \"rigid\"`, "
     "the rigid deck), elastic by Craig–Bampton (`\"cb\"`) or with every mode (`\"full\"`: "
-    "dense on small frames, on sparse operators above) with the normal forces from the "
-    "dynamics, or on a fixed base by modal time histories (`\"fixed\"`, a three-component "
-    "record); `\"auto\"` asks the model advisor for the cheapest rung that answers and runs "
-    "it.",
+    "dense on small frames or where the law needs it, else on sparse operators) with the "
+    "normal forces from the dynamics, or on a fixed base by modal time histories "
+    "(`\"fixed\"`, a three-component record); `\"auto\"` asks the model advisor for the "
+    "cheapest rung that answers and runs it.",
     (
         Table("scene", "The family and a name.", (
             Key("kind", "string", "the model family", required=True, choices=("building3d",)),
@@ -65,10 +71,10 @@ SCHEMA = Schema(
             Key("base", "string", "cb and full rungs: feet tied by a stiff base grid and a "
                 "rigid base diaphragm, or each foot pinned on its own isolator", default="grid",
                 choices=BASES),
-            Key("damping", "string", "full rung on sparse operators (a frame above the dense "
-                "limit): the frame's ratios on its fixed-interface modes as the cb rung "
-                "(\"modal\", low rank), or β K on the members, β = 2ζ₁/ω₁ (\"stiffness\", "
-                "the OpenSees export's; far cheaper on large frames)", default="modal",
+            Key("damping", "string", "full rung on sparse operators: the frame's ratios on "
+                "its fixed-interface modes as the cb rung (\"modal\", low rank), or β K on "
+                "the members, β = 2ζ₁/ω₁ (\"stiffness\", the OpenSees export's; far cheaper "
+                "on large frames)", default="modal",
                 choices=DAMPINGS),
             Key("f_damp", "number", "full rung on sparse operators with modal damping: the "
                 "fixed-interface modes damped are those up to this frequency (default: every "
@@ -81,10 +87,11 @@ SCHEMA = Schema(
     notes=(
         "The fixed rung needs a record (`[motion] kind = \"record3\"`) and ignores "
         "`[bearing]` and `[solver]`; the rigid, cb and full rungs need `[bearing]`.",
-        "`fidelity = \"full\"` on a frame above the dense limit of the full rung (see the 3D "
-        "guide) runs on sparse operators: the regularised law only (`solver.law = "
-        "\"arctan\"`, the default there), a fixed step `solver.dt`, friction pendulums and "
-        "flat sliders (no `tfp`, no `area`).",
+        "`fidelity = \"full\"` runs on sparse operators (a fixed step `solver.dt`) above 100 "
+        "internal dofs whenever the scene allows it: the regularised law (`solver.law = "
+        "\"arctan\"`), contact `detect`, friction pendulums and flat sliders (no `tfp`, no "
+        "`area`); else on dense matrices with adaptive steps, for frames within the dense "
+        "limit of the full rung, 400 (see the 3D guide). `solver.path` overrides the choice.",
         "`fidelity = \"auto\"` runs the rigid and cb rungs over the record's strong-motion "
         "part and picks the cheapest that answers (see the 3D guide); it needs a record.",
     ),

@@ -113,6 +113,7 @@ def test_cb_and_full_scenes_run_the_portal(tmp_path):
     for fid in ("cb", "full"):
         cfg = _cfg(**{k: dict(v) for k, v in PORTAL.items()})
         cfg["structure"].update(fidelity=fid, f_max=1e6, min_mass=0.0)  # cb: every mode
+        cfg["solver"]["path"] = "dense"  # full: the same model on Radau IIA at rtol
         s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
                       quiet=True)  # fmt: skip
         assert s["fidelity"] == fid and s["n_isolators"] == 4 and s["uplift"] is None
@@ -137,3 +138,46 @@ def test_auto_scene_advises_and_runs_a_rung(tmp_path):
                   quiet=True)  # fmt: skip
     assert s["fidelity"] in ("fixed", "rigid", "cb")
     assert s["advice"]["fidelity"] == s["fidelity"] and s["advice"]["decision"]
+
+
+@pytest.mark.parametrize(
+    ("fid", "path", "tables", "noted"),
+    [
+        ("cb", None, {"structure": {"n_modes": 12, "f_max": 8.0}}, ["structure.n_modes"]),
+        (
+            "rigid",
+            None,
+            {"structure": {"f_max": 8.0, "base": "pinned"}, "solver": {"dt": 0.01}},
+            ["structure.f_max", "structure.base", "solver.dt"],
+        ),
+        ("full", "sparse", {"solver": {"rtol": 1e-4, "dt": 0.002}}, ["solver.rtol"]),
+        (
+            "full",
+            "dense",
+            {"solver": {"dt": 0.002, "rtol": 1e-4}, "structure": {"damping": "modal"}},
+            ["structure.damping", "solver.dt"],
+        ),
+        (
+            "fixed",
+            None,
+            {"solver": {"law": "switch", "dt": 0.01}, "structure": {"n_modes": 6}},
+            ["[bearing]", "[solver]"],
+        ),
+    ],
+)
+def test_keys_a_rung_does_not_read_are_noted(fid, path, tables, noted):
+    # each rung reads its own keys (the scene reference's meanings); any other given key is
+    # named, so that a value that changes nothing is never taken silently
+    from nsdyn.models.isolated.building3d_scene import unused_keys
+
+    cfg = _cfg(**tables)
+    cfg["structure"]["fidelity"] = fid
+    assert sorted(k for k, _ in unused_keys(cfg, fid, path)) == sorted(noted)
+
+
+def test_a_run_says_which_keys_it_did_not_read(tmp_path, capsys):
+    cfg = _cfg(structure={"f_max": 8.0}, motion={"t_end": 0.2})
+    run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+              quiet=False)  # fmt: skip
+    err = capsys.readouterr().err
+    assert "note: structure.f_max not used: the cb rung's cut-off" in err

@@ -17,7 +17,7 @@ import copy
 import numpy as np
 import pytest
 
-from nsdyn.models.isolated import building3d_cb, pairs_sparse_run
+from nsdyn.models.isolated import building3d_cb, building3d_pairs_run, pairs_sparse_run
 from nsdyn.models.isolated.building3d_scene import build_system, format_summary, run_scene
 from nsdyn.models.scenefile import SceneError
 
@@ -66,7 +66,10 @@ def _refused(cfg: dict, tmp_path) -> str:
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("sparse-scene")
-    out = {"dense": _run(tmp, "dense")}
+    out = {"dense": _run(tmp, "dense", path="dense")}
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(building3d_pairs_run, "SPARSE_FROM", 0)  # "auto" sparse at any size
+        out["auto"] = _run(tmp, "auto", dt=5e-4)
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(building3d_cb, "FULL_MAX", 0)  # every frame above the dense limit
         for h in (1e-3, 5e-4):
@@ -76,13 +79,63 @@ def runs(tmp_path_factory):
     return out
 
 
-def test_the_portal_takes_the_dense_path_and_the_lowered_limit_the_sparse(runs):
+def test_the_portal_takes_the_path_asked_and_the_lowered_limit_the_sparse(runs):
     d, s = runs["dense"][0], runs[5e-4][0]
-    assert d["path"] == "dense" and "within the dense limit" in d["path_why"]
+    assert d["path"] == "dense" and "(solver.path)" in d["path_why"]
     assert s["path"] == "sparse" and "above the dense limit 0" in s["path_why"]
     assert s["method"] == "genalpha-sparse" and s["dt_s"] == 5e-4 and s["law"] == "arctan"
     text = format_summary(s)
     assert "sparse" in text and "time step" in text and "peak drift corner x" in text
+
+
+def test_auto_runs_the_regularised_law_on_the_sparse_path_above_its_size(runs):
+    # solver.path "auto" above SPARSE_FROM internal dofs (lowered to 0) with the law, contact
+    # and bearing the sparse path runs: that path, the same steps as a frame above the dense
+    # limit, bit for bit
+    (sa, ha), (_, h2) = runs["auto"], runs[5e-4]
+    assert sa["path"] == "sparse" and "solver.path = 'dense'" in sa["path_why"]
+    for key in HISTORIES:
+        assert np.array_equal(ha[key], h2[key]), key
+
+
+def test_auto_keeps_a_small_frame_on_the_dense_path(tmp_path):
+    # the portal: its internal dofs (those off the isolator interface) below SPARSE_FROM
+    cfg = copy.deepcopy(SCENE)
+    info = build_system(cfg, str(tmp_path / "s.toml"))["pairs"].info
+    limit = building3d_pairs_run.SPARSE_FROM
+    assert int(info["path_why"].split()[0]) <= limit
+    assert info["path"] == "dense" and f"up to {limit}" in info["path_why"], info["path_why"]
+
+
+@pytest.mark.parametrize(
+    ("solver", "bearing", "words"),
+    [
+        ({"law": "switch"}, {}, "law 'switch'"),
+        ({"contact": "unilateral"}, {}, "contact 'unilateral'"),
+        ({"contact": "bilateral"}, {}, "contact 'bilateral'"),
+        ({}, {"area": 0.05, "p_ref": 20e6}, "pressure-dependent friction"),
+    ],
+)
+def test_auto_keeps_the_dense_path_where_the_sparse_cannot_run(solver, bearing, words,
+                                                               tmp_path, monkeypatch):  # fmt: skip
+    monkeypatch.setattr(building3d_pairs_run, "SPARSE_FROM", 0)
+    cfg = copy.deepcopy(SCENE)
+    cfg["solver"].update(solver)
+    cfg["bearing"].update(bearing)
+    info = build_system(cfg, str(tmp_path / "s.toml"))["pairs"].info
+    assert info["path"] == "dense" and words in info["path_why"], info["path_why"]
+
+
+def test_a_path_that_cannot_be_taken_is_refused(tmp_path, monkeypatch):
+    cfg = copy.deepcopy(SCENE)
+    cfg["solver"]["path"] = "fast"
+    msg = _refused(cfg, tmp_path)
+    assert "\n" not in msg and "s.toml: solver.path: expected one of" in msg, msg
+    monkeypatch.setattr(building3d_cb, "FULL_MAX", 0)  # above the dense limit: no dense path
+    cfg["solver"]["path"] = "dense"
+    msg = _refused(cfg, tmp_path)
+    assert "\n" not in msg and "s.toml: solver.path: 'dense' takes frames of at most 0" in msg
+    assert not (tmp_path / "building3d.npz").exists()
 
 
 def test_sparse_full_rung_equals_the_dense_full_rung(runs):
