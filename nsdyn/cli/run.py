@@ -20,10 +20,7 @@ from nsdyn.cli.run_checks import (
     check_cutoff,
     check_method,
     duration_text,
-    note_coarse_output,
-    note_high_friction,
-    note_short_record,
-    note_soft_law,
+    scene_notes,
 )
 
 DEFAULT_OUT = "nsdyn-out"  # output directory
@@ -371,10 +368,7 @@ def run(args: argparse.Namespace) -> int:
                          "'genalpha', …)")  # fmt: skip
     check_method(method, cfg)  # before the model's build
     system, motion, duration = build_scene_run(cfg)
-    note_short_record(cfg, motion, args.json)
-    note_coarse_output(cfg, motion, args.json)
-    note_soft_law(cfg, args.json)
-    note_high_friction(cfg, args.json)
+    scene_notes(cfg, motion, args.json)
     if args.compare_fixed and (args.no_figures or system.frame is None):
         why = (
             "draws the fixed-base frame in the run's figure, and --no-figures draws none"

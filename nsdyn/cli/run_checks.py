@@ -74,6 +74,29 @@ def note_high_friction(cfg: dict, quiet: bool) -> None:
         print(f"nsdyn run: note: {note}", file=sys.stderr)
 
 
+def note_unused_cutoff(cfg: dict, quiet: bool) -> None:
+    """``scene.f_max`` set (away from the default scene's) for a fidelity that has no cut-off
+    (rigid, full): said in one line (``--fmax`` is refused there, :func:`check_cutoff`)."""
+    from nsdyn.models.isolated.defaults import F_MAX
+
+    sc = cfg.get("scene", {})
+    fid = sc.get("fidelity", "cb")
+    given = sc.get("f_max", F_MAX) != F_MAX  # (the default scene's is no choice)
+    if not quiet and given and fid in ("full", "rigid"):
+        print(f"nsdyn run: note: scene.f_max not used: the cut-off of fidelities cb and fixed; "
+              f"{fid!r} has none ({'every mode' if fid == 'full' else 'a rigid frame'})",
+              file=sys.stderr)  # fmt: skip
+
+
+def scene_notes(cfg: dict, motion, quiet: bool) -> None:
+    """Every note of a loaded scene (the functions above), in one line each on stderr."""
+    note_short_record(cfg, motion, quiet)
+    note_coarse_output(cfg, motion, quiet)
+    note_soft_law(cfg, quiet)
+    note_high_friction(cfg, quiet)
+    note_unused_cutoff(cfg, quiet)
+
+
 def check_method(method: str, cfg: dict) -> None:
     """``solver.method`` must be ``auto`` or name an integrator (a SceneError naming the field
     otherwise)."""

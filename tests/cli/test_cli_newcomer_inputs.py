@@ -293,6 +293,17 @@ def test_an_arctan_law_too_soft_to_be_friction_is_noted(tmp_path, capsys):
     assert "arctan friction reaches" not in capsys.readouterr().err
 
 
+@pytest.mark.parametrize(("fidelity", "noted"), [("rigid", True), ("full", True), ("cb", False)])
+def test_a_cutoff_the_fidelity_does_not_read_is_noted(tmp_path, capsys, fidelity, noted):
+    # scene.f_max is the Craig-Bampton cut-off: the rigid and full rungs have none, and
+    # the run says it did not use it (--fmax is refused there); cb reads it
+    scene = tmp_path / "fmax.toml"
+    scene.write_text(f'[scene]\nfidelity = "{fidelity}"\nf_max = 8.0\n[motion]\nt_end = 0.1\n')
+    assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 0
+    err = capsys.readouterr().err
+    assert ("note: scene.f_max not used" in err) == noted, err
+
+
 def test_a_very_sharp_arctan_law_runs_to_the_switch_law(tmp_path, capsys):
     """eps = 1e8 s/m on the default scene. The switch law is the arctan law's limit
     eps -> inf, so its event-driven run is the reference. Radau holds its velocity tolerance
