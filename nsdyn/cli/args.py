@@ -9,6 +9,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from nsdyn._checks import MAX_POINTS
+
 EXIT_USER_ERROR = 2  # bad input the user can fix (same as argparse usage errors)
 EXIT_NUMERICS = 3  # the numerics failed (step underflow, Newton divergence, uplift, ...)
 EXIT_INTERRUPTED = 130  # stopped by SIGINT/SIGTERM (128 + SIGINT); rerun to resume
@@ -67,8 +69,14 @@ def _int_at_least(s: str, lowest: int) -> int:
 
 
 def count(s: str) -> int:
-    """An integer of at least 2."""
-    return _int_at_least(s, 2)
+    """A number of frequencies: an integer from 2 to :data:`MAX_POINTS`."""
+    v = _int_at_least(s, 2)
+    if v > MAX_POINTS:
+        raise argparse.ArgumentTypeError(
+            f"expected at most {MAX_POINTS} frequencies (each one a periodic solve of seconds), "
+            f"got {s!r}"
+        )
+    return v
 
 
 def positive_int(s: str) -> int:

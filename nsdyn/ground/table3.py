@@ -137,7 +137,7 @@ def _record3(table: dict, source: str) -> GroundMotion3:
         motion = motion._replace(az=None)
     if "pga" in table:
         comp = table.get("pga_component", "resultant")
-        pga = _number(source, table, "pga", nonneg=True)  # its own message, named once
+        pga = _number(source, table, "pga", positive=True)  # its own message, named once
         try:
             motion = motion.scaled_to_pga(pga, comp)
         except ValueError as e:  # GroundMotion3 names its argument ("component: ...")

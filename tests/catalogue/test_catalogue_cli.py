@@ -62,6 +62,8 @@ CLI_ROWS = [
     # sweep
     ("sweep-points-one", ["sweep", "--points", "1"], r"--points.*at least 2"),
     ("sweep-points-text", ["sweep", "--points", "many"], r"--points.*integer"),
+    ("sweep-points-huge", ["sweep", "--points", "10000000"], r"--points.*at most 10000"),
+    ("uplift-points-huge", ["uplift", "--points", "20000"], r"--points.*at most 10000"),
     ("sweep-fmin-zero", ["sweep", "--fmin", "0"], r"--fmin.*positive"),
     ("sweep-fmax-inf", ["sweep", "--fmax", "inf"], r"--fmax.*finite"),
     ("sweep-fmin-ge-fmax", ["sweep", "--fmin", "5", "--fmax", "1"], r"--fmax.*--fmin"),

@@ -59,6 +59,8 @@ def test_orbit_table_is_the_helper(table, expected, duration):
         ({"kind": "record3", "record": "synthetic-wn-40s", "x": "a.AT2"}, "record", "not both"),
         ({"kind": "record3", "record": "synthetic-wn-40s", "pgaa": 3}, "pgaa", "unknown"),
         ({"kind": "record3", "record": "synthetic-wn-40s", "pga": "3"}, "pga", "finite number"),
+        # a record scaled to zero is no motion at all: refused, as nsdyn run --pga 0 is
+        ({"kind": "record3", "record": "synthetic-wn-40s", "pga": 0.0}, "pga", "positive"),
         ({"kind": "record3", "record": "synthetic-wn-40s", "pga": 3.0,
           "pga_component": "z"}, "pga_component", "expected one of"),
         ({"kind": "record3", "record": "synthetic-wn-40s", "trim": 1}, "trim", "true or false"),

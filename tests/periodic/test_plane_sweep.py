@@ -276,6 +276,7 @@ def test_the_scenes_sweep_table_sets_the_curve_and_the_flags_win(tmp_path, capsy
         ("f_min = -1.0\n", "sweep.f_min"),
         ("points = 1\n", "sweep.points"),
         ("points = 2.5\n", "sweep.points"),
+        ("points = 10001\n", "sweep.points"),
         ("amplitudes = [1.0, -2.0]\n", "sweep.amplitudes"),
         ("amplitudes = 1.0\n", "sweep.amplitudes"),
         ('law = "coulomb"\n', "sweep.law"),

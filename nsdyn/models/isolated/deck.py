@@ -88,6 +88,14 @@ class PlaneSystem:
             raise BearingError(f"{self.name}.positions: expected finite (X, Y) pairs [m], "
                                f"got shape {pos.shape}")  # fmt: skip
         object.__setattr__(self, "positions", pos)
+        _, first, count = np.unique(pos, axis=0, return_index=True, return_counts=True)
+        if np.any(count > 1):
+            i = int(first[np.argmax(count > 1)])
+            j = int(np.flatnonzero(np.all(pos == pos[i], axis=1))[1])
+            raise BearingError(f"{self.name}.positions: isolators {i} and {j} share the "
+                               f"position {pos[i].tolist()}; expected distinct positions (two "
+                               "bearings at one point act as one of twice the "
+                               "properties)")  # fmt: skip
         if len(self.bearings) != pos.shape[0]:
             raise BearingError(f"{self.name}.bearings: expected {pos.shape[0]} (one per "
                                f"isolator position), got {len(self.bearings)}")  # fmt: skip

@@ -35,6 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import MAX_POINTS
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.bearings import (
@@ -201,8 +202,9 @@ def build_sweep(cfg: dict, source: str) -> dict:
                          f"({out['f_min']:g} Hz), got {out['f_max']:g}")  # fmt: skip
     if "points" in t:
         n = t["points"]
-        if isinstance(n, bool) or not isinstance(n, int) or n < 2:
-            raise SceneError(f"{source}: sweep.points: expected an integer >= 2, got {n!r}")
+        if isinstance(n, bool) or not isinstance(n, int) or not 2 <= n <= MAX_POINTS:
+            raise SceneError(f"{source}: sweep.points: expected an integer from 2 to "
+                             f"{MAX_POINTS}, got {n!r}")  # fmt: skip
         out["points"] = n
     if "amplitudes" in t:
         a = t["amplitudes"]

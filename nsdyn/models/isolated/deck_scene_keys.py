@@ -136,7 +136,7 @@ SCHEMA = Schema(
                 default=False),
             Key("vertical", "boolean", "keep the vertical component", default=True),
             Key("pga", "number", "scale to this peak horizontal acceleration", "m/s²",
-                **_NONNEG),
+                **_POS),
             Key("pga_component", "string", "which peak `pga` sets", default="resultant",
                 choices=("resultant", "x", "y", "geomean")),
             Key("t_end", "number", "end of the run", "s", default="(the record's end)", **_POS),
@@ -158,7 +158,7 @@ SCHEMA = Schema(
             Key("f_max", "number", "highest frequency, above f_min", "Hz", default="(4 f)",
                 **_POS),
             Key("points", "integer", "log-spaced frequencies", "—", default="(nsdyn sweep's)",
-                lo=2),
+                lo=2, hi=10_000),
             Key("amplitudes", "list of numbers", "amplitudes A of the orbit's acceleration, "
                 "each > 0 (the orbit's shape kept)", "m/s²", default="(the orbit's)"),
             Key("law", "string", "friction law of the sweep", default="(solver.law)",

@@ -86,7 +86,8 @@ class Response:
 
     @property
     def min_normal_force(self) -> float:
-        return float(np.min(self.lam)) if self.lam.size else float("nan")
+        # + 0.0: a contact held at zero reads 0, not -0 (a unilateral flight's λ = -0.0)
+        return float(np.min(self.lam)) + 0.0 if self.lam.size else float("nan")
 
     @property
     def stick_fraction(self) -> float:

@@ -102,7 +102,7 @@ def contact_tension(t: np.ndarray, N: np.ndarray, info: np.ndarray) -> dict | No
     return {
         "t_first_s": float(info[kr.I_TTEN]), "isolator": int(info[kr.I_IFAIL]),
         "onsets": onsets,
-        "min_normal_force_N": float(min(N.min(), info[kr.I_NMIN])),
+        "min_normal_force_N": float(min(N.min(), info[kr.I_NMIN])) + 0.0,  # (no -0.0)
         "t_min_output_s": float(t[k[0]]),
         "tensile_time_s": [float(v) for v in tt],
         "intervals": [{"isolator": int(i), "t_start_s": float(a), "t_end_s": float(b)}

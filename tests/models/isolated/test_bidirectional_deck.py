@@ -95,6 +95,8 @@ def test_bad_decks_are_refused_with_the_field_named():
     b = Bearing(Friction(0.05), radius=2.0)
     with pytest.raises(BearingError, match=r"deck.positions: the isolators lie on one line"):
         rigid_deck(1e4, 1e4, [(0, 0), (1, 0), (2, 0)], b)
+    with pytest.raises(BearingError, match=r"deck.positions: isolators 1 and 3 share the pos"):
+        rigid_deck(1e4, 1e4, [(0, 0), (4, 0), (0, 3), (4.0, 0.0)], b)
     with pytest.raises(BearingError, match=r"deck.ecc: the centre of mass lies outside the kern"):
         rigid_deck(1e4, 1e4, POS[:4], b, ecc=(6.0, 0.0))
     with pytest.raises(BearingError, match=r"deck.m: expected a positive number"):

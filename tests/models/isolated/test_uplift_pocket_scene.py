@@ -14,6 +14,7 @@ tests/periodic/test_uplift_boundary.py), with unilateral contact. What must hold
 """
 
 import json
+import math
 from pathlib import Path
 
 from nsdyn.cli import main
@@ -31,6 +32,7 @@ def test_the_uplift_scene_lifts_off_and_lands(tmp_path, capsys):
     assert s["outcome"] == "lift-off" and s["uplift"] == []
     assert "warning" not in err
     assert 0 <= s["lift_offs"] - s["landings"] <= 2
-    assert s["min_normal_force_N"] >= 0.0
+    # a unilateral contact pushes, never pulls: no negative force, not even -0.0 in the JSON
+    assert s["min_normal_force_N"] >= 0.0 and math.copysign(1.0, s["min_normal_force_N"]) > 0
     assert s["impact_energy_J"] <= 0.0
     assert abs(s["energy_closure"]) <= 1e-3
