@@ -8,6 +8,7 @@ run shorter than :data:`QUIET_S` says nothing.
 from __future__ import annotations
 
 QUIET_S = 1.0  # wall seconds before the first line: short runs stay quiet
+WATCH_S = 5.0  # wall seconds between two lines of a watched compiled run
 
 
 def reporter(say):
@@ -19,3 +20,35 @@ def reporter(say):
             say(f"  t = {t:7.2f} / {t_end:.2f} s   ({wall:5.1f} s)")
 
     return progress
+
+
+def watched(run, reached, progress, t_end: float, every: float | None = None):
+    """``run()`` (a compiled loop that releases the GIL) in a thread of its own while this
+    one calls ``progress(reached(), t_end, wall_s)`` every ``every`` seconds (default
+    :data:`WATCH_S`); its result, or its exception raised here. A Ctrl-C interrupts the wait
+    (the thread, a daemon, ends with the process)."""
+    import threading
+    import time
+
+    every = WATCH_S if every is None else every
+    box: dict = {}
+
+    def work():
+        try:
+            box["result"] = run()
+        except BaseException as e:  # handed to the caller
+            box["error"] = e
+
+    th = threading.Thread(target=work, name="nsdyn-run", daemon=True)
+    w0 = time.perf_counter()
+    last = w0
+    th.start()
+    while th.is_alive():
+        th.join(0.2)
+        now = time.perf_counter()
+        if th.is_alive() and now - last >= every:
+            progress(reached(), t_end, now - w0)
+            last = now
+    if "error" in box:
+        raise box["error"]
+    return box["result"]

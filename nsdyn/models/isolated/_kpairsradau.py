@@ -133,8 +133,9 @@ ka.tslot("pairs.jacobian", _jacobian, "nsdyn.models.isolated.pairs_compile:calle
 ka.tslot("pairs.dense", krad._dense, "nsdyn.models.isolated.pairs_compile:callees")
 
 
-# no reference counts (NO_NRT): the loop allocates nothing, every array is its caller's
-@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+# no reference counts (NO_NRT): the loop allocates nothing, every array is its caller's;
+# nogil: a caller may watch info[I_NOUT] (the outputs written) from another thread
+@njit(cache=True, error_model="numpy", nogil=True, **ka.NO_NRT)
 def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
               X, NO, FF, FR, FO, MO, EV, stops, info, wk):  # fmt: skip
     """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
@@ -354,6 +355,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             ka.tcall("pairs.emit", (t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws,
                                     out, iout, X, NO, FF, FR, FO, MO, stops))  # fmt: skip
             iout += 1
+            info[kr.I_NOUT] = iout  # (read by a watching thread: the progress line)
         if s_end < 1.0:
             ka.tcall("pairs.dense", (y, Z, s_end, ys))
             for k in range(N):

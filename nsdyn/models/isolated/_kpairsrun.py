@@ -411,7 +411,7 @@ for _row, _kernel in _BY_ADDRESS.items():
     ka.tslot(f"pairs.{_row}", _kernel, "nsdyn.models.isolated.pairs_compile:callees")
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)  # (a watching thread: info[I_NOUT])
 def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
               X, NO, FF, FR, FO, MO, EV, stops, info, wk):  # fmt: skip
     """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
@@ -514,6 +514,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             ka.tcall("pairs.emit", (t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws,
                                     out, iout, X, NO, FF, FR, FO, MO, stops))  # fmt: skip
             iout += 1
+            info[kr.I_NOUT] = iout  # (the progress line's)
         if s_end < 1.0:
             kr._dense_state(rc, s_end, ys)
             for j in range(n2):

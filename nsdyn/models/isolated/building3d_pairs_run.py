@@ -250,7 +250,7 @@ def check_sparse_step(dt: float | None, exc, t_end, source: str) -> None:
 def run_pairs(sysd: dict, exc, t_end, kw: dict, dt: float | None = None, progress=None):
     """Run the cb or full rung of a built scene (dense or sparse path, no files; ``dt`` the
     sparse path's step, of :func:`sparse_solver`; ``progress(t_done, t_end, wall_s)`` called
-    along a sparse run): (the
+    along the run): (the
     :class:`~nsdyn.models.isolated.building3d_response.BuildingResponse3D`, its summary with
     the rung's facts, the warnings caught)."""
     system = sysd["pairs"]
@@ -269,7 +269,7 @@ def run_pairs(sysd: dict, exc, t_end, kw: dict, dt: float | None = None, progres
         else:
             from nsdyn.models.isolated.building3d_response import run_building
 
-            r = run_building(system, exc, t_end=t_end, **kw)
+            r = run_building(system, exc, t_end=t_end, progress=progress, **kw)
         wall = time.perf_counter() - w0
     s = r.summary()
     s.update({"path": info.get("path", "dense"), "path_why": info.get("path_why", ""),

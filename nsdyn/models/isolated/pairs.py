@@ -477,6 +477,7 @@ def simulate_pairs(
     y0=None,
     integrator: str = "auto",
     contact: str = "detect",
+    progress=None,
 ) -> PairResult:
     """Integrate ``system`` under ``ground`` from its static equilibrium (or ``y0`` = [q, q̇]).
 
@@ -493,7 +494,8 @@ def simulate_pairs(
     contact rows; on Dormand–Prince, ``integrator`` "auto" or "dopri5"; reported in
     ``result.flights``). Triple friction pendulums run with ``law="arctan"`` on Radau IIA
     only; their element slips start from zero (``y0`` may omit them). Returns a
-    :class:`PairResult`.
+    :class:`PairResult`. ``progress(t_done, t_end, wall_s)``: called every few seconds of wall
+    time while the compiled loop runs (:func:`nsdyn._progress.watched`).
     """
     if not isinstance(system, PairSystem):
         raise TypeError(f"system: expected a PairSystem, got {type(system).__name__}")
@@ -537,7 +539,7 @@ def simulate_pairs(
     args = (y, t_eval, modes, dirs, system.operators(), system.bearing_table(), sp, gk, gp,
             tab, cfg, X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
     args = (*args, pairs_compile.loop_arrays(loop, ns, n, ni))  # (the loops make none)
-    status = pairs_compile.run_loop(loop, args, contact == "unilateral")
+    status = pairs_compile.run_loop(loop, args, contact == "unilateral", progress)
     # the deck's result handles statuses, events, rim contacts and uplift; q is n wide here,
     # the internal slips are the deck's columns 6 on (its q, q̇ replaced below)
     Xd = np.concatenate([np.zeros((nt, 6)), X[:, 2 * n :]], axis=1)

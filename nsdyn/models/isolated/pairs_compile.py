@@ -219,10 +219,13 @@ def loop_arrays(loop, n_states: int, n: int, ni: int) -> tuple:
             *(np.ones((ni, 3)) for _ in range(4)))  # fmt: skip
 
 
-def run_loop(loop, args: tuple, unilateral: bool = False):
+def run_loop(loop, args: tuple, unilateral: bool = False, progress=None):
     """``loop(*args)`` (a time loop of a pair system: ``_kpairsrun.integrate``, which locates
     events, or ``_kpairsradau.integrate``), the addresses of its callees in the table first
     (``unilateral``: the run's contacts are, and the loop locates their landings).
+    ``progress(t_done, t_end, wall_s)``: called every few seconds while the loop runs in a
+    thread of its own (:func:`nsdyn._progress.watched`; t_done the last output written,
+    ``info[I_NOUT]``).
     A first compilation is shared with a helper process where one may run
     (:func:`nsdyn._numba_cache.helper_enabled`): it compiles the callees (:func:`helper_part`
     or :func:`helper_force`) while this process compiles the loop for ``args``' types."""
@@ -231,9 +234,20 @@ def run_loop(loop, args: tuple, unilateral: bool = False):
 
     events = loop is not kqa.integrate
     target = "helper_part" if events else "helper_force"
-    return run_split(loop, args, _needed(events, unilateral),
-                     f"nsdyn.models.isolated.pairs_compile:{target}",
-                     _here(events, unilateral))  # fmt: skip
+
+    def run():
+        return run_split(loop, args, _needed(events, unilateral),
+                         f"nsdyn.models.isolated.pairs_compile:{target}",
+                         _here(events, unilateral))  # fmt: skip
+
+    if progress is None:
+        return run()
+    from nsdyn._progress import watched
+    from nsdyn.models.isolated._kplanerun import I_NOUT
+
+    t_eval, info = args[1], args[19]
+    return watched(run, lambda: float(t_eval[max(int(info[I_NOUT]) - 1, 0)]), progress,
+                   float(t_eval[-1]))  # fmt: skip
 
 
 def helper_part() -> None:
