@@ -142,10 +142,15 @@ def pairs_path(cfg: dict, source: str) -> str:
 def _full_path(frame, bearing, cfg: dict, source: str) -> tuple[str, str]:
     """:func:`full_path` of a scene's full rung (its base, law, contact, bearing and
     ``solver.path``; SceneError naming the field)."""
+    from nsdyn.models.isolated.tfp import TripleBearing
+
     solver, base = cfg.get("solver", {}), cfg.get("structure", {}).get("base", "grid")
+    # the law the scene runs: solver.law, else the deck scene's default (switch; arctan for
+    # a triple pendulum), so that "auto" never changes the friction model on its own
+    law = solver.get("law", "arctan" if isinstance(bearing, TripleBearing) else "switch")
     try:
-        return full_path(frame, base, solver.get("law", "arctan"),
-                         solver.get("contact", "detect"), bearing, _path(cfg, source))  # fmt: skip
+        return full_path(frame, base, law, solver.get("contact", "detect"), bearing,
+                         _path(cfg, source))  # fmt: skip
     except SceneError as e:
         raise SceneError(f"{source}: {e}") from None
 
@@ -414,19 +419,20 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     frame = sysd["frame"]
     say(f"building3d: {name}: {frame.name}, {len(frame.base_nodes)} column lines, "
         f"fidelity {sysd['fidelity']}, {getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
+    notes: list = []  # one line each on stderr, and the summary's "notes"
     if sysd["bearing"] is not None:
         from nsdyn.models.isolated.building3d import building_deck
 
         deck = sysd["deck"] or building_deck(frame, sysd["bearing"])  # its static forces
-        for note in bearing_notes(deck.bearings, deck.static_normal()):
-            say(f"building3d: note: {note}")
+        notes = bearing_notes(deck.bearings, deck.static_normal())
     out_dir = Path(out_dir)
     asked = sysd["fidelity"]
     if asked == "auto":
         _advise(sysd, cfg, exc, kw, source, say)
     path = sysd["pairs"].info["path"] if sysd["pairs"] is not None else None
-    for key, why in unused_keys(cfg, sysd["fidelity"], path):
-        say(f"building3d: note: {key} not used: {why}")
+    notes += [f"{k} not used: {w}" for k, w in unused_keys(cfg, sysd["fidelity"], path)]
+    for note in notes:
+        say(f"building3d: note: {note}")
     if sysd["fidelity"] == "rigid":
         if kw["contact"] == "unilateral":
             raise SceneError(f"{source}: solver.contact: the rigid rung (the building as a deck, "
@@ -447,7 +453,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     else:
         s = _run_fixed(sysd, exc, source, out_dir)
     s.update({"kind": "building3d", "name": name, "frame": frame.name,
-              "fidelity": sysd["fidelity"],
+              "fidelity": sysd["fidelity"], "notes": notes,
               "motion": getattr(exc, "name", type(exc).__name__)})  # fmt: skip
     if asked == "auto":
         s["advice"] = {"fidelity": sysd["fidelity"], **sysd["advice"]["evidence"]}
@@ -489,6 +495,7 @@ ROWS["cb"] = (
     ("path", "path", ""),
     ("path_why", "why", ""),
     ("n_dofs", "coordinates", ""),
+    ("law", "friction law", ""),
     ("n_modes", "fixed-interface modes", ""),
     ("modes_dropped", "modes dropped (participation)", ""),
     ("peak_resultant_displacement_m", "peak |u| (resultant)", "m"),

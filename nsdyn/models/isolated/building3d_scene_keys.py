@@ -26,8 +26,8 @@ SOLVER = Table("solver", _DECK_SOLVER.meaning + " The full rung on sparse operat
         "rung takes `detect` and `bilateral`, the sparse full rung `detect`",
         default="detect", choices=("detect", "bilateral", "unilateral")),
     Key("path", "string", "where the full rung runs: on sparse operators above 100 internal "
-        "dofs when the law (`arctan`), contact (`detect`) and bearing (no `tfp`, no `area`) "
-        "allow it, else dense (`auto`); or as asked: `dense` (every fixed-interface mode, "
+        "dofs when the law (`arctan`, given), contact (`detect`) and bearing (no `tfp`, no "
+        "`area`) allow it, else dense (`auto`); or as asked: `dense` (every fixed-interface mode, "
         "adaptive steps to `rtol`; frames within the dense limit) or `sparse` (a fixed step "
         "`dt`)",
         default="auto", choices=("auto", "dense", "sparse")),

@@ -9,6 +9,7 @@ drifts equally at its corners and its centre).
 from __future__ import annotations
 
 import copy
+import warnings
 
 import numpy as np
 import pytest
@@ -117,6 +118,7 @@ def test_cb_and_full_scenes_run_the_portal(tmp_path):
         s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
                       quiet=True)  # fmt: skip
         assert s["fidelity"] == fid and s["n_isolators"] == 4 and s["uplift"] is None
+        assert s["method"] == "radau" and s["law"] == "arctan"  # the dense loop run
         with np.load(tmp_path / "building3d.npz") as z:
             assert z["u"].shape == (z["t"].size, 4, 2)
             assert z["drift_corner"].shape[:3] == (1, 4, 2)
@@ -177,7 +179,35 @@ def test_keys_a_rung_does_not_read_are_noted(fid, path, tables, noted):
 
 def test_a_run_says_which_keys_it_did_not_read(tmp_path, capsys):
     cfg = _cfg(structure={"f_max": 8.0}, motion={"t_end": 0.2})
-    run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+    s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
               quiet=False)  # fmt: skip
     err = capsys.readouterr().err
     assert "note: structure.f_max not used: the cb rung's cut-off" in err
+    assert "structure.f_max not used: the cb rung's cut-off" in s["notes"]  # and --json's
+
+
+def test_a_friction_force_beyond_its_stick_disc_is_flagged():
+    # Coulomb: an isolator's friction never exceeds mu_s k_p N. The switch-law runs of the
+    # pair rungs check their outputs against it: 1.5 mu_s N is flagged with its factor, the
+    # disc's rim itself is not, nor an isolator near uplift (N below a tenth of the mean)
+    from types import SimpleNamespace
+
+    from nsdyn.models.isolated.bearings import Bearing, Friction
+    from nsdyn.models.isolated.building3d_pairs_run import check_friction_limit
+
+    mu, n = 0.05, 1.0e5
+    system = SimpleNamespace(bearings=[Bearing(Friction(mu), radius=2.0)] * 2)
+    t = np.array([0.0, 0.1, 0.2])
+    N = np.full((3, 2), n)
+    F = np.zeros((3, 2, 2))
+    F[1, 0] = (mu * n, 0.0)  # on the rim
+    res = SimpleNamespace(t=t, N=N, friction=F)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert check_friction_limit(system, res) == pytest.approx(1.0, rel=1e-12)
+        N[2, 1], F[2, 1] = 0.05 * n, (0.0, mu * n)  # 20x its vanishing limit, near uplift
+        assert check_friction_limit(system, res) == pytest.approx(1.0, rel=1e-12)
+    F[2, 0] = (0.0, 1.5 * mu * n)
+    with pytest.warns(RuntimeWarning, match=r"isolator 0's friction reached 1.5 x its limit "
+                                            r"mu_s N at t = 0.2 s"):  # fmt: skip
+        assert check_friction_limit(system, res) == pytest.approx(1.5, rel=1e-12)

@@ -126,6 +126,16 @@ def test_auto_keeps_the_dense_path_where_the_sparse_cannot_run(solver, bearing, 
     assert info["path"] == "dense" and words in info["path_why"], info["path_why"]
 
 
+def test_auto_never_changes_the_friction_model(tmp_path, monkeypatch):
+    # without solver.law a scene runs the switch law (the deck scene's default): "auto"
+    # keeps it, on the dense path, rather than run the regularised law on sparse operators
+    monkeypatch.setattr(building3d_pairs_run, "SPARSE_FROM", 0)
+    cfg = copy.deepcopy(SCENE)
+    del cfg["solver"]["law"]
+    info = build_system(cfg, str(tmp_path / "s.toml"))["pairs"].info
+    assert info["path"] == "dense" and "law 'switch'" in info["path_why"], info["path_why"]
+
+
 def test_a_path_that_cannot_be_taken_is_refused(tmp_path, monkeypatch):
     cfg = copy.deepcopy(SCENE)
     cfg["solver"]["path"] = "fast"
