@@ -246,6 +246,10 @@ def _bearing_rows(frame, bearings, source: str):
         mu0 = float(f.mu_slow)
         if not mu0 > 0:
             raise SceneError(f"{source}: {b.where}.mu_slow: OpenSees' bearings need mu > 0")
+        if b.area is not None:  # (it would be dropped: a script of another model)
+            raise SceneError(f"{source}: {b.where}.area: pressure-dependent friction has no "
+                             "counterpart in the exported bearings (their friction does not "
+                             "follow the contact pressure); expected no area")  # fmt: skip
         row = {
             "type": "flat" if math.isinf(b.radius) else "fps",
             "radius": None if math.isinf(b.radius) else float(b.radius),

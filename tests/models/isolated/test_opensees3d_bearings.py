@@ -128,6 +128,11 @@ def test_bad_input_names_the_field(tmp_path):
         export_building_opensees(frame, motion=harmonic_x(1.0, 1.0, 1.0))
     with pytest.raises(SceneError, match="bearing"):
         building_data(frame, [b, b], harmonic_x(1.0, 1.0, 1.0))
+    # pressure-dependent friction: the exported bearings have none, so it is refused rather
+    # than dropped (the script would run another model)
+    bp = Bearing(Friction(0.05), radius=2.0, area=0.05, p_ref=2.0e7)
+    with pytest.raises(SceneError, match=r"bearing\.area: pressure-dependent friction"):
+        building_data(frame, bp, harmonic_x(1.0, 1.0, 1.0))
 
 
 def test_scene_export_from_the_command_line(tmp_path):
