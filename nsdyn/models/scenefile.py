@@ -64,6 +64,18 @@ def scaled_to_pga(motion, pga: float, source: str, field: str = "motion.pga"):
         raise SceneError(f"{source}: {field}: {e}") from None
 
 
+def scene_step(dt, motion, span, source: str, hint: str = "") -> None:
+    """:func:`nsdyn._checks.check_fixed_step` of a scene's ``solver.dt`` (no longer than the
+    run ``span`` nor the record's sampling step), its refusal a :class:`SceneError` naming the
+    scene file (and ``hint``, the default step, after it)."""
+    from nsdyn._checks import check_fixed_step
+
+    try:
+        check_fixed_step(dt, motion, span, "solver.dt")
+    except ValueError as e:
+        raise SceneError(f"{source}: {e}{hint}") from None
+
+
 def read_toml(path: str | Path, what: str = "scene") -> dict:
     """The parsed TOML file, or :class:`SceneError` naming the file and the syntax error.
 

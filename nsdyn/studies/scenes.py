@@ -311,15 +311,12 @@ def fixed_step(method: str, solver: dict, motion=None) -> float | None:
 def checked_step(method: str, solver: dict, motion, t_eval, source: str) -> float | None:
     """:func:`fixed_step`, a fixed-step method's checked against the run and the record's
     sampling step (:func:`nsdyn._checks.check_fixed_step`; SceneError naming solver.dt)."""
-    from nsdyn._checks import check_fixed_step
+    from nsdyn.models.scenefile import scene_step
     from nsdyn.solve.methods import METHODS
 
     dt = fixed_step(method, solver, motion)
     if method in METHODS and METHODS[method].fixed_step:
-        try:
-            check_fixed_step(dt, motion, float(t_eval[-1] - t_eval[0]), "solver.dt")
-        except ValueError as e:
-            raise SceneError(f"{source}: {e}") from None
+        scene_step(dt, motion, float(t_eval[-1] - t_eval[0]), source)
     return dt
 
 

@@ -35,8 +35,8 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from nsdyn._checks import check_fixed_step, default_step
-from nsdyn.models.scenefile import SceneError, number
+from nsdyn._checks import default_step
+from nsdyn.models.scenefile import SceneError, number, scene_step
 
 __all__ = ["DT_SPARSE", "PATHS", "SPARSE_FROM", "check_sparse_step", "dense_only", "full_path",
            "pair_kernels", "path_line", "peak_field", "run_pairs", "sparse_solver",
@@ -233,10 +233,7 @@ def check_sparse_step(dt: float | None, exc, t_end, source: str) -> None:
         return
     dur = t_end if t_end is not None else getattr(exc, "duration", None)
     dur = float(dur) if dur is not None and math.isfinite(float(dur)) else None
-    try:
-        check_fixed_step(dt, exc, dur, "solver.dt")
-    except ValueError as e:
-        raise SceneError(f"{source}: {e} (default min({DT_SPARSE:g}, the record's step))") from None
+    scene_step(dt, exc, dur, source, f" (default min({DT_SPARSE:g}, the record's step))")
     if dur is None:
         return
     if dur / dt > SPARSE_MAX_STEPS:

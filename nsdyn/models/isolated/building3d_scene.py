@@ -57,7 +57,7 @@ from nsdyn.models.isolated.building3d_scene_keys import BASES, DAMPINGS, FIDELIT
 from nsdyn.models.isolated.building3d_shape import fixed_peak_shape, rigid_peak_shape, write_shape
 from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
 from nsdyn.models.isolated.deck_scene import build_solver as deck_solver
-from nsdyn.models.isolated.deck_scene import summary_table
+from nsdyn.models.isolated.deck_scene import scene_law, summary_table
 from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number
 
 __all__ = ["build_motion", "build_solver", "build_system", "format_summary", "pairs_path",
@@ -142,14 +142,9 @@ def pairs_path(cfg: dict, source: str) -> str:
 def _full_path(frame, bearing, cfg: dict, source: str) -> tuple[str, str]:
     """:func:`full_path` of a scene's full rung (its base, law, contact, bearing and
     ``solver.path``; SceneError naming the field)."""
-    from nsdyn.models.isolated.tfp import TripleBearing
-
     solver, base = cfg.get("solver", {}), cfg.get("structure", {}).get("base", "grid")
-    # the law the scene runs: solver.law, else the deck scene's default (switch; arctan for
-    # a triple pendulum), so that "auto" never changes the friction model on its own
-    law = solver.get("law", "arctan" if isinstance(bearing, TripleBearing) else "switch")
-    try:
-        return full_path(frame, base, law, solver.get("contact", "detect"), bearing,
+    try:  # the law the scene runs, so that "auto" never changes the friction model
+        return full_path(frame, base, scene_law(cfg), solver.get("contact", "detect"), bearing,
                          _path(cfg, source))  # fmt: skip
     except SceneError as e:
         raise SceneError(f"{source}: {e}") from None
@@ -240,7 +235,7 @@ def build_system(cfg: dict, source: str, warm: bool = False) -> dict:
             raise SceneError(f"{source}: {e}") from None
     elif fid in ("cb", "full"):
         path = "dense" if fid == "cb" else _full_path(frame, bearing, cfg, source)[0]
-        law = cfg.get("solver", {}).get("law", "arctan")
+        law = scene_law(cfg)  # (the loop the run takes: switch unless given or a tfp)
         contact = cfg.get("solver", {}).get("contact", "detect")
         with warming(path, law, contact) if warm else nullcontext(times) as times:
             pairs = build_pairs(frame, bearing, fid, opts, source, cfg)

@@ -152,13 +152,24 @@ def build_motion(cfg: dict, source: str):
     return exc, dur.get("t_end")
 
 
+def scene_law(cfg: dict) -> str:
+    """The friction law a scene runs: ``solver.law``, else the switch law (the regularised
+    law for a triple friction pendulum, which has no stick events)."""
+    return cfg.get("solver", {}).get("law", "arctan" if _tfp(cfg) else "switch")
+
+
+def _tfp(cfg: dict) -> bool:
+    """Whether the scene's ``[bearing]`` is a triple friction pendulum."""
+    return isinstance(cfg.get("bearing"), dict) and cfg["bearing"].get("type") == "tfp"
+
+
 def build_solver(cfg: dict, source: str, unilateral: bool = False) -> dict:
     """The run's keyword arguments from ``[solver]`` (SceneError naming the field);
     ``solver.contact = "unilateral"`` accepted only with ``unilateral`` (a family whose
     systems from matrices have independent contacts; the deck has no vertical motion)."""
     t = cfg.get("solver", {})
-    tfp = isinstance(cfg.get("bearing"), dict) and cfg["bearing"].get("type") == "tfp"
-    law = t.get("law", "arctan" if tfp else "switch")
+    tfp = _tfp(cfg)
+    law = scene_law(cfg)
     if law not in ("switch", "arctan"):
         raise SceneError(f"{source}: solver.law: expected 'switch' or 'arctan', got {law!r}")
     if tfp and law != "arctan":

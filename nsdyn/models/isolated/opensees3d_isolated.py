@@ -87,7 +87,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._checks import check_fixed_step, default_step
+from nsdyn._checks import default_step
 from nsdyn.models.isolated.opensees import (
     K_ROTATION,
     K_VERTICAL,
@@ -99,7 +99,7 @@ from nsdyn.models.isolated.opensees import (
 )
 from nsdyn.models.isolated.opensees3d import frame_data_3d
 from nsdyn.models.isolated.opensees3d_script import HEADER, SCRIPT
-from nsdyn.models.scenefile import SceneError
+from nsdyn.models.scenefile import SceneError, scene_step
 
 __all__ = [
     "DEFAULT_DT",
@@ -339,10 +339,7 @@ def building_data(
     ax = np.asarray(motion.ax, float)
     comp = [ax, motion.ay, getattr(motion, "az", None)]
     duration = (len(ax) - 1) * float(motion.dt)
-    try:
-        check_fixed_step(dt, motion, duration, "solver.dt")
-    except ValueError as e:
-        raise SceneError(f"{source}: {e}") from None
+    scene_step(dt, motion, duration, source)
     lo, hi = frame.nodes[:, :2].min(axis=0), frame.nodes[:, :2].max(axis=0)
     base_elems = []
     for e, (i, j) in enumerate(frame.elements.tolist()):
