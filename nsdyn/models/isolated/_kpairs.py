@@ -57,8 +57,9 @@ from nsdyn.models.isolated.bearings import (
 _HERE = Path(__file__).resolve().parent
 drop_stale(
     _HERE,
-    ["_kpairs", "_kpairsrun", "_kpairsradau", "_kpairscontact"],
+    ["_kpairs", "_kpairsrun", "_kpairsradau", "_kpairscontact", "_kpairsstick"],
     [_HERE / f for f in ("_kpairs.py", "_kpairsrun.py", "_kpairsradau.py", "_kpairscontact.py",
+                         "_kpairsstick.py",
                          "_kplane.py", "_kplaneground.py",
                          "_kplanerun.py", "_kplaneradau.py", "_kplanestops.py", "bearings.py",
                          "pairs_compile.py")]

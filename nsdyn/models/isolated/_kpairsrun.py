@@ -2,13 +2,14 @@
 
 The right-hand side is :func:`nsdyn.models.isolated._kpairs.rhs`, the steps the shared
 Dormand–Prince pair (:mod:`nsdyn._kdp5`; error on ``atol + rtol |y|``, steps ending on a
-record's samples). The switch law's modes, switching functions, stick test, settling and
-event location are the deck's (:mod:`nsdyn.models.isolated._kplanerun`, whose generic pieces
-— crossing test, dense state, event record, smallest normal force — are imported from there):
+record's samples). The switch law's modes, switching functions, stick test and event location
+are the deck's (:mod:`nsdyn.models.isolated._kplanerun`, whose generic pieces — crossing test,
+dense state, event record, smallest normal force — are imported from there), the settling of
+the stuck isolators :mod:`nsdyn.models.isolated._kpairsstick`'s:
 
     slip        g = |v| − η            → stick test (stick if |τ| ≤ μ_s λ, else slip-start)
     slip-start  g = 2η − |v|           → slip;   g = v·d → stick test (the start reverses)
-    stick       g = μ_s k_p λ − |τ|    → slip-start in the direction of τ (start_direction)
+    stick       g = μ_s k_p λ (1 + STICK_RTOL) − |τ| → slip-start along τ (start_direction)
 
 A normal force reaching zero (uplift) is located on the dense output and ends the run
 (ST_UPLIFT); a bilateral contact goes on, its onsets of tension located and counted, its λ_i a
@@ -69,94 +70,8 @@ def gfill(y, modes, dirs, op, bp, sp, ws, out, g):
             g[i, 0] = kr.START_EXIT * eta - speed
             g[i, 1] = vx * dirs[i, 0] + vy * dirs[i, 1]
         elif modes[i] == kp.MODE_STICK:
-            g[i, 0] = bp[i, B_MUS] * ws[13][i] * lam[i] - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
-
-
-@ka.compiled_only
-def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
-    """Release stuck isolators outside their disc, worst first, then align the slip-start
-    directions with the accelerations of their slip points; returns a status."""
-    lam, Ff = out[1], out[2]
-    ni = modes.shape[0]
-    for _ in range(kr.SETTLE_PASSES):
-        if _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out) != kq.ST_OK:
-            return kr.ST_SINGULAR
-        worst = np.int64(-1)
-        ratio = 1.0 + kr.STICK_RTOL
-        for i in range(ni):
-            if modes[i] == kp.MODE_STICK:
-                tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
-                lim = bp[i, B_MUS] * ws[13][i] * lam[i]
-                rat = tau / lim if lim > 0.0 else math.inf
-                if rat > ratio and tau > 0.0:
-                    ratio = rat
-                    worst = i
-        if worst < 0:
-            return align_starts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
-        mu_n = kp.mu_kinetic(bp, worst, 0.0) * ws[13][worst] * lam[worst]
-        ka.tcall("pairs.start_direction", (worst, Ff[worst, 0], Ff[worst, 1], mu_n, ws, dirs))
-        kr._record(EV, info, t, worst, kp.MODE_STICK, kp.MODE_START, dirs)
-        modes[worst] = kp.MODE_START
-    return kr.ST_CHATTER
-
-
-@ka.compiled_only
-def align_starts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
-    """Each slip-start direction d_i along the acceleration D_i q̈ its slip point gets with
-    every friction in place (fixed-point passes; one released isolator is consistent)."""
-    qdd = out[0]
-    D2 = op[kq.O_D2]
-    ni = modes.shape[0]
-    n = qdd.shape[0]
-    nsl = 0
-    for i in range(ni):
-        if modes[i] == kp.MODE_START:
-            nsl += 1
-    if nsl < 2:
-        return kr.ST_OK
-    for _ in range(kr.ALIGN_PASSES):
-        if _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out) != kq.ST_OK:
-            return kr.ST_SINGULAR
-        change = 0.0
-        for i in range(ni):
-            if modes[i] == kp.MODE_START:
-                ax = 0.0
-                ay = 0.0
-                for b in range(n):
-                    ax += D2[2 * i, b] * qdd[b]
-                    ay += D2[2 * i + 1, b] * qdd[b]
-                an = math.sqrt(ax * ax + ay * ay)
-                if an > 0.0 and ax * dirs[i, 0] + ay * dirs[i, 1] > 0.0:
-                    change = max(change, abs(ax / an - dirs[i, 0]) + abs(ay / an - dirs[i, 1]))
-                    dirs[i, 0] = ax / an
-                    dirs[i, 1] = ay / an
-        if change <= kr.ALIGN_TOL:
-            break
-    return kr.ST_OK
-
-
-@ka.compiled_only
-def initial_modes(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
-    """Modes at the start: slip where |v| > η, else stick, then settled."""
-    v = ws[1]
-    kq.slips(y, op[kq.O_D2], out[0].shape[0], ws[0], v)
-    for i in range(modes.shape[0]):
-        sp_i = math.sqrt(v[2 * i] ** 2 + v[2 * i + 1] ** 2)
-        if ws[20][i] == 0.0:  # (an open contact stays free)
-            modes[i] = kp.MODE_SLIP if sp_i > sp[kq.S_ETA] else kp.MODE_STICK
-    st = ka.tcall("pairs.settle", (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info))
-    if st != kr.ST_OK or int(sp[kq.S_CONTACT]) != kp.CONTACT_BILATERAL:
-        return st
-    if _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out) != kq.ST_OK:
-        return kr.ST_SINGULAR
-    free = False
-    for i in range(modes.shape[0]):  # tensile from the start: free
-        if out[1][i] <= 0.0:
-            modes[i] = kp.MODE_FREE
-            free = True
-    if not free:
-        return st
-    return ka.tcall("pairs.settle", (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info))
+            lim = bp[i, B_MUS] * ws[13][i] * lam[i] * (1.0 + kr.STICK_RTOL)  # settle's bound
+            g[i, 0] = lim - math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
 
 
 @ka.compiled_only
@@ -404,9 +319,8 @@ def locate_event(t, hh, rc, ys, y1, g0, g, ga, ge, modes, dirs, op, bp, sp, gk, 
 # by address (declared by nsdyn.models.isolated.pairs_compile: each compiles once, on its own):
 # linked, every caller held a copy, optimised by LLVM again (the mode switch alone was 45 % of
 # the event loop's code)
-_BY_ADDRESS = {"settle": settle, "initial_modes": initial_modes, "outputs": outputs,
-               "begin": begin, "emit": emit, "switch": switch, "locate_event": locate_event,
-               "locate_uplift": locate_uplift}  # fmt: skip
+_BY_ADDRESS = {"outputs": outputs, "begin": begin, "emit": emit, "switch": switch,
+               "locate_event": locate_event, "locate_uplift": locate_uplift}  # fmt: skip
 for _row, _kernel in _BY_ADDRESS.items():
     ka.tslot(f"pairs.{_row}", _kernel, "nsdyn.models.isolated.pairs_compile:callees")
 

@@ -294,9 +294,9 @@ FRICTION_LIMIT_N_MIN = 0.1
 
 def check_friction_limit(system, res) -> float:
     """The largest |F_i| / (μ_s k_p(N_i) N_i) of a switch-law run's outputs; a warning when it
-    exceeds 1 + FRICTION_LIMIT_RTOL (a stuck isolator held beyond its stick disc: the split
-    of the stick forces among several stuck isolators on one base is least-norm, and not
-    every such split is resolved by breakaways; the regularised law has no split)."""
+    exceeds 1 + FRICTION_LIMIT_RTOL (a stuck isolator held beyond its stick disc, which the
+    settling of stick, :mod:`._kpairsstick`, exists to prevent: Coulomb's law checked on what
+    the run reports; the regularised law has no stick forces)."""
     F = np.hypot(res.friction[..., 0], res.friction[..., 1])
     N = np.asarray(res.N, dtype=float)
     lim = np.stack([b.friction.static * b.pressure_factor(N[:, i]) * N[:, i]
@@ -307,9 +307,9 @@ def check_friction_limit(system, res) -> float:
     if worst > 1.0 + FRICTION_LIMIT_RTOL:
         k, i = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
         warnings.warn(f"switch law: isolator {i}'s friction reached {worst:.3g} x its limit "
-                      f"mu_s N at t = {float(res.t[k]):.4g} s (stick forces shared among "
-                      "stuck isolators on one base are not all resolved; solver.law = "
-                      "'arctan' has no such split)", RuntimeWarning, stacklevel=2)  # fmt: skip
+                      f"mu_s N at t = {float(res.t[k]):.4g} s (a stuck isolator held beyond "
+                      "its stick disc; solver.law = 'arctan' has no stick forces)",
+                      RuntimeWarning, stacklevel=2)  # fmt: skip
     return worst
 
 

@@ -75,6 +75,7 @@ def callees() -> list:
     from nsdyn.models.isolated import _kpairscontact as kc
     from nsdyn.models.isolated import _kpairsradau as kqa
     from nsdyn.models.isolated import _kpairsrun as kqr
+    from nsdyn.models.isolated import _kpairsstick as kst
     from nsdyn.models.isolated import _kplaneradau as krad
 
     force, settle, outs = (tuple(typeof(a) for a in args) for args in tiny_args())
@@ -84,9 +85,9 @@ def callees() -> list:
     return [
         Callee("pairs.evaluate", kq.evaluate, force, types.int64),
         Callee("pairs.outputs", kqr.outputs, outs, types.int64),
-        Callee("pairs.settle", kqr.settle, settle, types.int64),
+        Callee("pairs.settle", kst.settle, settle, types.int64),
         Callee("pairs.settle_contacts", kc.settle_contacts, settle, types.int64),
-        Callee("pairs.initial_modes", kqr.initial_modes, settle, types.int64),
+        Callee("pairs.initial_modes", kst.initial_modes, settle, types.int64),
         Callee("pairs.factor_real", kqa._factor, (types.float64, mat_r, mat_r, piv),
                types.boolean),
         Callee("pairs.factor_complex", kqa._factor, (types.complex128, mat_r, mat_c, piv),

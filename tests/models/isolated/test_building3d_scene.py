@@ -186,6 +186,32 @@ def test_a_run_says_which_keys_it_did_not_read(tmp_path, capsys):
     assert "structure.f_max not used: the cb rung's cut-off" in s["notes"]  # and --json's
 
 
+def test_the_switch_law_holds_every_stuck_isolator_of_a_base_within_its_disc(tmp_path):
+    # Coulomb: |F_i| <= mu_s N_i at every instant, stuck or slipping. On the portal's rigid
+    # base several isolators stick at once; when one breaks away it moves its load onto the
+    # others, and the slip-starts aligned with their slip points' accelerations move more:
+    # the settling checks the discs again after both. The disc carries the switch law's slack
+    # STICK_RTOL (1e-9; its stick test and switching function alike), events are located to
+    # 1e-11 s, and |F| / mu N in slip is 1 to round-off: 1e-8 bounds all three. (The
+    # stuck isolators were left at 185 x their discs and the portal lifted off at 0.55 s.)
+    from nsdyn.models.isolated import _kplanerun as kr
+
+    cfg = _cfg(structure={"frame3d": "portal-3d", "fidelity": "cb", "eccentricity": None},
+               motion={"pga": 2.0, "t_end": 1.0, "vertical": False},
+               solver={"law": "switch", "rtol": 1e-6, "atol": 1e-9, "dt_out": 0.01})  # fmt: skip
+    cfg["structure"].pop("eccentricity")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # (no friction-limit warning, no uplift)
+        s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                      quiet=True)  # fmt: skip
+    assert s["uplift"] is None and s["events"] > 0
+    with np.load(tmp_path / "building3d.npz") as z:
+        F = np.hypot(z["friction"][..., 0], z["friction"][..., 1])
+        ratio = F / (0.05 * z["N"])
+    assert ratio.max() <= 1.0 + 10 * kr.STICK_RTOL
+    assert np.mean(ratio > 1.0 - 1e-6) > 0.1  # (the discs are reached: slip episodes)
+
+
 def test_a_friction_force_beyond_its_stick_disc_is_flagged():
     # Coulomb: an isolator's friction never exceeds mu_s k_p N. The switch-law runs of the
     # pair rungs check their outputs against it: 1.5 mu_s N is flagged with its factor, the

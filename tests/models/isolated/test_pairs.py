@@ -18,6 +18,7 @@ import pytest
 from nsdyn.ground.excitation import Table
 from nsdyn.ground.orbit import HarmonicPlane
 from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.bearings import Bearing, Friction
 from nsdyn.models.isolated.deck import rigid_deck, sdof_plane, simulate_plane
 from nsdyn.models.isolated.pairs import PairSystem, PairSystemError, from_deck, simulate_pairs
@@ -172,13 +173,15 @@ def test_below_the_stick_threshold_the_mass_stays_stuck_in_any_direction(angle):
 
 def test_break_away_starts_in_the_direction_of_the_stick_force():
     # a_g = (b, c t): the stick force τ = −m a_g reaches the disc μ_s m g at
-    # t* = √((μ_s g)² − b²)/c; the slip starts along τ(t*)/|τ(t*)| (located to 1e-11 s).
+    # t* = √((μ_s g)² − b²)/c; the slip starts along τ(t*)/|τ(t*)| (located to 1e-11 s). The
+    # switch law's disc is μ_s N (1 + STICK_RTOL) in its stick test and switching function
+    # alike (the deck's), so t* with μ_s (1 + STICK_RTOL).
     mu_s, mu_d, b, c = 0.1, 0.08, 0.6, 0.5
     dt = 0.01
     t = np.arange(0.0, 3.0 + dt / 2, dt)
     r = simulate_pairs(single_mass(Bearing(Friction(mu_d, mu_static=mu_s))),
                        (0.0, dt, np.full_like(t, b), c * t, None))  # fmt: skip
-    t_star = math.sqrt((mu_s * G) ** 2 - b * b) / c
+    t_star = math.sqrt((mu_s * (1 + kr.STICK_RTOL) * G) ** 2 - b * b) / c
     ev = r.events[r.events[:, 3] == kp.MODE_START]
     assert ev.shape[0] >= 1
     assert ev[0, 0] == pytest.approx(t_star, abs=1e-9)

@@ -104,6 +104,7 @@ import numpy as np
 from numba import typeof
 from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn.models.isolated import _kpairs as kq, _kpairscontact as kc, _kpairsrun as kqr
+from nsdyn.models.isolated import _kpairsstick as kst
 from nsdyn.models.isolated import _kpairsradau as kqa, deck as d, pairs_compile as pc
 from nsdyn.models.isolated import _kplaneradau as krad
 from nsdyn.models.isolated.bearings import Bearing, Friction
@@ -133,8 +134,8 @@ def _loop_alone(law: str, loop: str, kernels: str) -> str:
 
 
 _LOOP_ALONE = _loop_alone("switch", "kqr.integrate",
-                          "(kq.evaluate, kq.evaluate_at, kqr.settle, kc.settle_contacts, "
-                          "kqr.initial_modes, kqr.begin, kqr.emit, kq.rhs, kqr.switch, "
+                          "(kq.evaluate, kq.evaluate_at, kst.settle, kc.settle_contacts, "
+                          "kst.initial_modes, kqr.begin, kqr.emit, kq.rhs, kqr.switch, "
                           "kqr.locate_event, kqr.locate_uplift, kc.land, "
                           "kq.start_direction)")  # fmt: skip
 _RADAU_ALONE = _loop_alone("arctan", "kqa.integrate",
