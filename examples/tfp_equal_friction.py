@@ -29,6 +29,7 @@ from nsdyn.models.isolated.tfp import TripleBearing
 MU, MASS, G = 0.05, 2.0e6, 9.81
 GEOMETRY = dict(R1=2.2, R2=0.3, R3=0.3, R4=2.2, d1=0.40, d2=0.06, d3=0.06, d4=0.40)
 U_Y = (2.5e-4, 1.25e-4, 5e-5, 2.5e-5)
+ZETA_E = (0.0, 1.0)
 
 
 def ground(components: str):
@@ -45,21 +46,23 @@ def peak(bearing, motion, law: str) -> float:
     return float(r.summary()["peak_resultant_displacement_m"])
 
 
-def main(u_ys=U_Y, components=("xyz", "x")) -> list[dict]:
+def main(u_ys=U_Y, components=("xyz", "x"), zetas=ZETA_E) -> list[dict]:
     rows = []
     for comp in components:
         motion = ground(comp)
         ref = peak(Bearing(Friction(MU), radius=GEOMETRY["R1"] + GEOMETRY["R4"]), motion, "switch")
-        for u_y in u_ys:
-            tfp = TripleBearing(**GEOMETRY, mu1=MU, mu2=MU, mu3=MU, mu4=MU, u_y=u_y)
-            p = peak(tfp, motion, "arctan")
-            rows.append({"components": comp, "u_y_mm": u_y * 1e3, "sfp_peak_m": ref,
-                         "tfp_peak_m": p, "gap": p / ref - 1.0,
-                         "onset_speed_mps": math.sqrt(MU * G * u_y)})  # fmt: skip
-    print("| components | u_y [mm] | SFP peak [m] | TFP peak [m] | gap | √(μ g u_y) [m/s] |")
-    print("|---|---|---|---|---|---|")
+        for zeta in zetas:
+            for u_y in u_ys:
+                tfp = TripleBearing(**GEOMETRY, mu1=MU, mu2=MU, mu3=MU, mu4=MU, u_y=u_y,
+                                    zeta_e=zeta)  # fmt: skip
+                p = peak(tfp, motion, "arctan")
+                rows.append({"components": comp, "zeta_e": zeta, "u_y_mm": u_y * 1e3,
+                             "sfp_peak_m": ref, "tfp_peak_m": p, "gap": p / ref - 1.0,
+                             "onset_speed_mps": math.sqrt(MU * G * u_y)})  # fmt: skip
+    print("| components | ζ_e | u_y [mm] | SFP peak [m] | TFP peak [m] | gap | √(μ g u_y) [m/s] |")
+    print("|---|---|---|---|---|---|---|")
     for r in rows:
-        print(f"| {r['components']} | {r['u_y_mm']:g} | {r['sfp_peak_m']:.4f} | "
+        print(f"| {r['components']} | {r['zeta_e']:g} | {r['u_y_mm']:g} | {r['sfp_peak_m']:.4f} | "
               f"{r['tfp_peak_m']:.4f} | {100 * r['gap']:+.2f} % | "
               f"{r['onset_speed_mps']:.4f} |")  # fmt: skip
     return rows

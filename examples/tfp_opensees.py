@@ -3,7 +3,8 @@
 The bearing of examples/tfp_backbone.py (R1 = R4 = 2.2 m, R2 = R3 = 0.3 m, μ1 = 0.06,
 μ2 = μ3 = 0.02, μ4 = 0.10, d1 = d4 = 0.40 m, d2 = d3 = 0.06 m), mapped to the element by
 nsdyn.models.isolated.opensees3d_isolated.tfp_element_args (L = R2, R1, R4; Ubar = d3, d1,
-d4; friction μ2, μ1, μ4; uy = u_y):
+d4; friction μ2, μ1, μ4; uy = u_y), with its elastic stage undamped (zeta_e = 0) as the
+element's is:
 
 - left: the quasi-static loop to ±0.8 m (regimes I–IV). OpenSees: a static displacement path
   in steps of 0.4 mm. nsdyn: its series model's rate-independent limit (four rigid-plastic
@@ -126,7 +127,7 @@ def figure(loop_os, loop_ns, orbit_ns, orbit_os, cap):
 def main() -> int:
     from scipy.spatial import cKDTree
 
-    b = TripleBearing(**BEARING)
+    b = TripleBearing(**BEARING, zeta_e=0.0)  # the element's elastic stage is undamped
     u_os, phi_os = opensees_loop(b, 0.8)
     top = float(np.abs(phi_os).max())
     n = 4000

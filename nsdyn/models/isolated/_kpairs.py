@@ -59,7 +59,7 @@ drop_stale(
     _HERE,
     ["_kpairs", "_kpairsrun", "_kpairsradau", "_kpairscontact", "_kpairsstick"],
     [_HERE / f for f in ("_kpairs.py", "_kpairsrun.py", "_kpairsradau.py", "_kpairscontact.py",
-                         "_kpairsstick.py",
+                         "_kpairsstick.py", "_ktfp.py",
                          "_kplane.py", "_kplaneground.py",
                          "_kplanerun.py", "_kplaneradau.py", "_kplanestops.py", "bearings.py",
                          "pairs_compile.py")]
@@ -213,7 +213,7 @@ def evaluate_at(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, qdd, lam, Ff, Fr
         if bp[i, B_KIND] == KIND_TFP:  # the series model's force, less λ u/R reported apart
             if int(bp[i, B_IOFF]) + 8 > y.shape[0]:  # (a state without its internal slips)
                 return ST_SINGULAR
-            px, py = kp.tfp_force(y, bp, i, ux, uy, ws[22])
+            px, py = kp.tfp_force(y, bp, i, ux, uy, vx, vy, ws[22])
             fx = px - bp[i, B_RINV] * ux
             fy = py - bp[i, B_RINV] * uy
         if on[i] == 0.0:  # tensile: no terms in λ_i

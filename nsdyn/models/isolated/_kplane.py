@@ -65,16 +65,13 @@ from nsdyn.models.isolated._kplaneground import (  # noqa: F401 (the loops' and 
     ground,
     next_breakpoint,
 )
+from nsdyn.models.isolated._ktfp import tfp_force, tfp_speed  # noqa: F401 (the loops')
 from nsdyn.models.isolated.bearings import (
     B_AREA,
     B_C,
     B_CSTOP,
     B_DCAP,
-    B_EFAST,
-    B_ELEM,
-    B_ERATE,
     B_IOFF,
-    B_KEL,
     B_KIND,
     B_KLAM,
     B_KSTOP,
@@ -83,7 +80,6 @@ from nsdyn.models.isolated.bearings import (
     B_PREF,
     B_RATE,
     B_RINV,
-    B_TAU,
     K_P_FLOOR,
     KIND_TFP,
     PRESSURE_BASE,
@@ -93,7 +89,7 @@ from nsdyn.models.isolated.bearings import (
 # the time loops (_kplanerun, _kplaneradau) compile these kernels, the shared tableau and LU
 # and the bearing table's column numbers into their caches: drop all when any of them changes
 _HERE = Path(__file__).resolve().parent
-_LOOPS = ["_kplane", "_kplanerun", "_kplaneradau", "_kplanestops", "_kplaneground"]
+_LOOPS = ["_kplane", "_kplanerun", "_kplaneradau", "_kplanestops", "_kplaneground", "_ktfp"]
 drop_stale(
     _HERE,
     _LOOPS,
@@ -175,62 +171,6 @@ def pressure_update(bp, N, pf):
         change = max(change, abs(k - pf[i]))
         pf[i] = k
     return change
-
-
-@njit(cache=True, error_model="numpy")
-def tfp_speed(gn, mu, mu_fast, a, rate):
-    """Slip speed w of a yielding series element, |g| = μ(w) + w/rate with μ(w) = μ_fast −
-    (μ_fast − μ) exp(−a w) (constant μ: w = rate (|g| − μ)); Newton from w = 0, which rises
-    monotonically to the root (the left side is increasing and concave in w)."""
-    dm = mu_fast - mu
-    if dm <= 0.0 or a <= 0.0:
-        return rate * (gn - mu)
-    w = 0.0
-    for _ in range(60):
-        e = math.exp(-a * w)
-        res = mu_fast - dm * e + w / rate - gn
-        dw = res / (a * dm * e + 1.0 / rate)
-        w -= dw
-        if abs(dw) <= 1e-15 * w + 1e-300:
-            break
-    return w
-
-
-@njit(cache=True, error_model="numpy")
-def tfp_force(y, bp, i, ux, uy, sd):
-    """Force per unit normal force φ = κ_e (u − Σ s_k) of the triple friction pendulum of
-    row i at slip (ux, uy), its internal slips s_k read from y[B_IOFF + 2k], and their
-    rates ṡ_k = ⟨|g_k| − μ_k⟩/(κ_e τ) g_k/|g_k| into sd[i] (nsdyn.models.isolated.tfp)."""
-    o = int(bp[i, B_IOFF])
-    ke = bp[i, B_KEL]
-    ex = ux
-    ey = uy
-    for k in range(4):
-        ex -= y[o + 2 * k]
-        ey -= y[o + 2 * k + 1]
-    px = ke * ex
-    py = ke * ey
-    rate = 1.0 / (ke * bp[i, B_TAU])
-    for k in range(4):
-        c = B_ELEM + 4 * k
-        sx = y[o + 2 * k]
-        sy = y[o + 2 * k + 1]
-        gx = px - bp[i, c] * sx
-        gy = py - bp[i, c] * sy
-        rs = math.sqrt(sx * sx + sy * sy)
-        if rs > bp[i, c + 2]:
-            st = bp[i, c + 3] * (rs - bp[i, c + 2]) / rs
-            gx -= st * sx
-            gy -= st * sy
-        gn = math.sqrt(gx * gx + gy * gy)
-        if gn > bp[i, c + 1]:
-            f = tfp_speed(gn, bp[i, c + 1], bp[i, B_EFAST + k], bp[i, B_ERATE], rate) / gn
-            sd[i, 2 * k] = f * gx
-            sd[i, 2 * k + 1] = f * gy
-        else:
-            sd[i, 2 * k] = 0.0
-            sd[i, 2 * k + 1] = 0.0
-    return px, py
 
 
 @njit(cache=True, error_model="numpy", **NO_NRT)
@@ -350,7 +290,7 @@ def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, 
         if bp[i, B_KIND] == KIND_TFP:  # the series model's force, less N u/R reported apart
             if int(bp[i, B_IOFF]) + 8 > y.shape[0]:  # (a state without its internal slips)
                 return ST_SINGULAR
-            px, py = tfp_force(y, bp, i, ux, uy, sd)
+            px, py = tfp_force(y, bp, i, ux, uy, vx, vy, sd)
             fx = px - bp[i, B_RINV] * ux
             fy = py - bp[i, B_RINV] * uy
         elif law == LAW_ARCTAN:

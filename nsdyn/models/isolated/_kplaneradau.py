@@ -36,7 +36,7 @@ from nsdyn._kaddress import NO_NRT
 from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplanerun as kr
-from nsdyn.models.isolated.bearings import B_IOFF, B_KIND, KIND_TFP
+from nsdyn.models.isolated.bearings import B_CEL, B_IOFF, B_KIND, KIND_TFP
 
 S6 = math.sqrt(6.0)
 C1, C2 = (4.0 - S6) / 10.0, (4.0 + S6) / 10.0
@@ -100,11 +100,11 @@ def _tfp_columns(y, pos, bp, J, sd, base):
     (``base`` (8,): scratch)."""
     n = y.shape[0]
     for i in range(pos.shape[0]):
-        if bp[i, B_KIND] != KIND_TFP:
+        if bp[i, B_KIND] != KIND_TFP or bp[i, B_CEL] != 0.0:  # (damped: every column's own)
             continue
         o = int(bp[i, B_IOFF])
-        ux, uy, _, _ = kp.slip_kinematics(y, pos, i)
-        kp.tfp_force(y, bp, i, ux, uy, sd)
+        ux, uy, vx, vy = kp.slip_kinematics(y, pos, i)
+        kp.tfp_force(y, bp, i, ux, uy, vx, vy, sd)
         for m in range(8):
             base[m] = sd[i, m]
         for j in range(o + 2, o + 8):
@@ -114,7 +114,7 @@ def _tfp_columns(y, pos, bp, J, sd, base):
             d = 1e-8 * max(abs(y[j]), 1e-3)
             yj = y[j]
             y[j] = yj + d
-            kp.tfp_force(y, bp, i, ux, uy, sd)
+            kp.tfp_force(y, bp, i, ux, uy, vx, vy, sd)
             y[j] = yj
             for m in range(8):
                 J[o + m, j] = (sd[i, m] - base[m]) / d
@@ -138,7 +138,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
     for j in range(n):
         copied[j] = False
     for i in range(ni):
-        if bp[i, B_KIND] == KIND_TFP:
+        if bp[i, B_KIND] == KIND_TFP and bp[i, B_CEL] == 0.0:  # (undamped elastic stage)
             o = int(bp[i, B_IOFF])
             for j in range(o + 2, o + 8):
                 copied[j] = True

@@ -58,7 +58,8 @@ B_ELEM = 14  # element k: columns B_ELEM + 4 k + (0: 1/R, 1: mu, 2: d, 3: k_stop
 B_AREA, B_PREF = B_ELEM + 16, B_ELEM + 17
 # a triple pendulum's velocity-dependent surfaces: element k's μ_fast at B_EFAST + k, the rate a
 B_EFAST, B_ERATE = B_ELEM + 18, B_ELEM + 22
-N_BCOL = B_ELEM + 23
+B_CEL = B_ELEM + 23  # a triple pendulum's dashpot across its elastic stage (per unit N) [s/m]
+N_BCOL = B_ELEM + 24
 PRESSURE_BASE, PRESSURE_SCALE = 0.7, 50.0e6  # μ(p) = μ(p_ref) 0.7^((p − p_ref)/50 MPa)
 # the least pressure factor: 0.7^x underflows to 0 beyond x ~ 2090, and a zero factor makes
 # the stick disc μ_s k_p N a point again (stuck for ever, as MU_S_FLOOR above prevents)
@@ -281,9 +282,9 @@ def friction_from_config(cfg: dict, where: str) -> Friction:
 BEARING_KEYS = {"type", "mu", "mu_slow", "mu_fast", "rate", "mu_static", "radius", "k_lam", "c",
                 "d_cap", "k_stop", "c_stop", "area", "p_ref",
                 "R1", "R2", "R3", "R4", "mu1", "mu2", "mu3", "mu4", "d1", "d2", "d3", "d4",
-                "u_y", "mu_fast1", "mu_fast2", "mu_fast3", "mu_fast4"}  # fmt: skip
+                "u_y", "zeta_e", "mu_fast1", "mu_fast2", "mu_fast3", "mu_fast4"}  # fmt: skip
 _TFP_ONLY = ("R1", "R2", "R3", "R4", "mu1", "mu2", "mu3", "mu4", "d1", "d2", "d3", "d4", "u_y",
-             "mu_fast1", "mu_fast2", "mu_fast3", "mu_fast4")  # fmt: skip
+             "zeta_e", "mu_fast1", "mu_fast2", "mu_fast3", "mu_fast4")  # fmt: skip
 
 
 def bearing_from_config(cfg: dict, where: str) -> Bearing:

@@ -260,6 +260,10 @@ def _bearing_rows(frame, bearings, source: str):
             "N0": float(n0[i]), "k_init": mu0 * float(n0[i]) / STICK_DISP,
         }  # fmt: skip
         if isinstance(b, TripleBearing):
+            if b.zeta_e != 0.0:  # (dropped, the script would run another bearing)
+                raise SceneError(f"{source}: {b.where}.zeta_e: OpenSees' TripleFrictionPendulum "
+                                 "has an undamped elastic stage; expected zeta_e = 0 for an "
+                                 f"export, got {b.zeta_e:g}")  # fmt: skip
             row.update(tfp_element_args(b, f"{source}: {b.where}"))
             row.update({"type": "tfp", "radius": None, "k_init": None,
                         "min_fv": TFP_MIN_FV * float(n0[i]), "kvt": TFP_KVT})  # fmt: skip

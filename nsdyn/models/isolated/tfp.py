@@ -28,10 +28,12 @@ modified parameters), the same force φN passing through each:
 (an element k slides once φ > μ_k and holds s_k = R̄_k (φ − μ_k) on the backbone; the sums
 over the regimes are Table 1's slopes). In the plane every element is a bidirectional
 friction pendulum with internal slip s_k ∈ R² (8 states per bearing, after the deck's [q, q̇])
-in series with one elastic spring of stiffness κ_e N, κ_e = min μ / u_y (the yield
-displacement u_y: the elastic slip at which the first surface slides):
+in series with one elastic stage: a spring of stiffness κ_e N, κ_e = min μ / u_y (the yield
+displacement u_y: the elastic slip at which the first surface slides), and a dashpot c_e N
+across it, c_e = 2 ζ_e √(κ_e/g) (ζ_e the stage's damping ratio, ZETA_E by default; undamped,
+its stored energy became motion at every break-away and the peaks converged as √u_y):
 
-    φ = κ_e (u − Σ_k s_k),     g_k = φ − s_k/R̄_k − κ_s,k ⟨|s_k| − d̄_k⟩ s_k/|s_k|
+    φ = κ_e e + c_e ė,  e = u − Σ_k s_k,   g_k = φ − s_k/R̄_k − κ_s,k ⟨|s_k| − d̄_k⟩ s_k/|s_k|
     ṡ_k = ⟨|g_k| − μ_k⟩ / (κ_e τ) · g_k/|g_k|        (elastic–viscoplastic flow, Perzyna)
 
 a rigid-plastic element (|g_k| ≤ μ_k: stuck) regularised by the relaxation time
@@ -39,9 +41,10 @@ a rigid-plastic element (|g_k| ≤ μ_k: stuck) regularised by the relaxation ti
 |ṡ| / (1 m/s). A surface's friction may rise with its slip speed, μ_k(w) = μ_fast,k −
 (μ_fast,k − μ_k) exp(−a w) (velocity strengthening, μ_fast,k ≥ μ_k): the flow's speed w = |ṡ_k|
 then solves |g_k| = μ_k(w) + κ_e τ w (one root, by Newton from w = 0). The rim of element k
-is a stiff radial stop κ_s,k = STOP_FACTOR / R̄_k. The bearing resists with F = N φ; the
+is a stiff radial stop κ_s,k = STOP_FACTOR / R̄_k. The bearing resists with F = N φ (with the
+dashpot φ is implicit, ė depending on the flows: :mod:`nsdyn.models.isolated._ktfp`); the
 deck's kernels read these rows from the bearing table (:mod:`nsdyn.models.isolated.bearings`,
-columns B_KIND … B_ELEM + 15, B_EFAST … B_ERATE). The switch law's stick
+columns B_KIND … B_ELEM + 15, B_EFAST … B_ERATE, B_CEL). The switch law's stick
 events do not cover the series model: a TFP runs with the regularised law (Radau IIA).
 """
 
@@ -53,6 +56,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from nsdyn.models.isolated.bearings import (
+    B_CEL,
     B_DCAP,
     B_EFAST,
     B_ELEM,
@@ -74,11 +78,12 @@ from nsdyn.models.isolated.bearings import (
 )
 
 U_Y = 2.5e-4  # m, default yield displacement (the elastic slip before the first surface slides)
+ZETA_E = 1.0  # default damping ratio of the elastic stage (its dashpot c_e = 2 ζ_e √(κ_e/g))
 OVERSTRESS = 3e-2  # s/m: friction raised by this x min mu per m/s of an element's slip speed
 STOP_FACTOR = 1e3  # an element's rim stiffness (per unit N) / its pendulum stiffness 1/R̄
 N_INTERNAL = 8  # internal states per bearing: (s_x, s_y) of its four series elements
 TFP_KEYS = ("R1", "R2", "R3", "R4", "mu1", "mu2", "mu3", "mu4", "d1", "d2", "d3", "d4")
-TFP_OPTIONAL = ("u_y", "rate", "mu_fast1", "mu_fast2", "mu_fast3", "mu_fast4")
+TFP_OPTIONAL = ("u_y", "zeta_e", "rate", "mu_fast1", "mu_fast2", "mu_fast3", "mu_fast4")
 
 
 @dataclass(frozen=True)
@@ -86,7 +91,8 @@ class TripleBearing(Bearing):
     """A triple friction pendulum: effective radii ``R1`` … ``R4`` [m] (surfaces 1, 4 outer,
     2, 3 of the inner slider; R1 > R2, R4 > R3), friction ``mu1`` … ``mu4`` (the inner
     surfaces' no larger than the outer ones), displacement capacities ``d1`` … ``d4`` [m]
-    (the outer ones no smaller than the inner ones), yield displacement ``u_y`` [m]. The
+    (the outer ones no smaller than the inner ones), yield displacement ``u_y`` [m], damping
+    ratio ``zeta_e`` of the elastic stage (default ZETA_E; 0: undamped). The
     friction, radius and capacity of the base class are derived: min μ, R1 + R4 (the
     restoring force N u/(R1 + R4) reported apart from the rest of the bearing's force) and
     d1 + d2 + d3 + d4."""
@@ -105,6 +111,7 @@ class TripleBearing(Bearing):
     d3: float | None = None
     d4: float | None = None
     u_y: float = U_Y
+    zeta_e: float = ZETA_E
     rate: float = 0.0
     mu_fast1: float | None = None
     mu_fast2: float | None = None
@@ -127,6 +134,9 @@ class TripleBearing(Bearing):
                                    "R1..R4 [m], mu1..mu4 and d1..d4 [m]")  # fmt: skip
             vals[k] = _number(f"{w}.{k}", v, positive=k[0] in "Rd")
         _number(f"{w}.u_y", self.u_y, positive=True)
+        if _number(f"{w}.zeta_e", self.zeta_e) < 0.0:
+            raise BearingError(f"{w}.zeta_e: expected a damping ratio of the elastic stage >= 0 "
+                               f"(0: undamped), got {self.zeta_e:g}")  # fmt: skip
         _number(f"{w}.rate", self.rate)
         for j in range(1, 5):
             fast = getattr(self, f"mu_fast{j}")
@@ -218,6 +228,7 @@ class TripleBearing(Bearing):
         r[B_KIND] = KIND_TFP
         r[B_KEL] = self.k_elastic
         r[B_TAU] = OVERSTRESS * float(self.u_y) / 1.0
+        r[B_CEL] = 2.0 * float(self.zeta_e) * math.sqrt(self.k_elastic / g)
         for k, (R, mu, d) in enumerate(self.elements()):
             c = B_ELEM + 4 * k
             r[c], r[c + 1], r[c + 2], r[c + 3] = 1.0 / R, mu, d, STOP_FACTOR / R
@@ -228,7 +239,7 @@ class TripleBearing(Bearing):
 
 def tfp_from_config(cfg: dict, where: str) -> TripleBearing:
     """A :class:`TripleBearing` from a TOML table (``type = "tfp"``: R1..R4, mu1..mu4,
-    d1..d4, optional u_y)."""
+    d1..d4, optional u_y, zeta_e, rate and mu_fast1..4)."""
     other = sorted(set(cfg) - {"type", *TFP_KEYS, *TFP_OPTIONAL})
     if other:
         raise BearingError(f"{where}.{other[0]}: not a key of a triple friction pendulum "

@@ -119,11 +119,12 @@ def test_tfp_element_slips_are_exported_and_close_the_series(assert_round_trip):
     # A deck on two flat sliders and two triple pendulums: the element slips are columns
     # s1x_iso_{i}_m … s4y_iso_{i}_m, NaN for the flat sliders; for a TFP the series closes,
     # u - Σ_k s_k = φ/κ_e with φ = F/N its force per unit normal force (nsdyn.models.
-    # isolated.tfp: the yield spring carries the bearing's whole force), to round-off.
+    # isolated.tfp: with its elastic stage undamped, zeta_e = 0, the yield spring carries the
+    # bearing's whole force; a dashpot would add c_e (u̇ - Σ ṡ_k)), to round-off.
     from nsdyn.models.isolated.tfp import TripleBearing
 
     tfp = TripleBearing(R1=2.2, R2=0.3, R3=0.3, R4=2.2, mu1=0.06, mu2=0.02, mu3=0.02,
-                        mu4=0.10, d1=0.4, d2=0.06, d3=0.06, d4=0.4)  # fmt: skip
+                        mu4=0.10, d1=0.4, d2=0.06, d3=0.06, d4=0.4, zeta_e=0.0)  # fmt: skip
     flat = Bearing(Friction(0.05), k_lam=2.0e4)
     dt = 0.01
     t = np.arange(0.0, 2.0 + dt / 2, dt)

@@ -271,7 +271,7 @@ def test_triple_pendulum_the_element_cannot_represent_is_refused():
 
     tfp = bearing_from_config(
         {"type": "tfp", "R1": 2.0, "R2": 0.5, "R3": 0.4, "R4": 2.0, "mu1": 0.04, "mu2": 0.02,
-         "mu3": 0.02, "mu4": 0.06, "d1": 0.2, "d2": 0.05, "d3": 0.05, "d4": 0.2},
+         "mu3": 0.02, "mu4": 0.06, "d1": 0.2, "d2": 0.05, "d3": 0.05, "d4": 0.2, "zeta_e": 0.0},
         "bearing",
     )  # fmt: skip
     with pytest.raises(SceneError, match=r"bearing\.R3: OpenSees' TripleFrictionPendulum"):
