@@ -368,7 +368,7 @@ def run(args: argparse.Namespace) -> int:
                          "'genalpha', …)")  # fmt: skip
     check_method(method, cfg)  # before the model's build
     system, motion, duration = build_scene_run(cfg)
-    scene_notes(cfg, motion, args.json)
+    notes = scene_notes(cfg, motion, args.json)
     if args.compare_fixed and (args.no_figures or system.frame is None):
         why = (
             "draws the fixed-base frame in the run's figure, and --no-figures draws none"
@@ -422,10 +422,13 @@ def run(args: argparse.Namespace) -> int:
         system = with_isolation_cached(system, law="switch")
     t_req = cfg.get("motion", {}).get("t_end")
     last = getattr(motion, "t0", 0.0) + (getattr(motion, "n", 0) - 1) * getattr(motion, "dt", 0.0)
-    if t_req is not None and not args.json and t_eval[-1] < min(float(t_req), last) - 1e-9:
-        print(f"nsdyn run: note: t_end = {float(t_req):g} s falls between output times "
-              f"(every {t_eval[1] - t_eval[0]:g} s); the run ends at {t_eval[-1]:g} s",
-              file=sys.stderr)  # fmt: skip
+    if t_req is not None and t_eval[-1] < min(float(t_req), last) - 1e-9:
+        notes.append(
+            f"t_end = {float(t_req):g} s falls between output times (every "
+            f"{t_eval[1] - t_eval[0]:g} s); the run ends at {t_eval[-1]:g} s"
+        )
+        if not args.json:
+            print(f"nsdyn run: note: {notes[-1]}", file=sys.stderr)
     from nsdyn.studies.scenes import check_step_count
 
     check_step_count(source, method, sv.get("dt"), t_eval, sv.get("max_steps"))
@@ -514,6 +517,7 @@ def run(args: argparse.Namespace) -> int:
             friction_forces=res.response.tau,
         )
     s["histories"] = str(hist)
+    s["notes"] = notes
     word, text = outcome(s)
     s["outcome"] = word
     if s.get("uplift"):  # uplift = "warn": the run went on outside the model's domain

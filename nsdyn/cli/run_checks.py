@@ -8,40 +8,42 @@ from __future__ import annotations
 import sys
 
 
-def note_short_record(cfg: dict, motion, quiet: bool) -> None:
+def note_short_record(cfg: dict, motion) -> str | None:
     """A ``t_end`` past the record's last sample ends the run there: said in one line."""
     t_req = cfg.get("motion", {}).get("t_end")
-    if quiet or t_req is None or not hasattr(motion, "n") or not hasattr(motion, "dt"):
-        return
+    if t_req is None or not hasattr(motion, "n") or not hasattr(motion, "dt"):
+        return None
     last = motion.t0 + (motion.n - 1) * motion.dt
     if float(t_req) > last + motion.dt:  # (a window ends within one sample of its t_end)
-        print(f"nsdyn run: note: t_end = {float(t_req):g} s is past the record's last sample; "
-              f"the run ends there, at {last:g} s", file=sys.stderr)  # fmt: skip
+        return (f"t_end = {float(t_req):g} s is past the record's last sample; the run ends "
+                f"there, at {last:g} s")  # fmt: skip
+    return None
 
 
 SAMPLES_PER_PERIOD_MIN = 20  # fewer output samples per excitation period miss the peaks
 
 
-def note_coarse_output(cfg: dict, motion, quiet: bool) -> None:
+def note_coarse_output(cfg: dict, motion) -> str | None:
     """A harmonic excitation sampled fewer than SAMPLES_PER_PERIOD_MIN times per period on the
     output grid: its peaks fall between the samples (one line, with the dt_out to use)."""
     f = max(getattr(motion, "f_hor", 0.0) or 0.0, getattr(motion, "f", 0.0) or 0.0)
     if getattr(motion, "A_ver", 0.0):
         f = max(f, getattr(motion, "f_ver", 0.0) or 0.0)
     dt_out = cfg.get("solver", {}).get("dt_out")
-    if quiet or not f or not isinstance(dt_out, int | float):
-        return
+    if not f or not isinstance(dt_out, int | float):
+        return None
     if dt_out * f * SAMPLES_PER_PERIOD_MIN > 1.0:
         fine = 1.0 / (SAMPLES_PER_PERIOD_MIN * f)
-        print(f"nsdyn run: note: dt_out = {dt_out:g} s samples the {f:g} Hz excitation "
-              f"{1.0 / (f * dt_out):.3g} times per period: the peaks fall between the "
-              f"samples; set solver.dt_out <= {fine:.3g} s", file=sys.stderr)  # fmt: skip
+        return (f"dt_out = {dt_out:g} s samples the {f:g} Hz excitation "
+                f"{1.0 / (f * dt_out):.3g} times per period: the peaks fall between the "
+                f"samples; set solver.dt_out <= {fine:.3g} s")  # fmt: skip
+    return None
 
 
 SLIP_V_MAX = 10.0  # m/s, beyond any isolator's slip velocity in an earthquake
 
 
-def note_soft_law(cfg: dict, quiet: bool) -> None:
+def note_soft_law(cfg: dict) -> str | None:
     """An arctan law whose ``eps`` puts its stick velocity (friction at
     ``STICK_UTILISATION`` of its limit) beyond ``SLIP_V_MAX``: no friction to speak of, and
     the stick share counts every instant (one line, on stderr)."""
@@ -49,19 +51,19 @@ def note_soft_law(cfg: dict, quiet: bool) -> None:
 
     iso = cfg.get("isolation", {})
     eps = iso.get("eps")
-    if quiet or iso.get("law", "arctan") != "arctan" or not isinstance(eps, int | float):
-        return
+    if iso.get("law", "arctan") != "arctan" or not isinstance(eps, int | float):
+        return None
     v = stick_velocity("arctan", float(eps))
     if v > SLIP_V_MAX:
-        print(f"nsdyn run: note: isolation.eps = {eps:g} s/m: the arctan friction reaches "
-              f"{STICK_UTILISATION:.0%} of mu N only at a slip velocity of {v:.2g} m/s: at "
-              f"slips well below {1.0 / float(eps):.2g} m/s it is a viscous damper (2/pi mu N "
-              "eps), and the share of time all isolators stick counts every instant below "
-              f"{v:.2g} m/s (typical eps: 1e3-1e5 s/m)",
-              file=sys.stderr)  # fmt: skip
+        return (f"isolation.eps = {eps:g} s/m: the arctan friction reaches "
+                f"{STICK_UTILISATION:.0%} of mu N only at a slip velocity of {v:.2g} m/s: at "
+                f"slips well below {1.0 / float(eps):.2g} m/s it is a viscous damper (2/pi mu N "
+                "eps), and the share of time all isolators stick counts every instant below "
+                f"{v:.2g} m/s (typical eps: 1e3-1e5 s/m)")  # fmt: skip
+    return None
 
 
-def note_high_friction(cfg: dict, quiet: bool) -> None:
+def note_high_friction(cfg: dict) -> str | None:
     """A friction coefficient above 1 in ``[isolation] mu`` (a number or one per isolator):
     accepted, and said in one line on stderr (a percentage given as a number?)."""
     from nsdyn.models.isolated.bearings import high_friction_note
@@ -69,12 +71,10 @@ def note_high_friction(cfg: dict, quiet: bool) -> None:
     mu = cfg.get("isolation", {}).get("mu")
     values = mu if isinstance(mu, list) else [mu]
     big = [float(v) for v in values if isinstance(v, int | float) and not isinstance(v, bool)]
-    note = high_friction_note("isolation.mu", max(big)) if big and not quiet else None
-    if note:
-        print(f"nsdyn run: note: {note}", file=sys.stderr)
+    return high_friction_note("isolation.mu", max(big)) if big else None
 
 
-def note_unused_cutoff(cfg: dict, quiet: bool) -> None:
+def note_unused_cutoff(cfg: dict) -> str | None:
     """``scene.f_max`` set (away from the default scene's) for a fidelity that has no cut-off
     (rigid, full): said in one line (``--fmax`` is refused there, :func:`check_cutoff`)."""
     from nsdyn.models.isolated.defaults import F_MAX
@@ -82,19 +82,22 @@ def note_unused_cutoff(cfg: dict, quiet: bool) -> None:
     sc = cfg.get("scene", {})
     fid = sc.get("fidelity", "cb")
     given = sc.get("f_max", F_MAX) != F_MAX  # (the default scene's is no choice)
-    if not quiet and given and fid in ("full", "rigid"):
-        print(f"nsdyn run: note: scene.f_max not used: the cut-off of fidelities cb and fixed; "
-              f"{fid!r} has none ({'every mode' if fid == 'full' else 'a rigid frame'})",
-              file=sys.stderr)  # fmt: skip
+    if given and fid in ("full", "rigid"):
+        return (f"scene.f_max not used: the cut-off of fidelities cb and fixed; {fid!r} has "
+                f"none ({'every mode' if fid == 'full' else 'a rigid frame'})")  # fmt: skip
+    return None
 
 
-def scene_notes(cfg: dict, motion, quiet: bool) -> None:
-    """Every note of a loaded scene (the functions above), in one line each on stderr."""
-    note_short_record(cfg, motion, quiet)
-    note_coarse_output(cfg, motion, quiet)
-    note_soft_law(cfg, quiet)
-    note_high_friction(cfg, quiet)
-    note_unused_cutoff(cfg, quiet)
+def scene_notes(cfg: dict, motion, quiet: bool) -> list[str]:
+    """Every note of a loaded scene (the functions above), in one line each on stderr unless
+    ``quiet``; returned (a --json summary's ``notes``)."""
+    notes = [note_short_record(cfg, motion), note_coarse_output(cfg, motion),
+             note_soft_law(cfg), note_high_friction(cfg), note_unused_cutoff(cfg)]  # fmt: skip
+    notes = [n for n in notes if n]
+    if not quiet:
+        for n in notes:
+            print(f"nsdyn run: note: {n}", file=sys.stderr)
+    return notes
 
 
 def check_method(method: str, cfg: dict) -> None:

@@ -302,6 +302,11 @@ def test_a_cutoff_the_fidelity_does_not_read_is_noted(tmp_path, capsys, fidelity
     assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 0
     err = capsys.readouterr().err
     assert ("note: scene.f_max not used" in err) == noted, err
+    # --json prints nothing but its object, which carries the notes
+    assert main(["run", str(scene), "--no-figures", "--json", "--out", str(tmp_path / "j")]) == 0
+    out, err = capsys.readouterr()
+    notes = json.loads(out)["notes"]
+    assert "note:" not in err and any("scene.f_max not used" in n for n in notes) == noted
 
 
 def test_a_very_sharp_arctan_law_runs_to_the_switch_law(tmp_path, capsys):
