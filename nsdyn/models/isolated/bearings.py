@@ -217,8 +217,10 @@ class Bearing:
         k_post = n_static * r[B_RINV] + self.k_lam
         ks = STOP_STIFFNESS_FACTOR * k_post if self.k_stop is None else float(self.k_stop)
         m_share = max(n_static, 0.0) / g
-        cs = (
-            2 * STOP_DAMPING_RATIO * math.sqrt(ks * m_share) if self.c_stop is None else self.c_stop
+        cs = (  # (√ks √m: their product overflowed for masses near 1e300 kg)
+            2 * STOP_DAMPING_RATIO * math.sqrt(ks) * math.sqrt(m_share)
+            if self.c_stop is None
+            else self.c_stop
         )
         r[B_KSTOP], r[B_CSTOP] = ks, cs
         if self.area is not None:

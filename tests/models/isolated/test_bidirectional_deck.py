@@ -227,3 +227,19 @@ def test_a_frictionless_pendulum_deck_moves_as_the_linear_oscillator(law, underf
     n_max = 1.0e5 * G  # (a bound of every normal force: no vertical motion, h = 0)
     assert np.abs(r.friction).max() <= (K_P_FLOOR * 0.05 * n_max if underflow else 0.0)
     assert np.abs(ux - exact).max() <= 1e-5 * np.abs(exact).max()
+
+
+def test_an_absurd_mass_fails_with_its_reason_and_no_overflow_warning():
+    # A 1e300 kg deck: its rim damping 2 ζ √(k_s m) was formed as √(k_s m), whose product
+    # (~1e602) overflowed with a RuntimeWarning before the run; now √k_s √m stays finite and the
+    # run fails with the kernel's own reason (the constraint solve in 1e301 N), naming masses
+    from nsdyn.models.isolated.bearings import B_CSTOP, B_KSTOP
+    from nsdyn.models.isolated.plane_result import PlaneIntegrationError
+
+    b = Bearing(Friction(0.05), radius=2.2)
+    d = rigid_deck(1e300, 1e302, [[-5.0, -3.0], [5.0, -3.0], [0.0, 4.0]], b)
+    assert np.all(np.isfinite(d.bearing_table()[:, [B_KSTOP, B_CSTOP]]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(PlaneIntegrationError, match="check masses and positions"):
+            simulate_plane(d, {"f": 1.0, "ax": 1.0, "ay": 0.0}, t_end=0.1)
