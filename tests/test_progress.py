@@ -1,8 +1,9 @@
 """The progress of a compiled run watched from another thread (nsdyn._progress.watched).
 
 The watcher reports while the run is still going, hands back the run's result or raises its
-exception, and changes nothing of what the run computes: a pair system's histories with a
-progress callback equal those without it bit for bit (the loop only writes one more counter).
+exception, and changes nothing of what the run computes: a pair system's or a deck's histories
+with a progress callback equal those without it bit for bit (the loop only writes one more
+counter).
 """
 
 from __future__ import annotations
@@ -41,24 +42,28 @@ def test_the_run_s_exception_is_raised_in_the_caller():
         watched(run, lambda: 0.0, lambda *a: None, 1.0)
 
 
+@pytest.mark.parametrize("kind", ["pairs", "deck"])
 @pytest.mark.parametrize("law", ["arctan", "switch"])
-def test_a_watched_pair_run_is_the_same_run(law, monkeypatch):
-    # both loops of a pair system (Radau IIA; located events) under a progress callback
-    # called at every watch (WATCH_S = 0): the same histories to the last bit, and every
-    # time reported within the run's span, in order
+def test_a_watched_run_is_the_same_run(kind, law, monkeypatch):
+    # both loops (Radau IIA; located events) of a pair system and of the deck under a progress
+    # callback called at every watch (WATCH_S = 0): the same histories to the last bit, and
+    # every time reported within the run's span, in order
     from nsdyn.models.isolated import Bearing, Friction, rigid_deck
+    from nsdyn.models.isolated.deck import simulate_plane
     from nsdyn.models.isolated.pairs import from_deck, simulate_pairs
 
     monkeypatch.setattr(_progress, "WATCH_S", 0.0)
     deck = rigid_deck(1.0e6, 5.0e7, [[-5.0, -3.0], [5.0, -3.0], [0.0, 4.0]],
                       Bearing(Friction(0.05), radius=2.0))  # fmt: skip
-    ps = from_deck(deck)
+    system, simulate = (
+        (from_deck(deck), simulate_pairs) if kind == "pairs" else (deck, simulate_plane)
+    )
     orbit = {"f": 0.5, "ax": 2.0, "ay": 1.0, "phase_y_deg": 90.0}
-    plain = simulate_pairs(ps, orbit, law=law, t_end=2.0)
+    plain = simulate(system, orbit, law=law, t_end=2.0)
     times = []
-    seen = simulate_pairs(ps, orbit, law=law, t_end=2.0,
-                          progress=lambda t, t_end, wall: times.append((t, t_end)))  # fmt: skip
+    seen = simulate(system, orbit, law=law, t_end=2.0,
+                    progress=lambda t, t_end, wall: times.append((t, t_end)))  # fmt: skip
     assert np.array_equal(plain.q, seen.q) and np.array_equal(plain.u, seen.u)
-    assert np.array_equal(plain.N, seen.N)
+    assert np.array_equal(plain.N, seen.N) and np.array_equal(plain.events, seen.events)
     assert all(0.0 <= t <= t_end == 2.0 for t, t_end in times)
     assert [t for t, _ in times] == sorted(t for t, _ in times)

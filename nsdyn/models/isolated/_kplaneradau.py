@@ -122,7 +122,7 @@ def _tfp_columns(y, pos, bp, J, sd, base):
             sd[i, m] = base[m]
 
 
-@njit(cache=True, error_model="numpy", **NO_NRT)
+@njit(cache=True, error_model="numpy", nogil=True, **NO_NRT)  # (watched: info[I_NOUT])
 def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
               X, NO, FF, FR, FO, MO, EV, stops, info, ws, out, S):  # fmt: skip
     """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status
@@ -382,6 +382,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                         iout, X, NO, FF, FR, FO, MO)  # fmt: skip
             kr._track_stops(t_eval[iout], ys, pos, bp, stops)
             iout += 1
+            info[kr.I_NOUT] = iout  # (the progress line's)
         if s_end < 1.0:
             _dense(y, Z, s_end, ys)
             for k in range(n):

@@ -1,9 +1,8 @@
 """Time loop of the deck on bidirectional isolators: Dormand–Prince 5(4) with located events.
 
-The right-hand side is :func:`nsdyn.models.isolated._kplane.rhs`; the steps are the shared
-Dormand–Prince 5(4) pair (:mod:`nsdyn._kdp5`, error control on ``atol + rtol |y|``, steps
-ending on the samples of a record, where its interpolation kinks). Outputs at ``t_eval`` come
-from the dense output, their forces from the right-hand side at those states.
+The right-hand side is :func:`nsdyn.models.isolated._kplane.rhs`; the steps the shared pair
+(:mod:`nsdyn._kdp5`, error on ``atol + rtol |y|``, steps ending on a record's samples, where it
+kinks). Outputs at ``t_eval`` from the dense output, forces from the right-hand side there.
 
 Switch law with a stick disc: every isolator is in a mode (stick, slip, slip-start) held fixed
 between events; the switching functions, each crossing from > 0 to <= 0, are
@@ -355,7 +354,7 @@ def _min_normal(N):
     return v
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+@njit(cache=True, error_model="numpy", nogil=True, **ka.NO_NRT)  # (watched: info[I_NOUT])
 def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
               X, NO, FF, FR, FO, MO, EV, stops, info, ws, out, S):  # fmt: skip
     """Integrate from y0 at t_eval[0] to t_eval[-1]; outputs at t_eval; returns a status.
@@ -512,6 +511,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                      X, NO, FF, FR, FO, MO)  # fmt: skip
             _track_stops(t_eval[iout], ys, pos, bp, stops)
             iout += 1
+            info[I_NOUT] = iout  # (the progress line's)
             since_out = 0
         if s_end < 1.0:
             _dense_state(rc, s_end, ys)

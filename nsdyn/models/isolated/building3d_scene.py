@@ -265,6 +265,7 @@ def build_motion(cfg: dict, source: str):
 
 def _run_rigid(sysd, exc, t_end, kw, out_dir: Path, say) -> dict:
     from nsdyn._numba_cache import first_compile
+    from nsdyn._progress import reporter
     from nsdyn.models.isolated.deck import simulate_plane
     from nsdyn.models.isolated.deck_scene import COMPILE_ABOUT_S, kernels_cached
 
@@ -276,7 +277,7 @@ def _run_rigid(sysd, exc, t_end, kw, out_dir: Path, say) -> dict:
     w0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        res = simulate_plane(deck, exc, t_end=t_end, **kw)
+        res = simulate_plane(deck, exc, t_end=t_end, progress=reporter(say), **kw)
     wall = time.perf_counter() - w0
     for w in caught:
         say(f"building3d: warning: {w.message}")

@@ -459,6 +459,7 @@ def simulate_plane(
     y0=None,
     integrator: str = "auto",
     contact: str = "detect",
+    progress=None,
 ):
     """Integrate the system under ``ground`` from rest (or ``y0`` = [q, q̇]).
 
@@ -471,6 +472,8 @@ def simulate_plane(
     tolerance is capped at ``ATOL_V_EPS / eps``. ``contact``: "detect" (an uplift ends the
     run, reported in ``result.uplift`` with a warning) or "bilateral" (the contact holds in
     tension; reported in ``result.tension`` with a warning). Returns a :class:`PlaneResult`.
+    ``progress(t_done, t_end, wall_s)``: called every few seconds of wall time while the
+    compiled loop runs (:func:`nsdyn._progress.watched`; a Ctrl-C stops the wait at once).
     """
     if integrator not in ("auto", "dopri5", "radau"):
         raise ValueError(f"integrator: expected 'auto', 'dopri5' or 'radau', got {integrator!r}")
@@ -505,6 +508,6 @@ def simulate_plane(
     )
     args = (y, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
-    status = deck_compile.run_loop(loop, args, law == "switch")
+    status = deck_compile.run_loop(loop, args, law == "switch", progress)
     return PlaneResult.from_run(system, law, t_eval, X, NO, FF, FR, FO, MO, EV, stops, info,
                                 int(status), eps, eta, contact)  # fmt: skip

@@ -106,18 +106,32 @@ def loop_arrays(loop, n: int, ni: int) -> tuple:
     return kp.workspace(ni), kp.forces(ni), S
 
 
-def run_loop(loop, args: tuple, switch: bool):
+def run_loop(loop, args: tuple, switch: bool, progress=None):
     """``loop(*args, *scratch)`` (a time loop of the deck: ``_kplanerun.integrate`` or
     ``_kplaneradau.integrate``; ``args`` up to its ``info``, the scratch from
     :func:`loop_arrays`), its callees in the table first. A first compilation is
     shared with a helper process where one may run (:func:`nsdyn._numba_cache.helper_enabled`):
     it compiles the callees (:func:`helper_part`) while this process compiles the loop for
-    ``args``' types."""
+    ``args``' types. ``progress(t_done, t_end, wall_s)``: called every few seconds while the
+    loop runs in a thread of its own (:func:`nsdyn._progress.watched`; t_done the last output
+    written, ``info[I_NOUT]``)."""
     from nsdyn._kaddress import run_split
 
     args = (*args, *loop_arrays(loop, args[0].shape[0], args[5].shape[0]))
     target = "helper_part" if switch else "helper_force"
-    return run_split(loop, args, _needed(switch), f"nsdyn.models.isolated.deck_compile:{target}")
+
+    def run():
+        return run_split(loop, args, _needed(switch),
+                         f"nsdyn.models.isolated.deck_compile:{target}")  # fmt: skip
+
+    if progress is None:
+        return run()
+    from nsdyn._progress import watched
+    from nsdyn.models.isolated._kplanerun import I_NOUT
+
+    t_eval, info = args[1], args[21]
+    return watched(run, lambda: float(t_eval[max(int(info[I_NOUT]) - 1, 0)]), progress,
+                   float(t_eval[-1]))  # fmt: skip
 
 
 def helper_part() -> None:

@@ -37,6 +37,7 @@ import numpy as np
 
 from nsdyn._checks import MAX_POINTS
 from nsdyn._numba_cache import first_compile
+from nsdyn._progress import reporter
 from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.bearings import (
     BEARING_KEYS,
@@ -258,7 +259,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         with grid_fields(source):  # the run's grid: its table's field, before any step
-            res = simulate_plane(system, exc, t_end=t_end, **kw)
+            res = simulate_plane(system, exc, t_end=t_end, progress=reporter(say), **kw)
     wall = time.perf_counter() - w0
     for w in caught:
         say(f"deck: warning: {w.message}")
