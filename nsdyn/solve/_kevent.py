@@ -11,10 +11,11 @@ slip +1/-1 (friction mu_i lamf_i opposing that direction) or stick 0 (D_i qdd + 
 the switching functions are
 
     slip  s:  g_i = s v_i                        slip -> stick/reversal when it crosses 0
-    stick  :  g_i = mu_i lamf_i - |tau_i|        stick -> slip (direction sign tau_i)
+    stick  :  g_i = mu_i lamf_i (1 + STICK_RTOL) - |tau_i|   stick -> slip (sign tau_i)
 
 At a slip isolator's zero crossing the stick is accepted if the stick force evaluated with
-mode 0 obeys |tau_i| <= mu_i lamf_i, else the slip continues with the reversed direction
+mode 0 obeys |tau_i| <= mu_i lamf_i (1 + STICK_RTOL) (the stick function's bound, so a stick it
+accepts starts at g >= 0), else the slip continues with the reversed direction
 (sign of that force). Each isolator has its own state; isolators reaching their switching
 surface within EVENT_TTOL of each other switch together.
 
@@ -80,8 +81,8 @@ def _dot_row(D, i, y, off):
 
 
 @ka.compiled_uncounted
-def _g_stick(i, lam, tau, P):
-    return P[ks.I_MU][i] * _lamf(i, lam, P) - abs(tau[i])
+def _g_stick(i, lam, tau, P):  # (the settling's bound: a stick it accepts starts at g >= 0)
+    return P[ks.I_MU][i] * _lamf(i, lam, P) * (1.0 + STICK_RTOL) - abs(tau[i])
 
 
 @ka.compiled_uncounted
@@ -160,12 +161,15 @@ def _root(kind, i, sgn, a, b, fa, fb, y, Qd, t, h, P, ew, stats):
 
 
 @ka.compiled_uncounted
-def _detect(t, h, y, ynew, Qd, P, ew, stats):
+def _detect(t, h, y, ynew, Qd, P, ew, stats, v_tol):
     """Earliest switching instant in the step [t, t + h]: returns (x, isolator, kind), x = 2
     when none. The switching functions are scanned at SLIP_SAMPLES / STICK_SAMPLES points of
     the dense output (a stuck, locked structure has no local error, so its steps grow large
     while the stick forces follow the excitation) and the first bracket is refined by
-    Illinois. Leaves lam, tau at the step end."""
+    Illinois. Leaves lam, tau at the step end. A slip that starts against its velocity (a
+    start from stick, g <= 0) crosses once g falls by more than the velocities' resolution
+    v_tol / V_SLIP_ATOL (an isolator held by a stuck one on a stiff base follows its
+    micro-vibration, whose sign changes are the integrator's noise)."""
     ys, fs, qdd, lam, tau, modes = ew[:6]
     D = P[ks.I_D]
     n = D.shape[1]
@@ -174,6 +178,7 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
     i_best = -1
     k_best = 0
     any_stick = False
+    v_noise = max(V_NOISE, v_tol / V_SLIP_ATOL)
     for i in range(D.shape[0]):
         if ks.contact_open(P, i):
             continue  # in flight (unilateral runs): no friction, no friction event
@@ -192,8 +197,10 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats):
             else:  # the velocity alone (8 samples per slipping isolator and step)
                 gb = _v_dense(i, sg, xb, y, Qd, D)
             # a genuine crossing, not round-off around v = 0 (a slipping isolator held at
-            # v = 0 by a stuck one on the same rigid base)
-            if gb < 0.0 and (gb < -V_NOISE or ga > V_NOISE):
+            # v = 0 by a stuck one on the same rigid base), nor a slip started from stick
+            # against its residual velocity (|v| <= v_tol: g < 0 at its start) that speeds
+            # up along its direction (g rising through the sample)
+            if gb < 0.0 and (ga > V_NOISE or gb < min(ga, 0.0) - v_noise):
                 xr = _root(
                     np.int64(SLIP), i, sg, xa, xb, max(ga, 0.0), gb, y, Qd, t, h, P, ew, stats
                 )

@@ -299,7 +299,7 @@ def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, l
             x_best, i_best, k_best = 2.0, -1, 0
             if friction:
                 x_best, i_best, k_best = ka.tcall(
-                    "event.detect_friction", (t, h, y, ynew, Qd, P, ew, stats)
+                    "event.detect_friction", (t, h, y, ynew, Qd, P, ew, stats, v_tol)
                 )
             if contacts:
                 x_max = min(x_best, 1.0 + 1e-15)

@@ -307,7 +307,7 @@ def event_callees() -> list:
             (P, f8, v, v, f8, b1, atol, f8, f8, i8, ws, v, vi, v, tK),
             i8,
         ),
-        "event.detect_friction": (_kevent._detect, (f8, f8, v, v, m, P, ew, vi), detected),
+        "event.detect_friction": (_kevent._detect, (f8, f8, v, v, m, P, ew, vi, f8), detected),
         "event.detect_contacts": (
             _kimpact._detect,
             (f8, f8, v, m, P, ew, f8, v, f8, vi),

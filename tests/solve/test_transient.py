@@ -68,6 +68,25 @@ def test_switch_and_arctan_agree_on_peak_isolator_displacement(office):
     assert rs.response.x_iso_max == pytest.approx(ra.response.x_iso_max, rel=0.02)
 
 
+def test_the_switch_model_runs_through_stick_slip_on_a_stiff_base_at_loose_tolerances():
+    # The benchmark's Kanai-Tajimi window (CB-5, PGA 3 m/s^2, 20 s): when one isolator
+    # sticks, the other (slipping, on the same stiff base beam) is held at a micro-vibration
+    # whose velocity changes sign at the integrator's noise; a slip started from stick against
+    # its residual velocity was seen crossing at once, and the stick function lacked the
+    # settling's slack. The event method stopped with too_many_events (near 2.17 s at rtol
+    # 1e-3, near 10.2 s at 1e-4). Now each runs through, its peak slip within 10 rtol of the
+    # run at rtol 1e-7 (the error control's local tolerance, a dissipative response).
+    from nsdyn.bench import common
+
+    s = build_system(common.bench_frame(), common.bench_isolation("switch"), fidelity="cb",
+                     f_max=common.F_MAX)  # fmt: skip
+    m = common.bench_motion("kt")
+    ref = simulate(s, m, method="event", rtol=1e-7, atol=1e-7 * common.ATOL_FACTOR)
+    for rtol in (1e-3, 1e-4):
+        r = simulate(s, m, method="event", rtol=rtol, atol=rtol * common.ATOL_FACTOR)
+        assert r.response.x_iso_max == pytest.approx(ref.response.x_iso_max, rel=10 * rtol)
+
+
 @pytest.mark.parametrize("law,method", [("arctan", "radau"), ("switch", "event")])
 def test_default_tolerances_reproduce_tight_peaks(office, law, method):
     # Convergence in the tolerance: the run-level defaults (transient.DEFAULT_RTOL/ATOL) must
