@@ -167,9 +167,10 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats, v_tol):
     the dense output (a stuck, locked structure has no local error, so its steps grow large
     while the stick forces follow the excitation) and the first bracket is refined by
     Illinois. Leaves lam, tau at the step end. A slip that starts against its velocity (a
-    start from stick, g <= 0) crosses once g falls by more than the velocities' resolution
-    v_tol / V_SLIP_ATOL (an isolator held by a stuck one on a stiff base follows its
-    micro-vibration, whose sign changes are the integrator's noise)."""
+    start from stick, g <= 0) crosses once g falls between two samples by more than the
+    velocities' resolution v_tol / V_SLIP_ATOL (an isolator held by a stuck one on a stiff
+    base follows its micro-vibration, whose sign changes are the integrator's noise), or
+    once its velocity against its direction is resolved motion (g < −v_tol)."""
     ys, fs, qdd, lam, tau, modes = ew[:6]
     D = P[ks.I_D]
     n = D.shape[1]
@@ -200,7 +201,7 @@ def _detect(t, h, y, ynew, Qd, P, ew, stats, v_tol):
             # v = 0 by a stuck one on the same rigid base), nor a slip started from stick
             # against its residual velocity (|v| <= v_tol: g < 0 at its start) that speeds
             # up along its direction (g rising through the sample)
-            if gb < 0.0 and (ga > V_NOISE or gb < min(ga, 0.0) - v_noise):
+            if gb < 0.0 and (ga > V_NOISE or gb < min(ga, 0.0) - v_noise or gb < -v_tol):
                 xr = _root(
                     np.int64(SLIP), i, sg, xa, xb, max(ga, 0.0), gb, y, Qd, t, h, P, ew, stats
                 )

@@ -41,13 +41,13 @@ def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
         if _ev(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out) != kq.ST_OK:
             return kr.ST_SINGULAR
         worst = np.int64(-1)
-        ratio = 1.0 + kr.STICK_RTOL
-        for i in range(ni):
+        ratio = 0.0
+        for i in range(ni):  # (outside: the stick switching function's g <= 0, gfill's bound)
             if modes[i] == kp.MODE_STICK:
                 tau = math.sqrt(Ff[i, 0] ** 2 + Ff[i, 1] ** 2)
                 lim = bp[i, B_MUS] * ws[13][i] * lam[i]
                 rat = tau / lim if lim > 0.0 else math.inf
-                if rat > ratio and tau > 0.0:
+                if lim * (1.0 + kr.STICK_RTOL) - tau <= 0.0 and tau > 0.0 and rat > ratio:
                     ratio = rat
                     worst = i
         if worst < 0:
@@ -56,6 +56,11 @@ def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
             st, moved = align_starts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
             if st != kr.ST_OK or not moved:
                 return st
+            for k in range(min(int(info[kr.I_NEV]), EV.shape[0]) - 1, -1, -1):  # this event's
+                if EV[k, 0] != t:  # starts keep their aligned directions (as the deck's)
+                    break
+                if EV[k, 2] == kp.MODE_STICK and EV[k, 3] == kp.MODE_START:
+                    EV[k, 4], EV[k, 5] = dirs[int(EV[k, 1]), 0], dirs[int(EV[k, 1]), 1]
             aligned = True
             continue
         aligned = False
@@ -79,7 +84,9 @@ def align_starts(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out):
     returns (status, whether any direction moved). Not while the stuck isolators hold the
     base: their slip rows redundant (a rigid base on two or more, :func:`kq.stick_basis`'s
     rank below 2 n_stuck), the starts' slip points do not move and D_i q̈ is round-off
-    (aligned with it, the starts loaded the stuck isolators beyond their discs)."""
+    (aligned with it, the starts loaded the stuck isolators beyond their discs). The test is
+    global (one base: every isolator under it); starts on another body that stuck isolators
+    elsewhere leave free are then not aligned either."""
     qdd = out[0]
     D2 = op[kq.O_D2]
     ni = modes.shape[0]

@@ -27,8 +27,8 @@ from numba import njit
 from nsdyn.models.isolated.bearings import B_CEL, B_EFAST, B_ELEM, B_ERATE, B_IOFF, B_KEL, B_TAU
 
 NEWTON_ITER = 60  # Newton iterations of the damped stage's force (quadratic: a handful)
-NEWTON_RTOL = 1e-15  # |r| accepted, relative to the largest of |φ|, |κ_e e + c_e v|, μ_k
-STEP_RTOL = 1e-11  # a Newton step this small (relative to |φ|, |b|, max μ) is the last one
+NEWTON_RTOL = 1e-15  # |r| accepted, relative to the larger of |φ| and max μ_k
+STEP_RTOL = 1e-11  # a Newton step this small (relative to |φ| or max μ) is the last one
 STALL_RTOL = 1e-9  # ... and one this small where the iteration stalls at round-off (a kink)
 BACKTRACK = 40  # halvings of a Newton step before it counts as round-off
 ARMIJO = 1e-4  # sufficient decrease of F along a Newton step
@@ -129,14 +129,15 @@ def tfp_force(y, bp, i, ux, uy, vx, vy, sd):
     res, rx, ry, jxx, jxy, jyy, f = _residual(y, bp, i, bx, by, bx, by, ce, rate, sd)
     if ce == 0.0:
         return bx, by
-    scale = math.sqrt(bx * bx + by * by)
+    mu_max = 0.0
     for k in range(4):
-        scale = max(scale, bp[i, B_ELEM + 4 * k + 1])
+        mu_max = max(mu_max, bp[i, B_ELEM + 4 * k + 1])
     px = bx
     py = by
     dx = dy = math.inf
+    scale = mu_max
     for _ in range(NEWTON_ITER):
-        scale = max(scale, math.sqrt(px * px + py * py))
+        scale = max(mu_max, math.sqrt(px * px + py * py))  # (the iterate's, not its history)
         if res <= NEWTON_RTOL * scale:
             return px, py
         a = 1.0 + ce * jxx

@@ -174,7 +174,11 @@ def tfp_single(b, W: float, mass: float | None = None):
     """openseespy, with node 2 (mass ``mass``, rotations held) on one TripleFrictionPendulum of
     ``b`` (:func:`tfp_element_args`, constant friction at the slow coefficients) over the
     fixed node 1, carrying the weight W [N] (a static step, then held at time 0). The model of
-    the single-bearing cross-checks; the analysis objects are left for the caller."""
+    the single-bearing cross-checks; the analysis objects are left for the caller. The
+    element's elastic stage is undamped: ``b.zeta_e`` must be 0 (the same model)."""
+    if b.zeta_e != 0.0:
+        raise SceneError(f"{b.where}.zeta_e: OpenSees' TripleFrictionPendulum has an undamped "
+                         f"elastic stage; expected zeta_e = 0, got {b.zeta_e:g}")  # fmt: skip
     ops = load_opensees()
     a = tfp_element_args(b)
     ops.wipe()
