@@ -143,6 +143,13 @@ def out_file(s: str) -> str:
     return s
 
 
+def band_message(command: str, fmin: float, fmax: float) -> str:
+    """The usage error of a frequency band whose top is not above its bottom, in the form of
+    every other flag's (``argument --FLAG: expected …, got … (see nsdyn CMD --help)``)."""
+    return (f"argument --fmax: expected a frequency above --fmin ({fmin:g} Hz), got {fmax:g} "
+            f"(see nsdyn {command} --help)")  # fmt: skip
+
+
 def fail(args: argparse.Namespace, message, status: int = EXIT_USER_ERROR,
          what: str = "error") -> int:  # fmt: skip
     """``status`` after one line ``nsdyn COMMAND: what: message`` on stderr and, with

@@ -17,8 +17,8 @@ from pathlib import Path
 
 from nsdyn.atomic import atomic_open, output_dir, save_figure
 from nsdyn.cli.args import amplitude_list as _amplitude_list
+from nsdyn.cli.args import band_message, fail, out_dir, positive_int, refinement
 from nsdyn.cli.args import count as _count
-from nsdyn.cli.args import fail, out_dir, positive_int, refinement
 from nsdyn.cli.args import positive_finite as _positive
 from nsdyn.studies.plane_sweep import KINDS as PLANE_KINDS
 from nsdyn.studies.plane_sweep import POINTS_DEFAULT
@@ -196,7 +196,7 @@ def run(args: argparse.Namespace) -> int:
     args.amplitudes = args.amplitudes or _amplitude_list(DEFAULT_AMPLITUDES)
     friction = args.friction or cfg.get("isolation", {}).get("law", "arctan")
     if not args.fmax > args.fmin:
-        return fail(args, f"--fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})")
+        return fail(args, band_message("sweep", args.fmin, args.fmax))
     settings = SweepSettings(
         args.fmin,
         args.fmax,
@@ -327,7 +327,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     fmin = sw.get("f_min", lo) if args.fmin is None else args.fmin
     fmax = sw.get("f_max", hi) if args.fmax is None else args.fmax
     if not fmax > fmin:
-        return fail(args, f"--fmax ({fmax:g}) must exceed --fmin ({fmin:g})")
+        return fail(args, band_message("sweep", fmin, fmax))
     from nsdyn.periodic.plane import orbit_shape
 
     amplitudes = args.amplitudes or sw.get("amplitudes") or [orbit_shape(sc["orbit"])[0]]

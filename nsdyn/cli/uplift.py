@@ -18,7 +18,7 @@ import time
 from pathlib import Path
 
 from nsdyn.atomic import atomic_open
-from nsdyn.cli.args import EXIT_NUMERICS, fail, out_dir
+from nsdyn.cli.args import EXIT_NUMERICS, band_message, fail, out_dir
 from nsdyn.cli.args import count as _count
 from nsdyn.cli.args import positive_finite as _positive
 
@@ -84,7 +84,7 @@ def run(args: argparse.Namespace) -> int:
     except SceneError as e:
         return fail(args, e)
     if not args.fmax > args.fmin:
-        return fail(args, f"--fmax ({args.fmax:g}) must exceed --fmin ({args.fmin:g})")
+        return fail(args, band_message("uplift", args.fmin, args.fmax))
     if system.n_contacts == 0:
         return fail(
             args,

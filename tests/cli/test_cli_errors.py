@@ -15,8 +15,16 @@ CASES = [
     ("export", ["opensees", "no-such.toml"], "no-such.toml: no such scene file"),
     ("spectrum", ["no-such.toml"], "no-such.toml: no such scene file"),
     ("modes", ["no-such.toml"], "no-such.toml: no such frame file"),
-    ("sweep", ["--fmin", "2", "--fmax", "1"], "--fmax (1) must exceed --fmin (2)"),
-    ("uplift", ["--fmin", "2", "--fmax", "1"], "--fmax (1) must exceed --fmin (2)"),
+    (
+        "sweep",
+        ["--fmin", "2", "--fmax", "1"],
+        "argument --fmax: expected a frequency above --fmin (2 Hz), got 1 (see nsdyn sweep --help)",
+    ),
+    (
+        "uplift",
+        ["--fmin", "2", "--fmax", "1"],
+        "argument --fmax: expected a frequency above --fmin (2 Hz), got 1 (see nsdyn uplift --help)",
+    ),
 ]
 
 

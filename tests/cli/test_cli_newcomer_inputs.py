@@ -85,7 +85,11 @@ def test_json_reports_usage_and_command_errors_too(capsys):
     assert out["status"] == 2 and "--pga" in out["error"]
     assert main(["sweep", "--fmin", "2", "--fmax", "1", "--json"]) == 2
     out = json.loads(capsys.readouterr().out)
-    assert out == {"status": 2, "error": "--fmax (1) must exceed --fmin (2)"}
+    assert out == {
+        "status": 2,
+        "error": "argument --fmax: expected a frequency above --fmin "
+        "(2 Hz), got 1 (see nsdyn sweep --help)",
+    }
     assert main(["uplift", "no-such-scene.toml", "--json"]) == 2
     assert json.loads(capsys.readouterr().out)["status"] == 2
     with pytest.raises(SystemExit):  # an abbreviation argparse accepts counts as --json
