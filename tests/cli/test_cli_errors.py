@@ -23,7 +23,8 @@ CASES = [
     (
         "uplift",
         ["--fmin", "2", "--fmax", "1"],
-        "argument --fmax: expected a frequency above --fmin (2 Hz), got 1 (see nsdyn uplift --help)",
+        "argument --fmax: expected a frequency above --fmin (2 Hz), got 1 "
+        "(see nsdyn uplift --help)",
     ),
 ]
 

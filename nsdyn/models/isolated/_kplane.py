@@ -129,13 +129,14 @@ def workspace(ni):
     rates of the triple friction pendulums' internal slips, the (ni,) one the pressure factors
     of the friction at the last evaluation, the last (ni,) the compression flags (1: N_i
     carries its normal-force terms, 0: tensile under a bilateral contact). After those: the
-    scratch of :func:`start_direction` (a 3 × 3 factor, its pivots, two 3-vectors) and the
-    switch law's re-stick candidates (ni,) of its settling."""
+    scratch of :func:`start_direction` (a 3 × 3 factor, its pivots, two 3-vectors), the
+    switch law's re-stick candidates (ni,) of its settling, and the slip-start alignment's
+    scratch (:mod:`._kplanealign`: the directions it started from, (ni, 2), and (4, 3))."""
     return (np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((5, 5)), np.zeros(5),
             np.zeros(5, dtype=np.int64), np.zeros((ni, 3)), np.zeros(ni), np.zeros((ni, 2)),
             np.zeros(3), np.zeros(3), np.zeros((ni, 8)), np.ones(ni), np.ones(ni),
             np.zeros((3, 3)), np.zeros(3, dtype=np.int64), np.zeros((2, 3)),
-            np.zeros(ni, dtype=np.bool_))  # fmt: skip
+            np.zeros(ni, dtype=np.bool_), np.zeros((ni, 2)), np.zeros((4, 3)))  # fmt: skip
 
 
 def forces(ni):

@@ -43,6 +43,7 @@ from nsdyn import _kaddress as ka
 from nsdyn import _kdp5 as dp
 from nsdyn._klinalg import argmin
 from nsdyn.models.isolated import _kplane as kp
+from nsdyn.models.isolated import _kplanealign as kal
 from nsdyn.models.isolated._kplanestops import (  # noqa: F401 (the loops' shared names)
     EVENT_TTOL,
     P_NSTEPS,
@@ -64,7 +65,8 @@ START_EXIT = 2.0  # a slip-start becomes a slip at |v| = this x eta (entered at 
 RESTICK_MARGIN = 1e-6  # a slip-start held by a stuck deck sticks below (1 - this) mu_d(0) N
 SETTLE_PASSES = 64
 TIE_RTOL = 1e-8  # stuck isolators this close to the worst's |τ|/μ_s N break away with it
-ALIGN_PASSES = 100  # fixed-point passes aligning slip-start directions with their accelerations
+BAND_RTOL = 1e-6  # slips within (1 + this) η of the band join another's stick test
+ALIGN_PASSES = 100  # a pair system's fixed-point passes aligning its slip-start directions
 ALIGN_TOL = 1e-12  # largest change of a slip-start direction accepted as converged
 BURST_DT = 1e-8  # s, events closer than this count as one burst
 MAX_BURST = 200  # events in one burst before reporting chattering
@@ -199,39 +201,20 @@ def settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, in
 @ka.compiled_uncounted
 def align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
     """Slip-start directions consistent with the deck's motion when several are released
-    together: each d_i along the acceleration a_i = B_i q̈ of its slip point with every
-    friction in place (fixed-point iteration). One released alone is left as
-    :func:`kp.start_direction` made it (d ← a/|a| is unstable near the rim: a's part along d,
-    |τ| − μN, is ~0 at a located break-away, and round-off turned d off the stick force).
-    Several contract where their demand exceeds twice their kinetic friction (a translating
-    deck: gain μΣN/(|F| − μΣN) < 1); nearer the rim it stops after ALIGN_PASSES."""
-    qdd, N, Ff, Fr, Fo = out
-    ni = pos.shape[0]
+    together (:func:`._kplanealign.align`). One released alone is left as
+    :func:`kp.start_direction` made it (exact), as are the starts of a deck that two stuck
+    isolators hold (their slip points do not move)."""
     nst = 0
     nsl = 0
-    for i in range(ni):
+    for i in range(pos.shape[0]):
         if modes[i] == kp.MODE_STICK:
             nst += 1
         elif modes[i] == kp.MODE_START:
             nsl += 1
     if nsl < 2 or nst >= 2:  # none to align, one (consistent), or a held deck
         return ST_OK
-    for _ in range(ALIGN_PASSES):
-        st = kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
-        if st != kp.ST_OK:
-            return ST_SINGULAR
-        change = 0.0
-        for i in range(ni):
-            if modes[i] == kp.MODE_START:
-                ax = qdd[0] - pos[i, 1] * qdd[2]
-                ay = qdd[1] + pos[i, 0] * qdd[2]
-                an = math.sqrt(ax * ax + ay * ay)
-                if an > 0.0 and ax * dirs[i, 0] + ay * dirs[i, 1] > 0.0:
-                    change = max(change, abs(ax / an - dirs[i, 0]) + abs(ay / an - dirs[i, 1]))
-                    dirs[i, 0] = ax / an
-                    dirs[i, 1] = ay / an
-        if change <= ALIGN_TOL:
-            break
+    if not kal.align(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
+        return ST_SINGULAR
     return ST_OK
 
 
@@ -279,6 +262,7 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
     st = kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
     if st != kp.ST_OK:
         return ST_SINGULAR
+    test = False  # a stick test at this event
     for i in range(ni):  # every decision on the mode before the event
         m0 = modes[i]
         _, _, vx, vy = kp.slip_kinematics(y, pos, i)
@@ -299,6 +283,15 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
                 modes[i] = kp.MODE_STICK
         if modes[i] != m0:
             _record(EV, info, t, i, m0, modes[i], dirs)
+            test = test or modes[i] == kp.MODE_STICK
+    if test:  # partners entering the band together (round-off, ~1e-12 s apart) test together
+        for i in range(ni):
+            _, _, vx, vy = kp.slip_kinematics(y, pos, i)
+            if modes[i] == kp.MODE_SLIP and math.sqrt(vx * vx + vy * vy) <= sp[kp.S_ETA] * (
+                1.0 + BAND_RTOL
+            ):
+                modes[i] = kp.MODE_STICK
+                _record(EV, info, t, i, kp.MODE_SLIP, kp.MODE_STICK, dirs)
     return settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
 
 
