@@ -375,26 +375,46 @@ def header_units(header: list[str]) -> str | None:
     return None
 
 
+_UNIT_SCALE = (("cm/s² (gal)", 0.01), ("m/s²", 1.0), ("g", G_STANDARD))
+
+
+def _likelier_units(units: str, larger: bool) -> str:
+    """The units a file read with ``units`` is probably in: those larger (``larger``) or
+    smaller than them, e.g. 'm/s² or g' for a file read as gal whose PGA is too small."""
+    try:
+        f = unit_factor(units)[1]
+    except ValueError:
+        return "other units"
+    names = [n for n, k in _UNIT_SCALE if (k > f if larger else k < f)]
+    return " or ".join(names) if names else "other units"
+
+
 def check_pga(motion: GroundMotion, units: str | None = None) -> None:
     """Warn (UnitWarning) when the PGA lies outside the plausible range of m/s² (the advice
-    depends on whether the reader was given the file's ``units``)."""
+    depends on whether the reader was given the file's ``units``: then the likelier units
+    are those larger, or smaller, than the ones given)."""
     pga = motion.pga
-    fix = (f"check the units given, units={units!r}" if units is not None
+    given = units is not None
+    fix = (f"check the units given, units={units!r}" if given
            else f"give its units ({UNITS_HINT})")  # fmt: skip
     if pga == 0.0:
         warnings.warn(f"{motion.source}: the record is zero at every sample", UnitWarning,
                       stacklevel=3)  # fmt: skip
     elif pga > PGA_MAX_PLAUSIBLE:
+        why = (f"probably in {_likelier_units(units, False)}, read as {units!r}" if given
+               else "probably in cm/s² (gal) read as m/s², or in m/s² read as g")  # fmt: skip
         warnings.warn(
             f"{motion.source}: PGA = {pga:.4g} m/s² > {PGA_MAX_PLAUSIBLE:g} m/s²; the file is "
-            f"probably in cm/s² (gal) read as m/s², or in m/s² read as g: {fix}",
+            f"{why}: {fix}",
             UnitWarning,
             stacklevel=3,
         )
     elif pga < PGA_MIN_PLAUSIBLE:
+        why = (f"probably in {_likelier_units(units, True)}, read as {units!r}" if given
+               else "probably in g read as m/s²")  # fmt: skip
         warnings.warn(
             f"{motion.source}: PGA = {pga:.4g} m/s² < {PGA_MIN_PLAUSIBLE:g} m/s²; the file is "
-            f"probably in g read as m/s²: {fix}",
+            f"{why}: {fix}",
             UnitWarning,
             stacklevel=3,
         )

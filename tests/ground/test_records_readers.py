@@ -255,8 +255,14 @@ def test_unit_warnings(tmp_path):
         m = read_motion(gal, units="gal")
     assert m.pga == pytest.approx(5.0, rel=1e-15)
     tiny = write(tmp_path, "g.txt", "0.0 0.004\n0.01 -0.003\n0.02 0.0\n")  # 0.004 g as m/s²
-    with pytest.warns(UnitWarning, match="probably in g"):
+    with pytest.warns(UnitWarning, match="probably in g, read as 'm/s2'"):
         read_motion(tiny, units="m/s2")
+    # read as gal, a file in m/s² is 100x too small: larger units are likelier, not g alone
+    ms2 = write(tmp_path, "ms2.txt", "0.0 0.5\n0.01 -0.3\n0.02 0.0\n")
+    with pytest.warns(UnitWarning, match=r"probably in m/s² or g, read as 'gal'"):
+        read_motion(ms2, units="gal")
+    with pytest.warns(UnitWarning, match=r"probably in cm/s² \(gal\) or m/s², read as 'g'"):
+        read_motion(gal, units="g")
     stated = write(tmp_path, "s.txt", "# units: g\n0.0 0.3\n0.01 -0.2\n0.02 0.1\n")
     with pytest.warns(UnitWarning, match="header states 'g'"):
         read_motion(stated, units="m/s2")

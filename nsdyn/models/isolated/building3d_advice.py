@@ -8,11 +8,14 @@ advisor's (:mod:`nsdyn.studies.advisor`):
 
 1. **Window**: the record from its start to the time of ``PROBE_ARIAS`` of the horizontal
    Arias intensity ``∫ (a_x² + a_y²) dt`` (at least ``PROBE_MIN_S``).
-2. **cb probe**: the cb rung over the window. If an isolator lifts off, cb (only it sees
-   the normal forces from the dynamics). If every isolator sticks at every output instant
-   (the friction law's stick, :func:`nsdyn.models.isolated.friction.sticks`) the base is
-   locked and the fixed rung answers (the grid base clamps the feet as the fixed rung does;
-   with ``base = "pinned"`` the stuck isolators only pin them).
+2. **cb probe**: the cb rung over the window, with at least one elastic mode: a cb model
+   with no fixed-interface mode below its f_max is the rigid deck again and would always
+   agree with it, so its f_max is doubled (up to ``PROBE_F_CEIL``) until it keeps one. If an
+   isolator lifts off, cb (only it sees the normal forces from the dynamics). If every
+   isolator sticks at every output instant (the friction law's stick,
+   :func:`nsdyn.models.isolated.friction.sticks`) the base is locked and the fixed rung
+   answers (the grid base clamps the feet as the fixed rung does; with ``base = "pinned"``
+   the stuck isolators only pin them).
 3. **rigid probe**, when the asked metrics are ones the rigid deck has (the isolators' peak
    resultant displacement, the peak resultant base shear ``|Σ_i F_i|``): the relative
    difference of each from the cb probe's; all ≤ ``tol`` → rigid, else cb. Drifts and floor
@@ -35,6 +38,18 @@ PROBE_ARIAS = 0.8  # the window ends when the horizontal Arias intensity reaches
 PROBE_MIN_S = 5.0  # s, shortest window (unless the record is shorter)
 RIGID_METRICS = ("isolator_displacement", "base_shear")  # what the rigid deck can answer
 ADVICE_METRICS = (*RIGID_METRICS, "drift", "floor_acc")
+PROBE_F_CEIL = 200.0  # Hz: the cb probe's f_max is doubled up to this until it keeps a mode
+
+
+def elastic_probe(system, build):
+    """``system`` (a cb PairSystem), or when it keeps no fixed-interface mode below its f_max
+    (rigid above the base) ``build(f_max)`` at f_max doubled until one is kept (at most
+    PROBE_F_CEIL): the probe that can tell the rigid deck from the elastic building."""
+    fm = float(system.info["f_max"])
+    while system.info.get("n_modes", 1) == 0 and fm < PROBE_F_CEIL:
+        fm = min(2.0 * fm, PROBE_F_CEIL)
+        system = build(fm)
+    return system
 
 
 def probe_window(motion) -> tuple[float, float]:
@@ -84,6 +99,8 @@ def advise_building(frame, bearings, motion, *, tol: float = DEFAULT_TOL, f_max:
         if system is not None
         else building_pairs(frame, bearings, f_max=f_max, min_mass=min_mass, base=base)
     )
+    cb = elastic_probe(cb, lambda f: building_pairs(frame, bearings, f_max=f,
+                                                    min_mass=min_mass, base=base))  # fmt: skip
     build_s = time.perf_counter() - w0
     w0 = time.perf_counter()
     r = run_building(cb, win, **kw)
@@ -92,6 +109,7 @@ def advise_building(frame, bearings, motion, *, tol: float = DEFAULT_TOL, f_max:
     peaks = {"isolator_displacement": float(res.resultant(res.u).max()),
              "base_shear": float(np.hypot(*r.base_shear).max())}  # fmt: skip
     ev["cb_probe"] = {"model": cb.name, "n_dof": int(cb.n), "build_s": build_s,
+                      "f_max": float(cb.info["f_max"]), "n_modes": int(cb.info["n_modes"]),
                       "wall_s": time.perf_counter() - w0, "stick_fraction": stick,
                       "peaks": peaks, "uplift": res.uplift}  # fmt: skip
     if res.uplift is not None:

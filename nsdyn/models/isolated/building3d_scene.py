@@ -347,7 +347,7 @@ def _run_pairs(sysd, exc, t_end, kw, out_dir: Path, say, dt=None) -> dict:
 
 def _advise(sysd, cfg, exc, kw, source: str, say) -> None:
     """fidelity "auto": the advisor's rung into ``sysd`` (its report on stderr)."""
-    from nsdyn.models.isolated.building3d_advice import advise_building, report
+    from nsdyn.models.isolated.building3d_advice import advise_building, elastic_probe, report
 
     if not hasattr(exc, "dt"):
         raise SceneError(f"{source}: structure.fidelity: 'auto' probes the rungs on a record "
@@ -355,6 +355,13 @@ def _advise(sysd, cfg, exc, kw, source: str, say) -> None:
     opts = sysd["cb"]
     w0 = time.perf_counter()
     pairs = build_pairs(sysd["frame"], sysd["bearing"], "cb", opts, source)
+    f0 = pairs.info["f_max"]
+    pairs = elastic_probe(pairs, lambda f: build_pairs(sysd["frame"], sysd["bearing"], "cb",
+                                                       {**opts, "f_max": f}, source))  # fmt: skip
+    if pairs.info["f_max"] != f0:
+        say(f"building3d: the cb model at f_max = {f0:g} Hz keeps no elastic mode (it is the "
+            f"rigid deck again): the probe and a cb answer use f_max = "
+            f"{pairs.info['f_max']:g} Hz")  # fmt: skip
     build_s = time.perf_counter() - w0
     sysd["build_s"] += build_s
     sysd["compile_s"] = warm_pairs("dense", kw["law"], pairs, kw["contact"])
@@ -427,6 +434,12 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         _advise(sysd, cfg, exc, kw, source, say)
     path = sysd["pairs"].info["path"] if sysd["pairs"] is not None else None
     notes += [f"{k} not used: {w}" for k, w in unused_keys(cfg, sysd["fidelity"], path)]
+    info = sysd["pairs"].info if sysd["pairs"] is not None else {}
+    if info.get("fidelity") == "cb" and info.get("n_modes", 1) == 0:
+        notes.append(f"the cb model keeps no fixed-interface mode below f_max = "
+                     f"{info['f_max']:g} Hz: above the base the building is rigid in it (its "
+                     "drifts are round-off, its floor accelerations a rigid body's); raise "
+                     "structure.f_max above the building's first mode")  # fmt: skip
     for note in notes:
         say(f"building3d: note: {note}")
     if sysd["fidelity"] == "rigid":

@@ -93,11 +93,13 @@ def warm(system, law: str) -> float:
 def _pairs(source: str, name: str, v) -> np.ndarray:
     ok = isinstance(v, list) and v and all(
         isinstance(p, list) and len(p) == 2
-        and all(isinstance(a, int | float) and not isinstance(a, bool) for a in p)
+        and all(isinstance(a, int | float) and not isinstance(a, bool) and math.isfinite(a)
+                for a in p)
         for p in v
     )  # fmt: skip
     if not ok:
-        raise SceneError(f"{source}: {name}: expected a list of [X, Y] pairs [m], got {v!r}")
+        raise SceneError(f"{source}: {name}: expected a list of finite [X, Y] pairs [m], "
+                         f"got {v!r}")  # fmt: skip
     return np.array(v, dtype=float)
 
 
@@ -285,7 +287,7 @@ ROWS = (
     ("peak_resultant_friction_N", "peak |friction|", "N"),
     ("peak_resultant_restoring_N", "peak |restoring|", "N"),
     ("peak_torsion_rad", "peak deck torsion", "rad"),
-    ("min_normal_force_N", "min normal force", "N"),
+    ("min_normal_force_N", "min N, output times", "N"),
     ("max_normal_force_N", "max normal force", "N"),
     ("stick_fraction", "stick fraction", ""),
     ("events", "switch events", ""),
@@ -330,7 +332,7 @@ def summary_table(head: str, s: dict, rows) -> str:
         u = s["tension"]
         lines.append(f"  TENSION isolator {u['isolator']} at t = {u['t_first_s']:.6g} s "
                      f"(bilateral contact held it; {u['onsets']} onsets, min normal force "
-                     f"{u['min_normal_force_N']:.4g} N)")  # fmt: skip
+                     f"{u['min_normal_force_N']:.4g} N over every step)")  # fmt: skip
     if s.get("lift_offs"):  # a unilateral run of a system from matrices
         lines.append(f"  LIFT-OFF {s['lift_offs']} lift-offs and {s['landings']} landings, the "
                      f"first at t = {s['first_lift_off_s']:.6g} s, largest landing velocity "

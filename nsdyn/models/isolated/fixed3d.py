@@ -102,6 +102,8 @@ class FixedResponse3D:
 
 
 AMP_FLOOR = 1e-9  # drifts below this part of the largest are round-off: no amplification
+DRIFT_ROUNDOFF = 1e-12  # drift ratios at or below this are round-off (a rigid building's
+# ~1e-16 m of slip differences over metres of storey): no amplification either
 
 
 def response_peaks(drifts: StoreyDrifts, floor_acc, base_shear, torsion) -> dict:
@@ -116,7 +118,7 @@ def response_peaks(drifts: StoreyDrifts, floor_acc, base_shear, torsion) -> dict
     floor = AMP_FLOOR * max(float(cm.max(initial=0.0)), float(corner.max(initial=0.0)))
 
     def ratio(c, m):
-        return float(c / m) if m > floor and m > 0 else None
+        return float(c / m) if m > floor and m > DRIFT_ROUNDOFF else None
 
     return {
         "peak_drift_cm_x": float(cm[:, 0].max()),

@@ -94,6 +94,15 @@ def test_a_bearing_error_names_the_file_and_field():
         ds.build_system(cfg, "deck.toml")
 
 
+def test_a_position_that_is_not_finite_names_the_positions():
+    # (it was reported against deck.J, whose default the positions make)
+    cfg = _cfg("deck-fps4-3c.toml")
+    del cfg["deck"]["J"]
+    cfg["deck"]["positions"][3][1] = float("nan")
+    with pytest.raises(SceneError, match=r"^deck\.toml: deck\.positions: expected a list of fin"):
+        ds.build_system(cfg, "deck.toml")
+
+
 def test_tfp_scene_runs_with_the_regularised_law_and_equals_the_library_run(tmp_path):
     # the triple pendulum scene (shortened): the reader builds the series-model bearings, picks
     # the regularised law, and its summary is the library run's; a figure and JSON follow

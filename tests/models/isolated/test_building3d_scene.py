@@ -142,6 +142,23 @@ def test_auto_scene_advises_and_runs_a_rung(tmp_path):
     assert s["advice"]["fidelity"] == s["fidelity"] and s["advice"]["decision"]
 
 
+def test_a_cb_model_without_elastic_modes_is_noted_and_the_auto_probe_keeps_one(tmp_path):
+    # Below the portal's first fixed-interface mode the cb model is the rigid deck again: its
+    # drifts are round-off (a ratio of them is no amplification) and, as the advisor's probe,
+    # it always agreed with the rigid deck, which was then chosen for a flexible building.
+    cfg = _cfg(**{k: dict(v) for k, v in PORTAL.items()})
+    cfg["structure"].update(fidelity="cb", f_max=0.01)
+    s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                  quiet=True)  # fmt: skip
+    assert any("keeps no fixed-interface mode below f_max = 0.01 Hz" in n for n in s["notes"])
+    assert s["corner_amplification_x"] is None and s["corner_amplification_y"] is None
+    cfg["structure"]["fidelity"] = "auto"
+    s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                  quiet=True)  # fmt: skip
+    probe = s["advice"]["cb_probe"]
+    assert probe["n_modes"] >= 1 and probe["f_max"] > 0.01
+
+
 @pytest.mark.parametrize(
     ("fid", "path", "tables", "noted"),
     [
