@@ -252,9 +252,11 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     ran = s.get("t_end_s", s.get("t_end"))
     req = args.t_end or cfg.get("motion", {}).get("t_end")  # (--t-end, or the scene's)
     short = isinstance(ran, int | float) and isinstance(req, int | float) and ran < req - 1e-6
-    if short and not s.get("uplift") and not args.json:  # (an uplift ends a run early too)
-        print(f"nsdyn run: note: t_end = {req:g} s is past the excitation's end; the "
-              f"run ends there, at {ran:g} s", file=sys.stderr)  # fmt: skip
+    if short and not s.get("uplift"):  # (an uplift ends a run early too)
+        note = f"t_end = {req:g} s is past the excitation's end; the run ends there, at {ran:g} s"
+        s.setdefault("notes", []).append(note)  # (--json: the summary's notes)
+        if not args.json:
+            print(f"nsdyn run: note: {note}", file=sys.stderr)
     # a deck or 3D building whose normal force reached zero: written up to the uplift, and
     # the status of a run that left the model's domain (as the isolated frame's uplift)
     status = EXIT_NUMERICS if s.get("uplift") and kind in ("deck", "building3d") else 0
@@ -265,6 +267,7 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
             head = {"status": status, "error": f"UPLIFT isolator {u['isolator']} at t = "
                     f"{u['t_s']:.6g} s: its normal force reached zero and the run ended there "
                     "(the files hold the run up to it)"}  # fmt: skip
+            print(f"nsdyn run: error: {head['error']}", file=sys.stderr)  # (as every failure's)
         print(json.dumps({**head, **s}))
         return status
     print(mod.format_summary(s))

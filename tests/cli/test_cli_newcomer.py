@@ -418,8 +418,26 @@ def test_a_deck_that_lifts_off_ends_with_status_3_and_a_zero_normal_force(tmp_pa
 
     argv = ["run", _scene("deck-fps4-3c.toml"), "--pga", "60", "--t-end", "2", "--json"]
     assert main([*argv, "--no-figures", "--out", str(tmp_path / "o")]) == 3
-    s = json.loads(capsys.readouterr().out)
+    cap = capsys.readouterr()
+    s = json.loads(cap.out)
     assert s["uplift"] and s["min_normal_force_N"] == 0.0
+    assert s["status"] == 3 and cap.err == f"nsdyn run: error: {s['error']}\n"  # (its line)
+
+
+def test_a_deck_scene_json_carries_its_notes(tmp_path, capsys):
+    """With --json the notes printed in text mode are the summary's notes (they were
+    dropped with stderr's lines): here a t_end past the record's end (40 s)."""
+    import json
+
+    text = open(_scene("deck-fps4-3c.toml"), encoding="utf-8").read()
+    scene = tmp_path / "d.toml"
+    scene.write_text(text.replace("[motion]", "[motion]\nt_end = 41.0", 1))
+    argv = ["run", str(scene), "--json", "--no-figures", "--out", str(tmp_path / "o")]
+    assert main(argv) == 0
+    cap = capsys.readouterr()
+    notes = json.loads(cap.out)["notes"]
+    assert cap.err == ""
+    assert any("t_end = 41 s is past the excitation's end" in n for n in notes), notes
 
 
 @pytest.mark.parametrize(

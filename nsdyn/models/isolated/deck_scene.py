@@ -254,7 +254,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"deck: {name}: {system.n_isolators} isolator(s), law {kw['law']}, "
         f"{getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
-    for note in bearing_notes(system.bearings, system.static_normal()):
+    notes = bearing_notes(system.bearings, system.static_normal())  # (the summary's too)
+    for note in notes:
         say(f"deck: note: {note}")
     compile_s = warm(system, kw["law"])
     w0 = time.perf_counter()
@@ -275,7 +276,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
                  positions=system.positions, d_cap=caps)  # fmt: skip
     s.update({"kind": "deck", "name": name, "motion": getattr(exc, "name", type(exc).__name__),
               "wall_s": wall, "compile_s": compile_s, "files": [str(npz)],
-              "warnings": [str(w.message) for w in caught]})  # fmt: skip
+              "warnings": [str(w.message) for w in caught], "notes": list(notes)})  # fmt: skip
     say(f"deck: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
     return s
 
