@@ -87,6 +87,10 @@ def regular_building_3d(
     xs, ys = np.r_[0.0, np.cumsum(bx)], np.r_[0.0, np.cumsum(by)]
     zs = np.r_[0.0, np.cumsum(hs)]
     Lx, Ly = xs[-1], ys[-1]
+    ex, ey = (float(v) for v in mass_offset)
+    if abs(ex) > Lx / 2 or abs(ey) > Ly / 2:
+        raise ValueError(f"mass_offset {[ex, ey]}: expected the floors' centre of mass within "
+                         f"the plan, |e_x| <= {Lx / 2:g} and |e_y| <= {Ly / 2:g}")  # fmt: skip
     fi = _values(
         fm * (Lx**2 + Ly**2) / 12 if floor_inertia is None else floor_inertia, ns, "floor_inertia"
     )

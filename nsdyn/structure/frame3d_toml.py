@@ -147,6 +147,10 @@ def _regular(rd: _Reader, f: Mapping, name: str) -> Frame3D:
         rd.fail(f"{P}.diaphragms", "true or false", dia)
     if not dia and any(off):
         rd.fail(f"{P}.mass_offset", "[0, 0] with diaphragms = false (it moves their mass)", off)
+    hx, hy = sum(bx) / 2, sum(by) / 2
+    if abs(off[0]) > hx or abs(off[1]) > hy:  # (an accidental eccentricity is ~5 % of L)
+        rd.fail(f"{P}.mass_offset", f"an offset [e_x, e_y] [m] that keeps the floors' centre of "
+                f"mass within the plan, |e_x| <= {hx:g} and |e_y| <= {hy:g}", off)  # fmt: skip
     return regular_building_3d(
         name,
         bx,

@@ -190,6 +190,14 @@ BAD = [  # (id, file text, old, new, field, expected-form needle)
         r"with diaphragms = false",
     ),
     (
+        "office-offset-outside-the-plan",  # (its floors' mass outside a 15 x 80 m plan)
+        OFFICE,
+        "diaphragms = true",
+        "diaphragms = true\nmass_offset = [100.0, 0.0]",
+        r"frame3d\.mass_offset",
+        r"within the plan, \|e_x\| <= 7\.5 and \|e_y\| <= 40, got \[100\.0, 0\.0\]",
+    ),
+    (
         "portal-negative-zeta",  # named once: the explicit builder's own checks do not wrap it
         PORTAL,
         "zeta = [0.02]",
