@@ -83,7 +83,8 @@ def workspace(n, ni):
     pressure factors (ni); the stick basis: its modes (ni), Q_s (2ni, 2ni), rank; G3 (3ni,
     3ni), a vector (3ni); the compression flags (ni) of a bilateral contact; a unilateral
     contact's open flags (ni) and gap offsets (ni); the rates of the triple pendulums'
-    internal slips (ni, 8); the stuck columns of G3 at unit weights (3ni, 2ni) and their flag."""
+    internal slips (ni, 8); the stuck columns of G3 at unit weights (3ni, 2ni) and their flag;
+    the slip-start directions (ni, 2) an alignment started from."""
     mm = 3 * ni
     return (np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(2 * ni), np.zeros(n),
             np.zeros(3), np.zeros((mm, mm)), np.zeros((mm, mm)), np.zeros(mm), np.zeros(mm),
@@ -91,7 +92,7 @@ def workspace(n, ni):
             np.zeros(1, dtype=np.int64), np.ones(ni), np.full(ni, -1, dtype=np.int64),
             np.zeros((2 * ni, 2 * ni)), np.zeros(1, dtype=np.int64), np.zeros((mm, mm)),
             np.zeros(mm), np.ones(ni), np.zeros(ni), np.zeros(ni), np.zeros((ni, 8)),
-            np.zeros((mm, 2 * ni)), np.zeros(1, dtype=np.int64))  # fmt: skip
+            np.zeros((mm, 2 * ni)), np.zeros(1, dtype=np.int64), np.zeros((ni, 2)))  # fmt: skip
 
 
 def outputs_at(n, ni):

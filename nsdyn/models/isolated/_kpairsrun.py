@@ -98,6 +98,7 @@ def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
         if st != kr.ST_OK or not law_switch:
             return st
         kq.slips(y, op[kq.O_D2], out[0].shape[0], ws[0], v)
+    test = False  # a stick test at this event
     for i in range(ni):
         m0 = modes[i]
         if not uni and g0[i, 2] > 0.0 and g[i, 2] <= 0.0:  # bilateral: into / out of tension
@@ -117,6 +118,14 @@ def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
                 modes[i] = kp.MODE_STICK
         if modes[i] != m0:
             kr._record(EV, info, t, i, m0, modes[i], dirs)
+            test = test or modes[i] == kp.MODE_STICK
+    if test:  # partners entering the band together (round-off apart) test together
+        for i in range(ni):
+            if modes[i] == kp.MODE_SLIP and math.sqrt(v[2 * i] ** 2 + v[2 * i + 1] ** 2) <= sp[
+                kq.S_ETA
+            ] * (1.0 + kr.BAND_RTOL):
+                modes[i] = kp.MODE_STICK
+                kr._record(EV, info, t, i, kp.MODE_SLIP, kp.MODE_STICK, dirs)
     return ka.tcall("pairs.settle", (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info))
 
 

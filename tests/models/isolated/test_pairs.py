@@ -293,6 +293,29 @@ def test_rigid_deck_on_four_isolators_equals_the_deck_kernels(law):
     assert np.abs(r.q[:, 2] - ref.theta).max() < 1e-7 * np.abs(ref.theta).max() + 1e-12
 
 
+def test_equal_isolators_released_together_start_along_the_load():
+    # Four equal isolators of a centred deck as a system from matrices break away together
+    # from rest; on a translating base the consistent slip-start directions are those of the
+    # single mass's stick force (every a_i = (F - mu sum N d) / m along d iff d along F).
+    # (The deck's plain fixed-point alignment diverged at this break-away, gain
+    # mu sum N / (|F| - mu sum N) = 1.3 with mu_s = 0.07, mu = 0.04, turning all four off the
+    # load; the pair system's start directions are consistent here from its first pass.)
+    from nsdyn.ground import read_motion3
+
+    rec = read_motion3("synthetic-wn-40s").until(0.4)
+    b = Bearing(Friction(0.04, mu_fast=0.07, rate=30.0), radius=2.2)
+    pos = [(-10.0, -6.0), (10.0, -6.0), (10.0, 6.0), (-10.0, 6.0)]
+    m = 2.0e6
+    r = simulate_pairs(from_deck(rigid_deck(m, m * 544 / 12, pos, b)), rec, law="switch",
+                       rtol=1e-6)  # fmt: skip
+    ref = simulate_plane(sdof_plane(m, b), rec, law="switch", rtol=1e-6)
+    d_ref = ref.events[ref.events[:, 3] == kp.MODE_START][0, 4:6]
+    starts = r.events[r.events[:, 3] == kp.MODE_START][:4]
+    assert sorted(starts[:, 1].tolist()) == [0, 1, 2, 3]  # all four at one event
+    assert np.ptp(starts[:, 0]) == 0.0 and abs(starts[0, 0] - ref.events[0, 0]) < 1e-6
+    np.testing.assert_allclose(starts[:, 4:6], np.tile(d_ref, (4, 1)), rtol=0, atol=1e-9)
+
+
 def test_single_mass_from_the_deck_is_the_three_dof_system():
     # from_deck of a single mass: q = (x, y, θ, z), one contact, the bearing holds the moments
     s = from_deck(sdof_plane(M, Bearing(Friction(0.05)), g=G))
