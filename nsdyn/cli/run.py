@@ -413,8 +413,6 @@ def run(args: argparse.Namespace) -> int:
         from nsdyn.solve.auto import choose_for_system
 
         method, reason = choose_for_system(system)
-        if not args.json:
-            print(f"method  {reason}", file=sys.stderr)
     check_method(method, cfg)
     from nsdyn.solve.methods import METHODS
     from nsdyn.studies.scenes import checked_step
@@ -434,7 +432,12 @@ def run(args: argparse.Namespace) -> int:
             print(f"nsdyn run: note: {notes[-1]}", file=sys.stderr)
     from nsdyn.studies.scenes import check_step_count
 
-    check_step_count(source, method, sv.get("dt"), t_eval, sv.get("max_steps"))
+    try:
+        check_step_count(source, method, sv.get("dt"), t_eval, sv.get("max_steps"))
+    except SceneError as e:  # (the method the run did not name: which choice it was)
+        raise SceneError(f"{e} (method {reason})" if reason else str(e)) from None
+    if reason and not args.json:  # (after the checks: a refused run is one line)
+        print(f"method  {reason}", file=sys.stderr)
     out = Path(args.out)
     stem = "run"
     ckpt = out / CHECKPOINT

@@ -41,6 +41,18 @@ def test_a_user_error_is_one_line_naming_the_command(
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_step_refused_for_the_automatic_method_is_one_line_naming_the_choice(
+    capsys, tmp_path, monkeypatch
+):
+    # (the automatic choice's line came first, so a refused run read as one that started)
+    monkeypatch.chdir(tmp_path)  # (nothing is written: the check comes before any work)
+    assert main(["run", "--dt", "0.01", "--t-end", "1"]) == EXIT_USER_ERROR
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1 and list(tmp_path.iterdir()) == []
+    assert err.startswith("nsdyn run: error: <default scene>: solver.dt: the adaptive method ")
+    assert err.endswith("(method auto: 13 coordinates, arctan law -> radau (adaptive))\n")
+
+
 def test_an_unknown_method_lists_auto_among_the_choices(capsys):
     from nsdyn.solve.methods import METHODS
 
