@@ -65,7 +65,8 @@ START_EXIT = 2.0  # a slip-start becomes a slip at |v| = this x eta (entered at 
 RESTICK_MARGIN = 1e-6  # a slip-start held by a stuck deck sticks below (1 - this) mu_d(0) N
 SETTLE_PASSES = 64
 TIE_RTOL = 1e-8  # stuck isolators this close to the worst's |τ|/μ_s N break away with it
-BAND_RTOL = 1e-6  # slips within (1 + this) η of the band join another's stick test
+BAND_RTOL = 0.1  # slips within (1 + this) η join another's stick test (a slip, entered at
+# 2η, this slow is slowing to the band; partners' speeds part by the velocity tolerance)
 ALIGN_PASSES = 100  # a pair system's fixed-point passes aligning its slip-start directions
 ALIGN_TOL = 1e-12  # largest change of a slip-start direction accepted as converged
 BURST_DT = 1e-8  # s, events closer than this count as one burst

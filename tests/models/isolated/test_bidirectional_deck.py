@@ -167,12 +167,12 @@ def test_isolators_released_together_start_along_the_load(case):
     # - released together at mu_s = mu_fast, the fixed-point alignment of their slip-start
     #   directions diverged (gain mu sum N / (|F| - mu sum N) = 1.3 at the break-away),
     #   leaving them slipping in four directions (5.3e-3 of the peak off, xy);
-    # - partners reaching the stick band ~1e-12 s apart (round-off in the twist) were
+    # - partners reaching the stick band apart (round-off in the twist) were
     #   stick-tested apart, the first pair holding the whole deck and breaking away where the
     #   single mass sticks (1.4e-2 of the peak off, x).
-    # Now Newton aligns on the deck's accelerations and partners within (1 + 1e-6) eta of the
-    # band test together: 2e-8 to 2.3e-7 of the peak at rtol 1e-6 for polar inertias 8.93e7 to
-    # 9.07e7 (the overturning case 4.4e-5 at rtol 1e-9: open work).
+    # Now Newton aligns on the deck's accelerations and partners within 1.1 eta test
+    # together: 2e-8 to 1.3e-7 of the peak at rtol 1e-6 and 1e-9 for polar inertias 8.93e7
+    # to 9.07e7; the bound leaves the integrators' global errors a wide margin.
     from nsdyn.ground import GroundMotion3, read_motion3
     from nsdyn.models.isolated.deck import sdof_plane
 
@@ -189,8 +189,8 @@ def test_isolators_released_together_start_along_the_load(case):
     peak = np.abs(s.u).max()
     assert peak > 0.05
     for i in range(4):
-        assert np.abs(d.u[:, i] - s.u[:, 0]).max() < 1e-4 * peak
-    assert np.abs(d.theta).max() * 10.0 < 1e-4 * peak
+        assert np.abs(d.u[:, i] - s.u[:, 0]).max() < 1e-5 * peak
+    assert np.abs(d.theta).max() * 10.0 < 1e-5 * peak
 
 
 def test_a_very_sharp_regularised_law_holds_a_deck_below_its_friction():
