@@ -119,7 +119,7 @@ def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
         if modes[i] != m0:
             kr._record(EV, info, t, i, m0, modes[i], dirs)
             test = test or modes[i] == kp.MODE_STICK
-    if test:  # partners entering the band together (round-off apart) test together
+    if test:  # partners slowing to the band with it test together (kr.BAND_RTOL)
         for i in range(ni):
             if modes[i] == kp.MODE_SLIP and math.sqrt(v[2 * i] ** 2 + v[2 * i + 1] ** 2) <= sp[
                 kq.S_ETA

@@ -10,8 +10,7 @@ three equations,
 q̈(d) the deck's accelerations evaluated with those directions. They are solved by Newton
 with a forward-difference Jacobian (3 × 3) and a halving line search on max |r|, from the
 translation of the accelerations of the directions the caller made (each from its own stick
-force). The
-fixed-point passes d ← a/|a| solve the same equations but diverge at a break-away: on a
+force). The fixed-point passes d ← a/|a| solve the same equations but diverge at a break-away: on a
 translating deck their gain is μΣN/(|F| − μΣN), 1.3 with μ_s = 0.07 and μ = 0.04, and larger
 for the deck's turning; they left four equal isolators of a centred deck slipping in four
 directions under a record along x. A translating deck's solution is exact: every d_i along
@@ -28,7 +27,7 @@ from nsdyn._klinalg import lu_factor, lu_solve
 from nsdyn.models.isolated import _kplane as kp
 
 ALIGN_NEWTON = 30  # Newton steps at most
-ALIGN_TOL = 1e-12  # converged: max |r| <= this times the accelerations' size
+NEWTON_TOL = 1e-12  # converged: max |r| <= this times the accelerations' size
 ALIGN_FD = 1e-7  # forward-difference step relative to the accelerations' size
 ALIGN_HALVINGS = 30  # line-search halvings at most
 
@@ -75,7 +74,7 @@ def _newton(x, t, y, modes, dirs, d0, M, pos, bp, nd, sp, gk, gp, tab, ws, out, 
         if nr < 0.0:
             return False
         scale = _size(x, R)
-        if nr <= ALIGN_TOL * scale:
+        if nr <= NEWTON_TOL * scale:
             return True
         for j in range(3):
             h = ALIGN_FD * scale / (R if j == 2 and R > 0.0 else 1.0)
@@ -110,7 +109,7 @@ def _newton(x, t, y, modes, dirs, d0, M, pos, bp, nd, sp, gk, gp, tab, ws, out, 
             lam *= 0.5
         if not took:
             return False
-    if 0.0 <= nr <= ALIGN_TOL * _size(x, R):
+    if 0.0 <= nr <= NEWTON_TOL * _size(x, R):
         _residual(x, r, t, y, modes, dirs, d0, M, pos, bp, nd, sp, gk, gp, tab, ws, out, R)
         return True
     return False

@@ -285,7 +285,7 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
         if modes[i] != m0:
             _record(EV, info, t, i, m0, modes[i], dirs)
             test = test or modes[i] == kp.MODE_STICK
-    if test:  # partners entering the band together (round-off, ~1e-12 s apart) test together
+    if test:  # partners slowing to the band with it test together (BAND_RTOL)
         for i in range(ni):
             _, _, vx, vy = kp.slip_kinematics(y, pos, i)
             if modes[i] == kp.MODE_SLIP and math.sqrt(vx * vx + vy * vy) <= sp[kp.S_ETA] * (

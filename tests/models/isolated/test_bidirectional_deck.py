@@ -159,6 +159,25 @@ def test_symmetric_partners_break_away_together(half):
     assert d.stats["events"] == 4 * s.stats["events"] and np.abs(starts[:, 5]).max() < 1e-9
 
 
+def equal_isolators_deck(case: str):
+    """(deck, single mass, record) of the equal-isolator cases: a 20 x 12 m deck of 2000 t
+    (uniform slab's J) on four equal friction pendulums with mu_s = mu_fast, centred under
+    the first 12 s of the bundled record ("xy, centred"), or 1.5 m above its isolators under
+    its x component alone ("x, overturning"); the single mass on one such pendulum."""
+    from nsdyn.ground import GroundMotion3, read_motion3
+    from nsdyn.models.isolated.deck import sdof_plane
+
+    rec = read_motion3("synthetic-wn-40s").until(12.0)
+    h = 0.0
+    if case.startswith("x,"):
+        rec = GroundMotion3(rec.t0, rec.dt, rec.ax, np.zeros_like(rec.ax), None)
+        h = 1.5
+    b = Bearing(Friction(0.04, mu_fast=0.07, rate=30.0), radius=2.2)
+    pos = [(-10.0, -6.0), (10.0, -6.0), (10.0, 6.0), (-10.0, 6.0)]
+    m = 2.0e6
+    return rigid_deck(m, m * (400 + 144) / 12, pos, b, h=h), sdof_plane(m, b), rec
+
+
 @pytest.mark.parametrize("case", ["xy, centred", "x, overturning"])
 def test_isolators_released_together_start_along_the_load(case):
     # Four equal isolators of a centred deck under the two horizontal components, or of one
@@ -173,19 +192,9 @@ def test_isolators_released_together_start_along_the_load(case):
     # Now Newton aligns on the deck's accelerations and partners within 1.1 eta test
     # together: 2e-8 to 1.3e-7 of the peak at rtol 1e-6 and 1e-9 for polar inertias 8.93e7
     # to 9.07e7; the bound leaves the integrators' global errors a wide margin.
-    from nsdyn.ground import GroundMotion3, read_motion3
-    from nsdyn.models.isolated.deck import sdof_plane
-
-    rec = read_motion3("synthetic-wn-40s").until(12.0)
-    h = 0.0
-    if case.startswith("x,"):
-        rec = GroundMotion3(rec.t0, rec.dt, rec.ax, np.zeros_like(rec.ax), None)
-        h = 1.5
-    b = Bearing(Friction(0.04, mu_fast=0.07, rate=30.0), radius=2.2)
-    pos = [(-10.0, -6.0), (10.0, -6.0), (10.0, 6.0), (-10.0, 6.0)]
-    m = 2.0e6
-    d = simulate_plane(rigid_deck(m, m * (400 + 144) / 12, pos, b, h=h), rec, rtol=1e-6)
-    s = simulate_plane(sdof_plane(m, b), rec, rtol=1e-6)
+    deck, single, rec = equal_isolators_deck(case)
+    d = simulate_plane(deck, rec, rtol=1e-6)
+    s = simulate_plane(single, rec, rtol=1e-6)
     peak = np.abs(s.u).max()
     assert peak > 0.05
     for i in range(4):

@@ -324,19 +324,11 @@ def test_a_centred_deck_on_equal_isolators_is_the_single_mass(case):
     # diverged, and partners reached the stick band apart (the twist, stiff near the band,
     # grows from round-off on the explicit pair's steps up to the velocity tolerance) and
     # were tested apart. Relaxed passes and the band tie (1.1 eta): 9e-6 and 3e-7.
-    from nsdyn.ground import GroundMotion3, read_motion3
+    from test_bidirectional_deck import equal_isolators_deck
 
-    rec = read_motion3("synthetic-wn-40s").until(12.0)
-    h = 0.0
-    if case.startswith("x,"):
-        rec = GroundMotion3(rec.t0, rec.dt, rec.ax, np.zeros_like(rec.ax), None)
-        h = 1.5
-    b = Bearing(Friction(0.04, mu_fast=0.07, rate=30.0), radius=2.2)
-    pos = [(-10.0, -6.0), (10.0, -6.0), (10.0, 6.0), (-10.0, 6.0)]
-    m = 2.0e6
-    r = simulate_pairs(from_deck(rigid_deck(m, m * 544 / 12, pos, b, h=h)), rec, law="switch",
-                       rtol=1e-6)  # fmt: skip
-    s = simulate_plane(sdof_plane(m, b), rec, law="switch", rtol=1e-6)
+    deck, single, rec = equal_isolators_deck(case)
+    r = simulate_pairs(from_deck(deck), rec, law="switch", rtol=1e-6)
+    s = simulate_plane(single, rec, law="switch", rtol=1e-6)
     peak = np.abs(s.u).max()
     assert peak > 0.05
     for i in range(4):
