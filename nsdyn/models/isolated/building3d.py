@@ -33,7 +33,11 @@ from nsdyn.models.isolated.deck import PlaneSystem, rigid_deck
 from nsdyn.structure.frame3d import DOFS_PER_NODE, Frame3D
 from nsdyn.structure.modes3d import mass_centre
 
-__all__ = ["building_deck", "deck_constants"]
+__all__ = ["building_deck", "deck_constants", "weight_note"]
+
+# |m_z / m - 1| above which the rungs' weights differ enough to say so: 5 % of the normal
+# forces is 5 % of the friction and pendulum forces, and of the isolation period's square
+WEIGHT_RTOL = 0.05
 
 
 def _rocking_y(frame: Frame3D, z0: float) -> np.ndarray:
@@ -50,7 +54,9 @@ def _rocking_y(frame: Frame3D, z0: float) -> np.ndarray:
 
 def deck_constants(frame: Frame3D) -> dict:
     """``m`` [kg], ``J`` [kg m²] about the centre of mass, ``centre`` (x_c, y_c) [m],
-    ``h`` [m] above the base nodes, ``z_base`` [m] (module docstring)."""
+    ``h`` [m] above the base nodes, ``z_base`` [m] (module docstring), and ``m_z`` [kg] =
+    r_zᵀ M r_z, the mass gravity acts on in the cb and full rungs (a floor mass given in
+    plan only has none; the rigid deck weighs ``m``)."""
     _, M = frame.reduced()
     c, m, J = mass_centre(frame, M)
     zb = float(frame.nodes[frame.base_nodes, 2].min())
@@ -59,11 +65,25 @@ def deck_constants(frame: Frame3D) -> dict:
             f"frame {frame.name!r}: the base nodes are not at one level; the isolators of a "
             "rigid deck slide in one plane"
         )
-    rx = frame.rigid_motions()[:, 0]
-    h = float(rx @ (M @ _rocking_y(frame, zb))) / m
+    r = frame.rigid_motions()
+    h = float(r[:, 0] @ (M @ _rocking_y(frame, zb))) / m
     if not J > 0:
         raise ValueError(f"frame {frame.name!r}: no polar inertia (J = {J:g} kg m²)")
-    return {"m": m, "J": J, "centre": c, "h": h, "z_base": zb}
+    m_z = float(r[:, 2] @ (M @ r[:, 2]))
+    return {"m": m, "J": J, "centre": c, "h": h, "z_base": zb, "m_z": m_z}
+
+
+def weight_note(name: str, m: float, m_z: float) -> str | None:
+    """A note when the frame's vertical mass ``m_z`` differs from its horizontal mass ``m``
+    by more than ``WEIGHT_RTOL``: the rigid deck weighs m, the cb and full rungs m_z."""
+    if abs(m_z / m - 1.0) <= WEIGHT_RTOL:
+        return None
+    return (f"frame {name}: its vertical mass ({m_z / 1e3:.4g} t) is {100 * m_z / m:.3g} % of "
+            f"its horizontal mass ({m / 1e3:.4g} t): the cb and full rungs put the vertical "
+            "masses' weight on the isolators, the rigid rung the horizontal mass's, so their "
+            "normal forces, friction and pendulum forces differ by that ratio; give floor "
+            "masses their weight (frame3d.node_mass [m_x, m_y, m_z] on the floor's "
+            "nodes)")  # fmt: skip
 
 
 def building_deck(
@@ -77,7 +97,8 @@ def building_deck(
 
     ``bearings``: one :class:`~nsdyn.models.isolated.Bearing` for all or one per base node
     (in the order of ``frame.base_nodes``). The deck's ``info`` holds ``origin`` (the plan
-    point O the deck's (x, y, θ) refer to), ``centre``, ``m``, ``J``, ``h``, ``base_nodes``.
+    point O the deck's (x, y, θ) refer to), ``centre``, ``m``, ``J``, ``h``, ``m_z``,
+    ``base_nodes``.
     """
     expect(
         "frame",
@@ -106,7 +127,7 @@ def building_deck(
     deck = rigid_deck(k["m"], k["J"], xy - origin, bearings, ecc=(float(ecc[0]), float(ecc[1])),
                       h=max(k["h"], 0.0), g=g, name=name or frame.name)  # fmt: skip
     deck.info.update(
-        origin=origin, centre=k["centre"], m=k["m"], J=k["J"], h=k["h"],
+        origin=origin, centre=k["centre"], m=k["m"], J=k["J"], h=k["h"], m_z=k["m_z"],
         base_nodes=frame.base_nodes.copy(),
     )  # fmt: skip
     return deck

@@ -424,10 +424,11 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         f"fidelity {sysd['fidelity']}, {getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
     notes: list = []  # one line each on stderr, and the summary's "notes"
     if sysd["bearing"] is not None:
-        from nsdyn.models.isolated.building3d import building_deck
+        from nsdyn.models.isolated.building3d import building_deck, weight_note
 
         deck = sysd["deck"] or building_deck(frame, sysd["bearing"])  # its static forces
         notes = bearing_notes(deck.bearings, deck.static_normal())
+        notes += [n for n in [weight_note(frame.name, deck.info["m"], deck.info["m_z"])] if n]
     out_dir = Path(out_dir)
     asked = sysd["fidelity"]
     if asked == "auto":

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import copy
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,6 +20,7 @@ from nsdyn.models.scenefile import SceneError
 from nsdyn.structure import load_frame3d
 
 EPS = np.finfo(float).eps
+REPO = Path(__file__).resolve().parents[3]
 RIGID = {
     "scene": {"kind": "building3d"},
     "structure": {"frame3d": "office-11-3d", "fidelity": "rigid", "eccentricity": [0.0, 0.05]},
@@ -254,3 +256,31 @@ def test_a_friction_force_beyond_its_stick_disc_is_flagged():
     with pytest.warns(RuntimeWarning, match=r"isolator 0's friction reached 1.5 x its limit "
                                             r"mu_s N at t = 0.2 s"):  # fmt: skip
         assert check_friction_limit(system, res) == pytest.approx(1.5, rel=1e-12)
+
+
+def test_a_frame_whose_floor_has_no_weight_is_noted(tmp_path):
+    # the portal with its slab's mass in plan only: gravity acts on the members alone,
+    # m_z = Σ ρ A L (4 columns of 4 m, 22 m of beams), against m = m_z + 24 t in plan; the
+    # bundled portal carries the slab's weight on its column heads and is not noted
+    from nsdyn.models.isolated.building3d import deck_constants
+    from nsdyn.structure import load_frame3d as load
+
+    text = (REPO / "frames" / "portal-3d.toml").read_text()
+    start = text.index("node_mass = [")
+    end = text.index("\n]\n", start) + 3
+    light = tmp_path / "light-portal.toml"
+    light.write_text(text[:start] + text[end:])
+    k = deck_constants(load(light))
+    m_z = 7850.0 * (0.0149 * 4 * 4.0 + 0.00845 * (2 * 6.0 + 2 * 5.0))
+    assert k["m_z"] == pytest.approx(m_z, rel=1e-12)
+    assert k["m"] == pytest.approx(m_z + 24000.0, rel=1e-12)
+    assert deck_constants(load("portal-3d"))["m_z"] == pytest.approx(k["m"], rel=1e-12)
+    notes = {}
+    for name, frame in (("light", str(light)), ("bundled", "portal-3d")):
+        cfg = _cfg(structure={"frame3d": frame, "eccentricity": [0.0, 0.0]}, motion={"t_end": 0.2})
+        s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                      quiet=True)  # fmt: skip
+        notes[name] = [n for n in s["notes"] if "vertical mass" in n]
+    assert notes["bundled"] == []
+    assert len(notes["light"]) == 1 and f"{100 * m_z / k['m']:.3g} %" in notes["light"][0]
+    assert "frame3d.node_mass" in notes["light"][0]

@@ -234,13 +234,16 @@ def test_a_20000_dof_building_runs_within_2_gb():
 def test_building_response_equals_the_craig_bampton_full_rungs(runs, portal):
     """Drifts, floor accelerations, base shear and torsion of the sparse run (T q and T q̈
     recorded during the run; a_(n+1) carried from t + (a_m − a_f) h to t) against the dense
-    run of the Craig–Bampton full rung (Radau, rtol 1e-10): the generalized-α error at
-    h = 5e-4 s, 1e-4 of each peak (floor accelerations from 0.5 s on, as the normal forces)."""
+    run of the Craig–Bampton full rung (Radau, rtol 1e-10): each one's error at h = 5e-4 s is
+    the generalized-α error, second order, so within 1.5 times its Richardson estimate
+    |x(2h) − x(h)| / (2² − 1) (floor accelerations and torsion from 0.5 s on, as the normal
+    forces)."""
     from nsdyn.models.isolated.building3d_response import run_building
     from nsdyn.models.isolated.building3d_sparse import run_building_sparse
 
     kw = dict(t_end=T_END, dt_out=0.02, eps=LAW_EPS)
     a = run_building_sparse(runs["system"], ORBIT, dt=5e-4, **kw)
+    a2 = run_building_sparse(runs["system"], ORBIT, dt=1e-3, **kw)
     b = run_building(building_pairs(portal, FPS, fidelity="full"), ORBIT, law="arctan",
                      rtol=1e-10, atol=(1e-12, 1e-12), **kw)  # fmt: skip
     late = a.t >= 0.5
@@ -249,9 +252,10 @@ def test_building_response_equals_the_craig_bampton_full_rungs(runs, portal):
         d = np.abs(x - y) if mask is None else np.abs(x - y)[..., mask]
         return d.max() / np.abs(y).max()
 
-    assert rel(a.drifts.cm, b.drifts.cm) <= 1e-4
-    assert rel(a.drifts.corner, b.drifts.corner) <= 1e-4
-    assert rel(a.floor_acc, b.floor_acc, late) <= 1e-4
-    assert rel(a.base_shear, b.base_shear) <= 1e-4
-    assert rel(a.torsion, b.torsion, late) <= 1e-4  # (forces λ u/R: as the normal forces)
+    for get, mask in [(lambda r: r.drifts.cm, None), (lambda r: r.drifts.corner, None),
+                      (lambda r: r.floor_acc, late), (lambda r: r.base_shear, None),
+                      (lambda r: r.torsion, late)]:  # fmt: skip
+        err, est = rel(get(a), get(b), mask), rel(get(a2), get(a), mask) / 3.0
+        assert err <= 1.5 * est
+        assert est <= 1e-2  # in the asymptotic range: the h² law holds
     assert a.summary()["peak_drift_cm_x"] == pytest.approx(b.summary()["peak_drift_cm_x"], 1e-4)
