@@ -428,6 +428,10 @@ def integrate(
             if acc + rej > max_steps:
                 status = MAXSTEPS
                 break
+        if status == TOPPLED:  # the last row: the instant of toppling, not the last output
+            for c in range(3):
+                a[c] = ag[i, c] + sl[c] * (t - ta)
+            store(hist, i + 1, t, y, a, p, fr, dy, aux)
         if status != OK:
             break
         store(hist, i + 1, tb, y, ag[i + 1], p, fr, dy, aux)

@@ -187,7 +187,7 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
                              "longer step")  # fmt: skip
         dt, ag = earthquake(seed, dur, dt, s0_units=units)
     if "pga" in mo:
-        pga = number(source, "motion.pga", mo["pga"])
+        pga = number(source, "motion.pga", mo["pga"], allow_zero=True)  # 0: free vibration
         peak = np.abs(ag[:, :2]).max()
         ag = ag * (pga / peak) if peak > 0 else ag
     if "t_end" in mo and "record" not in mo:  # a simulated earthquake, from t = 0

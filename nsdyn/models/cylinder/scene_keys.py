@@ -166,7 +166,14 @@ SCHEMA = Schema(
                 ),
                 Key("record_y", "string", "record file of the second horizontal component"),
                 Key("record_z", "string", "record file of the vertical component"),
-                Key("pga", "number", "scale to this peak horizontal acceleration", "m/s²", **_POS),
+                Key(
+                    "pga",
+                    "number",
+                    "scale to this peak horizontal acceleration (0: the "
+                    "ground at rest, free vibration from `theta0`)",
+                    "m/s²",
+                    **_NONNEG,
+                ),
                 Key("t_end", "number", "end of the run", "s", default="(the motion's end)", **_POS),
                 Key(
                     "theta0",

@@ -90,6 +90,25 @@ def test_energy_balance_closes(foundation):
     assert res.energy_error < 1e-5
 
 
+@pytest.mark.parametrize("foundation", ["bonded", "tensionless"])
+def test_free_rocking_without_damping_conserves_energy(foundation):
+    """With the ground at rest and c = 0 the work-energy balance is E_mech(t) = E_mech(0): its
+    residual, measured against the kinetic energy that the rocking exchanges (the ground does
+    no work and nothing dissipates), is the integrator's global error, which falls in
+    proportion to rtol; the tensionless base lifts off and lands on every swing."""
+    p = P.with_(c=0.0, foundation=foundation)
+    th_u, _ = uplift_onset(p)
+    err = {}
+    for rtol in (1e-8, 1e-10):
+        res = simulate(p, np.zeros((301, 3)), 0.01, theta0=1.5 * th_u, rtol=rtol)
+        assert res.E_in.max() == res.E_d.max() == res.E_f.max() == 0.0
+        err[rtol] = res.energy_error
+    if foundation == "tensionless":
+        assert res.contact_fraction.min() < 0.9
+    assert err[1e-8] < 1e-5  # (the scale was W_in + E_d, zero here: errors of 1e290)
+    assert err[1e-10] < err[1e-8] / 20.0  # tolerance proportionality (100 ideally)
+
+
 def test_two_component_excitation_rolls_the_tilt_direction():
     """Under two independent horizontal components the lean direction wanders (rolling)."""
     dt, ag = earthquake(1, duration=10.0)
@@ -115,3 +134,17 @@ def test_bad_input_and_failures_raise():
     # a very stiff foundation cannot be resolved within a small step budget
     with pytest.raises(SimulationError, match=r"at t = .* s: step budget"):
         simulate(P.with_(k=1e14, c=0.0), np.full((3, 3), 50.0), 0.5, max_steps=2000)
+
+
+def test_a_toppled_run_ends_at_the_toppling_instant():
+    """The run stops once the tilt passes θ_topple = 45° (the source study's criterion): the
+    histories end on that instant, so the peak tilt reported is at least θ_topple (it read
+    0.776 rad, the last output sample before, under a toppled verdict)."""
+    from nsdyn.models.cylinder.simulate import THETA_TOPPLE
+
+    dt, ag = earthquake(1, duration=8.0)
+    res = simulate(P, ag * (50.0 / np.abs(ag[:, :2]).max()), dt)
+    assert res.toppled_at is not None
+    assert res.t[-1] == res.toppled_at and res.t[-1] - res.t[-2] <= dt * (1 + 1e-12)
+    assert res.tilt[-1] >= THETA_TOPPLE and res.summary()["max_tilt_rad"] >= THETA_TOPPLE
+    assert np.all(res.tilt[:-1] < THETA_TOPPLE)

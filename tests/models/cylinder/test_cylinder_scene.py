@@ -122,3 +122,15 @@ def test_a_record_s_t_end_is_on_its_own_clock(tmp_path):
     with pytest.raises(SceneError, match=r"motion.t_end: expected at most the record's end "
                                          r"\(15 s\), got 16"):  # fmt: skip
         build(base, "c.toml")
+
+
+def test_pga_zero_is_free_rocking(cfg, tmp_path):
+    # the ground at rest (pga = 0) and no damping: the cylinder rocks from theta0 and never
+    # leans further (energy conservation), and the balance closes against the rocking's
+    # kinetic energy (the ground does no work: the old scale read 1e4)
+    cfg["motion"].update(pga=0.0, t_end=4.0, theta0=0.01)
+    cfg["foundation"]["zeta"] = 0.0
+    s = run_scene(cfg, source=str(SCENE), out_dir=tmp_path, figures=False, quiet=True)
+    assert s["pga_hor"] == 0.0
+    assert s["max_tilt"] == pytest.approx(0.01, rel=1e-6)
+    assert s["energy_error"] < 1e-5
