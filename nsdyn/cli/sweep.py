@@ -195,6 +195,8 @@ def run(args: argparse.Namespace) -> int:
         args.amplitudes = [abs(float(force["amplitude"]))]
     args.amplitudes = args.amplitudes or _amplitude_list(DEFAULT_AMPLITUDES)
     friction = args.friction or cfg.get("isolation", {}).get("law", "arctan")
+    if args.friction:  # the flag wins over the scene's law (its eps and the rest kept)
+        cfg.setdefault("isolation", {})["law"] = args.friction
     if not args.fmax > args.fmin:
         return fail(args, band_message("sweep", args.fmin, args.fmax))
     settings = SweepSettings(

@@ -177,8 +177,13 @@ def test_objects_of_the_wrong_kind_are_named_by_every_family():
     body = nsdyn.RigidBody.rectangle(1.1, 1.0, 1250.0)
     law = nsdyn.FrictionLaw(0.57, 0.29)
     dt, ag = nsdyn.cylinder_earthquake(0)
+    soft = nsdyn.CompliantBlock.from_frequency(width=2.0, height=4.0, mass=1e5, omega_v=543.0,
+                                               zeta=2.0)  # fmt: skip
+    rigid = nsdyn.RockingBlock(width=0.3, height=1.2)
     for call, match in (
         (lambda: nsdyn.simulate_rocking("block", None, t_end=1.0), "model: expected a Rocking"),
+        (lambda: nsdyn.simulate_rocking(soft, t_end=1.0), r"nsdyn\.simulate_compliant\("),
+        (lambda: nsdyn.simulate_compliant(rigid, t_end=1.0), r"nsdyn\.simulate_rocking\("),
         (lambda: nsdyn.simulate_event(body, 0.5, None, t_end=1.0), "friction: expected a Fr"),
         (lambda: nsdyn.simulate_event("box", law, None, t_end=1.0), "body: expected a RigidBody"),
         (lambda: nsdyn.frequency_response("office-11", 0.5), "system: expected an Isolated"),

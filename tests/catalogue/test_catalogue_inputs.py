@@ -286,6 +286,13 @@ SCENE_ROWS = [
         [r"force\.amplitud", "'amplitude'"],
     ),
     ("force-no-duration", MATR, "n_periods = 20", "", [r"force", "n_periods|t_end"]),
+    (
+        "force-dof-out-of-range",
+        MATR,
+        "\ndofs = [0]",
+        "\ndofs = [1]",
+        [r"force\.dofs", r"in 0\.\.0 \(the system has 1 dofs\), got \[1\]"],
+    ),
     # --- rocking
     ("rock-misspelt-block", CASK, "height = 4.0", "hieght = 4.0", [r"block\.hieght", "'height'"]),
     ("rock-unknown-table", CASK, "[block]", "[blok]", [r"blok", "'block'"]),

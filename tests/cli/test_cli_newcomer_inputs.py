@@ -366,3 +366,25 @@ def test_friction_flag_on_a_deck_scene_is_its_solver_law(tmp_path, capsys):
     assert runs[0]["peak_resultant_displacement_m"] == runs[1]["peak_resultant_displacement_m"]
     rc = main(["run", str(src), "--friction", "none", "--no-figures", "--out", str(tmp_path)])
     assert rc == 2 and "--friction none: a deck scene's bearings keep" in capsys.readouterr().err
+
+
+def test_the_friction_flag_overrides_the_scene_law(tmp_path, capsys):
+    """``--friction arctan`` on a switch-law scene is the scene with law = "arctan" (it
+    stopped with a traceback: shooting refused the scene's switch law)."""
+    import csv
+
+    scene = SCENES / "isolated-coulomb-force.toml"
+    text = scene.read_text()
+    assert 'law = "switch"' in text
+    edited = tmp_path / "arctan.toml"
+    edited.write_text(text.replace('law = "switch"', 'law = "arctan"'))
+    rows = {}
+    for name, args in (("flag", [str(scene), "--friction", "arctan"]), ("scene", [str(edited)])):
+        out = tmp_path / name
+        rc = main(["sweep", *args, "--points", "3", "--out", str(out), "--no-figures", "--json"])
+        assert rc == 0
+        with open(out / "sweep.csv", newline="") as f:
+            rows[name] = list(csv.DictReader(f))
+    capsys.readouterr()
+    assert {r["law"] for r in rows["flag"]} == {"arctan"}
+    assert [r["x_iso"] for r in rows["flag"]] == [r["x_iso"] for r in rows["scene"]]

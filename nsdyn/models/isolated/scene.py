@@ -258,6 +258,10 @@ def build_scene_run(cfg: dict):
                 f"{source}: motion.{sorted(extra)[0]}: the scene's excitation is its [force]"
             )
         force, duration = force_excitation(cfg["force"], source, mo)
+        n = system.n
+        if max(force.dofs) >= n:  # before the run (it stopped inside it)
+            raise SceneError(f"{source}: force.dofs: expected dof indices in 0..{n - 1} (the "
+                             f"system has {n} dofs), got {list(force.dofs)}")  # fmt: skip
         return system, force, duration
     if mo.get("kind") == "harmonic":
         h, duration = harmonic_motion(mo, source)

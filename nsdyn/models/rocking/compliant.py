@@ -182,6 +182,11 @@ def simulate_compliant(
     """Response of the block on corner supports; starts at rest on the ground (theta0 = 0,
     static settlement) or tilted by ``theta0`` [rad] (or ``theta0_over_alpha`` times alpha) on
     one corner that carries the weight."""
+    if not isinstance(model, CompliantBlock):
+        raise TypeError(f"model: expected a CompliantBlock (nsdyn.CompliantBlock.from_frequency("
+                        f"width=..., height=..., mass=..., omega_v=..., zeta=...)), got "
+                        f"{type(model).__name__}; a rigid block or frame rocks by Housner's "
+                        "impacts: nsdyn.simulate_rocking(model, ...)")  # fmt: skip
     theta0 = initial_tilt(theta0, theta0_over_alpha, model.alpha)
     check_settlement(model)
     gk, gp, tab_h, tab_v, _ = _excitation(excitation, t_end)
