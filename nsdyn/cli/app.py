@@ -347,7 +347,11 @@ def _main(argv: list[str]) -> int:
     except _user_errors() as exc:
         return fail(args, exc)
     except _numerics_errors() as exc:
-        return fail(args, exc, EXIT_NUMERICS, "numerical failure")
+        from nsdyn.solve.integrate import UpliftError
+
+        # an uplift under contact "detect" is the model's assumption ending, not the numerics
+        what = "model limit" if isinstance(exc, UpliftError) else "numerical failure"
+        return fail(args, exc, EXIT_NUMERICS, what)
     finally:
         warnings.showwarning = shown
         if old is not None:

@@ -95,7 +95,9 @@ def amplitude_list(s: str) -> list[float]:
             f"expected numbers separated by commas, got {s!r}"
         ) from None
     if not vals or any(not (v > 0 and math.isfinite(v)) for v in vals):
-        raise argparse.ArgumentTypeError(f"expected positive amplitudes [m/s^2], got {s!r}")
+        raise argparse.ArgumentTypeError(  # (a force scene's are in N)
+            f"expected positive amplitudes [m/s^2, or N for a force scene], got {s!r}"
+        )
     if len(set(vals)) < len(vals):  # each would be computed again
         raise argparse.ArgumentTypeError(f"expected distinct amplitudes, got {s!r}")
     return vals

@@ -268,6 +268,9 @@ def run(args: argparse.Namespace) -> int:
             f"{g(s['stick_all_period_above_hz'], '.3g'):>16s}  {g(s['x_iso_max_m'], '.4g'):>13s}  "
             f"{s['wall_s']:8.1f}"
         )
+    if any(s["stick_all_period_above_hz"] is not None for s in report["amplitudes"]):
+        print(f"   (stick above: the grid's points above it stick the whole period; a slip "
+              f"band between two of the {settings.points} points is not seen)")  # fmt: skip
     if any(s["uplift_points"] for s in report["amplitudes"]):
         print(
             "   (uplift: a normal force <= 0 somewhere in the period, or, where no period could"

@@ -327,7 +327,10 @@ def check_time(t: np.ndarray, linenos: np.ndarray, source: str) -> float:
 
 def column_index(spec: int | str, names: list[str] | None, ncol: int, source: str) -> int:
     if isinstance(spec, str):
-        if names is None or spec.lower() not in names:
+        if names is None:
+            raise RecordFileError(source, None, f"expected a column named {spec!r}; the file "
+                                  f"names no columns: give an index 0..{ncol - 1}")  # fmt: skip
+        if spec.lower() not in names:
             raise RecordFileError(source, None, f"expected a column named {spec!r}; has {names}")
         return names.index(spec.lower())
     idx = int(spec)

@@ -56,6 +56,16 @@ class Discretisation:
     rtol: float = STAGE_RTOL
     atol: float = STAGE_ATOL
 
+    def __post_init__(self) -> None:  # refused where it is made, not inside a shooting
+        if self.method not in TABLEAUX:
+            raise ValueError(f"method: expected one of {sorted(TABLEAUX)}, got {self.method!r}")
+        for name in ("n_min", "n_max"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < 1:
+                raise ValueError(f"{name}: expected a whole number of steps >= 1, got {v!r}")
+        if not (isinstance(self.dt_max, int | float) and self.dt_max > 0):
+            raise ValueError(f"dt_max: expected a positive step [s], got {self.dt_max!r}")
+
     def steps(self, T: float) -> int:
         """Number of steps ``N`` for the period ``T`` [s]."""
         return int(min(self.n_max, max(self.n_min, math.ceil(T / self.dt_max - 1e-9))))

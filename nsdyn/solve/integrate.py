@@ -403,7 +403,14 @@ def _finish(
         floor=ki.MIN_STEP,
         stiff_advice=STIFF_ADVICE.get(m.name, FIXED_STEP_ADVICE),
     )
+    small = status == ki.ST_MAX_STEPS and opts.max_steps < DEFAULT_MAX_STEPS  # a given budget
+    if small:
+        fields["stiff_advice"] = (f"the budget given is below the default {DEFAULT_MAX_STEPS}; "
+                                  "raise it (if a larger one runs out too: "
+                                  f"{fields['stiff_advice']})")  # fmt: skip
     message = MESSAGES[status].format(**fields)
+    if small:
+        message = message.removesuffix("; or increase max_steps")
     if status == ki.ST_UPLIFT and law == "arctan" and eps is not None and eps >= EPS_SHARP:
         message += (
             f". With eps = {eps:.3g} s/m the friction turns over within {1.0 / eps:.1g} m/s of "

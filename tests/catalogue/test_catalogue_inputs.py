@@ -200,6 +200,13 @@ SCENE_ROWS = [
         "stiffnesses = [0.0,",
         [r"structure\.stiffnesses", "positive"],
     ),
+    (  # a percentage typed as the ratio: [0, 1) as every frame's zeta
+        "shear-damping-percent",
+        SHEAR,
+        "damping_ratios = 0.05",
+        "damping_ratios = 1.5",
+        [r"structure\.damping_ratios", r"in \[0, 1\) \(0\.05 for 5 %\)"],
+    ),
     (
         "shear-height-negative",
         SHEAR,
@@ -301,7 +308,8 @@ SCENE_ROWS = [
     ("rock-mass-zero", CASK, "mass = 124800.0", "mass = 0.0", [r"block\.mass", "positive"]),
     ("rock-width-text", CASK, "width = 2.0", 'width = "2 m"', [r"block\.width", "number"]),
     ("rock-missing-height", CASK, "height = 4.0", "", [r"block\.height", "missing"]),
-    ("rock-r-zero", CASK, "\nr = 0.82", "\nr = 0.0", [r"block\.r", "positive|0 < r"]),
+    ("rock-r-zero", CASK, "\nr = 0.82", "\nr = 0.0", [r"block\.r", r"0 < r <= 1"]),
+    ("rock-r-negative", CASK, "\nr = 0.82", "\nr = -0.2", [r"block\.r", r"0 < r <= 1"]),
     ("rock-r-above-one", CASK, "\nr = 0.82", "\nr = 1.2", [r"block\.r", r"0 < r <= 1"]),
     ("rock-bad-model", CASK, 'model = "block"', 'model = "blok"', [r"scene\.model", "'block'"]),
     ("rock-bad-pulse", CASK, 'pulse = "sine"', 'pulse = "sinus"', [r"motion\.pulse", "sine"]),
@@ -628,6 +636,12 @@ RECORD_ROWS = [
         "t,a\n0,0.1\n0.01,0.2\n0.01,0.3\n0.02,0.1\n",
         RecordFileError,
         [r":4:", r"expected time >"],
+    ),
+    (  # unnamed and short: the glitch keeps it from looking like time, yet it is named
+        "repeated-time-unnamed",
+        "0,0.1\n0.01,0.2\n0.01,0.3\n0.02,0.1\n",
+        RecordFileError,
+        [r":3:", r"expected time > 0\.01 s, found 0\.01 s"],
     ),
     ("single-sample", "0,0.1\n", RecordFileError, [r"sample|step|dt|interval"]),
     (

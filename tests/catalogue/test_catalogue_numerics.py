@@ -69,6 +69,21 @@ def test_fixed_step_budget_names_the_small_step_not_stiffness():
     e = ei.value
     assert e.reason == "max_steps" and 0.0 < e.t < 1.0
     assert "too small" in str(e) and "larger dt" in str(e) and "stiff" not in str(e)
+    assert "the budget given is below the default" in str(e)  # a budget the caller cut first
+
+
+def test_the_default_budget_spent_names_the_cause_not_the_budget(monkeypatch):
+    # max_steps at its default (made 100 here): a budget the problem spends; the advice is
+    # the method's, not "raise the budget you gave"
+    from nsdyn.solve import integrate
+
+    monkeypatch.setattr(integrate, "DEFAULT_MAX_STEPS", 100)
+    P = _coulomb("arctan", eps=100.0, ground=Harmonic(1.0, 1.0))
+    with pytest.raises(IntegrationError) as ei:
+        solve(P, np.zeros(4), np.linspace(0.0, 1.0, 11), method="genalpha", dt=1e-4,
+              max_steps=100)  # fmt: skip
+    assert ei.value.reason == "max_steps"
+    assert "below the default" not in str(ei.value) and "increase max_steps" in str(ei.value)
 
 
 def test_newton_divergence_names_time_step_and_remedy():

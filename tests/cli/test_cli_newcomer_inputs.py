@@ -388,3 +388,16 @@ def test_the_friction_flag_overrides_the_scene_law(tmp_path, capsys):
     capsys.readouterr()
     assert {r["law"] for r in rows["flag"]} == {"arctan"}
     assert [r["x_iso"] for r in rows["flag"]] == [r["x_iso"] for r in rows["scene"]]
+
+
+def test_an_uplift_under_detect_is_a_model_limit_not_a_numerical_failure(tmp_path, capsys):
+    """The pocket scene lifts off at 12.34 s (docs/guide/uplift.md); under contact "detect"
+    the run stops there with status 3, its line naming the model's limit."""
+    text = (SCENES / "isolated-uplift-pocket.toml").read_text()
+    assert '\ncontact = "unilateral"' in text
+    scene = tmp_path / "detect.toml"
+    scene.write_text(text.replace('\ncontact = "unilateral"', '\ncontact = "detect"'))
+    code = main(["run", str(scene), "--t-end", "13", "--no-figures", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 3
+    assert err[-1].startswith("nsdyn run: model limit: uplift at t = 12.34")

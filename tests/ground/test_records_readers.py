@@ -163,6 +163,12 @@ def test_multi_column_with_time_and_names(tmp_path):
     np.testing.assert_array_equal(m.a_ver, [3, 6, 9])  # a column named a_ver is the vertical
 
 
+def test_a_column_name_on_a_file_without_names_says_so(tmp_path):
+    path = write(tmp_path, "bare.csv", "0.0,1,2\n0.1,4,5\n0.2,7,8\n")
+    with pytest.raises(RecordFileError, match=r"the file names no columns: give an index 0\.\.2"):
+        read_motion(path, units="m/s2", column="a_y")
+
+
 @pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
 def test_jma_semicolon_layout(tmp_path):
     # the layout of raw/kobe_jma_ns_gal_tum.txt: ';' comments, 'dt peak' line, 5 values per line

@@ -108,3 +108,17 @@ def test_unilateral_sweep_rejects_a_frequency_that_is_not_positive(frame, f):
     s = build_system(frame, Isolation(), fidelity="rigid")
     with pytest.raises(ValueError, match=r"^f: expected a finite forcing frequency > 0"):
         pr.unilateral_steady_state(pr.frame_problem(s, 1.0), f, np.zeros(2 * s.n))
+
+
+@pytest.mark.parametrize(
+    "kw, match",
+    [({"method": "sdirk4"}, r"^method: expected one of \['euler', 'sdirk2', 'sdirk3'\]"),
+     ({"method": "SDIRK2"}, r"^method: expected one of"),
+     ({"n_min": 0}, r"^n_min: expected a whole number of steps >= 1"),
+     ({"n_max": 2.5}, r"^n_max: expected a whole number"),
+     ({"dt_max": 0.0}, r"^dt_max: expected a positive step")],
+)  # fmt: skip
+def test_a_discretisation_is_checked_where_it_is_made(kw, match):
+    # an unknown tableau was accepted and failed inside the first shooting's traceback
+    with pytest.raises(ValueError, match=match):
+        pr.Discretisation(**kw)

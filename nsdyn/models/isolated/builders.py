@@ -312,9 +312,9 @@ def shear_building(
     N = k.size
     if N and z.size == 1:
         z = np.full(N, float(z[0]))
-    if N and (z.shape != (N,) or not np.all(np.isfinite(z) & (z >= 0))):
-        raise MatrixError(
-            f"damping_ratios: expected one non-negative ratio"
+    if N and (z.shape != (N,) or not np.all(np.isfinite(z) & (z >= 0) & (z < 1))):
+        raise MatrixError(  # [0, 1) as a frame's zeta: 1.5 is 1.5 % mistyped, not overdamping
+            f"damping_ratios: expected one ratio in [0, 1) (0.05 for 5 %)"
             f"{'' if N == 1 else f' or {N} (one per fixed-base mode)'}, "
             f"got {damping_ratios!r}"
         )

@@ -335,7 +335,9 @@ def export_opensees(
     """
     from nsdyn.atomic import atomic_open
 
-    source = str(scene) if isinstance(scene, str | Path) else "<scene>"
+    source = (str(scene) if isinstance(scene, str | Path)
+              else scene.get("_source", "<default scene>") if isinstance(scene, dict)
+              else "<scene>")  # fmt: skip
     if hasattr(scene, "fidelity") and hasattr(scene, "M"):
         if motion is None:
             raise SceneError(f"{source}: motion: a system needs a ground motion to export")

@@ -100,7 +100,7 @@ def build_model(cfg: dict, source: str):
     mass = number(source, "block.mass", b.get("mass", 1.0))
     r = None
     if "r" in b:
-        r = number(source, "block.r", b["r"])
+        r = number(source, "block.r", b["r"], positive=False)  # one message for any r
         if not (0.0 < r <= 1.0):
             raise SceneError(f"{source}: block.r: expected 0 < r <= 1, got {b['r']!r}")
     linear = b.get("linear", False)
