@@ -376,6 +376,13 @@ SCENE_ROWS = [
     ("contact-en-negative", CONTACT, "e_n = 0.0", "e_n = -0.5", [r"impact\.e_n", "non-negative"]),
     ("contact-bad-law", CONTACT, 'law = "newton"', 'law = "poisson"', [r"impact\.law", "'newton'"]),
     (
+        "contact-moreau-h-too-long",
+        CONTACT,
+        'method = "event"',
+        'method = "moreau"\nh = 0.5',
+        [r"solver\.h", r"expected at most 0\.0545 s"],
+    ),
+    (
         "contact-period-zero",
         CONTACT,
         "period = 2.18",

@@ -223,6 +223,12 @@ def build(cfg: dict, source: str):
     if not 0.5 <= opts["theta"] <= 1:
         raise SceneError(f"{source}: solver.theta: expected 0.5 <= theta <= 1")
     opts["ground"] = _ground(cfg.get("ground", {}), body, source)
+    if opts["ground"] is None and opts["method"] == "moreau" and motion is not None:
+        top = motion.resolving_step()  # before the run's banner (it was refused after it)
+        if opts["h"] > top * (1 + 1e-9):
+            raise SceneError(f"{source}: solver.h: a step of {opts['h']:g} s does not follow "
+                             f"the excitation; expected at most {top:.3g} s (ten of a record's "
+                             "sampling steps, or 1/40 of a sine's period)")  # fmt: skip
     if opts["ground"] is not None:
         given = [k for k in ("method", "h", "theta", "rtol", "step_check") if k in sv]
         if given:  # refused, not ignored: the compliant ground has one integrator
