@@ -229,6 +229,11 @@ def build(cfg: dict, source: str):
             raise SceneError(f"{source}: solver.h: a step of {opts['h']:g} s does not follow "
                              f"the excitation; expected at most {top:.3g} s (ten of a record's "
                              "sampling steps, or 1/40 of a sine's period)")  # fmt: skip
+    # keys the chosen integrator does not read: noted, not taken silently
+    unread = ("h", "theta", "step_check") if method == "event" else ("rtol",)
+    opts["notes"] = [f"solver.{k} not used: method '{method}' ("
+                     + ("Moreau-Jean's keys" if method == "event" else "the event method's")
+                     + ")" for k in unread if k in sv]  # fmt: skip
     if opts["ground"] is not None:
         given = [k for k in ("method", "h", "theta", "rtol", "step_check") if k in sv]
         if given:  # refused, not ignored: the compliant ground has one integrator
@@ -331,6 +336,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"contact: {name}: {opts['what']}, {opts['method']}, t_end = {t_end:g} s")
+    for note in opts["notes"]:
+        say(f"contact: note: {note}")
     with grid_fields(source, GRID_FIELDS | {"h": "solver.h"}):  # refused before any step
         compile_s = warm(body, law, motion, t_end, opts)
         w0 = time.perf_counter()
@@ -356,7 +363,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         save_figure(fig, png)
         files.append(str(png))
     s.update({"kind": "contact", "name": name, "motion": opts["what"], "t_end_s": t_end,
-              "theta0_rad": opts["theta0"],
+              "theta0_rad": opts["theta0"], "notes": opts["notes"],
               "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
     say(f"contact: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
     return s

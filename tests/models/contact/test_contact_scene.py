@@ -31,6 +31,23 @@ def test_run_scene_end_to_end(tmp_path):
     assert "peak slide" in format_summary(s)
 
 
+@pytest.mark.parametrize(
+    ("method", "keys", "noted"),
+    [
+        ("event", {"h": 1e-3, "theta": 0.6}, ["h", "theta"]),
+        ("moreau", {"rtol": 1e-8}, ["rtol"]),
+        ("event", {"rtol": 1e-8}, []),
+    ],
+)
+def test_keys_the_integrator_does_not_read_are_noted(tmp_path, method, keys, noted):
+    cfg = read_toml(SCENE)
+    cfg["motion"]["t_end"] = 0.2
+    cfg["solver"] = {"method": method, **keys}
+    s = run_scene(cfg, source=str(SCENE), out_dir=tmp_path, figures=False, quiet=True)
+    assert [n.split()[0] for n in s["notes"]] == [f"solver.{k}" for k in noted]
+    assert all(f"not used: method '{method}'" in n for n in s["notes"])
+
+
 def test_cli_json(tmp_path, capsys):
     from nsdyn.cli import main
 
