@@ -9,8 +9,6 @@ Names load lazily on first use, so ``import nsdyn`` stays cheap for the command 
     res = nsdyn.simulate(system, nsdyn.read_motion("synthetic-wn-40s").scaled_to_pga(3.0))
 """
 
-from __future__ import annotations
-
 from nsdyn._lazy import exports
 
 __version__ = "0.1.0"

@@ -44,7 +44,8 @@ def vertical_felt(system, motion) -> None:
     if has and not np.any(np.asarray(system.Gamma)[:, 1]):
         warnings.warn(
             f"motion: its vertical component is not felt by {system.name!r}, which has no "
-            "vertical influence (a shear building or frozen normal forces, weight=): the run "
+            "vertical influence (a shear building, or normal forces frozen by a given weight): "
+            "the run "
             "is the horizontal motion's; model the vertical dofs (build_system from a frame, "
             "or system_from_matrices with contact_rows) to feel it",
             UserWarning,

@@ -192,7 +192,8 @@ def output_grid(
                 "or n_periods=..."
             )
 
-    if dt_out is not None and not (np.isfinite(dt_out) and dt_out > 0):
+    if dt_out is not None and (isinstance(dt_out, bool) or not isinstance(dt_out, int | float)
+                               or not (np.isfinite(dt_out) and dt_out > 0)):  # fmt: skip
         raise ValueError(f"dt_out: expected a positive output step [s], got {dt_out!r}")
     dt = dt_out or getattr(motion, "dt", None) or (T / HARMONIC_SAMPLES if T else None)
     if dt is None or not dt > 0:
@@ -389,9 +390,12 @@ def simulate(
     if contact is None:
         contact = getattr(system.isolation, "contact", "detect")
     reason = ""
+    from nsdyn.solve.methods import METHODS
+
+    if method != "auto" and method not in METHODS:  # (a KeyError deep in the run before)
+        raise ValueError(f"method: expected 'auto' or one of {sorted(METHODS)}, got {method!r}")
     if method == "auto":
         from nsdyn.solve.auto import choose_for_system
-        from nsdyn.solve.methods import METHODS
 
         method, reason = choose_for_system(system, contact)
         if METHODS[method].fixed_step and dt is None:

@@ -210,6 +210,17 @@ def test_numbers_given_as_text_are_refused_not_converted():
             call()
 
 
+def test_an_unknown_method_or_a_text_output_step_is_named(building):
+    # a KeyError from the method table and a numpy TypeError from isfinite before
+    rec = nsdyn.read_motion("synthetic-wn-40s").with_vertical(None).window(0.0, 1.0)
+    for kw, match in (
+        ({"method": "Radau"}, r"^method: expected 'auto' or one of \['dopri5'"),
+        ({"dt_out": "0.01"}, r"^dt_out: expected a positive output step"),
+    ):
+        with pytest.raises(ValueError, match=match):
+            nsdyn.simulate(building, rec, **kw)
+
+
 def test_a_misspelt_continuation_option_names_the_nearest(building):
     with pytest.raises(TypeError, match="'pionts'; did you mean 'points'"):
         nsdyn.frequency_response(building, 0.5, fmin=0.3, fmax=1.0, pionts=3)

@@ -44,8 +44,7 @@ sla = LazyModule("scipy.linalg")
 
 FIDELITIES = ("fixed", "rigid", "cb", "full")
 DENSE_FRAME_MAX = 2000  # frames with more dofs are reduced from their sparse K, M
-# what a normal force reaching zero means: the isolators hold the structure down (bilateral,
-# seed 004), the run stops / flags it (detect), or the isolator lifts off and lands (unilateral)
+# what a normal force reaching zero means (held down as in seed 004, stop, lift off and land)
 CONTACTS = ("bilateral", "detect", "unilateral")
 # the numeric fields of Isolation, each finite and >= 0 (checked when one is built)
 ISOLATION_NUMBERS = ("k_lam", "c", "mu", "eps", "eta", "alpha", "beta", "kappa",
@@ -54,10 +53,16 @@ ISOLATION_NUMBERS = ("k_lam", "c", "mu", "eps", "eta", "alpha", "beta", "kappa",
 
 @dataclass(frozen=True)
 class Isolation:
-    """Isolator parameters (one value for all isolators or one per isolator).
+    """Isolator parameters (one value for all isolators or one per isolator); defaults are
+    the seed's design values (eq 16) and friction settings (§3-§4).
 
-    Defaults are the seed's design values (eq 16) and friction settings (§3-§4).
-    """
+    ``k_lam`` [N/m] rubber bearing, ``c`` [N s/m] damper, ``mu`` [-] friction (μλ, λ the normal
+    force), each per isolator; ``law`` "arctan" (μλ(2/π)arctan(eps v), ``eps`` [s/m]), "switch"
+    (Leine's true stick, band ``eta`` [m/s], method "event") or "none"; ``frozen_normal``:
+    friction on the static normal forces; ``alpha`` [1/s], ``beta`` [-]: Baumgarte, ``kappa``
+    [1/s] stick stabilisation (default 2 alpha beta); ``diaphragm_EA`` [N], ``diaphragm_EI``
+    [N m²]: the base beam; ``g`` [m/s²]; ``contact``: a normal force reaching zero is held
+    ("bilateral"), stops the run ("detect") or lifts off ("unilateral")."""
 
     k_lam: float | tuple = K_LAM  # N/m, laminated rubber bearing, per isolator
     c: float | tuple = C_DAMPER  # N s/m, viscous damper, per isolator
@@ -76,13 +81,11 @@ class Isolation:
 
     def __post_init__(self) -> None:
         if self.contact not in CONTACTS:
-            raise ValueError(
-                f"isolation.contact: expected one of {list(CONTACTS)}, got {self.contact!r}"
-            )
+            raise ValueError(f"isolation.contact: expected one of {list(CONTACTS)}, got "
+                             f"{self.contact!r}")  # fmt: skip
         if self.law not in ("arctan", "switch", "none"):
-            raise ValueError(
-                f"isolation.law: expected 'arctan', 'switch' or 'none', got {self.law!r}"
-            )
+            raise ValueError(f"isolation.law: expected 'arctan', 'switch' or 'none', got "
+                             f"{self.law!r}")  # fmt: skip
         # every parameter a finite non-negative number (mu < 0 or eps < 0 would feed energy in)
         for k in ISOLATION_NUMBERS:
             v = getattr(self, k)
@@ -100,10 +103,8 @@ class Isolation:
         if not self.g > 0:
             raise ValueError(f"isolation.g: expected a positive gravity [m/s²], got {self.g!r}")
         if self.law == "arctan" and not self.eps > 0:
-            raise ValueError(
-                f"isolation.eps: the arctan law needs a positive sharpness [s/m], got "
-                f"{self.eps!r} (law 'switch' is the sharp limit)"
-            )
+            raise ValueError(f"isolation.eps: the arctan law needs a positive sharpness [s/m], "
+                             f"got {self.eps!r} (law 'switch' is the sharp limit)")  # fmt: skip
 
     def per_isolator(self, name: str, n: int) -> np.ndarray:
         v = np.atleast_1d(np.asarray(getattr(self, name), dtype=float))
