@@ -328,7 +328,9 @@ def simulate(
     motion                  ground motion (GroundMotion, Harmonic, Table), force excitation
                             (HarmonicForce, ForceTable) or None (free vibration from ``x0``)
     t_end, n_periods        end of the run [s] or in periods (required for a harmonic
-                            excitation or none; default for a record: its end)
+                            excitation or none; default for a record: its end; past a
+                            record's end the ground rests: free vibration, where
+                            ``nsdyn run`` ends at the record's last sample)
     dt_out                  output step [s] (default: the record's dt, period / 100)
     x0 : ndarray (2n,)      initial state [q, qd] (default: the static equilibrium)
     method : str            a name in :data:`nsdyn.solve.integrate.METHODS`, or "auto"
