@@ -314,6 +314,11 @@ def _main(argv: list[str]) -> int:
     parser = build_parser(only)
     if not argv:  # `nsdyn` alone: one line, every command named
         parser.error(f"a command is required: {', '.join(COMMANDS)}")
+    if not only and argv[0].startswith("-") and argv[0] not in ("-h", "--help", "--version"):
+        cmd = next((a for a in argv if a in COMMANDS), None)  # options before the command
+        if cmd is not None:
+            rest = [a for a in argv if a != cmd]
+            parser.error(f"options go after the command: nsdyn {cmd} {' '.join(rest)}")
     if not only and not argv[0].startswith("-"):  # a mistyped command: the closest one
         import difflib
 

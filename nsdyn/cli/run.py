@@ -364,11 +364,11 @@ def run(args: argparse.Namespace) -> int:
     if args.friction:
         cfg.setdefault("isolation", {})["law"] = args.friction
     method = cfg.get("solver", {}).get("method", "auto")
-    if args.friction == "arctan" and method == "event":  # asked for both: neither is dropped
-        raise SceneError(f"{cfg.get('_source', '<default scene>')}: --friction arctan: the "
-                         "event method integrates the switch model (true stick); drop "
-                         "--friction, or choose a method of the smooth law ('radau', "
-                         "'genalpha', …)")  # fmt: skip
+    if args.friction in ("arctan", "none") and method == "event":  # neither is dropped
+        raise SceneError(f"{cfg.get('_source', '<default scene>')}: --friction "
+                         f"{args.friction}: the event method integrates the switch model (true "
+                         "stick); drop --friction, or choose a method of the smooth law "
+                         "('radau', 'genalpha', …)")  # fmt: skip
     check_method(method, cfg)  # before the model's build
     system, motion, duration = build_scene_run(cfg)
     notes = scene_notes(cfg, motion, args.json)

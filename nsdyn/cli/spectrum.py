@@ -51,12 +51,17 @@ def run(args: argparse.Namespace) -> int:
 
     src = str(args.scene)
     cfg = read_toml(args.scene)
-    if scene_kind(cfg, src) != "rocking":
-        raise SceneError(f"{src}: scene.kind: overturning spectra need a 'rocking' scene")
+    kind = scene_kind(cfg, src)
+    if kind != "rocking":
+        raise SceneError(f"{src}: scene.kind: overturning spectra need a 'rocking' scene, got "
+                         f"{kind!r}")  # fmt: skip
     if cfg.get("scene", {}).get("model", "block") == "compliant":
         raise SceneError(f"{src}: scene.model: spectra are computed for 'block' or 'frame'")
     if not args.wmax > args.wmin:
-        raise SceneError(f"--wmax ({args.wmax:g}) must exceed --wmin ({args.wmin:g})")
+        from nsdyn.cli.args import fail
+
+        return fail(args, f"argument --wmax: expected a ratio above --wmin ({args.wmin:g}), "
+                    f"got {args.wmax:g} (see nsdyn spectrum --help)")  # fmt: skip
     if args.workers is not None and args.workers < 1:
         raise SceneError(f"--workers: expected a positive integer, got {args.workers}")
     model = build_model(cfg, src)

@@ -23,6 +23,9 @@ from nsdyn.cli.args import count as _count
 from nsdyn.cli.args import positive_finite as _positive
 
 DEFAULT_OUT = "nsdyn-uplift"
+# models above this many coordinates are said to be slow before the first point (a full frame
+# of 435 dofs takes minutes per frequency; the 13-coordinate cb model seconds)
+SLOW_COORDS = 100
 FMIN, FMAX, POINTS, A_MAX = 0.01, 10.0, 40, 20.0
 
 
@@ -121,6 +124,12 @@ def run(args: argparse.Namespace) -> int:
     compile_s = prepare_kernels("arctan")  # announced on a first use; apart from its wall time
     t0 = time.perf_counter()
     freqs = log_frequencies(args.fmin, args.fmax, args.points)
+    if not args.json:  # before the first point, which may take minutes on a large model
+        slow = (f"; {system.n} coordinates take minutes per frequency (the cb rung is the fast "
+                "one)") if system.n > SLOW_COORDS else ""  # fmt: skip
+        print(f"nsdyn uplift: {len(freqs)} frequencies {args.fmin:g}-{args.fmax:g} Hz, "
+              f"{system.fidelity} model of {system.n} coordinates, a line per frequency as "
+              f"it is found{slow}", file=sys.stderr, flush=True)  # fmt: skip
     res = uplift_boundary(
         system, freqs, a_lo=a_lo, a_hi=args.a_max, progress=progress, law=law, load=load
     )

@@ -41,3 +41,15 @@ def test_a_mistyped_command_is_answered_with_the_closest(typed, hint, capsys):
     err = capsys.readouterr().err
     assert err == (f"nsdyn: error: unknown command {typed!r}{hint} (commands: "
                    f"{', '.join(COMMANDS)}) (see nsdyn --help)\n")  # fmt: skip
+
+
+@pytest.mark.parametrize("argv", [["--json", "run", "--t-end", "1"], ["--pga", "3", "run"]])
+def test_options_before_the_command_are_answered_with_the_order(argv, capsys):
+    # they read "unrecognized arguments: --json --t-end 1" though run takes both
+    with pytest.raises(SystemExit) as e:
+        main(argv)
+    assert e.value.code == EXIT_USER_ERROR
+    rest = " ".join(a for a in argv if a != "run")
+    assert (
+        f"nsdyn: error: options go after the command: nsdyn run {rest}" in capsys.readouterr().err
+    )
