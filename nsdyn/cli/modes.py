@@ -215,7 +215,7 @@ def _run3d(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(s))
         return 0
-    print(f"frame {s['frame']} (3D): {s['n_nodes']} nodes, {s['n_dof']} dofs,")
+    print(f"frame {s['frame']} (3D): {s['n_nodes']} nodes, {s['n_dof']} dofs")
     nd = s["n_diaphragms"]
     print(f"  {nd} rigid diaphragm{'s' * (nd != 1)}: {s['n_dof_after_diaphragms']} dofs after them")
     print("fixed-base modes (effective-mass fractions in x, y and rotation θz):")

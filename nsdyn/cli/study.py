@@ -47,7 +47,8 @@ def _format(name: str, run: dict, an: dict) -> str:
     lines = [
         f"study {name}: {run['n_tasks']} tasks, {run['n_run']} run now, "
         f"{run['n_skipped']} from before, {run['n_failed']} failed "
-        f"({run['wall_s']:.1f} s on {run['workers']} workers, batches of {run['batch']})",
+        f"({run['wall_s']:.1f} s on {run['workers']} worker{'s' * (run['workers'] != 1)}, "
+        f"batches of {run['batch']})",
         f"table: {run['table']}",
     ]
     if run.get("n_outside"):

@@ -347,7 +347,7 @@ def outcome(s: dict) -> tuple[str, str]:
     up = s.get("uplift") or []
     if up and s.get("contact") != "unilateral":  # the unilateral model lets them lift off
         first = min(up, key=lambda u: u["t_s"])
-        more = f"; {len(up) - 1} more uplift events" if len(up) > 1 else ""
+        more = f"; {len(up) - 1} more uplift event{'s' * (len(up) > 2)}" if len(up) > 1 else ""
         return "uplift", (
             f"UPLIFT at t = {first['t_s']:.4f} s (contact {first['contact']}){more}: a normal "
             "force reached zero, the results after it are outside the no-uplift model"
