@@ -106,6 +106,17 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
 
 
+def stale_figure(out: Path, quiet: bool) -> None:
+    """Remove an earlier run's ``sweep.png`` from ``out`` when this run draws none (it sat
+    beside the new sweep.csv, a figure of other settings), and say so."""
+    fig = out / "sweep.png"
+    if fig.exists():
+        fig.unlink()
+        if not quiet:
+            print("nsdyn sweep: note: removed the earlier run's sweep.png (--no-figures draws "
+                  "none)", file=sys.stderr)  # fmt: skip
+
+
 def prepare_kernels(friction: str, contact: str = "bilateral") -> float:
     """Compile (or load) the kernels of a sweep in this process before the workers start
     (they then load them from numba's cache), saying on stderr what compiles while it does (a
@@ -232,7 +243,9 @@ def run(args: argparse.Namespace) -> int:
         "compile_s": compile_s,
         "amplitudes": [summarise(r) for r in results],
     }
-    if not args.no_figures:
+    if args.no_figures:
+        stale_figure(out, args.json)
+    else:
         freqs = log_frequencies(args.fmin, args.fmax, 300)
         frame, fm = results[0]["frame"], results[0]["f_max"] or 5.0
         fixed = None  # the fixed-base reference needs a frame
@@ -363,7 +376,9 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         "settings": asdict(settings), "wall_s": time.perf_counter() - t0,
         "compile_s": compile_s, "amplitudes": [summarise(r) for r in results],
     }  # fmt: skip
-    if not args.no_figures:
+    if args.no_figures:
+        stale_figure(out, args.json)
+    else:
         from nsdyn.plot.plane_sweep import plane_sweep_figure
 
         fig_path = out / "sweep.png"

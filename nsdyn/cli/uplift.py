@@ -5,7 +5,8 @@ For each of ``--points`` log-spaced frequencies, the smallest amplitude A of
 ``u''_hor = A sin(2 pi f t)`` (a force [N] for a scene whose excitation is a harmonic force)
 at which the steady periodic orbit's smallest isolator normal force reaches zero,
 ``min_t min_k lam_k(t) = 0``, searched up to ``--a-max``. Prints a table (f, A*, status),
-writes ``uplift.png`` and, with ``--json``, ``uplift.json`` (also printed, nothing else).
+writes ``uplift.json`` (the boundary's data; with ``--json`` also printed, nothing else) and
+``uplift.png``.
 """
 
 from __future__ import annotations
@@ -52,7 +53,9 @@ def configure(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--no-figures", action="store_true", help="skip the PNG")
     p.add_argument(
-        "--json", action="store_true", help="write uplift.json and print it (nothing else)"
+        "--json",
+        action="store_true",
+        help="print uplift.json (written always) in place of the table",
     )
 
 
@@ -144,12 +147,12 @@ def run(args: argparse.Namespace) -> int:
         fig_path = out / "uplift.png"
         uplift_boundary_figure(res, fig_path)
         report["figure"] = str(fig_path)
+    json_path = out / "uplift.json"  # the data, always (with --json also printed)
+    report["json"] = str(json_path)
+    text = json.dumps(report, default=float)
+    with atomic_open(json_path, "w", encoding="utf-8") as fh:
+        fh.write(text + "\n")
     if args.json:
-        json_path = out / "uplift.json"
-        report["json"] = str(json_path)
-        text = json.dumps(report, default=float)
-        with atomic_open(json_path, "w", encoding="utf-8") as fh:
-            fh.write(text + "\n")
         print(text)
     else:
         print(
@@ -162,6 +165,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"{p.f:9.4g}  {_fmt(p.a_crit, '10.4g'):>10s}  {p.shootings:9d}  {word}")
         n_ok = int(res.ok.sum())
         print(f"{n_ok}/{len(res.points)} frequencies with A* found; wall {report['wall_s']:.1f} s")
+        print(f"data:   {json_path}")
         if "figure" in report:
             print(f"figure: {report['figure']}")
     failed = [p for p in res.points if not p.ok and not p.status.startswith("no uplift")]

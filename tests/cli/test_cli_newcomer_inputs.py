@@ -401,3 +401,13 @@ def test_an_uplift_under_detect_is_a_model_limit_not_a_numerical_failure(tmp_pat
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 3
     assert err[-1].startswith("nsdyn run: model limit: uplift at t = 12.34")
+
+
+def test_a_sweep_without_figures_removes_the_earlier_runs_figure(tmp_path, capsys):
+    # the earlier run's sweep.png sat beside the new sweep.csv, a figure of other settings
+    out = tmp_path / "o"
+    base = ["sweep", "--points", "2", "--fmin", "0.5", "--fmax", "1", "--out", str(out)]
+    assert main([*base, "--amplitudes", "0.5"]) == 0 and (out / "sweep.png").exists()
+    assert main([*base, "--amplitudes", "1", "--no-figures"]) == 0
+    assert not (out / "sweep.png").exists() and (out / "sweep.csv").exists()
+    assert "removed the earlier run's sweep.png" in capsys.readouterr().err

@@ -74,3 +74,15 @@ def test_fixed_base_scene_is_refused_with_the_field(tmp_path, capsys):
 def test_reversed_frequency_range_is_a_user_error(tmp_path, capsys):
     assert run_cli(["--fmin", "2", "--fmax", "1", "--out", str(tmp_path)]) == 2
     assert "--fmax" in capsys.readouterr().err
+
+
+def test_the_data_is_written_without_json_and_without_figures(tmp_path, capsys):
+    # only the figure was written without --json, nothing at all with --no-figures too
+    out = tmp_path / "o"
+    rc = run_cli(["--fmin", "0.5", "--fmax", "1", "--points", "2", "--no-figures",
+                  "--out", str(out)])  # fmt: skip
+    assert rc == 0
+    rep = json.loads((out / "uplift.json").read_text())
+    assert [p["f_hz"] for p in rep["points"]] == [0.5, 1.0]
+    assert f"data:   {out / 'uplift.json'}" in capsys.readouterr().out
+    assert not (out / "uplift.png").exists()
