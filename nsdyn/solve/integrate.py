@@ -154,6 +154,12 @@ FIXED_STEP_ADVICE = (
 )
 
 
+def known_method(method: str) -> None:
+    """ValueError naming ``method`` unless it is "auto" or a name in :data:`METHODS`."""
+    if method != "auto" and method not in METHODS:
+        raise ValueError(f"method: expected 'auto' or one of {sorted(METHODS)}, got {method!r}")
+
+
 class IntegrationError(NumericalFailure):
     """A time integration failed. ``t``: time reached; ``reason``: status name;
     ``solution``: the partial :class:`Solution`."""
@@ -312,8 +318,7 @@ def solve(
         kp0 = KernelParams(P)
         method = choose_method(kp0.n, kp0.law, contact)[0]
         dt = AUTO_DT if dt is None and METHODS[method].fixed_step else dt
-    if method not in METHODS:
-        raise ValueError(f"method: expected 'auto' or one of {sorted(METHODS)}, got {method!r}")
+    known_method(method)
     if on_failure not in ("raise", "return"):
         raise ValueError(f"on_failure: expected 'raise' or 'return', got {on_failure!r}")
     m = METHODS[method]

@@ -474,6 +474,8 @@ _SPLIT[_sparse.METHOD] = ("evaluate_helper_part", "lowrank_parts_here",
 # ---- unilateral contact: lift-off, flight and landing (nsdyn.solve._kunilateral) -------------
 
 MAX_CONTACT_EVENTS = 100_000  # lift-offs and landings recorded by a unilateral run
+
+
 UNILATERAL_METHODS = ("event", "radau")  # event: switch model; radau: the law packed in P
 CONTACT_KINDS = {"KIND_LIFT": "lift-off", "KIND_LAND": "landing"}  # _kunilateral's kinds
 

@@ -394,8 +394,7 @@ def simulate(
     reason = ""
     from nsdyn.solve.methods import METHODS
 
-    if method != "auto" and method not in METHODS:  # (a KeyError deep in the run before)
-        raise ValueError(f"method: expected 'auto' or one of {sorted(METHODS)}, got {method!r}")
+    integrate.known_method(method)  # (a KeyError deep in the run before)
     if method == "auto":
         from nsdyn.solve.auto import choose_for_system
 

@@ -24,6 +24,16 @@ MODE_V_TOL = 1e-5  # ... slipping when |v_T| > MODE_V_TOL * sqrt(g L)
 STATUS = {-1: "contact LCP has no solution", -2: "non-finite state"}
 
 
+def check_step(h: float, motion: BaseMotion) -> None:
+    """ValueError naming ``h`` when the step does not follow the excitation (longer than
+    :meth:`BaseMotion.resolving_step`)."""
+    top = motion.resolving_step()
+    if h > top * (1 + 1e-9):
+        raise ValueError(f"h: a step of {h:g} s does not follow the excitation; expected at "
+                         f"most {top:.3g} s (ten of a record's sampling steps, or 1/40 of a "
+                         "sine's period)")  # fmt: skip
+
+
 def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | None = None, *,
                     t_end: float, h: float = 1e-3, theta: float = 0.5, e_n: float = 0.0,
                     theta0: float | None = None, theta0_over_alpha: float | None = None,
@@ -42,10 +52,7 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
         raise ValueError(f"t_end: expected a positive duration [s], got {t_end!r}")
     step_count(t_end, h)
     output_count(t_end, max(dt_out or h, h))
-    if h > mo.resolving_step() * (1 + 1e-9):
-        raise ValueError(f"h: a step of {h:g} s does not follow the excitation; expected at "
-                         f"most {mo.resolving_step():.3g} s (ten of a record's sampling steps, or "
-                         "1/40 of a sine's period)")  # fmt: skip
+    check_step(h, mo)
     par = _params(body, friction, g)
     q, v = initial_state(body, tilt_angle(body, theta0, theta0_over_alpha))
     if q0 is not None:

@@ -224,11 +224,12 @@ def build(cfg: dict, source: str):
         raise SceneError(f"{source}: solver.theta: expected 0.5 <= theta <= 1")
     opts["ground"] = _ground(cfg.get("ground", {}), body, source)
     if opts["ground"] is None and opts["method"] == "moreau" and motion is not None:
-        top = motion.resolving_step()  # before the run's banner (it was refused after it)
-        if opts["h"] > top * (1 + 1e-9):
-            raise SceneError(f"{source}: solver.h: a step of {opts['h']:g} s does not follow "
-                             f"the excitation; expected at most {top:.3g} s (ten of a record's "
-                             "sampling steps, or 1/40 of a sine's period)")  # fmt: skip
+        from nsdyn.models.contact.moreau import check_step
+
+        try:  # before the run's banner (it was refused after it)
+            check_step(opts["h"], motion)
+        except ValueError as e:
+            raise SceneError(f"{source}: solver.{e}") from None
     # keys the chosen integrator does not read: noted, not taken silently
     unread = ("h", "theta", "step_check") if method == "event" else ("rtol",)
     opts["notes"] = [f"solver.{k} not used: method '{method}' ("

@@ -121,11 +121,8 @@ def switch(t, y, g0, g, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info)
             test = test or modes[i] == kp.MODE_STICK
     if test:  # partners slowing to the band with it test together (kr.BAND_RTOL)
         for i in range(ni):
-            if modes[i] == kp.MODE_SLIP and math.sqrt(v[2 * i] ** 2 + v[2 * i + 1] ** 2) <= sp[
-                kq.S_ETA
-            ] * (1.0 + kr.BAND_RTOL):
-                modes[i] = kp.MODE_STICK
-                kr._record(EV, info, t, i, kp.MODE_SLIP, kp.MODE_STICK, dirs)
+            speed = math.sqrt(v[2 * i] ** 2 + v[2 * i + 1] ** 2)
+            kr.band_tie(EV, info, t, i, modes, speed, sp[kq.S_ETA], dirs)
     return ka.tcall("pairs.settle", (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info))
 
 

@@ -10,12 +10,12 @@ three equations,
 q̈(d) the deck's accelerations evaluated with those directions. They are solved by Newton
 with a forward-difference Jacobian (3 × 3) and a halving line search on max |r|, from the
 translation of the accelerations of the directions the caller made (each from its own stick
-force). The fixed-point passes d ← a/|a| solve the same equations but diverge at a break-away: on a
-translating deck their gain is μΣN/(|F| − μΣN), 1.3 with μ_s = 0.07 and μ = 0.04, and larger
-for the deck's turning; they left four equal isolators of a centred deck slipping in four
-directions under a record along x. A translating deck's solution is exact: every d_i along
-the load. When Newton fails (a singular Jacobian, no descent, an evaluation that fails) the
-caller's directions are kept.
+force). The fixed-point passes d ← a/|a| solve the same equations but diverge at a
+break-away: on a translating deck their gain is μΣN/(|F| − μΣN), 1.3 with μ_s = 0.07 and
+μ = 0.04, and larger for the deck's turning; they left four equal isolators of a centred
+deck slipping in four directions under a record along x. A translating deck's solution is
+exact: every d_i along the load. When Newton fails (a singular Jacobian, no descent, an
+evaluation that fails) the caller's directions are kept.
 """
 
 import math

@@ -255,6 +255,15 @@ def initial_modes(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
 
 
 @ka.compiled_uncounted
+def band_tie(EV, info, t, i, modes, speed, eta, dirs):
+    """Slip ``i`` at ``speed`` within (1 + BAND_RTOL) η joins this event's stick test (the
+    deck's and the pair systems' switch)."""
+    if modes[i] == kp.MODE_SLIP and speed <= eta * (1.0 + BAND_RTOL):
+        modes[i] = kp.MODE_STICK
+        _record(EV, info, t, i, kp.MODE_SLIP, kp.MODE_STICK, dirs)
+
+
+@ka.compiled_uncounted
 def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
     """Mode changes at a located event (g0 before it, g just after); returns a status."""
     qdd, N, Ff, Fr, Fo = out
@@ -288,11 +297,7 @@ def switch(t, y, g0, g, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, E
     if test:  # partners slowing to the band with it test together (BAND_RTOL)
         for i in range(ni):
             _, _, vx, vy = kp.slip_kinematics(y, pos, i)
-            if modes[i] == kp.MODE_SLIP and math.sqrt(vx * vx + vy * vy) <= sp[kp.S_ETA] * (
-                1.0 + BAND_RTOL
-            ):
-                modes[i] = kp.MODE_STICK
-                _record(EV, info, t, i, kp.MODE_SLIP, kp.MODE_STICK, dirs)
+            band_tie(EV, info, t, i, modes, math.sqrt(vx * vx + vy * vy), sp[kp.S_ETA], dirs)
     return settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info)
 
 

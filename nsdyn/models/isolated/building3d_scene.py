@@ -428,7 +428,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
 
         deck = sysd["deck"] or building_deck(frame, sysd["bearing"])  # its static forces
         notes = bearing_notes(deck.bearings, deck.static_normal())
-        notes += [n for n in [weight_note(frame.name, deck.info["m"], deck.info["m_z"])] if n]
+        weight = weight_note(frame.name, deck.info["m"], deck.info["m_z"])
+        notes += [weight] if weight else []
     out_dir = Path(out_dir)
     asked = sysd["fidelity"]
     if asked == "auto":

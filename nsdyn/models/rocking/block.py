@@ -269,7 +269,9 @@ def simulate_rocking(
         With the time and the reason if the integration fails (step underflow, non-finite
         state, too many impacts, free flight).
     """
-    if hasattr(model, "k_t") and not hasattr(model, "restitution"):  # a CompliantBlock
+    from nsdyn.models.rocking.compliant import CompliantBlock  # (it imports this module)
+
+    if isinstance(model, CompliantBlock):
         raise TypeError(
             "model: a CompliantBlock rocks on its corner springs, not by Housner's impacts; "
             "run it with nsdyn.simulate_compliant(model, ...)"
