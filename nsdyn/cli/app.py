@@ -126,6 +126,10 @@ class _Parser(argparse.ArgumentParser):
 
     _intermixing = False
 
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("allow_abbrev", False)  # `--res` is not `--resume`: say so, not guess
+        super().__init__(*args, **kwargs)
+
     def parse_known_args(self, args=None, namespace=None):
         if self._subparsers is not None or self._intermixing:  # nsdyn itself; the inner passes
             return super().parse_known_args(args, namespace)
@@ -252,11 +256,26 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
+def _option_hint(parser: argparse.ArgumentParser, extra: list[str]) -> str:
+    """The hint "; did you mean '--resume'?" for the first unknown long option near one of the
+    command's own (options are never abbreviated: a prefix is an error, with this hint)."""
+    import difflib
+
+    known = [o for a in parser._actions for o in a.option_strings if o.startswith("--")]
+    for word in extra:
+        if word.startswith("--"):
+            name = word.split("=", 1)[0]
+            starts = [o for o in known if o.startswith(name)]
+            close = starts or difflib.get_close_matches(name, known, n=1)
+            if close:
+                return f"; did you mean {' or '.join(repr(o) for o in close[:3])}?"
+    return ""
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``nsdyn`` script; returns the exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
-    # --json, or an abbreviation argparse accepts (--js); reset when main returns
-    _JSON[0] = any(len(a) > 2 and "--json".startswith(a) for a in argv)
+    _JSON[0] = "--json" in argv  # reset when main returns
     try:
         return _main(argv)
     except BrokenPipeError:  # the reader closed stdout (`nsdyn modes F --json | head`)
@@ -327,7 +346,8 @@ def _main(argv: list[str]) -> int:
         parser.error(f"unknown command {argv[0]!r}{hint} (commands: {', '.join(COMMANDS)})")
     args, extra = parser.parse_known_args(argv)  # a usage error: one line, SystemExit(2)
     if extra:  # reported by the command's own parser: "nsdyn run: error: …"
-        parser.commands[args.command].error(f"unrecognized arguments: {' '.join(extra)}")
+        own = parser.commands[args.command]
+        own.error(f"unrecognized arguments: {' '.join(extra)}{_option_hint(own, extra)}")
     _SIGNALLED[0] = False
     try:  # SIGTERM stops a command the way Ctrl-C does (atomic files; checkpoints kept)
         old = signal.signal(signal.SIGTERM, _on_signal), signal.signal(signal.SIGINT, _on_signal)

@@ -64,10 +64,23 @@ def configure(p: argparse.ArgumentParser) -> None:
     names = [*BENCHMARKS, "all"]
     spelt = {n.replace("_", "-"): n for n in names}  # switch-shooting, full_model: either
 
+    def benchmark(word: str) -> str:
+        name = spelt.get(word.replace("_", "-"))
+        if name is None:
+            import difflib
+
+            close = difflib.get_close_matches(word.replace("_", "-"), list(spelt), n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise argparse.ArgumentTypeError(
+                f"unknown benchmark {word!r}{hint} (benchmarks: {', '.join(spelt)})"
+            )
+        return name
+
     p.add_argument(
         "what",
-        type=lambda s: spelt.get(s.replace("_", "-"), s),
+        type=benchmark,
         choices=names,
+        metavar="BENCHMARK",
         help="; ".join(f"{name}: {HELP.get(name, BENCHMARKS[name])}" for name in BENCHMARKS)
         + "; all: each in this order",
     )
@@ -224,7 +237,7 @@ def main(argv: list[str] | None = None) -> int:
     import nsdyn.bench
 
     parser = argparse.ArgumentParser(
-        prog="nsdyn bench", description=nsdyn.bench.__doc__.splitlines()[0]
+        prog="nsdyn bench", description=nsdyn.bench.__doc__.splitlines()[0], allow_abbrev=False
     )
     configure(parser)
     return run(parser.parse_args(argv))

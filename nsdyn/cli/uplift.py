@@ -6,7 +6,8 @@ For each of ``--points`` log-spaced frequencies, the smallest amplitude A of
 at which the steady periodic orbit's smallest isolator normal force reaches zero,
 ``min_t min_k lam_k(t) = 0``, searched up to ``--a-max``. Prints a table (f, A*, status),
 writes ``uplift.json`` (the boundary's data; with ``--json`` also printed, nothing else) and
-``uplift.png``.
+``uplift.png``. Exit status 3 when a frequency's search failed (its row says why); the
+files are written either way.
 """
 
 from __future__ import annotations
@@ -169,4 +170,11 @@ def run(args: argparse.Namespace) -> int:
         if "figure" in report:
             print(f"figure: {report['figure']}")
     failed = [p for p in res.points if not p.ok and not p.status.startswith("no uplift")]
-    return EXIT_NUMERICS if len(failed) == len(res.points) else 0
+    if not failed:
+        return 0
+    # a boundary with holes is not a success (as a study with failed tasks): status 3, the
+    # files hold every frequency, the failed ones with their reason
+    where = ", ".join(f"{p.f:.4g}" for p in failed[:5]) + (", ..." if len(failed) > 5 else "")
+    print(f"nsdyn uplift: {len(failed)} of {len(res.points)} frequencies failed (f = {where} "
+          f"Hz; reasons in the status column and in {json_path})", file=sys.stderr)  # fmt: skip
+    return EXIT_NUMERICS

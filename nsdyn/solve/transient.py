@@ -222,6 +222,16 @@ def describe(excitation) -> str:
     F, f = getattr(excitation, "F", None), getattr(excitation, "f", None)
     if isinstance(F, int | float) and isinstance(f, int | float):  # a harmonic force
         return f"{kind}: harmonic, {F:g} N at {f:g} Hz on dofs {list(excitation.dofs)}"
+    A, fh = getattr(excitation, "A_hor", None), getattr(excitation, "f_hor", None)
+    if isinstance(A, int | float) and isinstance(fh, int | float):  # a harmonic ground motion
+
+        def part(a, fr, phase):
+            return f"{a:g} m/s² at {fr:g} Hz" + (f", phase {phase:.4g} rad" if phase else "")
+
+        text = f"{kind}: harmonic, {part(A, fh, excitation.phase)}"
+        if excitation.A_ver:
+            text += f"; vertical {part(excitation.A_ver, excitation.f_ver, excitation.phase_ver)}"
+        return text
     return f"{kind}: {excitation!r}"[:200]
 
 

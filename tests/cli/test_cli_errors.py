@@ -177,3 +177,22 @@ def test_a_run_shorter_than_a_step_names_the_field(scene, says, capsys, tmp_path
     assert len(err) >= 1 and err[-1].startswith("nsdyn run: error: ")
     assert says in err[-1]
     assert not any(out_dir.glob("*.npz"))
+
+
+@pytest.mark.parametrize(
+    ("argv", "says"),
+    [
+        # a prefix is not taken for the option (argparse's default would run --resume)
+        (["run", "--res"], "nsdyn run: error: unrecognized arguments: --res; did you mean "
+                           "'--resume'?"),
+        (["modes", "--fmx", "3"], "did you mean '--fmax'?"),
+        (["bench", "spd"], "nsdyn bench: error: argument BENCHMARK: unknown benchmark 'spd'; "
+                           "did you mean 'speed'? (benchmarks: accuracy, "),
+        (["bench", "switch_shootin"], "did you mean 'switch-shooting'?"),
+    ],
+)  # fmt: skip
+def test_a_mistyped_option_or_benchmark_is_refused_with_the_nearest(argv, says, one_line):
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == EXIT_USER_ERROR
+    one_line(says)

@@ -92,9 +92,10 @@ def test_json_reports_usage_and_command_errors_too(capsys):
     }
     assert main(["uplift", "no-such-scene.toml", "--json"]) == 2
     assert json.loads(capsys.readouterr().out)["status"] == 2
-    with pytest.raises(SystemExit):  # an abbreviation argparse accepts counts as --json
-        main(["run", "--pga", "-1", "--js"])
-    assert json.loads(capsys.readouterr().out)["status"] == 2
+    with pytest.raises(SystemExit):  # options are never abbreviated: --js is no --json
+        main(["run", "--pga", "1", "--js"])
+    out = capsys.readouterr()
+    assert out.out == "" and "unrecognized arguments: --js; did you mean '--json'?" in out.err
     with pytest.raises(SystemExit):  # and nothing of it stays for the next command line
         build_parser("run").parse_args(["run", "--pga", "-1"])
     assert capsys.readouterr().out == ""

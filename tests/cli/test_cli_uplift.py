@@ -86,3 +86,35 @@ def test_the_data_is_written_without_json_and_without_figures(tmp_path, capsys):
     assert [p["f_hz"] for p in rep["points"]] == [0.5, 1.0]
     assert f"data:   {out / 'uplift.json'}" in capsys.readouterr().out
     assert not (out / "uplift.png").exists()
+
+
+def test_a_failed_frequency_makes_the_status_3_and_names_it(tmp_path, capsys, monkeypatch):
+    # a boundary with a hole is not a success (exit 3, as a study with failed tasks), yet
+    # every frequency's row and the data file are written; "no uplift" is an answer, not a
+    # failure
+    import math
+
+    from nsdyn.periodic import uplift as up
+
+    def fake(system, freqs, a_lo, a_hi, progress=None, **kw):
+        pts = [
+            up.UpliftPoint(f=freqs[0], a_crit=1.0, status=up.STATUS_OK, a_below=0.9,
+                           a_above=1.0, g_below=1.0, g_above=0.0, shootings=3, sweeps=0,
+                           rho_max=math.nan, wall_s=0.0),
+            up.UpliftPoint(f=freqs[1], a_crit=math.nan, status=up.STATUS_NO_UPLIFT,
+                           a_below=a_hi, a_above=math.inf, g_below=1.0, g_above=math.nan,
+                           shootings=3, sweeps=0, rho_max=math.nan, wall_s=0.0),
+            up.UpliftPoint(f=freqs[2], a_crit=math.nan, status="shooting failed at A=2: x",
+                           a_below=1.0, a_above=math.inf, g_below=1.0, g_above=math.nan,
+                           shootings=3, sweeps=0, rho_max=math.nan, wall_s=0.0),
+        ]  # fmt: skip
+        return up.UpliftBoundary(pts, "fake", 1.0, a_lo, a_hi, 1e-3)
+
+    monkeypatch.setattr(up, "uplift_boundary", fake)
+    out = tmp_path / "o"
+    rc = run_cli(["--fmin", "1", "--fmax", "4", "--points", "3", "--no-figures",
+                  "--out", str(out)])  # fmt: skip
+    assert rc == 3
+    err = capsys.readouterr().err
+    assert "1 of 3 frequencies failed (f = 4 Hz" in err
+    assert len(json.loads((out / "uplift.json").read_text())["points"]) == 3

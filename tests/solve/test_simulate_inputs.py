@@ -154,3 +154,19 @@ def test_plane_runs_name_their_bad_ground_and_kappa():
     for kappa in (-50.0, 0.0, math.nan):
         with pytest.raises(ValueError, match=r"^kappa: expected a positive number"):
             simulate_plane(s, (0.0, 0.01, z, z, z), kappa=kappa)
+
+
+def test_a_harmonic_excitation_is_named_by_its_amplitude_and_frequency():
+    # the run's banner and summary name it in units, not as a Python repr
+    from nsdyn.ground.excitation import Harmonic, HarmonicForce
+    from nsdyn.solve.transient import describe
+
+    assert describe(Harmonic(13.5, 0.93, phase=0.5)) == (
+        "ground: harmonic, 13.5 m/s² at 0.93 Hz, phase 0.5 rad"
+    )
+    assert describe(Harmonic(2.0, 1.0, A_ver=1.0, f_ver=2.0)) == (
+        "ground: harmonic, 2 m/s² at 1 Hz; vertical 1 m/s² at 2 Hz"
+    )
+    assert describe(HarmonicForce(1635.0, 1.5, dofs=(0,))) == (
+        "force: harmonic, 1635 N at 1.5 Hz on dofs [0]"
+    )
