@@ -15,11 +15,12 @@ need it) or :func:`flat_only` (none: the default run's
 loop, which then never compiles the general kernel); each of Newton's kernels is a copy of
 :func:`_newton` with its own (:func:`nsdyn._kaddress.specialised`). Newton itself is called,
 not inlined. Inlining costs compile time at every call site (numba types and lowers the callee
-again in each caller): inlining Newton and the general kernel into every stepper doubled the
-first-run compilation (110 s to 52 s for ``radau``, 103 s to 84 s for ``event``) for ~4 ms of a
-60 ms run; calling the flat kernel instead of inlining it at its three sites, and the general
-one at the cold sites (:func:`nsdyn.solve._kcommon.feval_called`), took the default run's first
-compilation from 157 s to 113 s in one slow hour, with no measurable change of run time.
+again in each caller): inlining Newton and the general kernel into every stepper cost up to
+twice the first-run compilation (calling them instead took it from 110 s to 52 s for ``radau``,
+from 103 s to 84 s for ``event``) for ~4 ms of a 60 ms run; calling the flat kernel instead of
+inlining it at its three sites, and the general one at the cold sites
+(:func:`nsdyn.solve._kcommon.feval_called`), took the default run's first compilation from 157
+s to 113 s in one slow hour, with no measurable change of run time.
 Linking costs too: numba optimises and translates a kernel's code again in every caller it is
 linked into, so the event loop's kernels reach the ~250-block system kernel through its address
 (:func:`general_table`), compiled once, and its Newton, step and start-up reach

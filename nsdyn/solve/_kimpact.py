@@ -6,7 +6,9 @@ that are closed after the impact (frictionless in the normal direction)::
     qd+ = qd- + M^-1 R_S^T Lam,    R_j qd+ = -e_j R_j qd-   (landing j; 0 for the others)
 
 with ``e_j = e`` (0 by default: a plastic landing) and ``e_j = 0`` for landings slower than
-``V_REST``. The set is active: a closed contact whose impulse would pull (``Lam_j < 0``) opens.
+``V_REST``. The set is active: a closed contact whose impulse would pull (``Lam_j < 0``) opens,
+except at a landing slower than ``V_REST`` (a rest landing: every contact at the ground keeps
+``v+ = 0``, a small tensile impulse allowed, which ends Zeno bouncing).
 The kinetic energy change ``dT = Lam . R_S (qd- + qd+) / 2 <= 0`` (0 <= e <= 1) is accumulated,
 and every event is appended to the contact log (columns ``t, contact, kind, v-, impulse``).
 

@@ -19,13 +19,15 @@ that are closed after the impact (frictionless in the normal direction)::
 
 with ``e_j = e`` (``e = 0`` by default: a plastic landing on the bearing) and ``e_j = 0`` when
 ``|R_j qd-| <= V_REST`` (bounces too small to resolve end at rest: no Zeno accumulation). The
-set is active: a closed contact whose impulse would pull (``Lam_j < 0``) opens. The kinetic
+set is active: a closed contact whose impulse would pull (``Lam_j < 0``) opens, except at such
+a rest landing (every contact at the ground then keeps ``v+ = 0``). The kinetic
 energy change of the impulse, ``dT = Lam . R_S (qd- + qd+) / 2 <= 0`` for ``0 <= e <= 1``, is
 logged. After every contact event the contact set is settled: the acceleration-level
-complementarity problem over the contacts at rest at the ground (``lam_k >= 0``, ``R_k qdd >=
-0``, ``lam_k R_k qdd = 0``; Murty's least-index pivoting, see
-:func:`_kimpact._settle_contacts`), then the friction modes (:func:`_kevent._settle`, LAW_MODES
-only; other laws decide them in the right-hand side), and the stepper restarts. The touchdown
+complementarity problem over the contacts at rest at the ground (``lam_k >= 0``, ``R_k qdd +
+b_k >= 0``, ``lam_k (R_k qdd + b_k) = 0`` with ``b_k`` the Baumgarte terms; Murty's
+least-index pivoting, see :func:`_kimpact._settle_contacts`), then the friction modes
+(:func:`_kevent._settle`, LAW_MODES only; other laws decide them in the right-hand side), and
+the stepper restarts. The touchdown
 scan splits each step at the extrema of the cubic gap polynomial, so that a flight shorter than
 the step is not skipped.
 """

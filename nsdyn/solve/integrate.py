@@ -8,24 +8,31 @@ first-order state ``x = [q, qd]``::
 
 :func:`solve` integrates from ``t_eval[0]`` to ``t_eval[-1]`` and returns the state at every
 ``t_eval`` (from each method's dense output / interpolant, never by shortening steps). The methods
-(``METHODS``, :mod:`nsdyn.solve.methods`) each run their whole time loop in numba:
+(``METHODS``, :mod:`nsdyn.solve.methods`) run their time loops in numba (the sparse backend of
+``genalpha-lowrank`` solves each step's linear part with SuperLU from Python)::
 
-============  ======================================================================================
-``radau``     Radau IIA order 5, adaptive (default). L-stable, stiffly accurate: for the stiff
-              arctan law (slope mu lam (2/pi) eps up to eps = 1e5) and the undamped kHz
-              Craig-Bampton boundary modes, which it damps instead of resolving.
-``dopri5``    explicit Dormand-Prince 5(4), adaptive. Cheap per step, but its stable step is
-              ~1e-5 s on the isolated frames: only for non-stiff models (rigid, soft arctan).
-``genalpha``  generalized-alpha (Chung & Hulbert 1993) on ``qdd = a(t, q, qd)``, fixed ``dt``,
-              Newton with the analytic Jacobian; ``hht`` (Hilber-Hughes-Taylor) and ``newmark``
-              are parameter choices from ``rho_inf`` (AMfe style).
-``event``     event-driven switch model (Coulomb friction with true stick): isolator modes (slip
-              +1/-1, stick 0) held fixed between switching instants located on the Radau dense
-              output to ~1e-10 s (:mod:`nsdyn.solve._kevent`). The reference for small systems; on
-              Craig-Bampton frames the undamped kHz diaphragm mode makes the two isolators
-              stick-slip against each other hundreds of times (slow; reported as chattering
-              when it piles up at one instant).
-============  ======================================================================================
+    radau             Radau IIA order 5, adaptive (default). L-stable, stiffly accurate: for
+                      the stiff arctan law (slope mu lam (2/pi) eps up to eps = 1e5) and the
+                      undamped Craig-Bampton boundary modes (0.2-1.2 kHz on the office frame,
+                      up to 10 kHz on the portal), which it damps instead of resolving.
+    radau-generic     the same Radau with the general right-hand side at every stage (the
+                      speed baseline of nsdyn bench speed).
+    dopri5            explicit Dormand-Prince 5(4), adaptive. Cheap per step, but its stable
+                      step is ~2e-6 s on the office frame's cb model (largest Jacobian
+                      eigenvalue 1.6e6 /s): only for non-stiff models (rigid, soft arctan).
+    genalpha          generalized-alpha (Chung & Hulbert 1993) on qdd = a(t, q, qd), fixed
+                      dt, Newton with the analytic Jacobian; hht (Hilber-Hughes-Taylor) and
+                      newmark are parameter choices from rho_inf (AMfe style).
+    genalpha-lowrank  generalized-alpha with the linear part factored once and the friction
+                      forces by Newton on the isolator rows (nsdyn.solve.sparse): fixed dt,
+                      smooth laws; the fast method of full-order models ("auto" picks it).
+    event             event-driven switch model (Coulomb friction with true stick): isolator
+                      modes (slip +1/-1, stick 0) held fixed between switching instants
+                      located on the Radau dense output to 1e-12 s (nsdyn.solve._kevent). The
+                      reference for small systems; on Craig-Bampton frames the undamped
+                      diaphragm mode makes the two isolators stick-slip against each other
+                      hundreds of times (slow; reported as chattering when it piles up at
+                      one instant).
 
 Fixed steps: ``genalpha``/``hht``/``newmark`` always step with ``dt``; ``radau`` and ``dopri5``
 do so with ``adaptive=False`` (no error control; for convergence studies). A follow-up run can
@@ -37,8 +44,10 @@ semantics as scipy's ``solve_ivp``. ``atol`` may also be a pair ``(atol_q, atol_
 array of length 2n. The undamped kHz boundary modes of the Craig-Bampton models are rung by
 every kink of a sampled ground record: a velocity atol of 1e-8 makes the L-stable Radau
 method resolve part of that ringing. Earthquake runs (:func:`nsdyn.solve.transient.simulate`) use
-``rtol = 1e-4, atol = (1e-8, 1e-6)`` instead, measured to keep every response output within
-1e-3 of a much tighter run at ~7x fewer steps (see :mod:`nsdyn.solve.transient`).
+``rtol = 1e-4, atol = (1e-8, 1e-6)`` instead (``(1e-8, 1e-7)`` for ``event``), measured to
+keep the displacements, drifts and storey accelerations within 1e-4 and the base-level
+acceleration within 1.1e-3 of runs at rtol 1e-8, at 5-9x fewer steps
+(:mod:`nsdyn.models.isolated.tolerances`, ``examples/tolerance_study.py``).
 
 Contact assumptions (``contact=``): ``"detect"`` (default) checks the normal forces after
 every accepted step; ``lam_k <= 0`` is an uplift (``uplift="raise"`` stops with

@@ -18,7 +18,10 @@ in the few nonlinear forces::
     S = (1 - am) I + c1 MiK + c2 MiC                (constant: factored once per step size)
     a_{n+1} = A0 + Gr lam - Gd phi,   Gr = S^-1 MiRt,  Gd = S^-1 MiDt
 
-so Newton runs on the Schur complement only: the contact rows are linear and give
+with ``c1 = (1 - af) beta h^2``, ``c2 = (1 - af) gamma h`` and the predictors ``qt, vt`` of
+:mod:`nsdyn.solve._klowrank`, so Newton runs on the Schur complement only: the contact rows
+(Baumgarte at the alpha point, ``kR = (1 - am) + 2 alpha beta c2 + alpha^2 c1``, ``c0 = kR R A0
++ R (am a_n + 2 alpha beta vt + alpha^2 qt)``) are linear and give
 ``lam = RGr^-1 (RGd phi - c0 / kR)`` exactly; the ``ni`` friction equations
 ``phi - mu L(phi) s(w0 + W phi) = 0`` are solved by Newton with a backtracking line search
 (the Newton matrix ``S + low rank`` never appears). Same scheme and same equations as the dense
@@ -33,6 +36,9 @@ multiplied by ``M^-1`` (dense): the ``"operators"`` backend factors the sparse
 modal damping ``c2 U diag(c) U^T`` by the Woodbury identity::
 
     S_M^-1 b = y - Z (diag(1 / (c2 c)) + U^T Z)^-1 U^T y,   y = S_s^-1 b,  Z = S_s^-1 U
+
+(``S_s = (1 - am) M + c1 K* + c2 C_s`` the sparse part, ``C_s`` the damping without the modal
+term)
 
 so a step costs sparse products, one sparse triangular solve pair and O(n m) for m damped
 modes; ``A0 = S_M^-1 (-am M a - K* qt - C* vt - M Gamma u)`` and ``G = S_M^-1 [R^T, -D^T]``

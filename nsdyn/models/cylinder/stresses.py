@@ -6,10 +6,12 @@ F_s = m'(a' + g e_z),  M_s = J'α + ω×J'ω + (L'/2) e₃ × F_s  (Newton–Eul
 (F₁, F₂, F₃, M₁, M₂, M₃), with A = πr², I = πr⁴/4, J = πr⁴/2 and (x, y) a section point:
 
     σ_zz = −M₁ y/I + M₂ x/I − F₃/A
-    τ_xz =  M₃ y/J − F₁ (r² − x²)/(3I) − F₂ x y/(3I)
-    τ_yz = −M₃ x/J − F₂ (r² − y²)/(3I) − F₁ x y/(3I)
+    τ_xz =  M₃ y/J − F₁ (r² − x²)/(3I) + F₂ x y/(3I)
+    τ_yz = −M₃ x/J − F₂ (r² − y²)/(3I) + F₁ x y/(3I)
 
-(the shear-force terms: Jourawski on chords, directed to a common point). Principal stresses
+(the shear-force terms: Jourawski on chords, F (r² − y²)/(3I) along the force, and across it
+the component that turns the stress at a chord's ends along the rim, so that the rim is free
+of traction, τ·n = 0). Principal stresses
 σ₁,₃ = σ/2 ± √(σ²/4 + τ²), σ₂ = 0 and τ_max = √(σ²/4 + τ²), at the points A (r, 0), B (0, r),
 C (−r, 0), D (0, −r), E (0, 0). All stresses are divided by σ_st = mg/(πr²).
 """
@@ -50,19 +52,27 @@ def section_resultants(res: CylinderResult, z_s: float | None = None) -> tuple[n
     return Fb, Mb
 
 
+def shear_stresses(F1, F2, M3, x: float, y: float, r: float) -> tuple:
+    """(τ_xz, τ_yz) at the section point (x, y) from the shear forces F₁, F₂ and the torque
+    M₃ (module text)."""
+    I, J = 0.25 * np.pi * r**4, 0.5 * np.pi * r**4
+    txz = M3 * y / J - F1 * (r * r - x * x) / (3 * I) + F2 * x * y / (3 * I)
+    tyz = -M3 * x / J - F2 * (r * r - y * y) / (3 * I) + F1 * x * y / (3 * I)
+    return txz, tyz
+
+
 def point_stresses(res: CylinderResult, z_s: float | None = None) -> dict[str, dict]:
     """Per point A–E: σ_zz, σ₁, σ₃, τ_max histories (n,), normalised by mg/(πr²)."""
     p = res.params
     r = p.r
-    A, I, J = np.pi * r**2, 0.25 * np.pi * r**4, 0.5 * np.pi * r**4
+    A, I = np.pi * r**2, 0.25 * np.pi * r**4
     F, M = section_resultants(res, z_s)
     sst = p.m * p.g / A
     out = {}
     for name, (xf, yf) in POINTS.items():
         x, y = xf * r, yf * r
         sig = -M[:, 0] * y / I + M[:, 1] * x / I - F[:, 2] / A
-        txz = M[:, 2] * y / J - F[:, 0] * (r * r - x * x) / (3 * I) - F[:, 1] * x * y / (3 * I)
-        tyz = -M[:, 2] * x / J - F[:, 1] * (r * r - y * y) / (3 * I) - F[:, 0] * x * y / (3 * I)
+        txz, tyz = shear_stresses(F[:, 0], F[:, 1], M[:, 2], x, y, r)
         tmax = np.sqrt(0.25 * sig**2 + txz**2 + tyz**2)
         out[name] = {
             "sigma_zz": sig / sst,

@@ -7,10 +7,10 @@ import math
 
 K_LAM = 5.0e4  # N/m, lateral stiffness of one laminated rubber bearing (seed 004 eq 16)
 C_DAMPER = 1.0e4  # N s/m, viscous damper of one isolator (seed 004 eq 16)
-MU = 0.03  # friction coefficient of the sliding isolators (seed 004 §3)
+MU = 0.03  # friction coefficient of the sliding isolators (seed 004 §5, eq 16)
 EPS = 7500.0  # arctan law's sharpness ε [s/m] (seed 004 §4)
 ETA = 1e-5  # switch model's stick band η [m/s] (seed 004 §4)
-ALPHA = 2 * math.pi  # Baumgarte α [1/s] (seed 004 §3)
+ALPHA = 2 * math.pi  # Baumgarte α [1/s] (seed 004 §4, with eq 13)
 BETA = 1.0  # Baumgarte β [-]
 F_MAX = 5.0  # Hz, Craig–Bampton cut-off (seed 004: 13 dofs)
 FRAME = "office-11"  # the default scene's frame (seed 004's office), bundled

@@ -12,18 +12,21 @@ the level dofs of a system built from matrices). With q relative to the ground:
   ratio needs the storey heights (frames; shear buildings given heights) and is absent else;
 - isolator displacement x_iso = D_i q; top drift relative to the base (eq 17):
   x_top - x_iso;
-- normal forces lam (minimum over time = uplift margin);
-- energy balance in the relative frame::
+- normal forces lam (minimum over time = uplift margin).
 
-      E(t) - E(0) = W_in - W_visc - W_fric + W_con,     E = 1/2 qd^T M qd + 1/2 q^T K* q
-      W_in   = -int qd^T M Gamma_e [e_hor, e_ver + g] dt  (excitation and gravity; a
-               force b F(t) enters as Gamma_e[:, 0] = -M^-1 b, so W_in = int qd^T b F dt)
-      W_visc =  int qd^T C* qd dt,   W_fric = int sum_i tau_i v_i dt,
-      W_con  =  int qd^T R^T lam dt   (Baumgarte drift work, ~0; plus the kinetic energy
-               change of the landings of a unilateral run, <= 0)
+The energy balance in the relative frame::
 
-  integrated by the trapezoidal rule on the output grid; the closure error is reported
-  relative to the input energy.
+    E(t) - E(0) = W_in - W_visc - W_fric + W_con,     E = 1/2 qd^T M qd + 1/2 q^T K* q
+    W_in   = -int qd^T M Gamma_e [e_hor, e_ver + g] dt  (excitation and gravity; a
+             force b F(t) enters as Gamma_e[:, 0] = -M^-1 b, so W_in = int qd^T b F dt)
+    W_visc =  int qd^T C* qd dt,   W_fric = int sum_i tau_i v_i dt,
+    W_con  =  int qd^T R^T lam dt   (Baumgarte drift work, ~0; plus the kinetic energy
+             change of the landings of a unilateral run, <= 0)
+
+is integrated by the trapezoidal rule on the output grid; the closure error
+|dE - (W_in - W_visc - W_fric + W_con)| is reported relative to the largest of |W_in|,
+W_visc + |W_fric|, |dE| and the energy the run starts with above the static state (a free
+vibration's scale).
 """
 
 from __future__ import annotations

@@ -10,16 +10,15 @@ sliding by ``D_i q`` and resting on a contact whose gap is ``R_i q = 0``::
 
 ``lam`` are the normal forces (compressive positive); the friction direction ``s`` follows the
 arctan law (eq 7) or Leine's switch model (eqs 4-6, a true stick phase in which the friction
-force ``tau`` is a constraint force). Every fidelity of the ladder is one instance of this form:
+force ``tau`` is a constraint force). Every fidelity of the ladder is one instance of this form::
 
-=========  ==========================================  ============================
-fidelity   coordinates q                               superstructure matrices
-=========  ==========================================  ============================
-fixed      fixed-interface modal coordinates (f<=fmax)  diag(omega^2), I, modal damping
-rigid      x, y, theta of the base (rigid body)         rigid-body mass from the FE M
-cb         [q_b, eta] Craig-Bampton at f_max            CB-reduced K, M, C
-full       [q_b, eta] with every fixed-interface mode   the full FE model, exactly
-=========  ==========================================  ============================
+    fidelity  coordinates q                                superstructure matrices
+    --------  -------------------------------------------  ---------------------------------
+    fixed     fixed-interface modal coordinates (f<=fmax)  diag(omega^2), I, modal damping
+    rigid     x, y, theta of the base (rigid body)         rigid-body mass from the FE M
+    cb        [q_b, eta] Craig-Bampton at f_max            CB-reduced K, M, C
+    full      every FE dof, nodal (sparse operators,       the FE K, M; modal damping on the
+              nsdyn.models.isolated.fullorder)             modes below f_damp, or beta K
 
 Every model carries ``T`` mapping ``q`` to the full FE displacement field, so response metrics
 are recovered the same way for all fidelities.
@@ -467,8 +466,7 @@ def build_system(
         name = f"{getattr(frame, 'name', 'frame')} rigid"
         return IsolatedSystem(name, "rigid", M, C, K, Gamma, R, D, Tr, iso, frame, None, info)
 
-    fm = np.inf if fidelity == "full" else f_max
-    cb = craig_bampton(Kf, Mf, frame.boundary_dofs, fm, frame.zeta)
+    cb = craig_bampton(Kf, Mf, frame.boundary_dofs, f_max, frame.zeta)
     nb = cb.n_b
     info["omega"] = cb.omega
     info["zeta"] = cb.zeta
@@ -517,7 +515,7 @@ def build_system(
     K, C = _add_isolators(K, C, D, iso)
     name = f"{getattr(frame, 'name', 'frame')} {fidelity} (n={n})"
     return IsolatedSystem(
-        name, fidelity, cb.M.copy(), C, K, cb.Gamma.copy(), R, D, cb.T, iso, frame, fm, info
+        name, fidelity, cb.M.copy(), C, K, cb.Gamma.copy(), R, D, cb.T, iso, frame, f_max, info
     )
 
 

@@ -10,7 +10,8 @@ horizontal (no-slip) springs. Corner j (body point
     T_j = -(k_t e_j + c_t c_jx'),   e_j' = c_jx'            (horizontal, no slip)
 
 and in flight ``e_j' = -omega_v e_j`` (the spring relaxes, so a corner lands unstretched: a
-spring that reappeared stretched would create energy).
+spring that reappeared stretched would create energy). The body's equations::
+
     m x''   = sum T_j - m ü_h
     m y''   = sum N_j - m (g + ü_v)
     I phi'' = sum (r_j x F_j),  r_j = c_j - (x, y)
