@@ -15,12 +15,14 @@ three-component record ``synthetic-wn-40s``, one process, after compilation:
 For each: the build (reduction or mode solve, operators; wall and CPU seconds), the run (wall
 and CPU), the number of damped modes, and the peaks (isolator displacement, base shear, drift
 ratios at the centres of mass, floor accelerations) with their relative difference from the
-cb rung's. Run: ``python examples/bench_building3d_full.py [--t-end 4] [--f-damp 50,20,10]``.
+cb rung's (one line per case on stderr as it ends: the default takes ~5 min). Run:
+``python examples/bench_building3d_full.py [--t-end 4] [--f-damp 50,20,10]``.
 """
 
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 
 from nsdyn.ground import read_motion3
@@ -53,6 +55,12 @@ def _row(label, build, run, s, extra=None) -> dict:
             **{k: float(s[k]) for k in PEAKS}}  # fmt: skip
 
 
+def _progress(row: dict, k: int, n: int) -> None:
+    """One line on stderr per finished case (a full rung's build and run take minutes)."""
+    print(f"[{k}/{n}] {row['run']}: build {row['build_wall_s']:.1f} s, run "
+          f"{row['run_wall_s']:.1f} s", file=sys.stderr, flush=True)  # fmt: skip
+
+
 def main(t_end: float = 4.0, f_damps=(50.0, 20.0, 10.0)) -> list[dict]:
     rec = read_motion3(RECORD).window(0.0, t_end)
     frame = load_frame3d("office-11-3d")
@@ -67,6 +75,7 @@ def main(t_end: float = 4.0, f_damps=(50.0, 20.0, 10.0)) -> list[dict]:
     rows.append(_row("cb (5 Hz, min_mass 1e-4)", build, _since(c), r.summary(),
                      {"n": cb.n, "damped_modes": cb.info["n_modes"]}))  # fmt: skip
     cases = [("modal", f) for f in f_damps] + [("stiffness", None)]
+    _progress(rows[-1], 1, len(cases) + 1)
     for damping, f_damp in cases:
         c = _clock()
         s = building_pairs_sparse(frame, FPS, damping=damping, f_damp=f_damp, eccentricity=ECC)
@@ -77,6 +86,7 @@ def main(t_end: float = 4.0, f_damps=(50.0, 20.0, 10.0)) -> list[dict]:
         label = f"full, modal to {f_damp:g} Hz" if damping == "modal" else "full, stiffness βK"
         rows.append(_row(label, build, _since(c), r.summary(),
                          {"n": s.n, "damped_modes": int(s.c.size)}))  # fmt: skip
+        _progress(rows[-1], len(rows), len(cases) + 1)
     ref = rows[0]
     for v in rows:
         v["largest_peak_difference"] = max(abs(v[k] / ref[k] - 1) for k in PEAKS)

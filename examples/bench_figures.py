@@ -141,6 +141,8 @@ if __name__ == "__main__":
     ap.add_argument("dir", nargs="?", default=str(bench.DEFAULT_OUT))
     ap.add_argument("--figures", default=str(FIGURES), metavar="FIG_DIR")
     a = ap.parse_args()
+    if not Path(a.dir).is_dir():
+        ap.error(f"{a.dir}: no such folder (the benchmarks' --out, default {bench.DEFAULT_OUT})")
     res = main(a.dir, a.figures)
     if not {"ratios", "fidelity", "speed", "periodic"} & set(res):
         print(f"{a.dir}: no benchmark tables to redraw from (run nsdyn bench accuracy, fidelity, "

@@ -8,8 +8,10 @@ load hits both alike. Prints every wall time, the medians and their ratio (off /
     python examples/cold_compile.py                     # the switch model's loop, 2 pairs
     python examples/cold_compile.py --kernel radau --pairs 3
 
-``event`` takes ~2-4 min per run, ``radau`` ~9 s with the helper and ~17 s without
-(2026-11-27). ``main`` returns the numbers.
+Each family's first run, measured the same way, is tabulated in docs/dev/first-runs.md. The
+helper gains only where a second core is free: on an idle machine ``radau`` took ~9 s with
+the helper and ~17 s without (2026-11-27); in an hour loaded by other jobs 23.2 s with it and
+20.0 s without (one pair, 2026-12-04). ``main`` returns the numbers.
 """
 
 from __future__ import annotations

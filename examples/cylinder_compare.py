@@ -2,12 +2,13 @@
 
 Runs ``compare_foundations`` on a local process pool (any ``concurrent.futures.Executor``
 works) and prints median and 5–95 % range of the peak responses per foundation case.
-Run: ``python examples/cylinder_compare.py [N]``.
+Run: ``python examples/cylinder_compare.py [N] [--no-figure]`` (N earthquakes, 100 by default;
+the figure examples/figures/cylinder-compare.png is redrawn unless ``--no-figure``).
 """
 
 from __future__ import annotations
 
-import sys
+import argparse
 from pathlib import Path
 
 from nsdyn.atomic import save_figure
@@ -27,8 +28,13 @@ def main(n: int = 100, figure: bool = False) -> dict:
 
 
 if __name__ == "__main__":
-    n = int(sys.argv[1]) if len(sys.argv) > 1 else 100
-    st = main(n, figure=True)
+    cli = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    cli.add_argument("n", nargs="?", type=int, default=100, help="earthquakes (100)")
+    cli.add_argument("--no-figure", action="store_true", help=f"do not redraw {FIGURE.name}")
+    args = cli.parse_args()
+    if args.n < 1:
+        cli.error(f"n: expected a positive number of earthquakes, got {args.n}")
+    st = main(args.n, figure=not args.no_figure)
     for case, s in st.items():
         print(
             case,

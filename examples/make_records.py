@@ -1,4 +1,9 @@
-"""Write the bundled synthetic ground motions into ``records/`` (deterministic).
+"""Write the bundled synthetic ground motions into ``records/`` (deterministic to round-off).
+
+The generators are seeded; what may differ between machines and library versions is the
+round-off of ``exp``, of fused multiply-adds and of BLAS's summation order (``--check``
+compares against a bound from an error analysis of the recipe, :func:`machine_difference`;
+tens of ulp of the PGA), so a rerun can rewrite the files' last digits: use ``--check``.
 
 Run from the repository root::
 

@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn.atomic import atomic_open
+from nsdyn.atomic import atomic_open, save_figure
 from nsdyn.models.isolated.scene import load_scene
 from nsdyn.periodic import fixed_base_response
 from nsdyn.structure import base_isolation_frequency
@@ -74,8 +74,10 @@ def findings(curves: dict, rigid: dict, fixed05: dict, f_bis: float) -> dict:
     out = {"f_bis_eq28_hz": f_bis, "amplitudes": {}}
     for A, c in curves.items():
         f, xi, stick = c["f"], c["x_iso"], c["stick"]
-        low = f < 0.2
-        k = int(np.nanargmax(np.where(low, xi, np.nan)))
+        # the peak over the orbits the model holds: converged, no uplift (a normal force <= 0
+        # leaves the no-uplift model; the sweep's summary skips those points too)
+        low = (f < 0.2) & c["converged"] & ~c["uplift"] & np.isfinite(xi)
+        k = int(np.nanargmax(np.where(low, xi, np.nan))) if low.any() else -1
         slip = ~stick
         stick_all_above = None
         if stick[-1]:
@@ -84,8 +86,8 @@ def findings(curves: dict, rigid: dict, fixed05: dict, f_bis: float) -> dict:
                 j -= 1
             stick_all_above = float(f[j])
         out["amplitudes"][A] = {
-            "x_iso_peak_hz": float(f[k]),
-            "x_iso_peak_m": float(xi[k]),
+            "x_iso_peak_hz": float(f[k]) if k >= 0 else None,
+            "x_iso_peak_m": float(xi[k]) if k >= 0 else None,
             "stick_whole_period_above_hz": stick_all_above,
             "slip_points_above_1hz": int(np.sum(slip & (f > 1.0))),
             "slip_points_below_1hz": int(np.sum(slip & (f <= 1.0))),
@@ -321,7 +323,7 @@ def _plot(out: dict, path: Path) -> None:
     ax[1, 1].axis("off")
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
 
 
 if __name__ == "__main__":

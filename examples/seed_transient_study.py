@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn.atomic import atomic_open
+from nsdyn.atomic import atomic_open, save_figure
 from nsdyn.ground import default_shared_dir, kobe_records
 from nsdyn.models.isolated.system import Isolation, build_system
 from nsdyn.solve.transient import simulate
@@ -105,7 +105,7 @@ def figures(study: dict, out: Path) -> None:
     axes[1, 0].set_ylabel("level")
     axes[0, 0].legend()
     fig.tight_layout()
-    fig.savefig(out / "fig6_idr_acc.png", dpi=110)
+    save_figure(fig, out / "fig6_idr_acc.png", dpi=110)
     plt.close(fig)
 
     fig, axes = plt.subplots(len(names), 1, figsize=(8, 2.2 * len(names)), sharex=True)
@@ -117,7 +117,7 @@ def figures(study: dict, out: Path) -> None:
     axes[0].legend()
     axes[-1].set_xlabel("t [s]")
     fig.tight_layout()
-    fig.savefig(out / "fig7_top_drift.png", dpi=110)
+    save_figure(fig, out / "fig7_top_drift.png", dpi=110)
     plt.close(fig)
 
     for fname, pairs in [
@@ -133,7 +133,7 @@ def figures(study: dict, out: Path) -> None:
         axes[0].legend()
         axes[-1].set_xlabel("t [s]")
         fig.tight_layout()
-        fig.savefig(out / fname, dpi=110)
+        save_figure(fig, out / fname, dpi=110)
         plt.close(fig)
 
 

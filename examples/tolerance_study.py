@@ -92,13 +92,15 @@ def main(out: Path, quick: bool) -> list[dict]:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
-    print("\n| setting | steps | x_iso history | peak IDR | peak floor acc. | base-level acc. |")
-    print("|---|---|---|---|---|---|")
+    print("\n| setting | steps | median wall | x_iso history | peak IDR | peak floor acc. | "
+          "base-level acc. |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|")
     for label, *_ in SETTINGS:
         sel = [r for r in rows if r["setting"] == label]
-        st = [r["steps"] for r in sel]
+        st, wall = [r["steps"] for r in sel], [r["wall_s"] for r in sel]
         print(
-            f"| {label} | {min(st)}–{max(st)} | ≤ {max(r['err_x'] for r in sel):.1e} | "
+            f"| {label} | {min(st)}–{max(st)} | {min(wall):.3f}–{max(wall):.3f} s | "
+            f"≤ {max(r['err_x'] for r in sel):.1e} | "
             f"≤ {max(r['err_idr'] for r in sel):.1e} | ≤ {max(r['err_acc'] for r in sel):.1e} | "
             f"≤ {max(r['err_acc_base'] for r in sel):.1e} |"
         )

@@ -12,7 +12,7 @@ g b / h_cm for comparison, and the figure examples/figures/uplift_boundary.png.
 
 from __future__ import annotations
 
-import sys
+import argparse
 from pathlib import Path
 
 import numpy as np
@@ -86,5 +86,9 @@ def main(points: int = 40, fmin: float = 0.01, fmax: float = 1.0, figure=FIGURE)
 
 
 if __name__ == "__main__":
-    n = int(sys.argv[sys.argv.index("--points") + 1]) if "--points" in sys.argv else 40
-    main(points=n)
+    cli = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    cli.add_argument("--points", type=int, default=40, help="log-spaced frequencies (40)")
+    args = cli.parse_args()
+    if args.points < 2:
+        cli.error(f"--points: expected at least 2 frequencies, got {args.points}")
+    main(points=args.points)
