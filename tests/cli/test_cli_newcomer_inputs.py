@@ -415,3 +415,22 @@ def test_a_sweep_without_figures_removes_the_earlier_runs_figure(tmp_path, capsy
     assert main([*base, "--amplitudes", "1", "--no-figures"]) == 0
     assert not (out / "sweep.png").exists() and (out / "sweep.csv").exists()
     assert "removed the earlier run's sweep.png" in capsys.readouterr().err
+
+
+def test_a_sweep_with_a_point_without_steady_state_exits_3(tmp_path, capsys, monkeypatch):
+    # a curve with holes is not a success (as a study with failed tasks): status 3 and one
+    # line naming the count and the file, the files written as usual. The hole is put in the
+    # summary: which points fail to converge is not something a quick test can choose
+    import nsdyn.cli.sweep as cli_sweep
+
+    real = cli_sweep.summarise
+    monkeypatch.setattr(cli_sweep, "summarise", lambda r: {**real(r), "unconverged_points": 1})
+    out = tmp_path / "o"
+    argv = ["sweep", "--points", "2", "--fmin", "0.5", "--fmax", "1", "--amplitudes", "0.5",
+            "--no-figures", "--out", str(out)]  # fmt: skip
+    assert main(argv) == 3
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1] == f"nsdyn sweep: 1 of 2 points failed ({out / 'sweep.csv'} lists each one)"
+    assert (out / "sweep.csv").exists()
+    monkeypatch.setattr(cli_sweep, "summarise", real)
+    assert main(argv) == 0  # the same sweep, every point converged
