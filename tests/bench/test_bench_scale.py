@@ -45,10 +45,16 @@ def test_registered():
 
 @pytest.mark.slow
 def test_quick_run_writes_its_files(tmp_path):
-    # the quick bench: two sizes, every tool (OpenSees when installed), CSV and PNG written,
-    # nsdyn's full model with OpenSees' damping within 2 % of OpenSees' peaks
+    # the quick bench: two sizes, every tool (OpenSees when installed), CSV and PNG written;
+    # with OpenSees, nsdyn's full model with OpenSees' damping within 2 % of OpenSees' peaks
+    # (the scale target of the full-models page: the same model and step, so what remains is
+    # the regularised law against OpenSees' elastic stick and Newmark's period error)
+    import importlib.util
+
     res = load_benchmark("scale").run_bench(tmp_path, True, quiet=True)
     assert (tmp_path / "scale.csv").is_file() and (tmp_path / "scale.png").is_file()
     rows = [r for r in res["rows"] if r["tool"] == "stiffness" and "d_x_iso_max" in r]
+    if importlib.util.find_spec("openseespy") is not None:
+        assert rows  # one comparison per size
     for r in rows:
         assert abs(r["d_x_iso_max"]) < 0.02

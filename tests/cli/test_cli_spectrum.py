@@ -43,7 +43,7 @@ def test_spectrum_announces_a_first_compilation(tmp_path, capsys, monkeypatch):
     assert main(argv) == 0
     out = capsys.readouterr()
     assert "compiling the rocking kernels once" in out.err
-    assert json.loads(out.out)["compile_s"] >= 0.0
+    assert json.loads(out.out)["compile_s"] > 0.0  # the warm-up's own time, apart
 
 
 @pytest.mark.parametrize(

@@ -50,7 +50,7 @@ def test_first_use_announces_the_periodic_kernels(tmp_path, capsys, monkeypatch)
     assert rc == 0
     out = capsys.readouterr()
     assert "compiling the periodic kernels (first use only, cached afterwards)" in out.err
-    assert json.loads(out.out)["compile_s"] >= 0.0
+    assert json.loads(out.out)["compile_s"] > 0.0  # the warm-up's own time, apart
 
 
 def test_table_prints_one_row_per_frequency(tmp_path, capsys):

@@ -68,7 +68,7 @@ def test_notice_before_the_first_compilation(family, monkeypatch, capsys, tmp_pa
     head = f"compiling the {family} kernels once (about {mod.COMPILE_ABOUT_S:.0f} s; cached "
     assert seen and head in seen[0] and "afterwards)…" in seen[0]
     assert "compiled in" in capsys.readouterr().err  # then how long it took
-    assert s["compile_s"] >= 0.0 and s["wall_s"] >= 0.0  # reported apart
+    assert s["compile_s"] > 0.0 and s["wall_s"] > 0.0  # each timed, apart
 
 
 @pytest.mark.parametrize("family", FAMILIES)
@@ -140,5 +140,5 @@ def test_nsdyn_run_announces_only_a_first_compilation(family, tmp_path):
     first, second = (json.loads(r.stdout) for r in runs)
     assert f"compiling the {family} kernels once (about" in runs[0].stderr
     assert "compiling the" not in runs[1].stderr
-    for s in (first, second):
-        assert s["compile_s"] >= 0.0 and s["wall_s"] >= 0.0
+    # compiling does all that loading does and more: seconds against a tenth of one
+    assert first["compile_s"] > second["compile_s"] > 0.0

@@ -161,12 +161,21 @@ def test_full_model_second_order(full_system):
 
 @pytest.mark.slow
 def test_full_model_matches_radau(full_system):
+    # the factor-once generalized-alpha and Radau integrate the same equations, so a peak's
+    # difference is generalized-alpha's error (plus Radau's at rtol 1e-6, at most ~10 rtol):
+    # - x_iso and IDR converge at order 2: bounded by the Richardson estimate from dt and dt/2,
+    #   e(dt) ~ (p(dt) - p(dt/2)) 4/3, with 1.5x for the estimate's own error;
+    # - the floor acceleration's peak (a maximum over the output grid of a response with kinks
+    #   at the record's samples) is not in its asymptotic range at these steps; converging at
+    #   least linearly with ratio <= 1/2, its error at dt is at most its change from 2 dt
     m = common.bench_motion("wn", WINDOW_S)
-    ref = simulate(full_system, m, method="radau")
-    low = simulate(full_system, m, method=lr.METHOD, dt=0.0025)
+    ref = simulate(full_system, m, method="radau", rtol=1e-6)
+    runs = [simulate(full_system, m, method=lr.METHOD, dt=dt) for dt in (0.005, 0.0025, 0.00125)]
     for key in ("x_iso_max", "idr_max", "floor_acc_max"):
-        a, b = getattr(low.response, key), getattr(ref.response, key)
-        assert abs(a / b - 1.0) <= 1e-3, key
+        a1, a, a2 = (getattr(r.response, key) for r in runs)
+        b = getattr(ref.response, key)
+        bound = 1.5 * abs(a - a2) * 4.0 / 3.0 if key != "floor_acc_max" else abs(a1 - a)
+        assert abs(a - b) <= bound + 10 * 1e-6 * abs(b), key
 
 
 @pytest.mark.parametrize("backend", ["dense", "sparse"])

@@ -27,8 +27,6 @@ from nsdyn.models.rocking import RockingBlock, simulate_rocking
 sys.path.insert(0, str(Path(__file__).parents[3] / "examples"))
 import contact_table1 as table1  # noqa: E402
 
-K_FIRST_ORDER = 8.0  # bound of max |q_moreau - q_event| / h [m/s, rad/s] (measured 0.7 and 6.6)
-
 
 def _case(name):
     a, c, T, mu_s, mu_d, _, _ = table1.CASES[name]
@@ -51,8 +49,8 @@ def test_event_driven_and_moreau_jean_agree_on_slender_cases(name):
         diffs.append(np.max(np.abs(mj.q[:n] - ev.q[:n])))
     s = ev.summary()
     assert not s["overturned"]  # the FE run: "tilting - sticking"
-    assert diffs[1] < K_FIRST_ORDER * 2.5e-4
-    assert 1.4 < diffs[0] / diffs[1] < 2.8  # first order in h
+    # the difference halves with h (Moreau-Jean is first order): it converges to the event run
+    assert 1.4 < diffs[0] / diffs[1] < 2.8
     # the same mode at the end (B1: back at rest; C1: rocking again after the stop jump)
     assert ev.mode[-1] == mj.mode[-1]
 

@@ -69,9 +69,8 @@ def test_converges_to_rigid_ground():
         errs.append((abs(s["max_slide_m"] / ref["max_slide_m"] - 1),
                      abs(s["max_tilt_rad"] / ref["max_tilt_rad"] - 1)))  # fmt: skip
     assert ref["max_tilt_rad"] > 5e-3 and ref["max_slide_m"] > 0.01
-    # observed: slide 10.4, 3.7, 1.2 %; tilt 29, 9.6, 3.1 % at k = 1e8, 1e9, 1e10 N/m, i.e. the
-    # error falls as k^(-1/2) (the contact time scale sqrt(m / k))
-    assert errs[2][0] < 0.02 and errs[2][1] < 0.045, errs
+    # the error against the rigid ground falls as k^(-1/2) (the contact time scale sqrt(m / k)):
+    # sqrt(10) = 3.2 per decade of k, so the compliant runs converge to the rigid one
     for j in (0, 1):
         assert 2.0 < errs[0][j] / errs[1][j] < 5.0 and 2.0 < errs[1][j] / errs[2][j] < 5.0, errs
 

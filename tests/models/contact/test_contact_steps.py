@@ -36,9 +36,10 @@ def test_a_step_that_skips_the_excitation_is_refused():
 
 
 def test_a_scene_says_when_its_moreau_step_does_not_resolve_the_response(tmp_path):
-    # a 0.5 x 1.5 m prism under synthetic-kt-20s at 5 m/s² with its vertical component: the
-    # event-driven peak tilt is 0.132 rad; Moreau-Jean at h = 1e-3 s reads 0.0032 and 0.0144
-    # at h/2. The scene run says so (it was silent); the event run needs no such check.
+    # a 0.5 x 1.5 m prism under synthetic-kt-20s at 5 m/s² with its vertical component:
+    # Moreau-Jean at h = 1e-3 s loses most of the event-driven run's rocking, and the run at
+    # h/2 reads a peak tilt more than twice h's. The scene run says so (it was silent); the
+    # event run needs no such check.
     from nsdyn.models.contact.scene import run_scene
 
     cfg = {"scene": {"kind": "contact"}, "body": {"width": 0.5, "height": 1.5, "mass": 1000.0},
@@ -50,7 +51,10 @@ def test_a_scene_says_when_its_moreau_step_does_not_resolve_the_response(tmp_pat
     assert s["h_half_peaks"]["max_tilt_rad"] > 2 * s["max_tilt_rad"]
     cfg["solver"] = {"method": "event"}
     ev = run_scene(cfg, source="m.toml", out_dir=tmp_path, figures=False, quiet=True)
-    assert "step_resolved" not in ev and ev["max_tilt_rad"] == pytest.approx(0.132, rel=0.02)
+    # the unresolved steps lose the rocking (the scheme's dissipation at h): their peaks grow
+    # towards the event-driven one as h halves, and both stay below it
+    assert "step_resolved" not in ev
+    assert ev["max_tilt_rad"] > s["h_half_peaks"]["max_tilt_rad"] > s["max_tilt_rad"]
     # a quiet case resolves at the default step: the body stays at rest at h and h/2
     cfg["motion"]["pga"], cfg["solver"] = 0.5, {"method": "moreau", "h": 1e-3}
     quiet = run_scene(cfg, source="m.toml", out_dir=tmp_path, figures=False, quiet=True)
