@@ -87,7 +87,7 @@ def test_energy_balance_closes(foundation):
     if foundation == "tensionless":
         assert res.contact_fraction.min() < 0.3
     assert res.E_d[-1] > 0
-    assert res.energy_error < 1e-5
+    assert res.energy_error < 20 * 1e-8  # the balance's quadratures follow the steps' rtol
 
 
 @pytest.mark.parametrize("foundation", ["bonded", "tensionless"])

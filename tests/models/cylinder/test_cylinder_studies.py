@@ -19,7 +19,7 @@ import pytest
 from nsdyn.models.cylinder.design import design_foundation
 from nsdyn.models.cylinder.params import CylinderParams
 from nsdyn.models.cylinder.scene import build
-from nsdyn.models.cylinder.simulate import from_motions, simulate
+from nsdyn.models.cylinder.simulate import RTOL, from_motions, simulate
 from nsdyn.models.cylinder.stresses import peak_stresses
 from nsdyn.models.cylinder.study import compare_foundations
 from nsdyn.models.scenefile import SceneError, read_toml
@@ -112,7 +112,7 @@ def test_real_two_component_record():
     res = {}
     for fd in ("tensionless", "bonded"):
         res[fd] = r = simulate(CylinderParams(foundation=fd), ag, dt)
-        assert r.energy_error < 1e-5
+        assert r.energy_error < 20 * RTOL  # the quadratures at the steps' rtol, as above
         assert np.max(np.abs(r.e3[:, 1])) > 0.1 * np.max(np.abs(r.e3[:, 0]))  # out of plane
     ten = res["tensionless"]
     assert 1 - ten.contact_fraction.min() > 0.5  # strong uplift at 0.28 g
