@@ -233,6 +233,10 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
         raise SceneError(f"{args.scene}: --method: a {kind} scene's integrator follows its "
                          "[solver] law (and fidelity); --method applies to isolated-frame, "
                          "rocking, contact and cylinder scenes")  # fmt: skip
+    mod = importlib.import_module(scene_module(kind))
+    if args.record:  # the record replaces the scene's closed-form motion (a pulse, a sine)
+        for key in getattr(mod, "RECORD_REPLACES", ()):
+            cfg.get("motion", {}).pop(key, None)
     for table, vals in _scene_overrides(args).items():
         for k, v in vals.items():  # the file stays checked where an option replaces its value
             old = cfg.get(table, {}).get(k)
@@ -241,7 +245,6 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
                 raise SceneError(f"{args.scene}: {table}.{k}: expected a number, got {old!r}")
         cfg.setdefault(table, {}).update(vals)
     _t_end_wins(args, cfg)
-    mod = importlib.import_module(scene_module(kind))
     with output_dir(Path(args.out)) as out:
         s = mod.run_scene(
             cfg, source=str(args.scene), out_dir=out, figures=not args.no_figures, quiet=args.json

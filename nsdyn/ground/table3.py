@@ -100,6 +100,9 @@ def motion3_from_table(
         return _record3(table, source), {}
     if kind == "orbit":
         return _orbit(table, source)
+    if kind is None:
+        raise _err(source, "kind", f"missing; expected one of {list(KINDS3)} (a three-component "
+                   "record, or a harmonic orbit)")  # fmt: skip
     raise _err(source, "kind", f"expected one of {list(KINDS3)}, got {kind!r}")
 
 

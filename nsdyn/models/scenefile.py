@@ -137,6 +137,14 @@ def unknown_key(source: str, where: str, key: str, valid) -> SceneError:
     )
 
 
+def refuse_keys(table: Mapping, source: str, where: str, keys, why: str) -> None:
+    """:class:`SceneError` for the first of ``keys`` present in ``table`` (``where.key``):
+    a key the scene's other choices leave unused is refused with ``why``, not ignored."""
+    for key in keys:
+        if key in table:
+            raise SceneError(f"{source}: {where}.{key}: {why}")
+
+
 def check_fields(cfg: Mapping, fields: Mapping, source: str) -> None:
     """:class:`SceneError` for a table of ``cfg`` not in ``fields`` (table -> its valid keys),
     one that is not a table, or a key its table does not have."""

@@ -172,8 +172,17 @@ def _place_record(cfg: dict, rec: RecordSpec, kind: str) -> None:
     component files of a record of several components, or ``simulated``; for the kinds of
     two-component records (``deck``, ``building3d``) the other ways are removed, ``kind =
     "record3"`` is set and the files are ``x, y[, z]``; a cylinder's are ``record, record_y[,
-    record_z]``, and the base scene's second and vertical files never join another record."""
+    record_z]``, and the base scene's second and vertical files never join another record; a
+    closed-form motion's keys (a rocking pulse, a contact sine, a cylinder's simulated
+    earthquake: the scene module's ``RECORD_REPLACES``) give way to the record."""
     mo = cfg.setdefault("motion", {})
+    if kind in ("rocking", "contact", "cylinder"):
+        import importlib
+
+        from nsdyn.models.scenefile import scene_module
+
+        for key in importlib.import_module(scene_module(kind)).RECORD_REPLACES:
+            mo.pop(key, None)
     if kind in KINDS3C:
         for key in ("record", "x", "y", "z", "simulated"):
             mo.pop(key, None)

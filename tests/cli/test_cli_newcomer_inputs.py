@@ -434,3 +434,46 @@ def test_a_sweep_with_a_point_without_steady_state_exits_3(tmp_path, capsys, mon
     assert (out / "sweep.csv").exists()
     monkeypatch.setattr(cli_sweep, "summarise", real)
     assert main(argv) == 0  # the same sweep, every point converged
+
+
+def test_unilateral_contact_on_given_normal_forces_is_refused_up_front(tmp_path, one_line):
+    # lift-off needs the normal forces as the contacts' multipliers: a structure from matrices
+    # given its weight, or frozen_normal = true, has none (a ValueError traceback, exit 1)
+    scenes = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+    text = (scenes / "isolated-shear-3storey.toml").read_text()
+    shear = tmp_path / "s.toml"
+    shear.write_text(text.replace("[isolation]", '[isolation]\ncontact = "unilateral"', 1))
+    frozen = tmp_path / "f.toml"
+    frozen.write_text('[isolation]\ncontact = "unilateral"\nfrozen_normal = true\n')
+    for scene, says in ((shear, "its weight"), (frozen, "isolation.frozen_normal = true")):
+        assert main(["run", str(scene), "--t-end", "1", "--out", str(tmp_path / "o")]) == 2
+        one_line(f"{scene}: isolation.contact: 'unilateral' needs", says)
+
+
+def test_run_record_replaces_a_rocking_pulse(tmp_path, capsys):
+    # --record on a pulse scene runs the record (the pulse's keys are dropped, as --t-end
+    # replaces n_periods); in the file, a record beside pulse keys is refused
+    scene = Path(__file__).resolve().parents[2] / "examples/scenes/rocking-seed003-column.toml"
+    argv = ["run", str(scene), "--record", "synthetic-wn-40s", "--t-end", "1", "--json",
+            "--no-figures", "--out", str(tmp_path)]  # fmt: skip
+    assert main(argv) == 0
+    assert json.loads(capsys.readouterr().out)["motion"] == "synthetic-wn-40s"
+
+
+@pytest.mark.parametrize(
+    "text, says",
+    [
+        ('name = "x"\n[scene]\n', "name: a key outside any table (above the first [table])"),
+        ('[motion]\nkind = "sine"\n', "motion.kind: expected 'harmonic' (a harmonic ground "
+                                      "acceleration) or no kind (a record), got 'sine'"),
+        ('[scene]\nkind = "deck"\n[deck]\nm = 1e5\npositions = [[-1, -1], [1, -1], [1, 1], '
+         '[-1, 1]]\n[bearing]\ntype = "fps"\nradius = 2.0\nmu = 0.05\n[motion]\n'
+         'record = "synthetic-wn-40s"\n', "motion.kind: missing; expected one of ['record3', "
+                                          "'orbit']"),
+    ],
+)  # fmt: skip
+def test_a_misplaced_key_or_kind_is_named_as_what_it_is(text, says, tmp_path, one_line):
+    scene = tmp_path / "s.toml"
+    scene.write_text(text)
+    assert main(["run", str(scene), "--out", str(tmp_path / "o")]) == 2
+    one_line(f"{scene}: ", says)

@@ -59,6 +59,7 @@ from nsdyn.models.scenefile import (
     check_fields,
     grid_fields,
     number,
+    refuse_keys,
     rel_tol,
     scaled_to_pga,
 )
@@ -67,6 +68,8 @@ from nsdyn.models.tilt import scene_tilt
 _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 METHODS = ("event", "moreau")  # solver.method
 T_END = 5.0  # default duration of free motion [s]
+SINE_KEYS = ("n_cycles", "start")  # keys of the displacement sine besides motion.period
+RECORD_REPLACES = ("period", *SINE_KEYS)  # the [motion] keys `nsdyn run --record` drops
 # seconds a first run compiles the kernels (2-core machine, empty cache): a middling hour's,
 # 1.8x the fast hour's in the family table of docs/dev/first-runs.md
 COMPILE_ABOUT_S = 8.0
@@ -159,6 +162,9 @@ def build(cfg: dict, source: str):
     if impact_law not in ("newton", "housner"):
         raise SceneError(f"{source}: impact.law: expected 'newton' or 'housner', "
                          f"got {impact_law!r}")  # fmt: skip
+    if impact_law == "housner":
+        refuse_keys(im, source, "impact", ("e_n",), "the housner law takes its restitution from "
+                    "the body's shape; e_n is the newton law's")  # fmt: skip
     mo = cfg.get("motion", {})
     t_end = number(source, "motion.t_end", mo["t_end"]) if "t_end" in mo else None
     tilt = scene_tilt(mo, source)
@@ -170,6 +176,9 @@ def build(cfg: dict, source: str):
         raise SceneError(f"{source}: motion: {e}") from None
     if "record" in mo and "period" in mo:
         raise SceneError(f"{source}: motion.period: give a record or a sine period, not both")
+    if "period" not in mo:
+        refuse_keys(mo, source, "motion", SINE_KEYS, "a key of the displacement sine "
+                    "(motion.period), which this scene does not have")  # fmt: skip
     if "record" in mo:
         rec = str(mo["record"])  # a file beside the scene: made findable by read_toml
         try:
@@ -242,6 +251,10 @@ def build(cfg: dict, source: str):
                              "'compliant') runs its own integrator (its step follows the "
                              "ground's stiffness); solver.method, h, theta and rtol apply to the "
                              "rigid ground only")  # fmt: skip
+        if "impact" in cfg:
+            raise SceneError(f"{source}: [impact]: a compliant ground (ground.kind = "
+                             "'compliant') makes its impacts with its springs and dashpots; "
+                             "[impact] applies to the rigid ground only")  # fmt: skip
         opts["method"] = "compliant"
     return body, law, motion, t_end, opts
 

@@ -28,6 +28,7 @@ import numpy as np
 from nsdyn._checks import MAX_OUTPUTS
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open, save_figure
+from nsdyn.models import scenefile
 from nsdyn.models.cylinder.design import design_foundation, static_settlement, uplift_onset
 from nsdyn.models.cylinder.params import FOUNDATIONS, CylinderParams
 from nsdyn.models.cylinder.scene_keys import SCHEMA
@@ -47,6 +48,8 @@ from nsdyn.models.tilt import scene_tilt
 TABLES = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 STAR_QUANTITIES = ("k", "c", "H", "r")  # quantities a star case may scale
 METHODS = ("dopri5",)  # integrators of this family
+# the simulated earthquake's [motion] keys: refused beside a record, dropped by `--record`
+RECORD_REPLACES = ("seed", "duration", "dt", "s0_units")
 # seconds a first run compiles the kernel (2-core machine, empty cache): a middling hour's,
 # 1.8x the fast hour's in the family table of docs/dev/first-runs.md
 COMPILE_ABOUT_S = 6.0
@@ -149,6 +152,8 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
             mz = read_motion(mo["record_z"]) if "record_z" in mo else None
         except (OSError, ValueError) as e:
             raise SceneError(f"{source}: motion.record: {e}") from None
+        scenefile.refuse_keys(mo, source, "motion", RECORD_REPLACES, "a key of the simulated "
+                    "earthquake; this scene reads motion.record")  # fmt: skip
         if "t_end" in mo:  # an end on the record's clock, as every family's t_end
             t_end = number(source, "motion.t_end", mo["t_end"])
             end = mx.t0 + (mx.n - 1) * mx.dt

@@ -124,8 +124,16 @@ def building_deck(
     xy = frame.nodes[frame.base_nodes, :2]
     origin = xy.mean(axis=0)
     ecc = k["centre"] - origin
-    deck = rigid_deck(k["m"], k["J"], xy - origin, bearings, ecc=(float(ecc[0]), float(ecc[1])),
-                      h=max(k["h"], 0.0), g=g, name=name or frame.name)  # fmt: skip
+    try:
+        deck = rigid_deck(k["m"], k["J"], xy - origin, bearings, ecc=tuple(map(float, ecc)),
+                          h=max(k["h"], 0.0), g=g, name=name or frame.name)  # fmt: skip
+    except BearingError as e:  # the deck's ecc is the frame's centre of mass: say so
+        if ".ecc: the centre of mass" not in str(e):
+            raise
+        why = str(e).split(": the centre of mass ", 1)[1]
+        raise BearingError(f"{frame.name}: its centre of mass, ({ecc[0]:.2f}, {ecc[1]:.2f}) m "
+                           f"from the isolators' centre, {why} (a scene's "
+                           "structure.eccentricity moves it)") from None  # fmt: skip
     deck.info.update(
         origin=origin, centre=k["centre"], m=k["m"], J=k["J"], h=k["h"], m_z=k["m_z"],
         base_nodes=frame.base_nodes.copy(),

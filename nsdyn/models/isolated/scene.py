@@ -122,9 +122,16 @@ def _check_isolation(iso, source: str) -> None:
 def _check(cfg: dict, source: str) -> dict:
     tables = sorted([*DEFAULT_SCENE, *_EXTRA_TABLES])
     for table in cfg:
+        if table not in tables and not isinstance(cfg[table], dict):  # `name = ...` up top
+            raise SceneError(f"{source}: {table}: a key outside any table (above the first "
+                             f"[table]); expected it in one of {tables}")  # fmt: skip
         if table not in tables:
             raise SceneError(f"{source}: [{table}]: unknown table; expected some of {tables}")
     structure_kind(cfg, source)
+    kind = cfg.get("motion", {}).get("kind", "harmonic")
+    if kind != "harmonic":
+        raise SceneError(f"{source}: motion.kind: expected 'harmonic' (a harmonic ground "
+                         f"acceleration) or no kind (a record), got {kind!r}")  # fmt: skip
     if "isolation" in cfg:
         _check_isolation(cfg["isolation"], source)
     for table, fields in _FIELDS.items():
@@ -250,6 +257,7 @@ def build_scene_run(cfg: dict):
                 "(examples/scenes/building3d-office-cb.toml)"
             ) from None
         system = _cached_system(frame, iso, sc.get("fidelity", "cb"), float(sc.get("f_max", F_MAX)))
+    _lifts(system, source)
     _stands(system, cfg, source)
     if "force" in cfg:
         extra = {k: v for k, v in mo.items() if k != "t_end"}
@@ -288,6 +296,26 @@ def build_scene_run(cfg: dict):
         except ValueError as e:  # an end within the record's first step
             raise SceneError(f"{source}: motion.{e}") from None
     return system, motion, {}
+
+
+def _lifts(system, source: str) -> None:
+    """SceneError for ``contact = "unilateral"`` on a system whose normal forces are given
+    (frozen): lift-off and landing need them as the contacts' multipliers."""
+    iso = system.isolation
+    if getattr(iso, "contact", "detect") != "unilateral":
+        return
+    if system.normal_force is not None:  # a structure from matrices given its weight
+        raise SceneError(
+            f"{source}: isolation.contact: 'unilateral' needs contact rows whose normal forces "
+            "are computed; this structure's are given (its weight), so it cannot lift off: use "
+            "'detect' or 'bilateral'"
+        )
+    if iso.frozen_normal:
+        raise SceneError(
+            f"{source}: isolation.contact: 'unilateral' needs the normal forces as the "
+            "contacts' multipliers; isolation.frozen_normal = true freezes them: set it to "
+            "false, or use contact 'detect' or 'bilateral'"
+        )
 
 
 def _stands(system, cfg: dict, source: str) -> None:

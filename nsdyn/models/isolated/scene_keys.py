@@ -36,13 +36,13 @@ _KIND = Key(
     "string",
     "the model family; absent means an isolated frame",
     default="isolated",
-    choices=("isolated", "rocking", "contact", "cylinder"),
+    choices=("isolated", "rocking", "contact", "cylinder", "deck", "building3d"),
 )
 _T_END = Key("t_end", "number", "end of the run", "s", **_POS)
 _UNITS = Key(
     "units",
     "string",
-    "units of the record file where its header does not say",
+    "units of the record file (where its header states others, these win, with a warning)",
     choices=("g", "cm/s2", "m/s2"),
 )
 _DT_REC = Key("dt", "number", "sample step of a single-column record file", "s", **_POS)

@@ -54,6 +54,7 @@ from nsdyn.models.scenefile import (
     check_fields,
     grid_fields,
     number,
+    refuse_keys,
     rel_tol,
     scaled_to_pga,
 )
@@ -62,6 +63,8 @@ from nsdyn.models.tilt import scene_tilt
 MODELS = ("block", "frame", "compliant")  # [scene] model
 _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 T_END = 10.0  # default duration without a record [s]
+PULSE_KEYS = ("pulse", "a_p", "a_p_g", "omega_p", "f_p", "n_cycles", "ver_ratio", "t_start")
+RECORD_REPLACES = PULSE_KEYS  # the [motion] keys `nsdyn run --record` drops
 METHODS = ("dopri5",)  # the rocking integrator (event-located Dormand-Prince 5(4))
 # seconds a first run compiles the kernels (2-core machine, empty cache): a middling hour's,
 # 1.8x the fast hour's in the family table of docs/dev/first-runs.md
@@ -106,6 +109,9 @@ def build_model(cfg: dict, source: str):
     linear = b.get("linear", False)
     if not isinstance(linear, bool):
         raise SceneError(f"{source}: block.linear: expected true or false, got {linear!r}")
+    if model != "compliant":
+        refuse_keys(b, source, "block", ("omega_v_over_p", "zeta"), "a key of the compliant "
+                    f"model (scene.model = 'compliant'), not of a {model}")  # fmt: skip
     if model != "frame" and "gamma" in b:
         raise SceneError(f"{source}: block.gamma: the beam-to-columns mass ratio of a rocking "
                          f"frame (scene.model = 'frame'), not of a {model}")  # fmt: skip
@@ -153,6 +159,8 @@ def build_motion(cfg: dict, source: str):
             motion = read_motion(rec)
         except Exception as e:
             raise SceneError(f"{source}: motion.record: cannot read {rec!r}: {e}") from None
+        refuse_keys(mo, source, "motion", PULSE_KEYS, "a pulse's key beside motion.record; give "
+                    "a record or a pulse, not both")  # fmt: skip
         if mo.get("vertical", True) is False and motion.a_ver is not None:
             motion = motion.with_vertical(None)
         if "pga" in mo:
@@ -168,9 +176,12 @@ def build_motion(cfg: dict, source: str):
             a_p = number(source, "motion.a_p", mo["a_p"], positive=False)
         elif "a_p_g" in mo:
             a_p = G_EARTH * number(source, "motion.a_p_g", mo["a_p_g"], positive=False)
+        elif "pga" in mo:  # the amplitude given as the pulse's peak [m/s²]
+            a_p = 1.0
         else:
-            raise SceneError(f"{source}: motion.a_p_g: missing (pulse amplitude in g, or a_p)")
-        if "pga" in mo:
+            raise SceneError(f"{source}: motion.a_p_g: missing (pulse amplitude in g, a_p in "
+                             "m/s², or pga)")  # fmt: skip
+        if "pga" in mo:  # replaces the amplitude (as --pga does), keeping its sign
             a_p = math.copysign(number(source, "motion.pga", mo["pga"]), a_p)
         for one, other in (("a_p", "a_p_g"), ("omega_p", "f_p")):
             if one in mo and other in mo:  # each value checked first
@@ -196,6 +207,8 @@ def build_motion(cfg: dict, source: str):
         return pulse, t_end or max(T_END, 3 * pulse.duration), th0, f"{shape} pulse"
     if "pga" in mo:
         raise SceneError(f"{source}: motion.pga: needs a motion.record or a motion.pulse")
+    refuse_keys(mo, source, "motion", PULSE_KEYS, "a pulse's key without motion.pulse (the "
+                "shape: sine, cosine, ricker or rect)")  # fmt: skip
     return None, t_end or T_END, th0, "free rocking"
 
 

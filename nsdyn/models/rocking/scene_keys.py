@@ -158,7 +158,8 @@ SCHEMA = Schema(
                     "number",
                     "output step",
                     "s",
-                    default="(0.01; 0.001 compliant)",
+                    default="(0.01, or T_p/100 for a pulse of period T_p < 1 s, a record's own "
+                    "step; compliant 0.001)",
                     **_POS,
                 ),
             ),

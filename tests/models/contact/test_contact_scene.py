@@ -89,3 +89,25 @@ def test_bad_fields_name_the_field(tmp_path, table, key, val, match):
         cfg[table][key] = val
     with pytest.raises(SceneError, match=match):
         run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+
+
+@pytest.mark.parametrize(
+    "edit, match",
+    [
+        # keys the scene's other choices leave unused are refused, not dropped
+        ({"impact": {"law": "housner", "e_n": 0.5}}, "impact.e_n: the housner law takes"),
+        ({"motion": {"record": "synthetic-wn-40s", "n_cycles": 3}},
+         "motion.n_cycles: a key of the displacement sine"),
+        ({"motion": {"start": "smooth"}}, "motion.start: a key of the displacement sine"),
+        ({"impact": {"e_n": 0.5}, "ground": {"kind": "compliant", "stiffness": 1e8}},
+         r"\[impact\]: a compliant ground"),
+    ],
+)  # fmt: skip
+def test_keys_the_scene_does_not_use_are_refused(tmp_path, edit, match):
+    cfg = copy.deepcopy(read_toml(SCENE))
+    cfg.pop("solver", None)
+    cfg["motion"] = {}
+    for table, vals in edit.items():
+        cfg[table] = vals
+    with pytest.raises(SceneError, match=match):
+        run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)

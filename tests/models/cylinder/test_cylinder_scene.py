@@ -139,3 +139,25 @@ def test_pga_zero_is_free_rocking(cfg, tmp_path):
     cfg["solver"] = {**cfg.get("solver", {}), "rtol": RTOL / 10}
     tight = run_scene(cfg, source=str(SCENE), out_dir=tmp_path, figures=False, quiet=True)
     assert 0.0 < tight["energy_error"] < s["energy_error"] / 5
+
+
+@pytest.mark.parametrize("key, val", [("seed", 3), ("duration", 10.0), ("dt", 0.01)])
+def test_a_record_refuses_the_simulated_earthquakes_keys(key, val):
+    # they were dropped without a word (a study over seeds of a record ran one case N times)
+    cfg = {"scene": {"kind": "cylinder"}, "motion": {"record": "synthetic-wn-40s", key: val}}
+    with pytest.raises(SceneError, match=rf"c\.toml: motion\.{key}: a key of the simulated "):
+        build(cfg, "c.toml")
+
+
+def test_nsdyn_run_record_replaces_the_simulated_earthquake(tmp_path, capsys):
+    # --record on a scene of a simulated earthquake (seed, duration, dt): the record runs
+    from nsdyn.cli import main
+
+    argv = ["run", str(SCENE), "--record", "synthetic-wn-40s", "--t-end", "1", "--json",
+            "--no-figures", "--out", str(tmp_path)]  # fmt: skip
+    assert main(argv) == 0
+    s = json.loads(capsys.readouterr().out)
+    from nsdyn.ground import read_motion
+
+    rec = read_motion("synthetic-wn-40s").window(0.0, 1.0)  # the record's own peak, unscaled
+    assert s["t_end"] == pytest.approx(1.0) and s["pga_hor"] == max(abs(rec.a_hor))

@@ -183,3 +183,19 @@ def test_friction_pendulums_under_an_eccentric_mass_do_not_twist():
     assert np.abs(res.u).max() > 1e-3  # it slid
     assert np.abs(res.theta).max() * L <= atol
     assert np.abs(twisted.theta).max() * L > 1e4 * atol
+
+
+def test_a_centre_of_mass_outside_the_kern_names_the_eccentricity():
+    # three rows of isolators 5 m apart: the rigid plate's kern reaches sum(y^2) / (3 * 5 m)
+    # = 3.3 m from the centre, and the floors moved 49 % of the 10 m plan put the centre of
+    # mass beyond it: an isolator would pull at rest. The error says the frame's centre of
+    # mass, where it is, and which scene field moves it (it named a deck field, "b.ecc")
+    c, b = _massless(COL), _massless(BEAM)
+    f = regular_building_3d("b", BX, [5.0, 5.0], HS, c, b, b, n_v=2, n_h=2, floor_mass=FLOORS)
+    e = accidental_eccentricity(f, f_y=-0.49)
+    with pytest.raises(
+        BearingError,
+        match=r"^b: its centre of mass, \(.*\) m from the "
+        r"isolators' centre, lies outside the kern.*structure\.eccentricity",
+    ):
+        building_deck(e, Bearing(Friction(0.05), radius=2.0))

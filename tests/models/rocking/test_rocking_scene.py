@@ -36,6 +36,17 @@ def _cfg(**block):
           "omega_p": 1}}, "motion.pulse"),
         ({"block": {"width": 1, "height": 2}, "motion": {"pulse": "sine", "a_p_g": 1,
           "omega_p": 10, "t_start": 5.0, "t_end": 3.0}}, "motion.t_start: the pulse starts"),
+        # keys the scene's other choices leave unused are refused, not dropped
+        ({"block": {"width": 1, "height": 2}, "motion": {"record": "synthetic-wn-40s",
+          "pulse": "sine", "a_p_g": 0.4, "omega_p": 10}}, "motion.pulse: a pulse's key beside"),
+        ({"block": {"width": 1, "height": 2}, "motion": {"record": "synthetic-wn-40s",
+          "omega_p": 10}}, "motion.omega_p: a pulse's key beside motion.record"),
+        ({"block": {"width": 1, "height": 2}, "motion": {"a_p_g": 0.4}},
+         "motion.a_p_g: a pulse's key without motion.pulse"),
+        (_cfg(omega_v_over_p=300.0), "block.omega_v_over_p: a key of the compliant model"),
+        ({"scene": {"kind": "rocking", "model": "frame"}, "block": {"width": 1, "height": 2,
+          "zeta": 2.0}}, "block.zeta: a key of the compliant model (scene.model = 'compliant'), "
+                         "not of a frame"),
     ],
 )  # fmt: skip
 def test_bad_scene_input_raises_scene_error_naming_file_and_field(cfg, field):
@@ -44,6 +55,16 @@ def test_bad_scene_input_raises_scene_error_naming_file_and_field(cfg, field):
         build_motion(cfg, "bad.toml")
     msg = str(e.value)
     assert "bad.toml" in msg and field in msg
+
+
+def test_a_pulse_given_by_its_pga_is_the_pulse_of_that_amplitude():
+    # motion.pga is the pulse's peak [m/s²]: alone it gives the amplitude, beside a_p_g it
+    # replaces it (as nsdyn run --pga does), keeping its sign
+    base = {"pulse": "sine", "omega_p": 10.0}
+    by_pga, _, _, _ = build_motion({"motion": {**base, "pga": 3.0}}, "p.toml")
+    by_ap, _, _, _ = build_motion({"motion": {**base, "a_p": 3.0}}, "p.toml")
+    over, _, _, _ = build_motion({"motion": {**base, "a_p": -1.0, "pga": 3.0}}, "p.toml")
+    assert by_pga == by_ap and over.a_p == -3.0
 
 
 def test_unknown_field_suggests_the_nearest():
