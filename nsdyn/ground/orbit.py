@@ -137,6 +137,15 @@ class HarmonicPlane:
 
     # ---- evaluation -------------------------------------------------------------------------
     @property
+    def name(self) -> str:
+        """The orbit in one line (run summaries): frequency, amplitudes, phase."""
+        text = (f"harmonic orbit {self.f:g} Hz, A_x {self.ax:g}, A_y {self.ay:g} m/s² (phase "
+                f"{self.phase_y_deg:g}°)")  # fmt: skip
+        if self.az:
+            text += f", A_z {self.az:g} m/s² at {self.vertical_frequency:g} Hz"
+        return text
+
+    @property
     def period(self) -> float:
         """T = 1/f [s], the period of the horizontal orbit."""
         return 1.0 / self.f

@@ -186,6 +186,9 @@ def _orbit(table: dict, source: str) -> tuple[HarmonicPlane, dict[str, float]]:
         "phase_z_deg": _number(source, table, "vertical_phase", 0.0),
     }
     if "vertical_frequency" in table:
+        if not vertical["az"]:
+            raise _err(source, "vertical_frequency", "needs vertical_amplitude (a vertical "
+                       "component of zero amplitude has no frequency)")  # fmt: skip
         vertical["f_z"] = _number(source, table, "vertical_frequency", positive=True)
     sense = table.get("sense", 1)
     if sense not in (1, -1) or isinstance(sense, bool):

@@ -221,7 +221,11 @@ def describe(excitation) -> str:
         return f"{kind}: {name}"
     F, f = getattr(excitation, "F", None), getattr(excitation, "f", None)
     if isinstance(F, int | float) and isinstance(f, int | float):  # a harmonic force
-        return f"{kind}: harmonic, {F:g} N at {f:g} Hz on dofs {list(excitation.dofs)}"
+        w = excitation.weights
+        even = w is None or all(x == 1.0 for x in w)
+        on = f"dofs {list(excitation.dofs)}" + ("" if even else f", weights {list(w)}")
+        phase = f", phase {excitation.phase:.4g} rad" if excitation.phase else ""
+        return f"{kind}: harmonic, {F:g} N at {f:g} Hz{phase} on {on}"
     A, fh = getattr(excitation, "A_hor", None), getattr(excitation, "f_hor", None)
     if isinstance(A, int | float) and isinstance(fh, int | float):  # a harmonic ground motion
 

@@ -88,6 +88,11 @@ def test_orbit_table_is_the_helper(table, expected, duration):
           "t_end": 1.0, "n_periods": 2}, "t_end", "not both"),
         ({"kind": "orbit", "orbit": "general", "frequency": 1.0, "amplitude_x": 1.0,
           "amplitude_y": float("nan"), "t_end": 1.0}, "amplitude_y", "finite"),
+        # a frequency of a component that has no amplitude was accepted and did nothing
+        ({"kind": "orbit", "orbit": "circular", "frequency": 1.0, "amplitude": 1.0,
+          "t_end": 1.0, "vertical_frequency": 2.0}, "vertical_frequency",
+         "needs vertical_amplitude"),
+        ({}, "kind", "missing; expected one of"),
     ],
 )  # fmt: skip
 def test_bad_table_names_source_and_key_in_one_line(table, key, needle):
@@ -96,6 +101,13 @@ def test_bad_table_names_source_and_key_in_one_line(table, key, needle):
     msg = str(ei.value)
     assert "\n" not in msg and msg.startswith(f"{SRC}: motion.{key}")
     assert needle in msg
+
+
+def test_an_orbit_names_itself_by_frequency_and_amplitudes():
+    # a run's summary names the excitation (it read "HarmonicPlane", the class)
+    o = HarmonicPlane(0.5, 2.0, 1.0, phase_y_deg=90.0, az=0.5, f_z=1.0)
+    assert o.name == ("harmonic orbit 0.5 Hz, A_x 2, A_y 1 m/s² (phase 90°), A_z 0.5 m/s² at "
+                      "1 Hz")  # fmt: skip
 
 
 def test_a_bad_component_file_is_named_by_its_own_key(tmp_path):

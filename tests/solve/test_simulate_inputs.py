@@ -170,3 +170,6 @@ def test_a_harmonic_excitation_is_named_by_its_amplitude_and_frequency():
     assert describe(HarmonicForce(1635.0, 1.5, dofs=(0,))) == (
         "force: harmonic, 1635 N at 1.5 Hz on dofs [0]"
     )
+    assert describe(HarmonicForce(1635.0, 1.5, dofs=(0, 1), weights=(2.0, 1.0), phase=0.3)) == (
+        "force: harmonic, 1635 N at 1.5 Hz, phase 0.3 rad on dofs [0, 1], weights [2.0, 1.0]"
+    )

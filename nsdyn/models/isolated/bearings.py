@@ -166,6 +166,10 @@ class Bearing:
             _number(f"{w}.k_stop", self.k_stop, positive=True)
         if self.c_stop is not None:
             _number(f"{w}.c_stop", self.c_stop)
+        for key in ("k_stop", "c_stop"):  # the rim's stiffness and damping act at d_cap only
+            if getattr(self, key) is not None and math.isinf(self.d_cap):
+                raise BearingError(f"{w}.{key}: the rim stop acts beyond the displacement "
+                                   "capacity; give d_cap [m] (none: no rim)")  # fmt: skip
         if math.isinf(self.radius) and self.k_lam == 0.0 and math.isfinite(self.d_cap):
             if self.k_stop is None:
                 raise BearingError(

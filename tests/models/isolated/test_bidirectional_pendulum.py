@@ -148,3 +148,10 @@ def test_capacity_below_the_pendulums_stick_range_is_refused():
         sdof_plane(1000.0, Bearing(Friction(0.05), radius=2.0, d_cap=0.08))
     with pytest.raises(BearingError, match=r"bearing.d_cap: expected a positive number"):
         Bearing(Friction(0.05), radius=2.0, d_cap=0.0)
+
+
+@pytest.mark.parametrize("key", ["k_stop", "c_stop"])
+def test_a_rim_stop_without_a_capacity_is_refused(key):
+    # the rim acts beyond d_cap; without one its stiffness or damping did nothing
+    with pytest.raises(BearingError, match=rf"^bearing\.{key}: the rim stop acts beyond"):
+        Bearing(Friction(0.05), radius=2.0, **{key: 1e9})
