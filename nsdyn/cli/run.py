@@ -374,7 +374,7 @@ def run(args: argparse.Namespace) -> int:
                          "('radau', 'genalpha', …)")  # fmt: skip
     check_method(method, cfg)  # before the model's build
     system, motion, duration = build_scene_run(cfg)
-    notes = scene_notes(cfg, motion, args.json)
+    notes = scene_notes(cfg, motion, args.json, system)
     if args.compare_fixed and (args.no_figures or system.frame is None):
         why = (
             "draws the fixed-base frame in the run's figure, and --no-figures draws none"

@@ -88,11 +88,45 @@ def note_unused_cutoff(cfg: dict) -> str | None:
     return None
 
 
-def scene_notes(cfg: dict, motion, quiet: bool) -> list[str]:
+given_ = object()  # a value no key has: every key absent from the defaults counts as given
+
+
+def note_unused_isolation(cfg: dict, system) -> str | None:
+    """``[isolation]`` keys the built model does not read, named with why (they changed
+    nothing, without a word): the switch law's band and stick stabilisation under a smooth
+    law, the arctan sharpness under another, the contacts' keys on given normal forces, the
+    base diaphragm's on a structure given directly, everything on the fixed-base frame."""
+    from nsdyn.models.isolated.scene import DEFAULT_SCENE
+
+    default = DEFAULT_SCENE["isolation"]  # (merged into every frame scene: not the user's)
+    given = [k for k, v in cfg.get("isolation", {}).items() if default.get(k, given_) != v]
+    if not given or system is None:
+        return None
+    if system.isolation is None:  # the fixed-base frame
+        return f"[isolation] not used: the fixed-base model has no isolators ({', '.join(given)})"
+    method = cfg.get("solver", {}).get("method", "auto")
+    law = "switch" if method == "event" else system.isolation.law
+    why = {}
+    if law != "switch":
+        why["eta"] = why["kappa"] = f"a key of the switch law; the law here is {law}"
+    if law != "arctan":
+        why["eps"] = f"a key of the arctan law; the law here is {law}"
+    if system.normal_force is not None:  # a structure given its weight: no contact rows
+        for k in ("frozen_normal", "alpha", "beta"):
+            why[k] = "a key of the contacts; this structure's normal forces are given"
+    if "structure" in cfg:
+        for k in ("diaphragm_EA", "diaphragm_EI"):
+            why[k] = "a key of a frame's base diaphragm; this structure is given directly"
+    unused = [f"isolation.{k} ({why[k]})" for k in given if k in why]
+    return f"not used by this model: {', '.join(unused)}" if unused else None
+
+
+def scene_notes(cfg: dict, motion, quiet: bool, system=None) -> list[str]:
     """Every note of a loaded scene (the functions above), in one line each on stderr unless
     ``quiet``; returned (a --json summary's ``notes``)."""
     notes = [note_short_record(cfg, motion), note_coarse_output(cfg, motion),
-             note_soft_law(cfg), note_high_friction(cfg), note_unused_cutoff(cfg)]  # fmt: skip
+             note_soft_law(cfg), note_high_friction(cfg), note_unused_cutoff(cfg),
+             note_unused_isolation(cfg, system)]  # fmt: skip
     notes = [n for n in notes if n]
     if not quiet:
         for n in notes:

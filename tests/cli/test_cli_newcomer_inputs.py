@@ -477,3 +477,22 @@ def test_a_misplaced_key_or_kind_is_named_as_what_it_is(text, says, tmp_path, on
     scene.write_text(text)
     assert main(["run", str(scene), "--out", str(tmp_path / "o")]) == 2
     one_line(f"{scene}: ", says)
+
+
+def test_isolation_keys_the_model_does_not_read_are_noted(tmp_path, capsys):
+    # they changed nothing without a word: the switch law's band under the arctan law, any
+    # isolator key on the fixed-base frame; the default scene's own keys are not the user's
+    def notes(text):
+        scene = tmp_path / "s.toml"
+        scene.write_text(text)
+        argv = ["run", str(scene), "--t-end", "0.5", "--json", "--no-figures", "--out",
+                str(tmp_path / "o")]  # fmt: skip
+        assert main(argv) == 0
+        return json.loads(capsys.readouterr().out)["notes"]
+
+    (n,) = [x for x in notes("[isolation]\nkappa = 3.0\n") if "not used" in x]
+    assert "isolation.kappa (a key of the switch law; the law here is arctan)" in n
+    (n,) = [x for x in notes('[scene]\nfidelity = "fixed"\n[isolation]\nmu = 0.2\n')
+            if "not used" in x]  # fmt: skip
+    assert n == "[isolation] not used: the fixed-base model has no isolators (mu)"
+    assert not [x for x in notes('[isolation]\nlaw = "switch"\n') if "not used" in x]
