@@ -496,3 +496,18 @@ def test_isolation_keys_the_model_does_not_read_are_noted(tmp_path, capsys):
             if "not used" in x]  # fmt: skip
     assert n == "[isolation] not used: the fixed-base model has no isolators (mu)"
     assert not [x for x in notes('[isolation]\nlaw = "switch"\n') if "not used" in x]
+
+
+def test_a_deck_takes_its_absolute_tolerance_as_a_pair(tmp_path, capsys):
+    # the default is a pair (the switch law's 1e-8 for both): written out, the same run
+    scenes = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+    text = (scenes / "deck-fps4-3c.toml").read_text()
+    pair = tmp_path / "p.toml"
+    pair.write_text(text.replace("[solver]", "[solver]\natol = [1e-8, 1e-8]", 1))
+    runs = []
+    for scene in (scenes / "deck-fps4-3c.toml", pair):
+        argv = ["run", str(scene), "--t-end", "2", "--json", "--no-figures", "--out",
+                str(tmp_path / scene.stem)]  # fmt: skip
+        assert main(argv) == 0
+        runs.append(json.loads(capsys.readouterr().out))
+    assert runs[0]["peak_resultant_displacement_m"] == runs[1]["peak_resultant_displacement_m"]

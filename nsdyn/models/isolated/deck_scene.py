@@ -182,9 +182,11 @@ def build_solver(cfg: dict, source: str, unilateral: bool = False) -> dict:
     for key, default in (("eps", EPS), ("eta", ETA)):
         kw[key] = number(source, f"solver.{key}", t.get(key, default))
     kw["rtol"] = rel_tol(source, "solver.rtol", t.get("rtol", RTOL))
-    if "atol" in t:  # one number for both; else the law's (displacement, velocity) pair
-        a = number(source, "solver.atol", t["atol"])
-        kw["atol"] = (a, a)
+    if "atol" in t:  # one number for both, or the (displacement, velocity) pair
+        a = t["atol"]
+        pair = isinstance(a, list) and len(a) == 2
+        kw["atol"] = (tuple(number(source, "solver.atol", v) for v in a) if pair
+                      else (number(source, "solver.atol", a),) * 2)  # fmt: skip
     else:
         kw["atol"] = PLANE_ATOL[law]
     kw["contact"] = t.get("contact", "detect")

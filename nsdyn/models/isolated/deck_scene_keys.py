@@ -172,9 +172,9 @@ SCHEMA = Schema(
             Key("eps", "number", "sharpness ε of the arctan law", "s/m", default=EPS, **_POS),
             Key("eta", "number", "stick band η of the switch law", "m/s", default=ETA, **_POS),
             Key("rtol", "number", "relative tolerance", "—", default=1e-6, **REL_TOL),
-            Key("atol", "number", "absolute tolerance (displacements and velocities); default "
-                "1e-8 for both with the switch law, 1e-8 m and 1e-6 m/s with the arctan law",
-                "m, m/s", **_POS),
+            Key("atol", "number or pair", "absolute tolerance: one number for displacements and "
+                "velocities, or [displacements, velocities]; default 1e-8 for both with the "
+                "switch law, [1e-8 m, 1e-6 m/s] with the arctan law", "m, m/s", **_POS),
             Key("dt_out", "number", "output step", "s", **_POS),
             Key("contact", "string", "what a normal force reaching zero does: stop the run "
                 "there (uplift), or hold the isolator down and go on (tension reported; "
