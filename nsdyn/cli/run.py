@@ -20,6 +20,7 @@ from nsdyn.cli.run_checks import (
     check_cutoff,
     check_method,
     duration_text,
+    record_wins,
     scene_notes,
 )
 
@@ -234,9 +235,7 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
                          "[solver] law (and fidelity); --method applies to isolated-frame, "
                          "rocking, contact and cylinder scenes")  # fmt: skip
     mod = importlib.import_module(scene_module(kind))
-    if args.record:  # the record replaces the scene's closed-form motion (a pulse, a sine)
-        for key in getattr(mod, "RECORD_REPLACES", ()):
-            cfg.get("motion", {}).pop(key, None)
+    record_wins(args, cfg, getattr(mod, "RECORD_REPLACES", ()))
     for table, vals in _scene_overrides(args).items():
         for k, v in vals.items():  # the file stays checked where an option replaces its value
             old = cfg.get(table, {}).get(k)

@@ -134,6 +134,24 @@ def scene_notes(cfg: dict, motion, quiet: bool, system=None) -> list[str]:
     return notes
 
 
+def record_wins(args, cfg: dict, replaces) -> None:
+    """``--record`` replaces a scene's closed-form motion with its keys (``replaces``: a
+    rocking pulse's, a contact sine's, a simulated earthquake's); on a harmonic orbit (a deck
+    or a building), whose amplitudes are the file's, ``--record`` and ``--pga`` are refused
+    naming the flag (the scene's reader named motion.record, a key the file does not have)."""
+    from nsdyn.models.scenefile import SceneError
+
+    mo = cfg.get("motion", {})
+    flags = [f for f, v in (("--record", args.record), ("--pga", args.pga)) if v]
+    if flags and mo.get("kind") == "orbit":
+        raise SceneError(f"{args.scene}: {', '.join(flags)}: this scene's motion is a harmonic "
+                         "orbit ([motion] kind = 'orbit', its amplitudes in the file); "
+                         f"{flags[0]} applies to a scene driven by a record")  # fmt: skip
+    if args.record:
+        for key in replaces:
+            mo.pop(key, None)
+
+
 def check_method(method: str, cfg: dict) -> None:
     """``solver.method`` must be ``auto`` or name an integrator (a SceneError naming the field
     otherwise)."""

@@ -511,3 +511,11 @@ def test_a_deck_takes_its_absolute_tolerance_as_a_pair(tmp_path, capsys):
         assert main(argv) == 0
         runs.append(json.loads(capsys.readouterr().out))
     assert runs[0]["peak_resultant_displacement_m"] == runs[1]["peak_resultant_displacement_m"]
+
+
+@pytest.mark.parametrize("flag", [["--record", "synthetic-wn-40s"], ["--pga", "3"]])
+def test_record_flags_on_a_harmonic_orbit_name_the_flag(flag, tmp_path, one_line):
+    # the scene's reader named motion.record / motion.pga, keys the file does not have
+    scene = Path(__file__).resolve().parents[2] / "examples/scenes/sdof-bidirectional-circular.toml"
+    assert main(["run", str(scene), *flag, "--out", str(tmp_path)]) == 2
+    one_line(f"{scene}: {flag[0]}: this scene's motion is a harmonic orbit")
