@@ -144,7 +144,8 @@ def _check_type(source: str, where: str, val, typ):
     if typ is float:
         return number(source, where, val)
     if not isinstance(val, typ) or isinstance(val, bool) and typ is not bool:
-        raise _err(source, where, f"expected {typ.__name__}, got {val!r}")
+        what = {bool: "true or false", str: "a text"}.get(typ, typ.__name__)
+        raise _err(source, where, f"expected {what}, got {val!r}")
     return val
 
 

@@ -464,6 +464,7 @@ def test_run_record_replaces_a_rocking_pulse(tmp_path, capsys):
     "text, says",
     [
         ('name = "x"\n[scene]\n', "name: a key outside any table (above the first [table])"),
+        ('[motion]\npga = "3"\n', "motion.pga: expected a number, got '3'"),  # not "float"
         ('[motion]\nkind = "sine"\n', "motion.kind: expected 'harmonic' (a harmonic ground "
                                       "acceleration) or no kind (a record), got 'sine'"),
         ('[scene]\nkind = "deck"\n[deck]\nm = 1e5\npositions = [[-1, -1], [1, -1], [1, 1], '

@@ -168,7 +168,8 @@ def _check(cfg: dict, source: str) -> dict:
                 else isinstance(val, str)
             )
             if not ok:
-                raise SceneError(f"{source}: {table}.{key}: expected {typ.__name__}, got {val!r}")
+                what = {bool: "true or false", float: "a number", str: "a text"}[typ]
+                raise SceneError(f"{source}: {table}.{key}: expected {what}, got {val!r}")
             if typ is float and not math.isfinite(val) and not (key in _INF_OK and val > 0):
                 raise SceneError(
                     f"{source}: {table}.{key}: expected a finite positive number, got {val!r}"

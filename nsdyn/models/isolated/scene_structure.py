@@ -173,7 +173,8 @@ def _dofs(tab: dict, where: str, source: str) -> tuple:
         or len(w) != len(d)
         or not all(isinstance(x, int | float) and not isinstance(x, bool) for x in w)
     ):
-        raise SceneError(f"{source}: {where}.weights: expected {len(d)} numbers, got {w!r}")
+        n = f"{len(d)} number{'s' if len(d) != 1 else ''}"
+        raise SceneError(f"{source}: {where}.weights: expected {n} (one per dof), got {w!r}")
     return tuple(d), None if w is None else tuple(float(x) for x in w)
 
 
