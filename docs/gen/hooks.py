@@ -5,6 +5,7 @@ sources):
 
 - ``reference/scenes.md``: every scene-file key, from the schemas the scene readers check
   against (:mod:`nsdyn.models.scene_schema`);
+- ``reference/studies.md``: every study-file table and key, from the study reader's lists;
 - ``reference/api.md``: the public names of ``nsdyn``, from ``nsdyn/__init__.py``;
 - ``reference/cli-options.md``: ``nsdyn COMMAND --help`` of every subcommand, from the parser;
 - ``gallery/*.md``: one page per example script, from its docstring, with its figures;
@@ -33,6 +34,7 @@ import cli  # noqa: E402
 import docstring_md  # noqa: E402, F401  (the generators import it lazily)
 import gallery  # noqa: E402
 import scene_reference  # noqa: E402
+import study_reference  # noqa: E402
 import validation  # noqa: E402
 
 _GENERATED: dict[str, str] = {}
@@ -41,6 +43,7 @@ _GENERATED: dict[str, str] = {}
 def _generate() -> dict[str, str]:
     pages = {
         "reference/scenes.md": scene_reference.page(),
+        "reference/studies.md": study_reference.page(),
         "reference/api.md": api.page(),
         "reference/cli-options.md": cli.page(),
         "validation.md": validation.page(),
