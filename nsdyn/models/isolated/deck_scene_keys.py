@@ -35,7 +35,7 @@ def _orbit(shape: str, meaning: str, *keys: Key) -> Table:
 
 
 _AMPLITUDE = Key("amplitude", "number", "amplitude A of the ground acceleration", "m/s²",
-                 required=True)  # fmt: skip
+                 required=True, **_NONNEG)  # fmt: skip
 _ANGLE = Key("angle", "number", "direction of the line (major axis) from x", "deg", default=0.0)
 _SENSE = Key("sense", "integer", "sense of rotation: +1 counter-clockwise, −1 clockwise",
              default=1, choices=(1, -1))  # fmt: skip
@@ -175,7 +175,8 @@ SCHEMA = Schema(
             Key("atol", "number or pair", "absolute tolerance: one number for displacements and "
                 "velocities, or [displacements, velocities]; default 1e-8 for both with the "
                 "switch law, [1e-8 m, 1e-6 m/s] with the arctan law", "m, m/s", **_POS),
-            Key("dt_out", "number", "output step", "s", **_POS),
+            Key("dt_out", "number", "output step", "s",
+                default="(the record's sample step; an orbit's period / 50)", **_POS),
             Key("contact", "string", "what a normal force reaching zero does: stop the run "
                 "there (uplift), or hold the isolator down and go on (tension reported; "
                 "`unilateral` lift-off is not available here)", default="detect",
