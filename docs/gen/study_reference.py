@@ -12,10 +12,10 @@ STUDY = {
     "scene": "the base scene file, relative to the study file (default: the isolated frame's "
     "default scene)",
     "keep": "result fields kept per run (default: every scalar field of the run's summary)",
-    "samples": "joint random draws of the random parameters (0: none)",
-    "seed": "seed of those draws",
-    "batch": "tasks per batch sent to a worker (0: automatic, about 6 batches per worker and "
-    "at most 64 tasks each)",
+    "samples": "joint random draws of the random parameters (default 0: none)",
+    "seed": "seed of those draws (default 0)",
+    "batch": "tasks per batch sent to a worker (default 0: automatic, about 6 batches per worker "
+    "and at most 64 tasks each)",
 }
 RECORDS = {
     "names": "bundled record names or files (relative to the study file)",

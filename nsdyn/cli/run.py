@@ -235,7 +235,7 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
                          "[solver] law (and fidelity); --method applies to isolated-frame, "
                          "rocking, contact and cylinder scenes")  # fmt: skip
     mod = importlib.import_module(scene_module(kind))
-    record_wins(args, cfg, getattr(mod, "RECORD_REPLACES", ()))
+    record_wins(args, cfg, getattr(mod, "RECORD_REPLACES", ()), kind in ("rocking", "contact"))
     for table, vals in _scene_overrides(args).items():
         for k, v in vals.items():  # the file stays checked where an option replaces its value
             old = cfg.get(table, {}).get(k)
@@ -357,6 +357,7 @@ def run(args: argparse.Namespace) -> int:
         if kind != "isolated":
             return _run_other_kind(args, kind, raw)
         _check_ladder_flags(args, raw)
+        record_wins(args, raw, ())  # (a harmonic scene: --record and --pga refused)
     scene_fid = (raw.get("scene") or {}).get("fidelity") if args.scene is not None else None
     check_cutoff(args.fmax, args.fidelity or scene_fid)
     from nsdyn.solve.transient import output_grid, simulate

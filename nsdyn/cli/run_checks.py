@@ -134,22 +134,30 @@ def scene_notes(cfg: dict, motion, quiet: bool, system=None) -> list[str]:
     return notes
 
 
-def record_wins(args, cfg: dict, replaces) -> None:
+def record_wins(args, cfg: dict, replaces, amplitude_pga: bool = False) -> None:
     """``--record`` replaces a scene's closed-form motion with its keys (``replaces``: a
     rocking pulse's, a contact sine's, a simulated earthquake's); on a harmonic orbit (a deck
     or a building), whose amplitudes are the file's, ``--record`` and ``--pga`` are refused
-    naming the flag (the scene's reader named motion.record, a key the file does not have)."""
+    naming the flag (the scene's reader named motion.record, a key the file does not have).
+    ``amplitude_pga``: the family's ``motion.pga`` of a closed-form motion is its amplitude
+    (a rocking pulse, a contact sine), dropped with it so that the record runs at its own
+    scale (or ``--pga``'s)."""
     from nsdyn.models.scenefile import SceneError
 
     mo = cfg.get("motion", {})
+    if not isinstance(mo, dict):  # (the scene's reader names that)
+        return
     flags = [f for f, v in (("--record", args.record), ("--pga", args.pga)) if v]
-    if flags and mo.get("kind") == "orbit":
-        raise SceneError(f"{args.scene}: {', '.join(flags)}: this scene's motion is a harmonic "
-                         "orbit ([motion] kind = 'orbit', its amplitudes in the file); "
+    if flags and mo.get("kind") in ("orbit", "harmonic"):
+        raise SceneError(f"{args.scene}: {', '.join(flags)}: this scene's motion is harmonic "
+                         f"([motion] kind = {mo['kind']!r}, its amplitudes in the file); "
                          f"{flags[0]} applies to a scene driven by a record")  # fmt: skip
     if args.record:
+        closed = any(key in mo for key in replaces)
         for key in replaces:
             mo.pop(key, None)
+        if closed and amplitude_pga:  # the pulse's or sine's amplitude, not the record's scale
+            mo.pop("pga", None)
 
 
 def check_method(method: str, cfg: dict) -> None:

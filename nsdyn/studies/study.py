@@ -55,6 +55,7 @@ from nsdyn.models.scenefile import (
     read_toml,
     resolve_paths,
     scene_kind,
+    scene_module,
     unknown_key,
 )
 
@@ -144,7 +145,9 @@ def _check_type(source: str, where: str, val, typ):
     if typ is float:
         return number(source, where, val)
     if not isinstance(val, typ) or isinstance(val, bool) and typ is not bool:
-        what = {bool: "true or false", str: "a text"}.get(typ, typ.__name__)
+        what = {bool: "true or false", str: "a text", list: "a list", int: "an integer"}.get(
+            typ, typ.__name__
+        )
         raise _err(source, where, f"expected {what}, got {val!r}")
     return val
 
@@ -417,6 +420,12 @@ def load_study(path: str | Path) -> Study:
     records = _parse_records(source, study_dir, raw.get("records", {}), kind, base)
     if records and "motion.record" in params_raw:
         raise _err(source, "parameters.motion.record", "give records in [records], not both")
+    replaced = _record_replaces(kind) if records else ()
+    for name in params_raw:  # each task's record would drop the value the grid gave it
+        if name.startswith("motion.") and name.split(".", 1)[1] in replaced:
+            raise _err(source, f"parameters.{name}", "varies the scene's closed-form motion, "
+                       "which every record of [records] replaces; vary it without [records], "
+                       "or vary the records' scaling (motion.pga)")  # fmt: skip
     samples = st.get("samples", 0)
     if any(p.random for p in params) and samples < 1:
         raise _err(source, "study.samples", "random parameters need samples >= 1")
@@ -440,6 +449,16 @@ def load_study(path: str | Path) -> Study:
     check_analysis(study)
     check_tasks(study)
     return study
+
+
+def _record_replaces(kind: str) -> tuple:
+    """The [motion] keys a record replaces in a scene of ``kind`` (its scene module's
+    ``RECORD_REPLACES``: a rocking pulse's, a contact sine's, a simulated earthquake's)."""
+    if kind not in ("rocking", "contact", "cylinder"):
+        return ()
+    import importlib
+
+    return importlib.import_module(scene_module(kind)).RECORD_REPLACES
 
 
 def task_label(index, params: dict, record: str = "") -> str:

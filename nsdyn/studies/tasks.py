@@ -176,13 +176,10 @@ def _place_record(cfg: dict, rec: RecordSpec, kind: str) -> None:
     closed-form motion's keys (a rocking pulse, a contact sine, a cylinder's simulated
     earthquake: the scene module's ``RECORD_REPLACES``) give way to the record."""
     mo = cfg.setdefault("motion", {})
-    if kind in ("rocking", "contact", "cylinder"):
-        import importlib
+    from nsdyn.studies.study import _record_replaces
 
-        from nsdyn.models.scenefile import scene_module
-
-        for key in importlib.import_module(scene_module(kind)).RECORD_REPLACES:
-            mo.pop(key, None)
+    for key in _record_replaces(kind):  # (a study varies none of them: load_study refuses it)
+        mo.pop(key, None)
     if kind in KINDS3C:
         for key in ("record", "x", "y", "z", "simulated"):
             mo.pop(key, None)

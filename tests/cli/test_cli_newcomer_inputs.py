@@ -515,8 +515,37 @@ def test_a_deck_takes_its_absolute_tolerance_as_a_pair(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("flag", [["--record", "synthetic-wn-40s"], ["--pga", "3"]])
-def test_record_flags_on_a_harmonic_orbit_name_the_flag(flag, tmp_path, one_line):
+@pytest.mark.parametrize("name", ["sdof-bidirectional-circular", "isolated-uplift-pocket"])
+def test_record_flags_on_a_harmonic_motion_name_the_flag(flag, name, tmp_path, one_line):
     # the scene's reader named motion.record / motion.pga, keys the file does not have
-    scene = Path(__file__).resolve().parents[2] / "examples/scenes/sdof-bidirectional-circular.toml"
+    scene = Path(__file__).resolve().parents[2] / "examples" / "scenes" / f"{name}.toml"
     assert main(["run", str(scene), *flag, "--out", str(tmp_path)]) == 2
-    one_line(f"{scene}: {flag[0]}: this scene's motion is a harmonic orbit")
+    one_line(f"{scene}: {flag[0]}: this scene's motion is harmonic")
+
+
+def test_a_record_replacing_a_sine_runs_at_its_own_scale():
+    # the sine's pga is its amplitude: dropped with it (the record was scaled to 1.6 m/s²);
+    # a record scene's pga scales whatever record replaces it, and --pga still applies after
+    import argparse
+
+    from nsdyn.cli.run_checks import record_wins
+
+    args = argparse.Namespace(scene="s.toml", record="synthetic-wn-40s", pga=None)
+    sine = {"motion": {"period": 2.18, "pga": 1.6, "n_cycles": 5}}
+    record_wins(args, sine, ("period", "n_cycles", "start"), True)
+    assert sine["motion"] == {}
+    rec = {"motion": {"record": "synthetic-kt-20s", "pga": 2.0}}
+    record_wins(args, rec, ("period", "n_cycles", "start"), True)
+    assert rec["motion"] == {"record": "synthetic-kt-20s", "pga": 2.0}
+
+
+def test_a_deck_atol_of_the_wrong_length_names_the_pair_form(tmp_path, one_line):
+    scenes = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+    text = (scenes / "deck-fps4-3c.toml").read_text()
+    bad = tmp_path / "b.toml"
+    bad.write_text(text.replace("[solver]", "[solver]\natol = [1e-8]", 1))
+    assert main(["run", str(bad), "--out", str(tmp_path / "o")]) == 2
+    one_line(
+        f"{bad}: solver.atol: expected a positive number or a pair [displacements, "
+        "velocities], got [1e-08]"
+    )

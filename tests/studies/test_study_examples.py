@@ -122,3 +122,19 @@ def test_a_kept_field_that_is_empty_in_every_row_is_no_warning(tmp_path, capsys)
     assert "warning" not in capsys.readouterr().err
     rows = read_csv(tmp_path / "o" / "results.csv")
     assert all(r["overturned"] is False and r["t_overturn_s"] is None for r in rows)
+
+
+def test_a_study_may_not_vary_what_its_records_replace(tmp_path):
+    # each task's record dropped the pulse's value the grid gave it: N identical runs
+    from nsdyn.models.scenefile import SceneError
+
+    scene = EXAMPLES / "scenes" / "rocking-seed001-cask.toml"
+    study = tmp_path / "s.toml"
+    study.write_text(f'[study]\nscene = "{scene}"\n[parameters]\n"motion.a_p_g" = [0.5, 1.0]\n'
+                     '[records]\nnames = ["synthetic-wn-40s"]\n')  # fmt: skip
+    with pytest.raises(
+        SceneError,
+        match=r"parameters\.motion\.a_p_g: varies the scene's "
+        "closed-form motion, which every record of \\[records\\] replaces",
+    ):
+        load_study(study)

@@ -184,8 +184,10 @@ def build_solver(cfg: dict, source: str, unilateral: bool = False) -> dict:
     kw["rtol"] = rel_tol(source, "solver.rtol", t.get("rtol", RTOL))
     if "atol" in t:  # one number for both, or the (displacement, velocity) pair
         a = t["atol"]
-        pair = isinstance(a, list) and len(a) == 2
-        kw["atol"] = (tuple(number(source, "solver.atol", v) for v in a) if pair
+        if isinstance(a, list) and len(a) != 2:
+            raise SceneError(f"{source}: solver.atol: expected a positive number or a pair "
+                             f"[displacements, velocities], got {a!r}")  # fmt: skip
+        kw["atol"] = (tuple(number(source, "solver.atol", v) for v in a) if isinstance(a, list)
                       else (number(source, "solver.atol", a),) * 2)  # fmt: skip
     else:
         kw["atol"] = PLANE_ATOL[law]
