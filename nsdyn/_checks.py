@@ -13,18 +13,25 @@ def expect(name: str, value, ok: bool, what: str) -> None:
         raise TypeError(f"{name}: expected {what}, got {type(value).__name__}")
 
 
+def did_you_mean(word, valid) -> str:
+    """``"; did you mean 'x'?"`` naming the entry of ``valid`` nearest to ``word``, or ``""``
+    when none is near (the hint every "unknown ..." message of nsdyn ends with)."""
+    import difflib
+
+    close = difflib.get_close_matches(str(word), [str(v) for v in valid], n=1)
+    return f"; did you mean {close[0]!r}?" if close else ""
+
+
 def keywords_of(func, passed_on, *, skip=(), also=(), caller: str = "") -> None:
     """Each name in ``passed_on`` (keywords a function hands on to ``func``) must be a
     parameter of ``func`` outside ``skip``; otherwise a TypeError naming the nearest of those
     and of ``also`` (the caller's own keywords, a likely slip of the pen)."""
-    import difflib
     import inspect
 
     known = [k for k in inspect.signature(func).parameters if k not in skip]
     for k in passed_on:
         if k not in known:
-            close = difflib.get_close_matches(k, [*known, *also], n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
+            hint = did_you_mean(k, [*known, *also])
             raise TypeError(f"{caller}got an unexpected keyword argument {k!r}{hint}")
 
 

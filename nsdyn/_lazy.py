@@ -21,10 +21,9 @@ def exports(namespace: dict, api: dict[str, str]) -> tuple[Callable, Callable]:
         if where is None and not name.startswith("_") and _is_submodule(package, name):
             return importlib.import_module(f"{package}.{name}")  # nsdyn.plot after import nsdyn
         if where is None:
-            import difflib
+            from nsdyn._checks import did_you_mean
 
-            close = difflib.get_close_matches(name, list(api), n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
+            hint = did_you_mean(name, list(api))
             raise AttributeError(f"module {package!r} has no attribute {name!r}{hint}")
         module, _, attr = where.partition(":")
         value = getattr(importlib.import_module(module), attr or name)

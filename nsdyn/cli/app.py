@@ -339,10 +339,9 @@ def _main(argv: list[str]) -> int:
             rest = [a for a in argv if a != cmd]
             parser.error(f"options go after the command: nsdyn {cmd} {' '.join(rest)}")
     if not only and not argv[0].startswith("-"):  # a mistyped command: the closest one
-        import difflib
+        from nsdyn._checks import did_you_mean
 
-        close = difflib.get_close_matches(argv[0], list(COMMANDS), n=1)
-        hint = f"; did you mean {close[0]!r}?" if close else ""
+        hint = did_you_mean(argv[0], list(COMMANDS))
         parser.error(f"unknown command {argv[0]!r}{hint} (commands: {', '.join(COMMANDS)})")
     args, extra = parser.parse_known_args(argv)  # a usage error: one line, SystemExit(2)
     if extra:  # reported by the command's own parser: "nsdyn run: error: …"

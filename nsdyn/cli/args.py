@@ -152,6 +152,17 @@ def band_message(command: str, fmin: float, fmax: float) -> str:
             f"(see nsdyn {command} --help)")  # fmt: skip
 
 
+def holes(command: str, n_bad: int, n: int, what: str, detail: str) -> int:
+    """The status of a finished curve or boundary: 0, or ``EXIT_NUMERICS`` after one line on
+    stderr, ``nsdyn COMMAND: K of N WHAT failed (DETAIL)``, when some of its points failed --
+    a result with holes is not a success, as a study with failed tasks is not; its files hold
+    every point either way."""
+    if not n_bad:
+        return 0
+    print(f"nsdyn {command}: {n_bad} of {n} {what} failed ({detail})", file=sys.stderr)
+    return EXIT_NUMERICS
+
+
 def fail(args: argparse.Namespace, message, status: int = EXIT_USER_ERROR,
          what: str = "error") -> int:  # fmt: skip
     """``status`` after one line ``nsdyn COMMAND: what: message`` on stderr and, with

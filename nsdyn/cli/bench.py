@@ -67,10 +67,9 @@ def configure(p: argparse.ArgumentParser) -> None:
     def benchmark(word: str) -> str:
         name = spelt.get(word.replace("_", "-"))
         if name is None:
-            import difflib
+            from nsdyn._checks import did_you_mean
 
-            close = difflib.get_close_matches(word.replace("_", "-"), list(spelt), n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
+            hint = did_you_mean(word.replace("_", "-"), list(spelt))
             raise argparse.ArgumentTypeError(
                 f"unknown benchmark {word!r}{hint} (benchmarks: {', '.join(spelt)})"
             )

@@ -16,8 +16,8 @@ from dataclasses import asdict
 from pathlib import Path
 
 from nsdyn.atomic import atomic_open, output_dir, save_figure
-from nsdyn.cli.args import EXIT_NUMERICS, band_message, fail, out_dir, positive_int, refinement
 from nsdyn.cli.args import amplitude_list as _amplitude_list
+from nsdyn.cli.args import band_message, fail, holes, out_dir, positive_int, refinement
 from nsdyn.cli.args import count as _count
 from nsdyn.cli.args import positive_finite as _positive
 from nsdyn.studies.plane_sweep import KINDS as PLANE_KINDS
@@ -117,20 +117,11 @@ def stale_figure(out: Path, quiet: bool) -> None:
                   "none)", file=sys.stderr)  # fmt: skip
 
 
-def holes(amplitudes: list[dict], failed, what: str) -> int:
-    """The status of a finished sweep: 0, or ``EXIT_NUMERICS`` after one line on stderr when
-    points failed (``failed(summary)``: their number per amplitude) -- a curve with holes is not
-    a success, as a study with failed tasks is not; the files hold every point either way."""
-    n_bad = sum(failed(s) for s in amplitudes)
-    if not n_bad:
-        return 0
+def _holes(amplitudes: list[dict], path) -> int:
+    """:func:`nsdyn.cli.args.holes` of a sweep: its points without a steady state."""
+    n_bad = sum(s["unconverged_points"] for s in amplitudes)
     n = sum(s["points"] for s in amplitudes)
-    print(f"nsdyn sweep: {n_bad} of {n} points failed ({what} lists each one)", file=sys.stderr)
-    return EXIT_NUMERICS
-
-
-def _unconverged(s: dict) -> int:
-    return s["unconverged_points"]
+    return holes("sweep", n_bad, n, "points", f"{path} lists each one")
 
 
 def prepare_kernels(friction: str, contact: str = "bilateral") -> float:
@@ -275,7 +266,7 @@ def run(args: argparse.Namespace) -> int:
         report["figure"] = str(fig_path)
     if args.json:
         print(json.dumps(report, default=float))
-        return holes(report["amplitudes"], _unconverged, str(csv_path))
+        return _holes(report["amplitudes"], csv_path)
     print(
         f"model {report['model']}: {settings.points} frequencies "
         f"{settings.fmin:g}-{settings.fmax:g} Hz, {settings.continuation} continuation"
@@ -319,7 +310,7 @@ def run(args: argparse.Namespace) -> int:
     if "figure" in report:
         print(f"figure: {report['figure']}")
     sys.stdout.flush()
-    return holes(report["amplitudes"], _unconverged, str(csv_path))
+    return _holes(report["amplitudes"], csv_path)
 
 
 def run_plane(args: argparse.Namespace, cfg: dict) -> int:
@@ -408,7 +399,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         fh.write(json.dumps(report, default=float, indent=1))
     if args.json:
         print(json.dumps(report, default=float))
-        return holes(report["amplitudes"], _unconverged, str(json_path))
+        return _holes(report["amplitudes"], json_path)
     print(f"{sc['kind']} {sc['name']}: {settings.points} frequencies {fmin:g}-{fmax:g} Hz, "
           f"law {settings.law}, {settings.continuation} continuation")  # fmt: skip
     print("   A [m/s²]  points  fallback  unstable  stick-slip  |u|max [m]  at f [Hz]  wall [s]")
@@ -431,4 +422,4 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     if "figure" in report:
         print(f"figure: {report['figure']}")
     sys.stdout.flush()
-    return holes(report["amplitudes"], _unconverged, str(json_path))
+    return _holes(report["amplitudes"], json_path)

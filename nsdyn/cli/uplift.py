@@ -20,7 +20,7 @@ import time
 from pathlib import Path
 
 from nsdyn.atomic import atomic_open
-from nsdyn.cli.args import EXIT_NUMERICS, band_message, fail, out_dir
+from nsdyn.cli.args import band_message, fail, holes, out_dir
 from nsdyn.cli.args import count as _count
 from nsdyn.cli.args import positive_finite as _positive
 
@@ -170,11 +170,6 @@ def run(args: argparse.Namespace) -> int:
         if "figure" in report:
             print(f"figure: {report['figure']}")
     failed = [p for p in res.points if not p.ok and not p.status.startswith("no uplift")]
-    if not failed:
-        return 0
-    # a boundary with holes is not a success (as a study with failed tasks): status 3, the
-    # files hold every frequency, the failed ones with their reason
     where = ", ".join(f"{p.f:.4g}" for p in failed[:5]) + (", ..." if len(failed) > 5 else "")
-    print(f"nsdyn uplift: {len(failed)} of {len(res.points)} frequencies failed (f = {where} "
-          f"Hz; reasons in the status column and in {json_path})", file=sys.stderr)  # fmt: skip
-    return EXIT_NUMERICS
+    return holes("uplift", len(failed), len(res.points), "frequencies",
+                 f"f = {where} Hz; reasons in the status column and in {json_path}")  # fmt: skip

@@ -16,6 +16,8 @@ from collections.abc import Mapping
 from contextlib import contextmanager
 from pathlib import Path
 
+from nsdyn._checks import did_you_mean
+
 # [scene] kind -> its runner
 KINDS = ("isolated", "rocking", "contact", "cylinder", "deck", "building3d")
 # kinds whose runner is not nsdyn.models.<kind>.scene (a family's package holds it)
@@ -130,8 +132,7 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
 def unknown_key(source: str, where: str, key: str, valid) -> SceneError:
     """Error for a key not in ``valid``, suggesting the closest valid key if there is one."""
     valid = sorted(valid)
-    close = difflib.get_close_matches(key, valid, n=1)
-    hint = f"; did you mean {close[0]!r}?" if close else ""
+    hint = did_you_mean(key, valid)
     return SceneError(
         f"{source}: {where}{key}: unknown field{hint or ';'} expected some of {valid}"
     )

@@ -9,7 +9,6 @@ error names the file, the dotted field and what was expected (:class:`FrameFileE
 
 from __future__ import annotations
 
-import difflib
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -18,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from nsdyn._bundled import FRAMES
+from nsdyn._checks import did_you_mean
 from nsdyn.structure.frame import Frame, Section, regular_frame
 
 
@@ -56,8 +56,7 @@ class _Reader:
         for k in tbl:
             if k not in allowed:
                 where = f"{path}.{k}" if path else k
-                close = difflib.get_close_matches(str(k), sorted(allowed), n=1)
-                hint = f"; did you mean {close[0]!r}?" if close else ""
+                hint = did_you_mean(str(k), sorted(allowed))
                 allow = ", ".join(sorted(allowed))
                 raise FrameFileError(
                     f"{self.file}: {where}: unknown field{hint} (allowed: {allow})", where

@@ -21,12 +21,12 @@ with figures, pareto.png, fragility.png, distributions.png, incidence.png.
 
 from __future__ import annotations
 
-import difflib
 import math
 from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import did_you_mean
 from nsdyn.atomic import save_figure
 from nsdyn.models.scenefile import SceneError, number, unknown_key
 from nsdyn.studies.design import (
@@ -91,8 +91,7 @@ def _check_column(source: str, where: str, name, study, *, result: bool) -> None
         raise SceneError(f"{source}: {where}: {name!r} is a result the study does not keep; "
                          f"add it to study.keep (now {list(study.keep)})")  # fmt: skip
     if name not in valid:
-        close = difflib.get_close_matches(name, sorted(valid), n=1)
-        hint = f"; did you mean {close[0]!r}?" if close else ""
+        hint = did_you_mean(name, sorted(valid))
         raise SceneError(f"{source}: {where}: unknown column {name!r}{hint}")
 
 

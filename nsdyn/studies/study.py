@@ -44,11 +44,11 @@ Every error names the file and the field and, for a misspelt key, the nearest va
 from __future__ import annotations
 
 import copy
-import difflib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from nsdyn._checks import did_you_mean
 from nsdyn.models.scenefile import (
     SceneError,
     number,
@@ -172,8 +172,7 @@ def _known_fields(kind: str, base: dict) -> set[str]:
 def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter:
     where = f"parameters.{name}"
     if name not in known:
-        close = difflib.get_close_matches(name, sorted(known), n=1, cutoff=0.6)
-        hint = f"; did you mean {close[0]!r}?" if close else ""
+        hint = did_you_mean(name, sorted(known))
         raise SceneError(
             f"{source}: {where}: unknown scene field{hint} (expected 'table.field', e.g. "
             f"'isolation.mu' or 'motion.pga')"
@@ -255,8 +254,7 @@ def _parse_records(source: str, study_dir: Path, rec: dict, kind: str, base: dic
         elif n in bundled_records():
             out.append(RecordSpec(n, path=n))
         else:
-            close = difflib.get_close_matches(n, bundled_records(), n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
+            hint = did_you_mean(n, bundled_records())
             raise _err(
                 source,
                 "records.names",
@@ -420,7 +418,7 @@ def load_study(path: str | Path) -> Study:
     records = _parse_records(source, study_dir, raw.get("records", {}), kind, base)
     if records and "motion.record" in params_raw:
         raise _err(source, "parameters.motion.record", "give records in [records], not both")
-    replaced = _record_replaces(kind) if records else ()
+    replaced = record_replaces(kind) if records else ()
     for name in params_raw:  # each task's record would drop the value the grid gave it
         if name.startswith("motion.") and name.split(".", 1)[1] in replaced:
             raise _err(source, f"parameters.{name}", "varies the scene's closed-form motion, "
@@ -451,7 +449,7 @@ def load_study(path: str | Path) -> Study:
     return study
 
 
-def _record_replaces(kind: str) -> tuple:
+def record_replaces(kind: str) -> tuple:
     """The [motion] keys a record replaces in a scene of ``kind`` (its scene module's
     ``RECORD_REPLACES``: a rocking pulse's, a contact sine's, a simulated earthquake's)."""
     if kind not in ("rocking", "contact", "cylinder"):

@@ -176,9 +176,9 @@ def _place_record(cfg: dict, rec: RecordSpec, kind: str) -> None:
     closed-form motion's keys (a rocking pulse, a contact sine, a cylinder's simulated
     earthquake: the scene module's ``RECORD_REPLACES``) give way to the record."""
     mo = cfg.setdefault("motion", {})
-    from nsdyn.studies.study import _record_replaces
+    from nsdyn.studies.study import record_replaces
 
-    for key in _record_replaces(kind):  # (a study varies none of them: load_study refuses it)
+    for key in record_replaces(kind):  # (a study varies none of them: load_study refuses it)
         mo.pop(key, None)
     if kind in KINDS3C:
         for key in ("record", "x", "y", "z", "simulated"):

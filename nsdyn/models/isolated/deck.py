@@ -224,15 +224,14 @@ def orbit_of(d: dict):
     """A harmonic orbit given as a dict: ``HarmonicPlane(**d)``, its defaults (φ_y = 90°) and
     checks, an unknown key refused with the nearest field's name."""
     import dataclasses
-    import difflib
 
+    from nsdyn._checks import did_you_mean
     from nsdyn.ground.orbit import HarmonicPlane
 
     names = [f.name for f in dataclasses.fields(HarmonicPlane)]
     for k in d:
         if k not in names:
-            close = difflib.get_close_matches(str(k), names, n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
+            hint = did_you_mean(str(k), names)
             raise ValueError(f"harmonic orbit: {k!r}: no such field{hint} (the fields of "
                              f"nsdyn.HarmonicPlane: {', '.join(names)})")  # fmt: skip
     try:
