@@ -172,7 +172,9 @@ def _known_fields(kind: str, base: dict) -> set[str]:
 def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter:
     where = f"parameters.{name}"
     if name not in known:
-        hint = did_you_mean(name, sorted(known))
+        leaf = [k for k in sorted(known) if k.rsplit(".", 1)[-1] == name.rsplit(".", 1)[-1]]
+        hint = (did_you_mean(name, leaf) or f"; did you mean {leaf[0]!r}?" if leaf  # 'bearing.mu'
+                else did_you_mean(name, sorted(known)))  # fmt: skip
         raise SceneError(
             f"{source}: {where}: unknown scene field{hint} (expected 'table.field', e.g. "
             f"'isolation.mu' or 'motion.pga')"
@@ -418,6 +420,13 @@ def load_study(path: str | Path) -> Study:
     records = _parse_records(source, study_dir, raw.get("records", {}), kind, base)
     if records and "motion.record" in params_raw:
         raise _err(source, "parameters.motion.record", "give records in [records], not both")
+    mo = base.get("motion")
+    motion_kind = mo.get("kind") if isinstance(mo, dict) else None
+    if records and motion_kind in ("orbit", "harmonic"):
+        raise _err(source, "records", f"the scene's motion is harmonic ([motion] kind = "
+                   f"{motion_kind!r}, its amplitudes in the scene); records drive a scene "
+                   "whose motion is a record: drop [records], or vary the harmonic motion's "
+                   "keys in [parameters]")  # fmt: skip
     replaced = record_replaces(kind) if records else ()
     for name in params_raw:  # each task's record would drop the value the grid gave it
         if name.startswith("motion.") and name.split(".", 1)[1] in replaced:

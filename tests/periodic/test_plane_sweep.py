@@ -323,3 +323,17 @@ def test_a_fallback_seeded_off_the_model_settles_from_rest():
     assert last.method == "sweep" and last.converged and not last.quantities["uplift"]
     u_ref = pb.orbit_quantities(2.0, ref.X)["u_peak_m"]
     assert last.quantities["u_peak_m"] == pytest.approx(u_ref, rel=1e-4)
+
+
+@pytest.mark.parametrize("command", ["run", "sweep"])
+def test_a_sweep_table_under_a_record_is_refused(tmp_path, capsys, command):
+    # [sweep] follows an orbit; under a record nsdyn run ignored it without a word
+    text = (SCENES / "deck-fps4-3c.toml").read_text()
+    assert 'kind = "record3"' in text
+    scene = tmp_path / "s.toml"
+    scene.write_text(text + "\n[sweep]\nf_min = 0.2\nf_max = 2.0\n")
+    rc = nsdyn_main([command, str(scene), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and len(err.splitlines()) == 1
+    assert f"{scene}: sweep: read by nsdyn sweep, which follows an orbit" in err
+    assert not (tmp_path / "o").exists()

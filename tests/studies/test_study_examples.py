@@ -138,3 +138,32 @@ def test_a_study_may_not_vary_what_its_records_replace(tmp_path):
         "closed-form motion, which every record of \\[records\\] replaces",
     ):
         load_study(study)
+
+
+HARMONIC_SCENES = ["isolated-uplift-pocket.toml", "sdof-bidirectional-circular.toml"]
+
+
+@pytest.mark.parametrize("scene", HARMONIC_SCENES)
+def test_records_on_a_harmonic_scene_are_refused_naming_records(tmp_path, scene):
+    # a harmonic base's reader named motion.record, a key the study file does not have
+    from nsdyn.models.scenefile import SceneError
+
+    path = EXAMPLES / "scenes" / scene
+    study = tmp_path / "s.toml"
+    mu = "bearing.mu" if "deck" in path.read_text() else "isolation.mu"
+    study.write_text(f'[study]\nscene = "{path}"\n[parameters]\n"{mu}" = [0.02, 0.03]\n'
+                     '[records]\nnames = ["synthetic-wn-40s"]\n')  # fmt: skip
+    with pytest.raises(SceneError, match=r"s\.toml: records: the scene's motion is harmonic"):
+        load_study(study)
+
+
+def test_a_field_in_another_table_is_hinted_by_its_own_name(tmp_path):
+    # a deck's friction is bearing.mu; the hint used to be the nearest string, 'motion.trim'
+    from nsdyn.models.scenefile import SceneError
+
+    path = EXAMPLES / "scenes" / "sdof-bidirectional-circular.toml"
+    study = tmp_path / "s.toml"
+    study.write_text(f'[study]\nscene = "{path}"\n[parameters]\n"isolation.mu" = [0.02, 0.03]\n')
+    hint = r"isolation\.mu: unknown scene field; did you mean 'bearing\.mu'"
+    with pytest.raises(SceneError, match=hint):
+        load_study(study)

@@ -208,6 +208,12 @@ def build_sweep(cfg: dict, source: str) -> dict:
     t = cfg.get("sweep", {})
     if not isinstance(t, dict):
         raise SceneError(f"{source}: sweep: expected a table [sweep], got {t!r}")
+    mo = cfg.get("motion")
+    kind = mo.get("kind") if isinstance(mo, dict) else None
+    if t and kind not in ("orbit", None):  # (a missing kind is the motion reader's to name)
+        raise SceneError(f"{source}: sweep: read by nsdyn sweep, which follows an orbit "
+                         f"(motion.kind = 'orbit'); this scene's motion is kind = {kind!r}: "
+                         "drop [sweep], or give an orbit")  # fmt: skip
     out = {}
     for key in ("f_min", "f_max"):
         if key in t:

@@ -154,8 +154,9 @@ SCHEMA = Schema(
                Key("amplitude_x", "number", "amplitude along x", "m/s²", required=True),
                Key("amplitude_y", "number", "amplitude along y", "m/s²", required=True),
                Key("phase_y", "number", "phase of y after x", "deg", default=90.0)),
-        Table("sweep", "`nsdyn sweep`'s frequency curve of this scene (under an orbit); its "
-              "flags `--fmin`, `--fmax`, `--points`, `--amplitudes`, `--friction` win.", (
+        Table("sweep", "`nsdyn sweep`'s frequency curve of this scene (under an orbit only: "
+              "refused beside a record); its flags `--fmin`, `--fmax`, `--points`, "
+              "`--amplitudes`, `--friction` win.", (
             Key("f_min", "number", "lowest frequency", "Hz", default="(f/4)", **_POS),
             Key("f_max", "number", "highest frequency, above f_min", "Hz", default="(4 f)",
                 **_POS),
