@@ -90,6 +90,19 @@ def output_count(t_end: float, dt_out: float) -> int:
     return int(math.floor(n * (1 + 1e-12))) + 1
 
 
+def output_times(t0: float, t_end: float, dt_out: float):
+    """Outputs from ``t0`` every ``dt_out`` [s], and ``t_end`` itself where that grid
+    misses it: a run ends at its end, whatever the output step (its last interval shorter
+    then). ValueError as :func:`output_count`."""
+    import numpy as np
+
+    n = output_count(t_end - t0, dt_out)
+    t = t0 + dt_out * np.arange(n)
+    if t_end - t[-1] > 1e-9 * dt_out:
+        t = np.append(t, t_end)
+    return t
+
+
 def step_count(t_end: float, h: float, name: str = "h") -> float:
     """Steps of ``h`` over ``t_end``, or ValueError naming ``name`` beyond ``MAX_STEPS``."""
     n = t_end / h

@@ -18,7 +18,7 @@ import numpy as np
 
 from nsdyn.atomic import CheckpointError, atomic_open
 
-FORMAT = "nsdyn-checkpoint-2"  # in every fingerprint: files of an older layout are refused
+FORMAT = "nsdyn-checkpoint-3"  # in every fingerprint: files of an older layout are refused
 STAT_KEYS = ("nfev", "njev", "n_lu", "n_rejected", "n_events")  # solver counters summed
 
 
@@ -29,6 +29,7 @@ class Carry:
     h0: float | None = None  # the step the solver would take next (adaptive methods)
     modes: np.ndarray | None = None  # event method: slip modes at the chunk's end
     open_end: np.ndarray | None = None  # unilateral: open contacts at the chunk's end
+    acc: np.ndarray | None = None  # generalized-alpha: its algorithmic acceleration at the end
     n_steps: int = 0
     stats: dict = field(default_factory=dict)
     uplifts: list = field(default_factory=list)  # (t, contact)
@@ -41,6 +42,7 @@ class Carry:
         h = sol.h_last
         self.h0 = float(h) if adaptive and np.isfinite(h) and h > 0 else None
         self.modes = getattr(sol, "modes", None)
+        self.acc = getattr(sol, "acc_end", None)
         self.n_steps += sol.n_steps
         for key in STAT_KEYS:
             self.stats[key] = self.stats.get(key, 0) + int(getattr(sol, key, 0) or 0)
@@ -62,6 +64,8 @@ class Carry:
             a["modes"] = np.asarray(self.modes)
         if self.open_end is not None:
             a["open_end"] = np.asarray(self.open_end)
+        if self.acc is not None:
+            a["acc"] = np.asarray(self.acc)
         if self.opens:
             a["opens"] = np.concatenate(self.opens)
         ce = self.cevents
@@ -85,6 +89,7 @@ class Carry:
             h0=None if np.isnan(h0) else h0,
             modes=d["modes"] if "modes" in files else None,
             open_end=d["open_end"] if "open_end" in files else None,
+            acc=d["acc"] if "acc" in files else None,
             n_steps=int(d["n_steps"]), stats=stats, uplifts=uplifts, cevents=cevents,
             opens=[d["opens"]] if "opens" in files else [], impact=float(d["impact"]),
         )  # fmt: skip

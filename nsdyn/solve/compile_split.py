@@ -536,7 +536,7 @@ def genalpha_parts_here(helper: Helper, metrics: str | None) -> None:
     coef = _kgenalpha.parameters(_kgenalpha.FAMILY_GENALPHA, methods.DEFAULT_RHO_INF["genalpha"])
     _compile(
         _kgenalpha.genalpha_loop, P, x0, t_eval, o.atol, o.rtol, o.dt, coef, o.max_steps,
-        o.uplift_mode, X, upl_t,
+        o.uplift_mode, X, upl_t, np.full(x0.size // 2, np.nan),
     )  # fmt: skip
     metrics_here(metrics)
     helper.wait_for([_event_by_name()[name].kernel for name in SYSTEM])

@@ -63,7 +63,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -223,6 +223,8 @@ class Solution:
                                    run; ``dt`` for fixed-step methods)
     modes : ndarray of int, optional  isolator modes at the end (method "event"; pass as
                                    ``modes0`` to a follow-up run)
+    acc_end : ndarray (n,), optional  the generalized-alpha family's algorithmic
+                                   acceleration at the end (pass as ``acc0`` to a follow-up)
     contact : str                  the contact assumption of the run (``CONTACTS``)
     contact_events : list of (t, contact, kind, v_n, impulse)   unilateral runs: "lift-off"
                                    or "landing", normal velocity R_k qd before [m/s], landing
@@ -250,6 +252,7 @@ class Solution:
     compile_s: float = 0.0
     h_last: float = 0.0
     modes: np.ndarray | None = None
+    acc_end: np.ndarray | None = None
     contact: str = "detect"
     contact_events: list = field(default_factory=list)
     open_contacts: np.ndarray | None = None
@@ -290,6 +293,7 @@ def solve(
     contact: str = "detect",
     restitution: float = 0.0,
     open0=None,
+    acc0=None,
 ) -> Solution:
     """Integrate the constrained equations of motion and sample the state at ``t_eval``.
 
@@ -316,6 +320,8 @@ def solve(
                                  ``uplift`` applies to ``"detect"`` only
     restitution : float          unilateral: Newton's coefficient e of a landing (0: plastic)
     open0 : array of int (nc,)   unilateral: initial contact states, 1 open (default closed)
+    acc0 : ndarray (n,)          generalized-alpha family: the algorithmic acceleration to
+                                 start from (a run's ``acc_end``; default q̈ at the start)
 
     Returns
     -------
@@ -347,6 +353,14 @@ def solve(
     opts = make_options(
         x0, m, rtol, atol, dt, h0, adaptive, max_step, max_steps, uplift, rho_inf, modes0
     )
+    carries_acc = m.kernel == "genalpha" or m.name == "genalpha-lowrank"
+    if carries_acc:  # (in and out: the kernel leaves the last step's there)
+        acc = np.full(n, np.nan) if acc0 is None else np.array(acc0, dtype=float).reshape(-1)
+        if acc.size != n or (acc0 is not None and not np.all(np.isfinite(acc))):
+            raise ValueError(f"acc0: expected {n} finite accelerations, got {acc0!r}")
+        opts = replace(opts, acc=acc)
+    elif acc0 is not None:
+        raise ValueError(f"acc0: the generalized-alpha family's; method {method!r} has none")
     compile_s = 0.0
     X = np.zeros((t_eval.size, 2 * n))
     upl_t = np.full(kp.n_contacts, np.nan)
@@ -383,6 +397,8 @@ def solve(
         eps=kp.eps,
     )
     sol.contact = contact
+    if carries_acc and np.all(np.isfinite(opts.acc)):  # (what the kernel left: it ran)
+        sol.acc_end = opts.acc
     return sol
 
 

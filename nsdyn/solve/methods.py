@@ -72,6 +72,7 @@ class Options:
     uplift_mode: int
     rho_inf: float | None
     modes0: np.ndarray | None
+    acc: np.ndarray | None = None  # generalized-alpha: its acceleration in and out (acc0)
 
 
 @dataclass(frozen=True)
@@ -166,7 +167,7 @@ def _genalpha_runner(name, family: str):
         rho = DEFAULT_RHO_INF[name] if o.rho_inf is None else o.rho_inf
         coef = _kgenalpha.parameters(getattr(_kgenalpha, family), rho)
         stats, rinfo = _kgenalpha.genalpha(
-            P, x0, t_eval, o.atol, o.rtol, o.dt, coef, o.max_steps, o.uplift_mode, X, upl_t
+            P, x0, t_eval, o.atol, o.rtol, o.dt, coef, o.max_steps, o.uplift_mode, X, upl_t, o.acc
         )
         return stats, rinfo, [], None
 

@@ -320,7 +320,7 @@ class _Friction:
 
 def integrate(
     P, x0, t_eval, dt, *, coef=None, max_steps=10**9, uplift_mode=ki.UPLIFT_RAISE, X=None,
-    upl_t=None, backend="auto", ops=None,
+    upl_t=None, backend="auto", ops=None, acc=None,
 ):  # fmt: skip
     """Fixed-step generalized-alpha with the factor-once / low-rank Newton of this module.
 
@@ -336,6 +336,8 @@ def integrate(
                                  (:class:`nsdyn.solve.fullorder.FullOps`): the
                                  ``"operators"`` backend; ``P`` then gives only the friction
                                  law, Baumgarte parameters and the excitation
+    acc : ndarray, shape (n,), optional  the algorithmic acceleration in and out, as
+                                 :func:`nsdyn.solve._kgenalpha.genalpha_loop`'s ``acc``
 
     Returns
     -------
@@ -382,7 +384,7 @@ def integrate(
     if not ok:
         stats[ki.S_STATUS] = ki.ST_SINGULAR
         return stats, rinfo, X, upl_t
-    a = qdd.copy()
+    a = qdd.copy() if acc is None or np.isnan(acc[0]) else np.array(acc, dtype=float)
     lam_old = lam.copy()
     phi = np.where(fr.fr[4], tau, 0.0) if ni else np.zeros(0)  # fr[4]: friction active
     iout = 0
@@ -438,6 +440,8 @@ def integrate(
                 t, t_steps[k : k + 1], u[k - k0 : k - k0 + 1], _NO_W, A0, state, parts, par, out,
                 max_steps,
             )  # fmt: skip
+    if acc is not None:
+        acc[:] = a
     return stats, rinfo, X, upl_t
 
 
@@ -481,7 +485,7 @@ def run(P, x0, t_eval, o, X, upl_t):
     try:
         stats, rinfo, _, _ = integrate(
             P, x0, t_eval, o.dt, coef=coef, max_steps=o.max_steps, uplift_mode=o.uplift_mode,
-            X=X, upl_t=upl_t,
+            X=X, upl_t=upl_t, acc=o.acc,
         )  # fmt: skip
     except FloatingPointError:
         stats = np.zeros(ki.N_STATS, dtype=np.int64)

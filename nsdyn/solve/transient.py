@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._checks import keywords_of, output_count, rel_tol
+from nsdyn._checks import keywords_of, output_times, rel_tol
 from nsdyn._tabular import Tabular
 from nsdyn.atomic import CheckpointError
 from nsdyn.ground.excitation import is_force, natural_end
@@ -168,7 +168,8 @@ def output_grid(
 ) -> np.ndarray:
     """Output times from the excitation's start: the record's samples (or every ``dt_out``;
     ``HARMONIC_SAMPLES`` per period of a harmonic one) up to ``t_end``, ``n_periods``
-    periods, or the record's end. ValueError when nothing fixes the end or the step."""
+    periods, or the record's end, which is the last output whatever the step. ValueError
+    when nothing fixes the end or the step."""
     t0 = float(getattr(motion, "t0", 0.0))
     if getattr(motion, "n", 2) < 2:
         raise ValueError(f"motion: a record of {motion.n} sample spans no time; give a record "
@@ -201,14 +202,12 @@ def output_grid(
         raise ValueError(f"dt_out: {what} has no natural output step; give dt_out=... [s]")
     if not float(t_end) > t0:
         raise ValueError(f"t_end: expected a time after the start {t0:g} s, got {t_end}")
-    output_count(float(t_end) - t0, float(dt))  # (ValueError beyond MAX_OUTPUTS)
-    n = int(np.floor((float(t_end) - t0) / float(dt) + 1e-9)) + 1
-    if n < 2:
+    if float(dt) > float(t_end) - t0 + 1e-9 * float(dt):
         raise ValueError(
             f"dt_out: an output step of {float(dt):g} s is longer than the run "
             f"({float(t_end) - t0:g} s); expected at least two output times"
         )
-    return t0 + float(dt) * np.arange(n)
+    return output_times(t0, float(t_end), float(dt))  # (ValueError beyond MAX_OUTPUTS)
 
 
 def describe(excitation) -> str:
@@ -480,6 +479,8 @@ def simulate(
             solver_options["modes0"] = carry.modes
         if carry.open_end is not None:
             solver_options["open0"] = carry.open_end
+        if carry.acc is not None:  # the generalized-alpha family's own acceleration
+            solver_options["acc0"] = carry.acc
         kw = dict(method=method, rtol=rtol, atol=atol, dt=dt, uplift=uplift, **solver_options)
         try:
             # continue with the step the previous chunk would have taken next

@@ -341,7 +341,8 @@ def test_a_scene_t_end_past_the_record_is_said_for_a_deck(tmp_path, capsys):
 
 
 def test_a_record_starting_before_zero_reports_its_whole_duration(tmp_path, capsys):
-    # t from -1 to 0.98 s: the summary read "duration 0.98 s" and dt_out 0.019999999999999574
+    # t from -1 to 0.99 s: the summary read "duration 0.98 s" and dt_out 0.019999999999999574;
+    # the scene's 0.02 s output step does not divide 1.99 s, and the run ends at the record's end
     import numpy as np
 
     t = np.arange(-100, 100) * 0.01
@@ -350,13 +351,13 @@ def test_a_record_starting_before_zero_reports_its_whole_duration(tmp_path, caps
     out = tmp_path / "o"
     assert main(["run", "--record", str(rec), "--fidelity", "rigid", "--no-figures", "--out",
                  str(out)]) == 0  # fmt: skip
-    assert "duration / output step               1.98 s / 0.02 s (t = -1 to 0.98 s)" in (
+    assert "duration / output step               1.99 s / 0.02 s (t = -1 to 0.99 s)" in (
         capsys.readouterr().out
     )
     assert main(["run", "--record", str(rec), "--fidelity", "rigid", "--no-figures", "--out",
                  str(out), "--json"]) == 0  # fmt: skip
     s = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
-    assert (s["t_start_s"], s["t_end_s"], s["dt_out_s"]) == (-1.0, 0.98, 0.02)
+    assert (s["t_start_s"], s["t_end_s"], s["dt_out_s"]) == (-1.0, 0.99, 0.02)
 
 
 def test_an_export_step_over_the_records_samples_is_refused(tmp_path, one_line):

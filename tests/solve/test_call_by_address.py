@@ -398,7 +398,8 @@ from nsdyn.solve.integrate import _tiny_problem
 P, x0 = _tiny_problem()
 t = np.linspace(0.0, 0.2, 5)
 args = (t, np.full(x0.size, 1e-8), 1e-6, 1e-3, _kgenalpha.parameters(0, 0.9), 10**5,
-        ki.UPLIFT_WARN, np.zeros((t.size, x0.size)), np.full(1, np.nan))
+        ki.UPLIFT_WARN, np.zeros((t.size, x0.size)), np.full(1, np.nan),
+        np.full(x0.size // 2, np.nan))
 try:
     _kgenalpha.genalpha_loop(P, x0, *args)
 except RuntimeError as e:

@@ -169,6 +169,34 @@ def test_large_model_stays_sparse():
     assert np.isfinite(r.response.x_iso_max)
 
 
+def test_a_sparse_run_in_chunks_carries_the_scheme_s_acceleration(frame, monkeypatch):
+    # A chunk continues with generalized-α's own a_n (not q̈(t_n), which departed from the
+    # run in one piece by O(h²) at the chunk's first step): its first step after the boundary
+    # is the same step up to the friction Newton's guess, which converges to a relative
+    # NEWTON_RTOL in the friction forces, a part of the state's change.
+    from nsdyn.ground import Harmonic
+    from nsdyn.solve import _klowrank, checkpoint
+
+    s = build_system(frame, Isolation(mu=0.05, eps=200.0), fidelity="full", damping="stiffness")
+    kw = dict(t_end=0.3, dt_out=0.005)
+    g = Harmonic(3.0, 1.0)
+    one = simulate(s, g, chunk_s=1e9, **kw)
+    two = simulate(s, g, chunk_s=0.2, **kw)
+    k = int(np.searchsorted(one.t, 0.2))
+    assert two.method == "genalpha-lowrank" and np.array_equal(one.x[: k + 1], two.x[: k + 1])
+    bound = _klowrank.NEWTON_RTOL * np.abs(one.x[k + 1]).max()
+    assert np.abs(two.x[k + 1] - one.x[k + 1]).max() <= bound
+    take = checkpoint.Carry.take
+
+    def forgetful(self, sol, unilateral, adaptive):
+        take(self, sol, unilateral, adaptive)
+        self.acc = None
+
+    monkeypatch.setattr(checkpoint.Carry, "take", forgetful)
+    restarted = simulate(s, g, chunk_s=0.2, **kw)
+    assert np.abs(restarted.x[k + 1] - one.x[k + 1]).max() > 1e3 * bound
+
+
 def test_a_sparse_run_reports_each_chunk_and_resumes_as_the_same_run(frame, tmp_path):
     # The sparse path runs in chunks of chunk_s as the dense path does: progress after each,
     # and a run interrupted after a chunk resumes from its checkpoint as the same run (each

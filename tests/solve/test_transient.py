@@ -161,3 +161,24 @@ def test_a_fixed_step_too_large_for_the_response_is_a_failure_not_a_result(offic
     assert s["min_normal_force_N"] > 0
     s = simulate(system, motion, method="genalpha", dt=0.005, t_end=8.0).summary()
     assert s["min_normal_force_N"] > 0
+
+
+@pytest.mark.parametrize("dt_out", [0.005, 0.002, None])
+def test_a_run_ends_at_its_end_whatever_the_output_step(dt_out):
+    # n_periods = 30 at 0.93 Hz ends at 30/0.93 = 32.258 s; 0.005 s does not divide it, and
+    # the run used to end at the last multiple (32.255 s), 3 ms short of the 30 periods
+    from nsdyn.ground import Harmonic
+
+    t = output_grid(Harmonic(1.0, 0.93), dt_out, n_periods=30)
+    assert t[-1] == pytest.approx(30 / 0.93, rel=1e-15)
+    step = dt_out or 1 / (0.93 * 100)  # (HARMONIC_SAMPLES per period by default)
+    assert np.allclose(np.diff(t)[:-1], step, rtol=1e-9) and 0 < t[-1] - t[-2] <= step * (1 + 1e-9)
+
+
+def test_a_deck_run_ends_at_its_end_too():
+    # the deck's grid is the same helper's: 1 s at dt_out 0.3 s ends at 1 s, not 0.9 s
+    from nsdyn.models.isolated import deck
+
+    gk, gp, _, dur = deck.pack_ground({"f": 1.0, "ax": 1.0})
+    t_eval, _ = deck.run_grid(gk, gp, dur, 1.0, 0.3, None, None)
+    np.testing.assert_allclose(t_eval, [0.0, 0.3, 0.6, 0.9, 1.0], rtol=0, atol=1e-15)

@@ -120,6 +120,21 @@ def test_the_flight_time_is_the_ballistic_one_on_any_output_grid():
         assert flight == pytest.approx([t2 - t1] * 2, abs=1e-8)  # the event times' tolerance
 
 
+def test_the_output_step_does_not_change_the_run():
+    # outputs sample a run, they do not steer it: three flights in 3.3 periods, whose end
+    # 1.65 s neither 0.02 nor 0.035 s divides (the run used to end at the last output before
+    # it, and so took other steps), give the same contact events bit for bit
+    from nsdyn.solve.transient import simulate
+
+    s = block("arctan")
+    g = Harmonic(0.0, 0.0, A_ver=A_VER, f_ver=F_VER)
+    runs = [simulate(s, g, t_end=3.3 / F_VER, dt_out=dt_out, method="radau", contact="unilateral",
+                     **TOL) for dt_out in (0.02, 0.035)]  # fmt: skip
+    assert runs[0].t[-1] == runs[1].t[-1] == pytest.approx(3.3 / F_VER, rel=1e-15)
+    events = [r.contact_events for r in runs]
+    assert len(events[0]) >= 6 and events[0] == events[1]
+
+
 @pytest.mark.parametrize("e", [0.5, 1.0])
 def test_landing_loses_the_laws_energy_and_never_gains(e):
     _, _, v2 = ballistic()

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import number, output_count, rel_tol
+from nsdyn._checks import number, output_times, rel_tol
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
@@ -396,8 +396,8 @@ def run_end(t_end, dur: float) -> float:
 def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, float]:
     """(t_eval, max_step) of a run on the ground (gk, gp) of :func:`pack_ground`: outputs
     every ``dt_out`` (default: the record's step, or 1/50 period of an orbit) up to ``t_end``
-    (default: the record's duration ``dur``) unless ``t_eval`` is given; the largest step
-    defaults to the record's step or 1/20 of the shorter period."""
+    (default: the record's duration ``dur``), the last output, unless ``t_eval`` is given;
+    the largest step defaults to the record's step or 1/20 of the shorter period."""
     if t_eval is None:
         t_end = run_end(t_end, dur)
         if dt_out is None:
@@ -407,8 +407,8 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
                 f"dt_out: expected a positive output step no longer than the run "
                 f"({t_end:g} s), got {dt_out!r}"
             )
-        n = output_count(t_end, dt_out)
-        t_eval = gp[kp.GP_T0] * (gk == kp.G_TABLE) + dt_out * np.arange(n)
+        t0 = gp[kp.GP_T0] * (gk == kp.G_TABLE)
+        t_eval = output_times(t0, t0 + t_end, dt_out)  # (t_end the last output)
     t_eval = np.ascontiguousarray(t_eval, dtype=float)
     if t_eval.ndim != 1 or t_eval.size < 2 or np.any(np.diff(t_eval) <= 0):
         raise ValueError("t_eval: expected at least two increasing times")
