@@ -30,6 +30,8 @@ class Carry:
     modes: np.ndarray | None = None  # event method: slip modes at the chunk's end
     open_end: np.ndarray | None = None  # unilateral: open contacts at the chunk's end
     acc: np.ndarray | None = None  # generalized-alpha: its algorithmic acceleration at the end
+    t_at: float | None = None  # the time the chunks reached (a chunk's end: not always an output)
+    x_at: np.ndarray | None = None  # the state there, where the next chunk starts
     n_steps: int = 0
     stats: dict = field(default_factory=dict)
     uplifts: list = field(default_factory=list)  # (t, contact)
@@ -37,19 +39,22 @@ class Carry:
     opens: list = field(default_factory=list)  # unilateral: open contacts at the outputs
     impact: float = 0.0  # kinetic energy change of the landings [J]
 
-    def take(self, sol, unilateral: bool, adaptive: bool) -> None:
-        """Carry the end of the chunk just solved (``sol``, an integrate.Solution)."""
+    def take(self, sol, unilateral: bool, adaptive: bool, n_out: int | None = None) -> None:
+        """Carry the end of the chunk just solved (``sol``, an integrate.Solution), whose rows
+        after its start are ``n_out`` outputs (and its end, off the grid; default all)."""
         h = sol.h_last
         self.h0 = float(h) if adaptive and np.isfinite(h) and h > 0 else None
         self.modes = getattr(sol, "modes", None)
         self.acc = getattr(sol, "acc_end", None)
+        self.t_at, self.x_at = float(sol.t[-1]), sol.x[-1].copy()
         self.n_steps += sol.n_steps
         for key in STAT_KEYS:
             self.stats[key] = self.stats.get(key, 0) + int(getattr(sol, key, 0) or 0)
         if unilateral:
             self.open_end = sol.open_end
             self.cevents.extend(sol.contact_events)
-            self.opens.append(sol.open_contacts[1:] if self.opens else sol.open_contacts)
+            rows = sol.open_contacts[: None if n_out is None else 1 + n_out]
+            self.opens.append(rows[1:] if self.opens else rows)
             self.impact += sol.impact_energy
         else:  # a unilateral run's lift-offs are its contact events
             self.uplifts.extend(getattr(sol, "uplift", []) or [])
@@ -66,6 +71,8 @@ class Carry:
             a["open_end"] = np.asarray(self.open_end)
         if self.acc is not None:
             a["acc"] = np.asarray(self.acc)
+        if self.x_at is not None:
+            a.update(t_at=np.float64(self.t_at), x_at=np.asarray(self.x_at))
         if self.opens:
             a["opens"] = np.concatenate(self.opens)
         ce = self.cevents
@@ -90,22 +97,39 @@ class Carry:
             modes=d["modes"] if "modes" in files else None,
             open_end=d["open_end"] if "open_end" in files else None,
             acc=d["acc"] if "acc" in files else None,
+            t_at=float(d["t_at"]) if "t_at" in files else None,
+            x_at=d["x_at"] if "x_at" in files else None,
             n_steps=int(d["n_steps"]), stats=stats, uplifts=uplifts, cevents=cevents,
             opens=[d["opens"]] if "opens" in files else [], impact=float(d["impact"]),
         )  # fmt: skip
 
 
-def chunk_bounds(t_eval: np.ndarray, k0: int, chunk_s: float) -> list[int]:
-    """Indices into ``t_eval`` where the chunks of a run from output ``k0`` start and end:
-    every ``chunk_s`` seconds of simulated time, on the output grid (at least one output per
-    chunk), the last one at the grid's end."""
-    bounds = [k0]
-    while bounds[-1] < t_eval.size - 1:
-        t_next = t_eval[bounds[-1]] + chunk_s
-        bounds.append(min(int(np.searchsorted(t_eval, t_next - 1e-12)), t_eval.size - 1))
-        if bounds[-1] == bounds[-2]:
-            bounds[-1] += 1
-    return bounds
+def chunks(t_eval: np.ndarray, k0: int, chunk_s: float, t_from: float | None = None) -> list:
+    """The chunks of a run whose outputs up to ``t_eval[k0]`` are written and whose
+    integration reached ``t_from`` (default ``t_eval[k0]``): per chunk ``(times, a, b)``, its
+    times the start, the outputs ``t_eval[a:b]`` and the end, the rows after the start those
+    outputs (and the end where no output is there).
+
+    Chunks end every ``chunk_s`` seconds from ``t_eval[0]`` and at the run's end, wherever
+    the outputs fall: the output grid samples the run and does not move its steps, which a
+    chunk end on the grid did (an adaptive step shortened to land there, a fixed step grid
+    restarted off its phase). An output within 1e-9 chunk_s of an end is the state at that
+    end (not at the output's own time, which would move the end by its round-off)."""
+    t0, t_end = float(t_eval[0]), float(t_eval[-1])
+    t_from = float(t_eval[k0]) if t_from is None else float(t_from)
+    tol = 1e-9 * chunk_s
+    plan, a = [], k0 + 1
+    j = int(np.floor((t_from - t0) / chunk_s + 1e-9)) + 1
+    while t_from < t_end:
+        tb = min(t0 + j * chunk_s, t_end)
+        j += 1
+        if tb <= t_from + tol and tb < t_end:
+            continue
+        b = int(np.searchsorted(t_eval, tb + tol, side="right"))
+        on_grid = b > a and t_eval[b - 1] >= tb - tol
+        plan.append((np.concatenate(([t_from], t_eval[a : b - on_grid], [tb])), a, b))
+        a, t_from = b, tb
+    return plan
 
 
 def run_key(P, x0, t_eval, options: dict) -> str:

@@ -211,7 +211,7 @@ def simulate_full(
     from nsdyn.models.isolated.metrics import response
     from nsdyn.solve import _kcommon as ki
     from nsdyn.solve import _kgenalpha, integrate, methods, sparse
-    from nsdyn.solve.checkpoint import Carry, chunk_bounds, load, run_key, save
+    from nsdyn.solve.checkpoint import Carry, chunks, load, run_key, save
     from nsdyn.solve.transient import describe
 
     if unused:
@@ -253,9 +253,7 @@ def simulate_full(
             ts, xs, k0 = [t_done], [x_done], t_done.size - 1
     compile_s = warmup_operators()
     wall, wall0 = 0.0, time.perf_counter()
-    bounds = chunk_bounds(t_eval, k0, chunk_s)
-    for a, b in zip(bounds[:-1], bounds[1:], strict=True):
-        te = t_eval[a : b + 1]
+    for te, a, b in chunks(t_eval, k0, chunk_s, carry.t_at):  # every chunk_s, off the grid too
         # the scheme's own acceleration carried on: the chunks are one run (q̈ at each chunk's
         # start departed from it by O(dt²))
         acc = np.full(n, np.nan) if carry.acc is None else np.array(carry.acc, dtype=float)
@@ -263,8 +261,9 @@ def simulate_full(
         upl_t = np.full(system.n_contacts, np.nan)
         t0 = time.perf_counter()
         try:
+            x_start = xs[-1][-1] if carry.x_at is None else carry.x_at
             stats, rinfo, X, upl_t = sparse.integrate(
-                P, xs[-1][-1], te, float(dt), coef=coef, max_steps=opts.max_steps,
+                P, x_start, te, float(dt), coef=coef, max_steps=opts.max_steps,
                 uplift_mode=opts.uplift_mode, X=X, upl_t=upl_t, ops=ops, acc=acc,
             )  # fmt: skip
         except FloatingPointError:
@@ -276,10 +275,11 @@ def simulate_full(
                                 0.0, "raise", warn_uplift=contact == "detect",
                                 eps=eps)  # fmt: skip
         sol.acc_end = acc if stats[ki.S_STATUS] == ki.ST_SUCCESS else None
-        carry.take(sol, False, adaptive=False)
+        k = min(b - a, sol.t.size - 1)  # the outputs reached (the last maybe the chunk's end)
+        carry.take(sol, False, adaptive=False, n_out=k)
         wall += chunk_wall
-        ts.append(sol.t[1:])
-        xs.append(sol.x[1:])
+        ts.append(t_eval[a : a + k])
+        xs.append(sol.x[1 : 1 + k])
         if ckpt is not None:
             save(ckpt, np.concatenate(ts), np.concatenate(xs), run_id, carry)
         if progress is not None:

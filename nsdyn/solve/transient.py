@@ -32,7 +32,7 @@ from nsdyn.models.isolated.metrics import Response, evaluate_along, evaluation_a
 from nsdyn.models.isolated.system import IsolatedSystem
 from nsdyn.models.isolated.tolerances import FAST_ATOL, RUN_RTOL, arctan_atol, run_atol
 from nsdyn.solve import integrate
-from nsdyn.solve.checkpoint import Carry, chunk_bounds, run_key
+from nsdyn.solve.checkpoint import Carry, chunks, run_key
 from nsdyn.solve.checkpoint import load as load_checkpoint
 from nsdyn.solve.checkpoint import save as save_checkpoint
 from nsdyn.solve.run_inputs import (
@@ -466,15 +466,15 @@ def simulate(
     failure = ""
     t_end = float(t_eval[-1])
     wall0 = time.perf_counter()
-    bounds = chunk_bounds(t_eval, k0, chunk_s)  # on the output grid
+    plan = chunks(t_eval, k0, chunk_s, carry.t_at)  # every chunk_s, wherever the outputs fall
     if contact != "detect":
         solver_options.update(contact=contact)
     if contact == "unilateral":
         solver_options.update(restitution=restitution)
-    if len(bounds) > 1:  # a checkpoint may already hold the whole run
+    if plan:  # a checkpoint may already hold the whole run
         compile_s += _prepare_kernels(method, P, contact)
-    for a, b in zip(bounds[:-1], bounds[1:], strict=True):
-        x_start = xs[-1][-1]
+    for te, a, b in plan:
+        x_start = xs[-1][-1] if carry.x_at is None else carry.x_at
         if carry.modes is not None and method == "event":
             solver_options["modes0"] = carry.modes
         if carry.open_end is not None:
@@ -484,18 +484,19 @@ def simulate(
         kw = dict(method=method, rtol=rtol, atol=atol, dt=dt, uplift=uplift, **solver_options)
         try:
             # continue with the step the previous chunk would have taken next
-            sol = integrate.solve(P, x_start, t_eval[a : b + 1], h0=carry.h0, **kw)
+            sol = integrate.solve(P, x_start, te, h0=carry.h0, **kw)
         except integrate.IntegrationError as err:
             if carry.h0 is None or err.reason != "step_underflow":
                 raise
             # a restart with the carried-over step can underflow where a fresh initial-step
             # estimate does not: retry the chunk once from scratch (same state, same model)
-            sol = integrate.solve(P, x_start, t_eval[a : b + 1], h0=None, **kw)
-        carry.take(sol, contact == "unilateral", adaptive=dt is None)
+            sol = integrate.solve(P, x_start, te, h0=None, **kw)
+        k = min(b - a, sol.t.size - 1)  # the outputs reached (the last maybe the chunk's end)
+        carry.take(sol, contact == "unilateral", adaptive=dt is None, n_out=k)
         wall += sol.wall_s
         compile_s += getattr(sol, "compile_s", 0.0)
-        ts.append(sol.t[1:])
-        xs.append(sol.x[1:])
+        ts.append(t_eval[a : a + k])
+        xs.append(sol.x[1 : 1 + k])
         if not sol.success:  # on_failure="return": the run ends where the chunk stopped
             failure = sol.message
             break

@@ -426,7 +426,7 @@ def check_step_count(source: str, method: str, dt, t_eval, max_steps=None) -> No
     """A fixed-step run whose steps do not fit ``max_steps`` is refused before it starts, and
     so is a step ``dt`` given to an adaptive method (which chooses its own steps).
 
-    A run is integrated in chunks of about ``CHUNK_S`` of simulated time (one solver call
+    A run is integrated in chunks of ``CHUNK_S`` of simulated time (one solver call
     each, a checkpoint after each), and ``max_steps`` bounds the steps of one call: a fixed
     step ``dt`` needs ``ceil(chunk / dt)`` of them. Finding out after the budget is spent
     costs minutes and reads as stiffness; the cause is a step that is too small.
@@ -450,7 +450,7 @@ def check_step_count(source: str, method: str, dt, t_eval, max_steps=None) -> No
             f"{source}: solver.dt: a fixed step of {dt:g} s is longer than the run ({span:g} s); "
             "use a step of the order of the record's sample step (the default is 0.005 s)"
         )
-    chunk = min(span, CHUNK_S + float(max(t_eval[1:] - t_eval[:-1])))
+    chunk = min(span, CHUNK_S)  # (nsdyn.solve.checkpoint.chunks)
     per_chunk = math.ceil(chunk / dt * (1 - 1e-12))
     limit = int(max_steps or DEFAULT_MAX_STEPS)
     if per_chunk > limit:

@@ -98,8 +98,8 @@ def test_a_fixed_step_run_in_chunks_is_the_run_in_one_piece(monkeypatch):
     # and the test can fail: restarted from q̈(t_n), the chunk leaves the bound at once
     take = checkpoint.Carry.take
 
-    def forgetful(self, sol, unilateral, adaptive):
-        take(self, sol, unilateral, adaptive)
+    def forgetful(self, *args, **kw):
+        take(self, *args, **kw)
         self.acc = None
 
     monkeypatch.setattr(checkpoint.Carry, "take", forgetful)
@@ -114,3 +114,22 @@ def _roundtrip(arrays: dict):
     np.savez(buf, **arrays)
     buf.seek(0)
     return np.load(buf)
+
+
+@pytest.mark.parametrize("dt_out", [0.01, 0.03, 0.07])
+def test_chunks_end_every_chunk_s_wherever_the_outputs_fall(dt_out):
+    from nsdyn.solve.checkpoint import chunks
+
+    t_eval = np.append(np.arange(0.0, 12.0, dt_out), 12.0)  # (the run's end, the last output)
+    plan = chunks(t_eval, 0, 5.0)
+    ends = [times[-1] for times, _, _ in plan]
+    assert ends == [5.0, 10.0, 12.0]  # exactly: the grid does not move them by its round-off
+    starts = [times[0] for times, _, _ in plan]
+    assert starts == [0.0, *ends[:-1]]  # each chunk starts where the last one ended
+    assert [a for _, a, _ in plan] == [1, *[b for _, _, b in plan[:-1]]]
+    assert plan[-1][2] == t_eval.size  # every output once, in order
+    for times, a, b in plan:  # the chunk's rows: its outputs, the last maybe its end
+        np.testing.assert_allclose(times[1 : 1 + b - a], t_eval[a:b], rtol=0, atol=1e-9 * 5.0)
+    # resumed after the first chunk: the same plan from there on
+    again = chunks(t_eval, plan[0][2] - 1, 5.0, ends[0])
+    assert [p[0].tolist() for p in again] == [p[0].tolist() for p in plan[1:]]

@@ -123,16 +123,19 @@ def test_the_flight_time_is_the_ballistic_one_on_any_output_grid():
 def test_the_output_step_does_not_change_the_run():
     # outputs sample a run, they do not steer it: three flights in 3.3 periods, whose end
     # 1.65 s neither 0.02 nor 0.035 s divides (the run used to end at the last output before
-    # it, and so took other steps), give the same contact events bit for bit
+    # it), in chunks of 0.35 s, which 0.02 s does not divide (a chunk used to end on the output
+    # after it; at 0.7 s both grids have an output 1e-16 s off the chunk's end), give the same
+    # steps and contact events bit for bit
     from nsdyn.solve.transient import simulate
 
     s = block("arctan")
     g = Harmonic(0.0, 0.0, A_ver=A_VER, f_ver=F_VER)
     runs = [simulate(s, g, t_end=3.3 / F_VER, dt_out=dt_out, method="radau", contact="unilateral",
-                     **TOL) for dt_out in (0.02, 0.035)]  # fmt: skip
+                     chunk_s=0.35, **TOL) for dt_out in (0.02, 0.035)]  # fmt: skip
     assert runs[0].t[-1] == runs[1].t[-1] == pytest.approx(3.3 / F_VER, rel=1e-15)
     events = [r.contact_events for r in runs]
     assert len(events[0]) >= 6 and events[0] == events[1]
+    assert runs[0].n_steps == runs[1].n_steps and runs[0].stats == runs[1].stats
 
 
 @pytest.mark.parametrize("e", [0.5, 1.0])
