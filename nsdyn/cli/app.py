@@ -166,11 +166,13 @@ def _interrupt_line(args: argparse.Namespace) -> str:
     from pathlib import Path
 
     done = f"nsdyn {args.command}: interrupted; files on disk are complete"
-    if args.command == "sweep":
+    if args.command == "sweep":  # a frame's sweep, or a deck's or 3D building's in the plane
+        from nsdyn.studies import plane_sweep
         from nsdyn.studies.sweep import CHECKPOINT_NAME, DEFAULT_OUT
 
         out = Path(getattr(args, "out", None) or DEFAULT_OUT)
-        if any(out.glob(CHECKPOINT_NAME.replace("{amplitude}", "*"))):
+        names = (CHECKPOINT_NAME, plane_sweep.CHECKPOINT_NAME)
+        if any(any(out.glob(n.replace("{amplitude}", "*"))) for n in names):
             return f"{done}, rerun the same command to resume"
         return f"{done}; it stopped before its first point, a rerun starts over"
     if args.command == "run":
@@ -179,8 +181,24 @@ def _interrupt_line(args: argparse.Namespace) -> str:
         out = Path(getattr(args, "out", None) or DEFAULT_OUT)
         if (out / CHECKPOINT).is_file():
             return f"{done}, rerun it with --resume to continue from its checkpoint in {out}"
+        kind = _scene_kind_of(args)
+        if kind != "isolated":  # (only an isolated frame's run keeps one)
+            return f"{done}; a {kind} scene's run keeps no checkpoint, a rerun starts over"
         return f"{done}; it stopped before its first checkpoint, a rerun starts over"
     return f"{done}; this command keeps no checkpoint, a rerun starts over"
+
+
+def _scene_kind_of(args: argparse.Namespace) -> str:
+    """The ``[scene] kind`` of ``nsdyn run``'s scene (``isolated`` without one, or when the
+    file does not say)."""
+    if getattr(args, "scene", None) is None:
+        return "isolated"
+    try:
+        from nsdyn.models.scenefile import read_toml, scene_kind
+
+        return scene_kind(read_toml(args.scene), str(args.scene))
+    except Exception:  # (the run itself named what is wrong with the file)
+        return "isolated"
 
 
 def _one_line_warnings(command: str, default: Callable) -> Callable:

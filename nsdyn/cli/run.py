@@ -383,8 +383,6 @@ def run(args: argparse.Namespace) -> int:
         )
         raise SceneError(f"{args.scene or '<default scene>'}: --compare-fixed {why}")
     if args.fidelity == "auto" and system.frame is None:
-        from nsdyn.models.scenefile import SceneError
-
         raise SceneError(
             f"{args.scene}: --fidelity auto: the model advisor chooses among a frame's models; "
             "this scene's [structure] has no frame"
@@ -395,12 +393,8 @@ def run(args: argparse.Namespace) -> int:
 
         advice = advise(system.frame, motion, isolation=system.isolation)
         print(advice.report(), file=sys.stderr)
-        system = build_system(
-            system.frame,
-            system.isolation,
-            fidelity=advice.fidelity,
-            f_max=advice.f_max or 5.0,
-        )
+        system = build_system(system.frame, system.isolation, fidelity=advice.fidelity,
+                              f_max=advice.f_max or 5.0)  # fmt: skip
     sv = cfg["solver"]
     source = cfg.get("_source", "<scene>")
     try:
@@ -425,11 +419,11 @@ def run(args: argparse.Namespace) -> int:
     if method == "event" and system.isolation is not None:
         system = with_isolation_cached(system, law="switch")
     t_req = cfg.get("motion", {}).get("t_end")
-    last = getattr(motion, "t0", 0.0) + (getattr(motion, "n", 0) - 1) * getattr(motion, "dt", 0.0)
-    if t_req is not None and t_eval[-1] < min(float(t_req), last) - 1e-9:
+    if t_req is not None and t_eval[-1] < float(t_req) - 1e-9:  # (the record cut at a sample)
         notes.append(
-            f"t_end = {float(t_req):g} s falls between output times (every "
-            f"{t_eval[1] - t_eval[0]:g} s); the run ends at {t_eval[-1]:g} s"
+            f"t_end = {float(t_req):g} s is not a sample time of the record (every "
+            f"{getattr(motion, 'dt', 0.0):g} s) or is past its end; the run ends at its last "
+            f"sample before it, {t_eval[-1]:g} s"
         )
         if not args.json:
             print(f"nsdyn run: note: {notes[-1]}", file=sys.stderr)
@@ -526,6 +520,10 @@ def run(args: argparse.Namespace) -> int:
             friction_forces=res.response.tau,
         )
     s["histories"] = str(hist)
+    for note in s.get("notes", []):  # the run's own (a fixed step's unresolved peaks)
+        notes.append(note)
+        if not args.json:
+            print(f"nsdyn run: note: {note}", file=sys.stderr)
     s["notes"] = notes
     word, text = outcome(s)
     s["outcome"] = word

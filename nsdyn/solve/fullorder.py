@@ -212,6 +212,7 @@ def simulate_full(
     from nsdyn.solve import _kcommon as ki
     from nsdyn.solve import _kgenalpha, integrate, methods, sparse
     from nsdyn.solve.checkpoint import Carry, chunks, load, run_key, save
+    from nsdyn.solve.resolution import fixed_step_notes
     from nsdyn.solve.transient import describe
 
     if unused:
@@ -285,9 +286,12 @@ def simulate_full(
         if progress is not None:
             progress(float(sol.t[-1]), float(t_eval[-1]), time.perf_counter() - wall0)
     t, x = np.concatenate(ts), np.concatenate(xs)
-    resp = response(system, t, x, P, evaluated=ops.evaluate(P, t, x))
-    return result(
+    evaluated = ops.evaluate(P, t, x)
+    resp = response(system, t, x, P, evaluated=evaluated)
+    res = result(
         system, t, x, resp, sparse.METHOD, carry.n_steps, wall, compile_s, carry.stats,
         sorted(set(carry.uplifts)), describe(motion), contact, method_reason=reason,
         law=getattr(system.isolation, "law", None),
     )  # fmt: skip
+    res.notes = fixed_step_notes(res, P, evaluated[0], dt, motion)  # (unresolved peaks)
+    return res

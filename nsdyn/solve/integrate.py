@@ -455,6 +455,12 @@ def _finish(
             "dip a normal force to zero: confirm the uplift at half the step, or with an "
             "adaptive method ('radau')"
         )
+    if status == ki.ST_NEWTON and law == "arctan" and m.fixed_step and eps:
+        message += (
+            f"; the arctan law turns the friction over within {100.0 / eps:.2g} m/s of slip "
+            f"(eps = {eps:.3g} s/m), which a step of {fields['h']:.3g} s passes in one: a smaller "
+            "eps (a softer law) or dt lets Newton follow it"
+        )
     if status in (ki.ST_NEWTON, ki.ST_STEP_UNDERFLOW) and law == "switch" and m.name != "event":
         message += (
             "; the switch law is discontinuous (stick/slip decided inside the right-hand "

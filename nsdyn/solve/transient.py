@@ -35,6 +35,7 @@ from nsdyn.solve import integrate
 from nsdyn.solve.checkpoint import Carry, chunks, run_key
 from nsdyn.solve.checkpoint import load as load_checkpoint
 from nsdyn.solve.checkpoint import save as save_checkpoint
+from nsdyn.solve.resolution import between_steps, fixed_step_notes
 from nsdyn.solve.run_inputs import (
     check_run_inputs,
     default_step,
@@ -83,6 +84,7 @@ class TransientResult(Tabular):
     method_reason: str = ""  # why method "auto" chose the method (empty when given)
     law: str | None = None  # the friction law integrated (None: no isolation)
     failure: str = ""  # on_failure="return": why the run stopped before its end (else "")
+    notes: list = field(default_factory=list)  # what the run says of its own results
 
     def contact_summary(self) -> dict:
         """The contact assumption and what it says: ``would_lift_off`` (a normal force < 0
@@ -153,6 +155,7 @@ class TransientResult(Tabular):
                 "n_steps": int(self.n_steps),
                 "wall_s": float(self.wall_s),
                 "compile_s": float(self.compile_s),
+                "notes": list(self.notes),
             }
         )
         return out
@@ -433,7 +436,7 @@ def simulate(
     if sparse_path(system, method, contact):  # else a full-order model's dense copies
         from nsdyn.solve.fullorder import simulate_full
 
-        return _between_steps(simulate_full(
+        return between_steps(simulate_full(
             system, motion, t_eval, x0=x0, dt=dt, uplift=uplift, contact=contact,
             progress=progress, reason=reason, result=TransientResult, checkpoint=checkpoint,
             chunk_s=chunk_s, **solver_options,
@@ -534,27 +537,5 @@ def simulate(
         integrated_law(system, method),
         failure,
     )
-    return _between_steps(res, dt, uplift)
-
-
-def _between_steps(res: TransientResult, dt, uplift: str) -> TransientResult:
-    """``res``, unless a fixed-step run under contact "detect" (whose kernel stops at a step
-    with a normal force <= 0) has one below zero between its steps, in the output: the step
-    does not resolve the response (an IntegrationError at the first such output time)."""
-    from nsdyn.solve.methods import METHODS
-
-    lam = res.response.lam
-    if res.contact != "detect" or uplift != "raise" or res.uplift or not lam.size:
-        return res
-    low = lam.reshape(lam.shape[0], -1).min(axis=1)
-    if not METHODS[res.method].fixed_step or low.min() >= 0.0:
-        return res
-    k = int(np.argmax(low < 0.0))
-    raise integrate.IntegrationError(
-        f"fixed step dt = {dt:g} s: a normal force between the steps reached {low.min():.4g} N "
-        f"(first below zero at t = {res.t[k]:.6g} s) while every step's stayed positive: the "
-        "step does not resolve the response; halve dt until the peaks settle, or use an "
-        "adaptive method ('radau')",
-        float(res.t[k]),
-        "step too large",
-    )
+    res.notes = fixed_step_notes(res, Pm, evaluated[0], dt, motion)  # (unresolved peaks)
+    return between_steps(res, dt, uplift)

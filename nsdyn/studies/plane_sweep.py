@@ -63,6 +63,9 @@ class PlaneSweepSettings:
     law: str = "switch"  # "switch" (stick disc) or "arctan" (regularised)
 
 
+CHECKPOINT_NAME = ".sweep-plane-A{amplitude}.ckpt.json"  # one per amplitude, in the output dir
+
+
 def plane_scene(cfg: dict, source: str) -> dict:
     """{"kind", "system" (PlaneSystem), "orbit" (HarmonicPlane), "solver" (law, eps, eta),
     "name", "sweep" (the deck scene's [sweep] keys given)} of a deck or rigid building3d
@@ -122,7 +125,7 @@ def _identity(cfg: dict, amplitude: float, settings: PlaneSweepSettings) -> dict
 
 
 def checkpoint_path(out_dir: Path, amplitude: float) -> Path:
-    return Path(out_dir) / f".sweep-plane-A{amplitude_tag(amplitude)}.ckpt.json"
+    return Path(out_dir) / CHECKPOINT_NAME.format(amplitude=amplitude_tag(amplitude))
 
 
 def _load(path: Path, identity: dict) -> list | None:

@@ -13,6 +13,7 @@ import os
 import signal
 import textwrap
 from argparse import Namespace
+from pathlib import Path
 
 import pytest
 
@@ -181,6 +182,15 @@ def test_the_interrupt_line_says_how_each_command_goes_on(tmp_path):
     (tmp_path / "s" / ".sweep-A1.ckpt.json").write_text("{}")
     assert "rerun the same command to resume" in _interrupt_line(sweep)
     assert "no checkpoint" in _interrupt_line(Namespace(command="uplift"))
+    # a deck's or 3D building's sweep keeps its own checkpoints (it said 'starts over')
+    plane = Namespace(command="sweep", out=str(tmp_path / "p"))
+    (tmp_path / "p").mkdir()
+    (tmp_path / "p" / ".sweep-plane-A0.981.ckpt.json").write_text("{}")
+    assert "rerun the same command to resume" in _interrupt_line(plane)
+    # a run of a scene kind that keeps no checkpoint says so (not 'before its first')
+    deck = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "deck-fps4-3c.toml"
+    line = _interrupt_line(Namespace(command="run", out=str(tmp_path / "d"), scene=deck))
+    assert "a deck scene's run keeps no checkpoint, a rerun starts over" in line
 
 
 def test_an_error_left_by_a_swallowed_interrupt_is_an_interrupt(monkeypatch, capsys):

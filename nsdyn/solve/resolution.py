@@ -1,0 +1,108 @@
+"""Whether a fixed step resolved what a run's outputs report.
+
+A fixed-step run has no error control, so two things it reports are checked after it:
+
+* :func:`between_steps`: a normal force that every step end kept positive but an output
+  between the steps did not (the step does not resolve the response: an error, at its time);
+* :func:`turn_notes`: a floor acceleration's peak read where the arctan law turns the friction
+  over. The law ``μ N (2/π) arctan(ε v)`` turns within ~100/ε of zero slip velocity; a fixed
+  step does not follow the turn, and a state it leaves inside it carries accelerations the
+  motion does not have (22 m/s² at the isolation level of the default scene under
+  ``genalpha`` at 5 ms, against 2.5 m/s² resolved). The velocities beside that output carry
+  the motion: their central difference over ±Δ reads a harmonic of frequency f with the
+  factor sin(2πfΔ)/(2πfΔ), at least 2/π up to a quarter of the output rate, so a resolved peak
+  exceeds it by at most π/2. A peak above ``RATIO`` times it, at an output where an isolator
+  slips inside the turn (``|v| < TURN/ε``), is named in a note with the value the velocities
+  give, the time and what to do. The adaptive methods keep the slip velocity to 0.1/ε
+  (:func:`nsdyn.models.isolated.tolerances.arctan_atol`) and are not checked.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+TURN = 100.0  # |v| < TURN/eps: the arctan law still turning (below 99.4 % of μN, 2/π arctan 100)
+RATIO = 2.0  # above π/2, the most a resolved peak exceeds its central difference (module text)
+
+
+def between_steps(res, dt, uplift: str):
+    """``res``, unless a fixed-step run under contact "detect" (whose kernel stops at a step
+    with a normal force <= 0) has one below zero between its steps, in the output: the step
+    does not resolve the response (an IntegrationError at the first such output time)."""
+    from nsdyn.solve import integrate
+    from nsdyn.solve.methods import METHODS
+
+    lam = res.response.lam
+    if res.contact != "detect" or uplift != "raise" or res.uplift or not lam.size:
+        return res
+    low = lam.reshape(lam.shape[0], -1).min(axis=1)
+    if not METHODS[res.method].fixed_step or low.min() >= 0.0:
+        return res
+    k = int(np.argmax(low < 0.0))
+    raise integrate.IntegrationError(
+        f"fixed step dt = {dt:g} s: a normal force between the steps reached {low.min():.4g} N "
+        f"(first below zero at t = {res.t[k]:.6g} s) while every step's stayed positive: the "
+        "step does not resolve the response; halve dt until the peaks settle, or use an "
+        "adaptive method ('radau')",
+        float(res.t[k]),
+        "step too large",
+    )
+
+
+def fixed_step_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None) -> list[str]:
+    """What a fixed-step run ``res`` says of its own results: :func:`turn_notes`, and a step
+    that does not divide the sampling step of the record ``motion`` (its steps then straddle
+    the samples, where the piecewise-linear input kinks, and lose an order there: the
+    isolator's peak on the default scene errs more at 4 ms than at 5 ms)."""
+    from nsdyn.solve.methods import METHODS
+
+    if not METHODS[res.method].fixed_step or not dt:
+        return []
+    out = turn_notes(res, P, QDD, dt)
+    h = getattr(motion, "dt", None)
+    if h and abs(h / dt - round(h / dt)) > 1e-6 * h / dt:
+        out.append(f"the fixed step dt = {dt:g} s does not divide the record's sampling step "
+                   f"{h:g} s: its steps straddle the samples, where the input kinks, and are "
+                   f"first-order accurate there; use the record's step divided by a whole "
+                   f"number ({h / 2:g}, {h / 3:.3g}, {h / 4:g} s, …)")  # fmt: skip
+    return out
+
+
+def turn_notes(res, P: tuple, QDD: np.ndarray | None, dt) -> list[str]:
+    """Notes (at most one) on the floor-acceleration peaks of a fixed-step arctan-law run
+    ``res`` read inside the law's turn (module text); ``P`` its kernel tuple, ``QDD`` (nt, n)
+    the accelerations its metrics evaluated."""
+    from nsdyn.models.isolated.excitation import ground_many
+    from nsdyn.models.isolated.metrics import level_rows, output_rows
+    from nsdyn.models.isolated.params import KernelParams
+    from nsdyn.solve.methods import METHODS
+
+    system, t, X = res.system, res.t, res.x
+    if res.law != "arctan" or not METHODS[res.method].fixed_step or t.size < 3 or QDD is None:
+        return []
+    od = output_rows(system)
+    if not od["levels"] or system.D.shape[0] == 0:
+        return []
+    kp = KernelParams(P)
+    eps, n = float(kp.eps), system.n
+    ug_hor = np.zeros(t.size) if kp.force else ground_many(t, P)[:, 0]
+    L, starts = level_rows(od)
+    A = np.abs(np.asarray(L @ QDD.T) + ug_hor[None, :])  # (rows, nt) absolute
+    V = np.asarray(L @ X[:, n:].T)
+    fd = np.full_like(A, np.inf)  # (the first and last outputs: no difference there)
+    fd[:, 1:-1] = np.abs((V[:, 2:] - V[:, :-2]) / (t[2:] - t[:-2]) + ug_hor[None, 1:-1])
+    slow = np.abs(X[:, n:] @ system.D.T).min(axis=1) < TURN / eps  # (nt,) an isolator turning
+    found = []
+    for lev, (i0, i1) in enumerate(zip(starts, [*starts[1:], A.shape[0]], strict=True)):
+        row, k = np.unravel_index(np.argmax(A[i0:i1]), A[i0:i1].shape)
+        beside = fd[i0 + row, max(k - 1, 0) : k + 2].max()
+        if slow[k] and A[i0 + row, k] > RATIO * beside:
+            found.append(f"level {lev} {A[i0 + row, k]:.3g} m/s² at t = {t[k]:.6g} s (the "
+                         f"velocities beside it give {beside:.3g})")  # fmt: skip
+    if not found:
+        return []
+    return [
+        f"floor acceleration peaks read inside the arctan law's turn (slip below {TURN:g}/eps "
+        f"= {TURN / eps:.2g} m/s), which the fixed step dt = {dt:g} s does not resolve: "
+        f"{'; '.join(found)}; halve dt until they settle, or use an adaptive method ('radau')"
+    ]
