@@ -21,15 +21,25 @@ def note_short_record(cfg: dict, motion) -> str | None:
 
 
 SAMPLES_PER_PERIOD_MIN = 20  # fewer output samples per excitation period miss the peaks
+# outputs further apart than this many record samples (0.1 s at 100 Hz) sample a 2.5 Hz
+# floor response fewer than 4 times per period: its peak read there errs by up to 30 %
+RECORD_STEPS_MAX = 10
 
 
 def note_coarse_output(cfg: dict, motion) -> str | None:
     """A harmonic excitation sampled fewer than SAMPLES_PER_PERIOD_MIN times per period on the
-    output grid: its peaks fall between the samples (one line, with the dt_out to use)."""
+    output grid, or a record's outputs more than RECORD_STEPS_MAX of its samples apart: the
+    peaks fall between the samples (one line, with the dt_out to use)."""
     f = max(getattr(motion, "f_hor", 0.0) or 0.0, getattr(motion, "f", 0.0) or 0.0)
     if getattr(motion, "A_ver", 0.0):
         f = max(f, getattr(motion, "f_ver", 0.0) or 0.0)
     dt_out = cfg.get("solver", {}).get("dt_out")
+    h = getattr(motion, "dt", None)  # a record: outputs every RECORD_STEPS_MAX samples at most
+    span = (getattr(motion, "n", 0) - 1) * (h or 0.0)  # (a longer dt_out is refused: no note)
+    if h and isinstance(dt_out, int | float) and RECORD_STEPS_MAX * h * (1 + 1e-9) < dt_out < span:
+        return (f"dt_out = {dt_out:g} s reads the peaks every {dt_out / h:.3g} samples of the "
+                f"record ({h:g} s): they fall between the outputs; set solver.dt_out <= "
+                f"{RECORD_STEPS_MAX * h:g} s")  # fmt: skip
     if not f or not isinstance(dt_out, int | float):
         return None
     if dt_out * f * SAMPLES_PER_PERIOD_MIN > 1.0:

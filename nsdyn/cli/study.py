@@ -113,16 +113,27 @@ def failures(study, rows: list[dict]) -> list[dict]:
 
 
 def never_kept(study, rows: list[dict]) -> list[str]:
-    """Notes for the names of ``study.keep`` that no finished task's run summary had (a
-    misspelt name; the first such row's note names the nearest field), one per name."""
-    from nsdyn.studies.scenes import missing_names
+    """A note (or none) naming the names of ``study.keep`` that no finished task's run
+    summary had (a misspelt name), with the nearest field of each: a finished row's note,
+    cut to those names (a row's note also names what only its rung or kind lacks), the one
+    with the most hints for them."""
+    import re
+
+    from nsdyn.studies.scenes import MISSING_MARK, missing_names
 
     ok = [r for r in rows if r.get("status") == "ok"]
-    out = []
-    for k in study.keep or ():
-        if ok and all(k in missing_names(r.get("error")) for r in ok):
-            out.append(next(r["error"] for r in ok))
-    return out
+    never = [
+        k for k in study.keep or () if ok and all(k in missing_names(r.get("error")) for r in ok)
+    ]
+    if not never:
+        return []
+    best = max(ok, key=lambda r: sum(f"for {k!r}?" in r["error"] for k in never))  # (hinted)
+    head, rest = best["error"].split(MISSING_MARK, 1)
+    hints, _, fields = rest.split(";", 1)[1].partition(" its fields: ")
+    mine = [h for h in re.findall(r"did you mean '[^']*' for '[^']*'\?", hints)
+            if any(h.endswith(f"for {k!r}?") for k in never)]  # fmt: skip
+    names = ", ".join(map(repr, never))
+    return [f"{head}{MISSING_MARK} {names}; {' '.join([*mine, ''])}its fields: {fields}"]
 
 
 def _failure_lines(failed: list[dict], table: str) -> list[str]:

@@ -283,6 +283,22 @@ def test_an_output_grid_too_coarse_for_a_harmonic_is_noted(tmp_path, capsys):
     assert "samples the" not in capsys.readouterr().err
 
 
+def test_an_output_grid_too_coarse_for_a_record_is_noted(tmp_path, capsys):
+    """Outputs 0.5 s apart under a 100 Hz record read the peaks every 50 samples: a floor
+    response of 2.5 Hz is sampled less than once per period. The run says so; the scene
+    default (0.02 s, two samples) does not."""
+    scene = tmp_path / "coarse.toml"
+    scene.write_text("[motion]\nt_end = 3.0\n[solver]\ndt_out = 0.5\n")
+    args = ["run", str(scene), "--fidelity", "rigid", "--no-figures", "--out"]
+    assert main([*args, str(tmp_path / "o")]) == 0
+    err = capsys.readouterr().err
+    assert "dt_out = 0.5 s reads the peaks every 50 samples of the record (0.01 s)" in err
+    assert "set solver.dt_out <= 0.1 s" in err
+    scene.write_text("[motion]\nt_end = 3.0\n")
+    assert main([*args, str(tmp_path / "p")]) == 0
+    assert "reads the peaks" not in capsys.readouterr().err
+
+
 def test_an_arctan_law_too_soft_to_be_friction_is_noted(tmp_path, capsys):
     """eps = 1e-9 s/m: the arctan friction mu N (2/pi) atan(eps v) reaches 90 % of mu N at
     v = tan(0.45 pi) / eps = 6.3e9 m/s, so the law is a viscous damper and every instant

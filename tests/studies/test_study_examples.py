@@ -167,3 +167,22 @@ def test_a_field_in_another_table_is_hinted_by_its_own_name(tmp_path):
     hint = r"isolation\.mu: unknown scene field; did you mean 'bearing\.mu'"
     with pytest.raises(SceneError, match=hint):
         load_study(study)
+
+
+def test_the_never_kept_warning_names_only_the_names_no_row_has():
+    # rows of two rungs: each lacks the other's field, and both the misspelt name; the
+    # warning named the rigid row's whole note ('peak_torsional_moment_Nm' too, which the
+    # fixed rows have) and no hint for the misspelling (the rigid summary has no near field)
+    from types import SimpleNamespace
+
+    from nsdyn.cli.study import never_kept
+    from nsdyn.studies.scenes import missing_kept
+
+    keep = ["peak_corner_drfit", "peak_torsional_moment_Nm", "peak_torsion_rad"]
+    rigid = {"peak_torsion_rad": 1e-20, "peak_resultant_displacement_m": 0.06}
+    fixed = {"peak_torsion_rad": 1e-4, "peak_corner_drift": 0.01, "peak_torsional_moment_Nm": 3.8e7}
+    rows = [{"status": "ok", "error": missing_kept(s, keep, "s.toml")} for s in (rigid, fixed)]
+    (note,) = never_kept(SimpleNamespace(keep=keep), rows)
+    assert "'peak_corner_drfit';" in note and "peak_torsional_moment_Nm'" not in note.split(";")[0]
+    assert "did you mean 'peak_corner_drift' for 'peak_corner_drfit'?" in note
+    assert never_kept(SimpleNamespace(keep=keep[1:]), rows) == []
