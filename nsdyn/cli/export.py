@@ -164,10 +164,13 @@ def _run_building3d(args: argparse.Namespace) -> int:
     out = Path(args.out) if args.out else scene.with_name(f"{scene.stem}_opensees.py")
     export_building_opensees(scene, out, dt=args.dt, t_end=args.t_end,
                              fixed_base=True if args.fixed_base else None)  # fmt: skip
-    if args.json:
-        from nsdyn.models.isolated.opensees import load_script
+    from nsdyn.models.isolated.opensees import load_script
 
-        d = load_script(out).DATA
+    d = load_script(out).DATA
+    if args.t_end and d["duration"] < args.t_end - 1e-6 and not args.json:  # (as the frame's)
+        print(f"nsdyn export: note: --t-end {args.t_end:g} s is past the record's end; the "
+              f"script runs {d['duration']:g} s", file=sys.stderr)  # fmt: skip
+    if args.json:
         info = {
             "frame": d["name"],
             "n_nodes": len(d["nodes"]),

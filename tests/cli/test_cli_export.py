@@ -82,3 +82,14 @@ def test_export_t_end_is_an_end_time_as_a_run_s(tmp_path, capsys):
     assert main([*argv, "--t-end", "10.001"]) == 2
     assert "t_end: expected an end at least one record step (0.01 s) after the record's start " \
            "(10 s), got 10.001" in capsys.readouterr().err  # fmt: skip
+
+
+def test_a_building_export_past_the_records_end_is_noted(tmp_path, capsys):
+    # the frame's export said so; the 3D building's wrote its 40 s silently
+    from pathlib import Path
+
+    scene = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+    argv = ["export", "opensees", str(scene / "building3d-office-rigid.toml"), "-o"]
+    assert main([*argv, str(tmp_path / "b.py"), "--t-end", "100"]) == 0
+    err = capsys.readouterr().err
+    assert "--t-end 100 s is past the record's end; the script runs 40 s" in err

@@ -57,7 +57,7 @@ from nsdyn.models.isolated.building3d_scene_keys import BASES, DAMPINGS, FIDELIT
 from nsdyn.models.isolated.building3d_shape import fixed_peak_shape, rigid_peak_shape, write_shape
 from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
 from nsdyn.models.isolated.deck_scene import build_solver as deck_solver
-from nsdyn.models.isolated.deck_scene import scene_law, summary_table
+from nsdyn.models.isolated.deck_scene import scene_law, summary_table, unused_law_keys
 from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number
 
 __all__ = ["build_motion", "build_solver", "build_system", "format_summary", "pairs_path",
@@ -399,6 +399,8 @@ def unused_keys(cfg: dict, fid: str, path: str | None) -> list[tuple[str, str]]:
     }  # fmt: skip
     out = [(k, why) for k, (table, unused, why) in rules.items()
            if unused and k.split(".")[1] in table]  # fmt: skip
+    if fid != "fixed":  # the friction law's own keys (the fixed rung has no bearing)
+        out += unused_law_keys(cfg)
     if fid == "fixed":  # no bearing, no integration: the tables as a whole
         out = [(k, w) for k, w in out if not k.startswith("solver.")]
         out += [(f"[{t}]", "the fixed rung (a fixed base, modal histories)")

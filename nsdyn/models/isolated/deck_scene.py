@@ -155,6 +155,26 @@ def build_motion(cfg: dict, source: str):
     return exc, dur.get("t_end")
 
 
+def unused_law_keys(cfg: dict) -> list[tuple[str, str]]:
+    """(key, why) of the friction-law keys given that the run's law does not read
+    (:func:`scene_law`): ``solver.eps`` beside the switch law, ``solver.eta`` and the bearing's
+    static friction (``mu_static``) beside the arctan law, which has no stick. A run notes
+    them; ``nsdyn sweep --friction`` may still read ``eps`` and ``eta``."""
+    law, solver = scene_law(cfg), cfg.get("solver", {})
+    bearing = cfg.get("bearing") if isinstance(cfg.get("bearing"), dict) else {}
+    out = []
+    if law != "arctan" and "eps" in solver:
+        out.append(("solver.eps", f"the arctan law's sharpness; this run's law is {law!r} "
+                    "(nsdyn sweep --friction arctan reads it)"))  # fmt: skip
+    if law == "arctan" and "eta" in solver:
+        out.append(("solver.eta", "the switch law's stick band; this run's law is 'arctan' "
+                    "(nsdyn sweep --friction switch reads it)"))  # fmt: skip
+    if law == "arctan" and "mu_static" in bearing:
+        out.append(("bearing.mu_static", "the friction at the start of a slip, from stick; "
+                    "the arctan law has no stick"))  # fmt: skip
+    return out
+
+
 def scene_law(cfg: dict) -> str:
     """The friction law a scene runs: ``solver.law``, else the switch law (the regularised
     law for a triple friction pendulum, which has no stick events)."""
@@ -265,6 +285,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     say(f"deck: {name}: {system.n_isolators} isolator(s), law {kw['law']}, "
         f"{getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
     notes = bearing_notes(system.bearings, system.static_normal())  # (the summary's too)
+    notes += [f"{k} not used: {w}" for k, w in unused_law_keys(cfg)]
     for note in notes:
         say(f"deck: note: {note}")
     compile_s = warm(system, kw["law"])

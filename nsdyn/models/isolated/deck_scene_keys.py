@@ -129,8 +129,8 @@ SCHEMA = Schema(
             Key("x", "string", "record file of the x component"),
             Key("y", "string", "record file of the y component"),
             Key("z", "string", "record file of the vertical component (optional)"),
-            Key("units", "string", "units of the record files where their headers do not say",
-                choices=("g", "cm/s2", "m/s2")),
+            Key("units", "string", "units of the record files (where a header states others, "
+                "these win, with a warning)", choices=("g", "cm/s2", "m/s2")),
             Key("dt", "number", "sample step of single-column files", "s", **_POS),
             Key("rotate", "number", "rotate the horizontal pair by this angle", "deg",
                 default=0.0),

@@ -141,3 +141,30 @@ def test_tfp_scene_errors_name_the_field():
     cfg["bearing"]["radius"] = 2.0
     with pytest.raises(SceneError, match=r"^tfp\.toml: bearing\.radius: not a key of a triple"):
         ds.build_system(cfg, "tfp.toml")
+
+
+@pytest.mark.parametrize(
+    ("law", "solver", "bearing", "named"),
+    [
+        ("switch", {"eps": 100.0}, {}, ["solver.eps"]),
+        ("arctan", {"eta": 0.1}, {"mu_static": 0.075}, ["solver.eta", "bearing.mu_static"]),
+        ("switch", {"eta": 1e-4}, {"mu_static": 0.075}, []),
+        ("arctan", {"eps": 1e4}, {}, []),
+    ],
+)
+def test_a_law_key_the_runs_law_does_not_read_is_noted(law, solver, bearing, named):
+    # eps under the switch law, eta and a static friction under the arctan law (no stick)
+    cfg = tomllib.loads((SCENES / "deck-fps4-3c.toml").read_text())
+    cfg["solver"] = {"law": law, **solver}
+    cfg["bearing"] = {k: v for k, v in cfg["bearing"].items() if k != "mu_static"} | bearing
+    assert [k for k, _ in ds.unused_law_keys(cfg)] == named
+
+
+def test_a_deck_run_prints_the_unread_law_keys(tmp_path, capsys):
+    from nsdyn.cli import main
+
+    text = (SCENES / "sdof-bidirectional-circular.toml").read_text()
+    scene = tmp_path / "s.toml"
+    scene.write_text(text.replace('law = "switch"', 'law = "switch"\neps = 100.0'))
+    assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 0
+    assert "deck: note: solver.eps not used: the arctan law's sharpness" in capsys.readouterr().err
