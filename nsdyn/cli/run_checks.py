@@ -131,12 +131,40 @@ def note_unused_isolation(cfg: dict, system) -> str | None:
     return f"not used by this model: {', '.join(unused)}" if unused else None
 
 
+def note_loose_atol(cfg: dict, system) -> str | None:
+    """A velocity tolerance given above what the friction law tells apart: the switch law's
+    stick band η (stick and slip decided below the tolerance), or the arctan law's turn
+    (ATOL_V_EPS/eps, the bound the default tolerance keeps): accelerations read from such
+    velocities are not the motion's (the event method at atol 1e-4 read a floor acceleration
+    3x the converged one)."""
+    from nsdyn.models.isolated.tolerances import ATOL_V_EPS
+
+    atol = cfg.get("solver", {}).get("atol")
+    iso = getattr(system, "isolation", None)
+    if atol is None or iso is None or getattr(system, "n_isolators", 1) == 0:
+        return None
+    a_v = atol[1] if isinstance(atol, list) and len(atol) == 2 else atol
+    if not isinstance(a_v, int | float):
+        return None
+    law = "switch" if cfg.get("solver", {}).get("method") == "event" else iso.law
+    bound, what = ((iso.eta, f"the switch law's stick band eta = {iso.eta:g} m/s")
+                   if law == "switch" else
+                   (ATOL_V_EPS / iso.eps, f"{ATOL_V_EPS:g}/eps = {ATOL_V_EPS / iso.eps:.2g} m/s, "
+                    "within the arctan law's turn") if law == "arctan" else (None, ""))  # fmt: skip
+    if bound is None or a_v <= bound:
+        return None
+    return (f"solver.atol: a velocity tolerance of {a_v:g} m/s is above {what}: the "
+            "integrator does not tell the friction's states apart, and accelerations read "
+            f"there are not the motion's; set the velocities' atol to {bound:.2g} or "
+            "less")  # fmt: skip
+
+
 def scene_notes(cfg: dict, motion, quiet: bool, system=None) -> list[str]:
     """Every note of a loaded scene (the functions above), in one line each on stderr unless
     ``quiet``; returned (a --json summary's ``notes``)."""
     notes = [note_short_record(cfg, motion), note_coarse_output(cfg, motion),
              note_soft_law(cfg), note_high_friction(cfg), note_unused_cutoff(cfg),
-             note_unused_isolation(cfg, system)]  # fmt: skip
+             note_unused_isolation(cfg, system), note_loose_atol(cfg, system)]  # fmt: skip
     notes = [n for n in notes if n]
     if not quiet:
         for n in notes:

@@ -565,3 +565,21 @@ def test_a_deck_atol_of_the_wrong_length_names_the_pair_form(tmp_path, one_line)
         f"{bad}: solver.atol: expected a positive number or a pair [displacements, "
         "velocities], got [1e-08]"
     )
+
+
+@pytest.mark.parametrize(
+    ("solver", "bound"),
+    [('method = "event"\n', 1e-5), ("", 0.1 / 7500.0)],  # eta; ATOL_V_EPS / eps (defaults)
+)
+def test_a_velocity_tolerance_above_the_laws_resolution_is_noted(tmp_path, capsys, solver, bound):
+    """The event method at atol 1e-4 (10x the stick band eta = 1e-5 m/s) read a floor
+    acceleration of 7.5 m/s² against 2.6; the arctan law's runs keep 0.1/eps by default."""
+    scene = tmp_path / "a.toml"
+    for factor, noted in ((1.01, True), (0.99, False)):
+        scene.write_text(
+            f"[motion]\nt_end = 0.5\n[solver]\n{solver}atol = [1e-8, {factor * bound!r}]\n"
+        )
+        args = ["run", str(scene), "--fidelity", "rigid", "--no-figures", "--out"]
+        assert main([*args, str(tmp_path / f"o{factor}")]) == 0
+        err = capsys.readouterr().err
+        assert ("solver.atol: a velocity tolerance of" in err) is noted

@@ -188,7 +188,8 @@ class IsolatedSystem:
             return self.info["rebuild"](isolation=iso)
         kw = {"damping": self.info["damping"]} if "damping" in self.info else {}
         build = builder or build_system
-        return build(self.frame, iso, fidelity=self.fidelity, f_max=self.f_max, **kw)
+        f_max = self.f_max if self.f_max is not None else np.inf  # (rigid, full: no cut-off)
+        return build(self.frame, iso, fidelity=self.fidelity, f_max=f_max, **kw)
 
     # ---- static state -------------------------------------------------------------------
     def static_equilibrium(self) -> tuple[np.ndarray, np.ndarray]:

@@ -323,3 +323,17 @@ def test_office_frame_static_shares_and_isolation_frequency():
     Q = r.Q
     w2 = np.linalg.eigvals(np.linalg.solve(Q.T @ r.M @ Q, Q.T @ r.K @ Q)).real
     assert np.sqrt(w2.min()) / (2 * np.pi) == pytest.approx(0.060, abs=0.003)
+
+
+@pytest.mark.parametrize("fidelity", ["rigid", "full", "cb"])
+def test_a_new_law_keeps_the_model(frame, fidelity):
+    # the event method's switch law on a rigid or full model (no cut-off: f_max None) raised
+    # "f_max: expected a positive frequency"; the model is the one built with that law
+    s = build_system(frame, Isolation(mu=0.05), fidelity=fidelity)
+    sw = s.with_isolation(law="switch")
+    direct = build_system(frame, Isolation(mu=0.05, law="switch"), fidelity=fidelity)
+    assert sw.isolation.law == "switch" and sw.n == direct.n
+    for name in ("M", "K", "C"):
+        a, b = getattr(sw, name), getattr(direct, name)
+        a, b = (a.toarray(), b.toarray()) if hasattr(a, "toarray") else (a, b)
+        np.testing.assert_array_equal(a, b)
