@@ -20,6 +20,7 @@ from nsdyn.cli.run_checks import (
     check_cutoff,
     check_method,
     duration_text,
+    explicit_steps,
     record_wins,
     scene_notes,
 )
@@ -435,6 +436,7 @@ def run(args: argparse.Namespace) -> int:
         raise SceneError(f"{e} (method {reason})" if reason else str(e)) from None
     if reason and not args.json:  # (after the checks: a refused run is one line)
         print(f"method  {reason}", file=sys.stderr)
+    notes += explicit_steps(method, system, float(t_eval[-1] - t_eval[0]), args.json)
     out = Path(args.out)
     stem = "run"
     ckpt = out / CHECKPOINT

@@ -5,6 +5,7 @@ friction (notes on stderr)."""
 
 from __future__ import annotations
 
+import math
 import sys
 
 
@@ -157,6 +158,57 @@ def note_loose_atol(cfg: dict, system) -> str | None:
             "integrator does not tell the friction's states apart, and accelerations read "
             f"there are not the motion's; set the velocities' atol to {bound:.2g} or "
             "less")  # fmt: skip
+
+
+EXPLICIT_STEPS_NOTE = 1e6  # an explicit run of more steps than this is said before it starts
+DOPRI5_REAL_AXIS = 3.3  # Dormand–Prince 5(4): stable for h|λ| up to about 3.3 on the real axis
+
+
+def explicit_steps(method: str, system, span: float, quiet: bool) -> list[str]:
+    """An explicit method (``dopri5``) bounds its step by stability, h < DOPRI5_REAL_AXIS/ρ,
+    whatever the tolerance, with ρ the fastest rate of the model: its highest frequency
+    ω_max, or the arctan law's slope on an isolator's own mass, μ λ₀ (2/π) ε (D M⁻¹ Dᵀ)ᵢᵢ
+    (1.5e7 1/s on the full office frame, whose isolator nodes carry 33 kg). A run of more than
+    EXPLICIT_STEPS_NOTE such steps is said before it starts, with the number (the full frame's
+    0.3 s took minutes, silently); printed unless ``quiet``, returned."""
+    if method != "dopri5" or system.n == 0:
+        return []
+    import numpy as np
+
+    from nsdyn._lazy import issparse
+
+    K, M = system.K, system.M
+    if issparse(K):
+        from scipy.sparse.linalg import eigsh, splu
+
+        w2 = float(eigsh(K.tocsc(), k=1, M=M.tocsc(), which="LM", return_eigenvectors=False)[0])
+        solve = splu(M.tocsc()).solve
+    else:
+        from scipy.linalg import cho_factor, cho_solve, eigh
+
+        w2 = float(eigh(K, M, eigvals_only=True, subset_by_index=[system.n - 1] * 2)[0])
+        c = cho_factor(M)
+        solve = lambda b: cho_solve(c, b)  # noqa: E731
+    rate, what = w2**0.5, f"highest frequency {w2**0.5 / (2 * math.pi):.3g} Hz"
+    iso = system.isolation
+    if iso is not None and iso.law == "arctan" and system.n_isolators:
+        D = system.D.toarray() if issparse(system.D) else np.asarray(system.D)
+        lam0 = np.abs(system.static_equilibrium()[1][: D.shape[0]])
+        mu = np.asarray(iso.mu, dtype=float)
+        slope = mu * lam0 * (2 / math.pi) * iso.eps * np.einsum("ij,ji->i", D, solve(D.T))
+        if slope.max() > rate:
+            rate, what = float(slope.max()), f"arctan friction's rate {slope.max():.2g} 1/s"
+    steps = span * rate / DOPRI5_REAL_AXIS
+    if steps <= EXPLICIT_STEPS_NOTE:
+        return []
+    note = (
+        f"dopri5 is explicit: the model's {what} bounds its step to "
+        f"{DOPRI5_REAL_AXIS / rate:.2g} s, about {steps:.2g} steps for this run; a stiff "
+        "model is for 'radau' (the default) or a fixed-step method"
+    )
+    if not quiet:
+        print(f"nsdyn run: note: {note}", file=sys.stderr)
+    return [note]
 
 
 def scene_notes(cfg: dict, motion, quiet: bool, system=None) -> list[str]:

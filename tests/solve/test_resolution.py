@@ -69,3 +69,21 @@ def test_a_step_that_does_not_divide_the_records_step_is_named(scene):
         named[dt] = any("does not divide the record's sampling step" in n for n in r.notes)
     assert named == {0.005: False, 0.004: True, 0.002: False}
     assert err[0.004] > err[0.005] > err[0.002]
+
+
+def test_an_explicit_run_is_said_with_the_steps_its_stability_allows(scene, capsys):
+    # Dormand–Prince is stable to h|λ| ≈ 3.3 on the real axis, where the arctan law's slope
+    # on an isolator's own mass puts the CB-5 frame's fastest rate (1.4e6 1/s): its steps
+    # average no more than that bound (the estimate is not too high) and not far below it
+    # (nothing slower limits them: the estimate is not too low)
+    from nsdyn.cli.run_checks import explicit_steps
+
+    system, motion, _ = scene
+    (note,) = explicit_steps("dopri5", system, 40.0, quiet=False)
+    assert "nsdyn run: note: dopri5 is explicit" in capsys.readouterr().err
+    h_bound = float(note.split("bounds its step to ")[1].split(" s")[0])
+    r = simulate(system, motion, method="dopri5", t_end=0.3, dt_out=0.01)
+    mean_step = 0.3 / r.n_steps
+    assert 0.5 * h_bound < mean_step < 1.05 * h_bound, (mean_step, h_bound)
+    assert explicit_steps("radau", system, 40.0, quiet=True) == []
+    assert explicit_steps("dopri5", system, 0.3, quiet=True) == []  # 1.3e5 steps: said nothing
