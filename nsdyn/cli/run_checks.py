@@ -117,11 +117,10 @@ def note_unused_isolation(cfg: dict, system) -> str | None:
         return f"[isolation] not used: the fixed-base model has no isolators ({', '.join(given)})"
     method = cfg.get("solver", {}).get("method", "auto")
     law = "switch" if method == "event" else system.isolation.law
-    why = {}
-    if law != "switch":
-        why["eta"] = why["kappa"] = f"a key of the switch law; the law here is {law}"
-    if law != "arctan":
-        why["eps"] = f"a key of the arctan law; the law here is {law}"
+    from nsdyn.models.isolated.friction import LAW_KEYS
+
+    why = {k: f"a key of the {own} law; the law here is {law}"
+           for k, (own, _) in LAW_KEYS.items() if own != law}  # fmt: skip
     if system.normal_force is not None:  # a structure given its weight: no contact rows
         for k in ("frozen_normal", "alpha", "beta"):
             why[k] = "a key of the contacts; this structure's normal forces are given"

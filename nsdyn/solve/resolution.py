@@ -4,8 +4,9 @@ A fixed-step run has no error control, so two things it reports are checked afte
 
 * :func:`between_steps`: a normal force that every step end kept positive but an output
   between the steps did not (the step does not resolve the response: an error, at its time);
-* :func:`turn_notes`: a floor acceleration's peak read where the arctan law turns the friction
-  over. The law ``μ N (2/π) arctan(ε v)`` turns within ~100/ε of zero slip velocity; a fixed
+* :func:`fixed_step_notes`: a floor acceleration's peak read where the arctan law turns the
+  friction over (and a step that does not divide the record's). The law
+  ``μ N (2/π) arctan(ε v)`` turns within ~100/ε of zero slip velocity; a fixed
   step does not follow the turn, and a state it leaves inside it carries accelerations the
   motion does not have (22 m/s² at the isolation level of the default scene under
   ``genalpha`` at 5 ms, against 2.5 m/s² resolved). The velocities beside that output carry
@@ -50,7 +51,7 @@ def between_steps(res, dt, uplift: str):
 
 
 def fixed_step_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None) -> list[str]:
-    """What a fixed-step run ``res`` says of its own results: :func:`turn_notes`, and a step
+    """What a fixed-step run ``res`` says of its own results: :func:`_turn_notes`, and a step
     that does not divide the sampling step of the record ``motion`` (its steps then straddle
     the samples, where the piecewise-linear input kinks, and lose an order there: the
     isolator's peak on the default scene errs more at 4 ms than at 5 ms)."""
@@ -58,7 +59,7 @@ def fixed_step_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None) -> 
 
     if not METHODS[res.method].fixed_step or not dt:
         return []
-    out = turn_notes(res, P, QDD, dt)
+    out = _turn_notes(res, P, QDD, dt)
     h = getattr(motion, "dt", None)
     if h and abs(h / dt - round(h / dt)) > 1e-6 * h / dt:
         out.append(f"the fixed step dt = {dt:g} s does not divide the record's sampling step "
@@ -68,17 +69,16 @@ def fixed_step_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None) -> 
     return out
 
 
-def turn_notes(res, P: tuple, QDD: np.ndarray | None, dt) -> list[str]:
+def _turn_notes(res, P: tuple, QDD: np.ndarray | None, dt) -> list[str]:
     """Notes (at most one) on the floor-acceleration peaks of a fixed-step arctan-law run
     ``res`` read inside the law's turn (module text); ``P`` its kernel tuple, ``QDD`` (nt, n)
     the accelerations its metrics evaluated."""
     from nsdyn.models.isolated.excitation import ground_many
     from nsdyn.models.isolated.metrics import level_rows, output_rows
     from nsdyn.models.isolated.params import KernelParams
-    from nsdyn.solve.methods import METHODS
 
     system, t, X = res.system, res.t, res.x
-    if res.law != "arctan" or not METHODS[res.method].fixed_step or t.size < 3 or QDD is None:
+    if res.law != "arctan" or t.size < 3 or QDD is None:  # (fixed_step_notes: a fixed step)
         return []
     od = output_rows(system)
     if not od["levels"] or system.D.shape[0] == 0:

@@ -160,15 +160,13 @@ def unused_law_keys(cfg: dict) -> list[tuple[str, str]]:
     (:func:`scene_law`): ``solver.eps`` beside the switch law, ``solver.eta`` and the bearing's
     static friction (``mu_static``) beside the arctan law, which has no stick. A run notes
     them; ``nsdyn sweep --friction`` may still read ``eps`` and ``eta``."""
+    from nsdyn.models.isolated.friction import LAW_KEYS
+
     law, solver = scene_law(cfg), cfg.get("solver", {})
     bearing = cfg.get("bearing") if isinstance(cfg.get("bearing"), dict) else {}
-    out = []
-    if law != "arctan" and "eps" in solver:
-        out.append(("solver.eps", f"the arctan law's sharpness; this run's law is {law!r} "
-                    "(nsdyn sweep --friction arctan reads it)"))  # fmt: skip
-    if law == "arctan" and "eta" in solver:
-        out.append(("solver.eta", "the switch law's stick band; this run's law is 'arctan' "
-                    "(nsdyn sweep --friction switch reads it)"))  # fmt: skip
+    out = [(f"solver.{k}", f"{what}; this run's law is {law!r} (nsdyn sweep --friction {own} "
+            "reads it)")
+           for k, (own, what) in LAW_KEYS.items() if own != law and k in solver]  # fmt: skip
     if law == "arctan" and "mu_static" in bearing:
         out.append(("bearing.mu_static", "the friction at the start of a slip, from stick; "
                     "the arctan law has no stick"))  # fmt: skip

@@ -28,6 +28,13 @@ from nsdyn.models.isolated.defaults import EPS, ETA, MU  # noqa: F401  (re-expor
 STICK_UTILISATION = 0.9  # arctan law: "stick" while |s(v)| <= this (friction below 90 %)
 
 LAW_NAMES = ("none", "arctan", "switch")  # laws a user chooses ("modes" is internal)
+# the keys one law reads and the others do not: key -> (its law, what it is); the scene
+# readers name them when the run's law is another (an isolated frame's, a deck's notes)
+LAW_KEYS = {
+    "eps": ("arctan", "the arctan law's sharpness"),
+    "eta": ("switch", "the switch law's stick band"),
+    "kappa": ("switch", "the switch law's stick stabilisation"),
+}
 
 
 def arctan_direction(v, eps: float = EPS):
