@@ -131,12 +131,15 @@ def workspace(ni):
     carries its normal-force terms, 0: tensile under a bilateral contact). After those: the
     scratch of :func:`start_direction` (a 3 × 3 factor, its pivots, two 3-vectors), the
     switch law's re-stick candidates (ni,) of its settling, and the slip-start alignment's
-    scratch (:mod:`._kplanealign`: the directions it started from, (ni, 2), and (4, 3))."""
+    scratch (:mod:`._kplanealign`: the directions it started from, (ni, 2), and (4, 3)); last
+    the impasse record (3,): ρ of the last evaluation, then the time and ρ of the first
+    evaluation at ρ <= 0 (NaN until one; :func:`evaluate`)."""
     return (np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((5, 5)), np.zeros(5),
             np.zeros(5, dtype=np.int64), np.zeros((ni, 3)), np.zeros(ni), np.zeros((ni, 2)),
             np.zeros(3), np.zeros(3), np.zeros((ni, 8)), np.ones(ni), np.ones(ni),
             np.zeros((3, 3)), np.zeros(3, dtype=np.int64), np.zeros((2, 3)),
-            np.zeros(ni, dtype=np.bool_), np.zeros((ni, 2)), np.zeros((4, 3)))  # fmt: skip
+            np.zeros(ni, dtype=np.bool_), np.zeros((ni, 2)), np.zeros((4, 3)),
+            np.array([1.0, np.nan, np.nan]))  # fmt: skip
 
 
 def forces(ni):
@@ -184,7 +187,25 @@ def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
     forces, which depend on q̈: in each pass N = N(q̈(k_p(N))) is iterated from k_p = 1 to
     PRESSURE_TOL (contraction: the weak overturning share of the friction, ~1e-3), the factors
     left in pf = ws[11]; ST_SINGULAR when they do not settle. One call of evaluate_at, inlined
-    (numba's IR): LLVM optimises its body once."""
+    (numba's IR): LLVM optimises its body once.
+
+    An evaluation whose inertia ratio ρ (:func:`inertia_ratio`) is <= 0 returns ST_SINGULAR
+    and keeps its time and ρ in ws[19][1:] (the first such): the friction's feedback on the
+    normal forces has cancelled the deck's inertia, and q̈ has no solution on this branch."""
+    st = _settled(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
+    rho = ws[19]
+    if st == ST_OK and rho[0] <= 0.0:
+        if not rho[1] == rho[1]:
+            rho[1] = t
+            rho[2] = rho[0]
+        return ST_SINGULAR
+    return st
+
+
+@njit(cache=True, error_model="numpy", inline="always", **NO_NRT)
+def _settled(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo):
+    """:func:`evaluate` before its inertia check: the tensile set and the pressure factors
+    settled."""
     on, pf = ws[12], ws[11]
     bil = int(sp[S_CONTACT]) == CONTACT_BILATERAL
     for i in range(on.shape[0]):
@@ -332,6 +353,7 @@ def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, 
         fv[1] -= gy
         fv[2] -= -Y * gx + X * gy
     kap = sp[S_KAPPA]
+    ws[19][0] = inertia_ratio(Am, M, pos, nst, ist)
     if nst == 0:
         for a in range(3):
             qdd[a] = fv[a]
@@ -413,6 +435,41 @@ def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, 
         if not math.isfinite(qdd[a]):
             return ST_SINGULAR
     return ST_OK
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _det3(A):
+    return (A[0, 0] * (A[1, 1] * A[2, 2] - A[1, 2] * A[2, 1])
+            - A[0, 1] * (A[1, 0] * A[2, 2] - A[1, 2] * A[2, 0])
+            + A[0, 2] * (A[1, 0] * A[2, 1] - A[1, 1] * A[2, 0]))  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def inertia_ratio(Am, M, pos, nst, ist):
+    """ρ: what is left of the deck's inertia once the normal forces' dependence on q̈ is in.
+
+    Friction and pendulum forces proportional to N_i, with N_i affine in q̈, make the deck's
+    effective mass Am = M + Σ B_iᵀ c_i n1_iᵀ (:func:`evaluate_at`). With every isolator
+    slipping ρ = det Am / det M; with one stuck at (X, Y) the deck can only turn about it,
+    n = (Y, −X, 1) (B_s n = 0), and ρ = nᵀ Am n / nᵀ M n; with two or more stuck it is held,
+    ρ = 1. ρ = 1 without overturning (h = 0, or one isolator) and falls as the overturning
+    gain (h/b)(μ + u/R) grows (b the bearings' lever); at ρ = 0 q̈ is unbounded and past it
+    the equations have no solution continuing the motion (Painlevé's paradox)."""
+    if nst == 0:
+        return _det3(Am) / _det3(M)
+    if nst == 1:
+        nx = pos[ist, 1]
+        ny = -pos[ist, 0]
+        num = 0.0
+        den = 0.0
+        for a in range(3):
+            na = nx if a == 0 else (ny if a == 1 else 1.0)
+            for b in range(3):
+                nb = nx if b == 0 else (ny if b == 1 else 1.0)
+                num += na * Am[a, b] * nb
+                den += na * M[a, b] * nb
+        return num / den
+    return 1.0
 
 
 @ka.compiled_uncounted

@@ -507,6 +507,7 @@ def simulate_plane(
     )
     args = (y, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             X, NO, FF, FR, FO, MO, EV, stops, info)  # fmt: skip
-    status = deck_compile.run_loop(loop, args, law == "switch", progress)
+    scratch = deck_compile.loop_arrays(loop, ns, ni)
+    status = deck_compile.run_loop(loop, args, law == "switch", progress, scratch)
     return PlaneResult.from_run(system, law, t_eval, X, NO, FF, FR, FO, MO, EV, stops, info,
-                                int(status), eps, eta, contact)  # fmt: skip
+                                int(status), eps, eta, contact, impasse=scratch[0][19])  # fmt: skip

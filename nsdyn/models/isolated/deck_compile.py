@@ -106,7 +106,7 @@ def loop_arrays(loop, n: int, ni: int) -> tuple:
     return kp.workspace(ni), kp.forces(ni), S
 
 
-def run_loop(loop, args: tuple, switch: bool, progress=None):
+def run_loop(loop, args: tuple, switch: bool, progress=None, scratch=None):
     """``loop(*args, *scratch)`` (a time loop of the deck: ``_kplanerun.integrate`` or
     ``_kplaneradau.integrate``; ``args`` up to its ``info``, the scratch from
     :func:`loop_arrays`), its callees in the table first. A first compilation is
@@ -114,10 +114,13 @@ def run_loop(loop, args: tuple, switch: bool, progress=None):
     it compiles the callees (:func:`helper_part`) while this process compiles the loop for
     ``args``' types. ``progress(t_done, t_end, wall_s)``: called every few seconds while the
     loop runs in a thread of its own (:func:`nsdyn._progress.watched`; t_done the last output
-    written, ``info[I_NOUT]``)."""
+    written, ``info[I_NOUT]``). ``scratch``: the loop's arrays when the caller keeps them
+    (:func:`loop_arrays`; its first, the force kernel's workspace, holds the impasse record)."""
     from nsdyn._kaddress import run_split
 
-    args = (*args, *loop_arrays(loop, args[0].shape[0], args[5].shape[0]))
+    if scratch is None:
+        scratch = loop_arrays(loop, args[0].shape[0], args[5].shape[0])
+    args = (*args, *scratch)
     target = "helper_part" if switch else "helper_force"
 
     def run():

@@ -63,6 +63,25 @@ FREE = 3
 MAX_INTERVALS = 100  # tensile intervals listed in a summary (the count says how many in all)
 
 
+def impasse_message(system, impasse) -> str:
+    """A failed run's reason when the deck met the impasse of its normal forces (``impasse``:
+    the record of :func:`nsdyn.models.isolated._kplane.evaluate`, (ρ of the last evaluation,
+    then time and ρ of the first at ρ <= 0)), else ""."""
+    if impasse is None or not impasse[1] == impasse[1]:
+        return ""
+    h = getattr(system, "h", 0.0)
+    return (
+        f"the deck's equations of motion lose their solution at t = {impasse[1]:.6g} s "
+        f"(inertia ratio {impasse[2]:.3g}): the normal forces' share of the friction and "
+        f"pendulum forces, through the overturning of a centre of mass h = {h:g} m above the "
+        "sliding surfaces, cancels the deck's inertia (Painlevé's paradox: the gain "
+        "(h/2b)(mu + u/R), with 2b the bearings' lever, has reached 1). Past it the rigid "
+        "deck's equations have no solution (what a real deck does there depends on its "
+        "vertical and rocking flexibility, which this model does not have); lower h, widen "
+        "the bearings' layout, or lower the friction"
+    )
+
+
 class PlaneIntegrationError(NumericalFailure):
     """A run of the deck on bidirectional isolators failed; the message names time and reason."""
 
@@ -183,12 +202,13 @@ class PlaneResult(Tabular):
 
     @classmethod
     def from_run(cls, system, law, t, X, NO, FF, FR, FO, MO, EV, stops, info, status, eps, eta,
-                 contact="detect"):  # fmt: skip
+                 contact="detect", impasse=None):  # fmt: skip
         if status not in (kr.ST_OK, kr.ST_UPLIFT):
             msg = MESSAGES.get(status, f"integration failed (status {status}) at t = {{t:.6g}} s")
             if getattr(system, "has_tfp", False) and status in TFP_MESSAGES:  # its own advice
                 msg = TFP_MESSAGES[status]
-            raise PlaneIntegrationError(msg.format(t=info[kr.I_TFAIL], eta=eta, eps=eps))
+            msg = msg.format(t=info[kr.I_TFAIL], eta=eta, eps=eps)
+            raise PlaneIntegrationError(impasse_message(system, impasse) or msg)
         nout = int(info[kr.I_NOUT])
         ne = min(int(info[kr.I_NEV]), EV.shape[0])
         if int(info[kr.I_NEV]) > EV.shape[0]:

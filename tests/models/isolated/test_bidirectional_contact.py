@@ -21,8 +21,13 @@ import pytest
 from nsdyn.models.isolated.bearings import Bearing, Friction
 from nsdyn.models.isolated.deck import rigid_deck, simulate_plane
 from nsdyn.models.isolated.deck_scene import summary_table
+from nsdyn.models.isolated.defaults import EPS
 from nsdyn.models.isolated.pairs import PairSystem, from_deck, simulate_pairs
-from nsdyn.models.isolated.plane_result import TensionWarning, UpliftWarning
+from nsdyn.models.isolated.plane_result import (
+    PlaneIntegrationError,
+    TensionWarning,
+    UpliftWarning,
+)
 
 G = 9.81
 M = 1000.0
@@ -365,3 +370,41 @@ def test_deck_scene_reads_the_contact_key_and_prints_the_tension(tmp_path):
             ds.build_solver(cfg, "t.toml")
     cfg["solver"]["contact"] = "unilateral"  # a family of systems from matrices takes it
     assert ds.build_solver(cfg, "t.toml", unilateral=True)["contact"] == "unilateral"
+
+
+@pytest.mark.parametrize("law", ["arctan", "switch"])
+@pytest.mark.parametrize("gain", [0.97, 1.03])
+def test_bilateral_deck_past_the_friction_overturning_gain_is_an_impasse(law, gain):
+    # A deck on flat sliders (mu) at (+-b, +-c), no eccentricity, no ground motion, launched
+    # at x' = -1 m/s. Friction decelerates it at A > 0, whose overturning (S_X = -m h A)
+    # unloads the pair at X = +b; past the threshold A = g b / h (gain mu h / 2b > 1/2) that
+    # pair is tensile and carries no friction, while the pair at X = -b carries m g / 2 +
+    # m h A / (2 b). So m A = mu (m g / 2 + m h A / (2 b)): A = mu g / (2 (1 - gain)), gain =
+    # (h / 2b) mu, and the deck's effective mass m (1 - gain) is the inertia ratio of
+    # _kplane.inertia_ratio (twist and y do not enter). Below gain 1 the deck stops at t =
+    # 1 m/s / A with x' linear in t, checked to |x'| = 0.5 m/s: the switch law to the
+    # integrator's rtol 1e-6; the arctan law's friction is mu (1 - d), d <= 2 / (pi eps |v|),
+    # which lowers A by at most d / (1 - gain) of itself, so x' by at most 0.5 d / (1 - gain);
+    # above it the equations have no solution at the first evaluation (Painlevé's paradox)
+    # and the run must fail there, naming it, not run away (a 300 m tall deck on pendulums
+    # read displacements of 1e7 m before this check).
+    mu, b, c, m = 0.5, 1.0, 1.5, 1.0e4
+    h = gain * 2 * b / mu
+    pos = [(-b, -c), (b, -c), (b, c), (-b, c)]
+    d = rigid_deck(m, m, pos, Bearing(Friction(mu)), h=h, g=G)
+    t = np.arange(0.0, 0.5 + 0.005, 0.01)
+    rec = (0.0, 0.01, 0 * t, 0 * t, None)
+    y0 = [0.0, 0.0, 0.0, -1.0, 0.0, 0.0]
+    A = mu * G / (2 * (1 - gain))
+    if gain < 1:
+        t_eval = np.linspace(0.0, 0.5 / A, 11)
+        with pytest.warns(TensionWarning):
+            r = simulate_plane(d, rec, law=law, contact="bilateral", y0=y0, t_eval=t_eval)
+        assert r.tension["isolator"] in (1, 2)  # the pair at X = +b
+        tol = 1e-6 if law == "switch" else 0.5 * 2 / (math.pi * EPS * 0.5) / (1 - gain)
+        np.testing.assert_allclose(r.qd[:, 0], -1.0 + A * t_eval, rtol=0, atol=tol)
+        np.testing.assert_allclose(r.qd[:, 1:], 0.0, atol=1e-9)
+        return
+    with pytest.raises(PlaneIntegrationError, match="Painlevé") as e:
+        _quiet(simulate_plane, d, rec, law=law, contact="bilateral", y0=y0)
+    assert "at t = 0 s" in str(e.value)
