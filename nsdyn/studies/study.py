@@ -153,9 +153,17 @@ def _check_type(source: str, where: str, val, typ):
 
 
 def _known_fields(kind: str, base: dict) -> set[str]:
-    """Dotted fields a parameter may name: the base scene's own, plus the kind's schema."""
+    """Dotted fields a parameter may name: the base scene's own, plus the kind's schema (every
+    key ``nsdyn run`` reads in a table other than ``[scene]``, set in the base or not)."""
+    from nsdyn.models.scene_schema import schema_of
+
     known = {f"{t}.{k}" for t, vals in base.items() if isinstance(vals, dict) for k in vals}
     known |= set(CONTRACT_FIELDS)
+    try:
+        tables = schema_of(kind).fields()
+    except (ImportError, AttributeError):  # a kind without a declared schema: the base's keys
+        tables = {}
+    known |= {f"{t}.{k}" for t, keys in tables.items() if t != "scene" for k in keys}
     if kind == "isolated":
         from nsdyn.models.isolated.scene import _FIELDS
         from nsdyn.models.isolated.system import Isolation

@@ -186,3 +186,34 @@ def test_the_never_kept_warning_names_only_the_names_no_row_has():
     assert "'peak_corner_drfit';" in note and "peak_torsional_moment_Nm'" not in note.split(";")[0]
     assert "did you mean 'peak_corner_drift' for 'peak_corner_drfit'?" in note
     assert never_kept(SimpleNamespace(keep=keep[1:]), rows) == []
+
+
+UNSET_FIELDS = [  # a field each scene does not set, its valid values and one out of range
+    ("contact-seed002-A5.toml", "friction.C", [0.0, 5.0], -1.0),
+    ("rocking-seed003-column.toml", "block.r", [0.9, 0.95], 1.5),
+    ("rocking-seed003-column.toml", "solver.tol", [1e-8, 1e-9], 2.0),
+    ("cylinder-uplift.toml", "cylinder.I_t", [1.5, 2.0], -1.0),
+]
+
+
+@pytest.mark.parametrize(("scene", "field", "values", "bad"), UNSET_FIELDS)
+def test_a_study_varies_a_field_its_scene_does_not_set(tmp_path, scene, field, values, bad):
+    # any key nsdyn run reads (the kind's schema) may be a parameter, set in the base scene or
+    # not; the rocking, contact and cylinder kinds knew only the keys their base file set.
+    # Each task's scene carries the value, and a value out of the key's declared range is
+    # refused by the scene's own reader, naming the task and the field (it is read).
+    from nsdyn.models.scenefile import SceneError
+    from nsdyn.studies.study import check_tasks
+    from nsdyn.studies.tasks import expand
+
+    path = EXAMPLES / "scenes" / scene
+    table, key = field.split(".")
+    assert key not in __import__("tomllib").loads(path.read_text()).get(table, {})
+    study = tmp_path / "s.toml"
+    study.write_text(f'[study]\nscene = "{path}"\n[parameters]\n"{field}" = {values}\n')
+    s = load_study(study)
+    check_tasks(s)
+    assert [t.cfg[table][key] for t in expand(s)] == values
+    study.write_text(f'[study]\nscene = "{path}"\n[parameters]\n"{field}" = [{bad}]\n')
+    with pytest.raises(SceneError, match=rf"s\.toml: .*{key}"):
+        check_tasks(load_study(study))
