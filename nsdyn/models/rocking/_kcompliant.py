@@ -17,7 +17,9 @@ spring that reappeared stretched would create energy). The body's equations::
     I phi'' = sum (r_j x F_j),  r_j = c_j - (x, y)
 
 integrated by adaptive Dormand–Prince 5(4) (stops at excitation breakpoints; error control
-resolves the contact transitions), output by cubic Hermite interpolation within each step.
+resolves the contact transitions), output by cubic Hermite interpolation within each step. The
+run ends where |theta| reaches pi/2 (the block on its side, overturned; the corner supports
+alone would let it tumble on through the ground), located on the same interpolant.
 """
 
 import math
@@ -49,7 +51,9 @@ J_NSTEP = 0  # accepted steps
 J_NREJ = 1  # rejected steps
 J_NOUT = 2  # output samples filled
 J_TFAIL = 3  # failure time
-N_J = 4
+J_TOVER = 4  # overturning time: |theta| reaches THETA_FALL (NaN: it did not)
+N_J = 5
+THETA_FALL = math.pi / 2  # |theta| at which the block lies on its side: the run ends there
 
 ST_OK = 0  # finished
 ST_UNDERFLOW = 2  # step-size underflow
@@ -97,9 +101,25 @@ def rhs(t, left, y, q, gk, gp, tab_h, tab_v, dy):
 
 
 @njit(cache=True, error_model="numpy")
+def _fall_fraction(rc):
+    """The fraction s of a step at which |phi| of its cubic interpolant ``rc`` reaches
+    THETA_FALL (below it at s = 0, at or above it at s = 1), by bisection to 1e-12."""
+    lo = 0.0
+    hi = 1.0
+    for _ in range(45):
+        mid = 0.5 * (lo + hi)
+        if abs(dp.dense(rc, 2, mid)) >= THETA_FALL:
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+@njit(cache=True, error_model="numpy")
 def integrate(q, atol, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, info):
     """Integrate from ``y0`` (8,) at ``t0`` to ``t_end``; ``out`` (n_out, 8) on the grid
-    ``t0 + k out_dt``; returns an ST_* status, counters in ``info``."""
+    ``t0 + k out_dt``; returns an ST_* status, counters in ``info`` (``info[J_TOVER]``: the
+    time |theta| reached THETA_FALL, where the run ended; NaN if it did not)."""
     n = 8
     k = np.zeros((7, n))
     y = y0.copy()
@@ -121,6 +141,7 @@ def integrate(q, atol, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, info):
     fsal = False
     status = ST_OK
     info[J_TFAIL] = np.nan
+    info[J_TOVER] = np.nan
     while k_out < n_out and t0 + k_out * out_dt <= t:
         copy_vec(out[k_out, :], y)
         k_out += 1
@@ -150,14 +171,22 @@ def integrate(q, atol, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, info):
                 break
             continue
         n_step += 1
-        if k_out < n_out and t0 + k_out * out_dt <= t + hh:
+        s_end = 1.0
+        if abs(y1[2]) >= THETA_FALL:  # overturned within the step: end there
+            dp.dense_coefficients(y, y1, k, hh, rc)
+            rc[4, :] = 0.0
+            s_end = _fall_fraction(rc)
+            info[J_TOVER] = t + s_end * hh
+        if k_out < n_out and t0 + k_out * out_dt <= t + s_end * hh:
             dp.dense_coefficients(y, y1, k, hh, rc)
             rc[4, :] = 0.0  # cubic Hermite output
-            while k_out < n_out and t0 + k_out * out_dt <= t + hh:
+            while k_out < n_out and t0 + k_out * out_dt <= t + s_end * hh:
                 s = (t0 + k_out * out_dt - t) / hh
                 for i in range(n):
                     out[k_out, i] = dp.dense(rc, i, s)
                 k_out += 1
+        if info[J_TOVER] == info[J_TOVER]:
+            break
         t += hh
         for i in range(n):
             y[i] = y1[i]

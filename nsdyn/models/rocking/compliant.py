@@ -105,13 +105,15 @@ class CompliantBlock(HalfSizes):
 
 @dataclass(repr=False)
 class CompliantResult(Tabular):
-    """Time history ``t`` (n,), ``y`` (n, 8) = [x, y, phi, x', y', phi', e_0, e_1]; theta = -phi."""
+    """Time history ``t`` (n,), ``y`` (n, 8) = [x, y, phi, x', y', phi', e_0, e_1]; theta = -phi.
+    ``t_overturn``: the time |theta| reached pi/2, where the run ended (NaN: it did not)."""
 
     t: np.ndarray
     y: np.ndarray
     alpha: float
     n_steps: int
     wall_s: float
+    t_overturn: float = math.nan
 
     @property
     def theta(self) -> np.ndarray:
@@ -141,7 +143,8 @@ class CompliantResult(Tabular):
             "alpha_rad": self.alpha,
             "max_theta_rad": float(np.max(np.abs(th))),
             "max_theta_over_alpha": float(np.max(np.abs(th)) / self.alpha),
-            "overturned": bool(np.max(np.abs(th)) >= math.pi / 2),
+            "overturned": bool(math.isfinite(self.t_overturn)),
+            "t_overturn_s": self.t_overturn if math.isfinite(self.t_overturn) else None,
             "n_steps": self.n_steps,
             "wall_s": self.wall_s,
         }
@@ -181,7 +184,8 @@ def simulate_compliant(
 ) -> CompliantResult:
     """Response of the block on corner supports; starts at rest on the ground (theta0 = 0,
     static settlement) or tilted by ``theta0`` [rad] (or ``theta0_over_alpha`` times alpha) on
-    one corner that carries the weight."""
+    one corner that carries the weight. The run ends early where the block overturns (|theta|
+    reaches pi/2: ``result.t_overturn``)."""
     if not isinstance(model, CompliantBlock):
         raise TypeError(f"model: expected a CompliantBlock (nsdyn.CompliantBlock.from_frequency("
                         f"width=..., height=..., mass=..., omega_v=..., zeta=...)), got "
@@ -242,7 +246,7 @@ def simulate_compliant(
         raise NumericalFailure(f"compliant block failed at t = {info[kc.J_TFAIL]:.6g} s: {why}")
     n = int(info[kc.J_NOUT])
     return CompliantResult(dt_out * np.arange(n), out[:n].copy(), model.alpha,
-                           int(info[kc.J_NSTEP]), wall)  # fmt: skip
+                           int(info[kc.J_NSTEP]), wall, float(info[kc.J_TOVER]))  # fmt: skip
 
 
 def effective_restitution(model: CompliantBlock, theta0_over_alpha: float = 0.5,

@@ -90,3 +90,33 @@ def test_a_run_too_long_for_its_contact_or_outputs_is_refused(monkeypatch):
     for kw in ({"theta0": 100.0}, {"theta0_over_alpha": 10.0}):  # 10 alpha = 2.45 rad
         with pytest.raises(ValueError, match=r"lays the body on its side or beyond"):
             simulate_rocking(block, None, t_end=1.0, **kw)
+
+
+def test_compliant_block_past_its_balance_overturns_and_the_run_ends_there():
+    """Released at theta0 = 1.2 alpha (past the balance point alpha) on stiff supports the
+    block falls about its corner, theta'^2 = 2 p^2 (cos(theta0 - alpha) - cos(theta -
+    alpha)) (energy; p^2 = 3 g / 4R), and reaches pi/2 at T = integral of d theta / theta'
+    from theta0 to pi/2 (theta = theta0 + u^2 removes the endpoint singularity); to within
+    the contact time scale 10 / omega_v, as the stiff-ground history test. The run ends
+    there: no output past pi/2 (the supports alone let a block tumble on through the ground,
+    to 4.3 rad), overturned with its time in the summary."""
+    from scipy.integrate import quad
+
+    from nsdyn.models.rocking.compliant import simulate_compliant
+
+    B, H = 1.0, 2.0
+    rigid = RockingBlock(B=B, H=H)
+    al, p = rigid.alpha, rigid.p
+    blk = CompliantBlock.from_frequency(B=B, H=H, mass=1000.0, omega_v=1000 * p, zeta=2.0)
+    th0 = 1.2 * al
+    u_end = math.sqrt(math.pi / 2 - th0)
+    T, _ = quad(lambda u: 2 * u / math.sqrt(2 * p**2 * (math.cos(th0 - al)
+                                                        - math.cos(th0 + u * u - al))),
+                0.0, u_end, epsabs=1e-12)  # fmt: skip
+    r = simulate_compliant(blk, t_end=3.0 * T, theta0=th0, dt_out=1e-3)
+    assert abs(r.t_overturn - T) < 10.0 / blk.omega_v
+    assert r.t[-1] <= r.t_overturn and np.abs(r.theta).max() < math.pi / 2
+    s = r.summary()
+    assert s["overturned"] and s["t_overturn_s"] == r.t_overturn
+    still = simulate_compliant(blk, t_end=1.0, theta0=0.5 * al).summary()
+    assert not still["overturned"] and still["t_overturn_s"] is None
