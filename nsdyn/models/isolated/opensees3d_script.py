@@ -247,7 +247,9 @@ def run(t_end=None, out=None):
     for k, a in enumerate(d["accel"]):
         if a is None:
             continue
-        ops.timeSeries("Path", 10 + k, "-dt", d["record_dt"], "-values", *a)
+        # the last sample once more: a Path series is zero past its end, where the last
+        # step's time lands by round-off
+        ops.timeSeries("Path", 10 + k, "-dt", d["record_dt"], "-values", *a, a[-1])
         ops.pattern("UniformExcitation", 10 + k, k + 1, "-accel", 10 + k)
     _solver(ops)
     ops.test("NormDispIncr", d["newton_tol"], 30)

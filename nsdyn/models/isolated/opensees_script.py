@@ -193,7 +193,9 @@ def run(t_end=None):
     for tag, samples, loads in ((2, hor, d["inertia_hor"]), (3, ver, d["inertia_ver"])):
         if samples is None:
             continue
-        ops.timeSeries("Path", tag, "-dt", d["record_dt"], "-values", *samples)
+        # the last sample once more: a Path series is zero past its end, and the last step's
+        # time lands there by round-off (its load then dropped to zero at the record's end)
+        ops.timeSeries("Path", tag, "-dt", d["record_dt"], "-values", *samples, samples[-1])
         ops.pattern("Plain", tag, tag)
         for k, (fx, fy, mz) in enumerate(loads):
             if fx or fy or mz:
