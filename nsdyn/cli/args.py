@@ -9,7 +9,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from nsdyn._checks import MAX_POINTS
+from nsdyn._checks import MAX_POINTS, RTOL_MIN
 
 EXIT_USER_ERROR = 2  # bad input the user can fix (same as argparse usage errors)
 EXIT_NUMERICS = 3  # the numerics failed (step underflow, Newton divergence, uplift, ...)
@@ -36,23 +36,34 @@ def positive_finite(s: str) -> float:
     return v
 
 
+REFINE_MAX = 1000.0  # the default period's error (~0.3 %) / K^2 reaches the stages' Newton
+# tolerance (discretisation.STAGE_RTOL = 1e-9) at K ~ 1000: more steps buy round-off only
+
+
 def refinement(s: str) -> float:
-    """A refinement factor of a default discretisation: a finite number of 1 or more (fewer
-    steps than the default do not resolve a period: at 0.01, 2 steps per period converged to
-    a wrong orbit)."""
+    """A refinement factor of a default discretisation: a finite number from 1 (fewer steps
+    than the default do not resolve a period: at 0.01, 2 steps per period converged to a wrong
+    orbit) to REFINE_MAX (past it a compiled period runs for minutes between two checks for
+    Ctrl-C, for an error below the stages' tolerance)."""
     v = positive_finite(s)
-    if v < 1.0:
+    if not 1.0 <= v <= REFINE_MAX:
         raise argparse.ArgumentTypeError(
-            f"expected a factor of 1 or more on the default steps per period, got {s!r}"
+            f"expected a factor from 1 to {REFINE_MAX:g} on the default steps per period "
+            f"(the error falls as 1/K^2 from ~0.3 %: K = {REFINE_MAX:g} reaches the stages' "
+            f"Newton tolerance 1e-9), got {s!r}"
         )
     return v
 
 
 def fraction(s: str) -> float:
-    """A number strictly between 0 and 1 (a relative width or tolerance)."""
+    """A relative width or tolerance: RTOL_MIN <= v < 1 (below 100x double precision's
+    epsilon a bisection's width stops shrinking and the search never ends)."""
     v = positive_finite(s)
-    if not v < 1.0:
-        raise argparse.ArgumentTypeError(f"expected a number between 0 and 1, got {s!r}")
+    if not RTOL_MIN <= v < 1.0:
+        raise argparse.ArgumentTypeError(
+            f"expected a relative width from {RTOL_MIN:.2g} (100x double precision's "
+            f"epsilon) to below 1, got {s!r}"
+        )
     return v
 
 

@@ -74,8 +74,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         type=refinement,
         default=1.0,
         metavar="K",
-        help="K >= 1 x the default steps per period (200 at least, one per 0.02 s); error ~ "
-        "1/K^2 with sdirk2 (default 1)",
+        help="K x the default steps per period (200 at least, one per 0.02 s), 1 <= K <= "
+        "1000; error ~ 1/K^2 with sdirk2 (default 1)",
     )
     p.add_argument(
         "--friction",
@@ -269,7 +269,7 @@ def run(args: argparse.Namespace) -> int:
         return _holes(report["amplitudes"], csv_path)
     print(
         f"model {report['model']}: {settings.points} frequencies "
-        f"{settings.fmin:g}-{settings.fmax:g} Hz, {settings.continuation} continuation"
+        f"{settings.fmin:.10g}-{settings.fmax:.10g} Hz, {settings.continuation} continuation"
         + (" (the curve's points: its own steps)" if settings.continuation == "arclength" else "")
     )
     unit = "[N]   " if "force" in cfg else "[m/s²]"  # a harmonic force's amplitude, or A_hor
@@ -306,11 +306,29 @@ def run(args: argparse.Namespace) -> int:
                 print(
                     f"   A = {s['A']:g}: {s['unilateral_points']} points with lift-off and landing"
                 )
+    for s in report["amplitudes"]:
+        for line in gap_lines(s):
+            print(f"   A = {s['A']:g}: {line}")
     print(f"csv:    {csv_path}")
     if "figure" in report:
         print(f"figure: {report['figure']}")
     sys.stdout.flush()
     return _holes(report["amplitudes"], csv_path)
+
+
+def gap_lines(s: dict) -> list[str]:
+    """Where a curve without the stepped-sweep fallback has no points, and why."""
+    out = []
+    stop = s.get("arclength_stop")
+    if stop:
+        out.append(f"arclength stopped at f = {stop['f_hz']:.4g} Hz ({stop['reason']}); the "
+                   "band above it continued sequentially")  # fmt: skip
+    sk = s.get("skipped_hz") or []
+    if sk:
+        shown = ", ".join(f"{f:.4g}" for f in sk[:8]) + (", ..." if len(sk) > 8 else "")
+        out.append(f"{len(sk)} frequencies without a periodic orbit skipped (--no-fallback: "
+                   f"no stepped sweep): f = {shown} Hz")  # fmt: skip
+    return out
 
 
 def run_plane(args: argparse.Namespace, cfg: dict) -> int:

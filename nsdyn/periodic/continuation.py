@@ -162,6 +162,7 @@ def continue_sequential(
     pts: list[OrbitPoint] = list(start or [])
     t0 = time.perf_counter()
     held = None
+    skipped = []  # frequencies without a point (no fallback, or none found)
     for f in freqs:
         if pts and f <= pts[-1].f * (1 + 1e-12):
             continue
@@ -177,11 +178,13 @@ def continue_sequential(
         tp = time.perf_counter()
         pt, res = _solve_point(problem, f, guesses, disc, tol, max_iter, fallback)
         if pt is None:
+            skipped.append(float(f))
             continue
         held = None if res is None else res.frozen
         pt.quantities["wall_s"] = time.perf_counter() - tp
         _append(pts, pt, keep_orbits, progress, len(freqs))
-    info = {"continuation": "sequential", "wall_s": time.perf_counter() - t0}
+    info = {"continuation": "sequential", "wall_s": time.perf_counter() - t0,
+            "skipped_hz": skipped}  # fmt: skip
     return Curve(problem.amplitude, pts, detect_bifurcations(pts), info)
 
 
@@ -287,8 +290,11 @@ def continue_arclength(
     curve is monotone in f (the isolated frame's orbits vary a lot with f) while folds, where
     dp/ds -> 0, are still passed. The step in log f is
     capped at ``log(fmax/fmin) / (points - 1)`` (at least ``points`` points on the curve);
-    it grows after easy corrector solves and halves after failures; below ``ARC_DS_MIN`` the
-    next frequency is taken by the stepped sweep and continuation restarts from it.
+    it grows after easy corrector solves and halves after failures; below ``ARC_DS_MIN`` (or a
+    thousandth of the cap, in a band narrower than that) the next frequency is taken by the
+    stepped sweep and continuation restarts from it. Without ``fallback`` the rest of the band
+    is continued sequentially on the same frequency step (frequencies without an orbit
+    skipped, ``info["skipped_hz"]``), the place and reason kept in ``info["arclength_stop"]``.
     """
     disc = disc or Discretisation()
     fmin, fmax, points = check_range(fmin, fmax, points)
@@ -317,6 +323,19 @@ def continue_arclength(
     steps = 0
     need_restart = True  # tangent must be computed from scratch at the last point
     J_last = None
+    info = {"continuation": "arclength", "skipped_hz": []}
+
+    def sequential_rest(f_stop: float, why: str) -> list:
+        """Without the fallback: the band above f_stop on the frequency step dp_max."""
+        info["arclength_stop"] = {"f_hz": f_stop, "reason": why}
+        p0 = math.log(f_stop)
+        rest = np.append(np.exp(np.arange(p0 + dp_max, pmax - 0.5 * dp_max, dp_max)), fmax)
+        seq = continue_sequential(problem, rest, disc=disc, tol=tol, max_iter=max_iter,
+                                  fallback=False, progress=progress, start=pts,
+                                  keep_orbits=keep_orbits)  # fmt: skip
+        info["skipped_hz"] = seq.info["skipped_hz"]
+        return list(seq.points)
+
     while steps < max_steps:
         steps += 1
         last = pts[-1]
@@ -338,6 +357,7 @@ def continue_arclength(
                     problem, f_next, [last.x0], disc, tol, max_iter, fallback, "arclength"
                 )
                 if pt is None:
+                    pts = sequential_rest(last.f, f"no orbit at the restart: {res0.message}")
                     break
                 pt.s = s_acc = s_acc + abs(math.log(f_next) - p_last)
                 add(pt)
@@ -351,10 +371,11 @@ def continue_arclength(
         # step size: cap the change of log f
         ds_cap = dp_max / max(abs(tan[d]), 1e-12)
         ds = min(ds, ds_cap, ARC_DS_MAX)
+        ds_min = min(ARC_DS_MIN, 1e-3 * ds_cap)  # (a band narrower than ARC_DS_MIN: its own)
         tp = time.perf_counter()
         ok, msg, its = False, "", 0
         y0 = np.concatenate([xl, [p_last]])
-        while ds >= ARC_DS_MIN:
+        while ds >= ds_min:
             y_pred = y0 + ds * tan
             if y_pred[d] > pmax and tan[d] > 0:
                 # last step: land on fmax exactly (natural-parameter corrector there)
@@ -390,8 +411,9 @@ def continue_arclength(
         if not ok:
             # fallback: stepped sweep to the next frequency, then restart
             f_next = min(math.exp(p_last + dp_max), fmax)
-            why = f"arclength corrector failed down to ds = {ARC_DS_MIN:.0e}: {msg}"
-            if not fallback:
+            why = f"arclength corrector failed down to ds = {ds_min:.1e}: {msg}"
+            if not fallback:  # no sweep: the rest of the band sequentially, gaps skipped
+                pts = sequential_rest(last.f, why)
                 break
             sw = steady_state_sweep(problem, f_next, last.x0, disc=disc)
             pt = _point_from_sweep(problem, sw, why, disc)
@@ -410,7 +432,7 @@ def continue_arclength(
         J_last = (Jx_n, Jp_n, y[:d].copy(), res.frozen)
         t_prev = tan_new
         ds = ds * ARC_GROW if its <= ARC_GOOD else ds
-    info = {"continuation": "arclength", "wall_s": time.perf_counter() - t0, "steps": steps}
+    info.update(wall_s=time.perf_counter() - t0, steps=steps)
     return Curve(problem.amplitude, pts, detect_bifurcations(pts), info)
 
 

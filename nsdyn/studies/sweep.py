@@ -261,6 +261,8 @@ def amplitude_job(
         "wall_above_0.1Hz_s": float(np.nansum(walls[new & (fs >= 0.1)])),
         "frame": system.frame,
         "f_max": system.f_max,
+        "skipped_hz": list(curve.info.get("skipped_hz", [])),  # (this run's; not resumed ones)
+        "arclength_stop": curve.info.get("arclength_stop"),
     }
 
 
@@ -421,4 +423,6 @@ def summarise(r: dict) -> dict:
         "wall_s": r["wall_s"],
         "wall_below_0.1Hz_s": r["wall_below_0.1Hz_s"],
         "wall_above_0.1Hz_s": r["wall_above_0.1Hz_s"],
+        "skipped_hz": r.get("skipped_hz", []),
+        "arclength_stop": r.get("arclength_stop"),
     }

@@ -74,7 +74,13 @@ CLI_ROWS = [
     (
         "sweep-steps-factor-below-one",
         ["sweep", "--steps-factor", "0.01"],
-        r"--steps-factor.*a factor of 1 or more",
+        r"--steps-factor.*a factor from 1 to 1000",
+    ),
+    (  # the error ~0.3 %/K^2 reaches the stages' Newton tolerance 1e-9 at K = 1000; 1e9
+        # steps per period ran on for minutes, deaf to Ctrl-C inside a compiled period
+        "sweep-steps-factor-huge",
+        ["sweep", "--steps-factor", "1e9"],
+        r"--steps-factor.*a factor from 1 to 1000",
     ),
     ("sweep-tableau", ["sweep", "--tableau", "rk4"], r"--tableau.*sdirk2"),
     ("sweep-contact", ["sweep", "--contact", "sticky"], r"--contact.*'bilateral'"),
@@ -109,6 +115,11 @@ CLI_ROWS = [
     ("spectrum-workers-zero", ["spectrum", CASK, "--workers", "0"], r"--workers.*positive integer"),
     ("spectrum-not-rocking", ["spectrum", SHEAR], r"scene\.kind.*rocking"),
     ("spectrum-shape", ["spectrum", CASK, "--shape", "sinus"], r"--shape.*'sine'"),
+    (  # a bisection's width below round-off stops shrinking: the search never ended
+        "spectrum-rtol-below-round-off",
+        ["spectrum", CASK, "--rtol", "1e-17"],
+        r"--rtol.*from 2\.2e-14",
+    ),
     # no command
     ("no-command", [], r"COMMAND|required"),
     ("unknown-command", ["runn"], r"'run'"),

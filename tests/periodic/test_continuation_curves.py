@@ -185,3 +185,58 @@ def test_amplitudes_that_differ_have_checkpoints_of_their_own(tmp_path):
         a, b = mod.checkpoint_path(tmp_path, 0.5), mod.checkpoint_path(tmp_path, 0.5000001)
         assert a != b and a.name.endswith("A0.5.ckpt.json")
         assert mod.checkpoint_path(tmp_path, 2.0).name.endswith("A2.ckpt.json")
+
+
+def _duffing():
+    w0, zeta, gamma, F = 1.0, 0.02, 0.3, 0.045
+    return pr.duffing_problem(zeta, w0, gamma, F), pr.Discretisation(n_min=128, dt_max=1e9)
+
+
+def test_arclength_on_a_band_narrower_than_its_smallest_step_still_shoots():
+    # The step in log f is capped at the band / (points - 1): over a relative band of 1e-7 the
+    # cap is below the corrector's absolute floor (1e-5), so no step was tried and every point
+    # came from the stepped sweep with an empty reason. The floor now scales with the cap:
+    # every point is an arclength (shooting) point and the curve ends on fmax.
+    prob, disc = _duffing()
+    f0 = 1.1 / (2 * np.pi)
+    c = pr.continue_arclength(prob, f0, f0 * (1 + 1e-7), points=5, disc=disc)
+    assert c.points[-1].f == pytest.approx(f0 * (1 + 1e-7), rel=1e-15)
+    assert all(p.method in ("shooting", "arclength") for p in c.points)
+    assert "arclength_stop" not in c.info and c.info["skipped_hz"] == []
+
+
+@pytest.mark.parametrize("continuation", ["sequential", "arclength"])
+def test_without_the_fallback_a_curve_walks_the_whole_band_and_names_its_gaps(
+    continuation, monkeypatch
+):
+    # Shooting allowed no Newton iteration (max_iter = 0, and no corrector iteration for
+    # arclength) after a first converged point, and no stepped sweep. The arclength curve used
+    # to stop at its first failure in silence (the sequential one skipped the points,
+    # unlisted). Both must walk the band to fmax on its frequency step dp = log(fmax / fmin) /
+    # (points - 1) from the last point found and list every frequency without an orbit, the
+    # last fmax; arclength also says where it stopped and why (an arclength step small enough
+    # for its predictor alone may still land).
+    prob, disc = _duffing()
+    fmin, fmax, points = 0.9 / (2 * np.pi), 1.0 / (2 * np.pi), 5
+    dp = math.log(fmax / fmin) / (points - 1)
+    first = pr.continue_sequential(prob, [fmin], disc=disc).points
+    kw = dict(disc=disc, max_iter=0, fallback=False, start=first)
+    if continuation == "sequential":
+        c = pr.continue_sequential(prob, pr.log_frequencies(fmin, fmax, points), **kw)
+        assert len(c.points) == 1
+    else:
+        monkeypatch.setattr(pr.continuation, "ARC_MAXIT", 0)
+        c = pr.continue_arclength(prob, fmin, fmax, points=points, **kw)
+        stop = c.info["arclength_stop"]
+        assert stop["f_hz"] == c.points[-1].f and "no convergence" in stop["reason"]
+    sk = np.array(c.info["skipped_hz"])
+    assert sk.size >= 1 and sk[-1] == pytest.approx(fmax, rel=1e-12)
+    steps = np.diff(np.log(np.r_[c.points[-1].f, sk]))
+    np.testing.assert_allclose(steps[:-1], dp, rtol=1e-9)
+    assert 0 < steps[-1] <= 1.5 * dp
+    from nsdyn.cli.sweep import gap_lines
+
+    lines = gap_lines({"skipped_hz": list(sk), "arclength_stop": c.info.get("arclength_stop")})
+    assert f"{sk.size} frequencies without a periodic orbit skipped" in lines[-1]
+    assert f"{fmax:.4g}" in lines[-1]
+    assert (continuation == "arclength") == lines[0].startswith("arclength stopped at f = ")

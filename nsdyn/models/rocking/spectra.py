@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._checks import RTOL_MIN
 from nsdyn.ground.pulses import Pulse
 from nsdyn.models.rocking.block import TOL, simulate_rocking
 
@@ -205,7 +206,8 @@ def overturning_spectrum(
     checks = (
         ("omega_ratios", x.size > 0 and bool(np.all(np.isfinite(x) & (x > 0))),
          "positive, finite frequency ratios omega_p / p"),
-        ("rtol", 0.0 < rtol < 1.0, "a relative width 0 < rtol < 1"),
+        ("rtol", RTOL_MIN <= rtol < 1.0, f"a relative width {RTOL_MIN:.2g} <= rtol < 1 (a "
+         "bisection narrower than round-off never ends)"),
         ("scan", np.isfinite(scan) and scan > 1.0, "a growth factor > 1 of the bracketing scan"),
         ("a_max", np.isfinite(a_max) and a_max > 0.0, "a positive largest amplitude ratio"),
         ("tol", np.isfinite(tol) and tol > 0.0, "a positive integration tolerance"),

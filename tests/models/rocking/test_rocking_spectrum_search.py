@@ -72,3 +72,11 @@ def test_spectrum_command_reports_the_status(tmp_path, capsys):
     assert rep["p_per_s"] == pytest.approx(math.sqrt(3 * 9.81 / (4 * math.hypot(0.15, 0.6))))
     header = Path(rep["csv"]).read_text().splitlines()[0]
     assert header.endswith(",status")
+
+
+def test_a_bisection_width_below_round_off_is_refused():
+    # while a_hi - a_lo > rtol a_hi never ends once the width stops shrinking: at rtol 1e-17
+    # (below double precision's epsilon) the spectrum ran on; the floor is 100 x epsilon
+
+    with pytest.raises(ValueError, match=r"rtol: expected a relative width 2\.2e-14 <= rtol"):
+        overturning_spectrum(BLOCK, [1.0], rtol=1e-17)
