@@ -185,7 +185,16 @@ def _interrupt_line(args: argparse.Namespace) -> str:
         if kind != "isolated":  # (only an isolated frame's run keeps one)
             return f"{done}; a {kind} scene's run keeps no checkpoint, a rerun starts over"
         return f"{done}; it stopped before its first checkpoint, a rerun starts over"
+    if args.command in WRITES_AT_END:
+        out = getattr(args, "out", None) or "the output folder"
+        return (f"nsdyn {args.command}: interrupted before writing its results: it wrote no "
+                f"file, and any in {out} are an earlier run's; this command keeps no "
+                "checkpoint, a rerun starts over")  # fmt: skip
     return f"{done}; this command keeps no checkpoint, a rerun starts over"
+
+
+# commands that write all their files once their work is done (an interrupt leaves none)
+WRITES_AT_END = ("uplift", "spectrum", "modes", "export")
 
 
 def _scene_kind_of(args: argparse.Namespace) -> str:

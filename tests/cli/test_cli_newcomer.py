@@ -193,6 +193,28 @@ def test_the_interrupt_line_says_how_each_command_goes_on(tmp_path):
     assert "a deck scene's run keeps no checkpoint, a rerun starts over" in line
 
 
+def test_an_interrupted_uplift_says_the_files_in_its_folder_are_not_its_own(
+    tmp_path, monkeypatch, capsys
+):
+    """An uplift search writes its table and figure once done; interrupted, it wrote none, and
+    an earlier run's uplift.json in the same folder (a different band) stays as it was. The
+    line said 'files on disk are complete', read as this run's results."""
+    import nsdyn.cli.sweep as cs
+    import nsdyn.periodic.uplift as pu
+
+    def stop(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cs, "prepare_kernels", lambda *a: 0.0)
+    monkeypatch.setattr(pu, "uplift_boundary", stop)
+    earlier = tmp_path / "uplift.json"
+    earlier.write_text('{"earlier": true}\n')
+    assert main(["uplift", "--points", "2", "--out", str(tmp_path), "--no-figures"]) == 130
+    assert earlier.read_text() == '{"earlier": true}\n'
+    err = capsys.readouterr().err
+    assert f"it wrote no file, and any in {tmp_path} are an earlier run's" in err
+
+
 def test_an_error_left_by_a_swallowed_interrupt_is_an_interrupt(monkeypatch, capsys):
     """numba's compiler can swallow Ctrl-C in a callback and fail later with an error of its
     own ('no compiled object yet'): after a signal, the command reports the interrupt."""
