@@ -195,6 +195,7 @@ def run(args: argparse.Namespace) -> int:
                 f"{args.scene}: scene.kind: sweeps take isolated, deck and "
                 f"building3d scenes, got {kind!r}",
             )
+    given = (args.fmin is not None, args.fmax is not None)
     args.fmin = 0.01 if args.fmin is None else args.fmin
     args.fmax = 10.0 if args.fmax is None else args.fmax
     args.points = 150 if args.points is None else args.points
@@ -216,7 +217,7 @@ def run(args: argparse.Namespace) -> int:
     if args.friction:  # the flag wins over the scene's law (its eps and the rest kept)
         cfg.setdefault("isolation", {})["law"] = args.friction
     if not args.fmax > args.fmin:
-        return fail(args, band_message("sweep", args.fmin, args.fmax))
+        return fail(args, band_message("sweep", args.fmin, args.fmax, given))
     settings = SweepSettings(
         args.fmin,
         args.fmax,
@@ -371,7 +372,9 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     fmin = sw.get("f_min", lo) if args.fmin is None else args.fmin
     fmax = sw.get("f_max", hi) if args.fmax is None else args.fmax
     if not fmax > fmin:
-        return fail(args, band_message("sweep", fmin, fmax))
+        return fail(
+            args, band_message("sweep", fmin, fmax, (args.fmin is not None, args.fmax is not None))
+        )
     from nsdyn.periodic.plane import orbit_shape
 
     amplitudes = args.amplitudes or sw.get("amplitudes") or [orbit_shape(sc["orbit"])[0]]

@@ -36,8 +36,8 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "scene", nargs="?", default=None, help="scene TOML (default: the bundled default scene)"
     )
-    p.add_argument("--fmin", type=_positive, default=FMIN, metavar="HZ", help=f"default {FMIN}")
-    p.add_argument("--fmax", type=_positive, default=FMAX, metavar="HZ", help=f"default {FMAX}")
+    p.add_argument("--fmin", type=_positive, default=None, metavar="HZ", help=f"default {FMIN}")
+    p.add_argument("--fmax", type=_positive, default=None, metavar="HZ", help=f"default {FMAX}")
     p.add_argument(
         "--points", type=_count, default=POINTS, help=f"log-spaced frequencies (default {POINTS})"
     )
@@ -70,6 +70,9 @@ def run(args: argparse.Namespace) -> int:
     from nsdyn.periodic import log_frequencies
     from nsdyn.periodic.uplift import A_LO, uplift_boundary
 
+    given = (args.fmin is not None, args.fmax is not None)
+    args.fmin = FMIN if args.fmin is None else args.fmin
+    args.fmax = FMAX if args.fmax is None else args.fmax
     overrides = {"scene": {"fidelity": args.fidelity}} if args.fidelity else None
     try:
         if args.scene is not None:
@@ -91,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
     except SceneError as e:
         return fail(args, e)
     if not args.fmax > args.fmin:
-        return fail(args, band_message("uplift", args.fmin, args.fmax))
+        return fail(args, band_message("uplift", args.fmin, args.fmax, given))
     if system.n_contacts == 0:
         return fail(
             args,

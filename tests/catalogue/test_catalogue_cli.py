@@ -68,6 +68,16 @@ CLI_ROWS = [
     ("sweep-fmax-inf", ["sweep", "--fmax", "inf"], r"--fmax.*finite"),
     ("sweep-fmin-ge-fmax", ["sweep", "--fmin", "5", "--fmax", "1"], r"--fmax.*--fmin"),
     ("sweep-fmin-eq-fmax", ["sweep", "--fmin", "2", "--fmax", "2"], r"--fmax.*--fmin"),
+    (  # --fmax not given: the error named it, as if the user had typed 10
+        "sweep-fmin-above-default-fmax",
+        ["sweep", "--fmin", "20"],
+        r"--fmin: expected a frequency below 10 Hz \(the default top of the band",
+    ),
+    (
+        "uplift-fmax-below-default-fmin",
+        ["uplift", "--fmax", "0.001"],
+        r"--fmax: expected a frequency above 0\.01 Hz \(the default bottom of the band\)",
+    ),
     ("sweep-amplitudes-negative", ["sweep", "--amplitudes", "1,-2"], r"--amplitudes.*positive"),
     ("sweep-amplitudes-text", ["sweep", "--amplitudes", "1,x"], r"--amplitudes.*numbers"),
     ("sweep-steps-factor-zero", ["sweep", "--steps-factor", "0"], r"--steps-factor.*positive"),
