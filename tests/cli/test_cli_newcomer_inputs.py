@@ -473,7 +473,36 @@ def test_run_record_replaces_a_rocking_pulse(tmp_path, capsys):
     argv = ["run", str(scene), "--record", "synthetic-wn-40s", "--t-end", "1", "--json",
             "--no-figures", "--out", str(tmp_path)]  # fmt: skip
     assert main(argv) == 0
-    assert json.loads(capsys.readouterr().out)["motion"] == "synthetic-wn-40s"
+    assert json.loads(capsys.readouterr().out)["motion"].startswith("synthetic-wn-40s, PGA")
+
+
+def test_the_summary_says_the_ground_acceleration_the_run_felt(tmp_path, capsys):
+    # --pga replaces a pulse's amplitude (the scene's name still says 0.40 g): the summary
+    # records the peak the run felt, exactly the flag's value; a contact run's npz names its
+    # modes (mode k is mode_names[k], the results' own table)
+    import numpy as np
+
+    from nsdyn.models.contact.results import MODE_NAMES
+
+    scenes = Path(__file__).resolve().parents[2] / "examples/scenes"
+    argv = ["run", str(scenes / "rocking-seed003-column.toml"), "--pga", "3", "--json",
+            "--no-figures", "--out", str(tmp_path)]  # fmt: skip
+    assert main(argv) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["pga_mps2"] == 3.0 and "a_p = 3 m/s²" in s["motion"]
+    argv = ["run", str(scenes / "contact-seed002-A5.toml"), "--pga", "2", "--t-end", "0.5",
+            "--json", "--no-figures", "--out", str(tmp_path)]  # fmt: skip
+    assert main(argv) == 0
+    assert json.loads(capsys.readouterr().out)["pga_mps2"] == 2.0
+    with np.load(tmp_path / "contact.npz") as d:
+        assert list(d["mode_names"]) == list(MODE_NAMES)
+    # the compliant block's state columns are named; its angle column is phi = -theta
+    argv = ["run", str(scenes / "rocking-seed001-compliant.toml"), "--t-end", "1",
+            "--no-figures", "--out", str(tmp_path)]  # fmt: skip
+    assert main(argv) == 0
+    with np.load(tmp_path / "rocking.npz") as d:
+        k = list(d["y_columns"]).index("phi_rad")
+        assert np.array_equal(d["y"][:, k], -d["theta"]) and d["y"].shape[1] == 8
 
 
 @pytest.mark.parametrize(

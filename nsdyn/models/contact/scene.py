@@ -51,7 +51,7 @@ from nsdyn._checks import NumericalFailure
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import read_motion
-from nsdyn.models.contact.results import TILT_FLOOR, slenderness
+from nsdyn.models.contact.results import MODE_NAMES, TILT_FLOOR, slenderness
 from nsdyn.models.contact.scene_keys import SCHEMA
 from nsdyn.models.scenefile import (
     GRID_FIELDS,
@@ -189,7 +189,8 @@ def build(cfg: dict, source: str):
             gm = scaled_to_pga(gm, number(source, "motion.pga", mo["pga"]), source)
         motion = BaseMotion.from_motion(gm)
         t_end = t_end or gm.t0 + gm.duration
-        what = gm.name
+        pga = gm.pga
+        what = f"{gm.name}, PGA {pga:.3g} m/s²"
     elif "period" in mo:
         T = number(source, "motion.period", mo["period"])
         pga = number(source, "motion.pga", mo.get("pga", 1.6))
@@ -203,11 +204,12 @@ def build(cfg: dict, source: str):
         A = pga * (T / (2 * math.pi)) ** 2
         motion = BaseMotion.displacement_sine(A, T, n, start)
         t_end = t_end or n * T + 2.0
-        what = f"displacement sine A = {A * 1e3:.0f} mm, T = {T:g} s ({start})"
+        what = (f"displacement sine A = {A * 1e3:.0f} mm, T = {T:g} s ({start}), peak "
+                f"acceleration {pga:.3g} m/s²")  # fmt: skip
     else:
         if "pga" in mo:
             raise SceneError(f"{source}: motion.pga: needs motion.record or motion.period")
-        motion, what = None, "free motion"
+        motion, what, pga = None, "free motion", None
         t_end = t_end or T_END
     sv = cfg.get("solver", {})
     method = sv.get("method", "event")
@@ -225,6 +227,7 @@ def build(cfg: dict, source: str):
         "step_check": sv.get("step_check", True),
         "theta0": theta0,
         "what": what,
+        "pga": pga,  # the peak ground acceleration the run feels [m/s²] (None: free motion)
     }
     if not isinstance(opts["step_check"], bool):
         raise SceneError(f"{source}: solver.step_check: expected true or false, got "
@@ -367,7 +370,15 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     s["outcome"], text = outcome(s)
     files = [str(out_dir / "contact.npz")]
     with atomic_open(out_dir / "contact.npz", "wb") as fh:
-        np.savez(fh, t=res.t, q=res.q, v=res.v, mode=res.mode, slide=res.slide)
+        np.savez(
+            fh,
+            t=res.t,
+            q=res.q,
+            v=res.v,
+            mode=res.mode,
+            slide=res.slide,
+            mode_names=np.array(MODE_NAMES),
+        )  # mode k is mode_names[k]
     if figures:
         from nsdyn.atomic import save_figure
         from nsdyn.models.contact.figures import history_figure
@@ -376,7 +387,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         fig = history_figure(res, body, title=f"{name}: {opts['what']}\n{text}", motion=motion)
         save_figure(fig, png)
         files.append(str(png))
-    s.update({"kind": "contact", "name": name, "motion": opts["what"], "t_end_s": t_end,
+    s.update({"kind": "contact", "name": name, "motion": opts["what"], "pga_mps2": opts["pga"],
+              "t_end_s": t_end,
               "theta0_rad": opts["theta0"], "notes": opts["notes"],
               "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
     say(f"contact: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")

@@ -248,8 +248,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     out_dir = Path(out_dir)
     log = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
-    log(f"cylinder {name}: {p.foundation}, k = {p.k:.6g} N/m³, c = {p.c:.6g} N s/m³, "
-        f"{len(ag)} samples")  # fmt: skip
+    log(f"cylinder {name}: {foundation_text(p.foundation, p.k, p.c)}, {len(ag)} samples")
     compile_s = warm(p, dt, ag, opts)
     tic = time.perf_counter()
     with grid_fields(source):  # the initial tilt, refused before any step
@@ -334,12 +333,18 @@ def outcome(s: dict) -> tuple[str, str]:
     return "full contact", f"the base stayed in full contact{slip}"
 
 
+def foundation_text(case: str, k: float, c: float) -> str:
+    """The foundation in words: a fixed base has no springs to name."""
+    if case == "fixed":
+        return "fixed base (rigid ground: no springs or dashpots)"
+    return f"{case}, k = {k:.6g} N/m³, c = {c:.6g} N s/m³"
+
+
 def format_summary(s: dict) -> str:
     """A short human table of a run summary, its outcome first."""
     lines = [
         f"outcome {outcome(s)[1]}",
-        f"cylinder scene {s['name']} ({s['foundation']}, k = {s['k']:.6g} N/m³, "
-        f"c = {s['c']:.6g} N s/m³)",
+        f"cylinder scene {s['name']} ({foundation_text(s['foundation'], s['k'], s['c'])})",
     ]
     rows = [
         ("pga (horizontal) [m/s²]", s["pga_hor"]),

@@ -279,7 +279,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     if isinstance(model, CompliantBlock):
         s = res.summary()
         arrays = {"t": res.t, "y": res.y, "theta": res.theta, "thetad": res.thetad,
-                  "peaks": res.peaks()}  # fmt: skip
+                  "peaks": res.peaks(), "y_columns": np.array(Y_COLUMNS)}  # fmt: skip
         s["r_housner"] = blk.housner_restitution(model.alpha)
     else:
         s = res.summary()
@@ -301,7 +301,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         save_figure(fig, png)
         files.append(str(png))
     s.update({"kind": "rocking", "model": cfg.get("scene", {}).get("model", "block"),
-              "name": name, "motion": what, "t_end_s": t_end, "alpha_rad": model.alpha,
+              "name": name, "motion": excitation_text(exc, what), "pga_mps2": peak_of(exc),
+              "t_end_s": t_end, "alpha_rad": model.alpha,
               "p_per_s": model.p, "theta0_rad": float(res.theta[0]) if res.t.size else 0.0,
               "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
     s.setdefault("outcome", outcome(s)[0])  # the compliant block's summary has none
@@ -316,6 +317,19 @@ def excitation_text(exc, what: str) -> str:
     if isinstance(exc, Pulse):
         return f"{what}, a_p = {abs(exc.a_p):.3g} m/s² ({abs(exc.a_p) / G_EARTH:.3g} g)"
     return f"{what}, PGA {exc.pga:.3g} m/s² ({exc.pga / G_EARTH:.3g} g)"
+
+
+# the compliant block's state y, column by column (phi counter-clockwise: theta = -phi; e the
+# horizontal springs' stretches at the left and right corners)
+Y_COLUMNS = ("x_m", "y_m", "phi_rad", "xd_m_per_s", "yd_m_per_s", "phid_rad_per_s",
+             "e_left_m", "e_right_m")  # fmt: skip
+
+
+def peak_of(exc) -> float | None:
+    """The peak ground acceleration of a record or a pulse [m/s²] (None: free rocking)."""
+    if exc is None:
+        return None
+    return float(abs(exc.a_p)) if isinstance(exc, Pulse) else float(exc.pga)
 
 
 def ground_of(exc, t: np.ndarray):

@@ -161,3 +161,14 @@ def test_nsdyn_run_record_replaces_the_simulated_earthquake(tmp_path, capsys):
 
     rec = read_motion("synthetic-wn-40s").window(0.0, 1.0)  # the record's own peak, unscaled
     assert s["t_end"] == pytest.approx(1.0) and s["pga_hor"] == max(abs(rec.a_hor))
+
+
+def test_a_fixed_base_names_no_foundation_springs():
+    # case = "fixed" has no springs or dashpots: the header printed the design k and c it
+    # does not use
+    from nsdyn.models.cylinder.scene import foundation_text
+
+    assert "k =" not in foundation_text("fixed", 9814.0, 103.6)
+    assert foundation_text("tensionless", 9814.0, 103.6) == (
+        "tensionless, k = 9814 N/m³, c = 103.6 N s/m³"
+    )
