@@ -353,7 +353,7 @@ def evaluate_at(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, 
         fv[1] -= gy
         fv[2] -= -Y * gx + X * gy
     kap = sp[S_KAPPA]
-    ws[19][0] = inertia_ratio(Am, M, pos, nst, ist)
+    ws[19][0] = inertia_ratio(Am, M, pos, np.int64(nst), ist)
     if nst == 0:
         for a in range(3):
             qdd[a] = fv[a]

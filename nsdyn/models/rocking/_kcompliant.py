@@ -106,9 +106,10 @@ def _fall_fraction(rc):
     THETA_FALL (below it at s = 0, at or above it at s = 1), by bisection to 1e-12."""
     lo = 0.0
     hi = 1.0
+    i_phi = rc.shape[1] - 6  # phi's column, 2 (a run-time index: dense compiles for int64 once)
     for _ in range(45):
         mid = 0.5 * (lo + hi)
-        if abs(dp.dense(rc, 2, mid)) >= THETA_FALL:
+        if abs(dp.dense(rc, i_phi, mid)) >= THETA_FALL:
             hi = mid
         else:
             lo = mid
