@@ -118,10 +118,16 @@ def stale_figure(out: Path, quiet: bool) -> None:
 
 
 def _holes(amplitudes: list[dict], path) -> int:
-    """:func:`nsdyn.cli.args.holes` of a sweep: its points without a steady state."""
-    n_bad = sum(s["unconverged_points"] for s in amplitudes)
-    n = sum(s["points"] for s in amplitudes)
-    return holes("sweep", n_bad, n, "points", f"{path} lists each one")
+    """:func:`nsdyn.cli.args.holes` of a sweep: its points without a steady state, and the
+    frequencies a sweep without the fallback skipped (no row: the report lists them)."""
+    n_skip = sum(len(s.get("skipped_hz") or []) for s in amplitudes)
+    n_rows = sum(s["unconverged_points"] for s in amplitudes)
+    n = sum(s["points"] for s in amplitudes) + n_skip
+    where = [f"{path} lists each one"] if n_rows else []
+    if n_skip:
+        where.append(f"{n_skip} frequencies skipped without the fallback, listed above and in "
+                     "the JSON's skipped_hz")  # fmt: skip
+    return holes("sweep", n_rows + n_skip, n, "points", "; ".join(where))
 
 
 def prepare_kernels(friction: str, contact: str = "bilateral") -> float:

@@ -240,3 +240,11 @@ def test_without_the_fallback_a_curve_walks_the_whole_band_and_names_its_gaps(
     assert f"{sk.size} frequencies without a periodic orbit skipped" in lines[-1]
     assert f"{fmax:.4g}" in lines[-1]
     assert (continuation == "arclength") == lines[0].startswith("arclength stopped at f = ")
+    # a curve with skipped frequencies is not a success (it exited 0): status 3, and the line
+    # counts them beside the points
+    from nsdyn.cli.args import EXIT_NUMERICS
+    from nsdyn.cli.sweep import _holes
+
+    summary = {"unconverged_points": 0, "points": len(c.points), "skipped_hz": list(sk)}
+    assert _holes([summary], "sweep.csv") == EXIT_NUMERICS
+    assert _holes([{**summary, "skipped_hz": []}], "sweep.csv") == 0

@@ -132,8 +132,8 @@ def workspace(ni):
     scratch of :func:`start_direction` (a 3 × 3 factor, its pivots, two 3-vectors), the
     switch law's re-stick candidates (ni,) of its settling, and the slip-start alignment's
     scratch (:mod:`._kplanealign`: the directions it started from, (ni, 2), and (4, 3)); last
-    the impasse record (3,): ρ of the last evaluation, then the time and ρ of the first
-    evaluation at ρ <= 0 (NaN until one; :func:`evaluate`)."""
+    the impasse record (3,): ρ of the last evaluation, then the time and ρ of the last
+    evaluation at ρ <= 0 since the last accepted step (NaN: none; :func:`evaluate`)."""
     return (np.zeros((3, 3)), np.zeros((3, 3)), np.zeros((5, 5)), np.zeros(5),
             np.zeros(5, dtype=np.int64), np.zeros((ni, 3)), np.zeros(ni), np.zeros((ni, 2)),
             np.zeros(3), np.zeros(3), np.zeros((ni, 8)), np.ones(ni), np.ones(ni),
@@ -190,14 +190,14 @@ def evaluate(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff,
     (numba's IR): LLVM optimises its body once.
 
     An evaluation whose inertia ratio ρ (:func:`inertia_ratio`) is <= 0 returns ST_SINGULAR
-    and keeps its time and ρ in ws[19][1:] (the first such): the friction's feedback on the
-    normal forces has cancelled the deck's inertia, and q̈ has no solution on this branch."""
+    and keeps its time and ρ in ws[19][1:] (the last such; the loops clear the time at each
+    accepted step): the friction's feedback on the normal forces has cancelled the deck's
+    inertia, and q̈ has no solution on this branch."""
     st = _settled(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, qdd, N, Ff, Fr, Fo)
     rho = ws[19]
     if st == ST_OK and rho[0] <= 0.0:
-        if not rho[1] == rho[1]:
-            rho[1] = t
-            rho[2] = rho[0]
+        rho[1] = t
+        rho[2] = rho[0]
         return ST_SINGULAR
     return st
 

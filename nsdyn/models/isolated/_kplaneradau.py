@@ -336,6 +336,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             need_jac = True
             continue
         nstep += 1
+        ws[19][1] = np.nan  # an accepted step met no impasse (kp.evaluate's record)
         since_out += 1  # collapsed steps end the run as the Dormand-Prince kernel's do
         if (since_out > kr.STALL_STEPS + 10.0 * (t_eval[iout] - t_eval[iout - 1]) / hmax
                 or nstep > kr.STALL_STEPS + kr.STALL_RATE * (t - t_eval[0]) / hmax):  # fmt: skip

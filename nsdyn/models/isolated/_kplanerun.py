@@ -428,12 +428,13 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         err = math.sqrt(err / n)
         if bad or not math.isfinite(err) or err > 1.0:
             nrej += 1
-            h = dp.new_step(hh, err) if math.isfinite(err) else 0.25 * hh
+            h = dp.new_step(hh, err) if (math.isfinite(err) and not bad) else 0.25 * hh
             if h <= H_MIN * max(1.0, abs(t)):
                 status = ST_UNDERFLOW if (math.isfinite(err) and not bad) else ST_NONFINITE
                 break
             continue
         nstep += 1
+        ws[19][1] = np.nan  # no impasse in an accepted step (a bad stage shrinks h at once)
         if nstep + nrej > max_steps:
             status = ST_MAX_STEPS
             break

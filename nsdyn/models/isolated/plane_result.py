@@ -63,23 +63,29 @@ FREE = 3
 MAX_INTERVALS = 100  # tensile intervals listed in a summary (the count says how many in all)
 
 
-def impasse_message(system, impasse) -> str:
-    """A failed run's reason when the deck met the impasse of its normal forces (``impasse``:
-    the record of :func:`nsdyn.models.isolated._kplane.evaluate`, (ρ of the last evaluation,
-    then time and ρ of the first at ρ <= 0)), else ""."""
+def impasse_message(system, impasse, t_fail: float) -> str:
+    """A failed run's reason when its failing step met the impasse of the deck's normal forces
+    (``impasse``: the record of :func:`nsdyn.models.isolated._kplane.evaluate`, (ρ of the last
+    evaluation, then time and ρ of the last at ρ <= 0 since the last accepted step)), else
+    ""; ``t_fail``: where the run stopped."""
     if impasse is None or not impasse[1] == impasse[1]:
         return ""
     h = getattr(system, "h", 0.0)
     return (
-        f"the deck's equations of motion lose their solution at t = {impasse[1]:.6g} s "
-        f"(inertia ratio {impasse[2]:.3g}): the normal forces' share of the friction and "
-        f"pendulum forces, through the overturning of a centre of mass h = {h:g} m above the "
-        "sliding surfaces, cancels the deck's inertia (Painlevé's paradox: the gain "
-        "(h/2b)(mu + u/R), with 2b the bearings' lever, has reached 1). Past it the rigid "
-        "deck's equations have no solution (what a real deck does there depends on its "
-        "vertical and rocking flexibility, which this model does not have); lower h, widen "
-        "the bearings' layout, or lower the friction"
+        f"the deck's equations of motion lose their solution at t = {t_fail:.6g} s (inertia "
+        f"ratio {impasse[2]:.3g} in the step from there): the normal forces' share of the "
+        f"friction and pendulum forces, through the overturning of a centre of mass h = "
+        f"{h:g} m above the sliding surfaces, cancels the deck's inertia (Painlevé's paradox: "
+        "with the bearings on one side tensile and those on the other, 2b away, slipping, the "
+        "gain (h/2b)(mu + u/R) has reached 1; with one bearing stuck, the same for the turn "
+        "about it). Past it the rigid deck's equations have no solution (what a real deck "
+        "does there depends on its vertical and rocking flexibility, which this model does "
+        "not have); lower h, widen the bearings' layout, or lower the friction"
     )
+
+
+# the failures a step that met the impasse ends in (q̈ unbounded or not evaluated)
+IMPASSE_STATUSES = (kr.ST_SINGULAR, kr.ST_NONFINITE, kr.ST_UNDERFLOW, kr.ST_NEWTON, kr.ST_STALL)
 
 
 class PlaneIntegrationError(NumericalFailure):
@@ -208,7 +214,9 @@ class PlaneResult(Tabular):
             if getattr(system, "has_tfp", False) and status in TFP_MESSAGES:  # its own advice
                 msg = TFP_MESSAGES[status]
             msg = msg.format(t=info[kr.I_TFAIL], eta=eta, eps=eps)
-            raise PlaneIntegrationError(impasse_message(system, impasse) or msg)
+            if status in IMPASSE_STATUSES:  # (the failing step met the impasse: its reason)
+                msg = impasse_message(system, impasse, info[kr.I_TFAIL]) or msg
+            raise PlaneIntegrationError(msg)
         nout = int(info[kr.I_NOUT])
         ne = min(int(info[kr.I_NEV]), EV.shape[0])
         if int(info[kr.I_NEV]) > EV.shape[0]:

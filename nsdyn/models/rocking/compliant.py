@@ -138,11 +138,12 @@ class CompliantResult(Tabular):
 
     def summary(self) -> dict:
         """JSON-ready numbers of the run, the unit in each name."""
-        th = self.theta
+        over = math.isfinite(self.t_overturn)  # (then it reached pi/2, between two outputs)
+        peak = math.pi / 2 if over else float(np.max(np.abs(self.theta)))
         return {
             "alpha_rad": self.alpha,
-            "max_theta_rad": float(np.max(np.abs(th))),
-            "max_theta_over_alpha": float(np.max(np.abs(th)) / self.alpha),
+            "max_theta_rad": peak,
+            "max_theta_over_alpha": peak / self.alpha,
             "overturned": bool(math.isfinite(self.t_overturn)),
             "t_overturn_s": self.t_overturn if math.isfinite(self.t_overturn) else None,
             "n_steps": self.n_steps,

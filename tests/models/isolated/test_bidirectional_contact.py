@@ -408,3 +408,25 @@ def test_bilateral_deck_past_the_friction_overturning_gain_is_an_impasse(law, ga
     with pytest.raises(PlaneIntegrationError, match="Painlevé") as e:
         _quiet(simulate_plane, d, rec, law=law, contact="bilateral", y0=y0)
     assert "at t = 0 s" in str(e.value)
+
+
+def test_an_impasse_met_mid_run_under_the_switch_law_ends_the_run_there():
+    # A 250 m tall deck on pendulums (20 m x 12 m, R 2.2 m, mu 0.06) under a circular orbit,
+    # bilateral contact: its heel goes tensile and, at a change of the contact and slip set
+    # near 0.885 s, the equations lose their solution. The explicit loop's rejected steps
+    # grew back from their finite error there and it ran on without end; now the run stops
+    # with the reason within the first second, and a run that ends just before that time
+    # goes through with bounded slips (no runaway before the stop).
+    from nsdyn.ground import HarmonicPlane
+
+    m = 1e6
+    pos = [(-10.0, -6.0), (10.0, -6.0), (10.0, 6.0), (-10.0, 6.0)]
+    d = rigid_deck(m, m * (400 + 144) / 12, pos, Bearing(Friction(0.06), radius=2.2), h=250.0)
+    orbit = HarmonicPlane(f=0.4, ax=2.0, ay=2.0, phase_y_deg=90.0)
+    kw = dict(law="switch", contact="bilateral")
+    with pytest.raises(PlaneIntegrationError, match="Painlevé") as e:
+        _quiet(simulate_plane, d, orbit, t_end=1.0, **kw)
+    t_fail = float(str(e.value).split("at t = ")[1].split(" s")[0])
+    assert 0.0 < t_fail < 1.0
+    r = _quiet(simulate_plane, d, orbit, t_end=t_fail - 1e-3, **kw)
+    assert r.t[-1] == pytest.approx(t_fail - 1e-3) and np.abs(r.u).max() < 1.0
