@@ -312,11 +312,12 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
 
 def excitation_text(exc, what: str) -> str:
     """The excitation of a run in words, with its peak acceleration [m/s²]."""
-    if exc is None:
+    a = peak_of(exc)
+    if a is None:
         return what
-    if isinstance(exc, Pulse):
-        return f"{what}, a_p = {abs(exc.a_p):.3g} m/s² ({abs(exc.a_p) / G_EARTH:.3g} g)"
-    return f"{what}, PGA {exc.pga:.3g} m/s² ({exc.pga / G_EARTH:.3g} g)"
+    return (
+        f"{what}, {'a_p =' if isinstance(exc, Pulse) else 'PGA'} {a:.3g} m/s² ({a / G_EARTH:.3g} g)"
+    )
 
 
 # the compliant block's state y, column by column (phi counter-clockwise: theta = -phi; e the

@@ -109,6 +109,18 @@ def test_isolated_frequencies_with_stuck_bearings(exported):
     assert f_os == pytest.approx(np.sqrt(w2) / (2 * np.pi), rel=5e-4)
 
 
+def _script_and_nsdyn(scene, mod):
+    """The exported script's peaks and nsdyn full's response with the export's damping (the
+    same modal matrix) and a 10x sharper arctan law, generalized-alpha at the script's dt."""
+    from nsdyn.models.isolated.scene import build_scene_run, load_scene
+    from nsdyn.solve.transient import simulate
+
+    out = mod.run()
+    s, motion, _ = build_scene_run(load_scene(scene, {"scene": {"fidelity": "full"}}))
+    s = osx.opensees_damping(s.with_isolation(eps=10 * s.isolation.eps), mod.DATA)
+    return out, simulate(s, motion, method="genalpha-lowrank", dt=0.005, dt_out=0.005).response
+
+
 @needs_opensees
 def test_script_peaks_agree_with_nsdyn_full(exported):
     """OpenSees' run against nsdyn full with the export's damping (the same modal matrix) and
@@ -117,14 +129,8 @@ def test_script_peaks_agree_with_nsdyn_full(exported):
     vs generalized-alpha, both O(dt^2) with dt 0.005: 1e-4 between dt and dt/2). Measured on
     these 3 s: 0.25 % (x_iso), 0.3 %, 0.3 %; at eps x1 x_iso differs by 2.7 %, and eps x10
     closes 90 % of that gap, so the arctan law is what remains: bound 1.5 %."""
-    from nsdyn.models.isolated.scene import build_scene_run, load_scene
-    from nsdyn.solve.transient import simulate
-
     scene, _, mod = exported
-    out = mod.run()
-    s, motion, _ = build_scene_run(load_scene(scene, {"scene": {"fidelity": "full"}}))
-    s = osx.opensees_damping(s.with_isolation(eps=10 * s.isolation.eps), mod.DATA)
-    r = simulate(s, motion, method="genalpha-lowrank", dt=0.005, dt_out=0.005).response
+    out, r = _script_and_nsdyn(scene, mod)
     assert out["x_iso_max_m"] == pytest.approx(r.x_iso_max, rel=0.015)
     assert out["idr_max"] == pytest.approx(r.idr_max, rel=0.015)
     assert out["floor_acc_max_mps2"] == pytest.approx(r.floor_acc_max, rel=0.015)
@@ -139,18 +145,11 @@ def test_a_window_ending_mid_record_keeps_its_last_step(tmp_path):
     Drift and floor acceleration within the 1.5 % of the 3 s test; x_iso (~1e-5 m, the
     bearings stuck) is the stick's regularisation in both (elastic k_init against the arctan
     law's creep) and is not compared."""
-    from nsdyn.models.isolated.scene import build_scene_run, load_scene
-    from nsdyn.solve.transient import simulate
-
     scene = tmp_path / "scene.toml"
     scene.write_text(SCENE.format(t_end=1.0))
     path = tmp_path / "model.py"
     osx.export_opensees(scene, path)
-    mod = osx.load_script(path)
-    out = mod.run()
-    s, motion, _ = build_scene_run(load_scene(scene, {"scene": {"fidelity": "full"}}))
-    s = osx.opensees_damping(s.with_isolation(eps=10 * s.isolation.eps), mod.DATA)
-    r = simulate(s, motion, method="genalpha-lowrank", dt=0.005, dt_out=0.005).response
+    out, r = _script_and_nsdyn(scene, osx.load_script(path))
     assert out["idr_max"] == pytest.approx(r.idr_max, rel=0.015)
     assert out["floor_acc_max_mps2"] == pytest.approx(r.floor_acc_max, rel=0.015)
 
