@@ -324,12 +324,18 @@ def run(args: argparse.Namespace) -> int:
 
 
 def gap_lines(s: dict) -> list[str]:
-    """Where a curve without the stepped-sweep fallback has no points, and why."""
+    """Where a curve has no steady state (failed points; frequencies a curve without the
+    stepped-sweep fallback skipped), and why."""
     out = []
     stop = s.get("arclength_stop")
     if stop:
         out.append(f"arclength stopped at f = {stop['f_hz']:.4g} Hz ({stop['reason']}); the "
                    "band above it continued sequentially")  # fmt: skip
+    fl = s.get("failures") or []
+    if fl:
+        fs = [x["f"] for x in fl]
+        out.append(f"{len(fl)} points without a steady state, f = {min(fs):.4g}-{max(fs):.4g} Hz"
+                   f" (first: {fl[0]['reason']})")  # fmt: skip
     sk = s.get("skipped_hz") or []
     if sk:
         shown = ", ".join(f"{f:.4g}" for f in sk[:8]) + (", ..." if len(sk) > 8 else "")

@@ -177,6 +177,40 @@ def _known_fields(kind: str, base: dict) -> set[str]:
     return known
 
 
+def _integer_fields(kind: str) -> set[str]:
+    """Dotted fields the kind's schema declares integer in every variant of their table."""
+    from nsdyn.models.scene_schema import schema_of
+
+    try:
+        tables = schema_of(kind).tables
+    except (ImportError, AttributeError):
+        return set()
+    types: dict[str, set[str]] = {}
+    for t in tables:
+        for k in t.keys:
+            types.setdefault(f"{t.name}.{k.name}", set()).add(k.type)
+    return {f for f, ty in types.items() if ty == {"integer"}}
+
+
+def _whole_numbers(source: str, p: Parameter, whole: set[str]) -> Parameter:
+    """``p`` with its values as ints where its field is an integer one (a linspace's 3.0 is
+    written 3 to the table and read as 3 by the scene); a fraction or a random law there is
+    refused, naming the field."""
+    if p.name not in whole:
+        return p
+    where = f"parameters.{p.name}"
+    if p.random:
+        raise _err(source, f"{where}.{p.law}", "an integer field takes whole numbers (a list, "
+                   "linspace or logspace of them), not a random law")  # fmt: skip
+    out = []
+    for v in p.values:
+        ok = isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+        if not ok or abs(v - round(v)) > 1e-9 * max(1.0, abs(v)):
+            raise _err(source, where, f"expected whole numbers (an integer field), got {v!r}")
+        out.append(int(round(v)))
+    return Parameter(p.name, values=tuple(out))
+
+
 def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter:
     where = f"parameters.{name}"
     if name not in known:
@@ -423,8 +457,9 @@ def load_study(path: str | Path) -> Study:
         raise _err(source, "study.keep", f"expected a list of field names, got {keep!r}")
     kind, base = _base_scene(source, study_dir, st, raw.get("base", {}))
     params_raw = raw.get("parameters", {})
-    known = _known_fields(kind, base)
-    params = [_parse_parameter(source, k, v, known) for k, v in params_raw.items()]
+    known, whole = _known_fields(kind, base), _integer_fields(kind)
+    params = [_whole_numbers(source, _parse_parameter(source, k, v, known), whole)
+              for k, v in params_raw.items()]  # fmt: skip
     records = _parse_records(source, study_dir, raw.get("records", {}), kind, base)
     if records and "motion.record" in params_raw:
         raise _err(source, "parameters.motion.record", "give records in [records], not both")

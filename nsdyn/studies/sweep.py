@@ -425,4 +425,10 @@ def summarise(r: dict) -> dict:
         "wall_above_0.1Hz_s": r["wall_above_0.1Hz_s"],
         "skipped_hz": r.get("skipped_hz", []),
         "arclength_stop": r.get("arclength_stop"),
+        # each point without a steady state and why (its row's note), as the deck sweep's
+        "failures": [
+            {"f": float(x["f"]), "reason": x.get("note") or "not converged"}
+            for x in rows
+            if not x["converged"]
+        ],
     }

@@ -452,6 +452,29 @@ def test_a_sweep_with_a_point_without_steady_state_exits_3(tmp_path, capsys, mon
     assert main(argv) == 0  # the same sweep, every point converged
 
 
+def test_a_sweeps_report_lists_each_point_without_steady_state_and_why():
+    # the JSON of a frame sweep names its failed points with their row's note (as the deck
+    # sweep's does); converged points, with or without uplift, are not failures
+    from nsdyn.studies.sweep import summarise
+
+    def row(f, converged, note=""):
+        return {"f": f, "converged": converged, "note": note, "stick_all_period": False,
+                "uplift": False, "contact": "bilateral", "method": "shooting", "stable": True,
+                "IDR": 1e-3, "a": 1.0, "a_floors": 1.0, "x_iso": 0.1}  # fmt: skip
+
+    rows = [row(0.1, True), row(0.2, False, "uplift at t = 3.1 s"), row(0.3, False), row(0.4, True)]
+    r = {"A": 1.0, "rows": rows, "resumed_points": 0, "bifurcations": [], "wall_s": 0.0,
+         "wall_below_0.1Hz_s": 0.0, "wall_above_0.1Hz_s": 0.0}  # fmt: skip
+    s = summarise(r)
+    assert s["unconverged_points"] == 2
+    assert s["failures"] == [{"f": 0.2, "reason": "uplift at t = 3.1 s"},
+                             {"f": 0.3, "reason": "not converged"}]  # fmt: skip
+    from nsdyn.cli.sweep import gap_lines
+
+    assert gap_lines(s) == ["2 points without a steady state, f = 0.2-0.3 Hz (first: uplift "
+                            "at t = 3.1 s)"]  # fmt: skip
+
+
 def test_unilateral_contact_on_given_normal_forces_is_refused_up_front(tmp_path, one_line):
     # lift-off needs the normal forces as the contacts' multipliers: a structure from matrices
     # given its weight, or frozen_normal = true, has none (a ValueError traceback, exit 1)

@@ -61,6 +61,16 @@ def test_expansion_counts_orders_and_keys(tmp_path):
     assert {t.key for t in expand(other)}.isdisjoint({t.key for t in tasks})
 
 
+def test_an_integer_field_takes_a_linspace_of_whole_numbers_as_integers(tmp_path):
+    # solver.max_steps is an integer key of the isolated scene (its schema): a linspace of
+    # whole numbers reaches the scene and the results table as ints, 1000 not 1000.0
+    text = GOOD.replace('"isolation.mu" = [0.02, 0.05]',
+                        '"solver.max_steps" = { linspace = [1000, 3000, 3] }')  # fmt: skip
+    tasks = expand(load_study(_write(tmp_path, text)))
+    got = sorted({t.params["solver.max_steps"] for t in tasks})
+    assert got == [1000, 2000, 3000] and all(type(v) is int for v in got)
+
+
 def test_key_follows_record_bytes_not_place(tmp_path):
     from nsdyn.ground import read_motion, write_motion
 
@@ -94,6 +104,11 @@ def test_key_follows_record_bytes_not_place(tmp_path):
         (("seed = 9,", "seeed = 9,"), "records.simulated.seeed: unknown field; did you mean"),
         (('fidelity = "rigid"', 'fidelity = "rigidd"'), "scene.fidelity"),
         (("seed = 5", "sede = 5"), "did you mean 'seed'"),
+        (('"motion.pga"', '"solver.max_steps"'), "integer field takes whole numbers"),
+        (
+            ('"isolation.mu" = [0.02, 0.05]', '"solver.max_steps" = { linspace = [1e3, 1001, 3] }'),
+            "parameters.solver.max_steps: expected whole numbers (an integer field), got 1000.5",
+        ),
     ],
 )
 def test_bad_study_files_name_file_and_field(tmp_path, change, needle):

@@ -102,6 +102,9 @@ class CompliantResult(ContactResult):
         s = super().summary()
         lift = self.n_on < len(self.base_idx)
         s["n_liftoffs"] = int(np.count_nonzero(lift[1:] & ~lift[:-1]))
+        # touchdowns seen on the samples, as the rigid solvers count them: corners that came
+        # back onto the springs between two outputs (smooth here, no impact law)
+        s["n_impacts"] = int(np.sum(np.maximum(np.diff(self.n_on), 0))) if len(self.t) else 0
         s["max_uplift_m"] = float(np.max(self.uplift)) if len(self.t) else 0.0
         s["step_s"] = float(self.h)
         return s

@@ -75,6 +75,29 @@ def test_converges_to_rigid_ground():
         assert 2.0 < errs[0][j] / errs[1][j] < 5.0 and 2.0 < errs[1][j] / errs[2][j] < 5.0, errs
 
 
+def test_a_flat_drop_on_undamped_ground_lands_and_bounces_back_as_the_spring_mass():
+    """Dropped flat from H = 5 cm onto undamped corners (k = 1e8 N/m each), the block lands
+    at t_l = sqrt(2 H / g) (free fall) with v = g t_l, leaves (pi + 2 atan(d w / v)) / w later
+    (the spring-mass arc about the settled state d = m g / (2 k), w = sqrt(2 k / m): 7.1 ms),
+    climbs back to H (no loss) and lands again 2 t_l later: in
+    3.5 sqrt(2 H / g) the summary counts 4 corner touchdowns (its impacts), 2 hops and 2
+    lift-offs."""
+    m, k, H = 1000.0, 1e8, 0.05
+    body = RigidBody.rectangle(1.0, 1.0, m)
+    t_land, w = math.sqrt(2 * H / G_EARTH), math.sqrt(2 * k / m)
+    t_half = (math.pi + 2 * math.atan(m * G_EARTH / (2 * k) * w / (G_EARTH * t_land))) / w
+    r = simulate_compliant(body, FrictionLaw(0.5), CompliantGround.from_ratio(body, k, 0.0),
+                           t_end=3.5 * t_land, q0=[0.0, body.y0 + H, 0.0], v0=[0.0] * 3,
+                           settled=False, dt_out=1e-4)  # fmt: skip
+    dn = np.diff(r.n_on)
+    t_change = r.t[1:][dn != 0]  # the first output past each change
+    want = [t_land, t_land + t_half, 3 * t_land + t_half, 3 * t_land + 2 * t_half]
+    assert np.allclose(t_change, want, atol=1.1e-4), (t_change, want)  # an output step and h
+    assert list(dn[dn != 0]) == [2, -2, 2, -2]
+    s = r.summary()
+    assert (s["n_impacts"], s["n_hops"], s["n_liftoffs"]) == (4, 2, 2)
+
+
 def test_a_tilted_start_rocks_as_the_rigid_block_from_its_scene_too(tmp_path):
     """Released at theta0 = alpha / 2 on stiff ground, the 0.5 x 1.5 m block rocks back to
     theta = 0 at the rigid block's time: the quadrature of I_O theta'' = -m g R sin(alpha -
