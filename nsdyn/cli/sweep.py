@@ -47,9 +47,12 @@ def configure(p: argparse.ArgumentParser) -> None:
         "amplitude [N])",
     )
     p.add_argument("--fmin", type=_positive, default=None, metavar="HZ",
-                   help="default 0.01 (deck scenes: f0/4, f0 the orbit's frequency)")  # fmt: skip
+                   help="lowest forcing frequency; default 0.01 (deck scenes: f0/4, f0 the "
+                   "orbit's frequency)")  # fmt: skip
     p.add_argument("--fmax", type=_positive, default=None, metavar="HZ",
-                   help="default 10 (deck scenes: 4 f0)")  # fmt: skip
+                   help="highest forcing frequency; default 10 (deck scenes: 4 f0). Not the "
+                   "Craig-Bampton cut-off of nsdyn run --fmax: a sweep takes that from the "
+                   "scene's structure.f_max")  # fmt: skip
     p.add_argument(
         "--points",
         type=_count,
@@ -93,7 +96,12 @@ def configure(p: argparse.ArgumentParser) -> None:
         "the seed's model) or recomputed with lift-off and landing by a stepped sweep "
         "(unilateral; up to 30 s per point)",
     )
-    p.add_argument("--fidelity", choices=["rigid", "cb", "full"], help="override the scene's")
+    p.add_argument(
+        "--fidelity",
+        choices=["fixed", "rigid", "cb", "full"],
+        help="override the scene's: rigid, cb or full for isolated scenes; fixed (the linear "
+        "steady state) or rigid (the building as a deck) for building3d scenes",
+    )
     p.add_argument("--no-fallback", action="store_true", help="skip points shooting misses")
     p.add_argument(
         "--workers", type=positive_int, default=None, metavar="N", help="parallel processes"
@@ -189,10 +197,11 @@ def run(args: argparse.Namespace) -> int:
             kind = scene_kind(raw, str(args.scene))
         except SceneError as e:
             return fail(args, e)
-        if kind == "building3d" and raw.get("structure", {}).get("fidelity") == "fixed":
+        st = raw.get("structure") if isinstance(raw.get("structure"), dict) else {}
+        if kind == "building3d" and (args.fidelity or st.get("fidelity")) == "fixed":
             from nsdyn.cli.sweep_fixed3d import run_fixed3d  # linear: the exact steady state
 
-            return run_fixed3d(args, raw)
+            return run_fixed3d(args, {**raw, "structure": {**st, "fidelity": "fixed"}})
         if kind in PLANE_KINDS:
             return run_plane(args, raw)
         if kind != "isolated":

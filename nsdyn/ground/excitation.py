@@ -24,14 +24,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._checks import number
+
 G_EARTH = 9.81  # m/s², gravity acting on the models (records in g use G_STANDARD)
 
 
 def _finite(name: str, v) -> float:
-    v = float(v)
-    if not math.isfinite(v):
-        raise ValueError(f"{name}: expected a finite number, got {v}")
-    return v
+    """``v`` as a float; text, a bool or a non-finite value is refused naming ``name``."""
+    return number(name, v, "a finite number")
 
 
 def _frequency(name: str, f, amplitude) -> None:
@@ -67,7 +67,7 @@ class Harmonic:
 
     def __post_init__(self) -> None:
         for k in ("A_hor", "f_hor", "A_ver", "f_ver", "phase", "phase_ver"):
-            _finite(f"Harmonic.{k}", getattr(self, k))
+            object.__setattr__(self, k, _finite(f"Harmonic.{k}", getattr(self, k)))
         _frequency("Harmonic.f_hor", self.f_hor, self.A_hor)
         _frequency("Harmonic.f_ver", self.f_ver, self.A_ver)
 
@@ -141,7 +141,7 @@ class HarmonicForce(_ForceLoad):
 
     def __post_init__(self) -> None:
         for k in ("F", "f", "phase"):
-            _finite(f"HarmonicForce.{k}", getattr(self, k))
+            object.__setattr__(self, k, _finite(f"HarmonicForce.{k}", getattr(self, k)))
         _frequency("HarmonicForce.f", self.f, self.F)
         d, w = _load_dofs(self.dofs, self.weights)
         object.__setattr__(self, "dofs", d)
@@ -184,7 +184,7 @@ class ForceTable(_ForceLoad):
             raise ValueError("ForceTable.F: expected a non-empty array of finite forces [N]")
         if not (math.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"ForceTable.dt: expected a positive step [s], got {self.dt}")
-        _finite("ForceTable.t0", self.t0)
+        object.__setattr__(self, "t0", _finite("ForceTable.t0", self.t0))
         d, w = _load_dofs(self.dofs, self.weights)
         object.__setattr__(self, "F", F)
         object.__setattr__(self, "dofs", d)

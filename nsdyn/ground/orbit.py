@@ -33,16 +33,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._checks import number
 from nsdyn.ground.motion3 import GroundMotion3, cos_sin_deg
 
 
 def _finite(name: str, v, *, positive: bool = False, nonneg: bool = False) -> float:
-    try:
-        x = float(v)
-    except (TypeError, ValueError):
-        raise ValueError(f"HarmonicPlane.{name}: expected a number, got {v!r}") from None
-    if not math.isfinite(x):
-        raise ValueError(f"HarmonicPlane.{name}: expected a finite number, got {x!r}")
+    x = number(f"HarmonicPlane.{name}", v, "a finite number")  # text and bools refused
     if positive and not x > 0.0:
         raise ValueError(f"HarmonicPlane.{name}: expected a frequency > 0 [Hz], got {x!r}")
     if nonneg and x < 0.0:

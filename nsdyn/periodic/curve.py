@@ -135,14 +135,19 @@ def _point_from_sweep(
     problem: PeriodicModel, sw: SweepResult, why: str, disc: Discretisation | None = None
 ) -> OrbitPoint:
     """A point from the stepped sweep; its 'residual' is the estimated distance to the steady
-    state. Quantities are NaN when not even one period could be integrated. A growth of the
-    last period's multipliers is checked as for a shooting point."""
+    state. Quantities are NaN, with the model's verdict on uplift, when a period could not be
+    integrated: the first one, or a later one that stopped the sweep (the period before it
+    would pass for the point's; the deck's loop stops at an uplift). A growth of the last
+    period's multipliers is checked as for a shooting point."""
     rho = floquet_multipliers(sw.monodromy) if sw.monodromy is not None else np.zeros(0)
     rho, verdict, check = check_verdict(problem, sw.f, sw.x0, rho, disc)
     rho = rho if verdict is not None or not rho.size else np.zeros(0)
     probe = ""
-    if sw.periods_done > 0:
+    stopped = sw.periods_done > 0 and sw.x_stop is not None  # a later period failed
+    if sw.periods_done > 0 and not stopped:
         q = problem.orbit_quantities(sw.f, sw.X)
+    elif stopped:
+        q, probe = problem.quantities_without_orbit(sw.f, sw.x_stop, 1)  # the failing period
     else:
         # the horizon of continuation's retry decision (as many periods as the warm start)
         q, probe = problem.quantities_without_orbit(sw.f, sw.x0, WARMUP_PERIODS)
@@ -159,5 +164,5 @@ def _point_from_sweep(
         sw.n_steps,
         "; ".join(n for n in notes if n),
         q,
-        X=sw.X if sw.periods_done > 0 else None,
+        X=sw.X if sw.periods_done > 0 and not stopped else None,
     )

@@ -54,6 +54,8 @@ class SweepResult:
     n_steps: int
     message: str
     periods_done: int = 0  # periods integrated successfully (X is the last of them)
+    status: int = STATUS_OK  # what ended the sweep (STATUS_NOT_STEADY, a period's failure)
+    x_stop: np.ndarray | None = None  # start of the period that could not be integrated
 
 
 def steady_state_sweep(
@@ -131,6 +133,7 @@ def steady_state_sweep(
             f"; stopped early: the change per period no longer contracts (still {deltas[-1]:.1e}"
             f" after {k} periods; not a period-1 response, or one too slow to reach)"
         )
+    x_stop = None if status in (STATUS_OK, STATUS_NOT_STEADY) else x
     x = x_start  # x0 and the monodromy belong to the period returned in X
     M = None
     if monodromy and status in (STATUS_OK, STATUS_NOT_STEADY) and X is not None:
@@ -139,7 +142,7 @@ def steady_state_sweep(
             M = pm.monodromy
     if X is None:
         X = np.vstack([x, x])
-    return SweepResult(f, x, X, int(k), float(est), steady, M, N, msg, done)
+    return SweepResult(f, x, X, int(k), float(est), steady, M, N, msg, done, int(status), x_stop)
 
 
 def stagnated(deltas: list, k: int, kmax: int, tol: float, window: int = SS_WINDOW) -> bool:

@@ -86,8 +86,9 @@ def plane_scene(cfg: dict, source: str) -> dict:
         sysd = bs.build_system(cfg, source)
         if sysd["fidelity"] != "rigid":
             fid = sysd["fidelity"]
-            raise SceneError(f"{source}: structure.fidelity: nsdyn sweep needs the rigid "
-                             f"fidelity (the building as a deck), got {fid!r}")  # fmt: skip
+            raise SceneError(f"{source}: structure.fidelity: nsdyn sweep takes a building3d "
+                             "scene at the rigid fidelity (the building as a deck) or the fixed "
+                             f"one (the linear steady state), got {fid!r}")  # fmt: skip
         system = sysd["deck"]
         orbit, _ = bs.build_motion(cfg, source)
         solver = bs.build_solver(cfg, source)

@@ -207,6 +207,35 @@ def test_failures_are_reported_by_frequency_and_reason():
     assert all("no fallback" in d["reason"] for d in bare.info["failures"])
 
 
+def test_a_stepped_sweep_stopped_by_a_later_uplift_reports_uplift_not_the_period_before():
+    # the deck's loop stops at an uplift: a stepped sweep that integrated two periods and then
+    # met one (injected here: which periods lift is not something a quick test can choose)
+    # is a point with uplift and no quantities; the two periods before it were a transient
+    # and gave a peak and "uplift: false" to a point that had left the model
+    from nsdyn.periodic.curve import _point_from_sweep
+    from nsdyn.periodic.plane import STATUS_UPLIFT
+    from nsdyn.periodic.sweeps import steady_state_sweep
+
+    pb = plane_problem(sdof(), circular(A0, F0), law="switch")
+    run, calls = pb.run, []
+
+    def lifting_from_the_third(x, f, samples, full=False):
+        calls.append(np.array(x, dtype=float))
+        st, X, out = run(x, f, samples, full)
+        return (STATUS_UPLIFT if len(calls) >= 3 else st), X, out
+
+    pb.run = lifting_from_the_third
+    sw = steady_state_sweep(pb, F0, monodromy=False)
+    assert (sw.periods_done, sw.status, sw.steady) == (2, STATUS_UPLIFT, False)
+    np.testing.assert_array_equal(sw.x_stop, calls[2])  # the failing period's start
+    pt = _point_from_sweep(pb, sw, "shooting failed")
+    assert pt.quantities["uplift"] is True and math.isnan(pt.quantities["u_peak_m"])
+    assert pt.X is None and not pt.converged
+    assert pt.f == F0  # (and the same sweep without the failure reaches its steady state)
+    pb.run = run
+    assert steady_state_sweep(pb, F0, monodromy=False).steady
+
+
 def test_the_plane_probe_follows_the_motion_over_the_periods_asked():
     # quantities_without_orbit integrates `periods` periods from x0, each from the last
     # state: without a vertical component the normal force is m g in every period (no

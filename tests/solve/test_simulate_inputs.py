@@ -156,6 +156,23 @@ def test_plane_runs_name_their_bad_ground_and_kappa():
             simulate_plane(s, (0.0, 0.01, z, z, z), kappa=kappa)
 
 
+@pytest.mark.parametrize("value", ["abc", "1.0", True, float("nan"), None])
+def test_a_harmonic_excitations_values_must_be_numbers_named_by_field(value):
+    # "1.0" was stored as text (and failed later in a kernel); "abc" failed with float()'s
+    # bare message
+    from nsdyn.ground.excitation import Harmonic, HarmonicForce
+    from nsdyn.ground.orbit import HarmonicPlane
+
+    with pytest.raises(ValueError, match="^Harmonic.A_hor: expected a finite number, got"):
+        Harmonic(value, 1.0)
+    with pytest.raises(ValueError, match="^HarmonicForce.f: expected a finite number"):
+        HarmonicForce(1.0, value, dofs=(0,))
+    with pytest.raises(ValueError, match="^HarmonicPlane.ax: expected a finite number"):
+        HarmonicPlane(1.0, value, 1.0)
+    h = Harmonic(2, 1)  # numbers are kept as floats
+    assert type(h.A_hor) is float and type(h.f_hor) is float
+
+
 def test_a_harmonic_excitation_is_named_by_its_amplitude_and_frequency():
     # the run's banner and summary name it in units, not as a Python repr
     from nsdyn.ground.excitation import Harmonic, HarmonicForce

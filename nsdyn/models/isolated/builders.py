@@ -37,6 +37,18 @@ class MatrixError(ValueError):
     """A system matrix or vector has the wrong shape or value; the message names it."""
 
 
+def _floats(name: str, v, what: str) -> np.ndarray:
+    """``v`` as a float array; text, bools and ragged or non-numeric entries are refused
+    naming ``name`` (NumPy would read "1.0" as 1.0 and fail on "abc" without a name)."""
+    try:
+        a = np.asarray(v)
+    except ValueError:  # ragged
+        a = np.asarray(v, dtype=object)
+    if a.dtype.kind not in "iuf":
+        raise MatrixError(f"{name}: expected {what}, got {v!r}")
+    return a.astype(float)
+
+
 def _square(name: str, A, n: int | None) -> np.ndarray:
     try:
         A = np.array(A, dtype=float)
@@ -88,7 +100,7 @@ def _rows(name: str, rows, n: int) -> np.ndarray:
 
 
 def _influence(influence, n: int) -> np.ndarray:
-    G = np.asarray(influence, dtype=float)
+    G = _floats("influence", influence, "numbers")
     if G.shape == (n,):
         G = np.column_stack([G, np.zeros(n)])
     if G.shape != (n, 2) or not np.all(np.isfinite(G)):
@@ -113,7 +125,7 @@ def _levels(levels, heights, n: int) -> dict:
         lv.append([int(i) for i in d])
     out["levels"] = lv
     if heights is not None:
-        h = np.atleast_1d(np.asarray(heights, dtype=float))
+        h = np.atleast_1d(_floats("heights", heights, "storey heights [m]"))
         if h.size == 1 and len(lv) > 2:
             h = np.full(len(lv) - 1, float(h[0]))
         if h.shape != (len(lv) - 1,) or not np.all(np.isfinite(h) & (h > 0)):
@@ -198,7 +210,7 @@ def system_from_matrices(
                 )
             normal = np.zeros(ni)
         else:
-            w = np.atleast_1d(np.asarray(weight, dtype=float))
+            w = np.atleast_1d(_floats("weight", weight, "normal forces [N]"))
             if w.size == 1:
                 w = np.full(ni, float(w[0]) / ni)
             if w.shape != (ni,) or not np.all(np.isfinite(w) & (w > 0)):
@@ -299,8 +311,9 @@ def shear_building(
             f"isolation: expected an Isolation (nsdyn.Isolation(k_lam=..., mu=...)), got "
             f"{type(isolation).__name__}"
         )
-    m = np.atleast_1d(np.asarray(masses, dtype=float))
-    k = np.atleast_1d(np.asarray(stiffnesses, dtype=float)) if np.size(stiffnesses) else np.zeros(0)
+    m = np.atleast_1d(_floats("masses", masses, "one or more positive level masses [kg]"))
+    k = (np.atleast_1d(_floats("stiffnesses", stiffnesses, "storey stiffnesses [N/m]"))
+         if np.size(stiffnesses) else np.zeros(0))  # fmt: skip
     if m.ndim != 1 or m.size == 0 or not np.all(np.isfinite(m) & (m > 0)):
         raise MatrixError(f"masses: expected one or more positive level masses, got {masses!r}")
     if k.shape != (m.size - 1,) or not np.all(np.isfinite(k) & (k > 0)):
@@ -308,7 +321,7 @@ def shear_building(
             f"stiffnesses: expected len(masses) - 1 = {m.size - 1} positive storey stiffnesses "
             f"(storey k between levels k-1 and k; level 0 is the base slab), got {stiffnesses!r}"
         )
-    z = np.atleast_1d(np.asarray(damping_ratios, dtype=float))
+    z = np.atleast_1d(_floats("damping_ratios", damping_ratios, "ratios in [0, 1)"))
     N = k.size
     if N and z.size == 1:
         z = np.full(N, float(z[0]))

@@ -334,7 +334,7 @@ def _run_pairs(sysd, exc, t_end, kw, out_dir: Path, say, dt=None) -> dict:
     res = r.result
     npz = out_dir / "building3d.npz"
     with atomic_open(npz, "wb") as fh:
-        np.savez(fh, t=r.t, q=res.q, u=res.u, N=res.N, friction=res.friction,
+        np.savez(fh, t=r.t, q=res.q, qd=res.qd, u=res.u, N=res.N, friction=res.friction,
                  restoring=res.restoring, other=res.other, positions=system.positions,
                  origin=info["origin"], drift_cm=r.drifts.cm, drift_corner=r.drifts.corner,
                  corners=r.drifts.corners, floor_acc=r.floor_acc, base_shear=r.base_shear,

@@ -364,7 +364,8 @@ class PlaneResult(Tabular):
         s = {
             "law": self.law,
             "n_isolators": int(self.system.n_isolators),
-            "t_end_s": float(self.t[-1]),
+            # where the run ended: an uplift's located instant, after the last output
+            "t_end_s": float(self.uplift["t_s"]) if self.uplift else float(self.t[-1]),
             "peak_resultant_displacement_m": float(ru.max()),
             "peak_resultant_displacement_per_isolator_m": [float(v) for v in ru.max(axis=0)],
             "peak_component_displacement_m": float(max(np.abs(ux).max(), np.abs(uy).max())),

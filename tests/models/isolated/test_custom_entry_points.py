@@ -193,6 +193,16 @@ def test_bad_matrices_are_named(what, change, msg):
 def test_bad_shear_buildings_and_scenes(tmp_path):
     with pytest.raises(MatrixError, match="stiffnesses: expected len\\(masses\\) - 1 = 2"):
         shear_building([1.0, 1.0, 1.0], [1.0, 1.0, 1.0], 0.05, isolation=ISO)
+    # text is refused naming its argument (NumPy read "1e5" as a number and failed on "abc"
+    # with "could not convert string to float")
+    for args, name in ((("abc", [2e7]), "masses"), ((["1e5", "1e5"], [2e7]), "masses"),
+                       (([1e5, 1e5], ["x"]), "stiffnesses"), (([1e5, 1e5], [2e7], "5%"),
+                       "damping_ratios")):  # fmt: skip
+        args = args if len(args) == 3 else (*args, 0.05)
+        with pytest.raises(MatrixError, match=f"^{name}: expected"):
+            shear_building(*args, isolation=ISO)
+    with pytest.raises(MatrixError, match="^heights: expected storey heights"):
+        shear_building([1e5, 1e5], [2e7], 0.05, isolation=ISO, heights="3.0")
     good = (SCENES / "isolated-shear-3storey.toml").read_text()
     cases = [
         (

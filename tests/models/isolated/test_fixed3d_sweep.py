@@ -154,6 +154,31 @@ def test_cli_sweep_of_a_fixed_building(tmp_path):
     assert np.allclose(b, 3 * a, rtol=4 * EPS, atol=0)
 
 
+def test_cli_sweep_fidelity_flag_selects_the_fixed_rung_and_names_the_sweepable_ones(
+    tmp_path, capsys
+):
+    # --fidelity fixed on a rigid scene is the fixed scene's sweep (the same table, exactly:
+    # one model, one solve); cb is refused naming the field and the two rungs a sweep takes
+    from nsdyn.cli import main
+    from nsdyn.studies.table import read_csv
+
+    fixed = tmp_path / "fixed.toml"
+    fixed.write_text(SCENE.format(kind="orbit", motion=ORBIT))
+    rigid = tmp_path / "rigid.toml"
+    rigid.write_text(fixed.read_text().replace('fidelity = "fixed"', 'fidelity = "rigid"')
+                     + '\n[bearing]\ntype = "fps"\nradius = 2.2\nmu = 0.05\n')  # fmt: skip
+    argv = ["--amplitudes", "0.5", "--fmin", "1", "--fmax", "10", "--points", "41",
+            "--no-figures", "--json"]  # fmt: skip
+    assert main(["sweep", str(fixed), "--out", str(tmp_path / "a"), *argv]) == 0
+    assert main(["sweep", str(rigid), "--fidelity", "fixed", "--out", str(tmp_path / "b"),
+                 *argv]) == 0  # fmt: skip
+    assert read_csv(tmp_path / "a" / "sweep.csv") == read_csv(tmp_path / "b" / "sweep.csv")
+    capsys.readouterr()
+    assert main(["sweep", str(rigid), "--fidelity", "cb", "--out", str(tmp_path / "c")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "structure.fidelity" in err and "rigid" in err and "fixed" in err
+
+
 def test_cli_sweep_of_a_fixed_building_needs_an_orbit(tmp_path, capsys):
     from nsdyn.cli import main
 

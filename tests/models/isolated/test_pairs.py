@@ -203,7 +203,7 @@ def test_uplift_is_located_and_reported(law):
     t_up = (math.pi + math.asin(G / A)) / (2 * math.pi * f)
     assert r.uplift["isolator"] == 0
     assert r.uplift["t_s"] == pytest.approx(t_up, abs=1e-8)
-    assert r.t[-1] <= t_up
+    assert r.t[-1] <= t_up and r.summary()["t_end_s"] == r.uplift["t_s"]
 
 
 def _fields(**over):
