@@ -308,7 +308,7 @@ def report(res: dict) -> str:
     )
     for r in res["rows"]:
         lines.append(
-            f"{r['record']:6s} {r['label']:12s} {r['setting']:>5s}={r['value']:<6.0e} "
+            f"{r['record']:6s} {r['label']:12s} {r['setting']:>5s}={r['value']:<6.2g} "
             f"{r['err_x']:9.2e} {r['err_idr']:9.2e} {r['wall_s']:9.3f} {r['n_steps']:8d}  "
             f"{r['status']}"
         )

@@ -387,15 +387,17 @@ def report(res: dict) -> str:
     lines = ["largest stable fixed step [s] and the failure the code reported above it:"]
     for b in res["eps_boundary"] + res["alpha_boundary"]:
         key = "eps" if b["map"] == "eps" else "alpha"
+        acc = b["dt_max_accurate"]  # NaN: no tested step met the accuracy bound
+        acc = f"below {acc:.3g}" if np.isfinite(acc) else "at no tested step"
         lines.append(
             f"  {key}={b[key]:<8.3g} {b['model']:6s} {b['method']:9s} "
             f"{b['dt_max_stable']:9.3g} (err_x there {b['err_x_at_dt_max']:.2g}; accurate "
-            f"below {b['dt_max_accurate']:.3g})  failure above: {b['failure_above'] or '-'}"
+            f"{acc})  failure above: {b['failure_above'] or '-'}"
         )
     lines.append("constraint drift max |R q| [m]:")
     for d in res["drift"]:
         lines.append(
-            f"  alpha={d['alpha']:<6.3g} {d['method']:9s} {d['setting']}={d['value']:<6.0e} "
+            f"  alpha={d['alpha']:<6.3g} {d['method']:9s} {d['setting']}={d['value']:<6.2g} "
             f"{d['max_abs_Rq_m']:.3e}  {d['status']}"
         )
     sr = [r for r in res["shooting"] if "f_hz" in r]

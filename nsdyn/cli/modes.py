@@ -90,11 +90,12 @@ def modes_summary(frame, f_max: float, k_lam: float) -> tuple[dict, np.ndarray, 
 SCENE_TABLES = ("scene", "isolation", "motion", "solver", "structure", "force")
 
 
-def _scene_frame(arg: str) -> tuple[str, float | None]:
+def _scene_frame(arg: str) -> tuple[str, float | None, float | None]:
     """The frame ``nsdyn modes ARG`` lists: ``arg`` itself (a frame file or bundled name), or
     the frame a scene file names (``[scene] frame``, ``[structure] frame3d``; an isolated
     scene without either, or a scene of tables alone, runs the default frame); a scene
-    without a frame is refused. With the scene's ``[isolation] k_lam`` (a number), or None."""
+    without a frame is refused. With the scene's ``[isolation] k_lam`` (a number) and its
+    Craig–Bampton cut-off (``[scene] f_max``, a positive number), or None."""
     import tomllib
 
     from nsdyn.models.scenefile import SceneError, resolve_paths
@@ -110,7 +111,7 @@ def _scene_frame(arg: str) -> tuple[str, float | None]:
         and any(isinstance(data.get(t), dict) for t in SCENE_TABLES)
     )
     if not scene_like:
-        return arg, None
+        return arg, None, None
     data = resolve_paths({"scene": {}} | data, p.parent)
     kind = data["scene"].get("kind", "isolated")
     frame = data["scene"].get("frame") or data.get("structure", {}).get("frame3d")
@@ -126,29 +127,33 @@ def _scene_frame(arg: str) -> tuple[str, float | None]:
         data.get("isolation", {}).get("k_lam") if isinstance(data.get("isolation"), dict) else None
     )
     vals = k_lam if isinstance(k_lam, list) else [k_lam]  # one per isolator: their mean
+    fm = data["scene"].get("f_max")
+    fm = float(fm) if isinstance(fm, int | float) and not isinstance(fm, bool) and fm > 0 else None
     if vals and all(
         isinstance(v, int | float) and not isinstance(v, bool) and v >= 0 for v in vals
     ):
-        return frame, float(sum(vals)) / len(vals)
-    return frame, None
+        return frame, float(sum(vals)) / len(vals), fm
+    return frame, None, fm
 
 
 def run(args: argparse.Namespace) -> int:
     from nsdyn.structure import is_frame3d
 
     given = str(args.frame)
-    args.frame, scene_klam = _scene_frame(given)
+    args.frame, scene_klam, scene_fmax = _scene_frame(given)
     space = is_frame3d(args.frame)
     klam_from_scene = args.klam is None and scene_klam is not None and not space
+    fmax_from_scene = args.fmax is None and scene_fmax is not None and not space
     if args.frame != given:  # a scene: its frame alone, as the frame file defines it
         with_klam = f"; f_bis with its K_lam = {scene_klam:g} N/m" if klam_from_scene else ""
+        with_fmax = f"; its cut-off f_max = {scene_fmax:g} Hz" if fmax_from_scene else ""
         print(f"nsdyn modes: note: the fixed-base modes of {args.frame}, the frame {given} "
               "names, as its frame file defines it (without the scene's eccentricity, "
-              f"bearings or mode count{with_klam})", file=sys.stderr)  # fmt: skip
+              f"bearings or mode count{with_klam}{with_fmax})", file=sys.stderr)  # fmt: skip
     if space:
         return _run3d(args)
     frame = load_frame(args.frame)
-    fmax = DEFAULT_FMAX if args.fmax is None else args.fmax
+    fmax = scene_fmax if fmax_from_scene else DEFAULT_FMAX if args.fmax is None else args.fmax
     klam = scene_klam if klam_from_scene else DEFAULT_KLAM if args.klam is None else args.klam
     s, f, Phi = modes_summary(frame, fmax, klam)
     out = args.out if args.out is not None else (None if args.json else DEFAULT_OUT)

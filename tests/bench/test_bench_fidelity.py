@@ -101,3 +101,29 @@ def test_bench_fidelity_quick_end_to_end(tmp_path):
         for key in ("err_xpeak", "err_idr", "err_acc"):
             assert float(rigid[key]) > float(cb5[key]) > 10 * float(floor[key])
     assert (out / "fidelity.png").exists() and not list(out.glob(".*"))
+
+
+def test_the_report_names_each_rows_reference_and_gives_the_rigid_deck_no_drift_error():
+    # the header named the first row's reference for every row, the floor rows' included
+    # (those compare a rung at the ladder's tolerance with itself at 1e-8), and the rigid
+    # deck, which has no storey drift, showed an IDR "error" of 1
+    from nsdyn.bench.fidelity import report
+
+    def row(model, reference, idr):
+        return {"record": "broadband", "model": model, "n_dof": 3, "err_xpeak": 0.1,
+                "err_idr": idr, "err_acc": 0.1, "wall_s": 0.01, "status": "ok",
+                "reference": reference}  # fmt: skip
+
+    text = report(
+        {
+            "rows": [
+                row("rigid", "cb-10", 1.0),
+                row("cb-10", "cb-10", 0.0),
+                row("cb-5 rtol 1e-08", "floor: cb-5 at rtol 1e-06 vs 1e-08", 1e-9),
+            ]
+        }
+    )
+    lines = text.splitlines()
+    assert lines[0].endswith("(errors vs cb-10)")
+    assert lines[1].split()[4] == "—" and "1.00e+00" not in lines[1]
+    assert lines[-1] == "(an 'rtol' row: the time-integration floor, cb-5 at rtol 1e-06 vs 1e-08)"

@@ -56,3 +56,16 @@ def test_without_opensees_says_how_to_install(tmp_path, monkeypatch):
     res = mod.run_bench(tmp_path, True, quiet=True)
     assert res["rows"] == [] and res["status"] == "unavailable"
     assert 'pip install "nsdyn[opensees]"' in mod.report(res)
+
+
+def test_asked_for_by_name_without_opensees_it_exits_2(tmp_path, monkeypatch, capsys):
+    # it ran nothing: a script must not read exit 0 (`nsdyn bench all` goes on without it)
+    from nsdyn.cli import main
+
+    monkeypatch.setitem(sys.modules, "openseespy", None)
+    monkeypatch.setitem(sys.modules, "openseespy.opensees", None)
+    for what in ("opensees", "opensees3d"):
+        assert main(["bench", what, "--quick", "--json", "--out", str(tmp_path)]) == 2
+        err = capsys.readouterr().err.strip()
+        assert f"benchmark '{what}' did not run" in err and "nsdyn[opensees]" in err
+        assert "\n" not in err

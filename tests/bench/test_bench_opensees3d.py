@@ -8,6 +8,7 @@ openseespy and is slow.
 from __future__ import annotations
 
 import csv
+import re
 import sys
 
 import pytest
@@ -70,3 +71,26 @@ def test_quick_run_fixed_base_agrees(tmp_path):
     assert iso[0]["wall_s"] > 0 and iso[1]["wall_s"] > 0
     with open(res["csv"]) as fh:
         assert len(list(csv.DictReader(fh))) == len(res["rows"])
+
+
+def test_the_fixed_base_table_has_its_own_headers():
+    # its seven differences printed under the isolated table's six headers (|u|, V, ...)
+    mod = load_benchmark("opensees3d")
+    iso = {"case": "isolated", "record_s": 2.0, "repeats": 1, "run": "nsdyn cb", "wall_s": 1.0,
+           "time_ratio": 1.0, "peak_resultant_displacement_m": 0.007,
+           "peak_base_shear_N": 2.6e6, "peak_roof_corner_displacement_m": 0.13,
+           "peak_drift_corner_x": 3e-3, "peak_drift_corner_y": 2e-3}  # fmt: skip
+    fix = {"case": "fixed", "run": "OpenSees fixed base", "wall_s": 40.0,
+           **{f"d_{k}": 0.001 * j for j, k in enumerate(mod.PEAKS_FIXED)}}  # fmt: skip
+    lines = mod.report({"rows": [iso, fix]}).splitlines()
+    k = lines.index("fixed base (the same linear model; d = OpenSees / nsdyn - 1):")
+    head, row = lines[k + 1], lines[k + 2]
+
+    def ends(line):  # where each space-separated field ends
+        return [m.end() for m in re.finditer(r"\S+", line)]
+
+    # the seven differences, each under its own header (right-aligned, as the values are)
+    assert ends(row)[-7:] == ends(head.replace("dCM ", "dCM_").replace("dcor ", "dcor_")
+                                  .replace("V ", "V_"))[-7:]  # fmt: skip
+    assert row.split()[-7:] == [f"+{0.1 * j:.2f}%" for j in range(7)]
+    assert head.split()[-1] == "roof" and "V y" in head and "dCM x" in head

@@ -492,3 +492,16 @@ def test_a_record_error_names_the_scene_key_at_fault(tmp_path, extra, field, one
     scene.write_text(f'[motion]\nrecord = "r.csv"\n{extra}\n')
     assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 2
     one_line(f"s.toml: {field or 'motion.record'}: ")
+
+
+def test_modes_of_a_scene_takes_its_cut_off(capsys, tmp_path):
+    # a scene's [scene] f_max is the Craig-Bampton model it runs: the counts are those of
+    # `--fmax` at that value (the default 5 Hz's were shown for it); --fmax still wins
+    scene = tmp_path / "s.toml"
+    scene.write_text('[scene]\nframe = "office-11"\nf_max = 10.0\n')
+    assert main(["modes", str(scene), "--json"]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert main(["modes", "office-11", "--fmax", "10", "--json"]) == 0
+    assert s == json.loads(capsys.readouterr().out) and s["f_max_hz"] == 10.0
+    assert main(["modes", str(scene), "--fmax", "5", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["f_max_hz"] == 5.0
