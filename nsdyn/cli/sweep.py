@@ -323,13 +323,23 @@ def run(args: argparse.Namespace) -> int:
                     f"   A = {s['A']:g}: {s['unilateral_points']} points with lift-off and landing"
                 )
     for s in report["amplitudes"]:
-        for line in gap_lines(s):
+        for line in [*gap_lines(s), *resumed_lines(s)]:
             print(f"   A = {s['A']:g}: {line}")
     print(f"csv:    {csv_path}")
     if "figure" in report:
         print(f"figure: {report['figure']}")
     sys.stdout.flush()
     return _holes(report["amplitudes"], csv_path)
+
+
+def resumed_lines(s: dict) -> list[str]:
+    """A curve resumed from its checkpoint: how many points it took from there (its wall
+    time is this run's, those points' not in it)."""
+    k = s.get("resumed_points") or 0
+    if not k:
+        return []
+    return [f"{k} of {s['points']} points resumed from the checkpoint (wall [s]: this run's "
+            "points only)"]  # fmt: skip
 
 
 def gap_lines(s: dict) -> list[str]:
@@ -459,6 +469,8 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         if s["uplift_points"] or s["rim_contact_points"]:
             print(f"   A = {s['A']:g}: {s['uplift_points']} points with uplift (left out of "
                   f"|u|max), {s['rim_contact_points']} with a rim contact")  # fmt: skip
+        for line in resumed_lines(s):
+            print(f"   A = {s['A']:g}: {line}")
     print(f"csv:    {csv_path}")
     print(f"json:   {json_path}")
     if "figure" in report:

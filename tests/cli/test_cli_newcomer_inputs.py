@@ -433,6 +433,17 @@ def test_a_sweep_without_figures_removes_the_earlier_runs_figure(tmp_path, capsy
     assert "removed the earlier run's sweep.png" in capsys.readouterr().err
 
 
+def test_a_resumed_sweep_says_its_wall_time_is_this_runs(tmp_path, capsys):
+    # rerun, every point comes from the checkpoint: the wall column times this run alone
+    argv = ["sweep", "--points", "2", "--fmin", "0.5", "--fmax", "1", "--amplitudes", "0.5",
+            "--no-figures", "--out", str(tmp_path / "o")]  # fmt: skip
+    assert main(argv) == 0
+    assert "points resumed" not in capsys.readouterr().out
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "A = 0.5: 2 of 2 points resumed from the checkpoint (wall [s]: this run's" in out
+
+
 def test_a_sweep_with_a_point_without_steady_state_exits_3(tmp_path, capsys, monkeypatch):
     # a curve with holes is not a success (as a study with failed tasks): status 3 and one
     # line naming the count and the file, the files written as usual. The hole is put in the

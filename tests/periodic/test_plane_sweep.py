@@ -81,6 +81,10 @@ def test_nsdyn_sweep_on_the_example_scene_gives_the_closed_form_and_resumes(tmp_
     again = json.loads(capsys.readouterr().out)
     assert [s["resumed_points"] for s in again["amplitudes"]] == [4, 4]
     assert list(csv.DictReader((out / "sweep.csv").open())) == rows
+    # the table says so: its wall time is this run's alone (the resumed points' not in it)
+    assert nsdyn_main(argv[:-1]) == 0
+    text = capsys.readouterr().out
+    assert text.count("4 of 4 points resumed from the checkpoint (wall [s]: this run's") == 2
 
 
 def test_default_range_and_amplitude_come_from_the_scene(tmp_path, capsys, monkeypatch):
