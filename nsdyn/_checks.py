@@ -7,6 +7,11 @@ from __future__ import annotations
 import math
 
 
+class InputWarning(UserWarning):
+    """A warning about the user's input (a record's assumed units, a component a model cannot
+    feel): the command line prints it as one line, ``nsdyn CMD: warning: ...``."""
+
+
 def expect(name: str, value, ok: bool, what: str) -> None:
     """Raise ``TypeError("{name}: expected {what}, got {type}")`` unless ``ok``."""
     if not ok:

@@ -191,3 +191,10 @@ def fail(args: argparse.Namespace, message, status: int = EXIT_USER_ERROR,
 
         print(json.dumps({"status": status, "error": str(message)}))
     return status
+
+
+PGA_HELP = (
+    "scale the record to this PGA [m/s²], every component by one factor: a planar model's "
+    "horizontal component; a deck's or building's [motion] pga_component (default the "
+    "resultant); the cylinder's larger horizontal peak"
+)

@@ -178,7 +178,7 @@ def run(args: argparse.Namespace) -> int:
     for k, (fk, t, z) in enumerate(rows):
         print(f"  {k + 1:2d}  {fk:7.3f}   {t:8s}  {z:.3f}")
     print(f"total mass M_s = {s['total_mass_kg']:.4g} kg")
-    print(f"f_bis = sqrt({len(frame.base_nodes)} K_lam / M_s) / 2pi = {s['f_bis_hz']:.4f} Hz")
+    print(f"f_bis = sqrt({len(frame.base_nodes)} K_lam / M_s) / 2pi = {s['f_bis_hz']:.4g} Hz")
     print(f"  (K_lam = {s['k_lam_n_per_m']:g} N/m)")
     if "figure" in s:
         print(f"mode shapes: {s['figure']}")

@@ -21,6 +21,24 @@ def note_short_record(cfg: dict, motion) -> str | None:
     return None
 
 
+def note_unused_components(motion) -> str | None:
+    """A record file with acceleration columns the planar model leaves out (a second
+    horizontal component): said in one line, naming what it takes."""
+    meta = getattr(motion, "meta", None) or {}
+    left = meta.get("unused_columns") or []
+    if not left:
+        return None
+    names = meta.get("columns")
+    took = [names[j] if names else j for j in (meta.get("column"), meta.get("vertical_column"))
+            if j is not None]  # fmt: skip
+    return (
+        f"the record's column(s) {', '.join(map(repr, left))} not used: a planar model "
+        f"takes one horizontal component and the vertical: {', '.join(map(repr, took))} "
+        "(read_motion's column= and vertical= choose others); a deck or building3d scene "
+        "takes all three"
+    )
+
+
 SAMPLES_PER_PERIOD_MIN = 20  # fewer output samples per excitation period miss the peaks
 # outputs further apart than this many record samples (0.1 s at 100 Hz) sample a 2.5 Hz
 # floor response fewer than 4 times per period: its peak read there errs by up to 30 %
@@ -213,7 +231,8 @@ def explicit_steps(method: str, system, span: float, quiet: bool) -> list[str]:
 def scene_notes(cfg: dict, motion, quiet: bool, system=None) -> list[str]:
     """Every note of a loaded scene (the functions above), in one line each on stderr unless
     ``quiet``; returned (a --json summary's ``notes``)."""
-    notes = [note_short_record(cfg, motion), note_coarse_output(cfg, motion),
+    notes = [note_short_record(cfg, motion), note_unused_components(motion),
+             note_coarse_output(cfg, motion),
              note_soft_law(cfg), note_high_friction(cfg), note_unused_cutoff(cfg),
              note_unused_isolation(cfg, system), note_loose_atol(cfg, system)]  # fmt: skip
     notes = [n for n in notes if n]

@@ -36,7 +36,8 @@ from nsdyn.ground.motion import GroundMotion, RecordFileError, header_units, res
 
 HEADER_SEARCH_LINES = 12  # an AT2 "NPTS, DT" line must lie within the first lines
 _TIME_NAMES = {"t", "time", "time_s", "t_s", "time(s)", "t[s]", "t(s)", "time[s]", "sec", "seconds"}
-_VERTICAL_NAMES = {"a_ver", "ver", "vertical", "ud", "up", "z", "a_z", "vert", "accel_ver"}
+# (az: the name nsdyn.write_motion3 gives the vertical)
+_VERTICAL_NAMES = {"a_ver", "ver", "vertical", "ud", "up", "z", "a_z", "az", "vert", "accel_ver"}
 
 
 @dataclass(frozen=True)
@@ -218,6 +219,12 @@ def parse_table_motion(
             "file_units": unit_name,
             "column": hcol,
             "vertical_column": vcol if a_ver is not None else None,
+            # acceleration columns this planar record leaves out (a second horizontal)
+            "unused_columns": [
+                names[j] if names else j
+                for j in acc_cols
+                if j != hcol and (a_ver is None or j != vcol)
+            ],  # fmt: skip
             "columns": names,
             "header": tab.header,
         }

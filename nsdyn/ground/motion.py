@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from nsdyn._checks import number
+from nsdyn._checks import InputWarning, number
 
 
 def _cumulative_trapezoid(y, dx: float, initial: float = 0.0):
@@ -71,7 +71,7 @@ class UnitError(ValueError):
     argument = "units"
 
 
-class UnitWarning(UserWarning):
+class UnitWarning(InputWarning):
     """The units of a record were assumed, or its PGA looks like the wrong unit."""
 
 
@@ -266,8 +266,10 @@ class GroundMotion(Sampled):
         ``method="linear"``: linear interpolation (no anti-aliasing; error ≤ max|a''| dt_old²/8).
         """
         dt = float(dt)
-        if not dt > 0.0:
-            raise ValueError(f"dt must be positive, got {dt}")
+        if not (dt > 0.0 and math.isfinite(dt)):
+            raise ValueError(f"dt must be positive and finite, got {dt}")
+        if self.n < 2:  # (scipy's polyphase filter ends the process on one sample)
+            raise ValueError(f"{self.name!r}: resampling needs two samples or more, got {self.n}")
         n_new = int(math.floor(self.duration / dt * (1.0 + 1e-12) + 1e-9)) + 1
         if method == "linear":
             tau_new = dt * np.arange(n_new)
@@ -302,9 +304,13 @@ class GroundMotion(Sampled):
 
     def window(self, t_start: float, t_end: float) -> GroundMotion:
         """The samples with t_start ≤ t ≤ t_end (absolute times; t0 becomes the first kept t)."""
+        if math.isnan(t_start) or math.isnan(t_end):
+            raise ValueError(f"window: expected times [s], got [{t_start}, {t_end}]")
         eps = 1e-9
-        i0 = max(0, math.ceil((t_start - self.t0) / self.dt - eps))
-        i1 = min(self.n - 1, math.floor((t_end - self.t0) / self.dt + eps))
+        x0 = (t_start - self.t0) / self.dt - eps  # (an infinite end: the record's own end)
+        x1 = (t_end - self.t0) / self.dt + eps
+        i0 = 0 if x0 <= 0 else self.n if x0 > self.n else math.ceil(x0)
+        i1 = self.n - 1 if x1 >= self.n - 1 else -1 if x1 < 0 else math.floor(x1)
         if i1 < i0:
             raise ValueError(f"window [{t_start}, {t_end}] holds no sample of {self.name!r}")
         a_ver = None if self.a_ver is None else self.a_ver[i0 : i1 + 1].copy()
@@ -363,16 +369,24 @@ _UNIT_PATTERNS = [
 ]
 
 
+UNKNOWN_UNITS = "unknown:"  # header_units' prefix of a "units: WORD" it does not know
+
+
 def header_units(header: list[str]) -> str | None:
-    """Units stated in a header, by the patterns above in priority order; None if not stated."""
+    """Units stated in a header, by the patterns above in priority order; None if not stated.
+    A "units: WORD" line (the first pattern, which states units and nothing else) with a word
+    that is no unit gives ``UNKNOWN_UNITS + WORD`` (:func:`resolve_units` refuses it); the
+    looser phrases of the other patterns are skipped when their word is no unit."""
     text = "\n".join(header)
-    for pattern in _UNIT_PATTERNS:
+    unknown = None
+    for k, pattern in enumerate(_UNIT_PATTERNS):
         for m in pattern.finditer(text):
             try:
                 return unit_factor(m.group(1).rstrip("."))[0]
             except ValueError:
-                continue
-    return None
+                if k == 0 and unknown is None:
+                    unknown = UNKNOWN_UNITS + m.group(1)
+    return unknown
 
 
 _UNIT_SCALE = (("cm/s² (gal)", 0.01), ("m/s²", 1.0), ("g", G_STANDARD))
@@ -421,7 +435,16 @@ def check_pga(motion: GroundMotion, units: str | None = None) -> None:
 
 
 def resolve_units(explicit: str | None, stated: str | None, source: str) -> tuple[str, float]:
-    """``(unit name, factor to m/s²)``: the argument, else the header's, else m/s² (warns)."""
+    """``(unit name, factor to m/s²)``: the argument, else the header's, else m/s² (warns).
+    Units the header states but nsdyn does not know are refused (unless given)."""
+    if stated is not None and stated.startswith(UNKNOWN_UNITS):
+        word = stated.removeprefix(UNKNOWN_UNITS)
+        if explicit is None:
+            raise UnitError(
+                f"{source}: the header states units {word!r}, which nsdyn does not "
+                f"know; expected g, gal (cm/s2) or m/s2 (or give them: {UNITS_HINT})"
+            )
+        stated = word  # the argument wins, with the warning below
     if explicit is not None:
         try:
             name, factor = unit_factor(explicit)

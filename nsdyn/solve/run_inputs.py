@@ -12,6 +12,7 @@ import numpy as np
 
 from nsdyn._checks import (  # noqa: F401 (the run's step rules, importable from here)
     FIXED_DT,
+    InputWarning,
     check_fixed_step,
     default_step,
     sampling_step,
@@ -48,7 +49,7 @@ def vertical_felt(system, motion) -> None:
             "the run "
             "is the horizontal motion's; model the vertical dofs (build_system from a frame, "
             "or system_from_matrices with contact_rows) to feel it",
-            UserWarning,
+            InputWarning,
             stacklevel=3,
         )
 

@@ -2,6 +2,8 @@
 naming what is wrong, exit status 2 (``nsdyn.cli.args.EXIT_USER_ERROR``), nothing on stdout
 and nothing written (no output folder left behind)."""
 
+from pathlib import Path
+
 import pytest
 
 from nsdyn.cli import main
@@ -131,6 +133,20 @@ def test_a_units_warning_is_one_line_naming_the_command(capsys, tmp_path):
         f"nsdyn run: warning: {rec}: the file does not state its units; assuming m/s² (give "
         'them: in a scene [motion] units = "gal", "g" or "m/s2"; in Python units=\'gal\')'
     ]
+
+
+def test_a_vertical_the_model_cannot_feel_is_one_warning_line(capsys, tmp_path):
+    # an InputWarning like the units': it printed Python's "file:line: UserWarning: ..."
+    import warnings
+
+    scene = Path(__file__).resolve().parents[2] / "examples/scenes/isolated-shear-3storey.toml"
+    s = tmp_path / "s.toml"
+    s.write_text(scene.read_text().replace("vertical = false", ""))
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        assert main(["run", str(s), "--t-end", "0.5", "--no-figures", "--out", str(tmp_path)]) == 0
+    err = [ln for ln in capsys.readouterr().err.splitlines() if "warning" in ln.lower()]
+    assert len(err) == 1 and err[0].startswith("nsdyn run: warning: motion: its vertical")
 
 
 def test_a_method_that_cannot_integrate_unilateral_contact_is_named(capsys, tmp_path):

@@ -321,6 +321,32 @@ def test_three_column_csv_round_trip_is_bit_for_bit(tmp_path, m3, vertical):
     assert back.meta["seed"] == 7 and back.name == rec.name
 
 
+def test_the_planar_reader_takes_the_x_and_vertical_of_write_motion3_s_file(tmp_path, m3):
+    # its vertical column is named az: the planar reader dropped it (and, with az before ax,
+    # took it as the horizontal); the second horizontal is listed as left out, and a run says so
+    from nsdyn.cli.run_checks import note_unused_components
+    from nsdyn.ground import read_motion
+
+    rec = m3.window(1.0, 3.0)
+    path = write_motion3(rec, tmp_path / "rec3.csv")
+    planar = read_motion(path)
+    assert np.array_equal(planar.a_hor, rec.ax) and np.array_equal(planar.a_ver, rec.az)
+    assert planar.meta["unused_columns"] == ["ay"]
+    assert "'ay' not used" in note_unused_components(planar)
+    lines = path.read_text().splitlines()
+    data = [ln for ln in lines if ln and not ln.startswith("#")]
+    cols = [c.split(",") for c in data]  # t, ax, ay, az -> t, az, ax, ay
+    swapped = tmp_path / "z_first.csv"
+    head = [ln.replace("columns: t ax ay az", "columns: t az ax ay") for ln in lines
+            if ln.startswith("#")]  # fmt: skip
+    swapped.write_text("\n".join(head + [",".join([c[0], c[3], c[1], c[2]]) for c in cols]))
+    planar = read_motion(swapped)
+    assert np.array_equal(planar.a_hor, rec.ax) and np.array_equal(planar.a_ver, rec.az)
+    single = read_motion(write_motion3(dataclasses.replace(rec, ay=0 * rec.ay, az=None),
+                                       tmp_path / "x.csv"))  # fmt: skip
+    assert note_unused_components(single) is not None  # (a zero ay is still a column)
+
+
 def test_a_bad_row_of_write_motion3_s_layout_is_named_with_its_line(tmp_path, m3):
     # the columns named in the '# columns:' comment (the layout write_motion3 writes): a NaN
     # or a short row is that file's line, not "missing component y"

@@ -97,6 +97,21 @@ def test_window_and_with_vertical():
     r = m.with_vertical(2 / 3)
     np.testing.assert_array_equal(r.a_ver, 2 / 3 * m.a_hor)
     assert m.with_vertical(None).a_ver is None
+    # an infinite end is the record's own (math.floor(inf) raised OverflowError); NaN is
+    # refused naming the window
+    assert m.window(-np.inf, np.inf).n == m.n and m.window(2.004, np.inf).n == m.n - 201
+    with pytest.raises(ValueError, match="^window: expected times"):
+        m.window(np.nan, 3.0)
+
+
+def test_a_one_sample_record_is_not_resampled():
+    # scipy's polyphase filter ended the process (SIGFPE) on one sample: refused, named
+    from nsdyn.ground import GroundMotion3
+
+    with pytest.raises(ValueError, match="resampling needs two samples or more, got 1"):
+        GroundMotion(0.0, 0.01, np.array([1.0])).resampled(0.005)
+    with pytest.raises(ValueError, match="resampling needs two samples or more, got 1"):
+        GroundMotion3(0.0, 0.01, np.array([1.0]), np.array([1.0])).resampled(0.005)
 
 
 # ------------------------------------------------------------------------------------------

@@ -24,6 +24,7 @@ from nsdyn.ground import (
     read_two_column,
     write_motion,
 )
+from nsdyn.ground.motion import UnitError
 
 
 def write(tmp_path: Path, name: str, text: str, newline: str = "\n") -> Path:
@@ -272,6 +273,13 @@ def test_unit_warnings(tmp_path):
     stated = write(tmp_path, "s.txt", "# units: g\n0.0 0.3\n0.01 -0.2\n0.02 0.1\n")
     with pytest.warns(UnitWarning, match="header states 'g'"):
         read_motion(stated, units="m/s2")
+    # a "units:" line nsdyn cannot read is refused, naming the file and the word (it was read
+    # as m/s² with "the file does not state its units"); given units win, with the warning
+    odd = write(tmp_path, "odd.txt", "# units: furlongs\n0.0 0.3\n0.01 -0.2\n0.02 0.1\n")
+    with pytest.raises(UnitError, match=r"odd.txt: the header states units 'furlongs'"):
+        read_motion(odd)
+    with pytest.warns(UnitWarning, match="header states 'furlongs'; using 'g'"):
+        assert read_motion(odd, units="g").pga == pytest.approx(0.3 * 9.80665)
 
 
 # ------------------------------------------------------------------------------------------

@@ -102,6 +102,25 @@ def _star(p: CylinderParams, st: dict, source: str) -> CylinderParams:
     return p.with_(**{q: getattr(p, q) * fac})
 
 
+def _record_components(mo: dict) -> tuple:
+    """(x, y, z) records of ``[motion] record`` (with ``record_y`` and ``record_z``, each a
+    file of one component); alone, a file or bundled name holding both horizontal components
+    (nsdyn's three-column CSV, a bundled record with its second component) gives both and its
+    vertical, and a one-component file x and its vertical, if any."""
+    from nsdyn.ground import read_motion, read_motion3
+    from nsdyn.ground.motion import RecordFileError
+
+    if "record_y" in mo or "record_z" in mo:
+        my = read_motion(mo["record_y"]) if "record_y" in mo else None
+        mz = read_motion(mo["record_z"]) if "record_z" in mo else None
+        return read_motion(mo["record"]), my, mz
+    try:
+        m3 = read_motion3(mo["record"])
+    except (RecordFileError, KeyError, ValueError):  # one horizontal component
+        return read_motion(mo["record"]), None, None
+    return m3.planar(0.0), m3.planar(90.0), None  # (x with the vertical, y)
+
+
 def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np.ndarray, dict]:
     """(params, dt, ag (n, 3), solver options) from a parsed scene; :class:`SceneError` if bad."""
     check_fields(cfg, TABLES, source)
@@ -144,12 +163,8 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
                          "needed)")  # fmt: skip
     mo = cfg.get("motion", {})
     if "record" in mo:
-        from nsdyn.ground import read_motion
-
         try:
-            mx = read_motion(mo["record"])
-            my = read_motion(mo["record_y"]) if "record_y" in mo else None
-            mz = read_motion(mo["record_z"]) if "record_z" in mo else None
+            mx, my, mz = _record_components(mo)
         except (OSError, ValueError) as e:
             raise SceneError(f"{source}: motion.record: {e}") from None
         scenefile.refuse_keys(mo, source, "motion", RECORD_REPLACES, "a key of the simulated "

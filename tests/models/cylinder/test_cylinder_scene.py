@@ -157,10 +157,34 @@ def test_nsdyn_run_record_replaces_the_simulated_earthquake(tmp_path, capsys):
             "--no-figures", "--out", str(tmp_path)]  # fmt: skip
     assert main(argv) == 0
     s = json.loads(capsys.readouterr().out)
-    from nsdyn.ground import read_motion
 
-    rec = read_motion("synthetic-wn-40s").window(0.0, 1.0)  # the record's own peak, unscaled
-    assert s["t_end"] == pytest.approx(1.0) and s["pga_hor"] == max(abs(rec.a_hor))
+    from nsdyn.ground import read_motion3
+
+    rec = read_motion3("synthetic-wn-40s").window(0.0, 1.0)  # its own peak, both components
+    assert s["t_end"] == pytest.approx(1.0)
+    assert s["pga_hor"] == max(abs(rec.ax).max(), abs(rec.ay).max())
+
+
+def test_a_three_component_file_is_the_same_record_as_its_three_files(tmp_path):
+    # nsdyn's three-column CSV (or a bundled record with a second component) gives the
+    # cylinder both horizontals and the vertical: its a_y was dropped without a word. The
+    # same components as three files (record, record_y, record_z) give the same input
+    import numpy as np
+
+    from nsdyn.ground import GroundMotion, read_motion3, write_motion, write_motion3
+
+    m3 = read_motion3("synthetic-wn-40s").window(0.0, 2.0)
+    write_motion3(m3, tmp_path / "r3.csv")
+    for c, a in (("x", m3.ax), ("y", m3.ay), ("z", m3.az)):
+        write_motion(GroundMotion(m3.t0, m3.dt, a, name=c), tmp_path / f"{c}.csv")
+    one = {"scene": {"kind": "cylinder"}, "motion": {"record": str(tmp_path / "r3.csv")}}
+    three = {"scene": {"kind": "cylinder"}, "motion": {
+        "record": str(tmp_path / "x.csv"), "record_y": str(tmp_path / "y.csv"),
+        "record_z": str(tmp_path / "z.csv")}}  # fmt: skip
+    _, dt1, ag1, _ = build(one, "c.toml")
+    _, dt3, ag3, _ = build(three, "c.toml")
+    assert dt1 == dt3 and np.array_equal(ag1, ag3)
+    np.testing.assert_array_equal(ag1, np.column_stack([m3.ax, m3.ay, m3.az]))
 
 
 def test_a_fixed_base_names_no_foundation_springs():
