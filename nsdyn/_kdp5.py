@@ -83,6 +83,13 @@ def dense(rc, i, s):
     return rc[0, i] + s * (rc[1, i] + s1 * (rc[2, i] + s * (rc[3, i] + s1 * rc[4, i])))
 
 
+@ka.compiled_uncounted
+def dense_state(rc, s, ys):
+    """Every component of the continuous extension at ``s`` in [0, 1], into ``ys``."""
+    for i in range(ys.shape[0]):
+        ys[i] = dense(rc, i, s)
+
+
 @ka.compiled_only
 def new_step(h, err):
     """Next step size from the scaled error norm ``err`` of a step of size ``h``."""

@@ -177,6 +177,7 @@ def begin(y0, t0, modes, dirs, op, bp, sp, gk, gp, tab, X, NO, FF, FR, FO, MO, E
         kr.tension_start(info, t0, out[1], bil)
         if kr._min_normal(out[1]) <= 0.0 and not (bil or uni):
             info[kr.I_IFAIL] = np.argmin(out[1])
+            info[kr.I_NOUT] = 1  # (the output at the start, its uplift state)
             st = kr.ST_UPLIFT
     if st != kr.ST_OK:
         info[kr.I_TFAIL] = t0
@@ -209,13 +210,13 @@ def locate_uplift(t, hh, sb, rc, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, o
     sa = 0.0
     while (sb - sa) * hh > kr.EVENT_TTOL:
         sm = 0.5 * (sa + sb)
-        kr._dense_state(rc, sm, ys)
+        dp.dense_state(rc, sm, ys)
         _ev(t + sm * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
         if kr._min_normal(lam) <= 0.0:
             sb = sm
         else:
             sa = sm
-    kr._dense_state(rc, sb, ys)
+    dp.dense_state(rc, sb, ys)
     _ev(t + sb * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
     for i in range(lam.shape[0]):
         if lam[i] <= 0.0 and info[kr.I_IFAIL] < 0:
@@ -265,7 +266,7 @@ def gslip(rc, s, ys, modes, dirs, op, sp, ws, g):
 @ka.compiled_only
 def end_state(rc, ys, y1):
     """ys = the dense state at s = 1; True when it is y1 bit for bit (signs of zeros too)."""
-    kr._dense_state(rc, 1.0, ys)
+    dp.dense_state(rc, 1.0, ys)
     for j in range(ys.shape[0]):
         if ys[j] != y1[j] or math.copysign(1.0, ys[j]) != math.copysign(1.0, y1[j]):
             return False
@@ -294,7 +295,7 @@ def locate_event(t, hh, rc, ys, y1, g0, g, ga, ge, modes, dirs, op, bp, sp, gk, 
                 for c in range(3):
                     g[i, c] = ge[i, c]
         else:
-            kr._dense_state(rc, sb, ys)
+            dp.dense_state(rc, sb, ys)
             gvals(t + sb * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g)
             nfev += 1
         if kr._crossed(g0, g):
@@ -303,14 +304,14 @@ def locate_event(t, hh, rc, ys, y1, g0, g, ga, ge, modes, dirs, op, bp, sp, gk, 
                 if fast:
                     gslip(rc, sm, ys, modes, dirs, op, sp, ws, ga)
                 else:
-                    kr._dense_state(rc, sm, ys)
+                    dp.dense_state(rc, sm, ys)
                     gvals(t + sm * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, ga)
                     nfev += 1
                 if kr._crossed(g0, ga):
                     sb = sm
                 else:
                     sa = sm
-            kr._dense_state(rc, sb, ys)
+            dp.dense_state(rc, sb, ys)
             if fast:
                 gslip(rc, sb, ys, modes, dirs, op, sp, ws, g)
             else:
@@ -318,7 +319,7 @@ def locate_event(t, hh, rc, ys, y1, g0, g, ga, ge, modes, dirs, op, bp, sp, gk, 
             return True, sb, nfev
         sa = sb
     if fast:
-        kr._dense_state(rc, 1.0, ys)
+        dp.dense_state(rc, 1.0, ys)
     return False, 1.0, nfev
 
 
@@ -413,7 +414,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             nfev += ne
         n_cut = n_end_min
         if not uni and (event or n_end_min <= 0.0):  # normal force at the cut (or step end)
-            kr._dense_state(rc, s_end, ys)
+            dp.dense_state(rc, s_end, ys)
             _ev(t + s_end * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
             n_cut = kr._min_normal(lam)
             if n_cut <= 0.0 and not tens:
@@ -430,13 +431,13 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
             info[kr.I_NMIN] = min(info[kr.I_NMIN], n_cut)
         t_new = t + s_end * hh if s_end < 1.0 else t + hh
         while iout < nt and t_eval[iout] <= t_new:
-            kr._dense_state(rc, (t_eval[iout] - t) / hh, ys)
+            dp.dense_state(rc, (t_eval[iout] - t) / hh, ys)
             ka.tcall("pairs.emit", (t_eval[iout], ys, modes, dirs, op, bp, sp, gk, gp, tab, ws,
                                     out, iout, X, NO, FF, FR, FO, MO, stops))  # fmt: skip
             iout += 1
             info[kr.I_NOUT] = iout  # (the progress line's)
         if s_end < 1.0:
-            kr._dense_state(rc, s_end, ys)
+            dp.dense_state(rc, s_end, ys)
             for j in range(n2):
                 y[j] = ys[j]
         else:

@@ -20,6 +20,7 @@ from nsdyn import _kaddress as ka
 from nsdyn.models.isolated import _kpairs as kq
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplanerun as kr
+from nsdyn.models.isolated._kplanestops import tension_mode
 from nsdyn.models.isolated.bearings import B_MUS
 
 ALIGN_RELAX = 4  # relaxation weights tried in turn: 1, 1/2, 1/4, 1/8
@@ -52,6 +53,13 @@ def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
                 if lim * (1.0 + kr.STICK_RTOL) - tau <= 0.0 and tau > 0.0 and rat > ratio:
                     ratio = rat
                     worst = i
+        if (
+            worst < 0
+            and int(sp[kq.S_CONTACT]) == kp.CONTACT_BILATERAL
+            and _tension_flips(t, y, modes, dirs, op, sp, ws, out, EV, info)
+        ):
+            aligned = False  # (settled again with the new modes)
+            continue
         if worst < 0:
             if aligned:
                 return kr.ST_OK
@@ -77,6 +85,24 @@ def settle(t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, EV, info):
                 kr._record(EV, info, t, i, kp.MODE_STICK, kp.MODE_START, dirs)
                 modes[i] = kp.MODE_START
     return kr.ST_CHATTER
+
+
+@ka.compiled_only
+def _tension_flips(t, y, modes, dirs, op, sp, ws, out, EV, info):
+    """Each isolator's mode made to agree with the sign of its normal force as it now is
+    (:func:`._kplanestops.tension_mode`: free exactly in tension), as the deck's settling
+    does; whether any changed."""
+    v = ws[1]
+    kq.slips(y, op[kq.O_D2], out[0].shape[0], ws[0], v)
+    flips = False
+    for i in range(modes.shape[0]):
+        speed = math.sqrt(v[2 * i] ** 2 + v[2 * i + 1] ** 2)
+        new = tension_mode(modes[i], out[1][i], speed, sp[kq.S_ETA])
+        if new != modes[i]:
+            kr._record(EV, info, t, i, modes[i], new, dirs)
+            modes[i] = new
+            flips = True
+    return flips
 
 
 @ka.compiled_only

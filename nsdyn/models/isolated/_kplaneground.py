@@ -51,7 +51,7 @@ def next_breakpoint(t, gk, gp, ntab):
         return math.inf
     k = math.floor((t - gp[GP_T0]) / gp[GP_DT]) + 1.0
     tb = gp[GP_T0] + k * gp[GP_DT]
-    if tb <= t * (1.0 + 1e-14) + 1e-14:
+    if tb <= t + 1e-14 * (1.0 + abs(t)):  # at t to round-off: the next one (any sign of t)
         tb += gp[GP_DT]
     if k > ntab - 1 and tb > gp[GP_T0] + (ntab - 1) * gp[GP_DT] * (1.0 + 1e-14):
         return math.inf

@@ -33,7 +33,7 @@ import numpy as np
 from numba import njit
 
 from nsdyn._kaddress import NO_NRT
-from nsdyn._klinalg import lu_factor, lu_solve
+from nsdyn._klinalg import argmin, lu_factor, lu_solve
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.bearings import B_CEL, B_IOFF, B_KIND, KIND_TFP
@@ -159,8 +159,8 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
     iout = np.int64(1)
     bil = int(sp[kp.S_CONTACT]) == kp.CONTACT_BILATERAL
     tens = kr.tension_start(info, t, N, bil)
-    if kr._min_normal(N) <= 0.0 and not bil:
-        info[kr.I_TFAIL] = t
+    if kr._min_normal(N) <= 0.0 and not bil:  # (at the start: the output there, its isolator)
+        info[kr.I_TFAIL], info[kr.I_IFAIL], info[kr.I_NOUT] = t, argmin(N), iout
         return kr.ST_UPLIFT
     h = min(cfg[kr.C_H0], hmax)
     need_jac = True

@@ -50,7 +50,9 @@ from nsdyn.models.isolated._kplanestops import (  # noqa: F401 (the loops' share
     P_PEAK,
     P_TFIRST,
     SAMPLES,
+    tension_mode,
 )
+from nsdyn.models.isolated._kplanestops import crossed as _crossed
 from nsdyn.models.isolated._kplanestops import locate_stops as _locate_stops
 from nsdyn.models.isolated._kplanestops import overshoot as _overshoot  # noqa: F401
 from nsdyn.models.isolated._kplanestops import track_stops as _track_stops
@@ -108,25 +110,11 @@ def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
     return st
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_NRT)
-def _crossed(g0, g):
-    for i in range(g.shape[0]):
-        for k in range(g.shape[1]):
-            if g0[i, k] > 0.0 and g[i, k] <= 0.0:
-                return True
-    return False
-
-
-@ka.compiled_uncounted
-def _dense_state(rc, s, ys):
-    for i in range(ys.shape[0]):
-        ys[i] = dp.dense(rc, i, s)
-
-
 @ka.compiled_uncounted
 def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
     """Release stuck isolators outside their disc, worst first; returns a status."""
     qdd, N, Ff, Fr, Fo = out
+    bil = int(sp[kp.S_CONTACT]) == kp.CONTACT_BILATERAL
     nst = 0
     for i in range(pos.shape[0]):
         nst += modes[i] == kp.MODE_STICK
@@ -167,6 +155,17 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
                 if r >= 1.0 + STICK_RTOL and r > ratio and tau > 0.0:  # kept: g > 0 strictly
                     ratio = r
                     worst = i
+        if worst < 0 and bil:  # tension as the normal forces now are (tension_mode)
+            flips = 0
+            for i in range(pos.shape[0]):
+                _, _, vx, vy = kp.slip_kinematics(y, pos, i)
+                new = tension_mode(modes[i], N[i], math.sqrt(vx * vx + vy * vy), sp[kp.S_ETA])
+                if new != modes[i]:
+                    _record(EV, info, t, i, modes[i], new, dirs)
+                    modes[i] = new
+                    flips += 1
+            if flips:
+                continue
         if worst < 0:
             st = align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
             for k in range(min(int(info[I_NEV]), EV.shape[0]) - 1, -1, -1):  # this event's rows
@@ -389,8 +388,8 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
     _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, k0, X, NO, FF, FR, FO, MO)
     iout = np.int64(1)
     tens = tension_start(info, t, N, bil)
-    if _min_normal(N) <= 0.0 and not bil:
-        info[I_TFAIL] = t
+    if _min_normal(N) <= 0.0 and not bil:  # (at the start: the output there, its isolator)
+        info[I_TFAIL], info[I_IFAIL], info[I_NOUT] = t, argmin(N), iout
         return ST_UPLIFT
     fresh = True
     h = min(cfg[C_H0], hmax)
@@ -451,14 +450,14 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             sa = 0.0
             for m in range(1, SAMPLES + 1):
                 sb = m / SAMPLES
-                _dense_state(rc, sb, ys)
+                dp.dense_state(rc, sb, ys)
                 gvals(t + sb * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g)
                 nfev += 1
                 if _crossed(g0, g):
                     event = True
                     while (sb - sa) * hh > EVENT_TTOL:
                         sm = 0.5 * (sa + sb)
-                        _dense_state(rc, sm, ys)
+                        dp.dense_state(rc, sm, ys)
                         gvals(t + sm * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws,
                               out, ga)  # fmt: skip
                         nfev += 1
@@ -467,13 +466,13 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                         else:
                             sa = sm
                     s_end = sb
-                    _dense_state(rc, sb, ys)
+                    dp.dense_state(rc, sb, ys)
                     gvals(t + sb * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g)
                     break
                 sa = sb
         n_cut = n_end_min
         if event or n_end_min <= 0.0:  # normal force at the cut (or step end)
-            _dense_state(rc, s_end, ys)
+            dp.dense_state(rc, s_end, ys)
             _eval(t + s_end * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
             n_cut = _min_normal(N)
             if n_cut <= 0.0 and not tens:  # uplift (tension): locate the first N_i = 0
@@ -481,14 +480,14 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                 sb = s_end
                 while (sb - sa) * hh > EVENT_TTOL:
                     sm = 0.5 * (sa + sb)
-                    _dense_state(rc, sm, ys)
+                    dp.dense_state(rc, sm, ys)
                     _eval(t + sm * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws,
                                 out)  # fmt: skip
                     if _min_normal(N) <= 0.0:
                         sb = sm
                     else:
                         sa = sm
-                _dense_state(rc, sb, ys)
+                dp.dense_state(rc, sb, ys)
                 _eval(t + sb * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
                 for i in range(ni):
                     if N[i] <= 0.0 and info[I_IFAIL] < 0:
@@ -506,7 +505,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         _locate_stops(t, hh, s_end, rc, ys, pos, bp, stops)
         while iout < nt and t_eval[iout] <= t_new:
             s = (t_eval[iout] - t) / hh
-            _dense_state(rc, s, ys)
+            dp.dense_state(rc, s, ys)
             _outputs(t_eval[iout], ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, iout,
                      X, NO, FF, FR, FO, MO)  # fmt: skip
             _track_stops(t_eval[iout], ys, pos, bp, stops)
@@ -514,7 +513,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             info[I_NOUT] = iout  # (the progress line's)
             since_out = 0
         if s_end < 1.0:
-            _dense_state(rc, s_end, ys)
+            dp.dense_state(rc, s_end, ys)
             for j in range(n):
                 y[j] = ys[j]
         else:

@@ -12,18 +12,12 @@ import math
 
 from nsdyn import _kaddress as ka
 from nsdyn import _kdp5 as dp
-from nsdyn.models.isolated._kplane import slip_kinematics
+from nsdyn.models.isolated._kplane import MODE_FREE, MODE_SLIP, MODE_STICK, slip_kinematics
 from nsdyn.models.isolated.bearings import B_DCAP
 
 P_TFIRST, P_PEAK, P_NSTEPS = range(3)  # stop table columns (one row per isolator)
 EVENT_TTOL = 1e-11  # s, width of a located event bracket (every event of the loops)
 SAMPLES = 4  # dense-output samples per step scanned for a sign change
-
-
-@ka.compiled_only
-def _dense_state(rc, s, ys):
-    for i in range(ys.shape[0]):
-        ys[i] = dp.dense(rc, i, s)
 
 
 @ka.compiled_only
@@ -56,13 +50,13 @@ def locate_stops(t, hh, s_end, rc, ys, pos, bp, stops):
         sa = 0.0
         for m in range(1, SAMPLES + 1):
             sb = s_end * m / SAMPLES
-            _dense_state(rc, sb, ys)
+            dp.dense_state(rc, sb, ys)
             d = overshoot(ys, pos, bp, i)
             if d > 0.0:
                 stops[i, P_PEAK] = max(stops[i, P_PEAK], d)
                 while (sb - sa) * hh > EVENT_TTOL:
                     sm = 0.5 * (sa + sb)
-                    _dense_state(rc, sm, ys)
+                    dp.dense_state(rc, sm, ys)
                     if overshoot(ys, pos, bp, i) > 0.0:
                         sb = sm
                     else:
@@ -70,3 +64,26 @@ def locate_stops(t, hh, s_end, rc, ys, pos, bp, stops):
                 stops[i, P_TFIRST] = t + sb * hh
                 break
             sa = sb
+
+
+@ka.compiled_uncounted
+def crossed(g0, g):
+    """Whether a switching function of ``g0`` (> 0) reached <= 0 in ``g`` (both (ni, k))."""
+    for i in range(g.shape[0]):
+        for k in range(g.shape[1]):
+            if g0[i, k] > 0.0 and g[i, k] <= 0.0:
+                return True
+    return False
+
+
+@ka.compiled_only
+def tension_mode(mode, N, speed, eta):
+    """An isolator's mode under a bilateral contact's switch law once its normal force is N:
+    free exactly while N < 0 (no friction in tension), back to slip (|v| > η) or a stick test
+    when N > 0; ``mode`` kept where it agrees (and at N = 0). An event that changes other
+    isolators' modes moves every N at once, past the crossing of its switching function."""
+    if mode == MODE_FREE and N > 0.0:
+        return MODE_SLIP if speed > eta else MODE_STICK
+    if mode != MODE_FREE and N < 0.0:
+        return MODE_FREE
+    return mode

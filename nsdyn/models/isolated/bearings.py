@@ -170,6 +170,9 @@ class Bearing:
             if getattr(self, key) is not None and math.isinf(self.d_cap):
                 raise BearingError(f"{w}.{key}: the rim stop acts beyond the displacement "
                                    "capacity; give d_cap [m] (none: no rim)")  # fmt: skip
+        if math.isfinite(self.d_cap) and self.d_cap >= self.radius:  # (past the sphere's edge)
+            raise BearingError(f"{w}.d_cap: expected a displacement capacity below the radius "
+                               f"R = {self.radius:g} m, got {self.d_cap:g} m")  # fmt: skip
         if math.isinf(self.radius) and self.k_lam == 0.0 and math.isfinite(self.d_cap):
             if self.k_stop is None:
                 raise BearingError(
@@ -242,6 +245,26 @@ def high_friction_note(field: str, mu: float) -> str | None:
         return None
     return (f"{field} = {mu:g}: a friction coefficient above 1 (sliding isolators' are about "
             "0.01-0.2); a percentage given as a number?")  # fmt: skip
+
+
+U_OVER_R_SMALL = 0.25  # a pendulum slip beyond this x R: its linear law N u/R errs > 3 %
+
+
+def slip_ratio_note(bearings, peak_u) -> str | None:
+    """One line when a pendulum's peak slip |u| passes U_OVER_R_SMALL of its radius: the
+    restoring force N u/R is the small-angle form of the sphere's N u/√(R² − u²), which is
+    1/√(1 − (u/R)²) − 1 larger there. ``peak_u``: one per isolator [m]."""
+    pairs = enumerate(zip(bearings, peak_u, strict=True))
+    ratios = [(float(u) / b.radius, i) for i, (b, u) in pairs if math.isfinite(b.radius)]
+    if not ratios or max(ratios)[0] <= U_OVER_R_SMALL:
+        return None
+    r, i = max(ratios)
+    more = 1.0 / math.sqrt(1.0 - r * r) - 1.0 if r < 1.0 else math.inf
+    return (
+        f"isolator {i}'s peak slip is {r:.2g} of its radius R = {bearings[i].radius:g} m: "
+        "the pendulum's restoring force N u/R is its small-angle form (on the sphere, "
+        f"N u/sqrt(R² - u²) is {100 * more:.3g} % larger there)"
+    )
 
 
 def bearing_notes(bearings, n_static) -> list[str]:

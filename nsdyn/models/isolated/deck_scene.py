@@ -44,6 +44,7 @@ from nsdyn.models.isolated.bearings import (
     BearingError,
     bearing_from_config,
     bearing_notes,
+    slip_ratio_note,
 )
 from nsdyn.models.isolated.deck import (
     PLANE_ATOL,
@@ -296,6 +297,10 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     for w in caught:
         say(f"deck: warning: {w.message}")
     s = res.summary()
+    big = slip_ratio_note(system.bearings, s["peak_resultant_displacement_per_isolator_m"])
+    if big:  # (a TFP's bearings: their effective radius)
+        notes.append(big)
+        say(f"deck: note: {big}")
     out_dir = Path(out_dir)
     npz = out_dir / "deck.npz"
     caps = np.array([b.d_cap for b in system.bearings])  # (a TFP: d1 + d2 + d3 + d4)

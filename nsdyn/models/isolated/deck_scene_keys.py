@@ -109,7 +109,7 @@ SCHEMA = Schema(
                 **_NONNEG),
             Key("c", "number", "viscous damper", "N s/m", default=0.0, **_NONNEG),
             Key("d_cap", "number", "displacement capacity: the restrainer rim acts beyond it",
-                "m", default="(none)", **_POS),
+                "m", default="(none)", range="μ_s R < d_cap < R", **_POS),
             Key("k_stop", "number", "stiffness of the rim", "N/m",
                 default="(100 × the post-slip stiffness at the static load)", **_POS),
             Key("c_stop", "number", "damping of the rim", "N s/m",

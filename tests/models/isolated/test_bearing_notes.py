@@ -71,3 +71,20 @@ def test_a_deck_run_says_its_bearing_notes(capsys, tmp_path):
     err = capsys.readouterr().err
     assert "deck: note: bearing.area: the static pressure N/area at isolator 0 is " in err
     assert "check area [m²] and p_ref [Pa]" in err
+
+
+def test_a_slip_beyond_a_quarter_of_the_radius_is_said_with_the_spheres_force():
+    # the restoring force N u/R is the small-angle form of N u/sqrt(R² - u²): at u/R = 0.6
+    # the sphere's is 1/0.8 - 1 = 25 % larger; up to 0.25 R (3.3 %) nothing is said, and a
+    # flat slider (R = inf) has no such law
+    from nsdyn.models.isolated.bearings import BearingError, slip_ratio_note
+
+    fps, flat = Bearing(Friction(0.05), radius=2.0), Bearing(Friction(0.05), k_lam=1e5)
+    assert slip_ratio_note([fps, fps], [0.5, 0.2]) is None
+    assert slip_ratio_note([flat, flat], [5.0, 5.0]) is None
+    note = slip_ratio_note([fps, fps, flat], [0.3, 1.2, 9.0])
+    assert note.startswith("isolator 1's peak slip is 0.6 of its radius R = 2 m") and "25 %" in note
+    # a capacity at or past the radius has no spherical surface to slide on: refused, named
+    want = r"^bearing.d_cap: expected a displacement capacity below the radius R = 0.05 m, got"
+    with pytest.raises(BearingError, match=want + r" 0.35 m$"):
+        Bearing(Friction(0.05), radius=0.05, d_cap=0.35, where="bearing")

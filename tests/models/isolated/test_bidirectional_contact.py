@@ -430,3 +430,52 @@ def test_an_impasse_met_mid_run_under_the_switch_law_ends_the_run_there():
     assert 0.0 < t_fail < 1.0
     r = _quiet(simulate_plane, d, orbit, t_end=t_fail - 1e-3, **kw)
     assert r.t[-1] == pytest.approx(t_fail - 1e-3) and np.abs(r.u).max() < 1.0
+
+
+@pytest.mark.parametrize("system", ["deck", "pairs"])
+def test_a_free_isolator_is_loaded_again_when_another_sticks(system):
+    # An 80 m deck on velocity-dependent pendulums, x orbit 3 m/s² at 0.5 Hz, bilateral: its
+    # x = +10 m isolators go into tension (free, no friction) at 0.53 s; at 0.875 s the other
+    # two stick, the deck's acceleration jumps and so do the normal forces: N_1 from -12 MN to
+    # +0.35 MN within the event. The free mode was left to its crossing test, which cannot
+    # fire past a jump: free with up to 250 MN for 1.3 s, its friction missing, a peak slip
+    # 7.8 % above the regularised law's. Now free exactly while N < 0 at every output, and
+    # the switch law meets the arctan law (no modes, the same physics smoothed) to 1e-4
+    fps = Bearing(Friction(0.04, mu_fast=0.07, rate=30.0, mu_static=0.075), radius=2.2,
+                  d_cap=0.35)  # fmt: skip
+    deck = rigid_deck(2.0e6, 9.07e7, [(-10, -6), (10, -6), (10, 6), (-10, 6)], fps, h=80.0)
+    orbit, te = {"f": 0.5, "ax": 3.0, "ay": 0.0}, np.arange(0.0, 3.0, 0.002)
+    run = simulate_plane if system == "deck" else simulate_pairs
+    sys_ = deck if system == "deck" else from_deck(deck)
+    with warnings.catch_warnings():  # (the tension and the rim contacts it warns of)
+        warnings.simplefilter("ignore")
+        r = run(sys_, orbit, t_eval=te, contact="bilateral", law="switch")
+        ref = simulate_plane(deck, orbit, t_eval=te, contact="bilateral", law="arctan")
+    free = r.modes == 3
+    assert free.sum() > 100  # (the tension is there)
+    assert np.all(r.N[free] <= 0.0) and np.all(r.N[~free] >= 0.0)
+    peak = r.summary()["peak_resultant_displacement_m"]
+    assert peak == pytest.approx(ref.summary()["peak_resultant_displacement_m"], rel=1e-4)
+
+
+@pytest.mark.parametrize("system", ["deck", "pairs"])
+def test_an_uplift_at_the_start_ends_the_run_with_its_output_and_isolator(system):
+    # 150 m tall on bearings 12 m apart: released at t = 0 (the stick forces m a_g / 4
+    # exceed the disc), the slip-starts' friction mu N at the base, lever h, turns the deck
+    # with 0.06 x 150 = 9 m of weight against the 6 m half-width: a normal force is below
+    # zero at the first evaluation. The run ended with no output and isolator
+    # -1, and the summary raised on its empty arrays (a traceback from nsdyn run)
+    from nsdyn.ground.orbit import HarmonicPlane
+
+    fps = Bearing(Friction(0.06), radius=2.2, d_cap=0.35)
+    deck = rigid_deck(2.0e6, 9.07e7, [(-10, -6), (10, -6), (10, 6), (-10, 6)], fps, h=150.0)
+    run = simulate_plane if system == "deck" else simulate_pairs
+    with pytest.warns(UpliftWarning, match=r"uplift at t = 0 s: the normal force of isolator"):
+        r = run(deck if system == "deck" else from_deck(deck), HarmonicPlane.circular(0.4, 2.0),
+                t_end=5.0, law="switch", contact="detect")  # fmt: skip
+    assert r.t.size == 1 and r.uplift["t_s"] == 0.0 and 0 <= r.uplift["isolator"] < 4
+    assert r.N[0, r.uplift["isolator"]] == r.N[0].min() <= 0.0
+    s = r.summary()
+    # at rest at the start: u = 0, to the round-off of the pair system's coordinates (double
+    # precision's 2.2e-16 of its 10 m levers)
+    assert s["t_end_s"] == 0.0 and s["peak_resultant_displacement_m"] <= 2.2e-15
