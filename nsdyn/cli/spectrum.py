@@ -36,6 +36,9 @@ def configure(p: argparse.ArgumentParser) -> None:
         default=1e-4,
         help="relative bisection width, from 2.2e-14 to below 1 (default 1e-4)",
     )
+    p.add_argument("--a-max", type=positive_finite, default=None, metavar="RATIO",
+                   help="largest amplitude ratio a_p/(g tan α) scanned (default 30); a "
+                   "frequency with no overturning up to it reports '> a_max'")  # fmt: skip
     p.add_argument("--workers", type=int, default=None, metavar="N", help="parallel processes")
     p.add_argument(
         "--out", type=out_dir, default=DEFAULT_OUT, metavar="DIR", help="output directory"
@@ -74,7 +77,8 @@ def run(args: argparse.Namespace) -> int:
     compile_s = warm(model)
 
     with process_pool(args.workers) as ex:
-        sp = overturning_spectrum(model, ratios, args.shape, rtol=args.rtol, executor=ex)
+        search = {} if args.a_max is None else {"a_max": args.a_max}
+        sp = overturning_spectrum(model, ratios, args.shape, rtol=args.rtol, executor=ex, **search)
     out = Path(args.out)
     stem = f"spectrum-{Path(src).stem}-{args.shape}"
     buf = io.StringIO()

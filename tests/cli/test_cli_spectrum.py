@@ -31,6 +31,20 @@ def test_spectrum_command_writes_a_physical_spectrum(tmp_path, capsys):
     assert rep["compile_s"] >= 0.0  # the kernel compiled (or loaded) before the workers
 
 
+def test_a_max_bounds_the_search_below_which_nothing_can_overturn(tmp_path, capsys):
+    # --a-max 1: a pulse at or below g tan α cannot lift the block, so none of the
+    # frequencies overturns within the search (each '> a_max'); the default (30) finds them
+    scene = str(SCENES / "rocking-seed003-column.toml")
+    argv = ["spectrum", scene, "--n", "2", "--wmin", "1.5", "--wmax", "3", "--workers", "1",
+            "--no-figures", "--out", str(tmp_path), "--json"]  # fmt: skip
+    assert main([*argv, "--a-max", "1"]) == 0
+    rep = json.loads(capsys.readouterr().out)
+    assert rep["search"]["a_max_ratio"] == 1.0 and rep["a_min_ratio"] == [None, None]
+    assert set(rep["status"]) == {"no overturning up to a_max"}
+    assert main(argv) == 0
+    assert all(a > 1.0 for a in json.loads(capsys.readouterr().out)["a_min_ratio"])
+
+
 def test_spectrum_announces_a_first_compilation(tmp_path, capsys, monkeypatch):
     # a cold cache: the rocking kernel compiles once, before the workers start, saying so on
     # stderr (stdout keeps the one JSON object)
