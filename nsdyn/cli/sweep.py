@@ -52,7 +52,7 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--fmax", type=_positive, default=None, metavar="HZ",
                    help="highest forcing frequency; default 10 (deck scenes: 4 f0). Not the "
                    "Craig-Bampton cut-off of nsdyn run --fmax: a sweep takes that from the "
-                   "scene's structure.f_max")  # fmt: skip
+                   "scene's [scene] f_max")  # fmt: skip
     p.add_argument(
         "--points",
         type=_count,

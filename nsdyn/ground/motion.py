@@ -370,23 +370,23 @@ _UNIT_PATTERNS = [
 
 
 UNKNOWN_UNITS = "unknown:"  # header_units' prefix of a "units: WORD" it does not know
+_UNITS_LINE = re.compile(r"^\s*units?\s*[:=]\s*\(?\s*([A-Za-z][\w/^*²]*)", re.I | re.M)
 
 
 def header_units(header: list[str]) -> str | None:
     """Units stated in a header, by the patterns above in priority order; None if not stated.
-    A "units: WORD" line (the first pattern, which states units and nothing else) with a word
-    that is no unit gives ``UNKNOWN_UNITS + WORD`` (:func:`resolve_units` refuses it); the
-    looser phrases of the other patterns are skipped when their word is no unit."""
+    A line "units: WORD" (it states units and nothing else) whose word is no unit gives
+    ``UNKNOWN_UNITS + WORD`` (:func:`resolve_units` refuses it); the looser phrases of the
+    patterns ("time units: s", "acc. in ...") are skipped when their word is no unit."""
     text = "\n".join(header)
-    unknown = None
-    for k, pattern in enumerate(_UNIT_PATTERNS):
+    for pattern in _UNIT_PATTERNS:
         for m in pattern.finditer(text):
             try:
                 return unit_factor(m.group(1).rstrip("."))[0]
             except ValueError:
-                if k == 0 and unknown is None:
-                    unknown = UNKNOWN_UNITS + m.group(1)
-    return unknown
+                continue
+    m = _UNITS_LINE.search(text)  # a line that states units and nothing else ("time units:
+    return UNKNOWN_UNITS + m.group(1) if m else None  # s" is not one)
 
 
 _UNIT_SCALE = (("cm/s² (gal)", 0.01), ("m/s²", 1.0), ("g", G_STANDARD))

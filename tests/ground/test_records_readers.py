@@ -280,6 +280,10 @@ def test_unit_warnings(tmp_path):
         read_motion(odd)
     with pytest.warns(UnitWarning, match="header states 'furlongs'; using 'g'"):
         assert read_motion(odd, units="g").pga == pytest.approx(0.3 * 9.80665)
+    # a line that is not a units line ("time units: s") is not read as one
+    timed = write(tmp_path, "tu.txt", "# time units: s\n0.0 0.3\n0.01 -0.2\n0.02 0.1\n")
+    with pytest.warns(UnitWarning, match="does not state its units"):
+        assert read_motion(timed).pga == 0.3
 
 
 # ------------------------------------------------------------------------------------------

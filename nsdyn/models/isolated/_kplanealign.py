@@ -144,3 +144,21 @@ def align(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
         dirs[i, 0] = d0[i, 0]
         dirs[i, 1] = d0[i, 1]
     return True
+
+
+@ka.compiled_uncounted
+def starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
+    """Slip-start directions consistent with the deck's motion when several are released
+    together (:func:`align`); False only where the evaluation fails. One released alone is
+    left as :func:`kp.start_direction` made it (exact), as are the starts of a deck that two
+    stuck isolators hold (their slip points do not move)."""
+    nst = 0
+    nsl = 0
+    for i in range(pos.shape[0]):
+        if modes[i] == kp.MODE_STICK:
+            nst += 1
+        elif modes[i] == kp.MODE_START:
+            nsl += 1
+    if nsl < 2 or nst >= 2:  # none to align, one (consistent), or a held deck
+        return True
+    return align(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)

@@ -22,7 +22,7 @@ as loaded as it to TIE_RTOL (symmetric partners break away together). The stick 
 function carries the same bound, so every isolator settle leaves stuck starts above zero and its
 next break-away is seen. Slip-start directions come from :func:`kp.start_direction`, exact for
 one released isolator; several released together are aligned with their accelerations by
-:func:`align_starts`. Events are located by sampling g on the dense output and bisecting the
+:func:`._kplanealign.starts`. Events are located by sampling g on the dense output and bisecting the
 earliest sample interval with a crossing to EVENT_TTOL; the step is cut there and restarts. A
 normal force reaching zero (uplift) is located the same way and ends the run (ST_UPLIFT) under the
 detecting contact; a bilateral contact goes on, each onset of tension located and counted (info
@@ -155,25 +155,17 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
                 if r >= 1.0 + STICK_RTOL and r > ratio and tau > 0.0:  # kept: g > 0 strictly
                     ratio = r
                     worst = i
-        if worst < 0 and bil:  # tension as the normal forces now are (tension_mode)
-            flips = 0
-            for i in range(pos.shape[0]):
-                _, _, vx, vy = kp.slip_kinematics(y, pos, i)
-                new = tension_mode(modes[i], N[i], math.sqrt(vx * vx + vy * vy), sp[kp.S_ETA])
-                if new != modes[i]:
-                    _record(EV, info, t, i, modes[i], new, dirs)
-                    modes[i] = new
-                    flips += 1
-            if flips:
-                continue
         if worst < 0:
-            st = align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
+            ok = kal.starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
             for k in range(min(int(info[I_NEV]), EV.shape[0]) - 1, -1, -1):  # this event's rows
                 if EV[k, 0] != t:  # (they keep the aligned directions)
                     break
                 if EV[k, 3] == kp.MODE_START:
                     EV[k, 4], EV[k, 5] = dirs[int(EV[k, 1]), 0], dirs[int(EV[k, 1]), 1]
-            return st
+            if ok and bil and _tension(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws,
+                                       out, EV, info):  # fmt: skip
+                continue  # (the normal forces as the aligned starts left them)
+            return ST_OK if ok else ST_SINGULAR
         # the worst and its ties (released alone, it moved its load onto its partners)
         for i in range(pos.shape[0]):  # (directions from this evaluation, all stuck)
             lim = bp[i, B_MUS] * ws[11][i] * N[i]
@@ -199,23 +191,20 @@ def settle_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, in
 
 
 @ka.compiled_uncounted
-def align_starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
-    """Slip-start directions consistent with the deck's motion when several are released
-    together (:func:`._kplanealign.align`). One released alone is left as
-    :func:`kp.start_direction` made it (exact), as are the starts of a deck that two stuck
-    isolators hold (their slip points do not move)."""
-    nst = 0
-    nsl = 0
+def _tension(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
+    """A bilateral contact's modes made to agree with the normal forces as they now are
+    (:func:`tension_mode`: free exactly in tension); whether any changed."""
+    if kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out) != kp.ST_OK:
+        return False  # (the next step's evaluation names it)
+    changed = False
     for i in range(pos.shape[0]):
-        if modes[i] == kp.MODE_STICK:
-            nst += 1
-        elif modes[i] == kp.MODE_START:
-            nsl += 1
-    if nsl < 2 or nst >= 2:  # none to align, one (consistent), or a held deck
-        return ST_OK
-    if not kal.align(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out):
-        return ST_SINGULAR
-    return ST_OK
+        _, _, vx, vy = kp.slip_kinematics(y, pos, i)
+        new = tension_mode(modes[i], out[1][i], math.sqrt(vx * vx + vy * vy), sp[kp.S_ETA])
+        if new != modes[i]:
+            _record(EV, info, t, i, modes[i], new, dirs)
+            modes[i] = new
+            changed = True
+    return changed
 
 
 @ka.compiled_uncounted

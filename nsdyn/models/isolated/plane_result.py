@@ -85,6 +85,11 @@ def impasse_message(system, impasse, t_fail: float) -> str:
 
 
 # the failures a step that met the impasse ends in (q̈ unbounded or not evaluated)
+UNILATERAL_SWITCH_SINGULAR = (
+    "no consistent set of stick, slip and contact modes at t = {t:.6g} s: isolators sticking, "
+    "slipping and lifting off together left the switch law's equations singular; run it with "
+    "law 'arctan' (the regularised law takes the same lift-offs without modes)"
+)
 IMPASSE_STATUSES = (kr.ST_SINGULAR, kr.ST_NONFINITE, kr.ST_UNDERFLOW, kr.ST_NEWTON, kr.ST_STALL)
 
 
@@ -213,6 +218,8 @@ class PlaneResult(Tabular):
             msg = MESSAGES.get(status, f"integration failed (status {status}) at t = {{t:.6g}} s")
             if getattr(system, "has_tfp", False) and status in TFP_MESSAGES:  # its own advice
                 msg = TFP_MESSAGES[status]
+            if status == kr.ST_SINGULAR and law == "switch" and contact == "unilateral":
+                msg = UNILATERAL_SWITCH_SINGULAR  # (masses and positions are not the cause)
             msg = msg.format(t=info[kr.I_TFAIL], eta=eta, eps=eps)
             if status in IMPASSE_STATUSES:  # (the failing step met the impasse: its reason)
                 msg = impasse_message(system, impasse, info[kr.I_TFAIL]) or msg
@@ -373,8 +380,11 @@ class PlaneResult(Tabular):
             "peak_resultant_friction_N": float(rf.max()),
             "peak_resultant_restoring_N": float(rr.max()),
             "peak_torsion_rad": float(np.abs(self.theta).max()),
-            # the uplift instant (a normal force of zero) lies after the last output
-            "min_normal_force_N": 0.0 if self.uplift else float(self.N.min()),
+            # the uplift instant (a normal force of zero) lies after the last output, or at the
+            # start's (an uplift there: its N below zero)
+            "min_normal_force_N": min(0.0, float(self.N.min()))
+            if self.uplift
+            else float(self.N.min()),
             "max_normal_force_N": float(self.N.max()),
             "stick_fraction": float(np.mean(self.sticks())),
             "rim_contacts": self.stops,

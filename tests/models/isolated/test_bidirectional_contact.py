@@ -440,7 +440,9 @@ def test_a_free_isolator_is_loaded_again_when_another_sticks(system):
     # +0.35 MN within the event. The free mode was left to its crossing test, which cannot
     # fire past a jump: free with up to 250 MN for 1.3 s, its friction missing, a peak slip
     # 7.8 % above the regularised law's. Now free exactly while N < 0 at every output, and
-    # the switch law meets the arctan law (no modes, the same physics smoothed) to 1e-4
+    # the switch law meets the arctan law (no modes, the same physics smoothed) within the
+    # smoothing's friction deficit 2/(pi eps |v|) = 2e-4 at eps = 7500 s/m and |v| ~ 0.4 m/s
+    # (measured 8e-6 for the deck, 2e-5 for its pair system)
     fps = Bearing(Friction(0.04, mu_fast=0.07, rate=30.0, mu_static=0.075), radius=2.2,
                   d_cap=0.35)  # fmt: skip
     deck = rigid_deck(2.0e6, 9.07e7, [(-10, -6), (10, -6), (10, 6), (-10, 6)], fps, h=80.0)
@@ -455,7 +457,7 @@ def test_a_free_isolator_is_loaded_again_when_another_sticks(system):
     assert free.sum() > 100  # (the tension is there)
     assert np.all(r.N[free] <= 0.0) and np.all(r.N[~free] >= 0.0)
     peak = r.summary()["peak_resultant_displacement_m"]
-    assert peak == pytest.approx(ref.summary()["peak_resultant_displacement_m"], rel=1e-4)
+    assert peak == pytest.approx(ref.summary()["peak_resultant_displacement_m"], rel=2e-4)
 
 
 @pytest.mark.parametrize("system", ["deck", "pairs"])
@@ -479,3 +481,48 @@ def test_an_uplift_at_the_start_ends_the_run_with_its_output_and_isolator(system
     # at rest at the start: u = 0, to the round-off of the pair system's coordinates (double
     # precision's 2.2e-16 of its 10 m levers)
     assert s["t_end_s"] == 0.0 and s["peak_resultant_displacement_m"] <= 2.2e-15
+    assert s["min_normal_force_N"] == r.N[0].min()  # (the output's, below zero)
+
+
+def test_a_singular_switch_law_with_lift_off_names_the_modes_not_the_masses():
+    # The portal-3d full rung under a vertical scaled to 1.3 g, switch law, unilateral
+    # contact: the four isolators stuck, then slipping and lifting off together within a
+    # step, left no consistent set of modes (3.93 s). It said "check masses and positions",
+    # which are fine (the arctan law runs it through; the whole case: the slow test below)
+    from nsdyn.models.isolated import _kplanerun as kr
+    from nsdyn.models.isolated.plane_result import PlaneIntegrationError, PlaneResult
+
+    info = np.zeros(kr.N_INFO)
+    info[kr.I_TFAIL] = 3.93109
+    args = (None,) * 8 + (np.zeros((0, 2)), info, kr.ST_SINGULAR, EPS, 1e-6)
+    deck = rigid_deck(1.0, 1.0, [(0.0, 0.0)], Bearing(Friction(0.05)), g=9.81)
+    want = r"^no consistent set of stick, slip and contact modes at t = 3\.93109 s: .* 'arctan'"
+    with pytest.raises(PlaneIntegrationError, match=want):
+        PlaneResult.from_run(deck, "switch", *args, contact="unilateral")
+    with pytest.raises(PlaneIntegrationError, match="check masses and positions"):
+        PlaneResult.from_run(deck, "switch", *args, contact="detect")
+
+
+@pytest.mark.slow  # the portal's full rung through 4 s of a strong vertical (~10 s)
+def test_the_portal_lifting_off_under_the_switch_law_stops_with_the_modes_reason():
+    import dataclasses
+
+    from nsdyn.ground import read_motion3
+    from nsdyn.models.isolated.building3d_cb import building_pairs
+    from nsdyn.models.isolated.building3d_response import run_building
+    from nsdyn.models.isolated.plane_result import PlaneIntegrationError
+    from nsdyn.structure import load_frame3d
+
+    g3 = read_motion3("synthetic-wn-40s")
+    n = int(4.0 / g3.dt) + 1
+    az = g3.az[:n] * (1.3 * 9.81 / np.abs(g3.az[:n]).max())  # (its peak 1.3 g)
+    gv = dataclasses.replace(g3, ax=g3.ax[:n].copy(), ay=g3.ay[:n].copy(), az=az)
+    fps = Bearing(Friction(0.04, mu_fast=0.07, rate=30.0, mu_static=0.075), radius=2.2,
+                  d_cap=0.35)  # fmt: skip
+    s = building_pairs(load_frame3d("portal-3d"), fps, fidelity="full")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(PlaneIntegrationError, match="no consistent set of stick, slip"):
+            run_building(s, gv, law="switch", contact="unilateral", rtol=1e-6, t_end=4.0)
+        r = run_building(s, gv, law="arctan", contact="unilateral", rtol=1e-6, t_end=4.0)
+    assert r.result.flights["lift_offs"] > 0  # (the same lift-offs, without modes)
