@@ -188,6 +188,9 @@ def run(args: argparse.Namespace) -> int:
     bad = [r for r in records if r not in RECORDS]
     if bad or not records:
         return fail(args, f"--records: expected some of {sorted(RECORDS)}, got {bad}")
+    twice = sorted({r for r in records if records.count(r) > 1})
+    if twice:  # (it ran each as often as named: its rows repeated)
+        return fail(args, f"--records: expected each record once, got {', '.join(twice)} twice")
     options = {
         "repeats": args.repeats,
         "records": records,

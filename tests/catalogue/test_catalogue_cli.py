@@ -105,6 +105,7 @@ CLI_ROWS = [
     ("bench-name", ["bench", "acuracy"], r"'accuracy'"),
     ("bench-repeats-zero", ["bench", "accuracy", "--repeats", "0"], r"--repeats.*>= 1"),
     ("bench-records", ["bench", "accuracy", "--records", "wn,xx"], r"--records.*'kt'"),
+    ("bench-records-twice", ["bench", "accuracy", "--records", "wn,wn"], r"--records.*wn twice"),
     # study
     ("study-missing", ["study", "nosuch-study.toml"], r"nosuch-study\.toml.*no such"),
     ("study-workers-zero", ["study", "x.toml", "--workers", "0"], r"--workers.*at least 1"),

@@ -151,6 +151,9 @@ def test_plane_runs_name_their_bad_ground_and_kappa():
         simulate_plane(s, (0.0, 0.01, z))
     with pytest.raises(ValueError, match=r"^ground.ax: expected a record of two samples or more"):
         simulate_plane(s, (0.0, 0.01, z[:0], z[:0], z[:0]))
+    # an orbit's dict without its frequency named what it lacks as "got dict"
+    with pytest.raises(TypeError, match=r"needs 'f' \[Hz\].* got keys \['ax', 'ay'\]$"):
+        simulate_plane(s, {"ax": 1.0, "ay": 0.0}, t_end=1.0)
     for kappa in (-50.0, 0.0, math.nan):
         with pytest.raises(ValueError, match=r"^kappa: expected a positive number"):
             simulate_plane(s, (0.0, 0.01, z, z, z), kappa=kappa)

@@ -162,9 +162,11 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
                          f"foundation is too soft (k > {p.m * p.g / (p.area * p.r):.4g} N/m^3 "
                          "needed)")  # fmt: skip
     mo = cfg.get("motion", {})
+    t0 = 0.0  # the clock of the outputs: a record's own (its first sample at its t0)
     if "record" in mo:
         try:
             mx, my, mz = _record_components(mo)
+            t0 = float(mx.t0)
         except (OSError, ValueError) as e:
             raise SceneError(f"{source}: motion.record: {e}") from None
         scenefile.refuse_keys(mo, source, "motion", RECORD_REPLACES, "a key of the simulated "
@@ -222,7 +224,7 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         raise SceneError(
             f"{source}: solver.method: expected one of {list(METHODS)}, got {method!r}"
         )
-    opts = {"rtol": rel_tol(source, "solver.rtol", so.get("rtol", RTOL))}
+    opts = {"rtol": rel_tol(source, "solver.rtol", so.get("rtol", RTOL)), "t0": t0}
     opts["tilt"] = scene_tilt(mo, source)
     opts["azimuth0"] = number(source, "motion.azimuth0", mo.get("azimuth0", 0.0), positive=False)
     if p.foundation == "fixed" and any(opts["tilt"].values()):
@@ -278,7 +280,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         "foundation": p.foundation,
         "k": p.k,
         "c": p.c,
-        "t_end": float(res.t[-1]),
+        "t_end": float(res.t[-1] + opts["t0"]),
         "pga_hor": float(np.abs(ag[:, :2]).max()),
         "settlement": static_settlement(p),
         "uplift_onset_tilt": th_u,
@@ -305,7 +307,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         "dissipated_friction": float(res.E_f[-1]),
         "energy_error": res.energy_error if p.foundation != "fixed" else 0.0,
         "toppled": res.toppled_at is not None,
-        "toppled_at": res.toppled_at,
+        "toppled_at": None if res.toppled_at is None else float(res.toppled_at + opts["t0"]),
         "outcome": "",  # set below from the fields above
         "steps": res.stats.get("accepted", 0),
         "wall_s": wall,
@@ -314,7 +316,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     summary["outcome"], text = outcome(summary)
     npz = out_dir / f"{name}.npz"
     with atomic_open(npz, "wb") as fh:
-        np.savez(fh, t=res.t, ag=res.ag, w=res.w, q=res.q, omega=res.omega, tilt=res.tilt,
+        t = res.t + opts["t0"]  # (on the record's clock)
+        np.savez(fh, t=t, ag=res.ag, w=res.w, q=res.q, omega=res.omega, tilt=res.tilt,
                  tilt_dir=res.tilt_dir, contact_fraction=res.contact_fraction,
                  rim_lift=res.rim_lift, F=res.F, M=res.M, E_mech=res.E_mech, E_in=res.E_in,
                  E_d=res.E_d, u=res.u, ud=res.ud, f_base=res.f_base, E_f=res.E_f)  # fmt: skip

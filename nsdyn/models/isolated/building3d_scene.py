@@ -41,7 +41,12 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open
-from nsdyn.models.isolated.bearings import BearingError, bearing_from_config, bearing_notes
+from nsdyn.models.isolated.bearings import (
+    BearingError,
+    bearing_from_config,
+    bearing_notes,
+    slip_ratio_note,
+)
 from nsdyn.models.isolated.building3d_pairs_run import (
     PATHS,
     check_sparse_step,
@@ -465,6 +470,11 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
             s = _run_pairs(sysd, exc, t_end, kw, out_dir, say, dt)
     else:
         s = _run_fixed(sysd, exc, source, out_dir)
+    peaks = s.get("peak_resultant_displacement_per_isolator_m")
+    big = slip_ratio_note(deck.bearings, peaks) if sysd["bearing"] is not None and peaks else None
+    if big:  # (a pendulum slip past R/4)
+        notes.append(big)
+        say(f"building3d: note: {big}")
     s.update({"kind": "building3d", "name": name, "frame": frame.name,
               "fidelity": sysd["fidelity"], "notes": notes,
               "motion": getattr(exc, "name", type(exc).__name__)})  # fmt: skip

@@ -289,6 +289,10 @@ def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
                     raise ValueError(f"harmonic orbit: accel({t:g}) = {ref} differs from the "
                                      f"kernel's form {ag} (phase convention)")  # fmt: skip
         return kp.G_HARMONIC, gp, tab, math.inf
+    if isinstance(ground, dict) and "dt" not in ground:  # (an orbit without its frequency?)
+        raise TypeError(f"ground: a dict is a harmonic orbit, which needs 'f' [Hz] (with ax, ay, "
+                        f"...), or a record, which needs 't0', 'dt' and 'ax'; got keys "
+                        f"{sorted(ground)}")  # fmt: skip
     if _attr(ground, "ax") is None or _attr(ground, "dt") is None:
         raise TypeError(
             "ground: expected a three-component record (t0, dt, ax, ay, az), a "

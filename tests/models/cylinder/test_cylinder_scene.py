@@ -119,6 +119,11 @@ def test_a_record_s_t_end_is_on_its_own_clock(tmp_path):
             "motion": {"record": str(rec), "t_end": 12.0}}  # fmt: skip
     p, dt, ag, _ = build(base, "c.toml")
     assert dt == 0.01 and len(ag) == 201  # 10.00 ... 12.00
+    # and its outputs are on that clock (they read 0 ... 2 s, and a summary's t_end 2)
+    s = run_scene(base, source="c.toml", out_dir=tmp_path, figures=False, quiet=True)
+    assert s["t_end"] == pytest.approx(12.0, abs=1e-9)
+    with np.load(next(tmp_path.glob("*.npz"))) as z:
+        assert z["t"][0] == pytest.approx(10.0, abs=1e-12) and z["t"][-1] == s["t_end"]
     base["motion"]["t_end"] = 16.0
     with pytest.raises(SceneError, match=r"motion.t_end: expected at most the record's end "
                                          r"\(15 s\), got 16"):  # fmt: skip
