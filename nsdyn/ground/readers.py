@@ -127,6 +127,9 @@ def read_motion(
         raise ValueError(f"fmt must be one of {_FORMATS}, got {fmt!r}")
     source, text = _resolve(path_or_name)
     kind = _detect_format(source, text) if fmt == "auto" else fmt
+    if Path(source).suffix.lower() == ".toml":  # (its first line that is not a number named)
+        raise RecordFileError(source, None, "a TOML file (a scene or study?), not a ground-"
+                              "motion record; a scene runs as nsdyn run FILE")  # fmt: skip
     if kind == "hdf5":
         raise RecordFileError(
             source,

@@ -213,7 +213,8 @@ def _read_one_source(x, units, dt) -> GroundMotion3:
             source,
             None,
             "missing component y: expected a CSV with the columns t, ax, ay[, az] (header "
-            "'# columns: t ax ay az'), or one file per component: pass y= (and z=)",
+            "'# columns: t ax ay az'), or one file per component (a scene's [motion] x, y "
+            "and z; in Python read_motion3(x, y=..., z=...))",
         )
     return _table3(path, source, cols, units, dt)
 

@@ -306,3 +306,11 @@ def test_write_read_roundtrip_exact(tmp_path, vertical):
         assert r.a_ver.tobytes() == m.a_ver.tobytes()
     assert r.meta["seed"] == 3 and r.meta["command"] == "pytest"
     assert r.meta["scale_factor"] == m.meta["scale_factor"]
+
+
+def test_a_scene_given_as_a_record_is_named_as_such(tmp_path):
+    # `--record scene.toml` read the TOML as a table: "FILE:LINE: expected numeric data"
+    scene = write(tmp_path, "s.toml", '[scene]\nkind = "deck"\n')
+    with pytest.raises(RecordFileError, match=r"s\.toml: a TOML file \(a scene or study\?\), "
+                                              r"not a ground-motion record"):  # fmt: skip
+        read_motion(scene)
