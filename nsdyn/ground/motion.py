@@ -370,7 +370,8 @@ _UNIT_PATTERNS = [
 
 
 UNKNOWN_UNITS = "unknown:"  # header_units' prefix of a "units: WORD" it does not know
-_UNITS_LINE = re.compile(r"^\s*units?\s*[:=]\s*\(?\s*([A-Za-z][\w/^*²]*)", re.I | re.M)
+# the first pattern anchored at a line's start (one source for the two)
+_UNITS_LINE = re.compile(r"^\s*" + _UNIT_PATTERNS[0].pattern.removeprefix(r"\b"), re.I | re.M)
 
 
 def header_units(header: list[str]) -> str | None:
