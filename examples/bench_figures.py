@@ -1,12 +1,12 @@
-"""Redraw the benchmark charts from the CSV tables of ``nsdyn bench``; collect the README's.
+"""Redraw the benchmark charts from the CSV tables of ``nsdyn bench``; collect the docs'.
 
     python examples/bench_figures.py [DIR] [--figures FIG_DIR]
 
-``DIR`` is where ``nsdyn bench`` wrote (default ``nsdyn-out/bench``); the README's PNGs go to
+``DIR`` is where ``nsdyn bench`` wrote (default ``nsdyn-out/bench``); the docs' PNGs go to
 ``FIG_DIR`` (default ``examples/figures``). No integration is rerun: the accuracy, fidelity,
 speed and periodic charts are redrawn from their CSVs, the stability chart (its drift
-histories are not in a CSV) is copied. Prints the tables the README quotes (speed, periodic,
-fidelity) and the speed ratios at matched accuracy; ``main`` returns them.
+histories are not in a CSV) is copied. Prints the tables docs/performance.md quotes (speed,
+periodic, fidelity) and the speed ratios at matched accuracy; ``main`` returns them.
 """
 
 from __future__ import annotations

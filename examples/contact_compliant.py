@@ -93,12 +93,22 @@ def _chart(sweep: dict, k_sweep, out: Path) -> None:
 
 
 if __name__ == "__main__":
+    import argparse
+
+    argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    ).parse_args()  # --help; no options
     res = main()
     for name, cols in res["table"].items():
         print(name, " | ".join(f"{k}: {verdict(s)} slide {s['slide_mm']:.1f} tilt "
                                f"{s['max_tilt_rad']:.2e} upl {s['uplift_mm']:.3f} mm"
                                for k, s in cols.items()))  # fmt: skip
+    print(
+        "stiffness sweep: case, damping ratio, then at each ground stiffness k of "
+        f"{', '.join(f'{k:.3g}' for k in res['k_sweep'])}: verdict tilt [rad]/uplift [mm]/"
+        "slide [mm]"
+    )
     for name, by_z in res["sweep"].items():
         for z, runs in by_z.items():
-            print(name, z, [f"{verdict(r)} {r['max_tilt_rad']:.2e}/{r['uplift_mm']:.3g}mm/"
+            print(name, z, [f"{verdict(r)} {r['max_tilt_rad']:.2e}/{r['uplift_mm']:.3g}/"
                             f"{r['slide_mm']:.1f}" for r in runs])  # fmt: skip

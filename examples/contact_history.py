@@ -35,6 +35,14 @@ def main(out_dir: Path | None = None) -> dict:
 
 
 if __name__ == "__main__":
+    import argparse
+
+    argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    ).parse_args()  # --help; no options
     r = main()
-    print({k: (v["max_tilt_rad"], v["max_slide_m"], v["overturned"]) if isinstance(v, dict) else v
-           for k, v in r.items()})  # fmt: skip
+    for k in ("event", "moreau"):
+        v = r[k]
+        print(f"{k:7s} max tilt {v['max_tilt_rad']:.4g} rad, max slide {v['max_slide_m']:.4g} m, "
+              f"overturned {v['overturned']}")  # fmt: skip
+    print(f"largest state difference between the two: {r['max_dq']:.3g}")

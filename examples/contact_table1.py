@@ -95,6 +95,11 @@ def main(out_dir: Path | None = None, cases=None) -> dict:
 
 
 if __name__ == "__main__":
+    import argparse
+
+    argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    ).parse_args()  # --help; no options
     res = main()
     for k, v in res.items():
         if k == "period":
@@ -104,7 +109,7 @@ if __name__ == "__main__":
         for var in ("impulsive", "smooth", "fe_law_C0", "fe_law_C0_moreau"):
             s = v[var]
             row.append(
-                f"{var}: {s['first_motion']} slide {s['slide_mm']:.1f} mm "
-                f"tilt {s['max_tilt_rad']:.2e} over {s['overturned']}"
+                f"{var}: first motion {s['first_motion']}, slide {s['slide_mm']:.1f} mm, "
+                f"tilt {s['max_tilt_rad']:.2e} rad, overturned {s['overturned']}"
             )
         print(" | ".join(row))

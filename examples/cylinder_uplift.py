@@ -44,6 +44,11 @@ def main(seed: int = 1, duration: float = 20.0, figure: bool = False) -> dict:
 
 
 if __name__ == "__main__":
+    import argparse
+
+    argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    ).parse_args()  # --help; no options
     r = main(figure=True)
     print(f"k = {r['k']:.1f} N/m3, c = {r['c']:.2f} N s/m3, settlement {r['settlement']:.3e} m")
     print(f"uplift onset: tilt {r['theta_u']:.3e} rad, moment {r['M_u']:.4f} N m (mgr/4)")

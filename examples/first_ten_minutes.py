@@ -113,8 +113,13 @@ def main(figures: bool = True) -> dict:
 
 
 if __name__ == "__main__":
+    import argparse
+
+    argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    ).parse_args()  # --help; no options
     import json
 
     res = main()
-    # the numbers only: histories (arrays) are left out of the printout
+    # histories (arrays) are printed as their shapes only
     print(json.dumps(res, indent=1, default=lambda a: f"<array {getattr(a, 'shape', '')}>"))

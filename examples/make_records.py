@@ -22,7 +22,6 @@ component, so both horizontal components have the same intensity. ``make_y(stem)
 """
 
 import dataclasses
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -189,7 +188,15 @@ def machine_difference(stem: str) -> dict:
 
 
 if __name__ == "__main__":
-    if "--check" in sys.argv:
+    import argparse
+
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    ap.add_argument(
+        "--check", action="store_true", help="regenerate and compare with records/ (no writing)"
+    )
+    if ap.parse_args().check:
         from nsdyn.ground import read_motion
 
         for stem, motion in main(write=False).items():

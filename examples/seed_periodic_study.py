@@ -11,7 +11,7 @@ with shooting and the stepped-sweep fallback (:mod:`nsdyn.periodic`), amplitudes
   at A_hor = 0.5 m/s^2.
 
 Run ``python examples/seed_periodic_study.py [OUT_DIR]``; ``main()`` returns the numbers
-reported in the README (curves, findings, timings) without plotting.
+reported in docs/guide/periodic.md (curves, findings, timings) without plotting.
 
 ``python examples/seed_periodic_study.py --timing [--amplitude 0.5 --repeats 3]`` measures the
 speed of one amplitude's curve instead (:func:`timing`): the sweep's worker

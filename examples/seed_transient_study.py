@@ -5,7 +5,7 @@ copied into the project. Every record is scaled to a horizontal PGA of 3 m/s^2 (
 
     python examples/seed_transient_study.py [--out DIR] [--quick]
 
-Writes ``study_transient.json`` (all numbers quoted in the README) and the figures
+Writes ``study_transient.json`` (all numbers quoted in docs/guide/transient.md) and the figures
 ``fig6_idr_acc.png`` (IDR and absolute floor acceleration per level, fixed vs isolated),
 ``fig7_top_drift.png`` (roof drift relative to the base), ``fig5_switch_vs_arctan.png``
 (x_iso for the switch model vs arctan eps = 7500), ``fig8_rigid_vs_flexible.png``.

@@ -15,6 +15,7 @@ import json
 from dataclasses import replace
 from pathlib import Path
 
+from nsdyn.models.scenefile import SceneError
 from nsdyn.studies.analyses import run_analyses
 from nsdyn.studies.execute import run_study
 from nsdyn.studies.study import load_study
@@ -59,4 +60,8 @@ if __name__ == "__main__":
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--kobe", action="store_true")
     a = ap.parse_args()
-    print(json.dumps(main(a.out, a.quick, a.kobe), indent=1))
+    try:
+        res = main(a.out, a.quick, a.kobe)
+    except SceneError as e:  # e.g. --kobe without the shared records: one line, status 2
+        ap.exit(2, f"{ap.prog}: error: {e}\n")
+    print(json.dumps(res, indent=1))

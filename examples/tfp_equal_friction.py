@@ -70,4 +70,9 @@ def main(u_ys=U_Y, components=("xyz", "x"), zetas=ZETA_E) -> list[dict]:
 
 
 if __name__ == "__main__":
+    import argparse
+
+    argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    ).parse_args()  # --help; no options
     main()

@@ -9,7 +9,7 @@ the peak base-level acceleration, against the same method at rtol 1e-8, atol 1e-
     python examples/tolerance_study.py [--quick] [--out DIR]
 
 ``--quick``: the bundled record only, 20 s. Writes ``tolerance_study.csv`` (atomically) and
-prints the table the README quotes ("Tolerances and accuracy").
+prints the table docs/guide/transient.md quotes ("Tolerances and accuracy").
 """
 
 from __future__ import annotations

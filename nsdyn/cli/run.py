@@ -266,10 +266,9 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     if args.json:  # a failed run's JSON leads with status and error, as every failure's does
         head = {}
         if status:
-            u = s["uplift"]
-            head = {"status": status, "error": f"UPLIFT isolator {u['isolator']} at t = "
-                    f"{u['t_s']:.6g} s: its normal force reached zero and the run ended there "
-                    "(the files hold the run up to it)"}  # fmt: skip
+            from nsdyn.models.isolated.deck_scene import uplift_error
+
+            head = {"status": status, "error": uplift_error(s)}
             print(f"nsdyn run: error: {head['error']}", file=sys.stderr)  # (as every failure's)
         print(json.dumps({**head, **s}))
         return status

@@ -90,8 +90,11 @@ def _format(name: str, run: dict, an: dict) -> str:
         if q is not None:  # the first quantity the group has: its largest over the angles
             top, at, low = (r[f"{q}_{k}"] for k in ("max", "angle_of_max_deg", "min"))
             group = ", ".join(str(r.get(b)) for b in inc["by"])
-            lines.append(f"incidence {group}: {q} max {top:.4g} at {at:g} deg "
-                         f"(min {low:.4g})")  # fmt: skip
+            if f"{top:.4g}" == f"{low:.4g}":  # (an isotropic case: no angle is the worst)
+                lines.append(f"incidence {group}: {q} {top:.4g} at every angle (to 4 digits)")
+            else:
+                lines.append(f"incidence {group}: {q} max {top:.4g} at {at:g} deg "
+                             f"(min {low:.4g})")  # fmt: skip
     for part in ("design", "percentiles", "fragility", "incidence"):
         if an.get(part, {}).get("figure"):
             lines.append(f"figure: {an[part]['figure']}")

@@ -209,6 +209,9 @@ def _read_one_source(x, units, dt) -> GroundMotion3:
     source, text = _resolve(x)
     cols = _columns(source, text)
     if cols is None:
+        with warnings.catch_warnings():  # a file that is no record at all: its own error
+            warnings.simplefilter("ignore")
+            read_motion(x, units=units, dt=dt)
         raise RecordFileError(
             source,
             None,

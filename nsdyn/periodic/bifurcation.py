@@ -40,22 +40,44 @@ def multiplier_counts(rho: np.ndarray) -> tuple[int, int, int]:
     )
 
 
+def family_note(rho: np.ndarray) -> str:
+    """A note when ``rho`` holds real multipliers at 1 to round-off (a stable-looking orbit
+    that is one of a family: a slip held all period, a stuck isolator or a pendulum's surface
+    below its friction, may sit anywhere it stopped), else ""."""
+    real = np.abs(rho.imag) <= RHO_REAL * np.maximum(np.abs(rho), 1e-300)
+    k = int(np.sum(real & (np.abs(rho.real - 1.0) <= STABLE_MARGIN)))
+    if not k:
+        return ""
+    return (f"one of a family of orbits ({k} multiplier{'s' * (k > 1)} at 1: a slip held all "
+            "period keeps any offset; this orbit keeps the previous point's, so its peaks "
+            "depend on the path; a run from rest picks one)")  # fmt: skip
+
+
 def detect_bifurcations(points: list[OrbitPoint]) -> list[dict]:
     """Bifurcations between consecutive points from changes in the multiplier counts.
 
     Folds are also located where f turns along an arclength curve (a local extremum of f
     between consecutive points); the fold frequency is the vertex of a parabola log f(s)
-    through the three points around the turn.
+    through the three points around the turn, and a change of the multipliers beside that
+    turn is the same fold (listed once, by "turning point and multipliers", with the
+    multipliers' estimate as ``f_multipliers``). An arclength point and a
+    stepped sweep's point (the fallback where the corrector failed) are not neighbours on one
+    branch: the sweep lands on whichever orbit attracts, so a change between them is no
+    bifurcation and is not listed.
     """
+    turns = {i for i in range(1, len(points) - 1) if _turns(points[i - 1 : i + 2])}
     out = []
-    for a, b in zip(points[:-1], points[1:], strict=False):
+    for i, (a, b) in enumerate(zip(points[:-1], points[1:], strict=False)):
         if not (a.multipliers.size and b.multipliers.size):
             continue
+        if a.method != b.method and "arclength" in (a.method, b.method):
+            continue  # a jump between the branch and the sweep's attractor
         ca, cb = multiplier_counts(a.multipliers), multiplier_counts(b.multipliers)
         for k, kind in enumerate(KINDS):
             if ca[k] != cb[k]:
                 out.append(
                     {
+                        "pair": i,
                         "kind": kind,
                         "f": _interp_crossing(a, b, k),
                         "f_a": a.f,
@@ -64,23 +86,33 @@ def detect_bifurcations(points: list[OrbitPoint]) -> list[dict]:
                         "unstable_before": ca[k] > 0,
                     }
                 )
-    for i in range(1, len(points) - 1):
+    for i in sorted(turns):
         trip = points[i - 1 : i + 2]
-        if not all(p.method == "arclength" and np.isfinite(p.s) for p in trip):
-            continue
-        fa, fb, fc = (p.f for p in trip)
-        if (fb > fa and fb > fc) or (fb < fa and fb < fc):
-            out.append(
-                {
-                    "kind": "fold",
-                    "f": _parabola_vertex(trip),
-                    "f_a": fa,
-                    "f_b": fc,
-                    "by": "turning point",
-                    "unstable_before": None,
-                }
-            )
+        rho = trip[0].multipliers
+        turn = {
+            "kind": "fold",
+            "f": _parabola_vertex(trip),
+            "f_a": trip[0].f,
+            "f_b": trip[2].f,
+            "by": "turning point",
+            "unstable_before": multiplier_counts(rho)[0] > 0 if rho.size else None,
+        }
+        same = [b for b in out if b["kind"] == "fold" and b.get("pair") in (i - 1, i)]
+        if same:  # the multiplier through +1 beside the turn: the same fold, its estimate kept
+            turn.update(by="turning point and multipliers", f_multipliers=same[0]["f"])
+            out = [b for b in out if b not in same]
+        out.append(turn)
+    for b in out:
+        b.pop("pair", None)
     return out
+
+
+def _turns(trip: list[OrbitPoint]) -> bool:
+    """Whether f turns at the middle one of three arclength points (a local extremum)."""
+    if not all(p.method == "arclength" and np.isfinite(p.s) for p in trip):
+        return False
+    fa, fb, fc = (p.f for p in trip)
+    return (fb > fa and fb > fc) or (fb < fa and fb < fc)
 
 
 def _parabola_vertex(trip: list[OrbitPoint]) -> float:

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn.periodic.bifurcation import STABLE_MARGIN
+from nsdyn.periodic.bifurcation import STABLE_MARGIN, family_note
 from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.protocol import PeriodicModel
 from nsdyn.periodic.shooting import ShootingResult, floquet_multipliers
@@ -115,7 +115,8 @@ def _point_from_shoot(
     rho, verdict, why = check_verdict(problem, res.f, res.x0, rho, disc)
     rho = rho if verdict is not None else np.zeros(0)  # undecided: no multipliers (the note)
     q = problem.orbit_quantities(res.f, res.X)
-    note = "; ".join(n for n in (note, why, problem.validity_note(q)) if n)
+    notes = (note, why, problem.validity_note(q), family_note(rho))
+    note = "; ".join(n for n in notes if n)
     return OrbitPoint(
         res.f,
         res.x0.copy(),

@@ -60,7 +60,7 @@ from nsdyn.models.isolated import deck_compile
 from nsdyn.models.isolated.bearings import B_MUS
 from nsdyn.models.isolated.deck import PlaneSystem, kernel_params
 from nsdyn.models.isolated.defaults import EPS, ETA
-from nsdyn.models.isolated.friction import sticks
+from nsdyn.models.isolated.friction import stick_velocity, sticks
 from nsdyn.models.isolated.tolerances import arctan_atol
 from nsdyn.periodic.bifurcation import STABLE_MARGIN
 from nsdyn.periodic.continuation import continue_range
@@ -331,6 +331,12 @@ class PlaneProblem:
         speed = np.hypot(v[..., 0], v[..., 1])
         modes = MO if self.law == "switch" else None
         stick = sticks(speed, self.law, eps=self.eps, eta=self.eta, modes=modes)
+        if getattr(self.system, "has_tfp", False):  # a TFP sticks when no surface slides
+            from nsdyn.models.isolated.tfp import surfaces_stuck
+
+            t = np.linspace(0.0, 1.0 / f, n + 1)
+            v_stick = stick_velocity(self.law, self.eps, self.eta)
+            stick = surfaces_stuck(Y, t, self.system.internal_offsets(), v_stick, stick)
         return {
             "u_peak_m": float(max(peaks)),
             "u_peak_isolator": int(np.argmax(peaks)),

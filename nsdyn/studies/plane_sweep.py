@@ -234,7 +234,9 @@ def write_csv(path: Path, results: list[dict]) -> None:
 
 def summarise(r: dict) -> dict:
     """Per-amplitude numbers: points, failures (frequency and reason), the peak resultant
-    displacement over converged points without uplift, unstable and stick-slip points."""
+    displacement over converged points without uplift, unstable and stick-slip points, and
+    the points that are one of a family of orbits (multipliers at 1: their peaks depend on
+    the path)."""
     rows = r["rows"]
     good = [x for x in rows if x["converged"] and x["uplift"] is not True]
     u = np.array([x["u_peak_m"] for x in good], dtype=float)
@@ -249,6 +251,7 @@ def summarise(r: dict) -> dict:
         "uplift_points": sum(x["uplift"] is True for x in rows),
         "rim_contact_points": sum(x["rim_contact"] is True for x in rows),
         "stick_slip_points": len(stick),
+        "family_points": sum("family of orbits" in (x.get("note") or "") for x in rows),
         "u_peak_max_m": None if k is None else float(u[k]),
         "f_at_u_peak_max_hz": None if k is None else float(good[k]["f"]),
         "failures": r["failures"], "bifurcations": r["bifurcations"], "wall_s": r["wall_s"],

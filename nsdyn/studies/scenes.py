@@ -328,7 +328,14 @@ def run_scene_summary(cfg: dict, source: str) -> dict:
     if kind in KINDS3C:
         from nsdyn.studies.scenes3c import run_summary
 
-        return run_summary(kind, cfg, source)
+        s = run_summary(kind, cfg, source)
+        if s.get("uplift"):  # the run left the model's domain: a failed row, as the frame's
+            from nsdyn.models.isolated.deck_scene import uplift_error
+            from nsdyn.solve.integrate import UpliftError
+
+            u = s["uplift"]
+            raise UpliftError(uplift_error(s, files=False), u["t_s"], u["isolator"])
+        return s
     return _run_other(kind, cfg, source)
 
 

@@ -243,7 +243,7 @@ def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter
                        f"expected numbers ({NUMERIC_FIELDS[name]}), got {bad!r}")  # fmt: skip
         if not (kinds <= {int, float} or kinds <= {str} or kinds <= {bool}):
             raise _err(source, f"{where}.values", f"expected numbers or strings, got {args!r}")
-        return Parameter(name, values=tuple(args))
+        return Parameter(name, values=_distinct(source, f"{where}.values", args))
     nums = [number(source, f"{where}.{form}[{i}]", a, positive=False) for i, a in enumerate(args)]
     if form in ("linspace", "logspace"):
         if len(nums) != 3 or nums[2] != int(nums[2]) or nums[2] < 1:
@@ -255,7 +255,7 @@ def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter
             vals = [a * (b / a) ** (i / (n - 1)) if n > 1 else a for i in range(n)]
         else:
             vals = [a + (b - a) * i / (n - 1) if n > 1 else a for i in range(n)]
-        return Parameter(name, values=tuple(vals))
+        return Parameter(name, values=_distinct(source, f"{where}.{form}", vals))
     if len(nums) != 2:
         raise _err(source, f"{where}.{form}", f"expected two numbers, got {args!r}")
     a, b = nums
@@ -274,6 +274,16 @@ def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter
         }[form]
         raise _err(source, f"{where}.{form}", f"expected {what}, got {args!r}")
     return Parameter(name, law=form, args=(a, b))
+
+
+def _distinct(source: str, where: str, vals: list) -> tuple:
+    """``vals`` as a tuple, refused when a value repeats (two tasks of one key: one row)."""
+    seen = set()
+    for v in vals:
+        if v in seen:
+            raise _err(source, where, f"expected distinct values, got {v!r} twice")
+        seen.add(v)
+    return tuple(vals)
 
 
 def _resolve_path(study_dir: Path, p: str) -> Path:

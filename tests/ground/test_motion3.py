@@ -381,6 +381,12 @@ def test_hand_written_csv_with_named_columns(tmp_path):
         with pytest.raises(RecordFileError, match=rf"two.csv:{line}: expected .*'.*oops") as ei:
             read_motion3(bad)
         assert "missing component" not in str(ei.value)
+    # an empty file or one of comments only has no table at all: that, not a missing y
+    for text in ("", "# units: g\n"):
+        bad.write_text(text)
+        with pytest.raises(RecordFileError, match="expected numeric data") as ei:
+            read_motion3(bad)
+        assert "missing component" not in str(ei.value)
     # a title line then header lines with a number are no bad row: the record still reads
     from nsdyn.ground import read_motion
 

@@ -53,10 +53,12 @@ def test_arclength_passes_the_duffing_folds():
     c = pr.continue_arclength(prob, 0.9 / (2 * np.pi), 1.25 / (2 * np.pi), points=40, disc=disc)
     w = 2 * np.pi * c.column("f")
     assert w[-1] == pytest.approx(1.25, rel=1e-9)
-    turns = sorted(2 * np.pi * b["f"] for b in c.bifurcations if b["by"] == "turning point")
-    by_rho = sorted(2 * np.pi * b["f"] for b in c.bifurcations if b["by"] == "multipliers")
+    # each fold listed once: the turn of f(s), the multiplier through +1 beside it merged in
+    both = [b for b in c.bifurcations if b["by"] == "turning point and multipliers"]
+    assert len(both) == 2 and len(c.bifurcations) == 2, c.bifurcations
+    turns = sorted(2 * np.pi * b["f"] for b in both)
+    by_rho = sorted(2 * np.pi * b["f_multipliers"] for b in both)
     ref = sorted(wf for wf, _ in folds)
-    assert len(turns) == 2 and len(by_rho) == 2
     for wt, wm, wr in zip(turns, by_rho, ref, strict=True):
         assert wt == pytest.approx(wr, rel=0.01)
         assert wm == pytest.approx(wr, rel=0.02)  # linear interpolation of rho across a fold
@@ -248,3 +250,22 @@ def test_without_the_fallback_a_curve_walks_the_whole_band_and_names_its_gaps(
     summary = {"unconverged_points": 0, "points": len(c.points), "skipped_hz": list(sk)}
     assert _holes([summary], "sweep.csv") == EXIT_NUMERICS
     assert _holes([{**summary, "skipped_hz": []}], "sweep.csv") == 0
+
+
+def test_a_jump_to_the_sweep_fallback_is_no_bifurcation():
+    # An arclength branch past a fold (one real multiplier > 1, unstable) whose corrector then
+    # failed; the stepped sweep's point is the attracting orbit on the other branch (all
+    # multipliers inside). The two are not neighbours on one branch: the change between them
+    # is a jump, not a fold. Between two arclength points the same change is a fold.
+    from nsdyn.periodic.bifurcation import detect_bifurcations
+    from nsdyn.periodic.curve import OrbitPoint
+
+    def pt(f, rho, method, s):
+        return OrbitPoint(f, np.zeros(2), method, True, 3, 0.0, np.array(rho), 10, s=s)
+
+    unstable, stable = [1.5, 0.2], [0.5, 0.2]
+    branch = [pt(0.70, unstable, "arclength", 0.0), pt(0.69, unstable, "arclength", 1.0)]
+    jump = detect_bifurcations([*branch, pt(0.78, stable, "sweep", math.nan)])
+    assert jump == []
+    fold = detect_bifurcations([*branch, pt(0.68, stable, "arclength", 2.0)])
+    assert [(b["kind"], b["by"]) for b in fold] == [("fold", "multipliers")]

@@ -23,7 +23,7 @@ from nsdyn.models.isolated.builders import system_from_matrices
 from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
 from nsdyn.models.isolated.system import Isolation
 from nsdyn.periodic import shoot, shoot_switch, switch_problem
-from nsdyn.periodic.plane import FD_REL, RTOL, plane_problem
+from nsdyn.periodic.plane import FD_REL, RTOL, plane_problem, plane_response
 from nsdyn.periodic.shooting import SHOOT_TOL
 
 G = 9.81
@@ -371,3 +371,34 @@ def test_every_failure_status_of_the_deck_loops_has_a_reason():
     codes = {v for k, v in vars(kr).items() if k.startswith("ST_") and k != "ST_OK"}
     assert codes, "no status constants found"
     assert codes <= set(_WHY), sorted(codes - set(_WHY))
+
+
+def test_a_triple_pendulum_orbit_with_stuck_surfaces_is_one_of_a_family():
+    # A mass on a TFP whose outer surfaces stay below their friction all period (φ peaks
+    # below μ1 = 0.06) while the inner slider slides: the series model's stuck element k has
+    # ṡ_k = 0 exactly, so shifting u and s_1 together by δ leaves the stage's stretch e, hence
+    # φ and every other element, unchanged (g_1 moves by δ/R̄_1, still inside μ1): another
+    # orbit. The monodromy has multipliers 1 along such shifts, and the point says it is one
+    # of a family (its peaks depend on the path). Checked by integrating one period from the
+    # shifted start: it returns to it to the shooting tolerance.
+    from nsdyn.models.isolated.tfp import tfp_from_config
+
+    cfg = {"R1": 2.2, "R2": 0.3, "R3": 0.3, "R4": 2.2, "mu1": 0.06, "mu2": 0.02, "mu3": 0.02,
+           "mu4": 0.10, "d1": 0.40, "d2": 0.06, "d3": 0.06, "d4": 0.40}  # fmt: skip
+    mass = sdof_plane(1.0e5, tfp_from_config(cfg, "bearing"), g=G)
+    pb = plane_problem(mass, HarmonicPlane.linear(1.5, 1.0), law="arctan")
+    curve = plane_response(pb, fmin=1.4, fmax=1.5, points=2)
+    for p in curve.points:
+        assert p.converged and "family of orbits" in p.note, p.note
+        assert p.quantities["friction_peak_N"] < 0.06 * 1.0e5 * G  # φ < μ1: outer stuck
+    p = curve.points[-1]
+    rho, vec = np.linalg.eig(pb.period_map(p.x0, p.f).monodromy)
+    k = int(np.argmin(np.abs(rho - 1.0)))
+    assert abs(rho[k] - 1.0) <= 1e-9
+    v = np.real(vec[:, k])
+    v *= 1e-3 / np.abs(v[:2]).max()  # a 1 mm shift of the mass
+    st, X, _ = pb.run(p.x0 + v, p.f, 200)
+    # the shooting tolerance of the orbit's largest displacement and velocity
+    big = np.abs(p.X).max(axis=0)
+    scale = np.where(pb.velocity, big[pb.velocity].max(), big[~pb.velocity].max())
+    assert st == 0 and np.all(np.abs(X[-1, pb.rows] - (p.x0 + v)) <= 10 * SHOOT_TOL * scale)

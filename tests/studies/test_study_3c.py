@@ -242,3 +242,44 @@ def test_incidence_analysis_needs_the_angle_as_a_grid_parameter(tmp_path):
                     "not a grid parameter")  # fmt: skip
     p = _study(tmp_path, [0.0, 90.0], '[analysis.incidence]\nquantities = "peak_base_shear_N"')
     _one_line_error(lambda: load_study(p), str(p), "analysis.incidence.quantities", "list")
+
+
+def test_a_deck_run_ended_by_uplift_is_a_failed_row(tmp_path):
+    # a mass on one pendulum under a vertical ramp a_z = −2g·t/(1 s), no horizontal motion:
+    # N = m (g + a_z) reaches zero at t = 0.5 s (the sphere's own vertical motion is nil at
+    # rest), where the no-uplift model ends. A study row of such a run is a failure naming the
+    # uplift (as a frame's UpliftError is), not an "ok" row with the peaks of 0.5 s of record
+    from nsdyn.ground import write_motion3
+
+    g = 9.80665
+    t = DT * np.arange(101)
+    rec = write_motion3(GroundMotion3(0.0, DT, 0 * t, 0 * t, -2 * g * t, "ramp"),
+                        tmp_path / "ramp.csv")  # fmt: skip
+    (tmp_path / "sdof.toml").write_text(SDOF.format(rtol=1e-8).replace(
+        'record = "synthetic-wn-40s"', f'record = "{rec}"'))  # fmt: skip
+    study = tmp_path / "study.toml"
+    study.write_text('[study]\nname = "up"\nscene = "sdof.toml"\n[parameters]\n'
+                     '"bearing.mu" = [0.05]\n')  # fmt: skip
+    res = run_study(load_study(study), tmp_path / "out", workers=1)
+    (row,) = res.table.rows
+    assert row["status"] == "failed" and row["error"].startswith("UpliftError: UPLIFT isolator")
+    t_up = float(row["error"].split(" at t = ")[1].split(" s")[0])
+    assert abs(t_up - 0.5) <= 2 * DT  # the output grid's resolution around the crossing
+
+
+def test_an_isotropic_incidence_names_no_worst_angle():
+    # a peak equal at every angle (an isotropic bearing) has no worst angle: the report said
+    # "max 0.06271 at 30 deg (min 0.06271)", naming an arbitrary one
+    from nsdyn.cli.study import _format
+
+    run = {"n_tasks": 2, "n_run": 2, "n_skipped": 0, "n_failed": 0, "wall_s": 1.0,
+           "workers": 1, "batch": 1, "table": "results.csv"}  # fmt: skip
+    q = "peak_resultant_displacement_m"
+
+    def row(top, low):
+        return {"record": "A", f"{q}_max": top, f"{q}_angle_of_max_deg": 30.0, f"{q}_min": low}
+
+    for top, low, says in ((0.0627123, 0.0627119, f"{q} 0.06271 at every angle"),
+                           (0.0627, 0.0500, f"{q} max 0.0627 at 30 deg (min 0.05)")):  # fmt: skip
+        an = {"incidence": {"quantities": [q], "by": ["record"], "rows": [row(top, low)]}}
+        assert says in _format("s", run, an)

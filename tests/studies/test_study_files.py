@@ -98,6 +98,12 @@ def test_key_follows_record_bytes_not_place(tmp_path):
         (("[0.02, 0.05]", '[0.02, "high"]'), "parameters.isolation.mu.values: expected numbers"),
         (("uniform = [1.0, 4.0]", "uniform = [4.0, 1.0]"), "low < high"),
         (("logspace = [2.5e4, 1e5, 3]", "logspace = [2.5e4, 1e5]"), "[first, last, count]"),
+        # a value twice made two tasks of one key, and one row of them
+        (
+            ("[0.02, 0.05]", "[0.02, 0.02]"),
+            "isolation.mu.values: expected distinct values, got 0.02 twice",
+        ),
+        (("logspace = [2.5e4, 1e5, 3]", "linspace = [2.5e4, 2.5e4, 3]"), "expected distinct"),
         (('"synthetic-wn-40s"', '"synthetic-wn-04s"'), "did you mean 'synthetic-wn-40s'"),
         (('"synthetic-wn-40s"', '"no-such-record"'), "neither a file"),
         (("[records]", "[record]"), "did you mean 'records'"),

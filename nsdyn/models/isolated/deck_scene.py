@@ -352,6 +352,18 @@ def format_summary(s: dict) -> str:
     return text
 
 
+def uplift_error(s: dict, files: bool = True) -> str | None:
+    """The error of a deck or building run ended by uplift (its normal force reached zero), or
+    None: what ``nsdyn run`` reports with exit status 3 (``files``: that its files hold the
+    run up to the uplift) and a study records as a failed row."""
+    u = s.get("uplift")
+    if not u:
+        return None
+    return (f"UPLIFT isolator {u['isolator']} at t = {u['t_s']:.6g} s: its normal force reached "
+            "zero and the run ended there" + (" (the files hold the run up to it)" if files
+                                              else ""))  # fmt: skip
+
+
 def summary_table(head: str, s: dict, rows) -> str:
     """The table under ``head``: rim contacts and uplift first, then one line per
     ``(key, label, unit)`` of ``rows`` present in ``s``, then the files written. Shared by

@@ -29,7 +29,7 @@ from nsdyn._checks import NumericalFailure
 from nsdyn._tabular import Tabular
 from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.defaults import EPS, ETA
-from nsdyn.models.isolated.friction import sticks
+from nsdyn.models.isolated.friction import stick_velocity, sticks
 
 MESSAGES = {
     kr.ST_UNDERFLOW: "step size underflow at t = {t:.6g} s (a stiff regularised law: lower eps, "
@@ -57,6 +57,10 @@ TFP_MESSAGES = {
     kr.ST_STALL: f"the steps collapsed before t = {{t:.6g}} s: over {kr.STALL_STEPS:,} steps "
     "more than the record needs (a triple pendulum's surfaces yield within u_y, too small for "
     "the steps to follow): raise u_y",
+    kr.ST_SINGULAR: "the equations of motion have no solution at t = {t:.6g} s: the triple "
+    "pendulum's damped elastic stage found no force (its Newton iteration failed, e.g. at an "
+    "extreme zeta_e, or with R1 - R2 or R4 - R3 so small that its element is stiff): check "
+    "zeta_e (default 1), u_y and the radii",
 }
 MODE_NAMES = {0: "stick", 1: "slip", 2: "slip-start", 3: "free"}  # free: tensile or in flight
 FREE = 3
@@ -317,10 +321,18 @@ class PlaneResult(Tabular):
     def sticks(self) -> np.ndarray:
         """(nt, ni) booleans: the isolator sticks (:func:`nsdyn.models.isolated.friction.sticks`,
         the one definition: the switch law's stick mode or band, the arctan law's friction
-        below its utilisation limit), judged on the resultant slip speed |v|."""
+        below its utilisation limit), judged on the resultant slip speed |v|; a triple
+        pendulum's on its surfaces' slip speeds (:func:`.tfp.surfaces_stuck`)."""
         speed = self.resultant(self.v)
         modes = self.modes if self.law == "switch" else None
-        return sticks(speed, self.law, eps=self.eps, eta=self.eta, modes=modes)
+        stick = sticks(speed, self.law, eps=self.eps, eta=self.eta, modes=modes)
+        if self.internal is None or not getattr(self.system, "has_tfp", False):
+            return stick
+        from nsdyn.models.isolated.tfp import surfaces_stuck  # a TFP: no surface slides
+
+        offs = [o - 6 if o >= 0 else -1 for o in self.system.internal_offsets()]
+        v = stick_velocity(self.law, self.eps, self.eta)
+        return surfaces_stuck(self.internal, self.t, offs, v, stick)
 
     def histories(self) -> dict:
         """Deck motion and per-isolator histories on ``t`` (units in the names; column j of a
@@ -376,7 +388,8 @@ class PlaneResult(Tabular):
             "peak_resultant_displacement_m": float(ru.max()),
             "peak_resultant_displacement_per_isolator_m": [float(v) for v in ru.max(axis=0)],
             "peak_component_displacement_m": float(max(np.abs(ux).max(), np.abs(uy).max())),
-            "residual_displacement_m": float(ru[-1].max()),
+            # (a run ended by uplift has none: its last output is no rest)
+            "residual_displacement_m": None if self.uplift else float(ru[-1].max()),
             "peak_resultant_friction_N": float(rf.max()),
             "peak_resultant_restoring_N": float(rr.max()),
             "peak_torsion_rad": float(np.abs(self.theta).max()),

@@ -173,6 +173,20 @@ class TripleBearing(Bearing):
                     f"{w}.{outer}: expected a displacement capacity >= the inner ones' "
                     f"(max(d2, d3) = {inner:g} m), got {outer} = {vals[outer]:g} m"
                 )
+        for j in range(1, 5):  # a capacity is an arc on its sphere: short of its radius
+            if vals[f"d{j}"] >= vals[f"R{j}"]:
+                raise BearingError(
+                    f"{w}.d{j}: expected a displacement capacity below the surface's radius "
+                    f"R{j} = {vals[f'R{j}']:g} m (a slip of d/R rad on its sphere), got "
+                    f"{vals[f'd{j}']:g} m"
+                )
+        d_min = min(vals[f"d{j}"] for j in range(1, 5))
+        if self.u_y >= d_min:  # the stage stands for the surfaces' stick, far inside them
+            raise BearingError(
+                f"{w}.u_y: expected a yield displacement below every surface's capacity (min d "
+                f"= {d_min:g} m; the elastic slip before the first surface slides, default "
+                f"{U_Y:g} m), got {self.u_y:g} m"
+            )
         mu_min = min(vals[f"mu{j}"] for j in range(1, 5))
         object.__setattr__(self, "friction", Friction(mu_min, where=w))
         object.__setattr__(self, "radius", vals["R1"] + vals["R4"])
@@ -287,4 +301,23 @@ def beyond_capacity(res) -> list:
         if peak > b.d_cap:
             out.append({"isolator": i, "peak_m": peak, "capacity_m": float(b.d_cap),
                         "beyond_m": peak - float(b.d_cap)})  # fmt: skip
+    return out
+
+
+def surfaces_stuck(states: np.ndarray, t: np.ndarray, offsets: list, v_stick: float,
+                   stick: np.ndarray) -> np.ndarray:  # fmt: skip
+    """``stick`` (nt, ni) with each triple pendulum's column replaced by whether none of its
+    surfaces slides: every series element's slip speed (central differences of its slips
+    ``states[:, o + 2k : o + 2k + 2]`` on ``t``, ``o`` the isolator's entry of ``offsets``,
+    -1 for a single surface) at most ``v_stick``. Its deck slip speed is no test: the elastic
+    stage moves the mass while every surface is stuck."""
+    out = np.array(stick, dtype=bool, copy=True)
+    if t.size < 2:
+        return out
+    for i, o in enumerate(offsets):
+        if o < 0:
+            continue
+        s = states[:, o : o + 2 * N_INTERNAL // 2].reshape(t.size, 4, 2)
+        rate = np.gradient(s, t, axis=0)
+        out[:, i] = np.hypot(rate[..., 0], rate[..., 1]).max(axis=1) <= v_stick
     return out

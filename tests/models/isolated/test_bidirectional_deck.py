@@ -71,6 +71,7 @@ def test_uplift_is_located_at_the_overturning_threshold():
     assert r.t[-1] <= r.uplift["t_s"]
     assert r.summary()["uplift"] == r.uplift
     assert r.summary()["t_end_s"] == r.uplift["t_s"]  # the run's end, not its last output
+    assert r.summary()["residual_displacement_m"] is None  # no rest after an uplift
 
 
 def test_reaching_the_displacement_capacity_is_reported_with_time_and_overshoot():

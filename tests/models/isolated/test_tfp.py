@@ -240,6 +240,14 @@ def test_tfp_runs_only_with_the_regularised_law():
         ({"d1": 0.03}, r"deck\.bearings\[2\]\.d1: expected a displacement capacity >= the inner"),
         ({"mu2": 0.08}, r"deck\.bearings\[2\]\.mu2: expected the inner slider's friction <="),
         ({"mu3": None}, r"deck\.bearings\[2\]\.mu3: missing"),
+        # a capacity is an arc d/R rad on its sphere: at or past its radius it ran on
+        (
+            {"R2": 0.001, "R3": 0.001},
+            r"deck\.bearings\[2\]\.d2: expected a .* below the "
+            r"surface's radius R2 = 0\.001 m",
+        ),
+        # the elastic stage stands for the stick: a u_y past a capacity changed the peaks
+        ({"u_y": 0.2}, r"deck\.bearings\[2\]\.u_y: expected a yield displacement below"),
         # a faster friction without its rate was ignored (the same peak with or without it)
         ({"mu_fast1": 0.09}, r"deck\.bearings\[2\]\.rate: mu_fast1 \(0.09\) differs from mu1"),
     ],
@@ -378,3 +386,24 @@ def test_a_state_without_the_internal_slips_is_refused_by_the_kernel():
             np.zeros(kp.N_GP), np.zeros((3, 0)), ws, *out)  # fmt: skip
     assert kp.evaluate(0.0, np.zeros(6), *args) == kp.ST_SINGULAR
     assert kp.evaluate(0.0, np.zeros(s.n_states), *args) == kp.ST_OK
+
+
+def test_a_tfp_below_its_lowest_friction_sticks_while_its_elastic_stage_moves_the_mass():
+    # Harmonic ground a = 0.15 m/s² at 1 Hz: the force ratio φ = F/N peaks near A/g = 0.015
+    # (the elastic stage, ω_e = √(g min μ/u_y) ≈ 4.5 Hz critically damped, barely amplifies
+    # at 1 Hz), below μ2 = μ3 = 0.02: no surface slides. The mass still moves on the stage,
+    # |u| ≈ φ u_y/min μ ≈ 0.2 mm at ≈ 1 mm/s, above the arctan law's stick speed: the stick
+    # fraction is the surfaces' (every element's slip speed), 1, not the deck's.
+    from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
+    from nsdyn.periodic.plane import plane_problem, plane_response
+    from nsdyn.ground.orbit import HarmonicPlane
+
+    b = TripleBearing(**TYPICAL)
+    s = sdof_plane(1000.0, b)
+    r = simulate_plane(s, {"f": 1.0, "ax": 0.15, "ay": 0.0}, t_end=5.0, law="arctan")
+    phi = np.abs(r.friction[:, 0, 0] + r.restoring[:, 0, 0]) / r.N[:, 0]
+    assert phi.max() < 0.02 and np.abs(r.internal).max() == 0.0  # no element ever slid
+    assert np.abs(r.u).max() > 1e-4 and r.summary()["stick_fraction"] == 1.0
+    pb = plane_problem(s, HarmonicPlane.linear(1.0, 0.15), law="arctan")
+    (p,) = plane_response(pb, fmin=1.0, fmax=1.0, points=1).points
+    assert p.quantities["stick_fraction"] == 1.0 and "stick-slip" not in p.note
