@@ -223,6 +223,10 @@ def run(args: argparse.Namespace) -> int:
         unused = [f for f, k in _GIVEN if k not in getattr(module, "OPTIONS", ()) and given[k]]
         if unused and args.what != "all":  # `all` hands each benchmark the options it takes
             return fail(args, f"{', '.join(unused)}: not an option of benchmark {what!r}")
+        if args.no_figures and "figures" not in getattr(module, "OPTIONS", ()):
+            if args.what != "all" and not args.json:  # (nothing to skip: said, not refused)
+                print(f"nsdyn bench: note: benchmark {what!r} draws no figures; --no-figures "
+                      "changes nothing", file=sys.stderr)  # fmt: skip
         res = module.run_bench(Path(args.out), args.quick, **taken)
         if isinstance(res, dict) and res.get("status") == "unavailable" and args.what != "all":
             # an optional extra found missing inside the run (OpenSees): asked for by name,

@@ -24,19 +24,14 @@ def note_short_record(cfg: dict, motion) -> str | None:
 def note_unused_components(motion) -> str | None:
     """A record file with acceleration columns the planar model leaves out (a second
     horizontal component): said in one line, naming what it takes."""
-    meta = getattr(motion, "meta", None) or {}
-    left = meta.get("unused_columns") or []
-    if not left:
-        return None
-    names = meta.get("columns")
-    took = [names[j] if names else j for j in (meta.get("column"), meta.get("vertical_column"))
-            if j is not None]  # fmt: skip
-    return (
-        f"the record's column(s) {', '.join(map(repr, left))} not used: a planar model "
-        f"takes one horizontal component and the vertical: {', '.join(map(repr, took))} "
-        "(read_motion's column= and vertical= choose others); a deck or building3d scene "
-        "takes all three"
-    )
+    from nsdyn.ground.formats import unused_columns_note
+
+    return unused_columns_note(motion, PLANAR_REMEDY)
+
+
+PLANAR_REMEDY = ("a planar model takes one horizontal component and the vertical; "
+                 "read_motion's column= and vertical= choose others; a deck or building3d "
+                 "scene takes all three")  # fmt: skip
 
 
 SAMPLES_PER_PERIOD_MIN = 20  # fewer output samples per excitation period miss the peaks
@@ -249,7 +244,8 @@ def record_wins(args, cfg: dict, replaces, amplitude_pga: bool = False) -> None:
     naming the flag (the scene's reader named motion.record, a key the file does not have).
     ``amplitude_pga``: the family's ``motion.pga`` of a closed-form motion is its amplitude
     (a rocking pulse, a contact sine), dropped with it so that the record runs at its own
-    scale (or ``--pga``'s)."""
+    scale (or ``--pga``'s). The scene's ``motion.t_end`` was chosen for the motion replaced:
+    dropped too (said in a note), so that the record runs to its end (or ``--t-end``)."""
     from nsdyn.models.scenefile import SceneError
 
     mo = cfg.get("motion", {})
@@ -266,6 +262,12 @@ def record_wins(args, cfg: dict, replaces, amplitude_pga: bool = False) -> None:
             mo.pop(key, None)
         if closed and amplitude_pga:  # the pulse's or sine's amplitude, not the record's scale
             mo.pop("pga", None)
+        if closed and "t_end" in mo and not getattr(args, "t_end", None):
+            t_end = mo.pop("t_end")  # (a 6 s pulse scene cut a record before its strong part)
+            if not getattr(args, "json", False):
+                print(f"nsdyn run: note: the scene's t_end = {t_end:g} s was its closed-form "
+                      "motion's; the record runs to its end (--t-end to shorten it)",
+                      file=sys.stderr)  # fmt: skip
 
 
 def check_method(method: str, cfg: dict) -> None:

@@ -471,7 +471,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
                   f"|u|max), {s['rim_contact_points']} with a rim contact")  # fmt: skip
         if s.get("family_points"):
             print(f"   A = {s['A']:g}: {s['family_points']} points are one of a family of "
-                  "orbits (multipliers at 1: a slip held all period keeps any offset), their "
+                  "orbits (multipliers at 1: a neutral direction keeps any offset), their "
                   "peaks depend on the path (the note column)")  # fmt: skip
         for line in resumed_lines(s):
             print(f"   A = {s['A']:g}: {line}")

@@ -302,3 +302,18 @@ def parse_jma(text: str, source: str, opt: ReadOptions) -> tuple[GroundMotion, s
         },
     )
     return motion, unit_name
+
+
+def unused_columns_note(motion, remedy: str) -> str | None:
+    """One line naming a record file's acceleration columns the reader left out (a second
+    horizontal component, in ``meta["unused_columns"]``) and the columns taken, with the
+    model's ``remedy``; None when every column is used."""
+    meta = getattr(motion, "meta", None) or {}
+    left = meta.get("unused_columns") or []
+    if not left:
+        return None
+    names = meta.get("columns")
+    took = [names[j] if names else j for j in (meta.get("column"), meta.get("vertical_column"))
+            if j is not None]  # fmt: skip
+    return (f"the record's column(s) {', '.join(map(repr, left))} not used: the run takes "
+            f"{', '.join(map(repr, took))} ({remedy})")  # fmt: skip

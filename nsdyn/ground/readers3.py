@@ -22,6 +22,7 @@ x = 000, y = 090 is not (it is the mirror image).
 from __future__ import annotations
 
 import os
+import re
 import warnings
 from pathlib import Path
 
@@ -200,6 +201,9 @@ def read_motion3(
     return motion.rotated(rotate) if rotate else motion
 
 
+_NUMBER = re.compile(r"^\s*[-+]?(\d|\.\d)", re.MULTILINE)  # a line that starts with a number
+
+
 def _read_one_source(x, units, dt) -> GroundMotion3:
     path = Path(x)
     if not path.is_file():
@@ -209,9 +213,10 @@ def _read_one_source(x, units, dt) -> GroundMotion3:
     source, text = _resolve(x)
     cols = _columns(source, text)
     if cols is None:
-        with warnings.catch_warnings():  # a file that is no record at all: its own error
-            warnings.simplefilter("ignore")
-            read_motion(x, units=units, dt=dt)
+        if not _NUMBER.search(text):  # a file with no number at all: the reader's own error
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                read_motion(x, units=units, dt=dt)
         raise RecordFileError(
             source,
             None,

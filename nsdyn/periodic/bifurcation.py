@@ -42,15 +42,17 @@ def multiplier_counts(rho: np.ndarray) -> tuple[int, int, int]:
 
 def family_note(rho: np.ndarray) -> str:
     """A note when ``rho`` holds real multipliers at 1 to round-off (a stable-looking orbit
-    that is one of a family: a slip held all period, a stuck isolator or a pendulum's surface
-    below its friction, may sit anywhere it stopped), else ""."""
+    that is one of a family along a neutral direction: a slip held all period, a stuck
+    isolator or a pendulum's surface below its friction, may sit anywhere it stopped; a flat
+    slider without a restoring force, anywhere at all), else ""."""
     real = np.abs(rho.imag) <= RHO_REAL * np.maximum(np.abs(rho), 1e-300)
     k = int(np.sum(real & (np.abs(rho.real - 1.0) <= STABLE_MARGIN)))
     if not k:
         return ""
-    return (f"one of a family of orbits ({k} multiplier{'s' * (k > 1)} at 1: a slip held all "
-            "period keeps any offset; this orbit keeps the previous point's, so its peaks "
-            "depend on the path; a run from rest picks one)")  # fmt: skip
+    return (f"one of a family of orbits ({k} multiplier{'s' * (k > 1)} at 1: a neutral "
+            "direction, a surface stuck all period or a slider without restoring force, keeps "
+            "any offset; this orbit keeps the previous point's, so its peaks depend on the "
+            "path; a run from rest picks one)")  # fmt: skip
 
 
 def detect_bifurcations(points: list[OrbitPoint]) -> list[dict]:
@@ -71,7 +73,10 @@ def detect_bifurcations(points: list[OrbitPoint]) -> list[dict]:
         if not (a.multipliers.size and b.multipliers.size):
             continue
         if a.method != b.method and "arclength" in (a.method, b.method):
-            continue  # a jump between the branch and the sweep's attractor
+            # a jump between the branch and the sweep's attractor (arclength found the fold
+            # it passed on its own; a sequential branch ends at its fold, so its jump to the
+            # sweep's orbit is where the fold lies, and is kept)
+            continue
         ca, cb = multiplier_counts(a.multipliers), multiplier_counts(b.multipliers)
         for k, kind in enumerate(KINDS):
             if ca[k] != cb[k]:
@@ -98,9 +103,10 @@ def detect_bifurcations(points: list[OrbitPoint]) -> list[dict]:
             "unstable_before": multiplier_counts(rho)[0] > 0 if rho.size else None,
         }
         same = [b for b in out if b["kind"] == "fold" and b.get("pair") in (i - 1, i)]
-        if same:  # the multiplier through +1 beside the turn: the same fold, its estimate kept
-            turn.update(by="turning point and multipliers", f_multipliers=same[0]["f"])
-            out = [b for b in out if b not in same]
+        if same:  # the multiplier through +1 nearest the turn: the same fold, its estimate kept
+            near = min(same, key=lambda b: abs(math.log(b["f"] / turn["f"])))
+            turn.update(by="turning point and multipliers", f_multipliers=near["f"])
+            out = [b for b in out if b is not near]
         out.append(turn)
     for b in out:
         b.pop("pair", None)

@@ -61,15 +61,22 @@ def check(study, spec: dict) -> None:
 
 def incidence_rows(table: Table, angle: str, quantities: list[str], by: list[str]) -> list[dict]:
     """Per group of ``by`` (record and the other grid parameters): for every quantity its
-    maximum over the angles, the angle of it, the minimum, their ratio and the value at 0."""
-    rows = [r for r in table.rows if r.get("status") == "ok"]
+    maximum over the angles, the angle of it, the minimum, their ratio and the value at 0,
+    over the successful runs; ``n_failed`` counts the group's failed angles (an uplift at the
+    worst angle is no value, and says so)."""
     groups: dict[tuple, list[dict]] = {}
-    for r in rows:
-        groups.setdefault(tuple(r.get(b) for b in by), []).append(r)
+    failed: dict[tuple, int] = {}
+    for r in table.rows:
+        key = tuple(r.get(b) for b in by)
+        if r.get("status") == "ok":
+            groups.setdefault(key, []).append(r)
+        else:
+            failed[key] = failed.get(key, 0) + 1
     out = []
     for key, rs in groups.items():
         th = np.array([float(r[angle]) for r in rs])
-        row = dict(zip(by, key, strict=True)) | {"n_angles": int(th.size)}
+        row = dict(zip(by, key, strict=True)) | {"n_angles": int(th.size),
+                                                 "n_failed": failed.get(key, 0)}  # fmt: skip
         for q in quantities:
             v = np.array([float(r[q]) if isinstance(r.get(q), int | float) else np.nan
                           for r in rs])  # fmt: skip
@@ -88,6 +95,17 @@ def incidence_rows(table: Table, angle: str, quantities: list[str], by: list[str
                 f"{q}_at_0": float(at0[0]) if at0.size else np.nan,
             })  # fmt: skip
         out.append(row)
+    for key, n in failed.items():  # a group whose every angle failed: no value, its count
+        if key not in groups:
+            out.append(
+                dict(zip(by, key, strict=True))
+                | {"n_angles": 0, "n_failed": n}
+                | {
+                    f"{q}_{k}": np.nan
+                    for q in quantities
+                    for k in ("max", "angle_of_max_deg", "min", "directionality", "at_0")
+                }
+            )
     return out
 
 

@@ -320,6 +320,9 @@ def checked_step(method: str, solver: dict, motion, t_eval, source: str) -> floa
     return dt
 
 
+MOTION_COLUMNS = ("record", "pga_mps2", "pga_resultant_mps2", "incident_angle_deg")
+
+
 def run_scene_summary(cfg: dict, source: str) -> dict:
     """Run the scene ``cfg`` of any kind and return its JSON summary (no figures, no files)."""
     kind = scene_kind(cfg, source)
@@ -334,7 +337,10 @@ def run_scene_summary(cfg: dict, source: str) -> dict:
             from nsdyn.solve.integrate import UpliftError
 
             u = s["uplift"]
-            raise UpliftError(uplift_error(s, files=False), u["t_s"], u["isolator"])
+            e = UpliftError(uplift_error(s, files=False), u["t_s"], u["isolator"])
+            # the motion's columns stay in the failed row (a fragility's intensity measure)
+            e.columns = {k: s[k] for k in MOTION_COLUMNS if k in s}
+            raise e
         return s
     return _run_other(kind, cfg, source)
 
@@ -414,6 +420,7 @@ def run_task(task) -> dict:
         note = missing_kept(s, task.keep, task.source)  # the cell is empty, and says why
         row["status"], row["error"] = "ok", note[:ERROR_CHARS]
     except Exception as e:  # a failing task is a result, not the end of the study
+        row.update(getattr(e, "columns", {}))
         msg = " ".join(f"{type(e).__name__}: {e}".split())
         row["status"], row["error"] = "failed", msg[:ERROR_CHARS]
     row["task_s"] = time.perf_counter() - t0

@@ -132,3 +132,16 @@ def test_every_benchmark_takes_none_as_the_default_repeats():
             p = inspect.signature(fn).parameters.get("repeats")
             if p is not None:  # a run_bench of **options hands them on to the bench function
                 assert p.default is None, (name, fn.__name__, p.default)
+
+
+def test_no_figures_to_a_benchmark_that_draws_none_is_said(fake_modules, monkeypatch, tmp_path,
+                                                           capsys):  # fmt: skip
+    """``--no-figures`` to a benchmark without charts (no ``figures`` option) runs it and says
+    the flag changes nothing (it was accepted without a word); with ``--json`` stderr stays
+    quiet for scripts."""
+    monkeypatch.setattr(registry, "BENCHMARKS", {"fake": fake_modules["fake"]})
+    assert command.main(["fake", "--no-figures", "--out", str(tmp_path)]) == 0
+    assert "benchmark 'fake' draws no figures; --no-figures changes nothing" in (
+        capsys.readouterr().err)  # fmt: skip
+    assert command.main(["fake", "--no-figures", "--json", "--out", str(tmp_path)]) == 0
+    assert "draws no figures" not in capsys.readouterr().err

@@ -508,6 +508,14 @@ def test_run_record_replaces_a_rocking_pulse(tmp_path, capsys):
             "--no-figures", "--out", str(tmp_path)]  # fmt: skip
     assert main(argv) == 0
     assert json.loads(capsys.readouterr().out)["motion"].startswith("synthetic-wn-40s, PGA")
+    # the scene's t_end (6 s) was the pulse's: the record runs to its end (40 s), said once
+    # (it cut a Kobe record before its strong part: "at rest" for a 0.51 g record)
+    argv = ["run", str(scene), "--record", "synthetic-kt-20s", "--no-figures", "--out",
+            str(tmp_path)]  # fmt: skip
+    assert main(argv) == 0
+    out, err = capsys.readouterr()
+    assert "the scene's t_end = 6 s was its closed-form motion's" in err
+    assert "t_end = 20 s" in err and "duration               20 s" in out
 
 
 def test_the_summary_says_the_ground_acceleration_the_run_felt(tmp_path, capsys):
@@ -646,3 +654,24 @@ def test_a_velocity_tolerance_above_the_laws_resolution_is_noted(tmp_path, capsy
         assert main([*args, str(tmp_path / f"o{factor}")]) == 0
         err = capsys.readouterr().err
         assert ("solver.atol: a velocity tolerance of" in err) is noted
+
+
+@pytest.mark.parametrize("scene", ["rocking-seed003-column", "contact-seed002-A5",
+                                   "cylinder-uplift"])  # fmt: skip
+def test_a_record_column_a_family_leaves_out_is_said(tmp_path, capsys, scene):
+    # a file of two horizontal components (no names, as PEER's paired text files): the run
+    # takes the first; the second was dropped without a word in these families (the isolated
+    # frame said so). The note is in the JSON's notes, and the cylinder's names record_y
+    import numpy as np
+
+    t = np.arange(0.0, 2.0, 0.01)
+    rec = tmp_path / "two.txt"
+    rec.write_text("% two horizontal components, acc. in m/s2 and dt=0.01 sec\n" + "".join(
+        f"{0.5 * np.sin(4 * x):.6e}\t{0.3 * np.cos(3 * x):.6e}\n" for x in t))  # fmt: skip
+    path = Path(__file__).resolve().parents[2] / "examples" / "scenes" / f"{scene}.toml"
+    argv = ["run", str(path), "--record", str(rec), "--t-end", "1", "--json", "--no-figures",
+            "--out", str(tmp_path / "o")]  # fmt: skip
+    assert main(argv) == 0
+    notes = json.loads(capsys.readouterr().out)["notes"]
+    said = [n for n in notes if "the record's column(s) 1 not used: the run takes 0" in n]
+    assert len(said) == 1 and (scene != "cylinder-uplift" or "record_y" in said[0]), notes

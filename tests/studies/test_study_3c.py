@@ -265,6 +265,9 @@ def test_a_deck_run_ended_by_uplift_is_a_failed_row(tmp_path):
     assert row["status"] == "failed" and row["error"].startswith("UpliftError: UPLIFT isolator")
     t_up = float(row["error"].split(" at t = ")[1].split(" s")[0])
     assert abs(t_up - 0.5) <= 2 * DT  # the output grid's resolution around the crossing
+    # the motion's columns stay (a fragility on the resultant PGA counts it as an exceedance)
+    assert row["pga_resultant_mps2"] == 0.0 and row["incident_angle_deg"] == 0.0
+    assert "peak_resultant_displacement_m" not in row  # no peaks of a run cut short
 
 
 def test_an_isotropic_incidence_names_no_worst_angle():
@@ -277,9 +280,35 @@ def test_an_isotropic_incidence_names_no_worst_angle():
     q = "peak_resultant_displacement_m"
 
     def row(top, low):
-        return {"record": "A", f"{q}_max": top, f"{q}_angle_of_max_deg": 30.0, f"{q}_min": low}
+        return {"record": "A", "n_angles": 4, "n_failed": 0, f"{q}_max": top,
+                f"{q}_angle_of_max_deg": 30.0, f"{q}_min": low}  # fmt: skip
 
     for top, low, says in ((0.0627123, 0.0627119, f"{q} 0.06271 at every angle"),
                            (0.0627, 0.0500, f"{q} max 0.0627 at 30 deg (min 0.05)")):  # fmt: skip
         an = {"incidence": {"quantities": [q], "by": ["record"], "rows": [row(top, low)]}}
         assert says in _format("s", run, an)
+
+
+def test_failed_angles_are_counted_and_never_hidden_behind_a_tie():
+    # Record A: 0° and 90° equal, 45° failed (an uplift: the worst angle, without a value);
+    # record B: every angle failed. A's line must not claim "at every angle", and B is a row
+    from nsdyn.cli.study import _format
+    from nsdyn.studies.incidence import incidence_rows
+    from nsdyn.studies.table import Table
+
+    q = "peak_base_shear_N"
+    rows = [{"record": "A", "motion.rotate": 0.0, "status": "ok", q: 5.0},
+            {"record": "A", "motion.rotate": 45.0, "status": "failed", "error": "UpliftError"},
+            {"record": "A", "motion.rotate": 90.0, "status": "ok", q: 5.0},
+            {"record": "B", "motion.rotate": 0.0, "status": "failed", "error": "UpliftError"},
+            ]  # fmt: skip
+    out = incidence_rows(Table(rows), "motion.rotate", [q], ["record"])
+    a, b = sorted(out, key=lambda r: r["record"])
+    assert (a["n_angles"], a["n_failed"], a[f"{q}_max"]) == (2, 1, 5.0)
+    assert (b["n_angles"], b["n_failed"]) == (0, 1) and np.isnan(b[f"{q}_max"])
+    run = {"n_tasks": 4, "n_run": 4, "n_skipped": 0, "n_failed": 3, "wall_s": 1.0,
+           "workers": 1, "batch": 1, "table": "results.csv"}  # fmt: skip
+    b[f"{q}_max"] = None  # (the analyses' JSON-safe NaN)
+    text = _format("s", run, {"incidence": {"quantities": [q], "by": ["record"], "rows": [a, b]}})
+    assert f"incidence A: {q} max 5 at 0 deg (min 5) (1 failed angles left out)" in text
+    assert "at every angle (to" not in text and "incidence B: every angle failed (1)" in text

@@ -179,6 +179,7 @@ def build(cfg: dict, source: str):
     if "period" not in mo:
         refuse_keys(mo, source, "motion", SINE_KEYS, "a key of the displacement sine "
                     "(motion.period), which this scene does not have")  # fmt: skip
+    unused = None  # a record's column the run leaves out
     if "record" in mo:
         rec = str(mo["record"])  # a file beside the scene: made findable by read_toml
         try:
@@ -188,6 +189,10 @@ def build(cfg: dict, source: str):
         if "pga" in mo:
             gm = scaled_to_pga(gm, number(source, "motion.pga", mo["pga"]), source)
         motion = BaseMotion.from_motion(gm)
+        from nsdyn.ground.formats import unused_columns_note
+
+        unused = unused_columns_note(gm, "a planar body takes one horizontal component and "
+                                     "the vertical")  # fmt: skip
         t_end = t_end or gm.t0 + gm.duration
         pga = gm.pga
         what = f"{gm.name}, PGA {pga:.3g} m/s²"
@@ -247,6 +252,7 @@ def build(cfg: dict, source: str):
     opts["notes"] = [f"solver.{k} not used: method '{method}' ("
                      + ("Moreau-Jean's keys" if method == "event" else "the event method's")
                      + ")" for k in unread if k in sv]  # fmt: skip
+    opts["notes"] += [unused] if unused else []
     if opts["ground"] is not None:
         given = [k for k in ("method", "h", "theta", "rtol", "step_check") if k in sv]
         if given:  # refused, not ignored: the compliant ground has one integrator

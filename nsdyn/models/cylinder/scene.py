@@ -163,10 +163,16 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
                          "needed)")  # fmt: skip
     mo = cfg.get("motion", {})
     t0 = 0.0  # the clock of the outputs: a record's own (its first sample at its t0)
+    unused = None  # a record's column the run leaves out
     if "record" in mo:
         try:
             mx, my, mz = _record_components(mo)
             t0 = float(mx.t0)
+            if my is None:
+                from nsdyn.ground.formats import unused_columns_note
+
+                y_too = "give the second horizontal as [motion] record_y, or a CSV t, ax, ay[, az]"
+                unused = unused_columns_note(mx, y_too)
         except (OSError, ValueError) as e:
             raise SceneError(f"{source}: motion.record: {e}") from None
         scenefile.refuse_keys(mo, source, "motion", RECORD_REPLACES, "a key of the simulated "
@@ -225,6 +231,7 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
             f"{source}: solver.method: expected one of {list(METHODS)}, got {method!r}"
         )
     opts = {"rtol": rel_tol(source, "solver.rtol", so.get("rtol", RTOL)), "t0": t0}
+    opts["notes"] = [unused] if unused else []
     opts["tilt"] = scene_tilt(mo, source)
     opts["azimuth0"] = number(source, "motion.azimuth0", mo.get("azimuth0", 0.0), positive=False)
     if p.foundation == "fixed" and any(opts["tilt"].values()):
@@ -266,6 +273,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     out_dir = Path(out_dir)
     log = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     log(f"cylinder {name}: {foundation_text(p.foundation, p.k, p.c)}, {len(ag)} samples")
+    for note in opts["notes"]:
+        log(f"cylinder: note: {note}")
     compile_s = warm(p, dt, ag, opts)
     tic = time.perf_counter()
     with grid_fields(source):  # the initial tilt, refused before any step
@@ -313,6 +322,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         "wall_s": wall,
         "compile_s": compile_s,
     }
+    if opts["notes"]:
+        summary["notes"] = opts["notes"]
     summary["outcome"], text = outcome(summary)
     npz = out_dir / f"{name}.npz"
     with atomic_open(npz, "wb") as fh:

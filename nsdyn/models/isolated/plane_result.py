@@ -60,7 +60,8 @@ TFP_MESSAGES = {
     kr.ST_SINGULAR: "the equations of motion have no solution at t = {t:.6g} s: the triple "
     "pendulum's damped elastic stage found no force (its Newton iteration failed, e.g. at an "
     "extreme zeta_e, or with R1 - R2 or R4 - R3 so small that its element is stiff): check "
-    "zeta_e (default 1), u_y and the radii",
+    "zeta_e (default 1), u_y and the radii; or a building's normal forces on them had no "
+    "solution (check masses and positions)",
 }
 MODE_NAMES = {0: "stick", 1: "slip", 2: "slip-start", 3: "free"}  # free: tensile or in flight
 FREE = 3

@@ -180,12 +180,18 @@ class TripleBearing(Bearing):
                     f"R{j} = {vals[f'R{j}']:g} m (a slip of d/R rad on its sphere), got "
                     f"{vals[f'd{j}']:g} m"
                 )
-        d_min = min(vals[f"d{j}"] for j in range(1, 5))
-        if self.u_y >= d_min:  # the stage stands for the surfaces' stick, far inside them
+        R, d = [vals[f"R{j}"] for j in range(1, 5)], [vals[f"d{j}"] for j in range(1, 5)]
+        d_bar = min(
+            d[0] * (1 - R[1] / R[0]),
+            d[1] + d[0] * R[1] / R[0],
+            d[2] + d[3] * R[2] / R[3],
+            d[3] * (1 - R[2] / R[3]),
+        )  # (elements())
+        if self.u_y >= d_bar:  # the stage stands for the surfaces' stick, far inside them
             raise BearingError(
-                f"{w}.u_y: expected a yield displacement below every surface's capacity (min d "
-                f"= {d_min:g} m; the elastic slip before the first surface slides, default "
-                f"{U_Y:g} m), got {self.u_y:g} m"
+                f"{w}.u_y: expected a yield displacement below every series element's capacity "
+                f"(min d̄ = {d_bar:g} m; the elastic slip before the first surface slides, "
+                f"default {U_Y:g} m), got {self.u_y:g} m"
             )
         mu_min = min(vals[f"mu{j}"] for j in range(1, 5))
         object.__setattr__(self, "friction", Friction(mu_min, where=w))
@@ -317,7 +323,7 @@ def surfaces_stuck(states: np.ndarray, t: np.ndarray, offsets: list, v_stick: fl
     for i, o in enumerate(offsets):
         if o < 0:
             continue
-        s = states[:, o : o + 2 * N_INTERNAL // 2].reshape(t.size, 4, 2)
+        s = states[:, o : o + N_INTERNAL].reshape(t.size, 4, 2)
         rate = np.gradient(s, t, axis=0)
         out[:, i] = np.hypot(rate[..., 0], rate[..., 1]).max(axis=1) <= v_stick
     return out

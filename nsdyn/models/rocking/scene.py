@@ -264,6 +264,12 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"rocking: {name}: {type(model).__name__}, {what}, t_end = {t_end:g} s")
+    from nsdyn.ground.formats import unused_columns_note
+
+    notes = [n for n in [unused_columns_note(exc, "a rocking block takes one horizontal "
+                                             "component and the vertical")] if n]  # fmt: skip
+    for n in notes:
+        say(f"rocking: note: {n}")
     out_dir = Path(out_dir)
     compile_s = warm(model)
     w0 = time.perf_counter()
@@ -306,6 +312,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
               "p_per_s": model.p, "theta0_rad": float(res.theta[0]) if res.t.size else 0.0,
               "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
     s.setdefault("outcome", outcome(s)[0])  # the compliant block's summary has none
+    if notes:
+        s["notes"] = notes
     say(f"rocking: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
     return s
 

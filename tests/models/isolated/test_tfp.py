@@ -394,9 +394,9 @@ def test_a_tfp_below_its_lowest_friction_sticks_while_its_elastic_stage_moves_th
     # at 1 Hz), below μ2 = μ3 = 0.02: no surface slides. The mass still moves on the stage,
     # |u| ≈ φ u_y/min μ ≈ 0.2 mm at ≈ 1 mm/s, above the arctan law's stick speed: the stick
     # fraction is the surfaces' (every element's slip speed), 1, not the deck's.
+    from nsdyn.ground.orbit import HarmonicPlane
     from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
     from nsdyn.periodic.plane import plane_problem, plane_response
-    from nsdyn.ground.orbit import HarmonicPlane
 
     b = TripleBearing(**TYPICAL)
     s = sdof_plane(1000.0, b)
