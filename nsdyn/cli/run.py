@@ -21,6 +21,7 @@ from nsdyn.cli.run_checks import (
     check_method,
     duration_text,
     explicit_steps,
+    notes_first,
     record_wins,
     scene_notes,
 )
@@ -236,7 +237,7 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
                          "[solver] law (and fidelity); --method applies to isolated-frame, "
                          "rocking, contact and cylinder scenes")  # fmt: skip
     mod = importlib.import_module(scene_module(kind))
-    record_wins(args, cfg, getattr(mod, "RECORD_REPLACES", ()), kind in ("rocking", "contact"))
+    record_wins(args, cfg, getattr(mod, "RECORD_REPLACES", ()), False, kind)
     for table, vals in _scene_overrides(args).items():
         for k, v in vals.items():  # the file stays checked where an option replaces its value
             old = cfg.get(table, {}).get(k)
@@ -252,6 +253,7 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
         fig_mod = getattr(mod, "FIGURE_MODULE", None)  # figures drawn by a later stage (plot)
         if fig_mod and not args.no_figures:
             s["files"] += importlib.import_module(fig_mod).scene_figures(s, out)
+    notes_first(args, s)
     ran = s.get("t_end_s", s.get("t_end"))
     req = args.t_end or cfg.get("motion", {}).get("t_end")  # (--t-end, or the scene's)
     short = isinstance(ran, int | float) and isinstance(req, int | float) and ran < req - 1e-6
@@ -260,8 +262,7 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
         s.setdefault("notes", []).append(note)  # (--json: the summary's notes)
         if not args.json:
             print(f"nsdyn run: note: {note}", file=sys.stderr)
-    # a deck or 3D building whose normal force reached zero: written up to the uplift, and
-    # the status of a run that left the model's domain (as the isolated frame's uplift)
+    # a deck or 3D building whose normal force reached zero: exit 3, its files up to the uplift
     status = EXIT_NUMERICS if s.get("uplift") and kind in ("deck", "building3d") else 0
     if args.json:  # a failed run's JSON leads with status and error, as every failure's does
         head = {}

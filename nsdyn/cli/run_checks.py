@@ -237,7 +237,7 @@ def scene_notes(cfg: dict, motion, quiet: bool, system=None) -> list[str]:
     return notes
 
 
-def record_wins(args, cfg: dict, replaces, amplitude_pga: bool = False) -> None:
+def record_wins(args, cfg: dict, replaces, amplitude_pga: bool = False, kind: str = "") -> None:
     """``--record`` replaces a scene's closed-form motion with its keys (``replaces``: a
     rocking pulse's, a contact sine's, a simulated earthquake's); on a harmonic orbit (a deck
     or a building), whose amplitudes are the file's, ``--record`` and ``--pga`` are refused
@@ -256,18 +256,22 @@ def record_wins(args, cfg: dict, replaces, amplitude_pga: bool = False) -> None:
         raise SceneError(f"{args.scene}: {', '.join(flags)}: this scene's motion is harmonic "
                          f"([motion] kind = {mo['kind']!r}, its amplitudes in the file); "
                          f"{flags[0]} applies to a scene driven by a record")  # fmt: skip
-    if args.record:
-        closed = any(key in mo for key in replaces)
-        for key in replaces:
-            mo.pop(key, None)
-        if closed and amplitude_pga:  # the pulse's or sine's amplitude, not the record's scale
-            mo.pop("pga", None)
-        if closed and "t_end" in mo and not getattr(args, "t_end", None):
-            t_end = mo.pop("t_end")  # (a 6 s pulse scene cut a record before its strong part)
+    if args.record:  # (a 6 s pulse scene's t_end cut a record before its strong part)
+        from nsdyn.models.scenefile import record_replaces_motion
+
+        kind = kind or ("rocking" if amplitude_pga else "")
+        note = record_replaces_motion(kind, mo, replaces, str(args.scene))
+        if note and getattr(args, "t_end", None) is None:  # (--t-end sets it again)
+            args.notes = [*getattr(args, "notes", []), note]  # (the summary's notes)
             if not getattr(args, "json", False):
-                print(f"nsdyn run: note: the scene's t_end = {t_end:g} s was its closed-form "
-                      "motion's; the record runs to its end (--t-end to shorten it)",
-                      file=sys.stderr)  # fmt: skip
+                print(f"nsdyn run: note: {note}", file=sys.stderr)
+
+
+def notes_first(args, s: dict) -> None:
+    """The notes said before the run (``args.notes``, e.g. :func:`record_wins`') at the head of
+    the summary's ``notes``."""
+    if getattr(args, "notes", None):
+        s["notes"] = [*args.notes, *s.get("notes", [])]
 
 
 def check_method(method: str, cfg: dict) -> None:

@@ -87,13 +87,14 @@ def _format(name: str, run: dict, an: dict) -> str:
     inc = an.get("incidence")
     for r in (inc or {}).get("rows", [])[:MAX_FAILED_LINES]:
         q = next((q for q in inc["quantities"] if r.get(f"{q}_max") is not None), None)
-        if q is None and r.get("n_failed"):
+        if q is None and r.get("n_failed") and not r.get("n_angles"):
             group = ", ".join(str(r.get(b)) for b in inc["by"])
             lines.append(f"incidence {group}: every angle failed ({r['n_failed']})")
         if q is not None:  # the first quantity the group has: its largest over the angles
             top, at, low = (r[f"{q}_{k}"] for k in ("max", "angle_of_max_deg", "min"))
             group = ", ".join(str(r.get(b)) for b in inc["by"])
-            gone = f" ({r['n_failed']} failed angles left out)" if r.get("n_failed") else ""
+            k = r.get("n_failed") or 0
+            gone = f" ({k} failed angle{'s' * (k > 1)} left out)" if k else ""
             if r.get("n_angles", 0) > 1 and not gone and f"{top:.4g}" == f"{low:.4g}":
                 # (an isotropic case: no angle is the worst)
                 lines.append(f"incidence {group}: {q} {top:.4g} at every angle (to 4 digits)")

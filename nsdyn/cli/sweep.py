@@ -48,16 +48,18 @@ def configure(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--fmin", type=_positive, default=None, metavar="HZ",
                    help="lowest forcing frequency; default 0.01 (deck scenes: f0/4, f0 the "
-                   "orbit's frequency)")  # fmt: skip
+                   "orbit's frequency; a fixed building3d: f1/4)")  # fmt: skip
     p.add_argument("--fmax", type=_positive, default=None, metavar="HZ",
-                   help="highest forcing frequency; default 10 (deck scenes: 4 f0). Not the "
+                   help="highest forcing frequency; default 10 (deck scenes: 4 f0; a fixed "
+                   "building3d: 1.25 x its highest kept mode). Not the "
                    "Craig-Bampton cut-off of nsdyn run --fmax: a sweep takes that from the "
                    "scene's [scene] f_max")  # fmt: skip
     p.add_argument(
         "--points",
         type=_count,
         default=None,
-        help=f"log-spaced frequencies (default 150; deck scenes {POINTS_DEFAULT})",
+        help=f"log-spaced frequencies (default 150; deck scenes {POINTS_DEFAULT}; a fixed "
+        "building3d 400)",
     )
     p.add_argument(
         "--continuation",

@@ -313,7 +313,7 @@ def unused_columns_note(motion, remedy: str) -> str | None:
     if not left:
         return None
     names = meta.get("columns")
-    took = [names[j] if names else j for j in (meta.get("column"), meta.get("vertical_column"))
-            if j is not None]  # fmt: skip
+    vertical = meta.get("vertical_column") if getattr(motion, "a_ver", None) is not None else None
+    took = [names[j] if names else j for j in (meta.get("column"), vertical) if j is not None]
     return (f"the record's column(s) {', '.join(map(repr, left))} not used: the run takes "
             f"{', '.join(map(repr, took))} ({remedy})")  # fmt: skip

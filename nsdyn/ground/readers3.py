@@ -22,7 +22,6 @@ x = 000, y = 090 is not (it is the mirror image).
 from __future__ import annotations
 
 import os
-import re
 import warnings
 from pathlib import Path
 
@@ -201,7 +200,18 @@ def read_motion3(
     return motion.rotated(rotate) if rotate else motion
 
 
-_NUMBER = re.compile(r"^\s*[-+]?(\d|\.\d)", re.MULTILINE)  # a line that starts with a number
+def _one_component_or_its_error(x, units, dt) -> None:
+    """Raise the one-component reader's error when ``x`` is no record of one component either
+    (an empty file, a bad row, an AT2 file's wrong NPTS); a file that lacks only its sampling
+    interval counts as one (its missing second component is the error to say)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            read_motion(x, units=units, dt=dt)
+        except RecordFileError:
+            if dt is not None:
+                raise
+            read_motion(x, units=units, dt=1.0)  # (fails again: not for want of a dt)
 
 
 def _read_one_source(x, units, dt) -> GroundMotion3:
@@ -213,10 +223,7 @@ def _read_one_source(x, units, dt) -> GroundMotion3:
     source, text = _resolve(x)
     cols = _columns(source, text)
     if cols is None:
-        if not _NUMBER.search(text):  # a file with no number at all: the reader's own error
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                read_motion(x, units=units, dt=dt)
+        _one_component_or_its_error(x, units, dt)
         raise RecordFileError(
             source,
             None,

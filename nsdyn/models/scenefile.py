@@ -218,3 +218,24 @@ def grid_fields(source: str, fields: Mapping = GRID_FIELDS):
         if name not in fields or not text:
             raise
         raise SceneError(f"{source}: {fields[name]}:{text}") from None
+
+
+def record_replaces_motion(kind: str, mo: dict, replaces, source: str) -> str | None:
+    """Give a scene's ``[motion]`` table ``mo`` to a record (in place): the keys of the
+    closed-form motion it replaces (``replaces``: a rocking pulse's, a contact sine's, a
+    cylinder's simulated earthquake's) go, and with a closed-form motion present (a cylinder
+    without a record always has one) so do its amplitude ``pga`` (a pulse's, a sine's: the
+    record runs at its own scale) and its ``t_end`` (chosen for that motion: the record runs
+    to its end). Returns a note naming the dropped ``t_end``, or None."""
+    closed = any(k in mo for k in replaces) or (kind == "cylinder" and "record" not in mo)
+    for key in replaces:
+        mo.pop(key, None)
+    if not closed:
+        return None
+    if kind in ("rocking", "contact"):  # the pulse's or sine's amplitude, not a record's scale
+        mo.pop("pga", None)
+    if "t_end" not in mo:
+        return None
+    t_end = number(source, "motion.t_end", mo.pop("t_end"))
+    return (f"the scene's t_end = {t_end:g} s was its closed-form motion's; the record runs to "
+            "its end (--t-end, or a study's [base.motion] t_end, to shorten it)")  # fmt: skip

@@ -320,7 +320,7 @@ def checked_step(method: str, solver: dict, motion, t_eval, source: str) -> floa
     return dt
 
 
-MOTION_COLUMNS = ("record", "pga_mps2", "pga_resultant_mps2", "incident_angle_deg")
+MOTION_COLUMNS = ("pga_mps2", "pga_resultant_mps2", "incident_angle_deg")
 
 
 def run_scene_summary(cfg: dict, source: str) -> dict:

@@ -418,8 +418,12 @@ def _merge(base: dict, over: dict) -> dict:
     return out
 
 
-def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict) -> tuple[str, dict]:
-    """(kind, base cfg): the scene file (or the default scene) with [base] merged over it."""
+def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict,
+                records: bool = False) -> tuple[str, dict]:  # fmt: skip
+    """(kind, base cfg): the scene file (or the default scene) with [base] merged over it.
+    With ``records``, the scene file's closed-form motion gives way to them as it does to
+    ``nsdyn run --record`` (its keys, amplitude and t_end: the records run to their ends;
+    :func:`nsdyn.models.scenefile.record_replaces_motion`); [base.motion] still sets them."""
     if not isinstance(base_over, dict) or not all(isinstance(v, dict) for v in base_over.values()):
         raise _err(source, "base", "expected scene tables, e.g. [base.motion] t_end = 20.0")
     scene_path = None
@@ -433,6 +437,11 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict) -> tupl
     base_over = resolve_paths(base_over, study_dir)  # [base] files: beside the study file
     merged = _merge(raw, base_over)  # (the scene's: beside the scene file, by read_toml)
     kind = scene_kind(merged, source)
+    if records and isinstance(raw.get("motion"), dict) and record_replaces(kind):
+        from nsdyn.models.scenefile import record_replaces_motion
+
+        record_replaces_motion(kind, raw["motion"], record_replaces(kind), str(scene_path))
+        merged = _merge(raw, base_over)
     if kind == "isolated":
         from nsdyn.models.isolated.scene import _check, load_scene
 
@@ -465,7 +474,7 @@ def load_study(path: str | Path) -> Study:
     keep = st.get("keep")
     if keep is not None and not all(isinstance(k, str) for k in keep):
         raise _err(source, "study.keep", f"expected a list of field names, got {keep!r}")
-    kind, base = _base_scene(source, study_dir, st, raw.get("base", {}))
+    kind, base = _base_scene(source, study_dir, st, raw.get("base", {}), bool(raw.get("records")))
     params_raw = raw.get("parameters", {})
     known, whole = _known_fields(kind, base), _integer_fields(kind)
     params = [_whole_numbers(source, _parse_parameter(source, k, v, known), whole)

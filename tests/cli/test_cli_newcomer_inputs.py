@@ -675,3 +675,26 @@ def test_a_record_column_a_family_leaves_out_is_said(tmp_path, capsys, scene):
     notes = json.loads(capsys.readouterr().out)["notes"]
     said = [n for n in notes if "the record's column(s) 1 not used: the run takes 0" in n]
     assert len(said) == 1 and (scene != "cylinder-uplift" or "record_y" in said[0]), notes
+
+
+def test_a_record_replaces_a_closed_form_motion_in_a_study_as_in_a_run(tmp_path):
+    # the cask scene's t_end (12 s) was its 8-cycle sine's: a study's records run to their
+    # ends, as `nsdyn run --record` does; a study's own [base.motion] t_end still applies. A
+    # cylinder scene without a record is a simulated earthquake even with only defaults
+    import argparse
+
+    from nsdyn.cli.run_checks import record_wins
+    from nsdyn.studies import load_study
+
+    scene = Path(__file__).resolve().parents[2] / "examples/scenes/rocking-seed001-cask.toml"
+    head = f'[study]\nname = "s"\nscene = "{scene}"\n'
+    tail = '[parameters]\n"block.r" = [0.82]\n[records]\nnames = ["synthetic-kt-20s"]\n'
+    for base, t_end in (("", None), ("[base.motion]\nt_end = 5.0\n", 5.0)):
+        (tmp_path / "s.toml").write_text(head + base + tail)
+        mo = load_study(tmp_path / "s.toml").base["motion"]
+        assert mo.get("t_end") == t_end and not {"pulse", "a_p_g", "f_p"} & set(mo), mo
+    args = argparse.Namespace(scene="c.toml", record="synthetic-kt-20s", pga=None, t_end=None,
+                              json=True)  # fmt: skip
+    cyl = {"motion": {"t_end": 3.0}}
+    record_wins(args, cyl, ("seed", "duration", "dt", "s0_units"), False, "cylinder")
+    assert cyl["motion"] == {} and "t_end = 3 s was its closed-form motion's" in args.notes[0]

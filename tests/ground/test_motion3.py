@@ -381,12 +381,18 @@ def test_hand_written_csv_with_named_columns(tmp_path):
         with pytest.raises(RecordFileError, match=rf"two.csv:{line}: expected .*'.*oops") as ei:
             read_motion3(bad)
         assert "missing component" not in str(ei.value)
-    # an empty file or one of comments only has no table at all: that, not a missing y
-    for text in ("", "# units: g\n"):
+    # a file that is no record of one component either has its own error, not a missing y:
+    # an empty file, one of comments only, a bad row of a one-component table
+    empty, row = "expected numeric data", "two.csv:3: expected 2 numbers per line"
+    for text, says in (("", empty), ("# units: g\n", empty), ("t,ax\n0,1\n0.01,abc\n", row)):
         bad.write_text(text)
-        with pytest.raises(RecordFileError, match="expected numeric data") as ei:
+        with pytest.raises(RecordFileError, match=says) as ei:
             read_motion3(bad)
         assert "missing component" not in str(ei.value)
+    # one column without its sampling interval is a record of one component: its y is missing
+    bad.write_text("0.1\n0.2\n0.3\n")
+    with pytest.raises(RecordFileError, match="missing component y"):
+        read_motion3(bad)
     # a title line then header lines with a number are no bad row: the record still reads
     from nsdyn.ground import read_motion
 

@@ -310,5 +310,5 @@ def test_failed_angles_are_counted_and_never_hidden_behind_a_tie():
            "workers": 1, "batch": 1, "table": "results.csv"}  # fmt: skip
     b[f"{q}_max"] = None  # (the analyses' JSON-safe NaN)
     text = _format("s", run, {"incidence": {"quantities": [q], "by": ["record"], "rows": [a, b]}})
-    assert f"incidence A: {q} max 5 at 0 deg (min 5) (1 failed angles left out)" in text
+    assert f"incidence A: {q} max 5 at 0 deg (min 5) (1 failed angle left out)" in text
     assert "at every angle (to" not in text and "incidence B: every angle failed (1)" in text

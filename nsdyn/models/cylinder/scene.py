@@ -172,7 +172,7 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
                 from nsdyn.ground.formats import unused_columns_note
 
                 y_too = "give the second horizontal as [motion] record_y, or a CSV t, ax, ay[, az]"
-                unused = unused_columns_note(mx, y_too)
+                unused = unused_columns_note(mx if mz is None else mx.with_vertical(None), y_too)
         except (OSError, ValueError) as e:
             raise SceneError(f"{source}: motion.record: {e}") from None
         scenefile.refuse_keys(mo, source, "motion", RECORD_REPLACES, "a key of the simulated "
