@@ -18,7 +18,7 @@ import json
 import sys
 from pathlib import Path
 
-from nsdyn.cli.args import out_file, positive_float
+from nsdyn.cli.args import out_file, positive_float, positive_int
 
 __all__ = ["configure", "run"]
 
@@ -74,7 +74,7 @@ def configure(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--modes",
-        type=int,
+        type=positive_int,
         default=None,
         metavar="N",
         help="3D frames: frequencies to compute (default 12)",
@@ -104,8 +104,6 @@ def _run_frame3d(args: argparse.Namespace, stem: str) -> int:
 
     _only(args, "a 3D frame file", ("mass", "modes"))
     modes = 12 if args.modes is None else args.modes
-    if modes < 1:
-        raise SceneError(f"--modes: expected a positive integer, got {modes}")
     frame = load_frame3d(args.scene)
     out = Path(args.out) if args.out else Path(f"{stem}_opensees.py")
     try:

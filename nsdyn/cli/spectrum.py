@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.cli.args import count, fraction, out_dir, positive_finite
+from nsdyn.cli.args import count, fraction, out_dir, positive_finite, positive_int
 
 SHAPES = ("sine", "cosine", "ricker", "rect")
 DEFAULT_OUT = "nsdyn-out"
@@ -39,7 +39,8 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--a-max", type=positive_finite, default=None, metavar="RATIO",
                    help="largest amplitude ratio a_p/(g tan α) scanned (default 30); a "
                    "frequency with no overturning up to it reports '> a_max'")  # fmt: skip
-    p.add_argument("--workers", type=int, default=None, metavar="N", help="parallel processes")
+    p.add_argument("--workers", type=positive_int, default=None, metavar="N",
+                   help="parallel processes")  # fmt: skip
     p.add_argument(
         "--out", type=out_dir, default=DEFAULT_OUT, metavar="DIR", help="output directory"
     )
@@ -65,8 +66,6 @@ def run(args: argparse.Namespace) -> int:
 
         return fail(args, f"argument --wmax: expected a ratio above --wmin ({args.wmin:g}), "
                     f"got {args.wmax:g} (see nsdyn spectrum --help)")  # fmt: skip
-    if args.workers is not None and args.workers < 1:
-        raise SceneError(f"--workers: expected a positive integer, got {args.workers}")
     model = build_model(cfg, src)
     ratios = np.geomspace(args.wmin, args.wmax, args.n)
     from nsdyn.models.rocking.scene import warm

@@ -238,4 +238,4 @@ def record_replaces_motion(kind: str, mo: dict, replaces, source: str) -> str | 
         return None
     t_end = number(source, "motion.t_end", mo.pop("t_end"))
     return (f"the scene's t_end = {t_end:g} s was its closed-form motion's; the record runs to "
-            "its end (--t-end, or a study's [base.motion] t_end, to shorten it)")  # fmt: skip
+            "its end (--t-end to shorten it)")  # fmt: skip

@@ -426,14 +426,12 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict,
     :func:`nsdyn.models.scenefile.record_replaces_motion`); [base.motion] still sets them."""
     if not isinstance(base_over, dict) or not all(isinstance(v, dict) for v in base_over.values()):
         raise _err(source, "base", "expected scene tables, e.g. [base.motion] t_end = 20.0")
-    scene_path = None
+    scene_path, raw = None, {}
     if "scene" in st:
         scene_path = _resolve_path(study_dir, st["scene"])
         if not scene_path.is_file():
             raise _err(source, "study.scene", f"no such scene file: {scene_path}")
         raw = read_toml(scene_path)
-    else:
-        raw = {}
     base_over = resolve_paths(base_over, study_dir)  # [base] files: beside the study file
     merged = _merge(raw, base_over)  # (the scene's: beside the scene file, by read_toml)
     kind = scene_kind(merged, source)
@@ -474,12 +472,14 @@ def load_study(path: str | Path) -> Study:
     keep = st.get("keep")
     if keep is not None and not all(isinstance(k, str) for k in keep):
         raise _err(source, "study.keep", f"expected a list of field names, got {keep!r}")
-    kind, base = _base_scene(source, study_dir, st, raw.get("base", {}), bool(raw.get("records")))
+    kind, base = _base_scene(source, study_dir, st, raw.get("base", {}))
     params_raw = raw.get("parameters", {})
     known, whole = _known_fields(kind, base), _integer_fields(kind)
     params = [_whole_numbers(source, _parse_parameter(source, k, v, known), whole)
               for k, v in params_raw.items()]  # fmt: skip
     records = _parse_records(source, study_dir, raw.get("records", {}), kind, base)
+    if records and record_replaces(kind):  # the scene file's closed-form motion gives way
+        kind, base = _base_scene(source, study_dir, st, raw.get("base", {}), records=True)
     if records and "motion.record" in params_raw:
         raise _err(source, "parameters.motion.record", "give records in [records], not both")
     mo = base.get("motion")

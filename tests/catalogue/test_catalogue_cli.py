@@ -123,7 +123,7 @@ CLI_ROWS = [
     ("spectrum-n-one", ["spectrum", CASK, "--n", "1"], r"--n.*at least 2"),
     ("spectrum-wmin-ge-wmax", ["spectrum", CASK, "--wmin", "5", "--wmax", "2"], r"--wmax.*--wmin"),
     ("spectrum-wmin-zero", ["spectrum", CASK, "--wmin", "0"], r"--wmin.*positive"),
-    ("spectrum-workers-zero", ["spectrum", CASK, "--workers", "0"], r"--workers.*positive integer"),
+    ("spectrum-workers-zero", ["spectrum", CASK, "--workers", "0"], r"--workers.*at least 1"),
     ("spectrum-not-rocking", ["spectrum", SHEAR], r"scene\.kind.*rocking"),
     ("spectrum-shape", ["spectrum", CASK, "--shape", "sinus"], r"--shape.*'sine'"),
     (  # a bisection's width below round-off stops shrinking: the search never ended

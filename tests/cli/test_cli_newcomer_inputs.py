@@ -698,3 +698,14 @@ def test_a_record_replaces_a_closed_form_motion_in_a_study_as_in_a_run(tmp_path)
     cyl = {"motion": {"t_end": 3.0}}
     record_wins(args, cyl, ("seed", "duration", "dt", "s0_units"), False, "cylinder")
     assert cyl["motion"] == {} and "t_end = 3 s was its closed-form motion's" in args.notes[0]
+
+
+def test_an_empty_record_list_leaves_the_scene_s_own_motion(tmp_path):
+    # [records] names = [] gives no record to replace the pulse with: the scene keeps it
+    from nsdyn.studies import load_study
+
+    scene = Path(__file__).resolve().parents[2] / "examples/scenes/rocking-seed001-cask.toml"
+    (tmp_path / "s.toml").write_text(f'[study]\nname = "s"\nscene = "{scene}"\n[parameters]\n'
+                                     '"block.r" = [0.82]\n[records]\nnames = []\n')  # fmt: skip
+    mo = load_study(tmp_path / "s.toml").base["motion"]
+    assert mo["pulse"] == "sine" and mo["t_end"] == 12.0
