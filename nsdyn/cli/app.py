@@ -174,7 +174,7 @@ def _interrupt_line(args: argparse.Namespace) -> str:
         names = (CHECKPOINT_NAME, plane_sweep.CHECKPOINT_NAME)
         if any(any(out.glob(n.replace("{amplitude}", "*"))) for n in names):
             return f"{done}, rerun the same command to resume"
-        return f"{done}; it stopped before its first point, a rerun starts over"
+        return f"{done}; it stopped before its first checkpoint, a rerun starts over"
     if args.command == "run":
         from nsdyn.cli.run import CHECKPOINT, DEFAULT_OUT
 

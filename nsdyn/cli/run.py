@@ -137,9 +137,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         help="also run the fixed-base frame under the same motion and draw it in the figure "
         "(a second run, by radau: the default run's kernels, compiled once for every model)",
     )
-    p.add_argument(
-        "--resume", action="store_true", help="continue an interrupted run from its checkpoint"
-    )
+    p.add_argument("--resume", action="store_true", help="continue an interrupted run of an "
+                   "isolated frame from its checkpoint (other kinds start over)")  # fmt: skip
 
 
 def _scene_overrides(args: argparse.Namespace) -> dict:

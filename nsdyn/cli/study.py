@@ -198,10 +198,10 @@ def run(args: argparse.Namespace) -> int:
                 progress=None if args.json else stderr_progress,
             )
     except KeyboardInterrupt:
-        print(
-            f"nsdyn study: interrupted; finished tasks are kept in {out}, rerun to resume",
-            file=sys.stderr,
-        )
+        kept = Path(out).is_dir() and any(Path(out).iterdir())
+        print(f"nsdyn study: interrupted; finished tasks are kept in {out}, rerun to resume"
+              if kept else "nsdyn study: interrupted before its first task finished; a rerun "
+              "starts over", file=sys.stderr)  # fmt: skip
         return EXIT_INTERRUPTED
     finally:
         signal.signal(signal.SIGTERM, old)

@@ -11,6 +11,7 @@ the landings' energy. A fingerprint of the model, excitation, start, output time
 from __future__ import annotations
 
 import hashlib
+import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -166,7 +167,20 @@ def save(path: Path, t: np.ndarray, x: np.ndarray, key: str, carry: Carry) -> No
 
 def load(path: Path, key: str, t_eval: np.ndarray):
     """(t, x, Carry) of the checkpoint at ``path`` written by the run ``key``, or None if it
-    holds nothing of these output times; :class:`CheckpointError` if another run wrote it."""
+    holds nothing of these output times; :class:`CheckpointError` if another run wrote it, or
+    if it cannot be read (cut short, damaged)."""
+    try:
+        return _load(path, key, t_eval)
+    except CheckpointError:
+        raise
+    except (OSError, EOFError, ValueError, KeyError, zipfile.BadZipFile) as e:
+        raise CheckpointError(
+            f"checkpoint {path}: cannot be read ({type(e).__name__}: {e}); delete it to start "
+            "the run over"
+        ) from None
+
+
+def _load(path: Path, key: str, t_eval: np.ndarray):
     with np.load(path) as d:
         if "key" not in d.files or str(d["key"]) != key:
             raise CheckpointError(

@@ -177,7 +177,7 @@ def test_the_interrupt_line_says_how_each_command_goes_on(tmp_path):
     (out / ".run-checkpoint.npz").write_bytes(b"")
     assert "--resume" in _interrupt_line(run)
     sweep = Namespace(command="sweep", out=str(tmp_path / "s"))
-    assert "before its first point, a rerun starts over" in _interrupt_line(sweep)
+    assert "before its first checkpoint, a rerun starts over" in _interrupt_line(sweep)
     (tmp_path / "s").mkdir()
     (tmp_path / "s" / ".sweep-A1.ckpt.json").write_text("{}")
     assert "rerun the same command to resume" in _interrupt_line(sweep)

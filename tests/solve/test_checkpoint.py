@@ -133,3 +133,22 @@ def test_chunks_end_every_chunk_s_wherever_the_outputs_fall(dt_out):
     # resumed after the first chunk: the same plan from there on
     again = chunks(t_eval, plan[0][2] - 1, 5.0, ends[0])
     assert [p[0].tolist() for p in again] == [p[0].tolist() for p in plan[1:]]
+
+
+def test_a_damaged_checkpoint_is_one_error_naming_it(tmp_path):
+    # a checkpoint cut short (a full disc, a copy interrupted) ended --resume in a traceback
+    # (zipfile.BadZipFile); it is a CheckpointError (status 2) naming the file, as another
+    # run's is
+    from nsdyn.atomic import CheckpointError
+    from nsdyn.solve import checkpoint
+
+    path = tmp_path / "c.npz"
+    t = np.linspace(0.0, 1.0, 11)
+    checkpoint.save(path, t, np.zeros((11, 2)), "k", Carry())
+    assert checkpoint.load(path, "k", t)[0].size == 11  # whole: it reads back
+    data = path.read_bytes()
+    for cut in (data[: len(data) // 2], b"", b"not a zip"):
+        path.write_bytes(cut)
+        with pytest.raises(CheckpointError, match=r"c\.npz: cannot be read") as e:
+            checkpoint.load(path, "k", t)
+        assert "\n" not in str(e.value)
