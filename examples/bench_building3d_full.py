@@ -29,6 +29,7 @@ import math
 import sys
 import time
 
+from nsdyn.cli.args import positive_finite
 from nsdyn.ground import read_motion3
 from nsdyn.models.isolated.bearings import Bearing, Friction
 from nsdyn.models.isolated.building3d_cb import building_pairs
@@ -125,10 +126,8 @@ def _positives(s: str) -> tuple[float, ...]:
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--t-end", type=_positives, default=(4.0,), help="seconds of the record [4]")
+    ap.add_argument("--t-end", type=positive_finite, default=4.0, help="seconds of the record [4]")
     ap.add_argument("--f-damp", type=_positives, default=(50.0, 20.0, 10.0),
                     help="modal cut-offs [Hz] (50,20,10)")  # fmt: skip
     a = ap.parse_args()
-    if len(a.t_end) != 1:
-        ap.error(f"--t-end: expected one number, got {len(a.t_end)}")
-    _print(main(a.t_end[0], a.f_damp), a.t_end[0])
+    _print(main(a.t_end, a.f_damp), a.t_end)

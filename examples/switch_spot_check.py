@@ -393,27 +393,14 @@ def _floats(s: str) -> list[float]:
     return v
 
 
-def _positive(kind):
-    """An argparse type: one positive finite number of ``kind`` (float or int)."""
-
-    def parse(s: str):
-        try:
-            v = kind(s)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected a {kind.__name__}: {s!r}") from None
-        if not (v > 0 and math.isfinite(v)):
-            raise argparse.ArgumentTypeError(f"expected a positive number: {s!r}")
-        return v
-
-    return parse
-
-
 def main(argv: list[str] | None = None) -> list[dict]:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="a subset (A 0.5, 2; f 0.463-2.95 Hz)")
     ap.add_argument("--amplitudes", type=_floats, help="A [m/s^2], default 0.1,0.5,1,2")
     ap.add_argument("--freqs", type=_floats, help="spot frequencies [Hz]")
-    pos_int, pos_float = _positive(int), _positive(float)
+    from nsdyn.cli.args import positive_finite as pos_float
+    from nsdyn.cli.args import positive_int as pos_int
+
     ap.add_argument("--grid-points", type=pos_int, help="continuation grid 0.01-10 Hz (150)")
     ap.add_argument("--tol", type=pos_float, default=SS_TOL, help=f"steady-state test ({SS_TOL:g})")
     ap.add_argument("--max-periods", type=pos_int, default=MAX_PERIODS)

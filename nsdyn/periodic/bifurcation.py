@@ -29,9 +29,14 @@ STABLE_MARGIN = 1e-9  # stable when max |rho| < 1 + this
 KINDS = ("fold", "period-doubling", "Neimark-Sacker")  # in the order of multiplier_counts
 
 
+def _real(rho: np.ndarray) -> np.ndarray:
+    """Which multipliers count as real (|Im rho| / |rho| at most RHO_REAL)."""
+    return np.abs(rho.imag) <= RHO_REAL * np.maximum(np.abs(rho), 1e-300)
+
+
 def multiplier_counts(rho: np.ndarray) -> tuple[int, int, int]:
     """(real > +1, real < -1, complex outside the unit circle) among multipliers ``rho``."""
-    real = np.abs(rho.imag) <= RHO_REAL * np.maximum(np.abs(rho), 1e-300)
+    real = _real(rho)
     out = np.abs(rho) > 1.0 + STABLE_MARGIN
     return (
         int(np.sum(real & out & (rho.real > 0))),
@@ -45,8 +50,7 @@ def family_note(rho: np.ndarray) -> str:
     that is one of a family along a neutral direction: a slip held all period, a stuck
     isolator or a pendulum's surface below its friction, may sit anywhere it stopped; a flat
     slider without a restoring force, anywhere at all), else ""."""
-    real = np.abs(rho.imag) <= RHO_REAL * np.maximum(np.abs(rho), 1e-300)
-    k = int(np.sum(real & (np.abs(rho.real - 1.0) <= STABLE_MARGIN)))
+    k = int(np.sum(_real(rho) & (np.abs(rho.real - 1.0) <= STABLE_MARGIN)))
     if not k:
         return ""
     return (f"one of a family of orbits ({k} multiplier{'s' * (k > 1)} at 1: a neutral "
@@ -140,11 +144,11 @@ def _interp_crossing(a: OrbitPoint, b: OrbitPoint, kind: int) -> float:
     def crit(p):
         rho = p.multipliers
         if kind < 2:
-            r = rho[np.abs(rho.imag) <= RHO_REAL * np.abs(rho)].real
+            r = rho[_real(rho)].real
             if not r.size:
                 return math.nan
             return float(r.max()) - 1.0 if kind == 0 else -float(r.min()) - 1.0
-        c = rho[np.abs(rho.imag) > RHO_REAL * np.abs(rho)]
+        c = rho[~_real(rho)]
         return float(np.abs(c).max()) - 1.0 if c.size else math.nan
 
     ga, gb = crit(a), crit(b)

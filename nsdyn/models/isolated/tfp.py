@@ -180,13 +180,7 @@ class TripleBearing(Bearing):
                     f"R{j} = {vals[f'R{j}']:g} m (a slip of d/R rad on its sphere), got "
                     f"{vals[f'd{j}']:g} m"
                 )
-        R, d = [vals[f"R{j}"] for j in range(1, 5)], [vals[f"d{j}"] for j in range(1, 5)]
-        d_bar = min(
-            d[0] * (1 - R[1] / R[0]),
-            d[1] + d[0] * R[1] / R[0],
-            d[2] + d[3] * R[2] / R[3],
-            d[3] * (1 - R[2] / R[3]),
-        )  # (elements())
+        d_bar = float(self.elements()[:, 2].min())  # the series elements' capacities
         if self.u_y >= d_bar:  # the stage stands for the surfaces' stick, far inside them
             raise BearingError(
                 f"{w}.u_y: expected a yield displacement below every series element's capacity "
