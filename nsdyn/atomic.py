@@ -28,6 +28,19 @@ class CheckpointError(ValueError):
     """A checkpoint file written by another run (other system, motion, start or options)."""
 
 
+def differing(old, new, path: str = "") -> list[str]:
+    """The dotted keys at which two JSON-like settings differ (what a refused checkpoint
+    names): nested tables are compared key by key, anything else as a whole."""
+    if not (isinstance(old, dict) and isinstance(new, dict)):
+        return [] if old == new else [path or "(all)"]
+    keys = sorted(set(old) | set(new), key=str)
+    return [
+        d
+        for k in keys
+        for d in differing(old.get(k), new.get(k), f"{path}.{k}" if path else str(k))
+    ]
+
+
 @contextmanager
 def atomic_open(path: str | Path, mode: str = "w", **kwargs) -> Iterator:
     """``open(path, mode)`` for writing, atomically.

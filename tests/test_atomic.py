@@ -1,12 +1,13 @@
 """Atomic output: a failed write leaves the previous file and no temporary file behind; a
-finished one has the permissions of any new file under the umask."""
+finished one has the permissions of any new file under the umask. A refused checkpoint names
+the settings that differ."""
 
 import os
 import stat
 
 import pytest
 
-from nsdyn.atomic import FILE_MODE, atomic_open
+from nsdyn.atomic import FILE_MODE, atomic_open, differing
 
 
 def test_failed_write_keeps_the_old_file_and_leaves_no_temporary(tmp_path):
@@ -67,3 +68,13 @@ def test_interrupt_right_after_the_temporary_is_created_leaves_nothing(tmp_path,
     monkeypatch.undo()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["part.csv"]
     assert path.read_text() == "old\n"
+
+
+def test_differing_names_each_changed_leaf_by_its_dotted_path():
+    old = {"scene": {"motion": {"pga": 3.0, "record": "a"}, "law": "switch"}, "fidelity": None}
+    new = {"scene": {"motion": {"pga": 4.0, "record": "a"}, "law": "switch"}, "fidelity": "cb"}
+    assert differing(old, new) == ["fidelity", "scene.motion.pga"]
+    # a key on one side only, a table replaced by a value, and equal settings
+    assert differing({"a": {"b": 1}}, {"a": 2, "c": 0}) == ["a", "c"]
+    assert differing(old, old) == []
+    assert differing([1, 2], [1, 3]) == ["(all)"]

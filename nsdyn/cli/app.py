@@ -176,7 +176,8 @@ def _interrupt_line(args: argparse.Namespace) -> str:
             return f"{done}, rerun the same command to resume"
         return f"{done}; it stopped before its first checkpoint, a rerun starts over"
     if args.command == "run":
-        from nsdyn.cli.run import CHECKPOINT, DEFAULT_OUT
+        from nsdyn.cli.run import DEFAULT_OUT
+        from nsdyn.cli.run_resume import CHECKPOINT
 
         out = Path(getattr(args, "out", None) or DEFAULT_OUT)
         if (out / CHECKPOINT).is_file():

@@ -25,9 +25,9 @@ from nsdyn.cli.run_checks import (
     record_wins,
     scene_notes,
 )
+from nsdyn.cli.run_resume import open_checkpoint, run_identity
 
 DEFAULT_OUT = "nsdyn-out"  # output directory
-CHECKPOINT = ".run-checkpoint.npz"  # an interrupted run's state, in its output directory
 
 
 def interrupted(exc: BaseException) -> bool:
@@ -303,28 +303,6 @@ def prepare_kernels(method: str, flat: bool = True) -> float:
     return spent
 
 
-def _run_identity(cfg: dict, args: argparse.Namespace) -> dict:
-    """What a run's checkpoint depends on: the whole scene (after the command-line overrides)."""
-    scene = {k: v for k, v in cfg.items() if not k.startswith("_")}
-    return json.loads(json.dumps({"scene": scene, "fidelity": args.fidelity}, default=str))
-
-
-def _refuse_foreign_checkpoint(path: Path, ident: dict) -> None:
-    """A checkpoint written for other settings is never continued (it would mix two runs)."""
-    from nsdyn.models.scenefile import SceneError
-
-    try:
-        old = json.loads(path.read_text())
-    except (OSError, ValueError):
-        old = None
-    if old != ident:
-        raise SceneError(
-            f"{path.parent}: the checkpoint there was written by a run with other settings "
-            "(or by an older nsdyn); rerun with the same scene and options to resume it, or "
-            "without --resume to start afresh"
-        )
-
-
 def _fixed_base_run(system, motion, t_eval, quiet: bool):
     """The fixed-base frame of ``system`` under ``motion`` on the same output grid (the
     comparison of ``--compare-fixed``); None when the model has no frame or is the fixed base."""
@@ -438,31 +416,20 @@ def run(args: argparse.Namespace) -> int:
     notes += explicit_steps(method, system, float(t_eval[-1] - t_eval[0]), args.json)
     out = Path(args.out)
     stem = "run"
-    ckpt = out / CHECKPOINT
-    identity = out / f".{stem}-checkpoint.json"
-    ident = _run_identity(cfg, args)
+    ident = run_identity(cfg, args.fidelity)
     quiet = args.json
 
     from nsdyn._progress import reporter
 
-    progress = None if quiet else reporter(lambda line: print(line, file=sys.stderr))
+    say = reporter(lambda line: print(line, file=sys.stderr))  # --json: on a terminal's stderr
+    progress = None if quiet and not sys.stderr.isatty() else say
 
     from nsdyn.solve.auto import sparse_path
     from nsdyn.solve.integrate import UpliftWarning
     from nsdyn.solve.methods import FLAT_LAWS
 
     with output_dir(out):
-        if not args.resume:
-            if ckpt.is_file() and not quiet:
-                print(f"nsdyn run: starting afresh; the checkpoint an interrupted run left in "
-                      f"{out} is discarded (--resume continues it)", file=sys.stderr)  # fmt: skip
-            ckpt.unlink(missing_ok=True)
-            identity.unlink(missing_ok=True)
-        elif ckpt.is_file():
-            _refuse_foreign_checkpoint(identity, ident)
-        elif not quiet:
-            print(f"nsdyn run: --resume: no checkpoint in {out}; the run starts at the "
-                  "beginning", file=sys.stderr)  # fmt: skip
+        ckpt, identity, t_resumed = open_checkpoint(out, ident, args.resume, quiet)
         resumed = ckpt.is_file()  # a checkpoint of an earlier run: never deleted here
         try:
             with atomic_open(identity, "w") as fh:
@@ -503,6 +470,8 @@ def run(args: argparse.Namespace) -> int:
             warnings.showwarning(w.message, w.category, w.filename, w.lineno)
     s = res.summary()
     s["method_reason"] = reason or s.get("method_reason", "")
+    if t_resumed is not None:  # histories and n_steps are the whole run's, wall_s this part's
+        s["resumed_from_s"] = t_resumed
     s["compile_s"] = float(s["compile_s"]) + compile_s
     s["record"] = getattr(motion, "name", s["excitation"])
     if hasattr(motion, "pga"):

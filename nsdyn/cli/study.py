@@ -72,6 +72,11 @@ def _format(name: str, run: dict, an: dict) -> str:
                         for k, v in row.items()
                     )
                 )
+    pc = an.get("percentiles")
+    if pc:
+        lines.append(f"percentiles: {len(pc['rows'])} group(s) in {pc['table']}")
+        if pc.get("note"):
+            lines.append(f"  note: {pc['note']}")
     f = an.get("fragility")
     if f:
         for r in f["fits"]:

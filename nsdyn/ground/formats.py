@@ -317,3 +317,12 @@ def unused_columns_note(motion, remedy: str) -> str | None:
     took = [names[j] if names else j for j in (meta.get("column"), vertical) if j is not None]
     return (f"the record's column(s) {', '.join(map(repr, left))} not used: the run takes "
             f"{', '.join(map(repr, took))} ({remedy})")  # fmt: skip
+
+
+def past_record_note(t_end: float, end: float) -> str | None:
+    """One line for a run whose ``t_end`` is past the end of its record (the ground is at rest
+    after it: the rest of the run is free motion); None when it ends within the record."""
+    if not t_end > end * (1 + 1e-9) + 1e-12:
+        return None
+    return (f"t_end = {t_end:g} s is past the record's end ({end:g} s): the ground is at rest "
+            f"after it, the last {t_end - end:.4g} s are free motion")  # fmt: skip

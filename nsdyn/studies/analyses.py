@@ -34,6 +34,7 @@ from nsdyn.studies.design import (
     DEFAULT_PERCENTILES,
     compromise,
     design_points,
+    few_runs_note,
     find_design,
     percentile_table,
     same_value,
@@ -333,6 +334,9 @@ def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True)
         rows = percentile_table(table, q, by, pct)
         _write_rows(rows, out / "percentiles.csv")
         res["percentiles"] = {"rows": rows, "table": str(out / "percentiles.csv")}
+        note = few_runs_note(rows, pct)
+        if note:
+            res["percentiles"]["note"] = note
         if figures and rows:
             from nsdyn.studies.figures import distribution_figure  # (matplotlib: on use)
 

@@ -17,6 +17,7 @@ feasible value, so objectives of different units weigh alike).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -179,3 +180,23 @@ def percentile_table(
             row[f"{k}_mean"] = float(x.mean()) if x.size else float("nan")
         out.append(row)
     return out
+
+
+def few_runs_note(rows: list[dict], q=DEFAULT_PERCENTILES) -> str | None:
+    """A note when a group of :func:`percentile_table` has too few successful runs for its
+    outer percentiles. With n runs, the p-th percentile (linear interpolation) sits at rank
+    p/100 (n - 1) of the sorted runs; below rank 1 (above n - 2 for the upper one) it is only
+    an interpolation between the two most extreme runs, so min(p, 100 - p) needs
+    n >= 1 + 100 / min(p, 100 - p) runs (8 for the 16th and 84th). None when every group has
+    them (or no percentile lies strictly inside 0-100)."""
+    inner = [min(p, 100 - p) for p in q if 0 < p < 100]
+    if not inner or not rows:
+        return None
+    need = math.ceil(1 + 100 / min(inner) - 1e-9)
+    few = [r["n"] for r in rows if r["n"] < need]
+    if not few:
+        return None
+    tails = ", ".join(f"p{p:g}" for p in q if 0 < p < 100 and 1 + 100 / min(p, 100 - p) > min(few))
+    return (f"{len(few)} of {len(rows)} group(s) with fewer than {need} successful runs (fewest "
+            f"{min(few)}): there {tails} are interpolated between the extreme runs, not "
+            "estimated; add records or samples")  # fmt: skip

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn.atomic import atomic_open
+from nsdyn.atomic import atomic_open, differing
 from nsdyn.models.scenefile import SceneError
 from nsdyn.studies.sweep import (
     CHECKPOINT_EVERY_S,
@@ -196,9 +196,10 @@ def refuse_foreign_checkpoints(cfg, amplitudes, settings, out_dir) -> None:
             continue
         ident = json.loads(json.dumps(_identity(cfg, a, settings)))
         if data.get("complete") is False and data.get("identity") != ident:
+            diff = ", ".join(differing(data.get("identity"), ident))
             raise CheckpointMismatch(
                 f"{path}: checkpoint of an interrupted sweep at A = {a:g} with other settings "
-                "or another scene; rerun with the same settings to resume it, or pass "
+                f"(differing: {diff}); rerun with the same settings to resume it, or pass "
                 "--restart to discard it"
             )
 

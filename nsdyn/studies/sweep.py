@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn.atomic import atomic_open
+from nsdyn.atomic import atomic_open, differing
 from nsdyn.models.scenefile import SceneError
 from nsdyn.studies.workers import process_pool
 
@@ -308,16 +308,10 @@ def refuse_foreign_checkpoints(cfg: dict, amplitudes, settings, out_dir) -> None
             continue
         ident = json.loads(json.dumps(_identity(cfg, float(a), settings)))
         if data.get("complete") is False and data.get("identity") != ident:
-            old = data.get("identity") or {}
-            diff = sorted(
-                k
-                for part in ("scene", "settings")
-                for k in set(old.get(part) or {}) | set(ident[part])
-                if (old.get(part) or {}).get(k) != ident[part].get(k)
-            )
+            diff = ", ".join(differing(data.get("identity"), ident))
             raise CheckpointMismatch(
                 f"{path}: checkpoint of an interrupted sweep at A = {float(a):g} with other "
-                f"settings (differing: {', '.join(diff) or 'scene'}); rerun with the same "
+                f"settings (differing: {diff}); rerun with the same "
                 "settings to resume it, or pass --restart to discard it"
             )
 

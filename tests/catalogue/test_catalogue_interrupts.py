@@ -139,7 +139,8 @@ def test_run_interrupted_resumes_without_loss_or_repeat(tmp_path, monkeypatch, c
     assert 0.0 < t_done < T_END
     calls = _solve_spy(monkeypatch)
     assert main([*RUN_ARGS, "--out", str(out), "--resume"]) == 0
-    capsys.readouterr()
+    rep = json.loads(capsys.readouterr().out)
+    assert rep["resumed_from_s"] == t_done  # the summary says from where it went on
     assert calls[0][0] == pytest.approx(t_done)  # resumed where the checkpoint ends ...
     for (_, b), (a, _) in zip(calls[:-1], calls[1:], strict=True):
         assert a == b  # ... each chunk starts where the last ended: nothing twice, no gap
@@ -162,7 +163,8 @@ def test_run_checkpoint_from_other_settings_is_refused(tmp_path, capsys, referen
     other = [a if a != "3" else "4" for a in RUN_ARGS]
     rc = main([*other, "--out", str(out), "--resume"])
     err = capsys.readouterr().err
-    assert rc == 2 and "checkpoint" in err  # refused with a message ...
+    assert rc == 2 and "checkpoint" in err  # refused with a message naming what differs
+    assert "differing: scene.motion.pga)" in err
 
 
 # ----------------------------------------------------------------------------- nsdyn sweep
@@ -216,7 +218,7 @@ def test_sweep_checkpoint_from_other_settings_is_refused(tmp_path, capsys):
     ck.write_text(json.dumps({"identity": ident, "complete": False, "points": []}))
     rc = main([*SWEEP_ARGS, "--points", "3", "--out", str(out)])
     err = capsys.readouterr().err
-    assert rc == 2 and "checkpoint" in err
+    assert rc == 2 and "checkpoint" in err and "differing: settings.points)" in err
 
 
 def test_sweep_checkpoint_from_other_settings_is_not_mixed(tmp_path, capsys):

@@ -505,3 +505,23 @@ def test_modes_of_a_scene_takes_its_cut_off(capsys, tmp_path):
     assert s == json.loads(capsys.readouterr().out) and s["f_max_hz"] == 10.0
     assert main(["modes", str(scene), "--fmax", "5", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["f_max_hz"] == 5.0
+
+
+@pytest.mark.parametrize("scene", ["rocking-seed003-column", "contact-seed002-A5",
+                                   "cylinder-uplift"])  # fmt: skip
+def test_a_run_past_its_records_end_says_the_ground_is_at_rest(tmp_path, capsys, scene):
+    # rocking and contact ran on past a record's end without a word (free motion after it),
+    # the cylinder refused such a t_end: all three run on, with the ground at rest, and say so
+    import json
+
+    import numpy as np
+
+    rec = tmp_path / "one.txt"  # 1 s of record: t = 0 ... 1 s, every 0.01 s
+    rec.write_text("".join(f"{x:.2f} {0.5 * np.sin(4 * x):.6e}\n" for x in np.arange(101) / 100))
+    argv = ["run", _scene(f"{scene}.toml"), "--record", str(rec), "--t-end", "1.5", "--json",
+            "--no-figures", "--out", str(tmp_path / "o")]  # fmt: skip
+    assert main(argv) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s.get("t_end_s", s.get("t_end")) == pytest.approx(1.5, abs=1e-9)
+    said = "t_end = 1.5 s is past the record's end (1 s): the ground is at rest after it"
+    assert sum(said in n for n in s["notes"]) == 1, s["notes"]

@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from nsdyn.studies.design import (
     compromise,
     design_points,
+    few_runs_note,
     find_design,
     pareto_front,
     percentile_table,
@@ -115,3 +116,19 @@ def test_percentile_table_matches_numpy():
         assert r["n"] == v.size
         for q in (16, 50, 84):
             assert r[f"idr_max_p{q}"] == pytest.approx(np.percentile(v, q), rel=1e-14)
+
+
+def test_few_runs_note_marks_the_groups_whose_outer_percentiles_only_interpolate():
+    # the bound n >= 1 + 100/p (8 runs for p16 and p84) against numpy itself: with 7 runs the
+    # 16th percentile lies between the two lowest runs, with 8 past the second lowest
+    for n, inside in ((7, True), (8, False)):
+        x = np.arange(1.0, n + 1)
+        assert bool(np.percentile(x, 16) < x[1]) is inside
+        assert bool(np.percentile(x, 84) > x[-2]) is inside
+    rows = [{"n": 2}, {"n": 8}, {"n": 7}]
+    note = few_runs_note(rows, (16, 50, 84))
+    assert note.startswith("2 of 3 group(s) with fewer than 8 successful runs (fewest 2)")
+    assert "there p16, p50, p84 are interpolated" in note  # the median of 2 is their mean too
+    assert few_runs_note([{"n": 8}], (16, 50, 84)) is None
+    assert few_runs_note([{"n": 2}], (0, 100)) is None  # min and max: no interpolation
+    assert "fewer than 11" in few_runs_note([{"n": 10}], (10, 90))

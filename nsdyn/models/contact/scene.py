@@ -189,11 +189,12 @@ def build(cfg: dict, source: str):
         if "pga" in mo:
             gm = scaled_to_pga(gm, number(source, "motion.pga", mo["pga"]), source)
         motion = BaseMotion.from_motion(gm)
-        from nsdyn.ground.formats import unused_columns_note
+        from nsdyn.ground.formats import past_record_note, unused_columns_note
 
         unused = unused_columns_note(gm, "a planar body takes one horizontal component and "
                                      "the vertical")  # fmt: skip
         t_end = t_end or gm.t0 + gm.duration
+        unused = [n for n in (unused, past_record_note(t_end, gm.t0 + gm.duration)) if n]
         pga = gm.pga
         what = f"{gm.name}, PGA {pga:.3g} m/s²"
     elif "period" in mo:
@@ -252,7 +253,7 @@ def build(cfg: dict, source: str):
     opts["notes"] = [f"solver.{k} not used: method '{method}' ("
                      + ("Moreau-Jean's keys" if method == "event" else "the event method's")
                      + ")" for k in unread if k in sv]  # fmt: skip
-    opts["notes"] += [unused] if unused else []
+    opts["notes"] += unused or []
     if opts["ground"] is not None:
         given = [k for k in ("method", "h", "theta", "rtol", "step_check") if k in sv]
         if given:  # refused, not ignored: the compliant ground has one integrator

@@ -164,6 +164,7 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
     mo = cfg.get("motion", {})
     t0 = 0.0  # the clock of the outputs: a record's own (its first sample at its t0)
     unused = None  # a record's column the run leaves out
+    notes: list[str] = []  # and a t_end past the motion's end
     if "record" in mo:
         try:
             mx, my, mz = _record_components(mo)
@@ -179,10 +180,6 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
                     "earthquake; this scene reads motion.record")  # fmt: skip
         if "t_end" in mo:  # an end on the record's clock, as every family's t_end
             t_end = number(source, "motion.t_end", mo["t_end"])
-            end = mx.t0 + (mx.n - 1) * mx.dt
-            if t_end > end * (1 + 1e-9):
-                raise SceneError(f"{source}: motion.t_end: expected at most the record's end "
-                                 f"({end:g} s), got {t_end:g}")  # fmt: skip
             try:
                 mx, my, mz = (None if m is None else m.until(t_end) for m in (mx, my, mz))
             except ValueError as e:
@@ -218,12 +215,19 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         pga = number(source, "motion.pga", mo["pga"], allow_zero=True)  # 0: free vibration
         peak = np.abs(ag[:, :2]).max()
         ag = ag * (pga / peak) if peak > 0 else ag
-    if "t_end" in mo and "record" not in mo:  # a simulated earthquake, from t = 0
+    if "t_end" in mo:  # cut, or run on past the motion's end with the ground at rest (noted)
         t_end = number(source, "motion.t_end", mo["t_end"])
-        if t_end > (len(ag) - 1) * dt * (1 + 1e-9):
-            raise SceneError(f"{source}: motion.t_end: expected at most the motion's "
-                             f"{(len(ag) - 1) * dt:g} s, got {t_end:g}")  # fmt: skip
-        ag = ag[: max(2, int(math.floor(t_end / dt + 1e-9)) + 1)]
+        from nsdyn.ground.formats import past_record_note
+
+        past = past_record_note(t_end, t0 + (len(ag) - 1) * dt)
+        if (t_end - t0) / dt > MAX_OUTPUTS:
+            n_out = (t_end - t0) / dt
+            raise SceneError(f"{source}: motion.t_end: {n_out:.3g} samples of {dt:g} s exceed "
+                             f"{MAX_OUTPUTS:.0e}; expected an earlier end")  # fmt: skip
+        n = max(2, int(math.floor((t_end - t0) / dt + 1e-9)) + 1)
+        ag = np.vstack((ag[:n], np.zeros((max(0, n - len(ag)), ag.shape[1]))))
+        if past:
+            notes.append(past)
     so = cfg.get("solver", {})
     method = so.get("method", "dopri5")
     if method not in METHODS:
@@ -231,7 +235,7 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
             f"{source}: solver.method: expected one of {list(METHODS)}, got {method!r}"
         )
     opts = {"rtol": rel_tol(source, "solver.rtol", so.get("rtol", RTOL)), "t0": t0}
-    opts["notes"] = [unused] if unused else []
+    opts["notes"] = ([unused] if unused else []) + notes
     opts["tilt"] = scene_tilt(mo, source)
     opts["azimuth0"] = number(source, "motion.azimuth0", mo.get("azimuth0", 0.0), positive=False)
     if p.foundation == "fixed" and any(opts["tilt"].values()):

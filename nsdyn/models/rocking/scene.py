@@ -264,10 +264,12 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
     say(f"rocking: {name}: {type(model).__name__}, {what}, t_end = {t_end:g} s")
-    from nsdyn.ground.formats import unused_columns_note
+    from nsdyn.ground.formats import past_record_note, unused_columns_note
 
     notes = [n for n in [unused_columns_note(exc, "a rocking block takes one horizontal "
                                              "component and the vertical")] if n]  # fmt: skip
+    if exc is not None and not isinstance(exc, Pulse):  # a record (a pulse ends by itself)
+        notes += [n for n in [past_record_note(t_end, exc.t0 + exc.duration)] if n]
     for n in notes:
         say(f"rocking: note: {n}")
     out_dir = Path(out_dir)

@@ -1,0 +1,79 @@
+"""The checkpoint of ``nsdyn run`` on an isolated frame, in its output folder.
+
+An interrupted run leaves its state (:data:`CHECKPOINT`) and what it was run with (the scene
+after the command-line overrides, and the fidelity) beside it; ``--resume`` continues the
+state only for the same settings, and says from which time; a rerun without it starts afresh
+and says that it discards the checkpoint.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from nsdyn.atomic import differing
+
+CHECKPOINT = ".run-checkpoint.npz"  # an interrupted run's state, in its output directory
+IDENTITY = ".run-checkpoint.json"  # the settings of the run that wrote it
+
+
+def run_identity(cfg: dict, fidelity) -> dict:
+    """What a run's checkpoint depends on: the whole scene (after the command-line overrides)."""
+    scene = {k: v for k, v in cfg.items() if not k.startswith("_")}
+    return json.loads(json.dumps({"scene": scene, "fidelity": fidelity}, default=str))
+
+
+def refuse_foreign_checkpoint(path: Path, ident: dict) -> None:
+    """A checkpoint written for other settings is never continued (it would mix two runs);
+    the refusal names the settings that differ."""
+    from nsdyn.models.scenefile import SceneError
+
+    try:
+        old = json.loads(path.read_text())
+    except (OSError, ValueError):
+        old = None
+    if old != ident:
+        diff = "an older nsdyn" if old is None else "differing: " + ", ".join(differing(old, ident))
+        raise SceneError(
+            f"{path.parent}: the checkpoint there was written by a run with other settings "
+            f"({diff}); rerun with the same scene and options to resume it, or without "
+            "--resume to start afresh"
+        )
+
+
+def checkpoint_time(path: Path) -> float | None:
+    """The last output time a checkpoint holds (None if it holds none or cannot be read: the
+    run then says why when it loads it)."""
+    try:
+        with np.load(path) as d:
+            t = d["t"]
+            return float(t[-1]) if t.size else None
+    except Exception:  # noqa: BLE001 -- a damaged file is reported by the run's own load
+        return None
+
+
+def open_checkpoint(out: Path, ident: dict, resume: bool, quiet: bool):
+    """(checkpoint, identity file, the time resumed from or None) of a run into ``out``:
+    without ``resume`` an earlier checkpoint is discarded (and said so); with it, one of other
+    settings is refused, and the time it resumes from is said (on stderr, unless ``quiet``)."""
+    ckpt, identity = out / CHECKPOINT, out / IDENTITY
+    say = (lambda text: None) if quiet else (lambda text: print(text, file=sys.stderr))
+    if not resume:
+        if ckpt.is_file():
+            say(f"nsdyn run: starting afresh; the checkpoint an interrupted run left in {out} "
+                "is discarded (--resume continues it)")  # fmt: skip
+        ckpt.unlink(missing_ok=True)
+        identity.unlink(missing_ok=True)
+        return ckpt, identity, None
+    if not ckpt.is_file():
+        say(f"nsdyn run: --resume: no checkpoint in {out}; the run starts at the beginning")
+        return ckpt, identity, None
+    refuse_foreign_checkpoint(identity, ident)
+    t = checkpoint_time(ckpt)
+    if t is not None:
+        say(f"nsdyn run: resuming from t = {t:g} s (the checkpoint in {out}); wall_s counts "
+            "this part only")  # fmt: skip
+    return ckpt, identity, t
