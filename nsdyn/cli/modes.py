@@ -104,7 +104,7 @@ def _scene_frame(arg: str) -> tuple[str, float | None, float | None]:
     try:
         data = tomllib.loads(p.read_text()) if p.suffix == ".toml" and p.is_file() else {}
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
-        return arg, None  # the frame reader names the problem
+        return arg, None, None  # the frame reader names the problem
     scene_like = (
         "frame" not in data
         and "frame3d" not in data

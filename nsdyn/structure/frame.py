@@ -26,6 +26,7 @@ import numpy as np
 from nsdyn._brief import brief_repr
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements import element_matrices
+from nsdyn.structure.geometry import check_geometry
 
 sp = LazyModule("scipy.sparse")
 
@@ -111,6 +112,7 @@ class Frame:
         nn, ne = len(nodes), len(elements)
         if elements.min() < 0 or elements.max() >= nn:
             raise ValueError(f"element node index out of range 0..{nn - 1}")
+        check_geometry(nodes, elements, base=np.atleast_1d(self.base_nodes).tolist())
         obj = object.__setattr__
         obj(self, "nodes", nodes)
         obj(self, "elements", elements)
@@ -120,9 +122,13 @@ class Frame:
             if np.any(bad) or not np.all(np.isfinite(v)):
                 raise ValueError(f"element {key} must be positive and finite")
             obj(self, key, v)
-        nm = _frozen(np.broadcast_to(np.asarray(self.node_mass, float), (nn,)), float)
-        if np.any(nm < 0):
-            raise ValueError("node_mass must be >= 0")
+        nm = np.asarray(self.node_mass, float)
+        if nm.ndim > 1 or nm.size not in (1, nn):
+            raise ValueError(f"node_mass: expected one value or one per node ({nn}), got "
+                             f"{nm.size}")  # fmt: skip
+        nm = _frozen(np.broadcast_to(nm, (nn,)), float)
+        if np.any(nm < 0) or not np.all(np.isfinite(nm)):
+            raise ValueError("node_mass must be finite and >= 0")
         obj(self, "node_mass", nm)
         base = _frozen(np.atleast_1d(self.base_nodes), np.int64)
         # distinct by a set: numpy 2's np.unique imports numpy.ma (~40 ms of a cached start)
@@ -132,11 +138,10 @@ class Frame:
             raise ValueError(f"base node index out of range 0..{nn - 1}")
         obj(self, "base_nodes", base)
         zeta = _frozen(np.atleast_1d(self.zeta), float)
-        if zeta.ndim != 1 or len(zeta) == 0 or np.any(zeta < 0):
-            raise ValueError("zeta must be a non-empty list of ratios >= 0")
+        if zeta.ndim != 1 or len(zeta) == 0 or not np.all((zeta >= 0) & (zeta < 1)):
+            raise ValueError("zeta must be a non-empty list of damping ratios in [0, 1) "
+                             "(fractions: 0.05 for 5 %)")  # fmt: skip
         obj(self, "zeta", zeta)
-        if np.any(self.lengths <= 0):
-            raise ValueError("elements must have positive length")
         if self.level_heights is None or len(self.level_nodes) == 0:
             lh, ln, cj = _derive_levels(nodes, elements, base)
             obj(self, "level_heights", lh)
@@ -148,6 +153,27 @@ class Frame:
             obj(self, "level_nodes", tuple(_frozen(n, np.int64) for n in self.level_nodes))
         if self.column_joints is not None:
             obj(self, "column_joints", _frozen(self.column_joints, np.int64))
+
+    def massless_rotations(self) -> np.ndarray:
+        """Nodes whose elements all have ``rho_A = 0``: their rotations carry no mass (node
+        masses lump translations only), and the mass matrix is singular. Every element with
+        mass has a positive-definite consistent mass over its six dofs, so with one at each
+        node M is positive definite."""
+        massive = set(self.elements[self.rho_A > 0].ravel().tolist())
+        return np.array([n for n in range(self.n_nodes) if n not in massive], dtype=np.int64)
+
+    def require_mass(self, model: str) -> None:
+        """ValueError naming the first node of :meth:`massless_rotations` when ``model`` is
+        one whose mass matrix must be positive definite (the ``"cb"`` and ``"full"`` rungs;
+        the fixed-base modes, the rigid and the fixed-base models take a singular M)."""
+        bare = self.massless_rotations() if model in ("cb", "full") else ()
+        if len(bare):
+            raise ValueError(
+                f"nodes[{bare[0]}] of frame {self.name!r}: every element there has rho_A = 0, "
+                f"so its rotation has no mass (node masses lump translations) and the "
+                f"{model!r} model's mass matrix is singular; expected a positive rho_A on an "
+                "element at every node, or fidelity 'rigid' or 'fixed'"
+            )
 
     # ---- sizes and dof maps
     @property
@@ -327,7 +353,11 @@ def regular_frame(
         raise ValueError("n_v and n_h must be >= 1")
     col_secs = _per(columns, ns, "columns")
     beam_secs = _per(beams, ns, "beams")
-    fm = np.broadcast_to(np.asarray(floor_mass, float), (ns,))
+    fm = np.asarray(floor_mass, float)
+    if fm.ndim > 1 or fm.size not in (1, ns) or not np.all(np.isfinite(fm)) or np.any(fm < 0):
+        raise ValueError(f"floor_mass: expected one finite value >= 0 or one per level above "
+                         f"the base ({ns}), got {np.asarray(floor_mass).tolist()}")  # fmt: skip
+    fm = np.broadcast_to(fm, (ns,))
     xcol = np.concatenate([[0.0], np.cumsum(bays)])
     ylev = np.concatenate([[0.0], np.cumsum(hs)])
 

@@ -30,6 +30,7 @@ import numpy as np
 from nsdyn._brief import brief_repr
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements3d import global_matrices, local_axes
+from nsdyn.structure.geometry import check_geometry
 
 sp = LazyModule("scipy.sparse")
 
@@ -159,6 +160,10 @@ class Frame3D:
         nn, ne = len(nodes), len(el)
         if el.min() < 0 or el.max() >= nn:
             raise ValueError(f"element node index out of range 0..{nn - 1}")
+        free = [n for d in self.diaphragms for n in np.asarray(d.nodes).tolist()]
+        groups = [np.asarray(d.nodes).tolist() for d in self.diaphragms]
+        base = np.atleast_1d(self.base_nodes).tolist()
+        check_geometry(nodes, el, free=free, base=base, groups=groups)
         obj(self, "nodes", nodes)
         obj(self, "elements", el)
         v = _frozen(np.broadcast_to(np.asarray(self.vecxz, float), (ne, 3)), float)

@@ -28,6 +28,7 @@ from nsdyn.structure.frame_toml import (
     _Reader,
     not_a_frame,
 )
+from nsdyn.structure.geometry import check_geometry
 
 TABLE = "frame3d"
 _SECTION_KEYS = {"E", "G", "nu", "A", "I_y", "I_z", "J", "rho", "rho_A", "rho_Ip"}
@@ -212,7 +213,7 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
     mem_raw = f.get("members")
     if not isinstance(mem_raw, list) or not mem_raw:
         rd.fail(f"{P}.members", "a non-empty array of tables [[frame3d.members]]", mem_raw)
-    el, sid, vec = [], [], []
+    el, sid, vec, names = [], [], [], []
     for g, m in enumerate(mem_raw):
         p = f"{P}.members[{g}]"
         if not isinstance(m, Mapping):
@@ -248,6 +249,7 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
                 rd.fail(f"{p}.elements[{k}]", "two nodes at different places", e)
             _check_not_parallel(rd, vv, axis, f"{p}.vecxz", f"element {e}")
         el += els
+        names += [f"{p}.elements[{k}]" for k in range(len(els))]
         sid += [s] * len(els)
         vec += vs
     base = _index_list(rd, f.get("base_nodes"), f"{P}.base_nodes", nn)
@@ -291,6 +293,13 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
         if np.ptp(nodes[dn, 2]) > GEOM_RTOL * max(float(np.ptp(nodes, axis=0).max()), 1.0):
             rd.fail(f"{p}.nodes", "nodes at one level (equal z)", dn)
         dias.append(Diaphragm(dn, c, mass, inertia))
+    try:  # (the file's names of its elements: members[g].elements[k])
+        groups = [d.nodes.tolist() for d in dias]
+        check_geometry(nodes, np.array(el), free=[n for g in groups for n in g], base=base,
+                       groups=groups, element_name=names.__getitem__)  # fmt: skip
+    except ValueError as exc:  # (a node by the table's name; an element carries its own)
+        msg = f"{P}.{exc}" if str(exc).startswith("nodes[") else str(exc)
+        raise FrameFileError(f"{rd.file}: {msg}") from None
     S = [secs[i] for i in sid]
     zeta = _zeta(rd, f)  # its own error, outside the model's checks below
     try:

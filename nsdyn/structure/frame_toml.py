@@ -254,30 +254,25 @@ def frame_from_dict(data: Mapping, file: str = "<dict>") -> Frame:
         ]
         secs.append(Section(*vals))
     raw_el = frame.get("elements")
-    ok = isinstance(raw_el, list) and len(raw_el) > 0
+    form = (f"[node_i, node_j] or [node_i, node_j, section] with two different nodes in "
+            f"0..{nn - 1} and section in 0..{len(secs) - 1}")  # fmt: skip
+    if not isinstance(raw_el, list) or not raw_el:
+        rd.fail("frame.elements", f"a non-empty list of {form}", raw_el)
     el, sid = [], []
-    for e in raw_el if ok else []:
+    for k, e in enumerate(raw_el):
         good = (
             isinstance(e, list)
             and len(e) in (2, 3)
             and all(isinstance(c, int) and not isinstance(c, bool) for c in e)
+            and 0 <= e[0] < nn
+            and 0 <= e[1] < nn
+            and e[0] != e[1]
+            and (len(e) == 2 or 0 <= e[2] < len(secs))
         )
-        if not good or not (0 <= e[0] < nn and 0 <= e[1] < nn and e[0] != e[1]):
-            ok = False
-            break
-        s = e[2] if len(e) == 3 else 0
-        if not 0 <= s < len(secs):
-            ok = False
-            break
+        if not good:
+            rd.fail(f"frame.elements[{k}]", form, e)
         el.append(e[:2])
-        sid.append(s)
-    if not ok:
-        rd.fail(
-            "frame.elements",
-            f"a list of [node_i, node_j] or [node_i, node_j, section] with nodes in "
-            f"0..{nn - 1} and section in 0..{len(secs) - 1}",
-            raw_el,
-        )
+        sid.append(e[2] if len(e) == 3 else 0)
     raw_base = frame.get("base_nodes")
     if (
         not isinstance(raw_base, list)
@@ -306,8 +301,9 @@ def frame_from_dict(data: Mapping, file: str = "<dict>") -> Frame:
             base_nodes=np.array(raw_base),
             zeta=zeta,
         )
-    except ValueError as exc:
-        raise FrameFileError(f"{file}: frame: {exc}") from None
+    except ValueError as exc:  # (an entry's own message names it: frame.nodes[7]: ...)
+        sep = "." if str(exc).startswith(("nodes[", "elements[", "node_mass:")) else ": "
+        raise FrameFileError(f"{file}: frame{sep}{exc}") from None
 
 
 def bundled_frames() -> list[str]:

@@ -28,16 +28,13 @@ import numpy as np
 from nsdyn._checks import expect
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.frame3d import DOFS_PER_NODE, Frame3D
-from nsdyn.structure.reduction import lanczos_start
+from nsdyn.structure.reduction import finite_pairs, lanczos_start
 
 sla = LazyModule("scipy.linalg")
 sp = LazyModule("scipy.sparse")
 spla = LazyModule("scipy.sparse.linalg")
 
 DENSE_MAX = 400  # interior dofs up to which "auto" solves densely
-# massless directions have mu = 1/omega^2 = 0; the symmetric eigensolver returns them within
-# c n eps ||A|| = c n eps mu_1 (backward stability, c = 10): below that a mu is no mode
-EIG_ROUNDOFF_C = 10.0
 FAMILIES = ("x", "y", "torsion", "vertical", "local")
 
 
@@ -95,20 +92,7 @@ def mass_centre(frame: Frame3D, M=None) -> tuple[np.ndarray, float, float]:
 
 
 def _eig_dense(K, M, k):
-    Kd, Md = K.toarray(), M.toarray()
-    try:
-        L = sla.cholesky(Kd, lower=True)
-    except sla.LinAlgError:
-        raise ValueError(
-            "the fixed-base stiffness is not positive definite (a mechanism or an unsupported part)"
-        ) from None
-    A = sla.solve_triangular(L, sla.solve_triangular(L, Md, lower=True).T, lower=True)
-    mu, Psi = sla.eigh((A + A.T) / 2)
-    order = np.argsort(mu)[::-1][:k]
-    mu, Psi = mu[order], Psi[:, order]
-    keep = mu > mu[0] * EIG_ROUNDOFF_C * len(A) * np.finfo(float).eps if len(mu) else mu > 0
-    V = sla.solve_triangular(L.T, Psi[:, keep], lower=False)
-    return 1.0 / mu[keep], V
+    return finite_pairs(K.toarray(), M.toarray(), k)
 
 
 def _eig_sparse(K, M, k):

@@ -167,6 +167,41 @@ def _count_below(K, M, w2) -> int | None:
     return int(np.count_nonzero(lu.U.diagonal() < 0))
 
 
+# massless directions have mu = 1/omega^2 = 0; the symmetric eigensolver returns them within
+# c n eps ||A|| = c n eps mu_1 (backward stability, c = 10): below that a mu is no mode
+EIG_ROUNDOFF_C = 10.0
+
+
+def finite_pairs(K: np.ndarray, M: np.ndarray, k: int | None = None):
+    """The ``k`` (default all) lowest eigenpairs ``(lam, V)`` of finite ``lam`` of dense
+    ``K phi = lam M phi`` with K positive definite and M positive semi-definite (dofs without
+    mass: massless members), ascending, through the Cholesky factor of K:
+    ``L^-1 M L^-T psi = mu psi``, ``lam = 1/mu``; the zero ``mu`` of massless directions
+    (below :data:`EIG_ROUNDOFF_C` n eps of the largest) are dropped. ValueError when K is
+    not positive definite (a mechanism)."""
+    try:
+        L = sla.cholesky(K, lower=True)
+    except sla.LinAlgError:
+        raise ValueError(
+            "the fixed-base stiffness is not positive definite (a mechanism or an unsupported part)"
+        ) from None
+    A = sla.solve_triangular(L, sla.solve_triangular(L, M, lower=True).T, lower=True)
+    mu, Psi = sla.eigh((A + A.T) / 2)
+    order = np.argsort(mu)[::-1][:k]
+    mu, Psi = mu[order], Psi[:, order]
+    keep = mu > mu[0] * EIG_ROUNDOFF_C * len(A) * np.finfo(float).eps if len(mu) else mu > 0
+    return 1.0 / mu[keep], sla.solve_triangular(L.T, Psi[:, keep], lower=False)
+
+
+def _dense_pairs(K: np.ndarray, M: np.ndarray):
+    """All eigenpairs of finite eigenvalue of ``K phi = lam M phi``: LAPACK's generalized
+    solver, or with a singular M (massless members' rotations) :func:`finite_pairs`."""
+    try:
+        return sla.eigh(K, M)
+    except sla.LinAlgError:
+        return finite_pairs(K, M)
+
+
 def _interior_modes(Kii, Mii, f_max, n_modes, dense_max=None):
     """Lowest eigenpairs of ``Kii phi = w^2 Mii phi``, mass-normalised, by f_max / count;
     dense up to ``dense_max`` internal dofs (default :data:`DENSE_MAX`, read at the call),
@@ -190,7 +225,7 @@ def _interior_modes(Kii, Mii, f_max, n_modes, dense_max=None):
         else:
             sparse_ok = False
     if not sparse_ok:
-        lam, V = sla.eigh(_dense(Kii), _dense(Mii))
+        lam, V = _dense_pairs(_dense(Kii), _dense(Mii))
     keep = lam <= w2_max
     if n_modes is not None:
         keep &= np.arange(len(lam)) < n_modes

@@ -233,8 +233,10 @@ def test_bundled_3d_office_keeps_the_seed_frequencies_in_x():
 
 @pytest.mark.parametrize("method", ["dense", "sparse"])
 def test_a_mechanism_is_reported_not_returned_as_modes(method):
-    # node 2 carries mass but is attached to nothing: K is singular (a mechanism), which
-    # must stop the eigensolver with a reason instead of returning garbage modes
+    # node 2 carries mass but is on no element, only on a diaphragm with node 1: its uz, rx
+    # and ry have no stiffness, K is singular (a mechanism), which must stop the eigensolver
+    # with a reason instead of returning garbage modes (a node on nothing at all is refused
+    # when the frame is built: test_frame3d_toml)
     nodes = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 3.0], [1.0, 0.0, 3.0]])
     fr = Frame3D(
         "m",
@@ -252,6 +254,7 @@ def test_a_mechanism_is_reported_not_returned_as_modes(method):
         [[0, 0, 0], [0, 0, 0], [5.0, 5.0, 5.0]],
         [0],
         [0.05],
+        diaphragms=(Diaphragm([1, 2], (0.5, 0.0), 0.0, 0.0),),
     )
     with pytest.raises(ValueError, match="mechanism|positive definite"):
         fixed_base_modes_3d(fr, n_modes=2, method=method)

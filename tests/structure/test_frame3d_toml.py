@@ -237,3 +237,38 @@ def test_bad_3d_frame_file_gives_one_line_naming_file_and_field(tmp_path, row):
     assert msg.startswith(f"{p}: ")
     assert re.search(rf"^{re.escape(str(p))}: {field}: (expected|unknown field)", msg), msg
     assert re.search(needle, msg), msg
+
+
+HEADS = "[0.0, 0.0, 4.0], [6.0, 0.0, 4.0], [6.0, 5.0, 4.0], [0.0, 5.0, 4.0],   # 4-7: column heads"
+BEAMS = "elements = [[4, 5], [5, 6], [6, 7], [7, 4]]"
+MASS_END = "[0.0, 0.0, 6000.0], [0.0, 0.0, 6000.0],\n]"
+
+
+@pytest.mark.parametrize(
+    "extra_nodes, beams, message",
+    [
+        # a beam listed twice: its stiffness counted twice, without a word
+        ("", "[[4, 5], [5, 6], [6, 7], [7, 4], [5, 4]]",
+         r"frame3d\.members\[1\]\.elements\[4\]: joins nodes 5 and 4, as "
+         r"frame3d\.members\[1\]\.elements\[0\] does"),
+        # a second node at a column head, a beam on it: the frame cut there, without a word
+        ("[6.0, 0.0, 4.0],", "[[4, 8], [5, 6], [6, 7], [7, 4]]",
+         r"frame3d\.nodes\[8\]: at the same place as nodes\[5\]"),
+        # a node on no element, and a beam joined to no base node (tracebacks before)
+        ("[9.0, 0.0, 4.0],", None, r"frame3d\.nodes\[8\]: on no element"),
+        ("[9.0, 0.0, 4.0], [12.0, 0.0, 4.0],", "[[4, 5], [5, 6], [6, 7], [7, 4], [8, 9]]",
+         r"frame3d\.nodes\[8\]: joined to no base node"),
+    ],
+)  # fmt: skip
+def test_a_3d_frame_that_would_run_wrong_or_singular_is_refused(tmp_path, extra_nodes, beams,
+                                                                message):  # fmt: skip
+    text = PORTAL.replace(HEADS, HEADS.split("   #")[0] + extra_nodes)
+    n_extra = extra_nodes.count("[")
+    text = text.replace(MASS_END, MASS_END[:-1] + "[0.0, 0.0, 0.0],\n" * n_extra + "]")
+    if beams:
+        text = text.replace(BEAMS, f"elements = {beams}")
+    p = tmp_path / "p.toml"
+    p.write_text(text)
+    with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: {message}") as e:
+        load_frame3d(p)
+    assert "\n" not in str(e.value)

@@ -126,7 +126,7 @@ def test_explicit_file_errors(tmp_path):
     text = (REPO / "frames" / "portal.toml").read_text()
     p = tmp_path / "p.toml"
     p.write_text(text.replace("[4, 5, 1]", "[4, 9, 1]"))
-    with pytest.raises(FrameFileError, match=r"p\.toml: frame\.elements: expected"):
+    with pytest.raises(FrameFileError, match=r"p\.toml: frame\.elements\[3\]: expected"):
         load_frame(p)
     p.write_text(text.replace("base_nodes = [0, 1]", "base_nodes = [0, 0]"))
     with pytest.raises(FrameFileError, match=r"frame\.base_nodes"):
@@ -134,3 +134,71 @@ def test_explicit_file_errors(tmp_path):
     p.write_text(text.replace("I = 2.313e-4", "I = -2.313e-4"))
     with pytest.raises(FrameFileError, match=r"frame\.sections\[1\]\.I"):
         load_frame(p)
+
+
+PORTAL_NODES = "[6.0, 4.0], [6.0, 2.0],              # 5, 6: right column"
+PORTAL_ELEMENTS = "[[0, 2, 0], [2, 3, 0], [3, 4, 1], [4, 5, 1], [1, 6, 0], [6, 5, 0]]"
+PORTAL_MASS = "node_mass = [0.0, 0.0, 0.0, 3000.0, 6000.0, 3000.0, 0.0]"
+
+
+@pytest.mark.parametrize(
+    "nodes, elements, mass, message",
+    [
+        # the beam's half [3, 4] listed twice: its stiffness and mass were added twice (f1
+        # 4.90 -> 5.11 Hz), without a word
+        (None, "[4, 3, 1], [4, 5, 1]", None,
+         r"frame\.elements\[3\]: joins nodes 4 and 3, as elements\[2\] does"),
+        # a second node at the midspan, the beam's right half on it: the beam was cut in two
+        # (f1 4.90 -> 1.78 Hz), without a word
+        ("[6.0, 4.0], [6.0, 2.0], [3.0, 4.0],", "[7, 5, 1]", 1,
+         r"frame\.nodes\[7\]: at the same place as nodes\[4\] \(\[3\.0, 4\.0\]\)"),
+        # a node on no element, and a part joined to no base node (singular: tracebacks)
+        ("[6.0, 4.0], [6.0, 2.0], [9.0, 4.0],", None, 1,
+         r"frame\.nodes\[7\]: on no element"),
+        ("[6.0, 4.0], [6.0, 2.0], [9.0, 4.0], [12.0, 4.0],", "[4, 5, 1], [7, 8, 1]",
+         2, r"frame\.nodes\[7\]: joined to no base node \(with 1 other node"),
+        ("[6.0, 4.0], [nan, 2.0],", None, None,
+         r"frame\.nodes\[6\]: expected finite coordinates \[x, y\] \[m\], got \[nan, 2\.0\]"),
+        (None, "[4, 4, 1]", None, r"frame\.elements\[3\]: expected \[node_i, node_j\] .* got "
+         r"\[4, 4, 1\]"),
+    ],
+)  # fmt: skip
+def test_a_frame_that_would_run_wrong_or_singular_is_refused(tmp_path, nodes, elements, mass,
+                                                             message):  # fmt: skip
+    text = (REPO / "frames" / "portal.toml").read_text()
+    if nodes:
+        text = text.replace(PORTAL_NODES, nodes)
+    if elements:
+        text = text.replace(PORTAL_ELEMENTS, PORTAL_ELEMENTS.replace("[4, 5, 1]", elements))
+    if mass:
+        text = text.replace(PORTAL_MASS, PORTAL_MASS.replace("]", ", 0.0" * mass + "]"))
+    p = tmp_path / "p.toml"
+    p.write_text(text)
+    with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: {message}") as e:
+        load_frame(p)
+    assert "\n" not in str(e.value)
+
+
+def test_a_massless_cantilever_with_a_tip_mass_has_the_exact_frequencies():
+    # massless members (rho_A = 0) and a lumped mass: M is singular (rotations and the middle
+    # node carry none) and the fixed-base modes were a LinAlgError traceback. The finite modes
+    # now come through the Cholesky factor of K; Bernoulli-Euler elements are exact in
+    # statics, so a tip mass m on a massless cantilever of length L vibrates at
+    # sqrt(3 EI / L^3 / m) laterally and sqrt(EA / L / m) axially, to round-off (1e-9:
+    # eigenvalues to n eps of the largest, squared roots). Its cb and full models, whose mass
+    # matrices must be positive definite, are refused naming the node
+    from nsdyn.models.isolated.system import build_system
+    from nsdyn.structure.frame import Frame
+    from nsdyn.structure.reduction import fixed_base_modes
+
+    E, A, I, L, m = 2e11, 1e-2, 1e-4, 6.0, 1e3
+    nodes = [[0.0, 0.0], [0.0, L / 2], [0.0, L]]
+    fr = Frame(name="c", nodes=nodes, elements=[[0, 1], [1, 2]], E=E, A=A, I=I, rho_A=0.0,
+               node_mass=[0, 0, m], base_nodes=[0], zeta=[0.02])  # fmt: skip
+    assert fr.massless_rotations().tolist() == [0, 1, 2]
+    f, _ = fixed_base_modes(*fr.assemble(), fr.boundary_dofs)
+    exact = np.sqrt([3 * E * I / L**3 / m, E * A / L / m]) / (2 * np.pi)
+    np.testing.assert_allclose(f, exact, rtol=1e-9)
+    for fidelity in ("cb", "full"):
+        with pytest.raises(ValueError, match=rf"^nodes\[0\] of frame 'c': .* '{fidelity}' model"):
+            build_system(fr, fidelity=fidelity)

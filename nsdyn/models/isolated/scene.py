@@ -257,7 +257,13 @@ def build_scene_run(cfg: dict):
                 "building is a scene of kind 'building3d' that names it as [structure] frame3d "
                 "(examples/scenes/building3d-office-cb.toml)"
             ) from None
-        system = _cached_system(frame, iso, sc.get("fidelity", "cb"), float(sc.get("f_max", F_MAX)))
+        try:
+            system = _cached_system(frame, iso, sc.get("fidelity", "cb"),
+                                    float(sc.get("f_max", F_MAX)))  # fmt: skip
+        except ValueError as e:  # the frame's model: its cut-off, or a node without mass
+            msg = str(e)
+            at = f"scene.{msg}" if msg.startswith("f_max:") else f"scene.frame: {msg}"
+            raise SceneError(f"{source}: {at}") from None
     _lifts(system, source)
     _stands(system, cfg, source)
     if "force" in cfg:

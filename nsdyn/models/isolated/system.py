@@ -415,6 +415,7 @@ def build_system(
         raise ValueError(f"damping: expected 'modal' or 'stiffness', got {damping!r}")
     if damping != "modal" and fidelity != "full":
         raise ValueError(f"damping: {damping!r} is a choice of the full model only")
+    frame.require_mass(fidelity)  # (cb and full: a singular M is refused, naming the node)
     if fidelity == "full":  # nodal coordinates, sparse operators
         from nsdyn.models.isolated.fullorder import full_order
 

@@ -1,0 +1,94 @@
+"""The checks a frame's geometry must pass, plane or space: finite coordinates, every node on an
+element (or, in 3D, on a diaphragm), no element of zero length, no pair of nodes joined twice,
+no two nodes at one place, and every node joined to a base node (by elements and diaphragms; a
+part that floats free is a mechanism).
+
+Each is a model that runs silently wrong otherwise (a beam cut in two at a repeated node, a
+member's stiffness counted twice) or one whose matrices are singular. Positions equal to
+:data:`SAME_PLACE` of the frame's extent are one place. The messages name the entry
+(``nodes[7]``, ``elements[5]``, or the names a file reader gives its elements).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+
+import numpy as np
+
+SAME_PLACE = 1e-9  # relative to the frame's extent: two positions closer are one place
+
+
+def check_geometry(
+    nodes: np.ndarray,
+    elements: np.ndarray,
+    *,
+    free: Iterable[int] = (),
+    base: Iterable[int] | None = None,
+    groups: Iterable[Iterable[int]] = (),
+    element_name: Callable[[int], str] = lambda k: f"elements[{k}]",
+) -> None:
+    """ValueError naming the first entry that fails a check of the module text. ``free``: nodes
+    that may be on no element (a diaphragm's); ``base``: the base nodes (None: no check of
+    the joins); ``groups``: sets of nodes joined otherwise (diaphragms)."""
+    nodes = np.asarray(nodes, float)
+    elements = np.asarray(elements, np.int64)
+    axes = "[x, y]" if nodes.shape[1] == 2 else "[x, y, z]"
+    bad = np.flatnonzero(~np.all(np.isfinite(nodes), axis=1))
+    if bad.size:
+        raise ValueError(f"nodes[{bad[0]}]: expected finite coordinates {axes} [m], got "
+                         f"{nodes[bad[0]].tolist()}")  # fmt: skip
+    loose = sorted(set(range(len(nodes))) - set(elements.ravel().tolist()) - set(free))
+    if loose:
+        raise ValueError(f"nodes[{loose[0]}]: on no element (a node must belong to a member)")
+    tol = SAME_PLACE * float(np.ptp(nodes, axis=0).max())
+    length = np.linalg.norm(nodes[elements[:, 1]] - nodes[elements[:, 0]], axis=1)
+    short = np.flatnonzero(~(length > tol))
+    if short.size:
+        k = int(short[0])
+        raise ValueError(f"{element_name(k)}: nodes {elements[k, 0]} and {elements[k, 1]} are at "
+                         "the same place; expected an element of positive length")  # fmt: skip
+    seen: dict = {}
+    for k, (i, j) in enumerate(elements.tolist()):
+        pair = (min(i, j), max(i, j))
+        if pair in seen:
+            raise ValueError(f"{element_name(k)}: joins nodes {i} and {j}, as "
+                             f"{element_name(seen[pair])} does; expected one element per pair "
+                             "of nodes")  # fmt: skip
+        seen[pair] = k
+    at: dict = {}
+    for n, key in enumerate(map(tuple, np.round(nodes / max(tol, 1e-300)).tolist())):
+        if key in at:
+            raise ValueError(f"nodes[{n}]: at the same place as nodes[{at[key]}] "
+                             f"({nodes[n].tolist()}); expected one node per place (the members "
+                             "meeting there share it)")  # fmt: skip
+        at[key] = n
+    if base is not None:
+        _check_joined(len(nodes), elements, list(base), groups)
+
+
+def _check_joined(nn: int, elements: np.ndarray, base: list, groups) -> None:
+    """Every node reaches a base node through elements and groups (union-find). Base nodes
+    out of range are the frame's own check (it names them), as is an empty list."""
+    base = [int(b) for b in base if float(b).is_integer() and 0 <= b < nn]
+    if not base:
+        return
+    root = list(range(nn))
+
+    def find(a: int) -> int:
+        while root[a] != a:
+            root[a] = root[root[a]]
+            a = root[a]
+        return a
+
+    links = [tuple(e) for e in elements.tolist()]
+    for g in groups:
+        g = list(g)
+        links += [(g[0], n) for n in g[1:]]
+    for i, j in links:
+        root[find(i)] = find(j)
+    grounded = {find(b) for b in base}
+    loose = [n for n in range(nn) if find(n) not in grounded]
+    if loose:
+        raise ValueError(f"nodes[{loose[0]}]: joined to no base node (with {len(loose) - 1} "
+                         "other node(s) it is a part that floats free: a mechanism); expected "
+                         "every node joined to a base node by elements")  # fmt: skip
