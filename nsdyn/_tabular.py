@@ -3,8 +3,9 @@
 Every family's result names its histories once, as an ordered mapping ``column -> 1-D array``
 sampled on one time grid, the unit in each name (``theta_rad``, ``x_iso_0_m``, ``F_N``; see
 docs/guide/conventions.md). This module turns that mapping into a table indexed by ``t_s``
-(the grid [s]) without copying or converting a value, so ``df[name].to_numpy()`` is the result's
-array bit for bit; the result's ``summary()`` goes along as the table's ``attrs``.
+(the grid [s]) without converting a value, so ``df[name].to_numpy()`` is the result's array bit
+for bit; each array is copied, so that editing the table leaves the result (and its summary)
+as they were. The result's ``summary()`` goes along as the table's ``attrs``.
 
 pandas and xarray are imported only when a conversion is asked for; without them the error
 names the extra to install (``pip install "nsdyn[frames]"``).
@@ -41,12 +42,12 @@ def columns(t: np.ndarray, named: dict) -> dict:
             if "{}" not in name:
                 raise ValueError(f"{name}: a 2-D history needs a '{{}}' in its name for the column")
             for j in range(a.shape[1]):
-                out[name.format(j)] = a[:, j]
+                out[name.format(j)] = a[:, j].copy()
             continue
         if a.ndim != 1 or a.shape[0] != t.shape[0]:
             raise ValueError(f"{name}: expected a history of {t.shape[0]} samples, got shape "
                              f"{a.shape}")  # fmt: skip
-        out[name] = a
+        out[name] = a.copy()  # (the table's own: an edit of it is not one of the result)
     return out
 
 
@@ -54,7 +55,7 @@ def to_dataframe(t: np.ndarray, named: dict, attrs: dict | None = None):
     """pandas DataFrame of the histories ``named`` (:func:`columns`), index ``t_s``."""
     pd = _need("pandas")
     cols = columns(t, named)
-    df = pd.DataFrame(cols, index=pd.Index(np.asarray(t), name=INDEX), copy=False)
+    df = pd.DataFrame(cols, index=pd.Index(np.array(t), name=INDEX), copy=False)
     df.attrs.update(attrs or {})
     return df
 
@@ -64,7 +65,7 @@ def to_xarray(t: np.ndarray, named: dict, attrs: dict | None = None):
     ``attrs`` keeps the summary's scalars and strings (netCDF cannot store lists or None)."""
     xr = _need("xarray")
     cols = columns(t, named)
-    ds = xr.Dataset({k: (INDEX, v) for k, v in cols.items()}, coords={INDEX: np.asarray(t)})
+    ds = xr.Dataset({k: (INDEX, v) for k, v in cols.items()}, coords={INDEX: np.array(t)})
     for k, v in (attrs or {}).items():
         if isinstance(v, bool):
             ds.attrs[k] = int(v)

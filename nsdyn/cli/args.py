@@ -198,3 +198,15 @@ PGA_HELP = (
     "horizontal component; a deck's or building's [motion] pga_component (default the "
     "resultant); the cylinder's larger horizontal peak"
 )
+
+
+def stale_figures(out: Path, names, command: str, quiet: bool) -> None:
+    """Remove an earlier run's figures ``names`` from ``out`` when this run draws none
+    (``--no-figures``: they sat beside the new results, figures of other settings), and say
+    so on stderr unless ``quiet``."""
+    gone = [n for n in names if (Path(out) / n).is_file()]
+    for n in gone:
+        (Path(out) / n).unlink()
+    if gone and not quiet:
+        print(f"nsdyn {command}: note: removed the earlier run's {', '.join(gone)} "
+              "(--no-figures draws none)", file=sys.stderr)  # fmt: skip

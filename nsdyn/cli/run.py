@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, output_dir, save_figure
-from nsdyn.cli.args import EXIT_NUMERICS, PGA_HELP, out_dir
+from nsdyn.cli.args import EXIT_NUMERICS, PGA_HELP, out_dir, stale_figures
 from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
 from nsdyn.cli.args import positive_int as _positive_int
@@ -21,6 +21,7 @@ from nsdyn.cli.run_checks import (
     check_method,
     duration_text,
     explicit_steps,
+    note_short_record,
     notes_first,
     record_wins,
     scene_notes,
@@ -216,6 +217,15 @@ def _check_ladder_flags(args: argparse.Namespace, raw: dict) -> None:
         )
 
 
+FIGURES = {  # the figures a run of each other kind draws (by the scene's name)
+    "rocking": lambda name: ["rocking.png"],
+    "contact": lambda name: ["contact.png"],
+    "cylinder": lambda name: [f"{name}.png"],
+    "deck": lambda name: ["deck.png"],
+    "building3d": lambda name: ["building3d-deformed.png", "building3d-modes.png"],
+}
+
+
 def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     """``nsdyn run`` on a scene of another model family (``[scene] kind``)."""
     import importlib
@@ -252,6 +262,9 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
         fig_mod = getattr(mod, "FIGURE_MODULE", None)  # figures drawn by a later stage (plot)
         if fig_mod and not args.no_figures:
             s["files"] += importlib.import_module(fig_mod).scene_figures(s, out)
+        if args.no_figures:
+            name = cfg.get("scene", {}).get("name", Path(str(args.scene)).stem)
+            stale_figures(out, FIGURES[kind](name), "run", args.json)
     notes_first(args, s)
     ran = s.get("t_end_s", s.get("t_end"))
     req = args.t_end or cfg.get("motion", {}).get("t_end")  # (--t-end, or the scene's)
@@ -397,11 +410,12 @@ def run(args: argparse.Namespace) -> int:
     if method == "event" and system.isolation is not None:
         system = with_isolation_cached(system, law="switch")
     t_req = cfg.get("motion", {}).get("t_end")
-    if t_req is not None and t_eval[-1] < float(t_req) - 1e-9:  # (the record cut at a sample)
+    short = t_req is not None and t_eval[-1] < float(t_req) - 1e-9  # (cut at a sample)
+    if short and note_short_record(cfg, motion) is None:  # (past the record: said above)
         notes.append(
             f"t_end = {float(t_req):g} s is not a sample time of the record (every "
-            f"{getattr(motion, 'dt', 0.0):g} s) or is past its end; the run ends at its last "
-            f"sample before it, {t_eval[-1]:g} s"
+            f"{getattr(motion, 'dt', 0.0):g} s); the run ends at its last sample before it, "
+            f"{t_eval[-1]:g} s"
         )
         if not args.json:
             print(f"nsdyn run: note: {notes[-1]}", file=sys.stderr)
@@ -499,7 +513,9 @@ def run(args: argparse.Namespace) -> int:
     s["outcome"] = word
     if s.get("uplift"):  # uplift = "warn": the run went on outside the model's domain
         print(f"nsdyn run: warning: {text}", file=sys.stderr)
-    if not args.no_figures:
+    if args.no_figures:
+        stale_figures(out, [f"{stem}.png"], "run", args.json)
+    else:
         from nsdyn.plot import plot_transient
 
         fixed = _fixed_base_run(system, motion, t_eval, quiet) if args.compare_fixed else None

@@ -16,10 +16,18 @@ DEFAULT_OUT = "nsdyn-study"  # output directory (a subdirectory per study name)
 MAX_FAILED_LINES = 10  # failed tasks named one per line on the console (all are in the table)
 
 
+def _address(s: str) -> str:
+    """A scheduler's address: not empty (an empty one ran on the local pool without a word)."""
+    if not s.strip():
+        raise argparse.ArgumentTypeError("expected a scheduler address, e.g. tcp://host:8786")
+    return s
+
+
 def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("study", help="study TOML")
     where = p.add_mutually_exclusive_group()
-    where.add_argument("--dask", metavar="ADDR", help="Dask scheduler, e.g. tcp://host:8786")
+    where.add_argument("--dask", type=_address, metavar="ADDR",
+                       help="Dask scheduler, e.g. tcp://host:8786")  # fmt: skip
     where.add_argument(
         "--dask-local",
         type=positive_int,
@@ -182,6 +190,7 @@ def run(args: argparse.Namespace) -> int:
     from nsdyn.studies.analyses import run_analyses
     from nsdyn.studies.execute import dask_executor, run_study, stderr_progress
     from nsdyn.studies.study import load_study
+    from nsdyn.studies.table import PARQUET
 
     study = load_study(args.study)
     out = Path(args.out) if args.out else Path(DEFAULT_OUT) / study.name.replace("/", "_")
@@ -214,8 +223,8 @@ def run(args: argparse.Namespace) -> int:
     failed = failures(study, res.table.rows)
     summary["failed"] = [{"index": f["index"], "error": f["error"]} for f in failed]
     summary["never_kept"] = never_kept(study, res.table.rows)
-    if args.parquet:
-        summary["parquet"] = str(res.table.to_parquet(out / "results.parquet"))
+    if args.parquet or (out / PARQUET).is_file():  # (kept in step with the table once asked)
+        summary["parquet"] = str(res.table.to_parquet(out / PARQUET))
     an = run_analyses(study, res.table, out, figures=not args.no_figures)
     status = EXIT_NUMERICS if failed else 0  # a study with failed tasks is not a success
     if args.json:

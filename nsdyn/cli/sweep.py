@@ -17,7 +17,15 @@ from pathlib import Path
 
 from nsdyn.atomic import atomic_open, output_dir, save_figure
 from nsdyn.cli.args import amplitude_list as _amplitude_list
-from nsdyn.cli.args import band_message, fail, holes, out_dir, positive_int, refinement
+from nsdyn.cli.args import (
+    band_message,
+    fail,
+    holes,
+    out_dir,
+    positive_int,
+    refinement,
+    stale_figures,
+)
 from nsdyn.cli.args import count as _count
 from nsdyn.cli.args import positive_finite as _positive
 from nsdyn.studies.plane_sweep import KINDS as PLANE_KINDS
@@ -114,17 +122,6 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--restart", action="store_true", help="ignore checkpoints, start afresh")
     p.add_argument("--no-figures", action="store_true", help="skip the PNG")
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
-
-
-def stale_figure(out: Path, quiet: bool) -> None:
-    """Remove an earlier run's ``sweep.png`` from ``out`` when this run draws none (it sat
-    beside the new sweep.csv, a figure of other settings), and say so."""
-    fig = out / "sweep.png"
-    if fig.exists():
-        fig.unlink()
-        if not quiet:
-            print("nsdyn sweep: note: removed the earlier run's sweep.png (--no-figures draws "
-                  "none)", file=sys.stderr)  # fmt: skip
 
 
 def _holes(amplitudes: list[dict], path) -> int:
@@ -269,7 +266,7 @@ def run(args: argparse.Namespace) -> int:
         "amplitudes": [summarise(r) for r in results],
     }
     if args.no_figures:
-        stale_figure(out, args.json)
+        stale_figures(out, ["sweep.png"], "sweep", args.json)
     else:
         freqs = log_frequencies(args.fmin, args.fmax, 300)
         frame, fm = results[0]["frame"], results[0]["f_max"] or 5.0
@@ -439,7 +436,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         "compile_s": compile_s, "amplitudes": [summarise(r) for r in results],
     }  # fmt: skip
     if args.no_figures:
-        stale_figure(out, args.json)
+        stale_figures(out, ["sweep.png"], "sweep", args.json)
     else:
         from nsdyn.plot.plane_sweep import plane_sweep_figure
 

@@ -264,7 +264,10 @@ def sine_pulse(
     if not math.isfinite(A):
         raise ValueError(f"A: expected a finite amplitude [m/s²], got {A!r}")
     tp = n_cycles / f
-    t = _grid(max(duration or tp, tp), dt)
+    if duration is not None and not duration >= tp * (1.0 - 1e-12):  # (it was lengthened)
+        raise ValueError(f"duration: expected at least the pulse's {n_cycles} cycle(s), "
+                         f"T_p = {tp:g} s, or None (T_p), got {duration!r}")  # fmt: skip
+    t = _grid(duration or tp, dt)
     inside = t <= tp * (1.0 + 1e-12)
     phase = 2.0 * np.pi * f * t[inside]
     a = np.zeros(t.size)

@@ -407,6 +407,11 @@ def simulate(
         t_eval = np.asarray(t_eval, dtype=float)
     if contact is None:
         contact = getattr(system.isolation, "contact", "detect")
+    if restitution != 0.0 and contact != "unilateral":  # (it was dropped without a word)
+        raise ValueError(
+            f"restitution: the coefficient of a landing, which a run with contact={contact!r} "
+            "has none of; expected contact='unilateral'"
+        )
     reason = ""
     from nsdyn.solve.methods import METHODS
 

@@ -293,6 +293,9 @@ def base_isolation_frequency(frame: Frame, k_lam: float) -> float:
     ``f_bis = sqrt(n_b K_lam / M_s) / (2 pi)`` with one laminated bearing of lateral
     stiffness ``k_lam`` [N/m] under each base node (seed 004 eq. 28, n_b = 2).
     """
+    if isinstance(k_lam, bool) or not (isinstance(k_lam, int | float | np.number) and k_lam > 0
+                                       and np.isfinite(k_lam)):  # fmt: skip
+        raise ValueError(f"k_lam: expected a positive finite stiffness [N/m], got {k_lam!r}")
     return float(np.sqrt(len(frame.base_nodes) * k_lam / frame.total_mass) / (2 * np.pi))
 
 

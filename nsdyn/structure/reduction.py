@@ -205,7 +205,13 @@ def _dense_pairs(K: np.ndarray, M: np.ndarray):
 def _interior_modes(Kii, Mii, f_max, n_modes, dense_max=None):
     """Lowest eigenpairs of ``Kii phi = w^2 Mii phi``, mass-normalised, by f_max / count;
     dense up to ``dense_max`` internal dofs (default :data:`DENSE_MAX`, read at the call),
-    else sparse shift-invert Lanczos."""
+    else sparse shift-invert Lanczos. ValueError for an f_max that is not a positive
+    frequency (or inf) and a count below 1 (a negative f_max squared was taken as |f_max|)."""
+    if f_max is not None and not (isinstance(f_max, int | float | np.number) and f_max > 0):
+        raise ValueError(f"f_max: expected a positive frequency [Hz] or inf, got {f_max!r}")
+    if n_modes is not None and (isinstance(n_modes, bool) or not isinstance(
+            n_modes, int | np.integer) or n_modes < 1):  # fmt: skip
+        raise ValueError(f"n_modes: expected an integer >= 1, got {n_modes!r}")
     n = Kii.shape[0]
     dense_max = DENSE_MAX if dense_max is None else dense_max
     w2_max = (2 * np.pi * f_max) ** 2 if f_max is not None and np.isfinite(f_max) else np.inf

@@ -40,7 +40,7 @@ from nsdyn.studies.design import (
     same_value,
 )
 from nsdyn.studies.fragility import CONFIDENCE, fit_lognormal
-from nsdyn.studies.table import Table
+from nsdyn.studies.table import ANALYSIS_OUTPUTS, Table
 
 SEISMIC_GAP_M = 0.4  # seed 004 §5: the isolator displacement may not exceed 400 mm
 DEFAULT_OBJECTIVES = ("idr_max", "floor_acc_max_mps2")  # seed 004 §5 objectives
@@ -324,6 +324,11 @@ def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True)
     out = Path(out_dir)
     an = study.analysis
     res: dict = {}
+    for part, (table_file, figure_file) in ANALYSIS_OUTPUTS.items():  # an earlier run's
+        if part not in an:  # (an analysis dropped from the study left its files beside)
+            (out / table_file).unlink(missing_ok=True)
+        if part not in an or not figures:  # (--no-figures left an earlier run's figure)
+            (out / figure_file).unlink(missing_ok=True)
     if "design" in an:
         res["design"] = _design(study, table, an["design"], out, figures)
     if "percentiles" in an:

@@ -125,6 +125,16 @@ def run_study(
     retry_failed : bool           rerun tasks recorded as failed
     progress : callable(str), optional   receives a progress line every PROGRESS_S
     """
+    if workers is not None and (isinstance(workers, bool) or not isinstance(
+            workers, int) or workers < 1):  # fmt: skip
+        raise ValueError(f"workers: expected an integer >= 1 (or None: the CPU count), got "
+                         f"{workers!r}")  # fmt: skip
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise TypeError(f"executor: expected a concurrent.futures.Executor (or a Dask "
+                        f"Client's), got {type(executor).__name__} {executor!r}")  # fmt: skip
+    if executor is not None and workers is not None:
+        raise ValueError("workers: the size of the default process pool; an executor given "
+                         "has its own workers: give one or the other")  # fmt: skip
     out = Path(out_dir)
     tasks = expand(study)
     store = ResultsStore(out, [p.name for p in study.parameters])
@@ -145,7 +155,7 @@ def run_study(
         warm_scene_kernels(todo)
     own = executor is None
     if own:
-        workers = workers or os.cpu_count() or 1
+        workers = min(workers or os.cpu_count() or 1, max(len(todo), 1))  # (no idle process)
         executor = process_pool(workers) if todo else None
     n_workers = workers if own else _n_workers(executor)
     size = batch_size(len(todo), n_workers, study.batch)

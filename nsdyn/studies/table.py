@@ -37,17 +37,14 @@ RESULTS = "results.csv"
 OUTSIDE = "outside-grid.csv"
 # what a study's analyses (and --parquet) write beside the table: a fresh start removes them,
 # so that an interrupted fresh run never leaves the previous run's analyses beside its table
-ANALYSIS_FILES = (
-    "design.csv",
-    "pareto.png",
-    "fragility.csv",
-    "fragility.png",
-    "percentiles.csv",
-    "distributions.png",
-    "incidence.csv",
-    "incidence.png",
-    "results.parquet",
-)
+ANALYSIS_OUTPUTS = {  # each analysis' (table, figure)
+    "design": ("design.csv", "pareto.png"),
+    "fragility": ("fragility.csv", "fragility.png"),
+    "percentiles": ("percentiles.csv", "distributions.png"),
+    "incidence": ("incidence.csv", "incidence.png"),
+}
+PARQUET = "results.parquet"
+ANALYSIS_FILES = (*(f for pair in ANALYSIS_OUTPUTS.values() for f in pair), PARQUET)
 PARTS = "parts"
 LEAD_COLUMNS = ("index", "key", "record", "sample")  # first columns, in this order
 TAIL_COLUMNS = ("status", "error", "task_s")  # after the parameters

@@ -48,6 +48,11 @@ def test_a_checkpoint_is_continued_only_by_the_run_that_wrote_it(tmp_path, build
         ({"rtol": "1e-4"}, "rtol: expected a relative tolerance 2.2e-14 <= rtol < 1"),
         ({"rtol": 1.0}, "rtol: expected a relative tolerance 2.2e-14 <= rtol < 1"),
         ({"rtoll": 1e-6}, "did you mean 'rtol'"),
+        # a landing's coefficient on a run without landings was dropped without a word
+        (
+            {"restitution": 0.5},
+            "restitution: .* contact='detect' has none of; expected contact='unilateral'",
+        ),
     ],
 )
 def test_simulate_refuses_settings_it_cannot_run(building, record, kwargs, match):
@@ -121,6 +126,8 @@ def test_force_tables_and_records_refuse_what_they_cannot_mean():
     "call, match",
     [
         (lambda: nsdyn.sine_pulse(1.0, 0.0), "f: expected a positive pulse frequency"),
+        # a duration shorter than the pulse was lengthened to it without a word
+        (lambda: nsdyn.sine_pulse(1.0, 2.0, duration=0.1), r"duration: .* T_p = 0\.5 s"),
         (lambda: nsdyn.modulated_white_noise(20.0, S0=-1e-4, seed=1), "S0: expected a non"),
         (lambda: nsdyn.modulated_white_noise(20.0, seed="a"), "seed: expected a non-negative"),
         (lambda: nsdyn.cylinder_earthquake(-1), "seed: expected a non-negative integer"),

@@ -291,6 +291,11 @@ def test_a_t_end_past_the_record_is_said(tmp_path, capsys):
     )
     err = capsys.readouterr().err
     assert "t_end = 1 s is past the record's last sample" in err and "at 0.1 s" in err
+    assert err.count("t_end = 1 s") == 1  # once (a second note said it again)
+    # a t_end within the record but between two samples: the other note, once
+    main(["run", str(scene), "--t-end", "0.055", "--no-figures", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert err.count("t_end = 0.055 s is not a sample time of the record") == 1, err
 
 
 def test_a_plain_rerun_says_it_discards_a_checkpoint(tmp_path, capsys):

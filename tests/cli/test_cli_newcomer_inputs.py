@@ -433,6 +433,22 @@ def test_a_sweep_without_figures_removes_the_earlier_runs_figure(tmp_path, capsy
     assert "removed the earlier run's sweep.png" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("scene, figure", [("isolated-shear-3storey", "run.png"),
+                                           ("rocking-seed003-column", "rocking.png"),
+                                           ("cylinder-uplift", "cylinder-uplift.png")])  # fmt: skip
+def test_a_run_without_figures_removes_the_earlier_runs_figure(tmp_path, capsys, scene, figure):
+    # as a sweep's: the earlier figure sat beside the new histories, a figure of another run
+    out = tmp_path / "o"
+    path = Path(__file__).resolve().parents[2] / "examples" / "scenes" / f"{scene}.toml"
+    base = ["run", str(path), "--t-end", "1", "--out", str(out)]
+    (out / "notes.png").parent.mkdir()
+    (out / "notes.png").write_text("the user's")  # a file of another name stays
+    assert main(base) == 0 and (out / figure).exists()
+    assert main([*base, "--no-figures"]) == 0
+    assert not (out / figure).exists() and (out / "notes.png").exists()
+    assert f"removed the earlier run's {figure}" in capsys.readouterr().err
+
+
 def test_a_resumed_sweep_says_its_wall_time_is_this_runs(tmp_path, capsys):
     # rerun, every point comes from the checkpoint: the wall column times this run alone
     argv = ["sweep", "--points", "2", "--fmin", "0.5", "--fmax", "1", "--amplitudes", "0.5",

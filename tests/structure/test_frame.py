@@ -206,6 +206,9 @@ def test_office_frame_meets_the_seed_numbers(office, office_km):
     assert f == pytest.approx([0.46, 1.27, 1.98, 2.98], rel=0.03)
     assert all(mode_type(Phi[:, k], M, office) == "lateral" for k in range(4))
     assert base_isolation_frequency(office, 5.0e4) == pytest.approx(0.060, abs=0.003)
+    for k in (-5e4, 0.0, float("nan")):  # (a NaN frequency with a RuntimeWarning before)
+        with pytest.raises(ValueError, match="k_lam: expected a positive finite stiffness"):
+            base_isolation_frequency(office, k)
     assert office.zeta.tolist() == [0.03, 0.04, 0.05, 0.06]
 
 

@@ -142,6 +142,11 @@ def test_fixed_base_modes_are_mass_normalised_and_clamped(office, office_km):
     assert np.all(Phi[office.boundary_dofs] == 0)
     f4, _ = fixed_base_modes(K, M, office.boundary_dofs, n_modes=4)
     assert f4 == pytest.approx(f[:4], rel=1e-12)
+    # a negative f_max was squared (f_max = -1 kept the modes up to 1 Hz), a count below 1
+    # returned nothing: both refused
+    for kw in ({"f_max": -1.0}, {"f_max": 0.0}, {"n_modes": 0}, {"n_modes": -1}):
+        with pytest.raises(ValueError, match=f"{next(iter(kw))}: expected"):
+            fixed_base_modes(K, M, office.boundary_dofs, **kw)
 
 
 def test_sparse_shift_invert_path_matches_dense(office, office_km, monkeypatch):

@@ -378,3 +378,28 @@ def test_a_dask_address_that_is_not_one_is_an_oserror_naming_it():
     with pytest.raises(OSError, match=r"^no Dask scheduler at notanaddress: .*tcp://host:8786"):
         with execute.dask_executor("notanaddress"):
             pass
+
+
+def test_executor_settings_that_cannot_mean_anything_are_refused(tmp_path, monkeypatch):
+    # workers=0 ran on the CPU count, an executor named by a string failed inside the run
+    # (AttributeError), workers beside an executor were ignored, and an address left empty on
+    # the command line ran on the local pool without a word
+    from nsdyn.cli import main
+
+    st = load_study(_study(tmp_path))
+    for kw, err, match in (
+        ({"workers": 0}, ValueError, r"^workers: expected an integer >= 1"),
+        ({"executor": "dask"}, TypeError, r"^executor: expected a concurrent\.futures\.Executor"),
+        ({"executor": ThreadPoolExecutor(1), "workers": 2}, ValueError, "give one or the other"),
+    ):
+        with pytest.raises(err, match=match):
+            run_study(st, tmp_path / "o", **kw)
+    assert not (tmp_path / "o").exists()  # refused before any file
+    with pytest.raises(SystemExit) as e:
+        main(["study", str(tmp_path / "s.toml"), "--dask", ""])
+    assert e.value.code == 2
+    # a pool is never larger than the tasks it runs (1000 workers on 4 tasks took 100x longer)
+    sizes = []
+    monkeypatch.setattr(execute, "process_pool", lambda n: sizes.append(n) or ThreadPoolExecutor(1))
+    run_study(st, tmp_path / "p", workers=64)
+    assert sizes == [len(expand(st))]

@@ -216,3 +216,29 @@ def test_key_follows_the_bytes_of_every_file_the_scene_reads(tmp_path):
     (tmp_path / "b" / "f.toml").write_text(frame)
     write_motion(m.scaled_to_pga(2 * m.pga), tmp_path / "b" / "rec.csv")
     assert set(keys("b", "d.toml")).isdisjoint(ka)  # the record's bytes changed
+
+
+def test_nothing_beside_the_table_is_older_than_it(tmp_path, capsys):
+    """A results.parquet written once stayed at the first grid's rows while the CSV grew; an
+    analysis dropped from the study left its table, and --no-figures its figure."""
+    pytest.importorskip("pyarrow", reason="pyarrow is not installed (the 'parquet' extra)")
+    pd = pytest.importorskip("pandas", reason="pandas is not installed (the 'frames' extra)")
+    from nsdyn.cli import main
+
+    text = (
+        '[study]\nname = "g"\n[base.scene]\nfidelity = "rigid"\n[base.motion]\nt_end = 1.0\n'
+        '[parameters]\n"isolation.mu" = MU\n[records]\nnames = ["synthetic-wn-40s"]\n'
+    )
+    out = tmp_path / "o"
+    p = _write(tmp_path, text.replace("MU", "[0.02, 0.05]") + "[analysis.percentiles]\n")
+    assert main(["study", str(p), "--out", str(out), "--parquet", "--workers", "1"]) == 0
+    assert len(pd.read_parquet(out / "results.parquet")) == 2
+    assert (out / "percentiles.csv").is_file() and (out / "distributions.png").is_file()
+    p = _write(tmp_path, text.replace("MU", "[0.02, 0.05, 0.08]") + "[analysis.percentiles]\n")
+    assert main(["study", str(p), "--out", str(out), "--no-figures", "--workers", "1"]) == 0
+    assert len(pd.read_parquet(out / "results.parquet")) == 3  # in step with the table
+    assert (out / "percentiles.csv").is_file() and not (out / "distributions.png").exists()
+    p = _write(tmp_path, text.replace("MU", "[0.02, 0.05, 0.08]"))
+    assert main(["study", str(p), "--out", str(out), "--workers", "1"]) == 0
+    assert not (out / "percentiles.csv").exists()
+    capsys.readouterr()

@@ -40,7 +40,11 @@ DT_OUT = 0.01  # default output step without a record [s]
 
 
 def housner_restitution(alpha: float) -> float:
-    """Housner's coefficient of restitution ``1 - 1.5 sin² alpha`` of a rectangular block."""
+    """Housner's coefficient of restitution ``1 - 1.5 sin² alpha`` of a rectangular block of
+    slenderness ``alpha`` in (0, pi/2) [rad] (ValueError otherwise); it is positive only for
+    alpha < asin(sqrt(2/3)) = 54.7° (a run of a squatter block refuses it: ``restitution_of``)."""
+    if not (isinstance(alpha, int | float) and 0.0 < alpha < math.pi / 2):
+        raise ValueError(f"alpha: expected a slenderness in (0, pi/2) rad, got {alpha!r}")
     return 1.0 - 1.5 * math.sin(alpha) ** 2
 
 

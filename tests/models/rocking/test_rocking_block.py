@@ -252,3 +252,16 @@ def test_numba_disabled_gives_the_same_closed_form():
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
                          timeout=120, check=True)  # fmt: skip
     assert float(out.stdout.strip()) < 1e-9
+
+
+def test_housner_restitution_is_refused_where_it_is_no_restitution():
+    # 1 - 1.5 sin² alpha vanishes at sin² alpha = 2/3 (alpha = 54.7°) and is negative beyond
+    # (a squat block's run refuses it); alphas outside (0, pi/2) gave numbers
+    from nsdyn.models.rocking.block import RockingBlock, housner_restitution
+
+    edge = math.asin(math.sqrt(2.0 / 3.0))
+    assert housner_restitution(edge) == pytest.approx(0.0, abs=4 * np.finfo(float).eps)
+    for alpha in (0.0, -0.1, math.pi / 2, 2.0, float("nan")):
+        with pytest.raises(ValueError, match=r"alpha: expected a slenderness in \(0, pi/2\)"):
+            housner_restitution(alpha)
+    assert RockingBlock(width=3.0, height=1.0).restitution < 0  # (a run refuses it)
