@@ -306,6 +306,8 @@ def response(
     od = output_rows(system)
     q = X[:, :n]
     drift_m, top_drift, acc = level_peaks(od, q, QDD, ug_hor)
+    if getattr(system, "fidelity", None) == "rigid":  # no storey deforms: 0, not round-off
+        drift_m, top_drift = np.zeros_like(drift_m), np.zeros_like(top_drift)
     idr = np.zeros(0)
     if od["heights"] is not None and drift_m.size:
         # max_t,c(dU / h) = max_t,c(dU) / h exactly (h > 0; rounded division is monotonic)
