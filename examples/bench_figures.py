@@ -141,9 +141,11 @@ if __name__ == "__main__":
     ap.add_argument("dir", nargs="?", default=str(bench.DEFAULT_OUT))
     ap.add_argument("--figures", default=str(FIGURES), metavar="FIG_DIR")
     a = ap.parse_args()
-    if not Path(a.dir).is_dir():
-        ap.error(f"{a.dir}: no such folder (the benchmarks' --out, default {bench.DEFAULT_OUT})")
-    res = main(a.dir, a.figures)
+    if Path(a.dir).is_dir():
+        res = main(a.dir, a.figures)
+    else:  # a fresh checkout: nothing run yet (the figures in the repository are listed)
+        figs = sorted(Path(a.figures).glob("*.png")) if Path(a.figures).is_dir() else []
+        res = {"figures": [str(f) for f in figs]}
     if not {"ratios", "fidelity", "speed", "periodic"} & set(res):
         print(f"{a.dir}: no benchmark tables to redraw from (run nsdyn bench accuracy, fidelity, "
               f"speed, periodic or stability into it first); the figures already in "

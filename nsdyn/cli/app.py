@@ -155,7 +155,11 @@ _SIGNALLED = [False]  # set by the handler: an error after a signal is the signa
 
 
 def _on_signal(signum, frame):
-    """SIGINT and SIGTERM: note that the command was stopped, then stop it."""
+    """SIGINT and SIGTERM: note that the command was stopped, then stop it. A later signal,
+    while the first one's stop is under way (`timeout` signals the process, then its group),
+    is ignored: raised there it cut the stop short (a traceback, a checkpoint folder lost)."""
+    if _SIGNALLED[0]:
+        return
     _SIGNALLED[0] = True
     raise KeyboardInterrupt
 

@@ -363,6 +363,11 @@ def run(args: argparse.Namespace) -> int:
                          f"{args.friction}: the event method integrates the switch model (true "
                          "stick); drop --friction, or choose a method of the smooth law "
                          "('radau', 'genalpha', …)")  # fmt: skip
+    law = (raw.get("isolation") or {}).get("law") if args.scene is not None else None
+    if law in ("arctan", "none") and method == "event":  # (it ran the switch law instead)
+        raise SceneError(f"{args.scene}: isolation.law: {law!r} with solver.method 'event', "
+                         "which integrates the switch model (true stick); expected law "
+                         "'switch', or a smooth law's method ('radau', 'genalpha', …)")  # fmt: skip
     check_method(method, cfg)  # before the model's build
     system, motion, duration = build_scene_run(cfg)
     notes = scene_notes(cfg, motion, args.json, system)

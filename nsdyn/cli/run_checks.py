@@ -64,27 +64,19 @@ def note_coarse_output(cfg: dict, motion) -> str | None:
     return None
 
 
-SLIP_V_MAX = 10.0  # m/s, beyond any isolator's slip velocity in an earthquake
-
-
 def note_soft_law(cfg: dict) -> str | None:
-    """An arctan law whose ``eps`` puts its stick velocity (friction at
-    ``STICK_UTILISATION`` of its limit) beyond ``SLIP_V_MAX``: no friction to speak of, and
-    the stick share counts every instant (one line, on stderr)."""
-    from nsdyn.models.isolated.friction import STICK_UTILISATION, stick_velocity
+    """The law's parameter that blurs the friction it models (``coarse_law_note``: an
+    arctan eps too small, a switch band eta too wide), one line on stderr."""
+    from nsdyn.models.isolated.friction import coarse_law_note
 
     iso = cfg.get("isolation", {})
-    eps = iso.get("eps")
-    if iso.get("law", "arctan") != "arctan" or not isinstance(eps, int | float):
+    law = "switch" if cfg.get("solver", {}).get("method") == "event" else iso.get("law", "arctan")
+    eps, eta = iso.get("eps"), iso.get("eta")
+    num = (int, float)
+    if not isinstance(eps, num) and not isinstance(eta, num):
         return None
-    v = stick_velocity("arctan", float(eps))
-    if v > SLIP_V_MAX:
-        return (f"isolation.eps = {eps:g} s/m: the arctan friction reaches "
-                f"{STICK_UTILISATION:.0%} of mu N only at a slip velocity of {v:.2g} m/s: at "
-                f"slips well below {1.0 / float(eps):.2g} m/s it is a viscous damper (2/pi mu N "
-                "eps), and the share of time all isolators stick counts every instant below "
-                f"{v:.2g} m/s (typical eps: 1e3-1e5 s/m)")  # fmt: skip
-    return None
+    kw = {k: float(v) for k, v in (("eps", eps), ("eta", eta)) if isinstance(v, num)}
+    return coarse_law_note(law, where="isolation", **kw) or None
 
 
 def note_high_friction(cfg: dict) -> str | None:
@@ -134,6 +126,8 @@ def note_unused_isolation(cfg: dict, system) -> str | None:
 
     why = {k: f"a key of the {own} law; the law here is {law}"
            for k, (own, _) in LAW_KEYS.items() if own != law}  # fmt: skip
+    if law == "none":  # no friction: its coefficient changes nothing
+        why["mu"] = "the friction coefficient; the law here is none: no friction"
     if system.normal_force is not None:  # a structure given its weight: no contact rows
         for k in ("frozen_normal", "alpha", "beta"):
             why[k] = "a key of the contacts; this structure's normal forces are given"

@@ -10,10 +10,13 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 import time
 from dataclasses import asdict
 from pathlib import Path
+
+import numpy as np
 
 from nsdyn.atomic import atomic_open, output_dir, save_figure
 from nsdyn.cli.args import amplitude_list as _amplitude_list
@@ -187,7 +190,7 @@ def prepare_kernels(friction: str, contact: str = "bilateral") -> float:
 
 def run(args: argparse.Namespace) -> int:
     from nsdyn.models.isolated.scene import SceneError, load_scene
-    from nsdyn.models.scenefile import read_toml, scene_kind
+    from nsdyn.models.scenefile import number, read_toml, scene_kind
     from nsdyn.periodic import fixed_base_response, log_frequencies
 
     if args.scene is not None:
@@ -221,11 +224,21 @@ def run(args: argparse.Namespace) -> int:
     if cfg["scene"].get("fidelity", "cb") == "fixed":
         return fail(args, "the fixed-base model is linear; use an isolated fidelity")
     force = cfg.get("force", {})
-    if not args.amplitudes and "amplitude" in force:  # a force scene: its amplitude [N]
-        if not abs(float(force["amplitude"])) > 0:
-            return fail(args, f"{args.scene}: force.amplitude: 0 N sweeps nothing; give a "
+    mo = cfg.get("motion", {}) if cfg.get("motion", {}).get("kind") == "harmonic" else {}
+    table = "force" if "amplitude" in force else "motion" if "amplitude" in mo else None
+    if not args.amplitudes and table:  # a harmonic scene: its amplitude [N or m/s²]
+        amp = number(str(args.scene), f"{table}.amplitude", (force or mo)["amplitude"],
+                     positive=False)  # fmt: skip
+        if not abs(amp) > 0:
+            return fail(args, f"{args.scene}: {table}.amplitude: 0 sweeps nothing; give a "
                         "non-zero amplitude or --amplitudes")  # fmt: skip
-        args.amplitudes = [abs(float(force["amplitude"]))]
+        args.amplitudes = [abs(amp)]
+    elif args.scene is not None and "motion" in raw and not mo and not args.json:
+        print(
+            "nsdyn sweep: note: the scene's [motion] (a record) is not used: a sweep drives "
+            "the frame with harmonic base accelerations of --amplitudes",
+            file=sys.stderr,
+        )
     args.amplitudes = args.amplitudes or _amplitude_list(DEFAULT_AMPLITUDES)
     friction = args.friction or cfg.get("isolation", {}).get("law", "arctan")
     if args.friction:  # the flag wins over the scene's law (its eps and the rest kept)
@@ -415,9 +428,17 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
             f"{source}: solver.law: a triple friction pendulum runs with the "
             f"regularised law 'arctan' (its series model has no stick events), got {law!r}",
         )
+    flat = [getattr(b, "radius", None) == math.inf and not b.k_lam > 0
+            for b in getattr(sc["system"], "bearings", ())]  # fmt: skip
+    if flat and all(flat):  # (a 487 km "stable" orbit at 2.8 Hz, with k_lam = 0)
+        return fail(args, f"{source}: bearing.k_lam: flat sliders without a spring hold the "
+                    "deck with no restoring force: no orbit has a position of its own (each is "
+                    "one of a family, at any offset); expected k_lam > 0 or a pendulum (type "
+                    "'fps' or 'tfp')")  # fmt: skip
     points = args.points or sw.get("points") or POINTS_DEFAULT
     settings = PlaneSweepSettings(fmin, fmax, points, args.continuation,
                                   not args.no_fallback, law)  # fmt: skip
+    from nsdyn.models.isolated.bearings import slip_ratio_note
     from nsdyn.models.isolated.deck_scene import warm
 
     with output_dir(Path(args.out)) as out:  # no empty folder left by a failure
@@ -435,6 +456,17 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         "settings": asdict(settings), "wall_s": time.perf_counter() - t0,
         "compile_s": compile_s, "amplitudes": [summarise(r) for r in results],
     }  # fmt: skip
+    bearings = getattr(sc["system"], "bearings", ())
+    peaks = np.zeros(len(bearings))  # each isolator's largest peak where it was the largest
+    for row in (x for r in results for x in r["rows"] if x["converged"]):
+        k = row.get("u_peak_isolator")
+        if isinstance(k, int) and 0 <= k < len(bearings):
+            peaks[k] = max(peaks[k], float(row["u_peak_m"]))
+    big = slip_ratio_note(bearings, peaks) if bearings else None
+    if big:  # (a run says so; the sweep's orbits past the radius said nothing)
+        report["notes"] = [big]
+        if not args.json:
+            print(f"nsdyn sweep: note: {big}", file=sys.stderr)
     if args.no_figures:
         stale_figures(out, ["sweep.png"], "sweep", args.json)
     else:

@@ -413,9 +413,8 @@ def hermite_peak(u: np.ndarray, v: np.ndarray, h: float) -> float:
 
 
 def component_peak(u: np.ndarray, v: np.ndarray, h: float) -> float:
-    """max over the isolators and the two directions of max_t |u_c(t)|, refined as
-    :func:`hermite_peak` (``u``, ``v``: (n, n_iso, 2)): the component of a slip along x alone
-    is then its resultant (its samples alone read below the refined resultant)."""
+    """max over isolators and directions of max_t |u_c(t)|, refined as :func:`hermite_peak`
+    (``u``, ``v``: (n, n_iso, 2)): a slip along x alone has its resultant's peak."""
     zero = np.zeros(u.shape[0])
     return max(
         hermite_peak(np.c_[u[:, i, c], zero], np.c_[v[:, i, c], zero], h)
@@ -554,5 +553,6 @@ def curve_rows(curve: Curve) -> list[dict]:
             "newton_iterations": p.iterations, "residual": p.residual,
             "converged": p.converged, "samples": p.n_steps, "uplift": q.get("uplift", ""),
             "rim_contact": q.get("rim_contact", ""), "note": p.note,
+            "u_peak_isolator": q.get("u_peak_isolator"),  # (not a CSV column)
         })  # fmt: skip
     return rows

@@ -259,12 +259,13 @@ def slip_ratio_note(bearings, peak_u) -> str | None:
     if not ratios or max(ratios)[0] <= U_OVER_R_SMALL:
         return None
     r, i = max(ratios)
-    more = 1.0 / math.sqrt(1.0 - r * r) - 1.0 if r < 1.0 else math.inf
-    return (
-        f"isolator {i}'s peak slip is {r:.2g} of its radius R = {bearings[i].radius:g} m: "
-        "the pendulum's restoring force N u/R is its small-angle form (on the sphere, "
-        f"N u/sqrt(R² - u²) is {100 * more:.3g} % larger there)"
-    )
+    head = f"isolator {i}'s peak slip is {r:.2g} of its radius R = {bearings[i].radius:g} m: "
+    if r >= 1.0:  # (it read "inf % larger")
+        return (head + "past the sphere's edge (no surface of radius R reaches that far): the "
+                "small-angle restoring force N u/R holds there for no bearing")  # fmt: skip
+    more = 1.0 / math.sqrt(1.0 - r * r) - 1.0
+    return (head + "the pendulum's restoring force N u/R is its small-angle form (on the "
+            f"sphere, N u/sqrt(R² - u²) is {100 * more:.3g} % larger there)")  # fmt: skip
 
 
 def bearing_notes(bearings, n_static) -> list[str]:
@@ -298,6 +299,9 @@ def friction_from_config(cfg: dict, where: str) -> Friction:
     if "mu" not in cfg and "mu_slow" not in cfg:
         raise BearingError(f"{where}.mu: missing; expected the friction coefficient mu "
                            "(or mu_slow, mu_fast, rate)")  # fmt: skip
+    if "rate" in cfg and "mu_fast" not in cfg:  # (it was dropped without a word)
+        raise BearingError(f"{where}.rate: the rate of the change from mu_slow to mu_fast; "
+                           "expected mu_fast beside it (or no rate)")  # fmt: skip
     slow = cfg.get("mu", cfg.get("mu_slow"))
     return Friction(
         mu_slow=_number(f"{where}.{'mu' if 'mu' in cfg else 'mu_slow'}", slow),

@@ -106,6 +106,10 @@ class PlaneSystem:
             raise BearingError(f"{self.name}.h: expected a non-negative height, got {self.h!r}")
         if len(self.ecc) != 2 or not all(math.isfinite(float(e)) for e in self.ecc):
             raise BearingError(f"{self.name}.ecc: expected (e_x, e_y) [m], got {self.ecc!r}")
+        if len(self.bearings) == 1 and any(float(e) != 0.0 for e in self.ecc):
+            raise BearingError(f"{self.name}.ecc: a deck on one isolator stands on it alone: "
+                               "expected its centre of mass over it (ecc = [0, 0]), got "
+                               f"{list(self.ecc)}")  # fmt: skip
         nd = self.normal_distribution()
         n0 = self.static_normal(nd)
         if np.any(n0 <= 0):

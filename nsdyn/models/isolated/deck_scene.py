@@ -54,6 +54,7 @@ from nsdyn.models.isolated.deck import (
     simulate_plane,
 )
 from nsdyn.models.isolated.defaults import EPS, ETA
+from nsdyn.models.isolated.friction import coarse_law_note
 from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number, rel_tol
 
 TABLES = {
@@ -129,6 +130,9 @@ def build_system(cfg: dict, source: str):
         m = number(source, "deck.m", t["m"])
         pos = _pairs(source, "deck.positions", t["positions"])
         ext = pos.max(axis=0) - pos.min(axis=0)
+        if "J" not in t and not ext.any():  # (it read "deck.J: ... got 0.0", never given)
+            raise SceneError(f"{source}: deck.J: missing; a deck on one isolator has no plan "
+                             "extent to derive its polar moment from: expected J")  # fmt: skip
         J = number(source, "deck.J", t.get("J", m * float(ext @ ext) / 12.0))
         ecc = t.get("ecc", [0.0, 0.0])
         if not (isinstance(ecc, list) and len(ecc) == 2):
@@ -285,6 +289,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         f"{getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
     notes = bearing_notes(system.bearings, system.static_normal())  # (the summary's too)
     notes += [f"{k} not used: {w}" for k, w in unused_law_keys(cfg)]
+    notes += [n for n in [coarse_law_note(kw["law"], kw["eps"], kw["eta"])] if n]
     for note in notes:
         say(f"deck: note: {note}")
     compile_s = warm(system, kw["law"])

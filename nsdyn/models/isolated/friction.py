@@ -27,6 +27,8 @@ from nsdyn.models.isolated.defaults import EPS, ETA, MU  # noqa: F401  (re-expor
 
 STICK_UTILISATION = 0.9  # arctan law: "stick" while |s(v)| <= this (friction below 90 %)
 
+ETA_COARSE = 1e-3  # m/s: a switch band above this lets a stuck isolator creep visibly
+SLIP_V_MAX = 10.0  # m/s, beyond any isolator's slip velocity in an earthquake
 LAW_NAMES = ("none", "arctan", "switch")  # laws a user chooses ("modes" is internal)
 # the keys one law reads and the others do not: key -> (its law, what it is); the scene
 # readers name them when the run's law is another (an isolated frame's, a deck's notes)
@@ -63,3 +65,24 @@ def sticks(v, law: str, eps: float = EPS, eta: float = ETA, modes=None) -> np.nd
     if modes is not None and law != "arctan":
         s |= np.asarray(modes) == 0
     return s
+
+
+def coarse_law_note(law: str, eps: float = EPS, eta: float = ETA, where: str = "solver") -> str:
+    """One line when the law's parameter blurs the friction it models, else "": the switch
+    law's stick band ``eta`` above :data:`ETA_COARSE` (a "stuck" isolator creeps at up to
+    eta, tens of mm over a record, and the peaks follow it), or an arctan ``eps`` whose
+    friction reaches STICK_UTILISATION of mu N only beyond :data:`SLIP_V_MAX` (no friction to
+    speak of: a viscous damper 2/pi mu N eps at the slips, and every instant counts as
+    stick). ``where``: the table the key is in."""
+    if law in ("switch", "modes") and eta > ETA_COARSE:
+        return (f"{where}.eta = {eta:g} m/s: the switch law holds a stuck isolator only to "
+                f"|v| <= eta, so it creeps at up to {eta:g} m/s and the peaks depend on eta "
+                f"(default {ETA:g} m/s; expected at most {ETA_COARSE:g})")  # fmt: skip
+    v = stick_velocity("arctan", eps) if law == "arctan" else 0.0
+    if v > SLIP_V_MAX:
+        return (f"{where}.eps = {eps:g} s/m: the arctan friction reaches "
+                f"{STICK_UTILISATION:.0%} of mu N only at a slip velocity of {v:.2g} m/s: at "
+                f"slips well below {1.0 / eps:.2g} m/s it is a viscous damper (2/pi mu N "
+                "eps), and the share of time all isolators stick counts every instant below "
+                f"{v:.2g} m/s (typical eps: 1e3-1e5 s/m)")  # fmt: skip
+    return ""

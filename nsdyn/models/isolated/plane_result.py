@@ -48,6 +48,10 @@ MESSAGES = {
     kr.ST_NEWTON: "Radau IIA's Newton iterations diverge at t = {t:.6g} s, down to the smallest "
     "step (lower eps, or use law 'switch')",
 }
+# the switch law has no eps: where its steps underflow the equations themselves are stiff
+SWITCH_UNDERFLOW = ("step size underflow at t = {t:.6g} s (the switch law has no stiff "
+                    "friction: check the mass, the inertia J and the bearings' stiffness and "
+                    "damping for values orders of magnitude apart)")  # fmt: skip
 # a triple pendulum's stiffness is its surfaces' elastic-plastic springs (yield displacement
 # u_y), not a friction law's eps or eta: a small u_y and the inner surfaces' stiff reversals
 TFP_MESSAGES = {
@@ -223,6 +227,8 @@ class PlaneResult(Tabular):
             msg = MESSAGES.get(status, f"integration failed (status {status}) at t = {{t:.6g}} s")
             if getattr(system, "has_tfp", False) and status in TFP_MESSAGES:  # its own advice
                 msg = TFP_MESSAGES[status]
+            if status == kr.ST_UNDERFLOW and law == "switch":
+                msg = SWITCH_UNDERFLOW
             if status == kr.ST_SINGULAR and law == "switch" and contact == "unilateral":
                 msg = UNILATERAL_SWITCH_SINGULAR  # (masses and positions are not the cause)
             msg = msg.format(t=info[kr.I_TFAIL], eta=eta, eps=eps)

@@ -101,6 +101,9 @@ def _check_isolation(iso, source: str) -> None:
             )
         if key in _ISO_TEXT:
             continue
+        if isinstance(val, list) and key not in ("k_lam", "c", "mu"):  # (used, or a traceback)
+            raise SceneError(f"{source}: isolation.{key}: expected one number (k_lam, c and mu "
+                             f"take one per isolator), got {val!r}")  # fmt: skip
         vals = val if isinstance(val, list) else [val]
         ok = bool(vals) and all(
             isinstance(v, int | float) and not isinstance(v, bool) and abs(v) < float("inf")

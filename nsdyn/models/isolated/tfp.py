@@ -138,6 +138,9 @@ class TripleBearing(Bearing):
             raise BearingError(f"{w}.zeta_e: expected a damping ratio of the elastic stage >= 0 "
                                f"(0: undamped), got {self.zeta_e:g}")  # fmt: skip
         _number(f"{w}.rate", self.rate)
+        if self.rate > 0 and all(getattr(self, f"mu_fast{j}") is None for j in range(1, 5)):
+            raise BearingError(f"{w}.rate: the rate of the change from mu_j to mu_fast_j; "
+                               "expected mu_fast1..4 beside it (or no rate)")  # fmt: skip
         for j in range(1, 5):
             fast = getattr(self, f"mu_fast{j}")
             if fast is not None and fast != vals[f"mu{j}"] and not self.rate > 0:

@@ -1,0 +1,143 @@
+"""Scene files written by hand: inputs that ran a model other than the one written, were
+dropped without a word or ended in a traceback are refused in one line naming the file and
+the field (status 2), or said in a note; a sweep says what it does not use."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from nsdyn.cli import main
+
+SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+PENDULUM = """[scene]
+kind = "deck"
+[deck]
+m = 2.0e6
+positions = [[-10.0, -6.0], [10.0, -6.0], [10.0, 6.0], [-10.0, 6.0]]
+[bearing]
+type = "fps"
+radius = 2.2
+mu = 0.0
+[motion]
+kind = "orbit"
+orbit = "linear"
+frequency = 0.3
+amplitude = 0.05
+n_periods = 20
+[solver]
+law = "switch"
+"""
+
+
+def _scene(tmp_path, text: str, name: str = "s.toml") -> Path:
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def _refused(tmp_path, capsys, argv, needle: str) -> None:
+    rc = main([*argv, "--no-figures", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and len(err.splitlines()) == 1, err
+    assert needle in err, err
+
+
+@pytest.mark.parametrize(
+    "scene, old, new, needle",
+    [
+        # the event method ran the switch law under a scene's law "none" (same peaks)
+        ("isolated-coulomb-force", 'law = "switch"', 'law = "none"',
+         "isolation.law: 'none' with solver.method 'event'"),
+        # a list on a one-value key: used (x_iso doubled) or a traceback
+        ("isolated-uplift-pocket", "[isolation]", "[isolation]\ndiaphragm_EA = [1e11, 1.0]",
+         "isolation.diaphragm_EA: expected one number (k_lam, c and mu take one per isolator)"),
+        # a rate without the fast coefficient it leads to was dropped
+        ("deck-fps4-3c", "mu_fast = 0.07", "", "bearing.rate: the rate of the change from "
+         "mu_slow to mu_fast; expected mu_fast beside it"),
+        # a deck on one isolator: its centre of mass off it, and no extent to derive J from
+        ("deck-fps4-3c", "positions = [[-10.0, -6.0], [10.0, -6.0], [10.0, 6.0], [-10.0, 6.0]]",
+         "positions = [[0.0, 0.0]]", "deck.ecc: a deck on one isolator stands on it alone"),
+        ("deck-fps4-3c", "J = 9.07e7", "", None),  # (J derived from the four corners: runs)
+    ],
+)  # fmt: skip
+def test_a_scene_that_ran_another_model_is_refused(tmp_path, capsys, scene, old, new, needle):
+    text = (SCENES / f"{scene}.toml").read_text()
+    assert old in text
+    p = _scene(tmp_path, text.replace(old, new))
+    if needle is None:
+        assert main(["run", str(p), "--t-end", "0.2", "--no-figures", "--out",
+                     str(tmp_path / "o")]) == 0  # fmt: skip
+        return
+    _refused(tmp_path, capsys, ["run", str(p), "--t-end", "0.2"], needle)
+
+
+def test_one_isolator_without_its_polar_moment_says_it_is_missing(tmp_path, capsys):
+    text = PENDULUM.replace("positions = [[-10.0, -6.0], [10.0, -6.0], [10.0, 6.0], "
+                            "[-10.0, 6.0]]", "positions = [[0.0, 0.0]]")  # fmt: skip
+    p = _scene(tmp_path, text)
+    _refused(tmp_path, capsys, ["run", str(p), "--t-end", "0.2"], "deck.J: missing; a deck on one")
+
+
+def test_a_sweep_of_sliders_without_a_spring_is_refused(tmp_path, capsys):
+    # no restoring force: every orbit is one of a family at any offset (a "stable" 487 km
+    # orbit was reported at 2.8 Hz)
+    text = (SCENES / "sdof-bidirectional-sweep.toml").read_text()
+    p = _scene(tmp_path, text.replace("k_lam = 9869.6", "k_lam = 0.0"))
+    _refused(tmp_path, capsys, ["sweep", str(p), "--points", "3"],
+             "bearing.k_lam: flat sliders without a spring")  # fmt: skip
+
+
+def test_a_sweep_past_the_pendulums_radius_says_so(tmp_path, capsys):
+    # a frictionless pendulum R = 2.2 m under 0.05 m/s²: resonance at sqrt(g/R)/2pi = 0.336 Hz,
+    # where the linear model's slip A/|w0² - w²| runs past R; the run says so, the sweep did
+    # not. Off resonance (0.2 Hz: A/(w² - w0²) = 0.05/(4.46 - 1.58) = 17 mm) nothing is said
+    p = _scene(tmp_path, PENDULUM)
+    argv = ["sweep", str(p), "--points", "2", "--json", "--no-figures"]
+    assert main([*argv, "--fmin", "0.2", "--fmax", "0.21", "--out", str(tmp_path / "a")]) == 0
+    assert "notes" not in json.loads(capsys.readouterr().out)
+    f0 = math.sqrt(9.81 / 2.2) / (2 * math.pi)
+    main([*argv, "--fmin", f"{f0 * 0.999:.6f}", "--fmax", f"{f0 * 1.001:.6f}",
+          "--out", str(tmp_path / "b")])  # fmt: skip
+    notes = json.loads(capsys.readouterr().out).get("notes") or []
+    assert len(notes) == 1 and "past the sphere's edge" in notes[0], notes
+
+
+def test_an_isolated_sweep_takes_a_harmonic_scenes_amplitude_and_notes_a_record(tmp_path,
+                                                                               capsys):  # fmt: skip
+    # [motion] was ignored: the default amplitudes 0.1, 0.5, 1, 2 were swept
+    text = (SCENES / "isolated-shear-3storey.toml").read_text()
+    head, _, tail = text.partition("[motion]")
+    rest = tail[tail.index("\n[") :] if "\n[" in tail else ""
+    harmonic = '[motion]\nkind = "harmonic"\namplitude = 0.7\nfrequency = 0.5\nn_periods = 5\n'
+    p = _scene(tmp_path, head + harmonic + rest)
+    argv = ["sweep", str(p), "--points", "2", "--fmin", "0.5", "--fmax", "1", "--json",
+            "--no-figures"]  # fmt: skip
+    assert main([*argv, "--out", str(tmp_path / "a")]) == 0
+    assert [a["A"] for a in json.loads(capsys.readouterr().out)["amplitudes"]] == [0.7]
+    p = _scene(tmp_path, text, "r.toml")  # the scene's record: not what a sweep runs
+    main(["sweep", str(p), "--points", "2", "--fmin", "0.5", "--fmax", "1", "--amplitudes",
+          "0.5", "--no-figures", "--out", str(tmp_path / "c")])  # fmt: skip
+    assert "the scene's [motion] (a record) is not used" in capsys.readouterr().err
+
+
+def test_notes_for_keys_that_change_nothing_or_blur_the_law(tmp_path, capsys):
+    # mu under law "none" was not named among the unused keys; a switch band of 0.3 m/s let
+    # "stuck" bearings creep (peak 0.188 m against the frictionless 0.112 m), without a word
+    text = (SCENES / "isolated-shear-3storey.toml").read_text()
+    p = _scene(tmp_path, text.replace('law = "arctan"', 'law = "none"', 1))
+    assert main(["run", str(p), "--t-end", "0.2", "--no-figures", "--out",
+                 str(tmp_path / "a")]) == 0  # fmt: skip
+    assert "isolation.mu (the friction coefficient; the law here is none" in (
+        capsys.readouterr().err
+    )
+    text = (SCENES / "deck-fps4-3c.toml").read_text()
+    for eta, said in ((1e-3, False), (0.3, True)):
+        p = _scene(tmp_path, text.replace("[solver]", f"[solver]\neta = {eta}"))
+        assert main(["run", str(p), "--t-end", "0.2", "--no-figures", "--out",
+                     str(tmp_path / "b")]) == 0  # fmt: skip
+        assert ("solver.eta = 0.3 m/s: the switch law holds a stuck isolator only to" in
+                capsys.readouterr().err) is said  # fmt: skip
