@@ -227,9 +227,10 @@ def _read_one_source(x, units, dt) -> GroundMotion3:
         raise RecordFileError(
             source,
             None,
-            "missing component y: expected a CSV with the columns t, ax, ay[, az] (header "
-            "'# columns: t ax ay az'), or one file per component (a scene's [motion] x, y "
-            "and z; in Python read_motion3(x, y=..., z=...))",
+            "missing component y: expected a CSV whose header names the columns t, ax, "
+            "ay[, az] (a first line 't,ax,ay,az' or '# columns: t ax ay az'; columns without "
+            "names are not taken for x, y and z), or one file per component (a scene's "
+            "[motion] x, y and z; in Python read_motion3(x, y=..., z=...))",
         )
     return _table3(path, source, cols, units, dt)
 

@@ -100,8 +100,10 @@ def plane_scene(cfg: dict, source: str) -> dict:
                          f"contact closed (uplift detected); expected 'detect', got "
                          f"{solver['contact']!r}")  # fmt: skip
     if not isinstance(orbit, HarmonicPlane):
-        raise SceneError(f"{source}: motion.kind: nsdyn sweep needs a harmonic orbit (kind = "
-                         "'orbit': linear, circular, elliptical), not a record")  # fmt: skip
+        raise SceneError(
+            f"{source}: motion.kind: nsdyn sweep needs a harmonic orbit (kind = "
+            "'orbit': linear, circular, elliptical or general), not a record"
+        )
     try:
         from nsdyn.periodic.plane import orbit_shape
 

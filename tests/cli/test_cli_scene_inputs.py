@@ -141,3 +141,25 @@ def test_notes_for_keys_that_change_nothing_or_blur_the_law(tmp_path, capsys):
                      str(tmp_path / "b")]) == 0  # fmt: skip
         assert ("solver.eta = 0.3 m/s: the switch law holds a stuck isolator only to" in
                 capsys.readouterr().err) is said  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "text, needle",
+    [
+        # the name alone, without the scene or its key
+        ('[scene]\nframe = "office-99"\n', "s.toml: scene.frame: office-99: no bundled frame"),
+        # the isolators' list is the isolation table's ("scene.frame: isolation.mu" before)
+        ("[isolation]\nmu = [0.05, 0.05, 0.05]\n",
+         "s.toml: isolation.mu: expected one value or 2 (one per isolator), got 3"),
+    ],
+)  # fmt: skip
+def test_a_frame_scenes_error_names_its_own_key(tmp_path, capsys, text, needle):
+    _refused(tmp_path, capsys, ["run", str(_scene(tmp_path, text)), "--t-end", "0.2"], needle)
+
+
+def test_a_3d_frame_name_of_the_wrong_type_is_not_called_missing(tmp_path, capsys):
+    text = (SCENES / "building3d-office-rigid.toml").read_text()
+    p = _scene(tmp_path, text.replace('frame3d = "office-11-3d"', "frame3d = 3"))
+    _refused(tmp_path, capsys, ["run", str(p), "--t-end", "0.2"],
+             "structure.frame3d: expected a bundled 3D frame name (office-11-3d) or a 3D frame "
+             "file, got 3")  # fmt: skip

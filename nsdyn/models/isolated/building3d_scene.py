@@ -77,8 +77,9 @@ def _frame(t: dict, source: str):
 
     name = t.get("frame3d")
     if not isinstance(name, str) or not name:
-        raise SceneError(f"{source}: structure.frame3d: missing; expected a bundled 3D frame "
-                         "name (office-11-3d) or a 3D frame file")  # fmt: skip
+        got = "nothing (missing)" if name is None else repr(name)
+        raise SceneError(f"{source}: structure.frame3d: expected a bundled 3D frame name "
+                         f"(office-11-3d) or a 3D frame file, got {got}")  # fmt: skip
     try:  # a file beside the scene: made findable by read_toml
         frame = load_frame3d(name)
     except (OSError, ValueError) as e:

@@ -46,7 +46,7 @@ _TFP_KEYS = (
           range=_TFP + ("; R1 > R2" if j == 1 else "; R4 > R3" if j == 4 else ""))
       for j, w in ((1, "outer, lower"), (2, "inner slider, lower"), (3, "inner slider, upper"),
                    (4, "outer, upper"))),
-    *(Key(f"mu{j}", "number", f"friction coefficient of surface {j}", "—", **_NONNEG,
+    *(Key(f"mu{j}", "number", f"friction coefficient of surface {j}", "—", **_POS,
           range=_TFP + ("; mu2, mu3 ≤ mu1, mu4" if j in (2, 3) else ""))
       for j in range(1, 5)),
     *(Key(f"mu_fast{j}", "number", f"friction of surface {j} at high slip speed (with `rate`)",

@@ -160,8 +160,10 @@ def fixed_sweep_scene(cfg: dict, source: str) -> dict:
                          f"rung needs fidelity = 'fixed', got {sysd['fidelity']!r}")  # fmt: skip
     orbit, _ = bs.build_motion(cfg, source)
     if not isinstance(orbit, HarmonicPlane):
-        raise SceneError(f"{source}: motion.kind: nsdyn sweep needs a harmonic orbit (kind = "
-                         "'orbit': linear, circular, elliptical), not a record")  # fmt: skip
+        raise SceneError(
+            f"{source}: motion.kind: nsdyn sweep needs a harmonic orbit (kind = "
+            "'orbit': linear, circular, elliptical or general), not a record"
+        )
     try:
         A = orbit_phasor(orbit)
     except ValueError as e:

@@ -253,6 +253,8 @@ def build_scene_run(cfg: dict):
         try:
             frame = load_frame(sc["frame"])
         except FrameFileError as e:
+            if e.field == "":  # no such file or bundled name: the scene's key names it
+                raise SceneError(f"{source}: scene.frame: {e}") from None
             if e.field != "frame3d":
                 raise
             raise SceneError(
@@ -264,8 +266,9 @@ def build_scene_run(cfg: dict):
             system = _cached_system(frame, iso, sc.get("fidelity", "cb"),
                                     float(sc.get("f_max", F_MAX)))  # fmt: skip
         except ValueError as e:  # the frame's model: its cut-off, or a node without mass
-            msg = str(e)
-            at = f"scene.{msg}" if msg.startswith("f_max:") else f"scene.frame: {msg}"
+            msg = str(e)  # (an isolator list's length is the isolation table's own)
+            at = (f"scene.{msg}" if msg.startswith("f_max:") else msg
+                  if msg.startswith("isolation.") else f"scene.frame: {msg}")  # fmt: skip
             raise SceneError(f"{source}: {at}") from None
     _lifts(system, source)
     _stands(system, cfg, source)
