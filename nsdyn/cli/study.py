@@ -85,6 +85,9 @@ def _format(name: str, run: dict, an: dict) -> str:
         lines.append(f"percentiles: {len(pc['rows'])} group(s) in {pc['table']}")
         if pc.get("note"):
             lines.append(f"  note: {pc['note']}")
+    for part in ("design", "incidence", "fragility"):  # (the percentiles' with them)
+        if (an.get(part) or {}).get("note"):
+            lines.append(f"{part}: note: {an[part]['note']}")
     f = an.get("fragility")
     if f:
         for r in f["fits"]:

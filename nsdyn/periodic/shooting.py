@@ -173,6 +173,24 @@ def _evaluate(problem, x, f, N, disc, sens=True):
     return pm, W, float(np.max(np.abs(W * H)))
 
 
+def _check_inputs(problem, disc, n_steps, tol, max_iter) -> None:
+    """The arguments of :func:`shoot` it cannot run on, named (a step count of 0 "converged"
+    on x0 = 0 with every multiplier 1; a problem of another kind failed deep inside)."""
+    if not (hasattr(problem, "x_ref") and hasattr(problem, "period_map")):
+        raise TypeError(f"problem: expected a periodic problem (frame_problem, switch_problem, "
+                        f"plane_problem, ...), got {type(problem).__name__}")  # fmt: skip
+    if not isinstance(disc, Discretisation):
+        raise TypeError(f"disc: expected a Discretisation, got {type(disc).__name__}")
+    if n_steps is not None and (isinstance(n_steps, bool) or not isinstance(
+            n_steps, int | np.integer) or n_steps < 1):  # fmt: skip
+        raise ValueError(f"n_steps: expected a whole number of steps >= 1, got {n_steps!r}")
+    if not (isinstance(tol, int | float) and 0 < tol < np.inf):
+        raise ValueError(f"tol: expected a positive finite residual, got {tol!r}")
+    if isinstance(max_iter, bool) or not isinstance(max_iter, int | np.integer) or max_iter < 0:
+        raise ValueError(f"max_iter: expected a whole number >= 0 (0: the start checked "
+                         f"alone), got {max_iter!r}")  # fmt: skip
+
+
 def shoot(
     problem: PeriodicModel,
     f: float,
@@ -192,8 +210,13 @@ def shoot(
     """
     f = check_frequency(f)
     disc = disc or Discretisation()
+    _check_inputs(problem, disc, n_steps, tol, max_iter)
     N = disc.steps(1.0 / f) if n_steps is None else int(n_steps)
     x = problem.x_ref.copy() if x0 is None else np.array(x0, dtype=float)
+    if x.shape != problem.x_ref.shape or not np.all(np.isfinite(x)):
+        bad = "" if np.all(np.isfinite(x)) else " with NaN or inf"
+        raise ValueError(f"x0: expected {problem.x_ref.size} finite numbers (the problem's "
+                         f"state), got shape {x.shape}{bad}")  # fmt: skip
     pm, W, r = _evaluate(problem, x, f, N, disc)
     cheap = bool(getattr(problem, "cheap_sensitivities", False))
     hist = [r]

@@ -160,13 +160,14 @@ def check_analysis(study) -> None:
         where = "analysis.percentiles."
         _check_columns(src, where + "quantities", p.get("quantities", []), study, result=True)
         _check_columns(src, where + "by", p.get("by", []), study, result=False)
-        for i, q in enumerate(p.get("percentiles", [])):
-            if (
-                not 0
-                <= number(src, f"analysis.percentiles.percentiles[{i}]", q, allow_zero=True)
-                <= 100
-            ):
-                raise SceneError(f"{src}: analysis.percentiles.percentiles: expected 0..100")
+        pcts = p.get("percentiles", list(DEFAULT_PERCENTILES))
+        if not isinstance(pcts, list) or not pcts:  # (a number raised a TypeError)
+            raise SceneError(f"{src}: analysis.percentiles.percentiles: expected a list of "
+                             f"percentiles in 0..100, got {pcts!r}")  # fmt: skip
+        for i, q in enumerate(pcts):
+            field = f"analysis.percentiles.percentiles[{i}]"
+            if not 0 <= number(src, field, q, allow_zero=True) <= 100:
+                raise SceneError(f"{src}: {field}: expected 0..100, got {q!r}")
     if an.get("incidence") is not None:
         from nsdyn.studies import incidence
 
@@ -195,12 +196,35 @@ def _write_rows(rows: list[dict], path: Path) -> None:
     Table(rows).write_csv(path) if rows else None
 
 
+def empty_columns(table: Table, names) -> str | None:
+    """A note naming the columns an analysis reads that hold no number in any successful row
+    (a result this scene kind does not have, a misspelt one, a text column, a default the
+    study's keep drops): their statistics are NaN, which said nothing of why."""
+    ok = [r for r in table.rows if r.get("status") == "ok"]
+    if not ok:
+        return None
+
+    def number(v) -> bool:
+        return isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+
+    bad = [n for n in dict.fromkeys(names) if not any(number(r.get(n)) for r in ok)]
+    if not bad:
+        return None
+    have = sorted({k for r in ok for k, v in r.items() if number(v)} - {"index", "task_s"})
+    hint = did_you_mean(bad[0], have)
+    return (
+        f"{', '.join(map(repr, bad))}: no number in any successful row{hint} (numeric "
+        f"columns: {', '.join(have)}); their statistics are NaN"
+    )
+
+
 def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
     from nsdyn.studies.figures import pareto_figure
 
     variables = spec.get("variables") or _grid_names(study)
     objectives = spec.get("objectives") or list(DEFAULT_OBJECTIVES)
     constraints = spec.get("constraints", {"x_iso_max_m": SEISMIC_GAP_M})
+    empty = empty_columns(table, [*objectives, *constraints])
     points = design_points(table, variables, objectives, constraints, spec.get("aggregate", "mean"))
     _write_rows([p.row() for p in points], out / "design.csv")
     chosen = compromise(points, objectives)
@@ -212,6 +236,7 @@ def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
         "chosen": None if chosen is None else chosen.row(),
         "reference": None if ref is None else ref.row(),
         "table": str(out / "design.csv"),
+        **({"note": empty} if empty else {}),
     }
     if ref is not None:
         res["reference_dominated_by"] = [
@@ -245,10 +270,13 @@ def fragility_outcomes(table: Table, im_name: str, edp_name: str) -> dict:
     keep = np.zeros(len(table.rows), dtype=bool)
     counted: dict[str, int] = {}
     unknown: list[str] = []
+    below = 0  # successful runs at IM <= 0, which a lognormal curve cannot place
     for i, r in enumerate(table.rows):
         if not (np.isfinite(im[i]) and im[i] > 0):
             if status[i] != "ok" or np.isnan(im[i]):
                 unknown.append(f"no {im_name} value ({r.get('error') or 'none'})")
+            else:
+                below += 1
             continue
         if status[i] == "ok":
             if np.isnan(edp[i]):
@@ -270,7 +298,8 @@ def fragility_outcomes(table: Table, im_name: str, edp_name: str) -> dict:
             f"exceeded (first: {' '.join(unknown[0].split())[:160]}); fix them and rerun "
             "(--retry-failed), a fit without them would be biased"
         )
-    return {"im": im[keep], "edp": edp[keep], "counted": counted, "refuse": refuse}
+    return {"im": im[keep], "edp": edp[keep], "counted": counted, "refuse": refuse,
+            "below": below}  # fmt: skip
 
 
 def failure_note(counted: dict) -> str:
@@ -307,6 +336,9 @@ def _fragility(study, table: Table, spec: dict, out: Path, figures: bool) -> dic
         fits.append((lim, fit, im, exceeded))
     _write_rows(rows, out / "fragility.csv")
     res = {"im": spec["im"], "edp": spec["edp"], "fits": rows, "table": str(out / "fragility.csv")}
+    if runs["below"]:  # (they were left out without a word)
+        res["note"] = (f"{runs['below']} successful runs at {spec['im']} <= 0 left out: a "
+                       "lognormal fragility places only IM > 0")  # fmt: skip
     if note:
         res["failures"] = note
     if figures:
@@ -339,7 +371,7 @@ def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True)
         rows = percentile_table(table, q, by, pct)
         _write_rows(rows, out / "percentiles.csv")
         res["percentiles"] = {"rows": rows, "table": str(out / "percentiles.csv")}
-        note = few_runs_note(rows, pct)
+        note = empty_columns(table, q) or few_runs_note(rows, pct)
         if note:
             res["percentiles"]["note"] = note
         if figures and rows:
@@ -353,6 +385,9 @@ def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True)
         from nsdyn.studies import incidence
 
         res["incidence"] = incidence.run(study, table, an["incidence"], out, figures)
+        note = empty_columns(table, res["incidence"].get("quantities") or [])
+        if note:
+            res["incidence"]["note"] = note
     return _finite(res)
 
 

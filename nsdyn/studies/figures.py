@@ -64,7 +64,8 @@ def fragility_figure(fits, im: str, edp: str, confidence: float, title: str = ""
     """
     fig = Figure(figsize=(6.4, 4.6))
     ax = fig.add_subplot()
-    all_im = np.concatenate([f[2] for f in fits]) if fits else np.ones(1)
+    all_im = np.concatenate([f[2] for f in fits]) if fits else np.ones(0)
+    all_im = all_im if all_im.size else np.ones(1)  # (no run with an IM > 0: an empty chart)
     x = np.geomspace(all_im.min() * 0.5, all_im.max() * 2.0, 200)
     for i, (lim, fit, xs, ys) in enumerate(fits):
         c = f"C{i}"

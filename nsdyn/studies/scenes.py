@@ -416,11 +416,13 @@ def run_task(task) -> dict:
     t0 = time.perf_counter()
     try:
         s = run_scene_summary(task.cfg, task.source)
-        row.update(result_columns(s, task.keep, task.source))
+        own = set(row)  # the task's columns: a summary's "record" wrote over the table's
+        row.update({k: v for k, v in result_columns(s, task.keep, task.source).items()
+                    if k not in own})  # fmt: skip
         note = missing_kept(s, task.keep, task.source)  # the cell is empty, and says why
         row["status"], row["error"] = "ok", note[:ERROR_CHARS]
     except Exception as e:  # a failing task is a result, not the end of the study
-        row.update(getattr(e, "columns", {}))
+        row.update({k: v for k, v in getattr(e, "columns", {}).items() if k not in row})
         msg = " ".join(f"{type(e).__name__}: {e}".split())
         row["status"], row["error"] = "failed", msg[:ERROR_CHARS]
     row["task_s"] = time.perf_counter() - t0

@@ -58,6 +58,7 @@ from nsdyn.models.scenefile import (
     scene_module,
     unknown_key,
 )
+from nsdyn.studies.table import checked_keep
 
 KINDS3C = ("deck", "building3d")  # scene kinds whose records have two horizontal components
 PAIR_KINDS = (*KINDS3C, "cylinder")  # scene kinds that read a record's components from files
@@ -469,9 +470,7 @@ def load_study(path: str | Path) -> Study:
         if key not in STUDY_FIELDS:
             raise unknown_key(source, "study.", key, STUDY_FIELDS)
         _check_type(source, f"study.{key}", val, STUDY_FIELDS[key])
-    keep = st.get("keep")
-    if keep is not None and not all(isinstance(k, str) for k in keep):
-        raise _err(source, "study.keep", f"expected a list of field names, got {keep!r}")
+    keep = checked_keep(source, st.get("keep"), raw.get("parameters", {}))
     kind, base = _base_scene(source, study_dir, st, raw.get("base", {}))
     params_raw = raw.get("parameters", {})
     known, whole = _known_fields(kind, base), _integer_fields(kind)

@@ -48,6 +48,25 @@ ANALYSIS_FILES = (*(f for pair in ANALYSIS_OUTPUTS.values() for f in pair), PARQ
 PARTS = "parts"
 LEAD_COLUMNS = ("index", "key", "record", "sample")  # first columns, in this order
 TAIL_COLUMNS = ("status", "error", "task_s")  # after the parameters
+
+
+def checked_keep(source: str, keep, parameters) -> list | None:
+    """A study's ``keep``: a list of result names, none of them a column the table holds for
+    every task (its lead and tail columns, its parameters: a result of that name wrote over
+    it, a kept ``key`` lost the table, a kept parameter emptied its column); SceneError
+    naming ``study.keep`` otherwise."""
+    from nsdyn.models.scenefile import SceneError
+
+    if keep is not None and not all(isinstance(k, str) for k in keep):
+        raise SceneError(f"{source}: study.keep: expected a list of field names, got {keep!r}")
+    own = [k for k in keep or () if k in (*LEAD_COLUMNS, *TAIL_COLUMNS, *parameters)]
+    if own:
+        raise SceneError(f"{source}: study.keep: {own[0]!r} is a column of the table itself "
+                         "(index, key, record, sample, status, error, task_s and the "
+                         "parameters); expected results of the run")  # fmt: skip
+    return keep
+
+
 TIMING_COLUMNS = ("task_s", "wall_s", "compile_s")  # differ between runs of the same task
 
 

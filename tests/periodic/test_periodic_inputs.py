@@ -37,6 +37,27 @@ def test_shooting_rejects_a_frequency_that_is_not_positive(f):
         pr.period_map(prob, prob.x_ref, f)
 
 
+@pytest.mark.parametrize(
+    "kw, err, match",
+    [
+        # 0 steps "converged" on x0 = 0 with every multiplier 1; 2.7 was cut to 2
+        ({"n_steps": 0}, ValueError, r"^n_steps: expected a whole number of steps >= 1"),
+        ({"n_steps": 2.7}, ValueError, r"^n_steps: expected a whole number"),
+        ({"x0": [0.0, 0.0, 0.0]}, ValueError, r"^x0: expected 2 finite numbers"),
+        ({"x0": [math.nan, 0.0]}, ValueError, r"^x0: .* with NaN or inf"),
+        ({"tol": -1.0}, ValueError, r"^tol: expected a positive finite residual"),
+        ({"max_iter": -1}, ValueError, r"^max_iter: expected a whole number >= 0"),
+        ({"disc": "sdirk2"}, TypeError, r"^disc: expected a Discretisation"),
+    ],
+)
+def test_shooting_names_the_argument_it_cannot_run_on(kw, err, match):
+    prob = pr.duffing_problem(0.05, 1.0, 0.1, 0.5)
+    with pytest.raises(err, match=match):
+        pr.shoot(prob, 0.2, **kw)
+    with pytest.raises(TypeError, match=r"^problem: expected a periodic problem"):
+        pr.shoot("duffing", 0.2)
+
+
 @pytest.mark.parametrize("f", BAD_F)
 def test_switch_shooting_rejects_a_frequency_that_is_not_positive(f):
     # f = -0.1 used to "converge" after 0 iterations with a multiplier of 1e54

@@ -242,3 +242,46 @@ def test_nothing_beside_the_table_is_older_than_it(tmp_path, capsys):
     assert main(["study", str(p), "--out", str(out), "--workers", "1"]) == 0
     assert not (out / "percentiles.csv").exists()
     capsys.readouterr()
+
+
+def test_a_studys_own_columns_are_never_results(tmp_path, capsys):
+    """A kept ``key`` lost the table and a kept parameter emptied its column (a result of that
+    name wrote over it): refused. With the default keep, a run summary's ``record`` (a
+    simulated record's generator name) wrote over the task's; the task's stays."""
+    from nsdyn.models.scenefile import SceneError
+    from nsdyn.studies.execute import run_study
+    from nsdyn.studies.tasks import expand
+
+    head = '[study]\nname = "k"\nKEEP[base.scene]\nfidelity = "rigid"\n[base.motion]\n'
+    tail = ('t_end = 1.0\n[parameters]\n"isolation.mu" = [0.02, 0.05]\n[records]\n'
+            "simulated = { n = 1, seed = 3, duration = 1.0 }\n")  # fmt: skip
+    for keep in ('"key"', '"isolation.mu"', '"record"'):
+        p = _write(tmp_path, head.replace("KEEP", f'keep = [{keep}, "x_iso_max_m"]\n') + tail)
+        name = keep.strip('"').replace(".", "[.]")
+        with pytest.raises(SceneError, match=rf"study\.keep: '{name}' is a column of the table"):
+            load_study(p)
+    st = load_study(_write(tmp_path, head.replace("KEEP", "") + tail))
+    table = run_study(st, tmp_path / "o", workers=1).table
+    assert [r["record"] for r in table.rows] == [t.columns()["record"] for t in expand(st)]
+    assert all(r["isolation.mu"] in (0.02, 0.05) for r in table.rows)
+    capsys.readouterr()
+
+
+def test_analyses_say_why_their_statistics_are_nan(tmp_path, capsys):
+    """The default design constraint on a result the keep drops, and a fragility IM that is
+    0 on every run (the rigid rung's drift), gave NaN or '0 of 0' without a reason; the
+    fragility chart of no run with IM > 0 was a traceback."""
+    from nsdyn.cli import main
+
+    text = ('[study]\nname = "n"\nkeep = ["idr_max", "floor_acc_max_mps2"]\n[base.scene]\n'
+            'fidelity = "rigid"\n[base.motion]\nt_end = 1.0\n[parameters]\n'
+            '"motion.pga" = [1.0, 2.0]\n[records]\nnames = ["synthetic-wn-40s"]\n'
+            '[analysis.design]\n[analysis.fragility]\nim = "idr_max"\nedp = '
+            '"floor_acc_max_mps2"\nlimits = [2.0]\n')  # fmt: skip
+    assert main(["study", str(_write(tmp_path, text)), "--out", str(tmp_path / "o")]) == 0
+    out = capsys.readouterr().out
+    assert "design: note: 'x_iso_max_m': no number in any successful row" in out
+    assert "fragility: note: 2 successful runs at idr_max <= 0 left out" in out
+    bad = text.replace("[analysis.design]\n", "[analysis.percentiles]\npercentiles = 50\n")
+    assert main(["study", str(_write(tmp_path, bad, "b.toml")), "--out", str(tmp_path / "b")]) == 2
+    assert "analysis.percentiles.percentiles: expected a list" in capsys.readouterr().err

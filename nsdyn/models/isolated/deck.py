@@ -418,8 +418,8 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
         t0 = gp[kp.GP_T0] * (gk == kp.G_TABLE)
         t_eval = output_times(t0, t0 + t_end, dt_out)  # (t_end the last output)
     t_eval = np.ascontiguousarray(t_eval, dtype=float)
-    if t_eval.ndim != 1 or t_eval.size < 2 or np.any(np.diff(t_eval) <= 0):
-        raise ValueError("t_eval: expected at least two increasing times")
+    if t_eval.ndim != 1 or t_eval.size < 2 or not np.all(np.diff(t_eval) > 0):  # NaN too
+        raise ValueError("t_eval: expected at least two increasing finite times")
     if max_step is None:
         max_step = (
             gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (20.0 * max(gp[kp.GP_F], gp[kp.GP_FZ]))

@@ -110,6 +110,16 @@ def _symmetric(name: str, a: np.ndarray) -> np.ndarray:
     return 0.5 * (a + a.T)
 
 
+def _semidefinite(name: str, a: np.ndarray) -> np.ndarray:
+    """``a`` if positive semi-definite to round-off, else PairSystemError (-K ran to 1e26 m)."""
+    ev = np.linalg.eigvalsh(a) if a.size else np.zeros(1)
+    if ev[0] < -SPD_RTOL * max(abs(ev[-1]), 1e-300):
+        raise PairSystemError(f"{name}: expected a positive semi-definite matrix (the "
+                              f"structure's; the bearings add their own), smallest eigenvalue "
+                              f"{ev[0]:.6g} (largest {ev[-1]:.6g})")  # fmt: skip
+    return a
+
+
 @dataclass(frozen=True, repr=False)
 class PairSystem:
     """A linear structure from matrices on isolators that slide in a plane (module text).
@@ -147,8 +157,8 @@ class PairSystem:
             raise PairSystemError(f"{w}.M: expected a positive definite mass matrix, smallest "
                                   f"eigenvalue {ev[0]:.6g} (largest {ev[-1]:.6g})")  # fmt: skip
         by_m = f" (n = {n}, the size of M)"
-        K = _symmetric(f"{w}.K", _matrix(f"{w}.K", self.K, (n, n), by_m))
-        C = _matrix(f"{w}.C", self.C, (n, n), by_m)
+        K = _semidefinite(f"{w}.K", _symmetric(f"{w}.K", _matrix(f"{w}.K", self.K, (n, n), by_m)))
+        C = _semidefinite(f"{w}.C", _symmetric(f"{w}.C", _matrix(f"{w}.C", self.C, (n, n), by_m)))
         Gam = _matrix(f"{w}.Gamma", self.Gamma, (n, 3), by_m)
         Draw = np.asarray(self.D) if not isinstance(self.D, list) else np.array(self.D, float)
         if Draw.ndim != 3 or Draw.shape[1:] != (2, n) or Draw.shape[0] < 1:

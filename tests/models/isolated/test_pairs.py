@@ -223,6 +223,10 @@ def _fields(**over):
         ({"M": np.diag([1.0, 1.0, -1.0])}, r"box\.M: expected a positive definite"),
         ({"M": np.array([[1.0, 0.5, 0], [0, 1, 0], [0, 0, 1]])}, r"box\.M: not symmetric"),
         ({"K": np.full((3, 3), np.nan)}, r"box\.K: entry \[0, 0\] is nan"),
+        # a negative stiffness ran to 1e26 m, a negative damping fed energy in: both refused
+        ({"K": -np.eye(3)}, r"box\.K: expected a positive semi-definite matrix"),
+        ({"C": np.diag([0.0, -1.0, 0.0])}, r"box\.C: expected a positive semi-definite"),
+        ({"C": np.array([[0.0, 1.0, 0], [0, 0, 0], [0, 0, 0]])}, r"box\.C: not symmetric"),
         ({"Gamma": np.eye(3)[:, :2]}, r"box\.Gamma: expected shape \(3, 3\)"),
         ({"D": np.zeros((1, 2, 3))}, r"box\.D\[0, 0\]: the x slip row of isolator 0 is zero"),
         ({"D": np.array([[[1.0, 0, 0], [2.0, 0, 0]]])}, r"box\.D\[0\]: .* parallel"),
