@@ -196,7 +196,7 @@ class Frame3D:
             raise ValueError(f"base node index out of range 0..{nn - 1}")
         obj(self, "base_nodes", base)
         zeta = _frozen(np.atleast_1d(self.zeta), float)
-        if zeta.ndim != 1 or len(zeta) == 0 or np.any(zeta < 0) or np.any(zeta >= 1):
+        if zeta.ndim != 1 or len(zeta) == 0 or not np.all((zeta >= 0) & (zeta < 1)):  # NaN
             raise ValueError("zeta must be a non-empty list of ratios in [0, 1)")
         obj(self, "zeta", zeta)
         obj(self, "diaphragms", tuple(self.diaphragms))

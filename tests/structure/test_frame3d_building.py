@@ -274,6 +274,11 @@ def test_bad_building_input_is_refused_not_ignored():
             "d", nodes, [[0, 1], [1, 2]], (0.0, 1.0, 0.0), E, G, 1e-2, 1e-5, 1e-5, 1e-5, 10.0,
             None, 0.0, [0], [0.05], diaphragms=(Diaphragm([1, -1], (2.0, 0.0), 1e3, 1e3),),
         )  # fmt: skip
+    # a NaN damping ratio passed (NaN < 0 and NaN >= 1 are both false) and the modal response
+    # failed later without naming zeta
+    with pytest.raises(ValueError, match=r"zeta must be a non-empty list of ratios in \[0, 1\)"):
+        regular_building_3d("b", [6.0], [6.0], [4.0], COL, BEAM, BEAM, floor_mass=1e4,
+                            zeta=[float("nan"), 0.04])  # fmt: skip
 
     # a massless frame has no mode of finite frequency and no centre of mass: refused, not an
     # empty result with a NaN centre

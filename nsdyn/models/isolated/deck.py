@@ -77,7 +77,7 @@ class PlaneSystem:
     info: dict = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
-        for k in ("m", "J"):
+        for k in ("m", "J", "g"):  # (a g of 0 or NaN was blamed on ecc or the positions)
             v = getattr(self, k)
             real = isinstance(v, numbers.Real) and not isinstance(v, bool)  # numpy's too
             if not (real and math.isfinite(v) and v > 0):

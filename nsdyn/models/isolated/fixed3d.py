@@ -138,6 +138,10 @@ def response_peaks(drifts: StoreyDrifts, floor_acc, base_shear, torsion) -> dict
 
 
 def _components(motion) -> tuple[float, float, np.ndarray]:
+    if not (hasattr(motion, "dt") and hasattr(motion, "ax")):  # (an AttributeError before)
+        raise TypeError(f"motion: expected a three-component record (GroundMotion3: "
+                        f"nsdyn.read_motion3, or GroundMotion3.from_planar of a one-component "
+                        f"record), got {type(motion).__name__}")  # fmt: skip
     dt = float(motion.dt)
     ax = np.asarray(motion.ax, float)
     ay = np.zeros_like(ax) if motion.ay is None else np.asarray(motion.ay, float)

@@ -105,6 +105,11 @@ def test_bad_decks_are_refused_with_the_field_named():
         rigid_deck(-1.0, 1e4, POS[:4], b)
     with pytest.raises(BearingError, match=r"deck.bearings: expected 4"):
         rigid_deck(1e4, 1e4, POS[:4], (b, b))
+    for g in (0.0, -9.81, float("nan")):  # (blamed on ecc, or a singular run, before)
+        with pytest.raises(BearingError, match=r"deck.g: expected a positive number"):
+            rigid_deck(1e4, 1e4, POS[:4], b, g=g)
+    with pytest.raises(BearingError, match=r"deck.ecc: a deck on one isolator stands on it"):
+        rigid_deck(1e4, 1e4, [(0.0, 0.0)], b, ecc=(0.8, 0.5))
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         rigid_deck(1e4, 1e4, POS[:4], b, ecc=(1.5, 1.0))  # inside the kern: accepted

@@ -138,3 +138,13 @@ def test_symmetric_building_under_x_motion_has_no_y_or_torsional_response():
     # y's drifts are round-off: no amplification to report (it read a ratio of round-off, 125)
     assert res.summary()["corner_amplification_y"] is None
     assert json.dumps(res.summary(), allow_nan=False)  # (a NaN at rest was invalid JSON)
+
+
+def test_a_one_component_record_is_named_not_an_attribute_error():
+    # a GroundMotion (one component) gave "'GroundMotion' object has no attribute 'ax'"
+    import nsdyn
+
+    f = regular_building_3d("one", [6.0], [5.0], [4.0], _sec(240.0), _sec(160.0), _sec(160.0),
+                            floor_mass=3e5)  # fmt: skip
+    with pytest.raises(TypeError, match=r"^motion: expected a three-component record"):
+        fixed_response_3d(f, nsdyn.read_motion("synthetic-kt-20s"), n_modes=3)
