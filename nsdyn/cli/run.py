@@ -358,16 +358,13 @@ def run(args: argparse.Namespace) -> int:
     if args.friction:
         cfg.setdefault("isolation", {})["law"] = args.friction
     method = cfg.get("solver", {}).get("method", "auto")
-    if args.friction in ("arctan", "none") and method == "event":  # neither is dropped
-        raise SceneError(f"{cfg.get('_source', '<default scene>')}: --friction "
-                         f"{args.friction}: the event method integrates the switch model (true "
-                         "stick); drop --friction, or choose a method of the smooth law "
-                         "('radau', 'genalpha', …)")  # fmt: skip
-    law = (raw.get("isolation") or {}).get("law") if args.scene is not None else None
-    if law in ("arctan", "none") and method == "event":  # (it ran the switch law instead)
-        raise SceneError(f"{args.scene}: isolation.law: {law!r} with solver.method 'event', "
-                         "which integrates the switch model (true stick); expected law "
-                         "'switch', or a smooth law's method ('radau', 'genalpha', …)")  # fmt: skip
+    given = args.friction or ((raw.get("isolation") or {}).get("law") if args.scene else None)
+    if given in ("arctan", "none") and method == "event":  # (the switch law ran instead)
+        what = (f"--friction {given}" if args.friction else
+                f"isolation.law: {given!r} with solver.method 'event'")  # fmt: skip
+        raise SceneError(f"{cfg.get('_source', '<default scene>')}: {what}: the event method "
+                         "integrates the switch model (true stick); expected the switch law, or "
+                         "a method of the smooth law ('radau', 'genalpha', …)")  # fmt: skip
     check_method(method, cfg)  # before the model's build
     system, motion, duration = build_scene_run(cfg)
     notes = scene_notes(cfg, motion, args.json, system)

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.cli.args import fail
+from nsdyn.cli.args import fail, stale_figures
 
 _NOT_HERE = (  # flags of the nonlinear sweeps: (flag, attribute, its default)
     ("--friction", "friction", None), ("--contact", "contact", "bilateral"),
@@ -85,7 +85,9 @@ def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
               "fmin_hz": fmin, "fmax_hz": fmax, "modes": mode_list,
               "mass_captured": [float(v) for v in modes.mass_fraction.sum(axis=0)],
               "amplitudes": summary, "wall_s": time.perf_counter() - t0}  # fmt: skip
-    if not args.no_figures:
+    if args.no_figures:
+        stale_figures(out, ["sweep.png"], "sweep", args.json)
+    else:
         from nsdyn.plot.frames3d import frf_figure
 
         title = f"{sc['name']}: fixed base, steady harmonic response"

@@ -303,7 +303,7 @@ def frame_from_dict(data: Mapping, file: str = "<dict>") -> Frame:
         )
     except ValueError as exc:  # (an entry's own message names it: frame.nodes[7]: ...)
         sep = "." if str(exc).startswith(("nodes[", "elements[", "node_mass:")) else ": "
-        raise FrameFileError(f"{file}: frame{sep}{exc}") from None
+        raise FrameFileError(f"{file}: frame{sep}{exc}", field="frame") from None
 
 
 def bundled_frames() -> list[str]:

@@ -371,9 +371,11 @@ def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True)
         rows = percentile_table(table, q, by, pct)
         _write_rows(rows, out / "percentiles.csv")
         res["percentiles"] = {"rows": rows, "table": str(out / "percentiles.csv")}
-        note = empty_columns(table, q) or few_runs_note(rows, pct)
+        note = "; ".join(n for n in (empty_columns(table, q), few_runs_note(rows, pct)) if n)
         if note:
             res["percentiles"]["note"] = note
+        if not rows:  # (no figure drawn: an earlier one would sit beside the new table)
+            (out / ANALYSIS_OUTPUTS["percentiles"][1]).unlink(missing_ok=True)
         if figures and rows:
             from nsdyn.studies.figures import distribution_figure  # (matplotlib: on use)
 

@@ -62,6 +62,7 @@ def _refused(tmp_path, capsys, argv, needle: str) -> None:
         ("deck-fps4-3c", "positions = [[-10.0, -6.0], [10.0, -6.0], [10.0, 6.0], [-10.0, 6.0]]",
          "positions = [[0.0, 0.0]]", "deck.ecc: a deck on one isolator stands on it alone"),
         ("deck-fps4-3c", "J = 9.07e7", "", None),  # (J derived from the four corners: runs)
+        ("deck-fps4-3c", "mu_fast = 0.07\nrate = 30.0", "rate = 0.0", None),  # constant mu
     ],
 )  # fmt: skip
 def test_a_scene_that_ran_another_model_is_refused(tmp_path, capsys, scene, old, new, needle):
@@ -163,3 +164,24 @@ def test_a_3d_frame_name_of_the_wrong_type_is_not_called_missing(tmp_path, capsy
     _refused(tmp_path, capsys, ["run", str(p), "--t-end", "0.2"],
              "structure.frame3d: expected a bundled 3D frame name (office-11-3d) or a 3D frame "
              "file, got 3")  # fmt: skip
+
+
+def test_the_friction_flag_settles_a_scene_law_the_event_method_would_not_run(tmp_path, capsys):
+    # the scene's law 'none' with method 'event' is refused, but --friction switch gives the
+    # event method its law: the run goes (it was refused by the scene's law alone)
+    text = (SCENES / "isolated-coulomb-force.toml").read_text()
+    p = _scene(tmp_path, text.replace('law = "switch"', 'law = "none"'))
+    argv = ["run", str(p), "--t-end", "0.2", "--no-figures", "--out", str(tmp_path / "o")]
+    assert main([*argv, "--friction", "switch"]) == 0
+    capsys.readouterr()
+
+
+def test_an_error_inside_a_scenes_frame_file_names_that_file(tmp_path, capsys):
+    frame = (Path(__file__).resolve().parents[2] / "frames" / "portal.toml").read_text()
+    twice = frame.replace("[3, 4, 1], [4, 5, 1]", "[3, 4, 1], [4, 3, 1], [4, 5, 1]")
+    (tmp_path / "bad.toml").write_text(twice)
+    p = _scene(tmp_path, '[scene]\nframe = "bad.toml"\n')
+    rc = main(["run", str(p), "--t-end", "0.2", "--no-figures", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 2 and "bad.toml: frame.elements[3]: joins nodes 4 and 3" in err
+    assert "scene.frame" not in err

@@ -299,7 +299,8 @@ def friction_from_config(cfg: dict, where: str) -> Friction:
     if "mu" not in cfg and "mu_slow" not in cfg:
         raise BearingError(f"{where}.mu: missing; expected the friction coefficient mu "
                            "(or mu_slow, mu_fast, rate)")  # fmt: skip
-    if "rate" in cfg and "mu_fast" not in cfg:  # (it was dropped without a word)
+    rate = cfg.get("rate", 0.0)  # (a positive rate without mu_fast was dropped)
+    if isinstance(rate, int | float) and rate > 0 and "mu_fast" not in cfg:
         raise BearingError(f"{where}.rate: the rate of the change from mu_slow to mu_fast; "
                            "expected mu_fast beside it (or no rate)")  # fmt: skip
     slow = cfg.get("mu", cfg.get("mu_slow"))

@@ -418,7 +418,8 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
         t0 = gp[kp.GP_T0] * (gk == kp.G_TABLE)
         t_eval = output_times(t0, t0 + t_end, dt_out)  # (t_end the last output)
     t_eval = np.ascontiguousarray(t_eval, dtype=float)
-    if t_eval.ndim != 1 or t_eval.size < 2 or not np.all(np.diff(t_eval) > 0):  # NaN too
+    if (t_eval.ndim != 1 or t_eval.size < 2 or not np.all(np.isfinite(t_eval))
+            or not np.all(np.diff(t_eval) > 0)):  # fmt: skip
         raise ValueError("t_eval: expected at least two increasing finite times")
     if max_step is None:
         max_step = (

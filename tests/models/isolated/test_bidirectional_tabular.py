@@ -96,7 +96,8 @@ def test_nsdyn_run_reports_a_failed_deck_run_in_one_line(tmp_path, monkeypatch, 
     [({"rtol": -1.0}, "rtol"), ({"rtol": 0.0}, "rtol"), ({"atol": (1e-8,)}, "atol"),
      ({"atol": (1e-8, -1.0)}, "atol"), ({"max_step": -1.0}, "max_step"),
      ({"max_steps": 0}, "max_steps"), ({"y0": [np.nan] * 6}, "y0"),
-     ({"t_eval": [0.0, np.nan, 1.0]}, "t_eval")],  # (a one-point "result" of zero response)
+     ({"t_eval": [0.0, np.nan, 1.0]}, "t_eval"),  # (a one-point "result" of zero response)
+     ({"t_eval": [0.0, 1.0, np.inf]}, "t_eval")],
 )  # fmt: skip
 def test_bad_run_options_are_refused_with_the_field_named(kw, field):
     # each of these ran to a misleading status (NaN state, underflow, singular) or silently

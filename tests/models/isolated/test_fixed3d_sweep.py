@@ -152,6 +152,9 @@ def test_cli_sweep_of_a_fixed_building(tmp_path):
     a = np.array([r["roof_displacement_m"] for r in rows if r["A"] == 0.5])
     b = np.array([r["roof_displacement_m"] for r in rows if r["A"] == 1.5])
     assert np.allclose(b, 3 * a, rtol=4 * EPS, atol=0)
+    # --no-figures removes the earlier figure (it stayed beside the new curves)
+    code = main(["sweep", str(p), "--out", str(out), "--points", "3", "--no-figures", "--json"])
+    assert code == 0 and not (out / "sweep.png").exists()
 
 
 def test_cli_sweep_fidelity_flag_selects_the_fixed_rung_and_names_the_sweepable_ones(
