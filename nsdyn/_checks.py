@@ -55,13 +55,20 @@ def rel_tol(name: str, value) -> float:
     return number(name, value, what, lambda v: RTOL_MIN <= v < 1)
 
 
-def non_negative_int(name: str, value) -> int:
-    """``value`` as an int, or ValueError naming ``name`` (a seed, a count)."""
+def whole(name: str, value, lo: int = 0, what: str = "") -> int:
+    """``value`` as an int ``>= lo`` (a count, a seed, a number of steps), or
+    ``ValueError("{name}: expected {what}, got {value!r}")``; a bool or a float is never
+    taken (2.7 steps is no count). ``what`` defaults to "a whole number >= lo"."""
     import numpy as np
 
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 0:
-        raise ValueError(f"{name}: expected a non-negative integer, got {value!r}")
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < lo:
+        raise ValueError(f"{name}: expected {what or f'a whole number >= {lo}'}, got {value!r}")
     return int(value)
+
+
+def non_negative_int(name: str, value) -> int:
+    """``value`` as an int, or ValueError naming ``name`` (a seed, a count)."""
+    return whole(name, value, 0, "a non-negative integer")
 
 
 def number(name: str, value, what: str, ok=None) -> float:

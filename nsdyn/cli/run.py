@@ -270,7 +270,9 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     req = args.t_end or cfg.get("motion", {}).get("t_end")  # (--t-end, or the scene's)
     short = isinstance(ran, int | float) and isinstance(req, int | float) and ran < req - 1e-6
     if short and not s.get("uplift"):  # (an uplift ends a run early too)
-        note = f"t_end = {req:g} s is past the excitation's end; the run ends there, at {ran:g} s"
+        from nsdyn.ground.formats import past_record_note
+
+        note = past_record_note(req, ran, runs_on=False, what="excitation")
         s.setdefault("notes", []).append(note)  # (--json: the summary's notes)
         if not args.json:
             print(f"nsdyn run: note: {note}", file=sys.stderr)

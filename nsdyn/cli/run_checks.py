@@ -14,10 +14,11 @@ def note_short_record(cfg: dict, motion) -> str | None:
     t_req = cfg.get("motion", {}).get("t_end")
     if t_req is None or not hasattr(motion, "n") or not hasattr(motion, "dt"):
         return None
+    from nsdyn.ground.formats import past_record_note
+
     last = motion.t0 + (motion.n - 1) * motion.dt
     if float(t_req) > last + motion.dt:  # (a window ends within one sample of its t_end)
-        return (f"t_end = {float(t_req):g} s is past the record's last sample; the run ends "
-                f"there, at {last:g} s")  # fmt: skip
+        return past_record_note(float(t_req), last, runs_on=False)
     return None
 
 

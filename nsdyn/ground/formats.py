@@ -319,10 +319,15 @@ def unused_columns_note(motion, remedy: str) -> str | None:
             f"{', '.join(map(repr, took))} ({remedy})")  # fmt: skip
 
 
-def past_record_note(t_end: float, end: float) -> str | None:
-    """One line for a run whose ``t_end`` is past the end of its record (the ground is at rest
-    after it: the rest of the run is free motion); None when it ends within the record."""
+def past_record_note(t_end: float, end: float, runs_on: bool = True,
+                     what: str = "record") -> str | None:  # fmt: skip
+    """One line for a run whose ``t_end`` is past the end of its record (or other
+    excitation, ``what``); None when it ends within it. ``runs_on``: the ground is at rest
+    after it and the rest of the run is free motion (rocking, contact, cylinder), else the
+    run ends there (the isolated frames, decks and buildings)."""
     if not t_end > end * (1 + 1e-9) + 1e-12:
         return None
-    return (f"t_end = {t_end:g} s is past the record's end ({end:g} s): the ground is at rest "
-            f"after it, the last {t_end - end:.4g} s are free motion")  # fmt: skip
+    head = f"t_end = {t_end:g} s is past the {what}'s end ({end:g} s)"
+    if not runs_on:
+        return f"{head}; the run ends there"
+    return f"{head}: the ground is at rest after it, the last {t_end - end:.4g} s are free motion"

@@ -17,6 +17,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from nsdyn._checks import whole
+
 STAGE_RTOL = 1e-9  # stage Newton tolerance (relative)
 STAGE_ATOL = 1e-13  # stage Newton tolerance (absolute, m and m/s)
 REFINE_FACTOR = 4  # more steps per period when a period cannot be integrated
@@ -60,9 +62,7 @@ class Discretisation:
         if self.method not in TABLEAUX:
             raise ValueError(f"method: expected one of {sorted(TABLEAUX)}, got {self.method!r}")
         for name in ("n_min", "n_max"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < 1:
-                raise ValueError(f"{name}: expected a whole number of steps >= 1, got {v!r}")
+            whole(name, getattr(self, name), 1, "a whole number of steps >= 1")
         if not (isinstance(self.dt_max, int | float) and self.dt_max > 0):
             raise ValueError(f"dt_max: expected a positive step [s], got {self.dt_max!r}")
 

@@ -39,11 +39,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from numbers import Integral
 from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 import numpy as np
 
+from nsdyn._checks import whole
 from nsdyn.periodic import _kperiodic as kp
 
 if TYPE_CHECKING:
@@ -86,9 +86,7 @@ def check_range(fmin, fmax, points) -> tuple[float, float, int]:
     """A frequency range of a curve: ``0 < fmin < fmax`` [Hz] and an integer ``points >= 1``
     (``fmin == fmax`` only with one point); ValueError naming the argument otherwise."""
     lo, hi = check_frequency(fmin, "fmin"), check_frequency(fmax, "fmax")
-    if isinstance(points, bool) or not isinstance(points, Integral) or points < 1:
-        raise ValueError(f"points: expected an integer >= 1 (frequencies on the curve), got "
-                         f"{points!r}")  # fmt: skip
+    whole("points", points, 1, "an integer >= 1 (frequencies on the curve)")
     if hi < lo or (hi == lo and points > 1):
         raise ValueError(f"fmax: expected a frequency above fmin = {lo:g} Hz, got {hi:g}")
     return lo, hi, int(points)

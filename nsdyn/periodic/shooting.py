@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._brief import brief_repr
+from nsdyn._checks import whole
 from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.protocol import (
     STATUS_MESSAGES,
@@ -181,14 +182,11 @@ def _check_inputs(problem, disc, n_steps, tol, max_iter) -> None:
                         f"plane_problem, ...), got {type(problem).__name__}")  # fmt: skip
     if not isinstance(disc, Discretisation):
         raise TypeError(f"disc: expected a Discretisation, got {type(disc).__name__}")
-    if n_steps is not None and (isinstance(n_steps, bool) or not isinstance(
-            n_steps, int | np.integer) or n_steps < 1):  # fmt: skip
-        raise ValueError(f"n_steps: expected a whole number of steps >= 1, got {n_steps!r}")
+    if n_steps is not None:
+        whole("n_steps", n_steps, 1, "a whole number of steps >= 1")
     if not (isinstance(tol, int | float) and 0 < tol < np.inf):
         raise ValueError(f"tol: expected a positive finite residual, got {tol!r}")
-    if isinstance(max_iter, bool) or not isinstance(max_iter, int | np.integer) or max_iter < 0:
-        raise ValueError(f"max_iter: expected a whole number >= 0 (0: the start checked "
-                         f"alone), got {max_iter!r}")  # fmt: skip
+    whole("max_iter", max_iter, 0, "a whole number >= 0 (0: the start checked alone)")
 
 
 def shoot(

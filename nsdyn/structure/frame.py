@@ -26,7 +26,7 @@ import numpy as np
 from nsdyn._brief import brief_repr
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements import element_matrices
-from nsdyn.structure.geometry import check_geometry
+from nsdyn.structure.geometry import check_geometry, checked_base, checked_zeta, frozen
 
 sp = LazyModule("scipy.sparse")
 
@@ -43,12 +43,6 @@ class Section:
     A: float
     I: float
     rho_A: float
-
-
-def _frozen(a, dtype) -> np.ndarray:
-    a = np.array(a, dtype=dtype)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -103,8 +97,8 @@ class Frame:
     column_joints: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        nodes = _frozen(self.nodes, float)
-        elements = _frozen(self.elements, np.int64)
+        nodes = frozen(self.nodes, float)
+        elements = frozen(self.elements, np.int64)
         if nodes.ndim != 2 or nodes.shape[1] != 2 or len(nodes) < 2:
             raise ValueError(f"nodes must have shape (nn, 2), got {nodes.shape}")
         if elements.ndim != 2 or elements.shape[1] != 2 or len(elements) < 1:
@@ -117,7 +111,7 @@ class Frame:
         obj(self, "nodes", nodes)
         obj(self, "elements", elements)
         for key in ("E", "A", "I", "rho_A"):
-            v = _frozen(np.broadcast_to(np.asarray(getattr(self, key), float), (ne,)), float)
+            v = frozen(np.broadcast_to(np.asarray(getattr(self, key), float), (ne,)), float)
             bad = v < 0 if key == "rho_A" else v <= 0
             if np.any(bad) or not np.all(np.isfinite(v)):
                 raise ValueError(f"element {key} must be positive and finite")
@@ -126,33 +120,23 @@ class Frame:
         if nm.ndim > 1 or nm.size not in (1, nn):
             raise ValueError(f"node_mass: expected one value or one per node ({nn}), got "
                              f"{nm.size}")  # fmt: skip
-        nm = _frozen(np.broadcast_to(nm, (nn,)), float)
+        nm = frozen(np.broadcast_to(nm, (nn,)), float)
         if np.any(nm < 0) or not np.all(np.isfinite(nm)):
             raise ValueError("node_mass must be finite and >= 0")
         obj(self, "node_mass", nm)
-        base = _frozen(np.atleast_1d(self.base_nodes), np.int64)
-        # distinct by a set: numpy 2's np.unique imports numpy.ma (~40 ms of a cached start)
-        if base.ndim != 1 or len(set(base.tolist())) != len(base) or len(base) == 0:
-            raise ValueError("base_nodes must be a non-empty list of distinct nodes")
-        if base.min() < 0 or base.max() >= nn:
-            raise ValueError(f"base node index out of range 0..{nn - 1}")
-        obj(self, "base_nodes", base)
-        zeta = _frozen(np.atleast_1d(self.zeta), float)
-        if zeta.ndim != 1 or len(zeta) == 0 or not np.all((zeta >= 0) & (zeta < 1)):
-            raise ValueError("zeta must be a non-empty list of damping ratios in [0, 1) "
-                             "(fractions: 0.05 for 5 %)")  # fmt: skip
-        obj(self, "zeta", zeta)
+        obj(self, "base_nodes", checked_base(self.base_nodes, nn))
+        obj(self, "zeta", checked_zeta(self.zeta))
         if self.level_heights is None or len(self.level_nodes) == 0:
-            lh, ln, cj = _derive_levels(nodes, elements, base)
+            lh, ln, cj = _derive_levels(nodes, elements, self.base_nodes)
             obj(self, "level_heights", lh)
             obj(self, "level_nodes", ln)
             if self.column_joints is None:
                 obj(self, "column_joints", cj)
         else:
-            obj(self, "level_heights", _frozen(self.level_heights, float))
-            obj(self, "level_nodes", tuple(_frozen(n, np.int64) for n in self.level_nodes))
+            obj(self, "level_heights", frozen(self.level_heights, float))
+            obj(self, "level_nodes", tuple(frozen(n, np.int64) for n in self.level_nodes))
         if self.column_joints is not None:
-            obj(self, "column_joints", _frozen(self.column_joints, np.int64))
+            obj(self, "column_joints", frozen(self.column_joints, np.int64))
 
     def massless_rotations(self) -> np.ndarray:
         """Nodes whose elements all have ``rho_A = 0``: their rotations carry no mass (node
@@ -312,7 +296,7 @@ def _derive_levels(nodes, elements, base):
         if not heights or y - heights[-1] > tol:
             heights.append(y)
     level_nodes = tuple(
-        _frozen(np.flatnonzero(np.abs(nodes[:, 1] - y) <= tol), np.int64) for y in heights
+        frozen(np.flatnonzero(np.abs(nodes[:, 1] - y) <= tol), np.int64) for y in heights
     )
     col_nodes = set(elements[vertical].ravel().tolist())
     joints = []
@@ -320,8 +304,8 @@ def _derive_levels(nodes, elements, base):
         j = [n for n in ln.tolist() if n in col_nodes]
         joints.append(sorted(j, key=lambda n: nodes[n, 0]))
     ok = len(joints) > 1 and all(len(j) == len(joints[0]) and len(j) > 0 for j in joints)
-    cj = _frozen(joints, np.int64) if ok else None
-    return _frozen(heights, float), level_nodes, cj
+    cj = frozen(joints, np.int64) if ok else None
+    return frozen(heights, float), level_nodes, cj
 
 
 def regular_frame(

@@ -30,7 +30,7 @@ import numpy as np
 from nsdyn._brief import brief_repr
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements3d import global_matrices, local_axes
-from nsdyn.structure.geometry import check_geometry
+from nsdyn.structure.geometry import check_geometry, checked_base, checked_zeta, frozen
 
 sp = LazyModule("scipy.sparse")
 
@@ -77,12 +77,6 @@ class Section3D:
 SECTION_FIELDS = ("E", "G", "A", "I_y", "I_z", "J", "rho_A", "rho_Ip")
 
 
-def _frozen(a, dtype) -> np.ndarray:
-    a = np.array(a, dtype=dtype)
-    a.setflags(write=False)
-    return a
-
-
 @dataclass(frozen=True, eq=False)
 class Diaphragm:
     """A rigid floor: ``nodes`` (>= 2, one elevation) tied to the master point ``centre``
@@ -95,11 +89,11 @@ class Diaphragm:
     inertia: float = 0.0
 
     def __post_init__(self) -> None:
-        nodes = _frozen(np.atleast_1d(self.nodes), np.int64)
+        nodes = frozen(np.atleast_1d(self.nodes), np.int64)
         if nodes.ndim != 1 or len(nodes) < 2 or len(set(nodes.tolist())) != len(nodes):
             raise ValueError(f"a diaphragm needs >= 2 distinct nodes, got {nodes.tolist()}")
         object.__setattr__(self, "nodes", nodes)
-        c = _frozen(self.centre, float)
+        c = frozen(self.centre, float)
         if c.shape != (2,) or not np.all(np.isfinite(c)):
             raise ValueError(f"diaphragm centre must be [x, y], got {c.tolist()}")
         object.__setattr__(self, "centre", c)
@@ -152,7 +146,7 @@ class Frame3D:
 
     def __post_init__(self) -> None:
         obj = object.__setattr__
-        nodes, el = _frozen(self.nodes, float), _frozen(self.elements, np.int64)
+        nodes, el = frozen(self.nodes, float), frozen(self.elements, np.int64)
         if nodes.ndim != 2 or nodes.shape[1] != 3 or len(nodes) < 2:
             raise ValueError(f"nodes must have shape (nn, 3), got {nodes.shape}")
         if el.ndim != 2 or el.shape[1] != 2 or len(el) < 1:
@@ -166,14 +160,14 @@ class Frame3D:
         check_geometry(nodes, el, free=free, base=base, groups=groups)
         obj(self, "nodes", nodes)
         obj(self, "elements", el)
-        v = _frozen(np.broadcast_to(np.asarray(self.vecxz, float), (ne, 3)), float)
+        v = frozen(np.broadcast_to(np.asarray(self.vecxz, float), (ne, 3)), float)
         obj(self, "vecxz", v)
         local_axes(nodes[el[:, 0]], nodes[el[:, 1]], v)  # raises for zero length / parallel
         for key in SECTION_FIELDS:
             a = getattr(self, key)
             if key == "rho_Ip" and a is None:  # homogeneous sections: ρ I_p = ρA (I_y + I_z)/A
                 a = self.rho_A * (self.I_y + self.I_z) / self.A
-            a = _frozen(np.broadcast_to(np.asarray(a, float), (ne,)), float)
+            a = frozen(np.broadcast_to(np.asarray(a, float), (ne,)), float)
             bad = ~((a >= 0) if key.startswith("rho") else (a > 0)) | ~np.isfinite(a)
             if np.any(bad):
                 e = int(np.argmax(bad))
@@ -184,25 +178,16 @@ class Frame3D:
             obj(self, key, a)
         nm = np.asarray(self.node_mass, float)
         nm = nm[:, None] if nm.ndim == 1 and nm.shape == (nn,) else nm
-        nm = _frozen(np.broadcast_to(nm, (nn, 3)), float)
+        nm = frozen(np.broadcast_to(nm, (nn, 3)), float)
         if np.any(nm < 0) or not np.all(np.isfinite(nm)):
             raise ValueError("node_mass must be >= 0 and finite")
         obj(self, "node_mass", nm)
-        base = _frozen(np.atleast_1d(self.base_nodes), np.int64)
-        # distinct by a set: numpy 2's np.unique imports numpy.ma (~40 ms of a cached start)
-        if base.ndim != 1 or len(base) == 0 or len(set(base.tolist())) != len(base):
-            raise ValueError("base_nodes must be a non-empty list of distinct nodes")
-        if base.min() < 0 or base.max() >= nn:
-            raise ValueError(f"base node index out of range 0..{nn - 1}")
-        obj(self, "base_nodes", base)
-        zeta = _frozen(np.atleast_1d(self.zeta), float)
-        if zeta.ndim != 1 or len(zeta) == 0 or not np.all((zeta >= 0) & (zeta < 1)):  # NaN
-            raise ValueError("zeta must be a non-empty list of ratios in [0, 1)")
-        obj(self, "zeta", zeta)
+        obj(self, "base_nodes", checked_base(self.base_nodes, nn))
+        obj(self, "zeta", checked_zeta(self.zeta))
         obj(self, "diaphragms", tuple(self.diaphragms))
         self._check_diaphragms()
         if self.column_joints is not None:
-            cj = _frozen(self.column_joints, np.int64)
+            cj = frozen(self.column_joints, np.int64)
             if cj.ndim != 2 or cj.min() < 0 or cj.max() >= nn:
                 raise ValueError("column_joints must be (n_levels, n_columns) node indices")
             obj(self, "column_joints", cj)

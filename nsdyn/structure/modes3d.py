@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import expect
+from nsdyn._checks import expect, whole
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.frame3d import DOFS_PER_NODE, Frame3D
 from nsdyn.structure.reduction import finite_pairs, lanczos_start
@@ -137,8 +137,7 @@ def fixed_base_modes_3d(
     i = np.setdiff1d(np.arange(frame.n_red), b)
     Kii, Mii = K[i][:, i], M[i][:, i]
     n = len(i)
-    if isinstance(n_modes, bool) or not isinstance(n_modes, int | np.integer) or n_modes < 1:
-        raise ValueError(f"n_modes: expected an integer >= 1, got {n_modes!r}")
+    whole("n_modes", n_modes, 1, "an integer >= 1")
     k = min(n_modes, n)
     dense = method == "dense" or (method == "auto" and n <= DENSE_MAX) or k >= n - 1
     lam, V = _eig_dense(Kii, Mii, k) if dense else _eig_sparse(Kii, Mii, k)

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from nsdyn._brief import brief_repr
+from nsdyn._checks import whole
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.frame import Frame
 
@@ -209,9 +210,8 @@ def _interior_modes(Kii, Mii, f_max, n_modes, dense_max=None):
     frequency (or inf) and a count below 1 (a negative f_max squared was taken as |f_max|)."""
     if f_max is not None and not (isinstance(f_max, int | float | np.number) and f_max > 0):
         raise ValueError(f"f_max: expected a positive frequency [Hz] or inf, got {f_max!r}")
-    if n_modes is not None and (isinstance(n_modes, bool) or not isinstance(
-            n_modes, int | np.integer) or n_modes < 1):  # fmt: skip
-        raise ValueError(f"n_modes: expected an integer >= 1, got {n_modes!r}")
+    if n_modes is not None:
+        whole("n_modes", n_modes, 1, "an integer >= 1")
     n = Kii.shape[0]
     dense_max = DENSE_MAX if dense_max is None else dense_max
     w2_max = (2 * np.pi * f_max) ** 2 if f_max is not None and np.isfinite(f_max) else np.inf

@@ -31,6 +31,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 
 from nsdyn._brief import brief_repr
+from nsdyn._checks import whole
 from nsdyn.studies.scenes import run_batch
 from nsdyn.studies.study import Study
 from nsdyn.studies.table import ResultsStore, Table
@@ -125,10 +126,8 @@ def run_study(
     retry_failed : bool           rerun tasks recorded as failed
     progress : callable(str), optional   receives a progress line every PROGRESS_S
     """
-    if workers is not None and (isinstance(workers, bool) or not isinstance(
-            workers, int) or workers < 1):  # fmt: skip
-        raise ValueError(f"workers: expected an integer >= 1 (or None: the CPU count), got "
-                         f"{workers!r}")  # fmt: skip
+    if workers is not None:
+        whole("workers", workers, 1, "an integer >= 1 (or None: the CPU count)")
     if executor is not None and not callable(getattr(executor, "submit", None)):
         raise TypeError(f"executor: expected a concurrent.futures.Executor (or a Dask "
                         f"Client's), got {type(executor).__name__} {executor!r}")  # fmt: skip
