@@ -9,6 +9,7 @@ import argparse
 import csv
 import io
 import json
+import sys
 import time
 from pathlib import Path
 
@@ -25,6 +26,7 @@ _NOT_HERE = (  # flags of the nonlinear sweeps: (flag, attribute, its default)
 
 def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
     """The sweep of a fixed building3d scene (``args`` of ``nsdyn sweep``); exit status."""
+    from nsdyn.models.isolated.fixed3d import few_modes_note
     from nsdyn.models.isolated.fixed3d_sweep import (
         COLUMNS,
         POINTS_DEFAULT,
@@ -85,6 +87,10 @@ def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
               "fmin_hz": fmin, "fmax_hz": fmax, "modes": mode_list,
               "mass_captured": [float(v) for v in modes.mass_fraction.sum(axis=0)],
               "amplitudes": summary, "wall_s": time.perf_counter() - t0}  # fmt: skip
+    few = few_modes_note(sc["n_modes"], modes)
+    report["notes"] = [few] if few else []
+    if few and not args.json:
+        print(f"nsdyn sweep: note: {few}", file=sys.stderr)
     if args.no_figures:
         stale_figures(out, ["sweep.png"], "sweep", args.json)
     else:

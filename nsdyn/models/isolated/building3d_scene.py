@@ -304,7 +304,7 @@ def _run_rigid(sysd, exc, t_end, kw, out_dir: Path, say) -> dict:
 
 
 def _run_fixed(sysd, exc, source: str, out_dir: Path) -> dict:
-    from nsdyn.models.isolated.fixed3d import fixed_response_3d
+    from nsdyn.models.isolated.fixed3d import few_modes_note, fixed_response_3d
 
     if not hasattr(exc, "dt"):
         raise SceneError(f"{source}: motion.kind: the fixed rung needs a record "
@@ -323,6 +323,7 @@ def _run_fixed(sysd, exc, source: str, out_dir: Path) -> dict:
                  torsion=r.torsion)  # fmt: skip
     shape = write_shape(out_dir, sysd["frame"], fixed_peak_shape(r), r.modes)
     s.update({"t_end_s": float(r.t[-1]), "wall_s": wall, "files": [str(npz), str(shape)]})
+    s["few_modes"] = few_modes_note(sysd["n_modes"], r.modes)  # (a note of the run's)
     return s
 
 
@@ -471,6 +472,10 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
             s = _run_pairs(sysd, exc, t_end, kw, out_dir, say, dt)
     else:
         s = _run_fixed(sysd, exc, source, out_dir)
+        few = s.pop("few_modes")
+        if few:
+            notes.append(few)
+            say(f"building3d: note: {few}")
     peaks = s.get("peak_resultant_displacement_per_isolator_m")
     big = slip_ratio_note(deck.bearings, peaks) if sysd["bearing"] is not None and peaks else None
     if big:  # (a pendulum slip past R/4)

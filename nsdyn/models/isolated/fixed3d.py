@@ -152,6 +152,16 @@ def _components(motion) -> tuple[float, float, np.ndarray]:
     return float(getattr(motion, "t0", 0.0) or 0.0), dt, a
 
 
+def few_modes_note(asked: int, modes: Modes3D) -> str | None:
+    """One line when ``structure.n_modes`` asks for more modes than the building has (every
+    one it has is used: the response is exact in them); None otherwise."""
+    n = len(modes.f_hz)
+    if n >= asked:
+        return None
+    return (f"structure.n_modes = {asked} asks for more modes than the building has: all its "
+            f"{n} fixed-base modes are used")  # fmt: skip
+
+
 def fixed_response_3d(
     frame: Frame3D, motion, *, n_modes: int = 24, modes: Modes3D | None = None
 ) -> FixedResponse3D:

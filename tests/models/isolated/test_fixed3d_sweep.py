@@ -190,3 +190,31 @@ def test_cli_sweep_of_a_fixed_building_needs_an_orbit(tmp_path, capsys):
     assert main(["sweep", str(p), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and str(p) in err and "motion.kind" in err and "orbit" in err
+
+
+def test_n_modes_beyond_the_building_is_said_in_run_and_sweep(tmp_path, capsys):
+    # the portal has 15 fixed-base dofs: 4 roof nodes' (uz, rx, ry) and the roof diaphragm's
+    # (ux, uy, rz); n_modes = 500 used all 15 without a word (run and sweep alike)
+    import json
+
+    from nsdyn.cli import main
+
+    text = SCENE.replace("n_modes = 6", "n_modes = 500")
+    sweep = tmp_path / "sweep.toml"
+    sweep.write_text(text.format(kind="orbit", motion=ORBIT))
+    out = tmp_path / "s"
+    assert main(["sweep", str(sweep), "--out", str(out), "--points", "3", "--no-figures"]) == 0
+    said = "structure.n_modes = 500 asks for more modes than the building has: all its 15 "
+    assert said in capsys.readouterr().err
+    rep = json.loads((out / "sweep.json").read_text())
+    assert len(rep["modes"]) == 15 and rep["notes"][0].startswith(said)
+    run = tmp_path / "run.toml"
+    run.write_text(text.format(kind="record3", motion='record = "synthetic-wn-40s"\nt_end = 0.5'))
+    out = tmp_path / "r"
+    assert main(["run", str(run), "--out", str(out), "--no-figures", "--json"]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["n_modes"] == 15 and any(n.startswith(said) for n in s["notes"])
+    # within the building's count: no note
+    run.write_text(run.read_text().replace("n_modes = 500", "n_modes = 15"))
+    assert main(["run", str(run), "--out", str(out), "--no-figures", "--json"]) == 0
+    assert not any("n_modes" in n for n in json.loads(capsys.readouterr().out)["notes"])
