@@ -52,3 +52,20 @@ def watched(run, reached, progress, t_end: float, every: float | None = None):
     if "error" in box:
         raise box["error"]
     return box["result"]
+
+
+def time_left(walls: list, remaining: int) -> str:
+    """``", about 12 min left"``: the mean wall time of the points done in this run times the
+    points still to do (a curve's estimate, shown from its first point on: a triple friction
+    pendulum's orbit takes minutes a point); ``""`` when none is left or none was timed."""
+    import math
+
+    ws = [w for w in walls if isinstance(w, int | float) and math.isfinite(w)]
+    if remaining <= 0 or not ws:
+        return ""
+    left = remaining * sum(ws) / len(ws)
+    if left < 90:
+        return f", about {left:.0f} s left"
+    if left < 2 * 3600:
+        return f", about {left / 60:.0f} min left"
+    return f", about {left / 3600:.1f} h left"

@@ -67,3 +67,13 @@ def test_a_watched_run_is_the_same_run(kind, law, monkeypatch):
     assert np.array_equal(plain.N, seen.N) and np.array_equal(plain.events, seen.events)
     assert all(0.0 <= t <= t_end == 2.0 for t, t_end in times)
     assert [t for t, _ in times] == sorted(t for t, _ in times)
+
+
+def test_time_left_of_a_curve_is_the_mean_point_times_the_points_left():
+    from nsdyn._progress import time_left
+
+    # exact arithmetic: mean 3 s x 10 points = 30 s; 96 s x 149 points = 3.97 h; 90 min
+    assert time_left([2.0, 4.0], 10) == ", about 30 s left"
+    assert time_left([96.0], 149) == ", about 4.0 h left"
+    assert time_left([90.0, float("nan"), None], 60) == ", about 90 min left"
+    assert time_left([1.0], 0) == "" and time_left([], 5) == ""

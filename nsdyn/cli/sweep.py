@@ -335,7 +335,7 @@ def run(args: argparse.Namespace) -> int:
                     f"   A = {s['A']:g}: {s['unilateral_points']} points with lift-off and landing"
                 )
     for s in report["amplitudes"]:
-        for line in [*gap_lines(s), *resumed_lines(s)]:
+        for line in [*gap_lines(s), *jump_lines(s), *resumed_lines(s)]:
             print(f"   A = {s['A']:g}: {line}")
     print(f"csv:    {csv_path}")
     if "figure" in report:
@@ -352,6 +352,15 @@ def resumed_lines(s: dict) -> list[str]:
         return []
     return [f"{k} of {s['points']} points resumed from the checkpoint (wall [s]: this run's "
             "points only)"]  # fmt: skip
+
+
+def jump_lines(s: dict) -> list[str]:
+    """Steps of a sequential curve from one branch to another (two periodic orbits coexist
+    at the lower frequency: a fold lies between the two points)."""
+    return [f"the curve jumped to another branch between f = {j['f_a']:.4g} and "
+            f"{j['f_b']:.4g} Hz (two periodic orbits at {j['f_a']:.4g} Hz: a fold lies "
+            "between); --continuation arclength follows the branch through it"
+            for j in s.get("jumps") or []]  # fmt: skip
 
 
 def gap_lines(s: dict) -> list[str]:
@@ -504,7 +513,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
             print(f"   A = {s['A']:g}: {s['family_points']} points are one of a family of "
                   "orbits (multipliers at 1: a neutral direction keeps any offset), their "
                   "peaks depend on the path (the note column)")  # fmt: skip
-        for line in resumed_lines(s):
+        for line in [*jump_lines(s), *resumed_lines(s)]:
             print(f"   A = {s['A']:g}: {line}")
     print(f"csv:    {csv_path}")
     print(f"json:   {json_path}")

@@ -55,6 +55,8 @@ ARC_STATE_WEIGHT = 0.1  # weight of the (amplitude-scaled) state in the arclengt
 ARC_MAX_CORRECTION = 1.0  # corrector iterates stay within this many ds of the predictor
 ARC_MAX_STEPS_FACTOR = 20  # at most this many x the requested points along a curve
 ARC_PHASE_TOL = 1e-6  # corrector: largest |<t, y - y_pred>_W| at convergence
+JUMP_REL = 0.25  # a sequential step changing the orbit's start by this fraction of its size
+JUMP_RATIO = 3.0  # ... and this many times the change the secant predicted: a jump candidate
 DT_REL = 1e-6  # relative period step of the central difference d phi_T / dT
 F_MIN = 0.01  # default lowest forcing frequency of a curve [Hz]
 F_MAX = 10.0  # default highest forcing frequency of a curve [Hz]
@@ -133,6 +135,28 @@ def _free(dx: np.ndarray, C: np.ndarray | None) -> np.ndarray:
     return dx - np.linalg.pinv(C) @ (C @ dx)
 
 
+def _jump(problem, pts: list, disc, tol: float, max_iter: int) -> dict | None:
+    """A jump between two branches at the last step of a sequential curve, or None.
+
+    A candidate is a step whose orbit changed by more than ``JUMP_REL`` of its size and
+    ``JUMP_RATIO`` times the secant's prediction (a sharp peak on a coarse grid is one too);
+    it is confirmed by shooting at the previous frequency from the new orbit: a converged
+    orbit there distinct from the one the curve followed means two periodic orbits coexist
+    at that frequency, so the curve left its branch (at a fold, which a sequential
+    continuation cannot pass) for another."""
+    p, a, b = pts[-3:]
+    d = float(np.linalg.norm(b.x0 - a.x0))
+    size = max(float(np.linalg.norm(a.x0)), float(np.linalg.norm(b.x0)))
+    r = math.log(b.f / a.f) / math.log(a.f / p.f)
+    predicted = r * float(np.linalg.norm(a.x0 - p.x0))
+    if not (d > JUMP_REL * size and d > JUMP_RATIO * predicted):
+        return None
+    res = shoot(problem, a.f, b.x0, tol=tol, max_iter=max_iter, disc=disc)
+    if not (res.converged and np.linalg.norm(res.x0 - a.x0) > 0.5 * d):
+        return None  # one orbit at a.f: a steep part of one branch
+    return {"f_a": float(a.f), "f_b": float(b.f), "change": d / size}
+
+
 def continue_sequential(
     problem: PeriodicModel,
     freqs,
@@ -150,7 +174,9 @@ def continue_sequential(
 
     The guess is the secant extrapolation (in log f) of the last two points (not along the
     rows the last orbit holds, see :func:`nsdyn.periodic.shooting.frozen_rows`), then the last
-    point itself; if both fail, the stepped sweep produces the point (``fallback``).
+    point itself; if both fail, the stepped sweep produces the point (``fallback``). A step
+    that leaves the branch for another (past a fold) is listed in ``info["jumps"]``
+    (``f_a``, ``f_b``, ``change``: see :func:`_jump`).
     ``start`` resumes a curve (points already computed are kept, frequencies up to the last
     one skipped). Only the last point keeps its orbit ``X`` unless ``keep_orbits``.
     """
@@ -163,6 +189,8 @@ def continue_sequential(
     t0 = time.perf_counter()
     held = None
     skipped = []  # frequencies without a point (no fallback, or none found)
+    jumps = []  # steps between two branches (see _jump)
+    n_start = len(pts)
     for f in freqs:
         if pts and f <= pts[-1].f * (1 + 1e-12):
             continue
@@ -183,8 +211,11 @@ def continue_sequential(
         held = None if res is None else res.frozen
         pt.quantities["wall_s"] = time.perf_counter() - tp
         _append(pts, pt, keep_orbits, progress, len(freqs))
+        if len(pts) >= max(3, n_start + 1):
+            jump = _jump(problem, pts, disc, tol, max_iter)
+            jumps += [jump] if jump else []
     info = {"continuation": "sequential", "wall_s": time.perf_counter() - t0,
-            "skipped_hz": skipped}  # fmt: skip
+            "skipped_hz": skipped, "jumps": jumps}  # fmt: skip
     return Curve(problem.amplitude, pts, detect_bifurcations(pts), info)
 
 

@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._progress import time_left
 from nsdyn.atomic import atomic_open, differing
 from nsdyn.models.scenefile import SceneError
 from nsdyn.studies.sweep import (
@@ -165,15 +166,19 @@ def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweep
             fh.write(json.dumps(data))
         last[0] = time.perf_counter()
 
+    walls = []  # this run's points' wall times (the estimate of the rest)
+
     def progress(pt, k, n):
         done.append(pt)
+        walls.append(pt.quantities.get("wall_s"))
         if time.perf_counter() - last[0] > CHECKPOINT_EVERY_S:
             save(done)
         if not quiet:
             u = pt.quantities.get("u_peak_m", math.nan)
+            left = time_left(walls, n - k) if settings.continuation != "arclength" else ""
             print(f"[A={amplitude:g}] {k:4d}/{n} f={pt.f:8.4f} Hz {pt.method:9s} "
                   f"it={pt.iterations:2d} |u|max={u:.4g} m "
-                  f"({pt.quantities.get('wall_s', 0.0):.2f} s)", file=sys.stderr,
+                  f"({pt.quantities.get('wall_s', 0.0):.2f} s{left})", file=sys.stderr,
                   flush=True)  # fmt: skip
 
     curve = plane_response(pb, fmin=settings.fmin, fmax=settings.fmax, points=settings.points,
@@ -185,7 +190,8 @@ def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweep
         r["law"] = settings.law
     return {"A": amplitude, "model": sc["name"], "rows": rows,
             "failures": curve.info["failures"], "bifurcations": curve.bifurcations,
-            "resumed_points": n_resumed, "wall_s": time.perf_counter() - t0}  # fmt: skip
+            "jumps": list(curve.info.get("jumps", [])), "resumed_points": n_resumed,
+            "wall_s": time.perf_counter() - t0}  # fmt: skip
 
 
 def refuse_foreign_checkpoints(cfg, amplitudes, settings, out_dir) -> None:
@@ -258,4 +264,5 @@ def summarise(r: dict) -> dict:
         "u_peak_max_m": None if k is None else float(u[k]),
         "f_at_u_peak_max_hz": None if k is None else float(good[k]["f"]),
         "failures": r["failures"], "bifurcations": r["bifurcations"], "wall_s": r["wall_s"],
+        "jumps": r.get("jumps", []),
     }  # fmt: skip

@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._progress import time_left
 from nsdyn.atomic import atomic_open, differing
 from nsdyn.models.scenefile import SceneError
 from nsdyn.studies.workers import process_pool
@@ -201,17 +202,22 @@ def amplitude_job(
         _atomic_write_text(ckpt, json.dumps(data))
         last_write[0] = time.perf_counter()
 
+    walls = []  # this run's points' wall times (the estimate of the rest)
+
     def progress(pt, k, n):
         pts_done.append(pt)
+        walls.append(pt.quantities.get("wall_s"))
         if time.perf_counter() - last_write[0] > CHECKPOINT_EVERY_S:
             save(pts_done)
         if not quiet:
             q = pt.quantities
-            of = f"/{n}" if settings.continuation != "arclength" else " (arclength)"
+            seq = settings.continuation != "arclength"
+            of = f"/{n}" if seq else " (arclength)"
+            left = time_left(walls, n - k) if seq else ""
             print(
                 f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
                 f"it={pt.iterations:2d} x_iso={q.get('x_iso', math.nan):.2e} "
-                f"({q.get('wall_s', 0.0):.2f} s)",
+                f"({q.get('wall_s', 0.0):.2f} s{left})",
                 file=sys.stderr,
                 flush=True,
             )
@@ -262,6 +268,7 @@ def amplitude_job(
         "frame": system.frame,
         "f_max": system.f_max,
         "skipped_hz": list(curve.info.get("skipped_hz", [])),  # (this run's; not resumed ones)
+        "jumps": list(curve.info.get("jumps", [])),  # (sequential steps between two branches)
         "arclength_stop": curve.info.get("arclength_stop"),
     }
 
@@ -418,6 +425,7 @@ def summarise(r: dict) -> dict:
         "wall_below_0.1Hz_s": r["wall_below_0.1Hz_s"],
         "wall_above_0.1Hz_s": r["wall_above_0.1Hz_s"],
         "skipped_hz": r.get("skipped_hz", []),
+        "jumps": r.get("jumps", []),
         "arclength_stop": r.get("arclength_stop"),
         # each point without a steady state and why (its row's note), as the deck sweep's
         "failures": [

@@ -269,3 +269,40 @@ def test_a_jump_to_the_sweep_fallback_is_no_bifurcation():
     assert jump == []
     fold = detect_bifurcations([*branch, pt(0.68, stable, "arclength", 2.0)])
     assert [(b["kind"], b["by"]) for b in fold] == [("fold", "multipliers")]
+
+
+def test_sequential_jump_at_the_duffing_fold_is_listed_and_a_steep_branch_is_not():
+    # Hardening Duffing swept up (sequential: it cannot turn at a fold): the curve follows the
+    # upper branch to its fold and lands on the lower branch. That step is listed as a jump,
+    # between the two points that bracket the upper fold of first-order harmonic balance
+    # (accurate to ~1 % here, see test_arclength_passes_the_duffing_folds); no other step is.
+    from nsdyn.cli.sweep import jump_lines
+    from nsdyn.periodic.continuation import JUMP_RATIO, JUMP_REL
+
+    w0, zeta, gamma, F = 1.0, 0.02, 0.3, 0.045
+    upper = max(wf for wf, _ in _harmonic_balance_folds(w0, zeta, gamma, F))
+    disc = pr.Discretisation(n_min=256, dt_max=1e9)
+    w = np.linspace(0.9, 1.25, 36)
+    c = pr.continue_sequential(pr.duffing_problem(zeta, w0, gamma, F), w / (2 * np.pi), disc=disc)
+    (jump,) = c.info["jumps"]
+    wa, wb = 2 * np.pi * jump["f_a"], 2 * np.pi * jump["f_b"]
+    assert wb == pytest.approx(wa + 0.01, rel=1e-12)  # neighbours on the grid
+    assert wa * (1 - 0.01) <= upper <= wb * (1 + 0.01)
+    (line,) = jump_lines({"jumps": c.info["jumps"]})
+    assert f"between f = {jump['f_a']:.4g} and {jump['f_b']:.4g} Hz" in line
+    # the linear oscillator has one periodic orbit at each frequency: on a coarse grid over
+    # its resonance the steps are large (the screen fires), and the check finds no second
+    # orbit, so nothing is listed
+    lin = pr.continue_sequential(pr.duffing_problem(zeta, w0, 0.0, F),
+                                 np.array([0.8, 0.9, 0.97, 1.0, 1.03, 1.1, 1.2]) / (2 * np.pi),
+                                 disc=disc)  # fmt: skip
+    x = [p.x0 for p in lin.points]
+    f = [p.f for p in lin.points]
+    fired = 0
+    for i in range(2, len(x)):
+        d = np.linalg.norm(x[i] - x[i - 1])
+        r = math.log(f[i] / f[i - 1]) / math.log(f[i - 1] / f[i - 2])
+        pred = r * np.linalg.norm(x[i - 1] - x[i - 2])
+        size = max(np.linalg.norm(x[i]), np.linalg.norm(x[i - 1]))
+        fired += d > JUMP_REL * size and d > JUMP_RATIO * pred
+    assert fired >= 1 and lin.info["jumps"] == []
