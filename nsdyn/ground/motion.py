@@ -32,6 +32,25 @@ import numpy as np
 from nsdyn._checks import InputWarning, number
 
 
+def samples(name: str, a, n: int | None = None) -> np.ndarray:
+    """``a`` as a non-empty 1-D float64 array of finite accelerations (``n`` of them when
+    given), or ValueError naming ``name``: text, complex numbers (the imaginary part was
+    dropped with only a numpy warning) and bools are refused, never converted."""
+    kind = np.asarray(a).dtype.kind
+    if kind not in "iuf":
+        what = {"c": "complex", "b": "bool", "U": "text", "S": "text"}.get(kind, "non-numeric")
+        raise ValueError(f"{name}: expected real accelerations [m/s²], got {what} values")
+    arr = np.ascontiguousarray(a, dtype=np.float64)
+    if arr.ndim != 1 or arr.size < 1:
+        raise ValueError(f"{name}: expected a non-empty 1-D array, got shape {arr.shape}")
+    if n is not None and arr.size != n:
+        raise ValueError(f"{name}: expected {n} samples (as the first component), got {arr.size}")
+    if not np.all(np.isfinite(arr)):
+        k = int(np.flatnonzero(~np.isfinite(arr))[0])
+        raise ValueError(f"{name}: expected finite values, sample {k} is {arr[k]}")
+    return arr
+
+
 def _cumulative_trapezoid(y, dx: float, initial: float = 0.0):
     """scipy.integrate.cumulative_trapezoid, imported on first use (scipy's integrate and signal
     modules cost ~0.4 s at start-up, which every command line call would pay)."""
@@ -125,26 +144,13 @@ class GroundMotion(Sampled):
     meta: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        a_hor = np.ascontiguousarray(self.a_hor, dtype=np.float64)
-        if a_hor.ndim != 1 or a_hor.size < 1:
-            raise ValueError(f"a_hor must be 1-D and non-empty, got shape {a_hor.shape}")
-        if not np.all(np.isfinite(a_hor)):
-            raise ValueError("a_hor holds NaN or inf")
-        dt = float(self.dt)
-        if not (math.isfinite(dt) and dt > 0.0):
-            raise ValueError(f"dt must be positive and finite, got {self.dt!r}")
+        a_hor = samples("a_hor", self.a_hor)
+        dt = number("dt", self.dt, "a positive finite step [s]", lambda v: v > 0)
         object.__setattr__(self, "a_hor", a_hor)
         object.__setattr__(self, "dt", dt)
-        if not math.isfinite(float(self.t0)):
-            raise ValueError(f"t0 must be a finite time [s], got {self.t0!r}")
-        object.__setattr__(self, "t0", float(self.t0))
+        object.__setattr__(self, "t0", number("t0", self.t0, "a finite time [s]"))
         if self.a_ver is not None:
-            a_ver = np.ascontiguousarray(self.a_ver, dtype=np.float64)
-            if a_ver.shape != a_hor.shape:
-                raise ValueError(f"a_ver has shape {a_ver.shape}, a_hor has {a_hor.shape}")
-            if not np.all(np.isfinite(a_ver)):
-                raise ValueError("a_ver holds NaN or inf")
-            object.__setattr__(self, "a_ver", a_ver)
+            object.__setattr__(self, "a_ver", samples("a_ver", self.a_ver, a_hor.size))
 
     def __repr__(self) -> str:
         ver = "yes" if self.a_ver is not None else "no"

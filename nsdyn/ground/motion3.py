@@ -38,16 +38,14 @@ from typing import Any
 import numpy as np
 
 from nsdyn._checks import number
-from nsdyn.ground.motion import PGA_TARGET, GroundMotion, Sampled
+from nsdyn.ground.motion import PGA_TARGET, GroundMotion, Sampled, samples
 
 _PEAKS = ("resultant", "x", "y", "geomean")
 
 
 def cos_sin_deg(angle_deg: float) -> tuple[float, float]:
     """(cos θ, sin θ) of an angle in degrees; exact (0, ±1) at multiples of 90°."""
-    a = float(angle_deg)
-    if not math.isfinite(a):
-        raise ValueError(f"angle_deg: expected a finite angle in degrees, got {angle_deg!r}")
+    a = number("angle_deg", angle_deg, "a finite angle in degrees")
     q, r = divmod(a, 90.0)
     if r == 0.0:
         return ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))[int(q) % 4]
@@ -56,15 +54,7 @@ def cos_sin_deg(angle_deg: float) -> tuple[float, float]:
 
 
 def _array(name: str, a, n: int | None) -> np.ndarray:
-    arr = np.ascontiguousarray(a, dtype=np.float64)
-    if arr.ndim != 1 or arr.size < 1:
-        raise ValueError(f"GroundMotion3.{name}: expected a non-empty 1-D array, got {arr.shape}")
-    if n is not None and arr.size != n:
-        raise ValueError(f"GroundMotion3.{name}: expected {n} samples (as ax), got {arr.size}")
-    if not np.all(np.isfinite(arr)):
-        k = int(np.flatnonzero(~np.isfinite(arr))[0])
-        raise ValueError(f"GroundMotion3.{name}: expected finite values, sample {k} is {arr[k]}")
-    return arr
+    return samples(f"GroundMotion3.{name}", a, n)
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -99,11 +89,8 @@ class GroundMotion3(Sampled):
     meta: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        dt, t0 = float(self.dt), float(self.t0)
-        if not (math.isfinite(dt) and dt > 0.0):
-            raise ValueError(f"GroundMotion3.dt: expected a positive finite step [s], got {dt!r}")
-        if not math.isfinite(t0):
-            raise ValueError(f"GroundMotion3.t0: expected a finite time [s], got {t0!r}")
+        dt = number("GroundMotion3.dt", self.dt, "a positive finite step [s]", lambda v: v > 0)
+        t0 = number("GroundMotion3.t0", self.t0, "a finite time [s]")
         ax = _array("ax", self.ax, None)
         object.__setattr__(self, "ax", ax)
         object.__setattr__(self, "ay", _array("ay", self.ay, ax.size))

@@ -118,7 +118,7 @@ def test_force_tables_and_records_refuse_what_they_cannot_mean():
     with pytest.raises(ValueError, match=r"ForceTable.F: expected one force history"):
         nsdyn.ForceTable(0.0, 0.01, F, dofs=[0])
     assert nsdyn.ForceTable(0.0, 0.01, F[:, :1], dofs=[0]).F.shape == (10,)  # one column
-    with pytest.raises(ValueError, match="t0 must be a finite time"):
+    with pytest.raises(ValueError, match="t0: expected a finite time"):
         nsdyn.GroundMotion(float("nan"), 0.01, np.sin(np.arange(100) * 0.1))
 
 

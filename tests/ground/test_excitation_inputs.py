@@ -31,3 +31,54 @@ def test_a_component_without_amplitude_needs_no_frequency():
         Harmonic(1.0, 0.0)
     with pytest.raises(ValueError, match=r"^Harmonic\.f_hor: expected a positive frequency"):
         Harmonic(0.0, -1.0)
+
+
+@pytest.mark.parametrize(
+    ("make", "match"),
+    [
+        # complex samples lost their imaginary part with only a numpy warning; text samples
+        # and a text step were converted; a text angle was read as a number
+        (lambda np: _gm3(np, ax=np.ones(5) * (1 + 1j)), r"^GroundMotion3\.ax: expected real"),
+        (lambda np: _gm3(np, ay=["1"] * 5), r"^GroundMotion3\.ay: expected real .* text"),
+        (lambda np: _gm3(np, az=np.ones(5, bool)), r"^GroundMotion3\.az: expected real .* bool"),
+        (lambda np: _gm3(np, dt="0.01"), r"^GroundMotion3\.dt: expected a positive finite"),
+        (lambda np: _gm3(np, ay=np.ones(4)), r"^GroundMotion3\.ay: expected 5 samples"),
+        (lambda np: _gm(np, a_hor=np.ones(5) * 1j), r"^a_hor: expected real .* complex"),
+        (lambda np: _gm(np, a_ver=np.ones(3)), r"^a_ver: expected 5 samples"),
+        (lambda np: _gm(np, a_hor=[[1.0, 2.0]]), r"^a_hor: expected a non-empty 1-D array"),
+        (lambda np: _gm(np, dt=-0.01), r"^dt: expected a positive finite step"),
+        (
+            lambda np: _gm(np, a_hor=[1.0, float("inf")]),
+            r"^a_hor: expected finite values, sample 1",
+        ),
+    ],
+)
+def test_ground_motions_refuse_samples_that_are_not_real_accelerations(make, match):
+    import numpy as np
+
+    with pytest.raises(ValueError, match=match):
+        make(np)
+
+
+def _gm3(np, **kw):
+    from nsdyn.ground.motion3 import GroundMotion3
+
+    args = {"name": "g", "t0": 0.0, "dt": 0.01, "ax": np.ones(5), "ay": np.ones(5), **kw}
+    return GroundMotion3(**args)
+
+
+def _gm(np, **kw):
+    from nsdyn.ground.motion import GroundMotion
+
+    return GroundMotion(**{"name": "g", "t0": 0.0, "dt": 0.01, "a_hor": np.ones(5), **kw})
+
+
+def test_a_linear_orbit_refuses_a_text_angle():
+    from nsdyn.ground.orbit import HarmonicPlane
+
+    with pytest.raises(
+        ValueError, match=r"^angle_deg: expected a finite angle in degrees, got '30'"
+    ):
+        HarmonicPlane.linear(1.0, 1.0, angle_deg="30")
+    # a whole angle of 90 degrees is exact
+    assert HarmonicPlane.linear(1.0, 2.0, angle_deg=90).ax == 0.0
