@@ -43,7 +43,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         type=out_file,
         default=None,
         metavar="FILE",
-        help="script to write (default: the scene's name with _opensees.py)",
+        help="script to write (default: in the current folder, the scene file's or frame's "
+        "name with _opensees.py; _opensees_fixed.py with --fixed-base)",
     )
     p.add_argument(
         "--dt",
@@ -159,7 +160,10 @@ def _run_building3d(args: argparse.Namespace) -> int:
 
     _only(args, "a 3D building scene", ("dt", "t_end", "fixed_base"))
     scene = Path(args.scene)
-    out = Path(args.out) if args.out else scene.with_name(f"{scene.stem}_opensees.py")
+    # default: in the current folder (never beside the scene, which may be the package's), the
+    # clamped building under a name of its own (it replaced the isolated one's script)
+    tail = "_opensees_fixed.py" if args.fixed_base else "_opensees.py"
+    out = Path(args.out) if args.out else Path(f"{scene.stem}{tail}")
     export_building_opensees(scene, out, dt=args.dt, t_end=args.t_end,
                              fixed_base=True if args.fixed_base else None)  # fmt: skip
     from nsdyn.models.isolated.opensees import load_script
@@ -202,7 +206,7 @@ def run(args: argparse.Namespace) -> int:
         if _is_building3d(args.scene):
             return _run_building3d(args)
         scene = Path(args.scene)
-        named = scene.with_name(f"{scene.stem}_opensees.py")
+        named = Path(f"{scene.stem}_opensees.py")  # in the current folder
     _only(args, "an isolated-frame scene", ("dt", "t_end", "damping"))
     out = Path(args.out) if args.out else named
     export_opensees(scene, out, dt=args.dt, t_end=args.t_end, damping=args.damping or "modal")

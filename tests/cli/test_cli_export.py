@@ -36,12 +36,17 @@ def test_export_without_a_scene_writes_the_default_scene(tmp_path, capsys, monke
     assert s["duration_s"] == 40.0
 
 
-def test_export_default_name_and_dt(tmp_path, capsys):
-    scene = tmp_path / "s.toml"
+def test_export_default_name_and_dt(tmp_path, capsys, monkeypatch):
+    # the script goes to the current folder, not beside the scene (a bundled scene's folder
+    # is the package's)
+    (tmp_path / "scenes").mkdir()
+    scene = tmp_path / "scenes" / "s.toml"
     scene.write_text(SCENE)
+    monkeypatch.chdir(tmp_path)
     assert main(["export", "opensees", str(scene), "--dt", "0.01"]) == 0
     assert (tmp_path / "s_opensees.py").is_file()
-    assert "wrote" in capsys.readouterr().out
+    assert not (tmp_path / "scenes" / "s_opensees.py").exists()
+    assert "wrote s_opensees.py" in capsys.readouterr().out
 
 
 def test_export_user_errors_exit_2(tmp_path, capsys):

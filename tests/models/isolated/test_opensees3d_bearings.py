@@ -144,8 +144,9 @@ def test_scene_export_from_the_command_line(tmp_path):
         '[bearing]\ntype = "flat"\nmu = 0.05\nk_lam = 1e6\nc = 1e4\n'
         '[motion]\nkind = "record3"\nrecord = "synthetic-wn-40s"\nt_end = 0.5\n'
     )
+    # without -o each goes to the current folder under a name of its own (the clamped one
+    # replaced the isolated one's script before)
     for extra, fixed in (([], False), (["--fixed-base"], True)):
-        out = tmp_path / f"m{fixed}.py"
         p = subprocess.run(
             [
                 sys.executable,
@@ -154,20 +155,21 @@ def test_scene_export_from_the_command_line(tmp_path):
                 "export",
                 "opensees",
                 str(scene),
-                "-o",
-                str(out),
                 "--json",
                 *extra,
             ],
             capture_output=True,
             text=True,
             check=False,
+            cwd=tmp_path,
         )
         assert p.returncode == 0, p.stderr
         info = json.loads(p.stdout)
+        assert info["script"] == ("b_opensees_fixed.py" if fixed else "b_opensees.py")
         assert info["fixed_base"] is fixed and info["n_elements"] == 1364
         assert info["bearings"] == ([] if fixed else ["flat"])
         assert info["duration_s"] == pytest.approx(0.5)
+    assert (tmp_path / "b_opensees.py").is_file() and (tmp_path / "b_opensees_fixed.py").is_file()
 
 
 # ---- with OpenSees -------------------------------------------------------------------------
