@@ -69,3 +69,23 @@ def test_cold_compile_names_the_kernels_it_knows():
     # the benchmark compiles for minutes; a wrong kernel name must stop it before any run
     with pytest.raises(ValueError, match="kernel: expected one of"):
         load_example("cold_compile").main("no-such-kernel", pairs=1)
+
+
+def test_bench_figures_copies_the_charts_under_the_names_the_docs_embed(tmp_path):
+    # the rocking and contact benchmarks write rocking.png and contact-map.png; the docs embed
+    # rocking-bench.png and contact-stability.png, which nothing wrote (the charts could not
+    # be regenerated); tables not found are named
+    mod = load_example("bench_figures")
+    out, figs = tmp_path / "bench", tmp_path / "figs"
+    out.mkdir()
+    for name in ("rocking.png", "contact-map.png", "contact-wp.png"):
+        (out / name).write_bytes(name.encode())
+    res = mod.main(out, figs)
+    assert (figs / "rocking-bench.png").read_bytes() == b"rocking.png"
+    assert (figs / "contact-stability.png").read_bytes() == b"contact-map.png"
+    assert (figs / "contact-wp.png").read_bytes() == b"contact-wp.png"
+    assert "periodic.csv (nsdyn bench periodic)" in res["missing"]
+    docs = Path(__file__).resolve().parents[1] / "docs" / "guide"
+    embedded = (docs / "rocking.md").read_text() + (docs / "contact.md").read_text()
+    for name in set(mod.COPIED.values()) - {"stability.png"}:
+        assert f"../figures/{name}" in embedded

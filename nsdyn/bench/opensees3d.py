@@ -266,7 +266,7 @@ def report(res: dict) -> str:
     fix = [r for r in res["rows"] if r["case"] == "fixed"]
     lines = [f"isolated ({iso[0]['record_s']:g} s, whole process, median of {iso[0]['repeats']}):",
              f"{'run':34s} {'wall s':>8s} {'ratio':>6s} {'|u| m':>9s} {'V N':>10s} "
-             f"{'roof m':>8s} {'drift x':>9s} {'drift y':>9s}"]  # fmt: skip
+             f"{'roof m':>8s} {'corner dx':>9s} {'corner dy':>9s}"]  # fmt: skip
     for r in iso:
         lines.append(
             f"{r['run']:34s} {r['wall_s']:8.2f} {r['time_ratio']:6.1f} "
