@@ -228,8 +228,13 @@ def simulate(
     """Response to ground acceleration ``ag`` (n, 3) = (a_x, a_y, a_z) sampled every ``dt``.
 
     Starts at rest in static equilibrium (or tilted by ``theta0`` [rad], or by
-    ``theta0_over_alpha`` times alpha = atan(r / H), towards ``azimuth0`` [rad], base height
-    ``w0`` [m], angular velocity ``omega0`` [rad/s]). Raises :class:`SimulationError` on failure.
+    ``theta0_over_alpha`` times alpha = atan(r / H), towards ``azimuth0`` [rad], angular
+    velocity ``omega0`` [rad/s]). A tilted body is placed on the foundation: its base centre
+    at the height where the foundation carries its weight at that tilt
+    (:func:`nsdyn.models.cylinder.foundation.static_moment_tilt`), unless ``w0`` [m] gives
+    it. A tilt at or past ``theta_topple`` is refused (the run would stop at once), as is a
+    start other than at rest upright on a fixed base. Raises :class:`SimulationError` on
+    failure.
     """
     expect("p", p, isinstance(p, CylinderParams), "CylinderParams (nsdyn.CylinderParams(...))")
     theta0 = initial_tilt(theta0, theta0_over_alpha, math.atan2(p.r, p.H))
@@ -246,11 +251,24 @@ def simulate(
     if not dt > 0:
         raise ValueError(f"dt: expected a positive step, got {dt!r}")
     rel_tol("rtol", rtol)
+    if not abs(theta0) < theta_topple:
+        raise ValueError(f"theta0: a tilt of {abs(theta0):.4g} rad is at or past theta_topple "
+                         f"= {theta_topple:.4g} rad, where a run stops as toppled; expected a "
+                         "smaller tilt")  # fmt: skip
     n = ag.shape[0]
     if p.foundation == "fixed":
+        if theta0 != 0.0 or w0 is not None or any(omega0):  # (they were dropped)
+            raise ValueError(
+                "theta0, w0, omega0: a fixed base holds the body upright at rest "
+                "on the ground; expected none of them with foundation 'fixed'"
+            )
         return _fixed(p, ag, dt, t0)
     dst = static_settlement(p)
     y0 = np.zeros(K.NY)
+    if w0 is None and theta0 != 0.0:  # placed at its tilt: the foundation carries the weight
+        from nsdyn.models.cylinder.foundation import static_moment_tilt
+
+        w0 = float(static_moment_tilt(p, np.array([abs(theta0)]))[1][0])
     y0[0] = -dst if w0 is None else float(w0)
     y0[1:5] = tilt_quaternion(theta0, azimuth0)
     y0[6:9] = omega0

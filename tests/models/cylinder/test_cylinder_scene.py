@@ -13,6 +13,7 @@ import json
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from nsdyn.models.cylinder.params import CylinderParams
@@ -203,3 +204,78 @@ def test_a_fixed_base_names_no_foundation_springs():
     assert foundation_text("tensionless", 9814.0, 103.6) == (
         "tensionless, k = 9814 N/m³, c = 103.6 N s/m³"
     )
+
+
+def test_a_tilted_start_is_placed_on_the_foundation():
+    # Released from 0.9 alpha with the ground at rest, the cylinder started at the upright
+    # settlement with its axis tilted: the downhill rim 0.2 m into the springs, 131 J stored
+    # for a 1 kg body (39 J upright), and it was thrown 1.1 m into the air. Placed on the
+    # foundation, the foundation carries the weight at t = 0 (static_moment_tilt's root,
+    # brentq to 1e-15 r), and energy conservation with no damping bounds the centre of mass:
+    # m g z_G(t) <= E(0) = m g z_G(0) + V(0) (kinetic and spring energies are >= 0).
+    import math
+
+    from nsdyn.models.cylinder.foundation import resultants, static_moment_tilt
+    from nsdyn.models.cylinder.params import CylinderParams
+    from nsdyn.models.cylinder.simulate import simulate
+
+    p = CylinderParams(c=0.0)
+    th0 = 0.9 * math.atan2(p.r, p.H)
+    r = simulate(p, np.zeros((301, 3)), 0.01, theta0=th0)
+    w0 = static_moment_tilt(p, np.array([th0]))[1][0]
+    assert r.w[0] == w0 and r.F[0] == pytest.approx(p.m * p.g, rel=1e-9)
+    V0 = resultants(w0, (math.sin(th0), 0.0), r=p.r, k=p.k)["V"]
+    z_g = r.w + p.H * np.cos(r.tilt)
+    bound = w0 + p.H * math.cos(th0) + V0 / (p.m * p.g)
+    assert z_g.max() <= bound + 1e-6 * p.H  # (the integration's error, rtol 1e-8 of H)
+    assert r.tilt.max() <= th0 * (1 + 1e-6)  # it leans no further than released
+
+
+@pytest.mark.parametrize(
+    ("edit", "match"),
+    [
+        # past the 45° criterion a run "toppled at t = 0" with a 3540 N base shear
+        ({"motion": {"pga": 0.0, "theta0": 1.0}}, r"motion.theta0: a tilt of 1 rad is at or past"),
+        ({"motion": {"pga": 0.0, "theta0_over_alpha": 3.5}}, r"motion.theta0_over_alpha: a tilt"),
+        # a second component without the first: the simulated earthquake ran instead
+        ({"motion": {"record_y": "nonexistent.txt"}}, r"motion.record_y: a second record"),
+        ({"motion": {"record_z": "nonexistent.txt"}}, r"motion.record_z: a second record"),
+    ],
+)
+def test_inputs_a_cylinder_run_dropped_are_refused(edit, match):
+    cfg = {"scene": {"kind": "cylinder"}, **copy.deepcopy(edit)}
+    with pytest.raises(SceneError, match=match):
+        build(cfg, "s.toml")
+
+
+def test_springs_on_a_fixed_base_are_noted_as_unused():
+    # they were dropped without a word (refused they would stop a study whose
+    # foundation.case runs over "tensionless", "bonded" and "fixed" on one designed base)
+    cfg = {"scene": {"kind": "cylinder"}, "foundation": {"case": "fixed", "k": 9814.0, "c": 1.0}}
+    notes = build(cfg, "s.toml")[3]["notes"]
+    assert notes == ["foundation.k, foundation.c not used: a fixed base (rigid ground) has no "
+                     "springs or dashpots"]  # fmt: skip
+    cfg["foundation"]["case"] = "tensionless"
+    assert build(cfg, "s.toml")[3]["notes"] == []
+
+
+def test_a_cylinder_api_start_past_the_criterion_or_tilted_on_a_fixed_base_is_refused():
+    from nsdyn.models.cylinder.params import CylinderParams
+    from nsdyn.models.cylinder.simulate import THETA_TOPPLE, simulate
+
+    ag = np.zeros((11, 3))
+    with pytest.raises(ValueError, match=r"^theta0: a tilt of 0.7854 rad is at or past"):
+        simulate(CylinderParams(), ag, 0.01, theta0=-THETA_TOPPLE)
+    with pytest.raises(ValueError, match=r"^theta0, w0, omega0: a fixed base holds"):
+        simulate(CylinderParams(foundation="fixed"), ag, 0.01, theta0=0.1)
+
+
+@pytest.mark.filterwarnings("ignore:.*does not state its units")
+def test_components_sampled_differently_are_named(tmp_path):
+    x, y = tmp_path / "x.csv", tmp_path / "y.csv"
+    x.write_text("t,a\n" + "".join(f"{0.01 * i:.2f},0.1\n" for i in range(20)))
+    y.write_text("t,a\n" + "".join(f"{0.02 * i:.2f},0.1\n" for i in range(20)))
+    cfg = {"scene": {"kind": "cylinder"}, "motion": {"record": str(x), "record_y": str(y)}}
+    with pytest.raises(SceneError, match=r"motion.record_y: sampled every 0.02 s, motion.record "
+                                         r"every 0.01 s"):  # fmt: skip
+        build(cfg, "s.toml")
