@@ -110,3 +110,26 @@ def test_example_seed_studies_free_rocking_restitution():
     out = mod.main(quick=True)
     assert out["seed003_table1_r"] == pytest.approx(0.91, abs=0.005)
     assert out["seed001_housner_r"] == pytest.approx(0.700, abs=0.0005)
+
+
+def test_a_negative_pulse_is_described_with_its_sign():
+    # a_p_g = -0.4 ran mirrored (as it should) but was printed "a_p = 3.92 m/s²"
+    from nsdyn.models.rocking.scene import excitation_text
+
+    exc = build_motion({"motion": {"pulse": "sine", "a_p_g": -0.4, "omega_p": 12.0}}, "p.toml")[0]
+    assert excitation_text(exc, "sine pulse") == "sine pulse, a_p = -3.92 m/s² (-0.4 g)"
+
+
+def test_a_compliant_contact_beyond_the_step_budget_is_refused_at_once(tmp_path, capsys):
+    # at omega_v/p = 1e9 the warm-up run (1 ms of the scene's own block) spent the step budget
+    # and the run failed as numerics (exit 3, after 7 s); the run's check refuses it (exit 2)
+    from nsdyn.cli import main
+
+    scene = tmp_path / "stiff.toml"
+    scene.write_text('[scene]\nkind = "rocking"\nmodel = "compliant"\n[block]\nwidth = 2.0\n'
+                     'height = 4.0\nomega_v_over_p = 1e9\n[motion]\ntheta0_over_alpha = 0.5\n'
+                     't_end = 2.0\n')  # fmt: skip
+    assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 2
+    assert "block.omega_v_over_p: a contact of 1.81e+09 rad/s needs steps" in (
+        capsys.readouterr().err
+    )
