@@ -28,7 +28,12 @@ MAX_SIZE_M = 1e6  # a body's vertices lie within this of the origin [m]
 
 def _check_polygon(verts: np.ndarray, field: str) -> np.ndarray:
     """Counter-clockwise convex polygon, or ValueError naming ``field`` and the offending vertex."""
-    p = np.asarray(verts, dtype=float)
+    try:
+        p = np.asarray(verts, dtype=float)
+    except (TypeError, ValueError):  # text, or rows of different lengths
+        raise ValueError(f"{field}: expected a list of [x, y] numbers [m], got {verts!r}") from None
+    if isinstance(verts, str | bytes) or np.asarray(verts).dtype.kind in "USb":
+        raise ValueError(f"{field}: expected a list of [x, y] numbers [m], got {verts!r}")
     if p.ndim != 2 or p.shape[1] != 2 or p.shape[0] < 3:
         raise ValueError(f"{field}: expected an (n, 2) array of n >= 3 vertices, got shape "
                          f"{p.shape}")  # fmt: skip

@@ -63,6 +63,9 @@ def test_cli_json(tmp_path, capsys):
     "table, key, val, match",
     [
         ("body", "vertices", [[0, 0], [2, 0], [1, 0.3], [1, 2]], "body.vertices"),
+        # text leaked numpy's "body.could not convert string to float: 'square'"
+        ("body", "vertices", "square", r"body.vertices: expected a list of \[x, y\] numbers"),
+        ("body", "vertices", [[0, 0], [1, "a"], [1, 1]], r"body.vertices: expected a list of"),
         ("friction", "mu_d", 0.9, "friction.mu_d"),
         ("body", "mass", -5.0, "body.mass"),
         ("friction", "mu_dd", 0.2, "did you mean 'mu_d'"),
