@@ -43,6 +43,21 @@ def _user_errors() -> tuple[type[BaseException], ...]:
     return (FrameFileError, OSError, SceneError, RecordFileError, CheckpointError)
 
 
+# scene keys a command-line flag sets: an error about the key names the flag that gave it
+FLAG_KEYS = {"solver.method": "--method", "solver.dt": "--dt", "motion.record": "--record",
+             "motion.pga": "--pga", "motion.t_end": "--t-end", "scene.f_max": "--fmax",
+             "scene.fidelity": "--fidelity", "solver.max_steps": "--max-steps"}  # fmt: skip
+
+
+def flagged(message: str, args: argparse.Namespace) -> str:
+    """``message`` with a scene key a flag of ``args`` set named with that flag
+    (``s.toml: solver.method (--method): ...``): the file does not hold the value blamed."""
+    for key, flag in FLAG_KEYS.items():
+        if getattr(args, flag[2:].replace("-", "_"), None) and f": {key}:" in message:
+            message = message.replace(f": {key}:", f": {key} ({flag}):", 1)
+    return message
+
+
 def _numerics_errors() -> tuple[type[BaseException], ...]:
     """Every family's numerical failure (IntegrationError and UpliftError, the deck's
     PlaneIntegrationError, the cylinder's SimulationError, the rocking, contact and shooting
@@ -402,7 +417,7 @@ def _main(argv: list[str]) -> int:
     except BrokenPipeError:  # no error of the input: main stops quietly
         raise
     except _user_errors() as exc:
-        return fail(args, exc)
+        return fail(args, flagged(str(exc), args))
     except _numerics_errors() as exc:
         from nsdyn.solve.integrate import UpliftError
 

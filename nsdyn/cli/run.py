@@ -139,7 +139,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         "(a second run, by radau: the default run's kernels, compiled once for every model)",
     )
     p.add_argument("--resume", action="store_true", help="continue an interrupted run of an "
-                   "isolated frame from its checkpoint (other kinds start over)")  # fmt: skip
+                   "isolated frame from its checkpoint (refused on other kinds: they keep "
+                   "none)")  # fmt: skip
 
 
 def _scene_overrides(args: argparse.Namespace) -> dict:
@@ -470,6 +471,7 @@ def run(args: argparse.Namespace) -> int:
                     dt=sv.get("dt"),
                     t_eval=t_eval,
                     uplift=sv.get("uplift", "raise"),
+                    **({"restitution": sv["restitution"]} if "restitution" in sv else {}),
                     progress=progress,
                     checkpoint=ckpt,
                     **({"max_steps": int(sv["max_steps"])} if "max_steps" in sv else {}),

@@ -51,7 +51,9 @@ def test_a_step_refused_for_the_automatic_method_is_one_line_naming_the_choice(
     assert main(["run", "--dt", "0.01", "--t-end", "1"]) == EXIT_USER_ERROR
     out, err = capsys.readouterr()
     assert out == "" and err.count("\n") == 1 and list(tmp_path.iterdir()) == []
-    assert err.startswith("nsdyn run: error: <default scene>: solver.dt: the adaptive method ")
+    assert err.startswith(
+        "nsdyn run: error: <default scene>: solver.dt (--dt): the adaptive method "
+    )
     assert err.endswith("(method auto: 13 coordinates, arctan law -> radau (adaptive))\n")
 
 
@@ -61,7 +63,7 @@ def test_an_unknown_method_lists_auto_among_the_choices(capsys):
     assert main(["run", "--method", "foo"]) == EXIT_USER_ERROR
     err = capsys.readouterr().err
     assert err == (
-        "nsdyn run: error: <default scene>: solver.method: unknown integrator 'foo'; "
+        "nsdyn run: error: <default scene>: solver.method (--method): unknown integrator 'foo'; "
         f"expected 'auto' or one of {sorted(METHODS)}\n"
     )
 
@@ -170,9 +172,9 @@ _SCENES = "examples/scenes/"
 
 @pytest.mark.parametrize(
     ("scene", "says"),
-    [(None, "motion.t_end: expected an end at least one record step (0.01 s) after the "
+    [(None, "motion.t_end (--t-end): expected an end at least one record step (0.01 s) after the "
             "record's start (0 s), got 1e-09"),
-     ("building3d-office-rigid", "motion.t_end: expected an end at least one record step"),
+     ("building3d-office-rigid", "motion.t_end (--t-end): expected an end at least one"),
      ("rocking-seed001-cask", "solver.dt_out: expected a positive output step no longer "
                               "than the run (1e-09 s)"),
      ("contact-seed002-A5", "solver.dt_out: 0.005 s is longer than the run")],
@@ -212,3 +214,21 @@ def test_a_mistyped_option_or_benchmark_is_refused_with_the_nearest(argv, says, 
         main(argv)
     assert exc.value.code == EXIT_USER_ERROR
     one_line(says)
+
+
+@pytest.mark.parametrize(
+    ("argv", "said"),
+    [
+        # the value blamed came from the flag, not from the file (which holds no such key)
+        (["run", "ROCK", "--method", "bogus"], "ROCK: solver.method (--method): rocking scenes"),
+        (["run", "ROCK", "--record", "nosuch"], "ROCK: motion.record (--record): cannot read"),
+        (["run", "--dt", "0.02", "--method", "genalpha"], "<default scene>: solver.dt (--dt): a"),
+        (["export", "opensees", "--dt", "0.02"], "<default scene>: solver.dt (--dt): a fixed"),
+    ],
+)
+def test_an_error_about_a_key_a_flag_set_names_the_flag(argv, said, tmp_path, capsys):
+    rock = str(Path(__file__).resolve().parents[2] / "examples/scenes/rocking-seed003-column.toml")
+    argv = [rock if a == "ROCK" else a for a in argv]
+    out = ["--out", str(tmp_path / "o")] if argv[0] == "run" else ["-o", str(tmp_path / "x.py")]
+    assert main([*argv, *out]) == EXIT_USER_ERROR
+    assert said.replace("ROCK", rock) in capsys.readouterr().err

@@ -341,11 +341,14 @@ def _scene(name: str) -> str:
         # a stop at a false uplift (the full frame, dt = 0.2 s)
         (
             ["run", "--method", "genalpha", "--dt", "0.02"],
-            ["solver.dt: a fixed step of 0.02 s is longer than the record's sampling step 0.01 s"],
+            [
+                "solver.dt (--dt): a fixed step of 0.02 s is longer than the record's sampling "
+                "step 0.01 s"
+            ],
         ),
         (
             ["run", "--fidelity", "full", "--method", "genalpha-lowrank", "--dt", "0.2"],
-            ["solver.dt: a fixed step of 0.2 s", "expected at most 0.01 s"],
+            ["solver.dt (--dt): a fixed step of 0.2 s", "expected at most 0.01 s"],
         ),
         # a cut-off the fidelity has not (it was ignored)
         (["run", "--fidelity", "full", "--fmax", "3"], ["--fmax: the Craig-Bampton cut-off"]),
@@ -404,7 +407,9 @@ def test_an_export_step_over_the_records_samples_is_refused(tmp_path, one_line):
     # the exported OpenSees run at dt = 1 s peaked at x_iso 1.79 m against 0.2765 (5 ms)
     out = tmp_path / "m.py"
     assert main(["export", "opensees", "--dt", "0.1", "-o", str(out)]) == 2
-    one_line("solver.dt: a fixed step of 0.1 s is longer than the record's sampling step 0.01 s")
+    one_line(
+        "solver.dt (--dt): a fixed step of 0.1 s is longer than the record's sampling step 0.01 s"
+    )
     assert not out.exists()
 
 

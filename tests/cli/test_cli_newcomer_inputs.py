@@ -350,7 +350,7 @@ def test_a_very_sharp_arctan_law_runs_to_the_switch_law(tmp_path, capsys):
 
 @pytest.mark.parametrize(
     "extra, args, field",
-    [("", ["--t-end", "1e-9"], "motion.t_end: expected an end at least one record step "
+    [("", ["--t-end", "1e-9"], "motion.t_end (--t-end): expected an end at least one record step "
                                "(0.01 s) after the record's start (0 s), got 1e-09"),
      ("dt_out = 100.0\n", ["--t-end", "5"], "solver.dt_out: expected a positive output step")],
 )  # fmt: skip
