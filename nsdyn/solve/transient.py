@@ -85,6 +85,7 @@ class TransientResult(Tabular):
     law: str | None = None  # the friction law integrated (None: no isolation)
     failure: str = ""  # on_failure="return": why the run stopped before its end (else "")
     notes: list = field(default_factory=list)  # what the run says of its own results
+    restitution: float = 0.0  # unilateral: Newton's coefficient of the landings
 
     def contact_summary(self) -> dict:
         """The contact assumption and what it says: ``would_lift_off`` (a normal force < 0
@@ -113,6 +114,7 @@ class TransientResult(Tabular):
                 "max_landing_velocity_mps": max((abs(e[3]) for e in lands), default=0.0),
                 "max_landing_impulse_Ns": max((e[4] for e in lands), default=0.0),
                 "impact_energy_J": float(self.impact_energy),
+                "restitution": float(self.restitution),
                 "first_lift_off_s": min(
                     (e[0] for e in self.contact_events if e[2] == "lift-off"), default=None
                 ),
@@ -543,4 +545,5 @@ def simulate(
         failure,
     )
     res.notes = fixed_step_notes(res, Pm, evaluated[0], dt, motion)  # (unresolved peaks)
+    res.restitution = float(restitution)
     return between_steps(res, dt, uplift)

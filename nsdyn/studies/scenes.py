@@ -157,6 +157,7 @@ def _run_isolated(cfg: dict, source: str) -> dict:
             dt=dt,
             t_eval=t_eval,
             uplift=sv.get("uplift", "raise"),
+            **({"restitution": sv["restitution"]} if "restitution" in sv else {}),
             **({"max_steps": int(sv["max_steps"])} if "max_steps" in sv else {}),
         )
     s = res.summary()

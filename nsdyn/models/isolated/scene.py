@@ -177,6 +177,11 @@ def _check(cfg: dict, source: str) -> dict:
                 raise SceneError(
                     f"{source}: {table}.{key}: expected a finite positive number, got {val!r}"
                 )
+            if (table, key) == ("solver", "restitution"):
+                if not 0.0 <= val <= 1.0:
+                    raise SceneError(f"{source}: solver.restitution: expected a coefficient "
+                                     f"0 <= e <= 1, got {val!r}")  # fmt: skip
+                continue
             if typ is float and val <= 0:
                 raise SceneError(f"{source}: {table}.{key}: expected a positive number, got {val}")
             if (table, key) == ("solver", "rtol"):
@@ -270,7 +275,7 @@ def build_scene_run(cfg: dict):
             at = (f"scene.{msg}" if msg.startswith("f_max:") else msg
                   if msg.startswith("isolation.") else f"scene.frame: {msg}")  # fmt: skip
             raise SceneError(f"{source}: {at}") from None
-    _lifts(system, source)
+    _lifts(system, source, cfg)
     _stands(system, cfg, source)
     if "force" in cfg:
         extra = {k: v for k, v in mo.items() if k != "t_end"}
@@ -311,11 +316,16 @@ def build_scene_run(cfg: dict):
     return system, motion, {}
 
 
-def _lifts(system, source: str) -> None:
+def _lifts(system, source: str, cfg: dict) -> None:
     """SceneError for ``contact = "unilateral"`` on a system whose normal forces are given
-    (frozen): lift-off and landing need them as the contacts' multipliers."""
+    (frozen): lift-off and landing need them as the contacts' multipliers; and for a
+    ``solver.restitution`` without landings (another contact)."""
     iso = system.isolation
     if getattr(iso, "contact", "detect") != "unilateral":
+        if "restitution" in cfg.get("solver", {}):  # (as simulate refuses it)
+            raise SceneError(f"{source}: solver.restitution: a landing's coefficient needs "
+                             "isolation.contact = 'unilateral' (no isolator lands under "
+                             f"{getattr(iso, 'contact', 'detect')!r})")  # fmt: skip
         return
     if system.normal_force is not None:  # a structure from matrices given its weight
         raise SceneError(

@@ -269,6 +269,16 @@ SOLVER = Table(
             choices=("raise", "warn"),
         ),
         Key(
+            "restitution",
+            "number",
+            'Newton\'s coefficient e of a landing under `contact = "unilateral"` '
+            "(0: plastic; a sensitivity study's parameter)",
+            "—",
+            default=0.0,
+            lo=0.0,
+            hi=1.0,
+        ),
+        Key(
             "max_steps",
             "integer",
             "step attempts per chunk of the run before it gives up",

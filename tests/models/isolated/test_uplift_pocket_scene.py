@@ -36,3 +36,34 @@ def test_the_uplift_scene_lifts_off_and_lands(tmp_path, capsys):
     assert s["min_normal_force_N"] >= 0.0 and math.copysign(1.0, s["min_normal_force_N"]) > 0
     assert s["impact_energy_J"] <= 0.0
     assert abs(s["energy_closure"]) <= 1e-3
+
+
+def test_a_scene_s_restitution_reaches_the_landings(tmp_path, capsys):
+    # solver.restitution was a Python argument only: a scene (and so a study) could not vary
+    # it. 16 periods (1.5 lift-offs in the first 12.3 s): e = 0 and e = 0.5 land differently,
+    # the summary says which e ran, and the balance (landings' energy included) still closes
+    text = SCENE.read_text().replace("n_periods = 30", "n_periods = 16")
+    runs = {}
+    for e in (0.0, 0.5):
+        scene = tmp_path / f"e{e}.toml"
+        scene.write_text(text.replace("[solver]\n", f"[solver]\nrestitution = {e}\n"))
+        out = str(tmp_path / f"o{e}")
+        assert main(["run", str(scene), "--json", "--no-figures", "--out", out]) == 0
+        runs[e] = json.loads(capsys.readouterr().out)
+    assert runs[0.0]["restitution"] == 0.0 and runs[0.5]["restitution"] == 0.5
+    assert runs[0.0]["landings"] > 0 and runs[0.5]["landings"] != runs[0.0]["landings"]
+    assert all(
+        abs(s["energy_closure"]) <= 1e-3 and s["impact_energy_J"] <= 0 for s in runs.values()
+    )
+    # refused: outside [0, 1], and without landings (a contact other than unilateral)
+    for edit, said in (
+        ("restitution = 1.5", "solver.restitution: expected a coefficient 0 <= e"),
+        ('contact = "detect"', "solver.restitution: a landing's coefficient needs"),
+    ):
+        bad = text.replace("[solver]\n", "[solver]\nrestitution = 0.5\n")
+        bad = bad.replace("restitution = 0.5", edit) if "restitution" in edit else bad.replace(
+            'contact = "unilateral"', edit)  # fmt: skip
+        scene = tmp_path / "bad.toml"
+        scene.write_text(bad)
+        assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "b")]) == 2
+        assert said in capsys.readouterr().err
