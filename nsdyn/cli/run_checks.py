@@ -108,11 +108,12 @@ def note_unused_cutoff(cfg: dict) -> str | None:
 given_ = object()  # a value no key has: every key absent from the defaults counts as given
 
 
-def note_unused_isolation(cfg: dict, system) -> str | None:
+def note_unused_isolation(cfg: dict, system, law: str | None = None) -> str | None:
     """``[isolation]`` keys the built model does not read, named with why (they changed
     nothing, without a word): the switch law's band and stick stabilisation under a smooth
     law, the arctan sharpness under another, the contacts' keys on given normal forces, the
-    base diaphragm's on a structure given directly, everything on the fixed-base frame."""
+    base diaphragm's on a structure given directly, everything on the fixed-base frame.
+    ``law``: the law the command integrates when not the scene's (uplift's arctan)."""
     from nsdyn.models.isolated.scene import DEFAULT_SCENE
 
     default = DEFAULT_SCENE["isolation"]  # (merged into every frame scene: not the user's)
@@ -122,7 +123,7 @@ def note_unused_isolation(cfg: dict, system) -> str | None:
     if system.isolation is None:  # the fixed-base frame
         return f"[isolation] not used: the fixed-base model has no isolators ({', '.join(given)})"
     method = cfg.get("solver", {}).get("method", "auto")
-    law = "switch" if method == "event" else system.isolation.law
+    law = law or ("switch" if method == "event" else system.isolation.law)
     from nsdyn.models.isolated.friction import LAW_KEYS
 
     why = {k: f"a key of the {own} law; the law here is {law}"

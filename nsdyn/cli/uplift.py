@@ -113,6 +113,11 @@ def run(args: argparse.Namespace) -> int:
                 "the smooth arctan law (same eps) for the periodic orbits",
                 file=sys.stderr,
             )
+    from nsdyn.cli.run_checks import note_unused_isolation
+
+    unused = note_unused_isolation(cfg, system, law)  # (as nsdyn run says it)
+    if unused and not args.json:
+        print(f"nsdyn uplift: note: {unused}", file=sys.stderr)
     a_lo = min(A_LO, 0.5 * args.a_max)
     from nsdyn.plot.uplift import status_text
 

@@ -121,3 +121,16 @@ def test_summary_rows_of_a_unilateral_run_report_lift_off_not_uplift():
     assert "uplift " in held and "none" in held
     assert "uplift " not in lifted and "lift-offs / landings" in lifted and "3 / 2" in lifted
     assert "minimum normal force                 0 N" in lifted and "-0" not in lifted
+
+
+@pytest.mark.parametrize("law", ["arctan", "switch"])
+def test_uplift_names_the_isolation_keys_its_smooth_law_does_not_read(tmp_path, capsys, law):
+    # nsdyn run said "isolation.eta not used" on this scene; nsdyn uplift, whose periodic
+    # orbits take the arctan law (a switch scene's law replaced), said nothing
+    scene = tmp_path / "s.toml"
+    scene.write_text(f'[isolation]\nlaw = "{law}"\neta = 1e-4\n')
+    argv = ["uplift", str(scene), "--points", "2", "--fmin", "1", "--fmax", "1.1", "--a-max",
+            "2", "--no-figures", "--out", str(tmp_path / "o")]  # fmt: skip
+    assert main(argv) == 0
+    assert "note: not used by this model: isolation.eta (a key of the switch law; the law here " \
+           "is arctan)" in capsys.readouterr().err  # fmt: skip
