@@ -42,7 +42,8 @@ PAIRS = {
 }
 ANALYSES = {
     "design": {
-        "variables": "the parameters that make a design (default: every grid parameter)",
+        "variables": "the parameters that make a design (default: every grid parameter but "
+        "`motion.seed`, an earthquake axis like the records)",
         "objectives": "results to minimise (default `idr_max`, `floor_acc_max_mps2`, seed 004 §5)",
         "constraints": "`{result = upper bound}` or `{result = {min = a, max = b}}` (default "
         "`x_iso_max_m` within the 0.4 m seismic gap)",

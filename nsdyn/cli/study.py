@@ -62,8 +62,9 @@ def _format(name: str, run: dict, an: dict) -> str:
     if run.get("n_outside"):
         from nsdyn.studies.table import OUTSIDE
 
-        lines.append(f"kept: {run['n_outside']} finished rows of tasks outside this grid, in "
-                     f"{OUTSIDE} (a wider grid reuses them; --fresh forgets them)")  # fmt: skip
+        lines.append(f"kept: {run['n_outside']} finished rows of tasks not in this study "
+                     f"(other parameter values or settings), in {OUTSIDE} (a study asking for "
+                     "them again reuses them; --fresh forgets them)")  # fmt: skip
     d = an.get("design")
     if d:
         lines.append(

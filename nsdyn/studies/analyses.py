@@ -1,6 +1,7 @@
 """The ``[analysis.*]`` tables of a study file: checking them, running them on the table.
 
-``[analysis.design]``        variables (default: the grid parameters), objectives (default
+``[analysis.design]``        variables (default: the grid parameters but motion.seed, an
+                             earthquake axis like the records), objectives (default
                              IDR and floor acceleration), constraints {field = upper bound}
                              (default the 400 mm seismic gap on x_iso_max_m, seed 004 §5),
                              aggregate over records (mean | median | max), reference design
@@ -188,8 +189,13 @@ def check_analysis(study) -> None:
             raise SceneError(f"{src}: analysis.fragility.confidence: expected in (0, 1)")
 
 
+# grid parameters that draw the excitation, not the design: runs over them are a design's
+# records (the cylinder's simulated earthquake's seed), aggregated as records are
+EXCITATION_AXES = ("motion.seed",)
+
+
 def _grid_names(study) -> list[str]:
-    return [p.name for p in study.parameters if not p.random]
+    return [p.name for p in study.parameters if not p.random and p.name not in EXCITATION_AXES]
 
 
 def _write_rows(rows: list[dict], path: Path) -> None:
@@ -204,8 +210,8 @@ def empty_columns(table: Table, names) -> str | None:
     if not ok:
         return None
 
-    def number(v) -> bool:
-        return isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+    def number(v) -> bool:  # (a true/false outcome counts as 0 or 1, as the analyses read it)
+        return isinstance(v, int | float) and math.isfinite(v)
 
     bad = [n for n in dict.fromkeys(names) if not any(number(r.get(n)) for r in ok)]
     if not bad:
@@ -216,6 +222,21 @@ def empty_columns(table: Table, names) -> str | None:
         f"{', '.join(map(repr, bad))}: no number in any successful row{hint} (numeric "
         f"columns: {', '.join(have)}); their statistics are NaN"
     )
+
+
+def boolean_note(table: Table, names) -> str | None:
+    """A note naming the quantities of a percentile table that are true/false outcomes
+    (overturned, toppled): their percentiles are 0s and 1s, interpolated between runs, which
+    reads like a number it is not; the fraction of runs where they hold is what says something."""
+    ok = [r for r in table.rows if r.get("status") == "ok"]
+    flags = [n for n in dict.fromkeys(names)
+             if any(isinstance(r.get(n), bool) for r in ok)
+             and all(isinstance(r.get(n), bool) or r.get(n) is None for r in ok)]  # fmt: skip
+    if not flags:
+        return None
+    return (f"{', '.join(map(repr, flags))}: true or false in every run, so their percentiles "
+            "are of 0s and 1s (interpolated between runs); the fraction of runs where they are "
+            "true is a fragility's or a design constraint's reading")  # fmt: skip
 
 
 def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
@@ -371,7 +392,8 @@ def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True)
         rows = percentile_table(table, q, by, pct)
         _write_rows(rows, out / "percentiles.csv")
         res["percentiles"] = {"rows": rows, "table": str(out / "percentiles.csv")}
-        note = "; ".join(n for n in (empty_columns(table, q), few_runs_note(rows, pct)) if n)
+        notes = (empty_columns(table, q), boolean_note(table, q), few_runs_note(rows, pct))
+        note = "; ".join(n for n in notes if n)
         if note:
             res["percentiles"]["note"] = note
         if not rows:  # (no figure drawn: an earlier one would sit beside the new table)

@@ -140,6 +140,7 @@ def run_study(
     store.clean_temporaries()
     if fresh:
         store.reset()
+    store.claim(study.name, study.kind)
     done = store.read()
     todo = [
         t

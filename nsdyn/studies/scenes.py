@@ -191,16 +191,18 @@ _BUILDERS = {  # the functions of a family's scene module that read and check a 
 }
 
 
-def check_scene(cfg: dict, source: str) -> None:
+def check_scene(cfg: dict, source: str) -> list[str]:
     """Check a complete scene of any kind as ``nsdyn run`` checks a scene file, without
     running it: :class:`SceneError` naming ``source`` and the field. A study calls it on every
-    task before the first one runs, so a bad parameter value is refused up front."""
+    task before the first one runs, so a bad parameter value is refused up front. Returns the
+    notes the family's reader gives (keys it does not read: ``"solver.h not used: ..."``)."""
     kind = scene_kind(cfg, source)
     if kind == "isolated":
         _check_isolated(cfg, source)
-        return
+        return []
     mod = importlib.import_module(scene_module(kind))
     cfg = _record_for_simulated(cfg, kind)
+    notes: list[str] = []
     try:
         for name in _BUILDERS.get(kind, ()):
             if kind in KINDS3C and name == "build_system":  # kept per process (the frame)
@@ -208,11 +210,15 @@ def check_scene(cfg: dict, source: str) -> None:
 
                 build_system(kind, cfg, source)
                 continue
-            getattr(mod, name)(cfg, source)
+            out = getattr(mod, name)(cfg, source)
+            for part in out if isinstance(out, tuple) else (out,):
+                if isinstance(part, dict) and isinstance(part.get("notes"), list):
+                    notes += [n for n in part["notes"] if isinstance(n, str)]
     except SceneError:
         raise
     except (OSError, ValueError) as e:  # a bad value the family's reader let through
         raise SceneError(f"{source}: {' '.join(str(e).split())}") from None
+    return notes
 
 
 def _record_for_simulated(cfg: dict, kind: str) -> dict:
@@ -255,7 +261,7 @@ def warm_scene_kernels(tasks) -> list[str]:
 
 
 def _check_isolated(cfg: dict, source: str) -> None:
-    from nsdyn.models.isolated.scene import _check, build_structure
+    from nsdyn.models.isolated.scene import _check, build_structure, check_restitution
     from nsdyn.models.isolated.scene_structure import force_excitation, harmonic_motion
     from nsdyn.models.isolated.system import isolation_from_config
     from nsdyn.solve.methods import METHODS
@@ -265,6 +271,7 @@ def _check_isolated(cfg: dict, source: str) -> None:
     mo = tables.get("motion", {})
     mo.pop("simulated", None)
     _check(tables, source)
+    check_restitution(cfg, source)
     try:
         iso = isolation_from_config(cfg.get("isolation", {}), source)
     except ValueError as e:

@@ -434,6 +434,9 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict,
             raise _err(source, "study.scene", f"no such scene file: {scene_path}")
         raw = read_toml(scene_path)
     base_over = resolve_paths(base_over, study_dir)  # [base] files: beside the study file
+    if "t_end" in base_over.get("motion", {}):  # a given end replaces the scene's periods
+        for table in ("motion", "force"):
+            raw.get(table, {}).pop("n_periods", None)
     merged = _merge(raw, base_over)  # (the scene's: beside the scene file, by read_toml)
     kind = scene_kind(merged, source)
     if records and isinstance(raw.get("motion"), dict) and record_replaces(kind):
@@ -444,7 +447,9 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict,
     if kind == "isolated":
         from nsdyn.models.isolated.scene import _check, load_scene
 
-        _check(base_over, f"{source}: [base]")
+        # each [base] table as merged over the scene's own (a harmonic scene's [base.motion]
+        # n_periods was checked against a record's keys: its kind is the scene's)
+        _check({t: merged.get(t, v) for t, v in base_over.items()}, f"{source}: [base]")
         from nsdyn.models.isolated.system import isolation_from_config
 
         cfg = load_scene(scene_path, base_over)
@@ -489,6 +494,12 @@ def load_study(path: str | Path) -> Study:
                    "whose motion is a record: drop [records], or vary the harmonic motion's "
                    "keys in [parameters]")  # fmt: skip
     replaced = record_replaces(kind) if records else ()
+    base_motion = raw.get("base", {}).get("motion", {})
+    for key in base_motion if isinstance(base_motion, dict) else ():  # (dropped silently)
+        if key in replaced:
+            raise _err(source, f"base.motion.{key}", "a key of the scene's closed-form motion, "
+                       "which every record of [records] replaces; drop it, or drop "
+                       "[records]")  # fmt: skip
     for name in params_raw:  # each task's record would drop the value the grid gave it
         if name.startswith("motion.") and name.split(".", 1)[1] in replaced:
             raise _err(source, f"parameters.{name}", "varies the scene's closed-form motion, "
@@ -513,6 +524,7 @@ def load_study(path: str | Path) -> Study:
     if study.n_tasks > MAX_TASKS:
         raise _err(source, "parameters", f"{study.n_tasks} tasks (more than {MAX_TASKS})")
     from nsdyn.studies.analyses import check_analysis
+    from nsdyn.studies.tasks import check_tasks
 
     check_analysis(study)
     check_tasks(study)
@@ -535,23 +547,6 @@ def task_label(index, params: dict, record: str = "") -> str:
     if record:
         vals.append(f"record {record}")
     return f"task {index}" + (f" ({', '.join(vals)})" if vals else "")
-
-
-def check_tasks(study: Study) -> None:
-    """Every task's complete scene checked as ``nsdyn run`` checks a scene file, before any
-    runs: a bad parameter value or record is a :class:`SceneError` naming the study file, the
-    task and the field, not a column of failed rows."""
-    import warnings
-
-    from nsdyn.ground import UnitWarning
-    from nsdyn.studies.scenes import check_scene
-    from nsdyn.studies.tasks import expand
-
-    with warnings.catch_warnings():  # a record's units are the run's to report, once per task
-        warnings.simplefilter("ignore", UnitWarning)
-        for task in expand(study):
-            label = task_label(task.index, task.params, task.record_name)
-            check_scene(task.cfg, f"{study.source}: {label}")
 
 
 def is_finite_number(v) -> bool:

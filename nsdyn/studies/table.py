@@ -46,6 +46,7 @@ ANALYSIS_OUTPUTS = {  # each analysis' (table, figure)
 PARQUET = "results.parquet"
 ANALYSIS_FILES = (*(f for pair in ANALYSIS_OUTPUTS.values() for f in pair), PARQUET)
 PARTS = "parts"
+OWNER = ".study.json"  # the study whose results the folder holds: {"name", "kind"}
 LEAD_COLUMNS = ("index", "key", "record", "sample")  # first columns, in this order
 TAIL_COLUMNS = ("status", "error", "task_s")  # after the parameters
 
@@ -247,9 +248,31 @@ class ResultsStore:
             p.unlink(missing_ok=True)
         return table
 
+    def claim(self, name: str, kind: str) -> None:
+        """Mark the folder as holding study ``name``'s results (a scene of ``kind``), or
+        CheckpointError when it holds another study's: a cylinder study's rows were merged
+        into a rocking study's table (as tasks "outside this grid") and its analyses
+        replaced."""
+        import json
+
+        from nsdyn.atomic import CheckpointError
+
+        mine = {"name": str(name), "kind": str(kind)}
+        try:
+            old = json.loads((self.out / OWNER).read_text())
+        except (OSError, ValueError):
+            old = None
+        if isinstance(old, dict) and old != mine and self.read():
+            raise CheckpointError(f"{self.out}: holds the results of study {old.get('name')!r} "
+                                  f"({old.get('kind')} scenes), not of {name!r} ({kind}); give "
+                                  "another --out, or --fresh to replace them")  # fmt: skip
+        self.out.mkdir(parents=True, exist_ok=True)
+        with atomic_open(self.out / OWNER, "w") as fh:
+            fh.write(json.dumps(mine))
+
     def reset(self) -> None:
         """Forget every result and the analyses made from them (a fresh start)."""
-        for name in (RESULTS, OUTSIDE, *ANALYSIS_FILES):
+        for name in (RESULTS, OUTSIDE, OWNER, *ANALYSIS_FILES):
             (self.out / name).unlink(missing_ok=True)
         for p in self._part_files():
             p.unlink(missing_ok=True)

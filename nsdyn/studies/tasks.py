@@ -24,13 +24,14 @@ import hashlib
 import itertools
 import json
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from nsdyn.models.scenefile import FILE_FIELDS
-from nsdyn.studies.study import KINDS3C, RecordSpec, Study
+from nsdyn.models.scenefile import FILE_FIELDS, SceneError
+from nsdyn.studies.study import KINDS3C, RecordSpec, Study, task_label
 
 CYLINDER_FILES = ("record", "record_y", "record_z")  # a cylinder's component files
 
@@ -240,3 +241,30 @@ def batch_size(n_tasks: int, n_workers: int, requested: int = 0) -> int:
 def batches(tasks: list[Task], size: int) -> list[list[Task]]:
     """Consecutive runs of ``size`` tasks."""
     return [tasks[i : i + size] for i in range(0, len(tasks), size)]
+
+
+def check_tasks(study: Study) -> None:
+    """Every task's complete scene checked as ``nsdyn run`` checks a scene file, before any
+    runs: a bad parameter value or record is a :class:`SceneError` naming the study file, the
+    task and the field, not a column of failed rows. A parameter no task reads (every task's
+    scene notes it as not used: a Moreau-Jean step under the event method, springs on a fixed
+    base) is refused too: its values would repeat one run."""
+    import warnings
+
+    from nsdyn.ground import UnitWarning
+    from nsdyn.studies.scenes import check_scene
+
+    read = {p.name: [] for p in study.parameters}  # per parameter: a task that reads it
+    with warnings.catch_warnings():  # a record's units are the run's to report, once per task
+        warnings.simplefilter("ignore", UnitWarning)
+        for task in expand(study):
+            label = task_label(task.index, task.params, task.record_name)
+            notes = check_scene(task.cfg, f"{study.source}: {label}")
+            for name, why in read.items():  # (the whole key: solver.h is not solver.h_max)
+                key = re.compile(rf"(?<![\w.]){re.escape(name)}(?![\w.])")
+                unused = [n for n in notes if "not used" in n and key.search(n)]
+                why.append(unused[0] if unused else None)
+    for name, why in read.items():  # every task repeats one run: its values change nothing
+        if why and all(why):
+            raise SceneError(f"{study.source}: parameters.{name}: no task reads it ({why[0]}); "
+                             "its values would repeat one run")  # fmt: skip

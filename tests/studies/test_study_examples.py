@@ -203,8 +203,7 @@ def test_a_study_varies_a_field_its_scene_does_not_set(tmp_path, scene, field, v
     # Each task's scene carries the value, and a value out of the key's declared range is
     # refused by the scene's own reader, naming the task and the field (it is read).
     from nsdyn.models.scenefile import SceneError
-    from nsdyn.studies.study import check_tasks
-    from nsdyn.studies.tasks import expand
+    from nsdyn.studies.tasks import check_tasks, expand
 
     path = EXAMPLES / "scenes" / scene
     table, key = field.split(".")

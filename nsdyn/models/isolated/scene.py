@@ -221,8 +221,11 @@ def load_scene(path: str | Path | None = None, overrides: dict | None = None) ->
         if "force" in user or user.get("motion", {}).get("kind") == "harmonic":
             cfg["motion"] = {}  # no default record under another excitation
         cfg = merge(cfg, user)
-    if overrides:
-        _check(overrides, "command line")
+    if overrides:  # each table checked as merged over the scene's (its motion's kind)
+        if "t_end" in overrides.get("motion", {}):  # a given end replaces the scene's periods
+            for table in ("motion", "force"):
+                cfg.get(table, {}).pop("n_periods", None)
+        _check({t: {**cfg.get(t, {}), **v} for t, v in overrides.items()}, "command line")
         cfg = merge(cfg, overrides)
     cfg["_source"] = source
     return cfg
@@ -316,16 +319,23 @@ def build_scene_run(cfg: dict):
     return system, motion, {}
 
 
+def check_restitution(cfg: dict, source: str) -> None:
+    """SceneError for a ``solver.restitution`` without landings: a contact other than
+    ``isolation.contact = "unilateral"`` (as ``simulate`` refuses it)."""
+    contact = cfg.get("isolation", {}).get("contact", "detect")
+    if "restitution" in cfg.get("solver", {}) and contact != "unilateral":
+        raise SceneError(f"{source}: solver.restitution: a landing's coefficient needs "
+                         f"isolation.contact = 'unilateral' (no isolator lands under "
+                         f"{contact!r})")  # fmt: skip
+
+
 def _lifts(system, source: str, cfg: dict) -> None:
     """SceneError for ``contact = "unilateral"`` on a system whose normal forces are given
     (frozen): lift-off and landing need them as the contacts' multipliers; and for a
     ``solver.restitution`` without landings (another contact)."""
     iso = system.isolation
+    check_restitution(cfg, source)
     if getattr(iso, "contact", "detect") != "unilateral":
-        if "restitution" in cfg.get("solver", {}):  # (as simulate refuses it)
-            raise SceneError(f"{source}: solver.restitution: a landing's coefficient needs "
-                             "isolation.contact = 'unilateral' (no isolator lands under "
-                             f"{getattr(iso, 'contact', 'detect')!r})")  # fmt: skip
         return
     if system.normal_force is not None:  # a structure from matrices given its weight
         raise SceneError(

@@ -1,0 +1,115 @@
+"""Study inputs that every task would drop are refused when the study is loaded.
+
+Before, each ran: a parameter the model does not read (a Moreau–Jean step under the event
+method, springs on a fixed cylinder base) gave tasks that repeat one run, with a note only in
+each row's ``notes``; a closed-form motion key in [base.motion] under [records] was replaced
+by every record without a word; a landing's restitution without unilateral contact became a
+column of failed rows (status 3) instead of an input error. The contract: one SceneError
+naming the study file and the field, before any run (status 2 on the command line).
+A harmonic scene's [base.motion] keys are checked against its own motion (they were checked
+against a record's), and a given t_end replaces the scene's n_periods as --t-end does.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from nsdyn.models.scenefile import SceneError
+from nsdyn.studies.study import load_study
+from nsdyn.studies.tasks import expand
+
+SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+
+
+def _study(tmp_path, scene: str, body: str) -> Path:
+    path = tmp_path / "s.toml"
+    path.write_text(f'[study]\nscene = "{SCENES / scene}"\n{body}')
+    return path
+
+
+@pytest.mark.parametrize(
+    ("scene", "body", "match"),
+    [
+        ("contact-seed002-A5.toml", '[parameters]\n"solver.h" = [1e-3, 5e-4]\n',
+         r"parameters.solver.h: no task reads it \(solver.h not used: method 'event'"),
+        ("cylinder-uplift.toml",
+         '[base.foundation]\ncase = "fixed"\n[parameters]\n"foundation.f_rock" = [2.0, 6.0]\n',
+         r"parameters.foundation.f_rock: no task reads it \(.*a fixed base"),
+        ("rocking-seed003-column.toml",
+         '[base.motion]\npulse = "rect"\na_p_g = 2.0\n[records]\nnames = ["synthetic-kt-20s"]\n',
+         r"base.motion.(pulse|a_p_g): a key of the scene's closed-form motion, which every "
+         r"record of \[records\] replaces"),
+        ("isolated-uplift-pocket.toml",
+         '[base.isolation]\ncontact = "bilateral"\n'
+         '[parameters]\n"solver.restitution" = [0.0, 0.7]\n',
+         r"solver.restitution: a landing's coefficient needs isolation.contact = 'unilateral'"),
+    ],
+)  # fmt: skip
+def test_inputs_every_task_would_drop_are_refused_at_load(tmp_path, scene, body, match):
+    with pytest.raises(SceneError, match=match):
+        load_study(_study(tmp_path, scene, body))
+
+
+def test_a_parameter_some_tasks_read_is_kept(tmp_path):
+    # f_rock is read on the tensionless and bonded bases, not on the fixed one: kept
+    body = (
+        "[base.motion]\nduration = 2.0\n[parameters]\n"
+        '"foundation.case" = ["tensionless", "fixed"]\n"foundation.f_rock" = [2.0, 6.0]\n'
+    )
+    assert len(expand(load_study(_study(tmp_path, "cylinder-uplift.toml", body)))) == 4
+
+
+@pytest.mark.parametrize("key", ["n_periods = 2", "t_end = 2.0"])
+def test_a_harmonic_scene_s_base_motion_is_its_own(tmp_path, key):
+    # "[base]: motion.n_periods: unknown field; expected some of ['dt', 'pga', 'record', ...]"
+    # and, for t_end over the scene's n_periods, "give one, not both"
+    body = f'[base.motion]\n{key}\n[parameters]\n"isolation.mu" = [0.05, 0.06]\n'
+    (task,) = expand(load_study(_study(tmp_path, "isolated-uplift-pocket.toml", body)))[:1]
+    mo = task.cfg["motion"]
+    assert mo["kind"] == "harmonic" and (mo.get("n_periods") == 2 or mo.get("t_end") == 2.0)
+    assert not ("t_end" in mo and "n_periods" in mo)
+
+
+def test_a_design_s_default_variables_leave_the_earthquake_seed_to_the_records(tmp_path):
+    # the cylinder's simulated earthquake's seed is an excitation axis: the default design
+    # variables took it, so a "design" was one particular earthquake (and a reference naming
+    # no seed matched seed 0, judged on one earthquake)
+    from nsdyn.studies.analyses import _grid_names
+
+    body = ('[parameters]\n"foundation.zeta" = [0.05, 0.2]\n"foundation.f_rock" = [2.0, 4.0]\n'
+            '"motion.seed" = [0, 1]\n')  # fmt: skip
+    study = load_study(_study(tmp_path, "cylinder-uplift.toml", body))
+    assert _grid_names(study) == ["foundation.zeta", "foundation.f_rock"]
+
+
+def test_true_false_outcomes_are_numbers_to_the_analyses_and_their_percentiles_are_named():
+    # 'toppled' was noted as holding "no number in any successful row, statistics NaN" while
+    # the design constraint and the percentile table read it as 0/1 (p16 = 0.16, ...)
+    from nsdyn.studies.analyses import boolean_note, empty_columns
+    from nsdyn.studies.table import Table
+
+    rows = [{"status": "ok", "toppled": True, "max_tilt": 0.1},
+            {"status": "ok", "toppled": False, "max_tilt": 0.2},
+            {"status": "failed", "toppled": None, "max_tilt": None}]  # fmt: skip
+    assert empty_columns(Table(rows), ["toppled", "max_tilt"]) is None
+    note = boolean_note(Table(rows), ["toppled", "max_tilt"])
+    assert note.startswith("'toppled': true or false in every run") and "max_tilt" not in note
+    assert boolean_note(Table(rows), ["max_tilt"]) is None
+
+
+def test_another_study_s_folder_is_refused_not_merged(tmp_path):
+    # a rocking study written into a cylinder study's folder took its 115 rows as "tasks
+    # outside this grid" and replaced its analyses
+    from nsdyn.atomic import CheckpointError
+    from nsdyn.studies.table import ResultsStore
+
+    store = ResultsStore(tmp_path)
+    store.claim("cyl", "cylinder")
+    store.append([{"key": "k0", "index": 0, "status": "ok"}])
+    store.claim("cyl", "cylinder")  # the same study resumes
+    with pytest.raises(CheckpointError, match=r"holds the results of study 'cyl' \(cylinder"):
+        store.claim("rock", "rocking")
+    store.reset()  # --fresh
+    store.claim("rock", "rocking")
