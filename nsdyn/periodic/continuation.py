@@ -135,6 +135,20 @@ def _free(dx: np.ndarray, C: np.ndarray | None) -> np.ndarray:
     return dx - np.linalg.pinv(C) @ (C @ dx)
 
 
+def _options(disc, progress, start) -> Discretisation:
+    """The discretisation (the default for None), or TypeError naming the argument: a
+    discretisation, progress callback or resumed start of another kind failed deep inside
+    (``'str' object has no attribute 'steps'``)."""
+    if disc is not None and not isinstance(disc, Discretisation):
+        raise TypeError(f"disc: expected a Discretisation, got {type(disc).__name__}")
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress: expected a callable (pt, count, total), got "
+                        f"{type(progress).__name__}")  # fmt: skip
+    if start is not None and not all(isinstance(p, OrbitPoint) for p in start):
+        raise TypeError("start: expected the OrbitPoints of a curve to resume (curve.points)")
+    return disc or Discretisation()
+
+
 def _jump(problem, pts: list, disc, tol: float, max_iter: int) -> dict | None:
     """A jump between two branches at the last step of a sequential curve, or None.
 
@@ -180,7 +194,7 @@ def continue_sequential(
     ``start`` resumes a curve (points already computed are kept, frequencies up to the last
     one skipped). Only the last point keeps its orbit ``X`` unless ``keep_orbits``.
     """
-    disc = disc or Discretisation()
+    disc = _options(disc, progress, start)
     freqs = np.asarray(freqs, dtype=float)
     if freqs.ndim != 1 or not freqs.size or not np.all(np.isfinite(freqs) & (freqs > 0)) \
             or np.any(np.diff(freqs) <= 0):  # fmt: skip
@@ -327,7 +341,7 @@ def continue_arclength(
     is continued sequentially on the same frequency step (frequencies without an orbit
     skipped, ``info["skipped_hz"]``), the place and reason kept in ``info["arclength_stop"]``.
     """
-    disc = disc or Discretisation()
+    disc = _options(disc, progress, start)
     fmin, fmax, points = check_range(fmin, fmax, points)
     pmin, pmax = math.log(fmin), math.log(fmax)
     dp_max = (pmax - pmin) / max(points - 1, 1)

@@ -143,3 +143,23 @@ def test_a_discretisation_is_checked_where_it_is_made(kw, match):
     # an unknown tableau was accepted and failed inside the first shooting's traceback
     with pytest.raises(ValueError, match=match):
         pr.Discretisation(**kw)
+
+
+@pytest.mark.parametrize("continuation", ["sequential", "arclength"])
+@pytest.mark.parametrize(
+    ("kw", "match"),
+    [
+        # each failed deep inside: "'str' object has no attribute 'steps'", "'int' object is
+        # not callable" after the first point, "'int' object has no attribute 'f'"
+        ({"disc": "sdirk2"}, r"^disc: expected a Discretisation, got str"),
+        ({"progress": 5}, r"^progress: expected a callable"),
+        ({"start": [1, 2]}, r"^start: expected the OrbitPoints of a curve"),
+    ],
+)
+def test_continuation_names_an_option_of_the_wrong_kind(continuation, kw, match):
+    prob = pr.duffing_problem(0.02, 1.0, 0.3, 0.045)
+    with pytest.raises(TypeError, match=match):
+        if continuation == "sequential":
+            pr.continue_sequential(prob, [0.15, 0.16], **kw)
+        else:
+            pr.continue_arclength(prob, 0.15, 0.16, points=3, **kw)
