@@ -20,11 +20,26 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from nsdyn._checks import whole
 from nsdyn.structure.frame import _per
 from nsdyn.structure.frame3d import Diaphragm, Frame3D, Section3D
 
 COLUMN_VECXZ = (1.0, 0.0, 0.0)  # columns: local z = global X, so I_y resists x-sway
 BEAM_VECXZ = (0.0, 0.0, 1.0)  # beams: local z = global Z, so I_y is vertical bending
+
+
+def _numbers(v, what: str, size: int | None = None) -> np.ndarray:
+    """``v`` as a 1-D array of finite floats (``size`` of them when given), or ValueError
+    naming ``what`` (text, nested lists and NaN failed deep inside numpy before)."""
+    try:
+        a = np.asarray(v, float)
+    except (TypeError, ValueError):
+        a = np.empty(0)
+    bad = isinstance(v, str | bytes) or a.ndim != 1 or not np.all(np.isfinite(a))
+    if bad or (size is not None and a.size != size) or a.size == 0:
+        form = f"{size} finite numbers" if size else "a list of finite numbers"
+        raise ValueError(f"{what}: expected {form}, got {v!r}")
+    return a
 
 
 def _values(v, n, what) -> np.ndarray:
@@ -68,11 +83,17 @@ def regular_building_3d(
     order) and its beam nodes (x beams line by line, then y beams). ``column_joints`` holds
     the joints of every column line at every level.
     """
-    bx, by, hs = (np.asarray(v, float) for v in (bays_x, bays_y, storey_heights))
-    if min(len(bx), len(by), len(hs)) < 1 or np.any(np.r_[bx, by, hs] <= 0):
+    bx, by, hs = (_numbers(v, w) for v, w in ((bays_x, "bays_x"), (bays_y, "bays_y"),
+                                             (storey_heights, "storey_heights")))  # fmt: skip
+    if np.any(np.r_[bx, by, hs] <= 0):
         raise ValueError("need at least one bay each way and one storey, all of positive size")
-    if n_v < 1 or n_h < 1:
-        raise ValueError("n_v and n_h must be >= 1")
+    whole("n_v", n_v, 1, "a whole number of elements per column >= 1")
+    whole("n_h", n_h, 1, "a whole number of elements per beam >= 1")
+    mass_offset = tuple(_numbers(mass_offset, "mass_offset", 2))
+    column_vecxz, beam_x_vecxz, beam_y_vecxz = (
+        tuple(_numbers(v, w, 3)) for v, w in ((column_vecxz, "column_vecxz"),
+                                               (beam_x_vecxz, "beam_x_vecxz"),
+                                               (beam_y_vecxz, "beam_y_vecxz")))  # fmt: skip
     if not diaphragms and np.any(np.asarray(mass_offset, float) != 0.0):
         raise ValueError(
             f"mass_offset {list(mass_offset)}: expected (0, 0) without diaphragms (the offset "

@@ -407,7 +407,11 @@ def _per(secs, n, what, kind=Section) -> list:
     """``n`` sections (one per storey) from one section of type ``kind`` or a list of 1 or n."""
     if isinstance(secs, kind):
         return [secs] * n
-    secs = list(secs)
+    secs = list(secs) if isinstance(secs, list | tuple) else [secs]
+    if not all(isinstance(s, kind) for s in secs):  # (a number: "'int' object is not iterable")
+        bad = next(s for s in secs if not isinstance(s, kind))
+        raise TypeError(f"{what}: expected a {kind.__name__} or a list of them, got "
+                        f"{type(bad).__name__}")  # fmt: skip
     if len(secs) == 1:
         return secs * n
     if len(secs) != n:

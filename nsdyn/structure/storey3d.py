@@ -160,6 +160,21 @@ def storey_drifts_3d(frame: Frame3D, u: np.ndarray) -> StoreyDrifts:
     return StoreyDrifts(h, c[1:].copy(), corners, np.stack(cm), np.stack(cor))
 
 
+def eccentricity_pair(eccentricity) -> tuple[float, float]:
+    """``(f_x, f_y)`` of an ``eccentricity`` argument, or ValueError naming it (a scalar was
+    "'float' object is not iterable", text was read character by character)."""
+    try:
+        fx, fy = (float(v) for v in eccentricity)
+        ok = not isinstance(eccentricity, str | bytes) and not any(
+            isinstance(v, bool | str | bytes) for v in eccentricity)  # fmt: skip
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise ValueError(f"eccentricity: expected a pair (f_x, f_y) of fractions of the plan "
+                         f"dimensions, got {eccentricity!r}")  # fmt: skip
+    return fx, fy
+
+
 def accidental_eccentricity(frame: Frame3D, f_x: float = 0.0, f_y: float = 0.0) -> Frame3D:
     """``frame`` with every diaphragm's centre of mass moved by ``(f_x L_x, f_y L_y)``
     (fractions of the floor's plan dimensions, signed; module docstring)."""

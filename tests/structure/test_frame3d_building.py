@@ -298,3 +298,25 @@ def test_bad_building_input_is_refused_not_ignored():
             "s", nodes, [[0, 1], [1, 2]], (0.0, 1.0, 0.0), [E, -1.0], G, 1e-2, 1e-5, 1e-5, 1e-5,
             10.0, None, 0.0, [0], [0.05],
         )  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("kw", "err", "match"),
+    [
+        # each failed inside numpy or Python with a message naming no argument
+        ({"bays_x": "6"}, ValueError, r"^bays_x: expected a list of finite numbers, got '6'"),
+        ({"storey_heights": [[4.0]]}, ValueError, r"^storey_heights: expected a list of finite"),
+        ({"columns": 5}, TypeError, r"^columns: expected a Section3D or a list of them, got int"),
+        ({"n_v": 1.5}, ValueError, r"^n_v: expected a whole number of elements per column"),
+        ({"mass_offset": (0.1, 0.2, 0.3)}, ValueError, r"^mass_offset: expected 2 finite numbers"),
+        ({"mass_offset": "0.1"}, ValueError, r"^mass_offset: expected 2 finite numbers"),
+        ({"beam_x_vecxz": (1.0, 0.0)}, ValueError, r"^beam_x_vecxz: expected 3 finite numbers"),
+    ],
+)
+def test_the_building_generator_names_an_argument_of_the_wrong_form(kw, err, match):
+    args = {"floor_mass": 1e4, **kw}
+    sizes = {k: args.pop(k) for k in ("bays_x", "storey_heights", "columns") if k in args}
+    with pytest.raises(err, match=match):
+        regular_building_3d("b", sizes.get("bays_x", [6.0]), [6.0],
+                            sizes.get("storey_heights", [4.0]), sizes.get("columns", COL), BEAM,
+                            BEAM, **args)  # fmt: skip

@@ -67,7 +67,12 @@ from nsdyn.structure.frame3d import Diaphragm, Frame3D
 from nsdyn.structure.modes3d import mass_centre
 from nsdyn.structure.reduction import CBModel, craig_bampton
 from nsdyn.structure.reduction3d import DENSE_MAX_3D, craig_bampton_3d
-from nsdyn.structure.storey3d import accidental_eccentricity, floor_motions, storey_drifts_3d
+from nsdyn.structure.storey3d import (
+    accidental_eccentricity,
+    eccentricity_pair,
+    floor_motions,
+    storey_drifts_3d,
+)
 
 __all__ = ["BASES", "FULL_MAX", "MIN_MASS", "RUNGS", "base_grid", "building_pairs",
            "mass_fractions", "reduce_building", "static_state"]  # fmt: skip
@@ -315,8 +320,8 @@ def building_pairs(
     from nsdyn.models.isolated.pairs import PairSystem
 
     bearings = _bearings(frame, bearings)
-    if any(eccentricity):
-        frame = accidental_eccentricity(frame, *(float(v) for v in eccentricity))
+    if any(eccentricity_pair(eccentricity)):
+        frame = accidental_eccentricity(frame, *eccentricity_pair(eccentricity))
     red = reduce_building(frame, fidelity, f_max, min_mass, base, lumped)
     cb, model, D, R = red.pop("cb"), red.pop("frame"), red.pop("D"), red.pop("R")
     n = cb.n_red

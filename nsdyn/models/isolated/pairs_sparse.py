@@ -347,7 +347,7 @@ def building_pairs_sparse(
     ``y0`` and ``static_normal``, the damped modes and the output maps."""
     from nsdyn.models.isolated.building3d_cb import BASES, _bearings, _interface, base_grid
     from nsdyn.structure.modes3d import mass_centre
-    from nsdyn.structure.storey3d import accidental_eccentricity
+    from nsdyn.structure.storey3d import accidental_eccentricity, eccentricity_pair
 
     if damping not in DAMPINGS:
         raise ValueError(f"damping: expected one of {list(DAMPINGS)}, got {damping!r}")
@@ -356,8 +356,8 @@ def building_pairs_sparse(
     if f_damp is not None and not (isinstance(f_damp, int | float) and f_damp > 0):
         raise ValueError(f"f_damp: expected a positive frequency [Hz] or None, got {f_damp!r}")
     bearings = _bearings(frame, bearings)
-    if any(eccentricity):
-        frame = accidental_eccentricity(frame, *(float(v) for v in eccentricity))
+    if any(eccentricity_pair(eccentricity)):
+        frame = accidental_eccentricity(frame, *eccentricity_pair(eccentricity))
     model = base_grid(frame) if base == "grid" else frame
     b, Db, Rb = _interface(model, base)
     K, M = model.reduced(lumped=lumped)

@@ -184,6 +184,10 @@ def test_bad_input_is_named():
         building_pairs(frame, FPS, f_max=-2.0)
     with pytest.raises(ValueError, match="min_mass: expected"):
         building_pairs(frame, FPS, min_mass=2.0)
+    # a scalar was "'float' object is not iterable", text was read character by character
+    for ecc in (0.05, "0.05", (0.1, 0.2, 0.3)):
+        with pytest.raises(ValueError, match=r"^eccentricity: expected a pair \(f_x, f_y\)"):
+            building_pairs(frame, FPS, eccentricity=ecc)
     office = load_frame3d("office-11-3d")
     n_int = office.n_red - 36  # pinned: three interface dofs per foot
     assert n_int > FULL_MAX
