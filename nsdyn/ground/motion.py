@@ -40,7 +40,7 @@ def samples(name: str, a, n: int | None = None) -> np.ndarray:
     if kind not in "iuf":
         what = {"c": "complex", "b": "bool", "U": "text", "S": "text"}.get(kind, "non-numeric")
         raise ValueError(f"{name}: expected real accelerations [m/s²], got {what} values")
-    arr = np.ascontiguousarray(a, dtype=np.float64)
+    arr = np.array(a, dtype=np.float64, order="C")  # a copy: the caller's array stays theirs
     if arr.ndim != 1 or arr.size < 1:
         raise ValueError(f"{name}: expected a non-empty 1-D array, got shape {arr.shape}")
     if n is not None and arr.size != n:

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._checks import number
 from nsdyn.ground.motion import GroundMotion
 
 RICKER_CENTRE = 1.5  # centre of the Ricker wavelet after its start, in periods T_p (tail ~2e-10)
@@ -62,10 +63,14 @@ class Pulse:
     def __post_init__(self) -> None:
         if self.shape not in SHAPES:
             raise ValueError(f"shape: expected one of {sorted(SHAPES)}, got {self.shape!r}")
-        if not (math.isfinite(self.a_p) and math.isfinite(self.omega_p) and self.omega_p > 0):
-            raise ValueError(f"a_p finite and omega_p > 0 expected, got {self.a_p}, {self.omega_p}")
-        if int(self.n_cycles) != self.n_cycles or self.n_cycles < 1:
-            raise ValueError(f"n_cycles: expected an integer >= 1, got {self.n_cycles!r}")
+        number("a_p", self.a_p, "a finite amplitude [m/s²]")
+        number("omega_p", self.omega_p, "a positive angular frequency [rad/s]", lambda v: v > 0)
+        # (a NaN ratio left the block standing: every vertical sample NaN, no uplift found)
+        number("t_start", self.t_start, "a finite start time [s]")
+        number("ver_ratio", self.ver_ratio, "a finite vertical-to-horizontal ratio")
+        n = self.n_cycles
+        if isinstance(n, bool) or not isinstance(n, int | float) or int(n) != n or n < 1:
+            raise ValueError(f"n_cycles: expected an integer >= 1, got {n!r}")
 
     @property
     def T_p(self) -> float:
@@ -152,7 +157,8 @@ def n_cycle_sine(
 
 def rectangular(a_p: float, duration: float, t_start: float = 0.0) -> Pulse:
     """Constant acceleration ``a_p`` for ``duration`` seconds."""
-    return Pulse("rect", a_p, 2.0 * math.pi / duration, 1, t_start)
+    d = number("duration", duration, "a positive duration [s]", lambda v: v > 0)
+    return Pulse("rect", a_p, 2.0 * math.pi / d, 1, t_start)
 
 
 def ricker(a_p: float, omega_p: float, t_start: float = 0.0, ver_ratio: float = 0.0) -> Pulse:

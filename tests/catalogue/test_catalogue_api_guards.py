@@ -199,7 +199,7 @@ def test_objects_of_the_wrong_kind_are_named_by_every_family():
     ):
         with pytest.raises(TypeError, match=match):
             call()
-    with pytest.raises(ValueError, match="q0: expected 3 values"):
+    with pytest.raises(ValueError, match="q0: expected 3 finite values"):
         nsdyn.simulate_event(body, law, None, t_end=1.0, q0=[0.0])
     with pytest.raises(ValueError, match=r"a plane frame \(its \[frame\] table\); load it"):
         load_frame3d("office-11")

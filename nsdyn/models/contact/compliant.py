@@ -179,7 +179,7 @@ def simulate_compliant(
     slenderness) about the corner it rocks on, which then carries the weight (settled by
     m g / k), or from (q0, v0) [ground frame].  ``h`` defaults to H_FRAC times the stability
     limit.  Raises RuntimeError with the time on a non-finite state."""
-    from nsdyn.models.contact.event import initial_state, tilt_angle
+    from nsdyn.models.contact.event import initial_state, start_state, tilt_angle
 
     tilt = tilt_angle(body, theta0, theta0_over_alpha)
     mo = motion or BaseMotion.none()
@@ -201,9 +201,9 @@ def simulate_compliant(
     if tilt != 0.0:  # (about the corner at rest on the ground, then settled under the weight)
         q = initial_state(body, tilt)[0]
         q[1] -= body.mass * g / ground.k if settled else 0.0
-    if q0 is not None:
-        q = np.asarray(q0, float).copy()
-    vh = np.zeros(3) if v0 is None else np.asarray(v0, float).copy()
+    tilted = theta0 is not None or theta0_over_alpha is not None  # (a compliant ground: a
+    given, vh = start_state(body, 0.0, q0, v0, tilted, rigid=False)  # corner may start in it)
+    q = given if q0 is not None else q
     anchor = np.full(len(verts), np.nan)
     stuck = np.ones(len(verts))
     acc = np.zeros(2)

@@ -76,6 +76,38 @@ def initial_state(body: RigidBody, theta0: float = 0.0) -> tuple[np.ndarray, np.
     return np.array([x, y, theta0]), np.zeros(3)
 
 
+def start_state(body: RigidBody, tilt: float, q0, v0, tilted: bool, rigid: bool = True):
+    """(q, v) of a run: at rest tilted by ``tilt`` (:func:`initial_state`), or (q0, v0).
+    ValueError for a q0 or v0 that is not three finite numbers, a q0 beside a tilt
+    (``tilted``: theta0 or theta0_over_alpha given; the tilt was dropped) and, on a
+    ``rigid`` ground, a q0 with a corner below it (the event solver lifted the body out
+    without a word, Moreau-Jean left it 0.25 m in the ground "at rest")."""
+    q, v = initial_state(body, tilt)
+    given = {}
+    for name, val in (("q0", q0), ("v0", v0)):
+        if val is None:
+            continue
+        try:
+            a = np.array(val, dtype=float)
+        except (TypeError, ValueError):
+            a = np.empty(0)
+        if isinstance(val, str) or a.shape != (3,) or not np.all(np.isfinite(a)):
+            raise ValueError(f"{name}: expected 3 finite values (x, y, theta), got {val!r}")
+        given[name] = a
+    if "q0" in given and tilted:
+        raise ValueError("q0: the start is given as a tilt (theta0 or theta0_over_alpha) and "
+                         "as q0; give one of them")  # fmt: skip
+    if "q0" in given:
+        q = given["q0"]
+        c = body.contacts
+        y = q[1] + math.sin(q[2]) * c[:, 0] + math.cos(q[2]) * c[:, 1]
+        size = float(np.ptp(body.verts, axis=0).max())
+        if rigid and y.min() < -1e-9 * size:
+            raise ValueError(f"q0: a corner starts {-y.min():.4g} m below the rigid ground; "
+                             "expected every corner at or above it")  # fmt: skip
+    return q, given.get("v0", v)
+
+
 def _params(body: RigidBody, fr: FrictionLaw, g: float) -> np.ndarray:
     L = float(np.ptp(body.verts, axis=0).max())
     return np.array([body.mass, g, fr.mu_s, fr.mu_d, fr.cdec, body.theta_ov, L])
@@ -175,6 +207,9 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
         raise ValueError(f"impact_law: expected 'newton' or 'housner', got {impact_law!r}")
     if not 0.0 <= e_n <= 1.0:
         raise ValueError(f"e_n: expected a restitution coefficient in [0, 1], got {e_n!r}")
+    if impact_law == "housner" and e_n != 0.0:  # (dropped: the histories equalled e_n = 0)
+        raise ValueError("e_n: the Housner law is plastic (the corner sticks); a restitution "
+                         "coefficient is Newton's law's (impact_law='newton')")  # fmt: skip
     expect(
         "body",
         body,
@@ -210,15 +245,8 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
     par = _params(body, friction, g)
     verts, minv = body.contacts, body.minv
     nc = len(verts)
-    q, v = initial_state(body, tilt)
-    for name, given in (("q0", q0), ("v0", v0)):
-        if given is not None and np.shape(given) != (3,):
-            raise ValueError(f"{name}: expected 3 values (x, y, theta), got shape "
-                             f"{np.shape(given)}")  # fmt: skip
-    if q0 is not None:
-        q = np.asarray(q0, float).copy()
-    if v0 is not None:
-        v = np.asarray(v0, float).copy()
+    tilted = theta0 is not None or theta0_over_alpha is not None
+    q, v = start_state(body, tilt, q0, v0, tilted)
     output_count(t_end, dt_out)
     t_out = np.arange(0.0, t_end + 0.5 * dt_out, dt_out)
     y_out = np.full((len(t_out), 6), np.nan)

@@ -14,7 +14,7 @@ from nsdyn._checks import NumericalFailure, output_count, step_count
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kmoreau as km
 from nsdyn.models.contact.body import RigidBody
-from nsdyn.models.contact.event import _params, initial_state, tilt_angle
+from nsdyn.models.contact.event import _params, start_state, tilt_angle
 from nsdyn.models.contact.excite import BaseMotion
 from nsdyn.models.contact.friction import FrictionLaw
 from nsdyn.models.contact.results import ContactResult
@@ -53,12 +53,11 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
     step_count(t_end, h)
     output_count(t_end, max(dt_out or h, h))
     check_step(h, mo)
+    if h > t_end:  # (h = 0.6 s over 1 s ran to 1.2 s; 2 s: no step, one sample)
+        raise ValueError(f"h: a step of {h:g} s is longer than the run (t_end = {t_end:g} s)")
     par = _params(body, friction, g)
-    q, v = initial_state(body, tilt_angle(body, theta0, theta0_over_alpha))
-    if q0 is not None:
-        q = np.asarray(q0, float).copy()
-    if v0 is not None:
-        v = np.asarray(v0, float).copy()
+    tilted = theta0 is not None or theta0_over_alpha is not None
+    q, v = start_state(body, tilt_angle(body, theta0, theta0_over_alpha), q0, v0, tilted)
     n = int(round(t_end / h))
     stride = max(1, int(round((dt_out or h) / h)))
     L = par[6]

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, expect, output_count, rel_tol
+from nsdyn._checks import NumericalFailure, expect, number, output_count, rel_tol, whole
 from nsdyn.ground import G_EARTH, GroundMotion, Harmonic
 from nsdyn.ground.pulses import Pulse
 from nsdyn.models.rocking import _kblock as kb
@@ -286,9 +286,19 @@ def simulate_rocking(
         hasattr(model, "alpha") and hasattr(model, "p"),
         "a RockingBlock or RockingFrame (nsdyn.RockingBlock(width=..., height=...))",
     )
+    t0 = number("t0", t0, "a finite start time [s]")
     if not (t_end > t0):
         raise ValueError(f"t_end: expected > t0 = {t0}, got {t_end}")
     rel_tol("tol", tol)
+    number("thetad0", thetad0, "a finite angular velocity [rad/s]")
+    if h_max is not None:  # (0 never returned: steps of zero length)
+        number("h_max", h_max, "a positive largest step [s]", lambda v: v > 0)
+    if v_rest is not None:
+        number("v_rest", v_rest, "a rest threshold >= 0 [rad/s]", lambda v: v >= 0)
+    number("theta_fall", theta_fall, "an overturning tilt in (alpha, pi/2] [rad] (the "
+           "block falls past it)", lambda v: model.alpha < v <= 0.5 * math.pi)  # fmt: skip
+    for name, v in (("max_impacts", max_impacts), ("max_peaks", max_peaks)):
+        whole(name, v, 1, "a whole number >= 1")
     if dt_out is not None and dt_out != 0 and not (math.isfinite(dt_out) and
                                                    0 < dt_out <= t_end - t0):  # fmt: skip
         raise ValueError(

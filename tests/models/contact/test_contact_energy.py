@@ -12,10 +12,15 @@ from nsdyn.models.contact.friction import FrictionLaw
 from nsdyn.models.contact.moreau import simulate_moreau
 
 
-@pytest.mark.parametrize("e_n, mu", [(0.0, 10.0), (0.5, 0.3), (0.9, 0.2)])
+# Plastic impacts (e_n = 0) with Coulomb friction, and Newton restitution without friction,
+# cannot add energy; Newton's law with e_n > 0 and friction can (a known defect of that law:
+# from this start e_n = 0.5, mu = 0.3 gained 1e-4 of E0 at an impact), so it is not claimed.
+@pytest.mark.parametrize("e_n, mu", [(0.0, 10.0), (0.0, 0.3), (0.5, 0.0), (0.9, 0.0)])
 def test_event_driven_energy_never_increases(e_n, mu):
     body = RigidBody.polygon([(-0.4, -1), (0.5, -1), (0.3, 1.1), (-0.5, 0.9)], 2.0)  # quadrilateral
-    q0 = np.array([0.0, body.y0 + 0.05, 0.3])  # dropped tilted, spinning and drifting
+    # dropped tilted, spinning and drifting, every corner above the ground (at y0 + 0.05 one
+    # started 1.9 cm in it, and the solver lifted the body out without a word)
+    q0 = np.array([0.0, body.y0 + 0.1, 0.3])
     v0 = np.array([0.8, 0.0, -1.0])
     res = simulate_event(body, FrictionLaw(mu, 0.8 * mu), t_end=2.0, e_n=e_n, q0=q0, v0=v0,
                          dt_out=1e-3, rtol=1e-10, atol=1e-12)  # fmt: skip
