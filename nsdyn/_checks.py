@@ -66,6 +66,15 @@ def whole(name: str, value, lo: int = 0, what: str = "") -> int:
     return int(value)
 
 
+def flag(name: str, value) -> bool:
+    """``value`` as a bool, or TypeError naming ``name``: a text "no" was truthy (True)."""
+    import numpy as np
+
+    if not isinstance(value, bool | np.bool_):
+        raise TypeError(f"{name}: expected True or False, got {value!r}")
+    return bool(value)
+
+
 def non_negative_int(name: str, value) -> int:
     """``value`` as an int, or ValueError naming ``name`` (a seed, a count)."""
     return whole(name, value, 0, "a non-negative integer")
@@ -94,7 +103,10 @@ MAX_POINTS = 10_000  # frequencies of one curve: each a periodic solve of second
 
 def output_count(t_end: float, dt_out: float) -> int:
     """Output samples of a run of ``t_end`` every ``dt_out`` [s] (the first included), or
-    ValueError naming dt_out beyond ``MAX_OUTPUTS`` (an array of that size would not fit)."""
+    ValueError naming dt_out beyond ``MAX_OUTPUTS`` (an array of that size would not fit), or
+    not a positive finite step (0 divided by zero), or a run that is not positive."""
+    number("dt_out", dt_out, "a positive output step [s]", lambda v: v > 0)
+    number("t_end", t_end, "a positive duration [s]", lambda v: v > 0)
     n = t_end / dt_out
     if not n <= MAX_OUTPUTS:
         raise ValueError(f"dt_out: {n:.3g} outputs of {dt_out:.3g} s over {t_end:.3g} s "

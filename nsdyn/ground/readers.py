@@ -182,6 +182,10 @@ def write_motion(
     name, units, t0, dt, npts, command, seed and the JSON meta. Values are written with the
     shortest round-trip repr, so :func:`read_motion` returns them bit for bit. Atomic: written to
     a temporary file in the same directory, then renamed."""
+    if not isinstance(motion, GroundMotion):  # (a GroundMotion3 or a pulse: AttributeError)
+        raise TypeError(f"motion: expected a GroundMotion, got {type(motion).__name__}"
+                        + ("; write_motion3 writes a three-component record"
+                           if hasattr(motion, "ax") else ""))  # fmt: skip
     cols = [motion.a_hor] + ([motion.a_ver] if motion.a_ver is not None else [])
     names = ["t", "a_hor", "a_ver"][: len(cols) + 1]
     return _write_table(motion, path, "nsdyn ground motion", names, cols, command, seed)

@@ -26,6 +26,7 @@ import warnings
 from pathlib import Path
 
 from nsdyn._bundled import RECORDS
+from nsdyn._checks import flag
 from nsdyn.ground._text import DT_RTOL, fields, is_comment, parse_table
 from nsdyn.ground.motion import GroundMotion, RecordFileError
 from nsdyn.ground.motion3 import GroundMotion3
@@ -187,6 +188,7 @@ def read_motion3(
     ValueError
         A missing component: x not given, or y not given for a one-component x.
     """
+    flag("trim", trim)
     if x is None:
         raise ValueError("read_motion3: x: expected a file, a three-column CSV or a bundled name")
     if y is None:
@@ -277,6 +279,10 @@ def write_motion3(
     """Write ``motion`` as an nsdyn CSV (columns t, ax, ay[, az] in m/s², ``#`` header with
     name, units, t0, dt, npts, command, seed and the JSON meta) that :func:`read_motion3` reads
     back bit for bit. Atomic (temporary file, then rename)."""
+    if not isinstance(motion, GroundMotion3):
+        raise TypeError(f"motion: expected a GroundMotion3, got {type(motion).__name__}"
+                        + ("; write_motion writes a one-component record"
+                           if hasattr(motion, "a_hor") else ""))  # fmt: skip
     cols = [motion.ax, motion.ay] + ([motion.az] if motion.az is not None else [])
     names = ["t", "ax", "ay", "az"][: len(cols) + 1]
     title = "nsdyn ground motion, three components"

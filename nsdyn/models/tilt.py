@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
+from nsdyn._checks import number as check_number
 from nsdyn.models.scenefile import SceneError, number
 
 
@@ -28,9 +29,8 @@ def initial_tilt(theta0: float | None, theta0_over_alpha: float | None, alpha: f
             f"(theta0 = {theta0!r} rad, theta0_over_alpha = {theta0_over_alpha!r})"
         )
     for name, v in (("theta0", theta0), ("theta0_over_alpha", theta0_over_alpha)):
-        if v is not None and (isinstance(v, bool) or not isinstance(v, int | float)
-                              or not math.isfinite(v)):  # fmt: skip
-            raise ValueError(f"{name}: expected a finite number, got {v!r}")
+        if v is not None:
+            check_number(name, v, "a finite number")
     tilt = 0.0 if theta0 is None else float(theta0)
     if theta0_over_alpha is not None:
         tilt = float(theta0_over_alpha) * float(alpha)

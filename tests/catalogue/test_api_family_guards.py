@@ -101,3 +101,52 @@ def test_a_ground_motion_keeps_its_own_samples():
     g = nsdyn.GroundMotion(0.0, 0.01, a)
     a[0] = 100.0
     assert g.a_hor[0] == 0.1 and g.pga == 0.3
+
+
+def test_numpy_scalars_are_numbers_and_text_flags_are_refused():
+    # np.float32(0.3) was refused as "no positive size"; linear="no" was taken as True
+    blk = nsdyn.RockingBlock(width=np.float32(0.5), height=np.int64(2), mass=np.float32(2.0))
+    assert (blk.width, blk.height, blk.mass) == (0.5, 2.0, 2.0)  # (exact in float32: 2^-1)
+    assert nsdyn.RigidBody.rectangle(np.float32(1.0), 2.0).mass == 1.0
+    with pytest.raises(TypeError, match=r"^linear: expected True or False, got 'no'"):
+        nsdyn.RockingBlock(width=0.3, height=1.2, linear="no")
+    with pytest.raises(TypeError, match=r"^linear: expected True or False"):
+        nsdyn.RockingFrame(width=0.3, height=1.2, gamma=1.0, linear="no")
+    with pytest.raises(TypeError, match=r"^trim: expected True or False"):
+        nsdyn.read_motion3("synthetic-wn-40s", trim="no")
+
+
+@pytest.mark.parametrize(
+    ("call", "err", "match"),
+    [
+        # ZeroDivisionError, numpy's "negative dimensions", AttributeErrors and a math domain
+        # error before
+        (lambda: nsdyn.simulate_compliant(nsdyn.CompliantBlock(width=1.0, height=2.0,
+                                          mass=1e3, k=1e7, c=1e4), t_end=1.0, dt_out=0),
+         ValueError, r"^dt_out: expected a positive output step"),
+        (lambda: nsdyn.simulate_compliant(nsdyn.CompliantBlock(width=1.0, height=2.0,
+                                          mass=1e3, k=1e7, c=1e4), t_end=1.0, h_max=0),
+         ValueError, r"^h_max: expected a positive largest step"),
+        (lambda: nsdyn.simulate_event(BODY, LAW, None, t_end=1.0, g=-9.81),
+         ValueError, r"^g: expected a positive number"),
+        (lambda: nsdyn.simulate_moreau(BODY, LAW, None, t_end=1.0, g=0.0),
+         ValueError, r"^g: expected a positive gravity"),
+        (lambda: nsdyn.write_motion(nsdyn.read_motion3("synthetic-wn-40s"), "x.csv"),
+         TypeError, r"^motion: expected a GroundMotion, got GroundMotion3; write_motion3"),
+        (lambda: nsdyn.overturning_spectrum(nsdyn.CompliantBlock(width=1.0, height=2.0,
+                                            mass=1.0, k=1e5, c=1.0), "sine", [1.0]),
+         TypeError, r"^model: expected a RockingBlock or RockingFrame"),
+    ],
+)  # fmt: skip
+def test_calls_name_the_argument_instead_of_failing_inside(call, err, match, tmp_path,
+                                                           monkeypatch):  # fmt: skip
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(err, match=match):
+        call()
+
+
+def test_the_compliant_contact_names_a_ground_of_the_wrong_kind():
+    from nsdyn.models.contact.compliant import simulate_compliant
+
+    with pytest.raises(TypeError, match=r"^ground: expected a CompliantGround"):
+        simulate_compliant(BODY, LAW, 1e8, t_end=1.0)

@@ -19,6 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._checks import number
+
 BASE_TOL = 1e-9  # relative height tolerance for a vertex to belong to the base
 COLLINEAR_TOL = 1e-12  # relative cross-product below which three vertices are collinear
 
@@ -114,9 +116,8 @@ class RigidBody:
     @classmethod
     def rectangle(cls, width: float, height: float, mass: float = 1.0) -> RigidBody:
         """Rectangle of full ``width`` 2b and ``height`` 2h [m] (uniform density)."""
-        for name, val in (("width", width), ("height", height)):
-            if not (isinstance(val, int | float) and val > 0 and math.isfinite(val)):
-                raise ValueError(f"{name}: expected a positive size [m], got {val!r}")
+        width, height = (number(name, val, "a positive size [m]", lambda x: x > 0)
+                         for name, val in (("width", width), ("height", height)))  # fmt: skip
         b, h = width / 2, height / 2
         return cls.polygon([(-b, -h), (b, -h), (b, h), (-b, h)], mass)
 

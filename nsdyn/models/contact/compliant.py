@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, output_count, step_count
+from nsdyn._checks import NumericalFailure, expect, flag, output_count, step_count
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kcompliant as kc
 from nsdyn.models.contact.body import RigidBody
@@ -181,8 +181,17 @@ def simulate_compliant(
     limit.  Raises RuntimeError with the time on a non-finite state."""
     from nsdyn.models.contact.event import initial_state, start_state, tilt_angle
 
+    for name, val, kind, what in (
+        ("body", body, RigidBody, "a RigidBody (nsdyn.RigidBody.rectangle(width, height, mass))"),
+        ("friction", friction, FrictionLaw, "a FrictionLaw (nsdyn.FrictionLaw(mu_s, mu_d))"),
+        ("ground", ground, CompliantGround, "a CompliantGround (stiffness k, damping c)"),
+    ):  # (a stiffness given as the ground: "'float' object has no attribute 'k'")
+        expect(name, val, isinstance(val, kind), what)
+    if motion is not None and not hasattr(motion, "jumps"):
+        expect("motion", motion, False, "a BaseMotion (nsdyn.BaseMotion.from_motion(record))")
     tilt = tilt_angle(body, theta0, theta0_over_alpha)
     mo = motion or BaseMotion.none()
+    flag("settled", settled)
     check_settlement(body, ground, g)
     h_stab = stable_step(body, ground)
     h = H_FRAC * h_stab if h is None else float(h)

@@ -222,8 +222,8 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
         hasattr(friction, "mu_s"),
         "a FrictionLaw (nsdyn.FrictionLaw(mu_s, mu_d))",
     )
-    for name, val in (("t_end", t_end), ("dt_out", dt_out), ("atol", atol)):
-        number(name, val, "a positive number", lambda v: v > 0)
+    for name, val in (("t_end", t_end), ("dt_out", dt_out), ("atol", atol), ("g", g)):
+        number(name, val, "a positive number", lambda v: v > 0)  # (g <= 0: math domain)
     rel_tol("rtol", rtol)
     if t_end / dt_out < 1.0:
         raise ValueError(f"dt_out: {dt_out:g} s is longer than the run (t_end = {t_end:g} s)")

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._checks import number
+
 
 @dataclass(frozen=True)
 class FrictionLaw:
@@ -27,9 +29,7 @@ class FrictionLaw:
         mu_d = self.mu_s if self.mu_d is None else self.mu_d
         object.__setattr__(self, "mu_d", mu_d)
         for name, val in (("mu_s", self.mu_s), ("mu_d", mu_d)):
-            if isinstance(val, bool) or not isinstance(val, int | float) or not val >= 0:
-                raise ValueError(f"{name}: expected a non-negative friction coefficient, "
-                                 f"got {val!r}")  # fmt: skip
+            number(name, val, "a non-negative friction coefficient", lambda x: x >= 0)
         if mu_d > self.mu_s:
             raise ValueError(f"mu_d: the dynamic coefficient must not exceed the static one "
                              f"(mu_s = {self.mu_s}), got mu_d = {mu_d}")  # fmt: skip

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, output_count, step_count
+from nsdyn._checks import NumericalFailure, number, output_count, step_count
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kmoreau as km
 from nsdyn.models.contact.body import RigidBody
@@ -50,6 +50,7 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
     mo = motion or BaseMotion.none()
     if not (math.isfinite(t_end) and t_end > 0):
         raise ValueError(f"t_end: expected a positive duration [s], got {t_end!r}")
+    number("g", g, "a positive gravity [m/s²]", lambda v: v > 0)
     step_count(t_end, h)
     output_count(t_end, max(dt_out or h, h))
     check_step(h, mo)

@@ -21,7 +21,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, expect, number, output_count, rel_tol, whole
+from nsdyn._checks import (
+    NumericalFailure,
+    expect,
+    flag,
+    number,
+    output_count,
+    rel_tol,
+    whole,
+)
 from nsdyn.ground import G_EARTH, GroundMotion, Harmonic
 from nsdyn.ground.pulses import Pulse
 from nsdyn.models.rocking import _kblock as kb
@@ -69,9 +77,8 @@ def block_sizes(cls: str, args: tuple, width, height, B, H) -> tuple[float, floa
     for name, v in (("width", width), ("height", height)):
         if v is None:
             raise ValueError(f"{cls}: {name}: missing (the full {name} [m])")
-        if not (isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
-                and v > 0):  # fmt: skip
-            raise ValueError(f"{cls}: {name}: expected a positive size [m], got {v!r}")
+        # (numpy scalars are numbers: np.float32(0.3) was refused as no positive size)
+        number(f"{cls}: {name}", v, "a positive size [m]", lambda x: x > 0)
     return float(width), float(height)
 
 
@@ -129,13 +136,12 @@ class RockingBlock(HalfSizes):
         # the former positional (B, H, r, linear, g, mass)
         r, linear, g, mass = former_positional(args, (r, linear, g, mass))
         w, h = block_sizes(type(self).__name__, args[:2], width, height, B, H)
-        for name, v in (("width", w), ("height", h), ("r", r), ("linear", bool(linear)),
+        for name, v in (("width", w), ("height", h), ("r", r), ("linear", flag("linear", linear)),
                         ("g", g), ("mass", mass)):  # fmt: skip
             object.__setattr__(self, name, v)
         for name in ("g", "mass"):
-            v = getattr(self, name)
-            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
-                raise ValueError(f"{name}: expected a positive number, got {v!r}")
+            object.__setattr__(self, name, number(name, getattr(self, name), "a positive number",
+                                                  lambda x: x > 0))  # fmt: skip
         if self.r is not None and not (0.0 < self.r <= 1.0):
             raise ValueError(f"r: expected 0 < r <= 1, got {self.r!r}")
 

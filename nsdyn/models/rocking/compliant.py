@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, output_count
+from nsdyn._checks import NumericalFailure, number, output_count
 from nsdyn._tabular import Tabular
 from nsdyn.ground import G_EARTH
 from nsdyn.models.rocking import _kcompliant as kc
@@ -64,11 +64,10 @@ class CompliantBlock(HalfSizes):
                         ("k_t", k_t), ("c_t", c_t), ("g", g)):  # fmt: skip
             object.__setattr__(self, name, v)
         for name in ("mass", "k", "g"):
-            v = getattr(self, name)
-            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
-                raise ValueError(f"{name}: expected a positive number, got {v!r}")
-        if not (isinstance(self.c, int | float) and math.isfinite(self.c) and self.c >= 0):
-            raise ValueError(f"c: expected a non-negative number, got {self.c!r}")
+            object.__setattr__(self, name, number(name, getattr(self, name), "a positive number",
+                                                  lambda x: x > 0))  # fmt: skip
+        object.__setattr__(self, "c", number("c", self.c, "a non-negative number",
+                                             lambda x: x >= 0))  # fmt: skip
 
     @classmethod
     def from_frequency(cls, *args, width: float | None = None, height: float | None = None,
@@ -207,6 +206,8 @@ def simulate_compliant(
     q[kc.Q_G] = model.g
     q[kc.Q_WV] = model.omega_v
     q[kc.Q_TOL] = tol
+    if h_max is not None:  # (0 divided by zero)
+        number("h_max", h_max, "a positive largest step [s]", lambda v: v > 0)
     if h_max is None:  # resolve the contact: explicit stability and no step through a corner
         zeta = model.c / math.sqrt(2.0 * model.k * model.mass)
         h_max = min(H_MAX_P / model.p, H_MAX_CONTACT / (model.omega_v * (1.0 + 2.0 * zeta)))

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._checks import flag, number
 from nsdyn.ground import G_EARTH
 from nsdyn.models.rocking.block import (
     RockingBlock,
@@ -82,8 +83,10 @@ class RockingFrame:
         w, h = block_sizes("RockingFrame", args[:2], width, height, B, H)
         if gamma is None:
             raise ValueError("RockingFrame: gamma: missing (m_beam / (2 m_column), >= 0)")
-        vals = {"width": w, "height": h, "gamma": gamma, "r": r, "linear": bool(linear), "g": g,
-                "column_mass": column_mass}  # fmt: skip
+        gamma = number("gamma", gamma, "a non-negative number (m_beam / (2 m_column))",
+                       lambda x: x >= 0)  # fmt: skip
+        vals = {"width": w, "height": h, "gamma": gamma, "r": r, "linear": flag("linear", linear),
+                "g": g, "column_mass": column_mass}  # fmt: skip
         for name, v in vals.items():
             object.__setattr__(self, name, v)
         self.column  # checks r, g and the mass  # noqa: B018

@@ -202,6 +202,11 @@ def overturning_spectrum(
     executor : concurrent.futures.Executor, optional
         Where the frequencies run (default: a local ProcessPoolExecutor).
     """
+    from nsdyn.models.rocking.compliant import CompliantBlock
+
+    if isinstance(model, CompliantBlock) or not hasattr(model, "uplift_accel"):
+        raise TypeError(f"model: expected a RockingBlock or RockingFrame (Housner's rigid "
+                        f"rocking), got {type(model).__name__}")  # fmt: skip
     x = np.asarray(omega_ratios, dtype=float).reshape(-1)
     checks = (
         ("omega_ratios", x.size > 0 and bool(np.all(np.isfinite(x) & (x > 0))),
