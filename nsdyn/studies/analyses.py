@@ -123,6 +123,14 @@ def check_analysis(study) -> None:
         for key in spec:
             if key not in FIELDS[name]:
                 raise unknown_key(src, f"analysis.{name}.", key, FIELDS[name])
+    other = study.kind in ("rocking", "contact", "cylinder")  # (no isolated-frame results)
+    for name, key in (("design", "objectives"), ("percentiles", "quantities")):
+        spec = an.get(name)
+        kept = name == "percentiles" and study.keep  # (percentiles default to the kept)
+        if spec is not None and other and key not in spec and not kept:
+            raise SceneError(f"{src}: analysis.{name}.{key}: missing; the default "
+                             f"({', '.join(DEFAULT_OBJECTIVES)}) is an isolated frame's, a "
+                             f"{study.kind} scene has none of it (an all-NaN table)")  # fmt: skip
     d = an.get("design")
     if d is not None:
         where = "analysis.design."
@@ -180,8 +188,9 @@ def check_analysis(study) -> None:
                 raise SceneError(f"{src}: analysis.fragility.{key}: missing (required)")
             _check_column(src, f"analysis.fragility.{key}", f[key], study, result=True)
         lim = f.get("limits", [])
-        if not isinstance(lim, list):
-            raise SceneError(f"{src}: analysis.fragility.limits: expected a list of numbers")
+        if not isinstance(lim, list) or ("limits" in f and not lim):  # ([]: no limit at all)
+            raise SceneError(f"{src}: analysis.fragility.limits: expected a list of numbers "
+                             f"(one curve each), got {lim!r}")  # fmt: skip
         for i, v in enumerate(lim):
             number(src, f"analysis.fragility.limits[{i}]", v)
         c = number(src, "analysis.fragility.confidence", f.get("confidence", CONFIDENCE))
@@ -313,6 +322,12 @@ def fragility_outcomes(table: Table, im_name: str, edp_name: str) -> dict:
         counted[meaning] = counted.get(meaning, 0) + 1
         edp[i], keep[i] = np.inf, True
     refuse = None
+    text = [(n, r[n]) for n in (im_name, edp_name) for r in table.rows
+            if r.get("status") == "ok" and isinstance(r.get(n), str)]  # fmt: skip
+    if text:  # (it read "runs have no outcome that can be counted ... fix them and rerun")
+        return {"im": im[keep], "edp": edp[keep], "counted": counted, "below": below,
+                "refuse": f"fragility: {text[0][0]!r} is a text column ({text[0][1]!r}, ...), "
+                          "not a number: a fragility needs a numeric IM and EDP"}  # fmt: skip
     if unknown:
         refuse = (
             f"fragility: {len(unknown)} runs have no outcome that can be counted as survived or "
@@ -343,8 +358,13 @@ def _fragility(study, table: Table, spec: dict, out: Path, figures: bool) -> dic
     for lim in limits:
         exceeded = edp > lim if lim is not None else edp > 0.5
         base = {"limit": lim, "n_failed_as_exceedance": n_counted, "failures": note or "none"}
-        if runs["refuse"] is not None:
-            rows.append(base | {"error": runs["refuse"]})
+        values = np.asarray(edp, float)
+        flags = np.isin(values[np.isfinite(values)], (0.0, 1.0)).all()
+        refuse = runs["refuse"] or (None if lim is not None or flags else (
+            f"limits: missing, and {spec['edp']!r} is not a true/false outcome (its values "
+            "are not 0 and 1): give the limit its exceedance is counted at"))  # fmt: skip
+        if refuse is not None:
+            rows.append(base | {"error": refuse})
             fits.append((lim, None, im, exceeded))
             continue
         try:

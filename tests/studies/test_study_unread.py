@@ -113,3 +113,43 @@ def test_another_study_s_folder_is_refused_not_merged(tmp_path):
         store.claim("rock", "rocking")
     store.reset()  # --fresh
     store.claim("rock", "rocking")
+
+
+@pytest.mark.parametrize(
+    ("scene", "analysis", "match"),
+    [
+        # the isolated frame's default quantities: an all-NaN table on a rocking study
+        ("rocking-seed003-column.toml", "[analysis.percentiles]\n",
+         r"analysis.percentiles.quantities: missing; the default \(idr_max, floor_acc_max_mps2\)"),
+        ("cylinder-uplift.toml", "[analysis.design]\n", r"analysis.design.objectives: missing"),
+        # an empty list wrote a row "max_theta_over_alpha > None"
+        ("rocking-seed003-column.toml",
+         '[analysis.fragility]\nim = "motion.a_p_g"\nedp = "max_theta_over_alpha"\nlimits = []\n',
+         r"analysis.fragility.limits: expected a list of numbers \(one curve each\), got \[\]"),
+    ],
+)  # fmt: skip
+def test_analyses_without_meaning_for_the_family_are_refused(tmp_path, scene, analysis, match):
+    body = f'[parameters]\n"motion.t_end" = [1.0, 2.0]\n{analysis}'
+    with pytest.raises(SceneError, match=match):
+        load_study(_study(tmp_path, scene, body))
+
+
+def test_a_fragility_without_limits_needs_a_true_false_outcome_and_a_number(tmp_path):
+    # without limits a numeric EDP was cut at 0.5 without a word; a text EDP was "runs with
+    # no outcome that can be counted ... fix them and rerun"
+    from nsdyn.studies.analyses import _fragility
+    from nsdyn.studies.table import Table
+
+    class S:
+        name = "s"
+
+    fell = [False, False, True, False, True, True]  # (not separated in IM: a finite fit)
+    rows = [{"status": "ok", "im": 1.0 + i, "theta": 0.3 * i, "outcome": "rest", "fell": f}
+            for i, f in enumerate(fell)]  # fmt: skip
+    res = _fragility(S, Table(rows), {"im": "im", "edp": "theta"}, tmp_path, False)
+    assert "not a true/false outcome" in res["fits"][0]["error"]
+    res = _fragility(S, Table(rows), {"im": "im", "edp": "outcome", "limits": [1.0]}, tmp_path,
+                     False)  # fmt: skip
+    assert "'outcome' is a text column ('rest', ...)" in res["fits"][0]["error"]
+    res = _fragility(S, Table(rows), {"im": "im", "edp": "fell"}, tmp_path, False)
+    assert "error" not in res["fits"][0]  # a true/false outcome: counted as it is
