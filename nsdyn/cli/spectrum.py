@@ -13,6 +13,7 @@ import csv
 import io
 import json
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -49,7 +50,7 @@ def configure(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from nsdyn.models.rocking.scene import build_model
+    from nsdyn.models.rocking.scene import build_model, build_solver
     from nsdyn.models.rocking.spectra import overturning_spectrum
     from nsdyn.models.scenefile import SceneError, read_toml, scene_kind
 
@@ -67,6 +68,14 @@ def run(args: argparse.Namespace) -> int:
         return fail(args, f"argument --wmax: expected a ratio above --wmin ({args.wmin:g}), "
                     f"got {args.wmax:g} (see nsdyn spectrum --help)")  # fmt: skip
     model = build_model(cfg, src)
+    tol = build_solver(cfg, src)[0]  # (the scene's solver.tol was ignored)
+    notes = []
+    if cfg.get("motion"):  # (it was ignored without a word)
+        notes.append(f"{src}: [motion] not used: a spectrum drives the block with one-cycle "
+                     f"{args.shape} pulses (--shape) of the amplitudes and frequencies it "
+                     "searches")  # fmt: skip
+    for n in notes if not args.json else ():
+        print(f"nsdyn spectrum: note: {n}", file=sys.stderr)
     ratios = np.geomspace(args.wmin, args.wmax, args.n)
     from nsdyn.models.rocking.scene import warm
     from nsdyn.studies.workers import process_pool
@@ -77,7 +86,8 @@ def run(args: argparse.Namespace) -> int:
 
     with process_pool(args.workers) as ex:
         search = {} if args.a_max is None else {"a_max": args.a_max}
-        sp = overturning_spectrum(model, ratios, args.shape, rtol=args.rtol, executor=ex, **search)
+        sp = overturning_spectrum(model, ratios, args.shape, rtol=args.rtol, executor=ex, tol=tol,
+                                  **search)  # fmt: skip
     out = Path(args.out)
     stem = f"spectrum-{Path(src).stem}-{args.shape}"
     buf = io.StringIO()
@@ -105,7 +115,8 @@ def run(args: argparse.Namespace) -> int:
         "safe_lo_ratio": [None if math.isnan(v) else float(v) for v in sp.safe_lo_ratio],
         "safe_hi_ratio": [None if math.isnan(v) else float(v) for v in sp.safe_hi_ratio],
         "status": list(sp.status),
-        "search": {"a_max_ratio": sp.a_max, "scan": sp.scan, "rtol": sp.rtol},
+        "search": {"a_max_ratio": sp.a_max, "scan": sp.scan, "rtol": sp.rtol, "tol": tol},
+        "notes": notes,
     }
     if not args.no_figures:
         from nsdyn.models.rocking.figures import spectrum_figure

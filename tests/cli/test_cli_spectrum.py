@@ -79,3 +79,21 @@ def test_spectrum_rejects_a_scene_of_another_kind(tmp_path, capsys):
     scene.write_text('[scene]\nkind = "cylinder"\n')
     assert main(["spectrum", str(scene), "--out", str(tmp_path)]) == 2
     assert "scene.kind" in capsys.readouterr().err
+
+
+def test_spectrum_takes_the_scene_s_tolerance_and_names_its_unused_motion(tmp_path, capsys):
+    # a scene's solver.tol of 1e-3 gave the spectrum of 1e-9 (the default) without a word,
+    # and its [motion] (a record) was accepted without a remark
+    scene = tmp_path / "col.toml"
+    scene.write_text('[scene]\nkind = "rocking"\n[block]\nwidth = 0.6\nheight = 4.0\n'
+                     '[motion]\nrecord = "synthetic-wn-40s"\n[solver]\ntol = 1e-7\n')  # fmt: skip
+    argv = ["spectrum", str(scene), "--n", "2", "--wmin", "1.5", "--wmax", "3", "--workers",
+            "1", "--no-figures", "--out", str(tmp_path / "o")]  # fmt: skip
+    assert main([*argv, "--json"]) == 0
+    rep = json.loads(capsys.readouterr().out)
+    assert rep["search"]["tol"] == 1e-7
+    assert rep["notes"] == [f"{scene}: [motion] not used: a spectrum drives the block with "
+                            "one-cycle sine pulses (--shape) of the amplitudes and frequencies "
+                            "it searches"]  # fmt: skip
+    assert main(argv) == 0
+    assert "nsdyn spectrum: note: " in capsys.readouterr().err
