@@ -78,6 +78,23 @@ def scene_step(dt, motion, span, source: str, hint: str = "") -> None:
         raise SceneError(f"{source}: {e}{hint}") from None
 
 
+def record_units(mo: dict, source: str) -> dict:
+    """``{"units": u}`` of a scene's ``[motion] units`` for a record reader (``{}`` when not
+    given); SceneError for units other than g, gal (cm/s2) or m/s2, or units without a
+    record."""
+    if "units" not in mo:
+        return {}
+    from nsdyn.models.scene_schema import RECORD_UNITS
+
+    if not any(k in mo for k in ("record", "record_y", "record_z", "simulated")):
+        raise SceneError(f"{source}: motion.units: the units of a record file; this scene "
+                         "reads none (motion.record)")  # fmt: skip
+    if mo["units"] not in RECORD_UNITS:
+        raise SceneError(f"{source}: motion.units: expected one of {list(RECORD_UNITS)}, got "
+                         f"{mo['units']!r}")  # fmt: skip
+    return {"units": mo["units"]}
+
+
 def read_toml(path: str | Path, what: str = "scene") -> dict:
     """The parsed TOML file, or :class:`SceneError` naming the file and the syntax error.
 

@@ -127,6 +127,9 @@ for _shape, _motion in _ORBITS.items():
         **BASE[("deck", "", "")],
         "motion": _motion,
     }
+# a record's units: the base with a record in place of its closed-form or simulated motion
+for _kind in ("rocking", "contact", "cylinder"):
+    BASE[(_kind, "motion", "units")] = {**BASE[(_kind, "", "")], "motion": dict(_RECORD)}
 # keys that exclude a key of the base scene: the base without it
 for _key in ("mu_slow", "mu_fast", "rate"):
     BASE[("deck", "bearing", _key)] = {

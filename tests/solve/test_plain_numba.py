@@ -123,7 +123,7 @@ from nsdyn.models.cylinder.params import CylinderParams
 from nsdyn.models.cylinder.simulate import simulate as simulate_cylinder
 body = RigidBody.polygon([(-0.4, -1), (0.5, -1), (0.3, 1.1), (-0.5, 0.9)], 2.0)
 cr = simulate_event(body, FrictionLaw(0.3, 0.24), t_end=0.8, e_n=0.5,
-                    q0=np.array([0.0, body.y0 + 0.05, 0.3]), v0=np.array([0.8, 0.0, -1.0]))
+                    q0=np.array([0.0, body.y0 + 0.1, 0.3]), v0=np.array([0.8, 0.0, -1.0]))
 out["body_q"], out["body_impacts"] = cr.q, np.array([cr.n_impacts])
 t = np.arange(0.0, 1.0, 1e-3)
 ag = np.zeros((t.size, 3))

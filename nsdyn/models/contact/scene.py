@@ -59,6 +59,7 @@ from nsdyn.models.scenefile import (
     check_fields,
     grid_fields,
     number,
+    record_units,
     refuse_keys,
     rel_tol,
     scaled_to_pga,
@@ -180,10 +181,11 @@ def build(cfg: dict, source: str):
         refuse_keys(mo, source, "motion", SINE_KEYS, "a key of the displacement sine "
                     "(motion.period), which this scene does not have")  # fmt: skip
     unused = None  # a record's column the run leaves out
+    units = record_units(mo, source)
     if "record" in mo:
         rec = str(mo["record"])  # a file beside the scene: made findable by read_toml
         try:
-            gm = read_motion(rec)
+            gm = read_motion(rec, **units)
         except Exception as e:
             raise SceneError(f"{source}: motion.record: cannot read {rec!r}: {e}") from None
         if "pga" in mo:

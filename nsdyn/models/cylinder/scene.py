@@ -43,7 +43,14 @@ from nsdyn.models.cylinder.simulate import (
     simulate,
 )
 from nsdyn.models.cylinder.stresses import peak_stresses
-from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number, rel_tol
+from nsdyn.models.scenefile import (
+    SceneError,
+    check_fields,
+    grid_fields,
+    number,
+    record_units,
+    rel_tol,
+)
 from nsdyn.models.tilt import scene_tilt
 
 TABLES = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
@@ -103,7 +110,7 @@ def _star(p: CylinderParams, st: dict, source: str) -> CylinderParams:
     return p.with_(**{q: getattr(p, q) * fac})
 
 
-def _record_components(mo: dict) -> tuple:
+def _record_components(mo: dict, units: dict) -> tuple:
     """(x, y, z) records of ``[motion] record`` (with ``record_y`` and ``record_z``, each a
     file of one component); alone, a file or bundled name holding both horizontal components
     (nsdyn's three-column CSV, a bundled record with its second component) gives both and its
@@ -112,13 +119,13 @@ def _record_components(mo: dict) -> tuple:
     from nsdyn.ground.motion import RecordFileError
 
     if "record_y" in mo or "record_z" in mo:
-        my = read_motion(mo["record_y"]) if "record_y" in mo else None
-        mz = read_motion(mo["record_z"]) if "record_z" in mo else None
-        return read_motion(mo["record"]), my, mz
+        my = read_motion(mo["record_y"], **units) if "record_y" in mo else None
+        mz = read_motion(mo["record_z"], **units) if "record_z" in mo else None
+        return read_motion(mo["record"], **units), my, mz
     try:
-        m3 = read_motion3(mo["record"])
+        m3 = read_motion3(mo["record"], **units)
     except (RecordFileError, KeyError, ValueError):  # one horizontal component
-        return read_motion(mo["record"]), None, None
+        return read_motion(mo["record"], **units), None, None
     return m3.planar(0.0), m3.planar(90.0), None  # (x with the vertical, y)
 
 
@@ -170,13 +177,14 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
     if case == "fixed" and springs:  # (dropped without a word; a study's case may vary)
         notes.append(f"{', '.join(springs)} not used: a fixed base (rigid ground) has no "
                      "springs or dashpots")  # fmt: skip
+    units = record_units(mo, source)
     lone = [k for k in ("record_y", "record_z") if k in mo]
     if lone and "record" not in mo:  # (the simulated earthquake ran instead)
         raise SceneError(f"{source}: motion.{lone[0]}: a second record component needs the "
                          "first, motion.record (the x component)")  # fmt: skip
     if "record" in mo:
         try:
-            mx, my, mz = _record_components(mo)
+            mx, my, mz = _record_components(mo, units)
             t0 = float(mx.t0)
             if my is None:
                 from nsdyn.ground.formats import unused_columns_note

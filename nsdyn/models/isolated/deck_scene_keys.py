@@ -10,7 +10,7 @@ behaviour both ways. ``[motion]`` is a three-component table read by
 from __future__ import annotations
 
 from nsdyn.models.isolated.defaults import EPS, ETA
-from nsdyn.models.scene_schema import REL_TOL, Key, Schema, Table
+from nsdyn.models.scene_schema import RECORD_UNITS, REL_TOL, Key, Schema, Table
 
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
 _NONNEG = {"lo": 0.0}  # >= 0
@@ -130,7 +130,7 @@ SCHEMA = Schema(
             Key("y", "string", "record file of the y component"),
             Key("z", "string", "record file of the vertical component (optional)"),
             Key("units", "string", "units of the record files (where a header states others, "
-                "these win, with a warning)", choices=("g", "cm/s2", "m/s2")),
+                "these win, with a warning)", choices=RECORD_UNITS),
             Key("dt", "number", "sample step of single-column files", "s", **_POS),
             Key("rotate", "number", "rotate the horizontal pair by this angle", "deg",
                 default=0.0),

@@ -54,6 +54,7 @@ from nsdyn.models.scenefile import (
     check_fields,
     grid_fields,
     number,
+    record_units,
     refuse_keys,
     rel_tol,
     scaled_to_pga,
@@ -153,10 +154,11 @@ def build_motion(cfg: dict, source: str):
     mo = cfg.get("motion", {})
     t_end = number(source, "motion.t_end", mo["t_end"]) if "t_end" in mo else None
     th0 = scene_tilt(mo, source)
+    units = record_units(mo, source)
     if "record" in mo:
         rec = str(mo["record"])  # a file beside the scene: made findable by read_toml
         try:
-            motion = read_motion(rec)
+            motion = read_motion(rec, **units)
         except Exception as e:
             raise SceneError(f"{source}: motion.record: cannot read {rec!r}: {e}") from None
         refuse_keys(mo, source, "motion", PULSE_KEYS, "a pulse's key beside motion.record; give "
