@@ -193,10 +193,14 @@ def few_runs_note(rows: list[dict], q=DEFAULT_PERCENTILES) -> str | None:
     if not inner or not rows:
         return None
     need = math.ceil(1 + 100 / min(inner) - 1e-9)
-    few = [r["n"] for r in rows if r["n"] < need]
+    empty = sum(r["n"] == 0 for r in rows)  # (every run of the group failed: no statistic)
+    few = [r["n"] for r in rows if 0 < r["n"] < need]
+    gone = (f"{empty} of {len(rows)} group(s) without a successful run (their percentiles are "
+            "empty)") if empty else ""  # fmt: skip
     if not few:
-        return None
+        return gone or None
     tails = ", ".join(f"p{p:g}" for p in q if 0 < p < 100 and 1 + 100 / min(p, 100 - p) > min(few))
-    return (f"{len(few)} of {len(rows)} group(s) with fewer than {need} successful runs (fewest "
+    note = (f"{len(few)} of {len(rows)} group(s) with fewer than {need} successful runs (fewest "
             f"{min(few)}): there {tails} are interpolated between the extreme runs, not "
             "estimated; add records or samples")  # fmt: skip
+    return f"{gone}; {note}" if gone else note

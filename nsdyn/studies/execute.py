@@ -87,7 +87,8 @@ class _Progress:
         eta = f"~{el / self.done * left:.0f} s left" if self.done else "time left unknown"
         return (
             f"study {self.name}: {self.skipped + self.done}/{self.total} done "
-            f"({self.failed} failed, {self.skipped} from before), {el:.1f} s, {eta}"
+            f"({self.done} run now, {self.failed} of them failed; {self.skipped} from before), "
+            f"{el:.1f} s, {eta}"
         )
 
     def tick(self, force: bool = False) -> None:

@@ -508,6 +508,9 @@ def load_study(path: str | Path) -> Study:
     samples = st.get("samples", 0)
     if any(p.random for p in params) and samples < 1:
         raise _err(source, "study.samples", "random parameters need samples >= 1")
+    if samples >= 1 and not any(p.random for p in params):  # (ignored without a word)
+        raise _err(source, "study.samples", f"{samples} draws of no random parameter; give "
+                   "one (e.g. { uniform = [a, b] }) or drop samples")  # fmt: skip
     study = Study(
         source=source,
         name=st.get("name", Path(path).stem),

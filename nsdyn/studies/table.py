@@ -60,6 +60,9 @@ def checked_keep(source: str, keep, parameters) -> list | None:
 
     if keep is not None and not all(isinstance(k, str) for k in keep):
         raise SceneError(f"{source}: study.keep: expected a list of field names, got {keep!r}")
+    if keep is not None and not keep:  # (a table of no result at all)
+        raise SceneError(f"{source}: study.keep: an empty list keeps no result; name the "
+                         "results to keep, or drop keep to keep them all")  # fmt: skip
     own = [k for k in keep or () if k in (*LEAD_COLUMNS, *TAIL_COLUMNS, *parameters)]
     if own:
         raise SceneError(f"{source}: study.keep: {own[0]!r} is a column of the table itself "

@@ -132,3 +132,10 @@ def test_few_runs_note_marks_the_groups_whose_outer_percentiles_only_interpolate
     assert few_runs_note([{"n": 8}], (16, 50, 84)) is None
     assert few_runs_note([{"n": 2}], (0, 100)) is None  # min and max: no interpolation
     assert "fewer than 11" in few_runs_note([{"n": 10}], (10, 90))
+    # a group whose every run failed has no percentile at all: said as such (it was counted
+    # among the groups "interpolated between the extreme runs")
+    assert few_runs_note([{"n": 0}, {"n": 8}], (16, 50, 84)) == (
+        "1 of 2 group(s) without a successful run (their percentiles are empty)"
+    )
+    both = few_runs_note([{"n": 0}, {"n": 3}], (16, 50, 84))
+    assert both.startswith("1 of 2 group(s) without a successful run") and "(fewest 3)" in both

@@ -153,3 +153,23 @@ def test_a_fragility_without_limits_needs_a_true_false_outcome_and_a_number(tmp_
     assert "'outcome' is a text column ('rest', ...)" in res["fits"][0]["error"]
     res = _fragility(S, Table(rows), {"im": "im", "edp": "fell"}, tmp_path, False)
     assert "error" not in res["fits"][0]  # a true/false outcome: counted as it is
+
+
+@pytest.mark.parametrize(
+    ("body", "match"),
+    [
+        # 5 draws of no random parameter ran the grid once without a word; keep = [] wrote a
+        # table of no result
+        ('[study]\nsamples = 5\n[parameters]\n"motion.t_end" = [1.0, 2.0]\n',
+         r"study.samples: 5 draws of no random parameter; give one \(e.g. \{ uniform"),
+        ('[study]\nkeep = []\n[parameters]\n"motion.t_end" = [1.0, 2.0]\n',
+         r"study.keep: an empty list keeps no result"),
+    ],
+)  # fmt: skip
+def test_study_settings_that_change_nothing_are_refused(tmp_path, body, match):
+    path = tmp_path / "s.toml"
+    path.write_text(
+        body.replace("[study]\n", f'[study]\nscene = "{SCENES / "cylinder-uplift.toml"}"\n')
+    )
+    with pytest.raises(SceneError, match=match):
+        load_study(path)
