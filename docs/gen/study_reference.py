@@ -54,7 +54,8 @@ ANALYSES = {
     },
     "percentiles": {
         "quantities": "the results tabulated",
-        "by": "the parameters the table is grouped by",
+        "by": "the parameters the table is grouped by (default: every grid parameter but "
+        "`motion.seed`)",
         "percentiles": "the percentiles, each in 0..100 (default 16, 50, 84: the median and the "
         "±1σ band of a lognormal spread)",
     },
@@ -107,8 +108,8 @@ def page() -> str:
         "## `[parameters]`",
         "",
         '`"table.field" = FORM`, a scene field of the base scene\'s kind and its values (any key',
-        "of the kind's [scene-file reference](scenes.md) outside `[scene]`, whether the base",
-        "scene sets it or not). Grids",
+        "of the kind's [scene-file reference](scenes.md) but `scene.kind` and `scene.name`,",
+        "whether the base scene sets it or not). Grids",
         f"({', '.join(f'`{f}`' for f in GRID_FORMS)}) multiply; random forms",
         f"({', '.join(f'`{f}`' for f in RANDOM_FORMS)}) are drawn jointly `study.samples`",
         "times:",

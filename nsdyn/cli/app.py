@@ -53,8 +53,12 @@ def flagged(message: str, args: argparse.Namespace) -> str:
     """``message`` with a scene key a flag of ``args`` set named with that flag
     (``s.toml: solver.method (--method): ...``): the file does not hold the value blamed."""
     for key, flag in FLAG_KEYS.items():
-        if getattr(args, flag[2:].replace("-", "_"), None) and f": {key}:" in message:
-            message = message.replace(f": {key}:", f": {key} ({flag}):", 1)
+        v = getattr(args, flag[2:].replace("-", "_"), None)
+        if not v or f": {key}:" not in message:
+            continue
+        said = {str(v), repr(v)} | ({f"{v:g}"} if isinstance(v, float) else set())
+        if any(s in message.split(f": {key}:", 1)[1] for s in said):  # (the flag's value, not
+            message = message.replace(f": {key}:", f": {key} ({flag}):", 1)  # the file's)
     return message
 
 

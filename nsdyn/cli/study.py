@@ -216,7 +216,9 @@ def run(args: argparse.Namespace) -> int:
                 progress=None if args.json else stderr_progress,
             )
     except KeyboardInterrupt:
-        kept = Path(out).is_dir() and any(Path(out).iterdir())
+        from nsdyn.studies.table import OWNER
+
+        kept = Path(out).is_dir() and any(p.name != OWNER for p in Path(out).iterdir())
         print(f"nsdyn study: interrupted; finished tasks are kept in {out}, rerun to resume"
               if kept else "nsdyn study: interrupted before its first task finished; a rerun "
               "starts over", file=sys.stderr)  # fmt: skip

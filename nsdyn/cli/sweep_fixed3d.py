@@ -87,7 +87,7 @@ def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
               "fmin_hz": fmin, "fmax_hz": fmax, "modes": mode_list,
               "mass_captured": [float(v) for v in modes.mass_fraction.sum(axis=0)],
               "amplitudes": summary, "wall_s": time.perf_counter() - t0}  # fmt: skip
-    few = few_modes_note(sc["n_modes"], modes)
+    few = few_modes_note(sc["n_modes"], modes) if sc.get("n_modes_given", True) else None
     report["notes"] = [few] if few else []
     if few and not args.json:
         print(f"nsdyn sweep: note: {few}", file=sys.stderr)

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from numbers import Real
 
 import numpy as np
 
@@ -69,7 +70,7 @@ class Pulse:
         number("t_start", self.t_start, "a finite start time [s]")
         number("ver_ratio", self.ver_ratio, "a finite vertical-to-horizontal ratio")
         n = self.n_cycles
-        if isinstance(n, bool) or not isinstance(n, int | float) or int(n) != n or n < 1:
+        if isinstance(n, bool) or not isinstance(n, Real) or int(n) != n or n < 1:
             raise ValueError(f"n_cycles: expected an integer >= 1, got {n!r}")
 
     @property

@@ -226,8 +226,10 @@ def continue_sequential(
         pt.quantities["wall_s"] = time.perf_counter() - tp
         _append(pts, pt, keep_orbits, progress, len(freqs))
         if len(pts) >= max(3, n_start + 1):
+            tj = time.perf_counter()
             jump = _jump(problem, pts, disc, tol, max_iter)
             jumps += [jump] if jump else []
+            pt.quantities["wall_s"] += time.perf_counter() - tj  # (its check is its cost)
     info = {"continuation": "sequential", "wall_s": time.perf_counter() - t0,
             "skipped_hz": skipped, "jumps": jumps}  # fmt: skip
     return Curve(problem.amplitude, pts, detect_bifurcations(pts), info)
@@ -379,6 +381,7 @@ def continue_arclength(
                                   fallback=False, progress=progress, start=pts,
                                   keep_orbits=keep_orbits)  # fmt: skip
         info["skipped_hz"] = seq.info["skipped_hz"]
+        info["jumps"] = seq.info["jumps"]  # (the sequential rest's steps between branches)
         return list(seq.points)
 
     while steps < max_steps:

@@ -407,7 +407,10 @@ def _per(secs, n, what, kind=Section) -> list:
     """``n`` sections (one per storey) from one section of type ``kind`` or a list of 1 or n."""
     if isinstance(secs, kind):
         return [secs] * n
-    secs = list(secs) if isinstance(secs, list | tuple) else [secs]
+    try:  # a list, tuple, generator or array of sections; one section otherwise
+        secs = [secs] if isinstance(secs, str) else list(secs)
+    except TypeError:
+        secs = [secs]
     if not all(isinstance(s, kind) for s in secs):  # (a number: "'int' object is not iterable")
         bad = next(s for s in secs if not isinstance(s, kind))
         raise TypeError(f"{what}: expected a {kind.__name__} or a list of them, got "

@@ -6,7 +6,8 @@
                              (default the 400 mm seismic gap on x_iso_max_m, seed 004 §5),
                              aggregate over records (mean | median | max), reference design
                              {parameter = value} to compare with (e.g. the seed's eq (16)).
-``[analysis.percentiles]``   quantities, by (default: the grid parameters), percentiles.
+``[analysis.percentiles]``   quantities, by (default: the grid parameters but motion.seed),
+                             percentiles.
 ``[analysis.fragility]``     im (a parameter or result column, e.g. "motion.pga"), edp
                              (a result column) and limits (P[edp > limit | im]); without
                              limits a boolean edp column is the outcome; confidence. A run
@@ -127,7 +128,7 @@ def check_analysis(study) -> None:
     for name, key in (("design", "objectives"), ("percentiles", "quantities")):
         spec = an.get(name)
         kept = name == "percentiles" and study.keep  # (percentiles default to the kept)
-        if spec is not None and other and key not in spec and not kept:
+        if spec is not None and other and not spec.get(key) and not kept:  # ([]: the default)
             raise SceneError(f"{src}: analysis.{name}.{key}: missing; the default "
                              f"({', '.join(DEFAULT_OBJECTIVES)}) is an isolated frame's, a "
                              f"{study.kind} scene has none of it (an all-NaN table)")  # fmt: skip
@@ -253,7 +254,8 @@ def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
 
     variables = spec.get("variables") or _grid_names(study)
     objectives = spec.get("objectives") or list(DEFAULT_OBJECTIVES)
-    constraints = spec.get("constraints", {"x_iso_max_m": SEISMIC_GAP_M})
+    gap = {"x_iso_max_m": SEISMIC_GAP_M} if study.kind == "isolated" else {}  # (a frame's gap)
+    constraints = spec.get("constraints", gap)
     empty = empty_columns(table, [*objectives, *constraints])
     points = design_points(table, variables, objectives, constraints, spec.get("aggregate", "mean"))
     _write_rows([p.row() for p in points], out / "design.csv")

@@ -165,6 +165,10 @@ def _known_fields(kind: str, base: dict) -> set[str]:
     except (ImportError, AttributeError):  # a kind without a declared schema: the base's keys
         tables = {}
     known |= {f"{t}.{k}" for t, keys in tables.items() if t != "scene" for k in keys}
+    # [scene]'s choices of model (a rocking model, a fidelity, a frame), set in the base or not
+    # (scene.model was accepted only where the base scene wrote it); never its kind or name
+    known |= {f"scene.{k}" for k in tables.get("scene", ()) if k not in ("kind", "name")}
+    known.discard("scene.kind")  # (one family per study)
     if kind == "isolated":
         from nsdyn.models.isolated.scene import _FIELDS
         from nsdyn.models.isolated.system import Isolation

@@ -252,7 +252,8 @@ def amplitude_job(
         row["law"] = law
         row["contact"] = "bilateral"
     if settings.contact == "unilateral":
-        _unilateral_pass(system, amplitude, load, curve, rows, quiet)
+        e = float(cfg.get("solver", {}).get("restitution", 0.0))  # (a landing's, as a run's)
+        _unilateral_pass(system, amplitude, load, curve, rows, quiet, e)
     walls = np.array([p.quantities.get("wall_s", np.nan) for p in curve.points])
     fs = np.array([p.f for p in curve.points])
     new = np.arange(len(curve.points)) >= n_resumed
@@ -273,7 +274,7 @@ def amplitude_job(
     }
 
 
-def _unilateral_pass(system, amplitude, load, curve, rows, quiet) -> None:
+def _unilateral_pass(system, amplitude, load, curve, rows, quiet, restitution=0.0) -> None:
     """The uplift points of the curve again, with lift-off and landing
     (:func:`nsdyn.periodic.unilateral.unilateral_rows`); their rows say ``contact =
     "unilateral"``."""
@@ -289,7 +290,7 @@ def _unilateral_pass(system, amplitude, load, curve, rows, quiet) -> None:
             )
 
     pb = frame_problem(system, amplitude, load=load)
-    unilateral_rows(pb, curve.points, rows, progress=progress)
+    unilateral_rows(pb, curve.points, rows, progress=progress, restitution=restitution)
     for row in rows:
         if row["method"] == "unilateral":
             row["contact"] = "unilateral"

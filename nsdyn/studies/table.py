@@ -265,10 +265,11 @@ class ResultsStore:
             old = json.loads((self.out / OWNER).read_text())
         except (OSError, ValueError):
             old = None
-        if isinstance(old, dict) and old != mine and self.read():
+        if isinstance(old, dict) and old.get("kind") != mine["kind"] and self.read():
             raise CheckpointError(f"{self.out}: holds the results of study {old.get('name')!r} "
-                                  f"({old.get('kind')} scenes), not of {name!r} ({kind}); give "
-                                  "another --out, or --fresh to replace them")  # fmt: skip
+                                  f"({old.get('kind')} scenes), not of {name!r} ({kind}): rows "
+                                  "of another family; give another --out, or --fresh to "
+                                  "replace them")  # fmt: skip
         self.out.mkdir(parents=True, exist_ok=True)
         with atomic_open(self.out / OWNER, "w") as fh:
             fh.write(json.dumps(mine))

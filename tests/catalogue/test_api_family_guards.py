@@ -150,3 +150,22 @@ def test_the_compliant_contact_names_a_ground_of_the_wrong_kind():
 
     with pytest.raises(TypeError, match=r"^ground: expected a CompliantGround"):
         simulate_compliant(BODY, LAW, 1e8, t_end=1.0)
+
+
+def test_a_restart_from_a_moreau_jean_state_is_a_valid_start():
+    # Moreau-Jean leaves its corners a fraction of a millimetre in the ground (0.18 mm here):
+    # a restart from its last state must run, a body placed 0.25 m in the ground must not
+    law = nsdyn.FrictionLaw(0.6, 0.6, 0)
+    r = nsdyn.simulate_moreau(BODY, law, None, t_end=1.0, theta0_over_alpha=0.5, h=1e-3)
+    again = nsdyn.simulate_moreau(BODY, law, None, t_end=0.1, q0=r.q[-1], v0=r.v[-1])
+    assert np.array_equal(again.q[0], r.q[-1])
+
+
+def test_whole_numpy_counts_and_iterables_of_sections_are_taken():
+    from nsdyn.structure import Section, regular_frame
+
+    assert nsdyn.n_cycle_sine(1.0, 2.0, np.int64(2)).n_cycles == 2
+    s = Section(E=2e11, A=0.01, I=1e-4, rho_A=80.0)
+    gen = regular_frame("f", [6.0], [3.0, 3.0], 1, 1, (s for _ in range(2)), s, floor_mass=1e4)
+    lst = regular_frame("f", [6.0], [3.0, 3.0], 1, 1, [s, s], s, floor_mass=1e4)
+    assert np.array_equal(gen.nodes, lst.nodes) and len(gen.elements) == len(lst.elements)

@@ -51,9 +51,8 @@ def test_a_step_refused_for_the_automatic_method_is_one_line_naming_the_choice(
     assert main(["run", "--dt", "0.01", "--t-end", "1"]) == EXIT_USER_ERROR
     out, err = capsys.readouterr()
     assert out == "" and err.count("\n") == 1 and list(tmp_path.iterdir()) == []
-    assert err.startswith(
-        "nsdyn run: error: <default scene>: solver.dt (--dt): the adaptive method "
-    )
+    # (the message names --dt itself; the flag's label goes where a value of it is shown)
+    assert err.startswith("nsdyn run: error: <default scene>: solver.dt: the adaptive method ")
     assert err.endswith("(method auto: 13 coordinates, arctan law -> radau (adaptive))\n")
 
 
@@ -227,6 +226,20 @@ def test_a_mistyped_option_or_benchmark_is_refused_with_the_nearest(argv, says, 
     ],
 )
 def test_an_error_about_a_key_a_flag_set_names_the_flag(argv, said, tmp_path, capsys):
+    _flag_case(argv, said, tmp_path, capsys)
+
+
+def test_a_bad_value_in_the_file_is_not_blamed_on_the_flag(tmp_path, capsys):
+    # the file's own dt = -1 was reported as "solver.dt (--dt)" when --dt was given too
+    scene = tmp_path / "s.toml"
+    scene.write_text('[solver]\nmethod = "genalpha"\ndt = -1.0\n')
+    argv = ["run", str(scene), "--dt", "0.005", "--t-end", "0.1", "--out", str(tmp_path / "o")]
+    assert main(argv) == EXIT_USER_ERROR
+    err = capsys.readouterr().err
+    assert "solver.dt: expected a positive number, got -1.0" in err and "(--dt)" not in err
+
+
+def _flag_case(argv, said, tmp_path, capsys):
     rock = str(Path(__file__).resolve().parents[2] / "examples/scenes/rocking-seed003-column.toml")
     argv = [rock if a == "ROCK" else a for a in argv]
     out = ["--out", str(tmp_path / "o")] if argv[0] == "run" else ["-o", str(tmp_path / "x.py")]

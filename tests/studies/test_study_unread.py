@@ -109,7 +109,8 @@ def test_another_study_s_folder_is_refused_not_merged(tmp_path):
     store.claim("cyl", "cylinder")
     store.append([{"key": "k0", "index": 0, "status": "ok"}])
     store.claim("cyl", "cylinder")  # the same study resumes
-    with pytest.raises(CheckpointError, match=r"holds the results of study 'cyl' \(cylinder"):
+    store.claim("cyl-renamed", "cylinder")  # a renamed study file of the same family reuses
+    with pytest.raises(CheckpointError, match=r"of study 'cyl-renamed' \(cylinder scenes\)"):
         store.claim("rock", "rocking")
     store.reset()  # --fresh
     store.claim("rock", "rocking")
@@ -172,4 +173,19 @@ def test_study_settings_that_change_nothing_are_refused(tmp_path, body, match):
         body.replace("[study]\n", f'[study]\nscene = "{SCENES / "cylinder-uplift.toml"}"\n')
     )
     with pytest.raises(SceneError, match=match):
+        load_study(path)
+
+
+def test_a_scene_choice_is_a_parameter_whether_the_base_writes_it_or_not(tmp_path):
+    # "scene.model" was "unknown scene field" unless the base scene wrote model itself
+    scene = tmp_path / "blk.toml"
+    scene.write_text('[scene]\nkind = "rocking"\n[block]\nwidth = 0.3\nheight = 1.2\n[motion]\n'
+                     'pulse = "sine"\na_p_g = 0.4\nomega_p = 12.0\nt_end = 2.0\n')  # fmt: skip
+    path = tmp_path / "s.toml"
+    path.write_text(
+        f'[study]\nscene = "{scene}"\n[parameters]\n"scene.model" = ["block", "frame"]\n'
+    )
+    assert [t.params["scene.model"] for t in expand(load_study(path))] == ["block", "frame"]
+    path.write_text(f'[study]\nscene = "{scene}"\n[parameters]\n"scene.kind" = ["contact"]\n')
+    with pytest.raises(SceneError, match=r"parameters.scene.kind: unknown scene field"):
         load_study(path)

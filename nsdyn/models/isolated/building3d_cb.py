@@ -320,8 +320,9 @@ def building_pairs(
     from nsdyn.models.isolated.pairs import PairSystem
 
     bearings = _bearings(frame, bearings)
-    if any(eccentricity_pair(eccentricity)):
-        frame = accidental_eccentricity(frame, *eccentricity_pair(eccentricity))
+    ecc = eccentricity_pair(eccentricity)
+    if any(ecc):
+        frame = accidental_eccentricity(frame, *ecc)
     red = reduce_building(frame, fidelity, f_max, min_mass, base, lumped)
     cb, model, D, R = red.pop("cb"), red.pop("frame"), red.pop("D"), red.pop("R")
     n = cb.n_red

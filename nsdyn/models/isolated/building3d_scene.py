@@ -246,7 +246,8 @@ def build_system(cfg: dict, source: str, warm: bool = False) -> dict:
         with warming(path, law, contact) if warm else nullcontext(times) as times:
             pairs = build_pairs(frame, bearing, fid, opts, source, cfg)
     return {"fidelity": fid, "frame": frame, "deck": deck, "pairs": pairs, "bearing": bearing,
-            "n_modes": n_modes, "cb": opts, **times}  # fmt: skip
+            "n_modes": n_modes, "n_modes_given": "n_modes" in t, "cb": opts,
+            **times}  # fmt: skip
 
 
 def _path(cfg: dict, source: str) -> str:
@@ -323,7 +324,8 @@ def _run_fixed(sysd, exc, source: str, out_dir: Path) -> dict:
                  torsion=r.torsion)  # fmt: skip
     shape = write_shape(out_dir, sysd["frame"], fixed_peak_shape(r), r.modes)
     s.update({"t_end_s": float(r.t[-1]), "wall_s": wall, "files": [str(npz), str(shape)]})
-    s["few_modes"] = few_modes_note(sysd["n_modes"], r.modes)  # (a note of the run's)
+    given = sysd.get("n_modes_given", True)  # (the default 24 on a smaller building: no note)
+    s["few_modes"] = few_modes_note(sysd["n_modes"], r.modes) if given else None
     return s
 
 

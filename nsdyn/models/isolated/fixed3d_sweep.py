@@ -173,7 +173,8 @@ def fixed_sweep_scene(cfg: dict, source: str) -> dict:
         raise SceneError(f"{source}: motion.amplitude: the horizontal amplitude is zero")
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     return {"frame": sysd["frame"], "n_modes": sysd["n_modes"], "orbit": orbit, "A": A / amp,
-            "amplitude": amp, "name": name}  # fmt: skip
+            "amplitude": amp, "name": name,
+            "n_modes_given": sysd.get("n_modes_given", True)}  # fmt: skip
 
 
 def default_range(modes: Modes3D) -> tuple[float, float]:

@@ -356,8 +356,9 @@ def building_pairs_sparse(
     if f_damp is not None and not (isinstance(f_damp, int | float) and f_damp > 0):
         raise ValueError(f"f_damp: expected a positive frequency [Hz] or None, got {f_damp!r}")
     bearings = _bearings(frame, bearings)
-    if any(eccentricity_pair(eccentricity)):
-        frame = accidental_eccentricity(frame, *eccentricity_pair(eccentricity))
+    ecc = eccentricity_pair(eccentricity)
+    if any(ecc):
+        frame = accidental_eccentricity(frame, *ecc)
     model = base_grid(frame) if base == "grid" else frame
     b, Db, Rb = _interface(model, base)
     K, M = model.reduced(lumped=lumped)
