@@ -44,6 +44,7 @@ Every error names the file and the field and, for a misspelt key, the nearest va
 from __future__ import annotations
 
 import copy
+import importlib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -222,10 +223,9 @@ def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter
         leaf = [k for k in sorted(known) if k.rsplit(".", 1)[-1] == name.rsplit(".", 1)[-1]]
         hint = (did_you_mean(name, leaf) or f"; did you mean {leaf[0]!r}?" if leaf  # 'bearing.mu'
                 else did_you_mean(name, sorted(known)))  # fmt: skip
-        raise SceneError(
-            f"{source}: {where}: unknown scene field{hint} (expected 'table.field', e.g. "
-            f"'isolation.mu' or 'motion.pga')"
-        )
+        tables = sorted({k.split(".", 1)[0] for k in known})  # (the example named this key)
+        raise SceneError(f"{source}: {where}: unknown scene field{hint} (expected 'table.field' "
+                         f"of this scene's tables: {', '.join(tables)})")  # fmt: skip
     if isinstance(spec, list):
         spec = {"values": spec}
     if not isinstance(spec, dict) or len(spec) != 1:
@@ -337,7 +337,7 @@ def _parse_records(source: str, study_dir: Path, rec: dict, kind: str, base: dic
             raise _err(source, "records.set", f"expected one of {list(RECORD_SETS)}, got {s!r}")
         out += _record_set(source, s)
     if "simulated" in rec:
-        out += _simulated(source, rec["simulated"])
+        out += _simulated(source, rec["simulated"], kind)
     if "pairs" in rec:
         if kind not in PAIR_KINDS:
             raise _err(source, "records.pairs", f"records of several components need a scene "
@@ -381,13 +381,14 @@ def _record_set(source: str, s: str) -> list[RecordSpec]:
     ]
 
 
-def _simulated(source: str, sim) -> list[RecordSpec]:
+def _simulated(source: str, sim, kind: str = "") -> list[RecordSpec]:
     import numpy as np
 
+    if kind == "cylinder":  # (their scale is not the scene's earthquake's: ten times below)
+        importlib.import_module(scene_module(kind)).simulated_records_note(source)
     if not isinstance(sim, dict):
-        raise _err(
-            source, "records.simulated", f"expected a table {{n = ..., seed = ...}}, got {sim!r}"
-        )
+        raise _err(source, "records.simulated",
+                   f"expected a table {{n = ..., seed = ...}}, got {sim!r}")  # fmt: skip
     for key in sim:
         if key not in SIMULATED_FIELDS:
             raise unknown_key(source, "records.simulated.", key, SIMULATED_FIELDS)
@@ -543,8 +544,6 @@ def record_replaces(kind: str) -> tuple:
     ``RECORD_REPLACES``: a rocking pulse's, a contact sine's, a simulated earthquake's)."""
     if kind not in ("rocking", "contact", "cylinder"):
         return ()
-    import importlib
-
     return importlib.import_module(scene_module(kind)).RECORD_REPLACES
 
 

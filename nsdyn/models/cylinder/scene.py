@@ -110,6 +110,20 @@ def _star(p: CylinderParams, st: dict, source: str) -> CylinderParams:
     return p.with_(**{q: getattr(p, q) * fac})
 
 
+def simulated_records_note(source: str) -> None:
+    """An InputWarning for a study's ``[records] simulated`` on a cylinder scene: one
+    horizontal component and the vertical at their own scale, not the scene's simulated
+    earthquake (its PGA 0.3 m/s² against 3 m/s² for the scene's at g² s)."""
+    import warnings
+
+    from nsdyn._checks import InputWarning
+
+    warnings.warn(f"{source}: records.simulated: one horizontal component and the vertical, "
+                  "at their own scale, not the scene's simulated earthquake (its s0_units); "
+                  "vary motion.seed for three-component earthquakes", InputWarning,
+                  stacklevel=3)  # fmt: skip
+
+
 def _record_components(mo: dict, units: dict) -> tuple:
     """(x, y, z) records of ``[motion] record`` (with ``record_y`` and ``record_z``, each a
     file of one component); alone, a file or bundled name holding both horizontal components
