@@ -80,6 +80,23 @@ def non_negative_int(name: str, value) -> int:
     return whole(name, value, 0, "a non-negative integer")
 
 
+def finite_numbers(name: str, value, what: str, size: int | None = None):
+    """``value`` as a non-empty 1-D float array of finite numbers (``size`` of them when
+    given), or ``ValueError("{name}: expected {what}, got {value!r}")``: text, complex
+    numbers, nested or ragged lists and NaN are refused, never converted."""
+    import numpy as np
+
+    try:
+        a = np.asarray(value, dtype=float)
+        ok = not isinstance(value, str | bytes) and np.asarray(value).dtype.kind in "biuf"
+    except (TypeError, ValueError):
+        a, ok = np.empty(0), False
+    if not (ok and a.ndim == 1 and a.size and (size is None or a.size == size)
+            and np.all(np.isfinite(a))):  # fmt: skip
+        raise ValueError(f"{name}: expected {what}, got {value!r}")
+    return a
+
+
 def number(name: str, value, what: str, ok=None) -> float:
     """``value`` as a float, or ``ValueError("{name}: expected {what}, got {value!r}")`` when
     it is text or a bool (never converted), not a number, not finite, or fails ``ok``."""

@@ -84,6 +84,15 @@ class Key:
         return f"`{d}`"
 
 
+# the [motion] key of a record file's units, one for every family's scene
+UNITS_KEY = Key(
+    "units",
+    "string",
+    "units of the record file(s) where they state none (or others: these win, with a warning)",
+    choices=RECORD_UNITS,
+)
+
+
 @dataclass(frozen=True)
 class Table:
     """A scene table (``[name]``), or one variant of it (``variant`` = 'kind = "shear"')."""

@@ -20,7 +20,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from nsdyn._checks import whole
+from nsdyn._checks import finite_numbers, whole
 from nsdyn.structure.frame import _per
 from nsdyn.structure.frame3d import Diaphragm, Frame3D, Section3D
 
@@ -31,15 +31,8 @@ BEAM_VECXZ = (0.0, 0.0, 1.0)  # beams: local z = global Z, so I_y is vertical be
 def _numbers(v, what: str, size: int | None = None) -> np.ndarray:
     """``v`` as a 1-D array of finite floats (``size`` of them when given), or ValueError
     naming ``what`` (text, nested lists and NaN failed deep inside numpy before)."""
-    try:
-        a = np.asarray(v, float)
-    except (TypeError, ValueError):
-        a = np.empty(0)
-    bad = isinstance(v, str | bytes) or a.ndim != 1 or not np.all(np.isfinite(a))
-    if bad or (size is not None and a.size != size) or a.size == 0:
-        form = f"{size} finite numbers" if size else "a list of finite numbers"
-        raise ValueError(f"{what}: expected {form}, got {v!r}")
-    return a
+    form = f"{size} finite numbers" if size else "a list of finite numbers"
+    return finite_numbers(what, v, form, size)
 
 
 def _values(v, n, what) -> np.ndarray:

@@ -255,14 +255,15 @@ def check_tasks(study: Study) -> None:
     from nsdyn.studies.scenes import check_scene
 
     read = {p.name: [] for p in study.parameters}  # per parameter: a task that reads it
+    # the whole key in a note (solver.h is not solver.h_max), compiled once for every task
+    keys = {n: re.compile(rf"(?<![\w.]){re.escape(n)}(?![\w.])") for n in read}
     with warnings.catch_warnings():  # a record's units are the run's to report, once per task
         warnings.simplefilter("ignore", UnitWarning)
         for task in expand(study):
             label = task_label(task.index, task.params, task.record_name)
             notes = check_scene(task.cfg, f"{study.source}: {label}")
-            for name, why in read.items():  # (the whole key: solver.h is not solver.h_max)
-                key = re.compile(rf"(?<![\w.]){re.escape(name)}(?![\w.])")
-                unused = [n for n in notes if "not used" in n and key.search(n)]
+            for name, why in read.items():
+                unused = [n for n in notes if "not used" in n and keys[name].search(n)]
                 why.append(unused[0] if unused else None)
     for name, why in read.items():  # every task repeats one run: its values change nothing
         if why and all(why):

@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, expect, number, output_count, rel_tol
+from nsdyn._checks import NumericalFailure, expect, finite_numbers, number, output_count, rel_tol
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kevent as ke
 from nsdyn.models.contact._kgeom import body_mode, contact_rows, mu_of, solve_contacts
@@ -91,15 +91,8 @@ def start_state(body: RigidBody, tilt: float, q0, v0, tilted: bool, rigid: bool 
     q, v = initial_state(body, tilt)
     given = {}
     for name, val in (("q0", q0), ("v0", v0)):
-        if val is None:
-            continue
-        try:
-            a = np.array(val, dtype=float)
-        except (TypeError, ValueError):
-            a = np.empty(0)
-        if isinstance(val, str) or a.shape != (3,) or not np.all(np.isfinite(a)):
-            raise ValueError(f"{name}: expected 3 finite values (x, y, theta), got {val!r}")
-        given[name] = a
+        if val is not None:
+            given[name] = finite_numbers(name, val, "3 finite values (x, y, theta)", 3).copy()
     if "q0" in given and tilted:
         raise ValueError("q0: the start is given as a tilt (theta0 or theta0_over_alpha) and "
                          "as q0; give one of them")  # fmt: skip

@@ -7,7 +7,7 @@ scene-file reference is generated from it.
 
 from __future__ import annotations
 
-from nsdyn.models.scene_schema import RECORD_UNITS, REL_TOL, Key, Schema, Table
+from nsdyn.models.scene_schema import REL_TOL, UNITS_KEY, Key, Schema, Table
 
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
 _NONNEG = {"lo": 0.0}  # >= 0
@@ -96,13 +96,7 @@ SCHEMA = Schema(
                     "bundled record name or path (a relative path: the scene file's folder "
                     "first); not with `period`",
                 ),
-                Key(
-                    "units",
-                    "string",
-                    "units of the record file(s) where they state none (or "
-                    "others: these win, with a warning)",
-                    choices=RECORD_UNITS,
-                ),
+                UNITS_KEY,
                 Key(
                     "pga",
                     "number",

@@ -8,7 +8,7 @@ scene-file reference is generated from it.
 
 from __future__ import annotations
 
-from nsdyn.models.scene_schema import RECORD_UNITS, REL_TOL, Key, Schema, Table
+from nsdyn.models.scene_schema import REL_TOL, UNITS_KEY, Key, Schema, Table
 
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
 _NONNEG = {"lo": 0.0}  # >= 0
@@ -166,13 +166,7 @@ SCHEMA = Schema(
                 ),
                 Key("record_y", "string", "record file of the second horizontal component"),
                 Key("record_z", "string", "record file of the vertical component"),
-                Key(
-                    "units",
-                    "string",
-                    "units of the record file(s) where they state none (or "
-                    "others: these win, with a warning)",
-                    choices=RECORD_UNITS,
-                ),
+                UNITS_KEY,
                 Key(
                     "pga",
                     "number",

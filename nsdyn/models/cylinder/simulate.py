@@ -16,7 +16,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, expect, non_negative_int, number, rel_tol
+from nsdyn._checks import (
+    NumericalFailure,
+    expect,
+    finite_numbers,
+    non_negative_int,
+    number,
+    rel_tol,
+)
 from nsdyn._tabular import Tabular
 from nsdyn.ground import GroundMotion, modulated_white_noise
 from nsdyn.models.cylinder import _kernel as K
@@ -258,12 +265,7 @@ def simulate(
     number("azimuth0", azimuth0, "a finite azimuth [rad]")
     if w0 is not None:
         number("w0", w0, "a finite base-centre height [m]")
-    try:
-        omega0 = tuple(number("omega0", v, "three finite rates [rad/s]") for v in omega0)
-    except TypeError:
-        omega0 = ()
-    if len(omega0) != 3:
-        raise ValueError("omega0: expected three finite rates (wx, wy, wz) [rad/s]")
+    omega0 = tuple(finite_numbers("omega0", omega0, "three finite rates (wx, wy, wz) [rad/s]", 3))
     number("h_kink", h_kink, "a positive step bound [s]", lambda v: v > 0)
     number("theta_topple", theta_topple, "a toppling tilt in (0, pi/2) [rad]",
            lambda v: 0 < v < 0.5 * math.pi)  # fmt: skip

@@ -12,7 +12,7 @@ from __future__ import annotations
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated.defaults import ALPHA, BETA, C_DAMPER, EPS, ETA, F_MAX, K_LAM, MU
 from nsdyn.models.isolated.tolerances import RUN_ATOL, RUN_RTOL
-from nsdyn.models.scene_schema import RECORD_UNITS, REL_TOL, Key, Schema, Table
+from nsdyn.models.scene_schema import REL_TOL, UNITS_KEY, Key, Schema, Table
 
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
 _NONNEG = {"lo": 0.0}  # >= 0
@@ -39,12 +39,7 @@ _KIND = Key(
     choices=("isolated", "rocking", "contact", "cylinder", "deck", "building3d"),
 )
 _T_END = Key("t_end", "number", "end of the run", "s", **_POS)
-_UNITS = Key(
-    "units",
-    "string",
-    "units of the record file (where its header states others, these win, with a warning)",
-    choices=RECORD_UNITS,
-)
+_UNITS = UNITS_KEY
 _DT_REC = Key("dt", "number", "sample step of a single-column record file", "s", **_POS)
 _DOFS = Key(
     "dofs",

@@ -7,7 +7,7 @@ scene-file reference is generated from it. Sizes are the full width 2B and heigh
 
 from __future__ import annotations
 
-from nsdyn.models.scene_schema import RECORD_UNITS, REL_TOL, Key, Schema, Table
+from nsdyn.models.scene_schema import REL_TOL, UNITS_KEY, Key, Schema, Table
 
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
 _NONNEG = {"lo": 0.0}  # >= 0
@@ -102,13 +102,7 @@ SCHEMA = Schema(
                     **_POS,
                 ),
                 Key("vertical", "boolean", "keep the record's vertical component", default=True),
-                Key(
-                    "units",
-                    "string",
-                    "units of the record file(s) where they state none (or "
-                    "others: these win, with a warning)",
-                    choices=RECORD_UNITS,
-                ),
+                UNITS_KEY,
                 Key("pulse", "string", "pulse shape", choices=("sine", "cosine", "ricker", "rect")),
                 Key("a_p", "number", "pulse amplitude (or `a_p_g`)", "m/s²"),
                 Key("a_p_g", "number", "pulse amplitude in g (or `a_p`)", "g"),
