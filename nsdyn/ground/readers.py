@@ -125,6 +125,8 @@ def read_motion(
     """
     if fmt not in _FORMATS:
         raise ValueError(f"fmt must be one of {_FORMATS}, got {fmt!r}")
+    if isinstance(dt, str | bool):  # (a NaN or a step <= 0 is refused naming the file)
+        raise ValueError(f"dt: expected a positive sampling interval [s], got {dt!r}")
     source, text = _resolve(path_or_name)
     kind = _detect_format(source, text) if fmt == "auto" else fmt
     if Path(source).suffix.lower() == ".toml":  # (its first line that is not a number named)

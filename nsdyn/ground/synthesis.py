@@ -37,13 +37,14 @@ from typing import Any
 
 import numpy as np
 
-from nsdyn._checks import non_negative_int
+from nsdyn._checks import non_negative_int, number
 from nsdyn.ground.motion import GroundMotion
 
 KT_WARMUP_DECAYS = 30.0  # KT filter warm-up, in time constants 1/(ζ_g ω_g) (e^-30 ≈ 1e-13)
 SEED000_S0 = 1.25e-4  # seed 000: S0 = 0.000125 m²/s³
 SEED000_DT_ORD = 0.05  # seed 000: ordinates every Δ = 0.05 s
 SEED000_VERTICAL_RATIO = 2.0 / 3.0  # seed 000: vertical = 2/3 of horizontal
+NOISE_GENERATORS = ("modulated_white_noise", "kanai_tajimi")  # records a study simulates
 KT_OMEGA_G = 15.6  # Kanai–Tajimi firm ground (Housner & Jennings 1964) [rad/s]
 KT_ZETA_G = 0.6  # Kanai–Tajimi firm ground damping ratio
 
@@ -60,9 +61,34 @@ def _rng(seed: int | np.random.Generator | None) -> tuple[np.random.Generator, A
     return np.random.default_rng(seed), seed
 
 
-def _grid(duration: float, dt: float) -> np.ndarray:
-    if not (duration > 0.0 and dt > 0.0):
-        raise ValueError(f"duration and dt must be positive, got {duration}, {dt}")
+def grid_step(duration: float, dt: float, nyquist: float | None = None) -> tuple[float, float]:
+    """``(duration, dt)`` of a record sampled every dt over ``duration``, or ValueError naming
+    either: a step longer than the duration, or not shorter than ``nyquist`` [s] (half the
+    shortest period the record must carry)."""
+    duration = number("duration", duration, "a positive duration [s]", lambda v: v > 0)
+    what = f"a positive sampling step of at most the duration, {duration:g} s"
+    if nyquist is not None:
+        what += f", and below half the period, {nyquist:g} s"
+    dt = number("dt", dt, what, lambda v: 0 < v <= duration and not (nyquist and v >= nyquist))
+    return duration, dt
+
+
+def noise_step(generator: str, duration: float, dt: float) -> None:
+    """ValueError naming ``duration`` or ``dt`` where a :data:`NOISE_GENERATORS` record of
+    default parameters cannot be sampled so (white-noise ordinates closer than the step, a
+    Kanai–Tajimi ground frequency past the Nyquist frequency)."""
+    if generator not in NOISE_GENERATORS:
+        raise ValueError(f"generator: expected one of {list(NOISE_GENERATORS)}, got {generator!r}")
+    nyq = math.pi / KT_OMEGA_G if generator == "kanai_tajimi" else None
+    duration, dt = grid_step(duration, dt, nyq)
+    if generator == "modulated_white_noise":
+        number("dt", dt, f"a step of at most the noise's ordinate step {SEED000_DT_ORD:g} s",
+               lambda v: v <= SEED000_DT_ORD * (1.0 + 1e-12))  # fmt: skip
+
+
+def _grid(duration: float, dt: float, nyquist: float | None = None) -> np.ndarray:
+    """Samples t = k dt over ``duration`` (see :func:`grid_step`)."""
+    duration, dt = grid_step(duration, dt, nyquist)
     return dt * np.arange(int(round(duration / dt)) + 1)
 
 
@@ -122,10 +148,12 @@ def modulated_white_noise(
     """
     if not (math.isfinite(S0) and S0 >= 0):
         raise ValueError(f"S0: expected a non-negative spectral intensity [m²/s³], got {S0!r}")
-    if not (math.isfinite(dt_ord) and dt_ord > 0):
-        raise ValueError(f"dt_ord: expected a positive ordinate step [s], got {dt_ord!r}")
-    rng, seed_record = _rng(seed)
     t = _grid(duration, dt)
+    # ordinates closer than the output step would be sampled, not interpolated: the record's
+    # intensity would be S0 dt / dt_ord, not S0
+    number("dt_ord", dt_ord, f"an ordinate step [s] of at least the output step dt = {dt:g} s",
+           lambda v: v >= dt * (1.0 - 1e-12))  # fmt: skip
+    rng, seed_record = _rng(seed)
     n_ord = int(math.ceil(t[-1] / dt_ord - 1e-9)) + 1
     t_ord = dt_ord * np.arange(n_ord)
     sigma = math.sqrt(2.0 * math.pi * S0 / dt_ord)
@@ -204,12 +232,14 @@ def kanai_tajimi(
     multiplies them by G(t) of seed 000 (a uniformly modulated process, evolutionary PSD
     G(t)² S_KT(ω)).
     """
-    if not (omega_g > 0.0 and zeta_g > 0.0):
-        raise ValueError("omega_g and zeta_g must be positive")
+    t = _grid(duration, dt)
+    number("omega_g", omega_g, f"a positive ground frequency [rad/s] below the record's "
+           f"Nyquist frequency pi/dt = {math.pi / dt:.4g} rad/s",
+           lambda v: 0 < v < math.pi / dt)  # fmt: skip
+    number("zeta_g", zeta_g, "a positive ground damping ratio", lambda v: v > 0)
     if not (math.isfinite(S0) and S0 >= 0):
         raise ValueError(f"S0: expected a non-negative spectral intensity [m²/s³], got {S0!r}")
     rng, seed_record = _rng(seed)
-    t = _grid(duration, dt)
     a_hor = _kt_stationary(t.size, dt, omega_g, zeta_g, S0, rng)
     a_ver = _kt_stationary(t.size, dt, omega_g, zeta_g, S0, rng)
     a_ver = None if not vertical_ratio else vertical_ratio * a_ver
@@ -231,7 +261,8 @@ def harmonic(
     A: float, f: float, duration: float, dt: float, phase: float = 0.0, *, name: str = "harmonic"
 ) -> GroundMotion:
     """a(t) = A sin(2π f t + phase) on 0 ≤ t ≤ duration."""
-    t = _grid(duration, dt)
+    number("f", f, "a positive frequency [Hz]", lambda v: v > 0)
+    t = _grid(duration, dt, nyquist=0.5 / f)
     a = A * np.sin(2.0 * np.pi * f * t + phase)
     meta = {"generator": "harmonic", "A": A, "f": f, "phase": phase}
     return GroundMotion(0.0, dt, a, None, name=name, source=f"harmonic(A={A}, f={f})", meta=meta)
@@ -267,7 +298,7 @@ def sine_pulse(
     if duration is not None and not duration >= tp * (1.0 - 1e-12):  # (it was lengthened)
         raise ValueError(f"duration: expected at least the pulse's {n_cycles} cycle(s), "
                          f"T_p = {tp:g} s, or None (T_p), got {duration!r}")  # fmt: skip
-    t = _grid(duration or tp, dt)
+    t = _grid(duration or tp, dt, nyquist=0.5 / f)
     inside = t <= tp * (1.0 + 1e-12)
     phase = 2.0 * np.pi * f * t[inside]
     a = np.zeros(t.size)

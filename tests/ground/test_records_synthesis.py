@@ -136,3 +136,25 @@ def test_sine_pulse(kind):
         assert abs(v[k]) <= 1e-12 * A / w  # v = A sin(ωt)/ω
         assert abs(d[k]) <= tol * 2 * A / w**2  # d = A(1 − cos ωt)/ω², back to 0
         assert d[k // 2] == pytest.approx(2 * A / w**2, rel=tol)
+
+
+@pytest.mark.parametrize(
+    ("call", "match"),
+    [
+        # a step of 1 s over a 0.5 s pulse gave one sample; at dt = 1/(2 f) every sample of a
+        # sine pulse is sin(k pi) = 0: a record of zeros
+        (lambda: sine_pulse(1.0, 2.0, dt=1.0), r"^dt: expected .* below half the period"),
+        (lambda: sine_pulse(1.0, 2.0, dt=0.25), r"^dt: expected .* below half the period"),
+        (lambda: harmonic(1.0, 60.0, 2.0, 0.01), r"^dt: expected .* below half the period"),
+        # ordinates finer than the output were sampled, not interpolated: intensity S0 dt/dt_ord
+        (lambda: modulated_white_noise(5.0, dt_ord=0.005, dt=0.01, seed=1),
+         r"^dt_ord: expected an ordinate step \[s\] of at least the output step"),
+        # a ground frequency past Nyquist: the exact samples alias to another process
+        (lambda: kanai_tajimi(5.0, omega_g=400.0, dt=0.01, seed=1),
+         r"^omega_g: expected .* below the record's Nyquist frequency"),
+        (lambda: harmonic(1.0, 1.0, "5", 0.01), r"^duration: expected a positive duration"),
+    ],
+)  # fmt: skip
+def test_a_record_that_cannot_carry_its_motion_is_refused(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

@@ -108,6 +108,25 @@ def test_key_follows_record_bytes_not_place(tmp_path):
         (('"synthetic-wn-40s"', '"no-such-record"'), "neither a file"),
         (("[records]", "[record]"), "did you mean 'records'"),
         (("seed = 9,", "seeed = 9,"), "records.simulated.seeed: unknown field; did you mean"),
+        # white-noise ordinates every 0.05 s sampled at 0.1 s (an intensity of half S0), a
+        # step past the Kanai-Tajimi ground's Nyquist frequency, a step longer than the run:
+        # every row failed alike before
+        (
+            ("duration = 4.0", "duration = 4.0, dt = 0.1"),
+            "records.simulated.dt: expected a step of at most the noise's ordinate step 0.05 s",
+        ),
+        (
+            ("duration = 4.0", 'duration = 4.0, dt = 0.25, generator = "kanai_tajimi"'),
+            "records.simulated.dt: expected a positive sampling step",
+        ),
+        (
+            ("duration = 4.0", "duration = 4.0, dt = 5.0"),
+            "records.simulated.dt: expected a positive sampling step of at most the duration",
+        ),
+        (
+            ("duration = 4.0", 'duration = 4.0, generator = "kt"'),
+            "records.simulated.generator: expected one of",
+        ),
         (('fidelity = "rigid"', 'fidelity = "rigidd"'), "scene.fidelity"),
         (("seed = 5", "sede = 5"), "did you mean 'seed'"),
         (('"motion.pga"', '"solver.max_steps"'), "integer field takes whole numbers"),

@@ -102,9 +102,6 @@ class CompliantResult(ContactResult):
         s = super().summary()
         lift = self.n_on < len(self.base_idx)
         s["n_liftoffs"] = int(np.count_nonzero(lift[1:] & ~lift[:-1]))
-        # touchdowns seen on the samples, as the rigid solvers count them: corners that came
-        # back onto the springs between two outputs (smooth here, no impact law)
-        s["n_impacts"] = int(np.sum(np.maximum(np.diff(self.n_on), 0))) if len(self.t) else 0
         s["max_uplift_m"] = float(np.max(self.uplift)) if len(self.t) else 0.0
         s["step_s"] = float(self.h)
         return s
@@ -244,10 +241,14 @@ def simulate_compliant(
     c, s = np.cos(y[:, 2]), np.sin(y[:, 2])
     highest = np.max(y[:, 1:2] + s[:, None] * verts[:, 0] + c[:, None] * verts[:, 1], axis=1)
     xb = verts[:, 0].mean(), verts[:, 1].mean()
+    n_on = y[:, 10].astype(int)
+    # touchdowns seen on the samples, as the rigid solvers count impacts: corners that came
+    # back onto the springs between two outputs (smooth here, no impact law)
+    touchdowns = int(np.sum(np.maximum(np.diff(n_on), 0))) if n else 0
     return CompliantResult(
         t_out[:n], y[:, :3].copy(), y[:, 3:6].copy(), mode, "compliant", np.array(xb),
-        body.theta_ov, 0, t_over, [], n_steps, n_steps, e_spring=y[:, 6:8].copy(),
-        w_ext=y[:, 8].copy(), w_contact=y[:, 9].copy(), n_on=y[:, 10].astype(int), h=h,
+        body.theta_ov, touchdowns, t_over, [], n_steps, n_steps, e_spring=y[:, 6:8].copy(),
+        w_ext=y[:, 8].copy(), w_contact=y[:, 9].copy(), n_on=n_on, h=h,
         wall_s=wall, base_idx=np.arange(len(verts)), uplift=np.maximum(highest, 0.0),
         contacts=verts, on_tol=0.0,
     )  # fmt: skip

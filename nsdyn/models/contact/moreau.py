@@ -39,17 +39,14 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
                     theta0: float | None = None, theta0_over_alpha: float | None = None,
                     q0=None, v0=None, dt_out: float | None = None,
                     g: float = G_EARTH) -> ContactResult:  # fmt: skip
-    """Moreau-Jean run with step ``h``, storing every ``dt_out`` (default: every step), from
+    """Moreau-Jean run with step ``h``, storing every ``dt_out`` (default: every step; rounded
+    to a whole number of steps, at least one: the result's ``t`` holds the times kept), from
     rest (tilted by ``theta0`` [rad] or ``theta0_over_alpha``) or from (q0, v0)."""
-    if not (h > 0 and math.isfinite(h)):
-        raise ValueError(f"h: expected a positive step size [s], got {h!r}")
-    if not 0.5 <= theta <= 1.0:
-        raise ValueError(f"theta: expected 0.5 <= theta <= 1, got {theta!r}")
-    if not 0.0 <= e_n <= 1.0:
-        raise ValueError(f"e_n: expected a restitution coefficient in [0, 1], got {e_n!r}")
+    h = number("h", h, "a positive step size [s]", lambda v: v > 0)
+    theta = number("theta", theta, "0.5 <= theta <= 1", lambda v: 0.5 <= v <= 1.0)
+    e_n = number("e_n", e_n, "a restitution coefficient in [0, 1]", lambda v: 0.0 <= v <= 1.0)
     mo = motion or BaseMotion.none()
-    if not (math.isfinite(t_end) and t_end > 0):
-        raise ValueError(f"t_end: expected a positive duration [s], got {t_end!r}")
+    t_end = number("t_end", t_end, "a positive duration [s]", lambda v: v > 0)
     number("g", g, "a positive gravity [m/s²]", lambda v: v > 0)
     step_count(t_end, h)
     output_count(t_end, max(dt_out or h, h))

@@ -17,15 +17,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from nsdyn._checks import number
+
 FOUNDATIONS = ("tensionless", "bonded", "fixed")  # foundation cases of the model
 G_STD = 9.81  # gravity used by the source study [m/s²]
-
-
-def _positive(name: str, v: float, allow_zero: bool = False) -> None:
-    ok = math.isfinite(v) and (v > 0 or (allow_zero and v == 0))
-    if not ok:
-        what = "a non-negative" if allow_zero else "a positive"
-        raise ValueError(f"{name}: expected {what} finite number, got {v!r}")
 
 
 @dataclass(frozen=True)
@@ -44,18 +39,15 @@ class CylinderParams:
     mu: float | None = None  # base friction coefficient; None: base restrained horizontally
 
     def __post_init__(self) -> None:
-        for name in ("r", "H", "m", "k", "g", "c", "I_t", "I_a", "mu"):
-            if isinstance(getattr(self, name), str | bool):  # text is not converted
-                raise ValueError(f"{name}: expected a number, got {getattr(self, name)!r}")
+        pos, non_neg = "a positive finite number", "a non-negative finite number"
         for name in ("r", "H", "m", "k", "g"):
-            _positive(name, float(getattr(self, name)))
-        _positive("c", float(self.c), allow_zero=True)
+            number(name, getattr(self, name), pos, lambda v: v > 0)
+        number("c", self.c, non_neg, lambda v: v >= 0)
         for name in ("I_t", "I_a"):
-            v = getattr(self, name)
-            if v is not None:
-                _positive(name, float(v))
+            if getattr(self, name) is not None:
+                number(name, getattr(self, name), pos, lambda v: v > 0)
         if self.mu is not None:
-            _positive("mu", float(self.mu), allow_zero=True)
+            number("mu", self.mu, non_neg, lambda v: v >= 0)
             if self.foundation == "fixed":
                 raise ValueError(
                     "mu: a fixed base cannot slide; give a stiff Winkler foundation instead"

@@ -258,8 +258,7 @@ def simulate(
         raise ValueError(f"ag: expected shape (n >= 2, 3), got {ag.shape}")
     if not np.all(np.isfinite(ag)):
         raise ValueError("ag: contains non-finite values")
-    if not dt > 0:
-        raise ValueError(f"dt: expected a positive step, got {dt!r}")
+    dt = number("dt", dt, "a positive step [s]", lambda v: v > 0)
     rel_tol("rtol", rtol)
     t0 = number("t0", t0, "a finite start time [s]")  # (NaN: no step, a "result" of rest)
     number("azimuth0", azimuth0, "a finite azimuth [rad]")

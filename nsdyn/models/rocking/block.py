@@ -293,8 +293,7 @@ def simulate_rocking(
         "a RockingBlock or RockingFrame (nsdyn.RockingBlock(width=..., height=...))",
     )
     t0 = number("t0", t0, "a finite start time [s]")
-    if not (t_end > t0):
-        raise ValueError(f"t_end: expected > t0 = {t0}, got {t_end}")
+    t_end = number("t_end", t_end, f"a finite end time > t0 = {t0:g} s", lambda v: v > t0)
     rel_tol("tol", tol)
     number("thetad0", thetad0, "a finite angular velocity [rad/s]")
     if h_max is not None:  # (0 never returned: steps of zero length)

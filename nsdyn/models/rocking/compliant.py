@@ -191,6 +191,7 @@ def simulate_compliant(
                         f"width=..., height=..., mass=..., omega_v=..., zeta=...)), got "
                         f"{type(model).__name__}; a rigid block or frame rocks by Housner's "
                         "impacts: nsdyn.simulate_rocking(model, ...)")  # fmt: skip
+    t_end = number("t_end", t_end, "a positive finite end time [s]", lambda v: v > 0)
     theta0 = initial_tilt(theta0, theta0_over_alpha, model.alpha)
     check_settlement(model)
     gk, gp, tab_h, tab_v, _ = _excitation(excitation, t_end)

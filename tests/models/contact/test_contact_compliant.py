@@ -81,7 +81,7 @@ def test_a_flat_drop_on_undamped_ground_lands_and_bounces_back_as_the_spring_mas
     (the spring-mass arc about the settled state d = m g / (2 k), w = sqrt(2 k / m): 7.1 ms),
     climbs back to H (no loss) and lands again 2 t_l later: in
     3.5 sqrt(2 H / g) the summary counts 4 corner touchdowns (its impacts), 2 hops and 2
-    lift-offs."""
+    lift-offs, on the result as in its summary."""
     m, k, H = 1000.0, 1e8, 0.05
     body = RigidBody.rectangle(1.0, 1.0, m)
     t_land, w = math.sqrt(2 * H / G_EARTH), math.sqrt(2 * k / m)
@@ -96,6 +96,7 @@ def test_a_flat_drop_on_undamped_ground_lands_and_bounces_back_as_the_spring_mas
     assert list(dn[dn != 0]) == [2, -2, 2, -2]
     s = r.summary()
     assert (s["n_impacts"], s["n_hops"], s["n_liftoffs"]) == (4, 2, 2)
+    assert r.n_impacts == 4  # the result's field is the summary's count (it read 0 before)
 
 
 def test_a_tilted_start_rocks_as_the_rigid_block_from_its_scene_too(tmp_path):
