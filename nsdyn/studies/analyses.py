@@ -150,6 +150,8 @@ def check_analysis(study) -> None:
                                      f"{{min = ..., max = ...}}, got {g!r}")  # fmt: skip
                 for side, v in g.items():
                     number(src, f"{where}.{side}", v, positive=False)
+                if "min" in g and "max" in g and not g["min"] <= g["max"]:  # (no design fits)
+                    raise SceneError(f"{src}: {where}: expected min <= max, got {g!r}")
             else:
                 number(src, where, g)
         if d.get("aggregate", "mean") not in AGGREGATES:
@@ -330,7 +332,10 @@ def fragility_outcomes(table: Table, im_name: str, edp_name: str) -> dict:
         return {"im": im[keep], "edp": edp[keep], "counted": counted, "below": below,
                 "refuse": f"fragility: {text[0][0]!r} is a text column ({text[0][1]!r}, ...), "
                           "not a number: a fragility needs a numeric IM and EDP"}  # fmt: skip
-    if unknown:
+    absent = empty_columns(table, [im_name, edp_name])  # (a column no run has: not failures)
+    if absent:
+        refuse = f"fragility: {absent}"
+    elif unknown:
         refuse = (
             f"fragility: {len(unknown)} runs have no outcome that can be counted as survived or "
             f"exceeded (first: {' '.join(unknown[0].split())[:160]}); fix them and rerun "

@@ -35,7 +35,7 @@ from nsdyn._checks import whole
 from nsdyn.studies.scenes import run_batch
 from nsdyn.studies.study import Study
 from nsdyn.studies.table import ResultsStore, Table
-from nsdyn.studies.tasks import Task, batch_size, batches, expand
+from nsdyn.studies.tasks import Task, batch_size, batches, ensure_checked, expand
 from nsdyn.studies.workers import Interrupts, process_pool, stop_pool
 
 PROGRESS_S = 2.0  # seconds between progress lines
@@ -135,6 +135,7 @@ def run_study(
     if executor is not None and workers is not None:
         raise ValueError("workers: the size of the default process pool; an executor given "
                          "has its own workers: give one or the other")  # fmt: skip
+    ensure_checked(study)  # (a study changed since load_study: its tasks checked again)
     out = Path(out_dir)
     tasks = expand(study)
     store = ResultsStore(out, [p.name for p in study.parameters])
@@ -142,6 +143,8 @@ def run_study(
     if fresh:
         store.reset()
     store.claim(study.name, study.kind)
+    order = {t.key: t.index for t in tasks}
+    store.regrid(order)
     done = store.read()
     todo = [
         t
@@ -209,7 +212,6 @@ def run_study(
             # wake-up pipe while its manager thread closes it: "Bad file descriptor" at exit)
             executor.shutdown(wait=True)
     prog.tick(force=True)
-    order = {t.key: t.index for t in tasks}
     table = store.compact(order)
     return StudyRun(
         table=table,

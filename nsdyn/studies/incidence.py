@@ -48,6 +48,9 @@ def check(study, spec: dict) -> None:
     """``[analysis.incidence]`` of ``study`` (SceneError naming the field)."""
     src = study.source
     angle = spec.get("angle", ANGLE)
+    if not (angle == ANGLE or (isinstance(angle, str) and angle.endswith("_deg"))):
+        raise SceneError(f"{src}: analysis.incidence.angle: expected an angle in degrees, "
+                         f"\"{ANGLE}\" (or a parameter named ..._deg), got {angle!r}")  # fmt: skip
     grid = [p.name for p in study.parameters if not p.random]
     if angle not in grid:
         raise SceneError(f"{src}: analysis.incidence.angle: {angle!r} is not a grid parameter "

@@ -208,7 +208,7 @@ def check_scene(cfg: dict, source: str) -> list[str]:
             if kind in KINDS3C and name == "build_system":  # kept per process (the frame)
                 from nsdyn.studies.scenes3c import build_system
 
-                build_system(kind, cfg, source)
+                notes += mod.build_notes(cfg, build_system(kind, cfg, source))
                 continue
             out = getattr(mod, name)(cfg, source)
             for part in out if isinstance(out, tuple) else (out,):

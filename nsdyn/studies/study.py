@@ -148,10 +148,10 @@ def _check_type(source: str, where: str, val, typ):
     if typ is float:
         return number(source, where, val)
     if not isinstance(val, typ) or isinstance(val, bool) and typ is not bool:
-        what = {bool: "true or false", str: "a text", list: "a list", int: "an integer"}.get(
-            typ, typ.__name__
-        )
+        what = {bool: "true or false", str: "a text", list: "a list"}.get(typ, typ.__name__)
         raise _err(source, where, f"expected {what}, got {val!r}")
+    if typ is str and not val.strip():  # (a study named "" wrote into nsdyn-study/ itself)
+        raise _err(source, where, f"expected a non-empty text, got {val!r}")
     return val
 
 
@@ -249,7 +249,7 @@ def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter
                        f"expected numbers ({NUMERIC_FIELDS[name]}), got {bad!r}")  # fmt: skip
         if not (kinds <= {int, float} or kinds <= {str} or kinds <= {bool}):
             raise _err(source, f"{where}.values", f"expected numbers or strings, got {args!r}")
-        return Parameter(name, values=_distinct(source, f"{where}.values", args))
+        return Parameter(name, values=_distinct(source, f"{where}.values", args, name))
     nums = [number(source, f"{where}.{form}[{i}]", a, positive=False) for i, a in enumerate(args)]
     if form in ("linspace", "logspace"):
         if len(nums) != 3 or nums[2] != int(nums[2]) or nums[2] < 1:
@@ -261,17 +261,12 @@ def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter
             vals = [a * (b / a) ** (i / (n - 1)) if n > 1 else a for i in range(n)]
         else:
             vals = [a + (b - a) * i / (n - 1) if n > 1 else a for i in range(n)]
-        return Parameter(name, values=_distinct(source, f"{where}.{form}", vals))
+        return Parameter(name, values=_distinct(source, f"{where}.{form}", vals, name))
     if len(nums) != 2:
         raise _err(source, f"{where}.{form}", f"expected two numbers, got {args!r}")
     a, b = nums
-    bad = {
-        "uniform": not a < b,
-        "loguniform": not 0 < a < b,
-        "normal": not b > 0,
-        "lognormal": not (a > 0 and b > 0),
-    }[form]
-    if bad:
+    ok = {"uniform": a < b, "loguniform": 0 < a < b, "normal": b > 0, "lognormal": a > 0 < b}
+    if not ok[form]:
         what = {
             "uniform": "[low, high] with low < high",
             "loguniform": "[low, high] with 0 < low < high",
@@ -282,13 +277,16 @@ def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter
     return Parameter(name, law=form, args=(a, b))
 
 
-def _distinct(source: str, where: str, vals: list) -> tuple:
-    """``vals`` as a tuple, refused when a value repeats (two tasks of one key: one row)."""
-    seen = set()
+def _distinct(source: str, where: str, vals: list, name: str = "") -> tuple:
+    """``vals`` as a tuple, refused when a value repeats (two tasks of one key: one row), an
+    angle (:data:`NUMERIC_FIELDS`) modulo 360° (0 and 360 deg: one incident direction)."""
+    seen: dict = {}
     for v in vals:
-        if v in seen:
-            raise _err(source, where, f"expected distinct values, got {v!r} twice")
-        seen.add(v)
+        k = round(v % 360.0, 9) % 360.0 if name in NUMERIC_FIELDS else v
+        if k in seen:
+            same = "twice" if seen[k] == v else f"and {seen[k]!r}, one direction (modulo 360)"
+            raise _err(source, where, f"expected distinct values, got {v!r} {same}")
+        seen[k] = v
     return tuple(vals)
 
 
@@ -336,7 +334,7 @@ def _parse_records(source: str, study_dir: Path, rec: dict, kind: str, base: dic
         s = rec["set"]
         if s not in RECORD_SETS:
             raise _err(source, "records.set", f"expected one of {list(RECORD_SETS)}, got {s!r}")
-        out += _record_set(source, s)
+        out += _record_set(source, s, kind)
     if "simulated" in rec:
         out += _simulated(source, rec["simulated"], kind)
     if "pairs" in rec:
@@ -361,17 +359,17 @@ def _parse_records(source: str, study_dir: Path, rec: dict, kind: str, base: dic
     return out
 
 
-def _record_set(source: str, s: str) -> list[RecordSpec]:
-    from nsdyn.ground import bundled_records, default_shared_dir
+def _record_set(source: str, s: str, kind: str) -> list[RecordSpec]:
+    from nsdyn.ground import bundled_records, bundled_records3, default_shared_dir
 
-    if s == "bundled":
-        return [RecordSpec(n, path=n) for n in bundled_records()]
+    if kind in KINDS3C and s == "kobe":  # (one horizontal component each: failed rows)
+        raise _err(source, "records.set", "'kobe': one horizontal component each; a deck "
+                   "or building3d study needs two: [records] pairs = [{name, x, y}]")  # fmt: skip
+    if s == "bundled":  # (a two-component study: the bundled records that have two)
+        return [RecordSpec(n, path=n) for n in (bundled_records3() if kind in KINDS3C
+                                                  else bundled_records())]  # fmt: skip
     shared = default_shared_dir()
-    d = (
-        None
-        if shared is None
-        else next((c for c in (shared / "records", shared) if (c / "raw").is_dir()), None)
-    )
+    d = shared and next((c for c in (shared / "records", shared) if (c / "raw").is_dir()), None)
     if d is None:
         raise _err(source, "records.set", "'kobe' needs the shared records (set NSDYN_SHARED)")
     return [
@@ -493,6 +491,9 @@ def load_study(path: str | Path) -> Study:
         raise _err(source, "parameters.motion.record", "give records in [records], not both")
     mo = base.get("motion")
     motion_kind = mo.get("kind") if isinstance(mo, dict) else None
+    if records and kind in KINDS3C and motion_kind not in (None, "record3", "orbit"):
+        raise _err(source, "motion.kind", f"expected 'record3' (the kind [records] drive), "
+                   f"got {motion_kind!r}")  # fmt: skip
     if records and motion_kind in ("orbit", "harmonic"):
         raise _err(source, "records", f"the scene's motion is harmonic ([motion] kind = "
                    f"{motion_kind!r}, its amplitudes in the scene); records drive a scene "

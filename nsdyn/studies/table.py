@@ -251,6 +251,19 @@ class ResultsStore:
             p.unlink(missing_ok=True)
         return table
 
+    def regrid(self, order: dict[str, int]) -> bool:
+        """Before a run on another grid (rows of keys not in ``order``): :meth:`compact` to the
+        current grid and remove the analyses of the old one, so that an interrupted run leaves
+        no table or analysis of another grid beside its rows. Returns whether it did."""
+        table = self.out / RESULTS  # (rows kept in OUTSIDE are another grid's by design)
+        here = [table] * table.is_file() + list(self._part_files())
+        if all(str(r.get("key")) in order for f in here for r in read_csv(f)):
+            return False
+        self.compact(order)
+        for name in ANALYSIS_FILES:
+            (self.out / name).unlink(missing_ok=True)
+        return True
+
     def claim(self, name: str, kind: str) -> None:
         """Mark the folder as holding study ``name``'s results (a scene of ``kind``), or
         CheckpointError when it holds another study's: a cylinder study's rows were merged

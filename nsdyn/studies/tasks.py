@@ -251,21 +251,54 @@ def check_tasks(study: Study) -> None:
     base) is refused too: its values would repeat one run."""
     import warnings
 
+    from nsdyn._checks import InputWarning
     from nsdyn.ground import UnitWarning
     from nsdyn.studies.scenes import check_scene
 
     read = {p.name: [] for p in study.parameters}  # per parameter: a task that reads it
-    # the whole key in a note (solver.h is not solver.h_max), compiled once for every task
-    keys = {n: re.compile(rf"(?<![\w.]){re.escape(n)}(?![\w.])") for n in read}
+    # the whole key in a note (solver.h is not solver.h_max), or its table ("[bearing] not
+    # used"), compiled once for every task
+    keys = {n: re.compile(rf"(?<![\w.]){re.escape(n)}(?![\w.])|\[{re.escape(n.split('.')[0])}\]")
+            for n in read}  # fmt: skip
+    other: dict[str, int] = {}  # a note that is not about keys: the tasks it holds for
+    tasks = expand(study)
     with warnings.catch_warnings():  # a record's units are the run's to report, once per task
         warnings.simplefilter("ignore", UnitWarning)
-        for task in expand(study):
+        for task in tasks:
             label = task_label(task.index, task.params, task.record_name)
             notes = check_scene(task.cfg, f"{study.source}: {label}")
             for name, why in read.items():
                 unused = [n for n in notes if "not used" in n and keys[name].search(n)]
                 why.append(unused[0] if unused else None)
+            for n in notes:
+                other[n] = other.get(n, 0) + ("not used" not in n)
+    for note, count in other.items():  # (a cb model without modes: said, not hidden in rows)
+        if count:
+            warnings.warn(f"{study.source}: {count} of {len(tasks)} tasks: {note}",
+                          InputWarning, stacklevel=2)  # fmt: skip
     for name, why in read.items():  # every task repeats one run: its values change nothing
         if why and all(why):
             raise SceneError(f"{study.source}: parameters.{name}: no task reads it ({why[0]}); "
                              "its values would repeat one run")  # fmt: skip
+    seen: dict[str, Task] = {}
+    for t in tasks:  # (a value given twice past load_study, by a caller's replace())
+        if t.key in seen:
+            raise SceneError(f"{study.source}: parameters: tasks {seen[t.key].index} and "
+                             f"{t.index} are one run ({t.params}); expected distinct "
+                             "values")  # fmt: skip
+        seen[t.key] = t
+    study.__dict__["_checked"] = _as_checked(study)
+
+
+def _as_checked(study: Study) -> str:
+    """What of ``study`` its check read (base, parameters, records, draws)."""
+    return _canonical([study.kind, study.base, study.parameters, study.records, study.keep,
+                      study.samples, study.seed])  # fmt: skip
+
+
+def ensure_checked(study: Study) -> None:
+    """:func:`check_tasks` unless ``study`` is as it was checked: a study changed after
+    :func:`~nsdyn.studies.study.load_study` is checked again (its analyses are checked where
+    they run: a narrowed grid may leave out a design's reference)."""
+    if study.__dict__.get("_checked") != _as_checked(study):
+        check_tasks(study)

@@ -211,7 +211,7 @@ def test_numbers_given_as_text_are_refused_not_converted():
         (lambda: rec.scaled_to_pga("3"), "target: expected a finite PGA"),
         (lambda: nsdyn.read_motion3("synthetic-wn-40s").rotated("30"), "angle_deg: expected"),
         (lambda: nsdyn.read_motion3("synthetic-wn-40s").scaled_to_pga("3"), "target: expected"),
-        (lambda: nsdyn.CylinderParams(k="9814"), "k: expected a number"),
+        (lambda: nsdyn.CylinderParams(k="9814"), "k: expected a positive finite number"),
     ):
         with pytest.raises(ValueError, match=match):
             call()

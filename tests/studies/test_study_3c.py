@@ -237,9 +237,9 @@ simulated = { n = 1, seed = 5, duration = 4.0 }
 
 def test_incidence_analysis_needs_the_angle_as_a_grid_parameter(tmp_path):
     (tmp_path / "sdof.toml").write_text(SDOF.format(rtol=1e-6))
-    p = _study(tmp_path, [0.0, 90.0], '[analysis.incidence]\nangle = "motion.pga"')
-    _one_line_error(lambda: load_study(p), str(p), "analysis.incidence.angle", "motion.pga",
-                    "not a grid parameter")  # fmt: skip
+    p = _study(tmp_path, [0.0, 90.0], '[analysis.incidence]\nangle = "motion.phase_y_deg"')
+    _one_line_error(lambda: load_study(p), str(p), "analysis.incidence.angle",
+                    "motion.phase_y_deg", "not a grid parameter")  # fmt: skip
     p = _study(tmp_path, [0.0, 90.0], '[analysis.incidence]\nquantities = "peak_base_shear_N"')
     _one_line_error(lambda: load_study(p), str(p), "analysis.incidence.quantities", "list")
 

@@ -58,11 +58,17 @@ from nsdyn.models.isolated.building3d_pairs_run import (
     warm_pairs,
     warming,
 )
-from nsdyn.models.isolated.building3d_scene_keys import BASES, DAMPINGS, FIDELITIES, SCHEMA
+from nsdyn.models.isolated.building3d_scene_keys import (
+    BASES,
+    DAMPINGS,
+    FIDELITIES,
+    SCHEMA,
+    unused_keys,
+)
 from nsdyn.models.isolated.building3d_shape import fixed_peak_shape, rigid_peak_shape, write_shape
 from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
 from nsdyn.models.isolated.deck_scene import build_solver as deck_solver
-from nsdyn.models.isolated.deck_scene import scene_law, summary_table, unused_law_keys
+from nsdyn.models.isolated.deck_scene import scene_law, summary_table
 from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number
 
 __all__ = ["build_motion", "build_solver", "build_system", "format_summary", "pairs_path",
@@ -387,34 +393,19 @@ def _advise(sysd, cfg, exc, kw, source: str, say) -> None:
         sysd["pairs"] = pairs
 
 
-def unused_keys(cfg: dict, fid: str, path: str | None) -> list[tuple[str, str]]:
-    """(key, why) of the keys given that the rung ``fid`` (on ``path``, the full rung's) does
-    not read: a run notes them rather than take them silently."""
-    st, solver = cfg.get("structure", {}), cfg.get("solver", {})
-    sparse = fid == "full" and path == "sparse"
-    rules = {
-        "structure.n_modes": (st, fid != "fixed", "the fixed rung's modes"),
-        "structure.f_max": (st, fid != "cb", "the cb rung's cut-off"),
-        "structure.min_mass": (st, fid != "cb", "the cb rung's filter"),
-        "structure.base": (st, fid not in ("cb", "full"), "the cb and full rungs' base"),
-        "structure.damping": (st, not sparse, "the full rung's on sparse operators"),
-        "structure.f_damp": (st, not sparse, "the full rung's on sparse operators"),
-        "solver.dt": (solver, not sparse, "the fixed step of the full rung on sparse operators"),
-        "solver.path": (solver, fid != "full", "the full rung's"),
-        "solver.rtol": (solver, sparse, "the sparse path steps at solver.dt (solver.path = "
-                        "'dense' runs adaptive)"),
-        "solver.atol": (solver, sparse, "the sparse path steps at solver.dt (solver.path = "
-                        "'dense' runs adaptive)"),
-    }  # fmt: skip
-    out = [(k, why) for k, (table, unused, why) in rules.items()
-           if unused and k.split(".")[1] in table]  # fmt: skip
-    if fid != "fixed":  # the friction law's own keys (the fixed rung has no bearing)
-        out += unused_law_keys(cfg)
-    if fid == "fixed":  # no bearing, no integration: the tables as a whole
-        out = [(k, w) for k, w in out if not k.startswith("solver.")]
-        out += [(f"[{t}]", "the fixed rung (a fixed base, modal histories)")
-                for t in ("bearing", "solver") if cfg.get(t)]  # fmt: skip
-    return out
+def build_notes(cfg: dict, sysd: dict) -> list[str]:
+    """The notes of a run that its built rung decides (:func:`build_system`, its fidelity
+    chosen): the keys it does not read, a cb model without a fixed-interface mode."""
+    if sysd["fidelity"] == "auto":  # (chosen by the run, from the motion)
+        return []
+    info = sysd["pairs"].info if sysd["pairs"] is not None else {}
+    notes = [f"{k} not used: {w}" for k, w in unused_keys(cfg, sysd["fidelity"], info.get("path"))]
+    if info.get("fidelity") == "cb" and info.get("n_modes", 1) == 0:
+        notes.append(f"the cb model keeps no fixed-interface mode below f_max = "
+                     f"{info['f_max']:g} Hz: above the base the building is rigid in it (its "
+                     "drifts are round-off, its floor accelerations a rigid body's); raise "
+                     "structure.f_max above the building's first mode")  # fmt: skip
+    return notes
 
 
 def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:
@@ -445,14 +436,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     asked = sysd["fidelity"]
     if asked == "auto":
         _advise(sysd, cfg, exc, kw, source, say)
-    path = sysd["pairs"].info["path"] if sysd["pairs"] is not None else None
-    notes += [f"{k} not used: {w}" for k, w in unused_keys(cfg, sysd["fidelity"], path)]
-    info = sysd["pairs"].info if sysd["pairs"] is not None else {}
-    if info.get("fidelity") == "cb" and info.get("n_modes", 1) == 0:
-        notes.append(f"the cb model keeps no fixed-interface mode below f_max = "
-                     f"{info['f_max']:g} Hz: above the base the building is rigid in it (its "
-                     "drifts are round-off, its floor accelerations a rigid body's); raise "
-                     "structure.f_max above the building's first mode")  # fmt: skip
+    notes += build_notes(cfg, sysd)
     for note in notes:
         say(f"building3d: note: {note}")
     if sysd["fidelity"] == "rigid":

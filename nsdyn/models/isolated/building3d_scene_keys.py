@@ -3,7 +3,8 @@
 Declared once as a :class:`~nsdyn.models.scene_schema.Schema`, beside the reader
 (:mod:`nsdyn.models.isolated.building3d_scene`); the documentation's scene-file reference is
 generated from it. ``[bearing]``, ``[motion]`` and ``[solver]`` are the deck scene's tables
-(:mod:`nsdyn.models.isolated.deck_scene_keys`): the rigid rung is that deck.
+(:mod:`nsdyn.models.isolated.deck_scene_keys`): the rigid rung is that deck. :func:`unused_keys`
+says which keys a rung does not read.
 """
 
 from __future__ import annotations
@@ -96,3 +97,35 @@ SCHEMA = Schema(
         "part and picks the cheapest that answers (see the 3D guide); it needs a record.",
     ),
 )  # fmt: skip
+
+
+def unused_keys(cfg: dict, fid: str, path: str | None) -> list[tuple[str, str]]:
+    """(key, why) of the keys given that the rung ``fid`` (on ``path``, the full rung's) does
+    not read: a run notes them rather than take them silently."""
+    st, solver = cfg.get("structure", {}), cfg.get("solver", {})
+    sparse = fid == "full" and path == "sparse"
+    rules = {
+        "structure.n_modes": (st, fid != "fixed", "the fixed rung's modes"),
+        "structure.f_max": (st, fid != "cb", "the cb rung's cut-off"),
+        "structure.min_mass": (st, fid != "cb", "the cb rung's filter"),
+        "structure.base": (st, fid not in ("cb", "full"), "the cb and full rungs' base"),
+        "structure.damping": (st, not sparse, "the full rung's on sparse operators"),
+        "structure.f_damp": (st, not sparse, "the full rung's on sparse operators"),
+        "solver.dt": (solver, not sparse, "the fixed step of the full rung on sparse operators"),
+        "solver.path": (solver, fid != "full", "the full rung's"),
+        "solver.rtol": (solver, sparse, "the sparse path steps at solver.dt (solver.path = "
+                        "'dense' runs adaptive)"),
+        "solver.atol": (solver, sparse, "the sparse path steps at solver.dt (solver.path = "
+                        "'dense' runs adaptive)"),
+    }  # fmt: skip
+    out = [(k, why) for k, (table, unused, why) in rules.items()
+           if unused and k.split(".")[1] in table]  # fmt: skip
+    if fid != "fixed":  # the friction law's own keys (the fixed rung has no bearing)
+        from nsdyn.models.isolated.deck_scene import unused_law_keys
+
+        out += unused_law_keys(cfg)
+    if fid == "fixed":  # no bearing, no integration: the tables as a whole
+        out = [(k, w) for k, w in out if not k.startswith("solver.")]
+        out += [(f"[{t}]", "the fixed rung (a fixed base, modal histories)")
+                for t in ("bearing", "solver") if cfg.get(t)]  # fmt: skip
+    return out

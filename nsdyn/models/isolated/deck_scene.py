@@ -178,6 +178,12 @@ def unused_law_keys(cfg: dict) -> list[tuple[str, str]]:
     return out
 
 
+def build_notes(cfg: dict, system=None) -> list[str]:
+    """The keys of a scene its run does not read, one note each (a study refuses a parameter
+    that only such keys would vary)."""
+    return [f"{k} not used: {w}" for k, w in unused_law_keys(cfg)]
+
+
 def scene_law(cfg: dict) -> str:
     """The friction law a scene runs: ``solver.law``, else the switch law (the regularised
     law for a triple friction pendulum, which has no stick events)."""
@@ -288,7 +294,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     say(f"deck: {name}: {system.n_isolators} isolator(s), law {kw['law']}, "
         f"{getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
     notes = bearing_notes(system.bearings, system.static_normal())  # (the summary's too)
-    notes += [f"{k} not used: {w}" for k, w in unused_law_keys(cfg)]
+    notes += build_notes(cfg, system)
     notes += [n for n in [coarse_law_note(kw["law"], kw["eps"], kw["eta"])] if n]
     for note in notes:
         say(f"deck: note: {note}")

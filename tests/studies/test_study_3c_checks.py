@@ -1,0 +1,143 @@
+"""Studies of deck and 3D building scenes refuse what would repeat one run or mislead, at load:
+a parameter the rung never reads (its rows were equal to the last bit), one incident direction
+given twice (0 and 360 deg), a records set or a motion kind the two-component records replace;
+a cb rung without a fixed-interface mode is said once for the study (its rows were a rigid
+building's, drifts of round-off, without a word); a study changed after loading is checked
+again by run_study; an interrupted run on another grid leaves no table or analysis of the old
+grid beside its rows."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+from nsdyn._checks import InputWarning
+from nsdyn.models.scenefile import SceneError
+from nsdyn.studies import load_study, run_study
+from nsdyn.studies.analyses import fragility_outcomes
+from nsdyn.studies.table import ANALYSIS_FILES, OUTSIDE, RESULTS, ResultsStore, Table, read_csv
+
+DECK = (Path(__file__).resolve().parents[2] / "examples/scenes/deck-fps4-3c.toml").read_text()
+
+PORTAL = """
+[scene]
+kind = "building3d"
+[structure]
+frame3d = "portal-3d"
+fidelity = "{fidelity}"
+{structure}
+[motion]
+kind = "record3"
+record = "synthetic-wn-40s"
+t_end = 1.0
+"""
+
+BEARING = """
+[bearing]
+type = "fps"
+radius = 2.2
+mu = 0.05
+[solver]
+law = "arctan"
+"""
+
+
+def _study(tmp_path, scene: str, body: str) -> object:
+    (tmp_path / "scene.toml").write_text(scene)
+    p = tmp_path / "study.toml"
+    p.write_text(f'[study]\nname = "s"\nscene = "scene.toml"\n{body}')
+    return p
+
+
+@pytest.mark.parametrize(
+    ("scene", "body", "match"),
+    [
+        # the switch law has no sharpness; a fixed base has no bearing and no integrator
+        (DECK, '[parameters]\n"solver.eps" = [1e-3, 1e-2]\n',
+         r"parameters.solver.eps: no task reads it \(solver.eps not used"),
+        (PORTAL.format(fidelity="fixed", structure="n_modes = 6"),
+         '[parameters]\n"bearing.mu" = [0.03, 0.08]\n',
+         r"parameters.bearing.mu: no task reads it \(\[bearing\] not used: the fixed rung"),
+        (PORTAL.format(fidelity="fixed", structure="n_modes = 6"),
+         '[parameters]\n"structure.f_max" = [3.0, 8.0]\n',
+         r"parameters.structure.f_max: no task reads it \(structure.f_max not used"),
+        # the rotation turns the pair by exact cosines: 0 and 360 deg are one run
+        (DECK, '[parameters]\n"motion.rotate" = [0.0, 90.0, 360.0]\n',
+         r"motion.rotate.values: expected distinct values, got 360.0 and 0.0, one direction"),
+        (DECK, '[parameters]\n"motion.rotate" = { linspace = [-180.0, 180.0, 5] }\n',
+         r"motion.rotate.linspace: expected distinct values, got 180.0 and -180.0"),
+        (DECK, '[records]\nset = "kobe"\n', r"records.set: 'kobe': one horizontal component"),
+        (DECK, '[base.motion]\nkind = "record"\n[records]\nnames = ["synthetic-wn-40s"]\n',
+         r"motion.kind: expected 'record3' \(the kind \[records\] drive\), got 'record'"),
+        (DECK, '[parameters]\n"motion.pga" = [1.0, 2.0]\n[analysis.incidence]\n'
+               'angle = "motion.pga"\n',
+         r"analysis.incidence.angle: expected an angle in degrees"),
+        (DECK, '[parameters]\n"motion.pga" = [1.0, 2.0]\n[analysis.design]\n'
+               "constraints = { peak_base_shear_N = { min = 5.0, max = 1.0 } }\n",
+         r"constraints.peak_base_shear_N: expected min <= max"),
+    ],
+)  # fmt: skip
+def test_what_would_repeat_one_run_or_mislead_is_refused_at_load(tmp_path, scene, body, match):
+    with pytest.raises(SceneError, match=match) as e:
+        load_study(_study(tmp_path, scene, body))
+    assert "\n" not in str(e.value)
+
+
+def test_an_empty_study_name_is_refused(tmp_path):
+    p = _study(tmp_path, DECK, "")
+    p.write_text(p.read_text().replace('name = "s"', 'name = ""'))
+    with pytest.raises(SceneError, match=r"study.name: expected a non-empty text"):
+        load_study(p)
+
+
+def test_the_bundled_set_of_a_two_component_study_is_the_records_with_two():
+    from nsdyn.ground import bundled_records, bundled_records3
+    from nsdyn.studies.study import _record_set
+
+    names = [r.name for r in _record_set("s.toml", "bundled", "deck")]
+    assert names == list(bundled_records3())
+    assert [r.name for r in _record_set("s.toml", "bundled", "isolated")] == list(bundled_records())
+
+
+def test_a_cb_rung_without_a_mode_below_f_max_is_said_once_for_the_study(tmp_path):
+    # the portal's first fixed-base mode is above 0.05 Hz: the cb model keeps none below it
+    scene = PORTAL.format(fidelity="cb", structure="f_max = 0.05") + BEARING
+    p = _study(tmp_path, scene, '[parameters]\n"bearing.mu" = [0.03, 0.08]\n')
+    with pytest.warns(InputWarning, match=r"2 of 2 tasks: the cb model keeps no fixed-interface"):
+        load_study(p)
+
+
+def test_run_study_checks_a_study_changed_after_loading(tmp_path):
+    study = load_study(_study(tmp_path, DECK, '[parameters]\n"motion.rotate" = [0.0, 90.0]\n'))
+    twice = replace(study, parameters=[replace(study.parameters[0], values=(0.0, 0.0))])
+    with pytest.raises(SceneError, match=r"tasks 0 and 1 are one run"):
+        run_study(twice, tmp_path / "o1", workers=1)
+    nan = replace(study, parameters=[replace(study.parameters[0], values=(0.0, float("nan")))])
+    with pytest.raises(SceneError, match=r"motion.rotate: expected a finite number, got nan"):
+        run_study(nan, tmp_path / "o2", workers=1)
+    assert not (tmp_path / "o1" / RESULTS).exists() and not (tmp_path / "o2" / RESULTS).exists()
+
+
+def test_a_run_on_another_grid_first_narrows_the_table_and_drops_the_old_analyses(tmp_path):
+    store = ResultsStore(tmp_path, ["p"])
+    rows = [{"index": i, "key": k, "record": "r", "p": float(i), "status": "ok", "error": "",
+             "task_s": 0.1, "peak": 1.0 + i} for i, k in enumerate("ab")]  # fmt: skip
+    Table(rows, ["p"]).write_csv(tmp_path / RESULTS)
+    old = tmp_path / ANALYSIS_FILES[0]
+    old.write_text("made from the old grid\n")
+    assert not store.regrid({"a": 0, "b": 1})  # the same grid: nothing to do
+    assert old.is_file()
+    assert store.regrid({"a": 0, "c": 1})  # b is outside the new grid
+    assert [r["key"] for r in read_csv(tmp_path / RESULTS)] == ["a"]
+    assert [r["key"] for r in read_csv(tmp_path / OUTSIDE)] == ["b"]
+    assert not old.exists()
+    assert not store.regrid({"a": 0, "c": 1})  # rows kept outside are not another grid's
+
+
+def test_a_fragility_on_a_column_no_run_has_names_it_instead_of_failed_runs():
+    rows = [{"status": "ok", "motion.pga": 1.0 + i, "peak_base_shear_N": 2.0} for i in range(3)]
+    out = fragility_outcomes(Table(rows), "motion.pga", "idr_max")
+    assert out["refuse"].startswith("fragility: 'idr_max': no number in any successful row")
+    assert "peak_base_shear_N" in out["refuse"]  # (the columns it might have meant)
