@@ -71,6 +71,7 @@ def modes_summary(frame, f_max: float, k_lam: float) -> tuple[dict, np.ndarray, 
     cb = reduce_frame(frame, f_max)
     summary = {
         "frame": frame.name,
+        "kind": "plane",  # (a 3D frame's: "3d")
         "n_nodes": frame.n_nodes,
         "n_dof": frame.n_dof,
         "n_boundary": int(len(frame.boundary_dofs)),
@@ -90,12 +91,13 @@ def modes_summary(frame, f_max: float, k_lam: float) -> tuple[dict, np.ndarray, 
 SCENE_TABLES = ("scene", "isolation", "motion", "solver", "structure", "force")
 
 
-def _scene_frame(arg: str) -> tuple[str, float | None, float | None]:
+def _scene_frame(arg: str) -> tuple[str, float | None, float | None, str | None]:
     """The frame ``nsdyn modes ARG`` lists: ``arg`` itself (a frame file or bundled name), or
     the frame a scene file names (``[scene] frame``, ``[structure] frame3d``; an isolated
     scene without either, or a scene of tables alone, runs the default frame); a scene
     without a frame is refused. With the scene's ``[isolation] k_lam`` (a number) and its
-    Craig–Bampton cut-off (``[scene] f_max``, a positive number), or None."""
+    Craig–Bampton cut-off (``[scene] f_max``, a positive number), or None; and the scene's
+    field that names the frame (None: ``arg`` is the frame)."""
     import tomllib
 
     from nsdyn.models.scenefile import SceneError, resolve_paths
@@ -104,17 +106,18 @@ def _scene_frame(arg: str) -> tuple[str, float | None, float | None]:
     try:
         data = tomllib.loads(p.read_text()) if p.suffix == ".toml" and p.is_file() else {}
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
-        return arg, None, None  # the frame reader names the problem
+        return arg, None, None, None  # the frame reader names the problem
     scene_like = (
         "frame" not in data
         and "frame3d" not in data
         and any(isinstance(data.get(t), dict) for t in SCENE_TABLES)
     )
     if not scene_like:
-        return arg, None, None
+        return arg, None, None, None
     data = resolve_paths({"scene": {}} | data, p.parent)
     kind = data["scene"].get("kind", "isolated")
     frame = data["scene"].get("frame") or data.get("structure", {}).get("frame3d")
+    field = "scene.frame" if data["scene"].get("frame") or frame is None else "structure.frame3d"
     if kind == "isolated" and frame is None and "structure" not in data:
         frame = DEFAULT_FRAME
     if not isinstance(frame, str):
@@ -132,24 +135,46 @@ def _scene_frame(arg: str) -> tuple[str, float | None, float | None]:
     if vals and all(
         isinstance(v, int | float) and not isinstance(v, bool) and v >= 0 for v in vals
     ):
-        return frame, float(sum(vals)) / len(vals), fm
-    return frame, None, fm
+        return frame, float(sum(vals)) / len(vals), fm, field
+    return frame, None, fm, field
+
+
+def _frame_of_scene(given: str, frame: str, field: str | None) -> bool:
+    """Whether ``frame`` is a 3D frame; a scene's (``field`` names it) is refused as ``nsdyn
+    run`` refuses it: missing, or a plane frame as ``[structure] frame3d``, a 3D frame as
+    ``[scene] frame``."""
+    from nsdyn.models.scenefile import SceneError
+    from nsdyn.structure import FrameFileError, is_frame3d
+
+    try:
+        space = is_frame3d(frame)
+    except FrameFileError as e:
+        if field is None:
+            raise
+        raise SceneError(f"{given}: {field}: {e}") from None
+    if field is not None and space != (field == "structure.frame3d"):
+        want = (
+            "a 3D frame ([frame3d]; bundled: office-11-3d, portal-3d)"
+            if not space
+            else "a plane frame (a 3D frame is a building3d scene's [structure] frame3d)"
+        )
+        raise SceneError(f"{given}: {field}: expected {want}, got {frame}")
+    return space
 
 
 def run(args: argparse.Namespace) -> int:
-    from nsdyn.structure import is_frame3d
-
     given = str(args.frame)
-    args.frame, scene_klam, scene_fmax = _scene_frame(given)
-    space = is_frame3d(args.frame)
+    args.frame, scene_klam, scene_fmax, field = _scene_frame(given)
+    space = _frame_of_scene(given, args.frame, field)
     klam_from_scene = args.klam is None and scene_klam is not None and not space
     fmax_from_scene = args.fmax is None and scene_fmax is not None and not space
-    if args.frame != given:  # a scene: its frame alone, as the frame file defines it
+    if field is not None:  # a scene: its frame alone, as the frame file defines it
         with_klam = f"; f_bis with its K_lam = {scene_klam:g} N/m" if klam_from_scene else ""
         with_fmax = f"; its cut-off f_max = {scene_fmax:g} Hz" if fmax_from_scene else ""
+        left = "eccentricity, bearings or mode count" if space else "isolators"
         print(f"nsdyn modes: note: the fixed-base modes of {args.frame}, the frame {given} "
-              "names, as its frame file defines it (without the scene's eccentricity, "
-              f"bearings or mode count{with_klam}{with_fmax})", file=sys.stderr)  # fmt: skip
+              f"names, as its frame file defines it (without the scene's {left}{with_klam}"
+              f"{with_fmax})", file=sys.stderr)  # fmt: skip
     if space:
         return _run3d(args)
     frame = load_frame(args.frame)
@@ -190,12 +215,16 @@ def _run3d(args: argparse.Namespace) -> int:
     from nsdyn.models.scenefile import SceneError
     from nsdyn.structure import damping_ratios, fixed_base_modes_3d, load_frame3d
 
+    plane = {"--fmax": "the Craig–Bampton cut-off", "--klam": "the bearing stiffness of f_bis"}
     given = [f for f, v in (("--fmax", args.fmax), ("--klam", args.klam)) if v is not None]
     if given:
-        raise SceneError(f"{args.frame}: {', '.join(given)}: for plane frames (Craig–Bampton "
-                         "cut-off, f_bis); a 3D frame lists its fixed-base modes")  # fmt: skip
+        raise SceneError(f"{args.frame}: {', '.join(given)}: {' and '.join(map(plane.get, given))}"
+                         " of a plane frame; a 3D frame lists its fixed-base modes")  # fmt: skip
     frame = load_frame3d(args.frame)
-    m = fixed_base_modes_3d(frame, n_modes=N_LIST_3D)
+    try:
+        m = fixed_base_modes_3d(frame, n_modes=N_LIST_3D)
+    except ValueError as e:  # (a frame without mass: no mode of finite frequency)
+        raise SceneError(f"{args.frame}: {e}") from None
     s = {
         "frame": frame.name,
         "kind": "3d",

@@ -152,25 +152,15 @@ def _regular(rd: _Reader, f: Mapping, name: str) -> Frame3D:
     if abs(off[0]) > hx or abs(off[1]) > hy:  # (an accidental eccentricity is ~5 % of L)
         rd.fail(f"{P}.mass_offset", f"an offset [e_x, e_y] [m] that keeps the floors' centre of "
                 f"mass within the plan, |e_x| <= {hx:g} and |e_y| <= {hy:g}", off)  # fmt: skip
-    return regular_building_3d(
-        name,
-        bx,
-        by,
-        hs,
-        groups["columns"],
-        groups["beams_x"],
-        groups["beams_y"],
-        n_v,
-        n_h,
-        fm,
-        fi,
-        _zeta(rd, f),
-        dia,
-        off,
-        vecs["columns"],
-        vecs["beams_x"],
-        vecs["beams_y"],
-    )
+    zeta = _zeta(rd, f)  # its own error, outside the model's checks below
+    try:  # (the model's own: nodes at one place from a storey of 1e-9 m, a model too large)
+        return regular_building_3d(name, bx, by, hs, groups["columns"], groups["beams_x"],
+                                   groups["beams_y"], n_v, n_h, fm, fi, zeta, dia, off,
+                                   vecs["columns"], vecs["beams_x"], vecs["beams_y"])  # fmt: skip
+    except ValueError as exc:
+        why = " ".join(str(exc).split())
+        raise FrameFileError(f"{rd.file}: {P}: {why} (the regular frame of bays_x, bays_y, "
+                             "storey_heights, n_v and n_h)", P) from None  # fmt: skip
 
 
 def _index_list(rd, v, path, nn, min_len=1, what="node indices"):
@@ -257,11 +247,16 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
     if "node_mass" in f:
         v = f["node_mass"]
         if isinstance(v, list) and v and all(isinstance(x, list) for x in v):
-            ok = len(v) == nn and all(
-                len(x) == 3 and all(_is_number(c) and 0 <= c < math.inf for c in x) for x in v
-            )
-            if not ok:
-                rd.fail(f"{P}.node_mass", f"a list of {nn} finite [m_x, m_y, m_z] triples >= 0", v)
+            bad = [
+                k
+                for k, x in enumerate(v)
+                if not (len(x) == 3 and all(_is_number(c) and 0 <= c < math.inf for c in x))
+            ]
+            if len(v) != nn or bad:  # (the entry named: a list of 8 said nothing of which)
+                if len(v) == nn:
+                    rd.fail(f"{P}.node_mass[{bad[0]}]", "a finite [m_x, m_y, m_z] triple >= 0",
+                            v[bad[0]])  # fmt: skip
+                rd.fail(f"{P}.node_mass", f"a list of {nn} [m_x, m_y, m_z] triples", v)
             node_mass = np.array(v, float)
         else:
             node_mass[:] = np.array(
@@ -290,8 +285,17 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
             if "inertia" in d
             else mass * float(span @ span) / 12
         )
-        if np.ptp(nodes[dn, 2]) > GEOM_RTOL * max(float(np.ptp(nodes, axis=0).max()), 1.0):
+        size = max(float(np.ptp(nodes, axis=0).max()), 1.0)
+        if np.ptp(nodes[dn, 2]) > GEOM_RTOL * size:
             rd.fail(f"{p}.nodes", "nodes at one level (equal z)", dn)
+        if set(dn) <= set(base):  # (clamped: the frame hung from it, every mode's share 0)
+            rd.fail(f"{p}.nodes", "nodes of a floor, not all base nodes (clamped, it cannot "
+                    "move)", dn)  # fmt: skip
+        lo, hi = nodes[:, :2].min(axis=0), nodes[:, :2].max(axis=0)
+        tol = GEOM_RTOL * size
+        if np.any(np.asarray(c) < lo - tol) or np.any(np.asarray(c) > hi + tol):
+            rd.fail(f"{p}.centre", f"a centre of mass [x, y] within the plan, x in [{lo[0]:g}, "
+                    f"{hi[0]:g}] and y in [{lo[1]:g}, {hi[1]:g}] m", list(c))  # fmt: skip
         dias.append(Diaphragm(dn, c, mass, inertia))
     try:  # (the file's names of its elements: members[g].elements[k])
         groups = [d.nodes.tolist() for d in dias]
@@ -299,7 +303,7 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
                        groups=groups, element_name=names.__getitem__)  # fmt: skip
     except ValueError as exc:  # (a node by the table's name; an element carries its own)
         msg = f"{P}.{exc}" if str(exc).startswith("nodes[") else str(exc)
-        raise FrameFileError(f"{rd.file}: {msg}") from None
+        raise FrameFileError(f"{rd.file}: {msg}", P) from None
     S = [secs[i] for i in sid]
     zeta = _zeta(rd, f)  # its own error, outside the model's checks below
     try:
@@ -318,7 +322,7 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
             diaphragms=tuple(dias),
         )
     except ValueError as exc:
-        raise FrameFileError(f"{rd.file}: {TABLE}: {exc}") from None
+        raise FrameFileError(f"{rd.file}: {TABLE}: {exc}", TABLE) from None
 
 
 def frame3d_from_dict(data: Mapping, file: str = "<dict>") -> Frame3D:

@@ -329,9 +329,13 @@ def _read_frame_file(name_or_path: str | Path) -> tuple[dict, str]:
     is_path = isinstance(name_or_path, Path) or "/" in s or "\\" in s or s.endswith(".toml")
     if is_path:
         path = Path(s)
-        if not path.is_file():
-            raise FrameFileError(f"{s}: no such frame file")
-        text, fname = path.read_bytes(), s  # messages name the file as it was given
+        if not path.is_file():  # (a folder or a device is there, but no frame file)
+            what = "not a file (a folder?)" if path.is_dir() else "not a regular file"
+            raise FrameFileError(f"{s}: {what if path.exists() else 'no such frame file'}")
+        try:
+            text, fname = path.read_bytes(), s  # messages name the file as it was given
+        except OSError as exc:
+            raise FrameFileError(f"{s}: cannot be read ({exc.strerror})") from None
     else:
         f = FRAMES.find(s)
         if f is None:

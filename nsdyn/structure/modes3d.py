@@ -158,7 +158,8 @@ def fixed_base_modes_3d(
     gamma = (M @ phi).T @ r
     frac = gamma**2 / np.array([m, m, Jc])
     shares = family_shares(frame, phi)
-    fam = tuple(FAMILIES[j] for j in np.argmax(shares, axis=1))
+    fam = tuple(FAMILIES[j] if row.max() > 0 else "local"  # (no measure: nothing to read)
+                for j, row in zip(np.argmax(shares, axis=1), shares, strict=True))  # fmt: skip
     return Modes3D(frame, np.sqrt(lam) / (2 * np.pi), phi, gamma, frac, shares, fam, c)
 
 

@@ -361,7 +361,7 @@ def _scene(name: str) -> str:
         (["run", "--compare-fixed", "--no-figures"], ["--no-figures draws none"]),
         (["run", "deck-fps4-3c.toml", "--method", "radau"], ["--method"]),
         (["export", "opensees", "--modes", "3"], ["--modes: not used"]),
-        (["modes", "office-11-3d", "--fmax", "1"], ["--fmax: for plane frames"]),
+        (["modes", "office-11-3d", "--fmax", "1"], ["--fmax: the Craig–Bampton cut-off of"]),
         (["uplift", "isolated-shear-3storey.toml"], ["[structure]: no contact rows"]),
     ],
 )

@@ -9,6 +9,7 @@ labelled 3D panel per mode).
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -61,3 +62,40 @@ def test_drawn_members_leave_the_nodes_at_the_nodal_rotations():
         line = deformed_lines_3d(b, u, scale=1.0, n_sub=400)[e]
         slope = (line[-1, row] - line[-2, row]) / (line[-1, 0] - line[-2, 0])
         assert slope == pytest.approx(sign * 1e-3, rel=3 * 2 / 400)  # error ½|w''|h = 2θ/400
+
+
+@pytest.mark.parametrize(
+    ("scene", "message"),
+    [
+        # nsdyn run refuses these scenes; modes listed the plane frame or the 3D one as if fine
+        ('[scene]\nkind = "building3d"\n[structure]\nframe3d = "office-11"\n',
+         r"structure.frame3d: expected a 3D frame \(\[frame3d\]; bundled: office-11-3d"),
+        ('[scene]\nframe = "portal-3d"\n[isolation]\nk_lam = 5e4\n',
+         r"scene.frame: expected a plane frame \(a 3D frame is a building3d scene's"),
+        # the missing file named by the scene's field, not alone
+        ('[scene]\nkind = "building3d"\n[structure]\nframe3d = "nosuch3d.toml"\n',
+         r"structure.frame3d: .*nosuch3d.toml: no such frame file"),
+    ],
+)  # fmt: skip
+def test_modes_refuses_a_scene_as_run_does_naming_its_field(tmp_path, capsys, scene, message):
+    import re
+
+    p = tmp_path / "s.toml"
+    p.write_text(scene)
+    assert main(["modes", str(p), "--json"]) == 2
+    err = json.loads(capsys.readouterr().out)["error"]
+    assert re.match(rf"{re.escape(str(p))}: {message}", err), err
+
+
+def test_modes_of_a_frame_without_mass_or_with_plane_flags_is_one_line(tmp_path, capsys):
+    text = (Path(__file__).resolve().parents[2] / "frames" / "portal-3d.toml").read_text()
+    text = text.replace("rho = 7850.0", "rho = 0.0").replace("6000.0", "0.0")
+    text = text.replace("mass = 24000.0", "mass = 0.0").replace("inertia = ", "inertia = 0.0 #")
+    p = tmp_path / "massless.toml"
+    p.write_text(text)
+    assert main(["modes", str(p), "--json"]) == 2  # (a traceback before)
+    assert "no mode of finite frequency" in json.loads(capsys.readouterr().out)["error"]
+    assert main(["modes", "portal-3d", "--klam", "5e4"]) == 2
+    assert "--klam: the bearing stiffness of f_bis of a plane frame" in capsys.readouterr().err
+    assert main(["modes", str(tmp_path)]) == 2
+    assert "not a file (a folder?)" in capsys.readouterr().err

@@ -106,6 +106,7 @@ def test_generator_spreads_floor_mass_and_numbers_column_lines():
 
 
 COL_VECXZ = "vecxz = [1.0, 0.0, 0.0]  # local z = global X: I_y resists sway in x\n"
+MASS_END = "[0.0, 0.0, 6000.0], [0.0, 0.0, 6000.0],\n]"
 BAD = [  # (id, file text, old, new, field, expected-form needle)
     (
         "office-no-vecxz",
@@ -223,7 +224,16 @@ BAD = [  # (id, file text, old, new, field, expected-form needle)
         r"frame3d\.sections\[0\]\.rho",
         r"exactly one of rho",
     ),
-]
+    # a diaphragm's mass 300 m off a 6 m plan (first mode 0.055 Hz, without a word), a floor
+    # of clamped nodes (the frame hung from it: every mode "x" with 0 % mass), a negative
+    # mass named by its entry
+    ("portal-centre", PORTAL, "centre = [3.0, 2.5]", "centre = [300.0, 2.5]",
+     r"frame3d\.diaphragms\[0\]\.centre", r"within the plan, x in \[0, 6\]"),
+    ("portal-clamped-floor", PORTAL, "base_nodes = [0, 1, 2, 3]", "base_nodes = [4, 5, 6, 7]",
+     r"frame3d\.diaphragms\[0\]\.nodes", r"not all base nodes"),
+    ("portal-negative-mass", PORTAL, MASS_END, MASS_END.replace("6000.0]", "-6000.0]", 1),
+     r"frame3d\.node_mass\[6\]", r"triple >= 0, got \[0\.0, 0\.0, -6000\.0\]"),
+]  # fmt: skip
 
 
 @pytest.mark.parametrize("row", BAD, ids=[r[0] for r in BAD])
@@ -241,7 +251,6 @@ def test_bad_3d_frame_file_gives_one_line_naming_file_and_field(tmp_path, row):
 
 HEADS = "[0.0, 0.0, 4.0], [6.0, 0.0, 4.0], [6.0, 5.0, 4.0], [0.0, 5.0, 4.0],   # 4-7: column heads"
 BEAMS = "elements = [[4, 5], [5, 6], [6, 7], [7, 4]]"
-MASS_END = "[0.0, 0.0, 6000.0], [0.0, 0.0, 6000.0],\n]"
 
 
 @pytest.mark.parametrize(
@@ -272,3 +281,22 @@ def test_a_3d_frame_that_would_run_wrong_or_singular_is_refused(tmp_path, extra_
     with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: {message}") as e:
         load_frame3d(p)
     assert "\n" not in str(e.value)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        # a storey of 1e-9 m: nodes at one place (a traceback naming neither file nor field)
+        ("storey_heights = [6.0,", "storey_heights = [1e-9,",
+         r"frame3d: elements\[\d+\]: nodes \d+ and \d+ are at the same place"),
+        # 5e10 dofs: refused before a list of that size is built (a MemoryError before)
+        ("\nn_v = 5", "\nn_v = 1000000000", r"frame3d: n_v, n_h: .* dofs; expected a model"),
+    ],
+)  # fmt: skip
+def test_a_regular_frame_the_model_refuses_names_the_file_and_its_fields(tmp_path, old, new,
+                                                                          message):  # fmt: skip
+    p = tmp_path / "r.toml"
+    p.write_text(OFFICE.replace(old, new, 1))
+    with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: {message}") as e:
+        load_frame3d(p)
+    assert "\n" not in str(e.value) and "storey_heights, n_v and n_h" in str(e.value)
