@@ -131,6 +131,17 @@ def output_count(t_end: float, dt_out: float) -> int:
     return int(math.floor(n * (1 + 1e-12))) + 1
 
 
+def output_step(dt_out, span: float, off: bool = True) -> None:
+    """A run's output step over ``span`` [s]: None (the default), 0 (no output, where ``off``),
+    or a positive step no longer than the run within :data:`MAX_OUTPUTS`; else ValueError
+    naming dt_out. Checked where a run is called and before a scene's run says it starts."""
+    if dt_out is None or (off and not isinstance(dt_out, str | bool) and dt_out == 0):
+        return
+    number("dt_out", dt_out, f"a positive output step no longer than the run ({span:g} s)"
+           + (", or 0 for no output" if off else ""), lambda v: 0 < v <= span)  # fmt: skip
+    output_count(span, dt_out)
+
+
 def output_times(t0: float, t_end: float, dt_out: float):
     """Outputs from ``t0`` every ``dt_out`` [s], and ``t_end`` itself where that grid
     misses it: a run ends at its end, whatever the output step (its last interval shorter

@@ -252,7 +252,6 @@ def check_tasks(study: Study) -> None:
     import warnings
 
     from nsdyn._checks import InputWarning
-    from nsdyn.ground import UnitWarning
     from nsdyn.studies.scenes import check_scene
 
     read = {p.name: [] for p in study.parameters}  # per parameter: a task that reads it
@@ -262,8 +261,8 @@ def check_tasks(study: Study) -> None:
             for n in read}  # fmt: skip
     other: dict[str, int] = {}  # a note that is not about keys: the tasks it holds for
     tasks = expand(study)
-    with warnings.catch_warnings():  # a record's units are the run's to report, once per task
-        warnings.simplefilter("ignore", UnitWarning)
+    with warnings.catch_warnings(record=True) as said:  # a record's units: once here (the
+        warnings.simplefilter("always")  # runs do not repeat them), as every other warning
         for task in tasks:
             label = task_label(task.index, task.params, task.record_name)
             notes = check_scene(task.cfg, f"{study.source}: {label}")
@@ -272,6 +271,8 @@ def check_tasks(study: Study) -> None:
                 why.append(unused[0] if unused else None)
             for n in notes:
                 other[n] = other.get(n, 0) + ("not used" not in n)
+    for text, category in dict.fromkeys((str(w.message), w.category) for w in said):
+        warnings.warn(text, category, stacklevel=2)
     for note, count in other.items():  # (a cb model without modes: said, not hidden in rows)
         if count:
             warnings.warn(f"{study.source}: {count} of {len(tasks)} tasks: {note}",

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from nsdyn._checks import InputWarning
@@ -141,3 +142,23 @@ def test_a_fragility_on_a_column_no_run_has_names_it_instead_of_failed_runs():
     out = fragility_outcomes(Table(rows), "motion.pga", "idr_max")
     assert out["refuse"].startswith("fragility: 'idr_max': no number in any successful row")
     assert "peak_base_shear_N" in out["refuse"]  # (the columns it might have meant)
+
+
+def test_a_record_s_units_are_said_once_for_the_study_not_once_per_run(tmp_path):
+    import warnings
+
+    from nsdyn.ground import UnitWarning
+    from nsdyn.studies.scenes import run_batch
+    from nsdyn.studies.tasks import expand
+
+    t = 0.01 * np.arange(200)  # a t, ax, ay CSV without units: m/s² assumed, with a warning
+    rows = "\n".join(f"{a:.2f},{np.sin(a):.6f},{np.cos(a):.6f}" for a in t)
+    (tmp_path / "rec.csv").write_text("t,ax,ay\n" + rows + "\n")
+    body = '[parameters]\n"motion.rotate" = [0.0, 45.0, 90.0]\n[records]\nnames = ["rec.csv"]\n'
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        study = load_study(_study(tmp_path, DECK, body))
+        rows = run_batch(expand(study)[:2])
+    units = [w for w in said if issubclass(w.category, UnitWarning)]
+    assert len(units) == 1 and "does not state its units" in str(units[0].message)
+    assert all(r["status"] == "ok" for r in rows)

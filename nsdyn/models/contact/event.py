@@ -29,7 +29,15 @@ import math
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, expect, finite_numbers, number, output_count, rel_tol
+from nsdyn._checks import (
+    NumericalFailure,
+    expect,
+    finite_numbers,
+    number,
+    output_count,
+    output_step,
+    rel_tol,
+)
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kevent as ke
 from nsdyn.models.contact._kgeom import body_mode, contact_rows, mu_of, solve_contacts
@@ -224,8 +232,7 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
     for name, val in (("t_end", t_end), ("dt_out", dt_out), ("atol", atol), ("g", g)):
         number(name, val, "a positive number", lambda v: v > 0)  # (g <= 0: math domain)
     rel_tol("rtol", rtol)
-    if t_end / dt_out < 1.0:
-        raise ValueError(f"dt_out: {dt_out:g} s is longer than the run (t_end = {t_end:g} s)")
+    output_step(dt_out, t_end, off=False)
     if motion is not None and not hasattr(motion, "jumps"):
         raise TypeError(
             f"motion: expected a BaseMotion (nsdyn.BaseMotion.displacement_sine, ...), got "

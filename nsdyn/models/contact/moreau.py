@@ -34,6 +34,15 @@ def check_step(h: float, motion: BaseMotion) -> None:
                          "sine's period)")  # fmt: skip
 
 
+def step_grid(t_end: float, h: float, dt_out: float | None = None) -> None:
+    """A run's steps of ``h`` over ``t_end`` and its outputs every ``dt_out`` (at least a
+    step): ValueError naming h or dt_out (too many, or a step longer than the run)."""
+    step_count(t_end, h)
+    output_count(t_end, max(dt_out or h, h))
+    if h > t_end:  # (h = 0.6 s over 1 s ran to 1.2 s; 2 s: no step, one sample)
+        raise ValueError(f"h: a step of {h:g} s is longer than the run (t_end = {t_end:g} s)")
+
+
 def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | None = None, *,
                     t_end: float, h: float = 1e-3, theta: float = 0.5, e_n: float = 0.0,
                     theta0: float | None = None, theta0_over_alpha: float | None = None,
@@ -48,11 +57,8 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
     mo = motion or BaseMotion.none()
     t_end = number("t_end", t_end, "a positive duration [s]", lambda v: v > 0)
     number("g", g, "a positive gravity [m/s²]", lambda v: v > 0)
-    step_count(t_end, h)
-    output_count(t_end, max(dt_out or h, h))
+    step_grid(t_end, h, dt_out)
     check_step(h, mo)
-    if h > t_end:  # (h = 0.6 s over 1 s ran to 1.2 s; 2 s: no step, one sample)
-        raise ValueError(f"h: a step of {h:g} s is longer than the run (t_end = {t_end:g} s)")
     par = _params(body, friction, g)
     tilted = theta0 is not None or theta0_over_alpha is not None
     q, v = start_state(body, tilt_angle(body, theta0, theta0_over_alpha), q0, v0, tilted)

@@ -47,7 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure
+from nsdyn._checks import NumericalFailure, output_step
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import read_motion
@@ -361,6 +361,13 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     body, law, motion, t_end, opts = build(cfg, source)
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
+    with grid_fields(source, GRID_FIELDS | {"h": "solver.h"}):  # (before the start is said)
+        if opts["method"] == "moreau" and opts.get("ground") is None:
+            from nsdyn.models.contact.moreau import step_grid
+
+            step_grid(t_end, opts["h"], opts["dt_out"])
+        else:
+            output_step(opts["dt_out"], t_end, off=False)
     say(f"contact: {name}: {opts['what']}, {opts['method']}, t_end = {t_end:g} s")
     for note in opts["notes"]:
         say(f"contact: note: {note}")

@@ -27,6 +27,7 @@ from nsdyn._checks import (
     flag,
     number,
     output_count,
+    output_step,
     rel_tol,
     whole,
 )
@@ -304,12 +305,7 @@ def simulate_rocking(
            "block falls past it)", lambda v: model.alpha < v <= 0.5 * math.pi)  # fmt: skip
     for name, v in (("max_impacts", max_impacts), ("max_peaks", max_peaks)):
         whole(name, v, 1, "a whole number >= 1")
-    if dt_out is not None and dt_out != 0 and not (math.isfinite(dt_out) and
-                                                   0 < dt_out <= t_end - t0):  # fmt: skip
-        raise ValueError(
-            f"dt_out: expected a positive output step no longer than the run "
-            f"({t_end - t0:g} s), or 0 for no output, got {dt_out!r}"
-        )
+    output_step(dt_out, t_end - t0)
     gk, gp, tab_h, tab_v, dt_nat = _excitation(excitation, t_end)
     dt_out = dt_nat if dt_out is None else dt_out
     n_out = output_count(t_end - t0, dt_out) if dt_out > 0 else 0

@@ -43,6 +43,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import output_step
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import G_EARTH, read_motion
@@ -268,6 +269,9 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     tol, dt_out = build_solver(cfg, source)
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
+    fields = GRID_FIELDS | {"omega_v": "block.omega_v_over_p"}
+    with grid_fields(source, fields):  # (refused before the run says it starts)
+        output_step(dt_out, t_end)
     say(f"rocking: {name}: {type(model).__name__}, {what}, t_end = {t_end:g} s")
     from nsdyn.ground.formats import past_record_note, unused_columns_note
 
@@ -280,7 +284,6 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     out_dir = Path(out_dir)
     compile_s = warm(model)
     w0 = time.perf_counter()
-    fields = GRID_FIELDS | {"omega_v": "block.omega_v_over_p"}
     with grid_fields(source, fields):  # the run's grid and steps, refused before any step
         if isinstance(model, CompliantBlock):
             from nsdyn.models.rocking import compliant as cm
