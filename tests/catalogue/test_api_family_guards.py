@@ -183,3 +183,21 @@ def test_whole_numpy_counts_and_iterables_of_sections_are_taken():
     gen = regular_frame("f", [6.0], [3.0, 3.0], 1, 1, (s for _ in range(2)), s, floor_mass=1e4)
     lst = regular_frame("f", [6.0], [3.0, 3.0], 1, 1, [s, s], s, floor_mass=1e4)
     assert np.array_equal(gen.nodes, lst.nodes) and len(gen.elements) == len(lst.elements)
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        # the plain constructor took any arrays: a clockwise outline, a base off the ground
+        (lambda b: (b.verts[::-1], b.mass, b.J, b.base), r"^verts: expected the vertices counter"),
+        (lambda b: (b.verts, 0.0, b.J, b.base), r"^mass: expected a positive mass"),
+        (lambda b: (b.verts, b.mass, "1", b.base), r"^J: expected a positive moment of inertia"),
+        (lambda b: (b.verts, b.mass, b.J, [2, 3]), r"^base: expected indices of the lowest"),
+        (lambda b: (b.verts, b.mass, b.J, []), r"^base: expected indices of the lowest"),
+    ],
+)  # fmt: skip
+def test_a_rigid_body_built_directly_is_checked_as_its_builders_check(args, match):
+    with pytest.raises(ValueError, match=match):
+        nsdyn.RigidBody(*args(BODY))
+    same = nsdyn.RigidBody(BODY.verts, BODY.mass, BODY.J, BODY.base)  # a valid body: equal
+    assert np.array_equal(same.contacts, BODY.contacts) and same.verts is not BODY.verts

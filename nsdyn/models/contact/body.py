@@ -78,12 +78,30 @@ class RigidBody:
     verts : (n, 2) vertices relative to the centre of mass, counter-clockwise [m]
     mass : m [kg];  J : moment of inertia about the centre of mass [kg m^2]
     base : (nb,) indices of the base (contact) vertices
+
+    Built directly (not by :meth:`polygon` or :meth:`rectangle`), it is checked as they
+    check: counter-clockwise convex vertices, positive mass and J, a base of lowest vertices.
     """
 
     verts: np.ndarray
     mass: float
     J: float
     base: np.ndarray
+
+    def __post_init__(self) -> None:  # (the builders below give valid bodies; so must a call)
+        v = _check_polygon(self.verts, "verts")
+        if not np.array_equal(v, np.asarray(self.verts, dtype=float)):
+            raise ValueError("verts: expected the vertices counter-clockwise")
+        number("mass", self.mass, "a positive mass [kg]", lambda x: x > 0)
+        number("J", self.J, "a positive moment of inertia [kg m^2]", lambda x: x > 0)
+        b = np.asarray(self.base)
+        low = v[:, 1].min() + BASE_TOL * float(np.ptp(v, axis=0).max())
+        if not (b.ndim == 1 and b.size and b.dtype.kind in "iu" and b.min() >= 0
+                and b.max() < len(v) and np.all(v[b, 1] <= low)):  # fmt: skip
+            raise ValueError(f"base: expected indices of the lowest vertices (0..{len(v) - 1}), "
+                             f"got {self.base!r}")  # fmt: skip
+        object.__setattr__(self, "verts", v.copy())  # (its own: not the caller's array)
+        object.__setattr__(self, "base", b.astype(np.int64))
 
     @classmethod
     def polygon(cls, vertices, mass: float = 1.0, J: float | None = None) -> RigidBody:
