@@ -201,3 +201,10 @@ def test_a_rigid_body_built_directly_is_checked_as_its_builders_check(args, matc
         nsdyn.RigidBody(*args(BODY))
     same = nsdyn.RigidBody(BODY.verts, BODY.mass, BODY.J, BODY.base)  # a valid body: equal
     assert np.array_equal(same.contacts, BODY.contacts) and same.verts is not BODY.verts
+
+
+def test_a_displacement_sine_s_ramps_belong_to_the_smooth_start_and_do_not_overlap():
+    with pytest.raises(ValueError, match=r"^t_ramp: the ramps of start='smooth'"):
+        nsdyn.BaseMotion.displacement_sine(0.01, 0.5, 4, "impulsive", t_ramp=0.5)
+    with pytest.raises(ValueError, match=r"^t_ramp: expected .* at most half the motion, 1 s"):
+        nsdyn.BaseMotion.displacement_sine(0.01, 0.5, 4, "smooth", t_ramp=1.5)

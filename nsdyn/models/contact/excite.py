@@ -93,23 +93,27 @@ class BaseMotion:
         """Ground displacement u_g = A sin(2 pi t / T) for ``n_cycles`` periods.
 
         ``start="impulsive"``: switched on and off abruptly (velocity jumps +-A w at both ends);
-        ``start="smooth"``: the sine times sin^2 ramps of length ``t_ramp`` (default one period)
-        at both ends, tabulated at ``N_PER_PERIOD`` samples per period.
+        ``start="smooth"``: the sine times sin^2 ramps of length ``t_ramp`` (default one period,
+        at most half the motion: ramps that do not overlap) at both ends, tabulated at
+        ``N_PER_PERIOD`` samples per period.
         """
         if start not in ("impulsive", "smooth"):
             raise ValueError(f"start: expected 'impulsive' or 'smooth', got {start!r}")
         number("A", A, "a finite amplitude [m]")
         number("period", period, "a positive period [s]", lambda v: v > 0)
         number("n_cycles", n_cycles, "a whole number >= 1", lambda v: v >= 1 and v == int(v))
-        if t_ramp is not None and not (math.isfinite(t_ramp) and t_ramp > 0):
-            raise ValueError(f"t_ramp: expected a positive ramp length [s], got {t_ramp!r}")
         w = 2 * math.pi / period
         t_end = n_cycles * period
+        if t_ramp is not None and start == "impulsive":  # (it was dropped without a word)
+            raise ValueError("t_ramp: the ramps of start='smooth'; an impulsive start has none")
+        if t_ramp is not None:  # (ramps longer than half the motion overlap: no sine left)
+            number("t_ramp", t_ramp, f"a positive ramp length [s] of at most half the motion, "
+                   f"{t_end / 2:g} s", lambda v: 0 < v <= t_end / 2)  # fmt: skip
         if start == "impulsive":
             ex = np.array([1.0, 0, 1, -A * w * w, w, 0.0, t_end, 0.0])
             jumps = np.array([[0.0, A * w], [t_end, -A * w * math.cos(w * t_end)]])
             return cls(ex, np.zeros(0), np.zeros(0), jumps, "displacement sine (impulsive)")
-        tr = period if t_ramp is None else float(t_ramp)
+        tr = min(period, t_end / 2) if t_ramp is None else float(t_ramp)
         dt = period / N_PER_PERIOD
         t = np.arange(0.0, t_end + dt / 2, dt)
         u = A * np.sin(w * t) * _ramp(t, tr, t_end)
