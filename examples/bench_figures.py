@@ -137,10 +137,12 @@ def main(out_dir: str | Path = bench.DEFAULT_OUT, fig_dir: str | Path = FIGURES)
         res = periodic_result(out)
         save_figure(bench.periodic_figure(res["rows"]), figs / "periodic.png")
         result["periodic"] = bench.periodic_markdown(res)
+    result["copied"] = []
     for drawn, docs_name in COPIED.items():  # charts kept as the benchmark drew them
         if (out / drawn).exists():
             figs.mkdir(parents=True, exist_ok=True)
             shutil.copyfile(out / drawn, figs / docs_name)
+            result["copied"].append(str(figs / docs_name))
     result["missing"] = [f"{name} (nsdyn bench {cmd})" for name, cmd in TABLES.items()
                          if not (out / name).exists()]  # fmt: skip
     result["figures"] = sorted(str(p) for p in figs.glob("*.png"))
@@ -157,6 +159,8 @@ if __name__ == "__main__":
     else:  # a fresh checkout: nothing run yet (the figures in the repository are listed)
         figs = sorted(Path(a.figures).glob("*.png")) if Path(a.figures).is_dir() else []
         res = {"figures": [str(f) for f in figs]}
+    for path in res.get("copied", []):  # (said: "no tables" alone read as nothing done)
+        print(f"copied {path}", file=sys.stderr)
     if not {"ratios", "fidelity", "speed", "periodic"} & set(res):
         print(f"{a.dir}: no benchmark tables to redraw from (run nsdyn bench accuracy, fidelity, "
               f"speed, periodic or stability into it first); the figures already in "

@@ -84,6 +84,9 @@ def test_bench_figures_copies_the_charts_under_the_names_the_docs_embed(tmp_path
     assert (figs / "rocking-bench.png").read_bytes() == b"rocking.png"
     assert (figs / "contact-stability.png").read_bytes() == b"contact-map.png"
     assert (figs / "contact-wp.png").read_bytes() == b"contact-wp.png"
+    assert sorted(res["copied"]) == sorted(
+        str(figs / n) for n in ("rocking-bench.png", "contact-stability.png", "contact-wp.png")
+    )  # (and said so)
     assert "periodic.csv (nsdyn bench periodic)" in res["missing"]
     docs = Path(__file__).resolve().parents[1] / "docs" / "guide"
     embedded = (docs / "rocking.md").read_text() + (docs / "contact.md").read_text()

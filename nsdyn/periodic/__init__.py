@@ -38,7 +38,12 @@ guard_family(
 # ruff: noqa: E402
 
 from nsdyn.periodic.bifurcation import detect_bifurcations, multiplier_counts
-from nsdyn.periodic.continuation import continue_arclength, continue_sequential, log_frequencies
+from nsdyn.periodic.continuation import (
+    continue_arclength,
+    continue_range,
+    continue_sequential,
+    log_frequencies,
+)
 from nsdyn.periodic.curve import Curve, OrbitPoint
 from nsdyn.periodic.discretisation import ORDER, TABLEAUX, Discretisation, refined
 from nsdyn.periodic.problem import (
@@ -90,6 +95,7 @@ __all__ = [
     "UpliftPoint",
     "check_verdict",
     "continue_arclength",
+    "continue_range",
     "continue_sequential",
     "detect_bifurcations",
     "duffing_problem",
