@@ -74,11 +74,36 @@ def to_xarray(t: np.ndarray, named: dict, attrs: dict | None = None):
     return ds
 
 
+def read_only(named: dict) -> dict:
+    """``named`` with each array a read-only view: the result's own data, not copied, that an
+    edit cannot change (a history scaled in place changed the result's summary)."""
+    out = {}
+    for name, a in named.items():
+        v = np.asarray(a).view()
+        v.flags.writeable = False
+        out[name] = v
+    return out
+
+
 class Tabular:
     """Mix-in of a result with ``t``, ``histories()`` (name -> array on ``t``) and ``summary()``:
-    ``to_dataframe()`` and ``to_xarray()`` of those histories, the summary as attributes."""
+    ``to_dataframe()`` and ``to_xarray()`` of those histories, the summary as attributes.
+    Every subclass's ``histories()`` returns read-only views (:func:`read_only`)."""
 
     __repr__ = brief_repr  # arrays by shape, not in full (its dataclasses set repr=False)
+
+    def __init_subclass__(cls, **kwargs) -> None:
+        super().__init_subclass__(**kwargs)
+        own = cls.__dict__.get("histories")
+        if own is not None and not getattr(own, "_read_only", False):
+            import functools
+
+            @functools.wraps(own)
+            def histories(self) -> dict:
+                return read_only(own(self))
+
+            histories._read_only = True
+            cls.histories = histories
 
     def histories(self) -> dict:  # pragma: no cover - every result defines it
         raise NotImplementedError

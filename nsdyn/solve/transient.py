@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._checks import keywords_of, output_times, rel_tol
+from nsdyn._checks import finite_numbers, keywords_of, number, output_times, rel_tol
 from nsdyn._tabular import Tabular
 from nsdyn.atomic import CheckpointError
 from nsdyn.ground.excitation import is_force, natural_end
@@ -397,8 +397,14 @@ def simulate(
     keywords_of(integrate.solve, solver_options, skip=("P", "x0", "t_eval"),
                 also=("rtol", "atol", "dt_out", "t_end"), caller="simulate() ")  # fmt: skip
     rel_tol("rtol", rtol)
-    if x0 is not None and not np.all(np.isfinite(np.asarray(x0, dtype=float))):
-        raise ValueError("x0: expected finite numbers, got NaN or inf")
+    for k, v, what in (
+        ("dt", dt, "a positive fixed step [s]"),
+        ("t_end", t_end, "a finite end time [s] > 0"),
+    ):  # (text was converted)
+        if v is not None:
+            number(k, v, what, lambda x: x > 0)
+    if x0 is not None:  # (text: a numpy conversion error before)
+        finite_numbers("x0", x0, "finite numbers, the state [q, qd]")
     if not (np.isfinite(chunk_s) and chunk_s > 0):
         raise ValueError(f"chunk_s: expected a positive duration [s], got {chunk_s!r}")
     if t_eval is None:

@@ -20,7 +20,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from nsdyn._checks import finite_numbers, whole
+from nsdyn._checks import finite_numbers, flag, whole
 from nsdyn.structure.frame import _per
 from nsdyn.structure.frame3d import Diaphragm, Frame3D, Section3D
 
@@ -83,6 +83,7 @@ def regular_building_3d(
         raise ValueError("need at least one bay each way and one storey, all of positive size")
     whole("n_v", n_v, 1, "a whole number of elements per column >= 1")
     whole("n_h", n_h, 1, "a whole number of elements per beam >= 1")
+    diaphragms = flag("diaphragms", diaphragms)
     nx, ny, ns = len(bx) + 1, len(by) + 1, len(hs)  # (before a list of that size is built)
     n_dof = 6 * (nx * ny * (1 + ns * n_v) + ns * (n_h - 1) * (ny * (nx - 1) + nx * (ny - 1)))
     if n_dof > MAX_DOF:

@@ -28,6 +28,7 @@ from functools import cached_property
 import numpy as np
 
 from nsdyn._brief import brief_repr
+from nsdyn._checks import number
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements3d import global_matrices, local_axes
 from nsdyn.structure.geometry import check_geometry, checked_base, checked_zeta, frozen
@@ -62,16 +63,13 @@ class Section3D:
     rho_Ip: float | None = None
 
     def __post_init__(self) -> None:
-        for k in ("E", "G", "A", "I_y", "I_z", "J"):
-            v = getattr(self, k)
-            if not (np.isfinite(v) and v > 0):
-                raise ValueError(f"section {k} must be positive and finite, got {v!r}")
-        if not (np.isfinite(self.rho_A) and self.rho_A >= 0):
-            raise ValueError(f"section rho_A must be >= 0 and finite, got {self.rho_A!r}")
+        for k in ("E", "G", "A", "I_y", "I_z", "J"):  # (text: a numpy error before)
+            number(f"section {k}", getattr(self, k), "a positive finite number", lambda v: v > 0)
+        number("section rho_A", self.rho_A, "a finite number >= 0", lambda v: v >= 0)
         if self.rho_Ip is None:
             object.__setattr__(self, "rho_Ip", self.rho_A * (self.I_y + self.I_z) / self.A)
-        elif not (np.isfinite(self.rho_Ip) and self.rho_Ip >= 0):
-            raise ValueError(f"section rho_Ip must be >= 0 and finite, got {self.rho_Ip!r}")
+        else:
+            number("section rho_Ip", self.rho_Ip, "a finite number >= 0", lambda v: v >= 0)
 
 
 SECTION_FIELDS = ("E", "G", "A", "I_y", "I_z", "J", "rho_A", "rho_Ip")

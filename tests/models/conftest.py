@@ -39,6 +39,12 @@ def _assert_round_trip(res) -> None:
     again = columns(res.t, res.histories())
     for name, a in want.items():
         np.testing.assert_array_equal(again[name], a, err_msg=name)
+    # the histories are the result's own arrays, read-only: an edit in place raises (scaling
+    # a history in place changed the result's summary)
+    for name, a in res.histories().items():
+        assert not a.flags.writeable, name
+        with pytest.raises(ValueError, match="read-only"):
+            a[...] = 0.0
 
 
 @pytest.fixture

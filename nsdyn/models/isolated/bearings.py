@@ -104,6 +104,9 @@ class Friction:
         slow = _number(f"{w}.mu_slow", self.mu_slow)
         fast = slow if self.mu_fast is None else _number(f"{w}.mu_fast", self.mu_fast)
         rate = _number(f"{w}.rate", self.rate)
+        if rate > 0 and self.mu_fast is None:  # (a rate alone was dropped without a word)
+            raise BearingError(f"{w}.rate: the rate of the change from mu_slow to mu_fast; "
+                               "expected mu_fast beside it (or no rate)")  # fmt: skip
         if fast != slow and rate == 0.0:
             raise BearingError(
                 f"{w}.rate: mu_fast ({fast:g}) differs from mu_slow ({slow:g}), which needs a "

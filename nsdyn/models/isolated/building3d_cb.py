@@ -61,6 +61,7 @@ from dataclasses import replace
 import numpy as np
 import scipy.linalg as sla
 
+from nsdyn._checks import flag
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated.bearings import Bearing, BearingError
 from nsdyn.structure.frame3d import Diaphragm, Frame3D
@@ -320,6 +321,7 @@ def building_pairs(
     from nsdyn.models.isolated.pairs import PairSystem
 
     bearings = _bearings(frame, bearings)
+    lumped = flag("lumped", lumped)
     ecc = eccentricity_pair(eccentricity)
     if any(ecc):
         frame = accidental_eccentricity(frame, *ecc)

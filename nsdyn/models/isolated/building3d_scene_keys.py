@@ -110,7 +110,8 @@ def unused_keys(cfg: dict, fid: str, path: str | None) -> list[tuple[str, str]]:
         "structure.min_mass": (st, fid != "cb", "the cb rung's filter"),
         "structure.base": (st, fid not in ("cb", "full"), "the cb and full rungs' base"),
         "structure.damping": (st, not sparse, "the full rung's on sparse operators"),
-        "structure.f_damp": (st, not sparse, "the full rung's on sparse operators"),
+        "structure.f_damp": (st, not sparse or st.get("damping") == "stiffness",
+                             "the modal damping's cut-off of the full rung on sparse operators"),
         "solver.dt": (solver, not sparse, "the fixed step of the full rung on sparse operators"),
         "solver.path": (solver, fid != "full", "the full rung's"),
         "solver.rtol": (solver, sparse, "the sparse path steps at solver.dt (solver.path = "

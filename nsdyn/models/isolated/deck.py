@@ -214,6 +214,9 @@ def rigid_deck(
     pos = np.asarray(positions, dtype=float)
     if isinstance(bearings, Bearing):
         bearings = (bearings,) * (pos.shape[0] if pos.ndim == 2 else 1)
+    elif not (isinstance(bearings, list | tuple) and all(isinstance(b, Bearing) for b in bearings)):
+        raise TypeError(f"bearings: expected a Bearing (Bearing(Friction(mu), radius=R)) or one "
+                        f"per position, got {type(bearings).__name__}")  # fmt: skip
     return PlaneSystem(m=m, J=J, positions=pos, bearings=tuple(bearings), ecc=tuple(ecc), h=h,
                        g=g, name=name)  # fmt: skip
 
@@ -406,6 +409,9 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
     every ``dt_out`` (default: the record's step, or 1/50 period of an orbit) up to ``t_end``
     (default: the record's duration ``dur``), the last output, unless ``t_eval`` is given;
     the largest step defaults to the record's step or 1/20 of the shorter period."""
+    if t_eval is not None and (t_end is not None or dt_out is not None):  # (they were dropped)
+        given = "t_end" if t_end is not None else "dt_out"
+        raise ValueError(f"{given}: give t_eval (the output times) or t_end and dt_out, not both")
     if t_eval is None:
         t_end = run_end(t_end, dur)
         if dt_out is None:

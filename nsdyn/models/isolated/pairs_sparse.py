@@ -355,6 +355,8 @@ def building_pairs_sparse(
         raise ValueError(f"base: expected one of {list(BASES)}, got {base!r}")
     if f_damp is not None and not (isinstance(f_damp, int | float) and f_damp > 0):
         raise ValueError(f"f_damp: expected a positive frequency [Hz] or None, got {f_damp!r}")
+    if f_damp is not None and damping != "modal":  # (β K has no cut-off: it was dropped)
+        raise ValueError("f_damp: the modal damping's cut-off; damping = 'stiffness' has none")
     bearings = _bearings(frame, bearings)
     ecc = eccentricity_pair(eccentricity)
     if any(ecc):

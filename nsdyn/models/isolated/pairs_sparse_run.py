@@ -34,6 +34,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from nsdyn._checks import check_fixed_step, number
 from nsdyn.models.isolated import _kpairsparse as kz
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplanerun as kr
@@ -53,11 +54,6 @@ NEWTON_MAXITER = 50
 PROGRESS_S = 5.0  # seconds of simulated time between two calls of ``progress``
 KEEP_Q_MB = 256.0  # keep the full histories q, q̇ when they take at most this many MB
 PERMC_SPECS = ("COLAMD", "MMD_AT_PLUS_A")  # SuperLU orderings tried; the sparser factors win
-
-
-def _positive(v) -> bool:
-    ok = isinstance(v, int | float) and not isinstance(v, bool)
-    return ok and math.isfinite(v) and v > 0
 
 
 def genalpha_coefficients(rho_inf: float) -> tuple:
@@ -184,17 +180,13 @@ def simulate_pairs_sparse(
     called as ``progress(t_done, t_end, wall_s)`` every ``PROGRESS_S`` of simulated time."""
     if not isinstance(system, SparsePairSystem):
         raise TypeError(f"system: expected a SparsePairSystem, got {type(system).__name__}")
-    for k, v in (("dt", dt), ("eps", eps), ("alpha", alpha), ("beta", beta)):
-        if (
-            isinstance(v, bool)
-            or not isinstance(v, int | float)
-            or not (math.isfinite(v) and v > 0)
-        ):
-            raise ValueError(f"{k}: expected a positive number, got {v!r}")
+    given = (("dt", dt), ("eps", eps), ("alpha", alpha), ("beta", beta))
+    dt, eps, alpha, beta = (number(k, v, "a positive number", lambda x: x > 0) for k, v in given)
     coef = genalpha_coefficients(rho_inf)
     am, af, be, ga = coef
     gk, gp, tab, dur = pack_ground(ground)
     t_end = run_end(t_end, dur)
+    check_fixed_step(dt, ground)  # (a step past the record's samples: peaks 4.6x at 1 s)
     if dt_out is None:
         dt_out = gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (50.0 * gp[kp.GP_F])
     every = max(1, int(round(dt_out / dt)))

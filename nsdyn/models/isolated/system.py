@@ -26,6 +26,7 @@ are recovered the same way for all fidelities.
 
 from __future__ import annotations
 
+import contextlib
 import numbers
 import os
 from dataclasses import dataclass, field, replace
@@ -33,6 +34,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from nsdyn._brief import brief_repr
+from nsdyn._checks import flag
 from nsdyn._lazy import LazyModule
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kernel as ks
@@ -43,10 +45,8 @@ sla = LazyModule("scipy.linalg")
 
 FIDELITIES = ("fixed", "rigid", "cb", "full")
 DENSE_FRAME_MAX = 2000  # frames with more dofs are reduced from their sparse K, M
-# what a normal force reaching zero means (held down as in seed 004, stop, lift off and land)
-CONTACTS = ("bilateral", "detect", "unilateral")
-# the numeric fields of Isolation, each finite and >= 0 (checked when one is built)
-ISOLATION_NUMBERS = ("k_lam", "c", "mu", "eps", "eta", "alpha", "beta", "kappa",
+CONTACTS = ("bilateral", "detect", "unilateral")  # a normal force at zero: held, stop, lift off
+ISOLATION_NUMBERS = ("k_lam", "c", "mu", "eps", "eta", "alpha", "beta", "kappa",  # each >= 0
                      "diaphragm_EA", "diaphragm_EI", "g")  # fmt: skip
 
 
@@ -86,14 +86,11 @@ class Isolation:
             raise ValueError(f"isolation.law: expected 'arctan', 'switch' or 'none', got "
                              f"{self.law!r}")  # fmt: skip
         # every parameter a finite non-negative number (mu < 0 or eps < 0 would feed energy in)
-        for k in ISOLATION_NUMBERS:
-            v = getattr(self, k)
-            try:
-                if isinstance(v, str) or any(isinstance(e, str) for e in np.ravel(v)):
-                    raise TypeError  # a number written as text: refused, not converted
-                vals = np.atleast_1d(np.asarray(0.0 if v is None else v, dtype=float))
-            except (TypeError, ValueError):
-                vals = np.array([np.nan])
+        for k in ISOLATION_NUMBERS:  # (text, a bool or None: refused, not converted)
+            v, vals = getattr(self, k), np.array([np.nan])
+            with contextlib.suppress(TypeError, ValueError):
+                if (v is None and k == "kappa") or np.asarray(v).dtype.kind in "iuf":
+                    vals = np.atleast_1d(np.asarray(0.0 if v is None else v, dtype=float))
             if vals.size == 0 or vals.ndim != 1 or not np.all(np.isfinite(vals) & (vals >= 0)):
                 per = " (or one per isolator)" if k in ("k_lam", "c", "mu") else ""
                 raise ValueError(
@@ -101,9 +98,12 @@ class Isolation:
                 )
         if not self.g > 0:
             raise ValueError(f"isolation.g: expected a positive gravity [m/s²], got {self.g!r}")
-        if self.law == "arctan" and not self.eps > 0:
-            raise ValueError(f"isolation.eps: the arctan law needs a positive sharpness [s/m], "
-                             f"got {self.eps!r} (law 'switch' is the sharp limit)")  # fmt: skip
+        flag("isolation.frozen_normal", self.frozen_normal)  # (a text "no" read as True)
+        k, what = {"arctan": ("eps", "sharpness [s/m] (the switch law: its sharp limit)"),
+                   "switch": ("eta", "stick band [m/s]")}.get(self.law, ("g", ""))  # fmt: skip
+        if not getattr(self, k) > 0:  # (eta = 0: stick never detected)
+            raise ValueError(f"isolation.{k}: the {self.law} law needs a positive {what}, got "
+                             f"{getattr(self, k)!r}")  # fmt: skip
 
     def per_isolator(self, name: str, n: int) -> np.ndarray:
         v = np.atleast_1d(np.asarray(getattr(self, name), dtype=float))
@@ -413,6 +413,7 @@ def build_system(
         raise ValueError(f"f_max: expected a positive frequency [Hz] or inf, got {f_max!r}")
     if damping not in ("modal", "stiffness"):
         raise ValueError(f"damping: expected 'modal' or 'stiffness', got {damping!r}")
+    lumped = flag("lumped", lumped)
     if damping != "modal" and fidelity != "full":
         raise ValueError(f"damping: {damping!r} is a choice of the full model only")
     frame.require_mass(fidelity)  # (cb and full: a singular M is refused, naming the node)
@@ -426,22 +427,8 @@ def build_system(
         n = frame.n_dof
         name = f"{getattr(frame, 'name', 'frame')} full (n={n})"
         f = {k: fo[k] for k in ("M", "C", "K", "Gamma", "R", "D", "T")}
-        return IsolatedSystem(
-            name,
-            "full",
-            f["M"],
-            f["C"],
-            f["K"],
-            f["Gamma"],
-            f["R"],
-            f["D"],
-            f["T"],
-            iso,
-            frame,
-            np.inf,
-            info,
-            sparse=fo["sparse"],
-        )
+        return IsolatedSystem(name, "full", f["M"], f["C"], f["K"], f["Gamma"], f["R"], f["D"],
+                              f["T"], iso, frame, np.inf, info, sparse=fo["sparse"])  # fmt: skip
     Kf, Mf = frame.assemble(lumped=lumped)
     if frame.n_dof <= DENSE_FRAME_MAX:  # large frames stay sparse (Craig-Bampton: Lanczos)
         Kf = Kf.toarray() if hasattr(Kf, "toarray") else np.asarray(Kf)

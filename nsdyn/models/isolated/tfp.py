@@ -126,6 +126,12 @@ class TripleBearing(Bearing):
         if self.k_lam != 0.0 or self.c != 0.0:
             raise BearingError(f"{w}.k_lam: a triple friction pendulum has no rubber or damper "
                                "(k_lam = c = 0)")  # fmt: skip
+        derived = getattr(self.friction, "_tfp", False)  # (a copy by dataclasses.replace)
+        given = {"friction": self.friction is not None, "radius": self.radius != math.inf,
+                 "d_cap": self.d_cap != math.inf}  # fmt: skip
+        for k in [k for k, v in given.items() if v and not derived]:  # (dropped before)
+            raise BearingError(f"{w}.{k}: derived from the surfaces (mu1..mu4, R1..R4, d1..d4) "
+                               "of a triple friction pendulum; drop it")  # fmt: skip
         vals = {}
         for k in TFP_KEYS:
             v = getattr(self, k)
@@ -191,7 +197,9 @@ class TripleBearing(Bearing):
                 f"default {U_Y:g} m), got {self.u_y:g} m"
             )
         mu_min = min(vals[f"mu{j}"] for j in range(1, 5))
-        object.__setattr__(self, "friction", Friction(mu_min, where=w))
+        friction = Friction(mu_min, where=w)
+        object.__setattr__(friction, "_tfp", True)
+        object.__setattr__(self, "friction", friction)
         object.__setattr__(self, "radius", vals["R1"] + vals["R4"])
         object.__setattr__(self, "d_cap", sum(vals[f"d{j}"] for j in range(1, 5)))
 

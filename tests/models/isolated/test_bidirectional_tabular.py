@@ -102,8 +102,9 @@ def test_nsdyn_run_reports_a_failed_deck_run_in_one_line(tmp_path, monkeypatch, 
 def test_bad_run_options_are_refused_with_the_field_named(kw, field):
     # each of these ran to a misleading status (NaN state, underflow, singular) or silently
     s = rigid_deck(1.0e3, 1.0e3, [(0.0, 0.0)], Bearing(Friction(0.05)), g=G)
+    end = {} if "t_eval" in kw else {"t_end": 1.0}  # (t_eval and t_end: not both)
     with pytest.raises(ValueError, match=rf"^{field}: expected"):
-        simulate_plane(s, {"f": 1.0, "ax": 2.0, "ay": 2.0, "phase_y_deg": 90.0}, t_end=1.0, **kw)
+        simulate_plane(s, {"f": 1.0, "ax": 2.0, "ay": 2.0, "phase_y_deg": 90.0}, **end, **kw)
 
 
 @pytest.mark.parametrize(

@@ -1,0 +1,95 @@
+"""The library calls of the isolated, deck and 3D-building families refuse an argument that
+has no meaning or would be dropped, naming it, where before they ran on it or failed inside.
+
+Each case gave a result without a word or a traceback from inside: a sparse full rung stepped
+past the record's samples (peaks 4.6 times too large at dt = 1 s), ``frozen_normal="no"``
+read as True, ``mu=None`` failed as a singular matrix at t = 0, a switch law with eta = 0
+never found stick, a triple pendulum dropped a friction and radius given to it, a deck run
+given both output times and an end dropped the end, β K damping dropped a modal cut-off, a
+rate without mu_fast was dropped, text sizes and steps failed inside numpy.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import nsdyn
+from nsdyn.ground import read_motion3
+from nsdyn.models.isolated.bearings import Bearing, BearingError, Friction
+from nsdyn.models.isolated.deck import rigid_deck, simulate_plane
+from nsdyn.models.isolated.pairs_sparse import building_pairs_sparse
+from nsdyn.models.isolated.pairs_sparse_run import simulate_pairs_sparse
+from nsdyn.models.isolated.tfp import TripleBearing
+from nsdyn.structure import Section3D, load_frame3d, regular_building_3d
+
+FPS = Bearing(Friction(0.04, 0.07, rate=30.0), radius=2.2, d_cap=0.35)
+TFP = dict(R1=2.2, R2=0.3, R3=0.3, R4=2.2, mu1=0.06, mu2=0.02, mu3=0.02, mu4=0.10, d1=0.3,
+           d2=0.05, d3=0.05, d4=0.3)  # fmt: skip
+SHEAR = nsdyn.shear_building([2e4, 1e4], [2e7], 0.05, isolation=nsdyn.Isolation())
+COL = Section3D(E=2.1e11, G=8.1e10, A=1e-2, I_y=1e-4, I_z=1e-4, J=2e-4, rho_A=78.5)
+
+
+@pytest.mark.parametrize(
+    ("call", "err", "match"),
+    [
+        (lambda: nsdyn.Isolation(frozen_normal="no"), TypeError,
+         r"^isolation.frozen_normal: expected True or False"),
+        (lambda: nsdyn.Isolation(mu=None), ValueError, r"^isolation.mu: expected a finite"),
+        (lambda: nsdyn.Isolation(mu=True), ValueError, r"^isolation.mu: expected a finite"),
+        (lambda: nsdyn.Isolation(law="switch", eta=0.0), ValueError,
+         r"^isolation.eta: the switch law needs a positive stick band"),
+        (lambda: nsdyn.build_system("office-11", fidelity="rigid", lumped="yes"), TypeError,
+         r"^lumped: expected True or False"),
+        (lambda: regular_building_3d("b", [6.0], [5.0], [3.0], COL, COL, COL, 1, 1, 1e4,
+                                     diaphragms="no"), TypeError,
+         r"^diaphragms: expected True or False"),
+        (lambda: TripleBearing(friction=Friction(0.04), **TFP), BearingError,
+         r"bearing.friction: derived from the surfaces"),
+        (lambda: TripleBearing(radius=2.0, **TFP), BearingError,
+         r"bearing.radius: derived from the surfaces"),
+        (lambda: Friction(0.04, rate=30.0), BearingError,
+         r"rate: the rate of the change from mu_slow to mu_fast; expected mu_fast"),
+        (lambda: rigid_deck(2e6, 9e7, [[-10, -6], [10, -6], [0, 6]], None), TypeError,
+         r"^bearings: expected a Bearing"),
+        (lambda: Section3D(E=2.1e11, G=8.1e10, A="x", I_y=1e-4, I_z=1e-4, J=2e-4, rho_A=1.0),
+         ValueError, r"^section A: expected a positive finite number, got 'x'"),
+        (lambda: nsdyn.simulate(SHEAR, nsdyn.Harmonic(1.0, 1.0), method="newmark", dt="0.01",
+                                n_periods=2), ValueError, r"^dt: expected a positive fixed step"),
+        (lambda: nsdyn.simulate(SHEAR, nsdyn.Harmonic(1.0, 1.0), method="newmark", dt=-1.0,
+                                n_periods=2), ValueError, r"^dt: expected a positive fixed step"),
+        (lambda: nsdyn.simulate(SHEAR, nsdyn.Harmonic(1.0, 1.0), t_end="2"), ValueError,
+         r"^t_end: expected a finite end time"),
+        (lambda: nsdyn.simulate(SHEAR, nsdyn.Harmonic(1.0, 1.0), x0="zeros", n_periods=2),
+         ValueError, r"^x0: expected finite numbers, the state"),
+    ],
+)  # fmt: skip
+def test_calls_refuse_what_they_would_drop_or_fail_inside_on(call, err, match):
+    with pytest.raises(err, match=match):
+        call()
+
+
+def test_a_triple_pendulum_copied_by_replace_derives_its_radius_again():
+    t = TripleBearing(**TFP)
+    assert t.radius == TFP["R1"] + TFP["R4"] and t.friction.mu_slow == TFP["mu2"]
+    u = dataclasses.replace(t, R1=3.0)
+    assert u.radius == 3.0 + TFP["R4"]  # (the copy's derived values, not the old ones)
+
+
+def test_deck_and_sparse_runs_refuse_what_they_would_drop():
+    m3 = read_motion3("synthetic-wn-40s").window(0.0, 2.0)
+    deck = rigid_deck(1e5, 1e6, [[-1.0, -1.0], [1.0, -1.0], [0.0, 1.0]], FPS)
+    with pytest.raises(ValueError, match=r"^t_end: give t_eval .* or t_end and dt_out, not"):
+        simulate_plane(deck, m3, t_eval=np.linspace(0.0, 1.0, 11), t_end=2.0)
+    portal = load_frame3d("portal-3d")
+    with pytest.raises(ValueError, match=r"^f_damp: the modal damping's cut-off"):
+        building_pairs_sparse(portal, FPS, damping="stiffness", f_damp=3.0)
+    s = building_pairs_sparse(portal, FPS, damping="stiffness")
+    # a step past the record's 0.01 s samples skips them: the peaks came out 4.6 times large
+    with pytest.raises(ValueError, match=r"^dt: a fixed step of 0.2 s is longer than the "
+                                         r"record's sampling step 0.01 s"):  # fmt: skip
+        simulate_pairs_sparse(s, m3, dt=0.2)
+    r = simulate_pairs_sparse(s, m3, dt=np.float32(0.005), t_end=0.05)  # numpy scalars: numbers
+    assert r.t[-1] == pytest.approx(0.05)
