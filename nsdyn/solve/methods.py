@@ -504,9 +504,9 @@ def run_unilateral(P, x0, t_eval, o: Options, X, upl_t, method: str, e_rest: flo
         raise ValueError(f"restitution: expected 0 <= e <= 1, got {e_rest}")
     kp = KernelParams(P)
     if kp.frozen_normal:
-        raise ValueError(
-            "contact 'unilateral' needs the normal forces as multipliers (frozen_normal=False)"
-        )
+        raise ValueError("contact 'unilateral' needs the normal forces as multipliers: contact "
+                         "rows (build_system, system_from_matrices(contact_rows=...)) and "
+                         "frozen_normal=False; this model's are fixed")  # fmt: skip
     ni = kp.n_isolators
     friction = method == "event"
     if o.modes0 is None:

@@ -79,8 +79,9 @@ def regular_building_3d(
     """
     bx, by, hs = (_numbers(v, w) for v, w in ((bays_x, "bays_x"), (bays_y, "bays_y"),
                                              (storey_heights, "storey_heights")))  # fmt: skip
-    if np.any(np.r_[bx, by, hs] <= 0):
-        raise ValueError("need at least one bay each way and one storey, all of positive size")
+    for what, v in (("bays_x", bx), ("bays_y", by), ("storey_heights", hs)):
+        if np.any(v <= 0):  # (the message named none of them)
+            raise ValueError(f"{what}: expected positive sizes [m], got {v.tolist()}")
     whole("n_v", n_v, 1, "a whole number of elements per column >= 1")
     whole("n_h", n_h, 1, "a whole number of elements per beam >= 1")
     diaphragms = flag("diaphragms", diaphragms)

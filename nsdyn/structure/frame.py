@@ -408,7 +408,7 @@ def _per(secs, n, what, kind=Section) -> list:
     if isinstance(secs, kind):
         return [secs] * n
     try:  # a list, tuple, generator or array of sections; one section otherwise
-        secs = [secs] if isinstance(secs, str) else list(secs)
+        secs = [secs] if isinstance(secs, str | dict) else list(secs)  # (a dict: its keys)
     except TypeError:
         secs = [secs]
     if not all(isinstance(s, kind) for s in secs):  # (a number: "'int' object is not iterable")
@@ -418,5 +418,6 @@ def _per(secs, n, what, kind=Section) -> list:
     if len(secs) == 1:
         return secs * n
     if len(secs) != n:
-        raise ValueError(f"{what}: expected 1 or {n} sections, got {len(secs)}")
+        raise ValueError(f"{what}: expected {'1' if n == 1 else f'1 or {n}'} section(s) (one "
+                         f"per storey), got {len(secs)}")  # fmt: skip
     return secs

@@ -9,6 +9,7 @@ error names the file, the dotted field and what was expected (:class:`FrameFileE
 
 from __future__ import annotations
 
+import os
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -325,6 +326,9 @@ def load_frame(name_or_path: str | Path) -> Frame:
 def _read_frame_file(name_or_path: str | Path) -> tuple[dict, str]:
     """(parsed TOML, file name for messages) of a frame file or a bundled frame's bare name
     (the rule of :func:`load_frame`); plane and space frame files alike."""
+    if not isinstance(name_or_path, str | os.PathLike):  # ("None: no bundled frame" before)
+        raise TypeError(f"frame: expected a bundled frame's name or a file's path, got "
+                        f"{type(name_or_path).__name__} {name_or_path!r}")  # fmt: skip
     s = str(name_or_path)
     is_path = isinstance(name_or_path, Path) or "/" in s or "\\" in s or s.endswith(".toml")
     if is_path:

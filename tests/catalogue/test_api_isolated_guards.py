@@ -64,6 +64,19 @@ COL = Section3D(E=2.1e11, G=8.1e10, A=1e-2, I_y=1e-4, I_z=1e-4, J=2e-4, rho_A=78
          r"^t_end: expected a finite end time"),
         (lambda: nsdyn.simulate(SHEAR, nsdyn.Harmonic(1.0, 1.0), x0="zeros", n_periods=2),
          ValueError, r"^x0: expected finite numbers, the state"),
+        # messages that named another cause: "None: no bundled frame", "need at least one
+        # bay", "got str" for a dict, "1 or 1 sections", frozen_normal=False asked for
+        (lambda: nsdyn.load_frame(None), TypeError, r"^frame: expected a bundled frame's name"),
+        (lambda: regular_building_3d("b", [-6.0], [5.0], [3.0], COL, COL, COL, 1, 1, 1e4),
+         ValueError, r"^bays_x: expected positive sizes"),
+        (lambda: regular_building_3d("b", [6.0], [5.0], [3.0], {"E": 1}, COL, COL, 1, 1, 1e4),
+         TypeError, r"^columns: expected a Section3D or a list of them, got dict"),
+        (lambda: regular_building_3d("b", [6.0], [5.0], [3.0], [COL, COL], COL, COL, 1, 1, 1e4),
+         ValueError, r"^columns: expected 1 section\(s\) \(one per storey\), got 2"),
+        (lambda: nsdyn.simulate(nsdyn.shear_building([2e4, 1e4], [2e7], 0.05,
+                                isolation=nsdyn.Isolation(contact="unilateral")),
+                                nsdyn.Harmonic(1.0, 1.0), n_periods=2), ValueError,
+         r"contact 'unilateral' needs the normal forces as multipliers: contact rows"),
     ],
 )  # fmt: skip
 def test_calls_refuse_what_they_would_drop_or_fail_inside_on(call, err, match):
