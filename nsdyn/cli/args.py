@@ -36,6 +36,18 @@ def positive_finite(s: str) -> float:
     return v
 
 
+def forcing_frequency(s: str) -> float:
+    """A forcing frequency [Hz] a periodic solve takes (``nsdyn.periodic.protocol``'s range:
+    below it the period's integration loses the load to round-off)."""
+    from nsdyn.periodic.protocol import F_HIGHEST, F_LOWEST
+
+    v = positive_finite(s)
+    if not F_LOWEST <= v <= F_HIGHEST:
+        raise argparse.ArgumentTypeError(f"expected a forcing frequency in [{F_LOWEST:g}, "
+                                         f"{F_HIGHEST:g}] Hz, got {s!r}")  # fmt: skip
+    return v
+
+
 REFINE_MAX = 1000.0  # the default period's error (~0.3 %) / K^2 reaches the stages' Newton
 # tolerance (discretisation.STAGE_RTOL = 1e-9) at K ~ 1000: more steps buy round-off only
 
@@ -152,6 +164,11 @@ def out_file(s: str) -> str:
         raise argparse.ArgumentTypeError("expected a file name, got ''")
     if p.is_dir():
         raise argparse.ArgumentTypeError(f"expected a file name, got the directory {s!r}")
+    if p.is_symlink() or (p.exists() and not p.is_file()):  # (replaced, not written through)
+        raise argparse.ArgumentTypeError(f"expected a regular file's name, got {s!r} (a link "
+                                         "or a device: it would be replaced)")  # fmt: skip
+    if p.suffix.lower() == ".toml":  # (a scene or frame file written over with a script)
+        raise argparse.ArgumentTypeError(f"expected a script's name (.py), got {s!r}")
     _creatable(p.parent, str(p.parent))
     return s
 

@@ -106,6 +106,10 @@ def _run_frame3d(args: argparse.Namespace, stem: str) -> int:
     _only(args, "a 3D frame file", ("mass", "modes"))
     modes = 12 if args.modes is None else args.modes
     frame = load_frame3d(args.scene)
+    most = min(MODES_MAX, frame.n_red - 1)  # (100 000 or 5 000: an eigen solve of minutes)
+    if modes > most:
+        raise SceneError(f"{args.scene}: --modes: expected at most {most} (the lowest modes "
+                         f"listed beside OpenSees'), got {modes}")  # fmt: skip
     out = Path(args.out) if args.out else Path(f"{stem}_opensees.py")
     try:
         export_opensees_3d(frame, out, mass=args.mass or "consistent", n_modes=modes)
@@ -129,6 +133,7 @@ def _run_frame3d(args: argparse.Namespace, stem: str) -> int:
     return 0
 
 
+MODES_MAX = 200  # modes a 3D frame's export lists (nsdyn's and the script's eigen solves)
 _OPTIONS = ("dt", "t_end", "damping", "mass", "modes", "fixed_base")
 
 

@@ -62,9 +62,14 @@ def run(args: argparse.Namespace) -> int:
                          f"{kind!r}")  # fmt: skip
     if cfg.get("scene", {}).get("model", "block") == "compliant":
         raise SceneError(f"{src}: scene.model: spectra are computed for 'block' or 'frame'")
-    if not args.wmax > args.wmin:
-        from nsdyn.cli.args import fail
+    from nsdyn.cli.args import fail
+    from nsdyn.models.rocking.spectra import OMEGA_RATIO_MAX
 
+    for flag, v in (("--wmin", args.wmin), ("--wmax", args.wmax)):
+        if v > OMEGA_RATIO_MAX:  # (a traceback from the library's check before)
+            return fail(args, f"argument {flag}: expected a ratio omega_p / p of at most "
+                        f"{OMEGA_RATIO_MAX:g}, got {v:g} (see nsdyn spectrum --help)")  # fmt: skip
+    if not args.wmax > args.wmin:
         return fail(args, f"argument --wmax: expected a ratio above --wmin ({args.wmin:g}), "
                     f"got {args.wmax:g} (see nsdyn spectrum --help)")  # fmt: skip
     model = build_model(cfg, src)

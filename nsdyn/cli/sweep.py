@@ -23,6 +23,7 @@ from nsdyn.cli.args import amplitude_list as _amplitude_list
 from nsdyn.cli.args import (
     band_message,
     fail,
+    forcing_frequency,
     holes,
     out_dir,
     positive_int,
@@ -30,7 +31,6 @@ from nsdyn.cli.args import (
     stale_figures,
 )
 from nsdyn.cli.args import count as _count
-from nsdyn.cli.args import positive_finite as _positive
 from nsdyn.studies.plane_sweep import KINDS as PLANE_KINDS
 from nsdyn.studies.plane_sweep import POINTS_DEFAULT
 from nsdyn.studies.sweep import (
@@ -57,10 +57,10 @@ def configure(p: argparse.ArgumentParser) -> None:
         "scenes: the orbit's amplitude, its shape kept; a scene's harmonic [force]: its "
         "amplitude [N])",
     )
-    p.add_argument("--fmin", type=_positive, default=None, metavar="HZ",
+    p.add_argument("--fmin", type=forcing_frequency, default=None, metavar="HZ",
                    help="lowest forcing frequency; default 0.01 (deck scenes: f0/4, f0 the "
                    "orbit's frequency; a fixed building3d: f1/4)")  # fmt: skip
-    p.add_argument("--fmax", type=_positive, default=None, metavar="HZ",
+    p.add_argument("--fmax", type=forcing_frequency, default=None, metavar="HZ",
                    help="highest forcing frequency; default 10 (deck scenes: 4 f0; a fixed "
                    "building3d: 1.25 x its highest kept mode). Not the "
                    "Craig-Bampton cut-off of nsdyn run --fmax: a sweep takes that from the "
@@ -222,7 +222,8 @@ def run(args: argparse.Namespace) -> int:
     except SceneError as e:
         return fail(args, e)
     if cfg["scene"].get("fidelity", "cb") == "fixed":
-        return fail(args, "the fixed-base model is linear; use an isolated fidelity")
+        where = "--fidelity fixed" if args.fidelity else f"{args.scene}: scene.fidelity"
+        return fail(args, f"{where}: the fixed-base model is linear; use an isolated fidelity")
     force = cfg.get("force", {})
     mo = cfg.get("motion", {}) if cfg.get("motion", {}).get("kind") == "harmonic" else {}
     table = "force" if "amplitude" in force else "motion" if "amplitude" in mo else None
@@ -243,6 +244,10 @@ def run(args: argparse.Namespace) -> int:
     friction = args.friction or cfg.get("isolation", {}).get("law", "arctan")
     if args.friction:  # the flag wins over the scene's law (its eps and the rest kept)
         cfg.setdefault("isolation", {})["law"] = args.friction
+    if args.contact == "unilateral" and friction == "switch":  # (a traceback after the curve)
+        law = "--friction switch" if args.friction else f"{args.scene}: isolation.law 'switch'"
+        return fail(args, f"--contact unilateral: its lift-off orbits are shot on the arctan "
+                    f"law, got {law}; expected --friction arctan")  # fmt: skip
     if not args.fmax > args.fmin:
         return fail(args, band_message("sweep", args.fmin, args.fmax, given))
     settings = SweepSettings(
@@ -412,8 +417,8 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     if unused:
         return fail(
             args,
-            f"{', '.join(unused)}: not for deck scenes (their period map is "
-            "integrated adaptively, with bilateral contact)",
+            f"{', '.join(unused)}: not for {cfg.get('scene', {}).get('kind', 'deck')} scenes "
+            "(their period map is integrated adaptively, with bilateral contact)",
         )
     try:
         sc = plane_scene(cfg, source)
@@ -430,13 +435,14 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     from nsdyn.periodic.plane import orbit_shape
 
     amplitudes = args.amplitudes or sw.get("amplitudes") or [orbit_shape(sc["orbit"])[0]]
+    if len(set(amplitudes)) < len(amplitudes):  # (each computed twice, the rows doubled)
+        return fail(args, f"{source}: sweep.amplitudes: expected distinct amplitudes, got "
+                    f"{list(amplitudes)}")  # fmt: skip
     law = args.friction or sw.get("law") or sc["solver"]["law"]
     if getattr(sc["system"], "has_tfp", False) and law != "arctan":
-        return fail(
-            args,
-            f"{source}: solver.law: a triple friction pendulum runs with the "
-            f"regularised law 'arctan' (its series model has no stick events), got {law!r}",
-        )
+        where = "--friction" if args.friction else f"{source}: solver.law"
+        return fail(args, f"{where}: a triple friction pendulum runs with the regularised law "
+                    f"'arctan' (its series model has no stick events), got {law!r}")  # fmt: skip
     flat = [getattr(b, "radius", None) == math.inf and not b.k_lam > 0
             for b in getattr(sc["system"], "bearings", ())]  # fmt: skip
     if flat and all(flat):  # (a 487 km "stable" orbit at 2.8 Hz, with k_lam = 0)

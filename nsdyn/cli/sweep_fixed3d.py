@@ -21,6 +21,7 @@ from nsdyn.cli.args import fail, stale_figures
 _NOT_HERE = (  # flags of the nonlinear sweeps: (flag, attribute, its default)
     ("--friction", "friction", None), ("--contact", "contact", "bilateral"),
     ("--tableau", "tableau", "sdirk2"), ("--steps-factor", "steps_factor", 1.0),
+    ("--continuation", "continuation", "sequential"), ("--no-fallback", "no_fallback", False),
 )  # fmt: skip
 
 

@@ -20,7 +20,7 @@ import time
 from pathlib import Path
 
 from nsdyn.atomic import atomic_open
-from nsdyn.cli.args import band_message, fail, holes, out_dir
+from nsdyn.cli.args import band_message, fail, forcing_frequency, holes, out_dir
 from nsdyn.cli.args import count as _count
 from nsdyn.cli.args import positive_finite as _positive
 
@@ -36,8 +36,12 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "scene", nargs="?", default=None, help="scene TOML (default: the bundled default scene)"
     )
-    p.add_argument("--fmin", type=_positive, default=None, metavar="HZ", help=f"default {FMIN}")
-    p.add_argument("--fmax", type=_positive, default=None, metavar="HZ", help=f"default {FMAX}")
+    p.add_argument(
+        "--fmin", type=forcing_frequency, default=None, metavar="HZ", help=f"default {FMIN}"
+    )
+    p.add_argument(
+        "--fmax", type=forcing_frequency, default=None, metavar="HZ", help=f"default {FMAX}"
+    )
     p.add_argument(
         "--points", type=_count, default=POINTS, help=f"log-spaced frequencies (default {POINTS})"
     )

@@ -50,7 +50,7 @@ class OrbitPoint:
 
     @property
     def stable(self) -> bool | None:
-        if not self.multipliers.size:
+        if not self.multipliers.size or not self.converged:  # (no orbit: no verdict on it)
             return None
         return bool(self.max_multiplier < 1.0 + STABLE_MARGIN)
 

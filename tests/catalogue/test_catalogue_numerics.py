@@ -199,7 +199,7 @@ def test_bad_excitation_or_isolator_value_is_refused_where_it_is_built(call, mes
 @pytest.mark.parametrize(
     "options, message",
     [
-        ({"fmin": -0.5, "fmax": 2.0}, r"^fmin: expected a finite forcing frequency > 0"),
+        ({"fmin": -0.5, "fmax": 2.0}, r"^fmin: expected a forcing frequency in"),
         ({"fmin": 2.0, "fmax": 1.0}, r"^fmax: expected a frequency above fmin = 2 Hz, got 1"),
         ({"fmin": 1.0, "fmax": 2.0, "points": 0}, r"^points: expected an integer >= 1"),
     ],
@@ -216,7 +216,7 @@ def test_shooting_at_a_negative_frequency_is_refused_not_converged():
     # it used to return converged=True after 0 iterations with a multiplier of 3.8e54
     from nsdyn.periodic import shoot_switch, switch_problem
 
-    with pytest.raises(ValueError, match=r"^f: expected a finite forcing frequency > 0"):
+    with pytest.raises(ValueError, match=r"^f: expected a forcing frequency in"):
         shoot_switch(switch_problem(_switch_oscillator(), 1.0), -0.1)
 
 

@@ -363,8 +363,18 @@ def _scene(name: str) -> str:
         (["export", "opensees", "--modes", "3"], ["--modes: not used"]),
         (["modes", "office-11-3d", "--fmax", "1"], ["--fmax: the Craig–Bampton cut-off of"]),
         (["uplift", "isolated-shear-3storey.toml"], ["[structure]: no contact rows"]),
+        # a period of 3e4 years: a slip of 1.9e4 m reported as converged (0.029 m quasi-static)
+        (["sweep", "isolated-coulomb-force.toml", "--fmin", "1e-12", "--fmax", "1e-4"],
+         ["--fmin: expected a forcing frequency in [1e-06, 10000] Hz"]),
+        # a traceback after the whole curve: the lift-off orbits are shot on the arctan law
+        (["sweep", "isolated-coulomb-force.toml", "--contact", "unilateral", "--points", "2"],
+         ["--contact unilateral: its lift-off orbits are shot on the arctan law"]),
+        # minutes of stepping (omega_p / p = 1e300), an eigen solve of 1e5 modes
+        (["spectrum", "rocking-seed001-cask.toml", "--wmax", "1e300"],
+         ["--wmax: expected a ratio omega_p / p of at most 1000"]),
+        (["export", "opensees", "portal-3d", "--modes", "100"], ["--modes: expected at most 38"]),
     ],
-)
+)  # fmt: skip
 def test_more_inputs_that_cannot_apply_are_refused(tmp_path, argv, needles, one_line):
     argv = [_scene(a) if a.endswith(".toml") else a for a in argv]
     assert _status([*argv, "--out", str(tmp_path / "o")]) == 2
@@ -535,3 +545,17 @@ def test_a_run_past_its_records_end_says_the_ground_is_at_rest(tmp_path, capsys,
     assert s.get("t_end_s", s.get("t_end")) == pytest.approx(1.5, abs=1e-9)
     said = "t_end = 1.5 s is past the record's end (1 s): the ground is at rest after it"
     assert sum(said in n for n in s["notes"]) == 1, s["notes"]
+
+
+def test_an_export_never_replaces_a_device_a_link_or_a_scene(tmp_path, capsys):
+    # /dev/full became a regular file, a scene was written over with the script, a link
+    # was replaced instead of written through
+    scene = tmp_path / "my.toml"
+    scene.write_text(open(_scene("building3d-office-rigid.toml"), encoding="utf-8").read())
+    (tmp_path / "link.py").symlink_to(tmp_path / "elsewhere.py")
+    regular = "expected a regular file's name"
+    for target, says in (("/dev/null", regular), (str(scene), "expected a script's name (.py)"),
+                         (str(tmp_path / "link.py"), regular)):  # fmt: skip
+        assert _status(["export", "opensees", str(scene), "-o", target]) == 2
+        assert says in capsys.readouterr().err
+    assert scene.read_text().startswith("# The 3D office") and Path("/dev/null").is_char_device()

@@ -150,7 +150,11 @@ def test_a_triple_pendulum_deck_with_the_switch_law_is_refused_naming_the_law(tm
                      "--out", str(tmp_path / "o")])  # fmt: skip
     err = capsys.readouterr().err.strip()
     assert rc != 0 and len(err.splitlines()) == 1
-    assert str(scene) in err and "solver.law" in err
+    assert "--friction: a triple friction pendulum runs with the regularised law" in err
+    (tmp_path / "o").mkdir(exist_ok=True)  # the scene's own law, without the flag: its field
+    scene.write_text(scene.read_text().replace('law = "arctan"', 'law = "switch"'))
+    assert nsdyn_main(["sweep", str(scene), "--points", "2", "--out", str(tmp_path / "o")]) != 0
+    assert f"{scene}: solver.law" in capsys.readouterr().err
 
 
 def test_isolated_only_flags_are_refused_for_a_deck_scene(tmp_path, capsys):

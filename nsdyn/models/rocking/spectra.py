@@ -40,6 +40,9 @@ from nsdyn.models.rocking.block import TOL, simulate_rocking
 RTOL = 1e-4  # relative width of the bisected amplitude brackets
 SCAN = 1.1  # geometric scan factor of the amplitude
 A_MAX = 30.0  # largest amplitude ratio a_p / (g tan alpha) scanned
+# fastest pulse: 1e3 times the block's p (its steps scale with the pulse: omega_p / p = 1e300
+# ran for minutes); the overturning amplitude grows with omega_p / p, past A_MAX long before
+OMEGA_RATIO_MAX = 1e3
 T_AFTER_P = 25.0  # free time after the pulse, in units of 1/p (slow falls near the threshold)
 STATUS = ("no overturning up to a_max", "no safe band found", "safe band", "safe up to a_max")
 
@@ -209,8 +212,8 @@ def overturning_spectrum(
                         f"rocking), got {type(model).__name__}")  # fmt: skip
     x = np.asarray(omega_ratios, dtype=float).reshape(-1)
     checks = (
-        ("omega_ratios", x.size > 0 and bool(np.all(np.isfinite(x) & (x > 0))),
-         "positive, finite frequency ratios omega_p / p"),
+        ("omega_ratios", x.size > 0 and bool(np.all((x > 0) & (x <= OMEGA_RATIO_MAX))),
+         f"frequency ratios omega_p / p in (0, {OMEGA_RATIO_MAX:g}]"),
         ("rtol", RTOL_MIN <= rtol < 1.0, f"a relative width {RTOL_MIN:.2g} <= rtol < 1 (a "
          "bisection narrower than round-off never ends)"),
         ("scan", np.isfinite(scan) and scan > 1.0, "a growth factor > 1 of the bracketing scan"),
