@@ -725,3 +725,21 @@ def test_an_empty_record_list_leaves_the_scene_s_own_motion(tmp_path):
                                      '"block.r" = [0.82]\n[records]\nnames = []\n')  # fmt: skip
     mo = load_study(tmp_path / "s.toml").base["motion"]
     assert mo["pulse"] == "sine" and mo["t_end"] == 12.0
+
+
+def test_sweep_flags_and_tables_that_would_repeat_or_do_nothing_are_refused(tmp_path, one_line):
+    # a fixed building's steady state is solved exactly: --no-fallback and --continuation
+    # changed nothing; a deck scene's amplitude given twice computed and wrote it twice
+    fixed = SCENES / "building3d-office-fixed.toml"
+    text = fixed.read_text().split("[motion]")[0]
+    scene = tmp_path / "fixed-orbit.toml"
+    scene.write_text(text + '[motion]\nkind = "orbit"\norbit = "linear"\nfrequency = 0.5\n'
+                     "amplitude = 1.0\nn_periods = 6\n")  # fmt: skip
+    out = str(tmp_path / "o")
+    assert main(["sweep", str(scene), "--no-fallback", "--points", "3", "--out", out]) == 2
+    one_line("--no-fallback: not for the fixed rung")
+    deck = (SCENES / "sdof-bidirectional-sweep.toml").read_text()
+    dup = tmp_path / "dup.toml"
+    dup.write_text(deck.replace("amplitudes = [0.981]", "amplitudes = [1.0, 1.0]"))
+    assert main(["sweep", str(dup), "--points", "2", "--out", out]) == 2
+    one_line("sweep.amplitudes: expected distinct amplitudes, got [1.0, 1.0]")
