@@ -438,13 +438,8 @@ def run_task(task) -> dict:
 
 
 def run_batch(tasks: list) -> list[dict]:
-    """Rows of ``tasks`` run in order (the function executors call); a record's units were
-    said once when the study was checked (:func:`~nsdyn.studies.tasks.check_tasks`)."""
-    from nsdyn.ground import UnitWarning
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UnitWarning)
-        return [run_task(t) for t in tasks]
+    """Rows of ``tasks`` run in order (the function executors call)."""
+    return [run_task(t) for t in tasks]
 
 
 def is_number(v) -> bool:

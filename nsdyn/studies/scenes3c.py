@@ -163,8 +163,10 @@ def build_system(kind: str, cfg: dict, source: str):
     ident = (
         str(Path(frame).resolve()) if isinstance(frame, str) and Path(frame).is_file() else frame
     )
-    key = json.dumps([kind, ident, {k: v for k, v in cfg.items() if k not in ("motion", "solver",
-                      "scene")}], sort_keys=True, default=str)  # fmt: skip
+    sv = cfg.get("solver", {}) if isinstance(cfg.get("solver"), dict) else {}
+    path = {k: sv.get(k) for k in ("path", "law", "contact")}  # (a full rung's dense or sparse)
+    key = json.dumps([kind, ident, path, {k: v for k, v in cfg.items() if k not in ("motion",
+                      "solver", "scene")}], sort_keys=True, default=str)  # fmt: skip
     with _lock:
         hit = _systems.get(key)
     if hit is not None:

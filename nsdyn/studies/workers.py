@@ -32,6 +32,7 @@ import signal
 import sys
 import threading
 import time
+import warnings
 from concurrent.futures import ProcessPoolExecutor
 
 WATCH_S = 0.5  # seconds between the fallback's checks of the parent's pid
@@ -87,10 +88,20 @@ class _Pool(ProcessPoolExecutor):
         return False
 
 
+def _worker(parent: int) -> None:
+    """Pool initializer: :func:`_die_with` ``parent``; and a record's units are not said again
+    by every task (a study said them once, when it checked its tasks; the filter is this
+    worker process's own)."""
+    from nsdyn.ground import UnitWarning
+
+    warnings.simplefilter("ignore", UnitWarning)
+    _die_with(parent)
+
+
 def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
     """A ``ProcessPoolExecutor`` whose workers end when this process ends, however it ends, and
     whose ``with`` block, left by an exception, ends them at once."""
-    return _Pool(max_workers=max_workers, initializer=_die_with, initargs=(os.getpid(),))
+    return _Pool(max_workers=max_workers, initializer=_worker, initargs=(os.getpid(),))
 
 
 def stop_pool(executor, *, kill: bool) -> None:

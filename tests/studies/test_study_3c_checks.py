@@ -144,21 +144,31 @@ def test_a_fragility_on_a_column_no_run_has_names_it_instead_of_failed_runs():
     assert "peak_base_shear_N" in out["refuse"]  # (the columns it might have meant)
 
 
-def test_a_record_s_units_are_said_once_for_the_study_not_once_per_run(tmp_path):
-    import warnings
-
-    from nsdyn.ground import UnitWarning
-    from nsdyn.studies.scenes import run_batch
-    from nsdyn.studies.tasks import expand
+def test_a_record_s_units_are_said_once_for_the_study_not_once_per_run(tmp_path, capsys):
+    from nsdyn.cli import main
 
     t = 0.01 * np.arange(200)  # a t, ax, ay CSV without units: m/s² assumed, with a warning
     rows = "\n".join(f"{a:.2f},{np.sin(a):.6f},{np.cos(a):.6f}" for a in t)
     (tmp_path / "rec.csv").write_text("t,ax,ay\n" + rows + "\n")
     body = '[parameters]\n"motion.rotate" = [0.0, 45.0, 90.0]\n[records]\nnames = ["rec.csv"]\n'
-    with warnings.catch_warnings(record=True) as said:
-        warnings.simplefilter("always")
-        study = load_study(_study(tmp_path, DECK, body))
-        rows = run_batch(expand(study)[:2])
-    units = [w for w in said if issubclass(w.category, UnitWarning)]
-    assert len(units) == 1 and "does not state its units" in str(units[0].message)
-    assert all(r["status"] == "ok" for r in rows)
+    study = _study(tmp_path, DECK, body)
+    out = str(tmp_path / "o")
+    assert main(["study", str(study), "--out", out, "--workers", "1", "--no-figures"]) == 0
+    err = capsys.readouterr().err
+    assert err.count("does not state its units") == 1, err  # (once per task before)
+
+
+def test_a_study_s_kept_systems_differ_where_the_solver_picks_the_full_rung_s_path(monkeypatch):
+    # the system kept per process was keyed without [solver]: a study varying solver.path
+    # (dense or sparse full rung), law or contact ran every task on the first task's path
+    import nsdyn.models.isolated.building3d_scene as b3
+    from nsdyn.studies import scenes3c
+
+    built = []
+    monkeypatch.setattr(b3, "build_system", lambda cfg, source: built.append(cfg) or len(built))
+    monkeypatch.setattr(scenes3c, "_systems", {})
+    base = {"structure": {"frame3d": "portal-3d", "fidelity": "full"}, "bearing": {"mu": 0.05}}
+    for solver in ({"path": "dense"}, {"path": "sparse"}, {"path": "sparse", "rtol": 1e-4},
+                   {"path": "sparse", "law": "switch"}):  # fmt: skip
+        scenes3c.build_system("building3d", {**base, "solver": solver}, "s.toml")
+    assert len(built) == 3  # (rtol alone does not change the model: the kept one serves)
