@@ -28,7 +28,7 @@ import numpy as np
 from nsdyn._checks import MAX_OUTPUTS
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.ground.synthesis import SEED000_DT_ORD
+from nsdyn.ground.synthesis import noise_step
 from nsdyn.models import scenefile
 from nsdyn.models.cylinder.design import design_foundation, static_settlement, uplift_onset
 from nsdyn.models.cylinder.params import FOUNDATIONS, CylinderParams
@@ -243,9 +243,10 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         if not 2 * dt <= dur:
             raise SceneError(f"{source}: motion.dt: expected a step of at most half the "
                              f"duration ({dur:g} s), got {dt:g}")  # fmt: skip
-        if dt > SEED000_DT_ORD:  # (its ordinates every 0.05 s would be sampled, not drawn)
-            raise SceneError(f"{source}: motion.dt: expected at most the noise's ordinate "
-                             f"step {SEED000_DT_ORD:g} s, got {dt:g}")  # fmt: skip
+        try:  # (the noise's ordinates every 0.05 s sampled at a longer step: not drawn)
+            noise_step("modulated_white_noise", dur, dt)
+        except ValueError as e:
+            raise SceneError(f"{source}: motion.{e}") from None
         if dur / dt > MAX_OUTPUTS:
             raise SceneError(f"{source}: motion.duration: {dur / dt:.3g} samples of {dt:g} s "
                              f"exceed {MAX_OUTPUTS:.0e}; expected a shorter record or a "

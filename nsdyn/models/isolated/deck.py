@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import number, output_times, rel_tol
+from nsdyn._checks import number, output_step, output_times, rel_tol
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
@@ -416,11 +416,8 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
         t_end = run_end(t_end, dur)
         if dt_out is None:
             dt_out = gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (50.0 * gp[kp.GP_F])
-        elif not (math.isfinite(dt_out) and 0 < dt_out <= t_end):
-            raise ValueError(
-                f"dt_out: expected a positive output step no longer than the run "
-                f"({t_end:g} s), got {dt_out!r}"
-            )
+        else:
+            output_step(dt_out, t_end, off=False)
         t0 = gp[kp.GP_T0] * (gk == kp.G_TABLE)
         t_eval = output_times(t0, t0 + t_end, dt_out)  # (t_end the last output)
     t_eval = np.ascontiguousarray(t_eval, dtype=float)

@@ -44,7 +44,7 @@ def cfg():
         # a simulated earthquake's grid (tracebacks, or an array of 1e11 samples, before)
         ("motion", "dt", 50.0, r"motion.dt: expected a step of at most half the duration"),
         # the noise's ordinates every 0.05 s sampled at 0.1 s: a traceback naming dt_ord
-        ("motion", "dt", 0.1, r"motion.dt: expected at most the noise's ordinate step 0.05 s"),
+        ("motion", "dt", 0.1, r"motion.dt: expected a step of at most the noise.s ordinate step"),
         ("motion", "duration", 1e9, r"motion.duration: 1e\+11 samples of 0.01 s exceed 1e\+07"),
         ("motion", "t_end", 1e9, r"motion.t_end: 1e\+11 samples of 0.01 s exceed 1e\+07"),
     ],
