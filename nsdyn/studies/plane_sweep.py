@@ -30,7 +30,7 @@ import numpy as np
 
 from nsdyn._progress import time_left
 from nsdyn.atomic import atomic_open, differing
-from nsdyn.models.scenefile import SceneError
+from nsdyn.models.scenefile import SceneError, number
 from nsdyn.studies.sweep import (
     CHECKPOINT_EVERY_S,
     CheckpointMismatch,
@@ -113,7 +113,9 @@ def plane_scene(cfg: dict, source: str) -> dict:
         key = "vertical_frequency" if "f_z" in str(e) else "amplitude"
         raise SceneError(f"{source}: motion.{key}: {e}") from None
     name = cfg.get("scene", {}).get("name", Path(source).stem)
-    keep = {k: solver[k] for k in ("law", "eps", "eta")}
+    given = cfg.get("solver", {})  # (--friction may take the law whose keys the run drops)
+    keep = {"law": solver["law"], **{k: number(source, f"solver.{k}", given.get(k, solver[k]))
+                                     for k in ("eps", "eta")}}  # fmt: skip
     return {"kind": kind, "system": system, "orbit": orbit, "solver": keep, "name": name,
             "sweep": sweep}  # fmt: skip
 
@@ -150,8 +152,11 @@ def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweep
 
     t0 = time.perf_counter()
     sc = plane_scene(cfg, source)
-    pb = plane_problem(sc["system"], sc["orbit"], amplitude=amplitude, **{**sc["solver"],
-                       "law": settings.law})  # fmt: skip
+    from nsdyn.models.isolated.friction import LAW_KEYS
+
+    law = settings.law  # (the keys of the law --friction may have replaced: not read)
+    kw = {k: v for k, v in sc["solver"].items() if LAW_KEYS.get(k, (law,))[0] == law}
+    pb = plane_problem(sc["system"], sc["orbit"], amplitude=amplitude, **{**kw, "law": law})
     ident = _identity(cfg, amplitude, settings)
     ckpt = checkpoint_path(Path(out_dir), amplitude)
     start = None if restart else _load(ckpt, ident)

@@ -350,6 +350,23 @@ def positive_params(**values) -> None:
             number(k, v, "a positive number", lambda x: x > 0)
 
 
+def law_params(law: str, **values) -> None:
+    """:func:`positive_params`, and an InputWarning naming each of eps, eta and kappa given
+    away from its default when ``law`` does not read it (a run would drop it without a word;
+    a scene notes it and passes the default)."""
+    import warnings
+
+    from nsdyn._checks import InputWarning
+    from nsdyn.models.isolated.friction import LAW_KEYS, unread_law_keys
+
+    positive_params(**values)
+    law_keys = {k: values[k] for k in ("eps", "eta", "kappa") if k in values}
+    for k in unread_law_keys(law, **law_keys):
+        own, what = LAW_KEYS[k]
+        warnings.warn(f"{k} = {values[k]!r} not used: {what}; this run's law is {law!r}",
+                      InputWarning, stacklevel=4)  # fmt: skip
+
+
 def kernel_params(
     system: PlaneSystem, law: str, eps: float, eta: float, kappa: float | None,
     contact: str = "detect",
@@ -358,7 +375,7 @@ def kernel_params(
     code = contact_code(contact)
     if law not in PLANE_LAWS:
         raise ValueError(f"law: expected one of {list(PLANE_LAWS)}, got {law!r}")
-    positive_params(eps=eps, eta=eta, kappa=kappa)
+    law_params(law, eps=eps, eta=eta, kappa=kappa)
     sp = np.zeros(kp.N_SP)
     sp[kp.S_M] = system.m
     sp[kp.S_EX], sp[kp.S_EY] = (float(e) for e in system.ecc)

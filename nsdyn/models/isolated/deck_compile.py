@@ -33,9 +33,10 @@ def tiny_args() -> tuple:
     from nsdyn.models.isolated import _kplanerun as kr
     from nsdyn.models.isolated.bearings import Bearing, Friction
     from nsdyn.models.isolated.deck import kernel_params, pack_ground, sdof_plane
+    from nsdyn.models.isolated.defaults import EPS, ETA
 
     system = sdof_plane(1.0e5, Bearing(Friction(0.05), radius=2.0))
-    M, pos, bp, nd, sp = kernel_params(system, "switch", 1.0e4, 1.0e-4, None)
+    M, pos, bp, nd, sp = kernel_params(system, "switch", EPS, ETA, None)
     gk, gp, tab, _ = pack_ground({"f": 1.0, "ax": 1.0})
     ni, n = 1, 6
     modes, dirs = np.full(ni, kp.MODE_SLIP, dtype=np.int64), np.zeros((ni, 2))

@@ -54,7 +54,7 @@ from nsdyn.models.isolated.deck import (
     simulate_plane,
 )
 from nsdyn.models.isolated.defaults import EPS, ETA
-from nsdyn.models.isolated.friction import coarse_law_note
+from nsdyn.models.isolated.friction import LAW_KEYS, coarse_law_note
 from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number, rel_tol
 
 TABLES = {
@@ -165,8 +165,6 @@ def unused_law_keys(cfg: dict) -> list[tuple[str, str]]:
     (:func:`scene_law`): ``solver.eps`` beside the switch law, ``solver.eta`` and the bearing's
     static friction (``mu_static``) beside the arctan law, which has no stick. A run notes
     them; ``nsdyn sweep --friction`` may still read ``eps`` and ``eta``."""
-    from nsdyn.models.isolated.friction import LAW_KEYS
-
     law, solver = scene_law(cfg), cfg.get("solver", {})
     bearing = cfg.get("bearing") if isinstance(cfg.get("bearing"), dict) else {}
     out = [(f"solver.{k}", f"{what}; this run's law is {law!r} (nsdyn sweep --friction {own} "
@@ -209,7 +207,8 @@ def build_solver(cfg: dict, source: str, unilateral: bool = False) -> dict:
                          f"'tfp') runs with the regularised law 'arctan', got {law!r}")  # fmt: skip
     kw = {"law": law}
     for key, default in (("eps", EPS), ("eta", ETA)):
-        kw[key] = number(source, f"solver.{key}", t.get(key, default))
+        value = number(source, f"solver.{key}", t.get(key, default))
+        kw[key] = value if LAW_KEYS[key][0] == law else default  # (noted, not read)
     kw["rtol"] = rel_tol(source, "solver.rtol", t.get("rtol", RTOL))
     if "atol" in t:  # one number for both, or the (displacement, velocity) pair
         a = t["atol"]

@@ -67,6 +67,14 @@ def sticks(v, law: str, eps: float = EPS, eta: float = ETA, modes=None) -> np.nd
     return s
 
 
+def unread_law_keys(law: str, eps: float = EPS, eta: float = ETA, kappa=None) -> list[str]:
+    """The keys of :data:`LAW_KEYS` given away from their defaults (``kappa``: given at all)
+    that ``law`` does not read: the arctan law has no stick band nor stick stabilisation, the
+    switch law no sharpness."""
+    given = {"eps": eps != EPS, "eta": eta != ETA, "kappa": kappa is not None}
+    return [k for k, (own, _) in LAW_KEYS.items() if given[k] and own != law]
+
+
 def coarse_law_note(law: str, eps: float = EPS, eta: float = ETA, where: str = "solver") -> str:
     """One line when the law's parameter blurs the friction it models, else "": the switch
     law's stick band ``eta`` above :data:`ETA_COARSE` (a "stuck" isolator creeps at up to

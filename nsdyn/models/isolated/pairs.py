@@ -55,8 +55,8 @@ from nsdyn.models.isolated.deck import (
     PLANE_LAWS,
     _check_run_options,
     contact_code,
+    law_params,
     pack_ground,
-    positive_params,
     run_buffers,
     run_grid,
 )
@@ -456,7 +456,7 @@ def _kernel_inputs(system: PairSystem, law: str, eps, eta, kappa, alpha, beta,
         )
     if law not in PLANE_LAWS:
         raise ValueError(f"law: expected one of {list(PLANE_LAWS)}, got {law!r}")
-    positive_params(eps=eps, eta=eta, alpha=alpha, beta=beta, kappa=kappa)
+    law_params(law, eps=eps, eta=eta, alpha=alpha, beta=beta, kappa=kappa)
     sp = np.zeros(kq.N_SP)
     sp[kq.S_G] = system.g
     sp[kq.S_ALPHA], sp[kq.S_BETA] = alpha, beta

@@ -127,7 +127,7 @@ def test_symmetric_deck_moves_as_the_single_mass(law):
     t, rec = _record(vert=False)
     # (a small stick band: the two may enter stick at different points of the band |v| <= eta,
     # a slip of up to eta / kappa apart per stick phase)
-    kw = dict(law=law, rtol=1e-9, atol=(1e-11, 1e-11), eta=1e-9)
+    kw = dict(law=law, rtol=1e-9, atol=(1e-11, 1e-11), **({"eta": 1e-9} if law == "switch" else {}))
     d = simulate_plane(rigid_deck(m, m * 9.0, POS[:4], b, g=G), rec, **kw)
     from nsdyn.models.isolated.deck import sdof_plane
 
@@ -310,3 +310,23 @@ def test_a_record_starting_before_minus_one_second_is_the_same_run_shifted(law):
     # integration's relative tolerance (1e-6 of the slip), not bitwise
     scale = np.abs(base.u).max()
     assert scale > 1e-3 and np.abs(early.u - base.u).max() <= 1e-6 * scale
+
+
+@pytest.mark.parametrize(
+    ("law", "given", "named"),
+    [("arctan", {"eta": 1e-4}, "eta"), ("arctan", {"kappa": 3.0}, "kappa"),
+     ("switch", {"eps": 1e3}, "eps")],
+)  # fmt: skip
+def test_a_key_the_runs_law_does_not_read_is_a_warning_naming_it(law, given, named):
+    # the arctan law has no stick band nor stick stabilisation, the switch law no sharpness:
+    # a value given for the other law changes nothing, so the call says so
+    from nsdyn._checks import InputWarning
+    from nsdyn.models.isolated.deck import sdof_plane
+
+    s = sdof_plane(1.0e5, Bearing(Friction(0.06), radius=2.0))
+    with pytest.warns(InputWarning, match=rf"^{named} = .* not used: .*law is '{law}'"):
+        simulate_plane(s, {"f": 1.0, "ax": 1.0}, t_end=0.2, law=law, **given)
+    with warnings.catch_warnings():  # the law's own keys: no word
+        warnings.simplefilter("error", InputWarning)
+        own = {"eps": 1e3} if law == "arctan" else {"eta": 1e-4}
+        simulate_plane(s, {"f": 1.0, "ax": 1.0}, t_end=0.2, law=law, **own)

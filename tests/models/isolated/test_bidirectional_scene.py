@@ -16,6 +16,7 @@ import pytest
 
 from nsdyn.models.isolated import deck_scene as ds
 from nsdyn.models.isolated.deck import simulate_plane
+from nsdyn.models.isolated.defaults import EPS
 from nsdyn.models.scenefile import SceneError
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -167,4 +168,11 @@ def test_a_deck_run_prints_the_unread_law_keys(tmp_path, capsys):
     scene = tmp_path / "s.toml"
     scene.write_text(text.replace('law = "switch"', 'law = "switch"\neps = 100.0'))
     assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 0
-    assert "deck: note: solver.eps not used: the arctan law's sharpness" in capsys.readouterr().err
+    err = capsys.readouterr().err  # noted once, the run given the default (no warning too)
+    assert err.count("deck: note: solver.eps not used: the arctan law's sharpness") == 1
+    assert "eps = 100 not used" not in err and "eps = 100.0 not used" not in err
+    cfg = tomllib.loads(scene.read_text())  # a sweep's --friction arctan reads the scene's eps
+    assert ds.build_solver(cfg, "s.toml")["eps"] == EPS
+    from nsdyn.studies.plane_sweep import plane_scene
+
+    assert plane_scene(cfg, "s.toml")["solver"]["eps"] == 100.0

@@ -377,9 +377,10 @@ def test_a_state_without_the_internal_slips_is_refused_by_the_kernel():
     # callers that build [q, q̇] alone (six states) for a system with triple pendulums get a
     # status, not a read past the state vector
     from nsdyn.models.isolated.deck import kernel_params
+    from nsdyn.models.isolated.defaults import ETA
 
     s = sdof_plane(1000.0, TripleBearing(**TYPICAL))
-    M, pos, bp, nd, sp = kernel_params(s, "arctan", 7500.0, 1e-3, None)
+    M, pos, bp, nd, sp = kernel_params(s, "arctan", 7500.0, ETA, None)
     ws = kp.workspace(1)
     out = (np.zeros(3), np.zeros(1), np.zeros((1, 2)), np.zeros((1, 2)), np.zeros((1, 2)))
     args = (np.ones(1, dtype=np.int64), np.zeros((1, 2)), M, pos, bp, nd, sp, kp.G_HARMONIC,
