@@ -53,9 +53,9 @@ def configure(p: argparse.ArgumentParser) -> None:
         type=_amplitude_list,
         default=None,
         metavar="A1,A2,...",
-        help=f"excitation amplitudes A_hor [m/s^2] (default {DEFAULT_AMPLITUDES}; deck "
-        "scenes: the orbit's amplitude, its shape kept; a scene's harmonic [force]: its "
-        "amplitude [N])",
+        help=f"excitation amplitudes A_hor [m/s^2], at most 1000 (default "
+        f"{DEFAULT_AMPLITUDES}; deck scenes: the orbit's amplitude, its shape kept; a scene's "
+        "harmonic [force]: its amplitude [N])",
     )
     p.add_argument("--fmin", type=forcing_frequency, default=None, metavar="HZ",
                    help="lowest forcing frequency; default 0.01 (deck scenes: f0/4, f0 the "
@@ -125,6 +125,16 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--restart", action="store_true", help="ignore checkpoints, start afresh")
     p.add_argument("--no-figures", action="store_true", help="skip the PNG")
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
+
+
+def _beyond(amplitudes, where: str) -> str | None:
+    """The refusal of ground acceleration amplitudes above A_HIGHEST (100 g), or None."""
+    from nsdyn.periodic.protocol import A_HIGHEST
+
+    if big := [a for a in amplitudes if not a <= A_HIGHEST]:
+        return (f"{where}: expected ground acceleration amplitudes <= {A_HIGHEST:g} m/s² "
+                f"(100 g), got {big[0]:g}")  # fmt: skip
+    return None
 
 
 def _holes(amplitudes: list[dict], path) -> int:
@@ -227,6 +237,7 @@ def run(args: argparse.Namespace) -> int:
     force = cfg.get("force", {})
     mo = cfg.get("motion", {}) if cfg.get("motion", {}).get("kind") == "harmonic" else {}
     table = "force" if "amplitude" in force else "motion" if "amplitude" in mo else None
+    where = "--amplitudes" if args.amplitudes else f"{args.scene}: {table}.amplitude"
     if not args.amplitudes and table:  # a harmonic scene: its amplitude [N or m/s²]
         amp = number(str(args.scene), f"{table}.amplitude", (force or mo)["amplitude"],
                      positive=False)  # fmt: skip
@@ -241,6 +252,8 @@ def run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     args.amplitudes = args.amplitudes or _amplitude_list(DEFAULT_AMPLITUDES)
+    if table != "force" and (why := _beyond(args.amplitudes, where)):
+        return fail(args, why)
     friction = args.friction or cfg.get("isolation", {}).get("law", "arctan")
     if args.friction:  # the flag wins over the scene's law (its eps and the rest kept)
         cfg.setdefault("isolation", {})["law"] = args.friction
@@ -435,6 +448,10 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     from nsdyn.periodic.plane import orbit_shape
 
     amplitudes = args.amplitudes or sw.get("amplitudes") or [orbit_shape(sc["orbit"])[0]]
+    where = ("--amplitudes" if args.amplitudes else f"{source}: sweep.amplitudes"
+             if sw.get("amplitudes") else f"{source}: motion.amplitude")  # fmt: skip
+    if why := _beyond(amplitudes, where):
+        return fail(args, why)
     if len(set(amplitudes)) < len(amplitudes):  # (each computed twice, the rows doubled)
         return fail(args, f"{source}: sweep.amplitudes: expected distinct amplitudes, got "
                     f"{list(amplitudes)}")  # fmt: skip

@@ -66,7 +66,14 @@ from nsdyn.periodic.bifurcation import STABLE_MARGIN
 from nsdyn.periodic.continuation import continue_range
 from nsdyn.periodic.curve import Curve
 from nsdyn.periodic.discretisation import Discretisation
-from nsdyn.periodic.protocol import STATUS_MESSAGES, STATUS_OK, PeriodMap, check_frequency
+from nsdyn.periodic.protocol import (
+    A_HIGHEST,
+    STATUS_MESSAGES,
+    STATUS_OK,
+    PeriodMap,
+    check_amplitude,
+    check_frequency,
+)
 from nsdyn.periodic.shooting import _weights, orbit_amplitudes
 
 RTOL = 1e-10  # the period map's relative tolerance
@@ -127,14 +134,8 @@ def orbit_shape(orbit) -> tuple[float, tuple]:
         raise ValueError(f"orbit.f: expected a frequency > 0 [Hz], got {f!r}")
     ax, ay, az = get("ax"), get("ay"), get("az")
     phy = math.radians(get("phase_y_deg"))
-    A = math.sqrt(
-        0.5
-        * (
-            ax * ax
-            + ay * ay
-            + abs(ax * ax + ay * ay * complex(math.cos(2 * phy), math.sin(2 * phy)))
-        )
-    )
+    e2 = complex(math.cos(2 * phy), math.sin(2 * phy))
+    A = math.sqrt(0.5 * (ax * ax + ay * ay + abs(ax * ax + ay * ay * e2)))
     if not (math.isfinite(A) and A > 0 and ax >= 0 and ay >= 0 and az >= 0):
         raise ValueError(f"orbit: expected horizontal amplitudes >= 0, not both zero, got "
                          f"{ax!r}, {ay!r}")  # fmt: skip
@@ -170,9 +171,7 @@ class PlaneProblem:
         if not (math.isfinite(rtol) and RTOL_MIN <= rtol < 1e-3):
             raise ValueError(f"rtol: expected a number in [{RTOL_MIN:.2g}, 1e-3), got {rtol!r}")
         self.system, self.law, self.eps, self.eta = system, law, float(eps), float(eta)
-        self.amplitude = float(amplitude)
-        if not (math.isfinite(self.amplitude) and self.amplitude >= 0):
-            raise ValueError(f"amplitude: expected a finite number >= 0 [m/s²], got {amplitude!r}")
+        self.amplitude = check_amplitude(amplitude, highest=A_HIGHEST)  # [m/s²]
         self.shape = tuple(float(s) for s in shape)
         self.params = kernel_params(system, law, self.eps, self.eta, None)
         self.loop = krad.integrate if law == "arctan" else kr.integrate

@@ -36,7 +36,13 @@ from nsdyn.periodic import _kperiodic as kp
 from nsdyn.periodic import _kproblems as kq
 from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.extrema import dense_half_range
-from nsdyn.periodic.protocol import MinimalStates, PeriodMap, check_amplitude, check_frequency
+from nsdyn.periodic.protocol import (
+    A_HIGHEST,
+    MinimalStates,
+    PeriodMap,
+    check_amplitude,
+    check_frequency,
+)
 
 DUFFING_W = 4  # index of the forcing circular frequency w in pf = [zeta, w0, gamma, F, w]
 # the uplift probe (SciPy's Radau on the minimal coordinates): its tolerances (a verdict and
@@ -319,11 +325,14 @@ def uplift_probe(
     try:
         if normal(0.0, x0) <= 0.0:
             return True, f"{where}: uplift at t = 0 s"
-        sol = solve_ivp(rhs, (0.0, periods / f), x0, method="Radau", jac=jac, events=normal,
-                        rtol=PROBE_RTOL, atol=PROBE_ATOL,
-                        max_step=1.0 / (PROBE_STEPS * f))  # fmt: skip
+        with np.errstate(all="ignore"):  # (an overflow is the failure said below)
+            sol = solve_ivp(rhs, (0.0, periods / f), x0, method="Radau", jac=jac,
+                            events=normal, rtol=PROBE_RTOL, atol=PROBE_ATOL,
+                            max_step=1.0 / (PROBE_STEPS * f))  # fmt: skip
     except _ProbeFailed as e:
         return None, f"{where} failed at t = {e.t:.4g} s: {e.reason}"
+    except ValueError as e:  # Radau's factorisation of an overflowed Jacobian
+        return None, f"{where} failed: the state or its Jacobian overflowed ({e})"
     if sol.t_events[0].size:
         return True, f"{where}: uplift at t = {sol.t_events[0][0]:.6g} s"
     if sol.status != 0:
@@ -373,7 +382,7 @@ def frame_problem(
     ``amplitude`` is finite and >= 0 (ValueError otherwise); the isolator parameters were
     checked when ``system.isolation`` was built.
     """
-    amplitude = check_amplitude(amplitude)
+    amplitude = check_amplitude(amplitude, highest=A_HIGHEST if load is None else math.inf)
     if system.isolation is None:
         raise ValueError("shooting needs an isolated model; the fixed base is linear (use FRFs)")
     law = law or system.isolation.law

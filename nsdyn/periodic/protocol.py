@@ -80,14 +80,21 @@ def check_frequency(f, name: str = "f") -> float:
     return v
 
 
-def check_amplitude(a, name: str = "amplitude") -> float:
-    """``a`` as a float if it is a finite forcing amplitude >= 0, else a ValueError."""
+# the largest ground acceleration amplitude a periodic solve takes [m/s²]: 100 g, far above
+# any earthquake's (at 1e300 m/s² a sweep's probe overflowed into a traceback)
+A_HIGHEST = 1e3
+
+
+def check_amplitude(a, name: str = "amplitude", highest: float = math.inf) -> float:
+    """``a`` as a float if it is a finite forcing amplitude in [0, ``highest``] (a ground
+    acceleration: :data:`A_HIGHEST`), else a ValueError naming ``name``."""
     try:
         v = float(a)
     except (TypeError, ValueError):
         v = math.nan
-    if not (math.isfinite(v) and v >= 0):
-        raise ValueError(f"{name}: expected a finite forcing amplitude >= 0, got {a!r}")
+    if not (math.isfinite(v) and 0 <= v <= highest):
+        top = f" and <= {highest:g} m/s² (100 g)" if highest == A_HIGHEST else ""
+        raise ValueError(f"{name}: expected a finite forcing amplitude >= 0{top}, got {a!r}")
     return v
 
 

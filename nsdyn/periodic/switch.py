@@ -40,6 +40,7 @@ from nsdyn.periodic import _kswitch as kw
 from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.extrema import dense_half_range
 from nsdyn.periodic.protocol import (
+    A_HIGHEST,
     STATUS_MESSAGES,
     MinimalStates,
     PeriodMap,
@@ -445,8 +446,9 @@ def switch_problem(system, amplitude: float, *, load: HarmonicForce | None = Non
     """The isolated ``system`` with the switch model (true stick) under
     ``u''_hor = amplitude sin(2 pi f t)``, or under the force ``amplitude sin(2 pi f t +
     phase)`` on ``load``'s dofs. Any isolated system: a frame model, a shear building, a system
-    from matrices (frozen normal forces or contacts); ``amplitude`` finite and >= 0."""
-    amplitude = check_amplitude(amplitude)
+    from matrices (frozen normal forces or contacts); ``amplitude`` finite and >= 0 (a ground
+    acceleration at most A_HIGHEST)."""
+    amplitude = check_amplitude(amplitude, highest=A_HIGHEST if load is None else math.inf)
     if system.isolation is None:
         raise ValueError("shooting needs an isolated model; the fixed base is linear (use FRFs)")
     if load is not None and not isinstance(load, HarmonicForce):

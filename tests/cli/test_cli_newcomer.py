@@ -373,6 +373,11 @@ def _scene(name: str) -> str:
         (["spectrum", "rocking-seed001-cask.toml", "--wmax", "1e300"],
          ["--wmax: expected a ratio omega_p / p of at most 1000"]),
         (["export", "opensees", "portal-3d", "--modes", "1000"], ["--modes: expected at most 200"]),
+        # a traceback from the uplift probe's overflow (frame); every point failed (deck)
+        (["sweep", "--amplitudes", "1e300", "--points", "2"],
+         ["--amplitudes: expected ground acceleration amplitudes <= 1000 m/s² (100 g)"]),
+        (["sweep", "sdof-bidirectional-sweep.toml", "--amplitudes", "1,2000", "--points", "2"],
+         ["--amplitudes: expected ground acceleration amplitudes <= 1000", "got 2000"]),
     ],
 )  # fmt: skip
 def test_more_inputs_that_cannot_apply_are_refused(tmp_path, argv, needles, one_line):

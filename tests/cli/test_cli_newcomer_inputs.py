@@ -743,3 +743,6 @@ def test_sweep_flags_and_tables_that_would_repeat_or_do_nothing_are_refused(tmp_
     dup.write_text(deck.replace("amplitudes = [0.981]", "amplitudes = [1.0, 1.0]"))
     assert main(["sweep", str(dup), "--points", "2", "--out", out]) == 2
     one_line("sweep.amplitudes: expected distinct amplitudes, got [1.0, 1.0]")
+    dup.write_text(deck.replace("amplitudes = [0.981]", "amplitudes = [1.0, 1.0e300]"))
+    assert main(["sweep", str(dup), "--points", "2", "--out", out]) == 2
+    one_line("sweep.amplitudes: expected ground acceleration amplitudes <= 1000 m/s²")

@@ -94,6 +94,30 @@ def test_problem_constructors_reject_a_bad_amplitude(amplitude):
         pr.duffing_problem(0.05, 0.0, 0.1, 1.0)
 
 
+def test_a_ground_acceleration_above_100_g_is_refused_a_force_is_not_capped():
+    # 1e300 m/s² overflowed a sweep's uplift probe into a traceback; a force's amplitude [N]
+    # has no such scale (a building's harmonic load is 1e6 N and more)
+    from nsdyn.models.isolated.bearings import Bearing, Friction
+    from nsdyn.models.isolated.deck import sdof_plane
+    from nsdyn.periodic.plane import plane_problem
+    from nsdyn.periodic.protocol import A_HIGHEST
+
+    big = 1.01 * A_HIGHEST
+    match = r"^amplitude: expected a finite forcing amplitude >= 0 and <= 1000 m/s²"
+    with pytest.raises(ValueError, match=match):
+        pr.frame_problem(_oscillator("arctan"), big)
+    with pytest.raises(ValueError, match=match):
+        switch_problem(_oscillator(), big)
+    deck = sdof_plane(1.0e5, Bearing(Friction(0.05), radius=2.0))
+    with pytest.raises(ValueError, match=match):
+        plane_problem(deck, {"f": 1.0, "ax": 1.0}, amplitude=big)
+    pr.frame_problem(_oscillator("arctan"), A_HIGHEST)  # the bound itself is taken
+    from nsdyn.ground.excitation import HarmonicForce
+
+    load = HarmonicForce(F=1.0, f=1.0, dofs=(0,))
+    assert switch_problem(_oscillator(), 1e7, load=load).amplitude == 1e7
+
+
 @pytest.mark.parametrize(
     "options, message",
     [
