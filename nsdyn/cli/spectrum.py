@@ -97,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
     stem = f"spectrum-{Path(src).stem}-{args.shape}"
     buf = io.StringIO()
     w = csv.writer(buf)
-    w.writerow(["omega_ratio", "a_min_ratio", "mode", "safe_lo_ratio", "safe_hi_ratio", "status"])
+    w.writerow(sp.COLUMNS)
     for *row, word in zip(sp.omega_ratio, sp.a_min_ratio, sp.mode, sp.safe_lo_ratio,
                           sp.safe_hi_ratio, sp.status, strict=True):  # fmt: skip
         w.writerow([repr(float(v)) if not isinstance(v, np.integer) else int(v) for v in row]
@@ -105,24 +105,9 @@ def run(args: argparse.Namespace) -> int:
     csv_path = out / f"{stem}.csv"
     with atomic_open(csv_path, "w") as fh:
         fh.write(buf.getvalue())
-    report = {
-        "scene": src,
-        "shape": args.shape,
-        "alpha_rad": sp.alpha,
-        "p_per_s": sp.p,  # (the frequency parameter p [1/s], as every summary names it)
-        "n_runs": sp.n_runs,
-        "wall_s": sp.wall_s,
-        "compile_s": compile_s,
-        "csv": str(csv_path),
-        "omega_ratio": sp.omega_ratio.tolist(),
-        "a_min_ratio": [None if math.isnan(v) else float(v) for v in sp.a_min_ratio],
-        "mode": sp.mode.tolist(),
-        "safe_lo_ratio": [None if math.isnan(v) else float(v) for v in sp.safe_lo_ratio],
-        "safe_hi_ratio": [None if math.isnan(v) else float(v) for v in sp.safe_hi_ratio],
-        "status": list(sp.status),
-        "search": {"a_max_ratio": sp.a_max, "scan": sp.scan, "rtol": sp.rtol, "tol": tol},
-        "notes": notes,
-    }
+    report = {"scene": src, **sp.summary(), "compile_s": compile_s, "csv": str(csv_path),
+              "notes": notes}  # fmt: skip
+    report["search"]["tol"] = tol
     if not args.no_figures:
         from nsdyn.models.rocking.figures import spectrum_figure
 

@@ -163,6 +163,8 @@ def test_rigid_body_runs_refuse_outputs_and_starts_they_cannot_give():
             nsdyn.simulate_event(body, law, mo, t_end=5.0, rtol=rtol)
     with pytest.raises(TypeError, match="BaseMotion.from_motion"):
         nsdyn.simulate_event(body, law, nsdyn.read_motion("synthetic-wn-40s"), t_end=1.0)
+    with pytest.raises(TypeError, match="^motion: expected a GroundMotion, Table or Harmonic"):
+        nsdyn.BaseMotion.from_motion("synthetic-wn-40s")  # (a name, not a record: the wrong kind)
     # the rectangle lies on its side at theta_ov = pi/2: a start there is overturned already
     with pytest.raises(ValueError, match="theta0: a tilt of 2 rad lays the body on its side"):
         nsdyn.simulate_event(body, law, None, t_end=1.0, theta0=2.0)

@@ -82,7 +82,7 @@ class BaseMotion:
             if motion.A_ver:
                 raise ValueError("motion: a vertical harmonic is not supported by contact models")
             return cls.sine_acceleration(motion.A_hor, 2 * math.pi * motion.f_hor)
-        raise ValueError(f"motion: expected a GroundMotion, Table or Harmonic, got "
+        raise TypeError(f"motion: expected a GroundMotion, Table or Harmonic, got "
                          f"{type(motion).__name__}")  # fmt: skip
 
     @classmethod

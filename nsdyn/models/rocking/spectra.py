@@ -91,6 +91,37 @@ class OverturningSpectrum:
     scan: float = SCAN
     rtol: float = RTOL
 
+    COLUMNS = ("omega_ratio", "a_min_ratio", "mode", "safe_lo_ratio", "safe_hi_ratio", "status")
+
+    def summary(self) -> dict:
+        """The spectrum as plain values (NaN as None; what ``nsdyn spectrum --json`` prints):
+        the block's ``alpha_rad`` and ``p_per_s``, the pulse ``shape``, ``n_runs``, ``wall_s``,
+        one list per column of :attr:`COLUMNS` and the ``search`` (a_max ratio, scan, rtol)."""
+
+        def plain(a):
+            return [None if math.isnan(v) else float(v) for v in a]
+
+        return {"shape": self.shape, "alpha_rad": self.alpha, "p_per_s": self.p,
+                "n_runs": self.n_runs, "wall_s": self.wall_s,
+                "omega_ratio": self.omega_ratio.tolist(), "a_min_ratio": plain(self.a_min_ratio),
+                "mode": self.mode.tolist(), "safe_lo_ratio": plain(self.safe_lo_ratio),
+                "safe_hi_ratio": plain(self.safe_hi_ratio), "status": list(self.status or []),
+                "search": {"a_max_ratio": self.a_max, "scan": self.scan,
+                           "rtol": self.rtol}}  # fmt: skip
+
+    def to_dataframe(self):
+        """A pandas DataFrame, one row per frequency indexed by ``omega_ratio``, the columns of
+        :attr:`COLUMNS` (NaN kept, the arrays copied), ``df.attrs`` the summary's scalars
+        (needs the ``frames`` extra)."""
+        from nsdyn._tabular import _need
+
+        pd = _need("pandas")
+        cols = {k: np.array(getattr(self, k)) for k in self.COLUMNS[1:]}
+        cols["status"] = list(self.status or [])
+        df = pd.DataFrame(cols, index=pd.Index(self.omega_ratio.copy(), name="omega_ratio"))
+        df.attrs.update({k: v for k, v in self.summary().items() if not isinstance(v, list)})
+        return df
+
 
 def _overturns(model, shape, w, a, tol):
     """(overturned, n_impacts before overturning) under the pulse of amplitude a [m/s²]."""

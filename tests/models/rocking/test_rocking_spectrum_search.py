@@ -55,6 +55,14 @@ def test_status_words_say_what_a_nan_means():
     assert all((s == STATUS[1]) == (np.isfinite(a) and np.isnan(lo))
                for s, a, lo in zip(some.status, some.a_min_ratio, some.safe_lo_ratio,
                                    strict=True))  # fmt: skip
+    # the summary says the NaN as None (JSON), the table keeps the arrays as they are
+    assert none.summary()["a_min_ratio"] == [None]
+    assert none.summary()["status"] == [STATUS[0]]
+    pytest.importorskip("pandas")
+    df = some.to_dataframe()
+    assert list(df.index) == list(some.omega_ratio) and df.index.name == "omega_ratio"
+    np.testing.assert_array_equal(df["a_min_ratio"].to_numpy(), some.a_min_ratio)
+    assert list(df["status"]) == some.status and df.attrs["p_per_s"] == BLOCK.p
 
 
 def test_spectrum_command_reports_the_status(tmp_path, capsys):
