@@ -27,6 +27,7 @@ from functools import partial
 
 import numpy as np
 
+from nsdyn._checks import got_array
 from nsdyn.models.isolated.system import IsolatedSystem, Isolation, _add_isolators
 
 SYMMETRY_RTOL = 1e-10  # |A - A^T| allowed, relative to max |A|
@@ -93,9 +94,8 @@ def _rows(name: str, rows, n: int) -> np.ndarray:
         return np.eye(n)[a]
     a = np.atleast_2d(np.asarray(rows, dtype=float))
     if a.ndim != 2 or a.shape[1] != n or not np.all(np.isfinite(a)):
-        raise MatrixError(
-            f"{name}: expected dof indices or finite rows of length {n}, got shape {a.shape}"
-        )
+        got = got_array(a, (len(a), n))
+        raise MatrixError(f"{name}: expected dof indices or finite rows of length {n}, got {got}")
     return a
 
 
@@ -104,10 +104,9 @@ def _influence(influence, n: int) -> np.ndarray:
     if G.shape == (n,):
         G = np.column_stack([G, np.zeros(n)])
     if G.shape != (n, 2) or not np.all(np.isfinite(G)):
-        raise MatrixError(
-            f"influence: expected {n} finite values (horizontal) or shape ({n}, 2) "
-            f"(horizontal, vertical), got shape {np.shape(influence)}"
-        )
+        got = got_array(influence, (n,) if np.ndim(influence) == 1 else (n, 2))
+        raise MatrixError(f"influence: expected {n} finite values (horizontal) or shape "
+                          f"({n}, 2) (horizontal, vertical), got {got}")  # fmt: skip
     return G
 
 

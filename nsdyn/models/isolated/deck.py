@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import number, output_step, output_times, rel_tol
+from nsdyn._checks import got_array, number, output_step, output_times, rel_tol
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
@@ -86,7 +86,7 @@ class PlaneSystem:
         pos = np.asarray(self.positions, dtype=float)
         if pos.ndim != 2 or pos.shape[1] != 2 or pos.shape[0] < 1 or not np.all(np.isfinite(pos)):
             raise BearingError(f"{self.name}.positions: expected finite (X, Y) pairs [m], "
-                               f"got shape {pos.shape}")  # fmt: skip
+                               f"got {got_array(pos, (len(pos), 2))}")  # fmt: skip
         object.__setattr__(self, "positions", pos)
         _, first, count = np.unique(pos, axis=0, return_index=True, return_counts=True)
         if np.any(count > 1):

@@ -44,6 +44,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from nsdyn._brief import brief_repr
+from nsdyn._checks import got_array, number
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kpairs as kq
 from nsdyn.models.isolated import _kpairsradau as kqa
@@ -528,10 +529,8 @@ def simulate_pairs(
     if law == "arctan" and integrator in ("auto", "radau") and contact != "unilateral":
         loop = kqa.integrate
     gk, gp, tab, dur = pack_ground(ground)
-    if dt_out is not None and not (
-        isinstance(dt_out, int | float) and math.isfinite(dt_out) and dt_out > 0
-    ):
-        raise ValueError(f"dt_out: expected a positive step [s], got {dt_out!r}")
+    if dt_out is not None:
+        number("dt_out", dt_out, "a positive step [s]", lambda v: v > 0)
     t_eval, max_step = run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step)
     n, ni, nt, ns = system.n, system.n_isolators, t_eval.size, system.n_states
     q0, _ = system.static_equilibrium()
@@ -540,8 +539,8 @@ def simulate_pairs(
         y = np.array(y0, dtype=float).ravel()
         if y.shape not in ((2 * n,), (ns,)) or not np.all(np.isfinite(y)):
             extra = f" (or {ns} with the internal slips)" if ns > 2 * n else ""
-            raise ValueError(f"y0: expected {2 * n} finite numbers [q, q̇]{extra}, got shape "
-                             f"{np.shape(y0)}")  # fmt: skip
+            raise ValueError(f"y0: expected {2 * n} finite numbers [q, q̇]{extra}, got "
+                             f"{got_array(y0, (2 * n,), (ns,))}")  # fmt: skip
         y = np.concatenate([y, np.zeros(ns - y.size)])  # (internal slips from rest)
     modes, dirs, cfg, X, NO, FF, FR, FO, MO, EV, stops, info = run_buffers(
         law, eps, rtol, atol, max_step, max_steps, nt, ni, ns

@@ -34,7 +34,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from nsdyn._checks import check_fixed_step, number
+from nsdyn._checks import check_fixed_step, got_array, number
 from nsdyn.models.isolated import _kpairsparse as kz
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplanerun as kr
@@ -202,9 +202,8 @@ def simulate_pairs_sparse(
     if y0 is not None:
         y = np.asarray(y0, dtype=float).ravel()
         if y.shape != (2 * n,) or not np.all(np.isfinite(y)):
-            raise ValueError(
-                f"y0: expected {2 * n} finite numbers [q, q̇], got shape {np.shape(y0)}"
-            )
+            got = got_array(y0, (2 * n,))
+            raise ValueError(f"y0: expected {2 * n} finite numbers [q, q̇], got {got}")
         q, v = y[:n].copy(), y[n:].copy()
     bp = system.bearing_table()
     tw = time.perf_counter()

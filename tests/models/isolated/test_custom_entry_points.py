@@ -170,6 +170,7 @@ BAD = [
     ("NaN", dict(C=[[0.0, np.nan], [np.nan, 0.0]]), r"C: entry \[0, 1\] is nan"),
     ("iso dof out of range", dict(iso_dofs=[2]), "iso_dofs: expected distinct dof indices"),
     ("influence shape", dict(influence=[1.0]), "influence: expected 2 finite values"),
+    ("influence NaN", dict(influence=[1.0, np.nan]), r"influence: .*, got entry 1: nan$"),
     ("no normal force", dict(weight=None), "friction needs normal forces"),
 ]
 

@@ -258,6 +258,8 @@ def test_tension_at_rest_and_bad_run_options_are_refused():
                       ({"eps": -1.0}, "eps: expected a positive"),
                       ({"alpha": 0.0}, "alpha: expected a positive"),
                       ({"y0": np.zeros(5)}, r"y0: expected 6 finite numbers"),
+                      ({"y0": [0, 0, 0, math.nan, 0, 0]}, r"y0: .* got entry 3: nan$"),
+                      ({"dt_out": "0.1"}, r"^dt_out: expected a positive step \[s\], got '0.1'"),
                       ({"rtol": -1e-6}, "rtol: expected a relative tolerance 2.2e-14 <= rtol < 1"),
                       ({"integrator": "radau"}, "integrator: the switch law runs on")):  # fmt: skip
         with pytest.raises(ValueError, match=match):
