@@ -103,8 +103,25 @@ def count(s: str) -> int:
 
 
 def positive_int(s: str) -> int:
-    """An integer of at least 1 (a number of workers, repeats, ...)."""
+    """An integer of at least 1 (a number of repeats, modes, ...)."""
     return _int_at_least(s, 1)
+
+
+WORKERS_PER_CPU = 4  # local processes beyond this many per CPU only wait for one another
+
+
+def workers(s: str) -> int:
+    """A number of local worker processes: an integer from 1 to WORKERS_PER_CPU x the
+    machine's CPUs (a Dask cluster of 1000 local workers ended in a flood of tracebacks)."""
+    import os
+
+    v, top = _int_at_least(s, 1), WORKERS_PER_CPU * (os.cpu_count() or 1)
+    if v > top:
+        raise argparse.ArgumentTypeError(
+            f"expected at most {top} local processes ({WORKERS_PER_CPU} per CPU of this "
+            f"machine's {os.cpu_count() or 1}), got {s!r}"
+        )
+    return v
 
 
 def amplitude_list(s: str) -> list[float]:

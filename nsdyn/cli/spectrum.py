@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.cli.args import count, fraction, out_dir, positive_finite, positive_int
+from nsdyn.cli.args import count, fraction, out_dir, positive_finite, workers
 
 SHAPES = ("sine", "cosine", "ricker", "rect")
 DEFAULT_OUT = "nsdyn-out"
@@ -40,7 +40,7 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--a-max", type=positive_finite, default=None, metavar="RATIO",
                    help="largest amplitude ratio a_p/(g tan α) scanned (default 30); a "
                    "frequency with no overturning up to it reports '> a_max'")  # fmt: skip
-    p.add_argument("--workers", type=positive_int, default=None, metavar="N",
+    p.add_argument("--workers", type=workers, default=None, metavar="N",
                    help="parallel processes")  # fmt: skip
     p.add_argument(
         "--out", type=out_dir, default=DEFAULT_OUT, metavar="DIR", help="output directory"

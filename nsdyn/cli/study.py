@@ -10,7 +10,7 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
-from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, out_dir, positive_int
+from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, out_dir, workers
 
 DEFAULT_OUT = "nsdyn-study"  # output directory (a subdirectory per study name)
 MAX_FAILED_LINES = 10  # failed tasks named one per line on the console (all are in the table)
@@ -30,12 +30,12 @@ def configure(p: argparse.ArgumentParser) -> None:
                        help="Dask scheduler, e.g. tcp://host:8786")  # fmt: skip
     where.add_argument(
         "--dask-local",
-        type=positive_int,
+        type=workers,
         metavar="N",
         help="start a Dask LocalCluster of N workers",
     )
     where.add_argument(
-        "--workers", type=positive_int, metavar="N", help="local process pool size (default: CPUs)"
+        "--workers", type=workers, metavar="N", help="local process pool size (default: CPUs)"
     )
     p.add_argument(
         "--out", type=out_dir, metavar="DIR", help=f"output directory (default {DEFAULT_OUT}/NAME)"

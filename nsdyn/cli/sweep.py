@@ -26,9 +26,9 @@ from nsdyn.cli.args import (
     forcing_frequency,
     holes,
     out_dir,
-    positive_int,
     refinement,
     stale_figures,
+    workers,
 )
 from nsdyn.cli.args import count as _count
 from nsdyn.studies.plane_sweep import KINDS as PLANE_KINDS
@@ -116,9 +116,7 @@ def configure(p: argparse.ArgumentParser) -> None:
         "steady state) or rigid (the building as a deck) for building3d scenes",
     )
     p.add_argument("--no-fallback", action="store_true", help="skip points shooting misses")
-    p.add_argument(
-        "--workers", type=positive_int, default=None, metavar="N", help="parallel processes"
-    )
+    p.add_argument("--workers", type=workers, default=None, metavar="N", help="parallel processes")
     p.add_argument(
         "--out", type=out_dir, default=DEFAULT_OUT, metavar="DIR", help="output directory"
     )

@@ -109,6 +109,13 @@ CLI_ROWS = [
     # study
     ("study-missing", ["study", "nosuch-study.toml"], r"nosuch-study\.toml.*no such"),
     ("study-workers-zero", ["study", "x.toml", "--workers", "0"], r"--workers.*at least 1"),
+    # a local Dask cluster of 1000 workers: a flood of tracebacks (4 per CPU at most)
+    (
+        "study-dask-local-1000",
+        ["study", "x.toml", "--dask-local", "1000"],
+        r"--dask-local: expected at most \d+ local processes \(4 per CPU",
+    ),
+    ("sweep-workers-1000", ["sweep", "--workers", "1000"], r"--workers: expected at most"),
     (
         "study-two-executors",
         ["study", "x.toml", "--workers", "2", "--dask-local", "2"],
