@@ -69,9 +69,9 @@ def configure(p: argparse.ArgumentParser) -> None:
         if name is None:
             from nsdyn._checks import did_you_mean
 
-            hint = did_you_mean(word.replace("_", "-"), list(spelt))
+            hint = did_you_mean(word, names)  # (named as the help names them)
             raise argparse.ArgumentTypeError(
-                f"unknown benchmark {word!r}{hint} (benchmarks: {', '.join(spelt)})"
+                f"unknown benchmark {word!r}{hint} (benchmarks: {', '.join(names)})"
             )
         return name
 
@@ -93,8 +93,9 @@ def configure(p: argparse.ArgumentParser) -> None:
         default=None,
         metavar="N",
         help=f"timed repeats per point, median quoted (default: the benchmark's own, {REPEATS} "
-        "and 1 with --quick for most; speed 5 (3), isolators 5 (2), scale 1; rocking and "
-        "cylinder time a fixed 7 (3) and 5 (3) and take none)",
+        "and 1 with --quick for most; speed 5 (3), its default-run ratio at least 5, "
+        "isolators 5 (2), scale 1). rocking, contact, cylinder, stability and studies take "
+        "none (rocking and cylinder time a fixed 7 (3) and 5 (3))",
     )
     p.add_argument(
         "--records",

@@ -206,7 +206,7 @@ def test_a_run_shorter_than_a_step_names_the_field(scene, says, capsys, tmp_path
         (["modes", "--fmx", "3"], "did you mean '--fmax'?"),
         (["bench", "spd"], "nsdyn bench: error: argument BENCHMARK: unknown benchmark 'spd'; "
                            "did you mean 'speed'? (benchmarks: accuracy, "),
-        (["bench", "switch_shootin"], "did you mean 'switch-shooting'?"),
+        (["bench", "switch_shootin"], "did you mean 'switch_shooting'?"),
     ],
 )  # fmt: skip
 def test_a_mistyped_option_or_benchmark_is_refused_with_the_nearest(argv, says, one_line):
