@@ -239,12 +239,21 @@ def dask_executor(
         raise OSError(DASK_HINT) from None
     cluster = None
     if address is None:
-        cluster = LocalCluster(
-            n_workers=n_local or 1,
-            threads_per_worker=1,
-            processes=processes,
-            dashboard_address=None,
-        )
+        import logging
+        import signal
+        import threading
+
+        # the workers inherit an ignored SIGINT: a Ctrl-C stops this process (which ends the
+        # cluster and says how to resume), not each worker with its own traceback
+        main = threading.current_thread() is threading.main_thread()
+        old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+        try:
+            cluster = LocalCluster(n_workers=n_local or 1, threads_per_worker=1,
+                                   processes=processes, dashboard_address=None,
+                                   silence_logs=logging.ERROR)  # fmt: skip
+        finally:
+            if main:
+                signal.signal(signal.SIGINT, old)
         client = Client(cluster)
     else:
         try:

@@ -372,6 +372,16 @@ def test_record_names_stay_text_in_the_table(tmp_path):
     assert [r["x"] for r in back] == [0.5, 7]
 
 
+def test_a_local_dask_cluster_leaves_a_ctrl_c_to_this_process():
+    # a Ctrl-C reaches the whole process group: each worker printed its own KeyboardInterrupt
+    # traceback; they start with SIGINT ignored, and this process keeps its own handler
+    pytest.importorskip("distributed")
+    before = signal.getsignal(signal.SIGINT)
+    with execute.dask_executor(n_local=1) as ex:
+        assert ex.submit(signal.getsignal, signal.SIGINT).result() == signal.SIG_IGN
+        assert signal.getsignal(signal.SIGINT) is before
+
+
 def test_a_dask_address_that_is_not_one_is_an_oserror_naming_it():
     # the command line turns an OSError into one line, exit 2 (it was a traceback)
     pytest.importorskip("distributed")
