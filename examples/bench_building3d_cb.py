@@ -40,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn.cli.args import positive_int
 from nsdyn.ground import read_motion3
 from nsdyn.models.isolated import _kpairsradau, _kpairsrun
 from nsdyn.models.isolated import _kplane as kp
@@ -252,7 +253,7 @@ def figure(out: dict, path: Path = FIGURE) -> Path:
 
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--repeats", type=int, default=5, help="runs per tolerance (median)")
+    p.add_argument("--repeats", type=positive_int, default=5, help="runs per tolerance (median)")
     p.add_argument("--evidence", action="store_true", help="also the other cb models")
     p.add_argument("--no-figure", action="store_true", help="skip the work-precision chart")
     args = p.parse_args()

@@ -32,6 +32,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from nsdyn.cli.args import positive_finite, positive_int
 from nsdyn.models.isolated.building3d_scene import run_scene
 
 FRAME = """[frame3d]
@@ -112,6 +113,23 @@ def error(s: dict, ref: dict) -> float:
     return max(abs(s[k] - ref[k]) / abs(ref[k]) for k in PEAKS)
 
 
+def sizes_arg(s: str) -> tuple:
+    """``--sizes``: comma-separated ``B:N`` pairs, B bays each way and N elements per member,
+    each an integer >= 1."""
+    form = "comma-separated B:N (B bays each way, N elements per member; integers >= 1)"
+    out = []
+    for z in s.split(","):
+        parts = z.split(":")
+        try:
+            b, n = (int(v) for v in parts)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {form}, got {s!r}") from None
+        if b < 1 or n < 1:
+            raise argparse.ArgumentTypeError(f"expected {form}, got {s!r}")
+        out.append((b, n))
+    return tuple(out)
+
+
 def main(t_end: float = 2.0, repeats: int = 3, sizes=((2, 1), (3, 1), (2, 2))) -> list[dict]:
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -156,9 +174,10 @@ def main(t_end: float = 2.0, repeats: int = 3, sizes=((2, 1), (3, 1), (2, 2))) -
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--t-end", type=float, default=2.0, help="seconds of the record (default 2)")
-    ap.add_argument("--repeats", type=int, default=3, help="runs of each case (default 3)")
-    ap.add_argument("--sizes", default="2:1,3:1,2:2",
-                    help="bays each way : elements per member, comma-separated")  # fmt: skip
+    ap.add_argument("--t-end", type=positive_finite, default=2.0,
+                    help="seconds of the record (default 2)")  # fmt: skip
+    ap.add_argument("--repeats", type=positive_int, default=3, help="runs of each case (default 3)")
+    ap.add_argument("--sizes", type=sizes_arg, default="2:1,3:1,2:2", metavar="B:N,...",
+                    help="B bays each way : N elements per member (2:1,3:1,2:2)")  # fmt: skip
     a = ap.parse_args()
-    main(a.t_end, a.repeats, tuple(tuple(int(v) for v in z.split(":")) for z in a.sizes.split(",")))
+    main(a.t_end, a.repeats, a.sizes)

@@ -21,6 +21,7 @@ import numpy as np
 
 import nsdyn
 from nsdyn.bench.scale import scale_frame
+from nsdyn.cli.args import positive_finite, positive_int
 from nsdyn.ground import read_motion
 from nsdyn.models.isolated.system import build_system
 from nsdyn.solve import fullorder
@@ -66,9 +67,12 @@ def main(t_end: float = 4.0, repeats: int = 5) -> list[dict]:
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--t-end", type=float, default=4.0, help="seconds of the record [4]")
-    ap.add_argument("--repeats", type=int, default=5, help="calls of each path [5]")
+    ap.add_argument("--t-end", type=positive_finite, default=4.0, help="seconds of the record [4]")
+    ap.add_argument("--repeats", type=positive_int, default=5, help="calls of each path [5]")
     a = ap.parse_args()
+    dt = read_motion("synthetic-wn-40s").dt  # a window shorter than a step holds one sample
+    if a.t_end < dt:
+        ap.error(f"--t-end: expected at least one step of the record ({dt:g} s), got {a.t_end:g}")
     head = ("model", "n", "damping", "m", "dense s", "sparse s")
     print("{:14s} {:>5s} {:9s} {:>4s} {:>8s} {:>8s}  rule".format(*head))
     for r in main(a.t_end, a.repeats):

@@ -2,10 +2,11 @@
 
     python examples/bench_figures.py [DIR] [--figures FIG_DIR]
 
-``DIR`` is where ``nsdyn bench`` wrote (default ``nsdyn-out/bench``); the docs' PNGs go to
-``FIG_DIR`` (default ``examples/figures``). No integration is rerun: the accuracy, fidelity,
-speed and periodic charts are redrawn from their CSVs, the stability chart (its drift
-histories are not in a CSV) and the rocking and contact charts are copied, under the names
+``DIR`` is where ``nsdyn bench`` wrote (default ``nsdyn-out/bench``; a missing one is an
+error); the docs' PNGs go to ``FIG_DIR`` (default ``examples/figures``). No integration is
+rerun: the accuracy, fidelity, speed and periodic charts are redrawn from their CSVs, the
+stability chart (its drift histories are not in a CSV) and the rocking and contact charts
+are copied, under the names
 the docs embed (``rocking.png`` as ``rocking-bench.png``, ``contact-map.png`` as
 ``contact-stability.png``). Prints the tables docs/performance.md quotes (speed,
 periodic, fidelity) and the speed ratios at matched accuracy; ``main`` returns them.
@@ -22,6 +23,7 @@ from pathlib import Path
 
 from nsdyn import bench
 from nsdyn.atomic import save_figure
+from nsdyn.cli.args import out_dir
 
 FIGURES = Path(__file__).resolve().parent / "figures"
 # charts copied from the benchmarks' folder, under the names the docs embed
@@ -151,14 +153,17 @@ def main(out_dir: str | Path = bench.DEFAULT_OUT, fig_dir: str | Path = FIGURES)
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("dir", nargs="?", default=str(bench.DEFAULT_OUT))
-    ap.add_argument("--figures", default=str(FIGURES), metavar="FIG_DIR")
+    ap.add_argument("dir", nargs="?", default=str(bench.DEFAULT_OUT),
+                    help=f"the folder nsdyn bench wrote into ({bench.DEFAULT_OUT})")  # fmt: skip
+    ap.add_argument("--figures", type=out_dir, default=str(FIGURES), metavar="FIG_DIR",
+                    help="where the docs' PNGs go (examples/figures)")  # fmt: skip
     a = ap.parse_args()
-    if Path(a.dir).is_dir():
-        res = main(a.dir, a.figures)
-    else:  # a fresh checkout: nothing run yet (the figures in the repository are listed)
-        figs = sorted(Path(a.figures).glob("*.png")) if Path(a.figures).is_dir() else []
-        res = {"figures": [str(f) for f in figs]}
+    if not Path(a.dir).is_dir():  # (a fresh checkout: nothing run yet)
+        why = "not a folder" if Path(a.dir).exists() else "no such folder"
+        ap.error(f"DIR: expected the folder nsdyn bench wrote its tables into, got {a.dir!r} "
+                 f"({why}; run nsdyn bench accuracy, fidelity, speed, periodic or stability "
+                 "into it first)")  # fmt: skip
+    res = main(a.dir, a.figures)
     for path in res.get("copied", []):  # (said: "no tables" alone read as nothing done)
         print(f"copied {path}", file=sys.stderr)
     if not {"ratios", "fidelity", "speed", "periodic"} & set(res):

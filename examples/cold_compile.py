@@ -26,6 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn.cli.args import positive_int
+
 METRICS = {"radau": "metrics", "event": "metrics-general"}
 CODE = (
     "import sys; from nsdyn.solve.methods import warmup_kernel; "
@@ -49,7 +51,9 @@ def main(kernel: str = "event", pairs: int = 2) -> dict:
         raise ValueError(f"kernel: expected one of {sorted(METRICS)}, got {kernel!r}")
     off, on = [], []
     for k in range(pairs):
+        print(f"pair {k + 1}/{pairs}: helper off ...", flush=True)
         off.append(cold_s(kernel, False))
+        print(f"pair {k + 1}/{pairs}: helper on ...", flush=True)
         on.append(cold_s(kernel, True))
         print(f"pair {k + 1}: helper off {off[-1]:.1f} s, on {on[-1]:.1f} s", flush=True)
     res = {"off_s": float(np.median(off)), "on_s": float(np.median(on)), "off": off, "on": on}
@@ -64,6 +68,6 @@ def main(kernel: str = "event", pairs: int = 2) -> dict:
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--kernel", default="event", choices=sorted(METRICS))
-    ap.add_argument("--pairs", type=int, default=2)
+    ap.add_argument("--pairs", type=positive_int, default=2, help="off/on pairs of runs (2)")
     a = ap.parse_args()
     main(a.kernel, a.pairs)

@@ -24,6 +24,7 @@ from pathlib import Path
 
 from nsdyn.bench import scale3d
 from nsdyn.bench.scale import _OS_CHILD, _child
+from nsdyn.cli.args import positive_finite, positive_int
 from nsdyn.models.isolated.pairs_sparse import building_pairs_sparse
 from nsdyn.models.isolated.pairs_sparse_run import simulate_pairs_sparse
 
@@ -66,6 +67,18 @@ def spread(rows: list[dict]) -> dict:
                 max(r[k] for r in rows) / min(r[k] for r in rows) - 1) for k in KEYS}  # fmt: skip
 
 
+def size_arg(s: str) -> tuple:
+    """``--size``: four integers >= 1, bays y, bays x, n_v, n_h."""
+    form = "four integers >= 1, 'bays y,bays x,n_v,n_h' (e.g. 5,1,2,2)"
+    try:
+        v = tuple(int(x) for x in s.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected {form}, got {s!r}") from None
+    if len(v) != 4 or min(v) < 1:
+        raise argparse.ArgumentTypeError(f"expected {form}, got {s!r}")
+    return v
+
+
 def main(runs: int = 5, t_end: float = 4.0, size=(5, 1, 2, 2)) -> dict:
     with tempfile.TemporaryDirectory() as d:
         os_rows = opensees_runs(size, t_end, runs, Path(d))
@@ -89,8 +102,13 @@ def _print(out: dict) -> None:
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--runs", type=int, default=5)
-    ap.add_argument("--t-end", type=float, default=4.0)
-    ap.add_argument("--size", default="5,1,2,2", help="bays y, bays x, n_v, n_h (5,1,2,2)")
+    ap.add_argument("--runs", type=positive_int, default=5, help="runs of each tool, >= 2 (5)")
+    ap.add_argument("--t-end", type=positive_finite, default=4.0, help="seconds of the record (4)")
+    ap.add_argument("--size", type=size_arg, default="5,1,2,2",
+                    help="bays y, bays x, n_v, n_h (5,1,2,2)")  # fmt: skip
     a = ap.parse_args()
-    _print(main(a.runs, a.t_end, tuple(int(v) for v in a.size.split(","))))
+    if a.runs < 2:
+        ap.error(f"--runs: expected at least 2 (a spread needs two runs), got {a.runs}")
+    if a.t_end < scale3d.DT:
+        ap.error(f"--t-end: expected at least one step ({scale3d.DT:g} s), got {a.t_end:g}")
+    _print(main(a.runs, a.t_end, a.size))

@@ -35,8 +35,10 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, save_figure
+from nsdyn.cli.args import out_dir, positive_finite, positive_int
 from nsdyn.models.isolated.scene import load_scene
 from nsdyn.periodic import fixed_base_response
+from nsdyn.periodic.protocol import A_HIGHEST
 from nsdyn.structure import base_isolation_frequency
 from nsdyn.studies.sweep import (
     SweepSettings,
@@ -326,12 +328,24 @@ def _plot(out: dict, path: Path) -> None:
     save_figure(fig, path, dpi=110)
 
 
+def amplitude_arg(s: str) -> float:
+    """``--amplitude``: a ground acceleration [m/s^2] above 0, at most ``A_HIGHEST`` (what the
+    periodic solver takes)."""
+    v = positive_finite(s)
+    if v > A_HIGHEST:
+        raise argparse.ArgumentTypeError(
+            f"expected a ground acceleration of at most {A_HIGHEST:g} m/s^2, got {s!r}"
+        )
+    return v
+
+
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description="seed 004 §6: periodic study (Figs 9-11)")
-    ap.add_argument("out_dir", nargs="?", default="nsdyn-out/seed-periodic")
+    ap.add_argument("out_dir", nargs="?", type=out_dir, default="nsdyn-out/seed-periodic")
     ap.add_argument("--timing", action="store_true", help="time one amplitude's curve only")
-    ap.add_argument("--amplitude", type=float, default=0.5, help="--timing: A [m/s^2]")
-    ap.add_argument("--repeats", type=int, default=3, help="--timing: repeats (median)")
+    ap.add_argument("--amplitude", type=amplitude_arg, default=0.5,
+                    help=f"--timing: A [m/s^2], above 0, at most {A_HIGHEST:g} (0.5)")  # fmt: skip
+    ap.add_argument("--repeats", type=positive_int, default=3, help="--timing: repeats (median)")
     args = ap.parse_args()
     if args.timing:
         t = timing(args.amplitude, args.repeats)

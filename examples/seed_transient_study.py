@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, save_figure
+from nsdyn.cli.args import out_dir
 from nsdyn.ground import default_shared_dir, kobe_records
 from nsdyn.models.isolated.system import Isolation, build_system
 from nsdyn.solve.transient import simulate
@@ -36,12 +37,16 @@ def run_case(system, motion, **kw):
 
 def main(out: str | Path = "nsdyn-out/transient-study", quick: bool = False) -> dict:
     shared = default_shared_dir()
-    if shared is None:
-        raise SystemExit("shared/records not found: set NSDYN_SHARED to the shared directory")
+    try:  # the records first: a missing one leaves no empty output folder behind
+        if shared is None:
+            raise FileNotFoundError("set NSDYN_SHARED to the shared directory")
+        kobe = kobe_records(shared, component="000")
+    except FileNotFoundError as e:
+        raise SystemExit(f"shared/records not found: {e}") from None
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     frame = load_frame("office-11")
-    motions = {k: m.scaled_to_pga(PGA) for k, m in kobe_records(shared, component="000").items()}
+    motions = {k: m.scaled_to_pga(PGA) for k, m in kobe.items()}
     if quick:
         motions = {k: m.window(m.t0, m.t0 + 15.0) for k, m in motions.items()}
     iso = build_system(frame, ISO, fidelity="cb", f_max=5.0)
@@ -139,7 +144,7 @@ def figures(study: dict, out: Path) -> None:
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default="nsdyn-out/transient-study")
+    ap.add_argument("--out", type=out_dir, default="nsdyn-out/transient-study")
     ap.add_argument("--quick", action="store_true", help="first 15 s of each record only")
     a = ap.parse_args()
     study = main(a.out, a.quick)

@@ -15,6 +15,7 @@ import json
 from dataclasses import replace
 from pathlib import Path
 
+from nsdyn.cli.args import out_dir
 from nsdyn.models.scenefile import SceneError
 from nsdyn.studies.analyses import run_analyses
 from nsdyn.studies.execute import run_study
@@ -56,7 +57,7 @@ def main(
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default="nsdyn-out/study-design")
+    ap.add_argument("--out", type=out_dir, default="nsdyn-out/study-design")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--kobe", action="store_true")
     a = ap.parse_args()

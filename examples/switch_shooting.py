@@ -20,6 +20,7 @@ import sys
 
 import numpy as np
 
+from nsdyn.cli.args import out_dir
 from nsdyn.models.isolated.builders import system_from_matrices
 from nsdyn.models.isolated.scene import build_scene, load_scene
 from nsdyn.models.isolated.system import Isolation
@@ -80,9 +81,12 @@ def curve(out: str) -> dict:
 if __name__ == "__main__":
     cli = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     cli.add_argument("--curve", action="store_true", help="one 150-point curve, timed")
-    cli.add_argument("--out", default="nsdyn-out", help="--curve: output folder (nsdyn-out)")
+    cli.add_argument("--out", type=out_dir, help="--curve: output folder (nsdyn-out)")
     args = cli.parse_args()
+    if args.out is not None and not args.curve:
+        cli.error("--out: the --curve run's output folder; give --curve too")
     if args.curve:
+        args.out = args.out or "nsdyn-out"
         curve(args.out)
     else:
         res = main()

@@ -398,6 +398,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     ap.add_argument("--quick", action="store_true", help="a subset (A 0.5, 2; f 0.463-2.95 Hz)")
     ap.add_argument("--amplitudes", type=_floats, help="A [m/s^2], default 0.1,0.5,1,2")
     ap.add_argument("--freqs", type=_floats, help="spot frequencies [Hz]")
+    from nsdyn.cli.args import out_file
     from nsdyn.cli.args import positive_finite as pos_float
     from nsdyn.cli.args import positive_int as pos_int
 
@@ -412,7 +413,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
         default="event",
         help="event-driven (default) or Radau on the switch law's band (slow comparison)",
     )
-    ap.add_argument("--out", default="nsdyn-out/switch-spot-check.csv", help="CSV file")
+    ap.add_argument(
+        "--out", type=out_file, default="nsdyn-out/switch-spot-check.csv", help="CSV file"
+    )
     args = ap.parse_args(argv)
     amps = args.amplitudes or (QUICK_AMPLITUDES if args.quick else AMPLITUDES)
     freqs = sorted(args.freqs or (QUICK_FREQS if args.quick else FREQS))

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open
+from nsdyn.cli.args import out_dir
 from nsdyn.ground import default_shared_dir, kobe_records, read_motion
 from nsdyn.models.isolated.system import Isolation, build_system
 from nsdyn.solve.transient import DEFAULT_RTOL, FAST_ATOL, default_atol, simulate
@@ -109,7 +110,7 @@ def main(out: Path, quick: bool) -> list[dict]:
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default="nsdyn-out/tolerance-study")
+    ap.add_argument("--out", type=out_dir, default="nsdyn-out/tolerance-study")
     ap.add_argument("--quick", action="store_true", help="bundled record only, 20 s")
     a = ap.parse_args()
     main(Path(a.out), a.quick)
