@@ -100,12 +100,13 @@ def _scene_frame(arg: str) -> tuple[str, float | None, float | None, str | None]
     field that names the frame (None: ``arg`` is the frame)."""
     import tomllib
 
+    from nsdyn import _textfile as textfile
     from nsdyn.models.scenefile import SceneError, resolve_paths
 
     p = Path(arg)
     try:
-        data = tomllib.loads(p.read_text()) if p.suffix == ".toml" and p.is_file() else {}
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        data = tomllib.loads(textfile.read(p)) if p.suffix == ".toml" and p.is_file() else {}
+    except (OSError, ValueError):  # (TOMLDecodeError is one)
         return arg, None, None, None  # the frame reader names the problem
     scene_like = (
         "frame" not in data

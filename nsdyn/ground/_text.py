@@ -92,10 +92,16 @@ def header_info(header: list[str]) -> dict[str, Any]:
 
 
 def read_text(path: str | os.PathLike) -> str:
+    """A record file's text: its byte-order mark read and dropped (UTF-8, UTF-16), else
+    Latin-1 (:func:`nsdyn._textfile.decode`)."""
+    from nsdyn._textfile import decode
+
     try:
-        return Path(path).read_text(encoding="latin-1")
+        return decode(Path(path).read_bytes(), "latin-1")
     except IsADirectoryError:
         raise RecordFileError(path, None, "is a directory, expected a record file") from None
+    except ValueError as e:  # (an odd byte count after a UTF-16 mark)
+        raise RecordFileError(path, None, str(e)) from None
 
 
 def parse_values(lines: list[tuple[int, str]], source: str) -> tuple[np.ndarray, int]:
@@ -142,9 +148,11 @@ def _numbers(n: int) -> str:
 
 
 def fields(s: str) -> list[str]:
-    """The fields of a line split by commas, semicolons, tabs or spaces (a decimal comma is
-    refused before: :func:`_decimal_commas`)."""
-    return s.replace(",", " ").replace(";", " ").split()
+    """The fields of a line split by commas, semicolons, tabs or spaces, each without the
+    quotes a spreadsheet puts around it ("time","ax": a quoted name was no name, and the
+    columns fell back to their order) (a decimal comma is refused before:
+    :func:`_decimal_commas`)."""
+    return [t.strip("\"'") for t in s.replace(",", " ").replace(";", " ").split()]
 
 
 def parse_table(text: str, source: str) -> Table:

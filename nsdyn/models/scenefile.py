@@ -16,6 +16,7 @@ from collections.abc import Mapping
 from contextlib import contextmanager
 from pathlib import Path
 
+from nsdyn import _textfile as textfile
 from nsdyn._checks import did_you_mean
 
 # [scene] kind -> its runner
@@ -109,7 +110,7 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
     if not p.is_file():
         raise SceneError(f"{path}: no such {what} file")
     try:
-        data = tomllib.loads(p.read_text().removeprefix("\ufeff"))  # a byte-order mark: text
+        data = tomllib.loads(textfile.read(p))  # (a byte-order mark read and dropped)
     except tomllib.TOMLDecodeError as e:
         if p.suffix.lower() in (".csv", ".txt", ".at2", ".dat", ".acc") and what == "scene":
             raise SceneError(
@@ -117,8 +118,8 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
                 f'as [motion] record = "{path}", or to nsdyn run as --record {path}'
             ) from None
         raise SceneError(f"{path}: not valid TOML: {e}") from None
-    except UnicodeDecodeError as e:
-        raise SceneError(f"{path}: not a text file: {e}") from None
+    except ValueError as e:  # (bytes that are not UTF-8 text)
+        raise SceneError(f"{path}: {e}") from None
     if not data:
         example = "[study] name = ... and [parameters]" if what == "study" else "[scene] kind"
         raise SceneError(

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from nsdyn import _textfile as textfile
 from nsdyn._bundled import FRAMES
 from nsdyn._checks import did_you_mean
 from nsdyn.structure.frame import Frame, Section, regular_frame
@@ -347,6 +348,10 @@ def _read_frame_file(name_or_path: str | Path) -> tuple[dict, str]:
             raise FrameFileError(f"{s}: no bundled frame of that name (bundled: {known})")
         text, fname = f.read_bytes(), f"{s}.toml"
     try:
-        return tomllib.loads(text.decode("utf-8")), fname
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        text = textfile.decode(text)  # (a byte-order mark read and dropped)
+    except ValueError as exc:
+        raise FrameFileError(f"{fname}: {exc}") from None
+    try:
+        return tomllib.loads(text), fname
+    except tomllib.TOMLDecodeError as exc:
         raise FrameFileError(f"{fname}: not valid TOML: {exc}") from None

@@ -442,6 +442,8 @@ def test_a_file_of_another_kind_is_named_for_what_it_is(tmp_path, one_line):
     bom = tmp_path / "bom.toml"  # a byte-order mark (some editors write one) is text
     bom.write_text('\ufeff[scene]\nname = "x"\n')
     assert read_toml(bom) == {"scene": {"name": "x"}}
+    bom.write_bytes('[scene]\nname = "x"\n'.encode("utf-16"))  # (Excel, PowerShell)
+    assert read_toml(bom) == {"scene": {"name": "x"}}
 
 
 def test_a_pulse_given_twice_is_refused(tmp_path, one_line):

@@ -105,6 +105,21 @@ def test_not_toml_and_missing_files(tmp_path):
     assert isinstance(ei.value, ValueError)
 
 
+@pytest.mark.parametrize("codec", ["utf-8-sig", "utf-16", "utf-32"])
+def test_a_frame_file_with_a_byte_order_mark_is_the_same_frame(tmp_path, codec):
+    # a mark (Notepad, PowerShell) was "not valid TOML (at line 1, column 1)"; scenes and
+    # studies read it; text that is not UTF-8 names its line and how to save the file
+    text = (REPO / "frames" / "portal.toml").read_text(encoding="utf-8")
+    p = tmp_path / "portal.toml"
+    p.write_bytes(text.encode(codec))
+    a, b = load_frame(p), load_frame("portal")
+    assert np.array_equal(a.nodes, b.nodes) and np.array_equal(a.I, b.I)
+    p.write_bytes(("# Zürich\n" + text).encode("latin-1"))
+    with pytest.raises(FrameFileError, match=r"portal\.toml: not UTF-8 text: byte 0xfc on line "
+                       r"1 \(save the file as UTF-8\)"):  # fmt: skip
+        load_frame(p)
+
+
 def test_bundled_names_and_paths_agree():
     assert {"office-11", "portal"} <= set(bundled_frames())
     a = load_frame("office-11")
