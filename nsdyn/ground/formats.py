@@ -19,6 +19,7 @@ from typing import Any
 
 from nsdyn.ground._text import (
     DT_RTOL,
+    MILLISECONDS,
     NUM,
     check_time,
     column_index,
@@ -56,7 +57,7 @@ class ReadOptions:
 # --------------------------------------------------------------------------------------------
 
 _AT2_NGA_NPTS = re.compile(r"NPTS\s*[=:]\s*(\d+)", re.I)
-_AT2_NGA_DT = re.compile(rf"\bDT\s*[=:]\s*({NUM})", re.I)
+_AT2_NGA_DT = re.compile(rf"\bDT\s*[=:]\s*({NUM})\s*([a-z]*)", re.I)  # (a unit: SEC, MSEC)
 _AT2_OLD = re.compile(rf"^\s*(\d+)\s*,?\s+({NUM})\s*,?\s*NPTS\s*,\s*DT", re.I)
 
 
@@ -92,6 +93,7 @@ def parse_at2(text: str, source: str, opt: ReadOptions) -> tuple[GroundMotion, s
     m_old = _AT2_OLD.search(s)
     if m_n and m_dt:
         npts, dt = int(m_n.group(1)), to_float(m_dt.group(1))
+        dt *= 1e-3 if m_dt.group(2).lower() in MILLISECONDS else 1.0
     elif m_old:
         npts, dt = int(m_old.group(1)), to_float(m_old.group(2))
     else:

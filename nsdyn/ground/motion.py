@@ -62,6 +62,9 @@ def _cumulative_trapezoid(y, dx: float, initial: float = 0.0):
 G_STANDARD = 9.80665  # standard gravity [m/s²], used to convert records in g
 PGA_MAX_PLAUSIBLE = 30.0  # [m/s²] above this a record is probably in cm/s² (or m/s² read as g)
 PGA_MIN_PLAUSIBLE = 0.01  # [m/s²] below this a record is probably in g read as m/s²
+# [s] an earthquake record sampled coarser holds nothing above 2.5 Hz: a time column or a
+# header's dt is probably in ms (a step of 10 s read from 0, 10, 20, ... ms)
+DT_MAX_PLAUSIBLE = 0.2
 
 
 class RecordFileError(ValueError):
@@ -78,7 +81,17 @@ class RecordFileError(ValueError):
         super().__init__(f"{where}: {message}")
 
 
-PGA_TARGET = "a finite PGA >= 0 [m/s²]"  # what scaled_to_pga takes (the message's words)
+# what scaled_to_pga takes (the message's words): up to 100 g, far above any earthquake's (a
+# scene's pga = 1e30 ran and reported a slip of 7.7e26 m)
+PGA_TARGET_MAX = 1000.0  # [m/s²]
+PGA_TARGET = f"a finite PGA from 0 to {PGA_TARGET_MAX:g} m/s² (100 g)"
+
+
+def pga_target(target) -> float:
+    """``target`` [m/s²] as a float if it is a PGA :func:`GroundMotion.scaled_to_pga` takes
+    (:data:`PGA_TARGET`), else a ValueError naming it."""
+    return number("target", target, PGA_TARGET, lambda v: 0.0 <= v <= PGA_TARGET_MAX)
+
 
 # how a user gives a record's units, in the library and in a scene file
 UNITS_HINT = 'in a scene [motion] units = "gal", "g" or "m/s2"; in Python units=\'gal\''
@@ -211,7 +224,7 @@ class GroundMotion(Sampled):
 
         The vertical component stays proportional to the horizontal one.
         """
-        target = number("target", target, PGA_TARGET, lambda v: v >= 0.0)
+        target = pga_target(target)
         peak = float(np.max(np.abs(self._component(component))))
         if peak == 0.0:
             what = "horizontal" if component == "hor" else "vertical"
@@ -413,7 +426,8 @@ def _likelier_units(units: str, larger: bool) -> str:
 def check_pga(motion: GroundMotion, units: str | None = None) -> None:
     """Warn (UnitWarning) when the PGA lies outside the plausible range of m/s² (the advice
     depends on whether the reader was given the file's ``units``: then the likelier units
-    are those larger, or smaller, than the ones given)."""
+    are those larger, or smaller, than the ones given), or the sampling step is above
+    :data:`DT_MAX_PLAUSIBLE` (a time in milliseconds read as seconds)."""
     pga = motion.pga
     given = units is not None
     fix = (f"check the units given, units={units!r}" if given
@@ -436,6 +450,14 @@ def check_pga(motion: GroundMotion, units: str | None = None) -> None:
         warnings.warn(
             f"{motion.source}: PGA = {pga:.4g} m/s² < {PGA_MIN_PLAUSIBLE:g} m/s²; the file is "
             f"{why}: {fix}",
+            UnitWarning,
+            stacklevel=3,
+        )
+    if motion.dt > DT_MAX_PLAUSIBLE:
+        warnings.warn(
+            f"{motion.source}: a sampling step of {motion.dt:g} s > {DT_MAX_PLAUSIBLE:g} s (no "
+            f"content above {0.5 / motion.dt:.2g} Hz); is the time column, or the header's "
+            "dt, in milliseconds? (nsdyn reads times in seconds; a header may say 'dt = 20 ms')",
             UnitWarning,
             stacklevel=3,
         )

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from nsdyn._checks import number
-from nsdyn.ground.motion import PGA_TARGET, GroundMotion, Sampled, samples
+from nsdyn.ground.motion import GroundMotion, Sampled, pga_target, samples
 
 _PEAKS = ("resultant", "x", "y", "geomean")
 
@@ -190,7 +190,7 @@ class GroundMotion3(Sampled):
         ("resultant", "x", "y" or "geomean", see the module docstring) equals ``target`` [m/s²]."""
         if component not in _PEAKS:
             raise ValueError(f"component: expected one of {_PEAKS}, got {component!r}")
-        target = number("target", target, PGA_TARGET, lambda v: v >= 0.0)
+        target = pga_target(target)
         peak = {
             "resultant": lambda: self.pga_resultant,
             "x": lambda: self.pga_x,

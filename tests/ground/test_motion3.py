@@ -365,9 +365,9 @@ def test_a_bad_row_of_write_motion3_s_layout_is_named_with_its_line(tmp_path, m3
 
 def test_hand_written_csv_with_named_columns(tmp_path):
     path = tmp_path / "hand.csv"
-    path.write_text("# units: cm/s2\nt,ax,ay,az\n0,100,-50,20\n0.5,0,25,-10\n1.0,-300,0,5\n")
+    path.write_text("# units: cm/s2\nt,ax,ay,az\n0,100,-50,20\n0.05,0,25,-10\n0.1,-300,0,5\n")
     m = read_motion3(path)
-    assert (m.n, m.dt) == (3, 0.5)
+    assert (m.n, m.dt) == (3, 0.05)
     assert np.array_equal(m.ax, np.array([100.0, 0.0, -300.0]) * 0.01)  # gal → m/s², exact ×0.01
     assert np.array_equal(m.ay, np.array([-50.0, 25.0, 0.0]) * 0.01)
     assert np.array_equal(m.az, np.array([20.0, -10.0, 5.0]) * 0.01)
@@ -407,13 +407,13 @@ def test_a_csv_along_x_warns_once_and_not_of_a_zero_record(tmp_path):
     import warnings
 
     path = tmp_path / "xonly.csv"
-    path.write_text("t,ax,ay,az\n0,1.0,0,0.1\n0.5,-2.0,0,0.2\n1.0,0.5,0,0\n")
+    path.write_text("t,ax,ay,az\n0,1.0,0,0.1\n0.01,-2.0,0,0.2\n0.02,0.5,0,0\n")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         m = read_motion3(path)
     said = [str(w.message) for w in caught]
     assert len(said) == 1 and "does not state its units" in said[0] and np.abs(m.ax).max() == 2
-    path.write_text("t,ax,ay\n0,0,0\n0.5,0,0\n1.0,0,0\n")  # (a zero record still warns)
+    path.write_text("t,ax,ay\n0,0,0\n0.01,0,0\n0.02,0,0\n")  # (a zero record still warns)
     with pytest.warns(UserWarning, match="zero at every sample"):
         read_motion3(path, units="m/s2")
 
@@ -425,12 +425,12 @@ def test_a_named_time_column_anywhere_and_semicolons_are_read():
 
     with tempfile.TemporaryDirectory() as d:
         a, b = P(d) / "swap.csv", P(d) / "semi.csv"
-        a.write_text("ay,t,az,ax\n0.5,0,0.1,1\n0.25,0.5,0.2,2\n0,1.0,0.3,3\n")
-        b.write_text("t;ax;ay\n0;1;2\n0.5;2;3\n1.0;3;4\n")
+        a.write_text("ay,t,az,ax\n0.5,0,0.1,1\n0.25,0.05,0.2,2\n0,0.1,0.3,3\n")
+        b.write_text("t;ax;ay\n0;1;2\n0.05;2;3\n0.1;3;4\n")
         m, n = read_motion3(a, units="m/s2"), read_motion3(b, units="m/s2")
-    assert (m.dt, list(m.ax), list(m.ay), list(m.az)) == (0.5, [1, 2, 3], [0.5, 0.25, 0], [
+    assert (m.dt, list(m.ax), list(m.ay), list(m.az)) == (0.05, [1, 2, 3], [0.5, 0.25, 0], [
         0.1, 0.2, 0.3])  # fmt: skip
-    assert (n.dt, list(n.ax), list(n.ay)) == (0.5, [1, 2, 3], [2, 3, 4])
+    assert (n.dt, list(n.ax), list(n.ay)) == (0.05, [1, 2, 3], [2, 3, 4])
 
 
 def test_a_given_dt_is_checked_against_a_bundled_record():

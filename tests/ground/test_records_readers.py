@@ -127,6 +127,49 @@ def test_a_header_dt_in_milliseconds_is_scaled(tmp_path, header, dt):
     assert read_motion(path, units="m/s2").dt == dt
 
 
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
+@pytest.mark.parametrize("codec", ["utf-8-sig", "utf-16", "utf-16-be", "utf-32"])
+@pytest.mark.parametrize("header", ["", '"time","az","ax"\n'])
+def test_a_byte_order_mark_or_quoted_names_change_no_sample(tmp_path, codec, header):
+    # a UTF-8 mark made the first row a header (a sample lost), a UTF-16 file read as "no
+    # numeric data", a quoted name was no name (az read as the horizontal): every sample,
+    # and the named columns, as in the plain file
+    t = 0.01 * np.arange(5)
+    a = np.array([0.05, 0.0876, -0.12461, 0.3, 0.0])
+    rows = "".join(f"{ti:.2f},{0.2 * ai:.6f},{ai:.6f}\n" for ti, ai in zip(t, a, strict=True))
+    plain = tmp_path / "plain.csv"
+    plain.write_text(header + rows)
+    path = tmp_path / f"rec-{codec}.csv"
+    path.write_bytes((header + rows).encode(codec))  # (utf-16-be: no mark; utf-16: a mark)
+    if codec == "utf-16-be":
+        with pytest.raises(RecordFileError, match="expected numeric data|expected numbers"):
+            read_motion(path, units="m/s2")  # (no mark: the bytes are not text of numbers)
+        return
+    m, ref = read_motion(path, units="m/s2"), read_motion(plain, units="m/s2")
+    assert (m.n, m.t0, m.dt) == (5, 0.0, 0.01)
+    np.testing.assert_array_equal(m.a_hor, a if header else ref.a_hor)
+    if header:
+        np.testing.assert_array_equal(m.a_ver, np.round(0.2 * a, 6))
+
+
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
+def test_an_at2_step_in_milliseconds_is_scaled(tmp_path):
+    # "DT = 20 MSEC" was read as 20 s (a 150 000 s record)
+    head = "title\nname\nUNITS OF G\nNPTS =   7 , DT =   10 MSEC\n"
+    m = read_at2(write(tmp_path, "ms.AT2", head + at2_body() + "\n"), units="g")
+    assert m.dt == 0.01 and m.n == 7
+
+
+def test_a_step_of_seconds_asks_whether_the_times_are_milliseconds(tmp_path):
+    # a time column 0, 10, 20, ... (ms) read as a 10 s step, without a word
+    path = write(tmp_path, "ms.txt", "".join(f"{10 * k} {0.1 * k}\n" for k in range(5)))
+    with pytest.warns(UnitWarning, match=r"a sampling step of 10 s > 0\.2 s .* milliseconds"):
+        read_motion(path, units="m/s2")
+    with warnings.catch_warnings():  # the bound itself: no word
+        warnings.simplefilter("error", UnitWarning)
+        read_motion(write(tmp_path, "s.txt", "0 0.1\n0.2 0.2\n0.4 0.0\n"), units="m/s2")
+
+
 def test_single_column_with_dt(tmp_path):
     path = write(tmp_path, "sc.txt", "# acc in m/s2\n0.5\n-1.5\n2.0\n")
     m = read_single_column(path, dt=0.005, units="m/s2")

@@ -28,6 +28,7 @@ import numpy as np
 from nsdyn._checks import MAX_OUTPUTS
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open, save_figure
+from nsdyn.ground.motion import PGA_TARGET, PGA_TARGET_MAX
 from nsdyn.ground.synthesis import noise_step
 from nsdyn.models import scenefile
 from nsdyn.models.cylinder.design import design_foundation, static_settlement, uplift_onset
@@ -254,6 +255,8 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         dt, ag = earthquake(seed, dur, dt, s0_units=units)
     if "pga" in mo:
         pga = number(source, "motion.pga", mo["pga"], allow_zero=True)  # 0: free vibration
+        if pga > PGA_TARGET_MAX:
+            raise SceneError(f"{source}: motion.pga: expected {PGA_TARGET}, got {pga:g}")
         peak = np.abs(ag[:, :2]).max()
         ag = ag * (pga / peak) if peak > 0 else ag
     if "t_end" in mo:  # cut, or run on past the motion's end with the ground at rest (noted)

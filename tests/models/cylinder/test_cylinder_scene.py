@@ -47,6 +47,8 @@ def cfg():
         ("motion", "dt", 0.1, r"motion.dt: expected a step of at most the noise.s ordinate step"),
         ("motion", "duration", 1e9, r"motion.duration: 1e\+11 samples of 0.01 s exceed 1e\+07"),
         ("motion", "t_end", 1e9, r"motion.t_end: 1e\+11 samples of 0.01 s exceed 1e\+07"),
+        # a peak of 1e30 m/s² ran (the targets of every scene end at 100 g)
+        ("motion", "pga", 1e30, r"motion.pga: expected a finite PGA from 0 to 1000 m/s²"),
     ],
 )
 def test_bad_input_names_the_field(cfg, table, key, value, match):
