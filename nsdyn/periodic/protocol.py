@@ -45,6 +45,7 @@ from typing import TYPE_CHECKING, Protocol, runtime_checkable
 import numpy as np
 
 from nsdyn._checks import whole
+from nsdyn.ground.motion import PGA_TARGET_MAX
 from nsdyn.periodic import _kperiodic as kp
 
 if TYPE_CHECKING:
@@ -80,9 +81,9 @@ def check_frequency(f, name: str = "f") -> float:
     return v
 
 
-# the largest ground acceleration amplitude a periodic solve takes [m/s²]: 100 g, far above
-# any earthquake's (at 1e300 m/s² a sweep's probe overflowed into a traceback)
-A_HIGHEST = 1e3
+# the largest ground acceleration amplitude a periodic solve takes [m/s²]: 100 g, a record's
+# largest PGA target (at 1e300 m/s² a sweep's probe overflowed into a traceback)
+A_HIGHEST = PGA_TARGET_MAX
 
 
 def check_amplitude(a, name: str = "amplitude", highest: float = math.inf) -> float:
