@@ -182,9 +182,14 @@ def parse_table_motion(
         if opt.dt is None and dt_used is not None and not (math.isfinite(dt_used) and dt_used > 0):
             raise RecordFileError(source, first, f"expected the header's dt > 0 [s], found "
                                   f"{dt_used:g} (a decimal comma, 'dt = 0,01'?)")  # fmt: skip
-        if dt_used is None and ncol >= 2 and data[-1, 0] > data[0, 0]:
-            if (data[1:, 0] >= data[:-1, 0]).all():  # a time column with a glitch: name it
-                check_time(data[:, 0], tab.linenos, source)
+        if dt_used is None and ncol >= 2 and data.shape[0] == 1:  # (blamed on "no time column")
+            raise RecordFileError(source, first, f"expected at least two samples (rows), found "
+                                  f"one: {data[0].tolist()}")  # fmt: skip
+        steps = data[1:, 0] - data[:-1, 0] if ncol >= 2 else data[:0, 0]
+        rising = steps.size > 0 and data[-1, 0] > data[0, 0] and (steps >= 0).all()
+        falling = steps.size >= 2 and (steps < 0).all()  # (it was "no time column")
+        if dt_used is None and (rising or falling):  # a time column with a glitch, or one
+            check_time(data[:, 0], tab.linenos, source)  # running backwards: its line named
         if dt_used is None:
             raise RecordFileError(
                 source,
