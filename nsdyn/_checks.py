@@ -23,7 +23,8 @@ def did_you_mean(word, valid) -> str:
     when none is near (the hint every "unknown ..." message of nsdyn ends with)."""
     import difflib
 
-    close = difflib.get_close_matches(str(word), [str(v) for v in valid], n=1)
+    same = [str(v) for v in valid if str(v).lower() == str(word).lower()]  # only the case off
+    close = same or difflib.get_close_matches(str(word), [str(v) for v in valid], n=1)
     return f"; did you mean {close[0]!r}?" if close else ""
 
 

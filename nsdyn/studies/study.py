@@ -248,7 +248,8 @@ def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter
             raise _err(source, f"{where}.values",
                        f"expected numbers ({NUMERIC_FIELDS[name]}), got {bad!r}")  # fmt: skip
         if not (kinds <= {int, float} or kinds <= {str} or kinds <= {bool}):
-            raise _err(source, f"{where}.values", f"expected numbers or strings, got {args!r}")
+            raise _err(source, f"{where}.values", f"expected numbers, strings or booleans, all "
+                       f"of one kind, got {args!r}")  # fmt: skip
         return Parameter(name, values=_distinct(source, f"{where}.values", args, name))
     nums = [number(source, f"{where}.{form}[{i}]", a, positive=False) for i, a in enumerate(args)]
     if form in ("linspace", "logspace"):
@@ -311,14 +312,13 @@ def _parse_records(source: str, study_dir: Path, rec: dict, kind: str, base: dic
             out.append(RecordSpec(Path(n).stem, path=str(path)))
         elif n in bundled_records():
             out.append(RecordSpec(n, path=n))
+        elif path.is_dir():  # (it was "neither a file nor a bundled record")
+            raise _err(source, "records.names", f"{n!r} is a folder, expected record "
+                       f'files (a folder: [records] folder = "{n}", glob = "*.AT2")')  # fmt: skip
         else:
             hint = did_you_mean(n, bundled_records())
-            raise _err(
-                source,
-                "records.names",
-                f"{n!r} is neither a file (looked for {path}) nor a bundled record{hint}; "
-                f"bundled: {bundled_records()}",
-            )
+            raise _err(source, "records.names", f"{n!r} is neither a file (looked for {path}) "
+                       f"nor a bundled record{hint}; bundled: {bundled_records()}")  # fmt: skip
     if "folder" in rec:
         folder = _resolve_path(study_dir, _check_type(source, "records.folder", rec["folder"], str))
         pattern = _check_type(source, "records.glob", rec.get("glob", "*"), str)

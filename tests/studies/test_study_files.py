@@ -106,6 +106,10 @@ def test_key_follows_record_bytes_not_place(tmp_path):
         (("logspace = [2.5e4, 1e5, 3]", "linspace = [2.5e4, 2.5e4, 3]"), "expected distinct"),
         (('"synthetic-wn-40s"', '"synthetic-wn-04s"'), "did you mean 'synthetic-wn-40s'"),
         (('"synthetic-wn-40s"', '"no-such-record"'), "neither a file"),
+        # a folder was "neither a file nor a bundled record"; the case alone off had no hint
+        (('"synthetic-wn-40s"', '"."'), "records.names: '.' is a folder, expected record files"),
+        (('"isolation.mu"', '"Isolation.MU"'), "did you mean 'isolation.mu'"),
+        (("[0.02, 0.05]", '[0.02, "0.05"]'), "expected numbers, strings or booleans, all of one"),
         (("[records]", "[record]"), "did you mean 'records'"),
         (("seed = 9,", "seeed = 9,"), "records.simulated.seeed: unknown field; did you mean"),
         # white-noise ordinates every 0.05 s sampled at 0.1 s (an intensity of half S0), a
