@@ -345,7 +345,8 @@ def _read_frame_file(name_or_path: str | Path) -> tuple[dict, str]:
         f = FRAMES.find(s)
         if f is None:
             known = ", ".join(bundled_frames()) or "(none found)"
-            raise FrameFileError(f"{s}: no bundled frame of that name (bundled: {known})")
+            there = " (a folder of that name is here: a frame is a .toml file)" * Path(s).is_dir()
+            raise FrameFileError(f"{s}: no bundled frame of that name{there} (bundled: {known})")
         text, fname = f.read_bytes(), f"{s}.toml"
     try:
         text = textfile.decode(text)  # (a byte-order mark read and dropped)

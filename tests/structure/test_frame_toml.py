@@ -93,6 +93,14 @@ def test_wrong_list_length_message(tmp_path):
         load_frame(p)
 
 
+def test_a_bare_name_of_a_folder_says_a_frame_is_a_file(tmp_path, monkeypatch):
+    # "nsdyn modes fr" with a folder fr here said only "no bundled frame of that name"
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "fr").mkdir()
+    with pytest.raises(FrameFileError, match=r"^fr: no bundled frame of that name \(a folder"):
+        load_frame("fr")
+
+
 def test_not_toml_and_missing_files(tmp_path):
     p = tmp_path / "junk.toml"
     p.write_text("[frame\nname = ")
