@@ -90,16 +90,56 @@ def save_figure(fig, path: str | Path, dpi: int = 120) -> Path:
     return Path(path)
 
 
+LOCK = ".nsdyn.lock"  # held in an output directory while a command writes there
+
+
+class OutputBusy(OSError):
+    """Another command writes into the output directory."""
+
+
 @contextmanager
-def output_dir(out: Path) -> Iterator[Path]:
-    """The output directory of a command, created if missing. A command that fails or is
-    interrupted removes the directories it created, when it left them empty (an interrupted
-    run's checkpoint, a sweep's finished points keep theirs); files and directories that were
-    there before are never touched."""
+def out_lock(out: Path, command: str) -> Iterator[None]:
+    """Hold an exclusive lock on the directory ``out`` while a command writes there (a file
+    :data:`LOCK` locked with ``flock``, naming the command and its process, removed at the
+    end), or raise :class:`OutputBusy` naming the command that holds it: two runs into one
+    folder wrote over each other's results, and one deleted the other's checkpoint. Where
+    ``fcntl`` is missing (not POSIX) nothing is locked."""
+    try:
+        import fcntl
+    except ImportError:
+        yield
+        return
+    path = Path(out) / LOCK
+    fd = os.open(path, os.O_RDWR | os.O_CREAT, FILE_MODE)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            who = os.read(fd, 200).decode(errors="replace").strip() or "another nsdyn command"
+            raise OutputBusy(f"{out}: {who} writes there; wait for it to end, or give another "
+                             "--out") from None  # fmt: skip
+        os.ftruncate(fd, 0)
+        os.write(fd, f"nsdyn {command} (process {os.getpid()})".encode())
+        try:
+            yield
+        finally:
+            path.unlink(missing_ok=True)  # (while held)
+    finally:
+        os.close(fd)
+
+
+@contextmanager
+def output_dir(out: Path, command: str = "command") -> Iterator[Path]:
+    """The output directory of a command, created if missing and locked while the command
+    writes there (:func:`out_lock`). A command that fails or is interrupted removes the
+    directories it created, when it left them empty (an interrupted run's checkpoint, a
+    sweep's finished points keep theirs); files and directories that were there before are
+    never touched."""
     made = [d for d in (out, *out.parents) if not d.exists()]  # deepest first
     out.mkdir(parents=True, exist_ok=True)
     try:
-        yield out
+        with out_lock(out, command):
+            yield out
     except BaseException:
         for d in made:
             try:

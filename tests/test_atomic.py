@@ -7,7 +7,7 @@ import stat
 
 import pytest
 
-from nsdyn.atomic import FILE_MODE, atomic_open, differing
+from nsdyn.atomic import FILE_MODE, LOCK, OutputBusy, atomic_open, differing, output_dir
 
 
 def test_failed_write_keeps_the_old_file_and_leaves_no_temporary(tmp_path):
@@ -78,3 +78,20 @@ def test_differing_names_each_changed_leaf_by_its_dotted_path():
     assert differing({"a": {"b": 1}}, {"a": 2, "c": 0}) == ["a", "c"]
     assert differing(old, old) == []
     assert differing([1, 2], [1, 3]) == ["(all)"]
+
+
+def test_an_output_folder_is_held_by_one_command_at_a_time(tmp_path):
+    # two runs into one folder wrote over each other's results, and one deleted the other's
+    # checkpoint: the second is refused, naming the first; the lock goes with the command
+    out = tmp_path / "new" / "out"
+    with output_dir(out, "run"):
+        assert (out / LOCK).is_file()
+        with pytest.raises(OutputBusy, match=rf"^{out}: nsdyn run \(process {os.getpid()}\) "):
+            with output_dir(out, "sweep"):
+                pass
+        assert (out / LOCK).is_file()  # (the refused one took nothing away)
+    assert not (out / LOCK).exists() and out.is_dir()
+    with pytest.raises(RuntimeError):  # a failed command: its folders go, lock and all
+        with output_dir(tmp_path / "made", "run"):
+            raise RuntimeError
+    assert not (tmp_path / "made").exists()

@@ -199,9 +199,12 @@ def _interrupt_line(args: argparse.Namespace) -> str:
             return f"{done}, rerun the same command to resume"
         return f"{done}; it stopped before its first checkpoint, a rerun starts over"
     if args.command == "run":
-        from nsdyn.cli.run import DEFAULT_OUT
+        from nsdyn.cli.run import DEFAULT_OUT, FINISHED
         from nsdyn.cli.run_resume import CHECKPOINT
 
+        if FINISHED:  # (it was "stopped before its first checkpoint")
+            return (f"nsdyn run: interrupted after the run finished: its histories are "
+                    f"{FINISHED[-1]}, its figure was not drawn")  # fmt: skip
         out = Path(getattr(args, "out", None) or DEFAULT_OUT)
         if (out / CHECKPOINT).is_file():
             return f"{done}, rerun it with --resume to continue from its checkpoint in {out}"
@@ -416,7 +419,13 @@ def _main(argv: list[str]) -> int:
                 raise
             raise KeyboardInterrupt from exc
     except KeyboardInterrupt:
-        print(_interrupt_line(args), file=sys.stderr)
+        line = _interrupt_line(args)
+        print(line, file=sys.stderr)
+        if getattr(args, "json", False):  # an outcome too (stdout was empty)
+            import json
+
+            error = line.removeprefix(f"nsdyn {args.command}: ")
+            print(json.dumps({"status": EXIT_INTERRUPTED, "error": error}), flush=True)
         return EXIT_INTERRUPTED
     except BrokenPipeError:  # no error of the input: main stops quietly
         raise

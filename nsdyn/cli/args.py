@@ -146,7 +146,10 @@ def amplitude_list(s: str) -> list[float]:
 def _creatable(p: Path, s: str) -> None:
     """ArgumentTypeError unless directory ``p`` exists or can be made: ``p`` itself, else its
     first existing ancestor, is a directory this process may write into."""
-    d = next((a for a in (p, *p.absolute().parents) if a.exists()), None)
+    try:  # (a part over 255 bytes: "File name too long" from exists(), a traceback)
+        d = next((a for a in (p, *p.absolute().parents) if a.exists()), None)
+    except OSError as e:
+        raise argparse.ArgumentTypeError(f"cannot create {s!r}: {e.strerror}") from None
     if d is None:
         return
     made = d is not p  # p is to be made inside d

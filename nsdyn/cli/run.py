@@ -29,6 +29,7 @@ from nsdyn.cli.run_checks import (
 from nsdyn.cli.run_resume import open_checkpoint, run_identity
 
 DEFAULT_OUT = "nsdyn-out"  # output directory
+FINISHED: list = []  # histories written by a run of this process (what an interrupt says)
 
 
 def interrupted(exc: BaseException) -> bool:
@@ -256,7 +257,7 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
                 raise SceneError(f"{args.scene}: {table}.{k}: expected a number, got {old!r}")
         cfg.setdefault(table, {}).update(vals)
     _t_end_wins(args, cfg)
-    with output_dir(Path(args.out)) as out:
+    with output_dir(Path(args.out), "run") as out:
         s = mod.run_scene(
             cfg, source=str(args.scene), out_dir=out, figures=not args.no_figures, quiet=args.json
         )
@@ -345,6 +346,7 @@ def run(args: argparse.Namespace) -> int:
     )
     from nsdyn.models.scenefile import SceneError, read_toml, scene_kind
 
+    FINISHED.clear()  # (this run's, not an earlier one's of this process)
     if args.scene is not None:
         raw = read_toml(args.scene)
         kind = scene_kind(raw, str(args.scene))
@@ -447,7 +449,7 @@ def run(args: argparse.Namespace) -> int:
     from nsdyn.solve.integrate import UpliftWarning
     from nsdyn.solve.methods import FLAT_LAWS
 
-    with output_dir(out):
+    with output_dir(out, "run"):
         ckpt, identity, t_resumed = open_checkpoint(out, ident, args.resume, quiet)
         resumed = ckpt.is_file()  # a checkpoint of an earlier run: never deleted here
         try:
@@ -499,6 +501,8 @@ def run(args: argparse.Namespace) -> int:
         if "pga" in cfg.get("motion", {}):  # the record was scaled to this before the window
             s["record_pga_mps2"] = float(cfg["motion"]["pga"])
     hist = out / f"{stem}-histories.npz"
+    if not args.no_figures:  # an earlier run's figure goes as the new histories come (an
+        (out / f"{stem}.png").unlink(missing_ok=True)  # interrupt left it beside them)
     with atomic_open(hist, "wb") as fh:
         np.savez(
             fh,
@@ -510,6 +514,7 @@ def run(args: argparse.Namespace) -> int:
             friction_forces=res.response.tau,
         )
     s["histories"] = str(hist)
+    FINISHED.append(str(hist))
     for note in s.get("notes", []):  # the run's own (a fixed step's unresolved peaks)
         notes.append(note)
         if not args.json:

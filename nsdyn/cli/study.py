@@ -10,6 +10,7 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
+from nsdyn.atomic import output_dir
 from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, out_dir, workers
 
 DEFAULT_OUT = "nsdyn-study"  # output directory (a subdirectory per study name)
@@ -205,7 +206,7 @@ def run(args: argparse.Namespace) -> int:
         ctx = nullcontext(None)
     old = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
-        with ctx as executor:
+        with ctx as executor, output_dir(out, "study"):  # (locked while the study runs)
             res = run_study(
                 study,
                 out,

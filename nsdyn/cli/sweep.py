@@ -272,7 +272,7 @@ def run(args: argparse.Namespace) -> int:
         "switch" if friction == "switch" else "arctan",
         args.contact,
     )
-    with output_dir(Path(args.out)) as out:  # no empty folder left by a failure
+    with output_dir(Path(args.out), "sweep") as out:  # no empty folder left by a failure
         compile_s = prepare_kernels(settings.friction, settings.contact)  # apart from its wall
         t0 = time.perf_counter()
         results = sweep_amplitudes(
@@ -471,7 +471,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     from nsdyn.models.isolated.bearings import slip_ratio_note
     from nsdyn.models.isolated.deck_scene import warm
 
-    with output_dir(Path(args.out)) as out:  # no empty folder left by a failure
+    with output_dir(Path(args.out), "sweep") as out:  # no empty folder left by a failure
         compile_s = warm(sc["system"], law)  # announced on a first use, before the workers
         t0 = time.perf_counter()
         results = sweep_plane(cfg, source, amplitudes, settings, out, workers=args.workers,

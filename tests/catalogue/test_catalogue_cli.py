@@ -138,6 +138,9 @@ CLI_ROWS = [
         ["spectrum", CASK, "--rtol", "1e-17"],
         r"--rtol.*from 2\.2e-14",
     ),
+    # a folder name over 255 bytes: a traceback from the check of --out (status 1)
+    ("run-out-name-too-long", ["run", "--out", "b" * 300], r"--out: cannot create .*too long"),
+    ("sweep-out-deep-too-long", ["sweep", "--out", "c" * 300 + "/d"], r"--out: cannot create"),
     # no command
     ("no-command", [], r"COMMAND|required"),
     ("unknown-command", ["runn"], r"'run'"),

@@ -169,7 +169,10 @@ def test_a_sweep_stopped_before_its_first_point_leaves_no_folder(tmp_path, monke
     assert not (tmp_path / "new").exists() if made else tmp_path.is_dir()
 
 
-def test_the_interrupt_line_says_how_each_command_goes_on(tmp_path):
+def test_the_interrupt_line_says_how_each_command_goes_on(tmp_path, monkeypatch):
+    import nsdyn.cli.run as cr
+
+    monkeypatch.setattr(cr, "FINISHED", [])  # (no run of this process finished: a command's)
     out = tmp_path / "o"
     run = Namespace(command="run", out=str(out))
     assert "starts over" in _interrupt_line(run)  # stopped before its first checkpoint
@@ -213,6 +216,27 @@ def test_an_interrupted_uplift_says_the_files_in_its_folder_are_not_its_own(
     assert earlier.read_text() == '{"earlier": true}\n'
     err = capsys.readouterr().err
     assert f"it wrote no file, and any in {tmp_path} are an earlier run's" in err
+    # under --json the interrupt is an outcome on stdout too (it printed nothing)
+    assert main(["uplift", "--points", "2", "--out", str(tmp_path), "--json"]) == 130
+    rep = json.loads(capsys.readouterr().out)
+    assert rep["status"] == 130 and rep["error"].startswith("interrupted before writing")
+
+
+def test_a_run_stopped_after_it_finished_says_so_and_leaves_no_earlier_figure(
+    tmp_path, monkeypatch, capsys
+):
+    # stopped while drawing its figure, a run left its new histories beside the earlier
+    # run's figure, and said it "stopped before its first checkpoint"
+    import nsdyn.plot
+
+    def stop(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(nsdyn.plot, "plot_transient", stop)
+    (tmp_path / "run.png").write_bytes(b"an earlier run's figure")
+    assert main(["run", "--t-end", "1", "--out", str(tmp_path)]) == 130
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run-histories.npz"]
+    assert "interrupted after the run finished: its histories are" in capsys.readouterr().err
 
 
 def test_an_error_left_by_a_swallowed_interrupt_is_an_interrupt(monkeypatch, capsys):
