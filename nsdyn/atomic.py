@@ -128,18 +128,41 @@ def out_lock(out: Path, command: str) -> Iterator[None]:
         os.close(fd)
 
 
+def files_of(out: Path) -> dict:
+    """{name: modification time [ns]} of the visible files in ``out`` (none if missing)."""
+    if not Path(out).is_dir():
+        return {}
+    return {p.name: p.stat().st_mtime_ns for p in Path(out).iterdir()
+            if p.is_file() and not p.name.startswith(".")}  # fmt: skip
+
+
+def earlier_files(out: Path, before: dict, command: str) -> str:
+    """The note on the files in ``out`` that a command did not write (as :func:`files_of`
+    saw them, ``before``, when it began: an earlier command's), or ""."""
+    kept = sorted(n for n, t in files_of(out).items() if before.get(n) == t)
+    if not kept:
+        return ""
+    more = f" and {len(kept) - 4} more" if len(kept) > 4 else ""
+    return (f"{out} also holds files this {command} did not write (an earlier command's): "
+            f"{', '.join(kept[:4])}{more}")  # fmt: skip
+
+
 @contextmanager
-def output_dir(out: Path, command: str = "command") -> Iterator[Path]:
+def output_dir(out: Path, command: str = "command", say=None) -> Iterator[Path]:
     """The output directory of a command, created if missing and locked while the command
     writes there (:func:`out_lock`). A command that fails or is interrupted removes the
     directories it created, when it left them empty (an interrupted run's checkpoint, a
     sweep's finished points keep theirs); files and directories that were there before are
-    never touched."""
+    never touched. ``say(line)``: told, when the command ends, of the files there that it
+    did not write (an earlier command's: a rocking run's beside an isolated frame's)."""
     made = [d for d in (out, *out.parents) if not d.exists()]  # deepest first
     out.mkdir(parents=True, exist_ok=True)
+    before = files_of(out) if say is not None else {}
     try:
         with out_lock(out, command):
             yield out
+        if say is not None and (note := earlier_files(out, before, command)):
+            say(note)
     except BaseException:
         for d in made:
             try:

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn.atomic import atomic_open, output_dir, save_figure
+from nsdyn.atomic import atomic_open, earlier_files, files_of, output_dir, save_figure
 from nsdyn.cli.args import EXIT_NUMERICS, PGA_HELP, out_dir, stale_figures
 from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
@@ -257,7 +257,8 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
                 raise SceneError(f"{args.scene}: {table}.{k}: expected a number, got {old!r}")
         cfg.setdefault(table, {}).update(vals)
     _t_end_wins(args, cfg)
-    with output_dir(Path(args.out), "run") as out:
+    note = None if args.json else (lambda n: print(f"nsdyn run: note: {n}", file=sys.stderr))
+    with output_dir(Path(args.out), "run", note) as out:
         s = mod.run_scene(
             cfg, source=str(args.scene), out_dir=out, figures=not args.no_figures, quiet=args.json
         )
@@ -327,9 +328,8 @@ def _fixed_base_run(system, motion, t_eval, quiet: bool):
     from nsdyn.solve.transient import simulate
 
     if system.frame is None or system.fidelity == "fixed":
-        if not quiet:
-            print("nsdyn run: --compare-fixed: this model has no separate fixed-base frame",
-                  file=sys.stderr)  # fmt: skip
+        print("nsdyn run: --compare-fixed: this model has no separate fixed-base frame",
+              file=sys.stderr) if not quiet else None  # fmt: skip
         return None
     fb = build_system(system.frame, fidelity="fixed", f_max=system.f_max or 5.0)
     if not quiet:
@@ -449,6 +449,7 @@ def run(args: argparse.Namespace) -> int:
     from nsdyn.solve.integrate import UpliftWarning
     from nsdyn.solve.methods import FLAT_LAWS
 
+    before = files_of(out)  # (what an earlier command left: said at the end)
     with output_dir(out, "run"):
         ckpt, identity, t_resumed = open_checkpoint(out, ident, args.resume, quiet)
         resumed = ckpt.is_file()  # a checkpoint of an earlier run: never deleted here
@@ -535,6 +536,10 @@ def run(args: argparse.Namespace) -> int:
                              alert=bool(s.get("uplift")))  # fmt: skip
         save_figure(fig, fig_path)
         s["figure"] = str(fig_path)
+    if note := earlier_files(out, before, "run"):
+        s["notes"].append(note)
+        if not args.json:
+            print(f"nsdyn run: note: {note}", file=sys.stderr)
     if args.json:
         print(json.dumps(s))
         return 0
@@ -545,8 +550,8 @@ def run(args: argparse.Namespace) -> int:
                f"{s['pga_mps2']:.2f} m/s² over the run)")  # fmt: skip
     print(f"outcome {text}")
     print(f"model   {s['model']}   excitation {s['record']}{pga}")
-    print(f"method  {s['method']}: {s['n_steps']} steps, run {s['wall_s']:.3f} s", end="")
-    print(f" (+ JIT compile/load {s['compile_s']:.1f} s)")
+    print(f"method  {s['method']}: {s['n_steps']} steps, run {s['wall_s']:.3f} s (+ JIT "
+          f"compile/load {s['compile_s']:.1f} s)")  # fmt: skip
     for line in summary_rows(s):
         print(line)
     print(f"histories: {hist}")

@@ -125,6 +125,11 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
 
 
+def _note(args):
+    """Where a sweep's notes go: stderr as "nsdyn sweep: note: ...", none under --json."""
+    return None if args.json else (lambda n: print(f"nsdyn sweep: note: {n}", file=sys.stderr))
+
+
 def _beyond(amplitudes, where: str) -> str | None:
     """The refusal of ground acceleration amplitudes above A_HIGHEST (100 g), or None."""
     from nsdyn.periodic.protocol import A_HIGHEST
@@ -272,7 +277,7 @@ def run(args: argparse.Namespace) -> int:
         "switch" if friction == "switch" else "arctan",
         args.contact,
     )
-    with output_dir(Path(args.out), "sweep") as out:  # no empty folder left by a failure
+    with output_dir(Path(args.out), "sweep", _note(args)) as out:  # (none left empty)
         compile_s = prepare_kernels(settings.friction, settings.contact)  # apart from its wall
         t0 = time.perf_counter()
         results = sweep_amplitudes(
@@ -471,7 +476,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     from nsdyn.models.isolated.bearings import slip_ratio_note
     from nsdyn.models.isolated.deck_scene import warm
 
-    with output_dir(Path(args.out), "sweep") as out:  # no empty folder left by a failure
+    with output_dir(Path(args.out), "sweep", _note(args)) as out:  # (none left empty)
         compile_s = warm(sc["system"], law)  # announced on a first use, before the workers
         t0 = time.perf_counter()
         results = sweep_plane(cfg, source, amplitudes, settings, out, workers=args.workers,

@@ -590,3 +590,17 @@ def test_an_export_never_replaces_a_device_a_link_or_a_scene(tmp_path, capsys):
         assert _status(["export", "opensees", str(scene), "-o", target]) == 2
         assert says in capsys.readouterr().err
     assert scene.read_text().startswith("# The 3D office") and Path("/dev/null").is_char_device()
+
+
+def test_a_run_into_a_folder_of_another_run_names_the_files_it_did_not_write(tmp_path, capsys):
+    # a rocking run's files landed beside an isolated frame's without a word
+    (tmp_path / "run-histories.npz").write_bytes(b"an earlier run's")
+    assert main(["run", _scene("rocking-seed003-column.toml"), "--no-figures", "--out",
+                 str(tmp_path)]) == 0  # fmt: skip
+    err = capsys.readouterr().err
+    assert f"note: {tmp_path} also holds files this run did not write (an earlier " in err
+    assert "command's): run-histories.npz" in err and "rocking.npz" not in err.split("note:")[-1]
+    # the isolated frame's run says the rocking run's (in its JSON notes too)
+    assert main(["run", "--t-end", "1", "--no-figures", "--json", "--out", str(tmp_path)]) == 0
+    notes = json.loads(capsys.readouterr().out)["notes"]
+    assert any(n.endswith("command's): rocking.npz") for n in notes), notes
