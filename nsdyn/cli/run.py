@@ -21,6 +21,7 @@ from nsdyn.cli.run_checks import (
     check_method,
     duration_text,
     explicit_steps,
+    fixed_base_run,
     note_short_record,
     notes_first,
     record_wins,
@@ -257,8 +258,8 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
                 raise SceneError(f"{args.scene}: {table}.{k}: expected a number, got {old!r}")
         cfg.setdefault(table, {}).update(vals)
     _t_end_wins(args, cfg)
-    note = None if args.json else (lambda n: print(f"nsdyn run: note: {n}", file=sys.stderr))
-    with output_dir(Path(args.out), "run", note) as out:
+    said: list = []  # (files an earlier command left there: a note, said below)
+    with output_dir(Path(args.out), "run", said.append) as out:
         s = mod.run_scene(
             cfg, source=str(args.scene), out_dir=out, figures=not args.no_figures, quiet=args.json
         )
@@ -269,6 +270,10 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
             name = cfg.get("scene", {}).get("name", Path(str(args.scene)).stem)
             stale_figures(out, FIGURES[kind](name), "run", args.json)
     notes_first(args, s)
+    for note in said:
+        s.setdefault("notes", []).append(note)
+        if not args.json:
+            print(f"nsdyn run: note: {note}", file=sys.stderr)
     ran = s.get("t_end_s", s.get("t_end"))
     req = args.t_end or cfg.get("motion", {}).get("t_end")  # (--t-end, or the scene's)
     short = isinstance(ran, int | float) and isinstance(req, int | float) and ran < req - 1e-6
@@ -319,22 +324,6 @@ def prepare_kernels(method: str, flat: bool = True) -> float:
     if cold:
         print(f"  compiled in {spent:.1f} s", file=sys.stderr, flush=True)
     return spent
-
-
-def _fixed_base_run(system, motion, t_eval, quiet: bool):
-    """The fixed-base frame of ``system`` under ``motion`` on the same output grid (the
-    comparison of ``--compare-fixed``); None when the model has no frame or is the fixed base."""
-    from nsdyn.models.isolated.system import build_system
-    from nsdyn.solve.transient import simulate
-
-    if system.frame is None or system.fidelity == "fixed":
-        print("nsdyn run: --compare-fixed: this model has no separate fixed-base frame",
-              file=sys.stderr) if not quiet else None  # fmt: skip
-        return None
-    fb = build_system(system.frame, fidelity="fixed", f_max=system.f_max or 5.0)
-    if not quiet:
-        print(f"fixed-base comparison: {fb.name}", file=sys.stderr)
-    return simulate(fb, motion, method="radau", t_eval=t_eval)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -530,7 +519,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         from nsdyn.plot import plot_transient
 
-        fixed = _fixed_base_run(system, motion, t_eval, quiet) if args.compare_fixed else None
+        fixed = fixed_base_run(system, motion, t_eval, quiet) if args.compare_fixed else None
         fig_path = out / f"{stem}.png"
         fig = plot_transient(res, motion, fixed=fixed, note=f"outcome: {text.split(':')[0]}",
                              alert=bool(s.get("uplift")))  # fmt: skip

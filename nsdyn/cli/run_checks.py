@@ -1,7 +1,7 @@
 """The checks and notes of ``nsdyn run`` on a loaded scene, before its model is built: a
 method that cannot integrate the scene's law or contact (input errors), a ``t_end`` past the
 record, an output grid too coarse for a harmonic excitation, an arctan law too soft to be
-friction (notes on stderr)."""
+friction (notes on stderr); and the fixed-base run that ``--compare-fixed`` draws beside."""
 
 from __future__ import annotations
 
@@ -311,3 +311,20 @@ def duration_text(s: dict, t_end: float) -> str:
     t0 = s.get("t_start_s", 0.0)
     span = f" (t = {t0:g} to {t_end:g} s)" if t0 else ""
     return f"{t_end - t0:g} s / {s['dt_out_s']:g} s{span}"
+
+
+def fixed_base_run(system, motion, t_eval, quiet: bool):
+    """The fixed-base frame of ``system`` under ``motion`` on the same output grid (the
+    comparison of ``--compare-fixed``); None when the model has no frame or is the fixed base."""
+    from nsdyn.models.isolated.system import build_system
+    from nsdyn.solve.transient import simulate
+
+    if system.frame is None or system.fidelity == "fixed":
+        if not quiet:
+            print("nsdyn run: --compare-fixed: this model has no separate fixed-base frame",
+                  file=sys.stderr)  # fmt: skip
+        return None
+    fb = build_system(system.frame, fidelity="fixed", f_max=system.f_max or 5.0)
+    if not quiet:
+        print(f"fixed-base comparison: {fb.name}", file=sys.stderr)
+    return simulate(fb, motion, method="radau", t_eval=t_eval)

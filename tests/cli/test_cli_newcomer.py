@@ -604,3 +604,7 @@ def test_a_run_into_a_folder_of_another_run_names_the_files_it_did_not_write(tmp
     assert main(["run", "--t-end", "1", "--no-figures", "--json", "--out", str(tmp_path)]) == 0
     notes = json.loads(capsys.readouterr().out)["notes"]
     assert any(n.endswith("command's): rocking.npz") for n in notes), notes
+    assert main(["run", _scene("rocking-seed003-column.toml"), "--no-figures", "--json",
+                 "--out", str(tmp_path)]) == 0  # fmt: skip
+    notes = json.loads(capsys.readouterr().out)["notes"]
+    assert any(n.endswith("command's): run-histories.npz") for n in notes), notes
