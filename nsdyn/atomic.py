@@ -73,8 +73,13 @@ def atomic_open(path: str | Path, mode: str = "w", **kwargs) -> Iterator:
         except BaseException:
             os.close(fd)
             raise
-        with fh:
-            yield fh
+        try:
+            with fh:
+                yield fh
+        except OSError as e:  # (a full disk said "[Errno 28] No space left on device")
+            if e.filename is None and e.errno is not None:
+                raise OSError(e.errno, f"{e.strerror}, writing", str(path)) from None
+            raise
         os.chmod(tmp, file_mode)
         os.replace(tmp, path)
     except BaseException:

@@ -95,3 +95,14 @@ def test_an_output_folder_is_held_by_one_command_at_a_time(tmp_path):
         with output_dir(tmp_path / "made", "run"):
             raise RuntimeError
     assert not (tmp_path / "made").exists()
+
+
+def test_a_failed_write_names_the_file_it_was_writing(tmp_path):
+    # a full disk said "[Errno 28] No space left on device" and no more
+    import errno
+
+    path = tmp_path / "run.npz"
+    with pytest.raises(OSError, match=r"No space left on device, writing: '.*run\.npz'") as ei:
+        with atomic_open(path, "wb"):
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+    assert ei.value.errno == errno.ENOSPC and not any(tmp_path.iterdir())
