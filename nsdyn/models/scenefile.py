@@ -182,13 +182,26 @@ def scene_module(kind: str) -> str:
     return SCENE_MODULES.get(kind, f"nsdyn.models.{kind}.scene")
 
 
+NAME_MAX = 100  # characters of a scene's name (it names output files: a 1e5-character one ran)
+
+
 def scene_kind(cfg: Mapping, source: str = "<scene>") -> str:
-    """The model family of a parsed scene (``[scene] kind``, default ``isolated``)."""
+    """The model family of a parsed scene (``[scene] kind``, default ``isolated``); its
+    ``[scene] name``, when given, checked as a file name's stem (:data:`NAME_MAX`
+    characters at most, no path separator nor control character: a cylinder scene named
+    "../x" wrote its files beside the output folder)."""
     kind = cfg.get("scene", {}).get("kind", "isolated")
     if kind not in KINDS:
         close = difflib.get_close_matches(str(kind), KINDS, n=1)
         hint = f" (did you mean {close[0]!r}?)" if close else ""
         raise SceneError(f"{source}: scene.kind: expected one of {list(KINDS)}, got {kind!r}{hint}")
+    name = cfg.get("scene", {}).get("name", "x")
+    if isinstance(name, str) and (len(name) > NAME_MAX or not name.strip() or name in (".", "..")
+                                  or any(c in "/\\" or ord(c) < 32 for c in name)):  # fmt: skip
+        shown = repr(name) if len(name) <= 60 else f"{name[:40]!r}... ({len(name)} characters)"
+        raise SceneError(f"{source}: scene.name: expected a name of 1 to {NAME_MAX} characters "
+                         f"without '/', '\\' or control characters (it names the output "
+                         f"files), got {shown}")  # fmt: skip
     return kind
 
 

@@ -608,3 +608,15 @@ def test_a_run_into_a_folder_of_another_run_names_the_files_it_did_not_write(tmp
                  "--out", str(tmp_path)]) == 0  # fmt: skip
     notes = json.loads(capsys.readouterr().out)["notes"]
     assert any(n.endswith("command's): run-histories.npz") for n in notes), notes
+
+
+@pytest.mark.parametrize("name", ["../escaped", "a\x00b", "", "x" * 101])
+def test_a_scene_name_that_is_no_file_name_is_refused(tmp_path, one_line, name):
+    # a cylinder scene names its files by the scene's name: "../escaped" wrote them beside
+    # the output folder, a 1e5-character name was echoed in full
+    text = Path(_scene("cylinder-uplift.toml")).read_text()
+    scene = tmp_path / "c.toml"
+    scene.write_text(text.replace('name = "cylinder-uplift"', f"name = {json.dumps(name)}"))
+    assert main(["run", str(scene), "--out", str(tmp_path / "o" / "in")]) == 2
+    one_line(f"{scene}: scene.name: expected a name of 1 to 100 characters without '/'")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.toml"]
