@@ -36,6 +36,7 @@ from nsdyn.studies.design import (
     DEFAULT_PERCENTILES,
     compromise,
     design_points,
+    failed_runs_note,
     few_runs_note,
     find_design,
     percentile_table,
@@ -280,7 +281,11 @@ def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
             and all(p.objectives[k] <= ref.objectives[k] for k in objectives)
             and any(p.objectives[k] < ref.objectives[k] for k in objectives)
         ]
-    if figures and len(objectives) >= 2:
+    if not table.ok():  # (empty axes were drawn; an earlier figure would sit beside)
+        res["note"] = "; ".join(filter(None, [res.get("note"), "no run succeeded: no design "
+                                              "has an objective, no figure is drawn"]))  # fmt: skip
+        (out / ANALYSIS_OUTPUTS["design"][1]).unlink(missing_ok=True)
+    elif figures and len(objectives) >= 2:
         fig = pareto_figure(points, objectives[:2], chosen, ref, title=study.name)
         res["figure"] = str(save_figure(fig, out / "pareto.png"))
     return res
@@ -303,18 +308,21 @@ def fragility_outcomes(table: Table, im_name: str, edp_name: str) -> dict:
     status = [r.get("status") for r in table.rows]
     keep = np.zeros(len(table.rows), dtype=bool)
     counted: dict[str, int] = {}
-    unknown: list[str] = []
+    unknown: list[str] = []  # failed runs whose failure says nothing of the outcome
+    missing: list[str] = []  # successful runs without a value (a result they do not give)
     below = 0  # successful runs at IM <= 0, which a lognormal curve cannot place
     for i, r in enumerate(table.rows):
         if not (np.isfinite(im[i]) and im[i] > 0):
-            if status[i] != "ok" or np.isnan(im[i]):
+            if status[i] != "ok":
                 unknown.append(f"no {im_name} value ({r.get('error') or 'none'})")
+            elif np.isnan(im[i]):
+                missing.append(im_name)
             else:
                 below += 1
             continue
         if status[i] == "ok":
             if np.isnan(edp[i]):
-                unknown.append(f"no {edp_name} value")
+                missing.append(edp_name)
                 continue
             keep[i] = True
             continue
@@ -335,6 +343,11 @@ def fragility_outcomes(table: Table, im_name: str, edp_name: str) -> dict:
     absent = empty_columns(table, [im_name, edp_name])  # (a column no run has: not failures)
     if absent:
         refuse = f"fragility: {absent}"
+    elif missing:  # (it said "fix them and rerun (--retry-failed)" of runs that had not failed)
+        refuse = (
+            f"fragility: {len(missing)} successful runs have no {missing[0]} value (a "
+            "result these runs do not give); expected an IM and EDP every run gives"
+        )
     elif unknown:
         refuse = (
             f"fragility: {len(unknown)} runs have no outcome that can be counted as survived or "
@@ -389,11 +402,17 @@ def _fragility(study, table: Table, spec: dict, out: Path, figures: bool) -> dic
                        "lognormal fragility places only IM > 0")  # fmt: skip
     if note:
         res["failures"] = note
+    levels = {n: len({str(v) for v in table.values(n)}) for n in _grid_names(study)}
+    pooled = [f"{n} ({k} values)" for n, k in levels.items() if n != spec["im"] and k > 1]
+    if pooled:  # (one curve over every design, without a word)
+        res["note"] = "; ".join(filter(None, [res.get("note"), "one curve over the runs of "
+                                              f"every {', '.join(pooled)}: run a study per "
+                                              "value for a curve each"]))  # fmt: skip
     if figures:
         conf = spec.get("confidence", CONFIDENCE)
         title = study.name + (f" ({note})" if note else "")
-        if runs["refuse"] is not None:
-            title = f"{study.name}: no fit, failed runs without an outcome"
+        if runs["refuse"] is not None:  # (it blamed failed runs, with none failed)
+            title = f"{study.name}: no fit (fragility.csv says why)"
         fig = fragility_figure(fits, spec["im"], spec["edp"], conf, title=title)
         res["figure"] = str(save_figure(fig, out / "fragility.png"))
     return res
@@ -419,13 +438,14 @@ def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True)
         rows = percentile_table(table, q, by, pct)
         _write_rows(rows, out / "percentiles.csv")
         res["percentiles"] = {"rows": rows, "table": str(out / "percentiles.csv")}
-        notes = (empty_columns(table, q), boolean_note(table, q), few_runs_note(rows, pct))
+        notes = (empty_columns(table, q), boolean_note(table, q), few_runs_note(rows, pct),
+                 failed_runs_note(rows))  # fmt: skip
         note = "; ".join(n for n in notes if n)
         if note:
             res["percentiles"]["note"] = note
-        if not rows:  # (no figure drawn: an earlier one would sit beside the new table)
-            (out / ANALYSIS_OUTPUTS["percentiles"][1]).unlink(missing_ok=True)
-        if figures and rows:
+        if not rows or not table.ok():  # (no figure drawn, or empty axes: an earlier one
+            (out / ANALYSIS_OUTPUTS["percentiles"][1]).unlink(missing_ok=True)  # goes)
+        if figures and rows and table.ok():
             from nsdyn.studies.figures import distribution_figure  # (matplotlib: on use)
 
             fig = distribution_figure(table.ok(), q, title=study.name)

@@ -171,7 +171,10 @@ def percentile_table(
     for vals, idx in _groups(table, by).items():
         idx = np.asarray(idx)
         good = idx[ok[idx]]
-        row = dict(zip(by, vals, strict=True)) | {"n": int(good.size)}
+        row = dict(zip(by, vals, strict=True)) | {
+            "n": int(good.size),
+            "n_failed": int(idx.size - good.size),
+        }
         for k in quantities:
             x = cols[k][good]
             x = x[np.isfinite(x)]
@@ -204,3 +207,16 @@ def few_runs_note(rows: list[dict], q=DEFAULT_PERCENTILES) -> str | None:
             f"{min(few)}): there {tails} are interpolated between the extreme runs, not "
             "estimated; add records or samples")  # fmt: skip
     return f"{gone}; {note}" if gone else note
+
+
+def failed_runs_note(rows: list[dict]) -> str | None:
+    """A note when groups of :func:`percentile_table` leave failed runs out (``n_failed``):
+    their percentiles are the surviving runs', low where the failures were the severe runs
+    (an uplift at a high PGA)."""
+    hit = [r for r in rows if r.get("n_failed")]
+    if not hit:
+        return None
+    n = sum(r["n_failed"] for r in hit)
+    return (f"{len(hit)} of {len(rows)} group(s) leave failed runs out ({n} runs, column "
+            "n_failed): their percentiles are the successful runs' only, low where the failed "
+            "runs were the severe ones")  # fmt: skip

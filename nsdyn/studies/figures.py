@@ -25,7 +25,11 @@ def _label(name: str) -> str:
 
 
 def _design_text(values: dict) -> str:
-    return ", ".join(f"{k.split('.')[-1]}={v:.3g}" for k, v in values.items())
+    """``mu=0.05, case=bonded``: numbers to three digits, text as it is (a design variable
+    such as foundation.case, formatted as a number, was a traceback)."""
+    return ", ".join(f"{k.split('.')[-1]}={v:.3g}" if isinstance(v, int | float)
+                     and not isinstance(v, bool) else f"{k.split('.')[-1]}={v}"
+                     for k, v in values.items())  # fmt: skip
 
 
 def pareto_figure(points, objectives, chosen=None, reference=None, title: str = "") -> Figure:

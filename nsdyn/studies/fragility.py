@@ -97,6 +97,9 @@ def fit_lognormal_counts(im, n_runs, n_exceed) -> LognormalFragility:
     if Z == 0 or Z == N:
         raise ValueError(f"fragility: {Z} of {N} runs exceed the limit; need some of each")
     u = np.log(x)
+    if np.unique(x[n > 0]).size < 2:  # (it was "the outcomes separate perfectly")
+        raise ValueError(f"fragility: every run is at one IM level ({x[n > 0][0]:g}); a curve "
+                         "needs runs at two levels or more")  # fmt: skip
     if u[z < n].max() <= u[z > 0].min():  # (quasi-)complete separation: no finite maximum
         raise ValueError(
             "fragility: the outcomes separate perfectly in IM (every run below some level "

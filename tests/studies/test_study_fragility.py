@@ -172,3 +172,77 @@ def test_failure_without_a_physical_outcome_refuses_the_fit(tmp_path):
     assert "theta" not in row
     assert re.search(r"1 runs have no outcome.*Newton.*--retry-failed", row["error"])
     assert "error" in (tmp_path / "fragility.csv").read_text().splitlines()[0]
+
+
+def test_a_fit_at_one_im_level_or_without_an_edp_is_refused_naming_why(tmp_path):
+    # one IM level was "the outcomes separate perfectly"; successful runs without the EDP
+    # (a result they do not give) were "fix them and rerun (--retry-failed)"
+    from types import SimpleNamespace
+
+    from nsdyn.studies.analyses import run_analyses
+    from nsdyn.studies.table import Table
+
+    with pytest.raises(ValueError, match=r"every run is at one IM level \(2\); a curve needs"):
+        fit_lognormal(np.full(4, 2.0), np.array([False, True, False, True]))
+    rows = [{"index": i, "motion.pga": 1.0 + i, "status": "ok", "error": "",
+             "toppled_at": 3.0 if i > 3 else None} for i in range(6)]  # fmt: skip
+    study = SimpleNamespace(name="s", keep=None, parameters=[], analysis={
+        "fragility": {"im": "motion.pga", "edp": "toppled_at", "limits": [1.0]}})  # fmt: skip
+    (row,) = run_analyses(study, Table(rows), tmp_path, figures=False)["fragility"]["fits"]
+    assert row["error"].startswith("fragility: 4 successful runs have no toppled_at value")
+    assert "--retry-failed" not in row["error"]
+
+
+def test_groups_say_their_failed_runs_and_an_all_failed_study_draws_no_empty_figure(tmp_path):
+    # percentiles over the survivors alone, without a word; empty axes for every figure
+    from types import SimpleNamespace
+
+    from nsdyn.studies.analyses import run_analyses
+    from nsdyn.studies.table import Table
+
+    rows = [{"index": i, "motion.pga": 1.0 + i % 2, "status": "failed" if i in (1, 3) else "ok",
+             "error": "UpliftError: x" if i in (1, 3) else "", "idr_max": 0.001 * (i + 1),
+             "x_iso_max_m": 0.01 * (i + 1)} for i in range(6)]  # fmt: skip
+    study = SimpleNamespace(
+        name="s",
+        keep=None,
+        parameters=[],
+        kind="isolated",
+        analysis={
+            "percentiles": {"quantities": ["idr_max"], "by": ["motion.pga"]},
+            "design": {"variables": ["motion.pga"], "objectives": ["idr_max", "x_iso_max_m"]},
+        },
+    )
+    res = run_analyses(study, Table(rows), tmp_path, figures=True)
+    by = {r["motion.pga"]: r for r in res["percentiles"]["rows"]}
+    assert (by[1.0]["n"], by[1.0]["n_failed"], by[2.0]["n"], by[2.0]["n_failed"]) == (3, 0, 1, 2)
+    assert "1 of 2 group(s) leave failed runs out (2 runs" in res["percentiles"]["note"]
+    assert (tmp_path / "pareto.png").is_file() and (tmp_path / "distributions.png").is_file()
+    failed = [r | {"status": "failed", "error": "UpliftError: x"} for r in rows]
+    res = run_analyses(study, Table(failed), tmp_path, figures=True)
+    assert "no run succeeded" in res["design"]["note"]
+    assert not (tmp_path / "pareto.png").exists() and not (tmp_path / "distributions.png").exists()
+
+
+def test_a_design_over_a_text_variable_draws_its_figure(tmp_path):
+    # the chosen design's label formatted foundation.case as a number: a traceback
+    from nsdyn.studies.figures import _design_text
+
+    assert _design_text({"foundation.case": "bonded", "isolation.mu": 0.05}) == (
+        "case=bonded, mu=0.05"
+    )
+
+
+def test_a_fit_over_another_grid_parameter_says_it_pools_its_values(tmp_path):
+    # one curve fitted over two foundations, without a word
+    from types import SimpleNamespace
+
+    from nsdyn.studies.analyses import run_analyses
+
+    study, table, _, _ = _study_table(np.random.default_rng(5), n_uplift=0)
+    for i, r in enumerate(table.rows):
+        r["foundation.case"] = ("tensionless", "bonded")[i % 2]
+    study.parameters = [SimpleNamespace(name=n, random=False)
+                        for n in ("motion.pga", "foundation.case")]  # fmt: skip
+    res = run_analyses(study, table, tmp_path, figures=False)["fragility"]
+    assert "one curve over the runs of every foundation.case (2 values)" in res["note"]

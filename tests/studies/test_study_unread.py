@@ -143,6 +143,7 @@ def test_a_fragility_without_limits_needs_a_true_false_outcome_and_a_number(tmp_
 
     class S:
         name = "s"
+        parameters = ()
 
     fell = [False, False, True, False, True, True]  # (not separated in IM: a finite fit)
     rows = [{"status": "ok", "im": 1.0 + i, "theta": 0.3 * i, "outcome": "rest", "fell": f}
