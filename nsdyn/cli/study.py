@@ -92,16 +92,17 @@ def _format(name: str, run: dict, an: dict) -> str:
             lines.append(f"{part}: note: {an[part]['note']}")
     f = an.get("fragility")
     if f:
-        for r in f["fits"]:
+        for r in f["fits"]:  # (a true/false outcome has no limit: it read "toppled > None")
+            what = f"{f['edp']} > {r['limit']}" if r["limit"] is not None else f"{f['edp']}"
             if "theta" in r:
                 lines.append(
-                    f"fragility {f['edp']} > {r['limit']}: theta = {r['theta']:.4g} "
+                    f"fragility {what}: theta = {r['theta']:.4g} "
                     f"(se of ln theta {r['se_ln_theta']:.3f}), beta = {r['beta']:.3f} "
                     f"(se {r['se_beta']:.3f}), {r['n_exceed']}/{r['n']} exceed"
                     + (f" ({r['failures']})" if r.get("n_failed_as_exceedance") else "")
                 )
             else:
-                lines.append(f"fragility {f['edp']} > {r['limit']}: {r['error']}")
+                lines.append(f"fragility {what}: {r['error']}")
     inc = an.get("incidence")
     for r in (inc or {}).get("rows", [])[:MAX_FAILED_LINES]:
         q = next((q for q in inc["quantities"] if r.get(f"{q}_max") is not None), None)

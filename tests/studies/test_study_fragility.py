@@ -246,3 +246,14 @@ def test_a_fit_over_another_grid_parameter_says_it_pools_its_values(tmp_path):
                         for n in ("motion.pga", "foundation.case")]  # fmt: skip
     res = run_analyses(study, table, tmp_path, figures=False)["fragility"]
     assert "one curve over the runs of every foundation.case (2 values)" in res["note"]
+
+
+def test_a_true_false_fragility_is_printed_without_a_limit():
+    # "fragility toppled > None": a true/false outcome has no limit to exceed
+    from nsdyn.cli.study import _format
+
+    run = {"n_tasks": 2, "n_run": 2, "n_skipped": 0, "n_failed": 0, "wall_s": 1.0,
+           "workers": 1, "batch": 1, "table": "results.csv"}  # fmt: skip
+    fits = [{"limit": None, "error": "fragility: 0 of 2 runs exceed the limit; need some"}]
+    text = _format("s", run, {"fragility": {"edp": "toppled", "fits": fits}})
+    assert "fragility toppled: fragility: 0 of 2" in text and "None" not in text
