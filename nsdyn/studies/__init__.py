@@ -19,6 +19,7 @@ _API = {
     "fit_lognormal_counts": "nsdyn.studies.fragility",
     "load_study": "nsdyn.studies.study",
     "pareto_front": "nsdyn.studies.design",
+    "read_results": "nsdyn.studies.table",
     "percentile_table": "nsdyn.studies.design",
     "run_analyses": "nsdyn.studies.analyses",
     "run_scene_summary": "nsdyn.studies.scenes",

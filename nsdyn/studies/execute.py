@@ -59,6 +59,10 @@ class StudyRun:
     out_dir: Path
     n_outside: int = 0  # finished rows of tasks outside the grid, kept in table.OUTSIDE
 
+    def to_dataframe(self):
+        """The study's table as a pandas DataFrame (:meth:`Table.to_dataframe`)."""
+        return self.table.to_dataframe()
+
     def as_dict(self) -> dict:
         """The counts and timings, and the path of the table (JSON-serialisable)."""
         counts = {f.name: getattr(self, f.name) for f in fields(self)}

@@ -135,6 +135,14 @@ class Table:
         """The rows of tasks that finished without error."""
         return Table([r for r in self.rows if r.get("status") == "ok"], self.param_names)
 
+    def to_dataframe(self):
+        """The rows as a pandas DataFrame, one column per :attr:`columns` in their order (an
+        empty cell NaN or None; needs the ``frames`` extra)."""
+        from nsdyn._tabular import _need
+
+        pd = _need("pandas")
+        return pd.DataFrame.from_records(self.rows, columns=self.columns)
+
     def to_csv(self) -> str:
         buf = io.StringIO()
         w = csv.DictWriter(buf, fieldnames=self.columns, lineterminator="\n")
@@ -165,6 +173,15 @@ class Table:
         with atomic_open(path, "wb") as fh:
             pq.write_table(pa.table(arrays), fh)
         return Path(path)
+
+
+def read_results(out_dir: str | Path) -> Table:
+    """The table a study left in ``out_dir`` (its results.csv, values parsed as
+    :func:`read_csv` parses them): ``read_results("nsdyn-study/NAME").to_dataframe()``."""
+    path = Path(out_dir) / RESULTS
+    if not path.is_file():
+        raise FileNotFoundError(f"{out_dir}: no {RESULTS}; expected the folder a study wrote")
+    return Table(read_csv(path))
 
 
 def read_csv(path: str | Path) -> list[dict]:

@@ -25,7 +25,7 @@ from nsdyn.studies import execute
 from nsdyn.studies.execute import run_study
 from nsdyn.studies.scenes import _isolated_system, run_scene_summary
 from nsdyn.studies.study import load_study
-from nsdyn.studies.table import PARTS, RESULTS, TIMING_COLUMNS, read_csv
+from nsdyn.studies.table import PARTS, RESULTS, TIMING_COLUMNS, Table, read_csv
 from nsdyn.studies.tasks import expand
 
 SMALL = """
@@ -413,3 +413,22 @@ def test_executor_settings_that_cannot_mean_anything_are_refused(tmp_path, monke
     monkeypatch.setattr(execute, "process_pool", lambda n: sizes.append(n) or ThreadPoolExecutor(1))
     run_study(st, tmp_path / "p", workers=64)
     assert sizes == [len(expand(st))]
+
+
+def test_a_study_table_reads_back_as_a_dataframe_cell_for_cell(tmp_path):
+    # a study's table in a notebook: the rows read back from results.csv, in one DataFrame
+    pd = pytest.importorskip("pandas")
+    from nsdyn.studies import read_results
+
+    rows = [{"index": 0, "key": "a1", "record": "001", "status": "ok", "error": "",
+             "isolation.mu": 0.05, "x_iso_max_m": 0.125, "toppled": False},
+            {"index": 1, "key": "b2", "record": "002", "status": "failed",
+             "error": "UpliftError: x", "isolation.mu": 0.1, "x_iso_max_m": None,
+             "toppled": None}]  # fmt: skip
+    Table(rows).write_csv(tmp_path / RESULTS)
+    df = read_results(tmp_path).to_dataframe()
+    assert list(df.columns) == Table(rows).columns and len(df) == 2
+    assert df["record"].tolist() == ["001", "002"]  # (text: not records 1 and 2)
+    assert df.loc[0, "x_iso_max_m"] == 0.125 and pd.isna(df.loc[1, "x_iso_max_m"])
+    with pytest.raises(FileNotFoundError, match="no results.csv; expected the folder a study"):
+        read_results(tmp_path / "nope")
