@@ -43,7 +43,7 @@ from nsdyn.studies.design import (
     same_value,
 )
 from nsdyn.studies.fragility import CONFIDENCE, fit_lognormal
-from nsdyn.studies.table import ANALYSIS_OUTPUTS, Table
+from nsdyn.studies.table import ANALYSIS_OUTPUTS, LEAD_COLUMNS, TAIL_COLUMNS, Table
 
 SEISMIC_GAP_M = 0.4  # seed 004 §5: the isolator displacement may not exceed 400 mm
 DEFAULT_OBJECTIVES = ("idr_max", "floor_acc_max_mps2")  # seed 004 §5 objectives
@@ -88,8 +88,13 @@ def _check_column(source: str, where: str, name, study, *, result: bool) -> None
     params, results = _columns(study)
     if not isinstance(name, str):
         raise SceneError(f"{source}: {where}: expected a column name, got {name!r}")
-    if result and results is None:
-        return  # a scene kind whose result fields are known only after a run
+    if result and results is None:  # a scene kind whose result fields are known after a run;
+        # one that keep drops is not among them (its analysis said only "no number")
+        table_own = (*LEAD_COLUMNS, *TAIL_COLUMNS)
+        if study.keep is not None and name not in (*params, *study.keep, *table_own):
+            raise SceneError(f"{source}: {where}: {name!r} is a result the study does not "
+                             f"keep; add it to study.keep (now {list(study.keep)})")  # fmt: skip
+        return
     valid = params | results if result else params
     if result and name not in valid and study.keep is not None and name in ISOLATED_RESULTS:
         raise SceneError(f"{source}: {where}: {name!r} is a result the study does not keep; "

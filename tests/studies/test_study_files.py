@@ -308,3 +308,15 @@ def test_analyses_say_why_their_statistics_are_nan(tmp_path, capsys):
     bad = text.replace("[analysis.design]\n", "[analysis.percentiles]\npercentiles = 50\n")
     assert main(["study", str(_write(tmp_path, bad, "b.toml")), "--out", str(tmp_path / "b")]) == 2
     assert "analysis.percentiles.percentiles: expected a list" in capsys.readouterr().err
+
+
+def test_an_analysis_of_a_result_that_keep_drops_is_refused_for_every_scene_kind(tmp_path):
+    # a cylinder study kept max_tilt and read max_uplift_ratio: its table said only "no
+    # number in any successful row" after every run
+    text = ('[study]\nname = "c"\nkeep = ["max_tilt"]\n[base.scene]\nkind = "cylinder"\n'
+            '[base.motion]\nduration = 4.0\n[parameters]\n"motion.seed" = [0, 1]\n'
+            '[analysis.percentiles]\nquantities = ["max_uplift_ratio"]\n')  # fmt: skip
+    with pytest.raises(SceneError, match=r"analysis.percentiles.quantities: 'max_uplift_ratio' "
+                       r"is a result the study does not keep; add it to study.keep"):  # fmt: skip
+        load_study(_write(tmp_path, text))
+    load_study(_write(tmp_path, text.replace('["max_tilt"]', '["max_tilt", "max_uplift_ratio"]')))
