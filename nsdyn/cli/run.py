@@ -220,10 +220,16 @@ def _check_ladder_flags(args: argparse.Namespace, raw: dict) -> None:
         )
 
 
+def _stem(name: str) -> str:
+    from nsdyn.models.scenefile import file_stem
+
+    return file_stem(name)
+
+
 FIGURES = {  # the figures a run of each other kind draws (by the scene's name)
     "rocking": lambda name: ["rocking.png"],
     "contact": lambda name: ["contact.png"],
-    "cylinder": lambda name: [f"{name}.png"],
+    "cylinder": lambda name: [f"{_stem(name)}.png"],
     "deck": lambda name: ["deck.png"],
     "building3d": lambda name: ["building3d-deformed.png", "building3d-modes.png"],
 }

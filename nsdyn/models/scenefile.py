@@ -182,26 +182,32 @@ def scene_module(kind: str) -> str:
     return SCENE_MODULES.get(kind, f"nsdyn.models.{kind}.scene")
 
 
-NAME_MAX = 100  # characters of a scene's name (it names output files: a 1e5-character one ran)
+NAME_MAX = 200  # bytes of a scene's name (it may name output files: a 1e5-character one ran)
+
+
+def file_stem(name: str) -> str:
+    """A scene's name as the stem of the files it names (a cylinder's ``NAME.npz``): its path
+    separators as "_" and no leading dot (a cylinder scene named "../x" wrote its files beside
+    the folder; ".x" would be a hidden file)."""
+    return name.replace("/", "_").replace("\\", "_").lstrip(".") or "_"
 
 
 def scene_kind(cfg: Mapping, source: str = "<scene>") -> str:
     """The model family of a parsed scene (``[scene] kind``, default ``isolated``); its
-    ``[scene] name``, when given, checked as a file name's stem (:data:`NAME_MAX`
-    characters at most, no path separator nor control character: a cylinder scene named
-    "../x" wrote its files beside the output folder)."""
+    ``[scene] name``, when given, checked as text a file's stem can hold (:func:`file_stem`:
+    :data:`NAME_MAX` bytes at most, no control character)."""
     kind = cfg.get("scene", {}).get("kind", "isolated")
     if kind not in KINDS:
         close = difflib.get_close_matches(str(kind), KINDS, n=1)
         hint = f" (did you mean {close[0]!r}?)" if close else ""
         raise SceneError(f"{source}: scene.kind: expected one of {list(KINDS)}, got {kind!r}{hint}")
     name = cfg.get("scene", {}).get("name", "x")
-    if isinstance(name, str) and (len(name) > NAME_MAX or not name.strip() or name in (".", "..")
-                                  or any(c in "/\\" or ord(c) < 32 for c in name)):  # fmt: skip
+    if isinstance(name, str) and (len(name.encode()) > NAME_MAX or not name.strip()
+                                  or any(ord(c) < 32 for c in name)):  # fmt: skip
         shown = repr(name) if len(name) <= 60 else f"{name[:40]!r}... ({len(name)} characters)"
-        raise SceneError(f"{source}: scene.name: expected a name of 1 to {NAME_MAX} characters "
-                         f"without '/', '\\' or control characters (it names the output "
-                         f"files), got {shown}")  # fmt: skip
+        raise SceneError(f"{source}: scene.name: expected a name of 1 to {NAME_MAX} bytes "
+                         f"without control characters (it may name the output files), got "
+                         f"{shown}")  # fmt: skip
     return kind
 
 

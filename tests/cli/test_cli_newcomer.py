@@ -610,13 +610,25 @@ def test_a_run_into_a_folder_of_another_run_names_the_files_it_did_not_write(tmp
     assert any(n.endswith("command's): run-histories.npz") for n in notes), notes
 
 
-@pytest.mark.parametrize("name", ["../escaped", "a\x00b", "", "x" * 101])
+@pytest.mark.parametrize("name", ["a\x00b", "", "x" * 201, "円" * 67])
 def test_a_scene_name_that_is_no_file_name_is_refused(tmp_path, one_line, name):
-    # a cylinder scene names its files by the scene's name: "../escaped" wrote them beside
-    # the output folder, a 1e5-character name was echoed in full
+    # a cylinder scene names its files by the scene's name: a 1e5-character name was echoed
+    # in full; 201 bytes (67 CJK characters) ran the whole run, then failed to name its file
     text = Path(_scene("cylinder-uplift.toml")).read_text()
     scene = tmp_path / "c.toml"
     scene.write_text(text.replace('name = "cylinder-uplift"', f"name = {json.dumps(name)}"))
     assert main(["run", str(scene), "--out", str(tmp_path / "o" / "in")]) == 2
-    one_line(f"{scene}: scene.name: expected a name of 1 to 100 characters without '/'")
+    one_line(f"{scene}: scene.name: expected a name of 1 to 200 bytes without control")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["c.toml"]
+
+
+def test_a_scene_name_with_a_slash_names_files_inside_the_folder(tmp_path):
+    # "../escaped" wrote a cylinder's files beside the output folder; "mu 0.05/0.10" is a
+    # name any scene may have (its files are named by it with "_" for the separators)
+    text = Path(_scene("cylinder-uplift.toml")).read_text()
+    scene = tmp_path / "c.toml"
+    scene.write_text(text.replace('name = "cylinder-uplift"', 'name = "../mu 0.05/0.10"'))
+    out = tmp_path / "o" / "in"
+    assert main(["run", str(scene), "--t-end", "1", "--out", str(out)]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["_mu 0.05_0.10.npz", "_mu 0.05_0.10.png"]
+    assert sorted(p.name for p in (tmp_path / "o").iterdir()) == ["in"]

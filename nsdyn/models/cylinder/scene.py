@@ -48,6 +48,7 @@ from nsdyn.models.cylinder.stresses import peak_stresses
 from nsdyn.models.scenefile import (
     SceneError,
     check_fields,
+    file_stem,
     grid_fields,
     number,
     record_units,
@@ -379,7 +380,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     if opts["notes"]:
         summary["notes"] = opts["notes"]
     summary["outcome"], text = outcome(summary)
-    npz = out_dir / f"{name}.npz"
+    npz = out_dir / f"{file_stem(name)}.npz"
     with atomic_open(npz, "wb") as fh:
         t = res.t + opts["t0"]  # (on the record's clock)
         np.savez(fh, t=t, ag=res.ag, w=res.w, q=res.q, omega=res.omega, tilt=res.tilt,
@@ -391,7 +392,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     if figures and p.foundation != "fixed":
         from nsdyn.models.cylinder.figures import motion_figure
 
-        png = out_dir / f"{name}.png"
+        png = out_dir / f"{file_stem(name)}.png"
         save_figure(motion_figure(res, title=f"{name}: {p.foundation}: {text}"), png)
         summary["figure"] = str(png)
         summary["files"].append(str(png))
