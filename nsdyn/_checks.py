@@ -99,14 +99,16 @@ def finite_numbers(name: str, value, what: str, size: int | None = None):
 
 
 def got_array(a, *shapes: tuple) -> str:
-    """What an array refused as one of ``shapes`` of finite numbers is: "shape (n, k)" when
-    its shape is none of them, else its first entry that is not finite, "row i: [x, nan]" or
-    "entry i: nan" (a NaN was blamed on a shape that was right)."""
+    """What an array refused as one of ``shapes`` of finite numbers is (None in a shape: any
+    length): "shape (n, k)" when its shape is none of them, else its first entry that is not
+    finite, "row i: [x, nan]" or "entry i: nan" (a NaN was blamed on a shape that was right)."""
     import numpy as np
 
     a = np.asarray(a, dtype=float)
     bad = np.argwhere(~np.isfinite(a))
-    if a.shape not in [tuple(s) for s in shapes] or not bad.size:
+    fits = any(len(s) == a.ndim and all(k in (None, n) for k, n in zip(s, a.shape, strict=False))
+               for s in shapes)  # fmt: skip
+    if not fits or not bad.size:
         return f"shape {a.shape}"
     i = int(bad[0, 0])
     return f"row {i}: {a[i].tolist()}" if a.ndim == 2 else f"entry {i}: {a[i]}"

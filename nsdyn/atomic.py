@@ -6,6 +6,7 @@ any, in place and no temporary file behind.
 
 from __future__ import annotations
 
+import errno
 import os
 import secrets
 import stat
@@ -22,6 +23,8 @@ def _file_mode() -> int:
 
 
 FILE_MODE = _file_mode()
+# the errors of a write itself, named with the file they hit (a full disk, a quota)
+WRITE_ERRNOS = {getattr(errno, n, None) for n in ("ENOSPC", "EDQUOT", "EFBIG", "EIO")} - {None}
 
 
 class CheckpointError(ValueError):
@@ -77,8 +80,8 @@ def atomic_open(path: str | Path, mode: str = "w", **kwargs) -> Iterator:
             with fh:
                 yield fh
         except OSError as e:  # (a full disk said "[Errno 28] No space left on device")
-            if e.filename is None and e.errno is not None:
-                raise OSError(e.errno, f"{e.strerror}, writing", str(path)) from None
+            if e.filename is None and e.errno in WRITE_ERRNOS:
+                raise OSError(e.errno, f"{e.strerror}, writing", str(path)) from e
             raise
         os.chmod(tmp, file_mode)
         os.replace(tmp, path)
@@ -115,14 +118,22 @@ def out_lock(out: Path, command: str) -> Iterator[None]:
         yield
         return
     path = Path(out) / LOCK
-    fd = os.open(path, os.O_RDWR | os.O_CREAT, FILE_MODE)
-    try:
+    while True:  # a lock file its holder removed as we opened it: lock the one now there
+        fd = os.open(path, os.O_RDWR | os.O_CREAT, FILE_MODE)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
             who = os.read(fd, 200).decode(errors="replace").strip() or "another nsdyn command"
+            os.close(fd)
             raise OutputBusy(f"{out}: {who} writes there; wait for it to end, or give another "
                              "--out") from None  # fmt: skip
+        try:
+            if os.stat(path).st_ino == os.fstat(fd).st_ino:
+                break
+        except FileNotFoundError:
+            pass
+        os.close(fd)
+    try:
         os.ftruncate(fd, 0)
         os.write(fd, f"nsdyn {command} (process {os.getpid()})".encode())
         try:

@@ -203,8 +203,10 @@ def _interrupt_line(args: argparse.Namespace) -> str:
         from nsdyn.cli.run_resume import CHECKPOINT
 
         if FINISHED:  # (it was "stopped before its first checkpoint")
+            drawn = len(FINISHED) > 1 or getattr(args, "no_figures", False)
             return (f"nsdyn run: interrupted after the run finished: its histories are "
-                    f"{FINISHED[-1]}, its figure was not drawn")  # fmt: skip
+                    f"{FINISHED[0]}, " + ("its files are complete" if drawn else
+                                          "its figure was not drawn"))  # fmt: skip
         out = Path(getattr(args, "out", None) or DEFAULT_OUT)
         if (out / CHECKPOINT).is_file():
             return f"{done}, rerun it with --resume to continue from its checkpoint in {out}"

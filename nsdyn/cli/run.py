@@ -483,73 +483,74 @@ def run(args: argparse.Namespace) -> int:
             raise
         ckpt.unlink(missing_ok=True)
         identity.unlink(missing_ok=True)
-    for w in caught:  # uplift: one clean line below; anything else as Python shows it
-        if not issubclass(w.category, UpliftWarning):
-            warnings.showwarning(w.message, w.category, w.filename, w.lineno)
-    s = res.summary()
-    s["method_reason"] = reason or s.get("method_reason", "")
-    if t_resumed is not None:  # histories and n_steps are the whole run's, wall_s this part's
-        s["resumed_from_s"] = t_resumed
-    s["compile_s"] = float(s["compile_s"]) + compile_s
-    s["record"] = getattr(motion, "name", s["excitation"])
-    if hasattr(motion, "pga"):
-        s["pga_mps2"] = float(motion.pga)  # of the motion run: the window, with --t-end
-        if "pga" in cfg.get("motion", {}):  # the record was scaled to this before the window
-            s["record_pga_mps2"] = float(cfg["motion"]["pga"])
-    hist = out / f"{stem}-histories.npz"
-    if not args.no_figures:  # an earlier run's figure goes as the new histories come (an
-        (out / f"{stem}.png").unlink(missing_ok=True)  # interrupt left it beside them)
-    with atomic_open(hist, "wb") as fh:
-        np.savez(
-            fh,
-            t=res.t,
-            x=res.x,
-            x_iso=res.response.x_iso,
-            top_drift=res.response.top_drift,
-            normal_forces=res.response.lam,
-            friction_forces=res.response.tau,
-        )
-    s["histories"] = str(hist)
-    FINISHED.append(str(hist))
-    for note in s.get("notes", []):  # the run's own (a fixed step's unresolved peaks)
-        notes.append(note)
-        if not args.json:
-            print(f"nsdyn run: note: {note}", file=sys.stderr)
-    s["notes"] = notes
-    word, text = outcome(s)
-    s["outcome"] = word
-    if s.get("uplift"):  # uplift = "warn": the run went on outside the model's domain
-        print(f"nsdyn run: warning: {text}", file=sys.stderr)
-    if args.no_figures:
-        stale_figures(out, [f"{stem}.png"], "run", args.json)
-    else:
-        from nsdyn.plot import plot_transient
+        for w in caught:  # uplift: one clean line below; anything else as Python shows it
+            if not issubclass(w.category, UpliftWarning):
+                warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+        s = res.summary()
+        s["method_reason"] = reason or s.get("method_reason", "")
+        if t_resumed is not None:  # histories and n_steps are the whole run's, wall_s this part's
+            s["resumed_from_s"] = t_resumed
+        s["compile_s"] = float(s["compile_s"]) + compile_s
+        s["record"] = getattr(motion, "name", s["excitation"])
+        if hasattr(motion, "pga"):
+            s["pga_mps2"] = float(motion.pga)  # of the motion run: the window, with --t-end
+            if "pga" in cfg.get("motion", {}):  # the record was scaled to this before the window
+                s["record_pga_mps2"] = float(cfg["motion"]["pga"])
+        hist = out / f"{stem}-histories.npz"
+        if not args.no_figures:  # an earlier run's figure goes as the new histories come (an
+            (out / f"{stem}.png").unlink(missing_ok=True)  # interrupt left it beside them)
+        with atomic_open(hist, "wb") as fh:
+            np.savez(
+                fh,
+                t=res.t,
+                x=res.x,
+                x_iso=res.response.x_iso,
+                top_drift=res.response.top_drift,
+                normal_forces=res.response.lam,
+                friction_forces=res.response.tau,
+            )
+        s["histories"] = str(hist)
+        FINISHED.append(str(hist))
+        for note in s.get("notes", []):  # the run's own (a fixed step's unresolved peaks)
+            notes.append(note)
+            if not args.json:
+                print(f"nsdyn run: note: {note}", file=sys.stderr)
+        s["notes"] = notes
+        word, text = outcome(s)
+        s["outcome"] = word
+        if s.get("uplift"):  # uplift = "warn": the run went on outside the model's domain
+            print(f"nsdyn run: warning: {text}", file=sys.stderr)
+        if args.no_figures:
+            stale_figures(out, [f"{stem}.png"], "run", args.json)
+        else:
+            from nsdyn.plot import plot_transient
 
-        fixed = fixed_base_run(system, motion, t_eval, quiet) if args.compare_fixed else None
-        fig_path = out / f"{stem}.png"
-        fig = plot_transient(res, motion, fixed=fixed, note=f"outcome: {text.split(':')[0]}",
-                             alert=bool(s.get("uplift")))  # fmt: skip
-        save_figure(fig, fig_path)
-        s["figure"] = str(fig_path)
-    if note := earlier_files(out, before, "run"):
-        s["notes"].append(note)
-        if not args.json:
-            print(f"nsdyn run: note: {note}", file=sys.stderr)
-    if args.json:
-        print(json.dumps(s))
+            fixed = fixed_base_run(system, motion, t_eval, quiet) if args.compare_fixed else None
+            fig_path = out / f"{stem}.png"
+            fig = plot_transient(res, motion, fixed=fixed, note=f"outcome: {text.split(':')[0]}",
+                                 alert=bool(s.get("uplift")))  # fmt: skip
+            save_figure(fig, fig_path)
+            s["figure"] = str(fig_path)
+            FINISHED.append(s["figure"])
+        if note := earlier_files(out, before, "run"):
+            s["notes"].append(note)
+            if not args.json:
+                print(f"nsdyn run: note: {note}", file=sys.stderr)
+        if args.json:
+            print(json.dumps(s))
+            return 0
+        pga = f" (PGA {s['pga_mps2']:.2f} m/s²)" if "pga_mps2" in s else ""
+        scaled = s.get("record_pga_mps2")
+        if scaled is not None and abs(scaled - s["pga_mps2"]) > 5e-3:  # a shortened record
+            pga = (f" (record scaled to PGA {s['record_pga_mps2']:.2f} m/s²; peak "
+                   f"{s['pga_mps2']:.2f} m/s² over the run)")  # fmt: skip
+        print(f"outcome {text}")
+        print(f"model   {s['model']}   excitation {s['record']}{pga}")
+        print(f"method  {s['method']}: {s['n_steps']} steps, run {s['wall_s']:.3f} s (+ JIT "
+              f"compile/load {s['compile_s']:.1f} s)")  # fmt: skip
+        for line in summary_rows(s):
+            print(line)
+        print(f"histories: {hist}")
+        if "figure" in s:
+            print(f"figure:    {s['figure']}")
         return 0
-    pga = f" (PGA {s['pga_mps2']:.2f} m/s²)" if "pga_mps2" in s else ""
-    scaled = s.get("record_pga_mps2")
-    if scaled is not None and abs(scaled - s["pga_mps2"]) > 5e-3:  # a shortened record
-        pga = (f" (record scaled to PGA {s['record_pga_mps2']:.2f} m/s²; peak "
-               f"{s['pga_mps2']:.2f} m/s² over the run)")  # fmt: skip
-    print(f"outcome {text}")
-    print(f"model   {s['model']}   excitation {s['record']}{pga}")
-    print(f"method  {s['method']}: {s['n_steps']} steps, run {s['wall_s']:.3f} s (+ JIT "
-          f"compile/load {s['compile_s']:.1f} s)")  # fmt: skip
-    for line in summary_rows(s):
-        print(line)
-    print(f"histories: {hist}")
-    if "figure" in s:
-        print(f"figure:    {s['figure']}")
-    return 0

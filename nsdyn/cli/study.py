@@ -207,33 +207,33 @@ def run(args: argparse.Namespace) -> int:
         ctx = nullcontext(None)
     old = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
-        with ctx as executor, output_dir(out, "study"):  # (locked while the study runs)
-            res = run_study(
-                study,
-                out,
-                executor=executor,
-                workers=args.workers,
-                fresh=args.fresh,
-                retry_failed=args.retry_failed,
-                progress=None if args.json else stderr_progress,
-            )
+        with output_dir(out, "study"):  # (locked while the study runs and its analyses write)
+            with ctx as executor:
+                res = run_study(study, out, executor=executor, workers=args.workers,
+                                fresh=args.fresh, retry_failed=args.retry_failed,
+                                progress=None if args.json else stderr_progress)  # fmt: skip
+            summary = res.as_dict()
+            failed = failures(study, res.table.rows)
+            summary["failed"] = [{"index": f["index"], "error": f["error"]} for f in failed]
+            summary["never_kept"] = never_kept(study, res.table.rows)
+            if args.parquet or (out / PARQUET).is_file():  # (in step with the table once asked)
+                summary["parquet"] = str(res.table.to_parquet(out / PARQUET))
+            an = run_analyses(study, res.table, out, figures=not args.no_figures)
     except KeyboardInterrupt:
         from nsdyn.studies.table import OWNER
 
         kept = Path(out).is_dir() and any(p.name != OWNER for p in Path(out).iterdir())
-        print(f"nsdyn study: interrupted; finished tasks are kept in {out}, rerun to resume"
-              if kept else "nsdyn study: interrupted before its first task finished; a rerun "
-              "starts over", file=sys.stderr)  # fmt: skip
+        line = (
+            f"interrupted; finished tasks are kept in {out}, rerun to resume"
+            if kept
+            else "interrupted before its first task finished; a rerun starts over"
+        )
+        print(f"nsdyn study: {line}", file=sys.stderr)
+        if args.json:  # (an outcome too, as every command's under --json)
+            print(json.dumps({"status": EXIT_INTERRUPTED, "error": line}), flush=True)
         return EXIT_INTERRUPTED
     finally:
         signal.signal(signal.SIGTERM, old)
-    summary = res.as_dict()
-    failed = failures(study, res.table.rows)
-    summary["failed"] = [{"index": f["index"], "error": f["error"]} for f in failed]
-    summary["never_kept"] = never_kept(study, res.table.rows)
-    if args.parquet or (out / PARQUET).is_file():  # (kept in step with the table once asked)
-        summary["parquet"] = str(res.table.to_parquet(out / PARQUET))
-    an = run_analyses(study, res.table, out, figures=not args.no_figures)
     status = EXIT_NUMERICS if failed else 0  # a study with failed tasks is not a success
     if args.json:
         print(json.dumps({"study": study.name, "run": summary, "analysis": an}))

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn.atomic import atomic_open, output_dir, save_figure
+from nsdyn.atomic import atomic_open, earlier_files, files_of, output_dir, save_figure
 from nsdyn.cli.args import amplitude_list as _amplitude_list
 from nsdyn.cli.args import (
     band_message,
@@ -125,9 +125,13 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
 
 
-def _note(args):
-    """Where a sweep's notes go: stderr as "nsdyn sweep: note: ...", none under --json."""
-    return None if args.json else (lambda n: print(f"nsdyn sweep: note: {n}", file=sys.stderr))
+def _note_earlier(args, out: Path, before: dict, report: dict) -> None:
+    """The files an earlier command left in the folder (:func:`earlier_files`): among the
+    report's notes and, without --json, said on stderr."""
+    if note := earlier_files(out, before, "sweep"):
+        report.setdefault("notes", []).append(note)
+        if not args.json:
+            print(f"nsdyn sweep: note: {note}", file=sys.stderr)
 
 
 def _beyond(amplitudes, where: str) -> str | None:
@@ -277,7 +281,8 @@ def run(args: argparse.Namespace) -> int:
         "switch" if friction == "switch" else "arctan",
         args.contact,
     )
-    with output_dir(Path(args.out), "sweep", _note(args)) as out:  # (none left empty)
+    with output_dir(Path(args.out), "sweep") as out:  # (none left empty by a failure)
+        before = files_of(out)
         compile_s = prepare_kernels(settings.friction, settings.contact)  # apart from its wall
         t0 = time.perf_counter()
         results = sweep_amplitudes(
@@ -289,30 +294,32 @@ def run(args: argparse.Namespace) -> int:
             restart=args.restart,
             quiet=args.json,
         )
-    csv_path = out / "sweep.csv"
-    write_csv(csv_path, results)
-    report = {
-        "model": results[0]["model"],
-        "csv": str(csv_path),
-        "settings": asdict(settings),
-        "wall_s": time.perf_counter() - t0,
-        "compile_s": compile_s,
-        "amplitudes": [summarise(r) for r in results],
-    }
-    if args.no_figures:
-        stale_figures(out, ["sweep.png"], "sweep", args.json)
-    else:
-        freqs = log_frequencies(args.fmin, args.fmax, 300)
-        frame, fm = results[0]["frame"], results[0]["f_max"] or 5.0
-        fixed = None  # the fixed-base reference needs a frame
-        if frame is not None:
-            amps = [r["A"] for r in results]  # linear: one solve for every amplitude
-            fixed = dict(zip(amps, fixed_base_response(frame, amps, freqs, f_max=fm), strict=True))
-        fig_path = out / "sweep.png"
-        from nsdyn.plot import sweep_figure
+        csv_path = out / "sweep.csv"
+        write_csv(csv_path, results)
+        report = {
+            "model": results[0]["model"],
+            "csv": str(csv_path),
+            "settings": asdict(settings),
+            "wall_s": time.perf_counter() - t0,
+            "compile_s": compile_s,
+            "amplitudes": [summarise(r) for r in results],
+        }
+        if args.no_figures:
+            stale_figures(out, ["sweep.png"], "sweep", args.json)
+        else:
+            freqs = log_frequencies(args.fmin, args.fmax, 300)
+            frame, fm = results[0]["frame"], results[0]["f_max"] or 5.0
+            fixed = None  # the fixed-base reference needs a frame
+            if frame is not None:
+                amps = [r["A"] for r in results]  # linear: one solve for every amplitude
+                resp = fixed_base_response(frame, amps, freqs, f_max=fm)
+                fixed = dict(zip(amps, resp, strict=True))
+            fig_path = out / "sweep.png"
+            from nsdyn.plot import sweep_figure
 
-        save_figure(sweep_figure(results, fixed), fig_path, dpi=120)
-        report["figure"] = str(fig_path)
+            save_figure(sweep_figure(results, fixed), fig_path, dpi=120)
+            report["figure"] = str(fig_path)
+        _note_earlier(args, out, before, report)
     if args.json:
         print(json.dumps(report, default=float))
         return _holes(report["amplitudes"], csv_path)
@@ -476,45 +483,47 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     from nsdyn.models.isolated.bearings import slip_ratio_note
     from nsdyn.models.isolated.deck_scene import warm
 
-    with output_dir(Path(args.out), "sweep", _note(args)) as out:  # (none left empty)
+    with output_dir(Path(args.out), "sweep") as out:  # (none left empty by a failure)
+        before = files_of(out)
         compile_s = warm(sc["system"], law)  # announced on a first use, before the workers
         t0 = time.perf_counter()
         results = sweep_plane(cfg, source, amplitudes, settings, out, workers=args.workers,
                               restart=args.restart, quiet=args.json)  # fmt: skip
-    csv_path = out / "sweep.csv"
-    write_csv(csv_path, results)
-    o = sc["orbit"]
-    report = {
-        "kind": sc["kind"], "model": sc["name"], "csv": str(csv_path),
-        "orbit": {"f_hz": o.f, "ax": o.ax, "ay": o.ay, "phase_y_deg": o.phase_y_deg,
-                  "az": o.az, "f_z": o.f_z, "phase_z_deg": o.phase_z_deg},
-        "settings": asdict(settings), "wall_s": time.perf_counter() - t0,
-        "compile_s": compile_s, "amplitudes": [summarise(r) for r in results],
-    }  # fmt: skip
-    bearings = getattr(sc["system"], "bearings", ())
-    peaks = np.zeros(len(bearings))  # each isolator's largest peak where it was the largest
-    for row in (x for r in results for x in r["rows"] if x["converged"]):
-        k = row.get("u_peak_isolator")
-        if isinstance(k, int) and 0 <= k < len(bearings):
-            peaks[k] = max(peaks[k], float(row["u_peak_m"]))
-    big = slip_ratio_note(bearings, peaks) if bearings else None
-    if big:  # (a run says so; the sweep's orbits past the radius said nothing)
-        report["notes"] = [big]
-        if not args.json:
-            print(f"nsdyn sweep: note: {big}", file=sys.stderr)
-    if args.no_figures:
-        stale_figures(out, ["sweep.png"], "sweep", args.json)
-    else:
-        from nsdyn.plot.plane_sweep import plane_sweep_figure
+        csv_path = out / "sweep.csv"
+        write_csv(csv_path, results)
+        o = sc["orbit"]
+        report = {
+            "kind": sc["kind"], "model": sc["name"], "csv": str(csv_path),
+            "orbit": {"f_hz": o.f, "ax": o.ax, "ay": o.ay, "phase_y_deg": o.phase_y_deg,
+                      "az": o.az, "f_z": o.f_z, "phase_z_deg": o.phase_z_deg},
+            "settings": asdict(settings), "wall_s": time.perf_counter() - t0,
+            "compile_s": compile_s, "amplitudes": [summarise(r) for r in results],
+        }  # fmt: skip
+        bearings = getattr(sc["system"], "bearings", ())
+        peaks = np.zeros(len(bearings))  # each isolator's largest peak where it was the largest
+        for row in (x for r in results for x in r["rows"] if x["converged"]):
+            k = row.get("u_peak_isolator")
+            if isinstance(k, int) and 0 <= k < len(bearings):
+                peaks[k] = max(peaks[k], float(row["u_peak_m"]))
+        big = slip_ratio_note(bearings, peaks) if bearings else None
+        if big:  # (a run says so; the sweep's orbits past the radius said nothing)
+            report["notes"] = [big]
+            if not args.json:
+                print(f"nsdyn sweep: note: {big}", file=sys.stderr)
+        if args.no_figures:
+            stale_figures(out, ["sweep.png"], "sweep", args.json)
+        else:
+            from nsdyn.plot.plane_sweep import plane_sweep_figure
 
-        fig_path = out / "sweep.png"
-        title = f"{sc['name']}: law {settings.law}"
-        save_figure(plane_sweep_figure(results, title), fig_path, dpi=120)
-        report["figure"] = str(fig_path)
-    json_path = out / "sweep.json"
-    report["json"] = str(json_path)
-    with atomic_open(json_path, "w") as fh:
-        fh.write(json.dumps(report, default=float, indent=1))
+            fig_path = out / "sweep.png"
+            title = f"{sc['name']}: law {settings.law}"
+            save_figure(plane_sweep_figure(results, title), fig_path, dpi=120)
+            report["figure"] = str(fig_path)
+        _note_earlier(args, out, before, report)
+        json_path = out / "sweep.json"
+        report["json"] = str(json_path)
+        with atomic_open(json_path, "w") as fh:
+            fh.write(json.dumps(report, default=float, indent=1))
     if args.json:
         print(json.dumps(report, default=float))
         return _holes(report["amplitudes"], json_path)

@@ -363,6 +363,23 @@ def fragility_outcomes(table: Table, im_name: str, edp_name: str) -> dict:
             "below": below}  # fmt: skip
 
 
+def _pooled(table: Table, study, im_name: str) -> dict:
+    """{grid parameter: its number of values} of the parameters other than the IM that one
+    fragility curve pools; a parameter the IM follows (one IM value per parameter value: the
+    record's PGA beside a grid over motion.pga) is the IM's own axis, not pooled."""
+    im = table.column(im_name)
+    out = {}
+    for n in _grid_names(study):
+        vals = [str(v) for v in table.values(n)]
+        if n == im_name or len(set(vals)) < 2:
+            continue
+        spread = {v: np.unique(np.round(im[[i for i, w in enumerate(vals) if w == v]], 9))
+                  for v in set(vals)}  # fmt: skip
+        if any(np.isfinite(s).sum() > 1 for s in spread.values()):
+            out[n] = len(set(vals))
+    return out
+
+
 def failure_note(counted: dict) -> str:
     """``3 failed runs (uplift) counted as exceedance`` (empty without such failures)."""
     n = sum(counted.values())
@@ -407,8 +424,7 @@ def _fragility(study, table: Table, spec: dict, out: Path, figures: bool) -> dic
                        "lognormal fragility places only IM > 0")  # fmt: skip
     if note:
         res["failures"] = note
-    levels = {n: len({str(v) for v in table.values(n)}) for n in _grid_names(study)}
-    pooled = [f"{n} ({k} values)" for n, k in levels.items() if n != spec["im"] and k > 1]
+    pooled = [f"{n} ({k} values)" for n, k in _pooled(table, study, spec["im"]).items()]
     if pooled:  # (one curve over every design, without a word)
         res["note"] = "; ".join(filter(None, [res.get("note"), "one curve over the runs of "
                                               f"every {', '.join(pooled)}: run a study per "

@@ -252,8 +252,8 @@ def dask_executor(
         main = threading.current_thread() is threading.main_thread()
         old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
         try:
-            cluster = LocalCluster(n_workers=n_local or 1, threads_per_worker=1,
-                                   processes=processes, dashboard_address=None,
+            cluster = LocalCluster(n_workers=n_local or 1, threads_per_worker=1,  # (":0": a
+                                   processes=processes, dashboard_address=":0",  # free port)
                                    silence_logs=logging.ERROR)  # fmt: skip
         finally:
             if main:

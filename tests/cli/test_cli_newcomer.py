@@ -632,3 +632,23 @@ def test_a_scene_name_with_a_slash_names_files_inside_the_folder(tmp_path):
     assert main(["run", str(scene), "--t-end", "1", "--out", str(out)]) == 0
     assert sorted(p.name for p in out.iterdir()) == ["_mu 0.05_0.10.npz", "_mu 0.05_0.10.png"]
     assert sorted(p.name for p in (tmp_path / "o").iterdir()) == ["in"]
+
+
+def test_a_run_holds_its_folder_while_it_writes_its_results(tmp_path, monkeypatch):
+    # the folder was free again while the run wrote its histories and figure: a second
+    # command could write over them
+    import nsdyn.cli.run as cr
+    from nsdyn.atomic import OutputBusy, out_lock
+
+    seen = []
+
+    def check_then_save(fig, path, **kw):
+        with pytest.raises(OutputBusy, match="nsdyn run"):
+            with out_lock(tmp_path, "sweep"):
+                pass
+        seen.append(path)
+        return path
+
+    monkeypatch.setattr(cr, "save_figure", check_then_save)
+    assert main(["run", "--t-end", "1", "--out", str(tmp_path)]) == 0
+    assert seen == [tmp_path / "run.png"] and not (tmp_path / ".nsdyn.lock").exists()

@@ -246,6 +246,13 @@ def test_a_fit_over_another_grid_parameter_says_it_pools_its_values(tmp_path):
                         for n in ("motion.pga", "foundation.case")]  # fmt: skip
     res = run_analyses(study, table, tmp_path, figures=False)["fragility"]
     assert "one curve over the runs of every foundation.case (2 values)" in res["note"]
+    assert "motion.pga" not in res["note"]
+    # an IM read from the runs that follows the grid's PGA is that axis, not a pooled one
+    for r in table.rows:
+        r["pga_mps2"], r["foundation.case"] = r["motion.pga"], "bonded"
+    study.analysis["fragility"]["im"] = "pga_mps2"
+    res = run_analyses(study, table, tmp_path, figures=False)["fragility"]
+    assert "note" not in res
 
 
 def test_a_true_false_fragility_is_printed_without_a_limit():

@@ -94,7 +94,7 @@ def _rows(name: str, rows, n: int) -> np.ndarray:
         return np.eye(n)[a]
     a = np.atleast_2d(np.asarray(rows, dtype=float))
     if a.ndim != 2 or a.shape[1] != n or not np.all(np.isfinite(a)):
-        got = got_array(a, (len(a), n))
+        got = got_array(a, (None, n))
         raise MatrixError(f"{name}: expected dof indices or finite rows of length {n}, got {got}")
     return a
 

@@ -86,7 +86,7 @@ class PlaneSystem:
         pos = np.asarray(self.positions, dtype=float)
         if pos.ndim != 2 or pos.shape[1] != 2 or pos.shape[0] < 1 or not np.all(np.isfinite(pos)):
             raise BearingError(f"{self.name}.positions: expected finite (X, Y) pairs [m], "
-                               f"got {got_array(pos, (len(pos), 2))}")  # fmt: skip
+                               f"got {got_array(pos, (None, 2))}")  # fmt: skip
         object.__setattr__(self, "positions", pos)
         _, first, count = np.unique(pos, axis=0, return_index=True, return_counts=True)
         if np.any(count > 1):

@@ -101,6 +101,8 @@ def test_bad_decks_are_refused_with_the_field_named():
         rigid_deck(1e4, 1e4, [(0, 0), (4, 0), (0, 3), (4.0, 0.0)], b)
     with pytest.raises(BearingError, match=r"deck.positions: .*, got row 1: \[nan, 3.0\]$"):
         rigid_deck(1e4, 1e4, [(0, 0), (math.nan, 3.0), (4, 0)], b)  # (not its shape)
+    with pytest.raises(BearingError, match=r"deck.positions: .*, got shape \(\)$"):
+        rigid_deck(1e4, 1e4, 5.0, b)  # (a TypeError from len() of the scalar)
     with pytest.raises(BearingError, match=r"deck.ecc: the centre of mass lies outside the kern"):
         rigid_deck(1e4, 1e4, POS[:4], b, ecc=(6.0, 0.0))
     with pytest.raises(BearingError, match=r"deck.m: expected a positive number"):
