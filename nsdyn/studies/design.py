@@ -203,9 +203,11 @@ def few_runs_note(rows: list[dict], q=DEFAULT_PERCENTILES) -> str | None:
     if not few:
         return gone or None
     tails = ", ".join(f"p{p:g}" for p in q if 0 < p < 100 and 1 + 100 / min(p, 100 - p) > min(few))
+    how = ("interpolated between the extreme runs" if min(few) > 1 else "interpolated "
+           "between the extreme runs, or the one run's value in a group of one")  # fmt: skip
     note = (f"{len(few)} of {len(rows)} group(s) with fewer than {need} successful runs (fewest "
-            f"{min(few)}): there {tails} are interpolated between the extreme runs, not "
-            "estimated; add records or samples")  # fmt: skip
+            f"{min(few)}): there {tails} are {how}, not estimated; add records or "
+            "samples")  # fmt: skip
     return f"{gone}; {note}" if gone else note
 
 

@@ -139,3 +139,6 @@ def test_few_runs_note_marks_the_groups_whose_outer_percentiles_only_interpolate
     )
     both = few_runs_note([{"n": 0}, {"n": 3}], (16, 50, 84))
     assert both.startswith("1 of 2 group(s) without a successful run") and "(fewest 3)" in both
+    # a group of one run: every percentile is its value (np.percentile of one number)
+    assert np.percentile([0.3], 16) == np.percentile([0.3], 84) == 0.3
+    assert "or the one run's value in a group of one" in few_runs_note([{"n": 1}], (16, 84))
