@@ -56,6 +56,11 @@ def check(study, spec: dict) -> None:
         raise SceneError(f"{src}: analysis.incidence.angle: {angle!r} is not a grid parameter "
                          f"of this study; vary it, e.g. \"{ANGLE}\" = "
                          "{ linspace = [0, 180, 13] }")  # fmt: skip
+    values = next(p.values for p in study.parameters if p.name == angle)
+    if len(values) < 2:  # ("max at 30 deg", a directionality of 1 from one angle)
+        raise SceneError(f"{src}: analysis.incidence.angle: {angle!r} takes one value "
+                         f"({values[0]!r}); an incidence analysis compares two angles or "
+                         "more")  # fmt: skip
     q = spec.get("quantities", [])
     if not isinstance(q, list) or not all(isinstance(v, str) for v in q):
         raise SceneError(f"{src}: analysis.incidence.quantities: expected a list of column "

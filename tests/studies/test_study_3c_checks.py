@@ -75,6 +75,9 @@ def _study(tmp_path, scene: str, body: str) -> object:
         (DECK, '[parameters]\n"motion.pga" = [1.0, 2.0]\n[analysis.incidence]\n'
                'angle = "motion.pga"\n',
          r"analysis.incidence.angle: expected an angle in degrees"),
+        # one angle: "max at 30 deg", a directionality of 1
+        (DECK, '[parameters]\n"motion.rotate" = [30.0]\n[analysis.incidence]\n',
+         r"analysis.incidence.angle: 'motion.rotate' takes one value \(30.0\); an incidence"),
         (DECK, '[parameters]\n"motion.pga" = [1.0, 2.0]\n[analysis.design]\n'
                "constraints = { peak_base_shear_N = { min = 5.0, max = 1.0 } }\n",
          r"constraints.peak_base_shear_N: expected min <= max"),
