@@ -18,7 +18,7 @@ import sys
 from pathlib import Path
 
 from nsdyn.atomic import save_figure
-from nsdyn.cli.args import out_dir
+from nsdyn.cli.args import int_in, out_dir
 from nsdyn.models.cylinder import CylinderParams, compare_foundations
 from nsdyn.models.cylinder.figures import comparison_figure
 
@@ -26,19 +26,6 @@ FIGURE = Path(__file__).parent / "figures" / "cylinder-compare.png"
 N_DEFAULT = 100  # the committed figure's earthquakes
 N_MAX = 1000  # ~0.1 s per earthquake and CPU: 1000 take a minute or two on a small machine
 SCRATCH = "nsdyn-out"  # a non-default run's figure, in the current directory
-
-
-def n_earthquakes(s: str) -> int:
-    """``N``: an integer from 1 to ``N_MAX``."""
-    try:
-        v = int(s)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer, got {s!r}") from None
-    if not 1 <= v <= N_MAX:
-        raise argparse.ArgumentTypeError(
-            f"expected from 1 to {N_MAX} earthquakes (~0.1 s each on one CPU), got {s!r}"
-        )
-    return v
 
 
 def main(n: int = N_DEFAULT, figure: bool = False, path: str | Path = FIGURE) -> dict:
@@ -53,7 +40,8 @@ def main(n: int = N_DEFAULT, figure: bool = False, path: str | Path = FIGURE) ->
 
 if __name__ == "__main__":
     cli = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    cli.add_argument("n", nargs="?", type=n_earthquakes, default=N_DEFAULT,
+    n_type = int_in(1, N_MAX, "earthquakes (~0.1 s each on one CPU)")
+    cli.add_argument("n", nargs="?", type=n_type, default=N_DEFAULT,
                      help=f"earthquakes, 1 to {N_MAX} ({N_DEFAULT})")  # fmt: skip
     cli.add_argument("--out", type=out_dir, metavar="DIR",
                      help=f"write {FIGURE.name} into DIR (default: examples/figures for "

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn.cli.args import out_dir
+from nsdyn.cli.args import int_in, out_dir
 from nsdyn.models.isolated.scene import build_scene, load_scene
 from nsdyn.periodic import log_frequencies
 from nsdyn.periodic.uplift import uplift_boundary
@@ -34,19 +34,6 @@ FIGURE = Path(__file__).resolve().parent / "figures" / "uplift_boundary.png"
 POINTS_DEFAULT = 40  # the committed figure's frequencies
 POINTS_MAX = 400  # ~0.75 s per frequency (40 took 30 s): 400 take about five minutes
 SCRATCH = "nsdyn-out"  # a non-default run's figure, in the current directory
-
-
-def points_arg(s: str) -> int:
-    """``--points``: an integer from 2 to ``POINTS_MAX``."""
-    try:
-        v = int(s)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer, got {s!r}") from None
-    if not 2 <= v <= POINTS_MAX:
-        raise argparse.ArgumentTypeError(
-            f"expected from 2 to {POINTS_MAX} frequencies (~0.75 s each), got {s!r}"
-        )
-    return v
 
 
 def overturning_threshold(frame, g: float) -> float:
@@ -113,7 +100,8 @@ def main(
 
 if __name__ == "__main__":
     cli = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    cli.add_argument("--points", type=points_arg, default=POINTS_DEFAULT,
+    points = int_in(2, POINTS_MAX, "frequencies (~0.75 s each)")
+    cli.add_argument("--points", type=points, default=POINTS_DEFAULT,
                      help=f"log-spaced frequencies, 2 to {POINTS_MAX} (40)")  # fmt: skip
     cli.add_argument("--out", type=out_dir, metavar="DIR",
                      help=f"write {FIGURE.name} into DIR (default: examples/figures for "

@@ -91,15 +91,24 @@ def _int_at_least(s: str, lowest: int) -> int:
     return v
 
 
+def _int_in(s: str, lowest: int, highest: int, what: str) -> int:
+    """``s`` as an integer from ``lowest`` to ``highest`` (``what``: the unit and cost the
+    message names above it), else ArgumentTypeError."""
+    v = _int_at_least(s, lowest)
+    if v > highest:
+        raise argparse.ArgumentTypeError(f"expected at most {highest} {what}, got {s!r}")
+    return v
+
+
+def int_in(lowest: int, highest: int, what: str):
+    """An argparse ``type``: an integer from ``lowest`` to ``highest`` (:func:`_int_in`), as
+    the example scripts bound their counts of runs and points."""
+    return lambda s: _int_in(s, lowest, highest, what)
+
+
 def count(s: str) -> int:
     """A number of frequencies: an integer from 2 to :data:`MAX_POINTS`."""
-    v = _int_at_least(s, 2)
-    if v > MAX_POINTS:
-        raise argparse.ArgumentTypeError(
-            f"expected at most {MAX_POINTS} frequencies (each one a periodic solve of seconds), "
-            f"got {s!r}"
-        )
-    return v
+    return _int_in(s, 2, MAX_POINTS, "frequencies (each one a periodic solve of seconds)")
 
 
 def positive_int(s: str) -> int:
@@ -115,13 +124,9 @@ def workers(s: str) -> int:
     machine's CPUs (a Dask cluster of 1000 local workers ended in a flood of tracebacks)."""
     import os
 
-    v, top = _int_at_least(s, 1), WORKERS_PER_CPU * (os.cpu_count() or 1)
-    if v > top:
-        raise argparse.ArgumentTypeError(
-            f"expected at most {top} local processes ({WORKERS_PER_CPU} per CPU of this "
-            f"machine's {os.cpu_count() or 1}), got {s!r}"
-        )
-    return v
+    n = os.cpu_count() or 1
+    return _int_in(s, 1, WORKERS_PER_CPU * n, f"local processes ({WORKERS_PER_CPU} per CPU of "
+                   f"this machine's {n})")  # fmt: skip
 
 
 def amplitude_list(s: str) -> list[float]:
