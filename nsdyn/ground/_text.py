@@ -141,6 +141,7 @@ class Table:
     names: list[str] | None  # lower-case column names, if the file gives them
     data: np.ndarray  # (n, m)
     linenos: np.ndarray  # (n,) file line of each row
+    units: list[str | None] | None = None  # each named column's unit ("acc [g]"), if any
 
 
 def _numbers(n: int) -> str:
@@ -161,6 +162,7 @@ def parse_table(text: str, source: str) -> Table:
     lines = numbered(text)
     header: list[str] = []
     names: list[str] | None = None
+    units: list[str | None] | None = None
     names_line = None  # the line that gave them (the header's last one, when a row follows)
     first = None  # index in ``lines`` of the first row of numbers
     for i, (_, s) in enumerate(lines):
@@ -185,8 +187,9 @@ def parse_table(text: str, source: str) -> Table:
                 raise RecordFileError(source, lines[i][0], f"expected numbers, found {bad!r} "
                                       f"in {s.strip()!r}") from None  # fmt: skip
             header.append(s)
-            if all(re.fullmatch(r"[A-Za-z][\w()\[\]/^.-]*", tok) for tok in toks):
-                names, names_line = [tok.lower() for tok in toks], s
+            named = names_and_units(toks)
+            if named is not None:
+                (names, units), names_line = named, s
             continue
         first = i
         break
@@ -200,10 +203,37 @@ def parse_table(text: str, source: str) -> Table:
     ncol = data.shape[1]
     info_names = header_info(header).get("columns")
     if info_names is not None and len(info_names) == ncol:
-        names = info_names
+        names, units = info_names, None
     if names is not None and len(names) != ncol:
-        names = None
-    return Table(header, names, data, linenos)
+        names = units = None
+    return Table(header, names, data, linenos, units)
+
+
+_NAME = r"[A-Za-z][\w.-]*"
+_UNIT = r"[\[(]\s*([^\[\]()]+?)\s*[\])]"  # [g], (cm/s2), [ m/s^2 ]
+_NAME_UNIT = re.compile(rf"({_NAME})(?:{_UNIT})?")
+
+
+def names_and_units(toks: list[str]) -> tuple[list[str], list[str | None]] | None:
+    """The column names of a header line and the unit each states, or None when the line is
+    no line of names: ``time acc [g]``, ``Time (s), Acceleration (g)``, ``t(s) a(g)`` give
+    ``[time, acc]`` and ``[s, g]`` (a unit in brackets, glued to its name or the field after
+    it; names lower-case, units as written)."""
+    names: list[str] = []
+    units: list[str | None] = []
+    for tok in toks:
+        alone = re.fullmatch(_UNIT, tok)
+        if alone is not None:  # "acc [g]": the unit of the name before it
+            if not names or units[-1] is not None:
+                return None
+            units[-1] = alone.group(1)
+            continue
+        m = _NAME_UNIT.fullmatch(tok)
+        if m is None:
+            return None
+        names.append(m.group(1).lower())
+        units.append(m.group(2))
+    return (names, units) if names else None
 
 
 _DECIMAL_COMMA = re.compile(r"[+-]?\d*,\d+(?:[EeDd][+-]?\d+)?")
@@ -338,9 +368,11 @@ def column_index(spec: int | str, names: list[str] | None, ncol: int, source: st
         if names is None:
             raise RecordFileError(source, None, f"expected a column named {spec!r}; the file "
                                   f"names no columns: give an index 0..{ncol - 1}")  # fmt: skip
-        if spec.lower() not in names:
+        named = names_and_units(fields(spec))  # a name given with its unit, "acc [g]"
+        key = named[0][0] if named is not None and len(named[0]) == 1 else spec.lower()
+        if key not in names:
             raise RecordFileError(source, None, f"expected a column named {spec!r}; has {names}")
-        return names.index(spec.lower())
+        return names.index(key)
     idx = int(spec)
     if not -ncol <= idx < ncol:
         raise RecordFileError(source, None, f"expected column index < {ncol}, got {spec}")

@@ -33,7 +33,15 @@ from nsdyn.ground._text import (
     strip_comment,
     to_float,
 )
-from nsdyn.ground.motion import GroundMotion, RecordFileError, header_units, resolve_units
+from nsdyn.ground.motion import (
+    UNITS_HINT,
+    UNKNOWN_UNITS,
+    GroundMotion,
+    RecordFileError,
+    header_units,
+    resolve_units,
+    unit_factor,
+)
 
 HEADER_SEARCH_LINES = 12  # an AT2 "NPTS, DT" line must lie within the first lines
 _TIME_NAMES = {"t", "time", "time_s", "t_s", "time(s)", "t[s]", "t(s)", "time[s]", "sec", "seconds"}
@@ -162,7 +170,8 @@ def parse_table_motion(
         )
 
     if tcol is not None:
-        t = data[:, tcol]
+        t_unit = tab.units[tcol] if tab.units is not None else None  # "time [ms]"
+        t = data[:, tcol] * (1e-3 if t_unit is not None and t_unit.lower() in MILLISECONDS else 1)
         dt_file = check_time(t, tab.linenos, source)
         for label, value in (("header", info.get("dt")), ("given", opt.dt)):
             if value is not None and abs(value - dt_file) > DT_RTOL * dt_file:
@@ -217,8 +226,12 @@ def parse_table_motion(
     if hcol == tcol:
         raise RecordFileError(source, first, f"column {hcol} is the time column")
 
-    unit_name, factor = resolve_units(opt.units, info.get("units"), source)
-    a_ver = data[:, vcol] * factor if vcol is not None and vcol != hcol else None
+    stated = _stated_units(tab, info.get("units"), hcol, vcol, source, opt.units)
+    unit_name, factor = resolve_units(opt.units, stated[0], source)
+    a_ver = None
+    if vcol is not None and vcol != hcol:
+        same = stated[1] == stated[0]
+        a_ver = data[:, vcol] * (factor if same else resolve_units(opt.units, stated[1], source)[1])
     meta: dict[str, Any] = dict(info.get("meta", {}))
     meta.update(
         {
@@ -251,6 +264,29 @@ def parse_table_motion(
         meta=meta,
     )
     return motion, unit_name
+
+
+def _stated_units(tab, header, hcol: int, vcol: int | None, source: str, given) -> tuple:
+    """The units the horizontal and the vertical column are in, as the file states them: a
+    column's own (``acc [g]``), else the header's, else the other column's; None if none says.
+    A bracket that is no acceleration unit (``a(t)``) states none; a column and the header
+    stating different units is an error naming both, unless the caller ``given`` units."""
+    cols = [hcol] if vcol is None else [hcol, vcol]
+    own: list[str | None] = []
+    for j in cols:
+        word = tab.units[j] if tab.units is not None else None
+        try:
+            own.append(unit_factor(word)[0] if word is not None else None)
+        except ValueError:
+            own.append(None)
+        known = header is not None and not header.startswith(UNKNOWN_UNITS)
+        if given is None and known and own[-1] is not None and own[-1] != header:
+            raise RecordFileError(source, None, f"column {tab.names[j]!r} states units "
+                                  f"{tab.units[j]!r} but the header states {header!r}; "
+                                  f"give the units ({UNITS_HINT})")  # fmt: skip
+    fallback = next((u for u in own if u is not None), None) if header is None else header
+    stated = tuple(u if u is not None else fallback for u in own)
+    return stated if vcol is not None else (stated[0], None)
 
 
 # --------------------------------------------------------------------------------------------

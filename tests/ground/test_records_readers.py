@@ -153,6 +153,37 @@ def test_a_byte_order_mark_or_quoted_names_change_no_sample(tmp_path, codec, hea
 
 
 @pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
+@pytest.mark.parametrize(
+    ("names", "factor", "v_factor", "t_scale"),
+    [("time acc [g]", G_STANDARD, None, 1), ("Time (s), Acceleration (g)", G_STANDARD, None, 1),
+     ("t(s) a(g)", G_STANDARD, None, 1), ("time,acc(cm/s2)", 0.01, None, 1),
+     ("t [s]\ta [m/s^2]", 1.0, None, 1), ("time [ms] acc [gal]", 0.01, None, 1e-3),
+     ("time acc [m/s2] ud [g]", 1.0, G_STANDARD, 1), ("time acc [g] ud", G_STANDARD, G_STANDARD, 1),
+     ("# units: gal\ntime acc ud", 0.01, 0.01, 1)],
+)  # fmt: skip
+def test_units_in_the_column_names_are_read(tmp_path, names, factor, v_factor, t_scale):
+    # "time acc [g]" was read as m/s² (a record 9.8 times too weak) with "units not stated"
+    vals = np.array([0.5, -1.25, 3.0]) / factor  # written in the column's units (3 m/s² peak)
+    ver = "" if v_factor is None else f" {1.5 / v_factor!r}"
+    rows = "".join(f"{k / t_scale * 0.01:g} {float(v)!r}{ver}\n" for k, v in enumerate(vals))
+    m = read_motion(write(tmp_path, "named.txt", f"{names}\n{rows}"))
+    assert m.dt == pytest.approx(0.01, rel=1e-12)  # (time in ms scaled)
+    np.testing.assert_allclose(m.a_hor, vals * factor, rtol=1e-15)  # (the one product)
+    np.testing.assert_allclose(m.a_hor, [0.5, -1.25, 3.0], rtol=1e-15)  # (two roundings)
+    if v_factor is not None:
+        np.testing.assert_allclose(m.a_ver, 1.5, rtol=1e-15)
+
+
+def test_units_of_a_column_against_the_header_are_refused_unless_given(tmp_path):
+    path = write(tmp_path, "both.txt", "# units: g\ntime acc [gal]\n0 50\n0.01 -50\n")
+    with pytest.raises(RecordFileError, match=r"column 'acc' states units 'gal' but the header "
+                       r"states 'g'; give the units"):  # fmt: skip
+        read_motion(path)
+    assert read_motion(path, units="gal").a_hor[0] == 0.5  # (the column's, given)
+    assert read_motion(path, units="gal", column="acc [gal]").a_hor[0] == 0.5  # (its name)
+
+
+@pytest.mark.filterwarnings("error::UserWarning")  # no UnitWarning either
 def test_an_at2_step_in_milliseconds_is_scaled(tmp_path):
     # "DT = 20 MSEC" was read as 20 s (a 150 000 s record)
     head = "title\nname\nUNITS OF G\nNPTS =   7 , DT =   10 MSEC\n"
