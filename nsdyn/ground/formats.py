@@ -199,6 +199,9 @@ def parse_table_motion(
         falling = steps.size >= 2 and (steps < 0).all()  # (it was "no time column")
         if dt_used is None and (rising or falling):  # a time column with a glitch, or one
             check_time(data[:, 0], tab.linenos, source)  # running backwards: its line named
+        if dt_used is None and ncol >= 2 and data.shape[0] == 2:  # (also "no time column")
+            raise RecordFileError(source, first, "expected at least three samples (rows) to "
+                                  "tell a time column, found two")  # fmt: skip
         if dt_used is None:
             raise RecordFileError(
                 source,

@@ -297,9 +297,10 @@ AT2_HEAD = "PEER NGA\nX, 0\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    4, 
         ("comma.txt", "# units: g\n0,00\t0,00000\n0,01\t0,02440\n", 2, "decimal commas in"),
         ("semi.txt", "0,00;-1,5E-02\n0,01;2,0E-02\n", 1, "expected decimal points"),
         ("dtc.txt", "# dt = 0,01\n0.1\n0.2\n-0.1\n", 2, "a decimal comma, 'dt = 0,01'?"),
-        # a time column running backwards, one row: both were "the file has no time column"
+        # a time column running backwards, one or two rows: all were "the file has no time column"
         ("down.txt", "0.02 1\n0.01 2\n0.00 3\n", 2, "expected time > 0.02 s, found 0.01 s"),
         ("one.txt", "0.0 0.1\n", 1, "expected at least two samples (rows), found one"),
+        ("two.txt", "0.0 0.1\n0.01 0.2\n", 1, "at least three samples (rows) to tell a time"),
     ],
 )
 def test_bad_files_raise_with_line(tmp_path, name, text, line, expected):
