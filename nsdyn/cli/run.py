@@ -432,7 +432,7 @@ def run(args: argparse.Namespace) -> int:
     notes += explicit_steps(method, system, float(t_eval[-1] - t_eval[0]), args.json)
     out = Path(args.out)
     stem = "run"
-    ident = run_identity(cfg, args.fidelity)
+    ident = run_identity(cfg, args.fidelity, motion)
     quiet = args.json
 
     from nsdyn._progress import reporter

@@ -8,6 +8,7 @@ and says that it discards the checkpoint.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import sys
 from pathlib import Path
@@ -20,10 +21,29 @@ CHECKPOINT = ".run-checkpoint.npz"  # an interrupted run's state, in its output 
 IDENTITY = ".run-checkpoint.json"  # the settings of the run that wrote it
 
 
-def run_identity(cfg: dict, fidelity) -> dict:
-    """What a run's checkpoint depends on: the whole scene (after the command-line overrides)."""
+def run_identity(cfg: dict, fidelity, motion=None) -> dict:
+    """What a run's checkpoint depends on: the whole scene (after the command-line overrides)
+    and the ground motion's samples (a record edited since: a scene the same, the run not)."""
     scene = {k: v for k, v in cfg.items() if not k.startswith("_")}
-    return json.loads(json.dumps({"scene": scene, "fidelity": fidelity}, default=str))
+    ident = {"scene": scene, "fidelity": fidelity}
+    if motion is not None:
+        ident["motion"] = samples_digest(motion)
+    return json.loads(json.dumps(ident, default=str))
+
+
+def samples_digest(motion) -> str:
+    """A fingerprint of a motion's numbers (its arrays and scalars; not its name, source or
+    header text)."""
+    h = hashlib.sha256()
+    for key, v in sorted(getattr(motion, "__dict__", {}).items()):
+        if key in ("name", "source", "meta"):
+            continue
+        h.update(key.encode())
+        if isinstance(v, np.ndarray):
+            h.update(f"{v.dtype}{v.shape}".encode() + np.ascontiguousarray(v).tobytes())
+        else:
+            h.update(repr(v).encode())
+    return h.hexdigest()
 
 
 def refuse_foreign_checkpoint(path: Path, ident: dict) -> None:

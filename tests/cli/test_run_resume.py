@@ -1,0 +1,35 @@
+"""A run's checkpoint is continued only by the same run: the scene, the fidelity and the ground
+motion's samples (a record edited since the interruption changes the run, not the scene)."""
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+from nsdyn.cli.run_resume import CHECKPOINT, IDENTITY, open_checkpoint, run_identity
+from nsdyn.ground import GroundMotion
+from nsdyn.models.scenefile import SceneError
+
+CFG = {"scene": {"fidelity": "rigid"}, "motion": {"record": "r.csv"}}
+
+
+def _interrupted(out, motion):
+    """A folder as an interrupted run of ``motion`` leaves it: a checkpoint to t = 0.01 s and
+    the settings it was run with."""
+    np.savez(out / CHECKPOINT, t=np.array([0.0, 0.01]))
+    (out / IDENTITY).write_text(json.dumps(run_identity(CFG, None, motion)))
+
+
+def test_a_record_edited_since_the_checkpoint_is_refused_before_resuming(tmp_path, capsys):
+    # the scene was the same, so the run said "resuming from t = 0.01 s" and then refused
+    m = GroundMotion(t0=0.0, dt=0.01, a_hor=np.array([0.0, 1.0, 0.0]), name="r")
+    _interrupted(tmp_path, m)
+    edited = dataclasses.replace(m, a_hor=np.array([0.0, 2.0, 0.0]))
+    with pytest.raises(SceneError, match=r"other settings \(differing: motion\)"):
+        open_checkpoint(tmp_path, run_identity(CFG, None, edited), resume=True, quiet=False)
+    assert "resuming" not in capsys.readouterr().err
+    # the same samples under another name and header: the same run, resumed
+    renamed = dataclasses.replace(m, name="other", meta={"title": "x"})
+    *_, t = open_checkpoint(tmp_path, run_identity(CFG, None, renamed), resume=True, quiet=False)
+    assert t == 0.01 and "resuming from t = 0.01 s" in capsys.readouterr().err
