@@ -252,3 +252,13 @@ def stale_figures(out: Path, names, command: str, quiet: bool) -> None:
     if gone and not quiet:
         print(f"nsdyn {command}: note: removed the earlier run's {', '.join(gone)} "
               "(--no-figures draws none)", file=sys.stderr)  # fmt: skip
+
+
+def above_highest(amplitudes, where: str) -> str | None:
+    """The refusal of ground acceleration amplitudes above A_HIGHEST (100 g), or None."""
+    from nsdyn.periodic.protocol import A_HIGHEST
+
+    if big := [a for a in amplitudes if not a <= A_HIGHEST]:
+        return (f"{where}: expected ground acceleration amplitudes <= {A_HIGHEST:g} m/s² "
+                f"(100 g), got {big[0]:g}")  # fmt: skip
+    return None

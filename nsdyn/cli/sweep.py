@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, earlier_files, files_of, output_dir, save_figure
-from nsdyn.cli.args import amplitude_list as _amplitude_list
 from nsdyn.cli.args import (
+    above_highest,
     band_message,
     fail,
     forcing_frequency,
@@ -30,6 +30,7 @@ from nsdyn.cli.args import (
     stale_figures,
     workers,
 )
+from nsdyn.cli.args import amplitude_list as _amplitude_list
 from nsdyn.cli.args import count as _count
 from nsdyn.studies.plane_sweep import KINDS as PLANE_KINDS
 from nsdyn.studies.plane_sweep import POINTS_DEFAULT
@@ -132,16 +133,6 @@ def _note_earlier(args, out: Path, before: dict, report: dict) -> None:
         report.setdefault("notes", []).append(note)
         if not args.json:
             print(f"nsdyn sweep: note: {note}", file=sys.stderr)
-
-
-def _beyond(amplitudes, where: str) -> str | None:
-    """The refusal of ground acceleration amplitudes above A_HIGHEST (100 g), or None."""
-    from nsdyn.periodic.protocol import A_HIGHEST
-
-    if big := [a for a in amplitudes if not a <= A_HIGHEST]:
-        return (f"{where}: expected ground acceleration amplitudes <= {A_HIGHEST:g} m/s² "
-                f"(100 g), got {big[0]:g}")  # fmt: skip
-    return None
 
 
 def _holes(amplitudes: list[dict], path) -> int:
@@ -259,7 +250,7 @@ def run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     args.amplitudes = args.amplitudes or _amplitude_list(DEFAULT_AMPLITUDES)
-    if table != "force" and (why := _beyond(args.amplitudes, where)):
+    if table != "force" and (why := above_highest(args.amplitudes, where)):
         return fail(args, why)
     friction = args.friction or cfg.get("isolation", {}).get("law", "arctan")
     if args.friction:  # the flag wins over the scene's law (its eps and the rest kept)
@@ -460,7 +451,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     amplitudes = args.amplitudes or sw.get("amplitudes") or [orbit_shape(sc["orbit"])[0]]
     where = ("--amplitudes" if args.amplitudes else f"{source}: sweep.amplitudes"
              if sw.get("amplitudes") else f"{source}: motion.amplitude")  # fmt: skip
-    if why := _beyond(amplitudes, where):
+    if why := above_highest(amplitudes, where):
         return fail(args, why)
     if len(set(amplitudes)) < len(amplitudes):  # (each computed twice, the rows doubled)
         return fail(args, f"{source}: sweep.amplitudes: expected distinct amplitudes, got "

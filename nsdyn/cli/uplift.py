@@ -20,7 +20,7 @@ import time
 from pathlib import Path
 
 from nsdyn.atomic import atomic_open
-from nsdyn.cli.args import band_message, fail, forcing_frequency, holes, out_dir
+from nsdyn.cli.args import above_highest, band_message, fail, forcing_frequency, holes, out_dir
 from nsdyn.cli.args import count as _count
 from nsdyn.cli.args import positive_finite as _positive
 
@@ -50,7 +50,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         type=_positive,
         default=A_MAX,
         metavar="A",
-        help=f"largest amplitude searched [m/s², or N for a force scene] (default {A_MAX:g})",
+        help=f"largest amplitude searched [m/s² (at most 1000), or N for a force scene] "
+        f"(default {A_MAX:g})",
     )
     p.add_argument("--fidelity", choices=["rigid", "cb", "full"], help="override the scene's")
     p.add_argument(
@@ -108,6 +109,8 @@ def run(args: argparse.Namespace) -> int:
         )
     load = excitation if isinstance(excitation, HarmonicForce) else None
     unit = "N" if load is not None else "m/s²"
+    if load is None and (why := above_highest([args.a_max], "--a-max")):  # (not a force's)
+        return fail(args, why)
     law = system.isolation.law
     if law not in ("arctan", "none"):
         law = "arctan"  # the periodic orbits need a smooth law

@@ -118,3 +118,12 @@ def test_a_failed_frequency_makes_the_status_3_and_names_it(tmp_path, capsys, mo
     err = capsys.readouterr().err
     assert "1 of 3 frequencies failed (f = 4 Hz" in err
     assert len(json.loads((out / "uplift.json").read_text())["points"]) == 3
+
+
+def test_an_amplitude_above_100_g_is_refused_before_any_work(tmp_path, capsys):
+    # --a-max 1e30 was searched (the other commands refuse ground accelerations above 100 g)
+    assert run_cli(["--a-max", "1e30", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.endswith("--a-max: expected ground acceleration amplitudes <= 1000 m/s² (100 g), "
+                        "got 1e+30") and len(err.splitlines()) == 1  # fmt: skip
+    assert not (tmp_path / "o").exists()
