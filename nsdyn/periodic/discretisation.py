@@ -17,7 +17,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from nsdyn._checks import whole
+from nsdyn._checks import expect, number, whole
 
 STAGE_RTOL = 1e-9  # stage Newton tolerance (relative)
 STAGE_ATOL = 1e-13  # stage Newton tolerance (absolute, m and m/s)
@@ -63,8 +63,14 @@ class Discretisation:
             raise ValueError(f"method: expected one of {sorted(TABLEAUX)}, got {self.method!r}")
         for name in ("n_min", "n_max"):
             whole(name, getattr(self, name), 1, "a whole number of steps >= 1")
-        if not (isinstance(self.dt_max, int | float) and self.dt_max > 0):
-            raise ValueError(f"dt_max: expected a positive step [s], got {self.dt_max!r}")
+        number("dt_max", self.dt_max, "a positive finite step [s]", lambda v: v > 0)
+        if self.n_min > self.n_max:
+            raise ValueError(f"n_max: expected at least n_min = {self.n_min} steps, got "
+                             f"{self.n_max}")  # fmt: skip
+        # a stage tolerance of NaN, < 0 or >= 1 gave a wrong orbit reported as converged (one
+        # too tight to meet is a stage failure the solvers report)
+        number("rtol", self.rtol, "a finite relative tolerance 0 <= rtol < 1", lambda v: 0 <= v < 1)
+        number("atol", self.atol, "a finite tolerance >= 0 [m, m/s]", lambda v: v >= 0)
 
     def steps(self, T: float) -> int:
         """Number of steps ``N`` for the period ``T`` [s]."""
@@ -80,8 +86,8 @@ class Discretisation:
 def refined(disc: Discretisation, factor: float = REFINE_FACTOR) -> Discretisation:
     """The same discretisation with ``factor`` times the steps per period (``factor`` < 1:
     fewer; at least one step)."""
-    if not (factor > 0 and math.isfinite(factor)):
-        raise ValueError(f"factor: expected a positive number, got {factor!r}")
+    expect("disc", disc, isinstance(disc, Discretisation), "a Discretisation")
+    factor = number("factor", factor, "a positive finite number", lambda v: v > 0)
     return replace(
         disc,
         n_min=max(1, int(round(disc.n_min * factor))),

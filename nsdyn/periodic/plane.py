@@ -73,6 +73,7 @@ from nsdyn.periodic.protocol import (
     PeriodMap,
     check_amplitude,
     check_frequency,
+    check_map_args,
 )
 from nsdyn.periodic.shooting import _weights, orbit_amplitudes
 
@@ -271,7 +272,7 @@ class PlaneProblem:
         :class:`~nsdyn.periodic.protocol.PeriodicModel`); the monodromy by central differences
         (module text), ``dxdT`` None (continuation differentiates the map in T)."""
         f = check_frequency(f)
-        x0 = np.asarray(x0, dtype=float)
+        x0 = check_map_args(self.x_ref, x0, n_steps, disc)
         n = self.samples(f, n_steps, disc)
         st, X, _ = self.run(x0, f, n if (store or sens) else CHECK_SAMPLES)
         Xs = X[:, self.rows]

@@ -42,6 +42,7 @@ from nsdyn.periodic.protocol import (
     PeriodMap,
     check_amplitude,
     check_frequency,
+    check_map_args,
 )
 
 DUFFING_W = 4  # index of the forcing circular frequency w in pf = [zeta, w0, gamma, F, w]
@@ -132,12 +133,12 @@ class PeriodicProblem(MinimalStates):
     def _map_args(self, x0, f, n_steps, disc, sens, store) -> tuple[int, tuple]:
         """The number of steps and the arguments of :func:`nsdyn.periodic._kperiodic.period_map`
         but its last (``K``)."""
+        x0 = check_map_args(self.x_ref, x0, n_steps, disc)
         disc = disc or Discretisation()
         T = 1.0 / check_frequency(f)
         N = disc.steps(T) if n_steps is None else int(n_steps)
         A, c = disc.tableau()
         _, pf = self.at(f)
-        x0 = np.ascontiguousarray(x0, dtype=float)
         return N, (self.prob, x0, T, N, pf, A, c, sens, store, disc.rtol, disc.atol)
 
     def orbit_quantities(self, f: float, X: np.ndarray) -> dict:

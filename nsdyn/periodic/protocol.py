@@ -89,10 +89,10 @@ A_HIGHEST = PGA_TARGET_MAX
 def check_amplitude(a, name: str = "amplitude", highest: float = math.inf) -> float:
     """``a`` as a float if it is a finite forcing amplitude in [0, ``highest``] (a ground
     acceleration: :data:`A_HIGHEST`), else a ValueError naming ``name``."""
-    try:
-        v = float(a)
-    except (TypeError, ValueError):
-        v = math.nan
+    v = math.nan
+    if not isinstance(a, str | bool):  # (text is refused, not converted, as a frequency is)
+        with contextlib.suppress(TypeError, ValueError):
+            v = float(a)
     if not (math.isfinite(v) and 0 <= v <= highest):
         top = f" and <= {highest:g} m/s² (100 g)" if highest == A_HIGHEST else ""
         raise ValueError(f"{name}: expected a finite forcing amplitude >= 0{top}, got {a!r}")
@@ -107,6 +107,29 @@ def check_range(fmin, fmax, points) -> tuple[float, float, int]:
     if hi < lo or (hi == lo and points > 1):
         raise ValueError(f"fmax: expected a frequency above fmin = {lo:g} Hz, got {hi:g}")
     return lo, hi, int(points)
+
+
+def check_map_args(x_ref: np.ndarray, x0, n_steps, disc) -> np.ndarray:
+    """The start ``x0`` of a period map as a contiguous float array of the problem's state
+    (the shape of ``x_ref``, finite), with the map's options checked: ``n_steps`` None or a
+    whole number >= 1 (0 steps "mapped" x0 onto itself), ``disc`` None or a
+    :class:`Discretisation`. A ValueError or TypeError names the argument: a compiled map read
+    past a shorter state (garbage, or a crash of the process)."""
+    from nsdyn.periodic.discretisation import Discretisation
+
+    if n_steps is not None:
+        whole("n_steps", n_steps, 1, "a whole number of steps >= 1")
+    if disc is not None and not isinstance(disc, Discretisation):
+        raise TypeError(f"disc: expected a Discretisation, got {type(disc).__name__}")
+    try:
+        x = np.array(x0, dtype=float)
+    except (TypeError, ValueError):
+        x = np.full(1, np.nan)
+    if x.shape != x_ref.shape or not np.all(np.isfinite(x)):
+        bad = "" if np.all(np.isfinite(x)) else " with NaN or inf"
+        raise ValueError(f"x0: expected {x_ref.size} finite numbers (the problem's state), "
+                         f"got shape {x.shape}{bad}")  # fmt: skip
+    return np.ascontiguousarray(x)
 
 
 @dataclass

@@ -12,10 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from nsdyn._checks import expect
+from nsdyn._checks import expect, finite_numbers
 from nsdyn.periodic.continuation import continue_range
 from nsdyn.periodic.curve import Curve
 from nsdyn.periodic.problem import frame_problem
+from nsdyn.periodic.protocol import A_HIGHEST, check_amplitude, check_frequency
 
 
 def frequency_response(system, amplitude: float, *, load=None, **options) -> Curve:
@@ -48,8 +49,9 @@ def fixed_base_response(frame, amplitude, freqs, *, f_max: float = 5.0) -> dict 
     (one batched solve over the frequencies: the frequency response of
     :func:`nsdyn.models.isolated.statespace.fixed_base_statespace`, without building it): a
     drift amplitude is ``A |H_top - H_bottom| / h``, an absolute acceleration ``A |1 - w^2 H|``.
-    ``amplitude`` is a number, or a sequence of them: the response is linear in it, so the
-    solve is done once and a list of results (one per amplitude) is returned.
+    ``amplitude`` is a number in [0, 1000] m/s², or a sequence of them: the response is
+    linear in it, so the solve is done once and a list of results (one per amplitude) is
+    returned. ``freqs`` is a 1-D sequence of forcing frequencies (ValueError otherwise).
     """
     from nsdyn.models.isolated.metrics import output_dofs
     from nsdyn.models.isolated.system import build_system
@@ -59,12 +61,15 @@ def fixed_base_response(frame, amplitude, freqs, *, f_max: float = 5.0) -> dict 
             "fixed_base_response needs a frame; a system built from matrices or a shear "
             "building has no fixed-base frame model"
         )
+    freqs = finite_numbers("freqs", freqs, "a 1-D sequence of forcing frequencies [Hz]")
+    for k, f in enumerate(freqs.tolist()):
+        check_frequency(f, f"freqs[{k}]")
+    amps = [check_amplitude(a, "amplitude", A_HIGHEST) for a in np.atleast_1d(amplitude).tolist()]
     sysf = build_system(frame, fidelity="fixed", f_max=f_max)
     od = output_dofs(frame)
     jx = od["joints_x"]
     lev = od["levels_x"]
     dofs = np.concatenate([jx.ravel()] + [np.asarray(v) for v in lev])
-    freqs = np.asarray(freqs, dtype=float)
     w = 2 * np.pi * freqs
     M, C, K = (np.asarray(a, dtype=float) for a in (sysf.M, sysf.C, sysf.K))
     Z = K[None] - (w**2)[:, None, None] * M[None] + (1j * w)[:, None, None] * C[None]
@@ -77,5 +82,5 @@ def fixed_base_response(frame, amplitude, freqs, *, f_max: float = 5.0) -> dict 
     drift = (np.abs(np.diff(Hj, axis=1)) / od["heights"][None, :, None]).reshape(len(w), -1)
     acc = np.abs(1.0 - (w**2)[:, None] * H[:, nj:]).max(axis=1)
     idr = drift.max(axis=1)
-    out = [{"f": freqs, "idr": a * idr, "acc": a * acc} for a in np.atleast_1d(amplitude)]
+    out = [{"f": freqs, "idr": a * idr, "acc": a * acc} for a in amps]
     return out[0] if np.ndim(amplitude) == 0 else out

@@ -30,6 +30,7 @@ from nsdyn.periodic.protocol import (
     PeriodicModel,
     PeriodMap,
     check_frequency,
+    check_map_args,
 )
 
 SHOOT_TOL = 1e-6  # relative shooting residual for convergence (per block, to the orbit range)
@@ -210,11 +211,7 @@ def shoot(
     disc = disc or Discretisation()
     _check_inputs(problem, disc, n_steps, tol, max_iter)
     N = disc.steps(1.0 / f) if n_steps is None else int(n_steps)
-    x = problem.x_ref.copy() if x0 is None else np.array(x0, dtype=float)
-    if x.shape != problem.x_ref.shape or not np.all(np.isfinite(x)):
-        bad = "" if np.all(np.isfinite(x)) else " with NaN or inf"
-        raise ValueError(f"x0: expected {problem.x_ref.size} finite numbers (the problem's "
-                         f"state), got shape {x.shape}{bad}")  # fmt: skip
+    x = problem.x_ref.copy() if x0 is None else check_map_args(problem.x_ref, x0, None, None)
     pm, W, r = _evaluate(problem, x, f, N, disc)
     cheap = bool(getattr(problem, "cheap_sensitivities", False))
     hist = [r]

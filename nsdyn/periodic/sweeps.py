@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from nsdyn._brief import brief_repr
+from nsdyn._checks import flag, number, whole
 from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.protocol import (
     STATUS_MESSAGES,
@@ -27,6 +28,7 @@ from nsdyn.periodic.protocol import (
     STATUS_OK,
     PeriodicModel,
     check_frequency,
+    check_map_args,
 )
 from nsdyn.periodic.shooting import orbit_amplitudes
 
@@ -84,10 +86,12 @@ def steady_state_sweep(
     monodromy (one extra period) are returned as an approximate stability verdict.
     """
     f = check_frequency(f)
+    x = problem.x_ref.copy() if x0 is None else check_map_args(problem.x_ref, x0, None, disc)
+    _check_sweep(tol, max_periods, max_time, disc)
+    flag("monodromy", monodromy)
     disc = disc or Discretisation()
     T = 1.0 / f
     N = disc.steps(T)
-    x = problem.x_ref.copy() if x0 is None else np.array(x0, dtype=float)
     kmax = int(max(3, min(max_periods, math.ceil(max_time / T))))
     m = problem.dim // 2
     d_old = math.inf
@@ -145,6 +149,16 @@ def steady_state_sweep(
     return SweepResult(f, x, X, int(k), float(est), steady, M, N, msg, done, int(status), x_stop)
 
 
+def _check_sweep(tol, max_periods, max_time, disc) -> None:
+    """The options of :func:`steady_state_sweep`, named when it cannot run on them (a tol of
+    -1 ended in a math domain error; 0 periods or a negative time ran 3 periods)."""
+    number("tol", tol, "a positive finite steady-state tolerance", lambda v: v > 0)
+    whole("max_periods", max_periods, 1, "a whole number of periods >= 1")
+    number("max_time", max_time, "a positive finite time [s]", lambda v: v > 0)
+    if disc is not None and not isinstance(disc, Discretisation):
+        raise TypeError(f"disc: expected a Discretisation, got {type(disc).__name__}")
+
+
 def stagnated(deltas: list, k: int, kmax: int, tol: float, window: int = SS_WINDOW) -> bool:
     """True when the contraction of the changes per period ``deltas`` over the last ``window``
     periods cannot bring them below ``tol`` within twice the ``kmax`` periods allowed (see
@@ -168,7 +182,8 @@ def warm_start(
 ) -> np.ndarray:
     """A shooting guess at ``f``: ``periods`` periods integrated from ``x0`` (None: the static
     state), stopping early if a period cannot be integrated."""
-    x = problem.x_ref.copy() if x0 is None else np.array(x0, dtype=float)
+    x = problem.x_ref.copy() if x0 is None else check_map_args(problem.x_ref, x0, None, disc)
+    whole("periods", periods, 0, "a whole number of periods >= 0")
     for _ in range(periods):
         pm = problem.period_map(x, f, disc=disc, sens=False)
         if pm.status != STATUS_OK:

@@ -46,6 +46,7 @@ from nsdyn.periodic.protocol import (
     PeriodMap,
     check_amplitude,
     check_frequency,
+    check_map_args,
 )
 from nsdyn.periodic.shooting import ShootingResult, shoot
 
@@ -235,6 +236,7 @@ class SwitchProblem(MinimalStates):
         samples (default :meth:`steps`). ``dxdT`` is None: pseudo-arclength continuation
         differentiates this map in T by central differences (exact flow, events move
         smoothly with T away from grazing)."""
+        x0 = check_map_args(self.x_ref, x0, n_steps, disc)
         T = 1.0 / check_frequency(f)
         N = self.steps(T, disc) if n_steps is None else int(n_steps)
         ev = (np.zeros(kw.MAX_EVENTS), np.zeros(kw.MAX_EVENTS, np.int64))

@@ -162,7 +162,15 @@ def test_unilateral_sweep_rejects_a_frequency_that_is_not_positive(frame, f):
      ({"method": "SDIRK2"}, r"^method: expected one of"),
      ({"n_min": 0}, r"^n_min: expected a whole number of steps >= 1"),
      ({"n_max": 2.5}, r"^n_max: expected a whole number"),
-     ({"dt_max": 0.0}, r"^dt_max: expected a positive step")],
+     ({"dt_max": 0.0}, r"^dt_max: expected a positive finite step"),
+     ({"dt_max": True}, r"^dt_max: expected a positive finite step"),
+     ({"n_min": 500, "n_max": 100}, r"^n_max: expected at least n_min = 500 steps, got 100"),
+     # a stage tolerance of NaN, < 0 or >= 1 gave a wrong orbit reported as converged
+     ({"rtol": math.nan}, r"^rtol: expected a finite relative tolerance 0 <= rtol < 1"),
+     ({"rtol": -1.0}, r"^rtol: expected a finite relative tolerance"),
+     ({"rtol": 10.0}, r"^rtol: expected a finite relative tolerance"),
+     ({"atol": -1.0}, r"^atol: expected a finite tolerance >= 0"),
+     ({"atol": math.nan}, r"^atol: expected a finite tolerance >= 0")],
 )  # fmt: skip
 def test_a_discretisation_is_checked_where_it_is_made(kw, match):
     # an unknown tableau was accepted and failed inside the first shooting's traceback
