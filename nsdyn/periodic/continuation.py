@@ -27,11 +27,23 @@ import time
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure
+from nsdyn._checks import NumericalFailure, flag, number
 from nsdyn.periodic.bifurcation import detect_bifurcations
-from nsdyn.periodic.curve import Curve, OrbitPoint, _point_from_shoot, _point_from_sweep
+from nsdyn.periodic.curve import (
+    Curve,
+    OrbitPoint,
+    _point_from_shoot,
+    _point_from_sweep,
+    resumed_points,
+)
 from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation, refined
-from nsdyn.periodic.protocol import STATUS_MESSAGES, STATUS_OK, PeriodicModel, check_range
+from nsdyn.periodic.protocol import (
+    STATUS_MESSAGES,
+    STATUS_OK,
+    PeriodicModel,
+    check_frequency,
+    check_range,
+)
 from nsdyn.periodic.shooting import (
     SHOOT_MAXIT,
     SHOOT_TOL,
@@ -135,17 +147,17 @@ def _free(dx: np.ndarray, C: np.ndarray | None) -> np.ndarray:
     return dx - np.linalg.pinv(C) @ (C @ dx)
 
 
-def _options(disc, progress, start) -> Discretisation:
+def _options(disc, progress, fallback, keep_orbits) -> Discretisation:
     """The discretisation (the default for None), or TypeError naming the argument: a
-    discretisation, progress callback or resumed start of another kind failed deep inside
-    (``'str' object has no attribute 'steps'``)."""
+    discretisation or progress callback of another kind failed deep inside (``'str' object
+    has no attribute 'steps'``), a text flag ("no") was true."""
     if disc is not None and not isinstance(disc, Discretisation):
         raise TypeError(f"disc: expected a Discretisation, got {type(disc).__name__}")
     if progress is not None and not callable(progress):
         raise TypeError(f"progress: expected a callable (pt, count, total), got "
                         f"{type(progress).__name__}")  # fmt: skip
-    if start is not None and not all(isinstance(p, OrbitPoint) for p in start):
-        raise TypeError("start: expected the OrbitPoints of a curve to resume (curve.points)")
+    flag("fallback", fallback)
+    flag("keep_orbits", keep_orbits)
     return disc or Discretisation()
 
 
@@ -194,12 +206,14 @@ def continue_sequential(
     ``start`` resumes a curve (points already computed are kept, frequencies up to the last
     one skipped). Only the last point keeps its orbit ``X`` unless ``keep_orbits``.
     """
-    disc = _options(disc, progress, start)
+    disc = _options(disc, progress, fallback, keep_orbits)
     freqs = np.asarray(freqs, dtype=float)
     if freqs.ndim != 1 or not freqs.size or not np.all(np.isfinite(freqs) & (freqs > 0)) \
             or np.any(np.diff(freqs) <= 0):  # fmt: skip
         raise ValueError(f"freqs: expected increasing finite frequencies > 0 [Hz], got {freqs}")
-    pts: list[OrbitPoint] = list(start or [])
+    for k, f in enumerate(freqs.tolist()):
+        check_frequency(f, f"freqs[{k}]")
+    pts: list[OrbitPoint] = resumed_points(problem, start, float(freqs[0]), float(freqs[-1]), disc)
     t0 = time.perf_counter()
     held = None
     skipped = []  # frequencies without a point (no fallback, or none found)
@@ -343,12 +357,13 @@ def continue_arclength(
     is continued sequentially on the same frequency step (frequencies without an orbit
     skipped, ``info["skipped_hz"]``), the place and reason kept in ``info["arclength_stop"]``.
     """
-    disc = _options(disc, progress, start)
+    disc = _options(disc, progress, fallback, keep_orbits)
     fmin, fmax, points = check_range(fmin, fmax, points)
+    number("state_weight", state_weight, "a positive finite weight", lambda v: v > 0)
     pmin, pmax = math.log(fmin), math.log(fmax)
     dp_max = (pmax - pmin) / max(points - 1, 1)
     t0 = time.perf_counter()
-    pts: list[OrbitPoint] = list(start or [])
+    pts: list[OrbitPoint] = resumed_points(problem, start, fmin, fmax, disc)
     d = problem.dim
 
     def add(pt, tp=None):

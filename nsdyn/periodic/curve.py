@@ -18,12 +18,24 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._brief import brief_repr
+from nsdyn._checks import did_you_mean
 from nsdyn.periodic.bifurcation import STABLE_MARGIN, family_note
 from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.protocol import PeriodicModel
-from nsdyn.periodic.shooting import ShootingResult, floquet_multipliers
+from nsdyn.periodic.shooting import ShootingResult, _evaluate, floquet_multipliers
 from nsdyn.periodic.stability import check_verdict
 from nsdyn.periodic.sweeps import WARMUP_PERIODS, SweepResult
+
+# the largest scaled residual of a resumed curve's last orbit (1 % of the orbit's range: an
+# orbit of this problem has the shooting tolerance; one of another amplitude, ~0.5)
+START_RESIDUAL = 1e-2
+# the columns of a curve's rows (the sweep CSV)
+ROW_KEYS = ("f", "A", "IDR", "a", "a_floors", "x_iso", "stick_all_period", "stable",
+            "max_multiplier_modulus", "method", "newton_iterations", "residual", "converged",
+            "n_steps", "uplift", "note")  # fmt: skip
+# the numbers of a point a curve's column can give
+POINT_NUMBERS = ("f", "residual", "iterations", "n_steps", "converged", "s", "dlogf_ds",
+                 "max_multiplier", "stable")  # fmt: skip
 
 
 @dataclass
@@ -67,38 +79,70 @@ class Curve:
     info: dict = field(default_factory=dict)
 
     def column(self, name: str) -> np.ndarray:
-        """A per-point attribute or quantity as an array (``"f"``, ``"idr"``, ...)."""
-        vals = []
-        for p in self.points:
-            v = p.quantities.get(name) if name in p.quantities else getattr(p, name)
-            vals.append(np.nan if v is None else v)
-        return np.asarray(vals)
+        """A per-point value as an array: a quantity of the points (``"idr"``, ``"acc"``,
+        ``"x_iso"``, ...), a number of theirs (``"f"``, ``"residual"``, ``"max_multiplier"``,
+        ...) or a column of :meth:`rows` (``"IDR"``, ``"a"``, ...); ValueError naming the
+        names there are."""
+        quantities = {k for p in self.points for k in p.quantities}
+        rows = self.rows()
+        if name in quantities:
+            vals = [p.quantities.get(name) for p in self.points]
+        elif name in POINT_NUMBERS:
+            vals = [getattr(p, name) for p in self.points]
+        elif rows and name in rows[0]:
+            vals = [r[name] for r in rows]
+        else:
+            known = sorted(quantities | set(POINT_NUMBERS) | set(rows[0] if rows else ()))
+            raise ValueError(f"name: expected a column of the curve, one of {known}, got "
+                             f"{name!r}{did_you_mean(name, known)}")  # fmt: skip
+        return np.asarray([np.nan if v is None else v for v in vals])
+
+    def summary(self) -> dict:
+        """The curve as plain values (NaN as None): ``amplitude``, ``points``, the band
+        ``f_min_hz`` and ``f_max_hz``, the points ``converged``, ``unstable`` and from the
+        stepped sweep (``sweep_points``), the ``continuation``, the frequencies skipped
+        (``skipped_hz``), the ``bifurcations`` found, and each quantity's largest value over
+        the curve and its frequency (``idr_max``, ``idr_max_f_hz``, ``acc_max``, ...)."""
+        f = self.column("f") if self.points else np.zeros(0)
+        out = {"amplitude": self.amplitude, "points": len(self.points),
+               "f_min_hz": float(f.min()) if f.size else None,
+               "f_max_hz": float(f.max()) if f.size else None,
+               "converged": sum(p.converged for p in self.points),
+               "unstable": sum(p.stable is False for p in self.points),
+               "sweep_points": sum(p.method == "sweep" for p in self.points),
+               "continuation": self.info.get("continuation"),
+               "skipped_hz": list(self.info.get("skipped_hz", [])),
+               "bifurcations": len(self.bifurcations)}  # fmt: skip
+        for q in ("idr", "acc", "x_iso"):
+            v = np.array([p.quantities.get(q, math.nan) for p in self.points], dtype=float)
+            ok = np.isfinite(v)
+            k = int(np.argmax(np.where(ok, v, -np.inf))) if ok.any() else None
+            out[f"{q}_max"] = None if k is None else float(v[k])
+            out[f"{q}_max_f_hz"] = None if k is None else float(f[k])
+        return out
+
+    def to_dataframe(self):
+        """A pandas DataFrame of :meth:`rows`, one row per point indexed by ``f`` [Hz] (the
+        sweep CSV's columns), ``df.attrs`` the summary's scalars (needs the ``frames``
+        extra)."""
+        from nsdyn._tabular import _need
+
+        pd = _need("pandas")
+        df = pd.DataFrame(self.rows(), columns=list(ROW_KEYS)).set_index("f")
+        df.attrs.update({k: v for k, v in self.summary().items() if not isinstance(v, list)})
+        return df
 
     def rows(self) -> list[dict]:
-        """One flat record per point (the sweep CSV)."""
+        """One flat record per point (the sweep CSV), keyed by :data:`ROW_KEYS`."""
         out = []
         for p in self.points:
             q = p.quantities
-            out.append(
-                {
-                    "f": p.f,
-                    "A": self.amplitude,
-                    "IDR": q.get("idr", math.nan),
-                    "a": q.get("acc", math.nan),
-                    "a_floors": q.get("acc_floors", math.nan),
-                    "x_iso": q.get("x_iso", math.nan),
-                    "stick_all_period": q.get("stick_all_period", ""),
-                    "stable": "" if p.stable is None else p.stable,
-                    "max_multiplier_modulus": p.max_multiplier,
-                    "method": p.method,
-                    "newton_iterations": p.iterations,
-                    "residual": p.residual,
-                    "converged": p.converged,
-                    "n_steps": p.n_steps,
-                    "uplift": q.get("uplift", ""),
-                    "note": p.note,
-                }
-            )
+            values = (p.f, self.amplitude, q.get("idr", math.nan), q.get("acc", math.nan),
+                      q.get("acc_floors", math.nan), q.get("x_iso", math.nan),
+                      q.get("stick_all_period", ""), "" if p.stable is None else p.stable,
+                      p.max_multiplier, p.method, p.iterations, p.residual, p.converged,
+                      p.n_steps, q.get("uplift", ""), p.note)  # fmt: skip
+            out.append(dict(zip(ROW_KEYS, values, strict=True)))
         return out
 
 
@@ -167,3 +211,39 @@ def _point_from_sweep(
         q,
         X=sw.X if sw.periods_done > 0 and not stopped else None,
     )
+
+
+def resumed_points(problem, start, lo: float, hi: float, disc) -> list[OrbitPoint]:
+    """The points of a curve to resume (its ``points``, or the :class:`Curve`), checked: of
+    this problem's state, none past the band ``[lo, hi]`` [Hz] asked for, and the last one (if
+    shooting converged on it) a periodic orbit of this problem. A curve of another amplitude
+    or model was resumed without a word, its orbits mixed into the new curve's."""
+    if start is None:
+        return []
+    if isinstance(start, Curve):
+        if start.amplitude != problem.amplitude:
+            raise ValueError(f"start: a curve of amplitude {start.amplitude:g}, this problem's "
+                             f"is {problem.amplitude:g}")  # fmt: skip
+        start = start.points
+    try:
+        pts = list(start)
+    except TypeError:
+        pts = [start]
+    if not all(isinstance(p, OrbitPoint) for p in pts):
+        raise TypeError("start: expected the OrbitPoints of a curve to resume (curve.points)")
+    if not pts:
+        return pts
+    if any(p.x0.shape != problem.x_ref.shape for p in pts):
+        raise ValueError(f"start: points of {pts[0].x0.size} states, this problem's state has "
+                         f"{problem.x_ref.size}: a curve of another model")  # fmt: skip
+    if pts[-1].f > hi * (1 + 1e-9):  # (nothing of the band asked for would be computed)
+        raise ValueError(f"start: its points reach {pts[-1].f:g} Hz, past the band asked for "
+                         f"({lo:g} to {hi:g} Hz)")  # fmt: skip
+    last = pts[-1]
+    if last.converged and last.method != "sweep":
+        _, _, r = _evaluate(problem, last.x0, last.f, last.n_steps, disc, sens=False)
+        if not r <= START_RESIDUAL:
+            raise ValueError(f"start: its last point (f = {last.f:g} Hz) is no periodic orbit "
+                             f"of this problem (residual {r:.2g}): a curve of another "
+                             "amplitude or model?")  # fmt: skip
+    return pts

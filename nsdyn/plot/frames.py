@@ -100,7 +100,8 @@ def plot_mode_shapes(frame: Frame, f_hz, Phi: np.ndarray, n: int = 4, ax=None):
 
 
 def sweep_figure(results: list[dict], fixed: dict | None = None):
-    """``nsdyn sweep``: IDR, a and x_iso against f (log-log), one colour per amplitude.
+    """``nsdyn sweep``: IDR, a and x_iso against f (log-log), one colour per amplitude;
+    ``results`` the sweep's ``{"A": ..., "rows": ...}`` or the curves themselves.
 
     Isolated-base periodic solutions solid; unstable points x, stepped-sweep fallback points
     o; points with uplift (a normal force <= 0: outside the bilateral contact model) are cut
@@ -113,6 +114,11 @@ def sweep_figure(results: list[dict], fixed: dict | None = None):
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
+    if hasattr(results, "rows"):  # one curve
+        results = [results]
+    results = [
+        {"A": r.amplitude, "rows": r.rows()} if hasattr(r, "rows") else r for r in results
+    ]  # fmt: skip  (curves as the sweep's results)
     fig = Figure(figsize=(7.5, 9.5))
     axes = fig.subplots(3, 1, sharex=True)
     colors = rcParams["axes.prop_cycle"].by_key()["color"]

@@ -1,0 +1,168 @@
+"""The period map's start and options, the sweep's options, a resumed curve and a curve's
+columns: one clear error naming the argument, or exact identities.
+
+A period map of the wrong state length read past the compiled kernel's array (garbage, or a
+crash of the process); 0 steps "mapped" x0 onto itself; a curve of another amplitude was
+resumed without a word, its orbits mixed into the new curve.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from nsdyn import periodic as pr
+from nsdyn.models.isolated.builders import system_from_matrices
+from nsdyn.models.isolated.system import Isolation
+from nsdyn.periodic.switch import switch_problem
+
+
+def _duffing(F=0.045):
+    return pr.duffing_problem(0.02, 1.0, 0.3, F)
+
+
+def _switch():
+    iso = Isolation(k_lam=0.0, c=0.0, mu=0.1, law="switch")
+    s = system_from_matrices([[1.0]], [[0.1]], [[(2 * math.pi) ** 2]], iso_dofs=[0],
+                             influence=[1.0], isolation=iso, weight=iso.g,
+                             levels=[[0]])  # fmt: skip
+    return switch_problem(s, 1.0)
+
+
+@pytest.mark.parametrize("make", [_duffing, _switch], ids=["sdirk", "switch"])
+@pytest.mark.parametrize(
+    ("call", "match"),
+    [
+        (lambda P: pr.period_map(P, np.zeros(P.dim + 1), 0.5), r"^x0: expected \d+ finite"),
+        (lambda P: pr.period_map(P, np.zeros(100), 0.5), r"^x0: expected \d+ finite numbers"),
+        (lambda P: pr.period_map(P, np.full(P.dim, np.nan), 0.5), r"^x0: .* with NaN or inf"),
+        (lambda P: pr.period_map(P, P.x_ref, 0.5, n_steps=0), r"^n_steps: expected a whole"),
+        (lambda P: pr.warm_start(P, 0.5, np.zeros(3), None), r"^x0: expected \d+ finite"),
+        (lambda P: pr.warm_start(P, 0.5, None, None, periods=-1), r"^periods: expected a who"),
+        (lambda P: pr.steady_state_sweep(P, 0.5, np.zeros(3)), r"^x0: expected \d+ finite"),
+        (lambda P: pr.continue_sequential(P, [0.5], x0=np.zeros(3)), r"^x0: expected \d+ fin"),
+    ],
+)
+def test_a_period_map_is_given_the_problems_state_and_a_step_count(make, call, match):
+    with pytest.raises(ValueError, match=match):
+        call(make())
+
+
+@pytest.mark.parametrize(
+    ("kw", "err", "match"),
+    [({"tol": -1.0}, ValueError, r"^tol: expected a positive finite steady-state tolerance"),
+     ({"tol": math.nan}, ValueError, r"^tol: expected a positive finite"),
+     ({"max_periods": 0}, ValueError, r"^max_periods: expected a whole number of periods >= 1"),
+     ({"max_periods": 2.5}, ValueError, r"^max_periods: expected a whole number"),
+     ({"max_time": -1.0}, ValueError, r"^max_time: expected a positive finite time"),
+     ({"max_time": math.nan}, ValueError, r"^max_time: expected a positive finite time"),
+     ({"disc": "sdirk2"}, TypeError, r"^disc: expected a Discretisation, got str"),
+     ({"monodromy": "no"}, TypeError, r"^monodromy: expected True or False")],
+)  # fmt: skip
+def test_a_steady_state_sweep_names_an_option_it_cannot_run_on(kw, err, match):
+    # tol = -1 ended in a math domain error; 0 periods or a negative time ran 3 periods
+    with pytest.raises(err, match=match):
+        pr.steady_state_sweep(_duffing(), 0.15, **kw)
+
+
+@pytest.mark.parametrize("continuation", ["sequential", "arclength"])
+@pytest.mark.parametrize(
+    ("kw", "err", "match"),
+    [({"fallback": "no"}, TypeError, r"^fallback: expected True or False, got 'no'"),
+     ({"keep_orbits": "no"}, TypeError, r"^keep_orbits: expected True or False")],
+)  # fmt: skip
+def test_a_continuation_flag_is_a_bool(continuation, kw, err, match):
+    # a text "no" was truthy: the fallback stayed on, the orbits were kept
+    P = _duffing()
+    with pytest.raises(err, match=match):
+        if continuation == "sequential":
+            pr.continue_sequential(P, [0.15, 0.16], **kw)
+        else:
+            pr.continue_arclength(P, 0.15, 0.16, points=3, **kw)
+
+
+@pytest.mark.parametrize("w", [math.nan, 0.0, -1.0, math.inf])
+def test_the_arclength_state_weight_is_positive_and_finite(w):
+    # NaN or 0 ended in LAPACK's "illegal value" and an SVD that did not converge
+    with pytest.raises(ValueError, match=r"^state_weight: expected a positive finite weight"):
+        pr.continue_arclength(_duffing(), 0.15, 0.16, points=3, state_weight=w)
+
+
+@pytest.fixture(scope="module")
+def duffing_curve():
+    return pr.continue_sequential(_duffing(), [0.15, 0.16])
+
+
+def test_a_curve_of_another_amplitude_is_not_resumed(duffing_curve):
+    other = _duffing(F=0.09)
+    with pytest.raises(ValueError, match=r"^start: its last point \(f = 0.16 Hz\) is no "
+                       r"periodic orbit of this problem \(residual"):  # fmt: skip
+        pr.continue_sequential(other, [0.15, 0.16, 0.17], start=duffing_curve.points)
+    with pytest.raises(ValueError, match=r"^start: its last point .* no periodic orbit"):
+        pr.continue_arclength(other, 0.15, 0.2, points=3, start=duffing_curve.points)
+    with pytest.raises(ValueError, match=r"^start: a curve of amplitude 0.045, this problem's "
+                       r"is 0.09"):  # fmt: skip
+        pr.continue_sequential(other, [0.15, 0.16, 0.17], start=duffing_curve)
+    wider = pr.frame_problem(_two_dofs(), 0.045)  # (a state of 4)
+    with pytest.raises(ValueError, match=r"^start: points of 2 states, this problem's state "
+                       r"has 4: a curve of another model"):  # fmt: skip
+        pr.continue_sequential(wider, [0.15, 0.2], start=duffing_curve.points)
+
+
+def _two_dofs():
+    iso = Isolation(k_lam=0.0, c=0.0, mu=0.1, law="arctan")
+    K = (2 * math.pi) ** 2 * np.array([[2.0, -1.0], [-1.0, 1.0]])
+    return system_from_matrices(np.eye(2), 0.01 * K, K, iso_dofs=[0], influence=[1.0, 1.0],
+                                isolation=iso, weight=2 * iso.g, levels=[[0], [1]])  # fmt: skip
+
+
+def test_a_curve_resumes_on_its_own_problem_and_band(duffing_curve):
+    P = _duffing()
+    with pytest.raises(ValueError, match=r"^start: its points reach 0.16 Hz, past the band "
+                       r"asked for \(0.1 to 0.12 Hz\)"):  # fmt: skip
+        pr.continue_sequential(P, [0.1, 0.12], start=duffing_curve.points)
+    for start in (duffing_curve, duffing_curve.points):  # the curve, or its points
+        c = pr.continue_sequential(P, [0.15, 0.16, 0.17], start=start)
+        assert c.points[:2] == duffing_curve.points and c.column("f").tolist() == [0.15, 0.16, 0.17]
+
+
+def test_a_curves_columns_summary_and_table_are_its_rows(duffing_curve):
+    pd = pytest.importorskip("pandas")
+    c = duffing_curve
+    rows = c.rows()
+    # the rows' names are columns too ("IDR" was an AttributeError; "idr" the quantity)
+    np.testing.assert_array_equal(c.column("residual"), [r["residual"] for r in rows])
+    np.testing.assert_array_equal(c.column("newton_iterations"), [p.iterations for p in c.points])
+    with pytest.raises(ValueError, match=r"^name: expected a column of the curve, one of .*"
+                       r"got 'amps'; did you mean 'amp'\?"):  # fmt: skip
+        c.column("amps")
+    s = c.summary()
+    amp = c.column("amp")
+    assert (s["amplitude"], s["points"], s["f_min_hz"], s["f_max_hz"]) == (0.045, 2, 0.15, 0.16)
+    assert s["converged"] == sum(p.converged for p in c.points)
+    assert s["idr_max"] is None  # (a Duffing oscillator has no drift)
+    df = c.to_dataframe()
+    assert list(df.index) == [0.15, 0.16] and df.index.name == "f"
+    expected = pd.DataFrame(rows).set_index("f")
+    pd.testing.assert_frame_equal(df, expected)
+    assert df.attrs["points"] == 2 and amp.size == 2
+
+
+@pytest.mark.parametrize(
+    ("amplitude", "freqs", "match"),
+    [(-1.0, [0.5], r"^amplitude: expected a finite forcing amplitude >= 0"),
+     (math.nan, [0.5], r"^amplitude: expected a finite forcing amplitude"),
+     ("1", [0.5], r"^amplitude: expected a finite forcing amplitude"),
+     ([1.0, -2.0], [0.5], r"^amplitude: expected a finite forcing amplitude .* got -2.0"),
+     (1.0, [-0.5, 0.5], r"^freqs\[0\]: expected a forcing frequency in"),
+     (1.0, [], r"^freqs: expected a 1-D sequence of forcing frequencies"),
+     (1.0, 0.5, r"^freqs: expected a 1-D sequence of forcing frequencies"),
+     (1.0, [[0.5, 1.0]], r"^freqs: expected a 1-D sequence"),
+     (1.0, [0.5, math.nan], r"^freqs: expected a 1-D sequence")],
+)  # fmt: skip
+def test_a_fixed_base_response_is_asked_for_amplitudes_and_frequencies(frame, amplitude,
+                                                                       freqs, match):  # fmt: skip
+    # a negative amplitude gave negative drifts, -0.5 Hz the values of +0.5 Hz, an empty or
+    # scalar freqs a reshape or index error
+    with pytest.raises(ValueError, match=match):
+        pr.fixed_base_response(frame, amplitude, freqs)
