@@ -187,7 +187,7 @@ def out_file(s: str) -> str:
     p = Path(s)
     if not s:
         raise argparse.ArgumentTypeError("expected a file name, got ''")
-    if p.is_dir():
+    if p.is_dir() or s.endswith(("/", os.sep)):  # ("x.py/" was written as the file x.py)
         raise argparse.ArgumentTypeError(f"expected a file name, got the directory {s!r}")
     if p.is_symlink() or (p.exists() and not p.is_file()):  # (replaced, not written through)
         raise argparse.ArgumentTypeError(f"expected a regular file's name, got {s!r} (a link "

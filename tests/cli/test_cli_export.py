@@ -5,6 +5,8 @@ from __future__ import annotations
 import json
 import sys
 
+import pytest
+
 from nsdyn.cli import main
 
 SCENE = '[scene]\nframe = "office-11"\n[motion]\nrecord = "synthetic-wn-40s"\nt_end = 1.0\n'
@@ -98,3 +100,46 @@ def test_a_building_export_past_the_records_end_is_noted(tmp_path, capsys):
     assert main([*argv, str(tmp_path / "b.py"), "--t-end", "100"]) == 0
     err = capsys.readouterr().err
     assert "--t-end 100 s is past the record's end; the script runs 40 s" in err
+
+
+def test_t_end_replaces_the_scenes_end_as_in_a_run(tmp_path, capsys):
+    # the script ran to the scene's [motion] t_end (1 s) and said "--t-end 3 s is past the
+    # record's end" of a 40 s record; a 3D building's too
+    scene = tmp_path / "s.toml"
+    scene.write_text(SCENE.replace("office-11", "portal"))
+    b3 = tmp_path / "b.toml"
+    b3.write_text('[scene]\nkind = "building3d"\n[structure]\nframe3d = "portal-3d"\n'
+                  'fidelity = "rigid"\n[motion]\nkind = "record3"\nrecord = "synthetic-wn-40s"\n'
+                  't_end = 1.0\n[bearing]\ntype = "flat"\nmu = 0.05\n')  # fmt: skip
+    for path in (scene, b3):
+        argv = ["export", "opensees", str(path), "-o", str(tmp_path / "m.py"), "--json"]
+        assert main([*argv, "--t-end", "3"]) == 0
+        out, err = capsys.readouterr()
+        assert json.loads(out)["duration_s"] == 3.0 and "past the record's end" not in err
+        assert main(argv) == 0  # without it, the scene's end
+        assert json.loads(capsys.readouterr().out)["duration_s"] == 1.0
+
+
+def test_a_fixed_base_export_of_a_building_needs_no_bearing(tmp_path, capsys):
+    # --fixed-base exports the clamped frame "whatever the scene's fidelity": a scene without
+    # a [bearing] table was refused for its missing bearing
+    b3 = tmp_path / "b.toml"
+    b3.write_text('[scene]\nkind = "building3d"\n[structure]\nframe3d = "portal-3d"\n'
+                  'fidelity = "rigid"\n[motion]\nkind = "record3"\nrecord = "synthetic-wn-40s"\n'
+                  't_end = 1.0\n')  # fmt: skip
+    argv = ["export", "opensees", str(b3), "-o", str(tmp_path / "m.py"), "--json"]
+    assert main([*argv, "--fixed-base"]) == 0
+    assert json.loads(capsys.readouterr().out)["bearings"] == []
+    assert main(argv) == 2  # on its bearings: refused, naming the table
+    assert "bearing: missing; the building on isolators needs a [bearing] table" in \
+        capsys.readouterr().err  # fmt: skip
+
+
+def test_an_output_name_ending_in_a_separator_is_a_directory(tmp_path, capsys):
+    # "-o x.py/" wrote the file x.py
+    target = str(tmp_path / "x.py") + "/"
+    with pytest.raises(SystemExit) as e:  # (argparse's exit)
+        main(["export", "opensees", "-o", target])
+    assert e.value.code == 2
+    assert "expected a file name, got the directory" in capsys.readouterr().err
+    assert not (tmp_path / "x.py").exists()

@@ -108,9 +108,10 @@ def load_opensees():
 # ---- the model's data ----------------------------------------------------------------------
 
 
-def _scene_system(scene, source: str):
+def _scene_system(scene, source: str, t_end=None):
     """(full system, motion, dt or None) of a scene file or loaded scene dict (isolated frames
-    only)."""
+    only); a ``t_end`` given replaces the scene's ``[motion] t_end`` (as ``nsdyn run
+    --t-end`` does: the script ran to the scene's end and blamed the record)."""
     from nsdyn.models.isolated.scene import build_scene_run, load_scene
     from nsdyn.models.isolated.scene_structure import structure_kind
     from nsdyn.models.scenefile import read_toml, scene_kind
@@ -139,6 +140,8 @@ def _scene_system(scene, source: str):
             "(motion.record = ...), not a harmonic motion or a force"
         )
     cfg.setdefault("scene", {})["fidelity"] = "full"
+    if t_end is not None:  # (a copy: a loaded scene given is not changed)
+        cfg["motion"] = {k: v for k, v in cfg.get("motion", {}).items() if k != "t_end"}
     system, motion, _ = build_scene_run(cfg)
     dt = cfg.get("solver", {}).get("dt")
     return system, motion, None if dt is None else float(dt)
@@ -330,8 +333,9 @@ def export_opensees(
     ``scene``: a scene TOML path, a loaded scene dict (:func:`~nsdyn.models.isolated.scene.
     load_scene`), or an ``IsolatedSystem`` built from a frame (then ``motion`` is required).
     ``dt`` overrides the scene's ``solver.dt`` (default :data:`DEFAULT_DT`); ``t_end`` cuts the
-    record; ``damping`` is ``"modal"`` (default) or ``"stiffness"`` (module docstring). Bad
-    input raises :class:`~nsdyn.models.scenefile.SceneError` naming the field.
+    record (in place of the scene's ``[motion] t_end``); ``damping`` is ``"modal"`` (default)
+    or ``"stiffness"`` (module docstring). Bad input raises
+    :class:`~nsdyn.models.scenefile.SceneError` naming the field.
     """
     from nsdyn.atomic import atomic_open
 
@@ -353,7 +357,7 @@ def export_opensees(
                     "nsdyn export opensees with no scene)"
                 )
             raise SceneError(f"{source}: no such scene file")
-        system, rec, step = _scene_system(scene, source)
+        system, rec, step = _scene_system(scene, source, t_end)
         motion = rec if motion is None else motion
     if t_end is not None:
         if not t_end > 0:

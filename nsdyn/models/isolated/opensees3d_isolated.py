@@ -248,8 +248,9 @@ def _bearing_rows(frame, bearings, source: str):
     for i, b in enumerate(bl):
         f = b.friction
         mu0 = float(f.mu_slow)
-        if not mu0 > 0:
-            raise SceneError(f"{source}: {b.where}.mu_slow: OpenSees' bearings need mu > 0")
+        if not mu0 > 0:  # (named as the scene writes it: mu, or mu_slow beside mu_fast)
+            key = "mu_slow" if f.mu_fast is not None else "mu"
+            raise SceneError(f"{source}: {b.where}.{key}: OpenSees' bearings need mu > 0")
         if b.area is not None:  # (it would be dropped: a script of another model)
             raise SceneError(f"{source}: {b.where}.area: pressure-dependent friction has no "
                              "counterpart in the exported bearings (their friction does not "
@@ -422,8 +423,10 @@ def script_text_building(data: dict, filename: str = "model.py") -> str:
     return f"{head}\n{preload}\n\nDATA = json.loads({blob!r})\n{SCRIPT}"
 
 
-def _from_scene(scene, source: str):
-    """(frame, bearing or None, motion, dt or None, fixed) of a building3d scene file."""
+def _from_scene(scene, source: str, t_end=None, fixed_base=None):
+    """(frame, bearing or None, motion, dt or None, fixed) of a building3d scene file; a
+    ``t_end`` given replaces the scene's ``[motion] t_end``, and with ``fixed_base`` the
+    scene needs no ``[bearing]``."""
     import copy
 
     from nsdyn.models.isolated.bearings import BearingError, bearing_from_config
@@ -435,8 +438,10 @@ def _from_scene(scene, source: str):
     frame_only = copy.deepcopy(cfg)
     frame_only.setdefault("structure", {})["fidelity"] = "fixed"
     frame = build_system(frame_only, source)["frame"]
+    if t_end is not None:
+        cfg["motion"] = {k: v for k, v in cfg.get("motion", {}).items() if k != "t_end"}
     motion, _ = build_motion(cfg, source)
-    fixed = fid == "fixed"
+    fixed = fid == "fixed" if fixed_base is None else bool(fixed_base)
     bearing = None
     if not fixed:
         if "bearing" not in cfg:
@@ -482,11 +487,11 @@ def export_building_opensees(
     else:
         if isinstance(scene, str | Path) and not Path(scene).is_file():
             raise SceneError(f"{source}: no such scene file")
-        frame, bearing, rec, step, fixed, scene_base = _from_scene(scene, source)
+        frame, bearing, rec, step, fixed, scene_base = _from_scene(scene, source, t_end,
+                                                                   fixed_base)  # fmt: skip
         base = base or scene_base
         bearings = bearing if bearings is None else bearings
         motion = rec if motion is None else motion
-        fixed = fixed if fixed_base is None else bool(fixed_base)
     if not fixed and bearings is None:
         raise SceneError(f"{source}: bearing: the building on isolators needs its bearings")
     if t_end is not None:
