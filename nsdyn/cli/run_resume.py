@@ -48,7 +48,8 @@ def samples_digest(motion) -> str:
 
 def refuse_foreign_checkpoint(path: Path, ident: dict) -> None:
     """A checkpoint written for other settings is never continued (it would mix two runs);
-    the refusal names the settings that differ."""
+    the refusal names the settings that differ (the motion's samples only when the scene's
+    keys do not: a record edited since)."""
     from nsdyn.models.scenefile import SceneError
 
     try:
@@ -56,7 +57,10 @@ def refuse_foreign_checkpoint(path: Path, ident: dict) -> None:
     except (OSError, ValueError):
         old = None
     if old != ident:
-        diff = "an older nsdyn" if old is None else "differing: " + ", ".join(differing(old, ident))
+        keys = [] if old is None else differing(old, ident)
+        if len(keys) > 1 and "motion" in keys:  # (the samples follow from the scene's keys)
+            keys.remove("motion")
+        diff = "an older nsdyn" if old is None else "differing: " + ", ".join(keys)
         raise SceneError(
             f"{path.parent}: the checkpoint there was written by a run with other settings "
             f"({diff}); rerun with the same scene and options to resume it, or without "
