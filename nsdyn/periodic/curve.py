@@ -102,7 +102,8 @@ class Curve:
         ``f_min_hz`` and ``f_max_hz``, the points ``converged``, ``unstable`` and from the
         stepped sweep (``sweep_points``), the ``continuation``, the frequencies skipped
         (``skipped_hz``), the ``bifurcations`` found, and each quantity's largest value over
-        the curve and its frequency (``idr_max``, ``idr_max_f_hz``, ``acc_max``, ...)."""
+        the curve and its frequency (``idr_max``, ``idr_max_f_hz``, ``acc_max_mps2``,
+        ``x_iso_max_m``, ...)."""
         f = self.column("f") if self.points else np.zeros(0)
         out = {"amplitude": self.amplitude, "points": len(self.points),
                "f_min_hz": float(f.min()) if f.size else None,
@@ -113,11 +114,11 @@ class Curve:
                "continuation": self.info.get("continuation"),
                "skipped_hz": list(self.info.get("skipped_hz", [])),
                "bifurcations": len(self.bifurcations)}  # fmt: skip
-        for q in ("idr", "acc", "x_iso"):
+        for q, unit in (("idr", ""), ("acc", "_mps2"), ("x_iso", "_m")):
             v = np.array([p.quantities.get(q, math.nan) for p in self.points], dtype=float)
             ok = np.isfinite(v)
             k = int(np.argmax(np.where(ok, v, -np.inf))) if ok.any() else None
-            out[f"{q}_max"] = None if k is None else float(v[k])
+            out[f"{q}_max{unit}"] = None if k is None else float(v[k])
             out[f"{q}_max_f_hz"] = None if k is None else float(f[k])
         return out
 

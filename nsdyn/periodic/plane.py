@@ -29,8 +29,9 @@ difference straddling a switch is not a derivative: near a stick–slip transiti
 stick phase shrinking to nothing) shooting may fail, and the point then comes from the stepped
 sweep (time integration until the map is stationary) with the reason in its note. Such
 multipliers can be wrong too, so an orbit they call unstable is checked by the map itself
-(:func:`check_growth`): a perturbation along the growing direction is followed GROWTH_PERIODS
-periods, and the verdict (and the reported |ρ|) is its growth or decay per period.
+(:func:`~nsdyn.periodic.stability.check_growth`): a perturbation along the growing direction
+is followed GROWTH_PERIODS periods, and the verdict (and the reported |ρ|) is its growth or
+decay per period.
 
 A single mass (one isolator, no eccentricity) has a free twist θ̈ = 0 that carries no load: its
 state is (x, y, ẋ, ẏ), dim 4; a deck's is [q, q̇], dim 6. A triple friction pendulum adds the
@@ -62,7 +63,6 @@ from nsdyn.models.isolated.deck import PlaneSystem, kernel_params
 from nsdyn.models.isolated.defaults import EPS, ETA
 from nsdyn.models.isolated.friction import stick_velocity, sticks
 from nsdyn.models.isolated.tolerances import arctan_atol
-from nsdyn.periodic.bifurcation import STABLE_MARGIN
 from nsdyn.periodic.continuation import continue_range
 from nsdyn.periodic.curve import Curve
 from nsdyn.periodic.discretisation import Discretisation
@@ -75,7 +75,7 @@ from nsdyn.periodic.protocol import (
     check_frequency,
     check_map_args,
 )
-from nsdyn.periodic.shooting import _weights, orbit_amplitudes
+from nsdyn.periodic.stability import check_growth
 
 RTOL = 1e-10  # the period map's relative tolerance
 ATOL = 1e-12  # ... absolute [m, m/s] (the regularised law's velocity part capped at 0.1/eps)
@@ -84,8 +84,6 @@ FD_FLOOR = 1e-4  # excursion [m, m/s] below which the difference step is taken f
 SAMPLES_MIN = 256  # orbit samples per period at least
 MAX_STEPS = 2_000_000  # integration steps per period
 EV_ROWS = 20_000  # event rows kept per period (the count is exact)
-GROWTH_PERIODS = 10  # periods a perturbation is followed to check an "unstable" verdict
-GROWTH_REL = 1e-3  # its size, relative to the orbit's excursion
 STATUS_BASE = 100  # the deck loops' status s is reported as STATUS_BASE + s
 STATUS_UPLIFT = STATUS_BASE + kr.ST_UPLIFT
 STATUS_HELD = STATUS_BASE + 50  # a stuck isolator held outside its disc (outside_disc)
@@ -125,6 +123,9 @@ def orbit_shape(orbit) -> tuple[float, tuple]:
         from nsdyn.models.isolated.deck import orbit_of
 
         orbit = orbit_of(orbit)
+    elif not hasattr(orbit, "f"):  # ("circular" was "orbit.f: ... got nan")
+        raise TypeError(f"orbit: expected a HarmonicPlane or a dict of f, ax, ay, ..., got "
+                        f"{type(orbit).__name__}")  # fmt: skip
 
     def get(name, default=0.0):
         v = getattr(orbit, name, default)
@@ -428,57 +429,19 @@ def plane_problem(system: PlaneSystem, orbit, *, amplitude: float | None = None,
     """The periodic problem of ``system`` under the harmonic ``orbit`` (its shape; its
     amplitude unless ``amplitude`` [m/s²] is given; its frequency is the continuation's).
     ``options``: law, eps, eta, rtol, atol of :class:`PlaneProblem`."""
+    if not isinstance(system, PlaneSystem):
+        raise TypeError(f"system: expected a PlaneSystem (sdof_plane, rigid_deck or "
+                        f"building_deck), got {type(system).__name__}")  # fmt: skip
     A, shape = orbit_shape(orbit)
     return PlaneProblem(system, A if amplitude is None else amplitude, shape, **options)
-
-
-def check_growth(problem: PlaneProblem, pt) -> None:
-    """Check an "unstable" verdict of the point ``pt`` (an OrbitPoint) by the map itself: from
-    the orbit's start displaced by GROWTH_REL of its excursion along the growing eigenvector of
-    the monodromy, GROWTH_PERIODS periods are integrated, and the mean change per period of
-    the scaled distance to the start, r, replaces the multipliers (``[r]``) with a note. A
-    period that cannot be integrated leaves the verdict unknown (no multipliers, the reason in
-    the note)."""
-    if not pt.multipliers.size or pt.max_multiplier < 1.0 + STABLE_MARGIN:
-        return
-    first = f"the differenced monodromy's max |rho| = {pt.max_multiplier:.4g}"
-
-    def unknown(status):
-        why = STATUS_MESSAGES.get(status, f"status {status}")
-        pt.multipliers = np.zeros(0, dtype=complex)
-        pt.note = "; ".join(n for n in (pt.note, f"stability unknown: {first}, its check "
-                                        f"failed ({why})") if n)  # fmt: skip
-
-    pm = problem.period_map(pt.x0, pt.f, store=True)
-    if pm.status != STATUS_OK:
-        return unknown(pm.status)
-    rho, vec = np.linalg.eig(pm.monodromy)
-    k = int(np.argmax(np.abs(rho)))
-    amp = orbit_amplitudes(problem, pm.X)
-    W = _weights(problem, amp)
-    v = vec[:, k].real if np.any(vec[:, k].real) else vec[:, k].imag
-    dx = GROWTH_REL * v / np.abs(W * v).max()
-    x = pt.x0 + dx
-    d0 = float(np.abs(W * dx).max())
-    for _ in range(GROWTH_PERIODS):
-        pk = problem.period_map(x, pt.f, n_steps=pm.n_steps, sens=False)
-        if pk.status != STATUS_OK:
-            return unknown(pk.status)
-        x = pk.xT
-    r = (float(np.abs(W * (x - pt.x0)).max()) / d0) ** (1.0 / GROWTH_PERIODS)
-    verdict = "unstable, confirmed" if r >= 1.0 + STABLE_MARGIN else "stable"
-    note = (f"{verdict}: {first}; a perturbation followed {GROWTH_PERIODS} periods changes by "
-            f"{r:.4g} per period (reported as |rho|)")  # fmt: skip
-    pt.multipliers = np.array([complex(r)])
-    pt.note = "; ".join(n for n in (pt.note, note) if n)
 
 
 def plane_response(problem: PlaneProblem, **options) -> Curve:
     """Periodic orbits of ``problem`` continued in f (``options``: fmin, fmax, points,
     continuation "sequential" | "arclength", fallback, progress, start, x0, ... of
     :func:`nsdyn.periodic.continuation.continue_range`). An "unstable" point is checked by
-    :func:`check_growth`. The curve's ``info["failures"]`` lists the frequencies where shooting
-    failed, with the reason (:func:`failures`)."""
+    :func:`~nsdyn.periodic.stability.check_growth`. The curve's ``info["failures"]`` lists the
+    frequencies where shooting failed, with the reason (:func:`failures`)."""
     user = options.get("progress")
 
     def progress(pt, k, n):

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import whole
+from nsdyn._checks import got_array, whole
 from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.protocol import (
     STATUS_MESSAGES,
@@ -51,7 +51,11 @@ def period_map(problem: PeriodicModel, x0: np.ndarray, f: float, **options) -> P
 
 def floquet_multipliers(monodromy: np.ndarray) -> np.ndarray:
     """Eigenvalues ``rho`` of the monodromy (dim, dim), sorted by decreasing modulus."""
-    rho = np.linalg.eigvals(monodromy)
+    M = np.asarray(monodromy)
+    if M.ndim != 2 or M.shape[0] != M.shape[1] or not np.all(np.isfinite(M)):
+        raise ValueError(f"monodromy: expected a square matrix of finite numbers, got "
+                         f"{got_array(M, (None, None))}")  # fmt: skip
+    rho = np.linalg.eigvals(M)
     return rho[np.argsort(-np.abs(rho), kind="stable")]
 
 

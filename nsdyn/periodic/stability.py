@@ -46,10 +46,12 @@ import numpy as np
 from nsdyn.periodic.bifurcation import STABLE_MARGIN
 from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation, refined
 from nsdyn.periodic.protocol import STATUS_MESSAGES, STATUS_OK
-from nsdyn.periodic.shooting import floquet_multipliers
+from nsdyn.periodic.shooting import _weights, floquet_multipliers, orbit_amplitudes
 
 AN_STABLE = ("euler",)  # tableaux whose map keeps a contractive flow contractive
 CHECK_METHOD = "euler"  # the tableau of the check
+GROWTH_PERIODS = 10  # periods a perturbation is followed to check an "unstable" verdict
+GROWTH_REL = 1e-3  # its size, relative to the orbit's excursion
 
 
 def max_modulus(rho: np.ndarray) -> float:
@@ -86,3 +88,44 @@ def check_verdict(
         f"(max |rho| = {r1:.4g})"
     )
     return rc, True, note
+
+
+def check_growth(problem, pt) -> None:
+    """Check an "unstable" verdict of the point ``pt`` (an OrbitPoint) by the map itself: from
+    the orbit's start displaced by GROWTH_REL of its excursion along the growing eigenvector of
+    the monodromy, GROWTH_PERIODS periods are integrated, and the mean change per period of
+    the scaled distance to the start, r, replaces the multipliers (``[r]``) with a note. A
+    period that cannot be integrated leaves the verdict unknown (no multipliers, the reason in
+    the note)."""
+    if not pt.multipliers.size or pt.max_multiplier < 1.0 + STABLE_MARGIN:
+        return
+    first = f"the differenced monodromy's max |rho| = {pt.max_multiplier:.4g}"
+
+    def unknown(status):
+        why = STATUS_MESSAGES.get(status, f"status {status}")
+        pt.multipliers = np.zeros(0, dtype=complex)
+        pt.note = "; ".join(n for n in (pt.note, f"stability unknown: {first}, its check "
+                                        f"failed ({why})") if n)  # fmt: skip
+
+    pm = problem.period_map(pt.x0, pt.f, store=True)
+    if pm.status != STATUS_OK:
+        return unknown(pm.status)
+    rho, vec = np.linalg.eig(pm.monodromy)
+    k = int(np.argmax(np.abs(rho)))
+    amp = orbit_amplitudes(problem, pm.X)
+    W = _weights(problem, amp)
+    v = vec[:, k].real if np.any(vec[:, k].real) else vec[:, k].imag
+    dx = GROWTH_REL * v / np.abs(W * v).max()
+    x = pt.x0 + dx
+    d0 = float(np.abs(W * dx).max())
+    for _ in range(GROWTH_PERIODS):
+        pk = problem.period_map(x, pt.f, n_steps=pm.n_steps, sens=False)
+        if pk.status != STATUS_OK:
+            return unknown(pk.status)
+        x = pk.xT
+    r = (float(np.abs(W * (x - pt.x0)).max()) / d0) ** (1.0 / GROWTH_PERIODS)
+    verdict = "unstable, confirmed" if r >= 1.0 + STABLE_MARGIN else "stable"
+    note = (f"{verdict}: {first}; a perturbation followed {GROWTH_PERIODS} periods changes by "
+            f"{r:.4g} per period (reported as |rho|)")  # fmt: skip
+    pt.multipliers = np.array([complex(r)])
+    pt.note = "; ".join(n for n in (pt.note, note) if n)

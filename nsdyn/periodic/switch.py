@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._brief import brief_repr
+from nsdyn._checks import expect
 from nsdyn._lazy import LazyModule
 from nsdyn.ground.excitation import Harmonic, HarmonicForce
 from nsdyn.models.isolated import _kernel as ks
@@ -450,6 +451,10 @@ def switch_problem(system, amplitude: float, *, load: HarmonicForce | None = Non
     phase)`` on ``load``'s dofs. Any isolated system: a frame model, a shear building, a system
     from matrices (frozen normal forces or contacts); ``amplitude`` finite and >= 0 (a ground
     acceleration at most A_HIGHEST)."""
+    from nsdyn.models.isolated.system import IsolatedSystem
+
+    expect("system", system, isinstance(system, IsolatedSystem), "an IsolatedSystem "
+           "(nsdyn.build_system, nsdyn.shear_building, ...)")  # fmt: skip
     amplitude = check_amplitude(amplitude, highest=A_HIGHEST if load is None else math.inf)
     if system.isolation is None:
         raise ValueError("shooting needs an isolated model; the fixed base is linear (use FRFs)")

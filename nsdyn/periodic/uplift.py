@@ -42,6 +42,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from nsdyn._checks import number
 from nsdyn.periodic.bifurcation import STABLE_MARGIN
 from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation, refined
 from nsdyn.periodic.problem import frame_problem
@@ -354,10 +355,12 @@ def uplift_boundary(
     freqs = np.asarray(freqs, dtype=float).reshape(-1)
     if freqs.size == 0 or not np.all(np.isfinite(freqs)) or np.any(freqs <= 0):
         raise ValueError(f"freqs: expected positive finite frequencies [Hz], got {freqs!r}")
-    if not (0.0 < a_lo < a_hi and math.isfinite(a_hi)):
-        raise ValueError(f"a_lo, a_hi: expected 0 < a_lo < a_hi < inf, got {a_lo!r}, {a_hi!r}")
-    if not (0.0 < rtol < 0.5):
-        raise ValueError(f"rtol: expected a number in (0, 0.5), got {rtol!r}")
+    a_lo = number("a_lo", a_lo, "a positive finite amplitude", lambda v: v > 0)
+    a_hi = number("a_hi", a_hi, f"a finite amplitude above a_lo = {a_lo:g}", lambda v: v > a_lo)
+    rtol = number("rtol", rtol, "a number in (0, 0.5)", lambda v: 0.0 < v < 0.5)
+    if progress is not None and not callable(progress):  # (it failed after the first point)
+        raise TypeError(f"progress: expected a callable (point, k, n), got "
+                        f"{type(progress).__name__}")  # fmt: skip
     if getattr(system, "n_contacts", 0) == 0:
         raise ValueError("the system has no contacts: no normal force can reach zero")
     base = frame_problem(system, a_lo, law=law, load=load)

@@ -166,3 +166,30 @@ def test_a_fixed_base_response_is_asked_for_amplitudes_and_frequencies(frame, am
     # scalar freqs a reshape or index error
     with pytest.raises(ValueError, match=match):
         pr.fixed_base_response(frame, amplitude, freqs)
+
+
+def test_the_problem_builders_and_the_uplift_search_name_a_wrong_argument():
+    # each failed deep inside: "no attribute 'isolation'", "orbit.f: ... got nan", a '<' not
+    # supported between str and float, "'int' object is not callable" after the first point
+    from nsdyn.periodic.plane import plane_problem
+
+    with pytest.raises(TypeError, match=r"^system: expected an IsolatedSystem"):
+        switch_problem("building", 1.0)
+    with pytest.raises(TypeError, match=r"^system: expected a PlaneSystem"):
+        plane_problem("mass", {"f": 1.0, "ax": 1.0})
+    from nsdyn.models.isolated.bearings import Bearing, Friction
+    from nsdyn.models.isolated.deck import sdof_plane
+
+    deck = sdof_plane(1.0e5, Bearing(Friction(0.05), radius=2.0))
+    with pytest.raises(TypeError, match=r"^orbit: expected a HarmonicPlane or a dict"):
+        plane_problem(deck, "circular")
+    s = _two_dofs()
+    with pytest.raises(ValueError, match=r"^a_lo: expected a positive finite amplitude"):
+        pr.uplift_boundary(s, [0.5], a_lo="1")
+    with pytest.raises(ValueError, match=r"^a_hi: expected a finite amplitude above a_lo"):
+        pr.uplift_boundary(s, [0.5], a_lo=2.0, a_hi=1.0)
+    with pytest.raises(TypeError, match=r"^progress: expected a callable"):
+        pr.uplift_boundary(s, [0.5], progress=5)
+    with pytest.raises(ValueError, match=r"^monodromy: expected a square matrix of finite "
+                       r"numbers, got shape \(2, 3\)"):  # fmt: skip
+        pr.floquet_multipliers(np.zeros((2, 3)))
