@@ -92,6 +92,17 @@ class Tabular:
 
     __repr__ = brief_repr  # arrays by shape, not in full (its dataclasses set repr=False)
 
+    def __post_init__(self) -> None:
+        """The result's arrays made read-only once it is made: an edit in place (a history
+        scaled to other units) changed its summary, or left the summary and the tables
+        disagreeing; edit a copy. Each is a read-only view: an array the caller passed in
+        (output times) stays the caller's to write."""
+        for k, v in vars(self).items():
+            if isinstance(v, np.ndarray) and v.flags.writeable:
+                view = v.view()
+                view.flags.writeable = False
+                object.__setattr__(self, k, view)
+
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
         own = cls.__dict__.get("histories")
