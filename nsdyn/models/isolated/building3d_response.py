@@ -32,9 +32,10 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
+from nsdyn._tabular import Tabular
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated.deck import pack_ground
-from nsdyn.models.isolated.fixed3d import response_peaks
+from nsdyn.models.isolated.fixed3d import response_histories, response_peaks
 from nsdyn.structure.storey3d import StoreyDrifts
 
 __all__ = [
@@ -63,8 +64,8 @@ def isolator_forces(result) -> np.ndarray:
     return result.friction + result.restoring + result.other
 
 
-@dataclass(frozen=True, eq=False)
-class BuildingResponse3D:
+@dataclass(frozen=True, eq=False, repr=False)
+class BuildingResponse3D(Tabular):
     """Response histories of a cb or full run (module text); ``t`` (nt,) [s].
 
     drifts : StoreyDrifts with a time axis (``cm`` (ns, 2, nt), ``corner`` (ns, 4, 2, nt)).
@@ -92,6 +93,15 @@ class BuildingResponse3D:
         rc = np.hypot(self.roof_corner[:, 0], self.roof_corner[:, 1])
         s["peak_roof_corner_displacement_m"] = float(rc.max()) if rc.size else float("nan")
         return s
+
+    def histories(self) -> dict:
+        """The structure's histories on ``t`` (:func:`~nsdyn.models.isolated.fixed3d.
+        response_histories`) and the roof's displacement at the plan corners
+        ``roof_corner_x_{}_m`` (corner c); the isolators' are the run's,
+        ``self.result.histories()``."""
+        rc = self.roof_corner
+        return {**response_histories(self.drifts, self.floor_acc, self.base_shear, self.torsion),
+                "roof_corner_x_{}_m": rc[:, 0].T, "roof_corner_y_{}_m": rc[:, 1].T}  # fmt: skip
 
 
 def building_response(system, result, ground) -> BuildingResponse3D:

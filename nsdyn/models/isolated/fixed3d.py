@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
+from nsdyn._tabular import Tabular
 from nsdyn.structure.frame3d import Frame3D
 from nsdyn.structure.modes3d import Modes3D, fixed_base_modes_3d
 from nsdyn.structure.storey3d import StoreyDrifts, floor_motions, storey_drifts_3d
@@ -67,8 +68,8 @@ def modal_histories(omega, zeta, p: np.ndarray, dt: float) -> tuple[np.ndarray, 
     return X[:, 0], X[:, 1]
 
 
-@dataclass(frozen=True, eq=False)
-class FixedResponse3D:
+@dataclass(frozen=True, eq=False, repr=False)
+class FixedResponse3D(Tabular):
     """Fixed-base response histories (module docstring); ``t`` (nt,) [s].
 
     eta, eta_d : (m, nt) modal coordinates and velocities.   drifts : StoreyDrifts with a
@@ -99,6 +100,30 @@ class FixedResponse3D:
             "mass_captured_torsion": float(self.captured[2]),
             **response_peaks(self.drifts, self.floor_acc, self.base_shear, self.torsion),
         }
+
+    def histories(self) -> dict:
+        """The response histories on ``t`` (:func:`response_histories`) and the modal
+        coordinates ``eta_{}`` (mode j), for :meth:`to_dataframe` / :meth:`to_xarray`."""
+        return {**response_histories(self.drifts, self.floor_acc, self.base_shear,
+                                     self.torsion), "eta_{}": self.eta.T}  # fmt: skip
+
+
+def response_histories(drifts: StoreyDrifts, floor_acc, base_shear, torsion) -> dict:
+    """Histories (time first, units in the names) of response arrays with a trailing time
+    axis: drift ratios at the centres of mass ``drift_cm_x_{}`` (storey j) and at the plan
+    corners ``drift_corner_x_{}`` (column 4 j + c: storey j, corner c), floor accelerations
+    ``floor_acc_x_{}_mps2`` (level j, 0 = the base), ``base_shear_x_N`` and ``torsion_Nm``
+    (and the same in y)."""
+    ns = drifts.cm.shape[0]
+    out = {}
+    for c, name in enumerate("xy"):
+        out[f"drift_cm_{name}_{{}}"] = drifts.cm[:, c, :].T
+        out[f"drift_corner_{name}_{{}}"] = drifts.corner[:, :, c, :].reshape(4 * ns, -1).T
+    for c, name in enumerate("xy"):
+        out[f"floor_acc_{name}_{{}}_mps2"] = floor_acc[:, c, :].T
+    out.update({"base_shear_x_N": base_shear[0], "base_shear_y_N": base_shear[1],
+                "torsion_Nm": torsion})  # fmt: skip
+    return out
 
 
 AMP_FLOOR = 1e-9  # drifts below this part of the largest are round-off: no amplification

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nsdyn._brief import brief_repr
 from nsdyn._checks import RTOL_MIN
 from nsdyn.ground.pulses import Pulse
 from nsdyn.models.rocking.block import TOL, simulate_rocking
@@ -56,7 +57,7 @@ def status_word(a_min: float, safe_lo: float, safe_hi: float) -> str:
     return STATUS[3] if math.isnan(safe_hi) else STATUS[2]
 
 
-@dataclass
+@dataclass(repr=False)
 class OverturningSpectrum:
     """Overturning amplitudes against frequency (ratios; nan where not found).
 
@@ -90,6 +91,8 @@ class OverturningSpectrum:
     a_max: float = A_MAX
     scan: float = SCAN
     rtol: float = RTOL
+
+    __repr__ = brief_repr  # arrays by shape, not in full
 
     COLUMNS = ("omega_ratio", "a_min_ratio", "mode", "safe_lo_ratio", "safe_hi_ratio", "status")
 

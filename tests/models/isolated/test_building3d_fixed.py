@@ -116,7 +116,7 @@ def test_one_storey_building_equals_direct_integration():
     assert np.abs(res.torsion - Tq).max() <= 1e-6 * np.abs(Tq).max()
 
 
-def test_symmetric_building_under_x_motion_has_no_y_or_torsional_response():
+def test_symmetric_building_under_x_motion_has_no_y_or_torsional_response(assert_round_trip):
     # doubly symmetric plan, bays unequal (x and y frequencies distinct: no degenerate pair
     # whose eigenvectors could mix x and y): the y and torsional participation of each mode is
     # round-off, eps ||M|| ||phi||^2 over the frequency gap, so y and twist stay below 1e-9 of
@@ -138,6 +138,13 @@ def test_symmetric_building_under_x_motion_has_no_y_or_torsional_response():
     # y's drifts are round-off: no amplification to report (it read a ratio of round-off, 125)
     assert res.summary()["corner_amplification_y"] is None
     assert json.dumps(res.summary(), allow_nan=False)  # (a NaN at rest was invalid JSON)
+    # the tables hold the histories (they had none: to_dataframe was an AttributeError), the
+    # corner drift of storey j, corner c in column 4 j + c
+    assert_round_trip(res)
+    h = res.histories()
+    np.testing.assert_array_equal(h["drift_corner_x_{}"][:, 4 * 1 + 2], res.drifts.corner[1, 2, 0])
+    np.testing.assert_array_equal(h["floor_acc_y_{}_mps2"][:, 1], res.floor_acc[1, 1])
+    assert len(repr(res)) < 1000  # (the whole frame and modes were printed: 16 700 characters)
 
 
 def test_a_one_component_record_is_named_not_an_attribute_error():

@@ -63,6 +63,7 @@ def test_status_words_say_what_a_nan_means():
     assert list(df.index) == list(some.omega_ratio) and df.index.name == "omega_ratio"
     np.testing.assert_array_equal(df["a_min_ratio"].to_numpy(), some.a_min_ratio)
     assert list(df["status"]) == some.status and df.attrs["p_per_s"] == BLOCK.p
+    assert "array(" not in repr(some)  # (brief: its arrays were printed in full)
 
 
 def test_spectrum_command_reports_the_status(tmp_path, capsys):
