@@ -177,11 +177,16 @@ class Table:
 
 def read_results(out_dir: str | Path) -> Table:
     """The table a study left in ``out_dir`` (its results.csv, values parsed as
-    :func:`read_csv` parses them): ``read_results("nsdyn-study/NAME").to_dataframe()``."""
+    :func:`read_csv` parses them): ``read_results("nsdyn-study/NAME").to_dataframe()``, its
+    columns in the file's order (the parameters before status, error and task_s, as the
+    study's own table has them)."""
     path = Path(out_dir) / RESULTS
     if not path.is_file():
         raise FileNotFoundError(f"{out_dir}: no {RESULTS}; expected the folder a study wrote")
-    return Table(read_csv(path))
+    rows = read_csv(path)
+    header = list(rows[0]) if rows else []
+    tail = next((i for i, c in enumerate(header) if c in TAIL_COLUMNS), len(header))
+    return Table(rows, [c for c in header[:tail] if c not in LEAD_COLUMNS])
 
 
 def read_csv(path: str | Path) -> list[dict]:
