@@ -324,9 +324,13 @@ def write_outputs(out: Path, tables: dict, chart=None) -> dict[str, str]:
 
     ``tables``: ``{key: (file name, rows, fieldnames or None)}``, written in order by
     :func:`write_csv_atomic`; ``chart``: None or ``(key, file name, draw)`` with ``draw()``
-    returning the figure, saved last through :func:`nsdyn.atomic.save_figure`.
+    returning the figure, saved last through :func:`nsdyn.atomic.save_figure`. An earlier
+    run's chart goes before the new tables come (an interrupt between them left it beside
+    tables it did not draw).
     """
     out = Path(out)
+    if chart is not None:
+        (out / chart[1]).unlink(missing_ok=True)
     files = {}
     for key, (name, rows, fieldnames) in tables.items():
         files[key] = str(write_csv_atomic(out / name, rows, fieldnames))

@@ -39,3 +39,20 @@ def test_benchmarks_that_save_figures_take_the_figures_option(name):
     params = inspect.signature(module.run_bench).parameters
     assert "figures" in params, name
     assert params["figures"].default is True, name
+
+
+def test_an_interrupted_chart_leaves_no_earlier_chart_beside_the_new_tables(tmp_path):
+    # `nsdyn bench accuracy` stopped while drawing left the earlier run's accuracy.png beside
+    # the new accuracy.csv: a chart of other numbers
+    from nsdyn.bench.common import write_outputs
+
+    (tmp_path / "chart.png").write_bytes(b"an earlier run's chart")
+
+    def draw():
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        write_outputs(
+            tmp_path, {"csv": ("t.csv", [{"a": 1.0}], None)}, ("figure", "chart.png", draw)
+        )
+    assert (tmp_path / "t.csv").is_file() and not (tmp_path / "chart.png").exists()
