@@ -23,7 +23,12 @@ SCHEMA = Schema(
             "The family and a name.",
             (
                 Key("kind", "string", "the model family", required=True, choices=("contact",)),
-                Key("name", "string", "a name for outputs and titles", default="(the file's stem)"),
+                Key(
+                    "name",
+                    "string",
+                    "a name for outputs and titles (1 to 200 bytes)",
+                    default="(the file's stem)",
+                ),
             ),
         ),
         Table(

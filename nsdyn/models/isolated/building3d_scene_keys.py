@@ -51,7 +51,8 @@ SCHEMA = Schema(
     (
         Table("scene", "The family and a name.", (
             Key("kind", "string", "the model family", required=True, choices=("building3d",)),
-            Key("name", "string", "a name for outputs and titles", default="(the file's stem)"),
+            Key("name", "string", "a name for outputs and titles (1 to 200 bytes)",
+                default="(the file's stem)"),
         )),
         Table("structure", "The space frame and the rung of the model ladder.", (
             Key("frame3d", "string", "bundled 3D frame name or a 3D frame file (relative to "

@@ -72,7 +72,8 @@ SCHEMA = Schema(
     (
         Table("scene", "The family and a name.", (
             Key("kind", "string", "the model family", required=True, choices=("deck",)),
-            Key("name", "string", "a name for outputs and titles", default="(the file's stem)"),
+            Key("name", "string", "a name for outputs and titles (1 to 200 bytes)",
+                default="(the file's stem)"),
         )),
         Table("deck", "A rigid deck on isolators (or `[mass]`).", (
             Key("m", "number", "mass of the deck", "kg", required=True, **_POS),

@@ -29,7 +29,10 @@ _METHODS = (
 )
 
 _NAME = Key(
-    "name", "string", "a name for the run's outputs and figure titles", default="office-11 isolated"
+    "name",
+    "string",
+    "a name for the run's outputs and figure titles (1 to 200 bytes)",
+    default="office-11 isolated",
 )
 _KIND = Key(
     "kind",

@@ -24,7 +24,12 @@ SCHEMA = Schema(
             "Which rocking model.",
             (
                 Key("kind", "string", "the model family", required=True, choices=("rocking",)),
-                Key("name", "string", "a name for outputs and titles", default="(the file's stem)"),
+                Key(
+                    "name",
+                    "string",
+                    "a name for outputs and titles (1 to 200 bytes)",
+                    default="(the file's stem)",
+                ),
                 Key(
                     "model",
                     "string",
