@@ -12,6 +12,12 @@ class InputWarning(UserWarning):
     feel): the command line prints it as one line, ``nsdyn CMD: warning: ...``."""
 
 
+class NotedWarning(InputWarning):
+    """An input a scene says as a note before its run (a friction law too coarse to model its
+    friction, a bearing's implausible contact pressure): a Python call warns, a scene
+    silences it around its run (said once)."""
+
+
 def expect(name: str, value, ok: bool, what: str) -> None:
     """Raise ``TypeError("{name}: expected {what}, got {type}")`` unless ``ok``."""
     if not ok:

@@ -294,6 +294,19 @@ def bearing_notes(bearings, n_static) -> list[str]:
     return notes
 
 
+def bearing_warnings(system) -> None:
+    """A NotedWarning for each input of the system's bearings that is probably a mistake
+    (:func:`~nsdyn.models.isolated.bearings.bearing_notes`: a friction coefficient above 1, a
+    static contact pressure far from p_ref), as a scene notes them."""
+    import warnings
+
+    from nsdyn._checks import NotedWarning
+
+    if getattr(system, "bearings", None):
+        for note in bearing_notes(system.bearings, system.static_normal()):
+            warnings.warn(note, NotedWarning, stacklevel=4)
+
+
 def friction_from_config(cfg: dict, where: str) -> Friction:
     """A :class:`Friction` from a TOML table: ``mu`` (constant) or ``mu_slow``/``mu_fast``/
     ``rate``, optional ``mu_static``."""

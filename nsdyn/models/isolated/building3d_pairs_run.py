@@ -35,7 +35,7 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from nsdyn._checks import default_step
+from nsdyn._checks import NotedWarning, default_step
 from nsdyn.models.scenefile import SceneError, number, scene_step
 
 __all__ = ["DT_SPARSE", "PATHS", "SPARSE_FROM", "check_sparse_step", "dense_only", "full_path",
@@ -255,6 +255,7 @@ def run_pairs(sysd: dict, exc, t_end, kw: dict, dt: float | None = None, progres
     sparse = info.get("path") == "sparse"
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        warnings.simplefilter("ignore", NotedWarning)  # (the scene's notes say them)
         w0 = time.perf_counter()
         if sparse:
             from nsdyn.models.isolated.building3d_sparse import run_building_sparse

@@ -40,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import NotedWarning
 from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.bearings import (
     BearingError,
@@ -69,6 +70,7 @@ from nsdyn.models.isolated.building3d_shape import fixed_peak_shape, rigid_peak_
 from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
 from nsdyn.models.isolated.deck_scene import build_solver as deck_solver
 from nsdyn.models.isolated.deck_scene import scene_law, summary_table
+from nsdyn.models.isolated.friction import coarse_law_note
 from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number
 
 __all__ = ["build_motion", "build_solver", "build_system", "format_summary", "pairs_path",
@@ -285,12 +287,15 @@ def _run_rigid(sysd, exc, t_end, kw, out_dir: Path, say) -> dict:
 
     deck = sysd["deck"]
     w0 = time.perf_counter()
-    with first_compile("deck", COMPILE_ABOUT_S, kernels_cached(kw["law"])):
+    with first_compile("deck", COMPILE_ABOUT_S, kernels_cached(kw["law"])), \
+            warnings.catch_warnings():  # fmt: skip
+        warnings.simplefilter("ignore", NotedWarning)  # (a warm-up: the notes say them)
         simulate_plane(deck, {"f": 1.0, "ax": 0.0, "ay": 0.0}, t_end=0.04, law=kw["law"])
     compile_s = time.perf_counter() - w0
     w0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        warnings.simplefilter("ignore", NotedWarning)  # (the scene's notes say them)
         res = simulate_plane(deck, exc, t_end=t_end, progress=reporter(say), **kw)
     wall = time.perf_counter() - w0
     for w in caught:
@@ -438,6 +443,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     if asked == "auto":
         _advise(sysd, cfg, exc, kw, source, say)
     notes += build_notes(cfg, sysd)
+    notes += [n for n in [coarse_law_note(kw["law"], kw["eps"], kw["eta"])] if n]
     for note in notes:
         say(f"building3d: note: {note}")
     if sysd["fidelity"] == "rigid":

@@ -40,7 +40,13 @@ from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
 from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated import deck_compile
-from nsdyn.models.isolated.bearings import B_IOFF, N_BCOL, Bearing, BearingError
+from nsdyn.models.isolated.bearings import (
+    B_IOFF,
+    N_BCOL,
+    Bearing,
+    BearingError,
+    bearing_warnings,
+)
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
 from nsdyn.models.isolated.plane_result import PlaneResult
 from nsdyn.models.isolated.tfp import N_INTERNAL, TripleBearing
@@ -356,8 +362,8 @@ def law_params(law: str, **values) -> None:
     a scene notes it and passes the default)."""
     import warnings
 
-    from nsdyn._checks import InputWarning
-    from nsdyn.models.isolated.friction import LAW_KEYS, unread_law_keys
+    from nsdyn._checks import InputWarning, NotedWarning
+    from nsdyn.models.isolated.friction import LAW_KEYS, coarse_law_note, unread_law_keys
 
     positive_params(**values)
     law_keys = {k: values[k] for k in ("eps", "eta", "kappa") if k in values}
@@ -365,6 +371,10 @@ def law_params(law: str, **values) -> None:
         own, what = LAW_KEYS[k]
         warnings.warn(f"{k} = {values[k]!r} not used: {what}; this run's law is {law!r}",
                       InputWarning, stacklevel=4)  # fmt: skip
+    coarse = coarse_law_note(law, **{k: v for k, v in law_keys.items() if k != "kappa"},
+                             where="")  # fmt: skip
+    if coarse:  # (a scene notes it: NotedWarning)
+        warnings.warn(coarse, NotedWarning, stacklevel=4)
 
 
 def kernel_params(
@@ -376,6 +386,7 @@ def kernel_params(
     if law not in PLANE_LAWS:
         raise ValueError(f"law: expected one of {list(PLANE_LAWS)}, got {law!r}")
     law_params(law, eps=eps, eta=eta, kappa=kappa)
+    bearing_warnings(system)
     sp = np.zeros(kp.N_SP)
     sp[kp.S_M] = system.m
     sp[kp.S_EX], sp[kp.S_EY] = (float(e) for e in system.ecc)

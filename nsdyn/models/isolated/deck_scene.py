@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._checks import MAX_POINTS
+from nsdyn._checks import MAX_POINTS, NotedWarning
 from nsdyn._numba_cache import first_compile
 from nsdyn._progress import reporter
 from nsdyn.atomic import atomic_open
@@ -87,7 +87,8 @@ def warm(system, law: str) -> float:
     stderr when it compiles (:func:`nsdyn._numba_cache.first_compile`); the seconds it took.
     A run, a sweep and a study of deck scenes each call it before their work starts."""
     t0 = time.perf_counter()
-    with first_compile("deck", COMPILE_ABOUT_S, kernels_cached(law)):
+    with first_compile("deck", COMPILE_ABOUT_S, kernels_cached(law)), warnings.catch_warnings():
+        warnings.simplefilter("ignore", NotedWarning)  # (a warm-up: the run says them)
         simulate_plane(system, {"f": 1.0, "ax": 0.0, "ay": 0.0}, t_end=0.04, law=law)
     return time.perf_counter() - t0
 
@@ -301,6 +302,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     w0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        warnings.simplefilter("ignore", NotedWarning)  # (the scene's notes say them)
         with grid_fields(source):  # the run's grid: its table's field, before any step
             res = simulate_plane(system, exc, t_end=t_end, progress=reporter(say), **kw)
     wall = time.perf_counter() - w0

@@ -81,14 +81,15 @@ def coarse_law_note(law: str, eps: float = EPS, eta: float = ETA, where: str = "
     eta, tens of mm over a record, and the peaks follow it), or an arctan ``eps`` whose
     friction reaches STICK_UTILISATION of mu N only beyond :data:`SLIP_V_MAX` (no friction to
     speak of: a viscous damper 2/pi mu N eps at the slips, and every instant counts as
-    stick). ``where``: the table the key is in."""
+    stick). ``where``: the table the key is in ("": a Python argument)."""
+    where = f"{where}." if where else ""
     if law in ("switch", "modes") and eta > ETA_COARSE:
-        return (f"{where}.eta = {eta:g} m/s: the switch law holds a stuck isolator only to "
+        return (f"{where}eta = {eta:g} m/s: the switch law holds a stuck isolator only to "
                 f"|v| <= eta, so it creeps at up to {eta:g} m/s and the peaks depend on eta "
                 f"(default {ETA:g} m/s; expected at most {ETA_COARSE:g})")  # fmt: skip
     v = stick_velocity("arctan", eps) if law == "arctan" else 0.0
     if v > SLIP_V_MAX:
-        return (f"{where}.eps = {eps:g} s/m: the arctan friction reaches "
+        return (f"{where}eps = {eps:g} s/m: the arctan friction reaches "
                 f"{STICK_UTILISATION:.0%} of mu N only at a slip velocity of {v:.2g} m/s: at "
                 f"slips well below {1.0 / eps:.2g} m/s it is a viscous damper (2/pi mu N "
                 "eps), and the share of time all isolators stick counts every instant below "

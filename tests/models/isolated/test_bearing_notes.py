@@ -71,6 +71,24 @@ def test_a_deck_run_says_its_bearing_notes(capsys, tmp_path):
     err = capsys.readouterr().err
     assert "deck: note: bearing.area: the static pressure N/area at isolator 0 is " in err
     assert "check area [m²] and p_ref [Pa]" in err
+    assert err.count("the static pressure N/area") == 1  # (said once: the run's warning too)
+
+
+def test_a_python_deck_call_warns_what_a_scene_notes():
+    # the Python calls said nothing where a scene notes a bearing's pressure far from p_ref
+    # or a switch law's stick band eta above 1e-3 m/s (a stuck isolator creeping)
+    from nsdyn._checks import NotedWarning
+    from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
+
+    orbit = {"f": 1.0, "ax": 1.0, "ay": 0.0}
+    deck = sdof_plane(1.0e5, Bearing(Friction(0.05), radius=2.0, area=0.05, p_ref=30.0))
+    with pytest.warns(NotedWarning, match=r"^bearing.area: the static pressure N/area at "
+                      r"isolator 0 is 19.6 MPa, 6.54e\+05x p_ref"):  # fmt: skip
+        simulate_plane(deck, orbit, t_end=0.05)
+    plain = sdof_plane(1.0e5, Bearing(Friction(0.05), radius=2.0))
+    with pytest.warns(NotedWarning, match=r"^eta = 0.01 m/s: the switch law holds a stuck "
+                      r"isolator only to \|v\| <= eta"):  # fmt: skip
+        simulate_plane(plain, orbit, t_end=0.05, law="switch", eta=0.01)
 
 
 def test_a_slip_beyond_a_quarter_of_the_radius_is_said_with_the_spheres_force():
