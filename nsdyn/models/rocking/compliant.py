@@ -136,14 +136,17 @@ class CompliantResult(Tabular):
         return np.array(out).reshape(-1, 2)
 
     def summary(self) -> dict:
-        """JSON-ready numbers of the run, the unit in each name."""
+        """JSON-ready numbers of the run, the unit in each name; ``outcome`` "overturned" or
+        "standing" (a rigid block's "rest" and "rocking" count impacts, which this contact
+        has none of)."""
         over = math.isfinite(self.t_overturn)  # (then it reached pi/2, between two outputs)
         peak = math.pi / 2 if over else float(np.max(np.abs(self.theta)))
         return {
             "alpha_rad": self.alpha,
             "max_theta_rad": peak,
             "max_theta_over_alpha": peak / self.alpha,
-            "overturned": bool(math.isfinite(self.t_overturn)),
+            "outcome": "overturned" if over else "standing",  # (no impacts to rest on)
+            "overturned": over,
             "t_overturn_s": self.t_overturn if math.isfinite(self.t_overturn) else None,
             "n_steps": self.n_steps,
             "wall_s": self.wall_s,

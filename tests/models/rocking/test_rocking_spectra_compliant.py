@@ -119,9 +119,10 @@ def test_compliant_block_past_its_balance_overturns_and_the_run_ends_there():
     assert abs(r.t_overturn - T) < 1e-4
     assert r.t[-1] <= r.t_overturn and np.abs(r.theta).max() < math.pi / 2
     s = r.summary()
-    assert s["overturned"] and s["t_overturn_s"] == r.t_overturn
+    assert s["overturned"] and s["t_overturn_s"] == r.t_overturn and s["outcome"] == "overturned"
     coarse = simulate_compliant(blk, t_end=3.0 * T, theta0=th0, dt_out=0.5)
     assert coarse.t_overturn == pytest.approx(r.t_overturn, abs=1e-9)
     assert coarse.summary()["max_theta_rad"] == math.pi / 2
     still = simulate_compliant(blk, t_end=1.0, theta0=0.5 * al).summary()
     assert not still["overturned"] and still["t_overturn_s"] is None
+    assert still["outcome"] == "standing"  # (as the rigid block's summary, an outcome word)
