@@ -88,8 +88,6 @@ class BuildingResponse3D(Tabular):
         """The run's isolator summary with the structure's peaks (units in the key names)."""
         s = self.result.summary()
         s.update(response_peaks(self.drifts, self.floor_acc, self.base_shear, self.torsion))
-        V = np.hypot(self.base_shear[0], self.base_shear[1])
-        s["peak_base_shear_N"] = float(V.max()) if V.size else float("nan")  # resultant |V|
         rc = np.hypot(self.roof_corner[:, 0], self.roof_corner[:, 1])
         s["peak_roof_corner_displacement_m"] = float(rc.max()) if rc.size else float("nan")
         return s

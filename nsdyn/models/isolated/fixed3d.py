@@ -158,6 +158,7 @@ def response_peaks(drifts: StoreyDrifts, floor_acc, base_shear, torsion) -> dict
         "peak_floor_acc_y_mps2": float(np.abs(floor_acc[1:, 1]).max()),
         "peak_base_shear_x_N": float(np.abs(base_shear[0]).max()),
         "peak_base_shear_y_N": float(np.abs(base_shear[1]).max()),
+        "peak_base_shear_N": float(np.hypot(base_shear[0], base_shear[1]).max()),  # resultant
         "peak_torsional_moment_Nm": float(np.abs(torsion).max()),
     }  # fmt: skip
 

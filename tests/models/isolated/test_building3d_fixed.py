@@ -145,6 +145,8 @@ def test_symmetric_building_under_x_motion_has_no_y_or_torsional_response(assert
     np.testing.assert_array_equal(h["drift_corner_x_{}"][:, 4 * 1 + 2], res.drifts.corner[1, 2, 0])
     np.testing.assert_array_equal(h["floor_acc_y_{}_mps2"][:, 1], res.floor_acc[1, 1])
     assert len(repr(res)) < 1000  # (the whole frame and modes were printed: 16 700 characters)
+    V = np.hypot(res.base_shear[0], res.base_shear[1]).max()  # (as the isolated rungs say it)
+    assert res.summary()["peak_base_shear_N"] == V >= res.summary()["peak_base_shear_x_N"]
 
 
 def test_a_one_component_record_is_named_not_an_attribute_error():
