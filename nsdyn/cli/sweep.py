@@ -300,8 +300,8 @@ def run(args: argparse.Namespace) -> int:
         else:
             freqs = log_frequencies(args.fmin, args.fmax, 300)
             frame, fm = results[0]["frame"], results[0]["f_max"] or 5.0
-            fixed = None  # the fixed-base reference needs a frame
-            if frame is not None:
+            fixed = None  # the fixed-base reference needs a frame and a ground acceleration
+            if frame is not None and table != "force":
                 amps = [r["A"] for r in results]  # linear: one solve for every amplitude
                 resp = fixed_base_response(frame, amps, freqs, f_max=fm)
                 fixed = dict(zip(amps, resp, strict=True))

@@ -746,3 +746,15 @@ def test_sweep_flags_and_tables_that_would_repeat_or_do_nothing_are_refused(tmp_
     dup.write_text(deck.replace("amplitudes = [0.981]", "amplitudes = [1.0, 1.0e300]"))
     assert main(["sweep", str(dup), "--points", "2", "--out", out]) == 2
     one_line("sweep.amplitudes: expected ground acceleration amplitudes <= 1000 m/s²")
+
+
+def test_a_force_sweep_of_a_frame_draws_its_figure_without_a_fixed_base_curve(tmp_path, capsys):
+    # the figure's fixed-base reference is a ground acceleration's: a force amplitude of
+    # 5000 N was passed to it as 5000 m/s² (refused above 100 g: a traceback after the sweep)
+    scene = tmp_path / "f.toml"
+    scene.write_text('[scene]\nfidelity = "rigid"\n[force]\nkind = "harmonic"\ndofs = [0]\n'
+                     "amplitude = 5000.0\nfrequency = 1.0\nn_periods = 5\n")  # fmt: skip
+    out = tmp_path / "o"
+    argv = ["sweep", str(scene), "--points", "2", "--fmin", "1", "--fmax", "1.1", "--out"]
+    assert main([*argv, str(out)]) == 0
+    assert (out / "sweep.png").stat().st_size > 0 and (out / "sweep.csv").is_file()
