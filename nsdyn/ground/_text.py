@@ -212,6 +212,7 @@ def parse_table(text: str, source: str) -> Table:
 _NAME = r"[A-Za-z][\w.-]*"
 _UNIT = r"[\[(]\s*([^\[\]()]+?)\s*[\])]"  # [g], (cm/s2), [ m/s^2 ]
 _NAME_UNIT = re.compile(rf"({_NAME})(?:{_UNIT})?")
+_NAME_ANY = r"[A-Za-z][\w()\[\]/^.-]*"  # any name a header line may give a column
 
 
 def names_and_units(toks: list[str]) -> tuple[list[str], list[str | None]] | None:
@@ -229,10 +230,14 @@ def names_and_units(toks: list[str]) -> tuple[list[str], list[str | None]] | Non
             units[-1] = alone.group(1)
             continue
         m = _NAME_UNIT.fullmatch(tok)
-        if m is None:
+        if m is not None:
+            names.append(m.group(1).lower())
+            units.append(m.group(2))
+        elif re.fullmatch(_NAME_ANY, tok):  # a name as a whole ("acc/g"), no unit read from it
+            names.append(tok.lower())
+            units.append(None)
+        else:
             return None
-        names.append(m.group(1).lower())
-        units.append(m.group(2))
     return (names, units) if names else None
 
 

@@ -201,7 +201,8 @@ def parse_table_motion(
             check_time(data[:, 0], tab.linenos, source)  # running backwards: its line named
         if dt_used is None and ncol >= 2 and data.shape[0] == 2:  # (also "no time column")
             raise RecordFileError(source, first, "expected at least three samples (rows) to "
-                                  "tell a time column, found two")  # fmt: skip
+                                  "tell a time column, found two (without one, give the step "
+                                  "dt)")  # fmt: skip
         if dt_used is None:
             raise RecordFileError(
                 source,

@@ -174,6 +174,13 @@ def test_units_in_the_column_names_are_read(tmp_path, names, factor, v_factor, t
         np.testing.assert_allclose(m.a_ver, 1.5, rtol=1e-15)
 
 
+def test_a_name_with_a_slash_is_still_a_column_name(tmp_path):
+    # "acc/g" is no name with a unit in brackets: it stays the column's name, as it was
+    path = write(tmp_path, "slash.txt", "time acc/g ud\n0 0.5 0.1\n0.01 -0.5 0.2\n0.02 0.25 0.3\n")
+    m = read_motion(path, units="m/s2", column="acc/g")
+    assert m.meta["columns"] == ["time", "acc/g", "ud"] and m.a_hor.tolist() == [0.5, -0.5, 0.25]
+
+
 def test_units_of_a_column_against_the_header_are_refused_unless_given(tmp_path):
     path = write(tmp_path, "both.txt", "# units: g\ntime acc [gal]\n0 50\n0.01 -50\n")
     with pytest.raises(RecordFileError, match=r"column 'acc' states units 'gal' but the header "
