@@ -56,6 +56,9 @@ def refuse_foreign_checkpoint(path: Path, ident: dict) -> None:
         old = json.loads(path.read_text())
     except (OSError, ValueError):
         old = None
+    if isinstance(old, dict) and "motion" in ident and "motion" not in old:  # (written
+        # before the samples counted: an older nsdyn's, not a record edited since)
+        old = None
     if old != ident:
         keys = [] if old is None else differing(old, ident)
         if len(keys) > 1 and "motion" in keys:  # (the samples follow from the scene's keys)

@@ -33,3 +33,12 @@ def test_a_record_edited_since_the_checkpoint_is_refused_before_resuming(tmp_pat
     renamed = dataclasses.replace(m, name="other", meta={"title": "x"})
     *_, t = open_checkpoint(tmp_path, run_identity(CFG, None, renamed), resume=True, quiet=False)
     assert t == 0.01 and "resuming from t = 0.01 s" in capsys.readouterr().err
+
+
+def test_a_checkpoint_of_an_older_nsdyn_is_said_to_be_one(tmp_path):
+    # its settings had no motion samples: "differing: motion" blamed a record not edited
+    m = GroundMotion(t0=0.0, dt=0.01, a_hor=np.array([0.0, 1.0, 0.0]), name="r")
+    np.savez(tmp_path / CHECKPOINT, t=np.array([0.0, 0.01]))
+    (tmp_path / IDENTITY).write_text(json.dumps(run_identity(CFG, None)))
+    with pytest.raises(SceneError, match=r"other settings \(an older nsdyn\)"):
+        open_checkpoint(tmp_path, run_identity(CFG, None, m), resume=True, quiet=True)
