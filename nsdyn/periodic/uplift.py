@@ -46,6 +46,7 @@ from nsdyn._checks import number
 from nsdyn.periodic.bifurcation import STABLE_MARGIN
 from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation, refined
 from nsdyn.periodic.problem import frame_problem
+from nsdyn.periodic.protocol import A_HIGHEST
 from nsdyn.periodic.shooting import ShootingResult, shoot
 from nsdyn.periodic.stability import check_verdict, max_modulus
 from nsdyn.periodic.sweeps import WARMUP_PERIODS, steady_state_sweep, warm_start
@@ -356,7 +357,10 @@ def uplift_boundary(
     if freqs.size == 0 or not np.all(np.isfinite(freqs)) or np.any(freqs <= 0):
         raise ValueError(f"freqs: expected positive finite frequencies [Hz], got {freqs!r}")
     a_lo = number("a_lo", a_lo, "a positive finite amplitude", lambda v: v > 0)
-    a_hi = number("a_hi", a_hi, f"a finite amplitude above a_lo = {a_lo:g}", lambda v: v > a_lo)
+    top = A_HIGHEST if load is None else math.inf  # (a ground acceleration: at most 100 g)
+    a_hi = number("a_hi", a_hi, f"a finite amplitude above a_lo = {a_lo:g}" + (
+        f" and at most {A_HIGHEST:g} m/s² (100 g)" if load is None else ""),
+        lambda v: a_lo < v <= top)  # fmt: skip
     rtol = number("rtol", rtol, "a number in (0, 0.5)", lambda v: 0.0 < v < 0.5)
     if progress is not None and not callable(progress):  # (it failed after the first point)
         raise TypeError(f"progress: expected a callable (point, k, n), got "

@@ -190,6 +190,8 @@ def test_the_problem_builders_and_the_uplift_search_name_a_wrong_argument():
         pr.uplift_boundary(s, [0.5], a_lo=2.0, a_hi=1.0)
     with pytest.raises(TypeError, match=r"^progress: expected a callable"):
         pr.uplift_boundary(s, [0.5], progress=5)
+    with pytest.raises(ValueError, match=r"^a_hi: .* and at most 1000 m/s² \(100 g\)"):
+        pr.uplift_boundary(s, [0.5], a_hi=2000.0)  # (as nsdyn uplift --a-max)
     with pytest.raises(ValueError, match=r"^monodromy: expected a square matrix of finite "
                        r"numbers, got shape \(2, 3\)"):  # fmt: skip
         pr.floquet_multipliers(np.zeros((2, 3)))

@@ -321,7 +321,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
               "t_end_s": t_end, "alpha_rad": model.alpha,
               "p_per_s": model.p, "theta0_rad": float(res.theta[0]) if res.t.size else 0.0,
               "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
-    s.setdefault("outcome", outcome(s)[0])  # the compliant block's summary has none
+    s.setdefault("outcome", outcome(s)[0])  # (every block's summary has one)
     if notes:
         s["notes"] = notes
     say(f"rocking: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
