@@ -219,13 +219,27 @@ def explicit_steps(method: str, system, span: float, quiet: bool) -> list[str]:
     return [note]
 
 
+def note_no_column_lines(system) -> str | None:
+    """A frame without regular column lines (a setback, a missing column): the run reports
+    its floors' accelerations and no drift ratios (they are per column line)."""
+    frame = getattr(system, "frame", None)
+    if frame is None or frame.column_joints is not None:
+        return None
+    return (
+        f"frame {frame.name!r} has no regular column lines (a column missing at some "
+        "level: a setback?): no interstorey drift ratios, which are per column line; the "
+        "floors' accelerations and the isolators' slips are reported"
+    )
+
+
 def scene_notes(cfg: dict, motion, quiet: bool, system=None) -> list[str]:
     """Every note of a loaded scene (the functions above), in one line each on stderr unless
     ``quiet``; returned (a --json summary's ``notes``)."""
     notes = [note_short_record(cfg, motion), note_unused_components(motion),
              note_coarse_output(cfg, motion),
              note_soft_law(cfg), note_high_friction(cfg), note_unused_cutoff(cfg),
-             note_unused_isolation(cfg, system), note_loose_atol(cfg, system)]  # fmt: skip
+             note_unused_isolation(cfg, system), note_loose_atol(cfg, system),
+             note_no_column_lines(system)]  # fmt: skip
     notes = [n for n in notes if n]
     if not quiet:
         for n in notes:

@@ -51,7 +51,8 @@ def fixed_base_response(frame, amplitude, freqs, *, f_max: float = 5.0) -> dict 
     drift amplitude is ``A |H_top - H_bottom| / h``, an absolute acceleration ``A |1 - w^2 H|``.
     ``amplitude`` is a number in [0, 1000] m/s², or a sequence of them: the response is
     linear in it, so the solve is done once and a list of results (one per amplitude) is
-    returned. ``freqs`` is a 1-D sequence of forcing frequencies (ValueError otherwise).
+    returned. ``freqs`` is a 1-D sequence of forcing frequencies (ValueError otherwise). A
+    frame without regular column lines (a setback) has no drift ratios: ``idr`` NaN.
     """
     from nsdyn.models.isolated.metrics import output_dofs
     from nsdyn.models.isolated.system import build_system
@@ -68,6 +69,8 @@ def fixed_base_response(frame, amplitude, freqs, *, f_max: float = 5.0) -> dict 
     sysf = build_system(frame, fidelity="fixed", f_max=f_max)
     od = output_dofs(frame)
     jx = od["joints_x"]
+    if jx is None:  # no regular column lines (a setback): no drift ratios, NaN
+        jx = np.zeros((0, 0), dtype=np.int64)
     lev = od["levels_x"]
     dofs = np.concatenate([jx.ravel()] + [np.asarray(v) for v in lev])
     w = 2 * np.pi * freqs
@@ -78,9 +81,11 @@ def fixed_base_response(frame, amplitude, freqs, *, f_max: float = 5.0) -> dict 
     load = np.broadcast_to(-(M @ sysf.Gamma[:, 0]), (w.size, M.shape[0]))
     H = np.linalg.solve(Z, load[..., None])[..., 0] @ sysf.T[dofs].T  # (nf, n_out)
     nj = jx.size
-    Hj = H[:, :nj].reshape(len(w), *jx.shape)
-    drift = (np.abs(np.diff(Hj, axis=1)) / od["heights"][None, :, None]).reshape(len(w), -1)
     acc = np.abs(1.0 - (w**2)[:, None] * H[:, nj:]).max(axis=1)
-    idr = drift.max(axis=1)
+    idr = np.full(len(w), np.nan)
+    if nj:
+        Hj = H[:, :nj].reshape(len(w), *jx.shape)
+        idr = (np.abs(np.diff(Hj, axis=1)) / od["heights"][None, :, None]).reshape(len(w), -1)
+        idr = idr.max(axis=1)
     out = [{"f": freqs, "idr": a * idr, "acc": a * acc} for a in amps]
     return out[0] if np.ndim(amplitude) == 0 else out

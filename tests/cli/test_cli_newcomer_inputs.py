@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from nsdyn.cli import main
@@ -758,3 +759,43 @@ def test_a_force_sweep_of_a_frame_draws_its_figure_without_a_fixed_base_curve(tm
     argv = ["sweep", str(scene), "--points", "2", "--fmin", "1", "--fmax", "1.1", "--out"]
     assert main([*argv, str(out)]) == 0
     assert (out / "sweep.png").stat().st_size > 0 and (out / "sweep.csv").is_file()
+
+
+SETBACK = """[frame]
+name = "setback"
+kind = "explicit"
+nodes = [[0.0,0.0],[6.0,0.0],[12.0,0.0],[0.0,4.0],[6.0,4.0],[12.0,4.0],[0.0,8.0],[6.0,8.0]]
+elements = [[0,3],[1,4],[2,5],[3,4,1],[4,5,1],[3,6],[4,7],[6,7,1]]
+base_nodes = [0,1,2]
+node_mass = [0,0,0,5000,5000,5000,4000,4000]
+zeta = [0.02]
+[[frame.sections]]
+E = 2.1e11
+A = 0.0149
+I = 2.517e-4
+rho_A = 117.0
+[[frame.sections]]
+E = 2.1e11
+A = 0.00845
+I = 2.313e-4
+rho_A = 66.3
+"""
+
+
+def test_a_frame_with_a_setback_runs_without_drift_ratios_and_says_so(tmp_path, capsys):
+    # two bays below, one above: no column line runs through every level, and every run
+    # ended after its integration in a TypeError (output dofs of no column joints)
+    frame = tmp_path / "setback.toml"
+    frame.write_text(SETBACK)
+    for extra in ([], ["--fixed-base"], ["--fidelity", "full"]):
+        out = tmp_path / f"o{len(extra)}"
+        argv = ["run", "--frame", str(frame), "--t-end", "1", "--json", "--no-figures"]
+        assert main([*argv, *extra, "--out", str(out)]) == 0
+        s = json.loads(capsys.readouterr().out)
+        assert "idr_max" not in s and s["floor_acc_max_mps2"] > 0
+        assert any("no regular column lines" in n for n in s["notes"])
+    from nsdyn import load_frame
+    from nsdyn.periodic import fixed_base_response
+
+    r = fixed_base_response(load_frame(str(frame)), 1.0, [0.5, 1.0])
+    assert np.isnan(r["idr"]).all() and np.all(r["acc"] > 0)

@@ -130,6 +130,8 @@ def output_rows(system) -> dict:
     if system.frame is not None:
         od = output_dofs(system.frame)
         T = system.T
+        if od["joints_x"] is None:  # no column lines: floors, no drifts
+            return {"joints": None, "levels": [T[d] for d in od["levels_x"]], "heights": None}
         if issparse(T):  # a large full-order model (nodal coordinates): sparse rows
             J = od["joints_x"]
             return {
@@ -156,10 +158,11 @@ def output_rows(system) -> dict:
 
 
 def output_dofs(frame) -> dict:
-    """Full-model dof indices needed for the metrics (column joints and level nodes)."""
-    cj = np.asarray(frame.column_joints)
+    """Full-model dof indices needed for the metrics (column joints and level nodes);
+    ``joints_x`` None for a frame without regular column lines (a setback: no drift ratios)."""
+    cj = None if frame.column_joints is None else np.asarray(frame.column_joints)
     return {
-        "joints_x": 3 * cj,  # (n_levels, n_columns)
+        "joints_x": None if cj is None else 3 * cj,  # (n_levels, n_columns)
         "levels_x": [3 * np.asarray(nodes) for nodes in frame.level_nodes],
         "heights": np.diff(np.asarray(frame.level_heights, dtype=float)),
     }
