@@ -1,7 +1,8 @@
 """The checks a frame's geometry must pass, plane or space: finite coordinates, every node on an
 element (or, in 3D, on a diaphragm), no element of zero length, no pair of nodes joined twice,
-no two nodes at one place, and every node joined to a base node (by elements and diaphragms; a
-part that floats free is a mechanism).
+no two nodes at one place, every node joined to a base node (by elements and diaphragms; a
+part that floats free is a mechanism), and the base nodes at the frame's lowest elevation with
+every column foot there among them.
 
 Each is a model that runs silently wrong otherwise (a beam cut in two at a repeated node, a
 member's stiffness counted twice) or one whose matrices are singular. Positions equal to
@@ -63,7 +64,32 @@ def check_geometry(
                              "meeting there share it)")  # fmt: skip
         at[key] = n
     if base is not None:
+        _check_base_level(nodes, elements, list(base), tol)
         _check_joined(len(nodes), elements, list(base), groups)
+
+
+def _check_base_level(nodes: np.ndarray, elements: np.ndarray, base: list, tol: float) -> None:
+    """The base nodes are at the frame's lowest elevation, and every column foot there is a
+    base node: a free foot (a frame standing on some of its columns) ran to drift ratios of
+    1e10 without a word, a column head as a base node stood the frame on its head."""
+    base = [int(b) for b in base if float(b).is_integer() and 0 <= b < len(nodes)]
+    if not base:
+        return  # (the frame's own check names it)
+    up = nodes.shape[1] - 1  # y of a plane frame, z of a space frame
+    low = float(nodes[:, up].min())
+    high = [b for b in base if nodes[b, up] > low + tol]
+    if high:
+        raise ValueError(f"base_nodes: node {high[0]} is at {nodes[high[0], up]:g} m, above the "
+                         f"frame's lowest nodes ({low:g} m); expected base nodes at the foot "
+                         "of the columns")  # fmt: skip
+    d = np.abs(nodes[elements[:, 1]] - nodes[elements[:, 0]])
+    column = np.all(d[:, :up] <= tol, axis=1)  # (vertical elements)
+    feet = {int(n) for n in elements[column].ravel() if nodes[n, up] <= low + tol}
+    free = sorted(feet - set(base))
+    if free:
+        raise ValueError(f"base_nodes: node {free[0]} is a column foot at the lowest level "
+                         f"({low:g} m) but not a base node; expected every column to stand on "
+                         "a base node (list it in base_nodes)")  # fmt: skip
 
 
 def _check_joined(nn: int, elements: np.ndarray, base: list, groups) -> None:

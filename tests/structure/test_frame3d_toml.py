@@ -300,3 +300,22 @@ def test_a_regular_frame_the_model_refuses_names_the_file_and_its_fields(tmp_pat
     with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: {message}") as e:
         load_frame3d(p)
     assert "\n" not in str(e.value) and "storey_heights, n_v and n_h" in str(e.value)
+
+
+@pytest.mark.parametrize(
+    ("base", "message"),
+    [("[0, 1, 2]", r"base_nodes: node 3 is a column foot at the lowest level \(0 m\) but not a "
+                   r"base node"),
+     ("[0, 1, 2, 7]", r"base_nodes: node 7 is at 4 m, above the frame's lowest nodes")],
+)  # fmt: skip
+def test_a_frame_stands_on_every_column_foot_and_only_there(tmp_path, base, message):
+    # a free foot ran (the frame rocking on the rest: drift ratios of 1e10, without a word);
+    # a column head as a base node stood the frame on its head
+    p = write(tmp_path, PORTAL, "base_nodes = [0, 1, 2, 3]", f"base_nodes = {base}", "b.toml")
+    with pytest.raises(FrameFileError, match=message):
+        load_frame3d(p)
+    plane = (REPO / "frames" / "portal.toml").read_text()
+    two = tmp_path / "p.toml"
+    two.write_text(plane.replace("base_nodes = [0, 1]", "base_nodes = [0]"))
+    with pytest.raises(FrameFileError, match=r"frame: base_nodes: node 1 is a column foot"):
+        load_frame(two)
