@@ -179,6 +179,11 @@ def run(args: argparse.Namespace) -> int:
     if space:
         return _run3d(args)
     frame = load_frame(args.frame)
+    if not frame.total_mass > 0:  # (a ZeroDivisionError from f_bis)
+        from nsdyn.models.scenefile import SceneError
+
+        raise SceneError(f"{args.frame}: frame {frame.name!r} has no mass (rho_A = 0 on every "
+                         "element and no node mass): no mode of finite frequency")  # fmt: skip
     fmax = scene_fmax if fmax_from_scene else DEFAULT_FMAX if args.fmax is None else args.fmax
     klam = scene_klam if klam_from_scene else DEFAULT_KLAM if args.klam is None else args.klam
     s, f, Phi = modes_summary(frame, fmax, klam)

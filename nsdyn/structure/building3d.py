@@ -21,12 +21,11 @@ from collections.abc import Sequence
 import numpy as np
 
 from nsdyn._checks import finite_numbers, flag, whole
-from nsdyn.structure.frame import _per
+from nsdyn.structure.frame import MAX_DOF, _per
 from nsdyn.structure.frame3d import Diaphragm, Frame3D, Section3D
 
 COLUMN_VECXZ = (1.0, 0.0, 0.0)  # columns: local z = global X, so I_y resists x-sway
 BEAM_VECXZ = (0.0, 0.0, 1.0)  # beams: local z = global Z, so I_y is vertical bending
-MAX_DOF = 1_000_000  # a regular frame's dofs: 50x the largest the benchmarks run (20 000)
 
 
 def _numbers(v, what: str, size: int | None = None) -> np.ndarray:
@@ -88,8 +87,9 @@ def regular_building_3d(
     nx, ny, ns = len(bx) + 1, len(by) + 1, len(hs)  # (before a list of that size is built)
     n_dof = 6 * (nx * ny * (1 + ns * n_v) + ns * (n_h - 1) * (ny * (nx - 1) + nx * (ny - 1)))
     if n_dof > MAX_DOF:
-        raise ValueError(f"n_v, n_h: {n_dof:.3g} dofs; expected a model of at most "
-                         f"{MAX_DOF:.0e} dofs (fewer elements per member)")  # fmt: skip
+        raise ValueError(f"bays_x, bays_y, storey_heights, n_v, n_h: {n_dof:.3g} dofs; expected "
+                         f"a model of at most {MAX_DOF:.0e} dofs (fewer bays, storeys or "
+                         "elements per member)")  # fmt: skip
     mass_offset = tuple(_numbers(mass_offset, "mass_offset", 2))
     column_vecxz, beam_x_vecxz, beam_y_vecxz = (
         tuple(_numbers(v, w, 3)) for v, w in ((column_vecxz, "column_vecxz"),

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._brief import brief_repr
+from nsdyn._checks import finite_numbers, number, whole
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements import element_matrices
 from nsdyn.structure.geometry import check_geometry, checked_base, checked_zeta, frozen
@@ -32,6 +33,7 @@ sp = LazyModule("scipy.sparse")
 
 DOFS_PER_NODE = 3  # x, y, theta
 GEOM_RTOL = 1e-9  # relative tolerance for "same elevation" / "vertical member" tests
+MAX_DOF = 1_000_000  # a regular frame's dofs: 50x the largest the benchmarks run (20 000)
 
 
 @dataclass(frozen=True)
@@ -43,6 +45,11 @@ class Section:
     A: float
     I: float
     rho_A: float
+
+    def __post_init__(self) -> None:  # (text, "2e11", was converted; a bool taken as 1)
+        for key in ("E", "A", "I"):
+            number(key, getattr(self, key), "a positive finite number", lambda v: v > 0)
+        number("rho_A", self.rho_A, "a finite mass per length >= 0 [kg/m]", lambda v: v >= 0)
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -331,13 +338,24 @@ def regular_frame(
     storey the intermediate column nodes (column by column, bottom up) followed by that
     level's beam-line nodes left to right.
     """
-    bays = np.asarray(bays, float)
-    hs = np.asarray(storey_heights, float)
+    if not (isinstance(name, str) and name.strip()):
+        raise ValueError(f"name: expected a frame's name (text), got {name!r}")
+    bays = finite_numbers("bays", bays, "a list of finite bay widths [m]")
+    hs = finite_numbers("storey_heights", storey_heights, "a list of finite storey heights [m]")
+    for what, v in (("bays", bays), ("storey_heights", hs)):
+        if np.any(v <= 0):
+            raise ValueError(f"{what}: expected positive sizes [m], got {v.tolist()}")
+    whole("n_v", n_v, 1, "a whole number of elements per column >= 1")
+    whole("n_h", n_h, 1, "a whole number of elements per beam >= 1")
     ns, nc = len(hs), len(bays) + 1
-    if ns < 1 or len(bays) < 1 or np.any(hs <= 0) or np.any(bays <= 0):
-        raise ValueError("need at least one bay and one storey, all of positive size")
-    if n_v < 1 or n_h < 1:
-        raise ValueError("n_v and n_h must be >= 1")
+    n_dof = 3 * (nc + ns * (nc * (n_v - 1) + len(bays) * n_h + 1))  # (before a list is built)
+    if n_dof > MAX_DOF:
+        raise ValueError(f"bays, storey_heights, n_v, n_h: {n_dof:.3g} dofs; expected a model "
+                         f"of at most {MAX_DOF:.0e} dofs (fewer bays, storeys or elements per "
+                         "member)")  # fmt: skip
+    if isinstance(zeta, str) or np.ndim(zeta) == 0:
+        zeta = [zeta]
+    zeta = finite_numbers("zeta", zeta, "damping ratios in [0, 1)")
     col_secs = _per(columns, ns, "columns")
     beam_secs = _per(beams, ns, "beams")
     fm = np.asarray(floor_mass, float)
@@ -396,7 +414,7 @@ def regular_frame(
         rho_A=[q.rho_A for q in secs],
         node_mass=np.array(node_mass),
         base_nodes=np.arange(nc),
-        zeta=np.atleast_1d(np.asarray(zeta, float)),
+        zeta=zeta,
         level_nodes=tuple(np.array(n) for n in level_nodes),
         level_heights=ylev,
         column_joints=np.array(joints),

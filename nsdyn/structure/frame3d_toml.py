@@ -74,6 +74,12 @@ def _sections(rd: _Reader, tbl: Mapping, path: str, n: int) -> list[Section3D]:
     key = "rho" if "rho" in tbl else "rho_A"
     rho = rd.number_or_list(tbl, key, f"{path}.{key}", n, positive=False, nonneg=True)
     Ip = [y + z for y, z in zip(col["I_y"], col["I_z"], strict=True)]
+    if key == "rho" and "rho_Ip" in tbl:  # (dropped without a word: rho gives it)
+        rd.fail(
+            f"{path}.rho_Ip",
+            "no rho_Ip beside rho (the density gives rho (I_y + I_z)); give it with rho_A",
+            tbl["rho_Ip"],
+        )
     if key == "rho":
         col["rho_A"] = [r * a for r, a in zip(rho, col["A"], strict=True)]
         col["rho_Ip"] = [r * p for r, p in zip(rho, Ip, strict=True)]

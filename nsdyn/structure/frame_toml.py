@@ -214,6 +214,12 @@ def frame_from_dict(data: Mapping, file: str = "<dict>") -> Frame:
     kind = frame.get("kind", "regular")
     if kind not in ("regular", "explicit"):
         rd.fail("frame.kind", "'regular' or 'explicit'", kind)
+    if "kind" not in frame and ("nodes" in frame or "elements" in frame):  # (it said "nodes:
+        rd.fail(
+            "frame.kind",
+            "kind = 'explicit' for a frame of nodes and elements (without "
+            "it a frame is 'regular', of bays and storeys)",
+        )  # unknown field")
     if "description" in frame and not isinstance(frame["description"], str):
         rd.fail("frame.description", "a string", frame["description"])
     if kind == "regular":
@@ -227,7 +233,11 @@ def frame_from_dict(data: Mapping, file: str = "<dict>") -> Frame:
         beams = _sections_per(rd, frame, "beams", n)
         fm = rd.number_or_list(frame, "floor_mass", "frame.floor_mass", n, False, True)
         zeta = _zeta(rd, frame)
-        return regular_frame(name, bays, hs, n_v, n_h, cols, beams, fm, zeta)
+        try:
+            return regular_frame(name, bays, hs, n_v, n_h, cols, beams, fm, zeta)
+        except ValueError as exc:  # (a size out of reach, nodes at one place: a traceback)
+            why = " ".join(str(exc).split())
+            raise FrameFileError(f"{rd.file}: frame: {why}", "frame") from None
 
     rd.known(frame, _EXPLICIT_KEYS, "frame")
     raw_nodes = frame.get("nodes")

@@ -290,7 +290,8 @@ def test_a_3d_frame_that_would_run_wrong_or_singular_is_refused(tmp_path, extra_
         ("storey_heights = [6.0,", "storey_heights = [1e-9,",
          r"frame3d: elements\[\d+\]: nodes \d+ and \d+ are at the same place"),
         # 5e10 dofs: refused before a list of that size is built (a MemoryError before)
-        ("\nn_v = 5", "\nn_v = 1000000000", r"frame3d: n_v, n_h: .* dofs; expected a model"),
+        ("\nn_v = 5", "\nn_v = 1000000000",
+         r"frame3d: bays_x, bays_y, storey_heights, n_v, n_h: .* dofs; expected a model"),
     ],
 )  # fmt: skip
 def test_a_regular_frame_the_model_refuses_names_the_file_and_its_fields(tmp_path, old, new,
@@ -319,3 +320,12 @@ def test_a_frame_stands_on_every_column_foot_and_only_there(tmp_path, base, mess
     two.write_text(plane.replace("base_nodes = [0, 1]", "base_nodes = [0]"))
     with pytest.raises(FrameFileError, match=r"frame: base_nodes: node 1 is a column foot"):
         load_frame(two)
+
+
+def test_rho_ip_beside_rho_is_refused(tmp_path):
+    # rho_Ip was dropped without a word (rho gives rho (I_y + I_z))
+    text = (REPO / "frames" / "portal-3d.toml").read_text()
+    m = re.search(r"^rho = .*$", text, re.M)  # (its sections give the density)
+    p = write(tmp_path, text, m.group(0), m.group(0) + "\nrho_Ip = 999.0", "r.toml")
+    with pytest.raises(FrameFileError, match=r"rho_Ip: expected no rho_Ip beside rho"):
+        load_frame3d(p)

@@ -225,3 +225,61 @@ def test_a_massless_cantilever_with_a_tip_mass_has_the_exact_frequencies():
     for fidelity in ("cb", "full"):
         with pytest.raises(ValueError, match=rf"^nodes\[0\] of frame 'c': .* '{fidelity}' model"):
             build_system(fr, fidelity=fidelity)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        # 3e6 dofs were built (1.7 GB) or grew into a MemoryError traceback (here 3 (2 + 2 (2 x
+        # 999 999 + 3)) = 12 000 012 dofs); a bay of 1e12 m
+        # was a ValueError traceback: one line naming the file, as the 3D reader's
+        ("n_v = 2", "n_v = 1000000",
+         r"frame: bays, storey_heights, n_v, n_h: 1.2e\+07 dofs; expected a model of at most"),
+        ("bays = [6.0]", "bays = [1e12]", r"frame: elements\[\d+\]: nodes \d+ and \d+ are at the "
+         r"same place"),
+        # an explicit frame without its kind was "frame.nodes: unknown field"
+        ('kind = "regular"', "nodes = [[0.0, 0.0], [0.0, 3.0]]",
+         r"frame\.kind: expected kind = 'explicit' for a frame of nodes and elements"),
+    ],
+)  # fmt: skip
+def test_a_regular_frame_out_of_reach_is_one_line(tmp_path, old, new, message):
+    p = tmp_path / "f.toml"
+    p.write_text(GOOD.replace(old, new))
+    with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: {message}") as e:
+        load_frame(p)
+    assert "\n" not in str(e.value)
+
+
+@pytest.mark.parametrize(
+    ("kw", "message"),
+    [({"bays": ["6"]}, r"^bays: expected a list of finite bay widths"),
+     ({"bays": 6.0}, r"^bays: expected a list"), ({"bays": [[6.0]]}, r"^bays: expected a list"),
+     ({"storey_heights": [3.0, -1.0]}, r"^storey_heights: expected positive sizes"),
+     ({"n_v": True}, r"^n_v: expected a whole number"), ({"n_h": 2.0}, r"^n_h: expected a whole"),
+     ({"zeta": "0.05"}, r"^zeta: expected damping ratios"), ({"name": None}, r"^name: expected"),
+     ({"bays": [1.0] * 1000, "storey_heights": [3.0] * 1000},
+      r"^bays, storey_heights, n_v, n_h: 9\.01e\+06 dofs; expected a model of at most 1e\+06")],
+)  # fmt: skip
+def test_the_regular_generator_refuses_what_it_would_convert_or_could_not_hold(kw, message):
+    # text, bools and floats were converted ("6" a bay, True one element per column), a
+    # million-storey request allocated gigabytes
+    from nsdyn.structure import Section, regular_frame
+
+    sec = Section(2.1e11, 0.01, 1e-4, 80.0)
+    args = {"name": "x", "bays": [6.0], "storey_heights": [3.0], "n_v": 2, "n_h": 2,
+            "columns": sec, "beams": sec, **kw}  # fmt: skip
+    with pytest.raises(ValueError, match=message):
+        regular_frame(**args)
+    with pytest.raises(ValueError, match=r"^E: expected a positive finite number, got '2e11'"):
+        Section("2e11", 0.01, 1e-4, 80.0)
+
+
+def test_modes_of_a_frame_without_mass_is_one_line(tmp_path, capsys):
+    # a ZeroDivisionError from its isolation frequency
+    from nsdyn.cli import main
+
+    p = tmp_path / "f.toml"
+    p.write_text(GOOD.replace("rho_A = 100.0", "rho_A = 0.0").replace("rho_A = 80.0",
+                 "rho_A = 0.0").replace("floor_mass = 1000.0", "floor_mass = 0.0"))  # fmt: skip
+    assert main(["modes", str(p), "--out", str(tmp_path / "o")]) == 2
+    assert "has no mass (rho_A = 0 on every element and no node mass)" in capsys.readouterr().err
