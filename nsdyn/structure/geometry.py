@@ -1,5 +1,6 @@
 """The checks a frame's geometry must pass, plane or space: finite coordinates, every node on an
-element (or, in 3D, on a diaphragm), no element of zero length, no pair of nodes joined twice,
+element (or, in 3D, on a diaphragm), no element of zero length, no pair of nodes joined twice
+nor an element along another,
 no two nodes at one place, every node joined to a base node (by elements and diaphragms; a
 part that floats free is a mechanism), and the base nodes at the frame's lowest elevation with
 every column foot there among them.
@@ -63,9 +64,36 @@ def check_geometry(
                              f"({nodes[n].tolist()}); expected one node per place (the members "
                              "meeting there share it)")  # fmt: skip
         at[key] = n
+    _check_on_element(nodes, elements, tol, element_name)
     if base is not None:
         _check_base_level(nodes, elements, list(base), tol)
         _check_joined(len(nodes), elements, list(base), groups)
+
+
+def _check_on_element(nodes: np.ndarray, elements: np.ndarray, tol: float, element_name) -> None:
+    """No two elements overlap along their line (an element laid over others, [3, 5] over the
+    chain 3-4-5: its stiffness and mass counted twice, f1 4.90 -> 5.30 Hz, without a word).
+    Elements are grouped by their line (direction and the line's point nearest the origin,
+    rounded to ``tol``) and sorted along it: two overlap when one starts before the one
+    before it ends; a sort, so the check costs about the elements' count."""
+    a, b = nodes[elements[:, 0]], nodes[elements[:, 1]]
+    u = (b - a) / np.linalg.norm(b - a, axis=1)[:, None]
+    first = np.argmax(np.abs(u) > 1e-6, axis=1)  # (a line's direction, one sign of it)
+    u *= np.sign(u[np.arange(len(u)), first])[:, None]
+    ta, tb = np.einsum("ij,ij->i", a, u), np.einsum("ij,ij->i", b, u)
+    p0 = a - ta[:, None] * u  # the line's point nearest the origin
+    step = max(tol, 1e-300)
+    key = np.concatenate([np.round(u / 1e-9), np.round(p0 / step)], axis=1)
+    start, end = np.minimum(ta, tb), np.maximum(ta, tb)
+    order = np.lexsort((start, *key.T[::-1]))
+    same = np.all(key[order[1:]] == key[order[:-1]], axis=1)
+    over = np.flatnonzero(same & (start[order[1:]] < end[order[:-1]] - tol))
+    if over.size:
+        j, k = int(order[over[0]]), int(order[over[0] + 1])
+        raise ValueError(f"{element_name(k)}: nodes {elements[k, 0]} to {elements[k, 1]} lie "
+                         f"along {element_name(j)} (nodes {elements[j, 0]} to {elements[j, 1]}), "
+                         "overlapping it; expected each stretch of a member once (an element "
+                         "over others counts their stiffness and mass twice)")  # fmt: skip
 
 
 def _check_base_level(nodes: np.ndarray, elements: np.ndarray, base: list, tol: float) -> None:

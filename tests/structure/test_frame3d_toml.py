@@ -329,3 +329,16 @@ def test_rho_ip_beside_rho_is_refused(tmp_path):
     p = write(tmp_path, text, m.group(0), m.group(0) + "\nrho_Ip = 999.0", "r.toml")
     with pytest.raises(FrameFileError, match=r"rho_Ip: expected no rho_Ip beside rho"):
         load_frame3d(p)
+
+
+def test_an_element_along_another_is_refused(tmp_path):
+    # a node on a beam's line and an element from the beam's end to it: the stretch counted
+    # twice (spurious local modes, without a word)
+    text = PORTAL.replace(HEADS, HEADS.split("   #")[0] + "[3.0, 0.0, 4.0],")
+    text = text.replace(MASS_END, MASS_END[:-1] + "[0.0, 0.0, 0.0],\n]")
+    text = text.replace(BEAMS, "elements = [[4, 5], [5, 6], [6, 7], [7, 4], [4, 8]]")
+    p = tmp_path / "p.toml"
+    p.write_text(text)
+    with pytest.raises(FrameFileError, match=r"nodes 4 to 8 lie along .* \(nodes 4 to 5\), "
+                       r"overlapping it"):  # fmt: skip
+        load_frame3d(p)

@@ -175,6 +175,10 @@ PORTAL_MASS = "node_mass = [0.0, 0.0, 0.0, 3000.0, 6000.0, 3000.0, 0.0]"
         # (f1 4.90 -> 1.78 Hz), without a word
         ("[6.0, 4.0], [6.0, 2.0], [3.0, 4.0],", "[7, 5, 1]", 1,
          r"frame\.nodes\[7\]: at the same place as nodes\[4\] \(\[3\.0, 4\.0\]\)"),
+        # an element over the beam's two halves: counted twice (f1 4.90 -> 5.30 Hz)
+        (None, "[4, 5, 1], [3, 5, 1]", None,
+         r"frame\.elements\[4\]: nodes 3 to 5 lie along elements\[2\] \(nodes 3 to 4\), "
+         r"overlapping it"),
         # a node on no element, and a part joined to no base node (singular: tracebacks)
         ("[6.0, 4.0], [6.0, 2.0], [9.0, 4.0],", None, 1,
          r"frame\.nodes\[7\]: on no element"),
