@@ -1,9 +1,8 @@
 """The checks a frame's geometry must pass, plane or space: finite coordinates, every node on an
 element (or, in 3D, on a diaphragm), no element of zero length, no pair of nodes joined twice
-nor an element along another,
-no two nodes at one place, every node joined to a base node (by elements and diaphragms; a
-part that floats free is a mechanism), and the base nodes at the frame's lowest elevation with
-every column foot there among them.
+nor an element along another, no two nodes at one place, every node joined to a base node (by
+elements and diaphragms; a part that floats free is a mechanism), and the base nodes at the
+frame's lowest elevation with every column foot there among them.
 
 Each is a model that runs silently wrong otherwise (a beam cut in two at a repeated node, a
 member's stiffness counted twice) or one whose matrices are singular. Positions equal to
