@@ -46,8 +46,10 @@ def check_geometry(
     short = np.flatnonzero(~(length > tol))
     if short.size:
         k = int(short[0])
+        extent = float(np.ptp(nodes, axis=0).max())
         raise ValueError(f"{element_name(k)}: nodes {elements[k, 0]} and {elements[k, 1]} are at "
-                         "the same place; expected an element of positive length")  # fmt: skip
+                         f"the same place (within {SAME_PLACE:g} of the frame's {extent:.3g} m "
+                         "extent); expected an element of positive length")  # fmt: skip
     seen: dict = {}
     for k, (i, j) in enumerate(elements.tolist()):
         pair = (min(i, j), max(i, j))
