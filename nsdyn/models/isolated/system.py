@@ -48,6 +48,7 @@ DENSE_FRAME_MAX = 2000  # frames with more dofs are reduced from their sparse K,
 CONTACTS = ("bilateral", "detect", "unilateral")  # a normal force at zero: held, stop, lift off
 ISOLATION_NUMBERS = ("k_lam", "c", "mu", "eps", "eta", "alpha", "beta", "kappa",  # each >= 0
                      "diaphragm_EA", "diaphragm_EI", "g")  # fmt: skip
+PER_ISOLATOR = ("k_lam", "c", "mu")  # the numbers given one per isolator or one for all
 
 
 @dataclass(frozen=True)
@@ -91,8 +92,10 @@ class Isolation:
             with contextlib.suppress(TypeError, ValueError):
                 if (v is None and k == "kappa") or np.asarray(v).dtype.kind in "iuf":
                     vals = np.atleast_1d(np.asarray(0.0 if v is None else v, dtype=float))
-            if vals.size == 0 or vals.ndim != 1 or not np.all(np.isfinite(vals) & (vals >= 0)):
-                per = " (or one per isolator)" if k in ("k_lam", "c", "mu") else ""
+            one = k not in PER_ISOLATOR and vals.size != 1  # (a list of eps: a TypeError)
+            if one or vals.size == 0 or vals.ndim != 1 or not np.all(np.isfinite(vals)
+                                                                     & (vals >= 0)):  # fmt: skip
+                per = " (or one per isolator)" if k in PER_ISOLATOR else ""
                 raise ValueError(
                     f"isolation.{k}: expected a finite non-negative number{per}, got {v!r}"
                 )
