@@ -101,6 +101,8 @@ _API = {
     "IntegrationError": "nsdyn.solve.integrate",
     "UpliftError": "nsdyn.solve.integrate",
     "UpliftWarning": "nsdyn.solve.integrate",
+    "InputWarning": "nsdyn._checks",  # (filter them: warnings.simplefilter("error", ...))
+    "NotedWarning": "nsdyn._checks",
     "CONTACTS": "nsdyn.models.isolated.system",
     "Solution": "nsdyn.solve.integrate",
     # the low-level integrator: named ``integrate`` here because ``nsdyn.solve`` is the package
