@@ -113,7 +113,7 @@ class Frame:
         nn, ne = len(nodes), len(elements)
         if elements.min() < 0 or elements.max() >= nn:
             raise ValueError(f"element node index out of range 0..{nn - 1}")
-        check_geometry(nodes, elements, base=np.atleast_1d(self.base_nodes).tolist())
+        check_geometry(nodes, elements, base=checked_base(self.base_nodes, nn).tolist())
         obj = object.__setattr__
         obj(self, "nodes", nodes)
         obj(self, "elements", elements)
@@ -340,6 +340,15 @@ def regular_frame(
     """
     if not (isinstance(name, str) and name.strip()):
         raise ValueError(f"name: expected a frame's name (text), got {name!r}")
+    for what, v in (
+        ("bays", bays),
+        ("storey_heights", storey_heights),
+        ("zeta", zeta),
+        ("floor_mass", floor_mass),
+    ):  # fmt: skip  (True a 1 m bay, "1e4" a mass)
+        flat = [v] if isinstance(v, str) else np.ravel(np.asarray(v, dtype=object)).tolist()
+        if any(isinstance(x, str | bool | np.bool_) for x in flat):
+            raise ValueError(f"{what}: expected numbers, got {v!r}")
     bays = finite_numbers("bays", bays, "a list of finite bay widths [m]")
     hs = finite_numbers("storey_heights", storey_heights, "a list of finite storey heights [m]")
     for what, v in (("bays", bays), ("storey_heights", hs)):

@@ -154,7 +154,7 @@ class Frame3D:
             raise ValueError(f"element node index out of range 0..{nn - 1}")
         free = [n for d in self.diaphragms for n in np.asarray(d.nodes).tolist()]
         groups = [np.asarray(d.nodes).tolist() for d in self.diaphragms]
-        base = np.atleast_1d(self.base_nodes).tolist()
+        base = checked_base(self.base_nodes, nn).tolist()
         check_geometry(nodes, el, free=free, base=base, groups=groups)
         obj(self, "nodes", nodes)
         obj(self, "elements", el)

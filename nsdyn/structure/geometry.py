@@ -1,8 +1,8 @@
 """The checks a frame's geometry must pass, plane or space: finite coordinates, every node on an
 element (or, in 3D, on a diaphragm), no element of zero length, no pair of nodes joined twice
 nor an element along another, no two nodes at one place, every node joined to a base node (by
-elements and diaphragms; a part that floats free is a mechanism), and the base nodes at the
-frame's lowest elevation with every column foot there among them.
+elements and diaphragms; a part that floats free is a mechanism), and no column foot at the
+base level standing on nothing.
 
 Each is a model that runs silently wrong otherwise (a beam cut in two at a repeated node, a
 member's stiffness counted twice) or one whose matrices are singular. Positions equal to
@@ -98,27 +98,26 @@ def _check_on_element(nodes: np.ndarray, elements: np.ndarray, tol: float, eleme
 
 
 def _check_base_level(nodes: np.ndarray, elements: np.ndarray, base: list, tol: float) -> None:
-    """The base nodes are at the frame's lowest elevation, and every column foot there is a
-    base node: a free foot (a frame standing on some of its columns) ran to drift ratios of
-    1e10 without a word, a column head as a base node stood the frame on its head."""
+    """No column stands on nothing: a node at the level of the lowest base node whose every
+    element is vertical (a column's foot, no beam or girder there) is a base node. A portal
+    standing on one of its two feet ran to drift ratios of 1e10 without a word; a column on
+    a base girder, a stepped base and a pit below the base are frames of their own."""
     base = [int(b) for b in base if float(b).is_integer() and 0 <= b < len(nodes)]
     if not base:
         return  # (the frame's own check names it)
     up = nodes.shape[1] - 1  # y of a plane frame, z of a space frame
-    low = float(nodes[:, up].min())
-    high = [b for b in base if nodes[b, up] > low + tol]
-    if high:
-        raise ValueError(f"base_nodes: node {high[0]} is at {nodes[high[0], up]:g} m, above the "
-                         f"frame's lowest nodes ({low:g} m); expected base nodes at the foot "
-                         "of the columns")  # fmt: skip
+    low = float(nodes[base, up].min())
     d = np.abs(nodes[elements[:, 1]] - nodes[elements[:, 0]])
-    column = np.all(d[:, :up] <= tol, axis=1)  # (vertical elements)
-    feet = {int(n) for n in elements[column].ravel() if nodes[n, up] <= low + tol}
-    free = sorted(feet - set(base))
+    vertical = np.all(d[:, :up] <= tol, axis=1)
+    ends = elements.ravel()
+    on_other = set(ends[np.repeat(~vertical, 2)].tolist())  # nodes with a non-vertical element
+    feet = {int(n) for n in elements[vertical].ravel() if abs(nodes[n, up] - low) <= tol}
+    free = sorted(feet - set(base) - on_other)
     if free:
-        raise ValueError(f"base_nodes: node {free[0]} is a column foot at the lowest level "
-                         f"({low:g} m) but not a base node; expected every column to stand on "
-                         "a base node (list it in base_nodes)")  # fmt: skip
+        raise ValueError(f"base_nodes: node {free[0]} is a column foot at the base level "
+                         f"({low:g} m) but not a base node, and nothing else holds it; "
+                         "expected every column to stand on a base node (list it in "
+                         "base_nodes)")  # fmt: skip
 
 
 def _check_joined(nn: int, elements: np.ndarray, base: list, groups) -> None:
@@ -157,7 +156,14 @@ def frozen(a, dtype) -> np.ndarray:
 
 
 def checked_base(base_nodes, nn: int) -> np.ndarray:
-    """A frame's base nodes: a non-empty list of distinct node indices in ``0..nn-1``."""
+    """A frame's base nodes: a non-empty list of distinct node indices in ``0..nn-1`` (text,
+    bools and fractions refused: "0" was read as node 0, 0.5 as node 0)."""
+    raw = np.atleast_1d(np.asarray(base_nodes, dtype=object))
+    if not all(isinstance(b, int | np.integer) and not isinstance(b, bool | np.bool_)
+               or isinstance(b, float | np.floating) and float(b).is_integer()
+               for b in raw.ravel()):  # fmt: skip
+        raise ValueError(f"base_nodes must be a list of node indices (whole numbers), got "
+                         f"{np.asarray(base_nodes, dtype=object).tolist()}")  # fmt: skip
     base = frozen(np.atleast_1d(base_nodes), np.int64)
     # distinct by a set: numpy 2's np.unique imports numpy.ma (~40 ms of a cached start)
     if base.ndim != 1 or len(base) == 0 or len(set(base.tolist())) != len(base):

@@ -256,11 +256,12 @@ def test_a_regular_frame_out_of_reach_is_one_line(tmp_path, old, new, message):
 
 @pytest.mark.parametrize(
     ("kw", "message"),
-    [({"bays": ["6"]}, r"^bays: expected a list of finite bay widths"),
+    [({"bays": ["6"]}, r"^bays: expected numbers, got \['6'\]"),
+     ({"bays": [True]}, r"^bays: expected numbers"), ({"floor_mass": "1e4"}, r"^floor_mass: "),
      ({"bays": 6.0}, r"^bays: expected a list"), ({"bays": [[6.0]]}, r"^bays: expected a list"),
      ({"storey_heights": [3.0, -1.0]}, r"^storey_heights: expected positive sizes"),
      ({"n_v": True}, r"^n_v: expected a whole number"), ({"n_h": 2.0}, r"^n_h: expected a whole"),
-     ({"zeta": "0.05"}, r"^zeta: expected damping ratios"), ({"name": None}, r"^name: expected"),
+     ({"zeta": "0.05"}, r"^zeta: expected numbers"), ({"name": None}, r"^name: expected"),
      ({"bays": [1.0] * 1000, "storey_heights": [3.0] * 1000},
       r"^bays, storey_heights, n_v, n_h: 9\.01e\+06 dofs; expected a model of at most 1e\+06")],
 )  # fmt: skip
