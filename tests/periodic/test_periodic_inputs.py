@@ -72,7 +72,8 @@ def test_switch_shooting_rejects_a_frequency_that_is_not_positive(f):
     [("mu", -0.1), ("eps", -1.0), ("mu", math.nan), ("k_lam", (5e4, -1.0)), ("c", math.inf),
      ("eta", -1e-5), ("alpha", "fast"),
      # one value for all isolators only (a list of eps or g was a TypeError from '>')
-     ("eps", [7500.0, 7500.0]), ("g", [9.81, 9.8]), ("eta", [1e-5, 1e-5])],
+     ("eps", [7500.0, 7500.0]), ("g", [9.81, 9.8]), ("eta", [1e-5, 1e-5]), ("eps", [100.0]),
+     ("g", [9.81])],
 )  # fmt: skip
 def test_isolation_rejects_negative_or_non_finite_parameters(field, value):
     with pytest.raises(ValueError, match=rf"^isolation\.{field}: expected a finite non-negative"):

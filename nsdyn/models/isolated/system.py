@@ -92,7 +92,7 @@ class Isolation:
             with contextlib.suppress(TypeError, ValueError):
                 if (v is None and k == "kappa") or np.asarray(v).dtype.kind in "iuf":
                     vals = np.atleast_1d(np.asarray(0.0 if v is None else v, dtype=float))
-            one = k not in PER_ISOLATOR and vals.size != 1  # (a list of eps: a TypeError)
+            one = k not in PER_ISOLATOR and np.ndim(v) != 0  # (a list of eps: a TypeError)
             if one or vals.size == 0 or vals.ndim != 1 or not np.all(np.isfinite(vals)
                                                                      & (vals >= 0)):  # fmt: skip
                 per = " (or one per isolator)" if k in PER_ISOLATOR else ""
