@@ -155,16 +155,7 @@ def test_a_block_too_squat_for_housner_restitution_is_refused(
         one_line(str(scene), "block.r:", "give r")
 
 
-OVERHANG = """[frame]
-name = "overhang"
-kind = "explicit"
-nodes = [[0.0, 0.0], [6.0, 0.0], [0.0, 2.0], [0.0, 4.0], [3.0, 4.0], [6.0, 4.0], [6.0, 2.0],
-         [12.0, 4.0]]
-elements = [[0, 2, 0], [2, 3, 0], [3, 4, 1], [4, 5, 1], [1, 6, 0], [6, 5, 0], [5, 7, 1]]
-base_nodes = [0, 1]
-node_mass = [0.0, 0.0, 0.0, 1000.0, 1000.0, 1000.0, 0.0, 9000.0]
-zeta = [0.02]
-[[frame.sections]]
+PORTAL_SECTIONS = """[[frame.sections]]
 E = 2.1e11
 A = 0.0149
 I = 2.517e-4
@@ -174,7 +165,21 @@ E = 2.1e11
 A = 0.00845
 I = 2.313e-4
 rho_A = 66.3
+"""  # the bundled portal's columns and beams
+
+OVERHANG = (
+    """[frame]
+name = "overhang"
+kind = "explicit"
+nodes = [[0.0, 0.0], [6.0, 0.0], [0.0, 2.0], [0.0, 4.0], [3.0, 4.0], [6.0, 4.0], [6.0, 2.0],
+         [12.0, 4.0]]
+elements = [[0, 2, 0], [2, 3, 0], [3, 4, 1], [4, 5, 1], [1, 6, 0], [6, 5, 0], [5, 7, 1]]
+base_nodes = [0, 1]
+node_mass = [0.0, 0.0, 0.0, 1000.0, 1000.0, 1000.0, 0.0, 9000.0]
+zeta = [0.02]
 """
+    + PORTAL_SECTIONS
+)
 
 
 def test_a_frame_that_cannot_stand_on_its_isolators_is_input_not_uplift(tmp_path, one_line):
@@ -761,7 +766,8 @@ def test_a_force_sweep_of_a_frame_draws_its_figure_without_a_fixed_base_curve(tm
     assert (out / "sweep.png").stat().st_size > 0 and (out / "sweep.csv").is_file()
 
 
-SETBACK = """[frame]
+SETBACK = (
+    """[frame]
 name = "setback"
 kind = "explicit"
 nodes = [[0.0,0.0],[6.0,0.0],[12.0,0.0],[0.0,4.0],[6.0,4.0],[12.0,4.0],[0.0,8.0],[6.0,8.0]]
@@ -769,17 +775,9 @@ elements = [[0,3],[1,4],[2,5],[3,4,1],[4,5,1],[3,6],[4,7],[6,7,1]]
 base_nodes = [0,1,2]
 node_mass = [0,0,0,5000,5000,5000,4000,4000]
 zeta = [0.02]
-[[frame.sections]]
-E = 2.1e11
-A = 0.0149
-I = 2.517e-4
-rho_A = 117.0
-[[frame.sections]]
-E = 2.1e11
-A = 0.00845
-I = 2.313e-4
-rho_A = 66.3
 """
+    + PORTAL_SECTIONS
+)
 
 
 def test_a_frame_with_a_setback_runs_without_drift_ratios_and_says_so(tmp_path, capsys):
