@@ -33,16 +33,13 @@ def run_identity(cfg: dict, fidelity, motion=None) -> dict:
 
 def samples_digest(motion) -> str:
     """A fingerprint of a motion's numbers (its arrays and scalars; not its name, source or
-    header text)."""
+    header text), hashed as a run's checkpoint key hashes its inputs."""
+    from nsdyn.solve.checkpoint import feed
+
     h = hashlib.sha256()
     for key, v in sorted(getattr(motion, "__dict__", {}).items()):
-        if key in ("name", "source", "meta"):
-            continue
-        h.update(key.encode())
-        if isinstance(v, np.ndarray):
-            h.update(f"{v.dtype}{v.shape}".encode() + np.ascontiguousarray(v).tobytes())
-        else:
-            h.update(repr(v).encode())
+        if key not in ("name", "source", "meta"):
+            feed(h, (key, v))
     return h.hexdigest()
 
 

@@ -36,12 +36,12 @@ from nsdyn.periodic.curve import (
     _point_from_sweep,
     resumed_points,
 )
-from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation, refined
+from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation, checked_disc, refined
 from nsdyn.periodic.protocol import (
     STATUS_MESSAGES,
     STATUS_OK,
     PeriodicModel,
-    check_frequency,
+    check_frequencies,
     check_range,
 )
 from nsdyn.periodic.shooting import (
@@ -151,14 +151,13 @@ def _options(disc, progress, fallback, keep_orbits) -> Discretisation:
     """The discretisation (the default for None), or TypeError naming the argument: a
     discretisation or progress callback of another kind failed deep inside (``'str' object
     has no attribute 'steps'``), a text flag ("no") was true."""
-    if disc is not None and not isinstance(disc, Discretisation):
-        raise TypeError(f"disc: expected a Discretisation, got {type(disc).__name__}")
+    disc = checked_disc(disc)
     if progress is not None and not callable(progress):
         raise TypeError(f"progress: expected a callable (pt, count, total), got "
                         f"{type(progress).__name__}")  # fmt: skip
     flag("fallback", fallback)
     flag("keep_orbits", keep_orbits)
-    return disc or Discretisation()
+    return disc
 
 
 def _jump(problem, pts: list, disc, tol: float, max_iter: int) -> dict | None:
@@ -211,8 +210,7 @@ def continue_sequential(
     if freqs.ndim != 1 or not freqs.size or not np.all(np.isfinite(freqs) & (freqs > 0)) \
             or np.any(np.diff(freqs) <= 0):  # fmt: skip
         raise ValueError(f"freqs: expected increasing finite frequencies > 0 [Hz], got {freqs}")
-    for k, f in enumerate(freqs.tolist()):
-        check_frequency(f, f"freqs[{k}]")
+    check_frequencies(freqs)
     pts: list[OrbitPoint] = resumed_points(problem, start, float(freqs[0]), float(freqs[-1]), disc)
     t0 = time.perf_counter()
     held = None

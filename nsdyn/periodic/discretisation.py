@@ -83,6 +83,17 @@ class Discretisation:
         return TABLEAUX[self.method]()
 
 
+def checked_disc(disc) -> Discretisation:
+    """``disc``, or the default :class:`Discretisation` for None; TypeError naming the
+    argument for another kind (``"sdirk2"`` failed deep inside: ``'str' object has no
+    attribute 'steps'``)."""
+    if disc is None:
+        return Discretisation()
+    if not isinstance(disc, Discretisation):
+        raise TypeError(f"disc: expected a Discretisation, got {type(disc).__name__}")
+    return disc
+
+
 def refined(disc: Discretisation, factor: float = REFINE_FACTOR) -> Discretisation:
     """The same discretisation with ``factor`` times the steps per period (``factor`` < 1:
     fewer; at least one step)."""

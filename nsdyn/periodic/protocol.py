@@ -81,6 +81,13 @@ def check_frequency(f, name: str = "f") -> float:
     return v
 
 
+def check_frequencies(freqs, name: str = "freqs") -> None:
+    """Each entry of the 1-D array ``freqs`` a forcing frequency (:func:`check_frequency`),
+    else a ValueError naming it (``freqs[3]``)."""
+    for k, f in enumerate(np.asarray(freqs, dtype=float).tolist()):
+        check_frequency(f, f"{name}[{k}]")
+
+
 # the largest ground acceleration amplitude a periodic solve takes [m/s²]: 100 g, a record's
 # largest PGA target (at 1e300 m/s² a sweep's probe overflowed into a traceback)
 A_HIGHEST = PGA_TARGET_MAX
@@ -115,12 +122,11 @@ def check_map_args(x_ref: np.ndarray, x0, n_steps, disc) -> np.ndarray:
     whole number >= 1 (0 steps "mapped" x0 onto itself), ``disc`` None or a
     :class:`Discretisation`. A ValueError or TypeError names the argument: a compiled map read
     past a shorter state (garbage, or a crash of the process)."""
-    from nsdyn.periodic.discretisation import Discretisation
+    from nsdyn.periodic.discretisation import checked_disc
 
     if n_steps is not None:
         whole("n_steps", n_steps, 1, "a whole number of steps >= 1")
-    if disc is not None and not isinstance(disc, Discretisation):
-        raise TypeError(f"disc: expected a Discretisation, got {type(disc).__name__}")
+    checked_disc(disc)
     try:
         x = np.array(x0, dtype=float)
     except (TypeError, ValueError):

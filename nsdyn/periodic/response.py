@@ -16,7 +16,7 @@ from nsdyn._checks import expect, finite_numbers
 from nsdyn.periodic.continuation import continue_range
 from nsdyn.periodic.curve import Curve
 from nsdyn.periodic.problem import frame_problem
-from nsdyn.periodic.protocol import A_HIGHEST, check_amplitude, check_frequency
+from nsdyn.periodic.protocol import A_HIGHEST, check_amplitude, check_frequencies
 
 
 def frequency_response(system, amplitude: float, *, load=None, **options) -> Curve:
@@ -63,8 +63,7 @@ def fixed_base_response(frame, amplitude, freqs, *, f_max: float = 5.0) -> dict 
             "building has no fixed-base frame model"
         )
     freqs = finite_numbers("freqs", freqs, "a 1-D sequence of forcing frequencies [Hz]")
-    for k, f in enumerate(freqs.tolist()):
-        check_frequency(f, f"freqs[{k}]")
+    check_frequencies(freqs)
     amps = [check_amplitude(a, "amplitude", A_HIGHEST) for a in np.atleast_1d(amplitude).tolist()]
     sysf = build_system(frame, fidelity="fixed", f_max=f_max)
     od = output_dofs(frame)

@@ -23,7 +23,7 @@ import numpy as np
 
 from nsdyn._brief import brief_repr
 from nsdyn._checks import got_array, whole
-from nsdyn.periodic.discretisation import Discretisation
+from nsdyn.periodic.discretisation import Discretisation, checked_disc
 from nsdyn.periodic.protocol import (
     STATUS_MESSAGES,
     STATUS_OK,
@@ -185,8 +185,6 @@ def _check_inputs(problem, disc, n_steps, tol, max_iter) -> None:
     if not (hasattr(problem, "x_ref") and hasattr(problem, "period_map")):
         raise TypeError(f"problem: expected a periodic problem (frame_problem, switch_problem, "
                         f"plane_problem, ...), got {type(problem).__name__}")  # fmt: skip
-    if not isinstance(disc, Discretisation):
-        raise TypeError(f"disc: expected a Discretisation, got {type(disc).__name__}")
     if n_steps is not None:
         whole("n_steps", n_steps, 1, "a whole number of steps >= 1")
     if not (isinstance(tol, int | float) and 0 < tol < np.inf):
@@ -212,7 +210,7 @@ def shoot(
     (ValueError otherwise).
     """
     f = check_frequency(f)
-    disc = disc or Discretisation()
+    disc = checked_disc(disc)
     _check_inputs(problem, disc, n_steps, tol, max_iter)
     N = disc.steps(1.0 / f) if n_steps is None else int(n_steps)
     x = problem.x_ref.copy() if x0 is None else check_map_args(problem.x_ref, x0, None, None)

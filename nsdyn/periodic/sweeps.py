@@ -21,7 +21,7 @@ import numpy as np
 
 from nsdyn._brief import brief_repr
 from nsdyn._checks import flag, number, whole
-from nsdyn.periodic.discretisation import Discretisation
+from nsdyn.periodic.discretisation import Discretisation, checked_disc
 from nsdyn.periodic.protocol import (
     STATUS_MESSAGES,
     STATUS_NOT_STEADY,
@@ -87,9 +87,9 @@ def steady_state_sweep(
     """
     f = check_frequency(f)
     x = problem.x_ref.copy() if x0 is None else check_map_args(problem.x_ref, x0, None, disc)
-    _check_sweep(tol, max_periods, max_time, disc)
+    _check_sweep(tol, max_periods, max_time)
     flag("monodromy", monodromy)
-    disc = disc or Discretisation()
+    disc = checked_disc(disc)
     T = 1.0 / f
     N = disc.steps(T)
     kmax = int(max(3, min(max_periods, math.ceil(max_time / T))))
@@ -149,14 +149,12 @@ def steady_state_sweep(
     return SweepResult(f, x, X, int(k), float(est), steady, M, N, msg, done, int(status), x_stop)
 
 
-def _check_sweep(tol, max_periods, max_time, disc) -> None:
-    """The options of :func:`steady_state_sweep`, named when it cannot run on them (a tol of
+def _check_sweep(tol, max_periods, max_time) -> None:
+    """The numbers of :func:`steady_state_sweep`, named when it cannot run on them (a tol of
     -1 ended in a math domain error; 0 periods or a negative time ran 3 periods)."""
     number("tol", tol, "a positive finite steady-state tolerance", lambda v: v > 0)
     whole("max_periods", max_periods, 1, "a whole number of periods >= 1")
     number("max_time", max_time, "a positive finite time [s]", lambda v: v > 0)
-    if disc is not None and not isinstance(disc, Discretisation):
-        raise TypeError(f"disc: expected a Discretisation, got {type(disc).__name__}")
 
 
 def stagnated(deltas: list, k: int, kmax: int, tol: float, window: int = SS_WINDOW) -> bool:

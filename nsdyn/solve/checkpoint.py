@@ -139,24 +139,25 @@ def run_key(P, x0, t_eval, options: dict) -> str:
     options (and the checkpoint layout). A checkpoint is continued only by the run that
     wrote it."""
     h = hashlib.sha256(FORMAT.encode())
-
-    def feed(v):
-        if isinstance(v, tuple | list):
-            h.update(b"(")
-            for e in v:
-                feed(e)
-            h.update(b")")
-        elif isinstance(v, np.ndarray):
-            h.update(f"{v.dtype}{v.shape}".encode())
-            h.update(np.ascontiguousarray(v).tobytes())
-        else:
-            h.update(repr(v).encode())
-
-    feed(tuple(P))
-    feed(x0)
-    feed(np.asarray(t_eval, dtype=float))
-    feed([(k, options[k]) for k in sorted(options)])
+    for v in (tuple(P), x0, np.asarray(t_eval, dtype=float),
+              [(k, options[k]) for k in sorted(options)]):  # fmt: skip
+        feed(h, v)
     return h.hexdigest()
+
+
+def feed(h, v) -> None:
+    """Add ``v`` to the hash ``h``: an array by its dtype, shape and bytes, a tuple or list
+    element by element (bracketed), anything else by its repr."""
+    if isinstance(v, tuple | list):
+        h.update(b"(")
+        for e in v:
+            feed(h, e)
+        h.update(b")")
+    elif isinstance(v, np.ndarray):
+        h.update(f"{v.dtype}{v.shape}".encode())
+        h.update(np.ascontiguousarray(v).tobytes())
+    else:
+        h.update(repr(v).encode())
 
 
 def save(path: Path, t: np.ndarray, x: np.ndarray, key: str, carry: Carry) -> None:
