@@ -90,12 +90,15 @@ def non_negative_int(name: str, value) -> int:
 def finite_numbers(name: str, value, what: str, size: int | None = None):
     """``value`` as a non-empty 1-D float array of finite numbers (``size`` of them when
     given), or ``ValueError("{name}: expected {what}, got {value!r}")``: text, complex
-    numbers, nested or ragged lists and NaN are refused, never converted."""
+    numbers, bools, nested or ragged lists and NaN are refused, never converted."""
     import numpy as np
 
     try:
         a = np.asarray(value, dtype=float)
-        ok = not isinstance(value, str | bytes) and np.asarray(value).dtype.kind in "biuf"
+        ok = not isinstance(value, str | bytes) and np.asarray(value).dtype.kind in "iuf"
+        if ok and not isinstance(value, np.ndarray):  # [True, 1.0] is float: True is no 1.0
+            flat = np.asarray(value, dtype=object).ravel().tolist()
+            ok = not any(isinstance(x, bool | np.bool_) for x in flat)
     except (TypeError, ValueError):
         a, ok = np.empty(0), False
     if not (ok and a.ndim == 1 and a.size and (size is None or a.size == size)

@@ -27,7 +27,13 @@ from nsdyn._brief import brief_repr
 from nsdyn._checks import finite_numbers, number, whole
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements import element_matrices
-from nsdyn.structure.geometry import check_geometry, checked_base, checked_zeta, frozen
+from nsdyn.structure.geometry import (
+    check_geometry,
+    check_stiffness_span,
+    checked_base,
+    checked_zeta,
+    frozen,
+)
 
 sp = LazyModule("scipy.sparse")
 
@@ -123,6 +129,11 @@ class Frame:
             if np.any(bad) or not np.all(np.isfinite(v)):
                 raise ValueError(f"element {key} must be positive and finite")
             obj(self, key, v)
+        L = np.linalg.norm(nodes[elements[:, 1]] - nodes[elements[:, 0]], axis=1)
+        with np.errstate(over="ignore", under="ignore"):
+            check_stiffness_span(
+                {"EA/L": self.E * self.A / L, "12EI/L³": 12 * self.E * self.I / L**3}
+            )
         nm = np.asarray(self.node_mass, float)
         if nm.ndim > 1 or nm.size not in (1, nn):
             raise ValueError(f"node_mass: expected one value or one per node ({nn}), got "

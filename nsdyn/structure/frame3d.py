@@ -31,7 +31,13 @@ from nsdyn._brief import brief_repr
 from nsdyn._checks import number
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements3d import global_matrices, local_axes
-from nsdyn.structure.geometry import check_geometry, checked_base, checked_zeta, frozen
+from nsdyn.structure.geometry import (
+    check_geometry,
+    check_stiffness_span,
+    checked_base,
+    checked_zeta,
+    frozen,
+)
 
 sp = LazyModule("scipy.sparse")
 
@@ -152,10 +158,9 @@ class Frame3D:
         nn, ne = len(nodes), len(el)
         if el.min() < 0 or el.max() >= nn:
             raise ValueError(f"element node index out of range 0..{nn - 1}")
-        free = [n for d in self.diaphragms for n in np.asarray(d.nodes).tolist()]
         groups = [np.asarray(d.nodes).tolist() for d in self.diaphragms]
         base = checked_base(self.base_nodes, nn).tolist()
-        check_geometry(nodes, el, free=free, base=base, groups=groups)
+        check_geometry(nodes, el, tied=sum(groups, []), base=base, groups=groups)
         obj(self, "nodes", nodes)
         obj(self, "elements", el)
         v = frozen(np.broadcast_to(np.asarray(self.vecxz, float), (ne, 3)), float)
@@ -174,6 +179,16 @@ class Frame3D:
                     f", got {float(a[e])!r}"
                 )
             obj(self, key, a)
+        L, EL3 = self.lengths, 12 * self.E / self.lengths**3
+        with np.errstate(over="ignore", under="ignore"):
+            check_stiffness_span(
+                {
+                    "EA/L": self.E * self.A / L,
+                    "12EI_y/L³": EL3 * self.I_y,
+                    "12EI_z/L³": EL3 * self.I_z,
+                    "GJ/L³": self.G * self.J / L**3,
+                }
+            )
         nm = np.asarray(self.node_mass, float)
         nm = nm[:, None] if nm.ndim == 1 and nm.shape == (nn,) else nm
         nm = frozen(np.broadcast_to(nm, (nn, 3)), float)

@@ -305,7 +305,7 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
         dias.append(Diaphragm(dn, c, mass, inertia))
     try:  # (the file's names of its elements: members[g].elements[k])
         groups = [d.nodes.tolist() for d in dias]
-        check_geometry(nodes, np.array(el), free=[n for g in groups for n in g], base=base,
+        check_geometry(nodes, np.array(el), tied=[n for g in groups for n in g], base=base,
                        groups=groups, element_name=names.__getitem__)  # fmt: skip
     except ValueError as exc:  # (a node by the table's name; an element carries its own)
         msg = f"{P}.{exc}" if str(exc).startswith("nodes[") else str(exc)

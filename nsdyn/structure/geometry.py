@@ -1,8 +1,8 @@
 """The checks a frame's geometry must pass, plane or space: finite coordinates, every node on an
-element (or, in 3D, on a diaphragm), no element of zero length, no pair of nodes joined twice
-nor an element along another, no two nodes at one place, every node joined to a base node (by
-elements and diaphragms; a part that floats free is a mechanism), and no column foot at the
-base level standing on nothing.
+element (in 3D one on a diaphragm too: a diaphragm holds no vertical motion), no element of
+zero length, no pair of nodes joined twice nor an element along another, no two nodes at one
+place, every node joined to a base node (by elements and diaphragms; a part that floats free
+is a mechanism), and no column foot at the base level standing on nothing.
 
 Each is a model that runs silently wrong otherwise (a beam cut in two at a repeated node, a
 member's stiffness counted twice) or one whose matrices are singular. Positions equal to
@@ -23,13 +23,13 @@ def check_geometry(
     nodes: np.ndarray,
     elements: np.ndarray,
     *,
-    free: Iterable[int] = (),
+    tied: Iterable[int] = (),
     base: Iterable[int] | None = None,
     groups: Iterable[Iterable[int]] = (),
     element_name: Callable[[int], str] = lambda k: f"elements[{k}]",
 ) -> None:
-    """ValueError naming the first entry that fails a check of the module text. ``free``: nodes
-    that may be on no element (a diaphragm's); ``base``: the base nodes (None: no check of
+    """ValueError naming the first entry that fails a check of the module text. ``tied``: nodes
+    on a diaphragm (named so when on no element); ``base``: the base nodes (None: no check of
     the joins); ``groups``: sets of nodes joined otherwise (diaphragms)."""
     nodes = np.asarray(nodes, float)
     elements = np.asarray(elements, np.int64)
@@ -38,7 +38,11 @@ def check_geometry(
     if bad.size:
         raise ValueError(f"nodes[{bad[0]}]: expected finite coordinates {axes} [m], got "
                          f"{nodes[bad[0]].tolist()}")  # fmt: skip
-    loose = sorted(set(range(len(nodes))) - set(elements.ravel().tolist()) - set(free))
+    loose = sorted(set(range(len(nodes))) - set(elements.ravel().tolist()))
+    if loose and loose[0] in set(tied):
+        raise ValueError(f"nodes[{loose[0]}]: on a diaphragm and no element (a diaphragm holds "
+                         "its x, y and rz; its uz, rx and ry have no stiffness: a mechanism); "
+                         "expected a node on a member")  # fmt: skip
     if loose:
         raise ValueError(f"nodes[{loose[0]}]: on no element (a node must belong to a member)")
     tol = SAME_PLACE * float(np.ptp(nodes, axis=0).max())
@@ -180,3 +184,28 @@ def checked_zeta(zeta) -> np.ndarray:
         raise ValueError("zeta must be a non-empty list of damping ratios in [0, 1) "
                          "(fractions: 0.05 for 5 %)")  # fmt: skip
     return z
+
+
+# the widest span of member stiffnesses a frame may have: double precision resolves 1 part in
+# 2**52 = 4.5e15 of a sum, so a member stiffness below 1e-14 of another meeting it at a joint
+# keeps at most a digit or two (E = 1e300 beside I = 1e-30 was a singular K or a 0.0 Hz mode)
+SPAN_MAX = 1e14
+
+
+def check_stiffness_span(terms: dict, element_name=lambda k: f"elements[{k}]") -> None:
+    """ValueError naming the stiffest and the softest member stiffness when they span more than
+    :data:`SPAN_MAX`. ``terms``: each member's stiffnesses in N/m by name (``"EA/L"``,
+    ``"12EI/L³"``, ...), arrays over the elements; an overflow (inf) or an underflow (0) of
+    one is refused the same way."""
+    names = list(terms)
+    T = np.array([np.broadcast_to(terms[k], np.shape(terms[names[0]])) for k in names], float)
+    hi, lo = np.unravel_index(np.argmax(T), T.shape), np.unravel_index(np.argmin(T), T.shape)
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        span = T[hi] / T[lo]
+    if not span <= SPAN_MAX:
+        of = f"the {names[lo[0]]} of element {lo[1]}" if hi[1] != lo[1] else f"its {names[lo[0]]}"
+        raise ValueError(f"{element_name(int(hi[1]))}: its {names[hi[0]]} = {T[hi]:.3g} N/m is "
+                         f"{span:.2g} times {of} ({T[lo]:.3g} N/m); expected member "
+                         f"stiffnesses within a factor {SPAN_MAX:.0e} (double precision "
+                         "resolves 1 part in 4.5e15: the softer is lost in round-off of the "
+                         "stiffer, a singular K or modes of 0 Hz)")  # fmt: skip

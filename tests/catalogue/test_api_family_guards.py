@@ -85,6 +85,7 @@ def test_a_cylinder_run_refuses_a_start_without_meaning_and_rest_balances():
     p = nsdyn.CylinderParams()
     for kw, match in (({"t0": math.nan}, r"^t0: expected a finite start time"),
                       ({"omega0": (0.0, 0.0)}, r"^omega0: expected three finite rates"),
+                      ({"omega0": (True, 0.0, 0.0)}, r"^omega0: expected three finite rates"),
                       ({"theta_topple": 3.0}, r"^theta_topple: expected a toppling tilt"),
                       ({"h_kink": 0.0}, r"^h_kink: expected a positive step bound")):  # fmt: skip
         with pytest.raises(ValueError, match=match):

@@ -231,31 +231,29 @@ def test_bundled_3d_office_keeps_the_seed_frequencies_in_x():
         assert m.mass_fraction[first, col] > 0.6
 
 
+def _hung_frame(nodes, elements, node_mass):
+    vecxz = [(1.0, 0, 0), (0, 0, 1.0)][: len(elements)]  # (a column, a beam along x)
+    return Frame3D("m", np.array(nodes), elements, vecxz, E, G, 1e-2, 1e-5, 1e-5, 1e-5,
+                   10.0, None, node_mass, [0], [0.05],
+                   diaphragms=(Diaphragm([1, 2], (0.5, 0.0), 0.0, 0.0),))  # fmt: skip
+
+
+def test_a_node_on_a_diaphragm_and_no_member_is_refused_when_built():
+    # node 2 is only on a diaphragm with node 1: the diaphragm holds its ux, uy and rz, its
+    # uz, rx and ry have no stiffness (K singular); the loader named no node before
+    with pytest.raises(ValueError, match=r"^nodes\[2\]: on a diaphragm and no element"):
+        _hung_frame([[0.0, 0.0, 0.0], [0.0, 0.0, 3.0], [1.0, 0.0, 3.0]], [[0, 1]],
+                    [[0, 0, 0], [0, 0, 0], [5.0, 5.0, 5.0]])  # fmt: skip
+
+
 @pytest.mark.parametrize("method", ["dense", "sparse"])
 def test_a_mechanism_is_reported_not_returned_as_modes(method):
-    # node 2 carries mass but is on no element, only on a diaphragm with node 1: its uz, rx
-    # and ry have no stiffness, K is singular (a mechanism), which must stop the eigensolver
-    # with a reason instead of returning garbage modes (a node on nothing at all is refused
-    # when the frame is built: test_frame3d_toml)
-    nodes = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 3.0], [1.0, 0.0, 3.0]])
-    fr = Frame3D(
-        "m",
-        nodes,
-        [[0, 1]],
-        (1.0, 0, 0),
-        E,
-        G,
-        1e-2,
-        1e-5,
-        1e-5,
-        1e-5,
-        10.0,
-        None,
-        [[0, 0, 0], [0, 0, 0], [5.0, 5.0, 5.0]],
-        [0],
-        [0.05],
-        diaphragms=(Diaphragm([1, 2], (0.5, 0.0), 0.0, 0.0),),
-    )
+    # a member 2-3 hangs from the diaphragm of nodes 1 and 2 only: the diaphragm holds their
+    # ux, uy and rz, the member's uz and its tilt about the diaphragm's line are free, K is
+    # singular (a mechanism), which must stop the eigensolver with a reason instead of
+    # returning garbage modes
+    fr = _hung_frame([[0.0, 0.0, 0.0], [0.0, 0.0, 3.0], [1.0, 0.0, 3.0], [2.0, 0.0, 3.0]],
+                     [[0, 1], [2, 3]], [[0, 0, 0], [0, 0, 0], [5.0] * 3, [5.0] * 3])  # fmt: skip
     with pytest.raises(ValueError, match="mechanism|positive definite"):
         fixed_base_modes_3d(fr, n_modes=2, method=method)
 

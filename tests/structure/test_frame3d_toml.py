@@ -283,6 +283,29 @@ def test_a_3d_frame_that_would_run_wrong_or_singular_is_refused(tmp_path, extra_
     assert "\n" not in str(e.value)
 
 
+def test_3d_member_stiffnesses_beyond_double_precision_are_refused(tmp_path):
+    # the beams' J = 5.108e-22 m⁴: GJ/L³ of a 6 m beam 2.1e11 / 2.6 * 5.108e-22 / 6³ = 1.91e-13
+    # N/m beside a 4 m column's EA/L = 2.1e11 * 0.0149 / 4 = 7.82e8 N/m spans 4.1e21 > 1/eps
+    p = tmp_path / "p.toml"
+    p.write_text(PORTAL.replace("J = 5.108e-7", "J = 5.108e-22"))
+    with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: frame3d: elements\[0\]: "
+                       r"its EA/L = 7\.82e\+08 N/m is 4\.1e\+21 times the GJ/L³ of element 4 "
+                       r"\(1\.91e-13 N/m\)"):  # fmt: skip
+        load_frame3d(p)
+
+
+def test_a_3d_node_on_the_diaphragm_and_no_member_is_named(tmp_path):
+    # the floor's centre listed as a node of the diaphragm on no member: its uz, rx and ry had
+    # no stiffness, and the modes stopped at "not positive definite" naming no node
+    text = PORTAL.replace(HEADS, HEADS.split("   #")[0] + "[3.0, 2.5, 4.0],")
+    text = text.replace(MASS_END, MASS_END[:-1] + "[0.0, 0.0, 0.0],\n]")
+    p = tmp_path / "p.toml"
+    p.write_text(text.replace("nodes = [4, 5, 6, 7]", "nodes = [4, 5, 6, 7, 8]"))
+    with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: frame3d\.nodes\[8\]: on "
+                       "a diaphragm and no element"):  # fmt: skip
+        load_frame3d(p)
+
+
 @pytest.mark.parametrize(
     ("old", "new", "message"),
     [

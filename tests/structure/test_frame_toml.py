@@ -159,6 +159,23 @@ def test_explicit_file_errors(tmp_path):
         load_frame(p)
 
 
+def test_member_stiffnesses_beyond_double_precision_are_refused(tmp_path):
+    # E = 1e300 beside I = 1e-30: EA/L of a 2 m column 1e300 * 0.0149 / 2 = 7.45e297 N/m and
+    # the beam's 12EI/L³ = 12 * 1e300 * 1e-30 / 3³ = 4.44e269 N/m span 1.7e28 > 1/eps: the modes
+    # listed 0.0 Hz, or the factorisation stopped ("exactly singular") in a traceback
+    text = (REPO / "frames" / "portal.toml").read_text()
+    p = tmp_path / "p.toml"
+    p.write_text(text.replace("E = 2.1e11", "E = 1e300").replace("I = 2.313e-4", "I = 1e-30"))
+    head = rf"^{re.escape(str(p))}: frame\.elements\[0\]: its EA/L = 7\.45e\+297 N/m is "
+    tail = r"1\.7e\+28 times the 12EI/L³ of element 2 \(4\.44e\+269 N/m\); expected member"
+    with pytest.raises(FrameFileError, match=head + tail):
+        load_frame(p)
+    # columns 1e4 times as stiff as steel (rigid links) stay a frame: EA/L = 1.56e13 N/m of a
+    # column over the beam's 12EI/L³ = 2.16e4 N/m spans 7.2e8
+    p.write_text(text.replace("E = 2.1e11", "E = 2.1e15", 1))
+    assert load_frame(p).E.max() == 2.1e15
+
+
 PORTAL_NODES = "[6.0, 4.0], [6.0, 2.0],              # 5, 6: right column"
 PORTAL_ELEMENTS = "[[0, 2, 0], [2, 3, 0], [3, 4, 1], [4, 5, 1], [1, 6, 0], [6, 5, 0]]"
 PORTAL_MASS = "node_mass = [0.0, 0.0, 0.0, 3000.0, 6000.0, 3000.0, 0.0]"
