@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._checks import did_you_mean
+from nsdyn._checks import did_you_mean, expect
 from nsdyn.atomic import save_figure
 from nsdyn.models.scenefile import SceneError, number, unknown_key
 from nsdyn.studies.design import (
@@ -43,6 +43,7 @@ from nsdyn.studies.design import (
     same_value,
 )
 from nsdyn.studies.fragility import CONFIDENCE, fit_lognormal
+from nsdyn.studies.study import Study
 from nsdyn.studies.table import ANALYSIS_OUTPUTS, LEAD_COLUMNS, TAIL_COLUMNS, Table
 
 SEISMIC_GAP_M = 0.4  # seed 004 §5: the isolator displacement may not exceed 400 mm
@@ -309,7 +310,7 @@ def fragility_outcomes(table: Table, im_name: str, edp_name: str) -> dict:
     of such failures by meaning, and ``refuse``: why no fit is honest (failed runs without a
     physical outcome, or runs without an IM or EDP value), or None.
     """
-    im, edp = table.column(im_name), table.column(edp_name)
+    im, edp = table.column(im_name, False), table.column(edp_name, False)
     status = [r.get("status") for r in table.rows]
     keep = np.zeros(len(table.rows), dtype=bool)
     counted: dict[str, int] = {}
@@ -367,7 +368,7 @@ def _pooled(table: Table, study, im_name: str) -> dict:
     """{grid parameter: its number of values} of the parameters other than the IM that one
     fragility curve pools; a parameter the IM follows (one IM value per parameter value: the
     record's PGA beside a grid over motion.pga) is the IM's own axis, not pooled."""
-    im = table.column(im_name)
+    im = table.column(im_name, False)
     out = {}
     for n in _grid_names(study):
         vals = [str(v) for v in table.values(n)]
@@ -441,6 +442,10 @@ def _fragility(study, table: Table, spec: dict, out: Path, figures: bool) -> dic
 
 def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True) -> dict:
     """Every ``[analysis.*]`` of the study on its table; CSVs (and PNGs) in ``out_dir``."""
+    ok = isinstance(study, Study) or hasattr(study, "analysis")  # (a stand-in of its analyses)
+    expect("study", study, ok, "a Study (nsdyn.load_study(path) reads one)")
+    expect("table", table, isinstance(table, Table), "a study's Table (run_study(...).table or "
+           "read_results(out_dir); a DataFrame is a copy of one)")  # fmt: skip
     out = Path(out_dir)
     an = study.analysis
     res: dict = {}

@@ -96,7 +96,7 @@ def design_points(
         raise ValueError(f"aggregate: expected one of {AGGREGATES}, got {aggregate!r}")
     limits = bounds(constraints)
     ok = np.array([r.get("status") == "ok" for r in table.rows], dtype=bool)
-    cols = {k: table.column(k) for k in list(objectives) + list(constraints)}
+    cols = {k: table.column(k, False) for k in list(objectives) + list(constraints)}
     points = []
     for vals, idx in _groups(table, variables).items():
         idx = np.asarray(idx)
@@ -167,7 +167,7 @@ def percentile_table(
     group's successful runs (records, samples)."""
     out = []
     ok = np.array([r.get("status") == "ok" for r in table.rows], dtype=bool)
-    cols = {k: table.column(k) for k in quantities}
+    cols = {k: table.column(k, False) for k in quantities}
     for vals, idx in _groups(table, by).items():
         idx = np.asarray(idx)
         good = idx[ok[idx]]

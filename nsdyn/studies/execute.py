@@ -31,7 +31,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import whole
+from nsdyn._checks import flag, whole
 from nsdyn.studies.scenes import run_batch
 from nsdyn.studies.study import Study
 from nsdyn.studies.table import ResultsStore, Table
@@ -131,6 +131,10 @@ def run_study(
     retry_failed : bool           rerun tasks recorded as failed
     progress : callable(str), optional   receives a progress line every PROGRESS_S
     """
+    fresh, retry_failed = flag("fresh", fresh), flag("retry_failed", retry_failed)  # ("no": True)
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress: expected a function of one line (str), or None; got "
+                        f"{type(progress).__name__}")  # fmt: skip
     if workers is not None:
         whole("workers", workers, 1, "an integer >= 1 (or None: the CPU count)")
     if executor is not None and not callable(getattr(executor, "submit", None)):
@@ -141,6 +145,8 @@ def run_study(
                          "has its own workers: give one or the other")  # fmt: skip
     ensure_checked(study)  # (a study changed since load_study: its tasks checked again)
     out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"out_dir: {out} is a file; expected a folder for the study's table")
     tasks = expand(study)
     store = ResultsStore(out, [p.name for p in study.parameters])
     store.clean_temporaries()

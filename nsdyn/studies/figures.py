@@ -104,7 +104,7 @@ def distribution_figure(table, quantities, title: str = "") -> Figure:
     fig = Figure(figsize=(3.2 * n, 3.2))
     for i, q in enumerate(quantities):
         ax = fig.add_subplot(1, n, i + 1)
-        v = table.column(q)
+        v = table.column(q, False)
         v = v[np.isfinite(v)]
         if v.size:
             ax.hist(v, bins=min(30, max(5, v.size // 4)), color="tab:blue", alpha=0.7)

@@ -129,9 +129,8 @@ class Study:
     @property
     def n_tasks(self) -> int:
         n = max(1, len(self.records))
-        for p in self.parameters:
-            if not p.random:
-                n *= len(p.values)
+        for p in (p for p in self.parameters if not p.random):
+            n *= len(p.values)
         return n * (self.samples if any(p.random for p in self.parameters) else 1)
 
 
@@ -253,8 +252,9 @@ def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter
         return Parameter(name, values=_distinct(source, f"{where}.values", args, name))
     nums = [number(source, f"{where}.{form}[{i}]", a, positive=False) for i, a in enumerate(args)]
     if form in ("linspace", "logspace"):
-        if len(nums) != 3 or nums[2] != int(nums[2]) or nums[2] < 1:
-            raise _err(source, f"{where}.{form}", f"expected [first, last, count], got {args!r}")
+        if len(nums) != 3 or nums[2] != int(nums[2]) or not 1 <= nums[2] <= MAX_TASKS:
+            what = f"expected [first, last, count], a count of 1 to {MAX_TASKS}, got {args!r}"
+            raise _err(source, f"{where}.{form}", what)  # (a count of 1e9 filled the memory)
         a, b, n = nums[0], nums[1], int(nums[2])
         if form == "logspace":
             if not (a > 0 and b > 0):

@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import did_you_mean
 from nsdyn.atomic import atomic_open
 
 RESULTS = "results.csv"
@@ -105,6 +106,11 @@ class Table:
     def __len__(self) -> int:
         return len(self.rows)
 
+    def __repr__(self) -> str:
+        cols = self.columns
+        shown = ", ".join(cols[:8]) + (f", ... ({len(cols) - 8} more)" if len(cols) > 8 else "")
+        return f"<study Table: {len(self.rows)} rows; columns {shown}>"
+
     @property
     def columns(self) -> list[str]:
         lead = [c for c in LEAD_COLUMNS if any(c in r for r in self.rows)]
@@ -119,8 +125,12 @@ class Table:
                     rest.append(k)
         return lead + params + tail + rest
 
-    def column(self, name: str) -> np.ndarray:
-        """A numeric column (NaN where missing or not a number; booleans as 0/1)."""
+    def column(self, name: str, strict: bool = True) -> np.ndarray:
+        """A numeric column (NaN where missing or not a number; booleans as 0/1). A name no row
+        has is a KeyError naming the nearest column (a typo read as all NaN); ``strict=False``
+        gives its NaN (the analyses, which note such columns)."""
+        if strict and self.rows and name not in self.columns:
+            raise KeyError(f"{name!r}: no such column{did_you_mean(name, self.columns)}")
         out = np.full(len(self.rows), np.nan)
         for i, r in enumerate(self.rows):
             v = r.get(name)
@@ -181,8 +191,12 @@ def read_results(out_dir: str | Path) -> Table:
     columns in the file's order (the parameters before status, error and task_s, as the
     study's own table has them)."""
     path = Path(out_dir) / RESULTS
+    if Path(out_dir).is_file() and Path(out_dir).name == RESULTS:  # (the table itself given)
+        path = Path(out_dir)
     if not path.is_file():
         raise FileNotFoundError(f"{out_dir}: no {RESULTS}; expected the folder a study wrote")
+    if not path.read_text().strip():
+        raise ValueError(f"{path}: empty; expected the table a study wrote (a header, rows)")
     rows = read_csv(path)
     header = list(rows[0]) if rows else []
     tail = next((i for i, c in enumerate(header) if c in TAIL_COLUMNS), len(header))
@@ -196,10 +210,13 @@ def read_csv(path: str | Path) -> list[dict]:
     Every column of the header stays in every row, an empty cell as None, so a column that is
     empty in every row (a kept name no task's summary has) survives a write and a read."""
     with open(path, newline="") as fh:
-        return [
-            {k: v if k in TEXT_COLUMNS else _parse(v) for k, v in row.items()}
-            for row in csv.DictReader(fh)
-        ]
+        rows = list(csv.DictReader(fh))
+    for i, row in enumerate(rows):
+        if None in row or None in row.values():  # (more cells than the header's, or fewer)
+            raise ValueError(f"{path}: line {i + 2}: {'more' if None in row else 'fewer'} cells "
+                             "than the header has columns; expected a study's table (a cell per "
+                             "column)")  # fmt: skip
+    return [{k: v if k in TEXT_COLUMNS else _parse(v) for k, v in row.items()} for row in rows]
 
 
 def _better(new: dict, old: dict) -> bool:

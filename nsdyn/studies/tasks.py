@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import expect
 from nsdyn.models.scenefile import FILE_FIELDS, SceneError
 from nsdyn.studies.study import KINDS3C, RecordSpec, Study, task_label
 
@@ -300,6 +301,8 @@ def _as_checked(study: Study) -> str:
 def ensure_checked(study: Study) -> None:
     """:func:`check_tasks` unless ``study`` is as it was checked: a study changed after
     :func:`~nsdyn.studies.study.load_study` is checked again (its analyses are checked where
-    they run: a narrowed grid may leave out a design's reference)."""
+    they run: a narrowed grid may leave out a design's reference). Anything but a Study is a
+    TypeError saying how to make one (a file's path was an AttributeError)."""
+    expect("study", study, isinstance(study, Study), "a Study (nsdyn.load_study(path) reads one)")
     if study.__dict__.get("_checked") != _as_checked(study):
         check_tasks(study)

@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 from nsdyn.studies import execute
+from nsdyn.studies.analyses import run_analyses
 from nsdyn.studies.execute import run_study
 from nsdyn.studies.scenes import _isolated_system, run_scene_summary
 from nsdyn.studies.study import load_study
@@ -401,10 +402,20 @@ def test_executor_settings_that_cannot_mean_anything_are_refused(tmp_path, monke
         ({"workers": 0}, ValueError, r"^workers: expected an integer >= 1"),
         ({"executor": "dask"}, TypeError, r"^executor: expected a concurrent\.futures\.Executor"),
         ({"executor": ThreadPoolExecutor(1), "workers": 2}, ValueError, "give one or the other"),
+        # fresh="no" was true: a finished study's table was wiped and run again
+        ({"fresh": "no"}, TypeError, r"^fresh: expected True or False, got 'no'"),
+        ({"retry_failed": 1}, TypeError, r"^retry_failed: expected True or False"),
+        ({"progress": 5}, TypeError, r"^progress: expected a function of one line"),
     ):
         with pytest.raises(err, match=match):
             run_study(st, tmp_path / "o", **kw)
     assert not (tmp_path / "o").exists()  # refused before any file
+    # a file's path for the study was an AttributeError ('str' object has no '__dict__'), a
+    # file for the folder a FileExistsError
+    with pytest.raises(TypeError, match=r"^study: expected a Study \(nsdyn\.load_study"):
+        run_study(str(tmp_path / "s.toml"), tmp_path / "o")
+    with pytest.raises(ValueError, match=r"^out_dir: .*s\.toml is a file; expected a folder"):
+        run_study(st, tmp_path / "s.toml")
     with pytest.raises(SystemExit) as e:
         main(["study", str(tmp_path / "s.toml"), "--dask", ""])
     assert e.value.code == 2
@@ -434,3 +445,20 @@ def test_a_study_table_reads_back_as_a_dataframe_cell_for_cell(tmp_path):
     assert df.loc[0, "x_iso_max_m"] == 0.125 and pd.isna(df.loc[1, "x_iso_max_m"])
     with pytest.raises(FileNotFoundError, match="no results.csv; expected the folder a study"):
         read_results(tmp_path / "nope")
+    assert read_results(tmp_path / RESULTS).rows == read_results(tmp_path).rows  # (the file)
+    # a misspelt column read as all NaN; a table printed as an object's address
+    assert table.column("x_iso_max_m")[0] == 0.125
+    with pytest.raises(KeyError, match="'x_iso_mx_m': no such column; did you mean 'x_iso_max_m'"):
+        table.column("x_iso_mx_m")
+    assert repr(table).startswith("<study Table: 2 rows; columns index, key, record, ")
+    # a table cut short (a row of fewer cells) was a TypeError; an empty file 0 rows
+    (tmp_path / "cut").mkdir()
+    (tmp_path / "cut" / RESULTS).write_text(table.to_csv() + "2,c3\n")
+    with pytest.raises(ValueError, match=r"results\.csv: line 4: fewer cells than the header"):
+        read_results(tmp_path / "cut")
+    (tmp_path / "cut" / RESULTS).write_text("")
+    with pytest.raises(ValueError, match=r"results\.csv: empty; expected the table a study"):
+        read_results(tmp_path / "cut")
+    # the analyses take a study's Table, not its DataFrame copy (an AttributeError 'rows')
+    with pytest.raises(TypeError, match=r"^table: expected a study's Table"):
+        run_analyses(load_study(_study(tmp_path)), df, tmp_path / "a")

@@ -98,6 +98,8 @@ def test_key_follows_record_bytes_not_place(tmp_path):
         (("[0.02, 0.05]", '[0.02, "high"]'), "parameters.isolation.mu.values: expected numbers"),
         (("uniform = [1.0, 4.0]", "uniform = [4.0, 1.0]"), "low < high"),
         (("logspace = [2.5e4, 1e5, 3]", "logspace = [2.5e4, 1e5]"), "[first, last, count]"),
+        # a count of 1e9 built its list first: the process grew to 24 GB and was killed
+        (("logspace = [2.5e4, 1e5, 3]", "linspace = [2.5e4, 1e5, 1e9]"), "a count of 1 to 1000000"),
         # a value twice made two tasks of one key, and one row of them
         (
             ("[0.02, 0.05]", "[0.02, 0.02]"),
