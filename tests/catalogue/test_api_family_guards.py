@@ -96,6 +96,37 @@ def test_a_cylinder_run_refuses_a_start_without_meaning_and_rest_balances():
     assert rest.energy_error <= 1e3 * np.finfo(float).eps
 
 
+def test_a_cylinder_call_refuses_what_its_scene_refuses():
+    from nsdyn.models.cylinder.design import design_foundation, rocking_frequency
+    from nsdyn.models.cylinder.simulate import from_motions
+    from nsdyn.models.cylinder.study import compare_foundations
+
+    dt, ag = nsdyn.cylinder_earthquake(2, duration=1.0)
+    # k = 1 N/m³ settles m g / (pi r^2 k) = 9.81 / pi = 3.12 m > r = 1 m: the base sank 3.1 m
+    # and never lifted (tensionless equal to bonded), where a scene refuses the foundation
+    with pytest.raises(ValueError, match=r"^k: the static settlement .* = 3\.123 m exceeds"):
+        nsdyn.simulate_cylinder(nsdyn.CylinderParams(k=1.0), ag, dt)
+    with pytest.raises(ValueError, match=r"^max_steps: expected a whole number of steps >= 1"):
+        nsdyn.simulate_cylinder(nsdyn.CylinderParams(), ag, dt, max_steps="10")
+    with pytest.raises(ValueError, match=r"^r, H, m, k: expected sizes whose inertias"):
+        nsdyn.CylinderParams(H=1e300)  # (an OverflowError in the run)
+    for args, match in (((3, math.inf, 1, 4, 1), r"^zeta: expected a damping ratio in \[0, 1\)"),
+                        ((3, 5, 1, 4, 1), r"^zeta: expected a damping ratio"),
+                        ((math.inf, 0.1, 1, 4, 1), r"^f_rock: expected a positive finite"),
+                        (("3", 0.1, 1, 4, 1), r"^f_rock: expected")):  # fmt: skip
+        with pytest.raises(ValueError, match=match):  # (k = inf returned; '3' a TypeError)
+            design_foundation(*args)
+    for call, err, match in ((lambda: compare_foundations("3"), ValueError, r"^n: expected"),
+                             (lambda: compare_foundations(1, {"r": 1}), TypeError, r"^params: "),
+                             (lambda: compare_foundations(1, executor="x"), TypeError,
+                              r"^executor: expected a concurrent"),
+                             (lambda: from_motions(ag), TypeError, r"^mx: expected a GroundMotion"),
+                             (lambda: rocking_frequency("x"), TypeError, r"^p: expected"),
+                             ):  # fmt: skip
+        with pytest.raises(err, match=match):  # (AttributeErrors and TypeErrors from inside)
+            call()
+
+
 def test_a_ground_motion_keeps_its_own_samples():
     # it kept the caller's array: a[0] = 100 afterwards changed the record and its PGA
     a = np.array([0.1, 0.2, -0.3, 0.05])

@@ -15,7 +15,10 @@ from __future__ import annotations
 
 import math
 
+from nsdyn._checks import expect, number
 from nsdyn.models.cylinder.params import G_STD, CylinderParams
+
+_P = "CylinderParams (nsdyn.CylinderParams(...))"
 
 
 def design_foundation(
@@ -29,21 +32,25 @@ def design_foundation(
     g: float = G_STD,
 ) -> tuple[float, float]:
     """(k, c) per unit area giving rocking frequency ``f_rock`` [Hz] and damping ratio ``zeta``."""
-    if not f_rock > 0:
-        raise ValueError(f"f_rock: expected a positive frequency [Hz], got {f_rock!r}")
-    if not zeta >= 0:
-        raise ValueError(f"zeta: expected a non-negative damping ratio, got {zeta!r}")
+    f_rock = number("f_rock", f_rock, "a positive finite frequency [Hz]", lambda v: v > 0)
+    zeta = number(
+        "zeta", zeta, "a damping ratio in [0, 1) (a fraction: 0.1 for 10 %)", lambda v: 0 <= v < 1
+    )  # fmt: skip  (as a scene's foundation.zeta)
     p = CylinderParams(r=r, H=H, m=m, I_t=I_t, g=g)  # checks r, H, m
     J = p.It + m * H**2
     Ib = p.I_base
     w = 2.0 * math.pi * f_rock
     k = (w * w * J + m * g * H) / Ib
     c = 2.0 * zeta * math.sqrt(J * (k * Ib - m * g * H)) / Ib
+    if not (math.isfinite(k) and math.isfinite(c)):
+        raise ValueError(f"f_rock, r, H, m: a foundation of k = {k:g} N/m^3, c = {c:g} N s/m^3; "
+                         "expected sizes and a frequency whose springs are finite")  # fmt: skip
     return k, c
 
 
 def rocking_frequency(p: CylinderParams) -> tuple[float, float]:
     """(f [Hz], ζ) of small rocking about the base centre; raises if statically unstable."""
+    expect("p", p, isinstance(p, CylinderParams), _P)
     J = p.It + p.m * p.H**2
     kr = p.k * p.I_base - p.m * p.g * p.H
     if kr <= 0:
@@ -53,12 +60,24 @@ def rocking_frequency(p: CylinderParams) -> tuple[float, float]:
 
 def static_settlement(p: CylinderParams) -> float:
     """Static compression mg/(πr²k) [m] (base-centre height is its negative)."""
+    expect("p", p, isinstance(p, CylinderParams), _P)
     return p.m * p.g / (p.area * p.k)
+
+
+def too_soft(p: CylinderParams) -> str | None:
+    """Why a foundation is too soft for the model (its base would settle deeper than its
+    radius, never lifting), or None."""
+    if static_settlement(p) < p.r:
+        return None
+    return (f"the static settlement m g / (pi r^2 k) = {static_settlement(p):.4g} m exceeds the "
+            f"radius r = {p.r:g} m: the foundation is too soft (k > "
+            f"{p.m * p.g / (p.area * p.r):.4g} N/m^3 needed)")  # fmt: skip
 
 
 def uplift_onset(p: CylinderParams) -> tuple[float, float]:
     """(θ_u [rad], M_u [N m]): tilt and foundation moment when the upper rim starts to lift."""
+    expect("p", p, isinstance(p, CylinderParams), _P)
     s = static_settlement(p) / p.r
     if s >= 1.0:
-        raise ValueError("k: settlement exceeds r; the foundation is too soft")
+        raise ValueError(f"k: {too_soft(p)}")
     return math.asin(s), p.k * p.I_base * s

@@ -46,6 +46,16 @@ class CylinderParams:
         for name in ("I_t", "I_a"):
             if getattr(self, name) is not None:
                 number(name, getattr(self, name), pos, lambda v: v > 0)
+        try:  # (H = 1e300: an OverflowError in a run)
+            derived = (self.It, self.Ia, self.m * self.g * self.H, self.k * self.I_base)
+        except OverflowError:
+            derived = (math.inf,)
+        if not all(math.isfinite(v) for v in derived):
+            got = ", ".join(f"{k} = {getattr(self, k):g}" for k in ("r", "H", "m", "k"))
+            raise ValueError(
+                f"r, H, m, k: expected sizes whose inertias and moments are finite "
+                f"(I_t = m (3 r^2 + 4 H^2) / 12, m g H, k pi r^4 / 4), got {got}"
+            )
         if self.mu is not None:
             number("mu", self.mu, non_neg, lambda v: v >= 0)
             if self.foundation == "fixed":

@@ -31,7 +31,12 @@ from nsdyn.atomic import atomic_open, save_figure
 from nsdyn.ground.motion import PGA_TARGET, PGA_TARGET_MAX
 from nsdyn.ground.synthesis import noise_step
 from nsdyn.models import scenefile
-from nsdyn.models.cylinder.design import design_foundation, static_settlement, uplift_onset
+from nsdyn.models.cylinder.design import (
+    design_foundation,
+    static_settlement,
+    too_soft,
+    uplift_onset,
+)
 from nsdyn.models.cylinder.params import FOUNDATIONS, CylinderParams
 from nsdyn.models.cylinder.scene_keys import SCHEMA
 from nsdyn.models.cylinder.simulate import (
@@ -181,12 +186,9 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         c = number(source, "foundation.c", fd.get("c", base.c), allow_zero=True)
     p = _star(base.with_(k=k, c=c, foundation=case), cfg.get("star", {}), source)
     p = p.with_(mu=_friction(fd, case, source))
-    if static_settlement(p) >= p.r:  # the base would sink deeper than its radius
+    if too_soft(p):  # the base would sink deeper than its radius
         field = "foundation.f_rock" if has_design else "foundation.k"
-        raise SceneError(f"{source}: {field}: the static settlement m g / (pi r^2 k) = "
-                         f"{static_settlement(p):.4g} m exceeds the radius r = {p.r:g} m: the "
-                         f"foundation is too soft (k > {p.m * p.g / (p.area * p.r):.4g} N/m^3 "
-                         "needed)")  # fmt: skip
+        raise SceneError(f"{source}: {field}: {too_soft(p)}")
     mo = cfg.get("motion", {})
     t0 = 0.0  # the clock of the outputs: a record's own (its first sample at its t0)
     unused = None  # a record's column the run leaves out

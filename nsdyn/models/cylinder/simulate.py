@@ -23,12 +23,13 @@ from nsdyn._checks import (
     non_negative_int,
     number,
     rel_tol,
+    whole,
 )
 from nsdyn._tabular import Tabular
 from nsdyn.ground import GroundMotion, modulated_white_noise
 from nsdyn.models.cylinder import _kernel as K
 from nsdyn.models.cylinder.cylinder_compile import run_integrate
-from nsdyn.models.cylinder.design import static_settlement
+from nsdyn.models.cylinder.design import static_settlement, too_soft
 from nsdyn.models.cylinder.params import G_STD, CylinderParams
 from nsdyn.models.tilt import initial_tilt
 
@@ -266,6 +267,7 @@ def simulate(
         number("w0", w0, "a finite base-centre height [m]")
     omega0 = tuple(finite_numbers("omega0", omega0, "three finite rates (wx, wy, wz) [rad/s]", 3))
     number("h_kink", h_kink, "a positive step bound [s]", lambda v: v > 0)
+    whole("max_steps", max_steps, 1, "a whole number of steps >= 1")
     number("theta_topple", theta_topple, "a toppling tilt in (0, pi/2) [rad]",
            lambda v: 0 < v < 0.5 * math.pi)  # fmt: skip
     if not abs(theta0) < theta_topple:
@@ -281,6 +283,8 @@ def simulate(
             )
         return _fixed(p, ag, dt, t0)
     dst = static_settlement(p)
+    if too_soft(p):  # (the base 3 m deep, never lifting: a scene refuses it, so does a call)
+        raise ValueError(f"k: {too_soft(p)}")
     y0 = np.zeros(K.NY)
     if w0 is None and theta0 != 0.0:  # placed at its tilt: the foundation carries the weight
         from nsdyn.models.cylinder.foundation import static_moment_tilt
@@ -387,6 +391,9 @@ def from_motions(
     """(dt, ag) from one or two horizontal records and a vertical one (``mz``'s a_hor; without
     it ``mx``'s a_ver, if any), cut to the shortest; the steps must agree."""
     others = {"my": my, "mz": mz}
+    for name, m in {"mx": mx, **others}.items():
+        ok = m is None and name != "mx" or isinstance(m, GroundMotion)
+        expect(name, m, ok, "a GroundMotion (nsdyn.read_motion(path), nsdyn.GroundMotion(...))")
     n = min([mx.n] + [m.n for m in others.values() if m is not None])
     for name, m in others.items():
         if m is not None and abs(m.dt - mx.dt) > 1e-12 * mx.dt:

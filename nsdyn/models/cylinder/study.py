@@ -16,6 +16,8 @@ from dataclasses import asdict
 
 import numpy as np
 
+from nsdyn._checks import expect, whole
+from nsdyn.models.cylinder.design import _P
 from nsdyn.models.cylinder.params import CylinderParams
 from nsdyn.models.cylinder.simulate import EQ_DT, EQ_DURATION, earthquake, simulate
 from nsdyn.models.cylinder.stresses import peak_stresses
@@ -94,8 +96,14 @@ def compare_foundations(
 ) -> dict:
     """Distributions of peak responses of the three foundation cases over ``n`` earthquakes
     (seeds ``seed0 .. seed0 + n − 1``). Returns {"stats", "rows", "wall_s"}."""
-    if n < 1:
-        raise ValueError(f"n: expected a positive number of earthquakes, got {n!r}")
+    n = whole("n", n, 1, "a whole number of earthquakes >= 1")
+    batch = whole("batch", batch, 1, "a whole number of runs per task >= 1")
+    whole("seed0", seed0, 0, "a non-negative whole seed")
+    if params is not None:
+        expect("params", params, isinstance(params, CylinderParams), _P)
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise TypeError(f"executor: expected a concurrent.futures.Executor, got "
+                        f"{type(executor).__name__}")  # fmt: skip
     p = params or CylinderParams()
     pd = asdict(p)
     pd.pop("foundation")
