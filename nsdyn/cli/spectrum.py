@@ -63,12 +63,16 @@ def run(args: argparse.Namespace) -> int:
     if cfg.get("scene", {}).get("model", "block") == "compliant":
         raise SceneError(f"{src}: scene.model: spectra are computed for 'block' or 'frame'")
     from nsdyn.cli.args import fail
-    from nsdyn.models.rocking.spectra import OMEGA_RATIO_MAX
+    from nsdyn.models.rocking.spectra import A_MAX_LIMIT, OMEGA_RATIO_MAX, OMEGA_RATIO_MIN
 
     for flag, v in (("--wmin", args.wmin), ("--wmax", args.wmax)):
-        if v > OMEGA_RATIO_MAX:  # (a traceback from the library's check before)
-            return fail(args, f"argument {flag}: expected a ratio omega_p / p of at most "
-                        f"{OMEGA_RATIO_MAX:g}, got {v:g} (see nsdyn spectrum --help)")  # fmt: skip
+        if not OMEGA_RATIO_MIN <= v <= OMEGA_RATIO_MAX:  # (a traceback, a step underflow)
+            return fail(args, f"argument {flag}: expected a ratio omega_p / p from "
+                        f"{OMEGA_RATIO_MIN:g} to {OMEGA_RATIO_MAX:g}, got {v:g} (see nsdyn "
+                        "spectrum --help)")  # fmt: skip
+    if args.a_max is not None and args.a_max > A_MAX_LIMIT:  # (a step underflow)
+        return fail(args, f"argument --a-max: expected a ratio of at most {A_MAX_LIMIT:g}, got "
+                    f"{args.a_max:g} (see nsdyn spectrum --help)")  # fmt: skip
     if not args.wmax > args.wmin:
         return fail(args, f"argument --wmax: expected a ratio above --wmin ({args.wmin:g}), "
                     f"got {args.wmax:g} (see nsdyn spectrum --help)")  # fmt: skip

@@ -141,14 +141,25 @@ def test_signal_generators_name_the_bad_argument(call, match):
 @pytest.mark.parametrize(
     "kwargs, match",
     [({"rtol": 0.0}, "rtol"), ({"rtol": -1.0}, "rtol"), ({"scan": 1.0}, "scan"),
-     ({"omega_ratios": [-2.0]}, "omega_ratios")],
+     ({"omega_ratios": [-2.0]}, "omega_ratios"), ({"omega_ratios": [1e-300]}, "omega_ratios"),
+     ({"a_max": 1e300}, "a_max")],
 )  # fmt: skip
 def test_spectrum_settings_that_never_converge_are_refused(kwargs, match):
-    """rtol <= 0 never ends the bisection, scan <= 1 never ends the bracketing."""
+    """rtol <= 0 never ends the bisection, scan <= 1 never ends the bracketing; a pulse of
+    1e300 s and a scan to 1e300 g tan α ended in a step size underflow."""
     blk = nsdyn.RockingBlock(width=0.3, height=1.2)
     args = {"omega_ratios": [2.0], **kwargs}
     with pytest.raises(ValueError, match=f"{match}: expected"):
         nsdyn.overturning_spectrum(blk, args.pop("omega_ratios"), **args)
+
+
+def test_a_block_more_slender_than_its_equations_resolve_is_refused():
+    # width 1e-20 m on 1.2 m: alpha 8.3e-21 rad printed as 0.0000, the spectrum found no
+    # overturning anywhere; a block at the bound (width = height tan 1e-4, a hair wider for the
+    # rounding of tan and atan) is a block
+    with pytest.raises(ValueError, match=r"^RockingBlock: width: a slenderness .* = 8\.33e-21 "):
+        nsdyn.RockingBlock(width=1e-20, height=1.2)
+    assert nsdyn.RockingBlock(width=1.2 * math.tan(1e-4) * (1 + 1e-12), height=1.2).alpha >= 1e-4
 
 
 def test_rigid_body_runs_refuse_outputs_and_starts_they_cannot_give():

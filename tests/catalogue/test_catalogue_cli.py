@@ -130,6 +130,17 @@ CLI_ROWS = [
     ("spectrum-n-one", ["spectrum", CASK, "--n", "1"], r"--n.*at least 2"),
     ("spectrum-wmin-ge-wmax", ["spectrum", CASK, "--wmin", "5", "--wmax", "2"], r"--wmax.*--wmin"),
     ("spectrum-wmin-zero", ["spectrum", CASK, "--wmin", "0"], r"--wmin.*positive"),
+    # a pulse 1e300 s long, a scan to 1e300 g tan α: step size underflows (exit 3, no frequency)
+    (
+        "spectrum-wmin-tiny",
+        ["spectrum", CASK, "--wmin", "1e-300", "--wmax", "1e-299"],
+        r"--wmin: expected a ratio omega_p / p from 0\.01 to 1000, got 1e-300",
+    ),
+    (
+        "spectrum-a-max-huge",
+        ["spectrum", CASK, "--a-max", "1e300"],
+        r"--a-max: expected a ratio of at most 1e\+06, got 1e\+300",
+    ),
     ("spectrum-workers-zero", ["spectrum", CASK, "--workers", "0"], r"--workers.*at least 1"),
     ("spectrum-not-rocking", ["spectrum", SHEAR], r"scene\.kind.*rocking"),
     ("spectrum-shape", ["spectrum", CASK, "--shape", "sinus"], r"--shape.*'sine'"),

@@ -395,7 +395,7 @@ def _scene(name: str) -> str:
          ["--contact unilateral: its lift-off orbits are shot on the arctan law"]),
         # minutes of stepping (omega_p / p = 1e300), an eigen solve of 1e5 modes
         (["spectrum", "rocking-seed001-cask.toml", "--wmax", "1e300"],
-         ["--wmax: expected a ratio omega_p / p of at most 1000"]),
+         ["--wmax: expected a ratio omega_p / p from 0.01 to 1000"]),
         (["export", "opensees", "portal-3d", "--modes", "1000"], ["--modes: expected at most 200"]),
         # a traceback from the uplift probe's overflow (frame); every point failed (deck)
         (["sweep", "--amplitudes", "1e300", "--points", "2"],

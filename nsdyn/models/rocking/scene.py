@@ -88,7 +88,7 @@ def kernels_cached(model) -> bool:
 
 def build_model(cfg: dict, source: str):
     """The block, frame or compliant block of a parsed scene."""
-    from nsdyn.models.rocking.block import RockingBlock
+    from nsdyn.models.rocking.block import RockingBlock, too_slender
     from nsdyn.models.rocking.compliant import CompliantBlock, check_settlement
     from nsdyn.models.rocking.frame import RockingFrame
 
@@ -102,6 +102,8 @@ def build_model(cfg: dict, source: str):
             raise SceneError(f"{source}: block.{key}: missing (a positive size in m)")
     w = number(source, "block.width", b["width"])
     h = number(source, "block.height", b["height"])
+    if why := too_slender(w, h):
+        raise SceneError(f"{source}: block.width: {why}")
     mass = number(source, "block.mass", b.get("mass", 1.0))
     r = None
     if "r" in b:

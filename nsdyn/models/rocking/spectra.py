@@ -44,6 +44,12 @@ A_MAX = 30.0  # largest amplitude ratio a_p / (g tan alpha) scanned
 # fastest pulse: 1e3 times the block's p (its steps scale with the pulse: omega_p / p = 1e300
 # ran for minutes); the overturning amplitude grows with omega_p / p, past A_MAX long before
 OMEGA_RATIO_MAX = 1e3
+# slowest pulse: 1e-2 of p, quasi-static (the seed 003 column overturns at a_p = 1.0001 g tan
+# alpha there); omega_p / p = 1e-300 stepped through a pulse of 1e300 s until the step underflowed
+OMEGA_RATIO_MIN = 1e-2
+# the largest a_max: at the fastest pulse the seed 003 column overturns at 4.2e4 g tan alpha; a
+# scan with no overturning up to 1e300 ended in a step size underflow
+A_MAX_LIMIT = 1e6
 T_AFTER_P = 25.0  # free time after the pulse, in units of 1/p (slow falls near the threshold)
 STATUS = ("no overturning up to a_max", "no safe band found", "safe band", "safe up to a_max")
 
@@ -246,12 +252,14 @@ def overturning_spectrum(
                         f"rocking), got {type(model).__name__}")  # fmt: skip
     x = np.asarray(omega_ratios, dtype=float).reshape(-1)
     checks = (
-        ("omega_ratios", x.size > 0 and bool(np.all((x > 0) & (x <= OMEGA_RATIO_MAX))),
-         f"frequency ratios omega_p / p in (0, {OMEGA_RATIO_MAX:g}]"),
+        ("omega_ratios", x.size > 0 and bool(np.all((x >= OMEGA_RATIO_MIN)
+                                                    & (x <= OMEGA_RATIO_MAX))),
+         f"frequency ratios omega_p / p in [{OMEGA_RATIO_MIN:g}, {OMEGA_RATIO_MAX:g}]"),
         ("rtol", RTOL_MIN <= rtol < 1.0, f"a relative width {RTOL_MIN:.2g} <= rtol < 1 (a "
          "bisection narrower than round-off never ends)"),
         ("scan", np.isfinite(scan) and scan > 1.0, "a growth factor > 1 of the bracketing scan"),
-        ("a_max", np.isfinite(a_max) and a_max > 0.0, "a positive largest amplitude ratio"),
+        ("a_max", np.isfinite(a_max) and 0.0 < a_max <= A_MAX_LIMIT,
+         f"a largest amplitude ratio in (0, {A_MAX_LIMIT:g}]"),
         ("tol", np.isfinite(tol) and tol > 0.0, "a positive integration tolerance"),
     )  # fmt: skip
     for name, ok, what in checks:
