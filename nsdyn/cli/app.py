@@ -46,7 +46,8 @@ def _user_errors() -> tuple[type[BaseException], ...]:
 # scene keys a command-line flag sets: an error about the key names the flag that gave it
 FLAG_KEYS = {"solver.method": "--method", "solver.dt": "--dt", "motion.record": "--record",
              "motion.pga": "--pga", "motion.t_end": "--t-end", "scene.f_max": "--fmax",
-             "scene.fidelity": "--fidelity", "solver.max_steps": "--max-steps"}  # fmt: skip
+             "scene.fidelity": "--fidelity", "structure.fidelity": "--fidelity",
+             "solver.max_steps": "--max-steps"}  # fmt: skip
 
 
 def flagged(message: str, args: argparse.Namespace) -> str:
@@ -491,6 +492,9 @@ def script(argv: list[str] | None = None) -> int:
         code = main(argv)
     finally:
         release_standby()
+    if code == EXIT_INTERRUPTED:  # a second signal (`timeout` signals the process, then its
+        for sig in (signal.SIGINT, signal.SIGTERM):  # group) in the exit handlers printed a
+            signal.signal(sig, signal.SIG_IGN)  # traceback after the interrupt's line
     gc.freeze()
     if code == EXIT_PIPE_CLOSED or not _flushed():  # the output's reader has gone
         return _pipe_closed()

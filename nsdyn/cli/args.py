@@ -254,11 +254,15 @@ def stale_figures(out: Path, names, command: str, quiet: bool) -> None:
               "(--no-figures draws none)", file=sys.stderr)  # fmt: skip
 
 
-def above_highest(amplitudes, where: str) -> str | None:
-    """The refusal of ground acceleration amplitudes above A_HIGHEST (100 g), or None."""
+def above_highest(amplitudes, where: str, command: str = "") -> str | None:
+    """The refusal of ground acceleration amplitudes above A_HIGHEST (100 g), or None; a flag's
+    (``where`` "--a-max") worded as the parser's own ("argument --a-max: ... (see nsdyn
+    ``command`` --help)")."""
     from nsdyn.periodic.protocol import A_HIGHEST
 
     if big := [a for a in amplitudes if not a <= A_HIGHEST]:
-        return (f"{where}: expected ground acceleration amplitudes <= {A_HIGHEST:g} m/s² "
-                f"(100 g), got {big[0]:g}")  # fmt: skip
+        flag = where.startswith("--")
+        return (f"{'argument ' * flag}{where}: expected ground acceleration amplitudes <= "
+                f"{A_HIGHEST:g} m/s² (100 g), got {big[0]:g}"
+                f"{f' (see nsdyn {command} --help)' if flag and command else ''}")  # fmt: skip
     return None

@@ -250,7 +250,7 @@ def run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     args.amplitudes = args.amplitudes or _amplitude_list(DEFAULT_AMPLITUDES)
-    if table != "force" and (why := above_highest(args.amplitudes, where)):
+    if table != "force" and (why := above_highest(args.amplitudes, where, "sweep")):
         return fail(args, why)
     friction = args.friction or cfg.get("isolation", {}).get("law", "arctan")
     if args.friction:  # the flag wins over the scene's law (its eps and the rest kept)
@@ -431,13 +431,16 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     if unused:
         return fail(
             args,
-            f"{', '.join(unused)}: not for {cfg.get('scene', {}).get('kind', 'deck')} scenes "
+            f"{source}: {', '.join(unused)}: not for "
+            f"{cfg.get('scene', {}).get('kind', 'deck')} scenes "
             "(their period map is integrated adaptively, with bilateral contact)",
         )
     try:
         sc = plane_scene(cfg, source)
     except SceneError as e:
-        return fail(args, " ".join(str(e).split()))
+        from nsdyn.cli.app import flagged
+
+        return fail(args, flagged(" ".join(str(e).split()), args))
     lo, hi = default_range(sc["orbit"])
     sw = sc["sweep"]  # the scene's [sweep] table; the flags win
     fmin = sw.get("f_min", lo) if args.fmin is None else args.fmin
@@ -451,7 +454,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     amplitudes = args.amplitudes or sw.get("amplitudes") or [orbit_shape(sc["orbit"])[0]]
     where = ("--amplitudes" if args.amplitudes else f"{source}: sweep.amplitudes"
              if sw.get("amplitudes") else f"{source}: motion.amplitude")  # fmt: skip
-    if why := above_highest(amplitudes, where):
+    if why := above_highest(amplitudes, where, "sweep"):
         return fail(args, why)
     if len(set(amplitudes)) < len(amplitudes):  # (each computed twice, the rows doubled)
         return fail(args, f"{source}: sweep.amplitudes: expected distinct amplitudes, got "
@@ -476,6 +479,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
 
     with output_dir(Path(args.out), "sweep") as out:  # (none left empty by a failure)
         before = files_of(out)
+        before.pop("sweep.json", None)  # (written last, after the note on the others)
         compile_s = warm(sc["system"], law)  # announced on a first use, before the workers
         t0 = time.perf_counter()
         results = sweep_plane(cfg, source, amplitudes, settings, out, workers=args.workers,
@@ -532,11 +536,13 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
               f"{s['wall_s']:8.1f}")  # fmt: skip
         for fl in s["failures"]:
             print(f"   A = {s['A']:g}: f = {fl['f']:.5g} Hz: {fl['reason']}")
-        if s["uplift_points"] or s["rim_contact_points"]:
-            print(f"   A = {s['A']:g}: {s['uplift_points']} points with uplift (left out of "
-                  f"|u|max), {s['rim_contact_points']} with a rim contact")  # fmt: skip
-        if s.get("family_points"):
-            print(f"   A = {s['A']:g}: {s['family_points']} points are one of a family of "
+        said = [f"{n} point{'s' * (n != 1)} with {what}" for n, what in (
+            (s["uplift_points"], "uplift (left out of |u|max)"),
+            (s["rim_contact_points"], "a rim contact")) if n]  # fmt: skip
+        if said:
+            print(f"   A = {s['A']:g}: {', '.join(said)}")
+        if n := s.get("family_points"):
+            print(f"   A = {s['A']:g}: {n} point{'s are' if n != 1 else ' is'} one of a family of "
                   "orbits (multipliers at 1: a neutral direction keeps any offset), their "
                   "peaks depend on the path (the note column)")  # fmt: skip
         for line in [*jump_lines(s), *resumed_lines(s)]:

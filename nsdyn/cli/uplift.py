@@ -109,7 +109,9 @@ def run(args: argparse.Namespace) -> int:
         )
     load = excitation if isinstance(excitation, HarmonicForce) else None
     unit = "N" if load is not None else "m/s²"
-    if load is None and (why := above_highest([args.a_max], "--a-max")):  # (not a force's)
+    if load is None and (
+        why := above_highest([args.a_max], "--a-max", "uplift")
+    ):  # (not a force's)
         return fail(args, why)
     law = system.isolation.law
     if law not in ("arctan", "none"):

@@ -41,6 +41,9 @@ def plane_sweep_figure(results: list[dict], title: str = ""):
             ax.axvline(fail["f"], color=col, lw=0.6, ls=":")
         s = np.array([x["stick_fraction"] for x in rows], dtype=float)
         ax2.semilogx(f, s, ".-", color=col, lw=0.8)
+    if not any(np.nanmax([x["u_peak_m"] or 0.0 for x in r["rows"]] + [0.0]) > 0 for r in results):
+        ax.set_yscale("linear")  # (every orbit stuck: no slip to draw on a log axis)
+        ax.text(0.5, 0.75, "no slip: every orbit sticks", transform=ax.transAxes, ha="center")
     ax.set_ylabel("peak resultant |u| [m]")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)

@@ -132,6 +132,9 @@ def test_run_interrupted_resumes_without_loss_or_repeat(tmp_path, monkeypatch, c
     rc, err = _interrupt_when(proc, _checkpoint_ready(out), sig)
     assert rc != 0, "the run ended before the signal arrived: lengthen RUN_ARGS' run"
     _assert_interrupted(rc, err)
+    # with --json the outcome on stdout too (docs/reference/cli.md: every outcome's JSON)
+    said = json.loads(proc.stdout.read().decode())
+    assert said["status"] == EXIT_INTERRUPTED and said["error"].startswith("interrupted")
     _no_temporaries(out)
     assert not (out / "run-histories.npz").exists()  # no result before the run is complete
     ck = np.load(_run_checkpoint(out))  # a complete, readable checkpoint

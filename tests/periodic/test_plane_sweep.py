@@ -296,14 +296,15 @@ def test_the_scenes_sweep_table_sets_the_curve_and_the_flags_win(tmp_path, capsy
     for r in rows:
         R = steady_circle(2 * math.pi * float(r["f"]), 1.2, MU)[0]
         assert float(r["u_peak_m"]) == pytest.approx(R, rel=2e-5)
-    # the flags win over the table
-    out = tmp_path / "b"
+    # the flags win over the table (into the same folder: every file there is this sweep's,
+    # sweep.json was said to be an earlier command's)
+    capsys.readouterr()
     assert nsdyn_main(["sweep", str(scene), "--fmax", "0.7", "--amplitudes", f"{A0}",
                        "--out", str(out), "--no-figures"]) == 0  # fmt: skip
     rows = list(csv.DictReader((out / "sweep.csv").open()))
     np.testing.assert_allclose([float(r["f"]) for r in rows], [0.35, 0.7], rtol=1e-9)
     assert all(float(r["A"]) == pytest.approx(A0, rel=1e-9) for r in rows)  # (9 digits)
-    capsys.readouterr()
+    assert "also holds files" not in capsys.readouterr().err
 
 
 @pytest.mark.parametrize(

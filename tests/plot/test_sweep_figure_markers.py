@@ -69,3 +69,21 @@ def test_unilateral_rows_are_drawn_on_the_curve_with_their_own_marker():
     assert np.isfinite(np.asarray(solid.get_ydata())[[2, 3]]).all()
     labels = {t.get_text() for t in ax_acc.get_legend().get_texts()}
     assert labels == {MARKER_LABELS["sweep"], MARKER_LABELS["unilateral"]}
+
+
+def test_a_deck_sweep_that_sticks_everywhere_draws_a_linear_axis_without_a_warning():
+    # every orbit stuck: peaks of 0 on a log axis printed matplotlib's "Data has no positive
+    # values, and therefore cannot be log-scaled" on the command's stderr
+    import io
+    import warnings
+
+    from nsdyn.plot.plane_sweep import plane_sweep_figure
+
+    row = {"u_peak_m": 0.0, "uplift": False, "rim_contact": False, "converged": True,
+           "stable": True, "method": "shooting", "stick_fraction": 1.0}  # fmt: skip
+    rows = [{"f": f, **row} for f in (0.3, 0.6)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fig = plane_sweep_figure([{"A": 0.5, "rows": rows}], "stuck")
+        fig.savefig(io.BytesIO(), format="png")  # (drawn: the axes scaled)
+    assert fig.axes[0].get_yscale() == "linear"

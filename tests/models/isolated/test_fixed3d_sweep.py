@@ -179,7 +179,13 @@ def test_cli_sweep_fidelity_flag_selects_the_fixed_rung_and_names_the_sweepable_
     capsys.readouterr()
     assert main(["sweep", str(rigid), "--fidelity", "cb", "--out", str(tmp_path / "c")]) == 2
     err = capsys.readouterr().err.strip()
-    assert "\n" not in err and "structure.fidelity" in err and "rigid" in err and "fixed" in err
+    assert "\n" not in err and "structure.fidelity (--fidelity)" in err and "rigid" in err
+    # the full rung with the law the sweep was given: it blamed the scene's switch law, which
+    # --friction arctan had replaced, and not the rung the sweep cannot take
+    assert main(["sweep", str(rigid), "--fidelity", "full", "--friction", "arctan", "--out",
+                 str(tmp_path / "c")]) == 2  # fmt: skip
+    err = capsys.readouterr().err.strip()
+    assert "structure.fidelity (--fidelity): nsdyn sweep takes a building3d scene at the " in err
 
 
 def test_cli_sweep_of_a_fixed_building_needs_an_orbit(tmp_path, capsys):
