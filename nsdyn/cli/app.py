@@ -243,14 +243,16 @@ def _scene_kind_of(args: argparse.Namespace) -> str:
 def _one_line_warnings(command: str, default: Callable) -> Callable:
     """``warnings.showwarning`` that prints nsdyn's own warnings about the user's input (a
     record's units, a component a model cannot feel: ``InputWarning``) as one line,
-    ``nsdyn CMD: warning: ...``, without Python's file, line and source echo; any other
+    ``nsdyn CMD: warning: ...`` (a ``NotedWarning``, what a scene's run says as a note:
+    ``nsdyn CMD: note: ...``), without Python's file, line and source echo; any other
     warning as Python shows it."""
 
     def show(message, category, filename, lineno, file=None, line=None):
-        from nsdyn._checks import InputWarning
+        from nsdyn._checks import InputWarning, NotedWarning
 
         if issubclass(category, InputWarning):
-            print(f"nsdyn {command}: warning: {message}", file=sys.stderr if file is None else file)
+            kind = "note" if issubclass(category, NotedWarning) else "warning"
+            print(f"nsdyn {command}: {kind}: {message}", file=sys.stderr if file is None else file)
             return
         default(message, category, filename, lineno, file, line)
 

@@ -179,8 +179,8 @@ class Frame3D:
                     f", got {float(a[e])!r}"
                 )
             obj(self, key, a)
-        L, EL3 = self.lengths, 12 * self.E / self.lengths**3
         with np.errstate(over="ignore", under="ignore"):
+            L, EL3 = self.lengths, 12 * self.E / self.lengths**3
             check_stiffness_span(
                 {
                     "EA/L": self.E * self.A / L,

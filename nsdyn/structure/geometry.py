@@ -204,8 +204,10 @@ def check_stiffness_span(terms: dict, element_name=lambda k: f"elements[{k}]") -
         span = T[hi] / T[lo]
     if not span <= SPAN_MAX:
         of = f"the {names[lo[0]]} of element {lo[1]}" if hi[1] != lo[1] else f"its {names[lo[0]]}"
-        raise ValueError(f"{element_name(int(hi[1]))}: its {names[hi[0]]} = {T[hi]:.3g} N/m is "
-                         f"{span:.2g} times {of} ({T[lo]:.3g} N/m); expected member "
+        said = (f"= {T[hi]:.3g} N/m is {span:.2g} times" if np.isfinite(span) else
+                f"= {T[hi]:.3g} N/m overflows or underflows double precision beside")  # fmt: skip
+        raise ValueError(f"{element_name(int(hi[1]))}: its {names[hi[0]]} {said} {of} "
+                         f"({T[lo]:.3g} N/m); expected member "
                          f"stiffnesses within a factor {SPAN_MAX:.0e} (double precision "
                          "resolves 1 part in 4.5e15: the softer is lost in round-off of the "
                          "stiffer, a singular K or modes of 0 Hz)")  # fmt: skip

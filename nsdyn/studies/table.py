@@ -320,8 +320,9 @@ class ResultsStore:
         if isinstance(old, dict) and old.get("kind") != mine["kind"] and self.read():
             raise CheckpointError(f"{self.out}: holds the results of study {old.get('name')!r} "
                                   f"({old.get('kind')} scenes), not of {name!r} ({kind}): rows "
-                                  "of another family; give another --out, or --fresh to "
-                                  "replace them")  # fmt: skip
+                                  "of another family; give another folder (--out, "
+                                  "out_dir), or start fresh to replace them (--fresh, "
+                                  "fresh=True)")  # fmt: skip
         self.out.mkdir(parents=True, exist_ok=True)
         with atomic_open(self.out / OWNER, "w") as fh:
             fh.write(json.dumps(mine))

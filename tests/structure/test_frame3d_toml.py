@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import re
 import tomllib
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -292,6 +293,14 @@ def test_3d_member_stiffnesses_beyond_double_precision_are_refused(tmp_path):
                        r"its EA/L = 7\.82e\+08 N/m is 4\.1e\+21 times the GJ/L³ of element 4 "
                        r"\(1\.91e-13 N/m\)"):  # fmt: skip
         load_frame3d(p)
+    # I_y = 1e300 m⁴: 12EI_y/L³ = 12 * 2.1e11 * 1e300 / 4³ overflows to inf (numpy's overflow
+    # warnings, then "array must not contain infs or NaNs" naming no field)
+    p.write_text(PORTAL.replace("I_y = 2.517e-4", "I_y = 1e300"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(FrameFileError, match=r": frame3d: elements\[0\]: its 12EI_y/L³ = inf "
+                           "N/m overflows or underflows double precision beside"):  # fmt: skip
+            load_frame3d(p)
 
 
 def test_a_3d_node_on_the_diaphragm_and_no_member_is_named(tmp_path):
