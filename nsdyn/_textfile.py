@@ -5,9 +5,9 @@ Editors on other machines save text with a byte-order mark: UTF-8 with BOM (Note
 bytes, the mark made a record's first sample a header line (one sample lost without a word)
 and a column header's first name unknown (the vertical column read as the horizontal one),
 and a UTF-16 file read as "no numeric data". :func:`decode` reads the mark and drops it;
-without one, the file is read in the reader's own encoding (UTF-8 for TOML; Latin-1 for
-records, whose numbers are ASCII and whose headers may hold any byte), and text that is not
-in it is a ValueError naming the line and saying how to save the file.
+without one, the file is read in the reader's own encoding (UTF-8 for TOML; for records UTF-8,
+else Latin-1: their numbers are ASCII and their headers may hold any byte), and text that is
+not in it is a ValueError naming the line and saying how to save the file.
 """
 
 from __future__ import annotations

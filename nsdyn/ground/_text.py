@@ -92,16 +92,21 @@ def header_info(header: list[str]) -> dict[str, Any]:
 
 
 def read_text(path: str | os.PathLike) -> str:
-    """A record file's text: its byte-order mark read and dropped (UTF-8, UTF-16), else
-    Latin-1 (:func:`nsdyn._textfile.decode`)."""
-    from nsdyn._textfile import decode
+    """A record file's text: its byte-order mark read and dropped (UTF-8, UTF-16), else UTF-8
+    (what nsdyn writes: "cm/s²" was read as Latin-1's "cm/sÂ²", an unknown unit), else Latin-1
+    (:func:`nsdyn._textfile.decode`)."""
+    from nsdyn._textfile import BOMS, decode
 
     try:
-        return decode(Path(path).read_bytes(), "latin-1")
+        raw = Path(path).read_bytes()
     except IsADirectoryError:
         raise RecordFileError(path, None, "is a directory, expected a record file") from None
-    except ValueError as e:  # (an odd byte count after a UTF-16 mark)
-        raise RecordFileError(path, None, str(e)) from None
+    try:
+        return decode(raw, "utf-8")
+    except ValueError as e:  # (an odd byte count after a UTF-16 mark; else not UTF-8)
+        if any(raw.startswith(bom) for bom, _ in BOMS):
+            raise RecordFileError(path, None, str(e)) from None
+    return raw.decode("latin-1")  # (every byte is a Latin-1 character)
 
 
 def parse_values(lines: list[tuple[int, str]], source: str) -> tuple[np.ndarray, int]:
@@ -156,10 +161,39 @@ def fields(s: str) -> list[str]:
     return [t.strip("\"'") for t in s.replace(",", " ").replace(";", " ").split()]
 
 
+def _without_inline_comment(s: str) -> str:
+    """A line that starts with a number without its trailing ``# ...`` comment (``0, 0.1 #
+    first``: the first row was taken for a title and dropped, the next refused)."""
+    toks = fields(s)
+    if "#" not in s or not toks or not _is_float(toks[0]):
+        return s
+    return re.sub(r"(^|[\s,;])#.*$", "", s).strip()
+
+
+def _row_with_text(toks: list[str], lines: list[tuple[int, str]], i: int) -> bool:
+    """Line ``i`` (``toks``) is a row of the table below with text after its numbers (``0 0.1
+    x``): two or more numbers first, as many as each of the next two lines holds, and its
+    first (the time) a step before theirs (a title ``1995 6.9 Kobe`` is none)."""
+    lead = []
+    for t in toks:
+        if not _is_float(t):
+            break
+        lead.append(to_float(t))
+    nxt = [fields(s) for _, s in lines[i + 1 :] if s and not is_comment(s)][:2]
+    if len(lead) < 2 or len(nxt) < 2 or any(len(r) != len(lead) for r in nxt):
+        return False
+    try:
+        t1, t2 = (to_float(r[0]) for r in nxt)
+    except ValueError:
+        return False
+    step = t2 - t1
+    return step > 0 and abs((t1 - lead[0]) - step) <= 1e-6 * step
+
+
 def parse_table(text: str, source: str) -> Table:
     """A header (comment lines, title lines, a line of column names) and then rows of numbers,
-    every row with as many as the first."""
-    lines = numbered(text)
+    every row with as many as the first; a row's trailing ``# ...`` comment is dropped."""
+    lines = [(n, _without_inline_comment(s)) for n, s in numbered(text)]
     header: list[str] = []
     names: list[str] | None = None
     units: list[str | None] | None = None
@@ -182,7 +216,8 @@ def parse_table(text: str, source: str) -> Table:
                 to_float(tok)
         except ValueError:
             after_names = names is not None and header and header[-1] is names_line
-            if after_names and _one_bad_cell(toks, len(names)):  # a data row, not a title
+            if (after_names and _one_bad_cell(toks, len(names))  # a data row, not a title
+                    or _row_with_text(toks, lines, i)):  # fmt: skip
                 bad = next(t for t in toks if not _is_float(t))
                 raise RecordFileError(source, lines[i][0], f"expected numbers, found {bad!r} "
                                       f"in {s.strip()!r}") from None  # fmt: skip

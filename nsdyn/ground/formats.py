@@ -38,6 +38,7 @@ from nsdyn.ground.motion import (
     UNKNOWN_UNITS,
     GroundMotion,
     RecordFileError,
+    UnitError,
     header_units,
     resolve_units,
     unit_factor,
@@ -270,6 +271,15 @@ def parse_table_motion(
     return motion, unit_name
 
 
+# a bracket's word that is meant as a unit nsdyn does not know (not a label such as "a(t)",
+# "acc (NS)"): a rate's slash or power, a percentage, or a length or milli-g
+_UNIT_WORDS = {"mg", "ug", "µg", "milli-g", "mgal", "m", "cm", "mm", "in", "ft", "km"}
+
+
+def _unit_like(word: str) -> bool:
+    return bool(re.search(r"[/^%²]", word)) or word.strip().lower() in _UNIT_WORDS
+
+
 def _stated_units(tab, header, hcol: int, vcol: int | None, source: str, given) -> tuple:
     """The units the horizontal and the vertical column are in, as the file states them: a
     column's own (``acc [g]``), else the header's, else the other column's; None if none says.
@@ -282,6 +292,10 @@ def _stated_units(tab, header, hcol: int, vcol: int | None, source: str, given) 
         try:
             own.append(unit_factor(word)[0] if word is not None else None)
         except ValueError:
+            if given is None and _unit_like(word):  # (read as m/s², "units not stated")
+                raise UnitError(f"{source}: column {tab.names[j]!r} states units {word!r}, "
+                                "which nsdyn does not know; expected g, gal (cm/s2) or m/s2 "
+                                f"(or give them: {UNITS_HINT})") from None  # fmt: skip
             own.append(None)
         known = header is not None and not header.startswith(UNKNOWN_UNITS)
         if given is None and known and own[-1] is not None and own[-1] != header:

@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from nsdyn._checks import InputWarning, number
+from nsdyn._checks import InputWarning, number, whole
 
 
 def samples(name: str, a, n: int | None = None) -> np.ndarray:
@@ -49,6 +49,16 @@ def samples(name: str, a, n: int | None = None) -> np.ndarray:
         k = int(np.flatnonzero(~np.isfinite(arr))[0])
         raise ValueError(f"{name}: expected finite values, sample {k} is {arr[k]}")
     return arr
+
+
+def check_meta(motion) -> None:
+    """A record's ``name`` and ``source`` as text and ``meta`` as a dict, or TypeError naming
+    the field (``meta=None`` failed later, in a run's notes)."""
+    for key, kind, what in (("name", str, "text"), ("source", str, "text"),
+                            ("meta", dict, "a dict")):  # fmt: skip
+        v = getattr(motion, key)
+        if not isinstance(v, kind):
+            raise TypeError(f"{key}: expected {what}, got {type(v).__name__}")
 
 
 def _cumulative_trapezoid(y, dx: float, initial: float = 0.0):
@@ -164,6 +174,7 @@ class GroundMotion(Sampled):
         object.__setattr__(self, "t0", number("t0", self.t0, "a finite time [s]"))
         if self.a_ver is not None:
             object.__setattr__(self, "a_ver", samples("a_ver", self.a_ver, a_hor.size))
+        check_meta(self)
 
     def __repr__(self) -> str:
         ver = "yes" if self.a_ver is not None else "no"
@@ -251,6 +262,7 @@ class GroundMotion(Sampled):
         ``on="acceleration"``: fit p of degree ``order`` ≥ 0 to a itself and subtract p
         (``order=0`` removes the mean).
         """
+        order = whole("order", order, 0, "a whole polynomial degree >= 0")  # (1.5: numpy's)
         if on == "velocity" and order < 1:
             raise ValueError("on='velocity' needs order >= 1 (order 0 changes nothing in a)")
         if on not in ("velocity", "acceleration"):
@@ -284,9 +296,7 @@ class GroundMotion(Sampled):
         frequency; the ends are extended by odd reflection so value and slope stay continuous.
         ``method="linear"``: linear interpolation (no anti-aliasing; error ≤ max|a''| dt_old²/8).
         """
-        dt = float(dt)
-        if not (dt > 0.0 and math.isfinite(dt)):
-            raise ValueError(f"dt must be positive and finite, got {dt}")
+        dt = number("dt", dt, "a positive finite step [s]", lambda v: v > 0)
         if self.n < 2:  # (scipy's polyphase filter ends the process on one sample)
             raise ValueError(f"{self.name!r}: resampling needs two samples or more, got {self.n}")
         n_new = int(math.floor(self.duration / dt * (1.0 + 1e-12) + 1e-9)) + 1
@@ -323,8 +333,9 @@ class GroundMotion(Sampled):
 
     def window(self, t_start: float, t_end: float) -> GroundMotion:
         """The samples with t_start ≤ t ≤ t_end (absolute times; t0 becomes the first kept t)."""
-        if math.isnan(t_start) or math.isnan(t_end):
-            raise ValueError(f"window: expected times [s], got [{t_start}, {t_end}]")
+        for v in (t_start, t_end):  # (an infinite end: the record's own end)
+            if isinstance(v, str | bool) or not isinstance(v, int | float | np.number) or v != v:
+                raise ValueError(f"window: expected times [s], got [{t_start!r}, {t_end!r}]")
         eps = 1e-9
         x0 = (t_start - self.t0) / self.dt - eps  # (an infinite end: the record's own end)
         x1 = (t_end - self.t0) / self.dt + eps

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from nsdyn._checks import number
-from nsdyn.ground.motion import GroundMotion, Sampled, pga_target, samples
+from nsdyn.ground.motion import GroundMotion, Sampled, check_meta, pga_target, samples
 
 _PEAKS = ("resultant", "x", "y", "geomean")
 
@@ -98,6 +98,7 @@ class GroundMotion3(Sampled):
             object.__setattr__(self, "az", _array("az", self.az, ax.size))
         object.__setattr__(self, "dt", dt)
         object.__setattr__(self, "t0", t0)
+        check_meta(self)
 
     def __repr__(self) -> str:
         ver = "none" if self.az is None else f"{self.pga_ver:.4g} m/s²"
@@ -252,6 +253,9 @@ class GroundMotion3(Sampled):
     def from_planar(cls, motion: GroundMotion, angle_deg: float = 0.0) -> GroundMotion3:
         """A planar record as a three-component one, its horizontal component along the
         direction θ: a_x = a cos θ, a_y = a sin θ, a_z = a_ver (exactly a, 0, a_ver at θ = 0)."""
+        if not isinstance(motion, GroundMotion):  # (a GroundMotion3: AttributeError 'a_hor')
+            raise TypeError(f"motion: expected a planar GroundMotion, got "
+                            f"{type(motion).__name__}")  # fmt: skip
         c, s = cos_sin_deg(angle_deg)
         meta = {**motion.meta, "direction_deg": float(angle_deg)}
         return cls(

@@ -10,6 +10,7 @@ t_k = t0 + k Δt, ü_hor[, ü_ver] in m/s², every value as its shortest round-t
 from __future__ import annotations
 
 import json
+import math
 import os
 import re
 from pathlib import Path
@@ -198,26 +199,40 @@ def _write_table(motion, path, title: str, names: list[str], cols: list, command
     (title, name, units, t0, dt, npts, command, seed, source, JSON meta, column names), then
     t and the columns ``cols`` [m/s²] in their shortest round-trip repr. Atomic."""
     path = Path(path)
+    if str(path) in ("", ".") or path.is_dir():  # (an OSError of the temporary file's rename)
+        raise IsADirectoryError(f"{path}: a folder; expected the path of a file to write")
+    if motion.n < 2:  # (written, then refused by the reader)
+        raise ValueError(f"motion: a record of {motion.n} sample; expected at least two (a "
+                         "record file's time column needs a step)")  # fmt: skip
     command = command if command is not None else motion.meta.get("command", "")
     seed = seed if seed is not None else motion.meta.get("seed", "")
     meta = {k: v for k, v in motion.meta.items() if k != "header"}
     meta.update(command=command, seed=seed)
+
+    def one_line(v) -> str:  # (a newline in a name began a line of data or of header)
+        return " ".join(str(v).splitlines())
+
     head = [
         title,
-        f"name: {motion.name}",
+        f"name: {one_line(motion.name)}",
         "units: m/s2",
         f"t0: {_fmt(motion.t0)}",
         f"dt: {_fmt(motion.dt)}",
         f"npts: {motion.n}",
-        f"command: {command}",
-        f"seed: {seed}",
-        f"source: {motion.source}",
+        f"command: {one_line(command)}",
+        f"seed: {one_line(seed)}",
+        f"source: {one_line(motion.source)}",
         f"meta: {json.dumps(meta, default=str, sort_keys=True)}",
         f"columns: {' '.join(names)}",
     ]
     t = motion.t
+    # the time stamps to a tenth of a step at least (t0 = 1e7 s at 1 ms repeated its stamps at
+    # 10 digits): 10 digits, more as the stamps grow over the step
+    span = max(abs(float(t[0])), abs(float(t[-1])))
+    digits = min(17, max(10, math.ceil(math.log10(max(span / motion.dt, 1.0))) + 2))
     lines = [f"# {h}" for h in head]
-    lines += [",".join([f"{t[k]:.10g}"] + [_fmt(c[k]) for c in cols]) for k in range(motion.n)]
+    lines += [",".join([f"{t[k]:.{digits}g}"] + [_fmt(c[k]) for c in cols])
+              for k in range(motion.n)]  # fmt: skip
     with atomic_open(path, "w", encoding="utf-8", newline="\n") as f:
         f.write("\n".join(lines) + "\n")
     return path

@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from nsdyn._checks import non_negative_int, number
+from nsdyn._checks import MAX_OUTPUTS, non_negative_int, number
 from nsdyn.ground.motion import GroundMotion
 
 KT_WARMUP_DECAYS = 30.0  # KT filter warm-up, in time constants 1/(ζ_g ω_g) (e^-30 ≈ 1e-13)
@@ -70,6 +70,9 @@ def grid_step(duration: float, dt: float, nyquist: float | None = None) -> tuple
     if nyquist is not None:
         what += f", and below half the period, {nyquist:g} s"
     dt = number("dt", dt, what, lambda v: 0 < v <= duration and not (nyquist and v >= nyquist))
+    if duration / dt > MAX_OUTPUTS:  # (1e9 s was a MemoryError of 745 GiB)
+        raise ValueError(f"duration, dt: {duration / dt:.3g} samples; expected a record of at "
+                         f"most {MAX_OUTPUTS:.0e} samples")  # fmt: skip
     return duration, dt
 
 

@@ -95,6 +95,8 @@ def motion3_from_table(
     table: dict[str, Any], source: str = "<scene>"
 ) -> tuple[GroundMotion3 | HarmonicPlane, dict[str, float]]:
     """(excitation, duration keywords) of a ``[motion]`` table (see the module docstring)."""
+    if not isinstance(table, dict):  # (a text: AttributeError 'get')
+        raise TypeError(f"table: expected a [motion] table (a dict), got {type(table).__name__}")
     kind = table.get("kind")
     if kind == "record3":
         return _record3(table, source), {}

@@ -5,6 +5,7 @@ the trapezoidal rule and of interpolation, and properties over random records (h
 """
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
@@ -192,3 +193,25 @@ def test_until_cuts_at_an_absolute_end_and_refuses_an_end_within_the_first_step(
         with pytest.raises(ValueError, match=r"^t_end: expected an end at least one record step"):
             m.until(bad)
     assert m.until(10.01).n == 2
+
+
+def test_a_record_names_the_argument_it_cannot_use():
+    # each was an error from inside numpy or Python (or, for meta=None, one in a later run)
+    from nsdyn import GroundMotion3, motion3_from_table
+    from nsdyn.ground import modulated_white_noise
+
+    m = GroundMotion(0.0, 0.01, np.sin(0.1 * np.arange(100)))
+    for call, err, match in (
+        (lambda: m.window(None, 1.0), ValueError, r"^window: expected times"),
+        (lambda: m.baseline_corrected(order=1.5), ValueError, r"^order: expected a whole"),
+        (lambda: m.resampled("abc"), ValueError, r"^dt: expected a positive finite step"),
+        (lambda: GroundMotion(0.0, 0.01, [1.0, 2.0], meta=None), TypeError, r"^meta: expected"),
+        (lambda: GroundMotion3.from_planar(GroundMotion3(0.0, 0.01, [1.0, 2], [1.0, 2])),
+         TypeError, r"^motion: expected a planar GroundMotion"),
+        (lambda: motion3_from_table("x"), TypeError, r"^table: expected a \[motion\] table"),
+        # 1e11 samples: a MemoryError of 745 GiB
+        (lambda: modulated_white_noise(1e9), ValueError, r"^duration, dt: 1e\+11 samples"),
+    ):  # fmt: skip
+        with pytest.raises(err, match=match):
+            call()
+    assert m.window(0.5, math.inf).n == 50  # (an infinite end: the record's own)

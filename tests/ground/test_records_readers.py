@@ -5,6 +5,7 @@ factor), or exact identities (a written record reads back bit for bit).
 """
 
 import dataclasses
+import re
 import warnings
 from pathlib import Path
 
@@ -399,3 +400,56 @@ def test_a_scene_given_as_a_record_is_named_as_such(tmp_path):
     with pytest.raises(RecordFileError, match=r"s\.toml: a TOML file \(a scene or study\?\), "
                                               r"not a ground-motion record"):  # fmt: skip
         read_motion(scene)
+
+
+def test_a_row_with_a_trailing_comment_is_a_row_and_one_with_text_is_refused(tmp_path):
+    # "0,0.1 # first" was taken for a title: the first sample dropped (n 3, t0 0.01), while
+    # the same comment on a later row was refused
+    p = write(tmp_path, "c.csv", "time [s], acc [g]\n0,0.1 # first\n0.01,0.2 # peak\n0.02,-0.3\n")
+    m = read_motion(p)
+    assert (m.n, m.t0) == (3, 0.0)
+    np.testing.assert_array_equal(m.a_hor, np.array([0.1, 0.2, -0.3]) * G_STANDARD)
+    # a row of the table with text after its numbers: refused, naming its line
+    p = write(tmp_path, "x.csv", "0 0.1 x\n0.01 0.2\n0.02 -0.3\n0.03 0.05\n")
+    with pytest.raises(RecordFileError, match=r"x\.csv:1: expected numbers, found 'x'"):
+        read_motion(p)
+    # a title that begins with numbers stays a title (its 1995 is no step before 0)
+    p = write(tmp_path, "k.csv", "1995 6.9 Kobe #1\n0 0.1\n0.01 0.2\n0.02 -0.3\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UnitWarning)
+        assert read_motion(p).n == 3
+
+
+@pytest.mark.parametrize("unit", ["mg", "in/s2", "ft/s^2", "%g"])
+def test_a_column_unit_nsdyn_does_not_know_is_refused_not_read_as_si(tmp_path, unit):
+    # "a [in/s2]" was "the file does not state its units; assuming m/s²"
+    p = write(tmp_path, "u.csv", f"time [s], a [{unit}]\n0,0.1\n0.01,0.2\n0.02,-0.3\n")
+    with pytest.raises(UnitError, match=rf"u\.csv: column 'a' states units '{re.escape(unit)}'"):
+        read_motion(p)
+    assert read_motion(p, units="g").pga == pytest.approx(0.3 * G_STANDARD, rel=1e-15)
+
+
+def test_plain_utf8_is_read_as_utf8(tmp_path):
+    # written without a byte-order mark, "cm/s²" was read as Latin-1's "cm/sÂ²", no unit
+    p = tmp_path / "g.csv"
+    p.write_bytes("# units: cm/s²\n0 100\n0.01 -200\n0.02 50\n".encode())
+    m = read_motion(p)
+    assert m.meta["file_units"] == "cm/s2" and m.pga == 2.0  # 200 gal = 2 m/s² (0.01 exact)
+    motion = dataclasses.replace(m, name="Zürich ²")
+    assert read_motion(write_motion(motion, tmp_path / "z.csv")).name == "Zürich ²"
+
+
+def test_what_write_motion_writes_reads_back_or_is_refused(tmp_path):
+    from nsdyn.ground import GroundMotion
+
+    a = np.sin(0.1 * np.arange(50))
+    # stamps of t0 = 1e7 s every 1 ms repeated at 10 digits (the reader refused the file); a
+    # newline in the name began a line of data
+    for m in (GroundMotion(1e7, 1e-3, a), GroundMotion(0.0, 0.01, a, name="x\n0.5,99")):
+        r = read_motion(write_motion(m, tmp_path / "w.csv"))
+        assert (r.t0, r.dt, r.a_hor.tobytes()) == (m.t0, m.dt, m.a_hor.tobytes())
+    with pytest.raises(ValueError, match=r"^motion: a record of 1 sample; expected at least two"):
+        write_motion(GroundMotion(0.0, 0.01, a[:1]), tmp_path / "one.csv")
+    with pytest.raises(IsADirectoryError, match=r": a folder; expected the path of a file"):
+        write_motion(m, tmp_path)
+    assert not (tmp_path / "one.csv").exists()

@@ -247,14 +247,14 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         if not 2 * dt <= dur:
             raise SceneError(f"{source}: motion.dt: expected a step of at most half the "
                              f"duration ({dur:g} s), got {dt:g}")  # fmt: skip
-        try:  # (the noise's ordinates every 0.05 s sampled at a longer step: not drawn)
-            noise_step("modulated_white_noise", dur, dt)
-        except ValueError as e:
-            raise SceneError(f"{source}: motion.{e}") from None
         if dur / dt > MAX_OUTPUTS:
             raise SceneError(f"{source}: motion.duration: {dur / dt:.3g} samples of {dt:g} s "
                              f"exceed {MAX_OUTPUTS:.0e}; expected a shorter record or a "
                              "longer step")  # fmt: skip
+        try:  # (the noise's ordinates every 0.05 s sampled at a longer step: not drawn)
+            noise_step("modulated_white_noise", dur, dt)
+        except ValueError as e:
+            raise SceneError(f"{source}: motion.{e}") from None
         dt, ag = earthquake(seed, dur, dt, s0_units=units)
     if "pga" in mo:
         pga = number(source, "motion.pga", mo["pga"], allow_zero=True)  # 0: free vibration
