@@ -207,7 +207,7 @@ def run(args: argparse.Namespace) -> int:
     print("   #   f [Hz]   type      zeta")
     rows = zip(s["frequencies_hz"], s["mode_types"], s["damping_ratios"], strict=True)
     for k, (fk, t, z) in enumerate(rows):
-        print(f"  {k + 1:2d}  {fk:7.3f}   {t:8s}  {z:.3f}")
+        print(f"  {k + 1:2d}  {fk:7.4g}   {t:8s}  {z:.3f}")
     print(f"total mass M_s = {s['total_mass_kg']:.4g} kg")
     print(f"f_bis = sqrt({len(frame.base_nodes)} K_lam / M_s) / 2pi = {s['f_bis_hz']:.4g} Hz")
     print(f"  (K_lam = {s['k_lam_n_per_m']:g} N/m)")
@@ -263,7 +263,7 @@ def _run3d(args: argparse.Namespace) -> int:
     for k, (fk, fam) in enumerate(zip(s["frequencies_hz"], s["families"], strict=True)):
         fx, fy, ft = m.mass_fraction[k]
         z = s["damping_ratios"][k]
-        print(f"  {k + 1:2d}  {fk:7.3f}   {fam:9s} {fx:6.3f} {fy:6.3f} {ft:6.3f}  {z:.3f}")
+        print(f"  {k + 1:2d}  {fk:7.4g}   {fam:9s} {fx:6.3f} {fy:6.3f} {ft:6.3f}  {z:.3f}")
     print(f"total mass M_s = {s['total_mass_kg']:.4g} kg at x, y = {m.centre.round(3).tolist()} m")
     if "figure" in s:
         print(f"mode shapes: {s['figure']}")
