@@ -14,7 +14,7 @@ import math
 import os
 import re
 from dataclasses import dataclass
-from itertools import chain
+from itertools import chain, islice
 from pathlib import Path
 from typing import Any
 
@@ -164,8 +164,10 @@ def fields(s: str) -> list[str]:
 def _without_inline_comment(s: str) -> str:
     """A line that starts with a number without its trailing ``# ...`` comment (``0, 0.1 #
     first``: the first row was taken for a title and dropped, the next refused)."""
+    if "#" not in s:  # (first: every line of a file of millions passes here)
+        return s
     toks = fields(s)
-    if "#" not in s or not toks or not _is_float(toks[0]):
+    if not toks or not _is_float(toks[0]):
         return s
     return re.sub(r"(^|[\s,;])#.*$", "", s).strip()
 
@@ -179,7 +181,8 @@ def _row_with_text(toks: list[str], lines: list[tuple[int, str]], i: int) -> boo
         if not _is_float(t):
             break
         lead.append(to_float(t))
-    nxt = [fields(s) for _, s in lines[i + 1 :] if s and not is_comment(s)][:2]
+    after = islice(lines, i + 1, None)  # (no copy of the file's lines)
+    nxt = list(islice((fields(s) for _, s in after if s and not is_comment(s)), 2))
     if len(lead) < 2 or len(nxt) < 2 or any(len(r) != len(lead) for r in nxt):
         return False
     try:
