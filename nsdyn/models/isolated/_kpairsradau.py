@@ -327,7 +327,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         if n_end <= 0.0 and not tens:  # uplift (tension): the first λ_i = 0, dense output
             sa = 0.0
             sb = 1.0
-            while (sb - sa) * hh > kr.EVENT_TTOL:
+            while (sb - sa) * hh > kr.EVENT_TTOL and sa < 0.5 * (sa + sb) < sb:
                 sm = 0.5 * (sa + sb)
                 ka.tcall("pairs.dense", (y, Z, sm, ys))
                 kqr._ev(t + sm * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)

@@ -208,7 +208,7 @@ def locate_uplift(t, hh, sb, rc, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, o
     """First λ_i = 0 in (0, sb] of the step (DP5 dense output ``rc``); returns its fraction."""
     lam = out[1]
     sa = 0.0
-    while (sb - sa) * hh > kr.EVENT_TTOL:
+    while (sb - sa) * hh > kr.EVENT_TTOL and sa < 0.5 * (sa + sb) < sb:
         sm = 0.5 * (sa + sb)
         dp.dense_state(rc, sm, ys)
         _ev(t + sm * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out)
@@ -299,7 +299,7 @@ def locate_event(t, hh, rc, ys, y1, g0, g, ga, ge, modes, dirs, op, bp, sp, gk, 
             gvals(t + sb * hh, ys, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, g)
             nfev += 1
         if kr._crossed(g0, g):
-            while (sb - sa) * hh > kr.EVENT_TTOL:
+            while (sb - sa) * hh > kr.EVENT_TTOL and sa < 0.5 * (sa + sb) < sb:
                 sm = 0.5 * (sa + sb)
                 if fast:
                     gslip(rc, sm, ys, modes, dirs, op, sp, ws, ga)

@@ -80,7 +80,7 @@ def _locate_stops(t, hh, s_end, y, Z, ys, pos, bp, stops):
             d = kr._overshoot(ys, pos, bp, i)
             if d > 0.0:
                 stops[i, kr.P_PEAK] = max(stops[i, kr.P_PEAK], d)
-                while (sb - sa) * hh > kr.EVENT_TTOL:
+                while (sb - sa) * hh > kr.EVENT_TTOL and sa < 0.5 * (sa + sb) < sb:
                     sm = 0.5 * (sa + sb)
                     _dense(y, Z, sm, ys)
                     if kr._overshoot(ys, pos, bp, i) > 0.0:
@@ -353,7 +353,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         if n_end <= 0.0 and not tens:  # uplift (tension): the first N_i = 0, dense output
             sa = 0.0
             sb = 1.0
-            while (sb - sa) * hh > kr.EVENT_TTOL:
+            while (sb - sa) * hh > kr.EVENT_TTOL and sa < 0.5 * (sa + sb) < sb:
                 sm = 0.5 * (sa + sb)
                 _dense(y, Z, sm, ys)
                 kr._eval(t + sm * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)

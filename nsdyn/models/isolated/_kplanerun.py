@@ -444,7 +444,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
                 nfev += 1
                 if _crossed(g0, g):
                     event = True
-                    while (sb - sa) * hh > EVENT_TTOL:
+                    while (sb - sa) * hh > EVENT_TTOL and sa < 0.5 * (sa + sb) < sb:
                         sm = 0.5 * (sa + sb)
                         dp.dense_state(rc, sm, ys)
                         gvals(t + sm * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws,
@@ -467,7 +467,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             if n_cut <= 0.0 and not tens:  # uplift (tension): locate the first N_i = 0
                 sa = 0.0
                 sb = s_end
-                while (sb - sa) * hh > EVENT_TTOL:
+                while (sb - sa) * hh > EVENT_TTOL and sa < 0.5 * (sa + sb) < sb:
                     sm = 0.5 * (sa + sb)
                     dp.dense_state(rc, sm, ys)
                     _eval(t + sm * hh, ys, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws,

@@ -16,7 +16,9 @@ from nsdyn.models.isolated._kplane import MODE_FREE, MODE_SLIP, MODE_STICK, slip
 from nsdyn.models.isolated.bearings import B_DCAP
 
 P_TFIRST, P_PEAK, P_NSTEPS = range(3)  # stop table columns (one row per isolator)
-EVENT_TTOL = 1e-11  # s, width of a located event bracket (every event of the loops)
+# s, width of a located event bracket (every event of the loops); a bisection also ends where
+# the bracket's midpoint rounds onto an end (a step of 1e6 s never narrowed below 2e-10 s)
+EVENT_TTOL = 1e-11
 SAMPLES = 4  # dense-output samples per step scanned for a sign change
 
 
@@ -54,7 +56,7 @@ def locate_stops(t, hh, s_end, rc, ys, pos, bp, stops):
             d = overshoot(ys, pos, bp, i)
             if d > 0.0:
                 stops[i, P_PEAK] = max(stops[i, P_PEAK], d)
-                while (sb - sa) * hh > EVENT_TTOL:
+                while (sb - sa) * hh > EVENT_TTOL and sa < 0.5 * (sa + sb) < sb:
                     sm = 0.5 * (sa + sb)
                     dp.dense_state(rc, sm, ys)
                     if overshoot(ys, pos, bp, i) > 0.0:

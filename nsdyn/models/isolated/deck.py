@@ -34,7 +34,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import got_array, number, output_step, output_times, rel_tol
+from nsdyn._checks import (
+    finite_numbers,
+    got_array,
+    number,
+    output_step,
+    output_times,
+    rel_tol,
+)
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplaneradau as krad
@@ -48,6 +55,7 @@ from nsdyn.models.isolated.bearings import (
     bearing_warnings,
 )
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
+from nsdyn.models.isolated.plane_ground import orbit_of, pack_ground  # noqa: F401 (their home)
 from nsdyn.models.isolated.plane_result import PlaneResult
 from nsdyn.models.isolated.tfp import N_INTERNAL, TripleBearing
 from nsdyn.models.isolated.tolerances import arctan_atol
@@ -56,6 +64,7 @@ PLANE_LAWS = ("switch", "arctan")  # the switch law with a stick disc; the regul
 # the contact assumptions of the planar family (system.CONTACTS) that these systems run
 PLANE_CONTACTS = {"detect": kp.CONTACT_DETECT, "bilateral": kp.CONTACT_BILATERAL}
 COLLINEAR_RTOL = 1e-9  # G's smallest/largest eigenvalue below this: isolators on one line
+PLAN_MAX = 1e6  # [m] isolator positions within 1000 km of O (1e200 overflowed G)
 # default absolute tolerances (displacement [m], velocity [m/s]) per law. The switch law
 # locates stick at v = 0 and keeps 1e-8. The regularised law's velocity tolerance is the planar
 # family's (tolerances.RUN_ATOL): on the benchmark deck under the 40 s three-component record
@@ -89,10 +98,21 @@ class PlaneSystem:
             if not (real and math.isfinite(v) and v > 0):
                 raise BearingError(f"{self.name}.{k}: expected a positive number, got {v!r}")
             object.__setattr__(self, k, float(v))
-        pos = np.asarray(self.positions, dtype=float)
-        if pos.ndim != 2 or pos.shape[1] != 2 or pos.shape[0] < 1 or not np.all(np.isfinite(pos)):
-            raise BearingError(f"{self.name}.positions: expected finite (X, Y) pairs [m], "
-                               f"got {got_array(pos, (None, 2))}")  # fmt: skip
+        try:  # (text or a dict: numpy's conversion error)
+            pos = np.asarray(self.positions, dtype=float)
+        except (TypeError, ValueError):
+            pos = np.empty(0)
+        if (
+            pos.ndim != 2
+            or pos.shape[1] != 2
+            or pos.shape[0] < 1
+            or not np.all(np.abs(pos) <= PLAN_MAX)
+        ):  # fmt: skip  (NaN too)
+            far = pos.ndim == 2 and pos.shape[1:] == (2,) and np.all(np.isfinite(pos))
+            got = (f"{np.abs(pos).max():g} m" if far and pos.size else got_array(pos, (None, 2))
+                   if pos.size else repr(self.positions)[:80])  # fmt: skip
+            raise BearingError(f"{self.name}.positions: expected (X, Y) pairs [m] within "
+                               f"{PLAN_MAX:g} m, got {got}")  # fmt: skip
         object.__setattr__(self, "positions", pos)
         _, first, count = np.unique(pos, axis=0, return_index=True, return_counts=True)
         if np.any(count > 1):
@@ -108,14 +128,17 @@ class PlaneSystem:
         for b in self.bearings:
             if not isinstance(b, Bearing):
                 raise BearingError(f"{self.name}.bearings: expected Bearing, got {b!r}")
-        if not (math.isfinite(self.h) and self.h >= 0):
-            raise BearingError(f"{self.name}.h: expected a non-negative height, got {self.h!r}")
-        if len(self.ecc) != 2 or not all(math.isfinite(float(e)) for e in self.ecc):
-            raise BearingError(f"{self.name}.ecc: expected (e_x, e_y) [m], got {self.ecc!r}")
-        if len(self.bearings) == 1 and any(float(e) != 0.0 for e in self.ecc):
+        try:  # (text, None, True, a number for ecc: a TypeError from inside)
+            h = number(f"{self.name}.h", self.h, "a non-negative height [m]", lambda v: v >= 0)
+            ecc = tuple(finite_numbers(f"{self.name}.ecc", self.ecc, "(e_x, e_y) [m]", 2).tolist())
+        except ValueError as e:
+            raise BearingError(str(e)) from None
+        object.__setattr__(self, "h", h)
+        object.__setattr__(self, "ecc", ecc)
+        if len(self.bearings) == 1 and ecc != tuple(pos[0].tolist()):  # (it twisted 0.4 rad)
             raise BearingError(f"{self.name}.ecc: a deck on one isolator stands on it alone: "
-                               "expected its centre of mass over it (ecc = [0, 0]), got "
-                               f"{list(self.ecc)}")  # fmt: skip
+                               f"expected its centre of mass over it (ecc = {pos[0].tolist()}, "
+                               f"the isolator's position), got {list(ecc)}")  # fmt: skip
         nd = self.normal_distribution()
         n0 = self.static_normal(nd)
         if np.any(n0 <= 0):
@@ -171,15 +194,20 @@ class PlaneSystem:
         ni = pos.shape[0]
         if ni == 1:
             return np.array([[1.0, 0.0, 0.0]])
-        P = np.column_stack([np.ones(ni), pos])
-        G = P.T @ P
-        w = np.linalg.eigvalsh(G)
+        # about the isolators' centroid c, scaled by their extent s (far from O, G's eigenvalues
+        # in O's coordinates told a 20 m deck 1 km away collinear): P = Pc A, G⁻¹ = A⁻¹ Gc⁻¹ A⁻ᵀ
+        c = pos.mean(axis=0)
+        s = max(float(np.abs(pos - c).max()), 1e-300)
+        Pc = np.column_stack([np.ones(ni), (pos - c) / s])
+        Gc = Pc.T @ Pc
+        w = np.linalg.eigvalsh(Gc[1:, 1:])
         if ni == 2 or w[0] <= COLLINEAR_RTOL * w[-1]:
             raise BearingError(
                 f"{self.name}.positions: the isolators lie on one line; a deck needs one "
                 "isolator or at least three not on one line"
             )
-        return P @ np.linalg.inv(G)
+        A_inv = np.array([[1.0, -c[0], -c[1]], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+        return Pc @ np.linalg.inv(Gc) @ np.diag([1.0, 1 / s, 1 / s]) @ A_inv.T
 
     def static_normal(self, nd: np.ndarray | None = None) -> np.ndarray:
         """Normal forces at rest [N]."""
@@ -217,120 +245,14 @@ def rigid_deck(
     name: str = "deck",
 ) -> PlaneSystem:
     """A rigid deck on isolators at ``positions`` (one ``Bearing`` for all, or one each)."""
-    pos = np.asarray(positions, dtype=float)
+    n = np.shape(positions)[0] if np.ndim(positions) == 2 else 1
     if isinstance(bearings, Bearing):
-        bearings = (bearings,) * (pos.shape[0] if pos.ndim == 2 else 1)
+        bearings = (bearings,) * n
     elif not (isinstance(bearings, list | tuple) and all(isinstance(b, Bearing) for b in bearings)):
         raise TypeError(f"bearings: expected a Bearing (Bearing(Friction(mu), radius=R)) or one "
                         f"per position, got {type(bearings).__name__}")  # fmt: skip
-    return PlaneSystem(m=m, J=J, positions=pos, bearings=tuple(bearings), ecc=tuple(ecc), h=h,
+    return PlaneSystem(m=m, J=J, positions=positions, bearings=tuple(bearings), ecc=ecc, h=h,
                        g=g, name=name)  # fmt: skip
-
-
-def _attr(obj, name, default=None):
-    if isinstance(obj, dict):
-        return obj.get(name, default)
-    return getattr(obj, name, default)
-
-
-def orbit_of(d: dict):
-    """A harmonic orbit given as a dict: ``HarmonicPlane(**d)``, its defaults (φ_y = 90°) and
-    checks, an unknown key refused with the nearest field's name."""
-    import dataclasses
-
-    from nsdyn._checks import did_you_mean
-    from nsdyn.ground.orbit import HarmonicPlane
-
-    names = [f.name for f in dataclasses.fields(HarmonicPlane)]
-    for k in d:
-        if k not in names:
-            hint = did_you_mean(str(k), names)
-            raise ValueError(f"harmonic orbit: {k!r}: no such field{hint} (the fields of "
-                             f"nsdyn.HarmonicPlane: {', '.join(names)})")  # fmt: skip
-    try:
-        return HarmonicPlane(**{"ax": 0.0, **d})  # a dict may leave out a component
-    except ValueError as e:
-        raise ValueError(f"harmonic orbit: {str(e).removeprefix('HarmonicPlane.')}") from None
-
-
-def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
-    """(kind, gp, table (3, n), duration) of a ground description.
-
-    ``ground``: an object with ``t0, dt, ax, ay, az`` (a three-component record, az may be
-    None), a harmonic orbit with ``f, ax, ay, phase_y_deg, az, f_z, phase_z_deg`` (object, or
-    dict read as ``HarmonicPlane(**dict)`` with its defaults and checks; a_x = A_x sin ωt,
-    a_y = A_y sin(ωt + φ_y), a_z = A_z sin(ω_z t + φ_z), checked against its ``accel(t)``
-    when it has one), or raw arrays ``(t0, dt, ax, ay, az)``.
-    """
-    gp = np.zeros(kp.N_GP)
-    gp[kp.GP_DT] = 1.0
-    if isinstance(ground, dict) and "f" in ground:
-        ground = orbit_of(ground)
-    if isinstance(ground, tuple):
-        if len(ground) != 5:
-            raise ValueError(f"ground: raw arrays are (t0, dt, ax, ay, az) (ay, az may be "
-                             f"None), got a tuple of {len(ground)}")  # fmt: skip
-        t0, dt, ax, ay, az = ground
-        ground = {"t0": t0, "dt": dt, "ax": ax, "ay": ay, "az": az}
-    if _attr(ground, "f") is not None:
-
-        def num(name, default):
-            v = _attr(ground, name, default)
-            v = default if v is None else v
-            if isinstance(v, bool) or not isinstance(v, int | float | np.integer | np.floating):
-                raise ValueError(f"harmonic orbit: {name}: expected a number, got {v!r}")
-            return float(v)
-
-        f = num("f", 0.0)
-        vals = [f, num("ax", 0.0), num("ay", 0.0), math.radians(num("phase_y_deg", 0.0)),
-                num("az", 0.0), num("f_z", f), math.radians(num("phase_z_deg", 0.0))]  # fmt: skip
-        for k, v in zip((kp.GP_F, kp.GP_AX, kp.GP_AY, kp.GP_PHY, kp.GP_AZ, kp.GP_FZ, kp.GP_PHZ),
-                        vals, strict=True):  # fmt: skip
-            gp[k] = v
-        if not (np.all(np.isfinite(gp)) and f > 0 and gp[kp.GP_FZ] > 0):
-            raise ValueError(f"harmonic orbit: expected f, f_z > 0 and finite amplitudes, got "
-                             f"{vals}")  # fmt: skip
-        tab = np.zeros((3, 0))
-        if hasattr(ground, "accel"):  # the orbit's own definition must match the kernel's
-            ag = np.zeros(3)
-            for t in np.linspace(0.0, 1.0 / f, 7)[1:]:
-                kp.ground(float(t), kp.G_HARMONIC, gp, tab, ag)
-                ref = np.asarray(ground.accel(float(t)), dtype=float).ravel()[:3]
-                if not np.allclose(
-                    ag[: ref.size], ref, rtol=1e-12, atol=1e-12 * (1 + np.abs(ref).max())
-                ):
-                    raise ValueError(f"harmonic orbit: accel({t:g}) = {ref} differs from the "
-                                     f"kernel's form {ag} (phase convention)")  # fmt: skip
-        return kp.G_HARMONIC, gp, tab, math.inf
-    if isinstance(ground, dict) and "dt" not in ground:  # (an orbit without its frequency?)
-        raise TypeError(f"ground: a dict is a harmonic orbit, which needs 'f' [Hz] (with ax, ay, "
-                        f"...), or a record, which needs 't0', 'dt' and 'ax'; got keys "
-                        f"{sorted(ground)}")  # fmt: skip
-    if _attr(ground, "ax") is None or _attr(ground, "dt") is None:
-        raise TypeError(
-            "ground: expected a three-component record (t0, dt, ax, ay, az), a "
-            f"harmonic orbit (f, ax, ay, ...) or raw arrays, got {type(ground).__name__}"
-        )
-    ax = np.asarray(_attr(ground, "ax"), dtype=float)
-    n = ax.size
-    if n < 2:
-        raise ValueError(f"ground.ax: expected a record of two samples or more, got {n}")
-    rows = []
-    for name in ("ax", "ay", "az"):
-        a = _attr(ground, name)
-        a = np.zeros(n) if a is None else np.asarray(a, dtype=float)
-        if a.shape != (n,):
-            raise ValueError(f"ground.{name}: expected {n} samples (as ax), got shape {a.shape}")
-        if not np.all(np.isfinite(a)):
-            bad = int(np.flatnonzero(~np.isfinite(a))[0])
-            raise ValueError(f"ground.{name}: sample {bad} is {a[bad]}; expected finite values")
-        rows.append(a)
-    dt = float(_attr(ground, "dt"))
-    if not (math.isfinite(dt) and dt > 0):
-        raise ValueError(f"ground.dt: expected a positive time step, got {dt}")
-    gp[kp.GP_T0] = float(_attr(ground, "t0", 0.0) or 0.0)
-    gp[kp.GP_DT] = dt
-    return kp.G_TABLE, gp, np.ascontiguousarray(np.vstack(rows)), (n - 1) * dt
 
 
 def contact_code(contact: str, unilateral: bool = False) -> int:
@@ -410,10 +332,10 @@ def _check_run_options(rtol, atol, max_step, max_steps) -> None:
     except (TypeError, ValueError):
         raise ValueError(f"atol: expected (displacement [m], velocity [m/s]), got "
                          f"{atol!r}") from None  # fmt: skip
-    if not all(math.isfinite(a) and a >= 0 for a in (aq, av)):
-        raise ValueError(f"atol: expected two non-negative numbers, got {atol!r}")
-    if max_step is not None and not (math.isfinite(max_step) and max_step > 0):
-        raise ValueError(f"max_step: expected a positive step [s], got {max_step!r}")
+    if not all(math.isfinite(a) and a > 0 for a in (aq, av)):  # (0: NaN from the error norm
+        raise ValueError(f"atol: expected two positive numbers, got {atol!r}")  # of a rest)
+    if max_step is not None:
+        number("max_step", max_step, "a positive step [s]", lambda v: v > 0)
     if not (isinstance(max_steps, int | np.integer) and max_steps >= 1):
         raise ValueError(f"max_steps: expected a positive integer, got {max_steps!r}")
 
@@ -514,6 +436,9 @@ def simulate_plane(
     ``progress(t_done, t_end, wall_s)``: called every few seconds of wall time while the
     compiled loop runs (:func:`nsdyn._progress.watched`; a Ctrl-C stops the wait at once).
     """
+    if not isinstance(system, PlaneSystem):  # (None: an AttributeError 'm')
+        raise TypeError(f"system: expected a PlaneSystem (rigid_deck(...) or sdof_plane(...)), "
+                        f"got {type(system).__name__}")  # fmt: skip
     if integrator not in ("auto", "dopri5", "radau"):
         raise ValueError(f"integrator: expected 'auto', 'dopri5' or 'radau', got {integrator!r}")
     if integrator == "radau" and law == "switch":
@@ -536,7 +461,10 @@ def simulate_plane(
     ni = system.n_isolators
     nt = t_eval.size
     ns = getattr(system, "n_states", 6)
-    y = np.zeros(6) if y0 is None else np.ascontiguousarray(y0, dtype=float).copy()
+    try:  # (text: numpy's conversion error)
+        y = np.zeros(6) if y0 is None else np.ascontiguousarray(y0, dtype=float).copy()
+    except (TypeError, ValueError):
+        y = np.empty(0)
     if y.shape not in ((6,), (ns,)) or not np.all(np.isfinite(y)):
         raise ValueError(f"y0: expected six finite numbers [x, y, theta, vx, vy, omega] (or "
                          f"{ns} with the internal slips), got {y0!r}")  # fmt: skip

@@ -117,6 +117,66 @@ def test_bad_decks_are_refused_with_the_field_named():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         rigid_deck(1e4, 1e4, POS[:4], b, ecc=(1.5, 1.0))  # inside the kern: accepted
+    # one isolator at (5, 5) under a centre of mass at O: it ran, twisting 0.4 rad
+    with pytest.raises(BearingError, match=r"deck.ecc: a deck on one isolator stands on it "
+                                           r"alone: expected .*\(ecc = \[5.0, 5.0\]"):  # fmt: skip
+        rigid_deck(1e4, 1e4, [(5.0, 5.0)], b)
+    assert rigid_deck(1e4, 1e4, [(5.0, 5.0)], b, ecc=(5.0, 5.0)).n_isolators == 1
+    for kw, field in (
+        ({"h": "1"}, "h"),
+        ({"h": True}, "h"),
+        ({"ecc": None}, "ecc"),
+        ({"ecc": 0.5}, "ecc"),
+    ):  # fmt: skip  (TypeErrors from inside before)
+        with pytest.raises(BearingError, match=rf"^deck\.{field}: expected"):
+            rigid_deck(1e4, 1e4, POS[:4], b, **kw)
+    with pytest.raises(
+        BearingError,
+        match=r"deck.positions: expected .* within 1e\+06 m, got "
+        r"1e\+200 m",
+    ):  # fmt: skip  (a LinAlgError)
+        rigid_deck(1e4, 1e4, [(1e200, 0.0), (0.0, 1e200), (0.0, 0.0)], b)
+
+
+def test_a_deck_far_from_its_origin_carries_its_weight_as_at_the_origin():
+    # the rigid-plate distribution depends on the positions about the centre of mass only: the
+    # deck 1 km from O has the normal forces it has at O (it was refused as collinear: G's
+    # eigenvalues in O's coordinates span 1e-10); round-off of the 3 x 3 solve at 1 km scale
+    b = Bearing(Friction(0.05), radius=2.0)
+    near = rigid_deck(1e4, 1e4, POS, b, ecc=(0.6, -0.4))
+    far = rigid_deck(1e4, 1e4, [(x + 1e3, y + 1e3) for x, y in POS], b, ecc=(1e3 + 0.6, 1e3 - 0.4))
+    np.testing.assert_allclose(far.static_normal(), near.static_normal(), rtol=0,
+                               atol=1e3 * 1e4 * G * np.finfo(float).eps * 100)  # fmt: skip
+    assert near.static_normal().sum() == pytest.approx(1e4 * G, rel=1e-14)
+
+
+def test_a_ground_the_run_cannot_read_is_named():
+    # a misspelt key ran without its component; a NaN start was blamed on t_end; atol = 0 ran
+    # to "NaN or inf in the state"; no system was an AttributeError
+    d = rigid_deck(1e4, 1e4, POS[:4], Bearing(Friction(0.05), radius=2.0))
+    a = np.sin(0.1 * np.arange(50))
+    for ground, kw, match in (
+        ({"t0": 0.0, "dt": 0.01, "ax": a, "ayy": a}, {}, r"^ground: 'ayy': no field of a record; "
+                                                         r"did you mean 'ay'\?"),
+        ((math.nan, 0.01, a, None, None), {}, r"^ground\.t0: expected a finite start time"),
+        ((0.0, 0.01, "abc", None, None), {}, r"^ground\.ax: expected accelerations"),
+        ((0.0, 0.01, a, None, None), {"atol": (0.0, 0.0)}, r"^atol: expected two positive"),
+        ((0.0, 0.01, a, None, None), {"max_step": "0.01"}, r"^max_step: expected a positive"),
+    ):  # fmt: skip
+        with pytest.raises(ValueError, match=match):
+            simulate_plane(d, ground, **kw)
+    with pytest.raises(TypeError, match=r"^system: expected a PlaneSystem"):
+        simulate_plane(None, (0.0, 0.01, a, None, None))
+
+
+def test_a_record_of_huge_steps_ends_at_the_step_budget_not_in_a_hang():
+    # a step of 1e10 s: the events' bisections could not narrow their bracket below a
+    # double's spacing times the step (2e-16 * 1e6 s > 1e-11 s) and never ended
+    from nsdyn.models.isolated.plane_result import PlaneIntegrationError
+
+    d = rigid_deck(2e6, 9e7, POS[:4], Bearing(Friction(0.04), radius=2.2))
+    with pytest.raises(PlaneIntegrationError, match=r"too many steps before t = "):
+        simulate_plane(d, (0.0, 1e10, np.sin(0.1 * np.arange(201)), None, None), max_steps=2000)
 
 
 @pytest.mark.parametrize("law", ["switch", "arctan"])
