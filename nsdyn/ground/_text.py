@@ -172,6 +172,28 @@ def _without_inline_comment(s: str) -> str:
     return re.sub(r"(^|[\s,;])#.*$", "", s).strip()
 
 
+def _next_rows(lines: list[tuple[int, str]], i: int, k: int) -> list[list[str]]:
+    """The fields of the ``k`` lines after line ``i`` that are neither empty nor comments, each
+    without its trailing comment (read without a copy of the file's lines)."""
+    after = islice(lines, i + 1, None)
+    kept = (_without_inline_comment(s) for _, s in after if s and not is_comment(s))
+    return [fields(s) for s in islice(kept, k)]
+
+
+def _all_numbers(toks: list[str]) -> bool:
+    return bool(toks) and all(_is_float(t) for t in toks)
+
+
+def _commented_row(s: str, lines: list[tuple[int, str]], i: int) -> bool:
+    """Line ``i`` (``s``) is the table's first row with a trailing comment: its numbers before
+    the ``#`` as many as the next line's (a title "2 # components" above rows of two is none)."""
+    row = _without_inline_comment(s)
+    if row == s or not _all_numbers(toks := fields(row)):
+        return False
+    nxt = _next_rows(lines, i, 1)
+    return bool(nxt) and _all_numbers(nxt[0]) and len(nxt[0]) == len(toks)
+
+
 def _row_with_text(toks: list[str], lines: list[tuple[int, str]], i: int) -> bool:
     """Line ``i`` (``toks``) is a row of the table below with text after its numbers (``0 0.1
     x``): two or more numbers first, as many as each of the next two lines holds, and its
@@ -181,8 +203,7 @@ def _row_with_text(toks: list[str], lines: list[tuple[int, str]], i: int) -> boo
         if not _is_float(t):
             break
         lead.append(to_float(t))
-    after = islice(lines, i + 1, None)  # (no copy of the file's lines)
-    nxt = list(islice((fields(s) for _, s in after if s and not is_comment(s)), 2))
+    nxt = _next_rows(lines, i, 2)
     if len(lead) < 2 or len(nxt) < 2 or any(len(r) != len(lead) for r in nxt):
         return False
     try:
@@ -196,7 +217,7 @@ def _row_with_text(toks: list[str], lines: list[tuple[int, str]], i: int) -> boo
 def parse_table(text: str, source: str) -> Table:
     """A header (comment lines, title lines, a line of column names) and then rows of numbers,
     every row with as many as the first; a row's trailing ``# ...`` comment is dropped."""
-    lines = [(n, _without_inline_comment(s)) for n, s in numbered(text)]
+    lines = numbered(text)
     header: list[str] = []
     names: list[str] | None = None
     units: list[str | None] | None = None
@@ -213,6 +234,9 @@ def parse_table(text: str, source: str) -> Table:
                                   f"commas in {s!r} (fields split by tabs, spaces or ';', each "
                                   "with one ',' inside); save the file with '.' as the decimal "
                                   "separator")  # fmt: skip
+        if _commented_row(s, lines, i):  # ("0, 0.1 # first": a title before, the row lost)
+            first = i
+            break
         toks = fields(s)
         try:
             for tok in toks:
@@ -234,7 +258,7 @@ def parse_table(text: str, source: str) -> Table:
     if first is None:
         last_line = lines[-1][0] if lines else 0
         raise RecordFileError(source, max(last_line, 1), "expected numeric data, found none")
-    rows = lines[first:]
+    rows = [(n, _without_inline_comment(s)) for n, s in lines[first:]]
     data, linenos = _rows_at_once(rows)
     if data is None:
         data, linenos = _rows(rows, source)

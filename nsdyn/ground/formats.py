@@ -272,12 +272,15 @@ def parse_table_motion(
 
 
 # a bracket's word that is meant as a unit nsdyn does not know (not a label such as "a(t)",
-# "acc (NS)"): a rate's slash or power, a percentage, or a length or milli-g
+# "acc (N/S)"): a rate per second, a percentage of g, or a length or milli-g
 _UNIT_WORDS = {"mg", "ug", "µg", "milli-g", "mgal", "m", "cm", "mm", "in", "ft", "km"}
 
 
 def _unit_like(word: str) -> bool:
-    return bool(re.search(r"[/^%²]", word)) or word.strip().lower() in _UNIT_WORDS
+    """A rate per second (in/s2, ft/s^2, m/s/s: a lower-case s, not the N/S of a direction), a
+    percentage of g, or one of :data:`_UNIT_WORDS`."""
+    rate = re.search(r"/\s*s(ec)?\b|s\^?2\b|s²|%\s*g", word)
+    return bool(rate) or word.strip().lower() in _UNIT_WORDS
 
 
 def _stated_units(tab, header, hcol: int, vcol: int | None, source: str, given) -> tuple:
@@ -287,17 +290,18 @@ def _stated_units(tab, header, hcol: int, vcol: int | None, source: str, given) 
     stating different units is an error naming both, unless the caller ``given`` units."""
     cols = [hcol] if vcol is None else [hcol, vcol]
     own: list[str | None] = []
+    known = header is not None and not header.startswith(UNKNOWN_UNITS)
     for j in cols:
         word = tab.units[j] if tab.units is not None else None
         try:
             own.append(unit_factor(word)[0] if word is not None else None)
         except ValueError:
-            if given is None and _unit_like(word):  # (read as m/s², "units not stated")
+            # (read as m/s², "units not stated"; under a header's units a label: "acc (E/W)")
+            if given is None and header is None and _unit_like(word):
                 raise UnitError(f"{source}: column {tab.names[j]!r} states units {word!r}, "
                                 "which nsdyn does not know; expected g, gal (cm/s2) or m/s2 "
                                 f"(or give them: {UNITS_HINT})") from None  # fmt: skip
             own.append(None)
-        known = header is not None and not header.startswith(UNKNOWN_UNITS)
         if given is None and known and own[-1] is not None and own[-1] != header:
             raise RecordFileError(source, None, f"column {tab.names[j]!r} states units "
                                   f"{tab.units[j]!r} but the header states {header!r}; "

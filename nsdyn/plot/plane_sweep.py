@@ -41,9 +41,13 @@ def plane_sweep_figure(results: list[dict], title: str = ""):
             ax.axvline(fail["f"], color=col, lw=0.6, ls=":")
         s = np.array([x["stick_fraction"] for x in rows], dtype=float)
         ax2.semilogx(f, s, ".-", color=col, lw=0.8)
-    if not any(np.nanmax([x["u_peak_m"] or 0.0 for x in r["rows"]] + [0.0]) > 0 for r in results):
-        ax.set_yscale("linear")  # (every orbit stuck: no slip to draw on a log axis)
-        ax.text(0.5, 0.75, "no slip: every orbit sticks", transform=ax.transAxes, ha="center")
+    peaks = [x["u_peak_m"] for r in results for x in r["rows"] if x["converged"]]
+    peaks = np.array([np.nan if u is None else u for u in peaks], dtype=float)
+    finite = peaks[np.isfinite(peaks)]
+    if not np.any(finite > 0):  # (nothing to draw on a log axis: matplotlib warned)
+        ax.set_yscale("linear")
+        if finite.size:  # every orbit found stuck (none found: no word of sticking)
+            ax.text(0.5, 0.75, "no slip: every orbit sticks", transform=ax.transAxes, ha="center")
     ax.set_ylabel("peak resultant |u| [m]")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)

@@ -13,6 +13,7 @@ Every error is one line naming the file, the dotted field and the expected form
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -327,8 +328,10 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
             zeta=zeta,
             diaphragms=tuple(dias),
         )
-    except ValueError as exc:
-        raise FrameFileError(f"{rd.file}: {TABLE}: {exc}", TABLE) from None
+    except ValueError as exc:  # (an element by the file's name: frame3d.members[1].elements[0])
+        msg = re.sub(r"\belements\[(\d+)\]", lambda m: names[int(m.group(1))], str(exc))
+        raise FrameFileError(f"{rd.file}: {msg if msg != str(exc) else f'{TABLE}: {exc}'}",
+                             TABLE) from None  # fmt: skip
 
 
 def frame3d_from_dict(data: Mapping, file: str = "<dict>") -> Frame3D:

@@ -203,7 +203,8 @@ def check_stiffness_span(terms: dict, element_name=lambda k: f"elements[{k}]") -
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
         span = T[hi] / T[lo]
     if not span <= SPAN_MAX:
-        of = f"the {names[lo[0]]} of element {lo[1]}" if hi[1] != lo[1] else f"its {names[lo[0]]}"
+        of = (f"the {names[lo[0]]} of {element_name(int(lo[1]))}" if hi[1] != lo[1]
+              else f"its {names[lo[0]]}")  # fmt: skip
         said = (f"= {T[hi]:.3g} N/m is {span:.2g} times" if np.isfinite(span) else
                 f"= {T[hi]:.3g} N/m overflows or underflows double precision beside")  # fmt: skip
         raise ValueError(f"{element_name(int(hi[1]))}: its {names[hi[0]]} {said} {of} "

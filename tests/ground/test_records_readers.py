@@ -413,11 +413,13 @@ def test_a_row_with_a_trailing_comment_is_a_row_and_one_with_text_is_refused(tmp
     p = write(tmp_path, "x.csv", "0 0.1 x\n0.01 0.2\n0.02 -0.3\n0.03 0.05\n")
     with pytest.raises(RecordFileError, match=r"x\.csv:1: expected numbers, found 'x'"):
         read_motion(p)
-    # a title that begins with numbers stays a title (its 1995 is no step before 0)
-    p = write(tmp_path, "k.csv", "1995 6.9 Kobe #1\n0 0.1\n0.01 0.2\n0.02 -0.3\n")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UnitWarning)
-        assert read_motion(p).n == 3
+    # a title that begins with numbers stays a title (its 1995 is no step before 0), and so
+    # does one whose numbers before its comment are fewer than a row's
+    for title in ("1995 6.9 Kobe #1", "2 # components", "1995 #3 Kobe record"):
+        p = write(tmp_path, "k.csv", f"{title}\n0 0.1\n0.01 0.2\n0.02 -0.3\n")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UnitWarning)
+            assert read_motion(p).n == 3, title
 
 
 @pytest.mark.parametrize("unit", ["mg", "in/s2", "ft/s^2", "%g"])
@@ -427,6 +429,13 @@ def test_a_column_unit_nsdyn_does_not_know_is_refused_not_read_as_si(tmp_path, u
     with pytest.raises(UnitError, match=rf"u\.csv: column 'a' states units '{re.escape(unit)}'"):
         read_motion(p)
     assert read_motion(p, units="g").pga == pytest.approx(0.3 * G_STANDARD, rel=1e-15)
+
+
+@pytest.mark.parametrize("label", ["E/W", "N/S", "H1/H2"])
+def test_a_direction_in_a_column_name_is_a_label_not_a_unit(tmp_path, label):
+    # under a header's units the bracket names the direction: read as g, as before
+    p = write(tmp_path, "d.csv", f"# units: g\ntime, acc ({label})\n0 0.1\n0.01 0.2\n0.02 -0.3\n")
+    assert read_motion(p).pga == pytest.approx(0.3 * G_STANDARD, rel=1e-15)
 
 
 def test_plain_utf8_is_read_as_utf8(tmp_path):

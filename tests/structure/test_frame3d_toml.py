@@ -289,17 +289,18 @@ def test_3d_member_stiffnesses_beyond_double_precision_are_refused(tmp_path):
     # N/m beside a 4 m column's EA/L = 2.1e11 * 0.0149 / 4 = 7.82e8 N/m spans 4.1e21 > 1/eps
     p = tmp_path / "p.toml"
     p.write_text(PORTAL.replace("J = 5.108e-7", "J = 5.108e-22"))
-    with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: frame3d: elements\[0\]: "
-                       r"its EA/L = 7\.82e\+08 N/m is 4\.1e\+21 times the GJ/L³ of element 4 "
-                       r"\(1\.91e-13 N/m\)"):  # fmt: skip
+    # (named as the file names them: a column of members[0], the first beam of members[1])
+    with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: frame3d\.members\[0\]\."
+                       r"elements\[0\]: its EA/L = 7\.82e\+08 N/m is 4\.1e\+21 times the GJ/L³ "
+                       r"of frame3d\.members\[1\]\.elements\[0\] \(1\.91e-13 N/m\)"):  # fmt: skip
         load_frame3d(p)
     # I_y = 1e300 m⁴: 12EI_y/L³ = 12 * 2.1e11 * 1e300 / 4³ overflows to inf (numpy's overflow
     # warnings, then "array must not contain infs or NaNs" naming no field)
     p.write_text(PORTAL.replace("I_y = 2.517e-4", "I_y = 1e300"))
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        with pytest.raises(FrameFileError, match=r": frame3d: elements\[0\]: its 12EI_y/L³ = inf "
-                           "N/m overflows or underflows double precision beside"):  # fmt: skip
+        with pytest.raises(FrameFileError, match=r": frame3d\.members\[0\]\.elements\[0\]: "
+                           "its 12EI_y/L³ = inf N/m overflows or underflows"):  # fmt: skip
             load_frame3d(p)
 
 

@@ -135,7 +135,8 @@ class PlaneSystem:
             raise BearingError(str(e)) from None
         object.__setattr__(self, "h", h)
         object.__setattr__(self, "ecc", ecc)
-        if len(self.bearings) == 1 and ecc != tuple(pos[0].tolist()):  # (it twisted 0.4 rad)
+        off = np.abs(np.array(ecc) - pos[0]).max() > 1e-9 * max(1.0, np.abs(pos[0]).max())
+        if len(self.bearings) == 1 and off:  # (it twisted 0.4 rad; 0.1 + 0.2 is 0.3 here)
             raise BearingError(f"{self.name}.ecc: a deck on one isolator stands on it alone: "
                                f"expected its centre of mass over it (ecc = {pos[0].tolist()}, "
                                f"the isolator's position), got {list(ecc)}")  # fmt: skip
