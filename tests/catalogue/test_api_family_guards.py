@@ -25,7 +25,7 @@ PULSE = nsdyn.one_sine(3.924, 4 * math.pi)
 @pytest.mark.parametrize(
     ("kw", "match"),
     [
-        ({"h_max": 0}, r"^h_max: expected a positive largest step"),
+        ({"h_max": 0}, r"^h_max: expected a largest step of at least"),
         ({"v_rest": -1.0}, r"^v_rest: expected a rest threshold >= 0"),
         ({"theta_fall": 5.0}, r"^theta_fall: expected an overturning tilt in \(alpha, pi/2\]"),
         ({"theta_fall": 0.0}, r"^theta_fall: expected an overturning tilt"),
@@ -240,3 +240,26 @@ def test_a_displacement_sine_s_ramps_belong_to_the_smooth_start_and_do_not_overl
         nsdyn.BaseMotion.displacement_sine(0.01, 0.5, 4, "impulsive", t_ramp=0.5)
     with pytest.raises(ValueError, match=r"^t_ramp: expected .* at most half the motion, 1 s"):
         nsdyn.BaseMotion.displacement_sine(0.01, 0.5, 4, "smooth", t_ramp=1.5)
+
+
+def test_rocking_and_contact_runs_refuse_what_they_would_run_wrong_or_for_ever():
+    blk = nsdyn.RockingBlock(width=0.3, height=1.2)
+    # a phase was dropped (phase pi/2 lifted the block at the phase-0 time); a vertical alone
+    # was scaled to A_hor = 0 and dropped: 'rest' under 2 g up
+    up = nsdyn.Harmonic(0.0, 1.0, A_ver=-20.0, f_ver=1.0)
+    for exc, match in ((nsdyn.Harmonic(3.0, 1.0, phase=math.pi / 2), r"^Harmonic\.phase: "),
+                       (up, r"^Harmonic\.A_hor: ")):  # fmt: skip
+        with pytest.raises(ValueError, match=match):
+            nsdyn.simulate_rocking(blk, exc, t_end=1.0)
+    # a pulse of 1e7 rad/s stepped for minutes, 1e300 for ever (p = sqrt(3 g / 4 R) = 3.45 /s)
+    with pytest.raises(ValueError, match=r"^excitation: a frequency of 1e\+07 rad/s, 2\.9e\+06 "):
+        nsdyn.simulate_rocking(blk, nsdyn.Pulse("sine", 3.92, 1e7), t_end=6.0, dt_out=0.002)
+    with pytest.raises(ValueError, match=r"^h_max: expected a largest step of at least"):
+        nsdyn.simulate_rocking(blk, None, t_end=1.0, h_max=1e-12, theta0_over_alpha=0.5)
+    # a contact body's start past overturning through q0 ran "not overturned" (theta0 is refused)
+    with pytest.raises(ValueError, match=r"^q0: a tilt of 4 rad is at or past"):
+        nsdyn.simulate_event(BODY, LAW, None, t_end=1.0, q0=[0.0, 2.0, 4.0])
+    with pytest.raises(TypeError, match=r"^body: expected a RigidBody"):
+        nsdyn.simulate_moreau(None, LAW, None, t_end=1.0)
+    # the contact family keeps a harmonic's phase (sin(omega t + phase))
+    assert nsdyn.BaseMotion.from_motion(nsdyn.Harmonic(3.0, 1.0, phase=1.0)).ex[7] == 1.0

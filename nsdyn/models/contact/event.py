@@ -112,7 +112,26 @@ def start_state(body: RigidBody, tilt: float, q0, v0, tilted: bool, rigid: bool 
         if rigid and y.min() < -Q0_DEPTH * size:
             raise ValueError(f"q0: a corner starts {-y.min():.4g} m below the rigid ground; "
                              "expected every corner at or above it")  # fmt: skip
+        if abs(q[2]) >= body.theta_ov:  # (4 rad ran, "not overturned", as theta0 is refused)
+            raise ValueError(f"q0: a tilt of {abs(q[2]):.4g} rad is at or past the body's "
+                             f"overturning tilt {body.theta_ov:.4g} rad; expected a smaller "
+                             "one")  # fmt: skip
     return q, given.get("v0", v)
+
+
+def check_parts(body, friction, motion) -> None:
+    """TypeError naming a body, friction law or motion of the wrong kind (the event and the
+    Moreau-Jean runs: AttributeErrors 'verts', 'mu_s', 'resolving_step' from inside)."""
+    expect("body", body, hasattr(body, "verts") and hasattr(body, "contacts"),
+           "a RigidBody (nsdyn.RigidBody.rectangle(width, height, mass))")  # fmt: skip
+    expect("friction", friction, hasattr(friction, "mu_s"),
+           "a FrictionLaw (nsdyn.FrictionLaw(mu_s, mu_d))")  # fmt: skip
+    if motion is not None and not hasattr(motion, "jumps"):
+        raise TypeError(
+            f"motion: expected a BaseMotion (nsdyn.BaseMotion.displacement_sine, ...), got "
+            f"{type(motion).__name__}; nsdyn.BaseMotion.from_motion(record) makes one from a "
+            "ground-motion record"
+        )
 
 
 def _params(body: RigidBody, fr: FrictionLaw, g: float) -> np.ndarray:
@@ -217,28 +236,11 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
     if impact_law == "housner" and e_n != 0.0:  # (dropped: the histories equalled e_n = 0)
         raise ValueError("e_n: the Housner law is plastic (the corner sticks); a restitution "
                          "coefficient is Newton's law's (impact_law='newton')")  # fmt: skip
-    expect(
-        "body",
-        body,
-        hasattr(body, "verts") and hasattr(body, "contacts"),
-        "a RigidBody (nsdyn.RigidBody.rectangle(width, height, mass))",
-    )
-    expect(
-        "friction",
-        friction,
-        hasattr(friction, "mu_s"),
-        "a FrictionLaw (nsdyn.FrictionLaw(mu_s, mu_d))",
-    )
+    check_parts(body, friction, motion)
     for name, val in (("t_end", t_end), ("dt_out", dt_out), ("atol", atol), ("g", g)):
         number(name, val, "a positive number", lambda v: v > 0)  # (g <= 0: math domain)
     rel_tol("rtol", rtol)
     output_step(dt_out, t_end, off=False)
-    if motion is not None and not hasattr(motion, "jumps"):
-        raise TypeError(
-            f"motion: expected a BaseMotion (nsdyn.BaseMotion.displacement_sine, ...), got "
-            f"{type(motion).__name__}; nsdyn.BaseMotion.from_motion(record) makes one from a "
-            "ground-motion record"
-        )
     e = 0.0 if impact_law == "housner" else float(e_n)
     tilt = tilt_angle(body, theta0, theta0_over_alpha)
     if abs(tilt) >= body.theta_ov:

@@ -81,7 +81,9 @@ class BaseMotion:
         if isinstance(motion, Harmonic):
             if motion.A_ver:
                 raise ValueError("motion: a vertical harmonic is not supported by contact models")
-            return cls.sine_acceleration(motion.A_hor, 2 * math.pi * motion.f_hor)
+            return cls.sine_acceleration(
+                motion.A_hor, 2 * math.pi * motion.f_hor, phase=motion.phase
+            )  # fmt: skip  (it was dropped)
         raise TypeError(f"motion: expected a GroundMotion, Table or Harmonic, got "
                          f"{type(motion).__name__}")  # fmt: skip
 

@@ -14,7 +14,7 @@ from nsdyn._checks import NumericalFailure, number, output_count, step_count
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kmoreau as km
 from nsdyn.models.contact.body import RigidBody
-from nsdyn.models.contact.event import _params, start_state, tilt_angle
+from nsdyn.models.contact.event import _params, check_parts, start_state, tilt_angle
 from nsdyn.models.contact.excite import BaseMotion
 from nsdyn.models.contact.friction import FrictionLaw
 from nsdyn.models.contact.results import ContactResult
@@ -51,6 +51,7 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
     """Moreau-Jean run with step ``h``, storing every ``dt_out`` (default: every step; rounded
     to a whole number of steps, at least one: the result's ``t`` holds the times kept), from
     rest (tilted by ``theta0`` [rad] or ``theta0_over_alpha``) or from (q0, v0)."""
+    check_parts(body, friction, motion)
     h = number("h", h, "a positive step size [s]", lambda v: v > 0)
     theta = number("theta", theta, "0.5 <= theta <= 1", lambda v: 0.5 <= v <= 1.0)
     e_n = number("e_n", e_n, "a restitution coefficient in [0, 1]", lambda v: 0.0 <= v <= 1.0)

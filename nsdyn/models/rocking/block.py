@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from nsdyn._checks import (
+    MAX_STEPS,
     NumericalFailure,
     expect,
     flag,
@@ -45,6 +46,9 @@ TOL = 1e-9  # default relative tolerance of the Dormand-Prince integrator
 # (omega_p / p = 1, 4.47) is the same to 8 digits from 1e-3 to 1e-5 rad; at 1e-6 a false safe
 # band appeared, at 1e-12 no overturning up to a_max, at 1e-20 alpha printed as 0
 ALPHA_MIN = 1e-4
+# fastest pulse or harmonic: 1e3 times the block's p (its steps scale with the pulse: omega_p / p
+# = 1e300 ran for minutes); the overturning amplitude grows with omega_p / p, past any record's
+OMEGA_RATIO_MAX = 1e3
 V_REST_FRAC = 1e-6  # Zeno rest threshold: |theta'+| <= V_REST_FRAC p alpha after an impact
 H_MAX_P = 0.5  # largest step, in units of 1/p
 MAX_IMPACTS = 200_000  # impact buffer; more impacts raise (too many events)
@@ -197,9 +201,16 @@ def _excitation(excitation, t_end: float):
     empty = np.zeros(1)
     if excitation is None:
         return GK_NONE, np.zeros(1), empty, empty, DT_OUT
-    if isinstance(excitation, Harmonic):
+    if isinstance(excitation, Harmonic):  # (a train of sine pulses from rest, in phase)
         if excitation.A_ver and excitation.f_ver != excitation.f_hor:
             raise ValueError("Harmonic: a vertical component needs f_ver == f_hor here")
+        if excitation.phase or excitation.phase_ver:  # (they were dropped without a word)
+            raise ValueError(f"Harmonic.phase: the rocking models start a harmonic at phase 0 "
+                             f"(sine pulses from rest), got phase = {excitation.phase:g}, "
+                             f"phase_ver = {excitation.phase_ver:g}")  # fmt: skip
+        if excitation.A_ver and not excitation.A_hor:  # (scaled to A_hor: it was dropped)
+            raise ValueError("Harmonic.A_hor: the rocking models take a vertical component with "
+                             "a horizontal one (A_hor > 0); got a vertical one alone")  # fmt: skip
         ratio = excitation.A_ver / excitation.A_hor if excitation.A_hor else 0.0
         n = int(math.ceil(t_end * excitation.f_hor)) + 1
         excitation = Pulse("sine", excitation.A_hor, 2 * math.pi * excitation.f_hor, n, 0.0, ratio)
@@ -313,8 +324,12 @@ def simulate_rocking(
     t_end = number("t_end", t_end, f"a finite end time > t0 = {t0:g} s", lambda v: v > t0)
     rel_tol("tol", tol)
     number("thetad0", thetad0, "a finite angular velocity [rad/s]")
-    if h_max is not None:  # (0 never returned: steps of zero length)
-        number("h_max", h_max, "a positive largest step [s]", lambda v: v > 0)
+    if h_max is not None:  # (0 never returned: steps of zero length; 1e-12 s ran for ever)
+        span = t_end - t0
+        what = (
+            f"a largest step of at least (t_end - t0) / {MAX_STEPS:.0e} = {span / MAX_STEPS:.3g} s"
+        )
+        number("h_max", h_max, what, lambda v: v > 0 and span / v <= MAX_STEPS)
     if v_rest is not None:
         number("v_rest", v_rest, "a rest threshold >= 0 [rad/s]", lambda v: v >= 0)
     number("theta_fall", theta_fall, "an overturning tilt in (alpha, pi/2] [rad] (the "
@@ -322,6 +337,12 @@ def simulate_rocking(
     for name, v in (("max_impacts", max_impacts), ("max_peaks", max_peaks)):
         whole(name, v, 1, "a whole number >= 1")
     output_step(dt_out, t_end - t0)
+    omega = getattr(excitation, "omega_p", 2 * math.pi * getattr(excitation, "f_hor", 0.0))
+    if isinstance(excitation, Pulse | Harmonic) and omega > OMEGA_RATIO_MAX * model.p:
+        raise ValueError(f"excitation: a frequency of {omega:.4g} rad/s, {omega / model.p:.3g} "
+                         f"times the block's p = {model.p:.4g} /s; expected at most "
+                         f"{OMEGA_RATIO_MAX:g} p (its steps follow the pulse: 1e7 rad/s ran for "
+                         "minutes)")  # fmt: skip
     gk, gp, tab_h, tab_v, dt_nat = _excitation(excitation, t_end)
     dt_out = dt_nat if dt_out is None else dt_out
     n_out = output_count(t_end - t0, dt_out) if dt_out > 0 else 0

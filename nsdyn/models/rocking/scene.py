@@ -271,7 +271,9 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     tol, dt_out = build_solver(cfg, source)
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
-    fields = GRID_FIELDS | {"omega_v": "block.omega_v_over_p"}
+    mo = cfg.get("motion", {})  # (a pulse faster than the block resolves: its frequency)
+    pulse_w = "motion.f_p" if isinstance(mo, dict) and "f_p" in mo else "motion.omega_p"
+    fields = GRID_FIELDS | {"omega_v": "block.omega_v_over_p", "excitation": pulse_w}
     with grid_fields(source, fields):  # (refused before the run says it starts)
         output_step(dt_out, t_end)
     say(f"rocking: {name}: {type(model).__name__}, {what}, t_end = {t_end:g} s")

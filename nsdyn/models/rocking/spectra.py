@@ -2,9 +2,9 @@
 as a function of the pulse frequency, by bracketing and bisection.
 
 For each ``omega_p / p`` the amplitude ratio ``a_p / (g tan alpha)`` is scanned geometrically
-from 1 (no lift-off below) by the factor ``scan`` up to ``a_max``; each change of outcome
-(safe <-> overturned) is then bisected to the relative width ``rtol``. Reported: the minimum
-overturning amplitude with its mode (1: overturns after at least one impact, 2: without an
+from 1 (no lift-off below) by the factor ``scan`` up to ``a_max`` (its last point); each change
+of outcome (safe <-> overturned) is then bisected to the relative width ``rtol``. Reported: the
+minimum overturning amplitude with its mode (1: overturns after at least one impact, 2: without an
 impact, Zhang & Makris 2001), and the first safe band above the minimum (for one-sine pulses
 the literature reports such a band: overturning with one impact at the minimum, then safe,
 then overturning without impact). Such a band is often narrower than one scan factor (0.1 to
@@ -36,14 +36,11 @@ import numpy as np
 from nsdyn._brief import brief_repr
 from nsdyn._checks import RTOL_MIN
 from nsdyn.ground.pulses import Pulse
-from nsdyn.models.rocking.block import TOL, simulate_rocking
+from nsdyn.models.rocking.block import OMEGA_RATIO_MAX, TOL, simulate_rocking
 
 RTOL = 1e-4  # relative width of the bisected amplitude brackets
 SCAN = 1.1  # geometric scan factor of the amplitude
 A_MAX = 30.0  # largest amplitude ratio a_p / (g tan alpha) scanned
-# fastest pulse: 1e3 times the block's p (its steps scale with the pulse: omega_p / p = 1e300
-# ran for minutes); the overturning amplitude grows with omega_p / p, past A_MAX long before
-OMEGA_RATIO_MAX = 1e3
 # slowest pulse: 1e-2 of p, quasi-static (the seed 003 column overturns at a_p = 1.0001 g tan
 # alpha there); omega_p / p = 1e-300 stepped through a pulse of 1e300 s until the step underflowed
 OMEGA_RATIO_MIN = 1e-2
@@ -216,8 +213,8 @@ def spectrum_point(model, shape: str, omega_ratio: float, rtol: float = RTOL,
             runs += n
             out[3] = hi / a_ref
             break
-        a_prev = a
-        a *= scan
+        a_prev = a  # the scan ends at a_max itself (a scan of 1e300 probed 1 alone and said
+        a = a * scan if a >= a_max * a_ref else min(a * scan, a_max * a_ref)  # "none up to it")
     return out[0], out[1], out[2], out[3], runs
 
 
