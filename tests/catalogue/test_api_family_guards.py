@@ -263,3 +263,33 @@ def test_rocking_and_contact_runs_refuse_what_they_would_run_wrong_or_for_ever()
         nsdyn.simulate_moreau(None, LAW, None, t_end=1.0)
     # the contact family keeps a harmonic's phase (sin(omega t + phase))
     assert nsdyn.BaseMotion.from_motion(nsdyn.Harmonic(3.0, 1.0, phase=1.0)).ex[7] == 1.0
+
+
+@pytest.mark.parametrize(
+    ("call", "match"),
+    [
+        # text compared with numbers (TypeErrors from inside), True taken as 1, NaN or a negative
+        # stiffness run to a "non-finite state" or silently
+        (lambda: nsdyn.RockingBlock(width=0.3, height=1.2, r="0.5"), r"^r: expected 0 < r <= 1"),
+        (lambda: nsdyn.RockingBlock(width=0.3, height=1.2, r=True), r"^r: expected 0 < r <= 1"),
+        (lambda: nsdyn.FrictionLaw(0.5, 0.4, C="x"), r"^C: expected a non-negative decay"),
+        (lambda: nsdyn.simulate_event(BODY, LAW, None, t_end=0.1, e_n="0.5"), r"^e_n: expected"),
+        (lambda: nsdyn.simulate_event(BODY, LAW, None, t_end=0.1, max_events=2.5),
+         r"^max_events: expected a whole number"),
+        (lambda: nsdyn.CompliantBlock(width=1.0, height=2.0, mass=1e3, k=1e7, c=1e4, k_t=-1e9),
+         r"^k_t: expected a positive number"),
+        (lambda: nsdyn.CompliantBlock.from_frequency(width=1.0, height=2.0, mass=1e3,
+                                                     omega_v=1e300, zeta=1.0),
+         r"^omega_v: expected a positive frequency"),
+        (lambda: nsdyn.simulate_compliant(nsdyn.CompliantBlock(width=1.0, height=2.0, mass=1e3,
+                                                               k=1e7, c=1e4), t_end=0.1, tol=5),
+         r"^tol: expected a relative tolerance"),
+        (lambda: nsdyn.BaseMotion.sine_acceleration(8.0, 1.0, t_on=math.nan), r"^t_on: expected"),
+        (lambda: nsdyn.BaseMotion.sine_acceleration("3", 1.0), r"^amp: expected a finite"),
+        (lambda: nsdyn.overturning_spectrum(nsdyn.RockingBlock(width=0.3, height=1.2), [[1, 2]]),
+         r"^omega_ratios: expected frequency ratios"),
+    ],
+)  # fmt: skip
+def test_rocking_and_contact_parts_refuse_values_they_cannot_mean(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

@@ -37,6 +37,7 @@ from nsdyn._checks import (
     output_count,
     output_step,
     rel_tol,
+    whole,
 )
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kevent as ke
@@ -231,8 +232,8 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
     """
     if impact_law not in ("newton", "housner"):
         raise ValueError(f"impact_law: expected 'newton' or 'housner', got {impact_law!r}")
-    if not 0.0 <= e_n <= 1.0:
-        raise ValueError(f"e_n: expected a restitution coefficient in [0, 1], got {e_n!r}")
+    e_n = number("e_n", e_n, "a restitution coefficient in [0, 1]", lambda v: 0.0 <= v <= 1.0)
+    whole("max_events", max_events, 1, "a whole number of events >= 1")
     if impact_law == "housner" and e_n != 0.0:  # (dropped: the histories equalled e_n = 0)
         raise ValueError("e_n: the Housner law is plastic (the corner sticks); a restitution "
                          "coefficient is Newton's law's (impact_law='newton')")  # fmt: skip

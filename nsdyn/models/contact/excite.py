@@ -57,6 +57,15 @@ class BaseMotion:
     def sine_acceleration(cls, amp: float, omega: float, t_on: float = 0.0,
                           t_off: float = math.inf, phase: float = 0.0) -> BaseMotion:  # fmt: skip
         """a_h = amp sin(omega (t - t_on) + phase) on [t_on, t_off] [m/s^2, rad/s]."""
+        # (a NaN amplitude ended in a step underflow, "3" in a numba TypingError, a NaN t_on
+        # ran without any excitation)
+        amp = number("amp", amp, "a finite amplitude [m/s²]")
+        omega = number("omega", omega, "a finite frequency >= 0 [rad/s]", lambda v: v >= 0)
+        t_on = number("t_on", t_on, "a finite start time [s]")
+        phase = number("phase", phase, "a finite phase [rad]")
+        if isinstance(t_off, str | bool) or not t_off > t_on:
+            raise ValueError(f"t_off: expected an end time after t_on = {t_on:g} s (inf: none), "
+                             f"got {t_off!r}")  # fmt: skip
         ex = np.array([1.0, 0, 1, amp, omega, t_on, min(t_off, 1e300), phase])
         return cls(ex, np.zeros(0), np.zeros(0), name="sine acceleration")
 

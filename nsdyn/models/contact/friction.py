@@ -33,7 +33,7 @@ class FrictionLaw:
         if mu_d > self.mu_s:
             raise ValueError(f"mu_d: the dynamic coefficient must not exceed the static one "
                              f"(mu_s = {self.mu_s}), got mu_d = {mu_d}")  # fmt: skip
-        if not (self.C >= 0):
+        if isinstance(self.C, str | bool) or not (self.C >= 0):  # ('x': a TypeError)
             raise ValueError(f"C: expected a non-negative decay constant [s/m], got {self.C!r}")
 
     @property

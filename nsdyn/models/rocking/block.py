@@ -163,8 +163,8 @@ class RockingBlock(HalfSizes):
         for name in ("g", "mass"):
             object.__setattr__(self, name, number(name, getattr(self, name), "a positive number",
                                                   lambda x: x > 0))  # fmt: skip
-        if self.r is not None and not (0.0 < self.r <= 1.0):
-            raise ValueError(f"r: expected 0 < r <= 1, got {self.r!r}")
+        if self.r is not None:  # ("0.5" or True: a TypeError, or taken as 1)
+            number("r", self.r, "0 < r <= 1", lambda v: 0.0 < v <= 1.0)
 
     @property
     def alpha(self) -> float:

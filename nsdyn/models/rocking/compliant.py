@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, number, output_count
+from nsdyn._checks import NumericalFailure, number, output_count, rel_tol
 from nsdyn._tabular import Tabular
 from nsdyn.ground import G_EARTH
 from nsdyn.models.rocking import _kcompliant as kc
@@ -68,6 +68,10 @@ class CompliantBlock(HalfSizes):
                                                   lambda x: x > 0))  # fmt: skip
         object.__setattr__(self, "c", number("c", self.c, "a non-negative number",
                                              lambda x: x >= 0))  # fmt: skip
+        for name, ok, what in (("k_t", lambda x: x > 0, "a positive number"),
+                               ("c_t", lambda x: x >= 0, "a non-negative number")):  # fmt: skip
+            if getattr(self, name) is not None:  # (k_t = -1e9 ran; 'x' failed at the run)
+                object.__setattr__(self, name, number(name, getattr(self, name), what, ok))
 
     @classmethod
     def from_frequency(cls, *args, width: float | None = None, height: float | None = None,
@@ -81,6 +85,11 @@ class CompliantBlock(HalfSizes):
         for name, v in (("mass", mass), ("omega_v", omega_v), ("zeta", zeta)):
             if v is None:
                 raise ValueError(f"CompliantBlock.from_frequency: {name}: missing")
+        mass = number("mass", mass, "a positive mass [kg]", lambda x: x > 0)
+        zeta = number("zeta", zeta, "a damping ratio >= 0", lambda x: x >= 0)
+        omega_v = number("omega_v", omega_v, "a positive frequency [rad/s] whose stiffness "
+                         "0.5 mass omega_v^2 is finite",
+                         lambda x: x > 0 and math.isfinite(0.5 * mass * x * x))  # fmt: skip
         k = 0.5 * mass * omega_v**2
         return cls(width=w, height=h, mass=mass, k=k, c=zeta * math.sqrt(2.0 * k * mass), g=g)
 
@@ -195,6 +204,7 @@ def simulate_compliant(
                         f"{type(model).__name__}; a rigid block or frame rocks by Housner's "
                         "impacts: nsdyn.simulate_rocking(model, ...)")  # fmt: skip
     t_end = number("t_end", t_end, "a positive finite end time [s]", lambda v: v > 0)
+    rel_tol("tol", tol)  # (0 or NaN: "non-finite state" at t = 0; 5 ran)
     theta0 = initial_tilt(theta0, theta0_over_alpha, model.alpha)
     check_settlement(model)
     gk, gp, tab_h, tab_v, _ = _excitation(excitation, t_end)

@@ -92,8 +92,8 @@ class RockingFrame:
         self.column  # checks r, g and the mass  # noqa: B018
         if not (math.isfinite(self.gamma) and self.gamma >= 0):
             raise ValueError(f"gamma: expected a non-negative number, got {self.gamma!r}")
-        if self.r is not None and not (0.0 < self.r <= 1.0):
-            raise ValueError(f"r: expected 0 < r <= 1, got {self.r!r}")
+        if self.r is not None:  # ("0.5" or True: a TypeError, or taken as 1)
+            number("r", self.r, "0 < r <= 1", lambda v: 0.0 < v <= 1.0)
 
     @property
     def B(self) -> float:

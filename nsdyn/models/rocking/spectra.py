@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import RTOL_MIN
+from nsdyn._checks import RTOL_MIN, finite_numbers, number
 from nsdyn.ground.pulses import Pulse
 from nsdyn.models.rocking.block import OMEGA_RATIO_MAX, TOL, simulate_rocking
 
@@ -247,22 +247,22 @@ def overturning_spectrum(
     if isinstance(model, CompliantBlock) or not hasattr(model, "uplift_accel"):
         raise TypeError(f"model: expected a RockingBlock or RockingFrame (Housner's rigid "
                         f"rocking), got {type(model).__name__}")  # fmt: skip
-    x = np.asarray(omega_ratios, dtype=float).reshape(-1)
-    checks = (
-        ("omega_ratios", x.size > 0 and bool(np.all((x >= OMEGA_RATIO_MIN)
-                                                    & (x <= OMEGA_RATIO_MAX))),
-         f"frequency ratios omega_p / p in [{OMEGA_RATIO_MIN:g}, {OMEGA_RATIO_MAX:g}]"),
-        ("rtol", RTOL_MIN <= rtol < 1.0, f"a relative width {RTOL_MIN:.2g} <= rtol < 1 (a "
-         "bisection narrower than round-off never ends)"),
-        ("scan", np.isfinite(scan) and scan > 1.0, "a growth factor > 1 of the bracketing scan"),
-        ("a_max", np.isfinite(a_max) and 0.0 < a_max <= A_MAX_LIMIT,
-         f"a largest amplitude ratio in (0, {A_MAX_LIMIT:g}]"),
-        ("tol", np.isfinite(tol) and tol > 0.0, "a positive integration tolerance"),
-    )  # fmt: skip
-    for name, ok, what in checks:
-        if not ok:
-            got = omega_ratios if name == "omega_ratios" else locals()[name]
-            raise ValueError(f"{name}: expected {what}, got {got!r}")
+    lo_hi = f"[{OMEGA_RATIO_MIN:g}, {OMEGA_RATIO_MAX:g}]"
+    what = f"frequency ratios omega_p / p (a 1-D list) in {lo_hi}"
+    one = [omega_ratios] if np.ndim(omega_ratios) == 0 else omega_ratios  # ([[1, 2]], True ran)
+    x = finite_numbers("omega_ratios", one, what)
+    if not np.all((x >= OMEGA_RATIO_MIN) & (x <= OMEGA_RATIO_MAX)):
+        raise ValueError(f"omega_ratios: expected {what}, got {omega_ratios!r}")
+    # (text: a TypeError from a comparison)
+    number("rtol", rtol, f"a relative width {RTOL_MIN:.2g} <= rtol < 1 (a bisection narrower "
+           "than round-off never ends)", lambda v: RTOL_MIN <= v < 1.0)  # fmt: skip
+    number("scan", scan, "a growth factor > 1 of the bracketing scan", lambda v: v > 1.0)
+    number("a_max", a_max, f"a largest amplitude ratio in (0, {A_MAX_LIMIT:g}]",
+           lambda v: 0.0 < v <= A_MAX_LIMIT)  # fmt: skip
+    number("tol", tol, "a positive integration tolerance", lambda v: v > 0.0)
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise TypeError(f"executor: expected a concurrent.futures.Executor, got "
+                        f"{type(executor).__name__}")  # fmt: skip
     w0 = time.perf_counter()
     own = executor is None
     ex = ProcessPoolExecutor() if own else executor
