@@ -36,12 +36,14 @@ def _numbers(v, what: str, size: int | None = None) -> np.ndarray:
 
 
 def _values(v, n, what) -> np.ndarray:
-    a = np.asarray(v, float)
-    if a.ndim == 0:
-        return np.full(n, float(a))
-    if a.shape != (n,):
-        raise ValueError(f"{what}: expected one value or {n}, got {a.shape[0]}")
-    return a
+    """One value >= 0 or ``n`` of them (a floor's mass or inertia), or ValueError naming
+    ``what`` (a negative mass was "diaphragm mass must be >= 0", naming no argument)."""
+    a = _numbers([v] if np.ndim(v) == 0 else v, what)
+    if a.size not in (1, n) or np.any(a < 0):
+        raise ValueError(
+            f"{what}: expected one value >= 0 or {n} of them, got {np.ravel(v).tolist()}"
+        )
+    return np.broadcast_to(a, (n,)).copy()
 
 
 def regular_building_3d(

@@ -288,6 +288,9 @@ def test_rocking_and_contact_runs_refuse_what_they_would_run_wrong_or_for_ever()
         (lambda: nsdyn.BaseMotion.sine_acceleration("3", 1.0), r"^amp: expected a finite"),
         (lambda: nsdyn.overturning_spectrum(nsdyn.RockingBlock(width=0.3, height=1.2), [[1, 2]]),
          r"^omega_ratios: expected frequency ratios"),
+        # 1e6 smooth cycles tabulated at 4000 a period: a MemoryError of 30 GiB
+        (lambda: nsdyn.BaseMotion.displacement_sine(0.01, 1.0, 10**6, "smooth"),
+         r"^n_cycles: expected a whole number >= 1 \(at most 2500"),
     ],
 )  # fmt: skip
 def test_rocking_and_contact_parts_refuse_values_they_cannot_mean(call, match):

@@ -309,6 +309,9 @@ def test_bad_building_input_is_refused_not_ignored():
         ({"mass_offset": (0.1, 0.2, 0.3)}, ValueError, r"^mass_offset: expected 2 finite numbers"),
         ({"mass_offset": "0.1"}, ValueError, r"^mass_offset: expected 2 finite numbers"),
         ({"beam_x_vecxz": (1.0, 0.0)}, ValueError, r"^beam_x_vecxz: expected 3 finite numbers"),
+        # "diaphragm mass must be >= 0 and finite", naming no argument
+        ({"floor_mass": -1.0}, ValueError, r"^floor_mass: expected one value >= 0 or 1 of them"),
+        ({"floor_mass": "1e4"}, ValueError, r"^floor_mass: expected a list of finite numbers"),
     ],
 )
 def test_the_building_generator_names_an_argument_of_the_wrong_form(kw, err, match):

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from nsdyn._checks import number
+from nsdyn._checks import MAX_OUTPUTS, number
 from nsdyn.ground import GroundMotion, Harmonic, Table
 
 N_PER_PERIOD = 4000  # samples per period of a tabulated displacement-driven sine
@@ -112,7 +112,10 @@ class BaseMotion:
             raise ValueError(f"start: expected 'impulsive' or 'smooth', got {start!r}")
         number("A", A, "a finite amplitude [m]")
         number("period", period, "a positive period [s]", lambda v: v > 0)
-        number("n_cycles", n_cycles, "a whole number >= 1", lambda v: v >= 1 and v == int(v))
+        most = MAX_OUTPUTS // N_PER_PERIOD if start == "smooth" else math.inf  # (1e6: 30 GiB)
+        what = "a whole number >= 1" + (f" (at most {most:g}, tabulated at {N_PER_PERIOD} a "
+                                        "period)" if start == "smooth" else "")  # fmt: skip
+        number("n_cycles", n_cycles, what, lambda v: 1 <= v <= most and v == int(v))
         w = 2 * math.pi / period
         t_end = n_cycles * period
         if t_ramp is not None and start == "impulsive":  # (it was dropped without a word)

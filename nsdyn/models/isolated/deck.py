@@ -440,6 +440,9 @@ def simulate_plane(
     if not isinstance(system, PlaneSystem):  # (None: an AttributeError 'm')
         raise TypeError(f"system: expected a PlaneSystem (rigid_deck(...) or sdof_plane(...)), "
                         f"got {type(system).__name__}")  # fmt: skip
+    if progress is not None and not callable(progress):  # (5: a TypeError mid-run)
+        raise TypeError(f"progress: expected a function (t_done, t_end, wall_s), got "
+                        f"{type(progress).__name__}")  # fmt: skip
     if integrator not in ("auto", "dopri5", "radau"):
         raise ValueError(f"integrator: expected 'auto', 'dopri5' or 'radau', got {integrator!r}")
     if integrator == "radau" and law == "switch":

@@ -167,6 +167,8 @@ def test_a_ground_the_run_cannot_read_is_named():
             simulate_plane(d, ground, **kw)
     with pytest.raises(TypeError, match=r"^system: expected a PlaneSystem"):
         simulate_plane(None, (0.0, 0.01, a, None, None))
+    with pytest.raises(TypeError, match=r"^progress: expected a function"):
+        simulate_plane(d, (0.0, 0.01, a, None, None), progress=5)
 
 
 def test_a_record_of_huge_steps_ends_at_the_step_budget_not_in_a_hang():
