@@ -14,10 +14,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from nsdyn._checks import MAX_OUTPUTS, number
+from nsdyn._checks import number
 from nsdyn.ground import GroundMotion, Harmonic, Table
 
 N_PER_PERIOD = 4000  # samples per period of a tabulated displacement-driven sine
+TABLE_MAX = 25_000_000  # samples of such a table (200 MB; 1e6 cycles asked for 30 GiB)
 
 
 @dataclass(frozen=True)
@@ -63,7 +64,11 @@ class BaseMotion:
         omega = number("omega", omega, "a finite frequency >= 0 [rad/s]", lambda v: v >= 0)
         t_on = number("t_on", t_on, "a finite start time [s]")
         phase = number("phase", phase, "a finite phase [rad]")
-        if isinstance(t_off, str | bool) or not t_off > t_on:
+        try:  # (an infinite end: none)
+            end = float(t_off) if not isinstance(t_off, str | bool | np.bool_) else math.nan
+        except (TypeError, ValueError):  # (None, a list)
+            end = math.nan
+        if not end > t_on:
             raise ValueError(f"t_off: expected an end time after t_on = {t_on:g} s (inf: none), "
                              f"got {t_off!r}")  # fmt: skip
         ex = np.array([1.0, 0, 1, amp, omega, t_on, min(t_off, 1e300), phase])
@@ -112,7 +117,7 @@ class BaseMotion:
             raise ValueError(f"start: expected 'impulsive' or 'smooth', got {start!r}")
         number("A", A, "a finite amplitude [m]")
         number("period", period, "a positive period [s]", lambda v: v > 0)
-        most = MAX_OUTPUTS // N_PER_PERIOD if start == "smooth" else math.inf  # (1e6: 30 GiB)
+        most = TABLE_MAX // N_PER_PERIOD if start == "smooth" else math.inf  # (1e6: 30 GiB)
         what = "a whole number >= 1" + (f" (at most {most:g}, tabulated at {N_PER_PERIOD} a "
                                         "period)" if start == "smooth" else "")  # fmt: skip
         number("n_cycles", n_cycles, what, lambda v: 1 <= v <= most and v == int(v))

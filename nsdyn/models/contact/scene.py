@@ -210,7 +210,10 @@ def build(cfg: dict, source: str):
             raise SceneError(f"{source}: motion.start: expected 'impulsive' or 'smooth', "
                              f"got {start!r}")  # fmt: skip
         A = pga * (T / (2 * math.pi)) ** 2
-        motion = BaseMotion.displacement_sine(A, T, n, start)
+        try:  # (more smooth cycles than its table holds)
+            motion = BaseMotion.displacement_sine(A, T, n, start)
+        except ValueError as e:
+            raise SceneError(f"{source}: motion.{e}") from None
         t_end = t_end or n * T + 2.0
         what = (f"displacement sine A = {A * 1e3:.0f} mm, T = {T:g} s ({start}), peak "
                 f"acceleration {pga:.3g} m/s²")  # fmt: skip

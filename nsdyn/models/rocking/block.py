@@ -204,7 +204,7 @@ def _excitation(excitation, t_end: float):
     if isinstance(excitation, Harmonic):  # (a train of sine pulses from rest, in phase)
         if excitation.A_ver and excitation.f_ver != excitation.f_hor:
             raise ValueError("Harmonic: a vertical component needs f_ver == f_hor here")
-        if excitation.phase or excitation.phase_ver:  # (they were dropped without a word)
+        if excitation.phase or (excitation.A_ver and excitation.phase_ver):  # (dropped)
             raise ValueError(f"Harmonic.phase: the rocking models start a harmonic at phase 0 "
                              f"(sine pulses from rest), got phase = {excitation.phase:g}, "
                              f"phase_ver = {excitation.phase_ver:g}")  # fmt: skip
@@ -339,7 +339,7 @@ def simulate_rocking(
     output_step(dt_out, t_end - t0)
     omega = getattr(excitation, "omega_p", 2 * math.pi * getattr(excitation, "f_hor", 0.0))
     if isinstance(excitation, Pulse | Harmonic) and omega > OMEGA_RATIO_MAX * model.p:
-        raise ValueError(f"excitation: a frequency of {omega:.4g} rad/s, {omega / model.p:.3g} "
+        raise ValueError(f"excitation: a frequency of {omega:.4g} rad/s, {omega / model.p:.6g} "
                          f"times the block's p = {model.p:.4g} /s; expected at most "
                          f"{OMEGA_RATIO_MAX:g} p (its steps follow the pulse: 1e7 rad/s ran for "
                          "minutes)")  # fmt: skip
