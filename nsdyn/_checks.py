@@ -123,18 +123,21 @@ def got_array(a, *shapes: tuple) -> str:
     return f"row {i}: {a[i].tolist()}" if a.ndim == 2 else f"entry {i}: {a[i]}"
 
 
-def number(name: str, value, what: str, ok=None) -> float:
+def number(name: str, value, what: str, ok=None, *, finite: bool = True) -> float:
     """``value`` as a float, or ``ValueError("{name}: expected {what}, got {value!r}")`` when
-    it is text or a bool (never converted), not a number, not finite, or fails ``ok``."""
+    it is text or a bool (never converted), not a number, not finite (NaN only, with
+    ``finite=False``: an end time of inf is none), or fails ``ok``."""
     import math
 
+    import numpy as np
+
     v = math.nan
-    if not isinstance(value, str | bool):
+    if not isinstance(value, str | bool | np.bool_):
         try:
             v = float(value)
         except (TypeError, ValueError):
             pass
-    if not math.isfinite(v) or (ok is not None and not ok(v)):
+    if not (math.isfinite(v) if finite else v == v) or (ok is not None and not ok(v)):
         raise ValueError(f"{name}: expected {what}, got {value!r}")
     return v
 

@@ -334,12 +334,7 @@ class GroundMotion(Sampled):
     def window(self, t_start: float, t_end: float) -> GroundMotion:
         """The samples with t_start ≤ t ≤ t_end (absolute times; t0 becomes the first kept t)."""
         for v in (t_start, t_end):  # (an infinite end: the record's own end)
-            try:
-                ok = not isinstance(v, str | bool) and not math.isnan(float(v))
-            except (TypeError, ValueError):  # (None, a list)
-                ok = False
-            if not ok:
-                raise ValueError(f"window: expected times [s], got [{t_start!r}, {t_end!r}]")
+            number("window", v, "times [s] (inf: the record's end)", finite=False)
         eps = 1e-9
         x0 = (t_start - self.t0) / self.dt - eps  # (an infinite end: the record's own end)
         x1 = (t_end - self.t0) / self.dt + eps

@@ -64,13 +64,8 @@ class BaseMotion:
         omega = number("omega", omega, "a finite frequency >= 0 [rad/s]", lambda v: v >= 0)
         t_on = number("t_on", t_on, "a finite start time [s]")
         phase = number("phase", phase, "a finite phase [rad]")
-        try:  # (an infinite end: none)
-            end = float(t_off) if not isinstance(t_off, str | bool | np.bool_) else math.nan
-        except (TypeError, ValueError):  # (None, a list)
-            end = math.nan
-        if not end > t_on:
-            raise ValueError(f"t_off: expected an end time after t_on = {t_on:g} s (inf: none), "
-                             f"got {t_off!r}")  # fmt: skip
+        number("t_off", t_off, f"an end time after t_on = {t_on:g} s (inf: none)",
+               lambda v: v > t_on, finite=False)  # fmt: skip
         ex = np.array([1.0, 0, 1, amp, omega, t_on, min(t_off, 1e300), phase])
         return cls(ex, np.zeros(0), np.zeros(0), name="sine acceleration")
 
