@@ -120,7 +120,7 @@ def test_the_cb_rung_reports_its_outputs_and_the_quarter_turn_symmetry(study, tm
     assert r0["fidelity"] == "cb" and r0["path"] == "dense"
     assert r0["incident_angle_deg"] == 0.0 and r90["incident_angle_deg"] == 90.0
     assert r0["peak_resultant_displacement_m"] > 0.02  # the isolators slide
-    tol = 2 * max(r0["steps"], r90["steps"]) * RTOL
+    tol = 2 * max(r0["n_steps"], r90["n_steps"]) * RTOL
 
     def same(a, b):
         assert a == pytest.approx(b, rel=tol), (a, b, tol)

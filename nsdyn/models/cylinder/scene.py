@@ -375,7 +375,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         "toppled": res.toppled_at is not None,
         "toppled_at": None if res.toppled_at is None else float(res.toppled_at + opts["t0"]),
         "outcome": "",  # set below from the fields above
-        "steps": res.stats.get("accepted", 0),
+        "n_steps": res.stats.get("accepted", 0),
         "wall_s": wall,
         "compile_s": compile_s,
     }

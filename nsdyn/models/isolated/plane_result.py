@@ -67,6 +67,13 @@ TFP_MESSAGES = {
     "zeta_e (default 1), u_y and the radii; or a building's normal forces on them had no "
     "solution (check masses and positions)",
 }
+# a run's counters (stats) as a summary names them, alike in every family
+COUNTERS = {
+    "steps": "n_steps",
+    "rejected": "n_rejected",
+    "evaluations": "n_evaluations",
+    "events": "n_events",
+}
 MODE_NAMES = {0: "stick", 1: "slip", 2: "slip-start", 3: "free"}  # free: tensile or in flight
 FREE = 3
 MAX_INTERVALS = 100  # tensile intervals listed in a summary (the count says how many in all)
@@ -421,5 +428,6 @@ class PlaneResult(Tabular):
 
             s["tfp_surface_limits"] = surface_limits(self)
             s["tfp_beyond_capacity"] = beyond_capacity(self)
-        s.update({f"{k}": v for k, v in self.stats.items()})
+        # counters as every family names them (n_steps, n_rejected, n_evaluations, n_events)
+        s.update({COUNTERS.get(k, k): v for k, v in self.stats.items()})
         return s

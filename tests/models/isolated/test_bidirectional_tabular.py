@@ -59,7 +59,7 @@ def _fake_run(status, n_events, rows=4):
 def test_an_overfull_event_table_is_reported_not_cut_silently():
     with pytest.warns(UserWarning, match=r"10 stick-slip events: the event table keeps the first"):
         r = _fake_run(kr.ST_OK, 10)
-    assert r.events.shape[0] == 4 and r.summary()["events"] == 10
+    assert r.events.shape[0] == 4 and r.summary()["n_events"] == 10
 
 
 FAILURES = [kr.ST_UNDERFLOW, kr.ST_MAX_STEPS, kr.ST_NONFINITE, kr.ST_SINGULAR, kr.ST_CHATTER,

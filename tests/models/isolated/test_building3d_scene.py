@@ -129,7 +129,7 @@ def test_cb_and_full_scenes_run_the_portal(tmp_path):
         text = format_summary(s)
         assert "peak drift corner x" in text and "peak base shear |V|" in text
         out[fid] = s
-    bound = max(o["steps"] for o in out.values()) * PORTAL["solver"]["rtol"]
+    bound = max(o["n_steps"] for o in out.values()) * PORTAL["solver"]["rtol"]
     assert bound < 1e-2
     for key in ("peak_resultant_displacement_m", "peak_drift_cm_x", "peak_base_shear_x_N"):
         assert out["cb"][key] == pytest.approx(out["full"][key], rel=bound)
@@ -223,7 +223,7 @@ def test_the_switch_law_holds_every_stuck_isolator_of_a_base_within_its_disc(tmp
         warnings.simplefilter("error")  # (no friction-limit warning, no uplift)
         s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
                       quiet=True)  # fmt: skip
-    assert s["uplift"] is None and s["events"] > 0
+    assert s["uplift"] is None and s["n_events"] > 0
     with np.load(tmp_path / "building3d.npz") as z:
         F = np.hypot(z["friction"][..., 0], z["friction"][..., 1])
         ratio = F / (0.05 * z["N"])

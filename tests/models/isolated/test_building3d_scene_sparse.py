@@ -156,7 +156,7 @@ def test_sparse_full_rung_equals_the_dense_full_rung(runs):
         ref = np.abs(hd[key]).max()
         est = float(np.abs(h2[key] - h1[key]).max()) / 3.0  # Richardson, order 2
         # the dense reference's own global error: at most steps x rtol of the peak
-        bound = 2.0 * est + sd["steps"] * RTOL * ref
+        bound = 2.0 * est + sd["n_steps"] * RTOL * ref
         assert np.abs(h2[key] - hd[key]).max() <= bound, key
         assert s2[PEAKS[key]] == pytest.approx(sd[PEAKS[key]], abs=bound), key
         assert est <= 1e-3 * ref, key  # and that error is small: the bound says something
