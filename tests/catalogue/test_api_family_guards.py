@@ -257,6 +257,12 @@ def test_rocking_and_contact_runs_refuse_what_they_would_run_wrong_or_for_ever()
         ValueError, match=r"^excitation: a frequency of 1e\+07 rad/s, 2\.8993e\+06 "
     ):
         nsdyn.simulate_rocking(blk, nsdyn.Pulse("sine", 3.92, 1e7), t_end=6.0, dt_out=0.002)
+    comp = nsdyn.CompliantBlock.from_frequency(width=0.3, height=1.2, mass=1.0, omega_v=300.0,
+                                               zeta=2.0)  # fmt: skip
+    with pytest.raises(
+        ValueError, match=r"^excitation: a frequency of 1e\+07 rad/s, 2\.8993e\+06 "
+    ):
+        nsdyn.simulate_compliant(comp, nsdyn.Pulse("sine", 3.92, 1e7), t_end=6.0)  # (the same p)
     with pytest.raises(ValueError, match=r"^h_max: expected a largest step of at least"):
         nsdyn.simulate_rocking(blk, None, t_end=1.0, h_max=1e-12, theta0_over_alpha=0.5)
     # a contact body's start past overturning through q0 ran "not overturned" (theta0 is refused)

@@ -57,6 +57,17 @@ THETA_FALL = math.pi / 2  # |theta| at which the block lies on its side: overtur
 DT_OUT = 0.01  # default output step without a record [s]
 
 
+def check_frequency(model, excitation, hz: bool = False) -> None:
+    """A pulse or harmonic faster than ``OMEGA_RATIO_MAX`` times the model's ``p`` is refused
+    (ValueError "excitation: …", quoted in Hz when ``hz``: a scene's ``f_p``); a record passes."""
+    omega = getattr(excitation, "omega_p", 2 * math.pi * getattr(excitation, "f_hor", 0.0))
+    if isinstance(excitation, Pulse | Harmonic) and omega > OMEGA_RATIO_MAX * model.p:
+        given = f"{omega / (2 * math.pi):.4g} Hz" if hz else f"{omega:.4g} rad/s"
+        raise ValueError(f"excitation: a frequency of {given}, {omega / model.p:.6g} times the "
+                         f"block's p = {model.p:.4g} /s; expected at most {OMEGA_RATIO_MAX:g} p "
+                         "(its steps follow the pulse: 1e7 rad/s ran for minutes)")  # fmt: skip
+
+
 def housner_restitution(alpha: float) -> float:
     """Housner's coefficient of restitution ``1 - 1.5 sin² alpha`` of a rectangular block of
     slenderness ``alpha`` in (0, pi/2) [rad] (ValueError otherwise); it is positive only for
@@ -337,12 +348,7 @@ def simulate_rocking(
     for name, v in (("max_impacts", max_impacts), ("max_peaks", max_peaks)):
         whole(name, v, 1, "a whole number >= 1")
     output_step(dt_out, t_end - t0)
-    omega = getattr(excitation, "omega_p", 2 * math.pi * getattr(excitation, "f_hor", 0.0))
-    if isinstance(excitation, Pulse | Harmonic) and omega > OMEGA_RATIO_MAX * model.p:
-        raise ValueError(f"excitation: a frequency of {omega:.4g} rad/s, {omega / model.p:.6g} "
-                         f"times the block's p = {model.p:.4g} /s; expected at most "
-                         f"{OMEGA_RATIO_MAX:g} p (its steps follow the pulse: 1e7 rad/s ran for "
-                         "minutes)")  # fmt: skip
+    check_frequency(model, excitation)
     gk, gp, tab_h, tab_v, dt_nat = _excitation(excitation, t_end)
     dt_out = dt_nat if dt_out is None else dt_out
     n_out = output_count(t_end - t0, dt_out) if dt_out > 0 else 0

@@ -27,7 +27,13 @@ from nsdyn._checks import NumericalFailure, number, output_count, rel_tol
 from nsdyn._tabular import Tabular
 from nsdyn.ground import G_EARTH
 from nsdyn.models.rocking import _kcompliant as kc
-from nsdyn.models.rocking.block import HalfSizes, _excitation, block_sizes, former_positional
+from nsdyn.models.rocking.block import (
+    HalfSizes,
+    _excitation,
+    block_sizes,
+    check_frequency,
+    former_positional,
+)
 from nsdyn.models.tilt import initial_tilt
 
 TOL = 1e-8  # default relative tolerance
@@ -91,7 +97,12 @@ class CompliantBlock(HalfSizes):
                          "0.5 mass omega_v^2 is finite",
                          lambda x: x > 0 and math.isfinite(0.5 * mass * x * x))  # fmt: skip
         k = 0.5 * mass * omega_v**2
-        return cls(width=w, height=h, mass=mass, k=k, c=zeta * math.sqrt(2.0 * k * mass), g=g)
+        c = zeta * math.sqrt(2.0 * k * mass)
+        if not math.isfinite(c):  # (the dataclass blamed c, which was not given)
+            raise ValueError(f"zeta: a damping ratio of {zeta:g} on a {mass:g} kg block at "
+                             f"{omega_v:g} rad/s gives c = zeta sqrt(2 k mass) = {c:g}; expected "
+                             "a finite damping")  # fmt: skip
+        return cls(width=w, height=h, mass=mass, k=k, c=c, g=g)
 
     @property
     def alpha(self) -> float:
@@ -207,6 +218,7 @@ def simulate_compliant(
     rel_tol("tol", tol)  # (0 or NaN: "non-finite state" at t = 0; 5 ran)
     theta0 = initial_tilt(theta0, theta0_over_alpha, model.alpha)
     check_settlement(model)
+    check_frequency(model, excitation)
     gk, gp, tab_h, tab_v, _ = _excitation(excitation, t_end)
     q = np.zeros(kc.N_Q)
     q[kc.Q_M] = model.mass
@@ -220,17 +232,22 @@ def simulate_compliant(
     q[kc.Q_G] = model.g
     q[kc.Q_WV] = model.omega_v
     q[kc.Q_TOL] = tol
-    if h_max is not None:  # (0 divided by zero)
-        number("h_max", h_max, "a positive largest step [s]", lambda v: v > 0)
-    if h_max is None:  # resolve the contact: explicit stability and no step through a corner
+    given = h_max is not None
+    if given:  # (0 divided by zero)
+        h_max = number("h_max", h_max, "a positive largest step [s]", lambda v: v > 0)
+    else:  # resolve the contact: explicit stability and no step through a corner
         zeta = model.c / math.sqrt(2.0 * model.k * model.mass)
         h_max = min(H_MAX_P / model.p, H_MAX_CONTACT / (model.omega_v * (1.0 + 2.0 * zeta)))
     q[kc.Q_HMAX] = h_max
     if t_end / h_max > STEP_BUDGET:  # the contact's steps over the run: minutes and more
+        steps = f"{t_end / h_max:.3g} over the run, beyond {STEP_BUDGET:.0e}"
         raise ValueError(
-            f"omega_v: a contact of {model.omega_v:.3g} rad/s needs steps of {h_max:.3g} s, "
-            f"{t_end / h_max:.3g} over the run, beyond {STEP_BUDGET:.0e}; expected a softer "
-            "contact or a shorter run"
+            f"h_max: a largest step of {h_max:.3g} s takes {steps}; expected a larger step or a "
+            "shorter run"
+            if given
+            else f"omega_v: a contact of {model.omega_v:.3g} rad/s damped at zeta = {zeta:.3g} "
+            f"needs steps of {h_max:.3g} s (∝ 1/(omega_v (1 + 2 zeta))), {steps}; expected a "
+            "softer or less damped contact or a shorter run"
         )
     q[kc.Q_BUDGET] = STEP_BUDGET  # (the error control may take far smaller steps)
     d_static = model.mass * model.g / (2.0 * model.k)

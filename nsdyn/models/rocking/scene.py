@@ -276,6 +276,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     fields = GRID_FIELDS | {"omega_v": "block.omega_v_over_p", "excitation": pulse_w}
     with grid_fields(source, fields):  # (refused before the run says it starts)
         output_step(dt_out, t_end)
+        blk.check_frequency(model, exc, hz=pulse_w == "motion.f_p")
     say(f"rocking: {name}: {type(model).__name__}, {what}, t_end = {t_end:g} s")
     from nsdyn.ground.formats import past_record_note, unused_columns_note
 

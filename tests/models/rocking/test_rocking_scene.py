@@ -57,6 +57,20 @@ def test_bad_scene_input_raises_scene_error_naming_file_and_field(cfg, field):
     assert "bad.toml" in msg and field in msg
 
 
+@pytest.mark.parametrize("model", ["block", "compliant"])
+def test_a_pulse_too_fast_is_refused_in_its_own_unit_before_the_run_starts(model, capsys):
+    # p = sqrt(3 g / 4 R), R = sqrt(0.2² + 1²) = 1.0198 m: p = 2.6856 /s; f_p = 1e6 Hz is
+    # 2 pi 1e6 / p = 2.3392e6 p, past the 1000 p a run resolves (it stepped for minutes)
+    block = {"width": 0.4, "height": 2.0, **({"omega_v_over_p": 100.0} if model != "block" else {})}
+    cfg = {"scene": {"kind": "rocking", "model": model}, "block": block,
+           "motion": {"pulse": "sine", "a_p": 5.0, "f_p": 1.0e6}}  # fmt: skip
+    with pytest.raises(
+        SceneError, match=r"s\.toml: motion\.f_p: a frequency of 1e\+06 Hz, 2\.3392"
+    ):
+        run_scene(cfg, source="s.toml", out_dir=Path("unused"), figures=False, quiet=False)
+    assert "rocking:" not in capsys.readouterr().err  # refused before the run says it starts
+
+
 def test_a_pulse_given_by_its_pga_is_the_pulse_of_that_amplitude():
     # motion.pga is the pulse's peak [m/s²]: alone it gives the amplitude, beside a_p_g it
     # replaces it (as nsdyn run --pga does), keeping its sign
@@ -130,6 +144,6 @@ def test_a_compliant_contact_beyond_the_step_budget_is_refused_at_once(tmp_path,
                      'height = 4.0\nomega_v_over_p = 1e9\n[motion]\ntheta0_over_alpha = 0.5\n'
                      't_end = 2.0\n')  # fmt: skip
     assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 2
-    assert "block.omega_v_over_p: a contact of 1.81e+09 rad/s needs steps" in (
+    assert "block.omega_v_over_p: a contact of 1.81e+09 rad/s damped at zeta = " in (
         capsys.readouterr().err
     )

@@ -77,8 +77,20 @@ def test_a_run_too_long_for_its_contact_or_outputs_is_refused(monkeypatch):
 
     stiff = CompliantBlock.from_frequency(width=0.3, height=1.2, mass=100.0, omega_v=1e8,
                                           zeta=0.1)  # fmt: skip
-    with pytest.raises(ValueError, match=r"^omega_v: a contact of 1e\+08 rad/s needs steps"):
+    with pytest.raises(ValueError, match=r"^omega_v: a contact of 1e\+08 rad/s damped at zeta "):
         cm.simulate_compliant(stiff, t_end=2.0, theta0_over_alpha=0.5)
+    # a soft contact damped a million times critically steps as finely (1 + 2 zeta), and a
+    # largest step given that fine is named as such
+    damped = CompliantBlock.from_frequency(width=0.3, height=1.2, mass=100.0, omega_v=300.0,
+                                           zeta=1e6)  # fmt: skip
+    with pytest.raises(
+        ValueError, match=r"^omega_v: a contact of 300 rad/s damped at zeta = 1e\+06"
+    ):
+        cm.simulate_compliant(damped, t_end=2.0, theta0_over_alpha=0.5)
+    with pytest.raises(ValueError, match=r"^h_max: a largest step of 1e-09 s takes 2e\+09 "):
+        cm.simulate_compliant(stiff, t_end=2.0, theta0_over_alpha=0.5, h_max=1e-9)
+    with pytest.raises(ValueError, match=r"^zeta: a damping ratio of 2 on a 1e\+300 kg block"):
+        CompliantBlock.from_frequency(width=0.3, height=1.2, mass=1e300, omega_v=300.0, zeta=2.0)
     monkeypatch.setattr(cm, "STEP_BUDGET", 1000)  # ~840 steps of 1/omega_v, far more taken
     harder = CompliantBlock.from_frequency(width=0.3, height=1.2, mass=100.0, omega_v=3.5e9,
                                            zeta=0.1)  # fmt: skip
