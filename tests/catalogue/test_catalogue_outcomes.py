@@ -100,3 +100,22 @@ def test_overturning_is_stated_wherever_it_happens(tmp_path, capsys):
 
 
 N_OUTCOME_CASES = len(ROWS) + 1
+
+
+def test_each_contact_assumption_names_its_own_outcome_of_a_negative_normal_force():
+    # the same two zero crossings of N: under "detect" the run left the no-uplift model
+    # (UPLIFT); the bilateral model (the seed's) held the isolator down, which would lift off
+    # (it read UPLIFT, "outside the no-uplift model", against the guide); the unilateral one
+    # lifted it off and landed it
+    from nsdyn.models.isolated.scene import outcome
+
+    up = [{"t_s": 2.5, "contact": 1}, {"t_s": 0.9735, "contact": 0}]
+    word, line = outcome({"contact": "detect", "uplift": up})
+    assert word == "uplift" and line.startswith("UPLIFT at t = 0.9735 s (contact 0); 1 more")
+    word, line = outcome({"contact": "bilateral", "uplift": up, "would_lift_off": True})
+    assert word == "would lift off"
+    assert line.startswith("a normal force turned negative at t = 0.9735 s (contact 0); 1 more")
+    lifted = {"contact": "unilateral", "uplift": up, "lift_offs": 2, "landings": 2,
+              "first_lift_off_s": 0.9735}  # fmt: skip
+    assert outcome(lifted)[0] == "lift-off"
+    assert outcome({"contact": "bilateral", "uplift": []}) == outcome({"contact": "detect"})

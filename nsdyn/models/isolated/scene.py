@@ -406,9 +406,10 @@ def outcome(s: dict) -> tuple[str, str]:
     if s.get("fidelity") == "fixed":
         return "fixed base", "fixed base (no isolators to lift off)"
     up = s.get("uplift") or []
-    if up and s.get("contact") != "unilateral":  # the unilateral model lets them lift off
-        first = min(up, key=lambda u: u["t_s"])
-        more = f"; {len(up) - 1} more uplift event{'s' * (len(up) > 2)}" if len(up) > 1 else ""
+    first = min(up, key=lambda u: u["t_s"]) if up else None
+    more = f"; {len(up) - 1} more uplift event{'s' * (len(up) > 2)}" if len(up) > 1 else ""
+    # the unilateral model lets them lift off, the bilateral one holds them down
+    if up and s.get("contact") not in ("unilateral", "bilateral"):
         return "uplift", (
             f"UPLIFT at t = {first['t_s']:.4f} s (contact {first['contact']}){more}: a normal "
             "force reached zero, the results after it are outside the no-uplift model"
@@ -418,9 +419,10 @@ def outcome(s: dict) -> tuple[str, str]:
             f"LIFT-OFF: {s['lift_offs']} lift-offs and {s.get('landings', 0)} landings, the "
             f"first at t = {s['first_lift_off_s']:.4f} s"
         )
-    if s.get("would_lift_off"):
+    if s.get("would_lift_off") or (up and s.get("contact") == "bilateral"):
+        at = f" at t = {first['t_s']:.4f} s (contact {first['contact']}){more}" if up else ""
         return "would lift off", (
-            "a normal force turned negative: the bilateral model held the isolator down "
+            f"a normal force turned negative{at}: the bilateral model held the isolator down "
             "(rerun with isolation.contact = 'unilateral' to let it lift off)"
         )
     return "in contact", "every isolator stayed in contact (no uplift)"
