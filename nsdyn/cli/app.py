@@ -47,7 +47,12 @@ def _user_errors() -> tuple[type[BaseException], ...]:
 FLAG_KEYS = {"solver.method": "--method", "solver.dt": "--dt", "motion.record": "--record",
              "motion.pga": "--pga", "motion.t_end": "--t-end", "scene.f_max": "--fmax",
              "scene.fidelity": "--fidelity", "structure.fidelity": "--fidelity",
-             "solver.max_steps": "--max-steps"}  # fmt: skip
+             "solver.max_steps": "--max-steps", "scene.frame": "--frame"}  # fmt: skip
+
+
+# flags of one command alone (``nsdyn modes FRAME`` takes its frame as an argument, which a
+# scene file it names replaces: that frame is the file's)
+FLAG_COMMANDS = {"--frame": ("run",)}
 
 
 def flagged(message: str, args: argparse.Namespace) -> str:
@@ -55,6 +60,8 @@ def flagged(message: str, args: argparse.Namespace) -> str:
     (``s.toml: solver.method (--method): ...``): the file does not hold the value blamed."""
     for key, flag in FLAG_KEYS.items():
         v = getattr(args, flag[2:].replace("-", "_"), None)
+        if flag in FLAG_COMMANDS and getattr(args, "command", None) not in FLAG_COMMANDS[flag]:
+            continue
         if not v or f": {key}:" not in message:
             continue
         said = {str(v), repr(v)} | ({f"{v:g}"} if isinstance(v, float) else set())

@@ -109,7 +109,8 @@ def test_a_space_frame_file_given_as_a_scene_names_the_building3d_scene(capsys, 
 def test_a_space_frame_given_to_frame_names_the_building3d_scene(capsys, tmp_path):
     assert main(["run", "--frame", "office-11-3d", "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("nsdyn run: error: <default scene>: scene.frame: office-11-3d is a 3D")
+    said = "nsdyn run: error: <default scene>: scene.frame (--frame): office-11-3d is a 3D"
+    assert err.startswith(said)
     assert "scene of kind 'building3d'" in err
     assert not (tmp_path / "o").exists()
 
@@ -224,6 +225,11 @@ def test_a_mistyped_option_or_benchmark_is_refused_with_the_nearest(argv, says, 
         (["run", "ROCK", "--record", "nosuch"], "ROCK: motion.record (--record): cannot read"),
         (["run", "--dt", "0.02", "--method", "genalpha"], "<default scene>: solver.dt (--dt): a"),
         (["export", "opensees", "--dt", "0.02"], "<default scene>: solver.dt (--dt): a fixed"),
+        # a scene of its own [structure] takes no frame: the frame came from --frame
+        (
+            ["run", "SHEAR", "--frame", "office-12"],
+            "SHEAR: scene.frame (--frame): 'office-12' not used with a [structure] table",
+        ),
     ],
 )
 def test_an_error_about_a_key_a_flag_set_names_the_flag(argv, said, tmp_path, capsys):
@@ -241,8 +247,10 @@ def test_a_bad_value_in_the_file_is_not_blamed_on_the_flag(tmp_path, capsys):
 
 
 def _flag_case(argv, said, tmp_path, capsys):
-    rock = str(Path(__file__).resolve().parents[2] / "examples/scenes/rocking-seed003-column.toml")
-    argv = [rock if a == "ROCK" else a for a in argv]
+    scenes = Path(__file__).resolve().parents[2] / "examples/scenes"
+    rock = str(scenes / "rocking-seed003-column.toml")
+    shear = str(scenes / "isolated-shear-3storey.toml")
+    argv = [{"ROCK": rock, "SHEAR": shear}.get(a, a) for a in argv]
     out = ["--out", str(tmp_path / "o")] if argv[0] == "run" else ["-o", str(tmp_path / "x.py")]
     assert main([*argv, *out]) == EXIT_USER_ERROR
-    assert said.replace("ROCK", rock) in capsys.readouterr().err
+    assert said.replace("ROCK", rock).replace("SHEAR", shear) in capsys.readouterr().err

@@ -90,7 +90,10 @@ def structure_kind(cfg: dict, source: str) -> str | None:
             "normal force [N], or vertical contact rows for normal forces from the dynamics)"
         )
     if "frame" in cfg.get("scene", {}):
-        raise SceneError(f"{source}: scene.frame: not used with a [structure] table; remove one")
+        raise SceneError(
+            f"{source}: scene.frame: {cfg['scene']['frame']!r} not used with a "
+            "[structure] table (the scene's own system); remove one"
+        )
     return kind
 
 
