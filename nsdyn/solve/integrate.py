@@ -457,7 +457,7 @@ def _finish(
         )
     if status == ki.ST_NEWTON and law == "arctan" and m.fixed_step and eps:
         message += (
-            f"; the arctan law turns the friction over within {100.0 / eps:.2g} m/s of slip "
+            f"; the arctan law turns the friction over within {1.0 / eps:.2g} m/s of slip "
             f"(eps = {eps:.3g} s/m), which a step of {fields['h']:.3g} s passes in one: a smaller "
             "eps (a softer law) or dt lets Newton follow it"
         )
