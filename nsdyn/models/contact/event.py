@@ -5,7 +5,7 @@ LCP.  At an event the mode is rebuilt from the state (``_settle``):
 
 1. contacts on the ground that approach (g = 0, gd < 0) undergo an impact, solved at velocity
    level by the impulse LCP (``_kgeom.solve_contacts``) with Newton's law
-   0 <= gd+ + e_n gd-  _|_  P_N >= 0 and Coulomb's law on the impulses; ``impact="housner"``
+   0 <= gd+ + e_n gd-  _|_  P_N >= 0 and Coulomb's law on the impulses; ``impact_law="housner"``
    uses the perfectly plastic, sticking impact, which for a rocking rectangle conserves the
    angular momentum about the striking corner, i.e. Housner's thetad+ = (1 - 1.5 sin^2 alpha)
    thetad-;
