@@ -187,9 +187,10 @@ def _switch_oscillator():
         (lambda: Harmonic(1.0, math.nan), r"^Harmonic\.f_hor: expected a finite number"),
         (lambda: Isolation(mu=-0.1), r"^isolation\.mu: expected a finite non-negative number"),
         (lambda: Isolation(eps=-1.0), r"^isolation\.eps: expected a finite non-negative number"),
+        (lambda: Isolation(eps=[1.0, 2.0]), r"^isolation\.eps: expected one \(for every "),
     ],
     ids=["harmonic-f-negative", "harmonic-f-zero", "harmonic-f-nan", "mu-negative",
-         "eps-negative"],
+         "eps-negative", "eps-a-list"],
 )  # fmt: skip
 def test_bad_excitation_or_isolator_value_is_refused_where_it_is_built(call, message):
     with pytest.raises(ValueError, match=message):

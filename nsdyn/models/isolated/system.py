@@ -96,8 +96,9 @@ class Isolation:
             if one or vals.size == 0 or vals.ndim != 1 or not np.all(np.isfinite(vals)
                                                                      & (vals >= 0)):  # fmt: skip
                 per = " (or one per isolator)" if k in PER_ISOLATOR else ""
+                a = "one (for every isolator)" if one else "a"
                 raise ValueError(
-                    f"isolation.{k}: expected a finite non-negative number{per}, got {v!r}"
+                    f"isolation.{k}: expected {a} finite non-negative number{per}, got {v!r}"
                 )
         if not self.g > 0:
             raise ValueError(f"isolation.g: expected a positive gravity [m/s²], got {self.g!r}")
