@@ -384,6 +384,21 @@ def unused_columns_note(motion, remedy: str) -> str | None:
             f"{', '.join(map(repr, took))} ({remedy})")  # fmt: skip
 
 
+def record_span_notes(t_eval, first: float, last: float, dt: float) -> list[str]:
+    """Notes of a run over output times ``t_eval`` outside its record's samples, from
+    ``first`` to ``last`` [s] every ``dt``: the ground is at rest before the first sample and
+    after the last, which a run takes as it is told but should say."""
+    notes = []
+    if t_eval[0] < first - 1e-9 * dt:
+        notes.append(f"the run starts at t = {t_eval[0]:g} s, before the record's first sample "
+                     f"({first:g} s): the ground is at rest before it")  # fmt: skip
+    if t_eval[-1] > last + dt:  # (within one sample: the record's own end)
+        notes.append(f"the run ends at t = {t_eval[-1]:g} s, past the record's end ({last:g} "
+                     f"s): the ground is at rest after it, the last {t_eval[-1] - last:.4g} s "
+                     "are free motion")  # fmt: skip
+    return notes
+
+
 def past_record_note(t_end: float, end: float, runs_on: bool = True,
                      what: str = "record") -> str | None:  # fmt: skip
     """One line for a run whose ``t_end`` is past the end of its record (or other

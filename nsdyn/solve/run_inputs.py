@@ -82,3 +82,14 @@ def integrated_law(system, method: str) -> str | None:
     if iso is None:
         return None
     return "switch" if method == "event" else iso.law
+
+
+def record_span_notes(t_eval: np.ndarray, motion) -> list[str]:
+    """:func:`nsdyn.ground.formats.record_span_notes` of a record ``motion`` (none for other
+    excitations)."""
+    if not all(hasattr(motion, k) for k in ("t0", "n", "dt")):  # (a record alone)
+        return []
+    from nsdyn.ground.formats import record_span_notes as notes
+
+    return notes(t_eval, float(motion.t0), float(motion.t0 + (motion.n - 1) * motion.dt),
+                 float(motion.dt))  # fmt: skip

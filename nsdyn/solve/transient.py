@@ -41,6 +41,7 @@ from nsdyn.solve.run_inputs import (
     default_step,
     event_law,
     integrated_law,
+    record_span_notes,
     vertical_felt,
 )
 
@@ -550,6 +551,7 @@ def simulate(
         integrated_law(system, method),
         failure,
     )
-    res.notes = fixed_step_notes(res, Pm, evaluated[0], dt, motion)  # (unresolved peaks)
+    res.notes = record_span_notes(t_eval, motion) + fixed_step_notes(res, Pm, evaluated[0], dt,
+                                                                     motion)  # fmt: skip
     res.restitution = float(restitution)
     return between_steps(res, dt, uplift)

@@ -193,3 +193,21 @@ def test_a_harmonic_excitation_is_named_by_its_amplitude_and_frequency():
     assert describe(HarmonicForce(1635.0, 1.5, dofs=(0, 1), weights=(2.0, 1.0), phase=0.3)) == (
         "force: harmonic, 1635 N at 1.5 Hz, phase 0.3 rad on dofs [0, 1], weights [2.0, 1.0]"
     )
+
+
+def test_a_run_outside_its_record_says_so_and_the_ground_rests_there():
+    # a record sampled from t = 1 s to 2 s, run from 0 s to 3 s: the ground is at rest before
+    # its first sample and after its last (the run took that silently); a mass at rest with
+    # the ground at rest stays exactly where it is (no force acts on it before 1 s)
+    dt = 0.01
+    gm = nsdyn.GroundMotion(1.0, dt, 2.0 * np.sin(2 * np.pi * np.arange(101) * dt))
+    r = nsdyn.simulate(_mass(mu=MU, law="switch"), gm, t_eval=np.linspace(0.0, 3.0, 301))
+    assert r.notes[:2] == [
+        "the run starts at t = 0 s, before the record's first sample (1 s): the ground is at "
+        "rest before it",
+        "the run ends at t = 3 s, past the record's end (2 s): the ground is at rest after it, "
+        "the last 1 s are free motion",
+    ]
+    assert np.all(r.x[r.t < 1.0] == r.x[0])
+    inside = nsdyn.simulate(_mass(mu=MU, law="switch"), gm)  # (its own grid: no note)
+    assert not any("record's" in n for n in inside.notes)

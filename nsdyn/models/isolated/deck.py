@@ -375,6 +375,15 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
     if (t_eval.ndim != 1 or t_eval.size < 2 or not np.all(np.isfinite(t_eval))
             or not np.all(np.diff(t_eval) > 0)):  # fmt: skip
         raise ValueError("t_eval: expected at least two increasing finite times")
+    if gk == kp.G_TABLE:  # outputs outside the record: the ground at rest there, said
+        import warnings
+
+        from nsdyn._checks import NotedWarning
+        from nsdyn.ground.formats import record_span_notes
+
+        t0, dt = float(gp[kp.GP_T0]), float(gp[kp.GP_DT])
+        for note in record_span_notes(t_eval, t0, t0 + dur, dt):
+            warnings.warn(note, NotedWarning, stacklevel=3)
     if max_step is None:
         max_step = (
             gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (20.0 * max(gp[kp.GP_F], gp[kp.GP_FZ]))

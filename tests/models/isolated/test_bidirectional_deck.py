@@ -396,3 +396,26 @@ def test_a_key_the_runs_law_does_not_read_is_a_warning_naming_it(law, given, nam
         warnings.simplefilter("error", InputWarning)
         own = {"eps": 1e3} if law == "arctan" else {"eta": 1e-4}
         simulate_plane(s, {"f": 1.0, "ax": 1.0}, t_end=0.2, law=law, **own)
+
+
+def test_a_deck_run_outside_its_record_says_so_and_rests_before_it():
+    # a 6 s record run from -1 s to 8 s: the ground is at rest before its first sample and
+    # after its last (said in a note; the run took it silently), and the deck at rest under
+    # a resting ground stays where it is, to the bit
+    from nsdyn._checks import NotedWarning
+
+    d = rigid_deck(2.0e5, 2.0e6, POS, Bearing(Friction(0.05), radius=2.2), h=1.5, g=G)
+    _, rec = _record()
+    with pytest.warns(NotedWarning) as seen:
+        r = simulate_plane(d, rec, t_eval=np.linspace(-1.0, 8.0, 91))
+    said = [str(w.message) for w in seen]
+    assert said == [
+        "the run starts at t = -1 s, before the record's first sample (0 s): the ground is at "
+        "rest before it",
+        "the run ends at t = 8 s, past the record's end (6 s): the ground is at rest after it, "
+        "the last 2 s are free motion",
+    ]
+    assert np.all(r.u[r.t < 0.0] == r.u[0]) and np.abs(r.u).max() > 1e-3
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", NotedWarning)  # (on its own grid: nothing to say)
+        simulate_plane(d, rec)
