@@ -58,7 +58,7 @@ def _format(name: str, run: dict, an: dict) -> str:
         f"{run['n_skipped']} from before, {run['n_failed']} failed "
         f"({run['wall_s']:.1f} s on {run['workers']} worker{'s' * (run['workers'] != 1)}, "
         f"batches of {run['batch']})",
-        f"table: {run['table']}",
+        f"table: {run['table']}" + (f" (and {run['parquet']})" if run.get("parquet") else ""),
     ]
     if run.get("n_outside"):
         from nsdyn.studies.table import OUTSIDE
@@ -199,7 +199,9 @@ def run(args: argparse.Namespace) -> int:
     from nsdyn.studies.table import PARQUET
 
     study = load_study(args.study)
-    out = Path(args.out) if args.out else Path(DEFAULT_OUT) / study.name.replace("/", "_")
+    from nsdyn.models.scenefile import file_stem  # (".." or "." wrote beside the folder)
+
+    out = Path(args.out) if args.out else Path(DEFAULT_OUT) / file_stem(study.name)
     announce_compile(study)
     if args.dask or args.dask_local:
         ctx = dask_executor(args.dask, args.dask_local)

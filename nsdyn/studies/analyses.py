@@ -106,9 +106,24 @@ def _check_column(source: str, where: str, name, study, *, result: bool) -> None
 
 
 def _names(source: str, where: str, val) -> list[str]:
+    """A given list of column names, none twice (``[]`` ran the default, a name given twice
+    its row or column twice, without a word); ``None`` (not given): none."""
+    if val is None:
+        return []
     if not isinstance(val, list) or not all(isinstance(v, str) for v in val):
         raise SceneError(f"{source}: {where}: expected a list of column names, got {val!r}")
+    if not val:
+        raise SceneError(f"{source}: {where}: expected one column name or more, got [] (drop "
+                         "the key for its default)")  # fmt: skip
+    _once(source, where, val)
     return val
+
+
+def _once(source: str, where: str, vals: list) -> None:
+    """SceneError naming the first value of ``vals`` given twice."""
+    twice = next((v for i, v in enumerate(vals) if v in vals[:i]), None)
+    if twice is not None:
+        raise SceneError(f"{source}: {where}: {twice!r} given twice; expected distinct values")
 
 
 def _check_columns(source: str, where: str, val, study, *, result: bool) -> None:
@@ -142,8 +157,8 @@ def check_analysis(study) -> None:
     d = an.get("design")
     if d is not None:
         where = "analysis.design."
-        _check_columns(src, where + "variables", d.get("variables", []), study, result=False)
-        _check_columns(src, where + "objectives", d.get("objectives", []), study, result=True)
+        _check_columns(src, where + "variables", d.get("variables"), study, result=False)
+        _check_columns(src, where + "objectives", d.get("objectives"), study, result=True)
         for key in ("constraints", "reference"):
             if not isinstance(d.get(key, {}), dict):
                 raise SceneError(f"{src}: analysis.design.{key}: expected a table {{name = "
@@ -177,8 +192,8 @@ def check_analysis(study) -> None:
     p = an.get("percentiles")
     if p is not None:
         where = "analysis.percentiles."
-        _check_columns(src, where + "quantities", p.get("quantities", []), study, result=True)
-        _check_columns(src, where + "by", p.get("by", []), study, result=False)
+        _check_columns(src, where + "quantities", p.get("quantities"), study, result=True)
+        _check_columns(src, where + "by", p.get("by"), study, result=False)
         pcts = p.get("percentiles", list(DEFAULT_PERCENTILES))
         if not isinstance(pcts, list) or not pcts:  # (a number raised a TypeError)
             raise SceneError(f"{src}: analysis.percentiles.percentiles: expected a list of "
@@ -187,6 +202,7 @@ def check_analysis(study) -> None:
             field = f"analysis.percentiles.percentiles[{i}]"
             if not 0 <= number(src, field, q, allow_zero=True) <= 100:
                 raise SceneError(f"{src}: {field}: expected 0..100, got {q!r}")
+        _once(src, "analysis.percentiles.percentiles", pcts)
     if an.get("incidence") is not None:
         from nsdyn.studies import incidence
 
@@ -203,6 +219,7 @@ def check_analysis(study) -> None:
                              f"(one curve each), got {lim!r}")  # fmt: skip
         for i, v in enumerate(lim):
             number(src, f"analysis.fragility.limits[{i}]", v)
+        _once(src, "analysis.fragility.limits", lim)
         c = number(src, "analysis.fragility.confidence", f.get("confidence", CONFIDENCE))
         if not c < 1:
             raise SceneError(f"{src}: analysis.fragility.confidence: expected in (0, 1)")
@@ -433,7 +450,8 @@ def _fragility(study, table: Table, spec: dict, out: Path, figures: bool) -> dic
     if figures:
         conf = spec.get("confidence", CONFIDENCE)
         title = study.name + (f" ({note})" if note else "")
-        if runs["refuse"] is not None:  # (it blamed failed runs, with none failed)
+        if all(f[1] is None for f in fits):  # (it blamed failed runs, with none failed; a
+            # figure of points alone read as a fit)
             title = f"{study.name}: no fit (fragility.csv says why)"
         fig = fragility_figure(fits, spec["im"], spec["edp"], conf, title=title)
         res["figure"] = str(save_figure(fig, out / "fragility.png"))

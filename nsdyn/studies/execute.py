@@ -71,7 +71,8 @@ class StudyRun:
 
 
 def _failed_rows(tasks: list[Task], why: str) -> list[dict]:
-    return [t.columns() | {"status": "failed", "error": why, "task_s": float("nan")} for t in tasks]
+    failed = {"status": "failed", "error": why, "task_s": float("nan")}
+    return [dict.fromkeys(t.keep or ()) | t.columns() | failed for t in tasks]  # (kept: empty)
 
 
 class _Progress:

@@ -65,6 +65,9 @@ def check(study, spec: dict) -> None:
     if not isinstance(q, list) or not all(isinstance(v, str) for v in q):
         raise SceneError(f"{src}: analysis.incidence.quantities: expected a list of column "
                          f"names, got {q!r}")  # fmt: skip
+    if ("quantities" in spec and not q) or len(set(q)) < len(q):  # ([]: the default, silently)
+        raise SceneError(f"{src}: analysis.incidence.quantities: expected distinct column "
+                         f"names, one or more (drop it for the default), got {q!r}")  # fmt: skip
 
 
 def incidence_rows(table: Table, angle: str, quantities: list[str], by: list[str]) -> list[dict]:

@@ -431,6 +431,7 @@ def run_task(task) -> dict:
         row["status"], row["error"] = "ok", note[:ERROR_CHARS]
     except Exception as e:  # a failing task is a result, not the end of the study
         row.update({k: v for k, v in getattr(e, "columns", {}).items() if k not in row})
+        row.update({k: None for k in task.keep or () if k not in row})  # (empty, not absent)
         msg = " ".join(f"{type(e).__name__}: {e}".split())
         row["status"], row["error"] = "failed", msg[:ERROR_CHARS]
     row["task_s"] = time.perf_counter() - t0

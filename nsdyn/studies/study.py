@@ -61,11 +61,20 @@ from nsdyn.models.scenefile import (
     scene_module,
     unknown_key,
 )
+from nsdyn.studies.parameters import (  # noqa: F401 (their names, importable from here)
+    GRID_FORMS,
+    MAX_TASKS,
+    NUMERIC_FIELDS,
+    RANDOM_FORMS,
+    Parameter,
+    _err,
+    parse_parameter,
+    whole_numbers,
+)
 from nsdyn.studies.table import checked_keep
 
 KINDS3C = ("deck", "building3d")  # scene kinds whose records have two horizontal components
 PAIR_KINDS = (*KINDS3C, "cylinder")  # scene kinds that read a record's components from files
-NUMERIC_FIELDS = {"motion.rotate": "angles in degrees"}  # parameters that must be numbers
 
 STUDY_TABLES = ("study", "base", "parameters", "records", "analysis")
 STUDY_FIELDS = {"name": str, "scene": str, "keep": list, "samples": int, "seed": int, "batch": int}
@@ -73,25 +82,8 @@ RECORD_FIELDS = ("names", "folder", "glob", "set", "simulated", "pairs")
 PAIR_FIELDS = ("name", "x", "y", "z")
 SIMULATED_FIELDS = {"n": int, "seed": int, "duration": float, "dt": float, "generator": str}
 RECORD_SETS = ("kobe", "bundled")
-GRID_FORMS = ("values", "linspace", "logspace")
-RANDOM_FORMS = ("uniform", "loguniform", "normal", "lognormal")
 # dotted scene fields a parameter may vary for scene kinds whose schema the study cannot see
 CONTRACT_FIELDS = ("motion.record", "motion.pga", "motion.t_end", "solver.method")
-MAX_TASKS = 1_000_000  # refuse studies larger than this (a typo in a grid)
-
-
-@dataclass(frozen=True)
-class Parameter:
-    """One varied scene field: ``name`` = "table.field"; grid ``values`` or a random law."""
-
-    name: str
-    values: tuple = ()
-    law: str | None = None  # one of RANDOM_FORMS for a random parameter
-    args: tuple = ()
-
-    @property
-    def random(self) -> bool:
-        return self.law is not None
 
 
 @dataclass(frozen=True)
@@ -132,10 +124,6 @@ class Study:
         for p in (p for p in self.parameters if not p.random):
             n *= len(p.values)
         return n * (self.samples if any(p.random for p in self.parameters) else 1)
-
-
-def _err(source: str, where: str, msg: str) -> SceneError:
-    return SceneError(f"{source}: {where}: {msg}")
 
 
 def _check_type(source: str, where: str, val, typ):
@@ -196,99 +184,6 @@ def _integer_fields(kind: str) -> set[str]:
         for k in t.keys:
             types.setdefault(f"{t.name}.{k.name}", set()).add(k.type)
     return {f for f, ty in types.items() if ty == {"integer"}}
-
-
-def _whole_numbers(source: str, p: Parameter, whole: set[str]) -> Parameter:
-    """``p`` with its values as ints where its field is an integer one (a linspace's 3.0 is
-    written 3 to the table and read as 3 by the scene); a fraction or a random law there is
-    refused, naming the field."""
-    if p.name not in whole:
-        return p
-    where = f"parameters.{p.name}"
-    if p.random:
-        raise _err(source, f"{where}.{p.law}", "an integer field takes whole numbers (a list, "
-                   "linspace or logspace of them), not a random law")  # fmt: skip
-    out = []
-    for v in p.values:
-        ok = isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
-        if not ok or abs(v - round(v)) > 1e-9 * max(1.0, abs(v)):
-            raise _err(source, where, f"expected whole numbers (an integer field), got {v!r}")
-        out.append(int(round(v)))
-    return Parameter(p.name, values=tuple(out))
-
-
-def _parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter:
-    where = f"parameters.{name}"
-    if name not in known:
-        leaf = [k for k in sorted(known) if k.rsplit(".", 1)[-1] == name.rsplit(".", 1)[-1]]
-        hint = (did_you_mean(name, leaf) or f"; did you mean {leaf[0]!r}?" if leaf  # 'bearing.mu'
-                else did_you_mean(name, sorted(known)))  # fmt: skip
-        tables = sorted({k.split(".", 1)[0] for k in known})  # (the example named this key)
-        raise SceneError(f"{source}: {where}: unknown scene field{hint} (expected 'table.field' "
-                         f"of this scene's tables: {', '.join(tables)})")  # fmt: skip
-    if isinstance(spec, list):
-        spec = {"values": spec}
-    if not isinstance(spec, dict) or len(spec) != 1:
-        raise _err(
-            source,
-            where,
-            "expected a list of values or one of { values | linspace | logspace | "
-            f"{' | '.join(RANDOM_FORMS)} = [...] }}, got {spec!r}",
-        )
-    ((form, args),) = spec.items()
-    if form not in GRID_FORMS + RANDOM_FORMS:
-        raise unknown_key(source, f"{where}.", form, GRID_FORMS + RANDOM_FORMS)
-    if not isinstance(args, list) or not args:
-        raise _err(source, f"{where}.{form}", f"expected a non-empty list, got {args!r}")
-    if form == "values":
-        kinds = {type(v) for v in args}
-        if name in NUMERIC_FIELDS and not kinds <= {int, float}:
-            bad = next(v for v in args if isinstance(v, bool) or not isinstance(v, int | float))
-            raise _err(source, f"{where}.values",
-                       f"expected numbers ({NUMERIC_FIELDS[name]}), got {bad!r}")  # fmt: skip
-        if not (kinds <= {int, float} or kinds <= {str} or kinds <= {bool}):
-            raise _err(source, f"{where}.values", f"expected numbers, strings or booleans, all "
-                       f"of one kind, got {args!r}")  # fmt: skip
-        return Parameter(name, values=_distinct(source, f"{where}.values", args, name))
-    nums = [number(source, f"{where}.{form}[{i}]", a, positive=False) for i, a in enumerate(args)]
-    if form in ("linspace", "logspace"):
-        if len(nums) != 3 or nums[2] != int(nums[2]) or not 1 <= nums[2] <= MAX_TASKS:
-            what = f"expected [first, last, count], a count of 1 to {MAX_TASKS}, got {args!r}"
-            raise _err(source, f"{where}.{form}", what)  # (a count of 1e9 filled the memory)
-        a, b, n = nums[0], nums[1], int(nums[2])
-        if form == "logspace":
-            if not (a > 0 and b > 0):
-                raise _err(source, f"{where}.logspace", f"expected positive ends, got {args!r}")
-            vals = [a * (b / a) ** (i / (n - 1)) if n > 1 else a for i in range(n)]
-        else:
-            vals = [a + (b - a) * i / (n - 1) if n > 1 else a for i in range(n)]
-        return Parameter(name, values=_distinct(source, f"{where}.{form}", vals, name))
-    if len(nums) != 2:
-        raise _err(source, f"{where}.{form}", f"expected two numbers, got {args!r}")
-    a, b = nums
-    ok = {"uniform": a < b, "loguniform": 0 < a < b, "normal": b > 0, "lognormal": a > 0 < b}
-    if not ok[form]:
-        what = {
-            "uniform": "[low, high] with low < high",
-            "loguniform": "[low, high] with 0 < low < high",
-            "normal": "[mean, std] with std > 0",
-            "lognormal": "[median, beta] both positive",
-        }[form]
-        raise _err(source, f"{where}.{form}", f"expected {what}, got {args!r}")
-    return Parameter(name, law=form, args=(a, b))
-
-
-def _distinct(source: str, where: str, vals: list, name: str = "") -> tuple:
-    """``vals`` as a tuple, refused when a value repeats (two tasks of one key: one row), an
-    angle (:data:`NUMERIC_FIELDS`) modulo 360° (0 and 360 deg: one incident direction)."""
-    seen: dict = {}
-    for v in vals:
-        k = round(v % 360.0, 9) % 360.0 if name in NUMERIC_FIELDS else v
-        if k in seen:
-            same = "twice" if seen[k] == v else f"and {seen[k]!r}, one direction (modulo 360)"
-            raise _err(source, where, f"expected distinct values, got {v!r} {same}")
-        seen[k] = v
-    return tuple(vals)
 
 
 def _resolve_path(study_dir: Path, p: str) -> Path:
@@ -482,7 +377,7 @@ def load_study(path: str | Path) -> Study:
     kind, base = _base_scene(source, study_dir, st, raw.get("base", {}))
     params_raw = raw.get("parameters", {})
     known, whole = _known_fields(kind, base), _integer_fields(kind)
-    params = [_whole_numbers(source, _parse_parameter(source, k, v, known), whole)
+    params = [whole_numbers(source, parse_parameter(source, k, v, known), whole)
               for k, v in params_raw.items()]  # fmt: skip
     records = _parse_records(source, study_dir, raw.get("records", {}), kind, base)
     if records and record_replaces(kind):  # the scene file's closed-form motion gives way

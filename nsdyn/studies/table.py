@@ -194,6 +194,11 @@ def read_results(out_dir: str | Path) -> Table:
     if Path(out_dir).is_file() and Path(out_dir).name == RESULTS:  # (the table itself given)
         path = Path(out_dir)
     if not path.is_file():
+        if any((Path(out_dir) / PARTS).glob("part-*.csv")):  # (said as a missing folder)
+            raise FileNotFoundError(f"{out_dir}: no {RESULTS} yet: an interrupted study, its "
+                                    f"finished rows in {PARTS}/; run the study again (nsdyn "
+                                    "study FILE --out DIR, or run_study) to finish it and "
+                                    "write the table")  # fmt: skip
         raise FileNotFoundError(f"{out_dir}: no {RESULTS}; expected the folder a study wrote")
     if not path.read_text().strip():
         raise ValueError(f"{path}: empty; expected the table a study wrote (a header, rows)")

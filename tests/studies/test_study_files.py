@@ -258,6 +258,9 @@ def test_nothing_beside_the_table_is_older_than_it(tmp_path, capsys):
     p = _write(tmp_path, text.replace("MU", "[0.02, 0.05]") + "[analysis.percentiles]\n")
     assert main(["study", str(p), "--out", str(out), "--parquet", "--workers", "1"]) == 0
     assert len(pd.read_parquet(out / "results.parquet")) == 2
+    assert (
+        f"table: {out / 'results.csv'} (and {out / 'results.parquet'})" in capsys.readouterr().out
+    )
     assert (out / "percentiles.csv").is_file() and (out / "distributions.png").is_file()
     p = _write(tmp_path, text.replace("MU", "[0.02, 0.05, 0.08]") + "[analysis.percentiles]\n")
     assert main(["study", str(p), "--out", str(out), "--no-figures", "--workers", "1"]) == 0

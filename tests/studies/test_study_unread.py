@@ -188,7 +188,7 @@ def test_a_scene_choice_is_a_parameter_whether_the_base_writes_it_or_not(tmp_pat
     )
     assert [t.params["scene.model"] for t in expand(load_study(path))] == ["block", "frame"]
     path.write_text(f'[study]\nscene = "{scene}"\n[parameters]\n"scene.kind" = ["contact"]\n')
-    with pytest.raises(SceneError, match=r"parameters.scene.kind: unknown scene field"):
+    with pytest.raises(SceneError, match=r"parameters.scene.kind: a study runs the one scene kind"):
         load_study(path)
 
 

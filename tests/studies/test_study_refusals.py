@@ -1,0 +1,87 @@
+"""Study files that ran silently wrong, or wrote where they should not, now refused or fixed.
+
+What is asserted (behaviour, no number): a study named ".." or "." writes under
+``nsdyn-study/`` like any other (its table, parts and lock landed in the working folder, and a
+``--fresh`` there would have deleted them); ``scene.kind`` and ``scene.name`` are not study
+parameters (a name per task repeated one run); an empty list given for objectives, quantities
+or grouping columns is refused (the default ran without a word; an empty list of records keeps
+the scene's own motion, as documented), as is a value given
+twice (two equal rows or columns) and a ``linspace`` of count 1 that drops its end; a study
+whose tasks all failed still has the kept result columns, empty; an interrupted study's folder
+is said to be one when its table is read.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from nsdyn.cli import main
+from nsdyn.models.scenefile import SceneError
+from nsdyn.studies import load_study
+from nsdyn.studies.table import read_csv, read_results
+
+HEAD = '[study]\nname = "g"\n[base.scene]\nfidelity = "rigid"\n[base.motion]\nt_end = 1.0\n'
+PARAMS = '[parameters]\n"isolation.mu" = [0.02, 0.05]\n'
+RECORDS = '[records]\nnames = ["synthetic-wn-40s"]\n'
+
+
+def _write(tmp_path, text: str):
+    p = tmp_path / "s.toml"
+    p.write_text(text)
+    return p
+
+
+@pytest.mark.parametrize(
+    ("text", "says"),
+    [
+        (HEAD + '[parameters]\n"scene.name" = ["a", "b"]\n',
+         r"parameters\.scene\.name: names the run, not its physics"),
+        (HEAD + '[parameters]\n"scene.kind" = ["isolated", "deck"]\n',
+         r"parameters\.scene\.kind: a study runs the one scene kind of its base scene"),
+        (HEAD + '[parameters]\n"isolation.mu" = []\n',
+         r"parameters\.isolation\.mu: expected a non-empty list of values, got \[\]"),
+        (HEAD + '[parameters]\n"isolation.mu" = { linspace = [0.01, 0.05, 1] }\n',
+         r"linspace: a count of 1 takes `first` alone and drops `last` \(0\.05\)"),
+        (HEAD + PARAMS + RECORDS + "[analysis.design]\nobjectives = []\n",
+         r"analysis\.design\.objectives: expected one column name or more, got \[\]"),
+        (HEAD + PARAMS + RECORDS + '[analysis.design]\nobjectives = ["idr_max", "idr_max"]\n',
+         r"analysis\.design\.objectives: 'idr_max' given twice"),
+        (HEAD + PARAMS + RECORDS + "[analysis.percentiles]\nquantities = []\n",
+         r"analysis\.percentiles\.quantities: expected one column name or more"),
+        (HEAD + PARAMS + RECORDS + '[analysis.percentiles]\nby = ["record", "record"]\n',
+         r"analysis\.percentiles\.by: 'record' given twice"),
+        (HEAD + PARAMS + RECORDS + "[analysis.percentiles]\npercentiles = [50, 50]\n",
+         r"analysis\.percentiles\.percentiles: 50 given twice"),
+        (HEAD + PARAMS + RECORDS
+         + '[analysis.fragility]\nim = "pga_mps2"\nedp = "idr_max"\nlimits = [0.004, 0.004]\n',
+         r"analysis\.fragility\.limits: 0\.004 given twice"),
+    ],
+)  # fmt: skip
+def test_a_study_file_that_ran_silently_otherwise_is_refused(tmp_path, text, says):
+    with pytest.raises(SceneError, match=says):
+        load_study(_write(tmp_path, text))
+
+
+@pytest.mark.parametrize("name", ["..", "."])
+def test_a_study_named_dots_writes_inside_the_study_folder(tmp_path, monkeypatch, name):
+    # every task fails at once (a budget of 5 steps): the table still has the kept columns
+    monkeypatch.chdir(tmp_path)
+    text = HEAD.replace('"g"', f'"{name}"\nkeep = ["x_iso_max_m", "idr_max"]') + (
+        "[base.solver]\nmax_steps = 5\n" + PARAMS + RECORDS
+    )
+    assert main(["study", str(_write(tmp_path, text)), "--workers", "1"]) == 3
+    table = tmp_path / "nsdyn-study" / "_" / "results.csv"
+    assert table.is_file() and not (tmp_path / "results.csv").exists()
+    assert not (tmp_path / "nsdyn-study" / "results.csv").exists()
+    rows = read_csv(table)
+    assert [r["status"] for r in rows] == ["failed", "failed"]
+    assert all(r["x_iso_max_m"] is None and r["idr_max"] is None for r in rows)
+
+
+def test_an_interrupted_studys_folder_is_named_as_one(tmp_path):
+    (tmp_path / "parts").mkdir()
+    (tmp_path / "parts" / "part-1.csv").write_text("index,key\n0,a\n")
+    with pytest.raises(FileNotFoundError, match=r"no results\.csv yet: an interrupted study"):
+        read_results(tmp_path)
+    with pytest.raises(FileNotFoundError, match=r"no results\.csv; expected the folder"):
+        read_results(tmp_path / "parts")
