@@ -292,14 +292,13 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
             print(f"nsdyn run: note: {note}", file=sys.stderr)
     # a deck or 3D building whose normal force reached zero: exit 3, its files up to the uplift
     status = EXIT_NUMERICS if s.get("uplift") and kind in ("deck", "building3d") else 0
-    if args.json:  # a failed run's JSON leads with status and error, as every failure's does
-        head = {}
-        if status:
-            from nsdyn.models.isolated.deck_scene import uplift_error
+    if status:  # the failure's one line on stderr, as every failure's (its files written)
+        from nsdyn.models.isolated.deck_scene import uplift_error
 
-            head = {"status": status, "error": uplift_error(s)}
-            print(f"nsdyn run: error: {head['error']}", file=sys.stderr)  # (as every failure's)
-        print(json.dumps({**head, **s}))
+        head = {"status": status, "error": uplift_error(s)}
+        print(f"nsdyn run: error: {head['error']}", file=sys.stderr)
+    if args.json:  # a failed run's JSON leads with status and error, as every failure's does
+        print(json.dumps({**(head if status else {}), **s}))
         return status
     print(mod.format_summary(s))
     return status

@@ -51,8 +51,11 @@ def refuse_foreign_checkpoint(path: Path, ident: dict) -> None:
 
     try:
         old = json.loads(path.read_text())
-    except (OSError, ValueError):
-        old = None
+    except (OSError, ValueError):  # (said as "other settings, an older nsdyn")
+        raise SceneError(
+            f"{path.parent}: the checkpoint there is unreadable ({path.name} missing, "
+            "damaged or cut); run without --resume to start afresh"
+        ) from None
     if isinstance(old, dict) and "motion" in ident and "motion" not in old:  # (written
         # before the samples counted: an older nsdyn's, not a record edited since)
         old = None

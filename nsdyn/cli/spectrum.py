@@ -121,7 +121,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(report))
         return 0
-    print(f"{src}: {args.shape} pulses, α = {sp.alpha:.4f} rad, p = {sp.p:.4f} rad/s")
+    print(f"{src}: {args.shape} pulses, α = {sp.alpha:.4f} rad, p = {sp.p:.4f} 1/s")
     print(f"{args.n} frequencies, {sp.n_runs} runs, {sp.wall_s:.2f} s")
     print("  ω_p/p    a_min/(g tan α)  mode  status")
     for x, a, m, s in zip(sp.omega_ratio, sp.a_min_ratio, sp.mode, sp.status, strict=True):

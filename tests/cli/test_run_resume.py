@@ -42,3 +42,15 @@ def test_a_checkpoint_of_an_older_nsdyn_is_said_to_be_one(tmp_path):
     (tmp_path / IDENTITY).write_text(json.dumps(run_identity(CFG, None)))
     with pytest.raises(SceneError, match=r"other settings \(an older nsdyn\)"):
         open_checkpoint(tmp_path, run_identity(CFG, None, m), resume=True, quiet=True)
+
+
+def test_a_damaged_checkpoint_is_said_to_be_one(tmp_path):
+    # an identity file cut or garbled was blamed on "other settings (an older nsdyn)"
+    np.savez(tmp_path / CHECKPOINT, t=np.array([0.0, 0.01]))
+    for text in ("garbage", '{"scene": '):
+        (tmp_path / IDENTITY).write_text(text)
+        with pytest.raises(SceneError, match=r": the checkpoint there is unreadable \("):
+            open_checkpoint(tmp_path, run_identity(CFG, None), resume=True, quiet=True)
+    (tmp_path / IDENTITY).unlink()
+    with pytest.raises(SceneError, match=r"missing, damaged or cut\); run without --resume"):
+        open_checkpoint(tmp_path, run_identity(CFG, None), resume=True, quiet=True)

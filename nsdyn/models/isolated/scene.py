@@ -129,7 +129,11 @@ def _check(cfg: dict, source: str) -> dict:
             raise SceneError(f"{source}: {table}: a key outside any table (above the first "
                              f"[table]); expected it in one of {tables}")  # fmt: skip
         if table not in tables:
-            raise SceneError(f"{source}: [{table}]: unknown table; expected some of {tables}")
+            from nsdyn._checks import did_you_mean
+
+            hint = did_you_mean(table, tables) or ";"
+            raise SceneError(f"{source}: [{table}]: unknown table{hint} expected some of "
+                             f"{tables}")  # fmt: skip
     structure_kind(cfg, source)
     kind = cfg.get("motion", {}).get("kind", "harmonic")
     if kind != "harmonic":
