@@ -221,7 +221,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps({"script": str(out), **data}))
         return 0
-    print(f"wrote {out}  (run it with: python {out})")
+    print(f"wrote {out}  (run it with: python {out} [--t-end S])")
     return 0
 
 

@@ -118,6 +118,13 @@ def _scene_system(scene, source: str, t_end=None):
 
     raw = read_toml(scene) if isinstance(scene, str | Path) else dict(scene)
     kind = scene_kind(raw, source)
+    if kind == "building3d":  # (the message listed building3d as exported, and refused it)
+        raise SceneError(
+            f"{source}: scene.kind: export_opensees exports an isolated frame (kind "
+            "'isolated'); a building3d scene or a 3D frame file is exported by nsdyn.models."
+            "isolated.opensees3d_isolated.export_building_opensees (nsdyn export opensees "
+            "takes either)"
+        )
     if kind != "isolated":
         raise SceneError(
             f"{source}: scene.kind: OpenSees export is for the isolated frame (kind "

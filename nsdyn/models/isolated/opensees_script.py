@@ -246,7 +246,11 @@ def run(t_end=None):
     }
 
 
-if __name__ == "__main__":
-    print(json.dumps(run()))
+if __name__ == "__main__":  # (an unknown argument is refused, not ignored)
+    import argparse
+
+    cli = argparse.ArgumentParser(description="Run the exported OpenSees model; print peaks.")
+    cli.add_argument("--t-end", type=float, default=None, help="cut the record here [s]")
+    print(json.dumps(run(cli.parse_args().t_end)))
 '''
 )

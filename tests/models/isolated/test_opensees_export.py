@@ -169,6 +169,13 @@ def test_script_runs_standalone(tmp_path):
     res = json.loads(line)
     assert res["n_steps"] == 100
     assert res["x_iso_max_m"] >= 0 and res["idr_max"] > 0 and res["floor_acc_max_mps2"] > 0
+    # --t-end cuts the record (0.25 s of 5 ms steps); an unknown argument is refused (it ran)
+    p = subprocess.run([sys.executable, str(path), "--t-end", "0.25"], capture_output=True,
+                       text=True, timeout=120, cwd=tmp_path)  # fmt: skip
+    assert json.loads([s for s in p.stdout.splitlines() if s.startswith("{")][-1])["n_steps"] == 50
+    p = subprocess.run([sys.executable, str(path), "--bogus"], capture_output=True, text=True,
+                       timeout=120, cwd=tmp_path)  # fmt: skip
+    assert p.returncode == 2 and "unrecognized arguments: --bogus" in p.stderr
 
 
 def test_stiffness_damping_option(tmp_path):
@@ -205,6 +212,12 @@ def test_load_opensees_absent_names_the_extra(monkeypatch):
         ),
         ("[solver]\ndt = 100.0\n[motion]\nt_end = 1.0\n", "solver.dt"),
         ('[scene]\nfidelity = "cubic"\n', "scene.fidelity"),
+        # a building3d scene: named the kind it refused as exported; now the function that does
+        (
+            '[scene]\nkind = "building3d"\n',
+            r"a building3d scene or a 3D frame file is exported "
+            r"by nsdyn\.models\.isolated\.opensees3d_isolated\.export_building_opensees",
+        ),
     ],
 )
 def test_export_errors_name_file_and_field(tmp_path, text, match):
