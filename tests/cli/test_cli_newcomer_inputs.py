@@ -258,6 +258,24 @@ def test_a_deck_that_lifts_off_ends_with_status_3_and_its_json_says_so(tmp_path,
     u = s["uplift"]
     assert s["error"].startswith(f"UPLIFT isolator {u['isolator']} at t = {u['t_s']:.6g} s")
     assert s["t_end_s"] <= u["t_s"] < 4.0  # the run ended at the uplift
+    # the text run: the same exit, and its error line last on stderr (a warning alone before)
+    code = main(["run", str(scene), "--pga", "12", "--t-end", "4", "--no-figures",
+                 "--out", str(tmp_path / "o")])  # fmt: skip
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 3 and err[-1] == f"nsdyn run: error: {s['error']}"
+
+
+@pytest.mark.parametrize(
+    ("text", "hint"),
+    [('[isolaton]\nmu = 0.05\n', "[isolaton]: unknown table; did you mean 'isolation'?"),
+     ('[scene]\nkind = "deck"\n[motin]\nt_end = 1\n', "motin: unknown field; did you mean "
+      "'motion'? expected some of ['bearing', 'deck', 'mass', 'motion', ")],
+)  # fmt: skip
+def test_a_misspelt_scene_table_gets_the_nearest_name(tmp_path, capsys, text, hint):
+    scene = tmp_path / "s.toml"
+    scene.write_text(text)
+    assert main(["run", str(scene), "--out", str(tmp_path / "o")]) == 2
+    assert hint in capsys.readouterr().err
 
 
 def test_a_contact_problem_without_solution_is_a_numerical_failure(tmp_path, capsys):
