@@ -173,17 +173,25 @@ class ForceTable(_ForceLoad):
     name: str = "force"
 
     def __post_init__(self) -> None:
-        F = np.ascontiguousarray(self.F, dtype=float)
+        try:  # (text: numpy's "could not convert string to float", naming no argument)
+            F = np.ascontiguousarray(self.F, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"ForceTable.F: expected an array of forces [N], got "
+                             f"{self.F!r}"[:200]) from None  # fmt: skip
         if F.ndim > 1 and max(F.shape) != F.size:  # a table of several columns
             raise ValueError(
                 f"ForceTable.F: expected one force history (shape (n,)), got shape {F.shape}; "
                 "the load pattern is the vector b (one force applied at dofs)"
             )
         F = F.reshape(-1)
-        if F.size == 0 or not np.all(np.isfinite(F)):
-            raise ValueError("ForceTable.F: expected a non-empty array of finite forces [N]")
-        if not (math.isfinite(self.dt) and self.dt > 0):
-            raise ValueError(f"ForceTable.dt: expected a positive step [s], got {self.dt}")
+        if F.size < 2:  # (one sample: "t_end" blamed, not given)
+            raise ValueError(f"ForceTable.F: expected two samples or more (a table spans "
+                             f"time), got {F.size}")  # fmt: skip
+        if not np.all(np.isfinite(F)):
+            raise ValueError("ForceTable.F: expected finite forces [N]")
+        # (as a float: a numpy float32 step's end fell beside its last sample's time)
+        dt = number("ForceTable.dt", self.dt, "a positive step [s]", lambda v: v > 0)
+        object.__setattr__(self, "dt", dt)
         object.__setattr__(self, "t0", _finite("ForceTable.t0", self.t0))
         d, w = _load_dofs(self.dofs, self.weights)
         object.__setattr__(self, "F", F)

@@ -199,9 +199,8 @@ def output_grid(
                 "or n_periods=..."
             )
 
-    if dt_out is not None and (isinstance(dt_out, bool) or not isinstance(dt_out, int | float)
-                               or not (np.isfinite(dt_out) and dt_out > 0)):  # fmt: skip
-        raise ValueError(f"dt_out: expected a positive output step [s], got {dt_out!r}")
+    if dt_out is not None:  # (numpy's scalars too: np.float32(0.5) was "not positive")
+        dt_out = number("dt_out", dt_out, "a positive output step [s]", lambda v: v > 0)
     dt = dt_out or getattr(motion, "dt", None) or (T / HARMONIC_SAMPLES if T else None)
     if dt is None or not dt > 0:
         what = "free vibration (motion None)" if motion is None else "this excitation"

@@ -120,6 +120,36 @@ def test_force_tables_and_records_refuse_what_they_cannot_mean():
     assert nsdyn.ForceTable(0.0, 0.01, F[:, :1], dofs=[0]).F.shape == (10,)  # one column
     with pytest.raises(ValueError, match="t0: expected a finite time"):
         nsdyn.GroundMotion(float("nan"), 0.01, np.sin(np.arange(100) * 0.1))
+    # text (numpy's message, naming nothing), one sample ("t_end" blamed, never given)
+    with pytest.raises(ValueError, match=r"^ForceTable.F: expected an array of forces \[N\]"):
+        nsdyn.ForceTable(0.0, 0.01, "abc", dofs=[0])
+    with pytest.raises(ValueError, match=r"^ForceTable.F: expected two samples or more"):
+        nsdyn.ForceTable(0.0, 0.01, 1.0, dofs=[0])
+    with pytest.raises(ValueError, match=r"^ForceTable.dt: expected a positive step \[s\]"):
+        nsdyn.ForceTable(0.0, "0.01", np.ones(10), dofs=[0])
+    # a numpy float32 step is the float it holds: the table's end is its last sample's time
+    ft = nsdyn.ForceTable(0.0, np.float32(0.01), np.ones(300), dofs=[0])
+    assert type(ft.dt) is float and ft.t0 + ft.duration == ft.t[-1]
+
+
+def test_numpy_scalars_and_one_dof_index_are_the_numbers_they_hold():
+    # dt_out = np.float32(0.5) was "expected a positive output step"; iso_dofs = 0 read as
+    # "rows of shape (1, 1)"; 0 x 0 matrices ended in a numpy reduction error
+    from nsdyn.models.isolated.builders import MatrixError
+
+    b = nsdyn.shear_building([1e4], [], 0.0, isolation=nsdyn.Isolation(k_lam=4e4, c=0.0))
+    for dt_out, n in ((np.float32(0.5), 5), (np.int64(1), 3)):
+        assert nsdyn.simulate(b, nsdyn.Harmonic(2.0, 0.5), t_end=2.0, dt_out=dt_out).t.size == n
+    iso = nsdyn.Isolation(k_lam=5e4, c=1e3, mu=0.05)
+    M, C, K = np.diag([1e4, 1e4]), np.zeros((2, 2)), np.array([[2e6, -1e6], [-1e6, 1e6]])
+    kw = {"influence": [1, 1], "weight": 1.5e5, "isolation": iso}
+    one = nsdyn.system_from_matrices(M, C, K, iso_dofs=0, **kw)
+    assert np.array_equal(one.D, nsdyn.system_from_matrices(M, C, K, iso_dofs=[0], **kw).D)
+    with pytest.raises(MatrixError, match=r"^iso_dofs: .* got \[0\.5\]$"):
+        nsdyn.system_from_matrices(M, C, K, iso_dofs=[0.5], **kw)
+    with pytest.raises(MatrixError, match=r"^M: expected a square matrix of one dof or more"):
+        z = np.zeros((0, 0))
+        nsdyn.system_from_matrices(z, z, z, iso_dofs=[], influence=[], weight=1.0, isolation=iso)
 
 
 @pytest.mark.parametrize(

@@ -57,8 +57,9 @@ def _square(name: str, A, n: int | None) -> np.ndarray:
         raise MatrixError(f"{name}: expected a square matrix of numbers ({e})") from None
     if A.ndim == 0 and n in (None, 1):
         A = A.reshape(1, 1)
-    if A.ndim != 2 or A.shape[0] != A.shape[1]:
-        raise MatrixError(f"{name}: expected a square matrix, got shape {A.shape}")
+    if A.ndim != 2 or A.shape[0] != A.shape[1] or A.size == 0:  # (0 x 0: a numpy error)
+        raise MatrixError(f"{name}: expected a square matrix of one dof or more, got shape "
+                          f"{A.shape}")  # fmt: skip
     if n is not None and A.shape != (n, n):
         raise MatrixError(f"{name}: expected shape ({n}, {n}) like M, got {A.shape}")
     bad = np.argwhere(~np.isfinite(A))
@@ -86,15 +87,20 @@ def _definite(name: str, A: np.ndarray, strict: bool) -> None:
 
 def _rows(name: str, rows, n: int) -> np.ndarray:
     a = np.asarray(rows)
+    if a.ndim == 0 and np.issubdtype(a.dtype, np.integer):  # one dof index (it read (1, 1))
+        a = a.reshape(1)
     if a.ndim == 1 and (a.size == 0 or np.issubdtype(a.dtype, np.integer)):
         if a.size == 0:
             raise MatrixError(f"{name}: expected at least one dof index")
         if np.any(a < 0) or np.any(a >= n) or len(set(a.tolist())) != a.size:
             raise MatrixError(f"{name}: expected distinct dof indices in 0..{n - 1}, got {a}")
         return np.eye(n)[a]
-    a = np.atleast_2d(np.asarray(rows, dtype=float))
+    try:
+        a = np.atleast_2d(np.asarray(rows, dtype=float))
+    except (TypeError, ValueError):  # (text: numpy's message, naming no argument)
+        a = np.full((1, 1), np.nan)
     if a.ndim != 2 or a.shape[1] != n or not np.all(np.isfinite(a)):
-        got = got_array(a, (None, n))
+        got = got_array(a, (None, n)) if np.ndim(rows) == 2 else repr(rows)[:80]
         raise MatrixError(f"{name}: expected dof indices or finite rows of length {n}, got {got}")
     return a
 

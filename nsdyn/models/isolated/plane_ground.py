@@ -65,10 +65,10 @@ def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
     gp[kp.GP_DT] = 1.0
     if isinstance(ground, dict) and "f" in ground:
         ground = orbit_of(ground)
-    if isinstance(ground, tuple):
+    if isinstance(ground, tuple | list):  # (a list of the five was "got list")
         if len(ground) != 5:
             raise ValueError(f"ground: raw arrays are (t0, dt, ax, ay, az) (ay, az may be "
-                             f"None), got a tuple of {len(ground)}")  # fmt: skip
+                             f"None), got {len(ground)} values")  # fmt: skip
         t0, dt, ax, ay, az = ground
         ground = {"t0": t0, "dt": dt, "ax": ax, "ay": ay, "az": az}
     if _attr(ground, "f") is not None:
@@ -122,8 +122,9 @@ def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
     for name in ("ax", "ay", "az"):
         a = _attr(ground, name)
         a = np.zeros(n) if a is None else _samples(name, a)
-        if a.shape != (n,):
-            raise ValueError(f"ground.{name}: expected {n} samples (as ax), got shape {a.shape}")
+        if a.shape != (n,):  # (ax (n, 1) was "n samples (as ax)")
+            what = "a 1-D array of samples" if name == "ax" else f"{n} samples (as ax)"
+            raise ValueError(f"ground.{name}: expected {what}, got shape {a.shape}")
         if not np.all(np.isfinite(a)):
             bad = int(np.flatnonzero(~np.isfinite(a))[0])
             raise ValueError(f"ground.{name}: sample {bad} is {a[bad]}; expected finite values")

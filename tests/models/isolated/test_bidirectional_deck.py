@@ -162,11 +162,16 @@ def test_a_ground_the_run_cannot_read_is_named():
         ((0.0, 0.01, "abc", None, None), {}, r"^ground\.ax: expected accelerations"),
         ((0.0, 0.01, a, None, None), {"atol": (0.0, 0.0)}, r"^atol: expected two positive"),
         ((0.0, 0.01, a, None, None), {"max_step": "0.01"}, r"^max_step: expected a positive"),
+        ((0.0, 0.01, a[:, None], None, None), {}, r"^ground\.ax: expected a 1-D array of "),
+        ([0.0, 0.01, a], {}, r"^ground: raw arrays are \(t0, dt, ax, ay, az\) .* got 3 values"),
     ):  # fmt: skip
         with pytest.raises(ValueError, match=match):
             simulate_plane(d, ground, **kw)
     with pytest.raises(TypeError, match=r"^system: expected a PlaneSystem"):
         simulate_plane(None, (0.0, 0.01, a, None, None))
+    # the raw arrays as a list are the same ground as a tuple (a list was "got list")
+    np.testing.assert_array_equal(simulate_plane(d, [0.0, 0.01, a, a, None]).u,
+                                  simulate_plane(d, (0.0, 0.01, a, a, None)).u)  # fmt: skip
     with pytest.raises(TypeError, match=r"^progress: expected a function"):
         simulate_plane(d, (0.0, 0.01, a, None, None), progress=5)
 
