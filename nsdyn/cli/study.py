@@ -52,6 +52,13 @@ def _on_sigterm(signum, frame):
     raise KeyboardInterrupt
 
 
+def study_folder(name: str) -> str:
+    """The folder of a study ``name`` in ``nsdyn-study/``: its path separators as "_", a name
+    of dots alone as underscores (".." wrote the table beside ``nsdyn-study/``, "." into it)."""
+    stem = name.replace("/", "_").replace("\\", "_")
+    return "_" * len(stem) if not stem.strip(".") else stem
+
+
 def _format(name: str, run: dict, an: dict) -> str:
     lines = [
         f"study {name}: {run['n_tasks']} tasks, {run['n_run']} run now, "
@@ -199,9 +206,7 @@ def run(args: argparse.Namespace) -> int:
     from nsdyn.studies.table import PARQUET
 
     study = load_study(args.study)
-    from nsdyn.models.scenefile import file_stem  # (".." or "." wrote beside the folder)
-
-    out = Path(args.out) if args.out else Path(DEFAULT_OUT) / file_stem(study.name)
+    out = Path(args.out) if args.out else Path(DEFAULT_OUT) / study_folder(study.name)
     announce_compile(study)
     if args.dask or args.dask_local:
         ctx = dask_executor(args.dask, args.dask_local)

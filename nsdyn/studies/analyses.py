@@ -44,7 +44,14 @@ from nsdyn.studies.design import (
 )
 from nsdyn.studies.fragility import CONFIDENCE, fit_lognormal
 from nsdyn.studies.study import Study
-from nsdyn.studies.table import ANALYSIS_OUTPUTS, LEAD_COLUMNS, TAIL_COLUMNS, Table
+from nsdyn.studies.table import (
+    ANALYSIS_OUTPUTS,
+    LEAD_COLUMNS,
+    TAIL_COLUMNS,
+    Table,
+    column_names,
+    once,
+)
 
 SEISMIC_GAP_M = 0.4  # seed 004 §5: the isolator displacement may not exceed 400 mm
 DEFAULT_OBJECTIVES = ("idr_max", "floor_acc_max_mps2")  # seed 004 §5 objectives
@@ -105,31 +112,12 @@ def _check_column(source: str, where: str, name, study, *, result: bool) -> None
         raise SceneError(f"{source}: {where}: unknown column {name!r}{hint}")
 
 
-def _names(source: str, where: str, val) -> list[str]:
-    """A given list of column names, none twice (``[]`` ran the default, a name given twice
-    its row or column twice, without a word); ``None`` (not given): none."""
-    if val is None:
-        return []
-    if not isinstance(val, list) or not all(isinstance(v, str) for v in val):
-        raise SceneError(f"{source}: {where}: expected a list of column names, got {val!r}")
-    if not val:
-        raise SceneError(f"{source}: {where}: expected one column name or more, got [] (drop "
-                         "the key for its default)")  # fmt: skip
-    _once(source, where, val)
-    return val
-
-
-def _once(source: str, where: str, vals: list) -> None:
-    """SceneError naming the first value of ``vals`` given twice."""
-    twice = next((v for i, v in enumerate(vals) if v in vals[:i]), None)
-    if twice is not None:
-        raise SceneError(f"{source}: {where}: {twice!r} given twice; expected distinct values")
-
-
-def _check_columns(source: str, where: str, val, study, *, result: bool) -> None:
-    """``val`` a list of column names of ``study`` (results if ``result``, else parameters)."""
-    for name in _names(source, where, val):
-        _check_column(source, where, name, study, result=result)
+def _check_columns(source: str, where: str, spec: dict, key: str, study, *, result: bool,
+                   empty_ok: bool = False) -> None:  # fmt: skip
+    """``spec[key]`` a list of column names of ``study`` (results if ``result``, else
+    parameters): :func:`column_names`."""
+    for name in column_names(source, where, spec, key, empty_ok):
+        _check_column(source, where + key, name, study, result=result)
 
 
 def check_analysis(study) -> None:
@@ -157,8 +145,8 @@ def check_analysis(study) -> None:
     d = an.get("design")
     if d is not None:
         where = "analysis.design."
-        _check_columns(src, where + "variables", d.get("variables"), study, result=False)
-        _check_columns(src, where + "objectives", d.get("objectives"), study, result=True)
+        _check_columns(src, where, d, "variables", study, result=False)
+        _check_columns(src, where, d, "objectives", study, result=True)
         for key in ("constraints", "reference"):
             if not isinstance(d.get(key, {}), dict):
                 raise SceneError(f"{src}: analysis.design.{key}: expected a table {{name = "
@@ -192,8 +180,9 @@ def check_analysis(study) -> None:
     p = an.get("percentiles")
     if p is not None:
         where = "analysis.percentiles."
-        _check_columns(src, where + "quantities", p.get("quantities"), study, result=True)
-        _check_columns(src, where + "by", p.get("by"), study, result=False)
+        _check_columns(src, where, p, "quantities", study, result=True)
+        # (by = []: one row over every run, not the default grouping)
+        _check_columns(src, where, p, "by", study, result=False, empty_ok=True)
         pcts = p.get("percentiles", list(DEFAULT_PERCENTILES))
         if not isinstance(pcts, list) or not pcts:  # (a number raised a TypeError)
             raise SceneError(f"{src}: analysis.percentiles.percentiles: expected a list of "
@@ -202,7 +191,7 @@ def check_analysis(study) -> None:
             field = f"analysis.percentiles.percentiles[{i}]"
             if not 0 <= number(src, field, q, allow_zero=True) <= 100:
                 raise SceneError(f"{src}: {field}: expected 0..100, got {q!r}")
-        _once(src, "analysis.percentiles.percentiles", pcts)
+        once(src, "analysis.percentiles.percentiles", pcts)
     if an.get("incidence") is not None:
         from nsdyn.studies import incidence
 
@@ -219,7 +208,7 @@ def check_analysis(study) -> None:
                              f"(one curve each), got {lim!r}")  # fmt: skip
         for i, v in enumerate(lim):
             number(src, f"analysis.fragility.limits[{i}]", v)
-        _once(src, "analysis.fragility.limits", lim)
+        once(src, "analysis.fragility.limits", lim)
         c = number(src, "analysis.fragility.confidence", f.get("confidence", CONFIDENCE))
         if not c < 1:
             raise SceneError(f"{src}: analysis.fragility.confidence: expected in (0, 1)")

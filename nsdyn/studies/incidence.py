@@ -26,7 +26,7 @@ import numpy as np
 
 from nsdyn.atomic import save_figure
 from nsdyn.models.scenefile import SceneError
-from nsdyn.studies.table import Table
+from nsdyn.studies.table import Table, column_names
 
 ANGLE = "motion.rotate"
 FIELDS = ("angle", "quantities")
@@ -61,13 +61,7 @@ def check(study, spec: dict) -> None:
         raise SceneError(f"{src}: analysis.incidence.angle: {angle!r} takes one value "
                          f"({values[0]!r}); an incidence analysis compares two angles or "
                          "more")  # fmt: skip
-    q = spec.get("quantities", [])
-    if not isinstance(q, list) or not all(isinstance(v, str) for v in q):
-        raise SceneError(f"{src}: analysis.incidence.quantities: expected a list of column "
-                         f"names, got {q!r}")  # fmt: skip
-    if ("quantities" in spec and not q) or len(set(q)) < len(q):  # ([]: the default, silently)
-        raise SceneError(f"{src}: analysis.incidence.quantities: expected distinct column "
-                         f"names, one or more (drop it for the default), got {q!r}")  # fmt: skip
+    column_names(src, "analysis.incidence.", spec, "quantities")
 
 
 def incidence_rows(table: Table, angle: str, quantities: list[str], by: list[str]) -> list[dict]:

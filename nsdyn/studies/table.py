@@ -72,6 +72,34 @@ def checked_keep(source: str, keep, parameters) -> list | None:
     return keep
 
 
+def column_names(source: str, where: str, spec: dict, key: str, empty_ok: bool = False) -> list:
+    """The column names ``spec[key]`` of an analysis table ``where`` (none when not given):
+    a list of text, none twice (a name given twice made its row or column twice), and not
+    empty unless ``empty_ok`` (``[]`` ran the default without a word); SceneError naming
+    ``where + key`` otherwise."""
+    from nsdyn.models.scenefile import SceneError
+
+    if key not in spec:
+        return []
+    val = spec[key]
+    if not isinstance(val, list) or not all(isinstance(v, str) for v in val):
+        raise SceneError(f"{source}: {where}{key}: expected a list of column names, got {val!r}")
+    if not val and not empty_ok:
+        raise SceneError(f"{source}: {where}{key}: expected one column name or more, got [] "
+                         "(drop the key for its default)")  # fmt: skip
+    once(source, f"{where}{key}", val)
+    return val
+
+
+def once(source: str, where: str, vals: list) -> None:
+    """SceneError naming the first value of ``vals`` given twice."""
+    from nsdyn.models.scenefile import SceneError
+
+    twice = next((v for i, v in enumerate(vals) if v in vals[:i]), None)
+    if twice is not None:
+        raise SceneError(f"{source}: {where}: {twice!r} given twice; expected distinct values")
+
+
 TIMING_COLUMNS = ("task_s", "wall_s", "compile_s")  # differ between runs of the same task
 
 

@@ -1,6 +1,6 @@
 """Study files that ran silently wrong, or wrote where they should not, now refused or fixed.
 
-What is asserted (behaviour, no number): a study named ".." or "." writes under
+What is asserted (behaviour, no number): a study named ".." or "." writes into a folder of
 ``nsdyn-study/`` like any other (its table, parts and lock landed in the working folder, and a
 ``--fresh`` there would have deleted them); ``scene.kind`` and ``scene.name`` are not study
 parameters (a name per task repeated one run); an empty list given for objectives, quantities
@@ -62,15 +62,23 @@ def test_a_study_file_that_ran_silently_otherwise_is_refused(tmp_path, text, say
         load_study(_write(tmp_path, text))
 
 
-@pytest.mark.parametrize("name", ["..", "."])
-def test_a_study_named_dots_writes_inside_the_study_folder(tmp_path, monkeypatch, name):
+def test_an_empty_grouping_is_one_table_over_every_run_not_a_refusal(tmp_path):
+    # by = [] pools the runs (one row); leaving by out groups by the grid parameters
+    study = load_study(
+        _write(tmp_path, HEAD + PARAMS + RECORDS + "[analysis.percentiles]\nby = []\n")
+    )
+    assert study.analysis["percentiles"]["by"] == []
+
+
+@pytest.mark.parametrize(("name", "folder"), [("..", "__"), (".", "_")])
+def test_a_study_named_dots_writes_inside_the_study_folder(tmp_path, monkeypatch, name, folder):
     # every task fails at once (a budget of 5 steps): the table still has the kept columns
     monkeypatch.chdir(tmp_path)
     text = HEAD.replace('"g"', f'"{name}"\nkeep = ["x_iso_max_m", "idr_max"]') + (
         "[base.solver]\nmax_steps = 5\n" + PARAMS + RECORDS
     )
     assert main(["study", str(_write(tmp_path, text)), "--workers", "1"]) == 3
-    table = tmp_path / "nsdyn-study" / "_" / "results.csv"
+    table = tmp_path / "nsdyn-study" / folder / "results.csv"
     assert table.is_file() and not (tmp_path / "results.csv").exists()
     assert not (tmp_path / "nsdyn-study" / "results.csv").exists()
     rows = read_csv(table)
