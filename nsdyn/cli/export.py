@@ -189,7 +189,7 @@ def _run_building3d(args: argparse.Namespace) -> int:
         }
         print(json.dumps({"script": str(out), **info}))
         return 0
-    print(f"wrote {out}  (run it with: python {out} [--out DIR])")
+    print(f"wrote {out}  (run it with: python {out} [--out DIR] [--t-end S])")
     return 0
 
 

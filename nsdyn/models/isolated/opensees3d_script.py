@@ -259,7 +259,11 @@ def run(t_end=None, out=None):
     if out:
         _recorders(ops, out)
     dt = d["dt"]
-    duration = d["duration"] if t_end is None else min(float(t_end), d["duration"])
+    # t_end on the record's clock, as nsdyn's (a duration before: t0 = 5 s ran it whole)
+    duration = d["duration"] if t_end is None else min(float(t_end) - d["t0"], d["duration"])
+    if not duration > 0:  # (-1 ran -200 steps to zero peaks; NaN: a traceback)
+        raise SystemExit(f"--t-end: expected a time after the record's start ({d['t0']:g} s), "
+                         f"got {t_end}")
     n_steps = int(round(duration / dt))
     base = [b + 1 for b in d["base_nodes"]]
     nb, fixed = len(base), d["fixed_base"]
@@ -339,7 +343,8 @@ def run(t_end=None, out=None):
 if __name__ == "__main__":
     cli = argparse.ArgumentParser(description="Run the exported OpenSees model; print peaks.")
     cli.add_argument("--out", default=None, help="directory for the OpenSees recorders")
-    cli.add_argument("--t-end", type=float, default=None, help="cut the record here [s]")
+    cli.add_argument("--t-end", type=float, default=None,
+                     help="end the run here [s], on the record's clock")
     a = cli.parse_args()
     print(json.dumps(run(a.t_end, a.out)))
 '''

@@ -207,7 +207,11 @@ def run(t_end=None):
     ops.algorithm("KrylovNewton")  # the modal damping is not in the tangent: Krylov makes up
     ops.integrator("Newmark", d["newmark_gamma"], d["newmark_beta"])
     ops.analysis("Transient")
-    duration = d["duration"] if t_end is None else min(float(t_end), d["duration"])
+    # t_end on the record's clock, as nsdyn's (a duration before: t0 = 5 s ran it whole)
+    duration = d["duration"] if t_end is None else min(float(t_end) - d["t0"], d["duration"])
+    if not duration > 0:  # (-1 ran -200 steps to zero peaks; NaN: a traceback)
+        raise SystemExit(f"--t-end: expected a time after the record's start ({d['t0']:g} s), "
+                         f"got {t_end}")
     n_steps = int(round(duration / dt))
     base = [b + 1 for b in d["base_nodes"]]
     joints = [[j + 1 for j in row] for row in d["column_joints"]]
@@ -250,7 +254,8 @@ if __name__ == "__main__":  # (an unknown argument is refused, not ignored)
     import argparse
 
     cli = argparse.ArgumentParser(description="Run the exported OpenSees model; print peaks.")
-    cli.add_argument("--t-end", type=float, default=None, help="cut the record here [s]")
+    cli.add_argument("--t-end", type=float, default=None,
+                     help="end the run here [s], on the record's clock")
     print(json.dumps(run(cli.parse_args().t_end)))
 '''
 )
