@@ -384,18 +384,23 @@ def unused_columns_note(motion, remedy: str) -> str | None:
             f"{', '.join(map(repr, took))} ({remedy})")  # fmt: skip
 
 
-def record_span_notes(t_eval, first: float, last: float, dt: float) -> list[str]:
+def record_span_notes(t_eval, first: float, last: float, dt: float,
+                      force: bool = False) -> list[str]:  # fmt: skip
     """Notes of a run over output times ``t_eval`` outside its record's samples, from
-    ``first`` to ``last`` [s] every ``dt``: the ground is at rest before the first sample and
-    after the last, which a run takes as it is told but should say."""
+    ``first`` to ``last`` [s] every ``dt`` (``force``: a sampled force's): the ground is at
+    rest (the force zero) before the first sample and after the last, which a run takes as
+    it is told but should say."""
+    what, rest = (
+        ("force table", "the force is zero") if force else ("record", "the ground is at rest")
+    )
     notes = []
     if t_eval[0] < first - 1e-9 * dt:
-        notes.append(f"the run starts at t = {t_eval[0]:g} s, before the record's first sample "
-                     f"({first:g} s): the ground is at rest before it")  # fmt: skip
+        notes.append(f"the run starts at t = {t_eval[0]:g} s, before the {what}'s first "
+                     f"sample ({first:g} s): {rest} before it")  # fmt: skip
     if t_eval[-1] > last + dt:  # (within one sample: the record's own end)
-        notes.append(f"the run ends at t = {t_eval[-1]:g} s, past the record's end ({last:g} "
-                     f"s): the ground is at rest after it, the last {t_eval[-1] - last:.4g} s "
-                     "are free motion")  # fmt: skip
+        free = f"the last {t_eval[-1] - last:.4g} s are free motion"
+        notes.append(f"the run ends at t = {t_eval[-1]:g} s, past the {what}'s end ({last:g} "
+                     f"s): {rest} after it, {free}")  # fmt: skip
     return notes
 
 

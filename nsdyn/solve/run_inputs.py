@@ -85,11 +85,12 @@ def integrated_law(system, method: str) -> str | None:
 
 
 def record_span_notes(t_eval: np.ndarray, motion) -> list[str]:
-    """:func:`nsdyn.ground.formats.record_span_notes` of a record ``motion`` (none for other
-    excitations)."""
-    if not all(hasattr(motion, k) for k in ("t0", "n", "dt")):  # (a record alone)
+    """:func:`nsdyn.ground.formats.record_span_notes` of a record ``motion`` or a sampled
+    force (a ForceTable; none for other excitations)."""
+    n = getattr(motion, "n", None) or np.size(getattr(motion, "F", None))
+    if not (hasattr(motion, "t0") and hasattr(motion, "dt") and n and n >= 2):
         return []
     from nsdyn.ground.formats import record_span_notes as notes
 
-    return notes(t_eval, float(motion.t0), float(motion.t0 + (motion.n - 1) * motion.dt),
-                 float(motion.dt))  # fmt: skip
+    t0, dt = float(motion.t0), float(motion.dt)
+    return notes(t_eval, t0, t0 + (n - 1) * dt, dt, force=hasattr(motion, "F"))

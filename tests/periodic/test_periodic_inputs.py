@@ -76,14 +76,10 @@ def test_switch_shooting_rejects_a_frequency_that_is_not_positive(f):
      ("g", [9.81])],
 )  # fmt: skip
 def test_isolation_rejects_negative_or_non_finite_parameters(field, value):
-    one = (
-        ""
-        if np.ndim(value) == 0 or field in ("mu", "k_lam", "c")
-        else r"one \(for every isolator\) "
-    )
-    with pytest.raises(
-        ValueError, match=rf"^isolation\.{field}: expected (a )?{one}finite non-neg"
-    ):
+    # a list for a single-valued parameter: "one (for every isolator)"
+    single = np.ndim(value) == 0 or field in ("mu", "k_lam", "c")
+    one = "a " if single else r"one \(for every isolator\) "
+    with pytest.raises(ValueError, match=rf"^isolation\.{field}: expected {one}finite non-neg"):
         Isolation(**{field: value})
 
 

@@ -211,3 +211,8 @@ def test_a_run_outside_its_record_says_so_and_the_ground_rests_there():
     assert np.all(r.x[r.t < 1.0] == r.x[0])
     inside = nsdyn.simulate(_mass(mu=MU, law="switch"), gm)  # (its own grid: no note)
     assert not any("record's" in n for n in inside.notes)
+    # a sampled force past its samples: zero there, said as a force's
+    ft = nsdyn.ForceTable(1.0, dt, np.ones(101), dofs=[0])
+    r = nsdyn.simulate(_mass(mu=MU, law="switch"), ft, t_eval=np.linspace(1.0, 3.0, 201))
+    assert r.notes[0].startswith("the run ends at t = 3 s, past the force table's end (2 s): the "
+                                 "force is zero after it")  # fmt: skip

@@ -540,5 +540,5 @@ def format_summary(s: dict) -> str:
     """A short human table of a run, every number with its unit; rim contacts and uplift
     first (never silent)."""
     head = f"building3d {s.get('name', '')}: {s['frame']}, fidelity {s['fidelity']}"
-    rows = (*ROWS[s["fidelity"]], ("t_end_s", "duration", "s"), ("wall_s", "run time", "s"))
+    rows = (*ROWS[s["fidelity"]], ("t_end_s", "end time", "s"), ("wall_s", "run time", "s"))
     return summary_table(head, s, rows)

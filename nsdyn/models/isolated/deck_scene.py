@@ -340,7 +340,7 @@ ROWS = (
     ("stick_fraction", "stick fraction", ""),
     ("n_events", "switch events", ""),
     ("n_steps", "steps", ""),
-    ("t_end_s", "duration", "s"),
+    ("t_end_s", "end time", "s"),
     ("wall_s", "run time", "s"),
     ("compile_s", "compile/load time", "s"),
 )

@@ -247,7 +247,7 @@ class PlaneResult(Tabular):
         if int(info[kr.I_NEV]) > EV.shape[0]:
             warnings.warn(
                 f"{int(info[kr.I_NEV])} stick-slip events: the event table keeps the first "
-                f"{EV.shape[0]} (summary 'events' counts all)",
+                f"{EV.shape[0]} (summary 'n_events' counts all)",
                 UserWarning,
                 stacklevel=3,
             )

@@ -424,7 +424,8 @@ def outcome(s: dict) -> tuple[str, str]:
             f"first at t = {s['first_lift_off_s']:.4f} s"
         )
     if s.get("would_lift_off") or (up and s.get("contact") == "bilateral"):
-        at = f" at t = {first['t_s']:.4f} s (contact {first['contact']}){more}" if up else ""
+        held = more.replace("uplift event", "such event")  # (held down: no uplift)
+        at = f" at t = {first['t_s']:.4f} s (contact {first['contact']}){held}" if up else ""
         return "would lift off", (
             f"a normal force turned negative{at}: the bilateral model held the isolator down "
             "(rerun with isolation.contact = 'unilateral' to let it lift off)"
