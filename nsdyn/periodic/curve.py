@@ -100,23 +100,34 @@ class Curve:
     def summary(self) -> dict:
         """The curve as plain values (NaN as None): ``amplitude``, ``points``, the band
         ``f_min_hz`` and ``f_max_hz``, the points ``converged``, ``unstable`` and from the
-        stepped sweep (``sweep_points``), the ``continuation``, the frequencies skipped
-        (``skipped_hz``), the ``bifurcations`` found, and each quantity's largest value over
-        the curve and its frequency (``idr_max``, ``idr_max_f_hz``, ``acc_max_mps2``,
-        ``x_iso_max_m``, ...)."""
+        stepped sweep (``sweep_points``, converged), the ``continuation``, the frequencies
+        skipped (``skipped_hz``), the ``bifurcations`` found, and each quantity's largest
+        value over the converged points without uplift (a unilateral orbit's counts) and its
+        frequency (``idr_max``, ``idr_max_f_hz``, ``acc_max_mps2``, ``x_iso_max_m``, ...; a
+        deck's curve: ``u_peak_max_m``, the resultant slip's, and ``u_peak_max_f_hz``)."""
         f = self.column("f") if self.points else np.zeros(0)
         out = {"amplitude": self.amplitude, "points": len(self.points),
                "f_min_hz": float(f.min()) if f.size else None,
                "f_max_hz": float(f.max()) if f.size else None,
                "converged": sum(p.converged for p in self.points),
                "unstable": sum(p.stable is False for p in self.points),
-               "sweep_points": sum(p.method == "sweep" for p in self.points),
+               "sweep_points": sum(p.method == "sweep" and p.converged for p in self.points),
                "continuation": self.info.get("continuation"),
                "skipped_hz": list(self.info.get("skipped_hz", [])),
                "bifurcations": len(self.bifurcations)}  # fmt: skip
-        for q, unit in (("idr", ""), ("acc", "_mps2"), ("x_iso", "_m")):
-            v = np.array([p.quantities.get(q, math.nan) for p in self.points], dtype=float)
-            ok = np.isfinite(v)
+        # maxima over the steady states the model holds, as the sweep's table: converged, and
+        # a bilateral orbit without uplift (a unilateral one that lifts off counts; a failed
+        # point's numbers are none: the switch sweep left 155 m there)
+        held = np.array([p.converged and (p.quantities.get("uplift") is not True
+                                          or p.method == "unilateral") for p in self.points],
+                        dtype=bool)  # fmt: skip
+        deck = any("u_peak_m" in p.quantities for p in self.points)  # (a deck's orbits: its
+        # slip's peak, not a frame's drifts, all None there)
+        peaks = (("u_peak", "_m"),) if deck else (("idr", ""), ("acc", "_mps2"), ("x_iso", "_m"))
+        for q, unit in peaks:
+            name = "u_peak_m" if deck else q
+            v = np.array([p.quantities.get(name, math.nan) for p in self.points], dtype=float)
+            ok = np.isfinite(v) & held
             k = int(np.argmax(np.where(ok, v, -np.inf))) if ok.any() else None
             out[f"{q}_max{unit}"] = None if k is None else float(v[k])
             out[f"{q}_max_f_hz"] = None if k is None else float(f[k])
@@ -216,9 +227,10 @@ def _point_from_sweep(
 
 def resumed_points(problem, start, lo: float, hi: float, disc) -> list[OrbitPoint]:
     """The points of a curve to resume (its ``points``, or the :class:`Curve`), checked: of
-    this problem's state, none past the band ``[lo, hi]`` [Hz] asked for, and the last one (if
-    shooting converged on it) a periodic orbit of this problem. A curve of another amplitude
-    or model was resumed without a word, its orbits mixed into the new curve's."""
+    this problem's state, from the band's start ``lo`` and none past its end ``hi`` [Hz], and
+    the last one (if shooting converged on it) a periodic orbit of this problem. A curve of
+    another amplitude or model was resumed without a word, its orbits mixed into the new
+    curve's."""
     if start is None:
         return []
     if isinstance(start, Curve):
@@ -240,6 +252,10 @@ def resumed_points(problem, start, lo: float, hi: float, disc) -> list[OrbitPoin
     if pts[-1].f > hi * (1 + 1e-9):  # (nothing of the band asked for would be computed)
         raise ValueError(f"start: its points reach {pts[-1].f:g} Hz, past the band asked for "
                          f"({lo:g} to {hi:g} Hz)")  # fmt: skip
+    if pts[0].f > lo * (1 + 1e-9):  # (the band below its first point was never computed)
+        raise ValueError(f"start: its points begin at {pts[0].f:g} Hz, above the band's start "
+                         f"({lo:g} Hz), which it would leave out; resume with fmin = "
+                         f"{pts[0].f:g}, or start afresh")  # fmt: skip
     last = pts[-1]
     if last.converged and last.method != "sweep":
         _, _, r = _evaluate(problem, last.x0, last.f, last.n_steps, disc, sens=False)

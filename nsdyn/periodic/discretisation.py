@@ -47,6 +47,16 @@ TABLEAUX = {
 ORDER = {"euler": 1, "sdirk2": 2, "sdirk3": 3}
 
 
+# fewest steps per period: below it a step spans more than 18 degrees of the period and the
+# period map errs by the order of (2 pi / N)^p, 10 % for SDIRK2 at N = 20 (3 steps gave a
+# linear oscillator's resonance 66 % high, 1 step a zero orbit, each "converged")
+N_MIN_FLOOR = 20
+# most steps of one period given as n_steps: a step of the office's cb model (26 states) with
+# its sensitivities takes ~40 us, so 10^6 steps are ~40 s per period map and minutes per
+# shooting (10^9 ran for hours, as a hang)
+N_STEPS_MAX = 1_000_000
+
+
 @dataclass(frozen=True)
 class Discretisation:
     """Fixed-step integration of one period: ``N = clip(ceil(T / dt_max), n_min, n_max)``."""
@@ -61,16 +71,26 @@ class Discretisation:
     def __post_init__(self) -> None:  # refused where it is made, not inside a shooting
         if self.method not in TABLEAUX:
             raise ValueError(f"method: expected one of {sorted(TABLEAUX)}, got {self.method!r}")
-        for name in ("n_min", "n_max"):
-            whole(name, getattr(self, name), 1, "a whole number of steps >= 1")
-        number("dt_max", self.dt_max, "a positive finite step [s]", lambda v: v > 0)
+        for name in ("n_min", "n_max"):  # (stored as ints, the tolerances as floats: an int
+            # atol of 0 was a typing error inside the compiled period map)
+            v = whole(name, getattr(self, name), 1, "a whole number of steps >= 1")
+            object.__setattr__(self, name, int(v))
+        if self.n_min < N_MIN_FLOOR:
+            raise ValueError(f"n_min: {self.n_min} steps per period do not resolve it (an "
+                             f"error of order (2 pi / N)^p); expected at least "
+                             f"{N_MIN_FLOOR}")  # fmt: skip
+        dt_max = number("dt_max", self.dt_max, "a positive finite step [s]", lambda v: v > 0)
+        object.__setattr__(self, "dt_max", dt_max)
         if self.n_min > self.n_max:
             raise ValueError(f"n_max: expected at least n_min = {self.n_min} steps, got "
                              f"{self.n_max}")  # fmt: skip
         # a stage tolerance of NaN, < 0 or >= 1 gave a wrong orbit reported as converged (one
         # too tight to meet is a stage failure the solvers report)
-        number("rtol", self.rtol, "a finite relative tolerance 0 <= rtol < 1", lambda v: 0 <= v < 1)
-        number("atol", self.atol, "a finite tolerance >= 0 [m, m/s]", lambda v: v >= 0)
+        rtol = number("rtol", self.rtol, "a finite relative tolerance 0 <= rtol < 1",
+                      lambda v: 0 <= v < 1)  # fmt: skip
+        atol = number("atol", self.atol, "a finite tolerance >= 0 [m, m/s]", lambda v: v >= 0)
+        object.__setattr__(self, "rtol", rtol)
+        object.__setattr__(self, "atol", atol)
 
     def steps(self, T: float) -> int:
         """Number of steps ``N`` for the period ``T`` [s]."""
@@ -99,6 +119,9 @@ def refined(disc: Discretisation, factor: float = REFINE_FACTOR) -> Discretisati
     fewer; at least one step)."""
     expect("disc", disc, isinstance(disc, Discretisation), "a Discretisation")
     factor = number("factor", factor, "a positive finite number", lambda v: v > 0)
+    if round(disc.n_min * factor) < N_MIN_FLOOR:
+        raise ValueError(f"factor: {factor:g} x {disc.n_min} steps per period is below the "
+                         f"{N_MIN_FLOOR} that resolve one; expected a larger factor")  # fmt: skip
     return replace(
         disc,
         n_min=max(1, int(round(disc.n_min * factor))),

@@ -44,7 +44,7 @@ from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 import numpy as np
 
-from nsdyn._checks import whole
+from nsdyn._checks import MAX_POINTS, whole
 from nsdyn.ground.motion import PGA_TARGET_MAX
 from nsdyn.periodic import _kperiodic as kp
 
@@ -110,7 +110,11 @@ def check_range(fmin, fmax, points) -> tuple[float, float, int]:
     """A frequency range of a curve: ``0 < fmin < fmax`` [Hz] and an integer ``points >= 1``
     (``fmin == fmax`` only with one point); ValueError naming the argument otherwise."""
     lo, hi = check_frequency(fmin, "fmin"), check_frequency(fmax, "fmax")
-    whole("points", points, 1, "an integer >= 1 (frequencies on the curve)")
+    # (10^12 points ended in numpy's MemoryError of 7 TiB)
+    whole("points", points, 1, f"an integer from 1 to {MAX_POINTS} (frequencies on the curve)")
+    if points > MAX_POINTS:
+        raise ValueError(f"points: expected an integer from 1 to {MAX_POINTS} (frequencies on "
+                         f"the curve, each a periodic solve), got {points!r}")  # fmt: skip
     if hi < lo or (hi == lo and points > 1):
         raise ValueError(f"fmax: expected a frequency above fmin = {lo:g} Hz, got {hi:g}")
     return lo, hi, int(points)
@@ -122,10 +126,13 @@ def check_map_args(x_ref: np.ndarray, x0, n_steps, disc) -> np.ndarray:
     whole number >= 1 (0 steps "mapped" x0 onto itself), ``disc`` None or a
     :class:`Discretisation`. A ValueError or TypeError names the argument: a compiled map read
     past a shorter state (garbage, or a crash of the process)."""
-    from nsdyn.periodic.discretisation import checked_disc
+    from nsdyn.periodic.discretisation import N_STEPS_MAX, checked_disc
 
     if n_steps is not None:
-        whole("n_steps", n_steps, 1, "a whole number of steps >= 1")
+        n = whole("n_steps", n_steps, 1, "a whole number of steps >= 1")
+        if n > N_STEPS_MAX:
+            raise ValueError(f"n_steps: {n} steps of one period exceed {N_STEPS_MAX:.0e} (hours "
+                             "of shooting); expected fewer")  # fmt: skip
     checked_disc(disc)
     try:
         x = np.array(x0, dtype=float)

@@ -23,7 +23,7 @@ import numpy as np
 
 from nsdyn._brief import brief_repr
 from nsdyn._checks import got_array, whole
-from nsdyn.periodic.discretisation import Discretisation, checked_disc
+from nsdyn.periodic.discretisation import N_STEPS_MAX, Discretisation, checked_disc
 from nsdyn.periodic.protocol import (
     STATUS_MESSAGES,
     STATUS_OK,
@@ -186,7 +186,10 @@ def _check_inputs(problem, disc, n_steps, tol, max_iter) -> None:
         raise TypeError(f"problem: expected a periodic problem (frame_problem, switch_problem, "
                         f"plane_problem, ...), got {type(problem).__name__}")  # fmt: skip
     if n_steps is not None:
-        whole("n_steps", n_steps, 1, "a whole number of steps >= 1")
+        n = whole("n_steps", n_steps, 1, "a whole number of steps >= 1")
+        if n > N_STEPS_MAX:
+            raise ValueError(f"n_steps: {n} steps of one period exceed {N_STEPS_MAX:.0e} (hours "
+                             "of shooting); expected fewer")  # fmt: skip
     if not (isinstance(tol, int | float) and 0 < tol < np.inf):
         raise ValueError(f"tol: expected a positive finite residual, got {tol!r}")
     whole("max_iter", max_iter, 0, "a whole number >= 0 (0: the start checked alone)")

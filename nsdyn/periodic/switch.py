@@ -509,6 +509,10 @@ def shoot_switch(
     """Newton shooting on the switch model (:func:`nsdyn.periodic.shoot` with its ``options``
     ``tol``, ``max_iter``, ``disc``, ``n_steps``: same line search and failure policy) and the
     events of the final orbit; a grazing orbit is said so in ``message`` (converged or not)."""
+    if not isinstance(problem, SwitchProblem):  # (an arctan problem: an AttributeError after)
+        got = type(problem).__name__
+        raise TypeError(f"problem: expected a switch_problem(system, amplitude), got {got} "
+                        "(nsdyn.periodic.shoot shoots the others)")  # fmt: skip
     res = shoot(problem, f, x0, **options)
     pm = problem.period_map(res.x0, f, n_steps=res.n_steps, sens=False)
     out = SwitchShootingResult(**vars(res), events=pm.events, graze=pm.graze)

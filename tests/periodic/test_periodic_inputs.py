@@ -131,8 +131,13 @@ def test_a_ground_acceleration_above_100_g_is_refused_a_force_is_not_capped():
         ({"fmin": 0.0, "fmax": 2.0}, r"^fmin: expected a forcing frequency in"),
         ({"fmin": 2.0, "fmax": 1.0}, r"^fmax: expected a frequency above fmin = 2 Hz, got 1"),
         ({"fmin": 1.0, "fmax": math.nan}, r"^fmax: expected a forcing frequency in"),
-        ({"fmin": 1.0, "fmax": 2.0, "points": 0}, r"^points: expected an integer >= 1"),
-        ({"fmin": 1.0, "fmax": 2.0, "points": 2.5}, r"^points: expected an integer >= 1"),
+        ({"fmin": 1.0, "fmax": 2.0, "points": 0}, r"^points: expected an integer from 1 to 10000"),
+        (
+            {"fmin": 1.0, "fmax": 2.0, "points": 2.5},
+            r"^points: expected an integer from 1 to 10000",
+        ),
+        # 10^12 points: numpy's MemoryError of 7 TiB
+        ({"fmin": 1.0, "fmax": 2.0, "points": 10**12}, r"^points: expected an integer from 1 "),
     ],
 )
 @pytest.mark.parametrize("continuation", ["sequential", "arclength"])
@@ -176,12 +181,24 @@ def test_unilateral_sweep_rejects_a_frequency_that_is_not_positive(frame, f):
      ({"rtol": -1.0}, r"^rtol: expected a finite relative tolerance"),
      ({"rtol": 10.0}, r"^rtol: expected a finite relative tolerance"),
      ({"atol": -1.0}, r"^atol: expected a finite tolerance >= 0"),
-     ({"atol": math.nan}, r"^atol: expected a finite tolerance >= 0")],
+     ({"atol": math.nan}, r"^atol: expected a finite tolerance >= 0"),
+     # 3 steps per period gave a linear resonance 66 % high, 1 a zero orbit, both "converged"
+     ({"n_min": 3}, r"^n_min: 3 steps per period do not resolve it"),
+     ({"n_min": 19, "n_max": 19}, r"^n_min: 19 steps per period do not resolve it")],
 )  # fmt: skip
 def test_a_discretisation_is_checked_where_it_is_made(kw, match):
     # an unknown tableau was accepted and failed inside the first shooting's traceback
     with pytest.raises(ValueError, match=match):
         pr.Discretisation(**kw)
+
+
+def test_a_discretisation_holds_floats_and_ints_whatever_it_was_given():
+    # atol = 0 (a Python int) reached the compiled period map as an int: a typing error
+    d = pr.Discretisation(rtol=0, atol=1, dt_max=1, n_min=np.int64(40))
+    assert [type(v) for v in (d.rtol, d.atol, d.dt_max, d.n_min)] == [float, float, float, int]
+    assert pr.refined(d, 0.5).n_min == 20
+    with pytest.raises(ValueError, match=r"^factor: 0\.25 x 40 steps per period is below"):
+        pr.refined(d, 0.25)
 
 
 @pytest.mark.parametrize("continuation", ["sequential", "arclength"])

@@ -37,6 +37,10 @@ def _switch():
         (lambda P: pr.period_map(P, np.zeros(100), 0.5), r"^x0: expected \d+ finite numbers"),
         (lambda P: pr.period_map(P, np.full(P.dim, np.nan), 0.5), r"^x0: .* with NaN or inf"),
         (lambda P: pr.period_map(P, P.x_ref, 0.5, n_steps=0), r"^n_steps: expected a whole"),
+        # 10^9 steps of one period shot for hours without a word (~40 us a step with its
+        # sensitivities on the office's cb model)
+        (lambda P: pr.period_map(P, P.x_ref, 0.5, n_steps=10**7), r"^n_steps: 10000000 steps"),
+        (lambda P: pr.shoot(P, 0.5, n_steps=10**9), r"^n_steps: 1000000000 steps of one period"),
         (lambda P: pr.warm_start(P, 0.5, np.zeros(3), None), r"^x0: expected \d+ finite"),
         (lambda P: pr.warm_start(P, 0.5, None, None, periods=-1), r"^periods: expected a who"),
         (lambda P: pr.steady_state_sweep(P, 0.5, np.zeros(3)), r"^x0: expected \d+ finite"),
@@ -121,6 +125,10 @@ def test_a_curve_resumes_on_its_own_problem_and_band(duffing_curve):
     with pytest.raises(ValueError, match=r"^start: its points reach 0.16 Hz, past the band "
                        r"asked for \(0.1 to 0.12 Hz\)"):  # fmt: skip
         pr.continue_sequential(P, [0.1, 0.12], start=duffing_curve.points)
+    # a start above the band's start left the band below it out, without a word
+    with pytest.raises(ValueError, match=r"^start: its points begin at 0.15 Hz, above the "
+                       r"band's start \(0.1 Hz\), which it would leave out"):  # fmt: skip
+        pr.continue_sequential(P, [0.1, 0.15, 0.16, 0.17], start=duffing_curve.points)
     for start in (duffing_curve, duffing_curve.points):  # the curve, or its points
         c = pr.continue_sequential(P, [0.15, 0.16, 0.17], start=start)
         assert c.points[:2] == duffing_curve.points and c.column("f").tolist() == [0.15, 0.16, 0.17]
@@ -195,3 +203,32 @@ def test_the_problem_builders_and_the_uplift_search_name_a_wrong_argument():
     with pytest.raises(ValueError, match=r"^monodromy: expected a square matrix of finite "
                        r"numbers, got shape \(2, 3\)"):  # fmt: skip
         pr.floquet_multipliers(np.zeros((2, 3)))
+
+
+def test_a_curves_maxima_are_over_the_steady_states_its_model_holds():
+    # a bilateral point past uplift (18.5 m) and a failed sweep point (the switch sweep left
+    # 155 m there) were the summary's maxima, against the sweep table's rule; a unilateral
+    # orbit that lifts off is a steady state of its model and counts
+    from nsdyn.periodic.curve import Curve, OrbitPoint
+
+    def point(f, x, method="shooting", converged=True, uplift=False):
+        return OrbitPoint(f=f, x0=np.zeros(2), method=method, converged=converged,
+                          iterations=1, residual=0.0, multipliers=np.zeros(0), n_steps=200,
+                          quantities={"x_iso": x, "idr": x / 100, "uplift": uplift})  # fmt: skip
+
+    pts = [point(0.03, 18.5, uplift=True), point(0.05, 1.0), point(0.06, 155.0, "sweep", False),
+           point(0.07, 2.0, "unilateral", uplift=True), point(0.08, 0.5, "sweep")]  # fmt: skip
+    s = Curve(amplitude=2.0, points=pts).summary()
+    assert (s["x_iso_max_m"], s["x_iso_max_f_hz"], s["idr_max"]) == (2.0, 0.07, 0.02)
+    assert s["converged"] == 4 and s["sweep_points"] == 1
+    # a deck's curve: the peak of its resultant slip (its frame maxima were all None)
+    for q in pts:
+        q.quantities = {"u_peak_m": q.quantities["x_iso"], "uplift": q.quantities["uplift"]}
+    s = Curve(amplitude=2.0, points=pts).summary()
+    assert (s["u_peak_max_m"], s["u_peak_max_f_hz"]) == (2.0, 0.07) and "x_iso_max_m" not in s
+
+
+def test_the_switch_shooting_takes_a_switch_problem():
+    # an arctan problem ran its shooting, then stopped at "'PeriodMap' has no attribute 'events'"
+    with pytest.raises(TypeError, match=r"^problem: expected a switch_problem\(system, ampl"):
+        pr.shoot_switch(_duffing(), 0.15)
