@@ -44,18 +44,24 @@ def differing(old, new, path: str = "") -> list[str]:
     ]
 
 
+WRITTEN: list[str] = []  # the files this process renamed into place (an interrupted command
+# names those it wrote; the command line clears it as a command starts)
+
+
 @contextmanager
 def atomic_open(path: str | Path, mode: str = "w", **kwargs) -> Iterator:
     """``open(path, mode)`` for writing, atomically.
 
     Yields a file object on a temporary file in ``path``'s directory (created if missing);
     on a clean exit it is renamed over ``path`` with that file's permissions if it existed,
-    else :data:`FILE_MODE`; on an error it is removed. ``mode``: ``"w"`` or ``"wb"``;
+    else :data:`FILE_MODE`; on an error it is removed, with the directories it created when
+    they are left empty. ``mode``: ``"w"`` or ``"wb"``;
     ``kwargs`` go to :func:`open` (encoding, newline).
     """
     if mode not in ("w", "wb"):
         raise ValueError(f"mode: expected 'w' or 'wb', got {mode!r}")
     path = Path(path)
+    made = [d for d in (path.parent, *path.parent.parents) if not d.exists()]  # deepest first
     path.parent.mkdir(parents=True, exist_ok=True)
     try:  # a file being replaced keeps its permissions
         file_mode = stat.S_IMODE(path.stat().st_mode)
@@ -84,10 +90,19 @@ def atomic_open(path: str | Path, mode: str = "w", **kwargs) -> Iterator:
                 raise OSError(e.errno, f"{e.strerror}, writing", str(path)) from e
             raise
         os.chmod(tmp, file_mode)
-        os.replace(tmp, path)
+        try:
+            os.replace(tmp, path)
+        except OSError as e:  # (it named the temporary, removed below: ".x.png-….tmp -> x.png")
+            raise OSError(e.errno, f"{e.strerror}, writing", str(path)) from e
+        WRITTEN.append(str(path))
     except BaseException:
         if tmp is not None:
             tmp.unlink(missing_ok=True)
+        for d in made:  # (an interrupted write left the empty folder it made)
+            try:
+                d.rmdir()
+            except OSError:
+                break
         raise
 
 

@@ -106,3 +106,46 @@ def test_a_failed_write_names_the_file_it_was_writing(tmp_path):
         with atomic_open(path, "wb"):
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
     assert ei.value.errno == errno.ENOSPC and not any(tmp_path.iterdir())
+
+
+def test_a_refused_rename_names_the_file_and_the_command_names_what_it_wrote(tmp_path, monkeypatch):
+    # a target that cannot be replaced (an immutable file) named the temporary, removed after:
+    # "'DIR/.deck.png-….tmp' -> 'DIR/deck.png'"; an interrupt between a command's files said
+    # it "wrote no file" beside the one it had written
+    import argparse
+    import errno
+
+    import nsdyn.atomic as atomic
+    from nsdyn.cli.app import _interrupt_line
+
+    def refuse(src, dst):
+        raise PermissionError(errno.EPERM, os.strerror(errno.EPERM), str(src), None, str(dst))
+
+    atomic.WRITTEN.clear()
+    with atomic_open(tmp_path / "a.csv") as fh:
+        fh.write("x\n")
+    monkeypatch.setattr(atomic.os, "replace", refuse)
+    with pytest.raises(OSError, match=r"not permitted, writing: '.*deck\.png'$"):
+        with atomic_open(tmp_path / "deck.png", "wb") as fh:
+            fh.write(b"png")
+    assert [p.name for p in tmp_path.iterdir()] == ["a.csv"]  # no temporary left
+    assert atomic.WRITTEN == [str(tmp_path / "a.csv")]
+    line = _interrupt_line(argparse.Namespace(command="spectrum", out=str(tmp_path)))
+    assert line.startswith(f"nsdyn spectrum: interrupted while writing its results: "
+                           f"{tmp_path / 'a.csv'} is this run's and complete")  # fmt: skip
+    atomic.WRITTEN.clear()
+    line = _interrupt_line(argparse.Namespace(command="spectrum", out=str(tmp_path)))
+    assert line.startswith("nsdyn spectrum: interrupted before writing its results: it wrote no")
+
+
+def test_an_interrupted_write_into_a_new_folder_leaves_no_empty_folder(tmp_path):
+    # nsdyn modes / uplift interrupted while writing left the output folder they had made
+    with pytest.raises(KeyboardInterrupt):
+        with atomic_open(tmp_path / "a" / "b" / "x.png", "wb"):
+            raise KeyboardInterrupt
+    assert not any(tmp_path.iterdir())
+    (tmp_path / "kept").mkdir()  # a folder that was there before stays
+    with pytest.raises(KeyboardInterrupt):
+        with atomic_open(tmp_path / "kept" / "x.png", "wb"):
+            raise KeyboardInterrupt
+    assert [p.name for p in tmp_path.iterdir()] == ["kept"]

@@ -179,6 +179,7 @@ _JSON = [False]  # the command line holds --json (set by main before parsing)
 
 
 _SIGNALLED = [False]  # set by the handler: an error after a signal is the signal's doing
+_ENDING = [False]  # set by the script: main's return ends the process
 
 
 def _on_signal(signum, frame):
@@ -223,7 +224,14 @@ def _interrupt_line(args: argparse.Namespace) -> str:
             return f"{done}; a {kind} scene's run keeps no checkpoint, a rerun starts over"
         return f"{done}; it stopped before its first checkpoint, a rerun starts over"
     if args.command in WRITES_AT_END:
+        from nsdyn.atomic import WRITTEN
+
         out = getattr(args, "out", None) or "the output folder"
+        if WRITTEN:  # (interrupted between its files: "it wrote no file" beside the CSV)
+            return (f"nsdyn {args.command}: interrupted while writing its results: "
+                    f"{', '.join(WRITTEN)} {'are' if len(WRITTEN) > 1 else 'is'} this run's "
+                    f"and complete, any other file in {out} an earlier run's; this command "
+                    "keeps no checkpoint, a rerun starts over")  # fmt: skip
         return (f"nsdyn {args.command}: interrupted before writing its results: it wrote no "
                 f"file, and any in {out} are an earlier run's; this command keeps no "
                 "checkpoint, a rerun starts over")  # fmt: skip
@@ -415,6 +423,9 @@ def _main(argv: list[str]) -> int:
         own = parser.commands[args.command]
         own.error(f"unrecognized arguments: {' '.join(extra)}{_option_hint(own, extra)}")
     _SIGNALLED[0] = False
+    from nsdyn.atomic import WRITTEN
+
+    WRITTEN.clear()  # (the files this command writes: an interrupt names them)
     try:  # SIGTERM stops a command the way Ctrl-C does (atomic files; checkpoints kept)
         old = signal.signal(signal.SIGTERM, _on_signal), signal.signal(signal.SIGINT, _on_signal)
     except ValueError:  # not the main thread: leave signals alone
@@ -451,7 +462,11 @@ def _main(argv: list[str]) -> int:
         return fail(args, exc, EXIT_NUMERICS, what)
     finally:
         warnings.showwarning = shown
-        if old is not None:
+        if old is not None and _ENDING[0]:  # the script's command is done, its outcome out:
+            for sig in (signal.SIGINT, signal.SIGTERM):  # a signal now turned a success into
+                signal.signal(sig, signal.SIG_IGN)  # 130 (or 143) unsaid, or a second one an
+            # interrupt's line into a traceback (`timeout` signals the process, then its group)
+        elif old is not None:  # a caller that goes on (tests, notebooks): its own handlers
             signal.signal(signal.SIGTERM, old[0])
             signal.signal(signal.SIGINT, old[1])
 
@@ -497,13 +512,11 @@ def script(argv: list[str] | None = None) -> int:
 
     hold_collections()  # the start-up's objects are not traversed again and again
     _start_standby(sys.argv[1:] if argv is None else argv)
+    _ENDING[0] = True  # main leaves the signals ignored, not restored, when it returns
     try:
         code = main(argv)
     finally:
         release_standby()
-    if code == EXIT_INTERRUPTED:  # a second signal (`timeout` signals the process, then its
-        for sig in (signal.SIGINT, signal.SIGTERM):  # group) in the exit handlers printed a
-            signal.signal(sig, signal.SIG_IGN)  # traceback after the interrupt's line
     gc.freeze()
     if code == EXIT_PIPE_CLOSED or not _flushed():  # the output's reader has gone
         return _pipe_closed()

@@ -286,6 +286,8 @@ def run(args: argparse.Namespace) -> int:
             quiet=args.json,
         )
         csv_path = out / "sweep.csv"
+        if not args.no_figures:  # (redrawn below; an interrupt left it beside the new CSV)
+            (out / "sweep.png").unlink(missing_ok=True)
         write_csv(csv_path, results)
         report = {
             "model": results[0]["model"],
@@ -485,6 +487,8 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         results = sweep_plane(cfg, source, amplitudes, settings, out, workers=args.workers,
                               restart=args.restart, quiet=args.json)  # fmt: skip
         csv_path = out / "sweep.csv"
+        if not args.no_figures:  # (redrawn below; an interrupt left it beside the new CSV)
+            (out / "sweep.png").unlink(missing_ok=True)
         write_csv(csv_path, results)
         o = sc["orbit"]
         report = {

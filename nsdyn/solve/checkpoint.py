@@ -11,13 +11,38 @@ the landings' energy. A fingerprint of the model, excitation, start, output time
 from __future__ import annotations
 
 import hashlib
+import signal
+import threading
 import zipfile
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from nsdyn.atomic import CheckpointError, atomic_open
+
+
+@contextmanager
+def holding_signals():
+    """SIGINT and SIGTERM held while a chunk runs and its checkpoint is written, then raised
+    (its handler: the command's stop). A compiled chunk cannot be stopped inside; the signal
+    was raised as it returned, before its checkpoint, so the chunk waited for was lost (a
+    resume started where the last checkpoint had). Off the main thread: nothing held."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held: list[int] = []
+    sigs = (signal.SIGINT, signal.SIGTERM)
+    old = [signal.signal(s, lambda signum, frame: held.append(signum)) for s in sigs]
+    try:
+        yield
+    finally:
+        for s, h in zip(sigs, old, strict=True):
+            signal.signal(s, h)
+        if held:
+            signal.raise_signal(held[0])
+
 
 FORMAT = "nsdyn-checkpoint-3"  # in every fingerprint: files of an older layout are refused
 STAT_KEYS = ("nfev", "njev", "n_lu", "n_rejected", "n_events")  # solver counters summed

@@ -211,7 +211,7 @@ def simulate_full(
     from nsdyn.models.isolated.metrics import response
     from nsdyn.solve import _kcommon as ki
     from nsdyn.solve import _kgenalpha, integrate, methods, sparse
-    from nsdyn.solve.checkpoint import Carry, chunks, load, run_key, save
+    from nsdyn.solve.checkpoint import Carry, chunks, holding_signals, load, run_key, save
     from nsdyn.solve.resolution import fixed_step_notes
     from nsdyn.solve.transient import describe
 
@@ -255,36 +255,37 @@ def simulate_full(
     compile_s = warmup_operators()
     wall, wall0 = 0.0, time.perf_counter()
     for te, a, b in chunks(t_eval, k0, chunk_s, carry.t_at):  # every chunk_s, off the grid too
-        # the scheme's own acceleration carried on: the chunks are one run (q̈ at each chunk's
-        # start departed from it by O(dt²))
-        acc = np.full(n, np.nan) if carry.acc is None else np.array(carry.acc, dtype=float)
-        X = np.zeros((te.size, 2 * n))
-        upl_t = np.full(system.n_contacts, np.nan)
-        t0 = time.perf_counter()
-        try:
-            x_start = xs[-1][-1] if carry.x_at is None else carry.x_at
-            stats, rinfo, X, upl_t = sparse.integrate(
-                P, x_start, te, float(dt), coef=coef, max_steps=opts.max_steps,
-                uplift_mode=opts.uplift_mode, X=X, upl_t=upl_t, ops=ops, acc=acc,
-            )  # fmt: skip
-        except FloatingPointError:
-            stats, rinfo = np.zeros(ki.N_STATS, dtype=np.int64), np.zeros(ki.N_RINFO)
-            stats[ki.S_STATUS] = ki.ST_LU_SINGULAR
-            rinfo[ki.R_T], rinfo[ki.R_H] = float(te[0]), float(dt)
-        chunk_wall = time.perf_counter() - t0
-        sol = integrate._finish(m, opts, law, te, X, upl_t, stats, rinfo, [], None, chunk_wall,
-                                0.0, "raise", warn_uplift=contact == "detect",
-                                eps=eps)  # fmt: skip
-        sol.acc_end = acc if stats[ki.S_STATUS] == ki.ST_SUCCESS else None
-        k = min(b - a, sol.t.size - 1)  # the outputs reached (the last maybe the chunk's end)
-        carry.take(sol, False, adaptive=False, n_out=k)
-        wall += chunk_wall
-        ts.append(t_eval[a : a + k])
-        xs.append(sol.x[1 : 1 + k])
-        if ckpt is not None:
-            save(ckpt, np.concatenate(ts), np.concatenate(xs), run_id, carry)
-        if progress is not None:
-            progress(float(sol.t[-1]), float(t_eval[-1]), time.perf_counter() - wall0)
+        with holding_signals():  # (the chunk and its checkpoint, then a signal)
+            # the scheme's own acceleration carried on: the chunks are one run (q̈ at each chunk's
+            # start departed from it by O(dt²))
+            acc = np.full(n, np.nan) if carry.acc is None else np.array(carry.acc, dtype=float)
+            X = np.zeros((te.size, 2 * n))
+            upl_t = np.full(system.n_contacts, np.nan)
+            t0 = time.perf_counter()
+            try:
+                x_start = xs[-1][-1] if carry.x_at is None else carry.x_at
+                stats, rinfo, X, upl_t = sparse.integrate(
+                    P, x_start, te, float(dt), coef=coef, max_steps=opts.max_steps,
+                    uplift_mode=opts.uplift_mode, X=X, upl_t=upl_t, ops=ops, acc=acc,
+                )  # fmt: skip
+            except FloatingPointError:
+                stats, rinfo = np.zeros(ki.N_STATS, dtype=np.int64), np.zeros(ki.N_RINFO)
+                stats[ki.S_STATUS] = ki.ST_LU_SINGULAR
+                rinfo[ki.R_T], rinfo[ki.R_H] = float(te[0]), float(dt)
+            chunk_wall = time.perf_counter() - t0
+            sol = integrate._finish(m, opts, law, te, X, upl_t, stats, rinfo, [], None, chunk_wall,
+                                    0.0, "raise", warn_uplift=contact == "detect",
+                                    eps=eps)  # fmt: skip
+            sol.acc_end = acc if stats[ki.S_STATUS] == ki.ST_SUCCESS else None
+            k = min(b - a, sol.t.size - 1)  # the outputs reached (the last maybe the chunk's end)
+            carry.take(sol, False, adaptive=False, n_out=k)
+            wall += chunk_wall
+            ts.append(t_eval[a : a + k])
+            xs.append(sol.x[1 : 1 + k])
+            if ckpt is not None:
+                save(ckpt, np.concatenate(ts), np.concatenate(xs), run_id, carry)
+            if progress is not None:
+                progress(float(sol.t[-1]), float(t_eval[-1]), time.perf_counter() - wall0)
     t, x = np.concatenate(ts), np.concatenate(xs)
     evaluated = ops.evaluate(P, t, x)
     resp = response(system, t, x, P, evaluated=evaluated)

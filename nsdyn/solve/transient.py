@@ -32,7 +32,7 @@ from nsdyn.models.isolated.metrics import Response, evaluate_along, evaluation_a
 from nsdyn.models.isolated.system import IsolatedSystem
 from nsdyn.models.isolated.tolerances import FAST_ATOL, RUN_RTOL, arctan_atol, run_atol
 from nsdyn.solve import integrate
-from nsdyn.solve.checkpoint import Carry, chunks, run_key
+from nsdyn.solve.checkpoint import Carry, chunks, holding_signals, run_key
 from nsdyn.solve.checkpoint import load as load_checkpoint
 from nsdyn.solve.checkpoint import save as save_checkpoint
 from nsdyn.solve.resolution import between_steps, fixed_step_notes
@@ -490,36 +490,37 @@ def simulate(
     if plan:  # a checkpoint may already hold the whole run
         compile_s += _prepare_kernels(method, P, contact)
     for te, a, b in plan:
-        x_start = xs[-1][-1] if carry.x_at is None else carry.x_at
-        if carry.modes is not None and method == "event":
-            solver_options["modes0"] = carry.modes
-        if carry.open_end is not None:
-            solver_options["open0"] = carry.open_end
-        if carry.acc is not None:  # the generalized-alpha family's own acceleration
-            solver_options["acc0"] = carry.acc
-        kw = dict(method=method, rtol=rtol, atol=atol, dt=dt, uplift=uplift, **solver_options)
-        try:
-            # continue with the step the previous chunk would have taken next
-            sol = integrate.solve(P, x_start, te, h0=carry.h0, **kw)
-        except integrate.IntegrationError as err:
-            if carry.h0 is None or err.reason != "step_underflow":
-                raise
-            # a restart with the carried-over step can underflow where a fresh initial-step
-            # estimate does not: retry the chunk once from scratch (same state, same model)
-            sol = integrate.solve(P, x_start, te, h0=None, **kw)
-        k = min(b - a, sol.t.size - 1)  # the outputs reached (the last maybe the chunk's end)
-        carry.take(sol, contact == "unilateral", adaptive=dt is None, n_out=k)
-        wall += sol.wall_s
-        compile_s += getattr(sol, "compile_s", 0.0)
-        ts.append(t_eval[a : a + k])
-        xs.append(sol.x[1 : 1 + k])
-        if not sol.success:  # on_failure="return": the run ends where the chunk stopped
-            failure = sol.message
-            break
-        if ckpt is not None:
-            save_checkpoint(ckpt, np.concatenate(ts), np.concatenate(xs), run_id, carry)
-        if progress is not None:
-            progress(float(sol.t[-1]), t_end, time.perf_counter() - wall0)
+        with holding_signals():  # (the chunk and its checkpoint, then a signal)
+            x_start = xs[-1][-1] if carry.x_at is None else carry.x_at
+            if carry.modes is not None and method == "event":
+                solver_options["modes0"] = carry.modes
+            if carry.open_end is not None:
+                solver_options["open0"] = carry.open_end
+            if carry.acc is not None:  # the generalized-alpha family's own acceleration
+                solver_options["acc0"] = carry.acc
+            kw = dict(method=method, rtol=rtol, atol=atol, dt=dt, uplift=uplift, **solver_options)
+            try:
+                # continue with the step the previous chunk would have taken next
+                sol = integrate.solve(P, x_start, te, h0=carry.h0, **kw)
+            except integrate.IntegrationError as err:
+                if carry.h0 is None or err.reason != "step_underflow":
+                    raise
+                # a restart with the carried-over step can underflow where a fresh initial-step
+                # estimate does not: retry the chunk once from scratch (same state, same model)
+                sol = integrate.solve(P, x_start, te, h0=None, **kw)
+            k = min(b - a, sol.t.size - 1)  # the outputs reached (the last maybe the chunk's end)
+            carry.take(sol, contact == "unilateral", adaptive=dt is None, n_out=k)
+            wall += sol.wall_s
+            compile_s += getattr(sol, "compile_s", 0.0)
+            ts.append(t_eval[a : a + k])
+            xs.append(sol.x[1 : 1 + k])
+            if not sol.success:  # on_failure="return": the run ends where the chunk stopped
+                failure = sol.message
+                break
+            if ckpt is not None:
+                save_checkpoint(ckpt, np.concatenate(ts), np.concatenate(xs), run_id, carry)
+            if progress is not None:
+                progress(float(sol.t[-1]), t_end, time.perf_counter() - wall0)
     t = np.concatenate(ts)
     x = np.concatenate(xs)
     law = "switch" if method == "event" else None

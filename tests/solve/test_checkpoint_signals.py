@@ -1,0 +1,63 @@
+"""A signal during a chunk of a checkpointed run stops it after that chunk's checkpoint.
+
+What is asserted (behaviour): a compiled chunk cannot be stopped inside, and the signal was
+raised as the chunk returned, before its checkpoint was written, so an interrupt waited for the
+chunk and then lost it (a resume started where the last checkpoint had; two interrupts and two
+resumes made no progress). Now the chunk's result and checkpoint are kept, then the signal
+stops the run (KeyboardInterrupt, as before), and the resume ends as the uninterrupted run did,
+to the bit (the same steps: a chunk boundary carries the solver's next step).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import threading
+
+import numpy as np
+import pytest
+
+import nsdyn
+from nsdyn.solve import integrate
+from nsdyn.solve.checkpoint import holding_signals
+
+pytestmark = pytest.mark.skipif(
+    threading.current_thread() is not threading.main_thread(),
+    reason="signal handlers are set in the main thread only",
+)
+
+
+def test_a_signal_inside_the_hold_is_raised_as_it_ends():
+    seen = []
+    with pytest.raises(KeyboardInterrupt):
+        with holding_signals():
+            os.kill(os.getpid(), signal.SIGINT)
+            seen.append("after the signal")  # (still running: held)
+    assert seen == ["after the signal"]
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
+
+
+def test_an_interrupted_chunk_is_checkpointed_before_the_run_stops(tmp_path, monkeypatch):
+    dt = 0.01
+    t = np.arange(0.0, 12.0 + dt / 2, dt)
+    gm = nsdyn.GroundMotion(0.0, dt, 3.0 * np.sin(2 * np.pi * 1.3 * t))
+    system = nsdyn.shear_building([1e4, 1e4], [2e6], 0.02,
+                                  isolation=nsdyn.Isolation(k_lam=5e4, c=1e3, mu=0.05))  # fmt: skip
+    ref = nsdyn.simulate(system, gm, chunk_s=5.0)
+    ckpt = tmp_path / "run.ckpt.npz"
+    real, calls = integrate.solve, []
+
+    def interrupted(*a, **kw):  # a Ctrl-C while the second chunk computes
+        calls.append(1)
+        if len(calls) == 2:
+            os.kill(os.getpid(), signal.SIGINT)
+        return real(*a, **kw)
+
+    monkeypatch.setattr(integrate, "solve", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        nsdyn.simulate(system, gm, chunk_s=5.0, checkpoint=ckpt)
+    with np.load(ckpt) as z:
+        assert z["t"][-1] == 10.0  # the second chunk's end: kept, not lost
+    monkeypatch.setattr(integrate, "solve", real)
+    res = nsdyn.simulate(system, gm, chunk_s=5.0, checkpoint=ckpt)
+    np.testing.assert_array_equal(res.x, ref.x)
