@@ -145,7 +145,13 @@ class Curve:
         return df
 
     def rows(self) -> list[dict]:
-        """One flat record per point (the sweep CSV), keyed by :data:`ROW_KEYS`."""
+        """One flat record per point (the sweep CSV), keyed by :data:`ROW_KEYS`; a deck's
+        curve by the deck sweep's columns (:func:`nsdyn.periodic.plane.curve_rows`: its
+        frame columns were all NaN)."""
+        if any("u_peak_m" in p.quantities for p in self.points):
+            from nsdyn.periodic.plane import curve_rows
+
+            return curve_rows(self)
         out = []
         for p in self.points:
             q = p.quantities

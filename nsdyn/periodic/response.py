@@ -36,6 +36,16 @@ def frequency_response(system, amplitude: float, *, load=None, **options) -> Cur
     )
     if isinstance(amplitude, str | bool):
         raise TypeError(f"amplitude: expected a number, got {amplitude!r}")
+    if getattr(system.isolation, "contact", None) == "unilateral":  # (taken without a word)
+        import warnings
+
+        from nsdyn._checks import InputWarning
+
+        warnings.warn("system: its isolators' contact is unilateral, but a curve shoots the "
+                      "bilateral orbits (a normal force below zero is flagged as uplift); the "
+                      "lift-off orbits are nsdyn sweep --contact unilateral's, or "
+                      "nsdyn.periodic.unilateral_steady_state at each such point",
+                      InputWarning, stacklevel=2)  # fmt: skip
     c = continue_range(frame_problem(system, amplitude, load=load), **options)
     c.info["model"] = system.name
     return c

@@ -224,11 +224,26 @@ def test_a_curves_maxima_are_over_the_steady_states_its_model_holds():
     # a deck's curve: the peak of its resultant slip (its frame maxima were all None)
     for q in pts:
         q.quantities = {"u_peak_m": q.quantities["x_iso"], "uplift": q.quantities["uplift"]}
-    s = Curve(amplitude=2.0, points=pts).summary()
+    deck = Curve(amplitude=2.0, points=pts)
+    s = deck.summary()
     assert (s["u_peak_max_m"], s["u_peak_max_f_hz"]) == (2.0, 0.07) and "x_iso_max_m" not in s
+    assert list(deck.rows()[0])[:3] == ["f", "A", "u_peak_m"]  # the deck sweep's columns
+    with pytest.raises(ValueError, match=r"^name: expected a column of the curve"):
+        deck.column("x_iso")  # (a frame's column: all NaN before)
 
 
 def test_the_switch_shooting_takes_a_switch_problem():
     # an arctan problem ran its shooting, then stopped at "'PeriodMap' has no attribute 'events'"
     with pytest.raises(TypeError, match=r"^problem: expected a switch_problem\(system, ampl"):
         pr.shoot_switch(_duffing(), 0.15)
+
+
+def test_a_unilateral_system_is_told_its_curve_is_the_bilateral_one():
+    # its contact was dropped without a word: uplift points stood for lift-off orbits
+    import nsdyn
+    from nsdyn._checks import InputWarning
+
+    iso = Isolation(k_lam=1e4, c=100.0, mu=0.05, contact="unilateral")
+    s = nsdyn.shear_building([1e3], [], 0.0, isolation=iso)
+    with pytest.warns(InputWarning, match=r"^system: its isolators' contact is unilateral, but"):
+        nsdyn.frequency_response(s, 0.5, fmin=0.3, fmax=1.0, points=2)
