@@ -233,12 +233,14 @@ def _point_from_sweep(
 
 def resumed_points(problem, start, lo: float, hi: float, disc) -> list[OrbitPoint]:
     """The points of a curve to resume (its ``points``, or the :class:`Curve`), checked: of
-    this problem's state, from the band's start ``lo`` and none past its end ``hi`` [Hz], and
-    the last one (if shooting converged on it) a periodic orbit of this problem. A curve of
-    another amplitude or model was resumed without a word, its orbits mixed into the new
-    curve's."""
+    this problem's state, a curve from the band's start ``lo``, none past its end ``hi``
+    [Hz], and the last one (if shooting converged on it) a periodic orbit of this problem. A
+    curve of another amplitude or model was resumed without a word, its orbits mixed into
+    the new curve's."""
     if start is None:
         return []
+    whole_curve = isinstance(start, Curve)  # (points alone may resume a curve whose first
+    # frequencies found no orbit: a checkpoint's, or the arclength's sequential rest)
     if isinstance(start, Curve):
         if start.amplitude != problem.amplitude:
             raise ValueError(f"start: a curve of amplitude {start.amplitude:g}, this problem's "
@@ -258,7 +260,7 @@ def resumed_points(problem, start, lo: float, hi: float, disc) -> list[OrbitPoin
     if pts[-1].f > hi * (1 + 1e-9):  # (nothing of the band asked for would be computed)
         raise ValueError(f"start: its points reach {pts[-1].f:g} Hz, past the band asked for "
                          f"({lo:g} to {hi:g} Hz)")  # fmt: skip
-    if pts[0].f > lo * (1 + 1e-9):  # (the band below its first point was never computed)
+    if whole_curve and pts[0].f > lo * (1 + 1e-9):  # (the band below it: never computed)
         raise ValueError(f"start: its points begin at {pts[0].f:g} Hz, above the band's start "
                          f"({lo:g} Hz), which it would leave out; resume with fmin = "
                          f"{pts[0].f:g}, or start afresh")  # fmt: skip

@@ -128,7 +128,11 @@ def test_a_curve_resumes_on_its_own_problem_and_band(duffing_curve):
     # a start above the band's start left the band below it out, without a word
     with pytest.raises(ValueError, match=r"^start: its points begin at 0.15 Hz, above the "
                        r"band's start \(0.1 Hz\), which it would leave out"):  # fmt: skip
-        pr.continue_sequential(P, [0.1, 0.15, 0.16, 0.17], start=duffing_curve.points)
+        pr.continue_sequential(P, [0.1, 0.15, 0.16, 0.17], start=duffing_curve)
+    # its points alone resume as a checkpoint's do (a curve whose first frequencies found no
+    # orbit without the fallback starts above the band's start)
+    c = pr.continue_sequential(P, [0.1, 0.15, 0.16, 0.17], start=duffing_curve.points)
+    assert c.column("f").tolist() == [0.15, 0.16, 0.17]
     for start in (duffing_curve, duffing_curve.points):  # the curve, or its points
         c = pr.continue_sequential(P, [0.15, 0.16, 0.17], start=start)
         assert c.points[:2] == duffing_curve.points and c.column("f").tolist() == [0.15, 0.16, 0.17]
