@@ -126,13 +126,10 @@ def check_map_args(x_ref: np.ndarray, x0, n_steps, disc) -> np.ndarray:
     whole number >= 1 (0 steps "mapped" x0 onto itself), ``disc`` None or a
     :class:`Discretisation`. A ValueError or TypeError names the argument: a compiled map read
     past a shorter state (garbage, or a crash of the process)."""
-    from nsdyn.periodic.discretisation import N_STEPS_MAX, checked_disc
+    from nsdyn.periodic.discretisation import checked_disc
 
     if n_steps is not None:
-        n = whole("n_steps", n_steps, 1, "a whole number of steps >= 1")
-        if n > N_STEPS_MAX:
-            raise ValueError(f"n_steps: {n} steps of one period exceed {N_STEPS_MAX:.0e} (hours "
-                             "of shooting); expected fewer")  # fmt: skip
+        whole("n_steps", n_steps, 1, "a whole number of steps >= 1")
     checked_disc(disc)
     try:
         x = np.array(x0, dtype=float)

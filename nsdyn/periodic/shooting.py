@@ -186,10 +186,7 @@ def _check_inputs(problem, disc, n_steps, tol, max_iter) -> None:
         raise TypeError(f"problem: expected a periodic problem (frame_problem, switch_problem, "
                         f"plane_problem, ...), got {type(problem).__name__}")  # fmt: skip
     if n_steps is not None:
-        n = whole("n_steps", n_steps, 1, "a whole number of steps >= 1")
-        if n > N_STEPS_MAX:
-            raise ValueError(f"n_steps: {n} steps of one period exceed {N_STEPS_MAX:.0e} (hours "
-                             "of shooting); expected fewer")  # fmt: skip
+        whole("n_steps", n_steps, 1, "a whole number of steps >= 1")
     if not (isinstance(tol, int | float) and 0 < tol < np.inf):
         raise ValueError(f"tol: expected a positive finite residual, got {tol!r}")
     whole("max_iter", max_iter, 0, "a whole number >= 0 (0: the start checked alone)")
@@ -216,6 +213,11 @@ def shoot(
     disc = checked_disc(disc)
     _check_inputs(problem, disc, n_steps, tol, max_iter)
     N = disc.steps(1.0 / f) if n_steps is None else int(n_steps)
+    if N > max(N_STEPS_MAX, disc.steps(1.0 / f)):  # (10^9 given shot for hours; the
+        # discretisation's own count, refined up to 1000 times by nsdyn sweep, is its own)
+        raise ValueError(f"n_steps: {N} steps of one period exceed {N_STEPS_MAX:.0e} and the "
+                         f"discretisation's {disc.steps(1.0 / f)} (hours of shooting); expected "
+                         "fewer")  # fmt: skip
     x = problem.x_ref.copy() if x0 is None else check_map_args(problem.x_ref, x0, None, None)
     pm, W, r = _evaluate(problem, x, f, N, disc)
     cheap = bool(getattr(problem, "cheap_sensitivities", False))
