@@ -10,6 +10,7 @@ import errno
 import os
 import secrets
 import stat
+from collections import deque
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -44,8 +45,9 @@ def differing(old, new, path: str = "") -> list[str]:
     ]
 
 
-WRITTEN: list[str] = []  # the files this process renamed into place (an interrupted command
-# names those it wrote; the command line clears it as a command starts)
+# the last files this process renamed into place (an interrupted command names those it
+# wrote; the command line clears it as a command starts; bounded for long library sessions)
+WRITTEN: deque[str] = deque(maxlen=64)
 
 
 @contextmanager

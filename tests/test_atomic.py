@@ -129,7 +129,7 @@ def test_a_refused_rename_names_the_file_and_the_command_names_what_it_wrote(tmp
         with atomic_open(tmp_path / "deck.png", "wb") as fh:
             fh.write(b"png")
     assert [p.name for p in tmp_path.iterdir()] == ["a.csv"]  # no temporary left
-    assert atomic.WRITTEN == [str(tmp_path / "a.csv")]
+    assert list(atomic.WRITTEN) == [str(tmp_path / "a.csv")]
     line = _interrupt_line(argparse.Namespace(command="spectrum", out=str(tmp_path)))
     assert line.startswith(f"nsdyn spectrum: interrupted while writing its results: "
                            f"{tmp_path / 'a.csv'} is this run's and complete")  # fmt: skip

@@ -516,6 +516,7 @@ def script(argv: list[str] | None = None) -> int:
     try:
         code = main(argv)
     finally:
+        _ENDING[0] = False
         release_standby()
     gc.freeze()
     if code == EXIT_PIPE_CLOSED or not _flushed():  # the output's reader has gone

@@ -72,6 +72,8 @@ def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
     w.writeheader()
     w.writerows({k: repr(r[k]) for k in COLUMNS} for r in rows)
     csv_path = out / "sweep.csv"
+    if not args.no_figures:  # (redrawn below; an interrupt left it beside the new CSV)
+        (out / "sweep.png").unlink(missing_ok=True)
     with atomic_open(csv_path, "w") as fh:
         fh.write(buf.getvalue())
     mode_list = [{"f_hz": float(fk), "family": fam} for fk, fam in zip(modes.f_hz, modes.family,

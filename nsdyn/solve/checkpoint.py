@@ -24,24 +24,27 @@ from nsdyn.atomic import CheckpointError, atomic_open
 
 
 @contextmanager
-def holding_signals():
-    """SIGINT and SIGTERM held while a chunk runs and its checkpoint is written, then raised
-    (its handler: the command's stop). A compiled chunk cannot be stopped inside; the signal
-    was raised as it returned, before its checkpoint, so the chunk waited for was lost (a
-    resume started where the last checkpoint had). Off the main thread: nothing held."""
-    if threading.current_thread() is not threading.main_thread():
+def holding_signals(active: bool = True):
+    """SIGINT and SIGTERM held while a chunk runs and its checkpoint is written (``active``:
+    a run that keeps one), then raised, SIGTERM first (their handlers: the command's stop, a
+    KeyboardInterrupt, or the end of the process). A compiled chunk cannot be stopped inside;
+    the signal was raised as it returned, before its checkpoint, so the chunk waited for was
+    lost (a resume started where the last checkpoint had). A run without a checkpoint, a
+    signal ignored, or a thread other than the main one: nothing held."""
+    if not active or threading.current_thread() is not threading.main_thread():
         yield
         return
     held: list[int] = []
-    sigs = (signal.SIGINT, signal.SIGTERM)
+    sigs = [s for s in (signal.SIGTERM, signal.SIGINT) if signal.getsignal(s) != signal.SIG_IGN]
     old = [signal.signal(s, lambda signum, frame: held.append(signum)) for s in sigs]
     try:
         yield
     finally:
         for s, h in zip(sigs, old, strict=True):
             signal.signal(s, h)
-        if held:
-            signal.raise_signal(held[0])
+        for s in sigs:  # (SIGTERM first: a KeyboardInterrupt raised first dropped it)
+            if s in held:
+                signal.raise_signal(s)
 
 
 FORMAT = "nsdyn-checkpoint-3"  # in every fingerprint: files of an older layout are refused

@@ -255,7 +255,7 @@ def simulate_full(
     compile_s = warmup_operators()
     wall, wall0 = 0.0, time.perf_counter()
     for te, a, b in chunks(t_eval, k0, chunk_s, carry.t_at):  # every chunk_s, off the grid too
-        with holding_signals():  # (the chunk and its checkpoint, then a signal)
+        with holding_signals(ckpt is not None):  # (the chunk and its checkpoint first)
             # the scheme's own acceleration carried on: the chunks are one run (q̈ at each chunk's
             # start departed from it by O(dt²))
             acc = np.full(n, np.nan) if carry.acc is None else np.array(carry.acc, dtype=float)

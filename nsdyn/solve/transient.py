@@ -490,7 +490,7 @@ def simulate(
     if plan:  # a checkpoint may already hold the whole run
         compile_s += _prepare_kernels(method, P, contact)
     for te, a, b in plan:
-        with holding_signals():  # (the chunk and its checkpoint, then a signal)
+        with holding_signals(ckpt is not None):  # (the chunk and its checkpoint first)
             x_start = xs[-1][-1] if carry.x_at is None else carry.x_at
             if carry.modes is not None and method == "event":
                 solver_options["modes0"] = carry.modes

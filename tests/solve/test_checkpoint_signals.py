@@ -37,6 +37,32 @@ def test_a_signal_inside_the_hold_is_raised_as_it_ends():
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
 
 
+def test_nothing_is_held_without_a_checkpoint_or_when_ignored_and_sigterm_comes_first():
+    # without a checkpoint holding gains nothing: a SIGTERM waited for a whole chunk; an
+    # ignored SIGINT was recorded and raised; a SIGTERM held beside a SIGINT was dropped
+    seen = []
+    with pytest.raises(KeyboardInterrupt):
+        with holding_signals(False):
+            os.kill(os.getpid(), signal.SIGINT)
+            seen.append("not reached")
+    assert seen == []
+    old_int = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    old_term = signal.signal(signal.SIGTERM, lambda s, f: seen.append("term"))
+    try:
+        with holding_signals():
+            os.kill(os.getpid(), signal.SIGINT)  # ignored, as it was
+        assert signal.getsignal(signal.SIGINT) == signal.SIG_IGN and seen == []
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        with pytest.raises(KeyboardInterrupt):
+            with holding_signals():
+                os.kill(os.getpid(), signal.SIGINT)
+                os.kill(os.getpid(), signal.SIGTERM)
+        assert seen == ["term"]  # raised first, then the interrupt
+    finally:
+        signal.signal(signal.SIGINT, old_int)
+        signal.signal(signal.SIGTERM, old_term)
+
+
 def test_an_interrupted_chunk_is_checkpointed_before_the_run_stops(tmp_path, monkeypatch):
     dt = 0.01
     t = np.arange(0.0, 12.0 + dt / 2, dt)
