@@ -206,10 +206,15 @@ def continue_sequential(
     one skipped). Only the last point keeps its orbit ``X`` unless ``keep_orbits``.
     """
     disc = _options(disc, progress, fallback, keep_orbits)
-    freqs = np.asarray(freqs, dtype=float)
-    if freqs.ndim != 1 or not freqs.size or not np.all(np.isfinite(freqs) & (freqs > 0)) \
-            or np.any(np.diff(freqs) <= 0):  # fmt: skip
-        raise ValueError(f"freqs: expected increasing finite frequencies > 0 [Hz], got {freqs}")
+    given = freqs  # (a generator: float()'s message; text "0.3": read as 0.3 in the refusal)
+    try:
+        freqs = np.asarray(freqs, dtype=float)
+    except (TypeError, ValueError):
+        freqs = np.array([np.nan])
+    ok = freqs.ndim == 1 and freqs.size and np.all(np.isfinite(freqs) & (freqs > 0))
+    if isinstance(given, str) or not ok or np.any(np.diff(freqs) <= 0):
+        raise ValueError(f"freqs: expected increasing finite frequencies > 0 [Hz], got "
+                         f"{given!r}"[:200])  # fmt: skip
     check_frequencies(freqs)
     pts: list[OrbitPoint] = resumed_points(problem, start, float(freqs[0]), float(freqs[-1]), disc)
     t0 = time.perf_counter()

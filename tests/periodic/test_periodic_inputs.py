@@ -152,6 +152,10 @@ def test_sequential_continuation_rejects_unordered_frequencies():
     prob = pr.duffing_problem(0.05, 1.0, 0.1, 0.5)
     with pytest.raises(ValueError, match=r"^freqs: expected increasing finite frequencies > 0"):
         pr.continue_sequential(prob, [0.3, 0.2, 0.1])
+    # a generator ended in float()'s message, text "0.3" was quoted as the number 0.3
+    for freqs, said in (((f for f in [0.3, 0.5]), "<generator"), ("0.3", "'0.3'")):
+        with pytest.raises(ValueError, match=rf"^freqs: expected increasing .* got {said}"):
+            pr.continue_sequential(prob, freqs)
     with pytest.raises(ValueError, match=r"^fmax: expected a frequency above fmin"):
         pr.log_frequencies(1.0, 0.5, 10)
 
