@@ -4,6 +4,7 @@ processes or Dask; then the study's analyses (design search, percentiles, fragil
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import signal
 import sys
@@ -212,6 +213,7 @@ def run(args: argparse.Namespace) -> int:
         ctx = dask_executor(args.dask, args.dask_local)
     else:
         ctx = nullcontext(None)
+    made = not out.exists()
     old = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         with output_dir(out, "study"):  # (locked while the study runs and its analyses write)
@@ -230,6 +232,10 @@ def run(args: argparse.Namespace) -> int:
         from nsdyn.studies.table import OWNER
 
         kept = Path(out).is_dir() and any(p.name != OWNER for p in Path(out).iterdir())
+        if made and not kept and Path(out).is_dir():  # (a folder of its lock's owner alone)
+            (Path(out) / OWNER).unlink(missing_ok=True)
+            with contextlib.suppress(OSError):
+                Path(out).rmdir()
         line = (
             f"interrupted; finished tasks are kept in {out}, rerun to resume"
             if kept

@@ -93,3 +93,29 @@ def test_an_interrupted_studys_folder_is_named_as_one(tmp_path):
         read_results(tmp_path)
     with pytest.raises(FileNotFoundError, match=r"no results\.csv; expected the folder"):
         read_results(tmp_path / "parts")
+
+
+def test_a_study_interrupted_before_its_first_task_leaves_no_folder(tmp_path, monkeypatch, capsys):
+    # it left a folder of its lock owner's file alone (.study.json), and an interrupt before
+    # the tasks started said the generic "files on disk are complete; ... keeps no checkpoint"
+    import nsdyn.studies.execute as execute
+    import nsdyn.studies.study as study_mod
+    from nsdyn.studies.table import OWNER
+
+    def claimed_then_stopped(study, out, **kw):
+        (out / OWNER).write_text("{}")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(execute, "run_study", claimed_then_stopped)
+    path, out = _write(tmp_path, HEAD + PARAMS + RECORDS), tmp_path / "o"
+    assert main(["study", str(path), "--out", str(out)]) == 130
+    assert not out.exists()
+    said = "nsdyn study: interrupted before its first task finished; a rerun starts over"
+    assert capsys.readouterr().err.strip() == said
+
+    def stopped(*a, **kw):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(study_mod, "load_study", stopped)
+    assert main(["study", str(path), "--out", str(out)]) == 130
+    assert capsys.readouterr().err.strip() == said and not out.exists()
