@@ -27,6 +27,16 @@ pytestmark = pytest.mark.skipif(
 )
 
 
+@pytest.fixture(autouse=True)
+def _interruptible():
+    # Python's own Ctrl-C handler, whatever this process inherited (a test run started in the
+    # background of a shell without job control has SIGINT ignored, and an ignored signal is
+    # left ignored by the hold, by design)
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, old)
+
+
 def test_a_signal_inside_the_hold_is_raised_as_it_ends():
     seen = []
     with pytest.raises(KeyboardInterrupt):
