@@ -254,6 +254,16 @@ def stale_figures(out: Path, names, command: str, quiet: bool) -> None:
               "(--no-figures draws none)", file=sys.stderr)  # fmt: skip
 
 
+def old_figures(out: Path, names, command: str, args: argparse.Namespace) -> None:
+    """An earlier run's figures ``names`` in ``out``, removed before this run writes its
+    tables: redrawn after them (an interrupt in between left an old figure beside the new
+    results), or with ``--no-figures`` not drawn at all (:func:`stale_figures`, said)."""
+    if args.no_figures:
+        stale_figures(out, names, command, args.json)
+    for n in names:
+        (Path(out) / n).unlink(missing_ok=True)
+
+
 def above_highest(amplitudes, where: str, command: str = "") -> str | None:
     """The refusal of ground acceleration amplitudes above A_HIGHEST (100 g), or None; a flag's
     (``where`` "--a-max") worded as the parser's own ("argument --a-max: ... (see nsdyn

@@ -25,9 +25,9 @@ from nsdyn.cli.args import (
     fail,
     forcing_frequency,
     holes,
+    old_figures,
     out_dir,
     refinement,
-    stale_figures,
     workers,
 )
 from nsdyn.cli.args import amplitude_list as _amplitude_list
@@ -286,8 +286,7 @@ def run(args: argparse.Namespace) -> int:
             quiet=args.json,
         )
         csv_path = out / "sweep.csv"
-        if not args.no_figures:  # (redrawn below; an interrupt left it beside the new CSV)
-            (out / "sweep.png").unlink(missing_ok=True)
+        old_figures(out, ["sweep.png"], "sweep", args)  # (before the table: redrawn after it)
         write_csv(csv_path, results)
         report = {
             "model": results[0]["model"],
@@ -297,9 +296,7 @@ def run(args: argparse.Namespace) -> int:
             "compile_s": compile_s,
             "amplitudes": [summarise(r) for r in results],
         }
-        if args.no_figures:
-            stale_figures(out, ["sweep.png"], "sweep", args.json)
-        else:
+        if not args.no_figures:
             freqs = log_frequencies(args.fmin, args.fmax, 300)
             frame, fm = results[0]["frame"], results[0]["f_max"] or 5.0
             fixed = None  # the fixed-base reference needs a frame and a ground acceleration
@@ -487,8 +484,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         results = sweep_plane(cfg, source, amplitudes, settings, out, workers=args.workers,
                               restart=args.restart, quiet=args.json)  # fmt: skip
         csv_path = out / "sweep.csv"
-        if not args.no_figures:  # (redrawn below; an interrupt left it beside the new CSV)
-            (out / "sweep.png").unlink(missing_ok=True)
+        old_figures(out, ["sweep.png"], "sweep", args)  # (before the table: redrawn after it)
         write_csv(csv_path, results)
         o = sc["orbit"]
         report = {
@@ -509,9 +505,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
             report["notes"] = [big]
             if not args.json:
                 print(f"nsdyn sweep: note: {big}", file=sys.stderr)
-        if args.no_figures:
-            stale_figures(out, ["sweep.png"], "sweep", args.json)
-        else:
+        if not args.no_figures:
             from nsdyn.plot.plane_sweep import plane_sweep_figure
 
             fig_path = out / "sweep.png"

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.cli.args import fail, stale_figures
+from nsdyn.cli.args import fail, old_figures
 
 _NOT_HERE = (  # flags of the nonlinear sweeps: (flag, attribute, its default)
     ("--friction", "friction", None), ("--contact", "contact", "bilateral"),
@@ -72,8 +72,7 @@ def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
     w.writeheader()
     w.writerows({k: repr(r[k]) for k in COLUMNS} for r in rows)
     csv_path = out / "sweep.csv"
-    if not args.no_figures:  # (redrawn below; an interrupt left it beside the new CSV)
-        (out / "sweep.png").unlink(missing_ok=True)
+    old_figures(out, ["sweep.png"], "sweep", args)  # (before the table: redrawn after it)
     with atomic_open(csv_path, "w") as fh:
         fh.write(buf.getvalue())
     mode_list = [{"f_hz": float(fk), "family": fam} for fk, fam in zip(modes.f_hz, modes.family,
@@ -94,9 +93,7 @@ def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
     report["notes"] = [few] if few else []
     if few and not args.json:
         print(f"nsdyn sweep: note: {few}", file=sys.stderr)
-    if args.no_figures:
-        stale_figures(out, ["sweep.png"], "sweep", args.json)
-    else:
+    if not args.no_figures:
         from nsdyn.plot.frames3d import frf_figure
 
         title = f"{sc['name']}: fixed base, steady harmonic response"
