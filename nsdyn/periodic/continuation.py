@@ -77,8 +77,15 @@ POINTS = 150  # default number of points of a curve
 
 def log_frequencies(fmin: float = F_MIN, fmax: float = F_MAX, points: int = POINTS) -> np.ndarray:
     """``points`` frequencies [Hz] spaced evenly in log f from ``fmin`` to ``fmax``
-    (``0 < fmin < fmax``, ``points >= 1``: ValueError otherwise)."""
-    return np.geomspace(*check_range(fmin, fmax, points))
+    (``0 < fmin < fmax`` and ``points >= 2``, or ``fmin == fmax`` and one point: ValueError
+    otherwise; one point of a range would be ``fmin`` alone, ``fmax`` dropped unsaid)."""
+    lo, hi, n = check_range(fmin, fmax, points)
+    if n == 1 and hi > lo:
+        raise ValueError(
+            f"points: expected at least 2 to span fmin = {lo:g} to fmax = {hi:g} "
+            "Hz (one point is fmin alone: fmax = fmin for one frequency), got 1"
+        )
+    return np.geomspace(lo, hi, n)
 
 
 def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="shooting"):

@@ -158,6 +158,10 @@ def test_sequential_continuation_rejects_unordered_frequencies():
             pr.continue_sequential(prob, freqs)
     with pytest.raises(ValueError, match=r"^fmax: expected a frequency above fmin"):
         pr.log_frequencies(1.0, 0.5, 10)
+    # one point of a range was fmin alone, fmax dropped without a word
+    with pytest.raises(ValueError, match=r"^points: expected at least 2 to span fmin = 1 to"):
+        pr.continue_range(prob, fmin=1.0, fmax=2.0, points=1)
+    assert pr.log_frequencies(1.5, 1.5, 1).tolist() == [1.5]  # fmin == fmax: one frequency
 
 
 @pytest.mark.parametrize("f", [-1.0, 0.0, math.nan])
