@@ -22,12 +22,13 @@ Phi^T M_fb`` (classical damping of the fixed-base modes, ``Phi^T M_fb Phi = I``)
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import replace
 from functools import partial
 
 import numpy as np
 
-from nsdyn._checks import got_array
+from nsdyn._checks import InputWarning, got_array
 from nsdyn.models.isolated.system import IsolatedSystem, Isolation, _add_isolators
 
 SYMMETRY_RTOL = 1e-10  # |A - A^T| allowed, relative to max |A|
@@ -105,6 +106,12 @@ def _rows(name: str, rows, n: int) -> np.ndarray:
     return a
 
 
+def _label(name) -> None:
+    """A system's name: non-empty text (it heads reports and names output files)."""
+    if not isinstance(name, str) or not name.strip():
+        raise TypeError(f"name: expected a label (non-empty text), got {name!r}")
+
+
 def _influence(influence, n: int) -> np.ndarray:
     G = _floats("influence", influence, "numbers")
     if G.shape == (n,):
@@ -177,6 +184,7 @@ def system_from_matrices(
     """
     if not isinstance(isolation, Isolation):
         raise TypeError(f"isolation: expected an Isolation, got {type(isolation).__name__}")
+    _label(name)
     M = _square("M", M, None)
     n = M.shape[0]
     C = _square("C", C, n)
@@ -187,6 +195,10 @@ def system_from_matrices(
     D = _rows("iso_dofs", iso_dofs, n)
     ni = D.shape[0]
     Gamma = _influence(influence, n)
+    if not np.any(Gamma[:, 0]):  # the horizontal record would move nothing: runs at rest
+        said = ("influence: all zero horizontally, so a horizontal ground motion does not load "
+                "the system (a force load still does)")  # fmt: skip
+        warnings.warn(said, InputWarning, stacklevel=2)
     if weight is not None and contact_rows is not None:
         raise MatrixError(
             "give either weight (frozen normal forces) or contact_rows (normal forces as "
@@ -337,6 +349,8 @@ def shear_building(
             f"got {damping_ratios!r}"
         )
     M, C, K = _storey_matrices(m, k, z[:N] if N else z)
+    if name is not None:
+        _label(name)
     name = name or (f"shear building ({N} storeys)" if N else "single mass on an isolator")
     s = system_from_matrices(
         M,

@@ -11,6 +11,7 @@ import math
 import numpy as np
 import pytest
 
+from nsdyn._checks import InputWarning
 from nsdyn.ground.excitation import ForceTable, Harmonic, HarmonicForce
 from nsdyn.models.isolated.builders import MatrixError, shear_building, system_from_matrices
 from nsdyn.models.isolated.scene import load_scene
@@ -204,6 +205,11 @@ def test_bad_shear_buildings_and_scenes(tmp_path):
             shear_building(*args, isolation=ISO)
     with pytest.raises(MatrixError, match="^heights: expected storey heights"):
         shear_building([1e5, 1e5], [2e7], 0.05, isolation=ISO, heights="3.0")
+    # a name that is not text headed reports as a number, an empty one as nothing
+    for name in (5, "", "  "):
+        with pytest.raises(TypeError, match=r"^name: expected a label \(non-empty text\)"):
+            shear_building([1e5, 1e5], [2e7], 0.05, isolation=ISO, name=name)
+
     good = (SCENES / "isolated-shear-3storey.toml").read_text()
     cases = [
         (
@@ -223,3 +229,11 @@ def test_bad_shear_buildings_and_scenes(tmp_path):
 
             build_scene(load_scene(p))
         assert str(p) in str(e.value)
+
+
+def test_a_system_the_ground_cannot_move_is_said():
+    # influence all zero horizontally: a record would leave the system at rest, unsaid
+    with pytest.warns(InputWarning, match=r"^influence: all zero horizontally"):
+        K = np.array([[2.0, -1.0], [-1.0, 1.0]])
+        system_from_matrices(np.eye(2), np.zeros((2, 2)), K, iso_dofs=[0], influence=[0.0, 0.0],
+                             weight=10.0, isolation=ISO)  # fmt: skip
