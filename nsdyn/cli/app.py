@@ -339,9 +339,16 @@ def _option_hint(parser: argparse.ArgumentParser, extra: list[str]) -> str:
     import difflib
 
     known = [o for a in parser._actions for o in a.option_strings if o.startswith("--")]
+    places = {a.dest: a.metavar or a.dest for a in parser._actions if not a.option_strings}
     for word in extra:
         if word.startswith("--"):
             name = word.split("=", 1)[0]
+            if name[2:].replace("-", "_") in places and name not in known:  # (`modes --frame`:
+                what = places[name[2:].replace("-", "_")]  # a flag of `run`, here the argument)
+                return f"; {what} is this command's argument ({parser.prog} {what.upper()})"
+            if name in FLAG_COMMANDS:  # (`sweep --frame`: "did you mean '--fmin'?")
+                runs = " and ".join(f"nsdyn {c}" for c in FLAG_COMMANDS[name])
+                return f"; {name} is a flag of {runs} alone (a scene's scene.frame names a frame)"
             starts = [o for o in known if o.startswith(name)]
             close = starts or difflib.get_close_matches(name, known, n=1)
             if close:

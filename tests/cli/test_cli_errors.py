@@ -208,6 +208,10 @@ def test_a_run_shorter_than_a_step_names_the_field(scene, says, capsys, tmp_path
         (["bench", "spd"], "nsdyn bench: error: argument BENCHMARK: unknown benchmark 'spd'; "
                            "did you mean 'speed'? (benchmarks: accuracy, "),
         (["bench", "switch_shootin"], "did you mean 'switch_shooting'?"),
+        # `run --frame` typed on another command read "did you mean '--klam'?" or '--fmin'
+        (["modes", "--frame", "office-12"], "--frame; frame is this command's argument (nsdyn "
+                                            "modes FRAME)"),
+        (["sweep", "--frame", "office-12"], "--frame; --frame is a flag of nsdyn run alone"),
     ],
 )  # fmt: skip
 def test_a_mistyped_option_or_benchmark_is_refused_with_the_nearest(argv, says, one_line):
