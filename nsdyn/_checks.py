@@ -145,6 +145,7 @@ def number(name: str, value, what: str, ok=None, *, finite: bool = True) -> floa
 MAX_OUTPUTS = 10_000_000  # output samples of one run (of 8 columns: 640 MB)
 MAX_STEPS = 200_000_000  # fixed or least steps of one run: refused beyond (hours of stepping)
 MAX_POINTS = 10_000  # frequencies of one curve: each a periodic solve of seconds
+MAX_AMPLITUDES = 1000  # curves of one sweep (each a continuation over its frequencies)
 
 
 def output_count(t_end: float, dt_out: float) -> int:

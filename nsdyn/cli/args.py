@@ -145,6 +145,12 @@ def amplitude_list(s: str) -> list[float]:
         )
     if len(set(vals)) < len(vals):  # each would be computed again
         raise argparse.ArgumentTypeError(f"expected distinct amplitudes, got {s!r}")
+    from nsdyn._checks import MAX_AMPLITUDES
+
+    if len(vals) > MAX_AMPLITUDES:  # (the help's bound: 2 000 curves started unsaid)
+        raise argparse.ArgumentTypeError(
+            f"expected at most {MAX_AMPLITUDES} amplitudes (a curve each), got {len(vals)}"
+        )
     return vals
 
 

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import MAX_AMPLITUDES
 from nsdyn.atomic import atomic_open, earlier_files, files_of, output_dir, save_figure
 from nsdyn.cli.args import (
     above_highest,
@@ -54,7 +55,7 @@ def configure(p: argparse.ArgumentParser) -> None:
         type=_amplitude_list,
         default=None,
         metavar="A1,A2,...",
-        help=f"excitation amplitudes A_hor [m/s^2], at most 1000 (default "
+        help=f"excitation amplitudes A_hor [m/s^2], at most {MAX_AMPLITUDES} (default "
         f"{DEFAULT_AMPLITUDES}; deck scenes: the orbit's amplitude, its shape kept; a scene's "
         "harmonic [force]: its amplitude [N])",
     )

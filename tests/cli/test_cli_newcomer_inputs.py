@@ -770,6 +770,14 @@ def test_sweep_flags_and_tables_that_would_repeat_or_do_nothing_are_refused(tmp_
     dup.write_text(deck.replace("amplitudes = [0.981]", "amplitudes = [1.0, 1.0e300]"))
     assert main(["sweep", str(dup), "--points", "2", "--out", out]) == 2
     one_line("sweep.amplitudes: expected ground acceleration amplitudes <= 1000 m/s²")
+    # the help's "at most 1000" was not held: 1001 curves started, a checkpoint each
+    many = ",".join(f"{0.001 * (k + 1):g}" for k in range(1001))
+    with pytest.raises(SystemExit, match="2"):
+        main(["sweep", "--amplitudes", many, "--out", out])
+    one_line("argument --amplitudes: expected at most 1000 amplitudes (a curve each), got 1001")
+    dup.write_text(deck.replace("amplitudes = [0.981]", f"amplitudes = [{many}]"))
+    assert main(["sweep", str(dup), "--points", "2", "--out", out]) == 2
+    one_line("sweep.amplitudes: expected a list of 1 to 1000 amplitudes > 0")
 
 
 def test_a_force_sweep_of_a_frame_draws_its_figure_without_a_fixed_base_curve(tmp_path, capsys):

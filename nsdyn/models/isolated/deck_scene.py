@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._checks import MAX_POINTS, NotedWarning
+from nsdyn._checks import MAX_AMPLITUDES, MAX_POINTS, NotedWarning
 from nsdyn._numba_cache import first_compile
 from nsdyn._progress import reporter
 from nsdyn.atomic import atomic_open
@@ -262,7 +262,7 @@ def build_sweep(cfg: dict, source: str) -> dict:
         out["points"] = n
     if "amplitudes" in t:
         a = t["amplitudes"]
-        ok = isinstance(a, list) and len(a) > 0
+        ok = isinstance(a, list) and 0 < len(a) <= MAX_AMPLITUDES
         vals = []
         for v in a if ok else ():
             if (
@@ -274,8 +274,8 @@ def build_sweep(cfg: dict, source: str) -> dict:
                 break
             vals.append(float(v))
         if not ok:
-            raise SceneError(f"{source}: sweep.amplitudes: expected a list of amplitudes > 0 "
-                             f"[m/s^2], got {a!r}")  # fmt: skip
+            raise SceneError(f"{source}: sweep.amplitudes: expected a list of 1 to "
+                             f"{MAX_AMPLITUDES} amplitudes > 0 [m/s^2], got {a!r}")  # fmt: skip
         out["amplitudes"] = vals
     if "law" in t:
         if t["law"] not in ("switch", "arctan"):

@@ -164,7 +164,7 @@ SCHEMA = Schema(
             Key("points", "integer", "log-spaced frequencies", "—", default="(nsdyn sweep's)",
                 lo=2, hi=10_000),
             Key("amplitudes", "list of numbers", "amplitudes A of the orbit's acceleration, "
-                "each > 0 (the orbit's shape kept)", "m/s²", default="(the orbit's)"),
+                "1 to 1000, each > 0 (the orbit's shape kept)", "m/s²", default="(the orbit's)"),
             Key("law", "string", "friction law of the sweep", default="(solver.law)",
                 choices=("switch", "arctan")),
         )),
