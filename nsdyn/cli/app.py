@@ -65,8 +65,12 @@ def flagged(message: str, args: argparse.Namespace) -> str:
         if not v or f": {key}:" not in message:
             continue
         said = {str(v), repr(v)} | ({f"{v:g}"} if isinstance(v, float) else set())
-        if any(s in message.split(f": {key}:", 1)[1] for s in said):  # (the flag's value, not
+        rest = message.split(f": {key}:", 1)[1]  # (a run's end is the flag's: "1e+11 samples")
+        if key == "motion.t_end" or any(s in rest for s in said):  # (the flag's value, not
             message = message.replace(f": {key}:", f": {key} ({flag}):", 1)  # the file's)
+    t_end = getattr(args, "t_end", None)
+    if t_end is not None and ": solver.dt_out:" in message:  # (the file's step against the
+        message += f" (the run ends at --t-end {t_end:g} s)"  # flag's end: only the step named)
     return message
 
 

@@ -234,6 +234,18 @@ def test_a_mistyped_option_or_benchmark_is_refused_with_the_nearest(argv, says, 
             ["run", "SHEAR", "--frame", "office-12"],
             "SHEAR: scene.frame (--frame): 'office-12' not used with a [structure] table",
         ),
+        # the file's output step against the flag's end read as the step's fault alone, and a
+        # cylinder's end too long (its value not quoted) named no flag
+        (
+            ["run", "ROCK", "--t-end", "1e-12"],
+            "ROCK: solver.dt_out: expected a positive output "
+            "step no longer than the run (1e-12 s), or 0 for no output, got 0.002 (the run ends "
+            "at --t-end 1e-12 s)",
+        ),
+        (
+            ["run", "CYL", "--t-end", "1e9"],
+            "CYL: motion.t_end (--t-end): 1e+11 samples of 0.01 s exceed 1e+07",
+        ),
     ],
 )
 def test_an_error_about_a_key_a_flag_set_names_the_flag(argv, said, tmp_path, capsys):
@@ -254,7 +266,9 @@ def _flag_case(argv, said, tmp_path, capsys):
     scenes = Path(__file__).resolve().parents[2] / "examples/scenes"
     rock = str(scenes / "rocking-seed003-column.toml")
     shear = str(scenes / "isolated-shear-3storey.toml")
-    argv = [{"ROCK": rock, "SHEAR": shear}.get(a, a) for a in argv]
+    cyl = str(scenes / "cylinder-uplift.toml")
+    argv = [{"ROCK": rock, "SHEAR": shear, "CYL": cyl}.get(a, a) for a in argv]
     out = ["--out", str(tmp_path / "o")] if argv[0] == "run" else ["-o", str(tmp_path / "x.py")]
     assert main([*argv, *out]) == EXIT_USER_ERROR
-    assert said.replace("ROCK", rock).replace("SHEAR", shear) in capsys.readouterr().err
+    said = said.replace("ROCK", rock).replace("SHEAR", shear).replace("CYL", cyl)
+    assert said in capsys.readouterr().err
