@@ -157,7 +157,8 @@ def output_count(t_end: float, dt_out: float) -> int:
     n = t_end / dt_out
     if not n <= MAX_OUTPUTS:
         raise ValueError(f"dt_out: {n:.3g} outputs of {dt_out:.3g} s over {t_end:.3g} s "
-                         f"exceed {MAX_OUTPUTS:.0e}; expected a longer output step or a shorter run")  # fmt: skip
+                         f"exceed {MAX_OUTPUTS:.0e}; expected a longer output step or a "
+                         "shorter run")  # fmt: skip
     return int(math.floor(n * (1 + 1e-12))) + 1
 
 

@@ -271,10 +271,18 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
             n_out = (t_end - t0) / dt
             raise SceneError(f"{source}: motion.t_end: {n_out:.3g} samples of {dt:g} s exceed "
                              f"{MAX_OUTPUTS:.0e}; expected an earlier end")  # fmt: skip
-        n = max(2, int(math.floor((t_end - t0) / dt + 1e-9)) + 1)
+        if not t_end - t0 >= dt * (1 - 1e-9):  # (it was stretched to one step unsaid)
+            raise SceneError(f"{source}: motion.t_end: expected an end at least one step "
+                             f"({dt:g} s) after the motion's start ({t0:g} s), "
+                             f"got {t_end:g}")  # fmt: skip
+        n = int(math.floor((t_end - t0) / dt + 1e-9)) + 1
         ag = np.vstack((ag[:n], np.zeros((max(0, n - len(ag)), ag.shape[1]))))
         if past:
             notes.append(past)
+        if abs(t0 + (n - 1) * dt - t_end) > 1e-9 * dt:  # (the run steps on the motion's grid)
+            notes.append(f"t_end = {t_end:g} s falls between the motion's samples (every "
+                         f"{dt:g} s): the run ends at {t0 + (n - 1) * dt:g} s, the sample "
+                         "before it")  # fmt: skip
     so = cfg.get("solver", {})
     method = so.get("method", "dopri5")
     if method not in METHODS:

@@ -47,6 +47,8 @@ def cfg():
         ("motion", "dt", 0.1, r"motion.dt: expected a step of at most the noise.s ordinate step"),
         ("motion", "duration", 1e9, r"motion.duration: 1e\+11 samples of 0.01 s exceed 1e\+07"),
         ("motion", "t_end", 1e9, r"motion.t_end: 1e\+11 samples of 0.01 s exceed 1e\+07"),
+        # an end inside the first step ran one step unsaid
+        ("motion", "t_end", 1e-12, r"motion.t_end: expected an end at least one step \(0.01 s\)"),
         # a peak of 1e30 m/s² ran (the targets of every scene end at 100 g)
         ("motion", "pga", 1e30, r"motion.pga: expected a finite PGA from 0 to 1000 m/s²"),
     ],
@@ -76,6 +78,14 @@ def test_run_scene_end_to_end(cfg, tmp_path):
     assert s["files"] == [s["histories"], s["figure"]]
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(Path(f).name for f in s["files"])
     assert all(f"  file                     {f}" in format_summary(s) for f in s["files"])
+
+
+def test_an_end_between_samples_is_said(cfg, tmp_path):
+    # the run steps on the motion's 0.01 s grid: t_end = 0.015 s ended at 0.01 s unsaid
+    cfg["motion"]["t_end"] = 0.015
+    s = run_scene(cfg, source=str(SCENE), out_dir=tmp_path, figures=False, quiet=True)
+    assert s["t_end"] == pytest.approx(0.01, rel=1e-12)
+    assert any("t_end = 0.015 s falls between the motion's samples" in n for n in s["notes"])
 
 
 def test_cli_run_json(tmp_path, capsys):
