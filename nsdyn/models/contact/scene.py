@@ -51,6 +51,7 @@ from nsdyn._checks import NumericalFailure, output_step
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import read_motion
+from nsdyn.ground.motion import PGA_TARGET, PGA_TARGET_MAX
 from nsdyn.models.contact.results import MODE_NAMES, TILT_FLOOR, slenderness
 from nsdyn.models.contact.scene_keys import SCHEMA
 from nsdyn.models.scenefile import (
@@ -202,6 +203,8 @@ def build(cfg: dict, source: str):
     elif "period" in mo:
         T = number(source, "motion.period", mo["period"])
         pga = number(source, "motion.pga", mo.get("pga", 1.6))
+        if pga > PGA_TARGET_MAX:  # (1e6 m/s² ran: a 120 km sine)
+            raise SceneError(f"{source}: motion.pga: expected {PGA_TARGET}, got {pga:g}")
         n = mo.get("n_cycles", 5)
         if not isinstance(n, int) or isinstance(n, bool) or n < 1:
             raise SceneError(f"{source}: motion.n_cycles: expected an integer >= 1, got {n!r}")

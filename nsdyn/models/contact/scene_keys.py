@@ -109,6 +109,7 @@ SCHEMA = Schema(
                     "m/s²",
                     default="(1.6 for a sine)",
                     **_POS,
+                    hi=1000.0,
                 ),
                 Key(
                     "period",

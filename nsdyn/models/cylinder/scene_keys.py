@@ -179,6 +179,7 @@ SCHEMA = Schema(
                     "ground at rest, free vibration from `theta0`)",
                     "m/s²",
                     **_NONNEG,
+                    hi=1000.0,
                 ),
                 Key("t_end", "number", "end of the run", "s", default="(the motion's end)", **_POS),
                 Key(

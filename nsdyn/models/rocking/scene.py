@@ -47,6 +47,7 @@ from nsdyn._checks import output_step
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import G_EARTH, read_motion
+from nsdyn.ground.motion import PGA_TARGET_MAX
 from nsdyn.ground.pulses import SHAPES, Pulse
 from nsdyn.models.rocking.scene_keys import SCHEMA
 from nsdyn.models.scenefile import (
@@ -188,6 +189,11 @@ def build_motion(cfg: dict, source: str):
                              "m/s², or pga)")  # fmt: skip
         if "pga" in mo:  # replaces the amplitude (as --pga does), keeping its sign
             a_p = math.copysign(number(source, "motion.pga", mo["pga"]), a_p)
+        key = "pga" if "pga" in mo else "a_p" if "a_p" in mo else "a_p_g"
+        if abs(a_p) > PGA_TARGET_MAX:  # (1e6 g ran; every scene's amplitudes end at 100 g)
+            raise SceneError(f"{source}: motion.{key}: expected a pulse amplitude up to "
+                             f"{PGA_TARGET_MAX:g} m/s² (100 g), got {mo[key]:g}"
+                             f"{' g' if key == 'a_p_g' else ''}")  # fmt: skip
         for one, other in (("a_p", "a_p_g"), ("omega_p", "f_p")):
             if one in mo and other in mo:  # each value checked first
                 for k in (one, other):

@@ -74,6 +74,8 @@ def test_cli_json(tmp_path, capsys):
          "body.width: give the body as width and height"),
         ("solver", "h+compliant", 1e-3, "solver.h: a compliant ground"),
         ("ground", "stiffness", 1e-3, "ground.stiffness: the static settlement m g / "),
+        # a sine of 1e6 m/s² ran (a 120 km displacement; every scene's PGA ends at 100 g)
+        ("motion", "pga", 1e6, r"motion.pga: expected a finite PGA from 0 to 1000 m/s²"),
     ],
 )  # fmt: skip
 def test_bad_fields_name_the_field(tmp_path, table, key, val, match):

@@ -43,6 +43,12 @@ def _cfg(**block):
           "omega_p": 10}}, "motion.omega_p: a pulse's key beside motion.record"),
         ({"block": {"width": 1, "height": 2}, "motion": {"a_p_g": 0.4}},
          "motion.a_p_g: a pulse's key without motion.pulse"),
+        # a pulse of 1e6 g ran (every scene's amplitudes end at 100 g = 1000 m/s²)
+        ({"block": {"width": 1, "height": 2}, "motion": {"pulse": "sine", "a_p_g": -1e6,
+          "omega_p": 10}}, "motion.a_p_g: expected a pulse amplitude up to 1000 m/s² (100 g), "
+                           "got -1e+06 g"),
+        ({"block": {"width": 1, "height": 2}, "motion": {"pulse": "sine", "a_p": 0.4,
+          "pga": 1001.0, "omega_p": 10}}, "motion.pga: expected a pulse amplitude up to 1000"),
         (_cfg(omega_v_over_p=300.0), "block.omega_v_over_p: a key of the compliant model"),
         ({"scene": {"kind": "rocking", "model": "frame"}, "block": {"width": 1, "height": 2,
           "zeta": 2.0}}, "block.zeta: a key of the compliant model (scene.model = 'compliant'), "
