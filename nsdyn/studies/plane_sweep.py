@@ -181,8 +181,10 @@ def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweep
             save(done)
         if not quiet:
             u = pt.quantities.get("u_peak_m", math.nan)
-            left = time_left(walls, n - k) if settings.continuation != "arclength" else ""
-            print(f"[A={amplitude:g}] {k:4d}/{n} f={pt.f:8.4f} Hz {pt.method:9s} "
+            seq = settings.continuation != "arclength"  # (its own steps: "16/4" read past)
+            of = f"/{n}" if seq else " (arclength)"
+            left = time_left(walls, n - k) if seq else ""
+            print(f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
                   f"it={pt.iterations:2d} |u|max={u:.4g} m "
                   f"({pt.quantities.get('wall_s', 0.0):.2f} s{left})", file=sys.stderr,
                   flush=True)  # fmt: skip

@@ -87,6 +87,15 @@ def test_nsdyn_sweep_on_the_example_scene_gives_the_closed_form_and_resumes(tmp_
     assert text.count("4 of 4 points resumed from the checkpoint (wall [s]: this run's") == 2
 
 
+def test_an_arclength_sweep_counts_its_points_without_a_grid_total(tmp_path, capsys):
+    # the curve takes its own steps: "[A=0.981] 16/4" read as past its end
+    argv = ["sweep", str(SCENE), "--fmin", "0.35", "--fmax", "1.4", "--points", "2",
+            "--continuation", "arclength", "--out", str(tmp_path), "--no-figures"]  # fmt: skip
+    assert nsdyn_main(argv) == 0
+    lines = [ln for ln in capsys.readouterr().err.splitlines() if ln.startswith("[A=")]
+    assert len(lines) > 2 and all("(arclength) f=" in ln and "/2 " not in ln for ln in lines)
+
+
 def test_default_range_and_amplitude_come_from_the_scene(tmp_path, capsys, monkeypatch):
     # f0/4 .. 4 f0 around the orbit's 0.7 Hz, at its amplitude 0.981 m/s^2 (progress on stderr;
     # a cold cache: the deck's loop compiles first, before the workers, saying so)
