@@ -70,7 +70,7 @@ QUICK_FLOOR_RUNG = ("cb", 5.0)
 _FID_FIELDS = (
     "record model n_dof reference status err_xpeak err_idr err_acc err_x wall_s n_timed "
     "n_steps x_iso_max_m idr_max floor_acc_max_mps2 energy_closure method setting value "
-    "window_s repeats compile_s quick rtol atol message"
+    "window_s repeats compile_s quick rtol atol_m atol_mps message"
 ).split()
 
 
@@ -265,10 +265,14 @@ def fidelity_bench(
         "compile_s": compile_s,
         "quick": quick,
         "rtol": rtol,
-        "atol": str(atol),
+        "atol": list(common.atol_pair(atol)),  # [m, m/s]
     }
-    for r in rows:
-        r.update(meta)
+    floor_atol = common.atol_pair(common.ATOL_FACTOR * FLOOR_RTOL)  # (run_nsdyn's default)
+    for r in rows:  # each row's own tolerances: the floor row's are FLOOR_RTOL's
+        floor = r["model"].endswith(f" rtol {FLOOR_RTOL:g}")
+        r.update({k: v for k, v in meta.items() if k not in ("rtol", "atol")})
+        r["rtol"] = FLOOR_RTOL if floor else rtol
+        r["atol_m"], r["atol_mps"] = floor_atol if floor else meta["atol"]
     files = {}
     if out is not None:
         chart = ("figure", "fidelity.png", lambda: fidelity_figure(rows)) if figures else None

@@ -139,7 +139,8 @@ def fidelity_figure(rows, *, method):
             )
         ax.set_xscale("log")
         ax.set_yscale("log")
-        tol = f"rtol {ladder[0]['rtol']:g}, atol {ladder[0]['atol']}" if ladder else ""
+        tol = (f"rtol {ladder[0]['rtol']:g}, atol {ladder[0]['atol_m']:g} m, "
+               f"{ladder[0]['atol_mps']:g} m/s" if ladder else "")  # fmt: skip
         ax.set_xlabel(f"wall time [s] ({method}, {tol}, median)", fontsize=8)
         ax.set_ylabel(f"relative error of the peak vs {ref}")
         ax.set_title(f"{rec} record", fontsize=9)

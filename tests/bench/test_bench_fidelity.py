@@ -97,6 +97,10 @@ def test_bench_fidelity_quick_end_to_end(tmp_path):
         assert {mine[m]["reference"] for m in ladder} == {ladder[-1]}
         rigid, cb5 = mine["rigid"], mine["cb-5"]
         floor = mine[f"cb-5 rtol {fidelity.FLOOR_RTOL:g}"]
+        # each row's own tolerances (the floor row read the ladder's rtol), atol in numbers
+        assert float(floor["rtol"]) == fidelity.FLOOR_RTOL == float(floor["value"])
+        assert float(cb5["rtol"]) == float(cb5["value"]) > fidelity.FLOOR_RTOL
+        assert float(floor["atol_m"]) < float(cb5["atol_m"]) <= float(cb5["atol_mps"])
         assert float(rigid["err_idr"]) == pytest.approx(1.0)  # a rigid body has no drift
         for key in ("err_xpeak", "err_idr", "err_acc"):
             assert float(rigid[key]) > float(cb5[key]) > 10 * float(floor[key])
