@@ -204,15 +204,18 @@ def out_file(s: str) -> str:
     return s
 
 
-def band_message(command: str, fmin: float, fmax: float, given: tuple = (True, True)) -> str:
+def band_message(command: str, fmin: float, fmax: float, given: tuple = (True, True),
+                 scene: tuple = (None, None)) -> str:  # fmt: skip
     """The usage error of a frequency band whose top is not above its bottom, in the form of
     every other flag's (``argument --FLAG: expected …, got … (see nsdyn CMD --help)``), naming
-    the flag that was given when the other is its default (``given``: --fmin, --fmax)."""
+    the flag that was given when the other is its default (``given``: --fmin, --fmax) or a
+    scene's value (``scene``: where each end not given came from, "sweep.f_max of FILE")."""
     if given[0] and not given[1]:
-        return (f"argument --fmin: expected a frequency below {fmax:g} Hz (the default top of "
-                f"the band: give --fmax above --fmin), got {fmin:g} (see nsdyn {command} "
-                "--help)")  # fmt: skip
-    low = f"--fmin ({fmin:g} Hz)" if given[0] else f"{fmin:g} Hz (the default bottom of the band)"
+        top = f"{scene[1]}" if scene[1] else "the default top of the band"
+        return (f"argument --fmin: expected a frequency below {fmax:g} Hz ({top}: give --fmax "
+                f"above --fmin), got {fmin:g} (see nsdyn {command} --help)")  # fmt: skip
+    bottom = scene[0] or "the default bottom of the band"
+    low = f"--fmin ({fmin:g} Hz)" if given[0] else f"{fmin:g} Hz ({bottom})"
     return (f"argument --fmax: expected a frequency above {low}, got {fmax:g} "
             f"(see nsdyn {command} --help)")  # fmt: skip
 

@@ -446,9 +446,9 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     fmin = sw.get("f_min", lo) if args.fmin is None else args.fmin
     fmax = sw.get("f_max", hi) if args.fmax is None else args.fmax
     if not fmax > fmin:
-        return fail(
-            args, band_message("sweep", fmin, fmax, (args.fmin is not None, args.fmax is not None))
-        )
+        given = (args.fmin is not None, args.fmax is not None)
+        scene = tuple(f"sweep.{k} of {source}" if k in sw else None for k in ("f_min", "f_max"))
+        return fail(args, band_message("sweep", fmin, fmax, given, scene))
     from nsdyn.periodic.plane import orbit_shape
 
     amplitudes = args.amplitudes or sw.get("amplitudes") or [orbit_shape(sc["orbit"])[0]]

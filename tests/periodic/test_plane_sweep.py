@@ -87,6 +87,13 @@ def test_nsdyn_sweep_on_the_example_scene_gives_the_closed_form_and_resumes(tmp_
     assert text.count("4 of 4 points resumed from the checkpoint (wall [s]: this run's") == 2
 
 
+def test_a_band_refused_against_the_scenes_end_names_that_end(tmp_path, capsys):
+    # the scene's sweep.f_max = 2.8 Hz was called "the default top of the band"
+    assert nsdyn_main(["sweep", str(SCENE), "--fmin", "3", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert f"--fmin: expected a frequency below 2.8 Hz (sweep.f_max of {SCENE}: give" in err
+
+
 def test_an_arclength_sweep_counts_its_points_without_a_grid_total(tmp_path, capsys):
     # the curve takes its own steps: "[A=0.981] 16/4" read as past its end
     argv = ["sweep", str(SCENE), "--fmin", "0.35", "--fmax", "1.4", "--points", "2",
