@@ -40,6 +40,7 @@ __all__ = [
 
 # the command-line options run_bench takes (nsdyn.cli.bench passes only these)
 OPTIONS = ("repeats", "records", "figures", "quiet")
+FIGURES = ("accuracy.png",)  # the figures it draws (removed under --no-figures)
 
 REF_RTOL = 1e-10  # reference tolerance (quick: QUICK_REF_RTOL)
 QUICK_REF_RTOL = 1e-9

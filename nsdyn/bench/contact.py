@@ -45,6 +45,7 @@ MAP_T = 4.0  # s, map runs (hops and accumulations from about 2 s on for e_n >= 
 MAP_MAX_EVENTS = 3000  # event budget of a map run
 FAIL_ERR = 0.1  # err_theta above which a map run counts as inaccurate
 OPTIONS = ("figures",)  # options run_bench takes
+FIGURES = ("contact-wp.png", "contact-map.png")  # the figures it draws (removed under --no-figures)
 T_SPLIT = 2.2  # s, the two solvers' limits part in a near-threshold accumulation at 2.29-2.34 s
 
 

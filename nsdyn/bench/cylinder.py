@@ -30,6 +30,7 @@ REPEATS = 5  # timing repeats (median)
 N_EQ, N_EQ_QUICK = 60, 6  # earthquakes of part 2
 SEED = 1  # earthquake of part 1
 OPTIONS = ("figures",)  # options run_bench takes
+FIGURES = ("cylinder-wp.png",)  # the figures it draws (removed under --no-figures)
 
 
 def _err(res, ref) -> float:

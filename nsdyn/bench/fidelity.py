@@ -38,6 +38,7 @@ __all__ = [
 
 # the command-line options run_bench takes (nsdyn.cli.bench passes only these)
 OPTIONS = ("repeats", "figures", "quiet")
+FIGURES = ("fidelity.png",)  # the figures it draws (removed under --no-figures)
 
 LOWPASS_HZ = 2.0  # Hz, corner of the low-frequency record (4th-order Butterworth, zero phase)
 # The ladder, cheapest first; the last rung that runs is the reference. Every rung runs with

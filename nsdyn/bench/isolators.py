@@ -50,6 +50,7 @@ GRIDS = (2, 3, 4, 6)  # n x n isolators
 GRIDS_QUICK = (2, 4)
 REPEATS = 5
 OPTIONS = ("repeats", "quiet", "figures")
+FIGURES = ("isolators-wp.png",)  # the figures it draws (removed under --no-figures)
 BEARING = Bearing(Friction(0.04, mu_fast=0.07, rate=30.0, mu_static=0.075), radius=2.2)
 TRIPLE = dict(R1=2.2, R2=0.3, R3=0.3, R4=2.2, mu1=0.06, mu2=0.02, mu3=0.02, mu4=0.10, d1=0.40,
               d2=0.06, d3=0.06, d4=0.40)  # fmt: skip

@@ -38,6 +38,7 @@ __all__ = [
 
 # the command-line options run_bench takes (nsdyn.cli.bench passes only these)
 OPTIONS = ("repeats", "figures", "quiet")
+FIGURES = ("periodic.png",)  # the figures it draws (removed under --no-figures)
 
 # (A [m/s^2], f [Hz]) cells: f_bis, the first fixed-base mode, between the 2nd and 3rd, and
 # above the 4th, where the isolators stick all period. A = 2 m/s^2 at 0.06 Hz is left out: an

@@ -28,6 +28,7 @@ REF_TOL = 1e-13  # reference tolerance
 PGA = 4.0  # record PGA [m/s²]
 N_FREQ = 40  # spectrum frequencies (full mode)
 OPTIONS = ("figures",)  # options run_bench takes
+FIGURES = ("rocking.png",)  # the figures it draws (removed under --no-figures)
 
 
 def _record_runs(quick: bool, repeats: int, case: str = "record"):

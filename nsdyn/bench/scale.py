@@ -37,6 +37,7 @@ from nsdyn.bench import common
 __all__ = ["SIZES", "fit_exponent", "peak_rss_mb", "run_bench", "scale_bench", "scale_frame"]
 
 OPTIONS = ("repeats", "quiet", "figures")
+FIGURES = ("scale.png",)  # the figures it draws (removed under --no-figures)
 RECORD_S = 4.0  # s of the bundled record (the window with its PGA)
 QUICK_RECORD_S = 2.0
 DT = 0.005  # s, the fixed step of nsdyn's full-order runs and of OpenSees

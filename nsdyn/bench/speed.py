@@ -53,6 +53,7 @@ __all__ = [
 
 # the command-line options run_bench takes (nsdyn.cli.bench passes only these)
 OPTIONS = ("repeats", "figures", "quiet", "cold_compile", "families")
+FIGURES = ("speed.png",)  # the figures it draws (removed under --no-figures)
 
 SPEED_T_END = 40.0  # s: the first 40 s of every record (the bundled one is 40 s long)
 SPEED_REPEATS = 5  # timed repeats of the nsdyn run (median)

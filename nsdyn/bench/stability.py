@@ -42,6 +42,7 @@ __all__ = [
 
 # the command-line options run_bench takes (nsdyn.cli.bench passes only these)
 OPTIONS = ("figures", "quiet")
+FIGURES = ("stability.png",)  # the figures it draws (removed under --no-figures)
 
 STAB_WINDOW = (0.0, 3.0)  # s, record window of the step-size maps (the PGA is at 2.8 s)
 STAB_DT = [0.01 / 2**k for k in range(12)]  # 1e-2 (the record's step) ... 4.9e-6 s, from the top

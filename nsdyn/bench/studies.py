@@ -36,6 +36,7 @@ FULL_TASKS = 64  # tasks per engine
 WORKERS = 2  # processes per engine (the machine's cores)
 PROJECT_WORKERS = (1, 2, 8, 32, 128)  # cluster sizes of the projection
 OPTIONS = ("figures",)  # options run_bench takes
+FIGURES = ("studies.png",)  # the figures it draws (removed under --no-figures)
 PROJECT_STUDIES = {"seed design search (320 runs)": 320, "Monte-Carlo, 1000 records": 1000}
 
 _STUDY = """

@@ -52,6 +52,7 @@ OSC_FREQS_QUICK = (0.5, 0.9, 1.5)
 PERIODS = 40  # event-driven integration length [periods] (oscillator)
 PERIODS_FRAME = 12  # ... frame (quick: 6)
 OPTIONS = ("repeats", "curve", "figures")  # options run_bench takes
+FIGURES = ("switch_shooting.png",)  # the figures it draws (removed under --no-figures)
 CURVE_REPEATS = 3  # timed repeats of each whole curve (--quick: 1)
 CURVE_FMIN, CURVE_FMAX, CURVE_POINTS = 0.01, 10.0, 150  # the sweep's default grid
 CURVE_POINTS_QUICK = 40

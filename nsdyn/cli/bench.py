@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.bench.common import DEFAULT_OUT, RECORDS, REPEATS
-from nsdyn.cli.args import fail, out_dir, positive_int
+from nsdyn.cli.args import fail, out_dir, positive_int, stale_figures
 
 __all__ = ["configure", "main", "run"]
 
@@ -228,6 +228,8 @@ def run(args: argparse.Namespace) -> int:
             if args.what != "all" and not args.json:  # (nothing to skip: said, not refused)
                 print(f"nsdyn bench: note: benchmark {what!r} draws no figures; --no-figures "
                       "changes nothing", file=sys.stderr)  # fmt: skip
+        if args.no_figures:  # (an earlier run's figures sat beside the new tables)
+            stale_figures(Path(args.out), getattr(module, "FIGURES", ()), "bench", args.json)
         res = module.run_bench(Path(args.out), args.quick, **taken)
         if isinstance(res, dict) and res.get("status") == "unavailable" and args.what != "all":
             # an optional extra found missing inside the run (OpenSees): asked for by name,

@@ -145,3 +145,32 @@ def test_no_figures_to_a_benchmark_that_draws_none_is_said(fake_modules, monkeyp
         capsys.readouterr().err)  # fmt: skip
     assert command.main(["fake", "--no-figures", "--json", "--out", str(tmp_path)]) == 0
     assert "draws no figures" not in capsys.readouterr().err
+
+
+def test_no_figures_removes_the_benchmarks_earlier_figures(tmp_path, monkeypatch, capsys):
+    # `bench contact --no-figures` left the earlier run's contact-wp.png beside new tables
+    text = FAKE.replace('OPTIONS = ("quiet",)', 'OPTIONS = ("quiet", "figures")')
+    text = text.replace("quiet=False)", "quiet=False, figures=True)") + 'FIGURES = ("fake.png",)\n'
+    (tmp_path / "drawing_bench.py").write_text(text)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.delitem(sys.modules, "drawing_bench", raising=False)
+    monkeypatch.setattr(registry, "BENCHMARKS", {"fake": "drawing_bench"})
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "fake.png").write_bytes(b"an earlier run's figure")
+    assert command.main(["fake", "--no-figures", "--out", str(out)]) == 0
+    assert not (out / "fake.png").exists()
+    assert "removed the earlier run's fake.png (--no-figures draws none)" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name", list(registry.BENCHMARKS))
+def test_a_drawing_benchmark_names_the_figures_it_draws(name):
+    try:
+        module = registry.load_benchmark(name)
+    except registry.BenchmarkUnavailable as e:
+        pytest.skip(f"benchmark {name!r} unavailable here: {e}")
+    if "figures" not in getattr(module, "OPTIONS", ()):
+        return
+    source = inspect.getsource(module)
+    figures = getattr(module, "FIGURES", ())
+    assert figures and all(f'"{f}"' in source for f in figures), name
