@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import errno
 import math
 import os
 import sys
@@ -172,10 +173,12 @@ def _creatable(p: Path, s: str) -> None:
     try:  # a directory made and removed in d: what the command will do (also as root, on a
         # read-only or virtual file system, where permission bits do not tell)
         os.rmdir(tempfile.mkdtemp(prefix=".nsdyn-probe-", dir=d))
-    except OSError as e:
+    except OSError as e:  # ("not writable" only when it is so: /proc said it beside ENOENT)
+        denied = e.errno in (errno.EACCES, errno.EPERM, errno.EROFS)
+        why = "is not writable" if denied else "takes no new directory"
         raise argparse.ArgumentTypeError(
-            f"cannot create {s!r}: {d} is not writable ({e.strerror})" if made
-            else f"directory {s!r} is not writable ({e.strerror})"
+            f"cannot create {s!r}: {d} {why} ({e.strerror})" if made
+            else f"directory {s!r} {why} ({e.strerror})"
         ) from None  # fmt: skip
 
 

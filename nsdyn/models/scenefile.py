@@ -11,6 +11,7 @@ and the nearest valid key for a misspelt one.
 from __future__ import annotations
 
 import difflib
+import re
 import tomllib
 from collections.abc import Mapping
 from contextlib import contextmanager
@@ -29,7 +30,13 @@ SCENE_MODULES = {
 
 
 class SceneError(ValueError):
-    """A scene file or option is invalid; the message names the file and field."""
+    """A scene file or option is invalid; the message names the file and field (a value given
+    as a boolean quoted as TOML spells it: "got true", not Python's "got True")."""
+
+    def __init__(self, message="", *rest):
+        if isinstance(message, str):
+            message = re.sub(r"\bgot (True|False)\b", lambda m: f"got {m[1].lower()}", message)
+        super().__init__(message, *rest)
 
 
 # the fields of every scene family that name a file (a frame, a record or its components)

@@ -592,6 +592,7 @@ def test_the_summary_says_the_ground_acceleration_the_run_felt(tmp_path, capsys)
     [
         ('name = "x"\n[scene]\n', "name: a key outside any table (above the first [table])"),
         ('[motion]\npga = "3"\n', "motion.pga: expected a number, got '3'"),  # not "float"
+        ('[motion]\npga = true\n', "motion.pga: expected a number, got true"),  # not "True"
         ('[motion]\nkind = "sine"\n', "motion.kind: expected 'harmonic' (a harmonic ground "
                                       "acceleration) or no kind (a record), got 'sine'"),
         ('[scene]\nkind = "deck"\n[deck]\nm = 1e5\npositions = [[-1, -1], [1, -1], [1, 1], '

@@ -62,6 +62,14 @@ def test_an_out_in_a_read_only_directory_is_refused(capsys, tmp_path):
     _refused(["run", "--out", str(ro / "x")], capsys, "is not writable", "run")
 
 
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs Linux's /proc")
+def test_an_out_where_no_directory_can_be_made_says_why(capsys):
+    # /proc refuses a new directory with ENOENT: it read "/proc is not writable (No such file
+    # or directory)", two reasons at odds
+    _refused(["run", "--out", "/proc/nsdyn-x"], capsys, "cannot create '/proc/nsdyn-x': /proc "
+             "takes no new directory (No such file or directory)", "run")  # fmt: skip
+
+
 def test_the_export_file_is_checked_too(capsys, tmp_path):
     says = f"-o/--out: expected a file name, got the directory '{tmp_path}'"
     _refused(["export", "opensees", "s.toml", "--out", str(tmp_path)], capsys, says, "export")
