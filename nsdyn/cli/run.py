@@ -283,8 +283,8 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     ran = s.get("t_end_s", s.get("t_end"))
     req = args.t_end or cfg.get("motion", {}).get("t_end")  # (--t-end, or the scene's)
     short = isinstance(ran, int | float) and isinstance(req, int | float) and ran < req - 1e-6
-    said_end = any(f"t_end = {req:g} s" in n for n in s.get("notes", []))  # (the scene's own)
-    if short and not s.get("uplift") and not said_end:  # (an uplift ends a run early too)
+    short = short and not any(f"t_end = {req:g} s" in n for n in s.get("notes", []))  # (said)
+    if short and not s.get("uplift"):  # (an uplift ends a run early too)
         from nsdyn.ground.formats import past_record_note
 
         note = past_record_note(req, ran, runs_on=False, what="excitation")
