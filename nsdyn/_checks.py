@@ -232,3 +232,16 @@ class NumericalFailure(RuntimeError):
     """A numerical method failed where the model is still valid: a step size underflow, a
     contact problem with no solution, a step or event budget spent, a non-finite state. The
     message says when (t or f) and why; the command line ends with status 3."""
+
+
+def mapped(T, q, name: str = "q"):
+    """``T @ q`` for coordinates ``q`` of shape (n,) or (n, ...), n = T's columns; otherwise a
+    ValueError naming ``name`` and n (numpy's matmul said "mismatch in its core dimension")."""
+    import numpy as np
+
+    q = np.asarray(q)
+    n = T.shape[1]
+    if q.ndim == 0 or q.shape[0] != n:
+        raise ValueError(f"{name}: expected {n} coordinates (shape ({n},) or ({n}, ...)), got "
+                         f"shape {q.shape}")  # fmt: skip
+    return T @ q

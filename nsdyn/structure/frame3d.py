@@ -28,7 +28,7 @@ from functools import cached_property
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import number
+from nsdyn._checks import mapped, number
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements3d import global_matrices, local_axes
 from nsdyn.structure.geometry import (
@@ -394,7 +394,7 @@ class Frame3D:
 
     def expand(self, q_r: np.ndarray) -> np.ndarray:
         """Full displacements ``T q_r``; ``q_r`` shape (n_red,) or (n_red, m)."""
-        return self.T @ q_r
+        return mapped(self.T, q_r, "q_r")
 
     # ---- planar frames
     @classmethod

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import whole
+from nsdyn._checks import mapped, whole
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.frame import Frame
 
@@ -105,7 +105,7 @@ class CBModel:
 
     def expand(self, q: np.ndarray) -> np.ndarray:
         """Full displacements ``T q``; ``q`` shape (n_red,) or (n_red, nt)."""
-        return self.T @ q
+        return mapped(self.T, q)
 
 
 def lanczos_start(n: int) -> np.ndarray:

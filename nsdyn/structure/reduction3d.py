@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from nsdyn._brief import brief_repr
+from nsdyn._checks import mapped
 from nsdyn.structure.frame3d import DOFS_PER_NODE, Frame3D
 from nsdyn.structure.reduction import CBModel, craig_bampton
 
@@ -86,11 +87,11 @@ class CBModel3D:
 
     def expand_reduced(self, q: np.ndarray) -> np.ndarray:
         """Diaphragm-constrained coordinates ``q_r = T q``; ``q`` (n_cb,) or (n_cb, m)."""
-        return self.cb.T @ q
+        return mapped(self.cb.T, q)
 
     def expand(self, q: np.ndarray) -> np.ndarray:
         """Full nodal displacements (six per node) of ``q``; (n_cb,) or (n_cb, m)."""
-        return self.frame.expand(self.cb.T @ q)
+        return self.frame.expand(mapped(self.cb.T, q))
 
 
 def _boundary(frame: Frame3D, comps) -> np.ndarray:

@@ -192,6 +192,14 @@ def test_bad_input_is_named():
         craig_bampton_3d(b, -1.0)
     with pytest.raises(ValueError, match="f_max = inf keeps all"):
         craig_bampton_3d(b, np.inf, dense_max=10)
+    # coordinates of another model: numpy's "mismatch in its core dimension 0" before
+    cb = craig_bampton_3d(b, 5.0)
+    n_cb, n_r = cb.cb.T.shape[1], b.T.shape[1]
+    with pytest.raises(ValueError, match=rf"^q: expected {n_cb} coordinates .*got shape \(3,\)"):
+        cb.expand(np.zeros(3))
+    with pytest.raises(ValueError, match=rf"^q_r: expected {n_r} coordinates"):
+        b.expand(np.zeros((n_r + 1, 2)))
+    assert cb.expand(np.zeros((n_cb, 4))).shape == (b.T.shape[0], 4)  # a history passes
 
 
 @pytest.mark.slow

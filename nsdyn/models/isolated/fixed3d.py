@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
+from nsdyn._checks import number
 from nsdyn._tabular import Tabular
 from nsdyn.structure.frame3d import Frame3D
 from nsdyn.structure.modes3d import Modes3D, fixed_base_modes_3d
@@ -168,14 +169,26 @@ def _components(motion) -> tuple[float, float, np.ndarray]:
         raise TypeError(f"motion: expected a three-component record (GroundMotion3: "
                         f"nsdyn.read_motion3, or GroundMotion3.from_planar of a one-component "
                         f"record), got {type(motion).__name__}")  # fmt: skip
-    dt = float(motion.dt)
-    ax = np.asarray(motion.ax, float)
-    ay = np.zeros_like(ax) if motion.ay is None else np.asarray(motion.ay, float)
-    az = np.zeros_like(ax) if getattr(motion, "az", None) is None else np.asarray(motion.az, float)
-    a = np.vstack([ax, ay, az])
-    if a.shape[1] < 2 or not np.all(np.isfinite(a)):
-        raise ValueError("motion: expected at least two finite samples of ax, ay (az)")
-    return float(getattr(motion, "t0", 0.0) or 0.0), dt, a
+    # (a negative dt gave another answer, unsaid; dt = 0 "modal response not finite")
+    dt = number("motion.dt", motion.dt, "a positive time step [s]", lambda v: v > 0)
+    t0 = number("motion.t0", getattr(motion, "t0", 0.0) or 0.0, "a finite start time [s]")
+    rows = []
+    for name in ("ax", "ay", "az"):
+        v = getattr(motion, name, None)
+        try:
+            rows.append(None if v is None else np.asarray(v, dtype=float))
+        except (TypeError, ValueError):
+            raise ValueError(f"motion.{name}: expected an array of accelerations "
+                             f"[m/s²], got {type(v).__name__}") from None  # fmt: skip
+    n = -1 if rows[0] is None or rows[0].ndim != 1 else rows[0].size
+    for name, v in zip(("ax", "ay", "az"), rows, strict=True):
+        if v is not None and (v.shape != (n,) or n < 2):  # (numpy's vstack error before)
+            what = "a 1-D array of two samples or more" if name == "ax" else f"{n} samples (as ax)"
+            raise ValueError(f"motion.{name}: expected {what}, got shape {v.shape}")
+    a = np.vstack([np.zeros(n) if v is None else v for v in rows])
+    if not np.all(np.isfinite(a)):
+        raise ValueError("motion: expected finite samples of ax, ay (az), got NaN or inf")
+    return t0, dt, a
 
 
 def few_modes_note(asked: int, modes: Modes3D) -> str | None:
@@ -197,6 +210,11 @@ def fixed_response_3d(
         modes = fixed_base_modes_3d(frame, n_modes=n_modes)
     t0, dt, a = _components(motion)
     _, M = frame.reduced()
+    if not isinstance(modes, Modes3D) or modes.phi.shape[0] != M.shape[0]:  # (matmul's error)
+        got = (f"modes of {modes.phi.shape[0]} dofs" if isinstance(modes, Modes3D)
+               else type(modes).__name__)  # fmt: skip
+        raise ValueError(f"modes: expected the frame's own modes (fixed_base_modes_3d(frame), "
+                         f"{M.shape[0]} dofs), got {got}")  # fmt: skip
     phi = modes.phi
     omega = 2 * np.pi * modes.f_hz
     nm = len(omega)

@@ -157,3 +157,38 @@ def test_a_one_component_record_is_named_not_an_attribute_error():
                             floor_mass=3e5)  # fmt: skip
     with pytest.raises(TypeError, match=r"^motion: expected a three-component record"):
         fixed_response_3d(f, nsdyn.read_motion("synthetic-kt-20s"), n_modes=3)
+
+
+@pytest.mark.parametrize(
+    ("change", "says"),
+    [
+        # a negative step ran (another answer, unsaid); 0 read "modal response not finite"
+        ({"dt": -0.01}, r"^motion.dt: expected a positive time step \[s\], got -0.01"),
+        ({"dt": 0.0}, r"^motion.dt: expected a positive time step"),
+        ({"dt": float("nan")}, r"^motion.dt: expected a positive time step"),
+        # a component of another length was numpy's vstack error
+        ({"ay": np.zeros(7)}, r"^motion.ay: expected 501 samples \(as ax\), got shape \(7,\)"),
+        ({"ax": np.zeros(1)}, r"^motion.ax: expected a 1-D array of two samples or more"),
+        ({"az": np.full(501, np.nan)}, r"^motion: expected finite samples"),
+    ],
+)
+def test_a_bad_record_is_refused_by_field(change, says):
+    f = regular_building_3d("one", [6.0], [5.0], [4.0], _sec(240.0), _sec(160.0), _sec(160.0),
+                            floor_mass=3e5)  # fmt: skip
+    _, rec = _record()
+    for k, v in change.items():
+        setattr(rec, k, v)
+    with pytest.raises(ValueError, match=says):
+        fixed_response_3d(f, rec, n_modes=3)
+
+
+def test_modes_of_another_frame_are_refused():
+    # matmul's "mismatch in its core dimension 0 ... (size 54 is different from 39)" before
+    from nsdyn.structure.modes3d import fixed_base_modes_3d
+
+    one = regular_building_3d("one", [6.0], [5.0], [4.0], _sec(240.0), _sec(160.0),
+                              _sec(160.0), floor_mass=3e5)  # fmt: skip
+    two = regular_building_3d("two", [6.0], [5.0], [4.0, 3.5], _sec(240.0), _sec(160.0),
+                              _sec(160.0), floor_mass=3e5)  # fmt: skip
+    with pytest.raises(ValueError, match=r"^modes: expected the frame's own modes"):
+        fixed_response_3d(two, _record()[1], modes=fixed_base_modes_3d(one, n_modes=3))
