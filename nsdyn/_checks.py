@@ -18,6 +18,11 @@ class NotedWarning(InputWarning):
     silences it around its run (said once)."""
 
 
+class AccuracyWarning(InputWarning):
+    """A finished run whose own check (an energy balance) says it is far from accurate: its
+    tolerance, or the model's scales, are the input to change (printed as an input warning)."""
+
+
 def expect(name: str, value, ok: bool, what: str) -> None:
     """Raise ``TypeError("{name}: expected {what}, got {type}")`` unless ``ok``."""
     if not ok:

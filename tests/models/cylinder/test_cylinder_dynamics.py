@@ -134,6 +134,27 @@ def test_bad_input_and_failures_raise():
     # a very stiff foundation cannot be resolved within a small step budget
     with pytest.raises(SimulationError, match=r"at t = .* s: step budget"):
         simulate(P.with_(k=1e14, c=0.0), np.full((3, 3), 50.0), 0.5, max_steps=2000)
+    # a start 100 m inside the foundation of a 1 m body ran (dampers "dissipating" 1.5e8 J)
+    with pytest.raises(ValueError, match=r"^w0: expected a base-centre height of at least -r"):
+        simulate(P, np.zeros((10, 3)), 0.01, w0=-1.01 * P.r)
+
+
+def test_a_run_whose_energy_balance_does_not_close_warns(monkeypatch):
+    # a run closing to 0.39 of its energy was a result like any other; the bound is 1000 rtol
+    # or 1 %, far above the 20 rtol a run closes to (test_energy_balance_closes)
+    import sys
+
+    from nsdyn._checks import AccuracyWarning
+
+    sim = sys.modules[simulate.__module__]  # (the package's name `simulate` is the function)
+
+    assert sim.energy_bound(1e-7) == 1e-2 and sim.energy_bound(1e-3) == pytest.approx(1.0)
+    dt, ag = earthquake(2, duration=1.0)
+    res = simulate(P, ag, dt)  # (the closure of a good run: no warning)
+    assert res.energy_error < 20 * sim.RTOL
+    monkeypatch.setattr(sim, "energy_bound", lambda rtol: 0.5 * res.energy_error)
+    with pytest.warns(AccuracyWarning, match=r"^cylinder: the energy balance closes only to"):
+        simulate(P, ag, dt)
 
 
 def test_a_toppled_run_ends_at_the_toppling_instant():
