@@ -23,6 +23,7 @@ import numpy as np
 
 from nsdyn._checks import (
     MAX_STEPS,
+    InputWarning,
     NumericalFailure,
     expect,
     flag,
@@ -207,11 +208,13 @@ class RockingBlock(HalfSizes):
         return 4.0 * self.mass * self.R**2 / 3.0
 
 
-def _excitation(excitation, t_end: float):
-    """(gk, gp, tab_h, tab_v, natural output step) for the kernel."""
+def _excitation(excitation, t_end: float, t0: float = 0.0):
+    """(gk, gp, tab_h, tab_v, natural output step) for the kernel; a pulse outside the run
+    [t0, t_end] is refused (it drove nothing, unsaid), one starting before t0 warned."""
     empty = np.zeros(1)
     if excitation is None:
         return GK_NONE, np.zeros(1), empty, empty, DT_OUT
+    given = excitation  # (a Harmonic runs as a train of sine pulses from t = 0)
     if isinstance(excitation, Harmonic):  # (a train of sine pulses from rest, in phase)
         if excitation.A_ver and excitation.f_ver != excitation.f_hor:
             raise ValueError("Harmonic: a vertical component needs f_ver == f_hor here")
@@ -225,9 +228,22 @@ def _excitation(excitation, t_end: float):
         ratio = excitation.A_ver / excitation.A_hor if excitation.A_hor else 0.0
         n = int(math.ceil(t_end * excitation.f_hor)) + 1
         excitation = Pulse("sine", excitation.A_hor, 2 * math.pi * excitation.f_hor, n, 0.0, ratio)
+    if isinstance(given, Pulse):
+        start, end = excitation.t_start, excitation.t_start + excitation.duration
+        if not (end > t0 and start < t_end):
+            raise ValueError(f"excitation: the pulse runs from {start:g} to {end:g} s, outside "
+                             f"the run (t0 = {t0:g} to t_end = {t_end:g} s); expected a pulse "
+                             "within it (Pulse t_start)")  # fmt: skip
+        if start < t0:
+            warnings.warn(f"excitation: the pulse starts at {start:g} s, before the run's "
+                          f"start t0 = {t0:g} s: its first {t0 - start:.4g} s are not felt",
+                          InputWarning, stacklevel=3)  # fmt: skip
     if isinstance(excitation, Pulse):
         return GK_PULSE, excitation.code(), empty, empty, min(DT_OUT, excitation.T_p / 100.0)
     if isinstance(excitation, GroundMotion):
+        if excitation.n < 2:  # (a record of one sample ran as "rest"; the deck refuses it)
+            raise ValueError(f"excitation: a record of {excitation.n} sample spans no time; "
+                             "expected two samples or more")  # fmt: skip
         t0, dt, a_h, a_v = excitation.as_arrays()
         has_v = a_v is not None
         tab_v = np.ascontiguousarray(a_v, dtype=float) if has_v else empty
@@ -349,7 +365,7 @@ def simulate_rocking(
         whole(name, v, 1, "a whole number >= 1")
     output_step(dt_out, t_end - t0)
     check_frequency(model, excitation)
-    gk, gp, tab_h, tab_v, dt_nat = _excitation(excitation, t_end)
+    gk, gp, tab_h, tab_v, dt_nat = _excitation(excitation, t_end, t0)
     dt_out = dt_nat if dt_out is None else dt_out
     n_out = output_count(t_end - t0, dt_out) if dt_out > 0 else 0
     out = np.zeros((n_out, 2))

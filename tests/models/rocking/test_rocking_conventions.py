@@ -123,3 +123,19 @@ def test_missing_pandas_names_the_extra(monkeypatch):
     res = simulate_rocking(RockingBlock(width=0.4, height=2.0), t_end=0.1, dt_out=0.01)
     with pytest.raises(ImportError, match=r"nsdyn\[frames\]"):
         res.to_dataframe()
+
+
+def test_a_pulse_outside_the_run_or_a_record_of_one_sample_is_refused():
+    # a pulse ending before t0 = 0 (or starting after t_end) drove nothing: "rest", unsaid
+    from nsdyn.ground import GroundMotion
+    from nsdyn.ground.pulses import one_sine
+
+    b = RockingBlock(width=0.3, height=1.2)
+    w = 4 * math.pi  # T_p = 0.5 s
+    for t_start in (-1.0, 5.0):
+        with pytest.raises(ValueError, match=r"^excitation: the pulse runs from .* outside"):
+            simulate_rocking(b, one_sine(4.0, w, t_start=t_start), t_end=3.0)
+    with pytest.warns(UserWarning, match=r"^excitation: the pulse starts at -0.1 s, before"):
+        simulate_rocking(b, one_sine(4.0, w, t_start=-0.1), t_end=1.0)
+    with pytest.raises(ValueError, match=r"^excitation: a record of 1 sample spans no time"):
+        simulate_rocking(b, GroundMotion(0.0, 0.01, [5.0]), t_end=1.0)
