@@ -350,6 +350,8 @@ class GroundMotion(Sampled):
     def until(self, t_end: float) -> GroundMotion:
         """The record from its start to ``t_end`` (an absolute time, as a run's ``t_end``);
         ValueError ("t_end: ...") unless the cut keeps at least one step of the record."""
+        if isinstance(t_end, str | bytes | bool):  # ("1" was taken as 1 s)
+            raise ValueError(f"t_end: expected an end time [s] (a number), got {t_end!r}")
         t_end = float(t_end)
         if not (math.isfinite(t_end) and t_end >= self.t0 + self.dt * (1 - 1e-9)):
             raise ValueError(
@@ -363,8 +365,9 @@ class GroundMotion(Sampled):
         correlated), or None to remove it."""
         if a_ver is None:
             return self._replace(a_ver=None)
-        if np.isscalar(a_ver):
-            ratio = float(a_ver)  # type: ignore[arg-type]
+        if np.isscalar(a_ver):  # ("0.5" and True were read as ratios 0.5 and 1)
+            ratio = number("a_ver", a_ver, "a ratio r (a_ver = r a_hor), an array of the "
+                           "record's samples or None")  # fmt: skip
             return self._replace(a_ver=ratio * self.a_hor, meta_update={"vertical_ratio": ratio})
         return self._replace(a_ver=np.asarray(a_ver, dtype=np.float64))
 

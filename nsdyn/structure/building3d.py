@@ -31,7 +31,7 @@ BEAM_VECXZ = (0.0, 0.0, 1.0)  # beams: local z = global Z, so I_y is vertical be
 def _numbers(v, what: str, size: int | None = None) -> np.ndarray:
     """``v`` as a 1-D array of finite floats (``size`` of them when given), or ValueError
     naming ``what`` (text, nested lists and NaN failed deep inside numpy before)."""
-    form = f"{size} finite numbers" if size else "a list of finite numbers"
+    form = f"{size} finite numbers" if size else "a non-empty list of finite numbers"
     return finite_numbers(what, v, form, size)
 
 

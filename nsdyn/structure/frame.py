@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import finite_numbers, number, whole
+from nsdyn._checks import finite_numbers, flag, number, whole
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements import element_matrices
 from nsdyn.structure.geometry import (
@@ -246,6 +246,7 @@ class Frame:
         -------
         K, M : shape (n_dof, n_dof), symmetric; M positive definite.
         """
+        lumped, sparse = flag("lumped", lumped), flag("sparse", sparse)
         ke, me = element_matrices(self, lumped=lumped)
         dofs = self.element_dofs()
         rows = np.repeat(dofs, 6, axis=1).ravel()

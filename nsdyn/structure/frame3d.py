@@ -28,7 +28,7 @@ from functools import cached_property
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import mapped, number
+from nsdyn._checks import flag, mapped, number
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements3d import global_matrices, local_axes
 from nsdyn.structure.geometry import (
@@ -295,6 +295,7 @@ class Frame3D:
         ``lumped``: HRZ-lumped element mass instead of consistent. ``M`` includes the node
         masses, not the diaphragm masses (those act on the masters: :meth:`reduced`).
         """
+        lumped = flag("lumped", lumped)  # (lumped="yes" was taken as True)
         n0, n1 = self.nodes[self.elements[:, 0]], self.nodes[self.elements[:, 1]]
         ke, me = global_matrices(
             n0,

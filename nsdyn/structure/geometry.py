@@ -182,7 +182,7 @@ def checked_zeta(zeta) -> np.ndarray:
     z = frozen(np.atleast_1d(zeta), float)
     if z.ndim != 1 or len(z) == 0 or not np.all((z >= 0) & (z < 1)):
         raise ValueError("zeta must be a non-empty list of damping ratios in [0, 1) "
-                         "(fractions: 0.05 for 5 %)")  # fmt: skip
+                         f"(fractions: 0.05 for 5 %), got {z.tolist()}")  # fmt: skip
     return z
 
 

@@ -98,6 +98,9 @@ def test_window_and_with_vertical():
     r = m.with_vertical(2 / 3)
     np.testing.assert_array_equal(r.a_ver, 2 / 3 * m.a_hor)
     assert m.with_vertical(None).a_ver is None
+    for bad in ("0.5", True):  # (read as the ratios 0.5 and 1)
+        with pytest.raises(ValueError, match=r"^a_ver: expected a ratio r"):
+            m.with_vertical(bad)
     # an infinite end is the record's own (math.floor(inf) raised OverflowError); NaN is
     # refused naming the window
     assert m.window(-np.inf, np.inf).n == m.n and m.window(2.004, np.inf).n == m.n - 201
@@ -193,6 +196,9 @@ def test_until_cuts_at_an_absolute_end_and_refuses_an_end_within_the_first_step(
         with pytest.raises(ValueError, match=r"^t_end: expected an end at least one record step"):
             m.until(bad)
     assert m.until(10.01).n == 2
+    for bad in ("10.5", True):  # (text and a bool were read as times)
+        with pytest.raises(ValueError, match=r"^t_end: expected an end time \[s\] \(a number\)"):
+            m.until(bad)
 
 
 def test_a_record_names_the_argument_it_cannot_use():

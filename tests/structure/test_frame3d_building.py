@@ -274,7 +274,8 @@ def test_bad_building_input_is_refused_not_ignored():
         )  # fmt: skip
     # a NaN damping ratio passed (NaN < 0 and NaN >= 1 are both false) and the modal response
     # failed later without naming zeta
-    with pytest.raises(ValueError, match=r"zeta must be a non-empty list of damping ratios in \[0"):
+    with pytest.raises(ValueError, match=r"zeta must be a non-empty list of damping ratios in \[0"
+                       r".*got \[nan, 0.04\]"):  # fmt: skip
         regular_building_3d("b", [6.0], [6.0], [4.0], COL, BEAM, BEAM, floor_mass=1e4,
                             zeta=[float("nan"), 0.04])  # fmt: skip
 
@@ -290,6 +291,10 @@ def test_bad_building_input_is_refused_not_ignored():
         )  # fmt: skip
         with pytest.raises(ValueError, match=needle):
             fixed_base_modes_3d(fr, n_modes=3, method="dense")
+    # lumped="yes" was taken as True (text is truthy)
+    b = regular_building_3d("b", [6.0], [6.0], [4.0], COL, BEAM, BEAM, floor_mass=1e4)
+    with pytest.raises(TypeError, match=r"^lumped: expected True or False, got 'yes'"):
+        fixed_base_modes_3d(b, n_modes=3, lumped="yes")
     # a bad section value names the element and the field
     with pytest.raises(ValueError, match=r"element 1: E must be finite and > 0, got -1.0"):
         Frame3D(
@@ -302,8 +307,9 @@ def test_bad_building_input_is_refused_not_ignored():
     ("kw", "err", "match"),
     [
         # each failed inside numpy or Python with a message naming no argument
-        ({"bays_x": "6"}, ValueError, r"^bays_x: expected a list of finite numbers, got '6'"),
-        ({"storey_heights": [[4.0]]}, ValueError, r"^storey_heights: expected a list of finite"),
+        ({"bays_x": "6"}, ValueError, r"^bays_x: expected a non-empty list of finite numbers"),
+        ({"storey_heights": []}, ValueError, r"^storey_heights: expected a non-empty list of "),
+        ({"storey_heights": [[4.0]]}, ValueError, r"^storey_heights: expected a non-empty list"),
         ({"columns": 5}, TypeError, r"^columns: expected a Section3D or a list of them, got int"),
         ({"n_v": 1.5}, ValueError, r"^n_v: expected a whole number of elements per column"),
         ({"mass_offset": (0.1, 0.2, 0.3)}, ValueError, r"^mass_offset: expected 2 finite numbers"),
@@ -311,7 +317,7 @@ def test_bad_building_input_is_refused_not_ignored():
         ({"beam_x_vecxz": (1.0, 0.0)}, ValueError, r"^beam_x_vecxz: expected 3 finite numbers"),
         # "diaphragm mass must be >= 0 and finite", naming no argument
         ({"floor_mass": -1.0}, ValueError, r"^floor_mass: expected one value >= 0 or 1 of them"),
-        ({"floor_mass": "1e4"}, ValueError, r"^floor_mass: expected a list of finite numbers"),
+        ({"floor_mass": "1e4"}, ValueError, r"^floor_mass: expected a non-empty list of finite"),
     ],
 )
 def test_the_building_generator_names_an_argument_of_the_wrong_form(kw, err, match):
