@@ -93,6 +93,9 @@ class GroundMotion3(Sampled):
         t0 = number("GroundMotion3.t0", self.t0, "a finite time [s]")
         ax = _array("ax", self.ax, None)
         object.__setattr__(self, "ax", ax)
+        if self.ay is None:  # (it read "non-numeric values")
+            raise ValueError("GroundMotion3.ay: missing; expected the second horizontal "
+                             "component (zeros for none: GroundMotion3.from_planar)")  # fmt: skip
         object.__setattr__(self, "ay", _array("ay", self.ay, ax.size))
         if self.az is not None:
             object.__setattr__(self, "az", _array("az", self.az, ax.size))

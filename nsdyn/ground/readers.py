@@ -124,6 +124,9 @@ def read_motion(
         Units not stated and not given; units given against the header; PGA outside
         [0.01, 30] m/s² after conversion.
     """
+    if not isinstance(path_or_name, str | bytes | os.PathLike):  # (pathlib's TypeError before)
+        raise TypeError(f"path_or_name: expected a file path or a bundled record's name, got "
+                        f"{type(path_or_name).__name__}")  # fmt: skip
     if fmt not in _FORMATS:
         raise ValueError(f"fmt must be one of {_FORMATS}, got {fmt!r}")
     if isinstance(dt, str | bool):  # (a NaN or a step <= 0 is refused naming the file)

@@ -149,6 +149,8 @@ class Frame3D:
     column_joints: np.ndarray | None = None
 
     def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name.strip():  # (None named it in reports)
+            raise TypeError(f"name: expected a frame's name (non-empty text), got {self.name!r}")
         obj = object.__setattr__
         nodes, el = frozen(self.nodes, float), frozen(self.elements, np.int64)
         if nodes.ndim != 2 or nodes.shape[1] != 3 or len(nodes) < 2:

@@ -13,7 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from nsdyn.ground import GroundMotion, harmonic
+from nsdyn.ground import GroundMotion, harmonic, read_motion
 
 # ------------------------------------------------------------------------------------------
 # GroundMotion transformations
@@ -217,6 +217,11 @@ def test_a_record_names_the_argument_it_cannot_use():
         (lambda: motion3_from_table("x"), TypeError, r"^table: expected a \[motion\] table"),
         # 1e11 samples: a MemoryError of 745 GiB
         (lambda: modulated_white_noise(1e9), ValueError, r"^duration, dt: 1e\+11 samples"),
+        # pathlib's "expected str, bytes or os.PathLike object, not NoneType"
+        (lambda: read_motion(None), TypeError, r"^path_or_name: expected a file path or a"),
+        # "ay: expected real accelerations [m/s²], got non-numeric values"
+        (lambda: GroundMotion3(0.0, 0.01, [1.0, 2.0], None), ValueError,
+         r"^GroundMotion3.ay: missing; expected the second horizontal component"),
     ):  # fmt: skip
         with pytest.raises(err, match=match):
             call()

@@ -291,6 +291,8 @@ def test_bad_building_input_is_refused_not_ignored():
         )  # fmt: skip
         with pytest.raises(ValueError, match=needle):
             fixed_base_modes_3d(fr, n_modes=3, method="dense")
+    with pytest.raises(TypeError, match=r"^name: expected a frame's name"):  # (None was kept)
+        regular_building_3d(None, [6.0], [6.0], [4.0], COL, BEAM, BEAM, floor_mass=1e4)
     # lumped="yes" was taken as True (text is truthy)
     b = regular_building_3d("b", [6.0], [6.0], [4.0], COL, BEAM, BEAM, floor_mass=1e4)
     with pytest.raises(TypeError, match=r"^lumped: expected True or False, got 'yes'"):

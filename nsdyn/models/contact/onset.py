@@ -46,9 +46,10 @@ def onset_mode(b_over_h: float, mu: float, abar: float) -> str:
     b_over_h : width / height of the rectangle (beta = tan alpha) ;  mu : friction coefficient
     abar : magnitude of the base acceleration in g
     """
-    for name, val in (("b_over_h", b_over_h), ("mu", mu)):
-        if not (val > 0 and math.isfinite(val)):
-            raise ValueError(f"{name}: expected a positive number, got {val!r}")
+    if not (b_over_h > 0 and math.isfinite(b_over_h)):
+        raise ValueError(f"b_over_h: expected a positive number, got {b_over_h!r}")
+    if not (mu >= 0 and math.isfinite(mu)):  # (0: frictionless, any push slides)
+        raise ValueError(f"mu: expected a non-negative friction coefficient, got {mu!r}")
     if not (abar >= 0 and math.isfinite(abar)):
         raise ValueError(f"abar: expected a non-negative base acceleration in g, got {abar!r}")
     beta = b_over_h

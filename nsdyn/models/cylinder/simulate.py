@@ -257,7 +257,11 @@ def simulate(
             f"ag: expected an (n, 3) array of (a_x, a_y, a_z) [m/s²], got a "
             f"{type(ag).__name__}; its as_arrays() gives (t0, dt, ax, ay, az) to stack"
         )
-    ag = np.ascontiguousarray(ag, dtype=float)
+    try:  # (a record's name: "could not convert string to float", naming no argument)
+        ag = np.ascontiguousarray(ag, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"ag: expected an (n, 3) array of (a_x, a_y, a_z) [m/s²], got "
+                         f"{type(ag).__name__} {ag!r:.40}") from None  # fmt: skip
     if ag.ndim != 2 or ag.shape[1] != 3 or ag.shape[0] < 2:
         raise ValueError(f"ag: expected shape (n >= 2, 3), got {ag.shape}")
     if not np.all(np.isfinite(ag)):

@@ -105,6 +105,8 @@ def test_closed_form_boundaries():
     assert onset_mode(0.5, 0.8, 0.49) == "rest" and onset_mode(0.5, 0.8, 0.51) == "rock"
     assert mu_rock(0.5, 0.5) == pytest.approx(0.5)  # continuous at abar = b/h
     assert onset_mode(0.5, 0.52, 5.0) == "slide_rock"
+    # frictionless (mu = 0, refused as "not positive" before): any push slides, none rests
+    assert onset_mode(0.5, 0.0, 1e-3) == "slide" and onset_mode(0.5, 0.0, 0.0) == "rest"
 
 
 @pytest.mark.parametrize("beta, mu, abar", [(0.5, 0.3, 0.6), (0.5, 0.8, 0.7), (0.5, 0.55, 2.5),

@@ -127,6 +127,8 @@ def test_bad_input_and_failures_raise():
         CylinderParams(foundation="bondet")
     with pytest.raises(ValueError, match="^ag:"):
         simulate(P, np.zeros((10, 2)), 0.01)
+    with pytest.raises(ValueError, match=r"^ag: expected an \(n, 3\) array .* got str"):
+        simulate(P, "synthetic-wn-40s", 0.01)  # (a record's name: numpy's float() error)
     bad = np.zeros((10, 3))
     bad[5, 0] = np.nan
     with pytest.raises(ValueError, match="non-finite"):
