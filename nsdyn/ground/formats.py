@@ -404,6 +404,16 @@ def record_span_notes(t_eval, first: float, last: float, dt: float,
     return notes
 
 
+def early_record_note(first: float, start: float, how: str) -> str | None:
+    """One line for a record whose first sample (``first`` [s]) comes before the run's
+    ``start``: that part is not felt; ``how`` says what starts the run with it. None when the
+    record starts at or after the run."""
+    if not first < start - 1e-12 * max(1.0, abs(start)):
+        return None
+    return (f"the record starts at t = {first:g} s, before the run's start at {start:g} s: its "
+            f"first {start - first:.4g} s are not felt ({how})")  # fmt: skip
+
+
 def past_record_note(t_end: float, end: float, runs_on: bool = True,
                      what: str = "record") -> str | None:  # fmt: skip
     """One line for a run whose ``t_end`` is past the end of its record (or other

@@ -176,7 +176,7 @@ def simulate_compliant(
     slenderness) about the corner it rocks on, which then carries the weight (settled by
     m g / k), or from (q0, v0) [ground frame].  ``h`` defaults to H_FRAC times the stability
     limit.  Raises RuntimeError with the time on a non-finite state."""
-    from nsdyn.models.contact.event import initial_state, start_state, tilt_angle
+    from nsdyn.models.contact.event import check_parts, initial_state, start_state, tilt_angle
 
     for name, val, kind, what in (
         ("body", body, RigidBody, "a RigidBody (nsdyn.RigidBody.rectangle(width, height, mass))"),
@@ -186,6 +186,7 @@ def simulate_compliant(
         expect(name, val, isinstance(val, kind), what)
     if motion is not None and not hasattr(motion, "jumps"):
         expect("motion", motion, False, "a BaseMotion (nsdyn.BaseMotion.from_motion(record))")
+    check_parts(body, friction, motion)  # (a record before t = 0: warned)
     tilt = tilt_angle(body, theta0, theta0_over_alpha)
     mo = motion or BaseMotion.none()
     flag("settled", settled)

@@ -26,10 +26,12 @@ A ground velocity jump (displacement-driven start) changes the body's ground-fra
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
 from nsdyn._checks import (
+    InputWarning,
     NumericalFailure,
     expect,
     finite_numbers,
@@ -133,6 +135,12 @@ def check_parts(body, friction, motion) -> None:
             f"{type(motion).__name__}; nsdyn.BaseMotion.from_motion(record) makes one from a "
             "ground-motion record"
         )
+    if motion is not None and motion.tab_h.size:  # a record before t = 0 ran unfelt, unsaid
+        from nsdyn.ground.formats import early_record_note
+
+        if note := early_record_note(float(motion.ex[1]), 0.0, "a contact run starts at t = 0: "
+                                     "shift the record's clock to start there"):  # fmt: skip
+            warnings.warn(f"motion: {note}", InputWarning, stacklevel=3)
 
 
 def _params(body: RigidBody, fr: FrictionLaw, g: float) -> np.ndarray:

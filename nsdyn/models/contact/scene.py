@@ -191,6 +191,10 @@ def build(cfg: dict, source: str):
             raise SceneError(f"{source}: motion.record: cannot read {rec!r}: {e}") from None
         if "pga" in mo:
             gm = scaled_to_pga(gm, number(source, "motion.pga", mo["pga"]), source)
+        if gm.t0 < 0:  # (its part before t = 0, where the run starts, was not felt: "rest")
+            raise SceneError(f"{source}: motion.record: the record starts at t = {gm.t0:g} s, "
+                             "before t = 0 where a contact run starts; expected a record whose "
+                             "clock starts at 0 or later")  # fmt: skip
         motion = BaseMotion.from_motion(gm)
         from nsdyn.ground.formats import past_record_note, unused_columns_note
 

@@ -208,9 +208,11 @@ class RockingBlock(HalfSizes):
         return 4.0 * self.mass * self.R**2 / 3.0
 
 
-def _excitation(excitation, t_end: float, t0: float = 0.0):
+def _excitation(excitation, t_end: float, t0: float = 0.0,
+                how: str = "t0 = the record's start begins the run with it"):  # fmt: skip
     """(gk, gp, tab_h, tab_v, natural output step) for the kernel; a pulse outside the run
-    [t0, t_end] is refused (it drove nothing, unsaid), one starting before t0 warned."""
+    [t0, t_end] is refused (it drove nothing, unsaid), one starting before t0 warned, as is a
+    record starting before t0 (``how``: what begins the run with it)."""
     empty = np.zeros(1)
     if excitation is None:
         return GK_NONE, np.zeros(1), empty, empty, DT_OUT
@@ -244,6 +246,10 @@ def _excitation(excitation, t_end: float, t0: float = 0.0):
         if excitation.n < 2:  # (a record of one sample ran as "rest"; the deck refuses it)
             raise ValueError(f"excitation: a record of {excitation.n} sample spans no time; "
                              "expected two samples or more")  # fmt: skip
+        from nsdyn.ground.formats import early_record_note
+
+        if note := early_record_note(excitation.t0, t0, how):  # (ran as "rest", unsaid)
+            warnings.warn(f"excitation: {note}", InputWarning, stacklevel=3)
         t0, dt, a_h, a_v = excitation.as_arrays()
         has_v = a_v is not None
         tab_v = np.ascontiguousarray(a_v, dtype=float) if has_v else empty

@@ -280,8 +280,16 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     mo = cfg.get("motion", {})  # (a pulse faster than the block resolves: its frequency)
     pulse_w = "motion.f_p" if isinstance(mo, dict) and "f_p" in mo else "motion.omega_p"
     fields = GRID_FIELDS | {"omega_v": "block.omega_v_over_p", "excitation": pulse_w}
+    record = exc is not None and not isinstance(exc, Pulse)
+    # a rigid run starts with its record (a record before t = 0 ran unfelt: "rest"); a
+    # compliant run starts at t = 0, so a record before it is refused
+    start = {"t0": exc.t0} if record and not isinstance(model, CompliantBlock) else {}
+    if record and isinstance(model, CompliantBlock) and exc.t0 < 0:
+        raise SceneError(f"{source}: motion.record: the record starts at t = {exc.t0:g} s, "
+                         "before t = 0 where a compliant block's run starts; expected a "
+                         "record whose clock starts at 0 or later")  # fmt: skip
     with grid_fields(source, fields):  # (refused before the run says it starts)
-        output_step(dt_out, t_end)
+        output_step(dt_out, t_end - start.get("t0", 0.0))
         blk.check_frequency(model, exc, hz=pulse_w == "motion.f_p")
     say(f"rocking: {name}: {type(model).__name__}, {what}, t_end = {t_end:g} s")
     from nsdyn.ground.formats import past_record_note, unused_columns_note
@@ -302,7 +310,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
             res = simulate_compliant(model, exc, t_end=t_end, tol=min(tol * 10, 1e-6),
                                      dt_out=dt_out or cm.DT_OUT, **th0)  # fmt: skip
         else:
-            res = blk.simulate_rocking(model, exc, t_end=t_end, tol=tol, dt_out=dt_out, **th0)
+            res = blk.simulate_rocking(model, exc, t_end=t_end, tol=tol, dt_out=dt_out, **th0,
+                                       **start)  # fmt: skip
     if isinstance(model, CompliantBlock):
         s = res.summary()
         arrays = {"t": res.t, "y": res.y, "theta": res.theta, "thetad": res.thetad,

@@ -116,3 +116,24 @@ def test_keys_the_scene_does_not_use_are_refused(tmp_path, edit, match):
         cfg[table] = vals
     with pytest.raises(SceneError, match=match):
         run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+
+
+def test_a_record_that_starts_before_t_0_is_said_or_refused(tmp_path):
+    # a contact run starts at t = 0: a record from -2 s ran its part before 0 unfelt ("rest",
+    # with the record's PGA reported), unsaid; the scene refuses it, a call warns
+    import numpy as np
+
+    from nsdyn import BaseMotion, FrictionLaw, RigidBody, simulate_event
+    from nsdyn.ground import GroundMotion
+
+    t = np.arange(-2.0, 1.0 + 1e-9, 0.01)
+    path = tmp_path / "pre.csv"
+    path.write_text("t,a_hor\n" + "".join(f"{x:.2f},{np.sin(x):.9f}\n" for x in t))
+    cfg = copy.deepcopy(read_toml(SCENE))
+    cfg["motion"] = {"record": str(path), "units": "m/s2"}
+    with pytest.raises(SceneError, match=r"^s.toml: motion.record: the record starts at t = -2"):
+        run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+    mo = BaseMotion.from_motion(GroundMotion(-2.0, 0.01, np.sin(t)))
+    body = RigidBody.rectangle(0.5, 1.0, 100.0)
+    with pytest.warns(UserWarning, match=r"^motion: the record starts at t = -2 s, before"):
+        simulate_event(body, FrictionLaw(0.5), mo, t_end=0.2)

@@ -139,3 +139,29 @@ def test_a_pulse_outside_the_run_or_a_record_of_one_sample_is_refused():
         simulate_rocking(b, one_sine(4.0, w, t_start=-0.1), t_end=1.0)
     with pytest.raises(ValueError, match=r"^excitation: a record of 1 sample spans no time"):
         simulate_rocking(b, GroundMotion(0.0, 0.01, [5.0]), t_end=1.0)
+
+
+def test_a_record_that_starts_before_the_run_is_said_and_a_scene_starts_with_it(tmp_path):
+    # a record from t = -2 s, all of it before t = 0: simulate_rocking's default t0 = 0 and the
+    # scene ran from 0, "rest" with the record's PGA reported, unsaid
+    from nsdyn.ground import GroundMotion
+
+    t = np.arange(-2.0, 4.0 + 1e-9, 0.01)
+    a = np.where(t < 0, 5.0 * np.sin(2 * np.pi * t), 0.0)
+    rec = GroundMotion(-2.0, 0.01, a)
+    b = RockingBlock(width=0.3, height=1.2)
+    with pytest.warns(UserWarning, match=r"^excitation: the record starts at t = -2 s, before"):
+        assert simulate_rocking(b, rec, t_end=4.0).outcome == "rest"
+    moved = simulate_rocking(b, rec, t_end=4.0, t0=-2.0)
+    assert moved.t[0] == -2.0 and moved.outcome != "rest"
+    path = tmp_path / "pre.csv"
+    path.write_text("t,a_hor\n" + "".join(f"{x:.2f},{y:.9f}\n" for x, y in zip(t, a, strict=True)))
+    cfg = {"scene": {"kind": "rocking"}, "block": {"width": 0.3, "height": 1.2},
+           "motion": {"record": str(path), "units": "m/s2"}}  # fmt: skip
+    s = run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+    with np.load(tmp_path / "rocking.npz") as d:
+        assert d["t"][0] == -2.0 and s["outcome"] == moved.outcome
+    cfg["scene"]["model"] = "compliant"
+    cfg["block"]["omega_v_over_p"] = 300.0
+    with pytest.raises(SceneError, match=r"^s.toml: motion.record: the record starts at t = -2"):
+        run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
