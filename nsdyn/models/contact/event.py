@@ -36,8 +36,8 @@ from nsdyn._checks import (
     expect,
     finite_numbers,
     number,
-    output_count,
     output_step,
+    output_times,
     rel_tol,
     whole,
 )
@@ -264,8 +264,7 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
     nc = len(verts)
     tilted = theta0 is not None or theta0_over_alpha is not None
     q, v = start_state(body, tilt, q0, v0, tilted)
-    output_count(t_end, dt_out)
-    t_out = np.arange(0.0, t_end + 0.5 * dt_out, dt_out)
+    t_out = output_times(0.0, t_end, dt_out)  # (t_end the last: it ended a sample before)
     y_out = np.full((len(t_out), 6), np.nan)
     jumps = [tuple(j) for j in mo.jumps if 0.0 <= j[0] <= t_end]
     closed = np.zeros(nc, bool)

@@ -137,3 +137,12 @@ def test_a_record_that_starts_before_t_0_is_said_or_refused(tmp_path):
     body = RigidBody.rectangle(0.5, 1.0, 100.0)
     with pytest.warns(UserWarning, match=r"^motion: the record starts at t = -2 s, before"):
         simulate_event(body, FrictionLaw(0.5), mo, t_end=0.2)
+
+
+def test_an_event_run_ends_on_its_end_between_output_samples():
+    # t_end = 0.213 s on a 0.01 s output grid ended at 0.21 s (the summary said 0.213)
+    from nsdyn import FrictionLaw, RigidBody, simulate_event
+
+    body = RigidBody.rectangle(0.5, 1.0, 100.0)
+    r = simulate_event(body, FrictionLaw(0.5), None, t_end=0.213, dt_out=0.01)
+    assert r.t[-1] == 0.213 and r.t[-2] == pytest.approx(0.21, abs=1e-12)
