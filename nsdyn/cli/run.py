@@ -414,11 +414,12 @@ def run(args: argparse.Namespace) -> int:
     t_req = cfg.get("motion", {}).get("t_end")
     short = t_req is not None and t_eval[-1] < float(t_req) - 1e-9  # (cut at a sample)
     if short and note_short_record(cfg, motion) is None:  # (past the record: said above)
-        notes.append(
-            f"t_end = {float(t_req):g} s is not a sample time of the record (every "
-            f"{getattr(motion, 'dt', 0.0):g} s); the run ends at its last sample before it, "
-            f"{t_eval[-1]:g} s"
-        )
+        from nsdyn.ground.formats import between_samples_note
+
+        t_to = float(t_eval[-1])
+        dt = float(getattr(motion, "dt", 0.0)) or float(t_req) - t_to
+        notes.append(between_samples_note(float(t_req), t_to, dt)
+                     or f"t_end = {float(t_req):g} s: the run ends at {t_to:g} s")  # fmt: skip
         if not args.json:
             print(f"nsdyn run: note: {notes[-1]}", file=sys.stderr)
     from nsdyn.studies.scenes import check_step_count

@@ -404,6 +404,16 @@ def record_span_notes(t_eval, first: float, last: float, dt: float,
     return notes
 
 
+def between_samples_note(t_end: float, last: float, dt: float) -> str | None:
+    """One line for a run cut at its record's ``last`` sample before ``t_end``, which falls
+    within one sampling step ``dt`` after it (not a sample time); None otherwise (a ``t_end``
+    further past the record is :func:`past_record_note`'s)."""
+    if not 1e-9 * dt < t_end - last < dt * (1 + 1e-9):
+        return None
+    return (f"t_end = {t_end:g} s is not a sample time of the record (every {dt:g} s); the run "
+            f"ends at its last sample before it, {last:g} s")  # fmt: skip
+
+
 def early_record_note(first: float, start: float, how: str) -> str | None:
     """One line for a record whose first sample (``first`` [s]) comes before the run's
     ``start``: that part is not felt; ``how`` says what starts the run with it. None when the

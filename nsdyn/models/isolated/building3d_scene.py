@@ -69,7 +69,7 @@ from nsdyn.models.isolated.building3d_scene_keys import (
 from nsdyn.models.isolated.building3d_shape import fixed_peak_shape, rigid_peak_shape, write_shape
 from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
 from nsdyn.models.isolated.deck_scene import build_solver as deck_solver
-from nsdyn.models.isolated.deck_scene import scene_law, summary_table
+from nsdyn.models.isolated.deck_scene import record_end_note, scene_law, summary_table
 from nsdyn.models.isolated.friction import coarse_law_note
 from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number
 
@@ -442,7 +442,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     asked = sysd["fidelity"]
     if asked == "auto":
         _advise(sysd, cfg, exc, kw, source, say)
-    notes += build_notes(cfg, sysd)
+    notes += build_notes(cfg, sysd) + [n for n in [record_end_note(cfg, exc)] if n]
     notes += [n for n in [coarse_law_note(kw["law"], kw["eps"], kw["eta"])] if n]
     for note in notes:
         say(f"building3d: note: {note}")

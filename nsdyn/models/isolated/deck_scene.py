@@ -162,6 +162,17 @@ def build_motion(cfg: dict, source: str):
     return exc, dur.get("t_end")
 
 
+def record_end_note(cfg: dict, exc) -> str | None:
+    """The note of a record cut at its last sample before the scene's ``motion.t_end``, which
+    falls between two samples (the run ends there: it read "past the excitation's end")."""
+    t_req = cfg.get("motion", {}).get("t_end")
+    if t_req is None or not hasattr(exc, "n") or not hasattr(exc, "dt"):
+        return None
+    from nsdyn.ground.formats import between_samples_note
+
+    return between_samples_note(float(t_req), exc.t0 + (exc.n - 1) * exc.dt, exc.dt)
+
+
 def unused_law_keys(cfg: dict) -> list[tuple[str, str]]:
     """(key, why) of the friction-law keys given that the run's law does not read
     (:func:`scene_law`): ``solver.eps`` beside the switch law, ``solver.eta`` and the bearing's
@@ -296,7 +307,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         f"{getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
     notes = bearing_notes(system.bearings, system.static_normal())  # (the summary's too)
     notes += build_notes(cfg, system)
-    notes += [n for n in [coarse_law_note(kw["law"], kw["eps"], kw["eta"])] if n]
+    notes += [n for n in [coarse_law_note(kw["law"], kw["eps"], kw["eta"]),
+                          record_end_note(cfg, exc)] if n]  # fmt: skip
     for note in notes:
         say(f"deck: note: {note}")
     compile_s = warm(system, kw["law"])

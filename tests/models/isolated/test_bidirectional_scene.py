@@ -88,6 +88,19 @@ def test_cli_runs_a_deck_scene_and_prints_json(tmp_path, capsys):
     assert s["kind"] == "deck" and s["law"] == "switch"
 
 
+def test_an_end_between_the_records_samples_is_said_as_such(tmp_path, capsys):
+    # it read "t_end = 1.013 s is past the excitation's end (1.01 s)" of a 40 s record
+    from nsdyn.cli.app import main
+
+    rc = main(["run", str(SCENES / "deck-fps4-3c.toml"), "--t-end", "1.013", "--out",
+               str(tmp_path / "out"), "--json", "--no-figures"])  # fmt: skip
+    s = json.loads(capsys.readouterr().out)
+    assert rc == 0 and s["t_end_s"] == pytest.approx(1.01, abs=1e-12)
+    said = [n for n in s["notes"] if "t_end = 1.013 s" in n]
+    assert said == ["t_end = 1.013 s is not a sample time of the record (every 0.01 s); the "
+                    "run ends at its last sample before it, 1.01 s"]  # fmt: skip
+
+
 def test_a_bearing_error_names_the_file_and_field():
     cfg = _cfg("deck-fps4-3c.toml")
     cfg["bearing"]["radius"] = -1.0
