@@ -447,7 +447,7 @@ def run(args: argparse.Namespace) -> int:
 
     before = files_of(out)  # (what an earlier command left: said at the end)
     with output_dir(out, "run"):
-        ckpt, identity, t_resumed = open_checkpoint(out, ident, args.resume, quiet)
+        ckpt, identity, t_resumed = open_checkpoint(out, ident, args.resume, quiet, notes)
         resumed = ckpt.is_file()  # a checkpoint of an earlier run: never deleted here
         try:
             with atomic_open(identity, "w") as fh:

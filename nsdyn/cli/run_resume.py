@@ -82,25 +82,33 @@ def checkpoint_time(path: Path) -> float | None:
         return None
 
 
-def open_checkpoint(out: Path, ident: dict, resume: bool, quiet: bool):
+def open_checkpoint(out: Path, ident: dict, resume: bool, quiet: bool,
+                    notes: list | None = None):  # fmt: skip
     """(checkpoint, identity file, the time resumed from or None) of a run into ``out``:
     without ``resume`` an earlier checkpoint is discarded (and said so); with it, one of other
-    settings is refused, and the time it resumes from is said (on stderr, unless ``quiet``)."""
+    settings is refused, and the time it resumes from is said (on stderr, unless ``quiet``).
+    A discarded checkpoint, or none to resume, is also one of ``notes`` (--json's)."""
     ckpt, identity = out / CHECKPOINT, out / IDENTITY
-    say = (lambda text: None) if quiet else (lambda text: print(text, file=sys.stderr))
+
+    def say(text, note=False):
+        if note and notes is not None:  # (--json said nothing of either: the checkpoint
+            notes.append(text)  # gone without a word)
+        if not quiet:
+            print(f"nsdyn run: {text}", file=sys.stderr)
+
     if not resume:
         if ckpt.is_file():
-            say(f"nsdyn run: starting afresh; the checkpoint an interrupted run left in {out} "
-                "is discarded (--resume continues it)")  # fmt: skip
+            say(f"starting afresh; the checkpoint an interrupted run left in {out} is "
+                "discarded (--resume continues it)", note=True)  # fmt: skip
         ckpt.unlink(missing_ok=True)
         identity.unlink(missing_ok=True)
         return ckpt, identity, None
     if not ckpt.is_file():
-        say(f"nsdyn run: --resume: no checkpoint in {out}; the run starts at the beginning")
+        say(f"--resume: no checkpoint in {out}; the run starts at the beginning", note=True)
         return ckpt, identity, None
     refuse_foreign_checkpoint(identity, ident)
     t = checkpoint_time(ckpt)
     if t is not None:
-        say(f"nsdyn run: resuming from t = {t:g} s (the checkpoint in {out}); wall_s counts "
-            "this part only")  # fmt: skip
+        say(f"resuming from t = {t:g} s (the checkpoint in {out}); wall_s counts this part "
+            "only")  # fmt: skip
     return ckpt, identity, t

@@ -54,3 +54,15 @@ def test_a_damaged_checkpoint_is_said_to_be_one(tmp_path):
     (tmp_path / IDENTITY).unlink()
     with pytest.raises(SceneError, match=r"missing, damaged or cut\); run without --resume"):
         open_checkpoint(tmp_path, run_identity(CFG, None), resume=True, quiet=True)
+
+
+def test_a_discarded_or_missing_checkpoint_is_a_note_of_a_quiet_run(tmp_path, capsys):
+    # --json (quiet) said neither: the interrupted run's checkpoint went without a word
+    m = GroundMotion(t0=0.0, dt=0.01, a_hor=np.array([0.0, 1.0, 0.0]), name="r")
+    _interrupted(tmp_path, m)
+    notes: list = []
+    open_checkpoint(tmp_path, run_identity(CFG, None, m), resume=False, quiet=True, notes=notes)
+    assert not (tmp_path / CHECKPOINT).exists() and capsys.readouterr().err == ""
+    assert len(notes) == 1 and notes[0].startswith("starting afresh; the checkpoint an ")
+    open_checkpoint(tmp_path, run_identity(CFG, None, m), resume=True, quiet=True, notes=notes)
+    assert notes[1] == f"--resume: no checkpoint in {tmp_path}; the run starts at the beginning"
