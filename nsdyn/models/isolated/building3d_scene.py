@@ -67,9 +67,9 @@ from nsdyn.models.isolated.building3d_scene_keys import (
     unused_keys,
 )
 from nsdyn.models.isolated.building3d_shape import fixed_peak_shape, rigid_peak_shape, write_shape
+from nsdyn.models.isolated.deck_scene import PGA_ROW, record_end_note, scene_law, summary_table
 from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
 from nsdyn.models.isolated.deck_scene import build_solver as deck_solver
-from nsdyn.models.isolated.deck_scene import record_end_note, scene_law, summary_table
 from nsdyn.models.isolated.friction import coarse_law_note
 from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number
 
@@ -477,6 +477,10 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     s.update({"kind": "building3d", "name": name, "frame": frame.name,
               "fidelity": sysd["fidelity"], "notes": notes,
               "motion": getattr(exc, "name", type(exc).__name__)})  # fmt: skip
+    if hasattr(exc, "pga_resultant"):  # a record's scale (--pga: two runs read alike), as
+        s["pga_mps2"] = exc.pga_resultant  # the isolated frame's: of the window run
+        if "pga" in cfg["motion"]:  # (and the whole record's, scaled to it)
+            s["record_pga_mps2"] = float(cfg["motion"]["pga"])
     if asked == "auto":
         s["advice"] = {"fidelity": sysd["fidelity"], **sysd["advice"]["evidence"]}
     say(f"building3d: done in {s['wall_s']:.3f} s")
@@ -540,5 +544,6 @@ def format_summary(s: dict) -> str:
     """A short human table of a run, every number with its unit; rim contacts and uplift
     first (never silent)."""
     head = f"building3d {s.get('name', '')}: {s['frame']}, fidelity {s['fidelity']}"
-    rows = (*ROWS[s["fidelity"]], ("t_end_s", "end time", "s"), ("wall_s", "run time", "s"))
+    rows = (PGA_ROW, *ROWS[s["fidelity"]], ("t_end_s", "end time", "s"),
+            ("wall_s", "run time", "s"))  # fmt: skip
     return summary_table(head, s, rows)

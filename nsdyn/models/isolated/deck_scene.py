@@ -336,18 +336,24 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     s.update({"kind": "deck", "name": name, "motion": getattr(exc, "name", type(exc).__name__),
               "wall_s": wall, "compile_s": compile_s, "files": [str(npz)],
               "warnings": [str(w.message) for w in caught], "notes": list(notes)})  # fmt: skip
+    if hasattr(exc, "pga_resultant"):  # a record's scale (--pga: two runs read alike), as
+        s["pga_mps2"] = exc.pga_resultant  # the isolated frame's: of the window run
+        if "pga" in cfg["motion"]:  # (and the whole record's, scaled to it)
+            s["record_pga_mps2"] = float(cfg["motion"]["pga"])
     say(f"deck: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
     return s
 
 
+PGA_ROW = ("pga_mps2", "PGA, horizontal resultant", "m/s²")  # (a record's)
 ROWS = (
+    PGA_ROW,
     ("peak_resultant_displacement_m", "peak |u| (resultant)", "m"),
     ("peak_component_displacement_m", "peak component of u", "m"),
     ("residual_displacement_m", "residual |u|", "m"),
     ("peak_resultant_friction_N", "peak |friction|", "N"),
     ("peak_resultant_restoring_N", "peak |restoring|", "N"),
     ("peak_torsion_rad", "peak deck torsion", "rad"),
-    ("min_normal_force_N", "min N, output times", "N"),
+    ("min_normal_force_N", "min normal force", "N"),
     ("max_normal_force_N", "max normal force", "N"),
     ("stick_fraction", "stick fraction", ""),
     ("n_events", "switch events", ""),

@@ -92,10 +92,13 @@ def test_an_end_between_the_records_samples_is_said_as_such(tmp_path, capsys):
     # it read "t_end = 1.013 s is past the excitation's end (1.01 s)" of a 40 s record
     from nsdyn.cli.app import main
 
-    rc = main(["run", str(SCENES / "deck-fps4-3c.toml"), "--t-end", "1.013", "--out",
-               str(tmp_path / "out"), "--json", "--no-figures"])  # fmt: skip
+    rc = main(["run", str(SCENES / "deck-fps4-3c.toml"), "--t-end", "1.013", "--pga", "2",
+               "--out", str(tmp_path / "out"), "--json", "--no-figures"])  # fmt: skip
     s = json.loads(capsys.readouterr().out)
     assert rc == 0 and s["t_end_s"] == pytest.approx(1.01, abs=1e-12)
+    # the record's scale is in the summary (two runs at other PGAs read alike), as the
+    # isolated frame's: the whole record's resultant scaled to --pga, the run's window below
+    assert s["record_pga_mps2"] == 2.0 and 0.0 < s["pga_mps2"] <= 2.0
     said = [n for n in s["notes"] if "t_end = 1.013 s" in n]
     assert said == ["t_end = 1.013 s is not a sample time of the record (every 0.01 s); the "
                     "run ends at its last sample before it, 1.01 s"]  # fmt: skip
