@@ -652,3 +652,12 @@ def test_a_run_holds_its_folder_while_it_writes_its_results(tmp_path, monkeypatc
     monkeypatch.setattr(cr, "save_figure", check_then_save)
     assert main(["run", "--t-end", "1", "--out", str(tmp_path)]) == 0
     assert seen == [tmp_path / "run.png"] and not (tmp_path / ".nsdyn.lock").exists()
+
+
+def test_a_fixed_base_run_reports_no_isolator_quantities(tmp_path, capsys):
+    # it read "peak isolator displacement x_iso 0.0000 m" and "share of time all isolators
+    # stick 1.00" of a model without isolators
+    assert main(["run", "--fixed-base", "--t-end", "1", "--json", "--no-figures", "--out",
+                 str(tmp_path)]) == 0  # fmt: skip
+    s = json.loads(capsys.readouterr().out)
+    assert "x_iso_max_m" not in s and "stick_fraction" not in s and s["idr_max"] > 0
