@@ -80,6 +80,11 @@ def plane_figure(result, title: str = ""):
     ax = fig.add_subplot(grid[1, 2])
     ax.set_xlabel("t [s]")
     ax2 = ax
+    # a symmetric deck's twist is round-off (1e-19 rad drawn on a 1e-16 axis offset, as if a
+    # response): drawn only above 1e-9 of the slips' scale [rad per m of slip]
+    if theta is not None and np.abs(theta).max() <= 1e-9 * max(np.abs(u).max(), 1e-300):
+        ax.set_title("no base torsion (round-off)", fontsize=9)
+        theta = None
     if theta is not None:
         ax.plot(t, 1e3 * theta, color="k", lw=0.8, label="θ [mrad]")
         ax.set_ylabel("base torsion θ [mrad]")

@@ -24,10 +24,10 @@ def test_twist_row_of_a_rigid_deck_is_its_rotation_and_a_single_isolator_has_non
     assert twist_row(from_deck(sdof_plane(1000.0, B))) is None
 
 
-def _fake(system, twist):
+def _fake(system, twist, slip=0.0):
     nt, ni = 5, system.n_isolators
     z = np.zeros((nt, ni, 2))
-    return SimpleNamespace(summary=None, twist=twist, t=np.arange(nt) * 0.1, u=z,
+    return SimpleNamespace(summary=None, twist=twist, t=np.arange(nt) * 0.1, u=z + slip,
                            N=np.ones((nt, ni)), friction=z, restoring=z, other=z,
                            system=system)  # fmt: skip
 
@@ -38,7 +38,12 @@ def _labels(fig):
 
 def test_the_figure_labels_the_base_torsion_only_where_there_is_one():
     deck = from_deck(rigid_deck(2e5, 1.6e6, POS, B))
-    assert "base torsion θ [mrad]" in _labels(plane_figure(_fake(deck, np.zeros(5))))
+    assert "base torsion θ [mrad]" in _labels(plane_figure(_fake(deck, np.full(5, 1e-3), 0.1)))
+    # a symmetric deck's twist of round-off (1e-19 rad beside slips of 0.1 m) was drawn on a
+    # 1e-16 axis offset, as if a response; it is said to be none
+    fig = plane_figure(_fake(deck, np.full(5, 1e-19), 0.1))
+    assert "base torsion θ [mrad]" not in _labels(fig)
+    assert "no base torsion (round-off)" in [a.get_title() for a in fig.axes]
     mass = from_deck(sdof_plane(1000.0, B))
     labels = _labels(plane_figure(_fake(mass, None)))
     assert not any("torsion" in s for s in labels)
