@@ -139,6 +139,11 @@ def test_tfp_scene_runs_with_the_regularised_law_and_equals_the_library_run(tmp_
     res = simulate_plane(system, exc, t_end=t_end, law="arctan", rtol=1e-6)  # (default atol)
     assert s["peak_resultant_displacement_m"] == res.summary()["peak_resultant_displacement_m"]
     assert "tfp_surface_limits" in s
+    # the elements' slips are in the histories file as in the library's tables (they were not)
+    with np.load(tmp_path / "deck.npz") as d:
+        h = res.histories()
+        for k in ("s1x", "s3y", "s4x"):
+            np.testing.assert_array_equal(d[k], h[f"{k}_iso_{{}}_m"])
     files = scene_figures(s, tmp_path)
     assert Path(files[0]).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     json.dumps(s)
