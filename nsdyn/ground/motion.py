@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from nsdyn._checks import InputWarning, number, whole
+from nsdyn._checks import MAX_OUTPUTS, InputWarning, number, whole
 
 
 def samples(name: str, a, n: int | None = None) -> np.ndarray:
@@ -299,6 +299,10 @@ class GroundMotion(Sampled):
         dt = number("dt", dt, "a positive finite step [s]", lambda v: v > 0)
         if self.n < 2:  # (scipy's polyphase filter ends the process on one sample)
             raise ValueError(f"{self.name!r}: resampling needs two samples or more, got {self.n}")
+        if not self.duration / dt <= MAX_OUTPUTS:  # (1e-9 s built 2e10 samples: 160 GB)
+            raise ValueError(f"dt: {self.duration / dt:.3g} samples of {dt:g} s over "
+                             f"{self.duration:g} s exceed {MAX_OUTPUTS:.0e}; expected a longer "
+                             "step")  # fmt: skip
         n_new = int(math.floor(self.duration / dt * (1.0 + 1e-12) + 1e-9)) + 1
         if method == "linear":
             tau_new = dt * np.arange(n_new)

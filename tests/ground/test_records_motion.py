@@ -211,6 +211,8 @@ def test_a_record_names_the_argument_it_cannot_use():
         (lambda: m.window(None, 1.0), ValueError, r"^window: expected times"),
         (lambda: m.baseline_corrected(order=1.5), ValueError, r"^order: expected a whole"),
         (lambda: m.resampled("abc"), ValueError, r"^dt: expected a positive finite step"),
+        # 1e-9 s built 1e9 samples of the 0.99 s record (8 GB)
+        (lambda: m.resampled(1e-9, "linear"), ValueError, r"^dt: 9.9e\+08 samples of 1e-09 s"),
         (lambda: GroundMotion(0.0, 0.01, [1.0, 2.0], meta=None), TypeError, r"^meta: expected"),
         (lambda: GroundMotion3.from_planar(GroundMotion3(0.0, 0.01, [1.0, 2], [1.0, 2])),
          TypeError, r"^motion: expected a planar GroundMotion"),
