@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, expect, flag, output_count, step_count
+from nsdyn._checks import NumericalFailure, expect, flag, output_times, step_count
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kcompliant as kc
 from nsdyn.models.contact.body import RigidBody
@@ -214,8 +214,7 @@ def simulate_compliant(
     anchor = np.full(len(verts), np.nan)
     stuck = np.ones(len(verts))
     acc = np.zeros(2)
-    output_count(t_end, dt_out)
-    t_out = np.arange(0.0, t_end + 0.5 * dt_out, dt_out)
+    t_out = output_times(0.0, t_end, dt_out)  # (t_end the last: filled after the loop)
     y_out = np.full((len(t_out), kc.N_OUT), np.nan)
     jumps = sorted(tuple(j) for j in mo.jumps if 0.0 <= j[0] <= t_end)
     t, iout, n_steps, t_over = 0.0, 0, 0, None
@@ -233,6 +232,11 @@ def simulate_compliant(
         if st == kc.ST_OVER:
             t_over = t
             break
+    if t_over is None and iout < len(t_out):  # the end's row: the steps write their starts'
+        f, info = np.zeros(3), np.zeros(4)  # (it ended one output step before t_end)
+        kc.forces(t_end, q, vh, verts, anchor, stuck, p, mo.ex, mo.tab_h, mo.tab_v, f, info)
+        y_out[iout] = np.concatenate([q, vh, info[:2], acc, info[2:]])  # (v at t_end - h/2)
+        iout += 1
     wall = time.perf_counter() - w0
     n = iout
     y = y_out[:n]

@@ -172,3 +172,18 @@ def test_a_method_on_a_compliant_ground_is_refused_not_ignored(method):
     with pytest.raises(SceneError, match="solver.method: a compliant ground"):
         run_scene(cfg, source=str(SCENE), out_dir=Path("/nonexistent"), figures=False,
                   quiet=True)  # fmt: skip
+
+
+def test_a_run_ends_on_its_end_with_the_state_there():
+    # the steps write their starts, so the row at t_end was never written: the histories ended
+    # one output step early; the end's row is the state at t_end, and it equals the longer
+    # run's row there to the sampling's O(h) (a row is the state at the nearest step start)
+    body = RigidBody.rectangle(0.6, 1.8, 300.0)
+    gr = CompliantGround.from_ratio(body, 1e7, 0.1)
+    kw = dict(h=2e-5, v0=[1.5, 0.0, 0.8], dt_out=1e-2)
+    short = simulate_compliant(body, FrictionLaw(0.6), gr, t_end=0.5, **kw)
+    longer = simulate_compliant(body, FrictionLaw(0.6), gr, t_end=0.6, **kw)
+    assert short.t[-1] == 0.5 and not np.isnan(short.q).any()
+    k = int(np.flatnonzero(np.isclose(longer.t, 0.5))[0])
+    vmax = np.abs(longer.v[k - 1 : k + 2]).max(axis=0)
+    assert np.all(np.abs(short.q[-1] - longer.q[k]) <= 2e-5 * vmax + 1e-12)
