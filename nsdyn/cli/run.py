@@ -86,6 +86,8 @@ def summary_rows(s: dict) -> list[str]:
         ("energy lost at landings", "impact_energy_J", lambda v: f"{abs(v):.4g} J"),
     ]
     skip = {"uplift"} if s.get("contact") == "unilateral" else set()
+    if s.get("fidelity") == "fixed":  # no isolators: "x_iso 0.0000 m", "sticks 1.00" read as
+        skip |= {"x_iso_max_m", "stick_fraction", "uplift", "contact"}  # results (the JSON's)
     return [f"  {label:36s} {fmt(s[key])}" for label, key, fmt in rows
             if key not in skip and s.get(key) is not None]  # fmt: skip
 

@@ -101,10 +101,8 @@ class Response:
 
     def summary(self) -> dict:
         """Peak metrics; those the model cannot define (drift ratios without storey heights,
-        floor quantities without levels, normal forces without contacts, a fixed base's
-        isolator slip and stick: it read 0 m and "sticks all the time") are absent."""
-        isolated = self.x_iso.size > 0 and self.x_iso.shape[-1] > 0
-        out = {"x_iso_max_m": self.x_iso_max} if isolated else {}
+        floor quantities without levels, normal forces without contacts) are absent."""
+        out = {"x_iso_max_m": self.x_iso_max}
         if self.idr_by_storey.size:
             out["idr_max"] = self.idr_max
             out["idr_by_storey"] = self.idr_by_storey.tolist()
@@ -117,8 +115,7 @@ class Response:
             out["roof_drift_max_m"] = self.roof_drift_max
         if self.lam.shape[-1]:
             out["min_normal_force_N"] = self.min_normal_force
-        if isolated:
-            out["stick_fraction"] = self.stick_fraction
+        out["stick_fraction"] = self.stick_fraction
         out["energy_closure"] = self.energy.get("closure", float("nan"))
         return out
 
