@@ -283,7 +283,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     record = exc is not None and not isinstance(exc, Pulse)
     # a rigid run starts with its record (a record before t = 0 ran unfelt: "rest"); a
     # compliant run starts at t = 0, so a record before it is refused
-    start = {"t0": exc.t0} if record and not isinstance(model, CompliantBlock) else {}
+    early = record and not isinstance(model, CompliantBlock) and exc.t0 < 0  # (a later one:
+    start = {"t0": exc.t0} if early else {}  # the ground at rest before it, as before)
     if record and isinstance(model, CompliantBlock) and exc.t0 < 0:
         raise SceneError(f"{source}: motion.record: the record starts at t = {exc.t0:g} s, "
                          "before t = 0 where a compliant block's run starts; expected a "
@@ -415,7 +416,7 @@ ROWS = (
     ("t_uplift_s", "first lift-off", "s"),
     ("t_overturn_s", "overturned at", "s"),
     ("t_rest_s", "came to rest at", "s"),
-    ("t_end_s", "duration", "s"),
+    ("t_end_s", "end time", "s"),
     ("wall_s", "run time", "s"),
     ("compile_s", "compile/load time", "s"),
 )

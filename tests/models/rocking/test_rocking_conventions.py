@@ -161,6 +161,18 @@ def test_a_record_that_starts_before_the_run_is_said_and_a_scene_starts_with_it(
     s = run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
     with np.load(tmp_path / "rocking.npz") as d:
         assert d["t"][0] == -2.0 and s["outcome"] == moved.outcome
+    # a record that starts later leaves the ground at rest before it, the run from t = 0 (a
+    # start at its t0 refused an end before it, naming dt_out)
+    late = tmp_path / "late.csv"
+    late.write_text("t,a_hor\n" + "".join(f"{x + 3.5:.2f},{y:.9f}\n"
+                                          for x, y in zip(t, a, strict=True)))  # fmt: skip
+    cfg["motion"]["record"] = str(late)
+    cfg["motion"]["t_end"] = 1.0
+    s = run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+    with np.load(tmp_path / "rocking.npz") as d:
+        assert d["t"][0] == 0.0 and d["t"][-1] == 1.0 and s["outcome"] == "rest"
+    del cfg["motion"]["t_end"]
+    cfg["motion"]["record"] = str(path)
     cfg["scene"]["model"] = "compliant"
     cfg["block"]["omega_v_over_p"] = 300.0
     with pytest.raises(SceneError, match=r"^s.toml: motion.record: the record starts at t = -2"):
