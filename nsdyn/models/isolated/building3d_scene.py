@@ -479,8 +479,9 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
               "motion": getattr(exc, "name", type(exc).__name__)})  # fmt: skip
     if hasattr(exc, "pga_resultant"):  # a record's scale (--pga: two runs read alike), as
         s["pga_mps2"] = exc.pga_resultant  # the isolated frame's: of the window run
-        if "pga" in cfg["motion"]:  # (and the whole record's, scaled to it)
+        if "pga" in cfg["motion"]:  # (and the target the whole record was scaled to)
             s["record_pga_mps2"] = float(cfg["motion"]["pga"])
+            s["record_pga_component"] = cfg["motion"].get("pga_component", "resultant")
     if asked == "auto":
         s["advice"] = {"fidelity": sysd["fidelity"], **sysd["advice"]["evidence"]}
     say(f"building3d: done in {s['wall_s']:.3f} s")

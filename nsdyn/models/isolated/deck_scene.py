@@ -339,8 +339,9 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
               "warnings": [str(w.message) for w in caught], "notes": list(notes)})  # fmt: skip
     if hasattr(exc, "pga_resultant"):  # a record's scale (--pga: two runs read alike), as
         s["pga_mps2"] = exc.pga_resultant  # the isolated frame's: of the window run
-        if "pga" in cfg["motion"]:  # (and the whole record's, scaled to it)
+        if "pga" in cfg["motion"]:  # (and the target the whole record was scaled to)
             s["record_pga_mps2"] = float(cfg["motion"]["pga"])
+            s["record_pga_component"] = cfg["motion"].get("pga_component", "resultant")
     say(f"deck: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
     return s
 

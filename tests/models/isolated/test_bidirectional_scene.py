@@ -99,6 +99,7 @@ def test_an_end_between_the_records_samples_is_said_as_such(tmp_path, capsys):
     # the record's scale is in the summary (two runs at other PGAs read alike), as the
     # isolated frame's: the whole record's resultant scaled to --pga, the run's window below
     assert s["record_pga_mps2"] == 2.0 and 0.0 < s["pga_mps2"] <= 2.0
+    assert s["record_pga_component"] == "resultant"
     said = [n for n in s["notes"] if "t_end = 1.013 s" in n]
     assert said == ["t_end = 1.013 s is not a sample time of the record (every 0.01 s); the "
                     "run ends at its last sample before it, 1.01 s"]  # fmt: skip
