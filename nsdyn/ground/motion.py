@@ -354,7 +354,7 @@ class GroundMotion(Sampled):
     def until(self, t_end: float) -> GroundMotion:
         """The record from its start to ``t_end`` (an absolute time, as a run's ``t_end``);
         ValueError ("t_end: ...") unless the cut keeps at least one step of the record."""
-        if isinstance(t_end, str | bytes | bool):  # ("1" was taken as 1 s)
+        if isinstance(t_end, str | bytes | bool | np.bool_):  # ("1" was taken as 1 s)
             raise ValueError(f"t_end: expected an end time [s] (a number), got {t_end!r}")
         t_end = float(t_end)
         if not (math.isfinite(t_end) and t_end >= self.t0 + self.dt * (1 - 1e-9)):

@@ -418,7 +418,7 @@ class Frame3D:
         normal = [0.0, 1.0, 0.0] if plane == "xz" else [1.0, 0.0, 0.0]
         I_out = frame.I if I_out is None else I_out
         return cls(
-            name=frame.name,
+            name=frame.name if isinstance(frame.name, str) and frame.name.strip() else "planar",
             nodes=nodes,
             elements=frame.elements,
             vecxz=normal,

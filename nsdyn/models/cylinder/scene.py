@@ -266,7 +266,7 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         t_end = number(source, "motion.t_end", mo["t_end"])
         from nsdyn.ground.formats import past_record_note
 
-        past = past_record_note(t_end, t0 + (len(ag) - 1) * dt)
+        last = t0 + (len(ag) - 1) * dt  # (the motion's last sample, before its padding)
         if (t_end - t0) / dt > MAX_OUTPUTS:
             n_out = (t_end - t0) / dt
             raise SceneError(f"{source}: motion.t_end: {n_out:.3g} samples of {dt:g} s exceed "
@@ -277,7 +277,7 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
                              f"got {t_end:g}")  # fmt: skip
         n = int(math.floor((t_end - t0) / dt + 1e-9)) + 1
         ag = np.vstack((ag[:n], np.zeros((max(0, n - len(ag)), ag.shape[1]))))
-        if past:
+        if past := past_record_note(t0 + (n - 1) * dt, last):  # (the end the run reaches)
             notes.append(past)
         if abs(t0 + (n - 1) * dt - t_end) > 1e-9 * dt:  # (the run steps on the motion's grid)
             notes.append(f"t_end = {t_end:g} s falls between the motion's samples (every "
