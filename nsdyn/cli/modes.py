@@ -21,6 +21,7 @@ from nsdyn.cli.args import positive_float as _positive_float
 from nsdyn.models.isolated.defaults import F_MAX as DEFAULT_FMAX
 from nsdyn.models.isolated.defaults import FRAME as DEFAULT_FRAME
 from nsdyn.models.isolated.defaults import K_LAM as DEFAULT_KLAM
+from nsdyn.models.scenefile import file_stem
 from nsdyn.structure import base_isolation_frequency, load_frame
 
 DEFAULT_OUT = "nsdyn-out"  # directory for figures
@@ -191,7 +192,7 @@ def run(args: argparse.Namespace) -> int:
     if out is not None:
         from nsdyn.plot import plot_mode_shapes
 
-        path = Path(out) / f"modes-{frame.name}.png"
+        path = Path(out) / f"modes-{file_stem(frame.name)}.png"
         save_figure(plot_mode_shapes(frame, f, Phi, n=N_DRAW), path)
         s["figure"] = str(path)
     if args.json:
@@ -249,7 +250,7 @@ def _run3d(args: argparse.Namespace) -> int:
     if out is not None:
         from nsdyn.plot.frames3d import plot_mode_shapes_3d
 
-        path = Path(out) / f"modes-{frame.name}.png"
+        path = Path(out) / f"modes-{file_stem(frame.name)}.png"
         save_figure(plot_mode_shapes_3d(m, n=N_DRAW), path)
         s["figure"] = str(path)
     if args.json:

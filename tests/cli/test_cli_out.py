@@ -3,6 +3,7 @@ benchmark that ran for minutes used to fail only when it wrote its first file): 
 naming the option and what is wrong, status 2, nothing created."""
 
 import os
+from pathlib import Path
 
 import pytest
 
@@ -83,3 +84,17 @@ def test_a_new_nested_out_is_accepted(tmp_path):
 
     assert out_dir(str(tmp_path / "a" / "b" / "c")) == str(tmp_path / "a" / "b" / "c")
     assert not (tmp_path / "a").exists()  # checked, not made
+
+
+def test_a_frame_name_with_path_separators_stays_inside_out(tmp_path, capsys):
+    # name = "../../x" wrote modes-../../x.png two folders above --out (and left an empty
+    # "modes-.." folder); the name is a file stem, as a scene's is
+    frames = Path(__file__).resolve().parents[2] / "frames"
+    text = (frames / "portal.toml").read_text()
+    lines = [ln if not ln.startswith("name =") else 'name = "../../x"' for ln in text.splitlines()]
+    f = tmp_path / "f.toml"
+    f.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "a" / "b"
+    assert main(["modes", str(f), "--out", str(out)]) == 0
+    assert [p.name for p in out.iterdir()] == ["modes-_.._x.png"]
+    assert not (tmp_path / "x.png").exists()
