@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import mapped, whole
+from nsdyn._checks import NumericalFailure, mapped, whole
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.frame import Frame
 
@@ -348,13 +348,20 @@ def craig_bampton(
     Gamma[:nb] = r[b]
     TG = T @ Gamma
     scale = max(1.0, float(np.abs(r).max()))
+    # (an assertion's traceback before: a frame in millimetres, storey heights of 6000 m)
+    why = ("its stiffness matrix is too ill-conditioned for the reduction: check the frame's "
+           "units (lengths in m, sections in m², m⁴, E in Pa) and its stiffness span")  # fmt: skip
     if check_full:
         err = float(np.abs(TG - r).max())
-        assert err <= RIGID_RTOL * scale, f"Psi r_b != r_i (max error {err:.3g})"
+        if not err <= RIGID_RTOL * scale:
+            raise NumericalFailure(f"Craig-Bampton: the static modes miss the rigid motion of "
+                                   f"the base by {err:.3g} (of {scale:g}): {why}")  # fmt: skip
     else:  # T Gamma must be a rigid-body motion: K T Gamma = 0
         kn = float(np.abs(K @ TG).max())
         kscale = float(abs(K).max()) * float(np.abs(TG).max())
-        assert kn <= RIGID_RTOL * kscale, f"T Gamma is not a rigid motion ({kn:.3g})"
+        if not kn <= RIGID_RTOL * kscale:
+            raise NumericalFailure(f"Craig-Bampton: T Gamma is not a rigid motion (K T Gamma "
+                                   f"= {kn:.3g} of {kscale:.3g}): {why}")  # fmt: skip
     return CBModel(
         T=T,
         K=Kr,

@@ -194,6 +194,19 @@ def test_sparse_modes_are_the_same_on_every_call(office, office_km, monkeypatch)
     assert np.array_equal(f3[0], f3[1])
 
 
+def test_a_reduction_that_misses_the_rigid_motion_says_why(office, office_km, monkeypatch):
+    # the check was an assertion: a frame in millimetres (storey heights of 6000 m, its
+    # stiffness too ill-conditioned) ended "nsdyn modes" in a traceback; the bound is forced
+    # here (a tolerance below zero: any error fails it) to reach the message on any machine
+    from nsdyn._checks import NumericalFailure
+
+    K, M = office_km
+    monkeypatch.setattr(red, "RIGID_RTOL", -1.0)
+    for r in (office.influence(), None):
+        with pytest.raises(NumericalFailure, match=r"^Craig-Bampton: .*check the frame's units"):
+            craig_bampton(K, M, office.boundary_dofs, 5.0, office.zeta, r=r)
+
+
 def test_dense_and_sparse_inputs_agree(make_portal):
     fr = make_portal(n_v=2, n_h=2, floor_mass=1e3)
     Ks, Ms = fr.assemble()
