@@ -346,6 +346,11 @@ if __name__ == "__main__":
     cli.add_argument("--t-end", type=float, default=None,
                      help="end the run here [s], on the record's clock")
     a = cli.parse_args()
+    if a.t_end is not None and not a.t_end - DATA["t0"] >= DATA["dt"] * (1 - 1e-9):
+        cli.error(f"--t-end: expected an end at least one step ({DATA['dt']:g} s) after the "
+                  f"record's start ({DATA['t0']:g} s), got {a.t_end!r}")  # (exit 2)
+    if a.out is not None and (not a.out or os.path.exists(a.out) and not os.path.isdir(a.out)):
+        cli.error(f"--out: expected a directory, got {a.out!r}")
     print(json.dumps(run(a.t_end, a.out)))
 '''
 )

@@ -256,6 +256,10 @@ if __name__ == "__main__":  # (an unknown argument is refused, not ignored)
     cli = argparse.ArgumentParser(description="Run the exported OpenSees model; print peaks.")
     cli.add_argument("--t-end", type=float, default=None,
                      help="end the run here [s], on the record's clock")
-    print(json.dumps(run(cli.parse_args().t_end)))
+    t_end = cli.parse_args().t_end
+    if t_end is not None and not t_end - DATA["t0"] >= DATA["dt"] * (1 - 1e-9):
+        cli.error(f"--t-end: expected an end at least one step ({DATA['dt']:g} s) after the "
+                  f"record's start ({DATA['t0']:g} s), got {t_end!r}")  # (exit 2)
+    print(json.dumps(run(t_end)))
 '''
 )

@@ -176,9 +176,12 @@ def test_script_runs_standalone(tmp_path):
     p = subprocess.run([sys.executable, str(path), "--bogus"], capture_output=True, text=True,
                        timeout=120, cwd=tmp_path)  # fmt: skip
     assert p.returncode == 2 and "unrecognized arguments: --bogus" in p.stderr
-    p = subprocess.run([sys.executable, str(path), "--t-end", "-1"], capture_output=True,
-                       text=True, timeout=120, cwd=tmp_path)  # fmt: skip
-    assert p.returncode == 1 and "--t-end: expected a time after the record's start" in p.stderr
+    # an end before the record or within its first step: refused as a usage error (exit 2;
+    # 0.001 s ran no step and printed zero peaks)
+    for bad in ("-1", "0.001", "nan"):
+        p = subprocess.run([sys.executable, str(path), "--t-end", bad], capture_output=True,
+                           text=True, timeout=120, cwd=tmp_path)  # fmt: skip
+        assert p.returncode == 2 and "--t-end: expected an end at least one step" in p.stderr
 
 
 def test_stiffness_damping_option(tmp_path):
