@@ -163,6 +163,12 @@ def test_cli_exports_a_3d_frame_and_the_script_prints_both_frequency_lists(tmp_p
     res = json.loads(run.stdout.strip().splitlines()[-1])
     assert np.abs(res["relative_difference"]).max() <= RTOL
     assert res["nsdyn_f_hz"] == pytest.approx(info["nsdyn_f_hz"], rel=1e-12)
+    # N beyond the free dofs printed 0 Hz "modes"; --help and text were int()'s ValueError
+    for arg, said in (("16", "N: expected 1 to 15 (the frame's free dofs), got 16"),
+                      ("abc", "invalid int value: 'abc'")):  # fmt: skip
+        p = subprocess.run([sys.executable, str(out), arg], capture_output=True, text=True,
+                           timeout=120)  # fmt: skip
+        assert p.returncode == 2 and said in p.stderr
 
 
 def test_cli_names_a_bad_mode_count(tmp_path, capsys):

@@ -131,8 +131,17 @@ def eigen_frequencies(n, solver=None):
     return [math.sqrt(max(v, 0.0)) / (2.0 * math.pi) for v in lam]
 
 
-if __name__ == "__main__":
-    n = int(sys.argv[1]) if len(sys.argv) > 1 else DATA["n_modes"]
+if __name__ == "__main__":  # (N was int(sys.argv[1]): --help a ValueError, 20 of 15 free
+    import argparse  # dofs padded the list with 0 Hz "modes")
+
+    cli = argparse.ArgumentParser(description="The frame's lowest eigenfrequencies, OpenSees' "
+                                  "beside nsdyn's.")
+    cli.add_argument("N", nargs="?", type=int, default=DATA["n_modes"],
+                     help=f"how many (default {DATA['n_modes']}, at most the {DATA['n_free']} "
+                          "free dofs)")
+    n = cli.parse_args().N
+    if not 1 <= n <= DATA["n_free"]:
+        cli.error(f"N: expected 1 to {DATA['n_free']} (the frame's free dofs), got {n}")
     f = eigen_frequencies(n)
     ref = DATA["nsdyn_f_hz"][:n]
     diff = [(a - b) / b for a, b in zip(f, ref)]
