@@ -555,7 +555,7 @@ def test_run_record_replaces_a_rocking_pulse(tmp_path, capsys):
     assert main(argv) == 0
     out, err = capsys.readouterr()
     assert "the scene's t_end = 6 s was its closed-form motion's" in err
-    assert "t_end = 20 s" in err and "duration               20 s" in out
+    assert "t_end = 20 s" in err and "end time               20 s" in out
 
 
 def test_the_summary_says_the_ground_acceleration_the_run_felt(tmp_path, capsys):
