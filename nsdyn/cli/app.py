@@ -69,7 +69,7 @@ def flagged(message: str, args: argparse.Namespace) -> str:
         if key == "motion.t_end" or any(s in rest for s in said):  # (the flag's value, not
             message = message.replace(f": {key}:", f": {key} ({flag}):", 1)  # the file's)
     t_end = getattr(args, "t_end", None)
-    against = ("no longer than the run", " outputs of ")  # (not "expected a positive number")
+    against = ("longer than the run", " outputs of ")  # (not "expected a positive number")
     if t_end is not None and ": solver.dt_out:" in message and any(a in message for a in against):
         message += f" (the run ends at --t-end {t_end:g} s)"  # (the file's step against the
         # flag's end: only the step was named)

@@ -196,6 +196,8 @@ def file_stem(name: str) -> str:
     """A scene's name as the stem of the files it names (a cylinder's ``NAME.npz``): its path
     separators as "_" and no leading dot (a cylinder scene named "../x" wrote its files beside
     the folder; ".x" would be a hidden file)."""
+    name = "".join(c if c.isprintable() else "_" for c in str(name))  # (a frame's name is
+    name = name.encode()[:NAME_MAX].decode(errors="ignore")  # not checked as a scene's is)
     return name.replace("/", "_").replace("\\", "_").lstrip(".") or "_"
 
 

@@ -141,7 +141,7 @@ def craig_bampton_3d(
     r = frame.rigid_motions()[:, :3]
     try:
         cb = craig_bampton(K, M, b, float(f_max), frame.zeta, r=r, dense_max=dense_max)
-    except (RuntimeError, AssertionError) as exc:  # singular K_ii: no factor, or Ψ r_b != r_i
+    except RuntimeError as exc:  # singular K_ii: no factor, or Ψ r_b != r_i (NumericalFailure)
         raise ValueError(
             f"the frame with its interface dofs {[_NAMES[c] for c in comps]} held is a "
             f"mechanism or singular to working precision ({exc}); e.g. a plane frame on pins "

@@ -272,3 +272,14 @@ def _flag_case(argv, said, tmp_path, capsys):
     assert main([*argv, *out]) == EXIT_USER_ERROR
     said = said.replace("ROCK", rock).replace("SHEAR", shear).replace("CYL", cyl)
     assert said in capsys.readouterr().err
+
+
+def test_an_output_step_longer_than_a_flag_cut_run_names_the_flag(tmp_path, capsys):
+    # the isolated frame's wording ("longer than the run") lost the --t-end hint the other
+    # families' ("no longer than the run") kept; a step refused on its own gets none
+    scene = tmp_path / "s.toml"
+    for dt_out, hint in (("5.0", True), ("-1.0", False)):
+        scene.write_text(f"[solver]\ndt_out = {dt_out}\n")
+        assert main(["run", str(scene), "--t-end", "1", "--out", str(tmp_path / "o")]) == 2
+        err = capsys.readouterr().err
+        assert "solver.dt_out" in err and ("(the run ends at --t-end 1 s)" in err) is hint

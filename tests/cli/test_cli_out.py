@@ -98,3 +98,13 @@ def test_a_frame_name_with_path_separators_stays_inside_out(tmp_path, capsys):
     assert main(["modes", str(f), "--out", str(out)]) == 0
     assert [p.name for p in out.iterdir()] == ["modes-_.._x.png"]
     assert not (tmp_path / "x.png").exists()
+
+
+def test_a_file_stem_holds_no_control_character_nor_more_than_name_max_bytes():
+    # a frame's name "a\x00b" was "embedded null byte", "a\nb" a file name with a newline,
+    # 300 characters "File name too long"
+    from nsdyn.models.scenefile import NAME_MAX, file_stem
+
+    assert file_stem("a\x00b\nc") == "a_b_c" and file_stem("../x") == "_x"
+    long = file_stem("é" * 300)
+    assert len(long.encode()) <= NAME_MAX and long == "é" * (NAME_MAX // 2)

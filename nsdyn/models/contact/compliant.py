@@ -232,11 +232,12 @@ def simulate_compliant(
         if st == kc.ST_OVER:
             t_over = t
             break
-    if t_over is None and iout < len(t_out):  # the end's row: the steps write their starts'
+    if t_over is None and iout < len(t_out):  # the end's rows: the steps write their starts'
         f, info = np.zeros(3), np.zeros(4)  # (it ended one output step before t_end)
         kc.forces(t_end, q, vh, verts, anchor, stuck, p, mo.ex, mo.tab_h, mo.tab_v, f, info)
-        y_out[iout] = np.concatenate([q, vh, info[:2], acc, info[2:]])  # (v at t_end - h/2)
-        iout += 1
+        v_end = vh + 0.5 * h * f / np.array([body.mass, body.mass, body.J])  # (v(t_end))
+        y_out[iout:] = np.concatenate([q, v_end, info[:2], acc, info[2:]])  # (each the
+        iout = len(t_out)  # state at its nearest step, as the kernel's rows)
     wall = time.perf_counter() - w0
     n = iout
     y = y_out[:n]

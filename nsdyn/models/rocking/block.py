@@ -246,6 +246,10 @@ def _excitation(excitation, t_end: float, t0: float = 0.0,
         if excitation.n < 2:  # (a record of one sample ran as "rest"; the deck refuses it)
             raise ValueError(f"excitation: a record of {excitation.n} sample spans no time; "
                              "expected two samples or more")  # fmt: skip
+        if not excitation.t0 < t_end:  # (the run saw none of it: "rest", as a late pulse)
+            raise ValueError(f"excitation: the record starts at {excitation.t0:g} s, at or after "
+                             f"the run's end t_end = {t_end:g} s; expected a record within the "
+                             "run")  # fmt: skip
         from nsdyn.ground.formats import early_record_note
 
         if note := early_record_note(excitation.t0, t0, how):  # (ran as "rest", unsaid)

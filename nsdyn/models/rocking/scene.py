@@ -285,6 +285,10 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     # compliant run starts at t = 0, so a record before it is refused
     early = record and not isinstance(model, CompliantBlock) and exc.t0 < 0  # (a later one:
     start = {"t0": exc.t0} if early else {}  # the ground at rest before it, as before)
+    if record and exc.t0 >= t_end:  # (it ran at rest: "rest", unsaid)
+        raise SceneError(f"{source}: motion.t_end: the record starts at {exc.t0:g} s, at or "
+                         f"after the run's end ({t_end:g} s); expected an end after its "
+                         "start")  # fmt: skip
     if record and isinstance(model, CompliantBlock) and exc.t0 < 0:
         raise SceneError(f"{source}: motion.record: the record starts at t = {exc.t0:g} s, "
                          "before t = 0 where a compliant block's run starts; expected a "

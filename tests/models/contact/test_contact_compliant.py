@@ -187,3 +187,15 @@ def test_a_run_ends_on_its_end_with_the_state_there():
     k = int(np.flatnonzero(np.isclose(longer.t, 0.5))[0])
     vmax = np.abs(longer.v[k - 1 : k + 2]).max(axis=0)
     assert np.all(np.abs(short.q[-1] - longer.q[k]) <= 2e-5 * vmax + 1e-12)
+
+
+def test_every_output_time_the_last_steps_leave_is_a_row():
+    # output times within the last half step (0.1 and t_end = 0.100005 at h = 2e-5): the
+    # first was given the end's state and the end's row dropped
+    body = RigidBody.rectangle(0.6, 1.8, 300.0)
+    gr = CompliantGround.from_ratio(body, 1e7, 0.1)
+    r = simulate_compliant(body, FrictionLaw(0.6), gr, t_end=0.100005, h=2e-5,
+                           v0=[1.5, 0.0, 0.8], dt_out=0.01)  # fmt: skip
+    assert r.t.size == 12 and r.t[-1] == 0.100005 and not np.isnan(r.q).any()
+    # each within h of its time: the state at the nearest step (|dq| <= |v| h)
+    assert np.all(np.abs(r.q[-1] - r.q[-2]) <= 2e-5 * np.abs(r.v[-2:]).max(axis=0) + 1e-12)

@@ -162,15 +162,21 @@ def test_a_record_that_starts_before_the_run_is_said_and_a_scene_starts_with_it(
     with np.load(tmp_path / "rocking.npz") as d:
         assert d["t"][0] == -2.0 and s["outcome"] == moved.outcome
     # a record that starts later leaves the ground at rest before it, the run from t = 0 (a
-    # start at its t0 refused an end before it, naming dt_out)
+    # start at its t0 refused an end before it, naming dt_out); one that starts at or after
+    # the run's end drove nothing ("rest") and is refused
     late = tmp_path / "late.csv"
-    late.write_text("t,a_hor\n" + "".join(f"{x + 3.5:.2f},{y:.9f}\n"
+    late.write_text("t,a_hor\n" + "".join(f"{x + 2.5:.2f},{y:.9f}\n"
                                           for x, y in zip(t, a, strict=True)))  # fmt: skip
     cfg["motion"]["record"] = str(late)
     cfg["motion"]["t_end"] = 1.0
     s = run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
     with np.load(tmp_path / "rocking.npz") as d:
-        assert d["t"][0] == 0.0 and d["t"][-1] == 1.0 and s["outcome"] == "rest"
+        assert d["t"][0] == 0.0 and d["t"][-1] == 1.0 and s["outcome"] != "rest"
+    cfg["motion"]["t_end"] = 0.5
+    with pytest.raises(SceneError, match=r"^s.toml: motion.t_end: the record starts at 0.5 s"):
+        run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+    with pytest.raises(ValueError, match=r"^excitation: the record starts at 0.5 s, at or after"):
+        simulate_rocking(b, GroundMotion(0.5, 0.01, a), t_end=0.5)
     del cfg["motion"]["t_end"]
     cfg["motion"]["record"] = str(path)
     cfg["scene"]["model"] = "compliant"
