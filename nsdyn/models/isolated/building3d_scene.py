@@ -67,7 +67,13 @@ from nsdyn.models.isolated.building3d_scene_keys import (
     unused_keys,
 )
 from nsdyn.models.isolated.building3d_shape import fixed_peak_shape, rigid_peak_shape, write_shape
-from nsdyn.models.isolated.deck_scene import PGA_ROW, record_end_note, scene_law, summary_table
+from nsdyn.models.isolated.deck_scene import (
+    PGA_ROW,
+    record_end_note,
+    record_scale,
+    scene_law,
+    summary_table,
+)
 from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
 from nsdyn.models.isolated.deck_scene import build_solver as deck_solver
 from nsdyn.models.isolated.friction import coarse_law_note
@@ -477,11 +483,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     s.update({"kind": "building3d", "name": name, "frame": frame.name,
               "fidelity": sysd["fidelity"], "notes": notes,
               "motion": getattr(exc, "name", type(exc).__name__)})  # fmt: skip
-    if hasattr(exc, "pga_resultant"):  # a record's scale (--pga: two runs read alike), as
-        s["pga_mps2"] = exc.pga_resultant  # the isolated frame's: of the window run
-        if "pga" in cfg["motion"]:  # (and the target the whole record was scaled to)
-            s["record_pga_mps2"] = float(cfg["motion"]["pga"])
-            s["record_pga_component"] = cfg["motion"].get("pga_component", "resultant")
+    s.update(record_scale(cfg, exc))
     if asked == "auto":
         s["advice"] = {"fidelity": sysd["fidelity"], **sysd["advice"]["evidence"]}
     say(f"building3d: done in {s['wall_s']:.3f} s")

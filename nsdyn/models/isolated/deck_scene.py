@@ -162,6 +162,19 @@ def build_motion(cfg: dict, source: str):
     return exc, dur.get("t_end")
 
 
+def record_scale(cfg: dict, exc) -> dict:
+    """A record's scale in a summary, as the isolated frame's (two runs at other PGAs read
+    alike without it): ``pga_mps2`` of the window run (the horizontal resultant), and with a
+    ``pga`` the target the whole record was scaled to and its component. Empty for an orbit."""
+    if not hasattr(exc, "pga_resultant"):
+        return {}
+    out = {"pga_mps2": exc.pga_resultant}
+    if "pga" in cfg["motion"]:
+        out["record_pga_mps2"] = float(cfg["motion"]["pga"])
+        out["record_pga_component"] = cfg["motion"].get("pga_component", "resultant")
+    return out
+
+
 def record_end_note(cfg: dict, exc) -> str | None:
     """The note of a record cut at its last sample before the scene's ``motion.t_end``, which
     falls between two samples (the run ends there: it read "past the excitation's end")."""
@@ -337,11 +350,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     s.update({"kind": "deck", "name": name, "motion": getattr(exc, "name", type(exc).__name__),
               "wall_s": wall, "compile_s": compile_s, "files": [str(npz)],
               "warnings": [str(w.message) for w in caught], "notes": list(notes)})  # fmt: skip
-    if hasattr(exc, "pga_resultant"):  # a record's scale (--pga: two runs read alike), as
-        s["pga_mps2"] = exc.pga_resultant  # the isolated frame's: of the window run
-        if "pga" in cfg["motion"]:  # (and the target the whole record was scaled to)
-            s["record_pga_mps2"] = float(cfg["motion"]["pga"])
-            s["record_pga_component"] = cfg["motion"].get("pga_component", "resultant")
+    s.update(record_scale(cfg, exc))
     say(f"deck: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
     return s
 
