@@ -54,6 +54,14 @@ def watched(run, reached, progress, t_end: float, every: float | None = None):
     return box["result"]
 
 
+def curve_count(k: int, n: int, walls: list, continuation: str) -> tuple[str, str]:
+    """(``"/150"``, the time left) of a curve's k-th point of ``n``; an arclength curve takes
+    its own steps, so ``(" (arclength)", "")``: its grid's total read "16/4", past its end."""
+    if continuation == "arclength":
+        return " (arclength)", ""
+    return f"/{n}", time_left(walls, n - k)
+
+
 def time_left(walls: list, remaining: int) -> str:
     """``", about 12 min left"``: the mean wall time of the points done in this run times the
     points still to do (a curve's estimate, shown from its first point on: a triple friction

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._progress import time_left
+from nsdyn._progress import curve_count
 from nsdyn.atomic import atomic_open, differing
 from nsdyn.models.scenefile import SceneError, number
 from nsdyn.studies.sweep import (
@@ -181,9 +181,7 @@ def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweep
             save(done)
         if not quiet:
             u = pt.quantities.get("u_peak_m", math.nan)
-            seq = settings.continuation != "arclength"  # (its own steps: "16/4" read past)
-            of = f"/{n}" if seq else " (arclength)"
-            left = time_left(walls, n - k) if seq else ""
+            of, left = curve_count(k, n, walls, settings.continuation)
             print(f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
                   f"it={pt.iterations:2d} |u|max={u:.4g} m "
                   f"({pt.quantities.get('wall_s', 0.0):.2f} s{left})", file=sys.stderr,

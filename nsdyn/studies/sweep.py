@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._progress import time_left
+from nsdyn._progress import curve_count
 from nsdyn.atomic import atomic_open, differing
 from nsdyn.models.scenefile import SceneError
 from nsdyn.studies.workers import process_pool
@@ -211,9 +211,7 @@ def amplitude_job(
             save(pts_done)
         if not quiet:
             q = pt.quantities
-            seq = settings.continuation != "arclength"
-            of = f"/{n}" if seq else " (arclength)"
-            left = time_left(walls, n - k) if seq else ""
+            of, left = curve_count(k, n, walls, settings.continuation)
             print(
                 f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
                 f"it={pt.iterations:2d} x_iso={q.get('x_iso', math.nan):.2e} "
