@@ -56,3 +56,26 @@ def test_an_interrupted_chart_leaves_no_earlier_chart_beside_the_new_tables(tmp_
             tmp_path, {"csv": ("t.csv", [{"a": 1.0}], None)}, ("figure", "chart.png", draw)
         )
     assert (tmp_path / "t.csv").is_file() and not (tmp_path / "chart.png").exists()
+
+
+def _assigned(module: str, name: str):
+    """The literal a module assigns to ``name`` at its top level (read from its file)."""
+    import ast
+
+    tree = ast.parse(Path(importlib.util.find_spec(module).origin).read_text())
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", "") == name for t in node.targets):
+            return ast.literal_eval(node.value)
+    return ()
+
+
+@pytest.mark.parametrize("name", list(BENCHMARKS))
+def test_a_benchmark_taking_figures_names_the_files_it_draws(name):
+    # --no-figures removes an earlier run's FIGURES (contact-wp.png sat beside new tables);
+    # each benchmark taking `figures` lists them, and each name is one its source writes
+    module = BENCHMARKS[name]
+    if "figures" not in _assigned(module, "OPTIONS"):
+        return
+    figures = _assigned(module, "FIGURES")
+    source = Path(importlib.util.find_spec(module).origin).read_text()
+    assert figures and all(f'"{f}"' in source for f in figures), name

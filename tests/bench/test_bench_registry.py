@@ -161,16 +161,3 @@ def test_no_figures_removes_the_benchmarks_earlier_figures(tmp_path, monkeypatch
     assert command.main(["fake", "--no-figures", "--out", str(out)]) == 0
     assert not (out / "fake.png").exists()
     assert "removed the earlier run's fake.png (--no-figures draws none)" in capsys.readouterr().err
-
-
-@pytest.mark.parametrize("name", list(registry.BENCHMARKS))
-def test_a_drawing_benchmark_names_the_figures_it_draws(name):
-    try:
-        module = registry.load_benchmark(name)
-    except registry.BenchmarkUnavailable as e:
-        pytest.skip(f"benchmark {name!r} unavailable here: {e}")
-    if "figures" not in getattr(module, "OPTIONS", ()):
-        return
-    source = inspect.getsource(module)
-    figures = getattr(module, "FIGURES", ())
-    assert figures and all(f'"{f}"' in source for f in figures), name
