@@ -310,8 +310,8 @@ def _run_rigid(sysd, exc, t_end, kw, out_dir: Path, say) -> dict:
     npz = out_dir / "building3d.npz"
     with atomic_open(npz, "wb") as fh:
         np.savez(fh, t=res.t, q=res.q, qd=res.qd, u=res.u, N=res.N, friction=res.friction,
-                 restoring=res.restoring, positions=deck.positions,
-                 origin=deck.info["origin"])  # fmt: skip
+                 restoring=res.restoring, other=res.other, positions=deck.positions,
+                 origin=deck.info["origin"], **res.element_slips())  # fmt: skip
     info = deck.info
     s.update({"mass_kg": info["m"], "polar_inertia_kgm2": info["J"],
               "centre_of_mass_m": [float(v) for v in info["centre"]],
@@ -365,7 +365,7 @@ def _run_pairs(sysd, exc, t_end, kw, out_dir: Path, say, dt=None) -> dict:
                  restoring=res.restoring, other=res.other, positions=system.positions,
                  origin=info["origin"], drift_cm=r.drifts.cm, drift_corner=r.drifts.corner,
                  corners=r.drifts.corners, floor_acc=r.floor_acc, base_shear=r.base_shear,
-                 torsion=r.torsion, f_hz=info["f_hz"])  # fmt: skip
+                 torsion=r.torsion, f_hz=info["f_hz"], **res.element_slips())  # fmt: skip
     shape = write_shape(out_dir, sysd["frame"], peak_field(system, r, exc, s, kw["eps"]))
     s.update({"reduction_s": sysd.get("build_s", float("nan")), "compile_s": compile_s,
               "files": [str(npz), str(shape)]})  # fmt: skip

@@ -346,7 +346,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         np.savez(fh, t=res.t, q=res.q, qd=res.qd, u=res.u, N=res.N, friction=res.friction,
                  restoring=res.restoring, other=res.other, modes=res.modes, events=res.events,
                  positions=system.positions, d_cap=caps,
-                 **{k.split("_iso_")[0]: v for k, v in res._element_slips().items()})  # fmt: skip
+                 **res.element_slips())  # fmt: skip
     s.update({"kind": "deck", "name": name, "motion": getattr(exc, "name", type(exc).__name__),
               "wall_s": wall, "compile_s": compile_s, "files": [str(npz)],
               "warnings": [str(w.message) for w in caught], "notes": list(notes)})  # fmt: skip

@@ -369,8 +369,13 @@ class PlaneResult(Tabular):
         }  # fmt: skip
 
     def _element_slips(self) -> dict:
-        """The series elements' slips of triple pendulums (nt, ni) per element and component,
-        NaN for single-surface isolators: ``s1x_iso_{}_m`` … ``s4y_iso_{}_m``."""
+        """The series elements' slips as :meth:`histories` names them: ``s1x_iso_{}_m`` …"""
+        return {f"{k}_iso_{{}}_m": a for k, a in self.element_slips().items()}
+
+    def element_slips(self) -> dict:
+        """The series elements' slips of triple pendulums [m] (nt, ni) per element and
+        component, NaN for single-surface isolators: ``s1x`` … ``s4y`` (empty without triple
+        pendulums)."""
         offs = getattr(self.system, "internal_offsets", lambda: [])()
         if self.internal is None or not any(o >= 0 for o in offs):
             return {}
@@ -381,7 +386,7 @@ class PlaneResult(Tabular):
                 for i, o in enumerate(offs):
                     if o >= 0:
                         a[:, i] = self.internal[:, o - 6 + 2 * k + c]
-                out[f"s{k + 1}{name}_iso_{{}}_m"] = a
+                out[f"s{k + 1}{name}"] = a
         return out
 
     def peak_resultant_displacement(self) -> np.ndarray:

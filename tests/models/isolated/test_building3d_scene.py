@@ -284,3 +284,34 @@ def test_a_frame_whose_floor_has_no_weight_is_noted(tmp_path):
     assert notes["bundled"] == []
     assert len(notes["light"]) == 1 and f"{100 * m_z / k['m']:.3g} %" in notes["light"][0]
     assert "frame3d.node_mass" in notes["light"][0]
+
+
+@pytest.mark.parametrize(
+    ("structure", "n_iso"), [({}, 12), ({"frame3d": "portal-3d", "fidelity": "full"}, 4)]
+)
+def test_triple_pendulum_slips_are_in_the_histories_file(structure, n_iso, tmp_path):
+    # On triple pendulums building3d.npz holds the elements' slips s1x … s4y (it held only
+    # their sum u), on the rigid rung and on the flexible ones. The series closes as in the
+    # deck's tables: with the elastic stage undamped (zeta_e = 0) u - Σ_k s_k = φ/κ_e, φ the
+    # bearing force per unit normal force (nsdyn.models.isolated.tfp), to round-off of the
+    # slips (1e-12 relative)
+    from nsdyn.models.isolated.tfp import TripleBearing
+
+    tfp = {"R1": 2.2, "R2": 0.3, "R3": 0.3, "R4": 2.2, "mu1": 0.06, "mu2": 0.02, "mu3": 0.02,
+           "mu4": 0.10, "d1": 0.40, "d2": 0.06, "d3": 0.06, "d4": 0.40, "zeta_e": 0.0}  # fmt: skip
+    cfg = _cfg(bearing={"type": "tfp", **tfp}, motion={"t_end": 2.0, "pga": 4.0},
+               solver={"law": "arctan"}, structure=structure)  # fmt: skip
+    del cfg["bearing"]["radius"], cfg["bearing"]["mu"]
+    if structure:
+        del cfg["structure"]["eccentricity"]
+    run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False, quiet=True)
+    k_e = TripleBearing(**tfp).k_elastic
+    with np.load(tmp_path / "building3d.npz") as d:
+        assert d["s1x"].shape == d["N"].shape == (d["t"].size, n_iso)
+        F = d["friction"] + d["restoring"] + d["other"]
+        for c, name in enumerate("xy"):
+            s = sum(d[f"s{k}{name}"] for k in range(1, 5))
+            assert np.abs(s).max() > 1e-3  # (the elements slide)
+            u = d["u"][..., c]
+            np.testing.assert_allclose(u - s, F[..., c] / d["N"] / k_e, rtol=0,
+                                       atol=1e-12 * (1 + np.abs(u).max()))  # fmt: skip
