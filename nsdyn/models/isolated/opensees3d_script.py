@@ -265,7 +265,7 @@ def run(t_end=None, out=None):
         # within one step: none, zero peaks and "Infinity")
         raise SystemExit(f"--t-end: expected a time after the record's start ({d['t0']:g} s), "
                          f"got {t_end}")
-    n_steps = int(round(duration / dt))
+    n_steps = int(math.floor(duration / dt * (1 + 1e-9)))  # (round() ran past t_end)
     base = [b + 1 for b in d["base_nodes"]]
     nb, fixed = len(base), d["fixed_base"]
     springs = [i for i, r in enumerate(d["bearings"]) if r["k_lam"] > 0.0 or r["c"] > 0.0]
@@ -350,8 +350,13 @@ if __name__ == "__main__":
     if a.t_end is not None and not a.t_end - DATA["t0"] >= DATA["dt"] * (1 - 1e-9):
         cli.error(f"--t-end: expected an end at least one step ({DATA['dt']:g} s) after the "
                   f"record's start ({DATA['t0']:g} s), got {a.t_end!r}")  # (exit 2)
-    if a.out is not None and (not a.out or os.path.exists(a.out) and not os.path.isdir(a.out)):
-        cli.error(f"--out: expected a directory, got {a.out!r}")
+    if a.out is not None:  # (a path under a file was os.makedirs' traceback)
+        try:
+            if not a.out or os.path.exists(a.out) and not os.path.isdir(a.out):
+                raise NotADirectoryError
+            os.makedirs(a.out, exist_ok=True)
+        except OSError:
+            cli.error(f"--out: expected a directory, got {a.out!r}")
     print(json.dumps(run(a.t_end, a.out)))
 '''
 )

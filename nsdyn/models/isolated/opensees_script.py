@@ -213,7 +213,7 @@ def run(t_end=None):
         # within one step: none, zero peaks and "Infinity")
         raise SystemExit(f"--t-end: expected a time after the record's start ({d['t0']:g} s), "
                          f"got {t_end}")
-    n_steps = int(round(duration / dt))
+    n_steps = int(math.floor(duration / dt * (1 + 1e-9)))  # (round() ran past t_end)
     base = [b + 1 for b in d["base_nodes"]]
     joints = [[j + 1 for j in row] for row in d["column_joints"]]
     heights = d["storey_heights"]

@@ -171,9 +171,12 @@ def test_scene_export_from_the_command_line(tmp_path):
         assert info["duration_s"] == pytest.approx(0.5)
     assert (tmp_path / "b_opensees.py").is_file() and (tmp_path / "b_opensees_fixed.py").is_file()
     # the script's own arguments: an end within the first step ran no step and printed zero
-    # peaks and "Infinity" (not JSON); an --out that is a file was os.makedirs' traceback
+    # peaks and "Infinity" (not JSON); an --out that is a file, or a path under one, was
+    # os.makedirs' traceback
+    out = "--out: expected a directory"
     for args, said in ((["--t-end", "0.001"], "--t-end: expected an end at least one step"),
-                       (["--out", "b_opensees.py"], "--out: expected a directory")):  # fmt: skip
+                       (["--out", "b_opensees.py"], out),
+                       (["--out", "b_opensees.py/sub"], out)):  # fmt: skip
         p = subprocess.run([sys.executable, "b_opensees.py", *args], capture_output=True,
                            text=True, check=False, cwd=tmp_path)  # fmt: skip
         assert p.returncode == 2 and said in p.stderr and p.stdout == ""

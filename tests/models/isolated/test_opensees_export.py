@@ -173,6 +173,12 @@ def test_script_runs_standalone(tmp_path):
     p = subprocess.run([sys.executable, str(path), "--t-end", "0.25"], capture_output=True,
                        text=True, timeout=120, cwd=tmp_path)  # fmt: skip
     assert json.loads([s for s in p.stdout.splitlines() if s.startswith("{")][-1])["n_steps"] == 50
+    # an end between two steps (50.7 of them) stops at the last step before it (round() ran
+    # the 51st, past the end asked for)
+    p = subprocess.run([sys.executable, str(path), "--t-end", "0.2535"], capture_output=True,
+                       text=True, timeout=120, cwd=tmp_path)  # fmt: skip
+    res = json.loads([s for s in p.stdout.splitlines() if s.startswith("{")][-1])
+    assert res["n_steps"] == 50 and res["duration_s"] <= 0.2535
     p = subprocess.run([sys.executable, str(path), "--bogus"], capture_output=True, text=True,
                        timeout=120, cwd=tmp_path)  # fmt: skip
     assert p.returncode == 2 and "unrecognized arguments: --bogus" in p.stderr
