@@ -201,6 +201,24 @@ def few_modes_note(asked: int, modes: Modes3D) -> str | None:
             f"{n} fixed-base modes are used")  # fmt: skip
 
 
+def _own_modes(modes, K) -> None:
+    """Refuse modes not of this frame: of another size (matmul's error before), or of one as
+    large whose stiffness they do not diagonalise, φᵀ K φ = diag ω² (mass-normalised modes,
+    consistent or lumped mass, to 1e-6 ω²_max: the eigensolvers' residuals are ~1e-12)."""
+    n = K.shape[0]
+    if not isinstance(modes, Modes3D) or modes.phi.shape[0] != n:
+        got = (f"modes of {modes.phi.shape[0]} dofs" if isinstance(modes, Modes3D)
+               else type(modes).__name__)  # fmt: skip
+        raise ValueError(f"modes: expected the frame's own modes (fixed_base_modes_3d(frame), "
+                         f"{n} dofs), got {got}")  # fmt: skip
+    w2 = (2 * np.pi * modes.f_hz) ** 2
+    G = modes.phi.T @ (K @ modes.phi)
+    if w2.size and not np.allclose(G, np.diag(w2), rtol=0, atol=1e-6 * w2.max()):
+        raise ValueError("modes: expected the frame's own modes (fixed_base_modes_3d(frame)), "
+                         "got modes of as many dofs that do not diagonalise its stiffness "
+                         "(phi^T K phi != diag(omega^2): another frame's?)")  # fmt: skip
+
+
 def fixed_response_3d(
     frame: Frame3D, motion, *, n_modes: int = 24, modes: Modes3D | None = None
 ) -> FixedResponse3D:
@@ -209,12 +227,8 @@ def fixed_response_3d(
     if modes is None:
         modes = fixed_base_modes_3d(frame, n_modes=n_modes)
     t0, dt, a = _components(motion)
-    _, M = frame.reduced()
-    if not isinstance(modes, Modes3D) or modes.phi.shape[0] != M.shape[0]:  # (matmul's error)
-        got = (f"modes of {modes.phi.shape[0]} dofs" if isinstance(modes, Modes3D)
-               else type(modes).__name__)  # fmt: skip
-        raise ValueError(f"modes: expected the frame's own modes (fixed_base_modes_3d(frame), "
-                         f"{M.shape[0]} dofs), got {got}")  # fmt: skip
+    K, M = frame.reduced()
+    _own_modes(modes, K)
     phi = modes.phi
     omega = 2 * np.pi * modes.f_hz
     nm = len(omega)

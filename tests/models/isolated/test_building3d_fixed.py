@@ -192,3 +192,11 @@ def test_modes_of_another_frame_are_refused():
                               _sec(160.0), floor_mass=3e5)  # fmt: skip
     with pytest.raises(ValueError, match=r"^modes: expected the frame's own modes"):
         fixed_response_3d(two, _record()[1], modes=fixed_base_modes_3d(one, n_modes=3))
+    # a frame of the same size with stiffer columns: its modes do not diagonalise this one's
+    # stiffness (they were taken by size alone); this frame's lumped-mass modes do, and run
+    stiff = regular_building_3d("stiff", [6.0], [5.0], [4.0, 3.5], _sec(240.0, 2e-3, 2e-3),
+                                _sec(160.0), _sec(160.0), floor_mass=3e5)  # fmt: skip
+    with pytest.raises(ValueError, match=r"^modes: .*do not diagonalise its stiffness"):
+        fixed_response_3d(two, _record()[1], modes=fixed_base_modes_3d(stiff, n_modes=3))
+    lumped = fixed_base_modes_3d(two, n_modes=3, lumped=True)
+    assert fixed_response_3d(two, _record()[1], modes=lumped).modes is lumped
