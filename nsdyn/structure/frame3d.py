@@ -408,7 +408,11 @@ class Frame3D:
         (``"yz"``). Members get the plane's normal as orientation vector, so the plane
         bending uses ``I_z = I``; out of the plane ``I_y = I_out`` (default ``I``), torsion
         ``J`` (default ``I + I_out``), ``G`` (default ``E / 2(1 + nu)``). Node masses act
-        in all three directions. See :data:`PLANAR_DOFS` for the dof correspondence.
+        in all three directions. See :data:`PLANAR_DOFS` for the dof correspondence. The
+        plane frame's damping ratios go to the modes in the plane as in the plane frame, the
+        k-th in-plane mode taking its k-th ratio, and alike to the modes out of it
+        (:func:`~nsdyn.structure.modes3d.plane_ratios`): in the 3D frequency order the soft
+        out-of-plane modes come first and would take the plane's first ratios.
         """
         if plane not in PLANAR_DOFS:
             raise ValueError(f"plane must be 'xz' or 'yz', got {plane!r}")
@@ -417,7 +421,7 @@ class Frame3D:
         nodes[:, 2] = frame.nodes[:, 1]
         normal = [0.0, 1.0, 0.0] if plane == "xz" else [1.0, 0.0, 0.0]
         I_out = frame.I if I_out is None else I_out
-        return cls(
+        out = cls(
             name=frame.name if isinstance(frame.name, str) and frame.name.strip() else "planar",
             nodes=nodes,
             elements=frame.elements,
@@ -434,6 +438,10 @@ class Frame3D:
             base_nodes=frame.base_nodes,
             zeta=frame.zeta,
         )
+        from nsdyn.structure.modes3d import plane_ratios
+
+        object.__setattr__(out, "zeta", plane_ratios(out, frame.zeta, plane))
+        return out
 
 
 def planar_dofs(n_nodes: int, plane: str = "xz") -> tuple[np.ndarray, np.ndarray]:

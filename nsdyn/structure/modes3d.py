@@ -217,3 +217,32 @@ def family_shares(frame: Frame3D, phi: np.ndarray) -> np.ndarray:
     E = np.stack([ex, ey, et, ez, eres], axis=1)
     tot = E.sum(axis=1, keepdims=True)
     return E / np.where(tot > 0, tot, 1.0)
+
+
+def plane_ratios(frame: Frame3D, zeta, plane: str) -> np.ndarray:
+    """Damping ratios, in the frequency order of ``frame``'s fixed-base modes, of a plane
+    frame's ratios ``zeta`` (its modes' in order) carried onto its 3D embedding ``frame``
+    (:meth:`Frame3D.from_planar`): the k-th mode moving in ``plane`` takes the plane frame's
+    k-th ratio, as the plane frame's k-th mode does, and so does the k-th mode moving out of
+    it; past the list, the last ratio (:func:`~nsdyn.structure.damping_ratios`). Taken in
+    frequency order as they stand, the out-of-plane modes below the in-plane ones would take
+    the plane's first ratios and shift the in-plane ones. A mode moves in the plane when its
+    kinetic energy φᵀMφ lies mostly on the in-plane dofs (wholly, bar a degenerate pair)."""
+    from nsdyn.structure.frame3d import planar_dofs
+
+    z = np.atleast_1d(np.asarray(zeta, float))
+    if np.all(z == z[-1]):  # (one ratio for every mode: no order to keep)
+        return z
+    idx, _ = planar_dofs(frame.n_nodes, plane)
+    _, M = frame.assemble()
+    n = 2 * z.size + 4
+    while True:
+        modes = fixed_base_modes_3d(frame, n_modes=n)
+        u = modes.full()
+        e = u * (M @ u)
+        inside = e[idx].sum(axis=0) > 0.5 * e.sum(axis=0)
+        if min(inside.sum(), (~inside).sum()) >= z.size or modes.f_hz.size < n:
+            break
+        n *= 2
+    k = np.where(inside, np.cumsum(inside), np.cumsum(~inside)) - 1
+    return z[np.minimum(k, z.size - 1)]

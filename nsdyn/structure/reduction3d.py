@@ -68,6 +68,7 @@ class CBModel3D:
     C = property(lambda self: self.cb.C)
     Gamma = property(lambda self: self.cb.Gamma)
     omega = property(lambda self: self.cb.omega)
+    zeta = property(lambda self: self.cb.zeta)
     f_hz = property(lambda self: self.cb.f_hz)
     n_b = property(lambda self: self.cb.n_b)
     n_modes = property(lambda self: self.cb.n_modes)
