@@ -50,7 +50,7 @@ ANALYSES = {
         "aggregate": "how a design's runs over records and draws combine: `mean` (default), "
         "`median` or `max`",
         "reference": "`{parameter = value}`: a design of the grid to compare with (which "
-        "feasible designs dominate it)",
+        "feasible designs dominate it), a value for each of the design's variables",
     },
     "percentiles": {
         "quantities": "the results tabulated",

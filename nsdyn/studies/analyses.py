@@ -5,7 +5,8 @@
                              IDR and floor acceleration), constraints {field = upper bound}
                              (default the 400 mm seismic gap on x_iso_max_m, seed 004 §5),
                              aggregate over records (mean | median | max), reference design
-                             {parameter = value} to compare with (e.g. the seed's eq (16)).
+                             {parameter = value} to compare with (e.g. the seed's eq (16)),
+                             a value for each variable.
 ``[analysis.percentiles]``   quantities, by (default: the grid parameters but motion.seed),
                              percentiles.
 ``[analysis.fragility]``     im (a parameter or result column, e.g. "motion.pga"), edp
@@ -169,7 +170,13 @@ def check_analysis(study) -> None:
                 f"{src}: analysis.design.aggregate: expected one of {list(AGGREGATES)}"
             )
         grids = {p.name: p.values for p in study.parameters if not p.random}
-        for k, v in d.get("reference", {}).items():
+        ref, variables = d.get("reference", {}), d.get("variables") or _grid_names(study)
+        lost, extra = [k for k in variables if k not in ref], [k for k in ref if k not in variables]
+        if ref and (lost or extra):  # (a partial one matched the first design that fit it)
+            raise SceneError(f"{src}: analysis.design.reference: expected a value for each "
+                             f"design variable {variables}, "
+                             + (f"missing {lost}" if lost else f"got {extra} besides"))  # fmt: skip
+        for k, v in ref.items():
             _check_column(src, "analysis.design.reference", k, study, result=False)
             vals = grids.get(k, ())
             if vals and not any(same_value(g, v) for g in vals):

@@ -500,6 +500,33 @@ def test_a_design_reference_off_the_grid_is_refused(tmp_path, one_line):
     one_line("analysis.design.reference.isolation.mu: 0.03 is not a value")
 
 
+@pytest.mark.parametrize(
+    ("reference", "said"),
+    [
+        ('{ "isolation.mu" = 0.02 }', "missing ['isolation.c']"),
+        (
+            '{ "isolation.mu" = 0.02, "isolation.c" = 5e3, "isolation.k_lam" = 5e4 }',
+            "got ['isolation.k_lam'] besides",
+        ),
+    ],
+)
+def test_a_design_reference_gives_every_variable(reference, said, tmp_path, one_line):
+    # a reference without isolation.c matched the first design with mu = 0.02, whatever its
+    # c, and was reported as "the reference" (a key beyond the variables matched none)
+    study = tmp_path / "s.toml"
+    study.write_text(
+        '[study]\nname = "s"\n[parameters]\n"isolation.mu" = [0.02, 0.05]\n'
+        '"isolation.c" = [5e3, 1e4]\n[records]\nnames = ["synthetic-wn-40s"]\n'
+        f'[analysis.design]\nobjectives = ["idr_max"]\nreference = {reference}\n'
+    )
+    assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 2
+    one_line(
+        "analysis.design.reference: expected a value for each design variable "
+        "['isolation.mu', 'isolation.c']",
+        said,
+    )
+
+
 def test_a_deck_that_lifts_off_ends_with_status_3_and_a_zero_normal_force(tmp_path, capsys):
     """The run ends at the uplift (normal force zero there): its files are written, the
     status is that of a run outside the model's domain, and the summary's minimum is 0."""
