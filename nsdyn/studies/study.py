@@ -81,6 +81,7 @@ STUDY_FIELDS = {"name": str, "scene": str, "keep": list, "samples": int, "seed":
 RECORD_FIELDS = ("names", "folder", "glob", "set", "simulated", "pairs")
 PAIR_FIELDS = ("name", "x", "y", "z")
 SIMULATED_FIELDS = {"n": int, "seed": int, "duration": float, "dt": float, "generator": str}
+RECORD_DIGITS = 3  # a simulated record's name: mo-000 … mo-999 (more digits past 1000)
 RECORD_SETS = ("kobe", "bundled")
 # dotted scene fields a parameter may vary for scene kinds whose schema the study cannot see
 CONTRACT_FIELDS = ("motion.record", "motion.pga", "motion.t_end", "solver.method")
@@ -303,7 +304,9 @@ def _simulated(source: str, sim, kind: str = "") -> list[RecordSpec]:
         key, _, text = str(e).partition(": ")
         raise _err(source, f"records.simulated.{key}", text) from None
     seeds = np.random.SeedSequence(spec["seed"]).generate_state(spec["n"])
-    width = len(str(max(spec["n"] - 1, 0)))
+    # names (and so task keys) that stay as n grows: three digits at least (the width of n
+    # made a study grown from 40 to 200 records rename, and rerun, its first 40)
+    width = max(RECORD_DIGITS, len(str(spec["n"] - 1)))
     return [
         RecordSpec(f"{gen[:2]}-{i:0{width}d}", simulated={**base, "seed": int(s)})
         for i, s in enumerate(seeds)

@@ -61,6 +61,16 @@ def test_expansion_counts_orders_and_keys(tmp_path):
     assert {t.key for t in expand(other)}.isdisjoint({t.key for t in tasks})
 
 
+def test_more_simulated_records_keep_the_first_ones_tasks(tmp_path):
+    # "editing the grid reruns exactly the tasks it changes": records named by the width of
+    # n (mo-05 of 40, mo-005 of 200) renamed the first 40 and reran all of them
+    text = GOOD.replace('names = ["synthetic-wn-40s"]\n', "")
+    few = expand(load_study(_write(tmp_path, text.replace("n = 2,", "n = 12,"), "a.toml")))
+    more = expand(load_study(_write(tmp_path, text.replace("n = 2,", "n = 120,"), "b.toml")))
+    assert len({t.record_name for t in few}) == 12 and len({t.record_name for t in more}) == 120
+    assert {t.key for t in few} < {t.key for t in more}
+
+
 def test_an_integer_field_takes_a_linspace_of_whole_numbers_as_integers(tmp_path):
     # solver.max_steps is an integer key of the isolated scene (its schema): a linspace of
     # whole numbers reaches the scene and the results table as ints, 1000 not 1000.0
