@@ -31,6 +31,7 @@ _API = {
     "Table": "nsdyn.ground",
     "GroundMotion": "nsdyn.ground",
     "RecordFileError": "nsdyn.ground",
+    "UnitError": "nsdyn.ground.motion",
     "UnitWarning": "nsdyn.ground",
     "bundled_records": "nsdyn.ground",
     "kanai_tajimi": "nsdyn.ground",
@@ -102,6 +103,9 @@ _API = {
     "UpliftError": "nsdyn.solve.integrate",
     "UpliftWarning": "nsdyn.solve.integrate",
     "InputWarning": "nsdyn._checks",  # (filter them: warnings.simplefilter("error", ...))
+    "NumericalFailure": "nsdyn._checks",  # (every numerical stop's base class: exit status 3)
+    "PlaneIntegrationError": "nsdyn.models.isolated.plane_result",
+    "CheckpointError": "nsdyn.atomic",
     "NotedWarning": "nsdyn._checks",
     "CONTACTS": "nsdyn.models.isolated.system",
     "Solution": "nsdyn.solve.integrate",
