@@ -250,7 +250,8 @@ def fail(args: argparse.Namespace, message, status: int = EXIT_USER_ERROR,
 PGA_HELP = (
     "scale the record to this PGA [m/s²], every component by one factor: a planar model's "
     "horizontal component; a deck's or building's [motion] pga_component (default the "
-    "resultant); the cylinder's larger horizontal peak"
+    "resultant); the cylinder's larger horizontal peak. Without it a record runs as "
+    "recorded (the default scene's record at 3 m/s²)"
 )
 
 

@@ -355,6 +355,8 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict,
 
         cfg = load_scene(scene_path, base_over)
         cfg.pop("_source", None)
+        if records and "pga" not in merged.get("motion", {}):  # (as `nsdyn run --record`: the
+            cfg.get("motion", {}).pop("pga", None)  # records run as recorded, or at motion.pga)
         try:
             isolation_from_config(cfg.get("isolation", {}), source)
         except ValueError as e:
@@ -383,7 +385,8 @@ def load_study(path: str | Path) -> Study:
     params = [whole_numbers(source, parse_parameter(source, k, v, known), whole)
               for k, v in params_raw.items()]  # fmt: skip
     records = _parse_records(source, study_dir, raw.get("records", {}), kind, base)
-    if records and record_replaces(kind):  # the scene file's closed-form motion gives way
+    if records and (record_replaces(kind) or kind == "isolated"):  # the scene file's
+        # closed-form motion gives way (an isolated scene's default pga: to records as recorded)
         kind, base = _base_scene(source, study_dir, st, raw.get("base", {}), records=True)
     if records and "motion.record" in params_raw:
         raise _err(source, "parameters.motion.record", "give records in [records], not both")

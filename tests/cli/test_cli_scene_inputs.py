@@ -185,3 +185,28 @@ def test_an_error_inside_a_scenes_frame_file_names_that_file(tmp_path, capsys):
     err = capsys.readouterr().err
     assert rc == 2 and "bad.toml: frame.elements[3]: joins nodes 4 and 3" in err
     assert "scene.frame" not in err
+
+
+@pytest.mark.parametrize("how", ["scene", "flag"])
+def test_a_record_named_without_a_pga_runs_as_recorded(how, tmp_path, capsys):
+    # the default scene's pga = 3 m/s² (its own record's) scaled every record named without
+    # one: a 0.5 m/s² sine ran six times stronger, and a record in g read as m/s² was hidden.
+    # Named without a pga, the record's PGA is the run's (the sine's amplitude, exactly);
+    # given, it is scaled to it
+    t = [0.01 * k for k in range(301)]
+    rec = tmp_path / "small.txt"
+    rec.write_text("time [s], acc [m/s2]\n"
+                   + "".join(f"{x:.2f}, {0.5 * math.sin(2 * math.pi * 1.5 * x + 0.3):.17g}\n"
+                             for x in t))  # fmt: skip
+    a_max = max(abs(0.5 * math.sin(2 * math.pi * 1.5 * x + 0.3)) for x in t[:201])  # (0-2 s)
+    if how == "scene":
+        argv = ["run", str(_scene(tmp_path, f'[motion]\nrecord = "{rec}"\n'))]
+    else:
+        argv = ["run", "--record", str(rec)]
+    base = [*argv, "--no-figures", "--json", "--t-end", "2"]
+    assert main([*base, "--out", str(tmp_path / "a")]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["pga_mps2"] == pytest.approx(a_max, rel=1e-15) and "record_pga_mps2" not in s
+    assert main([*base, "--pga", "2", "--out", str(tmp_path / "b")]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["record_pga_mps2"] == 2.0

@@ -71,6 +71,18 @@ def test_more_simulated_records_keep_the_first_ones_tasks(tmp_path):
     assert {t.key for t in few} < {t.key for t in more}
 
 
+def test_records_without_a_pga_run_as_recorded(tmp_path):
+    # as `nsdyn run --record`: the default scene's pga (3 m/s², its own record's) does not
+    # scale a study's records; [base.motion] pga or a motion.pga parameter does
+    text = GOOD.replace('"motion.pga" = { uniform = [1.0, 4.0] }\n', "").replace(
+        "samples = 3\n", ""
+    )
+    tasks = expand(load_study(_write(tmp_path, text)))
+    assert tasks and all("pga" not in t.cfg["motion"] for t in tasks)
+    text = text.replace("t_end = 2.0\n", "t_end = 2.0\npga = 2.5\n")
+    assert all(t.cfg["motion"]["pga"] == 2.5 for t in expand(load_study(_write(tmp_path, text))))
+
+
 def test_an_integer_field_takes_a_linspace_of_whole_numbers_as_integers(tmp_path):
     # solver.max_steps is an integer key of the isolated scene (its schema): a linspace of
     # whole numbers reaches the scene and the results table as ints, 1000 not 1000.0

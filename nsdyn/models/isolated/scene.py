@@ -21,7 +21,8 @@ Example (every table and field is optional; missing ones take the defaults below
 
     [motion]
     record = "synthetic-wn-40s"  # bundled record name or path
-    pga = 3.0                  # scale the horizontal PGA to this [m/s^2] (optional)
+    pga = 3.0                  # scale the horizontal PGA to this [m/s^2] (optional: a
+                               # record named without it runs as recorded)
     vertical = true            # use the vertical component when the record has one
     t_end = 40.0               # stop here [s] (optional)
 
@@ -231,6 +232,10 @@ def load_scene(path: str | Path | None = None, overrides: dict | None = None) ->
                 cfg.get(table, {}).pop("n_periods", None)
         _check({t: {**cfg.get(t, {}), **v} for t, v in overrides.items()}, "command line")
         cfg = merge(cfg, overrides)
+    given = {**(user.get("motion", {}) if path is not None else {}),
+             **(overrides or {}).get("motion", {})}  # fmt: skip
+    if "record" in given and "pga" not in given:  # (the default's 3 m/s² is its own record's:
+        cfg.get("motion", {}).pop("pga", None)  # a record named without one runs as recorded)
     cfg["_source"] = source
     return cfg
 

@@ -195,7 +195,8 @@ MOTION_RECORD = Table(
         Key(
             "pga",
             "number",
-            "scale the horizontal PGA to this (the vertical by the same factor)",
+            "scale the horizontal PGA to this (the vertical by the same factor); the default "
+            "scene's 3.0 goes with its record: a record named without a pga runs as recorded",
             "m/s²",
             default=3.0,
             **_POS,
