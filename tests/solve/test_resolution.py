@@ -4,7 +4,9 @@ The default scene under generalized-α at 5 ms reads 22 m/s² at its isolation l
 t = 2.56 s, where an isolator's slip velocity is inside the law's turn; the resolved run
 (Radau, error-controlled slip velocity) peaks at 2.5 m/s² there. Checked against that
 reference: what the note names is false by more than the note's own ratio, and a step that
-resolves the turn (1.25 ms) is not named and is within that ratio of it.
+resolves the turn (1.25 ms) is not named and is within that ratio of it. The explicit
+adaptive method (dopri5) at its default tolerance reads 7.7 m/s² there near 3.5 s: named
+alike, and not at a tolerance that resolves it.
 """
 
 import json
@@ -44,6 +46,21 @@ def test_a_step_that_resolves_the_turn_is_not_named(scene):
 def test_an_adaptive_run_is_not_checked(scene):
     system, motion, _ = scene
     assert simulate(system, motion, method="radau", **RUN).notes == []
+
+
+def test_an_explicit_runs_false_peak_is_named_and_a_resolved_one_is_not(scene):
+    # dopri5 at its default tolerance, its steps at their stability limit, reads 7.8 m/s² at
+    # the isolation level near t = 3.5 s (slipping at 0.19 m/s, outside the turn) where the
+    # resolved run peaks at 2.5: named, at any output; at rtol 1e-7 it is resolved, not named
+    system, motion, _ = scene
+    run = dict(RUN, t_end=5.0)
+    ref = simulate(system, motion, method="radau", **run).response.floor_acc_by_level
+    r = simulate(system, motion, method="dopri5", **run)
+    (note,) = r.notes
+    assert "explicit steps of 'dopri5'" in note and "level 0 " in note
+    assert r.response.floor_acc_by_level[0] > RATIO * ref[0]  # what it names is false
+    r = simulate(system, motion, method="dopri5", rtol=1e-7, atol=1e-10, **run)
+    assert r.notes == [] and r.response.floor_acc_by_level[0] < RATIO * ref[0]
 
 
 def test_nsdyn_run_prints_the_note(tmp_path, capsys):
