@@ -29,6 +29,7 @@ from __future__ import annotations
 import contextlib
 import numbers
 import os
+import warnings
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -212,9 +213,11 @@ class IsolatedSystem:
             f = -self.M @ self.Gamma[:, 1] * g
             Q = self.Q
             Kz = Q.T @ self.K @ Q
-            try:
-                z = sla.solve(Kz, Q.T @ f, assume_a="sym")
-            except (sla.LinAlgError, ValueError):
+            try:  # (k_lam = 0 leaves the base free sideways: singular, the load consistent)
+                with warnings.catch_warnings():
+                    warnings.simplefilter("error", sla.LinAlgWarning)
+                    z = sla.solve(Kz, Q.T @ f, assume_a="sym")
+            except (sla.LinAlgError, sla.LinAlgWarning, ValueError):
                 z = np.linalg.lstsq(Kz, Q.T @ f, rcond=None)[0]
             q = Q @ z
             if self.n_contacts:
