@@ -66,12 +66,13 @@ def summary_rows(s: dict) -> list[str]:
     """The printed rows of a run's summary ``s`` (label, value): the metrics the model
     defines. A run with unilateral contacts models lift-off, so it has no uplift row (that
     row reports the no-uplift model's violations); its lift-off rows say what happened."""
+    base = "iso" if "x_iso_max_m" in s else "base"  # (a fixed base: no isolators)
     rows = [  # (label, key, format): metrics the model does not define are absent
         ("duration / output step", "t_end_s", lambda v: duration_text(s, v)),
         ("peak isolator displacement x_iso", "x_iso_max_m", lambda v: f"{v:.4f} m"),
         ("peak interstorey drift ratio", "idr_max", lambda v: f"{v:.3e}"),
         ("peak absolute floor acceleration", "floor_acc_max_mps2", lambda v: f"{v:.3f} m/s²"),
-        ("peak roof drift x_top - x_iso", "roof_drift_max_m", lambda v: f"{v:.4f} m"),
+        (f"peak roof drift x_top - x_{base}", "roof_drift_max_m", lambda v: f"{v:.4f} m"),
         ("minimum normal force", "min_normal_force_N", lambda v: f"{v + 0.0:.4g} N"),  # no "-0"
         ("share of time all isolators stick", "stick_fraction", lambda v: f"{v:.2f}"),
         ("energy balance closure error", "energy_closure", _closure_cell),
@@ -86,8 +87,6 @@ def summary_rows(s: dict) -> list[str]:
         ("energy lost at landings", "impact_energy_J", lambda v: f"{abs(v):.4g} J"),
     ]
     skip = {"uplift"} if s.get("contact") == "unilateral" else set()
-    if s.get("fidelity") == "fixed":  # no isolators: "x_iso 0.0000 m", "sticks 1.00" read as
-        skip |= {"x_iso_max_m", "stick_fraction", "uplift", "contact"}  # results (the JSON's)
     return [f"  {label:36s} {fmt(s[key])}" for label, key, fmt in rows
             if key not in skip and s.get(key) is not None]  # fmt: skip
 

@@ -140,7 +140,9 @@ class TransientResult(Tabular):
 
     def summary(self) -> dict:
         out = self.response.summary()
-        out.update(self.contact_summary())
+        if self.system.n_isolators:  # (a fixed base: no contact, no uplift to speak of)
+            out.update(self.contact_summary())
+        lifts = [{"t_s": float(t), "contact": int(k)} for t, k in self.uplift]
         out.update(
             {
                 "model": self.system.name,
@@ -154,7 +156,7 @@ class TransientResult(Tabular):
                 "law": self.law,
                 "success": not self.failure,
                 **({"failure": self.failure} if self.failure else {}),
-                "uplift": [{"t_s": float(t), "contact": int(k)} for t, k in self.uplift],
+                **({"uplift": lifts} if self.system.n_isolators else {}),
                 "n_steps": int(self.n_steps),
                 "wall_s": float(self.wall_s),
                 "compile_s": float(self.compile_s),

@@ -681,13 +681,20 @@ def test_a_run_holds_its_folder_while_it_writes_its_results(tmp_path, monkeypatc
     assert seen == [tmp_path / "run.png"] and not (tmp_path / ".nsdyn.lock").exists()
 
 
-def test_a_fixed_base_run_prints_no_isolator_rows(tmp_path, capsys):
+def test_a_fixed_base_run_reports_no_isolator_keys(tmp_path, capsys):
     # it read "peak isolator displacement x_iso 0.0000 m" and "share of time all isolators
-    # stick 1.00" of a model without isolators (the summary keeps its keys: 0 m is true, and
-    # a study or script comparing rungs reads them)
-    assert main(["run", "--fixed-base", "--t-end", "1", "--no-figures", "--out",
-                 str(tmp_path)]) == 0  # fmt: skip
+    # stick 1.00" of a model without isolators, and its JSON held x_iso_max_m = 0,
+    # stick_fraction = 1, a contact assumption and an uplift list; a key the model cannot
+    # define is absent (as the 3D building's fixed rung has none), and its roof drift is
+    # relative to the base
+    argv = ["run", "--fixed-base", "--t-end", "1", "--no-figures", "--out", str(tmp_path)]
+    assert main(argv) == 0
     out = capsys.readouterr().out
-    assert "peak interstorey drift ratio" in out
+    assert "peak interstorey drift ratio" in out and "peak roof drift x_top - x_base" in out
     for row in ("peak isolator displacement", "isolators stick", "contact assumption"):
         assert row not in out
+    assert main([*argv, "--json"]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["idr_max"] > 0 and s["roof_drift_max_m"] > 0
+    for key in ("x_iso_max_m", "stick_fraction", "min_normal_force_N", "contact", "uplift"):
+        assert key not in s

@@ -101,8 +101,10 @@ class Response:
 
     def summary(self) -> dict:
         """Peak metrics; those the model cannot define (drift ratios without storey heights,
-        floor quantities without levels, normal forces without contacts) are absent."""
-        out = {"x_iso_max_m": self.x_iso_max}
+        floor quantities without levels, normal forces without contacts, the isolators' slip
+        and stick share without isolators: a fixed base) are absent."""
+        iso = self.modes.shape[-1] > 0
+        out = {"x_iso_max_m": self.x_iso_max} if iso else {}
         if self.idr_by_storey.size:
             out["idr_max"] = self.idr_max
             out["idr_by_storey"] = self.idr_by_storey.tolist()
@@ -115,7 +117,8 @@ class Response:
             out["roof_drift_max_m"] = self.roof_drift_max
         if self.lam.shape[-1]:
             out["min_normal_force_N"] = self.min_normal_force
-        out["stick_fraction"] = self.stick_fraction
+        if iso:
+            out["stick_fraction"] = self.stick_fraction
         out["energy_closure"] = self.energy.get("closure", float("nan"))
         return out
 
