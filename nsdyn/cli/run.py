@@ -28,6 +28,7 @@ from nsdyn.cli.run_checks import (
     scene_notes,
 )
 from nsdyn.cli.run_resume import open_checkpoint, run_identity
+from nsdyn.models.scenefile import SceneError
 
 DEFAULT_OUT = "nsdyn-out"  # output directory
 FINISHED: list = []  # histories written by a run of this process (what an interrupt says)
@@ -152,14 +153,14 @@ def _scene_overrides(args: argparse.Namespace) -> dict:
         o.setdefault("scene", {})["frame"] = args.frame
     if args.fidelity and args.fidelity != "auto":
         o.setdefault("scene", {})["fidelity"] = args.fidelity
-    if args.fixed_base:
-        from nsdyn.models.scenefile import SceneError
-
-        clash = [f for f, v in (("--fidelity", args.fidelity), ("--friction", args.friction),
+    if args.fixed_base or args.fidelity == "fixed":
+        clash = [f for f, v in (("--fidelity", args.fixed_base and args.fidelity),
+                                ("--friction", args.friction),
                                 ("--compare-fixed", args.compare_fixed)) if v]  # fmt: skip
         if clash:
-            raise SceneError(f"--fixed-base: the clamped linear frame has no isolators; "
-                             f"{', '.join(clash)} cannot apply to it")  # fmt: skip
+            raise SceneError(f"{'--fixed-base' if args.fixed_base else '--fidelity fixed'}: the "
+                             f"clamped linear frame has no isolators; {', '.join(clash)} cannot "
+                             "apply to it")  # fmt: skip
         o.setdefault("scene", {})["fidelity"] = "fixed"
     if args.fmax:
         o.setdefault("scene", {})["f_max"] = args.fmax
@@ -201,8 +202,6 @@ _ISOLATED_ONLY = (
 def _check_ladder_flags(args: argparse.Namespace, raw: dict) -> None:
     """--fixed-base, --fidelity and --fmax choose among a frame's models; a scene that gives
     its ``[structure]`` directly has no such ladder (a SceneError naming the flags)."""
-    from nsdyn.models.scenefile import SceneError
-
     flags = [
         flag
         for flag, given in (
@@ -240,7 +239,7 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     """``nsdyn run`` on a scene of another model family (``[scene] kind``)."""
     import importlib
 
-    from nsdyn.models.scenefile import SceneError, scene_module
+    from nsdyn.models.scenefile import scene_module
 
     if args.friction and kind in ("deck", "building3d"):  # their [solver] law
         if args.friction == "none":
@@ -260,9 +259,10 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     for table, vals in _scene_overrides(args).items():
         for k, v in vals.items():  # the file stays checked where an option replaces its value
             old = cfg.get(table, {}).get(k)
-            if isinstance(v, float) and old is not None and (
-                    isinstance(old, bool) or not isinstance(old, int | float)):  # fmt: skip
-                raise SceneError(f"{args.scene}: {table}.{k}: expected a number, got {old!r}")
+            if isinstance(v, int | float) and old is not None and (isinstance(old, bool) or
+                    not isinstance(old, int | float) or not 0 < old < float("inf")):  # fmt: skip
+                raise SceneError(f"{args.scene}: {table}.{k}: expected a positive number, got "
+                                 f"{old!r}")  # fmt: skip
         cfg.setdefault(table, {}).update(vals)
     _t_end_wins(args, cfg)
     said: list = []  # (files an earlier command left there: a note, said below)

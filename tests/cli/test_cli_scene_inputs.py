@@ -210,3 +210,23 @@ def test_a_record_named_without_a_pga_runs_as_recorded(how, tmp_path, capsys):
     assert main([*base, "--pga", "2", "--out", str(tmp_path / "b")]) == 0
     s = json.loads(capsys.readouterr().out)
     assert s["record_pga_mps2"] == 2.0
+
+
+def test_a_scene_value_an_option_replaces_is_still_checked(tmp_path, one_line):
+    # a deck scene's t_end = -1 ran when --t-end was given (the isolated frame's is refused
+    # either way); the file is wrong whatever the command line says
+    text = (
+        (SCENES / "deck-fps4-3c.toml").read_text().replace("[motion]\n", "[motion]\nt_end = -1.0\n")
+    )
+    scene = _scene(tmp_path, text)
+    assert (
+        main(["run", str(scene), "--t-end", "1", "--no-figures", "--out", str(tmp_path / "o")]) == 2
+    )
+    one_line(f"{scene}: motion.t_end", "expected a positive number, got -1.0")
+
+
+def test_the_fixed_base_by_either_flag_takes_no_comparison(tmp_path, one_line):
+    # --fixed-base --compare-fixed was refused, --fidelity fixed --compare-fixed ran the same
+    # model with a note
+    assert main(["run", "--fidelity", "fixed", "--compare-fixed", "--out", str(tmp_path)]) == 2
+    one_line("--fidelity fixed: the clamped linear frame has no isolators; --compare-fixed")
