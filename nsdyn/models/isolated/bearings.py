@@ -250,6 +250,18 @@ def high_friction_note(field: str, mu: float) -> str | None:
             "0.01-0.2); a percentage given as a number?")  # fmt: skip
 
 
+def stick_range_error(b) -> str | None:
+    """The refusal of a pendulum ``b`` whose rim lies within its stick range, d_cap <= mu_s R
+    (it may rest on its rim), naming a coefficient above 1 as the likely cause; else None."""
+    need = b.friction.static * b.radius
+    if not (math.isfinite(b.d_cap) and math.isfinite(b.radius) and b.d_cap <= need):
+        return None
+    hint = high_friction_note("mu_s", b.friction.static)  # (mu = 4: the note came too late)
+    return (f"{b.where}.d_cap: {b.d_cap:g} m is not above the pendulum's stick range mu_s R = "
+            f"{need:g} m (it may rest on its rim); expected d_cap > mu_s R"
+            + (f" ({hint})" if hint else ""))  # fmt: skip
+
+
 U_OVER_R_SMALL = 0.25  # a pendulum slip beyond this x R: its linear law N u/R errs > 3 %
 
 

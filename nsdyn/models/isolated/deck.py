@@ -53,6 +53,7 @@ from nsdyn.models.isolated.bearings import (
     Bearing,
     BearingError,
     bearing_warnings,
+    stick_range_error,
 )
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
 from nsdyn.models.isolated.plane_ground import orbit_of, pack_ground  # noqa: F401 (their home)
@@ -151,12 +152,9 @@ class PlaneSystem:
         for b in self.bearings:
             if isinstance(b, TripleBearing):  # (its surfaces' capacities checked by itself)
                 continue
-            need = b.friction.static * b.radius
-            if math.isfinite(b.d_cap) and math.isfinite(b.radius) and b.d_cap <= need:
-                raise BearingError(
-                    f"{b.where}.d_cap: {b.d_cap:g} m is not above the pendulum's stick range "
-                    f"mu_s R = {need:g} m (it may rest on its rim); expected d_cap > mu_s R"
-                )
+            said = stick_range_error(b)
+            if said:
+                raise BearingError(said)
 
     @property
     def n_isolators(self) -> int:

@@ -51,7 +51,7 @@ from nsdyn.models.isolated import _kpairsradau as kqa
 from nsdyn.models.isolated import _kpairsrun as kqr
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import pairs_compile
-from nsdyn.models.isolated.bearings import B_IOFF, N_BCOL, Bearing, BearingError
+from nsdyn.models.isolated.bearings import B_IOFF, N_BCOL, Bearing, BearingError, stick_range_error
 from nsdyn.models.isolated.deck import (
     PLANE_LAWS,
     _check_run_options,
@@ -301,12 +301,9 @@ class PairSystem:
         for b in self.bearings:
             if isinstance(b, TripleBearing):  # (its surfaces' capacities checked by itself)
                 continue
-            need = b.friction.static * b.radius
-            if math.isfinite(b.d_cap) and math.isfinite(b.radius) and b.d_cap <= need:
-                raise PairSystemError(
-                    f"{b.where}.d_cap: {b.d_cap:g} m is not above the pendulum's stick range "
-                    f"mu_s R = {need:g} m (it may rest on its rim); expected d_cap > mu_s R"
-                )
+            said = stick_range_error(b)
+            if said:
+                raise PairSystemError(said)
         self.info[key] = (q0, lam)
         return q0.copy(), lam.copy()
 

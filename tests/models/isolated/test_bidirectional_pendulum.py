@@ -146,6 +146,10 @@ def test_capacity_below_the_pendulums_stick_range_is_refused():
     # range would leave the bearing resting on its rim
     with pytest.raises(BearingError, match=r"bearing.d_cap: .*mu_s R"):
         sdof_plane(1000.0, Bearing(Friction(0.05), radius=2.0, d_cap=0.08))
+    # a coefficient given as a percentage (4 for 4 %) ends here first: the refusal says so
+    with pytest.raises(BearingError, match=r"mu_s R = 8 m .*mu_s = 4: a friction coefficient "
+                       r"above 1 .*a percentage given as a number\?\)$"):  # fmt: skip
+        sdof_plane(1000.0, Bearing(Friction(4.0), radius=2.0, d_cap=0.35))
     with pytest.raises(BearingError, match=r"bearing.d_cap: expected a positive number"):
         Bearing(Friction(0.05), radius=2.0, d_cap=0.0)
 
