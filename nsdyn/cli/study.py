@@ -71,7 +71,7 @@ def _format(name: str, run: dict, an: dict) -> str:
     if run.get("n_outside"):
         from nsdyn.studies.table import OUTSIDE
 
-        lines.append(f"kept: {run['n_outside']} finished rows of tasks not in this study "
+        lines.append(f"kept: {run['n_outside']} rows (failed ones too) of tasks not in this study "
                      f"(other parameter values or settings), in {OUTSIDE} (a study asking for "
                      "them again reuses them; --fresh forgets them)")  # fmt: skip
     d = an.get("design")

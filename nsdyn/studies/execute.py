@@ -57,7 +57,7 @@ class StudyRun:
     workers: int
     batch: int
     out_dir: Path
-    n_outside: int = 0  # finished rows of tasks outside the grid, kept in table.OUTSIDE
+    n_outside: int = 0  # rows of tasks outside the grid (failed too), kept in table.OUTSIDE
 
     def to_dataframe(self):
         """The study's table as a pandas DataFrame (:meth:`Table.to_dataframe`)."""

@@ -33,7 +33,7 @@ from nsdyn._checks import did_you_mean
 from nsdyn.atomic import atomic_open
 
 RESULTS = "results.csv"
-# the finished rows of tasks outside the current grid (it was narrowed, or a base field
+# the rows (failed ones too) of tasks outside the current grid (it was narrowed, or a base field
 # changed): kept beside the table, so that a study that widens its grid again reuses them
 OUTSIDE = "outside-grid.csv"
 # what a study's analyses (and --parquet) write beside the table: a fresh start removes them,
@@ -264,7 +264,7 @@ class ResultsStore:
         self.parts = self.out / PARTS
         self.param_names = list(param_names or [])
         self._n_written = 0
-        self.n_outside = 0  # finished rows kept outside the grid by the last compact
+        self.n_outside = 0  # rows (failed ones too) kept outside the grid by the last compact
 
     def _part_files(self) -> list[Path]:
         if not self.parts.is_dir():
@@ -304,12 +304,13 @@ class ResultsStore:
         """Merge everything into ``results.csv`` in task order and remove the parts.
 
         ``order``: key -> task index of the current study; rows of other keys (a grid was
-        narrowed) move to ``OUTSIDE`` (its finished ones: a wider grid reuses them) and every
-        kept row takes its current index.
+        narrowed) move to ``OUTSIDE`` (failed ones too: a wider grid reuses them as a resume
+        does, a failed task rerun only by --retry-failed) and every kept row takes its current
+        index.
         """
         merged = self.read()
         if order is not None:
-            outside = [r for k, r in merged.items() if k not in order and r.get("status") == "ok"]
+            outside = [r for k, r in merged.items() if k not in order]
             if outside:
                 Table(outside, self.param_names).write_csv(self.out / OUTSIDE)
             else:

@@ -140,6 +140,20 @@ def test_a_run_on_another_grid_first_narrows_the_table_and_drops_the_old_analyse
     assert not store.regrid({"a": 0, "c": 1})  # rows kept outside are not another grid's
 
 
+def test_a_narrowed_grid_keeps_its_failed_rows_outside_too(tmp_path):
+    # they were dropped without a word, and a grid widened again reran them without
+    # --retry-failed (a resume does not); kept, a wider grid takes them back as they were
+    store = ResultsStore(tmp_path, ["p"])
+    status = {"a": "ok", "b": "ok", "f": "failed"}
+    rows = [{"index": i, "key": k, "record": "r", "p": float(i), "status": st, "error": "",
+             "task_s": 0.1} for i, (k, st) in enumerate(status.items())]  # fmt: skip
+    Table(rows, ["p"]).write_csv(tmp_path / RESULTS)
+    assert store.regrid({"a": 0})
+    assert [r["key"] for r in read_csv(tmp_path / OUTSIDE)] == ["b", "f"]
+    assert store.n_outside == 2
+    assert store.read()["f"]["status"] == "failed"  # (what a wider grid reads back)
+
+
 def test_a_fragility_on_a_column_no_run_has_names_it_instead_of_failed_runs():
     rows = [{"status": "ok", "motion.pga": 1.0 + i, "peak_base_shear_N": 2.0} for i in range(3)]
     out = fragility_outcomes(Table(rows), "motion.pga", "idr_max")
