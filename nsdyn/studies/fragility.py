@@ -17,7 +17,7 @@ is maximised by Fisher scoring with the expected information
 
 Cov(a, b) ≈ I⁻¹ at the estimate; the delta method gives the standard errors of ln θ and β
 and the pointwise band ``Φ(η(x) ± z_{1−α/2} sd η(x))``, ``var η(x) = [1, ln x] Cov [1, ln x]ᵀ``.
-Data that separate perfectly (every run below some level survives, every run above fails)
+Data that separate (every run below some level survives, every run above fails)
 have no finite maximum: the fit refuses them.
 """
 
@@ -95,16 +95,24 @@ def fit_lognormal_counts(im, n_runs, n_exceed) -> LognormalFragility:
         raise ValueError("n_exceed: expected 0 <= n_exceed <= n_runs")
     N, Z = int(n.sum()), int(z.sum())
     if Z == 0 or Z == N:
-        raise ValueError(f"fragility: {Z} of {N} runs exceed the limit; need some of each")
+        raise ValueError(f"fragility: {Z} of {N} runs exceed the limit (or, for a true/false "
+                         "outcome, are true); need some of each")  # fmt: skip
     u = np.log(x)
     if np.unique(x[n > 0]).size < 2:  # (it was "the outcomes separate perfectly")
         raise ValueError(f"fragility: every run is at one IM level ({x[n > 0][0]:g}); a curve "
                          "needs runs at two levels or more")  # fmt: skip
     if u[z < n].max() <= u[z > 0].min():  # (quasi-)complete separation: no finite maximum
+        lo, hi = float(x[z < n].max()), float(x[z > 0].min())
+        where = (f"every run at IM <= {lo:g} survives and every run at IM >= {hi:g} exceeds"
+                 if lo < hi else f"below IM = {lo:g} every run survives and above it every "
+                 "run exceeds; at it, some of each")  # fmt: skip
+        counts = ", ".join(f"{xi:g}: {zi:g}/{ni:g}" for xi, ni, zi in zip(x, n, z, strict=True)
+                           if ni > 0)  # fmt: skip
         raise ValueError(
-            "fragility: the outcomes separate perfectly in IM (every run below some level "
-            "survives, every run above fails): beta -> 0, no finite maximum-likelihood fit"
+            f"fragility: the outcomes separate in IM ({where}; exceeding per "
+            f"level {counts}): beta -> 0, no finite maximum-likelihood fit"
         )
+
     # start: a moment estimate (theta at the weighted median of u, beta from its spread)
     sd = math.sqrt(max(float(np.average((u - np.average(u, weights=n)) ** 2, weights=n)), 1e-6))
     frac = np.clip(Z / N, 0.05, 0.95)
@@ -133,7 +141,7 @@ def fit_lognormal_counts(im, n_runs, n_exceed) -> LognormalFragility:
         a, b, ll = a1, b1, ll1
         if b > MAX_B:
             raise ValueError(
-                "fragility: the outcomes separate perfectly in IM (beta -> 0); "
+                "fragility: the outcomes separate in IM (beta -> 0); "
                 "no finite maximum-likelihood fit"
             )
         if t * np.linalg.norm(step) < STEP_TOL * (1 + math.hypot(a, b)):

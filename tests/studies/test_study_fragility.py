@@ -96,8 +96,16 @@ def test_fit_refuses_data_without_information():
     x = np.array([1.0, 2.0, 3.0, 4.0])
     with pytest.raises(ValueError, match="need some of each"):
         fit_lognormal(x, np.zeros(4, bool))
-    with pytest.raises(ValueError, match="separate perfectly"):
+    with pytest.raises(ValueError, match=r"separate in IM \(every run at IM <= 2 survives and "
+                       r"every run at IM >= 3 exceeds; exceeding per level 1: 0/1, 2: 0/1, "
+                       r"3: 1/1, 4: 1/1\)"):  # fmt: skip
         fit_lognormal(x, np.array([False, False, True, True]))
+    # quasi-complete: runs at one level do either, all below survive, all above exceed (it
+    # was said as "every run above fails" as well): no finite maximum either
+    with pytest.raises(ValueError, match=r"below IM = 2 every run survives and above it every "
+                       r"run exceeds; at it, some of each; exceeding per level 1: 0/2, 2: 1/2, "
+                       r"3: 2/2\)"):  # fmt: skip
+        fit_lognormal(np.repeat([1.0, 2.0, 3.0], 2), np.array([0, 0, 0, 1, 1, 1], bool))
     with pytest.raises(ValueError, match="positive"):
         fit_lognormal(np.array([0.0, 1.0]), np.array([False, True]))
 
