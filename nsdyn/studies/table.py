@@ -155,15 +155,20 @@ class Table:
 
     def column(self, name: str, strict: bool = True) -> np.ndarray:
         """A numeric column (NaN where missing or not a number; booleans as 0/1). A name no row
-        has is a KeyError naming the nearest column (a typo read as all NaN); ``strict=False``
-        gives its NaN (the analyses, which note such columns)."""
+        has is a KeyError naming the nearest column (a typo read as all NaN), a column of text
+        alone a ValueError pointing to :meth:`values`; ``strict=False`` gives their NaN (the
+        analyses, which note such columns)."""
         if strict and self.rows and name not in self.columns:
             raise KeyError(f"{name!r}: no such column{did_you_mean(name, self.columns)}")
         out = np.full(len(self.rows), np.nan)
+        text = False
         for i, r in enumerate(self.rows):
             v = r.get(name)
             if isinstance(v, bool | int | float):
                 out[i] = float(v)
+            text |= isinstance(v, str) and v != ""
+        if strict and text and np.isnan(out).all():  # ('record', 'status': all NaN before)
+            raise ValueError(f"{name!r} holds text, not numbers: table.values({name!r}) gives it")
         return out
 
     def values(self, name: str) -> list:

@@ -450,6 +450,10 @@ def test_a_study_table_reads_back_as_a_dataframe_cell_for_cell(tmp_path):
     assert table.column("x_iso_max_m")[0] == 0.125
     with pytest.raises(KeyError, match="'x_iso_mx_m': no such column; did you mean 'x_iso_max_m'"):
         table.column("x_iso_mx_m")
+    # a text column read as all NaN: named, with the call that gives it
+    with pytest.raises(ValueError, match=r"'record' holds text, not numbers: table.values"):
+        table.column("record")
+    assert table.values("record") == ["001", "002"]
     assert repr(table).startswith("<study Table: 2 rows; columns index, key, record, ")
     # a table cut short (a row of fewer cells) was a TypeError; an empty file 0 rows
     (tmp_path / "cut").mkdir()
