@@ -62,7 +62,8 @@ def study_folder(name: str) -> str:
 
 def _format(name: str, run: dict, an: dict) -> str:
     lines = [
-        f"study {name}: {run['n_tasks']} tasks, {run['n_run']} run now, "
+        f"study {name}: {run['n_tasks']} task{'s' * (run['n_tasks'] != 1)}, {run['n_run']} "
+        "run now, "
         f"{run['n_skipped']} from before, {run['n_failed']} failed "
         f"({run['wall_s']:.1f} s on {run['workers']} worker{'s' * (run['workers'] != 1)}, "
         f"batches of {run['batch']})",

@@ -434,7 +434,8 @@ def _fragility(study, table: Table, spec: dict, out: Path, figures: bool) -> dic
     _write_rows(rows, out / "fragility.csv")
     res = {"im": spec["im"], "edp": spec["edp"], "fits": rows, "table": str(out / "fragility.csv")}
     if runs["below"]:  # (they were left out without a word)
-        res["note"] = (f"{runs['below']} successful runs at {spec['im']} <= 0 left out: a "
+        res["note"] = (f"{runs['below']} successful run{'s' * (runs['below'] != 1)} at "
+                       f"{spec['im']} <= 0 left out: a "
                        "lognormal fragility places only IM > 0")  # fmt: skip
     if note:
         res["failures"] = note

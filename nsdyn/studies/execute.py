@@ -89,7 +89,8 @@ class _Progress:
     def line(self) -> str:
         el = time.perf_counter() - self.t0
         left = self.total - self.skipped - self.done
-        eta = f"~{el / self.done * left:.0f} s left" if self.done else "time left unknown"
+        eta = (f"~{el / self.done * left:.0f} s left" if self.done
+               else "nothing left" if not left else "time left unknown")  # fmt: skip
         return (
             f"study {self.name}: {self.skipped + self.done}/{self.total} done "
             f"({self.done} run now, {self.failed} of them failed; {self.skipped} from before), "

@@ -64,6 +64,7 @@ def checked_keep(source: str, keep, parameters) -> list | None:
     if keep is not None and not keep:  # (a table of no result at all)
         raise SceneError(f"{source}: study.keep: an empty list keeps no result; name the "
                          "results to keep, or drop keep to keep them all")  # fmt: skip
+    once(source, "study.keep", list(keep or ()))  # (a name twice was taken as once)
     own = [k for k in keep or () if k in (*LEAD_COLUMNS, *TAIL_COLUMNS, *parameters)]
     if own:
         raise SceneError(f"{source}: study.keep: {own[0]!r} is a column of the table itself "

@@ -135,6 +135,11 @@ def test_key_follows_record_bytes_not_place(tmp_path):
         (('"isolation.mu"', '"Isolation.MU"'), "did you mean 'isolation.mu'"),
         (("[0.02, 0.05]", '[0.02, "0.05"]'), "expected numbers, strings or booleans, all of one"),
         (("[records]", "[record]"), "did you mean 'records'"),
+        # a name kept twice was taken as once (every other list of names refuses it)
+        (
+            ("seed = 5\n", 'seed = 5\nkeep = ["idr_max", "idr_max"]\n'),
+            "study.keep: 'idr_max' given twice; expected distinct values",
+        ),
         (("seed = 9,", "seeed = 9,"), "records.simulated.seeed: unknown field; did you mean"),
         # white-noise ordinates every 0.05 s sampled at 0.1 s (an intensity of half S0), a
         # step past the Kanai-Tajimi ground's Nyquist frequency, a step longer than the run:
