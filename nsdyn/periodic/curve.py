@@ -266,7 +266,9 @@ def resumed_points(problem, start, lo: float, hi: float, disc) -> list[OrbitPoin
                          f"{pts[0].f:g}, or start afresh")  # fmt: skip
     last = pts[-1]
     if last.converged and last.method != "sweep":
-        _, _, r = _evaluate(problem, last.x0, last.f, last.n_steps, disc, sens=False)
+        # (with sensitivities, as shooting converged: the lagged-matrix period without them
+        # may not get through a sharp law's switch, and an orbit of this problem read as inf)
+        _, _, r = _evaluate(problem, last.x0, last.f, last.n_steps, disc)
         if not r <= START_RESIDUAL:
             raise ValueError(f"start: its last point (f = {last.f:g} Hz) is no periodic orbit "
                              f"of this problem (residual {r:.2g}): a curve of another "

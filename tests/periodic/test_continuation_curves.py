@@ -306,3 +306,22 @@ def test_sequential_jump_at_the_duffing_fold_is_listed_and_a_steep_branch_is_not
         size = max(np.linalg.norm(x[i]), np.linalg.norm(x[i - 1]))
         fired += d > JUMP_REL * size and d > JUMP_RATIO * pred
     assert fired >= 1 and lin.info["jumps"] == []
+
+
+def test_a_curve_resumes_from_an_orbit_shooting_converged_on_past_uplift():
+    # The default scene at A = 1 m/s²: its 12th point of a 60-point grid (0.0509 Hz)
+    # converges (residual 6e-6) with a normal force below zero (uplift flagged), where the
+    # sharp arctan switch stops the period map's lagged-matrix stages. Resuming checked it
+    # with that map, read the residual as inf and refused the curve as "of another amplitude
+    # or model" (a checkpointed `nsdyn sweep` interrupted there ended in that traceback).
+    # Checked as shooting converged on it, the curve resumes and extends.
+    from nsdyn.models.isolated.scene import build_scene, load_scene
+
+    system, _ = build_scene(load_scene(None))
+    problem = pr.frame_problem(system, 1.0)
+    freqs = np.geomspace(0.02, 3.0, 60)
+    first = pr.continue_sequential(problem, freqs[:12])
+    assert first.points[-1].converged and first.points[-1].quantities["uplift"]
+    more = pr.continue_sequential(problem, freqs[:14], start=first.points)
+    assert [p.f for p in more.points] == list(freqs[:14])
+    assert all(a is b for a, b in zip(more.points[:12], first.points, strict=True))
