@@ -380,8 +380,8 @@ def frame_problem(
     are replaced by ``amplitude`` and each frequency of the continuation).
 
     Only smooth friction laws ("arctan", "none") give a differentiable period map.
-    ``amplitude`` is finite and >= 0 (ValueError otherwise); the isolator parameters were
-    checked when ``system.isolation`` was built.
+    ``amplitude`` is finite and >= 0 (ValueError otherwise; 0, the unforced static state, is
+    not shot); the isolator parameters were checked when ``system.isolation`` was built.
     """
     amplitude = check_amplitude(amplitude, highest=A_HIGHEST if load is None else math.inf)
     if system.isolation is None:

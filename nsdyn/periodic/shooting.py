@@ -190,6 +190,12 @@ def _check_inputs(problem, disc, n_steps, tol, max_iter) -> None:
     if not (isinstance(tol, int | float) and 0 < tol < np.inf):
         raise ValueError(f"tol: expected a positive finite residual, got {tol!r}")
     whole("max_iter", max_iter, 0, "a whole number >= 0 (0: the start checked alone)")
+    if getattr(problem, "amplitude", None) == 0:  # (its residual, scaled by an orbit of
+        # round-off, read 0.46 and every point "no period-1 response")
+        raise ValueError(
+            "amplitude 0: no forcing, the steady state is the static state "
+            "problem.x_ref, nothing to shoot; expected an amplitude > 0"
+        )
 
 
 def shoot(

@@ -59,6 +59,18 @@ def test_shooting_names_the_argument_it_cannot_run_on(kw, err, match):
         pr.shoot("duffing", 0.2)
 
 
+def test_a_frame_without_forcing_is_not_shot():
+    # amplitude 0: the steady state is the static state; shot, its residual, scaled by an
+    # orbit of round-off (1.7e-12 m), read 0.46 and every point was "no period-1 response"
+    import nsdyn
+
+    system = nsdyn.build_system(nsdyn.load_frame("office-11"), fidelity="cb", f_max=5.0)
+    with pytest.raises(ValueError, match=r"^amplitude 0: no forcing, the steady state is the "):
+        pr.shoot(pr.frame_problem(system, 0.0), 0.5)
+    with pytest.raises(ValueError, match=r"^amplitude 0: "):
+        nsdyn.frequency_response(system, 0.0, fmin=0.5, fmax=1.0, points=3)
+
+
 @pytest.mark.parametrize("f", BAD_F)
 def test_switch_shooting_rejects_a_frequency_that_is_not_positive(f):
     # f = -0.1 used to "converge" after 0 iterations with a multiplier of 1e54
