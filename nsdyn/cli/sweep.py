@@ -393,8 +393,10 @@ def gap_lines(s: dict) -> list[str]:
     fl = s.get("failures") or []
     if fl:
         fs = [x["f"] for x in fl]
-        out.append(f"{len(fl)} points without a steady state, f = {min(fs):.4g}-{max(fs):.4g} Hz"
-                   f" (first: {fl[0]['reason']})")  # fmt: skip
+        at = (f"f = {fs[0]:.4g} Hz" if len(fl) == 1
+              else f"f = {min(fs):.4g}-{max(fs):.4g} Hz")  # fmt: skip
+        out.append(f"{len(fl)} point{'s' * (len(fl) != 1)} without a steady state, {at} "
+                   f"(first: {fl[0]['reason']})")  # fmt: skip
     sk = s.get("skipped_hz") or []
     if sk:
         shown = ", ".join(f"{f:.4g}" for f in sk[:8]) + (", ..." if len(sk) > 8 else "")

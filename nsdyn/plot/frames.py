@@ -140,6 +140,10 @@ def sweep_figure(results: list[dict], fixed: dict | None = None):
             y_all = raw[key]
             y = np.where(marks["uplift"], np.nan, y_all)
             ax.loglog(f, y, "-", color=col, lw=1.3, label=lab)
+            ok = np.isfinite(y)  # a point between two gaps: no segment draws it, a dot does
+            lone = ok & ~np.r_[False, ok[:-1]] & ~np.r_[ok[1:], False]
+            if np.any(lone):
+                ax.loglog(f[lone], y[lone], ".", color=col, ms=6)
             for name, style in MARKER_STYLES.items():
                 sel = marks[name] & np.isfinite(y_all if name == "uplift" else y)
                 if np.any(sel):

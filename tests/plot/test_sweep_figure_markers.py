@@ -87,3 +87,17 @@ def test_a_deck_sweep_that_sticks_everywhere_draws_a_linear_axis_without_a_warni
         fig = plane_sweep_figure([{"A": 0.5, "rows": rows}], "stuck")
         fig.savefig(io.BytesIO(), format="png")  # (drawn: the axes scaled)
     assert fig.axes[0].get_yscale() == "linear"
+
+
+def test_a_converged_point_between_two_gaps_is_drawn():
+    # a point between two failed ones (no value) formed a segment of one point: neither line
+    # nor marker drew it, though it converged
+    rows = _rows()
+    for row in rows:
+        row["uplift"] = False
+    for k in (1, 3):
+        rows[k].update(IDR=float("nan"), a=float("nan"), x_iso=float("nan"))
+    fig = sweep_figure([{"A": 1.0, "rows": rows}])
+    for ax, key in zip(fig.axes, ("IDR", "a", "x_iso"), strict=True):
+        assert (rows[2]["f"], rows[2][key]) in _markers(ax, ".")
+        assert (rows[0]["f"], rows[0][key]) in _markers(ax, ".")  # (the first: a gap after it)
