@@ -260,9 +260,9 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
         for k, v in vals.items():  # the file stays checked where an option replaces its value
             old = cfg.get(table, {}).get(k)
             if isinstance(v, int | float) and old is not None and (isinstance(old, bool) or
-                    not isinstance(old, int | float) or not 0 < old < float("inf")):  # fmt: skip
-                raise SceneError(f"{args.scene}: {table}.{k}: expected a positive number, got "
-                                 f"{old!r}")  # fmt: skip
+                    not isinstance(old, int | float) or not 0 <= old < float("inf")):  # fmt: skip
+                raise SceneError(f"{args.scene}: {table}.{k}: expected a finite number >= 0, "
+                                 f"got {old!r}")  # fmt: skip
         cfg.setdefault(table, {}).update(vals)
     _t_end_wins(args, cfg)
     said: list = []  # (files an earlier command left there: a note, said below)

@@ -72,9 +72,9 @@ def _format(name: str, run: dict, an: dict) -> str:
     if run.get("n_outside"):
         from nsdyn.studies.table import OUTSIDE
 
-        lines.append(f"kept: {run['n_outside']} rows (failed ones too) of tasks not in this study "
-                     f"(other parameter values or settings), in {OUTSIDE} (a study asking for "
-                     "them again reuses them; --fresh forgets them)")  # fmt: skip
+        lines.append(f"kept: {run['n_outside']} rows (finished or failed) of tasks not in this "
+                     f"study (other parameter values or settings), in {OUTSIDE} (a study asking "
+                     "for them again reuses them; --fresh forgets them)")  # fmt: skip
     d = an.get("design")
     if d:
         lines.append(

@@ -18,7 +18,7 @@ A fixed-step run has no error control, so two things it reports are checked afte
   (:func:`nsdyn.models.isolated.tolerances.arctan_atol`); the implicit one is not checked,
   the explicit one (``dopri5``, :data:`EXPLICIT`) is, at every output: the model's stiffness
   holds its steps at their stability limit, where the error estimate lets a ringing of the
-  stiff components through into the accelerations (7.8 m/s² at the isolation level of the
+  stiff components through into the accelerations (7.7 m/s² at the isolation level of the
   default scene, slipping at 0.19 m/s, against 2.5 m/s² resolved, at its default tolerance).
 """
 

@@ -385,7 +385,8 @@ def load_study(path: str | Path) -> Study:
     params = [whole_numbers(source, parse_parameter(source, k, v, known), whole)
               for k, v in params_raw.items()]  # fmt: skip
     records = _parse_records(source, study_dir, raw.get("records", {}), kind, base)
-    if records and (record_replaces(kind) or kind == "isolated"):  # the scene file's
+    named = records or (kind == "isolated" and "motion.record" in params_raw)
+    if named and (record_replaces(kind) or kind == "isolated"):  # the scene file's
         # closed-form motion gives way (an isolated scene's default pga: to records as recorded)
         kind, base = _base_scene(source, study_dir, st, raw.get("base", {}), records=True)
     if records and "motion.record" in params_raw:

@@ -222,7 +222,13 @@ def test_a_scene_value_an_option_replaces_is_still_checked(tmp_path, one_line):
     assert (
         main(["run", str(scene), "--t-end", "1", "--no-figures", "--out", str(tmp_path / "o")]) == 2
     )
-    one_line(f"{scene}: motion.t_end", "expected a positive number, got -1.0")
+    one_line(f"{scene}: motion.t_end", "expected a finite number >= 0, got -1.0")
+    # a value its kind takes stays taken: a cylinder's pga = 0 (free vibration) under --pga
+    text = (
+        (SCENES / "cylinder-uplift.toml").read_text().replace("[motion]\n", "[motion]\npga = 0.0\n")
+    )
+    argv = ["run", str(_scene(tmp_path, text, "c.toml")), "--pga", "2", "--t-end", "0.5"]
+    assert main([*argv, "--no-figures", "--out", str(tmp_path / "c")]) == 0
 
 
 def test_the_fixed_base_by_either_flag_takes_no_comparison(tmp_path, one_line):

@@ -49,7 +49,7 @@ def test_an_adaptive_run_is_not_checked(scene):
 
 
 def test_an_explicit_runs_false_peak_is_named_and_a_resolved_one_is_not(scene):
-    # dopri5 at its default tolerance, its steps at their stability limit, reads 7.8 m/s² at
+    # dopri5 at its default tolerance, its steps at their stability limit, reads 7.7 m/s² at
     # the isolation level near t = 3.5 s (slipping at 0.19 m/s, outside the turn) where the
     # resolved run peaks at 2.5: named, at any output; at rtol 1e-7 it is resolved, not named
     system, motion, _ = scene

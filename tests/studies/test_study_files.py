@@ -81,6 +81,18 @@ def test_records_without_a_pga_run_as_recorded(tmp_path):
     assert tasks and all("pga" not in t.cfg["motion"] for t in tasks)
     text = text.replace("t_end = 2.0\n", "t_end = 2.0\npga = 2.5\n")
     assert all(t.cfg["motion"]["pga"] == 2.5 for t in expand(load_study(_write(tmp_path, text))))
+    # records given as a motion.record parameter alike (they were scaled to 3 m/s²)
+    text = (
+        textwrap.dedent(GOOD)
+        .split("[records]")[0]
+        .replace(
+            '"motion.pga" = { uniform = [1.0, 4.0] }\n',
+            '"motion.record" = ["synthetic-wn-40s", "synthetic-kt-20s"]\n',
+        )
+        .replace("samples = 3\n", "")
+    )
+    tasks = expand(load_study(_write(tmp_path, text, "p.toml")))
+    assert len(tasks) == 12 and all("pga" not in t.cfg["motion"] for t in tasks)
 
 
 def test_an_integer_field_takes_a_linspace_of_whole_numbers_as_integers(tmp_path):
