@@ -533,7 +533,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     for s in report["amplitudes"]:
         print(f"   {s['A']:8.3g}  {s['points']:6d}  {s['fallback_points']:8d}  "
               f"{s['unstable_points']:8d}  {s['stick_slip_points']:10d}  "
-              f"{g(s['u_peak_max_m'], '.4g'):>10s}  {g(s['f_at_u_peak_max_hz'], '.4g'):>9s}  "
+              f"{g(s['u_peak_max_m'], '.4g'):>10s}  {g(s['u_peak_max_f_hz'], '.4g'):>9s}  "
               f"{s['wall_s']:8.1f}")  # fmt: skip
         for fl in s["failures"]:
             print(f"   A = {s['A']:g}: f = {fl['f']:.5g} Hz: {fl['reason']}")

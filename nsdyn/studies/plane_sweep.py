@@ -268,7 +268,7 @@ def summarise(r: dict) -> dict:
         "stick_slip_points": len(stick),
         "family_points": sum("family of orbits" in (x.get("note") or "") for x in rows),
         "u_peak_max_m": None if k is None else float(u[k]),
-        "f_at_u_peak_max_hz": None if k is None else float(good[k]["f"]),
+        "u_peak_max_f_hz": None if k is None else float(good[k]["f"]),
         "failures": r["failures"], "bifurcations": r["bifurcations"], "wall_s": r["wall_s"],
         "jumps": r.get("jumps", []),
     }  # fmt: skip

@@ -74,6 +74,12 @@ def test_nsdyn_sweep_on_the_example_scene_gives_the_closed_form_and_resumes(tmp_
         assert float(r["stick_fraction"]) == 0.0
     assert (out / "sweep.png").exists() and (out / "sweep.json").exists()
     assert json.loads((out / "sweep.json").read_text())["amplitudes"][0]["failures"] == []
+    # the peak and its frequency under the library curve's names (Curve.summary): the
+    # largest circle radius of the four frequencies, at its own frequency
+    s0 = report["amplitudes"][0]
+    peak = max(rows[:4], key=lambda r: float(r["u_peak_m"]))  # (the CSV's 9 digits)
+    assert s0["u_peak_max_m"] == pytest.approx(float(peak["u_peak_m"]), rel=1e-8)
+    assert s0["u_peak_max_f_hz"] == pytest.approx(float(peak["f"]), rel=1e-8)
     for A in (A0, 1.5 * A0):
         assert checkpoint_path(out, A).exists()
     # the same command again resumes every point from the checkpoints
