@@ -34,6 +34,7 @@ from nsdyn.periodic.curve import (
     OrbitPoint,
     _point_from_shoot,
     _point_from_sweep,
+    on_grid,
     resumed_points,
 )
 from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation, checked_disc, refined
@@ -282,7 +283,9 @@ def continue_range(
     keywords_of(target, options, skip=("problem", "freqs", "fmin", "fmax"),
                 also=("fmin", "fmax", "points"))  # fmt: skip
     if continuation == "sequential":
-        return continue_sequential(problem, log_frequencies(fmin, fmax, points), **options)
+        freqs = log_frequencies(fmin, fmax, points)
+        on_grid(options.get("start"), freqs)
+        return continue_sequential(problem, freqs, **options)
     if continuation == "arclength":
         return continue_arclength(problem, fmin, fmax, points=points, **options)
     raise ValueError(f"continuation: expected 'sequential' or 'arclength', got {continuation!r}")

@@ -231,6 +231,20 @@ def _point_from_sweep(
     )
 
 
+def on_grid(start, freqs: np.ndarray) -> None:
+    """Refuse a curve ``start`` (points or a :class:`Curve`) to resume on the sequential grid
+    ``freqs`` whose grid points are not on it: resumed onto another grid they were merged
+    with it (0.6 beside 0.6178 Hz, the grid's 0.4856 Hz left out). Arclength points take
+    their own steps."""
+    pts = getattr(start, "points", start)
+    pts = [pts] if isinstance(pts, OrbitPoint) else pts if isinstance(pts, list | tuple) else []
+    off = [p.f for p in pts if isinstance(p, OrbitPoint) and p.method != "arclength"
+           and np.min(np.abs(freqs / p.f - 1)) > 1e-9]  # fmt: skip
+    if off:
+        raise ValueError(f"start: its point at {off[0]:g} Hz is not on this grid; resume with "
+                         "the fmin, fmax and points it was computed with")  # fmt: skip
+
+
 def resumed_points(problem, start, lo: float, hi: float, disc) -> list[OrbitPoint]:
     """The points of a curve to resume (its ``points``, or the :class:`Curve`), checked: of
     this problem's state, a curve from the band's start ``lo``, none past its end ``hi``

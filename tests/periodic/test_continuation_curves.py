@@ -325,3 +325,14 @@ def test_a_curve_resumes_from_an_orbit_shooting_converged_on_past_uplift():
     more = pr.continue_sequential(problem, freqs[:14], start=first.points)
     assert [p.f for p in more.points] == list(freqs[:14])
     assert all(a is b for a, b in zip(more.points[:12], first.points, strict=True))
+
+
+def test_a_curve_resumed_onto_another_grid_is_refused():
+    # a 3-point curve of 0.3-0.6 Hz resumed onto 6 points of 0.3-1 Hz was merged with it:
+    # 0.6 beside 0.6178 Hz, the new grid's 0.4856 Hz never computed
+    problem = pr.duffing_problem(0.05, 2 * math.pi * 0.5, 0.0, 0.2)
+    first = pr.continue_range(problem, fmin=0.3, fmax=0.6, points=3)
+    with pytest.raises(ValueError, match=r"^start: its point at 0.424264 Hz is not on this grid"):
+        pr.continue_range(problem, fmin=0.3, fmax=1.0, points=6, start=first)
+    more = pr.continue_range(problem, fmin=0.3, fmax=0.6, points=5, start=first.points[:1])
+    assert len(more.points) == 5  # (a start on the grid: its first point, 0.3 Hz)
