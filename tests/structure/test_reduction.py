@@ -232,3 +232,25 @@ def test_mode_type_of_a_vertical_cantilever(make_cantilever, cantilever_props):
     assert f[k] == pytest.approx(f_ax, rel=1e-3)
     sh = kinetic_energy_shares(Phi[:, k], M, fr)
     assert sh.sum() == pytest.approx(1.0) and sh[1] > 0.99
+
+
+def test_light_members_beside_a_floor_mass_keep_the_first_mode():
+    # A one-bay portal, a stiff beam on two columns under a 12 t floor: its sway is
+    # 24 EI/h³ on 12 t, 6.47 Hz (the columns' axial and the beam's own flexibility only
+    # lower it). Members of 1e-6 kg/m (a user's stand-in for "massless", refused by the
+    # reductions) gave LAPACK's M-factored solver a mass matrix of entries 1e11 apart: it
+    # returned a negative eigenvalue, printed as a 0 Hz first mode (1e-3 kg/m: 8.37 Hz).
+    # The member mass moves the frequency by its share of the mass, below 1e-8
+    from nsdyn.structure import Section, regular_frame
+
+    def f1(rho_A):
+        col = Section(E=2.1e11, A=0.0149, I=2.517e-4, rho_A=rho_A)
+        beam = Section(E=2.1e11, A=1.0, I=1000.0, rho_A=rho_A)
+        f = regular_frame("p", [6.0], [4.0], 4, 4, col, beam, floor_mass=12000.0)
+        return red.fixed_base_modes(*f.assemble(), f.boundary_dofs, n_modes=1)[0][0]
+
+    hand = np.sqrt(24 * 2.1e11 * 2.517e-4 / 4.0**3 / 12000.0) / (2 * np.pi)
+    massless = f1(0.0)
+    assert 0.97 * hand < massless < hand
+    for rho_A in (1e-6, 1e-3):
+        assert f1(rho_A) == pytest.approx(massless, rel=1e-6)
