@@ -58,6 +58,10 @@ def test_simulate_reports_the_choice_and_explicit_method_wins():
     assert auto.method == "genalpha-lowrank"
     s = auto.summary()
     assert s["method"] == "genalpha-lowrank" and s["method_reason"].startswith("auto: ")
+    assert "(dt 0.005 s, factored once)" in s["method_reason"] and s["n_steps"] == 10
+    # a step given to "auto" is the step its reason names (it said 0.005 s of a 2.5 ms run)
+    r = simulate(full, g, t_end=0.05, dt=0.0025).summary()
+    assert "(dt 0.0025 s, factored once)" in r["method_reason"] and r["n_steps"] == 20
     given = simulate(full, g, t_end=0.05, method="radau")
     assert given.method == "radau" and given.summary()["method_reason"] == ""
     # both integrate the same model: the isolator displacement agrees to the fixed step's

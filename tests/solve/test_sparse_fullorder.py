@@ -162,6 +162,11 @@ def test_large_model_stays_sparse():
     assert sp.issparse(s.M) and sp.issparse(s.K) and sp.issparse(s.T)
     with pytest.raises(ValueError, match="genalpha-lowrank"):
         s.params(None)
+    # under the switch law no method runs it at this size: the advice says so (it named
+    # 'auto' and 'genalpha-lowrank', which had just refused the switch law)
+    with pytest.raises(ValueError, match=r"dense kernels .*the sparse 'genalpha-lowrank' runs "
+                       r"only the arctan or no friction law.*the cb fidelity"):  # fmt: skip
+        s.with_isolation(law="switch").params(None)
     _, lam = s.static_equilibrium()
     assert lam.sum() == pytest.approx(frame.total_mass * s.isolation.g, rel=1e-9)
     r = simulate(s, Harmonic(1.0, 1.0), t_end=0.05)

@@ -243,10 +243,13 @@ class IsolatedSystem:
             M, C, K, Gamma = np.eye(1), np.zeros((1, 1)), np.zeros((1, 1)), Gamma[:1]
             R, D = np.zeros((self.n_contacts, 1)), np.zeros((self.n_isolators, 1))
         elif not isinstance(M, np.ndarray):
-            raise ValueError(
-                f"{self.name}: {self.n} dofs are too many for the dense kernels (radau, dopri5, "
-                "genalpha, event); use method 'auto' or 'genalpha-lowrank' (sparse)"
-            )
+            smooth = iso is None or iso.law != "switch" and iso.contact != "unilateral"
+            use = ("use method 'auto' or 'genalpha-lowrank' (sparse)" if smooth else "the "
+                   "sparse 'genalpha-lowrank' runs only the arctan or no friction law under "
+                   "bilateral or detect contact: use one, or the cb fidelity (fewer dofs) for "
+                   "the switch law or lift-off")  # fmt: skip
+            raise ValueError(f"{self.name}: {self.n} dofs are too many for the dense kernels "
+                             f"(radau, dopri5, genalpha, event); {use}")  # fmt: skip
         if iso is None:
             return pack(M, C, K, Gamma, ground=ground, g=G_EARTH)
         _, lam0 = self.static_equilibrium()
