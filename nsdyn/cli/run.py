@@ -431,7 +431,8 @@ def run(args: argparse.Namespace) -> int:
         raise SceneError(f"{e} (method {reason})" if reason else str(e)) from None
     if reason and not args.json:  # (after the checks: a refused run is one line)
         print(f"method  {reason}", file=sys.stderr)
-    notes += explicit_steps(method, system, float(t_eval[-1] - t_eval[0]), args.json)
+    notes += explicit_steps(method, system, float(t_eval[-1] - t_eval[0]), args.json,
+                            sv.get("max_steps"))  # fmt: skip
     out = Path(args.out)
     stem = "run"
     ident = run_identity(cfg, args.fidelity, motion)

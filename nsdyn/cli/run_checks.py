@@ -170,15 +170,21 @@ def note_loose_atol(cfg: dict, system) -> str | None:
 
 EXPLICIT_STEPS_NOTE = 1e6  # an explicit run of more steps than this is said before it starts
 DOPRI5_REAL_AXIS = 3.3  # Dormand–Prince 5(4): stable for h|λ| up to about 3.3 on the real axis
+# the bound's steps beyond the budget at which a run is refused: the bound holds in stick, and
+# slipping the steps grow (the default scene's 5 s took 0.36 of the bound's 2.1e6)
+EXPLICIT_OVER = 4.0
 
 
-def explicit_steps(method: str, system, span: float, quiet: bool) -> list[str]:
+def explicit_steps(method: str, system, span: float, quiet: bool, max_steps=None) -> list[str]:
     """An explicit method (``dopri5``) bounds its step by stability, h < DOPRI5_REAL_AXIS/ρ,
     whatever the tolerance, with ρ the fastest rate of the model: its highest frequency
     ω_max, or the arctan law's slope on an isolator's own mass, μ λ₀ (2/π) ε (D M⁻¹ Dᵀ)ᵢᵢ
     (1.5e7 1/s on the full office frame, whose isolator nodes carry 33 kg). A run of more than
     EXPLICIT_STEPS_NOTE such steps is said before it starts, with the number (the full frame's
-    0.3 s took minutes, silently); printed unless ``quiet``, returned."""
+    0.3 s took minutes, silently); printed unless ``quiet``, returned. A run whose chunk
+    (:data:`nsdyn.solve.transient.CHUNK_S`) needs more such steps than ``max_steps`` (default
+    the solver's) is refused before it starts: it would spend them (the full frame's 2 s ran
+    for 13 minutes, deaf to Ctrl-C inside its one call) and stop on the budget."""
     if method != "dopri5" or system.n == 0:
         return []
     import numpy as np
@@ -207,6 +213,18 @@ def explicit_steps(method: str, system, span: float, quiet: bool) -> list[str]:
         if slope.max() > rate:
             rate, what = float(slope.max()), f"arctan friction's rate {slope.max():.2g} 1/s"
     steps = span * rate / DOPRI5_REAL_AXIS
+    from nsdyn.solve.integrate import DEFAULT_MAX_STEPS
+    from nsdyn.solve.transient import CHUNK_S
+
+    limit = int(max_steps or DEFAULT_MAX_STEPS)
+    if min(span, CHUNK_S) * rate / DOPRI5_REAL_AXIS > EXPLICIT_OVER * limit:
+        from nsdyn.models.scenefile import SceneError
+
+        raise SceneError(f"--method dopri5: the model's {what} bounds the explicit step to "
+                         f"{DOPRI5_REAL_AXIS / rate:.2g} s, about {steps:.2g} steps for this run, "
+                         f"past the budget of {limit:g} per {CHUNK_S:g} s chunk "
+                         f"(solver.max_steps) even at {1 / EXPLICIT_OVER:g} of them; use "
+                         "'radau' (the default) or a fixed-step method")  # fmt: skip
     if steps <= EXPLICIT_STEPS_NOTE:
         return []
     note = (

@@ -104,3 +104,11 @@ def test_an_explicit_run_is_said_with_the_steps_its_stability_allows(scene, caps
     assert 0.5 * h_bound < mean_step < 1.05 * h_bound, (mean_step, h_bound)
     assert explicit_steps("radau", system, 40.0, quiet=True) == []
     assert explicit_steps("dopri5", system, 0.3, quiet=True) == []  # 1.3e5 steps: said nothing
+    # a chunk of more than four budgets' bound steps is refused before it starts (the full
+    # frame's 2 s, 9.2e6 of them, ran 13 minutes in one uninterruptible call): a budget of
+    # 5e5 against the 5 s chunk's 2.1e6 here
+    from nsdyn.models.scenefile import SceneError
+
+    with pytest.raises(SceneError, match=r"^--method dopri5: .* past the budget of 500000 per "):
+        explicit_steps("dopri5", system, 40.0, quiet=True, max_steps=500000)
+    assert len(explicit_steps("dopri5", system, 40.0, quiet=True, max_steps=600000)) == 1
