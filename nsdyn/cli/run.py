@@ -20,6 +20,7 @@ from nsdyn.cli.run_checks import (
     check_cutoff,
     check_method,
     duration_text,
+    event_law,
     explicit_steps,
     fixed_base_run,
     note_short_record,
@@ -131,9 +132,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         metavar="N",
         help="step attempts per 5 s chunk of the run before it gives up (default 2000000)",
     )
-    p.add_argument(
-        "--out", type=out_dir, default=DEFAULT_OUT, metavar="DIR", help="output directory"
-    )
+    p.add_argument("--out", type=out_dir, default=DEFAULT_OUT, metavar="DIR",
+                   help="output directory")  # fmt: skip
     p.add_argument("--json", action="store_true", help="print one JSON object and nothing else")
     p.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
     p.add_argument(
@@ -411,6 +411,7 @@ def run(args: argparse.Namespace) -> int:
     if METHODS[method].fixed_step:  # 5 ms, or the record's sampling step if shorter; checked
         sv["dt"] = checked_step(method, sv, motion, t_eval, source)
     if method == "event" and system.isolation is not None:
+        notes += event_law(system, args.json)
         system = with_isolation_cached(system, law="switch")
     t_req = cfg.get("motion", {}).get("t_end")
     short = t_req is not None and t_eval[-1] < float(t_req) - 1e-9  # (cut at a sample)

@@ -237,6 +237,20 @@ def explicit_steps(method: str, system, span: float, quiet: bool, max_steps=None
     return [note]
 
 
+def event_law(system, quiet: bool) -> list[str]:
+    """The note of method ``event`` on a model of the smooth law (the default scene's arctan):
+    it integrates the switch law in its place, which the run's table did not say (the
+    library warns); printed unless ``quiet``, returned."""
+    iso = system.isolation
+    if iso is None or iso.law == "switch":
+        return []
+    note = (f"method 'event' integrates the switch law (true stick) in place of the scene's "
+            f"{iso.law} law (eps = {iso.eps:g} s/m); the summary's law is 'switch'")  # fmt: skip
+    if not quiet:
+        print(f"nsdyn run: note: {note}", file=sys.stderr)
+    return [note]
+
+
 def note_no_column_lines(system) -> str | None:
     """A frame without regular column lines (a setback, a missing column): the run reports
     its floors' accelerations and no drift ratios (they are per column line)."""

@@ -134,3 +134,16 @@ def test_uplift_names_the_isolation_keys_its_smooth_law_does_not_read(tmp_path, 
     assert main(argv) == 0
     assert "note: not used by this model: isolation.eta (a key of the switch law; the law here " \
            "is arctan)" in capsys.readouterr().err  # fmt: skip
+
+
+def test_the_event_method_says_it_runs_the_switch_law(tmp_path, capsys):
+    # the default scene's arctan law gave way to the switch law without a word on the
+    # command line (the library warns); the law given as switch needs no note
+    argv = ["run", "--method", "event", "--t-end", "0.5", "--no-figures", "--json"]
+    assert main([*argv, "--out", str(tmp_path / "a")]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["law"] == "switch"
+    assert any(n.startswith("method 'event' integrates the switch law (true stick) in place "
+                            "of the scene's arctan law") for n in s["notes"])  # fmt: skip
+    assert main([*argv, "--friction", "switch", "--out", str(tmp_path / "b")]) == 0
+    assert not any("in place of" in n for n in json.loads(capsys.readouterr().out)["notes"])
