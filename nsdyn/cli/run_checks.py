@@ -251,6 +251,19 @@ def event_law(system, quiet: bool) -> list[str]:
     return [note]
 
 
+def note_no_modes(system) -> str | None:
+    """A Craig–Bampton model that keeps no fixed-interface mode below its cut-off: its
+    structure moves as the static modes alone, so drifts and floor accelerations lose their
+    dynamics (a bay added to the portal moved f1 to 5.009 Hz: drift ratios fell 1000x)."""
+    info = getattr(system, "info", None) or {}
+    if getattr(system, "fidelity", None) != "cb" or info.get("n_modes", 1):
+        return None
+    return (f"Craig-Bampton at f_max = {system.f_max:g} Hz keeps no flexible mode (the "
+            "first fixed-interface mode lies above it): the structure moves quasi-statically, "
+            "its drifts and floor accelerations without their dynamics; raise --fmax "
+            "(scene.f_max) above the first mode (nsdyn modes FRAME)")  # fmt: skip
+
+
 def note_no_column_lines(system) -> str | None:
     """A frame without regular column lines (a setback, a missing column): the run reports
     its floors' accelerations and no drift ratios (they are per column line)."""
@@ -271,7 +284,7 @@ def scene_notes(cfg: dict, motion, quiet: bool, system=None) -> list[str]:
              note_coarse_output(cfg, motion),
              note_soft_law(cfg), note_high_friction(cfg), note_unused_cutoff(cfg),
              note_unused_isolation(cfg, system), note_loose_atol(cfg, system),
-             note_no_column_lines(system)]  # fmt: skip
+             note_no_column_lines(system), note_no_modes(system)]  # fmt: skip
     notes = [n for n in notes if n]
     if not quiet:
         for n in notes:

@@ -147,3 +147,16 @@ def test_the_event_method_says_it_runs_the_switch_law(tmp_path, capsys):
                             "of the scene's arctan law") for n in s["notes"])  # fmt: skip
     assert main([*argv, "--friction", "switch", "--out", str(tmp_path / "b")]) == 0
     assert not any("in place of" in n for n in json.loads(capsys.readouterr().out)["notes"])
+
+
+def test_a_reduction_without_a_flexible_mode_is_said(tmp_path, capsys):
+    # f_max below the first fixed-interface mode (0.463 Hz) keeps the static modes alone: a
+    # portal with one bay more ran with drift ratios 1000x smaller and nothing said
+    argv = ["run", "--t-end", "0.5", "--no-figures", "--json"]
+    assert main([*argv, "--fmax", "0.4", "--out", str(tmp_path / "a")]) == 0
+    notes = json.loads(capsys.readouterr().out)["notes"]
+    assert any(
+        n.startswith("Craig-Bampton at f_max = 0.4 Hz keeps no flexible mode") for n in notes
+    )
+    assert main([*argv, "--fmax", "0.5", "--out", str(tmp_path / "b")]) == 0
+    assert not any("no flexible mode" in n for n in json.loads(capsys.readouterr().out)["notes"])
