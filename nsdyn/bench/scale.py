@@ -34,7 +34,8 @@ import numpy as np
 
 from nsdyn.bench import common
 
-__all__ = ["SIZES", "fit_exponent", "peak_rss_mb", "run_bench", "scale_bench", "scale_frame"]
+__all__ = ["FIT_MIN_SIZES", "SIZES", "fit_exponent", "peak_rss_mb", "run_bench", "scale_bench",
+           "scale_frame"]  # fmt: skip
 
 OPTIONS = ("repeats", "quiet", "figures")
 FIGURES = ("scale.png",)  # the figures it draws (removed under --no-figures)
@@ -84,6 +85,9 @@ def peak_rss_mb() -> float:
     except OSError:
         pass
     return float("nan")
+
+
+FIT_MIN_SIZES = 3  # sizes a cost exponent is fitted from (two fit any line: --quick's n^0.03)
 
 
 def fit_exponent(n, wall) -> tuple[float, float]:
@@ -255,7 +259,7 @@ def _fits(rows: list[dict]) -> dict:
     fits = {}
     for tool in dict.fromkeys(r["tool"] for r in rows):
         rr = [r for r in rows if r["tool"] == tool]
-        if len(rr) >= 2:
+        if len(rr) >= FIT_MIN_SIZES:
             n = [r["n_dof"] for r in rr]
             fits[tool] = {
                 "p_run": fit_exponent(n, [r["run_s"] for r in rr])[0],
@@ -305,6 +309,8 @@ def report(res: dict) -> str:
     for tool, f in res["fits"].items():
         p_run, p_proc = f["p_run"], f["p_process"]
         lines.append(f"fit {LABELS[tool]}: run ~ n^{p_run:.2f}, process ~ n^{p_proc:.2f}")
+    if not res["fits"]:
+        lines.append(f"no cost exponent: fitted from {FIT_MIN_SIZES} sizes or more")
     return "\n".join(lines)
 
 

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.bench import common
-from nsdyn.bench.scale import _OS_CHILD, _child, fit_exponent
+from nsdyn.bench.scale import _OS_CHILD, FIT_MIN_SIZES, _child, fit_exponent
 
 __all__ = ["SIZES", "building_of_size", "run_bench", "scale3d_bench"]
 
@@ -43,7 +43,6 @@ QUICK_RECORD_S = 1.0
 DT = 0.005  # s, the fixed step of both
 SIZES = ((5, 1, 2, 2), (5, 1, 5, 4), (10, 1, 5, 4), (14, 2, 5, 4))  # (by, bx, n_v, n_h)
 QUICK_SIZES = SIZES[:2]
-FIT_MIN_SIZES = 3  # sizes a cost exponent is fitted from
 BEARING = {"type": "fps", "radius": 2.2, "mu_slow": 0.04, "mu_fast": 0.07, "rate": 30.0,
            "mu_static": 0.075, "d_cap": 0.35}  # fmt: skip
 PEAKS = ("peak_resultant_displacement_m", "peak_drift_cm_x", "peak_drift_cm_y",

@@ -58,3 +58,15 @@ def test_quick_run_writes_its_files(tmp_path):
         assert rows  # one comparison per size
     for r in rows:
         assert abs(r["d_x_iso_max"]) < 0.02
+
+
+def test_no_exponent_from_two_sizes():
+    # --quick runs two sizes, through which any power law passes: it printed "run ~ n^0.03"
+    from nsdyn.bench.scale import FIT_MIN_SIZES, _fits, report
+
+    rows = [{"tool": "stiffness", "n_dof": n, "run_s": 1.0, "whole_process_s": 2.0,
+             "run": "x", "peak_rss_mb": 1.0} for n in (435, 1593)]  # fmt: skip
+    res = {"rows": rows, "fits": _fits(rows)}
+    assert FIT_MIN_SIZES == 3 and res["fits"] == {}
+    assert "no cost exponent: fitted from 3 sizes or more" in report(res)
+    assert set(_fits([*rows, {**rows[0], "n_dof": 4635}])) == {"stiffness"}
