@@ -55,20 +55,37 @@ def between_steps(res, dt, uplift: str):
     )
 
 
+IDR_IMPLAUSIBLE = 0.1  # a drift ratio past this (10 %; frames collapse near 2-5 %): said
+
+
+def drift_note(res) -> list[str]:
+    """A peak interstorey drift ratio past :data:`IDR_IMPLAUSIBLE`, which no frame survives
+    and the linear frame model does not describe: most often a frame in other units (E in
+    MPa ran with a drift ratio of 558 % and a roof drift of 22 m, said like any other run)."""
+    idr = float(getattr(res.response, "idr_max", np.nan))
+    if not idr > IDR_IMPLAUSIBLE:
+        return []
+    return [f"peak interstorey drift ratio {idr:.3g} ({100 * idr:.3g} %): far past any frame's "
+            "collapse (2-5 %) and the linear frame model's range; check the frame's units "
+            "(E and G in Pa, lengths in m, masses in kg) and the record's (m/s²)"]  # fmt: skip
+
+
 def fixed_step_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None) -> list[str]:
-    """What a fixed-step run ``res`` says of its own results: :func:`_turn_notes`, and a step
+    """What a run ``res`` says of its own results: an implausible drift (:func:`drift_note`);
+    a fixed-step or explicit run's :func:`_turn_notes`, and a step
     that does not divide the sampling step of the record ``motion`` (its steps then straddle
     the samples, where the piecewise-linear input kinks, and lose an order there: the
     isolator's peak on the default scene errs more at 4 ms than at 5 ms)."""
     from nsdyn.solve.methods import METHODS
 
+    said = drift_note(res)  # (every run's, whatever its method)
     if res.method in EXPLICIT:
-        return _turn_notes(res, P, QDD, f"the explicit steps of {res.method!r}, held at their "
-                           "stability limit by the model's stiffness, do not resolve", "use "
-                           "'radau' (the default), whose implicit steps do",
-                           turning=False)  # fmt: skip
+        return said + _turn_notes(res, P, QDD, f"the explicit steps of {res.method!r}, held "
+                                  "at their stability limit by the model's stiffness, do not "
+                                  "resolve", "use 'radau' (the default), whose implicit steps "
+                                  "do", turning=False)  # fmt: skip
     if not METHODS[res.method].fixed_step or not dt:
-        return []
+        return said
     fix = "halve dt until they settle, or use an adaptive method ('radau')"
     out = _turn_notes(res, P, QDD, f"the fixed step dt = {dt:g} s does not resolve", fix)
     h = getattr(motion, "dt", None)
@@ -77,7 +94,7 @@ def fixed_step_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None) -> 
                    f"{h:g} s: its steps straddle the samples, where the input kinks, and are "
                    f"first-order accurate there; use the record's step divided by a whole "
                    f"number ({h / 2:g}, {h / 3:.3g}, {h / 4:g} s, …)")  # fmt: skip
-    return out
+    return said + out
 
 
 def _turn_notes(res, P: tuple, QDD: np.ndarray | None, why: str, fix: str,
