@@ -70,8 +70,8 @@ def scaled_to_pga(motion, pga: float, source: str, field: str = "motion.pga"):
     target) a :class:`SceneError` naming the scene file and ``field``."""
     try:
         return motion.scaled_to_pga(pga)
-    except ValueError as e:
-        raise SceneError(f"{source}: {field}: {e}") from None
+    except ValueError as e:  # (the library names its argument, target: the field is named)
+        raise SceneError(f"{source}: {field}: {str(e).removeprefix('target: ')}") from None
 
 
 def scene_step(dt, motion, span, source: str, hint: str = "") -> None:

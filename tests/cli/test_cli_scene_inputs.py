@@ -236,3 +236,10 @@ def test_the_fixed_base_by_either_flag_takes_no_comparison(tmp_path, one_line):
     # model with a note
     assert main(["run", "--fidelity", "fixed", "--compare-fixed", "--out", str(tmp_path)]) == 2
     one_line("--fidelity fixed: the clamped linear frame has no isolators; --compare-fixed")
+
+
+def test_a_pga_out_of_range_is_named_by_its_field_alone(tmp_path, one_line):
+    # "motion.pga (--pga): target: expected ..." carried the library's argument name
+    assert main(["run", "--pga", "1e6", "--out", str(tmp_path)]) == 2
+    line = one_line("motion.pga (--pga): expected a finite PGA from 0 to 1000 m/s² (100 g)")
+    assert "target" not in line

@@ -482,7 +482,8 @@ def build_system(
         Gamma = cb.M[nb:, :] @ cb.Gamma  # modal participation of the ground load (M = I)
         T = cb.T[:, nb:]
         n = M.shape[0]
-        name = f"{getattr(frame, 'name', 'frame')} fixed-base ({n} modes <= {f_max:g} Hz)"
+        name = (f"{getattr(frame, 'name', 'frame')} fixed-base ({n} mode{'s' * (n != 1)} "
+                f"<= {f_max:g} Hz)")  # fmt: skip
         return IsolatedSystem(
             name,
             "fixed",
