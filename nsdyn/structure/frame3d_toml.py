@@ -186,12 +186,11 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
     rd.known(f, _EXPLICIT_KEYS, TABLE)
     P = TABLE
     raw = f.get("nodes")
-    if not (
-        isinstance(raw, list)
-        and len(raw) >= 2
-        and all(isinstance(p, list) and len(p) == 3 and all(_is_number(c) for c in p) for p in raw)
-    ):
+    if not (isinstance(raw, list) and len(raw) >= 2):
         rd.fail(f"{P}.nodes", "a list of >= 2 [x, y, z] triples", raw)
+    for k, p in enumerate(raw):  # (the node named: "got a list of 8" said which not)
+        if not (isinstance(p, list) and len(p) == 3 and all(_is_number(c) for c in p)):
+            rd.fail(f"{P}.nodes[{k}]", "a triple [x, y, z] of numbers [m]", p, raw=True)
     nodes = np.array(raw, float)
     if not np.all(np.isfinite(nodes)):
         k = int(np.flatnonzero(~np.all(np.isfinite(nodes), axis=1))[0])

@@ -241,14 +241,11 @@ def frame_from_dict(data: Mapping, file: str = "<dict>") -> Frame:
 
     rd.known(frame, _EXPLICIT_KEYS, "frame")
     raw_nodes = frame.get("nodes")
-    if (
-        not isinstance(raw_nodes, list)
-        or len(raw_nodes) < 2
-        or not all(
-            isinstance(p, list) and len(p) == 2 and all(_is_number(c) for c in p) for p in raw_nodes
-        )
-    ):
+    if not isinstance(raw_nodes, list) or len(raw_nodes) < 2:
         rd.fail("frame.nodes", "a list of >= 2 [x, y] pairs", raw_nodes)
+    for k, p in enumerate(raw_nodes):  # (the node named: "got a list of 7" said which not)
+        if not (isinstance(p, list) and len(p) == 2 and all(_is_number(c) for c in p)):
+            rd.fail(f"frame.nodes[{k}]", "a pair [x, y] of numbers [m]", p, raw=True)
     nodes = np.array(raw_nodes, float)
     nn = len(nodes)
     raw_secs = frame.get("sections")

@@ -305,3 +305,19 @@ def test_modes_of_a_frame_without_mass_is_one_line(tmp_path, capsys):
                  "rho_A = 0.0").replace("floor_mass = 1000.0", "floor_mass = 0.0"))  # fmt: skip
     assert main(["modes", str(p), "--out", str(tmp_path / "o")]) == 2
     assert "has no mass (rho_A = 0 on every element and no node mass)" in capsys.readouterr().err
+
+
+def test_a_node_of_the_wrong_size_is_named(tmp_path):
+    # "frame.nodes: expected a list of >= 2 [x, y] pairs, got a list of 7" said not which
+    from nsdyn.structure import load_frame3d
+
+    root = Path(__file__).resolve().parents[2] / "frames"
+    p = tmp_path / "p.toml"
+    p.write_text((root / "portal.toml").read_text().replace("[3.0, 4.0],", "[3.0, 4.0, 0.0],"))
+    with pytest.raises(FrameFileError, match=r"frame\.nodes\[4\]: expected a pair \[x, y\] of "
+                       r"numbers \[m\], got \[3\.0, 4\.0, 0\.0\]$"):  # fmt: skip
+        load_frame(p)
+    text = (root / "portal-3d.toml").read_text()
+    p.write_text(text.replace("[0.0, 0.0, 0.0], [6.0", "[0.0, 0.0], [6.0", 1))
+    with pytest.raises(FrameFileError, match=r"frame3d\.nodes\[0\]: expected a triple \[x, y, z\]"):
+        load_frame3d(p)
