@@ -104,7 +104,8 @@ def _lazy(module: str, attr: str) -> Callable:
 
 COMMANDS: dict[str, Command] = {
     "modes": Command(
-        help="fixed-base modes, dof counts (full and Craig–Bampton), mass and f_bis",
+        help="fixed-base modes, dof counts (full and Craig–Bampton), mass and f_bis (a 3D "
+        "frame: modes with their families and mass fractions, dofs and mass)",
         configure=_lazy("nsdyn.cli.modes", "configure"),
         run=_lazy("nsdyn.cli.modes", "run"),
     ),
