@@ -22,6 +22,7 @@ _NOT_HERE = (  # flags of the nonlinear sweeps: (flag, attribute, its default)
     ("--friction", "friction", None), ("--contact", "contact", "bilateral"),
     ("--tableau", "tableau", "sdirk2"), ("--steps-factor", "steps_factor", 1.0),
     ("--continuation", "continuation", "sequential"), ("--no-fallback", "no_fallback", False),
+    ("--workers", "workers", None),  # (one batched solve: it was taken and ignored)
 )  # fmt: skip
 
 

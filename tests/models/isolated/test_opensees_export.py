@@ -179,6 +179,11 @@ def test_script_runs_standalone(tmp_path):
                        text=True, timeout=120, cwd=tmp_path)  # fmt: skip
     res = json.loads([s for s in p.stdout.splitlines() if s.startswith("{")][-1])
     assert res["n_steps"] == 50 and res["duration_s"] <= 0.2535
+    # an end past the record runs it whole and says so, as the export does (it was silent)
+    p = subprocess.run([sys.executable, str(path), "--t-end", "100"], capture_output=True,
+                       text=True, timeout=120, cwd=tmp_path)  # fmt: skip
+    res = json.loads([s for s in p.stdout.splitlines() if s.startswith("{")][-1])
+    assert res["n_steps"] == 100 and "--t-end 100 s is past the record's end" in p.stderr
     p = subprocess.run([sys.executable, str(path), "--bogus"], capture_output=True, text=True,
                        timeout=120, cwd=tmp_path)  # fmt: skip
     assert p.returncode == 2 and "unrecognized arguments: --bogus" in p.stderr
