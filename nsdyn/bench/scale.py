@@ -281,9 +281,10 @@ def _figure(rows, fits, path: Path) -> Path:
                            (axes[1], "whole_process_s", "whole process")):  # fmt: skip
         for tool in dict.fromkeys(r["tool"] for r in rows):
             rr = [r for r in rows if r["tool"] == tool]
-            p = fits.get(tool, {}).get("p_run" if key == "run_s" else "p_process", np.nan)
+            p = fits.get(tool, {}).get("p_run" if key == "run_s" else "p_process")
+            fit = "" if p is None else f" (n^{p:.2f})"  # (none from fewer sizes: not n^nan)
             ax.loglog([r["n_dof"] for r in rr], [r[key] for r in rr], "o-",
-                      label=f"{LABELS[tool]} (n^{p:.2f})")  # fmt: skip
+                      label=f"{LABELS[tool]}{fit}")  # fmt: skip
         ax.set_xlabel("dofs of the full FE model")
         ax.set_ylabel("wall time [s]")
         ax.set_title(title)

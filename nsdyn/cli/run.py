@@ -397,11 +397,10 @@ def run(args: argparse.Namespace) -> int:
         table = {"dt_out": "solver.", "t_end": "motion.", "n_periods": "motion."}
         prefix = table.get(field, "" if field == "motion" else "motion: ")
         raise SceneError(f"{source}: {prefix}{e}") from None
-    method = sv.get("method", "auto")
-    reason = ""
-    if method == "auto":  # by the model's size, friction law and contact; said in one line
-        from nsdyn.solve.auto import choose_for_system
+    from nsdyn.solve.auto import choose_for_system, step_reason
 
+    method, reason = sv.get("method", "auto"), ""
+    if method == "auto":  # by the model's size, friction law and contact; said in one line
         method, reason = choose_for_system(system)
     check_method(method, cfg)
     from nsdyn.solve.methods import METHODS
@@ -409,6 +408,7 @@ def run(args: argparse.Namespace) -> int:
 
     if METHODS[method].fixed_step:  # 5 ms, or the record's sampling step if shorter; checked
         sv["dt"] = checked_step(method, sv, motion, t_eval, source)
+        reason = step_reason(reason, sv["dt"])
     smooth = system  # (its law, said after the checks where "event" replaces it)
     if method == "event" and system.isolation is not None:
         system = with_isolation_cached(system, law="switch")

@@ -427,12 +427,12 @@ def simulate(
 
     integrate.known_method(method)  # (a KeyError deep in the run before)
     if method == "auto":
-        from nsdyn.solve.auto import AUTO_DT, choose_for_system
+        from nsdyn.solve.auto import choose_for_system, step_reason
 
         method, reason = choose_for_system(system, contact)
         if METHODS[method].fixed_step:  # (the reason gives the step that runs: a given one)
             dt = default_step(motion) if dt is None else dt
-            reason = reason.replace(f"(dt {AUTO_DT:g} s", f"(dt {dt:g} s")
+            reason = step_reason(reason, dt)
         elif not METHODS[method].fixed_step and dt is not None:
             raise ValueError(
                 f"dt={dt:g} is the step of a fixed-step method, but method 'auto' chose the "

@@ -160,3 +160,11 @@ def test_a_reduction_without_a_flexible_mode_is_said(tmp_path, capsys):
     )
     assert main([*argv, "--fmax", "0.5", "--out", str(tmp_path / "b")]) == 0
     assert not any("no flexible mode" in n for n in json.loads(capsys.readouterr().out)["notes"])
+
+
+def test_the_auto_reason_names_the_step_given(tmp_path, capsys):
+    # the command line's own reason said "dt 0.005 s" of a run at --dt 2.5 ms
+    argv = ["run", "--fidelity", "full", "--dt", "0.0025", "--t-end", "0.1", "--json"]
+    assert main([*argv, "--no-figures", "--out", str(tmp_path)]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert "(dt 0.0025 s, factored once)" in s["method_reason"] and s["n_steps"] == 40
