@@ -346,7 +346,7 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict,
         record_replaces_motion(kind, raw["motion"], record_replaces(kind), str(scene_path))
         merged = _merge(raw, base_over)
     if kind == "isolated":
-        from nsdyn.models.isolated.scene import _check, load_scene
+        from nsdyn.models.isolated.scene import _check, as_recorded, load_scene
 
         # each [base] table as merged over the scene's own (a harmonic scene's [base.motion]
         # n_periods was checked against a record's keys: its kind is the scene's)
@@ -355,8 +355,7 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict,
 
         cfg = load_scene(scene_path, base_over)
         cfg.pop("_source", None)
-        if records and "pga" not in merged.get("motion", {}):  # (as `nsdyn run --record`: the
-            cfg.get("motion", {}).pop("pga", None)  # records run as recorded, or at motion.pga)
+        as_recorded(cfg, merged.get("motion", {}), records)  # (as `nsdyn run --record`)
         try:
             isolation_from_config(cfg.get("isolation", {}), source)
         except ValueError as e:

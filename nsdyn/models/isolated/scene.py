@@ -234,10 +234,17 @@ def load_scene(path: str | Path | None = None, overrides: dict | None = None) ->
         cfg = merge(cfg, overrides)
     given = {**(user.get("motion", {}) if path is not None else {}),
              **(overrides or {}).get("motion", {})}  # fmt: skip
-    if "record" in given and "pga" not in given:  # (the default's 3 m/s² is its own record's:
-        cfg.get("motion", {}).pop("pga", None)  # a record named without one runs as recorded)
+    as_recorded(cfg, given, "record" in given)
     cfg["_source"] = source
     return cfg
+
+
+def as_recorded(cfg: dict, given: dict, named: bool) -> None:
+    """In place: a record ``named`` by the user runs as recorded unless ``given`` (the user's
+    own ``[motion]`` values) holds a ``pga``: the default scene's 3 m/s² is its own record's
+    (it scaled every record named without one)."""
+    if named and "pga" not in given:
+        cfg.get("motion", {}).pop("pga", None)
 
 
 def build_scene(cfg: dict):
