@@ -185,7 +185,9 @@ def explicit_steps(method: str, system, span: float, quiet: bool, max_steps=None
     (:data:`nsdyn.solve.transient.CHUNK_S`) needs more such steps than ``max_steps`` (default
     the solver's) is refused before it starts: it would spend them (the full frame's 2 s ran
     for 13 minutes, deaf to Ctrl-C inside its one call) and stop on the budget."""
-    if method != "dopri5" or system.n == 0:
+    from nsdyn.solve.resolution import EXPLICIT
+
+    if method not in EXPLICIT or system.n == 0:  # (dopri5)
         return []
     import numpy as np
 

@@ -212,7 +212,7 @@ def simulate_full(
     from nsdyn.solve import _kcommon as ki
     from nsdyn.solve import _kgenalpha, integrate, methods, sparse
     from nsdyn.solve.checkpoint import Carry, chunks, holding_signals, load, run_key, save
-    from nsdyn.solve.resolution import fixed_step_notes
+    from nsdyn.solve.resolution import result_notes
     from nsdyn.solve.transient import describe
 
     if unused:
@@ -294,5 +294,5 @@ def simulate_full(
         sorted(set(carry.uplifts)), describe(motion), contact, method_reason=reason,
         law=getattr(system.isolation, "law", None),
     )  # fmt: skip
-    res.notes = fixed_step_notes(res, P, evaluated[0], dt, motion)  # (unresolved peaks)
+    res.notes = result_notes(res, P, evaluated[0], dt, motion)  # (unresolved peaks)
     return res

@@ -1,10 +1,11 @@
-"""Whether a fixed step resolved what a run's outputs report.
+"""Whether a run's outputs report what it resolved.
 
 A fixed-step run has no error control, so two things it reports are checked after it:
 
 * :func:`between_steps`: a normal force that every step end kept positive but an output
   between the steps did not (the step does not resolve the response: an error, at its time);
-* :func:`fixed_step_notes`: a floor acceleration's peak read where the arctan law turns the
+* :func:`result_notes`: a drift no frame survives (every run's, :func:`drift_note`); a floor
+  acceleration's peak read where the arctan law turns the
   friction over (and a step that does not divide the record's). The law
   ``μ N (2/π) arctan(ε v)`` turns within ~100/ε of zero slip velocity; a fixed
   step does not follow the turn, and a state it leaves inside it carries accelerations the
@@ -70,7 +71,7 @@ def drift_note(res) -> list[str]:
             "(E and G in Pa, lengths in m, masses in kg) and the record's (m/s²)"]  # fmt: skip
 
 
-def fixed_step_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None) -> list[str]:
+def result_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None) -> list[str]:
     """What a run ``res`` says of its own results: an implausible drift (:func:`drift_note`);
     a fixed-step or explicit run's :func:`_turn_notes`, and a step
     that does not divide the sampling step of the record ``motion`` (its steps then straddle
@@ -110,7 +111,7 @@ def _turn_notes(res, P: tuple, QDD: np.ndarray | None, why: str, fix: str,
     from nsdyn.models.isolated.params import KernelParams
 
     system, t, X = res.system, res.t, res.x
-    if res.law != "arctan" or t.size < 3 or QDD is None:  # (fixed_step_notes: a fixed step)
+    if res.law != "arctan" or t.size < 3 or QDD is None:  # (result_notes: its method's)
         return []
     od = output_rows(system)
     if not od["levels"] or system.D.shape[0] == 0:

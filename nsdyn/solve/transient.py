@@ -35,7 +35,7 @@ from nsdyn.solve import integrate
 from nsdyn.solve.checkpoint import Carry, chunks, holding_signals, run_key
 from nsdyn.solve.checkpoint import load as load_checkpoint
 from nsdyn.solve.checkpoint import save as save_checkpoint
-from nsdyn.solve.resolution import between_steps, fixed_step_notes
+from nsdyn.solve.resolution import between_steps, result_notes
 from nsdyn.solve.run_inputs import (
     check_run_inputs,
     default_step,
@@ -554,7 +554,7 @@ def simulate(
         integrated_law(system, method),
         failure,
     )
-    res.notes = record_span_notes(t_eval, motion) + fixed_step_notes(res, Pm, evaluated[0], dt,
+    res.notes = record_span_notes(t_eval, motion) + result_notes(res, Pm, evaluated[0], dt,
                                                                      motion)  # fmt: skip
     res.restitution = float(restitution)
     return between_steps(res, dt, uplift)
