@@ -48,6 +48,9 @@ def differing(old, new, path: str = "") -> list[str]:
 # the last files this process renamed into place (an interrupted command names those it
 # wrote; the command line clears it as a command starts; bounded for long library sessions)
 WRITTEN: deque[str] = deque(maxlen=64)
+# the note of a command that failed in its output folder on the files there it did not write
+# (said after its error line: an earlier run's histories are not this one's)
+EARLIER: deque[str] = deque(maxlen=1)
 
 
 @contextmanager
@@ -169,15 +172,20 @@ def files_of(out: Path) -> dict:
             if p.is_file() and not p.name.startswith(".")}  # fmt: skip
 
 
-def earlier_files(out: Path, before: dict, command: str) -> str:
+def earlier_files(out: Path, before: dict, command: str, failed: bool = False) -> str:
     """The note on the files in ``out`` that a command did not write (as :func:`files_of`
-    saw them, ``before``, when it began: an earlier command's), or ""."""
+    saw them, ``before``, when it began: an earlier command's), or "". ``failed``: worded
+    for a command that wrote none (its error said why)."""
     kept = sorted(n for n, t in files_of(out).items() if before.get(n) == t)
     if not kept:
         return ""
     more = f" and {len(kept) - 4} more" if len(kept) > 4 else ""
-    return (f"{out} also holds files this {command} did not write (an earlier command's): "
-            f"{', '.join(kept[:4])}{more}")  # fmt: skip
+    what = (
+        f"holds an earlier command's files, none of this failed {command}'s"
+        if failed
+        else f"also holds files this {command} did not write (an earlier command's)"
+    )
+    return f"{out} {what}: {', '.join(kept[:4])}{more}"
 
 
 @contextmanager
@@ -187,16 +195,20 @@ def output_dir(out: Path, command: str = "command", say=None) -> Iterator[Path]:
     directories it created, when it left them empty (an interrupted run's checkpoint, a
     sweep's finished points keep theirs); files and directories that were there before are
     never touched. ``say(line)``: told, when the command ends, of the files there that it
-    did not write (an earlier command's: a rocking run's beside an isolated frame's)."""
+    did not write (an earlier command's: a rocking run's beside an isolated frame's). A
+    command that fails with an error leaves that note in :data:`EARLIER`, for the command
+    line to say after the error (an interrupt's line says what is on disk)."""
     made = [d for d in (out, *out.parents) if not d.exists()]  # deepest first
     out.mkdir(parents=True, exist_ok=True)
-    before = files_of(out) if say is not None else {}
+    before = files_of(out)
     try:
         with out_lock(out, command):
             yield out
         if say is not None and (note := earlier_files(out, before, command)):
             say(note)
-    except BaseException:
+    except BaseException as exc:
+        if isinstance(exc, Exception) and (note := earlier_files(out, before, command, True)):
+            EARLIER.append(note)
         for d in made:
             try:
                 d.rmdir()  # only an empty directory goes

@@ -28,6 +28,7 @@ from nsdyn.cli.args import (
     EXIT_NUMERICS,
     EXIT_PIPE_CLOSED,
     EXIT_USER_ERROR,
+    SAID,
     fail,
 )
 
@@ -276,6 +277,7 @@ def _one_line_warnings(command: str, default: Callable) -> Callable:
 
         if issubclass(category, InputWarning):
             kind = "note" if issubclass(category, NotedWarning) else "warning"
+            SAID.append((kind, str(message)))  # (--json: in the summary as well)
             print(f"nsdyn {command}: {kind}: {message}", file=sys.stderr if file is None else file)
             return
         default(message, category, filename, lineno, file, line)
@@ -439,9 +441,11 @@ def _main(argv: list[str]) -> int:
         own = parser.commands[args.command]
         own.error(f"unrecognized arguments: {' '.join(extra)}{_option_hint(own, extra)}")
     _SIGNALLED[0] = False
-    from nsdyn.atomic import WRITTEN
+    from nsdyn.atomic import EARLIER, WRITTEN
 
     WRITTEN.clear()  # (the files this command writes: an interrupt names them)
+    EARLIER.clear()  # (an earlier run's files beside this one's error)
+    SAID.clear()
     try:  # SIGTERM stops a command the way Ctrl-C does (atomic files; checkpoints kept)
         old = signal.signal(signal.SIGTERM, _on_signal), signal.signal(signal.SIGINT, _on_signal)
     except ValueError:  # not the main thread: leave signals alone
@@ -469,13 +473,13 @@ def _main(argv: list[str]) -> int:
     except BrokenPipeError:  # no error of the input: main stops quietly
         raise
     except _user_errors() as exc:
-        return fail(args, flagged(str(exc), args))
+        return fail(args, flagged(str(exc), args), notes=EARLIER)
     except _numerics_errors() as exc:
         from nsdyn.solve.integrate import UpliftError
 
         # an uplift under contact "detect" is the model's assumption ending, not the numerics
         what = "model limit" if isinstance(exc, UpliftError) else "numerical failure"
-        return fail(args, exc, EXIT_NUMERICS, what)
+        return fail(args, exc, EXIT_NUMERICS, what, EARLIER)
     finally:
         warnings.showwarning = shown
         if old is not None and _ENDING[0]:  # the script's command is done, its outcome out:

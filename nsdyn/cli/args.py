@@ -235,15 +235,19 @@ def holes(command: str, n_bad: int, n: int, what: str, detail: str) -> int:
 
 
 def fail(args: argparse.Namespace, message, status: int = EXIT_USER_ERROR,
-         what: str = "error") -> int:  # fmt: skip
-    """``status`` after one line ``nsdyn COMMAND: what: message`` on stderr and, with
-    ``--json``, one JSON object ``{"status", "error"}`` on stdout (a script reading the
-    output reads every outcome)."""
+         what: str = "error", notes=()) -> int:  # fmt: skip
+    """``status`` after one line ``nsdyn COMMAND: what: message`` on stderr, then a line
+    ``nsdyn COMMAND: note: ...`` for each of ``notes`` (an earlier run's files beside it) and,
+    with ``--json``, one JSON object ``{"status", "error"}`` (and ``"notes"``) on stdout (a
+    script reading the output reads every outcome)."""
     print(f"nsdyn {args.command}: {what}: {message}", file=sys.stderr)
+    for note in notes:
+        print(f"nsdyn {args.command}: note: {note}", file=sys.stderr)
     if getattr(args, "json", False):
         import json
 
-        print(json.dumps({"status": status, "error": str(message)}))
+        said = {"notes": list(notes)} if notes else {}
+        print(json.dumps({"status": status, "error": str(message), **said}))
     return status
 
 
@@ -255,26 +259,43 @@ PGA_HELP = (
 )
 
 
-def stale_figures(out: Path, names, command: str, quiet: bool) -> None:
+def stale_figures(out: Path, names, command: str, quiet: bool) -> str:
     """Remove an earlier run's figures ``names`` from ``out`` when this run draws none
     (``--no-figures``: they sat beside the new results, figures of other settings), and say
-    so on stderr unless ``quiet``."""
+    so on stderr unless ``quiet``; the note ("" if none went), for the summary's notes."""
     gone = [n for n in names if (Path(out) / n).is_file()]
     for n in gone:
         (Path(out) / n).unlink()
-    if gone and not quiet:
-        print(f"nsdyn {command}: note: removed the earlier run's {', '.join(gone)} "
-              "(--no-figures draws none)", file=sys.stderr)  # fmt: skip
+    note = f"removed the earlier run's {', '.join(gone)} (--no-figures draws none)" if gone else ""
+    if note and not quiet:
+        print(f"nsdyn {command}: note: {note}", file=sys.stderr)
+    return note
 
 
-def old_figures(out: Path, names, command: str, args: argparse.Namespace) -> None:
+def old_figures(out: Path, names, command: str, args: argparse.Namespace) -> str:
     """An earlier run's figures ``names`` in ``out``, removed before this run writes its
     tables: redrawn after them (an interrupt in between left an old figure beside the new
-    results), or with ``--no-figures`` not drawn at all (:func:`stale_figures`, said)."""
-    if args.no_figures:
-        stale_figures(out, names, command, args.json)
+    results), or with ``--no-figures`` not drawn at all (:func:`stale_figures`, said: its
+    note returned)."""
+    note = stale_figures(out, names, command, args.json) if args.no_figures else ""
     for n in names:
         (Path(out) / n).unlink(missing_ok=True)
+    return note
+
+
+# the one-line warnings and notes the command line said on stderr during a command (a
+# record's units): a --json summary carries them too (cleared as a command starts)
+SAID: list[tuple[str, str]] = []
+
+
+def with_said(s: dict) -> dict:
+    """``s`` with the warnings and notes said on stderr during the command (:data:`SAID`)
+    among its ``warnings`` and ``notes`` (each once): a script reading --json sees them."""
+    for kind, text in SAID:
+        key = "notes" if kind == "note" else "warnings"
+        if text not in s.get(key, []):
+            s.setdefault(key, []).append(text)
+    return s
 
 
 def above_highest(amplitudes, where: str, command: str = "") -> str | None:

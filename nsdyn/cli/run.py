@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, earlier_files, files_of, output_dir, save_figure
-from nsdyn.cli.args import EXIT_NUMERICS, PGA_HELP, out_dir, stale_figures
+from nsdyn.cli.args import EXIT_NUMERICS, PGA_HELP, out_dir, stale_figures, with_said
 from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
 from nsdyn.cli.args import positive_int as _positive_int
@@ -274,9 +274,9 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
             s["files"] += importlib.import_module(fig_mod).scene_figures(s, out)
         if args.no_figures:
             name = cfg.get("scene", {}).get("name", Path(str(args.scene)).stem)
-            stale_figures(out, FIGURES[kind](name), "run", args.json)
+            said.append(stale_figures(out, FIGURES[kind](name), "run", quiet=True))
     notes_first(args, s)
-    for note in said:
+    for note in filter(None, said):  # (said here, and among the summary's notes)
         s.setdefault("notes", []).append(note)
         if not args.json:
             print(f"nsdyn run: note: {note}", file=sys.stderr)
@@ -299,7 +299,7 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
         head = {"status": status, "error": uplift_error(s)}
         print(f"nsdyn run: error: {head['error']}", file=sys.stderr)
     if args.json:  # a failed run's JSON leads with status and error, as every failure's does
-        print(json.dumps({**(head if status else {}), **s}))
+        print(json.dumps({**(head if status else {}), **with_said(s)}))
         return status
     print(mod.format_summary(s))
     return status
@@ -525,7 +525,7 @@ def run(args: argparse.Namespace) -> int:
         if s.get("uplift"):  # uplift = "warn": the run went on outside the model's domain
             print(f"nsdyn run: warning: {text}", file=sys.stderr)
         if args.no_figures:
-            stale_figures(out, [f"{stem}.png"], "run", args.json)
+            s["notes"] += [g for g in [stale_figures(out, [f"{stem}.png"], "run", args.json)] if g]
         else:
             from nsdyn.plot import plot_transient
 
@@ -541,7 +541,7 @@ def run(args: argparse.Namespace) -> int:
             if not args.json:
                 print(f"nsdyn run: note: {note}", file=sys.stderr)
         if args.json:
-            print(json.dumps(s))
+            print(json.dumps(with_said(s)))
             return 0
         pga = f" (PGA {s['pga_mps2']:.2f} m/s²)" if "pga_mps2" in s else ""
         scaled = s.get("record_pga_mps2")

@@ -29,6 +29,7 @@ from nsdyn.cli.args import (
     old_figures,
     out_dir,
     refinement,
+    with_said,
     workers,
 )
 from nsdyn.cli.args import amplitude_list as _amplitude_list
@@ -287,7 +288,7 @@ def run(args: argparse.Namespace) -> int:
             quiet=args.json,
         )
         csv_path = out / "sweep.csv"
-        old_figures(out, ["sweep.png"], "sweep", args)  # (before the table: redrawn after it)
+        gone = old_figures(out, ["sweep.png"], "sweep", args)  # (redrawn after the table)
         write_csv(csv_path, results)
         report = {
             "model": results[0]["model"],
@@ -296,6 +297,7 @@ def run(args: argparse.Namespace) -> int:
             "wall_s": time.perf_counter() - t0,
             "compile_s": compile_s,
             "amplitudes": [summarise(r) for r in results],
+            **({"notes": [gone]} if gone else {}),  # (said: --no-figures removed the figure)
         }
         if not args.no_figures:
             freqs = log_frequencies(args.fmin, args.fmax, 300)
@@ -312,7 +314,7 @@ def run(args: argparse.Namespace) -> int:
             report["figure"] = str(fig_path)
         _note_earlier(args, out, before, report)
     if args.json:
-        print(json.dumps(report, default=float))
+        print(json.dumps(with_said(report), default=float))
         return _holes(report["amplitudes"], csv_path)
     print(
         f"model {report['model']}: {settings.points} frequencies "
@@ -487,7 +489,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         results = sweep_plane(cfg, source, amplitudes, settings, out, workers=args.workers,
                               restart=args.restart, quiet=args.json)  # fmt: skip
         csv_path = out / "sweep.csv"
-        old_figures(out, ["sweep.png"], "sweep", args)  # (before the table: redrawn after it)
+        gone = old_figures(out, ["sweep.png"], "sweep", args)  # (redrawn after the table)
         write_csv(csv_path, results)
         o = sc["orbit"]
         report = {
@@ -504,10 +506,10 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
             if isinstance(k, int) and 0 <= k < len(bearings):
                 peaks[k] = max(peaks[k], float(row["u_peak_m"]))
         big = slip_ratio_note(bearings, peaks) if bearings else None
-        if big:  # (a run says so; the sweep's orbits past the radius said nothing)
-            report["notes"] = [big]
-            if not args.json:
-                print(f"nsdyn sweep: note: {big}", file=sys.stderr)
+        if notes := [n for n in (gone, big) if n]:  # (--no-figures removed the figure, said)
+            report["notes"] = notes
+        if big and not args.json:  # (a run says so; the orbits past the radius said nothing)
+            print(f"nsdyn sweep: note: {big}", file=sys.stderr)
         if not args.no_figures:
             from nsdyn.plot.plane_sweep import plane_sweep_figure
 
@@ -521,7 +523,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         with atomic_open(json_path, "w") as fh:
             fh.write(json.dumps(report, default=float, indent=1))
     if args.json:
-        print(json.dumps(report, default=float))
+        print(json.dumps(with_said(report), default=float))
         return _holes(report["amplitudes"], json_path)
     print(f"{sc['kind']} {sc['name']}: {settings.points} frequencies {fmin:g}-{fmax:g} Hz, "
           f"law {settings.law}, {settings.continuation} continuation")  # fmt: skip

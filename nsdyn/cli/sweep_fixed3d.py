@@ -73,7 +73,7 @@ def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
     w.writeheader()
     w.writerows({k: repr(r[k]) for k in COLUMNS} for r in rows)
     csv_path = out / "sweep.csv"
-    old_figures(out, ["sweep.png"], "sweep", args)  # (before the table: redrawn after it)
+    gone = old_figures(out, ["sweep.png"], "sweep", args)  # (redrawn after the table)
     with atomic_open(csv_path, "w") as fh:
         fh.write(buf.getvalue())
     mode_list = [{"f_hz": float(fk), "family": fam} for fk, fam in zip(modes.f_hz, modes.family,
@@ -91,7 +91,7 @@ def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
               "mass_captured": [float(v) for v in modes.mass_fraction.sum(axis=0)],
               "amplitudes": summary, "wall_s": time.perf_counter() - t0}  # fmt: skip
     few = few_modes_note(sc["n_modes"], modes) if sc.get("n_modes_given", True) else None
-    report["notes"] = [few] if few else []
+    report["notes"] = [n for n in (gone, few) if n]  # (each said on stderr)
     if few and not args.json:
         print(f"nsdyn sweep: note: {few}", file=sys.stderr)
     if not args.no_figures:

@@ -2,6 +2,7 @@
 naming what is wrong, exit status 2 (``nsdyn.cli.args.EXIT_USER_ERROR``), nothing on stdout
 and nothing written (no output folder left behind)."""
 
+import json
 from pathlib import Path
 
 import pytest
@@ -130,11 +131,13 @@ def test_a_units_warning_is_one_line_naming_the_command(capsys, tmp_path):
         rc = main(["run", "--record", str(rec), "--t-end", "1", "--json", "--no-figures",
                    "--out", str(tmp_path / "o")])  # fmt: skip
     assert rc == 0
-    err = [ln for ln in capsys.readouterr().err.splitlines() if "warning" in ln.lower()]
-    assert err == [
-        f"nsdyn run: warning: {rec}: the file does not state its units; assuming m/s² (give "
-        'them: in a scene [motion] units = "gal", "g" or "m/s2"; in Python units=\'gal\')'
+    out, err = capsys.readouterr()
+    said = (f"{rec}: the file does not state its units; assuming m/s² (give them: in a scene "
+            '[motion] units = "gal", "g" or "m/s2"; in Python units=\'gal\')')  # fmt: skip
+    assert [ln for ln in err.splitlines() if "warning" in ln.lower()] == [
+        f"nsdyn run: warning: {said}"
     ]
+    assert json.loads(out)["warnings"] == [said]  # (a script reading --json sees it too)
 
 
 def test_a_vertical_the_model_cannot_feel_is_one_warning_line(capsys, tmp_path):

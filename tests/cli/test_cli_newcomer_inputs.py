@@ -281,14 +281,20 @@ def test_a_misspelt_scene_table_gets_the_nearest_name(tmp_path, capsys, text, hi
 def test_a_contact_problem_without_solution_is_a_numerical_failure(tmp_path, capsys):
     """Friction 2.0 on the seed's block: at the first contact instant the rigid body's LCP
     has no solution (Painlevé's paradox of rigid bodies with Coulomb friction), a failure of
-    the event-driven method, not of the input: status 3 with the time and the way out."""
+    the event-driven method, not of the input: status 3 with the time and the way out. An
+    earlier run's histories in the folder are said to be that run's, after the error."""
     scene = tmp_path / "mu2.toml"
     text = (SCENES / "contact-seed002-A5.toml").read_text()
     scene.write_text(text.replace("mu_s = 0.57", "mu_s = 2.0").replace("mu_d = 0.29", "mu_d = 2.0"))
-    assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 3
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "run-histories.npz").write_bytes(b"an isolated frame's run")
+    assert main(["run", str(scene), "--no-figures", "--out", str(out)]) == 3
     err = capsys.readouterr().err
     assert "numerical failure: event-driven: contact LCP has no solution at t = 0 s" in err
     assert "Traceback" not in err and "solver.method = 'moreau'" in err
+    assert err.splitlines()[-1] == (f"nsdyn run: note: {out} holds an earlier command's files, "
+                                    "none of this failed run's: run-histories.npz")  # fmt: skip
 
 
 def test_an_output_grid_too_coarse_for_a_harmonic_is_noted(tmp_path, capsys):
@@ -455,6 +461,10 @@ def test_a_sweep_without_figures_removes_the_earlier_runs_figure(tmp_path, capsy
     assert main([*base, "--amplitudes", "1", "--no-figures"]) == 0
     assert not (out / "sweep.png").exists() and (out / "sweep.csv").exists()
     assert "removed the earlier run's sweep.png" in capsys.readouterr().err
+    assert main([*base, "--amplitudes", "0.5"]) == 0  # (--json: among the notes)
+    assert main([*base, "--amplitudes", "0.5", "--no-figures", "--json"]) == 0
+    notes = json.loads(capsys.readouterr().out.splitlines()[-1])["notes"]
+    assert "removed the earlier run's sweep.png (--no-figures draws none)" in notes
 
 
 @pytest.mark.parametrize("scene, figure", [("isolated-shear-3storey", "run.png"),
@@ -471,6 +481,9 @@ def test_a_run_without_figures_removes_the_earlier_runs_figure(tmp_path, capsys,
     assert main([*base, "--no-figures"]) == 0
     assert not (out / figure).exists() and (out / "notes.png").exists()
     assert f"removed the earlier run's {figure}" in capsys.readouterr().err
+    assert main(base) == 0 and main([*base, "--no-figures", "--json"]) == 0  # (said there too)
+    notes = json.loads(capsys.readouterr().out.splitlines()[-1])["notes"]
+    assert f"removed the earlier run's {figure} (--no-figures draws none)" in notes
 
 
 def test_a_resumed_sweep_says_its_wall_time_is_this_runs(tmp_path, capsys):
