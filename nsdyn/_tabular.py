@@ -85,6 +85,18 @@ def read_only(named: dict) -> dict:
     return out
 
 
+def freeze_arrays(obj) -> None:
+    """``obj``'s array attributes made read-only once it is made: an edit in place (a history
+    scaled to other units) changed its summary, or left the summary and the tables
+    disagreeing; edit a copy. Each is a read-only view: an array the caller passed in (output
+    times) stays the caller's to write."""
+    for k, v in vars(obj).items():
+        if isinstance(v, np.ndarray) and v.flags.writeable:
+            view = v.view()
+            view.flags.writeable = False
+            object.__setattr__(obj, k, view)
+
+
 class Tabular:
     """Mix-in of a result with ``t``, ``histories()`` (name -> array on ``t``) and ``summary()``:
     ``to_dataframe()`` and ``to_xarray()`` of those histories, the summary as attributes.
@@ -93,15 +105,8 @@ class Tabular:
     __repr__ = brief_repr  # arrays by shape, not in full (its dataclasses set repr=False)
 
     def __post_init__(self) -> None:
-        """The result's arrays made read-only once it is made: an edit in place (a history
-        scaled to other units) changed its summary, or left the summary and the tables
-        disagreeing; edit a copy. Each is a read-only view: an array the caller passed in
-        (output times) stays the caller's to write."""
-        for k, v in vars(self).items():
-            if isinstance(v, np.ndarray) and v.flags.writeable:
-                view = v.view()
-                view.flags.writeable = False
-                object.__setattr__(self, k, view)
+        """The result's arrays made read-only once it is made (:func:`freeze_arrays`)."""
+        freeze_arrays(self)
 
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)

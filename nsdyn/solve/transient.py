@@ -63,7 +63,7 @@ CHUNK_S = 5.0  # seconds of simulated time per chunk (progress / checkpoint gran
 HARMONIC_SAMPLES = 100  # output instants per period of a harmonic excitation (default dt_out)
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class TransientResult(Tabular):
     """Histories and metrics of one transient run."""
 
@@ -139,6 +139,7 @@ class TransientResult(Tabular):
         return out
 
     def summary(self) -> dict:
+        """Peaks, contact account, settings, costs and ``notes``; units in the key names."""
         out = self.response.summary()
         if self.system.n_isolators:  # (a fixed base: no contact, no uplift to speak of)
             out.update(self.contact_summary())
@@ -372,12 +373,12 @@ def simulate(
     restitution : float     unilateral: Newton's coefficient of a landing (0: plastic)
     progress : callable(t_done, t_end, wall_s), optional
     checkpoint : path, optional   resume from / save to this file after each chunk
+    **solver_options        :func:`nsdyn.solve.integrate.solve`'s: ``max_steps``, ``h0``,
+                            ``on_failure="return"`` (a result with ``summary()["failure"]``)
     """
     if not isinstance(system, IsolatedSystem):
-        raise TypeError(
-            "system: expected an IsolatedSystem (nsdyn.build_system, nsdyn.shear_building, "
-            f"nsdyn.system_from_matrices), got {type(system).__name__}"
-        )
+        raise TypeError("system: expected an IsolatedSystem (nsdyn.build_system, shear_building, "
+                        f"system_from_matrices), got {type(system).__name__}")  # fmt: skip
     if hasattr(motion, "ax") and hasattr(motion, "ay"):  # a bidirectional excitation
         raise TypeError(
             f"motion: a bidirectional excitation ({type(motion).__name__}) drives the decks "
@@ -385,10 +386,9 @@ def simulate(
             "motion.planar() or motion.planar(angle_deg)"
         )
     if isinstance(motion, int | float):
-        raise TypeError(
-            f"motion: expected a ground motion or a force, got the number {motion!r}; "
-            "nsdyn.Harmonic(A_hor, f_hor) is a harmonic ground acceleration"
-        )
+        raise TypeError(f"motion: expected a ground motion or a force, got the number "
+                        f"{motion!r}; nsdyn.Harmonic(A_hor, f_hor) is a harmonic ground "
+                        "acceleration")  # fmt: skip
     if isinstance(motion, str | Path | np.ndarray | list | tuple):
         read = f"nsdyn.read_motion({str(motion)!r})" if isinstance(motion, str | Path) else (
             "nsdyn.GroundMotion(t0, dt, a_hor)")  # fmt: skip

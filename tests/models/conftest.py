@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 import pytest
 
@@ -50,6 +52,13 @@ def _assert_round_trip(res) -> None:
     for name, a in vars(res).items():
         if isinstance(a, np.ndarray):
             assert not a.flags.writeable, name
+    # as are those of a result's response (r.response.x_iso edited in place changed the
+    # summary's x_iso_max_m), and a result compares without numpy's ambiguous truth value
+    response = getattr(res, "response", None)  # (an isolated frame's Response)
+    for name, a in (vars(response) if hasattr(response, "__dict__") else {}).items():
+        if isinstance(a, np.ndarray):
+            assert not a.flags.writeable, f"response.{name}"
+    assert (copy.deepcopy(res) == res) is False  # (as objects: arrays have no one truth)
 
 
 @pytest.fixture

@@ -73,7 +73,7 @@ class CompliantGround:
         return body.mass * g / (len(body.base) * self.k)
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class CompliantResult(ContactResult):
     """A :class:`ContactResult` plus the energy terms of the compliant ground.
 

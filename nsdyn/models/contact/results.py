@@ -34,7 +34,7 @@ def slenderness(body) -> float:
     return min(body.corner_geometry(-1)[1], body.corner_geometry(1)[1])
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class ContactResult(Tabular):
     """Sampled history of a body on the ground (ground frame).
 

@@ -53,7 +53,7 @@ class SimulationError(NumericalFailure):
     """The integrator failed; the message gives the time and the reason."""
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class CylinderResult(Tabular):
     """Histories at the sample times (n,) of the ground record; world axes throughout."""
 

@@ -37,6 +37,7 @@ import numpy as np
 
 from nsdyn._brief import brief_repr
 from nsdyn._lazy import LazyModule, issparse
+from nsdyn._tabular import freeze_arrays
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.excitation import ground_many
 from nsdyn.models.isolated.friction import sticks
@@ -45,11 +46,14 @@ from nsdyn.models.isolated.params import KernelParams, with_open
 sp = LazyModule("scipy.sparse")
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class Response:
-    """Response histories and peak metrics of one run."""
+    """Response histories and peak metrics of one run (read-only arrays: its summary's)."""
 
     __repr__ = brief_repr  # arrays by shape, not in full
+
+    def __post_init__(self) -> None:
+        freeze_arrays(self)
 
     t: np.ndarray  # (nt,)
     x_iso: np.ndarray  # (nt, ni) isolator slip D_i q
@@ -64,6 +68,7 @@ class Response:
 
     @property
     def x_iso_max(self) -> float:
+        """Peak isolator slip |D_i q| over the run and the isolators [m] (0 without any)."""
         return float(np.max(np.abs(self.x_iso))) if self.x_iso.size else 0.0
 
     @property
@@ -89,6 +94,7 @@ class Response:
 
     @property
     def min_normal_force(self) -> float:
+        """Least normal force λ over the run and the contacts [N] (NaN without contacts)."""
         # + 0.0: a contact held at zero reads 0, not -0 (a unilateral flight's λ = -0.0)
         return float(np.min(self.lam)) + 0.0 if self.lam.size else float("nan")
 

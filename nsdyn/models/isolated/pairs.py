@@ -400,7 +400,7 @@ def twist_row(system: PairSystem) -> np.ndarray | None:
     return coef[2]
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class PairResult(PlaneResult):
     """A run of a :class:`PairSystem`: the deck's result (:class:`PlaneResult`: slips u
     (nt, ni, 2), normal forces N, friction, restoring and other forces, modes, events, rim

@@ -202,7 +202,7 @@ def _crossing(t: np.ndarray, n: np.ndarray, k: int) -> float:
     return float(t[k - 1] + (t[k] - t[k - 1]) * a / (a - b)) if a != b else float(t[k])
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class PlaneResult(Tabular):
     """Histories of one run (outputs at ``t``) and its summary (:meth:`summary`)."""
 

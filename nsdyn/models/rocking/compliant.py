@@ -122,7 +122,7 @@ class CompliantBlock(HalfSizes):
         return self.mass * (self.B**2 + self.H**2) / 3.0
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class CompliantResult(Tabular):
     """Time history ``t`` (n,), ``y`` (n, 8) = [x, y, phi, x', y', phi', e_0, e_1]; theta = -phi.
     ``t_overturn``: the time |theta| reached pi/2, where the run ended (NaN: it did not)."""

@@ -21,7 +21,7 @@ from nsdyn._tabular import Tabular
 OUTCOMES = ("rest", "rocking", "overturned")  # kernel outcome code -> name
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class RockingResult(Tabular):
     """One rocking time history.
 
