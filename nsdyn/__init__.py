@@ -107,6 +107,7 @@ _API = {
     "PlaneIntegrationError": "nsdyn.models.isolated.plane_result",
     "CheckpointError": "nsdyn.atomic",
     "NotedWarning": "nsdyn._checks",
+    "AccuracyWarning": "nsdyn._checks",  # (a run's peaks its steps did not resolve)
     "CONTACTS": "nsdyn.models.isolated.system",
     "Solution": "nsdyn.solve.integrate",
     # the low-level integrator: named ``integrate`` here because ``nsdyn.solve`` is the package

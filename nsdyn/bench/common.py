@@ -29,12 +29,14 @@ from __future__ import annotations
 import csv
 import inspect
 import sys
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import AccuracyWarning
 from nsdyn.atomic import atomic_open, save_figure
 from nsdyn.models.isolated.defaults import C_DAMPER, EPS, F_MAX, K_LAM, MU
 
@@ -243,7 +245,9 @@ def run_nsdyn(
     res = None
     for _ in range(max(1, repeats)):
         try:
-            r = simulate(system, motion, method=method, **kw)
+            with warnings.catch_warnings():  # (coarse on purpose: its error is charted)
+                warnings.simplefilter("ignore", AccuracyWarning)
+                r = simulate(system, motion, method=method, **kw)
         except IntegrationError as e:
             br.status, br.message, br.t_fail = e.reason, str(e), float(e.t)
             return br

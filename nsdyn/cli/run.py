@@ -284,7 +284,7 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     req = args.t_end or cfg.get("motion", {}).get("t_end")  # (--t-end, or the scene's)
     short = isinstance(ran, int | float) and isinstance(req, int | float) and ran < req - 1e-6
     short = short and not any(f"t_end = {req:g} s" in n for n in s.get("notes", []))  # (said)
-    if short and not s.get("uplift"):  # (an uplift ends a run early too)
+    if short and not s.get("uplift") and s.get("t_overturn_s") is None:  # (they end it too)
         from nsdyn.ground.formats import past_record_note
 
         note = past_record_note(req, ran, runs_on=False, what="excitation")
@@ -488,7 +488,7 @@ def run(args: argparse.Namespace) -> int:
         ckpt.unlink(missing_ok=True)
         identity.unlink(missing_ok=True)
         for w in caught:  # uplift: one clean line below; anything else as Python shows it
-            if not issubclass(w.category, UpliftWarning):
+            if not issubclass(w.category, UpliftWarning) and str(w.message) not in res.notes:
                 warnings.showwarning(w.message, w.category, w.filename, w.lineno)
         s = res.summary()
         s["method_reason"] = reason or s.get("method_reason", "")

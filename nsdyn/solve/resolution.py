@@ -81,14 +81,14 @@ def result_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None) -> list
 
     said = drift_note(res)  # (every run's, whatever its method)
     if res.method in EXPLICIT:
-        return said + _turn_notes(res, P, QDD, f"the explicit steps of {res.method!r}, held "
-                                  "at their stability limit by the model's stiffness, do not "
-                                  "resolve", "use 'radau' (the default), whose implicit steps "
-                                  "do", turning=False)  # fmt: skip
+        why = (f"the explicit steps of {res.method!r}, held at their stability limit by the "
+               "model's stiffness, do not resolve")  # fmt: skip
+        fix = "use 'radau' (the default), whose implicit steps do"
+        return said + _warned(_turn_notes(res, P, QDD, why, fix, turning=False))
     if not METHODS[res.method].fixed_step or not dt:
         return said
     fix = "halve dt until they settle, or use an adaptive method ('radau')"
-    out = _turn_notes(res, P, QDD, f"the fixed step dt = {dt:g} s does not resolve", fix)
+    out = _warned(_turn_notes(res, P, QDD, f"the fixed step dt = {dt:g} s does not resolve", fix))
     h = getattr(motion, "dt", None)
     if h and abs(h / dt - round(h / dt)) > 1e-6 * h / dt:
         out.append(f"the fixed step dt = {dt:g} s does not divide the record's sampling step "
@@ -96,6 +96,19 @@ def result_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None) -> list
                    f"first-order accurate there; use the record's step divided by a whole "
                    f"number ({h / 2:g}, {h / 3:.3g}, {h / 4:g} s, …)")  # fmt: skip
     return said + out
+
+
+def _warned(notes: list[str]) -> list[str]:
+    """``notes`` on peaks a run did not resolve, each also an :class:`AccuracyWarning` (a
+    caller reading only the summary's numbers was told nothing; the command line says each
+    once, as a note)."""
+    import warnings
+
+    from nsdyn._checks import AccuracyWarning
+
+    for note in notes:
+        warnings.warn(note, AccuracyWarning, stacklevel=4)
+    return notes
 
 
 def _turn_notes(res, P: tuple, QDD: np.ndarray | None, why: str, fix: str,

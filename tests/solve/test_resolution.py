@@ -10,9 +10,11 @@ alike, and not at a tolerance that resolves it.
 """
 
 import json
+import warnings
 
 import pytest
 
+from nsdyn._checks import AccuracyWarning
 from nsdyn.models.isolated.scene import build_scene_run, load_scene
 from nsdyn.solve.resolution import RATIO
 from nsdyn.solve.transient import simulate
@@ -28,9 +30,12 @@ def scene():
 
 
 def test_a_peak_read_inside_the_turn_is_named(scene):
+    # named as a warning too: a caller reading only the summary's numbers is told
     system, motion, ref = scene
-    r = simulate(system, motion, method="genalpha", dt=0.005, **RUN)
+    with pytest.warns(AccuracyWarning) as said:
+        r = simulate(system, motion, method="genalpha", dt=0.005, **RUN)
     (note,) = r.notes
+    assert [str(w.message) for w in said if w.category is AccuracyWarning] == [note]
     assert "inside the arctan law's turn" in note and "level 0 " in note and "t = 2.56 s" in note
     assert r.response.floor_acc_by_level[0] > RATIO * ref[0]  # what it names is false
     assert r.summary()["notes"] == [note]
@@ -38,7 +43,9 @@ def test_a_peak_read_inside_the_turn_is_named(scene):
 
 def test_a_step_that_resolves_the_turn_is_not_named(scene):
     system, motion, ref = scene
-    r = simulate(system, motion, method="genalpha", dt=0.00125, **RUN)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AccuracyWarning)
+        r = simulate(system, motion, method="genalpha", dt=0.00125, **RUN)
     assert r.notes == []
     assert r.response.floor_acc_by_level[0] < RATIO * ref[0]
 
@@ -68,7 +75,9 @@ def test_nsdyn_run_prints_the_note(tmp_path, capsys):
 
     args = ["run", "--method", "genalpha", "--t-end", "3", "--no-figures", "--out"]
     assert main([*args, str(tmp_path / "a")]) == 0
-    assert "nsdyn run: note: floor acceleration peaks read inside" in capsys.readouterr().err
+    err = capsys.readouterr().err  # (once: as a note, not again as the warning)
+    assert err.count("floor acceleration peaks") == 1
+    assert "nsdyn run: note: floor acceleration peaks read inside" in err
     assert main([*args, str(tmp_path / "b"), "--json"]) == 0
     s = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert any("inside the arctan law's turn" in n for n in s["notes"])
