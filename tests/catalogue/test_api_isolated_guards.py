@@ -106,3 +106,21 @@ def test_deck_and_sparse_runs_refuse_what_they_would_drop():
         simulate_pairs_sparse(s, m3, dt=0.2)
     r = simulate_pairs_sparse(s, m3, dt=np.float32(0.005), t_end=0.05)  # numpy scalars: numbers
     assert r.t[-1] == pytest.approx(0.05)
+
+
+def test_a_friction_coefficient_above_one_is_said():
+    # 5 for 5 %: mu = 5 holds the isolators stuck below 5 g of ground acceleration, a run
+    # that looked like any other (a slip of 1.8e-6 m); mu = 1 (the Coulomb bound of any
+    # sliding bearing's data) is not said
+    import warnings
+
+    said = (
+        r"^isolation.mu: 5 is above 1: the isolators slide only past 49\.1 m/s² \(mu g\); "
+        r"5 % friction is mu = 0\.05$"
+    )  # (mu g = 5 x 9.81)
+    with pytest.warns(nsdyn.InputWarning, match=said):
+        nsdyn.Isolation(mu=5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", nsdyn.InputWarning)
+        nsdyn.Isolation(mu=1.0)
+        nsdyn.Isolation(mu=(0.05, 1.0))

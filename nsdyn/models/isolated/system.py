@@ -35,7 +35,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import flag
+from nsdyn._checks import InputWarning, flag
 from nsdyn._lazy import LazyModule
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kernel as ks
@@ -109,6 +109,10 @@ class Isolation:
         if not getattr(self, k) > 0:  # (eta = 0: stick never detected)
             raise ValueError(f"isolation.{k}: the {self.law} law needs a positive {what}, got "
                              f"{getattr(self, k)!r}")  # fmt: skip
+        if (mu := float(np.max(self.mu))) > 1.0:  # (5 for 5 %: isolators that never slid, unsaid)
+            warnings.warn(f"isolation.mu: {self.mu!r} is above 1: the isolators slide only past "
+                          f"{mu * self.g:.3g} m/s² (mu g); 5 % friction is mu = 0.05", InputWarning,
+                          stacklevel=3)  # fmt: skip
 
     def per_isolator(self, name: str, n: int) -> np.ndarray:
         v = np.atleast_1d(np.asarray(getattr(self, name), dtype=float))
@@ -203,13 +207,12 @@ class IsolatedSystem:
         Solves ``K* q - R^T lam = -M Gamma [0, g]``, ``R q = 0``. Friction carries no force at
         rest (the isolator springs hold the horizontal position). Returns (x0, lam0).
         """
+        g = self.isolation.g if self.isolation is not None else G_EARTH
         if self._static is None and self.sparse is not None:  # full order: a sparse solve
             from nsdyn.models.isolated.fullorder import sparse_static
 
-            g = self.isolation.g if self.isolation is not None else G_EARTH
             self._static = sparse_static(self.sparse, self.Gamma, self.R, self.D, g)
         if self._static is None:
-            g = self.isolation.g if self.isolation is not None else G_EARTH
             f = -self.M @ self.Gamma[:, 1] * g
             Q = self.Q
             Kz = Q.T @ self.K @ Q
@@ -407,10 +410,8 @@ def build_system(
     if isinstance(frame, str | os.PathLike):
         frame = load_frame(frame)
     if not hasattr(frame, "assemble"):
-        raise TypeError(
-            f"frame: expected a plane Frame (nsdyn.load_frame), a bundled frame's name or a "
-            f"frame file's path, got {type(frame).__name__}"
-        )
+        raise TypeError(f"frame: expected a plane Frame (nsdyn.load_frame), a bundled frame's "
+                        f"name or a frame file's path, got {type(frame).__name__}")  # fmt: skip
     if fidelity not in FIDELITIES:
         raise ValueError(f"fidelity: expected one of {FIDELITIES}, got {fidelity!r}")
     iso = Isolation() if isolation is None else isolation
