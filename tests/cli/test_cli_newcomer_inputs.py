@@ -553,6 +553,17 @@ def test_unilateral_contact_on_given_normal_forces_is_refused_up_front(tmp_path,
         one_line(f"{scene}: isolation.contact: 'unilateral' needs", says)
 
 
+def test_a_pga_flag_with_nothing_to_scale_is_named(tmp_path, capsys):
+    # a free-rocking scene has no record or pulse: the error blamed motion.pga, a key the
+    # file does not hold; it names the flag that set it
+    scene = Path(__file__).resolve().parents[2] / "examples/scenes/rocking-seed001-compliant.toml"
+    assert main(["run", str(scene), "--pga", "5", "--out", str(tmp_path / "o")]) == 2
+    assert capsys.readouterr().err == (
+        f"nsdyn run: error: {scene}: motion.pga (--pga): 5.0 m/s² needs a motion.record or a "
+        "motion.pulse to scale\n"
+    )
+
+
 def test_run_record_replaces_a_rocking_pulse(tmp_path, capsys):
     # --record on a pulse scene runs the record (the pulse's keys are dropped, as --t-end
     # replaces n_periods); in the file, a record beside pulse keys is refused

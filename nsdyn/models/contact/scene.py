@@ -189,6 +189,8 @@ def build(cfg: dict, source: str):
             gm = read_motion(rec, **units)
         except Exception as e:
             raise SceneError(f"{source}: motion.record: cannot read {rec!r}: {e}") from None
+        if mo.get("vertical", True) is False and gm.a_ver is not None:  # (as a rocking scene)
+            gm = gm.with_vertical(None)
         if "pga" in mo:
             gm = scaled_to_pga(gm, number(source, "motion.pga", mo["pga"]), source)
         if gm.t0 < 0:  # (its part before t = 0, where the run starts, was not felt: "rest")
@@ -226,7 +228,8 @@ def build(cfg: dict, source: str):
                 f"acceleration {pga:.3g} m/s²")  # fmt: skip
     else:
         if "pga" in mo:
-            raise SceneError(f"{source}: motion.pga: needs motion.record or motion.period")
+            raise SceneError(f"{source}: motion.pga: {mo['pga']!r} m/s² needs a motion.record "
+                             "or a motion.period to scale")  # fmt: skip
         motion, what, pga = None, "free motion", None
         t_end = t_end or T_END
     sv = cfg.get("solver", {})
@@ -414,7 +417,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         save_figure(fig, png)
         files.append(str(png))
     s.update({"kind": "contact", "name": name, "motion": opts["what"], "pga_mps2": opts["pga"],
-              "t_end_s": t_end,
+              "t_end_s": t_end if s.get("t_overturn_s") is None else s["t_overturn_s"],
               "theta0_rad": opts["theta0"], "notes": opts["notes"],
               "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
     say(f"contact: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")

@@ -101,6 +101,7 @@ SCHEMA = Schema(
                     "bundled record name or path (a relative path: the scene file's folder "
                     "first); not with `period`",
                 ),
+                Key("vertical", "boolean", "keep the record's vertical component", default=True),
                 UNITS_KEY,
                 Key(
                     "pga",

@@ -308,7 +308,7 @@ def simulate_rocking(
     model,
     excitation: GroundMotion | Pulse | Harmonic | None = None,
     *,
-    t_end: float,
+    t_end: float | None = None,
     theta0: float | None = None,
     thetad0: float = 0.0,
     theta0_over_alpha: float | None = None,
@@ -327,6 +327,8 @@ def simulate_rocking(
     ----------
     excitation : GroundMotion, Pulse, Harmonic or None
         Ground acceleration (horizontal, optional vertical) [m/s²]; None: free rocking.
+    t_end : float, optional
+        End time [s]; default a record's end (a pulse, a harmonic and free rocking need one).
     theta0, thetad0 : float
         Initial rotation [rad] and angular velocity [rad/s].
     theta0_over_alpha : float, optional
@@ -358,6 +360,14 @@ def simulate_rocking(
         "a RockingBlock or RockingFrame (nsdyn.RockingBlock(width=..., height=...))",
     )
     t0 = number("t0", t0, "a finite start time [s]")
+    if t_end is None and isinstance(excitation, GroundMotion):  # (as nsdyn.simulate)
+        t_end = excitation.t0 + excitation.duration
+    elif t_end is None and isinstance(excitation, Pulse | Harmonic | None):
+        what = "free rocking" if excitation is None else f"a {type(excitation).__name__}"
+        raise TypeError(f"t_end: expected the run's end time [s] (only a record's end is its "
+                        f"default), got none for {what}")  # fmt: skip
+    elif t_end is None:  # (a record's name: the excitation's own error)
+        _excitation(excitation, t0 + 1.0, t0)
     t_end = number("t_end", t_end, f"a finite end time > t0 = {t0:g} s", lambda v: v > t0)
     rel_tol("tol", tol)
     number("thetad0", thetad0, "a finite angular velocity [rad/s]")

@@ -217,7 +217,8 @@ def build_motion(cfg: dict, source: str):
                              "t_start < t_end")  # fmt: skip
         return pulse, t_end or max(T_END, 3 * pulse.duration), th0, f"{shape} pulse"
     if "pga" in mo:
-        raise SceneError(f"{source}: motion.pga: needs a motion.record or a motion.pulse")
+        raise SceneError(f"{source}: motion.pga: {mo['pga']!r} m/s² needs a motion.record or "
+                         "a motion.pulse to scale")  # fmt: skip
     refuse_keys(mo, source, "motion", PULSE_KEYS, "a pulse's key without motion.pulse (the "
                 "shape: sine, cosine, ricker or rect)")  # fmt: skip
     return None, t_end or T_END, th0, "free rocking"
@@ -343,8 +344,9 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         files.append(str(png))
     s.update({"kind": "rocking", "model": cfg.get("scene", {}).get("model", "block"),
               "name": name, "motion": excitation_text(exc, what), "pga_mps2": peak_of(exc),
-              "t_end_s": t_end, "alpha_rad": model.alpha,
-              "p_per_s": model.p, "theta0_rad": float(res.theta[0]) if res.t.size else 0.0,
+              "t_end_s": t_end if s.get("t_overturn_s") is None else s["t_overturn_s"],
+              "alpha_rad": model.alpha, "p_per_s": model.p,
+              "theta0_rad": float(res.theta[0]) + 0.0 if res.t.size else 0.0,
               "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
     s.setdefault("outcome", outcome(s)[0])  # (every block's summary has one)
     if notes:

@@ -139,6 +139,29 @@ def test_a_record_that_starts_before_t_0_is_said_or_refused(tmp_path):
         simulate_event(body, FrictionLaw(0.5), mo, t_end=0.2)
 
 
+def test_a_records_vertical_component_can_be_left_out(tmp_path):
+    # as a rocking scene's: motion.vertical = false runs the horizontal component alone (the
+    # key was refused, the vertical always applied). A ground falling at 2 g for 0.1 s
+    # under a body at rest: kept, the body leaves the ground (its contact force cannot pull
+    # it down faster than g); left out, it stays at rest
+    import numpy as np
+
+    t = np.arange(0.0, 1.0 + 1e-9, 0.01)
+    a_ver = np.where((t > 0.1) & (t < 0.2), -2.0 * 9.81, 0.0)
+    path = tmp_path / "drop.csv"
+    a_hor = np.where(t < 0.05, 0.05, 0.0)  # (a record of some PGA, too weak to slide it)
+    rows = [f"{x:.2f},{h},{v:.6f}\n" for x, h, v in zip(t, a_hor, a_ver, strict=True)]
+    path.write_text("t,a_hor,a_ver\n" + "".join(rows))
+    runs = {}
+    for keep in (True, False):
+        cfg = copy.deepcopy(read_toml(SCENE))
+        cfg["motion"] = {"record": str(path), "units": "m/s2", "vertical": keep}
+        runs[keep] = run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+    kept, left = runs[True], runs[False]
+    assert kept["first_motion"] == "flight" and 0.1 <= kept["t_first_motion_s"] <= 0.11
+    assert left["first_motion"] == "rest" and left["time_in_mode_s"]["rest"] == 1.0
+
+
 def test_an_event_run_ends_on_its_end_between_output_samples():
     # t_end = 0.213 s on a 0.01 s output grid ended at 0.21 s (the summary said 0.213)
     from nsdyn import FrictionLaw, RigidBody, simulate_event

@@ -141,6 +141,23 @@ def test_a_pulse_outside_the_run_or_a_record_of_one_sample_is_refused():
         simulate_rocking(b, GroundMotion(0.0, 0.01, [5.0]), t_end=1.0)
 
 
+def test_a_record_runs_to_its_end_by_default_and_other_motions_need_one():
+    # as nsdyn.simulate: a record's end is the run's (t_end was required, a TypeError that
+    # also hid a record given by name)
+    from nsdyn.ground import GroundMotion
+    from nsdyn.ground.pulses import one_sine
+
+    b = RockingBlock(width=0.3, height=1.2)
+    rec = GroundMotion(0.5, 0.01, 0.5 * np.sin(np.linspace(0.0, 20.0, 201)))  # 0.5 to 2.5 s
+    r = simulate_rocking(b, rec)
+    assert r.t[-1] == pytest.approx(rec.t0 + rec.duration, abs=1e-12)
+    for ex, what in ((None, "free rocking"), (one_sine(4.0, 4 * math.pi), "a Pulse")):
+        with pytest.raises(TypeError, match=rf"^t_end: expected the run's end .* for {what}$"):
+            simulate_rocking(b, ex)
+    with pytest.raises(TypeError, match=r"^excitation: expected GroundMotion, Pulse, Harm"):
+        simulate_rocking(b, "synthetic-wn-40s")
+
+
 def test_a_record_that_starts_before_the_run_is_said_and_a_scene_starts_with_it(tmp_path):
     # a record from t = -2 s, all of it before t = 0: simulate_rocking's default t0 = 0 and the
     # scene ran from 0, "rest" with the record's PGA reported, unsaid

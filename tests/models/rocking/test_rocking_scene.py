@@ -117,6 +117,16 @@ def test_cli_run_json(tmp_path, capsys):
     assert s["r"] == pytest.approx(0.91, abs=0.005)
 
 
+def test_an_overturned_runs_end_time_is_its_overturn(tmp_path):
+    # the run stops where the block overturns: its end time is that instant (it read the
+    # scene's t_end, 6 s, beside histories that end at 0.44 s)
+    cfg = {**_cfg(), "motion": {"pulse": "sine", "a_p_g": 3.0, "omega_p": 4 * np.pi, "t_end": 6.0}}
+    s = run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+    t = np.load(tmp_path / "rocking.npz")["t"]
+    assert s["overturned"] and s["t_end_s"] == s["t_overturn_s"] < 6.0
+    assert 0.0 <= s["t_end_s"] - t[-1] < np.diff(t).max()  # (its last output is before it)
+
+
 def test_example_seed_studies_free_rocking_restitution():
     """examples/rocking_seed_studies.py: seed 003 Table 1 analytic restitution 0.91 of the
     2H = 1.2 m, 2B = 0.3 m column is what the impacts of the run show (theta'+ / theta'-)."""
