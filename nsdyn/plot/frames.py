@@ -116,6 +116,9 @@ def sweep_figure(results: list[dict], fixed: dict | None = None):
 
     if hasattr(results, "rows"):  # one curve
         results = [results]
+    if fixed is not None and not isinstance(fixed, dict):  # (a path: failed inside matplotlib)
+        raise TypeError(f"fixed: expected a dict amplitude -> fixed_base_response, got "
+                        f"{type(fixed).__name__}; save the figure: fig.savefig(path)")  # fmt: skip
     results = [
         {"A": r.amplitude, "rows": r.rows()} if hasattr(r, "rows") else r for r in results
     ]  # fmt: skip  (curves as the sweep's results)

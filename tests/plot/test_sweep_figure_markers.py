@@ -8,6 +8,7 @@ curves.
 """
 
 import numpy as np
+import pytest
 
 from nsdyn.plot.frames import MARKER_LABELS, sweep_figure
 
@@ -101,3 +102,10 @@ def test_a_converged_point_between_two_gaps_is_drawn():
     for ax, key in zip(fig.axes, ("IDR", "a", "x_iso"), strict=True):
         assert (rows[2]["f"], rows[2][key]) in _markers(ax, ".")
         assert (rows[0]["f"], rows[0][key]) in _markers(ax, ".")  # (the first: a gap after it)
+
+
+def test_a_path_given_as_the_fixed_base_curves_is_refused():
+    # the second argument is the fixed-base responses, not a path (it failed inside the
+    # drawing: "'in <string>' requires string as left operand, not float")
+    with pytest.raises(TypeError, match=r"^fixed: expected a dict .* got str; save the figure"):
+        sweep_figure([{"A": 1.0, "rows": []}], "sweep.png")
