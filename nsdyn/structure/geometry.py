@@ -111,6 +111,12 @@ def _check_base_level(nodes: np.ndarray, elements: np.ndarray, base: list, tol: 
         return  # (the frame's own check names it)
     up = nodes.shape[1] - 1  # y of a plane frame, z of a space frame
     low = float(nodes[base, up].min())
+    top = float(nodes[base, up].max())
+    if not np.any(nodes[:, up] > top + tol) and np.any(nodes[:, up] < low - tol):
+        axis = "yz"[up - 1]  # (a frame upside down ran as any other, its gravity pulling up)
+        raise ValueError(f"base_nodes: every node lies at or below the base nodes ({axis} <= "
+                         f"{top:g} m): a frame hung from its supports; expected the base nodes "
+                         f"at the frame's foot, the frame above them ({axis} up)")  # fmt: skip
     d = np.abs(nodes[elements[:, 1]] - nodes[elements[:, 0]])
     vertical = np.all(d[:, :up] <= tol, axis=1)
     ends = elements.ravel()

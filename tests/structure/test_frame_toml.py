@@ -223,6 +223,17 @@ def test_a_frame_that_would_run_wrong_or_singular_is_refused(tmp_path, nodes, el
     assert "\n" not in str(e.value)
 
 
+def test_a_frame_hung_from_its_supports_is_refused(tmp_path):
+    # the portal on its beam's corners (y = 4 m), the columns hanging below: it ran as any
+    # frame, the isolators above the floor mass; a pit below the base stays a frame
+    text = (REPO / "frames" / "portal.toml").read_text()
+    p = tmp_path / "p.toml"
+    p.write_text(text.replace("base_nodes = [0, 1]", "base_nodes = [3, 5]"))
+    said = r"frame: base_nodes: every node lies at or below the base nodes \(y <= 4 m\): a frame"
+    with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: {said}"):
+        load_frame(p)
+
+
 def test_a_massless_cantilever_with_a_tip_mass_has_the_exact_frequencies():
     # massless members (rho_A = 0) and a lumped mass: M is singular (rotations and the middle
     # node carry none) and the fixed-base modes were a LinAlgError traceback. The finite modes
