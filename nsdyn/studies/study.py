@@ -215,6 +215,11 @@ def _parse_records(source: str, study_dir: Path, rec: dict, kind: str, base: dic
             hint = did_you_mean(n, bundled_records())
             raise _err(source, "records.names", f"{n!r} is neither a file (looked for {path}) "
                        f"nor a bundled record{hint}; bundled: {bundled_records()}")  # fmt: skip
+    where = [f"records.names[{i}] ({n!r})" for i, n in enumerate(names)]  # (each record's)
+
+    def came(field: str) -> None:  # the records added since: from this field
+        where.extend(f"{field} ({r.path or r.name})" for r in out[len(where) :])
+
     if "folder" in rec:
         folder = _resolve_path(study_dir, _check_type(source, "records.folder", rec["folder"], str))
         pattern = _check_type(source, "records.glob", rec.get("glob", "*"), str)
@@ -224,6 +229,7 @@ def _parse_records(source: str, study_dir: Path, rec: dict, kind: str, base: dic
         if not files:
             raise _err(source, "records.folder", f"no file matches {pattern!r} in {folder}")
         out += [RecordSpec(p.stem, path=str(p)) for p in files]
+        came("records.folder")
     elif "glob" in rec:
         raise _err(source, "records.glob", "applies to records.folder only")
     if "set" in rec:
@@ -231,8 +237,10 @@ def _parse_records(source: str, study_dir: Path, rec: dict, kind: str, base: dic
         if s not in RECORD_SETS:
             raise _err(source, "records.set", f"expected one of {list(RECORD_SETS)}, got {s!r}")
         out += _record_set(source, s, kind)
+        came("records.set")
     if "simulated" in rec:
         out += _simulated(source, rec["simulated"], kind)
+        came("records.simulated")
     if "pairs" in rec:
         if kind not in PAIR_KINDS:
             raise _err(source, "records.pairs", f"records of several components need a scene "
@@ -241,15 +249,18 @@ def _parse_records(source: str, study_dir: Path, rec: dict, kind: str, base: dic
         from nsdyn.studies.scenes3c import parse_pairs
 
         out += parse_pairs(source, study_dir, rec["pairs"])
+        came("records.pairs")
     if kind in KINDS3C:
         from nsdyn.studies.scenes3c import check_two_components
 
         check_two_components(source, out)
-    seen = set()
-    for r in out:
+    seen: dict = {}
+    for k, r in enumerate(out):  # (a record's name is its file's stem: two folders' a.AT2)
         if r.name in seen:
-            raise _err(source, "records", f"record name {r.name!r} appears twice")
-        seen.add(r.name)
+            raise _err(source, "records", f"record name {r.name!r} appears twice: "
+                       f"{where[seen[r.name]]} and {where[k]}; expected each record once "
+                       "(names are the files' stems)")  # fmt: skip
+        seen[r.name] = k
     if not out and not base.get("motion") and kind != "isolated":
         raise _err(source, "records", "no records and the scene names none")
     return out

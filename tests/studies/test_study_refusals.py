@@ -62,6 +62,19 @@ def test_a_study_file_that_ran_silently_otherwise_is_refused(tmp_path, text, say
         load_study(_write(tmp_path, text))
 
 
+def test_two_records_of_one_name_are_located(tmp_path):
+    # a record's name is its file's stem: a/rec.txt and the folder b's rec.txt are one name,
+    # refused without saying where each came from
+    for d in ("a", "b"):
+        (tmp_path / d).mkdir()
+        (tmp_path / d / "rec.txt").write_text("0 0\n0.01 1\n")
+    text = HEAD + PARAMS + '[records]\nnames = ["a/rec.txt"]\nfolder = "b"\n'
+    with pytest.raises(SceneError, match=r"records: record name 'rec' appears twice: records\."
+                       r"names\[0\] \('a/rec\.txt'\) and records\.folder \(.*b/rec\.txt\); "
+                       r"expected each record once"):  # fmt: skip
+        load_study(_write(tmp_path, text))
+
+
 def test_an_empty_grouping_is_one_table_over_every_run_not_a_refusal(tmp_path):
     # by = [] pools the runs (one row); leaving by out groups by the grid parameters
     study = load_study(
