@@ -105,6 +105,8 @@ _API = {
     "InputWarning": "nsdyn._checks",  # (filter them: warnings.simplefilter("error", ...))
     "NumericalFailure": "nsdyn._checks",  # (every numerical stop's base class: exit status 3)
     "PlaneIntegrationError": "nsdyn.models.isolated.plane_result",
+    "CapacityWarning": "nsdyn.models.isolated.plane_result",  # (a rim stop reached)
+    "TensionWarning": "nsdyn.models.isolated.plane_result",
     "CheckpointError": "nsdyn.atomic",
     "NotedWarning": "nsdyn._checks",
     "AccuracyWarning": "nsdyn._checks",  # (a run's peaks its steps did not resolve)

@@ -416,6 +416,10 @@ class Frame3D:
         """
         if plane not in PLANAR_DOFS:
             raise ValueError(f"plane must be 'xz' or 'yz', got {plane!r}")
+        # (a Frame3D failed on its missing I, an AttributeError)
+        if not (hasattr(frame, "I") and np.shape(frame.nodes)[-1:] == (2,)):
+            raise TypeError(f"frame: expected a plane Frame (nsdyn.load_frame), got "
+                            f"{type(frame).__name__}")  # fmt: skip
         nodes = np.zeros((frame.n_nodes, 3))
         nodes[:, 0 if plane == "xz" else 1] = frame.nodes[:, 0]
         nodes[:, 2] = frame.nodes[:, 1]

@@ -172,6 +172,10 @@ def eccentricity_pair(eccentricity) -> tuple[float, float]:
     if not ok:
         raise ValueError(f"eccentricity: expected a pair (f_x, f_y) of fractions of the plan "
                          f"dimensions, got {eccentricity!r}")  # fmt: skip
+    for i, v in enumerate((fx, fy)):  # (named f_y by the call it is passed on to)
+        if not (np.isfinite(v) and abs(v) < 0.5):
+            raise ValueError(f"eccentricity[{i}]: expected a fraction of the plan dimension in "
+                             f"(-0.5, 0.5), got {v!r}")  # fmt: skip
     return fx, fy
 
 
@@ -180,7 +184,8 @@ def accidental_eccentricity(frame: Frame3D, f_x: float = 0.0, f_y: float = 0.0) 
     (fractions of the floor's plan dimensions, signed; module docstring)."""
     for k, v in (("f_x", f_x), ("f_y", f_y)):
         if not (isinstance(v, int | float) and np.isfinite(v) and abs(v) < 0.5):
-            raise ValueError(f"{k}: expected a fraction of the plan dimension in (-0.5, 0.5)")
+            raise ValueError(f"{k}: expected a fraction of the plan dimension in (-0.5, 0.5), "
+                             f"got {v!r}")  # fmt: skip
     if not frame.diaphragms:
         raise ValueError(
             f"frame {frame.name!r} has no diaphragms: accidental eccentricity moves floor masses"

@@ -54,6 +54,10 @@ COL = Section3D(E=2.1e11, G=8.1e10, A=1e-2, I_y=1e-4, I_z=1e-4, J=2e-4, rho_A=78
          r"rate: the rate of the change from mu_slow to mu_fast; expected mu_fast"),
         (lambda: rigid_deck(2e6, 9e7, [[-10, -6], [10, -6], [0, 6]], None), TypeError,
          r"^bearings: expected a Bearing"),
+        (lambda: rigid_deck(2e6, 9e7, [[-10, -6], [10, -6], [0, 6]], [FPS, FPS, "x"]),
+         TypeError, r"^bearings\[2\]: expected a Bearing .* got str$"),  # (it said "got list")
+        (lambda: building_pairs_sparse(load_frame3d("portal-3d"), FPS, eccentricity=(0, 5.0)),
+         ValueError, r"^eccentricity\[1\]: expected a fraction .* got 5\.0$"),  # (said f_y)
         (lambda: Section3D(E=2.1e11, G=8.1e10, A="x", I_y=1e-4, I_z=1e-4, J=2e-4, rho_A=1.0),
          ValueError, r"^section A: expected a positive finite number, got 'x'"),
         (lambda: nsdyn.simulate(SHEAR, nsdyn.Harmonic(1.0, 1.0), method="newmark", dt="0.01",
@@ -96,6 +100,12 @@ def test_deck_and_sparse_runs_refuse_what_they_would_drop():
     deck = rigid_deck(1e5, 1e6, [[-1.0, -1.0], [1.0, -1.0], [0.0, 1.0]], FPS)
     with pytest.raises(ValueError, match=r"^t_end: give t_eval .* or t_end and dt_out, not"):
         simulate_plane(deck, m3, t_eval=np.linspace(0.0, 1.0, 11), t_end=2.0)
+    # a deck without triple pendulums has no internal slips to give (it offered "or 6")
+    with pytest.raises(ValueError, match=r"^y0: expected six finite numbers \[x, y, theta, "
+                       r"vx, vy, omega\], got \[1\.0\]$"):  # fmt: skip
+        simulate_plane(deck, m3, y0=[1.0])
+    with pytest.raises(ValueError, match=r"^phi: expected finite force ratios F/N, got \[nan\]"):
+        TripleBearing(**TFP).backbone([float("nan")])  # (it gave NaN back)
     portal = load_frame3d("portal-3d")
     with pytest.raises(ValueError, match=r"^f_damp: the modal damping's cut-off"):
         building_pairs_sparse(portal, FPS, damping="stiffness", f_damp=3.0)

@@ -254,3 +254,9 @@ def test_plane_frame_in_3d_equals_the_plane_frame(office, plane):
         v3 = sign * P3[idx, j]
         s = np.sign(v3 @ P2[:, k])
         assert np.linalg.norm(s * v3 - P2[:, k]) <= lam_bound / gap * np.linalg.norm(P2[:, k])
+
+
+def test_from_planar_of_a_space_frame_is_a_type_error():
+    # a Frame3D given where a plane Frame goes failed on its missing I (AttributeError)
+    with pytest.raises(TypeError, match=r"^frame: expected a plane Frame .* got Frame3D$"):
+        Frame3D.from_planar(bar(2))

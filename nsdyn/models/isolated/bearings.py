@@ -240,6 +240,7 @@ class Bearing:
 
 MU_PLAUSIBLE = 1.0  # sliding isolators' coefficients are 0.01-0.2; above 1: a percentage?
 PRESSURE_RATIO_PLAUSIBLE = 10.0  # static pressure / p_ref beyond which the units are suspect
+RADIUS_PLAUSIBLE = 20.0  # m: a pendulum radius past this (a period of 9 s) is said (in mm?)
 
 
 def high_friction_note(field: str, mu: float) -> str | None:
@@ -285,8 +286,9 @@ def slip_ratio_note(bearings, peak_u) -> str | None:
 
 def bearing_notes(bearings, n_static) -> list[str]:
     """Inputs a run accepts that are probably mistakes, one line each: a friction coefficient
-    above 1, or a static contact pressure N/area more than 10× from ``p_ref`` (area in cm²,
-    p_ref in MPa?), with the friction factor it gives. ``bearings``: one per isolator."""
+    above 1, a static contact pressure N/area more than 10× from ``p_ref`` (area in cm²,
+    p_ref in MPa?), with the friction factor it gives, or a pendulum radius above
+    :data:`RADIUS_PLAUSIBLE` (in mm?). ``bearings``: one per isolator."""
     n_static = np.asarray(n_static, dtype=float)
     notes: list[str] = []
     for k, v in {k: v for b in bearings for k, v in b.coefficients().items()}.items():
@@ -303,6 +305,13 @@ def bearing_notes(bearings, n_static) -> list[str]:
                 f"{k_p:.3g}x the coefficients given; check area [m²] and p_ref [Pa]"
             )
             break  # one line names the mistake
+    for b in bearings:  # (a radius in mm ran as a pendulum of a 94 s period, unsaid)
+        if math.isfinite(b.radius) and b.radius > RADIUS_PLAUSIBLE:
+            T = 2.0 * math.pi * math.sqrt(b.radius / G_EARTH)
+            notes.append(f"{b.where}.radius: R = {b.radius:g} m is a pendulum of period "
+                         f"2π√(R/g) = {T:.3g} s (built ones: R of 1-6 m, 2-5 s); check it is "
+                         "in m")  # fmt: skip
+            break
     return notes
 
 

@@ -247,9 +247,12 @@ def rigid_deck(
     n = np.shape(positions)[0] if np.ndim(positions) == 2 else 1
     if isinstance(bearings, Bearing):
         bearings = (bearings,) * n
-    elif not (isinstance(bearings, list | tuple) and all(isinstance(b, Bearing) for b in bearings)):
+    elif not isinstance(bearings, list | tuple):
         raise TypeError(f"bearings: expected a Bearing (Bearing(Friction(mu), radius=R)) or one "
                         f"per position, got {type(bearings).__name__}")  # fmt: skip
+    elif bad := [i for i, b in enumerate(bearings) if not isinstance(b, Bearing)]:  # (the entry)
+        raise TypeError(f"bearings[{bad[0]}]: expected a Bearing (Bearing(Friction(mu), "
+                        f"radius=R)), got {type(bearings[bad[0]]).__name__}")  # fmt: skip
     return PlaneSystem(m=m, J=J, positions=positions, bearings=tuple(bearings), ecc=ecc, h=h,
                        g=g, name=name)  # fmt: skip
 
@@ -477,8 +480,9 @@ def simulate_plane(
     except (TypeError, ValueError):
         y = np.empty(0)
     if y.shape not in ((6,), (ns,)) or not np.all(np.isfinite(y)):
-        raise ValueError(f"y0: expected six finite numbers [x, y, theta, vx, vy, omega] (or "
-                         f"{ns} with the internal slips), got {y0!r}")  # fmt: skip
+        extra = f" (or {ns} with the internal slips)" if ns > 6 else ""  # (a triple pendulum's)
+        raise ValueError(f"y0: expected six finite numbers [x, y, theta, vx, vy, omega]{extra}, "
+                         f"got {y0!r}")  # fmt: skip
     if y.size < ns:  # internal slips from rest
         y = np.concatenate([y, np.zeros(ns - y.size)])
     modes, dirs, cfg, X, NO, FF, FR, FO, MO, EV, stops, info = run_buffers(

@@ -121,6 +121,10 @@ class TensionWarning(UserWarning):
     """A bilateral contact carried tension (a normal force below zero); the run went on."""
 
 
+class CapacityWarning(UserWarning):
+    """An isolator reached its displacement capacity (its rim stop took the overshoot)."""
+
+
 def contact_tension(t: np.ndarray, N: np.ndarray, info: np.ndarray) -> dict | None:
     """The tension record of a bilateral run (None when no normal force went tensile):
     first located onset (t_first_s, isolator), onsets, min_normal_force_N (outputs and
@@ -270,7 +274,7 @@ class PlaneResult(Tabular):
                 f"isolator {c['isolator']} reached its displacement capacity at "
                 f"t = {c['t_first_s']:.4g} s (peak overshoot {1e3 * c['peak_overshoot_m']:.3g} mm, "
                 "taken by the rim stop)",
-                UserWarning,
+                CapacityWarning,
                 stacklevel=3,
             )
         stats = {"steps": int(info[kr.I_NSTEP]), "rejected": int(info[kr.I_NREJ]),
@@ -301,7 +305,7 @@ class PlaneResult(Tabular):
                         f"t = {c['t_first_s']:.4g} s (triple pendulum: surface {c['surface']} "
                         f"of the inner slider at its rim, peak overshoot "
                         f"{1e3 * c['peak_overshoot_m']:.3g} mm)",
-                        UserWarning,
+                        CapacityWarning,
                         stacklevel=3,
                     )
         return res

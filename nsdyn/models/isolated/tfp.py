@@ -234,8 +234,11 @@ class TripleBearing(Bearing):
     def backbone(self, phi) -> np.ndarray:
         """Total slip u [m] of the rigid-plastic series model at force ratio φ = F/N on
         monotonic loading from rest: sign(φ) Σ_k R̄_k clip(|φ| − μ_k, 0, d̄_k/R̄_k) (odd in φ:
-        loading the other way slides the other way)."""
+        loading the other way slides the other way). Past the last regime every surface is at
+        its rim: u stays at Σ d̄_k, the bearing's capacity (its rim stops take more force)."""
         phi = np.asarray(phi, dtype=float)
+        if not np.all(np.isfinite(phi)):  # (NaN came back as NaN, unsaid)
+            raise ValueError(f"phi: expected finite force ratios F/N, got {phi.tolist()!r}")
         a = np.abs(phi)
         u = np.zeros_like(phi)
         for R, mu, d in self.elements():

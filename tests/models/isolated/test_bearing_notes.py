@@ -34,6 +34,21 @@ def test_a_coefficient_above_one_is_named_by_its_field():
     assert note.startswith("tfp.mu4 = 6: a friction coefficient above 1")
 
 
+def test_a_radius_in_mm_is_said_with_its_period():
+    # R = 2200 (mm for 2.2 m) ran as a pendulum of a 94 s period, unsaid; T = 2π√(R/g)
+    import math
+
+    b = Bearing(Friction(0.04), radius=2200.0)
+    T = 2 * math.pi * math.sqrt(2200.0 / 9.81)
+    assert bearing_notes([b], N[:1]) == [
+        f"bearing.radius: R = 2200 m is a pendulum of period 2π√(R/g) = {T:.3g} s (built ones: "
+        "R of 1-6 m, 2-5 s); check it is in m"
+    ]
+    t = TripleBearing(**{**TFP, "R1": 2200.0, "R4": 2200.0}, where="tfp")  # (its effective R)
+    assert bearing_notes([t], N[:1])[0].startswith("tfp.radius: R = ")
+    assert bearing_notes([Bearing(Friction(0.04), radius=20.0)], N[:1]) == []  # 9 s: the bound
+
+
 @pytest.mark.parametrize(("area", "p_ref", "ratio"), [(0.1, 20.0, 1e6), (1000.0, 2e7, 1e-4)])
 def test_a_static_pressure_far_from_p_ref_is_said_with_its_friction_factor(area, p_ref, ratio):
     # p_ref in MPa (20 Pa) or the area in cm² (1000 for 0.1 m²): the pressure at the first

@@ -16,7 +16,7 @@ import pytest
 
 from nsdyn.models.isolated.bearings import K_P_FLOOR, Bearing, BearingError, Friction
 from nsdyn.models.isolated.deck import rigid_deck, simulate_plane
-from nsdyn.models.isolated.plane_result import UpliftWarning
+from nsdyn.models.isolated.plane_result import CapacityWarning, UpliftWarning
 
 G = 9.81
 POS = [(-4.0, -3.0), (4.0, -3.0), (4.0, 3.0), (-4.0, 3.0), (0.0, 3.0)]
@@ -81,7 +81,7 @@ def test_reaching_the_displacement_capacity_is_reported_with_time_and_overshoot(
     R, d_cap, m = 2.0, 0.25, 1.0e4
     d = rigid_deck(m, m * 5, POS[:4], Bearing(Friction(0.04), radius=R, d_cap=d_cap), g=G)
     f = 1 / (2 * math.pi * math.sqrt(R / G))
-    with pytest.warns(UserWarning, match=r"reached its displacement capacity"):
+    with pytest.warns(CapacityWarning, match=r"reached its displacement capacity"):
         r = simulate_plane(d, {"f": f, "ax": 1.5, "ay": 1.5, "phase_y_deg": 90.0}, t_end=20.0)
     s = r.summary()
     assert len(s["rim_contacts"]) == 4
