@@ -25,6 +25,7 @@ from nsdyn.cli.run_checks import (
     fixed_base_run,
     note_short_record,
     notes_first,
+    prepare_sparse,
     record_wins,
     scene_notes,
 )
@@ -456,10 +457,8 @@ def run(args: argparse.Namespace) -> int:
             with atomic_open(identity, "w") as fh:
                 fh.write(json.dumps(ident, sort_keys=True))
             iso = system.isolation
-            if sparse_path(system, method):
-                from nsdyn.solve.fullorder import warmup_operators  # the sparse path's kernels
-
-                compile_s = warmup_operators(lambda text: print(text, file=sys.stderr, flush=True))
+            if sparse_path(system, method):  # its kernels, and a large model's damped modes
+                compile_s = prepare_sparse(system, quiet)
             else:
                 compile_s = prepare_kernels(method, iso is None or iso.law in FLAT_LAWS)
             with warnings.catch_warnings(record=True) as caught:
