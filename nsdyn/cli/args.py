@@ -112,6 +112,11 @@ def count(s: str) -> int:
     return _int_in(s, 2, MAX_POINTS, "frequencies (each one a periodic solve of seconds)")
 
 
+def pulse_count(s: str) -> int:
+    """A number of pulse frequencies of a spectrum: an integer from 2 to :data:`MAX_POINTS`."""
+    return _int_in(s, 2, MAX_POINTS, "frequencies (each one a scan and bisection of pulse runs)")
+
+
 def positive_int(s: str) -> int:
     """An integer of at least 1 (a number of repeats, modes, ...)."""
     return _int_at_least(s, 1)

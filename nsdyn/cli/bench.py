@@ -161,6 +161,13 @@ def _plain(obj, indent: str = "") -> list[str]:
             lines.append(indent + "  " + "  ".join(c.rjust(w[i]) for i, c in enumerate(cols)))
             lines += [indent + "  " + "  ".join(x.rjust(w[i]) for i, x in enumerate(row))
                       for row in cells]  # fmt: skip
+        elif isinstance(v, list | tuple) and v and all(isinstance(r, list | tuple) for r in v):
+            cells = [[_cell(x) for x in r] for r in v]  # rows without names: aligned columns
+            w = [max(len(row[i]) for row in cells if i < len(row))
+                 for i in range(max(map(len, cells)))]  # fmt: skip
+            lines.append(f"{indent}{k}:")
+            lines += [indent + "  " + "  ".join(x.rjust(w[i]) for i, x in enumerate(row))
+                      for row in cells]  # fmt: skip
         elif isinstance(v, list | tuple):
             lines.append(f"{indent}{k}  {', '.join(_cell(x) for x in v)}")
         else:

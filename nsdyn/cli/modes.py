@@ -59,7 +59,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         type=out_dir,
         metavar="DIR",
         default=None,
-        help=f"directory for the mode-shape PNG (default {DEFAULT_OUT}/; with --json, none)",
+        help=f"directory for the mode-shape PNG (default {DEFAULT_OUT}/; with --json and no "
+        "--out, none)",
     )
 
 
@@ -188,6 +189,12 @@ def run(args: argparse.Namespace) -> int:
     fmax = scene_fmax if fmax_from_scene else DEFAULT_FMAX if args.fmax is None else args.fmax
     klam = scene_klam if klam_from_scene else DEFAULT_KLAM if args.klam is None else args.klam
     s, f, Phi = modes_summary(frame, fmax, klam)
+    if not s["n_modes_kept"] and f.size:  # (as nsdyn run says of such a model)
+        s["notes"] = [f"Craig-Bampton at f_max = {fmax:g} Hz keeps no flexible mode (the "
+                      f"first fixed-interface mode is at {f[0]:.4g} Hz): a run's structure "
+                      "would move quasi-statically; raise --fmax above it"]  # fmt: skip
+        if not args.json:
+            print(f"nsdyn modes: note: {s['notes'][0]}", file=sys.stderr)
     out = args.out if args.out is not None else (None if args.json else DEFAULT_OUT)
     if out is not None:
         from nsdyn.plot import plot_mode_shapes

@@ -18,8 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import MAX_POINTS
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.cli.args import count, fraction, out_dir, positive_finite, workers
+from nsdyn.cli.args import fraction, out_dir, positive_finite, pulse_count, workers
 
 SHAPES = ("sine", "cosine", "ricker", "rect")
 DEFAULT_OUT = "nsdyn-out"
@@ -28,9 +29,12 @@ DEFAULT_OUT = "nsdyn-out"
 def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("scene", help="rocking scene TOML ([scene] kind = 'rocking', model block|frame)")
     p.add_argument("--shape", choices=SHAPES, default="sine", help="pulse shape (default sine)")
-    p.add_argument("--n", type=count, default=40, help="frequencies (default 40)")
-    p.add_argument("--wmin", type=positive_finite, default=1.0, help="smallest ω_p/p (default 1)")
-    p.add_argument("--wmax", type=positive_finite, default=20.0, help="largest ω_p/p (default 20)")
+    p.add_argument("--n", type=pulse_count, default=40, help="frequencies (default 40; at most "
+                   f"{MAX_POINTS})")  # fmt: skip
+    p.add_argument("--wmin", type=positive_finite, default=1.0, help="smallest ω_p/p, from 0.01 "
+                   "to 1000 (default 1)")  # fmt: skip
+    p.add_argument("--wmax", type=positive_finite, default=20.0, help="largest ω_p/p, from 0.01 "
+                   "to 1000 (default 20)")  # fmt: skip
     p.add_argument(
         "--rtol",
         type=fraction,
@@ -38,8 +42,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         help="relative bisection width, from 2.2e-14 to below 1 (default 1e-4)",
     )
     p.add_argument("--a-max", type=positive_finite, default=None, metavar="RATIO",
-                   help="largest amplitude ratio a_p/(g tan α) scanned (default 30); a "
-                   "frequency with no overturning up to it reports '> a_max'")  # fmt: skip
+                   help="largest amplitude ratio a_p/(g tan α) scanned (default 30, at most "
+                   "1e6); a frequency with no overturning up to it reports '> a_max'")  # fmt: skip
     p.add_argument("--workers", type=workers, default=None, metavar="N",
                    help="parallel processes")  # fmt: skip
     p.add_argument(

@@ -42,6 +42,18 @@ def test_modes_options_change_counts_and_f_bis(capsys):
     assert b["f_bis_hz"] == pytest.approx(2 * a["f_bis_hz"], rel=1e-12)
 
 
+def test_a_cut_off_below_the_first_mode_is_noted(capsys):
+    # f_max = 0.1 Hz under the office's first mode (0.46 Hz, seed 004): no flexible mode
+    # kept, said as nsdyn run says it (modes printed 6 + 0 = 6 dofs without a word)
+    assert main(["modes", "office-11", "--json", "--fmax", "0.1"]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["n_modes_kept"] == 0 and s["n_reduced"] == s["n_boundary"]
+    (note,) = s["notes"]
+    assert note.startswith("Craig-Bampton at f_max = 0.1 Hz keeps no flexible mode")
+    assert main(["modes", "office-11", "--json"]) == 0  # (5 Hz keeps seven: no note)
+    assert "notes" not in json.loads(capsys.readouterr().out)
+
+
 def test_modes_table_and_png(tmp_path, capsys):
     out_dir = tmp_path / "figs"
     assert main(["modes", "portal", "--out", str(out_dir)]) == 0

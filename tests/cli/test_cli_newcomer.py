@@ -343,6 +343,10 @@ def test_a_benchmark_without_a_report_prints_text_not_json():
         "sub:",
         "  ok  true",
     ]
+    # rows without names (a contact benchmark's work-precision points) print aligned, not
+    # as Python's lists ("['event', 0.0001, 69.59288100188132, ...]")
+    lines = _plain({"wp": [("event", 1e-4, 69.592881), ("moreau", 1e-3, 3.2)]})
+    assert lines == ["wp:", "   event  0.0001  69.59", "  moreau   0.001    3.2"]
 
 
 def _status(argv) -> int:

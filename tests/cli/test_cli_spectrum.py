@@ -62,8 +62,11 @@ def test_spectrum_announces_a_first_compilation(tmp_path, capsys, monkeypatch):
 
 @pytest.mark.parametrize(
     "extra, needle",
-    [(["--wmin", "5", "--wmax", "2"], "--wmax"), (["--workers", "0"], "--workers")],
-)
+    [(["--wmin", "5", "--wmax", "2"], "--wmax"), (["--workers", "0"], "--workers"),
+     # a spectrum's frequency is a scan and bisection of pulse runs (not a periodic solve)
+     (["--n", "100000000"], "--n: expected at most 10000 frequencies (each one a scan and "
+      "bisection of pulse runs)")],
+)  # fmt: skip
 def test_spectrum_rejects_bad_flags(tmp_path, capsys, extra, needle):
     argv = ["spectrum", str(SCENES / "rocking-seed003-column.toml"), "--out", str(tmp_path)]
     try:  # (a count the parser refuses ends it with SystemExit, status 2 as well)
