@@ -8,6 +8,7 @@ sources):
 - ``reference/studies.md``: every study-file table and key, from the study reader's lists;
 - ``reference/api.md``: the public names of ``nsdyn``, from ``nsdyn/__init__.py``;
 - ``reference/cli-options.md``: ``nsdyn COMMAND --help`` of every subcommand, from the parser;
+- ``reference/benchmarks.md``: each benchmark's measures and CSV columns, from its module;
 - ``gallery/*.md``: one page per example script, from its docstring, with its figures;
 - ``validation.md``: what each test checks against what, from the test modules;
 - ``figures/*.png``: the figures of ``examples/figures``, served as they are.
@@ -30,6 +31,7 @@ sys.path.insert(0, str(HERE))
 log = logging.getLogger("mkdocs.plugins.nsdyn")
 
 import api  # noqa: E402
+import bench_reference  # noqa: E402
 import cli  # noqa: E402
 import docstring_md  # noqa: E402, F401  (the generators import it lazily)
 import gallery  # noqa: E402
@@ -46,6 +48,7 @@ def _generate() -> dict[str, str]:
         "reference/studies.md": study_reference.page(),
         "reference/api.md": api.page(),
         "reference/cli-options.md": cli.page(),
+        "reference/benchmarks.md": bench_reference.page(),
         "validation.md": validation.page(),
     }
     pages.update(gallery.pages())

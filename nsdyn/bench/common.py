@@ -20,8 +20,17 @@ Error measures (:func:`run_errors`, of a run against a reference of the same mod
 
 A run the integrator reports as failed (``IntegrationError``) keeps its reason as ``status``;
 a "successful" run whose history holds NaN/inf or whose energy balance does not close to
-ENERGY_CLOSURE_MAX is flagged by the benchmark itself. Tables are written through
-:func:`nsdyn.atomic.atomic_open` (temporary file, then rename).
+ENERGY_CLOSURE_MAX is flagged by the benchmark itself.
+
+Columns of a run's row (:func:`bench_row`)
+    ``label``, ``method``, ``law``; ``setting``, ``value`` (``rtol`` or ``dt`` and its
+    value); ``status`` ("ok" or the failure's reason) and ``message``; ``wall_s`` (above),
+    ``n_timed`` (runs timed), ``n_steps``, ``nfev`` (right-hand-side evaluations); the
+    peaks ``x_iso_max_m``, ``idr_max``, ``floor_acc_max_mps2``; ``energy_closure`` = |ΔE −
+    (W_in − W_visc − W_fric + W_con)| / max(|W_in|, W_visc + |W_fric|, |ΔE|, E₀), the energy
+    balance's relative closure error (``Response.energy``; a run past 0.05 has blown up).
+
+Tables are written through :func:`nsdyn.atomic.atomic_open` (temporary file, then rename).
 """
 
 from __future__ import annotations

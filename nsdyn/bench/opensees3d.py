@@ -17,6 +17,12 @@ its first :data:`RECORD_S` seconds (``--quick``: :data:`QUICK_RECORD_S`):
   modal ratios ``beta omega_k / 2`` of the export's beta K): the same linear model on both
   sides, so the peaks must agree (drift, base shear, roof corner displacement).
 
+Columns: ``wall_s`` the whole process's time on the isolated rows (on the fixed rows the
+in-process call's: OpenSees' model build and run, nsdyn's modes and response), ``loop_s`` the
+isolated rows' time loop alone (the script's and the run's own ``wall_s``), the peaks,
+``d_<peak>`` = peak / peak_nsdyn − 1, ``time_ratio`` = wall_OpenSees / wall, and the fixed
+rung's ``mass_captured_x``/``_y`` (the modal mass share of its modes).
+
 Differences on the isolated rows are the models': a rigid deck has no drift and its roof
 moves with the isolators; OpenSees' bearings stick through an elastic branch (k_init, creep
 <= 0.1 mm) and break away at mu_slow N where nsdyn's switch law needs mu_static N.

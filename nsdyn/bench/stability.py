@@ -14,6 +14,13 @@ or energy-balance check does ("checked:<reason>": the integrator called it a suc
 it lands further than GARBAGE_ERR from the reference ("garbage": nobody flagged it), with
 ``err_x = max |x_iso - x_iso^ref| / max |x_iso^ref|`` against radau at STAB_REF_RTOL.
 Constraint drift: ``max_t |R q|`` with alpha = 0 and 2 pi; cold-start shooting over (f, A).
+
+Columns of ``stability-boundary.csv`` (one row per map, model, eps or alpha, method):
+``dt_max_stable`` the largest dt at and below which every tested cell is "ok" (NaN: none);
+``err_x_at_dt_max`` its err_x; ``dt_max_accurate`` the largest at and below which every cell
+is ok with err_x <= ACCURATE_ERR (1e-2); ``failure_above`` and ``failure_message`` the
+outcome and message of the smallest failing dt above dt_max_stable. The cells' table
+(``stability-cells.csv``) holds every (dt, outcome, err_x, wall_s, t_fail, message).
 """
 
 from __future__ import annotations
