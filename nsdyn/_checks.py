@@ -178,15 +178,21 @@ def output_step(dt_out, span: float, off: bool = True) -> None:
     output_count(span, dt_out)
 
 
+SNAP = 1e-3  # a last output within this share of dt_out of the end is the end (output_times)
+
+
 def output_times(t0: float, t_end: float, dt_out: float):
     """Outputs from ``t0`` every ``dt_out`` [s], and ``t_end`` itself where that grid
     misses it: a run ends at its end, whatever the output step (its last interval shorter
-    then). ValueError as :func:`output_count`."""
+    then; a last output within :data:`SNAP` dt_out of the end is moved onto it, not followed
+    by a second one a rounding error later). ValueError as :func:`output_count`."""
     import numpy as np
 
     n = output_count(t_end - t0, dt_out)
     t = t0 + dt_out * np.arange(n)
-    if t_end - t[-1] > 1e-9 * dt_out:
+    if abs(t_end - t[-1]) <= SNAP * dt_out and n > 1:  # (a step that divides the run but
+        t[-1] = t_end  # for its rounding: a float32 0.02 left 1e-7 s before the end)
+    elif t_end - t[-1] > 1e-9 * dt_out:
         t = np.append(t, t_end)
     return t
 
