@@ -397,6 +397,9 @@ def outcome(s: dict) -> tuple[str, str]:
     if word == "overturned":
         t = s.get("t_overturn_s")
         return word, "OVERTURNED" + (f" at t = {t:.3f} s" if isinstance(t, float) else "")
+    if word == "rocking" and not s.get("n_impacts") and abs((peak or 0.0) - 1.0) < 1e-9:
+        return word, ("balanced on its corner to the end (theta = alpha, the unstable "
+                      "equilibrium: any disturbance rocks or topples it)")  # fmt: skip
     if word == "rocking":
         return word, f"rocking (lifted off, still rocking at the end){tilt}"
     if word == "rest":

@@ -127,6 +127,24 @@ def test_an_overturned_runs_end_time_is_its_overturn(tmp_path):
     assert 0.0 <= s["t_end_s"] - t[-1] < np.diff(t).max()  # (its last output is before it)
 
 
+def test_a_block_released_on_its_corner_is_said_balanced_not_rocking(tmp_path):
+    # at theta = alpha the centre of mass is over the corner: gravity's moment
+    # m g R sin(alpha - theta) is zero, the unstable equilibrium, held by the exact start (it
+    # read "rocking (lifted off, still rocking at the end)" with no impact); a hair below it
+    # rocks (one impact within the run)
+    from nsdyn.models.rocking.scene import outcome
+
+    def run(th):
+        motion = {"theta0_over_alpha": th, "t_end": 3.0}
+        cfg = {**_cfg(), "motion": motion}
+        return run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+
+    s = run(1.0)
+    assert s["n_impacts"] == 0 and outcome(s)[1].startswith("balanced on its corner")
+    s = run(0.999)
+    assert s["n_impacts"] >= 1 and outcome(s)[1].startswith("rocking (lifted off")
+
+
 def test_example_seed_studies_free_rocking_restitution():
     """examples/rocking_seed_studies.py: seed 003 Table 1 analytic restitution 0.91 of the
     2H = 1.2 m, 2B = 0.3 m column is what the impacts of the run show (theta'+ / theta'-)."""
