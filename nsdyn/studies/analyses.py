@@ -271,6 +271,15 @@ def boolean_note(table: Table, names) -> str | None:
             "true is a fragility's or a design constraint's reading")  # fmt: skip
 
 
+def _fixed_base_gap(table: Table) -> Table:
+    """``table`` with the fixed-base runs' isolator displacement 0: no isolator crosses the
+    seismic gap (their summaries have no ``x_iso_max_m``: NaN made every fixed-base design
+    infeasible under the default gap constraint)."""
+    rows = [{**r, "x_iso_max_m": 0.0} if r.get("fidelity") == "fixed" and r.get("status") == "ok"
+            and "x_iso_max_m" not in r else r for r in table.rows]  # fmt: skip
+    return Table(rows, table.param_names)
+
+
 def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
     from nsdyn.studies.figures import pareto_figure
 
@@ -278,6 +287,8 @@ def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
     objectives = spec.get("objectives") or list(DEFAULT_OBJECTIVES)
     gap = {"x_iso_max_m": SEISMIC_GAP_M} if study.kind == "isolated" else {}  # (a frame's gap)
     constraints = spec.get("constraints", gap)
+    if "constraints" not in spec and gap:
+        table = _fixed_base_gap(table)
     empty = empty_columns(table, [*objectives, *constraints])
     points = design_points(table, variables, objectives, constraints, spec.get("aggregate", "mean"))
     _write_rows([p.row() for p in points], out / "design.csv")

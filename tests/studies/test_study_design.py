@@ -19,7 +19,7 @@ from nsdyn.studies.design import (
     pareto_front,
     percentile_table,
 )
-from nsdyn.studies.table import Table
+from nsdyn.studies.table import Table, read_csv
 
 
 def _dominated(F, i, idx):
@@ -142,3 +142,26 @@ def test_few_runs_note_marks_the_groups_whose_outer_percentiles_only_interpolate
     # a group of one run: every percentile is its value (np.percentile of one number)
     assert np.percentile([0.3], 16) == np.percentile([0.3], 84) == 0.3
     assert "or the one run's value in a group of one" in few_runs_note([{"n": 1}], (16, 84))
+
+
+def test_a_fixed_base_design_meets_the_default_gap(tmp_path):
+    # a fixed base has no isolator to cross the 400 mm seismic gap (seed 004 §5): its rows
+    # have no x_iso_max_m, whose NaN made every fixed-base design infeasible; its worst
+    # isolator displacement is 0 under the default constraint
+    from nsdyn.studies import load_study
+    from nsdyn.studies.analyses import run_analyses
+
+    p = tmp_path / "s.toml"
+    p.write_text('[study]\nname = "fx"\n[base.motion]\nt_end = 0.5\n[parameters]\n'
+                 '"scene.fidelity" = ["fixed", "rigid"]\n[records]\nnames = ["synthetic-wn-40s"]\n'
+                 '[analysis.design]\nvariables = ["scene.fidelity"]\n'
+                 'objectives = ["idr_max", "floor_acc_max_mps2"]\n')  # fmt: skip
+    study = load_study(p)
+    rows = [{"fidelity": f, "scene.fidelity": f, "status": "ok", "idr_max": 1e-3,
+             "floor_acc_max_mps2": 1.0, **({"x_iso_max_m": 0.1} if f == "rigid" else {})}
+            for f in ("fixed", "rigid")]  # fmt: skip
+    res = run_analyses(study, Table(rows, ["scene.fidelity"]), tmp_path, figures=False)
+    assert res["design"]["n_feasible"] == 2
+    design = {r["scene.fidelity"]: r for r in read_csv(tmp_path / "design.csv")}
+    assert float(design["fixed"]["x_iso_max_m_worst"]) == 0.0
+    assert float(design["rigid"]["x_iso_max_m_worst"]) == 0.1
