@@ -290,8 +290,6 @@ def _record_set(source: str, s: str, kind: str) -> list[RecordSpec]:
 def _simulated(source: str, sim, kind: str = "") -> list[RecordSpec]:
     import numpy as np
 
-    if kind == "cylinder":  # (their scale is not the scene's earthquake's: ten times below)
-        importlib.import_module(scene_module(kind)).simulated_records_note(source)
     if not isinstance(sim, dict):
         raise _err(source, "records.simulated",
                    f"expected a table {{n = ..., seed = ...}}, got {sim!r}")  # fmt: skip
@@ -314,6 +312,9 @@ def _simulated(source: str, sim, kind: str = "") -> list[RecordSpec]:
     except ValueError as e:
         key, _, text = str(e).partition(": ")
         raise _err(source, f"records.simulated.{key}", text) from None
+    if kind == "cylinder":  # (their scale is not the scene's earthquake's: ten times below;
+        # said once the table is checked, not before its error)
+        importlib.import_module(scene_module(kind)).simulated_records_note(source)
     seeds = np.random.SeedSequence(spec["seed"]).generate_state(spec["n"])
     # names (and so task keys) that stay as n grows: three digits at least (the width of n
     # made a study grown from 40 to 200 records rename, and rerun, its first 40)

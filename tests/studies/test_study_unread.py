@@ -12,6 +12,7 @@ against a record's), and a given t_end replaces the scene's n_periods as --t-end
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import pytest
@@ -208,3 +209,9 @@ def test_simulated_records_on_a_cylinder_scene_are_said_to_be_another_scale(tmp_
             "[records]\nsimulated = { n = 1, seed = 3, duration = 2.0 }\n")  # fmt: skip
     with pytest.warns(InputWarning, match=r"records.simulated: one horizontal component"):
         load_study(_study(tmp_path, "cylinder-uplift.toml", body))
+    # a table in error is refused alone (the note came first, about records never made)
+    body = body.replace("n = 1, seed = 3", "n = 0, seed = 3")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        with pytest.raises(SceneError, match=r"records\.simulated\.n: expected an integer >= 1"):
+            load_study(_study(tmp_path, "cylinder-uplift.toml", body))
