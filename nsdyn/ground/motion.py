@@ -31,6 +31,8 @@ import numpy as np
 
 from nsdyn._checks import MAX_OUTPUTS, InputWarning, number, whole
 
+A_SAMPLE_MAX = 1e6  # m/s²: a sample beyond it is no ground acceleration (samples refuses it)
+
 
 def samples(name: str, a, n: int | None = None) -> np.ndarray:
     """``a`` as a non-empty 1-D float64 array of finite accelerations (``n`` of them when
@@ -48,6 +50,10 @@ def samples(name: str, a, n: int | None = None) -> np.ndarray:
     if not np.all(np.isfinite(arr)):
         k = int(np.flatnonzero(~np.isfinite(arr))[0])
         raise ValueError(f"{name}: expected finite values, sample {k} is {arr[k]}")
+    if np.any(big := np.abs(arr) > A_SAMPLE_MAX):  # (1e308 overflowed inside a run)
+        k = int(np.flatnonzero(big)[0])
+        raise ValueError(f"{name}: expected accelerations [m/s²] below {A_SAMPLE_MAX:g} "
+                         f"(1e5 g), sample {k} is {arr[k]:g}")  # fmt: skip
     return arr
 
 

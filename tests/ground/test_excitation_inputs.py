@@ -51,6 +51,12 @@ def test_a_component_without_amplitude_needs_no_frequency():
             lambda np: _gm(np, a_hor=[1.0, float("inf")]),
             r"^a_hor: expected finite values, sample 1",
         ),
+        # 1e308 is finite: it overflowed inside a run (no ground reaches 1e5 g)
+        (
+            lambda np: _gm3(np, az=[1.0, 2.0, -1e308, 0.0, 0.0]),
+            r"^GroundMotion3\.az: expected accelerations \[m/s²\] below 1e\+06 \(1e5 g\), "
+            r"sample 2 is -1e\+308$",
+        ),
     ],
 )
 def test_ground_motions_refuse_samples_that_are_not_real_accelerations(make, match):
