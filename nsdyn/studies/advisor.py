@@ -128,13 +128,12 @@ def stick_probe(frame, motion, isolation, f_max: float = STICK_MODEL_FMAX) -> di
     Returns the verdict ("stick throughout" or "slides"), the number of switching events, the
     stick fraction of the output instants and max_t,i |tau_i| / (mu_i lam_i).
     """
-    from dataclasses import replace
 
     from nsdyn.models.isolated.system import build_system
     from nsdyn.solve.integrate import IntegrationError
     from nsdyn.solve.transient import simulate
 
-    iso = replace(isolation, law="switch")
+    iso = isolation.changed(law="switch")
     system = build_system(frame, iso, fidelity="cb", f_max=f_max)
     out = {"model": f"cb-{f_max:g}", "duration_s": float(motion.duration)}
     try:

@@ -142,7 +142,7 @@ def _run_isolated(cfg: dict, source: str) -> dict:
     sv = cfg["solver"]
     method = sv.get("method", "auto")
     if method == "event" and system.isolation is not None:
-        system = replace(system, isolation=replace(system.isolation, law="switch"), _static=None)
+        system = replace(system, isolation=system.isolation.changed(law="switch"), _static=None)
     atol = sv.get("atol")
     t_eval = output_grid(motion, sv.get("dt_out"), **duration)
     dt = fixed_step(method, sv, motion)

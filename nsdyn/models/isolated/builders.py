@@ -23,7 +23,6 @@ Phi^T M_fb`` (classical damping of the fixed-base modes, ``Phi^T M_fb Phi = I``)
 from __future__ import annotations
 
 import warnings
-from dataclasses import replace
 from functools import partial
 
 import numpy as np
@@ -236,7 +235,7 @@ def system_from_matrices(
                     f"(one per isolator), got {weight!r}"
                 )
             normal = w
-        iso = replace(iso, frozen_normal=True)
+        iso = iso.changed(frozen_normal=True)
     info = _levels(levels, heights, n)
     Ks, Cs = _add_isolators(K, C, D, iso)
     info["total_mass"] = float(Gamma[:, 0] @ M @ Gamma[:, 0])

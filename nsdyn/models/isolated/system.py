@@ -35,10 +35,11 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import InputWarning, flag
+from nsdyn._checks import NotedWarning, flag
 from nsdyn._lazy import LazyModule
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kernel as ks
+from nsdyn.models.isolated.bearings import high_friction_note
 from nsdyn.models.isolated.defaults import ALPHA, BETA, C_DAMPER, EPS, ETA, K_LAM, MU
 from nsdyn.models.isolated.params import pack
 
@@ -109,10 +110,16 @@ class Isolation:
         if not getattr(self, k) > 0:  # (eta = 0: stick never detected)
             raise ValueError(f"isolation.{k}: the {self.law} law needs a positive {what}, got "
                              f"{getattr(self, k)!r}")  # fmt: skip
-        if (mu := float(np.max(self.mu))) > 1.0:  # (5 for 5 %: isolators that never slid, unsaid)
-            warnings.warn(f"isolation.mu: {self.mu!r} is above 1: the isolators slide only past "
-                          f"{mu * self.g:.3g} m/s² (mu g); 5 % friction is mu = 0.05", InputWarning,
-                          stacklevel=3)  # fmt: skip
+        mu = np.atleast_1d(np.asarray(self.mu, dtype=float))  # (5 for 5 %: stuck, unsaid)
+        if self.law != "none" and mu.max() > 1.0:  # (a scene's note says it: NotedWarning)
+            k, name = int(np.argmax(mu)), "isolation.mu" + ("" if np.ndim(self.mu) == 0 else "[{}]")
+            warnings.warn(high_friction_note(name.format(k), float(mu[k])), NotedWarning, 3)
+
+    def changed(self, **changes) -> Isolation:
+        """A copy with ``changes`` made inside nsdyn (its mu above 1 said once, not again)."""
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", NotedWarning)
+            return replace(self, **changes)
 
     def per_isolator(self, name: str, n: int) -> np.ndarray:
         v = np.atleast_1d(np.asarray(getattr(self, name), dtype=float))
@@ -192,7 +199,7 @@ class IsolatedSystem:
         (default :func:`build_system`; the scenes pass one through the model cache)."""
         if self.isolation is None:
             raise ValueError("a fixed-base model has no isolation to change")
-        iso = replace(self.isolation, **changes)
+        iso = self.isolation.changed(**changes)
         if self.frame is None:  # built from matrices: the builder kept its arguments
             return self.info["rebuild"](isolation=iso)
         kw = {"damping": self.info["damping"]} if "damping" in self.info else {}
@@ -271,18 +278,8 @@ class IsolatedSystem:
             frozen_normal=frozen,
         )
         kw.update(overrides)
-        return pack(
-            M,
-            C,
-            K,
-            Gamma,
-            R,
-            D,
-            iso.per_isolator("mu", ni),
-            lam0[:ni],
-            ground=ground,
-            **kw,
-        )
+        return pack(M, C, K, Gamma, R, D, iso.per_isolator("mu", ni), lam0[:ni], ground=ground,
+                    **kw)  # fmt: skip
 
     def evaluate(self, t: float, x: np.ndarray, ground=None, P=None) -> dict:
         """Accelerations, normal forces, friction forces and isolator modes at one state."""
@@ -416,10 +413,8 @@ def build_system(
         raise ValueError(f"fidelity: expected one of {FIDELITIES}, got {fidelity!r}")
     iso = Isolation() if isolation is None else isolation
     if not isinstance(iso, Isolation):
-        raise TypeError(
-            f"isolation: expected an Isolation (nsdyn.Isolation(k_lam=..., mu=...)), got "
-            f"{type(iso).__name__}"
-        )
+        raise TypeError(f"isolation: expected an Isolation (nsdyn.Isolation(k_lam=..., mu=...)), "
+                        f"got {type(iso).__name__}")  # fmt: skip
     if not (isinstance(f_max, numbers.Real) and f_max > 0):  # NaN fails too; inf keeps all
         raise ValueError(f"f_max: expected a positive frequency [Hz] or inf, got {f_max!r}")
     if damping not in ("modal", "stiffness"):
@@ -435,8 +430,7 @@ def build_system(
         info = fo["info"]  # (the modal damping's modes are added when first computed)
         info.update(total_mass=float(frame.total_mass), n_full=frame.n_dof)
         info["_C_of_sparse"] = fo["C"]  # a copy with other damping is not the sparse model
-        n = frame.n_dof
-        name = f"{getattr(frame, 'name', 'frame')} full (n={n})"
+        name = f"{getattr(frame, 'name', 'frame')} full (n={frame.n_dof})"
         f = {k: fo[k] for k in ("M", "C", "K", "Gamma", "R", "D", "T")}
         return IsolatedSystem(name, "full", f["M"], f["C"], f["K"], f["Gamma"], f["R"], f["D"],
                               f["T"], iso, frame, np.inf, info, sparse=fo["sparse"])  # fmt: skip
@@ -463,8 +457,8 @@ def build_system(
             R[i] = [0.0, 1.0, nodes[b, 0] - xm]
             D[i] = [1.0, 0.0, -(nodes[b, 1] - nodes[base, 1].mean())]
         K, C = _add_isolators(np.zeros((n, n)), np.zeros((n, n)), D, iso)
-        name = f"{getattr(frame, 'name', 'frame')} rigid"
-        return IsolatedSystem(name, "rigid", M, C, K, Gamma, R, D, Tr, iso, frame, None, info)
+        return IsolatedSystem(f"{getattr(frame, 'name', 'frame')} rigid", "rigid", M, C, K, Gamma,
+                              R, D, Tr, iso, frame, None, info)  # fmt: skip
 
     cb = craig_bampton(Kf, Mf, frame.boundary_dofs, f_max, frame.zeta)
     nb = cb.n_b
@@ -525,17 +519,14 @@ def isolation_from_config(cfg: dict, source: str = "<config>") -> Isolation:
     allowed = {f for f in Isolation.__dataclass_fields__}
     unknown = set(cfg) - allowed
     if unknown:
-        raise ValueError(
-            f"{source}: isolation: unknown field(s) {sorted(unknown)}; expected some of "
-            f"{sorted(allowed)}"
-        )
+        raise ValueError(f"{source}: isolation: unknown field(s) {sorted(unknown)}; expected "
+                         f"some of {sorted(allowed)}")  # fmt: skip
     out = {}
     for k, v in cfg.items():
         if k == "contact":
             if v not in CONTACTS:
-                raise ValueError(
-                    f"{source}: isolation.contact: expected one of {list(CONTACTS)}, got {v!r}"
-                )
+                raise ValueError(f"{source}: isolation.contact: expected one of "
+                                 f"{list(CONTACTS)}, got {v!r}")  # fmt: skip
             out[k] = v
         elif k == "law":
             if v not in ("arctan", "switch", "none"):
@@ -549,11 +540,12 @@ def isolation_from_config(cfg: dict, source: str = "<config>") -> Isolation:
             out[k] = v
         else:
             vals = v if isinstance(v, list) else [v]
-            if not vals or not all(
-                isinstance(a, int | float) and not isinstance(a, bool) for a in vals
-            ):
+            if not vals or not all(isinstance(a, int | float) and not isinstance(a, bool)
+                                   for a in vals):  # fmt: skip
                 raise ValueError(f"{source}: isolation.{k}: expected a number or list of numbers")
             if any(a < 0 for a in vals):
                 raise ValueError(f"{source}: isolation.{k}: expected non-negative, got {v}")
             out[k] = tuple(float(a) for a in vals) if isinstance(v, list) else float(v)
-    return Isolation(**out)
+    with warnings.catch_warnings():  # (a scene notes a mu above 1 itself: note_high_friction)
+        warnings.simplefilter("ignore", NotedWarning)
+        return Isolation(**out)
