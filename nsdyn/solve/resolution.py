@@ -102,12 +102,16 @@ def _warned(notes: list[str]) -> list[str]:
     """``notes`` on peaks a run did not resolve, each also an :class:`AccuracyWarning` (a
     caller reading only the summary's numbers was told nothing; the command line says each
     once, as a note)."""
+    import sys
     import warnings
 
     from nsdyn._checks import AccuracyWarning
 
+    level, frame = 1, sys._getframe(0)  # the warning's place: the caller's, outside nsdyn
+    while frame.f_back is not None and frame.f_globals.get("__name__", "").startswith("nsdyn"):
+        frame, level = frame.f_back, level + 1
     for note in notes:
-        warnings.warn(note, AccuracyWarning, stacklevel=4)
+        warnings.warn(note, AccuracyWarning, stacklevel=level)
     return notes
 
 
