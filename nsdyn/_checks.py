@@ -19,8 +19,9 @@ class NotedWarning(InputWarning):
 
 
 class AccuracyWarning(InputWarning):
-    """A finished run whose own check (an energy balance) says it is far from accurate: its
-    tolerance, or the model's scales, are the input to change (printed as an input warning)."""
+    """A finished run whose own check says it is far from accurate (an energy balance; peaks
+    its steps did not resolve): its tolerance or step, or the model's scales, are the input
+    to change (printed as an input warning)."""
 
 
 def expect(name: str, value, ok: bool, what: str) -> None:
@@ -178,20 +179,21 @@ def output_step(dt_out, span: float, off: bool = True) -> None:
     output_count(span, dt_out)
 
 
-SNAP = 1e-3  # a last output within this share of dt_out of the end is the end (output_times)
+SNAP = 1e-6  # a last output within this share of the run of its end is the end (output_times)
 
 
 def output_times(t0: float, t_end: float, dt_out: float):
     """Outputs from ``t0`` every ``dt_out`` [s], and ``t_end`` itself where that grid
     misses it: a run ends at its end, whatever the output step (its last interval shorter
-    then; a last output within :data:`SNAP` dt_out of the end is moved onto it, not followed
-    by a second one a rounding error later). ValueError as :func:`output_count`."""
+    then; a last output within :data:`SNAP` of the run's span of the end, a rounding error
+    of a step that divides the run, is moved onto it, not followed by a second one a rounding
+    error later). ValueError as :func:`output_count`."""
     import numpy as np
 
     n = output_count(t_end - t0, dt_out)
     t = t0 + dt_out * np.arange(n)
-    if abs(t_end - t[-1]) <= SNAP * dt_out and n > 1:  # (a step that divides the run but
-        t[-1] = t_end  # for its rounding: a float32 0.02 left 1e-7 s before the end)
+    if abs(t_end - t[-1]) <= SNAP * (t_end - t0) and n > 1:  # (a step dividing the run but
+        t[-1] = t_end  # for its rounding: a float32 0.02 s left 2e-7 s before a 10 s end)
     elif t_end - t[-1] > 1e-9 * dt_out:
         t = np.append(t, t_end)
     return t
