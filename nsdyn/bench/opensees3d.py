@@ -20,8 +20,9 @@ its first :data:`RECORD_S` seconds (``--quick``: :data:`QUICK_RECORD_S`):
 Columns: ``wall_s`` the whole process's time on the isolated rows (on the fixed rows the
 in-process call's: OpenSees' model build and run, nsdyn's modes and response), ``loop_s`` the
 isolated rows' time loop alone (the script's and the run's own ``wall_s``), the peaks,
-``d_<peak>`` = peak / peak_nsdyn − 1, ``time_ratio`` = wall_OpenSees / wall, and the fixed
-rung's ``mass_captured_x``/``_y`` (the modal mass share of its modes).
+``d_<peak>`` = peak / peak_nsdyn − 1, ``time_ratio`` (isolated rows) = wall / wall_nsdyn (1
+on nsdyn's row: OpenSees' says how many times longer it took), and the fixed rung's
+``mass_captured_x``/``_y`` (the modal mass share of its modes).
 
 Differences on the isolated rows are the models': a rigid deck has no drift and its roof
 moves with the isolators; OpenSees' bearings stick through an elastic branch (k_init, creep
