@@ -172,11 +172,19 @@ def files_of(out: Path) -> dict:
             if p.is_file() and not p.name.startswith(".")}  # fmt: skip
 
 
+RESULT_SUFFIXES = (".npz", ".png", ".csv", ".json")  # what nsdyn's commands write
+
+
 def earlier_files(out: Path, before: dict, command: str, failed: bool = False) -> str:
     """The note on the files in ``out`` that a command did not write (as :func:`files_of`
     saw them, ``before``, when it began: an earlier command's), or "". ``failed``: worded
-    for a command that wrote none (its error said why)."""
-    kept = sorted(n for n, t in files_of(out).items() if before.get(n) == t)
+    for a command that wrote none (its error said why), and of the result files only
+    (:data:`RESULT_SUFFIXES`: a scene kept in the folder is no earlier result)."""
+    kept = sorted(
+        n
+        for n, t in files_of(out).items()
+        if before.get(n) == t and (not failed or Path(n).suffix in RESULT_SUFFIXES)
+    )  # (not its inputs)
     if not kept:
         return ""
     more = f" and {len(kept) - 4} more" if len(kept) > 4 else ""
