@@ -108,6 +108,11 @@ class Tabular:
         """The result's arrays made read-only once it is made (:func:`freeze_arrays`)."""
         freeze_arrays(self)
 
+    def __setstate__(self, state: dict) -> None:
+        """Unpickled or deep-copied (a study worker's result): read-only as when made."""
+        self.__dict__.update(state)
+        freeze_arrays(self)
+
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
         own = cls.__dict__.get("histories")

@@ -58,7 +58,12 @@ def _assert_round_trip(res) -> None:
     for name, a in (vars(response) if hasattr(response, "__dict__") else {}).items():
         if isinstance(a, np.ndarray):
             assert not a.flags.writeable, f"response.{name}"
-    assert (copy.deepcopy(res) == res) is False  # (as objects: arrays have no one truth)
+    twin = copy.deepcopy(res)  # (a pickled result, as a study worker's, is copied alike)
+    assert (twin == res) is False  # (as objects: arrays have no one truth value)
+    for obj in (twin, getattr(twin, "response", None)):
+        for name, a in (vars(obj) if hasattr(obj, "__dict__") else {}).items():
+            if isinstance(a, np.ndarray):
+                assert not a.flags.writeable, f"a copy's {name}"
 
 
 @pytest.fixture

@@ -55,6 +55,10 @@ class Response:
     def __post_init__(self) -> None:
         freeze_arrays(self)
 
+    def __setstate__(self, state: dict) -> None:  # (unpickled or copied: read-only too)
+        self.__dict__.update(state)
+        freeze_arrays(self)
+
     t: np.ndarray  # (nt,)
     x_iso: np.ndarray  # (nt, ni) isolator slip D_i q
     top_drift: np.ndarray  # (nt,) x_top - x_iso (eq 17), left column line; NaN without levels
