@@ -362,6 +362,9 @@ def simulate_rocking(
     t0 = number("t0", t0, "a finite start time [s]")
     if t_end is None and isinstance(excitation, GroundMotion):  # (as nsdyn.simulate)
         t_end = excitation.t0 + excitation.duration
+        if not t_end > t0:  # (the error blamed a t_end the caller never gave)
+            raise ValueError(f"t_end: the record ends at {t_end:g} s, at or before t0 = "
+                             f"{t0:g} s; give t_end or an earlier t0")  # fmt: skip
     elif t_end is None and isinstance(excitation, Pulse | Harmonic | None):
         what = "free rocking" if excitation is None else f"a {type(excitation).__name__}"
         raise TypeError(f"t_end: expected the run's end time [s] (only a record's end is its "

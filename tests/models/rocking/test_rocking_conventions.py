@@ -156,6 +156,9 @@ def test_a_record_runs_to_its_end_by_default_and_other_motions_need_one():
             simulate_rocking(b, ex)
     with pytest.raises(TypeError, match=r"^excitation: expected GroundMotion, Pulse, Harm"):
         simulate_rocking(b, "synthetic-wn-40s")
+    with pytest.raises(ValueError, match=r"^t_end: the record ends at 2\.5 s, at or before t0 = "
+                       r"5 s; give t_end or an earlier t0$"):  # fmt: skip
+        simulate_rocking(b, rec, t0=5.0)
 
 
 def test_a_record_that_starts_before_the_run_is_said_and_a_scene_starts_with_it(tmp_path):
