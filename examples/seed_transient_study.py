@@ -76,8 +76,10 @@ def main(out: str | Path = "nsdyn-out/transient-study", quick: bool = False) -> 
             res = run_case(sysm, mot, method=method, t_eval=None)
             r[label] = res.summary()
             h[label] = res
+            x = r[label].get("x_iso_max_m")  # (a fixed base has no isolator: none)
+            x_iso = f"{x:.4f} m" if x is not None else "-"
             print(
-                f"{name:13s} {label:12s} x_iso {r[label]['x_iso_max_m']:.4f} m  "
+                f"{name:13s} {label:12s} x_iso {x_iso}  "
                 f"IDR {r[label]['idr_max']:.2e}  a {r[label]['floor_acc_max_mps2']:.2f} m/s2  "
                 f"wall {res.wall_s:.2f} s"
             )

@@ -8,7 +8,7 @@ The loop is nsdyn's series model (nsdyn.models.isolated.tfp: four rigid-plastic 
 series, the same force through each; on a quasi-static path each element's slip s_k follows
 the play s_k ← clip(s_k, R̄_k (φ − μ_k), R̄_k (φ + μ_k)), within ±d̄_k) at the elements'
 modified parameters. The marks are the published piecewise-linear model (Fenz & Constantinou
-2008, J. Eng. Mech. 134(10), Table 1) computed apart, from the bearing's own parameters: the
+2008, Earthquake Spectra 24(4), Table 1) computed apart, from the bearing's own parameters: the
 regimes start at φ = μ2, μ1, μ4, μ1 + d1/R1, μ4 + d4/R4 with slopes du/dφ = R2 + R3, R1 + R3,
 R1 + R4, R2 + R4, R2 + R3, and end at the inner slider's rims. The marks lie on the loop's
 loading branch. Writes examples/figures/tfp_backbone.png.

@@ -5,7 +5,9 @@ rigid-plastic limit, the single friction pendulum of radius R1 + R4: every eleme
 the same force and their slips stay proportional, s_k = R̄_k p. The model reaches that limit
 through an elastic stage (one spring κ_e N, κ_e = μ/u_y, with a dashpot of ratio ζ_e across
 it: undamped, ζ_e = 0, and the default ζ_e = 1 are both run) and a viscoplastic flow of
-relaxation time τ ∝ u_y, so its peaks converge as u_y → 0. This script measures how: a
+relaxation time τ ∝ u_y, so its peaks converge as u_y → 0 (as a trend, not at every halving:
+the velocity errors of successive breakaways add with signs of their own). This script
+measures how: a
 2 000 t mass on one bearing (R1 = R4 = 2.2 m, R2 = R3 = 0.3 m, μ = 0.05) under the bundled
 record ``synthetic-wn-40s`` (all three components, and its x component alone), the TFP
 (regularised law, Radau IIA) at u_y = 0.25 (the default), 0.125, 0.05 and 0.025 mm against

@@ -11,8 +11,9 @@ g b / h_cm for comparison, and the figure ``uplift_boundary.png``.
     python examples/uplift_boundary.py --out DIR      # the figure into DIR
 
 The default run (40 points) redraws the committed examples/figures/uplift_boundary.png; any
-other ``--points`` (2 to 400, ~0.75 s each) without ``--out`` writes the figure to
-``nsdyn-out/`` in the current directory and leaves the committed one alone. The script
+other ``--points`` (2 to 400, about a second each, more at the lowest frequencies) without
+``--out`` writes the figure to ``nsdyn-out/`` in the current directory and leaves the
+committed one alone. The script
 prints where the figure went.
 """
 
@@ -32,7 +33,7 @@ from nsdyn.plot.uplift import uplift_boundary_figure
 
 FIGURE = Path(__file__).resolve().parent / "figures" / "uplift_boundary.png"
 POINTS_DEFAULT = 40  # the committed figure's frequencies
-POINTS_MAX = 400  # ~0.75 s per frequency (40 took 30 s): 400 take about five minutes
+POINTS_MAX = 400  # about 1 s per frequency (2 s at the lowest): 400 take several minutes
 SCRATCH = "nsdyn-out"  # a non-default run's figure, in the current directory
 
 
@@ -100,7 +101,7 @@ def main(
 
 if __name__ == "__main__":
     cli = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    points = int_in(2, POINTS_MAX, "frequencies (~0.75 s each)")
+    points = int_in(2, POINTS_MAX, "frequencies (about a second each)")
     cli.add_argument("--points", type=points, default=POINTS_DEFAULT,
                      help=f"log-spaced frequencies, 2 to {POINTS_MAX} (40)")  # fmt: skip
     cli.add_argument("--out", type=out_dir, metavar="DIR",
@@ -111,5 +112,5 @@ if __name__ == "__main__":
         path = Path(args.out) / FIGURE.name
     else:  # only the default run replaces the committed figure
         path = FIGURE if args.points == POINTS_DEFAULT else Path(SCRATCH) / FIGURE.name
-    print(f"{args.points} frequencies, ~0.75 s each ...", file=sys.stderr)
+    print(f"{args.points} frequencies, about a second each ...", file=sys.stderr)
     main(points=args.points, figure=path)

@@ -97,6 +97,12 @@ def motion_figure(res: CylinderResult, n_snap: int = 6, title: str = "") -> Figu
     return fig
 
 
+# the axes of the peaks compared (stresses over σ_st = m g / (π r²), as peak_stresses gives)
+PEAK_LABELS = {"tau_max": "peak τ_max / σ_st [-]", "sigma_1": "peak σ₁ / σ_st [-]",
+               "tilt": "peak tilt [rad]",
+               "uplift": "peak lifted share of the base [-]"}  # fmt: skip
+
+
 def comparison_figure(stats: dict, title: str = "") -> Figure:
     """Box-like plot (5/50/95 %) of peak responses per foundation case from ``study`` stats."""
     cases = list(stats)
@@ -110,6 +116,7 @@ def comparison_figure(stats: dict, title: str = "") -> Figure:
             ax.plot(i, s["median"], "o", color="C3")
         ax.set_xticks(range(len(cases)), cases, rotation=20)
         ax.set_title(key)
+        ax.set_ylabel(PEAK_LABELS.get(key, key))
     if title:
         fig.suptitle(title)
     return fig

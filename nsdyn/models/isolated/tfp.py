@@ -3,7 +3,7 @@
 A triple friction pendulum (TFP) has two outer concave plates (surfaces 1 and 4, effective
 radii R1, R4, friction μ1, μ4, displacement capacities d1, d4) and an inner articulated slider
 (surfaces 2 and 3: R2, R3, μ2, μ3, d2, d3). With μ2, μ3 ≤ μ1 ≤ μ4 its backbone passes five
-regimes (Fenz & Constantinou 2008, J. Eng. Mech. 134(10), Table 1), with the force per unit
+regimes (Fenz & Constantinou 2008, Earthquake Spectra 24(4), Table 1), with the force per unit
 normal load φ = F/N:
 
     I    sliding on 2 and 3   slope du/dφ = R2 + R3   from φ = μ2 (μ3)
