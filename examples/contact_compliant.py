@@ -82,7 +82,7 @@ def _chart(sweep: dict, k_sweep, out: Path) -> None:
                 if r["overturned"]:
                     ax[0].plot(kk, t, "kx", ms=12, mew=2)
     ax[0].set(xlabel="corner stiffness k [N/m]", ylabel="max tilt [rad]",
-              title="x: overturned (mu = mu_s, impulsive start)")  # fmt: skip
+              title="peak tilt (mu = mu_s, impulsive start; x marks an overturn)")  # fmt: skip
     ax[1].axhline(1.0, color="grey", lw=0.8)
     ax[1].set(xlabel="corner stiffness k [N/m]", ylabel="max corner uplift [mm] (1e-6: none)",
               title="lift-off of a base corner")  # fmt: skip
@@ -100,8 +100,8 @@ if __name__ == "__main__":
     ).parse_args()  # --help; no options
     res = main()
     for name, cols in res["table"].items():
-        print(name, " | ".join(f"{k}: {verdict(s)} slide {s['slide_mm']:.1f} tilt "
-                               f"{s['max_tilt_rad']:.2e} upl {s['uplift_mm']:.3f} mm"
+        print(name, " | ".join(f"{k}: {verdict(s)}, slide {s['slide_mm']:.1f} mm, tilt "
+                               f"{s['max_tilt_rad']:.2e} rad, uplift {s['uplift_mm']:.3f} mm"
                                for k, s in cols.items()))  # fmt: skip
     print(
         "stiffness sweep: case, damping ratio, then at each ground stiffness k of "
