@@ -2,8 +2,9 @@
 
 A curve of solutions of ``H(x0, f) = phi_T(x0; f) - x0 = 0`` (``T = 1 / f``) is followed
 
-- sequentially (seed 004 §6): at each frequency of a grid, Newton from the secant
-  extrapolation in ``log f`` of the last two points, then from the last point;
+- sequentially (seed 004 §6 takes the last solution as the next guess): at each frequency of a
+  grid, Newton from the secant extrapolation in ``log f`` of the last two points (nsdyn's),
+  then from the last point;
 - by pseudo-arclength (Keller) in ``y = (x0, p = log f)``: predictor ``y + ds t`` along the
   unit tangent ``t`` of ``[dH/dx0, dH/dp] t = 0`` (``dH/dx0 = Phi - I``,
   ``dH/dp = -T dphi_T/dT``), corrector Newton on the bordered system
@@ -35,6 +36,7 @@ from nsdyn.periodic.curve import (
     _point_from_shoot,
     _point_from_sweep,
     on_grid,
+    problem_id,
     resumed_points,
 )
 from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation, checked_disc, refined
@@ -203,7 +205,7 @@ def continue_sequential(
     start: list[OrbitPoint] | None = None,
     keep_orbits: bool = False,
 ) -> Curve:
-    """Seed's sequential continuation: shoot at each frequency from the previous solution.
+    """Sequential continuation (seed 004 §6): shoot at each frequency from the last solutions.
 
     The guess is the secant extrapolation (in log f) of the last two points (not along the
     rows the last orbit holds, see :func:`nsdyn.periodic.shooting.frozen_rows`), then the last
@@ -238,10 +240,7 @@ def continue_sequential(
             a, b = pts[-2], pts[-1]
             r = (math.log(f) - math.log(b.f)) / (math.log(b.f) - math.log(a.f))
             guesses.append(b.x0 + r * _free(b.x0 - a.x0, held))
-        if pts:
-            guesses.append(pts[-1].x0)
-        else:
-            guesses.append(warm_start(problem, f, x0, disc))
+        guesses.append(pts[-1].x0 if pts else warm_start(problem, f, x0, disc))
         tp = time.perf_counter()
         pt, res = _solve_point(problem, f, guesses, disc, tol, max_iter, fallback)
         if pt is None:
@@ -256,7 +255,7 @@ def continue_sequential(
             jumps += [jump] if jump else []
             pt.quantities["wall_s"] += time.perf_counter() - tj  # (its check is its cost)
     info = {"continuation": "sequential", "wall_s": time.perf_counter() - t0,
-            "skipped_hz": skipped, "jumps": jumps}  # fmt: skip
+            "skipped_hz": skipped, "jumps": jumps, "problem": problem_id(problem)}  # fmt: skip
     return Curve(problem.amplitude, pts, detect_bifurcations(pts), info)
 
 
@@ -275,7 +274,7 @@ def continue_range(
     as the guess) or "arclength" (pseudo-arclength in (x0, log f), passes folds, at least
     ``points`` points). ``options`` go to :func:`continue_sequential` /
     :func:`continue_arclength` (``disc``, ``tol``, ``max_iter``, ``fallback``, ``progress``,
-    ``start``, ...).
+    ``start``, ...). The curve keeps its problem's :func:`problem_id` (``info["problem"]``).
     """
     from nsdyn._checks import keywords_of
 
@@ -398,7 +397,7 @@ def continue_arclength(
     steps = 0
     need_restart = True  # tangent must be computed from scratch at the last point
     J_last = None
-    info = {"continuation": "arclength", "skipped_hz": []}
+    info = {"continuation": "arclength", "skipped_hz": [], "problem": problem_id(problem)}
 
     def sequential_rest(f_stop: float, why: str) -> list:
         """Without the fallback: the band above f_stop on the frequency step dp_max."""

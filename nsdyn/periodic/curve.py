@@ -245,6 +245,32 @@ def on_grid(start, freqs: np.ndarray) -> None:
                          "the fmin, fmax and points it was computed with")  # fmt: skip
 
 
+def problem_id(problem) -> str:
+    """A digest of what ``problem``'s orbits depend on: its arrays and numbers (the model's
+    matrices, friction law and settings, the amplitude and load), not its name or cache. A
+    curve keeps it (``info["problem"]``): one resumed by another problem is refused."""
+    import hashlib
+
+    h = hashlib.sha1()
+
+    def feed(v) -> None:
+        if isinstance(v, np.ndarray):
+            h.update(f"{v.dtype}{v.shape}".encode() + np.ascontiguousarray(v).tobytes())
+        elif isinstance(v, list | tuple):
+            for x in v:
+                feed(x)
+        elif isinstance(v, int | float | str | bool | np.generic) or v is None:
+            h.update(repr(v).encode())
+        elif hasattr(v, "__dict__"):  # (a load: its dofs, weights and phase)
+            feed(sorted((k, x) for k, x in vars(v).items() if not k.startswith("_")))
+        else:
+            h.update(type(v).__name__.encode())
+
+    feed(sorted((k, v) for k, v in vars(problem).items()
+                if not k.startswith("_") and k not in ("system", "name")))  # fmt: skip
+    return h.hexdigest()[:16]
+
+
 def resumed_points(problem, start, lo: float, hi: float, disc) -> list[OrbitPoint]:
     """The points of a curve to resume (its ``points``, or the :class:`Curve`), checked: of
     this problem's state, a curve from the band's start ``lo``, none past its end ``hi``
@@ -259,6 +285,10 @@ def resumed_points(problem, start, lo: float, hi: float, disc) -> list[OrbitPoin
         if start.amplitude != problem.amplitude:
             raise ValueError(f"start: a curve of amplitude {start.amplitude:g}, this problem's "
                              f"is {problem.amplitude:g}")  # fmt: skip
+        if start.info.get("problem", problem_id(problem)) != problem_id(problem):
+            raise ValueError("start: a curve of another model or settings (its problem's "
+                             "matrices, friction law or load differ from this one's); resume "
+                             "a curve of this problem, or start afresh")  # fmt: skip
         start = start.points
     try:
         pts = list(start)

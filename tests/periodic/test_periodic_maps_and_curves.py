@@ -41,6 +41,12 @@ def _switch():
         # a step with its sensitivities on the office's cb model; a discretisation's own
         # count, refined up to 1000 times, is not capped)
         (lambda P: pr.shoot(P, 0.5, n_steps=10**9), r"^n_steps: 1000000000 steps of one period"),
+        # 3 steps do not resolve a period: shooting "converged" on an orbit far from it
+        (
+            lambda P: pr.shoot(P, 0.5, n_steps=3),
+            r"^n_steps: expected a whole number of steps "
+            r"per period >= 20",
+        ),
         (lambda P: pr.warm_start(P, 0.5, np.zeros(3), None), r"^x0: expected \d+ finite"),
         (lambda P: pr.warm_start(P, 0.5, None, None, periods=-1), r"^periods: expected a who"),
         (lambda P: pr.steady_state_sweep(P, 0.5, np.zeros(3)), r"^x0: expected \d+ finite"),
@@ -113,11 +119,26 @@ def test_a_curve_of_another_amplitude_is_not_resumed(duffing_curve):
         pr.continue_sequential(wider, [0.15, 0.2], start=duffing_curve.points)
 
 
-def _two_dofs():
-    iso = Isolation(k_lam=0.0, c=0.0, mu=0.1, law="arctan")
+def _two_dofs(mu=0.1):
+    iso = Isolation(k_lam=0.0, c=0.0, mu=mu, law="arctan")
     K = (2 * math.pi) ** 2 * np.array([[2.0, -1.0], [-1.0, 1.0]])
     return system_from_matrices(np.eye(2), 0.01 * K, K, iso_dofs=[0], influence=[1.0, 1.0],
                                 isolation=iso, weight=2 * iso.g, levels=[[0], [1]])  # fmt: skip
+
+
+def test_a_curve_of_another_model_is_not_resumed():
+    # friction 0.1 and 0.5 at an amplitude that sticks both all period: the last orbit checks
+    # out on either, and the first model's curve came back as the second's, every point its
+    # own (a curve keeps its problem's digest: the matrices, law, amplitude and load)
+    a, b = pr.frame_problem(_two_dofs(0.1), 0.05), pr.frame_problem(_two_dofs(0.5), 0.05)
+    assert pr.curve.problem_id(a) == pr.curve.problem_id(pr.frame_problem(_two_dofs(0.1), 0.05))
+    grid = pr.log_frequencies(0.5, 0.7, 3)
+    c = pr.continue_sequential(a, grid[:2])  # (a curve interrupted after two points)
+    assert c.info["problem"] == pr.curve.problem_id(a) != pr.curve.problem_id(b)
+    with pytest.raises(ValueError, match=r"^start: a curve of another model or settings"):
+        pr.continue_range(b, fmin=0.5, fmax=0.7, points=3, start=c)
+    d = pr.continue_range(a, fmin=0.5, fmax=0.7, points=3, start=c)  # (its own: resumed)
+    assert d.points[:2] == c.points and d.info["problem"] == c.info["problem"]
 
 
 def test_a_curve_resumes_on_its_own_problem_and_band(duffing_curve):
