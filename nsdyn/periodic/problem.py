@@ -383,12 +383,16 @@ def frame_problem(
     ``amplitude`` is finite and >= 0 (ValueError otherwise; 0, the unforced static state, is
     not shot); the isolator parameters were checked when ``system.isolation`` was built.
     """
+    if not (hasattr(system, "isolation") and hasattr(system, "params")):  # (an AttributeError)
+        raise TypeError(f"system: expected an IsolatedSystem (nsdyn.build_system, "
+                        f"shear_building, ...), got {type(system).__name__}")  # fmt: skip
     amplitude = check_amplitude(amplitude, highest=A_HIGHEST if load is None else math.inf)
     if system.isolation is None:
         raise ValueError("shooting needs an isolated model; the fixed base is linear (use FRFs)")
     law = law or system.isolation.law
     if law not in ("arctan", "none"):
-        raise ValueError(f"shooting needs a smooth friction law ('arctan' or 'none'), got {law!r}")
+        raise ValueError(f"law: shooting needs a smooth friction law ('arctan' or 'none'), got "
+                         f"{law!r} (the switch law: switch_problem)")  # fmt: skip
     if load is not None and not isinstance(load, HarmonicForce):
         raise TypeError(f"load: expected a HarmonicForce, got {type(load).__name__}")
     exc = Harmonic(amplitude, 1.0) if load is None else load.at_frequency(1.0, amplitude)

@@ -23,7 +23,7 @@ import numpy as np
 
 from nsdyn._brief import brief_repr
 from nsdyn._checks import got_array, whole
-from nsdyn.periodic.discretisation import N_STEPS_MAX, Discretisation, checked_disc
+from nsdyn.periodic.discretisation import N_MIN_FLOOR, N_STEPS_MAX, Discretisation, checked_disc
 from nsdyn.periodic.protocol import (
     STATUS_MESSAGES,
     STATUS_OK,
@@ -185,8 +185,9 @@ def _check_inputs(problem, disc, n_steps, tol, max_iter) -> None:
     if not (hasattr(problem, "x_ref") and hasattr(problem, "period_map")):
         raise TypeError(f"problem: expected a periodic problem (frame_problem, switch_problem, "
                         f"plane_problem, ...), got {type(problem).__name__}")  # fmt: skip
-    if n_steps is not None:
-        whole("n_steps", n_steps, 1, "a whole number of steps >= 1")
+    if n_steps is not None:  # (as Discretisation's n_min: 3 steps "converged" far off)
+        whole("n_steps", n_steps, N_MIN_FLOOR, f"a whole number of steps per period >= "
+              f"{N_MIN_FLOOR} (fewer do not resolve it: an error of order (2 pi/N)^p)")  # fmt: skip
     if not (isinstance(tol, int | float) and 0 < tol < np.inf):
         raise ValueError(f"tol: expected a positive finite residual, got {tol!r}")
     whole("max_iter", max_iter, 0, "a whole number >= 0 (0: the start checked alone)")
@@ -212,8 +213,9 @@ def shoot(
 
     The residual is ``max_i |H_i| / range_i`` with ``range`` the orbit's largest excursion from
     the reference state in the position and velocity blocks. ``iterations`` counts Newton
-    updates (a linear system converges after one). ``f`` must be a finite frequency > 0 [Hz]
-    (ValueError otherwise).
+    updates (a linear system converges after one). ``f`` must be a forcing frequency from
+    1e-6 to 1e4 Hz (``F_LOWEST``, ``F_HIGHEST``; ValueError otherwise), ``n_steps`` at least
+    20 steps of the period.
     """
     f = check_frequency(f)
     disc = checked_disc(disc)

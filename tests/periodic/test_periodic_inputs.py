@@ -42,7 +42,7 @@ def test_shooting_rejects_a_frequency_that_is_not_positive(f):
     "kw, err, match",
     [
         # 0 steps "converged" on x0 = 0 with every multiplier 1; 2.7 was cut to 2
-        ({"n_steps": 0}, ValueError, r"^n_steps: expected a whole number of steps >= 1"),
+        ({"n_steps": 0}, ValueError, r"^n_steps: expected .* steps per period >= 20"),
         ({"n_steps": 2.7}, ValueError, r"^n_steps: expected a whole number"),
         ({"x0": [0.0, 0.0, 0.0]}, ValueError, r"^x0: expected 2 finite numbers"),
         ({"x0": [math.nan, 0.0]}, ValueError, r"^x0: .* with NaN or inf"),
@@ -98,6 +98,17 @@ def test_isolation_rejects_negative_or_non_finite_parameters(field, value):
 def test_isolation_rejects_an_unknown_law():
     with pytest.raises(ValueError, match=r"^isolation\.law: expected 'arctan', 'switch' or"):
         Isolation(law="coulomb")
+
+
+def test_a_frame_problem_names_what_it_cannot_shoot():
+    # a frame's name or None failed on a missing attribute (AttributeError: 'str' object has
+    # no attribute 'isolation'); a non-smooth law's message did not name the argument
+    for system in (None, "office-11"):
+        with pytest.raises(TypeError, match=r"^system: expected an IsolatedSystem .* got "):
+            pr.frame_problem(system, 1.0)
+    with pytest.raises(ValueError, match=r"^law: shooting needs a smooth friction law .* got "
+                       r"'bogus' \(the switch law: switch_problem\)$"):  # fmt: skip
+        pr.frame_problem(_oscillator("arctan"), 1.0, law="bogus")
 
 
 @pytest.mark.parametrize("amplitude", [math.nan, -1.0, math.inf])
