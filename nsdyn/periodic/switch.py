@@ -1,7 +1,9 @@
 """Periodic orbits of the switch model (true Coulomb stick): its exact period map and shooting.
 
-Seed 004 §6 (eqs 19-27) on minimal coordinates ``x = [z, zd]``, ``q = Q z``, with Leine's
-switch model with true stiction (footnote 3). With every isolator's mode held (slip +1/-1,
+The shooting of seed 004 §6 (eqs 19-27, there with the arctan law) on minimal coordinates
+``x = [z, zd]``, ``q = Q z``, here with true stick (the seed checked its curves with a switch
+model with stiction, footnote 3; this map has no band η: its modes switch at v = 0 and at
+the stick limit exactly). With every isolator's mode held (slip +1/-1,
 stick 0: the system kernel's law LAW_MODES, stick a constraint force) the equations are
 
     x' = A_k x + g0_k + gs_k sin(w t) + gc_k cos(w t)

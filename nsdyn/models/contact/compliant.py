@@ -10,7 +10,7 @@ Ground from a damping ratio: the vertical contact frequency on all n corners is
 omega_v = sqrt(n k / m) and c = 2 zeta sqrt(k m / n) per corner (a point mass on one linear
 spring-dashpot rebounds with e = exp(-pi zeta / sqrt(1 - zeta^2))).  The stick spring defaults
 to k_t = k (the tangential stiffness of an elastic contact is close to the normal one,
-Mindlin: k_t / k = 2 (1 - nu) / (2 - nu) ~ 0.8-1).
+Mindlin: k_t / k = 2 (1 - nu) / (2 - nu), from 1 at nu = 0 to 0.67 at nu = 0.5).
 
 A displacement-driven ground's velocity jump [u_g'] changes the body's ground-frame velocity by
 -[u_g'] at once; the compliant corners then carry it off with finite forces.

@@ -2,10 +2,15 @@
 
 Friction force of isolator i with normal force λ_i and sliding velocity v_i = D_i q̇ (seed 004):
 
-    arctan law (eq 7):   F_i = μ_i λ_i s_i,  s_i = (2/π) arctan(ε v_i)
+    arctan law (eq 7):   F_i = μ_i λ_i s_i,  s_i = (2/π) arctan(ε v_i)  (ε in s/m; the
+                         seed calls it dimensionless)
     switch model (eqs 4–6, Leine): slip |v_i| > η: s_i = sign(v_i);
                          stick |v_i| ≤ η and |τ_i| ≤ μ_i λ_i: τ_i is a constraint force
-                         (D_i q̈ + κ D_i q̇ = 0) solved with the normal forces.
+                         solved with the normal forces, holding D_i q̈ + κ D_i q̇ = 0 (the
+                         seed's D_i q̈ = 0, with κ = 2 α β by default: the band's velocity
+                         decays instead of drifting);
+                         transition |v_i| ≤ η and |τ_i| > μ_i λ_i: the friction saturated,
+                         s_i = sign(τ_i), the direction of the would-be stick force.
 
 **Stick**, for every consumer (run metrics, periodic orbits, sweeps, spot checks):
 

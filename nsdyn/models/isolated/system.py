@@ -5,8 +5,11 @@ ground; the load is ``-M Gamma u''`` with ``u'' = [u''_hor, u''_ver + g]``. With
 sliding by ``D_i q`` and resting on a contact whose gap is ``R_i q = 0``::
 
     M qdd + C* qd + K* q = -M Gamma u'' + R^T lam - D^T diag(mu s) lamf - D_stuck^T tau
-    K* = K + D^T diag(K_lam) D + K_diaphragm,   C* = C + D^T diag(c) D            (eq 2)
+    K* = K + D^T diag(K_lam) D (eq 2) + K_diaphragm,   C* = C + D^T diag(c) D
     R qdd + 2 alpha beta R qd + alpha^2 R q = 0                                     (eqs 13-14)
+
+(``K_diaphragm``: nsdyn's stiff base beam between the base nodes, EA = EI = 1e11, for the
+seed's "relatively rigid" base diaphragm; its 0.2-1.2 kHz boundary modes are undamped.)
 
 ``lam`` are the normal forces (compressive positive); the friction direction ``s`` follows the
 arctan law (eq 7) or Leine's switch model (eqs 4-6, a true stick phase in which the friction

@@ -1,5 +1,7 @@
 """A rigid block on tensionless spring–damper corner supports (seed 001 model 1), and its
-effective coefficient of restitution measured from free rocking.
+effective coefficient of restitution measured from free rocking. Here ``k`` is the spring
+stiffness and ``c`` the damping; seed 001 names them the other way round (its c the stiffness,
+its k the damping constant): swap them when taking its model-1 values.
 
 Supports (per corner): vertical ``N = max(0, k d + c d')`` while the corner penetrates by
 ``d > 0``, horizontal no-slip spring–damper ``k_t, c_t`` from the touchdown point; see

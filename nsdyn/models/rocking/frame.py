@@ -19,7 +19,8 @@ angle alpha: its horizontal part is kept, its vertical part reversed)::
     (8/3) m R² (1 + 3 gamma) theta'+ = [2 I_O (1 - 1.5 sin² alpha) + m_b 4 R² cos 2 alpha] theta'-
     r_f = (1 - 1.5 sin² alpha + 3 gamma cos 2 alpha) / (1 + 3 gamma)
 
-(Makris & Vassiliou 2013; seed 003 Table 3). gamma -> 0 gives the free column.
+(Makris & Vassiliou 2013, as seed 003 gives it in its text; its Table 3 lists the values).
+gamma -> 0 gives the free column.
 """
 
 from __future__ import annotations
