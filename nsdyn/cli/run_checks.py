@@ -80,17 +80,6 @@ def note_soft_law(cfg: dict) -> str | None:
     return coarse_law_note(law, where="isolation", **kw) or None
 
 
-def note_high_friction(cfg: dict) -> str | None:
-    """A friction coefficient above 1 in ``[isolation] mu`` (a number or one per isolator):
-    accepted, and said in one line on stderr (a percentage given as a number?)."""
-    from nsdyn.models.isolated.bearings import high_friction_note
-
-    mu = cfg.get("isolation", {}).get("mu")
-    values = mu if isinstance(mu, list) else [mu]
-    big = [float(v) for v in values if isinstance(v, int | float) and not isinstance(v, bool)]
-    return high_friction_note("isolation.mu", max(big)) if big else None
-
-
 def note_unused_cutoff(cfg: dict) -> str | None:
     """``scene.f_max`` set (away from the default scene's) for a fidelity that has no cut-off
     (rigid, full): said in one line (``--fmax`` is refused there, :func:`check_cutoff`)."""
@@ -284,7 +273,7 @@ def scene_notes(cfg: dict, motion, quiet: bool, system=None) -> list[str]:
     ``quiet``; returned (a --json summary's ``notes``)."""
     notes = [note_short_record(cfg, motion), note_unused_components(motion),
              note_coarse_output(cfg, motion),
-             note_soft_law(cfg), note_high_friction(cfg), note_unused_cutoff(cfg),
+             note_soft_law(cfg), note_unused_cutoff(cfg),
              note_unused_isolation(cfg, system), note_loose_atol(cfg, system),
              note_no_column_lines(system), note_no_modes(system)]  # fmt: skip
     notes = [n for n in notes if n]

@@ -35,6 +35,7 @@ from dataclasses import replace
 from functools import lru_cache
 from pathlib import Path
 
+from nsdyn._checks import NotedWarning
 from nsdyn.models.scenefile import SceneError, scaled_to_pga, scene_kind, scene_module
 from nsdyn.studies.study import KINDS3C
 
@@ -425,7 +426,9 @@ def run_task(task) -> dict:
     row = task.columns()
     t0 = time.perf_counter()
     try:
-        s = run_scene_summary(task.cfg, task.source)
+        with warnings.catch_warnings():  # (the study said its tasks' notes once, as it
+            warnings.simplefilter("ignore", NotedWarning)  # checked them: check_tasks)
+            s = run_scene_summary(task.cfg, task.source)
         own = set(row)  # the task's columns: a summary's "record" wrote over the table's
         row.update({k: v for k, v in result_columns(s, task.keep, task.source).items()
                     if k not in own})  # fmt: skip

@@ -46,10 +46,11 @@ from __future__ import annotations
 import copy
 import importlib
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from nsdyn._checks import did_you_mean
+from nsdyn._checks import NotedWarning, did_you_mean
 from nsdyn.ground.synthesis import NOISE_GENERATORS as GENERATORS
 from nsdyn.ground.synthesis import noise_step
 from nsdyn.models.scenefile import (
@@ -369,7 +370,9 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict,
         cfg.pop("_source", None)
         as_recorded(cfg, merged.get("motion", {}), records)  # (as `nsdyn run --record`)
         try:
-            isolation_from_config(cfg.get("isolation", {}), source)
+            with warnings.catch_warnings():  # (its notes: said once by check_tasks)
+                warnings.simplefilter("ignore", NotedWarning)
+                isolation_from_config(cfg.get("isolation", {}), source)
         except ValueError as e:
             raise SceneError(str(e)) from None
         return kind, cfg

@@ -119,9 +119,11 @@ class Isolation:
             warnings.warn(high_friction_note(name.format(k), float(mu[k])), NotedWarning, 3)
 
     def changed(self, **changes) -> Isolation:
-        """A copy with ``changes`` made inside nsdyn (its mu above 1 said once, not again)."""
+        """A copy with ``changes``; a mu above 1 this one said is not said again (a new mu is,
+        and one the law "none" left unread)."""
         with warnings.catch_warnings():
-            warnings.simplefilter("ignore", NotedWarning)
+            if "mu" not in changes and (self.law != "none" or changes.get("law", "none") == "none"):
+                warnings.simplefilter("ignore", NotedWarning)
             return replace(self, **changes)
 
     def per_isolator(self, name: str, n: int) -> np.ndarray:
@@ -549,6 +551,4 @@ def isolation_from_config(cfg: dict, source: str = "<config>") -> Isolation:
             if any(a < 0 for a in vals):
                 raise ValueError(f"{source}: isolation.{k}: expected non-negative, got {v}")
             out[k] = tuple(float(a) for a in vals) if isinstance(v, list) else float(v)
-    with warnings.catch_warnings():  # (a scene notes a mu above 1 itself: note_high_friction)
-        warnings.simplefilter("ignore", NotedWarning)
-        return Isolation(**out)
+    return Isolation(**out)  # (a mu above 1: its NotedWarning, a scene's note)
