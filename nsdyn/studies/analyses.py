@@ -271,12 +271,21 @@ def boolean_note(table: Table, names) -> str | None:
             "true is a fragility's or a design constraint's reading")  # fmt: skip
 
 
-def _fixed_base_gap(table: Table) -> Table:
+def _fixed_base_gap(study, table: Table) -> Table:
     """``table`` with the fixed-base runs' isolator displacement 0: no isolator crosses the
-    seismic gap (their summaries have no ``x_iso_max_m``: NaN made every fixed-base design
-    infeasible under the default gap constraint)."""
-    rows = [{**r, "x_iso_max_m": 0.0} if r.get("fidelity") == "fixed" and r.get("status") == "ok"
-            and "x_iso_max_m" not in r else r for r in table.rows]  # fmt: skip
+    seismic gap (their summaries have no ``x_iso_max_m``: missing, or NaN read back from the
+    CSV, made every fixed-base design infeasible under a gap constraint). A run is of the
+    fixed base by its ``fidelity`` column, its ``scene.fidelity`` parameter, or the base
+    scene's (a ``keep`` list without ``fidelity``)."""
+    base = ((getattr(study, "base", None) or {}).get("scene") or {}).get("fidelity")
+
+    def fixed(r: dict) -> bool:
+        x = r.get("x_iso_max_m")  # (none, or NaN from a CSV: no isolator)
+        lacks = not (isinstance(x, int | float) and not isinstance(x, bool) and math.isfinite(x))
+        return r.get("fidelity", r.get("scene.fidelity", base)) == "fixed" and lacks
+
+    rows = [{**r, "x_iso_max_m": 0.0} if fixed(r) and r.get("status") == "ok" else r
+            for r in table.rows]  # fmt: skip
     return Table(rows, table.param_names)
 
 
@@ -287,8 +296,8 @@ def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
     objectives = spec.get("objectives") or list(DEFAULT_OBJECTIVES)
     gap = {"x_iso_max_m": SEISMIC_GAP_M} if study.kind == "isolated" else {}  # (a frame's gap)
     constraints = spec.get("constraints", gap)
-    if "constraints" not in spec and gap:
-        table = _fixed_base_gap(table)
+    if "x_iso_max_m" in constraints and study.kind == "isolated":
+        table = _fixed_base_gap(study, table)
     empty = empty_columns(table, [*objectives, *constraints])
     points = design_points(table, variables, objectives, constraints, spec.get("aggregate", "mean"))
     _write_rows([p.row() for p in points], out / "design.csv")
