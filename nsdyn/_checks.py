@@ -185,15 +185,16 @@ SNAP = 1e-6  # a last output within this share of the run of its end is the end 
 def output_times(t0: float, t_end: float, dt_out: float):
     """Outputs from ``t0`` every ``dt_out`` [s], and ``t_end`` itself where that grid
     misses it: a run ends at its end, whatever the output step (its last interval shorter
-    then; a last output within :data:`SNAP` of the run's span of the end, a rounding error
-    of a step that divides the run, is moved onto it, not followed by a second one a rounding
-    error later). ValueError as :func:`output_count`."""
+    then; a last output within :data:`SNAP` of the run's span, and 1e-3 dt_out, of the end,
+    a rounding error of a step that divides the run, is moved onto it, not followed by a
+    second one a rounding error later). ValueError as :func:`output_count`."""
     import numpy as np
 
     n = output_count(t_end - t0, dt_out)
     t = t0 + dt_out * np.arange(n)
-    if abs(t_end - t[-1]) <= SNAP * (t_end - t0) and n > 1:  # (a step dividing the run but
-        t[-1] = t_end  # for its rounding: a float32 0.02 s left 2e-7 s before a 10 s end)
+    near = min(SNAP * (t_end - t0), 1e-3 * dt_out)  # (a rounding error, not a real sample)
+    if abs(t_end - t[-1]) <= near and n > 1:  # (a step dividing the run but for its rounding:
+        t[-1] = t_end  # a float32 0.02 s left 2e-7 s before a 10 s end)
     elif t_end - t[-1] > 1e-9 * dt_out:
         t = np.append(t, t_end)
     return t

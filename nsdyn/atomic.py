@@ -172,7 +172,7 @@ def files_of(out: Path) -> dict:
             if p.is_file() and not p.name.startswith(".")}  # fmt: skip
 
 
-RESULT_SUFFIXES = (".npz", ".png", ".csv", ".json")  # what nsdyn's commands write
+RESULT_SUFFIXES = (".npz", ".png", ".csv", ".json", ".parquet")  # what the commands write
 
 
 def earlier_files(out: Path, before: dict, command: str, failed: bool = False) -> str:

@@ -108,7 +108,7 @@ def _warned(notes: list[str]) -> list[str]:
     from nsdyn._checks import AccuracyWarning
 
     level, frame = 1, sys._getframe(0)  # the warning's place: the caller's, outside nsdyn
-    while frame.f_back is not None and frame.f_globals.get("__name__", "").startswith("nsdyn"):
+    while frame.f_back is not None and frame.f_globals.get("__name__", "").split(".")[0] == "nsdyn":
         frame, level = frame.f_back, level + 1
     for note in notes:
         warnings.warn(note, AccuracyWarning, stacklevel=level)

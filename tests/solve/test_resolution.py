@@ -36,6 +36,8 @@ def test_a_peak_read_inside_the_turn_is_named(scene):
         r = simulate(system, motion, method="genalpha", dt=0.005, **RUN)
     (note,) = r.notes
     assert [str(w.message) for w in said if w.category is AccuracyWarning] == [note]
+    # at the caller's line, not inside nsdyn (a filter by module, or -W, must reach it)
+    assert [w.filename for w in said if w.category is AccuracyWarning] == [__file__]
     assert "inside the arctan law's turn" in note and "level 0 " in note and "t = 2.56 s" in note
     assert r.response.floor_acc_by_level[0] > RATIO * ref[0]  # what it names is false
     assert r.summary()["notes"] == [note]

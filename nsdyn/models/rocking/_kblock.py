@@ -19,9 +19,9 @@ located by bisection in time; it lifts towards ``s = -sgn(ü_h)``.
 Zeno rule: an impact that leaves ``|theta'+| <= v_rest`` puts the block at rest (theta = 0,
 theta' = 0) at the impact time, after which the uplift condition is checked again at once.
 The truncated tail of the geometric impact sequence lasts about ``2 v_rest / (p² alpha (1-r))``
-for free rocking (ground below threshold; at most that in the linearised equation, up to
-alpha / sin(alpha) times it in the exact one: 1 % more at alpha = 0.25), and the number of
-impacts stays finite.
+for free rocking (ground below threshold; at least that in the linearised equation, by a
+relative (v_rest / (p alpha))² / 3, and about alpha / sin(alpha) times it in the exact one:
+1 % more at alpha = 0.25), and the number of impacts stays finite.
 """
 
 import math
