@@ -97,21 +97,25 @@ def freeze_arrays(obj) -> None:
             object.__setattr__(obj, k, view)
 
 
-class Tabular:
-    """Mix-in of a result with ``t``, ``histories()`` (name -> array on ``t``) and ``summary()``:
-    ``to_dataframe()`` and ``to_xarray()`` of those histories, the summary as attributes.
-    Every subclass's ``histories()`` returns read-only views (:func:`read_only`)."""
-
-    __repr__ = brief_repr  # arrays by shape, not in full (its dataclasses set repr=False)
+class FrozenArrays:
+    """Mix-in of a dataclass whose array fields are read-only (:func:`freeze_arrays`) once it
+    is made, and again when unpickled or deep-copied (a study worker's result)."""
 
     def __post_init__(self) -> None:
-        """The result's arrays made read-only once it is made (:func:`freeze_arrays`)."""
         freeze_arrays(self)
 
     def __setstate__(self, state: dict) -> None:
-        """Unpickled or deep-copied (a study worker's result): read-only as when made."""
         self.__dict__.update(state)
         freeze_arrays(self)
+
+
+class Tabular(FrozenArrays):
+    """Mix-in of a result with ``t``, ``histories()`` (name -> array on ``t``) and ``summary()``:
+    ``to_dataframe()`` and ``to_xarray()`` of those histories, the summary as attributes.
+    Its arrays are read-only (:class:`FrozenArrays`); every subclass's ``histories()`` returns
+    read-only views (:func:`read_only`)."""
+
+    __repr__ = brief_repr  # arrays by shape, not in full (its dataclasses set repr=False)
 
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)

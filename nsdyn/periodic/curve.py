@@ -285,7 +285,8 @@ def resumed_points(problem, start, lo: float, hi: float, disc) -> list[OrbitPoin
         if start.amplitude != problem.amplitude:
             raise ValueError(f"start: a curve of amplitude {start.amplitude:g}, this problem's "
                              f"is {problem.amplitude:g}")  # fmt: skip
-        if start.info.get("problem", problem_id(problem)) != problem_id(problem):
+        own = problem_id(problem)  # (a digest of its matrices: made once)
+        if start.info.get("problem", own) != own:
             raise ValueError("start: a curve of another model or settings (its problem's "
                              "matrices, friction law or load differ from this one's); resume "
                              "a curve of this problem, or start afresh")  # fmt: skip

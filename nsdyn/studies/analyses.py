@@ -277,12 +277,13 @@ def _fixed_base_gap(study, table: Table) -> Table:
     CSV, made every fixed-base design infeasible under a gap constraint). A run is of the
     fixed base by its ``fidelity`` column, its ``scene.fidelity`` parameter, or the base
     scene's (a ``keep`` list without ``fidelity``)."""
+    from nsdyn.studies.scenes import is_number
+
     base = ((getattr(study, "base", None) or {}).get("scene") or {}).get("fidelity")
 
-    def fixed(r: dict) -> bool:
-        x = r.get("x_iso_max_m")  # (none, or NaN from a CSV: no isolator)
-        lacks = not (isinstance(x, int | float) and not isinstance(x, bool) and math.isfinite(x))
-        return r.get("fidelity", r.get("scene.fidelity", base)) == "fixed" and lacks
+    def fixed(r: dict) -> bool:  # (x_iso none, or NaN from a CSV: no isolator)
+        fid = r.get("fidelity", r.get("scene.fidelity", base))
+        return fid == "fixed" and not is_number(r.get("x_iso_max_m"))
 
     rows = [{**r, "x_iso_max_m": 0.0} if fixed(r) and r.get("status") == "ok" else r
             for r in table.rows]  # fmt: skip

@@ -37,7 +37,7 @@ import numpy as np
 
 from nsdyn._brief import brief_repr
 from nsdyn._lazy import LazyModule, issparse
-from nsdyn._tabular import freeze_arrays
+from nsdyn._tabular import FrozenArrays
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.excitation import ground_many
 from nsdyn.models.isolated.friction import sticks
@@ -47,17 +47,10 @@ sp = LazyModule("scipy.sparse")
 
 
 @dataclass(repr=False, eq=False)
-class Response:
+class Response(FrozenArrays):
     """Response histories and peak metrics of one run (read-only arrays: its summary's)."""
 
     __repr__ = brief_repr  # arrays by shape, not in full
-
-    def __post_init__(self) -> None:
-        freeze_arrays(self)
-
-    def __setstate__(self, state: dict) -> None:  # (unpickled or copied: read-only too)
-        self.__dict__.update(state)
-        freeze_arrays(self)
 
     t: np.ndarray  # (nt,)
     x_iso: np.ndarray  # (nt, ni) isolator slip D_i q
