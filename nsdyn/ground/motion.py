@@ -181,6 +181,8 @@ class GroundMotion(Sampled):
         if self.a_ver is not None:
             object.__setattr__(self, "a_ver", samples("a_ver", self.a_ver, a_hor.size))
         check_meta(self)
+        if not self.source:
+            check_hand_pga(self, "GroundMotion", self.pga)
 
     def __repr__(self) -> str:
         ver = "yes" if self.a_ver is not None else "no"
@@ -484,6 +486,27 @@ def check_pga(motion: GroundMotion, units: str | None = None) -> None:
             UnitWarning,
             stacklevel=3,
         )
+
+
+BY_HAND = "samples given in Python"  # the source of a record built from arrays
+
+
+def check_hand_pga(motion, kind: str, pga: float) -> None:
+    """A record built from arrays (no ``source``) takes m/s²: warn (UnitWarning, at the
+    caller's line) when its horizontal peak ``pga`` lies outside the plausible range (a zero
+    record is a free vibration's, and stays silent), then name its source :data:`BY_HAND`
+    so that records derived from it do not warn again."""
+    if pga > PGA_MAX_PLAUSIBLE or 0.0 < pga < PGA_MIN_PLAUSIBLE:
+        side = (f"> {PGA_MAX_PLAUSIBLE:g} m/s²; in cm/s² (gal)? multiply by 0.01"
+                if pga > PGA_MAX_PLAUSIBLE
+                else f"< {PGA_MIN_PLAUSIBLE:g} m/s²; in g? multiply by {G_STANDARD}")  # fmt: skip
+        warnings.warn(
+            f"{kind}: horizontal PGA = {pga:.4g} m/s² {side} ({kind} takes m/s²; "
+            "give source= to say where the samples come from and silence this)",
+            UnitWarning,
+            stacklevel=4,
+        )
+    object.__setattr__(motion, "source", BY_HAND)
 
 
 def resolve_units(explicit: str | None, stated: str | None, source: str) -> tuple[str, float]:

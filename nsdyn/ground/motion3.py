@@ -38,7 +38,14 @@ from typing import Any
 import numpy as np
 
 from nsdyn._checks import number
-from nsdyn.ground.motion import GroundMotion, Sampled, check_meta, pga_target, samples
+from nsdyn.ground.motion import (
+    GroundMotion,
+    Sampled,
+    check_hand_pga,
+    check_meta,
+    pga_target,
+    samples,
+)
 
 _PEAKS = ("resultant", "x", "y", "geomean")
 
@@ -102,6 +109,8 @@ class GroundMotion3(Sampled):
         object.__setattr__(self, "dt", dt)
         object.__setattr__(self, "t0", t0)
         check_meta(self)
+        if not self.source:
+            check_hand_pga(self, "GroundMotion3", max(self.pga_x, self.pga_y))
 
     def __repr__(self) -> str:
         ver = "none" if self.az is None else f"{self.pga_ver:.4g} m/s²"
@@ -157,11 +166,14 @@ class GroundMotion3(Sampled):
     def velocity(self, component: str = "x") -> np.ndarray:
         """Ground velocity of one component [m/s], trapezoidal rule from rest (as
         ``GroundMotion.velocity``)."""
-        return GroundMotion(self.t0, self.dt, self.component(component)).velocity()
+        return GroundMotion(
+            self.t0, self.dt, self.component(component), source=self.source
+        ).velocity()
 
     def displacement(self, component: str = "x") -> np.ndarray:
         """Ground displacement of one component [m], trapezoidal rule twice from rest."""
-        return GroundMotion(self.t0, self.dt, self.component(component)).displacement()
+        a = self.component(component)
+        return GroundMotion(self.t0, self.dt, a, source=self.source).displacement()
 
     def as_arrays(self) -> tuple[float, float, np.ndarray, np.ndarray, np.ndarray]:
         """``(t0, dt, ax, ay, az)`` for numba kernels: float64 C-contiguous, az zeros if None.

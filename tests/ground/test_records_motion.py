@@ -134,7 +134,8 @@ def records(draw) -> GroundMotion:
     n = draw(st.integers(1, 200))
     a_hor = draw(arrays(np.float64, n, elements=ORDINATE).filter(lambda a: np.abs(a).max() > 1e-6))
     a_ver = draw(st.none() | arrays(np.float64, n, elements=ORDINATE))
-    return GroundMotion(0.0, draw(st.floats(1e-3, 0.1)), a_hor, a_ver, name="random")
+    dt = draw(st.floats(1e-3, 0.1))  # (a source: peaks of 1e-6 m/s² are meant, not units)
+    return GroundMotion(0.0, dt, a_hor, a_ver, name="random", source="hypothesis")
 
 
 def _ratios(scaled: np.ndarray, original: np.ndarray) -> np.ndarray:

@@ -9,6 +9,7 @@ keeps.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
@@ -21,6 +22,9 @@ samples = arrays(
     elements=st.floats(-20.0, 20.0, allow_nan=False, allow_infinity=False),
 )
 dts = st.sampled_from([0.005, 0.01, 0.02, 0.05])
+
+# arbitrary samples, tiny peaks among them, are meant here: not a record typed in g
+pytestmark = pytest.mark.filterwarnings("ignore::nsdyn.ground.motion.UnitWarning")
 
 
 @settings(max_examples=60, deadline=None)
