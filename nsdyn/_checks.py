@@ -235,6 +235,8 @@ def check_fixed_step(dt, motion, span: float | None = None, where: str = "dt") -
     if span is not None and math.isfinite(dt) and dt > span:
         raise ValueError(f"{where}: a fixed step of {dt:g} s is longer than the run "
                          f"({span:g} s)")  # fmt: skip
+    if span is not None and span > 0 and dt > 0:
+        step_count(span, dt, where)  # (an exported script of 2e10 steps was written)
     rec = sampling_step(motion)
     if rec is not None and dt > rec * (1 + 1e-9):
         raise ValueError(f"{where}: a fixed step of {dt:g} s is longer than the record's "

@@ -90,6 +90,10 @@ def modes_summary(frame, f_max: float, k_lam: float) -> tuple[dict, np.ndarray, 
     return summary, f, Phi
 
 
+# a common rule of thumb of isolation design: an isolation period of at least 3 fixed-base
+# periods; with f_bis above f_1/3 nsdyn modes says so
+ISOLATION_RATIO = 3.0
+
 SCENE_TABLES = ("scene", "isolation", "motion", "solver", "structure", "force")
 
 
@@ -189,12 +193,23 @@ def run(args: argparse.Namespace) -> int:
     fmax = scene_fmax if fmax_from_scene else DEFAULT_FMAX if args.fmax is None else args.fmax
     klam = scene_klam if klam_from_scene else DEFAULT_KLAM if args.klam is None else args.klam
     s, f, Phi = modes_summary(frame, fmax, klam)
+    notes = []
     if not s["n_modes_kept"] and f.size:  # (as nsdyn run says of such a model)
-        s["notes"] = [f"Craig-Bampton at f_max = {fmax:g} Hz keeps no flexible mode (the "
-                      f"first fixed-interface mode is at {f[0]:.4g} Hz): a run's structure "
-                      "would move quasi-statically; raise --fmax above it"]  # fmt: skip
+        notes.append(f"Craig-Bampton at f_max = {fmax:g} Hz keeps no flexible mode (the "
+                     f"first fixed-interface mode is at {f[0]:.4g} Hz): a run's structure "
+                     "would move quasi-statically; raise --fmax above it")  # fmt: skip
+    lateral = [fk for fk, t in zip(f, s["mode_types"], strict=True) if t == "lateral"]
+    if lateral and s["f_bis_hz"] > lateral[0] / ISOLATION_RATIO:
+        notes.append(f"f_bis = {s['f_bis_hz']:.4g} Hz is {s['f_bis_hz'] / lateral[0]:.3g} x "
+                     f"the first lateral fixed-base mode ({lateral[0]:.4g} Hz): the rigid-body "
+                     "estimate holds well below it, and an isolated design aims at 1/"
+                     f"{ISOLATION_RATIO:g} or less; K_lam = {klam:g} N/m is a stiff "
+                     "bearing")  # fmt: skip
+    if notes:
+        s["notes"] = notes
         if not args.json:
-            print(f"nsdyn modes: note: {s['notes'][0]}", file=sys.stderr)
+            for n in notes:
+                print(f"nsdyn modes: note: {n}", file=sys.stderr)
     out = args.out if args.out is not None else (None if args.json else DEFAULT_OUT)
     if out is not None:
         from nsdyn.plot import plot_mode_shapes

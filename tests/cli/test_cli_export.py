@@ -61,6 +61,18 @@ def test_export_user_errors_exit_2(tmp_path, capsys):
     assert "no such scene file" in capsys.readouterr().err
 
 
+def test_a_step_of_hours_of_stepping_is_refused_as_a_run_refuses_it(tmp_path, capsys):
+    # 20 s at 1e-9 s is 2e10 Newmark steps, past the run's budget of 2e8 (MAX_STEPS); the
+    # export wrote the script without a word
+    from nsdyn._checks import MAX_STEPS
+
+    out = tmp_path / "x.py"
+    assert main(["export", "opensees", "--dt", "1e-9", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "solver.dt (--dt):" in err and f"exceed {MAX_STEPS:.0e}" in err
+    assert not out.exists()
+
+
 def test_export_stiffness_damping_option(tmp_path, capsys):
     scene = tmp_path / "s.toml"
     scene.write_text(SCENE)

@@ -54,6 +54,17 @@ def test_a_cut_off_below_the_first_mode_is_noted(capsys):
     assert "notes" not in json.loads(capsys.readouterr().out)
 
 
+def test_a_bearing_too_stiff_to_isolate_is_noted(capsys):
+    # f_bis ∝ sqrt(K_lam) (seed eq. 28): the default 0.060 Hz is 0.13 x the office's first
+    # mode (0.46 Hz, no note); K_lam x 100 puts it at 0.60 Hz, above f_1/3 (the rule of thumb)
+    assert main(["modes", "office-11", "--json", "--klam", "5e6"]) == 0
+    s = json.loads(capsys.readouterr().out)
+    ratio = s["f_bis_hz"] / s["frequencies_hz"][0]
+    assert s["mode_types"][0] == "lateral" and ratio > 1.0 / 3.0
+    (note,) = s["notes"]
+    assert note.startswith(f"f_bis = {s['f_bis_hz']:.4g} Hz is {ratio:.3g} x the first lateral")
+
+
 def test_modes_table_and_png(tmp_path, capsys):
     out_dir = tmp_path / "figs"
     assert main(["modes", "portal", "--out", str(out_dir)]) == 0
