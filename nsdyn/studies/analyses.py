@@ -25,6 +25,7 @@ with figures, pareto.png, fragility.png, distributions.png, incidence.png.
 from __future__ import annotations
 
 import math
+from contextvars import ContextVar
 from pathlib import Path
 
 import numpy as np
@@ -51,6 +52,7 @@ from nsdyn.studies.table import (
     TAIL_COLUMNS,
     Table,
     column_names,
+    empty_columns,
     once,
 )
 
@@ -82,11 +84,17 @@ FIELDS = {
 }
 
 
+# the columns of a study's first successful row, while check_first_row checks against them
+_FIRST_ROW: ContextVar[frozenset | None] = ContextVar("_FIRST_ROW", default=None)
+
+
 def _columns(study) -> tuple[set[str], set[str] | None]:
-    """(parameter columns, result columns or None when the scene kind's are unknown)."""
+    """(parameter columns, result columns or None when the scene kind's are unknown: they
+    are a first row's in :func:`check_first_row`)."""
     params = {p.name for p in study.parameters} | {"record", "sample"}
     if study.kind != "isolated":
-        return params, None
+        first = _FIRST_ROW.get()
+        return params, None if first is None else set(first) - params
     results = set(ISOLATED_RESULTS)
     if study.keep is not None:
         results = set(study.keep)
@@ -221,6 +229,25 @@ def check_analysis(study) -> None:
             raise SceneError(f"{src}: analysis.fragility.confidence: expected in (0, 1)")
 
 
+def check_first_row(study, row: dict) -> None:
+    """The analyses' result columns of a scene kind whose results are known only after a run
+    (all but the isolated frame's: a deck, a 3D building, rocking, contact, cylinder) checked
+    against the columns of its first successful ``row``: a misspelt quantity stops the study
+    after one run (its rows kept; the run resumes), not after all of them with a NaN table."""
+    if study.kind == "isolated" or not study.analysis or row.get("status") != "ok":
+        return
+    token = _FIRST_ROW.set(frozenset(row))
+    try:
+        check_analysis(study)
+    except SceneError as e:
+        raise SceneError(
+            f"{e} (the columns of a {study.kind} scene's first run; its rows "
+            "are kept, and the study resumes once the name is fixed)"
+        ) from None
+    finally:
+        _FIRST_ROW.reset(token)
+
+
 # grid parameters that draw the excitation, not the design: runs over them are a design's
 # records (the cylinder's simulated earthquake's seed), aggregated as records are
 EXCITATION_AXES = ("motion.seed",)
@@ -232,28 +259,6 @@ def _grid_names(study) -> list[str]:
 
 def _write_rows(rows: list[dict], path: Path) -> None:
     Table(rows).write_csv(path) if rows else None
-
-
-def empty_columns(table: Table, names) -> str | None:
-    """A note naming the columns an analysis reads that hold no number in any successful row
-    (a result this scene kind does not have, a misspelt one, a text column, a default the
-    study's keep drops): their statistics are NaN, which said nothing of why."""
-    ok = [r for r in table.rows if r.get("status") == "ok"]
-    if not ok:
-        return None
-
-    def number(v) -> bool:  # (a true/false outcome counts as 0 or 1, as the analyses read it)
-        return isinstance(v, int | float) and math.isfinite(v)
-
-    bad = [n for n in dict.fromkeys(names) if not any(number(r.get(n)) for r in ok)]
-    if not bad:
-        return None
-    have = sorted({k for r in ok for k, v in r.items() if number(v)} - {"index", "task_s"})
-    hint = did_you_mean(bad[0], have)
-    return (
-        f"{', '.join(map(repr, bad))}: no number in any successful row{hint} (numeric "
-        f"columns: {', '.join(have)}); their statistics are NaN"
-    )
 
 
 def boolean_note(table: Table, names) -> str | None:

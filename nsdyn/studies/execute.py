@@ -104,6 +104,19 @@ class _Progress:
             self.report(self.line())
 
 
+def _first_check(study: Study, rows: list[dict], checked: bool) -> bool:
+    """Whether the analyses' columns are checked against a successful row: checked now with
+    the first among ``rows`` (:func:`~nsdyn.studies.analyses.check_first_row`)."""
+    if checked:
+        return True
+    ok = next((r for r in rows if r.get("status") == "ok"), None)
+    if ok is not None:
+        from nsdyn.studies.analyses import check_first_row
+
+        check_first_row(study, ok)
+    return ok is not None
+
+
 def _n_workers(executor: Executor) -> int:
     n = getattr(executor, "_max_workers", None)  # ProcessPoolExecutor, ThreadPoolExecutor
     client = getattr(executor, "_client", None)  # distributed's ClientExecutor
@@ -177,6 +190,7 @@ def run_study(
     size = batch_size(len(todo), n_workers, study.batch)
     prog = _Progress(study.name, len(tasks), len(tasks) - len(todo), progress)
     t0 = time.perf_counter()
+    first = _first_check(study, list(done.values()), False)
     try:
         with Interrupts() as stop:  # signals act between waits (workers.Interrupts)
             pending = {executor.submit(run_batch, b): (b, False) for b in batches(todo, size)}
@@ -198,6 +212,7 @@ def run_study(
                             continue
                     store.append(rows)
                     prog.add(rows)
+                    first = _first_check(study, rows, first)
                 if broken and own:
                     # every future of a broken pool fails: take them all back, start a new pool
                     for f, (b, retried) in list(pending.items()):

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import csv
 import io
+import math
 import os
 import time
 from pathlib import Path
@@ -373,3 +374,25 @@ class ResultsStore:
             (self.out / name).unlink(missing_ok=True)
         for p in self._part_files():
             p.unlink(missing_ok=True)
+
+
+def empty_columns(table: Table, names) -> str | None:
+    """A note naming the columns an analysis reads that hold no number in any successful row
+    (a result this scene kind does not have, a misspelt one, a text column, a default the
+    study's keep drops): their statistics are NaN, which said nothing of why."""
+    ok = [r for r in table.rows if r.get("status") == "ok"]
+    if not ok:
+        return None
+
+    def number(v) -> bool:  # (a true/false outcome counts as 0 or 1, as the analyses read it)
+        return isinstance(v, int | float) and math.isfinite(v)
+
+    bad = [n for n in dict.fromkeys(names) if not any(number(r.get(n)) for r in ok)]
+    if not bad:
+        return None
+    have = sorted({k for r in ok for k, v in r.items() if number(v)} - {"index", "task_s"})
+    hint = did_you_mean(bad[0], have)
+    return (
+        f"{', '.join(map(repr, bad))}: no number in any successful row{hint} (numeric "
+        f"columns: {', '.join(have)}); their statistics are NaN"
+    )

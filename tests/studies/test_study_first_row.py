@@ -1,0 +1,57 @@
+"""A rocking, contact or cylinder scene's result columns are known only once a run has made
+them: an analysis naming a misspelt one ran every task and then wrote a NaN table with a note.
+Now the first successful row checks the analyses' columns: the study stops after one run with
+a SceneError naming the field (status 2 on the command line), its row kept, and the study
+resumes from it once the name is fixed; a table read back is checked before any run."""
+
+from __future__ import annotations
+
+import pytest
+
+from nsdyn.models.scenefile import SceneError
+from nsdyn.studies.execute import run_study
+from nsdyn.studies.study import load_study
+
+STUDY = """[study]
+name = "rk"
+batch = 1
+
+[base.scene]
+kind = "rocking"
+
+[base.block]
+width = 0.4
+height = 2.0
+
+[base.motion]
+pulse = "sine"
+a_p_g = 1.0
+f_p = 1.0
+n_cycles = 1
+t_end = 0.5
+
+[parameters]
+"motion.a_p_g" = [0.6, 0.8, 1.0]
+
+[analysis.percentiles]
+quantities = ["QUANTITY"]
+"""
+
+
+def _study(tmp_path, quantity: str):
+    path = tmp_path / "s.toml"
+    path.write_text(STUDY.replace("QUANTITY", quantity))
+    return load_study(path)
+
+
+def test_a_misspelt_result_column_stops_the_study_after_its_first_run(tmp_path):
+    out = tmp_path / "o"
+    with pytest.raises(SceneError, match=r"analysis.percentiles.quantities: unknown column "
+                       r"'max_theta_radd'; did you mean 'max_theta_rad'\? \(the columns of a "
+                       r"rocking scene's first run"):  # fmt: skip
+        run_study(_study(tmp_path, "max_theta_radd"), out, workers=1)
+    # one process, batches of one: the first row arrived alone and stopped the rest
+    run = run_study(_study(tmp_path, "max_theta_rad"), out, workers=1)
+    assert run.n_skipped == 1 and run.n_run == 2 and run.n_failed == 0
+    with pytest.raises(SceneError, match="'max_theta_radd'"):  # every row there: no run
+        run_study(_study(tmp_path, "max_theta_radd"), out, workers=1)
