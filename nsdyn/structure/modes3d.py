@@ -16,7 +16,9 @@ frame's plan centre of mass c): ``Γ_d = φ_kᵀ M r_d``, effective-mass fractio
 fitted by a rigid floor motion (translation of its mass centre U, rotation Θ; exact on a
 diaphragm level), and the mode is labelled after the largest of the lumped kinetic measures
 ``Σ m_L U_x²`` (x), ``Σ m_L U_y²`` (y), ``Σ J_L Θ²`` (torsion), ``Σ m_i u_z,i²`` (vertical) and
-the non-rigid horizontal rest (local).
+the non-rigid horizontal rest (local). A degenerate eigenspace (a symmetric plan's equal x and
+y frequencies) has no preferred basis; its modes are the one that follows the rigid motions
+(:func:`align_degenerate`), so that a pair reads x and y, not two mixtures.
 """
 
 from __future__ import annotations
@@ -156,11 +158,59 @@ def fixed_base_modes_3d(
     c, m, Jc = mass_centre(frame, M)
     r = frame.rigid_motions(c)[:, [0, 1, 3]]
     gamma = (M @ phi).T @ r
+    phi, gamma = align_degenerate(lam, phi, gamma)
     frac = gamma**2 / np.array([m, m, Jc])
     shares = family_shares(frame, phi)
     fam = tuple(FAMILIES[j] if row.max() > 0 else "local"  # (no measure: nothing to read)
                 for j, row in zip(np.argmax(shares, axis=1), shares, strict=True))  # fmt: skip
     return Modes3D(frame, np.sqrt(lam) / (2 * np.pi), phi, gamma, frac, shares, fam, c)
+
+
+DEGENERATE_RTOL = 1e-6  # eigenvalues this close (relative) share one eigenspace
+
+
+def align_degenerate(lam, phi, gamma) -> tuple[np.ndarray, np.ndarray]:
+    """``(phi, gamma)`` with each cluster of (nearly) equal eigenvalues ``lam`` (relative gap
+    below :data:`DEGENERATE_RTOL`) given the basis of its eigenspace that follows the rigid
+    motions: a solver returns any M-orthonormal basis of a degenerate eigenspace (a square
+    symmetric building's x and y modes came out as two 45°-like mixtures, 39 % x and 58 % y
+    each, labelled x and y by chance). The new first mode of a cluster carries all of its
+    participation in the direction it participates most in (the projection of that rigid
+    motion on the eigenspace), the next the rest of the next direction, and so on
+    (Gram-Schmidt in the participations ``gamma``, which an orthogonal change of basis ``Q``
+    maps to ``Qᵀ gamma``); shapes outside the rigid motions complete the basis."""
+    n = len(lam)
+    start = 0
+    while start < n:
+        end = start + 1
+        while end < n and lam[end] - lam[start] <= DEGENERATE_RTOL * abs(lam[end]):
+            end += 1
+        if end - start > 1:
+            G = gamma[start:end]  # (k, 3)
+            norms = np.linalg.norm(G, axis=0)
+            order = np.argsort(-np.round(norms / norms.max(), 6), kind="stable")  # (ties: x, y)
+            dirs = [d for d in order if norms[d] > 1e-8 * norms.max()]
+            Q = _orthonormal_columns([G[:, d] for d in dirs], end - start)
+            phi[:, start:end] = phi[:, start:end] @ Q
+            gamma[start:end] = Q.T @ G
+        start = end
+    return phi, gamma
+
+
+def _orthonormal_columns(vectors, k: int) -> np.ndarray:
+    """``k`` orthonormal columns spanning R^k: Gram-Schmidt over ``vectors`` in order (each
+    skipped when it lies in the span of the earlier ones to 1e-8 of its length), then over
+    the unit vectors to complete the basis."""
+    Q = np.zeros((k, 0))
+    for col in [*vectors, *np.eye(k)]:
+        v = col - Q @ (Q.T @ col)
+        v = v - Q @ (Q.T @ v)  # (twice is enough)
+        nv = float(np.linalg.norm(v))
+        if nv > 1e-8 * float(np.linalg.norm(col)):
+            Q = np.column_stack([Q, v / nv])
+        if Q.shape[1] == k:
+            break
+    return Q
 
 
 def family_shares(frame: Frame3D, phi: np.ndarray) -> np.ndarray:
