@@ -180,7 +180,8 @@ def _culprit(table: dict, files: dict[str, str], message: str) -> str:
 def _orbit(table: dict, source: str) -> tuple[HarmonicPlane, dict[str, float]]:
     shape = table.get("orbit")
     if shape not in ORBIT_KEYS:
-        raise _err(source, "orbit", f"expected one of {list(ORBIT_KEYS)}, got {shape!r}")
+        got = "nothing (missing)" if shape is None else repr(shape)
+        raise _err(source, "orbit", f"expected one of {list(ORBIT_KEYS)}, got {got}")
     _check_keys(source, table, _ORBIT_COMMON + ORBIT_KEYS[shape])
     f = _number(source, table, "frequency", positive=True)
     vertical = {

@@ -85,7 +85,8 @@ class _Reader:
         """A single number (broadcast to n) or a list of exactly n numbers."""
         kinds = "positive numbers" if positive else "numbers >= 0" if nonneg else "numbers"
         kind = kinds.replace("numbers", "number")
-        expected = f"a {kind} or a list of {n} {kind if n == 1 else kinds}"
+        # (one value, as an explicit 3D frame's section takes: "a list of 1" read oddly)
+        expected = f"a {kind}" if n == 1 else f"a {kind} or a list of {n} {kinds}"
         if key not in tbl:
             self.fail(path, expected, "nothing (missing)", raw=True)
         v = tbl[key]

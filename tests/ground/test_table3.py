@@ -93,6 +93,8 @@ def test_orbit_table_is_the_helper(table, expected, duration):
           "t_end": 1.0, "vertical_frequency": 2.0}, "vertical_frequency",
          "needs vertical_amplitude"),
         ({}, "kind", "missing; expected one of"),
+        ({"kind": "orbit", "frequency": 1.0, "amplitude": 1.0, "t_end": 1.0}, "orbit",
+         "'general'], got nothing (missing)"),  # (it said "got None")
     ],
 )  # fmt: skip
 def test_bad_table_names_source_and_key_in_one_line(table, key, needle):

@@ -218,6 +218,14 @@ BAD = [  # (id, file text, old, new, field, expected-form needle)
         r"unknown field; did you mean 'I_y'\? \(allowed: A, E, G, I_y,",
     ),
     (
+        "portal-missing-i_z",  # (an explicit frame's section took "a list of 1 positive number")
+        PORTAL,
+        "I_z = 8.563e-5",
+        "",
+        r"frame3d\.sections\[0\]\.I_z",
+        r"expected a positive number, got nothing \(missing\)$",
+    ),
+    (
         "portal-both-rho",
         PORTAL,
         "rho = 7850.0",

@@ -258,6 +258,9 @@ def stick_range_error(b) -> str | None:
     if not (math.isfinite(b.d_cap) and math.isfinite(b.radius) and b.d_cap <= need):
         return None
     hint = high_friction_note("mu_s", b.friction.static)  # (mu = 4: the note came too late)
+    if hint is None and b.radius > RADIUS_PLAUSIBLE:  # (R = 2200: d_cap was blamed alone)
+        hint = (f"R = {b.radius:g} m is above the {RADIUS_PLAUSIBLE:g} m of built pendulums; "
+                "check it is in m")  # fmt: skip
     return (f"{b.where}.d_cap: {b.d_cap:g} m is not above the pendulum's stick range mu_s R = "
             f"{need:g} m (it may rest on its rim); expected d_cap > mu_s R"
             + (f" ({hint})" if hint else ""))  # fmt: skip
