@@ -28,6 +28,7 @@ from nsdyn.structure.frame_toml import (
     _read_frame_file,
     _Reader,
     not_a_frame,
+    with_file_warnings,
 )
 from nsdyn.structure.geometry import check_geometry
 
@@ -362,4 +363,4 @@ def load_frame3d(name_or_path: str | Path) -> Frame3D:
             f"{fname}: a plane frame (its [frame] table); load it with nsdyn.load_frame, or "
             "give a 3D frame ([frame3d]; bundled: office-11-3d, portal-3d)"
         )
-    return frame3d_from_dict(data, fname)
+    return with_file_warnings(lambda: frame3d_from_dict(data, fname), fname, "frame3d")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import tomllib
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -329,7 +330,30 @@ def load_frame(name_or_path: str | Path) -> Frame:
     unknown bundled name (listing the known ones), bad TOML or invalid fields.
     """
     data, fname = _read_frame_file(name_or_path)
-    return frame_from_dict(data, fname)
+    return with_file_warnings(lambda: frame_from_dict(data, fname), fname, "frame")
+
+
+def with_file_warnings(build, fname: str, table: str):
+    """``build()``, its input warnings (:class:`~nsdyn._checks.InputWarning`: an element of
+    3000 m, a frame in mm?) said once each as ``FILE: table.entry: ...`` at the caller's
+    line (a frame's own checks name the entry, not the file)."""
+    from nsdyn._checks import InputWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", InputWarning)
+        out = build()
+    seen = set()
+    for w in caught:
+        if not issubclass(w.category, InputWarning):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+            continue
+        msg = str(w.message)
+        tail = msg.split(": ", 1)[-1]  # (the file's checks and the model's name one entry)
+        if tail not in seen:
+            seen.add(tail)
+            head = msg if msg.startswith(f"{table}.") else f"{table}.{msg}"
+            warnings.warn(f"{fname}: {head}", w.category, stacklevel=3)
+    return out
 
 
 def _read_frame_file(name_or_path: str | Path) -> tuple[dict, str]:
@@ -354,6 +378,8 @@ def _read_frame_file(name_or_path: str | Path) -> tuple[dict, str]:
         if f is None:
             known = ", ".join(bundled_frames()) or "(none found)"
             there = " (a folder of that name is here: a frame is a .toml file)" * Path(s).is_dir()
+            if Path(s + ".toml").is_file():  # (portal2bay given beside portal2bay.toml)
+                there = f" (the file {s}.toml is here: give its whole name)"
             raise FrameFileError(f"{s}: no bundled frame of that name{there} (bundled: {known})")
         text, fname = f.read_bytes(), f"{s}.toml"
     try:

@@ -1,0 +1,56 @@
+"""A frame whose coordinates are in mm ran as a building of 4000 m storeys (the portal's first
+mode at 2e-5 Hz, a roof drift of 0.83 m, said like any other run). An element longer than
+LENGTH_PLAUSIBLE (200 m, past any building member) is an InputWarning naming the file and the
+entry; every bundled frame loads without one."""
+
+from __future__ import annotations
+
+import re
+import warnings
+from pathlib import Path
+
+import pytest
+
+from nsdyn._checks import InputWarning
+from nsdyn.structure import bundled_frames, is_frame3d, load_frame, load_frame3d
+from nsdyn.structure.geometry import LENGTH_PLAUSIBLE
+
+FRAMES = Path(__file__).resolve().parents[2] / "frames"
+
+
+def _in_mm(path: Path, out: Path, centre: str | None = None) -> Path:
+    """The frame file with every node coordinate (and a diaphragm centre) times 1000."""
+    text = path.read_text()
+    head, rest = text.split("nodes = [", 1)
+    nodes, tail = rest.split("]\n", 1) if "\n]" not in rest else rest.split("\n]", 1)
+    scaled = re.sub(r"-?\d+\.\d+", lambda m: repr(1000.0 * float(m.group())), nodes)
+    text = head + "nodes = [" + scaled + ("\n]" if "\n]" in rest else "]\n") + tail
+    if centre:
+        text = text.replace(centre, "centre = [3000.0, 2500.0]")
+    out.write_text(text)
+    return out
+
+
+@pytest.mark.parametrize(
+    ("name", "load", "entry", "length", "centre"),
+    [
+        ("portal.toml", load_frame, "frame.elements[2]", 3000, None),  # the 3 m half-beam
+        ("portal-3d.toml", load_frame3d, "frame3d.members[1].elements[0]", 6000,
+         "centre = [3.0, 2.5]"),  # the 6 m beam, named as the file names it
+    ],
+)  # fmt: skip
+def test_a_frame_in_mm_is_named_by_file_and_entry(tmp_path, name, load, entry, length, centre):
+    p = _in_mm(FRAMES / name, tmp_path / name, centre)
+    with pytest.warns(InputWarning) as rec:
+        load(p)
+    (w,) = [w for w in rec if "long, past" in str(w.message)]  # said once
+    head = f"{p}: {entry}: {length} m long, past the {LENGTH_PLAUSIBLE:g} m"
+    assert str(w.message).startswith(head), str(w.message)
+    assert w.filename == __file__
+
+
+def test_every_bundled_frame_loads_without_a_length_warning():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        for name in bundled_frames():
+            (load_frame3d if is_frame3d(name) else load_frame)(name)
