@@ -12,6 +12,7 @@ rate without mu_fast was dropped, text sizes and steps failed inside numpy.
 from __future__ import annotations
 
 import dataclasses
+import re
 
 import numpy as np
 import pytest
@@ -137,3 +138,22 @@ def test_a_friction_coefficient_above_one_is_said():
         nsdyn.Isolation(mu=(0.05, 1.0))
         nsdyn.Isolation(mu=5.0, law="none")
         iso.changed(law="switch")  # (a copy a run makes: said when made)
+
+
+@pytest.mark.parametrize(("g", "guess"), [(9810.0, "in mm/s²?"), (1.0, "in g?")])
+def test_a_gravity_in_other_units_is_said(g, guess):
+    # the normal forces, and their friction, are m g: g = 9810 (mm/s²) ran with friction
+    # 1000x and an isolator slip of 0.4 mm for 26 mm, said like any other run; Earth's
+    # 9.78-9.83 m/s² (and the 9.80665 standard) are not said
+    import warnings
+
+    said = rf"^isolation.g = {g:g} m/s²: Earth's gravity is 9.81 m/s².*; {re.escape(guess)}$"
+    with pytest.warns(nsdyn.NotedWarning, match=said):
+        nsdyn.Isolation(g=g)
+    with pytest.warns(nsdyn.NotedWarning, match=rf"^deck.g = {g:g} m/s²: "):
+        rigid_deck(m=1.0e4, J=1.0e4, positions=[(0.0, 0.0)],
+                   bearings=[Bearing(Friction(0.05))], g=g)  # fmt: skip
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", nsdyn.InputWarning)
+        for earth in (9.78, 9.80665, 9.81, 9.83):
+            nsdyn.Isolation(g=earth)

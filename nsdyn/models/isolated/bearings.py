@@ -251,6 +251,20 @@ def high_friction_note(field: str, mu: float) -> str | None:
             "0.01-0.2); a percentage given as a number?")  # fmt: skip
 
 
+G_PLAUSIBLE = (9.7, 9.9)  # [m/s²] Earth's gravity, 9.78 at the equator to 9.83 at the poles
+
+
+def gravity_note(field: str, g: float) -> str | None:
+    """A line on a gravity outside :data:`G_PLAUSIBLE` (None for Earth's): the normal forces,
+    and the friction with them, scale with it (g = 9810 in mm/s² ran with friction 1000x)."""
+    lo, hi = G_PLAUSIBLE
+    if lo <= g <= hi:
+        return None
+    guess = "in mm/s²?" if g > 100 * lo else "in g?" if g < 2 else "another planet's?"
+    return (f"{field} = {g:g} m/s²: Earth's gravity is 9.81 m/s², and the normal forces and "
+            f"their friction scale with it; {guess}")  # fmt: skip
+
+
 def stick_range_error(b) -> str | None:
     """The refusal of a pendulum ``b`` whose rim lies within its stick range, d_cap <= mu_s R
     (it may rest on its rim), naming a coefficient above 1 as the likely cause; else None."""

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -35,6 +36,7 @@ import numpy as np
 
 from nsdyn._brief import brief_repr
 from nsdyn._checks import (
+    NotedWarning,
     finite_numbers,
     got_array,
     number,
@@ -53,6 +55,7 @@ from nsdyn.models.isolated.bearings import (
     Bearing,
     BearingError,
     bearing_warnings,
+    gravity_note,
     stick_range_error,
 )
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
@@ -99,6 +102,8 @@ class PlaneSystem:
             if not (real and math.isfinite(v) and v > 0):
                 raise BearingError(f"{self.name}.{k}: expected a positive number, got {v!r}")
             object.__setattr__(self, k, float(v))
+        if gravity_note(f"{self.name}.g", self.g):
+            warnings.warn(gravity_note(f"{self.name}.g", self.g), NotedWarning, 3)
         try:  # (text or a dict: numpy's conversion error)
             pos = np.asarray(self.positions, dtype=float)
         except (TypeError, ValueError):

@@ -42,7 +42,7 @@ from nsdyn._checks import NotedWarning, flag
 from nsdyn._lazy import LazyModule
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kernel as ks
-from nsdyn.models.isolated.bearings import high_friction_note
+from nsdyn.models.isolated.bearings import gravity_note, high_friction_note
 from nsdyn.models.isolated.defaults import ALPHA, BETA, C_DAMPER, EPS, ETA, K_LAM, MU
 from nsdyn.models.isolated.params import pack
 
@@ -117,6 +117,8 @@ class Isolation:
         if self.law != "none" and mu.max() > 1.0:  # (a scene's note says it: NotedWarning)
             k, name = int(np.argmax(mu)), "isolation.mu" + ("" if np.ndim(self.mu) == 0 else "[{}]")
             warnings.warn(high_friction_note(name.format(k), float(mu[k])), NotedWarning, 3)
+        if gravity_note("isolation.g", self.g):  # (9810: friction 1000x, unsaid)
+            warnings.warn(gravity_note("isolation.g", self.g), NotedWarning, 3)
 
     def changed(self, **changes) -> Isolation:
         """A copy with ``changes``; a mu above 1 this one said is not said again (a new mu is,
