@@ -121,7 +121,7 @@ def _scene_frame(arg: str) -> tuple[str, float | None, float | None, str | None]
     )
     if not scene_like:
         return arg, None, None, None
-    data = resolve_paths({"scene": {}} | data, p.parent)
+    data = resolve_paths({"scene": {}} | data, p.parent, arg)
     kind = data["scene"].get("kind", "isolated")
     frame = data["scene"].get("frame") or data.get("structure", {}).get("frame3d")
     field = "scene.frame" if data["scene"].get("frame") or frame is None else "structure.frame3d"

@@ -202,6 +202,7 @@ def run(args: argparse.Namespace) -> int:
     from nsdyn.models.isolated.scene import SceneError, load_scene
     from nsdyn.models.scenefile import number, read_toml, scene_kind
     from nsdyn.periodic import fixed_base_response, log_frequencies
+    from nsdyn.studies.sweep import unused_scene_notes
 
     if args.scene is not None:
         try:
@@ -245,12 +246,6 @@ def run(args: argparse.Namespace) -> int:
             return fail(args, f"{args.scene}: {table}.amplitude: 0 sweeps nothing; give a "
                         "non-zero amplitude or --amplitudes")  # fmt: skip
         args.amplitudes = [abs(amp)]
-    elif args.scene is not None and "motion" in raw and not mo and not args.json:
-        print(
-            "nsdyn sweep: note: the scene's [motion] (a record) is not used: a sweep drives "
-            "the frame with harmonic base accelerations of --amplitudes",
-            file=sys.stderr,
-        )
     args.amplitudes = args.amplitudes or _amplitude_list(DEFAULT_AMPLITUDES)
     if table != "force" and (why := above_highest(args.amplitudes, where, "sweep")):
         return fail(args, why)
@@ -263,6 +258,7 @@ def run(args: argparse.Namespace) -> int:
                     f"law, got {law}; expected --friction arctan")  # fmt: skip
     if not args.fmax > args.fmin:
         return fail(args, band_message("sweep", args.fmin, args.fmax, given))
+    unread = unused_scene_notes(raw, bool(mo)) if args.scene and not args.json else []
     settings = SweepSettings(
         args.fmin,
         args.fmax,
@@ -287,6 +283,8 @@ def run(args: argparse.Namespace) -> int:
             restart=args.restart,
             quiet=args.json,
         )
+        for note in unread:  # (said once the model is built: a refusal stays one line)
+            print(f"nsdyn sweep: note: {note}", file=sys.stderr)
         csv_path = out / "sweep.csv"
         gone = old_figures(out, ["sweep.png"], "sweep", args)  # (redrawn after the table)
         write_csv(csv_path, results)

@@ -11,14 +11,16 @@ and the nearest valid key for a misspelt one.
 from __future__ import annotations
 
 import difflib
+import glob
 import re
 import tomllib
+import warnings
 from collections.abc import Mapping
 from contextlib import contextmanager
 from pathlib import Path
 
 from nsdyn import _textfile as textfile
-from nsdyn._checks import did_you_mean
+from nsdyn._checks import InputWarning, did_you_mean
 
 # [scene] kind -> its runner
 KINDS = ("isolated", "rocking", "contact", "cylinder", "deck", "building3d")
@@ -48,11 +50,12 @@ FILE_FIELDS = (
 )
 
 
-def resolve_paths(cfg: Mapping, folder: str | Path) -> dict:
+def resolve_paths(cfg: Mapping, folder: str | Path, source: str = "") -> dict:
     """``cfg`` with its relative file names (:data:`FILE_FIELDS`) read from ``folder``, the
     scene file's: a name with a file of that name in ``folder`` becomes that file's absolute
     path (unless it names the same file from the current folder); any other value (a bundled
-    name, an absolute path, a file missing there) is kept as written."""
+    name, an absolute path, a file missing there) is kept as written; a bare name beside a
+    file of that name and a suffix (``portal`` by ``portal.toml``) is an InputWarning."""
     folder = Path(folder)
     out = {k: dict(v) if isinstance(v, Mapping) else v for k, v in cfg.items()}
     for table, key in FILE_FIELDS:
@@ -62,6 +65,14 @@ def resolve_paths(cfg: Mapping, folder: str | Path) -> dict:
         there = folder / v
         if there.is_file() and not (Path(v).is_file() and Path(v).resolve() == there.resolve()):
             out[table][key] = str(there.resolve())
+        elif not Path(v).suffix and not there.exists() and folder.is_dir():
+            near = sorted(p.name for p in folder.glob(glob.escape(v) + ".*") if p.is_file())
+            if near:  # (the bundled portal ran, the user's portal.toml beside it unread)
+                warnings.warn(f"{source or folder}: {table}.{key} = {v!r} is a bundled name "
+                              f"(a file is read by its whole name): {near[0]} beside the "
+                              "scene is not read; "
+                              f"{table}.{key} = {near[0]!r} reads it", InputWarning,
+                              stacklevel=2)  # fmt: skip
     return out
 
 
@@ -151,7 +162,7 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
             f"of kind 'building3d' as [structure] frame3d = \"{path}\" "
             "(examples/scenes/building3d-office-cb.toml)"
         )
-    return resolve_paths(data, p.parent) if what == "scene" else data
+    return resolve_paths(data, p.parent, str(path)) if what == "scene" else data
 
 
 def unknown_key(source: str, where: str, key: str, valid) -> SceneError:

@@ -347,7 +347,7 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict,
         if not scene_path.is_file():
             raise _err(source, "study.scene", f"no such scene file: {scene_path}")
         raw = read_toml(scene_path)
-    base_over = resolve_paths(base_over, study_dir)  # [base] files: beside the study file
+    base_over = resolve_paths(base_over, study_dir, source)  # [base] files: beside the study file
     if "t_end" in base_over.get("motion", {}):  # a given end replaces the scene's periods
         for table in ("motion", "force"):
             raw.get(table, {}).pop("n_periods", None)
@@ -363,7 +363,12 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict,
 
         # each [base] table as merged over the scene's own (a harmonic scene's [base.motion]
         # n_periods was checked against a record's keys: its kind is the scene's)
-        _check({t: merged.get(t, v) for t, v in base_over.items()}, f"{source}: [base]")
+        try:
+            _check({t: merged.get(t, v) for t, v in base_over.items()}, f"{source}: [base]")
+        except SceneError as e:  # ("[base]: [moton]: unknown table": the table's own name)
+            raise SceneError(
+                str(e).replace(f"{source}: [base]: [", f"{source}: [base.", 1)
+            ) from None
         from nsdyn.models.isolated.system import isolation_from_config
 
         cfg = load_scene(scene_path, base_over)
@@ -385,8 +390,10 @@ def load_study(path: str | Path) -> Study:
     raw = read_toml(path, what="study")
     study_dir = Path(path).resolve().parent
     for table in raw:
-        if table not in STUDY_TABLES:
-            raise unknown_key(source, "", table, STUDY_TABLES)
+        if table not in STUDY_TABLES:  # (a table, as a scene names it: "[studdy]")
+            hint = did_you_mean(table, sorted(STUDY_TABLES)) or ";"
+            raise SceneError(f"{source}: [{table}]: unknown table{hint} expected some of "
+                             f"{sorted(STUDY_TABLES)}")  # fmt: skip
     st = raw.get("study", {})
     for key, val in st.items():
         if key not in STUDY_FIELDS:

@@ -36,6 +36,27 @@ DEFAULT_AMPLITUDES = "0.1,0.5,1,2"  # m/s^2, seed Fig. 9
 CHECKPOINT_NAME = ".sweep-A{amplitude}.ckpt.json"  # one per amplitude, in the output dir
 
 
+SWEEP_SOLVER_KEYS = ("restitution",)  # a scene's [solver] keys a frame's sweep reads
+
+
+def unused_scene_notes(raw: dict, harmonic_motion: bool) -> list[str]:
+    """One line for each table of an isolated-frame scene that its sweep does not read: a
+    record's [motion] (the sweep drives harmonic base accelerations) and [solver] keys other
+    than :data:`SWEEP_SOLVER_KEYS` (its orbits are shot with their own integrator; a
+    transient's method, rtol and dt_out changed nothing, unsaid)."""
+    notes = []
+    if "motion" in raw and not harmonic_motion:
+        notes.append("the scene's [motion] (a record) is not used: a sweep drives the frame "
+                     "with harmonic base accelerations of --amplitudes")  # fmt: skip
+    sv = raw.get("solver") if isinstance(raw.get("solver"), dict) else {}
+    left = [k for k in sv if k not in SWEEP_SOLVER_KEYS]
+    if left:
+        notes.append(f"the scene's [solver] {', '.join(left)}: not used by a sweep, which "
+                     "shoots its periodic orbits with its own integrator (--tableau, "
+                     "--steps-factor)")  # fmt: skip
+    return notes
+
+
 def amplitude_tag(a: float) -> str:
     """The amplitude in a file name: ``{a:g}`` where that names it (the names of earlier
     runs), else its shortest round-trip text (0.5 and 0.5000001 shared one file)."""

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import pytest
@@ -243,3 +244,44 @@ def test_a_pga_out_of_range_is_named_by_its_field_alone(tmp_path, one_line):
     assert main(["run", "--pga", "1e6", "--out", str(tmp_path)]) == 2
     line = one_line("motion.pga (--pga): expected a finite PGA from 0 to 1000 m/s² (100 g)")
     assert "target" not in line
+
+
+def test_a_sweep_names_the_scene_tables_it_does_not_read(tmp_path, capsys):
+    # a transient's [solver] method, rtol and dt_out changed no sweep (its orbits are shot by
+    # their own integrator), unsaid; a landing's restitution is read (unilateral contact).
+    # Said once the sweep has run (a refusal of the scene stays one line)
+    scene = tmp_path / "s.toml"
+    scene.write_text('[scene]\nfidelity = "rigid"\n[motion]\nrecord = "synthetic-wn-40s"\n'
+                     '[solver]\nmethod = "dopri5"\nrtol = 1e-2\n')  # fmt: skip
+    argv = ["sweep", str(scene), "--fmin", "0.5", "--fmax", "0.6", "--points", "2", "--amplitudes",
+            "0.5", "--workers", "1", "--no-figures", "--out", str(tmp_path / "o")]  # fmt: skip
+    assert main(argv) == 0
+    notes = [ln for ln in capsys.readouterr().err.splitlines() if ": note: " in ln]
+    assert notes == [
+        "nsdyn sweep: note: the scene's [motion] (a record) is not used: a sweep drives the "
+        "frame with harmonic base accelerations of --amplitudes",
+        "nsdyn sweep: note: the scene's [solver] method, rtol: not used by a sweep, which "
+        "shoots its periodic orbits with its own integrator (--tableau, --steps-factor)",
+    ]
+
+
+def test_a_bundled_name_beside_a_file_of_that_stem_is_said(tmp_path, capsys, monkeypatch):
+    # a scene's frame = "portal" beside the user's own portal.toml ran the bundled portal (its
+    # header "portal cb" either way); a bare name beside name.toml given on the command line
+    # was "no bundled frame of that name" alone
+    from nsdyn.models.isolated.scene import load_scene
+
+    own = tmp_path / "portal.toml"
+    own.write_text((Path(__file__).resolve().parents[2] / "frames" / "portal.toml").read_text())
+    scene = tmp_path / "s.toml"
+    scene.write_text('[scene]\nframe = "portal"\n')
+    with pytest.warns(UserWarning, match=rf"^{re.escape(str(scene))}: scene.frame = 'portal' is "
+                      r"a bundled name .*: portal.toml beside the scene is not read; "
+                      r"scene.frame = 'portal.toml' reads it$"):  # fmt: skip
+        load_scene(scene)
+    (tmp_path / "p2.toml").write_text(own.read_text())
+    monkeypatch.chdir(tmp_path)
+    assert main(["modes", "p2"]) == 2
+    assert "p2: no bundled frame of that name (the file p2.toml is here: give its whole name)" in (
+        capsys.readouterr().err
+    )

@@ -12,6 +12,7 @@ against a record's), and a given t_end replaces the scene's n_periods as --t-end
 
 from __future__ import annotations
 
+import re
 import warnings
 from pathlib import Path
 
@@ -215,3 +216,20 @@ def test_simulated_records_on_a_cylinder_scene_are_said_to_be_another_scale(tmp_
         warnings.simplefilter("error", InputWarning)
         with pytest.raises(SceneError, match=r"records\.simulated\.n: expected an integer >= 1"):
             load_study(_study(tmp_path, "cylinder-uplift.toml", body))
+
+
+@pytest.mark.parametrize(
+    ("body", "message"),
+    [
+        ('[studdy]\nname = "s"\n', r"s.toml: \[studdy\]: unknown table; did you mean 'study'\?"),
+        ('[base.moton]\nt_end = 3.0\n[parameters]\n"isolation.mu" = [0.03, 0.06]\n',
+         r"s.toml: \[base.moton\]: unknown table; did you mean 'motion'\?"),
+    ],
+)  # fmt: skip
+def test_a_misspelt_study_table_is_named_as_a_table(tmp_path, body, message):
+    # "studdy: unknown field" and "[base]: [moton]: unknown table" named them otherwise than a
+    # scene names its own tables ("[isolaton]: unknown table")
+    path = tmp_path / "s.toml"
+    path.write_text(body)
+    with pytest.raises(SceneError, match=rf"^{re.escape(str(tmp_path))}/{message}"):
+        load_study(path)
