@@ -37,6 +37,11 @@ sp = LazyModule("scipy.sparse")
 spla = LazyModule("scipy.sparse.linalg")
 
 DENSE_MAX = 400  # interior dofs up to which "auto" solves densely
+# "auto" also solves densely for more than 1/DENSE_FRACTION of the dofs' modes, up to
+# DENSE_MANY_MAX dofs (its n x n matrices: 0.3 GB each): Lanczos for 5000 of the 3D office's
+# 5181 ran for minutes without an end, the dense solve takes tens of seconds
+DENSE_FRACTION = 5
+DENSE_MANY_MAX = 6000
 FAMILIES = ("x", "y", "torsion", "vertical", "local")
 
 
@@ -124,7 +129,8 @@ def fixed_base_modes_3d(
     are at most as many as the dofs that carry mass.
 
     ``method``: ``"sparse"`` (shift-invert Lanczos), ``"dense"`` (Cholesky of K) or
-    ``"auto"`` (dense up to :data:`DENSE_MAX` interior dofs).
+    ``"auto"`` (dense up to :data:`DENSE_MAX` interior dofs, or for more than a fifth of
+    them up to :data:`DENSE_MANY_MAX`).
     """
     if method not in ("auto", "sparse", "dense"):
         raise ValueError(f"method must be 'auto', 'sparse' or 'dense', got {method!r}")
@@ -141,7 +147,8 @@ def fixed_base_modes_3d(
     n = len(i)
     whole("n_modes", n_modes, 1, "an integer >= 1")
     k = min(n_modes, n)
-    dense = method == "dense" or (method == "auto" and n <= DENSE_MAX) or k >= n - 1
+    many = k > n // DENSE_FRACTION and n <= DENSE_MANY_MAX  # (ARPACK with k ~ n: hours)
+    dense = method == "dense" or (method == "auto" and (n <= DENSE_MAX or many)) or k >= n - 1
     lam, V = _eig_dense(Kii, Mii, k) if dense else _eig_sparse(Kii, Mii, k)
     if lam.size == 0:
         raise ValueError(

@@ -333,3 +333,25 @@ def test_the_building_generator_names_an_argument_of_the_wrong_form(kw, err, mat
         regular_building_3d("b", sizes.get("bays_x", [6.0]), [6.0],
                             sizes.get("storey_heights", [4.0]), sizes.get("columns", COL), BEAM,
                             BEAM, **args)  # fmt: skip
+
+
+def test_auto_solves_densely_for_many_modes_and_sparsely_for_few(monkeypatch):
+    # the documented rule of fixed_base_modes_3d: Lanczos for few modes of a large model, the
+    # dense solve for more than 1/DENSE_FRACTION of them (Lanczos for 5000 of 5181 modes ran
+    # for minutes without an end)
+    from nsdyn.structure import modes3d
+
+    b = regular_building_3d("b", [6.0, 6.0, 6.0], [6.0, 6.0], [4.0, 3.5, 3.5], COL, BEAM, BEAM,
+                            2, 2, [6e4, 6e4, 4e4], zeta=0.05)  # fmt: skip
+    n = b.n_red - len(b.boundary_reduced)
+    assert modes3d.DENSE_MAX < n <= modes3d.DENSE_MANY_MAX
+
+    def refused(*_):
+        raise AssertionError("the other eigensolver")
+
+    monkeypatch.setattr(modes3d, "_eig_sparse", refused)
+    many = n // modes3d.DENSE_FRACTION + 1
+    assert len(fixed_base_modes_3d(b, n_modes=many).f_hz) == many
+    monkeypatch.undo()
+    monkeypatch.setattr(modes3d, "_eig_dense", refused)
+    assert len(fixed_base_modes_3d(b, n_modes=12).f_hz) == 12

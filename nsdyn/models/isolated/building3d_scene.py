@@ -219,12 +219,13 @@ def build_pairs(frame, bearing, fid: str, opts: dict, source: str, cfg: dict | N
     return system
 
 
-def build_system(cfg: dict, source: str, warm: bool = False) -> dict:
+def build_system(cfg: dict, source: str, warm: bool = False, notice=None) -> dict:
     """{"fidelity", "frame", "deck" (rigid) or None, "pairs" (cb, full) or None, "bearing",
     "n_modes", "cb" (f_max, min_mass, base)} of a scene (SceneError naming the field).
     ``warm``: a cb or full rung's first compilation runs while its model builds
     (:func:`~nsdyn.models.isolated.building3d_pairs_run.warming`; ``nsdyn run``), and the
-    dict holds ``compile_s`` and ``wait_s`` (the build's wait for it)."""
+    dict holds ``compile_s`` and ``wait_s`` (the build's wait for it). ``notice()`` is
+    called once the scene's fields are checked, before the frame is read and built."""
     check_fields({k: v for k, v in cfg.items() if k != "motion"},
                  {k: v for k, v in TABLES.items() if k != "motion"}, source)  # fmt: skip
     t = cfg.get("structure")
@@ -242,10 +243,11 @@ def build_system(cfg: dict, source: str, warm: bool = False) -> dict:
     opts = _cb_options(t, source)
     if "dt" in cfg.get("solver", {}):  # the sparse full rung's step, checked on every rung
         number(source, "solver.dt", cfg["solver"]["dt"])
+    bearing = _bearing(cfg, source, fid) if fid != "fixed" else None
+    if notice is not None:  # (it came before a refused structure.base or a missing bearing)
+        notice()
     frame = _frame(t, source)
-    deck = pairs = bearing = None
-    if fid != "fixed":
-        bearing = _bearing(cfg, source, fid)
+    deck = pairs = None
     times: dict = {}
     if fid == "rigid":
         from nsdyn.models.isolated.building3d import building_deck
@@ -428,10 +430,10 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     fid = st.get("fidelity") if isinstance(st, dict) else None
     exc, t_end = build_motion(cfg, source)  # their mistakes refused before a build of seconds
     kw = build_solver(cfg, source)
-    if fid in ("cb", "full", "auto"):  # a reduction or the damped modes: seconds before a run
-        say(f"building3d: {name}: building the {fid} model…")
+    slow = fid in ("cb", "full", "auto")  # a reduction or the damped modes: seconds of build
     w0 = time.perf_counter()
-    sysd = build_system(cfg, source, warm=True)
+    sysd = build_system(cfg, source, warm=True, notice=lambda: slow and say(
+        f"building3d: {name}: building the {fid} model…"))  # fmt: skip
     sysd["build_s"] = time.perf_counter() - w0 - sysd.get("wait_s", 0.0)
     frame = sysd["frame"]
     say(f"building3d: {name}: {frame.name}, {len(frame.base_nodes)} column lines, "
