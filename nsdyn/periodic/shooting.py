@@ -38,7 +38,9 @@ SHOOT_MAXIT = 12  # Newton iterations per shooting solve
 SHOOT_STALL = 10.0  # a stalled Newton (no descent) counts as converged below this x tol
 LS_HALVINGS = 6  # line-search step halvings before giving up
 LS_ALPHA = 1e-4  # Armijo constant of the line search
-AMP_FLOOR = 1e-12  # smallest orbit amplitude used for scaling [m, m/s]
+# smallest orbit amplitude used for scaling [m, m/s]: a stuck orbit's state moves by the
+# round-off of its flow (1e-17 m), which a floor of 1e-12 read as a residual of 1e-5
+AMP_FLOOR = 1e-9
 NEWTON_RCOND = 1e-10  # scaled singular values below this x the largest count as zero
 
 

@@ -20,6 +20,15 @@ orbit where an isolator sticks all period its displacement is frozen: shifting i
 another orbit (multiplier 1, ``Phi - I`` singular), so :meth:`SwitchProblem.frozen_rows`
 reports it and shooting holds it at the guess (least-squares Newton step on the rest).
 
+Isolators whose sliding velocities are one on the minimal coordinates (equal rows ``D_i Q``:
+a rigid fidelity's, a rigid deck's) are tied (:func:`~nsdyn.periodic.switch_tables.
+tied_groups`): held one by one, one of them stuck while another slid on at ``v = 0`` (its
+switching function identically zero), and shooting converged on orbits 2.2x too large. A tied
+group has one mode; its rows are the sums of its isolators': the friction force ``sum tau_i``
+and the capacity ``sum mu_i lamf_i`` of its stick test ``|sum tau_i| <= sum mu_i lamf_i``
+(with one stuck velocity the split of the stick force among the group is not determined, the
+sum is). The normal forces reported stay each isolator's.
+
 A grazing orbit (a slip phase shrinking to zero length: at a switch ``n^T f- -> 0``, or a
 switching function touching zero without crossing) has a saltation matrix that blows up; the
 period map reports the smallest normalised ``|n^T f-|`` or touch depth of the period and
@@ -35,7 +44,6 @@ import numpy as np
 
 from nsdyn._brief import brief_repr
 from nsdyn._checks import expect
-from nsdyn._lazy import LazyModule
 from nsdyn.ground.excitation import Harmonic, HarmonicForce
 from nsdyn.models.isolated import _kernel as ks
 from nsdyn.models.isolated.params import with_law
@@ -52,8 +60,7 @@ from nsdyn.periodic.protocol import (
     check_map_args,
 )
 from nsdyn.periodic.shooting import ShootingResult, shoot
-
-sla = LazyModule("scipy.linalg")  # the switch model only: an arctan-law sweep never imports it
+from nsdyn.periodic.switch_tables import balancing, mode_sets, mode_tables, tied_groups
 
 MAX_ISOLATORS = 6  # 3^ni mode sets are tabulated
 GRAZE_TOL = 1e-3  # normalised |n^T f-| (or touch depth) below which an orbit counts as grazing
@@ -85,89 +92,6 @@ class SwitchPeriodMap(PeriodMap):
     period: float = math.nan  # T [s]
 
 
-def mode_sets(ni: int) -> np.ndarray:
-    """All mode sets (3^ni, ni) in the order of :func:`nsdyn.periodic._kswitch.mode_index`."""
-    K = 3**ni
-    out = np.empty((K, ni), dtype=np.int64)
-    for k in range(K):
-        r = k
-        for i in range(ni):
-            out[k, i] = r % 3 - 1
-            r //= 3
-    return out
-
-
-def _tables(system, P: tuple, Q: np.ndarray) -> tuple:
-    """Per mode set: A_k with the forcing columns (K, D, D) at w = 0, and the rows V, TAU, LF."""
-    n, m = Q.shape
-    d = 2 * m
-    Dd = d + 3
-    ni = system.n_isolators
-    L = np.zeros((2 * n, d))
-    L[:n, :m] = Q
-    L[n:, m:] = Q
-    sets = mode_sets(ni)
-    K = sets.shape[0]
-    A0 = np.zeros((K, Dd, Dd))
-    TAU = np.zeros((K, ni, Dd))
-    LF = np.zeros((K, ni, Dd))
-    frozen = int(P[ks.I_IPAR][ks.K_FROZEN]) == 1
-    lam0 = P[ks.I_LAM0]
-    nc = system.n_contacts
-    J = np.zeros((2 * n, 2 * n))
-    out = np.zeros(2 * n)
-    qdd, lam, tau, md = ks.outputs(P)
-    times = (0.0, 0.25, 0.5)  # forcing at f = 1 Hz: (sin, cos) = (0, 1), (1, 0), (0, -1)
-    for k in range(K):
-        Pk = with_law(P, "modes", sets[k])
-        ks.jac(0.0, np.zeros(2 * n), Pk, J)
-        A0[k, :d, :d] = L.T @ J @ L
-        g = []
-        fr = []
-        for t in times:
-            ks.rhs(t, np.zeros(2 * n), Pk, out)
-            g.append(L.T @ out)
-            ks.evaluate(t, np.zeros(2 * n), Pk, qdd, lam, tau, md)
-            fr.append((tau.copy(), lam.copy()))
-        g0 = 0.5 * (g[0] + g[2])
-        A0[k, :d, d], A0[k, :d, d + 1], A0[k, :d, d + 2] = g0, g[1] - g0, g[0] - g0
-        for rows, j in ((TAU, 0), (LF, 1)):
-            v0, v1, v2 = (fr[s][j] for s in range(3))
-            c0 = 0.5 * (v0 + v2)
-            cols = np.column_stack([c0, v1 - c0, v0 - c0])
-            if j == 1:
-                cols = np.vstack([cols, np.zeros((max(ni - nc, 0), 3))])[:ni]
-            rows[k, :, d:] = cols
-        for jj in range(d):
-            ks.evaluate(0.0, L[:, jj].copy(), Pk, qdd, lam, tau, md)
-            TAU[k, :, jj] = tau - fr[0][0]
-            lcol = np.zeros(ni)
-            lcol[: min(nc, ni)] = (lam - fr[0][1])[: min(nc, ni)]
-            LF[k, :, jj] = lcol
-        if frozen:
-            LF[k] = 0.0
-            LF[k, :, d] = lam0
-    V = np.zeros((ni, Dd))
-    V[:, m:d] = system.D @ Q
-    return A0, V, TAU, LF
-
-
-def balancing(A0: np.ndarray) -> np.ndarray:
-    """Diagonal state scaling ``s`` (D,) (powers of 2) with ``diag(1/s) A_k diag(s)`` balanced
-    for every mode set (Parlett-Reinsch on ``sum_k |A_k|``). The minimal coordinates mix
-    metres of soft and stiff directions, so ``|A_k|_1`` is ~1e6 times its spectral radius;
-    balanced, the matrix exponential needs ~20 fewer squarings and keeps its accuracy. The
-    forcing states keep scale 1 (the kernel starts them at ``[1, 0, 1]``; their rotation
-    block stays ``+-w``)."""
-    M = np.abs(A0).sum(axis=0)
-    D = M.shape[0]
-    M[D - 2, D - 1] = M[D - 1, D - 2] = 1.0  # couple sin and cos as the w entries will
-    _, (sc, _) = sla.matrix_balance(M, permute=False, separate=True)
-    sc = np.asarray(sc, dtype=float) / 2.0 ** np.round(np.log2(sc[D - 2 :]).mean())
-    sc[D - 3 :] = 1.0  # the kernel starts the forcing states at [1, 0, 1]
-    return sc
-
-
 @dataclass(repr=False)
 class SwitchProblem(MinimalStates):
     """The isolated system with the switch model under harmonic forcing, on ``z = Q^T q``.
@@ -192,6 +116,8 @@ class SwitchProblem(MinimalStates):
     load: HarmonicForce | None = None
     name: str = ""
     scale: np.ndarray | None = None  # (D,) state scaling of the kernel (see balancing)
+    group: np.ndarray | None = None  # (ni,) tied group of each isolator (see tied_groups)
+    LFI: np.ndarray | None = None  # (K, ni, D) each isolator's normal-force rows
     _cache: dict = field(default_factory=dict, repr=False)
 
     law = LAW_NAME
@@ -297,12 +223,17 @@ class SwitchProblem(MinimalStates):
         duration that sticks at once)."""
         if pm.modes is None:
             return np.zeros(0, dtype=np.int64)
-        ni = self.system.n_isolators
-        held = np.all(mode_sets(ni)[pm.modes[1:]] == 0, axis=0)
-        for e in pm.events:
+        group = self.groups()
+        held = np.all(mode_sets(int(group.max()) + 1)[pm.modes[1:]] == 0, axis=0)
+        for e in pm.events:  # (an event names its group)
             if e[0] > FROZEN_T_TOL * pm.period:
                 held[e[1]] = False
-        return np.flatnonzero(held)
+        return np.flatnonzero(held[group])
+
+    def groups(self) -> np.ndarray:
+        """(ni,) the tied group of each isolator (:func:`tied_groups`; each alone without)."""
+        ni = self.system.n_isolators
+        return np.arange(ni) if self.group is None else self.group
 
     def frozen_rows(self, pm: SwitchPeriodMap) -> np.ndarray | None:
         """Rows ``[D_i Q, 0]`` of the displacements of the isolators stuck all period on the
@@ -314,6 +245,8 @@ class SwitchProblem(MinimalStates):
         idx = self.stuck_all_period(pm)
         if idx.size == 0:
             return None
+        _, one = np.unique(self.groups()[idx], return_index=True)  # (a tied group's rows: one)
+        idx = idx[np.sort(one)]
         C = np.zeros((idx.size, self.dim))
         C[:, : self.m] = self.system.D[idx] @ self.Q
         return C
@@ -411,7 +344,8 @@ class SwitchProblem(MinimalStates):
         t = np.linspace(0.0, 1.0 / f, N + 1)
         w = 2.0 * math.pi * f
         Y = np.column_stack([X, np.ones(N + 1), np.sin(w * t), np.cos(w * t)])
-        return np.einsum("tij,tj->ti", self.LF[MK], Y)
+        LF = self.LF if self.LFI is None else self.LFI
+        return np.einsum("tij,tj->ti", LF[MK], Y)
 
     def quantities_without_orbit(
         self, f: float, x0: np.ndarray, periods: int = 1
@@ -471,11 +405,22 @@ def switch_problem(system, amplitude: float, *, load: HarmonicForce | None = Non
     P = system.params(exc, law="switch")
     P = with_law(P, "modes", np.zeros(ni, dtype=np.int64))
     Q = np.ascontiguousarray(system.Q, dtype=float)
-    A0, V, TAU, LF = _tables(system, P, Q)
+    group = tied_groups(system.D @ Q)
+    ng = int(group.max()) + 1
+    A0, V, TAU, LF = mode_tables(system, P, Q, mode_sets(ng)[:, group])
+    mu = np.ascontiguousarray(P[ks.I_MU], dtype=float)
+    LFI = LF
+    if ng < ni:  # a tied group sticks and slips as one: its rows are the sums (module text)
+        first = np.array([int(np.flatnonzero(group == g)[0]) for g in range(ng)])
+        one = np.zeros((ng, ni))
+        one[group, np.arange(ni)] = 1.0
+        V = np.ascontiguousarray(V[first])
+        TAU = np.ascontiguousarray(np.einsum("gi,kid->kgd", one, TAU))
+        LF = np.ascontiguousarray(np.einsum("gi,kid->kgd", one * mu[None, :], LF))
+        mu = np.ones(ng)
     x_static, _ = system.static_equilibrium()
     z0 = Q.T @ x_static[: system.n]
     x_ref = np.concatenate([z0, np.zeros_like(z0)])
-    mu = np.ascontiguousarray(P[ks.I_MU], dtype=float)
     return SwitchProblem(
         system,
         float(amplitude),
@@ -490,6 +435,8 @@ def switch_problem(system, amplitude: float, *, load: HarmonicForce | None = Non
         load,
         system.name,
         scale=balancing(A0),
+        group=group,
+        LFI=LFI,
     )
 
 

@@ -2,11 +2,11 @@
 
 A sweep of the switch model (``nsdyn sweep --friction switch``) runs the exact-flow period map
 of :mod:`nsdyn.periodic._kswitch` and, building each problem's tables of mode sets
-(:func:`nsdyn.periodic.switch._tables`), the system kernel, its Jacobian and right-hand side,
-called from Python. Compiled in each worker, they would take every worker's core for as long
-as one compilation, with nothing on screen; :func:`warmup` compiles them once in the calling
-process (announced by the command), the period map here and the system kernels in a helper
-process, and the workers load them from numba's cache.
+(:func:`nsdyn.periodic.switch_tables.mode_tables`), the system kernel, its Jacobian and
+right-hand side, called from Python. Compiled in each worker, they would take every worker's
+core for as long as one compilation, with nothing on screen; :func:`warmup` compiles them
+once in the calling process (announced by the command), the period map here and the system
+kernels in a helper process, and the workers load them from numba's cache.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from nsdyn.models.isolated import _kernel as ks
 from nsdyn.periodic import _kswitch as kw
 from nsdyn.periodic.switch import V_ZERO, SwitchProblem, switch_problem
 
-# what the tables of the mode sets call from Python (nsdyn.periodic.switch._tables)
+# what the tables of the mode sets call from Python (nsdyn.periodic.switch_tables.mode_tables)
 TABLE_KERNELS = ("evaluate", "jac", "rhs")
 
 
