@@ -232,6 +232,9 @@ def run(args: argparse.Namespace) -> int:
         cfg = load_scene(args.scene, overrides)
     except SceneError as e:
         return fail(args, e)
+    if args.fidelity and "structure" in cfg:  # (it named scene.fidelity, which was not given)
+        return fail(args, f"{args.scene}: --fidelity: chooses among a frame's models; this "
+                    "scene gives its [structure] directly, which is used as given")  # fmt: skip
     if cfg["scene"].get("fidelity", "cb") == "fixed":
         where = "--fidelity fixed" if args.fidelity else f"{args.scene}: scene.fidelity"
         return fail(args, f"{where}: the fixed-base model is linear; use an isolated fidelity")
@@ -400,8 +403,9 @@ def gap_lines(s: dict) -> list[str]:
     sk = s.get("skipped_hz") or []
     if sk:
         shown = ", ".join(f"{f:.4g}" for f in sk[:8]) + (", ..." if len(sk) > 8 else "")
+        why = (s.get("skipped_why") or ["?"])[0]
         out.append(f"{len(sk)} frequencies without a periodic orbit skipped (--no-fallback: "
-                   f"no stepped sweep): f = {shown} Hz")  # fmt: skip
+                   f"no stepped sweep): f = {shown} Hz (first: {why})")  # fmt: skip
     return out
 
 

@@ -102,11 +102,11 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
     why = "no initial guess"
     integration_failed = False
     tries = list(guesses)
-    if guesses:
-        tries.append(None)  # the warm start, made only if needed
+    if guesses:  # the warm starts, made only if needed: from the last guess, then from rest
+        tries += [None, "rest"]  # (after a skipped point the guesses carry on from far off)
     for g in tries:
-        if g is None:
-            g = warm_start(problem, f, guesses[-1], disc)
+        if g is None or isinstance(g, str):
+            g = warm_start(problem, f, None if isinstance(g, str) else guesses[-1], disc)
         res = shoot(problem, f, g, tol=tol, max_iter=max_iter, disc=disc)
         if res.converged:
             return _point_from_shoot(problem, res, method, disc=disc), res
@@ -125,9 +125,11 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
             if res.converged:
                 note = f"{REFINE_FACTOR}x steps per period ({why})"
                 return _point_from_shoot(problem, res, method, note, disc), res
-            why = f"{why}; with {REFINE_FACTOR}x steps: {res.message}"
+            more = " (try more steps per period)"  # (tried: what is left is the law)
+            left = ": more steps did not help; a sharp law needs a smaller eps, or the switch law"
+            why = f"{why}; with {REFINE_FACTOR}x steps: {res.message.replace(more, left)}"
     if not fallback:
-        return None, None
+        return None, why  # (the reason, for the curve's skipped frequencies)
     sw = steady_state_sweep(problem, f, guesses[0] if guesses else None, disc=disc)
     if guesses and not sw.steady and sw.periods_done <= WARMUP_PERIODS:
         # the previous orbit can seed a transient that leaves the model (a contact lifting
@@ -229,7 +231,7 @@ def continue_sequential(
     pts: list[OrbitPoint] = resumed_points(problem, start, float(freqs[0]), float(freqs[-1]), disc)
     t0 = time.perf_counter()
     held = None
-    skipped = []  # frequencies without a point (no fallback, or none found)
+    skipped, skipped_why = [], []  # frequencies without a point (no fallback) and why
     jumps = []  # steps between two branches (see _jump)
     n_start = len(pts)
     for f in freqs:
@@ -245,6 +247,7 @@ def continue_sequential(
         pt, res = _solve_point(problem, f, guesses, disc, tol, max_iter, fallback)
         if pt is None:
             skipped.append(float(f))
+            skipped_why.append(res)  # (without a point: its reason)
             continue
         held = None if res is None else res.frozen
         pt.quantities["wall_s"] = time.perf_counter() - tp
@@ -255,7 +258,8 @@ def continue_sequential(
             jumps += [jump] if jump else []
             pt.quantities["wall_s"] += time.perf_counter() - tj  # (its check is its cost)
     info = {"continuation": "sequential", "wall_s": time.perf_counter() - t0,
-            "skipped_hz": skipped, "jumps": jumps, "problem": problem_id(problem)}  # fmt: skip
+            "skipped_hz": skipped, "skipped_why": skipped_why, "jumps": jumps,
+            "problem": problem_id(problem)}  # fmt: skip
     return Curve(problem.amplitude, pts, detect_bifurcations(pts), info)
 
 
@@ -407,7 +411,7 @@ def continue_arclength(
         seq = continue_sequential(problem, rest, disc=disc, tol=tol, max_iter=max_iter,
                                   fallback=False, progress=progress, start=pts,
                                   keep_orbits=keep_orbits)  # fmt: skip
-        info["skipped_hz"] = seq.info["skipped_hz"]
+        info["skipped_hz"], info["skipped_why"] = seq.info["skipped_hz"], seq.info["skipped_why"]
         info["jumps"] = seq.info["jumps"]  # (the sequential rest's steps between branches)
         return list(seq.points)
 

@@ -101,10 +101,11 @@ class Curve:
         """The curve as plain values (NaN as None): ``amplitude``, ``points``, the band
         ``f_min_hz`` and ``f_max_hz``, the points ``converged``, ``unstable`` and from the
         stepped sweep (``sweep_points``, converged), the ``continuation``, the frequencies
-        skipped (``skipped_hz``), the ``bifurcations`` found, and each quantity's largest
-        value over the converged points without uplift (a unilateral orbit's counts) and its
-        frequency (``idr_max``, ``idr_max_f_hz``, ``acc_max_mps2``, ``x_iso_max_m``, ...; a
-        deck's curve: ``u_peak_max_m``, the resultant slip's, and ``u_peak_max_f_hz``)."""
+        skipped (``skipped_hz``) and why (``skipped_why``), the ``bifurcations`` found, and
+        each quantity's largest value over the converged points without uplift (a unilateral
+        orbit's counts) and its frequency (``idr_max``, ``idr_max_f_hz``, ``acc_max_mps2``,
+        ``x_iso_max_m``, ...; a deck's curve: ``u_peak_max_m``, the resultant slip's, and
+        ``u_peak_max_f_hz``)."""
         f = self.column("f") if self.points else np.zeros(0)
         out = {"amplitude": self.amplitude, "points": len(self.points),
                "f_min_hz": float(f.min()) if f.size else None,
@@ -114,6 +115,7 @@ class Curve:
                "sweep_points": sum(p.method == "sweep" and p.converged for p in self.points),
                "continuation": self.info.get("continuation"),
                "skipped_hz": list(self.info.get("skipped_hz", [])),
+               "skipped_why": list(self.info.get("skipped_why", [])),
                "bifurcations": len(self.bifurcations)}  # fmt: skip
         # maxima over the steady states the model holds, as the sweep's table: converged, and
         # a bilateral orbit without uplift (a unilateral one that lifts off counts; a failed
@@ -177,7 +179,8 @@ def _point_from_shoot(
     rho, verdict, why = check_verdict(problem, res.f, res.x0, rho, disc)
     rho = rho if verdict is not None else np.zeros(0)  # undecided: no multipliers (the note)
     q = problem.orbit_quantities(res.f, res.X)
-    notes = (note, why, problem.validity_note(q), family_note(rho))
+    stalled = res.message if res.message.startswith("converged (stalled") else ""  # (above tol)
+    notes = (note, stalled, why, problem.validity_note(q), family_note(rho))
     note = "; ".join(n for n in notes if n)
     return OrbitPoint(
         res.f,

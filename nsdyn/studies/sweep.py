@@ -288,6 +288,7 @@ def amplitude_job(
         "frame": system.frame,
         "f_max": system.f_max,
         "skipped_hz": list(curve.info.get("skipped_hz", [])),  # (this run's; not resumed ones)
+        "skipped_why": list(curve.info.get("skipped_why", [])),  # (each one's reason)
         "jumps": list(curve.info.get("jumps", [])),  # (sequential steps between two branches)
         "arclength_stop": curve.info.get("arclength_stop"),
     }
@@ -445,6 +446,7 @@ def summarise(r: dict) -> dict:
         "wall_below_0.1Hz_s": r["wall_below_0.1Hz_s"],
         "wall_above_0.1Hz_s": r["wall_above_0.1Hz_s"],
         "skipped_hz": r.get("skipped_hz", []),
+        "skipped_why": r.get("skipped_why", []),
         "jumps": r.get("jumps", []),
         "arclength_stop": r.get("arclength_stop"),
         # each point without a steady state and why (its row's note), as the deck sweep's

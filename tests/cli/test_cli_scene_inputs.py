@@ -285,3 +285,14 @@ def test_a_bundled_name_beside_a_file_of_that_stem_is_said(tmp_path, capsys, mon
     assert "p2: no bundled frame of that name (the file p2.toml is here: give its whole name)" in (
         capsys.readouterr().err
     )
+
+
+def test_a_sweep_names_the_fidelity_flag_a_structure_scene_cannot_take(tmp_path, capsys):
+    # it named "scene.fidelity / scene.f_max", which the scene did not give (nsdyn run names
+    # the flag)
+    scene = (
+        Path(__file__).resolve().parents[2] / "examples" / "scenes" / "isolated-shear-3storey.toml"
+    )
+    assert main(["sweep", str(scene), "--fidelity", "cb", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"nsdyn sweep: error: {scene}: --fidelity: chooses among a frame's")

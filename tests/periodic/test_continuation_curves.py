@@ -233,13 +233,18 @@ def test_without_the_fallback_a_curve_walks_the_whole_band_and_names_its_gaps(
         assert stop["f_hz"] == c.points[-1].f and "no convergence" in stop["reason"]
     sk = np.array(c.info["skipped_hz"])
     assert sk.size >= 1 and sk[-1] == pytest.approx(fmax, rel=1e-12)
+    # each with its reason (it was dropped: the report said "skipped" and nothing of why)
+    why = c.info["skipped_why"]
+    assert len(why) == sk.size and all(w.startswith("no convergence in 0 Newton") for w in why)
     steps = np.diff(np.log(np.r_[c.points[-1].f, sk]))
     np.testing.assert_allclose(steps[:-1], dp, rtol=1e-9)
     assert 0 < steps[-1] <= 1.5 * dp
     from nsdyn.cli.sweep import gap_lines
 
-    lines = gap_lines({"skipped_hz": list(sk), "arclength_stop": c.info.get("arclength_stop")})
+    lines = gap_lines({"skipped_hz": list(sk), "skipped_why": why,
+                       "arclength_stop": c.info.get("arclength_stop")})  # fmt: skip
     assert f"{sk.size} frequencies without a periodic orbit skipped" in lines[-1]
+    assert lines[-1].endswith(f"(first: {why[0]})")
     assert f"{fmax:.4g}" in lines[-1]
     assert (continuation == "arclength") == lines[0].startswith("arclength stopped at f = ")
     # a curve with skipped frequencies is not a success (it exited 0): status 3, and the line

@@ -171,6 +171,9 @@ def test_steps_are_refined_only_where_no_contact_lifts_off(monkeypatch):
     assert len(calls) == 1
     assert f"with {REFINE_FACTOR}x steps:" in point.note
     assert f"no uplift over {WARMUP_PERIODS} periods" in point.note
+    # the retry's failure does not advise more steps again: it says what is left
+    retried = point.note.split(f"with {REFINE_FACTOR}x steps:")[1].split(";")[0]
+    assert "try more steps" not in retried and "more steps did not help" in retried
 
 
 @pytest.mark.parametrize("A", [2.0, 1.0], ids=["first-period", "second-period"])

@@ -365,23 +365,29 @@ DECK_ORBIT = {  # four friction pendulums under an eccentric deck, an elliptical
 
 def test_a_fallback_seeded_off_the_model_settles_from_rest():
     """0.125-2 Hz in 5 points: the 1 Hz orbit rides the rims, shooting at 2 Hz fails from
-    the curve's guess, and the sweep from that guess lifts a bearing off in its first period
+    the curve's guess, and a sweep from that guess lifts a bearing off in its first period
     (a transient leaving the model). The steady state at 2 Hz stays in contact: Newton from
-    rest finds it (N_min 4.0e6 N, 80 % of the static share). The fallback then sweeps once
-    more from rest and must settle on that orbit, not report an uplift. Tolerance 1e-4 on
-    the peak: the sweep stops within an estimated 1e-6 of the orbit's excursion (SS_TOL),
-    shooting within its own tolerance; the rest is the peaks' sampling."""
+    rest finds it (N_min 4.0e6 N, 80 % of the static share), and the curve now shoots from
+    rest when its guesses fail. Without Newton steps (max_iter = 0) the fallback sweeps from
+    the previous orbit, leaves the model, then sweeps once more from rest and must settle on
+    that orbit, not report an uplift. Tolerance 1e-4 on the peak: the sweep stops within an
+    estimated 1e-6 of the orbit's excursion (SS_TOL), shooting within its own tolerance; the
+    rest is the peaks' sampling."""
     from nsdyn.models.isolated import deck_scene as ds
     from nsdyn.periodic import shoot
 
     system = ds.build_system(DECK_ORBIT, "deck.toml")
     exc, _ = ds.build_motion(DECK_ORBIT, "deck.toml")
     pb = plane_problem(system, exc, law="switch", amplitude=2.0)
-    last = plane_response(pb, fmin=0.125, fmax=2.0, points=5).points[-1]
     ref = shoot(pb, 2.0)
     assert ref.converged
-    assert last.method == "sweep" and last.converged and not last.quantities["uplift"]
     u_ref = pb.orbit_quantities(2.0, ref.X)["u_peak_m"]
+    last = plane_response(pb, fmin=0.125, fmax=2.0, points=5).points[-1]
+    assert last.method == "shooting" and last.converged and not last.quantities["uplift"]
+    assert last.quantities["u_peak_m"] == pytest.approx(u_ref, rel=1e-4)
+    last = plane_response(pb, fmin=0.125, fmax=2.0, points=5, max_iter=0).points[-1]
+    assert last.method == "sweep" and last.converged and not last.quantities["uplift"]
+    assert "the sweep from the previous orbit stopped" in last.note
     assert last.quantities["u_peak_m"] == pytest.approx(u_ref, rel=1e-4)
 
 
