@@ -234,3 +234,31 @@ def test_a_sparse_run_reports_each_chunk_and_resumes_as_the_same_run(frame, tmp_
     other = replace(s, C=2.0 * s.C, info=dict(s.info))
     with pytest.raises(CheckpointError, match="written by another run"):
         simulate(other, g, checkpoint=ck, method="genalpha-lowrank", dt=0.005, **kw)
+
+
+def test_metrics_of_a_full_model_on_its_sparse_operators_equal_the_dense_products(frame):
+    # the metrics read a full model's damping power through its sparse operators and its
+    # output rows (single dofs) as CSR: the dense products were 3x the run's integration at
+    # 1 593 dofs. The rows are the same rows; the damping power's sums differ by round-off
+    # (each output's qd C qd summed in another order: a few eps of its size, n terms)
+    from nsdyn.ground.excitation import Harmonic
+    from nsdyn.models.isolated import metrics
+
+    s = build_system(frame, Isolation(mu=0.05, eps=200.0), fidelity="full", damping="stiffness")
+    assert isinstance(s.C, np.ndarray) and s.sparse is not None  # a dense copy and operators
+    exc = Harmonic(3.0, 1.0)
+    r = simulate(s, exc, t_end=0.5, method="genalpha-lowrank", dt=0.005)
+    P = s.params(exc)
+    _, LAM, TAU, _ = metrics.evaluate_along(metrics.ks.evaluate_many, P, r.t, r.x)
+    G = metrics.ground_many(r.t, P)
+    fast = metrics.energy_balance(s, r.t, r.x, P, LAM, TAU, G)
+    dense = replace(s, info={**s.info, "_C_of_sparse": None})  # its dense copy of C
+    slow = metrics.energy_balance(dense, r.t, r.x, P, LAM, TAU, G)
+    bound = 4 * EPS * s.n * abs(slow["viscous"])
+    assert slow["viscous"] > 0 and abs(fast["viscous"] - slow["viscous"]) <= bound
+    od = metrics.output_rows(s)
+    L, _ = metrics.level_rows(od)
+    assert sp.issparse(L)
+    np.testing.assert_array_equal(
+        L.toarray(), np.concatenate([np.asarray(x) for x in od["levels"]])
+    )
