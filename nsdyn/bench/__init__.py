@@ -4,21 +4,24 @@ Every benchmark measures error against cost in one run (``err = |q / q_ref - 1|`
 normalised history error, against the median wall time; see :mod:`nsdyn.bench.common`) and
 writes its CSV tables and chart through :mod:`nsdyn.atomic`. One module per benchmark:
 
-=============  ==================================================================
-accuracy       error vs wall time of every integrator x friction law (CB-5)
-fidelity       error vs cost of the model ladder rigid -> CB-5 ... CB-100 -> full
-stability      largest stable fixed step vs eps and alpha, drift, shooting map
-speed          the default run vs SciPy Radau on the NumPy equations, matched accuracy
-periodic       shooting and the steady-state sweep: error vs time per point
-rocking        rocking bodies (loaded on use)
-contact        planar contact bodies (loaded on use)
-cylinder       the cylinder (loaded on use)
-opensees       the full frame in OpenSees (exported script) against nsdyn full and CB-5
-opensees3d     the 3D office building on its bearings in OpenSees against nsdyn's rung
-scale          cost against model size (435 to 20 520 dofs): nsdyn full, CB-5 and OpenSees
-scale3d        the full 3D rung on sparse operators against building size, with OpenSees
-isolators      bidirectional isolators: switch vs regularised law, cost per isolator
-=============  ==================================================================
+===============  =========================================================================
+accuracy         error vs wall time of every integrator x friction law (CB-5)
+fidelity         error vs cost of the model ladder rigid -> CB-5 ... CB-100 -> full
+stability        largest stable fixed step vs eps and alpha, drift, shooting map
+speed            the default run vs SciPy Radau on the NumPy equations, matched accuracy
+periodic         shooting and the steady-state sweep: error vs time per point
+rocking          rocking bodies (loaded on use)
+contact          planar contact bodies (loaded on use)
+cylinder         the cylinder (loaded on use)
+studies          study throughput: a local process pool and a Dask LocalCluster
+switch_shooting  periodic orbits of the Coulomb model: error vs time per point
+full-model       the full 435-dof frame: genalpha-lowrank against radau, and CB-5
+opensees         the full frame in OpenSees (exported script) against nsdyn full and CB-5
+opensees3d       the 3D office building on its bearings in OpenSees against nsdyn's rung
+scale            cost against model size (435 to 20 520 dofs): nsdyn full, CB-5, OpenSees
+scale3d          the full 3D rung on sparse operators against building size, with OpenSees
+isolators        bidirectional isolators: switch vs regularised law, cost per isolator
+===============  =========================================================================
 
 :data:`BENCHMARKS` maps each name to its module, imported on use by :func:`load_benchmark`.
 A benchmark module exposes ``run_bench(out_dir: Path, quick: bool, **options) -> dict`` and may

@@ -314,6 +314,10 @@ def report(res: dict) -> str:
             f"{r['status']}"
         )
     lines.append("speed ratios at matched accuracy (same run; > 1: the second is faster):")
+    if res.get("meta", {}).get("quick"):  # (read as the full grid's, they contradicted it)
+        lines.append("  (--quick: two or three settings per method, so a method is timed at "
+                     "whichever of them first reaches the level, often far tighter; the "
+                     "full grid's ratios are the ones to quote)")  # fmt: skip
     for rec, qs in s["ratios"].items():
         for name, q in qs.items():
             a, b = name.split("/")

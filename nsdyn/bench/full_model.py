@@ -7,10 +7,20 @@ the bundled 40 s record (PGA 3 m/s^2) with ``genalpha-lowrank`` on its sparse op
 defaults on a window of ``RADAU_WINDOW_S`` (its time scaled to the whole record, said in the
 row), and the CB-5 model with radau on the whole record. Wall times are medians of
 ``REPEATS`` runs in one process; the factorisation (``setup_s``) and numba compilation
-(``compile_s``) are reported apart. Accuracy: relative errors of the peaks (isolator
+(``warmup_s``) are reported apart. Accuracy: relative errors of the peaks (isolator
 displacement, IDR, floor acceleration) against radau on the common window::
 
     err_k = |peak_k / peak_k^radau - 1|
+
+Columns of ``full_model.csv``: ``run`` (the model, method and step), ``model`` (its
+fidelity), ``n_dof``, ``method``, ``window_s`` (the simulated time of the row), ``n_steps``,
+``wall_s`` (median wall of the row's run), ``setup_s`` (its factorisations), ``compile_s``
+(the kernels compiled or loaded by the row's own run: 0 after the warm-up), ``wall_40s_s``
+(the wall for the whole record, 40 s, or 3 s with ``--quick``; radau's window scaled to it,
+``scaled`` true), ``x_iso_max``, ``idr_max``, ``floor_acc_max`` (the peaks) and their
+``err_*`` against radau (rows on the window), ``build_full_s`` (building the full model),
+``warmup_s`` (the numba compilation or cache load before the timed runs), ``repeats``,
+``quick``.
 """
 
 from __future__ import annotations

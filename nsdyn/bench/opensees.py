@@ -15,7 +15,9 @@ benchmark isolators under the bundled record (PGA 3 m/s^2; ``--quick``: its firs
 
 Wall times are medians of repeats after a warm-up (numba compilation and OpenSees' first
 model build excluded). Differences are relative to nsdyn full: ``d = peak / peak_full - 1``;
-``time ratio = wall_OpenSees / wall``.
+``time_ratio = wall_OpenSees / wall`` (the ``OS/run`` column of the printed table), against
+the first row, OpenSees with the export's modal damping, for every row (its β K row: the modal
+run's time over the β K run's).
 """
 
 from __future__ import annotations

@@ -23,6 +23,14 @@ displacement, drift ratios at the centre of mass and the corners, x and y) are c
 break away at μ_slow N; nsdyn's regularised law has no static coefficient either, so the
 two differ by the laws' stick models and by the integrators (Newmark average acceleration
 against generalized-α at ρ∞ = 0.8).
+
+Columns of ``scale3d.csv`` (one row per size and tool): ``size`` (``by x bx x n_v x n_h`` of
+:func:`building_of_size`), ``n_dof`` (nodal dofs), ``n`` (the sparse system's coordinates,
+after the diaphragms), ``isolators`` (one under every column line), ``tool`` (nsdyn or
+opensees), ``whole_process_s`` and ``run_s`` (medians of the repeats), ``peak_rss_mb`` (the
+largest ``VmHWM``), ``record_s``, ``repeats``, ``quick``, the peaks (``PEAKS``) and, on
+nsdyn's rows, ``opensees_over_nsdyn`` (OpenSees' whole-process time over nsdyn's) and each
+peak's ``d_*`` (its ratio to OpenSees' minus 1).
 """
 
 from __future__ import annotations
@@ -175,9 +183,11 @@ def scale3d_bench(*, quick: bool, out: Path, repeats: int | None = None, quiet=F
 
 def _rows(runs: dict, rec_s: float, reps: int, quick: bool) -> list[dict]:
     rows = []
-    n_dof = {size: building_of_size(*size).n_dof for size, _ in runs}
+    frames = {size: building_of_size(*size) for size, _ in runs}
     for (size, tool), rs in runs.items():
-        row = {"size": "x".join(map(str, size)), "n_dof": n_dof[size], "tool": tool,
+        fr = frames[size]
+        row = {"size": "x".join(map(str, size)), "n_dof": fr.n_dof,
+               "n": rs[0].get("n", np.nan), "isolators": len(fr.base_nodes), "tool": tool,
                "whole_process_s": float(np.median([r["whole_process_s"] for r in rs])),
                "run_s": float(np.median([r.get("run_s", r.get("wall_s", np.nan)) for r in rs])),
                "peak_rss_mb": float(max(r["hwm_mb"] for r in rs)), "record_s": rec_s,
@@ -187,6 +197,7 @@ def _rows(runs: dict, rec_s: float, reps: int, quick: bool) -> list[dict]:
     for r in rows:
         o = by.get((r["size"], "opensees"))
         if r["tool"] == "nsdyn" and o is not None:
+            o["n"] = r["n"]  # (the sparse system's coordinates: nsdyn's child says them)
             r["opensees_over_nsdyn"] = o["whole_process_s"] / r["whole_process_s"]
             for k in PEAKS:
                 r["d_" + k] = r[k] / o[k] - 1.0 if o[k] else np.nan

@@ -396,7 +396,7 @@ def report(res: dict) -> str:
     for b in res["eps_boundary"] + res["alpha_boundary"]:
         key = "eps" if b["map"] == "eps" else "alpha"
         acc = b["dt_max_accurate"]  # NaN: no tested step met the accuracy bound
-        acc = f"below {acc:.3g}" if np.isfinite(acc) else "at no tested step"
+        acc = f"at and below {acc:.3g}" if np.isfinite(acc) else "at no tested step"
         lines.append(
             f"  {key}={b[key]:<8.3g} {b['model']:6s} {b['method']:9s} "
             f"{b['dt_max_stable']:9.3g} (err_x there {b['err_x_at_dt_max']:.2g}; accurate "

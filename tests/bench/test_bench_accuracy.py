@@ -59,3 +59,4 @@ def test_bench_accuracy_quick_end_to_end(tmp_path, capsys):
     assert not list(out.glob(".*"))  # atomic writes leave no temporary files
     printed = capsys.readouterr().out
     assert "speed ratios at matched accuracy" in printed
+    assert "(--quick: two or three settings per method" in printed  # (its ratios are coarse)

@@ -26,3 +26,17 @@ def test_no_exponent_from_fewer_sizes_and_a_stick_only_window_is_said():
     out = report({"rows": _rows(2 * STICK_DISP), "fits": {"nsdyn": 1.0}})
     assert "did not slide" not in out and "no cost exponent" not in out
     assert "fitted exponent (nsdyn, whole process): 1.00" in out
+
+
+def test_rows_carry_the_coordinates_and_isolators_the_docs_table_gives():
+    # the docs' table gave "dofs (sparse system's coordinates)" and "isolators", which the
+    # CSV lacked: the coordinates are the nsdyn child's, the isolators one per column line
+    from nsdyn.bench.scale3d import SIZES, _rows, building_of_size
+
+    size = SIZES[0]
+    run = {"whole_process_s": 2.0, "run_s": 1.0, "hwm_mb": 100.0, **{k: 1e-3 for k in PEAKS}}
+    rows = _rows({(size, "nsdyn"): [{**run, "n": 1788}], (size, "opensees"): [run]}, 1.0, 1, True)
+    frame = building_of_size(*size)
+    for r in rows:
+        assert r["n"] == 1788 and r["isolators"] == len(frame.base_nodes) == (5 + 1) * (1 + 1)
+        assert r["size"] == "x".join(map(str, size)) and r["n_dof"] == frame.n_dof
