@@ -331,6 +331,7 @@ class SwitchProblem(MinimalStates):
             "uplift": bool(lam.size and lam.min() <= 0.0),
             "events": len(events),
             "graze": pm.graze,
+            "graze_at": self.graze_at(pm),
             "law": LAW_NAME,
             "map": METHOD_NAME,
         }
@@ -368,16 +369,26 @@ class SwitchProblem(MinimalStates):
             )
         g = quantities.get("graze", math.inf)
         if g is not None and g < GRAZE_TOL:
-            notes.append(grazing_note(g))
+            notes.append(grazing_note(g, quantities.get("graze_at")))
         return "; ".join(notes)
 
+    def graze_at(self, pm: SwitchPeriodMap) -> str:
+        """Where the period's grazing measure was taken: "t = ... s, isolator i" for a switch
+        (the first isolator of its tied group), or "" (a touch without a switch)."""
+        for t, g, _, measure in pm.events:
+            if measure == pm.graze:
+                i = int(np.flatnonzero(self.groups() == g)[0])
+                return f"t = {t:.6g} s of the period, isolator {i}"
+        return ""
 
-def grazing_note(graze: float) -> str:
-    """The remark on a grazing orbit."""
+
+def grazing_note(graze: float, at: str | None = None) -> str:
+    """The remark on a grazing orbit (``at``: where, :meth:`SwitchProblem.graze_at`)."""
+    where = f" at {at}" if at else " between switches"
     return (
-        f"grazing: a switching function touches zero (normalised |n^T f-| = {graze:.1e} < "
-        f"{GRAZE_TOL:g}); a slip phase is about to vanish or appear, the saltation matrix and "
-        "the multipliers are unreliable here"
+        f"grazing: a switching function touches zero{where} (normalised |n^T f-| = "
+        f"{graze:.1e} < {GRAZE_TOL:g}); a slip phase is about to vanish or appear, the "
+        "saltation matrix and the multipliers are unreliable here"
     )
 
 
@@ -466,7 +477,7 @@ def shoot_switch(
     pm = problem.period_map(res.x0, f, n_steps=res.n_steps, sens=False)
     out = SwitchShootingResult(**vars(res), events=pm.events, graze=pm.graze)
     if out.grazing:
-        out.message = f"{out.message}; {grazing_note(pm.graze)}"
+        out.message = f"{out.message}; {grazing_note(pm.graze, problem.graze_at(pm))}"
     return out
 
 

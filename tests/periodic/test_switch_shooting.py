@@ -158,6 +158,13 @@ def test_grazing_is_reported(ratio):
     res = shoot_switch(pb, f, tol=1e-9)
     assert res.grazing and res.graze < GRAZE_TOL
     assert "grazing" in res.message
+    # and where: below the limit a touch without a switch; above it the brief slip's switch,
+    # where the force P0 sin(w t) peaks (t = T/4 = 0.5 s, or 3T/4), on the one isolator
+    if ratio < 1.0:
+        assert "touches zero between switches" in res.message
+    else:
+        t = float(res.message.split("touches zero at t = ")[1].split(" s")[0])
+        assert min(abs(t - 0.5), abs(t - 1.5)) < 0.01 and "isolator 0" in res.message
     if res.converged:
         pm = pb.period_map(res.x0, f, sens=False)
         assert np.all(np.abs(pm.xT - res.x0) <= 1e-6 * max(np.abs(res.x0).max(), 1e-9))
