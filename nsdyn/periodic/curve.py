@@ -132,7 +132,9 @@ class Curve:
             ok = np.isfinite(v) & held
             k = int(np.argmax(np.where(ok, v, -np.inf))) if ok.any() else None
             out[f"{q}_max{unit}"] = None if k is None else float(v[k])
-            out[f"{q}_max_f_hz"] = None if k is None else float(f[k])
+            # (a peak of 0 at every point, the rigid fidelity's drift, has no frequency: the
+            # first point's was given)
+            out[f"{q}_max_f_hz"] = None if k is None or v[k] == 0.0 else float(f[k])
         return out
 
     def to_dataframe(self):

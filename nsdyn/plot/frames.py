@@ -131,10 +131,11 @@ def sweep_figure(results: list[dict], fixed: dict | None = None):
         rows = r["rows"]
         f = np.array([x["f"] for x in rows])
         raw = {
-            "idr": np.array([x["IDR"] for x in rows], dtype=float),
+            "idr": np.array([x["IDR"] for x in rows], dtype=float),  # (0: none on a log axis)
             "acc": np.array([x["a"] for x in rows], dtype=float),
             "xi": np.array([x["x_iso"] for x in rows], dtype=float),
         }
+        raw["idr"] = np.where(raw["idr"] > 0.0, raw["idr"], np.nan)  # (a rigid model's 0s)
         stick = np.array([x["stick_all_period"] is True for x in rows])
         raw["xi"] = np.where(stick, np.nan, raw["xi"])
         marks = sweep_markers(rows)
@@ -157,6 +158,11 @@ def sweep_figure(results: list[dict], fixed: dict | None = None):
             axes[0].loglog(fb["f"], fb["idr"], "--", color=col, lw=0.8)
             axes[1].loglog(fb["f"], fb["acc"], "--", color=col, lw=0.8)
             drawn.add("fixed")
+    if not any(np.isfinite(ln.get_ydata()).any() for ln in axes[0].get_lines()):
+        axes[0].set_yscale("linear")  # (log-scaling nothing warned)
+        axes[0].set_yticks([])
+        axes[0].text(0.5, 0.5, "IDR 0 at every point: the storeys do not deform (rigid)",
+                     transform=axes[0].transAxes, ha="center", va="center")  # fmt: skip
     axes[0].set_ylabel("IDR [-]")
     axes[1].set_ylabel("a [m/s²]")
     axes[2].set_ylabel("x̄_iso [m] (slip only)")

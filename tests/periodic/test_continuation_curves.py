@@ -341,3 +341,16 @@ def test_a_curve_resumed_onto_another_grid_is_refused():
         pr.continue_range(problem, fmin=0.3, fmax=1.0, points=6, start=first)
     more = pr.continue_range(problem, fmin=0.3, fmax=0.6, points=5, start=first.points[:1])
     assert len(more.points) == 5  # (a start on the grid: its first point, 0.3 Hz)
+
+
+def test_a_peak_of_zero_everywhere_has_no_frequency():
+    # the rigid fidelity's storeys do not deform: its IDR is 0 at every point, and the summary
+    # gave the first point's frequency as where that "peak" is
+    import nsdyn
+    from nsdyn.models.isolated.system import build_system
+
+    s = build_system(nsdyn.load_frame("office-11"), nsdyn.Isolation(), fidelity="rigid")
+    c = pr.continue_range(pr.frame_problem(s, 0.5), fmin=0.2, fmax=0.3, points=2)
+    out = c.summary()
+    assert out["idr_max"] == 0.0 and out["idr_max_f_hz"] is None
+    assert out["x_iso_max_m"] > 0 and out["x_iso_max_f_hz"] in (0.2, 0.3)

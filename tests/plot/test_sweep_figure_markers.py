@@ -109,3 +109,22 @@ def test_a_path_given_as_the_fixed_base_curves_is_refused():
     # drawing: "'in <string>' requires string as left operand, not float")
     with pytest.raises(TypeError, match=r"^fixed: expected a dict .* got str; save the figure"):
         sweep_figure([{"A": 1.0, "rows": []}], "sweep.png")
+
+
+def test_a_rigid_frame_sweep_says_its_drift_is_zero_without_a_warning():
+    # the rigid fidelity's IDR is 0 at every point: an empty log panel and matplotlib's "no
+    # positive values" on stderr; now a linear, labelled panel
+    import io
+    import warnings
+
+    rows = [{**r, "IDR": 0.0} for r in _rows()]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fig = sweep_figure([{"A": 0.5, "rows": rows}])
+        fig.savefig(io.BytesIO(), format="png")
+    ax = fig.axes[0]
+    assert ax.get_yscale() == "linear"
+    assert [t.get_text() for t in ax.texts] == [
+        "IDR 0 at every point: the storeys do not deform (rigid)"
+    ]
+    assert fig.axes[2].get_yscale() == "log"  # (the others keep theirs)
