@@ -17,6 +17,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from nsdyn.ground._text import (
     DT_RTOL,
     MILLISECONDS,
@@ -68,6 +70,17 @@ class ReadOptions:
 _AT2_NGA_NPTS = re.compile(r"NPTS\s*[=:]\s*(\d+)", re.I)
 _AT2_NGA_DT = re.compile(rf"\bDT\s*[=:]\s*({NUM})\s*([a-z]*)", re.I)  # (a unit: SEC, MSEC)
 _AT2_OLD = re.compile(rf"^\s*(\d+)\s*,?\s+({NUM})\s*,?\s*NPTS\s*,\s*DT", re.I)
+
+
+def _shuffled_grid(col: np.ndarray, dt: float | None) -> bool:
+    """Whether a first column that is not increasing is, sorted, a uniform time grid (of step
+    ``dt``, or of any positive step for None): a time column with rows out of order, taken
+    for no time column (and, with a ``dt`` given, for the acceleration) otherwise."""
+    if col.size < 3 or np.all(np.diff(col) > 0):
+        return False
+    grid = np.sort(col) - col.min()
+    h = grid[-1] / (col.size - 1) if dt is None else dt
+    return bool(h > 0 and np.allclose(grid, h * np.arange(col.size), rtol=0.0, atol=1e-6 * h))
 
 
 def at2_header_line(lines: list[tuple[int, str]]) -> int | None:
@@ -204,6 +217,8 @@ def parse_table_motion(
             raise RecordFileError(source, first, "expected at least three samples (rows) to "
                                   "tell a time column, found two (without one, give the step "
                                   "dt)")  # fmt: skip
+        if ncol >= 2 and _shuffled_grid(data[:, 0], dt_used):
+            check_time(data[:, 0], tab.linenos, source)  # (it was read as the acceleration)
         if dt_used is None:
             raise RecordFileError(
                 source,

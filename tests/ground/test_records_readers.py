@@ -309,8 +309,12 @@ AT2_HEAD = "PEER NGA\nX, 0\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    4, 
         ("down.txt", "0.02 1\n0.01 2\n0.00 3\n", 2, "expected time > 0.02 s, found 0.01 s"),
         ("one.txt", "0.0 0.1\n", 1, "expected at least two samples (rows), found one"),
         ("two.txt", "0.0 0.1\n0.01 0.2\n", 1, "at least three samples (rows) to tell a time"),
+        # two rows swapped in a short file: "no time column", and with the dt it asked for
+        # the time column was read as the acceleration
+        ("swap.txt", "0.0 0.1\n0.02 0.2\n0.01 0.3\n0.03 0.1\n", 3,
+         "expected time > 0.02 s, found 0.01 s"),
     ],
-)
+)  # fmt: skip
 def test_bad_files_raise_with_line(tmp_path, name, text, line, expected):
     path = write(tmp_path, name, text)
     with warnings.catch_warnings():
@@ -320,6 +324,12 @@ def test_bad_files_raise_with_line(tmp_path, name, text, line, expected):
     err = info.value
     assert err.line == line and expected in str(err)
     assert str(err).startswith(f"{path}:{line}: ")
+
+
+def test_a_shuffled_time_column_is_named_with_the_step_given_too(tmp_path):
+    path = write(tmp_path, "swap.txt", "0.0 0.1\n0.02 0.2\n0.01 0.3\n0.03 0.1\n")
+    with pytest.raises(RecordFileError, match=r"swap.txt:3: expected time > 0.02 s"):
+        read_motion(path, units="g", dt=0.01)
 
 
 def test_two_column_format_requires_time(tmp_path):
