@@ -60,7 +60,8 @@ def excitation_history(motion, t: np.ndarray) -> dict:
 
 
 def title_of(result, motion) -> str:
-    """``model under record (PGA a m/s² = b g)``: what the figure shows, in one line."""
+    """``model under record, t = t0-t1 s (PGA a m/s² = b g)``: what the figure shows, in one
+    line."""
     if is_force(motion):
         if isinstance(getattr(motion, "F", None), np.ndarray):
             return f"{result.system.name}: force {motion.name} (peak " \
@@ -68,6 +69,9 @@ def title_of(result, motion) -> str:
         return f"{result.system.name}: harmonic force {motion.F:.4g} N at {motion.f:g} Hz"
     name = getattr(motion, "name", None)
     what = f"{result.system.name} under {name}" if name else result.system.name
+    t = getattr(result, "t", None)
+    if name and t is not None and len(t) > 1:  # (the run's span: 20 s of a 40 s record)
+        what += f", t = {float(t[0]):.4g}-{float(t[-1]):.4g} s"
     pga = getattr(motion, "pga", None)
     if pga is None and hasattr(motion, "A_hor"):
         pga = abs(motion.A_hor)

@@ -46,6 +46,7 @@ def test_title_names_the_record_and_its_pga(shear_run):
     fig = plot_transient(res, motion, note="outcome: x")
     title = fig.get_suptitle()
     assert "synthetic-wn-40s" in title and "PGA 3 m/s²" in title and "outcome: x" in title
+    assert "synthetic-wn-40s, t = 0-2 s (PGA" in title  # (2 s of the 40 s record, as run)
     assert "ground acceleration [m/s²]" in _axes_labels(fig)
 
 
