@@ -38,9 +38,7 @@ SHOOT_MAXIT = 12  # Newton iterations per shooting solve
 SHOOT_STALL = 10.0  # a stalled Newton (no descent) counts as converged below this x tol
 LS_HALVINGS = 6  # line-search step halvings before giving up
 LS_ALPHA = 1e-4  # Armijo constant of the line search
-# smallest orbit amplitude used for scaling [m, m/s]: a stuck orbit's state moves by the
-# round-off of its flow (1e-17 m), which a floor of 1e-12 read as a residual of 1e-5
-AMP_FLOOR = 1e-9
+AMP_FLOOR = 1e-12  # smallest orbit amplitude used for scaling [m, m/s] (or the model's own)
 NEWTON_RCOND = 1e-10  # scaled singular values below this x the largest count as zero
 
 
@@ -63,11 +61,13 @@ def floquet_multipliers(monodromy: np.ndarray) -> np.ndarray:
 
 def orbit_amplitudes(problem: PeriodicModel, X: np.ndarray) -> tuple[float, float]:
     """Largest excursion of the displacement and of the velocity block of ``X`` (samples in
-    minimal coordinates) from the static state, each at least AMP_FLOOR: the scales of the
+    minimal coordinates) from the static state, each at least AMP_FLOOR (or the model's
+    ``amp_floor``, where it has one): the scales of the
     shooting residual and closure tests."""
     m = problem.dim // 2
     dX = np.abs(X - problem.x_ref[None, :])
-    return max(float(dX[:, :m].max()), AMP_FLOOR), max(float(dX[:, m:].max()), AMP_FLOOR)
+    floor = max(AMP_FLOOR, float(getattr(problem, "amp_floor", 0.0)))  # (a stuck orbit's)
+    return max(float(dX[:, :m].max()), floor), max(float(dX[:, m:].max()), floor)
 
 
 def _weights(problem: PeriodicModel, amp: tuple[float, float]) -> np.ndarray:

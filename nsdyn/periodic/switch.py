@@ -62,13 +62,14 @@ from nsdyn.periodic.protocol import (
 from nsdyn.periodic.shooting import ShootingResult, shoot
 from nsdyn.periodic.switch_tables import balancing, mode_sets, mode_tables, tied_groups
 
-MAX_ISOLATORS = 6  # 3^ni mode sets are tabulated
+MAX_ISOLATORS = 6  # 3^n mode sets are tabulated (n: isolators, tied ones counted once)
 GRAZE_TOL = 1e-3  # normalised |n^T f-| (or touch depth) below which an orbit counts as grazing
 SWITCH_N_MIN = 128  # samples (steps) per period at least: event bracketing and orbit output
 SWITCH_DT_MAX = 0.02  # s, longest step (the default Discretisation's, same samples)
 STEP_SLIP_FACTOR = 2.0  # a step moves an isolator by at most this x its slip range ...
 STEP_SLIP_FLOOR = 1e-9  # ... or this [m]
 FROZEN_T_TOL = 1e-9  # switches before this fraction of the period freeze nothing
+AMP_FLOOR_REL = 1e-9  # x the forcing's static displacement: the smallest amplitude scaled
 V_ZERO = 1e-13  # m/s, |v| at the period start below which the stick test decides the mode
 LAW_NAME = "switch"  # what every point of this model reports as its law
 METHOD_NAME = "exact flow + saltation matrices"  # how the period map is computed
@@ -86,7 +87,9 @@ for _code, _msg in SWITCH_STATUS.items():
 class SwitchPeriodMap(PeriodMap):
     """A :class:`PeriodMap` of the switch model with its switching events."""
 
-    events: list = field(default_factory=list)  # (t, isolator, new mode, |n^T f-| normalised)
+    # (t, isolator group (an isolator's own index unless tied, tied_groups), new mode,
+    # |n^T f-| normalised)
+    events: list = field(default_factory=list)
     graze: float = math.inf  # smallest grazing measure of the period
     modes: np.ndarray | None = None  # (N + 1,) mode-set index at each sample
     period: float = math.nan  # T [s]
@@ -125,6 +128,21 @@ class SwitchProblem(MinimalStates):
     # the monodromy is the product of the exponentials the flow forms anyway: 4-40 % over the
     # map alone, so shooting's shortened line-search trials take it at once (protocol)
     cheap_sensitivities = True
+
+    @property
+    def amp_floor(self) -> float:
+        """Smallest orbit amplitude of the shooting's scaling [m, m/s]: ``AMP_FLOOR_REL``
+        times the static displacement the forcing amplitude gives (its sine column solved
+        against the stiffness of the first mode set's slip). An orbit stuck all period moves
+        by its flow's round-off alone (1e-17 m on the rigid office), which a floor of 1e-12
+        read as a residual of 1e-5: the point failed; relative to the forcing, a small
+        orbit keeps its accuracy (a floor of 1e-9 m cost a 2.5e-12 m orbit 3 digits)."""
+        if "amp_floor" not in self._cache:
+            m, d = self.m, self.dim
+            Kr = -self.A0[0, m:d, :m]  # M^-1 K on the minimal coordinates
+            u = np.linalg.lstsq(Kr, self.A0[0, m:d, d + 1], rcond=None)[0]
+            self._cache["amp_floor"] = AMP_FLOOR_REL * float(np.abs(u).max(initial=0.0))
+        return self._cache["amp_floor"]
 
     def matrices(self, f: float) -> np.ndarray:
         """Augmented matrices (K, D, D) at forcing frequency ``f`` [Hz]."""
@@ -408,16 +426,15 @@ def switch_problem(system, amplitude: float, *, load: HarmonicForce | None = Non
     if load is not None and not isinstance(load, HarmonicForce):
         raise TypeError(f"load: expected a HarmonicForce, got {type(load).__name__}")
     ni = system.n_isolators
-    if ni > MAX_ISOLATORS:
-        raise ValueError(
-            f"switch shooting tabulates 3^ni mode sets: at most {MAX_ISOLATORS} isolators, got {ni}"
-        )
-    exc = Harmonic(amplitude, 1.0) if load is None else load.at_frequency(1.0, amplitude)
-    P = system.params(exc, law="switch")
-    P = with_law(P, "modes", np.zeros(ni, dtype=np.int64))
     Q = np.ascontiguousarray(system.Q, dtype=float)
     group = tied_groups(system.D @ Q)
     ng = int(group.max()) + 1
+    if ng > MAX_ISOLATORS:  # (tied isolators count once: one mode each group)
+        raise ValueError(f"switch shooting tabulates 3^n mode sets of the n isolators (tied ones "
+                         f"count once): at most {MAX_ISOLATORS}, got {ng}")  # fmt: skip
+    exc = Harmonic(amplitude, 1.0) if load is None else load.at_frequency(1.0, amplitude)
+    P = system.params(exc, law="switch")
+    P = with_law(P, "modes", np.zeros(ni, dtype=np.int64))
     A0, V, TAU, LF = mode_tables(system, P, Q, mode_sets(ng)[:, group])
     mu = np.ascontiguousarray(P[ks.I_MU], dtype=float)
     LFI = LF

@@ -250,3 +250,23 @@ def test_isolators_of_a_flexible_model_are_not_tied():
 
     sysm = build_system(load_frame("portal"), Isolation(law="switch"), fidelity="cb")
     assert switch_problem(sysm, 1.0).groups().tolist() == [0, 1]
+
+
+def test_an_orbit_stuck_all_period_converges_on_its_flows_round_off():
+    # A = 0.05 m/s² < mu g = 0.29 m/s²: the rigid office sticks all period; its state moves by
+    # its flow's round-off alone (1e-17 m), which an amplitude floor of 1e-12 m read as a
+    # residual of 1e-5 ("line search failed"). The floor is 1e-9 of the forcing's static
+    # displacement M A / (2 K_lam) = 0.35 m here (amp_floor)
+    from nsdyn import Isolation as Iso
+    from nsdyn import load_frame
+    from nsdyn.models.isolated.system import build_system
+
+    frame = load_frame("office-11")
+    iso = Iso(law="switch")
+    pb = switch_problem(build_system(frame, iso, fidelity="rigid"), 0.05)
+    static = frame.total_mass * 0.05 / (2 * iso.k_lam)
+    assert pb.amp_floor == pytest.approx(1e-9 * static, rel=1e-6)
+    res = shoot_switch(pb, 0.1)
+    assert res.converged, res.message
+    q = pb.orbit_quantities(0.1, pb.period_map(res.x0, 0.1, store=True, sens=False).X)
+    assert q["stick_all_period"] and q["x_iso"] < 1e-12
