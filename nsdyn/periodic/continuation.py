@@ -33,13 +33,21 @@ from nsdyn.periodic.bifurcation import detect_bifurcations
 from nsdyn.periodic.curve import (
     Curve,
     OrbitPoint,
+    _append,
+    _free,
     _point_from_shoot,
     _point_from_sweep,
     on_grid,
     problem_id,
     resumed_points,
 )
-from nsdyn.periodic.discretisation import REFINE_FACTOR, Discretisation, checked_disc, refined
+from nsdyn.periodic.discretisation import (
+    REFINE_FACTOR,
+    Discretisation,
+    after_refinement,
+    checked_disc,
+    refined,
+)
 from nsdyn.periodic.protocol import (
     STATUS_MESSAGES,
     STATUS_OK,
@@ -91,7 +99,8 @@ def log_frequencies(fmin: float = F_MIN, fmax: float = F_MAX, points: int = POIN
     return np.geomspace(lo, hi, n)
 
 
-def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="shooting"):
+def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="shooting",
+                 rest=True):  # fmt: skip
     """Shooting from each guess in turn, then from the last guess carried ``sweeps.WARMUP_PERIODS``
     periods along at ``f`` (near a grazing or an event-sequence change a guess on the
     attracting orbit's side often converges where extrapolation does not); if the period
@@ -103,7 +112,7 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
     integration_failed = False
     tries = list(guesses)
     if guesses:  # the warm starts, made only if needed: from the last guess, then from rest
-        tries += [None, "rest"]  # (after a skipped point the guesses carry on from far off)
+        tries += [None, "rest"][: 1 + bool(rest)]  # (``rest``: the guesses are a curve's)
     for g in tries:
         if g is None or isinstance(g, str):
             g = warm_start(problem, f, None if isinstance(g, str) else guesses[-1], disc)
@@ -125,9 +134,7 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
             if res.converged:
                 note = f"{REFINE_FACTOR}x steps per period ({why})"
                 return _point_from_shoot(problem, res, method, note, disc), res
-            more = " (try more steps per period)"  # (tried: what is left is the law)
-            left = ": more steps did not help; a sharp law needs a smaller eps, or the switch law"
-            why = f"{why}; with {REFINE_FACTOR}x steps: {res.message.replace(more, left)}"
+            why = f"{why}; with {REFINE_FACTOR}x steps: {after_refinement(problem, res.message)}"
     if not fallback:
         return None, why  # (the reason, for the curve's skipped frequencies)
     sw = steady_state_sweep(problem, f, guesses[0] if guesses else None, disc=disc)
@@ -139,24 +146,6 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
             why = f"{why}; the sweep from the previous orbit stopped ({sw.message}), from rest"
             sw = rest
     return _point_from_sweep(problem, sw, why, disc), None
-
-
-def _append(pts: list, pt: OrbitPoint, keep_orbits: bool, progress=None, total: int = 0) -> None:
-    """Append ``pt`` and report it to ``progress(pt, count, total)``; the previous point's
-    orbit is dropped unless ``keep_orbits``."""
-    if pts and not keep_orbits:
-        pts[-1].X = None
-    pts.append(pt)
-    if progress is not None:
-        progress(pt, len(pts), total)
-
-
-def _free(dx: np.ndarray, C: np.ndarray | None) -> np.ndarray:
-    """``dx`` without its change of the held rows ``C`` (``C dx = 0`` after): a frozen
-    displacement stays where the last orbit left it instead of being extrapolated."""
-    if C is None:
-        return dx
-    return dx - np.linalg.pinv(C) @ (C @ dx)
 
 
 def _options(disc, progress, fallback, keep_orbits) -> Discretisation:
@@ -244,7 +233,7 @@ def continue_sequential(
             guesses.append(b.x0 + r * _free(b.x0 - a.x0, held))
         guesses.append(pts[-1].x0 if pts else warm_start(problem, f, x0, disc))
         tp = time.perf_counter()
-        pt, res = _solve_point(problem, f, guesses, disc, tol, max_iter, fallback)
+        pt, res = _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, rest=bool(pts))
         if pt is None:
             skipped.append(float(f))
             skipped_why.append(res)  # (without a point: its reason)
@@ -389,7 +378,9 @@ def continue_arclength(
 
     if not pts:
         xg = warm_start(problem, fmin, x0, disc)
-        pt, res = _solve_point(problem, fmin, [xg], disc, tol, max_iter, fallback, "arclength")
+        pt, res = _solve_point(
+            problem, fmin, [xg], disc, tol, max_iter, fallback, "arclength", rest=False
+        )  # fmt: skip  (xg: a warm start already)
         if pt is None:
             raise NumericalFailure(f"no periodic solution found at f = {fmin:g} Hz")
         pt.s = 0.0

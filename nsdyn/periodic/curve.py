@@ -324,3 +324,21 @@ def resumed_points(problem, start, lo: float, hi: float, disc) -> list[OrbitPoin
                              f"of this problem (residual {r:.2g}): a curve of another "
                              "amplitude or model?")  # fmt: skip
     return pts
+
+
+def _append(pts: list, pt: OrbitPoint, keep_orbits: bool, progress=None, total: int = 0) -> None:
+    """Append ``pt`` and report it to ``progress(pt, count, total)``; the previous point's
+    orbit is dropped unless ``keep_orbits``."""
+    if pts and not keep_orbits:
+        pts[-1].X = None
+    pts.append(pt)
+    if progress is not None:
+        progress(pt, len(pts), total)
+
+
+def _free(dx: np.ndarray, C: np.ndarray | None) -> np.ndarray:
+    """``dx`` without its change of the held rows ``C`` (``C dx = 0`` after): a frozen
+    displacement stays where the last orbit left it instead of being extrapolated."""
+    if C is None:
+        return dx
+    return dx - np.linalg.pinv(C) @ (C @ dx)

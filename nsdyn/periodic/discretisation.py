@@ -114,6 +114,19 @@ def checked_disc(disc) -> Discretisation:
     return disc
 
 
+MORE_STEPS = " (try more steps per period)"  # a period map's failure that more steps may cure
+
+
+def after_refinement(problem, message: str) -> str:
+    """``message`` of a shooting that failed again with ``REFINE_FACTOR`` x the steps, its
+    advice to try more steps replaced by what is left: for the arctan law, a smaller eps or
+    the switch law (a law too sharp for any step); else nothing more to try."""
+    iso = getattr(getattr(problem, "system", None), "isolation", None)
+    sharp = "; a sharp law needs a smaller eps, or the switch law"
+    left = ": more steps did not help" + (sharp if getattr(iso, "law", None) == "arctan" else "")
+    return message.replace(MORE_STEPS, left)
+
+
 def refined(disc: Discretisation, factor: float = REFINE_FACTOR) -> Discretisation:
     """The same discretisation with ``factor`` times the steps per period (``factor`` < 1:
     fewer; at least one step)."""
