@@ -116,9 +116,22 @@ def _check_column(source: str, where: str, name, study, *, result: bool) -> None
     if result and name not in valid and study.keep is not None and name in ISOLATED_RESULTS:
         raise SceneError(f"{source}: {where}: {name!r} is a result the study does not keep; "
                          f"add it to study.keep (now {list(study.keep)})")  # fmt: skip
+    if name not in valid and study.kind != "isolated" and not _typo(name, valid):
+        return  # (a first row's columns: another task's summary, another rung's, may have it)
     if name not in valid:
         hint = did_you_mean(name, sorted(valid))
         raise SceneError(f"{source}: {where}: unknown column {name!r}{hint}")
+
+
+TYPO_RATIO = 0.9  # a name this close to a first row's column (difflib's ratio) is its typo
+
+
+def _typo(name: str, columns) -> bool:
+    """Whether ``name`` is a slip of the pen for one of ``columns`` (a first row's): a run of
+    a rigid rung lacks the corner drifts the others have, which is no typo."""
+    import difflib
+
+    return any(difflib.SequenceMatcher(None, name, c).ratio() >= TYPO_RATIO for c in columns)
 
 
 def _check_columns(source: str, where: str, spec: dict, key: str, study, *, result: bool,
@@ -211,6 +224,9 @@ def check_analysis(study) -> None:
         from nsdyn.studies import incidence
 
         incidence.check(study, an["incidence"])
+        if an["incidence"].get("quantities"):  # (a misspelt one ran every task, then NaN)
+            _check_columns(src, "analysis.incidence.", an["incidence"], "quantities", study,
+                           result=True)  # fmt: skip
     f = an.get("fragility")
     if f is not None:
         for key in ("im", "edp"):
@@ -232,8 +248,9 @@ def check_analysis(study) -> None:
 def check_first_row(study, row: dict) -> None:
     """The analyses' result columns of a scene kind whose results are known only after a run
     (all but the isolated frame's: a deck, a 3D building, rocking, contact, cylinder) checked
-    against the columns of its first successful ``row``: a misspelt quantity stops the study
-    after one run (its rows kept; the run resumes), not after all of them with a NaN table."""
+    against the columns of its first successful ``row``: a quantity a typo away from one of
+    them (:func:`_typo`) stops the study after one run (its rows kept; the run resumes), not
+    after all of them with a NaN table; one farther off may be another task's column."""
     if study.kind == "isolated" or not study.analysis or row.get("status") != "ok":
         return
     token = _FIRST_ROW.set(frozenset(row))

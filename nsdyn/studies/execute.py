@@ -171,6 +171,7 @@ def run_study(
     order = {t.key: t.index for t in tasks}
     store.regrid(order)
     done = store.read()
+    first = _first_check(study, list(done.values()), False)  # (before kernels and a pool)
     todo = [
         t
         for t in tasks
@@ -190,7 +191,7 @@ def run_study(
     size = batch_size(len(todo), n_workers, study.batch)
     prog = _Progress(study.name, len(tasks), len(tasks) - len(todo), progress)
     t0 = time.perf_counter()
-    first = _first_check(study, list(done.values()), False)
+    pending: dict = {}
     try:
         with Interrupts() as stop:  # signals act between waits (workers.Interrupts)
             pending = {executor.submit(run_batch, b): (b, False) for b in batches(todo, size)}
@@ -232,6 +233,9 @@ def run_study(
         if own:
             stop_pool(executor, kill=True)
             executor = None
+        else:  # a caller's executor (a Dask client's): its tasks not yet started are dropped
+            for f in pending:
+                f.cancel()
         raise
     finally:
         if own and executor is not None:  # every task is done: the pool ends before we go on

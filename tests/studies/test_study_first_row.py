@@ -55,3 +55,10 @@ def test_a_misspelt_result_column_stops_the_study_after_its_first_run(tmp_path):
     assert run.n_skipped == 1 and run.n_run == 2 and run.n_failed == 0
     with pytest.raises(SceneError, match="'max_theta_radd'"):  # every row there: no run
         run_study(_study(tmp_path, "max_theta_radd"), out, workers=1)
+
+
+def test_a_name_far_from_the_first_rows_columns_runs_on(tmp_path):
+    # a rigid rung's summary lacks the corner drifts a flexible rung's has: a name the first
+    # row lacks may be another task's column, and only a typo's distance stops the study
+    run = run_study(_study(tmp_path, "peak_tilt_of_the_roof"), tmp_path / "o", workers=1)
+    assert run.n_run == 3 and run.n_failed == 0
