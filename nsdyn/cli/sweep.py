@@ -261,7 +261,8 @@ def run(args: argparse.Namespace) -> int:
                     f"law, got {law}; expected --friction arctan")  # fmt: skip
     if not args.fmax > args.fmin:
         return fail(args, band_message("sweep", args.fmin, args.fmax, given))
-    unread = unused_scene_notes(raw, bool(mo)) if args.scene and not args.json else []
+    for note in unused_scene_notes(raw, bool(mo)) if args.scene and not args.json else ():
+        print(f"nsdyn sweep: note: {note}", file=sys.stderr)  # (before the run, as it goes)
     settings = SweepSettings(
         args.fmin,
         args.fmax,
@@ -286,8 +287,6 @@ def run(args: argparse.Namespace) -> int:
             restart=args.restart,
             quiet=args.json,
         )
-        for note in unread:  # (said once the model is built: a refusal stays one line)
-            print(f"nsdyn sweep: note: {note}", file=sys.stderr)
         csv_path = out / "sweep.csv"
         gone = old_figures(out, ["sweep.png"], "sweep", args)  # (redrawn after the table)
         write_csv(csv_path, results)

@@ -66,14 +66,38 @@ def resolve_paths(cfg: Mapping, folder: str | Path, source: str = "") -> dict:
         if there.is_file() and not (Path(v).is_file() and Path(v).resolve() == there.resolve()):
             out[table][key] = str(there.resolve())
         elif not Path(v).suffix and not there.exists() and folder.is_dir():
-            near = sorted(p.name for p in folder.glob(glob.escape(v) + ".*") if p.is_file())
+            me = Path(source).name  # (the scene itself, office-11.toml naming "office-11")
+            near = [p.name for p in sorted(folder.glob(glob.escape(v) + ".*"))
+                    if p.is_file() and _reads(key, p) and p.name != me]  # fmt: skip
             if near:  # (the bundled portal ran, the user's portal.toml beside it unread)
                 warnings.warn(f"{source or folder}: {table}.{key} = {v!r} is a bundled name "
                               f"(a file is read by its whole name): {near[0]} beside the "
                               "scene is not read; "
                               f"{table}.{key} = {near[0]!r} reads it", InputWarning,
-                              stacklevel=2)  # fmt: skip
+                              stacklevel=3)  # fmt: skip
     return out
+
+
+NOT_RECORDS = {
+    ".toml",
+    ".png",
+    ".pdf",
+    ".svg",
+    ".npz",
+    ".npy",
+    ".json",
+    ".parquet",
+    ".py",
+    ".md",
+    ".log",
+}  # fmt: skip  (a run's outputs beside a record's name)
+
+
+def _reads(key: str, path: Path) -> bool:
+    """Whether the scene field named ``key`` could read ``path``: a frame a .toml file, a
+    record any file but a scene's or a run's output (``NOT_RECORDS``)."""
+    frame = key in ("frame", "frame3d")
+    return (path.suffix == ".toml") if frame else path.suffix.lower() not in NOT_RECORDS
 
 
 def scaled_to_pga(motion, pga: float, source: str, field: str = "motion.pga"):

@@ -336,24 +336,36 @@ def load_frame(name_or_path: str | Path) -> Frame:
 def with_file_warnings(build, fname: str, table: str):
     """``build()``, its input warnings (:class:`~nsdyn._checks.InputWarning`: an element of
     3000 m, a frame in mm?) said once each as ``FILE: table.entry: ...`` at the caller's
-    line (a frame's own checks name the entry, not the file)."""
+    line (a frame's own checks name the entry, not the file), also when ``build`` then
+    fails; other warnings pass on as they came (once per place, as Python shows them)."""
     from nsdyn._checks import InputWarning
 
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", InputWarning)
-        out = build()
+    caught: list = []
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", InputWarning)
+            return build()
+    finally:  # (outside the recording: what it says is shown, not recorded again)
+        _said_with_file(caught, fname, table)
+
+
+_SHOWN: dict = {}  # the registry of the warnings passed on (Python's once-per-place)
+
+
+def _said_with_file(caught, fname: str, table: str) -> None:
+    from nsdyn._checks import InputWarning
+
     seen = set()
     for w in caught:
         if not issubclass(w.category, InputWarning):
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno, registry=_SHOWN)
             continue
         msg = str(w.message)
-        tail = msg.split(": ", 1)[-1]  # (the file's checks and the model's name one entry)
-        if tail not in seen:
+        tail = msg.split(": ", 1)[-1]  # (the file's check and the model's name one element
+        if tail not in seen:  # by two names: said once, by the file's)
             seen.add(tail)
             head = msg if msg.startswith(f"{table}.") else f"{table}.{msg}"
-            warnings.warn(f"{fname}: {head}", w.category, stacklevel=3)
-    return out
+            warnings.warn(f"{fname}: {head}", w.category, stacklevel=4)
 
 
 def _read_frame_file(name_or_path: str | Path) -> tuple[dict, str]:

@@ -3,7 +3,7 @@ element (in 3D one on a diaphragm too: a diaphragm holds no vertical motion), no
 zero length, no pair of nodes joined twice nor an element along another, no two nodes at one
 place, every node joined to a base node (by elements and diaphragms; a part that floats free
 is a mechanism), and no column foot at the base level standing on nothing. An element longer than
-:data:`LENGTH_PLAUSIBLE` is warned of (an ``InputWarning``: coordinates in mm?).
+:data:`LENGTH_PLAUSIBLE` is noted (a ``NotedWarning``: coordinates in mm?).
 
 Each is a model that runs silently wrong otherwise (a beam cut in two at a repeated node, a
 member's stiffness counted twice) or one whose matrices are singular. Positions equal to
@@ -18,7 +18,7 @@ from collections.abc import Callable, Iterable
 
 import numpy as np
 
-from nsdyn._checks import InputWarning
+from nsdyn._checks import NotedWarning
 
 SAME_PLACE = 1e-9  # relative to the frame's extent: two positions closer are one place
 LENGTH_PLAUSIBLE = 200.0  # [m] an element longer than this: a frame in mm? (warned)
@@ -82,7 +82,7 @@ def check_geometry(
     if length[k] > LENGTH_PLAUSIBLE:  # (a portal in mm ran, 0.83 m of roof drift, unsaid)
         warnings.warn(f"{element_name(k)}: {length[k]:.4g} m long, past the "
                       f"{LENGTH_PLAUSIBLE:g} m of any building member: a frame's coordinates "
-                      "are in m (storeys of 2.5-6 m); are they in mm?", InputWarning,
+                      "are in m (storeys of 2.5-6 m); are they in mm?", NotedWarning,
                       stacklevel=3)  # fmt: skip
 
 

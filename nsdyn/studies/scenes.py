@@ -288,6 +288,12 @@ def _check_isolated(cfg: dict, source: str) -> None:
         )
     if "structure" in cfg:
         build_structure(cfg, iso, source)
+    else:  # the frame read once per file: a bad one refused here, its notes said here once
+        frame = cfg.get("scene", {}).get("frame")
+        try:
+            _frame_read(frame, _mtime(frame)) if isinstance(frame, str) else None
+        except ValueError as e:  # (FrameFileError)
+            raise SceneError(f"{source}: scene.frame: {e}") from None
     duration: dict = {}
     try:
         if "force" in cfg:
@@ -306,6 +312,19 @@ def _check_isolated(cfg: dict, source: str) -> None:
         raise SceneError(f"{source}: {field}: {' '.join(str(e).split())}") from None
     dt = checked_step(method, sv, excitation, t_eval, source)
     check_step_count(source, method, dt, t_eval, sv.get("max_steps"))
+
+
+@lru_cache(maxsize=MOTION_CACHE)
+def _frame_read(name: str, mtime) -> None:
+    """Read the frame ``name`` (a file or a bundled name), once per version (``mtime``)."""
+    from nsdyn.structure import load_frame
+
+    load_frame(name)
+
+
+def _mtime(name: str):
+    p = Path(name)
+    return p.stat().st_mtime_ns if p.is_file() else None
 
 
 def fixed_step(method: str, solver: dict, motion=None) -> float | None:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import math
 import re
+import warnings
 from pathlib import Path
 
 import pytest
@@ -249,7 +250,7 @@ def test_a_pga_out_of_range_is_named_by_its_field_alone(tmp_path, one_line):
 def test_a_sweep_names_the_scene_tables_it_does_not_read(tmp_path, capsys):
     # a transient's [solver] method, rtol and dt_out changed no sweep (its orbits are shot by
     # their own integrator), unsaid; a landing's restitution is read (unilateral contact).
-    # Said once the sweep has run (a refusal of the scene stays one line)
+    # Said before the sweep runs (an interrupted or failed sweep says them too)
     scene = tmp_path / "s.toml"
     scene.write_text('[scene]\nfidelity = "rigid"\n[motion]\nrecord = "synthetic-wn-40s"\n'
                      '[solver]\nmethod = "dopri5"\nrtol = 1e-2\n')  # fmt: skip
@@ -279,6 +280,13 @@ def test_a_bundled_name_beside_a_file_of_that_stem_is_said(tmp_path, capsys, mon
                       r"a bundled name .*: portal.toml beside the scene is not read; "
                       r"scene.frame = 'portal.toml' reads it$"):  # fmt: skip
         load_scene(scene)
+    # the scene itself and a run's outputs are no frame or record to read
+    me = tmp_path / "office-11.toml"
+    me.write_text('[scene]\nframe = "office-11"\n[motion]\nrecord = "synthetic-wn-40s"\n')
+    (tmp_path / "synthetic-wn-40s.png").write_bytes(b"")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_scene(me)
     (tmp_path / "p2.toml").write_text(own.read_text())
     monkeypatch.chdir(tmp_path)
     assert main(["modes", "p2"]) == 2
