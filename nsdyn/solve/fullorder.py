@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn.models.isolated.excitation import ground_many
+from nsdyn.models.isolated.fullorder import own_sparse
 from nsdyn.models.isolated.params import KernelParams
 from nsdyn.solve import _klowrank
 
@@ -134,7 +135,7 @@ def dense_step(system) -> str:
     if sp_model is None or not isinstance(system.M, np.ndarray):
         return ""
     C = system.C
-    if system.info.get("_C_of_sparse", C) is not C:  # a replaced damping matrix
+    if own_sparse(system) is None:  # a replaced damping matrix
         fill = np.count_nonzero(C) / C.size if isinstance(C, np.ndarray) else 0.0
         return f"dense: a damping matrix {fill:.0%} full" if fill > DENSE_STEP_RANK else ""
     m = sp_model.U.shape[1]
@@ -149,9 +150,8 @@ def full_ops(system) -> FullOps:
     cached = system.info.get("_full_ops")
     if cached is not None and cached[0] is system.C:
         return cached[1]
-    mo = system.sparse
-    own = mo is not None and system.info.get("_C_of_sparse", system.C) is system.C
-    if mo is None or not own:
+    mo = own_sparse(system)
+    if mo is None:
         if not isinstance(system.C, np.ndarray):
             raise ValueError(f"{system.name}: the damping was replaced by a non-matrix")
         mo = SparseModel.from_dense(system.M, system.C, system.K)

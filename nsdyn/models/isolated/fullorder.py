@@ -113,6 +113,14 @@ class SparseModel:
         return cls(csr(M), csr(K), csr(C), np.zeros((n, 0)), np.zeros(0), "matrices")
 
 
+def own_sparse(system) -> SparseModel | None:
+    """``system.sparse`` when the system's damping is that model's own, else None (no sparse
+    model, or a damping matrix put in place of it: ``system.C`` is then another array)."""
+    mo = getattr(system, "sparse", None)
+    own = mo is not None and system.info.get("_C_of_sparse", system.C) is system.C
+    return mo if own else None
+
+
 def _diaphragm(frame, iso, n: int) -> sp.csr_array:
     """The stiff base diaphragm between consecutive base nodes (the ladder's, on nodal dofs)."""
     from nsdyn.models.isolated.system import _diaphragm_stiffness

@@ -250,12 +250,12 @@ def energy_balance(system, t, X, P, LAM, TAU, G, impact_energy: float = 0.0) -> 
         Gamma_e = system.Gamma
     # the powers along the history from one (nt, n) product: qd C, qd M Gamma, qd R^T, qd D^T
     nc = system.R.shape[0]
-    model = getattr(system, "sparse", None)  # a full-order model's operators, if its own C
-    if (
-        model is not None
-        and system.info.get("_C_of_sparse", system.C) is system.C
-        and 2 * model.c.size < n
-    ):  # (fewer flops than its dense copy's n² per output)
+    model = None  # a full-order model's operators, with its own damping (scipy's on use)
+    if getattr(system, "sparse", None) is not None:
+        from nsdyn.models.isolated.fullorder import own_sparse
+
+        model = own_sparse(system)
+    if model is not None and 2 * model.c.size < n:  # (fewer flops than its dense n² per output)
         CQ = np.asarray(model.damp(qd.T)).T  # (the dense product was 3x the run's steps)
         B = np.hstack([CQ, qd @ (M @ Gamma_e), qd @ system.R.T, qd @ system.D.T])
     elif isinstance(system.C, np.ndarray) and isinstance(M, np.ndarray):
