@@ -40,6 +40,17 @@ def did_you_mean(word, valid) -> str:
     return f"; did you mean {close[0]!r}?" if close else ""
 
 
+TYPO_RATIO = 0.9  # a name this close to one of the valid ones (difflib's ratio) is its typo
+
+
+def is_typo(name: str, valid) -> bool:
+    """Whether ``name`` is a slip of the pen for one of ``valid`` (a character or two off; a
+    study's first row lacks a rigid rung's missing columns, which is no typo)."""
+    import difflib
+
+    return any(difflib.SequenceMatcher(None, name, str(c)).ratio() >= TYPO_RATIO for c in valid)
+
+
 def keywords_of(func, passed_on, *, skip=(), also=(), caller: str = "") -> None:
     """Each name in ``passed_on`` (keywords a function hands on to ``func``) must be a
     parameter of ``func`` outside ``skip``; otherwise a TypeError naming the nearest of those

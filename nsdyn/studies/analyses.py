@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._checks import did_you_mean, expect
+from nsdyn._checks import did_you_mean, expect, is_typo
 from nsdyn.atomic import save_figure
 from nsdyn.models.scenefile import SceneError, number, unknown_key
 from nsdyn.studies.design import (
@@ -44,7 +44,7 @@ from nsdyn.studies.design import (
     percentile_table,
     same_value,
 )
-from nsdyn.studies.fragility import CONFIDENCE, fit_lognormal
+from nsdyn.studies.fragility import CONFIDENCE, check_spec, fit_lognormal
 from nsdyn.studies.study import Study
 from nsdyn.studies.table import (
     ANALYSIS_OUTPUTS,
@@ -85,7 +85,7 @@ FIELDS = {
 
 
 # the columns of a study's first successful row, while check_first_row checks against them
-_FIRST_ROW: ContextVar[frozenset | None] = ContextVar("_FIRST_ROW", default=None)
+_FIRST_ROW: ContextVar[dict | None] = ContextVar("_FIRST_ROW", default=None)
 
 
 def _columns(study) -> tuple[set[str], set[str] | None]:
@@ -116,22 +116,11 @@ def _check_column(source: str, where: str, name, study, *, result: bool) -> None
     if result and name not in valid and study.keep is not None and name in ISOLATED_RESULTS:
         raise SceneError(f"{source}: {where}: {name!r} is a result the study does not keep; "
                          f"add it to study.keep (now {list(study.keep)})")  # fmt: skip
-    if name not in valid and study.kind != "isolated" and not _typo(name, valid):
+    if name not in valid and study.kind != "isolated" and not is_typo(name, valid):
         return  # (a first row's columns: another task's summary, another rung's, may have it)
     if name not in valid:
         hint = did_you_mean(name, sorted(valid))
         raise SceneError(f"{source}: {where}: unknown column {name!r}{hint}")
-
-
-TYPO_RATIO = 0.9  # a name this close to a first row's column (difflib's ratio) is its typo
-
-
-def _typo(name: str, columns) -> bool:
-    """Whether ``name`` is a slip of the pen for one of ``columns`` (a first row's): a run of
-    a rigid rung lacks the corner drifts the others have, which is no typo."""
-    import difflib
-
-    return any(difflib.SequenceMatcher(None, name, c).ratio() >= TYPO_RATIO for c in columns)
 
 
 def _check_columns(source: str, where: str, spec: dict, key: str, study, *, result: bool,
@@ -233,27 +222,22 @@ def check_analysis(study) -> None:
             if key not in f:
                 raise SceneError(f"{src}: analysis.fragility.{key}: missing (required)")
             _check_column(src, f"analysis.fragility.{key}", f[key], study, result=True)
-        lim = f.get("limits", [])
-        if not isinstance(lim, list) or ("limits" in f and not lim):  # ([]: no limit at all)
-            raise SceneError(f"{src}: analysis.fragility.limits: expected a list of numbers "
-                             f"(one curve each), got {lim!r}")  # fmt: skip
-        for i, v in enumerate(lim):
-            number(src, f"analysis.fragility.limits[{i}]", v)
-        once(src, "analysis.fragility.limits", lim)
-        c = number(src, "analysis.fragility.confidence", f.get("confidence", CONFIDENCE))
-        if not c < 1:
-            raise SceneError(f"{src}: analysis.fragility.confidence: expected in (0, 1)")
+        v = (_FIRST_ROW.get() or {}).get(f["edp"])  # (its first run's value, or None)
+        numeric = (f["edp"] in ISOLATED_RESULTS if study.kind == "isolated"
+                   else isinstance(v, float | int) and not isinstance(v, bool))  # fmt: skip
+        check_spec(src, f, numeric and v not in (0, 1))
 
 
 def check_first_row(study, row: dict) -> None:
     """The analyses' result columns of a scene kind whose results are known only after a run
     (all but the isolated frame's: a deck, a 3D building, rocking, contact, cylinder) checked
     against the columns of its first successful ``row``: a quantity a typo away from one of
-    them (:func:`_typo`) stops the study after one run (its rows kept; the run resumes), not
-    after all of them with a NaN table; one farther off may be another task's column."""
+    them (:func:`nsdyn._checks.is_typo`) stops the study after one run (its rows kept; the run
+    resumes), not after all of them with a NaN table; one farther off may be another task's
+    column."""
     if study.kind == "isolated" or not study.analysis or row.get("status") != "ok":
         return
-    token = _FIRST_ROW.set(frozenset(row))
+    token = _FIRST_ROW.set(dict(row))
     try:
         check_analysis(study)
     except SceneError as e:
@@ -335,6 +319,17 @@ def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
         "table": str(out / "design.csv"),
         **({"note": empty} if empty else {}),
     }
+    pooled = [f"{n} ({k} values)" for n in _grid_names(study) if n not in variables
+              and (k := len({str(v) for v in table.values(n)})) > 1]  # fmt: skip
+    lost = sum(not all(math.isfinite(v) for v in p.objectives.values()) for p in points)
+    if lost and table.ok():  # (a failed run's design: NaN objectives, unsaid)
+        res["note"] = "; ".join(filter(None, [res.get("note"), f"{lost} of {len(points)} "
+                                              "designs without an objective (a run failed or "
+                                              "lacks it): left out of the front"]))  # fmt: skip
+    if pooled:  # (a variable left out was aggregated as if it were records, unsaid)
+        why = (f"each design pools the runs of every {', '.join(pooled)} with its records: "
+               "name it among the variables for a design each")  # fmt: skip
+        res["note"] = "; ".join(filter(None, [res.get("note"), why]))
     if ref is not None:
         res["reference_dominated_by"] = [
             p.values
@@ -542,7 +537,7 @@ def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True)
         res["incidence"] = incidence.run(study, table, an["incidence"], out, figures)
         note = empty_columns(table, res["incidence"].get("quantities") or [])
         if note:
-            res["incidence"]["note"] = note
+            res["incidence"]["note"] = "; ".join(filter(None, [res["incidence"].get("note"), note]))
     return _finite(res)
 
 

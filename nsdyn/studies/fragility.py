@@ -193,3 +193,27 @@ def exceedance_fractions(im, exceeded, n_bins: int = 8) -> tuple[np.ndarray, ...
     z = np.bincount(inv, weights=y, minlength=centres.size)
     m = n > 0
     return centres[m], z[m] / n[m], n[m]
+
+
+def check_spec(src: str, f: dict, numeric_edp: bool) -> None:
+    """The ``limits`` and ``confidence`` of an ``[analysis.fragility]`` table ``f`` of the
+    study file ``src`` (SceneError naming the field): without limits the EDP must be a
+    true/false outcome, so a number (``numeric_edp``: a known numeric result, or a first
+    run's value) is refused before the runs, not after all of them."""
+    from nsdyn.models.scenefile import SceneError, number
+    from nsdyn.studies.table import once
+
+    if "limits" not in f and numeric_edp:
+        raise SceneError(f"{src}: analysis.fragility.limits: missing, and {f['edp']!r} is a "
+                         "number, not a true/false outcome: give the limits its exceedance "
+                         "is counted at, e.g. limits = [0.005, 0.01]")  # fmt: skip
+    lim = f.get("limits", [])
+    if not isinstance(lim, list) or ("limits" in f and not lim):  # ([]: no limit at all)
+        raise SceneError(f"{src}: analysis.fragility.limits: expected a list of numbers "
+                         f"(one curve each), got {lim!r}")  # fmt: skip
+    for i, v in enumerate(lim):
+        number(src, f"analysis.fragility.limits[{i}]", v)
+    once(src, "analysis.fragility.limits", lim)
+    c = number(src, "analysis.fragility.confidence", f.get("confidence", CONFIDENCE))
+    if not c < 1:
+        raise SceneError(f"{src}: analysis.fragility.confidence: expected in (0, 1)")

@@ -62,3 +62,32 @@ def test_a_name_far_from_the_first_rows_columns_runs_on(tmp_path):
     # row lacks may be another task's column, and only a typo's distance stops the study
     run = run_study(_study(tmp_path, "peak_tilt_of_the_roof"), tmp_path / "o", workers=1)
     assert run.n_run == 3 and run.n_failed == 0
+
+
+@pytest.mark.parametrize(("edp", "refused"), [("max_theta_rad", True), ("overturned", False)])
+def test_a_fragility_of_a_number_without_limits_stops_after_the_first_run(tmp_path, edp, refused):
+    # without limits the EDP must be a true/false outcome: a number ran every task and then
+    # said so in the analysis alone (status 0)
+    path = tmp_path / "s.toml"
+    path.write_text(
+        STUDY.replace(
+            '[analysis.percentiles]\nquantities = ["QUANTITY"]',
+            f'[analysis.fragility]\nim = "motion.a_p_g"\nedp = "{edp}"',
+        )
+    )
+    study = load_study(path)
+    if refused:
+        with pytest.raises(SceneError, match=rf"analysis.fragility.limits: missing, and '{edp}' "
+                           r"is a number, not a true/false outcome"):  # fmt: skip
+            run_study(study, tmp_path / "o", workers=1)
+    else:
+        assert run_study(study, tmp_path / "o", workers=1).n_run == 3
+
+
+def test_an_isolated_frames_fragility_of_a_number_without_limits_is_refused_at_load(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text('[study]\nname = "f"\n[base.scene]\nfidelity = "rigid"\n[parameters]\n'
+                    '"motion.pga" = [1.0, 2.0]\n[analysis.fragility]\nim = "motion.pga"\n'
+                    'edp = "idr_max"\n')  # fmt: skip
+    with pytest.raises(SceneError, match=r"analysis.fragility.limits: missing, and 'idr_max'"):
+        load_study(path)
