@@ -12,7 +12,7 @@ from contextlib import nullcontext
 from pathlib import Path
 
 from nsdyn.atomic import output_dir
-from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, out_dir, workers
+from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, fail, out_dir, workers
 
 DEFAULT_OUT = "nsdyn-study"  # output directory (a subdirectory per study name)
 MAX_FAILED_LINES = 10  # failed tasks named one per line on the console (all are in the table)
@@ -207,6 +207,9 @@ def run(args: argparse.Namespace) -> int:
     from nsdyn.studies.study import load_study
     from nsdyn.studies.table import PARQUET
 
+    if args.fresh and args.retry_failed:  # (accepted: fresh runs every task anyway)
+        return fail(args, "--retry-failed: with --fresh every task runs anew; give one or the "
+                    "other")  # fmt: skip
     study = load_study(args.study)
     out = Path(args.out) if args.out else Path(DEFAULT_OUT) / study_folder(study.name)
     announce_compile(study)
@@ -250,7 +253,7 @@ def run(args: argparse.Namespace) -> int:
         signal.signal(signal.SIGTERM, old)
     status = EXIT_NUMERICS if failed else 0  # a study with failed tasks is not a success
     if args.json:
-        print(json.dumps({"study": study.name, "run": summary, "analysis": an}))
+        print(json.dumps({"status": status, "study": study.name, "run": summary, "analysis": an}))
         return status
     print(_format(study.name, summary, an))
     for line in _failure_lines(failed, summary["table"]):

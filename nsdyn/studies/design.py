@@ -219,6 +219,7 @@ def failed_runs_note(rows: list[dict]) -> str | None:
     if not hit:
         return None
     n = sum(r["n_failed"] for r in hit)
-    return (f"{len(hit)} of {len(rows)} group(s) leave failed runs out ({n} runs, column "
+    return (f"{len(hit)} of {len(rows)} group(s) leave failed runs out ({n} run"
+            f"{'s' * (n != 1)}, column "
             "n_failed): their percentiles are the successful runs' only, low where the failed "
             "runs were the severe ones")  # fmt: skip

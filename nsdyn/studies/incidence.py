@@ -44,6 +44,9 @@ LABELS = {
 }
 
 
+ROUND_OFF = 1e-12  # [SI] a peak this small is round-off (a symmetric deck's torsion)
+
+
 def check(study, spec: dict) -> None:
     """``[analysis.incidence]`` of ``study`` (SceneError naming the field)."""
     src = study.source
@@ -93,10 +96,11 @@ def incidence_rows(table: Table, angle: str, quantities: list[str], by: list[str
                 continue
             i, j = np.nanargmax(np.where(good, v, -np.inf)), np.nanargmin(np.where(good, v, np.inf))
             at0 = v[np.isclose(th, 0.0) & good]
+            real = abs(v[i]) > ROUND_OFF  # (a deck's torsion of 1e-19 rad had a worst angle)
             row.update({
-                f"{q}_max": float(v[i]), f"{q}_angle_of_max_deg": float(th[i]),
+                f"{q}_max": float(v[i]), f"{q}_angle_of_max_deg": float(th[i]) if real else np.nan,
                 f"{q}_min": float(v[j]),
-                f"{q}_directionality": float(v[i] / v[j]) if v[j] > 0 else np.nan,
+                f"{q}_directionality": float(v[i] / v[j]) if v[j] > 0 and real else np.nan,
                 f"{q}_at_0": float(at0[0]) if at0.size else np.nan,
             })  # fmt: skip
         out.append(row)
@@ -163,6 +167,15 @@ def run(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
         Table(rows).write_csv(out / "incidence.csv")
     res = {"angle": angle, "quantities": quantities, "by": by, "rows": rows,
            "table": str(out / "incidence.csv")}  # fmt: skip
+    nil = [
+        q
+        for q in quantities
+        if rows and all(abs(r.get(f"{q}_max", np.nan)) <= ROUND_OFF for r in rows)
+    ]  # fmt: skip  (NaN: no value)
+    if nil:
+        res["note"] = (f"{', '.join(map(repr, nil))}: at most {ROUND_OFF:g} at every angle "
+                       "(round-off of a response the model does not have): no worst angle, no "
+                       "directionality")  # fmt: skip
     if figures and rows and quantities:
         fig = incidence_figure(table, angle, quantities, by, title=study.name)
         res["figure"] = str(save_figure(fig, out / "incidence.png"))

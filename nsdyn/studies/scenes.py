@@ -416,7 +416,7 @@ def missing_kept(summary: dict, keep, source: str = "<study>") -> str:
         if close:
             hints.append(f"did you mean {close[0]!r} for {k!r}?")
     head = (f"{source}: study.keep: {MISSING_MARK} {', '.join(map(repr, missing))}; "
-            f"{' '.join(hints)} its fields: ")  # fmt: skip
+            + "".join(h + " " for h in hints) + "its fields: ")  # fmt: skip
     fields = sorted(summary)
     text = ", ".join(fields)
     if len(head) + len(text) > ERROR_CHARS:  # the row keeps ERROR_CHARS: end at a whole name

@@ -339,8 +339,11 @@ class ResultsStore:
         here = [table] * table.is_file() + list(self._part_files())
         if all(str(r.get("key")) in order for f in here for r in read_csv(f)):
             return False
-        self.compact(order)
+        kept = self.compact(order)
         for name in ANALYSIS_FILES:
+            if name == PARQUET and (self.out / name).is_file():  # (once asked, kept in step
+                kept.to_parquet(self.out / name)  # with the table: it was deleted, unsaid)
+                continue
             (self.out / name).unlink(missing_ok=True)
         return True
 

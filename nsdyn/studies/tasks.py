@@ -10,8 +10,9 @@ so the key changes whenever anything the row depends on changes (a parameter, a 
 record file's bytes, the bytes of any other file the scene names: a frame file, a record named
 in the base scene, ``study.keep``) and never otherwise: the results table is keyed by it
 and a resumed study runs exactly the tasks whose keys it lacks. Random parameters are drawn
-here, in the main process, from ``numpy.random.default_rng(study.seed)``; the drawn values
-enter the key.
+here, in the main process, each from its own stream ``numpy.random.default_rng([study.seed,
+crc32(name)])``: raising ``samples`` keeps the values drawn before (one stream for all shifted
+every parameter after the first), and the drawn values enter the key.
 
 Order: grid values (first parameter slowest) x samples x records (fastest), so the records of
 one design sit next to each other; batches are consecutive runs of that order.
@@ -25,6 +26,7 @@ import itertools
 import json
 import math
 import re
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -99,9 +101,9 @@ def _draw(study: Study) -> list[dict]:
     rand = [p for p in study.parameters if p.random]
     if not rand:
         return [{}]
-    rng = np.random.default_rng(study.seed)
     cols = {}
-    for p in rand:
+    for p in rand:  # (one stream per parameter: more samples keep the first ones' values)
+        rng = np.random.default_rng([study.seed, zlib.crc32(p.name.encode())])
         a, b = p.args
         n = study.samples
         if p.law == "uniform":

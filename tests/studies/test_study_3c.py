@@ -312,3 +312,24 @@ def test_failed_angles_are_counted_and_never_hidden_behind_a_tie():
     text = _format("s", run, {"incidence": {"quantities": [q], "by": ["record"], "rows": [a, b]}})
     assert f"incidence A: {q} max 5 at 0 deg (min 5) (1 failed angle left out)" in text
     assert "at every angle (to" not in text and "incidence B: every angle failed (1)" in text
+
+
+def test_a_quantity_at_round_off_at_every_angle_has_no_worst_angle(tmp_path):
+    # a symmetric deck's torsion is 1e-19 rad at every angle: its "directionality" of 1.80
+    # at a worst angle of 90 deg was the ratio of two round-offs
+    from nsdyn.studies.incidence import ROUND_OFF, incidence_rows, run
+    from nsdyn.studies.study import Study
+    from nsdyn.studies.table import Table
+
+    t, s = "peak_torsion_rad", "peak_base_shear_N"
+    rows = [{"record": "A", "motion.rotate": a, "status": "ok", t: v, s: 5.0 + a / 90}
+            for a, v in ((0.0, 1e-19), (90.0, 1.8e-19))]  # fmt: skip
+    (out,) = incidence_rows(Table(rows), "motion.rotate", [t, s], ["record"])
+    assert np.isnan(out[f"{t}_directionality"]) and np.isnan(out[f"{t}_angle_of_max_deg"])
+    assert out[f"{s}_directionality"] == 6.0 / 5.0 and out[f"{s}_angle_of_max_deg"] == 90.0
+    study = Study(name="s", source="s.toml", kind="deck", base={}, parameters=[], records=[])
+    res = run(study, Table(rows), {"quantities": [t, s]}, tmp_path, figures=False)
+    assert res["note"] == (
+        f"'{t}': at most {ROUND_OFF:g} at every angle (round-off of a "
+        "response the model does not have): no worst angle, no directionality"
+    )

@@ -132,3 +132,23 @@ def test_a_study_interrupted_before_its_first_task_leaves_no_folder(tmp_path, mo
     monkeypatch.setattr(study_mod, "load_study", stopped)
     assert main(["study", str(path), "--out", str(out)]) == 130
     assert capsys.readouterr().err.strip() == said and not out.exists()
+
+
+def test_a_json_summary_of_a_study_with_failed_tasks_says_its_status(tmp_path, capsys):
+    # every task fails (a budget of 5 steps): exit 3, and --json said no status where a refused
+    # study's said {"status": 2, ...}
+    import json
+
+    text = HEAD + "[base.solver]\nmax_steps = 5\n" + PARAMS + RECORDS
+    argv = ["study", str(_write(tmp_path, text)), "--workers", "1", "--json"]
+    assert main([*argv, "--out", str(tmp_path / "o")]) == 3
+    assert json.loads(capsys.readouterr().out)["status"] == 3
+
+
+def test_fresh_and_retry_failed_together_are_refused(tmp_path, capsys):
+    # --fresh runs every task anew: --retry-failed beside it was accepted and did nothing
+    argv = ["study", str(_write(tmp_path, HEAD + PARAMS + RECORDS)), "--fresh", "--retry-failed"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err == ("nsdyn study: error: --retry-failed: with --fresh every task runs anew; give "
+                   "one or the other\n")  # fmt: skip

@@ -233,3 +233,22 @@ def test_a_misspelt_study_table_is_named_as_a_table(tmp_path, body, message):
     path.write_text(body)
     with pytest.raises(SceneError, match=rf"^{re.escape(str(tmp_path))}/{message}"):
         load_study(path)
+
+
+def test_more_samples_keep_the_values_drawn_before(tmp_path):
+    # one stream for every random parameter shifted the second parameter's draws when samples
+    # grew (its first sample's c went from 8580.5 to 9144.9): all its tasks ran again
+    from nsdyn.studies.tasks import expand
+
+    def draws(n):
+        body = (f'[study]\nname = "r"\nsamples = {n}\nseed = 11\n[base.scene]\n'
+                'fidelity = "rigid"\n[parameters]\n"isolation.mu" = { uniform = [0.02, 0.08] }\n'
+                '"isolation.c" = { lognormal = [1.0e4, 0.3] }\n')  # fmt: skip
+        path = tmp_path / f"r{n}.toml"
+        path.write_text(body)
+        return [
+            (t.params["isolation.mu"], t.params["isolation.c"]) for t in expand(load_study(path))
+        ]
+
+    three, four = draws(3), draws(4)
+    assert four[:3] == three and len(set(four)) == 4
