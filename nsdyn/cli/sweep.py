@@ -145,8 +145,8 @@ def _holes(amplitudes: list[dict], path) -> int:
     n = sum(s["points"] for s in amplitudes) + n_skip
     where = [f"{path} lists each one"] if n_rows else []
     if n_skip:
-        where.append(f"{n_skip} frequencies skipped without the fallback, listed above and in "
-                     "the JSON's skipped_hz")  # fmt: skip
+        where.append(f"{n_skip} frequencies skipped without the fallback, each in the "
+                     "report's skipped_hz")  # fmt: skip  (--json: no lines above name them)
     return holes("sweep", n_rows + n_skip, n, "points", "; ".join(where))
 
 
@@ -332,7 +332,7 @@ def run(args: argparse.Namespace) -> int:
 
     for s in report["amplitudes"]:
         print(
-            f"   {s['A']:8.3g}  {s['points']:6d}  {s['fallback_points']:8d}  "
+            f"   {s['A']:8.5g}  {s['points']:6d}  {s['fallback_points']:8d}  "
             f"{s['uplift_points']:6d}  {s['unstable_points']:8d}  "
             f"{g(s['stick_all_period_above_hz'], '.3g'):>16s}  {g(s['x_iso_max_m'], '.4g'):>13s}  "
             f"{s['wall_s']:8.1f}"
@@ -534,7 +534,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         return "-" if v is None else format(v, fmt)
 
     for s in report["amplitudes"]:
-        print(f"   {s['A']:8.3g}  {s['points']:6d}  {s['fallback_points']:8d}  "
+        print(f"   {s['A']:8.5g}  {s['points']:6d}  {s['fallback_points']:8d}  "
               f"{s['unstable_points']:8d}  {s['stick_slip_points']:10d}  "
               f"{g(s['u_peak_max_m'], '.4g'):>10s}  {g(s['u_peak_max_f_hz'], '.4g'):>9s}  "
               f"{s['wall_s']:8.1f}")  # fmt: skip
