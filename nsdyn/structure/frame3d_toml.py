@@ -14,11 +14,13 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import NotedWarning
 from nsdyn.structure.building3d import regular_building_3d
 from nsdyn.structure.elements3d import PARALLEL_SIN
 from nsdyn.structure.frame3d import GEOM_RTOL, Diaphragm, Frame3D, Section3D
@@ -304,6 +306,14 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
             rd.fail(f"{p}.centre", f"a centre of mass [x, y] within the plan, x in [{lo[0]:g}, "
                     f"{hi[0]:g}] and y in [{lo[1]:g}, {hi[1]:g}] m", list(c))  # fmt: skip
         dias.append(Diaphragm(dn, c, mass, inertia))
+    tied = {int(i) for d in dias for i in d.nodes} | set(base)
+    for k, d in enumerate(dias):  # (a floor of four nodes tied at three: the fourth ran free)
+        z = nodes[d.nodes[0], 2]
+        left = [i for i in range(nn) if i not in tied and abs(nodes[i, 2] - z) <= tol]
+        if left:
+            warnings.warn(f"{P}.diaphragms[{k}].nodes: the level z = {z:g} m also holds "
+                          f"node(s) {left}, on no diaphragm (a floor's node left out?)",
+                          NotedWarning, stacklevel=2)  # fmt: skip
     try:  # (the file's names of its elements: members[g].elements[k])
         groups = [d.nodes.tolist() for d in dias]
         check_geometry(nodes, np.array(el), tied=[n for g in groups for n in g], base=base,

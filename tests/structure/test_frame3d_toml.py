@@ -407,3 +407,17 @@ def test_an_element_along_another_is_refused(tmp_path):
     with pytest.raises(FrameFileError, match=r"nodes 4 to 8 lie along .* \(nodes 4 to 5\), "
                        r"overlapping it"):  # fmt: skip
         load_frame3d(p)
+
+
+def test_a_floor_node_left_off_its_diaphragm_is_noted(tmp_path):
+    # the portal's slab tied at three of its four column heads: the fourth ran free in plan,
+    # without a word (a roof-only diaphragm over other floors is no such slip: not noted)
+    from nsdyn._checks import NotedWarning
+
+    p = write(tmp_path, PORTAL, "nodes = [4, 5, 6, 7]", "nodes = [4, 5, 6]", "part.toml")
+    with pytest.warns(NotedWarning, match=r"part.toml: frame3d.diaphragms\[0\].nodes: the level "
+                      r"z = 4 m also holds node\(s\) \[7\], on no diaphragm"):  # fmt: skip
+        load_frame3d(p)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_frame3d(write(tmp_path, PORTAL, "zeta = [0.02]", "zeta = [0.02]", "whole.toml"))
