@@ -144,7 +144,8 @@ class Curve:
         from nsdyn._tabular import _need
 
         pd = _need("pandas")
-        df = pd.DataFrame(self.rows(), columns=list(ROW_KEYS)).set_index("f")
+        rows = self.rows()  # (a deck's columns are its own: the frame's gave NaN columns)
+        df = pd.DataFrame(rows, columns=list(rows[0]) if rows else list(ROW_KEYS)).set_index("f")
         df.attrs.update({k: v for k, v in self.summary().items() if not isinstance(v, list)})
         return df
 

@@ -253,6 +253,10 @@ def test_a_curves_maxima_are_over_the_steady_states_its_model_holds():
     s = deck.summary()
     assert (s["u_peak_max_m"], s["u_peak_max_f_hz"]) == (2.0, 0.07) and "x_iso_max_m" not in s
     assert list(deck.rows()[0])[:3] == ["f", "A", "u_peak_m"]  # the deck sweep's columns
+    pytest.importorskip("pandas", reason="the frames extra (pandas)")
+    df = deck.to_dataframe()  # (it took a frame's columns: IDR, a, x_iso all NaN)
+    assert list(df.columns) == list(deck.rows()[0])[1:] and "IDR" not in df.columns
+    assert df["u_peak_m"].tolist() == [r["u_peak_m"] for r in deck.rows()]
     with pytest.raises(ValueError, match=r"^name: expected a column of the curve"):
         deck.column("x_iso")  # (a frame's column: all NaN before)
 
