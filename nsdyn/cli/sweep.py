@@ -145,8 +145,9 @@ def _holes(amplitudes: list[dict], path) -> int:
     n = sum(s["points"] for s in amplitudes) + n_skip
     where = [f"{path} lists each one"] if n_rows else []
     if n_skip:
-        where.append(f"{n_skip} frequencies skipped without the fallback, each in the "
-                     "report's skipped_hz")  # fmt: skip  (--json: no lines above name them)
+        where.append(
+            f"{n_skip} frequencies skipped without the fallback, each in the report's skipped_hz"
+        )  # fmt: skip  (--json: no lines above name them)
     return holes("sweep", n_rows + n_skip, n, "points", "; ".join(where))
 
 
@@ -433,13 +434,12 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
     given = (("--contact", args.contact != "bilateral"), ("--tableau", args.tableau != "sdirk2"),
              ("--steps-factor", args.steps_factor != 1.0))  # fmt: skip
     unused = [flag for flag, off in given if off]
-    if unused:
-        return fail(
-            args,
-            f"{source}: {', '.join(unused)}: not for "
-            f"{cfg.get('scene', {}).get('kind', 'deck')} scenes "
-            "(their period map is integrated adaptively, with bilateral contact)",
-        )
+    if unused:  # (each flag's own reason: --steps-factor was said to be about contact)
+        why = {"--contact": "their orbits keep bilateral contact"}
+        text = "; ".join(dict.fromkeys(why.get(f, "their period map is integrated adaptively")
+                                       for f in unused))  # fmt: skip
+        kind = cfg.get("scene", {}).get("kind", "deck")
+        return fail(args, f"{source}: {', '.join(unused)}: not for {kind} scenes ({text})")
     try:
         sc = plane_scene(cfg, source)
     except SceneError as e:

@@ -179,10 +179,17 @@ def test_a_triple_pendulum_deck_with_the_switch_law_is_refused_naming_the_law(tm
     assert f"{scene}: solver.law" in capsys.readouterr().err
 
 
-def test_isolated_only_flags_are_refused_for_a_deck_scene(tmp_path, capsys):
-    rc = nsdyn_main(["sweep", str(SCENE), "--contact", "unilateral", "--out", str(tmp_path)])
+@pytest.mark.parametrize(
+    ("flags", "why"),
+    [(["--contact", "unilateral"], "(their orbits keep bilateral contact)"),
+     (["--steps-factor", "2"], "(their period map is integrated adaptively)")],
+)  # fmt: skip
+def test_isolated_only_flags_are_refused_for_a_deck_scene(tmp_path, capsys, flags, why):
+    # each flag with its own reason (--steps-factor was said to be about bilateral contact)
+    rc = nsdyn_main(["sweep", str(SCENE), *flags, "--out", str(tmp_path)])
     err = capsys.readouterr().err
-    assert rc != 0 and "--contact" in err and len(err.strip().splitlines()) == 1
+    assert rc == 2 and f"{flags[0]}: not for deck scenes {why}" in err
+    assert len(err.strip().splitlines()) == 1
 
 
 def _office(tmp_path):
