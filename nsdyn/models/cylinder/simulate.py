@@ -238,8 +238,11 @@ def simulate(
     h_kink: float = H_KINK,
     theta_topple: float = THETA_TOPPLE,
     max_steps: int = MAX_STEPS,
+    t_end: float | None = None,
 ) -> CylinderResult:
-    """Response to ground acceleration ``ag`` (n, 3) = (a_x, a_y, a_z) sampled every ``dt``.
+    """Response to ground acceleration ``ag`` (n, 3) = (a_x, a_y, a_z) sampled every ``dt``
+    (``t_end``: run to this time, the record cut there or the ground at rest after its end,
+    as the other families' ``t_end``; ``ag`` None with it: the ground at rest throughout).
 
     Starts at rest in static equilibrium (or tilted by ``theta0`` [rad], or by
     ``theta0_over_alpha`` times alpha = atan(r / H), towards ``azimuth0`` [rad], angular
@@ -257,6 +260,16 @@ def simulate(
             f"ag: expected an (n, 3) array of (a_x, a_y, a_z) [m/s²], got a "
             f"{type(ag).__name__}; its as_arrays() gives (t0, dt, ax, ay, az) to stack"
         )
+    dt = number("dt", dt, "a positive step [s]", lambda v: v > 0)
+    if t_end is not None:  # (a free rocking: no record; t_end was "simulate() got an ...")
+        n_end = round(number("t_end", t_end, "a finite end time [s]") / dt) + 1
+        ag = np.zeros((max(n_end, 2), 3)) if ag is None else ag
+        ag = np.ascontiguousarray(ag, dtype=float)
+        if ag.ndim == 2 and ag.shape[0] >= 2:
+            ag = np.vstack([ag, np.zeros((max(n_end - ag.shape[0], 0), ag.shape[1]))])[:n_end]
+    if ag is None:
+        raise ValueError("ag: expected an (n, 3) array of (a_x, a_y, a_z) [m/s²], got None; "
+                         "with t_end, None runs the ground at rest")  # fmt: skip
     try:  # (a record's name: "could not convert string to float", naming no argument)
         ag = np.ascontiguousarray(ag, dtype=float)
     except (TypeError, ValueError):
@@ -266,7 +279,6 @@ def simulate(
         raise ValueError(f"ag: expected shape (n >= 2, 3), got {ag.shape}")
     if not np.all(np.isfinite(ag)):
         raise ValueError("ag: contains non-finite values")
-    dt = number("dt", dt, "a positive step [s]", lambda v: v > 0)
     rel_tol("rtol", rtol)
     t0 = number("t0", t0, "a finite start time [s]")  # (NaN: no step, a "result" of rest)
     number("azimuth0", azimuth0, "a finite azimuth [rad]")

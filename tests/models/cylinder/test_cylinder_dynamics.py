@@ -171,3 +171,22 @@ def test_a_toppled_run_ends_at_the_toppling_instant():
     assert res.t[-1] == res.toppled_at and res.t[-1] - res.t[-2] <= dt * (1 + 1e-12)
     assert res.tilt[-1] >= THETA_TOPPLE and res.summary()["max_tilt_rad"] >= THETA_TOPPLE
     assert np.all(res.tilt[:-1] < THETA_TOPPLE)
+
+
+def test_t_end_cuts_a_record_or_runs_on_with_the_ground_at_rest():
+    # as the other families' t_end (simulate_cylinder(..., t_end=2.0) was "simulate() got an
+    # unexpected keyword argument"): the same run as the record cut there, or padded with
+    # zeros past its end; no record and a t_end: the ground at rest throughout
+    dt = 0.01
+    ag = np.zeros((101, 3))
+    ag[:50, 0] = 2.0 * np.sin(2 * np.pi * 2.0 * dt * np.arange(50))
+    kw = dict(theta0_over_alpha=0.2)
+    cut, ref = simulate(P, ag, dt, t_end=0.5, **kw), simulate(P, ag[:51], dt, **kw)
+    np.testing.assert_array_equal(cut.t, ref.t)
+    np.testing.assert_array_equal(cut.q, ref.q)
+    padded = simulate(P, ag[:51], dt, t_end=1.0, **kw)
+    np.testing.assert_array_equal(padded.q, simulate(P, ag, dt, **kw).q)
+    rest = simulate(P, None, dt, t_end=1.0, **kw)
+    np.testing.assert_array_equal(rest.q, simulate(P, np.zeros((101, 3)), dt, **kw).q)
+    with pytest.raises(ValueError, match=r"^ag: .*got None; with t_end, None runs the ground"):
+        simulate(P, None, dt)
