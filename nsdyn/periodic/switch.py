@@ -70,6 +70,7 @@ STEP_SLIP_FACTOR = 2.0  # a step moves an isolator by at most this x its slip ra
 STEP_SLIP_FLOOR = 1e-9  # ... or this [m]
 FROZEN_T_TOL = 1e-9  # switches before this fraction of the period freeze nothing
 AMP_FLOOR_REL = 1e-9  # x the forcing's static displacement: the smallest amplitude scaled
+AMP_FLOOR_CAP = 1e-9  # [m, m/s] ... and at most this (a model without stiffness: no static one)
 V_ZERO = 1e-13  # m/s, |v| at the period start below which the stick test decides the mode
 LAW_NAME = "switch"  # what every point of this model reports as its law
 METHOD_NAME = "exact flow + saltation matrices"  # how the period map is computed
@@ -132,16 +133,20 @@ class SwitchProblem(MinimalStates):
     @property
     def amp_floor(self) -> float:
         """Smallest orbit amplitude of the shooting's scaling [m, m/s]: ``AMP_FLOOR_REL``
-        times the static displacement the forcing amplitude gives (its sine column solved
-        against the stiffness of the first mode set's slip). An orbit stuck all period moves
+        times the static displacement the forcing amplitude gives (its sine and cosine
+        columns' amplitude solved against the stiffness of the first mode set's slip), at
+        most ``AMP_FLOOR_CAP``. An orbit stuck all period moves
         by its flow's round-off alone (1e-17 m on the rigid office), which a floor of 1e-12
         read as a residual of 1e-5: the point failed; relative to the forcing, a small
         orbit keeps its accuracy (a floor of 1e-9 m cost a 2.5e-12 m orbit 3 digits)."""
         if "amp_floor" not in self._cache:
             m, d = self.m, self.dim
             Kr = -self.A0[0, m:d, :m]  # M^-1 K on the minimal coordinates
-            u = np.linalg.lstsq(Kr, self.A0[0, m:d, d + 1], rcond=None)[0]
-            self._cache["amp_floor"] = AMP_FLOOR_REL * float(np.abs(u).max(initial=0.0))
+            g = np.hypot(self.A0[0, m:d, d + 1], self.A0[0, m:d, d + 2])  # (any phase)
+            u = np.linalg.lstsq(Kr, g, rcond=None)[0]
+            # (no bearing stiffness, k_lam = 0: Kr is round-off and u huge; the cap holds)
+            floor = min(AMP_FLOOR_REL * float(np.abs(u).max(initial=0.0)), AMP_FLOOR_CAP)
+            self._cache["amp_floor"] = floor
         return self._cache["amp_floor"]
 
     def matrices(self, f: float) -> np.ndarray:

@@ -270,3 +270,21 @@ def test_an_orbit_stuck_all_period_converges_on_its_flows_round_off():
     assert res.converged, res.message
     q = pb.orbit_quantities(0.1, pb.period_map(res.x0, 0.1, store=True, sens=False).X)
     assert q["stick_all_period"] and q["x_iso"] < 1e-12
+
+
+def test_a_model_without_bearing_stiffness_keeps_a_floor_below_its_orbits():
+    # k_lam = 0: the slip's stiffness is round-off, and the forcing's "static displacement"
+    # 2e16 m made a floor of 2e7 m: orbits "converged" 6.9e-3 m open on 0.32 m. The floor is
+    # capped (AMP_FLOOR_CAP); the orbit closes to the shooting tolerance of its amplitude
+    from nsdyn import Isolation as Iso
+    from nsdyn import load_frame
+    from nsdyn.models.isolated.system import build_system
+    from nsdyn.periodic.switch import AMP_FLOOR_CAP
+
+    pb = switch_problem(build_system(load_frame("office-11"), Iso(law="switch", k_lam=0.0),
+                                     fidelity="rigid"), 2.0)  # fmt: skip
+    assert pb.amp_floor == AMP_FLOOR_CAP
+    res = shoot_switch(pb, 1.0)
+    X = pb.period_map(res.x0, 1.0, store=True, sens=False).X
+    amp = 0.5 * np.ptp(X[:, 0])
+    assert res.converged and abs(X[-1, 0] - X[0, 0]) <= 1e-6 * amp
