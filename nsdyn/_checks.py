@@ -40,15 +40,21 @@ def did_you_mean(word, valid) -> str:
     return f"; did you mean {close[0]!r}?" if close else ""
 
 
-TYPO_RATIO = 0.9  # a name this close to one of the valid ones (difflib's ratio) is its typo
+def edits(a: str, b: str) -> int:
+    """The edit distance of ``a`` and ``b`` (insertions, deletions, substitutions)."""
+    row = list(range(len(b) + 1))
+    for i, ca in enumerate(a, 1):
+        prev, row[0] = row[0], i
+        for j, cb in enumerate(b, 1):
+            prev, row[j] = row[j], min(row[j] + 1, row[j - 1] + 1, prev + (ca != cb))
+    return row[-1]
 
 
 def is_typo(name: str, valid) -> bool:
-    """Whether ``name`` is a slip of the pen for one of ``valid`` (a character or two off; a
-    study's first row lacks a rigid rung's missing columns, which is no typo)."""
-    import difflib
-
-    return any(difflib.SequenceMatcher(None, name, str(c)).ratio() >= TYPO_RATIO for c in valid)
+    """Whether ``name`` is a slip of the pen for one of ``valid``: an edit or two off (one
+    for a name under 10 characters). A study's first row lacks a rigid rung's missing
+    columns, which is no typo."""
+    return any(edits(name, str(c)) <= (1 if len(str(c)) < 10 else 2) for c in valid)
 
 
 def keywords_of(func, passed_on, *, skip=(), also=(), caller: str = "") -> None:

@@ -114,7 +114,9 @@ def _format(name: str, run: dict, an: dict) -> str:
                 lines.append(f"fragility {what}: {r['error']}")
     inc = an.get("incidence")
     for r in (inc or {}).get("rows", [])[:MAX_FAILED_LINES]:
-        q = next((q for q in inc["quantities"] if r.get(f"{q}_max") is not None), None)
+        q = next(
+            (q for q in inc["quantities"] if r.get(f"{q}_angle_of_max_deg") is not None), None
+        )  # fmt: skip  (a peak at round-off has no worst angle: the next one's)
         if q is None and r.get("n_failed") and not r.get("n_angles"):
             group = ", ".join(str(r.get(b)) for b in inc["by"])
             lines.append(f"incidence {group}: every angle failed ({r['n_failed']})")
@@ -207,7 +209,7 @@ def run(args: argparse.Namespace) -> int:
     from nsdyn.studies.study import load_study
     from nsdyn.studies.table import PARQUET
 
-    if args.fresh and args.retry_failed:  # (accepted: fresh runs every task anyway)
+    if args.fresh and args.retry_failed:  # (it was accepted and did nothing: fresh runs all)
         return fail(args, "--retry-failed: with --fresh every task runs anew; give one or the "
                     "other")  # fmt: skip
     study = load_study(args.study)
@@ -218,6 +220,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         ctx = nullcontext(None)
     made = not out.exists()
+    parquet = args.parquet or (out / PARQUET).is_file()  # (once asked: a run on another grid
+    # removes the copy with the old grid's analyses, and it is written anew after the run)
     old = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         with output_dir(out, "study"):  # (locked while the study runs and its analyses write)
@@ -229,7 +233,7 @@ def run(args: argparse.Namespace) -> int:
             failed = failures(study, res.table.rows)
             summary["failed"] = [{"index": f["index"], "error": f["error"]} for f in failed]
             summary["never_kept"] = never_kept(study, res.table.rows)
-            if args.parquet or (out / PARQUET).is_file():  # (in step with the table once asked)
+            if parquet:  # (in step with the table once asked)
                 summary["parquet"] = str(res.table.to_parquet(out / PARQUET))
             an = run_analyses(study, res.table, out, figures=not args.no_figures)
     except KeyboardInterrupt:

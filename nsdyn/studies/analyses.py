@@ -76,6 +76,7 @@ ISOLATED_RESULTS = (  # scalar fields of the isolated frame's summary
     "method",
     "kind",
 )
+ISOLATED_TEXT = ("record", "model", "fidelity", "method", "kind")  # its columns of text
 FIELDS = {
     "design": ("variables", "objectives", "constraints", "aggregate", "reference"),
     "percentiles": ("quantities", "by", "percentiles"),
@@ -116,7 +117,7 @@ def _check_column(source: str, where: str, name, study, *, result: bool) -> None
     if result and name not in valid and study.keep is not None and name in ISOLATED_RESULTS:
         raise SceneError(f"{source}: {where}: {name!r} is a result the study does not keep; "
                          f"add it to study.keep (now {list(study.keep)})")  # fmt: skip
-    if name not in valid and study.kind != "isolated" and not is_typo(name, valid):
+    if result and name not in valid and study.kind != "isolated" and not is_typo(name, valid):
         return  # (a first row's columns: another task's summary, another rung's, may have it)
     if name not in valid:
         hint = did_you_mean(name, sorted(valid))
@@ -223,9 +224,12 @@ def check_analysis(study) -> None:
                 raise SceneError(f"{src}: analysis.fragility.{key}: missing (required)")
             _check_column(src, f"analysis.fragility.{key}", f[key], study, result=True)
         v = (_FIRST_ROW.get() or {}).get(f["edp"])  # (its first run's value, or None)
-        numeric = (f["edp"] in ISOLATED_RESULTS if study.kind == "isolated"
-                   else isinstance(v, float | int) and not isinstance(v, bool))  # fmt: skip
-        check_spec(src, f, numeric and v not in (0, 1))
+        numeric = (
+            f["edp"] in ISOLATED_RESULTS and f["edp"] not in ISOLATED_TEXT
+            if study.kind == "isolated"
+            else type(v) is float or (type(v) is int and v not in (0, 1))
+        )  # fmt: skip  (a bool: an outcome)
+        check_spec(src, f, numeric)
 
 
 def check_first_row(study, row: dict) -> None:

@@ -333,3 +333,12 @@ def test_a_quantity_at_round_off_at_every_angle_has_no_worst_angle(tmp_path):
         f"'{t}': at most {ROUND_OFF:g} at every angle (round-off of a "
         "response the model does not have): no worst angle, no directionality"
     )
+    # the printout names the first quantity that has a worst angle (it raised a TypeError on
+    # the round-off one's None after every run)
+    from nsdyn.cli.study import _format
+    from nsdyn.studies.analyses import _finite
+
+    run_ = {"n_tasks": 2, "n_run": 2, "n_skipped": 0, "n_failed": 0, "wall_s": 1.0,
+            "workers": 1, "batch": 1, "table": "results.csv"}  # fmt: skip
+    inc = _finite({"quantities": [t, s], "by": ["record"], "rows": [out]})
+    assert f"incidence A: {s} max 6 at 90 deg (min 5)" in _format("s", run_, {"incidence": inc})
