@@ -145,9 +145,8 @@ def _holes(amplitudes: list[dict], path) -> int:
     n = sum(s["points"] for s in amplitudes) + n_skip
     where = [f"{path} lists each one"] if n_rows else []
     if n_skip:
-        where.append(
-            f"{n_skip} frequencies skipped without the fallback, each in the report's skipped_hz"
-        )  # fmt: skip  (--json: no lines above name them)
+        where.append(f"{n_skip} frequencies skipped without the fallback (--json lists each "
+                     "under skipped_hz)")  # fmt: skip
     return holes("sweep", n_rows + n_skip, n, "points", "; ".join(where))
 
 

@@ -147,6 +147,8 @@ def run_study(
     progress : callable(str), optional   receives a progress line every PROGRESS_S
     """
     fresh, retry_failed = flag("fresh", fresh), flag("retry_failed", retry_failed)  # ("no": True)
+    if fresh and retry_failed:  # (as the command line: fresh runs every task anew)
+        raise ValueError("retry_failed: with fresh every task runs anew; give one or the other")
     if progress is not None and not callable(progress):
         raise TypeError(f"progress: expected a function of one line (str), or None; got "
                         f"{type(progress).__name__}")  # fmt: skip

@@ -292,8 +292,10 @@ def _check_isolated(cfg: dict, source: str) -> None:
         frame = cfg.get("scene", {}).get("frame")
         try:
             _frame_read(frame, _mtime(frame)) if isinstance(frame, str) else None
-        except ValueError as e:  # (FrameFileError)
-            raise SceneError(f"{source}: scene.frame: {e}") from None
+        except ValueError as e:  # (FrameFileError; a 3D frame's as nsdyn run says it)
+            hint = ("; a 3D building is a scene of kind 'building3d' that names it as "
+                    "[structure] frame3d") * (getattr(e, "field", None) == "frame3d")  # fmt: skip
+            raise SceneError(f"{source}: scene.frame: {e}{hint}") from None
     duration: dict = {}
     try:
         if "force" in cfg:

@@ -339,12 +339,9 @@ class ResultsStore:
         here = [table] * table.is_file() + list(self._part_files())
         if all(str(r.get("key")) in order for f in here for r in read_csv(f)):
             return False
-        kept = self.compact(order)
-        for name in ANALYSIS_FILES:
-            if name == PARQUET and (self.out / name).is_file():  # (once asked, kept in step
-                kept.to_parquet(self.out / name)  # with the table: it was deleted, unsaid)
-                continue
-            (self.out / name).unlink(missing_ok=True)
+        self.compact(order)
+        for name in ANALYSIS_FILES:  # (a Parquet copy the command line asked for is written
+            (self.out / name).unlink(missing_ok=True)  # anew after the run: nsdyn.cli.study)
         return True
 
     def claim(self, name: str, kind: str) -> None:

@@ -43,19 +43,22 @@ def test_every_grid_parameter_a_variable_says_nothing_of_pooling(tmp_path):
     assert "pools" not in d.get("note", "") and d["n_designs"] == 4
 
 
-def test_a_parquet_copy_follows_the_table_onto_a_narrower_grid(tmp_path):
-    # results.parquet, once written, is rewritten with the table: a run on a narrowed grid
-    # deleted it without a word ("every later run into the folder rewrites it")
+def test_a_parquet_copy_follows_the_table_onto_a_narrower_grid(tmp_path, capsys):
+    # results.parquet, once asked for, is written anew with the table: a run on a narrowed
+    # grid deleted it without a word ("every later run into the folder rewrites it")
     import pytest
 
     pq = pytest.importorskip("pyarrow.parquet", reason="the parquet extra (pyarrow)")
+    from nsdyn.cli import main
     from nsdyn.studies.table import PARQUET
 
     path, out = tmp_path / "s.toml", tmp_path / "o"
+    argv = ["study", str(path), "--out", str(out), "--workers", "1", "--no-figures"]
     path.write_text(STUDY.replace("VARIABLES", ""))
-    run_study(load_study(path), out, workers=1).table.to_parquet(out / PARQUET)
+    assert main([*argv, "--parquet"]) == 0
     path.write_text(STUDY.replace("VARIABLES", "").replace("[0.03, 0.06]", "[0.03]"))
-    run_study(load_study(path), out, workers=1)
+    assert main(argv) == 0
+    capsys.readouterr()
     assert pq.read_table(out / PARQUET).num_rows == 2  # the narrowed grid's (2 of k_lam)
 
 

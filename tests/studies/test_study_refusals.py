@@ -152,3 +152,8 @@ def test_fresh_and_retry_failed_together_are_refused(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err == ("nsdyn study: error: --retry-failed: with --fresh every task runs anew; give "
                    "one or the other\n")  # fmt: skip
+    from nsdyn.studies.execute import run_study  # (the library as the command line)
+
+    with pytest.raises(ValueError, match=r"^retry_failed: with fresh every task runs anew"):
+        run_study(load_study(_write(tmp_path, HEAD + PARAMS + RECORDS)), tmp_path / "o",
+                  fresh=True, retry_failed=True)  # fmt: skip
