@@ -141,10 +141,10 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
     if guesses and not sw.steady and sw.periods_done <= WARMUP_PERIODS:
         # the previous orbit can seed a transient that leaves the model (a contact lifting
         # off in the first period) where the steady state stays in it: once more from rest
-        rest = steady_state_sweep(problem, f, None, disc=disc)
-        if rest.steady:
+        calm = steady_state_sweep(problem, f, None, disc=disc)
+        if calm.steady:
             why = f"{why}; the sweep from the previous orbit stopped ({sw.message}), from rest"
-            sw = rest
+            sw = calm
     return _point_from_sweep(problem, sw, why, disc), None
 
 
@@ -233,7 +233,9 @@ def continue_sequential(
             guesses.append(b.x0 + r * _free(b.x0 - a.x0, held))
         guesses.append(pts[-1].x0 if pts else warm_start(problem, f, x0, disc))
         tp = time.perf_counter()
-        pt, res = _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, rest=bool(pts))
+        pt, res = _solve_point(
+            problem, f, guesses, disc, tol, max_iter, fallback, rest=bool(pts) or x0 is not None
+        )  # fmt: skip  (x0: not rest)
         if pt is None:
             skipped.append(float(f))
             skipped_why.append(res)  # (without a point: its reason)
@@ -379,7 +381,7 @@ def continue_arclength(
     if not pts:
         xg = warm_start(problem, fmin, x0, disc)
         pt, res = _solve_point(
-            problem, fmin, [xg], disc, tol, max_iter, fallback, "arclength", rest=False
+            problem, fmin, [xg], disc, tol, max_iter, fallback, "arclength", rest=x0 is not None
         )  # fmt: skip  (xg: a warm start already)
         if pt is None:
             raise NumericalFailure(f"no periodic solution found at f = {fmin:g} Hz")

@@ -125,6 +125,23 @@ def test_a_rigid_frame_sweep_says_its_drift_is_zero_without_a_warning():
     ax = fig.axes[0]
     assert ax.get_yscale() == "linear"
     assert [t.get_text() for t in ax.texts] == [
-        "IDR 0 at every point: the storeys do not deform (rigid)"
+        "isolated: IDR 0 at every point, the storeys do not deform (rigid)"
     ]
     assert fig.axes[2].get_yscale() == "log"  # (the others keep theirs)
+
+
+def test_a_rigid_frame_sweep_beside_its_fixed_base_still_says_its_drift_is_zero():
+    # the command line draws the fixed base's curves beside a frame's: its IDR panel then
+    # held the fixed base's line alone, the isolated frame's zero unsaid
+    import io
+
+    rows = [{**r, "IDR": 0.0} for r in _rows()]
+    f = np.array([r["f"] for r in rows])
+    fixed = {0.5: {"f": f, "idr": 1e-3 * np.ones_like(f), "acc": np.ones_like(f)}}
+    fig = sweep_figure([{"A": 0.5, "rows": rows}], fixed)
+    fig.savefig(io.BytesIO(), format="png")
+    ax = fig.axes[0]
+    assert ax.get_yscale() == "log"  # (the fixed base's curve keeps its axis)
+    assert [t.get_text() for t in ax.texts] == [
+        "isolated: IDR 0 at every point, the storeys do not deform (rigid)"
+    ]
