@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import json
+import math
 import signal
 import sys
 from contextlib import nullcontext
@@ -114,9 +115,9 @@ def _format(name: str, run: dict, an: dict) -> str:
                 lines.append(f"fragility {what}: {r['error']}")
     inc = an.get("incidence")
     for r in (inc or {}).get("rows", [])[:MAX_FAILED_LINES]:
-        q = next(
-            (q for q in inc["quantities"] if r.get(f"{q}_angle_of_max_deg") is not None), None
-        )  # fmt: skip  (a peak at round-off has no worst angle: the next one's)
+        q = next((q for q in inc["quantities"] if all(  # (a round-off peak has no angle)
+            isinstance(r.get(f"{q}_{k}"), int | float) and math.isfinite(r[f"{q}_{k}"])
+            for k in ("max", "angle_of_max_deg"))), None)  # fmt: skip
         if q is None and r.get("n_failed") and not r.get("n_angles"):
             group = ", ".join(str(r.get(b)) for b in inc["by"])
             lines.append(f"incidence {group}: every angle failed ({r['n_failed']})")
