@@ -6,28 +6,21 @@ resumes from it once the name is fixed; a table read back is checked before any 
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from nsdyn.models.scenefile import SceneError
 from nsdyn.studies.execute import run_study
 from nsdyn.studies.study import load_study
 
-STUDY = """[study]
+SCENE = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "rocking-seed003-column.toml"
+STUDY = f"""[study]
 name = "rk"
 batch = 1
-
-[base.scene]
-kind = "rocking"
-
-[base.block]
-width = 0.4
-height = 2.0
+scene = "{SCENE}"
 
 [base.motion]
-pulse = "sine"
-a_p_g = 1.0
-f_p = 1.0
-n_cycles = 1
 t_end = 0.5
 
 [parameters]
