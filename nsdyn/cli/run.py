@@ -249,7 +249,8 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     bad = [f"--{k.replace('_', '-')}" for k in _ISOLATED_ONLY if getattr(args, k, None)]
     if bad:
         verb = "applies" if len(bad) == 1 else "apply"
-        raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes only")
+        raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes only "
+                         "(a building3d scene's rung: its [structure] fidelity)")  # fmt: skip
     if args.method and kind in ("deck", "building3d"):
         raise SceneError(f"{args.scene}: --method: a {kind} scene's integrator follows its "
                          "[solver] law (and fidelity); --method applies to isolated-frame, "

@@ -87,7 +87,8 @@ def _check_same_grid(
             other.source,
             None,
             f"{field} component: npts = {other.n}, but the x component ({x.source}) has "
-            f"npts = {x.n}; pass trim=True to cut all components to the shortest",
+            f"npts = {x.n}; pass trim=True (in a scene, [motion] trim = true) to cut all "
+            "components to the shortest",
         )
 
 

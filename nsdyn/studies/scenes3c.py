@@ -114,7 +114,8 @@ def parse_pairs(source: str, study_dir: Path, pairs) -> list[RecordSpec]:
             read_motion3(files["x"], files["y"], files.get("z"))
         except (OSError, ValueError) as e:
             text = " ".join(str(e).split()).replace(
-                "pass trim=True to cut all components to the shortest",
+                "pass trim=True (in a scene, [motion] trim = true) to cut all components to "
+                "the shortest",
                 "the components of one record need one length",
             )
             key = next((k for k in ("z", "y") if f"{k} component" in text), "x")

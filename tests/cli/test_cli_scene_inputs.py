@@ -304,3 +304,20 @@ def test_a_sweep_names_the_fidelity_flag_a_structure_scene_cannot_take(tmp_path,
     assert main(["sweep", str(scene), "--fidelity", "cb", "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"nsdyn sweep: error: {scene}: --fidelity: chooses among a frame's")
+
+
+def test_a_building_run_refuses_the_frame_flags_naming_its_own_field(capsys, tmp_path):
+    # "--fidelity applies to isolated-frame scenes only", where the building has the rungs the
+    # flag lists: it names the scene's field that chooses them
+    scene = (
+        Path(__file__).resolve().parents[2] / "examples" / "scenes" / "building3d-office-rigid.toml"
+    )
+    assert main(["run", str(scene), "--fidelity", "fixed", "--out", str(tmp_path)]) == 2
+    assert (
+        capsys.readouterr()
+        .err.rstrip()
+        .endswith(
+            "--fidelity applies to isolated-frame scenes only (a building3d scene's rung: its "
+            "[structure] fidelity)"
+        )
+    )

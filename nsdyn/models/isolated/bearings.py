@@ -322,6 +322,12 @@ def bearing_notes(bearings, n_static) -> list[str]:
                 f"{k_p:.3g}x the coefficients given; check area [m²] and p_ref [Pa]"
             )
             break  # one line names the mistake
+    for b in bearings:  # (mu_fast 0.02 beside mu_slow 0.04 slid 3.4x as far, unsaid)
+        f = getattr(b, "friction", None)
+        if getattr(f, "mu_fast", None) is not None and f.mu_fast < f.mu_slow:
+            notes.append(f"{b.where}.mu_fast = {f.mu_fast:g} < mu_slow = {f.mu_slow:g}: friction "
+                         "that falls with the slip speed (PTFE's rises: swapped?)")  # fmt: skip
+            break
     for b in bearings:  # (a radius in mm ran as a pendulum of a 94 s period, unsaid)
         if math.isfinite(b.radius) and b.radius > RADIUS_PLAUSIBLE:
             T = 2.0 * math.pi * math.sqrt(b.radius / G_EARTH)

@@ -122,3 +122,13 @@ def test_a_slip_beyond_a_quarter_of_the_radius_is_said_with_the_spheres_force():
     want = r"^bearing.d_cap: expected a displacement capacity below the radius R = 0.05 m, got"
     with pytest.raises(BearingError, match=want + r" 0.35 m$"):
         Bearing(Friction(0.05), radius=0.05, d_cap=0.35, where="bearing")
+
+
+def test_a_friction_falling_with_slip_speed_is_noted_as_a_likely_swap():
+    # mu_fast 0.02 beside mu_slow 0.04 (the two swapped) slid 3.4x as far as the bearing
+    # given, without a word; a falling law is a model the bearing accepts: noted, not refused
+    swapped = Bearing(Friction(0.04, mu_fast=0.02, rate=30.0), radius=2.2)
+    (note,) = bearing_notes([swapped], N[:1])
+    assert note == ("bearing.mu_fast = 0.02 < mu_slow = 0.04: friction that falls with the "
+                    "slip speed (PTFE's rises: swapped?)")  # fmt: skip
+    assert bearing_notes([Bearing(Friction(0.02, mu_fast=0.04, rate=30.0))], N[:1]) == []
