@@ -300,6 +300,11 @@ def _fixed_base_gap(study, table: Table) -> Table:
     return Table(rows, table.param_names)
 
 
+def _add_note(res: dict, text: str) -> None:
+    """``text`` after the notes ``res["note"]`` holds ("; " between them)."""
+    res["note"] = "; ".join(filter(None, [res.get("note"), text]))
+
+
 def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
     from nsdyn.studies.figures import pareto_figure
 
@@ -327,13 +332,12 @@ def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
               and (k := len({str(v) for v in table.values(n)})) > 1]  # fmt: skip
     lost = sum(not all(math.isfinite(v) for v in p.objectives.values()) for p in points)
     if lost and table.ok():  # (a failed run's design: NaN objectives, unsaid)
-        res["note"] = "; ".join(filter(None, [res.get("note"), f"{lost} of {len(points)} "
-                                              "designs without an objective (a run failed or "
-                                              "lacks it): left out of the front"]))  # fmt: skip
+        _add_note(res, f"{lost} of {len(points)} designs without an objective (a run failed or "
+                  "lacks it): left out of the front")  # fmt: skip
     if pooled:  # (a variable left out was aggregated as if it were records, unsaid)
         why = (f"each design pools the runs of every {', '.join(pooled)} with its records: "
                "name it among the variables for a design each")  # fmt: skip
-        res["note"] = "; ".join(filter(None, [res.get("note"), why]))
+        _add_note(res, why)
     if ref is not None:
         res["reference_dominated_by"] = [
             p.values
@@ -343,8 +347,7 @@ def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
             and any(p.objectives[k] < ref.objectives[k] for k in objectives)
         ]
     if not table.ok():  # (empty axes were drawn; an earlier figure would sit beside)
-        res["note"] = "; ".join(filter(None, [res.get("note"), "no run succeeded: no design "
-                                              "has an objective, no figure is drawn"]))  # fmt: skip
+        _add_note(res, "no run succeeded: no design has an objective, no figure is drawn")
         (out / ANALYSIS_OUTPUTS["design"][1]).unlink(missing_ok=True)
     elif figures and len(objectives) >= 2:
         fig = pareto_figure(points, objectives[:2], chosen, ref, title=study.name)
@@ -483,9 +486,8 @@ def _fragility(study, table: Table, spec: dict, out: Path, figures: bool) -> dic
         res["failures"] = note
     pooled = [f"{n} ({k} values)" for n, k in _pooled(table, study, spec["im"]).items()]
     if pooled:  # (one curve over every design, without a word)
-        res["note"] = "; ".join(filter(None, [res.get("note"), "one curve over the runs of "
-                                              f"every {', '.join(pooled)}: run a study per "
-                                              "value for a curve each"]))  # fmt: skip
+        _add_note(res, f"one curve over the runs of every {', '.join(pooled)}: run a study per "
+                  "value for a curve each")  # fmt: skip
     if figures:
         conf = spec.get("confidence", CONFIDENCE)
         title = study.name + (f" ({note})" if note else "")
@@ -541,7 +543,7 @@ def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True)
         res["incidence"] = incidence.run(study, table, an["incidence"], out, figures)
         note = empty_columns(table, res["incidence"].get("quantities") or [])
         if note:
-            res["incidence"]["note"] = "; ".join(filter(None, [res["incidence"].get("note"), note]))
+            _add_note(res["incidence"], note)
     return _finite(res)
 
 
