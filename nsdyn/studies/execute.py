@@ -31,8 +31,9 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import flag, whole
-from nsdyn.studies.scenes import run_batch
+from nsdyn._checks import flag, is_typo, whole
+from nsdyn.models.scenefile import SceneError
+from nsdyn.studies.scenes import near_kept, run_batch
 from nsdyn.studies.study import Study
 from nsdyn.studies.table import ResultsStore, Table
 from nsdyn.studies.tasks import Task, batch_size, batches, ensure_checked, expand
@@ -105,8 +106,10 @@ class _Progress:
 
 
 def _first_check(study: Study, rows: list[dict], checked: bool) -> bool:
-    """Whether the analyses' columns are checked against a successful row: checked now with
-    the first among ``rows`` (:func:`~nsdyn.studies.analyses.check_first_row`)."""
+    """Whether the analyses' columns and ``keep`` are checked against a successful row:
+    checked now with the first among ``rows``
+    (:func:`~nsdyn.studies.analyses.check_first_row`; a kept name a typo away from a field of
+    its run's summary stops the study, its rows kept, rather than end in an empty column)."""
     if checked:
         return True
     ok = next((r for r in rows if r.get("status") == "ok"), None)
@@ -114,6 +117,12 @@ def _first_check(study: Study, rows: list[dict], checked: bool) -> bool:
         from nsdyn.studies.analyses import check_first_row
 
         check_first_row(study, ok)
+        for name, near in near_kept(ok.get("error")):
+            if name in (study.keep or ()) and is_typo(name, [near]):
+                raise SceneError(f"{study.source}: study.keep: {name!r} is not a field of the "
+                                 f"first run's summary; did you mean {near!r}? (stopped after "
+                                 "it; keep is part of each task's key, so the study runs anew "
+                                 "once the name is fixed)")  # fmt: skip
     return ok is not None
 
 
@@ -173,7 +182,8 @@ def run_study(
     order = {t.key: t.index for t in tasks}
     store.regrid(order)
     done = store.read()
-    first = _first_check(study, list(done.values()), False)  # (before kernels and a pool)
+    here = [r for k, r in done.items() if k in order]  # (not another grid's rows)
+    first = _first_check(study, here, False)  # (before kernels and a pool)
     todo = [
         t
         for t in tasks

@@ -442,6 +442,16 @@ def missing_names(note: str) -> list[str]:
     return list(ast.literal_eval(f"[{names}]"))
 
 
+def near_kept(note: str) -> list[tuple[str, str]]:
+    """The (kept name, nearest field) pairs of a row's note (:func:`missing_kept`'s hints)."""
+    import ast
+    import re
+
+    text = r"'(?:[^'\\]|\\.)*'"  # (a repr in single quotes)
+    hints = re.findall(rf"did you mean ({text}) for ({text})\?", note or "")
+    return [(ast.literal_eval(k), ast.literal_eval(near)) for near, k in hints]
+
+
 def run_task(task) -> dict:
     """One row: the task's input columns, ``status``, ``error``, ``task_s`` and its results."""
     row = task.columns()

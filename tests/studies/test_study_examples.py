@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from nsdyn.studies.study import load_study
-from nsdyn.studies.table import read_csv
+from nsdyn.studies.table import ResultsStore, read_csv
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -87,86 +87,44 @@ def test_a_study_over_rungs_keeps_each_rungs_fields(tmp_path, capsys):
         assert r.get(other) is None and repr(other) in r["error"]  # an empty cell, said why
 
 
-def test_a_kept_name_no_task_has_is_warned_with_the_nearest_field(tmp_path, capsys):
+def test_a_kept_name_a_typo_away_stops_the_study_after_its_first_run(tmp_path, capsys):
+    # 'x_iso_maxx' is two edits from the field 'x_iso_max_m' (nsdyn._checks.is_typo): the
+    # study stops at its first run, exit 2 naming study.keep, rather than run every task into
+    # a column of empty cells
     from nsdyn.cli import main
 
     study = tmp_path / "s.toml"
     study.write_text('[study]\nname = "s"\nkeep = ["x_iso_maxx", "idr_max"]\n'
                      '[base.motion]\npga = 3.0\nt_end = 1.0\n'
-                     '[parameters]\n"isolation.mu" = [0.02, 0.05]\n')  # fmt: skip
-    assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 0
+                     '[parameters]\n"isolation.mu" = [0.02, 0.05, 0.08, 0.11]\n')  # fmt: skip
+    assert main(["study", str(study), "--out", str(tmp_path / "o"), "--workers", "1"]) == 2
     err = capsys.readouterr().err
-    assert "warning: " + f"{study}: study.keep: in no task's run summary" in err
-    assert "did you mean 'x_iso_max_m' for 'x_iso_maxx'?" in err
-    # the misspelt name is a column of empty cells, kept by the compaction that reads the parts
-    rows = read_csv(tmp_path / "o" / "results.csv")
-    assert all("x_iso_maxx" in r and r["x_iso_maxx"] is None for r in rows)
+    assert err.count("\n") == 1 and f"error: {study}: study.keep: 'x_iso_maxx' is not" in err
+    assert "did you mean 'x_iso_max_m'?" in err
+    assert len(ResultsStore(tmp_path / "o", ["isolation.mu"]).read()) < 4  # stopped early
     # the key holds the kept fields: the corrected study runs its tasks again, and a field
     # present in every summary but empty (a block that never overturns) is no warning
     study.write_text(study.read_text().replace('"x_iso_maxx"', '"x_iso_max_m"'))
     assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 0
     captured = capsys.readouterr()
-    assert "2 run now" in captured.out and "warning" not in captured.err
+    assert "4 run now" in captured.out and "warning" not in captured.err
 
 
-def test_a_kept_field_that_is_empty_in_every_row_is_no_warning(tmp_path, capsys):
+def test_a_kept_name_far_from_every_field_is_warned_at_the_end(tmp_path, capsys):
+    # a name far from every field may be another rung's: the study runs on, and warns
     from nsdyn.cli import main
 
-    study = tmp_path / "r.toml"
-    scene = EXAMPLES / "scenes" / "rocking-seed001-cask.toml"
-    study.write_text(f'[study]\nname = "r"\nscene = "{scene}"\n'
-                     'keep = ["t_overturn_s", "overturned"]\n'
-                     '[base.motion]\na_p_g = 0.1\nt_end = 2.0\n'  # < tan alpha = 0.5
-                     '[parameters]\n"block.mass" = [1.0e5, 2.0e5]\n')  # fmt: skip
-    assert main(["study", str(study), "--out", str(tmp_path / "o"), "--no-figures"]) == 0
-    assert "warning" not in capsys.readouterr().err
+    study = tmp_path / "s.toml"
+    study.write_text('[study]\nname = "s"\nkeep = ["peak_corner_drift", "idr_max"]\n'
+                     '[base.motion]\npga = 3.0\nt_end = 1.0\n'
+                     '[parameters]\n"isolation.mu" = [0.02, 0.05]\n')  # fmt: skip
+    assert main(["study", str(study), "--out", str(tmp_path / "o")]) == 0
+    err = capsys.readouterr().err
+    assert "warning: " + f"{study}: study.keep: in no task's run summary" in err
+    assert "'peak_corner_drift'" in err
+    # the name is a column of empty cells, kept by the compaction that reads the parts
     rows = read_csv(tmp_path / "o" / "results.csv")
-    assert all(r["overturned"] is False and r["t_overturn_s"] is None for r in rows)
-
-
-def test_a_study_may_not_vary_what_its_records_replace(tmp_path):
-    # each task's record dropped the pulse's value the grid gave it: N identical runs
-    from nsdyn.models.scenefile import SceneError
-
-    scene = EXAMPLES / "scenes" / "rocking-seed001-cask.toml"
-    study = tmp_path / "s.toml"
-    study.write_text(f'[study]\nscene = "{scene}"\n[parameters]\n"motion.a_p_g" = [0.5, 1.0]\n'
-                     '[records]\nnames = ["synthetic-wn-40s"]\n')  # fmt: skip
-    with pytest.raises(
-        SceneError,
-        match=r"parameters\.motion\.a_p_g: varies the scene's "
-        "closed-form motion, which every record of \\[records\\] replaces",
-    ):
-        load_study(study)
-
-
-HARMONIC_SCENES = ["isolated-uplift-pocket.toml", "sdof-bidirectional-circular.toml"]
-
-
-@pytest.mark.parametrize("scene", HARMONIC_SCENES)
-def test_records_on_a_harmonic_scene_are_refused_naming_records(tmp_path, scene):
-    # a harmonic base's reader named motion.record, a key the study file does not have
-    from nsdyn.models.scenefile import SceneError
-
-    path = EXAMPLES / "scenes" / scene
-    study = tmp_path / "s.toml"
-    mu = "bearing.mu" if "deck" in path.read_text() else "isolation.mu"
-    study.write_text(f'[study]\nscene = "{path}"\n[parameters]\n"{mu}" = [0.02, 0.03]\n'
-                     '[records]\nnames = ["synthetic-wn-40s"]\n')  # fmt: skip
-    with pytest.raises(SceneError, match=r"s\.toml: records: the scene's motion is harmonic"):
-        load_study(study)
-
-
-def test_a_field_in_another_table_is_hinted_by_its_own_name(tmp_path):
-    # a deck's friction is bearing.mu; the hint used to be the nearest string, 'motion.trim'
-    from nsdyn.models.scenefile import SceneError
-
-    path = EXAMPLES / "scenes" / "sdof-bidirectional-circular.toml"
-    study = tmp_path / "s.toml"
-    study.write_text(f'[study]\nscene = "{path}"\n[parameters]\n"isolation.mu" = [0.02, 0.03]\n')
-    hint = r"isolation\.mu: unknown scene field; did you mean 'bearing\.mu'"
-    with pytest.raises(SceneError, match=hint):
-        load_study(study)
+    assert len(rows) == 2 and all(r["peak_corner_drift"] is None for r in rows)
 
 
 def test_the_never_kept_warning_names_only_the_names_no_row_has():

@@ -111,9 +111,16 @@ def full_path(
                       "dense path, adaptive)")  # fmt: skip
 
 
-def sparse_solver(cfg: dict, source: str, why: str) -> float | None:
+def sparse_solver(cfg: dict, source: str, why: str, bearing=None) -> float | None:
     """``solver.dt`` (None: :func:`sparse_step`'s default) of a run on the sparse path; its law
-    checked: the regularised one, whether given or not (SceneError naming the field)."""
+    checked: the regularised one, whether given or not, and its ``bearing`` one the path has
+    (SceneError naming the field)."""
+    off = dense_only("arctan", "detect", bearing)
+    if off:
+        field = "bearing.area" if getattr(bearing, "area", None) is not None else "bearing.type"
+        raise SceneError(f"{source}: {field}: {off}; the full rung runs on sparse operators "
+                         f"here ({why}); expected a friction pendulum ('fps') or flat slider "
+                         "without area, or structure.fidelity = 'cb'")  # fmt: skip
     solver = cfg.get("solver", {})
     law = solver.get("law", "arctan")
     if law != "arctan":

@@ -176,7 +176,7 @@ def _sparse_pairs(frame, bearing, opts: dict, cfg: dict, source: str, why: str):
     from nsdyn.models.isolated.pairs import PairSystemError
     from nsdyn.models.isolated.pairs_sparse import building_pairs_sparse
 
-    sparse_solver(cfg, source, why)
+    sparse_solver(cfg, source, why, bearing)
     f_damp = opts["f_damp"] if opts["damping"] == "modal" else None  # (noted as not used)
     kw = {"damping": opts["damping"], "f_damp": f_damp, "base": opts["base"]}
     try:  # run again, it loads the system (the damped modes' eigenproblem: seconds)

@@ -176,7 +176,7 @@ def test_a_run_that_keeps_no_q_draws_the_same_shape(runs):
     ("tables", "field", "words"),
     [
         ({"solver": {"law": "switch"}}, "solver.law", "expected 'arctan', got 'switch'"),
-        ({"bearing": {"type": "tfp"}}, "bearing", "triple friction pendulum"),
+        ({"bearing": {"type": "tfp"}}, "bearing.type", "triple friction pendulum"),
     ],
 )
 def test_the_sparse_path_refuses_what_it_cannot_run(tables, field, words, tmp_path,
@@ -192,6 +192,7 @@ def test_the_sparse_path_refuses_what_it_cannot_run(tables, field, words, tmp_pa
         build_system(cfg, str(tmp_path / "s.toml"))
     msg = str(e.value)
     assert "\n" not in msg and f"s.toml: {field}:" in msg and words in msg, msg
+    assert "full-sparse" not in msg and "bearings[" not in msg  # no name the user never typed
 
 
 def test_stiffness_damping_reaches_the_sparse_system(tmp_path, monkeypatch):
