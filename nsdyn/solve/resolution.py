@@ -29,6 +29,9 @@ import numpy as np
 
 TURN = 100.0  # |v| < TURN/eps: the arctan law still turning (below 99.4 % of μN, 2/π arctan 100)
 RATIO = 2.0  # above π/2, the most a resolved peak exceeds its central difference (module text)
+# a peak below this fraction of g is no motion (below a strong-motion instrument's noise):
+# a run without ground motion rings at round-off, which no step resolves or needs to
+NEGLIGIBLE_G = 1e-6
 EXPLICIT = ("dopri5",)  # adaptive explicit methods: their arctan-law peaks are checked too
 
 
@@ -147,7 +150,7 @@ def _turn_notes(res, P: tuple, QDD: np.ndarray | None, why: str, fix: str,
     for lev, (i0, i1) in enumerate(zip(starts, [*starts[1:], A.shape[0]], strict=True)):
         row, k = np.unravel_index(np.argmax(A[i0:i1]), A[i0:i1].shape)
         beside = fd[i0 + row, max(k - 1, 0) : k + 2].max()
-        if slow[k] and A[i0 + row, k] > RATIO * beside:
+        if slow[k] and A[i0 + row, k] > max(RATIO * beside, NEGLIGIBLE_G * kp.g):
             found.append(f"level {lev} {A[i0 + row, k]:.3g} m/s² at t = {t[k]:.6g} s (the "
                          f"velocities beside it give {beside:.3g})")  # fmt: skip
     if not found:
