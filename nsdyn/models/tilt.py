@@ -9,6 +9,9 @@ tilt at which the body's weight passes over the pivot), exactly one of the two::
 with alpha = atan(B / H) for a block of width 2B and height 2H (the angle of the line from the
 pivot to the centre of mass from the vertical; for a cylinder of radius r and height 2H,
 alpha = atan(r / H)). The same two names are the keys of the scenes' ``[motion]`` table.
+
+A run that ends with the body past alpha and leaning further has not overturned by its end but
+is falling unless the ground pushes it back: its outcome says so (:func:`past_tip_over`).
 """
 
 from __future__ import annotations
@@ -52,3 +55,11 @@ def scene_tilt(table: Mapping, source: str, where: str = "motion") -> dict:
             f"{where}.theta0 [rad] or as {where}.theta0_over_alpha, not both"
         )
     return {k: number(source, f"{where}.{k}", table[k], positive=False) for k in keys}
+
+
+def past_tip_over(end: float, alpha: float, name: str) -> str:
+    """The outcome line of a run that ends at tilt ``end`` [rad] past ``alpha``, leaning
+    further (``name``: the tilt's name in the summary's words)."""
+    return (f"LEANING PAST ITS TIP-OVER ANGLE at the end: {name} {end:.3g} rad "
+            f"({abs(end) / alpha:.3g} alpha) and growing, not overturned by t_end; a longer "
+            "t_end shows whether it falls")  # fmt: skip

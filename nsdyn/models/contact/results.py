@@ -110,6 +110,8 @@ class ContactResult(Tabular):
             "time_in_mode_s": self.time_in_modes(),
             "max_slide_m": float(np.max(np.abs(self.slide))) if len(self.t) else 0.0,
             "max_tilt_rad": float(np.max(np.abs(self.q[:, 2]))) if len(self.t) else 0.0,
+            "final_tilt_rad": float(self.q[-1, 2]) if len(self.t) else 0.0,
+            "final_omega_rad_per_s": float(self.v[-1, 2]) if len(self.t) else 0.0,
             "n_hops": self.n_hops,
             "n_impacts": int(self.n_impacts),
             "overturned": bool(over),

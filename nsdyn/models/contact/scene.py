@@ -65,7 +65,7 @@ from nsdyn.models.scenefile import (
     rel_tol,
     scaled_to_pga,
 )
-from nsdyn.models.tilt import scene_tilt
+from nsdyn.models.tilt import past_tip_over, scene_tilt
 
 _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 METHODS = ("event", "moreau")  # solver.method
@@ -445,7 +445,12 @@ def outcome(s: dict) -> tuple[str, str]:
         for label, k, unit in rows
         if k is None or isinstance(s.get(k), float)
     )
-    return first, f"did not overturn; first motion {first}" + (f", {peaks}" if peaks else "")
+    head = "did not overturn"
+    end, omega = s.get("final_tilt_rad"), s.get("final_omega_rad_per_s")
+    if isinstance(alpha, float) and isinstance(end, float) and isinstance(omega, float):
+        if abs(end) > alpha and end * omega > 0:  # past the tip-over angle, leaning further
+            head = past_tip_over(end, alpha, "tilt")
+    return first, f"{head}; first motion {first}" + (f", {peaks}" if peaks else "")
 
 
 # rows of the text summary: key, label, unit ("" for a count or a word)

@@ -169,3 +169,18 @@ def test_an_event_run_ends_on_its_end_between_output_samples():
     body = RigidBody.rectangle(0.5, 1.0, 100.0)
     r = simulate_event(body, FrictionLaw(0.5), None, t_end=0.213, dt_out=0.01)
     assert r.t[-1] == 0.213 and r.t[-2] == pytest.approx(0.21, abs=1e-12)
+
+
+def test_a_body_past_its_corner_at_the_end_is_said_to_lean_past_it():
+    # released a hair past alpha on ground at rest (friction enough to hold the corner),
+    # gravity's moment turns it away from upright for good: at an end before it overturns
+    # its tilt is past alpha and growing (it read "did not overturn")
+    from nsdyn import FrictionLaw, RigidBody, simulate_event
+    from nsdyn.models.contact.results import slenderness
+    from nsdyn.models.contact.scene import outcome
+
+    body = RigidBody.rectangle(0.5, 1.0, 100.0)
+    r = simulate_event(body, FrictionLaw(1.0), None, t_end=0.5, theta0_over_alpha=1.01)
+    s = r.summary() | {"alpha_rad": slenderness(body)}
+    assert not s["overturned"] and abs(s["final_tilt_rad"]) > 1.01 * s["alpha_rad"]
+    assert outcome(s)[1].startswith("LEANING PAST ITS TIP-OVER ANGLE at the end: tilt")

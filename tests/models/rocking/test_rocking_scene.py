@@ -145,6 +145,18 @@ def test_a_block_released_on_its_corner_is_said_balanced_not_rocking(tmp_path):
     assert s["n_impacts"] >= 1 and outcome(s)[1].startswith("rocking (lifted off")
 
 
+def test_a_block_past_its_corner_at_the_end_is_said_to_lean_past_it(tmp_path):
+    # released a hair past alpha with the ground at rest, gravity's moment turns it away from
+    # upright for good: at an end before it overturns its tilt is past alpha and growing
+    # (it read "rocking (lifted off, still rocking at the end)")
+    from nsdyn.models.rocking.scene import outcome
+
+    cfg = {**_cfg(), "motion": {"theta0_over_alpha": 1.01, "t_end": 0.5}}
+    s = run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+    assert not s["overturned"] and s["final_theta_rad"] > 1.01 * s["alpha_rad"]
+    assert outcome(s)[1].startswith("LEANING PAST ITS TIP-OVER ANGLE at the end: theta")
+
+
 def test_example_seed_studies_free_rocking_restitution():
     """examples/rocking_seed_studies.py: seed 003 Table 1 analytic restitution 0.91 of the
     2H = 1.2 m, 2B = 0.3 m column is what the impacts of the run show (theta'+ / theta'-)."""
