@@ -57,6 +57,25 @@ def scene_tilt(table: Mapping, source: str, where: str = "motion") -> dict:
     return {k: number(source, f"{where}.{k}", table[k], positive=False) for k in keys}
 
 
+def leaning_past(end: float, rate: float, alpha: float) -> bool:
+    """Whether a body at tilt ``end`` [rad] turning at ``rate`` [rad/s] is past its tip-over
+    angle ``alpha`` and leaning further (falling, unless the ground pushes it back)."""
+    return bool(abs(end) > alpha and end * rate > 0)
+
+
+def final_tilt(
+    theta,
+    rate,
+    alpha: float,
+    names: tuple[str, str] = ("final_theta_rad", "final_thetad_rad_per_s"),
+) -> dict:
+    """A summary's last tilt and its rate (keys ``names``) and ``past_tip_over_at_end``
+    (:func:`leaning_past`) from the histories ``theta`` [rad] and ``rate`` [rad/s]."""
+    end = float(theta[-1]) if len(theta) else 0.0
+    turn = float(rate[-1]) if len(rate) else 0.0
+    return {names[0]: end, names[1]: turn, "past_tip_over_at_end": leaning_past(end, turn, alpha)}
+
+
 def past_tip_over(end: float, alpha: float, name: str) -> str:
     """The outcome line of a run that ends at tilt ``end`` [rad] past ``alpha``, leaning
     further (``name``: the tilt's name in the summary's words)."""

@@ -65,7 +65,7 @@ from nsdyn.models.scenefile import (
     rel_tol,
     scaled_to_pga,
 )
-from nsdyn.models.tilt import past_tip_over, scene_tilt
+from nsdyn.models.tilt import leaning_past, past_tip_over, scene_tilt
 
 _FIELDS = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 METHODS = ("event", "moreau")  # solver.method
@@ -396,6 +396,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         if s["step_resolved"] is not True:
             say(f"contact: note: {s['step_note']}")
     s["alpha_rad"] = slenderness(body)
+    s["past_tip_over_at_end"] = leaning_past(s["final_tilt_rad"], s["final_omega_rad_per_s"],
+                                             s["alpha_rad"])  # fmt: skip
     s["outcome"], text = outcome(s)
     files = [str(out_dir / "contact.npz")]
     with atomic_open(out_dir / "contact.npz", "wb") as fh:
@@ -446,10 +448,8 @@ def outcome(s: dict) -> tuple[str, str]:
         if k is None or isinstance(s.get(k), float)
     )
     head = "did not overturn"
-    end, omega = s.get("final_tilt_rad"), s.get("final_omega_rad_per_s")
-    if isinstance(alpha, float) and isinstance(end, float) and isinstance(omega, float):
-        if abs(end) > alpha and end * omega > 0:  # past the tip-over angle, leaning further
-            head = past_tip_over(end, alpha, "tilt")
+    if s.get("past_tip_over_at_end"):  # (not overturned by t_end, but falling)
+        head = past_tip_over(s["final_tilt_rad"], alpha, "tilt")
     return first, f"{head}; first motion {first}" + (f", {peaks}" if peaks else "")
 
 

@@ -59,7 +59,7 @@ from nsdyn.models.scenefile import (
     record_units,
     rel_tol,
 )
-from nsdyn.models.tilt import scene_tilt
+from nsdyn.models.tilt import past_tip_over, scene_tilt
 
 TABLES = SCHEMA.fields()  # table -> valid keys, declared in scene_keys
 STAR_QUANTITIES = ("k", "c", "H", "r")  # quantities a star case may scale
@@ -382,6 +382,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         "energy_error": res.energy_error if p.foundation != "fixed" else 0.0,
         "toppled": res.toppled_at is not None,
         "toppled_at": None if res.toppled_at is None else float(res.toppled_at + opts["t0"]),
+        "alpha_rad": math.atan2(p.r, p.H),
+        **res.end_tilt(),
         "outcome": "",  # set below from the fields above
         "n_steps": res.stats.get("accepted", 0),
         "wall_s": wall,
@@ -419,6 +421,8 @@ def outcome(s: dict) -> tuple[str, str]:
         return "toppled", f"TOPPLED at t = {s['toppled_at']:.3f} s{slip}"
     if s.get("foundation") == "fixed":
         return "fixed base", f"fixed base (no foundation to lift off){slip}"
+    if s.get("past_tip_over_at_end"):  # (not toppled by the run's end, but falling)
+        return "uplift", past_tip_over(s["final_tilt_rad"], s["alpha_rad"], "tilt") + slip
     if s.get("max_uplift_ratio", 0.0) > 0.0:
         return "uplift", (
             f"uplift: up to {s['max_uplift_ratio']:.0%} of the base lifted, peak tilt "

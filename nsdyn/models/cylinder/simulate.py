@@ -32,7 +32,7 @@ from nsdyn.models.cylinder import _kernel as K
 from nsdyn.models.cylinder.cylinder_compile import run_integrate
 from nsdyn.models.cylinder.design import static_settlement, too_soft
 from nsdyn.models.cylinder.params import G_STD, CylinderParams
-from nsdyn.models.tilt import initial_tilt
+from nsdyn.models.tilt import final_tilt, initial_tilt
 
 RTOL = 1e-7  # default relative tolerance of the step-size controller
 ENERGY_WARN = 1e-2  # energy closure above which a run warns (and above 1000 rtol; a run
@@ -155,6 +155,16 @@ class CylinderResult(Tabular):
                     1e-300)  # fmt: skip
         return float(np.max(np.abs(res)) / scale)
 
+    def end_tilt(self) -> dict:
+        """``final_tilt_rad``, its rate ``final_tilt_rate_rad_per_s`` (a backward difference
+        over the last samples) and ``past_tip_over_at_end``: past alpha = atan(r / H), leaning
+        further (:func:`nsdyn.models.tilt.final_tilt`)."""
+        rate = (
+            [(self.tilt[-1] - self.tilt[-2]) / (self.t[-1] - self.t[-2])] if self.t.size > 1 else []
+        )
+        alpha = math.atan2(self.params.r, self.params.H)
+        return final_tilt(self.tilt, rate, alpha, ("final_tilt_rad", "final_tilt_rate_rad_per_s"))
+
     def summary(self) -> dict:
         """Peaks of the run, the unit in each name (``_rad``, ``_m``, ``_N``, ``_Nm``, ``_J``,
         ``_s``); the time of toppling is None when it stood."""
@@ -173,6 +183,7 @@ class CylinderResult(Tabular):
             "energy_error": 0.0 if fixed else self.energy_error,
             "toppled": self.toppled_at is not None,
             "t_topple_s": self.toppled_at,
+            **self.end_tilt(),
             "t_end_s": float(self.t[-1]),
             "n_steps": int(self.stats.get("accepted", 0)),
             "wall_s": float(self.stats.get("wall_s", 0.0)),

@@ -36,7 +36,7 @@ from nsdyn.models.rocking.block import (
     check_frequency,
     former_positional,
 )
-from nsdyn.models.tilt import initial_tilt
+from nsdyn.models.tilt import final_tilt, initial_tilt
 
 TOL = 1e-8  # default relative tolerance
 PEAK_MIN = 0.05  # peaks below this fraction of alpha are not used for r_eff (contact noise)
@@ -170,6 +170,7 @@ class CompliantResult(Tabular):
             "outcome": "overturned" if over else "standing",  # (no impacts to rest on)
             "overturned": over,
             "t_overturn_s": self.t_overturn if math.isfinite(self.t_overturn) else None,
+            **final_tilt(self.theta, self.thetad, self.alpha),
             "n_steps": self.n_steps,
             "wall_s": self.wall_s,
         }

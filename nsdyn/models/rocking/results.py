@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._tabular import Tabular
+from nsdyn.models.tilt import final_tilt
 
 OUTCOMES = ("rest", "rocking", "overturned")  # kernel outcome code -> name
 
@@ -111,8 +112,7 @@ class RockingResult(Tabular):
             "n_uplifts": self.n_uplifts,
             "max_theta_rad": float(self.max_abs_theta),
             "max_theta_over_alpha": float(self.max_theta_over_alpha),
-            "final_theta_rad": float(self.theta[-1]) if len(self.theta) else 0.0,
-            "final_thetad_rad_per_s": float(self.thetad[-1]) if len(self.thetad) else 0.0,
+            **final_tilt(self.theta, self.thetad, self.alpha),
             "n_steps": self.n_steps,
             "n_rejected": self.n_rejected,
             "wall_s": self.wall_s,

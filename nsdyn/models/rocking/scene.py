@@ -400,12 +400,8 @@ def outcome(s: dict) -> tuple[str, str]:
     if word == "rocking" and not s.get("n_impacts") and abs((peak or 0.0) - 1.0) < 1e-9:
         return word, ("balanced on its corner to the end (theta = alpha, the unstable "
                       "equilibrium: any disturbance rocks or topples it)")  # fmt: skip
-    end, rate, alpha = (
-        s.get(k) for k in ("final_theta_rad", "final_thetad_rad_per_s", "alpha_rad")
-    )
-    if word == "rocking" and all(isinstance(v, float) for v in (end, rate, alpha)):
-        if abs(end) > alpha and end * rate > 0:  # past the tip-over angle, leaning further
-            return word, f"{past_tip_over(end, alpha, 'theta')}{tilt}"
+    if s.get("past_tip_over_at_end"):  # (not overturned by t_end, but falling)
+        return word, f"{past_tip_over(s['final_theta_rad'], s['alpha_rad'], 'theta')}{tilt}"
     if word == "rocking":
         return word, f"rocking (lifted off, still rocking at the end){tilt}"
     if word == "rest":

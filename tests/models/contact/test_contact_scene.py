@@ -178,9 +178,13 @@ def test_a_body_past_its_corner_at_the_end_is_said_to_lean_past_it():
     from nsdyn import FrictionLaw, RigidBody, simulate_event
     from nsdyn.models.contact.results import slenderness
     from nsdyn.models.contact.scene import outcome
+    from nsdyn.models.tilt import leaning_past
 
     body = RigidBody.rectangle(0.5, 1.0, 100.0)
     r = simulate_event(body, FrictionLaw(1.0), None, t_end=0.5, theta0_over_alpha=1.01)
     s = r.summary() | {"alpha_rad": slenderness(body)}
     assert not s["overturned"] and abs(s["final_tilt_rad"]) > 1.01 * s["alpha_rad"]
+    s["past_tip_over_at_end"] = leaning_past(s["final_tilt_rad"], s["final_omega_rad_per_s"],
+                                             s["alpha_rad"])  # fmt: skip
+    assert s["past_tip_over_at_end"]  # (as the scene sets it)
     assert outcome(s)[1].startswith("LEANING PAST ITS TIP-OVER ANGLE at the end: tilt")

@@ -190,3 +190,18 @@ def test_t_end_cuts_a_record_or_runs_on_with_the_ground_at_rest():
     np.testing.assert_array_equal(rest.q, simulate(P, np.zeros((101, 3)), dt, **kw).q)
     with pytest.raises(ValueError, match=r"^ag: .*got None; with t_end, None runs the ground"):
         simulate(P, None, dt)
+
+
+def test_a_cylinder_released_past_alpha_is_leaning_past_it_at_an_early_end():
+    # released past alpha = atan(r / H) on ground at rest, gravity's moment tips it further
+    # (settlement only lowers the tip-over angle): before it topples the summary says so (the
+    # scene read "stayed standing"); released well inside alpha it is not
+    from nsdyn.models.cylinder.scene import outcome
+
+    alpha = math.atan2(P.r, P.H)
+    s = simulate(P, None, 0.01, t_end=1.0, theta0_over_alpha=1.05).summary()
+    assert not s["toppled"] and s["past_tip_over_at_end"] and s["final_tilt_rad"] > 1.05 * alpha
+    word = outcome(s | {"alpha_rad": alpha, "max_uplift_ratio": 1.0})[1]
+    assert word.startswith("LEANING PAST ITS TIP-OVER ANGLE at the end: tilt")
+    s = simulate(P, None, 0.01, t_end=1.0, theta0_over_alpha=0.5).summary()
+    assert not s["past_tip_over_at_end"]

@@ -203,3 +203,19 @@ def test_a_record_that_starts_before_the_run_is_said_and_a_scene_starts_with_it(
     cfg["block"]["omega_v_over_p"] = 300.0
     with pytest.raises(SceneError, match=r"^s.toml: motion.record: the record starts at t = -2"):
         run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+
+
+def test_every_rocking_body_released_past_alpha_is_leaning_past_it_at_an_early_end():
+    # released a hair past alpha with the ground at rest, gravity's moment m g R sin(theta -
+    # alpha) turns a block away from upright for good (on rigid or compliant corners): at an
+    # end before it overturns, its summary says so (the compliant block's read "standing")
+    blk = RockingBlock(width=0.5, height=2.0)
+    cb = CompliantBlock.from_frequency(width=0.5, height=2.0, mass=1.0, omega_v=300 * blk.p,
+                                       zeta=0.5)  # fmt: skip
+    kw = dict(t_end=1.0, theta0_over_alpha=1.05, dt_out=0.01)
+    for res in (simulate_rocking(blk, **kw), simulate_compliant(cb, **kw)):
+        s = res.summary()
+        assert not s["overturned"] and s["past_tip_over_at_end"], s
+        assert s["final_theta_rad"] > 1.05 * blk.alpha and s["final_thetad_rad_per_s"] > 0
+    s = simulate_rocking(blk, t_end=1.0, theta0_over_alpha=0.95, dt_out=0.01).summary()
+    assert not s["past_tip_over_at_end"]  # below alpha it rocks back: no fall
