@@ -54,7 +54,8 @@ def resolve_paths(cfg: Mapping, folder: str | Path, source: str = "") -> dict:
     """``cfg`` with its relative file names (:data:`FILE_FIELDS`) read from ``folder``, the
     scene file's: a name with a file of that name in ``folder`` becomes that file's absolute
     path (unless it names the same file from the current folder); any other value (a bundled
-    name, an absolute path, a file missing there) is kept as written; a bare name beside a
+    name, an absolute path, a file missing there) is kept as written, a file missing there
+    but found from the current folder with an InputWarning; a bare name beside a
     file of that name and a suffix (``portal`` by ``portal.toml``) is an InputWarning."""
     folder = Path(folder)
     out = {k: dict(v) if isinstance(v, Mapping) else v for k, v in cfg.items()}
@@ -65,6 +66,11 @@ def resolve_paths(cfg: Mapping, folder: str | Path, source: str = "") -> dict:
         there = folder / v
         if there.is_file() and not (Path(v).is_file() and Path(v).resolve() == there.resolve()):
             out[table][key] = str(there.resolve())
+        elif not there.exists() and Path(v).is_file() and folder.is_dir():
+            # (the same scene read another file, or none, when started from another folder)
+            warnings.warn(f"{source or folder}: {table}.{key} = {v!r} is not beside the scene "
+                          f"(in {folder}); read from the current folder: {Path(v).resolve()}",
+                          InputWarning, stacklevel=3)  # fmt: skip
         elif not Path(v).suffix and not there.exists() and folder.is_dir():
             me = Path(source).name  # (the scene itself, office-11.toml naming "office-11")
             near = [p.name for p in sorted(folder.glob(glob.escape(v) + ".*"))

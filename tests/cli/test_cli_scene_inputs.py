@@ -321,3 +321,22 @@ def test_a_building_run_refuses_the_frame_flags_naming_its_own_field(capsys, tmp
             "[structure] fidelity)"
         )
     )
+
+
+def test_a_relative_file_found_only_from_the_current_folder_is_said(tmp_path, monkeypatch):
+    # a scene's record = "rec.csv" with no rec.csv beside it ran the current folder's file,
+    # unsaid: the same scene read another file, or none, when started elsewhere
+    from nsdyn.models.scenefile import resolve_paths
+
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "rec.csv").write_text("t,a\n0,0\n0.01,1\n")
+    monkeypatch.chdir(tmp_path)
+    cfg = {"motion": {"record": "rec.csv"}}
+    said = r"^sub/s.toml: motion.record = 'rec.csv' is not beside the scene \(in sub\); read "
+    with pytest.warns(UserWarning, match=said + r"from the current folder: .*rec.csv$"):
+        assert resolve_paths(cfg, "sub", "sub/s.toml") == cfg
+    (tmp_path / "sub" / "rec.csv").write_text("t,a\n0,0\n0.01,1\n")
+    with warnings.catch_warnings():  # beside the scene: read there, without a word
+        warnings.simplefilter("error")
+        out = resolve_paths(cfg, "sub", "sub/s.toml")
+    assert out["motion"]["record"] == str((tmp_path / "sub" / "rec.csv").resolve())

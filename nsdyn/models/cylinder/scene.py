@@ -132,7 +132,19 @@ def simulated_records_note(source: str) -> None:
                   stacklevel=3)  # fmt: skip
 
 
-def _record_components(mo: dict, units: dict) -> tuple:
+def _component(mo: dict, key: str, units: dict, source: str):
+    """The record of ``[motion] key`` (None when not given; SceneError naming the key)."""
+    from nsdyn.ground import read_motion
+
+    if key not in mo:
+        return None
+    try:
+        return read_motion(mo[key], **units)
+    except (OSError, ValueError) as e:
+        raise SceneError(f"{source}: motion.{key}: {e}") from None
+
+
+def _record_components(mo: dict, units: dict, source: str) -> tuple:
     """(x, y, z) records of ``[motion] record`` (with ``record_y`` and ``record_z``, each a
     file of one component); alone, a file or bundled name holding both horizontal components
     (nsdyn's three-column CSV, a bundled record with its second component) gives both and its
@@ -141,9 +153,9 @@ def _record_components(mo: dict, units: dict) -> tuple:
     from nsdyn.ground.motion import RecordFileError
 
     if "record_y" in mo or "record_z" in mo:
-        my = read_motion(mo["record_y"], **units) if "record_y" in mo else None
-        mz = read_motion(mo["record_z"], **units) if "record_z" in mo else None
-        return read_motion(mo["record"], **units), my, mz
+        mx = read_motion(mo["record"], **units)
+        my, mz = (_component(mo, key, units, source) for key in ("record_y", "record_z"))
+        return mx, my, mz
     try:
         m3 = read_motion3(mo["record"], **units)
     except (RecordFileError, KeyError, ValueError):  # one horizontal component
@@ -203,13 +215,15 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
                          "first, motion.record (the x component)")  # fmt: skip
     if "record" in mo:
         try:
-            mx, my, mz = _record_components(mo, units)
+            mx, my, mz = _record_components(mo, units, source)
             t0 = float(mx.t0)
             if my is None:
                 from nsdyn.ground.formats import unused_columns_note
 
                 y_too = "give the second horizontal as [motion] record_y, or a CSV t, ax, ay[, az]"
                 unused = unused_columns_note(mx if mz is None else mx.with_vertical(None), y_too)
+        except SceneError:  # (a second component's, named)
+            raise
         except (OSError, ValueError) as e:
             raise SceneError(f"{source}: motion.record: {e}") from None
         scenefile.refuse_keys(mo, source, "motion", RECORD_REPLACES, "a key of the simulated "

@@ -262,6 +262,15 @@ def test_inputs_a_cylinder_run_dropped_are_refused(edit, match):
         build(cfg, "s.toml")
 
 
+def test_a_missing_second_component_is_named_by_its_own_field(tmp_path):
+    # it read "s.toml: motion.record: s.toml: motion.record_y: 'nope.csv' is neither ..."
+    x = tmp_path / "x.csv"
+    x.write_text("t,a\n0,0\n0.01,1\n0.02,0\n")
+    cfg = {"scene": {"kind": "cylinder"}, "motion": {"record": str(x), "record_y": "nope.csv"}}
+    with pytest.raises(SceneError, match=r"^s.toml: motion.record_y: 'nope.csv' is neither"):
+        build(cfg, "s.toml")
+
+
 def test_springs_on_a_fixed_base_are_noted_as_unused():
     # they were dropped without a word (refused they would stop a study whose
     # foundation.case runs over "tensionless", "bonded" and "fixed" on one designed base)
