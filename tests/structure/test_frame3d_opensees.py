@@ -178,3 +178,12 @@ def test_cli_names_a_bad_mode_count(tmp_path, capsys):
         main(argv)
     assert e.value.code == 2
     assert "argument --modes: expected at least 1" in capsys.readouterr().err
+
+
+def test_cli_says_when_a_frame_has_fewer_modes_than_asked(tmp_path, capsys):
+    # the portal's 4 free nodes x 6 dofs less 3 per node tied to its diaphragm, plus the
+    # diaphragm's own 3: 15 modes; 200 asked were cut to 15 without a word
+    argv = ["export", "opensees", "portal-3d", "-o", str(tmp_path / "p.py"), "--modes", "200"]
+    assert main(argv) == 0
+    assert "note: --modes 200: portal-3d has 15 modes to list" in capsys.readouterr().err
+    assert main([*argv[:-1], "15"]) == 0 and "note" not in capsys.readouterr().err

@@ -131,6 +131,13 @@ def _scene_system(scene, source: str, t_end=None):
             f"'isolated') and the 3D building (kind 'building3d'), or a 3D frame file, got "
             f"{kind!r}"
         )
+    motion_kind = raw.get("motion", {}).get("kind", "record") if isinstance(
+        raw.get("motion"), dict) else "record"  # fmt: skip
+    if "force" in raw or motion_kind != "record":  # (before the scene's own checks of them)
+        raise SceneError(
+            f"{source}: [motion]: OpenSees export needs a ground-motion record "
+            "(motion.record = ...), not a harmonic motion or a force"
+        )
     if isinstance(scene, str | Path):
         cfg = load_scene(scene, {"scene": {"fidelity": "full"}} if "structure" not in raw else None)
     else:
@@ -140,11 +147,6 @@ def _scene_system(scene, source: str, t_end=None):
         raise SceneError(
             f"{source}: [structure]: OpenSees export needs a frame ([scene] frame = ...); a "
             "shear building or a structure from matrices has no members to export"
-        )
-    if "force" in cfg or cfg.get("motion", {}).get("kind", "record") != "record":
-        raise SceneError(
-            f"{source}: [motion]: OpenSees export needs a ground-motion record "
-            "(motion.record = ...), not a harmonic motion or a force"
         )
     cfg.setdefault("scene", {})["fidelity"] = "full"
     if t_end is not None:  # (a copy: a loaded scene given is not changed)

@@ -215,7 +215,12 @@ def build_motion(cfg: dict, source: str):
             raise SceneError(f"{source}: motion.t_start: the pulse starts at {t_s:g} s, at or "
                              f"after the run's end (t_end = {t_end:g} s); expected "
                              "t_start < t_end")  # fmt: skip
-        return pulse, t_end or max(T_END, 3 * pulse.duration), th0, f"{shape} pulse"
+        what = f"{shape} pulse"
+        given = [k for k in ("a_p", "a_p_g") if k in mo]
+        if "pga" in mo and given:  # (a study's motion.pga scales the scene's pulse: said)
+            unit = " g" if given[0] == "a_p_g" else " m/s²"
+            what += f" (its amplitude motion.pga, in place of {given[0]} = {mo[given[0]]:g}{unit})"
+        return pulse, t_end or max(T_END, 3 * pulse.duration), th0, what
     if "pga" in mo:
         raise SceneError(f"{source}: motion.pga: {mo['pga']!r} m/s² needs a motion.record or "
                          "a motion.pulse to scale")  # fmt: skip
@@ -295,7 +300,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
                          "before t = 0 where a compliant block's run starts; expected a "
                          "record whose clock starts at 0 or later")  # fmt: skip
     with grid_fields(source, fields):  # (refused before the run says it starts)
-        output_step(dt_out, t_end - start.get("t0", 0.0))
+        output_step(dt_out, t_end - start.get("t0", 0.0), off=False)  # (0: refused)
         blk.check_frequency(model, exc, hz=pulse_w == "motion.f_p")
     say(f"rocking: {name}: {type(model).__name__}, {what}, t_end = {t_end:g} s")
     from nsdyn.ground.formats import past_record_note, unused_columns_note

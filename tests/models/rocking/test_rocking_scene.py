@@ -83,8 +83,20 @@ def test_a_pulse_given_by_its_pga_is_the_pulse_of_that_amplitude():
     base = {"pulse": "sine", "omega_p": 10.0}
     by_pga, _, _, _ = build_motion({"motion": {**base, "pga": 3.0}}, "p.toml")
     by_ap, _, _, _ = build_motion({"motion": {**base, "a_p": 3.0}}, "p.toml")
-    over, _, _, _ = build_motion({"motion": {**base, "a_p": -1.0, "pga": 3.0}}, "p.toml")
+    over, _, _, what = build_motion({"motion": {**base, "a_p": -1.0, "pga": 3.0}}, "p.toml")
     assert by_pga == by_ap and over.a_p == -3.0
+    assert what == "sine pulse (its amplitude motion.pga, in place of a_p = -1 m/s²)"  # (said)
+
+
+def test_a_scene_output_step_is_refused_in_one_form(tmp_path):
+    # 0 was refused as "expected a positive number" and a step past the run's end as "...,
+    # or 0 for no output": a scene has no "no output"
+    for dt_out in (0.0, 100.0):
+        cfg = {**_cfg(), "motion": {"theta0_over_alpha": 0.5, "t_end": 3.0},
+               "solver": {"dt_out": dt_out}}  # fmt: skip
+        with pytest.raises(SceneError, match=r"^s.toml: solver.dt_out: expected a positive ") as e:
+            run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+        assert "0 for no output" not in str(e.value)
 
 
 def test_unknown_field_suggests_the_nearest():
