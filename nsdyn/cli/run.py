@@ -119,12 +119,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         "radau-generic, dopri5, event (adaptive); genalpha, hht, newmark, genalpha-lowrank "
         "(fixed step, --dt)",
     )
-    p.add_argument(
-        "--dt",
-        type=_positive_finite,
-        metavar="S",
-        help="step of the fixed-step methods (default 0.005 s)",
-    )
+    p.add_argument("--dt", type=_positive_finite, metavar="S",
+                   help="step of the fixed-step methods (default 0.005 s)")  # fmt: skip
     p.add_argument("--t-end", type=_positive_finite, metavar="S", help="stop at this time")
     p.add_argument(
         "--max-steps",
@@ -249,8 +245,9 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     bad = [f"--{k.replace('_', '-')}" for k in _ISOLATED_ONLY if getattr(args, k, None)]
     if bad:
         verb = "applies" if len(bad) == 1 else "apply"
-        raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes only "
-                         "(a building3d scene's rung: its [structure] fidelity)")  # fmt: skip
+        rung = " (a building3d scene's rung: its [structure] fidelity)" * (kind == "building3d")
+        raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes "
+                         f"only{rung}")  # fmt: skip
     if args.method and kind in ("deck", "building3d"):
         raise SceneError(f"{args.scene}: --method: a {kind} scene's integrator follows its "
                          "[solver] law (and fidelity); --method applies to isolated-frame, "

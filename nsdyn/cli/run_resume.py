@@ -63,12 +63,23 @@ def refuse_foreign_checkpoint(path: Path, ident: dict) -> None:
         keys = [] if old is None else differing(old, ident)
         if len(keys) > 1 and "motion" in keys:  # (the samples follow from the scene's keys)
             keys.remove("motion")
-        diff = "an older nsdyn" if old is None else "differing: " + ", ".join(keys)
+        names = dict.fromkeys(_field(k) for k in keys)  # (in order, once each)
+        diff = "an older nsdyn" if old is None else "differing: " + ", ".join(names)
         raise SceneError(
             f"{path.parent}: the checkpoint there was written by a run with other settings "
             f"({diff}); rerun with the same scene and options to resume it, or without "
             "--resume to start afresh"
         )
+
+
+def _field(key: str) -> str:
+    """A differing identity key as the scene field it is (``scene.solver.method`` ->
+    ``solver.method``, a command-line flag included: the scene is taken after them)."""
+    if key == "fidelity":
+        return "scene.fidelity"
+    if key == "motion":
+        return "the record's samples"
+    return key.removeprefix("scene.")
 
 
 def checkpoint_time(path: Path) -> float | None:

@@ -321,6 +321,12 @@ def test_a_building_run_refuses_the_frame_flags_naming_its_own_field(capsys, tmp
             "[structure] fidelity)"
         )
     )
+    # a rocking scene has no rung: the building's words were no help there
+    rocking = SCENES / "rocking-seed003-column.toml"
+    assert main(["run", str(rocking), "--resume", "--out", str(tmp_path)]) == 2
+    assert (
+        capsys.readouterr().err.rstrip().endswith("--resume applies to isolated-frame scenes only")
+    )
 
 
 def test_a_relative_file_found_only_from_the_current_folder_is_said(tmp_path, monkeypatch):

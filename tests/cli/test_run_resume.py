@@ -26,13 +26,26 @@ def test_a_record_edited_since_the_checkpoint_is_refused_before_resuming(tmp_pat
     m = GroundMotion(t0=0.0, dt=0.01, a_hor=np.array([0.0, 1.0, 0.0]), name="r")
     _interrupted(tmp_path, m)
     edited = dataclasses.replace(m, a_hor=np.array([0.0, 2.0, 0.0]))
-    with pytest.raises(SceneError, match=r"other settings \(differing: motion\)"):
+    with pytest.raises(SceneError, match=r"other settings \(differing: the record's samples\)"):
         open_checkpoint(tmp_path, run_identity(CFG, None, edited), resume=True, quiet=False)
     assert "resuming" not in capsys.readouterr().err
     # the same samples under another name and header: the same run, resumed
     renamed = dataclasses.replace(m, name="other", meta={"title": "x"})
     *_, t = open_checkpoint(tmp_path, run_identity(CFG, None, renamed), resume=True, quiet=False)
     assert t == 0.01 and "resuming from t = 0.01 s" in capsys.readouterr().err
+
+
+def test_a_checkpoint_of_other_settings_names_them_as_scene_fields(tmp_path):
+    # it named the identity's keys: "differing: fidelity, scene.scene.fidelity, scene.solver.
+    # method", two of them names no user typed
+    m = GroundMotion(t0=0.0, dt=0.01, a_hor=np.array([0.0, 1.0, 0.0]), name="r")
+    np.savez(tmp_path / CHECKPOINT, t=np.array([0.0, 0.01]))
+    old = {**CFG, "scene": {**CFG["scene"], "fidelity": "cb"}, "solver": {"rtol": 1e-6}}
+    (tmp_path / IDENTITY).write_text(json.dumps(run_identity(old, "cb", m)))
+    new = {**old, "scene": {**CFG["scene"], "fidelity": "full"},
+           "solver": {"rtol": 1e-6, "method": "radau"}}  # fmt: skip
+    with pytest.raises(SceneError, match=r"\(differing: scene.fidelity, solver.method\); "):
+        open_checkpoint(tmp_path, run_identity(new, "full", m), resume=True, quiet=True)
 
 
 def test_a_checkpoint_of_an_older_nsdyn_is_said_to_be_one(tmp_path):
