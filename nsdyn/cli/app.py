@@ -473,7 +473,7 @@ def _main(argv: list[str]) -> int:
     except BrokenPipeError:  # no error of the input: main stops quietly
         raise
     except _user_errors() as exc:
-        return fail(args, flagged(str(exc), args), notes=EARLIER)
+        return fail(args, flagged(str(exc), args))  # one line: an input is fixed, not run
     except _numerics_errors() as exc:
         from nsdyn.solve.integrate import UpliftError
 

@@ -297,6 +297,19 @@ def test_a_contact_problem_without_solution_is_a_numerical_failure(tmp_path, cap
                                     "none of this failed run's: run-histories.npz")  # fmt: skip
 
 
+def test_an_input_error_is_one_line_beside_an_earlier_runs_files(tmp_path, capsys):
+    # the earlier files' note followed every input error in a used folder: nothing ran, so
+    # nothing there can be mistaken for this run's
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "run-histories.npz").write_bytes(b"an isolated frame's run")
+    scene = tmp_path / "s.toml"
+    scene.write_text('[scene]\nframe = "office-11"\n[solver]\nbogus = 1\n')
+    assert main(["run", str(scene), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "solver.bogus" in err
+
+
 def test_an_output_grid_too_coarse_for_a_harmonic_is_noted(tmp_path, capsys):
     """50 Hz sampled every 20 ms (the scene default) is one sample per period: the peaks are
     aliased (the sampling theorem asks for more than two; 20 keeps the sampled peak of a sine
