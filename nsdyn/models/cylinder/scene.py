@@ -243,6 +243,7 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
             dt, ag = from_motions(mx, my, mz)
         except (OSError, ValueError) as e:
             raise SceneError(f"{source}: motion.record: {e}") from None
+        what = "record " + " + ".join(m.name for m in (mx, my, mz) if m is not None)
     else:
         seed = mo.get("seed", 0)
         if isinstance(seed, float) and seed.is_integer():
@@ -270,6 +271,7 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         except ValueError as e:
             raise SceneError(f"{source}: motion.{e}") from None
         dt, ag = earthquake(seed, dur, dt, s0_units=units)
+        what = f"simulated earthquake (motion.seed {seed}, {dur:g} s)"
     if "pga" in mo:
         pga = number(source, "motion.pga", mo["pga"], allow_zero=True)  # 0: free vibration
         if pga > PGA_TARGET_MAX:
@@ -305,6 +307,7 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         )
     opts = {"rtol": rel_tol(source, "solver.rtol", so.get("rtol", RTOL)), "t0": t0}
     opts["notes"] = ([unused] if unused else []) + notes
+    opts["what"] = what + (f", scaled to PGA {mo['pga']:g} m/s²" if "pga" in mo else "")
     opts["tilt"] = scene_tilt(mo, source)
     opts["azimuth0"] = number(source, "motion.azimuth0", mo.get("azimuth0", 0.0), positive=False)
     if p.foundation == "fixed" and any(opts["tilt"].values()):
@@ -351,7 +354,10 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     out_dir = Path(out_dir)
     log = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
-    log(f"cylinder {name}: {foundation_text(p.foundation, p.k, p.c)}, {len(ag)} samples")
+    log(
+        f"cylinder {name}: {foundation_text(p.foundation, p.k, p.c)}; {opts['what']}, "
+        f"{len(ag)} samples"
+    )
     for note in opts["notes"]:
         log(f"cylinder: note: {note}")
     compile_s = warm(p, dt, ag, opts)
@@ -365,6 +371,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     summary = {
         "kind": "cylinder",
         "name": name,
+        "motion": opts["what"],
         "foundation": p.foundation,
         "k": p.k,
         "c": p.c,

@@ -271,6 +271,14 @@ def test_a_missing_second_component_is_named_by_its_own_field(tmp_path):
         build(cfg, "s.toml")
 
 
+def test_the_motion_run_is_named_when_the_scene_gives_none():
+    # without [motion] the run drove the cylinder with simulated earthquake 0 and never said so
+    opts = build({"scene": {"kind": "cylinder"}}, "s.toml")[3]
+    assert opts["what"] == "simulated earthquake (motion.seed 0, 20 s)"
+    opts = build({"scene": {"kind": "cylinder"}, "motion": {"seed": 3, "pga": 2.0}}, "s.toml")[3]
+    assert opts["what"] == "simulated earthquake (motion.seed 3, 20 s), scaled to PGA 2 m/s²"
+
+
 def test_springs_on_a_fixed_base_are_noted_as_unused():
     # they were dropped without a word (refused they would stop a study whose
     # foundation.case runs over "tensionless", "bonded" and "fixed" on one designed base)
