@@ -68,6 +68,7 @@ def resolve_paths(cfg: Mapping, folder: str | Path, source: str = "") -> dict:
             out[table][key] = str(there.resolve())
         elif not there.exists() and Path(v).is_file() and folder.is_dir():
             # (the same scene read another file, or none, when started from another folder)
+            out[table][key] = str(Path(v).resolve())
             warnings.warn(f"{source or folder}: {table}.{key} = {v!r} is not beside the scene "
                           f"(in {folder}); read from the current folder: {Path(v).resolve()}",
                           InputWarning, stacklevel=3)  # fmt: skip

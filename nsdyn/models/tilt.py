@@ -63,17 +63,17 @@ def leaning_past(end: float, rate: float, alpha: float) -> bool:
     return bool(abs(end) > alpha and end * rate > 0)
 
 
-def final_tilt(
-    theta,
-    rate,
-    alpha: float,
-    names: tuple[str, str] = ("final_theta_rad", "final_thetad_rad_per_s"),
-) -> dict:
+NAMES = ("final_theta_rad", "final_thetad_rad_per_s")  # a summary's last tilt and its rate
+
+
+def final_tilt(theta, rate, alpha: float, over: bool, names: tuple[str, str] = NAMES) -> dict:
     """A summary's last tilt and its rate (keys ``names``) and ``past_tip_over_at_end``
-    (:func:`leaning_past`) from the histories ``theta`` [rad] and ``rate`` [rad/s]."""
+    (:func:`leaning_past`, false for a run that ended ``over``: overturned, toppled) from the
+    histories ``theta`` [rad] and ``rate`` [rad/s]."""
     end = float(theta[-1]) if len(theta) else 0.0
     turn = float(rate[-1]) if len(rate) else 0.0
-    return {names[0]: end, names[1]: turn, "past_tip_over_at_end": leaning_past(end, turn, alpha)}
+    past = leaning_past(end, turn, alpha) and not over
+    return {names[0]: end, names[1]: turn, "past_tip_over_at_end": past}
 
 
 def past_tip_over(end: float, alpha: float, name: str) -> str:

@@ -196,8 +196,8 @@ def _check_inputs(problem, disc, n_steps, tol, max_iter) -> None:
     if getattr(problem, "amplitude", None) == 0:  # (its residual, scaled by an orbit of
         # round-off, read 0.46 and every point "no period-1 response")
         raise ValueError(
-            "amplitude 0: no forcing, the steady state is the static state "
-            "problem.x_ref, nothing to shoot; expected an amplitude > 0"
+            "amplitude 0: no forcing, so the steady state is the static equilibrium, with "
+            "no orbit to shoot; expected an amplitude > 0"
         )
 
 

@@ -176,9 +176,8 @@ def output_grid(
     motion, dt_out: float | None = None, t_end: float | None = None, n_periods=None
 ) -> np.ndarray:
     """Output times from the excitation's start: the record's samples (or every ``dt_out``;
-    ``HARMONIC_SAMPLES`` per period of a harmonic one) up to ``t_end``, ``n_periods``
-    periods, or the record's end, which is the last output whatever the step. ValueError
-    when nothing fixes the end or the step."""
+    ``HARMONIC_SAMPLES`` per period of a harmonic one) up to ``t_end``, ``n_periods`` periods,
+    or the record's end, the last output whatever the step (ValueError: none fixes them)."""
     t0 = float(getattr(motion, "t0", 0.0))
     if getattr(motion, "n", 2) < 2:
         raise ValueError(f"motion: a record of {motion.n} sample spans no time; give a record "
@@ -211,10 +210,11 @@ def output_grid(
     if not float(t_end) > t0:
         raise ValueError(f"t_end: expected a time after the start {t0:g} s, got {t_end}")
     if float(dt) > float(t_end) - t0 + 1e-9 * float(dt):
-        raise ValueError(
-            f"dt_out: an output step of {float(dt):g} s is longer than the run "
-            f"({float(t_end) - t0:g} s); expected at least two output times"
-        )
+        raise ValueError(f"dt_out: an output step of {float(dt):g} s is longer than the run "
+                         f"({float(t_end) - t0:g} s); expected at least two output times"
+                         if dt_out else f"t_end: a run of {float(t_end) - t0:g} s is shorter "
+                         f"than the motion's step {float(dt):g} s, its output step without "
+                         "dt_out; expected at least two output times")  # fmt: skip
     return output_times(t0, float(t_end), float(dt))  # (ValueError beyond MAX_OUTPUTS)
 
 

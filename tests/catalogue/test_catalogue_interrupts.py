@@ -194,7 +194,7 @@ def test_run_checkpoint_from_other_settings_is_refused(tmp_path, capsys, referen
     rc = main([*other, "--out", str(out), "--resume"])
     err = capsys.readouterr().err
     assert rc == 2 and "checkpoint" in err  # refused with a message naming what differs
-    assert "differing: scene.motion.pga)" in err
+    assert "differing: motion.pga)" in err
 
 
 # ----------------------------------------------------------------------------- nsdyn sweep

@@ -242,7 +242,7 @@ def test_a_mistyped_option_or_benchmark_is_refused_with_the_nearest(argv, says, 
         (
             ["run", "ROCK", "--t-end", "1e-12"],
             "ROCK: solver.dt_out: expected a positive output "
-            "step no longer than the run (1e-12 s), or 0 for no output, got 0.002 (the run ends "
+            "step no longer than the run (1e-12 s), got 0.002 (the run ends "
             "at --t-end 1e-12 s)",
         ),
         (

@@ -167,3 +167,11 @@ def test_a_harmonic_scene_is_refused_at_once_for_what_it_is(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "[motion]: OpenSees export needs a ground-motion record" in err
     assert not (tmp_path / "h.py").exists()
+
+
+def test_a_misspelt_motion_kind_is_named_as_such_not_as_a_harmonic(tmp_path, capsys):
+    scene = tmp_path / "h.toml"
+    scene.write_text('[scene]\nframe = "office-11"\n[motion]\nkind = "harmonc"\n'
+                     "amplitude = 1.0\nfrequency = 1.0\n")  # fmt: skip
+    assert main(["export", "opensees", str(scene), "-o", str(tmp_path / "h.py")]) == 2
+    assert "motion.kind" in capsys.readouterr().err

@@ -229,3 +229,14 @@ def test_a_run_outside_its_record_says_so_and_the_ground_rests_there():
     r = nsdyn.simulate(_mass(mu=MU, law="switch"), ft, t_eval=np.linspace(1.0, 3.0, 201))
     assert r.notes[0].startswith("the run ends at t = 3 s, past the force table's end (2 s): the "
                                  "force is zero after it")  # fmt: skip
+
+
+def test_a_run_shorter_than_its_default_output_step_names_t_end():
+    # it named dt_out, which the caller never passed (the record's 0.01 s step is the default)
+    system = nsdyn.build_system(nsdyn.load_frame("office-11"), nsdyn.Isolation(),
+                                fidelity="rigid")  # fmt: skip
+    motion = nsdyn.read_motion("synthetic-wn-40s").window(0.0, 5.0)
+    with pytest.raises(ValueError, match=r"^t_end: a run of 1e-09 s is shorter than the motion"):
+        nsdyn.simulate(system, motion, t_end=1e-9)
+    with pytest.raises(ValueError, match=r"^dt_out: an output step of 2 s is longer than the "):
+        nsdyn.simulate(system, motion, t_end=1.0, dt_out=2.0)

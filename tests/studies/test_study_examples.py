@@ -127,6 +127,66 @@ def test_a_kept_name_far_from_every_field_is_warned_at_the_end(tmp_path, capsys)
     assert len(rows) == 2 and all(r["peak_corner_drift"] is None for r in rows)
 
 
+def test_a_kept_field_that_is_empty_in_every_row_is_no_warning(tmp_path, capsys):
+    from nsdyn.cli import main
+
+    study = tmp_path / "r.toml"
+    scene = EXAMPLES / "scenes" / "rocking-seed001-cask.toml"
+    study.write_text(f'[study]\nname = "r"\nscene = "{scene}"\n'
+                     'keep = ["t_overturn_s", "overturned"]\n'
+                     '[base.motion]\na_p_g = 0.1\nt_end = 2.0\n'  # < tan alpha = 0.5
+                     '[parameters]\n"block.mass" = [1.0e5, 2.0e5]\n')  # fmt: skip
+    assert main(["study", str(study), "--out", str(tmp_path / "o"), "--no-figures"]) == 0
+    assert "warning" not in capsys.readouterr().err
+    rows = read_csv(tmp_path / "o" / "results.csv")
+    assert all(r["overturned"] is False and r["t_overturn_s"] is None for r in rows)
+
+
+def test_a_study_may_not_vary_what_its_records_replace(tmp_path):
+    # each task's record dropped the pulse's value the grid gave it: N identical runs
+    from nsdyn.models.scenefile import SceneError
+
+    scene = EXAMPLES / "scenes" / "rocking-seed001-cask.toml"
+    study = tmp_path / "s.toml"
+    study.write_text(f'[study]\nscene = "{scene}"\n[parameters]\n"motion.a_p_g" = [0.5, 1.0]\n'
+                     '[records]\nnames = ["synthetic-wn-40s"]\n')  # fmt: skip
+    with pytest.raises(
+        SceneError,
+        match=r"parameters\.motion\.a_p_g: varies the scene's "
+        "closed-form motion, which every record of \\[records\\] replaces",
+    ):
+        load_study(study)
+
+
+HARMONIC_SCENES = ["isolated-uplift-pocket.toml", "sdof-bidirectional-circular.toml"]
+
+
+@pytest.mark.parametrize("scene", HARMONIC_SCENES)
+def test_records_on_a_harmonic_scene_are_refused_naming_records(tmp_path, scene):
+    # a harmonic base's reader named motion.record, a key the study file does not have
+    from nsdyn.models.scenefile import SceneError
+
+    path = EXAMPLES / "scenes" / scene
+    study = tmp_path / "s.toml"
+    mu = "bearing.mu" if "deck" in path.read_text() else "isolation.mu"
+    study.write_text(f'[study]\nscene = "{path}"\n[parameters]\n"{mu}" = [0.02, 0.03]\n'
+                     '[records]\nnames = ["synthetic-wn-40s"]\n')  # fmt: skip
+    with pytest.raises(SceneError, match=r"s\.toml: records: the scene's motion is harmonic"):
+        load_study(study)
+
+
+def test_a_field_in_another_table_is_hinted_by_its_own_name(tmp_path):
+    # a deck's friction is bearing.mu; the hint used to be the nearest string, 'motion.trim'
+    from nsdyn.models.scenefile import SceneError
+
+    path = EXAMPLES / "scenes" / "sdof-bidirectional-circular.toml"
+    study = tmp_path / "s.toml"
+    study.write_text(f'[study]\nscene = "{path}"\n[parameters]\n"isolation.mu" = [0.02, 0.03]\n')
+    hint = r"isolation\.mu: unknown scene field; did you mean 'bearing\.mu'"
+    with pytest.raises(SceneError, match=hint):
+        load_study(study)
+
+
 def test_the_never_kept_warning_names_only_the_names_no_row_has():
     # rows of two rungs: each lacks the other's field, and both the misspelt name; the
     # warning named the rigid row's whole note ('peak_torsional_moment_Nm' too, which the

@@ -163,7 +163,8 @@ class CylinderResult(Tabular):
             [(self.tilt[-1] - self.tilt[-2]) / (self.t[-1] - self.t[-2])] if self.t.size > 1 else []
         )
         alpha = math.atan2(self.params.r, self.params.H)
-        return final_tilt(self.tilt, rate, alpha, ("final_tilt_rad", "final_tilt_rate_rad_per_s"))
+        names = ("final_tilt_rad", "final_tilt_rate_rad_per_s")
+        return final_tilt(self.tilt, rate, alpha, self.toppled_at is not None, names)
 
     def summary(self) -> dict:
         """Peaks of the run, the unit in each name (``_rad``, ``_m``, ``_N``, ``_Nm``, ``_J``,

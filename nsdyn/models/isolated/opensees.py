@@ -131,9 +131,8 @@ def _scene_system(scene, source: str, t_end=None):
             f"'isolated') and the 3D building (kind 'building3d'), or a 3D frame file, got "
             f"{kind!r}"
         )
-    motion_kind = raw.get("motion", {}).get("kind", "record") if isinstance(
-        raw.get("motion"), dict) else "record"  # fmt: skip
-    if "force" in raw or motion_kind != "record":  # (before the scene's own checks of them)
+    mo = raw.get("motion") if isinstance(raw.get("motion"), dict) else {}
+    if "force" in raw or mo.get("kind") == "harmonic":  # (before the scene's checks of its keys)
         raise SceneError(
             f"{source}: [motion]: OpenSees export needs a ground-motion record "
             "(motion.record = ...), not a harmonic motion or a force"

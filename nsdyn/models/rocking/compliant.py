@@ -170,7 +170,7 @@ class CompliantResult(Tabular):
             "outcome": "overturned" if over else "standing",  # (no impacts to rest on)
             "overturned": over,
             "t_overturn_s": self.t_overturn if math.isfinite(self.t_overturn) else None,
-            **final_tilt(self.theta, self.thetad, self.alpha),
+            **final_tilt(self.theta, self.thetad, self.alpha, over),
             "n_steps": self.n_steps,
             "wall_s": self.wall_s,
         }

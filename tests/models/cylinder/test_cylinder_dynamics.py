@@ -205,3 +205,5 @@ def test_a_cylinder_released_past_alpha_is_leaning_past_it_at_an_early_end():
     assert word.startswith("LEANING PAST ITS TIP-OVER ANGLE at the end: tilt")
     s = simulate(P, None, 0.01, t_end=1.0, theta0_over_alpha=0.5).summary()
     assert not s["past_tip_over_at_end"]
+    s = simulate(P, None, 0.01, t_end=4.0, theta0_over_alpha=1.05).summary()
+    assert s["toppled"] and not s["past_tip_over_at_end"]  # (it topples: no longer leaning)

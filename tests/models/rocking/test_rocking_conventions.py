@@ -219,3 +219,7 @@ def test_every_rocking_body_released_past_alpha_is_leaning_past_it_at_an_early_e
         assert s["final_theta_rad"] > 1.05 * blk.alpha and s["final_thetad_rad_per_s"] > 0
     s = simulate_rocking(blk, t_end=1.0, theta0_over_alpha=0.95, dt_out=0.01).summary()
     assert not s["past_tip_over_at_end"]  # below alpha it rocks back: no fall
+    for res in (simulate_rocking(blk, **{**kw, "t_end": 4.0}),
+                simulate_compliant(cb, **{**kw, "t_end": 4.0})):  # fmt: skip
+        s = res.summary()  # (it falls at about 2 s: overturned, not leaning)
+        assert s["overturned"] and not s["past_tip_over_at_end"]
