@@ -228,14 +228,18 @@ def band_message(command: str, fmin: float, fmax: float, given: tuple = (True, T
             f"(see nsdyn {command} --help)")  # fmt: skip
 
 
-def holes(command: str, n_bad: int, n: int, what: str, detail: str) -> int:
+def holes(command: str, n_bad: int, n: int, what: str, detail: str, report=None) -> int:
     """The status of a finished curve or boundary: 0, or ``EXIT_NUMERICS`` after one line on
     stderr, ``nsdyn COMMAND: K of N WHAT failed (DETAIL)``, when some of its points failed --
     a result with holes is not a success, as a study with failed tasks is not; its files hold
-    every point either way."""
+    every point either way. A ``report`` (a --json one, not yet printed) gains ``status`` and
+    that line as ``error``, as every failed command's JSON has them."""
     if not n_bad:
         return 0
-    print(f"nsdyn {command}: {n_bad} of {n} {what} failed ({detail})", file=sys.stderr)
+    line = f"{n_bad} of {n} {what} failed ({detail})"
+    print(f"nsdyn {command}: {line}", file=sys.stderr)
+    if report is not None:
+        report.update(status=EXIT_NUMERICS, error=line)
     return EXIT_NUMERICS
 
 

@@ -137,7 +137,7 @@ def _note_earlier(args, out: Path, before: dict, report: dict) -> None:
             print(f"nsdyn sweep: note: {note}", file=sys.stderr)
 
 
-def _holes(amplitudes: list[dict], path) -> int:
+def _holes(amplitudes: list[dict], path, report=None) -> int:
     """:func:`nsdyn.cli.args.holes` of a sweep: its points without a steady state, and the
     frequencies a sweep without the fallback skipped (no row: the report lists them)."""
     n_skip = sum(len(s.get("skipped_hz") or []) for s in amplitudes)
@@ -147,7 +147,7 @@ def _holes(amplitudes: list[dict], path) -> int:
     if n_skip:
         where.append(f"{n_skip} frequencies skipped without the fallback (--json lists each "
                      "under skipped_hz)")  # fmt: skip
-    return holes("sweep", n_rows + n_skip, n, "points", "; ".join(where))
+    return holes("sweep", n_rows + n_skip, n, "points", "; ".join(where), report)
 
 
 def prepare_kernels(friction: str, contact: str = "bilateral") -> float:
@@ -313,9 +313,10 @@ def run(args: argparse.Namespace) -> int:
             save_figure(sweep_figure(results, fixed), fig_path, dpi=120)
             report["figure"] = str(fig_path)
         _note_earlier(args, out, before, report)
-    if args.json:
+    if args.json:  # (its holes' status and line first, in the report)
+        status = _holes(report["amplitudes"], csv_path, report)
         print(json.dumps(with_said(report), default=float))
-        return _holes(report["amplitudes"], csv_path)
+        return status
     print(
         f"model {report['model']}: {settings.points} frequencies "
         f"{settings.fmin:.10g}-{settings.fmax:.10g} Hz, {settings.continuation} continuation"
@@ -522,9 +523,10 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         report["json"] = str(json_path)
         with atomic_open(json_path, "w") as fh:
             fh.write(json.dumps(report, default=float, indent=1))
-    if args.json:
+    if args.json:  # (its holes' status and line first, in the report)
+        status = _holes(report["amplitudes"], json_path, report)
         print(json.dumps(with_said(report), default=float))
-        return _holes(report["amplitudes"], json_path)
+        return status
     print(f"{sc['kind']} {sc['name']}: {settings.points} frequencies {fmin:g}-{fmax:g} Hz, "
           f"law {settings.law}, {settings.continuation} continuation")  # fmt: skip
     print("   A [m/s²]  points  fallback  unstable  stick-slip  |u|max [m]  at f [Hz]  wall [s]")

@@ -255,6 +255,13 @@ def test_without_the_fallback_a_curve_walks_the_whole_band_and_names_its_gaps(
     summary = {"unconverged_points": 0, "points": len(c.points), "skipped_hz": list(sk)}
     assert _holes([summary], "sweep.csv") == EXIT_NUMERICS
     assert _holes([{**summary, "skipped_hz": []}], "sweep.csv") == 0
+    # a --json report of a curve with holes carries the status and the line, as every
+    # failed command's JSON does (it had neither: a script read a success)
+    report: dict = {}
+    assert _holes([summary], "sweep.csv", report) == EXIT_NUMERICS
+    assert report["status"] == EXIT_NUMERICS and report["error"].startswith(f"{sk.size} of ")
+    report = {}
+    assert _holes([{**summary, "skipped_hz": []}], "sweep.csv", report) == 0 and report == {}
 
 
 def test_a_jump_to_the_sweep_fallback_is_no_bifurcation():
