@@ -46,6 +46,13 @@ def _finite(name: str, v, *, positive: bool = False, nonneg: bool = False) -> fl
     return x
 
 
+# the refusal of a periodic sweep of a scene whose [motion] is no orbit (a record): its fix
+NOT_AN_ORBIT = ("motion.kind: nsdyn sweep needs a harmonic orbit (kind = 'orbit': linear, "
+                "circular, elliptical or general), not a record; e.g. [motion] kind = 'orbit', "
+                "orbit = 'linear', frequency = 1.0, amplitude = 1.0, n_periods = 10 (its shape "
+                "kept; --amplitudes and --fmin, --fmax scale and range it)")  # fmt: skip
+
+
 @dataclass(frozen=True)
 class HarmonicPlane:
     """Harmonic ground acceleration in the plane (and vertical); see the module docstring.

@@ -71,7 +71,7 @@ def plane_scene(cfg: dict, source: str) -> dict:
     """{"kind", "system" (PlaneSystem), "orbit" (HarmonicPlane), "solver" (law, eps, eta),
     "name", "sweep" (the deck scene's [sweep] keys given)} of a deck or rigid building3d
     scene under an orbit; SceneError naming the field."""
-    from nsdyn.ground.orbit import HarmonicPlane
+    from nsdyn.ground.orbit import NOT_AN_ORBIT, HarmonicPlane
 
     kind = cfg.get("scene", {}).get("kind")
     if kind == "deck":
@@ -102,10 +102,7 @@ def plane_scene(cfg: dict, source: str) -> dict:
                          f"contact closed (uplift detected); expected 'detect', got "
                          f"{solver['contact']!r}")  # fmt: skip
     if not isinstance(orbit, HarmonicPlane):
-        raise SceneError(
-            f"{source}: motion.kind: nsdyn sweep needs a harmonic orbit (kind = "
-            "'orbit': linear, circular, elliptical or general), not a record"
-        )
+        raise SceneError(f"{source}: {NOT_AN_ORBIT}")
     try:
         from nsdyn.periodic.plane import orbit_shape
 

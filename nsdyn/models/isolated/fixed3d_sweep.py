@@ -151,7 +151,7 @@ def fixed_sweep_scene(cfg: dict, source: str) -> dict:
     """{"frame", "n_modes", "orbit", "A" (unit-amplitude phasor), "amplitude", "name"} of a
     ``building3d`` scene at the fixed fidelity under a harmonic orbit (SceneError naming the
     field)."""
-    from nsdyn.ground.orbit import HarmonicPlane
+    from nsdyn.ground.orbit import NOT_AN_ORBIT, HarmonicPlane
     from nsdyn.models.isolated import building3d_scene as bs
 
     sysd = bs.build_system(cfg, source)
@@ -160,10 +160,7 @@ def fixed_sweep_scene(cfg: dict, source: str) -> dict:
                          f"rung needs fidelity = 'fixed', got {sysd['fidelity']!r}")  # fmt: skip
     orbit, _ = bs.build_motion(cfg, source)
     if not isinstance(orbit, HarmonicPlane):
-        raise SceneError(
-            f"{source}: motion.kind: nsdyn sweep needs a harmonic orbit (kind = "
-            "'orbit': linear, circular, elliptical or general), not a record"
-        )
+        raise SceneError(f"{source}: {NOT_AN_ORBIT}")
     try:
         A = orbit_phasor(orbit)
     except ValueError as e:

@@ -196,6 +196,11 @@ def test_cli_sweep_of_a_fixed_building_needs_an_orbit(tmp_path, capsys):
     assert main(["sweep", str(p), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and str(p) in err and "motion.kind" in err and "orbit" in err
+    # the [motion] it suggests sweeps (the record scenes bundled had no sweep to try)
+    example = err.split("e.g. [motion] ", 1)[1].split(" (its shape", 1)[0]
+    p.write_text(SCENE.format(kind="orbit", motion=example.split(", ", 1)[1].replace(", ", "\n")))
+    assert main(["sweep", str(p), "--out", str(tmp_path / "o"), "--points", "3",
+                 "--no-figures"]) == 0  # fmt: skip
 
 
 def test_n_modes_beyond_the_building_is_said_in_run_and_sweep(tmp_path, capsys):
