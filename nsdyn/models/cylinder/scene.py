@@ -459,6 +459,9 @@ def foundation_text(case: str, k: float, c: float) -> str:
     return f"{case}, k = {k:.6g} N/m³, c = {c:.6g} N s/m³"
 
 
+RIM_LABEL = {"bonded": "max rim rise [m] (bonded: springs in tension)"}  # (no lift-off)
+
+
 def format_summary(s: dict) -> str:
     """A short human table of a run summary, its outcome first."""
     lines = [
@@ -470,7 +473,7 @@ def format_summary(s: dict) -> str:
         ("initial tilt [rad]", s.get("theta0_rad", 0.0)),
         ("max tilt [rad]", s["max_tilt"]),
         ("max uplift ratio", s["max_uplift_ratio"]),
-        ("max rim lift [m]", s["max_rim_lift"]),
+        (RIM_LABEL.get(s["foundation"], "max rim lift [m]"), s["max_rim_lift"]),
         ("max base shear [N]", s["max_base_shear"]),
         ("max overturning [N m]", s["max_overturning"]),
         ("max tau_max / sigma_st", s["max_tau_max"]),

@@ -64,6 +64,17 @@ def test_bad_input_names_the_field(cfg, table, key, value, match):
     assert str(SCENE) in str(e.value)
 
 
+def test_a_bonded_base_rim_is_said_to_rise_not_to_lift(cfg, tmp_path):
+    # a bonded base holds the rim down in tension: no lift-off (uplift ratio 0), yet its
+    # table read "max rim lift" for the springs' stretch w + r sin(theta)
+    cfg["motion"]["t_end"] = 2.0
+    cfg["foundation"]["case"] = "bonded"
+    s = run_scene(cfg, source=str(SCENE), out_dir=tmp_path, figures=False, quiet=True)
+    assert s["max_uplift_ratio"] == 0.0 and s["max_rim_lift"] > 0
+    assert "max rim rise [m] (bonded: springs in tension)" in format_summary(s)
+    assert "rim lift" not in format_summary(s)
+
+
 def test_run_scene_end_to_end(cfg, tmp_path):
     cfg["motion"]["t_end"] = 4.0
     s = run_scene(cfg, source=str(SCENE), out_dir=tmp_path, figures=True, quiet=True)
