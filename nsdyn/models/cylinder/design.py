@@ -81,3 +81,23 @@ def uplift_onset(p: CylinderParams) -> tuple[float, float]:
     if s >= 1.0:
         raise ValueError(f"k: {too_soft(p)}")
     return math.asin(s), p.k * p.I_base * s
+
+
+DOPRI5_REAL_AXIS = 3.3  # Dormand–Prince 5(4): stable for h ω up to about 3.3 on the real axis
+STEPS_NOTED = 1e6  # a run needing more steps than this (about a minute) is said beforehand
+
+
+def too_stiff(p: CylinderParams, span: float) -> str | None:
+    """Why a run of ``span`` [s] on this foundation will take long (the explicit method's steps
+    bounded by the base's vertical mode, ω = sqrt(k π r² / m)), or None: a k far above the
+    design's made a run of minutes with nothing on screen."""
+    if p.foundation == "fixed":
+        return None
+    w = math.sqrt(p.k * p.area / p.m)
+    steps = span * w / DOPRI5_REAL_AXIS
+    if steps < STEPS_NOTED:
+        return None
+    return (f"foundation.k = {p.k:.4g} N/m^3 puts the base's vertical mode at "
+            f"{w / (2 * math.pi):.3g} Hz: dopri5, stable only with steps below 3.3/ω, takes "
+            f"of the order of {steps:.2g} steps over the {span:g} s run (minutes); a rigid "
+            "base is foundation.case = 'fixed'")  # fmt: skip

@@ -35,6 +35,7 @@ from nsdyn.models.cylinder.design import (
     design_foundation,
     static_settlement,
     too_soft,
+    too_stiff,
     uplift_onset,
 )
 from nsdyn.models.cylinder.params import FOUNDATIONS, CylinderParams
@@ -306,7 +307,8 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
             f"{source}: solver.method: expected one of {list(METHODS)}, got {method!r}"
         )
     opts = {"rtol": rel_tol(source, "solver.rtol", so.get("rtol", RTOL)), "t0": t0}
-    opts["notes"] = ([unused] if unused else []) + notes
+    stiff = too_stiff(p, (len(ag) - 1) * dt)  # (said before the long run starts)
+    opts["notes"] = ([unused] if unused else []) + notes + ([stiff] if stiff else [])
     opts["what"] = what + (f", scaled to PGA {mo['pga']:g} m/s²" if "pga" in mo else "")
     opts["tilt"] = scene_tilt(mo, source)
     opts["azimuth0"] = number(source, "motion.azimuth0", mo.get("azimuth0", 0.0), positive=False)

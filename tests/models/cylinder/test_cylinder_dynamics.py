@@ -207,3 +207,24 @@ def test_a_cylinder_released_past_alpha_is_leaning_past_it_at_an_early_end():
     assert not s["past_tip_over_at_end"]
     s = simulate(P, None, 0.01, t_end=4.0, theta0_over_alpha=1.05).summary()
     assert s["toppled"] and not s["past_tip_over_at_end"]  # (it topples: no longer leaning)
+
+
+def test_a_foundation_far_stiffer_than_designed_is_said_to_make_a_long_run():
+    # k = 1e12 N/m^3 (1e8 x the design's) ran 47 s with nothing on screen: the explicit
+    # method's steps are bounded by the base's vertical mode, h < 3.3 / sqrt(k pi r^2 / m).
+    # The estimate is checked on a shaken run of k = 1e10: its steps sit within a small
+    # factor of span * omega / 3.3 (the error control keeps the step near the limit)
+    import dataclasses
+
+    from nsdyn.models.cylinder.design import DOPRI5_REAL_AXIS, too_stiff
+
+    assert too_stiff(P, 20.0) is None  # the design: about 1e3 such steps in 20 s
+    stiff = dataclasses.replace(P, k=1e12)
+    assert too_stiff(stiff, 5.0).startswith("foundation.k = 1e+12 N/m^3 puts the base's ")
+    p = dataclasses.replace(P, k=1e10)
+    dt, n = 0.01, 51
+    ag = np.zeros((n, 3))
+    ag[:, 0] = 2.0 * np.sin(2 * np.pi * dt * np.arange(n))
+    steps = simulate(p, ag, dt).summary()["n_steps"]
+    estimate = 0.5 * math.sqrt(p.k * p.area / p.m) / DOPRI5_REAL_AXIS
+    assert 0.5 * estimate < steps < 4 * estimate
