@@ -70,7 +70,7 @@ def _dense(t, h, y, K, tout, out):
                 out[i] += h * b * K[j, i]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)  # (a watched chunk: checkpoint.held_call)
 def dopri5(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t):
     """Integrate from ``t_eval[0]`` to ``t_eval[-1]``, writing the state at ``t_eval`` in X.
 

@@ -181,7 +181,7 @@ def genalpha(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl
     return genalpha_loop(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl_t, acc)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)  # (a watched chunk: checkpoint.held_call)
 def genalpha_loop(P, x0, t_eval, atol, rtol, dt, coef, max_steps, uplift_mode, X, upl_t, acc):
     """Fixed-step generalized-alpha from ``t_eval[0]`` to ``t_eval[-1]``; state at t_eval in X.
 

@@ -488,7 +488,7 @@ def radau(P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode
     return radau_general(*args, flat, kf.pack_flat(P))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)  # (a watched chunk: checkpoint.held_call)
 def radau_general(
     P, x0, t_eval, atol, rtol, h0, max_step, max_steps, fixed, uplift_mode, X, upl_t, flat, F
 ):  # fmt: skip
@@ -524,7 +524,7 @@ start_flat = ka.compiled_uncounted(ka.specialised(_start, "start_flat", _GENERAL
 """The start-up with :func:`nsdyn.solve._kcolloc.flat_only` (the default loop's, called by
 address: a kernel argument would be in its declared type)."""
 
-radau_flat = njit(cache=True, error_model="numpy", **ka.NO_NRT)(
+radau_flat = njit(cache=True, error_model="numpy", nogil=True, **ka.NO_NRT)(
     ka.specialised(_loop, "radau_flat", _GENERAL=kc.flat_only, _STEP=step_flat_inline)
 )
 """The default run's loop (:func:`_loop`): the flat kernel only, its callees by address."""

@@ -201,7 +201,7 @@ def typing_locals(P, x0, t_eval, o, X, upl_t, ws) -> dict:
     return a
 
 
-@njit(cache=True, error_model="numpy", **ka.NO_NRT)
+@njit(cache=True, error_model="numpy", nogil=True, **ka.NO_NRT)  # (held_call watches it)
 def _run(P, x0, t_eval, tol, steps, modes0, flags, e_rest, X, upl_t, OPEN_OUT, logs, owned, mine,
          K):  # fmt: skip
     """The event-driven loop of both entry points: Radau steps between events, friction

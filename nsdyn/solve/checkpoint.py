@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import hashlib
 import signal
+import sys
 import threading
 import zipfile
 from contextlib import contextmanager
@@ -23,28 +24,88 @@ import numpy as np
 from nsdyn.atomic import CheckpointError, atomic_open
 
 
+@dataclass
+class _Hold:
+    """The signals a checkpointed run holds (``held``), and whether a chunk computes in a
+    thread of its own meanwhile (``watching``: this thread then answers at once)."""
+
+    held: list = field(default_factory=list)
+    watching: bool = False
+
+    def signalled(self, signum, frame) -> None:
+        if self.held and self.watching:  # a second one while a chunk computes: stop now
+            self.held.clear()  # (the chunk is lost; the last checkpoint stays)
+            raise KeyboardInterrupt
+        self.held.append(signum)
+
+
+_HOLDS: list[_Hold] = []  # the holds in force, the innermost last
+
+
 @contextmanager
 def holding_signals(active: bool = True):
     """SIGINT and SIGTERM held while a chunk runs and its checkpoint is written (``active``:
     a run that keeps one), then raised, SIGTERM first (their handlers: the command's stop, a
     KeyboardInterrupt, or the end of the process). A compiled chunk cannot be stopped inside;
     the signal was raised as it returned, before its checkpoint, so the chunk waited for was
-    lost (a resume started where the last checkpoint had). A run without a checkpoint, a
-    signal ignored, or a thread other than the main one: nothing held."""
+    lost (a resume started where the last checkpoint had). A chunk run by :func:`held_call`
+    is waited for in this thread, which says at once that the run stops after it, and stops
+    at a second signal. A run without a checkpoint, a signal ignored, or a thread other than
+    the main one: nothing held."""
     if not active or threading.current_thread() is not threading.main_thread():
         yield
         return
-    held: list[int] = []
+    hold = _Hold()
     sigs = [s for s in (signal.SIGTERM, signal.SIGINT) if signal.getsignal(s) != signal.SIG_IGN]
-    old = [signal.signal(s, lambda signum, frame: held.append(signum)) for s in sigs]
+    old = [signal.signal(s, hold.signalled) for s in sigs]
+    _HOLDS.append(hold)
     try:
         yield
     finally:
+        _HOLDS.remove(hold)
         for s, h in zip(sigs, old, strict=True):
             signal.signal(s, h)
         for s in sigs:  # (SIGTERM first: a KeyboardInterrupt raised first dropped it)
-            if s in held:
+            if s in hold.held:
                 signal.raise_signal(s)
+
+
+STOPPING = ("nsdyn: stopping once this chunk ends, its work kept for a resume; a second "
+            "Ctrl-C stops now, without it")  # fmt: skip
+
+
+def held_call(run):
+    """``run()``, a compiled chunk of a run holding its signals (:func:`holding_signals`), in
+    a thread of its own while this one waits: a signal is answered at once (:data:`STOPPING`
+    on stderr), a second one stops the run (KeyboardInterrupt; the thread, a daemon, ends
+    with its chunk or the process). Its result, or its exception raised here. Without a hold
+    (a call without a checkpoint, a thread other than the main one) ``run()`` here. Kernels
+    that keep the GIL are answered as they return, as before."""
+    if not _HOLDS or threading.current_thread() is not threading.main_thread():
+        return run()
+    hold, box = _HOLDS[-1], {}
+
+    def work() -> None:
+        try:
+            box["result"] = run()
+        except BaseException as e:  # noqa: BLE001 -- handed to the caller
+            box["error"] = e
+
+    th = threading.Thread(target=work, name="nsdyn-chunk", daemon=True)
+    said = False
+    hold.watching = True
+    try:
+        th.start()
+        while th.is_alive():
+            if hold.held and not said:
+                said = True
+                print(STOPPING, file=sys.stderr, flush=True)
+            th.join(0.1)
+    finally:
+        hold.watching = False
+    if "error" in box:
+        raise box["error"]
+    return box["result"]
 
 
 FORMAT = "nsdyn-checkpoint-3"  # in every fingerprint: files of an older layout are refused

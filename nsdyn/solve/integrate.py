@@ -70,6 +70,7 @@ import numpy as np
 from nsdyn._checks import NumericalFailure
 from nsdyn.models.isolated.params import KernelParams
 from nsdyn.solve import _kcommon as ki
+from nsdyn.solve.checkpoint import held_call
 from nsdyn.solve.methods import (
     METHODS,
     _tiny_problem,
@@ -376,7 +377,7 @@ def solve(
         if not compiled(kname):
             compile_s = warmup_kernel(kname)
         t_start = time.perf_counter()
-        stats, rinfo, events, modes = m.run(P, x0, t_eval, opts, X, upl_t)
+        stats, rinfo, events, modes = held_call(lambda: m.run(P, x0, t_eval, opts, X, upl_t))
     wall = time.perf_counter() - t_start
     sol = _finish(
         m,

@@ -97,3 +97,53 @@ def test_an_interrupted_chunk_is_checkpointed_before_the_run_stops(tmp_path, mon
     monkeypatch.setattr(integrate, "solve", real)
     res = nsdyn.simulate(system, gm, chunk_s=5.0, checkpoint=ckpt)
     np.testing.assert_array_equal(res.x, ref.x)
+
+
+def test_a_chunk_in_its_own_thread_is_answered_at_once_and_a_second_signal_stops_it(
+    monkeypatch,
+):
+    # a compiled chunk that releases the GIL runs in a thread of its own (held_call), so that
+    # the waiting thread answers a signal at once (it said nothing for the whole chunk: 17 s
+    # of a full-order Radau run) and stops at a second one, the chunk lost
+    import io
+
+    from nsdyn.solve import checkpoint
+
+    order: list[str] = []
+
+    class Said(io.StringIO):
+        def write(self, text):
+            order.append("said") if checkpoint.STOPPING in text else None
+            return len(text)
+
+    monkeypatch.setattr(checkpoint.sys, "stderr", Said())
+
+    def until(cond):  # (polling with Event.wait releases the GIL, as a nogil kernel does)
+        for _ in range(500):
+            if cond():
+                return True
+            threading.Event().wait(0.01)
+        return False
+
+    def chunk(n_signals):
+        held = checkpoint._HOLDS[-1].held
+        os.kill(os.getpid(), signal.SIGINT)
+        until(lambda: held)  # (handled before the next: two signals at once are one)
+        until(lambda: "said" in order)
+        if n_signals == 2:
+            os.kill(os.getpid(), signal.SIGINT)
+            until(lambda: "stop" in order)  # (the test's, once the run stopped; or 5 s)
+        order.append("chunk end")
+        return "done"
+
+    with pytest.raises(KeyboardInterrupt):  # (raised after the chunk, as it ends)
+        with holding_signals():
+            assert checkpoint.held_call(lambda: chunk(1)) == "done"
+    assert order[:2] == ["said", "chunk end"]  # said while the chunk still computed
+    order.clear()
+    with pytest.raises(KeyboardInterrupt):  # the second signal: at once, the chunk running
+        with holding_signals():
+            checkpoint.held_call(lambda: chunk(2))
+    assert "chunk end" not in order  # it stopped with the chunk still running
+    order.append("stop")  # (the chunk's thread ends)
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
