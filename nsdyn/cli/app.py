@@ -277,6 +277,8 @@ def _one_line_warnings(command: str, default: Callable) -> Callable:
 
         if issubclass(category, InputWarning):
             kind = "note" if issubclass(category, NotedWarning) else "warning"
+            if (kind, str(message)) in SAID:  # (a file read twice: said once)
+                return
             SAID.append((kind, str(message)))  # (--json: in the summary as well)
             print(f"nsdyn {command}: {kind}: {message}", file=sys.stderr if file is None else file)
             return

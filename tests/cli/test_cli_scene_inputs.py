@@ -10,6 +10,7 @@ import re
 import warnings
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from nsdyn.cli import main
@@ -347,3 +348,16 @@ def test_a_relative_file_found_only_from_the_current_folder_is_said(tmp_path, mo
         warnings.simplefilter("error")
         out = resolve_paths(cfg, "sub", "sub/s.toml")
     assert out["motion"]["record"] == str((tmp_path / "sub" / "rec.csv").resolve())
+
+
+def test_a_warning_about_a_scene_read_twice_is_said_once(tmp_path, monkeypatch, capsys):
+    # nsdyn run reads a scene's file twice (its kind, then the scene): the warning on a
+    # record found from the current folder came twice
+    (tmp_path / "sub").mkdir()
+    t = np.arange(0.0, 1.0, 0.01)
+    (tmp_path / "rec.csv").write_text("t,a\n" + "".join(f"{v:g},{np.sin(v):g}\n" for v in t))
+    (tmp_path / "sub" / "s.toml").write_text('[scene]\nfidelity = "rigid"\n[motion]\n'
+                                             'record = "rec.csv"\nunits = "m/s2"\n')  # fmt: skip
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", "sub/s.toml", "--out", str(tmp_path / "o"), "--no-figures"]) == 0
+    assert capsys.readouterr().err.count("is not beside the scene") == 1
