@@ -57,6 +57,18 @@ def is_typo(name: str, valid) -> bool:
     return any(edits(name, str(c)) <= (1 if len(str(c)) < 10 else 2) for c in valid)
 
 
+def known_fields(cls, given) -> None:
+    """Each keyword in ``given`` a field of the dataclass ``cls``; otherwise a TypeError naming
+    the nearest (Python's own named the generated ``__init__`` and no field)."""
+    import dataclasses
+
+    names = [f.name for f in dataclasses.fields(cls)]
+    for k in given:
+        if k not in names:
+            raise TypeError(f"{cls.__name__}: {k!r} is not one of its fields "
+                            f"({', '.join(names)}){did_you_mean(k, names)}")  # fmt: skip
+
+
 def keywords_of(func, passed_on, *, skip=(), also=(), caller: str = "") -> None:
     """Each name in ``passed_on`` (keywords a function hands on to ``func``) must be a
     parameter of ``func`` outside ``skip``; otherwise a TypeError naming the nearest of those

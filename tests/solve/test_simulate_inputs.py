@@ -240,3 +240,16 @@ def test_a_run_shorter_than_its_default_output_step_names_t_end():
         nsdyn.simulate(system, motion, t_end=1e-9)
     with pytest.raises(ValueError, match=r"^dt_out: an output step of 2 s is longer than the "):
         nsdyn.simulate(system, motion, t_end=1.0, dt_out=2.0)
+
+
+def test_a_misspelt_isolation_keyword_is_named_with_its_nearest_field():
+    # Python's own error named the generated __init__ ("Isolation.__init__() got an
+    # unexpected keyword argument 'laww'", from inside dataclasses) and no field
+    with pytest.raises(TypeError, match=r"^Isolation: 'muu' is not one of its fields \(k_lam, "
+                       r".*\); did you mean 'mu'\?$"):  # fmt: skip
+        nsdyn.Isolation(muu=0.1)
+    system = nsdyn.build_system(nsdyn.load_frame("office-11"), nsdyn.Isolation(),
+                                fidelity="rigid")  # fmt: skip
+    with pytest.raises(TypeError, match=r"'laww' is not one of its fields .*'law'\?$"):
+        system.with_isolation(laww="switch")
+    assert system.with_isolation(law="switch").isolation.law == "switch"

@@ -38,7 +38,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import NotedWarning, flag
+from nsdyn._checks import NotedWarning, flag, known_fields
 from nsdyn._lazy import LazyModule
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kernel as ks
@@ -83,6 +83,10 @@ class Isolation:
     diaphragm_EI: float = 1.0e11  # N m^2, bending stiffness of the base diaphragm beam
     g: float = G_EARTH
     contact: str = "detect"  # bilateral | detect | unilateral (CONTACTS: lift-off assumption)
+
+    def __new__(cls, *args, **kw):  # (a misspelt keyword named with its nearest field)
+        known_fields(cls, kw)
+        return super().__new__(cls)
 
     def __post_init__(self) -> None:
         if self.contact not in CONTACTS:
@@ -486,21 +490,8 @@ def build_system(
         n = M.shape[0]
         name = (f"{getattr(frame, 'name', 'frame')} fixed-base ({n} mode{'s' * (n != 1)} "
                 f"<= {f_max:g} Hz)")  # fmt: skip
-        return IsolatedSystem(
-            name,
-            "fixed",
-            M,
-            C,
-            K,
-            Gamma,
-            np.zeros((0, n)),
-            np.zeros((0, n)),
-            T,
-            None,
-            frame,
-            f_max,
-            info,
-        )
+        return IsolatedSystem(name, "fixed", M, C, K, Gamma, np.zeros((0, n)), np.zeros((0, n)),
+                              T, None, frame, f_max, info)  # fmt: skip
 
     n = cb.M.shape[0]
     K = cb.K.copy()
