@@ -157,21 +157,20 @@ def test_an_output_name_ending_in_a_separator_is_a_directory(tmp_path, capsys):
     assert not (tmp_path / "x.py").exists()
 
 
-def test_a_harmonic_scene_is_refused_at_once_for_what_it_is(tmp_path, capsys):
-    # without t_end it asked for one first ("give t_end [s] or n_periods"), then, given it,
-    # refused the harmonic motion itself
+@pytest.mark.parametrize(
+    ("kind", "said"),
+    [
+        # without t_end it asked for one first ("give t_end [s] or n_periods"), then, given
+        # it, refused the harmonic motion itself
+        ("harmonic", "[motion]: OpenSees export needs a ground-motion record"),
+        ("harmonc", "motion.kind"),  # (a misspelt kind is named as such, not as a harmonic)
+    ],
+)
+def test_a_harmonic_scene_is_refused_at_once_for_what_it_is(kind, said, tmp_path, capsys):
     scene = tmp_path / "h.toml"
-    scene.write_text('[scene]\nframe = "office-11"\n[motion]\nkind = "harmonic"\n'
+    scene.write_text(f'[scene]\nframe = "office-11"\n[motion]\nkind = "{kind}"\n'
                      "amplitude = 1.0\nfrequency = 1.0\n")  # fmt: skip
     assert main(["export", "opensees", str(scene), "-o", str(tmp_path / "h.py")]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "[motion]: OpenSees export needs a ground-motion record" in err
+    assert err.count("\n") == 1 and said in err
     assert not (tmp_path / "h.py").exists()
-
-
-def test_a_misspelt_motion_kind_is_named_as_such_not_as_a_harmonic(tmp_path, capsys):
-    scene = tmp_path / "h.toml"
-    scene.write_text('[scene]\nframe = "office-11"\n[motion]\nkind = "harmonc"\n'
-                     "amplitude = 1.0\nfrequency = 1.0\n")  # fmt: skip
-    assert main(["export", "opensees", str(scene), "-o", str(tmp_path / "h.py")]) == 2
-    assert "motion.kind" in capsys.readouterr().err
