@@ -31,11 +31,12 @@ class _Hold:
 
     held: list = field(default_factory=list)
     watching: bool = False
+    stop: bool = False  # a second signal while watching: the waiting thread stops the run
 
     def signalled(self, signum, frame) -> None:
         if self.held and self.watching:  # a second one while a chunk computes: stop now
-            self.held.clear()  # (the chunk is lost; the last checkpoint stays)
-            raise KeyboardInterrupt
+            self.stop = True  # (raised by the waiting loop, not inside Thread.join: 3.11's
+            return  # join, interrupted, released the running thread's lock, bpo-45274)
         self.held.append(signum)
 
 
@@ -97,6 +98,9 @@ def held_call(run):
     try:
         th.start()
         while th.is_alive():
+            if hold.stop:  # (the chunk is lost; the last checkpoint stays)
+                hold.held.clear()
+                raise KeyboardInterrupt
             if hold.held and not said:
                 said = True
                 print(STOPPING, file=sys.stderr, flush=True)
