@@ -464,6 +464,7 @@ def _main(argv: list[str]) -> int:
                 raise
             raise KeyboardInterrupt from exc
     except KeyboardInterrupt:
+        _SIGNALLED[0] = True  # (a later signal, while this one's stop is said: ignored)
         line = _interrupt_line(args)
         print(line, file=sys.stderr)
         if getattr(args, "json", False):  # an outcome too (stdout was empty)

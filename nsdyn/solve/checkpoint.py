@@ -10,6 +10,7 @@ the landings' energy. A fingerprint of the model, excitation, start, output time
 
 from __future__ import annotations
 
+import contextvars
 import hashlib
 import signal
 import sys
@@ -32,6 +33,7 @@ class _Hold:
     held: list = field(default_factory=list)
     watching: bool = False
     stop: bool = False  # a second signal while watching: the waiting thread stops the run
+    said: bool = False  # the run said it stops once its chunk ends (once per chunk)
 
     def signalled(self, signum, frame) -> None:
         if self.held and self.watching:  # a second one while a chunk computes: stop now
@@ -72,7 +74,7 @@ def holding_signals(active: bool = True):
 
 
 STOPPING = ("nsdyn: stopping once this chunk ends, its work kept for a resume; a second "
-            "Ctrl-C stops now, without it")  # fmt: skip
+            "Ctrl-C (or signal) stops now, without it")  # fmt: skip
 
 
 def held_call(run):
@@ -85,24 +87,24 @@ def held_call(run):
     if not _HOLDS or threading.current_thread() is not threading.main_thread():
         return run()
     hold, box = _HOLDS[-1], {}
+    context = contextvars.copy_context()  # (numpy's error state, as the caller's)
 
     def work() -> None:
         try:
-            box["result"] = run()
+            box["result"] = context.run(run)
         except BaseException as e:  # noqa: BLE001 -- handed to the caller
             box["error"] = e
 
     th = threading.Thread(target=work, name="nsdyn-chunk", daemon=True)
-    said = False
     hold.watching = True
     try:
         th.start()
         while th.is_alive():
-            if hold.stop:  # (the chunk is lost; the last checkpoint stays)
-                hold.held.clear()
+            if hold.stop:  # (the chunk is lost, and computes on to its end unwatched; the
+                hold.held.clear()  # last checkpoint stays)
                 raise KeyboardInterrupt
-            if hold.held and not said:
-                said = True
+            if hold.held and not hold.said:
+                hold.said = True
                 print(STOPPING, file=sys.stderr, flush=True)
             th.join(0.1)
     finally:

@@ -369,9 +369,8 @@ def solve(
     if contact == "unilateral":
         compile_s = warmup_unilateral()
         t_start = time.perf_counter()
-        stats, rinfo, events, modes, extra = run_unilateral(
-            P, x0, t_eval, opts, X, upl_t, method, float(restitution), open0
-        )
+        stats, rinfo, events, modes, extra = held_call(lambda: run_unilateral(
+            P, x0, t_eval, opts, X, upl_t, method, float(restitution), open0))  # fmt: skip
     else:
         kname = kernel_for(method, P)
         if not compiled(kname):

@@ -461,7 +461,7 @@ def foundation_text(case: str, k: float, c: float) -> str:
     return f"{case}, k = {k:.6g} N/m³, c = {c:.6g} N s/m³"
 
 
-RIM_LABEL = {"bonded": "max rim rise [m] (bonded: springs in tension)"}  # (no lift-off)
+RIM_LABEL = {"bonded": "max rim rise [m]"}  # (no lift-off: the bonded base's springs in tension)
 
 
 def format_summary(s: dict) -> str:
