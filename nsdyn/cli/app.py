@@ -328,9 +328,8 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     alone are set up, and the other commands' modules are not imported (a command's start
     pays only for its own imports); with ``only=""`` none are (the top-level options and
     ``nsdyn --help``, which lists every command either way)."""
-    parser = _Parser(
-        prog="nsdyn", description="Non-smooth dynamics of friction base-isolated frames."
-    )
+    parser = _Parser(prog="nsdyn", description="Non-smooth dynamics of friction base-isolated "
+                     "frames.")  # fmt: skip
     parser.add_argument("--version", action=_VersionAction, nargs=0, help="print the "
                         "versions of nsdyn, Python, numpy, scipy and numba and exit")  # fmt: skip
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -445,9 +444,7 @@ def _main(argv: list[str]) -> int:
     _SIGNALLED[0] = False
     from nsdyn.atomic import EARLIER, WRITTEN
 
-    WRITTEN.clear()  # (the files this command writes: an interrupt names them)
-    EARLIER.clear()  # (an earlier run's files beside this one's error)
-    SAID.clear()
+    WRITTEN.clear(), EARLIER.clear(), SAID.clear()  # (what this command writes and says)
     try:  # SIGTERM stops a command the way Ctrl-C does (atomic files; checkpoints kept)
         old = signal.signal(signal.SIGTERM, _on_signal), signal.signal(signal.SIGINT, _on_signal)
     except ValueError:  # not the main thread: leave signals alone
@@ -522,22 +519,24 @@ def _start_standby(argv: list[str]) -> None:
 
 
 def script(argv: list[str] | None = None) -> int:
-    """The ``nsdyn`` script and ``python -m nsdyn.cli``: :func:`main`, then every object left
-    is moved out of the garbage collector's reach (:func:`gc.freeze`) for the process's end.
-    The interpreter's last collection would otherwise traverse every object numba's typing and
-    lowering left behind: about 0.35 s after a first compilation, 0.13 s after a cached start
-    (docs/dev/first-runs.md); the exit handlers still run (pools, temporary files) and every
-    output is already complete on disk. Into a cache that never held the command's kernels, the
-    compile helper's process starts first (:func:`_start_standby`), and the collector's first
-    generation waits for a million new objects, not 700 (:func:`hold_collections`: ~0.1 s of
-    a cached start). Not for callers that go on (tests, notebooks): they call :func:`main`."""
+    """The ``nsdyn`` script and ``python -m nsdyn.cli``: :func:`main` (a signal during its
+    imports: one line, status 130), then every object left is moved out of the collector's
+    reach (:func:`gc.freeze`): the last collection traversed every object numba left, 0.35 s
+    after a first compilation, 0.13 s after a cached start (docs/dev/first-runs.md); exit
+    handlers still run. Into an empty cache the compile helper starts first
+    (:func:`_start_standby`); the first generation waits for a million new objects, not 700
+    (:func:`hold_collections`). Not for callers that go on (tests, notebooks): :func:`main`."""
     from nsdyn._numba_cache import hold_collections, release_standby
 
-    hold_collections()  # the start-up's objects are not traversed again and again
-    _start_standby(sys.argv[1:] if argv is None else argv)
+    signal.signal(signal.SIGTERM, _on_signal)  # (as Ctrl-C, before main sets its own)
     _ENDING[0] = True  # main leaves the signals ignored, not restored, when it returns
     try:
+        hold_collections()  # the start-up's objects are not traversed again and again
+        _start_standby(sys.argv[1:] if argv is None else argv)
         code = main(argv)
+    except KeyboardInterrupt:  # before main's own handling began (its imports): one line
+        print("nsdyn: interrupted as it started; it wrote nothing", file=sys.stderr)
+        code = EXIT_INTERRUPTED
     finally:
         _ENDING[0] = False
         release_standby()

@@ -91,3 +91,19 @@ def test_a_reader_that_closes_the_pipe_ends_the_command_quietly(child_env):
     p.stdout.close()  # before the child has imported anything: its first write fails
     err = p.stderr.read().decode()
     assert p.wait() == EXIT_PIPE_CLOSED == 128 + 13 and err == ""
+
+
+def test_an_interrupt_during_the_commands_imports_is_one_line_and_status_130():
+    # before main set its handlers (a command's module importing numpy) Ctrl-C ended in a
+    # 40-line traceback and status -2, SIGTERM in status -15 and no word
+    code = (
+        "import signal, sys\n"
+        "from nsdyn.cli import app\n"
+        "def interrupted(argv=None):\n"
+        "    signal.raise_signal(signal.SIGTERM)  # (the script's handler: as Ctrl-C)\n"
+        "app.main = interrupted\n"
+        "sys.exit(app.script(['run']))\n"
+    )
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 130, p.stderr
+    assert p.stderr == "nsdyn: interrupted as it started; it wrote nothing\n"
