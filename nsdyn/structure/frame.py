@@ -33,6 +33,7 @@ from nsdyn.structure.geometry import (
     checked_base,
     checked_zeta,
     frozen,
+    modulus_note,
 )
 
 sp = LazyModule("scipy.sparse")
@@ -129,6 +130,7 @@ class Frame:
             if np.any(bad) or not np.all(np.isfinite(v)):
                 raise ValueError(f"element {key} must be positive and finite")
             obj(self, key, v)
+        modulus_note(self.E)
         L = np.linalg.norm(nodes[elements[:, 1]] - nodes[elements[:, 0]], axis=1)
         with np.errstate(over="ignore", under="ignore"):
             check_stiffness_span(

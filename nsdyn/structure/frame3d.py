@@ -37,6 +37,7 @@ from nsdyn.structure.geometry import (
     checked_base,
     checked_zeta,
     frozen,
+    modulus_note,
 )
 
 sp = LazyModule("scipy.sparse")
@@ -181,6 +182,7 @@ class Frame3D:
                     f", got {float(a[e])!r}"
                 )
             obj(self, key, a)
+        modulus_note(self.E)
         with np.errstate(over="ignore", under="ignore"):
             L, EL3 = self.lengths, 12 * self.E / self.lengths**3
             check_stiffness_span(

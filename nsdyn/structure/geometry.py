@@ -229,3 +229,19 @@ def check_stiffness_span(terms: dict, element_name=lambda k: f"elements[{k}]") -
                          f"stiffnesses within a factor {SPAN_MAX:.0e} (double precision "
                          "resolves 1 part in 4.5e15: the softer is lost in round-off of the "
                          "stiffer, a singular K or modes of 0 Hz)")  # fmt: skip
+
+
+# the softest Young's modulus of a structural material [Pa]: timber 1e10, concrete 3e10, steel
+# 2.1e11 (a modulus in MPa, 2.1e5, ran a portal of a 305 s period without a word)
+E_PLAUSIBLE = 1e8
+
+
+def modulus_note(E, element_name=lambda k: f"elements[{k}]") -> None:
+    """A NotedWarning naming the softest element when its Young's modulus ``E`` (an array over
+    the elements) is below :data:`E_PLAUSIBLE`: given in MPa or GPa, not Pa?"""
+    E = np.asarray(E, dtype=float)
+    k = int(np.argmin(E))
+    if E.size and E[k] < E_PLAUSIBLE:
+        warnings.warn(f"{element_name(k)}: E = {E[k]:.4g} Pa, below any structural material's "
+                      "(timber 1e10, concrete 3e10, steel 2.1e11 Pa): a frame's moduli are in "
+                      "Pa; is it in MPa or GPa?", NotedWarning, stacklevel=3)  # fmt: skip
