@@ -540,6 +540,8 @@ def script(argv: list[str] | None = None) -> int:
     finally:
         _ENDING[0] = False
         release_standby()
+    if ck := sys.modules.get("nsdyn.solve.checkpoint"):  # (loaded by a run that chunks)
+        ck.exit_past_a_running_chunk(code)  # (one a second signal stopped: a chunk computes)
     gc.freeze()
     if code == EXIT_PIPE_CLOSED or not _flushed():  # the output's reader has gone
         return _pipe_closed()
@@ -548,9 +550,8 @@ def script(argv: list[str] | None = None) -> int:
 
 
 def _stdout_kept_for_results() -> None:
-    """When the command ran OpenSees in this process (``bench opensees``), route the process's
-    fd 1 to stderr for its end: OpenSees prints "Process 0 Terminating" on stdout at exit,
-    after the command's output (a ``--json`` summary would no longer parse)."""
+    """When the command ran OpenSees here (``bench opensees``), fd 1 to stderr for the end:
+    OpenSees prints "Process 0 Terminating" on stdout at exit (after a ``--json`` summary)."""
     if "openseespy.opensees" in sys.modules:  # (stdout was flushed by the caller)
         _stdout_to(None)
 

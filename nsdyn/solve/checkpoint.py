@@ -10,8 +10,10 @@ the landings' energy. A fingerprint of the model, excitation, start, output time
 
 from __future__ import annotations
 
+import contextlib
 import contextvars
 import hashlib
+import os
 import signal
 import sys
 import threading
@@ -112,6 +114,18 @@ def held_call(run):
     if "error" in box:
         raise box["error"]
     return box["result"]
+
+
+def exit_past_a_running_chunk(code: int) -> None:
+    """End the process at once with ``code`` when a chunk a second signal left computing
+    (:func:`held_call`) still runs: the interpreter's exit handlers (numba's runtime shut
+    down among them) ran beside it, and a kernel allocating meanwhile could crash the process.
+    Every file is complete by then (written atomically); the streams are flushed first."""
+    if any(t.name == "nsdyn-chunk" and t.is_alive() for t in threading.enumerate()):
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(OSError, ValueError):
+                stream.flush()
+        os._exit(code)
 
 
 FORMAT = "nsdyn-checkpoint-3"  # in every fingerprint: files of an older layout are refused

@@ -147,3 +147,25 @@ def test_a_chunk_in_its_own_thread_is_answered_at_once_and_a_second_signal_stops
     assert "chunk end" not in order  # it stopped with the chunk still running
     order.append("stop")  # (the chunk's thread ends)
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
+
+
+def test_a_process_ends_at_once_past_a_chunk_left_computing():
+    # after a second signal the chunk's thread computes on; the interpreter's exit handlers
+    # (numba's runtime shutdown among them) ran beside it: the process ends without them,
+    # its streams flushed first
+    import subprocess
+    import sys
+
+    code = (
+        "import atexit, sys, threading, time\n"
+        "from nsdyn.solve.checkpoint import exit_past_a_running_chunk\n"
+        "atexit.register(lambda: print('exit handlers ran'))\n"
+        "exit_past_a_running_chunk(5)  # (no chunk running: returns)\n"
+        "threading.Thread(target=time.sleep, args=(30,), name='nsdyn-chunk',\n"
+        "                 daemon=True).start()\n"
+        "print('the output', end='')\n"
+        "exit_past_a_running_chunk(130)\n"
+        "print('not reached')\n"
+    )
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 130 and p.stdout == "the output", (p.stdout, p.stderr)
