@@ -331,6 +331,12 @@ def bearing_notes(bearings, n_static) -> list[str]:
     for b in bearings:  # (a radius in mm ran as a pendulum of a 94 s period, unsaid)
         if math.isfinite(b.radius) and b.radius > RADIUS_PLAUSIBLE:
             T = 2.0 * math.pi * math.sqrt(b.radius / G_EARTH)
+            if getattr(b, "R1", None) is not None:  # a triple's R1 + R4: its own keys named
+                keys = " and ".join(f"R{k}" for k in (1, 4) if getattr(b, f"R{k}") > 1e2) or "R1"
+                notes.append(f"{b.where}.{keys}: R1 + R4 = {b.radius:g} m is a pendulum of "
+                             f"period 2π√(R/g) = {T:.3g} s (built ones: R of 1-6 m, 2-5 s); "
+                             "check they are in m")  # fmt: skip
+                break
             notes.append(f"{b.where}.radius: R = {b.radius:g} m is a pendulum of period "
                          f"2π√(R/g) = {T:.3g} s (built ones: R of 1-6 m, 2-5 s); check it is "
                          "in m")  # fmt: skip

@@ -45,7 +45,9 @@ def test_a_radius_in_mm_is_said_with_its_period():
         "R of 1-6 m, 2-5 s); check it is in m"
     ]
     t = TripleBearing(**{**TFP, "R1": 2200.0, "R4": 2200.0}, where="tfp")  # (its effective R)
-    assert bearing_notes([t], N[:1])[0].startswith("tfp.radius: R = ")
+    assert bearing_notes([t], N[:1])[0].startswith("tfp.R1 and R4: R1 + R4 = 4400 m is a ")
+    t = TripleBearing(**{**TFP, "R4": 2200.0}, where="tfp")  # (the one key given in mm)
+    assert bearing_notes([t], N[:1])[0].startswith("tfp.R4: R1 + R4 = 2202.2 m is a ")
     assert bearing_notes([Bearing(Friction(0.04), radius=20.0)], N[:1]) == []  # 9 s: the bound
 
 
