@@ -213,12 +213,16 @@ def refuse_keys(table: Mapping, source: str, where: str, keys, why: str) -> None
             raise SceneError(f"{source}: {where}.{key}: {why}")
 
 
-def check_fields(cfg: Mapping, fields: Mapping, source: str) -> None:
-    """:class:`SceneError` for a table of ``cfg`` not in ``fields`` (table -> its valid keys),
-    one that is not a table, or a key its table does not have."""
+def check_fields(cfg: Mapping, fields: Mapping, source: str, tables=None) -> None:
+    """:class:`SceneError` for a table of ``cfg`` not in ``fields`` (table -> its valid keys;
+    named among ``tables``, default ``fields``'s, the scene's whole set where some are checked
+    elsewhere), one that is not a table, or a key its table does not have."""
     for table, vals in cfg.items():
         if table not in fields:
-            raise unknown_key(source, "", table, fields)
+            valid = sorted(fields if tables is None else tables)
+            raise SceneError(f"{source}: [{table}]: unknown table{did_you_mean(table, valid)}"
+                             f"{'' if did_you_mean(table, valid) else ';'} expected some of "
+                             f"{valid}")  # fmt: skip
         if not isinstance(vals, dict):
             raise SceneError(f"{source}: [{table}]: expected a table")
         for key in vals:

@@ -268,7 +268,7 @@ def test_a_deck_that_lifts_off_ends_with_status_3_and_its_json_says_so(tmp_path,
 @pytest.mark.parametrize(
     ("text", "hint"),
     [('[isolaton]\nmu = 0.05\n', "[isolaton]: unknown table; did you mean 'isolation'?"),
-     ('[scene]\nkind = "deck"\n[motin]\nt_end = 1\n', "motin: unknown field; did you mean "
+     ('[scene]\nkind = "deck"\n[motin]\nt_end = 1\n', "[motin]: unknown table; did you mean "
       "'motion'? expected some of ['bearing', 'deck', 'mass', 'motion', ")],
 )  # fmt: skip
 def test_a_misspelt_scene_table_gets_the_nearest_name(tmp_path, capsys, text, hint):

@@ -227,7 +227,7 @@ def build_system(cfg: dict, source: str, warm: bool = False, notice=None) -> dic
     dict holds ``compile_s`` and ``wait_s`` (the build's wait for it). ``notice()`` is
     called once the scene's fields are checked, before the frame is read and built."""
     check_fields({k: v for k, v in cfg.items() if k != "motion"},
-                 {k: v for k, v in TABLES.items() if k != "motion"}, source)  # fmt: skip
+                 {k: v for k, v in TABLES.items() if k != "motion"}, source, TABLES)  # fmt: skip
     t = cfg.get("structure")
     if not isinstance(t, dict):
         raise SceneError(f"{source}: structure: missing; expected a [structure] table with "
