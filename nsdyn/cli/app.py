@@ -540,8 +540,6 @@ def script(argv: list[str] | None = None) -> int:
     finally:
         _ENDING[0] = False
         release_standby()
-    if ck := sys.modules.get("nsdyn.solve.checkpoint"):  # (loaded by a run that chunks)
-        ck.exit_past_a_running_chunk(code)  # (one a second signal stopped: a chunk computes)
     gc.freeze()
     if code == EXIT_PIPE_CLOSED or not _flushed():  # the output's reader has gone
         return _pipe_closed()

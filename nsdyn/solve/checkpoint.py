@@ -10,10 +10,8 @@ the landings' energy. A fingerprint of the model, excitation, start, output time
 
 from __future__ import annotations
 
-import contextlib
 import contextvars
 import hashlib
-import os
 import signal
 import sys
 import threading
@@ -29,18 +27,13 @@ from nsdyn.atomic import CheckpointError, atomic_open
 
 @dataclass
 class _Hold:
-    """The signals a checkpointed run holds (``held``), and whether a chunk computes in a
-    thread of its own meanwhile (``watching``: this thread then answers at once)."""
+    """The signals a checkpointed run holds (``held``), and whether the run said, while its
+    chunk computed in a thread of its own, that it stops once the chunk ends (``said``)."""
 
     held: list = field(default_factory=list)
-    watching: bool = False
-    stop: bool = False  # a second signal while watching: the waiting thread stops the run
-    said: bool = False  # the run said it stops once its chunk ends (once per chunk)
+    said: bool = False
 
     def signalled(self, signum, frame) -> None:
-        if self.held and self.watching:  # a second one while a chunk computes: stop now
-            self.stop = True  # (raised by the waiting loop, not inside Thread.join: 3.11's
-            return  # join, interrupted, released the running thread's lock, bpo-45274)
         self.held.append(signum)
 
 
@@ -54,9 +47,9 @@ def holding_signals(active: bool = True):
     KeyboardInterrupt, or the end of the process). A compiled chunk cannot be stopped inside;
     the signal was raised as it returned, before its checkpoint, so the chunk waited for was
     lost (a resume started where the last checkpoint had). A chunk run by :func:`held_call`
-    is waited for in this thread, which says at once that the run stops after it, and stops
-    at a second signal. A run without a checkpoint, a signal ignored, or a thread other than
-    the main one: nothing held."""
+    is waited for in this thread, which says at once that the run stops after it. A run
+    without a checkpoint, a signal ignored, or a thread other than the main one: nothing
+    held."""
     if not active or threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -75,17 +68,18 @@ def holding_signals(active: bool = True):
                 signal.raise_signal(s)
 
 
-STOPPING = ("nsdyn: stopping once this chunk ends, its work kept for a resume; a second "
-            "Ctrl-C (or signal) stops now, without it")  # fmt: skip
+STOPPING = "nsdyn: stopping once this chunk ends, its work kept for a resume"
 
 
 def held_call(run):
     """``run()``, a compiled chunk of a run holding its signals (:func:`holding_signals`), in
-    a thread of its own while this one waits: a signal is answered at once (:data:`STOPPING`
-    on stderr), a second one stops the run (KeyboardInterrupt; the thread, a daemon, ends
-    with its chunk or the process). Its result, or its exception raised here. Without a hold
-    (a call without a checkpoint, a thread other than the main one) ``run()`` here. Kernels
-    that keep the GIL are answered as they return, as before."""
+    a thread of its own while this one waits, so that a signal is answered at once
+    (:data:`STOPPING` on stderr, once per chunk); the run stops when the chunk ends, its
+    checkpoint written (a second signal is held as the first: a run stopped inside a chunk
+    left a kernel computing beside the interpreter's exit, which could crash it). Its
+    result, or its exception raised here. Without a hold (a call without a checkpoint, a
+    thread other than the main one) ``run()`` here. Kernels that keep the GIL are answered
+    as they return, as before."""
     if not _HOLDS or threading.current_thread() is not threading.main_thread():
         return run()
     hold, box = _HOLDS[-1], {}
@@ -98,34 +92,15 @@ def held_call(run):
             box["error"] = e
 
     th = threading.Thread(target=work, name="nsdyn-chunk", daemon=True)
-    hold.watching = True
-    try:
-        th.start()
-        while th.is_alive():
-            if hold.stop:  # (the chunk is lost, and computes on to its end unwatched; the
-                hold.held.clear()  # last checkpoint stays)
-                raise KeyboardInterrupt
-            if hold.held and not hold.said:
-                hold.said = True
-                print(STOPPING, file=sys.stderr, flush=True)
-            th.join(0.1)
-    finally:
-        hold.watching = False
+    th.start()
+    while th.is_alive():
+        if hold.held and not hold.said:
+            hold.said = True
+            print(STOPPING, file=sys.stderr, flush=True)
+        th.join(0.1)
     if "error" in box:
         raise box["error"]
     return box["result"]
-
-
-def exit_past_a_running_chunk(code: int) -> None:
-    """End the process at once with ``code`` when a chunk a second signal left computing
-    (:func:`held_call`) still runs: the interpreter's exit handlers (numba's runtime shut
-    down among them) ran beside it, and a kernel allocating meanwhile could crash the process.
-    Every file is complete by then (written atomically); the streams are flushed first."""
-    if any(t.name == "nsdyn-chunk" and t.is_alive() for t in threading.enumerate()):
-        for stream in (sys.stdout, sys.stderr):
-            with contextlib.suppress(OSError, ValueError):
-                stream.flush()
-        os._exit(code)
 
 
 FORMAT = "nsdyn-checkpoint-3"  # in every fingerprint: files of an older layout are refused
