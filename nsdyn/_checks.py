@@ -30,6 +30,11 @@ def expect(name: str, value, ok: bool, what: str) -> None:
         raise TypeError(f"{name}: expected {what}, got {type(value).__name__}")
 
 
+# Dormand–Prince 5(4), every family's explicit method: stable for h|λ| up to about 3.3 on the
+# real axis (a stiff mode bounds its step, whatever the accuracy asked)
+DOPRI5_REAL_AXIS = 3.3
+
+
 def did_you_mean(word, valid) -> str:
     """``"; did you mean 'x'?"`` naming the entry of ``valid`` nearest to ``word``, or ``""``
     when none is near (the hint every "unknown ..." message of nsdyn ends with)."""

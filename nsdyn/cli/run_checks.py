@@ -8,6 +8,8 @@ from __future__ import annotations
 import math
 import sys
 
+from nsdyn._checks import DOPRI5_REAL_AXIS
+
 
 def note_short_record(cfg: dict, motion) -> str | None:
     """A ``t_end`` past the record's last sample ends the run there: said in one line."""
@@ -158,7 +160,6 @@ def note_loose_atol(cfg: dict, system) -> str | None:
 
 
 EXPLICIT_STEPS_NOTE = 1e6  # an explicit run of more steps than this is said before it starts
-DOPRI5_REAL_AXIS = 3.3  # Dormand–Prince 5(4): stable for h|λ| up to about 3.3 on the real axis
 # the bound's steps beyond the budget at which a run is refused: the bound holds in stick, and
 # slipping the steps grow (the default scene's 5 s took 0.36 of the bound's 2.1e6)
 EXPLICIT_OVER = 4.0

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 
-from nsdyn._checks import expect, number
+from nsdyn._checks import DOPRI5_REAL_AXIS, expect, number
 from nsdyn.models.cylinder.params import G_STD, CylinderParams
 
 _P = "CylinderParams (nsdyn.CylinderParams(...))"
@@ -83,7 +83,6 @@ def uplift_onset(p: CylinderParams) -> tuple[float, float]:
     return math.asin(s), p.k * p.I_base * s
 
 
-DOPRI5_REAL_AXIS = 3.3  # Dormand–Prince 5(4): stable for h ω up to about 3.3 on the real axis
 STEPS_NOTED = 1e6  # a run needing more steps than this (about a minute) is said beforehand
 
 
