@@ -386,7 +386,7 @@ def run(args: argparse.Namespace) -> int:
         advice = advise(system.frame, motion, isolation=system.isolation)
         print(advice.report(), file=sys.stderr)
         system = build_system(system.frame, system.isolation, fidelity=advice.fidelity,
-                              f_max=advice.f_max or 5.0)  # fmt: skip
+                              f_max=advice.f_max)  # fmt: skip
     sv = cfg["solver"]
     source = cfg.get("_source", "<scene>")
     try:

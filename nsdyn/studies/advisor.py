@@ -245,7 +245,7 @@ def advise(
     def run(k):
         if k not in results:
             fid, fm = ladder[k]
-            system = build_system(frame, iso, fidelity=fid, f_max=fm or 5.0)
+            system = build_system(frame, iso, fidelity=fid, f_max=fm)
             res = simulate(system, win, method="radau", rtol=PROBE_RTOL, atol=PROBE_RTOL * 1e-2)
             results[k] = (_peaks(res), res.wall_s, system.n)
         return results[k]

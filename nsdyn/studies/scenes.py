@@ -101,7 +101,7 @@ def _isolated_system(cfg: dict, source: str):
     except ValueError as e:
         raise SceneError(str(e)) from None
     fidelity = sc.get("fidelity", "cb")
-    f_max = float(sc.get("f_max", 5.0))
+    f_max = float(sc.get("f_max", 5.0)) if fidelity in ("cb", "fixed") else None  # (cut-offs)
     key = (sc["frame"], fidelity, f_max, iso.diaphragm_EA, iso.diaphragm_EI)
     with _lock:
         base = _systems.get(key)

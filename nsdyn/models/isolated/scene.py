@@ -287,8 +287,9 @@ def build_scene_run(cfg: dict):
                 "(examples/scenes/building3d-office-cb.toml)"
             ) from None
         try:
-            system = _cached_system(frame, iso, sc.get("fidelity", "cb"),
-                                    float(sc.get("f_max", F_MAX)))  # fmt: skip
+            fid = sc.get("fidelity", "cb")  # (rigid, full: no cut-off; run_checks notes one)
+            system = _cached_system(frame, iso, fid, float(sc.get("f_max", F_MAX))
+                                    if fid in ("cb", "fixed") else None)  # fmt: skip
         except ValueError as e:  # the frame's model: its cut-off, or a node without mass
             msg = str(e)  # (an isolator list's length is the isolation table's own)
             at = (f"scene.{msg}" if msg.startswith("f_max:") else msg
@@ -391,7 +392,7 @@ def _stands(system, cfg: dict, source: str) -> None:
         )
 
 
-def _cached_system(frame, iso, fidelity: str, f_max: float, **kw):
+def _cached_system(frame, iso, fidelity: str, f_max: float | None, **kw):
     """:func:`build_system` through the model cache (:mod:`nsdyn._model_cache`): a scene run
     again loads its model, static state included, instead of assembling and reducing the frame
     (and importing SciPy) again."""

@@ -38,7 +38,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import NotedWarning, flag, known_fields
+from nsdyn._checks import InputWarning, NotedWarning, flag, known_fields
 from nsdyn._lazy import LazyModule
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kernel as ks
@@ -397,7 +397,7 @@ def build_system(
     isolation: Isolation | None = None,
     *,
     fidelity: str = "cb",
-    f_max: float = 5.0,
+    f_max: float | None = None,
     lumped: bool = False,
     damping: str = "modal",
 ) -> IsolatedSystem:
@@ -409,7 +409,8 @@ def build_system(
                                          (read by :func:`nsdyn.structure.load_frame`)
     isolation : Isolation, optional      ignored for ``fidelity="fixed"``; default seed values
     fidelity : {"fixed", "rigid", "cb", "full"}
-    f_max : float                        Craig-Bampton / modal cut-off [Hz] ("cb", "fixed")
+    f_max : float                        Craig-Bampton / modal cut-off [Hz] ("cb", "fixed";
+                                         default 5); a finite one at "rigid" or "full" warns
     damping : {"modal", "stiffness"}     superstructure damping of the full model (nodal
                                          coordinates, :mod:`nsdyn.models.isolated.fullorder`)
     """
@@ -426,8 +427,12 @@ def build_system(
     if not isinstance(iso, Isolation):
         raise TypeError(f"isolation: expected an Isolation (nsdyn.Isolation(k_lam=..., mu=...)), "
                         f"got {type(iso).__name__}")  # fmt: skip
-    if not (isinstance(f_max, numbers.Real) and f_max > 0):  # NaN fails too; inf keeps all
+    if f_max is not None and not (isinstance(f_max, numbers.Real) and f_max > 0):  # NaN too
         raise ValueError(f"f_max: expected a positive frequency [Hz] or inf, got {f_max!r}")
+    if f_max is not None and f_max < np.inf and fidelity in ("rigid", "full"):
+        warnings.warn(f"f_max = {f_max:g} Hz is not used: fidelity {fidelity!r} cuts no modes "
+                      "(f_max is the cut-off of 'cb' and 'fixed')", InputWarning, 2)  # fmt: skip
+    f_max = 5.0 if f_max is None else f_max
     if damping not in ("modal", "stiffness"):
         raise ValueError(f"damping: expected 'modal' or 'stiffness', got {damping!r}")
     lumped = flag("lumped", lumped)

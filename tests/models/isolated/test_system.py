@@ -4,6 +4,8 @@ Time integration here uses scipy's Radau on the kernel right-hand side: an integ
 independent of nsdyn's own, so these tests check the equations, not the integrators.
 """
 
+import warnings
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -366,3 +368,19 @@ def test_a_rigid_superstructure_reports_no_drift(frame):
     r = res.response
     assert np.abs(r.x_iso).max() > 1e-3
     assert not r.drift_by_storey.any() and not r.idr_by_storey.any() and not r.top_drift.any()
+
+
+@pytest.mark.parametrize("fidelity", ["rigid", "full"])
+def test_a_cut_off_where_no_modes_are_cut_is_said(frame, fidelity):
+    # f_max is the Craig-Bampton / modal cut-off of "cb" and "fixed"; the rigid deck and the
+    # nodal full model cut no modes, so a finite one given there was silently unused
+    from nsdyn._checks import InputWarning
+
+    with pytest.warns(InputWarning, match=f"f_max = 12 Hz is not used: fidelity '{fidelity}'"):
+        s = build_system(frame, fidelity=fidelity, f_max=12.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        plain = build_system(frame, fidelity=fidelity)  # default and inf: nothing to say
+        build_system(frame, fidelity=fidelity, f_max=np.inf)
+        build_system(frame, fidelity="cb", f_max=12.0)
+    assert s.n == plain.n
