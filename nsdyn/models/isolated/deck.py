@@ -67,6 +67,9 @@ from nsdyn.models.isolated.tolerances import arctan_atol
 PLANE_LAWS = ("switch", "arctan")  # the switch law with a stick disc; the regularised law
 # the contact assumptions of the planar family (system.CONTACTS) that these systems run
 PLANE_CONTACTS = {"detect": kp.CONTACT_DETECT, "bilateral": kp.CONTACT_BILATERAL}
+# a plan wider than this is a deck in mm, not m (isolated buildings span tens to a few hundred
+# m; a 20 m x 12 m deck given in mm failed under the switch law with advice to use arctan)
+PLAN_PLAUSIBLE = 1000.0  # m
 COLLINEAR_RTOL = 1e-9  # G's smallest/largest eigenvalue below this: isolators on one line
 PLAN_MAX = 1e6  # [m] isolator positions within 1000 km of O (1e200 overflowed G)
 # default absolute tolerances (displacement [m], velocity [m/s]) per law. The switch law
@@ -306,6 +309,18 @@ def law_params(law: str, **values) -> None:
         warnings.warn(coarse, NotedWarning, stacklevel=4)
 
 
+def plan_note(positions, where: str) -> str | None:
+    """A note when the isolators' plan extent passes :data:`PLAN_PLAUSIBLE` (in mm?)."""
+    pos = np.asarray(positions, dtype=float).reshape(-1, 2)
+    ext = pos.max(axis=0) - pos.min(axis=0)
+    if ext.max() <= PLAN_PLAUSIBLE:
+        return None
+    return (
+        f"{where}: the isolators span {ext[0]:.6g} m x {ext[1]:.6g} m in plan, wider than "
+        "any isolated building's (tens to hundreds of m): are they in mm?"
+    )
+
+
 def kernel_params(
     system: PlaneSystem, law: str, eps: float, eta: float, kappa: float | None,
     contact: str = "detect",
@@ -316,6 +331,8 @@ def kernel_params(
         raise ValueError(f"law: expected one of {list(PLANE_LAWS)}, got {law!r}")
     law_params(law, eps=eps, eta=eta, kappa=kappa)
     bearing_warnings(system)
+    if plan := plan_note(system.positions, f"{system.name}.positions"):
+        warnings.warn(plan, NotedWarning, stacklevel=3)
     sp = np.zeros(kp.N_SP)
     sp[kp.S_M] = system.m
     sp[kp.S_EX], sp[kp.S_EY] = (float(e) for e in system.ecc)

@@ -49,6 +49,7 @@ from nsdyn.models.isolated.bearings import (
 from nsdyn.models.isolated.deck import (
     PLANE_ATOL,
     contact_code,
+    plan_note,
     rigid_deck,
     sdof_plane,
     simulate_plane,
@@ -320,7 +321,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         f"{getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
     notes = bearing_notes(system.bearings, system.static_normal())  # (the summary's too)
     notes += build_notes(cfg, system)
-    notes += [n for n in [coarse_law_note(kw["law"], kw["eps"], kw["eta"]),
+    notes += [n for n in [plan_note(system.positions, "deck.positions"),
+                          coarse_law_note(kw["law"], kw["eps"], kw["eta"]),
                           record_end_note(cfg, exc)] if n]  # fmt: skip
     for note in notes:
         say(f"deck: note: {note}")

@@ -5,6 +5,9 @@ in cm² or a p_ref in MPa), with the friction factor 0.7^((p - p_ref)/50 MPa) it
 
 from __future__ import annotations
 
+import warnings
+
+import numpy as np
 import pytest
 
 from nsdyn.cli import main
@@ -134,3 +137,32 @@ def test_a_friction_falling_with_slip_speed_is_noted_as_a_likely_swap():
     assert note == ("bearing.mu_fast = 0.02 < mu_slow = 0.04: friction that falls with the "
                     "slip speed (PTFE's rises: swapped?)")  # fmt: skip
     assert bearing_notes([Bearing(Friction(0.02, mu_fast=0.04, rate=30.0))], N[:1]) == []
+
+
+def test_a_deck_in_millimetres_is_said_before_its_run(capsys, tmp_path):
+    # the example deck (20 m x 12 m) with its positions in mm: a plan of 20 km x 12 km, which
+    # no isolated building has; said as a note before the run, and by a Python call
+    from pathlib import Path
+
+    from nsdyn._checks import NotedWarning
+    from nsdyn.models.isolated.bearings import Friction
+    from nsdyn.models.isolated.deck import PLAN_PLAUSIBLE, rigid_deck, simulate_plane
+
+    src = Path(__file__).resolve().parents[3] / "examples/scenes/deck-fps4-3c.toml"
+    mm = "[[-10000.0, -6000.0], [10000.0, -6000.0], [10000.0, 6000.0], [-10000.0, 6000.0]]"
+    text = src.read_text()
+    assert "[[-10.0, -6.0], [10.0, -6.0], [10.0, 6.0], [-10.0, 6.0]]" in text
+    scene = tmp_path / "deck.toml"
+    scene.write_text(text.replace("[[-10.0, -6.0], [10.0, -6.0], [10.0, 6.0], [-10.0, 6.0]]", mm))
+    argv = ["run", str(scene), "--t-end", "0.05", "--no-figures", "--out", str(tmp_path / "o")]
+    main(argv)  # (its run may fail on the mm scale: the note comes first)
+    err = capsys.readouterr().err
+    assert err.count("deck: note: deck.positions: the isolators span 20000 m x 12000 m") == 1
+    assert 20.0 < PLAN_PLAUSIBLE < 20_000.0  # the example's plan passes, its mm plan does not
+    pos = [[-10.0, -6.0], [10.0, -6.0], [10.0, 6.0], [-10.0, 6.0]]
+    b, orbit = Bearing(Friction(0.05), radius=2.2), {"f": 1.0, "ax": 1.0, "ay": 0.0}
+    with pytest.warns(NotedWarning, match="are they in mm"):
+        simulate_plane(rigid_deck(2e6, 9.07e7, np.array(pos) * 1e3, b), orbit, t_end=0.05)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", NotedWarning)
+        simulate_plane(rigid_deck(2e6, 9.07e7, pos, b), orbit, t_end=0.05)
