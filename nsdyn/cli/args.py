@@ -228,16 +228,20 @@ def band_message(command: str, fmin: float, fmax: float, given: tuple = (True, T
             f"(see nsdyn {command} --help)")  # fmt: skip
 
 
-def holes(command: str, n_bad: int, n: int, what: str, detail: str, report=None) -> int:
+def holes(
+    command: str, n_bad: int, n: int, what: str, detail: str, report=None, say: bool = True
+) -> int:
     """The status of a finished curve or boundary: 0, or ``EXIT_NUMERICS`` after one line on
     stderr, ``nsdyn COMMAND: K of N WHAT failed (DETAIL)``, when some of its points failed --
     a result with holes is not a success, as a study with failed tasks is not; its files hold
     every point either way. A ``report`` (a --json one, not yet printed) gains ``status`` and
-    that line as ``error``, as every failed command's JSON has them."""
+    that line as ``error``, as every failed command's JSON has them (``say=False``: the line
+    is not printed, a report for a file written first)."""
     if not n_bad:
         return 0
     line = f"{n_bad} of {n} {what} failed ({detail})"
-    print(f"nsdyn {command}: {line}", file=sys.stderr)
+    if say:
+        print(f"nsdyn {command}: {line}", file=sys.stderr)
     if report is not None:
         report.update(status=EXIT_NUMERICS, error=line)
     return EXIT_NUMERICS

@@ -137,7 +137,7 @@ def _note_earlier(args, out: Path, before: dict, report: dict) -> None:
             print(f"nsdyn sweep: note: {note}", file=sys.stderr)
 
 
-def _holes(amplitudes: list[dict], path, report=None) -> int:
+def _holes(amplitudes: list[dict], path, report=None, say: bool = True) -> int:
     """:func:`nsdyn.cli.args.holes` of a sweep: its points without a steady state, and the
     frequencies a sweep without the fallback skipped (no row: the report lists them)."""
     n_skip = sum(len(s.get("skipped_hz") or []) for s in amplitudes)
@@ -147,7 +147,7 @@ def _holes(amplitudes: list[dict], path, report=None) -> int:
     if n_skip:
         where.append(f"{n_skip} frequencies skipped without the fallback (--json lists each "
                      "under skipped_hz)")  # fmt: skip
-    return holes("sweep", n_rows + n_skip, n, "points", "; ".join(where), report)
+    return holes("sweep", n_rows + n_skip, n, "points", "; ".join(where), report, say)
 
 
 def prepare_kernels(friction: str, contact: str = "bilateral") -> float:
@@ -156,11 +156,10 @@ def prepare_kernels(friction: str, contact: str = "bilateral") -> float:
     first use, or after an upgrade) and how long it took: for a smooth law the period map,
     its right-hand side and Jacobian (which the uplift probe,
     :func:`nsdyn.periodic.problem.uplift_probe`, calls too) and the orbit quantities' kernel,
-    for the switch law its exact-flow period map and
-    the system kernels of its tables (:mod:`nsdyn.periodic.switch_compile`); with
-    ``contact="unilateral"`` also the event-driven loop with lift-off and landing and its
-    metrics, which recompute the uplift points (:mod:`nsdyn.periodic.unilateral`). Returns
-    the seconds spent."""
+    for the switch law its exact-flow period map and the system kernels of its tables
+    (:mod:`nsdyn.periodic.switch_compile`); with ``contact="unilateral"`` also the event-driven
+    loop with lift-off and landing and its metrics, which recompute the uplift points
+    (:mod:`nsdyn.periodic.unilateral`). Returns the seconds spent."""
     from nsdyn.solve import methods
 
     if friction == "switch":
@@ -521,10 +520,11 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         _note_earlier(args, out, before, report)
         json_path = out / "sweep.json"
         report["json"] = str(json_path)
+        status = _holes(report["amplitudes"], json_path, report, say=False)  # (the file's too)
         with atomic_open(json_path, "w") as fh:
             fh.write(json.dumps(report, default=float, indent=1))
-    if args.json:  # (its holes' status and line first, in the report)
-        status = _holes(report["amplitudes"], json_path, report)
+    if args.json:  # (its holes' line first, then the report with their status)
+        _holes(report["amplitudes"], json_path)
         print(json.dumps(with_said(report), default=float))
         return status
     print(f"{sc['kind']} {sc['name']}: {settings.points} frequencies {fmin:g}-{fmax:g} Hz, "

@@ -529,6 +529,29 @@ def test_a_sweep_with_a_point_without_steady_state_exits_3(tmp_path, capsys, mon
     assert main(argv) == 0  # the same sweep, every point converged
 
 
+def test_a_plane_sweeps_file_carries_the_status_its_json_prints(tmp_path, capsys, monkeypatch):
+    # sweep.json of a plane sweep was written before its holes were counted: the file read as
+    # a success where the command exited 3 and its --json said status 3 with the error line.
+    # The hole is put in the summary (which points fail is not for a quick test to choose)
+    import nsdyn.studies.plane_sweep as ps
+
+    real = ps.summarise
+    monkeypatch.setattr(ps, "summarise", lambda r: {**real(r), "unconverged_points": 1})
+    out = tmp_path / "o"
+    argv = ["sweep", str(SCENES / "sdof-bidirectional-sweep.toml"), "--points", "2",
+            "--no-figures", "--out", str(out)]  # fmt: skip
+    line = f"1 of 2 points failed ({out / 'sweep.json'} lists each one)"
+    for json_flag in ([], ["--json"]):
+        assert main([*argv, *json_flag]) == 3
+        said = capsys.readouterr()
+        assert said.err.count(line) == 1
+        saved = json.loads((out / "sweep.json").read_text())
+        assert (saved["status"], saved["error"]) == (3, line)
+        if json_flag:
+            printed = json.loads(said.out.splitlines()[-1])
+            assert (printed["status"], printed["error"]) == (3, line)
+
+
 def test_a_sweeps_report_lists_each_point_without_steady_state_and_why():
     # the JSON of a frame sweep names its failed points with their row's note (as the deck
     # sweep's does); converged points, with or without uplift, are not failures
