@@ -33,7 +33,7 @@ from pathlib import Path
 from nsdyn._brief import brief_repr
 from nsdyn._checks import flag, is_typo, whole
 from nsdyn.models.scenefile import SceneError
-from nsdyn.studies.scenes import near_kept, run_batch
+from nsdyn.studies.scenes import missing_names, near_kept, run_batch
 from nsdyn.studies.study import Study
 from nsdyn.studies.table import ResultsStore, Table
 from nsdyn.studies.tasks import Task, batch_size, batches, ensure_checked, expand
@@ -105,11 +105,12 @@ class _Progress:
             self.report(self.line())
 
 
-def _first_check(study: Study, rows: list[dict], checked: bool) -> bool:
+def _first_check(study: Study, rows: list[dict], checked: bool, say=None) -> bool:
     """Whether the analyses' columns and ``keep`` are checked against a successful row:
     checked now with the first among ``rows``
     (:func:`~nsdyn.studies.analyses.check_first_row`; a kept name a typo away from a field of
-    its run's summary stops the study, its rows kept, rather than end in an empty column)."""
+    its run's summary stops the study, its rows kept, rather than end in an empty column; one
+    far from every field is said to ``say`` at once, not only at the study's end)."""
     if checked:
         return True
     ok = next((r for r in rows if r.get("status") == "ok"), None)
@@ -123,6 +124,10 @@ def _first_check(study: Study, rows: list[dict], checked: bool) -> bool:
                                  f"first run's summary; did you mean {near!r}? (stopped after "
                                  "it; keep is part of each task's key, so the study runs anew "
                                  "once the name is fixed)")  # fmt: skip
+        far = [repr(k) for k in missing_names(ok.get("error")) if k in (study.keep or ())]
+        if far and say is not None:  # (another rung's or kind's field, or a misspelt name)
+            say(f"{study.source}: study.keep: {', '.join(far)} not in the first run's summary: "
+                "empty cells wherever a run lacks it (a misspelt name: every cell)")  # fmt: skip
     return ok is not None
 
 
@@ -183,7 +188,7 @@ def run_study(
     store.regrid(order)
     done = store.read()
     here = [r for k, r in done.items() if k in order]  # (not another grid's rows)
-    first = _first_check(study, here, False)  # (before kernels and a pool)
+    first = _first_check(study, here, False, progress)  # (before kernels and a pool)
     todo = [
         t
         for t in tasks
@@ -225,7 +230,7 @@ def run_study(
                             continue
                     store.append(rows)
                     prog.add(rows)
-                    first = _first_check(study, rows, first)
+                    first = _first_check(study, rows, first, progress)
                 if broken and own:
                     # every future of a broken pool fails: take them all back, start a new pool
                     for f, (b, retried) in list(pending.items()):
