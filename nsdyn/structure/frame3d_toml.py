@@ -32,7 +32,7 @@ from nsdyn.structure.frame_toml import (
     not_a_frame,
     with_file_warnings,
 )
-from nsdyn.structure.geometry import check_geometry
+from nsdyn.structure.geometry import ALL_BASE_FILE, check_geometry, section_modulus_note
 
 TABLE = "frame3d"
 _SECTION_KEYS = {"E", "G", "nu", "A", "I_y", "I_z", "J", "rho", "rho_A", "rho_Ip"}
@@ -61,6 +61,7 @@ def _sections(rd: _Reader, tbl: Mapping, path: str, n: int) -> list[Section3D]:
     col = {}
     for k in ("E", "A", "I_y", "I_z", "J"):
         col[k] = rd.number_or_list(tbl, k, f"{path}.{k}", n)
+    section_modulus_note(path, col["E"], tbl["E"])  # (the file's name, before the elements')
     for a, b, what in (
         ("G", "nu", "G [Pa] or nu (Poisson's ratio)"),
         ("rho", "rho_A", "rho [kg/m^3] or rho_A [kg/m]"),
@@ -252,6 +253,8 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
         sid += [s] * len(els)
         vec += vs
     base = _index_list(rd, f.get("base_nodes"), f"{P}.base_nodes", nn)
+    if len(base) == nn:
+        rd.fail(f"{P}.base_nodes", ALL_BASE_FILE.format(nn=nn), base)
     node_mass = np.zeros((nn, 3))
     if "node_mass" in f:
         v = f["node_mass"]

@@ -22,6 +22,7 @@ from nsdyn import _textfile as textfile
 from nsdyn._bundled import FRAMES
 from nsdyn._checks import did_you_mean
 from nsdyn.structure.frame import Frame, Section, regular_frame
+from nsdyn.structure.geometry import ALL_BASE_FILE, section_modulus_note
 
 
 class FrameFileError(ValueError):
@@ -181,6 +182,7 @@ def _sections_per(rd: _Reader, frame: Mapping, key: str, n: int) -> list[Section
         cols[k] = rd.number_or_list(
             tbl, k, f"{path}.{k}", n, positive=k != "rho_A", nonneg=k == "rho_A"
         )
+    section_modulus_note(path, cols["E"], tbl["E"])  # (the file's name, before the elements')
     return [Section(*(cols[k][i] for k in _SECTION_KEYS)) for i in range(n)]
 
 
@@ -264,6 +266,7 @@ def frame_from_dict(data: Mapping, file: str = "<dict>") -> Frame:
             for k in _SECTION_KEYS
         ]
         secs.append(Section(*vals))
+        section_modulus_note(p, vals[:1], s["E"])
     raw_el = frame.get("elements")
     form = (f"[node_i, node_j] or [node_i, node_j, section] with two different nodes in "
             f"0..{nn - 1} and section in 0..{len(secs) - 1}")  # fmt: skip
@@ -292,6 +295,8 @@ def frame_from_dict(data: Mapping, file: str = "<dict>") -> Frame:
         or len(set(raw_base)) != len(raw_base)
     ):
         rd.fail("frame.base_nodes", f"a list of distinct node indices in 0..{nn - 1}", raw_base)
+    if len(raw_base) == nn:
+        rd.fail("frame.base_nodes", ALL_BASE_FILE.format(nn=nn), raw_base)
     node_mass = (
         rd.number_or_list(frame, "node_mass", "frame.node_mass", nn, False, True)
         if "node_mass" in frame

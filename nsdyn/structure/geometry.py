@@ -191,7 +191,15 @@ def checked_base(base_nodes, nn: int) -> np.ndarray:
         raise ValueError("base_nodes must be a non-empty list of distinct nodes")
     if base.min() < 0 or base.max() >= nn:
         raise ValueError(f"base node index out of range 0..{nn - 1}")
+    if len(base) == nn:  # (nothing above the isolators: a run of no dofs "succeeded")
+        raise ValueError(ALL_BASE.format(nn=nn))
     return base
+
+
+# a frame whose every node is a base node has nothing above its isolators to move
+ALL_BASE = ("base_nodes: every one of the {nn} nodes is a base node, leaving none above the "
+            "isolators to move; expected the nodes on the isolators only")  # fmt: skip
+ALL_BASE_FILE = "the nodes on the isolators only, not all {nn} nodes (none would be left to move)"
 
 
 def checked_zeta(zeta) -> np.ndarray:
@@ -234,6 +242,12 @@ def check_stiffness_span(terms: dict, element_name=lambda k: f"elements[{k}]") -
 # the softest Young's modulus of a structural material [Pa]: timber 1e10, concrete 3e10, steel
 # 2.1e11 (a modulus in MPa, 2.1e5, ran a portal of a 305 s period without a word)
 E_PLAUSIBLE = 1e8
+
+
+def section_modulus_note(path: str, E, raw) -> None:
+    """:func:`modulus_note` of a frame file's section table at ``path`` whose ``E`` was given
+    as ``raw`` (a list: one entry per storey, named by its index)."""
+    modulus_note(E, lambda k: f"{path}.E[{k}]" if isinstance(raw, list) else path)
 
 
 def modulus_note(E, element_name=lambda k: f"elements[{k}]") -> None:

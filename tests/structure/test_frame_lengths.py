@@ -68,5 +68,16 @@ def test_a_modulus_in_mpa_is_noted_naming_the_file(tmp_path, name, load):
     with pytest.warns(InputWarning) as rec:
         load(p)
     said = [str(w.message) for w in rec if "below any structural material" in str(w.message)]
-    assert len(said) == 1 and said[0].startswith(f"{p}: ") and "E = 2.1e+05 Pa" in said[0]
+    table = "frame3d" if load is load_frame3d else "frame"  # named by the section it is in
+    assert len(said) == 1 and said[0].startswith(f"{p}: {table}.sections[0]: E = 2.1e+05 Pa")
     assert 2.1e5 < E_PLAUSIBLE < 1e10  # (between the MPa value and timber's modulus)
+
+
+def test_a_modulus_in_mpa_in_a_storeys_list_is_named_by_its_entry(tmp_path):
+    p = tmp_path / "office.toml"
+    text = (FRAMES / "office-11.toml").read_text()
+    old = "[frame.columns]  # per storey, bottom up\nE = 2.1e11"
+    assert old in text
+    p.write_text(text.replace(old, old[:-10] + f"E = {[2.1e11, 2.1e5] + [2.1e11] * 9}"))
+    with pytest.warns(InputWarning, match=rf"^{re.escape(str(p))}: frame.columns.E\[1\]: E = "):
+        load_frame(p)

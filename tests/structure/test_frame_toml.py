@@ -234,6 +234,31 @@ def test_a_frame_hung_from_its_supports_is_refused(tmp_path):
         load_frame(p)
 
 
+def test_a_frame_of_base_nodes_alone_is_refused(tmp_path):
+    # every node a base node: nothing above the isolators moves; `nsdyn modes` drew an empty
+    # figure (a matplotlib traceback) and a run "succeeded" with drifts of 1e-8
+    from dataclasses import replace
+
+    text = (REPO / "frames" / "portal.toml").read_text()
+    nn = load_frame("portal").n_nodes
+    p = tmp_path / "p.toml"
+    p.write_text(text.replace("base_nodes = [0, 1]", f"base_nodes = {list(range(nn))}"))
+    said = rf"frame.base_nodes: expected the nodes on the isolators only, not all {nn} nodes"
+    with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: {said}"):
+        load_frame(p)
+    with pytest.raises(ValueError, match=rf"^base_nodes: every one of the {nn} nodes is a base"):
+        replace(load_frame("portal"), base_nodes=np.arange(nn))
+    from nsdyn.structure import load_frame3d
+
+    text3 = (REPO / "frames" / "portal-3d.toml").read_text()
+    n3 = load_frame3d("portal-3d").n_nodes
+    p3 = tmp_path / "p3.toml"
+    p3.write_text(text3.replace("base_nodes = [0, 1, 2, 3]", f"base_nodes = {list(range(n3))}"))
+    with pytest.raises(FrameFileError, match=rf"frame3d.base_nodes: expected the nodes on the "
+                       rf"isolators only, not all {n3} nodes"):  # fmt: skip
+        load_frame3d(p3)
+
+
 def test_a_massless_cantilever_with_a_tip_mass_has_the_exact_frequencies():
     # massless members (rho_A = 0) and a lumped mass: M is singular (rotations and the middle
     # node carry none) and the fixed-base modes were a LinAlgError traceback. The finite modes
