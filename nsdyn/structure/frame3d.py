@@ -276,6 +276,26 @@ class Frame3D:
             + sum(d.mass for d in self.diaphragms)
         )
 
+    def massless_nodes(self) -> np.ndarray:
+        """Nodes above the base with no mass at all: no node mass, on no diaphragm with mass
+        and every member there with ``rho_A = 0`` (a cb or full rung's M is singular)."""
+        held = {int(n) for d in self.diaphragms if d.mass > 0 for n in d.nodes}
+        held |= set(self.elements[self.rho_A > 0].ravel().tolist())
+        held |= set(np.flatnonzero(self.node_mass.any(axis=1)).tolist()) | set(self.base_nodes)
+        return np.array([n for n in range(self.n_nodes) if n not in held], dtype=np.int64)
+
+    def massless_note(self, model: str) -> str | None:
+        """Why ``model``'s mass matrix is singular, naming the first of :meth:`massless_nodes`
+        (None when every node has a mass)."""
+        bare = self.massless_nodes()
+        if not len(bare):
+            return None
+        return (
+            f"frame3d: nodes[{bare[0]}] (z = {self.nodes[bare[0], 2]:g} m) has no mass (no "
+            f"floor or node mass, rho_A = 0 on its members), so the {model!r} model's "
+            "mass matrix is singular; expected a mass on every floor, or fidelity 'rigid'"
+        )
+
     def levels(self) -> tuple[np.ndarray, tuple]:
         """Elevations carrying a diaphragm or a horizontal member, ascending, and the nodes
         at each (the base elevation first)."""

@@ -185,6 +185,7 @@ def _sparse_pairs(frame, bearing, opts: dict, cfg: dict, source: str, why: str):
     except PairSystemError as e:
         msg = " ".join(str(e).split())
         where = "bearing" if ".bearings[" in msg else "structure"
+        msg = "positive definite mass" in msg and frame.massless_note("full") or msg
         raise SceneError(f"{source}: {where}: {msg} (the full rung on sparse operators: "
                          f"{why})") from None  # fmt: skip
     except (BearingError, ValueError) as e:
@@ -211,8 +212,9 @@ def build_pairs(frame, bearing, fid: str, opts: dict, source: str, cfg: dict | N
     try:  # a scene run again loads its pair system (the reduction's eigenproblem: seconds)
         system = cached_build("building3d-pairs", (frame, bearing, sorted(kw.items())),
                               lambda: building_pairs(frame, bearing, **kw))  # fmt: skip
-    except BearingError as e:
-        raise SceneError(f"{source}: {e}") from None
+    except BearingError as e:  # (a PairSystemError too: a singular M, its massless node)
+        bare = "positive definite mass" in str(e) and frame.massless_note(fid)
+        raise SceneError(f"{source}: {f'structure: {bare}' if bare else e}") from None
     except ValueError as e:
         raise SceneError(f"{source}: structure: {' '.join(str(e).split())}") from None
     system.info.update(path="dense", path_why=why)

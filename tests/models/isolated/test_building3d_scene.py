@@ -91,6 +91,31 @@ def test_bad_input_names_the_field(tables, field, tmp_path):
         build_system(_cfg(**tables), str(tmp_path / "s.toml"))
 
 
+@pytest.mark.parametrize("fidelity", ["cb", "full"])
+def test_a_floor_without_mass_is_named_on_the_rungs_that_need_one(tmp_path, fidelity):
+    # a roof without floor mass above massless members: the cb and full rungs' M is
+    # singular; the error named "small cb-5Hz (n=8).M" and its eigenvalues, no node, no fix
+    column = "I_y = 2e-4\nI_z = 1e-4\nJ = 1.0\nvecxz = [1.0, 0.0, 0.0]\n"
+    beam = "I_y = 100.0\nI_z = 100.0\nJ = 100.0\nvecxz = [0.0, 0.0, 1.0]\n"
+    text = ('[frame3d]\nname = "small"\nbays_x = [6.0]\nbays_y = [5.0]\n'
+            "storey_heights = [4.0, 3.5]\nn_v = 1\nn_h = 1\nfloor_mass = [20000.0, 0.0]\n"
+            "zeta = [0.03]\n" + "".join(f"[frame3d.{g}]\nE = 2.1e11\nnu = 0.3\nA = 10.0\n"
+                                        f"rho_A = 0.0\n{own}" for g, own in (
+                ("columns", column), ("beams_x", beam), ("beams_y", beam))))  # fmt: skip
+    (tmp_path / "small.toml").write_text(text)
+    frame = load_frame3d(tmp_path / "small.toml")
+    roof = int(np.argmax(frame.nodes[:, 2]))
+    bare = frame.massless_nodes()
+    assert len(bare) == 4 and np.all(frame.nodes[bare, 2] == 7.5) and roof in bare
+    cfg = _cfg(structure={"frame3d": str(tmp_path / "small.toml"), "fidelity": fidelity})
+    said = (rf"structure: frame3d: nodes\[{bare[0]}\] \(z = 7.5 m\) has no mass .* so the "
+            rf"'{fidelity}' model's mass matrix is singular; expected a mass on every floor, or "
+            r"fidelity 'rigid'$")  # fmt: skip
+    with pytest.raises(SceneError, match=said):
+        build_system(cfg, str(tmp_path / "s.toml"))
+    assert load_frame3d("office-11-3d").massless_nodes().size == 0
+
+
 def test_the_fixed_rung_needs_a_record(tmp_path):
     orbit = {"kind": "orbit", "orbit": "circular", "frequency": 0.5, "amplitude": 1.0,
              "n_periods": 2}  # fmt: skip
