@@ -20,10 +20,15 @@ from typing import Any
 
 import numpy as np
 
-from nsdyn.ground.motion import RecordFileError, header_units
+from nsdyn.ground.motion import A_SAMPLE_MAX, RecordFileError, header_units
+
+BELOW = f" of magnitude at most {A_SAMPLE_MAX:g}"  # (1e300 passed the file, failed as "a_hor")
 
 STEP_RTOL = 0.05  # each time step of a time column within 5 % of the median step
 GRID_RTOL = 0.01  # every time stamp within 1 % of a step of the uniform grid t0 + k dt
+# times printed to a decimal place up to this fraction of a step are taken as rounded to it
+# (4 decimals at 300 Hz: 0.03); a coarser place is the grid's own (0.01 for 100 Hz)
+ROUNDED_MAX = 0.1
 DT_RTOL = 1e-3  # dt stated in a header vs dt of the time column
 DT_DIGITS = 12  # significant digits kept of a dt fitted to a printed time column
 
@@ -130,8 +135,9 @@ def parse_values(lines: list[tuple[int, str]], source: str) -> tuple[np.ndarray,
                 raise RecordFileError(
                     source, lineno, f"expected numbers, found {tok!r} in {s!r}"
                 ) from None
-            if not math.isfinite(x):
-                raise RecordFileError(source, lineno, f"expected a finite number, found {tok!r}")
+            if not (math.isfinite(x) and abs(x) <= A_SAMPLE_MAX):  # (1e300: no acceleration)
+                raise RecordFileError(source, lineno, f"expected a finite number{BELOW}, found "
+                                      f"{tok!r}")  # fmt: skip
             values.append(x)
     return np.asarray(values, dtype=np.float64), last
 
@@ -343,7 +349,7 @@ def _rows_at_once(rows: list[tuple[int, str]]) -> tuple[np.ndarray | None, np.nd
         values = np.fromiter(map(float, chain.from_iterable(toks)), np.float64, len(toks) * ncol)
     except ValueError:
         return None, np.empty(0, np.int64)
-    if not np.isfinite(values).all():
+    if not (np.abs(values) <= A_SAMPLE_MAX).all():  # (NaN too: read line by line, named)
         return None, np.empty(0, np.int64)
     return values.reshape(len(toks), ncol), np.array([n for n, _ in kept])
 
@@ -373,8 +379,9 @@ def _rows(rows: list[tuple[int, str]], source: str) -> tuple[np.ndarray, np.ndar
                 f"expected {ncol} {_numbers(ncol)} per line, found {len(vals)}: {s!r}",
             )
         for tok, x in zip(toks, vals, strict=True):
-            if not math.isfinite(x):
-                raise RecordFileError(source, lineno, f"expected a finite number, found {tok!r}")
+            if not (math.isfinite(x) and abs(x) <= A_SAMPLE_MAX):
+                raise RecordFileError(source, lineno, f"expected a finite number{BELOW}, found "
+                                      f"{tok!r}")  # fmt: skip
         values.append(vals)
         linenos.append(lineno)
     return np.asarray(values, dtype=np.float64), np.asarray(linenos)
@@ -395,8 +402,22 @@ def median(x: np.ndarray) -> float:
     return float(s[m]) if s.size % 2 else float((s[m - 1] + s[m]) / 2.0)
 
 
+def printed_step(t: np.ndarray) -> float:
+    """The last decimal place the times are printed to (1e-4 for ``0.0033``), or 0 when they
+    need more than 12 decimals: rounded to it, a stamp is off by up to half of it and the grid
+    fitted through the first and last stamps by up to half more (times of a 300 Hz record
+    printed with 4 decimals: 1.5 % of a step)."""
+    for d in range(13):
+        scaled = t * 10.0**d
+        if np.all(np.abs(scaled - np.round(scaled)) <= 1e-6 * np.maximum(1.0, np.abs(scaled))):
+            return 10.0**-d
+    return 0.0
+
+
 def check_time(t: np.ndarray, linenos: np.ndarray, source: str) -> float:
-    """Validate a time column (increasing, uniform) and return its dt."""
+    """Validate a time column (increasing, uniform) and return its dt: its steps within
+    STEP_RTOL of their median and its stamps within GRID_RTOL of a step of the uniform grid,
+    or within one last printed decimal place (:func:`printed_step`) when that is more."""
     if t.size < 2:
         raise RecordFileError(source, int(linenos[0]), "expected at least two time samples")
     d = np.diff(t)
@@ -407,7 +428,9 @@ def check_time(t: np.ndarray, linenos: np.ndarray, source: str) -> float:
             source, int(linenos[k]), f"expected time > {t[k - 1]:.10g} s, found {t[k]:.10g} s"
         )
     h = median(d)
-    bad = np.flatnonzero(np.abs(d - h) > STEP_RTOL * h)
+    ulp = printed_step(t)  # stamps rounded to it: each step off by up to one of it
+    ulp = ulp if ulp <= ROUNDED_MAX * h else 0.0  # (coarser: the times are the grid itself)
+    bad = np.flatnonzero(np.abs(d - h) > max(STEP_RTOL * h, ulp * (1 + 1e-6)))
     if bad.size:
         k = int(bad[0]) + 1
         raise RecordFileError(
@@ -418,7 +441,7 @@ def check_time(t: np.ndarray, linenos: np.ndarray, source: str) -> float:
         )
     dt = (float(t[-1]) - float(t[0])) / (t.size - 1)
     dev = np.abs(t - (t[0] + dt * np.arange(t.size)))
-    bad = np.flatnonzero(dev > GRID_RTOL * dt)
+    bad = np.flatnonzero(dev > max(GRID_RTOL * dt, ulp * (1 + 1e-6)))  # (and t0, dt: fitted)
     if bad.size:
         k = int(bad[0])
         raise RecordFileError(

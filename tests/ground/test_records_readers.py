@@ -294,6 +294,9 @@ AT2_HEAD = "PEER NGA\nX, 0\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    4, 
         ("nonnum.txt", "0.0 1.0\n0.1 2.0\n0.2 abc\n", 3, "expected 2 numbers"),
         ("nan.txt", "# dt = 0.01\n1.0\nnan\n2.0\n", 3, "finite"),
         ("inf.txt", "0.0 1.0\n0.1 inf\n", 2, "finite"),
+        # 1e300 passed the file and failed as "a_hor: ... sample 2", no file, no line
+        ("huge.txt", "0.0 1.0\n0.1 2.0\n0.2 1e300\n0.3 1.0\n", 3, "magnitude at most 1e+12"),
+        ("hugecol.txt", "# dt = 0.01\n1.0\n-2e13\n2.0\n", 3, "magnitude at most 1e+12"),
         ("cols.txt", "0.0 1.0\n0.1 2.0 3.0\n", 2, "expected 2 numbers"),
         ("gap.txt", "0.00 1\n0.01 2\n0.02 3\n0.04 4\n0.05 5\n", 4, "uniform time step"),
         ("back.txt", "0.00 1\n0.01 2\n0.02 3\n0.015 4\n0.03 5\n0.04 6\n", 4, "expected time >"),
@@ -324,6 +327,24 @@ def test_bad_files_raise_with_line(tmp_path, name, text, line, expected):
     err = info.value
     assert err.line == line and expected in str(err)
     assert str(err).startswith(f"{path}:{line}: ")
+
+
+@pytest.mark.parametrize(("hz", "decimals"), [(300, 4), (600, 5), (30, 3)])
+def test_times_rounded_as_printed_are_a_uniform_grid(tmp_path, hz, decimals):
+    # k/300 s printed to 4 decimals is off its grid by up to half of 1e-4 (1.5 % of a step),
+    # and the grid fitted through the rounded first and last stamps by up to half more: the
+    # file was refused for a stamp 1 % of a step off. dt comes back within a last place
+    # over the span (the fit's end points), the samples unchanged
+    n = 400
+    a = np.sin(np.arange(n) / 7.0)
+    text = "".join(f"{k / hz:.{decimals}f} {float(v)!r}\n" for k, v in enumerate(a))
+    m = read_motion(write(tmp_path, "r.txt", text), units="m/s2")
+    assert m.n == n and np.array_equal(m.a_hor, a)
+    assert abs(m.dt - 1.0 / hz) <= 10.0**-decimals / (n - 1)
+    # a printed place as coarse as the step is the grid itself: a missing row is still refused
+    gap = "".join(f"{k / 100:.2f} 1.0\n" for k in range(50) if k != 20)
+    with pytest.raises(RecordFileError, match=r"r2.txt:21: expected a uniform time step 0.01 s"):
+        read_motion(write(tmp_path, "r2.txt", gap), units="m/s2")
 
 
 def test_a_shuffled_time_column_is_named_with_the_step_given_too(tmp_path):
