@@ -187,6 +187,14 @@ def _creatable(p: Path, s: str) -> None:
         ) from None  # fmt: skip
 
 
+def named(s: str) -> str:
+    """A bundled name or a file's path: not empty (``--record ""``, an unset shell variable,
+    ran the scene's own record without a word)."""
+    if not s.strip():
+        raise argparse.ArgumentTypeError(f"expected a bundled name or a file's path, got {s!r}")
+    return s
+
+
 def out_dir(s: str) -> str:
     """An output directory that exists or can be created, checked when the command line is
     read, so that a bad ``--out`` fails before the work rather than after it."""

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, earlier_files, files_of, output_dir, save_figure
-from nsdyn.cli.args import EXIT_NUMERICS, PGA_HELP, out_dir, stale_figures, with_said
+from nsdyn.cli.args import EXIT_NUMERICS, PGA_HELP, named, out_dir, stale_figures, with_said
 from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
 from nsdyn.cli.args import positive_int as _positive_int
@@ -97,8 +97,8 @@ def summary_rows(s: dict) -> list[str]:
 def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("scene", nargs="?", default=None,
                    help="scene TOML (default: the bundled default scene)")  # fmt: skip
-    p.add_argument("--frame", help="bundled frame name or frame TOML path")
-    p.add_argument("--record", help="bundled record name or path to a ground-motion file")
+    p.add_argument("--frame", type=named, help="bundled frame name or frame TOML path")
+    p.add_argument("--record", type=named, help="bundled record name or ground-motion file")
     p.add_argument("--pga", type=_positive_finite, metavar="MPS2", help=PGA_HELP)
     p.add_argument("--fixed-base", action="store_true", help="the fixed-base linear frame")
     p.add_argument(

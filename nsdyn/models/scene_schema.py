@@ -93,6 +93,11 @@ UNITS_KEY = Key(
 )
 
 
+# the [motion] key of a one-column record file's sample step, one for every family's scene
+RECORD_DT_KEY = Key("dt", "number", "sample step of a single-column record file", "s", lo=0.0,
+                    lo_open=True)  # fmt: skip
+
+
 @dataclass(frozen=True)
 class Table:
     """A scene table (``[name]``), or one variant of it (``variant`` = 'kind = "shear"')."""

@@ -61,7 +61,10 @@ def resolve_paths(cfg: Mapping, folder: str | Path, source: str = "") -> dict:
     out = {k: dict(v) if isinstance(v, Mapping) else v for k, v in cfg.items()}
     for table, key in FILE_FIELDS:
         v = out.get(table, {}).get(key) if isinstance(out.get(table), dict) else None
-        if not isinstance(v, str) or not v or Path(v).is_absolute():
+        if isinstance(v, str) and not v.strip():  # (it read as the folder '.')
+            raise SceneError(f"{source or folder}: {table}.{key}: expected a bundled name or "
+                             f"a file's path, got {v!r}")  # fmt: skip
+        if not isinstance(v, str) or Path(v).is_absolute():
             continue
         there = folder / v
         if there.is_file() and not (Path(v).is_file() and Path(v).resolve() == there.resolve()):
@@ -129,20 +132,22 @@ def scene_step(dt, motion, span, source: str, hint: str = "") -> None:
 
 
 def record_units(mo: dict, source: str) -> dict:
-    """``{"units": u}`` of a scene's ``[motion] units`` for a record reader (``{}`` when not
-    given); SceneError for units other than g, gal (cm/s2) or m/s2, or units without a
-    record."""
-    if "units" not in mo:
+    """The record reader's keywords of a scene's ``[motion]``: ``units`` and a one-column
+    file's sample step ``dt`` where given (``{}`` when neither is); SceneError for units other
+    than g, gal (cm/s2) or m/s2, or either without a record."""
+    out = {k: mo[k] for k in ("units", "dt") if k in mo}
+    if not out:
         return {}
     from nsdyn.models.scene_schema import RECORD_UNITS
 
     if not any(k in mo for k in ("record", "record_y", "record_z", "simulated")):
-        raise SceneError(f"{source}: motion.units: the units of a record file; this scene "
+        what = "units of a record file" if "units" in out else "sample step of a record file"
+        raise SceneError(f"{source}: motion.{next(iter(out))}: the {what}; this scene "
                          "reads none (motion.record)")  # fmt: skip
-    if mo["units"] not in RECORD_UNITS:
+    if "units" in out and out["units"] not in RECORD_UNITS:
         raise SceneError(f"{source}: motion.units: expected one of {list(RECORD_UNITS)}, got "
                          f"{mo['units']!r}")  # fmt: skip
-    return {"units": mo["units"]}
+    return out
 
 
 def read_toml(path: str | Path, what: str = "scene") -> dict:

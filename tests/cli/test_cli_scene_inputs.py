@@ -361,3 +361,44 @@ def test_a_warning_about_a_scene_read_twice_is_said_once(tmp_path, monkeypatch, 
     monkeypatch.chdir(tmp_path)
     assert main(["run", "sub/s.toml", "--out", str(tmp_path / "o"), "--no-figures"]) == 0
     assert capsys.readouterr().err.count("is not beside the scene") == 1
+
+
+@pytest.mark.parametrize(
+    "kind, body",
+    [
+        ("rocking", "[block]\nwidth = 0.3\nheight = 1.2\n"),
+        ("contact", "[body]\nwidth = 0.3\nheight = 1.2\n[friction]\nmu_s = 0.5\n"),
+        ("cylinder", ""),
+    ],
+)
+def test_a_one_column_record_takes_its_step_from_motion_dt_in_every_family(
+    tmp_path, kind, body, capsys
+):
+    # the reader's refusal of a one-column file says "in a scene, [motion] dt"; the rocking
+    # and contact scenes then refused motion.dt as unknown, and the cylinder's as the
+    # simulated earthquake's step: no way to run the file at all. The record read with that
+    # step is the file's samples (its peak, written to 6 digits, is the run's PGA)
+    a = 0.1 * np.sin(np.arange(300) * 0.05)
+    a[40] = 2.5  # (the peak, inside the run's first second)
+    (tmp_path / "one.txt").write_text("".join(f"{v:.6f}\n" for v in a))
+    text = (f'[scene]\nkind = "{kind}"\n{body}[motion]\nrecord = "one.txt"\nunits = "m/s2"\n'
+            "dt = 0.01\nt_end = 1.0\n")  # fmt: skip
+    scene = _scene(tmp_path, text)
+    out = tmp_path / "o"
+    assert main(["run", str(scene), "--no-figures", "--out", str(out), "--json"]) == 0
+    s = json.loads(capsys.readouterr().out.splitlines()[-1])
+    pga = next(v for k, v in s.items() if k.startswith("pga") and isinstance(v, float))
+    assert pga == 2.5
+
+
+def test_an_empty_record_or_frame_name_is_refused(tmp_path, one_line):
+    # `--record ""` (an unset shell variable) ran the scene's own record without a word; a
+    # scene's record = "" was refused as the folder "."
+    for flag in ("--record", "--frame"):
+        with pytest.raises(SystemExit) as e:  # (a usage error: argparse's exit)
+            main(["run", flag, "", "--no-figures", "--out", str(tmp_path / "o")])
+        assert e.value.code == 2
+        one_line(f"argument {flag}: expected a bundled name or a file's path, got ''")
+    scene = _scene(tmp_path, '[motion]\nrecord = ""\nt_end = 0.2\n')
+    assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 2
+    one_line(f"{scene}: motion.record: expected a bundled name or a file's path, got ''")

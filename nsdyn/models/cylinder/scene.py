@@ -209,7 +209,8 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
     if case == "fixed" and springs:  # (dropped without a word; a study's case may vary)
         notes.append(f"{', '.join(springs)} not used: a fixed base (rigid ground) has no "
                      "springs or dashpots")  # fmt: skip
-    units = record_units(mo, source)
+    # (dt: beside a record its file's sample step, else the simulated earthquake's)
+    units = record_units({k: v for k, v in mo.items() if k != "dt" or "record" in mo}, source)
     lone = [k for k in ("record_y", "record_z") if k in mo]
     if lone and "record" not in mo:  # (the simulated earthquake ran instead)
         raise SceneError(f"{source}: motion.{lone[0]}: a second record component needs the "
@@ -227,8 +228,9 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
             raise
         except (OSError, ValueError) as e:
             raise SceneError(f"{source}: motion.record: {e}") from None
-        scenefile.refuse_keys(mo, source, "motion", RECORD_REPLACES, "a key of the simulated "
-                    "earthquake; this scene reads motion.record")  # fmt: skip
+        scenefile.refuse_keys(mo, source, "motion", [k for k in RECORD_REPLACES if k != "dt"],
+                              "a key of the simulated earthquake; this scene reads "
+                              "motion.record")  # fmt: skip
         if "t_end" in mo:  # an end on the record's clock, as every family's t_end
             t_end = number(source, "motion.t_end", mo["t_end"])
             try:

@@ -151,7 +151,8 @@ SCHEMA = Schema(
                 Key(
                     "dt",
                     "number",
-                    "sample step of the simulated earthquake",
+                    "sample step of the simulated earthquake; beside `record`, of a "
+                    "single-column record file",
                     "s",
                     default=0.01,
                     **_POS,

@@ -12,7 +12,7 @@ from __future__ import annotations
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated.defaults import ALPHA, BETA, C_DAMPER, EPS, ETA, F_MAX, K_LAM, MU
 from nsdyn.models.isolated.tolerances import RUN_ATOL, RUN_RTOL
-from nsdyn.models.scene_schema import REL_TOL, UNITS_KEY, Key, Schema, Table
+from nsdyn.models.scene_schema import RECORD_DT_KEY, REL_TOL, UNITS_KEY, Key, Schema, Table
 
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
 _NONNEG = {"lo": 0.0}  # >= 0
@@ -43,7 +43,7 @@ _KIND = Key(
 )
 _T_END = Key("t_end", "number", "end of the run", "s", **_POS)
 _UNITS = UNITS_KEY
-_DT_REC = Key("dt", "number", "sample step of a single-column record file", "s", **_POS)
+_DT_REC = RECORD_DT_KEY
 _DOFS = Key(
     "dofs",
     "list of integers",

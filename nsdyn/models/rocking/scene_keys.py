@@ -7,7 +7,7 @@ scene-file reference is generated from it. Sizes are the full width 2B and heigh
 
 from __future__ import annotations
 
-from nsdyn.models.scene_schema import REL_TOL, UNITS_KEY, Key, Schema, Table
+from nsdyn.models.scene_schema import RECORD_DT_KEY, REL_TOL, UNITS_KEY, Key, Schema, Table
 
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
 _NONNEG = {"lo": 0.0}  # >= 0
@@ -109,6 +109,7 @@ SCHEMA = Schema(
                 ),
                 Key("vertical", "boolean", "keep the record's vertical component", default=True),
                 UNITS_KEY,
+                RECORD_DT_KEY,
                 Key("pulse", "string", "pulse shape", choices=("sine", "cosine", "ricker", "rect")),
                 Key(
                     "a_p",

@@ -174,11 +174,23 @@ def test_pga_zero_is_free_rocking(cfg, tmp_path):
     assert 0.0 < tight["energy_error"] < s["energy_error"] / 5
 
 
-@pytest.mark.parametrize("key, val", [("seed", 3), ("duration", 10.0), ("dt", 0.01)])
+@pytest.mark.parametrize("key, val", [("seed", 3), ("duration", 10.0)])
 def test_a_record_refuses_the_simulated_earthquakes_keys(key, val):
     # they were dropped without a word (a study over seeds of a record ran one case N times)
     cfg = {"scene": {"kind": "cylinder"}, "motion": {"record": "synthetic-wn-40s", key: val}}
     with pytest.raises(SceneError, match=rf"c\.toml: motion\.{key}: a key of the simulated "):
+        build(cfg, "c.toml")
+
+
+def test_a_records_dt_is_its_sample_step_checked_against_its_time_column():
+    # beside a record, dt is a one-column file's sample step (as in every family); a file
+    # with a time column (the bundled record's 0.01 s) takes only its own
+    cfg = {"scene": {"kind": "cylinder"},
+           "motion": {"record": "synthetic-wn-40s", "dt": 0.01, "t_end": 0.5}}  # fmt: skip
+    assert build(cfg, "c.toml")[1] == 0.01
+    cfg["motion"]["dt"] = 0.02
+    with pytest.raises(SceneError, match=r"c\.toml: motion\.record: .*dt = 0\.02 s \(given\) but "
+                       r"the time column has 0\.01 s"):  # fmt: skip
         build(cfg, "c.toml")
 
 
