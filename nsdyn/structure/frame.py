@@ -33,7 +33,7 @@ from nsdyn.structure.geometry import (
     checked_base,
     checked_zeta,
     frozen,
-    modulus_note,
+    material_notes,
 )
 
 sp = LazyModule("scipy.sparse")
@@ -130,7 +130,7 @@ class Frame:
             if np.any(bad) or not np.all(np.isfinite(v)):
                 raise ValueError(f"element {key} must be positive and finite")
             obj(self, key, v)
-        modulus_note(self.E)
+        material_notes(self.E, self.A, self.rho_A)
         L = np.linalg.norm(nodes[elements[:, 1]] - nodes[elements[:, 0]], axis=1)
         with np.errstate(over="ignore", under="ignore"):
             check_stiffness_span(

@@ -37,7 +37,7 @@ from nsdyn.structure.geometry import (
     checked_base,
     checked_zeta,
     frozen,
-    modulus_note,
+    material_notes,
 )
 
 sp = LazyModule("scipy.sparse")
@@ -182,7 +182,7 @@ class Frame3D:
                     f", got {float(a[e])!r}"
                 )
             obj(self, key, a)
-        modulus_note(self.E)
+        material_notes(self.E, self.A, self.rho_A)
         with np.errstate(over="ignore", under="ignore"):
             L, EL3 = self.lengths, 12 * self.E / self.lengths**3
             check_stiffness_span(

@@ -32,7 +32,7 @@ from nsdyn.structure.frame_toml import (
     not_a_frame,
     with_file_warnings,
 )
-from nsdyn.structure.geometry import ALL_BASE_FILE, check_geometry, section_modulus_note
+from nsdyn.structure.geometry import ALL_BASE_FILE, check_geometry, section_notes
 
 TABLE = "frame3d"
 _SECTION_KEYS = {"E", "G", "nu", "A", "I_y", "I_z", "J", "rho", "rho_A", "rho_Ip"}
@@ -61,7 +61,6 @@ def _sections(rd: _Reader, tbl: Mapping, path: str, n: int) -> list[Section3D]:
     col = {}
     for k in ("E", "A", "I_y", "I_z", "J"):
         col[k] = rd.number_or_list(tbl, k, f"{path}.{k}", n)
-    section_modulus_note(path, col["E"], tbl["E"])  # (the file's name, before the elements')
     for a, b, what in (
         ("G", "nu", "G [Pa] or nu (Poisson's ratio)"),
         ("rho", "rho_A", "rho [kg/m^3] or rho_A [kg/m]"),
@@ -95,6 +94,7 @@ def _sections(rd: _Reader, tbl: Mapping, path: str, n: int) -> list[Section3D]:
             if "rho_Ip" in tbl
             else [r * p / a for r, p, a in zip(rho, Ip, col["A"], strict=True)]
         )
+    section_notes(path, tbl, col["E"], col["A"], col["rho_A"])  # (before the elements')
     keys = ("E", "G", "A", "I_y", "I_z", "J", "rho_A", "rho_Ip")
     return [Section3D(*(col[k][i] for k in keys)) for i in range(n)]
 

@@ -22,7 +22,7 @@ from nsdyn import _textfile as textfile
 from nsdyn._bundled import FRAMES
 from nsdyn._checks import did_you_mean
 from nsdyn.structure.frame import Frame, Section, regular_frame
-from nsdyn.structure.geometry import ALL_BASE_FILE, section_modulus_note
+from nsdyn.structure.geometry import ALL_BASE_FILE, section_notes
 
 
 class FrameFileError(ValueError):
@@ -182,7 +182,7 @@ def _sections_per(rd: _Reader, frame: Mapping, key: str, n: int) -> list[Section
         cols[k] = rd.number_or_list(
             tbl, k, f"{path}.{k}", n, positive=k != "rho_A", nonneg=k == "rho_A"
         )
-    section_modulus_note(path, cols["E"], tbl["E"])  # (the file's name, before the elements')
+    section_notes(path, tbl, cols["E"], cols["A"], cols["rho_A"])  # (before the elements')
     return [Section(*(cols[k][i] for k in _SECTION_KEYS)) for i in range(n)]
 
 
@@ -266,7 +266,7 @@ def frame_from_dict(data: Mapping, file: str = "<dict>") -> Frame:
             for k in _SECTION_KEYS
         ]
         secs.append(Section(*vals))
-        section_modulus_note(p, vals[:1], s["E"])
+        section_notes(p, s, *([v] for v in vals[:2]), [vals[3]])
     raw_el = frame.get("elements")
     form = (f"[node_i, node_j] or [node_i, node_j, section] with two different nodes in "
             f"0..{nn - 1} and section in 0..{len(secs) - 1}")  # fmt: skip

@@ -242,20 +242,38 @@ def check_stiffness_span(terms: dict, element_name=lambda k: f"elements[{k}]") -
 # the softest Young's modulus of a structural material [Pa]: timber 1e10, concrete 3e10, steel
 # 2.1e11 (a modulus in MPa, 2.1e5, ran a portal of a 305 s period without a word)
 E_PLAUSIBLE = 1e8
+# the lightest density of a structural member [kg/m³] (timber's is about 500): rho_A of 0.001
+# kg/m on a 0.02 m² section (0.05 kg/m³), "massless columns", ran into a false uplift
+DENSITY_PLAUSIBLE = 100.0
 
 
-def section_modulus_note(path: str, E, raw) -> None:
-    """:func:`modulus_note` of a frame file's section table at ``path`` whose ``E`` was given
-    as ``raw`` (a list: one entry per storey, named by its index)."""
-    modulus_note(E, lambda k: f"{path}.E[{k}]" if isinstance(raw, list) else path)
+def section_notes(path: str, tbl, E, A, rho_A) -> None:
+    """:func:`material_notes` of a frame file's section table ``tbl`` at ``path``: a value
+    given as a list (one entry per storey) is named by its index, ``frame.columns.E[1]``."""
+
+    def name(key):
+        return lambda k: f"{path}.{key}[{k}]" if isinstance(tbl.get(key), list) else path
+
+    material_notes(E, A, rho_A, name("E"), name("rho" if "rho" in tbl else "rho_A"))
 
 
-def modulus_note(E, element_name=lambda k: f"elements[{k}]") -> None:
+def material_notes(E, A, rho_A, element_name=lambda k: f"elements[{k}]", mass_name=None):
     """A NotedWarning naming the softest element when its Young's modulus ``E`` (an array over
-    the elements) is below :data:`E_PLAUSIBLE`: given in MPa or GPa, not Pa?"""
-    E = np.asarray(E, dtype=float)
-    k = int(np.argmin(E))
+    the elements) is below :data:`E_PLAUSIBLE` (given in MPa or GPa, not Pa?), and one naming
+    the lightest member with mass when its density ``rho_A / A`` is below
+    :data:`DENSITY_PLAUSIBLE` (near-massless: rho_A = 0 is the massless member)."""
+    E, A, rho_A = (np.asarray(v, dtype=float) for v in (E, A, rho_A))
+    k = int(np.argmin(E)) if E.size else 0
     if E.size and E[k] < E_PLAUSIBLE:
         warnings.warn(f"{element_name(k)}: E = {E[k]:.4g} Pa, below any structural material's "
                       "(timber 1e10, concrete 3e10, steel 2.1e11 Pa): a frame's moduli are in "
                       "Pa; is it in MPa or GPa?", NotedWarning, stacklevel=3)  # fmt: skip
+    rho = np.where(rho_A > 0, rho_A / A, np.inf)
+    k = int(np.argmin(rho)) if rho.size else 0
+    if rho.size and rho[k] < DENSITY_PLAUSIBLE:
+        warnings.warn(f"{(mass_name or element_name)(k)}: rho_A = {rho_A[k]:.4g} kg/m over A = "
+                      f"{A[k]:.4g} m² is a density of {rho[k]:.3g} kg/m³, far below any "
+                      "structural material's (timber 500, concrete 2400, steel 7850): members "
+                      "this light give modes of very high frequency that runs can fail on (a "
+                      "step underflow, a false uplift); rho_A = 0 makes a member massless",
+                      NotedWarning, stacklevel=3)  # fmt: skip

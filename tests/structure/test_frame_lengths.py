@@ -81,3 +81,23 @@ def test_a_modulus_in_mpa_in_a_storeys_list_is_named_by_its_entry(tmp_path):
     p.write_text(text.replace(old, old[:-10] + f"E = {[2.1e11, 2.1e5] + [2.1e11] * 9}"))
     with pytest.warns(InputWarning, match=rf"^{re.escape(str(p))}: frame.columns.E\[1\]: E = "):
         load_frame(p)
+
+
+def test_a_near_massless_member_is_noted_and_a_massless_one_is_not(tmp_path):
+    # "massless columns" as rho_A = 0.001 kg/m on 0.02 m² (0.05 kg/m³) gave a three-storey
+    # frame modes of 1e5 Hz and a run that failed with a false uplift, unsaid; rho_A = 0 is
+    # the massless member (refused by the cb and full rungs, naming the node)
+    from nsdyn.structure.geometry import DENSITY_PLAUSIBLE
+
+    text = (FRAMES / "portal.toml").read_text()
+    light = tmp_path / "light.toml"
+    light.write_text(re.sub(r"^rho_A = \S+", "rho_A = 0.001", text, count=1, flags=re.M))
+    with pytest.warns(InputWarning, match=rf"^{re.escape(str(light))}: frame.sections\[0\]: "
+                      r"rho_A = 0.001 kg/m over A = .* far below any structural"):  # fmt: skip
+        load_frame(light)
+    bare = tmp_path / "bare.toml"
+    bare.write_text(re.sub(r"^rho_A = \S+", "rho_A = 0.0", text, flags=re.M))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        load_frame(bare)
+    assert 10.0 < DENSITY_PLAUSIBLE < 500.0  # (below timber's, the lightest member material)
