@@ -402,22 +402,29 @@ def median(x: np.ndarray) -> float:
     return float(s[m]) if s.size % 2 else float((s[m - 1] + s[m]) / 2.0)
 
 
-def printed_step(t: np.ndarray) -> float:
-    """The last decimal place the times are printed to (1e-4 for ``0.0033``), or 0 when they
-    need more than 12 decimals: rounded to it, a stamp is off by up to half of it and the grid
-    fitted through the first and last stamps by up to half more (times of a 300 Hz record
-    printed with 4 decimals: 1.5 % of a step)."""
+def rounding_place(t: np.ndarray, dt: float) -> float:
+    """The decimal place the times were rounded to as printed (1e-4 for k/300 s printed as
+    ``0.0033``), or 0 when they were not: times on a coarser place than ROUNDED_MAX of a step,
+    or a step ``dt`` (fitted through the end stamps, off by 1/(n - 1) of the place at most)
+    that is a whole multiple of the place (100 Hz printed as ``0.010`` is exact). Rounded, a
+    stamp is off by half the place and the fitted grid by half more."""
+    place = 0.0
     for d in range(13):
-        scaled = t * 10.0**d
-        if np.all(np.abs(scaled - np.round(scaled)) <= 1e-6 * np.maximum(1.0, np.abs(scaled))):
-            return 10.0**-d
-    return 0.0
+        scaled = t * 10.0**d  # (a printed decimal reads to within 1e-16 of it, relative)
+        if np.all(np.abs(scaled - np.round(scaled)) <= 1e-9 * np.maximum(1.0, np.abs(scaled))):
+            place = 10.0**-d
+            break
+    if not 0.0 < place <= ROUNDED_MAX * dt:
+        return 0.0
+    r = dt / place
+    return place if abs(r - round(r)) > 2.0 / max(t.size - 1, 1) + 1e-9 else 0.0
 
 
 def check_time(t: np.ndarray, linenos: np.ndarray, source: str) -> float:
     """Validate a time column (increasing, uniform) and return its dt: its steps within
     STEP_RTOL of their median and its stamps within GRID_RTOL of a step of the uniform grid,
-    or within one last printed decimal place (:func:`printed_step`) when that is more."""
+    or within the decimal place they were rounded to (:func:`rounding_place`) when that is
+    more."""
     if t.size < 2:
         raise RecordFileError(source, int(linenos[0]), "expected at least two time samples")
     d = np.diff(t)
@@ -425,11 +432,12 @@ def check_time(t: np.ndarray, linenos: np.ndarray, source: str) -> float:
     if bad.size:
         k = int(bad[0]) + 1
         raise RecordFileError(
-            source, int(linenos[k]), f"expected time > {t[k - 1]:.10g} s, found {t[k]:.10g} s"
-        )
+            source, int(linenos[k]),
+            f"expected time > {t[k - 1] + 0.0:.10g} s, found {t[k] + 0.0:.10g} s",  # (no -0)
+        )  # fmt: skip
     h = median(d)
-    ulp = printed_step(t)  # stamps rounded to it: each step off by up to one of it
-    ulp = ulp if ulp <= ROUNDED_MAX * h else 0.0  # (coarser: the times are the grid itself)
+    dt = (float(t[-1]) - float(t[0])) / (t.size - 1)
+    ulp = rounding_place(t, dt)  # stamps rounded to it: each step off by up to one of it
     bad = np.flatnonzero(np.abs(d - h) > max(STEP_RTOL * h, ulp * (1 + 1e-6)))
     if bad.size:
         k = int(bad[0]) + 1
@@ -439,7 +447,6 @@ def check_time(t: np.ndarray, linenos: np.ndarray, source: str) -> float:
             f"expected a uniform time step {h:.6g} s (±{STEP_RTOL:.0%}), found "
             f"{d[k - 1]:.6g} s (t = {t[k - 1]:.10g} → {t[k]:.10g} s)",
         )
-    dt = (float(t[-1]) - float(t[0])) / (t.size - 1)
     dev = np.abs(t - (t[0] + dt * np.arange(t.size)))
     bad = np.flatnonzero(dev > max(GRID_RTOL * dt, ulp * (1 + 1e-6)))  # (and t0, dt: fitted)
     if bad.size:

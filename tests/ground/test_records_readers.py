@@ -347,6 +347,18 @@ def test_times_rounded_as_printed_are_a_uniform_grid(tmp_path, hz, decimals):
         read_motion(write(tmp_path, "r2.txt", gap), units="m/s2")
 
 
+@pytest.mark.parametrize(("hz", "decimals"), [(100, 3), (1000, 4), (300, 4)])
+def test_a_stamp_off_its_grid_by_a_tenth_of_a_step_is_refused(tmp_path, hz, decimals):
+    # a step that is a whole number of printed places (100 Hz as 0.010) was never rounded:
+    # one stamp a tenth of a step off (0.201 among 0.190, 0.210) is jitter, refused as before;
+    # at 300 Hz the rounding allows one place, 3 % of a step, not a tenth
+    t = np.arange(60) / hz
+    t[20] += 0.1 / hz
+    text = "".join(f"{v:.{decimals}f} 1.0\n" for v in t)
+    with pytest.raises(RecordFileError, match=r"j.txt:2[01]: expected a uniform time step"):
+        read_motion(write(tmp_path, "j.txt", text), units="m/s2")
+
+
 def test_a_shuffled_time_column_is_named_with_the_step_given_too(tmp_path):
     path = write(tmp_path, "swap.txt", "0.0 0.1\n0.02 0.2\n0.01 0.3\n0.03 0.1\n")
     with pytest.raises(RecordFileError, match=r"swap.txt:3: expected time > 0.02 s"):
