@@ -26,7 +26,7 @@ def main(t_end: float = 10.0) -> dict:
 
     # one description, four fidelities
     ladder = {
-        fid: build_system(frame, iso, fidelity=fid, f_max=5.0)
+        fid: build_system(frame, iso, fidelity=fid)  # (f_max: 5 Hz, the cut-off of cb, fixed)
         for fid in ("fixed", "rigid", "cb", "full")
     }
     dofs = {fid: s.n for fid, s in ladder.items()}

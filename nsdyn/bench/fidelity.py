@@ -211,7 +211,7 @@ def fidelity_bench(
     iso = common.bench_isolation("arctan")
     systems = {}
     for fid, fm in ladder:
-        systems[rung_name(fid, fm)] = build_system(frame, iso, fidelity=fid, f_max=fm or 5.0)
+        systems[rung_name(fid, fm)] = build_system(frame, iso, fidelity=fid, f_max=fm)
     if floor_rung not in systems:
         fid, fm = QUICK_FLOOR_RUNG if quick else FLOOR_RUNG
         systems_floor = build_system(frame, iso, fidelity=fid, f_max=fm)
