@@ -324,7 +324,9 @@ def record_replaces_motion(kind: str, mo: dict, replaces, source: str) -> str | 
     without a record always has one) so do its amplitude ``pga`` (a pulse's, a sine's: the
     record runs at its own scale) and its ``t_end`` (chosen for that motion: the record runs
     to its end). Returns a note naming the dropped ``t_end``, or None."""
-    closed = any(k in mo for k in replaces) or (kind == "cylinder" and "record" not in mo)
+    cylinder = kind == "cylinder"  # (its dt beside a record: the record file's own step)
+    closed = (any(k in mo for k in replaces if not (cylinder and k == "dt" and "record" in mo))
+              or (cylinder and "record" not in mo))  # fmt: skip
     for key in replaces:
         mo.pop(key, None)
     if not closed:

@@ -192,6 +192,17 @@ def test_a_records_dt_is_its_sample_step_checked_against_its_time_column():
     with pytest.raises(SceneError, match=r"c\.toml: motion\.record: .*dt = 0\.02 s \(given\) but "
                        r"the time column has 0\.01 s"):  # fmt: skip
         build(cfg, "c.toml")
+    # a record's dt is no simulated earthquake's: --record keeps the scene's t_end (it was
+    # dropped with a note calling it the closed-form motion's)
+    from nsdyn.models.cylinder.scene import RECORD_REPLACES
+    from nsdyn.models.scenefile import record_replaces_motion
+
+    mo = {"record": "one.txt", "dt": 0.01, "t_end": 1.0}
+    assert record_replaces_motion("cylinder", mo, RECORD_REPLACES, "c.toml") is None
+    assert mo == {"record": "one.txt", "t_end": 1.0}
+    simulated = {"seed": 3, "t_end": 1.0}  # (the closed form's t_end goes, said)
+    assert record_replaces_motion("cylinder", simulated, RECORD_REPLACES, "c.toml")
+    assert "t_end" not in simulated
 
 
 def test_nsdyn_run_record_replaces_the_simulated_earthquake(tmp_path, capsys):
