@@ -167,6 +167,11 @@ def run(args: argparse.Namespace) -> int:
         report["figure"] = str(fig_path)
     json_path = out / "uplift.json"  # the data, always (with --json also printed)
     report["json"] = str(json_path)
+    failed = [p for p in res.points if not p.ok and not p.status.startswith("no uplift")]
+    where = ", ".join(f"{p.f:.4g}" for p in failed[:5]) + (", ..." if len(failed) > 5 else "")
+    said = ("uplift", len(failed), len(res.points), "frequencies",
+            f"f = {where} Hz; reasons in the status column and in {json_path}")  # fmt: skip
+    holes(*said, report, say=False)  # (the file's and --json's status and error, if any)
     text = json.dumps(report, default=float)
     with atomic_open(json_path, "w", encoding="utf-8") as fh:
         fh.write(text + "\n")
@@ -186,7 +191,4 @@ def run(args: argparse.Namespace) -> int:
         print(f"data:   {json_path}")
         if "figure" in report:
             print(f"figure: {report['figure']}")
-    failed = [p for p in res.points if not p.ok and not p.status.startswith("no uplift")]
-    where = ", ".join(f"{p.f:.4g}" for p in failed[:5]) + (", ..." if len(failed) > 5 else "")
-    return holes("uplift", len(failed), len(res.points), "frequencies",
-                 f"f = {where} Hz; reasons in the status column and in {json_path}")  # fmt: skip
+    return holes(*said)

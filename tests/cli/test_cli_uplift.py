@@ -116,8 +116,15 @@ def test_a_failed_frequency_makes_the_status_3_and_names_it(tmp_path, capsys, mo
                   "--out", str(out)])  # fmt: skip
     assert rc == 3
     err = capsys.readouterr().err
-    assert "1 of 3 frequencies failed (f = 4 Hz" in err
-    assert len(json.loads((out / "uplift.json").read_text())["points"]) == 3
+    assert err.count("1 of 3 frequencies failed (f = 4 Hz") == 1
+    saved = json.loads((out / "uplift.json").read_text())
+    assert len(saved["points"]) == 3
+    # the file and --json carry the status and its line (the file was written before them)
+    assert saved["status"] == 3 and saved["error"].startswith("1 of 3 frequencies failed")
+    rc = run_cli(["--fmin", "1", "--fmax", "4", "--points", "3", "--no-figures", "--json",
+                  "--out", str(out)])  # fmt: skip
+    printed = json.loads(capsys.readouterr().out.splitlines()[-1])
+    assert rc == 3 and (printed["status"], printed["error"]) == (3, saved["error"])
 
 
 def test_an_amplitude_above_100_g_is_refused_before_any_work(tmp_path, capsys):
