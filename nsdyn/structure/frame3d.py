@@ -292,8 +292,8 @@ class Frame3D:
             return None
         return (
             f"frame3d: nodes[{bare[0]}] (z = {self.nodes[bare[0], 2]:g} m) has no mass (no "
-            f"floor or node mass, rho_A = 0 on its members), so the {model!r} model's "
-            "mass matrix is singular; expected a mass on every floor, or fidelity 'rigid'"
+            f"floor, node or member mass), so the {model!r} model's mass matrix is "
+            "singular; expected a mass on every floor, or fidelity 'rigid'"
         )
 
     def levels(self) -> tuple[np.ndarray, tuple]:
