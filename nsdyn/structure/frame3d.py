@@ -470,6 +470,19 @@ class Frame3D:
         return out
 
 
+def changed(frame: Frame3D, **changes) -> Frame3D:
+    """``dataclasses.replace(frame, **changes)`` without its members' notes said again (a
+    modulus in MPa, near-massless members: said once, as the frame was built)."""
+    import warnings
+    from dataclasses import replace
+
+    from nsdyn._checks import NotedWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NotedWarning)
+        return replace(frame, **changes)
+
+
 def planar_dofs(n_nodes: int, plane: str = "xz") -> tuple[np.ndarray, np.ndarray]:
     """Full 3D dof indices and signs of a plane frame's dofs ``3 n + (0, 1, 2)``.
 

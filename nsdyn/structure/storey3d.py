@@ -28,11 +28,11 @@ mass distribution translated as a whole).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn.structure.frame3d import DOFS_PER_NODE, Diaphragm, Frame3D
+from nsdyn.structure.frame3d import DOFS_PER_NODE, Diaphragm, Frame3D, changed
 
 __all__ = ["StoreyDrifts", "accidental_eccentricity", "floor_motions", "storey_drifts_3d"]
 
@@ -194,4 +194,4 @@ def accidental_eccentricity(frame: Frame3D, f_x: float = 0.0, f_y: float = 0.0) 
     for d in frame.diaphragms:
         L = np.ptp(frame.nodes[d.nodes, :2], axis=0)
         out.append(Diaphragm(d.nodes, d.centre + np.array([f_x, f_y]) * L, d.mass, d.inertia))
-    return replace(frame, diaphragms=tuple(out))
+    return changed(frame, diaphragms=tuple(out))  # (its notes were said as it was built)

@@ -55,6 +55,7 @@ maps of the storey drift ratios at the centres of mass and the plan corners
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from dataclasses import replace
 
@@ -64,7 +65,7 @@ import scipy.linalg as sla
 from nsdyn._checks import flag
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated.bearings import Bearing, BearingError
-from nsdyn.structure.frame3d import Diaphragm, Frame3D
+from nsdyn.structure.frame3d import Diaphragm, Frame3D, changed
 from nsdyn.structure.modes3d import mass_centre
 from nsdyn.structure.reduction import CBModel, craig_bampton
 from nsdyn.structure.reduction3d import DENSE_MAX_3D, craig_bampton_3d
@@ -112,15 +113,21 @@ def base_grid(frame: Frame3D) -> Frame3D:
     def add(name, v):
         return np.concatenate([getattr(frame, name), np.full(k, v)])
 
-    out = frame
+    out, n0 = frame, len(frame.elements)
     if k:
-        out = replace(frame, elements=np.vstack([frame.elements, np.array(pairs).reshape(k, 2)]),
-                      vecxz=np.vstack([frame.vecxz, np.tile([0.0, 0.0, 1.0], (k, 1))]),
-                      E=add("E", ea), G=add("G", ei), A=add("A", 1.0), I_y=add("I_y", ei / ea),
-                      I_z=add("I_z", ei / ea), J=add("J", 1.0), rho_A=add("rho_A", 0.0),
-                      rho_Ip=add("rho_Ip", 0.0))  # fmt: skip
+        try:
+            out = changed(frame, elements=np.vstack([frame.elements, np.reshape(pairs, (k, 2))]),
+                          vecxz=np.vstack([frame.vecxz, np.tile([0.0, 0.0, 1.0], (k, 1))]),
+                          E=add("E", ea), G=add("G", ei), A=add("A", 1.0), I_y=add("I_y", ei / ea),
+                          I_z=add("I_z", ei / ea), J=add("J", 1.0), rho_A=add("rho_A", 0.0),
+                          rho_Ip=add("rho_Ip", 0.0))  # fmt: skip
+        except ValueError as e:  # (a tie beam named as the base grid's, not by its number)
+            ties = {f"elements[{n0 + i}]": f"the base grid's tie beam of nodes {a} and {b}"
+                    for i, (a, b) in enumerate(pairs)}  # fmt: skip
+            msg = re.sub(r"elements\[\d+\]", lambda m: ties.get(m[0], m[0]), str(e))
+            raise ValueError(msg) from None
     dia = Diaphragm(base, xy.mean(axis=0))
-    return replace(out, diaphragms=(*out.diaphragms, dia))
+    return changed(out, diaphragms=(*out.diaphragms, dia))
 
 
 def _bearings(frame: Frame3D, bearings) -> tuple:

@@ -116,6 +116,22 @@ def test_a_floor_without_mass_is_named_on_the_rungs_that_need_one(tmp_path, fide
     assert load_frame3d("office-11-3d").massless_nodes().size == 0
 
 
+def test_a_frame_in_mpa_is_noted_once_and_its_grid_tie_named(tmp_path):
+    # the portal with E in MPa on the cb rung: its note came twice (the second naming a bare
+    # "elements[0]", from the frame rebuilt with its base grid), and the stiffness span that
+    # stops it named "elements[9]", a tie beam of that grid the file does not have
+    text = (REPO / "frames" / "portal-3d.toml").read_text()
+    (tmp_path / "p.toml").write_text(text.replace("E = 2.1e11", "E = 2.1e5"))
+    cfg = _cfg(structure={"frame3d": str(tmp_path / "p.toml"), "fidelity": "cb"})
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        with pytest.raises(SceneError, match=r"structure: the base grid's tie beam of nodes "
+                           r"\d+ and \d+: its EA/L = .* times the"):  # fmt: skip
+            build_system(cfg, str(tmp_path / "s.toml"))
+    notes = [str(w.message) for w in said if "is it in MPa or GPa" in str(w.message)]
+    assert len(notes) == 1 and "frame3d.sections[0]: E = 2.1e+05 Pa" in notes[0]
+
+
 def test_the_fixed_rung_needs_a_record(tmp_path):
     orbit = {"kind": "orbit", "orbit": "circular", "frequency": 0.5, "amplitude": 1.0,
              "n_periods": 2}  # fmt: skip
