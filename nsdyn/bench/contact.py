@@ -266,9 +266,17 @@ def run_bench(out_dir: Path, quick: bool, figures: bool = True) -> dict:
         "wall_ms_err1e-3_moreau": mj * 1e3,
         "speedup_event_over_moreau_at_err1e-3": mj / ev,
         "speedup_event_over_moreau_at_early_err1e-4": mj_e / ev_e,
-        "wp": [(r["solver"], r["setting"], r["wall_s"] * 1e3, r["err_theta"]) for r in rows],
+        "wp": [
+            {
+                "solver": r["solver"],
+                "setting": r["setting"],
+                "wall_ms": r["wall_s"] * 1e3,
+                "err_theta": r["err_theta"],
+            }
+            for r in rows
+        ],  # fmt: skip
         "map_failures": [
-            (r["solver"], r["e_n"], r["setting"], r["status"])
+            {"solver": r["solver"], "e_n": r["e_n"], "setting": r["setting"], "status": r["status"]}
             for r in maprows
             if r["status"] != "ok"
         ],  # fmt: skip

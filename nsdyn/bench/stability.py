@@ -392,7 +392,10 @@ def summarise(res: dict) -> dict:
 
 def report(res: dict) -> str:
     """The human summary of :func:`stability_bench`'s result (files excluded)."""
-    lines = ["largest stable fixed step [s] and the failure the code reported above it:"]
+    lines = [
+        f"compilation (or its cache's load), before any timing: {res['meta']['compile_s']:.2f} s",
+        "largest stable fixed step [s] and the failure the code reported above it:",
+    ]
     for b in res["eps_boundary"] + res["alpha_boundary"]:
         key = "eps" if b["map"] == "eps" else "alpha"
         acc = b["dt_max_accurate"]  # NaN: no tested step met the accuracy bound

@@ -94,8 +94,9 @@ def _x_iso(system, Xfull: np.ndarray) -> float:
     return float(0.5 * np.max(xi.max(axis=0) - xi.min(axis=0)))
 
 
-def _points(make, A: float, freqs, periods: int) -> list[dict]:
-    """All methods at all frequencies of one system."""
+def _points(make, A: float, freqs, periods: int) -> tuple[list[dict], float]:
+    """All methods at all frequencies of one system, and the seconds of its warm-up (kernels
+    compiled or loaded, before any timing)."""
     from nsdyn.ground.excitation import Harmonic
     from nsdyn.periodic import frame_problem, shoot, warm_start
     from nsdyn.periodic.switch import shoot_switch, switch_problem
@@ -105,10 +106,12 @@ def _points(make, A: float, freqs, periods: int) -> list[dict]:
     sw_sys = make("switch")
     sw = switch_problem(sw_sys, A)
     arcs = {eps: frame_problem(make("arctan", eps), A) for eps in EPS_LIST}
-    # compile / load every kernel once before timing
+    # compile / load every kernel once before timing (its time returned apart)
+    t0 = time.perf_counter()
     shoot_switch(sw, freqs[0], tol=1e-3)
     shoot(arcs[EPS_LIST[0]], freqs[0], tol=1e-3)
     simulate(sw_sys, Harmonic(A, freqs[0]), method="event", n_periods=0.1)
+    warmup_s = time.perf_counter() - t0
     for f in freqs:
         T = 1.0 / f
         ref = shoot_switch(sw, f, warm_start(sw, f, None, None), tol=REF_TOL)
@@ -157,7 +160,7 @@ def _points(make, A: float, freqs, periods: int) -> list[dict]:
         # reference has nothing to measure against: no error (NaN), counted apart
         ok = r["converged"] and math.isfinite(r["x_ref"])
         r["error"] = err if ok else math.nan
-    return rows
+    return rows, warmup_s
 
 
 def _figure(tables: dict):
@@ -283,6 +286,8 @@ def run_bench(
             PERIODS_FRAME // 2 if quick else PERIODS_FRAME,
         ),
     }
+    warmup_s = sum(w for _, w in tables.values())
+    tables = {name: rows for name, (rows, _) in tables.items()}
     cols = ("system", "f", "method", "eps", "wall_s", "converged", "x_iso", "x_ref", "error")
     csv_path = out_dir / "switch_shooting.csv"
     with atomic_open(csv_path, "w", newline="") as fh:
@@ -318,6 +323,7 @@ def run_bench(
         "csv": str(csv_path),
         "png": None if png is None else str(png),
         "wall_s": time.perf_counter() - t0,
+        "warmup_s": warmup_s,  # (in wall_s; in no point's time)
         "methods": summary,
     }
     if any(no_ref.values()):

@@ -15,7 +15,7 @@ from nsdyn.bench.switch_shooting import EPS_LIST, _frame, _points
 
 
 def test_the_reference_converges_and_arctan_approaches_it_as_eps_grows():
-    rows = _points(_frame, 0.5, (1.26,), 2)
+    rows, _ = _points(_frame, 0.5, (1.26,), 2)
     assert all(math.isfinite(r["x_ref"]) for r in rows)  # a converged reference
     err = {r["eps"]: r["error"] for r in rows if r["method"] == "arctan shooting"}
     assert sorted(err) == sorted(EPS_LIST)
