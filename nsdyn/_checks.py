@@ -276,6 +276,22 @@ def check_fixed_step(dt, motion, span: float | None = None, where: str = "dt") -
         raise ValueError(f"{where}: a fixed step of {dt:g} s is longer than the record's "
                          f"sampling step {rec:g} s: the steps would pass over its samples; "
                          f"expected at most {rec:g} s")  # fmt: skip
+    fs = [
+        f
+        for k in ("f_hor", "f_ver", "f", "f_z")  # (a harmonic's frequencies)
+        if isinstance(f := getattr(motion, k, None), int | float) and 0 < f < math.inf
+    ]
+    if fs and dt * max(fs) * STEPS_PER_PERIOD > 1 + 1e-9:  # (a harmonic's own "samples")
+        T = 1.0 / max(fs)
+        raise ValueError(f"{where}: a fixed step of {dt:g} s is {dt / T:.3g} of the forcing "
+                         f"period {T:.4g} s: expected at most T/{STEPS_PER_PERIOD} = "
+                         f"{T / STEPS_PER_PERIOD:.4g} s ({STEPS_PER_PERIOD} steps a period "
+                         "follow the forcing, 20 or more resolve its peaks)")  # fmt: skip
+
+
+# the fewest fixed steps per period of a harmonic forcing: at dt = 1.5 T the force was sampled
+# at its zeros only (a slip of 6e-17 m against 0.048 m), at 0.75 T the slip was 50 % too large
+STEPS_PER_PERIOD = 8
 
 
 class NumericalFailure(RuntimeError):

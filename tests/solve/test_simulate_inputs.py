@@ -253,3 +253,28 @@ def test_a_misspelt_isolation_keyword_is_named_with_its_nearest_field():
     with pytest.raises(TypeError, match=r"'laww' is not one of its fields .*'law'\?$"):
         system.with_isolation(laww="switch")
     assert system.with_isolation(law="switch").isolation.law == "switch"
+
+
+@pytest.mark.parametrize("method", ["newmark", "genalpha"])
+def test_a_fixed_step_longer_than_an_eighth_of_the_forcing_period_is_refused(method):
+    # a Coulomb oscillator (m 1000 kg, k 4e4 N/m, mu 0.05) under 1635 N at 1.5 Hz: at dt = 1 s
+    # (1.5 periods) the force was sampled at its zeros only, a slip of 6e-17 m against
+    # 0.048 m, reported as a success; records refuse a step past their sampling step, and a
+    # harmonic's period is sampled by the steps alone
+    from nsdyn._checks import STEPS_PER_PERIOD
+
+    iso = nsdyn.Isolation(k_lam=4e4, c=0.0, mu=0.05, law="arctan", eps=500.0)
+    s = nsdyn.system_from_matrices([[1000.0]], [[0.0]], [[0.0]], iso_dofs=[0], influence=[1.0],
+                                   weight=9810.0, isolation=iso)  # fmt: skip
+    load = nsdyn.HarmonicForce(1635.0, 1.5, dofs=(0,))
+    T = 1.0 / 1.5
+    for dt in (1.0, T / STEPS_PER_PERIOD * 1.01):
+        said = (rf"^dt: a fixed step of {dt:g} s is .* of the forcing period 0.6667 s: "
+                rf"expected at most T/{STEPS_PER_PERIOD}")  # fmt: skip
+        with pytest.raises(ValueError, match=said):
+            nsdyn.simulate(s, load, t_end=4.0, method=method, dt=dt)
+    ok = nsdyn.simulate(s, load, t_end=4.0, method=method, dt=T / STEPS_PER_PERIOD)
+    assert ok.response.x_iso.max() > 0.01  # (8 steps a period: it slides, as at dt -> 0)
+    ground = nsdyn.Harmonic(3.0, 2.0)  # (a ground acceleration's period too: 0.5 s)
+    with pytest.raises(ValueError, match=r"forcing period 0.5 s"):
+        nsdyn.simulate(s, ground, t_end=4.0, method=method, dt=0.1)
