@@ -196,10 +196,9 @@ def output_grid(
     if t_end is None:
         t_end = natural_end(motion)
         if t_end is None:
-            raise ValueError(
-                f"{type(motion).__name__} has no natural end: give the duration, t_end=... [s] "
-                "or n_periods=..."
-            )
+            what = "free vibration (motion None)" if motion is None else type(motion).__name__
+            raise ValueError(f"t_end: {what} has no natural end: give the duration, t_end=... "
+                             "[s] or n_periods=...")  # fmt: skip
 
     if dt_out is not None:  # (numpy's scalars too: np.float32(0.5) was "not positive")
         dt_out = number("dt_out", dt_out, "a positive output step [s]", lambda v: v > 0)

@@ -231,8 +231,8 @@ def system_from_matrices(
                 w = np.full(ni, float(w[0]) / ni)
             if w.shape != (ni,) or not np.all(np.isfinite(w) & (w > 0)):
                 raise MatrixError(
-                    f"weight: expected one positive total [N] or {ni} positive normal forces "
-                    f"(one per isolator), got {weight!r}"
+                    f"weight: expected one positive total [N] or {ni} positive normal "
+                    f"force{'s' * (ni != 1)} (one per isolator), got {weight!r}"
                 )
             normal = w
         iso = iso.changed(frozen_normal=True)

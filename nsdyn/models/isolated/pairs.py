@@ -183,8 +183,8 @@ class PairSystem:
                                       "expected the row of its vertical gap")  # fmt: skip
         if not isinstance(self.bearings, tuple | list) or len(self.bearings) != ni:
             got = len(self.bearings) if isinstance(self.bearings, tuple | list) else self.bearings
-            raise PairSystemError(f"{w}.bearings: expected {ni} Bearing (one per isolator), "
-                                  f"got {got!r}")  # fmt: skip
+            raise PairSystemError(f"{w}.bearings: expected {ni} Bearing{'s' * (ni != 1)} (one "
+                                  f"per isolator), got {got!r}")  # fmt: skip
         for i, b in enumerate(self.bearings):
             if not isinstance(b, Bearing):
                 raise PairSystemError(f"{w}.bearings[{i}]: expected a Bearing (flat slider, "

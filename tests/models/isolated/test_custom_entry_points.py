@@ -137,8 +137,11 @@ def test_harmonic_without_duration_is_refused():
 
     s = building()
     for exc in (Harmonic(1.0, 1.0), HarmonicForce(1e3, 1.0, dofs=[3])):
-        with pytest.raises(ValueError, match="no natural end.*t_end.*n_periods"):
+        with pytest.raises(ValueError, match="^t_end: .*no natural end.*t_end.*n_periods"):
             simulate(s, exc)
+    # free vibration is named as such ("NoneType has no natural end")
+    with pytest.raises(ValueError, match=r"^t_end: free vibration \(motion None\) has no natural"):
+        simulate(s, None)
     r = simulate(s, HarmonicForce(1e3, 1.0, dofs=[3]), t_end=1.0)
     assert r.summary()["t_end_s"] == 1.0 and r.summary()["dt_out_s"] == pytest.approx(0.01)
 
