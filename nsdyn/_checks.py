@@ -252,11 +252,26 @@ def sampling_step(motion) -> float | None:
     return float(dt) if isinstance(dt, int | float) and dt > 0 else None
 
 
+def forcing_frequency(motion) -> float | None:
+    """The highest frequency [Hz] of a harmonic excitation's components that have an
+    amplitude (Harmonic: A_hor at f_hor, A_ver at f_ver; HarmonicForce: F at f; HarmonicPlane:
+    ax, ay at f, az at f_z), or None (a record, a table, a pulse: no such components)."""
+    fs = []
+    for a, k in (("A_hor", "f_hor"), ("A_ver", "f_ver"), ("F", "f"), ("ax", "f"), ("ay", "f"),
+                 ("az", "f_z" if getattr(motion, "f_z", None) is not None else "f")):  # fmt: skip
+        amp, f = getattr(motion, a, None), getattr(motion, k, None)
+        if isinstance(amp, int | float) and amp != 0 and isinstance(f, int | float):
+            fs += [f] if 0 < f < math.inf else []
+    return max(fs) if fs else None
+
+
 def default_step(motion, dt: float = FIXED_DT) -> float:
     """A fixed-step method's step when none is given: ``dt``, or the motion's sampling step
-    where that is shorter (every sample is stepped on)."""
-    rec = sampling_step(motion)
-    return dt if rec is None else min(dt, rec)
+    where that is shorter (every sample is stepped on), or a twentieth of a harmonic forcing's
+    period where that is (:data:`STEPS_PER_PERIOD` is the fewest steps a period taken)."""
+    rec, f = sampling_step(motion), forcing_frequency(motion)
+    dt = dt if rec is None else min(dt, rec)
+    return dt if f is None else min(dt, 1.0 / (20.0 * f))
 
 
 def check_fixed_step(dt, motion, span: float | None = None, where: str = "dt") -> None:
@@ -276,13 +291,9 @@ def check_fixed_step(dt, motion, span: float | None = None, where: str = "dt") -
         raise ValueError(f"{where}: a fixed step of {dt:g} s is longer than the record's "
                          f"sampling step {rec:g} s: the steps would pass over its samples; "
                          f"expected at most {rec:g} s")  # fmt: skip
-    fs = [
-        f
-        for k in ("f_hor", "f_ver", "f", "f_z")  # (a harmonic's frequencies)
-        if isinstance(f := getattr(motion, k, None), int | float) and 0 < f < math.inf
-    ]
-    if fs and dt * max(fs) * STEPS_PER_PERIOD > 1 + 1e-9:  # (a harmonic's own "samples")
-        T = 1.0 / max(fs)
+    f = forcing_frequency(motion)
+    if f is not None and dt * f * STEPS_PER_PERIOD > 1 + 1e-9:  # (a harmonic's own "samples")
+        T = 1.0 / f
         raise ValueError(f"{where}: a fixed step of {dt:g} s is {dt / T:.3g} of the forcing "
                          f"period {T:.4g} s: expected at most T/{STEPS_PER_PERIOD} = "
                          f"{T / STEPS_PER_PERIOD:.4g} s ({STEPS_PER_PERIOD} steps a period "

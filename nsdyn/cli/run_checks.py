@@ -47,9 +47,9 @@ def note_coarse_output(cfg: dict, motion) -> str | None:
     """A harmonic excitation sampled fewer than SAMPLES_PER_PERIOD_MIN times per period on the
     output grid, or a record's outputs more than RECORD_STEPS_MAX of its samples apart: the
     peaks fall between the samples (one line, with the dt_out to use)."""
-    f = max(getattr(motion, "f_hor", 0.0) or 0.0, getattr(motion, "f", 0.0) or 0.0)
-    if getattr(motion, "A_ver", 0.0):
-        f = max(f, getattr(motion, "f_ver", 0.0) or 0.0)
+    from nsdyn._checks import forcing_frequency
+
+    f = forcing_frequency(motion)  # (a record's: None)
     dt_out = cfg.get("solver", {}).get("dt_out")
     h = getattr(motion, "dt", None)  # a record: outputs every RECORD_STEPS_MAX samples at most
     span = (getattr(motion, "n", 0) - 1) * (h or 0.0)  # (a longer dt_out is refused: no note)
@@ -85,15 +85,9 @@ def note_soft_law(cfg: dict) -> str | None:
 def note_unused_cutoff(cfg: dict) -> str | None:
     """``scene.f_max`` set (away from the default scene's) for a fidelity that has no cut-off
     (rigid, full): said in one line (``--fmax`` is refused there, :func:`check_cutoff`)."""
-    from nsdyn.models.isolated.defaults import F_MAX
+    from nsdyn.models.isolated.scene import unused_notes
 
-    sc = cfg.get("scene", {})
-    fid = sc.get("fidelity", "cb")
-    given = sc.get("f_max", F_MAX) != F_MAX  # (the default scene's is no choice)
-    if given and fid in ("full", "rigid"):
-        return (f"scene.f_max not used: the cut-off of fidelities cb and fixed; {fid!r} has "
-                f"none ({'every mode' if fid == 'full' else 'a rigid frame'})")  # fmt: skip
-    return None
+    return next((n for n in unused_notes(cfg) if n.startswith("scene.f_max")), None)
 
 
 given_ = object()  # a value no key has: every key absent from the defaults counts as given
@@ -112,7 +106,11 @@ def note_unused_isolation(cfg: dict, system, law: str | None = None) -> str | No
     if not given or system is None:
         return None
     if system.isolation is None:  # the fixed-base frame
-        return f"[isolation] not used: the fixed-base model has no isolators ({', '.join(given)})"
+        from nsdyn.models.isolated.scene import unused_notes
+
+        return next((n for n in unused_notes(cfg) if n.startswith("[isolation]")),
+                    f"[isolation] not used: the fixed-base model has no isolators "
+                    f"({', '.join(given)})")  # fmt: skip
     method = cfg.get("solver", {}).get("method", "auto")
     law = law or ("switch" if method == "event" else system.isolation.law)
     from nsdyn.models.isolated.friction import LAW_KEYS

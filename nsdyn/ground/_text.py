@@ -405,8 +405,8 @@ def median(x: np.ndarray) -> float:
 def rounding_place(t: np.ndarray, dt: float) -> float:
     """The decimal place the times were rounded to as printed (1e-4 for k/300 s printed as
     ``0.0033``), or 0 when they were not: times on a coarser place than ROUNDED_MAX of a step,
-    or a step ``dt`` (fitted through the end stamps, off by 1/(n - 1) of the place at most)
-    that is a whole multiple of the place (100 Hz printed as ``0.010`` is exact). Rounded, a
+    or a step ``dt`` (fitted through the end stamps) that is a whole multiple of the place
+    (100 Hz printed as ``0.010`` is exact: a stamp off its grid there is jitter). Rounded, a
     stamp is off by half the place and the fitted grid by half more."""
     place = 0.0
     for d in range(13):
@@ -416,8 +416,8 @@ def rounding_place(t: np.ndarray, dt: float) -> float:
             break
     if not 0.0 < place <= ROUNDED_MAX * dt:
         return 0.0
-    r = dt / place
-    return place if abs(r - round(r)) > 2.0 / max(t.size - 1, 1) + 1e-9 else 0.0
+    r = dt / place  # (a whole number when the end stamps are exact: no stamp was rounded)
+    return place if abs(r - round(r)) > 1e-6 * r else 0.0
 
 
 def check_time(t: np.ndarray, linenos: np.ndarray, source: str) -> float:

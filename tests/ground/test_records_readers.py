@@ -341,6 +341,8 @@ def test_times_rounded_as_printed_are_a_uniform_grid(tmp_path, hz, decimals):
     m = read_motion(write(tmp_path, "r.txt", text), units="m/s2")
     assert m.n == n and np.array_equal(m.a_hor, a)
     assert abs(m.dt - 1.0 / hz) <= 10.0**-decimals / (n - 1)
+    short = "".join(f"{k / hz:.{decimals}f} 1.0\n" for k in range(6))  # (a short file too)
+    assert read_motion(write(tmp_path, "s.txt", short), units="m/s2").n == 6
     # a printed place as coarse as the step is the grid itself: a missing row is still refused
     gap = "".join(f"{k / 100:.2f} 1.0\n" for k in range(50) if k != 20)
     with pytest.raises(RecordFileError, match=r"r2.txt:21: expected a uniform time step 0.01 s"):

@@ -278,3 +278,11 @@ def test_a_fixed_step_longer_than_an_eighth_of_the_forcing_period_is_refused(met
     ground = nsdyn.Harmonic(3.0, 2.0)  # (a ground acceleration's period too: 0.5 s)
     with pytest.raises(ValueError, match=r"forcing period 0.5 s"):
         nsdyn.simulate(s, ground, t_end=4.0, method=method, dt=0.1)
+    # a component without amplitude has no period to resolve, and a step not given (the
+    # auto method's fixed steps) is one the check takes: a twentieth of the period at most
+    nsdyn.simulate(s, nsdyn.Harmonic(3.0, 2.0, A_ver=0.0, f_ver=40.0), t_end=0.5,
+                   method=method, dt=0.005)  # fmt: skip
+    from nsdyn._checks import FIXED_DT, default_step
+
+    assert default_step(nsdyn.HarmonicForce(1635.0, 30.0, dofs=(0,))) == 1.0 / 600.0
+    assert default_step(load) == FIXED_DT  # (1.5 Hz: the 0.005 s default is T/133)

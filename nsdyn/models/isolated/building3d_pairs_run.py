@@ -240,7 +240,8 @@ def check_sparse_step(dt: float | None, exc, t_end, source: str) -> None:
         return
     dur = t_end if t_end is not None else getattr(exc, "duration", None)
     dur = float(dur) if dur is not None and math.isfinite(float(dur)) else None
-    scene_step(dt, exc, dur, source, f" (default min({DT_SPARSE:g}, the record's step))")
+    scene_step(dt, exc, dur, source, f" (default min({DT_SPARSE:g}, the record's step, a "
+               "harmonic's period / 20))")  # fmt: skip
     if dur is None:
         return
     if dur / dt > SPARSE_MAX_STEPS:
