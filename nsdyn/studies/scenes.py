@@ -201,8 +201,10 @@ def check_scene(cfg: dict, source: str) -> list[str]:
     notes the family's reader gives (keys it does not read: ``"solver.h not used: ..."``)."""
     kind = scene_kind(cfg, source)
     if kind == "isolated":
+        from nsdyn.models.isolated.scene import unused_notes
+
         _check_isolated(cfg, source)
-        return []
+        return unused_notes(cfg)
     mod = importlib.import_module(scene_module(kind))
     cfg = _record_for_simulated(cfg, kind)
     notes: list[str] = []

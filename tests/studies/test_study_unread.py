@@ -252,3 +252,26 @@ def test_more_samples_keep_the_values_drawn_before(tmp_path):
 
     three, four = draws(3), draws(4)
     assert four[:3] == three and len(set(four)) == 4
+
+
+@pytest.mark.parametrize(
+    ("base", "param", "match"),
+    [
+        ('fidelity = "fixed"', '"isolation.mu" = [0.01, 0.02]',
+         r"parameters.isolation.mu: no task reads it \(\[isolation\] not used: the fixed-base "
+         r"model has no isolators \(mu\)\)"),
+        ('fidelity = "rigid"', '"scene.f_max" = [3.0, 8.0]',
+         r"parameters.scene.f_max: no task reads it \(scene.f_max not used: the cut-off of "
+         r"fidelities cb and fixed; 'rigid' has none"),
+    ],
+)  # fmt: skip
+def test_a_frame_scene_parameter_its_model_does_not_read_is_refused(tmp_path, base, param, match):
+    # the isolated frame's study ran both (rows of one drift ratio); nsdyn run notes them
+    path = tmp_path / "s.toml"
+    path.write_text(f'[study]\nname = "s"\n[base.scene]\n{base}\n[base.motion]\nt_end = 1.0\n'
+                    f"[parameters]\n{param}\n")  # fmt: skip
+    with pytest.raises(SceneError, match=match):
+        load_study(path)
+    read = path.read_text().replace(base, 'fidelity = "cb"')  # (the cb rung reads both)
+    path.write_text(read)
+    assert len(expand(load_study(path))) == 2

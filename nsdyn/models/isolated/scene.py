@@ -392,6 +392,24 @@ def _stands(system, cfg: dict, source: str) -> None:
         )
 
 
+def unused_notes(cfg: dict) -> list[str]:
+    """Keys of a frame scene its model does not read, known from the scene alone (the
+    command line notes them; a study refuses a parameter that only they would vary): a
+    cut-off ``scene.f_max`` at a fidelity without one, ``[isolation]`` on the fixed base."""
+    sc, notes = cfg.get("scene", {}), []
+    fid = sc.get("fidelity", "cb")
+    if sc.get("f_max", F_MAX) != F_MAX and fid in ("full", "rigid"):  # (the default's: none)
+        none = "every mode" if fid == "full" else "a rigid frame"
+        notes.append(f"scene.f_max not used: the cut-off of fidelities cb and fixed; {fid!r} "
+                     f"has none ({none})")  # fmt: skip
+    default = DEFAULT_SCENE["isolation"]  # (merged into every frame scene: not the user's)
+    given = [k for k, v in cfg.get("isolation", {}).items() if k not in default or default[k] != v]
+    if fid == "fixed" and given and "structure" not in cfg:
+        notes.append(f"[isolation] not used: the fixed-base model has no isolators "
+                     f"({', '.join(given)})")  # fmt: skip
+    return notes
+
+
 def _cached_system(frame, iso, fidelity: str, f_max: float | None, **kw):
     """:func:`build_system` through the model cache (:mod:`nsdyn._model_cache`): a scene run
     again loads its model, static state included, instead of assembling and reducing the frame
