@@ -232,7 +232,8 @@ def _interrupt_line(args: argparse.Namespace) -> str:
             return f"{done}; a {kind} scene's run keeps no checkpoint, a rerun starts over"
         return f"{done}; it stopped before its first checkpoint, a rerun starts over"
     if args.command == "study":  # (stopped before its tasks started: the study's own line)
-        return "nsdyn study: interrupted before its first task finished; a rerun starts over"
+        return ("nsdyn study: interrupted before its tasks started; the results folder is as "
+                "it was (a rerun runs them)")  # fmt: skip
     if args.command in WRITES_AT_END:
         from nsdyn.atomic import WRITTEN
 
