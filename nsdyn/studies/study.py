@@ -50,7 +50,7 @@ import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from nsdyn._checks import NotedWarning, did_you_mean
+from nsdyn._checks import InputWarning, NotedWarning, did_you_mean
 from nsdyn.ground.synthesis import NOISE_GENERATORS as GENERATORS
 from nsdyn.ground.synthesis import noise_step
 from nsdyn.models.scenefile import (
@@ -434,6 +434,12 @@ def load_study(path: str | Path) -> Study:
             raise _err(source, f"parameters.{name}", "varies the scene's closed-form motion, "
                        "which every record of [records] replaces; vary it without [records], "
                        "or vary the records' scaling (motion.pga)")  # fmt: skip
+    for name in params_raw:  # (the parameter's value wins in every task: said, not dropped)
+        table, _, key = name.partition(".")
+        given = raw.get("base", {}).get(table)
+        if isinstance(given, dict) and key in given:
+            warnings.warn(f"{source}: base.{name} = {given[key]!r} not used: parameters.{name} "
+                          "gives every task its value", InputWarning, stacklevel=2)  # fmt: skip
     samples = st.get("samples", 0)
     if any(p.random for p in params) and samples < 1:
         raise _err(source, "study.samples", "random parameters need samples >= 1")

@@ -275,3 +275,17 @@ def test_a_frame_scene_parameter_its_model_does_not_read_is_refused(tmp_path, ba
     read = path.read_text().replace(base, 'fidelity = "cb"')  # (the cb rung reads both)
     path.write_text(read)
     assert len(expand(load_study(path))) == 2
+
+
+def test_a_base_value_a_parameter_replaces_is_said(tmp_path):
+    # [base.isolation] mu beside the parameter isolation.mu: every task took the parameter's
+    # value and the base's was dropped without a word
+    from nsdyn._checks import InputWarning
+
+    path = tmp_path / "s.toml"
+    path.write_text('[study]\nname = "s"\n[base.isolation]\nmu = 0.05\n[base.motion]\n'
+                    't_end = 1.0\n[parameters]\n"isolation.mu" = [0.01, 0.02]\n')  # fmt: skip
+    with pytest.warns(InputWarning, match=r"base.isolation.mu = 0.05 not used: "
+                      r"parameters.isolation.mu gives every task its value"):  # fmt: skip
+        study = load_study(path)
+    assert [t.cfg["isolation"]["mu"] for t in expand(study)] == [0.01, 0.02]
