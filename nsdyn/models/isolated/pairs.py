@@ -38,13 +38,14 @@ unless y0 is given.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.linalg as sla
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import got_array, number
+from nsdyn._checks import NotedWarning, got_array, number
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kpairs as kq
 from nsdyn.models.isolated import _kpairsradau as kqa
@@ -454,10 +455,13 @@ def _kernel_inputs(system: PairSystem, law: str, eps, eta, kappa, alpha, beta,
         )
     if law not in PLANE_LAWS:
         raise ValueError(f"law: expected one of {list(PLANE_LAWS)}, got {law!r}")
+    from nsdyn.models.isolated.bearings import bearing_notes
+
     law_params(law, eps=eps, eta=eta, alpha=alpha, beta=beta, kappa=kappa)
+    for note in bearing_notes(system.bearings, system.static_equilibrium()[1]):  # (as a deck's)
+        warnings.warn(note, NotedWarning, stacklevel=4)
     sp = np.zeros(kq.N_SP)
-    sp[kq.S_G] = system.g
-    sp[kq.S_ALPHA], sp[kq.S_BETA] = alpha, beta
+    sp[kq.S_G], sp[kq.S_ALPHA], sp[kq.S_BETA] = system.g, alpha, beta
     sp[kq.S_KAPPA] = 2 * alpha * beta if kappa is None else float(kappa)
     sp[kq.S_EPS], sp[kq.S_ETA] = eps, eta
     sp[kq.S_LAW] = kp.LAW_SWITCH if law == "switch" else kp.LAW_ARCTAN

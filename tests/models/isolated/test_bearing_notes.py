@@ -166,3 +166,18 @@ def test_a_deck_in_millimetres_is_said_before_its_run(capsys, tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error", NotedWarning)
         simulate_plane(rigid_deck(2e6, 9.07e7, pos, b), orbit, t_end=0.05)
+
+
+def test_a_pair_system_run_warns_what_a_deck_run_notes():
+    # Friction(5) (a percentage) on a PairSystem ran, stuck throughout, without a word, where
+    # Isolation(mu=5) and a deck's bearings are noted
+    from nsdyn._checks import NotedWarning
+    from nsdyn.models.isolated.pairs import PairSystem, simulate_pairs
+
+    M, Z = np.diag([1000.0] * 3), np.zeros((3, 3))
+    D = np.array([[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]])
+    b = Bearing(Friction(5.0), k_lam=4e4)
+    s = PairSystem(M=M, K=Z, C=Z, Gamma=np.eye(3), D=D, R=np.array([[0.0, 0.0, 1.0]]),
+                   bearings=(b,), positions=np.zeros((1, 2)))  # fmt: skip
+    with pytest.warns(NotedWarning, match=r"= 5: a friction coefficient above 1"):
+        simulate_pairs(s, {"f": 1.0, "ax": 1.0}, t_end=0.2)
