@@ -513,6 +513,8 @@ def run(args: argparse.Namespace) -> int:
         s["histories"] = str(hist)
         FINISHED.append(str(hist))
         for note in s.get("notes", []):  # the run's own (a fixed step's unresolved peaks)
+            if note.startswith("dt_out = ") and any(n.startswith("dt_out = ") for n in notes):
+                continue  # (said before the run, naming solver.dt_out)
             notes.append(note)
             if not args.json:
                 print(f"nsdyn run: note: {note}", file=sys.stderr)

@@ -37,34 +37,14 @@ PLANAR_REMEDY = ("a planar model takes one horizontal component and the vertical
                  "scene takes all three")  # fmt: skip
 
 
-SAMPLES_PER_PERIOD_MIN = 20  # fewer output samples per excitation period miss the peaks
-# outputs further apart than this many record samples (0.1 s at 100 Hz) sample a 2.5 Hz
-# floor response fewer than 4 times per period: its peak read there errs by up to 30 %
-RECORD_STEPS_MAX = 10
-
-
 def note_coarse_output(cfg: dict, motion) -> str | None:
-    """A harmonic excitation sampled fewer than SAMPLES_PER_PERIOD_MIN times per period on the
-    output grid, or a record's outputs more than RECORD_STEPS_MAX of its samples apart: the
-    peaks fall between the samples (one line, with the dt_out to use)."""
-    from nsdyn._checks import forcing_frequency
+    """:func:`nsdyn._checks.coarse_output_note` of a scene's ``solver.dt_out`` (said before
+    the run; the run's own note of it is then not said again)."""
+    from nsdyn._checks import coarse_output_note
 
-    f = forcing_frequency(motion)  # (a record's: None)
     dt_out = cfg.get("solver", {}).get("dt_out")
-    h = getattr(motion, "dt", None)  # a record: outputs every RECORD_STEPS_MAX samples at most
-    span = (getattr(motion, "n", 0) - 1) * (h or 0.0)  # (a longer dt_out is refused: no note)
-    if h and isinstance(dt_out, int | float) and RECORD_STEPS_MAX * h * (1 + 1e-9) < dt_out < span:
-        return (f"dt_out = {dt_out:g} s reads the peaks every {dt_out / h:.3g} samples of the "
-                f"record ({h:g} s): they fall between the outputs; set solver.dt_out <= "
-                f"{RECORD_STEPS_MAX * h:g} s")  # fmt: skip
-    if not f or not isinstance(dt_out, int | float):
-        return None
-    if dt_out * f * SAMPLES_PER_PERIOD_MIN > 1.0:
-        fine = 1.0 / (SAMPLES_PER_PERIOD_MIN * f)
-        return (f"dt_out = {dt_out:g} s samples the {f:g} Hz excitation "
-                f"{1.0 / (f * dt_out):.3g} times per period: the peaks fall between the "
-                f"samples; set solver.dt_out <= {fine:.3g} s")  # fmt: skip
-    return None
+    return coarse_output_note(dt_out, motion, "solver.dt_out") if isinstance(
+        dt_out, int | float) else None  # fmt: skip
 
 
 def note_soft_law(cfg: dict) -> str | None:

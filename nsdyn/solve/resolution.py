@@ -82,7 +82,7 @@ def result_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None) -> list
     isolator's peak on the default scene errs more at 4 ms than at 5 ms)."""
     from nsdyn.solve.methods import METHODS
 
-    said = drift_note(res)  # (every run's, whatever its method)
+    said = drift_note(res) + _warned(_output_notes(res.t, motion))  # (every run's)
     if res.method in EXPLICIT:
         why = (f"the explicit steps of {res.method!r}, held at their stability limit by the "
                "model's stiffness, do not resolve")  # fmt: skip
@@ -99,6 +99,14 @@ def result_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None) -> list
                    f"first-order accurate there; use the record's step divided by a whole "
                    f"number ({h / 2:g}, {h / 3:.3g}, {h / 4:g} s, …)")  # fmt: skip
     return said + out
+
+
+def _output_notes(t, motion) -> list[str]:
+    """:func:`nsdyn._checks.coarse_output_note` of outputs at times ``t`` (their widest gap)."""
+    from nsdyn._checks import coarse_output_note
+
+    note = coarse_output_note(float(np.max(np.diff(t))), motion) if t.size > 2 else None
+    return [note] if note else []
 
 
 def _warned(notes: list[str]) -> list[str]:

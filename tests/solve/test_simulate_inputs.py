@@ -286,3 +286,22 @@ def test_a_fixed_step_longer_than_an_eighth_of_the_forcing_period_is_refused(met
 
     assert default_step(nsdyn.HarmonicForce(1635.0, 30.0, dofs=(0,))) == 1.0 / 600.0
     assert default_step(load) == FIXED_DT  # (1.5 Hz: the 0.005 s default is T/133)
+
+
+def test_a_python_run_says_when_its_outputs_miss_the_peaks():
+    # outputs 1 s apart under a 1.5 Hz force read a Coulomb oscillator's peak slip as 0.020 m
+    # against 0.048 m, without a word (the command line said so); 20 outputs a period read it
+    from nsdyn._checks import SAMPLES_PER_PERIOD_MIN, AccuracyWarning
+
+    iso = nsdyn.Isolation(k_lam=4e4, c=0.0, mu=0.05, law="switch")
+    s = nsdyn.system_from_matrices([[1000.0]], [[0.0]], [[0.0]], iso_dofs=[0], influence=[1.0],
+                                   weight=9810.0, isolation=iso)  # fmt: skip
+    load = nsdyn.HarmonicForce(1635.0, 1.5, dofs=(0,))
+    with pytest.warns(AccuracyWarning, match=r"^dt_out = 1 s samples the 1.5 Hz excitation "
+                      r"0.667 times per period: .* set dt_out <= 0.0333 s"):  # fmt: skip
+        r = nsdyn.simulate(s, load, t_end=8.0, method="event", dt_out=1.0)
+    assert r.summary()["notes"][-1].startswith("dt_out = 1 s samples")
+    fine = 1.0 / (1.5 * SAMPLES_PER_PERIOD_MIN)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AccuracyWarning)
+        nsdyn.simulate(s, load, t_end=8.0, method="event", dt_out=fine)
