@@ -170,7 +170,8 @@ def warm_pairs(path: str, law: str, system=None, contact: str = "detect") -> flo
     still = {"f": 1.0, "ax": 0.0, "ay": 0.0}
     w0 = time.perf_counter()
     cached = all_cached(pair_kernels(path, law, contact))
-    with first_compile("building3d", PAIRS_COMPILE_ABOUT_S, cached):
+    with first_compile("building3d", PAIRS_COMPILE_ABOUT_S, cached), warnings.catch_warnings():
+        warnings.simplefilter("ignore", NotedWarning)  # (a warm-up: the scene's notes say them)
         if sparse:
             from nsdyn.models.isolated.pairs_sparse_run import simulate_pairs_sparse
 

@@ -181,3 +181,17 @@ def test_a_pair_system_run_warns_what_a_deck_run_notes():
                    bearings=(b,), positions=np.zeros((1, 2)))  # fmt: skip
     with pytest.warns(NotedWarning, match=r"= 5: a friction coefficient above 1"):
         simulate_pairs(s, {"f": 1.0, "ax": 1.0}, t_end=0.2)
+
+
+def test_a_building_run_says_its_bearing_notes_once(capsys, tmp_path):
+    # the cb rung's warm-up run said a bearing's note a second time, after the scene's own
+    from pathlib import Path
+
+    src = Path(__file__).resolve().parents[3] / "examples/scenes/building3d-office-cb.toml"
+    text = src.read_text()
+    assert "mu_fast = 0.07" in text
+    scene = tmp_path / "b.toml"
+    scene.write_text(text.replace("mu_fast = 0.07", "mu_fast = 0.02"))
+    argv = ["run", str(scene), "--t-end", "0.1", "--no-figures", "--out", str(tmp_path / "o")]
+    assert main(argv) == 0
+    assert capsys.readouterr().err.count("mu_fast = 0.02 < mu_slow = 0.04") == 1
