@@ -266,8 +266,8 @@ def forcing_frequency(motion) -> float | None:
 
 
 SAMPLES_PER_PERIOD_MIN = 20  # fewer output samples per excitation period miss the peaks
-# outputs further apart than this many record samples (0.1 s at 100 Hz) sample a 2.5 Hz
-# floor response fewer than 4 times per period: its peak read there errs by up to 30 %
+# outputs further apart than this many record samples (0.1 s at 100 Hz; of 0.01 s for records
+# sampled faster) read a 2.5 Hz floor response fewer than 4 times a period: 30 % off its peak
 RECORD_STEPS_MAX = 10
 
 
@@ -277,10 +277,11 @@ def coarse_output_note(dt_out: float, motion, field: str = "dt_out") -> str | No
     apart: the peaks fall between the outputs (one line naming ``field`` and its bound)."""
     f, h = forcing_frequency(motion), sampling_step(motion)
     span = (getattr(motion, "n", 0) - 1) * (h or 0.0)  # (a longer dt_out is refused: no note)
-    if h and RECORD_STEPS_MAX * h * (1 + 1e-9) < dt_out < span:
+    bound = RECORD_STEPS_MAX * max(h or 0.0, 0.01)  # (a 2000 Hz record's 0.01 s is fine)
+    if h and bound * (1 + 1e-9) < dt_out < span:
         return (f"dt_out = {dt_out:g} s reads the peaks every {dt_out / h:.3g} samples of the "
                 f"record ({h:g} s): they fall between the outputs; set {field} <= "
-                f"{RECORD_STEPS_MAX * h:g} s")  # fmt: skip
+                f"{bound:g} s")  # fmt: skip
     if f and dt_out * f * SAMPLES_PER_PERIOD_MIN > 1.0 + 1e-9:
         return (f"dt_out = {dt_out:g} s samples the {f:g} Hz excitation "
                 f"{1.0 / (f * dt_out):.3g} times per period: the peaks fall between the "

@@ -76,6 +76,12 @@ class Harmonic:
         """Period of the horizontal component [s] (inf for f_hor = 0)."""
         return 1.0 / self.f_hor if self.f_hor else math.inf
 
+    @property
+    def fastest_period(self) -> float:
+        """Period of its fastest component [s] (a vertical one's where it has an amplitude):
+        the default output step samples it (:data:`nsdyn.solve.transient.HARMONIC_SAMPLES`)."""
+        return min(self.period, 1.0 / self.f_ver if self.A_ver and self.f_ver else math.inf)
+
 
 @dataclass(frozen=True)
 class Table:

@@ -176,8 +176,8 @@ def output_grid(
     motion, dt_out: float | None = None, t_end: float | None = None, n_periods=None
 ) -> np.ndarray:
     """Output times from the excitation's start: the record's samples (or every ``dt_out``;
-    ``HARMONIC_SAMPLES`` per period of a harmonic one) up to ``t_end``, ``n_periods`` periods,
-    or the record's end, the last output whatever the step (ValueError: none fixes them)."""
+    HARMONIC_SAMPLES a period of a harmonic's fastest part) up to ``t_end``, ``n_periods``
+    periods, or the record's end, the last output whatever the step (ValueError: none)."""
     t0 = float(getattr(motion, "t0", 0.0))
     if getattr(motion, "n", 2) < 2:
         raise ValueError(f"motion: a record of {motion.n} sample spans no time; give a record "
@@ -202,7 +202,8 @@ def output_grid(
 
     if dt_out is not None:  # (numpy's scalars too: np.float32(0.5) was "not positive")
         dt_out = number("dt_out", dt_out, "a positive output step [s]", lambda v: v > 0)
-    dt = dt_out or getattr(motion, "dt", None) or (T / HARMONIC_SAMPLES if T else None)
+    T_out = getattr(motion, "fastest_period", T) if T else None  # (a vertical's, maybe)
+    dt = dt_out or getattr(motion, "dt", None) or (T_out / HARMONIC_SAMPLES if T_out else None)
     if dt is None or not dt > 0:
         what = "free vibration (motion None)" if motion is None else "this excitation"
         raise ValueError(f"dt_out: {what} has no natural output step; give dt_out=... [s]")

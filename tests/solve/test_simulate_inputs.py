@@ -305,3 +305,20 @@ def test_a_python_run_says_when_its_outputs_miss_the_peaks():
     with warnings.catch_warnings():
         warnings.simplefilter("error", AccuracyWarning)
         nsdyn.simulate(s, load, t_end=8.0, method="event", dt_out=fine)
+
+
+def test_the_default_output_grid_samples_a_harmonics_fastest_component():
+    # a 10 Hz vertical beside a 1 Hz horizontal: the default grid (100 a horizontal period)
+    # read the vertical 10 times a period, and the run warned of its own grid
+    from nsdyn._checks import AccuracyWarning
+    from nsdyn.solve.transient import HARMONIC_SAMPLES
+
+    iso = nsdyn.Isolation(k_lam=4e4, c=0.0, mu=0.05, law="switch")
+    s = nsdyn.system_from_matrices([[1000.0]], [[0.0]], [[0.0]], iso_dofs=[0], influence=[1.0],
+                                   weight=9810.0, isolation=iso)  # fmt: skip
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)  # (its vertical is not felt: said)
+        warnings.simplefilter("error", AccuracyWarning)
+        r = nsdyn.simulate(s, nsdyn.Harmonic(1.0, 1.0, A_ver=2.0, f_ver=10.0), t_end=1.0,
+                           method="event")  # fmt: skip
+    assert r.summary()["dt_out_s"] == pytest.approx(1.0 / (10.0 * HARMONIC_SAMPLES))
