@@ -292,10 +292,10 @@ def coarse_output_note(dt_out: float, motion, field: str = "dt_out") -> str | No
 def default_step(motion, dt: float = FIXED_DT) -> float:
     """A fixed-step method's step when none is given: ``dt``, or the motion's sampling step
     where that is shorter (every sample is stepped on), or a twentieth of a harmonic forcing's
-    period where that is (:data:`STEPS_PER_PERIOD` is the fewest steps a period taken)."""
+    period where that is (:data:`STEPS_RESOLVING`; :data:`STEPS_PER_PERIOD` the fewest)."""
     rec, f = sampling_step(motion), forcing_frequency(motion)
     dt = dt if rec is None else min(dt, rec)
-    return dt if f is None else min(dt, 1.0 / (20.0 * f))
+    return dt if f is None else min(dt, 1.0 / (STEPS_RESOLVING * f))
 
 
 def check_fixed_step(dt, motion, span: float | None = None, where: str = "dt") -> None:
@@ -321,12 +321,14 @@ def check_fixed_step(dt, motion, span: float | None = None, where: str = "dt") -
         raise ValueError(f"{where}: a fixed step of {dt:g} s is {dt / T:.3g} of the forcing "
                          f"period {T:.4g} s: expected at most T/{STEPS_PER_PERIOD} = "
                          f"{T / STEPS_PER_PERIOD:.4g} s ({STEPS_PER_PERIOD} steps a period "
-                         "follow the forcing, 20 or more resolve its peaks)")  # fmt: skip
+                         f"follow the forcing, {STEPS_RESOLVING} or more resolve its "
+                         "peaks)")  # fmt: skip
 
 
 # the fewest fixed steps per period of a harmonic forcing: at dt = 1.5 T the force was sampled
 # at its zeros only (a slip of 6e-17 m against 0.048 m), at 0.75 T the slip was 50 % too large
 STEPS_PER_PERIOD = 8
+STEPS_RESOLVING = 20  # steps a period that resolve its peaks: a step not given takes at most T/20
 
 
 class NumericalFailure(RuntimeError):

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import number
+from nsdyn._checks import forcing_frequency, number
 
 G_EARTH = 9.81  # m/s², gravity acting on the models (records in g use G_STANDARD)
 
@@ -80,7 +80,8 @@ class Harmonic:
     def fastest_period(self) -> float:
         """Period of its fastest component [s] (a vertical one's where it has an amplitude):
         the default output step samples it (:data:`nsdyn.solve.transient.HARMONIC_SAMPLES`)."""
-        return min(self.period, 1.0 / self.f_ver if self.A_ver and self.f_ver else math.inf)
+        f = forcing_frequency(self)  # (the components' one rule)
+        return min(self.period, 1.0 / f if f else math.inf)
 
 
 @dataclass(frozen=True)
