@@ -221,9 +221,21 @@ def build_pairs(frame, bearing, fid: str, opts: dict, source: str, cfg: dict | N
     return system
 
 
+def _deck(frame, bearing, source: str):
+    """The rigid deck of ``frame`` on ``bearing`` (SceneError naming the field): the rigid
+    rung's system and every rung's static forces (it checks a pendulum's rim, pairs don't)."""
+    from nsdyn.models.isolated.building3d import building_deck
+
+    try:
+        return building_deck(frame, bearing)
+    except (BearingError, ValueError) as e:
+        raise SceneError(f"{source}: {e}") from None
+
+
 def build_system(cfg: dict, source: str, warm: bool = False, notice=None) -> dict:
-    """{"fidelity", "frame", "deck" (rigid) or None, "pairs" (cb, full) or None, "bearing",
-    "n_modes", "cb" (f_max, min_mass, base)} of a scene (SceneError naming the field).
+    """{"fidelity", "frame", "deck" (rigid) or None, "statics" (the rigid deck of every
+    isolated rung: its static forces), "pairs" (cb, full) or None, "bearing", "n_modes",
+    "cb" (f_max, min_mass, base)} of a scene (SceneError naming the field).
     ``warm``: a cb or full rung's first compilation runs while its model builds
     (:func:`~nsdyn.models.isolated.building3d_pairs_run.warming`; ``nsdyn run``), and the
     dict holds ``compile_s`` and ``wait_s`` (the build's wait for it). ``notice()`` is
@@ -249,24 +261,18 @@ def build_system(cfg: dict, source: str, warm: bool = False, notice=None) -> dic
     if notice is not None:  # (it came before a refused structure.base or a missing bearing)
         notice()
     frame = _frame(t, source)
-    deck = pairs = None
+    pairs = None
     times: dict = {}
-    if fid == "rigid":
-        from nsdyn.models.isolated.building3d import building_deck
-
-        try:
-            deck = building_deck(frame, bearing)
-        except (BearingError, ValueError) as e:
-            raise SceneError(f"{source}: {e}") from None
-    elif fid in ("cb", "full"):
+    statics = _deck(frame, bearing, source) if bearing is not None else None  # (seconds
+    if fid in ("cb", "full"):  # before a reduction that its bearing's mistake would waste)
         path = "dense" if fid == "cb" else _full_path(frame, bearing, cfg, source)[0]
         law = scene_law(cfg)  # (the loop the run takes: switch unless given or a tfp)
         contact = cfg.get("solver", {}).get("contact", "detect")
         with warming(path, law, contact) if warm else nullcontext(times) as times:
             pairs = build_pairs(frame, bearing, fid, opts, source, cfg)
-    return {"fidelity": fid, "frame": frame, "deck": deck, "pairs": pairs, "bearing": bearing,
-            "n_modes": n_modes, "n_modes_given": "n_modes" in t, "cb": opts,
-            **times}  # fmt: skip
+    return {"fidelity": fid, "frame": frame, "deck": statics if fid == "rigid" else None,
+            "statics": statics, "pairs": pairs, "bearing": bearing, "n_modes": n_modes,
+            "n_modes_given": "n_modes" in t, "cb": opts, **times}  # fmt: skip
 
 
 def _path(cfg: dict, source: str) -> str:
@@ -402,9 +408,7 @@ def _advise(sysd, cfg, exc, kw, source: str, say) -> None:
     fid = advice["fidelity"]
     sysd.update(fidelity=fid, advice=advice)
     if fid == "rigid":
-        from nsdyn.models.isolated.building3d import building_deck
-
-        sysd["deck"] = building_deck(sysd["frame"], sysd["bearing"])
+        sysd["deck"] = sysd["statics"]
     elif fid == "cb":
         sysd["pairs"] = pairs
 
@@ -442,9 +446,9 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         f"fidelity {sysd['fidelity']}, {getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
     notes: list = []  # one line each on stderr, and the summary's "notes"
     if sysd["bearing"] is not None:
-        from nsdyn.models.isolated.building3d import building_deck, weight_note
+        from nsdyn.models.isolated.building3d import weight_note
 
-        deck = sysd["deck"] or building_deck(frame, sysd["bearing"])  # its static forces
+        deck = sysd["statics"]  # its static forces
         notes = bearing_notes(deck.bearings, deck.static_normal())
         weight = weight_note(frame.name, deck.info["m"], deck.info["m_z"])
         notes += [weight] if weight else []
