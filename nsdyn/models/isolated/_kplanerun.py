@@ -18,11 +18,11 @@ The stick test sticks the isolator if its stick force, computed with it stuck, l
 the disc |τ| < μ_s k_p N (1 + STICK_RTOL) (k_p the pressure factor, 1 without pressure dependence),
 else it starts slipping in the direction of that force. After each event the stuck isolators are
 settled: while one violates its disc, the one with the largest |τ|/μ_s N starts to slip, with any
-as loaded as it to TIE_RTOL (symmetric partners break away together). The stick switching
-function carries the same bound, so every isolator settle leaves stuck starts above zero and its
-next break-away is seen. Slip-start directions come from :func:`kp.start_direction`, exact for
-one released isolator; several released together are aligned with their accelerations by
-:func:`._kplanealign.starts`. Events are located by sampling g on the dense output and bisecting the
+as loaded as it to TIE_RTOL (symmetric partners break away together); the stick switching
+function carries the same bound, so every isolator settle leaves stuck starts above zero. Slip-
+start directions come from :func:`kp.start_direction`, exact for one released isolator; several
+released together are aligned with their accelerations (:func:`._kplanealign.starts`), and the
+discs checked again. Events are located by sampling g on the dense output and bisecting the
 earliest sample interval with a crossing to EVENT_TTOL; the step is cut there and restarts. A
 normal force reaching zero (uplift) is located the same way and ends the run (ST_UPLIFT) under the
 detecting contact; a bilateral contact goes on, each onset of tension located and counted (info
@@ -67,8 +67,7 @@ START_EXIT = 2.0  # a slip-start becomes a slip at |v| = this x eta (entered at 
 RESTICK_MARGIN = 1e-6  # a slip-start held by a stuck deck sticks below (1 - this) mu_d(0) N
 SETTLE_PASSES = 64
 TIE_RTOL = 1e-8  # stuck isolators this close to the worst's |τ|/μ_s N break away with it
-BAND_RTOL = 0.1  # slips within (1 + this) η join another's stick test (a slip, entered at
-# 2η, this slow is slowing to the band; partners' speeds part by the velocity tolerance)
+BAND_RTOL = 0.1  # slips within (1 + this) η join another's stick test (slowing to the band)
 ALIGN_PASSES = 100  # a pair system's fixed-point passes aligning its slip-start directions
 ALIGN_TOL = 1e-12  # largest change of a slip-start direction accepted as converged
 BURST_DT = 1e-8  # s, events closer than this count as one burst
@@ -79,15 +78,21 @@ I_NSTEP, I_NREJ, I_NFEV, I_NEV, I_TFAIL, I_IFAIL, I_NOUT, I_TTEN, I_NTEN, I_NMIN
 N_INFO = 11  # info entries (I_IFAIL: uplift's / first tensile isolator; I_EIMP: landings' energy)
 
 
+@njit(cache=True, error_model="numpy")
+def n_stuck(modes) -> int:  # the isolators in stick
+    n = 0
+    for m in modes:
+        n += m == kp.MODE_STICK
+    return n
+
+
 @ka.compiled_uncounted
 def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
     """Switching functions (ni, 3) at (t, y); stuck isolators (and a bilateral contact's
     normal forces, column 2) need one evaluation."""
     qdd, N, Ff, Fr, Fo = out
     ni = pos.shape[0]
-    nst = 0
-    for i in range(ni):
-        nst += modes[i] == kp.MODE_STICK
+    nst = n_stuck(modes)
     st = kp.ST_OK
     bil = int(sp[kp.S_CONTACT]) == kp.CONTACT_BILATERAL
     if nst > 0 or bil:
@@ -112,12 +117,11 @@ def gvals(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, g):
 
 @ka.compiled_uncounted
 def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info):
-    """Release stuck isolators outside their disc, worst first; returns a status."""
+    """Release stuck isolators outside their disc, worst first, then align the slip-starts
+    and check the discs again (as the pair systems' settle); returns a status."""
     qdd, N, Ff, Fr, Fo = out
     bil = int(sp[kp.S_CONTACT]) == kp.CONTACT_BILATERAL
-    nst = 0
-    for i in range(pos.shape[0]):
-        nst += modes[i] == kp.MODE_STICK
+    nst = n_stuck(modes)
     if nst >= 2:  # a held deck: its slip-starts, stopped by the others, stick again if
         # their stick force falls below the kinetic level mu_d(0) N (1 - RESTICK_MARGIN)
         cand = ws[16]
@@ -141,6 +145,7 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
                         _record(EV, info, t, i, kp.MODE_START, kp.MODE_STICK, dirs)
                     else:
                         modes[i] = kp.MODE_START
+    checked = False  # the stuck discs checked under the aligned starts
     for _ in range(SETTLE_PASSES):
         st = kp.evaluate_t(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
         if st != kp.ST_OK:
@@ -155,6 +160,8 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
                 if r >= 1.0 + STICK_RTOL and r > ratio and tau > 0.0:  # kept: g > 0 strictly
                     ratio = r
                     worst = i
+        if worst < 0 and checked:
+            return ST_OK
         if worst < 0:
             ok = kal.starts(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out)
             for k in range(min(int(info[I_NEV]), EV.shape[0]) - 1, -1, -1):  # this event's rows
@@ -165,7 +172,11 @@ def settle(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, EV, info
             if ok and bil and _tension(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws,
                                        out, EV, info):  # fmt: skip
                 continue  # (the normal forces as the aligned starts left them)
-            return ST_OK if ok else ST_SINGULAR
+            if not ok or n_stuck(modes) != 1:  # (none stuck, or a held deck's: as made)
+                return ST_OK if ok else ST_SINGULAR
+            checked = True  # (starts aligned about the one stuck load it anew: 4 mu N once)
+            continue
+        checked = False
         # the worst and its ties (released alone, it moved its load onto its partners)
         for i in range(pos.shape[0]):  # (directions from this evaluation, all stuck)
             lim = bp[i, B_MUS] * ws[11][i] * N[i]

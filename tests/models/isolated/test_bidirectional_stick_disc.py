@@ -93,6 +93,23 @@ def test_deck_isolators_released_together_stay_inside_their_discs():
     assert _worst_stuck_ratio(r, 0.06) <= 1.0 + SLACK
 
 
+def test_a_deck_whose_static_friction_is_its_kinetic_one_keeps_every_disc():
+    # Four friction pendulums (R = 2.2 m, mu = mu_s = 0.05: Friction(0.05), the plainest
+    # Coulomb input) under a centred deck 1.5 m above them, the bundled record: at a break-
+    # away three isolators reached their rims together and started to slip; their directions,
+    # aligned with the deck turning about the fourth, loaded that one to |tau| = 4 mu N while
+    # it stayed stuck (the summary reported that force as the peak friction)
+    from nsdyn.ground import read_motion3
+
+    d = rigid_deck(2.0e6, 9.07e7, [(-10.0, -6.0), (10.0, -6.0), (10.0, 6.0), (-10.0, 6.0)],
+                   Bearing(Friction(0.05), radius=2.2), h=1.5)  # fmt: skip
+    r = simulate_plane(d, read_motion3("synthetic-wn-40s"), law="switch", t_end=10.0)
+    assert np.any(r.modes == 1) and np.any(r.modes == 0)
+    assert _worst_stuck_ratio(r, 0.05) <= 1.0 + SLACK
+    f = np.hypot(r.friction[..., 0], r.friction[..., 1])
+    assert np.max(f / (0.05 * r.N)) <= 1.0 + SLACK  # (slip or stick: Coulomb's bound)
+
+
 def test_a_stick_band_far_too_narrow_is_reported_with_time_and_reason():
     # eta = 1e-12 m/s: a slip velocity passing near zero is never caught in the band, its
     # direction v/|v| turns within a step and the steps collapse; the run must stop and say
