@@ -37,6 +37,7 @@ from nsdyn.periodic.curve import (
     _free,
     _point_from_shoot,
     _point_from_sweep,
+    failures,
     on_grid,
     problem_id,
     resumed_points,
@@ -269,7 +270,8 @@ def continue_range(
     as the guess) or "arclength" (pseudo-arclength in (x0, log f), passes folds, at least
     ``points`` points). ``options`` go to :func:`continue_sequential` /
     :func:`continue_arclength` (``disc``, ``tol``, ``max_iter``, ``fallback``, ``progress``,
-    ``start``, ...). The curve keeps its problem's :func:`problem_id` (``info["problem"]``).
+    ``start``, ...). The curve keeps its problem's :func:`problem_id` (``info["problem"]``)
+    and where it has no steady state, why (``info["failures"]``, :func:`failures`).
     """
     from nsdyn._checks import keywords_of
 
@@ -279,10 +281,15 @@ def continue_range(
     if continuation == "sequential":
         freqs = log_frequencies(fmin, fmax, points)
         on_grid(options.get("start"), freqs)
-        return continue_sequential(problem, freqs, **options)
-    if continuation == "arclength":
-        return continue_arclength(problem, fmin, fmax, points=points, **options)
-    raise ValueError(f"continuation: expected 'sequential' or 'arclength', got {continuation!r}")
+        curve = continue_sequential(problem, freqs, **options)
+    elif continuation == "arclength":
+        curve = continue_arclength(problem, fmin, fmax, points=points, **options)
+    else:
+        raise ValueError(f"continuation: expected 'sequential' or 'arclength', got "
+                         f"{continuation!r}")  # fmt: skip
+    asked = dict(options, fmin=fmin, fmax=fmax, points=points, continuation=continuation)
+    curve.info["failures"] = failures(curve, asked)  # (the deck's alone had them)
+    return curve
 
 
 def period_derivative(problem, pm, x: np.ndarray, f: float, N: int) -> np.ndarray:

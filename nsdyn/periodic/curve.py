@@ -150,7 +150,8 @@ class Curve:
         return df
 
     def rows(self) -> list[dict]:
-        """One flat record per point (the sweep CSV), keyed by :data:`ROW_KEYS`; a deck's
+        """One flat record per point (the sweep CSV), keyed by :data:`ROW_KEYS`, a point
+        without a steady state (``converged`` False) without its response (NaN); a deck's
         curve by the deck sweep's columns (:func:`nsdyn.periodic.plane.curve_rows`: its
         frame columns were all NaN)."""
         if any("u_peak_m" in p.quantities for p in self.points):
@@ -159,12 +160,13 @@ class Curve:
             return curve_rows(self)
         out = []
         for p in self.points:
-            q = p.quantities
+            q = p.quantities if p.converged else {}  # (a failed point's last period is no
+            # steady state: the switch sweep's left 3.7e-5 m, as if one, beside "False")
             values = (p.f, self.amplitude, q.get("idr", math.nan), q.get("acc", math.nan),
                       q.get("acc_floors", math.nan), q.get("x_iso", math.nan),
                       q.get("stick_all_period", ""), "" if p.stable is None else p.stable,
                       p.max_multiplier, p.method, p.iterations, p.residual, p.converged,
-                      p.n_steps, q.get("uplift", ""), p.note)  # fmt: skip
+                      p.n_steps, p.quantities.get("uplift", ""), p.note)  # fmt: skip
             out.append(dict(zip(ROW_KEYS, values, strict=True)))
         return out
 
@@ -343,3 +345,47 @@ def _free(dx: np.ndarray, C: np.ndarray | None) -> np.ndarray:
     if C is None:
         return dx
     return dx - np.linalg.pinv(C) @ (C @ dx)
+
+
+def failures(curve: Curve, options: dict) -> list[dict]:
+    """Frequencies where shooting failed: each ``{"f", "reason"}`` (the stepped sweep's point
+    with shooting's message, the stick-slip transition it lies near where the points give
+    their ``stick_fraction``; a requested frequency with no point when the fallback is off).
+    ``options``: those of :func:`nsdyn.periodic.continuation.continue_range`; every curve it
+    returns holds this list as ``info["failures"]``."""
+    out = []
+    pts = curve.points
+    for k, p in enumerate(pts):
+        if p.method != "sweep":
+            continue
+        if p.quantities.get("uplift"):
+            out.append(
+                {
+                    "f": float(p.f),
+                    "reason": "uplift: a normal force reaches zero in the "
+                    "period (outside the bilateral contact model; no steady state computed)",
+                }
+            )
+            continue
+        why = [p.note or "shooting failed"]
+        if not p.converged:
+            why.insert(0, "no steady state")
+        near = [pts[j].quantities.get("stick_fraction") for j in (k - 1, k, k + 1)
+                if 0 <= j < len(pts)]  # fmt: skip
+        near = [s for s in near if s is not None and math.isfinite(s)]
+        if near and (min(near) == 0.0 < max(near) or any(0.0 < s < 1.0 for s in near)):
+            why.insert(0, "near a stick-slip transition")
+        out.append({"f": float(p.f), "reason": "; ".join(why)})
+    if options.get("continuation", "sequential") == "sequential" and not options.get(
+        "fallback", True
+    ):
+        from nsdyn.periodic.continuation import F_MAX, F_MIN, POINTS, log_frequencies
+
+        want = log_frequencies(options.get("fmin", F_MIN), options.get("fmax", F_MAX),
+                               options.get("points", POINTS))  # fmt: skip
+        have = np.array([p.f for p in pts])
+        for f in want:
+            if not have.size or np.min(np.abs(have / f - 1.0)) > 1e-9:
+                out.append({"f": float(f), "reason": "shooting did not converge (no fallback)"})
+        out.sort(key=lambda d: d["f"])
+    return out

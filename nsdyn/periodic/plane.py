@@ -441,7 +441,7 @@ def plane_response(problem: PlaneProblem, **options) -> Curve:
     continuation "sequential" | "arclength", fallback, progress, start, x0, ... of
     :func:`nsdyn.periodic.continuation.continue_range`). An "unstable" point is checked by
     :func:`~nsdyn.periodic.stability.check_growth`. The curve's ``info["failures"]`` lists the
-    frequencies where shooting failed, with the reason (:func:`failures`)."""
+    frequencies where shooting failed, with the reason (:func:`nsdyn.periodic.curve.failures`)."""
     user = options.get("progress")
 
     def progress(pt, k, n):
@@ -452,57 +452,15 @@ def plane_response(problem: PlaneProblem, **options) -> Curve:
     options["progress"] = progress
     curve = continue_range(problem, **options)
     curve.info.update({"model": problem.name, "law": problem.law})
-    curve.info["failures"] = failures(curve, options)
     return curve
 
 
-def failures(curve: Curve, options: dict) -> list[dict]:
-    """Frequencies where shooting failed: each ``{"f", "reason"}`` (the stepped sweep's point
-    with shooting's message, the transition it lies near; a requested frequency with no point
-    when the fallback is off)."""
-    out = []
-    pts = curve.points
-    for k, p in enumerate(pts):
-        if p.method != "sweep":
-            continue
-        if p.quantities.get("uplift"):
-            out.append(
-                {
-                    "f": float(p.f),
-                    "reason": "uplift: a normal force reaches zero in the "
-                    "period (outside the rigid-plate model; no steady state computed)",
-                }
-            )
-            continue
-        why = [p.note or "shooting failed"]
-        if not p.converged:
-            why.insert(0, "no steady state")
-        near = [pts[j].quantities.get("stick_fraction") for j in (k - 1, k, k + 1)
-                if 0 <= j < len(pts)]  # fmt: skip
-        near = [s for s in near if s is not None and math.isfinite(s)]
-        if near and (min(near) == 0.0 < max(near) or any(0.0 < s < 1.0 for s in near)):
-            why.insert(0, "near a stick-slip transition")
-        out.append({"f": float(p.f), "reason": "; ".join(why)})
-    if options.get("continuation", "sequential") == "sequential" and not options.get(
-        "fallback", True
-    ):
-        from nsdyn.periodic.continuation import F_MAX, F_MIN, POINTS, log_frequencies
-
-        want = log_frequencies(options.get("fmin", F_MIN), options.get("fmax", F_MAX),
-                               options.get("points", POINTS))  # fmt: skip
-        have = np.array([p.f for p in pts])
-        for f in want:
-            if not have.size or np.min(np.abs(have / f - 1.0)) > 1e-9:
-                out.append({"f": float(f), "reason": "shooting did not converge (no fallback)"})
-        out.sort(key=lambda d: d["f"])
-    return out
-
-
 def curve_rows(curve: Curve) -> list[dict]:
-    """One flat record per point (the deck sweep's CSV)."""
+    """One flat record per point (the deck sweep's CSV; a point without a steady state
+    without its response, as :meth:`Curve.rows`)."""
     rows = []
     for p in curve.points:
-        q = p.quantities
+        q = p.quantities if p.converged else {"uplift": p.quantities.get("uplift", "")}
         rows.append({
             "f": p.f, "A": curve.amplitude, "u_peak_m": q.get("u_peak_m", math.nan),
             "u_component_peak_m": q.get("u_component_peak_m", math.nan),

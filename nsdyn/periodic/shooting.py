@@ -35,7 +35,7 @@ from nsdyn.periodic.protocol import (
 
 SHOOT_TOL = 1e-6  # relative shooting residual for convergence (per block, to the orbit range)
 SHOOT_MAXIT = 12  # Newton iterations per shooting solve
-SHOOT_STALL = 10.0  # a stalled Newton (no descent) counts as converged below this x tol
+SHOOT_STALL = 10.0  # a stalled Newton (no descent) counts as converged below this x tol (noted)
 LS_HALVINGS = 6  # line-search step halvings before giving up
 LS_ALPHA = 1e-4  # Armijo constant of the line search
 AMP_FLOOR = 1e-12  # smallest orbit amplitude used for scaling [m, m/s] (or the model's own)
@@ -272,8 +272,11 @@ def shoot(
             alpha *= 0.5
         if not accepted:
             if r <= SHOOT_STALL * tol:
-                # no descent left: the residual sits on the round-off floor of the map
-                msg = f"converged (stalled at the period map's round-off, residual {r:.1e})"
+                # no descent left: the map's own accuracy (its steps' solves, a switch's
+                # location) or a kink of it (a slip phase about to vanish) is this close
+                msg = (f"converged (stalled: residual {r:.1e}, within {SHOOT_STALL:g}x the "
+                       f"tolerance {tol:g}, where no Newton step lowers it: the period map's "
+                       "own accuracy, or a kink of it close by)")  # fmt: skip
                 C = frozen_rows(problem, pm)
                 return ShootingResult(
                     f, x, True, it, r, pm.monodromy, pm.dxdT, pm.X, N, msg, hist, C

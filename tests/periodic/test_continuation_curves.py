@@ -361,3 +361,24 @@ def test_a_peak_of_zero_everywhere_has_no_frequency():
     out = c.summary()
     assert out["idr_max"] == 0.0 and out["idr_max_f_hz"] is None
     assert out["x_iso_max_m"] > 0 and out["x_iso_max_f_hz"] in (0.2, 0.3)
+
+
+def test_a_point_without_a_steady_state_has_no_response_and_is_listed(smooth_frame, monkeypatch):
+    # Shooting allowed no Newton iteration and the stepped sweep three periods, far too few
+    # for a steady state to 1e-6: the points are no orbits. Their rows gave the last period's
+    # x_iso beside converged False, and a frame's curve listed no failures (the deck's alone
+    # did): every curve of continue_range now lists each such frequency with its reason
+    real = pr.continuation.steady_state_sweep
+    monkeypatch.setattr(pr.continuation, "steady_state_sweep",
+                        lambda *a, **k: real(*a, **k, max_periods=3))  # fmt: skip
+    prob = pr.frame_problem(smooth_frame, 2.0)
+    c = pr.continue_range(prob, fmin=1.0, fmax=1.6, points=2, max_iter=0)
+    assert [p.converged for p in c.points] == [False, False]
+    assert all(p.quantities["x_iso"] > 0 for p in c.points)  # (the last period's)
+    for row in c.rows():
+        assert row["converged"] is False and row["stable"] == ""
+        assert all(math.isnan(row[k]) for k in ("IDR", "a", "a_floors", "x_iso"))
+    fails = c.info["failures"]
+    assert [d["f"] for d in fails] == pytest.approx([1.0, 1.6], rel=1e-12)
+    assert all(d["reason"].startswith("no steady state; shooting failed") for d in fails)
+    assert c.summary()["converged"] == 0 and c.summary()["x_iso_max_m"] is None
