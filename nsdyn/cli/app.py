@@ -213,7 +213,10 @@ def _interrupt_line(args: argparse.Namespace) -> str:
         out = Path(getattr(args, "out", None) or DEFAULT_OUT)
         names = (CHECKPOINT_NAME, plane_sweep.CHECKPOINT_NAME)
         if any(any(out.glob(n.replace("{amplitude}", "*"))) for n in names):
-            return f"{done}, rerun the same command to resume"
+            old = " (its sweep.csv is an earlier run's)" * (out / "sweep.csv").is_file()
+            again = "without --restart " * bool(getattr(args, "restart", False))
+            return (f"nsdyn sweep: interrupted; its checkpoints in {out} are complete{old}, "
+                    f"rerun the same command {again}to resume")  # fmt: skip
         return f"{done}; it stopped before its first checkpoint, a rerun starts over"
     if args.command == "run":
         from nsdyn.cli.run import DEFAULT_OUT, FINISHED
@@ -289,16 +292,10 @@ def _one_line_warnings(command: str, default: Callable) -> Callable:
 
 
 def _caused_by_interrupt(exc: BaseException) -> bool:
-    """True if a KeyboardInterrupt is in ``exc``'s chain of causes (numba's dispatcher turns
-    an exception raised by a signal handler during a kernel into SystemError from it)."""
-    seen: set[int] = set()
-    e: BaseException | None = exc
-    while e is not None and id(e) not in seen:
-        if isinstance(e, KeyboardInterrupt):
-            return True
-        seen.add(id(e))
-        e = e.__cause__ or e.__context__
-    return False
+    """:func:`nsdyn.studies.workers.caused_by_interrupt`."""
+    from nsdyn.studies.workers import caused_by_interrupt
+
+    return caused_by_interrupt(exc)
 
 
 def _version() -> str:

@@ -39,7 +39,7 @@ from nsdyn.studies.sweep import (
     point_from_dict,
     point_to_dict,
 )
-from nsdyn.studies.workers import process_pool
+from nsdyn.studies.workers import gather, process_pool, saved_on_interrupt
 
 KINDS = ("deck", "building3d")
 RANGE_FACTOR = 4.0  # default range f0 / RANGE_FACTOR .. RANGE_FACTOR f0
@@ -184,9 +184,11 @@ def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweep
                   f"({pt.quantities.get('wall_s', 0.0):.2f} s{left})", file=sys.stderr,
                   flush=True)  # fmt: skip
 
-    curve = plane_response(pb, fmin=settings.fmin, fmax=settings.fmax, points=settings.points,
-                           continuation=settings.continuation, fallback=settings.fallback,
-                           progress=progress, start=start)  # fmt: skip
+    with saved_on_interrupt(lambda: len(done) > n_resumed and save(done)):  # (for a rerun)
+        curve = plane_response(pb, fmin=settings.fmin, fmax=settings.fmax,
+                               points=settings.points, continuation=settings.continuation,
+                               fallback=settings.fallback, progress=progress,
+                               start=start)  # fmt: skip
     save(curve.points, complete=True)
     rows = curve_rows(curve)
     for r in rows:
@@ -228,8 +230,7 @@ def sweep_plane(cfg: dict, source: str, amplitudes, settings: PlaneSweepSettings
     if n <= 1:
         return [amplitude_job(*a) for a in args]
     with process_pool(n) as ex:
-        futs = [ex.submit(amplitude_job, *a) for a in args]
-        return [f.result() for f in futs]
+        return gather(ex, [ex.submit(amplitude_job, *a) for a in args])
 
 
 def write_csv(path: Path, results: list[dict]) -> None:

@@ -29,7 +29,7 @@ import numpy as np
 from nsdyn._progress import curve_count
 from nsdyn.atomic import atomic_open, differing
 from nsdyn.models.scenefile import SceneError
-from nsdyn.studies.workers import process_pool
+from nsdyn.studies.workers import gather, process_pool, saved_on_interrupt
 
 DEFAULT_OUT = "nsdyn-sweep"
 DEFAULT_AMPLITUDES = "0.1,0.5,1,2"  # m/s^2, seed Fig. 9
@@ -252,8 +252,8 @@ def amplitude_job(
         start=start,
         load=load,
     )
-    try:
-        if settings.friction == "switch":
+    with saved_on_interrupt(lambda: len(pts_done) > n_resumed and save(pts_done)):
+        if settings.friction == "switch":  # (interrupted: the points so far kept for a rerun)
             from nsdyn.periodic.switch import switch_response
 
             curve = switch_response(system, amplitude, **options)
@@ -261,10 +261,6 @@ def amplitude_job(
         else:
             curve = frequency_response(system, amplitude, **options)
             law = system.isolation.law
-    except KeyboardInterrupt:  # the points finished so far are kept for the rerun
-        if len(pts_done) > n_resumed:
-            save(pts_done)
-        raise
     save(curve.points, complete=True)
     rows = curve.rows()
     for row in rows:
@@ -375,8 +371,7 @@ def sweep_amplitudes(
 
 
 def _run_all(ex: Executor, args) -> list[dict]:
-    futs = [ex.submit(amplitude_job, *a) for a in args]
-    return [f.result() for f in futs]
+    return gather(ex, [ex.submit(amplitude_job, *a) for a in args])
 
 
 # ---- outputs --------------------------------------------------------------------------------

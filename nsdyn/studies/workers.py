@@ -33,9 +33,13 @@ import sys
 import threading
 import time
 import warnings
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, wait
+from contextlib import contextmanager, suppress
 
 WATCH_S = 0.5  # seconds between the fallback's checks of the parent's pid
+WAIT_S = 0.2  # seconds between the checks of a waiting loop for held signals (gather)
+GRACE_S = 3.0  # seconds an interrupted pool's tasks get to save their checkpoints (gather)
+SAVE_SIGNAL = getattr(signal, "SIGUSR1", None)  # the parent's "save and stop" to its workers
 PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
 
 
@@ -89,12 +93,17 @@ class _Pool(ProcessPoolExecutor):
 
 
 def _worker(parent: int) -> None:
-    """Pool initializer: :func:`_die_with` ``parent``; and a record's units are not said again
+    """Pool initializer: :func:`_die_with` ``parent``; a record's units are not said again
     by every task (a study said them once, when it checked its tasks; the filter is this
-    worker process's own)."""
+    worker process's own); and a Ctrl-C is the parent's to act on (a terminal sends it to
+    every process of the command: an idle worker printed a traceback), as is SAVE_SIGNAL
+    outside a task that saves on it (:func:`saved_on_interrupt`)."""
     from nsdyn.ground import UnitWarning
 
     warnings.simplefilter("ignore", UnitWarning)
+    for sig in (signal.SIGINT, SAVE_SIGNAL):
+        if sig is not None:
+            signal.signal(sig, signal.SIG_IGN)
     _die_with(parent)
 
 
@@ -155,6 +164,65 @@ class Interrupts:
         if exc_type is None:
             self.check()
         return False
+
+
+def caused_by_interrupt(exc: BaseException) -> bool:
+    """True if a KeyboardInterrupt is ``exc`` or in its chain of causes (numba's dispatcher
+    turns an exception raised by a signal handler during a kernel into SystemError from it)."""
+    seen: set[int] = set()
+    e: BaseException | None = exc
+    while e is not None and id(e) not in seen:
+        if isinstance(e, KeyboardInterrupt):
+            return True
+        seen.add(id(e))
+        e = e.__cause__ or e.__context__
+    return False
+
+
+@contextmanager
+def saved_on_interrupt(save):
+    """Run the block; ended by an interrupt (:func:`caused_by_interrupt`), call ``save()``
+    with further signals held (:class:`Interrupts`), then let the interrupt go on: a long
+    task keeps what it finished since its last checkpoint."""
+    main = threading.current_thread() is threading.main_thread() and SAVE_SIGNAL is not None
+    old = signal.signal(SAVE_SIGNAL, _raise_interrupt) if main else None
+    try:
+        yield
+    except BaseException as exc:
+        if caused_by_interrupt(exc):
+            with Interrupts():
+                save()
+        raise
+    finally:
+        if main:
+            signal.signal(SAVE_SIGNAL, old)
+
+
+def _raise_interrupt(signum, frame) -> None:
+    raise KeyboardInterrupt
+
+
+def gather(executor, futures: list) -> list:
+    """The results of ``futures`` in order, signals held while waiting (:class:`Interrupts`).
+    Interrupted, the workers of a local pool (:func:`process_pool`) are sent SAVE_SIGNAL and
+    given GRACE_S for their tasks to save what they hold (:func:`saved_on_interrupt`), then
+    the interrupt goes on (the pool's ``with`` block ends them); a second interrupt does not
+    wait."""
+    procs = list((getattr(executor, "_processes", None) or {}).values()) * bool(SAVE_SIGNAL)
+    with Interrupts() as stop:
+        pending = futures
+        while pending:
+            pending = wait(pending, timeout=WAIT_S)[1]
+            if stop.requested:
+                stop.requested = False
+                for proc in procs:
+                    with suppress(OSError):
+                        os.kill(proc.pid, SAVE_SIGNAL)
+                t_end = time.monotonic() + GRACE_S * bool(procs)
+                while pending and not stop.requested and time.monotonic() < t_end:
+                    pending = wait(pending, timeout=WAIT_S)[1]
+                raise KeyboardInterrupt
+    return [f.result() for f in futures]
 
 
 def warm_isolated(method: str, law: str) -> bool:

@@ -339,6 +339,46 @@ def test_signals_during_the_pool_wait_act_between_waits():
     assert (signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT)) == before
 
 
+def _run_until_interrupted(path: str) -> None:
+    """Count until interrupted, saving the count then (a sweep's amplitude and its points)."""
+    from nsdyn.studies.workers import saved_on_interrupt
+
+    n = 0
+    Path(path).write_text("0")
+    with saved_on_interrupt(lambda: Path(path).write_text(str(n))):
+        while True:
+            n += 1
+            time.sleep(0.01)
+
+
+def _interrupt_once_held(path) -> None:
+    """SIGINT to this process once the task runs and gather holds signals."""
+    while not (path.exists() and type(getattr(signal.getsignal(signal.SIGINT), "__self__",
+                                              None)).__name__ == "Interrupts"):  # fmt: skip
+        time.sleep(0.01)
+    time.sleep(0.2)
+    os.kill(os.getpid(), signal.SIGINT)
+
+
+def test_an_interrupted_pool_lets_its_running_task_save_before_it_ends(tmp_path, capfd):
+    # a sweep's amplitudes run for minutes and save their points every 2 s: on a Ctrl-C the
+    # pool was killed at once and each lost up to 2 s of them. gather passes the interrupt on
+    # (SAVE_SIGNAL) and waits, at most GRACE_S, for the tasks' saves; an idle worker ignores
+    # it (SIGINT forwarded, it printed a traceback; killed by the signal, it broke the pool)
+    import threading
+
+    from nsdyn.studies.workers import gather, process_pool
+
+    path = tmp_path / "saved"
+    poke = threading.Thread(target=_interrupt_once_held, args=(path,), daemon=True)
+    with pytest.raises(KeyboardInterrupt), process_pool(2) as pool:
+        futs = [pool.submit(_run_until_interrupted, str(path)), pool.submit(int, "1")]
+        poke.start()
+        gather(pool, futs)
+    assert int(path.read_text()) > 0  # the count at the interrupt, not the start's 0
+    assert "Traceback" not in capfd.readouterr().err
+
+
 def test_a_narrowed_grid_keeps_the_dropped_rows_for_a_wider_one(tmp_path):
     # the resume contract over grid edits: narrowing the grid takes its dropped points out of
     # results.csv but keeps their finished rows (outside-grid.csv), and widening it again
