@@ -47,6 +47,7 @@ def _user_errors() -> tuple[type[BaseException], ...]:
 # scene keys a command-line flag sets: an error about the key names the flag that gave it
 FLAG_KEYS = {"solver.method": "--method", "solver.dt": "--dt", "motion.record": "--record",
              "motion.pga": "--pga", "motion.t_end": "--t-end", "scene.f_max": "--fmax",
+             "structure.f_max": "--fmax",
              "scene.fidelity": "--fidelity", "structure.fidelity": "--fidelity",
              "solver.max_steps": "--max-steps", "scene.frame": "--frame"}  # fmt: skip
 

@@ -19,7 +19,6 @@ from nsdyn.cli.args import positive_int as _positive_int
 from nsdyn.cli.run_checks import (
     check_cutoff,
     check_method,
-    duration_text,
     event_law,
     explicit_steps,
     fixed_base_run,
@@ -30,6 +29,7 @@ from nsdyn.cli.run_checks import (
     scene_notes,
 )
 from nsdyn.cli.run_resume import open_checkpoint, run_identity
+from nsdyn.cli.run_summary import summary_rows
 from nsdyn.models.scenefile import SceneError
 
 DEFAULT_OUT = "nsdyn-out"  # output directory
@@ -44,56 +44,6 @@ def interrupted(exc: BaseException) -> bool:
     return isinstance(exc, KeyboardInterrupt) or _caused_by_interrupt(exc)
 
 
-def _uplift_cell(v) -> str:
-    if not v:
-        return "none"
-    first = v[0]
-    more = f", {len(v) - 1} more" if len(v) > 1 else ""
-    return f"t = {first['t_s']:.4f} s (contact {first['contact']}){more}"
-
-
-CLOSURE_NOTE = 1e-2  # above this, the closure row says what the number measures
-
-
-def _closure_cell(v: float) -> str:
-    """The closure error, and above :data:`CLOSURE_NOTE` what it is: a check of the work
-    integrals by the trapezoidal rule on the output grid, which measures the grid as much as
-    the run (not the integrator's error, which its tolerance bounds)."""
-    if not v > CLOSURE_NOTE:
-        return f"{v:.2e}"
-    return (f"{v:.2e} (the work integrals by the trapezoidal rule on the output grid: a "
-            "finer [solver] dt_out tightens it)")  # fmt: skip
-
-
-def summary_rows(s: dict) -> list[str]:
-    """The printed rows of a run's summary ``s`` (label, value): the metrics the model
-    defines. A run with unilateral contacts models lift-off, so it has no uplift row (that
-    row reports the no-uplift model's violations); its lift-off rows say what happened."""
-    base = "iso" if "x_iso_max_m" in s else "base"  # (a fixed base: no isolators)
-    rows = [  # (label, key, format): metrics the model does not define are absent
-        ("duration / output step", "t_end_s", lambda v: duration_text(s, v)),
-        ("peak isolator displacement x_iso", "x_iso_max_m", lambda v: f"{v:.4f} m"),
-        ("peak interstorey drift ratio", "idr_max", lambda v: f"{v:.3e}"),
-        ("peak absolute floor acceleration", "floor_acc_max_mps2", lambda v: f"{v:.3f} m/s²"),
-        (f"peak roof drift x_top - x_{base}", "roof_drift_max_m", lambda v: f"{v:.4f} m"),
-        ("minimum normal force", "min_normal_force_N", lambda v: f"{v + 0.0:.4g} N"),  # no "-0"
-        ("share of time all isolators stick", "stick_fraction", lambda v: f"{v:.2f}"),
-        ("energy balance closure error", "energy_closure", _closure_cell),
-        ("uplift", "uplift", _uplift_cell),
-        ("contact assumption", "contact", str),
-        ("a normal force < 0 (lift-off)", "would_lift_off", lambda v: "yes" if v else "no"),
-        ("lift-offs / landings", "lift_offs", lambda v: f"{v} / {s.get('landings', 0)}"),
-        ("first lift-off", "first_lift_off_s", lambda v: f"{v:.4f} s"),
-        ("flight time per contact", "flight_time_s", lambda v: ", ".join(f"{x:.3f} s" for x in v)),
-        ("peak landing velocity", "max_landing_velocity_mps", lambda v: f"{v:.4f} m/s"),
-        ("peak landing impulse", "max_landing_impulse_Ns", lambda v: f"{v:.4g} N s"),
-        ("energy lost at landings", "impact_energy_J", lambda v: f"{abs(v):.4g} J"),
-    ]
-    skip = "uplift" if s.get("contact") == "unilateral" else ""
-    return [f"  {label:36s} {fmt(s[key])}" for label, key, fmt in rows
-            if key != skip and s.get(key) is not None]  # fmt: skip
-
-
 def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("scene", nargs="?", default=None,
                    help="scene TOML (default: the bundled default scene)")  # fmt: skip
@@ -104,9 +54,11 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--fidelity",
         choices=["fixed", "rigid", "cb", "full", "auto"],
-        help="model fidelity; 'auto' asks the model advisor and prints its choice and evidence",
+        help="model fidelity (a 3D building's [structure] fidelity); 'auto' asks the model "
+        "advisor and prints its choice and evidence",
     )
-    p.add_argument("--fmax", type=_positive_float, metavar="HZ", help="Craig–Bampton cut-off")
+    p.add_argument("--fmax", type=_positive_float, metavar="HZ",
+                   help="Craig–Bampton cut-off (a 3D building's [structure] f_max)")  # fmt: skip
     p.add_argument(
         "--friction",
         choices=["arctan", "switch", "none"],
@@ -242,12 +194,15 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
             raise SceneError(f"{args.scene}: --friction none: a {kind} scene's bearings keep "
                              "their friction; expected 'switch' or 'arctan'")  # fmt: skip
         cfg.setdefault("solver", {})["law"], args.friction = args.friction, None
+    if kind == "building3d":  # its rung and cut-off: [structure] fidelity and f_max
+        st = cfg.setdefault("structure", {})
+        st.update({k: v for k, v in (("fidelity", args.fidelity), ("f_max", args.fmax)) if v})
+        args.fidelity = args.fmax = None
     bad = [f"--{k.replace('_', '-')}" for k in _ISOLATED_ONLY if getattr(args, k, None)]
     if bad:
         verb = "applies" if len(bad) == 1 else "apply"
-        rung = " (a building3d scene's rung: its [structure] fidelity)" * (kind == "building3d")
         raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes "
-                         f"only{rung}")  # fmt: skip
+                         "only")  # fmt: skip
     if args.method and kind in ("deck", "building3d"):
         raise SceneError(f"{args.scene}: --method: a {kind} scene's integrator follows its "
                          "[solver] law (and fidelity); --method applies to isolated-frame, "

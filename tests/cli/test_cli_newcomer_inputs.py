@@ -216,7 +216,7 @@ def test_misplaced_fields_and_files_are_named_as_what_they_are(tmp_path, one_lin
 
 def test_a_large_closure_says_what_it_measures():
     """The closure is a trapezoidal check on the output grid (second order in dt_out)."""
-    from nsdyn.cli.run import CLOSURE_NOTE, _closure_cell
+    from nsdyn.cli.run_summary import CLOSURE_NOTE, _closure_cell
 
     assert _closure_cell(0.5 * CLOSURE_NOTE) == f"{0.5 * CLOSURE_NOTE:.2e}"
     assert "dt_out" in _closure_cell(2 * CLOSURE_NOTE)

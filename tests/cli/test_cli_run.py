@@ -112,7 +112,7 @@ def test_summary_rows_of_a_unilateral_run_report_lift_off_not_uplift():
     # the "uplift" row reports where the no-uplift model was violated; a run with unilateral
     # contacts models lift-off, so it reports lift-offs instead; a normal force that ends at
     # exactly zero (in flight) prints as 0, not -0 (IEEE: -0.0 + 0.0 = +0.0)
-    from nsdyn.cli.run import summary_rows
+    from nsdyn.cli.run_summary import summary_rows
 
     base = {"min_normal_force_N": -0.0, "uplift": []}
     held = "\n".join(summary_rows({**base, "contact": "bilateral"}))

@@ -307,21 +307,21 @@ def test_a_sweep_names_the_fidelity_flag_a_structure_scene_cannot_take(tmp_path,
     assert err.startswith(f"nsdyn sweep: error: {scene}: --fidelity: chooses among a frame's")
 
 
-def test_a_building_run_refuses_the_frame_flags_naming_its_own_field(capsys, tmp_path):
+def test_a_building_run_takes_the_rung_flags_as_its_structure_keys(capsys, tmp_path):
     # "--fidelity applies to isolated-frame scenes only", where the building has the rungs the
-    # flag lists: it names the scene's field that chooses them
+    # flag lists (and nsdyn sweep took it): --fidelity and --fmax set [structure] fidelity and
+    # f_max, the fixed rung then noting the bearing it does not use
     scene = (
         Path(__file__).resolve().parents[2] / "examples" / "scenes" / "building3d-office-rigid.toml"
     )
-    assert main(["run", str(scene), "--fidelity", "fixed", "--out", str(tmp_path)]) == 2
-    assert (
-        capsys.readouterr()
-        .err.rstrip()
-        .endswith(
-            "--fidelity applies to isolated-frame scenes only (a building3d scene's rung: its "
-            "[structure] fidelity)"
-        )
-    )
+    argv = ["run", str(scene), "--fidelity", "fixed", "--t-end", "1", "--no-figures", "--json"]
+    assert main([*argv, "--out", str(tmp_path)]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["fidelity"] == "fixed" and any(n.startswith("[bearing] not used") for n in s["notes"])
+    argv[3] = "rigid"  # the scene's own rung, whose note names the key --fmax set
+    assert main([*argv, "--fmax", "4", "--out", str(tmp_path)]) == 0
+    assert "structure.f_max not used: the cb rung's cut-off" in json.loads(
+        capsys.readouterr().out)["notes"]  # fmt: skip
     # a rocking scene has no rung: the building's words were no help there
     rocking = SCENES / "rocking-seed003-column.toml"
     assert main(["run", str(rocking), "--resume", "--out", str(tmp_path)]) == 2
