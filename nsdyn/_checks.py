@@ -275,8 +275,14 @@ def coarse_output_note(dt_out: float, motion, field: str = "dt_out") -> str | No
     """A harmonic excitation sampled fewer than SAMPLES_PER_PERIOD_MIN times per period by
     outputs ``dt_out`` apart, or a record's outputs more than RECORD_STEPS_MAX of its samples
     apart: the peaks fall between the outputs (one line naming ``field`` and its bound)."""
-    f, h = forcing_frequency(motion), sampling_step(motion)
+    h = sampling_step(motion)
     span = (getattr(motion, "n", 0) - 1) * (h or 0.0)  # (a longer dt_out is refused: no note)
+    return coarse_grid_note(dt_out, forcing_frequency(motion), h, span, field)
+
+
+def coarse_grid_note(dt_out: float, f, h, span: float, field: str = "dt_out") -> str | None:
+    """:func:`coarse_output_note` of an excitation given by its harmonic frequency ``f`` [Hz]
+    or its sampling step ``h`` [s] and its ``span`` [s] (None where it has none)."""
     bound = RECORD_STEPS_MAX * max(h or 0.0, 0.01)  # (a 2000 Hz record's 0.01 s is fine)
     if h and bound * (1 + 1e-9) < dt_out < span:
         return (f"dt_out = {dt_out:g} s reads the peaks every {dt_out / h:.3g} samples of the "

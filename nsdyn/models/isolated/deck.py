@@ -398,15 +398,26 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
     if (t_eval.ndim != 1 or t_eval.size < 2 or not np.all(np.isfinite(t_eval))
             or not np.all(np.diff(t_eval) > 0)):  # fmt: skip
         raise ValueError("t_eval: expected at least two increasing finite times")
-    if gk == kp.G_TABLE:  # outputs outside the record: the ground at rest there, said
-        import warnings
+    import warnings
 
-        from nsdyn._checks import NotedWarning
+    from nsdyn._checks import AccuracyWarning, NotedWarning, coarse_grid_note
+
+    table = gk == kp.G_TABLE
+    if table:  # outputs outside the record: the ground at rest there, said
         from nsdyn.ground.formats import record_span_notes
 
         t0, dt = float(gp[kp.GP_T0]), float(gp[kp.GP_DT])
         for note in record_span_notes(t_eval, t0, t0 + dur, dt):
             warnings.warn(note, NotedWarning, stacklevel=3)
+    fs = [gp[kp.GP_F]] * bool(gp[kp.GP_AX] or gp[kp.GP_AY]) + [gp[kp.GP_FZ]] * bool(gp[kp.GP_AZ])
+    coarse = coarse_grid_note(
+        float(np.max(np.diff(t_eval))),
+        None if table else max(fs, default=None),
+        float(gp[kp.GP_DT]) if table else None,
+        dur if table else 0.0,
+    )
+    if coarse:  # (the frame's simulate says it too; outputs 1 s apart read 15 % low)
+        warnings.warn(coarse, AccuracyWarning, stacklevel=3)
     if max_step is None:
         max_step = (
             gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (20.0 * max(gp[kp.GP_F], gp[kp.GP_FZ]))
