@@ -322,8 +322,9 @@ def integrate(
     """Integrate over the samples of ag (n, 3); hist (n, NOUT) rows at the sample times.
 
     Steps never cross a sample time (the record is piecewise linear). A step whose end has
-    another contact kind (tensionless) or is due a friction-mode change is halved until no
-    longer than ``h_kink`` (bisection onto the event), then the mode is switched; a slip that
+    another contact kind (tensionless), is due a friction-mode change or passes the toppling
+    tilt is halved until no longer than ``h_kink`` (bisection onto the event), then the mode
+    is switched (or the run stops, toppled, at that step's end); a slip that
     stops has its residual velocity (|u̇| ≲ h_kink |ü|) removed by a base impulse
     (``stop_slip``) and the kinetic energy it takes booked in E_f. stats = (t reached,
     accepted, rejected, event halvings, rhs calls, slip starts). Returns the status.
@@ -391,6 +392,10 @@ def integrate(
             if err <= 1.0:
                 if tensionless and hs > h_kink and contact_kind(y, r) != contact_kind(yn, r):
                     h = 0.5 * hs
+                    kinks += 1
+                    continue
+                if hs > h_kink and 1.0 - 2.0 * (yn[2] ** 2 + yn[3] ** 2) < cos_topple:
+                    h = 0.5 * hs  # toppling located to h_kink, not at the step's end
                     kinks += 1
                     continue
                 ev = friction_event(yn, fr, aux, mu)

@@ -173,6 +173,21 @@ def test_a_toppled_run_ends_at_the_toppling_instant():
     assert np.all(res.tilt[:-1] < THETA_TOPPLE)
 
 
+def test_the_toppling_instant_is_located_not_the_step_that_passed_it():
+    # released at 1.2 alpha the cylinder falls over; the crossing of 45° was taken at the end
+    # of the step that passed it (2.03 s at dt = 0.01, 2.028 at 0.003, a tilt up to 0.017 rad
+    # past 45°). Located by halving to H_KINK: two sample steps give one instant within two
+    # H_KINK, and the tilt there is 45° to H_KINK times its rate (below 10 rad/s here)
+    from nsdyn.models.cylinder.simulate import H_KINK, THETA_TOPPLE
+
+    ends = []
+    for dt in (0.01, 0.003):
+        s = simulate(P, None, dt, t_end=4.0, theta0_over_alpha=1.2).summary()
+        assert s["toppled"] and 0.0 <= s["max_tilt_rad"] - THETA_TOPPLE <= 10.0 * H_KINK
+        ends.append(s["t_topple_s"])
+    assert abs(ends[0] - ends[1]) <= 2 * H_KINK
+
+
 def test_t_end_cuts_a_record_or_runs_on_with_the_ground_at_rest():
     # as the other families' t_end (simulate_cylinder(..., t_end=2.0) was "simulate() got an
     # unexpected keyword argument"): the same run as the record cut there, or padded with
