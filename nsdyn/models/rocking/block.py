@@ -176,7 +176,7 @@ class RockingBlock(HalfSizes):
             object.__setattr__(self, name, number(name, getattr(self, name), "a positive number",
                                                   lambda x: x > 0))  # fmt: skip
         if self.r is not None:  # ("0.5" or True: a TypeError, or taken as 1)
-            number("r", self.r, "0 < r <= 1", lambda v: 0.0 < v <= 1.0)
+            number("r", self.r, "0 <= r <= 1", lambda v: 0.0 <= v <= 1.0)
 
     @property
     def alpha(self) -> float:
@@ -269,7 +269,7 @@ def restitution_of(model) -> float:
     not positive: Housner's ``1 - 1.5 sin² alpha`` is ≤ 0 for alpha ≥ 54.7° (a block with
     width/height ≥ √2), whose impact in the model ends the rocking; r must then be given."""
     r = model.restitution
-    if not 0.0 < r <= 1.0:
+    if model.r is None and not 0.0 < r <= 1.0:  # (a given 0: plastic, the block stops there)
         raise ValueError(
             f"r: the coefficient of restitution from the shape is {r:.3g} (alpha = "
             f"{math.degrees(model.alpha):.1f}°), not positive: the model's impact would end "

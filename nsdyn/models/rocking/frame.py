@@ -94,7 +94,7 @@ class RockingFrame:
         if not (math.isfinite(self.gamma) and self.gamma >= 0):
             raise ValueError(f"gamma: expected a non-negative number, got {self.gamma!r}")
         if self.r is not None:  # ("0.5" or True: a TypeError, or taken as 1)
-            number("r", self.r, "0 < r <= 1", lambda v: 0.0 < v <= 1.0)
+            number("r", self.r, "0 <= r <= 1", lambda v: 0.0 <= v <= 1.0)
 
     @property
     def B(self) -> float:

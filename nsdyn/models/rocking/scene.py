@@ -109,8 +109,8 @@ def build_model(cfg: dict, source: str):
     r = None
     if "r" in b:
         r = number(source, "block.r", b["r"], positive=False)  # one message for any r
-        if not (0.0 < r <= 1.0):
-            raise SceneError(f"{source}: block.r: expected 0 < r <= 1, got {b['r']!r}")
+        if not (0.0 <= r <= 1.0):  # (0: a plastic impact, the block stops at it)
+            raise SceneError(f"{source}: block.r: expected 0 <= r <= 1, got {b['r']!r}")
     linear = b.get("linear", False)
     if not isinstance(linear, bool):
         raise SceneError(f"{source}: block.linear: expected true or false, got {linear!r}")

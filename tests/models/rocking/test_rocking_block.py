@@ -45,6 +45,19 @@ def test_free_rocking_period_linearised_housner_closed_form():
         assert t_imp[n + 1] - t_imp[n] == pytest.approx(half, rel=1e-7)
 
 
+def test_a_plastic_impact_stops_the_block_at_its_first_impact():
+    """r = 0 (a perfectly plastic impact, refused before): released from 0.6 alpha the block
+    rests from its first impact on, at Housner's linearised quarter period (1/p) acosh(1 /
+    (1 - 0.6)), after one impact and with theta 0 afterwards."""
+    blk = RockingBlock(width=0.3, height=1.2, linear=True, r=0.0)
+    res = simulate_rocking(blk, t_end=3.0, theta0=0.6 * blk.alpha, dt_out=0.01)
+    s = res.summary()
+    t1 = math.acosh(1.0 / (1.0 - 0.6)) / blk.p
+    assert s["outcome"] == "rest" and s["n_impacts"] == 1
+    assert s["t_rest_s"] == pytest.approx(t1, rel=1e-8)
+    assert np.all(res.theta[res.t > t1] == 0.0)
+
+
 def test_free_rocking_period_exact_quadrature_of_energy_relation():
     """Exact equation: times between impacts equal twice the quadrature of the energy relation
     from theta = 0 to the peak in between."""

@@ -24,7 +24,7 @@ def _cfg(**block):
     [
         (_cfg(width=-0.3), "block.width"),
         (_cfg(r=1.2), "block.r"),
-        (_cfg(r=0.0), "block.r"),
+        (_cfg(r=-0.1), "block.r"),
         (_cfg(heigth=1.0), "block.heigth"),
         (_cfg(gamma=5.0), "block.gamma: the beam-to-columns mass ratio of a rocking frame"),
         ({"scene": {"kind": "rocking", "model": "compliant"},  # sinks 8e11 m under its weight
