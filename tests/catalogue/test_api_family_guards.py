@@ -281,6 +281,10 @@ def test_rocking_and_contact_runs_refuse_what_they_would_run_wrong_or_for_ever()
         # stiffness run to a "non-finite state" or silently
         (lambda: nsdyn.RockingBlock(width=0.3, height=1.2, r="0.5"), r"^r: expected 0 <= r <= 1"),
         (lambda: nsdyn.RockingBlock(width=0.3, height=1.2, r=True), r"^r: expected 0 <= r <= 1"),
+        # half sizes are named as given (H = -1 was "height: ..., got -2")
+        (lambda: nsdyn.RockingBlock(B=0.5, H=-1.0), r"^RockingBlock: H: expected a positive size "
+         r"\[m\], got -1\.0$"),
+        (lambda: nsdyn.RockingBlock(B=0.5), r"^RockingBlock: H: missing \(the half height"),
         (lambda: nsdyn.FrictionLaw(0.5, 0.4, C="x"), r"^C: expected a non-negative decay"),
         (lambda: nsdyn.simulate_event(BODY, LAW, None, t_end=0.1, e_n="0.5"), r"^e_n: expected"),
         (lambda: nsdyn.simulate_event(BODY, LAW, None, t_end=0.1, max_events=2.5),

@@ -94,13 +94,15 @@ def block_sizes(cls: str, args: tuple, width, height, B, H) -> tuple[float, floa
     if full and half:
         raise ValueError(f"{cls}: give width and height (full sizes) or B and H (half sizes), "
                          "not both")  # fmt: skip
-    if half:
-        width, height = (None if B is None else 2 * B), (None if H is None else 2 * H)
-    for name, v in (("width", width), ("height", height)):
+    given = (("B", B, "half width"), ("H", H, "half height")) if half else (
+        ("width", width, "full width"), ("height", height, "full height"))  # fmt: skip
+    for name, v, what in given:  # (the name given: H = -1 was "height: ..., got -2")
         if v is None:
-            raise ValueError(f"{cls}: {name}: missing (the full {name} [m])")
+            raise ValueError(f"{cls}: {name}: missing (the {what} [m])")
         # (numpy scalars are numbers: np.float32(0.3) was refused as no positive size)
         number(f"{cls}: {name}", v, "a positive size [m]", lambda x: x > 0)
+    if half:
+        width, height = 2 * B, 2 * H
     if why := too_slender(float(width), float(height)):
         raise ValueError(f"{cls}: width: {why}")
     return float(width), float(height)
