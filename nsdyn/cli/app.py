@@ -54,7 +54,7 @@ FLAG_KEYS = {"solver.method": "--method", "solver.dt": "--dt", "motion.record": 
 
 # flags of one command alone (``nsdyn modes FRAME`` takes its frame as an argument, which a
 # scene file it names replaces: that frame is the file's)
-FLAG_COMMANDS = {"--frame": ("run",)}
+FLAG_COMMANDS = {"--frame": ("run",), "--fmax": ("run", "modes")}  # (sweep's: its band)
 
 
 def flagged(message: str, args: argparse.Namespace) -> str:
@@ -215,9 +215,10 @@ def _interrupt_line(args: argparse.Namespace) -> str:
         names = (CHECKPOINT_NAME, plane_sweep.CHECKPOINT_NAME)
         if any(any(out.glob(n.replace("{amplitude}", "*"))) for n in names):
             old = " (its sweep.csv is an earlier run's)" * (out / "sweep.csv").is_file()
-            again = "without --restart " * bool(getattr(args, "restart", False))
-            return (f"nsdyn sweep: interrupted; its checkpoints in {out} are complete{old}, "
-                    f"rerun the same command {again}to resume")  # fmt: skip
+            again = ("rerun it without --restart to resume from them, with it to start over"
+                     if getattr(args, "restart", False) else "rerun the same command to "
+                     "resume")  # fmt: skip
+            return f"nsdyn sweep: interrupted; the checkpoints in {out} are complete{old}, {again}"
         return f"{done}; it stopped before its first checkpoint, a rerun starts over"
     if args.command == "run":
         from nsdyn.cli.run import DEFAULT_OUT, FINISHED

@@ -194,11 +194,9 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
             raise SceneError(f"{args.scene}: --friction none: a {kind} scene's bearings keep "
                              "their friction; expected 'switch' or 'arctan'")  # fmt: skip
         cfg.setdefault("solver", {})["law"], args.friction = args.friction, None
-    if kind == "building3d":  # its rung and cut-off: [structure] fidelity and f_max
-        st = cfg.setdefault("structure", {})
-        st.update({k: v for k, v in (("fidelity", args.fidelity), ("f_max", args.fmax)) if v})
-        args.fidelity = args.fmax = None
-    bad = [f"--{k.replace('_', '-')}" for k in _ISOLATED_ONLY if getattr(args, k, None)]
+    own = ("fidelity", "fmax") if kind == "building3d" else ()  # its [structure] keys
+    bad = [f"--{k.replace('_', '-')}" for k in _ISOLATED_ONLY
+           if k not in own and getattr(args, k, None)]  # fmt: skip
     if bad:
         verb = "applies" if len(bad) == 1 else "apply"
         raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes "
@@ -209,7 +207,13 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
                          "rocking, contact and cylinder scenes")  # fmt: skip
     mod = importlib.import_module(scene_module(kind))
     record_wins(args, cfg, getattr(mod, "RECORD_REPLACES", ()), False, kind)
-    for table, vals in _scene_overrides(args).items():
+    given = _scene_overrides(args)
+    if own:  # a 3D building's rung and cut-off: its [structure] fidelity and f_max
+        sc = given.get("scene", {})
+        given["structure"] = {k: sc.pop(k) for k in ("fidelity", "f_max") if k in sc}
+    for table, vals in given.items():
+        if not isinstance(cfg.get(table, {}), dict):
+            continue  # (not a table: the family's reader names it)
         for k, v in vals.items():  # the file stays checked where an option replaces its value
             old = cfg.get(table, {}).get(k)
             if isinstance(v, int | float) and old is not None and (isinstance(old, bool) or

@@ -85,8 +85,8 @@ class Curve:
         names there are."""
         quantities = {k for p in self.points for k in p.quantities}
         rows = self.rows()
-        if name in quantities:
-            vals = [p.quantities.get(name) for p in self.points]
+        if name in quantities:  # (a failed point's: none, as in its row)
+            vals = [p.quantities.get(name) if p.converged else None for p in self.points]
         elif name in POINT_NUMBERS:
             vals = [getattr(p, name) for p in self.points]
         elif rows and name in rows[0]:
@@ -358,14 +358,11 @@ def failures(curve: Curve, options: dict) -> list[dict]:
     for k, p in enumerate(pts):
         if p.method != "sweep":
             continue
-        if p.quantities.get("uplift"):
-            out.append(
-                {
-                    "f": float(p.f),
-                    "reason": "uplift: a normal force reaches zero in the "
-                    "period (outside the bilateral contact model; no steady state computed)",
-                }
-            )
+        if p.quantities.get("uplift"):  # (a frame's bilateral steady state may hold there)
+            held = "" if p.converged else "; no steady state computed"
+            why = (f"uplift: a normal force reaches zero in the period (outside the bilateral "
+                   f"contact model{held})")  # fmt: skip
+            out.append({"f": float(p.f), "reason": why})
             continue
         why = [p.note or "shooting failed"]
         if not p.converged:

@@ -460,7 +460,11 @@ def curve_rows(curve: Curve) -> list[dict]:
     without its response, as :meth:`Curve.rows`)."""
     rows = []
     for p in curve.points:
-        q = p.quantities if p.converged else {"uplift": p.quantities.get("uplift", "")}
+        q = (
+            p.quantities
+            if p.converged
+            else {k: p.quantities.get(k, "") for k in ("uplift", "rim_contact")}
+        )  # fmt: skip  (what ended the transient: said)
         rows.append({
             "f": p.f, "A": curve.amplitude, "u_peak_m": q.get("u_peak_m", math.nan),
             "u_component_peak_m": q.get("u_component_peak_m", math.nan),

@@ -409,10 +409,12 @@ def summarise(r: dict) -> dict:
     good = np.array([bool(x["converged"]) for x in rows]) & (~uplift | uni)
     slip_f = f[~stick & good]
     stick_above = None  # lowest frequency above which every point sticks the whole period
-    if stick.any():
+    if stick.any():  # (a failed point is neither: the run goes on past it, from a stuck one)
         k = len(stick)
-        while k > 0 and stick[k - 1]:
+        while k > 0 and (stick[k - 1] or not rows[k - 1]["converged"]):
             k -= 1
+        while k < len(stick) and not stick[k]:
+            k += 1
         stick_above = float(f[k]) if k < len(f) else None
 
     def peak(key):

@@ -33,7 +33,7 @@ import sys
 import threading
 import time
 import warnings
-from concurrent.futures import ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_EXCEPTION, ProcessPoolExecutor, wait
 from contextlib import contextmanager, suppress
 
 WATCH_S = 0.5  # seconds between the fallback's checks of the parent's pid
@@ -98,12 +98,12 @@ def _worker(parent: int) -> None:
     worker process's own); and a Ctrl-C is the parent's to act on (a terminal sends it to
     every process of the command: an idle worker printed a traceback), as is SAVE_SIGNAL
     outside a task that saves on it (:func:`saved_on_interrupt`)."""
+    for sig in (signal.SIGINT, SAVE_SIGNAL):  # (first: a Ctrl-C during the imports below)
+        if sig is not None:
+            signal.signal(sig, signal.SIG_IGN)
     from nsdyn.ground import UnitWarning
 
     warnings.simplefilter("ignore", UnitWarning)
-    for sig in (signal.SIGINT, SAVE_SIGNAL):
-        if sig is not None:
-            signal.signal(sig, signal.SIG_IGN)
     _die_with(parent)
 
 
@@ -203,16 +203,20 @@ def _raise_interrupt(signum, frame) -> None:
 
 
 def gather(executor, futures: list) -> list:
-    """The results of ``futures`` in order, signals held while waiting (:class:`Interrupts`).
-    Interrupted, the workers of a local pool (:func:`process_pool`) are sent SAVE_SIGNAL and
-    given GRACE_S for their tasks to save what they hold (:func:`saved_on_interrupt`), then
-    the interrupt goes on (the pool's ``with`` block ends them); a second interrupt does not
-    wait."""
-    procs = list((getattr(executor, "_processes", None) or {}).values()) * bool(SAVE_SIGNAL)
+    """The results of ``futures`` in order, signals held while waiting (:class:`Interrupts`);
+    the first task's error as soon as it comes. Interrupted, the workers of a local pool
+    (:func:`process_pool`) are sent SAVE_SIGNAL and given GRACE_S for their tasks to save what
+    they hold (:func:`saved_on_interrupt`), then the interrupt goes on (the pool's ``with``
+    block ends them); a second interrupt does not wait."""
+    own = isinstance(executor, _Pool) and SAVE_SIGNAL is not None  # (another's would die of it)
+    procs = list((getattr(executor, "_processes", None) or {}).values()) if own else []
     with Interrupts() as stop:
         pending = futures
         while pending:
-            pending = wait(pending, timeout=WAIT_S)[1]
+            done, pending = wait(pending, timeout=WAIT_S, return_when=FIRST_EXCEPTION)
+            for f in done:  # a task that failed: said now, not after the others' hours
+                if f.exception() is not None:
+                    f.result()
             if stop.requested:
                 stop.requested = False
                 for proc in procs:

@@ -188,8 +188,8 @@ def test_the_interrupt_line_says_how_each_command_goes_on(tmp_path, monkeypatch)
     # sweep.csv is the run before's (it said "files on disk are complete")
     (tmp_path / "s" / "sweep.csv").write_text("f\n")
     line = _interrupt_line(Namespace(command="sweep", out=str(tmp_path / "s"), restart=True))
-    assert line.endswith("complete (its sweep.csv is an earlier run's), rerun the same command "
-                         "without --restart to resume")  # fmt: skip
+    assert line.endswith("complete (its sweep.csv is an earlier run's), rerun it without "
+                         "--restart to resume from them, with it to start over")  # fmt: skip
     assert "no checkpoint" in _interrupt_line(Namespace(command="uplift"))
     # a deck's or 3D building's sweep keeps its own checkpoints (it said 'starts over')
     plane = Namespace(command="sweep", out=str(tmp_path / "p"))

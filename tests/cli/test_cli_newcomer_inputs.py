@@ -573,6 +573,18 @@ def test_a_sweeps_report_lists_each_point_without_steady_state_and_why():
 
     assert gap_lines(s) == ["2 points without a steady state, f = 0.2-0.3 Hz (first: uplift "
                             "at t = 3.1 s)"]  # fmt: skip
+    # the points stuck all period from 0.3 Hz up, a failed one (no stick flag: no orbit)
+    # among them: the stuck band is not cut short by it, nor started at it
+    for k, st in ((0, False), (1, False), (2, True), (3, True)):
+        rows[k]["stick_all_period"] = st
+    rows[2]["converged"], rows[3]["converged"] = True, False
+    rows[1]["converged"] = True
+    assert summarise(r)["stick_all_period_above_hz"] == 0.3
+    rows[3]["stick_all_period"] = ""  # (a failed point's row: no flag)
+    assert summarise(r)["stick_all_period_above_hz"] == 0.3
+    rows[2]["converged"], rows[2]["stick_all_period"] = False, ""
+    rows[3]["stick_all_period"] = True
+    assert summarise(r)["stick_all_period_above_hz"] == 0.4
 
 
 def test_unilateral_contact_on_given_normal_forces_is_refused_up_front(tmp_path, one_line):

@@ -322,6 +322,16 @@ def test_a_building_run_takes_the_rung_flags_as_its_structure_keys(capsys, tmp_p
     assert main([*argv, "--fmax", "4", "--out", str(tmp_path)]) == 0
     assert "structure.f_max not used: the cb rung's cut-off" in json.loads(
         capsys.readouterr().out)["notes"]  # fmt: skip
+    # a value the flag gave is named with the flag (the file holds none); a [structure] that is
+    # no table is named by the reader, flags or not (it ended in an AttributeError)
+    assert main([*argv[:3], "cb", "--fmax", "inf", "--out", str(tmp_path)]) == 2
+    assert "structure.f_max (--fmax): expected a positive frequency" in capsys.readouterr().err
+    bad = tmp_path / "s.toml"
+    text = scene.read_text().replace("[structure]", "[old]")
+    bad.write_text('structure = "office-11-3d"\n' + text)
+    for flags in ([], ["--fidelity", "cb"]):
+        assert main(["run", str(bad), *flags, "--out", str(tmp_path)]) == 2
+        assert capsys.readouterr().err.rstrip().endswith("[structure]: expected a table")
     # a rocking scene has no rung: the building's words were no help there
     rocking = SCENES / "rocking-seed003-column.toml"
     assert main(["run", str(rocking), "--resume", "--out", str(tmp_path)]) == 2

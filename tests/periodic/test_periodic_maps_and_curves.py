@@ -246,10 +246,14 @@ def test_a_curves_maxima_are_over_the_steady_states_its_model_holds():
     s = Curve(amplitude=2.0, points=pts).summary()
     assert (s["x_iso_max_m"], s["x_iso_max_f_hz"], s["idr_max"]) == (2.0, 0.07, 0.02)
     assert s["converged"] == 4 and s["sweep_points"] == 1
+    frame = Curve(amplitude=2.0, points=pts)  # the failed point's numbers: none, as its row's
+    assert math.isnan(frame.column("x_iso")[2]) and math.isnan(frame.column("IDR")[2])
     # a deck's curve: the peak of its resultant slip (its frame maxima were all None)
     for q in pts:
-        q.quantities = {"u_peak_m": q.quantities["x_iso"], "uplift": q.quantities["uplift"]}
+        q.quantities = {"u_peak_m": q.quantities["x_iso"], "uplift": q.quantities["uplift"],
+                        "rim_contact": q.f == 0.06}  # fmt: skip
     deck = Curve(amplitude=2.0, points=pts)
+    assert deck.rows()[2]["rim_contact"] is True  # (what ended the failed transient: kept)
     s = deck.summary()
     assert (s["u_peak_max_m"], s["u_peak_max_f_hz"]) == (2.0, 0.07) and "x_iso_max_m" not in s
     assert list(deck.rows()[0])[:3] == ["f", "A", "u_peak_m"]  # the deck sweep's columns

@@ -379,6 +379,32 @@ def test_an_interrupted_pool_lets_its_running_task_save_before_it_ends(tmp_path,
     assert "Traceback" not in capfd.readouterr().err
 
 
+def _fail_at_once() -> None:
+    raise ValueError("this amplitude failed")
+
+
+def test_gather_says_a_failed_task_at_once_and_leaves_a_pool_it_did_not_make_whole():
+    # a task's error waited for every other task (an amplitude failing at once was said after
+    # the others' hours; here 300 s, the bound 60 s is "at once", not a timing check); and
+    # an interrupt sent SAVE_SIGNAL to any pool's workers: a plain ProcessPoolExecutor's
+    # idle ones died of it and the caller's pool broke
+    from nsdyn.studies.workers import gather, process_pool
+
+    t0 = time.monotonic()
+    with pytest.raises(ValueError, match="this amplitude failed"), process_pool(2) as pool:
+        gather(pool, [pool.submit(_sleep_long, 300.0), pool.submit(_fail_at_once)])
+    assert time.monotonic() - t0 < 60.0
+    import threading
+
+    with ProcessPoolExecutor(2) as plain:
+        fut = plain.submit(_sleep_long, 0.5)
+        poke = threading.Thread(target=_interrupt_once_held, args=(Path(__file__),), daemon=True)
+        poke.start()
+        with pytest.raises(KeyboardInterrupt):
+            gather(plain, [fut])
+        assert plain.submit(int, "7").result(timeout=60) == 7  # (not a BrokenProcessPool)
+
+
 def test_a_narrowed_grid_keeps_the_dropped_rows_for_a_wider_one(tmp_path):
     # the resume contract over grid edits: narrowing the grid takes its dropped points out of
     # results.csv but keeps their finished rows (outside-grid.csv), and widening it again
