@@ -146,7 +146,7 @@ def check_analysis(study) -> None:
         for key in spec:
             if key not in FIELDS[name]:
                 raise unknown_key(src, f"analysis.{name}.", key, FIELDS[name])
-    other = study.kind in ("rocking", "contact", "cylinder")  # (no isolated-frame results)
+    other = study.kind != "isolated"  # (no isolated-frame results: the defaults' names)
     for name, key in (("design", "objectives"), ("percentiles", "quantities")):
         spec = an.get(name)
         kept = name == "percentiles" and study.keep  # (percentiles default to the kept)

@@ -40,10 +40,15 @@ def _err(source: str, where: str, msg: str) -> SceneError:
     return SceneError(f"{source}: {where}: {msg}")
 
 
-def whole_numbers(source: str, p: Parameter, whole: set[str]) -> Parameter:
+def whole_numbers(source: str, p: Parameter, whole: set[str], real=frozenset()) -> Parameter:
     """``p`` with its values as ints where its field is an integer one (a linspace's 3.0 is
     written 3 to the table and read as 3 by the scene); a fraction or a random law there is
-    refused, naming the field."""
+    refused, naming the field. Where the field is a real number (``real``) its whole values
+    are floats: [2, 3] is the same tasks as [2.0, 3.0] (it ran them all again)."""
+    if p.name in real and not p.random:
+        return Parameter(p.name, values=tuple(
+            float(v) if isinstance(v, int) and not isinstance(v, bool) else v
+            for v in p.values))  # fmt: skip
     if p.name not in whole:
         return p
     where = f"parameters.{p.name}"

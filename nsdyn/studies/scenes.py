@@ -216,6 +216,8 @@ def check_scene(cfg: dict, source: str) -> list[str]:
                 notes += mod.build_notes(cfg, build_system(kind, cfg, source))
                 continue
             out = getattr(mod, name)(cfg, source)
+            if kind in KINDS3C and name == "build_motion":  # (a record cut: said, as a run)
+                notes += [n for n in [mod.record_end_note(cfg, out[0])] if n]
             for part in out if isinstance(out, tuple) else (out,):
                 if isinstance(part, dict) and isinstance(part.get("notes"), list):
                     notes += [n for n in part["notes"] if isinstance(n, str)]

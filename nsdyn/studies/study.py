@@ -173,8 +173,9 @@ def _known_fields(kind: str, base: dict) -> set[str]:
     return known
 
 
-def _integer_fields(kind: str) -> set[str]:
-    """Dotted fields the kind's schema declares integer in every variant of their table."""
+def _integer_fields(kind: str, of=("integer",)) -> set[str]:
+    """Dotted fields the kind's schema declares integer (``of``: of these types) in every
+    variant of their table."""
     from nsdyn.models.scene_schema import schema_of
 
     try:
@@ -185,7 +186,7 @@ def _integer_fields(kind: str) -> set[str]:
     for t in tables:
         for k in t.keys:
             types.setdefault(f"{t.name}.{k.name}", set()).add(k.type)
-    return {f for f, ty in types.items() if ty == {"integer"}}
+    return {f for f, ty in types.items() if ty <= set(of)}
 
 
 def _resolve_path(study_dir: Path, p: str) -> Path:
@@ -403,7 +404,9 @@ def load_study(path: str | Path) -> Study:
     kind, base = _base_scene(source, study_dir, st, raw.get("base", {}))
     params_raw = raw.get("parameters", {})
     known, whole = _known_fields(kind, base), _integer_fields(kind)
-    params = [whole_numbers(source, parse_parameter(source, k, v, known), whole)
+    real = _integer_fields(kind, ("number", "number or pair", "number or list"))  # (a whole
+    # value of these is the same number as a float: [2, 3] the tasks of [2.0, 3.0])
+    params = [whole_numbers(source, parse_parameter(source, k, v, known), whole, real)
               for k, v in params_raw.items()]  # fmt: skip
     records = _parse_records(source, study_dir, raw.get("records", {}), kind, base)
     named = records or (kind == "isolated" and "motion.record" in params_raw)

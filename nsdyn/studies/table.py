@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn._checks import did_you_mean
-from nsdyn.atomic import atomic_open
+from nsdyn.atomic import CheckpointError, atomic_open
 
 RESULTS = "results.csv"
 # the rows (failed ones too) of tasks outside the current grid (it was narrowed, or a base field
@@ -236,11 +236,17 @@ def read_results(out_dir: str | Path) -> Table:
                                     "write the table")  # fmt: skip
         raise FileNotFoundError(f"{out_dir}: no {RESULTS}; expected the folder a study wrote")
     if not path.read_text().strip():
-        raise ValueError(f"{path}: empty; expected the table a study wrote (a header, rows)")
+        raise TableFileError(f"{path}: empty; expected the table a study wrote (a header, "
+                             "rows)")  # fmt: skip
     rows = read_csv(path)
     header = list(rows[0]) if rows else []
     tail = next((i for i, c in enumerate(header) if c in TAIL_COLUMNS), len(header))
     return Table(rows, [c for c in header[:tail] if c not in LEAD_COLUMNS])
+
+
+class TableFileError(CheckpointError):
+    """A study's results table (the point it resumes from) that cannot be read: the message
+    names the file and line (``nsdyn study``: one line, status 2)."""
 
 
 def read_csv(path: str | Path) -> list[dict]:
@@ -253,9 +259,10 @@ def read_csv(path: str | Path) -> list[dict]:
         rows = list(csv.DictReader(fh))
     for i, row in enumerate(rows):
         if None in row or None in row.values():  # (more cells than the header's, or fewer)
-            raise ValueError(f"{path}: line {i + 2}: {'more' if None in row else 'fewer'} cells "
-                             "than the header has columns; expected a study's table (a cell per "
-                             "column)")  # fmt: skip
+            raise TableFileError(f"{path}: line {i + 2}: {'more' if None in row else 'fewer'} "
+                                 "cells than the header has columns; expected a study's table "
+                                 "(a cell per column): move it away, or rerun the study with "
+                                 "--fresh")  # fmt: skip
     return [{k: v if k in TEXT_COLUMNS else _parse(v) for k, v in row.items()} for row in rows]
 
 

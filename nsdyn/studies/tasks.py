@@ -257,6 +257,10 @@ def check_tasks(study: Study) -> None:
     from nsdyn._checks import InputWarning
     from nsdyn.studies.scenes import check_scene
 
+    for p in study.parameters:  # (a study changed in Python: no tasks, an empty table)
+        if not p.random and not p.values:
+            raise SceneError(f"{study.source}: parameters.{p.name}: expected a non-empty list "
+                             "of values, got []")  # fmt: skip
     read = {p.name: [] for p in study.parameters}  # per parameter: a task that reads it
     # the whole key in a note (solver.h is not solver.h_max), or its table ("[bearing] not
     # used"), compiled once for every task

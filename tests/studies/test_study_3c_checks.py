@@ -79,6 +79,7 @@ def _study(tmp_path, scene: str, body: str) -> object:
         (DECK, '[parameters]\n"motion.rotate" = [30.0]\n[analysis.incidence]\n',
          r"analysis.incidence.angle: 'motion.rotate' takes one value \(30.0\); an incidence"),
         (DECK, '[parameters]\n"motion.pga" = [1.0, 2.0]\n[analysis.design]\n'
+               'objectives = ["peak_resultant_displacement_m"]\n'
                "constraints = { peak_base_shear_N = { min = 5.0, max = 1.0 } }\n",
          r"constraints.peak_base_shear_N: expected min <= max"),
     ],
@@ -113,6 +114,17 @@ def test_a_cb_rung_without_a_mode_below_f_max_is_said_once_for_the_study(tmp_pat
         load_study(p)
 
 
+@pytest.mark.parametrize("scene", [DECK, PORTAL.format(fidelity="rigid", structure="") + BEARING])
+def test_a_t_end_past_the_record_is_said_once_for_the_study(tmp_path, scene):
+    # the bundled three-component record ends at 40 s: a deck's or building's study at t_end =
+    # 100 s ran to 40 s and its table said t_end_s = 40 without a word (nsdyn run notes it)
+    body = '[base.motion]\nt_end = 100.0\n[parameters]\n"bearing.radius" = [1.5, 3.0]\n'
+    p = _study(tmp_path, scene, body)
+    with pytest.warns(InputWarning, match=r"2 of 2 tasks: t_end = 100 s is past the "
+                      r"excitation's end \(40 s\); the run ends there$"):  # fmt: skip
+        load_study(p)
+
+
 def test_run_study_checks_a_study_changed_after_loading(tmp_path):
     study = load_study(_study(tmp_path, DECK, '[parameters]\n"motion.rotate" = [0.0, 90.0]\n'))
     twice = replace(study, parameters=[replace(study.parameters[0], values=(0.0, 0.0))])
@@ -121,7 +133,12 @@ def test_run_study_checks_a_study_changed_after_loading(tmp_path):
     nan = replace(study, parameters=[replace(study.parameters[0], values=(0.0, float("nan")))])
     with pytest.raises(SceneError, match=r"motion.rotate: expected a finite number, got nan"):
         run_study(nan, tmp_path / "o2", workers=1)
-    assert not (tmp_path / "o1" / RESULTS).exists() and not (tmp_path / "o2" / RESULTS).exists()
+    # no values: no task (it wrote a results.csv of one column, and an empty table)
+    none = replace(study, parameters=[replace(study.parameters[0], values=())])
+    with pytest.raises(SceneError, match=r"parameters.motion.rotate: expected a non-empty list "
+                       r"of values, got \[\]$"):  # fmt: skip
+        run_study(none, tmp_path / "o3", workers=1)
+    assert not any((tmp_path / o / RESULTS).exists() for o in ("o1", "o2", "o3"))
 
 
 def test_a_run_on_another_grid_first_narrows_the_table_and_drops_the_old_analyses(tmp_path):

@@ -105,6 +105,18 @@ def test_an_integer_field_takes_a_linspace_of_whole_numbers_as_integers(tmp_path
     assert got == [1000, 2000, 3000] and all(type(v) is int for v in got)
 
 
+def test_a_real_field_written_with_whole_numbers_is_the_same_tasks(tmp_path):
+    # isolation.mu = [1, 2] beside [1.0, 2.0]: the scene reads the same numbers and the loader
+    # refuses [2, 2.0] as one value given twice, but the keys differed and every task ran again
+    keys = []
+    for vals in ("[1.0, 2.0]", "[1, 2]"):
+        text = GOOD.replace('"isolation.mu" = [0.02, 0.05]', f'"isolation.mu" = {vals}')
+        tasks = expand(load_study(_write(tmp_path, text, f"s{len(keys)}.toml")))
+        assert all(type(t.params["isolation.mu"]) is float for t in tasks)
+        keys.append([t.key for t in tasks])
+    assert keys[0] == keys[1]
+
+
 def test_key_follows_record_bytes_not_place(tmp_path):
     from nsdyn.ground import read_motion, write_motion
 

@@ -125,6 +125,11 @@ def test_another_study_s_folder_is_refused_not_merged(tmp_path):
         ("rocking-seed003-column.toml", "[analysis.percentiles]\n",
          r"analysis.percentiles.quantities: missing; the default \(idr_max, floor_acc_max_mps2\)"),
         ("cylinder-uplift.toml", "[analysis.design]\n", r"analysis.design.objectives: missing"),
+        # a deck's or 3D building's too (they ran to an all-NaN design table and a blank plot)
+        ("deck-fps4-3c.toml", "[analysis.design]\n", r"analysis.design.objectives: missing; "
+         r".* a deck scene has none of it"),
+        ("building3d-office-rigid.toml", "[analysis.percentiles]\n",
+         r"analysis.percentiles.quantities: missing"),
         # an empty list wrote a row "max_theta_over_alpha > None"
         ("rocking-seed003-column.toml",
          '[analysis.fragility]\nim = "motion.a_p_g"\nedp = "max_theta_over_alpha"\nlimits = []\n',

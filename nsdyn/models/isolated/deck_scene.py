@@ -178,13 +178,16 @@ def record_scale(cfg: dict, exc) -> dict:
 
 def record_end_note(cfg: dict, exc) -> str | None:
     """The note of a record cut at its last sample before the scene's ``motion.t_end``, which
-    falls between two samples (the run ends there: it read "past the excitation's end")."""
+    falls between two samples (the run ends there: it read "past the excitation's end"), or
+    past its end (a study said nothing: its table held the record's end)."""
     t_req = cfg.get("motion", {}).get("t_end")
     if t_req is None or not hasattr(exc, "n") or not hasattr(exc, "dt"):
         return None
-    from nsdyn.ground.formats import between_samples_note
+    from nsdyn.ground.formats import between_samples_note, past_record_note
 
-    return between_samples_note(float(t_req), exc.t0 + (exc.n - 1) * exc.dt, exc.dt)
+    last = exc.t0 + (exc.n - 1) * exc.dt
+    return between_samples_note(float(t_req), last, exc.dt) or past_record_note(
+        float(t_req), last, runs_on=False, what="excitation")  # fmt: skip
 
 
 def unused_law_keys(cfg: dict) -> list[tuple[str, str]]:
