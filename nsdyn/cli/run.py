@@ -33,6 +33,7 @@ from nsdyn.cli.run_summary import summary_rows
 from nsdyn.models.scenefile import SceneError
 
 DEFAULT_OUT = "nsdyn-out"  # output directory
+FIXED_PEAKS = ("idr_max", "floor_acc_max_mps2", "roof_drift_max_m")  # --compare-fixed's
 FINISHED: list = []  # histories written by a run of this process (what an interrupt says)
 
 
@@ -326,13 +327,9 @@ def run(args: argparse.Namespace) -> int:
     check_method(method, cfg)  # before the model's build
     system, motion, duration = build_scene_run(cfg)
     notes = scene_notes(cfg, motion, args.json, system)
-    if args.compare_fixed and (args.no_figures or system.frame is None):
-        why = (
-            "draws the fixed-base frame in the run's figure, and --no-figures draws none"
-            if args.no_figures
-            else "needs a frame; this scene's [structure] has none"
-        )
-        raise SceneError(f"{args.scene or '<default scene>'}: --compare-fixed {why}")
+    if args.compare_fixed and system.frame is None:
+        raise SceneError(f"{args.scene or '<default scene>'}: --compare-fixed needs a frame; "
+                         "this scene's [structure] has none")  # fmt: skip
     if args.fidelity == "auto" and system.frame is None:
         raise SceneError(
             f"{args.scene}: --fidelity auto: the model advisor chooses among a frame's models; "
@@ -482,12 +479,15 @@ def run(args: argparse.Namespace) -> int:
         s["outcome"] = word
         if s.get("uplift"):  # uplift = "warn": the run went on outside the model's domain
             print(f"nsdyn run: warning: {text}", file=sys.stderr)
+        fixed = fixed_base_run(system, motion, t_eval, quiet) if args.compare_fixed else None
+        if fixed is not None:  # its peaks, beside the run's (the figure alone had them)
+            fs = fixed.summary()
+            s["fixed_base"] = {k: fs[k] for k in FIXED_PEAKS if k in fs}
         if args.no_figures:
             s["notes"] += [g for g in [stale_figures(out, [f"{stem}.png"], "run", args.json)] if g]
         else:
             from nsdyn.plot import plot_transient
 
-            fixed = fixed_base_run(system, motion, t_eval, quiet) if args.compare_fixed else None
             fig_path = out / f"{stem}.png"
             fig = plot_transient(res, motion, fixed=fixed, note=f"outcome: {text.split(':')[0]}",
                                  alert=bool(s.get("uplift")))  # fmt: skip

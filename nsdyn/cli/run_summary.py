@@ -49,6 +49,11 @@ def summary_rows(s: dict) -> list[str]:
         ("peak landing velocity", "max_landing_velocity_mps", lambda v: f"{v:.4f} m/s"),
         ("peak landing impulse", "max_landing_impulse_Ns", lambda v: f"{v:.4g} N s"),
         ("energy lost at landings", "impact_energy_J", lambda v: f"{abs(v):.4g} J"),
+        (
+            "fixed base: peak IDR / floor acc.",
+            "fixed_base",
+            lambda v: f"{v['idr_max']:.3e} / {v['floor_acc_max_mps2']:.3f} m/s²",
+        ),
     ]
     skip = "uplift" if s.get("contact") == "unilateral" else ""
     return [f"  {label:36s} {fmt(s[key])}" for label, key, fmt in rows

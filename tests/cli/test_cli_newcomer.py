@@ -392,7 +392,6 @@ def _scene(name: str) -> str:
             ["from 2.2e-14", "to below 1"],
         ),
         (["run", "isolated-shear-3storey.toml", "--compare-fixed"], ["needs a frame"]),
-        (["run", "--compare-fixed", "--no-figures"], ["--no-figures draws none"]),
         (["run", "deck-fps4-3c.toml", "--method", "radau"], ["--method"]),
         (["export", "opensees", "--modes", "3"], ["--modes: not used"]),
         (["modes", "office-11-3d", "--fmax", "1"], ["--fmax: the Craig–Bampton cut-off of"]),
