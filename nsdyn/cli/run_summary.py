@@ -31,12 +31,13 @@ def summary_rows(s: dict) -> list[str]:
     defines. A run with unilateral contacts models lift-off, so it has no uplift row (that
     row reports the no-uplift model's violations); its lift-off rows say what happened."""
     base = "iso" if "x_iso_max_m" in s else "base"  # (a fixed base: no isolators)
+    rigid = " (rigid: the storeys do not deform)" * (s.get("fidelity") == "rigid")  # (not 0 found)
     rows = [  # (label, key, format): metrics the model does not define are absent
         ("duration / output step", "t_end_s", lambda v: duration_text(s, v)),
         ("peak isolator displacement x_iso", "x_iso_max_m", lambda v: f"{v:.4f} m"),
-        ("peak interstorey drift ratio", "idr_max", lambda v: f"{v:.3e}"),
+        ("peak interstorey drift ratio", "idr_max", lambda v: f"{v:.3e}" + rigid),
         ("peak absolute floor acceleration", "floor_acc_max_mps2", lambda v: f"{v:.3f} m/s²"),
-        (f"peak roof drift x_top - x_{base}", "roof_drift_max_m", lambda v: f"{v:.4f} m"),
+        (f"peak roof drift x_top - x_{base}", "roof_drift_max_m", lambda v: f"{v:.4f} m" + rigid),
         ("minimum normal force", "min_normal_force_N", lambda v: f"{v + 0.0:.4g} N"),  # no "-0"
         ("share of time all isolators stick", "stick_fraction", lambda v: f"{v:.2f}"),
         ("energy balance closure error", "energy_closure", _closure_cell),

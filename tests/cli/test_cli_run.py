@@ -121,6 +121,11 @@ def test_summary_rows_of_a_unilateral_run_report_lift_off_not_uplift():
     assert "uplift " in held and "none" in held
     assert "uplift " not in lifted and "lift-offs / landings" in lifted and "3 / 2" in lifted
     assert "minimum normal force                 0 N" in lifted and "-0" not in lifted
+    # a rigid superstructure's zero drift is the model's, not a computed peak: said so
+    peaks = {"idr_max": 0.0, "roof_drift_max_m": 0.0, "x_iso_max_m": 0.2}
+    rigid = summary_rows({**peaks, "fidelity": "rigid"})
+    assert sum(r.endswith("(rigid: the storeys do not deform)") for r in rigid) == 2
+    assert not any("rigid" in r for r in summary_rows({**peaks, "fidelity": "cb"}))
 
 
 @pytest.mark.parametrize("law", ["arctan", "switch"])
