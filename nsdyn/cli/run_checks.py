@@ -197,10 +197,11 @@ def explicit_steps(method: str, system, span: float, quiet: bool, max_steps=None
                          "'radau' (the default) or a fixed-step method")  # fmt: skip
     if steps <= EXPLICIT_STEPS_NOTE:
         return []
+    at = " (its rate at rest: fewer while the isolators slide)" * what.startswith("arctan")
     note = (
         f"dopri5 is explicit: the model's {what} bounds its step to "
-        f"{DOPRI5_REAL_AXIS / rate:.2g} s, about {steps:.2g} steps for this run; a stiff "
-        "model is for 'radau' (the default) or a fixed-step method"
+        f"{DOPRI5_REAL_AXIS / rate:.2g} s, up to about {steps:.2g} steps for this run{at}; a "
+        "stiff model is for 'radau' (the default) or a fixed-step method"
     )
     if not quiet:
         print(f"nsdyn run: note: {note}", file=sys.stderr)
