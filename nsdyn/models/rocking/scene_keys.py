@@ -50,12 +50,11 @@ SCHEMA = Schema(
                     "r",
                     "number",
                     "coefficient of restitution of the angular velocity at impact "
-                    "(not for `compliant`)",
+                    "(0: plastic, the block stops at it; not for `compliant`)",
                     "—",
                     default="(Housner's, or the frame's)",
                     lo=0.0,
                     hi=1.0,
-                    lo_open=True,
                 ),
                 Key(
                     "linear",
