@@ -184,9 +184,9 @@ def check_analysis(study) -> None:
         ref, variables = d.get("reference", {}), d.get("variables") or _grid_names(study)
         lost, extra = [k for k in variables if k not in ref], [k for k in ref if k not in variables]
         if ref and (lost or extra):  # (a partial one matched the first design that fit it)
+            said = ", ".join([f"missing {lost}"] * bool(lost) + [f"got {extra}"] * bool(extra))
             raise SceneError(f"{src}: analysis.design.reference: expected a value for each "
-                             f"design variable {variables}, "
-                             + (f"missing {lost}" if lost else f"got {extra} besides"))  # fmt: skip
+                             f"design variable {variables}, {said}")  # fmt: skip
         for k, v in ref.items():
             _check_column(src, "analysis.design.reference", k, study, result=False)
             vals = grids.get(k, ())

@@ -68,6 +68,11 @@ def parse_parameter(source: str, name: str, spec, known: set[str]) -> Parameter:
     where = f"parameters.{name}"
     if name in OWN_FIELDS:  # (scene.name ran one run once per name; scene.kind misled)
         raise _err(source, where, OWN_FIELDS[name])
+    own = sorted(k for k in known if k.startswith(f"{name}."))
+    if own:  # (a table: it was "unknown scene field; did you mean 'bearing.c'?")
+        shown = ", ".join(own[:6]) + (", …" if len(own) > 6 else "")
+        raise _err(source, where, f"[{name}] is a table; a parameter varies one of its fields "
+                   f"({shown})")  # fmt: skip
     if name not in known:
         leaf = [k for k in sorted(known) if k.rsplit(".", 1)[-1] == name.rsplit(".", 1)[-1]]
         hint = (did_you_mean(name, leaf) or f"; did you mean {leaf[0]!r}?" if leaf  # 'bearing.mu'

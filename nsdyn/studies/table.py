@@ -234,6 +234,9 @@ def read_results(out_dir: str | Path) -> Table:
                                     f"finished rows in {PARTS}/; run the study again (nsdyn "
                                     "study FILE --out DIR, or run_study) to finish it and "
                                     "write the table")  # fmt: skip
+        if Path(out_dir).is_file():  # (its results.parquet: it said "no results.csv")
+            raise FileNotFoundError(f"{out_dir}: not a study's folder or its {RESULTS} (a "
+                                    "results.parquet reads with pandas.read_parquet)")  # fmt: skip
         raise FileNotFoundError(f"{out_dir}: no {RESULTS}; expected the folder a study wrote")
     if not path.read_text().strip():
         raise TableFileError(f"{path}: empty; expected the table a study wrote (a header, "

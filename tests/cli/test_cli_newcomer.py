@@ -515,7 +515,12 @@ def test_a_design_reference_off_the_grid_is_refused(tmp_path, one_line):
         ('{ "isolation.mu" = 0.02 }', "missing ['isolation.c']"),
         (
             '{ "isolation.mu" = 0.02, "isolation.c" = 5e3, "isolation.k_lam" = 5e4 }',
-            "got ['isolation.k_lam'] besides",
+            "got ['isolation.k_lam']",
+        ),
+        # a misspelt variable: both said (the key given was never named)
+        (
+            '{ "isolation.muu" = 0.02, "isolation.c" = 5e3 }',
+            "missing ['isolation.mu'], got ['isolation.muu']",
         ),
     ],
 )

@@ -115,7 +115,7 @@ def test_a_cb_rung_without_a_mode_below_f_max_is_said_once_for_the_study(tmp_pat
 
 
 @pytest.mark.parametrize("scene", [DECK, PORTAL.format(fidelity="rigid", structure="") + BEARING])
-def test_a_t_end_past_the_record_is_said_once_for_the_study(tmp_path, scene):
+def test_a_t_end_past_the_record_is_said_once_for_the_study(tmp_path, scene, capsys):
     # the bundled three-component record ends at 40 s: a deck's or building's study at t_end =
     # 100 s ran to 40 s and its table said t_end_s = 40 without a word (nsdyn run notes it)
     body = '[base.motion]\nt_end = 100.0\n[parameters]\n"bearing.radius" = [1.5, 3.0]\n'
@@ -123,6 +123,15 @@ def test_a_t_end_past_the_record_is_said_once_for_the_study(tmp_path, scene):
     with pytest.warns(InputWarning, match=r"2 of 2 tasks: t_end = 100 s is past the "
                       r"excitation's end \(40 s\); the run ends there$"):  # fmt: skip
         load_study(p)
+    if scene is DECK:  # --json carries it too (said on stderr only)
+        import json
+
+        from nsdyn.cli import main
+
+        argv = ["study", str(p), "--out", str(tmp_path / "o"), "--workers", "1", "--json"]
+        assert main([*argv, "--no-figures"]) == 0
+        said = json.loads(capsys.readouterr().out)["warnings"]
+        assert any("2 of 2 tasks: t_end = 100 s is past the excitation's end" in w for w in said)
 
 
 def test_run_study_checks_a_study_changed_after_loading(tmp_path):

@@ -187,6 +187,12 @@ def test_a_field_in_another_table_is_hinted_by_its_own_name(tmp_path):
     hint = r"isolation\.mu: unknown scene field; did you mean 'bearing\.mu'"
     with pytest.raises(SceneError, match=hint):
         load_study(study)
+    # a table given as the parameter: named as a table with its fields (it was "unknown
+    # scene field; did you mean 'bearing.c'?")
+    study.write_text(f'[study]\nscene = "{path}"\n[parameters]\n"bearing" = [1.0, 2.0]\n')
+    with pytest.raises(SceneError, match=r"parameters\.bearing: \[bearing\] is a table; a "
+                       r"parameter varies one of its fields \(bearing\.R1, "):  # fmt: skip
+        load_study(study)
 
 
 def test_the_never_kept_warning_names_only_the_names_no_row_has():

@@ -533,6 +533,10 @@ def test_a_study_table_reads_back_as_a_dataframe_cell_for_cell(tmp_path):
     (tmp_path / "cut" / RESULTS).write_text("")
     with pytest.raises(CheckpointError, match=r"results\.csv: empty; expected the table a study"):
         read_results(tmp_path / "cut")
+    (tmp_path / "cut" / "results.parquet").write_bytes(b"PAR1")  # (not "no results.csv")
+    with pytest.raises(FileNotFoundError, match=r"results\.parquet: not a study's folder or its "
+                       r"results\.csv \(a results\.parquet reads with pandas"):  # fmt: skip
+        read_results(tmp_path / "cut" / "results.parquet")
     # the analyses take a study's Table, not its DataFrame copy (an AttributeError 'rows')
     with pytest.raises(TypeError, match=r"^table: expected a study's Table"):
         run_analyses(load_study(_study(tmp_path)), df, tmp_path / "a")
