@@ -288,6 +288,11 @@ def check_tasks(study: Study) -> None:
         if why and all(why):
             raise SceneError(f"{study.source}: parameters.{name}: no task reads it ({why[0]}); "
                              "its values would repeat one run")  # fmt: skip
+        if any(why):  # (some: a fixed rung beside an isolated one ran its radii twice)
+            n, first = sum(map(bool, why)), next(w for w in why if w)
+            warnings.warn(f"{study.source}: parameters.{name}: {n} of {len(why)} tasks do not "
+                          f"read it ({first}); their values of it repeat one run",
+                          InputWarning, stacklevel=2)  # fmt: skip
     seen: dict[str, Task] = {}
     for t in tasks:  # (a value given twice past load_study, by a caller's replace())
         if t.key in seen:

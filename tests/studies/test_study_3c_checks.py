@@ -134,6 +134,18 @@ def test_a_t_end_past_the_record_is_said_once_for_the_study(tmp_path, scene, cap
         assert any("2 of 2 tasks: t_end = 100 s is past the excitation's end" in w for w in said)
 
 
+def test_a_parameter_some_tasks_do_not_read_is_said(tmp_path):
+    # the fixed rung takes no bearing: beside the rigid one, its radii repeat one run (the
+    # design and percentile analyses then counted the copies as designs of their own)
+    scene = PORTAL.format(fidelity="rigid", structure="") + BEARING
+    body = (
+        '[parameters]\n"structure.fidelity" = ["rigid", "fixed"]\n"bearing.radius" = [1.5, 3.0]\n'
+    )
+    with pytest.warns(InputWarning, match=r"parameters\.bearing\.radius: 2 of 4 tasks do not "
+                      r"read it \(\[bearing\] not used: the fixed rung"):  # fmt: skip
+        load_study(_study(tmp_path, scene, body))
+
+
 def test_run_study_checks_a_study_changed_after_loading(tmp_path):
     study = load_study(_study(tmp_path, DECK, '[parameters]\n"motion.rotate" = [0.0, 90.0]\n'))
     twice = replace(study, parameters=[replace(study.parameters[0], values=(0.0, 0.0))])
