@@ -47,7 +47,7 @@ def _user_errors() -> tuple[type[BaseException], ...]:
 # scene keys a command-line flag sets: an error about the key names the flag that gave it
 FLAG_KEYS = {"solver.method": "--method", "solver.dt": "--dt", "motion.record": "--record",
              "motion.pga": "--pga", "motion.t_end": "--t-end", "scene.f_max": "--fmax",
-             "structure.f_max": "--fmax",
+             "structure.f_max": "--fmax", "motion.units": "--units",
              "scene.fidelity": "--fidelity", "structure.fidelity": "--fidelity",
              "solver.max_steps": "--max-steps", "scene.frame": "--frame"}  # fmt: skip
 
@@ -68,8 +68,9 @@ def flagged(message: str, args: argparse.Namespace) -> str:
             continue
         said = {str(v), repr(v)} | ({f"{v:g}"} if isinstance(v, float) else set())
         rest = message.split(f": {key}:", 1)[1]  # (a run's end is the flag's: "1e+11 samples")
-        if key == "motion.t_end" or any(s in rest for s in said):  # (the flag's value, not
-            message = message.replace(f": {key}:", f": {key} ({flag}):", 1)  # the file's)
+        whole = key in ("motion.t_end", "motion.units")  # (the flag's, whatever the message)
+        if whole or any(s in rest for s in said):  # (the flag's value, not the file's)
+            message = message.replace(f": {key}:", f": {key} ({flag}):", 1)
     t_end = getattr(args, "t_end", None)
     against = ("longer than the run", " outputs of ")  # (not "expected a positive number")
     if t_end is not None and ": solver.dt_out:" in message and any(a in message for a in against):

@@ -34,6 +34,7 @@ from nsdyn.models.scenefile import SceneError
 
 DEFAULT_OUT = "nsdyn-out"  # output directory
 FIXED_PEAKS = ("idr_max", "floor_acc_max_mps2", "roof_drift_max_m")  # --compare-fixed's
+RECORD_UNITS = ("g", "gal", "cm/s2", "m/s2")  # --units: a scene's [motion] units
 FINISHED: list = []  # histories written by a run of this process (what an interrupt says)
 
 
@@ -51,6 +52,11 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--frame", type=named, help="bundled frame name or frame TOML path")
     p.add_argument("--record", type=named, help="bundled record name or ground-motion file")
     p.add_argument("--pga", type=_positive_finite, metavar="MPS2", help=PGA_HELP)
+    p.add_argument(
+        "--units",
+        choices=RECORD_UNITS,
+        help="the record file's units ([motion] units; a file stating others is warned of)",
+    )
     p.add_argument("--fixed-base", action="store_true", help="the fixed-base linear frame")
     p.add_argument(
         "--fidelity",
@@ -117,6 +123,8 @@ def _scene_overrides(args: argparse.Namespace) -> dict:
         o.setdefault("motion", {})["record"] = args.record
     if args.pga:
         o.setdefault("motion", {})["pga"] = args.pga
+    if getattr(args, "units", None):
+        o.setdefault("motion", {})["units"] = args.units
     if args.t_end:
         o.setdefault("motion", {})["t_end"] = args.t_end
     if args.method:

@@ -110,7 +110,10 @@ def pga_target(target) -> float:
 
 
 # how a user gives a record's units, in the library and in a scene file
-UNITS_HINT = 'in a scene [motion] units = "gal", "g" or "m/s2"; in Python units=\'gal\''
+UNITS_HINT = (
+    'in a scene [motion] units = "gal", "g" or "m/s2"; nsdyn run --units gal; in Python '
+    "units='gal'"
+)
 
 
 class UnitError(ValueError):

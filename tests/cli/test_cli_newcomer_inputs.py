@@ -899,3 +899,21 @@ def test_a_frame_with_a_setback_runs_without_drift_ratios_and_says_so(tmp_path, 
 
     r = fixed_base_response(load_frame(str(frame)), 1.0, [0.5, 1.0])
     assert np.isnan(r["idr"]).all() and np.all(r["acc"] > 0)
+
+
+def test_a_records_units_are_given_on_the_command_line(tmp_path, capsys, one_line):
+    # a plain file in gal could not be run as such without a scene file: it ran as m/s²
+    # (PGA 250 m/s², "probably in cm/s²") and stopped at an uplift. --units gal reads it as
+    # the scene's [motion] units does: PGA 2.5 m/s² (250 gal, the file's largest sample)
+    t = np.arange(0.0, 2.0, 0.01)
+    a = 250.0 * np.sin(2 * np.pi * t)
+    np.savetxt(tmp_path / "gal.txt", np.column_stack([t, a]))
+    argv = ["run", "--record", str(tmp_path / "gal.txt"), "--no-figures", "--json"]
+    assert main([*argv, "--units", "gal", "--out", str(tmp_path / "o")]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["pga_mps2"] == pytest.approx(np.abs(a).max() / 100.0, rel=1e-9)
+    assert not any("units" in w for w in s.get("warnings", []))
+    # a scene without a record file has no units to give: the flag is named, not the file
+    cask = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "rocking-seed001-cask.toml"
+    assert main(["run", str(cask), "--units", "g", "--out", str(tmp_path / "c")]) == 2
+    one_line("motion.units (--units): the units of a record file; this scene reads none")
