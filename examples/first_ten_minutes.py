@@ -13,6 +13,7 @@ Three runs, one figure each (``examples/figures/first-*.png``):
 
 from __future__ import annotations
 
+import sys
 import warnings
 from pathlib import Path
 
@@ -102,7 +103,9 @@ def office_frame() -> tuple[dict, object]:
     return out, plot_transient(r, rec)
 
 
-def main(figures: bool = True) -> dict:
+def main(figures: bool = True, folder: Path = FIGURES) -> dict:
+    """The numbers of the three runs; their figures written into ``folder`` (default the
+    documentation's own, ``examples/figures``) unless ``figures`` is False."""
     out = {}
     for key, fn in (
         ("coulomb", coulomb_oscillator),
@@ -111,7 +114,9 @@ def main(figures: bool = True) -> dict:
     ):
         nums, fig = fn()
         if figures:
-            save_figure(fig, FIGURES / f"first-{key}.png", dpi=110)
+            path = Path(folder) / f"first-{key}.png"
+            save_figure(fig, path, dpi=110)
+            print(f"figure: {path}", file=sys.stderr)
         out[key] = nums
     return out
 
@@ -119,11 +124,18 @@ def main(figures: bool = True) -> dict:
 if __name__ == "__main__":
     import argparse
 
-    argparse.ArgumentParser(
+    ap = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    ).parse_args()  # --help; no options
+    )
+    ap.add_argument(
+        "--out",
+        type=Path,
+        default=FIGURES,
+        help=f"folder for the figures (default {FIGURES}, the documentation's)",
+    )
+    args = ap.parse_args()
     import json
 
-    res = main()
+    res = main(folder=args.out)
     # histories (arrays) are printed as their shapes only
     print(json.dumps(res, indent=1, default=lambda a: f"<array {getattr(a, 'shape', '')}>"))
