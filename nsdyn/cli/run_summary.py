@@ -51,9 +51,12 @@ def summary_rows(s: dict) -> list[str]:
         ("peak landing impulse", "max_landing_impulse_Ns", lambda v: f"{v:.4g} N s"),
         ("energy lost at landings", "impact_energy_J", lambda v: f"{abs(v):.4g} J"),
         (
-            "fixed base: peak IDR / floor acc.",
+            "fixed base: IDR / floor acc. / roof",
             "fixed_base",
-            lambda v: f"{v['idr_max']:.3e} / {v['floor_acc_max_mps2']:.3f} m/s²",
+            lambda v: (
+                f"{v['idr_max']:.3e} / {v['floor_acc_max_mps2']:.3f} m/s² / "
+                f"{v['roof_drift_max_m']:.4f} m"
+            ),  # fmt: skip
         ),
     ]
     skip = "uplift" if s.get("contact") == "unilateral" else ""

@@ -246,6 +246,16 @@ def batches(tasks: list[Task], size: int) -> list[list[Task]]:
     return [tasks[i : i + size] for i in range(0, len(tasks), size)]
 
 
+NOT_USED = re.compile(r"^(\[?[\w.]+\]?(?:, \[?[\w.]+\]?)*) not used\b")  # "[bearing] not used: …"
+
+
+def _unused_keys(note: str) -> str:
+    """The keys or tables a "… not used: why" note is about ("" for any other note, as the
+    record's "column(s) 2 not used", which is said for the study)."""
+    m = NOT_USED.match(note)
+    return m.group(1) if m else ""
+
+
 def check_tasks(study: Study) -> None:
     """Every task's complete scene checked as ``nsdyn run`` checks a scene file, before any
     runs: a bad parameter value or record is a :class:`SceneError` naming the study file, the
@@ -273,11 +283,12 @@ def check_tasks(study: Study) -> None:
         for task in tasks:
             label = task_label(task.index, task.params, task.record_name)
             notes = check_scene(task.cfg, f"{study.source}: {label}")
-            for name, why in read.items():
-                unused = [n for n in notes if "not used" in n and keys[name].search(n)]
+            about = {n: _unused_keys(n) for n in notes}  # (the keys a note is about: not
+            for name, why in read.items():  # a key its reason names, "as [motion] record_y")
+                unused = [n for n, k in about.items() if k and keys[name].search(k)]
                 why.append(unused[0] if unused else None)
-            for n in notes:
-                other[n] = other.get(n, 0) + ("not used" not in n)
+            for n, k in about.items():
+                other[n] = other.get(n, 0) + (not k)
     for text, category in dict.fromkeys((str(w.message), w.category) for w in said):
         warnings.warn(text, category, stacklevel=2)
     for note, count in other.items():  # (a cb model without modes: said, not hidden in rows)

@@ -202,4 +202,5 @@ def test_compare_fixed_gives_the_fixed_base_peaks_beside_the_isolated_ones(tmp_p
     assert fb["idr_max"] > s["idr_max"] and fb["floor_acc_max_mps2"] > s["floor_acc_max_mps2"]
     assert main(argv) == 0
     row = next(x for x in capsys.readouterr().out.splitlines() if "fixed base:" in x)
-    assert f"{fb['idr_max']:.3e} / {fb['floor_acc_max_mps2']:.3f} m/s²" in row
+    assert (f"{fb['idr_max']:.3e} / {fb['floor_acc_max_mps2']:.3f} m/s² / "
+            f"{fb['roof_drift_max_m']:.4f} m") in row  # fmt: skip

@@ -294,3 +294,23 @@ def test_a_base_value_a_parameter_replaces_is_said(tmp_path):
                       r"parameters.isolation.mu gives every task its value"):  # fmt: skip
         study = load_study(path)
     assert [t.cfg["isolation"]["mu"] for t in expand(study)] == [0.01, 0.02]
+
+
+def test_a_note_that_names_a_table_in_its_reason_is_not_a_key_unread(tmp_path):
+    # "the record's column(s) 2 not used: ... give the second horizontal as [motion]
+    # record_y ..." named [motion] in its reason, not as what is unused: motion.pga, which
+    # every task reads, was said unread by the tasks of that record (refused with it alone)
+    import warnings
+
+    import numpy as np
+
+    t = np.arange(0.0, 2.0, 0.01)
+    np.savetxt(tmp_path / "rec.txt", np.column_stack([t, np.sin(t), np.cos(t)]))
+    body = ('[base.motion]\nunits = "m/s2"\n[records]\nnames = ["rec.txt"]\n'
+            '[parameters]\n"motion.pga" = [1.0, 2.0]\n')  # fmt: skip
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        load_study(_study(tmp_path, "cylinder-uplift.toml", body))
+    notes = [str(w.message) for w in said]
+    assert any("column(s) 2 not used" in n for n in notes)  # (the record's own note, kept)
+    assert not any("do not read it" in n for n in notes)

@@ -378,6 +378,12 @@ def run_end(t_end, dur: float) -> float:
     return float(t_end)
 
 
+def _orbit_f(gp) -> float | None:
+    """The highest frequency [Hz] of an orbit's components that move (None: none moves)."""
+    fs = [gp[kp.GP_F]] * bool(gp[kp.GP_AX] or gp[kp.GP_AY]) + [gp[kp.GP_FZ]] * bool(gp[kp.GP_AZ])
+    return max(fs) if fs else None
+
+
 def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, float]:
     """(t_eval, max_step) of a run on the ground (gk, gp) of :func:`pack_ground`: outputs
     every ``dt_out`` (default: the record's step, or 1/50 period of an orbit) up to ``t_end``
@@ -388,8 +394,10 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
         raise ValueError(f"{given}: give t_eval (the output times) or t_end and dt_out, not both")
     if t_eval is None:
         t_end = run_end(t_end, dur)
-        if dt_out is None:
-            dt_out = gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (50.0 * gp[kp.GP_F])
+        if dt_out is None:  # (an orbit's faster component: its vertical, f_z, may be)
+            dt_out = (
+                gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (50.0 * (_orbit_f(gp) or gp[kp.GP_F]))
+            )
         else:
             output_step(dt_out, t_end, off=False)
         t0 = gp[kp.GP_T0] * (gk == kp.G_TABLE)
@@ -409,10 +417,9 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
         t0, dt = float(gp[kp.GP_T0]), float(gp[kp.GP_DT])
         for note in record_span_notes(t_eval, t0, t0 + dur, dt):
             warnings.warn(note, NotedWarning, stacklevel=3)
-    fs = [gp[kp.GP_F]] * bool(gp[kp.GP_AX] or gp[kp.GP_AY]) + [gp[kp.GP_FZ]] * bool(gp[kp.GP_AZ])
     coarse = coarse_grid_note(
         float(np.max(np.diff(t_eval))),
-        None if table else max(fs, default=None),
+        None if table else _orbit_f(gp),
         float(gp[kp.GP_DT]) if table else None,
         dur if table else 0.0,
     )

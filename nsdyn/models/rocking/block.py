@@ -271,7 +271,9 @@ def restitution_of(model) -> float:
     not positive: Housner's ``1 - 1.5 sin² alpha`` is ≤ 0 for alpha ≥ 54.7° (a block with
     width/height ≥ √2), whose impact in the model ends the rocking; r must then be given."""
     r = model.restitution
-    if model.r is None and not 0.0 < r <= 1.0:  # (a given 0: plastic, the block stops there)
+    if (
+        getattr(model, "r", None) is None and not 0.0 < r <= 1.0
+    ):  # (a given 0: plastic, the block stops there)
         raise ValueError(
             f"r: the coefficient of restitution from the shape is {r:.3g} (alpha = "
             f"{math.degrees(model.alpha):.1f}°), not positive: the model's impact would end "

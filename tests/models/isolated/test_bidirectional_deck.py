@@ -445,3 +445,7 @@ def test_outputs_too_far_apart_for_the_record_are_said_by_both_plane_runs():
         warnings.simplefilter("error", AccuracyWarning)  # (its own grid, and the bound itself)
         simulate_plane(d, rec)
         simulate_plane(d, rec, dt_out=0.1)
+        # an orbit's own grid samples its faster vertical (it took the horizontal's 1/50 and
+        # warned of itself at f_z = 6 f)
+        r = simulate_plane(d, {"f": 0.5, "ax": 1.0, "az": 1.0, "f_z": 3.0}, t_end=2.0)
+        assert np.diff(r.t).max() <= 1.0 / (50 * 3.0) * (1 + 1e-9)

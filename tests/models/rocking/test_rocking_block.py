@@ -278,3 +278,14 @@ def test_housner_restitution_is_refused_where_it_is_no_restitution():
         with pytest.raises(ValueError, match=r"alpha: expected a slenderness in \(0, pi/2\)"):
             housner_restitution(alpha)
     assert RockingBlock(width=3.0, height=1.0).restitution < 0  # (a run refuses it)
+
+
+def test_any_model_with_the_documented_attributes_rocks():
+    """simulate_rocking runs any model exposing p, alpha, restitution, linear and g (the
+    module's promise): one without a given ``r`` failed once r = 0 was told from Housner's;
+    linearised free rocking from 0.6 alpha reaches its first impact at (1/p) acosh(2.5)."""
+    from types import SimpleNamespace
+
+    m = SimpleNamespace(p=COLUMN.p, alpha=COLUMN.alpha, restitution=0.9, linear=True, g=9.81)
+    res = simulate_rocking(m, t_end=2.0, theta0=0.6 * m.alpha, dt_out=0)
+    assert res.impacts[0, 0] == pytest.approx(math.acosh(1.0 / (1.0 - 0.6)) / m.p, rel=1e-8)
