@@ -16,13 +16,20 @@ PKG = ROOT / "nsdyn"
 # the pipeline, bottom to top: a module may import its own stage or any stage before it
 STAGES = [
     "atomic",
+    "_textfile",
+    "_brief",
+    "_progress",
+    "_checks",
     "_numba_light",
     "_numba_cache",
+    "_kaddress",
+    "_kborrow",
     "_klinalg",
     "_kdp5",
     "_lazy",
     "_bundled",
     "_tabular",
+    "_model_cache",
     "structure",
     "ground",
     "models",
@@ -33,7 +40,7 @@ STAGES = [
     "bench",
     "cli",
 ]
-MAX_LINES = 560  # "no module over ~500 lines"
+MAX_LINES = 560  # ARCHITECTURE.md: "at most 560 lines"
 
 
 def _modules() -> list[Path]:
@@ -85,6 +92,14 @@ def test_imports_point_down_the_pipeline(path):
         {m for m in _imports(path) if (s := _stage(m)) is not None and STAGES.index(s) > rank}
     )
     assert not above, f"{path.relative_to(ROOT)} ({own}) imports later stages: {above}"
+
+
+def test_every_top_level_module_has_a_stage():
+    # a module missing from STAGES was never checked, nor were imports of it (seven of the
+    # bottom modules were: _kaddress, _checks, _model_cache, ...)
+    top = {p.stem for p in PKG.glob("*.py") if p.stem != "__init__"}
+    top |= {p.name for p in PKG.iterdir() if (p / "__init__.py").is_file() and p.name != "data"}
+    assert sorted(top - set(STAGES)) == []
 
 
 def test_model_families_do_not_import_the_isolated_frame():
