@@ -257,6 +257,9 @@ def scene_notes(cfg: dict, motion, quiet: bool, system=None) -> list[str]:
              note_unused_isolation(cfg, system), note_loose_atol(cfg, system),
              note_no_column_lines(system), note_no_modes(system)]  # fmt: skip
     notes = [n for n in notes if n]
+    from nsdyn.cli.args import SAID
+
+    SAID.extend(("note", n) for n in notes)  # (the library's run says some of them again)
     if not quiet:
         for n in notes:
             print(f"nsdyn run: note: {n}", file=sys.stderr)

@@ -455,6 +455,12 @@ def _finish(
             "dip a normal force to zero: confirm the uplift at half the step, or with an "
             "adaptive method ('radau')"
         )
+    elif status == ki.ST_UPLIFT and m.name == "dopri5":  # (α = 1e6: "reduce the excitation")
+        message += (
+            ". An explicit step past its stability limit (a stiff model, or large Baumgarte "
+            "gains alpha, beta) can also dip a normal force to zero: confirm the uplift with "
+            "'radau'"
+        )
     if status == ki.ST_NEWTON and law == "arctan" and m.fixed_step and eps:
         message += (
             f"; the arctan law turns the friction over within {1.0 / eps:.2g} m/s of slip "

@@ -56,8 +56,23 @@ def vertical_felt(system, motion) -> None:
 
 def event_law(system, method: str) -> None:
     """Method ``event`` integrates the switch law: refused for a system without friction (law
-    "none": it would add friction), said in a warning for the arctan law it replaces."""
+    "none": it would add friction), said in a warning for the arctan law it replaces. A law's
+    parameter that blurs its friction (:func:`~nsdyn.models.isolated.friction.coarse_law_note`)
+    is said too (a NotedWarning: a scene's run notes it), as a deck's run says it."""
     iso = getattr(system, "isolation", None)
+    law = integrated_law(system, method)
+    if iso is not None and law in ("switch", "arctan"):
+        from nsdyn._checks import NotedWarning
+        from nsdyn.models.isolated.friction import coarse_law_note
+
+        eps, eta = float(np.max(iso.eps)), float(np.max(iso.eta))
+        note = coarse_law_note(law, eps, eta, where="isolation")
+        if note and method == "event":  # (its stick is exact: eta only reads the outputs)
+            note = note.split(": ", 1)[0] + (": the event method's stick phases do not depend "
+                                             "on it, but its outputs count |v| <= eta as stuck "
+                                             "(stick_fraction)")  # fmt: skip
+        if note:
+            warnings.warn(note, NotedWarning, stacklevel=3)
     if method != "event" or iso is None or iso.law == "switch":
         return
     if iso.law == "none":

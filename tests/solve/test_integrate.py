@@ -394,6 +394,21 @@ def test_a_fixed_step_uplift_says_to_confirm_it_at_half_the_step():
     assert "fixed step" not in str(info.value)
 
 
+def test_an_explicit_uplift_says_it_may_be_a_step_past_its_stability_limit():
+    # Baumgarte gains alpha = 1e6 /s: dopri5's steps (h < 3.3 / alpha) broke down at 1.4e-4 s
+    # as "uplift ... reduce the excitation", under a record that lifts nothing (radau: none)
+    from nsdyn.ground import read_motion
+    from nsdyn.solve.transient import simulate
+
+    s = build_system(demo_frame(), Isolation(alpha=1e6, beta=0.0), fidelity="rigid")
+    rec = read_motion("synthetic-wn-40s").scaled_to_pga(3.0).window(0.0, 0.5)
+    with pytest.raises(UpliftError, match=r"An explicit step past its stability limit \(a "
+                       r"stiff model, or large Baumgarte gains alpha, beta\) can also dip a "
+                       r"normal force to zero: confirm the uplift with 'radau'$"):  # fmt: skip
+        simulate(s, rec, method="dopri5")
+    assert simulate(s, rec, method="radau").response.min_normal_force > 0.0
+
+
 def test_invalid_arguments_are_rejected():
     P = oscillator(forced=False)
     with pytest.raises(ValueError, match="method"):

@@ -75,3 +75,26 @@ def test_kernel_friction_forces_dissipate(rigid_system, v, th, t):
     for tau_i, v_i, lam_i in zip(ev["tau"], vi, ev["lam"], strict=True):
         if lam_i > 0 and math.isfinite(tau_i):
             assert tau_i * v_i >= -1e-12 * abs(tau_i) * max(abs(v_i), 1e-30)
+
+
+@pytest.mark.parametrize("method", ["radau", "event"])
+def test_a_stick_band_wider_than_the_slips_is_said_by_the_library_run(method):
+    # eta = 1 m/s: the switch law's band takes every slip of a shear building under 1.5 m/s²
+    # for stick (the stick fraction read 1.0 while the isolator slid); nsdyn run noted it from
+    # the scene, a Python run said nothing. The event method's stick does not depend on eta:
+    # only its outputs' stick fraction does, and it says that instead
+    import warnings
+
+    from nsdyn._checks import NotedWarning
+    from nsdyn.models.isolated.builders import shear_building
+    from nsdyn.models.isolated.system import Isolation
+    from nsdyn.solve.transient import simulate
+
+    s = shear_building([1e5], [], 0.0, isolation=Isolation(k_lam=0.0, c=0.0, mu=0.05,
+                                                           law="switch", eta=1.0))  # fmt: skip
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        simulate(s, Harmonic(1.5, 1.0), n_periods=1, method=method)
+    notes = [str(w.message) for w in said if issubclass(w.category, NotedWarning)]
+    words = "creeps at up to 1 m/s" if method == "radau" else "stick phases do not depend on it"
+    assert len(notes) == 1 and notes[0].startswith("isolation.eta = 1 m/s: ") and words in notes[0]
