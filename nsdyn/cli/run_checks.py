@@ -47,21 +47,6 @@ def note_coarse_output(cfg: dict, motion) -> str | None:
         dt_out, int | float) else None  # fmt: skip
 
 
-def note_soft_law(cfg: dict) -> str | None:
-    """The law's parameter that blurs the friction it models (``coarse_law_note``: an
-    arctan eps too small, a switch band eta too wide), one line on stderr."""
-    from nsdyn.models.isolated.friction import coarse_law_note
-
-    iso = cfg.get("isolation", {})
-    law = "switch" if cfg.get("solver", {}).get("method") == "event" else iso.get("law", "arctan")
-    eps, eta = iso.get("eps"), iso.get("eta")
-    num = (int, float)
-    if not isinstance(eps, num) and not isinstance(eta, num):
-        return None
-    kw = {k: float(v) for k, v in (("eps", eps), ("eta", eta)) if isinstance(v, num)}
-    return coarse_law_note(law, where="isolation", **kw) or None
-
-
 def note_unused_cutoff(cfg: dict) -> str | None:
     """``scene.f_max`` set (away from the default scene's) for a fidelity that has no cut-off
     (rigid, full): said in one line (``--fmax`` is refused there, :func:`check_cutoff`)."""
@@ -253,7 +238,7 @@ def scene_notes(cfg: dict, motion, quiet: bool, system=None) -> list[str]:
     ``quiet``; returned (a --json summary's ``notes``)."""
     notes = [note_short_record(cfg, motion), note_unused_components(motion),
              note_coarse_output(cfg, motion),
-             note_soft_law(cfg), note_unused_cutoff(cfg),
+             note_unused_cutoff(cfg),
              note_unused_isolation(cfg, system), note_loose_atol(cfg, system),
              note_no_column_lines(system), note_no_modes(system)]  # fmt: skip
     notes = [n for n in notes if n]
@@ -280,7 +265,8 @@ def record_wins(args, cfg: dict, replaces, amplitude_pga: bool = False, kind: st
     mo = cfg.get("motion", {})
     if not isinstance(mo, dict):  # (the scene's reader names that)
         return
-    flags = [f for f, v in (("--record", args.record), ("--pga", args.pga)) if v]
+    flags = [f for f, v in (("--record", args.record), ("--pga", args.pga),
+                            ("--units", getattr(args, "units", None))) if v]  # fmt: skip
     if flags and mo.get("kind") in ("orbit", "harmonic"):
         raise SceneError(f"{args.scene}: {', '.join(flags)}: this scene's motion is harmonic "
                          f"([motion] kind = {mo['kind']!r}, its amplitudes in the file); "

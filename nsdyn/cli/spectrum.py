@@ -28,10 +28,12 @@ DEFAULT_OUT = "nsdyn-out"
 
 def configure(p: argparse.ArgumentParser) -> None:
     p.epilog = (
-        "status per frequency: 'safe band' (larger amplitudes between safe_lo and "
-        "safe_hi do not overturn it), 'no safe band found' (it overturns from a_min "
-        "on, as far as the search sees), 'safe up to a_max', 'no overturning up to "
-        "a_max' (the scene's own [motion] is not read: the pulses are the spectrum's)"
+        "The scene gives the block or frame; its own [motion] is not read (the "
+        "pulses are the spectrum's). Status per frequency: 'safe band' (larger "
+        "amplitudes between safe_lo and safe_hi do not overturn it), 'no safe band "
+        "found' (it overturns from a_min on, as far as the search sees), 'safe up to "
+        "a_max' (no overturning again from safe_lo up to --a-max), 'no overturning up "
+        "to a_max' (none at all)"
     )
     p.add_argument("scene", help="rocking scene TOML ([scene] kind = 'rocking', model block|frame)")
     p.add_argument("--shape", choices=SHAPES, default="sine", help="pulse shape (default sine)")

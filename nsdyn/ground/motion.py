@@ -111,8 +111,8 @@ def pga_target(target) -> float:
 
 # how a user gives a record's units, in the library and in a scene file
 UNITS_HINT = (
-    'in a scene [motion] units = "gal", "g" or "m/s2"; nsdyn run --units gal; in Python '
-    "units='gal'"
+    'in a scene [motion] units = "gal", "g" or "m/s2" (a study: [base.motion]); nsdyn run '
+    "--units gal; in Python units='gal'"
 )
 
 

@@ -133,8 +133,8 @@ def test_a_units_warning_is_one_line_naming_the_command(capsys, tmp_path):
     assert rc == 0
     out, err = capsys.readouterr()
     said = (f"{rec}: the file does not state its units; assuming m/s² (give them: in a scene "
-            '[motion] units = "gal", "g" or "m/s2"; nsdyn run --units gal; in Python '
-            "units='gal')")  # fmt: skip
+            '[motion] units = "gal", "g" or "m/s2" (a study: [base.motion]); nsdyn run --units '
+            "gal; in Python units='gal')")  # fmt: skip
     assert [ln for ln in err.splitlines() if "warning" in ln.lower()] == [
         f"nsdyn run: warning: {said}"
     ]

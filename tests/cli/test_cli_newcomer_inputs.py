@@ -917,3 +917,7 @@ def test_a_records_units_are_given_on_the_command_line(tmp_path, capsys, one_lin
     cask = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "rocking-seed001-cask.toml"
     assert main(["run", str(cask), "--units", "g", "--out", str(tmp_path / "c")]) == 2
     one_line("motion.units (--units): the units of a record file; this scene reads none")
+    orbit = cask.with_name("sdof-bidirectional-circular.toml")  # (it said "unknown field")
+    assert main(["run", str(orbit), "--units", "g", "--out", str(tmp_path / "c")]) == 2
+    one_line("--units: this scene's motion is harmonic", "--units applies to a scene driven "
+             "by a record")  # fmt: skip

@@ -126,6 +126,9 @@ def test_summary_rows_of_a_unilateral_run_report_lift_off_not_uplift():
     rigid = summary_rows({**peaks, "fidelity": "rigid"})
     assert sum(r.endswith("(rigid: the storeys do not deform)") for r in rigid) == 2
     assert not any("rigid" in r for r in summary_rows({**peaks, "fidelity": "cb"}))
+    # --compare-fixed on a setback frame (no drift ratios): "-" there (a KeyError before)
+    assert summary_rows({"fixed_base": {"floor_acc_max_mps2": 3.0}})[-1].endswith(
+        "fixed base: IDR / floor acc. / roof  - / 3.000 m/s² / -")  # fmt: skip
 
 
 @pytest.mark.parametrize("law", ["arctan", "switch"])

@@ -378,7 +378,7 @@ def run_end(t_end, dur: float) -> float:
     return float(t_end)
 
 
-def _orbit_f(gp) -> float | None:
+def orbit_frequency(gp) -> float | None:
     """The highest frequency [Hz] of an orbit's components that move (None: none moves)."""
     fs = [gp[kp.GP_F]] * bool(gp[kp.GP_AX] or gp[kp.GP_AY]) + [gp[kp.GP_FZ]] * bool(gp[kp.GP_AZ])
     return max(fs) if fs else None
@@ -396,7 +396,9 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
         t_end = run_end(t_end, dur)
         if dt_out is None:  # (an orbit's faster component: its vertical, f_z, may be)
             dt_out = (
-                gp[kp.GP_DT] if gk == kp.G_TABLE else 1.0 / (50.0 * (_orbit_f(gp) or gp[kp.GP_F]))
+                gp[kp.GP_DT]
+                if gk == kp.G_TABLE
+                else 1.0 / (50.0 * (orbit_frequency(gp) or gp[kp.GP_F]))
             )
         else:
             output_step(dt_out, t_end, off=False)
@@ -419,7 +421,7 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
             warnings.warn(note, NotedWarning, stacklevel=3)
     coarse = coarse_grid_note(
         float(np.max(np.diff(t_eval))),
-        None if table else _orbit_f(gp),
+        None if table else orbit_frequency(gp),
         float(gp[kp.GP_DT]) if table else None,
         dur if table else 0.0,
     )

@@ -172,6 +172,23 @@ def test_progress_is_called_every_progress_s_of_simulated_time(portal, monkeypat
     assert np.all(np.diff([c[2] for c in calls]) >= 0)  # wall time since the start
 
 
+def test_the_output_grid_samples_an_orbits_faster_vertical_and_says_a_coarse_one(portal):
+    # the default outputs took the horizontal's 1/50 period whatever f_z (the deck's did
+    # too, and warned of its own grid); outputs 0.2 s apart under a 3 Hz vertical read the
+    # peaks between samples, said by the rule the deck and the frame use
+    import warnings
+
+    from nsdyn._checks import AccuracyWarning
+
+    s, orbit = building_pairs_sparse(portal, FPS), {"f": 0.5, "ax": 1.0, "az": 1.0, "f_z": 3.0}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AccuracyWarning)
+        r = simulate_pairs_sparse(s, orbit, dt=2e-3, t_end=1.0)
+    assert np.diff(r.t).max() <= 1.0 / (50 * 3.0) * (1 + 1e-9)
+    with pytest.warns(AccuracyWarning, match=r"^dt_out = 0.2 s samples the 3 Hz excitation"):
+        simulate_pairs_sparse(s, orbit, dt=2e-3, t_end=1.0, dt_out=0.2)
+
+
 def test_uplift_is_reported_with_time_and_isolator():
     """A vertical ground acceleration a_z = A sin(2π f t), A > g, takes the compression away
     when g + a_z = 0: first at t* = (π + asin(g/A)) / (2π f) for a rigid building. The portal
