@@ -384,6 +384,24 @@ def orbit_frequency(gp) -> float | None:
     return max(fs) if fs else None
 
 
+def default_dt_out(gk, gp) -> float:
+    """A run's output step when none is given: the record's step, or 1/50 of the period of
+    an orbit's fastest moving component (:func:`orbit_frequency`)."""
+    if gk == kp.G_TABLE:
+        return float(gp[kp.GP_DT])
+    return 1.0 / (50.0 * (orbit_frequency(gp) or gp[kp.GP_F]))
+
+
+def grid_note(gk, gp, dur: float, dt_out: float) -> str | None:
+    """:func:`nsdyn._checks.coarse_grid_note` of outputs ``dt_out`` apart on the ground (gk,
+    gp) of :func:`pack_ground` (a record of duration ``dur``, or an orbit)."""
+    from nsdyn._checks import coarse_grid_note
+
+    if gk == kp.G_TABLE:
+        return coarse_grid_note(dt_out, None, float(gp[kp.GP_DT]), dur)
+    return coarse_grid_note(dt_out, orbit_frequency(gp), None, 0.0)
+
+
 def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, float]:
     """(t_eval, max_step) of a run on the ground (gk, gp) of :func:`pack_ground`: outputs
     every ``dt_out`` (default: the record's step, or 1/50 period of an orbit) up to ``t_end``
@@ -395,11 +413,7 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
     if t_eval is None:
         t_end = run_end(t_end, dur)
         if dt_out is None:  # (an orbit's faster component: its vertical, f_z, may be)
-            dt_out = (
-                gp[kp.GP_DT]
-                if gk == kp.G_TABLE
-                else 1.0 / (50.0 * (orbit_frequency(gp) or gp[kp.GP_F]))
-            )
+            dt_out = default_dt_out(gk, gp)
         else:
             output_step(dt_out, t_end, off=False)
         t0 = gp[kp.GP_T0] * (gk == kp.G_TABLE)
@@ -410,21 +424,15 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
         raise ValueError("t_eval: expected at least two increasing finite times")
     import warnings
 
-    from nsdyn._checks import AccuracyWarning, NotedWarning, coarse_grid_note
+    from nsdyn._checks import AccuracyWarning, NotedWarning
 
-    table = gk == kp.G_TABLE
-    if table:  # outputs outside the record: the ground at rest there, said
+    if gk == kp.G_TABLE:  # outputs outside the record: the ground at rest there, said
         from nsdyn.ground.formats import record_span_notes
 
         t0, dt = float(gp[kp.GP_T0]), float(gp[kp.GP_DT])
         for note in record_span_notes(t_eval, t0, t0 + dur, dt):
             warnings.warn(note, NotedWarning, stacklevel=3)
-    coarse = coarse_grid_note(
-        float(np.max(np.diff(t_eval))),
-        None if table else orbit_frequency(gp),
-        float(gp[kp.GP_DT]) if table else None,
-        dur if table else 0.0,
-    )
+    coarse = grid_note(gk, gp, dur, float(np.max(np.diff(t_eval))))
     if coarse:  # (the frame's simulate says it too; outputs 1 s apart read 15 % low)
         warnings.warn(coarse, AccuracyWarning, stacklevel=3)
     if max_step is None:

@@ -34,12 +34,12 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from nsdyn._checks import AccuracyWarning, check_fixed_step, coarse_grid_note, got_array, number
+from nsdyn._checks import AccuracyWarning, check_fixed_step, got_array, number
 from nsdyn.models.isolated import _kpairsparse as kz
 from nsdyn.models.isolated import _kplane as kp
 from nsdyn.models.isolated import _kplanerun as kr
 from nsdyn.models.isolated.bearings import B_DCAP
-from nsdyn.models.isolated.deck import orbit_frequency, pack_ground, run_end
+from nsdyn.models.isolated.deck import default_dt_out, grid_note, pack_ground, run_end
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
 from nsdyn.models.isolated.pairs import PairResult
 from nsdyn.models.isolated.pairs_sparse import SparsePairSystem
@@ -187,16 +187,9 @@ def simulate_pairs_sparse(
     gk, gp, tab, dur = pack_ground(ground)
     t_end = run_end(t_end, dur)
     check_fixed_step(dt, ground, t_end)  # (past the record's samples: peaks 4.6x at 1 s)
-    table = gk == kp.G_TABLE
-    if dt_out is None:  # (an orbit's faster component: its vertical may be, as a deck's)
-        dt_out = gp[kp.GP_DT] if table else 1.0 / (50.0 * (orbit_frequency(gp) or gp[kp.GP_F]))
+    dt_out = default_dt_out(gk, gp) if dt_out is None else dt_out  # (an orbit's vertical too)
     every = max(1, int(round(dt_out / dt)))
-    coarse = coarse_grid_note(
-        dt * every,
-        None if table else orbit_frequency(gp),
-        float(gp[kp.GP_DT]) if table else None,
-        dur if table else 0.0,
-    )
+    coarse = grid_note(gk, gp, dur, dt * every)
     if coarse:  # (the deck's and pair systems' rule)
         import warnings
 
