@@ -31,6 +31,8 @@ from nsdyn.cli.args import (
     SAID,
     fail,
 )
+from nsdyn.cli.stop import SIGNALLED as _SIGNALLED  # (one list: app._SIGNALLED)
+from nsdyn.cli.stop import on_signal as _on_signal
 
 __all__ = ["COMMANDS", "Command", "build_parser", "main", "script"]
 
@@ -188,18 +190,7 @@ class _Parser(argparse.ArgumentParser):
 _JSON = [False]  # the command line holds --json (set by main before parsing)
 
 
-_SIGNALLED = [False]  # set by the handler: an error after a signal is the signal's doing
 _ENDING = [False]  # set by the script: main's return ends the process
-
-
-def _on_signal(signum, frame):
-    """SIGINT and SIGTERM: note that the command was stopped, then stop it. A later signal,
-    while the first one's stop is under way (`timeout` signals the process, then its group),
-    is ignored: raised there it cut the stop short (a traceback, a checkpoint folder lost)."""
-    if _SIGNALLED[0]:
-        return
-    _SIGNALLED[0] = True
-    raise KeyboardInterrupt
 
 
 def _interrupt_line(args: argparse.Namespace) -> str:

@@ -55,43 +55,21 @@ def note_unused_cutoff(cfg: dict) -> str | None:
     return next((n for n in unused_notes(cfg) if n.startswith("scene.f_max")), None)
 
 
-given_ = object()  # a value no key has: every key absent from the defaults counts as given
-
-
 def note_unused_isolation(cfg: dict, system, law: str | None = None) -> str | None:
-    """``[isolation]`` keys the built model does not read, named with why (they changed
-    nothing, without a word): the switch law's band and stick stabilisation under a smooth
-    law, the arctan sharpness under another, the contacts' keys on given normal forces, the
-    base diaphragm's on a structure given directly, everything on the fixed-base frame.
+    """``[isolation]`` keys the built model does not read, named with why
+    (:func:`nsdyn.models.isolated.scene.unused_isolation`), in one line.
     ``law``: the law the command integrates when not the scene's (uplift's arctan)."""
-    from nsdyn.models.isolated.scene import DEFAULT_SCENE
+    from nsdyn.models.isolated.scene import unused_isolation
 
-    default = DEFAULT_SCENE["isolation"]  # (merged into every frame scene: not the user's)
-    given = [k for k, v in cfg.get("isolation", {}).items() if default.get(k, given_) != v]
-    if not given or system is None:
+    if system is None:
         return None
-    if system.isolation is None:  # the fixed-base frame
-        from nsdyn.models.isolated.scene import unused_notes
-
-        return next((n for n in unused_notes(cfg) if n.startswith("[isolation]")),
-                    f"[isolation] not used: the fixed-base model has no isolators "
-                    f"({', '.join(given)})")  # fmt: skip
-    method = cfg.get("solver", {}).get("method", "auto")
-    law = law or ("switch" if method == "event" else system.isolation.law)
-    from nsdyn.models.isolated.friction import LAW_KEYS
-
-    why = {k: f"a key of the {own} law; the law here is {law}"
-           for k, (own, _) in LAW_KEYS.items() if own != law}  # fmt: skip
-    if law == "none":  # no friction: its coefficient changes nothing
-        why["mu"] = "the friction coefficient; the law here is none: no friction"
-    if system.normal_force is not None:  # a structure given its weight: no contact rows
-        for k in ("frozen_normal", "alpha", "beta"):
-            why[k] = "a key of the contacts; this structure's normal forces are given"
-    if "structure" in cfg:
-        for k in ("diaphragm_EA", "diaphragm_EI"):
-            why[k] = "a key of a frame's base diaphragm; this structure is given directly"
-    unused = [f"isolation.{k} ({why[k]})" for k in given if k in why]
-    return f"not used by this model: {', '.join(unused)}" if unused else None
+    iso = system.isolation
+    unused = unused_isolation(cfg, iso, given_normal=getattr(system, "normal_force", None)
+                              is not None, law=law)  # fmt: skip
+    if iso is None:  # the fixed-base frame
+        return unused[0][1] if unused else None
+    return ("not used by this model: " + ", ".join(f"{k} ({why})" for k, why in unused)
+            if unused else None)  # fmt: skip
 
 
 def note_loose_atol(cfg: dict, system) -> str | None:

@@ -60,19 +60,11 @@ def event_law(system, method: str) -> None:
     parameter that blurs its friction (:func:`~nsdyn.models.isolated.friction.coarse_law_note`)
     is said too (a NotedWarning: a scene's run notes it), as a deck's run says it."""
     iso = getattr(system, "isolation", None)
-    law = integrated_law(system, method)
-    if iso is not None and law in ("switch", "arctan"):
+    note = law_note(iso, method)
+    if note:
         from nsdyn._checks import NotedWarning
-        from nsdyn.models.isolated.friction import coarse_law_note
 
-        eps, eta = float(np.max(iso.eps)), float(np.max(iso.eta))
-        note = coarse_law_note(law, eps, eta, where="isolation")
-        if note and method == "event":  # (its stick is exact: eta only reads the outputs)
-            note = note.split(": ", 1)[0] + (": the event method's stick phases do not depend "
-                                             "on it, but its outputs count |v| <= eta as stuck "
-                                             "(stick_fraction)")  # fmt: skip
-        if note:
-            warnings.warn(note, NotedWarning, stacklevel=3)
+        warnings.warn(note, NotedWarning, stacklevel=3)
     if method != "event" or iso is None or iso.law == "switch":
         return
     if iso.law == "none":
@@ -88,6 +80,24 @@ def event_law(system, method: str) -> None:
         UserWarning,
         stacklevel=3,
     )
+
+
+def law_note(iso, method: str) -> str:
+    """The note on a friction law's parameter that blurs the friction of isolation ``iso``
+    (:func:`~nsdyn.models.isolated.friction.coarse_law_note`) as a run of ``method``
+    integrates it, or "" (None: no isolators). The event method's stick phases are exact: its
+    ``eta`` only reads the outputs."""
+    law = None if iso is None else ("switch" if method == "event" else iso.law)
+    if law not in ("switch", "arctan"):
+        return ""
+    from nsdyn.models.isolated.friction import coarse_law_note
+
+    note = coarse_law_note(law, float(np.max(iso.eps)), float(np.max(iso.eta)), "isolation")
+    if note and method == "event":
+        note = note.split(": ", 1)[0] + (": the event method's stick phases do not depend on "
+                                         "it, but its outputs count |v| <= eta as stuck "
+                                         "(stick_fraction)")  # fmt: skip
+    return note
 
 
 def integrated_law(system, method: str) -> str | None:

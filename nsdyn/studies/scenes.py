@@ -203,8 +203,7 @@ def check_scene(cfg: dict, source: str) -> list[str]:
     if kind == "isolated":
         from nsdyn.models.isolated.scene import unused_notes
 
-        _check_isolated(cfg, source)
-        return unused_notes(cfg)
+        return unused_notes(cfg) + _check_isolated(cfg, source)
     mod = importlib.import_module(scene_module(kind))
     cfg = _record_for_simulated(cfg, kind)
     notes: list[str] = []
@@ -267,11 +266,19 @@ def warm_scene_kernels(tasks) -> list[str]:
     return done
 
 
-def _check_isolated(cfg: dict, source: str) -> None:
-    from nsdyn.models.isolated.scene import _check, build_structure, check_restitution
+def _check_isolated(cfg: dict, source: str) -> list[str]:
+    """:func:`check_scene` of an isolated frame's scene; its note on a friction law's
+    parameter that blurs the friction (a run's NotedWarning, ignored in a study's runs)."""
+    from nsdyn.models.isolated.scene import (
+        _check,
+        build_structure,
+        check_restitution,
+        unused_isolation,
+    )
     from nsdyn.models.isolated.scene_structure import force_excitation, harmonic_motion
     from nsdyn.models.isolated.system import isolation_from_config
     from nsdyn.solve.methods import METHODS
+    from nsdyn.solve.run_inputs import law_note
     from nsdyn.solve.transient import output_grid
 
     tables = {k: copy.deepcopy(v) for k, v in cfg.items() if not k.startswith("_")}
@@ -290,8 +297,9 @@ def _check_isolated(cfg: dict, source: str) -> None:
             f"{source}: solver.method: unknown integrator {method!r}; expected 'auto' or one "
             f"of {sorted(METHODS)}"
         )
+    system = None
     if "structure" in cfg:
-        build_structure(cfg, iso, source)
+        system = build_structure(cfg, iso, source)
     else:  # the frame read once per file: a bad one refused here, its notes said here once
         frame = cfg.get("scene", {}).get("frame")
         try:
@@ -318,6 +326,28 @@ def _check_isolated(cfg: dict, source: str) -> None:
         raise SceneError(f"{source}: {field}: {' '.join(str(e).split())}") from None
     dt = checked_step(method, sv, excitation, t_eval, source)
     check_step_count(source, method, dt, t_eval, sv.get("max_steps"))
+    if method == "auto" and "dt" in sv:  # (a fixed step for an adaptive choice: every row fails)
+        _auto_step(system or _isolated_system(cfg, source), sv["dt"], source)
+    if "structure" not in cfg and cfg.get("scene", {}).get("fidelity") == "fixed":
+        return []  # (its [isolation] note: unused_notes)
+    normal = system is not None and system.normal_force is not None
+    unused = [f"{k} not used: {why}" for k, why in unused_isolation(cfg, iso, given_normal=normal)]
+    return unused + [n for n in [law_note(iso, method)] if n]
+
+
+def _auto_step(system, dt, source: str) -> None:
+    """SceneError naming solver.dt when ``method = "auto"`` chooses an adaptive method for
+    ``system`` (:func:`nsdyn.solve.auto.choose_for_system`), which takes no step."""
+    from nsdyn.solve.auto import choose_for_system
+    from nsdyn.solve.methods import METHODS
+
+    method, reason = choose_for_system(system)
+    if not METHODS[method].fixed_step:
+        raise SceneError(
+            f"{source}: solver.dt: {dt:g} is the step of a fixed-step method, but method "
+            f"'auto' chooses the adaptive {method!r} here ({reason}); set solver.method to a "
+            "fixed-step method (genalpha, genalpha-lowrank, ...), or drop solver.dt"
+        )
 
 
 @lru_cache(maxsize=MOTION_CACHE)

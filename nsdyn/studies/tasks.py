@@ -277,6 +277,7 @@ def check_tasks(study: Study) -> None:
     keys = {n: re.compile(rf"(?<![\w.]){re.escape(n)}(?![\w.])|\[{re.escape(n.split('.')[0])}\]")
             for n in read}  # fmt: skip
     other: dict[str, int] = {}  # a note that is not about keys: the tasks it holds for
+    dead: dict[str, int] = {}  # a note about keys no parameter varies (said if every task's)
     tasks = expand(study)
     with warnings.catch_warnings(record=True) as said:  # a record's units: once here (the
         warnings.simplefilter("always")  # runs do not repeat them), as every other warning
@@ -287,12 +288,14 @@ def check_tasks(study: Study) -> None:
             for name, why in read.items():  # a key its reason names, "as [motion] record_y")
                 unused = [n for n, k in about.items() if k and keys[name].search(k)]
                 why.append(unused[0] if unused else None)
-            for n, k in about.items():
+            for n, k in about.items():  # (a [base] key no task reads: below)
                 other[n] = other.get(n, 0) + (not k)
+                dead[n] = dead.get(n, 0) + bool(k and not any(r.search(k) for r in keys.values()))
     for text, category in dict.fromkeys((str(w.message), w.category) for w in said):
         warnings.warn(text, category, stacklevel=2)
-    for note, count in other.items():  # (a cb model without modes: said, not hidden in rows)
-        if count:
+    other.update({n: c for n, c in dead.items() if c == len(tasks)})  # ([bearing] beside a
+    for note, count in other.items():  # fixed rung and a rigid: read by some, not said)
+        if count:  # (a cb model without modes: said, not hidden in rows)
             warnings.warn(f"{study.source}: {count} of {len(tasks)} tasks: {note}",
                           InputWarning, stacklevel=2)  # fmt: skip
     for name, why in read.items():  # every task repeats one run: its values change nothing

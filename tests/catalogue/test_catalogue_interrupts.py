@@ -158,6 +158,28 @@ def test_run_interrupted_resumes_without_loss_or_repeat(tmp_path, monkeypatch, c
     _no_temporaries(out)
 
 
+def test_a_signal_inside_llvms_callback_is_sent_again_after_it(monkeypatch):
+    # numba compiling: LLVM's object-cache callback into Python (llvmlite, called from C)
+    # printed the KeyboardInterrupt raised in it as an ignored exception with its traceback,
+    # and the run went on to its end (status 0, 1 run in 3); now the signal is sent again
+    import threading
+
+    from nsdyn.cli import app
+
+    sent = threading.Event()
+    monkeypatch.setattr(os, "kill", lambda pid, sig: sent.set() if sig == signal.SIGINT else None)
+    callback = compile("def notify(handler):\n    return handler(2, sys._getframe())\n",
+                       "/site-packages/llvmlite/binding/executionengine.py", "exec")  # fmt: skip
+    space = {"sys": sys}
+    exec(callback, space)
+    app._SIGNALLED[0] = False
+    assert space["notify"](app._on_signal) is None  # not raised in the callback
+    assert sent.wait(5.0) and not app._SIGNALLED[0]  # sent again, still the first signal
+    with pytest.raises(KeyboardInterrupt):  # outside the callback: the interrupt
+        app._on_signal(signal.SIGINT, sys._getframe())
+    app._SIGNALLED[0] = False
+
+
 def test_a_second_signal_during_the_stop_is_ignored(tmp_path, reference_run):
     # `timeout` signals the process and then its group: a second signal raised inside the
     # first one's stop gave a traceback and lost the checkpoint folder (1 run in 5). Here a

@@ -55,11 +55,21 @@ def _write(tmp_path, text: str):
         (HEAD + PARAMS + RECORDS
          + '[analysis.fragility]\nim = "pga_mps2"\nedp = "idr_max"\nlimits = [0.004, 0.004]\n',
          r"analysis\.fragility\.limits: 0\.004 given twice"),
+        (HEAD + '[parameters]\n"solver.dt" = [0.002, 0.005]\n',
+         r"solver\.dt: 0\.002 is the step of a fixed-step method, but method 'auto' chooses "
+         r"the adaptive 'radau'"),
     ],
 )  # fmt: skip
 def test_a_study_file_that_ran_silently_otherwise_is_refused(tmp_path, text, says):
     with pytest.raises(SceneError, match=says):
         load_study(_write(tmp_path, text))
+
+
+def test_a_fixed_step_varied_under_a_named_fixed_step_method_is_a_study(tmp_path):
+    # the refusal above is of 'auto' choosing an adaptive method, not of solver.dt
+    solver = '[base.solver]\nmethod = "genalpha"\n'
+    text = HEAD + solver + '[parameters]\n"solver.dt" = [0.002, 0.005]\n'
+    assert load_study(_write(tmp_path, text)).n_tasks == 2
 
 
 def test_two_records_of_one_name_are_located(tmp_path):

@@ -63,6 +63,36 @@ def test_a_parameter_some_tasks_read_is_kept(tmp_path):
     assert len(expand(load_study(_study(tmp_path, "cylinder-uplift.toml", body)))) == 4
 
 
+FRAME = '[study]\nname = "f"\n[base.scene]\nfidelity = "rigid"\n[base.motion]\nt_end = 1.0\n'
+
+
+@pytest.mark.parametrize(
+    ("isolation", "varied", "says"),
+    [
+        # a [base] key the model does not read, said as `nsdyn run` says it (the study was silent)
+        ('eta = 0.5', '"isolation.mu" = [0.02, 0.05]',
+         r"2 of 2 tasks: isolation.eta not used: a key of the switch law; the law here is arctan"),
+        # a switch band that blurs the friction: the run's NotedWarning, which a study's runs
+        # ignore, said once for the study (friction.coarse_law_note: eta above 1e-3 m/s)
+        ('law = "switch"\neta = 0.5', '"isolation.mu" = [0.02, 0.05]',
+         r"2 of 2 tasks: isolation.eta = 0.5 m/s: the switch law holds a stuck isolator only"),
+    ],
+)  # fmt: skip
+def test_a_frame_study_says_its_base_keys_as_a_run_does(tmp_path, isolation, varied, says):
+    path = tmp_path / "s.toml"
+    path.write_text(f"{FRAME}[base.isolation]\n{isolation}\n[parameters]\n{varied}\n")
+    with pytest.warns(UserWarning, match=says):
+        load_study(path)
+
+
+def test_a_frame_study_varying_a_key_of_another_law_is_refused(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(f'{FRAME}[parameters]\n"isolation.eta" = [1e-4, 1e-3]\n')
+    with pytest.raises(SceneError, match=r"parameters.isolation.eta: no task reads it "
+                       r"\(isolation.eta not used: a key of the switch law"):  # fmt: skip
+        load_study(path)
+
+
 @pytest.mark.parametrize("key", ["n_periods = 2", "t_end = 2.0"])
 def test_a_harmonic_scene_s_base_motion_is_its_own(tmp_path, key):
     # "[base]: motion.n_periods: unknown field; expected some of ['dt', 'pga', 'record', ...]"

@@ -402,12 +402,46 @@ def unused_notes(cfg: dict) -> list[str]:
         none = "every mode" if fid == "full" else "a rigid frame"
         notes.append(f"scene.f_max not used: the cut-off of fidelities cb and fixed; {fid!r} "
                      f"has none ({none})")  # fmt: skip
-    default = DEFAULT_SCENE["isolation"]  # (merged into every frame scene: not the user's)
-    given = [k for k, v in cfg.get("isolation", {}).items() if k not in default or default[k] != v]
-    if fid == "fixed" and given and "structure" not in cfg:
-        notes.append(f"[isolation] not used: the fixed-base model has no isolators "
-                     f"({', '.join(given)})")  # fmt: skip
+    if fid == "fixed" and "structure" not in cfg:
+        notes += [why for _, why in unused_isolation(cfg, None)]
     return notes
+
+
+GIVEN = object()  # a value no key has: every key absent from the defaults counts as given
+
+
+def unused_isolation(
+    cfg: dict, iso, *, given_normal: bool = False, law: str | None = None
+) -> list[tuple[str, str]]:
+    """``[isolation]`` keys of ``cfg`` that a model with isolation ``iso`` (None: the fixed
+    base) does not read, as (key, why): they changed nothing, without a word. The switch
+    law's band and stick stabilisation under a smooth law, the arctan sharpness under another,
+    the contacts' keys on given normal forces (``given_normal``), the base diaphragm's on a
+    structure given directly; on the fixed-base frame one item, ("[isolation]", its note).
+    ``law``: the law the run integrates when not the scene's (the event method's switch law
+    follows from ``solver.method``; uplift's arctan is given)."""
+    from nsdyn.models.isolated.friction import LAW_KEYS
+
+    default = DEFAULT_SCENE["isolation"]  # (merged into every frame scene: not the user's)
+    given = [k for k, v in cfg.get("isolation", {}).items() if default.get(k, GIVEN) != v]
+    if not given:
+        return []
+    if iso is None:
+        return [("[isolation]", f"[isolation] not used: the fixed-base model has no isolators "
+                                f"({', '.join(given)})")]  # fmt: skip
+    method = cfg.get("solver", {}).get("method", "auto")
+    law = law or ("switch" if method == "event" else iso.law)
+    why = {k: f"a key of the {own} law; the law here is {law}"
+           for k, (own, _) in LAW_KEYS.items() if own != law}  # fmt: skip
+    if law == "none":  # no friction: its coefficient changes nothing
+        why["mu"] = "the friction coefficient; the law here is none: no friction"
+    if given_normal:  # a structure given its weight: no contact rows
+        for k in ("frozen_normal", "alpha", "beta"):
+            why[k] = "a key of the contacts; this structure's normal forces are given"
+    if "structure" in cfg:
+        for k in ("diaphragm_EA", "diaphragm_EI"):
+            why[k] = "a key of a frame's base diaphragm; this structure is given directly"
+    return [(f"isolation.{k}", why[k]) for k in given if k in why]
 
 
 def _cached_system(frame, iso, fidelity: str, f_max: float | None, **kw):
