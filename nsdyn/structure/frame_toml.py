@@ -397,6 +397,10 @@ def _read_frame_file(name_or_path: str | Path) -> tuple[dict, str]:
             there = " (a folder of that name is here: a frame is a .toml file)" * Path(s).is_dir()
             if Path(s + ".toml").is_file():  # (portal2bay given beside portal2bay.toml)
                 there = f" (the file {s}.toml is here: give its whole name)"
+            elif Path(s).is_file():  # (a record given where a frame goes: "no bundled frame")
+                record = Path(s).suffix.lower() in (".csv", ".txt", ".at2", ".dat", ".acc")
+                there = (f" (the file {s} is here{': a ground-motion record?' * record} "
+                         "but a frame file is a .toml file)")  # fmt: skip
             raise FrameFileError(f"{s}: no bundled frame of that name{there} (bundled: {known})")
         text, fname = f.read_bytes(), f"{s}.toml"
     try:

@@ -101,6 +101,16 @@ def test_a_bare_name_of_a_folder_says_a_frame_is_a_file(tmp_path, monkeypatch):
         load_frame("fr")
 
 
+def test_a_bare_name_of_a_record_file_says_what_it_may_be(tmp_path, monkeypatch):
+    # "nsdyn modes rec.csv" said only "no bundled frame of that name" beside the file
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "rec.csv").write_text("0 0\n0.01 1\n")
+    with pytest.raises(FrameFileError, match=r"^rec.csv: no bundled frame of that name \(the "
+                       r"file rec.csv is here: a ground-motion record\? but a frame file is a "
+                       r"\.toml file\)"):  # fmt: skip
+        load_frame("rec.csv")
+
+
 def test_not_toml_and_missing_files(tmp_path):
     p = tmp_path / "junk.toml"
     p.write_text("[frame\nname = ")

@@ -176,6 +176,9 @@ class Bearing:
         if math.isfinite(self.d_cap) and self.d_cap >= self.radius:  # (past the sphere's edge)
             raise BearingError(f"{w}.d_cap: expected a displacement capacity below the radius "
                                f"R = {self.radius:g} m, got {self.d_cap:g} m")  # fmt: skip
+        said = stick_range_error(self)  # (refused when the bearing is made, not at its run)
+        if said:
+            raise BearingError(said)
         if math.isinf(self.radius) and self.k_lam == 0.0 and math.isfinite(self.d_cap):
             if self.k_stop is None:
                 raise BearingError(

@@ -27,7 +27,7 @@ from functools import partial
 
 import numpy as np
 
-from nsdyn._checks import InputWarning, got_array
+from nsdyn._checks import InputWarning, NotedWarning, got_array
 from nsdyn.models.isolated.system import IsolatedSystem, Isolation, _add_isolators
 
 SYMMETRY_RTOL = 1e-10  # |A - A^T| allowed, relative to max |A|
@@ -122,6 +122,9 @@ def _influence(influence, n: int) -> np.ndarray:
     return G
 
 
+STOREY_PLAUSIBLE = 50.0  # [m] a storey higher than this: heights in mm? (noted)
+
+
 def _levels(levels, heights, n: int) -> dict:
     out: dict = {}
     if levels is None:
@@ -144,6 +147,10 @@ def _levels(levels, heights, n: int) -> dict:
                 f"heights: expected {len(lv) - 1} positive storey heights (one per pair of "
                 f"consecutive levels) or one for all, got {heights!r}"
             )
+        if h.max() > STOREY_PLAUSIBLE:  # (3000 for 3 m ran: drift ratios 1000x small, unsaid)
+            warnings.warn(f"heights: a storey {h.max():.4g} m high, past the "
+                          f"{STOREY_PLAUSIBLE:g} m of any building storey (2.5-6 m): storey "
+                          "heights are in m; are they in mm?", NotedWarning, stacklevel=4)  # fmt: skip
         out["heights"] = h
     return out
 

@@ -47,7 +47,7 @@ from nsdyn._checks import output_step
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import G_EARTH, read_motion
-from nsdyn.ground.motion import PGA_TARGET_MAX
+from nsdyn.ground.motion import PGA_MAX_PLAUSIBLE, PGA_TARGET_MAX
 from nsdyn.ground.pulses import SHAPES, Pulse
 from nsdyn.models.rocking.scene_keys import SCHEMA
 from nsdyn.models.scenefile import (
@@ -309,6 +309,10 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
                                              "component and the vertical")] if n]  # fmt: skip
     if exc is not None and not isinstance(exc, Pulse):  # a record (a pulse ends by itself)
         notes += [n for n in [past_record_note(t_end, exc.t0 + exc.duration)] if n]
+    elif isinstance(exc, Pulse) and abs(exc.a_p) > PGA_MAX_PLAUSIBLE:  # (a_p_g = 40 for 0.40)
+        notes.append(f"a pulse amplitude of {abs(exc.a_p):.4g} m/s² ({abs(exc.a_p) / G_EARTH:.3g}"
+                     f" g), past the {PGA_MAX_PLAUSIBLE:g} m/s² of recorded ground motions: is "
+                     "motion.a_p_g in %g, or motion.a_p in cm/s²?")  # fmt: skip
     for n in notes:
         say(f"rocking: note: {n}")
     out_dir = Path(out_dir)

@@ -161,6 +161,13 @@ def test_shear_building_toml_equals_python():
     np.testing.assert_allclose(np.diag(Phi.T @ Cf @ Phi) / (2 * np.sqrt(w2)), 0.05, rtol=1e-10)
 
 
+def test_storey_heights_in_mm_are_noted():
+    # heights = 3000 for 3 m ran without a word, its drift ratios 1000x too small
+    iso = Isolation(k_lam=2.0e5, c=2.0e4, mu=MU1)
+    with pytest.warns(NotedWarning, match=r"heights: a storey 3000 m high.* are they in mm\?"):
+        shear_building([2e4, 1e4], [2e7], 0.05, isolation=iso, heights=3000.0)
+
+
 @pytest.mark.slow  # ~30 s: the switch model at rtol 1e-10
 def test_stuck_shear_building_is_the_linear_fixed_base_building():
     import control

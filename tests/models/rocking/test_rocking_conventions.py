@@ -223,3 +223,15 @@ def test_every_rocking_body_released_past_alpha_is_leaning_past_it_at_an_early_e
                 simulate_compliant(cb, **{**kw, "t_end": 4.0})):  # fmt: skip
         s = res.summary()  # (it falls at about 2 s: overturned, not leaning)
         assert s["overturned"] and not s["past_tip_over_at_end"]
+
+
+@pytest.mark.parametrize(("key", "value", "said"), [("a_p_g", 40.0, True), ("a_p", 400.0, True),
+                                                    ("a_p_g", 0.4, False)])  # fmt: skip
+def test_a_pulse_amplitude_past_any_record_is_noted(tmp_path, key, value, said):
+    # a_p_g = 40 typed for 0.40 g overturned the block at 0.12 s without a word; recorded
+    # ground motions stay below PGA_MAX_PLAUSIBLE = 30 m/s², the records' own unit check
+    cfg = {"scene": {"kind": "rocking"}, "block": {"width": 0.3, "height": 1.2},
+           "motion": {"pulse": "sine", key: value, "omega_p": 12.566}}  # fmt: skip
+    s = run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+    noted = [n for n in s.get("notes", []) if "past the 30 m/s² of recorded ground motions" in n]
+    assert bool(noted) == said
