@@ -168,6 +168,14 @@ def newton_step(problem, pm: PeriodMap, x: np.ndarray, W: np.ndarray) -> np.ndar
     return dx
 
 
+def _unverified(problem, pm) -> str:
+    """Why the converged orbit of ``pm`` is not one of the model
+    (``problem.orbit_unverified``: the switch model's samples checked against its modes),
+    or "" (consistent, or no check)."""
+    check = getattr(problem, "orbit_unverified", None)
+    return "" if check is None else check(pm)
+
+
 def _evaluate(problem, x, f, N, disc, sens=True):
     """Period map from ``x`` with the orbit (and sensitivities, with ``sens``), its scaling
     ``W`` and the scaled residual ``max |W (phi_T(x) - x)|`` (inf when the period could not
@@ -278,9 +286,9 @@ def shoot(
                        f"tolerance {tol:g}, where no Newton step lowers it: the period map's "
                        "own accuracy, or a kink of it close by)")  # fmt: skip
                 C = frozen_rows(problem, pm)
-                return ShootingResult(
-                    f, x, True, it, r, pm.monodromy, pm.dxdT, pm.X, N, msg, hist, C
-                )
+                unseen = _unverified(problem, pm)
+                return ShootingResult(f, x, not unseen, it, r, pm.monodromy, pm.dxdT, pm.X, N,
+                                      unseen or msg, hist, C)  # fmt: skip
             msg = f"line search failed after {LS_HALVINGS} halvings (residual {r:.2e})"
             break
         x, pm, W, r = xt, pt, Wt, rt
@@ -288,5 +296,7 @@ def shoot(
         hist.append(r)
     ok = r <= tol
     msg = msg if not ok else "converged"
+    unseen = _unverified(problem, pm) if ok else ""
+    ok, msg = ok and not unseen, unseen or msg
     C = frozen_rows(problem, pm)
     return ShootingResult(f, x, ok, it, r, pm.monodromy, pm.dxdT, pm.X, N, msg, hist, C)

@@ -68,6 +68,7 @@ SWITCH_N_MIN = 128  # samples (steps) per period at least: event bracketing and 
 SWITCH_DT_MAX = 0.02  # s, longest step (the default Discretisation's, same samples)
 STEP_SLIP_FACTOR = 2.0  # a step moves an isolator by at most this x its slip range ...
 STEP_SLIP_FLOOR = 1e-9  # ... or this [m]
+VERIFY_REL = 1e-6  # x the largest slip speed: a slip against its direction (orbit_unverified)
 FROZEN_T_TOL = 1e-9  # switches before this fraction of the period freeze nothing
 AMP_FLOOR_REL = 1e-9  # x the forcing's static displacement: the smallest amplitude scaled
 AMP_FLOOR_CAP = 1e-9  # [m, m/s] ... and at most this (a model without stiffness: no static one)
@@ -238,6 +239,36 @@ class SwitchProblem(MinimalStates):
             MK,
             T,
         )
+
+    def orbit_unverified(self, pm: SwitchPeriodMap) -> str:
+        """Why the orbit of ``pm`` (a period map stored on its samples) is not one of the
+        model, or "". Between switches the map is exact, and a slip velocity that reaches
+        zero is a switch, so at every sample a slipping isolator moves in its slip's
+        direction. One moving against it crossed zero unseen between two samples (twice or
+        more: a stick-slip chatter faster than the sampling, an isolator ringing against a
+        stiff base's axial mode at kHz), and its friction pushed it on, feeding the orbit:
+        Newton converged there on an orbit of this blind map alone (the office frame at
+        1.16 Hz: 72 m/s² at the isolation level, the event-driven integrator from its start
+        falling to the stuck neighbour's 1.72 m/s²). Tolerance: 1e-6 of the orbit's largest
+        slip speed (a legitimate orbit's samples are on the slip's side exactly)."""
+        if pm.X is None or pm.modes is None:
+            return ""
+        n = pm.X.shape[0]
+        t = np.linspace(0.0, pm.period, n)
+        w = 2.0 * math.pi / pm.period
+        Y = np.column_stack([pm.X, np.ones(n), np.sin(w * t), np.cos(w * t)])
+        v = Y @ self.V.T  # (N + 1, groups) slip velocities (a tied group's one)
+        S = mode_sets(v.shape[1])[pm.modes]
+        against = -S * v  # > 0: moving against its own slip's friction
+        k, i = np.unravel_index(int(np.argmax(against)), against.shape)
+        if not against[k, i] > VERIFY_REL * float(np.abs(v).max(initial=0.0)):
+            return ""
+        iso = int(np.flatnonzero(self.groups() == i)[0])
+        return (f"not an orbit of the model: isolator {iso} slips at t = {t[k]:.4g} s against "
+                f"its slip's direction (v = {v[k, i]:.2e} m/s, mode {S[k, i]:+d}): its "
+                "velocity crossed zero unseen between two samples (a stick-slip chatter "
+                "faster than the sampling); more samples per period (nsdyn sweep "
+                "--steps-factor) or the stepped sweep")  # fmt: skip
 
     def stuck_all_period(self, pm: SwitchPeriodMap) -> np.ndarray:
         """Indices of the isolators whose displacement is frozen for the whole period of

@@ -150,7 +150,8 @@ def _levels(levels, heights, n: int) -> dict:
         if h.max() > STOREY_PLAUSIBLE:  # (3000 for 3 m ran: drift ratios 1000x small, unsaid)
             warnings.warn(f"heights: a storey {h.max():.4g} m high, past the "
                           f"{STOREY_PLAUSIBLE:g} m of any building storey (2.5-6 m): storey "
-                          "heights are in m; are they in mm?", NotedWarning, stacklevel=4)  # fmt: skip
+                          "heights are in m; are they in mm?",
+                          NotedWarning, stacklevel=4)  # fmt: skip
         out["heights"] = h
     return out
 
