@@ -208,8 +208,10 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
            if k not in own and getattr(args, k, None)]  # fmt: skip
     if bad:
         verb = "applies" if len(bad) == 1 else "apply"
+        fixed = ("; a 3D building's fixed base is its rung --fidelity fixed" * bool(own)
+                 * any(f in bad for f in ("--fixed-base", "--compare-fixed")))  # fmt: skip
         raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes "
-                         "only")  # fmt: skip
+                         f"only{fixed}")  # fmt: skip
     if args.method and kind in ("deck", "building3d"):
         raise SceneError(f"{args.scene}: --method: a {kind} scene's integrator follows its "
                          "[solver] law (and fidelity); --method applies to isolated-frame, "
@@ -217,8 +219,9 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     mod = importlib.import_module(scene_module(kind))
     record_wins(args, cfg, getattr(mod, "RECORD_REPLACES", ()), False, kind)
     given = _scene_overrides(args)
-    if own:  # a 3D building's rung and cut-off: its [structure] fidelity and f_max
-        sc = given.get("scene", {})
+    if own:  # a 3D building's rung and cut-off: its [structure] fidelity and f_max ("auto":
+        sc = given.get("scene", {})  # its own advisor, as the scene's fidelity = "auto")
+        sc.update({"fidelity": "auto"} if args.fidelity == "auto" else {})
         given["structure"] = {k: sc.pop(k) for k in ("fidelity", "f_max") if k in sc}
     for table, vals in given.items():
         if not isinstance(cfg.get(table, {}), dict):

@@ -318,6 +318,16 @@ def test_a_building_run_takes_the_rung_flags_as_its_structure_keys(capsys, tmp_p
     assert main([*argv, "--out", str(tmp_path)]) == 0
     s = json.loads(capsys.readouterr().out)
     assert s["fidelity"] == "fixed" and any(n.startswith("[bearing] not used") for n in s["notes"])
+    # --fidelity auto asks the building's advisor, as [structure] fidelity = "auto" does (the
+    # flag was dropped: the scene's rigid rung ran, without advice)
+    argv[3] = "auto"
+    assert main([*argv, "--out", str(tmp_path)]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["advice"]["fidelity"] == s["fidelity"]
+    # the fixed base of a building is a rung: the isolated frame's flags say so
+    assert main(["run", str(scene), "--compare-fixed", "--out", str(tmp_path)]) == 2
+    assert capsys.readouterr().err.rstrip().endswith("a 3D building's fixed base is its rung "
+                                                     "--fidelity fixed")  # fmt: skip
     argv[3] = "rigid"  # the scene's own rung, whose note names the key --fmax set
     assert main([*argv, "--fmax", "4", "--out", str(tmp_path)]) == 0
     assert "structure.f_max not used: the cb rung's cut-off" in json.loads(
