@@ -111,11 +111,17 @@ def integrated_law(system, method: str) -> str | None:
 
 def record_span_notes(t_eval: np.ndarray, motion) -> list[str]:
     """:func:`nsdyn.ground.formats.record_span_notes` of a record ``motion`` or a sampled
-    force (a ForceTable; none for other excitations)."""
+    force (a ForceTable; none for other excitations), each said in a NotedWarning to the
+    caller of :func:`~nsdyn.solve.transient.simulate` too, as a deck's run says them (a run
+    past the record ran on as free motion with the note in ``res.notes`` alone)."""
     n = getattr(motion, "n", None) or np.size(getattr(motion, "F", None))
     if not (hasattr(motion, "t0") and hasattr(motion, "dt") and n and n >= 2):
         return []
+    from nsdyn._checks import NotedWarning
     from nsdyn.ground.formats import record_span_notes as notes
 
     t0, dt = float(motion.t0), float(motion.dt)
-    return notes(t_eval, t0, t0 + (n - 1) * dt, dt, force=hasattr(motion, "F"))
+    said = notes(t_eval, t0, t0 + (n - 1) * dt, dt, force=hasattr(motion, "F"))
+    for note in said:
+        warnings.warn(note, NotedWarning, stacklevel=3)
+    return said

@@ -322,3 +322,14 @@ def test_the_default_output_grid_samples_a_harmonics_fastest_component():
         r = nsdyn.simulate(s, nsdyn.Harmonic(1.0, 1.0, A_ver=2.0, f_ver=10.0), t_end=1.0,
                            method="event")  # fmt: skip
     assert r.summary()["dt_out_s"] == pytest.approx(1.0 / (10.0 * HARMONIC_SAMPLES))
+
+
+def test_a_run_past_its_record_says_so_to_its_caller():
+    # the ground is at rest after a record's last sample: the run goes on as free motion,
+    # which res.notes held alone (a deck's run warned); said in a NotedWarning as well
+    a = 3.0 * np.sin(np.linspace(0.0, 20.0, 400))  # 4 s of samples every 0.01 s
+    with pytest.warns(nsdyn.NotedWarning, match=r"past the record's end \(3.99 s\): .* the "
+                      r"last 1.01 s are free motion"):  # fmt: skip
+        r = nsdyn.simulate(_mass(mu=MU, law="arctan"), nsdyn.GroundMotion(0.0, 0.01, a),
+                           t_end=5.0, dt_out=0.01)  # fmt: skip
+    assert r.notes[0].startswith("the run ends at t = 5 s, past the record's end")
