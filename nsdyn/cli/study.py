@@ -66,8 +66,12 @@ def _format(name: str, run: dict, an: dict) -> str:
         f"study {name}: {run['n_tasks']} task{'s' * (run['n_tasks'] != 1)}, {run['n_run']} "
         "run now, "
         f"{run['n_skipped']} from before, {run['n_failed']} failed "
-        f"({run['wall_s']:.1f} s on {run['workers']} worker{'s' * (run['workers'] != 1)}, "
-        f"batches of {run['batch']})",
+        + (
+            f"({run['wall_s']:.1f} s on {run['workers']} worker{'s' * (run['workers'] != 1)}, "
+            f"batches of {run['batch']})"
+            if run["n_run"]
+            else "(nothing left to run)"
+        ),
         f"table: {run['table']}" + (f" (and {run['parquet']})" if run.get("parquet") else ""),
     ]
     if run.get("n_outside"):

@@ -159,6 +159,17 @@ def test_a_json_summary_of_a_study_with_failed_tasks_says_its_status(tmp_path, c
     assert json.loads(capsys.readouterr().out)["status"] == 3
 
 
+def test_a_rerun_with_nothing_left_says_so_not_a_worker_count(tmp_path, capsys):
+    # a finished study rerun said "(0.0 s on 1 worker, batches of 1)" with --workers 2 given
+    argv = ["study", str(_write(tmp_path, HEAD + PARAMS + RECORDS)), "--workers", "2",
+            "--no-figures", "--out", str(tmp_path / "o")]  # fmt: skip
+    assert main(argv) == 0
+    capsys.readouterr()
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "2 tasks, 0 run now, 2 from before, 0 failed (nothing left to run)" in out
+
+
 def test_fresh_and_retry_failed_together_are_refused(tmp_path, capsys):
     # --fresh runs every task anew: --retry-failed beside it was accepted and did nothing
     argv = ["study", str(_write(tmp_path, HEAD + PARAMS + RECORDS)), "--fresh", "--retry-failed"]
