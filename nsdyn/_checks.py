@@ -280,18 +280,34 @@ def coarse_output_note(dt_out: float, motion, field: str = "dt_out") -> str | No
     return coarse_grid_note(dt_out, forcing_frequency(motion), h, span, field)
 
 
+def output_gap(t) -> tuple[float, str]:
+    """(widest gap, the input it came from) of output times ``t`` (at least two): "dt_out"
+    for evenly spaced times, else "t_eval" (given as such: a note names it, not dt_out)."""
+    import numpy as np
+
+    gap = np.diff(np.asarray(t, dtype=float))
+    return float(gap.max()), "dt_out" if gap.max() - gap.min() <= 1e-9 * gap.max() else "t_eval"
+
+
 def coarse_grid_note(dt_out: float, f, h, span: float, field: str = "dt_out") -> str | None:
     """:func:`coarse_output_note` of an excitation given by its harmonic frequency ``f`` [Hz]
-    or its sampling step ``h`` [s] and its ``span`` [s] (None where it has none)."""
+    or its sampling step ``h`` [s] and its ``span`` [s] (None where it has none). ``field``
+    names the input to change ("t_eval": output times given, ``dt_out`` their widest gap)."""
     bound = RECORD_STEPS_MAX * max(h or 0.0, 0.01)  # (a 2000 Hz record's 0.01 s is fine)
+    head = f"dt_out = {dt_out:g} s"  # (output times given: their widest gap, named so)
+    if field == "t_eval":
+        head = f"output times (t_eval) up to {dt_out:g} s apart"
+    fix = "t_eval's outputs at most" if field == "t_eval" else f"{field} <="
+    s = "" if field == "t_eval" else "s"  # (one step reads, times read)
     if h and bound * (1 + 1e-9) < dt_out < span:
-        return (f"dt_out = {dt_out:g} s reads the peaks every {dt_out / h:.3g} samples of the "
-                f"record ({h:g} s): they fall between the outputs; set {field} <= "
-                f"{bound:g} s")  # fmt: skip
+        return (f"{head} read{s} the peaks every {dt_out / h:.3g} samples of the record "
+                f"({h:g} s): they fall between the outputs; set {fix} {bound:g} s"
+                + " apart" * (field == "t_eval"))  # fmt: skip
     if f and dt_out * f * SAMPLES_PER_PERIOD_MIN > 1.0 + 1e-9:
-        return (f"dt_out = {dt_out:g} s samples the {f:g} Hz excitation "
-                f"{1.0 / (f * dt_out):.3g} times per period: the peaks fall between the "
-                f"samples; set {field} <= {1.0 / (SAMPLES_PER_PERIOD_MIN * f):.3g} s")  # fmt: skip
+        return (f"{head} sample{s} the {f:g} Hz excitation {1.0 / (f * dt_out):.3g} times per "
+                f"period: the peaks fall between the samples; set {fix} "
+                f"{1.0 / (SAMPLES_PER_PERIOD_MIN * f):.3g} s"
+                + " apart" * (field == "t_eval"))  # fmt: skip
     return None
 
 

@@ -103,9 +103,12 @@ def result_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None) -> list
 
 def _output_notes(t, motion) -> list[str]:
     """:func:`nsdyn._checks.coarse_output_note` of outputs at times ``t`` (their widest gap)."""
-    from nsdyn._checks import coarse_output_note
+    from nsdyn._checks import coarse_output_note, output_gap
 
-    note = coarse_output_note(float(np.max(np.diff(t))), motion) if t.size > 2 else None
+    if t.size <= 2:
+        return []
+    gap, field = output_gap(t)  # (output times given: named as t_eval)
+    note = coarse_output_note(gap, motion, field)
     return [note] if note else []
 
 

@@ -301,6 +301,11 @@ def test_a_python_run_says_when_its_outputs_miss_the_peaks():
                       r"0.667 times per period: .* set dt_out <= 0.0333 s"):  # fmt: skip
         r = nsdyn.simulate(s, load, t_end=8.0, method="event", dt_out=1.0)
     assert r.summary()["notes"][-1].startswith("dt_out = 1 s samples")
+    # output times given: named as such (the line named a dt_out the call never gave)
+    t = np.array([0.0, 0.5, 2.0, 3.0, 8.0])
+    with pytest.warns(AccuracyWarning, match=r"^output times \(t_eval\) up to 5 s apart sample "
+                      r"the 1.5 Hz .* set t_eval's outputs at most 0.0333 s apart$"):  # fmt: skip
+        nsdyn.simulate(s, load, t_eval=t, method="event")
     fine = 1.0 / (1.5 * SAMPLES_PER_PERIOD_MIN)
     with warnings.catch_warnings():
         warnings.simplefilter("error", AccuracyWarning)

@@ -392,14 +392,14 @@ def default_dt_out(gk, gp) -> float:
     return 1.0 / (50.0 * (orbit_frequency(gp) or gp[kp.GP_F]))
 
 
-def grid_note(gk, gp, dur: float, dt_out: float) -> str | None:
+def grid_note(gk, gp, dur: float, dt_out: float, field: str = "dt_out") -> str | None:
     """:func:`nsdyn._checks.coarse_grid_note` of outputs ``dt_out`` apart on the ground (gk,
     gp) of :func:`pack_ground` (a record of duration ``dur``, or an orbit)."""
     from nsdyn._checks import coarse_grid_note
 
     if gk == kp.G_TABLE:
-        return coarse_grid_note(dt_out, None, float(gp[kp.GP_DT]), dur)
-    return coarse_grid_note(dt_out, orbit_frequency(gp), None, 0.0)
+        return coarse_grid_note(dt_out, None, float(gp[kp.GP_DT]), dur, field)
+    return coarse_grid_note(dt_out, orbit_frequency(gp), None, 0.0, field)
 
 
 def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, float]:
@@ -424,7 +424,7 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
         raise ValueError("t_eval: expected at least two increasing finite times")
     import warnings
 
-    from nsdyn._checks import AccuracyWarning, NotedWarning
+    from nsdyn._checks import AccuracyWarning, NotedWarning, output_gap
 
     if gk == kp.G_TABLE:  # outputs outside the record: the ground at rest there, said
         from nsdyn.ground.formats import record_span_notes
@@ -432,7 +432,7 @@ def run_grid(gk, gp, dur, t_end, dt_out, t_eval, max_step) -> tuple[np.ndarray, 
         t0, dt = float(gp[kp.GP_T0]), float(gp[kp.GP_DT])
         for note in record_span_notes(t_eval, t0, t0 + dur, dt):
             warnings.warn(note, NotedWarning, stacklevel=3)
-    coarse = grid_note(gk, gp, dur, float(np.max(np.diff(t_eval))))
+    coarse = grid_note(gk, gp, dur, *output_gap(t_eval)) if t_eval.size > 2 else None
     if coarse:  # (the frame's simulate says it too; outputs 1 s apart read 15 % low)
         warnings.warn(coarse, AccuracyWarning, stacklevel=3)
     if max_step is None:
