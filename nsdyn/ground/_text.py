@@ -273,8 +273,24 @@ def parse_table(text: str, source: str) -> Table:
     if info_names is not None and len(info_names) == ncol:
         names, units = info_names, None
     if names is not None and len(names) != ncol:
-        names = units = None
+        names, units = _labels_folded(names, units, ncol)
     return Table(header, names, data, linenos, units)
+
+
+def _labels_folded(names: list[str], units: list, ncol: int) -> tuple:
+    """``names`` and ``units`` of a header line with more names than the ``ncol`` columns,
+    each name without a unit that follows a column's unit folded into that column's name as
+    a label ("t [s], a [g] NS": the columns "t" and "a ns" in s and g; the units were not
+    read), when that gives ``ncol`` columns; else (None, None)."""
+    out_n: list[str] = []
+    out_u: list = []
+    for name, unit in zip(names, units, strict=True):
+        if unit is None and out_u and out_u[-1] is not None:
+            out_n[-1] = f"{out_n[-1]} {name}"
+            continue
+        out_n.append(name)
+        out_u.append(unit)
+    return (out_n, out_u) if len(out_n) == ncol else (None, None)
 
 
 _NAME = r"[A-Za-z][\w.-]*"
@@ -293,8 +309,11 @@ def names_and_units(toks: list[str]) -> tuple[list[str], list[str | None]] | Non
     for tok in toks:
         alone = re.fullmatch(_UNIT, tok)
         if alone is not None:  # "acc [g]": the unit of the name before it
-            if not names or units[-1] is not None:
+            if not names:
                 return None
+            if units[-1] is not None:  # "acc [g] (E-W)": a label after the unit
+                names[-1] = f"{names[-1]} {tok.lower()}"
+                continue
             units[-1] = alone.group(1)
             continue
         m = _NAME_UNIT.fullmatch(tok)

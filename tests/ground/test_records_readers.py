@@ -160,7 +160,9 @@ def test_a_byte_order_mark_or_quoted_names_change_no_sample(tmp_path, codec, hea
      ("t(s) a(g)", G_STANDARD, None, 1), ("time,acc(cm/s2)", 0.01, None, 1),
      ("t [s]\ta [m/s^2]", 1.0, None, 1), ("time [ms] acc [gal]", 0.01, None, 1e-3),
      ("time acc [m/s2] ud [g]", 1.0, G_STANDARD, 1), ("time acc [g] ud", G_STANDARD, G_STANDARD, 1),
-     ("# units: gal\ntime acc ud", 0.01, 0.01, 1)],
+     ("# units: gal\ntime acc ud", 0.01, 0.01, 1),
+     # a label after a column's unit (it was read as m/s², "units not stated")
+     ("t [s], a [g] NS", G_STANDARD, None, 1), ("time (s) acc (g) (E-W)", G_STANDARD, None, 1)],
 )  # fmt: skip
 def test_units_in_the_column_names_are_read(tmp_path, names, factor, v_factor, t_scale):
     # "time acc [g]" was read as m/s² (a record 9.8 times too weak) with "units not stated"
