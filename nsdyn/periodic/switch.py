@@ -250,7 +250,7 @@ class SwitchProblem(MinimalStates):
         Newton converged there on an orbit of this blind map alone (the office frame at
         1.16 Hz: 72 m/s² at the isolation level, the event-driven integrator from its start
         falling to the stuck neighbour's 1.72 m/s²). Tolerance: 1e-6 of the orbit's largest
-        slip speed (a legitimate orbit's samples are on the slip's side exactly)."""
+        slip speed, and at least V_ZERO (a legitimate orbit's samples are on the slip's side)."""
         if pm.X is None or pm.modes is None:
             return ""
         n = pm.X.shape[0]
@@ -261,7 +261,7 @@ class SwitchProblem(MinimalStates):
         S = mode_sets(v.shape[1])[pm.modes]
         against = -S * v  # > 0: moving against its own slip's friction
         k, i = np.unravel_index(int(np.argmax(against)), against.shape)
-        if not against[k, i] > VERIFY_REL * float(np.abs(v).max(initial=0.0)):
+        if not against[k, i] > max(VERIFY_REL * float(np.abs(v).max(initial=0.0)), V_ZERO):
             return ""
         iso = int(np.flatnonzero(self.groups() == i)[0])
         return (f"not an orbit of the model: isolator {iso} slips at t = {t[k]:.4g} s against "
