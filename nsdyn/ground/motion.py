@@ -347,7 +347,9 @@ class GroundMotion(Sampled):
         )
 
     def window(self, t_start: float, t_end: float) -> GroundMotion:
-        """The samples with t_start ≤ t ≤ t_end (absolute times; t0 becomes the first kept t)."""
+        """The samples with t_start ≤ t ≤ t_end (absolute times; t0 becomes the first kept t).
+        A window reaching past the record keeps the samples there are: ``window(30, 100)`` of
+        a 40 s record is 10 s long (``.duration`` says it; ValueError when none is left)."""
         for v in (t_start, t_end):  # (an infinite end: the record's own end)
             number("window", v, "times [s] (inf: the record's end)", finite=False)
         eps = 1e-9
