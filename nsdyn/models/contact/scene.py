@@ -166,7 +166,8 @@ def build(cfg: dict, source: str):
                          f"got {impact_law!r}")  # fmt: skip
     if impact_law == "housner":
         refuse_keys(im, source, "impact", ("e_n",), "the housner law takes its restitution from "
-                    "the body's shape; e_n is the newton law's")  # fmt: skip
+                    "the body's shape; e_n is the newton law's: delete it beside law = "
+                    "'housner'")  # fmt: skip
     mo = cfg.get("motion", {})
     t_end = number(source, "motion.t_end", mo["t_end"]) if "t_end" in mo else None
     tilt = scene_tilt(mo, source)
