@@ -19,13 +19,24 @@ def on_signal(signum, frame):
     if SIGNALLED[0]:
         return
     if _in_llvm_callback(frame):  # raised in LLVM's callback into Python (numba compiling),
-        import os  # the interrupt was printed as an ignored exception, with its traceback:
-        import threading  # sent again a moment later, when the callback has returned
+        import threading  # the interrupt was printed as an ignored exception, with its
 
-        threading.Timer(0.05, os.kill, (os.getpid(), signum)).start()
+        resend = threading.Timer(0.05, _resend, (signum,))  # traceback: sent again a moment
+        resend.daemon = True  # later, when the callback has returned
+        resend.start()
         return
     SIGNALLED[0] = True
     raise KeyboardInterrupt
+
+
+def _resend(signum: int) -> None:
+    """Send ``signum`` to this process again while this handler still handles it (a command
+    that ended meanwhile, its handlers restored in a caller's process: not sent)."""
+    import os
+    import signal
+
+    if signal.getsignal(signum) is on_signal and not SIGNALLED[0]:
+        os.kill(os.getpid(), signum)
 
 
 def _in_llvm_callback(frame) -> bool:

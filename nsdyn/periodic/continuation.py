@@ -123,9 +123,8 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
         why = res.message
         integration_failed |= res.monodromy is None
     if integration_failed and guesses:
-        # more steps cannot help where a contact lifts off (the model's own limit): the
-        # probe (the model's quantities_without_orbit) decides before the costly retry, from
-        # the guess the retry would start from, over as many periods as the warm start runs
+        # more steps cannot help where a contact lifts off (the model's limit): its probe decides
+        # first, from the retry's guess over the warm start's periods (quantities_without_orbit)
         lifts, probe = problem.quantities_without_orbit(f, guesses[0], WARMUP_PERIODS)
         if lifts.get("uplift"):
             why = f"{why}; not retried with {REFINE_FACTOR}x steps ({probe})"
@@ -140,8 +139,8 @@ def _solve_point(problem, f, guesses, disc, tol, max_iter, fallback, method="sho
         return None, why  # (the reason, for the curve's skipped frequencies)
     sw = steady_state_sweep(problem, f, guesses[0] if guesses else None, disc=disc)
     if guesses and not sw.steady and sw.periods_done <= WARMUP_PERIODS:
-        # the previous orbit can seed a transient that leaves the model (a contact lifting
-        # off in the first period) where the steady state stays in it: once more from rest
+        # the previous orbit can seed a transient leaving the model (a contact lifting off in
+        # the first period) where the steady state stays in it: once more from rest
         calm = steady_state_sweep(problem, f, None, disc=disc)
         if calm.steady:
             why = f"{why}; the sweep from the previous orbit stopped ({sw.message}), from rest"
@@ -538,8 +537,9 @@ def _corrector(problem, y_pred, tan, W, N, disc, tol, ds):
         C = frozen_rows(problem, pm)
         res = ShootingResult(f, y[:d].copy(), r <= tol, it, r, pm.monodromy, dxdT, pm.X, N)
         res.frozen = C
-        if r <= tol and abs(g) <= ARC_PHASE_TOL:
-            return True, y, res, it, r, "converged"
+        if r <= tol and abs(g) <= ARC_PHASE_TOL:  # (not an orbit of the sampled map alone)
+            why = getattr(problem, "orbit_unverified", lambda _: "")(pm)
+            return not why, y, None if why else res, it, r, why or "converged"
         if it == ARC_MAXIT:
             break
         top, nc = _bordered(pm.monodromy - np.eye(d), dxdT * (-1.0 / f), C)

@@ -260,8 +260,8 @@ def load(path: Path, key: str, t_eval: np.ndarray):
         raise
     except (OSError, EOFError, ValueError, KeyError, zipfile.BadZipFile) as e:
         raise CheckpointError(
-            f"checkpoint {path}: cannot be read ({type(e).__name__}: {e}); run again without "
-            "resuming (nsdyn run without --resume) to start over: that replaces it"
+            f"checkpoint {path}: cannot be read ({type(e).__name__}: {e}); delete it to start "
+            "the run over (nsdyn run: a run without --resume starts over and replaces it)"
         ) from None
 
 

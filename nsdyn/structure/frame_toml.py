@@ -399,8 +399,8 @@ def _read_frame_file(name_or_path: str | Path) -> tuple[dict, str]:
                 there = f" (the file {s}.toml is here: give its whole name)"
             elif Path(s).is_file():  # (a record given where a frame goes: "no bundled frame")
                 record = Path(s).suffix.lower() in (".csv", ".txt", ".at2", ".dat", ".acc")
-                there = (f" (the file {s} is here{': a ground-motion record?' * record} "
-                         "but a frame file is a .toml file)")  # fmt: skip
+                to = "; a ground-motion record goes in a scene's [motion] record" * record
+                there = f" (the file {s} here is no frame file: those are .toml files{to})"
             raise FrameFileError(f"{s}: no bundled frame of that name{there} (bundled: {known})")
         text, fname = f.read_bytes(), f"{s}.toml"
     try:

@@ -327,7 +327,10 @@ def _check_isolated(cfg: dict, source: str) -> list[str]:
     dt = checked_step(method, sv, excitation, t_eval, source)
     check_step_count(source, method, dt, t_eval, sv.get("max_steps"))
     if method == "auto" and "dt" in sv:  # (a fixed step for an adaptive choice: every row fails)
-        _auto_step(system or _isolated_system(cfg, source), sv["dt"], source)
+        try:
+            _auto_step(system or _isolated_system(cfg, source), sv["dt"], source)
+        except ValueError as e:  # (a value the model refuses: isolation.k_lam of 7 for 2)
+            raise e if isinstance(e, SceneError) else SceneError(f"{source}: {e}") from None
     if "structure" not in cfg and cfg.get("scene", {}).get("fidelity") == "fixed":
         return []  # (its [isolation] note: unused_notes)
     normal = system is not None and system.normal_force is not None

@@ -173,11 +173,18 @@ def test_a_signal_inside_llvms_callback_is_sent_again_after_it(monkeypatch):
     space = {"sys": sys}
     exec(callback, space)
     app._SIGNALLED[0] = False
-    assert space["notify"](app._on_signal) is None  # not raised in the callback
-    assert sent.wait(5.0) and not app._SIGNALLED[0]  # sent again, still the first signal
-    with pytest.raises(KeyboardInterrupt):  # outside the callback: the interrupt
-        app._on_signal(signal.SIGINT, sys._getframe())
-    app._SIGNALLED[0] = False
+    old = signal.signal(signal.SIGINT, app._on_signal)  # (the command's handler, installed)
+    try:
+        assert space["notify"](app._on_signal) is None  # not raised in the callback
+        assert sent.wait(5.0) and not app._SIGNALLED[0]  # sent again, still the first signal
+        with pytest.raises(KeyboardInterrupt):  # outside the callback: the interrupt
+            app._on_signal(signal.SIGINT, sys._getframe())
+    finally:
+        signal.signal(signal.SIGINT, old)
+        app._SIGNALLED[0] = False
+    # a command that ended before the moment passed (its handler gone): nothing is sent
+    sent.clear()
+    assert space["notify"](app._on_signal) is None and not sent.wait(0.5)
 
 
 def test_a_second_signal_during_the_stop_is_ignored(tmp_path, reference_run):

@@ -106,8 +106,8 @@ def test_a_bare_name_of_a_record_file_says_what_it_may_be(tmp_path, monkeypatch)
     monkeypatch.chdir(tmp_path)
     (tmp_path / "rec.csv").write_text("0 0\n0.01 1\n")
     with pytest.raises(FrameFileError, match=r"^rec.csv: no bundled frame of that name \(the "
-                       r"file rec.csv is here: a ground-motion record\? but a frame file is a "
-                       r"\.toml file\)"):  # fmt: skip
+                       r"file rec.csv here is no frame file: those are \.toml files; a "
+                       r"ground-motion record goes in a scene's \[motion\] record\)"):  # fmt: skip
         load_frame("rec.csv")
 
 

@@ -55,6 +55,9 @@ def _write(tmp_path, text: str):
         (HEAD + PARAMS + RECORDS
          + '[analysis.fragility]\nim = "pga_mps2"\nedp = "idr_max"\nlimits = [0.004, 0.004]\n',
          r"analysis\.fragility\.limits: 0\.004 given twice"),
+        # the model built for that check refuses a value named (a traceback came out)
+        (HEAD + "[base.solver]\ndt = 0.005\n[base.isolation]\nk_lam = [1e5, 1e5, 1e5]\n" + PARAMS,
+         r"isolation\.k_lam: expected one value or 2 \(one per isolator\), got 3"),
         (HEAD + '[parameters]\n"solver.dt" = [0.002, 0.005]\n',
          r"solver\.dt: 0\.002 is the step of a fixed-step method, but method 'auto' chooses "
          r"the adaptive 'radau'"),
