@@ -64,8 +64,9 @@ def note_unused_isolation(cfg: dict, system, law: str | None = None) -> str | No
     if system is None:
         return None
     iso = system.isolation
-    unused = unused_isolation(cfg, iso, given_normal=getattr(system, "normal_force", None)
-                              is not None, law=law)  # fmt: skip
+    unused = [(k, why) for k, why in unused_isolation(
+        cfg, iso, given_normal=getattr(system, "normal_force", None) is not None, law=law)
+        if k != "isolation.law"]  # (the event method's own warning says its law)  # fmt: skip
     if iso is None:  # the fixed-base frame
         return unused[0][1] if unused else None
     return ("not used by this model: " + ", ".join(f"{k} ({why})" for k, why in unused)

@@ -119,13 +119,13 @@ def _format(name: str, run: dict, an: dict) -> str:
                 lines.append(f"fragility {what}: {r['error']}")
     inc = an.get("incidence")
     for r in (inc or {}).get("rows", [])[:MAX_FAILED_LINES]:
-        q = next((q for q in inc["quantities"] if all(  # (a round-off peak has no angle)
+        has = [q for q in inc["quantities"] if all(  # (a round-off peak has no angle)
             isinstance(r.get(f"{q}_{k}"), int | float) and math.isfinite(r[f"{q}_{k}"])
-            for k in ("max", "angle_of_max_deg"))), None)  # fmt: skip
-        if q is None and r.get("n_failed") and not r.get("n_angles"):
+            for k in ("max", "angle_of_max_deg"))]  # fmt: skip
+        if not has and r.get("n_failed") and not r.get("n_angles"):
             group = ", ".join(str(r.get(b)) for b in inc["by"])
             lines.append(f"incidence {group}: every angle failed ({r['n_failed']})")
-        if q is not None:  # the first quantity the group has: its largest over the angles
+        for q in has:  # each quantity the group has: its largest over the angles
             top, at, low = (r[f"{q}_{k}"] for k in ("max", "angle_of_max_deg", "min"))
             group = ", ".join(str(r.get(b)) for b in inc["by"])
             k = r.get("n_failed") or 0

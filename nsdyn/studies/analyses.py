@@ -1,13 +1,13 @@
 """The ``[analysis.*]`` tables of a study file: checking them, running them on the table.
 
-``[analysis.design]``        variables (default: the grid parameters but motion.seed, an
-                             earthquake axis like the records), objectives (default
+``[analysis.design]``        variables (default: the grid parameters but motion.seed and
+                             motion.rotate, excitation axes like the records), objectives (default
                              IDR and floor acceleration), constraints {field = upper bound}
                              (default the 400 mm seismic gap on x_iso_max_m, seed 004 §5),
                              aggregate over records (mean | median | max), reference design
                              {parameter = value} to compare with (e.g. the seed's eq (16)),
                              a value for each variable.
-``[analysis.percentiles]``   quantities, by (default: the grid parameters but motion.seed),
+``[analysis.percentiles]``   quantities, by (default: the grid parameters but the excitation axes),
                              percentiles.
 ``[analysis.fragility]``     im (a parameter or result column, e.g. "motion.pga"), edp
                              (a result column) and limits (P[edp > limit | im]); without
@@ -255,7 +255,7 @@ def check_first_row(study, row: dict) -> None:
 
 # grid parameters that draw the excitation, not the design: runs over them are a design's
 # records (the cylinder's simulated earthquake's seed), aggregated as records are
-EXCITATION_AXES = ("motion.seed",)
+EXCITATION_AXES = ("motion.seed", "motion.rotate")  # a record's draws and incident angles
 
 
 def _grid_names(study) -> list[str]:

@@ -32,6 +32,7 @@ from scipy import special  # (not scipy.stats: half a second to import; norm.ppf
 MAX_ITER = 100  # Fisher-scoring iterations
 STEP_TOL = 1e-10  # convergence: Newton step in (a, b), relative to 1 + |(a, b)|
 MAX_B = 1e4  # b = 1/beta beyond this: the data separate perfectly (beta -> 0)
+MIN_B = 1e-2  # b below this (beta > 100): the outcome does not rise with IM (beta -> inf)
 CONFIDENCE = 0.95  # default level of the confidence band
 
 
@@ -104,8 +105,8 @@ def fit_lognormal_counts(im, n_runs, n_exceed) -> LognormalFragility:
     if u[z < n].max() <= u[z > 0].min():  # (quasi-)complete separation: no finite maximum
         lo, hi = float(x[z < n].max()), float(x[z > 0].min())
         where = (f"every run at IM <= {lo:g} survives and every run at IM >= {hi:g} exceeds"
-                 if lo < hi else f"below IM = {lo:g} every run survives and above it every "
-                 "run exceeds; at it, some of each")  # fmt: skip
+                 if lo < hi else f"no run below IM = {lo:g} exceeds and no run above it "
+                 "survives; at it, some of each")  # fmt: skip
         counts = ", ".join(f"{xi:g}: {zi:g}/{ni:g}" for xi, ni, zi in zip(x, n, z, strict=True)
                            if ni > 0)  # fmt: skip
         raise ValueError(
@@ -148,6 +149,12 @@ def fit_lognormal_counts(im, n_runs, n_exceed) -> LognormalFragility:
             break
     else:
         raise ValueError(f"fragility: Fisher scoring did not converge in {MAX_ITER} iterations")
+    if b < MIN_B:  # (beta 1e16 and its standard error 4e32 were printed as a fit)
+        counts = ", ".join(f"{xi:g}: {zi:g}/{ni:g}" for xi, ni, zi in zip(x, n, z, strict=True)
+                           if ni > 0)  # fmt: skip
+        raise ValueError(f"fragility: the share of runs exceeding does not rise with IM (beta "
+                         f"-> inf; exceeding per level {counts}): no fragility curve; the "
+                         "outcome follows another parameter, or IM is not the one")  # fmt: skip
     cov = np.linalg.inv(fisher_information(a, b, x, n))
     # ln theta = -a/b, beta = 1/b: gradients for the delta method
     g_lt = np.array([-1.0 / b, a / b**2])

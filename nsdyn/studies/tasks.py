@@ -283,7 +283,8 @@ def check_tasks(study: Study) -> None:
         warnings.simplefilter("always")  # runs do not repeat them), as every other warning
         for task in tasks:
             label = task_label(task.index, task.params, task.record_name)
-            notes = check_scene(task.cfg, f"{study.source}: {label}")
+            cfg = {**task.cfg, "_varied": list(read)} if task.kind == "isolated" else task.cfg
+            notes = check_scene(cfg, f"{study.source}: {label}")  # (varied keys: given)
             about = {n: _unused_keys(n) for n in notes}  # (the keys a note is about: not
             for name, why in read.items():  # a key its reason names, "as [motion] record_y")
                 unused = [n for n, k in about.items() if k and keys[name].search(k)]

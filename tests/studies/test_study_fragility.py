@@ -102,10 +102,15 @@ def test_fit_refuses_data_without_information():
         fit_lognormal(x, np.array([False, False, True, True]))
     # quasi-complete: runs at one level do either, all below survive, all above exceed (it
     # was said as "every run above fails" as well): no finite maximum either
-    with pytest.raises(ValueError, match=r"below IM = 2 every run survives and above it every "
-                       r"run exceeds; at it, some of each; exceeding per level 1: 0/2, 2: 1/2, "
+    with pytest.raises(ValueError, match=r"no run below IM = 2 exceeds and no run above it "
+                       r"survives; at it, some of each; exceeding per level 1: 0/2, 2: 1/2, "
                        r"3: 2/2\)"):  # fmt: skip
         fit_lognormal(np.repeat([1.0, 2.0, 3.0], 2), np.array([0, 0, 0, 1, 1, 1], bool))
+    # the same share exceeding at every level (the outcome follows another parameter, not
+    # IM): the likelihood grows without bound as beta -> inf (a fit with beta 1e16 was given)
+    with pytest.raises(ValueError, match=r"does not rise with IM \(beta -> inf; exceeding per "
+                       r"level 1: 1/2, 2: 1/2, 3: 1/2\)"):  # fmt: skip
+        fit_lognormal(np.repeat([1.0, 2.0, 3.0], 2), np.array([0, 1, 1, 0, 0, 1], bool))
     with pytest.raises(ValueError, match="positive"):
         fit_lognormal(np.array([0.0, 1.0]), np.array([False, True]))
 

@@ -85,6 +85,25 @@ def test_a_frame_study_says_its_base_keys_as_a_run_does(tmp_path, isolation, var
         load_study(path)
 
 
+@pytest.mark.parametrize(
+    ("varied", "says"),
+    [
+        # the event method integrates the switch law: a varied law repeated one run, unsaid
+        ('"isolation.law" = ["arctan", "switch"]',
+         r"parameters.isolation.law: no task reads it \(isolation.law not used: the event method"),
+        # a value equal to the default counted as not given: "2 of 4 tasks do not read it"
+        ('"isolation.eps" = [1000.0, 7500.0]',
+         r"parameters.isolation.eps: no task reads it \(isolation.eps not used: a key of the "
+         r"arctan law; the law here is switch"),
+    ],
+)  # fmt: skip
+def test_keys_the_event_method_does_not_read_are_refused(tmp_path, varied, says):
+    path = tmp_path / "s.toml"
+    path.write_text(f'{FRAME}[base.solver]\nmethod = "event"\n[parameters]\n{varied}\n')
+    with pytest.raises(SceneError, match=says):
+        load_study(path)
+
+
 def test_a_frame_study_varying_a_key_of_another_law_is_refused(tmp_path):
     path = tmp_path / "s.toml"
     path.write_text(f'{FRAME}[parameters]\n"isolation.eta" = [1e-4, 1e-3]\n')
@@ -114,6 +133,10 @@ def test_a_design_s_default_variables_leave_the_earthquake_seed_to_the_records(t
             '"motion.seed" = [0, 1]\n')  # fmt: skip
     study = load_study(_study(tmp_path, "cylinder-uplift.toml", body))
     assert _grid_names(study) == ["foundation.zeta", "foundation.f_rock"]
+    # a 3D record's incident angle too: a design was chosen at its most favourable angle
+    body = '[parameters]\n"bearing.radius" = [2.0, 3.0]\n"motion.rotate" = [0.0, 90.0]\n'
+    study = load_study(_study(tmp_path, "deck-fps4-3c.toml", body))
+    assert _grid_names(study) == ["bearing.radius"]
 
 
 def test_true_false_outcomes_are_numbers_to_the_analyses_and_their_percentiles_are_named():

@@ -417,22 +417,28 @@ def unused_isolation(
     base) does not read, as (key, why): they changed nothing, without a word. The switch
     law's band and stick stabilisation under a smooth law, the arctan sharpness under another,
     the contacts' keys on given normal forces (``given_normal``), the base diaphragm's on a
-    structure given directly; on the fixed-base frame one item, ("[isolation]", its note).
+    structure given directly, the law under the event method; on the fixed-base frame one item,
+    ("[isolation]", its note). A study's varied keys (``cfg["_varied"]``) count as given.
     ``law``: the law the run integrates when not the scene's (the event method's switch law
     follows from ``solver.method``; uplift's arctan is given)."""
     from nsdyn.models.isolated.friction import LAW_KEYS
 
     default = DEFAULT_SCENE["isolation"]  # (merged into every frame scene: not the user's)
-    given = [k for k, v in cfg.get("isolation", {}).items() if default.get(k, GIVEN) != v]
+    varied = {n.split(".", 1)[1] for n in cfg.get("_varied", ()) if n.startswith("isolation.")}
+    given = [k for k, v in cfg.get("isolation", {}).items()  # (a study's parameter: given)
+             if default.get(k, GIVEN) != v or k in varied]  # fmt: skip
     if not given:
         return []
     if iso is None:
         return [("[isolation]", f"[isolation] not used: the fixed-base model has no isolators "
                                 f"({', '.join(given)})")]  # fmt: skip
     method = cfg.get("solver", {}).get("method", "auto")
-    law = law or ("switch" if method == "event" else iso.law)
+    event = law is None and method == "event"  # (its law: the switch law, whatever is given)
+    law = law or ("switch" if event else iso.law)
     why = {k: f"a key of the {own} law; the law here is {law}"
            for k, (own, _) in LAW_KEYS.items() if own != law}  # fmt: skip
+    if event:
+        why["law"] = "the event method integrates the switch law, whatever the law given"
     if law == "none":  # no friction: its coefficient changes nothing
         why["mu"] = "the friction coefficient; the law here is none: no friction"
     if given_normal:  # a structure given its weight: no contact rows
