@@ -105,8 +105,14 @@ PGA_TARGET = f"a finite PGA from 0 to {PGA_TARGET_MAX:g} m/s² (100 g)"
 
 def pga_target(target) -> float:
     """``target`` [m/s²] as a float if it is a PGA :func:`GroundMotion.scaled_to_pga` takes
-    (:data:`PGA_TARGET`), else a ValueError naming it."""
-    return number("target", target, PGA_TARGET, lambda v: 0.0 <= v <= PGA_TARGET_MAX)
+    (:data:`PGA_TARGET`), else a ValueError naming it. One above
+    :data:`PGA_MAX_PLAUSIBLE` is taken and said (a UnitWarning: 300 typed in gal ran at 30 g)."""
+    v = number("target", target, PGA_TARGET, lambda v: 0.0 <= v <= PGA_TARGET_MAX)
+    if v > PGA_MAX_PLAUSIBLE:
+        warnings.warn(f"a PGA of {v:g} m/s² ({v / G_STANDARD:.3g} g) is above the "
+                      f"{PGA_MAX_PLAUSIBLE:g} m/s² of recorded ground motions: is it in gal "
+                      "(cm/s²)? A PGA is given in m/s²", UnitWarning, stacklevel=3)  # fmt: skip
+    return v
 
 
 # how a user gives a record's units, in the library and in a scene file
