@@ -209,7 +209,9 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     if bad:
         verb = "applies" if len(bad) == 1 else "apply"
         fixed = ("; a 3D building's fixed base is its rung --fidelity fixed" * bool(own)
-                 * any(f in bad for f in ("--fixed-base", "--compare-fixed")))  # fmt: skip
+                 * any(f in bad for f in ("--fixed-base", "--compare-fixed"))
+                 + "; a 3D building's step is its [solver] dt"
+                 * (bool(own) and "--dt" in bad))  # fmt: skip
         raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes "
                          f"only{fixed}")  # fmt: skip
     if args.method and kind in ("deck", "building3d"):
@@ -369,6 +371,12 @@ def run(args: argparse.Namespace) -> int:
     if method == "auto":  # by the model's size, friction law and contact; said in one line
         method, reason = choose_for_system(system)
     check_method(method, cfg)
+    from nsdyn.solve.auto import sparse_path
+
+    if not sparse_path(system, method) and system.dense_refusal():  # (a traceback after the
+        said = f" ({reason})" if reason else ""  # build; auto's radau for the switch law too)
+        raise SceneError(f"{source}: solver.method: {method!r}{said} cannot run this model: "
+                         f"{system.dense_refusal()}")  # fmt: skip
     from nsdyn.solve.methods import METHODS
     from nsdyn.studies.scenes import checked_step
 
@@ -410,7 +418,6 @@ def run(args: argparse.Namespace) -> int:
     say = reporter(lambda line: print(line, file=sys.stderr))  # --json: on a terminal's stderr
     progress = None if quiet and not sys.stderr.isatty() else say
 
-    from nsdyn.solve.auto import sparse_path
     from nsdyn.solve.integrate import UpliftWarning
     from nsdyn.solve.methods import FLAT_LAWS
 

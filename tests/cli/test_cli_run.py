@@ -207,3 +207,27 @@ def test_compare_fixed_gives_the_fixed_base_peaks_beside_the_isolated_ones(tmp_p
     row = next(x for x in capsys.readouterr().out.splitlines() if "fixed base:" in x)
     assert (f"{fb['idr_max']:.3e} / {fb['floor_acc_max_mps2']:.3f} m/s² / "
             f"{fb['roof_drift_max_m']:.4f} m") in row  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("flags", "says"),
+    [(["--method", "radau"], r"'radau' cannot run this model: .* too many for the dense kernels"),
+     # auto's choice for the switch law, radau, cannot either: said with auto's reason
+     (["--friction", "switch"], r"'radau' \(auto: switch law -> radau .*\) cannot run this "
+      r"model: .*the cb fidelity \(fewer dofs\) for the switch law")],
+)  # fmt: skip
+def test_a_dense_method_on_a_sparse_only_model_is_refused_in_one_line(
+    tmp_path, capsys, monkeypatch, flags, says
+):
+    # a full model above fullorder.DENSE_MAX_DOF (2000 dofs) keeps no dense copies: a dense
+    # method ended in a traceback (status 1) after the build; here the office's 435 dofs
+    # stand for one such, the limit lowered (and no model cache: its copies would be loaded)
+    import re
+
+    from nsdyn.models.isolated import fullorder
+
+    monkeypatch.setattr(fullorder, "DENSE_MAX_DOF", 100)
+    monkeypatch.setenv("NSDYN_MODEL_CACHE", "0")
+    argv = ["run", "--fidelity", "full", *flags, "--t-end", "0.1", "--no-figures"]
+    assert main([*argv, "--out", str(tmp_path)]) == 2
+    assert re.search(says, capsys.readouterr().err)

@@ -328,6 +328,8 @@ def test_a_building_run_takes_the_rung_flags_as_its_structure_keys(capsys, tmp_p
     assert main(["run", str(scene), "--compare-fixed", "--out", str(tmp_path)]) == 2
     assert capsys.readouterr().err.rstrip().endswith("a 3D building's fixed base is its rung "
                                                      "--fidelity fixed")  # fmt: skip
+    assert main(["run", str(scene), "--dt", "0.002", "--out", str(tmp_path)]) == 2
+    assert capsys.readouterr().err.rstrip().endswith("a 3D building's step is its [solver] dt")
     argv[3] = "rigid"  # the scene's own rung, whose note names the key --fmax set
     assert main([*argv, "--fmax", "4", "--out", str(tmp_path)]) == 0
     assert "structure.f_max not used: the cb rung's cut-off" in json.loads(

@@ -251,6 +251,20 @@ class IsolatedSystem:
         return x0.copy(), lam0.copy()
 
     # ---- kernel parameters ----------------------------------------------------------------
+    def dense_refusal(self) -> str | None:
+        """Why the dense kernels cannot run this model (full-order, kept on sparse operators
+        alone: too many dofs), with what can; None when they can."""
+        if isinstance(self.M, np.ndarray):
+            return None
+        iso = self.isolation
+        smooth = iso is None or iso.law != "switch" and iso.contact != "unilateral"
+        use = ("use method 'auto' or 'genalpha-lowrank' (sparse)" if smooth else "the "
+               "sparse 'genalpha-lowrank' runs only the arctan or no friction law under "
+               "bilateral or detect contact: use one, or the cb fidelity (fewer dofs) for "
+               "the switch law or lift-off")  # fmt: skip
+        return (f"{self.name}: {self.n} dofs are too many for the dense kernels (radau, "
+                f"dopri5, genalpha, event); {use}")  # fmt: skip
+
     def params(
         self, ground=None, *, law: str | None = None, stub: bool = False, **overrides
     ) -> tuple:
@@ -263,14 +277,8 @@ class IsolatedSystem:
         if stub:
             M, C, K, Gamma = np.eye(1), np.zeros((1, 1)), np.zeros((1, 1)), Gamma[:1]
             R, D = np.zeros((self.n_contacts, 1)), np.zeros((self.n_isolators, 1))
-        elif not isinstance(M, np.ndarray):
-            smooth = iso is None or iso.law != "switch" and iso.contact != "unilateral"
-            use = ("use method 'auto' or 'genalpha-lowrank' (sparse)" if smooth else "the "
-                   "sparse 'genalpha-lowrank' runs only the arctan or no friction law under "
-                   "bilateral or detect contact: use one, or the cb fidelity (fewer dofs) for "
-                   "the switch law or lift-off")  # fmt: skip
-            raise ValueError(f"{self.name}: {self.n} dofs are too many for the dense kernels "
-                             f"(radau, dopri5, genalpha, event); {use}")  # fmt: skip
+        elif self.dense_refusal():
+            raise ValueError(self.dense_refusal())
         if iso is None:
             return pack(M, C, K, Gamma, ground=ground, g=G_EARTH)
         _, lam0 = self.static_equilibrium()
