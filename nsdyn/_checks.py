@@ -286,7 +286,9 @@ def output_gap(t) -> tuple[float, str]:
     import numpy as np
 
     gap = np.diff(np.asarray(t, dtype=float))
-    return float(gap.max()), "dt_out" if gap.max() - gap.min() <= 1e-9 * gap.max() else "t_eval"
+    even = gap[:-1] if gap.size > 1 else gap  # (a dt_out grid keeps the run's end: its last
+    field = "dt_out" if np.ptp(even) <= 1e-9 * gap.max() else "t_eval"  # gap may be short)
+    return float(gap.max()), field
 
 
 def coarse_grid_note(dt_out: float, f, h, span: float, field: str = "dt_out") -> str | None:

@@ -109,9 +109,10 @@ def pga_target(target) -> float:
     :data:`PGA_MAX_PLAUSIBLE` is taken and said (a UnitWarning: 300 typed in gal ran at 30 g)."""
     v = number("target", target, PGA_TARGET, lambda v: 0.0 <= v <= PGA_TARGET_MAX)
     if v > PGA_MAX_PLAUSIBLE:
-        warnings.warn(f"a PGA of {v:g} m/s² ({v / G_STANDARD:.3g} g) is above the "
-                      f"{PGA_MAX_PLAUSIBLE:g} m/s² of recorded ground motions: is it in gal "
-                      "(cm/s²)? A PGA is given in m/s²", UnitWarning, stacklevel=3)  # fmt: skip
+        g = PGA_MAX_PLAUSIBLE / G_STANDARD  # (no value in the text: a study says it once)
+        warnings.warn(f"a PGA above {PGA_MAX_PLAUSIBLE:g} m/s² ({g:.2g} g), beyond recorded "
+                      "ground motions, is given: is it in gal (cm/s²)? A PGA is given in m/s²",
+                      UnitWarning, stacklevel=3)  # fmt: skip
     return v
 
 

@@ -264,11 +264,11 @@ class SwitchProblem(MinimalStates):
         if not against[k, i] > max(VERIFY_REL * float(np.abs(v).max(initial=0.0)), V_ZERO):
             return ""
         iso = int(np.flatnonzero(self.groups() == i)[0])
-        return (f"not an orbit of the model: isolator {iso} slips at t = {t[k]:.4g} s against "
-                f"its slip's direction (v = {v[k, i]:.2e} m/s, mode {S[k, i]:+d}): its "
-                "velocity crossed zero unseen between two samples (a stick-slip chatter "
-                "faster than the sampling); more samples per period (nsdyn sweep "
-                "--steps-factor) or the stepped sweep")  # fmt: skip
+        return (f"isolator {iso} slips against its own friction at t = {t[k]:.4g} s (v = "
+                f"{v[k, i]:.2e} m/s, slip mode {S[k, i]:+d}): a switch fell between two "
+                "samples, so the orbit is one of the sampled map, not taken; the stepped "
+                "sweep follows the map's attractor instead (more samples per period, nsdyn "
+                "sweep --steps-factor, resolve such switches)")  # fmt: skip
 
     def stuck_all_period(self, pm: SwitchPeriodMap) -> np.ndarray:
         """Indices of the isolators whose displacement is frozen for the whole period of

@@ -301,6 +301,9 @@ def test_a_python_run_says_when_its_outputs_miss_the_peaks():
                       r"0.667 times per period: .* set dt_out <= 0.0333 s"):  # fmt: skip
         r = nsdyn.simulate(s, load, t_end=8.0, method="event", dt_out=1.0)
     assert r.summary()["notes"][-1].startswith("dt_out = 1 s samples")
+    # a dt_out grid whose last step is short (t_end no multiple of it) is still dt_out's
+    with pytest.warns(AccuracyWarning, match=r"^dt_out = 1 s samples the 1.5 Hz"):
+        nsdyn.simulate(s, load, t_end=7.5, method="event", dt_out=1.0)
     # output times given: named as such (the line named a dt_out the call never gave)
     t = np.array([0.0, 0.5, 2.0, 3.0, 8.0])
     with pytest.warns(AccuracyWarning, match=r"^output times \(t_eval\) up to 5 s apart sample "

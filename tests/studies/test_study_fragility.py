@@ -111,6 +111,9 @@ def test_fit_refuses_data_without_information():
     with pytest.raises(ValueError, match=r"does not rise with IM \(beta -> inf; exceeding per "
                        r"level 1: 1/2, 2: 1/2, 3: 1/2\)"):  # fmt: skip
         fit_lognormal(np.repeat([1.0, 2.0, 3.0], 2), np.array([0, 1, 1, 0, 0, 1], bool))
+    # and a share falling with IM (b creeps to 0: "Fisher scoring did not converge")
+    with pytest.raises(ValueError, match=r"does not rise with IM"):
+        fit_lognormal_counts([1.0, 2.0, 3.0, 4.0, 5.0], [20] * 5, [18, 14, 10, 6, 2])
     with pytest.raises(ValueError, match="positive"):
         fit_lognormal(np.array([0.0, 1.0]), np.array([False, True]))
 

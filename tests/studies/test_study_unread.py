@@ -88,9 +88,6 @@ def test_a_frame_study_says_its_base_keys_as_a_run_does(tmp_path, isolation, var
 @pytest.mark.parametrize(
     ("varied", "says"),
     [
-        # the event method integrates the switch law: a varied law repeated one run, unsaid
-        ('"isolation.law" = ["arctan", "switch"]',
-         r"parameters.isolation.law: no task reads it \(isolation.law not used: the event method"),
         # a value equal to the default counted as not given: "2 of 4 tasks do not read it"
         ('"isolation.eps" = [1000.0, 7500.0]',
          r"parameters.isolation.eps: no task reads it \(isolation.eps not used: a key of the "
@@ -101,6 +98,27 @@ def test_keys_the_event_method_does_not_read_are_refused(tmp_path, varied, says)
     path = tmp_path / "s.toml"
     path.write_text(f'{FRAME}[base.solver]\nmethod = "event"\n[parameters]\n{varied}\n')
     with pytest.raises(SceneError, match=says):
+        load_study(path)
+
+
+def test_a_law_the_event_method_replaces_is_said(tmp_path):
+    # the event method integrates the switch law: its arctan task repeats the switch one
+    path = tmp_path / "s.toml"
+    path.write_text(f'{FRAME}[base.solver]\nmethod = "event"\n[parameters]\n'
+                    '"isolation.law" = ["arctan", "switch"]\n')  # fmt: skip
+    with pytest.warns(UserWarning, match=r"parameters.isolation.law: 1 of 2 tasks do not read it "
+                      r"\(isolation.law not used: the event method integrates the switch law in "
+                      r"place of the arctan law\)"):  # fmt: skip
+        load_study(path)
+
+
+def test_an_event_study_of_the_switch_law_is_not_told_its_law_is_unread(tmp_path):
+    # the event method's switch law is the law given: no "isolation.law not used" note
+    path = tmp_path / "s.toml"
+    path.write_text(f'{FRAME}[base.solver]\nmethod = "event"\n[base.isolation]\nlaw = "switch"\n'
+                    '[parameters]\n"isolation.mu" = [0.02, 0.05]\n')  # fmt: skip
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
         load_study(path)
 
 

@@ -437,8 +437,8 @@ def unused_isolation(
     law = law or ("switch" if event else iso.law)
     why = {k: f"a key of the {own} law; the law here is {law}"
            for k, (own, _) in LAW_KEYS.items() if own != law}  # fmt: skip
-    if event:
-        why["law"] = "the event method integrates the switch law, whatever the law given"
+    if event and iso.law == "arctan":  # (its law "none" is refused by the run)
+        why["law"] = "the event method integrates the switch law in place of the arctan law"
     if law == "none":  # no friction: its coefficient changes nothing
         why["mu"] = "the friction coefficient; the law here is none: no friction"
     if given_normal:  # a structure given its weight: no contact rows
