@@ -434,7 +434,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
              ("--steps-factor", args.steps_factor != 1.0))  # fmt: skip
     unused = [flag for flag, off in given if off]
     if unused:  # (each flag's own reason: --steps-factor was said to be about contact)
-        why = {"--contact": "their orbits keep bilateral contact"}
+        why = {"--contact": "their orbits keep the plate's contact; an uplift ends a period"}
         text = "; ".join(dict.fromkeys(why.get(f, "their period map is integrated adaptively")
                                        for f in unused))  # fmt: skip
         kind = cfg.get("scene", {}).get("kind", "deck")

@@ -181,7 +181,8 @@ def test_a_triple_pendulum_deck_with_the_switch_law_is_refused_naming_the_law(tm
 
 @pytest.mark.parametrize(
     ("flags", "why"),
-    [(["--contact", "unilateral"], "(their orbits keep bilateral contact)"),
+    [(["--contact", "unilateral"],
+      "(their orbits keep the plate's contact; an uplift ends a period)"),
      (["--steps-factor", "2"], "(their period map is integrated adaptively)")],
 )  # fmt: skip
 def test_isolated_only_flags_are_refused_for_a_deck_scene(tmp_path, capsys, flags, why):
