@@ -286,9 +286,9 @@ def output_gap(t) -> tuple[float, str]:
     import numpy as np
 
     gap = np.diff(np.asarray(t, dtype=float))
-    even = gap[:-1] if gap.size > 1 else gap  # (a dt_out grid keeps the run's end: its last
-    field = "dt_out" if np.ptp(even) <= 1e-9 * gap.max() else "t_eval"  # gap may be short)
-    return float(gap.max()), field
+    even = gap[:-1] if gap.size > 2 else gap  # (a dt_out grid keeps the run's end: its last
+    step = np.ptp(even) <= 1e-9 * gap.max() and gap[-1] <= gap[0] * (1 + 1e-9)  # gap shorter)
+    return float(gap.max()), "dt_out" if step else "t_eval"
 
 
 def coarse_grid_note(dt_out: float, f, h, span: float, field: str = "dt_out") -> str | None:

@@ -266,9 +266,10 @@ class SwitchProblem(MinimalStates):
         iso = int(np.flatnonzero(self.groups() == i)[0])
         return (f"isolator {iso} slips against its own friction at t = {t[k]:.4g} s (v = "
                 f"{v[k, i]:.2e} m/s, slip mode {S[k, i]:+d}): a switch fell between two "
-                "samples, so the orbit is one of the sampled map, not taken; the stepped "
-                "sweep follows the map's attractor instead (more samples per period, nsdyn "
-                "sweep --steps-factor, resolve such switches)")  # fmt: skip
+                "samples, so the orbit is one of the sampled map, not taken (a curve's "
+                "stepped sweep follows the map's attractor instead; more samples per period, "
+                "n_steps or disc in Python, nsdyn sweep --steps-factor, resolve such "
+                "switches)")  # fmt: skip
 
     def stuck_all_period(self, pm: SwitchPeriodMap) -> np.ndarray:
         """Indices of the isolators whose displacement is frozen for the whole period of

@@ -309,6 +309,9 @@ def test_a_python_run_says_when_its_outputs_miss_the_peaks():
     with pytest.warns(AccuracyWarning, match=r"^output times \(t_eval\) up to 5 s apart sample "
                       r"the 1.5 Hz .* set t_eval's outputs at most 0.0333 s apart$"):  # fmt: skip
         nsdyn.simulate(s, load, t_eval=t, method="event")
+    for t in ([0.0, 1.0, 2.0, 3.0, 8.0], [0.0, 0.1, 8.0]):  # (even but for a longer last gap)
+        with pytest.warns(AccuracyWarning, match=r"^output times \(t_eval\) up to"):
+            nsdyn.simulate(s, load, t_eval=np.array(t), method="event")
     fine = 1.0 / (1.5 * SAMPLES_PER_PERIOD_MIN)
     with warnings.catch_warnings():
         warnings.simplefilter("error", AccuracyWarning)

@@ -122,6 +122,16 @@ def test_an_event_study_of_the_switch_law_is_not_told_its_law_is_unread(tmp_path
         load_study(path)
 
 
+def test_a_large_pga_over_many_tasks_is_said_once(tmp_path):
+    # a PGA above 30 m/s² (in gal?) is a UnitWarning; one per value flooded a study's start
+    path = tmp_path / "s.toml"
+    path.write_text(f'{FRAME}[parameters]\n"motion.pga" = [31.0, 40.0, 50.0]\n')
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        load_study(path)
+    assert sum("a PGA above 30 m/s²" in str(w.message) for w in said) == 1
+
+
 def test_a_frame_study_varying_a_key_of_another_law_is_refused(tmp_path):
     path = tmp_path / "s.toml"
     path.write_text(f'{FRAME}[parameters]\n"isolation.eta" = [1e-4, 1e-3]\n')

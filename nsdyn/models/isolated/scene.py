@@ -417,8 +417,9 @@ def unused_isolation(
     base) does not read, as (key, why): they changed nothing, without a word. The switch
     law's band and stick stabilisation under a smooth law, the arctan sharpness under another,
     the contacts' keys on given normal forces (``given_normal``), the base diaphragm's on a
-    structure given directly, the law under the event method; on the fixed-base frame one item,
-    ("[isolation]", its note). A study's varied keys (``cfg["_varied"]``) count as given.
+    structure given directly, an arctan law under the event method; on the fixed-base frame
+    one item, ("[isolation]", its note). A study's varied keys (``cfg["_varied"]``) count as
+    given.
     ``law``: the law the run integrates when not the scene's (the event method's switch law
     follows from ``solver.method``; uplift's arctan is given)."""
     from nsdyn.models.isolated.friction import LAW_KEYS
