@@ -373,10 +373,11 @@ def run(args: argparse.Namespace) -> int:
     check_method(method, cfg)
     from nsdyn.solve.auto import sparse_path
 
-    if not sparse_path(system, method) and system.dense_refusal():  # (a traceback after the
-        said = f" ({reason})" if reason else ""  # build; auto's radau for the switch law too)
+    dense = None if sparse_path(system, method) else system.dense_refusal()
+    if dense:  # (a traceback after the build; auto's radau for the switch law too)
+        said = f" ({reason})" if reason else ""
         raise SceneError(f"{source}: solver.method: {method!r}{said} cannot run this model: "
-                         f"{system.dense_refusal()}")  # fmt: skip
+                         f"{dense}")  # fmt: skip
     from nsdyn.solve.methods import METHODS
     from nsdyn.studies.scenes import checked_step
 

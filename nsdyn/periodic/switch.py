@@ -85,6 +85,15 @@ for _code, _msg in SWITCH_STATUS.items():
     STATUS_MESSAGES.setdefault(_code, _msg)
 
 
+def augmented(f: float, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(t, Y) of orbit samples ``X`` (N + 1, D) evenly over one period of ``f`` [Hz]: their
+    times and the augmented states ``[x, 1, sin w t, cos w t]`` the mode tables act on."""
+    n = X.shape[0]
+    t = np.linspace(0.0, 1.0 / f, n)
+    w = 2.0 * math.pi * f
+    return t, np.column_stack([X, np.ones(n), np.sin(w * t), np.cos(w * t)])
+
+
 @dataclass
 class SwitchPeriodMap(PeriodMap):
     """A :class:`PeriodMap` of the switch model with its switching events."""
@@ -253,10 +262,7 @@ class SwitchProblem(MinimalStates):
         slip speed, and at least V_ZERO (a legitimate orbit's samples are on the slip's side)."""
         if pm.X is None or pm.modes is None:
             return ""
-        n = pm.X.shape[0]
-        t = np.linspace(0.0, pm.period, n)
-        w = 2.0 * math.pi / pm.period
-        Y = np.column_stack([pm.X, np.ones(n), np.sin(w * t), np.cos(w * t)])
+        t, Y = augmented(1.0 / pm.period, pm.X)
         v = Y @ self.V.T  # (N + 1, groups) slip velocities (a tied group's one)
         S = mode_sets(v.shape[1])[pm.modes]
         against = -S * v  # > 0: moving against its own slip's friction
@@ -324,11 +330,8 @@ class SwitchProblem(MinimalStates):
     # ---- response quantities ------------------------------------------------------------
     def accelerations(self, f: float, X: np.ndarray, MK: np.ndarray) -> np.ndarray:
         """Minimal accelerations zdd (N + 1, m) of the orbit samples ``X`` in modes ``MK``."""
-        N = X.shape[0] - 1
-        t = np.linspace(0.0, 1.0 / f, N + 1)
-        w = 2.0 * math.pi * f
         d, m = self.dim, self.m
-        Y = np.column_stack([X, np.ones(N + 1), np.sin(w * t), np.cos(w * t)])
+        Y = augmented(f, X)[1]
         A = self.A0[MK, m:d, :]  # (N + 1, m, D) (the w entries are in other rows)
         return np.einsum("tmj,tj->tm", A, Y)
 
@@ -396,10 +399,7 @@ class SwitchProblem(MinimalStates):
         """Friction normal forces at the samples (contacts; frozen ones are constant)."""
         if self.system.n_contacts == 0:
             return np.zeros(0)
-        N = X.shape[0] - 1
-        t = np.linspace(0.0, 1.0 / f, N + 1)
-        w = 2.0 * math.pi * f
-        Y = np.column_stack([X, np.ones(N + 1), np.sin(w * t), np.cos(w * t)])
+        Y = augmented(f, X)[1]
         LF = self.LF if self.LFI is None else self.LFI
         return np.einsum("tij,tj->ti", LF[MK], Y)
 

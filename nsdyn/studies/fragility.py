@@ -83,6 +83,11 @@ def fisher_information(a: float, b: float, im, n) -> np.ndarray:
     return X.T @ (w[:, None] * X)
 
 
+def _per_level(x, n, z) -> str:
+    """Each level with runs as "IM: exceeding/runs", for a message."""
+    return ", ".join(f"{xi:g}: {zi:g}/{ni:g}" for xi, ni, zi in zip(x, n, z, strict=True) if ni > 0)
+
+
 def fit_lognormal_counts(im, n_runs, n_exceed) -> LognormalFragility:
     """Maximum-likelihood fragility from ``n_exceed`` of ``n_runs`` past the limit at ``im``."""
     x = np.asarray(im, dtype=float)
@@ -107,8 +112,7 @@ def fit_lognormal_counts(im, n_runs, n_exceed) -> LognormalFragility:
         where = (f"every run at IM <= {lo:g} survives and every run at IM >= {hi:g} exceeds"
                  if lo < hi else f"no run below IM = {lo:g} exceeds and no run above it "
                  "survives; at it, some of each")  # fmt: skip
-        counts = ", ".join(f"{xi:g}: {zi:g}/{ni:g}" for xi, ni, zi in zip(x, n, z, strict=True)
-                           if ni > 0)  # fmt: skip
+        counts = _per_level(x, n, z)
         raise ValueError(
             f"fragility: the outcomes separate in IM ({where}; exceeding per "
             f"level {counts}): beta -> 0, no finite maximum-likelihood fit"
@@ -153,8 +157,7 @@ def fit_lognormal_counts(im, n_runs, n_exceed) -> LognormalFragility:
                              "iterations")  # fmt: skip
         b = 0.0
     if b < MIN_B:  # (beta 1e16 and its standard error 4e32 were printed as a fit)
-        counts = ", ".join(f"{xi:g}: {zi:g}/{ni:g}" for xi, ni, zi in zip(x, n, z, strict=True)
-                           if ni > 0)  # fmt: skip
+        counts = _per_level(x, n, z)
         raise ValueError(f"fragility: the share of runs exceeding does not rise with IM (beta "
                          f"-> inf; exceeding per level {counts}): no fragility curve; the "
                          "outcome follows another parameter, or IM is not the one")  # fmt: skip

@@ -277,8 +277,8 @@ class IsolatedSystem:
         if stub:
             M, C, K, Gamma = np.eye(1), np.zeros((1, 1)), np.zeros((1, 1)), Gamma[:1]
             R, D = np.zeros((self.n_contacts, 1)), np.zeros((self.n_isolators, 1))
-        elif self.dense_refusal():
-            raise ValueError(self.dense_refusal())
+        elif why := self.dense_refusal():
+            raise ValueError(why)
         if iso is None:
             return pack(M, C, K, Gamma, ground=ground, g=G_EARTH)
         _, lam0 = self.static_equilibrium()
