@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import errno
+import json
 import math
 import os
 import sys
@@ -317,6 +318,14 @@ def with_said(s: dict) -> dict:
         if text not in s.get(key, []):
             s.setdefault(key, []).append(text)
     return s
+
+
+def json_report(s: dict, status: int = 0, **kw) -> str:
+    """The --json text of a finished command: ``s`` :func:`with_said`, led by its ``status``
+    (``s``'s own when a failure set it, else ``status``), so that a script reads the outcome
+    of every command from one key (a failed one's ``error`` beside it)."""
+    s = with_said(s)
+    return json.dumps({"status": s.get("status", status), **s}, **kw)
 
 
 def above_highest(amplitudes, where: str, command: str = "") -> str | None:

@@ -14,11 +14,10 @@ under every base node with the scene's three-component record (fidelity "fixed":
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
-from nsdyn.cli.args import out_file, positive_float, positive_int
+from nsdyn.cli.args import json_report, out_file, positive_float, positive_int
 
 __all__ = ["configure", "run"]
 
@@ -130,7 +129,7 @@ def _run_frame3d(args: argparse.Namespace, stem: str) -> int:
             "mass": d["mass"],
             "nsdyn_f_hz": d["nsdyn_f_hz"],
         }
-        print(json.dumps({"script": str(out), **info}))
+        print(json_report({"script": str(out), **info}))
         return 0
     print(f"wrote {out}  (fixed-base eigen analysis; run it with: python {out})")
     return 0
@@ -191,7 +190,7 @@ def _run_building3d(args: argparse.Namespace) -> int:
             "dt": d["dt"],
             "duration_s": d["duration"],
         }
-        print(json.dumps({"script": str(out), **info}))
+        print(json_report({"script": str(out), **info}))
         return 0
     print(f"wrote {out}  (run it with: python {out} [--out DIR] [--t-end S])")
     return 0
@@ -223,7 +222,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"nsdyn export: note: --t-end {args.t_end:g} s is past the record's end; the "
               f"script runs {data['duration_s']:g} s", file=sys.stderr)  # fmt: skip
     if args.json:
-        print(json.dumps({"script": str(out), **data}))
+        print(json_report({"script": str(out), **data}))
         return 0
     print(f"wrote {out}  (run it with: python {out} [--t-end S])")
     return 0

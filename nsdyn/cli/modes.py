@@ -7,7 +7,6 @@ vertical, local) and effective-mass fractions in x, y and θz instead.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 from pathlib import Path
@@ -15,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import save_figure
-from nsdyn.cli.args import out_dir
+from nsdyn.cli.args import json_report, out_dir
 from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
 from nsdyn.models.isolated.defaults import F_MAX as DEFAULT_FMAX
@@ -218,7 +217,7 @@ def run(args: argparse.Namespace) -> int:
         save_figure(plot_mode_shapes(frame, f, Phi, n=N_DRAW), path)
         s["figure"] = str(path)
     if args.json:
-        print(json.dumps(s))
+        print(json_report(s))
         return 0
     fmax = "inf" if s["f_max_hz"] is None else f"{s['f_max_hz']:g} Hz"
     print(f"frame {s['frame']}: {s['n_nodes']} nodes, {s['n_dof']} dofs")
@@ -276,7 +275,7 @@ def _run3d(args: argparse.Namespace) -> int:
         save_figure(plot_mode_shapes_3d(m, n=N_DRAW), path)
         s["figure"] = str(path)
     if args.json:
-        print(json.dumps(s))
+        print(json_report(s))
         return 0
     print(f"frame {s['frame']} (3D): {s['n_nodes']} nodes, {s['n_dof']} dofs")
     nd = s["n_diaphragms"]

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, earlier_files, files_of, output_dir, save_figure
-from nsdyn.cli.args import EXIT_NUMERICS, PGA_HELP, named, out_dir, stale_figures, with_said
+from nsdyn.cli.args import EXIT_NUMERICS, PGA_HELP, json_report, named, out_dir, stale_figures
 from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
 from nsdyn.cli.args import positive_int as _positive_int
@@ -271,7 +271,7 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
         head = {"status": status, "error": uplift_error(s)}
         print(f"nsdyn run: error: {head['error']}", file=sys.stderr)
     if args.json:  # a failed run's JSON leads with status and error, as every failure's does
-        print(json.dumps({**(head if status else {}), **with_said(s)}))
+        print(json_report({**(head if status else {}), **s}))
         return status
     print(mod.format_summary(s))
     return status
@@ -518,7 +518,7 @@ def run(args: argparse.Namespace) -> int:
             if not args.json:
                 print(f"nsdyn run: note: {note}", file=sys.stderr)
         if args.json:
-            print(json.dumps(with_said(s)))
+            print(json_report(s))
             return 0
         pga = f" (PGA {s['pga_mps2']:.2f} m/s²)" if "pga_mps2" in s else ""
         scaled = s.get("record_pga_mps2")

@@ -11,7 +11,6 @@ from __future__ import annotations
 import argparse
 import csv
 import io
-import json
 import math
 import sys
 from pathlib import Path
@@ -20,7 +19,7 @@ import numpy as np
 
 from nsdyn._checks import MAX_POINTS
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.cli.args import fraction, out_dir, positive_finite, pulse_count, workers
+from nsdyn.cli.args import fraction, json_report, out_dir, positive_finite, pulse_count, workers
 
 SHAPES = ("sine", "cosine", "ricker", "rect")
 DEFAULT_OUT = "nsdyn-out"
@@ -124,6 +123,8 @@ def run(args: argparse.Namespace) -> int:
     report = {"scene": src, **sp.summary(), "compile_s": compile_s, "csv": str(csv_path),
               "notes": notes}  # fmt: skip
     report["search"]["tol"] = tol
+    # each frequency's word apart from the command's status, which leads every --json
+    report["frequency_status"] = report.pop("status")
     if not args.no_figures:
         from nsdyn.models.rocking.figures import spectrum_figure
 
@@ -131,7 +132,7 @@ def run(args: argparse.Namespace) -> int:
         save_figure(spectrum_figure({f"{Path(src).stem} ({args.shape})": sp}), fig_path)
         report["figure"] = str(fig_path)
     if args.json:
-        print(json.dumps(report))
+        print(json_report(report))
         return 0
     print(f"{src}: {args.shape} pulses, α = {sp.alpha:.4f} rad, p = {sp.p:.4f} 1/s")
     print(f"{args.n} frequencies, {sp.n_runs} runs, {sp.wall_s:.2f} s")

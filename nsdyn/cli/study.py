@@ -13,7 +13,7 @@ from contextlib import nullcontext
 from pathlib import Path
 
 from nsdyn.atomic import output_dir
-from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, fail, out_dir, with_said, workers
+from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, fail, json_report, out_dir, workers
 
 DEFAULT_OUT = "nsdyn-study"  # output directory (a subdirectory per study name)
 MAX_FAILED_LINES = 10  # failed tasks named one per line on the console (all are in the table)
@@ -263,7 +263,7 @@ def run(args: argparse.Namespace) -> int:
     status = EXIT_NUMERICS if failed else 0  # a study with failed tasks is not a success
     if args.json:
         out = {"status": status, "study": study.name, "run": summary, "analysis": an}
-        print(json.dumps(with_said(out)))  # (the warnings said on stderr: in it too)
+        print(json_report(out))  # (the warnings said on stderr: in it too)
         return status
     print(_format(study.name, summary, an))
     for line in _failure_lines(failed, summary["table"]):

@@ -26,10 +26,10 @@ from nsdyn.cli.args import (
     fail,
     forcing_frequency,
     holes,
+    json_report,
     old_figures,
     out_dir,
     refinement,
-    with_said,
     workers,
 )
 from nsdyn.cli.args import amplitude_list as _amplitude_list
@@ -314,7 +314,7 @@ def run(args: argparse.Namespace) -> int:
         _note_earlier(args, out, before, report)
     if args.json:  # (its holes' status and line first, in the report)
         status = _holes(report["amplitudes"], csv_path, report)
-        print(json.dumps(with_said(report), default=float))
+        print(json_report(report, default=float))
         return status
     print(
         f"model {report['model']}: {settings.points} frequencies "
@@ -525,7 +525,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
             fh.write(json.dumps(report, default=float, indent=1))
     if args.json:  # (its holes' line first, then the report with their status)
         _holes(report["amplitudes"], json_path)
-        print(json.dumps(with_said(report), default=float))
+        print(json_report(report, default=float))
         return status
     print(f"{sc['kind']} {sc['name']}: {settings.points} frequencies {fmin:g}-{fmax:g} Hz, "
           f"law {settings.law}, {settings.continuation} continuation")  # fmt: skip

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.cli.args import fail, old_figures
+from nsdyn.cli.args import fail, json_report, old_figures
 
 _NOT_HERE = (  # flags of the nonlinear sweeps: (flag, attribute, its default)
     ("--friction", "friction", None), ("--contact", "contact", "bilateral"),
@@ -105,7 +105,7 @@ def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
     with atomic_open(json_path, "w") as fh:
         fh.write(json.dumps(report, indent=1))
     if args.json:
-        print(json.dumps(report))
+        print(json_report(report))
         return 0
     print(f"building3d {sc['name']}: fixed base, {f.size} frequencies {fmin:g}-{fmax:g} Hz, "
           f"{len(modes.f_hz)} modes (f1 = {modes.f_hz[0]:.4g} Hz)")  # fmt: skip

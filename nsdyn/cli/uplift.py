@@ -13,14 +13,21 @@ files are written either way.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 import time
 from pathlib import Path
 
 from nsdyn.atomic import atomic_open
-from nsdyn.cli.args import above_highest, band_message, fail, forcing_frequency, holes, out_dir
+from nsdyn.cli.args import (
+    above_highest,
+    band_message,
+    fail,
+    forcing_frequency,
+    holes,
+    json_report,
+    out_dir,
+)
 from nsdyn.cli.args import count as _count
 from nsdyn.cli.args import positive_finite as _positive
 
@@ -172,7 +179,7 @@ def run(args: argparse.Namespace) -> int:
     said = ("uplift", len(failed), len(res.points), "frequencies",
             f"f = {where} Hz; reasons in the status column and in {json_path}")  # fmt: skip
     holes(*said, report, say=False)  # (the file's and --json's status and error, if any)
-    text = json.dumps(report, default=float)
+    text = json_report(report, default=float)  # (the file and --json alike)
     with atomic_open(json_path, "w", encoding="utf-8") as fh:
         fh.write(text + "\n")
     if args.json:

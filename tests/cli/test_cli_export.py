@@ -22,6 +22,8 @@ def test_export_writes_script(tmp_path, capsys, monkeypatch):
     assert main(["export", "opensees", str(scene), "-o", str(out), "--json"]) == 0
     s = json.loads(capsys.readouterr().out)
     assert s["script"] == str(out) and s["n_nodes"] == 145 and s["n_elements"] == 154
+    # a success's JSON leads with status 0, as a failure's with its status
+    assert next(iter(s)) == "status" and s["status"] == 0
     assert s["duration_s"] == 1.0 and s["dt"] == 0.005
     compile(out.read_text(), str(out), "exec")  # valid Python
     assert not [p for p in out.parent.iterdir() if p.name != "m.py"]  # no temporary left

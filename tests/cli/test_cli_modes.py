@@ -17,6 +17,8 @@ def test_modes_json_office(capsys):
     out = capsys.readouterr().out
     s = json.loads(out)  # the whole of stdout is one JSON object
     assert s["n_dof"] == 435 and s["n_reduced"] == 13
+    # a success's JSON leads with status 0, as a failure's with its status
+    assert next(iter(s)) == "status" and s["status"] == 0
     for key in ("frequencies_hz", "mode_types", "total_mass_kg", "f_bis_hz"):
         assert key in s
     assert len(s["frequencies_hz"]) == len(s["mode_types"]) == 10

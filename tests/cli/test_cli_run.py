@@ -24,6 +24,8 @@ def test_run_json_has_the_documented_keys(tmp_path, capsys):
     assert rc == 0
     s = json.loads(capsys.readouterr().out)
     assert KEYS <= set(s)
+    # a success's JSON leads with status 0, as a failure's with its status
+    assert next(iter(s)) == "status" and s["status"] == 0
     # 11 storeys in office-11 (seed §2); normal forces stay compressive in 2 s at PGA 3
     assert len(s["idr_by_storey"]) == 11
     assert s["min_normal_force_N"] > 0 and s["uplift"] == []

@@ -24,6 +24,8 @@ def test_spectrum_command_writes_a_physical_spectrum(tmp_path, capsys):
             "--workers", "1", "--out", str(tmp_path), "--json"]  # fmt: skip
     assert main(argv) == 0
     rep = json.loads(capsys.readouterr().out)
+    # a success's JSON leads with status 0, as a failure's with its status
+    assert next(iter(rep)) == "status" and rep["status"] == 0
     a = np.array(rep["a_min_ratio"], dtype=float)
     assert np.all(a >= 1.0)
     assert np.all(np.diff(a) > 0)
@@ -40,7 +42,7 @@ def test_a_max_bounds_the_search_below_which_nothing_can_overturn(tmp_path, caps
     assert main([*argv, "--a-max", "1"]) == 0
     rep = json.loads(capsys.readouterr().out)
     assert rep["search"]["a_max_ratio"] == 1.0 and rep["a_min_ratio"] == [None, None]
-    assert set(rep["status"]) == {"no overturning up to a_max"}
+    assert set(rep["frequency_status"]) == {"no overturning up to a_max"}
     assert main(argv) == 0
     assert all(a > 1.0 for a in json.loads(capsys.readouterr().out)["a_min_ratio"])
 

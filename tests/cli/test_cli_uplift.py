@@ -24,6 +24,8 @@ def test_json_lists_every_frequency_and_writes_the_files(tmp_path, capsys):
     assert rc == 0
     rep = json.loads(capsys.readouterr().out)  # stdout holds one JSON object only
     assert json.loads((out / "uplift.json").read_text()) == rep
+    # a success's JSON leads with status 0, as a failure's with its status
+    assert next(iter(rep)) == "status" and rep["status"] == 0
     assert (out / "uplift.png").stat().st_size > 0
     pts = rep["points"]
     assert [p["f_hz"] for p in pts] == [0.06, 2.0]

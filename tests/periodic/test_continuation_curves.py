@@ -151,6 +151,8 @@ def test_sweep_command_writes_csv_and_resumes_from_its_checkpoint(tmp_path, caps
         assert sweep.checkpoint_path(out, A).exists()
     assert nsdyn_main(argv) == 0
     second = json.loads(capsys.readouterr().out)
+    # a success's JSON leads with status 0, as a failure's with its status
+    assert first["status"] == second["status"] == 0
     assert [a["resumed_points"] for a in second["amplitudes"]] == [4, 4]
     assert list(csv.DictReader((out / "sweep.csv").open())) == rows
     assert [a["points"] for a in first["amplitudes"]] == [4, 4]

@@ -63,6 +63,8 @@ def test_nsdyn_sweep_on_the_example_scene_gives_the_closed_form_and_resumes(tmp_
     rows = list(csv.DictReader((out / "sweep.csv").open()))
     assert tuple(rows[0].keys()) == CSV_COLUMNS
     assert len(rows) == 8 and report["kind"] == "deck"
+    # a success's JSON leads with status 0, as a failure's with its status
+    assert next(iter(report)) == "status" and report["status"] == 0
     for r in rows:
         A, f = float(r["A"]), float(r["f"])
         w = 2 * math.pi * f

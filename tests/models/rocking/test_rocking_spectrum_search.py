@@ -75,7 +75,8 @@ def test_spectrum_command_reports_the_status(tmp_path, capsys):
             "--json", "--no-figures"]  # fmt: skip
     assert main(argv) == 0
     rep = json.loads(capsys.readouterr().out)
-    assert len(rep["status"]) == 2 and all(s in STATUS for s in rep["status"])
+    words = rep["frequency_status"]  # (the command's "status" is its exit status)
+    assert rep["status"] == 0 and len(words) == 2 and all(s in STATUS for s in words)
     assert rep["search"]["scan"] > 1.0
     # p = sqrt(3 g / (4 R)) of the 0.3 x 1.2 m column, named as every summary names it
     assert rep["p_per_s"] == pytest.approx(math.sqrt(3 * 9.81 / (4 * math.hypot(0.15, 0.6))))
