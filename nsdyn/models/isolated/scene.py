@@ -24,6 +24,7 @@ Example (every table and field is optional; missing ones take the defaults below
     pga = 3.0                  # scale the horizontal PGA to this [m/s^2] (optional: a
                                # record named without it runs as recorded)
     vertical = true            # use the vertical component when the record has one
+                               # (unset: where the model feels it)
     t_end = 40.0               # stop here [s] (optional)
 
     [solver]
@@ -70,7 +71,7 @@ from nsdyn.models.scenefile import SceneError, read_toml, rel_tol, scaled_to_pga
 DEFAULT_SCENE = {
     "scene": {"name": f"{FRAME} isolated", "frame": FRAME, "fidelity": "cb", "f_max": F_MAX},
     "isolation": {"k_lam": K_LAM, "c": C_DAMPER, "mu": MU, "law": "arctan", "eps": EPS},
-    "motion": {"record": "synthetic-wn-40s", "pga": 3.0, "vertical": True},
+    "motion": {"record": "synthetic-wn-40s", "pga": 3.0},  # (vertical: felt if it can be)
     "solver": {
         "method": "auto",
         "rtol": RUN_RTOL,
@@ -324,8 +325,9 @@ def build_scene_run(cfg: dict):
     except (OSError, ValueError) as e:  # a missing file, an unknown name, a bad record
         field = getattr(e, "argument", None) or "record"  # the key the reader names, if any
         raise SceneError(f"{source}: motion.{field}: {e}") from None
-    if not mo.get("vertical", True):
-        motion = motion.with_vertical(None)
+    felt = bool(np.any(np.asarray(system.Gamma)[:, 1]))  # (a shear building's: not)
+    if not mo.get("vertical", felt):  # unset: kept where the model feels it, without a word
+        motion = motion.with_vertical(None)  # (set true where it cannot: warned by the run)
     if "pga" in mo:
         motion = scaled_to_pga(motion, float(mo["pga"]), source)
     if "t_end" in mo:

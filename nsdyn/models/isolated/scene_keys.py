@@ -204,8 +204,8 @@ MOTION_RECORD = Table(
         Key(
             "vertical",
             "boolean",
-            "use the record's vertical component when it has one",
-            default=True,
+            "use the record's vertical component when it has one; unset: where the model "
+            "feels it (a frame, a [structure] with vertical rows), not on a shear building",
         ),
         _T_END,
         _UNITS,
