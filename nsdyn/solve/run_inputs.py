@@ -18,6 +18,34 @@ from nsdyn._checks import (  # noqa: F401 (the run's step rules, importable from
     sampling_step,
 )
 
+# a given start's contact gap or gap rate above this is not a stabilised run's drift
+# (Baumgarte keeps R q near round-off) but a state off the constraint: a frame 5 cm in the
+# air was pulled down over the run while its normal forces read the weight
+X0_GAP = 1e-6  # m, and m/s for R qd
+
+
+def check_x0(system, x0) -> None:
+    """ValueError for a given start ``x0`` that is not a state [q, qd] of ``system`` with its
+    contacts closed (``R q = 0``, ``R qd = 0``): the run would start off its constraint."""
+    from nsdyn._checks import finite_numbers
+
+    finite_numbers("x0", x0, "finite numbers, the state [q, qd]")
+    x0 = np.asarray(x0, dtype=float).reshape(-1)
+    n = system.n
+    if x0.size != 2 * n:
+        raise ValueError(f"x0: expected [q, qd] of length {2 * n}, got {x0.size}")
+    R = getattr(system, "R", None)
+    if R is None or R.shape[0] == 0:
+        return
+    for what, v, unit in (("R q", R @ x0[:n], "m"), ("R qd", R @ x0[n:], "m/s")):
+        k = int(np.argmax(np.abs(v)))
+        if abs(v[k]) > X0_GAP:
+            raise ValueError(
+                f"x0: its contact {k} is off the constraint ({what} = {v[k]:.3g} {unit}); "
+                "expected a state with every contact closed (R q = 0, R qd = 0, as "
+                "static_equilibrium() gives): a run starts with its contacts closed"
+            )
+
 
 def check_run_inputs(t_eval: np.ndarray, progress, checkpoint, dt=None, motion=None) -> None:
     """Given output times two or more, increasing and finite; ``progress`` callable;

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._checks import finite_numbers, keywords_of, number, output_times, rel_tol
+from nsdyn._checks import keywords_of, number, output_times, rel_tol
 from nsdyn._tabular import Tabular
 from nsdyn.atomic import CheckpointError
 from nsdyn.ground.excitation import is_force, natural_end
@@ -38,6 +38,7 @@ from nsdyn.solve.checkpoint import save as save_checkpoint
 from nsdyn.solve.resolution import between_steps, result_notes
 from nsdyn.solve.run_inputs import (
     check_run_inputs,
+    check_x0,
     default_step,
     event_law,
     integrated_law,
@@ -405,8 +406,8 @@ def simulate(
     ):  # (text was converted)
         if v is not None:
             number(k, v, what, lambda x: x > 0)
-    if x0 is not None:  # (text: a numpy conversion error before)
-        finite_numbers("x0", x0, "finite numbers, the state [q, qd]")
+    if x0 is not None:  # (text: a numpy conversion error before; off the contacts: refused)
+        check_x0(system, x0)
     if not (np.isfinite(chunk_s) and chunk_s > 0):
         raise ValueError(f"chunk_s: expected a positive duration [s], got {chunk_s!r}")
     if t_eval is None:
@@ -462,9 +463,7 @@ def simulate(
     if x0 is None:
         x0, _ = system.static_equilibrium()
     else:
-        x0 = np.asarray(x0, dtype=float).reshape(-1)
-        if x0.size != 2 * system.n:
-            raise ValueError(f"x0: expected [q, qd] of length {2 * system.n}, got {x0.size}")
+        x0 = np.asarray(x0, dtype=float).reshape(-1)  # (its size and contacts: check_x0)
 
     ts, xs = [t_eval[:1]], [x0[None, :]]
     k0 = 0

@@ -344,3 +344,25 @@ def test_a_run_past_its_record_says_so_to_its_caller():
         r = nsdyn.simulate(_mass(mu=MU, law="arctan"), nsdyn.GroundMotion(0.0, 0.01, a),
                            t_end=5.0, dt_out=0.01)  # fmt: skip
     assert r.notes[0].startswith("the run ends at t = 5 s, past the record's end")
+
+
+def test_a_start_off_the_contacts_is_refused_naming_x0():
+    # a frame lifted 5 cm ran "successfully": Baumgarte pulled it down over the run while its
+    # normal forces read the weight. The static equilibrium lies on R q = 0 (its KKT solve).
+    s = nsdyn.build_system(nsdyn.load_frame("portal"), nsdyn.Isolation(), fidelity="rigid")
+    x0, _ = s.static_equilibrium()
+    lifted = x0.copy()
+    lifted[: s.n] += 0.05 * np.linalg.pinv(s.R)[:, 0]  # contact 0 open by 5 cm
+    with pytest.raises(
+        ValueError, match=r"^x0: its contact 0 is off the constraint \(R q = 0.05 m"
+    ):
+        nsdyn.simulate(s, None, t_end=0.1, dt_out=0.01, x0=lifted)
+    moving = x0.copy()
+    moving[s.n :] += 0.2 * np.linalg.pinv(s.R)[:, 1]  # contact 1 opening at 0.2 m/s
+    with pytest.raises(ValueError, match=r"^x0: its contact 1 .*\(R qd = 0.2 m/s\)"):
+        nsdyn.simulate(s, None, t_end=0.1, dt_out=0.01, x0=moving)
+    with pytest.raises(ValueError, match=r"^x0: expected \[q, qd\] of length 6, got 5"):
+        nsdyn.simulate(s, None, t_end=0.1, dt_out=0.01, x0=x0[:5])
+    sway = x0.copy()
+    sway[s.n :] += 0.1 * np.linalg.svd(s.R)[2][-1]  # a velocity the contacts allow (R qd = 0)
+    assert nsdyn.simulate(s, None, t_end=0.1, dt_out=0.01, x0=sway).t[-1] == pytest.approx(0.1)
