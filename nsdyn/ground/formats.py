@@ -408,12 +408,16 @@ def record_span_notes(t_eval, first: float, last: float, dt: float,
     what, rest = (
         ("force table", "the force is zero") if force else ("record", "the ground is at rest")
     )
+    if t_eval[0] > last + dt or t_eval[-1] < first - 1e-9 * dt:  # (none of it is felt)
+        raise ValueError(f"t_eval: the run's times ({t_eval[0]:g} to {t_eval[-1]:g} s) do not "
+                         f"overlap the {what}'s samples ({first:g} to {last:g} s): it would feel "
+                         "none of it; expected output times within them")  # fmt: skip
     notes = []
     if t_eval[0] < first - 1e-9 * dt:
         notes.append(f"the run starts at t = {t_eval[0]:g} s, before the {what}'s first "
                      f"sample ({first:g} s): {rest} before it")  # fmt: skip
     if t_eval[-1] > last + dt:  # (within one sample: the record's own end)
-        free = f"the last {t_eval[-1] - last:.4g} s are free motion"
+        free = f"the last {t_eval[-1] - max(last, t_eval[0]):.4g} s are free motion"
         notes.append(f"the run ends at t = {t_eval[-1]:g} s, past the {what}'s end ({last:g} "
                      f"s): {rest} after it, {free}")  # fmt: skip
     return notes

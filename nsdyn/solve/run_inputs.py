@@ -58,6 +58,7 @@ def check_run_inputs(t_eval: np.ndarray, progress, checkpoint, dt=None, motion=N
         or np.any(np.diff(t_eval) <= 0)
     ):
         raise ValueError("t_eval: expected two or more increasing finite times [s]")
+    record_span_notes(t_eval, motion, say=False)  # (times without any of the record: refused)
     if progress is not None and not callable(progress):
         raise TypeError(f"progress: expected a callable(t_done, t_end, wall_s), got {progress!r}")
     if checkpoint is not None and Path(checkpoint).is_dir():
@@ -137,11 +138,13 @@ def integrated_law(system, method: str) -> str | None:
     return "switch" if method == "event" else iso.law
 
 
-def record_span_notes(t_eval: np.ndarray, motion) -> list[str]:
+def record_span_notes(t_eval: np.ndarray, motion, say: bool = True) -> list[str]:
     """:func:`nsdyn.ground.formats.record_span_notes` of a record ``motion`` or a sampled
     force (a ForceTable; none for other excitations), each said in a NotedWarning to the
     caller of :func:`~nsdyn.solve.transient.simulate` too, as a deck's run says them (a run
-    past the record ran on as free motion with the note in ``res.notes`` alone)."""
+    past the record ran on as free motion with the note in ``res.notes`` alone); a ValueError
+    for output times that do not overlap the samples at all (``say=False``: that check alone,
+    before a run)."""
     n = getattr(motion, "n", None) or np.size(getattr(motion, "F", None))
     if not (hasattr(motion, "t0") and hasattr(motion, "dt") and n and n >= 2):
         return []
@@ -150,6 +153,6 @@ def record_span_notes(t_eval: np.ndarray, motion) -> list[str]:
 
     t0, dt = float(motion.t0), float(motion.dt)
     said = notes(t_eval, t0, t0 + (n - 1) * dt, dt, force=hasattr(motion, "F"))
-    for note in said:
+    for note in said * say:
         warnings.warn(note, NotedWarning, stacklevel=3)
     return said

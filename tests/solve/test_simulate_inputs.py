@@ -366,3 +366,17 @@ def test_a_start_off_the_contacts_is_refused_naming_x0():
     sway = x0.copy()
     sway[s.n :] += 0.1 * np.linalg.svd(s.R)[2][-1]  # a velocity the contacts allow (R qd = 0)
     assert nsdyn.simulate(s, None, t_end=0.1, dt_out=0.01, x0=sway).t[-1] == pytest.approx(0.1)
+
+
+def test_times_without_any_of_the_record_are_refused_and_free_motion_is_the_runs_own():
+    # a run at 20-30 s on a 10 s record was excited by nothing, and its note said "the last
+    # 20.01 s are free motion" of a 10 s run
+    gm = nsdyn.GroundMotion(0.0, 0.01, np.sin(np.arange(1000) * 0.05))  # 0 to 9.99 s
+    s = _mass(mu=MU)
+    for t in (np.linspace(20.0, 30.0, 11), np.linspace(-10.0, -5.0, 11)):
+        with pytest.raises(ValueError, match=r"^t_eval: the run's times .* do not overlap the "
+                           r"record's samples \(0 to 9.99 s\)"):  # fmt: skip
+            nsdyn.simulate(s, gm, t_eval=t)
+    with pytest.warns(nsdyn.NotedWarning, match="past the record's end"):
+        r = nsdyn.simulate(s, gm, t_eval=np.linspace(5.0, 15.0, 101))
+    assert any("the last 5.01 s are free motion" in n for n in r.notes)  # 15 - 9.99
