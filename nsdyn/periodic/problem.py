@@ -372,6 +372,22 @@ def manifold_matrices(system, P: tuple) -> tuple:
     return tuple(np.ascontiguousarray(a, dtype=float) for a in parts)
 
 
+def load_amplitude_note(load, amplitude) -> None:
+    """An InputWarning when a curve's ``load`` states a force amplitude ``F`` other than its
+    ``amplitude``: the curve's is ``amplitude`` (``load`` gives the dofs, weights and phase),
+    and a HarmonicForce(500, ...) with amplitude 1 ran at 1 N without a word."""
+    F = getattr(load, "F", None)
+    if F is None or isinstance(amplitude, str | bool) or F == amplitude:
+        return
+    import warnings
+
+    from nsdyn._checks import InputWarning
+
+    warnings.warn(f"load: its F = {F:g} N is not used: a curve's force amplitude is amplitude "
+                  f"({amplitude:g} N; load gives the dofs, weights and phase, and each "
+                  "frequency is the curve's)", InputWarning, stacklevel=3)  # fmt: skip
+
+
 def frame_problem(
     system, amplitude: float, *, law: str | None = None, load: HarmonicForce | None = None
 ) -> PeriodicProblem:

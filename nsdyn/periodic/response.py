@@ -15,7 +15,7 @@ import numpy as np
 from nsdyn._checks import expect, finite_numbers
 from nsdyn.periodic.continuation import continue_range
 from nsdyn.periodic.curve import Curve
-from nsdyn.periodic.problem import frame_problem
+from nsdyn.periodic.problem import frame_problem, load_amplitude_note
 from nsdyn.periodic.protocol import A_HIGHEST, check_amplitude, check_frequencies
 
 
@@ -46,6 +46,7 @@ def frequency_response(system, amplitude: float, *, load=None, **options) -> Cur
                       "lift-off orbits are nsdyn sweep --contact unilateral's, or "
                       "nsdyn.periodic.unilateral_steady_state at each such point",
                       InputWarning, stacklevel=2)  # fmt: skip
+    load_amplitude_note(load, amplitude)
     c = continue_range(frame_problem(system, amplitude, load=load), **options)
     c.info["model"] = system.name
     return c

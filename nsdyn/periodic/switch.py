@@ -544,7 +544,9 @@ def switch_response(
     ``d phi_T / dT`` by central differences in T, exact flow); ``fmin``, ``fmax``, ``points``
     and ``options`` as for :func:`nsdyn.periodic.continuation.continue_range`."""
     from nsdyn.periodic.continuation import continue_range
+    from nsdyn.periodic.problem import load_amplitude_note
 
+    load_amplitude_note(load, amplitude)
     problem = switch_problem(system, amplitude, load=load)
     curve = continue_range(problem, continuation=continuation, **options)
     curve.info.update(law=LAW_NAME, map=METHOD_NAME)

@@ -262,3 +262,22 @@ def test_a_point_without_an_orbit_has_no_stability_verdict():
     args = (1.0, np.zeros(2), "sweep")
     assert OrbitPoint(*args, False, 0, 0.1, rho, 10, "", {}).stable is None
     assert OrbitPoint(*args, True, 0, 1e-9, rho, 10, "", {}).stable is True
+
+
+@pytest.mark.parametrize("curve", [pr.frequency_response, switch_response])
+def test_a_curve_says_its_loads_own_force_amplitude_is_not_used(curve):
+    # HarmonicForce(500, ...) with amplitude 1 ran at 1 N without a word: the curve's force
+    # amplitude is `amplitude` (the load gives dofs, weights, phase); the same F: no warning
+    import warnings
+
+    from nsdyn._checks import InputWarning
+    from nsdyn.ground.excitation import HarmonicForce
+
+    law = "arctan" if curve is pr.frequency_response else "switch"
+    kw = dict(fmin=1.0, fmax=1.0, points=1)
+    with pytest.warns(InputWarning, match=r"^load: its F = 2 N is not used: a curve's force "
+                      r"amplitude is amplitude \(1 N"):  # fmt: skip
+        curve(_oscillator(law), 1.0, load=HarmonicForce(2.0, 1.0, dofs=(0,)), **kw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        curve(_oscillator(law), 1.0, load=HarmonicForce(1.0, 1.0, dofs=(0,)), **kw)
