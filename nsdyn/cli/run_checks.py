@@ -212,24 +212,10 @@ def note_no_column_lines(system) -> str | None:
     )
 
 
-def note_default_motion(cfg: dict, raw: dict | None, record_given: bool) -> str | None:
-    """A scene file (``raw``) with no excitation of its own runs the default scene's: said
-    in one line with what that is (the summary's header names the record only)."""
-    if raw is None or record_given or "motion" in raw or "force" in raw:
-        return None
-    mo = cfg.get("motion", {})
-    pga = f" scaled to PGA {mo['pga']:g} m/s²" if "pga" in mo else ""
-    return (f"{cfg.get('_source', '<scene>')}: no [motion] or [force]: the default scene's "
-            f"excitation runs, the bundled record {mo.get('record')!r}{pga} (a [motion] table "
-            "or --record names another)")  # fmt: skip
-
-
-def scene_notes(cfg: dict, motion, quiet: bool, system=None, raw=None, record_given=False
-                ) -> list[str]:  # fmt: skip
+def scene_notes(cfg: dict, motion, quiet: bool, system=None) -> list[str]:
     """Every note of a loaded scene (the functions above), in one line each on stderr unless
     ``quiet``; returned (a --json summary's ``notes``)."""
-    notes = [note_default_motion(cfg, raw, record_given),
-             note_short_record(cfg, motion), note_unused_components(motion),
+    notes = [note_short_record(cfg, motion), note_unused_components(motion),
              note_coarse_output(cfg, motion),
              note_unused_cutoff(cfg),
              note_unused_isolation(cfg, system), note_loose_atol(cfg, system),

@@ -290,20 +290,3 @@ def test_an_output_step_longer_than_a_flag_cut_run_names_the_flag(tmp_path, caps
         assert main(["run", str(scene), "--t-end", "1", "--out", str(tmp_path / "o")]) == 2
         err = capsys.readouterr().err
         assert "solver.dt_out" in err and ("(the run ends at --t-end 1 s)" in err) is hint
-
-
-def test_a_scene_without_an_excitation_says_it_runs_the_default_one(capsys, tmp_path):
-    # the header named the record only: a scene meant for a harmonic or a force ran the
-    # default scene's record without a word
-    import re
-
-    scene = Path(__file__).resolve().parents[2] / "examples/scenes/isolated-shear-3storey.toml"
-    s = tmp_path / "s.toml"
-    s.write_text(re.sub(r"\[motion\][^[]*", "", scene.read_text()))
-    argv = ["run", str(s), "--t-end", "0.5", "--no-figures", "--out", str(tmp_path)]
-    assert main(argv) == 0
-    err = capsys.readouterr().err
-    assert "no [motion] or [force]: the default scene's excitation runs" in err
-    assert "'synthetic-wn-40s' scaled to PGA 3 m/s²" in err
-    assert main([*argv, "--record", "synthetic-kt-20s"]) == 0  # (a record named: no note)
-    assert "no [motion]" not in capsys.readouterr().err
