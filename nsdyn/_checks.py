@@ -266,15 +266,18 @@ def forcing_frequency(motion) -> float | None:
 
 
 SAMPLES_PER_PERIOD_MIN = 20  # fewer output samples per excitation period miss the peaks
-# outputs further apart than this many record samples (0.1 s at 100 Hz; of 0.01 s for records
-# sampled faster) read a 2.5 Hz floor response fewer than 4 times a period: 30 % off its peak
-RECORD_STEPS_MAX = 10
+# a record's outputs further apart than this (or than its sampling step, if longer) read a
+# 2.5 Hz floor response fewer than 20 times a period: a peak between two outputs is read low
+# by up to 1 - cos(pi f dt_out), 1.2 % at 0.02 s (the scenes' default grid) and 29 % at 0.1 s
+# (the bound was 10 samples, 0.1 s at 100 Hz: a shear building's floor peak read 27 % low)
+RECORD_OUTPUT_MAX = 0.02  # s
 
 
 def coarse_output_note(dt_out: float, motion, field: str = "dt_out") -> str | None:
     """A harmonic excitation sampled fewer than SAMPLES_PER_PERIOD_MIN times per period by
-    outputs ``dt_out`` apart, or a record's outputs more than RECORD_STEPS_MAX of its samples
-    apart: the peaks fall between the outputs (one line naming ``field`` and its bound)."""
+    outputs ``dt_out`` apart, or a record's outputs further apart than RECORD_OUTPUT_MAX (or
+    its sampling step): the peaks fall between the outputs (one line naming ``field`` and its
+    bound)."""
     h = sampling_step(motion)
     span = (getattr(motion, "n", 0) - 1) * (h or 0.0)  # (a longer dt_out is refused: no note)
     return coarse_grid_note(dt_out, forcing_frequency(motion), h, span, field)
@@ -295,7 +298,7 @@ def coarse_grid_note(dt_out: float, f, h, span: float, field: str = "dt_out") ->
     """:func:`coarse_output_note` of an excitation given by its harmonic frequency ``f`` [Hz]
     or its sampling step ``h`` [s] and its ``span`` [s] (None where it has none). ``field``
     names the input to change ("t_eval": output times given, ``dt_out`` their widest gap)."""
-    bound = RECORD_STEPS_MAX * max(h or 0.0, 0.01)  # (a 2000 Hz record's 0.01 s is fine)
+    bound = max(h or 0.0, RECORD_OUTPUT_MAX)  # (a 50 Hz record: every sample)
     head = f"dt_out = {dt_out:g} s"  # (output times given: their widest gap, named so)
     if field == "t_eval":
         head = f"output times (t_eval) up to {dt_out:g} s apart"

@@ -329,14 +329,15 @@ def test_an_output_grid_too_coarse_for_a_harmonic_is_noted(tmp_path, capsys):
 def test_an_output_grid_too_coarse_for_a_record_is_noted(tmp_path, capsys):
     """Outputs 0.5 s apart under a 100 Hz record read the peaks every 50 samples: a floor
     response of 2.5 Hz is sampled less than once per period. The run says so; the scene
-    default (0.02 s, two samples) does not."""
+    default (0.02 s, two samples: 20 a period, a peak read within 1 - cos(pi/20) = 1.2 %)
+    does not."""
     scene = tmp_path / "coarse.toml"
     scene.write_text("[motion]\nt_end = 3.0\n[solver]\ndt_out = 0.5\n")
     args = ["run", str(scene), "--fidelity", "rigid", "--no-figures", "--out"]
     assert main([*args, str(tmp_path / "o")]) == 0
     err = capsys.readouterr().err
     assert err.count("dt_out = 0.5 s reads the peaks every 50 samples of the record (0.01 s)") == 1
-    assert "set solver.dt_out <= 0.1 s" in err  # (said once: before the run, the field named)
+    assert "set solver.dt_out <= 0.02 s" in err  # (said once: before the run, the field named)
     scene.write_text("[motion]\nt_end = 3.0\n")
     assert main([*args, str(tmp_path / "p")]) == 0
     assert "reads the peaks" not in capsys.readouterr().err

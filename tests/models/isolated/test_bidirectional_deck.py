@@ -412,7 +412,7 @@ def test_a_deck_run_outside_its_record_says_so_and_rests_before_it():
     d = rigid_deck(2.0e5, 2.0e6, POS, Bearing(Friction(0.05), radius=2.2), h=1.5, g=G)
     _, rec = _record()
     with pytest.warns(NotedWarning) as seen:
-        r = simulate_plane(d, rec, t_eval=np.linspace(-1.0, 8.0, 91))
+        r = simulate_plane(d, rec, t_eval=np.linspace(-1.0, 8.0, 451))
     said = [str(w.message) for w in seen]
     assert said == [
         "the run starts at t = -1 s, before the record's first sample (0 s): the ground is at "
@@ -429,14 +429,14 @@ def test_a_deck_run_outside_its_record_says_so_and_rests_before_it():
 def test_outputs_too_far_apart_for_the_record_are_said_by_both_plane_runs():
     # the bundled deck scene's outputs 1 s apart read its peak friction 15 % low (393 kN
     # against 462 kN) without a word, where the frame's simulate says so (AccuracyWarning):
-    # the grid both plane runs share now says it, by the same rule (past 10 record samples)
+    # the grid both plane runs share now says it, by the same rule (outputs past 0.02 s apart)
     from nsdyn._checks import AccuracyWarning
     from nsdyn.models.isolated.pairs import from_deck, simulate_pairs
 
     d = rigid_deck(2.0e5, 2.0e6, POS, Bearing(Friction(0.05), radius=2.2), h=1.5, g=G)
     _, rec = _record()
     said = (r"^dt_out = 0.5 s reads the peaks every 50 samples of the record \(0.01 s\): they "
-            r"fall between the outputs; set dt_out <= 0.1 s$")  # fmt: skip
+            r"fall between the outputs; set dt_out <= 0.02 s$")  # fmt: skip
     with pytest.warns(AccuracyWarning, match=said):
         simulate_plane(d, rec, dt_out=0.5)
     with pytest.warns(AccuracyWarning, match=said):
@@ -444,7 +444,7 @@ def test_outputs_too_far_apart_for_the_record_are_said_by_both_plane_runs():
     with warnings.catch_warnings():
         warnings.simplefilter("error", AccuracyWarning)  # (its own grid, and the bound itself)
         simulate_plane(d, rec)
-        simulate_plane(d, rec, dt_out=0.1)
+        simulate_plane(d, rec, dt_out=0.02)
         # an orbit's own grid samples its faster vertical (it took the horizontal's 1/50 and
         # warned of itself at f_z = 6 f)
         r = simulate_plane(d, {"f": 0.5, "ax": 1.0, "az": 1.0, "f_z": 3.0}, t_end=2.0)
