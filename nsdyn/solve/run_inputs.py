@@ -106,7 +106,7 @@ def event_law(system, method: str) -> None:
         f"method 'event' integrates the switch friction law (true stick), not this system's "
         f"arctan law (eps = {iso.eps:g} s/m): the run is the switch law's (summary()['law']); "
         "for the arctan law use 'auto' or 'radau', or pass system.with_isolation(law='switch')",
-        UserWarning,
+        InputWarning,
         stacklevel=3,
     )
 

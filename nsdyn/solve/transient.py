@@ -83,7 +83,7 @@ class TransientResult(Tabular):
     contact_events: list = field(default_factory=list)  # unilateral: (t, k, kind, v_n, impulse)
     open_contacts: np.ndarray | None = None  # unilateral: (nt, nc), 1 where a contact is open
     impact_energy: float = 0.0  # unilateral: kinetic energy change of the landings [J]
-    method_reason: str = ""  # why method "auto" chose the method (empty when given)
+    method_reason: str = ""  # why method "auto" chose the method ("given: 'radau'" if given)
     law: str | None = None  # the friction law integrated (None: no isolation)
     failure: str = ""  # on_failure="return": why the run stopped before its end (else "")
     notes: list = field(default_factory=list)  # what the run says of its own results
@@ -423,7 +423,7 @@ def simulate(
             f"restitution: the coefficient of a landing, which a run with contact={contact!r} "
             "has none of; expected contact='unilateral'"
         )
-    reason = ""
+    reason = f"given: {method!r}"  # (auto's: its choice and why)
     from nsdyn.solve.methods import METHODS
 
     integrate.known_method(method)  # (a KeyError deep in the run before)

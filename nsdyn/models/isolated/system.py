@@ -63,11 +63,11 @@ class Isolation:
 
     ``k_lam`` [N/m] rubber bearing, ``c`` [N s/m] damper, ``mu`` [-] friction (μλ, λ the normal
     force), each per isolator; ``law`` "arctan" (μλ(2/π)arctan(eps v), ``eps`` [s/m]), "switch"
-    (Leine's true stick, band ``eta`` [m/s], method "event") or "none"; ``frozen_normal``:
-    friction on the static normal forces; ``alpha`` [1/s], ``beta`` [-]: Baumgarte, ``kappa``
-    [1/s] stick stabilisation (default 2 alpha beta); ``diaphragm_EA`` [N], ``diaphragm_EI``
-    [N m²]: the base beam; ``g`` [m/s²]; ``contact``: a normal force reaching zero is held
-    ("bilateral"), stops the run ("detect") or lifts off ("unilateral")."""
+    (Leine's switch model, band ``eta`` [m/s]; true stick under method "event", which auto
+    picks with unilateral contact) or "none"; ``frozen_normal``: friction on the static normal
+    forces; ``alpha`` [1/s], ``beta`` [-]: Baumgarte, ``kappa`` [1/s] stick stabilisation
+    (2 alpha beta); ``diaphragm_EA`` [N], ``diaphragm_EI`` [N m²]: the base beam; ``g`` [m/s²];
+    ``contact``: a normal force at zero is held ("bilateral"), stops ("detect") or lifts off."""
 
     k_lam: float | tuple = K_LAM  # N/m, laminated rubber bearing, per isolator
     c: float | tuple = C_DAMPER  # N s/m, viscous damper, per isolator
