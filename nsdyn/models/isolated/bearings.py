@@ -275,9 +275,10 @@ def stick_range_error(b) -> str | None:
     if not (math.isfinite(b.d_cap) and math.isfinite(b.radius) and b.d_cap <= need):
         return None
     hint = high_friction_note("mu_s", b.friction.static)  # (mu = 4: the note came too late)
-    if hint is None and b.radius > RADIUS_PLAUSIBLE:  # (R = 2200: d_cap was blamed alone)
-        hint = (f"R = {b.radius:g} m is above the {RADIUS_PLAUSIBLE:g} m of built pendulums; "
-                "check it is in m")  # fmt: skip
+    if hint is None and b.radius > RADIUS_PLAUSIBLE:  # (R = 2200 in mm: the radius is named)
+        return (f"{b.where}.radius: R = {b.radius:g} m is above the {RADIUS_PLAUSIBLE:g} m of "
+                f"built pendulums (in mm?): its stick range mu_s R = {need:g} m passes the "
+                f"capacity d_cap = {b.d_cap:g} m; expected R in m")  # fmt: skip
     return (f"{b.where}.d_cap: {b.d_cap:g} m is not above the pendulum's stick range mu_s R = "
             f"{need:g} m (it may rest on its rim); expected d_cap > mu_s R"
             + (f" ({hint})" if hint else ""))  # fmt: skip
@@ -360,9 +361,23 @@ def bearing_warnings(system) -> None:
             warnings.warn(note, NotedWarning, stacklevel=4)
 
 
+def scene_coefficients(cfg: dict, where: str, keys) -> None:
+    """BearingError for a scene's friction coefficient (``keys`` of ``cfg``) above
+    MU_PLAUSIBLE: in a file it is a percentage written as a number (mu = 5 ran with a note
+    that named another key, and a pendulum stuck for the whole run); Python's Friction(5)
+    is said in a note instead."""
+    for k in keys:
+        v = cfg.get(k)
+        if isinstance(v, int | float) and not isinstance(v, bool) and v > MU_PLAUSIBLE:
+            raise BearingError(f"{where}.{k}: expected a friction coefficient at most 1 "
+                               "(sliding isolators' are about 0.01-0.2: 0.05 for 5 %), got "
+                               f"{v:g}")  # fmt: skip
+
+
 def friction_from_config(cfg: dict, where: str) -> Friction:
     """A :class:`Friction` from a TOML table: ``mu`` (constant) or ``mu_slow``/``mu_fast``/
     ``rate``, optional ``mu_static``."""
+    scene_coefficients(cfg, where, ("mu", "mu_slow", "mu_fast", "mu_static"))
     if "mu" in cfg and ("mu_slow" in cfg or "mu_fast" in cfg):
         raise BearingError(f"{where}.mu: give either mu or mu_slow/mu_fast, not both")
     if "mu" not in cfg and "mu_slow" not in cfg:

@@ -14,6 +14,7 @@ from nsdyn.models.scene_schema import RECORD_UNITS, REL_TOL, Key, Schema, Table
 
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
 _NONNEG = {"lo": 0.0}  # >= 0
+_MU = {"lo": 0.0, "hi": 1.0}  # a coefficient, not a percentage (0.05 for 5 %)
 
 _T_END = Key("t_end", "number", "end of the run (or `n_periods`; one is required)", "s", **_POS)
 _ORBIT_COMMON = (
@@ -46,11 +47,11 @@ _TFP_KEYS = (
           range=_TFP + ("; R1 > R2" if j == 1 else "; R4 > R3" if j == 4 else ""))
       for j, w in ((1, "outer, lower"), (2, "inner slider, lower"), (3, "inner slider, upper"),
                    (4, "outer, upper"))),
-    *(Key(f"mu{j}", "number", f"friction coefficient of surface {j}", "—", **_POS,
+    *(Key(f"mu{j}", "number", f"friction coefficient of surface {j}", "—", **_POS, hi=1.0,
           range=_TFP + ("; mu2, mu3 ≤ mu1, mu4" if j in (2, 3) else ""))
       for j in range(1, 5)),
     *(Key(f"mu_fast{j}", "number", f"friction of surface {j} at high slip speed (with `rate`)",
-          "—", default=f"(mu{j})", **_NONNEG, range=_TFP + f"; ≥ mu{j}")
+          "—", default=f"(mu{j})", **_MU, range=_TFP + f"; ≥ mu{j}")
       for j in range(1, 5)),
     *(Key(f"d{j}", "number", f"displacement capacity of surface {j}", "m", **_POS,
           range=_TFP + ("; d1, d4 ≥ d2, d3" if j in (1, 4) else ""))
@@ -96,14 +97,14 @@ SCHEMA = Schema(
             Key("type", "string", "friction pendulum, flat slider or triple friction pendulum",
                 default="(fps with a radius, else flat)", choices=("fps", "flat", "tfp")),
             Key("mu", "number", "friction coefficient (or `mu_slow`, `mu_fast`, `rate`)", "—",
-                **_NONNEG),
-            Key("mu_slow", "number", "kinetic coefficient at low slip speed", "—", **_NONNEG),
+                **_MU),
+            Key("mu_slow", "number", "kinetic coefficient at low slip speed", "—", **_MU),
             Key("mu_fast", "number", "kinetic coefficient at high slip speed", "—",
-                default="(mu_slow)", **_NONNEG),
+                default="(mu_slow)", **_MU),
             Key("rate", "number", "a of μ_d(|v|) = μ_fast − (μ_fast − μ_slow) exp(−a |v|)", "s/m",
                 default=0.0, **_NONNEG),
             Key("mu_static", "number", "static coefficient of the stick disc (switch law)", "—",
-                default="(the kinetic coefficient)", range="≥ the kinetic coefficient"),
+                default="(the kinetic coefficient)", hi=1.0, range="≥ the kinetic coefficient"),
             Key("radius", "number", "effective radius R of a friction pendulum", "m", **_POS,
                 range="required for fps, not for flat"),
             Key("k_lam", "number", "lateral stiffness of a laminated bearing", "N/m", default=0.0,

@@ -71,10 +71,12 @@ from nsdyn.models.isolated.bearings import (
     KIND_TFP,
     MU_S_FLOOR,
     N_BCOL,
+    RADIUS_PLAUSIBLE,
     Bearing,
     BearingError,
     Friction,
     _number,
+    scene_coefficients,
 )
 
 U_Y = 2.5e-4  # m, default yield displacement (the elastic slip before the first surface slides)
@@ -161,6 +163,12 @@ class TripleBearing(Bearing):
                 )
         for outer, inner in (("R1", "R2"), ("R4", "R3")):
             if not vals[outer] > vals[inner]:
+                if vals[inner] > RADIUS_PLAUSIBLE:  # (R2 = 300 in dm, say: R1 was blamed)
+                    raise BearingError(
+                        f"{w}.{inner}: {inner} = {vals[inner]:g} m is above the "
+                        f"{RADIUS_PLAUSIBLE:g} m of built pendulums and not below {outer} = "
+                        f"{vals[outer]:g} m; expected the inner slider's radius in m"
+                    )
                 raise BearingError(
                     f"{w}.{outer}: expected {outer} > {inner} = {vals[inner]:g} m (an outer "
                     f"surface flatter than the inner slider's), got {vals[outer]:g}"
@@ -176,11 +184,11 @@ class TripleBearing(Bearing):
                     f"({lim:g}) (it slides first), got {vals[inner]:g}"
                 )
         for outer in ("d1", "d4"):
-            inner = max(vals["d2"], vals["d3"])
-            if vals[outer] < inner:
+            big = "d2" if vals["d2"] >= vals["d3"] else "d3"
+            if vals[outer] < vals[big]:
                 raise BearingError(
                     f"{w}.{outer}: expected a displacement capacity >= the inner ones' "
-                    f"(max(d2, d3) = {inner:g} m), got {outer} = {vals[outer]:g} m"
+                    f"({big} = {vals[big]:g} m), got {outer} = {vals[outer]:g} m"
                 )
         for j in range(1, 5):  # a capacity is an arc on its sphere: short of its radius
             if vals[f"d{j}"] >= vals[f"R{j}"]:
@@ -272,6 +280,9 @@ def tfp_from_config(cfg: dict, where: str) -> TripleBearing:
     if other:
         raise BearingError(f"{where}.{other[0]}: not a key of a triple friction pendulum "
                            f"(type = 'tfp': {', '.join(TFP_KEYS + TFP_OPTIONAL)})")  # fmt: skip
+    scene_coefficients(
+        cfg, where, [f"mu{j}" for j in range(1, 5)] + [f"mu_fast{j}" for j in range(1, 5)]
+    )
     kw = {}
     for k in TFP_KEYS + TFP_OPTIONAL:
         if k in cfg:

@@ -195,3 +195,54 @@ def test_a_building_run_says_its_bearing_notes_once(capsys, tmp_path):
     argv = ["run", str(scene), "--t-end", "0.1", "--no-figures", "--out", str(tmp_path / "o")]
     assert main(argv) == 0
     assert capsys.readouterr().err.count("mu_fast = 0.02 < mu_slow = 0.04") == 1
+
+
+@pytest.mark.parametrize(
+    "change, said",
+    [
+        # a percentage in a file: mu = 5 ran (a note named mu_slow) and stuck the whole run
+        (("mu_slow = 0.04", "mu = 5.0"), "bearing.mu: expected a friction coefficient at most 1"),
+        (("mu_static = 0.075", "mu_static = 7.5"), "bearing.mu_static: expected a friction "),
+        (("radius = 2.2 ", "radius = 2200.0 "), "bearing.radius: R = 2200 m is above the 20 m"),
+    ],
+)
+def test_a_scene_bearing_in_the_wrong_unit_is_refused_naming_its_key(change, said, tmp_path,
+                                                                      capsys):  # fmt: skip
+    from pathlib import Path
+
+    src = Path(__file__).resolve().parents[3] / "examples/scenes/deck-fps4-3c.toml"
+    text = src.read_text()
+    assert change[0] in text
+    text = text.replace(change[0], change[1])
+    if change[1].startswith("mu ="):
+        text = text.replace("mu_fast = 0.07\n", "").replace("rate = 30.0", "")
+    scene = tmp_path / "deck.toml"
+    scene.write_text(text)
+    assert main(["run", str(scene), "--t-end", "0.1", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and err.startswith(f"nsdyn run: error: {scene}: {said}")
+
+
+@pytest.mark.parametrize(
+    "change, said",
+    [
+        (("mu1 = 0.06", "mu1 = 6.0"), "bearing.mu1: expected a friction coefficient at most 1"),
+        # the inner radius out of range is named, not the outer one it is compared with
+        (("R2 = 0.3", "R2 = 300.0"), "bearing.R2: R2 = 300 m is above the 20 m of built"),
+        (
+            ("d2 = 0.06", "d2 = 0.6"),
+            "bearing.d1: expected a displacement capacity >= the inner ones' (d2 = 0.6 m)",
+        ),
+    ],
+)
+def test_a_scene_triple_pendulum_names_the_key_at_fault(change, said, tmp_path, capsys):
+    from pathlib import Path
+
+    src = Path(__file__).resolve().parents[3] / "examples/scenes/deck-tfp4-3c.toml"
+    text = src.read_text()
+    assert change[0] in text
+    scene = tmp_path / "tfp.toml"
+    scene.write_text(text.replace(change[0], change[1]))
+    assert main(["run", str(scene), "--t-end", "0.1", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and err.startswith(f"nsdyn run: error: {scene}: {said}")

@@ -151,9 +151,11 @@ def test_capacity_below_the_pendulums_stick_range_is_refused():
     with pytest.raises(BearingError, match=r"mu_s R = 8 m .*mu_s = 4: a friction coefficient "
                        r"above 1 .*a percentage given as a number\?\)$"):  # fmt: skip
         sdof_plane(1000.0, Bearing(Friction(4.0), radius=2.0, d_cap=0.35))
-    # and so does a radius in mm (2200 for 2.2 m): 0.075 x 2200 = 165 m past any rim
-    with pytest.raises(BearingError, match=r"mu_s R = 165 m .*\(R = 2200 m is above the 20 m "
-                       r"of built pendulums; check it is in m\)$"):  # fmt: skip
+    # and a radius in mm (2200 for 2.2 m): 0.075 x 2200 = 165 m past any rim; the radius is
+    # the field named (d_cap was)
+    with pytest.raises(BearingError, match=r"^bearing.radius: R = 2200 m is above the 20 m of "
+                       r"built pendulums \(in mm\?\): its stick range mu_s R = 165 m passes "
+                       r"the capacity d_cap = 0.35 m; expected R in m$"):  # fmt: skip
         sdof_plane(1000.0, Bearing(Friction(0.075), radius=2200.0, d_cap=0.35))
     with pytest.raises(BearingError, match=r"bearing.d_cap: expected a positive number"):
         Bearing(Friction(0.05), radius=2.0, d_cap=0.0)
