@@ -84,7 +84,14 @@ def keywords_of(func, passed_on, *, skip=(), also=(), caller: str = "") -> None:
     for k in passed_on:
         if k not in known:
             hint = did_you_mean(k, [*known, *also])
+            if not hint and k in ALPHA_PARAMETERS and "rho_inf" in known:  # (HHT's alpha)
+                hint = ("; the generalized-alpha family (genalpha, hht, newmark) takes rho_inf, "
+                        "its spectral radius at infinity, from which alpha_m, alpha_f, beta "
+                        "and gamma follow")  # fmt: skip
             raise TypeError(f"{caller}got an unexpected keyword argument {k!r}{hint}")
+
+
+ALPHA_PARAMETERS = ("alpha", "alpha_f", "alpha_m", "beta", "gamma")
 
 
 # the tightest meaningful relative tolerance: 100 times double precision's epsilon 2**-52, the

@@ -85,7 +85,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         "--max-steps",
         type=_positive_int,
         metavar="N",
-        help="step attempts per 5 s chunk of the run before it gives up (default 2000000)",
+        help="step attempts per 5 s chunk of the run before it gives up (default 2000000; "
+        "isolated-frame scenes)",
     )
     p.add_argument("--out", type=out_dir, default=DEFAULT_OUT, metavar="DIR",
                    help="output directory")  # fmt: skip

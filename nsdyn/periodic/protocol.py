@@ -111,7 +111,13 @@ def check_range(fmin, fmax, points) -> tuple[float, float, int]:
     (``fmin == fmax`` only with one point); ValueError naming the argument otherwise."""
     lo, hi = check_frequency(fmin, "fmin"), check_frequency(fmax, "fmax")
     # (10^12 points ended in numpy's MemoryError of 7 TiB)
-    whole("points", points, 1, f"an integer from 1 to {MAX_POINTS} (frequencies on the curve)")
+    whole(
+        "points",
+        points,
+        1,
+        f"an integer from 1 to {MAX_POINTS} (frequencies on the curve; "
+        "2 or more unless fmax = fmin)",
+    )
     if points > MAX_POINTS:
         raise ValueError(f"points: expected an integer from 1 to {MAX_POINTS} (frequencies on "
                          f"the curve, each a periodic solve), got {points!r}")  # fmt: skip

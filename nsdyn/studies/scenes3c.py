@@ -116,7 +116,8 @@ def parse_pairs(source: str, study_dir: Path, pairs) -> list[RecordSpec]:
             text = " ".join(str(e).split()).replace(
                 "pass trim=True (in a scene, [motion] trim = true) to cut all components to "
                 "the shortest",
-                "the components of one record need one length",
+                "the components of one record need one length (a study's pairs have no trim: "
+                "cut the files to one length)",
             )
             key = next((k for k in ("z", "y") if f"{k} component" in text), "x")
             raise _err(source, f"{where}.{key}", text) from None

@@ -281,3 +281,13 @@ def test_a_curve_says_its_loads_own_force_amplitude_is_not_used(curve):
     with warnings.catch_warnings():
         warnings.simplefilter("error", InputWarning)
         curve(_oscillator(law), 1.0, load=HarmonicForce(1.0, 1.0, dofs=(0,)), **kw)
+
+
+def test_points_says_a_curve_needs_two_unless_it_is_one_frequency():
+    # points=0 said "from 1", and then 1 was refused for fmin < fmax
+    with pytest.raises(
+        ValueError,
+        match=r"^points: expected an integer from 1 to 10000 "
+        r"\(frequencies on the curve; 2 or more unless fmax = fmin\), got 0",
+    ):
+        pr.frequency_response(_oscillator("arctan"), 1.0, fmin=0.5, fmax=0.6, points=0)

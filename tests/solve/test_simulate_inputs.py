@@ -382,3 +382,12 @@ def test_times_without_any_of_the_record_are_refused_and_free_motion_is_the_runs
     with pytest.warns(nsdyn.NotedWarning, match="past the record's end"):
         r = nsdyn.simulate(s, gm, t_eval=np.linspace(5.0, 15.0, 101))
     assert any("the last 5.01 s are free motion" in n for n in r.notes)  # 15 - 9.99
+
+
+@pytest.mark.parametrize("key", ["alpha", "alpha_f"])
+def test_hhts_alpha_is_answered_with_rho_inf(key):
+    # TypeError "unexpected keyword argument 'alpha'" gave no hint of how HHT is tuned
+    with pytest.raises(TypeError, match=rf"'{key}'; the generalized-alpha family .* takes "
+                       r"rho_inf"):  # fmt: skip
+        nsdyn.simulate(_mass(), nsdyn.Harmonic(1.0, 1.0), method="hht", dt=0.01, t_end=0.1,
+                       **{key: 0.1})  # fmt: skip

@@ -417,8 +417,10 @@ def bearing_from_config(cfg: dict, where: str) -> Bearing:
         return tfp_from_config(cfg, where)
     for k in _TFP_ONLY:
         if k in cfg:
+            said = (f"not of type {kind!r}" if "type" in cfg else  # (the user wrote no type)
+                    "add type = 'tfp' to the table")  # fmt: skip
             raise BearingError(f"{where}.{k}: a key of a triple friction pendulum "
-                               f"(type = 'tfp'), not of type {kind!r}")  # fmt: skip
+                               f"(type = 'tfp'); {said}")  # fmt: skip
     if kind == "fps" and "radius" not in cfg:
         raise BearingError(f"{where}.radius: missing; a friction pendulum needs its effective "
                            "radius R [m]")  # fmt: skip

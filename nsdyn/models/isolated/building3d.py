@@ -114,7 +114,7 @@ def building_deck(
             isinstance(bearings, list | tuple) and all(isinstance(b, Bearing) for b in bearings),
             "a Bearing or one per base node (nsdyn.models.isolated.Bearing(...))",
         )
-        bearings = tuple(bearings)
+        bearings = tuple(bearings) * (nb if len(bearings) == 1 else 1)  # (a list of one: all)
         if len(bearings) != nb:
             raise BearingError(
                 f"{frame.name}.bearings: expected one bearing or {nb} (one per base node), "

@@ -134,7 +134,7 @@ def _bearings(frame: Frame3D, bearings) -> tuple:
     nb = len(frame.base_nodes)
     if isinstance(bearings, Bearing):
         return (bearings,) * nb
-    bearings = tuple(bearings)
+    bearings = tuple(bearings) * (nb if len(bearings) == 1 else 1)  # (a list of one: all)
     if len(bearings) != nb:
         raise BearingError(f"{frame.name}.bearings: expected one bearing or {nb} (one per base "
                            f"node), got {len(bearings)}")  # fmt: skip

@@ -246,3 +246,14 @@ def test_a_scene_triple_pendulum_names_the_key_at_fault(change, said, tmp_path, 
     assert main(["run", str(scene), "--t-end", "0.1", "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and err.startswith(f"nsdyn run: error: {scene}: {said}")
+
+
+def test_a_triple_pendulum_key_without_its_type_says_to_add_it():
+    # the user wrote no type and read "not of type 'flat'"
+    from nsdyn.models.isolated.bearings import BearingError, bearing_from_config
+
+    with pytest.raises(BearingError, match=r"^bearing.R1: a key of a triple friction pendulum "
+                       r"\(type = 'tfp'\); add type = 'tfp' to the table$"):  # fmt: skip
+        bearing_from_config({"mu": 0.05, "R1": 2.2}, "bearing")
+    with pytest.raises(BearingError, match=r"^bearing.R1: .*; not of type 'fps'$"):
+        bearing_from_config({"type": "fps", "radius": 2.0, "mu": 0.05, "R1": 2.2}, "bearing")

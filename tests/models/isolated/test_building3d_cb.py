@@ -176,6 +176,12 @@ def test_bad_input_is_named():
     frame = building()
     with pytest.raises(BearingError, match="bearings: expected one bearing or 6"):
         building_pairs(frame, (FPS, FPS))
+    # a list of one is one bearing for all, as the bearing itself is (it was refused with
+    # "expected one bearing ..., got 1"): the same model, bearing for bearing
+    from nsdyn.models.isolated.building3d import building_deck
+
+    assert building_pairs(frame, [FPS]).bearings == building_pairs(frame, FPS).bearings
+    assert building_deck(frame, [FPS]).bearings == building_deck(frame, FPS).bearings
     with pytest.raises(ValueError, match="fidelity: expected one of"):
         reduce_building(frame, "rigid")
     with pytest.raises(ValueError, match="base: expected one of"):
