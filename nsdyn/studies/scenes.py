@@ -14,12 +14,10 @@
   figures=False, quiet=True)``.
 
 A record may be simulated (``[motion] simulated = {generator, seed, duration, dt}``, seed
-000's modulated white noise or Kanai–Tajimi): it is synthesised in the worker from its seed,
-and written to the temporary directory for kinds that read files.
-
-``run_batch(tasks)`` runs tasks one after another and returns one row per task; a task that
-raises gives a row with ``status = "failed"`` and the error, and the batch goes on.
-"""
+000's modulated white noise or Kanai–Tajimi), synthesised in the worker from its seed (and
+written to the temporary directory for kinds that read files). ``run_batch(tasks)`` runs
+tasks one after another, one row per task; a task that raises gives a row with ``status =
+"failed"`` and the error, and the batch goes on."""
 
 from __future__ import annotations
 
@@ -276,7 +274,7 @@ def _check_isolated(cfg: dict, source: str) -> list[str]:
         unused_isolation,
     )
     from nsdyn.models.isolated.scene_structure import force_excitation, harmonic_motion
-    from nsdyn.models.isolated.system import isolation_from_config
+    from nsdyn.models.isolated.system import PER_ISOLATOR, isolation_from_config
     from nsdyn.solve.methods import METHODS
     from nsdyn.solve.run_inputs import law_note
     from nsdyn.solve.transient import output_grid
@@ -303,11 +301,16 @@ def _check_isolated(cfg: dict, source: str) -> list[str]:
     else:  # the frame read once per file: a bad one refused here, its notes said here once
         frame = cfg.get("scene", {}).get("frame")
         try:
-            _frame_read(frame, _mtime(frame)) if isinstance(frame, str) else None
+            p = Path(frame) if isinstance(frame, str) else None  # (a file's version: its mtime)
+            n_iso = p and _frame_read(frame, p.stat().st_mtime_ns if p.is_file() else None)
         except ValueError as e:  # (FrameFileError; a 3D frame's as nsdyn run says it)
             hint = ("; a 3D building is a scene of kind 'building3d' that names it as "
                     "[structure] frame3d") * (getattr(e, "field", None) == "frame3d")  # fmt: skip
             raise SceneError(f"{source}: scene.frame: {e}{hint}") from None
+        try:  # a list of the wrong length: every task failed on it, one by one
+            _ = [iso.per_isolator(k, n_iso) for k in PER_ISOLATOR if n_iso]
+        except ValueError as e:
+            raise SceneError(f"{source}: {e}") from None
     duration: dict = {}
     try:
         if "force" in cfg:
@@ -354,16 +357,12 @@ def _auto_step(system, dt, source: str) -> None:
 
 
 @lru_cache(maxsize=MOTION_CACHE)
-def _frame_read(name: str, mtime) -> None:
-    """Read the frame ``name`` (a file or a bundled name), once per version (``mtime``)."""
+def _frame_read(name: str, mtime) -> int:
+    """The number of isolators (base nodes) of the frame ``name`` (a file or a bundled
+    name), read once per version (``mtime``)."""
     from nsdyn.structure import load_frame
 
-    load_frame(name)
-
-
-def _mtime(name: str):
-    p = Path(name)
-    return p.stat().st_mtime_ns if p.is_file() else None
+    return len(load_frame(name).base_nodes)
 
 
 def fixed_step(method: str, solver: dict, motion=None) -> float | None:

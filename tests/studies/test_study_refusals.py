@@ -58,6 +58,10 @@ def _write(tmp_path, text: str):
         # the model built for that check refuses a value named (a traceback came out)
         (HEAD + "[base.solver]\ndt = 0.005\n[base.isolation]\nk_lam = [1e5, 1e5, 1e5]\n" + PARAMS,
          r"isolation\.k_lam: expected one value or 2 \(one per isolator\), got 3"),
+        # and without that check: every task failed on it, one by one (office-11's two
+        # isolators, one per base node: seed 004 Fig. 1)
+        (HEAD + "[base.isolation]\nc = [1e4, 1e4, 1e4]\n" + PARAMS,
+         r"isolation\.c: expected one value or 2 \(one per isolator\), got 3"),
         (HEAD + '[parameters]\n"solver.dt" = [0.002, 0.005]\n',
          r"solver\.dt: 0\.002 is the step of a fixed-step method, but method 'auto' chooses "
          r"the adaptive 'radau'"),
