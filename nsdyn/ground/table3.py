@@ -182,6 +182,12 @@ def _orbit(table: dict, source: str) -> tuple[HarmonicPlane, dict[str, float]]:
     if shape not in ORBIT_KEYS:
         got = "nothing (missing)" if shape is None else repr(shape)
         raise _err(source, "orbit", f"expected one of {list(ORBIT_KEYS)}, got {got}")
+    for key in table:  # another orbit's key: named as such (it read "did you mean 'amplitude'")
+        owner = [o for o, ks in ORBIT_KEYS.items() if key in ks and key not in ORBIT_KEYS[shape]]
+        if owner:
+            raise _err(source, key, f"a key of orbit {' or '.join(map(repr, owner))}, not of "
+                       f"{shape!r}; expected "
+                       f"some of {sorted(_ORBIT_COMMON + ORBIT_KEYS[shape])}")  # fmt: skip
     _check_keys(source, table, _ORBIT_COMMON + ORBIT_KEYS[shape])
     f = _number(source, table, "frequency", positive=True)
     vertical = {
