@@ -87,7 +87,8 @@ def keywords_of(func, passed_on, *, skip=(), also=(), caller: str = "") -> None:
             if not hint and k in ALPHA_PARAMETERS and "rho_inf" in known:  # (HHT's alpha)
                 hint = ("; the generalized-alpha family (genalpha, hht, newmark) takes rho_inf, "
                         "its spectral radius at infinity, from which alpha_m, alpha_f, beta "
-                        "and gamma follow")  # fmt: skip
+                        "and gamma follow (Baumgarte's alpha and beta: Isolation(alpha=, "
+                        "beta=))")  # fmt: skip
             raise TypeError(f"{caller}got an unexpected keyword argument {k!r}{hint}")
 
 

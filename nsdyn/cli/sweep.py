@@ -9,7 +9,6 @@ command line take each kind's defaults.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 import time
@@ -522,7 +521,7 @@ def run_plane(args: argparse.Namespace, cfg: dict) -> int:
         report["json"] = str(json_path)
         status = _holes(report["amplitudes"], json_path, report, say=False)  # (the file's too)
         with atomic_open(json_path, "w") as fh:
-            fh.write(json.dumps(report, default=float, indent=1))
+            fh.write(json_report(report, default=float, indent=1))  # (its status too)
     if args.json:  # (its holes' line first, then the report with their status)
         _holes(report["amplitudes"], json_path)
         print(json_report(report, default=float))

@@ -8,7 +8,6 @@ from __future__ import annotations
 import argparse
 import csv
 import io
-import json
 import sys
 import time
 from pathlib import Path
@@ -103,7 +102,7 @@ def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
     json_path = out / "sweep.json"
     report["json"] = str(json_path)
     with atomic_open(json_path, "w") as fh:
-        fh.write(json.dumps(report, indent=1))
+        fh.write(json_report(report, indent=1))  # (its status too)
     if args.json:
         print(json_report(report))
         return 0

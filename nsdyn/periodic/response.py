@@ -46,8 +46,9 @@ def frequency_response(system, amplitude: float, *, load=None, **options) -> Cur
                       "lift-off orbits are nsdyn sweep --contact unilateral's, or "
                       "nsdyn.periodic.unilateral_steady_state at each such point",
                       InputWarning, stacklevel=2)  # fmt: skip
-    load_amplitude_note(load, amplitude)
-    c = continue_range(frame_problem(system, amplitude, load=load), **options)
+    problem = frame_problem(system, amplitude, load=load)  # (the amplitude checked first)
+    load_amplitude_note(load, problem.amplitude)
+    c = continue_range(problem, **options)
     c.info["model"] = system.name
     return c
 

@@ -546,8 +546,8 @@ def switch_response(
     from nsdyn.periodic.continuation import continue_range
     from nsdyn.periodic.problem import load_amplitude_note
 
-    load_amplitude_note(load, amplitude)
-    problem = switch_problem(system, amplitude, load=load)
+    problem = switch_problem(system, amplitude, load=load)  # (the amplitude checked first)
+    load_amplitude_note(load, problem.amplitude)
     curve = continue_range(problem, continuation=continuation, **options)
     curve.info.update(law=LAW_NAME, map=METHOD_NAME)
     return curve

@@ -18,15 +18,16 @@ from nsdyn._checks import (  # noqa: F401 (the run's step rules, importable from
     sampling_step,
 )
 
-# a given start's contact gap or gap rate above this is not a stabilised run's drift
-# (Baumgarte keeps R q near round-off) but a state off the constraint: a frame 5 cm in the
-# air was pulled down over the run while its normal forces read the weight
-X0_GAP = 1e-6  # m, and m/s for R qd
+# a given start's contact gap or gap rate (per unit row of R) above this is not a stabilised
+# run's drift (Baumgarte keeps R q near round-off) but a state off the constraint: a frame
+# 5 cm in the air was pulled down over the run while its normal forces read the weight
+X0_GAP = 1e-6  # m, and m/s for R qd, on rows of unit norm
 
 
 def check_x0(system, x0) -> None:
     """ValueError for a given start ``x0`` that is not a state [q, qd] of ``system`` with its
-    contacts closed (``R q = 0``, ``R qd = 0``): the run would start off its constraint."""
+    contacts closed (``R q = 0``, ``R qd = 0``; each row scaled to unit norm): the run would
+    start off its constraint, whatever its contact mode (a unilateral one too)."""
     from nsdyn._checks import finite_numbers
 
     finite_numbers("x0", x0, "finite numbers, the state [q, qd]")
@@ -37,9 +38,11 @@ def check_x0(system, x0) -> None:
     R = getattr(system, "R", None)
     if R is None or R.shape[0] == 0:
         return
+    dense = R.toarray() if hasattr(R, "toarray") else np.asarray(R)
+    norm = np.maximum(np.linalg.norm(dense, axis=1), 1e-300)  # (a row's scale: its units)
     for what, v, unit in (("R q", R @ x0[:n], "m"), ("R qd", R @ x0[n:], "m/s")):
-        k = int(np.argmax(np.abs(v)))
-        if abs(v[k]) > X0_GAP:
+        k = int(np.argmax(np.abs(v) / norm))
+        if abs(v[k]) > X0_GAP * norm[k]:
             raise ValueError(
                 f"x0: its contact {k} is off the constraint ({what} = {v[k]:.3g} {unit}); "
                 "expected a state with every contact closed (R q = 0, R qd = 0, as "

@@ -21,7 +21,7 @@ import os
 import sys
 import time
 from concurrent.futures import Executor
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -206,7 +206,8 @@ def amplitude_job(
     t0 = time.perf_counter()
     system, excitation = build_scene(cfg)
     # a scene driven by a harmonic force sweeps that force (amplitudes in N), else u''_hor
-    load = excitation if isinstance(excitation, HarmonicForce) else None
+    load = excitation if isinstance(excitation, HarmonicForce) else None  # (F: this amplitude)
+    load = load and replace(load, F=float(amplitude))
     ident = _identity(cfg, amplitude, settings)
     ckpt = checkpoint_path(Path(out_dir), amplitude)
     start = None if restart else load_checkpoint(ckpt, ident)

@@ -424,3 +424,13 @@ def test_an_empty_record_or_frame_name_is_refused(tmp_path, one_line):
     scene = _scene(tmp_path, '[motion]\nrecord = ""\nt_end = 0.2\n')
     assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 2
     one_line(f"{scene}: motion.record: expected a bundled name or a file's path, got ''")
+
+
+def test_a_force_scene_swept_at_other_amplitudes_is_not_warned_of_its_own_load(tmp_path, capsys):
+    # --amplitudes of a force scene are its force amplitudes [N] (docs: periodic); each curve
+    # was warned that the scene's F = 1635 N "is not used" of a load the user never passed
+    argv = ["sweep", str(SCENES / "isolated-coulomb-force.toml"), "--amplitudes", "1000",
+            "--fmin", "2", "--fmax", "2.1", "--points", "2", "--workers", "1", "--no-figures",
+            "--out", str(tmp_path / "o")]  # fmt: skip
+    main(argv)
+    assert "is not used" not in capsys.readouterr().err

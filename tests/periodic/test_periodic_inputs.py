@@ -281,6 +281,9 @@ def test_a_curve_says_its_loads_own_force_amplitude_is_not_used(curve):
     with warnings.catch_warnings():
         warnings.simplefilter("error", InputWarning)
         curve(_oscillator(law), 1.0, load=HarmonicForce(1.0, 1.0, dofs=(0,)), **kw)
+        for bad in (math.nan, None):  # (checked before the note: its text broke on them)
+            with pytest.raises((ValueError, TypeError), match=r"^amplitude: expected"):
+                curve(_oscillator(law), bad, load=HarmonicForce(2.0, 1.0, dofs=(0,)), **kw)
 
 
 def test_points_says_a_curve_needs_two_unless_it_is_one_frequency():

@@ -75,7 +75,8 @@ def test_nsdyn_sweep_on_the_example_scene_gives_the_closed_form_and_resumes(tmp_
         assert float(r["friction_peak_N"]) == pytest.approx(MU * M * G, rel=1e-9)
         assert float(r["stick_fraction"]) == 0.0
     assert (out / "sweep.png").exists() and (out / "sweep.json").exists()
-    assert json.loads((out / "sweep.json").read_text())["amplitudes"][0]["failures"] == []
+    written = json.loads((out / "sweep.json").read_text())
+    assert written["amplitudes"][0]["failures"] == [] and written["status"] == 0  # (as --json)
     # the peak and its frequency under the library curve's names (Curve.summary): the
     # largest circle radius of the four frequencies, at its own frequency
     s0 = report["amplitudes"][0]

@@ -382,6 +382,11 @@ def test_times_without_any_of_the_record_are_refused_and_free_motion_is_the_runs
     with pytest.warns(nsdyn.NotedWarning, match="past the record's end"):
         r = nsdyn.simulate(s, gm, t_eval=np.linspace(5.0, 15.0, 101))
     assert any("the last 5.01 s are free motion" in n for n in r.notes)  # 15 - 9.99
+    # a run that starts between the record's last sample and one step after it (9.995 s):
+    # free motion all along, 12 - 9.995 s (it counted from the record's end: 2.01 s)
+    with pytest.warns(nsdyn.NotedWarning, match="past the record's end"):
+        r = nsdyn.simulate(s, gm, t_eval=np.linspace(9.995, 12.0, 11))
+    assert any("the last 2.005 s are free motion" in n for n in r.notes)
 
 
 @pytest.mark.parametrize("key", ["alpha", "alpha_f"])

@@ -66,8 +66,9 @@ class Isolation:
     (Leine's switch model, band ``eta`` [m/s]; true stick under method "event", which auto
     picks with unilateral contact) or "none"; ``frozen_normal``: friction on the static normal
     forces; ``alpha`` [1/s], ``beta`` [-]: Baumgarte, ``kappa`` [1/s] stick stabilisation
-    (2 alpha beta); ``diaphragm_EA`` [N], ``diaphragm_EI`` [N m²]: the base beam; ``g`` [m/s²];
-    ``contact``: a normal force at zero is held ("bilateral"), stops ("detect") or lifts off."""
+    (default 2 alpha beta); ``diaphragm_EA`` [N], ``diaphragm_EI`` [N m²]: the base beam; ``g``
+    [m/s²]; ``contact``: a normal force at zero is held ("bilateral"), stops ("detect") or
+    lifts off ("unilateral")."""
 
     k_lam: float | tuple = K_LAM  # N/m, laminated rubber bearing, per isolator
     c: float | tuple = C_DAMPER  # N s/m, viscous damper, per isolator
@@ -507,9 +508,7 @@ def build_system(
                               T, None, frame, f_max, info)  # fmt: skip
 
     n = cb.M.shape[0]
-    K = cb.K.copy()
-    C = cb.C.copy()
-    # boundary order in q: x1, y1, th1, x2, y2, th2, ...
+    K, C = cb.K.copy(), cb.C.copy()  # boundary order in q: x1, y1, th1, x2, y2, th2, ...
     base_x = [3 * i for i in range(nb_nodes)]
     base_y = [3 * i + 1 for i in range(nb_nodes)]
     # stiff base diaphragm between consecutive base nodes (no new nodes)

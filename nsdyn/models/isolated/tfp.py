@@ -163,7 +163,7 @@ class TripleBearing(Bearing):
                 )
         for outer, inner in (("R1", "R2"), ("R4", "R3")):
             if not vals[outer] > vals[inner]:
-                if vals[inner] > RADIUS_PLAUSIBLE:  # (R2 = 300 in dm, say: R1 was blamed)
+                if vals[inner] > RADIUS_PLAUSIBLE:  # (R2 = 300 in mm, say: R1 was blamed)
                     raise BearingError(
                         f"{w}.{inner}: {inner} = {vals[inner]:g} m is above the "
                         f"{RADIUS_PLAUSIBLE:g} m of built pendulums and not below {outer} = "
