@@ -7,8 +7,9 @@ Seed 004 §6: a periodic orbit of period ``T = 1 / f`` solves ``phi_T(x0; f) - x
 Modules, bottom up: ``discretisation`` (steps and SDIRK tableau per period), ``protocol``
 (what the solvers ask of a model: :class:`PeriodicModel`), ``problem`` (the isolated frame and
 the Duffing oscillator as such models), ``shooting``, ``sweeps`` (steady states by time
-integration), ``bifurcation``, ``curve`` (points and curves), ``continuation`` (sequential and
-pseudo-arclength, any :class:`PeriodicModel`), ``response`` (the frame's front door),
+integration), ``bifurcation``, ``curve`` (points and curves), ``arclength`` (the tangent and
+corrector of pseudo-arclength), ``continuation`` (sequential and pseudo-arclength, any
+:class:`PeriodicModel`), ``response`` (the frame's front door),
 ``switch`` (the switch model with true stick: exact period map with saltation matrices),
 ``uplift`` (the amplitude A*(f) at which a steady orbit's normal force first reaches zero),
 ``unilateral`` (steady states with lift-off and landing by the stepped sweep), ``stability``

@@ -29,6 +29,16 @@ import time
 import numpy as np
 
 from nsdyn._checks import NumericalFailure, flag, number
+from nsdyn.periodic.arclength import (  # noqa: F401 (the corrector's constants, named here)
+    ARC_MAX_CORRECTION,
+    ARC_MAXIT,
+    ARC_PHASE_TOL,
+    DT_REL,
+    _along_p,
+    _corrector,
+    _tangent,
+    period_derivative,
+)
 from nsdyn.periodic.bifurcation import detect_bifurcations
 from nsdyn.periodic.curve import (
     Curve,
@@ -50,8 +60,6 @@ from nsdyn.periodic.discretisation import (
     refined,
 )
 from nsdyn.periodic.protocol import (
-    STATUS_MESSAGES,
-    STATUS_OK,
     PeriodicModel,
     check_frequencies,
     check_range,
@@ -59,29 +67,22 @@ from nsdyn.periodic.protocol import (
 from nsdyn.periodic.shooting import (
     SHOOT_MAXIT,
     SHOOT_TOL,
-    ShootingResult,
-    _evaluate,
     _weights,
-    frozen_rows,
-    least_squares_step,
     orbit_amplitudes,
     shoot,
 )
 from nsdyn.periodic.sweeps import WARMUP_PERIODS, steady_state_sweep, warm_start
 
-ARC_MAXIT = 8  # corrector iterations per arclength step
 ARC_GOOD = 3  # corrector iterations at or below which the step grows
 ARC_GROW, ARC_SHRINK = 1.5, 0.5  # step factors
 ARC_DS_MIN = 1e-5  # smallest arclength step before falling back to the sweep
 ARC_DS_MAX = 0.5  # largest step (scaled state units: relative change of the orbit)
 ARC_COS_MIN = 0.7  # smallest cosine between successive tangents (branch-jump guard)
 ARC_STATE_WEIGHT = 0.1  # weight of the (amplitude-scaled) state in the arclength norm
-ARC_MAX_CORRECTION = 1.0  # corrector iterates stay within this many ds of the predictor
-ARC_MAX_STEPS_FACTOR = 20  # at most this many x the requested points along a curve
-ARC_PHASE_TOL = 1e-6  # corrector: largest |<t, y - y_pred>_W| at convergence
+ARC_MAX_STEPS_FACTOR = 20  # at most this many x the requested points (then: sequentially)
+ARC_AMP_MAX = 1e3  # an orbit past this [m, rad]: a branch running off to an unbounded resonance
 JUMP_REL = 0.25  # a sequential step changing the orbit's start by this fraction of its size
 JUMP_RATIO = 3.0  # ... and this many times the change the secant predicted: a jump candidate
-DT_REL = 1e-6  # relative period step of the central difference d phi_T / dT
 F_MIN = 0.01  # default lowest forcing frequency of a curve [Hz]
 F_MAX = 10.0  # default highest forcing frequency of a curve [Hz]
 POINTS = 150  # default number of points of a curve
@@ -291,55 +292,6 @@ def continue_range(
     return curve
 
 
-def period_derivative(problem, pm, x: np.ndarray, f: float, N: int) -> np.ndarray:
-    """``d phi_T / dT`` at ``x``: the map's own ``dxdT``, else (a map that does not supply it,
-    e.g. the switch model's) central differences of the map in ``T`` with ``N`` steps and
-    ``dT = DT_REL T`` (error ~ ``DT_REL^2`` plus round-off / ``DT_REL``)."""
-    if pm.dxdT is not None:
-        return pm.dxdT
-    T = 1.0 / f
-    dT = DT_REL * T
-    ends = []
-    for Ts in (T + dT, T - dT):
-        pt = problem.period_map(x, 1.0 / Ts, n_steps=N, sens=False)
-        if pt.status != STATUS_OK:
-            return np.full(x.size, np.nan)
-        ends.append(pt.xT)
-    return (ends[0] - ends[1]) / (2.0 * dT)
-
-
-def _bordered(Jx, Jp, C):
-    """``[Jx, Jp]`` with the rows ``[C, 0]`` of the held state appended (None: none)."""
-    if C is None:
-        return np.column_stack([Jx, Jp]), 0
-    return np.vstack([np.column_stack([Jx, Jp]), np.column_stack([C, np.zeros(len(C))])]), len(C)
-
-
-def _tangent(Jx, Jp, W, t_prev, C=None):
-    """Unit tangent of H(x, p) = 0 (scaled norm) oriented along ``t_prev``; with ``C`` (held
-    rows of a family of orbits, see :func:`nsdyn.periodic.shooting.frozen_rows`) also
-    ``C dx = 0``, by least squares."""
-    d = Jx.shape[0]
-    Wf = np.concatenate([W, [1.0]])
-    top, r = _bordered(Jx, Jp, C)
-    Aug = np.vstack([top, t_prev * Wf * Wf])
-    rhs = np.zeros(d + r + 1)
-    rhs[-1] = 1.0
-    rows = np.concatenate([W, np.ones(r + 1)])
-    t, _ = least_squares_step(Aug, rhs, Wf, row_scale=rows)
-    t /= np.linalg.norm(Wf * t)
-    if (t * Wf * Wf) @ t_prev < 0:
-        t = -t
-    return t
-
-
-def _along_p(d: int) -> np.ndarray:
-    """The tangent (0, ..., 0, 1): straight up in log f."""
-    t = np.zeros(d + 1)
-    t[d] = 1.0
-    return t
-
-
 def continue_arclength(
     problem: PeriodicModel,
     fmin: float,
@@ -402,13 +354,14 @@ def continue_arclength(
     J_last = None
     info = {"continuation": "arclength", "skipped_hz": [], "problem": problem_id(problem)}
 
-    def sequential_rest(f_stop: float, why: str) -> list:
-        """Without the fallback: the band above f_stop on the frequency step dp_max."""
+    def sequential_rest(f_stop: float, why: str, fb: bool = False) -> list:
+        """The band above f_stop on the frequency step dp_max, sequentially (``fb``: with the
+        stepped-sweep fallback)."""
         info["arclength_stop"] = {"f_hz": f_stop, "reason": why}
         p0 = math.log(f_stop)
         rest = np.append(np.exp(np.arange(p0 + dp_max, pmax - 0.5 * dp_max, dp_max)), fmax)
         seq = continue_sequential(problem, rest, disc=disc, tol=tol, max_iter=max_iter,
-                                  fallback=False, progress=progress, start=pts,
+                                  fallback=fb, progress=progress, start=pts,
                                   keep_orbits=keep_orbits)  # fmt: skip
         info["skipped_hz"], info["skipped_why"] = seq.info["skipped_hz"], seq.info["skipped_why"]
         info["jumps"] = seq.info["jumps"]  # (the sequential rest's steps between branches)
@@ -423,6 +376,10 @@ def continue_arclength(
         if last.X is None:  # resumed point: its orbit for the scaling
             last.X = problem.period_map(last.x0, last.f, disc=disc, sens=False, store=True).X
         amp = orbit_amplitudes(problem, last.X)
+        if amp[0] > ARC_AMP_MAX:  # (it ran on to 1e89 m near f_n, "converged, stable")
+            pts = sequential_rest(last.f, f"the orbit passed {ARC_AMP_MAX:g} m: a branch running "
+                                  "off to an unbounded resonance", fallback)  # fmt: skip
+            break
         W = state_weight * _weights(problem, amp)
         Wf = np.concatenate([W, [1.0]])
         N = disc.steps(1.0 / last.f)
@@ -510,51 +467,8 @@ def continue_arclength(
         J_last = (Jx_n, Jp_n, y[:d].copy(), res.frozen)
         t_prev = tan_new
         ds = ds * ARC_GROW if its <= ARC_GOOD else ds
+    else:  # the step cap (a curve ending short of fmax was a finished one; a rerun went on)
+        if pts[-1].f < fmax * (1 - 1e-12):
+            pts = sequential_rest(pts[-1].f, f"{max_steps} steps used", fallback)
     info.update(wall_s=time.perf_counter() - t0, steps=steps)
     return Curve(problem.amplitude, pts, detect_bifurcations(pts), info)
-
-
-def _corrector(problem, y_pred, tan, W, N, disc, tol, ds):
-    """Newton on [H(x, p); <t, y - y_pred>_W] = 0 (Keller's pseudo-arclength).
-
-    Iterates that leave the ball of radius ``ARC_MAX_CORRECTION * ds`` around the predictor
-    are rejected (the step is then halved): a converged point far away would be on another
-    part of the curve.
-    """
-    d = problem.dim
-    Wf = np.concatenate([W, [1.0]])
-    Wf2 = Wf**2
-    y = y_pred.copy()
-    res = None
-    for it in range(ARC_MAXIT + 1):
-        f = math.exp(y[d])
-        pm, _, r = _evaluate(problem, y[:d], f, N, disc)
-        if pm.status != STATUS_OK:
-            return False, y, None, it, np.inf, STATUS_MESSAGES[pm.status]
-        H = pm.xT - y[:d]
-        g = float((tan * Wf2) @ (y - y_pred))
-        dxdT = period_derivative(problem, pm, y[:d], f, N)
-        C = frozen_rows(problem, pm)
-        res = ShootingResult(f, y[:d].copy(), r <= tol, it, r, pm.monodromy, dxdT, pm.X, N)
-        res.frozen = C
-        if r <= tol and abs(g) <= ARC_PHASE_TOL:  # (not an orbit of the sampled map alone)
-            why = getattr(problem, "orbit_unverified", lambda _: "")(pm)
-            return not why, y, None if why else res, it, r, why or "converged"
-        if it == ARC_MAXIT:
-            break
-        top, nc = _bordered(pm.monodromy - np.eye(d), dxdT * (-1.0 / f), C)
-        Aug = np.vstack([top, tan * Wf2])
-        rhs = -np.concatenate([H, np.zeros(nc), [g]])
-        rows = np.concatenate([W, np.ones(nc + 1)])
-        try:
-            dy, _ = least_squares_step(Aug, rhs, Wf, row_scale=rows)
-        except np.linalg.LinAlgError:
-            return False, y, None, it, r, "bordered Newton matrix: least-squares solve failed"
-        if not np.all(np.isfinite(dy)):
-            return False, y, None, it, r, "bordered Newton step not finite"
-        y = y + dy
-        dist = float(np.linalg.norm(Wf * (y - y_pred)))
-        if dist > ARC_MAX_CORRECTION * ds:
-            return False, y, None, it + 1, r, f"corrector left the predictor by {dist / ds:.1f} ds"
-    msg = f"no convergence in {ARC_MAXIT} corrector iterations (residual {r:.1e})"
-    return False, y, res, ARC_MAXIT, r, msg

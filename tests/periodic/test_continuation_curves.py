@@ -229,7 +229,7 @@ def test_without_the_fallback_a_curve_walks_the_whole_band_and_names_its_gaps(
         c = pr.continue_sequential(prob, pr.log_frequencies(fmin, fmax, points), **kw)
         assert len(c.points) == 1
     else:
-        monkeypatch.setattr(pr.continuation, "ARC_MAXIT", 0)
+        monkeypatch.setattr(pr.arclength, "ARC_MAXIT", 0)  # (the corrector's module)
         c = pr.continue_arclength(prob, fmin, fmax, points=points, **kw)
         stop = c.info["arclength_stop"]
         assert stop["f_hz"] == c.points[-1].f and "no convergence" in stop["reason"]
@@ -384,3 +384,40 @@ def test_a_point_without_a_steady_state_has_no_response_and_is_listed(smooth_fra
     assert [d["f"] for d in fails] == pytest.approx([1.0, 1.6], rel=1e-12)
     assert all(d["reason"].startswith("no steady state; shooting failed") for d in fails)
     assert c.summary()["converged"] == 0 and c.summary()["x_iso_max_m"] is None
+
+
+def _den_hartog_oscillator():
+    """A mass on a spring with Coulomb friction, no damper, under a ground acceleration A:
+    F0 = m A = 1635 N against friction mu m g = 490 N, F_f / F0 = 0.3 < pi/4, so Den Hartog's
+    steady amplitude grows without bound at f_n = sqrt(k/m) / 2 pi = 1.0066 Hz."""
+    from nsdyn.models.isolated.builders import system_from_matrices
+    from nsdyn.models.isolated.system import Isolation
+
+    m, k = 1000.0, 4e4
+    iso = Isolation(k_lam=k, c=0.0, mu=0.05, law="switch")
+    osc = system_from_matrices([[m]], [[0.0]], [[0.0]], iso_dofs=[0], influence=[1.0],
+                               isolation=iso, weight=m * iso.g, levels=[[0]])  # fmt: skip
+    return osc, math.sqrt(k / m) / (2 * math.pi)
+
+
+def test_arclength_stops_at_an_unbounded_resonance_and_covers_the_band_sequentially():
+    # arclength followed the branch up the asymptote at f_n to x = 1e89 m, "converged,
+    # stable", and never reached fmax
+    osc, fn = _den_hartog_oscillator()
+    c = pr.switch_response(osc, 1.635, continuation="arclength", fmin=0.7, fmax=2.0, points=6)
+    stop = c.info["arclength_stop"]
+    assert "unbounded resonance" in stop["reason"] and stop["f_hz"] == pytest.approx(fn, rel=1e-3)
+    f = np.array([p.f for p in c.points])
+    x = np.array([r["x_iso"] for r in c.rows()])
+    assert f[-1] == pytest.approx(2.0, rel=1e-12) and np.all(np.isfinite(x))
+    assert x.max() < 1e4  # stopped within one step past ARC_AMP_MAX = 1e3 m (steps < 10x)
+
+
+def test_arclength_out_of_steps_covers_the_rest_of_the_band_sequentially(monkeypatch):
+    # a curve that used its 20 x points steps short of fmax was reported finished (a rerun
+    # then went on from its checkpoint)
+    osc, _ = _den_hartog_oscillator()
+    monkeypatch.setattr(pr.continuation, "ARC_MAX_STEPS_FACTOR", 1)  # 6 steps for 6 points
+    c = pr.switch_response(osc, 1.635, continuation="arclength", fmin=0.7, fmax=2.0, points=6)
+    assert c.info["arclength_stop"]["reason"] == "6 steps used"
+    assert c.points[-1].f == pytest.approx(2.0, rel=1e-12)
