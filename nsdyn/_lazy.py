@@ -24,7 +24,9 @@ def exports(namespace: dict, api: dict[str, str]) -> tuple[Callable, Callable]:
             from nsdyn._checks import did_you_mean
 
             hint = did_you_mean(name, list(api))
-            raise AttributeError(f"module {package!r} has no attribute {name!r}{hint}")
+            err = AttributeError(f"module {package!r} has no attribute {name!r}{hint}")
+            err.name = None  # (the hint is said: Python's own "Did you mean" said it again)
+            raise err
         module, _, attr = where.partition(":")
         value = getattr(importlib.import_module(module), attr or name)
         namespace[name] = value  # later lookups skip this hook

@@ -20,7 +20,7 @@ import numpy as np
 from nsdyn._brief import brief_repr
 from nsdyn._checks import did_you_mean
 from nsdyn.periodic.bifurcation import STABLE_MARGIN, family_note
-from nsdyn.periodic.discretisation import Discretisation
+from nsdyn.periodic.discretisation import MORE_STEPS, Discretisation
 from nsdyn.periodic.protocol import PeriodicModel
 from nsdyn.periodic.shooting import ShootingResult, _evaluate, floquet_multipliers
 from nsdyn.periodic.stability import check_verdict
@@ -165,7 +165,8 @@ class Curve:
             values = (p.f, self.amplitude, q.get("idr", math.nan), q.get("acc", math.nan),
                       q.get("acc_floors", math.nan), q.get("x_iso", math.nan),
                       q.get("stick_all_period", ""), "" if p.stable is None else p.stable,
-                      p.max_multiplier, p.method, p.iterations, p.residual, p.converged,
+                      p.max_multiplier if p.converged else math.nan,  # (no orbit: no verdict)
+                      p.method, p.iterations, p.residual, p.converged,
                       p.n_steps, p.quantities.get("uplift", ""), p.note)  # fmt: skip
             out.append(dict(zip(ROW_KEYS, values, strict=True)))
         return out
@@ -222,8 +223,11 @@ def _point_from_sweep(
     else:
         # the horizon of continuation's retry decision (as many periods as the warm start)
         q, probe = problem.quantities_without_orbit(sw.f, sw.x0, WARMUP_PERIODS)
-    notes = (f"shooting failed: {why}", f"sweep: {sw.message}", check, probe,
-             problem.validity_note(q))  # fmt: skip
+    cause = problem.validity_note(q)  # (an uplift, say: no number of steps cures it)
+    hint = MORE_STEPS if not cause else ""  # (then the cause leads, without that advice)
+    notes = (f"shooting failed: {why.replace(MORE_STEPS, hint)}",
+             f"sweep: {sw.message.replace(MORE_STEPS, hint)}", check)  # fmt: skip
+    notes = (cause, probe, *notes) if cause else (*notes, probe)
     return OrbitPoint(
         sw.f,
         sw.x0.copy(),

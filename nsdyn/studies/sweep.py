@@ -234,9 +234,10 @@ def amplitude_job(
         if not quiet:
             q = pt.quantities
             of, left = curve_count(k, n, walls, settings.continuation)
+            x = f"x_iso={q.get('x_iso', math.nan):.2e}" if pt.converged else "no steady state"
             print(
                 f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
-                f"it={pt.iterations:2d} x_iso={q.get('x_iso', math.nan):.2e} "
+                f"it={pt.iterations:2d} {x} "
                 f"({q.get('wall_s', 0.0):.2f} s{left})",
                 file=sys.stderr,
                 flush=True,

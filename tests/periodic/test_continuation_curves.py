@@ -380,6 +380,7 @@ def test_a_point_without_a_steady_state_has_no_response_and_is_listed(smooth_fra
     for row in c.rows():
         assert row["converged"] is False and row["stable"] == ""
         assert all(math.isnan(row[k]) for k in ("IDR", "a", "a_floors", "x_iso"))
+        assert math.isnan(row["max_multiplier_modulus"])  # (no orbit: a 0.998 read as a verdict)
     fails = c.info["failures"]
     assert [d["f"] for d in fails] == pytest.approx([1.0, 1.6], rel=1e-12)
     assert all(d["reason"].startswith("no steady state; shooting failed") for d in fails)

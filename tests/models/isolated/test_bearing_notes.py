@@ -123,6 +123,8 @@ def test_a_slip_beyond_a_quarter_of_the_radius_is_said_with_the_spheres_force():
     assert slip_ratio_note([flat, flat], [5.0, 5.0]) is None
     note = slip_ratio_note([fps, fps, flat], [0.3, 1.2, 9.0])
     assert note.startswith("isolator 1's peak slip is 0.6 of its radius R = 2 m") and "25 %" in note
+    past = slip_ratio_note([fps], [20.0])  # (it read "10 of its radius")
+    assert past.startswith("isolator 0's peak slip is 10 times its radius R = 2 m: past the")
     # a capacity at or past the radius has no spherical surface to slide on: refused, named
     want = r"^bearing.d_cap: expected a displacement capacity below the radius R = 0.05 m, got"
     with pytest.raises(BearingError, match=want + r" 0.35 m$"):
