@@ -119,6 +119,22 @@ def _hermite(t0, h, y0, f0, y1, f1, t):
 
 
 @njit(cache=True, error_model="numpy")
+def to_next_sample(t, t_end, ex, n):
+    """Time from ``t`` to the record's next sample before ``t_end`` (inf past its last, at
+    ``t_end`` to round-off, or without one): steps end on the samples, where the interpolated
+    excitation kinks. A step across one saw its indicators at the step's ends alone, and an
+    excursion around the sample between (a 2 ms lift-off at 1.00 s) was passed over."""
+    if n < 2:
+        return math.inf
+    s = (t - ex[1]) / ex[2]
+    k = max(math.floor(s + 1e-9) + 1.0, 0.0)  # (a t on a sample, to round-off: the next one)
+    t_k = ex[1] + k * ex[2]
+    if k > n - 1 or t_k >= t_end - 1e-9 * ex[2]:  # (a sample at t_end: t_end is the step's)
+        return math.inf
+    return max(t_k - t, 0.0)
+
+
+@njit(cache=True, error_model="numpy")
 def integrate(t, y, t_end, h, sig, closed, verts, minv, par, ex, tab_h, tab_v,
               rtol, atol, t_out, y_out, iout, max_steps, h_max):  # fmt: skip
     """Integrate from (t, y) until the first event or ``t_end``.
@@ -148,6 +164,11 @@ def integrate(t, y, t_end, h, sig, closed, verts, minv, par, ex, tab_h, tab_v,
         if t >= t_end:
             return t, y, h, EV_END, -1, iout, nsteps, nrhs
         h = min(h, t_end - t, h_max)
+        hs = to_next_sample(t, t_end, ex, tab_h.shape[0])
+        if hs <= h * (1.0 + 1e-9):  # on the sample (a step of h_max stopped a sliver short)
+            h = hs
+        if t_end - t - h <= 1e-9 * h:  # (no sliver left before t_end)
+            h = t_end - t
         if h < H_MIN_REL * max(1.0, abs(t)):
             return t, y, h, EV_UNDERFLOW, -1, iout, nsteps, nrhs
         copy_vec(k[0], f0)

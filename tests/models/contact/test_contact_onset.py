@@ -116,3 +116,28 @@ def test_event_driven_starts_in_the_onset_mode(beta, mu, abar):
     res = simulate_event(body, FrictionLaw(mu), BaseMotion.constant(abar * G), t_end=0.05,
                          dt_out=0.01)  # fmt: skip
     assert res.first_motion() == onset_mode(beta, mu, abar)
+
+
+def test_a_lift_off_inside_a_steps_span_of_a_record_is_found():
+    # A body at rest on its base feels the ground acceleration alone until it tips: the
+    # 0.5 x 1.5 m block (mu 0.45 > b/h, so rocking comes first) lifts off the first time
+    # |a_h| > (g + a_v) b/h on the record as interpolated (linear between its samples). On the
+    # bundled record at PGA 7 m/s² that holds first for 2 ms around the sample at 1.00 s, a
+    # window the steps, not aligned with the samples, strode over: onset was reported 0.23 s
+    # late. Located on a grid of dt/1000 here, so to 1e-5 s.
+    from nsdyn.ground import read_motion
+
+    rec = read_motion("synthetic-wn-40s").scaled_to_pga(7.0)
+    t_end = 1.5
+    base = BaseMotion.from_motion(rec)
+    t = np.arange(0.0, t_end, rec.dt / 1000)
+    ah = np.interp(t, rec.t, rec.a_hor)
+    av = np.interp(t, rec.t, rec.a_ver) if rec.a_ver is not None else 0.0 * t
+    tips = np.abs(ah) > (G + av) * (0.5 / 1.5)
+    assert tips.any()
+    t_hand = t[np.argmax(tips)]
+    res = simulate_event(RigidBody.rectangle(0.5, 1.5, 100.0), FrictionLaw(0.45, 0.45, 0.0),
+                         base, t_end=t_end, dt_out=0.01)  # fmt: skip
+    s = res.summary()
+    assert s["first_motion"] == "rock"
+    assert s["t_first_motion_s"] == pytest.approx(t_hand, abs=2e-5)
