@@ -25,7 +25,8 @@ def exports(namespace: dict, api: dict[str, str]) -> tuple[Callable, Callable]:
 
             hint = did_you_mean(name, list(api))
             err = AttributeError(f"module {package!r} has no attribute {name!r}{hint}")
-            err.name = None  # (the hint is said: Python's own "Did you mean" said it again)
+            if hint:  # (said: Python's own "Did you mean" said it again)
+                err.name = None
             raise err
         module, _, attr = where.partition(":")
         value = getattr(importlib.import_module(module), attr or name)

@@ -29,11 +29,7 @@ import time
 import numpy as np
 
 from nsdyn._checks import NumericalFailure, flag, number
-from nsdyn.periodic.arclength import (  # noqa: F401 (the corrector's constants, named here)
-    ARC_MAX_CORRECTION,
-    ARC_MAXIT,
-    ARC_PHASE_TOL,
-    DT_REL,
+from nsdyn.periodic.arclength import (  # (its tuning constants are arclength's own)
     _along_p,
     _corrector,
     _tangent,
@@ -80,7 +76,8 @@ ARC_DS_MAX = 0.5  # largest step (scaled state units: relative change of the orb
 ARC_COS_MIN = 0.7  # smallest cosine between successive tangents (branch-jump guard)
 ARC_STATE_WEIGHT = 0.1  # weight of the (amplitude-scaled) state in the arclength norm
 ARC_MAX_STEPS_FACTOR = 20  # at most this many x the requested points (then: sequentially)
-ARC_AMP_MAX = 1e3  # an orbit past this [m, rad]: a branch running off to an unbounded resonance
+ARC_AMP_MAX = 1e3  # an orbit's half range past this [m, rad] and ARC_AMP_GROWTH x the first's:
+ARC_AMP_GROWTH = 1e3  # a branch running off to an unbounded resonance
 JUMP_REL = 0.25  # a sequential step changing the orbit's start by this fraction of its size
 JUMP_RATIO = 3.0  # ... and this many times the change the secant predicted: a jump candidate
 F_MIN = 0.01  # default lowest forcing frequency of a curve [Hz]
@@ -320,7 +317,10 @@ def continue_arclength(
     thousandth of the cap, in a band narrower than that) the next frequency is taken by the
     stepped sweep and continuation restarts from it. Without ``fallback`` the rest of the band
     is continued sequentially on the same frequency step (frequencies without an orbit
-    skipped, ``info["skipped_hz"]``), the place and reason kept in ``info["arclength_stop"]``.
+    skipped, ``info["skipped_hz"]``), the place and reason kept in ``info["arclength_stop"]``;
+    so is it, with the fallback where given, past ``ARC_MAX_STEPS_FACTOR * points`` steps and
+    where an orbit's half range passes ``ARC_AMP_MAX`` and ``ARC_AMP_GROWTH`` x the first's
+    (a branch running off to an unbounded resonance; that point's note says so).
     """
     disc = _options(disc, progress, fallback, keep_orbits)
     fmin, fmax, points = check_range(fmin, fmax, points)
@@ -349,7 +349,7 @@ def continue_arclength(
     t_prev = _along_p(d)
     ds = dp_max
     max_steps = ARC_MAX_STEPS_FACTOR * points
-    steps = 0
+    steps, size0 = 0, None
     need_restart = True  # tangent must be computed from scratch at the last point
     J_last = None
     info = {"continuation": "arclength", "skipped_hz": [], "problem": problem_id(problem)}
@@ -376,9 +376,17 @@ def continue_arclength(
         if last.X is None:  # resumed point: its orbit for the scaling
             last.X = problem.period_map(last.x0, last.f, disc=disc, sens=False, store=True).X
         amp = orbit_amplitudes(problem, last.X)
-        if amp[0] > ARC_AMP_MAX:  # (it ran on to 1e89 m near f_n, "converged, stable")
-            pts = sequential_rest(last.f, f"the orbit passed {ARC_AMP_MAX:g} m: a branch running "
-                                  "off to an unbounded resonance", fallback)  # fmt: skip
+        size = float(np.ptp(last.X[:, : d // 2], axis=0).max()) / 2  # (not an offset's)
+        size0 = size if size0 is None else size0  # (the first point's, this call's)
+        if size > ARC_AMP_MAX and size > ARC_AMP_GROWTH * size0:  # (it ran on to 1e89 m)
+            last.note = "; ".join(n for n in (last.note, "on a branch running off to an "
+                                              "unbounded resonance") if n)  # fmt: skip
+            pts = sequential_rest(
+                last.f,
+                f"the orbit's half range passed {ARC_AMP_MAX:g} m: a "
+                "branch running off to an unbounded resonance",
+                fallback,
+            )
             break
         W = state_weight * _weights(problem, amp)
         Wf = np.concatenate([W, [1.0]])

@@ -223,11 +223,12 @@ def _point_from_sweep(
     else:
         # the horizon of continuation's retry decision (as many periods as the warm start)
         q, probe = problem.quantities_without_orbit(sw.f, sw.x0, WARMUP_PERIODS)
-    cause = problem.validity_note(q)  # (an uplift, say: no number of steps cures it)
+    valid = problem.validity_note(q)  # (an uplift or a rim contact: no more steps cure it)
+    cause = valid if q.get("uplift") is True or q.get("rim_contact") else ""
     hint = MORE_STEPS if not cause else ""  # (then the cause leads, without that advice)
     notes = (f"shooting failed: {why.replace(MORE_STEPS, hint)}",
              f"sweep: {sw.message.replace(MORE_STEPS, hint)}", check)  # fmt: skip
-    notes = (cause, probe, *notes) if cause else (*notes, probe)
+    notes = (cause, probe, *notes) if cause else (*notes, probe, valid)
     return OrbitPoint(
         sw.f,
         sw.x0.copy(),

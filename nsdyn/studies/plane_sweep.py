@@ -178,9 +178,10 @@ def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweep
             save(done)
         if not quiet:
             u = pt.quantities.get("u_peak_m", math.nan)
+            u = f"|u|max={u:.4g} m" if pt.converged else "no steady state"
             of, left = curve_count(k, n, walls, settings.continuation)
             print(f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
-                  f"it={pt.iterations:2d} |u|max={u:.4g} m "
+                  f"it={pt.iterations:2d} {u} "
                   f"({pt.quantities.get('wall_s', 0.0):.2f} s{left})", file=sys.stderr,
                   flush=True)  # fmt: skip
 

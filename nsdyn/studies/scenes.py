@@ -307,7 +307,7 @@ def _check_isolated(cfg: dict, source: str) -> list[str]:
             hint = ("; a 3D building is a scene of kind 'building3d' that names it as "
                     "[structure] frame3d") * (getattr(e, "field", None) == "frame3d")  # fmt: skip
             raise SceneError(f"{source}: scene.frame: {e}{hint}") from None
-        try:  # a list of the wrong length: every task failed on it, one by one
+        try:  # a list of the wrong length: every task failed on it (frame: merged default's)
             _ = [iso.per_isolator(k, n_iso) for k in PER_ISOLATOR if n_iso]
         except ValueError as e:
             raise SceneError(f"{source}: {e}") from None

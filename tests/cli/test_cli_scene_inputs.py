@@ -432,5 +432,7 @@ def test_a_force_scene_swept_at_other_amplitudes_is_not_warned_of_its_own_load(t
     argv = ["sweep", str(SCENES / "isolated-coulomb-force.toml"), "--amplitudes", "1000",
             "--fmin", "2", "--fmax", "2.1", "--points", "2", "--workers", "1", "--no-figures",
             "--out", str(tmp_path / "o")]  # fmt: skip
-    main(argv)
+    assert main(argv) == 0
     assert "is not used" not in capsys.readouterr().err
+    rows = (tmp_path / "o" / "sweep.csv").read_text().splitlines()[1:]
+    assert len(rows) == 2 and all(r.split(",")[1] == "1000" for r in rows)  # (A, in N)

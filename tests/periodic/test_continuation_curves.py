@@ -412,6 +412,19 @@ def test_arclength_stops_at_an_unbounded_resonance_and_covers_the_band_sequentia
     x = np.array([r["x_iso"] for r in c.rows()])
     assert f[-1] == pytest.approx(2.0, rel=1e-12) and np.all(np.isfinite(x))
     assert x.max() < 1e4  # stopped within one step past ARC_AMP_MAX = 1e3 m (steps < 10x)
+    # the point past the cap is marked; every other one, below and above f_n, is Den
+    # Hartog's continuous-slip amplitude X = F0/k sqrt(V^2 - (U F_f/F0)^2), V = 1/(1 - b^2),
+    # U = sin(pi/b) / (b (1 + cos(pi/b))), b = f/f_n (the switch map's flow is exact: the
+    # peaks read from its samples, 1e-4)
+    marked = ["unbounded resonance" in p.note for p in c.points]
+    assert sum(marked) == 1 and x[marked.index(True)] > 1e3
+    m, k, g = 1000.0, 4e4, osc.isolation.g
+    F0, Ff = m * 1.635, 0.05 * m * g
+    b = f / fn
+    V, U = 1 / (1 - b * b), np.sin(np.pi / b) / (b * (1 + np.cos(np.pi / b)))
+    dh = F0 / k * np.sqrt(V * V - (U * Ff / F0) ** 2)
+    keep = ~np.array(marked)
+    assert x[keep] == pytest.approx(dh[keep], rel=1e-4)
 
 
 def test_arclength_out_of_steps_covers_the_rest_of_the_band_sequentially(monkeypatch):

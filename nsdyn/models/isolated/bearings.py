@@ -296,7 +296,7 @@ def slip_ratio_note(bearings, peak_u) -> str | None:
     if not ratios or max(ratios)[0] <= U_OVER_R_SMALL:
         return None
     r, i = max(ratios)
-    of = f"{r:.2g} times" if r >= 1.0 else f"{r:.2g} of"  # (it read "10 of its radius")
+    of = f"{r:.3g} times" if r >= 1.0 else f"{r:.3g} of"  # (it read "10 of its radius")
     head = f"isolator {i}'s peak slip is {of} its radius R = {bearings[i].radius:g} m: "
     if r >= 1.0:  # (it read "inf % larger")
         return (head + "past the sphere's edge (no surface of radius R reaches that far): the "
