@@ -1,12 +1,11 @@
 """The ``[analysis.*]`` tables of a study file: checking them, running them on the table.
 
 ``[analysis.design]``        variables (default: the grid parameters but motion.seed and
-                             motion.rotate, excitation axes like the records), objectives (default
-                             IDR and floor acceleration), constraints {field = upper bound}
-                             (default the 400 mm seismic gap on x_iso_max_m, seed 004 §5),
+                             motion.rotate, excitation axes like the records), objectives
+                             (default IDR and floor acceleration), constraints {field = upper
+                             bound} (default the 400 mm gap on x_iso_max_m, seed 004 §5),
                              aggregate over records (mean | median | max), reference design
-                             {parameter = value} to compare with (e.g. the seed's eq (16)),
-                             a value for each variable.
+                             {parameter = value, one per variable} (e.g. the seed's eq (16)).
 ``[analysis.percentiles]``   quantities, by (default: the grid parameters but the excitation axes),
                              percentiles.
 ``[analysis.fragility]``     im (a parameter or result column, e.g. "motion.pga"), edp
@@ -19,8 +18,7 @@
                              the angle of it (:mod:`nsdyn.studies.incidence`).
 
 Outputs in the study directory: design.csv, percentiles.csv, fragility.csv, incidence.csv and,
-with figures, pareto.png, fragility.png, distributions.png, incidence.png.
-"""
+with figures, pareto.png, fragility.png, distributions.png, incidence.png."""
 
 from __future__ import annotations
 
@@ -106,12 +104,14 @@ def _check_column(source: str, where: str, name, study, *, result: bool) -> None
     params, results = _columns(study)
     if not isinstance(name, str):
         raise SceneError(f"{source}: {where}: expected a column name, got {name!r}")
-    if result and results is None:  # a scene kind whose result fields are known after a run;
-        # one that keep drops is not among them (its analysis said only "no number")
-        table_own = (*LEAD_COLUMNS, *TAIL_COLUMNS)
-        if study.keep is not None and name not in (*params, *study.keep, *table_own):
-            raise SceneError(f"{source}: {where}: {name!r} is a result the study does not "
-                             f"keep; add it to study.keep (now {list(study.keep)})")  # fmt: skip
+    if result and results is None:  # results known after a run: keep's (not "no number")
+        if study.keep is not None and name not in (*params, *study.keep, *LEAD_COLUMNS,
+                                                   *TAIL_COLUMNS):  # fmt: skip
+            kept = sorted({*params, *study.keep})  # (a misspelt kept one: named as such)
+            hint = did_you_mean(name, kept) if is_typo(name, kept) else ""
+            raise SceneError(f"{source}: {where}: " + (f"unknown column {name!r}{hint}" if hint
+                             else f"{name!r} is a result the study does not keep; add it to "
+                             f"study.keep (now {list(study.keep)})"))  # fmt: skip
         return
     valid = params | results if result else params
     if result and name not in valid and study.keep is not None and name in ISOLATED_RESULTS:

@@ -177,9 +177,18 @@ def fit_lognormal_counts(im, n_runs, n_exceed) -> LognormalFragility:
     )
 
 
+def im_levels(x: np.ndarray) -> np.ndarray:
+    """``x`` with values equal to 12 significant digits made one (a scaled record's PGA read
+    6.000000000000001 beside 6.0: two levels, and a fit of three levels was refused as of
+    too few)."""
+    a = np.asarray(x, dtype=float)
+    return np.array([float(f"{v:.12g}") for v in a.ravel()]).reshape(a.shape)
+
+
 def fit_lognormal(im, exceeded) -> LognormalFragility:
-    """Maximum-likelihood fragility from one outcome per run (``exceeded``: bool per ``im``)."""
-    x = np.asarray(im, dtype=float)
+    """Maximum-likelihood fragility from one outcome per run (``exceeded``: bool per ``im``),
+    IM values equal to 12 digits counted as one level (:func:`im_levels`)."""
+    x = im_levels(im)
     y = np.asarray(exceeded, dtype=bool)
     if x.shape != y.shape:
         raise ValueError(f"im {x.shape} and exceeded {y.shape}: expected one outcome per run")
@@ -192,7 +201,7 @@ def fit_lognormal(im, exceeded) -> LognormalFragility:
 def exceedance_fractions(im, exceeded, n_bins: int = 8) -> tuple[np.ndarray, ...]:
     """Observed (IM, fraction exceeding, runs) in ``n_bins`` log-spaced IM bins (for plots);
     distinct IM levels (stripes) are kept as they are when there are at most ``n_bins``."""
-    x = np.asarray(im, dtype=float)
+    x = im_levels(im)
     y = np.asarray(exceeded, dtype=float)
     levels = np.unique(x)
     if levels.size <= n_bins:

@@ -60,6 +60,21 @@ def test_fit_recovers_parameters_within_four_standard_errors():
     assert g.beta == pytest.approx(fit.beta, rel=1e-8)
 
 
+def test_im_values_equal_to_round_off_are_one_level():
+    # a scaled record's PGA column read 6.000000000000001 beside 6.0 (and 1.9999999999999998
+    # beside 2.0): three levels became six and the fit was refused as of too few; one ulp
+    # apart they are the same IM, so the fit equals the one on the exact levels
+    rng = np.random.default_rng(11)
+    x, y = _draw(rng, np.array([1.0, 2.0, 3.0, 4.0, 6.0]), 30)
+    noisy = x * (1 + np.where(np.arange(x.size) % 2, 2.2e-16, -1.1e-16))
+    assert np.unique(noisy).size > np.unique(x).size  # (the noise splits the levels)
+    exact, fuzzy = fit_lognormal(x, y), fit_lognormal(noisy, y)
+    assert fuzzy.theta == pytest.approx(exact.theta, rel=1e-12)
+    assert fuzzy.beta == pytest.approx(exact.beta, rel=1e-12)
+    centres = exceedance_fractions(noisy, y)[0]
+    assert centres.size == 5
+
+
 def test_estimate_is_a_maximum_of_the_likelihood():
     rng = np.random.default_rng(7)
     x, y = _draw(rng, np.geomspace(1.0, 6.0, 6), 40)

@@ -189,3 +189,20 @@ def test_fresh_and_retry_failed_together_are_refused(tmp_path, capsys):
     with pytest.raises(ValueError, match=r"^retry_failed: with fresh every task runs anew"):
         run_study(load_study(_write(tmp_path, HEAD + PARAMS + RECORDS)), tmp_path / "o",
                   fresh=True, retry_failed=True)  # fmt: skip
+
+
+def test_a_misspelt_kept_column_is_named_as_one_not_as_unkept(tmp_path):
+    # a scene kind whose results are known only after a run: a percentile of 'max_tilt_radd'
+    # was "a result the study does not keep; add it to study.keep", a misspelt name to add
+    from pathlib import Path
+
+    scene = Path(__file__).resolve().parents[2] / "examples/scenes/contact-seed002-A5.toml"
+    text = (f'[study]\nname = "c"\nscene = "{scene}"\nkeep = ["max_slide_m", "max_tilt_rad"]\n'
+            '[base.motion]\nt_end = 1.0\n[parameters]\n"friction.mu_s" = [0.3, 0.6]\n'
+            '[analysis.percentiles]\nquantities = ["max_tilt_radd"]\n')  # fmt: skip
+    with pytest.raises(SceneError, match=r"quantities: unknown column 'max_tilt_radd'; did you "
+                       r"mean 'max_tilt_rad'\?"):  # fmt: skip
+        load_study(_write(tmp_path, text))
+    far = text.replace("max_tilt_radd", "overturned")  # (a true result not kept: as before)
+    with pytest.raises(SceneError, match=r"'overturned' is a result the study does not keep"):
+        load_study(_write(tmp_path, far))

@@ -435,7 +435,7 @@ ROWS = (
     ("n_impacts", "impacts", ""),
     ("t_uplift_s", "first lift-off", "s"),
     ("t_overturn_s", "overturned at", "s"),
-    ("t_rest_s", "came to rest at", "s"),
+    ("t_rest_s", "last came to rest at", "s"),  # (an overturned run may have rested first)
     ("t_end_s", "end time", "s"),
     ("wall_s", "run time", "s"),
     ("compile_s", "compile/load time", "s"),
