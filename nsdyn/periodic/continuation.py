@@ -377,7 +377,7 @@ def continue_arclength(
             last.X = problem.period_map(last.x0, last.f, disc=disc, sens=False, store=True).X
         amp = orbit_amplitudes(problem, last.X)
         size = float(np.ptp(last.X[:, : d // 2], axis=0).max()) / 2  # (not an offset's)
-        size0 = size if size0 is None else size0  # (the first point's, this call's)
+        size0 = size if size0 is None or not math.isfinite(size0) else size0  # (the first's)
         if size > ARC_AMP_MAX and size > ARC_AMP_GROWTH * size0:  # (it ran on to 1e89 m)
             last.note = "; ".join(n for n in (last.note, "on a branch running off to an "
                                               "unbounded resonance") if n)  # fmt: skip

@@ -105,13 +105,13 @@ def _check_column(source: str, where: str, name, study, *, result: bool) -> None
     if not isinstance(name, str):
         raise SceneError(f"{source}: {where}: expected a column name, got {name!r}")
     if result and results is None:  # results known after a run: keep's (not "no number")
-        if study.keep is not None and name not in (*params, *study.keep, *LEAD_COLUMNS,
-                                                   *TAIL_COLUMNS):  # fmt: skip
-            kept = sorted({*params, *study.keep})  # (a misspelt kept one: named as such)
+        kept = sorted({*params, *(study.keep or ())})  # (a misspelt kept one: named as such)
+        if study.keep is not None and name not in {*kept, *LEAD_COLUMNS, *TAIL_COLUMNS}:
             hint = did_you_mean(name, kept) if is_typo(name, kept) else ""
-            raise SceneError(f"{source}: {where}: " + (f"unknown column {name!r}{hint}" if hint
-                             else f"{name!r} is a result the study does not keep; add it to "
-                             f"study.keep (now {list(study.keep)})"))  # fmt: skip
+            why = f"not a kept column{hint} (if it is a result, add it to study.keep)"
+            if not hint:
+                why = f"a result the study does not keep; add it to study.keep (now {study.keep})"
+            raise SceneError(f"{source}: {where}: {name!r} is {why}")
         return
     valid = params | results if result else params
     if result and name not in valid and study.keep is not None and name in ISOLATED_RESULTS:

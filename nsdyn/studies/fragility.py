@@ -90,7 +90,7 @@ def _per_level(x, n, z) -> str:
 
 def fit_lognormal_counts(im, n_runs, n_exceed) -> LognormalFragility:
     """Maximum-likelihood fragility from ``n_exceed`` of ``n_runs`` past the limit at ``im``."""
-    x = np.asarray(im, dtype=float)
+    x = im_levels(im)  # (levels equal to 12 digits: one, as one outcome per run's)
     n = np.asarray(n_runs, dtype=float)
     z = np.asarray(n_exceed, dtype=float)
     if x.shape != n.shape or x.shape != z.shape or x.ndim != 1:

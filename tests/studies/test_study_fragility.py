@@ -22,6 +22,7 @@ from nsdyn.studies.fragility import (
     fisher_information,
     fit_lognormal,
     fit_lognormal_counts,
+    im_levels,
 )
 
 THETA, BETA = 2.5, 0.4  # median capacity [m/s²] and log-standard deviation
@@ -62,17 +63,16 @@ def test_fit_recovers_parameters_within_four_standard_errors():
 
 def test_im_values_equal_to_round_off_are_one_level():
     # a scaled record's PGA column read 6.000000000000001 beside 6.0 (and 1.9999999999999998
-    # beside 2.0): three levels became six and the fit was refused as of too few; one ulp
-    # apart they are the same IM, so the fit equals the one on the exact levels
-    rng = np.random.default_rng(11)
-    x, y = _draw(rng, np.array([1.0, 2.0, 3.0, 4.0, 6.0]), 30)
-    noisy = x * (1 + np.where(np.arange(x.size) % 2, 2.2e-16, -1.1e-16))
-    assert np.unique(noisy).size > np.unique(x).size  # (the noise splits the levels)
-    exact, fuzzy = fit_lognormal(x, y), fit_lognormal(noisy, y)
-    assert fuzzy.theta == pytest.approx(exact.theta, rel=1e-12)
-    assert fuzzy.beta == pytest.approx(exact.beta, rel=1e-12)
-    centres = exceedance_fractions(noisy, y)[0]
-    assert centres.size == 5
+    # beside 2.0): three levels became six, each run's outcome counted at its own, and the
+    # refusal listed levels that are one
+    x = np.repeat([2.0, 4.0, 6.0], 3)
+    noisy = x * (1 + np.tile([0.0, 0.0, 2.2e-16], 3))  # each level's third run one ulp up
+    y = np.zeros(9, dtype=bool)
+    y[-1] = True  # one of the three runs at 6 exceeds: separated in IM, no finite fit
+    assert np.unique(noisy).size == 6 and np.unique(im_levels(noisy)).size == 3
+    with pytest.raises(ValueError, match=r"exceeding per level 2: 0/3, 4: 0/3, 6: 1/3\)"):
+        fit_lognormal(noisy, y)
+    assert exceedance_fractions(noisy, y)[0].size == 3  # (stripes: three, not six)
 
 
 def test_estimate_is_a_maximum_of_the_likelihood():

@@ -120,18 +120,25 @@ def _hermite(t0, h, y0, f0, y1, f1, t):
 
 @njit(cache=True, error_model="numpy")
 def to_next_sample(t, t_end, ex, n):
-    """Time from ``t`` to the record's next sample before ``t_end`` (inf past its last, at
-    ``t_end`` to round-off, or without one): steps end on the samples, where the interpolated
-    excitation kinks. A step across one saw its indicators at the step's ends alone, and an
-    excursion around the sample between (a 2 ms lift-off at 1.00 s) was passed over."""
-    if n < 2:
+    """Time from ``t`` to the excitation's next breakpoint before ``t_end`` (inf without one,
+    or at ``t_end`` to round-off): a record's next sample, a sine's switch-on or -off time.
+    Steps end on them, where the excitation kinks or jumps. A step across one saw its
+    indicators at the step's ends alone, and an excursion around the breakpoint between (a
+    2 ms lift-off around a sample at 1.00 s) was passed over."""
+    tol = 4.0 * H_MIN_REL * max(1.0, abs(t))  # (a t on a breakpoint, to round-off: the next)
+    best = math.inf
+    if n >= 2:
+        s = (t - ex[1]) / ex[2]
+        k = max(math.floor(s + max(1e-9, tol / ex[2])) + 1.0, 0.0)
+        if k <= n - 1:
+            best = ex[1] + k * ex[2] - t
+    if ex[0] == 1.0:
+        for tb in (ex[5], ex[6]):
+            if t + tol < tb < t + best:
+                best = tb - t
+    if t + best >= t_end - max(1e-9 * best, tol):  # (one at t_end: t_end is the step's)
         return math.inf
-    s = (t - ex[1]) / ex[2]
-    k = max(math.floor(s + 1e-9) + 1.0, 0.0)  # (a t on a sample, to round-off: the next one)
-    t_k = ex[1] + k * ex[2]
-    if k > n - 1 or t_k >= t_end - 1e-9 * ex[2]:  # (a sample at t_end: t_end is the step's)
-        return math.inf
-    return max(t_k - t, 0.0)
+    return best
 
 
 @njit(cache=True, error_model="numpy")
