@@ -349,7 +349,11 @@ def continue_arclength(
     t_prev = _along_p(d)
     ds = dp_max
     max_steps = ARC_MAX_STEPS_FACTOR * points
-    steps, size0 = 0, None
+    steps = 0
+    first = next((p for p in pts if p.converged), pts[0])  # (a resumed curve's first orbit:
+    X0 = first.X if first.X is not None else problem.period_map(  # its size, not the last's)
+        first.x0, first.f, disc=disc, sens=False, store=True).X  # fmt: skip
+    size0 = float(np.ptp(X0[:, : d // 2], axis=0).max()) / 2
     need_restart = True  # tangent must be computed from scratch at the last point
     J_last = None
     info = {"continuation": "arclength", "skipped_hz": [], "problem": problem_id(problem)}
@@ -377,10 +381,11 @@ def continue_arclength(
             last.X = problem.period_map(last.x0, last.f, disc=disc, sens=False, store=True).X
         amp = orbit_amplitudes(problem, last.X)
         size = float(np.ptp(last.X[:, : d // 2], axis=0).max()) / 2  # (not an offset's)
-        size0 = size if size0 is None or not math.isfinite(size0) else size0  # (the first's)
+        size0 = size if not math.isfinite(size0) else size0  # (the first's)
         if size > ARC_AMP_MAX and size > ARC_AMP_GROWTH * size0:  # (it ran on to 1e89 m)
-            last.note = "; ".join(n for n in (last.note, "on a branch running off to an "
-                                              "unbounded resonance") if n)  # fmt: skip
+            runaway = "on a branch running off to an unbounded resonance"
+            if runaway not in (last.note or ""):  # (a resumed curve's last point: said once)
+                last.note = "; ".join(n for n in (last.note, runaway) if n)
             pts = sequential_rest(
                 last.f,
                 f"the orbit's half range passed {ARC_AMP_MAX:g} m: a "

@@ -42,7 +42,13 @@ from nsdyn.studies.design import (
     percentile_table,
     same_value,
 )
-from nsdyn.studies.fragility import CONFIDENCE, check_spec, fit_lognormal
+from nsdyn.studies.fragility import (
+    CONFIDENCE,
+    check_spec,
+    failure_note,
+    fit_lognormal,
+    leaning_note,
+)
 from nsdyn.studies.study import Study
 from nsdyn.studies.table import (
     ANALYSIS_OUTPUTS,
@@ -439,14 +445,6 @@ def _pooled(table: Table, study, im_name: str) -> dict:
     return out
 
 
-def failure_note(counted: dict) -> str:
-    """``3 failed runs (uplift) counted as exceedance`` (empty without such failures)."""
-    n = sum(counted.values())
-    if not n:
-        return ""
-    return f"{n} failed runs ({', '.join(sorted(counted))}) counted as exceedance"
-
-
 def _fragility(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
     from nsdyn.studies.figures import fragility_figure
 
@@ -484,6 +482,8 @@ def _fragility(study, table: Table, spec: dict, out: Path, figures: bool) -> dic
                        "lognormal fragility places only IM > 0")  # fmt: skip
     if note:
         res["failures"] = note
+    if leaning_note(spec["edp"], table):  # (runs still falling at t_end counted as standing)
+        _add_note(res, leaning_note(spec["edp"], table))
     pooled = [f"{n} ({k} values)" for n, k in _pooled(table, study, spec["im"]).items()]
     if pooled:  # (one curve over every design, without a word)
         _add_note(res, f"one curve over the runs of every {', '.join(pooled)}: run a study per "

@@ -29,6 +29,8 @@ from dataclasses import dataclass, fields
 import numpy as np
 from scipy import special  # (not scipy.stats: half a second to import; norm.ppf is ndtri)
 
+LEANING = "past_tip_over_at_end"  # a body's summary: not overturned by t_end, but falling
+FALL_OUTCOMES = ("overturned", "toppled")  # the rocking/contact and cylinder outcome columns
 MAX_ITER = 100  # Fisher-scoring iterations
 STEP_TOL = 1e-10  # convergence: Newton step in (a, b), relative to 1 + |(a, b)|
 MAX_B = 1e4  # b = 1/beta beyond this: the data separate perfectly (beta -> 0)
@@ -239,3 +241,29 @@ def check_spec(src: str, f: dict, numeric_edp: bool) -> None:
     c = number(src, "analysis.fragility.confidence", f.get("confidence", CONFIDENCE))
     if not c < 1:
         raise SceneError(f"{src}: analysis.fragility.confidence: expected in (0, 1)")
+
+
+def failure_note(counted: dict) -> str:
+    """``3 failed runs (uplift) counted as exceedance`` (empty without such failures)."""
+    n = sum(counted.values())
+    if not n:
+        return ""
+    return f"{n} failed runs ({', '.join(sorted(counted))}) counted as exceedance"
+
+
+def leaning_note(edp_name: str, table) -> str:
+    """The note on the successful runs of ``table`` (:class:`~nsdyn.studies.table.Table`) a
+    fragility of ``edp_name`` (an overturning outcome, 0/1) counts as standing that end leaning
+    past their tip-over angle (the LEANING column, when kept): they are falling when the run
+    stops, and a longer motion.t_end may count them as overturned (empty for other EDPs or
+    without such runs)."""
+    if edp_name not in FALL_OUTCOMES:
+        return ""
+    ok = np.array([r.get("status") == "ok" for r in table.rows], dtype=bool)
+    edp, lean = (table.column(n, False)[ok] for n in (edp_name, LEANING))
+    n = int(np.sum((edp == 0.0) & (lean == 1.0)))
+    if not n:
+        return ""
+    return (f"{n} run{'s' * (n != 1)} counted as not {edp_name} end{'s' * (n == 1)} leaning "
+            f"past the tip-over angle and falling ({LEANING}): a longer motion.t_end shows "
+            "whether they fall")  # fmt: skip

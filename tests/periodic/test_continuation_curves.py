@@ -425,6 +425,14 @@ def test_arclength_stops_at_an_unbounded_resonance_and_covers_the_band_sequentia
     dh = F0 / k * np.sqrt(V * V - (U * Ff / F0) ** 2)
     keep = ~np.array(marked)
     assert x[keep] == pytest.approx(dh[keep], rel=1e-4)
+    # resumed from its checkpoint up to the marked point: the runaway is measured against
+    # the curve's first orbit, not the resumed last one (which let it climb 1e3 x further)
+    j = marked.index(True) + 1
+    r = pr.switch_response(osc, 1.635, continuation="arclength", fmin=0.7, fmax=2.0, points=6,
+                           start=c.points[:j])  # fmt: skip
+    assert r.info["arclength_stop"]["f_hz"] == pytest.approx(f[j - 1], rel=1e-12)
+    assert [r["x_iso"] for r in r.rows()] == pytest.approx(list(x), rel=1e-9)
+    assert sum(p.note.count("unbounded resonance") for p in r.points) == 1
 
 
 def test_arclength_out_of_steps_covers_the_rest_of_the_band_sequentially(monkeypatch):

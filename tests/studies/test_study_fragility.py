@@ -295,3 +295,36 @@ def test_a_true_false_fragility_is_printed_without_a_limit():
     fits = [{"limit": None, "error": "fragility: 0 of 2 runs exceed the limit; need some"}]
     text = _format("s", run, {"fragility": {"edp": "toppled", "fits": fits}})
     assert "fragility toppled: fragility: 0 of 2" in text and "None" not in text
+
+
+def test_runs_still_falling_at_their_end_are_said_on_an_overturning_fragility(tmp_path):
+    # a block leaning past its tip-over angle at t_end is falling (gravity's moment about
+    # the corner overturns it unless the ground pushes it back), yet its run reads
+    # overturned = False: the fit counted it as standing, without a word
+    from types import SimpleNamespace
+
+    from nsdyn.studies.analyses import run_analyses
+    from nsdyn.studies.table import Table
+
+    over = [False, False, True, False, True, True, False, True]
+    lean = [False, True, False, True, False, False, False, False]
+    rows = [{"index": i, "motion.pga": 1.0 + i // 2, "status": "ok", "error": "",
+             "overturned": o, "past_tip_over_at_end": p, "max_theta_over_alpha": 0.5 + i}
+            for i, (o, p) in enumerate(zip(over, lean, strict=True))]  # fmt: skip
+    rows.append(rows[1] | {"index": 8, "status": "failed", "error": "ValueError: x"})
+    study = SimpleNamespace(name="s", keep=None, parameters=[], analysis={
+        "fragility": {"im": "motion.pga", "edp": "overturned"}})  # fmt: skip
+    table = Table(rows[:8])
+    res = run_analyses(study, table, tmp_path, figures=False)["fragility"]
+    assert re.search(
+        r"^2 runs counted as not overturned end leaning past the tip-over angle "
+        r"and falling \(past_tip_over_at_end\): a longer motion.t_end",
+        res["note"],
+    )
+    study.analysis["fragility"] = {"im": "motion.pga", "edp": "max_theta_over_alpha",
+                                   "limits": [1.0]}  # fmt: skip
+    assert "note" not in run_analyses(study, table, tmp_path, figures=False)["fragility"]
+    lone = Table([r for r in rows[:8] if r["index"] != 3] + rows[8:])  # a failed run not counted
+    study.analysis["fragility"] = {"im": "motion.pga", "edp": "overturned"}
+    note = run_analyses(study, lone, tmp_path, figures=False)["fragility"].get("note", "")
+    assert note.startswith("1 run counted as not overturned ends leaning")
