@@ -318,7 +318,8 @@ def continue_arclength(
     stepped sweep and continuation restarts from it. Without ``fallback`` the rest of the band
     is continued sequentially on the same frequency step (frequencies without an orbit
     skipped, ``info["skipped_hz"]``), the place and reason kept in ``info["arclength_stop"]``;
-    so is it, with the fallback where given, past ``ARC_MAX_STEPS_FACTOR * points`` steps and
+    so is it, with the fallback where given, past ``ARC_MAX_STEPS_FACTOR * points`` steps, where
+    the branch turns back below fmin by half the band (from the highest frequency reached) and
     where an orbit's half range passes ``ARC_AMP_MAX`` and ``ARC_AMP_GROWTH`` x the first's
     (a branch running off to an unbounded resonance; that point's note says so).
     """
@@ -375,7 +376,12 @@ def continue_arclength(
         steps += 1
         last = pts[-1]
         p_last = math.log(last.f)
-        if p_last >= pmax - 1e-12 or p_last < pmin - 0.5 * (pmax - pmin):
+        if p_last >= pmax - 1e-12:
+            break
+        if p_last < pmin - 0.5 * (pmax - pmin):  # (it ended short of fmax without a word)
+            f_top = max(p.f for p in pts)
+            pts = sequential_rest(f_top, f"the branch turned back below fmin, to {last.f:.4g} "
+                                  "Hz", fallback)  # fmt: skip
             break
         if last.X is None:  # resumed point: its orbit for the scaling
             last.X = problem.period_map(last.x0, last.f, disc=disc, sens=False, store=True).X

@@ -435,6 +435,22 @@ def test_arclength_stops_at_an_unbounded_resonance_and_covers_the_band_sequentia
     assert sum(p.note.count("unbounded resonance") for p in r.points) == 1
 
 
+def test_a_branch_turning_back_below_fmin_covers_the_rest_of_the_band_sequentially(monkeypatch):
+    # a branch that folds back and runs below fmin by half the band ended there, short of
+    # fmax, without an arclength_stop; it is started downwards here (as a fold turns it)
+    osc, fn = _den_hartog_oscillator()
+    down = lambda d: -np.eye(d + 1)[d]  # noqa: E731  (the start's tangent: down in log f)
+    monkeypatch.setattr(pr.continuation, "_along_p", down)
+    c = pr.switch_response(osc, 1.635, continuation="arclength", fmin=0.7, fmax=2.0, points=6)
+    stop = c.info["arclength_stop"]
+    assert stop["reason"].startswith("the branch turned back below fmin") and stop["f_hz"] == 0.7
+    f = np.array([p.f for p in c.points])
+    assert f.min() < 0.7 * (0.7 / 2.0) ** 0.5 and f[-1] == pytest.approx(2.0, rel=1e-12)
+    rest = f[int(np.argmin(f)) + 1 :]
+    assert np.all(np.diff(rest) > 0) and rest.size >= 5  # the band above fmin, stepped on
+    assert np.all(np.isfinite([r["x_iso"] for r in c.rows()]))
+
+
 def test_arclength_out_of_steps_covers_the_rest_of_the_band_sequentially(monkeypatch):
     # a curve that used its 20 x points steps short of fmax was reported finished (a rerun
     # then went on from its checkpoint)
