@@ -314,7 +314,7 @@ def _stated_units(tab, header, hcol: int, vcol: int | None, source: str, given) 
             # (read as m/s², "units not stated"; under a header's units a label: "acc (E/W)")
             if given is None and header is None and _unit_like(word):
                 raise UnitError(f"{source}: column {tab.names[j]!r} states units {word!r}, "
-                                "which nsdyn does not know; expected g, gal (cm/s2) or m/s2 "
+                                "which nsdyn does not know; expected g, gal (cm/s2), mm/s2 or m/s2 "
                                 f"(or give them: {UNITS_HINT})") from None  # fmt: skip
             own.append(None)
         if given is None and known and own[-1] is not None and own[-1] != header:

@@ -529,7 +529,7 @@ def resolve_units(explicit: str | None, stated: str | None, source: str) -> tupl
         if explicit is None:
             raise UnitError(
                 f"{source}: the header states units {word!r}, which nsdyn does not "
-                f"know; expected g, gal (cm/s2) or m/s2 (or give them: {UNITS_HINT})"
+                f"know; expected g, gal (cm/s2), mm/s2 or m/s2 (or give them: {UNITS_HINT})"
             )
         stated = word  # the argument wins, with the warning below
     if explicit is not None:
