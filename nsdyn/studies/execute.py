@@ -127,7 +127,8 @@ def _first_check(study: Study, rows: list[dict], checked: bool, say=None) -> boo
         far = [repr(k) for k in missing_names(ok.get("error")) if k in (study.keep or ())]
         if far and say is not None:  # (another rung's or kind's field, or a misspelt name)
             say(f"{study.source}: study.keep: {', '.join(far)} not in the first run's summary: "
-                "empty cells wherever a run lacks it (a misspelt name: every cell)")  # fmt: skip
+                "another rung's or scene kind's field is an empty cell wherever a run lacks it; "
+                "a name no run has (misspelt) is warned of at the end")  # fmt: skip
     return ok is not None
 
 

@@ -45,6 +45,9 @@ LABELS = {
 
 
 ROUND_OFF = 1e-12  # [SI] a peak this small is round-off (a symmetric deck's torsion)
+TIE_REL = 1e-9  # peaks equal to this (relative) are one: the same response's round-off
+# (θ and θ + 180° on a linear model differ by a few ulps) is far below it, and an adaptive
+# run's differences (~rtol) above it; the smallest angle of a tie is reported
 
 
 def check(study, spec: dict) -> None:
@@ -95,10 +98,12 @@ def incidence_rows(table: Table, angle: str, quantities: list[str], by: list[str
                             f"{q}_at_0": np.nan})  # fmt: skip
                 continue
             i, j = np.nanargmax(np.where(good, v, -np.inf)), np.nanargmin(np.where(good, v, np.inf))
+            tie = np.flatnonzero(good & (v >= v[i] - TIE_REL * abs(v[i])))
+            k = tie[np.argmin(th[tie])]  # (a tie's angle: the smallest, not the last bit's)
             at0 = v[np.isclose(th, 0.0) & good]
             real = abs(v[i]) > ROUND_OFF  # (a deck's torsion of 1e-19 rad had a worst angle)
             row.update({
-                f"{q}_max": float(v[i]), f"{q}_angle_of_max_deg": float(th[i]) if real else np.nan,
+                f"{q}_max": float(v[i]), f"{q}_angle_of_max_deg": float(th[k]) if real else np.nan,
                 f"{q}_min": float(v[j]),
                 f"{q}_directionality": float(v[i] / v[j]) if v[j] > 0 and real else np.nan,
                 f"{q}_at_0": float(at0[0]) if at0.size else np.nan,

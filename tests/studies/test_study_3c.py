@@ -342,3 +342,18 @@ def test_a_quantity_at_round_off_at_every_angle_has_no_worst_angle(tmp_path):
             "workers": 1, "batch": 1, "table": "results.csv"}  # fmt: skip
     inc = _finite({"quantities": [t, s], "by": ["record"], "rows": [out]})
     assert f"incidence A: {s} max 6 at 90 deg (min 5)" in _format("s", run_, {"incidence": inc})
+
+
+def test_a_tie_reports_its_smallest_angle_and_a_real_difference_its_own():
+    # the fixed rung's peaks at 0 and 180 deg differ in the last bits on the office (a vertical
+    # component's round-off beside the negated horizontal response): the worst angle was 180
+    # for one record and 0 for another, by round-off alone
+    from nsdyn.studies.incidence import TIE_REL, incidence_rows
+    from nsdyn.studies.table import Table
+
+    q, v = "peak_base_shear_N", 6553289.227321559
+    for up, angle in ((1.0 + 16 * np.finfo(float).eps, 0.0), (1.0 + 100 * TIE_REL, 180.0)):
+        rows = [{"record": "A", "motion.rotate": a, "status": "ok", q: w}
+                for a, w in ((0.0, v), (90.0, 0.5 * v), (180.0, v * up))]  # fmt: skip
+        (out,) = incidence_rows(Table(rows), "motion.rotate", [q], ["record"])
+        assert out[f"{q}_angle_of_max_deg"] == angle and out[f"{q}_max"] == v * up
