@@ -162,10 +162,13 @@ def explicit_steps(method: str, system, span: float, quiet: bool, max_steps=None
     if steps <= EXPLICIT_STEPS_NOTE:
         return []
     at = " (its rate at rest: fewer while the isolators slide)" * what.startswith("arctan")
+    chunk = min(span, CHUNK_S) * rate / DOPRI5_REAL_AXIS  # (the default scene: 2.1e6, stopped)
+    over = (f", {chunk:.2g} in a {CHUNK_S:g} s chunk, past its budget of {limit:g}: it may "
+            "stop part way (--max-steps)") * (chunk > limit)  # fmt: skip
     note = (
         f"dopri5 is explicit: the model's {what} bounds its step to "
-        f"{DOPRI5_REAL_AXIS / rate:.2g} s, up to about {steps:.2g} steps for this run{at}; a "
-        "stiff model is for 'radau' (the default) or a fixed-step method"
+        f"{DOPRI5_REAL_AXIS / rate:.2g} s, up to about {steps:.2g} steps for this run{at}"
+        f"{over}; a stiff model is for 'radau' (the default) or a fixed-step method"
     )
     if not quiet:
         print(f"nsdyn run: note: {note}", file=sys.stderr)
