@@ -243,7 +243,7 @@ class Bearing:
 
 MU_PLAUSIBLE = 1.0  # sliding isolators' coefficients are 0.01-0.2; above 1: a percentage?
 PRESSURE_RATIO_PLAUSIBLE = 10.0  # static pressure / p_ref beyond which the units are suspect
-RADIUS_PLAUSIBLE = 20.0  # m: a pendulum radius past this (a period of 9 s) is said (in mm?)
+RADIUS_PLAUSIBLE = 20.0  # m: a pendulum radius past this (a period of 9 s and more) is said
 
 
 def high_friction_note(field: str, mu: float) -> str | None:

@@ -2,7 +2,9 @@
 
 A triple friction pendulum (TFP) has two outer concave plates (surfaces 1 and 4, effective
 radii R1, R4, friction μ1, μ4, displacement capacities d1, d4) and an inner articulated slider
-(surfaces 2 and 3: R2, R3, μ2, μ3, d2, d3). With μ2, μ3 ≤ μ1 ≤ μ4 its backbone passes five
+(surfaces 2 and 3: R2, R3, μ2, μ3, d2, d3); radii are effective (a surface's radius less
+the height of the pivot of the part sliding on it) and capacities measured along them
+(d (R − h)/R for a nominal d). With μ2 = μ3 ≤ μ1 ≤ μ4 its backbone passes five
 regimes (Fenz & Constantinou 2008, Earthquake Spectra 24(4), Table 1), with the force per unit
 normal load φ = F/N:
 
@@ -26,7 +28,9 @@ modified parameters), the same force φN passing through each:
     4         R4 − R3         μ4         d4 (1 − R3/R4)
 
 (an element k slides once φ > μ_k and holds s_k = R̄_k (φ − μ_k) on the backbone; the sums
-over the regimes are Table 1's slopes). In the plane every element is a bidirectional
+over the regimes are Table 1's slopes). The capacities d̄ hold while each inner surface's rim
+lies past its slide before its outer neighbour moves, d2/R2 ≥ μ1 − μ2 and d3/R3 ≥ μ4 − μ3 (the
+published order); a bearing outside it is refused. In the plane every element is a bidirectional
 friction pendulum with internal slip s_k ∈ R² (8 states per bearing, after the deck's [q, q̇])
 in series with one elastic stage: a spring of stiffness κ_e N, κ_e = min μ / u_y (the yield
 displacement u_y: the elastic slip at which the first surface slides), and a dashpot c_e N
@@ -40,7 +44,10 @@ a rigid-plastic element (|g_k| ≤ μ_k: stuck) regularised by the relaxation ti
 τ = OVERSTRESS u_y / (1 m/s): sliding at |ṡ| raises an element's friction by OVERSTRESS min μ
 |ṡ| / (1 m/s). A surface's friction may rise with its slip speed, μ_k(w) = μ_fast,k −
 (μ_fast,k − μ_k) exp(−a w) (velocity strengthening, μ_fast,k ≥ μ_k): the flow's speed w = |ṡ_k|
-then solves |g_k| = μ_k(w) + κ_e τ w (one root, by Newton from w = 0). The rim of element k
+then solves |g_k| = μ_k(w) + κ_e τ w (one root, by Newton from w = 0). w is the element's
+slip rate, not its surface's speed (element 1 slides at (R1 − R2)/R1 of surface 1's, and in
+regime III elements 2 and 3 slide with surfaces 2 and 3 at rest): the series model is exact
+for rate-independent friction and, with μ(v), an approximation of the bearing. The rim of element k
 is a stiff radial stop κ_s,k = STOP_FACTOR / R̄_k. The bearing resists with F = N φ (with the
 dashpot φ is implicit, ė depending on the flows: :mod:`nsdyn.models.isolated._ktfp`); the
 deck's kernels read these rows from the bearing table (:mod:`nsdyn.models.isolated.bearings`,
@@ -196,6 +203,17 @@ class TripleBearing(Bearing):
                     f"{w}.d{j}: expected a displacement capacity below the surface's radius "
                     f"R{j} = {vals[f'R{j}']:g} m (a slip of d/R rad on its sphere), got "
                     f"{vals[f'd{j}']:g} m"
+                )
+        for inner, outer in (("2", "1"), ("3", "4")):  # (the series model's regime order)
+            reach = vals[f"R{inner}"] * (vals[f"mu{outer}"] - vals[f"mu{inner}"])
+            if vals[f"d{inner}"] < reach and vals[f"mu{outer}"] <= 1.0:  # (else misplaced
+                # rims, 14 mm off; a mu above 1, a percentage, is said by its own note)
+                raise BearingError(
+                    f"{w}.d{inner}: the inner surface {inner} would reach its rim before "
+                    f"surface {outer} slides (d{inner} = {vals[f'd{inner}']:g} m < R{inner} "
+                    f"(mu{outer} - mu{inner}) = {reach:.4g} m), outside the regime order of the "
+                    f"series model (Fenz & Constantinou) this bearing follows; expected "
+                    f"d{inner} >= {reach:.4g} m"
                 )
         d_bar = float(self.elements()[:, 2].min())  # the series elements' capacities
         if self.u_y >= d_bar:  # the stage stands for the surfaces' stick, far inside them

@@ -4,7 +4,7 @@ Independent references: the deck's kernels (:mod:`nsdyn.models.isolated._kplane`
 Radau loop; the normal force from the rigid-plate balance, not from a contact multiplier) run
 the same series model, so a single mass and a rigid deck on TFPs must agree to the two
 integrators' global error; and the published piecewise-linear backbone (Fenz & Constantinou
-2008, J. Eng. Mech. 134(10), Table 1), whose transition displacements
+2008, Earthquake Spectra 24(4), Table 1), whose transition displacements
 
     u*  = (R2 + R3)(μ1 − μ2)                  (regime I → II, F = μ1 W)
     u** = u* + (R1 + R3)(μ4 − μ1)             (regime II → III, F = μ4 W)
