@@ -119,7 +119,10 @@ def speed_motions(motion, pga: float, *, quick: bool = False, shared_dir=None) -
     if quick:
         return out
     shared = default_shared_dir() if shared_dir is None else Path(shared_dir)
-    if shared is None:
+    if shared is None:  # (a pip user's table had one row, without a word)
+        common.log("[speed] Kobe records not used: no shared records folder found (set "
+                   "NSDYN_SHARED, or put shared/ beside the checkout); the bundled record "
+                   "alone")  # fmt: skip
         return out
     try:
         kobe = kobe_records(shared, SPEED_KOBE_COMPONENT)

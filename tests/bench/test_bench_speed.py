@@ -82,3 +82,14 @@ def test_bench_speed_quick_end_to_end(tmp_path, capsys):
     assert cli.main(["run", "--t-end", "3", "--json", "--no-figures", "--out", str(tmp_path)]) == 0
     run = json.loads(capsys.readouterr().out)
     assert run["n_steps"] == int(t["n_steps"])
+
+
+def test_the_speed_table_without_the_shared_records_says_so(monkeypatch, capsys):
+    # without a shared records folder the table had the bundled record's row alone, unsaid
+    import nsdyn.ground as ground
+    from nsdyn.ground import read_motion
+
+    monkeypatch.setattr(ground, "default_shared_dir", lambda: None)
+    m = read_motion("synthetic-wn-40s")
+    assert list(speed.speed_motions(m, 3.0)) == [m.name]
+    assert "Kobe records not used: no shared records folder found" in capsys.readouterr().err
