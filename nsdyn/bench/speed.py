@@ -119,12 +119,9 @@ def speed_motions(motion, pga: float, *, quick: bool = False, shared_dir=None) -
     if quick:
         return out
     shared = default_shared_dir() if shared_dir is None else Path(shared_dir)
-    if shared is None:  # (a pip user's table had one row, without a word)
-        common.log("[speed] Kobe records not used: no shared records folder found (set "
-                   "NSDYN_SHARED, or put shared/ beside the checkout); the bundled record "
-                   "alone")  # fmt: skip
-        return out
-    try:
+    try:  # (without the shared folder a pip user's table had one row, without a word)
+        if shared is None:
+            raise OSError("no shared records folder (NSDYN_SHARED or shared/ beside the checkout)")
         kobe = kobe_records(shared, SPEED_KOBE_COMPONENT)
     except (OSError, RecordFileError) as e:
         common.log(f"[speed] Kobe records not used: {e}")

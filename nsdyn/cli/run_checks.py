@@ -159,12 +159,12 @@ def explicit_steps(method: str, system, span: float, quiet: bool, max_steps=None
                          f"past the budget of {limit:g} per {CHUNK_S:g} s chunk "
                          f"(solver.max_steps) even at {1 / EXPLICIT_OVER:g} of them; use "
                          "'radau' (the default) or a fixed-step method")  # fmt: skip
-    if steps <= EXPLICIT_STEPS_NOTE:
+    chunk = min(span, CHUNK_S) * rate / DOPRI5_REAL_AXIS  # (the default scene: 2.1e6, stopped)
+    if steps <= EXPLICIT_STEPS_NOTE and chunk <= limit:
         return []
     at = " (its rate at rest: fewer while the isolators slide)" * what.startswith("arctan")
-    chunk = min(span, CHUNK_S) * rate / DOPRI5_REAL_AXIS  # (the default scene: 2.1e6, stopped)
-    over = (f", {chunk:.2g} in a {CHUNK_S:g} s chunk, past its budget of {limit:g}: it may "
-            "stop part way (--max-steps)") * (chunk > limit)  # fmt: skip
+    over = (f", {chunk:.2g} in a {min(span, CHUNK_S):g} s chunk, past its budget of {limit:g}: "
+            "it may stop part way (--max-steps)") * (chunk > limit)  # fmt: skip
     note = (
         f"dopri5 is explicit: the model's {what} bounds its step to "
         f"{DOPRI5_REAL_AXIS / rate:.2g} s, up to about {steps:.2g} steps for this run{at}"

@@ -351,10 +351,12 @@ def continue_arclength(
     ds = dp_max
     max_steps = ARC_MAX_STEPS_FACTOR * points
     steps = 0
-    first = next((p for p in pts if p.converged), pts[0])  # (a resumed curve's first orbit:
-    X0 = first.X if first.X is not None else problem.period_map(  # its size, not the last's)
-        first.x0, first.f, disc=disc, sens=False, store=True).X  # fmt: skip
-    size0 = float(np.ptp(X0[:, : d // 2], axis=0).max()) / 2
+    size0 = math.nan  # (the first orbit's size, a resumed curve's too: not its last one's)
+    first = next((p for p in pts if p.converged), None)
+    if first is not None:
+        X0 = first.X if first.X is not None else problem.period_map(
+            first.x0, first.f, disc=disc, sens=False, store=True).X  # fmt: skip
+        size0 = math.nan if X0 is None else float(np.ptp(X0[:, : d // 2], axis=0).max()) / 2
     need_restart = True  # tangent must be computed from scratch at the last point
     J_last = None
     info = {"continuation": "arclength", "skipped_hz": [], "problem": problem_id(problem)}
@@ -487,7 +489,7 @@ def continue_arclength(
         t_prev = tan_new
         ds = ds * ARC_GROW if its <= ARC_GOOD else ds
     else:  # the step cap (a curve ending short of fmax was a finished one; a rerun went on)
-        if pts[-1].f < fmax * (1 - 1e-12):
-            pts = sequential_rest(pts[-1].f, f"{max_steps} steps used", fallback)
+        if pts[-1].f < fmax * (1 - 1e-12):  # (from the highest frequency: a turned branch's)
+            pts = sequential_rest(max(p.f for p in pts), f"{max_steps} steps used", fallback)
     info.update(wall_s=time.perf_counter() - t0, steps=steps)
     return Curve(problem.amplitude, pts, detect_bifurcations(pts), info)

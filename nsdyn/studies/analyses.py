@@ -482,8 +482,8 @@ def _fragility(study, table: Table, spec: dict, out: Path, figures: bool) -> dic
                        "lognormal fragility places only IM > 0")  # fmt: skip
     if note:
         res["failures"] = note
-    if leaning_note(spec["edp"], table):  # (runs still falling at t_end counted as standing)
-        _add_note(res, leaning_note(spec["edp"], table))
+    if lean := leaning_note(spec["edp"], table):  # (still falling at t_end: "standing")
+        _add_note(res, lean)
     pooled = [f"{n} ({k} values)" for n, k in _pooled(table, study, spec["im"]).items()]
     if pooled:  # (one curve over every design, without a word)
         _add_note(res, f"one curve over the runs of every {', '.join(pooled)}: run a study per "

@@ -128,7 +128,8 @@ def _first_check(study: Study, rows: list[dict], checked: bool, say=None) -> boo
         if far and say is not None:  # (another rung's or kind's field, or a misspelt name)
             say(f"{study.source}: study.keep: {', '.join(far)} not in the first run's summary: "
                 "another rung's or scene kind's field is an empty cell wherever a run lacks it; "
-                "a name no run has (misspelt) is warned of at the end")  # fmt: skip
+                "a name no run has (misspelt) stays an empty column, which nsdyn study names "
+                "at the end")  # fmt: skip
     return ok is not None
 
 

@@ -45,7 +45,7 @@ LABELS = {
 
 
 ROUND_OFF = 1e-12  # [SI] a peak this small is round-off (a symmetric deck's torsion)
-TIE_REL = 1e-9  # peaks equal to this (relative) are one: the same response's round-off
+TIE_REL = 1e-9  # peaks equal to within this (relative) are one: the same response's round-off
 # (θ and θ + 180° on a linear model differ by a few ulps) is far below it, and an adaptive
 # run's differences (~rtol) above it; the smallest angle of a tie is reported
 

@@ -92,4 +92,4 @@ def test_the_speed_table_without_the_shared_records_says_so(monkeypatch, capsys)
     monkeypatch.setattr(ground, "default_shared_dir", lambda: None)
     m = read_motion("synthetic-wn-40s")
     assert list(speed.speed_motions(m, 3.0)) == [m.name]
-    assert "Kobe records not used: no shared records folder found" in capsys.readouterr().err
+    assert "Kobe records not used: no shared records folder (" in capsys.readouterr().err

@@ -128,6 +128,9 @@ def test_an_explicit_run_is_said_with_the_steps_its_stability_allows(scene, caps
     assert ", 2.1e+06 in a 5 s chunk, past its budget of 2e+06: it may stop part way" in note
     (more,) = explicit_steps("dopri5", system, 40.0, quiet=True, max_steps=3000000)
     assert "past its budget" not in more
+    # a short run's chunk past a lowered budget (2 s: 8.4e5 steps against 3e5) is said too
+    (short,) = explicit_steps("dopri5", system, 2.0, quiet=True, max_steps=300000)
+    assert ", 8.4e+05 in a 2 s chunk, past its budget of 300000: it may stop" in short
 
 
 def test_a_drift_no_frame_survives_is_said():

@@ -206,8 +206,8 @@ class TripleBearing(Bearing):
                 )
         for inner, outer in (("2", "1"), ("3", "4")):  # (the series model's regime order)
             reach = vals[f"R{inner}"] * (vals[f"mu{outer}"] - vals[f"mu{inner}"])
-            if vals[f"d{inner}"] < reach and vals[f"mu{outer}"] <= 1.0:  # (else misplaced
-                # rims, 14 mm off; a mu above 1, a percentage, is said by its own note)
+            if vals[f"d{inner}"] < reach * (1 - 1e-9) and vals[f"mu{outer}"] <= 1.0:  # (else
+                # misplaced rims, 14 mm off; a mu above 1, a percentage, has its own note)
                 raise BearingError(
                     f"{w}.d{inner}: the inner surface {inner} would reach its rim before "
                     f"surface {outer} slides (d{inner} = {vals[f'd{inner}']:g} m < R{inner} "

@@ -268,6 +268,13 @@ def test_bad_tfp_input_is_a_one_line_error_naming_the_field(change, field):
     assert "\n" not in str(err.value)
 
 
+def test_an_inner_capacity_exactly_at_its_slide_is_accepted():
+    # d2 = R2 (mu1 - mu2) = 0.3 x 0.06 = 0.018 m: the rim is reached as surface 1 starts (the
+    # regime order holds); the product's round-off (0.018000000000000002) refused it
+    b = TripleBearing(**{**TYPICAL, "mu1": 0.07, "mu2": 0.01, "d2": 0.018})
+    assert b.d_cap == pytest.approx(0.40 + 0.018 + 0.06 + 0.40, rel=1e-15)
+
+
 def test_energy_balance_of_a_mass_on_a_tfp_closes_as_the_output_step_shrinks():
     # Work-energy theorem for a mass on a TFP under an elliptical ground orbit (N = m g),
     # through all five regimes and onto the rims: the ground's work on the relative motion,
