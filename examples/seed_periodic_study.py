@@ -354,7 +354,8 @@ if __name__ == "__main__":
             json.dump(t, fh, indent=1)
         raise SystemExit(0)
     out = main(args.out_dir)
-    _plot(out, Path(args.out_dir) / "seed-periodic-figs9-11.png")
+    fig = Path(args.out_dir) / "seed-periodic-figs9-11.png"
+    _plot(out, fig)
     print(
         json.dumps(
             {"findings": out["findings"], "timing": out["timing"], "summaries": out["summaries"]},
@@ -362,3 +363,5 @@ if __name__ == "__main__":
             default=str,
         )
     )
+    print(f"figure {fig}; the curves' tables in {Path(args.out_dir) / 'cb'} and "
+          f"{Path(args.out_dir) / 'rigid'}", file=sys.stderr)  # fmt: skip
