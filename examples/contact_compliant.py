@@ -95,10 +95,21 @@ def _chart(sweep: dict, k_sweep, out: Path) -> None:
 if __name__ == "__main__":
     import argparse
 
-    argparse.ArgumentParser(
+    from nsdyn.cli.args import out_dir
+
+    ap = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    ).parse_args()  # --help; no options
-    res = main()
+    )
+    ap.add_argument(
+        "--out",
+        type=out_dir,
+        metavar="DIR",
+        help="folder of the figure (default examples/figures: the docs' copy)",
+    )
+    OUT = ap.parse_args().out
+    FIG = FIG if OUT is None else Path(OUT) / FIG.name
+    res = main(FIG)
+    print(f"figure {FIG}")
     for name, cols in res["table"].items():
         print(name, " | ".join(f"{k}: {verdict(s)}, slide {s['slide_mm']:.1f} mm, tilt "
                                f"{s['max_tilt_rad']:.2e} rad, uplift {s['uplift_mm']:.3f} mm"

@@ -37,10 +37,20 @@ def main(out_dir: Path | None = None) -> dict:
 if __name__ == "__main__":
     import argparse
 
-    argparse.ArgumentParser(
+    from nsdyn.cli.args import out_dir
+
+    ap = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    ).parse_args()  # --help; no options
-    r = main()
+    )
+    ap.add_argument(
+        "--out",
+        type=out_dir,
+        metavar="DIR",
+        help="folder of the figure (default examples/figures: the docs' copy)",
+    )
+    OUT = ap.parse_args().out
+    r = main(OUT)
+    print(f"figure {Path(OUT or Path(__file__).parent / 'figures') / 'contact-B1-history.png'}")
     for k in ("event", "moreau"):
         v = r[k]
         print(f"{k:7s} max tilt {v['max_tilt_rad']:.4g} rad, max slide {v['max_slide_m']:.4g} m, "

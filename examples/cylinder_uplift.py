@@ -49,9 +49,19 @@ def main(seed: int = 1, duration: float = 20.0, figure: bool = False) -> dict:
 if __name__ == "__main__":
     import argparse
 
-    argparse.ArgumentParser(
+    from nsdyn.cli.args import out_dir
+
+    ap = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    ).parse_args()  # --help; no options
+    )
+    ap.add_argument(
+        "--out",
+        type=out_dir,
+        metavar="DIR",
+        help="folder of the figure (default examples/figures: the docs' copy)",
+    )
+    OUT = ap.parse_args().out
+    FIGURE = FIGURE if OUT is None else Path(OUT) / FIGURE.name
     r = main(figure=True)
     print(f"figure: {FIGURE}")
     print(f"k = {r['k']:.1f} N/m3, c = {r['c']:.2f} N s/m3, settlement {r['settlement']:.3e} m")

@@ -97,7 +97,17 @@ def main() -> int:
 if __name__ == "__main__":
     import argparse
 
-    argparse.ArgumentParser(
+    from nsdyn.cli.args import out_dir
+
+    ap = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    ).parse_args()  # --help; no options
+    )
+    ap.add_argument(
+        "--out",
+        type=out_dir,
+        metavar="DIR",
+        help="folder of the figure (default examples/figures: the docs' copy)",
+    )
+    OUT = ap.parse_args().out
+    FIGURE = FIGURE if OUT is None else Path(OUT) / FIGURE.name
     raise SystemExit(main())
