@@ -436,3 +436,15 @@ def test_a_force_scene_swept_at_other_amplitudes_is_not_warned_of_its_own_load(t
     assert "is not used" not in capsys.readouterr().err
     rows = (tmp_path / "o" / "sweep.csv").read_text().splitlines()[1:]
     assert len(rows) == 2 and all(r.split(",")[1] == "1000" for r in rows)  # (A, in N)
+
+
+def test_t_end_on_the_command_line_gives_a_harmonic_ground_motion_its_end(tmp_path, capsys):
+    # a [motion] kind = "harmonic" without t_end or n_periods was refused under --t-end
+    # ("motion.t_end (--t-end): ... give t_end"), while a harmonic [force] and a deck's orbit
+    # took it; the run ends at the given time, its last output there
+    p = _scene(tmp_path, '[motion]\nkind = "harmonic"\namplitude = 1.0\nfrequency = 1.0\n')
+    assert main(["run", str(p), "--t-end", "1", "--out", str(tmp_path / "o"), "--json"]) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert s["status"] == 0 and s["t_end_s"] == pytest.approx(1.0, abs=1e-12)
+    assert main(["run", str(p), "--out", str(tmp_path / "o"), "--json"]) == 2  # no end at all
+    assert "motion.t_end: a harmonic excitation has no natural end" in capsys.readouterr().err

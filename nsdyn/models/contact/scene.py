@@ -255,7 +255,9 @@ def build(cfg: dict, source: str):
         raise SceneError(f"{source}: solver.step_check: expected true or false, got "
                          f"{opts['step_check']!r}")  # fmt: skip
     if not 0.5 <= opts["theta"] <= 1:
-        raise SceneError(f"{source}: solver.theta: expected 0.5 <= theta <= 1")
+        raise SceneError(
+            f"{source}: solver.theta: expected 0.5 <= theta <= 1, got {opts['theta']!r}"
+        )
     opts["ground"] = _ground(cfg.get("ground", {}), body, source)
     if opts["ground"] is None and opts["method"] == "moreau" and motion is not None:
         from nsdyn.models.contact.moreau import check_step

@@ -61,7 +61,7 @@ SCHEMA = Schema(
                 Key(
                     "mu_d",
                     "number",
-                    "dynamic friction coefficient",
+                    "dynamic friction coefficient (at most mu_s)",
                     "—",
                     default="(mu_s)",
                     **_NONNEG,

@@ -149,13 +149,14 @@ SCHEMA = Schema(
         _orbit("circular", "A circular orbit of the ground acceleration.", _AMPLITUDE, _SENSE),
         _orbit("elliptical", "An elliptical orbit: `amplitude` along the major axis.",
                _AMPLITUDE,
-               Key("amplitude_minor", "number", "amplitude along the minor axis", "m/s²",
-                   required=True),
+               Key("amplitude_minor", "number", "amplitude along the minor axis (at most "
+                   "`amplitude`)", "m/s²", required=True),
                _ANGLE, _SENSE),
         _orbit("general", "Two harmonics of one frequency, along x and y with a phase.",
                Key("amplitude_x", "number", "amplitude along x", "m/s²", required=True),
                Key("amplitude_y", "number", "amplitude along y", "m/s²", required=True),
-               Key("phase_y", "number", "phase of y after x", "deg", default=90.0)),
+               Key("phase_y", "number", "phase φ_y of a_y = A_y sin(ωt + φ_y) against a_x = A_x "
+                   "sin ωt (90: y leads x, a clockwise turn)", "deg", default=90.0)),
         Table("sweep", "`nsdyn sweep`'s frequency curve of this scene (under an orbit only: "
               "refused beside a record); its flags `--fmin`, `--fmax`, `--points`, "
               "`--amplitudes`, `--friction` win.", (

@@ -217,7 +217,11 @@ def load_scene(path: str | Path | None = None, overrides: dict | None = None) ->
     if path is not None:
         source = str(path)
         user = read_toml(path)
-        _check(user, source)
+        checked, ends = user, (overrides or {}).get("motion", {})
+        if "t_end" in ends and isinstance(user.get("motion"), dict):  # (--t-end: the end a
+            mo = {k: v for k, v in user["motion"].items() if k != "n_periods"}  # harmonic lacks)
+            checked = {**user, "motion": {**mo, "t_end": ends["t_end"]}}
+        _check(checked, source)
         if "force" in user and "motion" in user:
             raise SceneError(f"{source}: [force] and [motion]: one excitation per scene")
         if structure_kind(user, source) is not None:

@@ -386,7 +386,8 @@ SCHEMA = Schema(
     "isolated",
     "a frame (or any linear structure) on friction isolators",
     "Seed 004's model: every table and key is optional for a frame, and missing ones take the "
-    "defaults below (the default scene is `nsdyn run` without a file). A `[structure]` "
+    "defaults below (the default scene is `nsdyn run` without a file; a file needs one table "
+    "or key at least: an empty one is refused as a slip). A `[structure]` "
     "replaces the frame; a harmonic `[motion]` or a `[force]` replaces the record.",
     (
         SCENE,
