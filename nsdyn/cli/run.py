@@ -463,7 +463,6 @@ def run(args: argparse.Namespace) -> int:
         for w in caught:  # uplift: one clean line below; anything else as Python shows it
             if not issubclass(w.category, UpliftWarning) and str(w.message) not in res.notes:
                 warnings.showwarning(w.message, w.category, w.filename, w.lineno)
-                notes.append(str(w.message))  # (--json's notes had none of them)
         s = res.summary()
         s["method_reason"] = reason or s.get("method_reason", "")
         if t_resumed is not None:  # histories and n_steps are the whole run's, wall_s this part's

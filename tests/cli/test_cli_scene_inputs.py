@@ -448,14 +448,14 @@ def test_t_end_on_the_command_line_gives_a_harmonic_ground_motion_its_end(tmp_pa
     assert s["status"] == 0 and s["t_end_s"] == pytest.approx(1.0, abs=1e-12)
     assert main(["run", str(p), "--out", str(tmp_path / "o"), "--json"]) == 2  # no end at all
     assert "motion.t_end: a harmonic excitation has no natural end" in capsys.readouterr().err
-
-
-def test_a_warning_of_the_run_is_among_its_json_notes(tmp_path, capsys):
-    # a vertical component a shear building cannot feel was warned on stderr alone: --json's
-    # notes were empty
-    root = Path(__file__).resolve().parents[2]
-    shear = (root / "examples" / "scenes" / "isolated-shear-3storey.toml").read_text()
-    p = _scene(tmp_path, shear.replace("vertical = false", "vertical = true", 1))
-    assert main(["run", str(p), "--t-end", "1", "--out", str(tmp_path / "o"), "--json"]) == 0
-    s = json.loads(capsys.readouterr().out)
-    assert any(n.startswith("motion: its vertical component is not felt") for n in s["notes"])
+    # the file's own end stays checked under --t-end (a negative one ran), and a [motion]
+    # that is no table is one line naming it (a traceback before)
+    bad = _scene(tmp_path, '[motion]\nkind = "harmonic"\namplitude = 1.0\nfrequency = 1.0\n'
+                 't_end = -5.0\n', "bad.toml")  # fmt: skip
+    assert main(["run", str(bad), "--t-end", "2", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "bad.toml: motion.t_end" in err
+    flat = _scene(tmp_path, "motion = 3\n", "flat.toml")
+    assert main(["run", str(flat), "--out", str(tmp_path / "o")]) == 2
+    assert capsys.readouterr().err.strip().endswith("flat.toml: motion: expected a table "
+                                                    "[motion], got 3")  # fmt: skip

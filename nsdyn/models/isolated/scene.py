@@ -127,6 +127,9 @@ def _check_isolation(iso, source: str) -> None:
 def _check(cfg: dict, source: str) -> dict:
     tables = sorted([*DEFAULT_SCENE, *_EXTRA_TABLES])
     for table in cfg:
+        if table in tables and not isinstance(cfg[table], dict):  # (motion = 3: a traceback)
+            raise SceneError(f"{source}: {table}: expected a table [{table}], got "
+                             f"{cfg[table]!r:.60}")  # fmt: skip
         if table not in tables and not isinstance(cfg[table], dict):  # `name = ...` up top
             raise SceneError(f"{source}: {table}: a key outside any table (above the first "
                              f"[table]); expected it in one of {tables}")  # fmt: skip
@@ -217,9 +220,9 @@ def load_scene(path: str | Path | None = None, overrides: dict | None = None) ->
     if path is not None:
         source = str(path)
         user = read_toml(path)
-        checked, ends = user, (overrides or {}).get("motion", {})
-        if "t_end" in ends and isinstance(user.get("motion"), dict):  # (--t-end: the end a
-            mo = {k: v for k, v in user["motion"].items() if k != "n_periods"}  # harmonic lacks)
+        checked, ends, mo = user, (overrides or {}).get("motion", {}), user.get("motion")
+        lacks = isinstance(mo, dict) and not {"t_end", "n_periods"} & mo.keys()  # (an end:
+        if "t_end" in ends and lacks and mo.get("kind") == "harmonic":  # --t-end gives it)
             checked = {**user, "motion": {**mo, "t_end": ends["t_end"]}}
         _check(checked, source)
         if "force" in user and "motion" in user:
