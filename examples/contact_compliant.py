@@ -3,8 +3,8 @@
 Every case of ``contact_table1.CASES`` with the impulsive start, on tensionless spring-dashpot
 corners (stiffness k per corner, damping ratio zeta of the vertical contact mode, stick spring
 k_t = k) and the FE run's friction law (C = 0, mu = mu_s) or the static/dynamic jump law.
-Writes ``examples/figures/contact-compliant.png``: max tilt, max corner uplift and overturning
-against the ground stiffness for A4-A6 and C2.
+Writes ``examples/figures/contact-compliant.png`` (or into ``--out DIR``): max tilt, max corner
+uplift and overturning against the ground stiffness for A4-A6 and C2.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Mode history and snapshots of seed 002 case B1 (prism 1.1 x 2.2 m, mu = mu_s = 0.57, impulsive
 start of a 5-period displacement sine, T = 2.5 s), event-driven, with Moreau-Jean (h = 2.5e-4 s)
-for comparison; writes examples/figures/contact-B1-history.png."""
+for comparison; writes examples/figures/contact-B1-history.png (or into ``--out DIR``)."""
 
 from __future__ import annotations
 

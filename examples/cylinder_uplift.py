@@ -5,7 +5,8 @@ static settlement and the uplift onset, and runs the tensionless, bonded and fix
 under one three-component simulated earthquake. Run: ``python examples/cylinder_uplift.py``.
 
 Writes the figure examples/figures/cylinder-uplift.png (the tensionless case's motion under
-earthquake seed 1, the committed figure the docs embed), replacing it, and prints its path.
+earthquake seed 1, the committed figure the docs embed), replacing it, and prints its path
+(``--out DIR``: into DIR instead).
 """
 
 from __future__ import annotations

@@ -16,6 +16,7 @@ DIR).
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -132,3 +133,4 @@ if __name__ == "__main__":
     a = ap.parse_args()
     FIG_DIR = FIG_DIR if a.out is None else Path(a.out)
     print(json.dumps(main(a.quick), indent=1, default=str, ensure_ascii=False))
+    print("no figures (--quick)" if a.quick else f"figures in {FIG_DIR}", file=sys.stderr)

@@ -11,7 +11,7 @@ modified parameters. The marks are the published piecewise-linear model (Fenz & 
 2008, Earthquake Spectra 24(4), Table 1) computed apart, from the bearing's own parameters: the
 regimes start at φ = μ2, μ1, μ4, μ1 + d1/R1, μ4 + d4/R4 with slopes du/dφ = R2 + R3, R1 + R3,
 R1 + R4, R2 + R4, R2 + R3, and end at the inner slider's rims. The marks lie on the loop's
-loading branch. Writes examples/figures/tfp_backbone.png.
+loading branch. Writes examples/figures/tfp_backbone.png (or into ``--out DIR``).
 
     python examples/tfp_backbone.py
 """

@@ -15,7 +15,8 @@ element's is:
   Newmark average acceleration, dt = 1 ms.
 
 The bounds of the differences are derived in tests/models/isolated/test_tfp_opensees.py and
-docs/guide/opensees.md. Needs openseespy. Writes examples/figures/tfp_opensees.png.
+docs/guide/opensees.md. Needs openseespy. Writes examples/figures/tfp_opensees.png
+(or into ``--out DIR``).
 
     python examples/tfp_opensees.py
 """
