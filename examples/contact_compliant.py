@@ -93,21 +93,9 @@ def _chart(sweep: dict, k_sweep, out: Path) -> None:
 
 
 if __name__ == "__main__":
-    import argparse
+    from nsdyn.cli.args import figure_script
 
-    from nsdyn.cli.args import out_dir
-
-    ap = argparse.ArgumentParser(
-        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    )
-    ap.add_argument(
-        "--out",
-        type=out_dir,
-        metavar="DIR",
-        help="folder of the figure (default examples/figures: the docs' copy)",
-    )
-    OUT = ap.parse_args().out
-    FIG = FIG if OUT is None else Path(OUT) / FIG.name
+    FIG = figure_script(__doc__, FIG)
     res = main(FIG)
     print(f"figure {FIG}")
     for name, cols in res["table"].items():

@@ -35,22 +35,11 @@ def main(out_dir: Path | None = None) -> dict:
 
 
 if __name__ == "__main__":
-    import argparse
+    from nsdyn.cli.args import figure_script
 
-    from nsdyn.cli.args import out_dir
-
-    ap = argparse.ArgumentParser(
-        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    )
-    ap.add_argument(
-        "--out",
-        type=out_dir,
-        metavar="DIR",
-        help="folder of the figure (default examples/figures: the docs' copy)",
-    )
-    OUT = ap.parse_args().out
-    r = main(OUT)
-    print(f"figure {Path(OUT or Path(__file__).parent / 'figures') / 'contact-B1-history.png'}")
+    fig = figure_script(__doc__, Path(__file__).parent / "figures" / "contact-B1-history.png")
+    r = main(fig.parent)
+    print(f"figure {fig}")
     for k in ("event", "moreau"):
         v = r[k]
         print(f"{k:7s} max tilt {v['max_tilt_rad']:.4g} rad, max slide {v['max_slide_m']:.4g} m, "

@@ -48,21 +48,9 @@ def main(seed: int = 1, duration: float = 20.0, figure: bool = False) -> dict:
 
 
 if __name__ == "__main__":
-    import argparse
+    from nsdyn.cli.args import figure_script
 
-    from nsdyn.cli.args import out_dir
-
-    ap = argparse.ArgumentParser(
-        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    )
-    ap.add_argument(
-        "--out",
-        type=out_dir,
-        metavar="DIR",
-        help="folder of the figure (default examples/figures: the docs' copy)",
-    )
-    OUT = ap.parse_args().out
-    FIGURE = FIGURE if OUT is None else Path(OUT) / FIGURE.name
+    FIGURE = figure_script(__doc__, FIGURE)
     r = main(figure=True)
     print(f"figure: {FIGURE}")
     print(f"k = {r['k']:.1f} N/m3, c = {r['c']:.2f} N s/m3, settlement {r['settlement']:.3e} m")

@@ -149,19 +149,7 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    import argparse
+    from nsdyn.cli.args import figure_script
 
-    from nsdyn.cli.args import out_dir
-
-    ap = argparse.ArgumentParser(
-        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    )
-    ap.add_argument(
-        "--out",
-        type=out_dir,
-        metavar="DIR",
-        help="folder of the figure (default examples/figures: the docs' copy)",
-    )
-    OUT = ap.parse_args().out
-    FIGURE = FIGURE if OUT is None else Path(OUT) / FIGURE.name
+    FIGURE = figure_script(__doc__, FIGURE)
     raise SystemExit(main())

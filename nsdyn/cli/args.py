@@ -205,6 +205,18 @@ def out_dir(s: str) -> str:
     return s
 
 
+def figure_script(doc: str, figure: Path) -> Path:
+    """Where an example script that redraws a figure of the docs draws it: its command line read
+    (``--help`` shows ``doc``), ``figure`` unless ``--out DIR`` puts it into DIR."""
+    ap = argparse.ArgumentParser(
+        description=doc, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    where = f"folder of the figure (default {figure.parent}: the docs' copy)"
+    ap.add_argument("--out", type=out_dir, metavar="DIR", help=where)
+    out = ap.parse_args().out
+    return figure if out is None else Path(out) / figure.name
+
+
 def out_file(s: str) -> str:
     """An output file whose directory exists or can be created (and that is not a directory)."""
     p = Path(s)
