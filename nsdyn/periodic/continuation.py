@@ -289,6 +289,12 @@ def continue_range(
     return curve
 
 
+def _half_range(X: np.ndarray, d: int) -> float:
+    """An orbit's size for the runaway test: the largest half range of its displacements (the
+    first half of the ``d`` states), not an offset (a flat slider's is no size)."""
+    return float(np.ptp(X[:, : d // 2], axis=0).max()) / 2
+
+
 def continue_arclength(
     problem: PeriodicModel,
     fmin: float,
@@ -356,7 +362,7 @@ def continue_arclength(
     if first is not None:
         X0 = first.X if first.X is not None else problem.period_map(
             first.x0, first.f, disc=disc, sens=False, store=True).X  # fmt: skip
-        size0 = math.nan if X0 is None else float(np.ptp(X0[:, : d // 2], axis=0).max()) / 2
+        size0 = math.nan if X0 is None else _half_range(X0, d)
     need_restart = True  # tangent must be computed from scratch at the last point
     J_last = None
     info = {"continuation": "arclength", "skipped_hz": [], "problem": problem_id(problem)}
@@ -388,7 +394,7 @@ def continue_arclength(
         if last.X is None:  # resumed point: its orbit for the scaling
             last.X = problem.period_map(last.x0, last.f, disc=disc, sens=False, store=True).X
         amp = orbit_amplitudes(problem, last.X)
-        size = float(np.ptp(last.X[:, : d // 2], axis=0).max()) / 2  # (not an offset's)
+        size = _half_range(last.X, d)
         size0 = size if not math.isfinite(size0) else size0  # (the first's)
         if size > ARC_AMP_MAX and size > ARC_AMP_GROWTH * size0:  # (it ran on to 1e89 m)
             runaway = "on a branch running off to an unbounded resonance"
