@@ -181,7 +181,7 @@ def run_study(
     if out.exists() and not out.is_dir():
         raise ValueError(f"out_dir: {out} is a file; expected a folder for the study's table")
     tasks = expand(study)
-    store = ResultsStore(out, [p.name for p in study.parameters])
+    store = ResultsStore(out, [p.name for p in study.parameters], study.keep)
     store.clean_temporaries()
     if fresh:
         store.reset()

@@ -276,10 +276,11 @@ def _better(new: dict, old: dict) -> bool:
 class ResultsStore:
     """The results of one study in ``out_dir``: finished keys, streamed parts, compaction."""
 
-    def __init__(self, out_dir: str | Path, param_names: list[str] | None = None):
+    def __init__(self, out_dir: str | Path, param_names: list[str] | None = None, keep=None):
         self.out = Path(out_dir)
         self.parts = self.out / PARTS
         self.param_names = list(param_names or [])
+        self.keep = list(keep or ())  # the kept columns' order (rows of a reordered keep reused)
         self._n_written = 0
         self.n_outside = 0  # rows (failed ones too) kept outside the grid by the last compact
 
@@ -335,6 +336,7 @@ class ResultsStore:
             self.n_outside = len(outside)
             merged = {k: r | {"index": order[k]} for k, r in merged.items() if k in order}
         rows = sorted(merged.values(), key=lambda r: (r.get("index", 0), str(r.get("key"))))
+        rows = [{k: r[k] for k in self.keep if k in r} | r for r in rows]
         table = Table(rows, self.param_names)
         table.write_csv(self.out / RESULTS)
         for p in self._part_files():

@@ -8,11 +8,12 @@ Its key is the first ``KEY_HEX`` hex digits of
 
 so the key changes whenever anything the row depends on changes (a parameter, a base field, a
 record file's bytes, the bytes of any other file the scene names: a frame file, a record named
-in the base scene, ``study.keep``) and never otherwise: the results table is keyed by it
-and a resumed study runs exactly the tasks whose keys it lacks. Random parameters are drawn
-here, in the main process, each from its own stream ``numpy.random.default_rng([study.seed,
-crc32(name)])``: raising ``samples`` keeps the values drawn before (one stream for all shifted
-every parameter after the first), and the drawn values enter the key.
+in the base scene, the set of ``study.keep``'s names) and never otherwise: the results table
+is keyed by it and a resumed study runs exactly the tasks whose keys it lacks. Random
+parameters are drawn here, in the main process, each from its own stream
+``numpy.random.default_rng([study.seed, crc32(name)])``: raising ``samples`` keeps the values
+drawn before (one stream for all shifted every parameter after the first), and the drawn
+values enter the key.
 
 Order: grid values (first parameter slowest) x samples x records (fastest), so the records of
 one design sit next to each other; batches are consecutive runs of that order.
@@ -90,8 +91,9 @@ def _canonical(obj) -> str:
 
 def task_key(kind: str, cfg: dict, record: dict | None, keep=None) -> str:
     """The hash of a task's inputs (see the module docstring), the kept fields among them
-    (a row holds them: a study whose ``keep`` changes runs its tasks again)."""
-    keep = None if keep is None else list(keep)
+    (a row holds them: a study whose ``keep`` gains or loses a field runs its tasks again; one
+    whose ``keep`` is only reordered does not, the set of fields is hashed)."""
+    keep = None if keep is None else sorted(keep)
     payload = {"format": TABLE_FORMAT, "kind": kind, "cfg": cfg, "record": record, "keep": keep}
     return hashlib.sha256(_canonical(payload).encode()).hexdigest()[:KEY_HEX]
 

@@ -427,6 +427,31 @@ def test_a_narrowed_grid_keeps_the_dropped_rows_for_a_wider_one(tmp_path):
     ]
 
 
+def test_a_reordered_keep_reruns_nothing_and_orders_the_kept_columns(tmp_path):
+    # the resume contract: a row depends on the set of kept fields, not on their order, so
+    # reordering keep reuses every row (its columns in the new order); a field dropped (or
+    # added) is a new row for every task
+    first_keep = '["x_iso_max_m", "floor_acc_max_mps2", "n_steps", "wall_s"]'
+    text = _study(tmp_path, t_end=1.0).read_text()
+    moved = tmp_path / "moved.toml"
+    moved_keep = '["n_steps", "x_iso_max_m", "floor_acc_max_mps2", "wall_s"]'
+    moved.write_text(text.replace(first_keep, moved_keep))
+    fewer = tmp_path / "fewer.toml"
+    fewer.write_text(text.replace(first_keep, '["x_iso_max_m", "n_steps", "wall_s"]'))
+    out = tmp_path / "out"
+    first = run_study(load_study(tmp_path / "s.toml"), out, executor=ThreadPoolExecutor(1))
+    again = run_study(load_study(moved), out, executor=ThreadPoolExecutor(1))
+    assert (first.n_run, again.n_run, again.n_skipped) == (4, 0, 4)
+    cols = again.table.columns
+    assert cols.index("n_steps") < cols.index("x_iso_max_m") < cols.index("floor_acc_max_mps2")
+    header = (out / RESULTS).read_text().splitlines()[0].split(",")
+    assert header.index("n_steps") < header.index("x_iso_max_m")
+    assert [r["x_iso_max_m"] for r in again.table.rows] == [
+        r["x_iso_max_m"] for r in first.table.rows
+    ]
+    assert run_study(load_study(fewer), out, executor=ThreadPoolExecutor(1)).n_run == 4
+
+
 def test_record_names_stay_text_in_the_table(tmp_path):
     # two records named "001" and "1" are two records: read back from the CSV they must not
     # become the number 1 (the analyses group by the record column)
