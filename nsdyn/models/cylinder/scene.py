@@ -379,7 +379,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         "foundation": p.foundation,
         "k": p.k,
         "c": p.c,
-        "t_end": float(res.t[-1] + opts["t0"]),
+        "t_end": float(f"{res.t[-1] + opts['t0']:.12g}"),  # (t0 + dt·n, not 20.000000000000004)
         "pga_hor": float(np.abs(ag[:, :2]).max()),
         "settlement": static_settlement(p),
         "uplift_onset_tilt": th_u,
