@@ -15,7 +15,8 @@ law makes plain Newton overshoot when a step crosses the sliding-velocity revers
     S = (1 - am) I - (1 - af) (beta dt^2 Jq + gamma dt Jv)
 
 Parameter choices (AMfe style; :func:`parameters`): generalized-alpha, HHT-alpha (am = 0) and
-Newmark (am = af = 0) from the spectral radius at infinity rho_inf. All are second-order
+Newmark (am = af = 0) from the spectral radius at infinity rho_inf (HHT-alpha for rho_inf in
+[1/2, 1] only, the others in [0, 1]). All are second-order
 accurate except Newmark with rho_inf < 1. The Jacobian and its LU are kept across steps while
 the iteration contracts fast and refreshed at the current iterate when it does not.
 Outputs between steps are cubic Hermite interpolants (q from q, v; v from v, a).

@@ -19,7 +19,9 @@ first-order state ``x = [q, qd]``::
                       speed baseline of nsdyn bench speed).
     dopri5            explicit Dormand-Prince 5(4), adaptive. Cheap per step, but its stable
                       step is ~2e-6 s on the office frame's cb model (largest Jacobian
-                      eigenvalue 1.6e6 /s): only for non-stiff models (rigid, soft arctan).
+                      eigenvalue 1.6e6 /s, from the arctan slope at eps = 7500; its
+                      boundary modes alone allow ~4e-4 s): only for non-stiff models (rigid,
+                      soft arctan).
     genalpha          generalized-alpha (Chung & Hulbert 1993) on qdd = a(t, q, qd), fixed
                       dt, Newton with the analytic Jacobian; hht (Hilber-Hughes-Taylor) and
                       newmark are parameter choices from rho_inf (AMfe style).

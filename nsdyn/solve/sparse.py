@@ -28,17 +28,16 @@ with ``c1 = (1 - af) beta h^2``, ``c2 = (1 - af) gamma h`` and the predictors ``
 ``genalpha``; only the linear algebra differs. ``A0`` costs one product with the constant
 ``S^-1 [-MiK, -(1-af)h MiK - MiC, -am I - ...]`` (dense) or two sparse products and a sparse
 LU solve when the kernel matrices are sparse (``BACKEND_DENSITY``). Laws: arctan and none
-(live or frozen normal forces); the switch law is rejected (use ``radau`` or ``event``).
+(live or frozen normal forces); the switch law is rejected (use ``radau``, ``genalpha`` or
+``event``).
 
 Full-order models in nodal coordinates (:mod:`nsdyn.models.isolated.fullorder`) are never
-multiplied by ``M^-1`` (dense): the ``"operators"`` backend factors the sparse
-``S_M = (1 - am) M + c1 K* + c2 C_s`` once (SuperLU, ``S = M^-1 S_M``) and adds the low-rank
-modal damping ``c2 U diag(c) U^T`` by the Woodbury identity::
+multiplied by ``M^-1`` (dense): the ``"operators"`` backend factors the sparse part
+``S_s = (1 - am) M + c1 K* + c2 C_s`` once (SuperLU; ``C_s`` the damping without the modal
+term) and solves with ``S_M = S_s + c2 U diag(c) U^T`` (``S = M^-1 S_M``), the low-rank modal
+damping added by the Woodbury identity::
 
     S_M^-1 b = y - Z (diag(1 / (c2 c)) + U^T Z)^-1 U^T y,   y = S_s^-1 b,  Z = S_s^-1 U
-
-(``S_s = (1 - am) M + c1 K* + c2 C_s`` the sparse part, ``C_s`` the damping without the modal
-term)
 
 so a step costs sparse products, one sparse triangular solve pair and O(n m) for m damped
 modes; ``A0 = S_M^-1 (-am M a - K* qt - C* vt - M Gamma u)`` and ``G = S_M^-1 [R^T, -D^T]``
