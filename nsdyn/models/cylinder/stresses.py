@@ -11,7 +11,11 @@ F_s = m'(a' + g e_z),  M_s = J'α + ω×J'ω + (L'/2) e₃ × F_s  (Newton–Eul
 
 (the shear-force terms: Jourawski on chords, F (r² − y²)/(3I) along the force, and across it
 the component that turns the stress at a chord's ends along the rim, so that the rim is free
-of traction, τ·n = 0). Principal stresses
+of traction, τ·n = 0). These integrate back to the resultants on P, whose face at the section
+has the outward normal −e_z: F₁ = −∫τ_xz dA, F₂ = −∫τ_yz dA, M₃ = ∫(y τ_xz − x τ_yz) dA (and
+F₃ = −∫σ_zz dA, M₁ = −∫y σ_zz dA, M₂ = ∫x σ_zz dA). Seed 000's eq. (3.89) prints the torque
+term of τ_xz as −M₃ y/J, which in the convention of its own σ_zz (3.86) integrates to −M₃;
+the sign here is the consistent one. Principal stresses
 σ₁,₃ = σ/2 ± √(σ²/4 + τ²), σ₂ = 0 and τ_max = √(σ²/4 + τ²), at the points A (r, 0), B (0, r),
 C (−r, 0), D (0, −r), E (0, 0). All stresses are divided by σ_st = mg/(πr²).
 """
