@@ -383,3 +383,27 @@ def mapped(T, q, name: str = "q"):
         raise ValueError(f"{name}: expected {n} coordinates (shape ({n},) or ({n}, ...)), got "
                          f"shape {q.shape}")  # fmt: skip
     return T @ q
+
+
+def fingerprint(obj, names) -> tuple:
+    """Each named array of ``obj`` as the bytes of its sum (None for an operator): a model's
+    matrices as its caches were made from them (an edit moves the sum; a copy, a pickle's
+    round trip keep it)."""
+    import numpy as np
+
+    out = []
+    for name in names:
+        a = getattr(obj, name)
+        s = a.sum() if isinstance(a, np.ndarray) or hasattr(a, "tocsr") else None
+        out.append(None if s is None else np.float64(s).tobytes())
+    return tuple(out)
+
+
+def unchanged(obj, names, built: tuple, remedy: str) -> None:
+    """Refuse ``obj`` when a named array differs from its :func:`fingerprint` ``built``: its
+    caches (a static state, a basis, factorised operators) would answer for the old arrays."""
+    now = fingerprint(obj, names)
+    if now != built:
+        name = next(n for n, a, b in zip(names, now, built, strict=True) if a != b)
+        raise ValueError(f"{getattr(obj, 'name', type(obj).__name__)}: {name} was changed after "
+                         f"the model was built; build a new one ({remedy})")  # fmt: skip

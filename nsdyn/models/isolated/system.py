@@ -38,7 +38,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import InputWarning, NotedWarning, flag, known_fields
+from nsdyn._checks import InputWarning, NotedWarning, fingerprint, flag, known_fields, unchanged
 from nsdyn._lazy import LazyModule
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kernel as ks
@@ -143,6 +143,10 @@ class Isolation:
         return v
 
 
+_MATRICES = ("M", "C", "K", "Gamma", "R", "D")  # the static state, Q, operators made from them
+_REBUILD = "build_system, system.with_isolation or system_from_matrices"
+
+
 @dataclass(repr=False)
 class IsolatedSystem:
     """One fidelity of the isolated (or fixed-base) structure in the common form.
@@ -177,12 +181,14 @@ class IsolatedSystem:
     normal_force: np.ndarray | None = None
     # full-order models: the sparse operators (nsdyn.models.isolated.fullorder.SparseModel)
     sparse: object = field(default=None, repr=False)
+    _built: tuple = field(default=(), init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         """Per-isolator values must match the isolators, said when the system is built."""
         if isinstance(self.isolation, Isolation) and self.D is not None:
             for name in ("k_lam", "c", "mu"):
                 self.isolation.per_isolator(name, self.D.shape[0])
+        self._built = fingerprint(self, _MATRICES)
 
     @property
     def n(self) -> int:
@@ -226,6 +232,7 @@ class IsolatedSystem:
         Solves ``K* q - R^T lam = -M Gamma [0, g]``, ``R q = 0``. Friction carries no force at
         rest (the isolator springs hold the horizontal position). Returns (x0, lam0).
         """
+        unchanged(self, _MATRICES, self._built, _REBUILD)
         g = self.isolation.g if self.isolation is not None else G_EARTH
         if self._static is None and self.sparse is not None:  # full order: a sparse solve
             from nsdyn.models.isolated.fullorder import sparse_static
@@ -274,6 +281,7 @@ class IsolatedSystem:
         ``stub``: the tuple of a one-coordinate stand-in with this model's friction, contact
         and excitation settings (the sparse full-order path takes its matrices elsewhere)."""
         iso = self.isolation
+        unchanged(self, _MATRICES, self._built, _REBUILD)
         M, C, K, Gamma, R, D = self.M, self.C, self.K, self.Gamma, self.R, self.D
         if stub:
             M, C, K, Gamma = np.eye(1), np.zeros((1, 1)), np.zeros((1, 1)), Gamma[:1]
@@ -351,19 +359,9 @@ def _diaphragm_stiffness(xa: float, xb: float, EA: float, EI: float) -> np.ndarr
     ka = EA / L
     k = np.zeros((6, 6))
     k[np.ix_([0, 3], [0, 3])] = ka * np.array([[1, -1], [-1, 1]])
-    b = (
-        EI
-        / L**3
-        * np.array(
-            [
-                [12, 6 * L, -12, 6 * L],
-                [6 * L, 4 * L * L, -6 * L, 2 * L * L],
-                [-12, -6 * L, 12, -6 * L],
-                [6 * L, 2 * L * L, -6 * L, 4 * L * L],
-            ]
-        )
-    )
-    k[np.ix_([1, 2, 4, 5], [1, 2, 4, 5])] = b
+    b = np.array([[12, 6 * L, -12, 6 * L], [6 * L, 4 * L * L, -6 * L, 2 * L * L],
+                  [-12, -6 * L, 12, -6 * L], [6 * L, 2 * L * L, -6 * L, 4 * L * L]])  # fmt: skip
+    k[np.ix_([1, 2, 4, 5], [1, 2, 4, 5])] = EI / L**3 * b
     return k
 
 

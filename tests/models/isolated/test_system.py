@@ -384,3 +384,24 @@ def test_a_cut_off_where_no_modes_are_cut_is_said(frame, fidelity):
         build_system(frame, fidelity=fidelity, f_max=np.inf)
         build_system(frame, fidelity="cb", f_max=12.0)
     assert s.n == plain.n
+
+
+def test_a_matrix_edited_after_the_build_is_refused_not_answered_from_the_old_one(frame):
+    # the static state (normal forces: the friction's scale) is solved once from M, K, Gamma,
+    # R; a mass doubled in place afterwards was answered with the old normal forces while
+    # the run used the new mass. A copy or a pickle's round trip is the same model.
+    import copy
+    import pickle
+
+    s = build_system(frame, Isolation(), fidelity="rigid")
+    _, lam = s.static_equilibrium()
+    assert lam.sum() == pytest.approx(s.total_mass * G, rel=1e-9)  # (vertical equilibrium)
+    pickle.loads(pickle.dumps(s)).params()
+    copy.deepcopy(s).static_equilibrium()
+    s.M[:] *= 2.0
+    with pytest.raises(ValueError, match=r"M was changed after the model was built"):
+        s.static_equilibrium()
+    s = build_system(frame, Isolation(), fidelity="cb")
+    s.K = 1.01 * s.K
+    with pytest.raises(ValueError, match=r"K was changed after the model was built"):
+        s.params()
