@@ -110,14 +110,20 @@ def rel_tol(name: str, value) -> float:
     return number(name, value, what, lambda v: RTOL_MIN <= v < 1)
 
 
-def whole(name: str, value, lo: int = 0, what: str = "") -> int:
-    """``value`` as an int ``>= lo`` (a count, a seed, a number of steps), or
-    ``ValueError("{name}: expected {what}, got {value!r}")``; a bool or a float is never
-    taken (2.7 steps is no count). ``what`` defaults to "a whole number >= lo"."""
+INT64_MAX = 2**63 - 1  # the largest count a compiled loop holds
+
+
+def whole(name: str, value, lo: int = 0, what: str = "", hi: int | None = INT64_MAX) -> int:
+    """``value`` as an int from ``lo`` to ``hi`` (a count, a number of steps; a seed takes
+    ``hi=None``), or ``ValueError("{name}: expected {what}, got {value!r}")``; a bool or a
+    float is never taken (2.7 steps is no count). ``what`` defaults to "a whole number >= lo"."""
     import numpy as np
 
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < lo:
         raise ValueError(f"{name}: expected {what or f'a whole number >= {lo}'}, got {value!r}")
+    if hi is not None and value > hi:
+        raise ValueError(f"{name}: expected {what or f'a whole number >= {lo}'} and at most "
+                         f"{hi}, got {value!r}")  # fmt: skip
     return int(value)
 
 
@@ -132,7 +138,7 @@ def flag(name: str, value) -> bool:
 
 def non_negative_int(name: str, value) -> int:
     """``value`` as an int, or ValueError naming ``name`` (a seed, a count)."""
-    return whole(name, value, 0, "a non-negative integer")
+    return whole(name, value, 0, "a non-negative integer", hi=None)
 
 
 def finite_numbers(name: str, value, what: str, size: int | None = None):

@@ -11,7 +11,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from nsdyn._checks import MAX_POINTS, RTOL_MIN
+from nsdyn._checks import INT64_MAX, MAX_POINTS, RTOL_MIN
 
 EXIT_USER_ERROR = 2  # bad input the user can fix (same as argparse usage errors)
 EXIT_NUMERICS = 3  # the numerics failed (step underflow, Newton divergence, uplift, ...)
@@ -90,6 +90,8 @@ def _int_at_least(s: str, lowest: int) -> int:
         raise argparse.ArgumentTypeError(
             f"expected at least {lowest} (an integer >= {lowest}), got {s!r}"
         )
+    if v > INT64_MAX:  # (a compiled loop's count overflowed in a traceback)
+        raise argparse.ArgumentTypeError(f"expected an integer of at most {INT64_MAX}, got {s!r}")
     return v
 
 

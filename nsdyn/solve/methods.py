@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import rel_tol
+from nsdyn._checks import number, rel_tol, whole
 from nsdyn._lazy import LazyModule
 from nsdyn._numba_cache import Helper, compiling, dispatcher_cached, helper_enabled
 from nsdyn.ground.excitation import Harmonic
@@ -124,10 +124,10 @@ def make_options(
         )
     if method.name == "event" and not adaptive:
         raise ValueError("method 'event' is adaptive only (its steps land on the events)")
-    if not max_steps >= 1:
-        raise ValueError(f"max_steps: expected >= 1, got {max_steps}")
-    if not max_step > 0:
-        raise ValueError(f"max_step: expected > 0, got {max_step}")
+    whole("max_steps", max_steps, 1, "a whole number of step attempts >= 1")
+    number("max_step", max_step, "a largest step > 0 [s]", lambda v: v > 0, finite=False)
+    if h0 is not None:  # (0: automatic, as None)
+        number("h0", h0, "a first step >= 0 [s] (0 or None: automatic)", lambda v: v >= 0)
     return Options(
         rtol=float(rtol),
         atol=atol_arr,

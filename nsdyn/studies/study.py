@@ -305,8 +305,9 @@ def _simulated(source: str, sim, kind: str = "") -> list[RecordSpec]:
         k: _check_type(source, f"records.simulated.{k}", v, SIMULATED_FIELDS[k])
         for k, v in sim.items()
     }
-    if spec["n"] < 1:
-        raise _err(source, "records.simulated.n", f"expected an integer >= 1, got {spec['n']}")
+    if not 1 <= spec["n"] <= MAX_TASKS:  # (drawn before the grid's count is checked)
+        raise _err(source, "records.simulated.n", f"expected an integer >= 1 and at most "
+                   f"{MAX_TASKS} (a study's most tasks), got {spec['n']}")  # fmt: skip
     gen = spec.get("generator", GENERATORS[0])
     base = {"generator": gen, "duration": spec.get("duration", 20.0), "dt": spec.get("dt", 0.01)}
     try:  # (a step too coarse for the generator's noise: refused here, not in every row)

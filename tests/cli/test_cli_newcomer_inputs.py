@@ -922,3 +922,35 @@ def test_a_records_units_are_given_on_the_command_line(tmp_path, capsys, one_lin
     assert main(["run", str(orbit), "--units", "g", "--out", str(tmp_path / "c")]) == 2
     one_line("--units: this scene's motion is harmonic", "--units applies to a scene driven "
              "by a record")  # fmt: skip
+
+
+def test_a_step_budget_past_what_a_compiled_loop_counts_is_refused(tmp_path, capsys):
+    # a count beyond 2^63 - 1 overflowed in the kernel's call (a traceback, exit 1): the
+    # option, the scene field and the library argument say the largest instead
+    big = "99999999999999999999"
+    with pytest.raises(SystemExit) as e:
+        main(["run", "--max-steps", big, "--t-end", "1", "--no-figures"])
+    assert e.value.code == 2 and "at most 9223372036854775807" in capsys.readouterr().err
+    scene = tmp_path / "s.toml"
+    scene.write_text(f"[solver]\nmax_steps = {big}\n")
+    out = tmp_path / "out"
+    assert main(["run", str(scene), "--t-end", "1", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "solver.max_steps" in err and "at most 9223372036854775807" in err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    "kw, field", [({"max_steps": 10.5}, "max_steps"), ({"max_steps": True}, "max_steps"),
+                  ({"h0": float("nan")}, "h0"), ({"h0": -1.0}, "h0"),
+                  ({"max_step": 0}, "max_step")],
+)  # fmt: skip
+def test_step_options_of_simulate_that_mean_nothing_are_refused(kw, field):
+    # 10.5 step attempts ran as 10, True as 1; a NaN first step ended in a step-size
+    # failure blamed on the model ("nearly discontinuous")
+    from nsdyn.models.isolated.scene import build_scene, load_scene
+    from nsdyn.solve.transient import simulate
+
+    system, motion = build_scene(load_scene())
+    with pytest.raises(ValueError, match=rf"^{field}: expected"):
+        simulate(system, motion, t_end=0.1, **kw)

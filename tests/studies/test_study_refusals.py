@@ -206,3 +206,12 @@ def test_a_misspelt_kept_column_is_named_as_one_not_as_unkept(tmp_path):
     far = text.replace("max_tilt_radd", "overturned")  # (a true result not kept: as before)
     with pytest.raises(SceneError, match=r"'overturned' is a result the study does not keep"):
         load_study(_write(tmp_path, far))
+
+
+@pytest.mark.parametrize("n", [10**8, 10**20])
+def test_a_simulated_record_count_past_a_studys_most_tasks_is_refused_before_any_draw(tmp_path, n):
+    # the seeds were drawn before the task count was checked: 1e8 (a typo for 100) sat
+    # silent, 1e20 ended in numpy's "Maximum allowed dimension exceeded"
+    p = _write(tmp_path, HEAD + f"[records]\nsimulated = {{n = {n}, seed = 1, duration = 5.0}}\n")
+    with pytest.raises(SceneError, match=r"simulated\.n: expected an integer >= 1 and at most"):
+        load_study(p)

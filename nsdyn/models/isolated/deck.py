@@ -43,6 +43,7 @@ from nsdyn._checks import (
     output_step,
     output_times,
     rel_tol,
+    whole,
 )
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kplane as kp
@@ -360,8 +361,7 @@ def _check_run_options(rtol, atol, max_step, max_steps) -> None:
         raise ValueError(f"atol: expected two positive numbers, got {atol!r}")  # of a rest)
     if max_step is not None:
         number("max_step", max_step, "a positive step [s]", lambda v: v > 0)
-    if not (isinstance(max_steps, int | np.integer) and max_steps >= 1):
-        raise ValueError(f"max_steps: expected a positive integer, got {max_steps!r}")
+    whole("max_steps", max_steps, 1, "a positive integer")
 
 
 def run_end(t_end, dur: float) -> float:

@@ -49,6 +49,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import INT64_MAX
 from nsdyn.models.isolated.defaults import C_DAMPER, EPS, F_MAX, FRAME, K_LAM, MU
 from nsdyn.models.isolated.scene_keys import MOTION_RECORD, SCENE, SOLVER, checked_types
 from nsdyn.models.isolated.scene_structure import (
@@ -171,6 +172,9 @@ def _check(cfg: dict, source: str) -> dict:
                     raise SceneError(
                         f"{source}: {table}.{key}: expected a positive integer, got {val!r}"
                     )
+                if val > INT64_MAX:  # (a compiled loop's count)
+                    raise SceneError(f"{source}: {table}.{key}: expected a positive integer "
+                                     f"of at most {INT64_MAX}, got {val!r}")  # fmt: skip
                 continue
             ok = (
                 isinstance(val, bool)
