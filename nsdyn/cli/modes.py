@@ -122,6 +122,10 @@ def _scene_frame(arg: str) -> tuple[str, float | None, float | None, str | None]
         return arg, None, None, None
     data = resolve_paths({"scene": {}} | data, p.parent, arg)
     kind = data["scene"].get("kind", "isolated")
+    if kind == "isolated":  # checked as nsdyn run checks it (a k_lam = -5 read as none)
+        from nsdyn.models.isolated.scene import load_scene
+
+        load_scene(p)
     frame = data["scene"].get("frame") or data.get("structure", {}).get("frame3d")
     field = "scene.frame" if data["scene"].get("frame") or frame is None else "structure.frame3d"
     if kind == "isolated" and frame is None and "structure" not in data:

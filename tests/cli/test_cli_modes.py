@@ -111,3 +111,17 @@ def test_bad_option_is_a_usage_error():
 def test_subcommand_table():
     assert "modes" in COMMANDS
     assert callable(COMMANDS["modes"].run) and callable(COMMANDS["modes"].configure)
+
+
+@pytest.mark.parametrize(
+    "line, field", [("k_lam = -5", "isolation.k_lam"), ('k_lam = "abc"', "isolation.k_lam"),
+                    ("muu = 0.03", "isolation.muu")],
+)  # fmt: skip
+def test_a_scene_nsdyn_run_refuses_is_refused_by_nsdyn_modes_too(tmp_path, capsys, line, field):
+    # modes read the scene's k_lam and fell back to the default on any value it could not use:
+    # f_bis of another isolator, exit 0, where nsdyn run refuses the file (exit 2)
+    scene = tmp_path / "s.toml"
+    scene.write_text(f"[isolation]\n{line}\n")
+    assert main(["modes", str(scene), "--json"]) == 2
+    err = json.loads(capsys.readouterr().out)["error"]
+    assert str(scene) in err and field in err
