@@ -43,6 +43,7 @@ from nsdyn.periodic.curve import (
     _free,
     _point_from_shoot,
     _point_from_sweep,
+    empty_curve_warning,
     failures,
     on_grid,
     problem_id,
@@ -286,6 +287,7 @@ def continue_range(
                          f"{continuation!r}")  # fmt: skip
     asked = dict(options, fmin=fmin, fmax=fmax, points=points, continuation=continuation)
     curve.info["failures"] = failures(curve, asked)  # (the deck's alone had them)
+    empty_curve_warning(curve, fmin, fmax)
     return curve
 
 

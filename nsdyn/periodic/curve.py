@@ -352,6 +352,26 @@ def _free(dx: np.ndarray, C: np.ndarray | None) -> np.ndarray:
     return dx - np.linalg.pinv(C) @ (C @ dx)
 
 
+class EmptyCurveWarning(RuntimeWarning):
+    """A curve without a point: every frequency failed (its reasons in ``info["failures"]``;
+    ``nsdyn sweep`` says so and ends with status 3)."""
+
+
+def empty_curve_warning(curve: Curve, fmin: float, fmax: float) -> None:
+    """Warn (:class:`EmptyCurveWarning`) when ``curve`` has no point but failures: the empty
+    curve a library call returned said nothing (its reasons sat in ``info``)."""
+    fails = curve.info.get("failures") or []
+    if curve.points or not fails:
+        return
+    import warnings
+
+    first = fails[0]
+    warnings.warn(f"no periodic orbit from {fmin:g} to {fmax:g} Hz: all {len(fails)} "
+                  f"frequencies failed (f = {first['f']:.4g} Hz: {first['reason']}; each in "
+                  "curve.info['failures']); fallback=True gives each the stepped sweep's "
+                  "point", EmptyCurveWarning, stacklevel=4)  # fmt: skip
+
+
 def failures(curve: Curve, options: dict) -> list[dict]:
     """Frequencies where shooting failed: each ``{"f", "reason"}`` (the stepped sweep's point
     with shooting's message, the stick-slip transition it lies near where the points give
@@ -386,8 +406,12 @@ def failures(curve: Curve, options: dict) -> list[dict]:
         want = log_frequencies(options.get("fmin", F_MIN), options.get("fmax", F_MAX),
                                options.get("points", POINTS))  # fmt: skip
         have = np.array([p.f for p in pts])
+        info = curve.info
+        said = dict(zip(info.get("skipped_hz", []), info.get("skipped_why", []), strict=False))
         for f in want:
             if not have.size or np.min(np.abs(have / f - 1.0)) > 1e-9:
-                out.append({"f": float(f), "reason": "shooting did not converge (no fallback)"})
+                why = next((w for s, w in said.items() if abs(s / f - 1.0) <= 1e-9), None)
+                out.append({"f": float(f), "reason": "shooting did not converge (no fallback)"
+                            + (f": {why}" if why else "")})  # fmt: skip
         out.sort(key=lambda d: d["f"])
     return out

@@ -23,6 +23,7 @@ import math
 import os
 import sys
 import time
+import warnings
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -185,7 +186,11 @@ def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweep
                   f"({pt.quantities.get('wall_s', 0.0):.2f} s{left})", file=sys.stderr,
                   flush=True)  # fmt: skip
 
-    with saved_on_interrupt(lambda: len(done) > n_resumed and save(done)):  # (for a rerun)
+    from nsdyn.periodic.curve import EmptyCurveWarning
+
+    with (saved_on_interrupt(lambda: len(done) > n_resumed and save(done)),  # (for a rerun)
+          warnings.catch_warnings()):  # fmt: skip
+        warnings.simplefilter("ignore", EmptyCurveWarning)  # (said by its status 3)
         curve = plane_response(pb, fmin=settings.fmin, fmax=settings.fmax,
                                points=settings.points, continuation=settings.continuation,
                                fallback=settings.fallback, progress=progress,

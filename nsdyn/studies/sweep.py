@@ -20,6 +20,7 @@ import math
 import os
 import sys
 import time
+import warnings
 from concurrent.futures import Executor
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
@@ -254,7 +255,11 @@ def amplitude_job(
         start=start,
         load=load,
     )
-    with saved_on_interrupt(lambda: len(pts_done) > n_resumed and save(pts_done)):
+    from nsdyn.periodic.curve import EmptyCurveWarning
+
+    with (saved_on_interrupt(lambda: len(pts_done) > n_resumed and save(pts_done)),
+          warnings.catch_warnings()):  # fmt: skip
+        warnings.simplefilter("ignore", EmptyCurveWarning)  # (said by its status 3)
         if settings.friction == "switch":  # (interrupted: the points so far kept for a rerun)
             from nsdyn.periodic.switch import switch_response
 

@@ -469,3 +469,19 @@ def test_arclength_out_of_steps_covers_the_rest_of_the_band_sequentially(monkeyp
     c = pr.switch_response(osc, 1.635, continuation="arclength", fmin=0.7, fmax=2.0, points=6)
     assert c.info["arclength_stop"]["reason"] == "6 steps used"
     assert c.points[-1].f == pytest.approx(2.0, rel=1e-12)
+
+
+def test_a_curve_without_a_point_warns_with_each_frequencys_reason():
+    # every frequency failed and the fallback is off: the library returned an empty curve
+    # without a word (its reasons in info alone; the command line ends with status 3)
+    from nsdyn.periodic.curve import EmptyCurveWarning
+
+    prob, disc = _duffing()
+    with pytest.warns(EmptyCurveWarning, match=r"all 3 frequencies failed") as rec:
+        c = pr.continue_range(prob, fmin=0.15, fmax=0.16, points=3, disc=disc, max_iter=0,
+                              fallback=False)  # fmt: skip
+    assert not c.points and [d["f"] for d in c.info["failures"]] == pytest.approx(
+        pr.log_frequencies(0.15, 0.16, 3), rel=1e-12
+    )
+    assert all("no convergence in 0 Newton" in d["reason"] for d in c.info["failures"])
+    assert "no convergence in 0 Newton" in str(rec[0].message)
