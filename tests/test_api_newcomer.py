@@ -180,3 +180,51 @@ def test_records_and_starts_that_cannot_run_are_input():
     for bad in (2.5, "12", True):
         with pytest.raises(ValueError, match="n_modes: expected an integer >= 1"):
             fixed_base_modes_3d(load_frame3d("portal-3d"), n_modes=bad)
+
+
+# ---- mistakes a library user made (each was a deep traceback or taken without a word) ------
+
+
+def test_the_isolation_frequency_takes_a_frames_name_and_refuses_a_system():
+    # f_bis = sqrt(n_b K_lam / M_s) / 2 pi (seed 004 eq. 28): a name is loaded as
+    # build_system loads it; a system was "'IsolatedSystem' object has no attribute"
+    frame = nsdyn.load_frame("office-11")
+    f = np.sqrt(len(frame.base_nodes) * 5e4 / frame.total_mass) / (2 * np.pi)
+    assert nsdyn.base_isolation_frequency("office-11", 5e4) == pytest.approx(f, rel=1e-15)
+    system = nsdyn.build_system("office-11", nsdyn.Isolation(), fidelity="rigid")
+    with pytest.raises(TypeError, match=r"^frame: expected a Frame.*system\.frame"):
+        nsdyn.base_isolation_frequency(system, 5e4)
+
+
+@pytest.mark.parametrize("dofs", [[9999], "a", [], [1.5], [-1]])
+def test_fixed_base_outputs_outside_the_frames_dofs_are_refused(dofs):
+    from nsdyn.models.isolated.statespace import fixed_base_statespace
+
+    fixed = nsdyn.build_system("office-11", fidelity="fixed")
+    with pytest.raises(ValueError, match=r"^full_dofs: expected indices of the frame's dofs, "
+                       r"0 to 434"):  # fmt: skip
+        fixed_base_statespace(fixed, full_dofs=dofs)
+
+
+def test_a_3d_building_refuses_a_plane_frame_and_a_misspelt_run_option():
+    from nsdyn.models.isolated.bearings import Bearing, Friction
+    from nsdyn.models.isolated.building3d_cb import building_pairs
+    from nsdyn.models.isolated.building3d_response import run_building
+    from nsdyn.structure import load_frame3d
+
+    fps = Bearing(Friction(0.04), radius=2.2)
+    with pytest.raises(TypeError, match=r"^frame: expected a 3D frame .*load_frame3d"):
+        building_pairs(nsdyn.load_frame("office-11"), fps)
+    system = building_pairs(load_frame3d("portal-3d"), fps)
+    with pytest.raises(TypeError, match=r"^run_building\(\) .* 'rtoll'; did you mean 'rtol'"):
+        run_building(system, {"f": 1.0, "ax": 0.0, "ay": 0.0}, rtoll=1e-3)
+
+
+@pytest.mark.parametrize("e", ["abc", "0.5", 1.5, float("nan")])
+def test_a_landings_restitution_is_a_number_from_0_to_1(e):
+    # Newton's coefficient: 0 (plastic) to 1 (elastic); "abc" was float()'s own message, a
+    # text "0.5" was taken where every other option's text is refused
+    system = nsdyn.build_system("office-11", nsdyn.Isolation(), fidelity="rigid")
+    motion = nsdyn.read_motion("synthetic-wn-40s").window(0.0, 0.1)
+    with pytest.raises(ValueError, match=r"^restitution: expected Newton's coefficient"):
+        nsdyn.simulate(system, motion, contact="unilateral", restitution=e)

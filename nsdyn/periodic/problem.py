@@ -408,7 +408,8 @@ def frame_problem(
     law = law or system.isolation.law
     if law not in ("arctan", "none"):
         raise ValueError(f"law: shooting needs a smooth friction law ('arctan' or 'none'), got "
-                         f"{law!r} (the switch law: switch_problem)")  # fmt: skip
+                         f"{law!r} (the switch law's curve: nsdyn.switch_response, its "
+                         "problem: switch_problem)")  # fmt: skip
     if load is not None and not isinstance(load, HarmonicForce):
         raise TypeError(f"load: expected a HarmonicForce, got {type(load).__name__}")
     exc = Harmonic(amplitude, 1.0) if load is None else load.at_frequency(1.0, amplitude)

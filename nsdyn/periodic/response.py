@@ -24,7 +24,9 @@ def frequency_response(system, amplitude: float, *, load=None, **options) -> Cur
     acceleration [m/s²], or with ``load`` (a :class:`nsdyn.ground.HarmonicForce` naming the
     dofs, weights and phase) a force [N]; ``options`` (``fmin``, ``fmax``, ``points``,
     ``continuation`` and those of the continuation) as for
-    :func:`nsdyn.periodic.continuation.continue_range`.
+    :func:`nsdyn.periodic.continuation.continue_range`. The friction law is the arctan one or
+    none (the switch law's curve: :func:`nsdyn.periodic.switch.switch_response`). A curve
+    every frequency of which failed warns (:class:`~nsdyn.periodic.curve.EmptyCurveWarning`).
     """
     from nsdyn.models.isolated.system import IsolatedSystem
 

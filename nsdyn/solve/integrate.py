@@ -69,7 +69,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure
+from nsdyn._checks import NumericalFailure, number
 from nsdyn.models.isolated.params import KernelParams
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve.checkpoint import held_call
@@ -351,6 +351,8 @@ def solve(
         raise ValueError("t_eval: expected a non-empty, finite, non-decreasing array of times")
     if contact not in CONTACTS:
         raise ValueError(f"contact: expected one of {list(CONTACTS)}, got {contact!r}")
+    restitution = number("restitution", restitution, "Newton's coefficient of a landing, "
+                         "0 <= e <= 1 (0: plastic)", lambda v: 0.0 <= v <= 1.0)  # fmt: skip
     if contact != "detect":
         uplift = "warn"  # recorded, never stopping (bilateral) / handled by the kernel
     opts = make_options(

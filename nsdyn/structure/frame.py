@@ -18,13 +18,14 @@ files by :func:`nsdyn.structure.load_frame`; see ``frames/office-11.toml`` and
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import finite_numbers, flag, number, whole
+from nsdyn._checks import expect, finite_numbers, flag, number, whole
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements import element_matrices
 from nsdyn.structure.geometry import (
@@ -296,8 +297,15 @@ def base_isolation_frequency(frame: Frame, k_lam: float) -> float:
     """Base-isolation frequency [Hz] of the frame as a rigid body on its isolators.
 
     ``f_bis = sqrt(n_b K_lam / M_s) / (2 pi)`` with one laminated bearing of lateral
-    stiffness ``k_lam`` [N/m] under each base node (seed 004 eq. 28, n_b = 2).
+    stiffness ``k_lam`` [N/m] under each base node (seed 004 eq. 28, n_b = 2). ``frame``: a
+    :class:`Frame` or a bundled frame's name or a frame file.
     """
+    if isinstance(frame, str | os.PathLike):  # (as build_system takes it)
+        from nsdyn.structure.frame_toml import load_frame
+
+        frame = load_frame(frame)
+    expect("frame", frame, isinstance(frame, Frame), "a Frame, a bundled frame's name or a "
+           "frame file (a system's frame is system.frame)")  # fmt: skip
     if isinstance(k_lam, bool) or not (isinstance(k_lam, int | float | np.number) and k_lam > 0
                                        and np.isfinite(k_lam)):  # fmt: skip
         raise ValueError(f"k_lam: expected a positive finite stiffness [N/m], got {k_lam!r}")

@@ -151,7 +151,8 @@ def run_study(
     retry_failed: bool = False,
     progress: Callable[[str], None] | None = None,
 ) -> StudyRun:
-    """Run the tasks of ``study`` missing from ``out_dir``'s table; return the whole table.
+    """Run the tasks of ``study`` missing from ``out_dir``'s table; return a :class:`StudyRun`
+    (its counts and timings; the whole table, done before and now, is ``.table``).
 
     Parameters
     ----------

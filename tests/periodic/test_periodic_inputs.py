@@ -108,7 +108,8 @@ def test_a_frame_problem_names_what_it_cannot_shoot():
         with pytest.raises(TypeError, match=r"^system: expected an IsolatedSystem .* got "):
             pr.frame_problem(system, 1.0)
     with pytest.raises(ValueError, match=r"^law: shooting needs a smooth friction law .* got "
-                       r"'bogus' \(the switch law: switch_problem\)$"):  # fmt: skip
+                       r"'bogus' \(the switch law's curve: nsdyn.switch_response, its "
+                       r"problem: switch_problem\)$"):  # fmt: skip
         pr.frame_problem(_oscillator("arctan"), 1.0, law="bogus")
 
 

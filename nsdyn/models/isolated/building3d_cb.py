@@ -62,7 +62,7 @@ from dataclasses import replace
 import numpy as np
 import scipy.linalg as sla
 
-from nsdyn._checks import flag
+from nsdyn._checks import expect, flag
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated.bearings import Bearing, BearingError
 from nsdyn.structure.frame3d import Diaphragm, Frame3D, changed
@@ -327,6 +327,8 @@ def building_pairs(
     """
     from nsdyn.models.isolated.pairs import PairSystem
 
+    expect("frame", frame, isinstance(frame, Frame3D), "a 3D frame (nsdyn.structure."
+           "load_frame3d; a plane frame's model is nsdyn.build_system)")  # fmt: skip
     bearings = _bearings(frame, bearings)
     lumped = flag("lumped", lumped)
     ecc = eccentricity_pair(eccentricity)

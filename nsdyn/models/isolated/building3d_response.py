@@ -132,7 +132,9 @@ def run_building(system, ground, **kw) -> BuildingResponse3D:
     """Run ``system`` (:func:`~nsdyn.models.isolated.building3d_cb.building_pairs`) under
     ``ground`` by :func:`~nsdyn.models.isolated.pairs.simulate_pairs` from its static state
     (``info["y0"]``, unless ``y0`` is given), ``kw`` passed on; its response."""
+    from nsdyn._checks import keywords_of
     from nsdyn.models.isolated.pairs import simulate_pairs
 
+    keywords_of(simulate_pairs, kw, skip=("system", "ground"), caller="run_building() ")
     kw.setdefault("y0", system.info.get("y0"))
     return building_response(system, simulate_pairs(system, ground, **kw), ground)

@@ -51,10 +51,17 @@ def linear_statespace(system: IsolatedSystem, outputs: np.ndarray | None = None)
 def fixed_base_statespace(system: IsolatedSystem, full_dofs: np.ndarray | None = None):
     """The fixed-base frame (fidelity "fixed") as a python-control system.
 
-    Outputs are the relative displacements of the given full FE dofs (default: all).
+    Outputs are the relative displacements of the full FE dofs ``full_dofs`` (indices into the
+    frame's dofs, 3 per node: x, y, rotation; default: all).
     """
     if system.fidelity != "fixed":
         raise ValueError(f"expected a fixed-base model, got fidelity {system.fidelity!r}")
+    n = system.T.shape[0]
+    if full_dofs is not None:
+        d = np.asarray(full_dofs)
+        if d.dtype.kind not in "iu" or d.ndim > 1 or d.size == 0 or d.min() < 0 or d.max() >= n:
+            raise ValueError(f"full_dofs: expected indices of the frame's dofs, 0 to {n - 1}, "
+                             f"got {full_dofs!r}")  # fmt: skip
     T = system.T if full_dofs is None else system.T[np.asarray(full_dofs)]
     return _mechanical_ss(system.M, system.C, system.K, system.Gamma[:, 0], T)
 

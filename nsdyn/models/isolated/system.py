@@ -418,6 +418,7 @@ def build_system(
     fidelity : {"fixed", "rigid", "cb", "full"}
     f_max : float                        Craig-Bampton / modal cut-off [Hz] ("cb", "fixed";
                                          default 5); a finite one at "rigid" or "full" warns
+    lumped : bool                        HRZ-lumped element masses instead of consistent ones
     damping : {"modal", "stiffness"}     superstructure damping of the full model (nodal
                                          coordinates, :mod:`nsdyn.models.isolated.fullorder`)
     """
