@@ -70,8 +70,13 @@ def flagged(message: str, args: argparse.Namespace) -> str:
             continue
         said = {str(v), repr(v)} | ({f"{v:g}"} if isinstance(v, float) else set())
         rest = message.split(f": {key}:", 1)[1]  # (a run's end is the flag's: "1e+11 samples")
-        whole = key in ("motion.t_end", "motion.units")  # (the flag's, whatever the message)
-        if whole or any(s in rest for s in said):  # (the flag's value, not the file's)
+        got = rest.rsplit("got ", 1)[1].split() if "got " in rest else []  # (a value echoed:
+        got = got[0].strip("'\",;()") if got else None  # the flag's, or the file's own)
+        if key in ("motion.t_end", "motion.units"):  # (the flag's, whatever else the message)
+            blamed = got is None or got in said
+        else:
+            blamed = any(s in rest for s in said)  # (the flag's value, not the file's)
+        if blamed:
             message = message.replace(f": {key}:", f": {key} ({flag}):", 1)
     t_end = getattr(args, "t_end", None)
     against = ("longer than the run", " outputs of ")  # (not "expected a positive number")

@@ -954,3 +954,13 @@ def test_step_options_of_simulate_that_mean_nothing_are_refused(kw, field):
     system, motion = build_scene(load_scene())
     with pytest.raises(ValueError, match=rf"^{field}: expected"):
         simulate(system, motion, t_end=0.1, **kw)
+
+
+def test_a_files_own_bad_end_is_not_blamed_on_the_flag_given_beside_it(tmp_path, capsys):
+    # the file's t_end = -1 is refused (a file's own end stays checked) but its message
+    # read "motion.t_end (--t-end): ... got -1", pointing at a flag whose value was 1
+    scene = tmp_path / "s.toml"
+    scene.write_text("[motion]\nt_end = -1\n")
+    assert main(["run", str(scene), "--t-end", "1", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "motion.t_end: expected a positive number, got -1" in err and "(--t-end)" not in err
