@@ -183,7 +183,13 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
     if what == "scene" and "study" in data:
         raise SceneError(f"{path}: a study file (its [study] table), not a scene; run it with "
                          f"nsdyn study {path}")  # fmt: skip
-    if what == "study" and "study" not in data and ("scene" in data or "motion" in data):
+    if what == "study" and "study" not in data and {"frame", "frame3d"} & data.keys():
+        key = "frame" if "frame" in data else "frame3d"
+        where = "[base.scene] frame" if key == "frame" else "[base.structure] frame3d"
+        raise SceneError(f"{path}: a frame file (its [{key}] table), not a study; name it in a "
+                         f'study as {where} = "{path}"')  # fmt: skip
+    scene_tables = {"scene", "motion", "isolation", "solver", "structure", "force"}
+    if what == "study" and "study" not in data and scene_tables & data.keys():
         raise SceneError(f"{path}: a scene file, not a study (no [study] table); run it with "
                          f"nsdyn run {path}, or name it in a study as [study] scene = "
                          f'"{path}"')  # fmt: skip

@@ -215,3 +215,20 @@ def test_a_simulated_record_count_past_a_studys_most_tasks_is_refused_before_any
     p = _write(tmp_path, HEAD + f"[records]\nsimulated = {{n = {n}, seed = 1, duration = 5.0}}\n")
     with pytest.raises(SceneError, match=r"simulated\.n: expected an integer >= 1 and at most"):
         load_study(p)
+
+
+@pytest.mark.parametrize(
+    "text, said",
+    [('[frame]\nname = "f"\n', r"a frame file \(its \[frame\] table\), not a study; name it "
+      r"in a study as \[base\.scene\] frame"),
+     ('[frame3d]\nname = "f"\n', r"a frame file \(its \[frame3d\] table\), not a "
+      r"study; name it in a study as \[base\.structure\] frame3d"),
+     ("[isolation]\nmu = 0.05\n", r"a scene file, not a study")],
+)  # fmt: skip
+def test_a_frame_or_a_scene_of_tables_alone_given_as_a_study_is_named_as_what_it_is(
+    tmp_path, text, said
+):
+    # they were "[frame]: unknown table; expected some of ['analysis', 'base', ...]", where
+    # the other commands say what the file is and where it goes
+    with pytest.raises(SceneError, match=said):
+        load_study(_write(tmp_path, text))

@@ -204,7 +204,8 @@ def build_motion(cfg: dict, source: str):
         elif "f_p" in mo:
             w = 2 * math.pi * number(source, "motion.f_p", mo["f_p"])
         else:
-            raise SceneError(f"{source}: motion.omega_p: missing (pulse frequency in rad/s)")
+            raise SceneError(f"{source}: motion.omega_p: missing (the pulse's frequency: "
+                             "omega_p in rad/s, or f_p in Hz)")  # fmt: skip
         n = mo.get("n_cycles", 1)
         if not isinstance(n, int) or isinstance(n, bool) or n < 1:
             raise SceneError(f"{source}: motion.n_cycles: expected an integer >= 1, got {n!r}")
