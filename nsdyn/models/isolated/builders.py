@@ -54,7 +54,10 @@ def _square(name: str, A, n: int | None) -> np.ndarray:
     try:
         A = np.array(A, dtype=float)
     except (TypeError, ValueError) as e:
-        raise MatrixError(f"{name}: expected a square matrix of numbers ({e})") from None
+        rows = [len(r) for r in A] if all(isinstance(r, list | tuple) for r in A) else None
+        why = (f"rows of {', '.join(map(str, rows))} entries" if rows and len(set(rows)) > 1
+               else str(e).split(".")[0])  # (numpy's "setting an array element with ...")
+        raise MatrixError(f"{name}: expected a square matrix of numbers, got {why}") from None
     if A.ndim == 0 and n in (None, 1):
         A = A.reshape(1, 1)
     if A.ndim != 2 or A.shape[0] != A.shape[1] or A.size == 0:  # (0 x 0: a numpy error)
@@ -350,10 +353,10 @@ def shear_building(
     if N and z.size == 1:
         z = np.full(N, float(z[0]))
     if N and (z.shape != (N,) or not np.all(np.isfinite(z) & (z >= 0) & (z < 1))):
+        per = " (one storey: one fixed-base mode)" if N == 1 else f" or {N} (one per mode)"
         raise MatrixError(  # [0, 1) as a frame's zeta: 1.5 is 1.5 % mistyped, not overdamping
-            f"damping_ratios: expected one ratio in [0, 1) (0.05 for 5 %)"
-            f"{'' if N == 1 else f' or {N} (one per fixed-base mode)'}, "
-            f"got {damping_ratios!r}"
+            f"damping_ratios: expected one ratio in [0, 1) (0.05 for 5 %){per}, got "
+            f"{damping_ratios!r}"
         )
     M, C, K = _storey_matrices(m, k, z[:N] if N else z)
     if name is not None:

@@ -232,3 +232,17 @@ def test_contact_rows_give_normal_forces_from_the_dynamics():
     assert np.max(np.abs(res.response.lam[:, 0] - lam_exact)) < 1e-6 * M1 * G
     with pytest.raises(UpliftError):
         simulate(s, Harmonic(2.0, 1.0, A_ver=12.0, f_ver=1.0), n_periods=1)
+
+
+def test_a_ragged_matrix_and_a_one_storey_buildings_two_ratios_are_said_as_such():
+    # numpy's "setting an array element with a sequence. The requested array has an
+    # inhomogeneous shape ..." stood in the message; one storey has one fixed-base mode, so
+    # two ratios are one too many (the message read as if a list were not allowed)
+    from nsdyn.models.isolated.builders import MatrixError
+
+    with pytest.raises(MatrixError, match=r"^M: expected a square matrix of numbers, got rows "
+                       r"of 2, 1 entries$"):  # fmt: skip
+        system_from_matrices([[1.0, 0.0], [0.0]], [[0.0, 0.0]] * 2, np.eye(2), iso_dofs=[0],
+                             influence=[1, 1], weight=10.0, isolation=Isolation())  # fmt: skip
+    with pytest.raises(MatrixError, match=r"one storey: one fixed-base mode"):
+        shear_building([1e5, 1e5], [1e7], damping_ratios=[0.05, 0.05], isolation=Isolation())
