@@ -106,10 +106,19 @@ def read_text(path: str | os.PathLike) -> str:
         raw = Path(path).read_bytes()
     except IsADirectoryError:
         raise RecordFileError(path, None, "is a directory, expected a record file") from None
+    marked = any(raw.startswith(bom) for bom, _ in BOMS)
+    hdf5 = Path(path).suffix.lower() in (".hdf5", ".h5")  # (said by its reader: not read)
+    if b"\x00" in raw and not marked and not hdf5:  # (no text has one: a binary file read
+        # as Latin-1 had "no numeric data", as did UTF-16 without its mark)
+        if not raw[0::2].strip(b"\x00") or not raw[1::2].strip(b"\x00"):  # (ASCII as UTF-16)
+            raise RecordFileError(path, None, "UTF-16 text without a byte-order mark; save "
+                                  "the file as UTF-8")  # fmt: skip
+        line = raw.count(b"\n", 0, raw.index(b"\x00")) + 1
+        raise RecordFileError(path, line, "a NUL byte: a binary file, expected a text record")
     try:
         return decode(raw, "utf-8")
     except ValueError as e:  # (an odd byte count after a UTF-16 mark; else not UTF-8)
-        if any(raw.startswith(bom) for bom, _ in BOMS):
+        if marked:
             raise RecordFileError(path, None, str(e)) from None
     return raw.decode("latin-1")  # (every byte is a Latin-1 character)
 

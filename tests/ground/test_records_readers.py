@@ -143,8 +143,8 @@ def test_a_byte_order_mark_or_quoted_names_change_no_sample(tmp_path, codec, hea
     path = tmp_path / f"rec-{codec}.csv"
     path.write_bytes((header + rows).encode(codec))  # (utf-16-be: no mark; utf-16: a mark)
     if codec == "utf-16-be":
-        with pytest.raises(RecordFileError, match="expected numeric data|expected numbers"):
-            read_motion(path, units="m/s2")  # (no mark: the bytes are not text of numbers)
+        with pytest.raises(RecordFileError, match="UTF-16 text without a byte-order mark"):
+            read_motion(path, units="m/s2")  # (no mark: said as such, not "no numeric data")
         return
     m, ref = read_motion(path, units="m/s2"), read_motion(plain, units="m/s2")
     assert (m.n, m.t0, m.dt) == (5, 0.0, 0.01)
@@ -509,3 +509,12 @@ def test_what_write_motion_writes_reads_back_or_is_refused(tmp_path):
     with pytest.raises(IsADirectoryError, match=r": a folder; expected the path of a file"):
         write_motion(m, tmp_path)
     assert not (tmp_path / "one.csv").exists()
+
+
+def test_a_binary_file_given_as_a_record_is_said_to_be_one(tmp_path):
+    # random bytes were read as Latin-1 text and refused as "expected numeric data, found
+    # none" on some line; a NUL byte is in no text file
+    path = tmp_path / "bin.csv"
+    path.write_bytes(b"0.0 0.1\n0.01 0.2\n" + bytes(range(256)))
+    with pytest.raises(RecordFileError, match=r"bin\.csv:3: a NUL byte: a binary file"):
+        read_motion(path, units="m/s2")
