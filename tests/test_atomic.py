@@ -149,3 +149,24 @@ def test_an_interrupted_write_into_a_new_folder_leaves_no_empty_folder(tmp_path)
         with atomic_open(tmp_path / "kept" / "x.png", "wb"):
             raise KeyboardInterrupt
     assert [p.name for p in tmp_path.iterdir()] == ["kept"]
+
+
+def test_an_interrupted_cylinder_run_names_the_histories_it_wrote(tmp_path):
+    # a cylinder run stopped while drawing its figure left its complete .npz and said only
+    # "files on disk are complete; ... a rerun starts over", as if it had written nothing
+    import argparse
+    from pathlib import Path
+
+    import nsdyn.atomic as atomic
+    from nsdyn.cli.app import _interrupt_line
+
+    scene = Path(__file__).resolve().parents[1] / "examples/scenes/cylinder-uplift.toml"
+    args = argparse.Namespace(command="run", scene=str(scene), out=str(tmp_path))
+    atomic.WRITTEN.clear()
+    before = _interrupt_line(args)
+    assert "this run's" not in before and "a cylinder scene's run keeps no" in before
+    with atomic_open(tmp_path / "c.npz", "wb") as fh:
+        fh.write(b"npz")
+    line = _interrupt_line(args)
+    assert f"{tmp_path / 'c.npz'} is this run's, its other files were not written" in line
+    atomic.WRITTEN.clear()

@@ -229,9 +229,12 @@ def _interrupt_line(args: argparse.Namespace) -> str:
         out = Path(getattr(args, "out", None) or DEFAULT_OUT)
         if (out / CHECKPOINT).is_file():
             return f"{done}, rerun it with --resume to continue from its checkpoint in {out}"
-        kind = _scene_kind_of(args)
-        if kind != "isolated":  # (only an isolated frame's run keeps one)
-            return f"{done}; a {kind} scene's run keeps no checkpoint, a rerun starts over"
+        from nsdyn.atomic import WRITTEN
+
+        if (kind := _scene_kind_of(args)) != "isolated":  # (only an isolated frame's run keeps
+            files, verb = ", ".join(WRITTEN), "are" if len(WRITTEN) > 1 else "is"  # one)
+            wrote = f"; {files} {verb} this run's, its other files were not written" * bool(files)
+            return f"{done}{wrote}; a {kind} scene's run keeps no checkpoint, a rerun starts over"
         return f"{done}; it stopped before its first checkpoint, a rerun starts over"
     if args.command == "study":  # (stopped before its tasks started: the study's own line)
         return ("nsdyn study: interrupted before its tasks started; the results folder is as "
