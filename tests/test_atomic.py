@@ -151,7 +151,7 @@ def test_an_interrupted_write_into_a_new_folder_leaves_no_empty_folder(tmp_path)
     assert [p.name for p in tmp_path.iterdir()] == ["kept"]
 
 
-def test_an_interrupted_cylinder_run_names_the_histories_it_wrote(tmp_path):
+def test_an_interrupted_cylinder_run_names_the_histories_it_wrote(tmp_path, monkeypatch):
     # a cylinder run stopped while drawing its figure left its complete .npz and said only
     # "files on disk are complete; ... a rerun starts over", as if it had written nothing
     import argparse
@@ -162,6 +162,7 @@ def test_an_interrupted_cylinder_run_names_the_histories_it_wrote(tmp_path):
 
     scene = Path(__file__).resolve().parents[1] / "examples/scenes/cylinder-uplift.toml"
     args = argparse.Namespace(command="run", scene=str(scene), out=str(tmp_path))
+    monkeypatch.setattr("nsdyn.cli.run.FINISHED", [])  # (an isolated run's, of this process)
     atomic.WRITTEN.clear()
     before = _interrupt_line(args)
     assert "this run's" not in before and "a cylinder scene's run keeps no" in before

@@ -188,7 +188,8 @@ def run_study(
         store.reset()
     store.claim(study.name, study.kind)
     order = {t.key: t.index for t in tasks}
-    store.regrid(order)
+    aliases = {t.extra["ordered_key"]: t.key for t in tasks if "ordered_key" in t.extra}
+    store.regrid(order, aliases)  # (rows of a table keyed when keep's order was hashed)
     done = store.read()
     here = [r for k, r in done.items() if k in order]  # (not another grid's rows)
     first = _first_check(study, here, False, progress)  # (before kernels and a pool)

@@ -318,7 +318,7 @@ class ResultsStore:
         Table(rows, self.param_names).write_csv(path)
         return path
 
-    def compact(self, order: dict[str, int] | None = None) -> Table:
+    def compact(self, order: dict[str, int] | None = None, aliases: dict | None = None) -> Table:
         """Merge everything into ``results.csv`` in task order and remove the parts.
 
         ``order``: key -> task index of the current study; rows of other keys (a grid was
@@ -327,6 +327,9 @@ class ResultsStore:
         index.
         """
         merged = self.read()
+        for old, new in (aliases or {}).items():  # (a row under its earlier key: re-keyed)
+            if old in merged and (new not in merged or _better(merged[old], merged[new])):
+                merged[new] = merged.pop(old) | {"key": new}
         if order is not None:
             outside = [r for k, r in merged.items() if k not in order]
             if outside:
@@ -343,7 +346,7 @@ class ResultsStore:
             p.unlink(missing_ok=True)
         return table
 
-    def regrid(self, order: dict[str, int]) -> bool:
+    def regrid(self, order: dict[str, int], aliases: dict | None = None) -> bool:
         """Before a run on another grid (rows of keys not in ``order``): :meth:`compact` to the
         current grid and remove the analyses of the old one, so that an interrupted run leaves
         no table or analysis of another grid beside its rows. Returns whether it did."""
@@ -351,7 +354,7 @@ class ResultsStore:
         here = [table] * table.is_file() + list(self._part_files())
         if all(str(r.get("key")) in order for f in here for r in read_csv(f)):
             return False
-        self.compact(order)
+        self.compact(order, aliases)
         for name in ANALYSIS_FILES:  # (a Parquet copy the command line asked for is written
             (self.out / name).unlink(missing_ok=True)  # anew after the run: nsdyn.cli.study)
         return True

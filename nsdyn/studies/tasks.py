@@ -89,11 +89,12 @@ def _canonical(obj) -> str:
     return json.dumps(obj, sort_keys=True, separators=(",", ":"), allow_nan=True, default=str)
 
 
-def task_key(kind: str, cfg: dict, record: dict | None, keep=None) -> str:
+def task_key(kind: str, cfg: dict, record: dict | None, keep=None, ordered=False) -> str:
     """The hash of a task's inputs (see the module docstring), the kept fields among them
     (a row holds them: a study whose ``keep`` gains or loses a field runs its tasks again; one
-    whose ``keep`` is only reordered does not, the set of fields is hashed)."""
-    keep = None if keep is None else sorted(keep)
+    whose ``keep`` is only reordered does not, the set of fields is hashed; ``ordered``: the
+    key of tables written when the order was hashed, under which their rows are found)."""
+    keep = None if keep is None else list(keep) if ordered else sorted(keep)
     payload = {"format": TABLE_FORMAT, "kind": kind, "cfg": cfg, "record": record, "keep": keep}
     return hashlib.sha256(_canonical(payload).encode()).hexdigest()[:KEY_HEX]
 
@@ -157,6 +158,7 @@ def expand(study: Study) -> list[Task]:
                     _place_record(cfg, rec, study.kind)
                 hashed = _files_by_bytes(_without_path(cfg, rec, digests), file_digests)
                 key = task_key(study.kind, hashed, ident, study.keep)
+                old = task_key(study.kind, hashed, ident, study.keep, ordered=True)
                 tasks.append(
                     Task(
                         index=len(tasks),
@@ -168,6 +170,7 @@ def expand(study: Study) -> list[Task]:
                         record=rec,
                         source=study.source,
                         keep=keep,
+                        extra={"ordered_key": old} if old != key else {},
                     )
                 )
     return tasks

@@ -565,3 +565,23 @@ def test_a_study_table_reads_back_as_a_dataframe_cell_for_cell(tmp_path):
     # the analyses take a study's Table, not its DataFrame copy (an AttributeError 'rows')
     with pytest.raises(TypeError, match=r"^table: expected a study's Table"):
         run_analyses(load_study(_study(tmp_path)), df, tmp_path / "a")
+
+
+def test_a_table_keyed_by_keeps_order_is_resumed_not_rerun(tmp_path, monkeypatch):
+    # tables written when the key hashed keep in its order (unsorted here) hold rows under
+    # those keys: a resume finds them (re-keyed) instead of running the whole study anew
+    from nsdyn.studies import tasks as study_tasks
+
+    key = study_tasks.task_key
+    study = load_study(_study(tmp_path, t_end=1.0))
+    assert list(study.keep) != sorted(study.keep)  # (else both keys are one)
+    out = tmp_path / "out"
+    with monkeypatch.context() as m:
+        m.setattr(study_tasks, "task_key", lambda *a, ordered=False: key(*a, ordered=True))
+        first = run_study(study, out, executor=ThreadPoolExecutor(1))
+    again = run_study(load_study(tmp_path / "s.toml"), out, executor=ThreadPoolExecutor(1))
+    assert (first.n_run, again.n_run, again.n_skipped, again.n_outside) == (4, 0, 4, 0)
+    assert {r["key"] for r in read_csv(out / RESULTS)} == {t.key for t in expand(study)}
+    assert [r["x_iso_max_m"] for r in again.table.rows] == [
+        r["x_iso_max_m"] for r in first.table.rows
+    ]
