@@ -392,24 +392,30 @@ def mapped(T, q, name: str = "q"):
 
 
 def fingerprint(obj, names) -> tuple:
-    """Each named array of ``obj`` as the bytes of its sum (None for an operator): a model's
-    matrices as its caches were made from them (an edit moves the sum; a copy, a pickle's
-    round trip keep it)."""
+    """Each named array of ``obj`` as its shape and the wrapping sum of its entries' bit
+    patterns (None for an operator): a model's matrices as its caches were made from them.
+    Integer sums are exact and commutative: a copy of any memory order, a pickle's round trip
+    keep it; an edit of any entry moves it (but for edits whose bit changes cancel)."""
     import numpy as np
 
     out = []
     for name in names:
         a = getattr(obj, name)
-        s = a.sum() if isinstance(a, np.ndarray) or hasattr(a, "tocsr") else None
-        out.append(None if s is None else np.float64(s).tobytes())
+        a = a.data if hasattr(a, "tocsr") else a  # (a sparse matrix: its stored entries)
+        if not isinstance(a, np.ndarray) or a.dtype != np.float64:
+            out.append(None)
+            continue
+        bits = np.ascontiguousarray(a).view(np.uint64)
+        out.append((a.shape, int(bits.sum(dtype=np.uint64))))
     return tuple(out)
 
 
 def unchanged(obj, names, built: tuple, remedy: str) -> None:
     """Refuse ``obj`` when a named array differs from its :func:`fingerprint` ``built``: its
-    caches (a static state, a basis, factorised operators) would answer for the old arrays."""
+    caches (a static state, a basis, factorised operators) would answer for the old arrays.
+    An empty ``built`` (an object pickled before it was kept) is not checked."""
     now = fingerprint(obj, names)
-    if now != built:
+    if built and now != built:
         name = next(n for n, a, b in zip(names, now, built, strict=True) if a != b)
         raise ValueError(f"{getattr(obj, 'name', type(obj).__name__)}: {name} was changed after "
                          f"the model was built; build a new one ({remedy})")  # fmt: skip

@@ -144,7 +144,7 @@ class Isolation:
 
 
 _MATRICES = ("M", "C", "K", "Gamma", "R", "D")  # the static state, Q, operators made from them
-_REBUILD = "build_system, system.with_isolation or system_from_matrices"
+_REBUILD = "build_system, system_from_matrices or shear_building with the new matrix"
 
 
 @dataclass(repr=False)
@@ -233,11 +233,13 @@ class IsolatedSystem:
         rest (the isolator springs hold the horizontal position). Returns (x0, lam0).
         """
         unchanged(self, _MATRICES, self._built, _REBUILD)
+        if self._static is not None and self._static[2:] != (self._built,):  # (a replace()'s
+            self._static = None  # copy of another system's state: solved again)
         g = self.isolation.g if self.isolation is not None else G_EARTH
         if self._static is None and self.sparse is not None:  # full order: a sparse solve
             from nsdyn.models.isolated.fullorder import sparse_static
 
-            self._static = sparse_static(self.sparse, self.Gamma, self.R, self.D, g)
+            self._static = (*sparse_static(self.sparse, self.Gamma, self.R, self.D, g), self._built)
         if self._static is None:
             f = -self.M @ self.Gamma[:, 1] * g
             Q = self.Q
@@ -254,8 +256,8 @@ class IsolatedSystem:
                 lam = np.linalg.lstsq(self.R.T, self.K @ q - f, rcond=None)[0]
             else:
                 lam = np.zeros(0)
-            self._static = (np.concatenate([q, np.zeros(self.n)]), lam)
-        x0, lam0 = self._static
+            self._static = (np.concatenate([q, np.zeros(self.n)]), lam, self._built)
+        x0, lam0 = self._static[:2]
         return x0.copy(), lam0.copy()
 
     # ---- kernel parameters ----------------------------------------------------------------
@@ -330,7 +332,7 @@ class IsolatedSystem:
         y1, y2), Q is the identity with those columns removed, so z = [x1 th1 x2 th2 q_r] as
         in the seed.
         """
-        if "Q" not in self.info:
+        if self.info.get("Q_of") != self._built[4:5]:  # (R's; info is shared by a replace())
             R = self.R
             picks = [np.flatnonzero(r) for r in R]
             if not picks:
@@ -340,7 +342,7 @@ class IsolatedSystem:
                 Q = np.eye(self.n)[:, keep]
             else:
                 Q = sla.null_space(R)
-            self.info["Q"] = Q
+            self.info["Q"], self.info["Q_of"] = Q, self._built[4:5]
         return self.info["Q"]
 
     def minimal_accelerations(self, t, z, zd, ground=None, P=None) -> np.ndarray:

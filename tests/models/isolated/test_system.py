@@ -405,3 +405,11 @@ def test_a_matrix_edited_after_the_build_is_refused_not_answered_from_the_old_on
     s.K = 1.01 * s.K
     with pytest.raises(ValueError, match=r"K was changed after the model was built"):
         s.params()
+    # a copy by dataclasses.replace with another mass solves its own static state (it held
+    # the first system's): the normal forces carry the new weight
+    import dataclasses
+
+    s = build_system(frame, Isolation(), fidelity="rigid")
+    _, lam = s.static_equilibrium()
+    _, lam2 = dataclasses.replace(s, M=2.0 * s.M).static_equilibrium()
+    assert lam2.sum() == pytest.approx(2.0 * lam.sum(), rel=1e-9)
