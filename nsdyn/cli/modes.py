@@ -125,7 +125,9 @@ def _scene_frame(arg: str) -> tuple[str, float | None, float | None, str | None]
     if kind == "isolated":  # checked as nsdyn run checks it (a k_lam = -5 read as none)
         from nsdyn.models.isolated.scene import load_scene
 
-        load_scene(p)
+        ends = [data.get(t) for t in ("motion", "force") if isinstance(data.get(t), dict)]
+        open_end = any(not {"t_end", "n_periods"} & t.keys() for t in ends)  # (a harmonic's,
+        load_scene(p, {"motion": {"t_end": 1.0}} if open_end else None)  # as nsdyn run --t-end)
     frame = data["scene"].get("frame") or data.get("structure", {}).get("frame3d")
     field = "scene.frame" if data["scene"].get("frame") or frame is None else "structure.frame3d"
     if kind == "isolated" and frame is None and "structure" not in data:

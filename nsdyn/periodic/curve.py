@@ -366,10 +366,10 @@ def empty_curve_warning(curve: Curve, fmin: float, fmax: float) -> None:
     import warnings
 
     first = fails[0]
+    hint = "; fallback=True gives each the stepped sweep's point" * ("no fallback" in str(fails))
     warnings.warn(f"no periodic orbit from {fmin:g} to {fmax:g} Hz: all {len(fails)} "
                   f"frequencies failed (f = {first['f']:.4g} Hz: {first['reason']}; each in "
-                  "curve.info['failures']); fallback=True gives each the stepped sweep's "
-                  "point", EmptyCurveWarning, stacklevel=4)  # fmt: skip
+                  f"curve.info['failures']){hint}", EmptyCurveWarning, stacklevel=4)  # fmt: skip
 
 
 def failures(curve: Curve, options: dict) -> list[dict]:

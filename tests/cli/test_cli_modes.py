@@ -125,3 +125,12 @@ def test_a_scene_nsdyn_run_refuses_is_refused_by_nsdyn_modes_too(tmp_path, capsy
     assert main(["modes", str(scene), "--json"]) == 2
     err = json.loads(capsys.readouterr().out)["error"]
     assert str(scene) in err and field in err
+
+
+def test_a_harmonic_scene_without_an_end_lists_its_frames_modes(tmp_path, capsys):
+    # nsdyn run takes it with --t-end; modes reads no motion, so its check must not ask
+    # for an end (the office frame's f_bis with the default K_lam: seed 004, 0.060 Hz)
+    scene = tmp_path / "h.toml"
+    scene.write_text('[motion]\nkind = "harmonic"\nfrequency = 1.0\namplitude = 1.0\n')
+    assert main(["modes", str(scene), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["f_bis_hz"] == pytest.approx(0.060, abs=0.003)

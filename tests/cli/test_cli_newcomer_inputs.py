@@ -929,7 +929,7 @@ def test_a_step_budget_past_what_a_compiled_loop_counts_is_refused(tmp_path, cap
     # option, the scene field and the library argument say the largest instead
     big = "99999999999999999999"
     with pytest.raises(SystemExit) as e:
-        main(["run", "--max-steps", big, "--t-end", "1", "--no-figures"])
+        main(["run", "--max-steps", big, "--t-end", "1", "--out", str(tmp_path / "o")])
     assert e.value.code == 2 and "at most 9223372036854775807" in capsys.readouterr().err
     scene = tmp_path / "s.toml"
     scene.write_text(f"[solver]\nmax_steps = {big}\n")

@@ -98,7 +98,7 @@ def compare_foundations(
     (seeds ``seed0 .. seed0 + n − 1``). Returns {"stats", "rows", "wall_s"}."""
     n = whole("n", n, 1, "a whole number of earthquakes >= 1")
     batch = whole("batch", batch, 1, "a whole number of runs per task >= 1")
-    whole("seed0", seed0, 0, "a non-negative whole seed")
+    whole("seed0", seed0, 0, "a non-negative whole seed", hi=None)
     if params is not None:
         expect("params", params, isinstance(params, CylinderParams), _P)
     if executor is not None and not callable(getattr(executor, "submit", None)):

@@ -54,9 +54,13 @@ def _square(name: str, A, n: int | None) -> np.ndarray:
     try:
         A = np.array(A, dtype=float)
     except (TypeError, ValueError) as e:
-        rows = [len(r) for r in A] if all(isinstance(r, list | tuple) for r in A) else None
-        why = (f"rows of {', '.join(map(str, rows))} entries" if rows and len(set(rows)) > 1
-               else str(e).split(".")[0])  # (numpy's "setting an array element with ...")
+        nested = isinstance(A, list | tuple) and all(isinstance(r, list | tuple) for r in A)
+        rows = {len(r) for r in A} if nested else set()
+        why = (
+            f"rows of {', '.join(str(len(r)) for r in A)} entries"
+            if len(rows) > 1
+            else str(e).split(". ")[0]
+        )  # (numpy's "setting an array element ...")
         raise MatrixError(f"{name}: expected a square matrix of numbers, got {why}") from None
     if A.ndim == 0 and n in (None, 1):
         A = A.reshape(1, 1)

@@ -59,10 +59,12 @@ def fixed_base_statespace(system: IsolatedSystem, full_dofs: np.ndarray | None =
     n = system.T.shape[0]
     if full_dofs is not None:
         d = np.asarray(full_dofs)
+        if d.dtype.kind == "b" and d.shape == (n,):  # (a mask of the dofs)
+            d = np.flatnonzero(d)
         if d.dtype.kind not in "iu" or d.ndim > 1 or d.size == 0 or d.min() < 0 or d.max() >= n:
-            raise ValueError(f"full_dofs: expected indices of the frame's dofs, 0 to {n - 1}, "
-                             f"got {full_dofs!r}")  # fmt: skip
-    T = system.T if full_dofs is None else system.T[np.asarray(full_dofs)]
+            raise ValueError(f"full_dofs: expected indices of the frame's dofs, 0 to {n - 1} (or "
+                             f"a mask of {n}), got {full_dofs!r}")  # fmt: skip
+    T = system.T if full_dofs is None else system.T[d]
     return _mechanical_ss(system.M, system.C, system.K, system.Gamma[:, 0], T)
 
 
