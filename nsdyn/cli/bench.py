@@ -6,7 +6,8 @@
 :data:`nsdyn.bench.BENCHMARKS` (``all``: each in the table's order) through its
 ``run_bench(out_dir, quick, **options)``,
 passing only the options its ``OPTIONS`` lists, then prints its ``report`` (or its summary)
-and the files it wrote, or with ``--json`` one JSON object ``{name: summary}`` and nothing else.
+and the files it wrote, or with ``--json`` one JSON object ``{"status": exit status, name:
+summary}`` (and ``"notes"``) and nothing else.
 """
 
 from __future__ import annotations
@@ -218,7 +219,7 @@ def run(args: argparse.Namespace) -> int:
         "curve": options["curve"],
     }
     whats = list(BENCHMARKS) if args.what == "all" else [args.what]
-    summary, status = {}, 0
+    summary, status, notes = {}, 0, []
     for what in whats:
         try:
             module = load_benchmark(what)
@@ -238,7 +239,8 @@ def run(args: argparse.Namespace) -> int:
                 print(f"nsdyn bench: note: benchmark {what!r} draws no figures; --no-figures "
                       "changes nothing", file=sys.stderr)  # fmt: skip
         if args.no_figures:  # (an earlier run's figures sat beside the new tables)
-            stale_figures(Path(args.out), getattr(module, "FIGURES", ()), "bench", args.json)
+            gone = stale_figures(Path(args.out), getattr(module, "FIGURES", ()), "bench", args.json)
+            notes += [gone] * bool(gone)  # (--json: said in the summary)
         with warnings.catch_warnings():  # (coarse steps on purpose: their errors are charted)
             warnings.simplefilter("ignore", AccuracyWarning)
             res = module.run_bench(Path(args.out), args.quick, **taken)
@@ -261,8 +263,12 @@ def run(args: argparse.Namespace) -> int:
                 print(f"{what}: {summary[what]}")
             for k, v in _files(res):
                 print(f"{k}: {v}")
-    if args.json:
-        print(json.dumps(_jsonable(summary)))
+    if args.json:  # (the exit status first, as every command's JSON; then each benchmark's)
+        print(
+            json.dumps(
+                _jsonable({"status": status, **summary, **({"notes": notes} if notes else {})})
+            )
+        )
     return status
 
 

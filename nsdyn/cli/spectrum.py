@@ -19,7 +19,15 @@ import numpy as np
 
 from nsdyn._checks import MAX_POINTS
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.cli.args import fraction, json_report, out_dir, positive_finite, pulse_count, workers
+from nsdyn.cli.args import (
+    fraction,
+    json_report,
+    old_figures,
+    out_dir,
+    positive_finite,
+    pulse_count,
+    workers,
+)
 
 SHAPES = ("sine", "cosine", "ricker", "rect")
 DEFAULT_OUT = "nsdyn-out"
@@ -118,6 +126,8 @@ def run(args: argparse.Namespace) -> int:
         w.writerow([repr(float(v)) if not isinstance(v, np.integer) else int(v) for v in row]
                    + [word])  # fmt: skip
     csv_path = out / f"{stem}.csv"
+    if gone := old_figures(out, [f"{stem}.png"], "spectrum", args):  # (beside new results)
+        notes.append(gone)
     with atomic_open(csv_path, "w") as fh:
         fh.write(buf.getvalue())
     report = {"scene": src, **sp.summary(), "compile_s": compile_s, "csv": str(csv_path),

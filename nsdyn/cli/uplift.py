@@ -26,6 +26,7 @@ from nsdyn.cli.args import (
     forcing_frequency,
     holes,
     json_report,
+    old_figures,
     out_dir,
 )
 from nsdyn.cli.args import count as _count
@@ -166,6 +167,8 @@ def run(args: argparse.Namespace) -> int:
     report["compile_s"] = compile_s
     report["law"] = law
     out = Path(args.out)
+    if gone := old_figures(out, ["uplift.png"], "uplift", args):  # (beside new results)
+        report.setdefault("notes", []).append(gone)
     if not args.no_figures:
         from nsdyn.plot.uplift import uplift_boundary_figure
 

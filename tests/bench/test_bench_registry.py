@@ -82,6 +82,7 @@ def test_all_reports_unavailable_modules_and_passes_only_named_options(
     assert command.main(["all", "--quick", "--json", "--out", str(tmp_path)]) == 0
     captured = capsys.readouterr()
     summary = json.loads(captured.out)
+    assert next(iter(summary.items())) == ("status", 0)  # (as every command's JSON leads)
     assert summary["fake"] == {"files": [f"{tmp_path}/fake.csv"], "peak": 1.5, "quiet": True}
     assert summary["gone"]["status"] == "unavailable"
     assert "benchmark 'gone' is not available" in captured.err
@@ -161,3 +162,9 @@ def test_no_figures_removes_the_benchmarks_earlier_figures(tmp_path, monkeypatch
     assert command.main(["fake", "--no-figures", "--out", str(out)]) == 0
     assert not (out / "fake.png").exists()
     assert "removed the earlier run's fake.png (--no-figures draws none)" in capsys.readouterr().err
+    # with --json the note is in the summary (stderr stays quiet for scripts)
+    (out / "fake.png").write_bytes(b"an earlier run's figure")
+    assert command.main(["fake", "--no-figures", "--json", "--out", str(out)]) == 0
+    said = capsys.readouterr()
+    assert json.loads(said.out)["notes"] == ["removed the earlier run's fake.png (--no-figures "
+                                             "draws none)"] and not said.err  # fmt: skip

@@ -39,8 +39,12 @@ def test_a_max_bounds_the_search_below_which_nothing_can_overturn(tmp_path, caps
     scene = str(SCENES / "rocking-seed003-column.toml")
     argv = ["spectrum", scene, "--n", "2", "--wmin", "1.5", "--wmax", "3", "--workers", "1",
             "--no-figures", "--out", str(tmp_path), "--json"]  # fmt: skip
+    old = tmp_path / "spectrum-rocking-seed003-column-sine.png"  # (an earlier run's: it goes)
+    old.write_bytes(b"png")
     assert main([*argv, "--a-max", "1"]) == 0
     rep = json.loads(capsys.readouterr().out)
+    assert not old.exists() and any(f"removed the earlier run's {old.name}" in n
+                                    for n in rep["notes"])  # fmt: skip
     assert rep["search"]["a_max_ratio"] == 1.0 and rep["a_min_ratio"] == [None, None]
     assert set(rep["frequency_status"]) == {"no overturning up to a_max"}
     assert main(argv) == 0

@@ -79,14 +79,19 @@ def test_reversed_frequency_range_is_a_user_error(tmp_path, capsys):
 
 
 def test_the_data_is_written_without_json_and_without_figures(tmp_path, capsys):
-    # only the figure was written without --json, nothing at all with --no-figures too
+    # only the figure was written without --json, nothing at all with --no-figures too; an
+    # earlier run's figure goes (it sat beside the new data, drawn for other settings)
     out = tmp_path / "o"
+    out.mkdir()
+    (out / "uplift.png").write_bytes(b"an earlier run's")
     rc = run_cli(["--fmin", "0.5", "--fmax", "1", "--points", "2", "--no-figures",
                   "--out", str(out)])  # fmt: skip
     assert rc == 0
     rep = json.loads((out / "uplift.json").read_text())
     assert [p["f_hz"] for p in rep["points"]] == [0.5, 1.0]
-    assert f"data:   {out / 'uplift.json'}" in capsys.readouterr().out
+    said = capsys.readouterr()
+    assert f"data:   {out / 'uplift.json'}" in said.out
+    assert "removed the earlier run's uplift.png" in said.err
     assert not (out / "uplift.png").exists()
 
 
