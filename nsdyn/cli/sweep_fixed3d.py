@@ -43,8 +43,9 @@ def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
     if unused:
         return fail(
             args,
-            f"{', '.join(unused)}: not for the fixed rung (a linear "
-            "model: its steady state is solved exactly, no friction)",
+            f"{source}: {', '.join(unused)}: not for the fixed rung (a linear model: its "
+            "steady state is solved exactly, frequency by frequency, in one process; no "
+            "friction, contact, shooting or continuation)",
         )
     t0 = time.perf_counter()
     try:
@@ -112,7 +113,8 @@ def run_fixed3d(args: argparse.Namespace, cfg: dict) -> int:
     for s in summary:
         print(f"   {s['A']:8.3g}  {s['roof_max_m']:12.4g}  {s['f_at_roof_max_hz']:9.4g}  "
               f"{s['corner_drift_max']:16.4g}  {s['f_at_corner_drift_max_hz']:9.4g}")  # fmt: skip
-    print(f"table:  {csv_path}")
+    print(f"csv:    {csv_path}")  # (as the other sweeps list their files)
+    print(f"json:   {json_path}")
     if "figure" in report:
         print(f"figure: {report['figure']}")
     return 0

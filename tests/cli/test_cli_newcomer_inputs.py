@@ -838,7 +838,7 @@ def test_sweep_flags_and_tables_that_would_repeat_or_do_nothing_are_refused(tmp_
     one_line("--no-fallback: not for the fixed rung")
     # --workers alike: one batched solve (it was taken and ignored)
     assert main(["sweep", str(scene), "--workers", "2", "--points", "3", "--out", out]) == 2
-    one_line("--workers: not for the fixed rung")
+    one_line(f"{scene}: --workers: not for the fixed rung")  # (the file named, as every refusal)
     deck = (SCENES / "sdof-bidirectional-sweep.toml").read_text()
     dup = tmp_path / "dup.toml"
     dup.write_text(deck.replace("amplitudes = [0.981]", "amplitudes = [1.0, 1.0]"))
