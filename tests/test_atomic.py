@@ -136,6 +136,9 @@ def test_a_refused_rename_names_the_file_and_the_command_names_what_it_wrote(tmp
     atomic.WRITTEN.clear()
     line = _interrupt_line(argparse.Namespace(command="spectrum", out=str(tmp_path)))
     assert line.startswith("nsdyn spectrum: interrupted before writing its results: it wrote no")
+    # into a folder that does not exist, there is no earlier run's file to speak of
+    line = _interrupt_line(argparse.Namespace(command="spectrum", out=str(tmp_path / "new")))
+    assert "it wrote no file; this command keeps no checkpoint" in line
 
 
 def test_an_interrupted_write_into_a_new_folder_leaves_no_empty_folder(tmp_path):

@@ -248,9 +248,10 @@ def _interrupt_line(args: argparse.Namespace) -> str:
                     f"{', '.join(WRITTEN)} {'are' if len(WRITTEN) > 1 else 'is'} this run's "
                     f"and complete, any other file in {out} an earlier run's; this command "
                     "keeps no checkpoint, a rerun starts over")  # fmt: skip
+        there = not getattr(args, "out", None) or Path(out).is_dir()  # (a new folder: none)
+        old = f", and any in {out} are an earlier run's" * there
         return (f"nsdyn {args.command}: interrupted before writing its results: it wrote no "
-                f"file, and any in {out} are an earlier run's; this command keeps no "
-                "checkpoint, a rerun starts over")  # fmt: skip
+                f"file{old}; this command keeps no checkpoint, a rerun starts over")  # fmt: skip
     return f"{done}; this command keeps no checkpoint, a rerun starts over"
 
 
