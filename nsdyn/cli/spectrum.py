@@ -99,9 +99,10 @@ def run(args: argparse.Namespace) -> int:
     tol = build_solver(cfg, src)[0]  # (the scene's solver.tol was ignored)
     notes = []
     if cfg.get("motion"):  # (it was ignored without a word)
-        notes.append(f"{src}: [motion] not used: a spectrum drives the block with one-cycle "
-                     f"{args.shape} pulses (--shape) of the amplitudes and frequencies it "
-                     "searches")  # fmt: skip
+        what = "frame" if "Frame" in type(model).__name__ else "block"
+        notes.append(f"{src}: [motion] not used: a spectrum drives the {what} with one "
+                     f"{args.shape} pulse per run (--shape), at the amplitudes and "
+                     "frequencies it searches")  # fmt: skip
     for n in notes if not args.json else ():
         print(f"nsdyn spectrum: note: {n}", file=sys.stderr)
     ratios = np.geomspace(args.wmin, args.wmax, args.n)

@@ -102,7 +102,7 @@ def test_spectrum_takes_the_scene_s_tolerance_and_names_its_unused_motion(tmp_pa
     rep = json.loads(capsys.readouterr().out)
     assert rep["search"]["tol"] == 1e-7
     assert rep["notes"] == [f"{scene}: [motion] not used: a spectrum drives the block with "
-                            "one-cycle sine pulses (--shape) of the amplitudes and frequencies "
-                            "it searches"]  # fmt: skip
+                            "one sine pulse per run (--shape), at the amplitudes and "
+                            "frequencies it searches"]  # fmt: skip
     assert main(argv) == 0
     assert "nsdyn spectrum: note: " in capsys.readouterr().err
