@@ -392,22 +392,36 @@ def mapped(T, q, name: str = "q"):
 
 
 def fingerprint(obj, names) -> tuple:
-    """Each named array of ``obj`` as its shape and the wrapping sum of its entries' bit
-    patterns (None for an operator): a model's matrices as its caches were made from them.
-    Integer sums are exact and commutative: a copy of any memory order, a pickle's round trip
-    keep it; an edit of any entry moves it (but for edits whose bit changes cancel)."""
+    """Each named array of ``obj`` as :func:`_bit_sums` (None for an operator): a model's
+    matrices as its caches were made from them. A copy of any memory order and a pickle's
+    round trip keep it; an edit of an entry, a swap of rows or columns, a contact moved to
+    another dof move it (bar edits whose bit changes cancel). O(size), no hash of the bytes:
+    a dense 2000-dof model's fingerprint is a few milliseconds, not tens."""
     import numpy as np
 
     out = []
     for name in names:
         a = getattr(obj, name)
-        a = a.data if hasattr(a, "tocsr") else a  # (a sparse matrix: its stored entries)
-        if not isinstance(a, np.ndarray) or a.dtype != np.float64:
-            out.append(None)
-            continue
-        bits = np.ascontiguousarray(a).view(np.uint64)
-        out.append((a.shape, int(bits.sum(dtype=np.uint64))))
+        if hasattr(a, "tocsr"):  # (a sparse matrix: its pattern and entries, as stored)
+            c = a.tocsr()
+            out.append((c.shape, *(_bit_sums(v) for v in (c.indptr, c.indices, c.data))))
+        else:
+            real = isinstance(a, np.ndarray) and a.dtype.kind in "biuf"
+            out.append(_bit_sums(a) if real else None)
     return tuple(out)
+
+
+def _bit_sums(a) -> tuple:
+    """``a``'s shape and position-weighted wrapping sums of its entries' bits as float64
+    (exact integer sums, so independent of memory order): of the rows and of the columns for
+    a matrix, of the entries for a vector."""
+    import numpy as np
+
+    b = np.ascontiguousarray(a, dtype=float).view(np.uint64)
+    parts = (b.sum(axis=1, dtype=np.uint64), b.sum(axis=0, dtype=np.uint64)) if b.ndim == 2 else (
+        b.ravel(),)  # fmt: skip
+    w = [np.arange(1, p.size + 1, dtype=np.uint64) for p in parts]
+    return (a.shape, *(int((p * wi).sum(dtype=np.uint64)) for p, wi in zip(parts, w, strict=True)))
 
 
 def unchanged(obj, names, built: tuple, remedy: str) -> None:
