@@ -264,7 +264,7 @@ def run_study(
             # wake-up pipe while its manager thread closes it: "Bad file descriptor" at exit)
             executor.shutdown(wait=True)
     prog.tick(force=True)
-    table = store.compact(order)
+    table = store.compact(order, aliases)
     return StudyRun(
         table=table,
         n_tasks=len(tasks),

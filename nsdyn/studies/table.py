@@ -327,9 +327,10 @@ class ResultsStore:
         index.
         """
         merged = self.read()
-        for old, new in (aliases or {}).items():  # (a row under its earlier key: re-keyed)
-            if old in merged and (new not in merged or _better(merged[old], merged[new])):
-                merged[new] = merged.pop(old) | {"key": new}
+        for old, new in (aliases or {}).items():  # (a row under its earlier key: re-keyed, or
+            row = merged.pop(old, None)  # dropped for a better one under the new key)
+            if row is not None and (new not in merged or _better(row, merged[new])):
+                merged[new] = row | {"key": new}
         if order is not None:
             outside = [r for k, r in merged.items() if k not in order]
             if outside:
@@ -352,7 +353,9 @@ class ResultsStore:
         no table or analysis of another grid beside its rows. Returns whether it did."""
         table = self.out / RESULTS  # (rows kept in OUTSIDE are another grid's by design)
         here = [table] * table.is_file() + list(self._part_files())
-        if all(str(r.get("key")) in order for f in here for r in read_csv(f)):
+        kept = [self.out / OUTSIDE] * (self.out / OUTSIDE).is_file()  # (and an earlier key's)
+        old = any(str(r.get("key")) in (aliases or {}) for f in here + kept for r in read_csv(f))
+        if not old and all(str(r.get("key")) in order for f in here for r in read_csv(f)):
             return False
         self.compact(order, aliases)
         for name in ANALYSIS_FILES:  # (a Parquet copy the command line asked for is written

@@ -585,3 +585,24 @@ def test_a_table_keyed_by_keeps_order_is_resumed_not_rerun(tmp_path, monkeypatch
     assert [r["x_iso_max_m"] for r in again.table.rows] == [
         r["x_iso_max_m"] for r in first.table.rows
     ]
+
+
+def test_rows_under_an_earlier_key_in_another_grid_come_back_when_it_widens(tmp_path, monkeypatch):
+    # an old table narrowed (its dropped rows kept outside under their old keys) and widened
+    # again reruns nothing, and no task sits both inside and outside the grid
+    from nsdyn.studies import tasks as study_tasks
+    from nsdyn.studies.table import OUTSIDE
+
+    key = study_tasks.task_key
+    wide = load_study(_study(tmp_path, t_end=1.0))
+    narrow = load_study(_study(tmp_path, name="n.toml", t_end=1.0, mu="[0.02]"))
+    out = tmp_path / "out"
+    with monkeypatch.context() as m:
+        m.setattr(study_tasks, "task_key", lambda *a, ordered=False: key(*a, ordered=True))
+        assert run_study(wide, out, executor=ThreadPoolExecutor(1)).n_run == 4
+    cut = run_study(narrow, out, executor=ThreadPoolExecutor(1))
+    assert (cut.n_run, cut.n_skipped, cut.n_outside) == (0, 2, 2)
+    again = run_study(load_study(tmp_path / "s.toml"), out, executor=ThreadPoolExecutor(1))
+    assert (again.n_run, again.n_skipped, again.n_outside) == (0, 4, 0)
+    assert not (out / OUTSIDE).exists()
+    assert sorted(r["key"] for r in read_csv(out / RESULTS)) == sorted(t.key for t in expand(wide))
