@@ -169,12 +169,6 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if gone := old_figures(out, ["uplift.png"], "uplift", args):  # (beside new results)
         report.setdefault("notes", []).append(gone)
-    if not args.no_figures:
-        from nsdyn.plot.uplift import uplift_boundary_figure
-
-        fig_path = out / "uplift.png"
-        uplift_boundary_figure(res, fig_path)
-        report["figure"] = str(fig_path)
     json_path = out / "uplift.json"  # the data, always (with --json also printed)
     report["json"] = str(json_path)
     failed = [p for p in res.points if not p.ok and not p.status.startswith("no uplift")]
@@ -182,9 +176,15 @@ def run(args: argparse.Namespace) -> int:
     said = ("uplift", len(failed), len(res.points), "frequencies",
             f"f = {where} Hz; reasons in the status column and in {json_path}")  # fmt: skip
     holes(*said, report, say=False)  # (the file's and --json's status and error, if any)
-    text = json_report(report, default=float)  # (the file and --json alike)
-    with atomic_open(json_path, "w", encoding="utf-8") as fh:
-        fh.write(text + "\n")
+    for draw in (False, True) if not args.no_figures else (False,):  # the data first, then
+        if draw:  # the figure and the data naming it (an interrupt between them leaves no
+            from nsdyn.plot.uplift import uplift_boundary_figure  # new figure beside old data)
+
+            uplift_boundary_figure(res, out / "uplift.png")
+            report["figure"] = str(out / "uplift.png")
+        text = json_report(report, default=float)  # (the file and --json alike)
+        with atomic_open(json_path, "w", encoding="utf-8") as fh:
+            fh.write(text + "\n")
     if args.json:
         print(text)
     else:
