@@ -253,8 +253,9 @@ def simulate(
     t_end: float | None = None,
 ) -> CylinderResult:
     """Response to ground acceleration ``ag`` (n, 3) = (a_x, a_y, a_z) sampled every ``dt``
-    (``t_end``: run to this time, the record cut there or the ground at rest after its end,
-    as the other families' ``t_end``; ``ag`` None with it: the ground at rest throughout).
+    (``t_end``: run to this time on the record's clock, whose first sample is at ``t0``: the
+    record cut there or the ground at rest after its end, as the other families' ``t_end``;
+    ``ag`` None with it: the ground at rest throughout).
 
     Starts at rest in static equilibrium (or tilted by ``theta0`` [rad], or by
     ``theta0_over_alpha`` times alpha = atan(r / H), towards ``azimuth0`` [rad], angular
@@ -273,8 +274,11 @@ def simulate(
             f"{type(ag).__name__}; its as_arrays() gives (t0, dt, ax, ay, az) to stack"
         )
     dt = number("dt", dt, "a positive step [s]", lambda v: v > 0)
+    t0 = number("t0", t0, "a finite start time [s]")  # (NaN: no step, a "result" of rest)
     if t_end is not None:  # (a free rocking: no record; t_end was "simulate() got an ...")
-        n_end = round(number("t_end", t_end, "a finite end time [s]") / dt) + 1
+        number("t_end", t_end, f"an end on the record's clock at least one step ({dt:g} s) "
+               f"after t0 = {t0:g} s", lambda v: v - t0 >= dt * (1 - 1e-9))  # fmt: skip
+        n_end = int(math.floor((t_end - t0) / dt + 1e-9)) + 1  # (the sample at or before it)
         ag = np.zeros((max(n_end, 2), 3)) if ag is None else ag
         ag = np.ascontiguousarray(ag, dtype=float)
         if ag.ndim == 2 and ag.shape[0] >= 2:
@@ -292,7 +296,6 @@ def simulate(
     if not np.all(np.isfinite(ag)):
         raise ValueError("ag: contains non-finite values")
     rel_tol("rtol", rtol)
-    t0 = number("t0", t0, "a finite start time [s]")  # (NaN: no step, a "result" of rest)
     number("azimuth0", azimuth0, "a finite azimuth [rad]")
     if w0 is not None:  # (w0 = -100 m: a 1 m body started 100 m inside its foundation)
         number("w0", w0, f"a base-centre height of at least -r = {-p.r:g} m (within the "

@@ -16,7 +16,7 @@ import pytest
 
 from nsdyn.models.cylinder.design import design_foundation, static_settlement, uplift_onset
 from nsdyn.models.cylinder.params import CylinderParams
-from nsdyn.models.cylinder.simulate import SimulationError, earthquake, simulate
+from nsdyn.models.cylinder.simulate import RTOL, SimulationError, earthquake, simulate
 
 P = CylinderParams()  # seed 000: H = 4 m, r = 1 m, m = 1 kg, 3 Hz / 10 %
 
@@ -205,6 +205,17 @@ def test_t_end_cuts_a_record_or_runs_on_with_the_ground_at_rest():
     np.testing.assert_array_equal(rest.q, simulate(P, np.zeros((101, 3)), dt, **kw).q)
     with pytest.raises(ValueError, match=r"^ag: .*got None; with t_end, None runs the ground"):
         simulate(P, None, dt)
+    # t_end is on the record's clock (t0 its first sample), as simulate_rocking's: t0 = 10,
+    # t_end = 10.5 is the cut run above on that clock (it ran to 20.5 s); an end before
+    # t0 + dt is refused naming t_end (-1 ran the record's last second: a negative slice)
+    late = simulate(P, ag, dt, t0=10.0, t_end=10.5, **kw)
+    np.testing.assert_allclose(late.t, 10.0 + ref.t, rtol=0, atol=1e-12)
+    # (the same run but for the clock's round-off, which moves the step controller's choices:
+    # within its tolerance, RTOL = 1e-7, of the unit quaternion)
+    np.testing.assert_allclose(late.q, ref.q, rtol=0, atol=10 * RTOL)
+    for end in (-1.0, 0.0, 0.005, 9.0):
+        with pytest.raises(ValueError, match=r"^t_end: expected an end on the record's clock"):
+            simulate(P, ag, dt, t0=10.0 * (end == 9.0), t_end=end, **kw)
 
 
 def test_a_cylinder_released_past_alpha_is_leaning_past_it_at_an_early_end():
