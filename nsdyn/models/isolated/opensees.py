@@ -339,7 +339,8 @@ def export_opensees(
     """Write (if ``path``) and return a standalone openseespy script of the full model.
 
     ``scene``: a scene TOML path, a loaded scene dict (:func:`~nsdyn.models.isolated.scene.
-    load_scene`), or an ``IsolatedSystem`` built from a frame (then ``motion`` is required).
+    load_scene`), None (the default scene, as the command line's), or an ``IsolatedSystem``
+    built from a frame (then ``motion`` is required).
     ``dt`` overrides the scene's ``solver.dt`` (default :data:`DEFAULT_DT`); ``t_end`` cuts the
     record (in place of the scene's ``[motion] t_end``); ``damping`` is ``"modal"`` (default)
     or ``"stiffness"`` (module docstring). Bad input raises
@@ -347,6 +348,15 @@ def export_opensees(
     """
     from nsdyn.atomic import atomic_open
 
+    if scene is None:
+        from nsdyn.models.isolated.scene import load_scene
+
+        scene = load_scene()
+    if not isinstance(scene, str | Path | dict) and not hasattr(scene, "fidelity"):
+        raise TypeError(f"scene: expected a scene file's path, a loaded scene (dict), None or an "
+                        f"IsolatedSystem, got {type(scene).__name__}")  # fmt: skip
+    if path is not None and Path(path).is_dir():
+        raise SceneError(f"{path}: a folder; expected the script's file name (path)")
     source = (str(scene) if isinstance(scene, str | Path)
               else scene.get("_source", "<default scene>") if isinstance(scene, dict)
               else "<scene>")  # fmt: skip

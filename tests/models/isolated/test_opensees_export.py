@@ -271,3 +271,15 @@ def test_whole_record_agrees_with_nsdyn_full_own_damping(tmp_path):
     assert out["x_iso_max_m"] == pytest.approx(r.x_iso_max, rel=0.03)
     assert out["idr_max"] == pytest.approx(r.idr_max, rel=0.03)
     assert out["floor_acc_max_mps2"] == pytest.approx(r.floor_acc_max, rel=0.03)
+
+
+def test_export_takes_none_as_the_default_scene_and_names_a_wrong_object(tmp_path):
+    # None was "'NoneType' object is not iterable" (the command line's no-scene is the
+    # default scene), a rocking block the same for its type, a folder an IsADirectoryError
+    import nsdyn
+
+    assert nsdyn.export_opensees(None) == nsdyn.export_opensees(nsdyn.load_scene())
+    with pytest.raises(TypeError, match=r"^scene: expected a scene file's path.*RockingBlock"):
+        nsdyn.export_opensees(nsdyn.RockingBlock(width=1.0, height=2.0), tmp_path / "x.py")
+    with pytest.raises(SceneError, match=r"a folder; expected the script's file name"):
+        nsdyn.export_opensees(None, tmp_path)
