@@ -39,6 +39,27 @@ class BaseMotion:
     jumps: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     name: str = "base motion"
 
+    def __post_init__(self) -> None:
+        """The kernel's arrays, each checked where it is made (a list was an AttributeError
+        in the solver, a NaN table a step underflow at t = 0)."""
+        shapes = {"ex": "(8,)", "tab_h": "(n,)", "tab_v": "(0,) or tab_h's", "jumps": "(nj, 2)"}
+        for name, form in shapes.items():
+            try:
+                a = np.asarray(getattr(self, name), dtype=float)  # (no copy of a table)
+            except (TypeError, ValueError):
+                a = np.full(0, np.nan)  # (refused below)
+            if name == "jumps" and a.size == 0:
+                a = a.reshape(0, 2)
+            ok = {"ex": a.shape == (8,), "tab_h": a.ndim == 1,
+                  "tab_v": a.ndim == 1 and a.size in (0, np.size(self.tab_h)),
+                  "jumps": a.ndim == 2 and a.shape[1:] == (2,)}[name]  # fmt: skip
+            bad = np.isnan(a).any() if name == "ex" else not np.all(np.isfinite(a))  # (t_off inf)
+            if not ok or bad:
+                raise ValueError(f"{name}: expected finite numbers of shape {form} (the kernel's "
+                                 f"form: BaseMotion.from_motion, sine_acceleration, ... make "
+                                 f"it), got {getattr(self, name)!r:.60}")  # fmt: skip
+            object.__setattr__(self, name, a)
+
     def resolving_step(self, per_period: int = 40, per_sample: int = 10) -> float:
         """The longest fixed step that follows this motion: ``per_sample`` sampling steps of
         a table (a longer step skips its samples), or 1/``per_period`` of a sine's period
