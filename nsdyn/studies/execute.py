@@ -172,8 +172,10 @@ def run_study(
     if workers is not None:
         whole("workers", workers, 1, "an integer >= 1 (or None: the CPU count)")
     if executor is not None and not callable(getattr(executor, "submit", None)):
+        hint = ("; a context manager gives one: with nsdyn.dask_executor() as ex: run_study("
+                "..., executor=ex)") * hasattr(executor, "__enter__")  # fmt: skip
         raise TypeError(f"executor: expected a concurrent.futures.Executor (or a Dask "
-                        f"Client's), got {type(executor).__name__} {executor!r}")  # fmt: skip
+                        f"Client's), got {type(executor).__name__} {executor!r}{hint}")  # fmt: skip
     if executor is not None and workers is not None:
         raise ValueError("workers: the size of the default process pool; an executor given "
                          "has its own workers: give one or the other")  # fmt: skip
@@ -284,7 +286,14 @@ def dask_executor(
     address: str | None = None, n_local: int | None = None, *, processes: bool = True
 ) -> Iterator[Executor]:
     """A ``concurrent.futures.Executor`` on Dask: the scheduler at ``address``, or a
-    ``LocalCluster`` of ``n_local`` single-threaded workers (threads if not ``processes``)."""
+    ``LocalCluster`` of ``n_local`` single-threaded workers (default 1; threads if not
+    ``processes``); a context manager: ``with nsdyn.dask_executor() as ex: run_study(s, out,
+    executor=ex)``. ``n_local`` with an ``address`` is refused (the scheduler's are used)."""
+    if n_local is not None:
+        if address is not None:
+            raise ValueError("n_local: the size of a local cluster; the scheduler at address "
+                             "has its own workers: give one or the other")  # fmt: skip
+        whole("n_local", n_local, 1, "a number of local workers >= 1 (or None: 1)")
     try:
         from distributed import Client, LocalCluster
     except ImportError:

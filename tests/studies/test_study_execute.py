@@ -480,6 +480,13 @@ def test_a_dask_address_that_is_not_one_is_an_oserror_naming_it():
     with pytest.raises(OSError, match=r"^no Dask scheduler at notanaddress: .*tcp://host:8786"):
         with execute.dask_executor("notanaddress"):
             pass
+    # a local cluster's size: a whole number >= 1 (0 ran one worker, "2" failed inside
+    # distributed), and none beside an address (its scheduler's workers are used)
+    for n, match in ((0, r"^n_local: expected a number"), ("2", r"^n_local: expected"),
+                     (2, r"^n_local: the size of a local cluster")):  # fmt: skip
+        with pytest.raises(ValueError, match=match):
+            with execute.dask_executor("tcp://localhost:1" if n == 2 else None, n_local=n):
+                pass
 
 
 def test_executor_settings_that_cannot_mean_anything_are_refused(tmp_path, monkeypatch):
@@ -497,6 +504,8 @@ def test_executor_settings_that_cannot_mean_anything_are_refused(tmp_path, monke
         ({"fresh": "no"}, TypeError, r"^fresh: expected True or False, got 'no'"),
         ({"retry_failed": 1}, TypeError, r"^retry_failed: expected True or False"),
         ({"progress": 5}, TypeError, r"^progress: expected a function of one line"),
+        # dask_executor() given without `with`: its context manager, not an executor
+        ({"executor": execute.dask_executor()}, TypeError, r"with nsdyn\.dask_executor\(\) as ex"),
     ):
         with pytest.raises(err, match=match):
             run_study(st, tmp_path / "o", **kw)
