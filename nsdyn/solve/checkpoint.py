@@ -104,6 +104,16 @@ def held_call(run):
 
 
 FORMAT = "nsdyn-checkpoint-3"  # in every fingerprint: files of an older layout are refused
+CHUNK_S = 5.0  # seconds of simulated time per chunk (progress / checkpoint granularity)
+
+
+def chunked(chunk_s: float) -> dict:
+    """The chunk length for a run's key (:func:`run_key`): other chunks are another run
+    (a resumed run is the same run bit for bit only on its own chunks), the default none, so
+    that a checkpoint of the default chunks written before keeps its key."""
+    return {} if chunk_s == CHUNK_S else {"chunk_s": float(chunk_s)}
+
+
 STAT_KEYS = ("nfev", "njev", "n_lu", "n_rejected", "n_events")  # solver counters summed
 
 

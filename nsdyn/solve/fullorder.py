@@ -211,7 +211,7 @@ def simulate_full(
     from nsdyn.models.isolated.metrics import response
     from nsdyn.solve import _kcommon as ki
     from nsdyn.solve import _kgenalpha, integrate, methods, sparse
-    from nsdyn.solve.checkpoint import Carry, chunks, holding_signals, load, run_key, save
+    from nsdyn.solve.checkpoint import Carry, chunked, chunks, holding_signals, load, run_key, save
     from nsdyn.solve.resolution import result_notes
     from nsdyn.solve.transient import describe
 
@@ -246,7 +246,8 @@ def simulate_full(
     ckpt = Path(checkpoint) if checkpoint else None
     if ckpt is not None:  # the stand-in P holds no matrix: the operators join the key
         options = dict(method=sparse.METHOD, dt=float(dt), uplift=uplift, contact=contact,
-                       rho_inf=rho, max_steps=steps, model=ops.arrays())  # fmt: skip
+                       rho_inf=rho, max_steps=steps, model=ops.arrays(),
+                       **chunked(chunk_s))  # fmt: skip
         run_id = run_key(P, x0 if given_x0 else None, t_eval, options)
         found = load(ckpt, run_id, t_eval) if ckpt.exists() else None
         if found is not None:

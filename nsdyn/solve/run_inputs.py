@@ -5,6 +5,7 @@ argument."""
 
 from __future__ import annotations
 
+import os
 import warnings
 from pathlib import Path
 
@@ -64,6 +65,8 @@ def check_run_inputs(t_eval: np.ndarray, progress, checkpoint, dt=None, motion=N
     record_span_notes(t_eval, motion, say=False)  # (times without any of the record: refused)
     if progress is not None and not callable(progress):
         raise TypeError(f"progress: expected a callable(t_done, t_end, wall_s), got {progress!r}")
+    if checkpoint is not None and not isinstance(checkpoint, str | os.PathLike):
+        raise TypeError(f"checkpoint: expected a file's path, got {type(checkpoint).__name__}")
     if checkpoint is not None and Path(checkpoint).is_dir():
         raise ValueError(f"checkpoint: expected a file's path, got the folder {checkpoint}")
     check_fixed_step(dt, motion, float(t_eval[-1] - t_eval[0]))

@@ -32,7 +32,7 @@ from nsdyn.models.isolated.metrics import Response, evaluate_along, evaluation_a
 from nsdyn.models.isolated.system import IsolatedSystem
 from nsdyn.models.isolated.tolerances import FAST_ATOL, RUN_RTOL, arctan_atol, run_atol
 from nsdyn.solve import integrate
-from nsdyn.solve.checkpoint import Carry, chunks, holding_signals, run_key
+from nsdyn.solve.checkpoint import CHUNK_S, Carry, chunked, chunks, holding_signals, run_key
 from nsdyn.solve.checkpoint import load as load_checkpoint
 from nsdyn.solve.checkpoint import save as save_checkpoint
 from nsdyn.solve.resolution import between_steps, result_notes
@@ -60,7 +60,6 @@ __all__ = [
     "simulate",
 ]
 
-CHUNK_S = 5.0  # seconds of simulated time per chunk (progress / checkpoint granularity)
 HARMONIC_SAMPLES = 100  # output instants per period of a harmonic excitation (default dt_out)
 
 
@@ -408,8 +407,7 @@ def simulate(
             number(k, v, what, lambda x: x > 0)
     if x0 is not None:  # (text: a numpy conversion error before; off the contacts: refused)
         check_x0(system, x0)
-    if not (np.isfinite(chunk_s) and chunk_s > 0):
-        raise ValueError(f"chunk_s: expected a positive duration [s], got {chunk_s!r}")
+    number("chunk_s", chunk_s, "a positive duration [s]", lambda v: v > 0)  # ("5": a ufunc's)
     if t_eval is None:
         t_eval = output_grid(motion, dt_out, t_end, n_periods)
     elif t_end is not None or n_periods is not None or dt_out is not None:
@@ -472,7 +470,8 @@ def simulate(
     ckpt = Path(checkpoint) if checkpoint else None
     if ckpt is not None:
         options = dict(method=method, rtol=rtol, atol=atol, dt=dt, uplift=uplift,
-                       contact=contact, restitution=restitution, **solver_options)  # fmt: skip
+                       contact=contact, restitution=restitution, **solver_options,
+                       **chunked(chunk_s))  # fmt: skip
         run_id = run_key(P, x0 if given_x0 else None, t_eval, options)
         found = load_checkpoint(ckpt, run_id, t_eval) if ckpt.exists() else None
         if found is not None:

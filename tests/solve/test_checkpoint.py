@@ -152,3 +152,28 @@ def test_a_damaged_checkpoint_is_one_error_naming_it(tmp_path):
         with pytest.raises(CheckpointError, match=r"c\.npz: cannot be read") as e:
             checkpoint.load(path, "k", t)
         assert "\n" not in str(e.value)
+
+
+def test_a_checkpoint_of_other_chunks_is_another_runs(tmp_path):
+    # a run resumed on other chunks is not the run bit for bit (each chunk restarts its
+    # step): it was taken, its histories a mix of both; it is refused as other settings are,
+    # and a checkpoint given as no path is a TypeError naming it
+    from nsdyn.atomic import CheckpointError
+
+    s = block("switch")
+    kw = dict(RUN, contact="unilateral", uplift="warn")
+    ck = tmp_path / "ck.npz"
+    done = []
+
+    def stop_after_one(t, t_end, wall):
+        done.append(t)
+        raise Stop
+
+    with pytest.raises(Stop):
+        nsdyn.simulate(s, MOTION, checkpoint=ck, progress=stop_after_one, **kw)
+    with pytest.raises(CheckpointError):
+        nsdyn.simulate(s, MOTION, checkpoint=ck, **(kw | {"chunk_s": 0.3}))
+    with pytest.raises(TypeError, match=r"^checkpoint: expected a file's path, got int"):
+        nsdyn.simulate(s, MOTION, checkpoint=123, **kw)
+    with pytest.raises(ValueError, match=r"^chunk_s: expected a positive duration"):
+        nsdyn.simulate(s, MOTION, **(kw | {"chunk_s": "5"}))
