@@ -50,13 +50,14 @@ class CompliantGround:
 
     def __post_init__(self) -> None:
         if not (isinstance(self.k, int | float) and math.isfinite(self.k) and self.k > 0):
-            raise ValueError(f"stiffness: expected a positive stiffness per corner [N/m], "
+            raise ValueError(f"k: expected a positive stiffness per corner [N/m], "
                              f"got {self.k!r}")  # fmt: skip
         if not (isinstance(self.c, int | float) and math.isfinite(self.c) and self.c >= 0):
-            raise ValueError(f"damping: expected a non-negative damping per corner [N s/m], "
+            raise ValueError(f"c: expected a non-negative damping per corner [N s/m], "
                              f"got {self.c!r}")  # fmt: skip
-        if self.k_t is not None and not (math.isfinite(self.k_t) and self.k_t > 0):
-            raise ValueError(f"stick_stiffness: expected a positive stiffness [N/m], "
+        kt = self.k_t
+        if kt is not None and not (isinstance(kt, int | float) and math.isfinite(kt) and kt > 0):
+            raise ValueError(f"k_t: expected a positive stick stiffness [N/m], "
                              f"got {self.k_t!r}")  # fmt: skip
 
     @classmethod

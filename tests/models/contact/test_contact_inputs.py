@@ -23,3 +23,16 @@ def test_a_base_motion_in_kernel_form_is_checked_where_it_is_made(kw, field):
 
     with pytest.raises(ValueError, match=rf"^{field}: expected finite numbers of shape"):
         BaseMotion(**kw)
+
+
+@pytest.mark.parametrize(
+    "args, field", [((-1e9,), "k"), ((1e9, -1.0), "c"), ((1e9, 0.0, "x"), "k_t"),
+                    ((1e9, 0.0, 0.0), "k_t")],
+)  # fmt: skip
+def test_compliant_ground_names_its_own_arguments(args, field):
+    # a Python caller typed k, c, k_t; the messages named the scene's fields (stiffness,
+    # damping, stick_stiffness), and a text k_t was math.isfinite's TypeError
+    from nsdyn.models.contact.compliant import CompliantGround
+
+    with pytest.raises(ValueError, match=rf"^{field}: expected"):
+        CompliantGround(*args)
