@@ -236,7 +236,11 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
     times the corner's slenderness) or from (q0, v0).
 
     ``impact_law``: ``"newton"`` (restitution ``e_n``) or ``"housner"`` (plastic, sticking).
-    Raises RuntimeError with the time on step underflow, LCP failure or too many events.
+    ``t_end`` [s]; ``q0``, ``v0``: a start of the body's coordinates and velocities in place
+    of rest; ``rtol``, ``atol``: the integrator's tolerances between events; ``dt_out``:
+    output step [s]; ``max_events``: events (impacts, stick-slip switches, lift-offs) before
+    the run stops; ``g`` [m/s²]. Raises RuntimeError with the time on step underflow, LCP
+    failure or too many events.
     """
     if impact_law not in ("newton", "housner"):
         raise ValueError(f"impact_law: expected 'newton' or 'housner', got {impact_law!r}")

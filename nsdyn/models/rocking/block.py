@@ -341,8 +341,16 @@ def simulate_rocking(
         Relative error tolerance of the integrator (absolute scales alpha and p alpha).
     dt_out : float, optional
         Output step (default: the record's dt, T_p/100 for pulses, else 0.01 s); 0: no output.
+    t0 : float
+        Start time [s], on the excitation's clock.
+    h_max : float, optional
+        Largest step [s] (default 0.5/p).
     v_rest : float, optional
         Zeno rest threshold on |theta'| after an impact (default 1e-6 p alpha).
+    theta_fall : float
+        |theta| at which the block has overturned and the run stops (default pi/2) [rad].
+    max_impacts, max_peaks : int
+        Impacts the run may resolve (more raise: too many events) and peaks it stores.
 
     Raises
     ------

@@ -35,7 +35,7 @@ import numpy as np
 
 from nsdyn._brief import brief_repr
 from nsdyn._checks import RTOL_MIN, finite_numbers, number
-from nsdyn.ground.pulses import Pulse
+from nsdyn.ground.pulses import SHAPES, Pulse
 from nsdyn.models.rocking.block import OMEGA_RATIO_MAX, TOL, simulate_rocking
 
 RTOL = 1e-4  # relative width of the bisected amplitude brackets
@@ -260,6 +260,8 @@ def overturning_spectrum(
     number("a_max", a_max, f"a largest amplitude ratio in (0, {A_MAX_LIMIT:g}]",
            lambda v: 0.0 < v <= A_MAX_LIMIT)  # fmt: skip
     number("tol", tol, "a positive integration tolerance", lambda v: v > 0.0)
+    if shape not in SHAPES:  # (refused inside every worker, after the pool had started)
+        raise ValueError(f"shape: expected one of {sorted(SHAPES)}, got {shape!r}")
     if executor is not None and not callable(getattr(executor, "submit", None)):
         raise TypeError(f"executor: expected a concurrent.futures.Executor, got "
                         f"{type(executor).__name__}")  # fmt: skip

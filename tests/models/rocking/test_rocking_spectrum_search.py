@@ -90,3 +90,18 @@ def test_a_bisection_width_below_round_off_is_refused():
 
     with pytest.raises(ValueError, match=r"rtol: expected a relative width 2\.2e-14 <= rtol"):
         overturning_spectrum(BLOCK, [1.0], rtol=1e-17)
+
+
+def test_an_unknown_pulse_shape_is_refused_before_any_worker_starts():
+    # "sien" was refused inside each worker task, the pool already started (11 frames deep)
+    class Counting(ThreadPoolExecutor):
+        submitted = 0
+
+        def submit(self, *a, **k):
+            Counting.submitted += 1
+            return super().submit(*a, **k)
+
+    with Counting(1) as ex, pytest.raises(ValueError, match=r"^shape: expected one of"):
+        overturning_spectrum(RockingBlock(width=0.5, height=2.0), [1.5], shape="sien",
+                             executor=ex)  # fmt: skip
+    assert Counting.submitted == 0
