@@ -396,7 +396,7 @@ def fingerprint(obj, names) -> tuple:
     matrices as its caches were made from them. A copy of any memory order and a pickle's
     round trip keep it; an edit of an entry, a swap of rows or columns, a contact moved to
     another dof move it (bar edits whose bit changes cancel). O(size), no hash of the bytes:
-    a dense 2000-dof model's fingerprint is a few milliseconds, not tens."""
+    about 3 ms per dense 2000 x 2000 matrix."""
     import numpy as np
 
     out = []
@@ -417,9 +417,13 @@ def _bit_sums(a) -> tuple:
     a matrix, of the entries for a vector."""
     import numpy as np
 
-    b = np.ascontiguousarray(a, dtype=float).view(np.uint64)
-    parts = (b.sum(axis=1, dtype=np.uint64), b.sum(axis=0, dtype=np.uint64)) if b.ndim == 2 else (
-        b.ravel(),)  # fmt: skip
+    x = np.asarray(a, dtype=float)
+    t = x.ndim == 2 and x.flags.f_contiguous and not x.flags.c_contiguous  # (no copy: its
+    b = np.ascontiguousarray(x.T if t else x).view(np.uint64)  # transpose, sums swapped)
+    parts = (b.ravel(),)
+    if b.ndim == 2:
+        rows, cols = b.sum(axis=1, dtype=np.uint64), b.sum(axis=0, dtype=np.uint64)
+        parts = (cols, rows) if t else (rows, cols)
     w = [np.arange(1, p.size + 1, dtype=np.uint64) for p in parts]
     return (a.shape, *(int((p * wi).sum(dtype=np.uint64)) for p, wi in zip(parts, w, strict=True)))
 

@@ -280,8 +280,8 @@ def _load(path: Path, key: str, t_eval: np.ndarray):
         if "key" not in d.files or str(d["key"]) != key:
             raise CheckpointError(
                 f"checkpoint {path}: written by another run (its system, motion, start, output "
-                "times or solver options differ, or by an older nsdyn); delete it, or give "
-                "this run another checkpoint file"
+                "times, solver options or chunk_s differ, or by an older nsdyn); delete it, or "
+                "give this run another checkpoint file"
             )
         t = d["t"]
         if not (t.size and np.allclose(t, t_eval[: t.size])):

@@ -31,6 +31,7 @@ from nsdyn.models.isolated.excitation import ground_many
 from nsdyn.models.isolated.fullorder import own_sparse
 from nsdyn.models.isolated.params import KernelParams
 from nsdyn.solve import _klowrank
+from nsdyn.solve.checkpoint import CHUNK_S
 
 __all__ = ["FullOps", "full_ops", "simulate_full", "warmup_operators"]
 
@@ -198,7 +199,7 @@ def warmup_operators(announce=None) -> float:
 def simulate_full(
     system, motion, t_eval, *, x0=None, dt=None, uplift="raise", contact="detect",
     progress=None, reason="", result=None, rho_inf=None, max_steps=None, rtol=None, atol=None,
-    checkpoint=None, chunk_s=5.0, **unused,
+    checkpoint=None, chunk_s=CHUNK_S, **unused,
 ):  # fmt: skip
     """:func:`nsdyn.solve.transient.simulate` of a full-order ``system`` with
     ``genalpha-lowrank`` on its sparse operators, in chunks of ``chunk_s`` seconds as the

@@ -172,8 +172,9 @@ def run_study(
     if workers is not None:
         whole("workers", workers, 1, "an integer >= 1 (or None: the CPU count)")
     if executor is not None and not callable(getattr(executor, "submit", None)):
+        ours = "dask_executor" in repr(getattr(executor, "func", ""))  # (its context manager)
         hint = ("; a context manager gives one: with nsdyn.dask_executor() as ex: run_study("
-                "..., executor=ex)") * hasattr(executor, "__enter__")  # fmt: skip
+                "..., executor=ex)") * ours  # fmt: skip
         raise TypeError(f"executor: expected a concurrent.futures.Executor (or a Dask "
                         f"Client's), got {type(executor).__name__} {executor!r}{hint}")  # fmt: skip
     if executor is not None and workers is not None:

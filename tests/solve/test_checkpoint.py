@@ -171,8 +171,9 @@ def test_a_checkpoint_of_other_chunks_is_another_runs(tmp_path):
 
     with pytest.raises(Stop):
         nsdyn.simulate(s, MOTION, checkpoint=ck, progress=stop_after_one, **kw)
-    with pytest.raises(CheckpointError):
+    with pytest.raises(CheckpointError, match=r"written by another run \(.*chunk_s differ"):
         nsdyn.simulate(s, MOTION, checkpoint=ck, **(kw | {"chunk_s": 0.3}))
+    assert nsdyn.simulate(s, MOTION, checkpoint=ck, **kw).t[-1] == pytest.approx(1.6)
     with pytest.raises(TypeError, match=r"^checkpoint: expected a file's path, got int"):
         nsdyn.simulate(s, MOTION, checkpoint=123, **kw)
     with pytest.raises(ValueError, match=r"^chunk_s: expected a positive duration"):

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, expect, flag, output_times, step_count
+from nsdyn._checks import NumericalFailure, expect, flag, number, output_times, step_count
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kcompliant as kc
 from nsdyn.models.contact.body import RigidBody
@@ -63,8 +63,8 @@ class CompliantGround:
     @classmethod
     def from_ratio(cls, body: RigidBody, k: float, zeta: float) -> CompliantGround:
         """Stiffness ``k`` per corner and damping ratio ``zeta`` of the vertical contact mode."""
-        if not (math.isfinite(zeta) and zeta >= 0):
-            raise ValueError(f"damping_ratio: expected a non-negative number, got {zeta!r}")
+        number("k", k, "a positive stiffness per corner [N/m]", lambda v: v > 0)
+        number("zeta", zeta, "a non-negative damping ratio", lambda v: v >= 0)
         n = len(body.base)
         return cls(float(k), 2.0 * zeta * math.sqrt(k * body.mass / n))
 

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from nsdyn._checks import (
+    MAX_OUTPUTS,
     AccuracyWarning,
     NumericalFailure,
     expect,
@@ -279,6 +280,8 @@ def simulate(
         number("t_end", t_end, f"an end on the record's clock at least one step ({dt:g} s) "
                f"after t0 = {t0:g} s", lambda v: v - t0 >= dt * (1 - 1e-9))  # fmt: skip
         n_end = int(math.floor((t_end - t0) / dt + 1e-9)) + 1  # (the sample at or before it)
+        if n_end > MAX_OUTPUTS:  # (1e9 s allocated its ground table)
+            raise ValueError(f"t_end: {n_end:.3g} samples of {dt:g} s exceed {MAX_OUTPUTS:.0e}")
         ag = np.zeros((max(n_end, 2), 3)) if ag is None else ag
         ag = np.ascontiguousarray(ag, dtype=float)
         if ag.ndim == 2 and ag.shape[0] >= 2:

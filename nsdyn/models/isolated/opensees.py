@@ -30,6 +30,7 @@ mapped element by element (:mod:`nsdyn.models.isolated.opensees_script` lists th
 
 from __future__ import annotations
 
+import copy
 import inspect
 import json
 from pathlib import Path
@@ -116,7 +117,7 @@ def _scene_system(scene, source: str, t_end=None):
     from nsdyn.models.isolated.scene_structure import structure_kind
     from nsdyn.models.scenefile import read_toml, scene_kind
 
-    raw = read_toml(scene) if isinstance(scene, str | Path) else dict(scene)
+    raw = read_toml(scene) if isinstance(scene, str | Path) else copy.deepcopy(dict(scene))
     kind = scene_kind(raw, source)
     if kind == "building3d":  # (the message listed building3d as exported, and refused it)
         raise SceneError(
@@ -344,7 +345,8 @@ def export_opensees(
     ``dt`` overrides the scene's ``solver.dt`` (default :data:`DEFAULT_DT`); ``t_end`` cuts the
     record (in place of the scene's ``[motion] t_end``); ``damping`` is ``"modal"`` (default)
     or ``"stiffness"`` (module docstring). Bad input raises
-    :class:`~nsdyn.models.scenefile.SceneError` naming the field.
+    :class:`~nsdyn.models.scenefile.SceneError` naming the field (a ``scene`` of another type:
+    TypeError).
     """
     from nsdyn.atomic import atomic_open
 
@@ -356,7 +358,7 @@ def export_opensees(
         raise TypeError(f"scene: expected a scene file's path, a loaded scene (dict), None or an "
                         f"IsolatedSystem, got {type(scene).__name__}")  # fmt: skip
     if path is not None and Path(path).is_dir():
-        raise SceneError(f"{path}: a folder; expected the script's file name (path)")
+        raise SceneError(f"path: expected the script's file name, got the folder {path}")
     source = (str(scene) if isinstance(scene, str | Path)
               else scene.get("_source", "<default scene>") if isinstance(scene, dict)
               else "<scene>")  # fmt: skip

@@ -283,14 +283,14 @@ class IsolatedSystem:
         ``stub``: the tuple of a one-coordinate stand-in with this model's friction, contact
         and excitation settings (the sparse full-order path takes its matrices elsewhere)."""
         iso = self.isolation
-        unchanged(self, _MATRICES, self._built, _REBUILD)
         M, C, K, Gamma, R, D = self.M, self.C, self.K, self.Gamma, self.R, self.D
         if stub:
             M, C, K, Gamma = np.eye(1), np.zeros((1, 1)), np.zeros((1, 1)), Gamma[:1]
             R, D = np.zeros((self.n_contacts, 1)), np.zeros((self.n_isolators, 1))
         elif why := self.dense_refusal():
             raise ValueError(why)
-        if iso is None:
+        if iso is None:  # (else static_equilibrium checks the matrices: once per call)
+            unchanged(self, _MATRICES, self._built, _REBUILD)
             return pack(M, C, K, Gamma, ground=ground, g=G_EARTH)
         _, lam0 = self.static_equilibrium()
         ni = self.n_isolators

@@ -260,7 +260,8 @@ def overturning_spectrum(
     number("a_max", a_max, f"a largest amplitude ratio in (0, {A_MAX_LIMIT:g}]",
            lambda v: 0.0 < v <= A_MAX_LIMIT)  # fmt: skip
     number("tol", tol, "a positive integration tolerance", lambda v: v > 0.0)
-    if shape not in SHAPES:  # (refused inside every worker, after the pool had started)
+    if not isinstance(shape, str) or shape not in SHAPES:  # (refused inside every worker,
+        # after the pool had started)
         raise ValueError(f"shape: expected one of {sorted(SHAPES)}, got {shape!r}")
     if executor is not None and not callable(getattr(executor, "submit", None)):
         raise TypeError(f"executor: expected a concurrent.futures.Executor, got "

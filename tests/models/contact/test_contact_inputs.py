@@ -6,6 +6,7 @@ argument and its expected form, never an error deep in a solver).
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 
@@ -36,3 +37,21 @@ def test_compliant_ground_names_its_own_arguments(args, field):
 
     with pytest.raises(ValueError, match=rf"^{field}: expected"):
         CompliantGround(*args)
+
+
+def test_a_base_motion_of_lists_is_the_kernels_arrays_and_a_ratio_checks_its_stiffness():
+    # lists are taken (float64, C-contiguous: the kernels' one layout, no second compile);
+    # from_ratio's negative k was sqrt's "math domain error", its zeta named damping_ratio
+    from nsdyn.models.contact.body import RigidBody
+    from nsdyn.models.contact.compliant import CompliantGround
+    from nsdyn.models.contact.excite import BaseMotion
+
+    m = BaseMotion([0.0] * 8, [0.0, 1.0, 2.0][::2], [])
+    for a in (m.ex, m.tab_h, m.tab_v, m.jumps):
+        assert a.dtype == np.float64 and a.flags.c_contiguous
+    assert m.tab_h.tolist() == [0.0, 2.0] and m.jumps.shape == (0, 2)
+    body = RigidBody.rectangle(1.0, 2.0, 1000.0)
+    with pytest.raises(ValueError, match=r"^k: expected a positive stiffness"):
+        CompliantGround.from_ratio(body, -1e9, 0.1)
+    with pytest.raises(ValueError, match=r"^zeta: expected a non-negative damping ratio"):
+        CompliantGround.from_ratio(body, 1e9, -0.1)

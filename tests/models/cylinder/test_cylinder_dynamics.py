@@ -216,6 +216,8 @@ def test_t_end_cuts_a_record_or_runs_on_with_the_ground_at_rest():
     for end in (-1.0, 0.0, 0.005, 9.0):
         with pytest.raises(ValueError, match=r"^t_end: expected an end on the record's clock"):
             simulate(P, ag, dt, t0=10.0 * (end == 9.0), t_end=end, **kw)
+    with pytest.raises(ValueError, match=r"^t_end: 1e\+11 samples of 0.01 s exceed"):
+        simulate(P, None, dt, t_end=1e9, **kw)  # (it allocated the ground table first)
 
 
 def test_a_cylinder_released_past_alpha_is_leaning_past_it_at_an_early_end():

@@ -277,9 +277,15 @@ def test_export_takes_none_as_the_default_scene_and_names_a_wrong_object(tmp_pat
     # None was "'NoneType' object is not iterable" (the command line's no-scene is the
     # default scene), a rocking block the same for its type, a folder an IsADirectoryError
     import nsdyn
+    from nsdyn.cli import main
 
-    assert nsdyn.export_opensees(None) == nsdyn.export_opensees(nsdyn.load_scene())
+    assert main(["export", "opensees", "-o", str(tmp_path / "cli" / "model.py")]) == 0
+    api = nsdyn.export_opensees(None, tmp_path / "api" / "model.py")
+    assert api == (tmp_path / "cli" / "model.py").read_text()
+    scene = nsdyn.load_scene()  # (a loaded scene given is not changed: it read "full" after)
+    nsdyn.export_opensees(scene)
+    assert scene["scene"]["fidelity"] == nsdyn.load_scene()["scene"]["fidelity"]
     with pytest.raises(TypeError, match=r"^scene: expected a scene file's path.*RockingBlock"):
         nsdyn.export_opensees(nsdyn.RockingBlock(width=1.0, height=2.0), tmp_path / "x.py")
-    with pytest.raises(SceneError, match=r"a folder; expected the script's file name"):
+    with pytest.raises(SceneError, match=r"^path: expected the script's file name, got the"):
         nsdyn.export_opensees(None, tmp_path)

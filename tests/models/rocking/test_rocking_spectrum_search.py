@@ -101,7 +101,8 @@ def test_an_unknown_pulse_shape_is_refused_before_any_worker_starts():
             Counting.submitted += 1
             return super().submit(*a, **k)
 
-    with Counting(1) as ex, pytest.raises(ValueError, match=r"^shape: expected one of"):
-        overturning_spectrum(RockingBlock(width=0.5, height=2.0), [1.5], shape="sien",
-                             executor=ex)  # fmt: skip
+    for shape in ("sien", ["sine"]):  # (a list was "unhashable type")
+        with Counting(1) as ex, pytest.raises(ValueError, match=r"^shape: expected one of"):
+            overturning_spectrum(RockingBlock(width=0.5, height=2.0), [1.5], shape=shape,
+                                 executor=ex)  # fmt: skip
     assert Counting.submitted == 0
