@@ -62,7 +62,7 @@ class Pulse:
     ver_ratio: float = 0.0
 
     def __post_init__(self) -> None:
-        if self.shape not in SHAPES:
+        if not isinstance(self.shape, str) or self.shape not in SHAPES:
             raise ValueError(f"shape: expected one of {sorted(SHAPES)}, got {self.shape!r}")
         number("a_p", self.a_p, "a finite amplitude [m/s²]")
         number("omega_p", self.omega_p, "a positive angular frequency [rad/s]", lambda v: v > 0)

@@ -172,7 +172,7 @@ def run_study(
     if workers is not None:
         whole("workers", workers, 1, "an integer >= 1 (or None: the CPU count)")
     if executor is not None and not callable(getattr(executor, "submit", None)):
-        ours = "dask_executor" in repr(getattr(executor, "func", ""))  # (its context manager)
+        ours = getattr(executor, "func", None) is dask_executor.__wrapped__  # (its manager)
         hint = ("; a context manager gives one: with nsdyn.dask_executor() as ex: run_study("
                 "..., executor=ex)") * ours  # fmt: skip
         raise TypeError(f"executor: expected a concurrent.futures.Executor (or a Dask "

@@ -173,7 +173,13 @@ def test_a_checkpoint_of_other_chunks_is_another_runs(tmp_path):
         nsdyn.simulate(s, MOTION, checkpoint=ck, progress=stop_after_one, **kw)
     with pytest.raises(CheckpointError, match=r"written by another run \(.*chunk_s differ"):
         nsdyn.simulate(s, MOTION, checkpoint=ck, **(kw | {"chunk_s": 0.3}))
-    assert nsdyn.simulate(s, MOTION, checkpoint=ck, **kw).t[-1] == pytest.approx(1.6)
+    # (the refused run leaves the checkpoint as it was: its own chunks resume it)
+    saved = ck.read_bytes()
+    with pytest.raises(CheckpointError):
+        nsdyn.simulate(s, MOTION, checkpoint=ck, **(kw | {"chunk_s": 0.3}))
+    assert ck.read_bytes() == saved
+    resumed = nsdyn.simulate(s, MOTION, checkpoint=ck, **kw)
+    assert np.array_equal(resumed.x, nsdyn.simulate(s, MOTION, **kw).x)
     with pytest.raises(TypeError, match=r"^checkpoint: expected a file's path, got int"):
         nsdyn.simulate(s, MOTION, checkpoint=123, **kw)
     with pytest.raises(ValueError, match=r"^chunk_s: expected a positive duration"):

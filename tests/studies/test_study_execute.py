@@ -8,6 +8,7 @@ rerun); determinism of the integrators (the same inputs give the same floats in 
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
@@ -506,6 +507,7 @@ def test_executor_settings_that_cannot_mean_anything_are_refused(tmp_path, monke
         ({"progress": 5}, TypeError, r"^progress: expected a function of one line"),
         # dask_executor() given without `with`: its context manager, not an executor
         ({"executor": execute.dask_executor()}, TypeError, r"with nsdyn\.dask_executor\(\) as ex"),
+        ({"executor": contextlib.nullcontext()}, TypeError, r"nullcontext object at \w+>$"),
     ):
         with pytest.raises(err, match=match):
             run_study(st, tmp_path / "o", **kw)

@@ -45,8 +45,8 @@ class BaseMotion:
         shapes = {"ex": "(8,)", "tab_h": "(n,)", "tab_v": "(0,) or tab_h's", "jumps": "(nj, 2)"}
         for name, form in shapes.items():
             try:
-                a = np.ascontiguousarray(getattr(self, name), dtype=np.float64)  # (the kernels'
-                # layout; no copy of a table in it)
+                a = np.asarray(getattr(self, name), dtype=np.float64, order="C")  # (the
+                # kernels' layout; no copy of a table in it; a 0-D value stays one)
             except (TypeError, ValueError):
                 a = np.full(0, np.nan)  # (refused below)
             if name == "jumps" and a.size == 0:

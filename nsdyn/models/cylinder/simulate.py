@@ -280,8 +280,9 @@ def simulate(
         number("t_end", t_end, f"an end on the record's clock at least one step ({dt:g} s) "
                f"after t0 = {t0:g} s", lambda v: v - t0 >= dt * (1 - 1e-9))  # fmt: skip
         n_end = int(math.floor((t_end - t0) / dt + 1e-9)) + 1  # (the sample at or before it)
-        if n_end > MAX_OUTPUTS:  # (1e9 s allocated its ground table)
-            raise ValueError(f"t_end: {n_end:.3g} samples of {dt:g} s exceed {MAX_OUTPUTS:.0e}")
+        if (t_end - t0) / dt > MAX_OUTPUTS:  # (1e9 s allocated its ground table; as a scene's)
+            raise ValueError(f"t_end: {(t_end - t0) / dt:.3g} samples of {dt:g} s exceed "
+                             f"{MAX_OUTPUTS:.0e}; expected an earlier end")  # fmt: skip
         ag = np.zeros((max(n_end, 2), 3)) if ag is None else ag
         ag = np.ascontiguousarray(ag, dtype=float)
         if ag.ndim == 2 and ag.shape[0] >= 2:

@@ -175,7 +175,7 @@ def build_motion(cfg: dict, source: str):
         return motion, t_end, th0, motion.name
     if "pulse" in mo:
         shape = mo["pulse"]
-        if shape not in SHAPES:
+        if not isinstance(shape, str) or shape not in SHAPES:  # (a list: "unhashable")
             raise SceneError(f"{source}: motion.pulse: expected one of {sorted(SHAPES)}, "
                              f"got {shape!r}")  # fmt: skip
         if "a_p" in mo:

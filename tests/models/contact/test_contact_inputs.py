@@ -46,10 +46,12 @@ def test_a_base_motion_of_lists_is_the_kernels_arrays_and_a_ratio_checks_its_sti
     from nsdyn.models.contact.compliant import CompliantGround
     from nsdyn.models.contact.excite import BaseMotion
 
-    m = BaseMotion([0.0] * 8, [0.0, 1.0, 2.0][::2], [])
-    for a in (m.ex, m.tab_h, m.tab_v, m.jumps):
+    m = BaseMotion([0.0] * 8, np.arange(3.0)[::2], [], np.asfortranarray([[0.5, 1.0]] * 2))
+    for a in (m.ex, m.tab_h, m.tab_v, m.jumps):  # (a strided table, Fortran-order jumps)
         assert a.dtype == np.float64 and a.flags.c_contiguous
-    assert m.tab_h.tolist() == [0.0, 2.0] and m.jumps.shape == (0, 2)
+    assert m.tab_h.tolist() == [0.0, 2.0] and m.jumps.tolist() == [[0.5, 1.0]] * 2
+    with pytest.raises(ValueError, match=r"^tab_h: expected finite numbers of shape \(n,\)"):
+        BaseMotion([0.0] * 8, np.array(5.0), [])  # (a 0-D value is no table)
     body = RigidBody.rectangle(1.0, 2.0, 1000.0)
     with pytest.raises(ValueError, match=r"^k: expected a positive stiffness"):
         CompliantGround.from_ratio(body, -1e9, 0.1)

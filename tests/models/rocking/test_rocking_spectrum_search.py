@@ -106,3 +106,7 @@ def test_an_unknown_pulse_shape_is_refused_before_any_worker_starts():
             overturning_spectrum(RockingBlock(width=0.5, height=2.0), [1.5], shape=shape,
                                  executor=ex)  # fmt: skip
     assert Counting.submitted == 0
+    from nsdyn.ground.pulses import Pulse
+
+    with pytest.raises(ValueError, match=r"^shape: expected one of"):  # (the pulse's own)
+        Pulse(["sine"], 1.0, 1.0)
