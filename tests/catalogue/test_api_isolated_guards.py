@@ -136,8 +136,35 @@ def test_a_friction_coefficient_above_one_is_said():
         warnings.simplefilter("error", nsdyn.InputWarning)
         nsdyn.Isolation(mu=1.0)
         nsdyn.Isolation(mu=(0.05, 1.0))
-        nsdyn.Isolation(mu=5.0, law="none")
         iso.changed(law="switch")  # (a copy a run makes: said when made)
+    with pytest.warns(nsdyn.InputWarning, match=r"^isolation.mu = 5.0 not used") as got:
+        nsdyn.Isolation(mu=5.0, law="none")  # (unread: not said as too high)
+    assert [str(w.message) for w in got if "above 1" in str(w.message)] == []
+
+
+def test_a_friction_coefficient_the_law_none_leaves_unread_is_said():
+    # Isolation(law="none", mu=0.2) ran without friction and without a word, while a scene
+    # notes its unread mu; said once (not again for a copy changing another field, nor by a
+    # scene's isolation, whose note of unused keys says it), and again for a new mu or a new
+    # law "none"; the default mu or a zero one with the law "none" is not said
+    import warnings
+
+    from nsdyn.models.isolated.system import isolation_from_config
+
+    said = r"^isolation.mu = 0.2 not used: the law 'none' has no friction"
+    with pytest.warns(nsdyn.InputWarning, match=said):
+        iso = nsdyn.Isolation(law="none", mu=0.2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", nsdyn.InputWarning)
+        nsdyn.Isolation(law="none")
+        nsdyn.Isolation(law="none", mu=(0.0, 0.0))
+        iso.changed(c=1.0e5)
+        iso.changed(law="arctan")
+        isolation_from_config({"law": "none", "mu": 0.2}, "scene.toml")
+    with pytest.warns(nsdyn.InputWarning, match=r"^isolation.mu = 0.3 not used"):
+        iso.changed(mu=0.3)
+    with pytest.warns(nsdyn.InputWarning, match=said):
+        nsdyn.Isolation(mu=0.2).changed(law="none")
 
 
 @pytest.mark.parametrize(("g", "guess"), [(9810.0, "in mm/s²?"), (1.0, "in g?")])

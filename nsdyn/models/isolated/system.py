@@ -122,15 +122,19 @@ class Isolation:
         if self.law != "none" and mu.max() > 1.0:  # (a scene's note says it: NotedWarning)
             k, name = int(np.argmax(mu)), "isolation.mu" + ("" if np.ndim(self.mu) == 0 else "[{}]")
             warnings.warn(high_friction_note(name.format(k), float(mu[k])), NotedWarning, 3)
+        if self.law == "none" and np.any((mu != MU) & (mu != 0)):  # (a scene's note says it)
+            warnings.warn(f"isolation.mu = {self.mu!r} not used: the law 'none' has no friction "
+                          "(the arctan and switch laws read it)", InputWarning, 3)  # fmt: skip
         if gravity_note("isolation.g", self.g):  # (9810: friction 1000x, unsaid)
             warnings.warn(gravity_note("isolation.g", self.g), NotedWarning, 3)
 
     def changed(self, **changes) -> Isolation:
-        """A copy with ``changes``; a mu above 1 this one said is not said again (a new mu is,
-        and one the law "none" left unread)."""
+        """A copy with ``changes``; what this one said of its mu (above 1, unread by the law
+        "none") is not said again (a new mu or g is, and a mu the law "none" left unread)."""
         with warnings.catch_warnings():
-            if "mu" not in changes and (self.law != "none" or changes.get("law", "none") == "none"):
-                warnings.simplefilter("ignore", NotedWarning)
+            read = (self.law != "none", changes.get("law", self.law) != "none")  # (its mu)
+            if not {"mu", "g"} & set(changes) and read[0] == read[1]:
+                warnings.simplefilter("ignore", InputWarning)
             return replace(self, **changes)
 
     def per_isolator(self, name: str, n: int) -> np.ndarray:
@@ -297,16 +301,8 @@ class IsolatedSystem:
         frozen = iso.frozen_normal
         if self.normal_force is not None:  # no contacts: the given (frozen) normal forces
             lam0, frozen = self.normal_force, True
-        kw = dict(
-            law=law or iso.law,
-            eps=iso.eps,
-            eta=iso.eta,
-            alpha=iso.alpha,
-            beta=iso.beta,
-            kappa=iso.kappa,
-            g=iso.g,
-            frozen_normal=frozen,
-        )
+        kw = dict(law=law or iso.law, eps=iso.eps, eta=iso.eta, alpha=iso.alpha, beta=iso.beta,
+                  kappa=iso.kappa, g=iso.g, frozen_normal=frozen)  # fmt: skip
         kw.update(overrides)
         return pack(M, C, K, Gamma, R, D, iso.per_isolator("mu", ni), lam0[:ni], ground=ground,
                     **kw)  # fmt: skip
@@ -557,4 +553,6 @@ def isolation_from_config(cfg: dict, source: str = "<config>") -> Isolation:
             if any(a < 0 for a in vals):
                 raise ValueError(f"{source}: isolation.{k}: expected non-negative, got {v}")
             out[k] = tuple(float(a) for a in vals) if isinstance(v, list) else float(v)
-    return Isolation(**out)  # (a mu above 1: its NotedWarning, a scene's note)
+    with warnings.catch_warnings():  # (a mu above 1: its NotedWarning, a scene's note)
+        warnings.filterwarnings("ignore", r"isolation\.mu = .* not used", InputWarning)
+        return Isolation(**out)  # (law "none": the scene's note of unused keys says its mu)
