@@ -141,8 +141,9 @@ def explicit_steps(method: str, system, span: float, quiet: bool, max_steps=None
     iso = system.isolation
     if iso is not None and iso.law == "arctan" and system.n_isolators:
         D = system.D.toarray() if issparse(system.D) else np.asarray(system.D)
-        lam0 = np.abs(system.static_equilibrium()[1][: D.shape[0]])
-        mu = np.asarray(iso.mu, dtype=float)
+        given = getattr(system, "normal_force", None)  # (no contacts: frozen normal forces)
+        lam0 = np.abs(system.static_equilibrium()[1] if given is None else given)[: D.shape[0]]
+        mu = iso.per_isolator("mu", D.shape[0])
         slope = mu * lam0 * (2 / math.pi) * iso.eps * np.einsum("ij,ji->i", D, solve(D.T))
         if slope.max() > rate:
             rate, what = float(slope.max()), f"arctan friction's rate {slope.max():.2g} 1/s"

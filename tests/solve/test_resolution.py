@@ -149,3 +149,25 @@ def test_a_drift_no_frame_survives_is_said():
         r = simulate(build_system(frame, fidelity="cb"), rec, t_end=2.0)
         assert (r.response.idr_max > IDR_IMPLAUSIBLE) is said
         assert any(n.startswith("peak interstorey drift ratio") for n in r.notes) is said
+
+
+def test_an_explicit_run_of_frozen_normal_forces_is_bounded_by_their_friction():
+    # a shear building's isolator carries its given weight (no contact rows, no static
+    # normal forces: --method dopri5 on the bundled shear scene was a traceback); the
+    # arctan law's rate on the base slab's mass is mu W (2/pi) eps / m_0 exactly
+    import math
+
+    from nsdyn._checks import DOPRI5_REAL_AXIS
+    from nsdyn.cli.run_checks import explicit_steps
+    from nsdyn.models.isolated.builders import shear_building
+    from nsdyn.models.isolated.system import Isolation
+
+    m = [2.0e4, 1.0e4, 1.0e4, 1.0e4]
+    iso = Isolation(k_lam=2.0e5, c=2.0e4, mu=0.05, eps=5.0e5)
+    system = shear_building(m, [2.0e7, 1.5e7, 1.0e7], 0.05, isolation=iso, heights=3.0)
+    rate = 0.05 * sum(m) * iso.g * (2 / math.pi) * iso.eps / m[0]
+    (note,) = explicit_steps("dopri5", system, 40.0, quiet=True, max_steps=10**8)
+    assert f"arctan friction's rate {rate:.2g} 1/s" in note
+    assert f"bounds its step to {DOPRI5_REAL_AXIS / rate:.2g} s" in note
+    slow = system.with_isolation(eps=500.0)  # (the scene's: its frequencies bound it, unsaid)
+    assert explicit_steps("dopri5", slow, 40.0, quiet=True) == []
