@@ -175,11 +175,12 @@ def files_of(out: Path) -> dict:
 RESULT_SUFFIXES = (".npz", ".png", ".csv", ".json", ".parquet")  # what the commands write
 
 
-def earlier_files(out: Path, before: dict, command: str, failed: bool = False) -> str:
+def earlier_files(out: Path, before: dict, command: str, failed: bool | str = False) -> str:
     """The note on the files in ``out`` that a command did not write (as :func:`files_of`
     saw them, ``before``, when it began: an earlier command's), or "". ``failed``: worded
-    for a command that wrote none (its error said why), and of the result files only
-    (:data:`RESULT_SUFFIXES`: a scene kept in the folder is no earlier result)."""
+    for a command that wrote none (its error said why; a text: how it ended, "interrupted"),
+    and of the result files only (:data:`RESULT_SUFFIXES`: a scene kept in the folder is no
+    earlier result)."""
     kept = sorted(
         n
         for n, t in files_of(out).items()
@@ -189,7 +190,8 @@ def earlier_files(out: Path, before: dict, command: str, failed: bool = False) -
         return ""
     more = f" and {len(kept) - 4} more" if len(kept) > 4 else ""
     what = (
-        f"holds an earlier command's files, none of this failed {command}'s"
+        f"holds an earlier command's files, none of this "
+        f"{'failed' if failed is True else failed} {command}'s"
         if failed
         else f"also holds files this {command} did not write (an earlier command's)"
     )
@@ -205,7 +207,8 @@ def output_dir(out: Path, command: str = "command", say=None) -> Iterator[Path]:
     never touched. ``say(line)``: told, when the command ends, of the files there that it
     did not write (an earlier command's: a rocking run's beside an isolated frame's). A
     command that fails with an error leaves that note in :data:`EARLIER`, for the command
-    line to say after the error (an interrupt's line says what is on disk)."""
+    line to say after the error (and after an interrupt's line, which says what is on
+    disk)."""
     made = [d for d in (out, *out.parents) if not d.exists()]  # deepest first
     out.mkdir(parents=True, exist_ok=True)
     before = files_of(out)
@@ -215,7 +218,8 @@ def output_dir(out: Path, command: str = "command", say=None) -> Iterator[Path]:
         if say is not None and (note := earlier_files(out, before, command)):
             say(note)
     except BaseException as exc:
-        if isinstance(exc, Exception) and (note := earlier_files(out, before, command, True)):
+        how = "interrupted" if isinstance(exc, KeyboardInterrupt) else isinstance(exc, Exception)
+        if how and (note := earlier_files(out, before, command, how)):
             EARLIER.append(note)
         for d in made:
             try:

@@ -174,3 +174,41 @@ def test_an_interrupted_cylinder_run_names_the_histories_it_wrote(tmp_path, monk
     line = _interrupt_line(args)
     assert f"{tmp_path / 'c.npz'} is this run's, its other files were not written" in line
     atomic.WRITTEN.clear()
+
+
+def test_an_interrupted_command_names_an_earlier_commands_files_beside_its_own(
+    tmp_path, monkeypatch, capsys
+):
+    # an interrupted full-model run into a folder holding a cb run's histories and figure
+    # said only "interrupted; files on disk are complete, rerun it with --resume", as if
+    # they were its own (a failed or finished run says whose they are), on stderr and in
+    # the --json outcome
+    import json
+
+    import nsdyn.solve.transient as transient
+    from nsdyn.atomic import EARLIER
+    from nsdyn.cli import main
+
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "run-histories.npz").write_bytes(b"an earlier run's")
+    EARLIER.clear()
+    with pytest.raises(KeyboardInterrupt), output_dir(out, "run"):
+        raise KeyboardInterrupt
+    assert list(EARLIER) == [f"{out} holds an earlier command's files, none of this "
+                             "interrupted run's: run-histories.npz"]  # fmt: skip
+
+    def stopped(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(transient, "simulate", stopped)
+    assert main(["run", "--t-end", "0.2", "--out", str(out), "--json"]) == 130
+    cap = capsys.readouterr()
+    err = cap.err.strip().splitlines()
+    assert err[-2].startswith("nsdyn run: interrupted; ")
+    note = f"{out} holds an earlier command's files, none of this interrupted run's: "
+    assert err[-1] == f"nsdyn run: note: {note}run-histories.npz"
+    said = json.loads(cap.out)
+    assert said["status"] == 130 and said["notes"] == [f"{note}run-histories.npz"]
+    assert sorted(p.name for p in out.iterdir() if not p.name.startswith(".")) == [
+        "run-histories.npz"]  # fmt: skip

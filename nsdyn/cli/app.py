@@ -294,13 +294,6 @@ def _one_line_warnings(command: str, default: Callable) -> Callable:
     return show
 
 
-def _caused_by_interrupt(exc: BaseException) -> bool:
-    """:func:`nsdyn.studies.workers.caused_by_interrupt`."""
-    from nsdyn.studies.workers import caused_by_interrupt
-
-    return caused_by_interrupt(exc)
-
-
 def _version() -> str:
     """``nsdyn --version``: this package's version and those of the libraries its numbers
     depend on (what a bug report needs)."""
@@ -458,18 +451,22 @@ def _main(argv: list[str]) -> int:
         except Exception as exc:  # a signal raised inside a jitted kernel surfaces wrapped;
             # one inside numba's compiler can be swallowed by a callback and leave an error
             # of its own: after a signal, any error is the signal's
-            if not (_SIGNALLED[0] or _caused_by_interrupt(exc)):
+            from nsdyn.studies.workers import caused_by_interrupt
+
+            if not (_SIGNALLED[0] or caused_by_interrupt(exc)):
                 raise
             raise KeyboardInterrupt from exc
     except KeyboardInterrupt:
         _SIGNALLED[0] = True  # (a later signal, while this one's stop is said: ignored)
         line = _interrupt_line(args)
-        print(line, file=sys.stderr)
+        print(line, *(f"nsdyn {args.command}: note: {n}" for n in EARLIER), sep="\n",
+              file=sys.stderr)  # fmt: skip
         if getattr(args, "json", False):  # an outcome too (stdout was empty)
             import json
 
             error = line.removeprefix(f"nsdyn {args.command}: ")
-            print(json.dumps({"status": EXIT_INTERRUPTED, "error": error}), flush=True)
+            said = {"notes": list(EARLIER)} if EARLIER else {}
+            print(json.dumps({"status": EXIT_INTERRUPTED, "error": error} | said), flush=True)
         return EXIT_INTERRUPTED
     except BrokenPipeError:  # no error of the input: main stops quietly
         raise

@@ -41,9 +41,9 @@ FINISHED: list = []  # histories written by a run of this process (what an inter
 def interrupted(exc: BaseException) -> bool:
     """True for Ctrl-C / SIGTERM (also wrapped by numba as a SystemError): an interrupted run
     keeps its checkpoint, which is how a rerun resumes."""
-    from nsdyn.cli.app import _caused_by_interrupt
+    from nsdyn.studies.workers import caused_by_interrupt
 
-    return isinstance(exc, KeyboardInterrupt) or _caused_by_interrupt(exc)
+    return isinstance(exc, KeyboardInterrupt) or caused_by_interrupt(exc)
 
 
 def configure(p: argparse.ArgumentParser) -> None:

@@ -342,7 +342,10 @@ class ResultsStore:
         rows = sorted(merged.values(), key=lambda r: (r.get("index", 0), str(r.get("key"))))
         rows = [{k: r[k] for k in self.keep if k in r} | r for r in rows]
         table = Table(rows, self.param_names)
-        table.write_csv(self.out / RESULTS)
+        if rows:
+            table.write_csv(self.out / RESULTS)
+        else:  # (a regrid keeping no row: no header-only table to be read as an empty study)
+            (self.out / RESULTS).unlink(missing_ok=True)
         for p in self._part_files():
             p.unlink(missing_ok=True)
         return table

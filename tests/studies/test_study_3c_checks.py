@@ -176,6 +176,11 @@ def test_a_run_on_another_grid_first_narrows_the_table_and_drops_the_old_analyse
     assert [r["key"] for r in read_csv(tmp_path / OUTSIDE)] == ["b"]
     assert not old.exists()
     assert not store.regrid({"a": 0, "c": 1})  # rows kept outside are not another grid's
+    # a grid keeping none of the rows leaves no results.csv (it left a header-only table, an
+    # empty study to a script reading it while the run was interrupted) and all rows outside
+    assert store.regrid({"d": 0})
+    assert not (tmp_path / RESULTS).exists()
+    assert sorted(r["key"] for r in read_csv(tmp_path / OUTSIDE)) == ["a", "b"]
 
 
 def test_a_narrowed_grid_keeps_its_failed_rows_outside_too(tmp_path):
