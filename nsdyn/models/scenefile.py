@@ -171,7 +171,9 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
                 f"{path}: not a scene (TOML) file; a ground-motion record is given to a scene "
                 f'as [motion] record = "{path}", or to nsdyn run as --record {path}'
             ) from None
-        raise SceneError(f"{path}: not valid TOML: {e}") from None
+        json = " (a JSON file? {what} files are TOML: [table] and key = value lines)" * (
+            p.suffix.lower() == ".json")  # fmt: skip
+        raise SceneError(f"{path}: not valid TOML{json.format(what=what)}: {e}") from None
     except ValueError as e:  # (bytes that are not UTF-8 text)
         raise SceneError(f"{path}: {e}") from None
     if not data:

@@ -459,3 +459,10 @@ def test_t_end_on_the_command_line_gives_a_harmonic_ground_motion_its_end(tmp_pa
     assert main(["run", str(flat), "--out", str(tmp_path / "o")]) == 2
     assert capsys.readouterr().err.strip().endswith("flat.toml: motion: expected a table "
                                                     "[motion], got 3")  # fmt: skip
+
+
+def test_a_json_scene_is_told_scenes_are_toml(tmp_path, one_line):
+    # a scene written as JSON was "not valid TOML: Invalid statement (at line 1, column 1)"
+    p = _scene(tmp_path, '{"isolation": {"mu": 0.05}}\n', "s.json")
+    assert main(["run", str(p), "--out", str(tmp_path / "o")]) == 2
+    one_line("s.json: not valid TOML (a JSON file? scene files are TOML: [table] and key = ")

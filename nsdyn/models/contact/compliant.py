@@ -27,7 +27,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, expect, flag, number, output_times, step_count
+from nsdyn._checks import (
+    MAX_STEPS,
+    NumericalFailure,
+    expect,
+    flag,
+    number,
+    output_times,
+    step_count,
+)
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kcompliant as kc
 from nsdyn.models.contact.body import RigidBody
@@ -133,15 +141,30 @@ def _params(body: RigidBody, friction: FrictionLaw, ground: CompliantGround, g: 
     return p
 
 
-def stable_step(body: RigidBody, ground: CompliantGround) -> float:
+def stable_step(body: RigidBody, ground: CompliantGround) -> tuple[float, float]:
     """Explicit stability limit 2 (sqrt(1 + zeta^2) - zeta) / omega_max [s], with
     omega_max^2 <= sum_j (k + k_t)(1/m + |r_j|^2 / J) (trace bound of M^-1 K) and
-    zeta = c omega_max / (2 k) the damping ratio of that mode."""
+    zeta = c omega_max / (2 k) the damping ratio of that mode; and that zeta."""
     r2 = np.sum(body.contacts**2, axis=1)
     w2 = float(np.sum((ground.k + ground.kt) * (1.0 / body.mass + r2 / body.J)))
     w = math.sqrt(w2)
     zeta = ground.c * w / (2.0 * ground.k)
-    return 2.0 * (math.sqrt(1.0 + zeta * zeta) - zeta) / w
+    # (as written, free of cancellation and overflow: a damping ratio of 1e300 gave inf)
+    return 2.0 / (math.hypot(1.0, zeta) + zeta) / w, zeta
+
+
+def ground_step(body: RigidBody, ground: CompliantGround, t_end: float | None = None) -> float:
+    """The explicit stability limit (:func:`stable_step`); ValueError naming the ground's
+    ``stiffness`` (or ``damping``, past a damping ratio of 1) when a run of ``t_end`` takes
+    more than ``MAX_STEPS`` steps of H_FRAC of it."""
+    h_stab, zeta = stable_step(body, ground)
+    h = H_FRAC * h_stab
+    if t_end is not None and not t_end / h <= MAX_STEPS:
+        raise ValueError(f"{'damping' if zeta > 1 else 'stiffness'}: the ground's stiffness "
+                         f"and damping bound the explicit step to {h:.3g} s, {t_end / h:.3g} "
+                         f"steps over {t_end:g} s, more than {MAX_STEPS:.0e}; expected a "
+                         "softer or less damped ground (or a shorter run)")  # fmt: skip
+    return h_stab
 
 
 SETTLE_MAX = 0.1  # the static settlement m g / (n k): at most this part of the body's base
@@ -195,7 +218,7 @@ def simulate_compliant(
     mo = motion or BaseMotion.none()
     flag("settled", settled)
     check_settlement(body, ground, g)
-    h_stab = stable_step(body, ground)
+    h_stab = ground_step(body, ground, t_end if h is None else None)  # (its own step)
     h = H_FRAC * h_stab if h is None else float(h)
     if not (0 < h < h_stab):
         raise ValueError(f"h: expected 0 < h < {h_stab:.3e} s (explicit stability), got {h!r}")

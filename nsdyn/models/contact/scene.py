@@ -51,6 +51,7 @@ from nsdyn._checks import NumericalFailure, output_step
 from nsdyn._numba_cache import first_compile
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import read_motion
+from nsdyn.ground.excitation import G_EARTH
 from nsdyn.ground.motion import PGA_TARGET, PGA_TARGET_MAX
 from nsdyn.models.contact.results import MODE_NAMES, TILT_FLOOR, slenderness
 from nsdyn.models.contact.scene_keys import SCHEMA
@@ -117,6 +118,9 @@ def warm_scene(cfg: dict, source: str) -> float:
     """:func:`warm` for a parsed scene."""
     body, law, motion, t_end, opts = build(cfg, source)
     return warm(body, law, motion, t_end, opts)
+
+
+OMEGA_RATIO_MAX = 1e3  # a sine this many times faster than the rocking frequency is refused
 
 
 def build(cfg: dict, source: str):
@@ -209,6 +213,13 @@ def build(cfg: dict, source: str):
         what = f"{gm.name}, PGA {pga:.3g} m/s²"
     elif "period" in mo:
         T = number(source, "motion.period", mo["period"])
+        R = np.hypot(*body.contacts.T)  # the rocking frequency p about a base corner, the fastest
+        p = float(np.sqrt(body.mass * G_EARTH * R / (body.J + body.mass * R**2)).max())
+        if 2 * math.pi / T > OMEGA_RATIO_MAX * p:  # (1e-6 s: 25 s of steps, then a failure)
+            raise SceneError(f"{source}: motion.period: {T:g} s is {2 * math.pi / T / p:.3g} "
+                             f"times faster than the body's rocking frequency p = {p:.4g} /s; "
+                             f"expected at most {OMEGA_RATIO_MAX:g} p (its steps follow the "
+                             "sine)")  # fmt: skip
         pga = number(source, "motion.pga", mo.get("pga", 1.6))
         if pga > PGA_TARGET_MAX:  # (1e6 m/s² ran: a 120 km sine)
             raise SceneError(f"{source}: motion.pga: expected {PGA_TARGET}, got {pga:g}")
@@ -377,7 +388,14 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     body, law, motion, t_end, opts = build(cfg, source)
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
-    with grid_fields(source, GRID_FIELDS | {"h": "solver.h"}):  # (before the start is said)
+    damping = "damping_ratio" if "damping_ratio" in cfg.get("ground", {}) else "damping"
+    fields = GRID_FIELDS | {"h": "solver.h", "stiffness": "ground.stiffness",
+                            "damping": f"ground.{damping}"}  # fmt: skip
+    with grid_fields(source, fields):  # (before the start is said)
+        if opts.get("ground") is not None:  # (before the warm-up's short run)
+            from nsdyn.models.contact.compliant import ground_step
+
+            ground_step(body, opts["ground"], t_end)
         if opts["method"] == "moreau" and opts.get("ground") is None:
             from nsdyn.models.contact.moreau import step_grid
 
@@ -387,7 +405,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     say(f"contact: {name}: {opts['what']}, {opts['method']}, t_end = {t_end:g} s")
     for note in opts["notes"]:
         say(f"contact: note: {note}")
-    with grid_fields(source, GRID_FIELDS | {"h": "solver.h"}):  # refused before any step
+    with grid_fields(source, fields):  # refused before any step
         compile_s = warm(body, law, motion, t_end, opts)
         w0 = time.perf_counter()
         res = simulate(body, law, motion, t_end, opts)

@@ -186,7 +186,10 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
     springs = [f"foundation.{k}" for k in ("k", "c", "f_rock", "zeta") if k in fd]
     if has_kc and has_design:
         raise SceneError(f"{source}: foundation: give either k and c or f_rock and zeta, not both")
-    base = CylinderParams(**{k: v for k, v in geo.items()}) if geo else CylinderParams()
+    try:  # (sizes whose inertias overflow: H = 1e300)
+        base = CylinderParams(**{k: v for k, v in geo.items()}) if geo else CylinderParams()
+    except ValueError as e:
+        raise SceneError(f"{source}: [cylinder] {e}") from None
     if has_design:
         f = number(source, "foundation.f_rock", fd.get("f_rock", 3.0))
         z = number(source, "foundation.zeta", fd.get("zeta", 0.1), allow_zero=True)
@@ -197,7 +200,10 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
     else:
         k = number(source, "foundation.k", fd.get("k", base.k))
         c = number(source, "foundation.c", fd.get("c", base.c), allow_zero=True)
-    p = _star(base.with_(k=k, c=c, foundation=case), cfg.get("star", {}), source)
+    try:
+        p = _star(base.with_(k=k, c=c, foundation=case), cfg.get("star", {}), source)
+    except ValueError as e:  # (a foundation k whose moment k pi r^4 / 4 overflows)
+        raise SceneError(f"{source}: [cylinder] and [foundation] {e}") from None
     p = p.with_(mu=_friction(fd, case, source))
     if too_soft(p):  # the base would sink deeper than its radius
         field = "foundation.f_rock" if has_design else "foundation.k"

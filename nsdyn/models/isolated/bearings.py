@@ -254,6 +254,27 @@ def high_friction_note(field: str, mu: float) -> str | None:
             "0.01-0.2); a percentage given as a number?")  # fmt: skip
 
 
+# an isolator spring past this many times the structure's stiffest diagonal entry, on a model
+# whose normal forces are constraint forces, is refused: the run's normal forces go wrong with
+# no error (the office frame, stiffest entry 2.7e10 N/m: at k_lam = 1e17 its minimum normal
+# force and peaks held to 1e-5, at 1e18 the minimum fell from 3.14e6 N to 1.29e6 N, exit 0;
+# its static state held to 1e-14 at both). A shear building's given normal force is unmoved.
+STIFF_BEARING_RATIO = 1e6
+
+
+def stiff_bearing_check(k_lam, K_diag, field: str = "isolation.k_lam") -> None:
+    """ValueError naming ``field`` when an isolator spring ``k_lam`` passes
+    :data:`STIFF_BEARING_RATIO` times the largest of the structure's diagonal stiffnesses
+    ``K_diag`` (none, as a rigid deck's: not checked). For models with contact rows."""
+    k, stiff = np.max(k_lam, initial=0.0), np.max(np.abs(K_diag), initial=0.0)
+    if stiff > 0 and k > STIFF_BEARING_RATIO * stiff:
+        raise ValueError(f"{field}: expected an isolator spring of at most "
+                         f"{STIFF_BEARING_RATIO:g}x the structure's stiffest entry ({stiff:.3g} "
+                         f"N/m), got {k:g} N/m: beside so stiff a spring the run's normal "
+                         "forces go wrong; a base held fixed is the fixed-base model "
+                         "(fidelity 'fixed', nsdyn run --fixed-base)")  # fmt: skip
+
+
 G_PLAUSIBLE = (9.7, 9.9)  # [m/s²] Earth's gravity, 9.78 at the equator to 9.83 at the poles
 
 

@@ -284,9 +284,12 @@ def contact_code(contact: str, unilateral: bool = False) -> int:
 def positive_params(**values) -> None:
     """Each given law and stabilisation parameter (eps, eta, alpha, beta, kappa; None: the
     default) a positive finite number, or ValueError naming it."""
+    from nsdyn.models.isolated.friction import sharpness_in_range
+
     for k, v in values.items():
         if v is not None:
             number(k, v, "a positive number", lambda x: x > 0)
+    sharpness_in_range("eps", values.get("eps"))
 
 
 def law_params(law: str, **values) -> None:

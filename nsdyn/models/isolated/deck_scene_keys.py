@@ -9,7 +9,7 @@ behaviour both ways. ``[motion]`` is a three-component table read by
 
 from __future__ import annotations
 
-from nsdyn.models.isolated.defaults import EPS, ETA
+from nsdyn.models.isolated.defaults import EPS, EPS_MAX, ETA
 from nsdyn.models.scene_schema import RECORD_UNITS, REL_TOL, Key, Schema, Table
 
 _POS = {"lo": 0.0, "lo_open": True}  # > 0
@@ -173,7 +173,8 @@ SCHEMA = Schema(
         Table("solver", "The friction law and the integrator's tolerances.", (
             Key("law", "string", "switch law with a stick disc, or the regularised arctan law",
                 default="switch", choices=("switch", "arctan")),
-            Key("eps", "number", "sharpness ε of the arctan law", "s/m", default=EPS, **_POS),
+            Key("eps", "number", "sharpness ε of the arctan law", "s/m", default=EPS, **_POS,
+                hi=EPS_MAX),
             Key("eta", "number", "stick band η of the switch law", "m/s", default=ETA, **_POS),
             Key("rtol", "number", "relative tolerance", "—", default=1e-6, **REL_TOL),
             Key("atol", "number or pair", "absolute tolerance: one number for displacements and "

@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-from nsdyn.models.isolated.defaults import EPS, ETA, MU  # noqa: F401  (re-exported)
+from nsdyn.models.isolated.defaults import EPS, EPS_MAX, ETA, MU  # noqa: F401  (re-exported)
 
 STICK_UTILISATION = 0.9  # arctan law: "stick" while |s(v)| <= this (friction below 90 %)
 
@@ -42,6 +42,15 @@ LAW_KEYS = {
     "eta": ("switch", "the switch law's stick band"),
     "kappa": ("switch", "the switch law's stick stabilisation"),
 }
+
+
+def sharpness_in_range(name: str, eps) -> None:
+    """ValueError naming ``name`` when the arctan sharpness ``eps`` passes :data:`EPS_MAX`."""
+    if isinstance(eps, int | float) and eps > EPS_MAX:
+        raise ValueError(f"{name}: expected an arctan sharpness of at most {EPS_MAX:g} s/m (a "
+                         f"turn at 1/eps = {1 / EPS_MAX:g} m/s, what gravity adds to a velocity "
+                         f"in the solvers' smallest step), got {eps!r}; the sharp limit is the "
+                         "switch law (law 'switch', true stick)")  # fmt: skip
 
 
 def arctan_direction(v, eps: float = EPS):

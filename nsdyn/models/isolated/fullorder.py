@@ -37,6 +37,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from nsdyn._brief import brief_repr
+from nsdyn.models.isolated.bearings import stiff_bearing_check
 
 __all__ = [
     "DAMPINGS",
@@ -179,7 +180,9 @@ def full_order(frame, iso, damping: str = "modal", lumped: bool = False) -> dict
     R[np.arange(ni), 3 * base + 1] = 1.0
     k_lam, c_iso = iso.per_isolator("k_lam", ni), iso.per_isolator("c", ni)
     bearing = sp.coo_array((k_lam, (3 * base, 3 * base)), shape=(n, n))
-    K = (Kf + _diaphragm(frame, iso, n) + bearing).tocsr()
+    K = (Kf + _diaphragm(frame, iso, n)).tocsr()
+    stiff_bearing_check(k_lam, K.diagonal())
+    K = (K + bearing).tocsr()
     C = sp.coo_array((c_iso, (3 * base, 3 * base)), shape=(n, n)).tocsr()
     info: dict = {"damping": damping}
     U, c, lowrank = np.zeros((n, 0)), np.zeros(0), None

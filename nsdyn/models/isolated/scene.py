@@ -51,6 +51,7 @@ import numpy as np
 
 from nsdyn._checks import INT64_MAX
 from nsdyn.models.isolated.defaults import C_DAMPER, EPS, F_MAX, FRAME, K_LAM, MU
+from nsdyn.models.isolated.friction import sharpness_in_range
 from nsdyn.models.isolated.scene_keys import MOTION_RECORD, SCENE, SOLVER, checked_types
 from nsdyn.models.isolated.scene_structure import (
     build_structure,
@@ -123,6 +124,11 @@ def _check_isolation(iso, source: str) -> None:
             raise SceneError(
                 f"{source}: isolation.{key}: expected a non-negative number, got {val!r}"
             )
+        if key == "eps":  # (1e300: the law's slope overflowed into a NaN blamed on the record)
+            try:
+                sharpness_in_range(f"{source}: isolation.eps", val)
+            except ValueError as e:
+                raise SceneError(str(e)) from None
 
 
 def _check(cfg: dict, source: str) -> dict:

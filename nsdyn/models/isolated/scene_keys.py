@@ -10,7 +10,17 @@ defaults come from their one home (:mod:`nsdyn.models.isolated.defaults`,
 from __future__ import annotations
 
 from nsdyn.ground.excitation import G_EARTH
-from nsdyn.models.isolated.defaults import ALPHA, BETA, C_DAMPER, EPS, ETA, F_MAX, K_LAM, MU
+from nsdyn.models.isolated.defaults import (
+    ALPHA,
+    BETA,
+    C_DAMPER,
+    EPS,
+    EPS_MAX,
+    ETA,
+    F_MAX,
+    K_LAM,
+    MU,
+)
 from nsdyn.models.isolated.tolerances import RUN_ATOL, RUN_RTOL
 from nsdyn.models.scene_schema import RECORD_DT_KEY, REL_TOL, UNITS_KEY, Key, Schema, Table
 
@@ -133,6 +143,7 @@ ISOLATION = Table(
             "s/m",
             default=EPS,
             **_POS,
+            hi=EPS_MAX,
         ),
         Key("eta", "number", "stick band η of the switch model", "m/s", default=ETA, **_POS),
         Key(

@@ -148,7 +148,8 @@ def build_structure(cfg: dict, isolation, source: str):
     except (ValueError, TypeError) as e:  # MatrixError names the matrix; add file and table
         msg = str(e)
         field = msg.split(":", 1)[0] if ":" in msg else "?"
-        raise SceneError(f"{source}: structure.{field}: {msg.split(':', 1)[-1].strip()}") from None
+        table = "" if field.startswith("isolation.") else "structure."  # (k_lam: its own table)
+        raise SceneError(f"{source}: {table}{field}: {msg.split(':', 1)[-1].strip()}") from None
 
 
 def _duration(tab: dict, where: str, source: str, required: bool) -> dict:

@@ -42,8 +42,9 @@ from nsdyn._checks import InputWarning, NotedWarning, fingerprint, flag, known_f
 from nsdyn._lazy import LazyModule
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kernel as ks
-from nsdyn.models.isolated.bearings import gravity_note, high_friction_note
+from nsdyn.models.isolated.bearings import gravity_note, high_friction_note, stiff_bearing_check
 from nsdyn.models.isolated.defaults import ALPHA, BETA, C_DAMPER, EPS, ETA, K_LAM, MU
+from nsdyn.models.isolated.friction import sharpness_in_range
 from nsdyn.models.isolated.params import pack
 
 sla = LazyModule("scipy.linalg")
@@ -110,6 +111,7 @@ class Isolation:
                 raise ValueError(
                     f"isolation.{k}: expected {a} finite non-negative number{per}, got {v!r}"
                 )
+        sharpness_in_range("isolation.eps", self.eps)
         if not self.g > 0:
             raise ValueError(f"isolation.g: expected a positive gravity [m/s²], got {self.g!r}")
         flag("isolation.frozen_normal", self.frozen_normal)  # (a text "no" read as True)
@@ -123,8 +125,8 @@ class Isolation:
             k, name = int(np.argmax(mu)), "isolation.mu" + ("" if np.ndim(self.mu) == 0 else "[{}]")
             warnings.warn(high_friction_note(name.format(k), float(mu[k])), NotedWarning, 3)
         if self.law == "none" and np.any((mu != MU) & (mu != 0)):  # (a scene's note says it)
-            warnings.warn(f"isolation.mu = {self.mu!r} not used: the law 'none' has no friction "
-                          "(the arctan and switch laws read it)", InputWarning, 3)  # fmt: skip
+            warnings.warn(f"isolation.mu = {self.mu!r} not used: the law 'none' has no "
+                          "friction", InputWarning, 3)  # fmt: skip
         if gravity_note("isolation.g", self.g):  # (9810: friction 1000x, unsaid)
             warnings.warn(gravity_note("isolation.g", self.g), NotedWarning, 3)
 
@@ -373,11 +375,10 @@ def _isolator_rows(n: int, base_x: list[int], base_y: list[int]) -> tuple[np.nda
     return R, D
 
 
-def _add_isolators(K, C, D, iso: Isolation):
-    ni = D.shape[0]
-    K = K + D.T @ np.diag(iso.per_isolator("k_lam", ni)) @ D
-    C = C + D.T @ np.diag(iso.per_isolator("c", ni)) @ D
-    return K, C
+def _add_isolators(K, C, D, iso: Isolation, contacts: bool = True):
+    k_lam = iso.per_isolator("k_lam", D.shape[0])
+    stiff_bearing_check(k_lam, np.diagonal(K) if contacts else ())  # (its normal forces)
+    return K + D.T @ np.diag(k_lam) @ D, C + D.T @ np.diag(iso.per_isolator("c", len(D))) @ D
 
 
 def rigid_body_modes(frame) -> np.ndarray:

@@ -1,0 +1,186 @@
+"""Numbers that are valid TOML but past what a model can run: refused in one line naming the
+file and the field (status 2) before any run, where a run failed on a numerical error that
+blamed something else (the record, the matrices) or ended in a traceback."""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import pytest
+
+from nsdyn.cli import main
+from nsdyn.models.isolated.defaults import EPS_MAX
+from nsdyn.models.isolated.tolerances import RUN_RTOL
+
+SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+
+
+def _refused(tmp_path, capsys, scene: Path, needle: str, *extra: str) -> str:
+    rc = main(["run", str(scene), "--t-end", "0.2", "--no-figures", "--out",
+               str(tmp_path / "o"), *extra])  # fmt: skip
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and len(err.splitlines()) == 1, err
+    assert re.search(needle, err), err
+    assert not (tmp_path / "o").exists()  # (refused before the run: nothing written)
+    return err
+
+
+def _edit(tmp_path, name: str, old: str, new: str) -> Path:
+    text = (SCENES / name).read_text()
+    assert old in text
+    p = tmp_path / "s.toml"
+    p.write_text(text.replace(old, new, 1))
+    return p
+
+
+def test_the_sharpest_arctan_law_is_one_a_step_can_cross():
+    # the turn |v| ~ 1/eps no narrower than what gravity adds to a velocity in the solvers'
+    # smallest step (MIN_STEP = 1e-12 s): EPS_MAX ~ 1 / (g MIN_STEP), within a factor 2
+    from nsdyn.solve._kcommon import MIN_STEP
+
+    assert 0.5 < EPS_MAX * 9.81 * MIN_STEP < 2.0
+
+
+@pytest.mark.parametrize(
+    ("name", "old", "new", "field"),
+    [
+        # a frame scene's [isolation] (the shear building at 1e300: a NaN blamed on the record)
+        ("isolated-shear-3storey.toml", "eps = 500.0", "eps = 1e300", "isolation.eps"),
+        ("isolated-shear-3storey.toml", "eps = 500.0", f"eps = {2 * EPS_MAX:g}",
+         "isolation.eps"),
+        # a deck's and a 3D building's [solver] with the arctan law (a traceback)
+        ("deck-tfp4-3c.toml", "[solver]", "[solver]\neps = 1e300", "solver.eps"),
+        ("building3d-office-rigid.toml", 'law = "switch"', 'law = "arctan"\neps = 1e300',
+         "solver.eps"),
+    ],
+)  # fmt: skip
+def test_an_arctan_law_too_sharp_for_any_step_is_refused(tmp_path, capsys, name, old, new,
+                                                         field):  # fmt: skip
+    bound = re.escape(f"{EPS_MAX:g}")
+    _refused(tmp_path, capsys, _edit(tmp_path, name, old, new),
+             rf"^nsdyn run: error: .*s\.toml: {re.escape(field)}: expected an arctan sharpness "
+             rf"of at most {bound} s/m .* the sharp limit is the switch law")  # fmt: skip
+
+
+def test_an_arctan_law_too_sharp_is_refused_in_python():
+    import nsdyn
+    from nsdyn.models.isolated.deck import law_params
+
+    with pytest.raises(ValueError, match=r"^isolation.eps: expected an arctan sharpness"):
+        nsdyn.Isolation(eps=1e300)
+    with pytest.raises(ValueError, match=r"^eps: expected an arctan sharpness"):
+        law_params("arctan", eps=math.nextafter(EPS_MAX, math.inf))
+    nsdyn.Isolation(eps=EPS_MAX)  # (the bound itself is taken)
+    law_params("arctan", eps=EPS_MAX)
+
+
+@pytest.mark.parametrize("key", ["H", "r"])
+def test_a_cylinder_whose_inertia_overflows_is_refused(tmp_path, capsys, key):
+    # H = 1e300: I_t = m (3 r^2 + 4 H^2) / 12 overflows (a traceback before)
+    text = (SCENES / "cylinder-uplift.toml").read_text()
+    p = tmp_path / "s.toml"
+    p.write_text(re.sub(rf"(?m)^{key} = .*$", f"{key} = 1e300", text, count=1))
+    _refused(tmp_path, capsys, p, r"s\.toml: \[cylinder\] r, H, m, k: expected sizes whose "
+             r"inertias and moments are finite .* got r = .*, H = .*")  # fmt: skip
+
+
+def test_an_isolator_spring_that_spoils_the_normal_forces_is_refused(tmp_path, capsys,
+                                                                     monkeypatch):  # fmt: skip
+    # the default frame's first second: its minimum normal force (a constraint force) at the
+    # stiffest spring taken, STIFF_BEARING_RATIO x the structure's stiffest entry, is that
+    # of a moderately stiff one (the base held: 1e10 N/m) to 1e-4; unchecked, 1e18 N/m
+    # returned 40 % of it with exit 0, and is refused naming the field
+    import numpy as np
+
+    from nsdyn.models.isolated import bearings
+    from nsdyn.models.isolated.scene import build_scene_run, load_scene
+    from nsdyn.solve.transient import simulate
+
+    system, motion, _ = build_scene_run(load_scene())
+    stiff = np.abs(np.diagonal(system.with_isolation(k_lam=0.0).K)).max()
+
+    def n_min(k_lam):
+        r = simulate(system.with_isolation(k_lam=k_lam), motion, t_end=1.0, dt_out=0.01)
+        return r.summary()["min_normal_force_N"]
+
+    held = n_min(1.0e10)
+    assert n_min(bearings.STIFF_BEARING_RATIO * stiff) == pytest.approx(held, rel=1e-4)
+    with pytest.raises(ValueError, match=r"^isolation.k_lam: expected an isolator spring of "):
+        system.with_isolation(k_lam=1.0e18)
+    monkeypatch.setattr(bearings, "STIFF_BEARING_RATIO", math.inf)
+    assert n_min(1.0e18) < 0.9 * held  # (what the refusal spares)
+    monkeypatch.undo()
+    p = tmp_path / "s.toml"
+    p.write_text("[isolation]\nk_lam = 1e18\n")
+    said = (r"s\.toml: isolation\.k_lam: expected an isolator spring of at most 1e\+06x the "
+            r"structure's stiffest entry \(2\.68e\+10 N/m\), got 1e\+18 N/m")  # fmt: skip
+    _refused(tmp_path, capsys, p, said)
+
+
+def test_a_stiff_spring_under_a_given_normal_force_is_taken():
+    # a shear building's normal force is given (no contact rows): its peaks at 1e20 N/m are
+    # those of 1e12 N/m (both the base held) to the run's tolerance, so no refusal there
+    from nsdyn.models.isolated.scene import build_scene_run, load_scene
+    from nsdyn.solve.transient import simulate
+
+    system, motion, _ = build_scene_run(load_scene(SCENES / "isolated-shear-3storey.toml"))
+    acc = [simulate(system.with_isolation(k_lam=k), motion, t_end=1.0,
+                    dt_out=0.01).summary()["floor_acc_max_mps2"] for k in (1e12, 1e20)]  # fmt: skip
+    assert acc[1] == pytest.approx(acc[0], rel=RUN_RTOL)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "field"),
+    [
+        # 1.1e151 steps blamed on motion.t_end (--t-end), which the scene had right
+        ("stiffness = 1.0e7", "stiffness = 1e300", "ground.stiffness"),
+        # an inf step refused as "solver.h: expected 0 < h < inf s", a key not given
+        ("damping_ratio = 0.0", "damping_ratio = 1e300", "ground.damping_ratio"),
+    ],
+)
+def test_a_compliant_ground_too_stiff_or_damped_names_its_key(tmp_path, capsys, old, new,
+                                                               field):  # fmt: skip
+    p = _edit(tmp_path, "contact-compliant-C2.toml", old, new)
+    rc = main(["run", str(p), "--no-figures", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and len(err.splitlines()) == 1, err
+    said = (rf"s\.toml: {field}: the ground's stiffness and damping bound the explicit step "
+            r"to .* steps over 9\.75 s, more than 2e\+08")  # (not the warm-up's)  # fmt: skip
+    assert re.search(said, err), err
+
+
+@pytest.mark.parametrize("zeta", [0.0, 0.1, 1.0, 10.0, 1e3])
+def test_the_compliant_grounds_step_is_the_damped_oscillators_limit(zeta):
+    # 2 (sqrt(1 + z^2) - z) / w with w^2 the trace bound sum_j (k + k_t)(1/m + |r_j|^2 / J)
+    # and z = c w / (2 k), evaluated as 2 / (sqrt(1 + z^2) + z) / w: the same number (to the
+    # closed form's own cancellation, z^2 x 1e-16), and 1 / (z w) at z = 1e300, where the
+    # closed form gave an inf step
+    import numpy as np
+
+    from nsdyn.models.contact.body import RigidBody
+    from nsdyn.models.contact.compliant import CompliantGround, stable_step
+
+    body = RigidBody.rectangle(1.1, 3.3, 7500.0)
+    for z_given in (zeta, 1e300):
+        ground = CompliantGround.from_ratio(body, 1.0e7, z_given)
+        r2 = np.sum(body.contacts**2, axis=1)
+        w = math.sqrt(np.sum((ground.k + ground.kt) * (1.0 / body.mass + r2 / body.J)))
+        z = ground.c * w / (2.0 * ground.k)
+        h, z_said = stable_step(body, ground)
+        assert z_said == pytest.approx(z, rel=1e-14)
+        want = 2.0 * (math.sqrt(1.0 + z * z) - z) / w if z < 1e6 else 1.0 / (z * w)
+        assert h == pytest.approx(want, rel=max(1e-14, 4 * z * z * 2.2e-16))
+
+
+def test_a_contact_sine_too_fast_for_the_body_is_refused(tmp_path, capsys):
+    # a 1e-6 s period stepped for 25 s and failed on its step budget at 0.025 s; refused as
+    # a rocking pulse is, past 1000 times the body's fastest rocking frequency about a base
+    # corner, p = sqrt(m g R / (J + m R^2)), sqrt(3 g / (4 R)) for A5's 1.1 m x 1.0 m prism
+    p = _edit(tmp_path, "contact-seed002-A5.toml", "period = ", "period = 1e-6\n#")
+    err = _refused(tmp_path, capsys, p, r"s\.toml: motion\.period: 1e-06 s is 2e\+06 times "
+                   r"faster than the body's rocking frequency p = 3\.146 /s; expected at most "
+                   r"1000 p")  # fmt: skip
+    assert math.sqrt(3 * 9.81 / (4 * math.hypot(0.55, 0.5))) == pytest.approx(3.146, abs=5e-4)
+    assert "(its steps follow the sine)" in err
