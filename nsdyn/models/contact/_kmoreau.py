@@ -22,6 +22,8 @@ one step now and then (no impulse, a tangential velocity ~ g h); that is not a s
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -42,6 +44,9 @@ from nsdyn.models.contact._kgeom import (
 
 G_ACT = 1e-9  # a contact is active when its predicted gap is below G_ACT * L
 JUMP_EPS = 1e-9  # a jump within JUMP_EPS h of a step's end belongs to the next step
+# a contact whose slip after a step is below V_REST sqrt(g L) (the LCP's round-off of a held
+# corner, ~1e-18 m/s, far below it) was held by that step: static friction in the next one
+V_REST = 1e-10
 
 
 @njit(cache=True, error_model="numpy")
@@ -108,9 +113,12 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
     g0, _, _, _, _, _, vt0 = contact_rows(q, v, verts)
     on = np.zeros(nc, np.bool_)
     slipping = np.zeros(nc, np.bool_)
+    v_rest = V_REST * math.sqrt(grav * L)
+    held = np.zeros(nc, np.bool_)  # stuck by the last step's LCP (at the start: at rest)
     for i in range(nc):
         on[i] = g0[i] <= g_tol
         slipping[i] = on[i] and abs(vt0[i]) > v_tol
+        held[i] = on[i] and abs(vt0[i]) <= v_rest
     _, Wn0, Wt0, _, _, _, _ = contact_rows(q, v, verts)
     md_o[0] = step_mode(q, v, np.zeros(nc), Wn0, Wt0, verts, g_tol, v_tol, on, slipping)
     if abs(q[2]) >= par[5]:
@@ -146,8 +154,9 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
                 idx[j] = i
                 j += 1
         mu = np.empty(nc)
-        for i in range(nc):
-            mu[i] = mu_of(vt[i], par[2], par[3], par[4])
+        for i in range(nc):  # a corner the last step held: static friction (its v_T here is
+            # the LCP's round-off, never exactly 0: the jump law read mu_d for a body at rest)
+            mu[i] = par[2] if held[i] else mu_of(vt[i], par[2], par[3], par[4])
         bN = matvec(Wn, vf) + e_n * matvec(Wn, vk)
         bT = matvec(Wt, vf)
         PN, PT, wN, slack, st = solve_contacts(Wn, Wt, minv, bN, bT, mu, sig, idx)
@@ -155,6 +164,9 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
             status = -1
             break
         v = vf + minv * (tmatvec(Wn, PN) + tmatvec(Wt, PT))
+        vt_held = matvec(Wt, v)  # (the step's rows: those the LCP holds at zero)
+        for i in range(nc):
+            held[i] = PN[i] > 0.0 and abs(vt_held[i]) <= v_rest
         q = q + h * ((1.0 - theta) * vk + theta * v)
         k += 1
         t = t0 + k * h
