@@ -198,6 +198,19 @@ def earlier_files(out: Path, before: dict, command: str, failed: bool | str = Fa
     return f"{out} {what}: {', '.join(kept[:4])}{more}"
 
 
+def caused_by_interrupt(exc: BaseException) -> bool:
+    """True if a KeyboardInterrupt is ``exc`` or in its chain of causes (numba's dispatcher
+    turns an exception raised by a signal handler during a kernel into SystemError from it)."""
+    seen: set[int] = set()
+    e: BaseException | None = exc
+    while e is not None and id(e) not in seen:
+        if isinstance(e, KeyboardInterrupt):
+            return True
+        seen.add(id(e))
+        e = e.__cause__ or e.__context__
+    return False
+
+
 @contextmanager
 def output_dir(out: Path, command: str = "command", say=None) -> Iterator[Path]:
     """The output directory of a command, created if missing and locked while the command
@@ -218,7 +231,7 @@ def output_dir(out: Path, command: str = "command", say=None) -> Iterator[Path]:
         if say is not None and (note := earlier_files(out, before, command)):
             say(note)
     except BaseException as exc:
-        how = "interrupted" if isinstance(exc, KeyboardInterrupt) else isinstance(exc, Exception)
+        how = "interrupted" if caused_by_interrupt(exc) else isinstance(exc, Exception)
         if how and (note := earlier_files(out, before, command, how)):
             EARLIER.append(note)
         for d in made:

@@ -197,6 +197,10 @@ def test_an_interrupted_command_names_an_earlier_commands_files_beside_its_own(
         raise KeyboardInterrupt
     assert list(EARLIER) == [f"{out} holds an earlier command's files, none of this "
                              "interrupted run's: run-histories.npz"]  # fmt: skip
+    EARLIER.clear()  # (a signal inside a kernel: numba's SystemError from the interrupt)
+    with pytest.raises(SystemError), output_dir(out, "run"):
+        raise SystemError("kernel") from KeyboardInterrupt()
+    assert "none of this interrupted run's" in EARLIER[0]
 
     def stopped(*args, **kwargs):
         raise KeyboardInterrupt

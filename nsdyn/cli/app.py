@@ -451,7 +451,7 @@ def _main(argv: list[str]) -> int:
         except Exception as exc:  # a signal raised inside a jitted kernel surfaces wrapped;
             # one inside numba's compiler can be swallowed by a callback and leave an error
             # of its own: after a signal, any error is the signal's
-            from nsdyn.studies.workers import caused_by_interrupt
+            from nsdyn.atomic import caused_by_interrupt
 
             if not (_SIGNALLED[0] or caused_by_interrupt(exc)):
                 raise

@@ -41,7 +41,7 @@ FINISHED: list = []  # histories written by a run of this process (what an inter
 def interrupted(exc: BaseException) -> bool:
     """True for Ctrl-C / SIGTERM (also wrapped by numba as a SystemError): an interrupted run
     keeps its checkpoint, which is how a rerun resumes."""
-    from nsdyn.studies.workers import caused_by_interrupt
+    from nsdyn.atomic import caused_by_interrupt
 
     return isinstance(exc, KeyboardInterrupt) or caused_by_interrupt(exc)
 
@@ -380,7 +380,7 @@ def run(args: argparse.Namespace) -> int:
         raise SceneError(f"{source}: solver.method: {method!r}{said} cannot run this model: "
                          f"{dense}")  # fmt: skip
     from nsdyn.solve.methods import METHODS
-    from nsdyn.studies.scenes import checked_step
+    from nsdyn.studies.steps import checked_step
 
     if METHODS[method].fixed_step:  # 5 ms, or the record's sampling step if shorter; checked
         sv["dt"] = checked_step(method, sv, motion, t_eval, source)
@@ -399,7 +399,7 @@ def run(args: argparse.Namespace) -> int:
                      or f"t_end = {float(t_req):g} s: the run ends at {t_to:g} s")  # fmt: skip
         if not args.json:
             print(f"nsdyn run: note: {notes[-1]}", file=sys.stderr)
-    from nsdyn.studies.scenes import check_step_count
+    from nsdyn.studies.steps import check_step_count
 
     try:
         check_step_count(source, method, sv.get("dt"), t_eval, sv.get("max_steps"))

@@ -163,8 +163,9 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
         raise SceneError(f"{path}: a folder; expected a {what} file (.toml)")
     if not p.is_file():
         raise SceneError(f"{path}: no such {what} file")
+    text = ""
     try:
-        data = tomllib.loads(textfile.read(p))  # (a byte-order mark read and dropped)
+        data = tomllib.loads(text := textfile.read(p))  # (a byte-order mark read and dropped)
     except tomllib.TOMLDecodeError as e:
         if p.suffix.lower() in (".csv", ".txt", ".at2", ".dat", ".acc") and what == "scene":
             raise SceneError(
@@ -172,7 +173,7 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
                 f'as [motion] record = "{path}", or to nsdyn run as --record {path}'
             ) from None
         json = " (a JSON file? {what} files are TOML: [table] and key = value lines)" * (
-            p.suffix.lower() == ".json")  # fmt: skip
+            p.suffix.lower() == ".json" or text.lstrip().startswith("{"))  # fmt: skip
         raise SceneError(f"{path}: not valid TOML{json.format(what=what)}: {e}") from None
     except ValueError as e:  # (bytes that are not UTF-8 text)
         raise SceneError(f"{path}: {e}") from None

@@ -35,6 +35,7 @@ from pathlib import Path
 
 from nsdyn._checks import NotedWarning
 from nsdyn.models.scenefile import SceneError, scaled_to_pga, scene_kind, scene_module
+from nsdyn.studies.steps import check_step_count, checked_step, fixed_step
 from nsdyn.studies.study import KINDS3C
 
 ERROR_CHARS = 400  # longest error text kept in a failed row
@@ -85,19 +86,26 @@ def scene_motion(cfg: dict, source: str = "<scene>"):
 
 
 def _isolated_system(cfg: dict, source: str):
-    from nsdyn.models.isolated.system import (
-        Isolation,
-        _add_isolators,
-        build_system,
-        isolation_from_config,
-    )
-    from nsdyn.structure import load_frame
+    from nsdyn.models.isolated.system import _add_isolators, isolation_from_config
 
-    sc = cfg["scene"]
     try:
         iso = isolation_from_config(cfg.get("isolation", {}), source)
     except ValueError as e:
         raise SceneError(str(e)) from None
+    base = _base_system(cfg, iso)
+    if base.isolation is None:  # fixed base
+        return base
+    K, C = _add_isolators(base.K, base.C, base.D, iso)
+    return replace(base, K=K, C=C, isolation=iso, _static=None)
+
+
+def _base_system(cfg: dict, iso):
+    """The frame scene's model without its isolators (built once per frame, fidelity, cut-off
+    and base diaphragm)."""
+    from nsdyn.models.isolated.system import Isolation, build_system
+    from nsdyn.structure import load_frame
+
+    sc = cfg["scene"]
     fidelity = sc.get("fidelity", "cb")
     f_max = float(sc.get("f_max", 5.0)) if fidelity in ("cb", "fixed") else None  # (cut-offs)
     key = (sc["frame"], fidelity, f_max, iso.diaphragm_EA, iso.diaphragm_EI)
@@ -109,10 +117,7 @@ def _isolated_system(cfg: dict, source: str):
             )
             base = build_system(load_frame(sc["frame"]), bare, fidelity=fidelity, f_max=f_max)
             _systems[key] = base
-    if base.isolation is None:  # fixed base
-        return base
-    K, C = _add_isolators(base.K, base.C, base.D, iso)
-    return replace(base, K=K, C=C, isolation=iso, _static=None)
+    return base
 
 
 def _custom_excitation(cfg: dict) -> bool:
@@ -267,6 +272,7 @@ def warm_scene_kernels(tasks) -> list[str]:
 def _check_isolated(cfg: dict, source: str) -> list[str]:
     """:func:`check_scene` of an isolated frame's scene; its note on a friction law's
     parameter that blurs the friction (a run's NotedWarning, ignored in a study's runs)."""
+    from nsdyn.models.isolated.bearings import stiff_bearing_check
     from nsdyn.models.isolated.scene import (
         _check,
         build_structure,
@@ -309,6 +315,9 @@ def _check_isolated(cfg: dict, source: str) -> list[str]:
             raise SceneError(f"{source}: scene.frame: {e}{hint}") from None
         try:  # a list of the wrong length: every task failed on it (frame: merged default's)
             _ = [iso.per_isolator(k, n_iso) for k in PER_ISOLATOR if n_iso]
+            base = _base_system(cfg, iso) if n_iso else None  # (a spring past the structure)
+            if base is not None and base.isolation is not None:
+                stiff_bearing_check(iso.per_isolator("k_lam", n_iso), base.K.diagonal())
         except ValueError as e:
             raise SceneError(f"{source}: {e}") from None
     duration: dict = {}
@@ -363,29 +372,6 @@ def _frame_read(name: str, mtime) -> int:
     from nsdyn.structure import load_frame
 
     return len(load_frame(name).base_nodes)
-
-
-def fixed_step(method: str, solver: dict, motion=None) -> float | None:
-    """``solver.dt``, or for a fixed-step method without one ``FIXED_DT`` (the record's
-    sampling step where that is shorter), as ``nsdyn run``."""
-    from nsdyn._checks import default_step
-    from nsdyn.solve.methods import METHODS
-
-    if "dt" in solver or method not in METHODS or not METHODS[method].fixed_step:
-        return solver.get("dt")
-    return default_step(motion)
-
-
-def checked_step(method: str, solver: dict, motion, t_eval, source: str) -> float | None:
-    """:func:`fixed_step`, a fixed-step method's checked against the run and the record's
-    sampling step (:func:`nsdyn._checks.check_fixed_step`; SceneError naming solver.dt)."""
-    from nsdyn.models.scenefile import scene_step
-    from nsdyn.solve.methods import METHODS
-
-    dt = fixed_step(method, solver, motion)
-    if method in METHODS and METHODS[method].fixed_step:
-        scene_step(dt, motion, float(t_eval[-1] - t_eval[0]), source)
-    return dt
 
 
 MOTION_COLUMNS = ("pga_mps2", "pga_resultant_mps2", "incident_angle_deg")
@@ -517,43 +503,3 @@ def run_batch(tasks: list) -> list[dict]:
 
 def is_number(v) -> bool:
     return isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
-
-
-def check_step_count(source: str, method: str, dt, t_eval, max_steps=None) -> None:
-    """A fixed-step run whose steps do not fit ``max_steps`` is refused before it starts, and
-    so is a step ``dt`` given to an adaptive method (which chooses its own steps).
-
-    A run is integrated in chunks of ``CHUNK_S`` of simulated time (one solver call
-    each, a checkpoint after each), and ``max_steps`` bounds the steps of one call: a fixed
-    step ``dt`` needs ``ceil(chunk / dt)`` of them. Finding out after the budget is spent
-    costs minutes and reads as stiffness; the cause is a step that is too small.
-    """
-    from nsdyn.solve.integrate import DEFAULT_MAX_STEPS
-    from nsdyn.solve.methods import METHODS
-    from nsdyn.solve.transient import CHUNK_S
-
-    if method in METHODS and not METHODS[method].fixed_step and dt is not None:
-        fixed = ", ".join(k for k, m in METHODS.items() if m.fixed_step)
-        raise SceneError(
-            f"{source}: solver.dt: the adaptive method {method!r} chooses its own steps; dt "
-            f"(--dt) is the step of the fixed-step methods ({fixed}): remove dt, or set "
-            "solver.method (--method) to one of them"
-        )
-    if method not in METHODS or not METHODS[method].fixed_step or not dt or len(t_eval) < 2:
-        return
-    span = float(t_eval[-1] - t_eval[0])
-    if dt > span:
-        raise SceneError(
-            f"{source}: solver.dt: a fixed step of {dt:g} s is longer than the run ({span:g} s); "
-            "use a step of the order of the record's sample step (the default is 0.005 s)"
-        )
-    chunk = min(span, CHUNK_S)  # (nsdyn.solve.checkpoint.chunks)
-    per_chunk = math.ceil(chunk / dt * (1 - 1e-12))
-    limit = int(max_steps or DEFAULT_MAX_STEPS)
-    if per_chunk > limit:
-        raise SceneError(
-            f"{source}: solver.dt: a fixed step of {dt:g} s is too small for this run: it "
-            f"takes {per_chunk:.3g} steps per {chunk:g} s chunk ({math.ceil(span / dt):.3g} over "
-            f"{span:g} s), more than max_steps = {limit}; use a larger dt (the default is 0.005 s) "
-            "or raise solver.max_steps (--max-steps)"
-        )

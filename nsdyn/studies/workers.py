@@ -36,6 +36,8 @@ import warnings
 from concurrent.futures import FIRST_EXCEPTION, ProcessPoolExecutor, wait
 from contextlib import contextmanager, suppress
 
+from nsdyn.atomic import caused_by_interrupt
+
 WATCH_S = 0.5  # seconds between the fallback's checks of the parent's pid
 WAIT_S = 0.2  # seconds between the checks of a waiting loop for held signals (gather)
 GRACE_S = 3.0  # seconds an interrupted pool's tasks get to save their checkpoints (gather)
@@ -164,19 +166,6 @@ class Interrupts:
         if exc_type is None:
             self.check()
         return False
-
-
-def caused_by_interrupt(exc: BaseException) -> bool:
-    """True if a KeyboardInterrupt is ``exc`` or in its chain of causes (numba's dispatcher
-    turns an exception raised by a signal handler during a kernel into SystemError from it)."""
-    seen: set[int] = set()
-    e: BaseException | None = exc
-    while e is not None and id(e) not in seen:
-        if isinstance(e, KeyboardInterrupt):
-            return True
-        seen.add(id(e))
-        e = e.__cause__ or e.__context__
-    return False
 
 
 @contextmanager

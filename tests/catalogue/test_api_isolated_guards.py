@@ -137,6 +137,10 @@ def test_a_friction_coefficient_above_one_is_said():
         nsdyn.Isolation(mu=1.0)
         nsdyn.Isolation(mu=(0.05, 1.0))
         iso.changed(law="switch")  # (a copy a run makes: said when made)
+        iso.changed(g=9.8)  # (another g: its own note, if any, not the mu's again)
+    with pytest.warns(nsdyn.NotedWarning, match=r"^isolation.g = 9810 m/s²") as got:
+        iso.changed(g=9810.0)
+    assert [str(w.message) for w in got if "isolation.mu" in str(w.message)] == []
     with pytest.warns(nsdyn.InputWarning, match=r"^isolation.mu = 5.0 not used") as got:
         nsdyn.Isolation(mu=5.0, law="none")  # (unread: not said as too high)
     assert [str(w.message) for w in got if "above 1" in str(w.message)] == []

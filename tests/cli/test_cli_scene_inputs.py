@@ -466,3 +466,9 @@ def test_a_json_scene_is_told_scenes_are_toml(tmp_path, one_line):
     p = _scene(tmp_path, '{"isolation": {"mu": 0.05}}\n', "s.json")
     assert main(["run", str(p), "--out", str(tmp_path / "o")]) == 2
     one_line("s.json: not valid TOML (a JSON file? scene files are TOML: [table] and key = ")
+
+
+def test_json_text_in_a_toml_file_is_told_scenes_are_toml(tmp_path, one_line):
+    p = _scene(tmp_path, '{"isolation": {"mu": 0.05}}\n', "s.toml")
+    assert main(["run", str(p), "--out", str(tmp_path / "o")]) == 2
+    one_line("s.toml: not valid TOML (a JSON file? scene files are TOML: [table] and key = ")

@@ -155,12 +155,15 @@ def stable_step(body: RigidBody, ground: CompliantGround) -> tuple[float, float]
 
 def ground_step(body: RigidBody, ground: CompliantGround, t_end: float | None = None) -> float:
     """The explicit stability limit (:func:`stable_step`); ValueError naming the ground's
-    ``stiffness`` (or ``damping``, past a damping ratio of 1) when a run of ``t_end`` takes
-    more than ``MAX_STEPS`` steps of H_FRAC of it."""
+    ``stiffness`` (``stick_stiffness`` when a given one is the stiffer, ``damping`` past a
+    damping ratio of 1) when a run of ``t_end`` takes more than ``MAX_STEPS`` steps of
+    H_FRAC of it."""
     h_stab, zeta = stable_step(body, ground)
     h = H_FRAC * h_stab
     if t_end is not None and not t_end / h <= MAX_STEPS:
-        raise ValueError(f"{'damping' if zeta > 1 else 'stiffness'}: the ground's stiffness "
+        stick = ground.k_t is not None and ground.kt > ground.k
+        field = "stick_stiffness" if stick else "damping" if zeta > 1 else "stiffness"
+        raise ValueError(f"{field}: the ground's stiffness "
                          f"and damping bound the explicit step to {h:.3g} s, {t_end / h:.3g} "
                          f"steps over {t_end:g} s, more than {MAX_STEPS:.0e}; expected a "
                          "softer or less damped ground (or a shorter run)")  # fmt: skip

@@ -295,6 +295,14 @@ def build(cfg: dict, source: str):
                              "'compliant') makes its impacts with its springs and dashpots; "
                              "[impact] applies to the rigid ground only")  # fmt: skip
         opts["method"] = "compliant"
+        from nsdyn.models.contact.compliant import ground_step
+
+        gr = cfg.get("ground", {})  # (a step too small: the key of the ground that makes it)
+        damping = "damping_ratio" if "damping_ratio" in gr else "damping"
+        fields = {"stiffness": "ground.stiffness", "damping": f"ground.{damping}",
+                  "stick_stiffness": "ground.stick_stiffness"}  # fmt: skip
+        with grid_fields(source, fields):  # (before a study's tasks or the run's warm-up)
+            ground_step(body, opts["ground"], t_end)
     return body, law, motion, t_end, opts
 
 
@@ -388,14 +396,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     body, law, motion, t_end, opts = build(cfg, source)
     name = cfg.get("scene", {}).get("name", Path(source).stem)
     say = (lambda *a: None) if quiet else (lambda *a: print(*a, file=sys.stderr))
-    damping = "damping_ratio" if "damping_ratio" in cfg.get("ground", {}) else "damping"
-    fields = GRID_FIELDS | {"h": "solver.h", "stiffness": "ground.stiffness",
-                            "damping": f"ground.{damping}"}  # fmt: skip
+    fields = GRID_FIELDS | {"h": "solver.h"}
     with grid_fields(source, fields):  # (before the start is said)
-        if opts.get("ground") is not None:  # (before the warm-up's short run)
-            from nsdyn.models.contact.compliant import ground_step
-
-            ground_step(body, opts["ground"], t_end)
         if opts["method"] == "moreau" and opts.get("ground") is None:
             from nsdyn.models.contact.moreau import step_grid
 

@@ -116,7 +116,10 @@ def _star(p: CylinderParams, st: dict, source: str) -> CylinderParams:
         fac = math.nan
     if q not in STAR_QUANTITIES or not (math.isfinite(fac) and fac > 0):
         raise SceneError(f"{source}: star.case: {form} and a positive factor, got {case!r}")
-    return p.with_(**{q: getattr(p, q) * fac})
+    try:
+        return p.with_(**{q: getattr(p, q) * fac})
+    except ValueError as e:  # (H*1e300: an inertia that overflows)
+        raise SceneError(f"{source}: star.case: {case!r} gives {e}") from None
 
 
 def simulated_records_note(source: str) -> None:
@@ -202,6 +205,8 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
         c = number(source, "foundation.c", fd.get("c", base.c), allow_zero=True)
     try:
         p = _star(base.with_(k=k, c=c, foundation=case), cfg.get("star", {}), source)
+    except SceneError:
+        raise
     except ValueError as e:  # (a foundation k whose moment k pi r^4 / 4 overflows)
         raise SceneError(f"{source}: [cylinder] and [foundation] {e}") from None
     p = p.with_(mu=_friction(fd, case, source))

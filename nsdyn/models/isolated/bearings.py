@@ -262,17 +262,19 @@ def high_friction_note(field: str, mu: float) -> str | None:
 STIFF_BEARING_RATIO = 1e6
 
 
-def stiff_bearing_check(k_lam, K_diag, field: str = "isolation.k_lam") -> None:
+def stiff_bearing_check(k_lam, K_diag, field: str = "isolation.k_lam", frame: bool = True):
     """ValueError naming ``field`` when an isolator spring ``k_lam`` passes
     :data:`STIFF_BEARING_RATIO` times the largest of the structure's diagonal stiffnesses
-    ``K_diag`` (none, as a rigid deck's: not checked). For models with contact rows."""
+    ``K_diag`` (none, as a rigid deck's: not checked). For models with contact rows;
+    ``frame``: the structure is a frame's, whose fixed-base model the message suggests."""
     k, stiff = np.max(k_lam, initial=0.0), np.max(np.abs(K_diag), initial=0.0)
     if stiff > 0 and k > STIFF_BEARING_RATIO * stiff:
+        fixed = ("the frame's fixed-base model (fidelity 'fixed', nsdyn run --fixed-base)"
+                 if frame else "the structure's matrices without the isolators")  # fmt: skip
         raise ValueError(f"{field}: expected an isolator spring of at most "
                          f"{STIFF_BEARING_RATIO:g}x the structure's stiffest entry ({stiff:.3g} "
                          f"N/m), got {k:g} N/m: beside so stiff a spring the run's normal "
-                         "forces go wrong; a base held fixed is the fixed-base model "
-                         "(fidelity 'fixed', nsdyn run --fixed-base)")  # fmt: skip
+                         f"forces go wrong; a base held fixed is {fixed}")  # fmt: skip
 
 
 G_PLAUSIBLE = (9.7, 9.9)  # [m/s²] Earth's gravity, 9.78 at the equator to 9.83 at the poles

@@ -252,7 +252,7 @@ def system_from_matrices(
             normal = w
         iso = iso.changed(frozen_normal=True)
     info = _levels(levels, heights, n)
-    Ks, Cs = _add_isolators(K, C, D, iso, contacts=R.shape[0] > 0)
+    Ks, Cs = _add_isolators(K, C, D, iso, contacts=R.shape[0] > 0, frame=False)
     info["total_mass"] = float(Gamma[:, 0] @ M @ Gamma[:, 0])
     info["rebuild"] = partial(
         system_from_matrices,

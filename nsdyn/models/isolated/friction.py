@@ -25,6 +25,7 @@ Friction force of isolator i with normal force λ_i and sliding velocity v_i = D
 from __future__ import annotations
 
 import math
+import numbers
 
 import numpy as np
 
@@ -46,11 +47,11 @@ LAW_KEYS = {
 
 def sharpness_in_range(name: str, eps) -> None:
     """ValueError naming ``name`` when the arctan sharpness ``eps`` passes :data:`EPS_MAX`."""
-    if isinstance(eps, int | float) and eps > EPS_MAX:
+    if isinstance(eps, numbers.Real) and eps > EPS_MAX:
         raise ValueError(f"{name}: expected an arctan sharpness of at most {EPS_MAX:g} s/m (a "
-                         f"turn at 1/eps = {1 / EPS_MAX:g} m/s, what gravity adds to a velocity "
-                         f"in the solvers' smallest step), got {eps!r}; the sharp limit is the "
-                         "switch law (law 'switch', true stick)")  # fmt: skip
+                         f"turn at 1/eps = {1 / EPS_MAX:g} m/s, ten times what gravity adds to a "
+                         f"velocity in the solvers' smallest step), got {eps:g}; the sharp limit "
+                         "is the switch law (law 'switch', true stick)")  # fmt: skip
 
 
 def arctan_direction(v, eps: float = EPS):

@@ -135,8 +135,9 @@ class Isolation:
         "none") is not said again (a new mu or g is, and a mu the law "none" left unread)."""
         with warnings.catch_warnings():
             read = (self.law != "none", changes.get("law", self.law) != "none")  # (its mu)
-            if not {"mu", "g"} & set(changes) and read[0] == read[1]:
-                warnings.simplefilter("ignore", InputWarning)
+            for k in ("mu",) * (read[0] == read[1]) + ("g",):  # (mu read anew: its notes)
+                if k not in changes:
+                    warnings.filterwarnings("ignore", rf"isolation\.{k}\b", InputWarning)
             return replace(self, **changes)
 
     def per_isolator(self, name: str, n: int) -> np.ndarray:
@@ -375,9 +376,9 @@ def _isolator_rows(n: int, base_x: list[int], base_y: list[int]) -> tuple[np.nda
     return R, D
 
 
-def _add_isolators(K, C, D, iso: Isolation, contacts: bool = True):
+def _add_isolators(K, C, D, iso: Isolation, contacts: bool = True, frame: bool = True):
     k_lam = iso.per_isolator("k_lam", D.shape[0])
-    stiff_bearing_check(k_lam, np.diagonal(K) if contacts else ())  # (its normal forces)
+    stiff_bearing_check(k_lam, K.diagonal() if contacts else (), frame=frame)  # (normal forces)
     return K + D.T @ np.diag(k_lam) @ D, C + D.T @ np.diag(iso.per_isolator("c", len(D))) @ D
 
 
