@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from nsdyn._checks import expect
 from nsdyn.plot.layout import fixed_margins
 from nsdyn.structure import Frame, rotation
 
@@ -114,11 +115,15 @@ def sweep_figure(results: list[dict], fixed: dict | None = None):
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
-    if hasattr(results, "rows"):  # one curve
+    if hasattr(results, "rows") or isinstance(results, dict):  # one curve
         results = [results]
     if fixed is not None and not isinstance(fixed, dict):  # (a path: failed inside matplotlib)
         raise TypeError(f"fixed: expected a dict amplitude -> fixed_base_response, got "
                         f"{type(fixed).__name__}; save the figure: fig.savefig(path)")  # fmt: skip
+    for r in results if isinstance(results, list | tuple) else [results]:  # (a transient run:
+        curve = hasattr(r, "rows") or isinstance(r, dict) and {"A", "rows"} <= set(r)  # TypeError)
+        expect("results", r, curve, "frequency-response curves (nsdyn.frequency_response) or "
+               "nsdyn sweep's results ({'A': amplitude, 'rows': rows} each)")  # fmt: skip
     results = [
         {"A": r.amplitude, "rows": r.rows()} if hasattr(r, "rows") else r for r in results
     ]  # fmt: skip  (curves as the sweep's results)

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import expect
 from nsdyn.atomic import save_figure
 from nsdyn.plot.layout import fixed_margins
 
@@ -22,7 +23,12 @@ MAX_ORBITS = 4
 
 def _arrays(result) -> dict:
     """The arrays of a PlaneResult, or a dict / npz of the same names (``deck.npz``)."""
-    if hasattr(result, "summary"):
+    names = ("t", "q", "u", "N", "friction", "restoring", "other", "d_cap")
+    plane = hasattr(result, "summary") and hasattr(result, "u") and hasattr(result, "N")
+    keyed = hasattr(result, "keys") and all(k in result for k in names)
+    what = f"a PlaneResult (a deck's or building's run) or deck.npz's arrays ({', '.join(names)})"
+    expect("result", result, plane or keyed, what)  # (a rocking run: an AttributeError)
+    if plane:
         # a deck's q is (x, y, θ, ...); a pair system's q is its own coordinates: the twist
         # of its rigid base where it has one (``twist``), else none
         theta = result.twist if hasattr(result, "twist") else result.q[:, 2]

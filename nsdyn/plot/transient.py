@@ -22,6 +22,7 @@ import math
 
 import numpy as np
 
+from nsdyn._checks import expect
 from nsdyn.plot.layout import fixed_margins
 
 G = 9.81  # [m/s²], for the PGA in g of the title
@@ -110,6 +111,10 @@ def plot_transient(result, motion=None, *, fixed=None, note: str | None = None,
     from matplotlib.figure import Figure
     from matplotlib.ticker import MaxNLocator
 
+    for name, run in (("result", result), ("fixed", fixed)):  # (a rocking run: AttributeError)
+        expect(name, run, run is None and name == "fixed" or hasattr(run, "response"),
+               "a TransientResult of an isolated frame (nsdyn.simulate); a deck's or building's "
+               "run is drawn by nsdyn.plot.isolators.plane_figure")  # fmt: skip
     r = result.response
     fr = fixed.response if fixed is not None else None
     ground = excitation_history(motion, r.t)

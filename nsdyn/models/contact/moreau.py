@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, number, output_count, step_count
+from nsdyn._checks import NumericalFailure, number, output_count, output_step, step_count
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kmoreau as km
 from nsdyn.models.contact.body import RigidBody
@@ -38,6 +38,7 @@ def step_grid(t_end: float, h: float, dt_out: float | None = None) -> None:
     """A run's steps of ``h`` over ``t_end`` and its outputs every ``dt_out`` (at least a
     step): ValueError naming h or dt_out (too many, or a step longer than the run)."""
     step_count(t_end, h)
+    output_step(dt_out, t_end, off=False)  # (one longer than the run: a lone sample at t = 0)
     output_count(t_end, max(dt_out or h, h))
     if h > t_end:  # (h = 0.6 s over 1 s ran to 1.2 s; 2 s: no step, one sample)
         raise ValueError(f"h: a step of {h:g} s is longer than the run (t_end = {t_end:g} s)")

@@ -57,3 +57,19 @@ def test_a_base_motion_of_lists_is_the_kernels_arrays_and_a_ratio_checks_its_sti
         CompliantGround.from_ratio(body, -1e9, 0.1)
     with pytest.raises(ValueError, match=r"^zeta: expected a non-negative damping ratio"):
         CompliantGround.from_ratio(body, 1e9, -0.1)
+
+
+def test_an_output_step_longer_than_the_run_is_refused_by_either_solver():
+    # Moreau-Jean took dt_out = 0.005 s over a 0.002 s run and returned its one sample at
+    # t = 0, a "final" tilt of the start; the event-driven solver refuses it
+    from nsdyn.models.contact.body import RigidBody
+    from nsdyn.models.contact.event import simulate_event
+    from nsdyn.models.contact.friction import FrictionLaw
+    from nsdyn.models.contact.moreau import simulate_moreau
+
+    body, law = RigidBody.rectangle(1.1, 1.0, 2500.0), FrictionLaw(0.57, 0.29)
+    for run in (simulate_event, simulate_moreau):
+        with pytest.raises(ValueError, match=r"^dt_out: expected a positive output step no "
+                           r"longer than the run \(0\.002 s\), got 0\.005$"):  # fmt: skip
+            run(body, law, None, t_end=0.002, dt_out=0.005)
+    assert simulate_moreau(body, law, None, t_end=0.002, dt_out=0.002).t[-1] == 0.002
