@@ -149,6 +149,19 @@ class Curve:
         df.attrs.update({k: v for k, v in self.summary().items() if not isinstance(v, list)})
         return df
 
+    def to_xarray(self):
+        """:meth:`to_dataframe` as an xarray Dataset over ``f`` [Hz], the summary's scalars
+        and strings as attributes (a bool as 0/1: netCDF stores no bool; needs the ``frames``
+        extra)."""
+        from nsdyn._tabular import _need
+
+        _need("xarray")
+        df = self.to_dataframe()
+        ds = df.to_xarray()
+        ds.attrs = {k: int(v) if isinstance(v, bool) else v for k, v in df.attrs.items()
+                    if isinstance(v, int | float | str)}  # fmt: skip
+        return ds
+
     def rows(self) -> list[dict]:
         """One flat record per point (the sweep CSV), keyed by :data:`ROW_KEYS`, a point
         without a steady state (``converged`` False) without its response (NaN); a deck's

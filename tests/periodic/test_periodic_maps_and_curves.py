@@ -179,6 +179,13 @@ def test_a_curves_columns_summary_and_table_are_its_rows(duffing_curve):
     expected = pd.DataFrame(rows).set_index("f")
     pd.testing.assert_frame_equal(df, expected)
     assert df.attrs["points"] == 2 and amp.size == 2
+    # the same table as an xarray Dataset over f, as every time-history result has one
+    pytest.importorskip("xarray")
+    ds = c.to_xarray()
+    assert list(ds.coords) == ["f"] and list(ds["f"].values) == [0.15, 0.16]
+    for name in df.columns:
+        np.testing.assert_array_equal(ds[name].values, df[name].to_numpy())
+    assert ds.attrs["points"] == 2 and "idr_max" not in ds.attrs  # (None: no netCDF attribute)
 
 
 @pytest.mark.parametrize(
