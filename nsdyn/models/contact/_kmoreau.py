@@ -137,6 +137,8 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
         while jn < jumps.shape[0] and jumps[jn, 0] < t + h * (1.0 - JUMP_EPS):
             if jumps[jn, 0] >= t0:
                 vk[0] -= jumps[jn, 1]
+                if jumps[jn, 1] != 0.0:  # (the ground moved under the corners: none held)
+                    held[:] = False
             jn += 1
         qm = q + 0.5 * h * vk
         g, Wn, Wt, bn, bt, gd, vt = contact_rows(qm, vk, verts)
@@ -165,6 +167,24 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
             break
         v = vf + minv * (tmatvec(Wn, PN) + tmatvec(Wt, PT))
         vt_held = matvec(Wt, v)  # (the step's rows: those the LCP holds at zero)
+        # a slip that reverses in the step passed through rest, where static friction acts:
+        # solved again with mu_s at those corners, kept if it holds them (a reversal at mu_d
+        # otherwise, as the kinetic friction after a break-away)
+        again = False
+        for i in range(nc):
+            if not held[i] and PN[i] > 0.0 and vt[i] * vt_held[i] < 0.0 and mu[i] < par[2]:
+                mu[i] = par[2]
+                again = True
+        if again:
+            PN2, PT2, wN2, slack2, st2 = solve_contacts(Wn, Wt, minv, bN, bT, mu, sig, idx)
+            v2 = vf + minv * (tmatvec(Wn, PN2) + tmatvec(Wt, PT2))
+            vt2 = matvec(Wt, v2)
+            stops = st2 == 0
+            for i in range(nc):
+                if vt[i] * vt_held[i] < 0.0 and mu[i] == par[2] and abs(vt2[i]) > v_rest:
+                    stops = False
+            if stops:
+                PN, PT, v, vt_held = PN2, PT2, v2, vt2
         for i in range(nc):
             held[i] = PN[i] > 0.0 and abs(vt_held[i]) <= v_rest
         q = q + h * ((1.0 - theta) * vk + theta * v)
