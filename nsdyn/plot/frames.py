@@ -117,6 +117,8 @@ def sweep_figure(results: list[dict], fixed: dict | None = None):
 
     if hasattr(results, "rows") or isinstance(results, dict):  # one curve
         results = [results]
+    elif not isinstance(results, str | bytes) and hasattr(results, "__iter__"):
+        results = list(results)  # (a generator, a dict's values)
     if fixed is not None and not isinstance(fixed, dict):  # (a path: failed inside matplotlib)
         raise TypeError(f"fixed: expected a dict amplitude -> fixed_base_response, got "
                         f"{type(fixed).__name__}; save the figure: fig.savefig(path)")  # fmt: skip

@@ -23,6 +23,7 @@ MAX_ORBITS = 4
 
 def _arrays(result) -> dict:
     """The arrays of a PlaneResult, or a dict / npz of the same names (``deck.npz``)."""
+    result = getattr(result, "result", result)  # (a building's run: run_building(...))
     names = ("t", "q", "u", "N", "friction", "restoring", "other", "d_cap")
     plane = hasattr(result, "summary") and hasattr(result, "u") and hasattr(result, "N")
     keyed = hasattr(result, "keys") and all(k in result for k in names)

@@ -39,3 +39,18 @@ def test_the_transient_figure_names_what_it_draws(given):
 def test_the_sweep_figure_names_what_it_draws(given):
     with pytest.raises(TypeError, match=r"^results: expected frequency-response curves "):
         sweep_figure(given)
+
+
+def test_the_sweep_figure_takes_any_iterable_of_curves_and_the_plane_figure_a_buildings_run():
+    # a generator or a dict's values of curves drew before the guard (refused after it); a
+    # building's run (run_building) holds its PlaneResult as .result
+    rows = [{"f": f, "IDR": 1e-3, "a": 1.0, "x_iso": 0.01, "stable": True, "method": "shooting",
+             "uplift": False, "stick_all_period": False} for f in (0.5, 1.0)]  # fmt: skip
+    sweep_figure(r for r in [{"A": 1.0, "rows": rows}])
+    sweep_figure({1.0: {"A": 1.0, "rows": rows}}.values())
+
+    class Run:
+        result = _Other()
+
+    with pytest.raises(TypeError, match=r"^result: expected a PlaneResult"):
+        plane_figure(Run())  # (its .result is read: here another family's)
