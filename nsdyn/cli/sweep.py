@@ -259,7 +259,8 @@ def run(args: argparse.Namespace) -> int:
                     f"law, got {law}; expected --friction arctan")  # fmt: skip
     if not args.fmax > args.fmin:
         return fail(args, band_message("sweep", args.fmin, args.fmax, given))
-    for note in unused_scene_notes(raw, bool(mo)) if args.scene and not args.json else ():
+    notes = unused_scene_notes(raw, bool(mo), args.contact) if args.scene else []
+    for note in notes if not args.json else ():
         print(f"nsdyn sweep: note: {note}", file=sys.stderr)  # (before the run, as it goes)
     settings = SweepSettings(
         args.fmin,

@@ -62,7 +62,9 @@ class OrbitPoint:
 
     @property
     def stable(self) -> bool | None:
-        if not self.multipliers.size or not self.converged:  # (no orbit: no verdict on it)
+        """Whether the orbit is stable; None without an orbit, or for a grazing one (its
+        multipliers unreliable: its note says so, and a CSV read by stable trusted them)."""
+        if not self.multipliers.size or not self.converged or self.quantities.get("grazing"):
             return None
         return bool(self.max_multiplier < 1.0 + STABLE_MARGIN)
 

@@ -382,7 +382,11 @@ class PlaneProblem:
             notes.append("an isolator reaches its displacement capacity (rim stop)")
         s = q.get("stick_fraction")
         if s is not None and math.isfinite(s) and 0.0 < s < 1.0:
-            notes.append(f"stick-slip orbit (stick fraction {s:.3g})")
+            creep = (f": under the arctan law its stick phases creep at up to "
+                     f"{stick_velocity('arctan', self.eps):.2g} m/s (eps = {self.eps:g} s/m), "
+                     "and a small orbit can differ from true stick's many times over (confirm "
+                     "with --friction switch)") * (self.law == "arctan")  # fmt: skip
+            notes.append(f"stick-slip orbit (stick fraction {s:.3g}){creep}")
         return "; ".join(notes)
 
 

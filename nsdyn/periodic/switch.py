@@ -389,6 +389,7 @@ class SwitchProblem(MinimalStates):
             "uplift": bool(lam.size and lam.min() <= 0.0),
             "events": len(events),
             "graze": pm.graze,
+            "grazing": bool(pm.graze < GRAZE_TOL),  # (its multipliers unreliable: no verdict)
             "graze_at": self.graze_at(pm),
             "law": LAW_NAME,
             "map": METHOD_NAME,

@@ -40,12 +40,19 @@ CHECKPOINT_NAME = ".sweep-A{amplitude}.ckpt.json"  # one per amplitude, in the o
 SWEEP_SOLVER_KEYS = ("restitution",)  # a scene's [solver] keys a frame's sweep reads
 
 
-def unused_scene_notes(raw: dict, harmonic_motion: bool) -> list[str]:
+def unused_scene_notes(raw: dict, harmonic_motion: bool, contact: str = "") -> list[str]:
     """One line for each table of an isolated-frame scene that its sweep does not read: a
     record's [motion] (the sweep drives harmonic base accelerations) and [solver] keys other
     than :data:`SWEEP_SOLVER_KEYS` (its orbits are shot with their own integrator; a
-    transient's method, rtol and dt_out changed nothing, unsaid)."""
+    transient's method, rtol and dt_out changed nothing, unsaid); and the contacts'
+    stabilisation, unless ``contact`` is "unilateral" (lift-off orbits feel it)."""
     notes = []
+    iso = raw.get("isolation") if isinstance(raw.get("isolation"), dict) else {}
+    gains = [f"isolation.{k}" for k in ("alpha", "beta") if k in iso]
+    if gains and contact != "unilateral":  # (1e-6 to 1e6: the same curve, unsaid)
+        notes.append(f"{' and '.join(gains)}: no effect on a sweep, whose orbits are shot on "
+                     "the minimal coordinates where the contacts hold exactly (the "
+                     "stabilisation acts on a drift they do not have)")  # fmt: skip
     if "motion" in raw and not harmonic_motion:
         notes.append("the scene's [motion] (a record) is not used: a sweep drives the frame "
                      "with harmonic base accelerations of --amplitudes")  # fmt: skip

@@ -225,3 +225,42 @@ def test_a_structure_given_by_matrices_is_not_told_to_use_a_frames_model():
     with pytest.raises(ValueError, match=r"isolation.k_lam: .* a base held fixed is the "
                        r"structure's matrices without the isolators$"):  # fmt: skip
         system_from_matrices(M, np.zeros((2, 2)), K, isolation=Isolation(k_lam=2.0e14), **args)
+
+
+def test_a_stabilisation_that_makes_its_own_lift_offs_is_said(tmp_path, capsys):
+    # the bundled uplift pocket over 16 periods: 47-54 lift-offs from alpha = 2 pi to 1e4,
+    # 886 at 1e5 (alpha^2 R q equals gravity at a gap of 1e-9 m, below the drift the
+    # contacts keep after landings), with exit 0 and no word; said past ALPHA_PLAUSIBLE
+    import json
+    import warnings
+
+    import nsdyn
+    from nsdyn.models.isolated.bearings import ALPHA_PLAUSIBLE
+
+    with pytest.warns(nsdyn.NotedWarning, match=r"^isolation.alpha = 100000 1/s: the "
+                      r"contacts' stabilisation alpha\^2 R q equals gravity at a gap of "
+                      r"g/alpha\^2 = 9\.8e-10 m"):  # fmt: skip
+        nsdyn.Isolation(alpha=1e5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", nsdyn.InputWarning)
+        nsdyn.Isolation(alpha=ALPHA_PLAUSIBLE).changed(c=1.0)
+    counts = {}
+    for alpha in (ALPHA_PLAUSIBLE, 10 * ALPHA_PLAUSIBLE):
+        p = _edit(tmp_path, "isolated-uplift-pocket.toml", "[isolation]",
+                  f"[isolation]\nalpha = {alpha}")  # fmt: skip
+        p.write_text(re.sub(r"(?m)^n_periods = .*$", "n_periods = 16", p.read_text()))
+        out = tmp_path / f"o{alpha:g}"
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", nsdyn.InputWarning)
+            assert main(["run", str(p), "--json", "--no-figures", "--out", str(out)]) == 0
+        counts[alpha] = json.loads(capsys.readouterr().out)["lift_offs"]
+    assert counts[10 * ALPHA_PLAUSIBLE] > 5 * counts[ALPHA_PLAUSIBLE] > 0
+
+
+def test_a_sweep_says_the_stabilisation_does_not_act_on_its_orbits():
+    from nsdyn.studies.sweep import unused_scene_notes
+
+    raw = {"isolation": {"alpha": 1e6, "beta": 1.0, "mu": 0.05}}
+    (note,) = unused_scene_notes(raw, True)
+    assert note.startswith("isolation.alpha and isolation.beta: no effect on a sweep, whose ")
+    assert unused_scene_notes(raw, True, "unilateral") == []  # (lift-off orbits feel it)

@@ -263,6 +263,10 @@ def test_a_point_without_an_orbit_has_no_stability_verdict():
     args = (1.0, np.zeros(2), "sweep")
     assert OrbitPoint(*args, False, 0, 0.1, rho, 10, "", {}).stable is None
     assert OrbitPoint(*args, True, 0, 1e-9, rho, 10, "", {}).stable is True
+    # a grazing orbit: its note says the multipliers are unreliable, and the CSV called it
+    # stable beside that note; no verdict either (its multipliers still reported)
+    grazing = OrbitPoint(*args, True, 0, 1e-9, rho, 10, "grazing: …", {"grazing": True})
+    assert grazing.stable is None and grazing.max_multiplier == 0.5
 
 
 @pytest.mark.parametrize("curve", [pr.frequency_response, switch_response])

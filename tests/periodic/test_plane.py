@@ -403,3 +403,20 @@ def test_a_triple_pendulum_orbit_with_stuck_surfaces_is_one_of_a_family():
     big = np.abs(p.X).max(axis=0)
     scale = np.where(pb.velocity, big[pb.velocity].max(), big[~pb.velocity].max())
     assert st == 0 and np.all(np.abs(X[-1, pb.rows] - (p.x0 + v)) <= 10 * SHOOT_TOL * scale)
+
+
+def test_an_arctan_stick_slip_orbit_says_its_stick_creeps():
+    # a linear orbit of amplitude just above mu g at 3 Hz: the switch law's orbit barely
+    # slips (1e-6 m) where the arctan law's creeps to 56x that, and its note only said
+    # "stick-slip orbit"; an arctan stick-slip point now names the creep and the switch law
+    from nsdyn.models.isolated.friction import stick_velocity
+
+    pb = plane_problem(sdof(), HarmonicPlane.linear(3.0, A0, 0.0), law="arctan")
+    q = {"stick_fraction": 0.65, "uplift": False, "rim_contact": False}
+    note = pb.validity_note(q)
+    v = stick_velocity("arctan", pb.eps)
+    assert note.startswith("stick-slip orbit (stick fraction 0.65): under the arctan law its "
+                           f"stick phases creep at up to {v:.2g} m/s")  # fmt: skip
+    assert note.endswith("(confirm with --friction switch)")
+    switch = plane_problem(sdof(), HarmonicPlane.linear(3.0, A0, 0.0), law="switch")
+    assert switch.validity_note(q) == "stick-slip orbit (stick fraction 0.65)"

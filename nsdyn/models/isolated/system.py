@@ -42,7 +42,7 @@ from nsdyn._checks import InputWarning, NotedWarning, fingerprint, flag, known_f
 from nsdyn._lazy import LazyModule
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kernel as ks
-from nsdyn.models.isolated.bearings import gravity_note, high_friction_note, stiff_bearing_check
+from nsdyn.models.isolated import bearings
 from nsdyn.models.isolated.defaults import ALPHA, BETA, C_DAMPER, EPS, ETA, K_LAM, MU
 from nsdyn.models.isolated.friction import sharpness_in_range
 from nsdyn.models.isolated.params import pack
@@ -108,9 +108,8 @@ class Isolation:
                                                                      & (vals >= 0)):  # fmt: skip
                 per = " (or one per isolator)" if k in PER_ISOLATOR else ""
                 a = "one (for every isolator)" if one else "a"
-                raise ValueError(
-                    f"isolation.{k}: expected {a} finite non-negative number{per}, got {v!r}"
-                )
+                raise ValueError(f"isolation.{k}: expected {a} finite non-negative number{per}, "
+                                 f"got {v!r}")  # fmt: skip
         sharpness_in_range("isolation.eps", self.eps)
         if not self.g > 0:
             raise ValueError(f"isolation.g: expected a positive gravity [m/s²], got {self.g!r}")
@@ -121,21 +120,23 @@ class Isolation:
             raise ValueError(f"isolation.{k}: the {self.law} law needs a positive {what}, got "
                              f"{getattr(self, k)!r}")  # fmt: skip
         mu = np.atleast_1d(np.asarray(self.mu, dtype=float))  # (5 for 5 %: stuck, unsaid)
-        if self.law != "none" and mu.max() > 1.0:  # (a scene's note says it: NotedWarning)
-            k, name = int(np.argmax(mu)), "isolation.mu" + ("" if np.ndim(self.mu) == 0 else "[{}]")
-            warnings.warn(high_friction_note(name.format(k), float(mu[k])), NotedWarning, 3)
+        k = int(np.argmax(mu))  # (mu 5: stuck; g 9810: friction 1000x; alpha 1e5: lift-offs)
+        name = "isolation.mu" + ("" if np.ndim(self.mu) == 0 else f"[{k}]")
+        for note in (self.law != "none" and bearings.high_friction_note(name, float(mu[k])),
+                     bearings.gravity_note("isolation.g", self.g),
+                     bearings.stabilisation_note("isolation.alpha", self.alpha)):  # fmt: skip
+            if note:  # (a scene's notes say them: NotedWarning)
+                warnings.warn(note, NotedWarning, 3)
         if self.law == "none" and np.any((mu != MU) & (mu != 0)):  # (a scene's note says it)
             warnings.warn(f"isolation.mu = {self.mu!r} not used: the law 'none' has no "
                           "friction", InputWarning, 3)  # fmt: skip
-        if gravity_note("isolation.g", self.g):  # (9810: friction 1000x, unsaid)
-            warnings.warn(gravity_note("isolation.g", self.g), NotedWarning, 3)
 
     def changed(self, **changes) -> Isolation:
-        """A copy with ``changes``; what this one said of its mu (above 1, unread by the law
-        "none") is not said again (a new mu or g is, and a mu the law "none" left unread)."""
+        """A copy with ``changes``; its notes on mu, g and alpha said again only if changed
+        (a mu also when the law "none" comes or goes)."""
         with warnings.catch_warnings():
             read = (self.law != "none", changes.get("law", self.law) != "none")  # (its mu)
-            for k in ("mu",) * (read[0] == read[1]) + ("g",):  # (mu read anew: its notes)
+            for k in ("mu",) * (read[0] == read[1]) + ("g", "alpha"):  # (mu read anew: said)
                 if k not in changes:
                     warnings.filterwarnings("ignore", rf"isolation\.{k}\b", InputWarning)
             return replace(self, **changes)
@@ -305,8 +306,7 @@ class IsolatedSystem:
         if self.normal_force is not None:  # no contacts: the given (frozen) normal forces
             lam0, frozen = self.normal_force, True
         kw = dict(law=law or iso.law, eps=iso.eps, eta=iso.eta, alpha=iso.alpha, beta=iso.beta,
-                  kappa=iso.kappa, g=iso.g, frozen_normal=frozen)  # fmt: skip
-        kw.update(overrides)
+                  kappa=iso.kappa, g=iso.g, frozen_normal=frozen) | overrides  # fmt: skip
         return pack(M, C, K, Gamma, R, D, iso.per_isolator("mu", ni), lam0[:ni], ground=ground,
                     **kw)  # fmt: skip
 
@@ -378,7 +378,7 @@ def _isolator_rows(n: int, base_x: list[int], base_y: list[int]) -> tuple[np.nda
 
 def _add_isolators(K, C, D, iso: Isolation, contacts: bool = True, frame: bool = True):
     k_lam = iso.per_isolator("k_lam", D.shape[0])
-    stiff_bearing_check(k_lam, K.diagonal() if contacts else (), frame=frame)  # (normal forces)
+    bearings.stiff_bearing_check(k_lam, K.diagonal() if contacts else (), frame=frame)  # (its N)
     return K + D.T @ np.diag(k_lam) @ D, C + D.T @ np.diag(iso.per_isolator("c", len(D))) @ D
 
 
