@@ -21,7 +21,7 @@ from nsdyn._brief import brief_repr
 from nsdyn._checks import did_you_mean
 from nsdyn.periodic.bifurcation import STABLE_MARGIN, family_note
 from nsdyn.periodic.discretisation import MORE_STEPS, Discretisation
-from nsdyn.periodic.protocol import PeriodicModel
+from nsdyn.periodic.protocol import GRAZE_TOL, PeriodicModel
 from nsdyn.periodic.shooting import ShootingResult, _evaluate, floquet_multipliers
 from nsdyn.periodic.stability import check_verdict
 from nsdyn.periodic.sweeps import WARMUP_PERIODS, SweepResult
@@ -64,7 +64,9 @@ class OrbitPoint:
     def stable(self) -> bool | None:
         """Whether the orbit is stable; None without an orbit, or for a grazing one (its
         multipliers unreliable: its note says so, and a CSV read by stable trusted them)."""
-        if not self.multipliers.size or not self.converged or self.quantities.get("grazing"):
+        graze = self.quantities.get("graze")  # (a switch-law orbit's grazing measure)
+        grazing = isinstance(graze, float) and graze < GRAZE_TOL
+        if not self.multipliers.size or not self.converged or grazing:
             return None
         return bool(self.max_multiplier < 1.0 + STABLE_MARGIN)
 

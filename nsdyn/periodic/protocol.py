@@ -90,6 +90,9 @@ def check_frequencies(freqs, name: str = "freqs") -> None:
 
 # the largest ground acceleration amplitude a periodic solve takes [m/s²]: 100 g, a record's
 # largest PGA target (at 1e300 m/s² a sweep's probe overflowed into a traceback)
+# normalised |n^T f-| (or touch depth) below which a switch-law orbit counts as grazing: its
+# saltation matrices, and its multipliers, are then unreliable (no stability verdict)
+GRAZE_TOL = 1e-3
 A_HIGHEST = PGA_TARGET_MAX
 
 

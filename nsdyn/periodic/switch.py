@@ -52,6 +52,7 @@ from nsdyn.periodic.discretisation import Discretisation
 from nsdyn.periodic.extrema import dense_half_range
 from nsdyn.periodic.protocol import (
     A_HIGHEST,
+    GRAZE_TOL,
     STATUS_MESSAGES,
     MinimalStates,
     PeriodMap,
@@ -63,7 +64,6 @@ from nsdyn.periodic.shooting import ShootingResult, shoot
 from nsdyn.periodic.switch_tables import balancing, mode_sets, mode_tables, tied_groups
 
 MAX_ISOLATORS = 6  # 3^n mode sets are tabulated (n: isolators, tied ones counted once)
-GRAZE_TOL = 1e-3  # normalised |n^T f-| (or touch depth) below which an orbit counts as grazing
 SWITCH_N_MIN = 128  # samples (steps) per period at least: event bracketing and orbit output
 SWITCH_DT_MAX = 0.02  # s, longest step (the default Discretisation's, same samples)
 STEP_SLIP_FACTOR = 2.0  # a step moves an isolator by at most this x its slip range ...
@@ -389,7 +389,6 @@ class SwitchProblem(MinimalStates):
             "uplift": bool(lam.size and lam.min() <= 0.0),
             "events": len(events),
             "graze": pm.graze,
-            "grazing": bool(pm.graze < GRAZE_TOL),  # (its multipliers unreliable: no verdict)
             "graze_at": self.graze_at(pm),
             "law": LAW_NAME,
             "map": METHOD_NAME,

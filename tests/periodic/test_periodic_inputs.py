@@ -265,8 +265,10 @@ def test_a_point_without_an_orbit_has_no_stability_verdict():
     assert OrbitPoint(*args, True, 0, 1e-9, rho, 10, "", {}).stable is True
     # a grazing orbit: its note says the multipliers are unreliable, and the CSV called it
     # stable beside that note; no verdict either (its multipliers still reported)
-    grazing = OrbitPoint(*args, True, 0, 1e-9, rho, 10, "grazing: …", {"grazing": True})
+    grazing = OrbitPoint(*args, True, 0, 1e-9, rho, 10, "grazing: …", {"graze": 1e-5})
     assert grazing.stable is None and grazing.max_multiplier == 0.5
+    clear = OrbitPoint(*args, True, 0, 1e-9, rho, 10, "", {"graze": 0.1})
+    assert clear.stable is True
 
 
 @pytest.mark.parametrize("curve", [pr.frequency_response, switch_response])

@@ -170,18 +170,18 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
         # a slip that reverses in the step passed through rest, where static friction acts:
         # solved again with mu_s at those corners, kept if it holds them (a reversal at mu_d
         # otherwise, as the kinetic friction after a break-away)
-        again = False
+        again = np.zeros(nc, np.bool_)  # (the corners solved again; no others judged)
         for i in range(nc):
             if not held[i] and PN[i] > 0.0 and vt[i] * vt_held[i] < 0.0 and mu[i] < par[2]:
                 mu[i] = par[2]
-                again = True
-        if again:
+                again[i] = True
+        if again.any():
             PN2, PT2, wN2, slack2, st2 = solve_contacts(Wn, Wt, minv, bN, bT, mu, sig, idx)
             v2 = vf + minv * (tmatvec(Wn, PN2) + tmatvec(Wt, PT2))
             vt2 = matvec(Wt, v2)
             stops = st2 == 0
             for i in range(nc):
-                if vt[i] * vt_held[i] < 0.0 and mu[i] == par[2] and abs(vt2[i]) > v_rest:
+                if again[i] and abs(vt2[i]) > v_rest:
                     stops = False
             if stops:
                 PN, PT, v, vt_held = PN2, PT2, v2, vt2

@@ -277,21 +277,23 @@ def stiff_bearing_check(k_lam, K_diag, field: str = "isolation.k_lam", frame: bo
                          f"forces go wrong; a base held fixed is {fixed}")  # fmt: skip
 
 
-# a contact stabilisation alpha [1/s] past this is said: its alpha^2 R q equals gravity at a
-# gap of g/alpha^2 (1e-7 m at 1e4), the drift a run's contacts keep after landings (~1e-8 m),
-# and the lift-offs follow the stabilisation (the bundled uplift-pocket scene, 16 periods:
-# 47-54 lift-offs from alpha = 2 pi to 1e4, 886 at 1e5, with exit 0)
+# a contact stabilisation alpha [1/s] past this is said where contacts lift off: its
+# alpha^2 R q equals gravity at a gap of g/alpha^2 (1e-7 m at 1e4), within ten times the drift
+# a run's contacts keep after landings (~1e-8 m), and the lift-offs begin to follow the
+# stabilisation (the bundled uplift-pocket scene, 16 periods: 47-54 lift-offs from alpha =
+# 2 pi to 1e4, 83 at 2e4, 232 at 3e4, 886 at 1e5, each with exit 0)
 ALPHA_PLAUSIBLE = 1e4
 
 
 def stabilisation_note(field: str, alpha: float, g: float = 9.81) -> str | None:
-    """A line on a Baumgarte ``alpha`` above :data:`ALPHA_PLAUSIBLE` (None below)."""
+    """A line on a Baumgarte ``alpha`` above :data:`ALPHA_PLAUSIBLE` (None below), for a
+    model whose contacts lift off (``contact = "unilateral"``)."""
     if not alpha > ALPHA_PLAUSIBLE:
         return None
     return (f"{field} = {alpha:g} 1/s: the contacts' stabilisation alpha^2 R q equals gravity "
-            f"at a gap of g/alpha^2 = {g / alpha**2:.2g} m, below the drift a run's contacts "
-            "keep after landings (~1e-8 m): lift-offs and landings then follow the "
-            "stabilisation, not the motion (the default is 2 pi)")  # fmt: skip
+            f"at a gap of g/alpha^2 = {g / alpha**2:.2g} m, within ten times the drift a run's "
+            "contacts keep after landings (~1e-8 m): lift-offs and landings then begin to "
+            "follow the stabilisation, not the motion (the default is 2 pi)")  # fmt: skip
 
 
 G_PLAUSIBLE = (9.7, 9.9)  # [m/s²] Earth's gravity, 9.78 at the equator to 9.83 at the poles

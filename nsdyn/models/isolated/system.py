@@ -123,8 +123,8 @@ class Isolation:
         k = int(np.argmax(mu))  # (mu 5: stuck; g 9810: friction 1000x; alpha 1e5: lift-offs)
         name = "isolation.mu" + ("" if np.ndim(self.mu) == 0 else f"[{k}]")
         for note in (self.law != "none" and bearings.high_friction_note(name, float(mu[k])),
-                     bearings.gravity_note("isolation.g", self.g),
-                     bearings.stabilisation_note("isolation.alpha", self.alpha)):  # fmt: skip
+                     bearings.gravity_note("isolation.g", self.g), self.contact == "unilateral"
+                     and bearings.stabilisation_note("isolation.alpha", self.alpha)):  # fmt: skip
             if note:  # (a scene's notes say them: NotedWarning)
                 warnings.warn(note, NotedWarning, 3)
         if self.law == "none" and np.any((mu != MU) & (mu != 0)):  # (a scene's note says it)
@@ -136,8 +136,8 @@ class Isolation:
         (a mu also when the law "none" comes or goes)."""
         with warnings.catch_warnings():
             read = (self.law != "none", changes.get("law", self.law) != "none")  # (its mu)
-            for k in ("mu",) * (read[0] == read[1]) + ("g", "alpha"):  # (mu read anew: said)
-                if k not in changes:
+            for k in ("mu",) * (read[0] == read[1]) + ("g", "alpha" * ("contact" not in changes)):
+                if k and k not in changes:  # (a mu or alpha read anew: said)
                     warnings.filterwarnings("ignore", rf"isolation\.{k}\b", InputWarning)
             return replace(self, **changes)
 
