@@ -213,8 +213,10 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
                  * any(f in bad for f in ("--fixed-base", "--compare-fixed"))
                  + "; a 3D building's step is its [solver] dt"
                  * (bool(own) and "--dt" in bad))  # fmt: skip
-        raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes "
-                         f"only{fixed}")  # fmt: skip
+        also = " and 3D buildings (their [structure] rung)" * any(
+            f in bad for f in ("--fidelity", "--fmax"))  # fmt: skip
+        raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes"
+                         f"{also} only{fixed}")  # fmt: skip
     if args.method and kind in ("deck", "building3d"):
         raise SceneError(f"{args.scene}: --method: a {kind} scene's integrator follows its "
                          "[solver] law (and fidelity); --method applies to isolated-frame, "

@@ -288,8 +288,15 @@ class Frame3D:
         """Why ``model``'s mass matrix is singular, naming the first of :meth:`massless_nodes`
         (None when every node has a mass)."""
         bare = self.massless_nodes()
-        if not len(bare):
-            return None
+        if not len(bare):  # (a mass that lumps translations alone: rotations without any)
+            spun = set(self.elements[self.rho_A > 0].ravel().tolist()) | set(self.base_nodes)
+            spin = [n for n in range(self.n_nodes) if n not in spun]
+            return spin and (
+                f"frame3d: nodes[{spin[0]}] (z = {self.nodes[spin[0], 2]:g} m): every member "
+                f"there has no mass (a section's rho = 0), so its rotations have none (node "
+                f"and floor masses lump translations) and the {model!r} model's mass matrix is "
+                "singular; expected a positive rho on a member at every node, or fidelity "
+                "'rigid'") or None  # fmt: skip
         return (
             f"frame3d: nodes[{bare[0]}] (z = {self.nodes[bare[0], 2]:g} m) has no mass (no "
             f"floor, node or member mass), so the {model!r} model's mass matrix is "

@@ -355,6 +355,10 @@ def frame3d_from_dict(data: Mapping, file: str = "<dict>") -> Frame3D:
     f = rd.table(data, TABLE, TABLE)
     name = rd.string(f, "name", f"{TABLE}.name")
     kind = f.get("kind", "regular")
+    if "kind" not in f and "nodes" in f:  # (read as a grid: "frame3d.nodes: unknown field")
+        raise FrameFileError(f"{rd.file}: {TABLE}.kind: missing; a frame listed node by node "
+                             "is kind = 'explicit' (without kind it is 'regular', a grid of "
+                             "bays)", TABLE)  # fmt: skip
     if kind not in ("regular", "explicit"):
         rd.fail(f"{TABLE}.kind", "'regular' or 'explicit'", kind)
     if "description" in f and not isinstance(f["description"], str):

@@ -267,3 +267,24 @@ def test_a_sweep_says_the_stabilisation_does_not_act_on_its_orbits():
     (note,) = unused_scene_notes(raw, True)
     assert note.startswith("isolation.alpha and isolation.beta: no effect on a sweep, whose ")
     assert unused_scene_notes(raw, True, "unilateral") == []  # (lift-off orbits feel it)
+
+
+def test_a_triple_pendulums_elastic_damping_is_taken_to_where_its_peaks_hold(tmp_path, capsys):
+    # the bundled TFP deck's first 1.5 s: peak |u| 0.0290 m at zeta_e = 1 (the default) and at
+    # the largest taken, ZETA_E_MAX, to 2 %; past 1e5 the peaks scattered (0.0551 m at 1e6,
+    # exit 0), and such a damping ratio is refused naming bearing.zeta_e
+    import json
+
+    from nsdyn.models.isolated.tfp import ZETA_E_MAX
+
+    peaks = []
+    for zeta in (1.0, ZETA_E_MAX):
+        p = _edit(tmp_path, "deck-tfp4-3c.toml", "[bearing]", f"[bearing]\nzeta_e = {zeta}")
+        out = tmp_path / f"o{zeta:g}"
+        assert main(["run", str(p), "--t-end", "1.5", "--json", "--no-figures", "--out",
+                     str(out)]) == 0  # fmt: skip
+        peaks.append(json.loads(capsys.readouterr().out)["peak_resultant_displacement_m"])
+    assert peaks[1] == pytest.approx(peaks[0], rel=0.02)
+    p = _edit(tmp_path, "deck-tfp4-3c.toml", "[bearing]", "[bearing]\nzeta_e = 1e6")
+    _refused(tmp_path, capsys, p, r"s\.toml: bearing\.zeta_e: expected a damping ratio of the "
+             r"elastic stage in \[0, 10000\]")  # fmt: skip

@@ -472,3 +472,11 @@ def test_json_text_in_a_toml_file_is_told_scenes_are_toml(tmp_path, one_line):
     p = _scene(tmp_path, '{"isolation": {"mu": 0.05}}\n', "s.toml")
     assert main(["run", str(p), "--out", str(tmp_path / "o")]) == 2
     one_line("s.toml: not valid TOML (a JSON file? scene files are TOML: [table] and key = ")
+
+
+def test_a_deck_given_a_rung_flag_is_told_which_scenes_take_it(tmp_path, one_line):
+    # "--fidelity applies to isolated-frame scenes only": a 3D building takes it too
+    p = SCENES / "deck-fps4-3c.toml"
+    assert main(["run", str(p), "--fidelity", "cb", "--out", str(tmp_path / "o")]) == 2
+    one_line("--fidelity applies to isolated-frame scenes and 3D buildings (their [structure] "
+             "rung) only")  # fmt: skip

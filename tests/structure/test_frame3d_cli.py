@@ -9,6 +9,7 @@ labelled 3D panel per mode).
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -99,3 +100,23 @@ def test_modes_of_a_frame_without_mass_or_with_plane_flags_is_one_line(tmp_path,
     assert "--klam: the bearing stiffness of f_bis of a plane frame" in capsys.readouterr().err
     assert main(["modes", str(tmp_path)]) == 2
     assert "not a file (a folder?)" in capsys.readouterr().err
+
+
+def test_a_frame_whose_members_have_no_mass_names_the_node_on_the_cb_rung(tmp_path, capsys):
+    # the portal with rho = 0 keeps its floor and node masses (translations) and nothing on
+    # its rotations: the cb rung was refused naming its internal matrix ("portal-3d cb-5Hz
+    # (n=8).M: expected a positive definite mass matrix"); now the first such node
+    root = Path(__file__).resolve().parents[2]
+    frame = tmp_path / "bare.toml"
+    frame.write_text((root / "frames" / "portal-3d.toml").read_text().replace(
+        "rho = 7850.0", "rho = 0.0"))  # fmt: skip
+    scene = (root / "examples" / "scenes" / "building3d-office-cb.toml").read_text()
+    scene = re.sub(r"(?m)^frame3d = .*$", f'frame3d = "{frame}"', scene)
+    p = tmp_path / "s.toml"
+    p.write_text(scene)
+    out = str(tmp_path / "o")
+    assert main(["run", str(p), "--t-end", "0.2", "--no-figures", "--out", out]) == 2
+    err = capsys.readouterr().err.strip()
+    said = (r"s\.toml: structure: frame3d: nodes\[\d+\] \(z = 4 m\): every member there has "
+            r"no mass \(a section's rho = 0\), so its rotations have none")  # fmt: skip
+    assert re.search(said, err), err

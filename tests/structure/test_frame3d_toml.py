@@ -421,3 +421,11 @@ def test_a_floor_node_left_off_its_diaphragm_is_noted(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         load_frame3d(write(tmp_path, PORTAL, "zeta = [0.02]", "zeta = [0.02]", "whole.toml"))
+
+
+def test_a_frame_listed_by_nodes_without_its_kind_is_told_so(tmp_path):
+    # read as the default grid, it was refused as "frame3d.nodes: unknown field"
+    p = write(tmp_path, PORTAL, 'kind = "explicit"\n', "", "no-kind.toml")
+    with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: frame3d\.kind: missing; "
+                       r"a frame listed node by node is kind = 'explicit'"):  # fmt: skip
+        load_frame3d(p)

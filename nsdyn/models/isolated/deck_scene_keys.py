@@ -59,7 +59,7 @@ _TFP_KEYS = (
     Key("u_y", "number", "yield displacement: the elastic slip before the first surface "
         "slides", "m", default=2.5e-4, **_POS, range=_TFP),
     Key("zeta_e", "number", "damping ratio of the elastic stage (a dashpot across its spring; "
-        "0: undamped)", "—", default=1.0, **_NONNEG, range=_TFP),
+        "0: undamped)", "—", default=1.0, **_NONNEG, hi=1e4, range=_TFP),
 )  # fmt: skip
 
 

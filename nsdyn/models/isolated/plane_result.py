@@ -60,7 +60,9 @@ TFP_MESSAGES = {
     "rtol tightens; raise u_y, loosen rtol, or raise max_steps)",
     kr.ST_STALL: f"the steps collapsed before t = {{t:.6g}} s: over {kr.STALL_STEPS:,} steps "
     "more than the record needs (a triple pendulum's surfaces yield within u_y, too small for "
-    "the steps to follow): raise u_y",
+    "the steps to follow): raise u_y; with friction coefficients far below a built bearing's "
+    "(0.01-0.2) the stiff part is theirs (its elastic stage kappa_e u_y is min mu, whatever "
+    "u_y): check mu1..mu4",
     kr.ST_SINGULAR: "the equations of motion have no solution at t = {t:.6g} s: the triple "
     "pendulum's damped elastic stage found no force (its Newton iteration failed, e.g. at an "
     "extreme zeta_e, or with R1 - R2 or R4 - R3 so small that its element is stiff): check "

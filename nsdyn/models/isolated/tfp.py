@@ -88,6 +88,9 @@ from nsdyn.models.isolated.bearings import (
 
 U_Y = 2.5e-4  # m, default yield displacement (the elastic slip before the first surface slides)
 ZETA_E = 1.0  # default damping ratio of the elastic stage (its dashpot c_e = 2 ζ_e √(κ_e/g))
+# the largest: the bundled TFP deck's peak |u| held within 1.4 % from zeta_e = 0 to 1e5 and
+# scattered past it (0.0349 m at 3e5, 0.0551 m at 1e6 for 0.029 m, with exit 0)
+ZETA_E_MAX = 1e4
 OVERSTRESS = 3e-2  # s/m: friction raised by this x min mu per m/s of an element's slip speed
 STOP_FACTOR = 1e3  # an element's rim stiffness (per unit N) / its pendulum stiffness 1/R̄
 N_INTERNAL = 8  # internal states per bearing: (s_x, s_y) of its four series elements
@@ -149,9 +152,10 @@ class TripleBearing(Bearing):
                                    "R1..R4 [m], mu1..mu4 and d1..d4 [m]")  # fmt: skip
             vals[k] = _number(f"{w}.{k}", v, positive=k[0] in "Rd")
         _number(f"{w}.u_y", self.u_y, positive=True)
-        if _number(f"{w}.zeta_e", self.zeta_e) < 0.0:
-            raise BearingError(f"{w}.zeta_e: expected a damping ratio of the elastic stage >= 0 "
-                               f"(0: undamped), got {self.zeta_e:g}")  # fmt: skip
+        if not 0.0 <= _number(f"{w}.zeta_e", self.zeta_e) <= ZETA_E_MAX:
+            raise BearingError(f"{w}.zeta_e: expected a damping ratio of the elastic stage "
+                               f"in [0, {ZETA_E_MAX:g}] (0: undamped), got "
+                               f"{self.zeta_e:g}")  # fmt: skip
         _number(f"{w}.rate", self.rate)
         if self.rate > 0 and all(getattr(self, f"mu_fast{j}") is None for j in range(1, 5)):
             raise BearingError(f"{w}.rate: the rate of the change from mu_j to mu_fast_j; "
