@@ -212,11 +212,11 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
         fixed = ("; a 3D building's fixed base is its rung --fidelity fixed" * bool(own)
                  * any(f in bad for f in ("--fixed-base", "--compare-fixed"))
                  + "; a 3D building's step is its [solver] dt"
-                 * (bool(own) and "--dt" in bad))  # fmt: skip
-        also = " and 3D buildings (their [structure] rung)" * any(
-            f in bad for f in ("--fidelity", "--fmax"))  # fmt: skip
-        raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes"
-                         f"{also} only{fixed}")  # fmt: skip
+                 * (bool(own) and "--dt" in bad)  # (the rung flags: a building's too)
+                 + "; --fidelity and --fmax also to 3D buildings (their [structure] rung)"
+                 * any(f in bad for f in ("--fidelity", "--fmax")))  # fmt: skip
+        raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes "
+                         f"only{fixed}")  # fmt: skip
     if args.method and kind in ("deck", "building3d"):
         raise SceneError(f"{args.scene}: --method: a {kind} scene's integrator follows its "
                          "[solver] law (and fidelity); --method applies to isolated-frame, "

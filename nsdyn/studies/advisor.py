@@ -33,6 +33,7 @@ shear), returned as an :class:`Advice`.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -174,10 +175,16 @@ def _peaks(res) -> dict:
     return {"x_iso": r.x_iso_max, "idr": r.idr_max, "floor_acc": r.floor_acc_max}
 
 
-def _rel_err(a: float, b: float) -> float:
-    if b == 0:
-        return 0.0 if a == 0 else 1.0
-    return abs(a / b - 1.0)
+# the peaks below which a rung's difference is no error to choose by, a response this small
+# being no design quantity (0.1 mm of slip, a drift ratio of 1e-5, 1e-3 g): a very stiff
+# frame's zero drift on the rigid deck against 9e-8 from cb-5 refused the rigid rung at 100 %
+PEAK_FLOOR = {"x_iso": 1e-4, "idr": 1e-5, "floor_acc": 1e-2}  # m, -, m/s²
+
+
+def _rel_err(a: float, b: float, floor: float = 0.0) -> float:
+    """|a - b| relative to the richer rung's peak ``b``, or to ``floor`` where that is larger."""
+    scale = max(abs(b), floor)
+    return 0.0 if scale == 0 and a == b else abs(a - b) / scale if scale else 1.0
 
 
 def _rung(fid: str, fm: float | None) -> str:
@@ -217,6 +224,11 @@ def advise(
     bad = set(metrics) - set(METRICS)
     if bad or not metrics:
         raise ValueError(f"metrics: expected some of {METRICS}, got {metrics}")
+    if not (isinstance(tol, int | float) and math.isfinite(tol) and tol > 0):
+        raise ValueError(f"tol: expected a relative error > 0 (0.05 for 5 %), got {tol!r}")
+    if not motion.pga > 0:  # (its rungs differed by round-off and static drift alone)
+        raise ValueError("motion: its horizontal acceleration is zero throughout: no response "
+                         "to choose a model by")  # fmt: skip
     iso = Isolation() if isolation is None else isolation
     mu = float(np.max(np.atleast_1d(iso.mu)))
     f95 = energy_frequency(motion)
@@ -263,7 +275,7 @@ def advise(
         for j in richer:
             pj = run(j)[0]
             for m in use:
-                errs[m] = max(errs[m], _rel_err(pk[m], pj[m]))
+                errs[m] = max(errs[m], _rel_err(pk[m], pj[m], PEAK_FLOOR[m]))
         ok = max(errs.values()) <= tol
         ev["probes"].append(
             {

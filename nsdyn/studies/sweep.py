@@ -53,6 +53,10 @@ def unused_scene_notes(raw: dict, harmonic_motion: bool, contact: str = "") -> l
         notes.append(f"{' and '.join(gains)}: no effect on a sweep, whose orbits are shot on "
                      "the minimal coordinates where the contacts hold exactly (the "
                      "stabilisation acts on a drift they do not have)")  # fmt: skip
+    elif contact == "unilateral" and isinstance(iso.get("alpha"), int | float):
+        from nsdyn.models.isolated.bearings import stabilisation_note
+
+        notes += [n for n in [stabilisation_note("isolation.alpha", iso["alpha"])] if n]
     if "motion" in raw and not harmonic_motion:
         notes.append("the scene's [motion] (a record) is not used: a sweep drives the frame "
                      "with harmonic base accelerations of --amplitudes")  # fmt: skip

@@ -60,3 +60,21 @@ def test_advisor_probes_choose_a_rung_under_tol(frame):
     assert "idr" in advice.evidence["probes"][0]["errors"]
     # the rigid model has no interstorey drift: it cannot meet an IDR tolerance
     assert advice.evidence["probes"][0]["errors"]["idr"] == pytest.approx(1.0)
+
+
+def test_advisor_refuses_what_it_cannot_judge_and_floors_tiny_peaks(frame):
+    # tol = -1 or NaN returned an advice; a still record compared its rungs' round-off and
+    # static drift at 100 % and advised the fixed base at 20 Hz; a peak below its floor (a
+    # drift ratio of 1e-5) is no error to choose by: 9e-8 against a rigid deck's 0 refused it
+    from nsdyn.ground.motion import GroundMotion
+    from nsdyn.studies.advisor import PEAK_FLOOR, _rel_err
+
+    motion = common.bench_motion("wn", 10.0, pga=0.03)
+    for tol in (-1.0, float("nan"), 0.0):
+        with pytest.raises(ValueError, match=r"^tol: expected a relative error > 0"):
+            advise(frame, motion, tol=tol)
+    still = GroundMotion(t0=0.0, dt=motion.dt, a_hor=np.zeros_like(motion.a_hor))
+    with pytest.raises(ValueError, match=r"^motion: its horizontal acceleration is zero"):
+        advise(frame, still)
+    assert _rel_err(0.0, 9e-8, PEAK_FLOOR["idr"]) == pytest.approx(9e-3)
+    assert _rel_err(0.98e-3, 1e-3, PEAK_FLOOR["idr"]) == pytest.approx(0.02)  # (above it)

@@ -266,7 +266,11 @@ def test_a_sweep_says_the_stabilisation_does_not_act_on_its_orbits():
     raw = {"isolation": {"alpha": 1e6, "beta": 1.0, "mu": 0.05}}
     (note,) = unused_scene_notes(raw, True)
     assert note.startswith("isolation.alpha and isolation.beta: no effect on a sweep, whose ")
-    assert unused_scene_notes(raw, True, "unilateral") == []  # (lift-off orbits feel it)
+    # lift-off orbits (--contact unilateral) feel it: the lift-off note, whatever the scene's
+    # own contact (the sweep's flag decides; its Isolation's own note is not said)
+    (lifts,) = unused_scene_notes(raw, True, "unilateral")
+    assert lifts.startswith("isolation.alpha = 1e+06 1/s: the contacts' stabilisation ")
+    assert unused_scene_notes({"isolation": {"alpha": 6.0}}, True, "unilateral") == []
 
 
 def test_a_triple_pendulums_elastic_damping_is_taken_to_where_its_peaks_hold(tmp_path, capsys):

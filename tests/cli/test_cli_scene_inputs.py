@@ -475,8 +475,9 @@ def test_json_text_in_a_toml_file_is_told_scenes_are_toml(tmp_path, one_line):
 
 
 def test_a_deck_given_a_rung_flag_is_told_which_scenes_take_it(tmp_path, one_line):
-    # "--fidelity applies to isolated-frame scenes only": a 3D building takes it too
+    # "--fidelity applies to isolated-frame scenes only": a 3D building takes it too (and not
+    # --resume, given beside it)
     p = SCENES / "deck-fps4-3c.toml"
-    assert main(["run", str(p), "--fidelity", "cb", "--out", str(tmp_path / "o")]) == 2
-    one_line("--fidelity applies to isolated-frame scenes and 3D buildings (their [structure] "
-             "rung) only")  # fmt: skip
+    assert main(["run", str(p), "--fidelity", "cb", "--resume", "--out", str(tmp_path)]) == 2
+    one_line("--fidelity, --resume apply to isolated-frame scenes only; --fidelity and --fmax "
+             "also to 3D buildings (their [structure] rung)")  # fmt: skip

@@ -132,12 +132,12 @@ class Isolation:
                           "friction", InputWarning, 3)  # fmt: skip
 
     def changed(self, **changes) -> Isolation:
-        """A copy with ``changes``; its notes on mu, g and alpha said again only if changed
-        (a mu also when the law "none" comes or goes)."""
+        """A copy with ``changes``; its notes on mu, g, alpha said again only if read anew."""
         with warnings.catch_warnings():
-            read = (self.law != "none", changes.get("law", self.law) != "none")  # (its mu)
-            for k in ("mu",) * (read[0] == read[1]) + ("g", "alpha" * ("contact" not in changes)):
-                if k and k not in changes:  # (a mu or alpha read anew: said)
+            same = ((self.law == "none") == (changes.get("law", self.law) == "none"),
+                    changes.get("contact", self.contact) == self.contact)  # fmt: skip
+            for k in ("mu",) * same[0] + ("g", "alpha" * same[1]):
+                if k and k not in changes:
                     warnings.filterwarnings("ignore", rf"isolation\.{k}\b", InputWarning)
             return replace(self, **changes)
 
