@@ -207,16 +207,18 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     own = ("fidelity", "fmax") if kind == "building3d" else ()  # its [structure] keys
     bad = [f"--{k.replace('_', '-')}" for k in _ISOLATED_ONLY
            if k not in own and getattr(args, k, None)]  # fmt: skip
-    if bad:
+    rung = [f for f in bad if f in ("--fidelity", "--fmax")]  # (a 3D building's too)
+    bad = [f for f in bad if f not in rung]
+    if bad or rung:
         verb = "applies" if len(bad) == 1 else "apply"
         fixed = ("; a 3D building's fixed base is its rung --fidelity fixed" * bool(own)
                  * any(f in bad for f in ("--fixed-base", "--compare-fixed"))
                  + "; a 3D building's step is its [solver] dt"
-                 * (bool(own) and "--dt" in bad)  # (the rung flags: a building's too)
-                 + "; --fidelity and --fmax also to 3D buildings (their [structure] rung)"
-                 * any(f in bad for f in ("--fidelity", "--fmax")))  # fmt: skip
-        raise SceneError(f"{args.scene}: {', '.join(bad)} {verb} to isolated-frame scenes "
-                         f"only{fixed}")  # fmt: skip
+                 * (bool(own) and "--dt" in bad))  # fmt: skip
+        said = [f"{', '.join(bad)} {verb} to isolated-frame scenes only{fixed}"] * bool(bad)
+        said += [f"{' and '.join(rung)} appl{'ies' if len(rung) == 1 else 'y'} to isolated-"
+                 "frame scenes and 3D buildings (their [structure] rung)"] * bool(rung)  # fmt: skip
+        raise SceneError(f"{args.scene}: {'; '.join(said)}")
     if args.method and kind in ("deck", "building3d"):
         raise SceneError(f"{args.scene}: --method: a {kind} scene's integrator follows its "
                          "[solver] law (and fidelity); --method applies to isolated-frame, "

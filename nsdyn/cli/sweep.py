@@ -12,13 +12,12 @@ import argparse
 import math
 import sys
 import time
-import warnings
 from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
 
-from nsdyn._checks import MAX_AMPLITUDES, NotedWarning
+from nsdyn._checks import MAX_AMPLITUDES
 from nsdyn.atomic import atomic_open, earlier_files, files_of, output_dir, save_figure
 from nsdyn.cli.args import (
     above_highest,
@@ -278,11 +277,8 @@ def run(args: argparse.Namespace) -> int:
         before = files_of(out)
         compile_s = prepare_kernels(settings.friction, settings.contact)  # apart from its wall
         t0 = time.perf_counter()
-        with warnings.catch_warnings():  # (its lift-off is --contact's: the notes above say)
-            warnings.filterwarnings("ignore", r"isolation\.alpha = ", NotedWarning)
-            results = sweep_amplitudes(cfg, args.amplitudes, settings, out,
-                                       workers=args.workers, restart=args.restart,
-                                       quiet=args.json)  # fmt: skip
+        results = sweep_amplitudes(cfg, args.amplitudes, settings, out, workers=args.workers,
+                                   restart=args.restart, quiet=args.json)  # fmt: skip
         csv_path = out / "sweep.csv"
         gone = old_figures(out, ["sweep.png"], "sweep", args)  # (redrawn after the table)
         write_csv(csv_path, results)

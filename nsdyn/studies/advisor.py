@@ -34,6 +34,7 @@ shear), returned as an :class:`Advice`.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -224,7 +225,8 @@ def advise(
     bad = set(metrics) - set(METRICS)
     if bad or not metrics:
         raise ValueError(f"metrics: expected some of {METRICS}, got {metrics}")
-    if not (isinstance(tol, int | float) and math.isfinite(tol) and tol > 0):
+    if isinstance(tol, bool) or not (isinstance(tol, numbers.Real) and math.isfinite(tol)
+                                     and tol > 0):  # fmt: skip
         raise ValueError(f"tol: expected a relative error > 0 (0.05 for 5 %), got {tol!r}")
     if not motion.pga > 0:  # (its rungs differed by round-off and static drift alone)
         raise ValueError("motion: its horizontal acceleration is zero throughout: no response "

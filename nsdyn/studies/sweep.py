@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import NotedWarning
 from nsdyn._progress import curve_count
 from nsdyn.atomic import atomic_open, differing
 from nsdyn.models.scenefile import SceneError
@@ -216,7 +217,9 @@ def amplitude_job(
     from nsdyn.periodic import frequency_response
 
     t0 = time.perf_counter()
-    system, excitation = build_scene(cfg)
+    with warnings.catch_warnings():  # (its lift-off is settings.contact's: unused_scene_notes)
+        warnings.filterwarnings("ignore", r"isolation\.alpha = ", NotedWarning)
+        system, excitation = build_scene(cfg)  # (in a worker: its own filters, whatever start)
     # a scene driven by a harmonic force sweeps that force (amplitudes in N), else u''_hor
     load = excitation if isinstance(excitation, HarmonicForce) else None  # (F: this amplitude)
     load = load and replace(load, F=float(amplitude))

@@ -479,5 +479,8 @@ def test_a_deck_given_a_rung_flag_is_told_which_scenes_take_it(tmp_path, one_lin
     # --resume, given beside it)
     p = SCENES / "deck-fps4-3c.toml"
     assert main(["run", str(p), "--fidelity", "cb", "--resume", "--out", str(tmp_path)]) == 2
-    one_line("--fidelity, --resume apply to isolated-frame scenes only; --fidelity and --fmax "
-             "also to 3D buildings (their [structure] rung)")  # fmt: skip
+    one_line("--resume applies to isolated-frame scenes only; --fidelity applies to "
+             "isolated-frame scenes and 3D buildings (their [structure] rung)")  # fmt: skip
+    assert main(["run", str(p), "--fmax", "10", "--out", str(tmp_path)]) == 2
+    one_line(f"{p}: --fmax applies to isolated-frame scenes and 3D buildings (their [structure] "
+             "rung)")  # fmt: skip
