@@ -16,10 +16,8 @@ import argparse
 import math
 import sys
 import time
-import warnings
 from pathlib import Path
 
-from nsdyn._checks import NotedWarning
 from nsdyn.atomic import atomic_open
 from nsdyn.cli.args import (
     above_highest,
@@ -81,6 +79,7 @@ def _fmt(v: float | None, spec: str) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from nsdyn.ground.excitation import HarmonicForce
+    from nsdyn.models.isolated.bearings import stabilisation_unsaid
     from nsdyn.models.isolated.scene import SceneError, build_scene, load_scene
     from nsdyn.periodic import log_frequencies
     from nsdyn.periodic.uplift import A_LO, uplift_boundary
@@ -105,8 +104,7 @@ def run(args: argparse.Namespace) -> int:
                 f"{cfg['_source']}: scene.fidelity: the fixed-base model has no isolators to "
                 "lift off; use rigid, cb or full"
             )
-        with warnings.catch_warnings():  # (its orbits are bilateral: no lift-off to feel it)
-            warnings.filterwarnings("ignore", r"isolation\.alpha = ", NotedWarning)
+        with stabilisation_unsaid():  # (its orbits are bilateral: no lift-off to feel it)
             system, excitation = build_scene(cfg)
     except SceneError as e:
         return fail(args, e)

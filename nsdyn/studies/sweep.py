@@ -27,7 +27,6 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._checks import NotedWarning
 from nsdyn._progress import curve_count
 from nsdyn.atomic import atomic_open, differing
 from nsdyn.models.scenefile import SceneError
@@ -213,13 +212,13 @@ def amplitude_job(
     Returns a picklable summary: CSV rows, bifurcations and timings (no state arrays).
     """
     from nsdyn.ground.excitation import HarmonicForce
+    from nsdyn.models.isolated.bearings import stabilisation_unsaid
     from nsdyn.models.isolated.scene import build_scene
     from nsdyn.periodic import frequency_response
 
     t0 = time.perf_counter()
-    with warnings.catch_warnings():  # (its lift-off is settings.contact's: unused_scene_notes)
-        warnings.filterwarnings("ignore", r"isolation\.alpha = ", NotedWarning)
-        system, excitation = build_scene(cfg)  # (in a worker: its own filters, whatever start)
+    with stabilisation_unsaid():  # (its lift-off is settings.contact's: unused_scene_notes;
+        system, excitation = build_scene(cfg)  # in a worker too, whatever its start method)
     # a scene driven by a harmonic force sweeps that force (amplitudes in N), else u''_hor
     load = excitation if isinstance(excitation, HarmonicForce) else None  # (F: this amplitude)
     load = load and replace(load, F=float(amplitude))

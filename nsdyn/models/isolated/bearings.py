@@ -34,6 +34,8 @@ at the live normal force N, so friction falls as the contact pressure rises.
 from __future__ import annotations
 
 import math
+import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -283,6 +285,18 @@ def stiff_bearing_check(k_lam, K_diag, field: str = "isolation.k_lam", frame: bo
 # stabilisation (the bundled uplift-pocket scene, 16 periods: 47-54 lift-offs from alpha =
 # 2 pi to 1e4, 83 at 2e4, 232 at 3e4, 886 at 1e5, each with exit 0)
 ALPHA_PLAUSIBLE = 1e4
+
+
+@contextmanager
+def stabilisation_unsaid():
+    """The block's Isolation notes of :func:`stabilisation_note` left unsaid: a command whose own
+    contact setting decides whether alpha acts (a sweep's --contact; uplift's bilateral orbits)
+    says it, or not, itself."""
+    from nsdyn._checks import NotedWarning
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", r"isolation\.alpha = ", NotedWarning)
+        yield
 
 
 def stabilisation_note(field: str, alpha: float, g: float = 9.81) -> str | None:

@@ -239,11 +239,8 @@ def build_solver(cfg: dict, source: str, unilateral: bool = False) -> dict:
     for key, default in (("eps", EPS), ("eta", ETA)):
         value = number(source, f"solver.{key}", t.get(key, default))
         kw[key] = value if LAW_KEYS[key][0] == law else default  # (noted, not read)
-    try:  # (1e300: the law's slope overflowed; refused by either law, as isolation.eps)
-        sharpness_in_range(f"{source}: solver.eps", number(source, "solver.eps",
-                                                           t.get("eps", EPS)))  # fmt: skip
-    except ValueError as e:
-        raise SceneError(str(e)) from None
+    eps = number(source, "solver.eps", t.get("eps", EPS))  # (1e300: the law's slope overflowed;
+    sharpness_in_range(f"{source}: solver.eps", eps, SceneError)  # either law, as isolation.eps)
     kw["rtol"] = rel_tol(source, "solver.rtol", t.get("rtol", RTOL))
     if "atol" in t:  # one number for both, or the (displacement, velocity) pair
         a = t["atol"]

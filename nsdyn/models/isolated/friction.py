@@ -45,10 +45,11 @@ LAW_KEYS = {
 }
 
 
-def sharpness_in_range(name: str, eps) -> None:
-    """ValueError naming ``name`` when the arctan sharpness ``eps`` passes :data:`EPS_MAX`."""
+def sharpness_in_range(name: str, eps, error: type = ValueError) -> None:
+    """``error`` (a ValueError; a scene's SceneError) naming ``name`` when the arctan
+    sharpness ``eps`` passes :data:`EPS_MAX`."""
     if isinstance(eps, numbers.Real) and eps > EPS_MAX:
-        raise ValueError(f"{name}: expected an arctan sharpness of at most {EPS_MAX:g} s/m (a "
+        raise error(f"{name}: expected an arctan sharpness of at most {EPS_MAX:g} s/m (a "
                          f"turn at 1/eps = {1 / EPS_MAX:g} m/s, ten times what gravity adds to a "
                          f"velocity in the solvers' smallest step), got {eps:g}; the sharp limit "
                          "is the switch law (law 'switch', true stick)")  # fmt: skip

@@ -125,10 +125,7 @@ def _check_isolation(iso, source: str) -> None:
                 f"{source}: isolation.{key}: expected a non-negative number, got {val!r}"
             )
         if key == "eps":  # (1e300: the law's slope overflowed into a NaN blamed on the record)
-            try:
-                sharpness_in_range(f"{source}: isolation.eps", val)
-            except ValueError as e:
-                raise SceneError(str(e)) from None
+            sharpness_in_range(f"{source}: isolation.eps", val, SceneError)
 
 
 def _check(cfg: dict, source: str) -> dict:
