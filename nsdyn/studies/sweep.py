@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._checks import InputWarning
 from nsdyn._progress import curve_count
 from nsdyn.atomic import atomic_open, differing
 from nsdyn.models.scenefile import SceneError
@@ -273,6 +274,7 @@ def amplitude_job(
     with (saved_on_interrupt(lambda: len(pts_done) > n_resumed and save(pts_done)),
           warnings.catch_warnings()):  # fmt: skip
         warnings.simplefilter("ignore", EmptyCurveWarning)  # (said by its status 3)
+        warnings.filterwarnings("ignore", "system: its isolators' contact is unilateral")
         if settings.friction == "switch":  # (interrupted: the points so far kept for a rerun)
             from nsdyn.periodic.switch import switch_response
 
@@ -378,6 +380,13 @@ def sweep_amplitudes(
     (e.g. Dask's ``client.get_executor()``).
     """
     amplitudes = [float(a) for a in amplitudes]
+    iso = cfg.get("isolation") if isinstance(cfg.get("isolation"), dict) else {}
+    if iso.get("contact") == "unilateral" and settings.contact != "unilateral":  # (said once)
+        warnings.warn("isolation.contact = 'unilateral', but a sweep shoots the bilateral "
+                      "orbits and flags uplift where a normal force falls to zero; "
+                      "contact='unilateral' (nsdyn sweep --contact unilateral) recomputes "
+                      "those points with lift-off and landing",
+                      InputWarning, stacklevel=2)  # fmt: skip
     if not restart:
         refuse_foreign_checkpoints(cfg, amplitudes, settings, out_dir)
     args = [(cfg, a, settings, str(out_dir), restart, quiet) for a in amplitudes]

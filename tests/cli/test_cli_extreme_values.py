@@ -273,6 +273,29 @@ def test_a_sweep_says_the_stabilisation_does_not_act_on_its_orbits():
     assert unused_scene_notes({"isolation": {"alpha": 6.0}}, True, "unilateral") == []
 
 
+def test_a_sweep_says_once_that_a_lifting_scene_is_swept_on_bilateral_orbits(tmp_path):
+    # a scene whose contact is unilateral: a sweep without --contact unilateral says once, for
+    # all amplitudes, that it shoots the bilateral orbits; with it, nothing (the lift-off
+    # points are recomputed); the curve's own warning (frequency_response) is the sweep's
+    # to say, not each amplitude's
+    import warnings
+
+    from nsdyn.models.isolated.scene import load_scene
+    from nsdyn.studies.sweep import SweepSettings, sweep_amplitudes
+
+    cfg = load_scene(str(SCENES / "isolated-uplift-pocket.toml"))
+    said = {}
+    for contact in ("bilateral", "unilateral"):
+        with warnings.catch_warnings(record=True) as seen:
+            warnings.simplefilter("always")
+            sweep_amplitudes(cfg, [0.1, 0.2], SweepSettings(5.0, 10.0, 2, contact=contact),
+                             tmp_path / contact, workers=1, quiet=True)  # fmt: skip
+        said[contact] = [str(w.message) for w in seen if "unilateral" in str(w.message)]
+    (once,) = said["bilateral"]
+    assert once.startswith("isolation.contact = 'unilateral', but a sweep shoots the bilateral")
+    assert said["unilateral"] == []
+
+
 def test_a_triple_pendulums_elastic_damping_is_taken_to_where_its_peaks_hold(tmp_path, capsys):
     # the bundled TFP deck's first 1.5 s: peak |u| 0.0290 m at zeta_e = 1 (the default) and at
     # the largest taken, ZETA_E_MAX, to 2 %; past 1e5 the peaks scattered (0.0551 m at 1e6,
