@@ -3,6 +3,7 @@ naming what is wrong, exit status 2 (``nsdyn.cli.args.EXIT_USER_ERROR``), nothin
 and nothing written (no output folder left behind)."""
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -113,6 +114,20 @@ def test_a_space_frame_given_to_frame_names_the_building3d_scene(capsys, tmp_pat
     said = "nsdyn run: error: <default scene>: scene.frame (--frame): office-11-3d is a 3D"
     assert err.startswith(said)
     assert "scene of kind 'building3d'" in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_frame_file_without_rotational_mass_is_named_by_its_own_file(capsys, tmp_path):
+    # the bundled portal with rho_A = 0 on every member and no node mass: its cb model's mass
+    # matrix is singular at node 0's rotation; the refusal names the frame file and its field,
+    # not the default scene that --frame edits
+    f = tmp_path / "massless.toml"
+    text = (Path(__file__).resolve().parents[2] / "frames" / "portal.toml").read_text()
+    text = re.sub(r"rho_A = .*", "rho_A = 0.0", re.sub(r"node_mass = .*", "node_mass = 0.0", text))
+    f.write_text(text)
+    assert main(["run", "--frame", str(f), "--out", str(tmp_path / "o")]) == EXIT_USER_ERROR
+    err = capsys.readouterr().err
+    assert err.startswith(f"nsdyn run: error: {f}: frame.nodes[0] of frame 'portal': every ")
     assert not (tmp_path / "o").exists()
 
 

@@ -309,7 +309,11 @@ def build_scene_run(cfg: dict):
             msg = str(e)  # (an isolator list's length is the isolation table's own)
             at = (f"scene.{msg}" if msg.startswith("f_max:") else msg
                   if msg.startswith("isolation.") else f"scene.frame: {msg}")  # fmt: skip
-            raise SceneError(f"{source}: {at}") from None
+            if msg.startswith("nodes[") and Path(str(sc["frame"])).is_file():  # (its own file's
+                at = f"{sc['frame']}: frame.{msg}"  # field, not the scene that names it)
+            else:
+                at = f"{source}: {at}"
+            raise SceneError(at) from None
     _lifts(system, source, cfg)
     _stands(system, cfg, source)
     if "force" in cfg:
