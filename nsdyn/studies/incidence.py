@@ -98,8 +98,7 @@ def incidence_rows(table: Table, angle: str, quantities: list[str], by: list[str
                             f"{q}_at_0": np.nan})  # fmt: skip
                 continue
             i, j = np.nanargmax(np.where(good, v, -np.inf)), np.nanargmin(np.where(good, v, np.inf))
-            tie = np.flatnonzero(good & (v >= v[i] - TIE_REL * abs(v[i])))
-            k = tie[np.argmin(th[tie])]  # (a tie's angle: the smallest, not the last bit's)
+            k = angle_of_max(th, v)
             at0 = v[np.isclose(th, 0.0) & good]
             real = abs(v[i]) > ROUND_OFF  # (a deck's torsion of 1e-19 rad had a worst angle)
             row.update({
@@ -123,6 +122,16 @@ def incidence_rows(table: Table, angle: str, quantities: list[str], by: list[str
     return out
 
 
+def angle_of_max(th: np.ndarray, v: np.ndarray) -> int:
+    """The index of the largest finite ``v`` (not all NaN); of peaks equal to within
+    :data:`TIE_REL` (one response's round-off), the one at the smallest angle ``th``, not the
+    last bit's."""
+    good = np.isfinite(v)
+    top = np.max(v[good])
+    tie = np.flatnonzero(good & (v >= top - TIE_REL * abs(top)))
+    return int(tie[np.argmin(th[tie])])
+
+
 def incidence_figure(table: Table, angle: str, quantities: list[str], by: list[str], title=""):
     """q(θ) per record (and group), its maximum marked; the envelope over the records dashed
     (when the records are the only groups)."""
@@ -144,7 +153,7 @@ def incidence_figure(table: Table, angle: str, quantities: list[str], by: list[s
             label = ", ".join(str(x) for x in key)
             ax.plot(th, v, "o-", ms=3, lw=1, color=f"C{g % 10}", label=label)
             if np.isfinite(v).any():
-                i = int(np.nanargmax(v))
+                i = angle_of_max(th, v)  # (the table's angle_of_max_deg)
                 ax.plot(th[i], v[i], "*", ms=10, color=f"C{g % 10}", mec="k")
             for a, b in zip(th, v, strict=True):
                 if np.isfinite(b):

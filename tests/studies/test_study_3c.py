@@ -348,7 +348,7 @@ def test_a_tie_reports_its_smallest_angle_and_a_real_difference_its_own():
     # the fixed rung's peaks at 0 and 180 deg differ in the last bits on the office (a vertical
     # component's round-off beside the negated horizontal response): the worst angle was 180
     # for one record and 0 for another, by round-off alone
-    from nsdyn.studies.incidence import TIE_REL, incidence_rows
+    from nsdyn.studies.incidence import TIE_REL, incidence_figure, incidence_rows
     from nsdyn.studies.table import Table
 
     q, v = "peak_base_shear_N", 6553289.227321559
@@ -357,3 +357,7 @@ def test_a_tie_reports_its_smallest_angle_and_a_real_difference_its_own():
                 for a, w in ((0.0, v), (90.0, 0.5 * v), (180.0, v * up))]  # fmt: skip
         (out,) = incidence_rows(Table(rows), "motion.rotate", [q], ["record"])
         assert out[f"{q}_angle_of_max_deg"] == angle and out[f"{q}_max"] == v * up
+        # the figure's star marks that angle, not the last bit's largest
+        fig = incidence_figure(Table(rows), "motion.rotate", [q], ["record"])
+        (star,) = [ln for ln in fig.axes[0].lines if ln.get_marker() == "*"]
+        assert star.get_xdata()[0] == angle
