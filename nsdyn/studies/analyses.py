@@ -523,7 +523,7 @@ def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True)
         rows = percentile_table(table, q, by, pct)
         _write_rows(rows, out / "percentiles.csv")
         res["percentiles"] = {"rows": rows, "table": str(out / "percentiles.csv")}
-        notes = (empty_columns(table, q), boolean_note(table, q), few_runs_note(rows, pct),
+        notes = (empty_columns(table, q, True), boolean_note(table, q), few_runs_note(rows, pct),
                  failed_runs_note(rows))  # fmt: skip
         note = "; ".join(n for n in notes if n)
         if note:

@@ -397,10 +397,12 @@ class ResultsStore:
             p.unlink(missing_ok=True)
 
 
-def empty_columns(table: Table, names) -> str | None:
+def empty_columns(table: Table, names, partly: bool = False) -> str | None:
     """A note naming the columns an analysis reads that hold no number in any successful row
     (a result this scene kind does not have, a misspelt one, a text column, a default the
-    study's keep drops): their statistics are NaN, which said nothing of why."""
+    study's keep drops): their statistics are NaN, which said nothing of why. With ``partly``
+    also those without a number in some successful rows (a setback frame's drift ratio): their
+    statistics are over fewer runs than a group's ``n``."""
     ok = [r for r in table.rows if r.get("status") == "ok"]
     if not ok:
         return None
@@ -408,12 +410,17 @@ def empty_columns(table: Table, names) -> str | None:
     def number(v) -> bool:  # (a true/false outcome counts as 0 or 1, as the analyses read it)
         return isinstance(v, int | float) and math.isfinite(v)
 
-    bad = [n for n in dict.fromkeys(names) if not any(number(r.get(n)) for r in ok)]
-    if not bad:
-        return None
-    have = sorted({k for r in ok for k, v in r.items() if number(v)} - {"index", "task_s"})
-    hint = did_you_mean(bad[0], have)
-    return (
-        f"{', '.join(map(repr, bad))}: no number in any successful row{hint} (numeric "
-        f"columns: {', '.join(have)}); their statistics are NaN"
-    )
+    count = {n: sum(number(r.get(n)) for r in ok) for n in dict.fromkeys(names)}
+    bad = [n for n, k in count.items() if k == 0]
+    some = [f"{n!r} ({len(ok) - k} of {len(ok)})" for n, k in count.items()
+            if partly and 0 < k < len(ok)]  # fmt: skip
+    notes = []
+    if bad:
+        have = sorted({k for r in ok for k, v in r.items() if number(v)} - {"index", "task_s"})
+        notes.append(f"{', '.join(map(repr, bad))}: no number in any successful row"
+                     f"{did_you_mean(bad[0], have)} (numeric columns: {', '.join(have)}); "
+                     "their statistics are NaN")  # fmt: skip
+    if some:
+        notes.append(f"{', '.join(some)}: no number in some successful rows; their "
+                     "statistics are over the rest, fewer than a group's n")  # fmt: skip
+    return "; ".join(notes) or None

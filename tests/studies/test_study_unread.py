@@ -182,6 +182,23 @@ def test_true_false_outcomes_are_numbers_to_the_analyses_and_their_percentiles_a
     assert boolean_note(Table(rows), ["max_tilt"]) is None
 
 
+def test_a_quantity_missing_from_some_successful_runs_is_named_with_its_count():
+    # a group's n counts its successful runs; a quantity without a number in one of them (a
+    # setback frame's drift ratio) has its percentiles over the rest, which n overstated
+    from nsdyn.studies.design import percentile_table
+    from nsdyn.studies.table import Table, empty_columns
+
+    rows = [{"status": "ok", "idr": 1.0, "x": 1.0}, {"status": "ok", "idr": None, "x": 2.0},
+            {"status": "ok", "idr": 3.0, "x": 3.0}, {"status": "failed", "idr": None}]  # fmt: skip
+    (row,) = percentile_table(Table(rows), ["idr", "x"], [], (50,))
+    assert row["n"] == 3 and row["idr_p50"] == 2.0 and row["x_p50"] == 2.0  # (median of 1, 3)
+    assert empty_columns(Table(rows), ["idr", "x"]) is None  # (a refusal's test: some number)
+    assert empty_columns(Table(rows), ["idr", "x"], partly=True) == (
+        "'idr' (1 of 3): no number in some successful rows; their statistics are over the "
+        "rest, fewer than a group's n"
+    )
+
+
 def test_another_study_s_folder_is_refused_not_merged(tmp_path):
     # a rocking study written into a cylinder study's folder took its 115 rows as "tasks
     # outside this grid" and replaced its analyses
