@@ -462,12 +462,12 @@ def main(argv: list[str] | None = None) -> list[dict]:
 
 
 if __name__ == "__main__":
-    from nsdyn.cli.app import _caused_by_interrupt
+    from nsdyn.atomic import caused_by_interrupt
 
     try:
         main()
     except BaseException as exc:  # Ctrl-C inside a kernel reaches Python as numba's SystemError
-        if not _caused_by_interrupt(exc):
+        if not caused_by_interrupt(exc):
             raise
         print("interrupted: the CSV holds the points finished before", file=sys.stderr)
         sys.exit(130)

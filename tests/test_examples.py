@@ -108,3 +108,25 @@ def test_seed_transient_study_runs_every_case(tmp_path):
         assert "x_iso_max_m" not in cases["fixed"] and cases["isolated"]["x_iso_max_m"] > 0
         assert cases["rigid"]["idr_max"] == 0.0
     assert (tmp_path / "study_transient.json").is_file()
+
+
+def test_every_name_an_example_imports_from_nsdyn_exists():
+    # an example's imports inside its functions run only on use: a renamed helper
+    # (nsdyn.cli.app._caused_by_interrupt, moved to nsdyn.atomic) broke one at its first run
+    import ast
+    import importlib
+
+    missing = []
+    for path in sorted(EXAMPLES.glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").split(".")[0] == "nsdyn":
+                module = importlib.import_module(node.module)
+                for a in node.names:
+                    sub = f"{node.module}.{a.name}"
+                    if not hasattr(module, a.name) and importlib.util.find_spec(sub) is None:
+                        missing.append(f"{path.name}: {sub}")
+            elif isinstance(node, ast.Import):
+                for a in node.names:
+                    if a.name.split(".")[0] == "nsdyn":
+                        importlib.import_module(a.name)
+    assert missing == []
