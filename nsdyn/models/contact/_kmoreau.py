@@ -185,8 +185,6 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
                     stops = False
             if stops:
                 PN, PT, v, vt_held = PN2, PT2, v2, vt2
-        for i in range(nc):
-            held[i] = PN[i] > 0.0 and abs(vt_held[i]) <= v_rest
         q = q + h * ((1.0 - theta) * vk + theta * v)
         k += 1
         t = t0 + k * h
@@ -195,6 +193,10 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
             break
         over = abs(q[2]) >= par[5]
         md = step_mode(q, v, PN, Wn, Wt, verts, g_tol, v_tol, on, slipping)
+        for i in range(nc):  # held: stuck by this step's LCP; a held corner without impulse
+            # (a pivot the theta-method lets fall freely for a step) stays held while on the
+            # ground (step_mode), not a slip to be met with mu_d at its next impulse
+            held[i] = abs(vt_held[i]) <= v_rest if PN[i] > 0.0 else held[i] and on[i]
         if first[0] < 0.0 and (md != REST or over):
             first[0] = t
             first[1] = OVERTURNED if over else md
