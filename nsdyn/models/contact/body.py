@@ -144,6 +144,14 @@ class RigidBody:
         """(nb, 2) base vertices relative to the centre of mass."""
         return np.ascontiguousarray(self.verts[self.base])
 
+    def unit_mass(self) -> RigidBody:
+        """This body at 1 kg (J / m): on rigid ground its motion is the same (gravity, the
+        base's acceleration, the contact forces and friction all scale with the mass), and the
+        rigid-contact solvers run on it, so that their LCP tolerances meet forces of order g
+        (at 1e-12 kg Moreau-Jean slid 1.68 m where every mass from 1e-3 to 1e9 kg slid 0.0495 m,
+        and the event-driven solver missed a touchdown)."""
+        return RigidBody(self.verts, 1.0, self.J / self.mass, self.base)
+
     @property
     def minv(self) -> np.ndarray:
         """(3,) diagonal of M^-1 = diag(1/m, 1/m, 1/J)."""

@@ -250,6 +250,7 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
         raise ValueError("e_n: the Housner law is plastic (the corner sticks); a restitution "
                          "coefficient is Newton's law's (impact_law='newton')")  # fmt: skip
     check_parts(body, friction, motion)
+    body = body.unit_mass()  # (the same motion; forces of order g in the LCPs)
     for name, val in (("t_end", t_end), ("dt_out", dt_out), ("atol", atol), ("g", g)):
         number(name, val, "a positive number", lambda v: v > 0)  # (g <= 0: math domain)
     rel_tol("rtol", rtol)

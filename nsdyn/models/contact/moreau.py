@@ -53,6 +53,7 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
     to a whole number of steps, at least one: the result's ``t`` holds the times kept), from
     rest (tilted by ``theta0`` [rad] or ``theta0_over_alpha``) or from (q0, v0)."""
     check_parts(body, friction, motion)
+    body = body.unit_mass()  # (the same motion; forces of order g in the LCPs)
     h = number("h", h, "a positive step size [s]", lambda v: v > 0)
     theta = number("theta", theta, "0.5 <= theta <= 1", lambda v: 0.5 <= v <= 1.0)
     e_n = number("e_n", e_n, "a restitution coefficient in [0, 1]", lambda v: 0.0 <= v <= 1.0)
