@@ -152,7 +152,7 @@ def incidence_figure(table: Table, angle: str, quantities: list[str], by: list[s
             v = np.array([float(p[1]) if isinstance(p[1], int | float) else np.nan for p in pts])
             label = ", ".join(str(x) for x in key)
             ax.plot(th, v, "o-", ms=3, lw=1, color=f"C{g % 10}", label=label)
-            if np.isfinite(v).any():
+            if np.isfinite(v).any() and abs(np.nanmax(v)) > ROUND_OFF:  # (else no angle)
                 i = angle_of_max(th, v)  # (the table's angle_of_max_deg)
                 ax.plot(th[i], v[i], "*", ms=10, color=f"C{g % 10}", mec="k")
             for a, b in zip(th, v, strict=True):

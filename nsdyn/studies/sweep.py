@@ -362,6 +362,20 @@ def refuse_foreign_checkpoints(cfg: dict, amplitudes, settings, out_dir) -> None
             )
 
 
+def bilateral_sweep_note(cfg: dict, settings: SweepSettings) -> str | None:
+    """A line when the scene's isolators lift off (``isolation.contact = "unilateral"``) but
+    the sweep keeps their contacts (``settings.contact``); None otherwise."""
+    iso = cfg.get("isolation") if isinstance(cfg.get("isolation"), dict) else {}
+    if iso.get("contact") != "unilateral" or settings.contact == "unilateral":
+        return None
+    law = " on the arctan law (its lift-off orbits)" * (settings.friction == "switch")
+    return (
+        "isolation.contact = 'unilateral', but a sweep shoots the bilateral orbits and "
+        "flags uplift where a normal force falls to zero; contact='unilateral' (nsdyn "
+        f"sweep --contact unilateral) recomputes those points with lift-off and landing{law}"
+    )
+
+
 def sweep_amplitudes(
     cfg: dict,
     amplitudes,
@@ -380,13 +394,8 @@ def sweep_amplitudes(
     (e.g. Dask's ``client.get_executor()``).
     """
     amplitudes = [float(a) for a in amplitudes]
-    iso = cfg.get("isolation") if isinstance(cfg.get("isolation"), dict) else {}
-    if iso.get("contact") == "unilateral" and settings.contact != "unilateral":  # (said once)
-        warnings.warn("isolation.contact = 'unilateral', but a sweep shoots the bilateral "
-                      "orbits and flags uplift where a normal force falls to zero; "
-                      "contact='unilateral' (nsdyn sweep --contact unilateral) recomputes "
-                      "those points with lift-off and landing",
-                      InputWarning, stacklevel=2)  # fmt: skip
+    if note := bilateral_sweep_note(cfg, settings):  # (said once, not by every amplitude)
+        warnings.warn(note, InputWarning, stacklevel=2)
     if not restart:
         refuse_foreign_checkpoints(cfg, amplitudes, settings, out_dir)
     args = [(cfg, a, settings, str(out_dir), restart, quiet) for a in amplitudes]

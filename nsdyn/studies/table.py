@@ -422,5 +422,6 @@ def empty_columns(table: Table, names, partly: bool = False) -> str | None:
                      "their statistics are NaN")  # fmt: skip
     if some:
         notes.append(f"{', '.join(some)}: no number in some successful rows; their "
-                     "statistics are over the rest, fewer than a group's n")  # fmt: skip
+                     "statistics are over the rest, fewer than n in the groups that lack "
+                     "them")  # fmt: skip
     return "; ".join(notes) or None

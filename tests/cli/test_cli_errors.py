@@ -128,6 +128,7 @@ def test_a_frame_file_without_rotational_mass_is_named_by_its_own_file(capsys, t
     assert main(["run", "--frame", str(f), "--out", str(tmp_path / "o")]) == EXIT_USER_ERROR
     err = capsys.readouterr().err
     assert err.startswith(f"nsdyn run: error: {f}: frame.nodes[0] of frame 'portal': every ")
+    assert err.rstrip().endswith("or <default scene>'s scene.fidelity 'rigid' or 'fixed'")
     assert not (tmp_path / "o").exists()
 
 

@@ -281,7 +281,7 @@ def test_a_sweep_says_once_that_a_lifting_scene_is_swept_on_bilateral_orbits(tmp
     import warnings
 
     from nsdyn.models.isolated.scene import load_scene
-    from nsdyn.studies.sweep import SweepSettings, sweep_amplitudes
+    from nsdyn.studies.sweep import SweepSettings, bilateral_sweep_note, sweep_amplitudes
 
     cfg = load_scene(str(SCENES / "isolated-uplift-pocket.toml"))
     said = {}
@@ -294,6 +294,10 @@ def test_a_sweep_says_once_that_a_lifting_scene_is_swept_on_bilateral_orbits(tmp
     (once,) = said["bilateral"]
     assert once.startswith("isolation.contact = 'unilateral', but a sweep shoots the bilateral")
     assert said["unilateral"] == []
+    # the switch law's sweep has no lift-off pass of its own: the flag recomputes them on the
+    # arctan law (nsdyn sweep refuses --contact unilateral with --friction switch)
+    switch = bilateral_sweep_note(cfg, SweepSettings(friction="switch"))
+    assert switch.endswith("with lift-off and landing on the arctan law (its lift-off orbits)")
 
 
 def test_a_triple_pendulums_elastic_damping_is_taken_to_where_its_peaks_hold(tmp_path, capsys):

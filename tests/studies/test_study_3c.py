@@ -361,3 +361,10 @@ def test_a_tie_reports_its_smallest_angle_and_a_real_difference_its_own():
         fig = incidence_figure(Table(rows), "motion.rotate", [q], ["record"])
         (star,) = [ln for ln in fig.axes[0].lines if ln.get_marker() == "*"]
         assert star.get_xdata()[0] == angle
+    # peaks of round-off alone (a symmetric deck's torsion): no angle in the table, no star
+    rows = [{"record": "A", "motion.rotate": a, "status": "ok", q: 1e-19 * (1 + a)}
+            for a in (0.0, 90.0)]  # fmt: skip
+    (out,) = incidence_rows(Table(rows), "motion.rotate", [q], ["record"])
+    fig = incidence_figure(Table(rows), "motion.rotate", [q], ["record"])
+    assert np.isnan(out[f"{q}_angle_of_max_deg"])
+    assert not [ln for ln in fig.axes[0].lines if ln.get_marker() == "*"]

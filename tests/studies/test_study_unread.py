@@ -195,7 +195,7 @@ def test_a_quantity_missing_from_some_successful_runs_is_named_with_its_count():
     assert empty_columns(Table(rows), ["idr", "x"]) is None  # (a refusal's test: some number)
     assert empty_columns(Table(rows), ["idr", "x"], partly=True) == (
         "'idr' (1 of 3): no number in some successful rows; their statistics are over the "
-        "rest, fewer than a group's n"
+        "rest, fewer than n in the groups that lack them"
     )
 
 

@@ -310,7 +310,8 @@ def build_scene_run(cfg: dict):
             at = (f"scene.{msg}" if msg.startswith("f_max:") else msg
                   if msg.startswith("isolation.") else f"scene.frame: {msg}")  # fmt: skip
             if msg.startswith("nodes[") and Path(str(sc["frame"])).is_file():  # (its own file's
-                at = f"{sc['frame']}: frame.{msg}"  # field, not the scene that names it)
+                at = f"{sc['frame']}: frame.{msg}"  # field, not the scene that names it; the
+                at = at.replace("or fidelity", f"or {source}'s scene.fidelity")  # scene's remedy)
             else:
                 at = f"{source}: {at}"
             raise SceneError(at) from None
