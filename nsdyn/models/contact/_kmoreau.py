@@ -156,9 +156,13 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
                 idx[j] = i
                 j += 1
         mu = np.empty(nc)
-        for i in range(nc):  # a corner the last step held: static friction (its v_T here is
-            # the LCP's round-off, never exactly 0: the jump law read mu_d for a body at rest)
-            mu[i] = par[2] if held[i] else mu_of(vt[i], par[2], par[3], par[4])
+        for i in range(nc):  # static friction at a corner the last step held, whose v_T
+            # here is the LCP's round-off or O(h) from the turned rows, never exactly 0 (the
+            # jump law read mu_d for a body at rest); and at a corner landing from the air
+            # with its slip within v_tol (not slipping, as step_mode labels it): a rocking
+            # rectangle's lands at rest, its v_T O(h) at the step's midpoint
+            rest = held[i] or (not on[i] and abs(vt[i]) <= v_tol)
+            mu[i] = par[2] if rest else mu_of(vt[i], par[2], par[3], par[4])
         bN = matvec(Wn, vf) + e_n * matvec(Wn, vk)
         bT = matvec(Wt, vf)
         PN, PT, wN, slack, st = solve_contacts(Wn, Wt, minv, bN, bT, mu, sig, idx)

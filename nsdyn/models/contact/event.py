@@ -153,7 +153,12 @@ def impact(body, par, q, v, e_n, near):
     verts, minv = body.contacts, body.minv
     g, Wn, Wt, bn, bt, gd, vt = contact_rows(q, v, verts)
     nc = len(verts)
-    mu = np.array([mu_of(vt[i], par[2], par[3], par[4]) for i in range(nc)])
+    # a corner at rest (|v_T| within V_ON sqrt(g L), as _settle's stick) takes mu_s: a pivot's
+    # v_T after the projection, and a rectangle's landing corner's at the located touchdown,
+    # are round-off, never exactly 0, and the jump law read mu_d there
+    rest = V_ON * math.sqrt(par[1] * par[6])
+    mu = np.array([par[2] if abs(vt[i]) <= rest else mu_of(vt[i], par[2], par[3], par[4])
+                   for i in range(nc)])  # fmt: skip
     bN = gd + e_n * np.minimum(gd, 0.0)
     idx = np.flatnonzero(near).astype(np.int64)
     PN, PT, wN, _, st = solve_contacts(Wn, Wt, minv, bN, vt, mu, np.zeros(nc), idx)

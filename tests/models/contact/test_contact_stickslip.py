@@ -165,3 +165,29 @@ def test_moreau_jean_keeps_a_rocking_pivot_stuck_through_a_step_without_impulse(
     slide = [simulate_moreau(body, law, sine, t_end=3 * T + 1, h=h).summary()["max_slide_m"]
              for h in (1e-3, 2e-4)]  # fmt: skip
     assert slide[1] < slide[0] / 2 and slide[0] < 1e-3  # (first order; the slip: 27 mm)
+
+
+def test_a_rocking_rectangle_lands_at_rest_so_static_friction_meets_the_impact():
+    # a rectangle rocking about one base corner lands the other with no tangential velocity
+    # (it moves vertically at theta = 0), so the jump law's static mu_s acts at the impact.
+    # Housner's impact needs |P_T| / P_N = (h/b) (1 - r) / (1 + r) = 0.243 at the landing
+    # corner (half sizes b = 0.25, h = 0.75 m, r = 1 - 1.5 sin^2 alpha = 0.85): between
+    # mu_d = 0.10 and mu_s = 0.35, so it sticks and each impact keeps r of the rotation rate.
+    # The event solver read mu_d at the landing corner's round-off v_T and slid 0.21 m;
+    # Moreau-Jean read it at v_T = O(h) and slid 0.15 m at every step down to 2e-5 s
+    body, law = RigidBody.rectangle(0.5, 1.5, 1.0), FrictionLaw(0.35, 0.10)
+    t_end, dt = 3.0, 1e-5
+    ev = simulate_event(body, law, None, t_end=t_end, theta0_over_alpha=0.6, dt_out=dt,
+                        rtol=1e-11, atol=1e-13)  # fmt: skip
+    touch = [t for t, name, _ in ev.events if name == "touchdown"]
+    assert len(touch) == 6 and ev.summary()["max_slide_m"] < 1e-8
+    for t in touch:  # (samples dt apart: theta'' dt ~ 5e-5 of theta')
+        k = int(np.searchsorted(ev.t, t))
+        assert ev.v[k + 1, 2] / ev.v[k - 1, 2] == pytest.approx(0.85, abs=5e-4)
+    errs = []
+    for h in (1e-4, 5e-5, 2.5e-5):
+        mj = simulate_moreau(body, law, None, t_end=t_end, h=h, theta0_over_alpha=0.6,
+                             dt_out=1e-3)  # fmt: skip
+        assert mj.summary()["max_slide_m"] < 1e-5  # (0.15 m)
+        errs.append(np.abs(mj.q - ev.q[::100][: len(mj.q)]).max())
+    assert 1.4 < errs[0] / errs[1] < 2.8 and 1.4 < errs[1] / errs[2] < 2.8  # (first order)
