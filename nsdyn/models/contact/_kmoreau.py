@@ -79,6 +79,31 @@ def step_mode(q, v, PN, Wn, Wt, verts, g_tol, v_tol, on, slipping):
 
 
 @njit(cache=True, error_model="numpy")
+def landing_slip(q, v, h, i, verts, on, held):
+    """Slip velocity of corner ``i`` where it touches down in the step from ``q`` with the
+    velocity ``v``, relative to a corner ``held`` on the ground (a stuck pivot: its own slip
+    at the step's start is O(h) from the turned rows, not a motion): at the point of the
+    straight path ``q + s h v`` where the gap, linear in s between the step's start and end,
+    reaches the level of the lowest corner ``on`` the ground (at most 0: the theta-method
+    lets a pivot sink O(h)). A rectangle rocking about one corner lands the other at rest (it
+    moves vertically at theta = 0); at the step's midpoint, or at a gap of 0 below a sunk
+    pivot, its slip is O(h) (3e-4 m/s at h = 1e-3 s on a 0.5 x 1.5 m prism)."""
+    ga = contact_rows(q, v, verts)[0]
+    gb = contact_rows(q + h * v, v, verts)[0]
+    la = lb = 0.0
+    p = -1
+    for j in range(ga.shape[0]):
+        if on[j] and j != i:
+            la, lb = min(la, ga[j]), min(lb, gb[j])
+            if held[j] and (p < 0 or ga[j] < ga[p]):
+                p = j
+    a, b = ga[i] - la, gb[i] - lb
+    s = a / (a - b) if a > 0.0 and b < a else 0.0
+    vt = contact_rows(q + min(s, 1.0) * h * v, v, verts)[6]
+    return vt[i] - vt[p] if p >= 0 else vt[i]
+
+
+@njit(cache=True, error_model="numpy")
 def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v,
            jumps, stride, g_tol, v_tol):  # fmt: skip
     """Run ``nsteps`` steps of size ``h`` from (t0, q0, v0).
@@ -159,9 +184,9 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
         for i in range(nc):  # static friction at a corner the last step held, whose v_T
             # here is the LCP's round-off or O(h) from the turned rows, never exactly 0 (the
             # jump law read mu_d for a body at rest); and at a corner landing from the air
-            # with its slip within v_tol (not slipping, as step_mode labels it): a rocking
-            # rectangle's lands at rest, its v_T O(h) at the step's midpoint
-            rest = held[i] or (not on[i] and abs(vt[i]) <= v_tol)
+            # at rest (within v_tol, as step_mode labels a slip)
+            lands = not on[i] and g[i] <= G_ACT * L
+            rest = held[i] or (lands and abs(landing_slip(q, vk, h, i, verts, on, held)) <= v_tol)
             mu[i] = par[2] if rest else mu_of(vt[i], par[2], par[3], par[4])
         bN = matvec(Wn, vf) + e_n * matvec(Wn, vk)
         bT = matvec(Wt, vf)

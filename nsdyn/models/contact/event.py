@@ -164,7 +164,18 @@ def impact(body, par, q, v, e_n, near):
     PN, PT, wN, _, st = solve_contacts(Wn, Wt, minv, bN, vt, mu, np.zeros(nc), idx)
     if st != 0:
         raise NumericalFailure("impact LCP has no solution")
-    return v + minv * (Wn.T @ PN + Wt.T @ PT)
+    out = v + minv * (Wn.T @ PN + Wt.T @ PT)
+    # a slip the impulse reverses passed through rest in the impact, where static friction
+    # acts: solved again with mu_s at those corners, kept if it holds them (as Moreau-Jean)
+    vt_out = Wt @ out
+    again = (PN > 0.0) & (vt * vt_out < 0.0) & (mu < par[2])
+    if again.any():
+        mu = np.where(again, par[2], mu)
+        PN, PT, wN, _, st = solve_contacts(Wn, Wt, minv, bN, vt, mu, np.zeros(nc), idx)
+        held = v + minv * (Wn.T @ PN + Wt.T @ PT)
+        if st == 0 and np.all(np.abs(Wt[again] @ held) <= rest):
+            out = held
+    return out
 
 
 def _settle(body, par, mo, t, y, e_n, closed, sig):
