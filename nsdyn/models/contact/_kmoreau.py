@@ -83,11 +83,12 @@ def landing_slip(q, v, h, i, verts, on, held):
     """Slip velocity of corner ``i`` where it touches down in the step from ``q`` with the
     velocity ``v``, relative to a corner ``held`` on the ground (a stuck pivot: its own slip
     at the step's start is O(h) from the turned rows, not a motion): at the point of the
-    straight path ``q + s h v`` where the gap, linear in s between the step's start and end,
+    straight path ``q + s h v`` where the gap, linear in s through the step's start and end,
     reaches the level of the lowest corner ``on`` the ground (at most 0: the theta-method
-    lets a pivot sink O(h)). A rectangle rocking about one corner lands the other at rest (it
-    moves vertically at theta = 0); at the step's midpoint, or at a gap of 0 below a sunk
-    pivot, its slip is O(h) (3e-4 m/s at h = 1e-3 s on a 0.5 x 1.5 m prism)."""
+    lets a pivot sink O(h)), in the step or after it. A rectangle rocking about one corner
+    lands the other at rest (it moves vertically at theta = 0); at the step's midpoint, or at
+    a gap of 0 below a sunk pivot, its slip is O(h) (3e-4 m/s at h = 1e-3 s on a 0.5 x 1.5 m
+    prism)."""
     ga = contact_rows(q, v, verts)[0]
     gb = contact_rows(q + h * v, v, verts)[0]
     la = lb = 0.0
@@ -98,8 +99,9 @@ def landing_slip(q, v, h, i, verts, on, held):
             if held[j] and (p < 0 or ga[j] < ga[p]):
                 p = j
     a, b = ga[i] - la, gb[i] - lb
-    s = a / (a - b) if a > 0.0 and b < a else 0.0
-    vt = contact_rows(q + min(s, 1.0) * h * v, v, verts)[6]
+    s = a / (a - b) if a > 0.0 and b < a else 0.0  # (past the step's end too: a pivot that
+    vt = contact_rows(q + s * h * v, v, verts)[6]  # landed from a fall sank v h / 2, deeper
+    # than a rocking corner comes down in a step, which is active a step before its level)
     return vt[i] - vt[p] if p >= 0 else vt[i]
 
 

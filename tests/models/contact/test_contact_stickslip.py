@@ -192,6 +192,18 @@ def test_a_rocking_rectangle_lands_at_rest_so_static_friction_meets_the_impact()
         assert mj.summary()["max_slide_m"] < 1e-4  # (0.15 m)
         errs.append(np.abs(mj.q - ev.q[::100][: len(mj.q)]).max())
     assert 3 < errs[0] / errs[1] < 8 and 3 < errs[1] / errs[2] < 8  # (first order, h / 5)
+    # dropped tilted with a sideways velocity, it lands on one corner, which sticks, and rocks
+    # down onto the other: that pivot sank v h / 2 landing from its fall, deeper than the
+    # other corner comes down in a step (slid 0.14 m at h = 1e-3 and 2e-4 s)
+    hop = dict(q0=[0.0, 0.8, 0.05], v0=[0.3, 0.0, 0.0])
+    ev = simulate_event(body, law, None, t_end=2.0, dt_out=1e-3, rtol=1e-10, atol=1e-12, **hop)
+    assert ev.summary()["max_slide_m"] < 1e-8
+    errs = []
+    for h in (1e-3, 2e-4):
+        mj = simulate_moreau(body, law, None, t_end=2.0, h=h, dt_out=1e-3, **hop)
+        assert mj.summary()["max_slide_m"] < 1e-3
+        errs.append(np.abs(mj.q - ev.q[: len(mj.q)]).max())
+    assert 3 < errs[0] / errs[1] < 8
 
 
 def test_a_slip_an_impact_reverses_meets_static_friction():
