@@ -41,12 +41,13 @@ P_KT = 5  # tangential stick stiffness per corner [N/m]
 P_MUS = 6  # static friction coefficient
 P_MUD = 7  # dynamic friction coefficient
 P_CDEC = 8  # decay constant C of mu(v) [s/m] (-1: jump law)
-P_THOV = 9  # overturning tilt [rad]
-N_P = 10
+P_THOV = 9  # overturning tilt theta > 0 [rad] (RigidBody.overturn_tilts)
+P_THOV_NEG = 10  # ... and -theta > 0
+N_P = 11
 N_OUT = 12  # columns of an output row
 
 ST_OK = 0  # reached t_end
-ST_OVER = 1  # overturned (|theta| >= theta_ov)
+ST_OVER = 1  # overturned (theta at theta_ov+ or -theta_ov-)
 ST_NONFINITE = -1  # non-finite state
 
 
@@ -154,7 +155,7 @@ def integrate(t0, t1, h, q, vh, verts, anchor, stuck, p, ex, tab_h, tab_v, acc, 
         t = t0 + (k + 1) * h
         if not (math.isfinite(q[0]) and math.isfinite(q[1]) and math.isfinite(q[2])):
             return ST_NONFINITE, t, iout, k + 1
-        if abs(q[2]) >= p[P_THOV]:
+        if q[2] >= p[P_THOV] or -q[2] >= p[P_THOV_NEG]:
             return ST_OVER, t, iout, k + 1
     kb.alive(own)
     return ST_OK, t1, iout, n_steps

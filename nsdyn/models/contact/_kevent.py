@@ -14,7 +14,7 @@ cubic Hermite dense output by the Illinois method:
     closed contact:     lam_N / (m g) - w_N / g       (lift-off)
     sticking contact:   S_TOL - s / g  (s: LCP slip tendency)  (stick -> slip)
     slipping contact:   sigma v_T / sqrt(g L)         (slip stops or reverses)
-    body:               theta_ov - |theta|            (overturned)
+    body:               min(theta_ov+ - theta, theta_ov- + theta)   (overturned)
 
 The kernel returns at the first event (or t_end); the caller switches the mode.
 """
@@ -49,7 +49,7 @@ EV_UNDERFLOW, EV_MAXSTEPS, EV_LCP, EV_SINK = -1, -2, -3, -4
 def rhs(t, y, sig, closed, verts, minv, par, ex, tab_h, tab_v):
     """(y', indicators (2 nc + 1,), lam_N, lam_T, LCP status) of the fixed-mode dynamics.
 
-    par = [m, g, mu_s, mu_d, C (-1: infinity), theta_ov, L].
+    par = [m, g, mu_s, mu_d, C (-1: infinity), theta_ov+, L, theta_ov-].
     """
     nc = verts.shape[0]
     m = par[0]
@@ -92,7 +92,7 @@ def rhs(t, y, sig, closed, verts, minv, par, ex, tab_h, tab_v):
         else:
             ind[i] = g[i] / L + G_TOUCH
             ind[nc + i] = 1.0
-    ind[2 * nc] = par[5] - abs(q[2])
+    ind[2 * nc] = min(par[5] - q[2], par[7] + q[2])
     return dy, ind, lamN, lamT, status
 
 

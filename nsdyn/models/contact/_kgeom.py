@@ -225,9 +225,10 @@ def mu_of(v, mu_s, mu_d, cdec):
 
 
 @njit(cache=True, error_model="numpy")
-def body_mode(q, v, verts, g_tol, v_tol, theta_ov):
-    """Body mode from the state: REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT or OVERTURNED."""
-    if abs(q[2]) >= theta_ov:
+def body_mode(q, v, verts, g_tol, v_tol, ov_pos, ov_neg):
+    """Body mode from the state: REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT or OVERTURNED (the tilt
+    at ``ov_pos`` or ``-ov_neg``: RigidBody.overturn_tilts)."""
+    if q[2] >= ov_pos or -q[2] >= ov_neg:
         return OVERTURNED
     g, Wn, Wt, bn, bt, gd, vt = contact_rows(q, v, verts)
     n_on = 0

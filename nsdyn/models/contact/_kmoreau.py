@@ -110,8 +110,9 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
            jumps, stride, g_tol, v_tol):  # fmt: skip
     """Run ``nsteps`` steps of size ``h`` from (t0, q0, v0).
 
-    par = [m, g, mu_s, mu_d, C (-1: infinity), theta_ov, L].  jumps: (nj, 2) rows (t, ground
-    velocity jump), sorted by t.  Every ``stride`` steps the state and body mode are stored.
+    par = [m, g, mu_s, mu_d, C (-1: infinity), theta_ov+, L, theta_ov-].  jumps: (nj, 2) rows
+    (t, ground velocity jump), sorted by t.  Every ``stride`` steps the state and body mode
+    are stored.
 
     Returns
     -------
@@ -148,7 +149,7 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
         held[i] = on[i] and abs(vt0[i]) <= v_rest
     _, Wn0, Wt0, _, _, _, _ = contact_rows(q, v, verts)
     md_o[0] = step_mode(q, v, np.zeros(nc), Wn0, Wt0, verts, g_tol, v_tol, on, slipping)
-    if abs(q[2]) >= par[5]:
+    if q[2] >= par[5] or -q[2] >= par[7]:
         md_o[0] = OVERTURNED
     first = np.array([t0 if md_o[0] != REST else -1.0, float(md_o[0])])  # first non-rest step
     io = 1
@@ -222,7 +223,7 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
         if not (all_finite(q) and all_finite(v)):
             status = -2
             break
-        over = abs(q[2]) >= par[5]
+        over = q[2] >= par[5] or -q[2] >= par[7]
         md = step_mode(q, v, PN, Wn, Wt, verts, g_tol, v_tol, on, slipping)
         for i in range(nc):  # held: stuck by this step's LCP; a held corner without impulse
             # (a pivot the theta-method lets fall freely for a step) stays held while on the

@@ -170,7 +170,15 @@ class RigidBody:
 
     @property
     def theta_ov(self) -> float:
-        """Tilt at which the body lies on an edge adjacent to an outer base corner [rad]."""
+        """The smaller of :attr:`overturn_tilts` [rad]."""
+        return min(self.overturn_tilts)
+
+    @property
+    def overturn_tilts(self) -> tuple[float, float]:
+        """(theta_ov+, theta_ov-) [rad]: the tilts theta > 0 (rocking about the left outer base
+        corner) and -theta > 0 (about the right one) at which the body lies on the edge next
+        to that corner, pi - its interior angle. A body with an overhanging side has two:
+        tipping away from the overhang it lies down only when its other side does."""
         n = len(self.verts)
         out = []
         for k in (self.base[np.argmin(self.verts[self.base, 0])],
@@ -179,7 +187,12 @@ class RigidBody:
             u, w = a - b, c - b
             phi = math.acos(float(u @ w) / float(np.linalg.norm(u) * np.linalg.norm(w)))
             out.append(math.pi - phi)
-        return min(out)
+        return out[0], out[1]
+
+    def overturned(self, theta: float) -> bool:
+        """Whether the tilt ``theta`` [rad] lays the body on an edge (:attr:`overturn_tilts`)."""
+        pos, neg = self.overturn_tilts
+        return theta >= pos or -theta >= neg
 
     def corner_geometry(self, side: int = 1) -> tuple[float, float, float]:
         """(R, alpha, J_O) of rocking about the outer base corner on ``side`` (+1 right, -1 left):

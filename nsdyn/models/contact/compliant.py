@@ -137,7 +137,7 @@ def _params(body: RigidBody, friction: FrictionLaw, ground: CompliantGround, g: 
     p[kc.P_M], p[kc.P_J], p[kc.P_G] = body.mass, body.J, g
     p[kc.P_K], p[kc.P_C], p[kc.P_KT] = ground.k, ground.c, ground.kt
     p[kc.P_MUS], p[kc.P_MUD], p[kc.P_CDEC] = friction.mu_s, friction.mu_d, friction.cdec
-    p[kc.P_THOV] = body.theta_ov
+    p[kc.P_THOV], p[kc.P_THOV_NEG] = body.overturn_tilts
     return p
 
 

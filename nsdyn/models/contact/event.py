@@ -115,10 +115,10 @@ def start_state(body: RigidBody, tilt: float, q0, v0, tilted: bool, rigid: bool 
         if rigid and y.min() < -Q0_DEPTH * size:
             raise ValueError(f"q0: a corner starts {-y.min():.4g} m below the rigid ground; "
                              "expected every corner at or above it")  # fmt: skip
-        if abs(q[2]) >= body.theta_ov:  # (4 rad ran, "not overturned", as theta0 is refused)
-            raise ValueError(f"q0: a tilt of {abs(q[2]):.4g} rad is at or past the body's "
-                             f"overturning tilt {body.theta_ov:.4g} rad; expected a smaller "
-                             "one")  # fmt: skip
+        if body.overturned(q[2]):  # (4 rad ran, "not overturned", as theta0 is refused)
+            raise ValueError(f"q0: a tilt of {q[2]:.4g} rad is at or past the body's "
+                             f"overturning tilt {_side_ov(body, q[2]):.4g} rad that way; "
+                             "expected a smaller one")  # fmt: skip
     return q, given.get("v0", v)
 
 
@@ -143,9 +143,16 @@ def check_parts(body, friction, motion) -> None:
             warnings.warn(f"motion: {note}", InputWarning, stacklevel=3)
 
 
+def _side_ov(body: RigidBody, theta: float) -> float:
+    """The overturning tilt [rad] on the side ``theta`` tips the body."""
+    pos, neg = body.overturn_tilts
+    return pos if theta >= 0 else -neg
+
+
 def _params(body: RigidBody, fr: FrictionLaw, g: float) -> np.ndarray:
     L = float(np.ptp(body.verts, axis=0).max())
-    return np.array([body.mass, g, fr.mu_s, fr.mu_d, fr.cdec, body.theta_ov, L])
+    pos, neg = body.overturn_tilts
+    return np.array([body.mass, g, fr.mu_s, fr.mu_d, fr.cdec, pos, L, neg])
 
 
 def impact(body, par, q, v, e_n, near):
@@ -273,10 +280,12 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
     output_step(dt_out, t_end, off=False)
     e = 0.0 if impact_law == "housner" else float(e_n)
     tilt = tilt_angle(body, theta0, theta0_over_alpha)
-    if abs(tilt) >= body.theta_ov:
+    if body.overturned(tilt):
+        ov = _side_ov(body, tilt)
         raise ValueError(
             f"theta0: a tilt of {tilt:.4g} rad starts the body overturned (it lies on an edge "
-            f"from {body.theta_ov:.4g} rad); expected |theta0| < {body.theta_ov:.4g}"
+            f"from {ov:.4g} rad that way); expected theta0 between {-body.overturn_tilts[1]:.4g} "
+            f"and {body.overturn_tilts[0]:.4g}"
         )
     warm()  # a first run: the loop here, the right-hand side in a helper
     mo = motion or BaseMotion.none()
@@ -337,7 +346,7 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
     ok = ~np.isnan(y_out[:, 0])
     t_s, q_s, v_s = t_out[ok], y_out[ok, :3], y_out[ok, 3:]
     mode = np.array([body_mode(q_s[i], v_s[i], verts, MODE_G_TOL * par[6],
-                               MODE_V_TOL * math.sqrt(g * par[6]), par[5])
+                               MODE_V_TOL * math.sqrt(g * par[6]), par[5], par[7])
                      for i in range(len(t_s))], dtype=np.int64)  # fmt: skip
     if t_over is not None:
         t_s = np.append(t_s, t_over)

@@ -28,9 +28,12 @@ MODE_NAMES = ("rest", "slide", "rock", "slide_rock", "flight", "overturned")
 TILT_FLOOR = 0.01  # a peak tilt below this fraction of alpha is no rocking (figures, summaries)
 
 
-def slenderness(body) -> float:
+def slenderness(body, theta: float | None = None) -> float:
     """The smaller slenderness alpha [rad] of the body's two outer base corners (the angle from
-    the vertical of the line from the corner to the centre of mass): the scale of its tilt."""
+    the vertical of the line from the corner to the centre of mass): the scale of its tilt;
+    with a tilt ``theta``, the alpha of the corner it rocks about (theta > 0: the left one)."""
+    if theta is not None:
+        return body.corner_geometry(-1 if theta >= 0 else 1)[1]
     return min(body.corner_geometry(-1)[1], body.corner_geometry(1)[1])
 
 

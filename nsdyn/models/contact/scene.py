@@ -419,8 +419,9 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         if s["step_resolved"] is not True:
             say(f"contact: note: {s['step_note']}")
     s["alpha_rad"] = slenderness(body)
-    s["past_tip_over_at_end"] = not s["overturned"] and leaning_past(
-        s["final_tilt_rad"], s["final_omega_rad_per_s"], s["alpha_rad"])  # fmt: skip
+    s["past_tip_over_at_end"] = not s["overturned"] and leaning_past(  # (its side's alpha)
+        s["final_tilt_rad"], s["final_omega_rad_per_s"], slenderness(body, s["final_tilt_rad"])
+    )
     s["outcome"], text = outcome(s)
     files = [str(out_dir / "contact.npz")]
     with atomic_open(out_dir / "contact.npz", "wb") as fh:

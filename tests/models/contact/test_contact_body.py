@@ -76,3 +76,31 @@ def test_a_body_on_rigid_ground_moves_alike_at_any_mass(mass):
             r = [run(RigidBody.rectangle(w, h, m), law, sine, t_end=5 * T + 2,
                      theta0_over_alpha=tilt) for m in (2500.0, mass)]  # fmt: skip
             assert np.abs(r[1].q - r[0].q).max() <= tol and np.array_equal(r[1].mode, r[0].mode)
+
+
+def test_a_body_with_an_overhang_overturns_on_each_side_at_its_own_tilt():
+    # a quadrilateral whose right side leans out over its base: rocking about the right corner
+    # (theta < 0) it lies on that side at atan(0.5) = pi - its interior angle there; about the
+    # left corner (theta > 0) only at pi / 2, where its vertical left side meets the ground.
+    # Both solvers applied the smaller angle to both sides: launched about the left corner
+    # with the energy to reach 0.6 rad (below the centre of mass's angle there, 1.31 rad) it
+    # was "overturned" at 0.4636 rad, and theta0 = 0.5 was refused
+    from nsdyn.models.contact import simulate_event, simulate_moreau
+
+    body = RigidBody.polygon([(-1, 0), (0.5, 0), (1.5, 0.5), (-1, 0.5)], 100.0)
+    assert body.overturn_tilts == pytest.approx((math.pi / 2, math.atan(0.5)), rel=1e-12)
+    assert body.overturned(-0.47) and not body.overturned(1.5)
+    R, alpha, J_O = body.corner_geometry(-1)
+    from nsdyn.models.contact.results import slenderness  # (tip-over: the pivot side's alpha)
+
+    assert slenderness(body, 0.3) == alpha and slenderness(body, -0.3) == slenderness(body) < 1.1
+    peak = 0.6  # energy: J_O w^2 / 2 = m g R (cos(alpha - peak) - cos alpha)
+    w = math.sqrt(2 * body.mass * 9.81 * R * (math.cos(alpha - peak) - math.cos(alpha)) / J_O)
+    c = body.contacts[np.argmin(body.contacts[:, 0])]  # the left corner: v = w x (0 - c)
+    q0, v0 = [0.0, body.y0, 0.0], [w * c[1], -w * c[0], w]
+    law = FrictionLaw(2.0, 2.0)  # (no slip: rocking alone)
+    for run in (simulate_event, simulate_moreau):
+        s = run(body, law, None, t_end=3.0, q0=q0, v0=v0).summary()
+        assert not s["overturned"]
+        assert s["max_tilt_rad"] == pytest.approx(peak, abs=2e-3)  # (Moreau-Jean: O(h))
+    simulate_event(body, law, None, t_end=0.1, theta0=0.5)  # (refused before)
