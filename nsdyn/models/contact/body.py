@@ -176,18 +176,20 @@ class RigidBody:
     @property
     def overturn_tilts(self) -> tuple[float, float]:
         """(theta_ov+, theta_ov-) [rad]: the tilts theta > 0 (rocking about the left outer base
-        corner) and -theta > 0 (about the right one) at which the body lies on the edge next
-        to that corner, pi - its interior angle. A body with an overhanging side has two:
-        tipping away from the overhang it lies down only when its other side does."""
+        corner) and -theta > 0 (about the right one) at which the side edge from that corner
+        lies on the ground: pi less its angle from the horizontal on the left, that angle on
+        the right (pi - the interior angle where the base is an edge; a body on one vertex
+        has its two edges). A body with an overhanging side has two: tipping away from the
+        overhang it lies down only when its other side does. The contacts are the base
+        vertices, so a side edge that meets the ground before the centre of mass passes over
+        the pivot (an obtuse base corner, theta_ov below that side's alpha) ends the run
+        there, overturned, though the body would land on it and could rock back."""
         n = len(self.verts)
-        out = []
-        for k in (self.base[np.argmin(self.verts[self.base, 0])],
-                  self.base[np.argmax(self.verts[self.base, 0])]):  # fmt: skip
-            a, b, c = self.verts[k - 1], self.verts[k], self.verts[(k + 1) % n]
-            u, w = a - b, c - b
-            phi = math.acos(float(u @ w) / float(np.linalg.norm(u) * np.linalg.norm(w)))
-            out.append(math.pi - phi)
-        return out[0], out[1]
+        left = self.base[np.argmin(self.verts[self.base, 0])]
+        right = self.base[np.argmax(self.verts[self.base, 0])]
+        el = self.verts[left - 1] - self.verts[left]  # (counter-clockwise: up the left side)
+        er = self.verts[(right + 1) % n] - self.verts[right]  # (up the right side)
+        return math.pi - math.atan2(el[1], el[0]), math.atan2(er[1], er[0])
 
     def overturned(self, theta: float) -> bool:
         """Whether the tilt ``theta`` [rad] lays the body on an edge (:attr:`overturn_tilts`)."""

@@ -71,7 +71,15 @@ def tilt_angle(body: RigidBody, theta0: float | None, theta0_over_alpha: float |
     """The initial tilt [rad]: ``theta0``, or ``theta0_over_alpha`` times the slenderness alpha
     of the corner it rocks on (the left one for a positive tilt); one of them, or none (0)."""
     side = -1 if (theta0_over_alpha or 0.0) >= 0 else 1
-    return initial_tilt(theta0, theta0_over_alpha, body.corner_geometry(side)[1])
+    tilt = initial_tilt(theta0, theta0_over_alpha, body.corner_geometry(side)[1])
+    if body.overturned(tilt):  # (every solver's start: Moreau-Jean's ran "overturned")
+        pos, neg = body.overturn_tilts
+        raise ValueError(
+            f"{'theta0' if theta0 is not None else 'theta0_over_alpha'}: a tilt of {tilt:.4g} "
+            f"rad starts the body overturned (it lies on an edge from {_side_ov(body, tilt):.4g}"
+            f" rad that way); expected a tilt between {-neg:.4g} and {pos:.4g} rad"
+        )
+    return tilt
 
 
 def initial_state(body: RigidBody, theta0: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -280,13 +288,6 @@ def simulate_event(body: RigidBody, friction: FrictionLaw, motion: BaseMotion | 
     output_step(dt_out, t_end, off=False)
     e = 0.0 if impact_law == "housner" else float(e_n)
     tilt = tilt_angle(body, theta0, theta0_over_alpha)
-    if body.overturned(tilt):
-        ov = _side_ov(body, tilt)
-        raise ValueError(
-            f"theta0: a tilt of {tilt:.4g} rad starts the body overturned (it lies on an edge "
-            f"from {ov:.4g} rad that way); expected theta0 between {-body.overturn_tilts[1]:.4g} "
-            f"and {body.overturn_tilts[0]:.4g}"
-        )
     warm()  # a first run: the loop here, the right-hand side in a helper
     mo = motion or BaseMotion.none()
     par = _params(body, friction, g)

@@ -104,3 +104,11 @@ def test_a_body_with_an_overhang_overturns_on_each_side_at_its_own_tilt():
         assert not s["overturned"]
         assert s["max_tilt_rad"] == pytest.approx(peak, abs=2e-3)  # (Moreau-Jean: O(h))
     simulate_event(body, law, None, t_end=0.1, theta0=0.5)  # (refused before)
+    # past a side's tilt every solver refuses the start (Moreau-Jean ran one step, overturned)
+    for run in (simulate_event, simulate_moreau):
+        with pytest.raises(ValueError, match=r"^theta0_over_alpha: a tilt of -0.5282 rad starts"):
+            run(body, law, None, t_end=0.1, theta0_over_alpha=-0.5)
+    # a body on one vertex: each side's edge from it (a kite on its lowest vertex: pi - 3 pi / 4
+    # to lay its left edge down, atan(0.5) its right; pi - the interior angle gave 1.25 both)
+    kite = RigidBody.polygon([(0, 0), (2, 1), (0, 2), (-1, 1)])
+    assert kite.overturn_tilts == pytest.approx((math.pi / 4, math.atan(0.5)), rel=1e-12)
