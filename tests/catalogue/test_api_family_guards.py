@@ -224,8 +224,10 @@ def test_whole_numpy_counts_and_iterables_of_sections_are_taken():
         (lambda b: (b.verts[::-1], b.mass, b.J, b.base), r"^verts: expected the vertices counter"),
         (lambda b: (b.verts, 0.0, b.J, b.base), r"^mass: expected a positive mass"),
         (lambda b: (b.verts, b.mass, "1", b.base), r"^J: expected a positive moment of inertia"),
-        (lambda b: (b.verts, b.mass, b.J, [2, 3]), r"^base: expected indices of the lowest"),
-        (lambda b: (b.verts, b.mass, b.J, []), r"^base: expected indices of the lowest"),
+        (lambda b: (b.verts, b.mass, b.J, [2, 3]), r"^base: expected the indices of the lowest"),
+        (lambda b: (b.verts, b.mass, b.J, []), r"^base: expected the indices of the lowest"),
+        # a part of the base: its other corner's side was the base edge (overturned at 0 rad)
+        (lambda b: (b.verts, b.mass, b.J, b.base[:1]), r"^base: expected the indices of the l"),
     ],
 )  # fmt: skip
 def test_a_rigid_body_built_directly_is_checked_as_its_builders_check(args, match):

@@ -7,8 +7,9 @@ a polygon with vertices p_k (Green's theorem, c_k = p_k x p_{k+1}):
     J_O = rho/12 sum c_k (p_k.p_k + p_k.p_{k+1} + p_{k+1}.p_{k+1}),  J = J_O - m |centroid|^2.
 
 The contacts are the base vertices (the lowest ones in the resting pose, on the ground line).
-Rocking about a base corner ends in overturning when the adjacent edge lies on the ground, i.e.
-at the tilt theta_ov = pi - phi (phi: interior angle at that corner); for a rectangle of width 2b
+Rocking about a base corner ends in overturning when the side edge from it lies on the ground,
+at the tilt of that edge's angle from the horizontal (RigidBody.overturn_tilts: pi - phi where
+the base is an edge, phi the interior angle at the corner); for a rectangle of width 2b
 and height 2h: alpha = atan(b/h), R = sqrt(b^2 + h^2), p^2 = m g R / J_O = 3 g / (4 R).
 """
 
@@ -96,10 +97,11 @@ class RigidBody:
         number("J", self.J, "a positive moment of inertia [kg m^2]", lambda x: x > 0)
         b = np.asarray(self.base)
         low = v[:, 1].min() + BASE_TOL * float(np.ptp(v, axis=0).max())
-        if not (b.ndim == 1 and b.size and b.dtype.kind in "iu" and b.min() >= 0
-                and b.max() < len(v) and np.all(v[b, 1] <= low)):  # fmt: skip
-            raise ValueError(f"base: expected indices of the lowest vertices (0..{len(v) - 1}), "
-                             f"got {self.base!r}")  # fmt: skip
+        lowest = np.flatnonzero(v[:, 1] <= low)  # (all of them: a part of the base's sides
+        if not (b.ndim == 1 and b.size and b.dtype.kind in "iu" and b.min() >= 0  # overturn
+                and b.max() < len(v) and set(b.tolist()) == set(lowest.tolist())):  # fmt: skip
+            raise ValueError(f"base: expected the indices of the lowest vertices, "
+                             f"{lowest.tolist()}, got {self.base!r}")  # fmt: skip
         object.__setattr__(self, "verts", v.copy())  # (its own: not the caller's array)
         object.__setattr__(self, "base", b.astype(np.int64))
 

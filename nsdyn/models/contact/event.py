@@ -77,7 +77,8 @@ def tilt_angle(body: RigidBody, theta0: float | None, theta0_over_alpha: float |
         raise ValueError(
             f"{'theta0' if theta0 is not None else 'theta0_over_alpha'}: a tilt of {tilt:.4g} "
             f"rad starts the body overturned (it lies on an edge from {_side_ov(body, tilt):.4g}"
-            f" rad that way); expected a tilt between {-neg:.4g} and {pos:.4g} rad"
+            f" rad that way); expected a tilt between {-min(neg, 0.5 * math.pi):.4g} and "
+            f"{min(pos, 0.5 * math.pi):.4g} rad"
         )
     return tilt
 

@@ -179,8 +179,8 @@ def build(cfg: dict, source: str):
 
     try:
         theta0 = tilt_angle(body, tilt.get("theta0"), tilt.get("theta0_over_alpha"))
-    except ValueError as e:
-        raise SceneError(f"{source}: motion: {e}") from None
+    except ValueError as e:  # ("theta0: ..." or "theta0_over_alpha: ...")
+        raise SceneError(f"{source}: motion.{e}") from None
     if "record" in mo and "period" in mo:
         raise SceneError(f"{source}: motion.period: give a record or a sine period, not both")
     if "period" not in mo:

@@ -112,3 +112,22 @@ def test_a_body_with_an_overhang_overturns_on_each_side_at_its_own_tilt():
     # to lay its left edge down, atan(0.5) its right; pi - the interior angle gave 1.25 both)
     kite = RigidBody.polygon([(0, 0), (2, 1), (0, 2), (-1, 1)])
     assert kite.overturn_tilts == pytest.approx((math.pi / 4, math.atan(0.5)), rel=1e-12)
+
+
+def test_a_start_tilt_past_a_side_is_refused_in_a_scene_naming_its_key(tmp_path, capsys):
+    # the scene named "motion: theta0:"; and a side past pi / 2 offered a range the pi / 2 cap
+    # of every start tilt refused
+    from nsdyn.cli import main
+    from nsdyn.models.contact.event import tilt_angle
+
+    tri = RigidBody.polygon([(0, 0), (1, 0), (3, 1)])  # (sides 2.82 and atan(0.5) rad)
+    with pytest.raises(ValueError, match=r"expected a tilt between -0.4636 and 1.571 rad$"):
+        tilt_angle(tri, -0.5, None)
+    p = tmp_path / "s.toml"
+    p.write_text('[scene]\nkind = "contact"\n[body]\nvertices = [[0, 0], [1, 0], [3, 1]]\n'
+                 "[friction]\nmu_s = 0.5\nmu_d = 0.5\n"
+                 "[motion]\ntheta0 = -0.5\nt_end = 1.0\n")  # fmt: skip
+    assert main(["run", str(p), "--out", str(tmp_path / "o")]) == 2
+    assert capsys.readouterr().err.startswith(
+        f"nsdyn run: error: {p}: motion.theta0: a tilt of -0.5 rad starts the body overturned"
+    )
