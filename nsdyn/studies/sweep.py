@@ -368,11 +368,12 @@ def bilateral_sweep_note(cfg: dict, settings: SweepSettings) -> str | None:
     iso = cfg.get("isolation") if isinstance(cfg.get("isolation"), dict) else {}
     if iso.get("contact") != "unilateral" or settings.contact == "unilateral":
         return None
-    law = " on the arctan law (its lift-off orbits)" * (settings.friction == "switch")
+    arctan = settings.friction == "switch"  # (the lift-off orbits are the arctan law's)
     return (
         "isolation.contact = 'unilateral', but a sweep shoots the bilateral orbits and "
         "flags uplift where a normal force falls to zero; contact='unilateral' (nsdyn "
-        f"sweep --contact unilateral) recomputes those points with lift-off and landing{law}"
+        f"sweep{' --friction arctan' * arctan} --contact unilateral) recomputes those points "
+        f"with lift-off and landing{' on the arctan law' * arctan}"
     )
 
 

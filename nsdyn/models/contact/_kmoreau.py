@@ -47,6 +47,7 @@ JUMP_EPS = 1e-9  # a jump within JUMP_EPS h of a step's end belongs to the next 
 # a contact whose slip after a step is below V_REST sqrt(g L) (the LCP's round-off of a held
 # corner, ~1e-18 m/s, far below it) was held by that step: static friction in the next one
 V_REST = 1e-10
+S_PAST = 4.0  # a landing corner's slip is read at most this many steps ahead (landing_slip)
 
 
 @njit(cache=True, error_model="numpy")
@@ -99,9 +100,10 @@ def landing_slip(q, v, h, i, verts, on, held):
             if held[j] and (p < 0 or ga[j] < ga[p]):
                 p = j
     a, b = ga[i] - la, gb[i] - lb
-    s = a / (a - b) if a > 0.0 and b < a else 0.0  # (past the step's end too: a pivot that
-    vt = contact_rows(q + s * h * v, v, verts)[6]  # landed from a fall sank v h / 2, deeper
-    # than a rocking corner comes down in a step, which is active a step before its level)
+    # past the step's end too (a few steps at most): a pivot that landed from a fall sank
+    # v h / 2, deeper than a rocking corner comes down in a step, active a step before its level
+    s = min(a / (a - b), S_PAST) if a > 0.0 and b < a else 0.0
+    vt = contact_rows(q + s * h * v, v, verts)[6]
     return vt[i] - vt[p] if p >= 0 else vt[i]
 
 

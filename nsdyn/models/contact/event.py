@@ -182,7 +182,8 @@ def impact(body, par, q, v, e_n, near):
         raise NumericalFailure("impact LCP has no solution")
     out = v + minv * (Wn.T @ PN + Wt.T @ PT)
     # a slip the impulse reverses passed through rest in the impact, where static friction
-    # acts: solved again with mu_s at those corners, kept if it holds them (as Moreau-Jean)
+    # acts: solved again with mu_s at those corners, kept if it holds them within this
+    # solver's stick test (Moreau-Jean's rule, with its own rest tolerance)
     vt_out = Wt @ out
     again = (PN > 0.0) & (vt * vt_out < 0.0) & (mu < par[2])
     if again.any():

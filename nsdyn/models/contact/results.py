@@ -9,10 +9,10 @@ corners; none in flight), and
     slide(t_k) = sum_{j < k} mean_{i touching at j, j+1} (x_c,i(t_j+1) - x_c,i(t_j)).
 
 Rocking about a corner that sticks adds nothing (the base midpoint's swing is not a slide). Tilt
-is |theta|, a hop an entry into flight, overturning the tilt reaching theta_ov (the body lies
-on a side). The first motion is the mode entered at the first change of the contact state (an
-event of the event-driven solver, at its located time; a step of Moreau-Jean), not the first
-sample whose displacement passes a threshold.
+is |theta|, a hop an entry into flight, overturning the tilt reaching its side's overturning
+tilt (RigidBody.overturn_tilts: the body lies on a side). The first motion is the mode entered
+at the first change of the contact state (an event of the event-driven solver, at its located
+time; a step of Moreau-Jean), not the first sample whose displacement passes a threshold.
 """
 
 from __future__ import annotations
@@ -58,7 +58,7 @@ class ContactResult(Tabular):
     mode: np.ndarray
     solver: str
     base_mid: np.ndarray
-    theta_ov: float
+    theta_ov: float  # the smaller of the body's two overturning tilts [rad]
     n_impacts: int = 0
     t_overturn: float | None = None
     events: list = field(default_factory=list)
