@@ -178,6 +178,10 @@ def impact(body, par, q, v, e_n, near):
     bN = gd + e_n * np.minimum(gd, 0.0)
     idx = np.flatnonzero(near).astype(np.int64)
     PN, PT, wN, _, st = solve_contacts(Wn, Wt, minv, bN, vt, mu, np.zeros(nc), idx)
+    if st != 0:  # (two corners sliding alike on one edge: their tangential rows are equal and
+        # the pyramid's LCP degenerate) the slipping corners with their friction along -v_T
+        sig = np.where(np.abs(vt) > rest, np.sign(vt), 0.0)
+        PN, PT, wN, _, st = solve_contacts(Wn, Wt, minv, bN, vt, mu, sig, idx)
     if st != 0:
         raise NumericalFailure("impact LCP has no solution")
     out = v + minv * (Wn.T @ PN + Wt.T @ PT)

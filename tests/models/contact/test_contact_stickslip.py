@@ -227,3 +227,17 @@ def test_a_slip_an_impact_reverses_meets_static_friction():
             assert mj.summary()["max_slide_m"] < 1e-5
             errs.append(np.abs(mj.q - ev.q[: len(mj.q)]).max())
         assert errs[1] < errs[0] / 2 and errs[1] < 10 * 4e-5
+
+
+def test_an_impact_of_corners_sliding_alike_has_a_solution():
+    # with mu 0.05/0.02 the rocking prism slides, and a corner lands while the other slides
+    # with it: at theta ~ 0 their tangential rows are equal and the pyramid's LCP degenerate
+    # ("impact LCP has no solution" at 0.48 s). The slipping corners' friction along -v_T
+    # solves it; the event-driven run then agrees with Moreau-Jean, in first order
+    body, law = RigidBody.rectangle(0.5, 1.5, 1.0), FrictionLaw(0.05, 0.02)
+    ev = simulate_event(body, law, None, t_end=3.0, theta0_over_alpha=0.6, dt_out=1e-3)
+    errs = []
+    for h in (1e-3, 2e-4):
+        mj = simulate_moreau(body, law, None, t_end=3.0, h=h, theta0_over_alpha=0.6, dt_out=1e-3)
+        errs.append(np.abs(mj.q - ev.q[: len(mj.q)]).max())
+    assert ev.summary()["max_slide_m"] > 0.1 and 2 < errs[0] / errs[1] < 8  # (h / 5)
