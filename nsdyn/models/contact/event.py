@@ -179,9 +179,17 @@ def impact(body, par, q, v, e_n, near):
     idx = np.flatnonzero(near).astype(np.int64)
     PN, PT, wN, _, st = solve_contacts(Wn, Wt, minv, bN, vt, mu, np.zeros(nc), idx)
     if st != 0:  # (two corners sliding alike on one edge: their tangential rows are equal and
-        # the pyramid's LCP degenerate) the slipping corners with their friction along -v_T
+        # the pyramid's LCP degenerate) the slipping corners with their friction against the
+        # slip the impact leaves: against the slip before, turned where the impulse reverses it
         sig = np.where(np.abs(vt) > rest, np.sign(vt), 0.0)
-        PN, PT, wN, _, st = solve_contacts(Wn, Wt, minv, bN, vt, mu, sig, idx)
+        for _ in range(3):
+            PN, PT, wN, _, st = solve_contacts(Wn, Wt, minv, bN, vt, mu, sig, idx)
+            after = Wt @ (v + minv * (Wn.T @ PN + Wt.T @ PT))
+            turned = (sig != 0.0) & (sig * after < -rest)
+            if st != 0 or not turned.any():
+                break
+            sig = np.where(turned, np.sign(after), sig)
+        st = st or int(turned.any())  # (no direction the friction opposes: no solution)
     if st != 0:
         raise NumericalFailure("impact LCP has no solution")
     out = v + minv * (Wn.T @ PN + Wt.T @ PT)

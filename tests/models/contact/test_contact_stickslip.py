@@ -241,3 +241,22 @@ def test_an_impact_of_corners_sliding_alike_has_a_solution():
         mj = simulate_moreau(body, law, None, t_end=3.0, h=h, theta0_over_alpha=0.6, dt_out=1e-3)
         errs.append(np.abs(mj.q - ev.q[: len(mj.q)]).max())
     assert ev.summary()["max_slide_m"] > 0.1 and 2 < errs[0] / errs[1] < 8  # (h / 5)
+
+
+def test_a_degenerate_impacts_friction_opposes_the_slip_it_leaves():
+    # the fixed friction of the degenerate case took the slip before the impact; where the
+    # normal impulse reverses the slip (both corners of the edge near, one struck at 0.065 m/s)
+    # that friction pushed the new slip and the impact gained energy (1.5e-5 J/kg under
+    # e_n = 1, the most it may keep). Now it opposes the slip after: kinetic energy falls
+    from nsdyn.models.contact._kgeom import contact_rows
+    from nsdyn.models.contact.event import _params, impact
+
+    body = RigidBody.rectangle(0.5, 1.5, 1.0).unit_mass()
+    par = _params(body, FrictionLaw(0.05, 0.02), G)
+    q = np.array([-0.12175885514061371, 0.7500000006624304, -1e-9])
+    v = np.array([0.02783791, -0.04202747, -0.09107374])
+    out = impact(body, par, q, v, 1.0, np.array([True, True]))
+    ke = lambda u: 0.5 * (u[0] ** 2 + u[1] ** 2 + u[2] ** 2 / body.minv[2])  # noqa: E731
+    _, Wn, Wt, *_ = contact_rows(q, v, body.contacts)
+    assert np.all(Wn @ out >= 0.0) and ke(out) <= ke(v)  # (no penetration, no energy gained)
+    assert (Wt @ out)[0] * (Wt @ v)[0] < 0.0  # (the slip reversed: the case of the defect)
