@@ -30,7 +30,7 @@ from numba import njit
 
 from nsdyn import _kborrow as kb
 from nsdyn._klinalg import copy_vec
-from nsdyn.models.contact._kgeom import ground_acc, mu_of
+from nsdyn.models.contact._kgeom import ground_acc, mu_of, tipped
 
 P_M = 0  # mass [kg]
 P_J = 1  # moment of inertia about the centre of mass [kg m^2]
@@ -155,7 +155,7 @@ def integrate(t0, t1, h, q, vh, verts, anchor, stuck, p, ex, tab_h, tab_v, acc, 
         t = t0 + (k + 1) * h
         if not (math.isfinite(q[0]) and math.isfinite(q[1]) and math.isfinite(q[2])):
             return ST_NONFINITE, t, iout, k + 1
-        if q[2] >= p[P_THOV] or -q[2] >= p[P_THOV_NEG]:
+        if tipped(q[2], p[P_THOV], p[P_THOV_NEG]):
             return ST_OVER, t, iout, k + 1
     kb.alive(own)
     return ST_OK, t1, iout, n_steps

@@ -225,10 +225,17 @@ def mu_of(v, mu_s, mu_d, cdec):
 
 
 @njit(cache=True, error_model="numpy")
+def tipped(theta, ov_pos, ov_neg):
+    """Whether the tilt ``theta`` [rad] lays the body on a side edge: at ``ov_pos`` rocking
+    about its left corner, ``-ov_neg`` about its right one (RigidBody.overturn_tilts)."""
+    return theta >= ov_pos or -theta >= ov_neg
+
+
+@njit(cache=True, error_model="numpy")
 def body_mode(q, v, verts, g_tol, v_tol, ov_pos, ov_neg):
-    """Body mode from the state: REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT or OVERTURNED (the tilt
-    at ``ov_pos`` or ``-ov_neg``: RigidBody.overturn_tilts)."""
-    if q[2] >= ov_pos or -q[2] >= ov_neg:
+    """Body mode from the state: REST, SLIDE, ROCK, SLIDE_ROCK, FLIGHT or OVERTURNED
+    (:func:`tipped`)."""
+    if tipped(q[2], ov_pos, ov_neg):
         return OVERTURNED
     g, Wn, Wt, bn, bt, gd, vt = contact_rows(q, v, verts)
     n_on = 0

@@ -40,6 +40,7 @@ from nsdyn.models.contact._kgeom import (
     ground_acc,
     mu_of,
     solve_contacts,
+    tipped,
 )
 
 G_ACT = 1e-9  # a contact is active when its predicted gap is below G_ACT * L
@@ -151,11 +152,13 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
         held[i] = on[i] and abs(vt0[i]) <= v_rest
     _, Wn0, Wt0, _, _, _, _ = contact_rows(q, v, verts)
     md_o[0] = step_mode(q, v, np.zeros(nc), Wn0, Wt0, verts, g_tol, v_tol, on, slipping)
-    if q[2] >= par[5] or -q[2] >= par[7]:
+    if tipped(q[2], par[5], par[7]):
         md_o[0] = OVERTURNED
     first = np.array([t0 if md_o[0] != REST else -1.0, float(md_o[0])])  # first non-rest step
     io = 1
     sig = np.zeros(nc)
+    mu = np.empty(nc)  # (each step's friction coefficients and its corners solved again)
+    again = np.zeros(nc, np.bool_)
     status = 0
     k = 0
     t = t0
@@ -185,7 +188,6 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
             if g[i] <= G_ACT * L:
                 idx[j] = i
                 j += 1
-        mu = np.empty(nc)
         for i in range(nc):  # static friction at a corner the last step held, whose v_T
             # here is the LCP's round-off or O(h) from the turned rows, never exactly 0 (the
             # jump law read mu_d for a body at rest); and at a corner landing from the air
@@ -204,7 +206,7 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
         # a slip that reverses in the step passed through rest, where static friction acts:
         # solved again with mu_s at those corners, kept if it holds them (a reversal at mu_d
         # otherwise, as the kinetic friction after a break-away)
-        again = np.zeros(nc, np.bool_)  # (the corners solved again; no others judged)
+        again[:] = False  # (the corners solved again; no others judged)
         for i in range(nc):
             if not held[i] and PN[i] > 0.0 and vt[i] * vt_held[i] < 0.0 and mu[i] < par[2]:
                 mu[i] = par[2]
@@ -225,7 +227,7 @@ def moreau(q0, v0, t0, h, nsteps, theta, e_n, verts, minv, par, ex, tab_h, tab_v
         if not (all_finite(q) and all_finite(v)):
             status = -2
             break
-        over = q[2] >= par[5] or -q[2] >= par[7]
+        over = tipped(q[2], par[5], par[7])
         md = step_mode(q, v, PN, Wn, Wt, verts, g_tol, v_tol, on, slipping)
         for i in range(nc):  # held: stuck by this step's LCP; a held corner without impulse
             # (a pivot the theta-method lets fall freely for a step) stays held while on the
