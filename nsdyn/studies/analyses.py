@@ -23,6 +23,7 @@ with figures, pareto.png, fragility.png, distributions.png, incidence.png."""
 from __future__ import annotations
 
 import math
+import textwrap
 from contextvars import ContextVar
 from pathlib import Path
 
@@ -419,11 +420,10 @@ def fragility_outcomes(table: Table, im_name: str, edp_name: str) -> dict:
             "result these runs do not give); expected an IM and EDP every run gives"
         )
     elif unknown:
-        refuse = (
-            f"fragility: {len(unknown)} runs have no outcome that can be counted as survived or "
-            f"exceeded (first: {' '.join(unknown[0].split())[:160]}); fix them and rerun "
-            "(--retry-failed), a fit without them would be biased"
-        )
+        first = textwrap.shorten(unknown[0], 160, placeholder=" ...")
+        refuse = (f"fragility: {len(unknown)} runs have no outcome that can be counted as survived "
+                  f"or exceeded (first: {first}); fix them and rerun (--retry-failed), a fit "
+                  "without them would be biased")  # fmt: skip
     return {"im": im[keep], "edp": edp[keep], "counted": counted, "refuse": refuse,
             "below": below}  # fmt: skip
 

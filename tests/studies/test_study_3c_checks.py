@@ -232,3 +232,14 @@ def test_a_study_s_kept_systems_differ_where_the_solver_picks_the_full_rung_s_pa
                    {"path": "sparse", "law": "switch"}):  # fmt: skip
         scenes3c.build_system("building3d", {**base, "solver": solver}, "s.toml")
     assert len(built) == 3  # (rtol alone does not change the model: the kept one serves)
+
+
+def test_a_fragility_refusal_quotes_an_unknown_failure_whole_words_only():
+    # the first unknown failure was cut at character 160, mid-word
+    why = "uplift: " + " ".join(f"word{i:03d}" for i in range(40))
+    rows = [{"status": "ok", "motion.pga": 1.0 + i, "idr_max": 0.01} for i in range(3)]
+    rows.append({"status": "failed", "motion.pga": 4.0, "error": why})
+    refuse = fragility_outcomes(Table(rows), "motion.pga", "idr_max")["refuse"]
+    quoted = refuse.split("(first: ", 1)[1].split("); fix them", 1)[0]
+    assert quoted.endswith(" ...") and len(quoted) <= 160
+    assert why.startswith(quoted[: -len(" ...")] + " ")  # (a whole word before the cut)
