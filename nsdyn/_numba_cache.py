@@ -133,6 +133,19 @@ def compiling() -> Iterator[None]:
 HELPER_ENV = "NSDYN_COMPILE_HELPER"  # "0": compile everything in the calling process
 
 
+def jit_disabled() -> bool:
+    """True under ``NUMBA_DISABLE_JIT``: the kernels run as plain Python, nothing compiles."""
+    return os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0")
+
+
+def compile_note(compile_s: float) -> str:
+    """``"+ 1.23 s compile/load"`` for a run's report, or that nothing compiled (a run under
+    ``NUMBA_DISABLE_JIT`` printed "+ 0.00 s compile/load" as though it had loaded a cache)."""
+    if jit_disabled():
+        return "JIT off: NUMBA_DISABLE_JIT, kernels run as Python"
+    return f"+ {compile_s:.2f} s compile/load"
+
+
 def helper_enabled() -> bool:
     """True when a first compilation may use a helper process: numba compiles (no
     ``NUMBA_DISABLE_JIT``), this process may use at least two cores, it is not itself a worker
@@ -143,7 +156,7 @@ def helper_enabled() -> bool:
 
     if PLAIN or os.environ.get(HELPER_ENV, "1") == "0":
         return False
-    if os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0"):
+    if jit_disabled():
         return False
     if multiprocessing.parent_process() is not None:
         return False

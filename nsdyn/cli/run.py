@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from nsdyn._numba_cache import compile_note
 from nsdyn.atomic import atomic_open, earlier_files, files_of, output_dir, save_figure
 from nsdyn.cli.args import EXIT_NUMERICS, PGA_HELP, json_report, named, out_dir, stale_figures
 from nsdyn.cli.args import positive_finite as _positive_finite
@@ -532,8 +533,8 @@ def run(args: argparse.Namespace) -> int:
                    f"{s['pga_mps2']:.2f} m/s² over the run)")  # fmt: skip
         print(f"outcome {text}")
         print(f"model   {s['model']}   excitation {s['record']}{pga}")
-        print(f"method  {s['method']}: {s['n_steps']} steps, run {s['wall_s']:.3f} s (+ JIT "
-              f"compile/load {s['compile_s']:.1f} s)")  # fmt: skip
+        print(f"method  {s['method']}: {s['n_steps']} steps, run {s['wall_s']:.3f} s "
+              f"({compile_note(s['compile_s'])})")  # fmt: skip
         for line in summary_rows(s):
             print(line)
         print(f"histories: {hist}")

@@ -20,7 +20,7 @@ import pytest
 from numba import njit, types
 from numba.core.registry import CPUDispatcher as Dispatcher
 
-from nsdyn._numba_cache import HELPER_ENV, Helper, helper_enabled
+from nsdyn._numba_cache import HELPER_ENV, Helper, compile_note, helper_enabled
 from nsdyn.solve import methods
 
 JIT = os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
@@ -336,3 +336,12 @@ def test_switch_warmup_compiles_its_period_map_once(tmp_path):
         [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
     )
     assert out.stdout.split()[-1] == "1"
+
+
+def test_a_run_under_disable_jit_does_not_report_a_compile_time(monkeypatch):
+    # it printed "+ 0.00 s compile/load", as though a cache had been loaded
+    monkeypatch.setenv("NUMBA_DISABLE_JIT", "1")
+    assert "compile" not in compile_note(0.0) and "NUMBA_DISABLE_JIT" in compile_note(0.0)
+    assert not helper_enabled()
+    monkeypatch.setenv("NUMBA_DISABLE_JIT", "0")
+    assert compile_note(1.234) == "+ 1.23 s compile/load"

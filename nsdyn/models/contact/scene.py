@@ -48,7 +48,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn._checks import NumericalFailure, output_step
-from nsdyn._numba_cache import first_compile
+from nsdyn._numba_cache import compile_note, first_compile
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import read_motion
 from nsdyn.ground.excitation import G_EARTH
@@ -446,7 +446,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
               "t_end_s": t_end if s.get("t_overturn_s") is None else s["t_overturn_s"],
               "theta0_rad": opts["theta0"], "notes": opts["notes"],
               "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
-    say(f"contact: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
+    say(f"contact: done in {wall:.3f} s ({compile_note(compile_s)})")
     return s
 
 

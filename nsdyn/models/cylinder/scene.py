@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn._checks import MAX_OUTPUTS
-from nsdyn._numba_cache import first_compile
+from nsdyn._numba_cache import compile_note, first_compile
 from nsdyn.atomic import atomic_open, save_figure
 from nsdyn.ground.motion import PGA_TARGET, PGA_TARGET_MAX
 from nsdyn.ground.synthesis import noise_step
@@ -444,7 +444,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         save_figure(motion_figure(res, title=f"{name}: {p.foundation}: {text}"), png)
         summary["figure"] = str(png)
         summary["files"].append(str(png))
-    log(f"done in {wall:.3f} s (+{compile_s:.2f} s compile)")
+    log(f"done in {wall:.3f} s ({compile_note(compile_s)})")
     return summary
 
 

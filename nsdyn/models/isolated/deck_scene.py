@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn._checks import MAX_AMPLITUDES, MAX_POINTS, NotedWarning
-from nsdyn._numba_cache import first_compile
+from nsdyn._numba_cache import compile_note, first_compile
 from nsdyn._progress import reporter
 from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.bearings import (
@@ -358,7 +358,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
               "wall_s": wall, "compile_s": compile_s, "files": [str(npz)],
               "warnings": [str(w.message) for w in caught], "notes": list(notes)})  # fmt: skip
     s.update(record_scale(cfg, exc))
-    say(f"deck: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
+    say(f"deck: done in {wall:.3f} s ({compile_note(compile_s)})")
     return s
 
 

@@ -44,7 +44,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn._checks import output_step
-from nsdyn._numba_cache import first_compile
+from nsdyn._numba_cache import compile_note, first_compile
 from nsdyn.atomic import atomic_open
 from nsdyn.ground import G_EARTH, read_motion
 from nsdyn.ground.motion import PGA_MAX_PLAUSIBLE, PGA_TARGET_MAX
@@ -361,7 +361,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     s.setdefault("outcome", outcome(s)[0])  # (every block's summary has one)
     if notes:
         s["notes"] = notes
-    say(f"rocking: done in {wall:.3f} s (+ {compile_s:.2f} s compile/load)")
+    say(f"rocking: done in {wall:.3f} s ({compile_note(compile_s)})")
     return s
 
 
