@@ -447,6 +447,10 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         ka.tcall("pairs.track_stops", (t, y, op, bp, ws, stops))
         if status == kr.ST_UPLIFT:
             info[kr.I_TFAIL] = t
+            if iout < nt:  # the located instant as the last output row: the histories reach it
+                ka.tcall("pairs.emit", (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, iout,
+                                        X, NO, FF, FR, FO, MO, stops))  # fmt: skip
+                iout += 1
             break
         if event:
             if t - burst_t < kr.BURST_DT:

@@ -403,6 +403,10 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         kr._track_stops(t, y, pos, bp, stops)
         if status == kr.ST_UPLIFT:
             info[kr.I_TFAIL] = t
+            if iout < nt:  # the located instant as the last output row: the histories reach it
+                kr._outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, iout, X,
+                            NO, FF, FR, FO, MO)  # fmt: skip
+                iout += 1
             break
         h = min(hh * min(10.0, max(0.2, fac)), hmax)
         if 1.0 <= h / hh <= 1.2:  # keep the factored step (as RADAU5 does)

@@ -18,20 +18,20 @@ The stick test sticks the isolator if its stick force, computed with it stuck, l
 the disc |τ| < μ_s k_p N (1 + STICK_RTOL) (k_p the pressure factor, 1 without pressure dependence),
 else it starts slipping in the direction of that force. After each event the stuck isolators are
 settled: while one violates its disc, the one with the largest |τ|/μ_s N starts to slip, with any
-as loaded as it to TIE_RTOL (symmetric partners break away together); the stick switching
-function carries the same bound, so every isolator settle leaves stuck starts above zero. Slip-
-start directions come from :func:`kp.start_direction`, exact for one released isolator; several
-released together are aligned with their accelerations (:func:`._kplanealign.starts`), and the
-discs checked again. Events are located by sampling g on the dense output and bisecting the
-earliest sample interval with a crossing to EVENT_TTOL; the step is cut there and restarts. A
-normal force reaching zero (uplift) is located the same way and ends the run (ST_UPLIFT) under the
-detecting contact; a bilateral contact goes on, each onset of tension located and counted (info
-I_TTEN: the first, I_NTEN, I_NMIN: the smallest N at accepted states), and under the switch law
-N_i is a switching function too: to free (no friction) where it reaches zero, back to a stick
-test or slip where it returns. The regularised law runs the loop without switching functions.
-Rim contacts: :mod:`._kplanestops`. Steps collapsing far beyond what the record needs
-(STALL_STEPS, STALL_RATE per largest step: a stick band η too narrow for the slip direction
-turning near |v| = 0) end the run with ST_STALL.
+as loaded as it to TIE_RTOL (symmetric partners break away together); the stick switching function
+carries the same bound, so every isolator settle leaves stuck starts above zero. Slip-start
+directions come from :func:`kp.start_direction`, exact for one released isolator; several released
+together are aligned with their accelerations (:func:`._kplanealign.starts`), and the discs checked
+again. Events are located by sampling g on the dense output and bisecting the earliest sample
+interval with a crossing to EVENT_TTOL; the step is cut there and restarts. A normal force reaching
+zero (uplift) is located the same way and ends the run (ST_UPLIFT, its instant the last output row)
+under the detecting contact; a bilateral contact goes on, each onset of tension located and counted
+(info I_TTEN: the first, I_NTEN, I_NMIN: the smallest N at accepted states), and under the switch
+law N_i is a switching function too: to free (no friction) where it reaches zero, back to a stick
+test or slip where it returns. The regularised law runs the loop without switching functions. Rim
+contacts: :mod:`._kplanestops`. Steps collapsing far beyond what the record needs (STALL_STEPS,
+STALL_RATE per largest step: a stick band η too narrow for the slip direction turning near |v| = 0)
+end the run with ST_STALL.
 """
 
 import math
@@ -523,6 +523,10 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         _track_stops(t, y, pos, bp, stops)
         if status == ST_UPLIFT:
             info[I_TFAIL] = t
+            if iout < nt:  # the located instant as the last output row: the histories reach it
+                _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, iout, X, NO,
+                         FF, FR, FO, MO)  # fmt: skip
+                iout += 1
             break
         if event:
             if t - burst_t < BURST_DT:
@@ -552,8 +556,5 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
             h = min(dp.new_step(hh, err), hmax)
     if status != ST_OK and not info[I_TFAIL] == info[I_TFAIL]:
         info[I_TFAIL] = t
-    info[I_NSTEP] = nstep
-    info[I_NREJ] = nrej
-    info[I_NFEV] = nfev
-    info[I_NOUT] = iout
+    info[I_NSTEP], info[I_NREJ], info[I_NFEV], info[I_NOUT] = nstep, nrej, nfev, iout
     return status

@@ -292,7 +292,10 @@ class PlaneResult(Tabular):
                 TensionWarning,
                 stacklevel=3,
             )
-        res = cls(system, law, t[k], X[k, :3], X[k, 3:6], NO[k], FF[k], FR[k], FO[k], MO[k],
+        tk = t[k].copy()
+        if uplift and nout and tk[-1] > uplift["t_s"]:  # (the kernel's row at the instant)
+            tk[-1] = uplift["t_s"]
+        res = cls(system, law, tk, X[k, :3], X[k, 3:6], NO[k], FF[k], FR[k], FO[k], MO[k],
                   EV[:ne].copy(), contacts, uplift, stats, eps, eta, X[k, 6:], contact,
                   tension)  # fmt: skip
         if contact == "unilateral":
@@ -405,10 +408,11 @@ class PlaneResult(Tabular):
         rf = self.resultant(self.friction)
         rr = self.resultant(self.restoring)
         ux, uy = self.u[..., 0], self.u[..., 1]
+        located = self.uplift and len(self.t) > 1 and self.t[-1] == self.uplift["t_s"]
         s = {
             "law": self.law,
             "n_isolators": int(self.system.n_isolators),
-            # where the run ended: an uplift's located instant, after the last output
+            # where the run ended: an uplift's located instant (its last output row)
             "t_end_s": float(self.uplift["t_s"]) if self.uplift else float(self.t[-1]),
             "peak_resultant_displacement_m": float(ru.max()),
             "peak_resultant_displacement_per_isolator_m": [float(v) for v in ru.max(axis=0)],
@@ -418,9 +422,9 @@ class PlaneResult(Tabular):
             "peak_resultant_friction_N": float(rf.max()),
             "peak_resultant_restoring_N": float(rr.max()),
             "peak_torsion_rad": float(np.abs(self.theta).max()),
-            # the uplift instant (a normal force of zero) lies after the last output, or at the
-            # start's (an uplift there: its N below zero)
-            "min_normal_force_N": min(0.0, float(self.N.min()))
+            # the uplift instant's normal force is zero: its row's, located to 1e-11 s, is the
+            # bisection's side at or below zero; at the start's it is below (an uplift there)
+            "min_normal_force_N": min(0.0, float(self.N[:-1].min() if located else self.N.min()))
             if self.uplift
             else float(self.N.min()),
             "max_normal_force_N": float(self.N.max()),
