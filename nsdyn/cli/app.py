@@ -51,7 +51,8 @@ FLAG_KEYS = {"solver.method": "--method", "solver.dt": "--dt", "motion.record": 
              "motion.pga": "--pga", "motion.t_end": "--t-end", "scene.f_max": "--fmax",
              "structure.f_max": "--fmax", "motion.units": "--units",
              "scene.fidelity": "--fidelity", "structure.fidelity": "--fidelity",
-             "solver.max_steps": "--max-steps", "scene.frame": "--frame"}  # fmt: skip
+             "solver.max_steps": "--max-steps", "scene.frame": "--frame",
+             "solver.law": "--friction"}  # fmt: skip
 
 
 # flags of one command alone (``nsdyn modes FRAME`` takes its frame as an argument, which a
@@ -155,7 +156,8 @@ COMMANDS: dict[str, Command] = {
     ),
     "run": Command(
         help="transient run of a scene: isolated frame (default: office-11 on isolators, "
-        "synthetic record), rocking block/frame, contact body or cylinder",
+        "synthetic record), deck on bidirectional isolators, 3D building, rocking "
+        "block/frame, contact body or cylinder",
         configure=_lazy("nsdyn.cli.run", "configure"),
         run=_lazy("nsdyn.cli.run", "run"),
     ),

@@ -204,10 +204,11 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
         if args.friction == "none":
             raise SceneError(f"{args.scene}: --friction none: a {kind} scene's bearings keep "
                              "their friction; expected 'switch' or 'arctan'")  # fmt: skip
-        cfg.setdefault("solver", {})["law"], args.friction = args.friction, None
+        cfg.setdefault("solver", {})["law"] = args.friction  # (an error names the flag)
     own = ("fidelity", "fmax") if kind == "building3d" else ()  # its [structure] keys
+    law = ("friction",) if kind in ("deck", "building3d") else ()  # (its [solver] law)
     bad = [f"--{k.replace('_', '-')}" for k in _ISOLATED_ONLY
-           if k not in own and getattr(args, k, None)]  # fmt: skip
+           if k not in own + law and getattr(args, k, None)]  # fmt: skip
     rung = [f for f in bad if f in ("--fidelity", "--fmax")]  # (a 3D building's too)
     bad = [f for f in bad if f not in rung]
     if bad or rung:

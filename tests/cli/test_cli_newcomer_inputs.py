@@ -427,6 +427,10 @@ def test_friction_flag_on_a_deck_scene_is_its_solver_law(tmp_path, capsys):
     assert runs[0]["peak_resultant_displacement_m"] == runs[1]["peak_resultant_displacement_m"]
     rc = main(["run", str(src), "--friction", "none", "--no-figures", "--out", str(tmp_path)])
     assert rc == 2 and "--friction none: a deck scene's bearings keep" in capsys.readouterr().err
+    # a law the scene's bearings refuse names the flag that gave it (the file says "arctan")
+    tfp = SCENES / "deck-tfp4-3c.toml"
+    rc = main(["run", str(tfp), "--friction", "switch", "--no-figures", "--out", str(tmp_path)])
+    assert rc == 2 and f"{tfp}: solver.law (--friction): a triple" in capsys.readouterr().err
 
 
 def test_the_friction_flag_overrides_the_scene_law(tmp_path, capsys):

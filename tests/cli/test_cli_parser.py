@@ -73,3 +73,16 @@ def test_a_benchmark_name_may_be_spelt_with_a_hyphen_or_an_underscore():
     for name in BENCHMARKS:
         for spelt in (name, name.replace("_", "-"), name.replace("-", "_")):
             assert parser.parse_args(["bench", spelt]).what == name
+
+
+def test_the_run_help_names_every_scene_kind_it_runs():
+    # it listed the isolated frame, rocking, contact and cylinder, not the deck on
+    # bidirectional isolators or the 3D building, which `nsdyn run` runs as well
+    from nsdyn.models.scenefile import KINDS
+
+    words = {"isolated": "isolated frame", "rocking": "rocking", "contact": "contact body",
+             "cylinder": "cylinder", "deck": "deck", "building3d": "3D building"}  # fmt: skip
+    assert set(words) == set(KINDS)
+    for argv in (["--help"], ["run", "--help"]):
+        text = " ".join(_help(build_parser(), argv).split())
+        assert all(w in text for w in words.values()), (argv, text)
