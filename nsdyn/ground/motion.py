@@ -540,7 +540,7 @@ def resolve_units(explicit: str | None, stated: str | None, source: str) -> tupl
         if stated is not None and stated != name:
             warnings.warn(
                 f"{source}: units={explicit!r} given, but the header states {stated!r}; "
-                f"using {name!r}",
+                f"using the given {explicit!r}" + (f" ({name})" if name != explicit else ""),
                 UnitWarning,
                 stacklevel=4,
             )

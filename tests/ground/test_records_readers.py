@@ -411,8 +411,11 @@ def test_unit_warnings(tmp_path):
     odd = write(tmp_path, "odd.txt", "# units: furlongs\n0.0 0.3\n0.01 -0.2\n0.02 0.1\n")
     with pytest.raises(UnitError, match=r"odd.txt: the header states units 'furlongs'"):
         read_motion(odd)
-    with pytest.warns(UnitWarning, match="header states 'furlongs'; using 'g'"):
+    with pytest.warns(UnitWarning, match="header states 'furlongs'; using the given 'g'$"):
         assert read_motion(odd, units="g").pga == pytest.approx(0.3 * 9.80665)
+    # an alias given is the one named (it read "units='gal' given ...; using 'cm/s2'")
+    with pytest.warns(UnitWarning, match=r"states 'g'; using the given 'gal' \(cm/s2\)$"):
+        assert read_motion(stated, units="gal").pga == pytest.approx(0.3e-2)
     # a line that is not a units line ("time units: s") is not read as one
     timed = write(tmp_path, "tu.txt", "# time units: s\n0.0 0.3\n0.01 -0.2\n0.02 0.1\n")
     with pytest.warns(UnitWarning, match="does not state its units"):
