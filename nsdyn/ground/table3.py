@@ -26,9 +26,10 @@ Orbit (``kind = "orbit"``), the formulas of :mod:`nsdyn.ground.orbit`:
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any
 
-from nsdyn.ground.motion import unit_factor
+from nsdyn.ground.motion import G_STANDARD, PGA_MAX_PLAUSIBLE, UnitWarning, unit_factor
 from nsdyn.ground.motion3 import GroundMotion3
 from nsdyn.ground.orbit import HarmonicPlane
 from nsdyn.ground.readers3 import read_motion3
@@ -222,6 +223,13 @@ def _orbit(table: dict, source: str) -> tuple[HarmonicPlane, dict[str, float]]:
     except ValueError as e:  # "HarmonicPlane.<field>: expected …" -> the table's key
         field, _, rest = str(e).removeprefix("HarmonicPlane.").partition(": ")
         raise _err(source, _FIELD_KEYS.get(field, field), rest) from None
+    amp_keys = ("amplitude", "amplitude_minor", "amplitude_x", "amplitude_y", "vertical_amplitude")
+    high = [k for k in amp_keys if abs(table.get(k, 0.0)) > PGA_MAX_PLAUSIBLE]
+    if high:  # (as a PGA above it is: 200 typed in gal ran at 20 g into an uplift)
+        warnings.warn(f"{source}: motion.{high[0]} = {table[high[0]]:g} m/s² is above "
+                      f"{PGA_MAX_PLAUSIBLE:g} m/s² ({PGA_MAX_PLAUSIBLE / G_STANDARD:.2g} g), "
+                      "beyond recorded ground motions: is it in gal (cm/s²)? An orbit's "
+                      "amplitudes are in m/s²", UnitWarning, stacklevel=3)  # fmt: skip
     if "t_end" in table and "n_periods" in table:
         raise _err(source, "t_end / motion.n_periods", "give one, not both")
     if "t_end" in table:

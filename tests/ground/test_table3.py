@@ -148,3 +148,21 @@ def test_a_misspelt_key_suggests_the_field_and_a_bad_component_names_it_once():
         motion3_from_table({**base, "pga": 3.0, "pga_component": "geo"}, SRC)
     assert str(ei.value) == (f"{SRC}: motion.pga_component: expected one of ('resultant', "
                              "'x', 'y', 'geomean'), got 'geo'")  # fmt: skip
+
+
+@pytest.mark.parametrize("key", ["amplitude", "vertical_amplitude"])
+def test_an_orbit_amplitude_beyond_recorded_motions_asks_whether_it_is_in_gal(key):
+    # a PGA above 30 m/s² is noted as probably typed in gal; an orbit's amplitude of 200
+    # (gal) was not, and the deck ran into an uplift at 20 g without a word
+    import warnings
+
+    from nsdyn.ground import UnitWarning
+
+    table = {"kind": "orbit", "orbit": "circular", "frequency": 0.5, "amplitude": 2.0,
+             "t_end": 1.0, key: 200.0}  # fmt: skip
+    with pytest.warns(UnitWarning, match=rf"^{SRC}: motion.{key} = 200 m/s² is above 30 m/s²"):
+        motion3_from_table(table, SRC)
+    table[key] = 30.0  # (the bound itself: the largest recorded PGAs, no warning)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UnitWarning)
+        motion3_from_table(table, SRC)
