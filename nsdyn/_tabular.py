@@ -74,15 +74,30 @@ def to_xarray(t: np.ndarray, named: dict, attrs: dict | None = None):
     return ds
 
 
+def frozen(a) -> np.ndarray:
+    """A read-only view of ``a``."""
+    v = np.asarray(a).view()
+    v.flags.writeable = False
+    return v
+
+
+def _frozen_getter(fget):
+    """``fget`` returning its arrays as read-only views (:func:`frozen`)."""
+    import functools
+
+    @functools.wraps(fget)
+    def get(self):
+        a = fget(self)
+        return frozen(a) if isinstance(a, np.ndarray) else a
+
+    get._read_only = True
+    return get
+
+
 def read_only(named: dict) -> dict:
     """``named`` with each array a read-only view: the result's own data, not copied, that an
     edit cannot change (a history scaled in place changed the result's summary)."""
-    out = {}
-    for name, a in named.items():
-        v = np.asarray(a).view()
-        v.flags.writeable = False
-        out[name] = v
-    return out
+    return {name: frozen(a) for name, a in named.items()}
 
 
 def freeze_arrays(obj) -> None:
@@ -119,6 +134,11 @@ class Tabular(FrozenArrays):
 
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
+        for name, attr in list(cls.__dict__.items()):  # arrays computed on access (a deck's
+            # slips u, v): read-only too, where an edit in place changed nothing, silently
+            if isinstance(attr, property) and not getattr(attr.fget, "_read_only", False):
+                setattr(cls, name, property(_frozen_getter(attr.fget), attr.fset, attr.fdel,
+                                            attr.__doc__))  # fmt: skip
         own = cls.__dict__.get("histories")
         if own is not None and not getattr(own, "_read_only", False):
             import functools

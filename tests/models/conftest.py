@@ -52,6 +52,13 @@ def _assert_round_trip(res) -> None:
     for name, a in vars(res).items():
         if isinstance(a, np.ndarray):
             assert not a.flags.writeable, name
+    # and the arrays its properties compute (a deck's slips u, v were writable: an edit in
+    # place changed nothing the result holds, silently)
+    props = [n for n in dir(type(res)) if isinstance(getattr(type(res), n), property)]
+    for name in props:
+        a = getattr(res, name)
+        if isinstance(a, np.ndarray):
+            assert not a.flags.writeable, name
     # as are those of a result's response (r.response.x_iso edited in place changed the
     # summary's x_iso_max_m), and a result compares without numpy's ambiguous truth value
     response = getattr(res, "response", None)  # (an isolated frame's Response)
