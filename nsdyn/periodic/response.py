@@ -12,11 +12,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from nsdyn._checks import expect, finite_numbers
+from nsdyn._checks import InputWarning, expect, finite_numbers
 from nsdyn.periodic.continuation import continue_range
 from nsdyn.periodic.curve import Curve
 from nsdyn.periodic.problem import frame_problem, load_amplitude_note
 from nsdyn.periodic.protocol import A_HIGHEST, check_amplitude, check_frequencies
+
+
+class BilateralOrbitWarning(InputWarning):
+    """A curve of a system whose isolators' contact is unilateral shoots its bilateral orbits
+    (a sweep over amplitudes says so once, for all of them)."""
 
 
 def frequency_response(system, amplitude: float, *, load=None, **options) -> Curve:
@@ -41,13 +46,11 @@ def frequency_response(system, amplitude: float, *, load=None, **options) -> Cur
     if getattr(system.isolation, "contact", None) == "unilateral":  # (taken without a word)
         import warnings
 
-        from nsdyn._checks import InputWarning
-
         warnings.warn("system: its isolators' contact is unilateral, but a curve shoots the "
                       "bilateral orbits (a normal force below zero is flagged as uplift); the "
                       "lift-off orbits are nsdyn sweep --contact unilateral's, or "
                       "nsdyn.periodic.unilateral_steady_state at each such point",
-                      InputWarning, stacklevel=2)  # fmt: skip
+                      BilateralOrbitWarning, stacklevel=2)  # fmt: skip
     problem = frame_problem(system, amplitude, load=load)  # (the amplitude checked first)
     load_amplitude_note(load, problem.amplitude)
     c = continue_range(problem, **options)

@@ -270,11 +270,12 @@ def amplitude_job(
         load=load,
     )
     from nsdyn.periodic.curve import EmptyCurveWarning
+    from nsdyn.periodic.response import BilateralOrbitWarning
 
     with (saved_on_interrupt(lambda: len(pts_done) > n_resumed and save(pts_done)),
           warnings.catch_warnings()):  # fmt: skip
         warnings.simplefilter("ignore", EmptyCurveWarning)  # (said by its status 3)
-        warnings.filterwarnings("ignore", "system: its isolators' contact is unilateral")
+        warnings.simplefilter("ignore", BilateralOrbitWarning)  # (said once: bilateral_sweep_note)
         if settings.friction == "switch":  # (interrupted: the points so far kept for a rerun)
             from nsdyn.periodic.switch import switch_response
 
