@@ -419,8 +419,9 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         if s["step_resolved"] is not True:
             say(f"contact: note: {s['step_note']}")
     s["alpha_rad"] = slenderness(body)
-    s["past_tip_over_at_end"] = not s["overturned"] and leaning_past(  # (its side's alpha)
-        s["final_tilt_rad"], s["final_omega_rad_per_s"], slenderness(body, s["final_tilt_rad"])
+    s["alpha_end_rad"] = slenderness(body, s["final_tilt_rad"])  # (the side it leans on)
+    s["past_tip_over_at_end"] = not s["overturned"] and leaning_past(
+        s["final_tilt_rad"], s["final_omega_rad_per_s"], s["alpha_end_rad"]
     )
     s["outcome"], text = outcome(s)
     files = [str(out_dir / "contact.npz")]
@@ -473,7 +474,7 @@ def outcome(s: dict) -> tuple[str, str]:
     )
     head = "did not overturn"
     if s.get("past_tip_over_at_end"):  # (not overturned by t_end, but falling)
-        head = past_tip_over(s["final_tilt_rad"], alpha, "tilt")
+        head = past_tip_over(s["final_tilt_rad"], s.get("alpha_end_rad", alpha), "tilt")
     return first, f"{head}; first motion {first}" + (f", {peaks}" if peaks else "")
 
 

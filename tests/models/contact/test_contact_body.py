@@ -131,3 +131,34 @@ def test_a_start_tilt_past_a_side_is_refused_in_a_scene_naming_its_key(tmp_path,
     assert capsys.readouterr().err.startswith(
         f"nsdyn run: error: {p}: motion.theta0: a tilt of -0.5 rad starts the body overturned"
     )
+
+
+def test_a_body_leaning_past_its_tip_over_angle_is_measured_by_that_side_s_alpha(tmp_path):
+    # a quadrilateral with alpha 0.412 rad about its left corner and 0.602 about its right
+    # (atan of each corner's horizontal over vertical distance to the centre of mass), started
+    # at -0.65 rad about the right corner and falling: the outcome read |theta| / 0.412 = 1.64
+    # alpha, the other side's; the side it leans on puts it at 0.677 / 0.602 = 1.12 alpha
+    from nsdyn.models.contact.results import slenderness
+    from nsdyn.models.contact.scene import outcome, run_scene
+
+    V = [[-0.3, 0.0], [0.3, 0.0], [0.0, 1.2], [-0.3, 1.2]]
+    body = RigidBody.polygon(V, 1.0)
+    cx, cy = _centroid(V)  # (the centre of mass, relative to which alpha is measured)
+    assert slenderness(body, 0.1) == pytest.approx(math.atan2(cx + 0.3, cy), rel=1e-12)
+    assert slenderness(body, -0.1) == pytest.approx(math.atan2(0.3 - cx, cy), rel=1e-12)
+    cfg = {"scene": {"kind": "contact"}, "body": {"vertices": V, "mass": 100.0},
+           "friction": {"mu_s": 0.8, "C": 0.0}, "motion": {"theta0": -0.65, "t_end": 0.3},
+           "solver": {"method": "event"}}  # fmt: skip
+    s = run_scene(cfg, source="t.toml", out_dir=tmp_path, figures=False, quiet=True)
+    assert s["past_tip_over_at_end"] and not s["overturned"]
+    ratio = abs(s["final_tilt_rad"]) / slenderness(body, -0.1)
+    assert f"({ratio:.3g} alpha)" in outcome(s)[1] and 1 < ratio < 1.2
+
+
+def _centroid(V):
+    """Area centroid of a polygon (shoelace)."""
+    x, y = np.asarray(V, float).T
+    x1, y1 = np.roll(x, -1), np.roll(y, -1)
+    cr = x * y1 - x1 * y
+    a = cr.sum() / 2
+    return ((x + x1) * cr).sum() / (6 * a), ((y + y1) * cr).sum() / (6 * a)
