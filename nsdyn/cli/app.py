@@ -30,6 +30,7 @@ from nsdyn.cli.args import (
     EXIT_USER_ERROR,
     SAID,
     fail,
+    with_said,
 )
 from nsdyn.cli.stop import SIGNALLED as _SIGNALLED  # (one list: app._SIGNALLED)
 from nsdyn.cli.stop import on_signal as _on_signal
@@ -467,7 +468,7 @@ def _main(argv: list[str]) -> int:
             import json
 
             error = line.removeprefix(f"nsdyn {args.command}: ")
-            said = {"notes": list(EARLIER)} if EARLIER else {}
+            said = with_said({"notes": list(EARLIER)} if EARLIER else {})  # (and its notes)
             print(json.dumps({"status": EXIT_INTERRUPTED, "error": error} | said), flush=True)
         return EXIT_INTERRUPTED
     except BrokenPipeError:  # no error of the input: main stops quietly

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn.atomic import differing
+from nsdyn.cli.args import SAID
 
 CHECKPOINT = ".run-checkpoint.npz"  # an interrupted run's state, in its output directory
 IDENTITY = ".run-checkpoint.json"  # the settings of the run that wrote it
@@ -103,7 +104,8 @@ def open_checkpoint(out: Path, ident: dict, resume: bool, quiet: bool,
 
     def say(text, note=False):
         if note and notes is not None:  # (--json said nothing of either: the checkpoint
-            notes.append(text)  # gone without a word)
+            notes.append(text)  # gone without a word; nor when the new run was interrupted)
+            SAID.append(("note", text))
         if not quiet:
             print(f"nsdyn run: {text}", file=sys.stderr)
 

@@ -245,6 +245,25 @@ def test_a_run_stopped_after_it_finished_says_so_and_leaves_no_earlier_figure(
     assert "interrupted after the run finished: its histories are" in capsys.readouterr().err
 
 
+def test_an_interrupted_rerun_s_json_says_the_checkpoint_it_discarded(tmp_path, monkeypatch,
+                                                                      capsys):  # fmt: skip
+    # a rerun without --resume discards an interrupted run's checkpoint and says so; its own
+    # interruption's --json outcome carried no note: the checkpoint gone without a word
+    import nsdyn.solve.transient
+    from nsdyn.cli.run_resume import CHECKPOINT
+
+    def stop(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(nsdyn.solve.transient, "simulate", stop)  # (run.py imports it late)
+    (tmp_path / CHECKPOINT).write_bytes(b"an interrupted run's state")
+    assert main(["run", "--t-end", "1", "--out", str(tmp_path), "--json"]) == 130
+    rep = json.loads(capsys.readouterr().out)
+    assert rep["status"] == 130 and not (tmp_path / CHECKPOINT).exists()
+    assert any(n.startswith("starting afresh; the checkpoint an interrupted run left in")
+               for n in rep["notes"]), rep  # fmt: skip
+
+
 def test_an_error_left_by_a_swallowed_interrupt_is_an_interrupt(monkeypatch, capsys):
     """numba's compiler can swallow Ctrl-C in a callback and fail later with an error of its
     own ('no compiled object yet'): after a signal, the command reports the interrupt."""
