@@ -374,7 +374,7 @@ def integrate(y0, t_eval, modes, dirs, op, bp, sp, gk, gp, tab, cfg,
         ka.tcall("pairs.track_stops", (t, y, op, bp, ws, stops))
         if status == kr.ST_UPLIFT:
             info[kr.I_TFAIL] = t
-            if iout < nt:  # the located instant as the last output row: the histories reach it
+            if iout < nt and t > t_eval[max(iout - 1, 0)]:  # the located instant: last row
                 ka.tcall("pairs.emit", (t, y, modes, dirs, op, bp, sp, gk, gp, tab, ws, out, iout,
                                         X, NO, FF, FR, FO, MO, stops))  # fmt: skip
                 iout += 1

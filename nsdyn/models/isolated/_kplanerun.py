@@ -523,7 +523,7 @@ def integrate(y0, t_eval, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, cfg,
         _track_stops(t, y, pos, bp, stops)
         if status == ST_UPLIFT:
             info[I_TFAIL] = t
-            if iout < nt:  # the located instant as the last output row: the histories reach it
+            if iout < nt and t > t_eval[max(iout - 1, 0)]:  # the located instant: last row
                 _outputs(t, y, modes, dirs, M, pos, bp, nd, sp, gk, gp, tab, ws, out, iout, X, NO,
                          FF, FR, FO, MO)  # fmt: skip
                 iout += 1

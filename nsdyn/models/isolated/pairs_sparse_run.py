@@ -339,7 +339,7 @@ def simulate_pairs_sparse(
     MO = np.full((nt, ni), kp.MODE_SLIP, dtype=np.int64)
     res = SparsePairResult.from_run(system, "arctan", t_eval, np.zeros((nt, 6)), NO, FF, FR,
                                     FO, MO, np.zeros((0, 6)), stops, info, int(status), eps,
-                                    ETA)  # fmt: skip
+                                    ETA, located=False)  # fmt: skip
     m = res.t.size
     res.q, res.qd = X[:m, :n], X[:m, n:]
     res._u, res._v = UU[:m], VV[:m]

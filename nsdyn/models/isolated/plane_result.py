@@ -235,7 +235,7 @@ class PlaneResult(Tabular):
 
     @classmethod
     def from_run(cls, system, law, t, X, NO, FF, FR, FO, MO, EV, stops, info, status, eps, eta,
-                 contact="detect", impasse=None):  # fmt: skip
+                 contact="detect", impasse=None, located=True):  # fmt: skip
         if status not in (kr.ST_OK, kr.ST_UPLIFT):
             msg = MESSAGES.get(status, f"integration failed (status {status}) at t = {{t:.6g}} s")
             if getattr(system, "has_tfp", False) and status in TFP_MESSAGES:  # its own advice
@@ -293,7 +293,8 @@ class PlaneResult(Tabular):
                 stacklevel=3,
             )
         tk = t[k].copy()
-        if uplift and nout and tk[-1] > uplift["t_s"]:  # (the kernel's row at the instant)
+        if located and uplift and nout and tk[-1] > uplift["t_s"]:  # (the kernel's row there;
+            # ``located``: the loop writes one, as the fixed-step sparse path does not)
             tk[-1] = uplift["t_s"]
         res = cls(system, law, tk, X[k, :3], X[k, 3:6], NO[k], FF[k], FR[k], FO[k], MO[k],
                   EV[:ne].copy(), contacts, uplift, stats, eps, eta, X[k, 6:], contact,
