@@ -28,8 +28,10 @@ from nsdyn.cli.args import (
     EXIT_NUMERICS,
     EXIT_PIPE_CLOSED,
     EXIT_USER_ERROR,
+    FLAG_COMMANDS,
     SAID,
     fail,
+    option_hint,
     with_said,
 )
 from nsdyn.cli.stop import SIGNALLED as _SIGNALLED  # (one list: app._SIGNALLED)
@@ -54,11 +56,6 @@ FLAG_KEYS = {"solver.method": "--method", "solver.dt": "--dt", "motion.record": 
              "scene.fidelity": "--fidelity", "structure.fidelity": "--fidelity",
              "solver.max_steps": "--max-steps", "scene.frame": "--frame",
              "solver.law": "--friction"}  # fmt: skip
-
-
-# flags of one command alone (``nsdyn modes FRAME`` takes its frame as an argument, which a
-# scene file it names replaces: that frame is the file's)
-FLAG_COMMANDS = {"--frame": ("run",), "--fmax": ("run", "modes")}  # (sweep's: its band)
 
 
 def flagged(message: str, args: argparse.Namespace) -> str:
@@ -340,29 +337,6 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
-def _option_hint(parser: argparse.ArgumentParser, extra: list[str]) -> str:
-    """The hint "; did you mean '--resume'?" for the first unknown long option near one of the
-    command's own (options are never abbreviated: a prefix is an error, with this hint)."""
-    import difflib
-
-    known = [o for a in parser._actions for o in a.option_strings if o.startswith("--")]
-    places = {a.dest: a.metavar or a.dest for a in parser._actions if not a.option_strings}
-    for word in extra:
-        if word.startswith("--"):
-            name = word.split("=", 1)[0]
-            if name[2:].replace("-", "_") in places and name not in known:  # (`modes --frame`:
-                what = places[name[2:].replace("-", "_")]  # a flag of `run`, here the argument)
-                return f"; {what} is this command's argument ({parser.prog} {what.upper()})"
-            if name in FLAG_COMMANDS:  # (`sweep --frame`: "did you mean '--fmin'?")
-                runs = " and ".join(f"nsdyn {c}" for c in FLAG_COMMANDS[name])
-                return f"; {name} is a flag of {runs} alone (a scene's scene.frame names a frame)"
-            starts = [o for o in known if o.startswith(name)]
-            close = starts or difflib.get_close_matches(name, known, n=1)
-            if close:
-                return f"; did you mean {' or '.join(repr(o) for o in close[:3])}?"
-    return ""
-
-
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``nsdyn`` script; returns the exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
@@ -437,7 +411,7 @@ def _main(argv: list[str]) -> int:
     args, extra = parser.parse_known_args(argv)  # a usage error: one line, SystemExit(2)
     if extra:  # reported by the command's own parser: "nsdyn run: error: …"
         own = parser.commands[args.command]
-        own.error(f"unrecognized arguments: {' '.join(extra)}{_option_hint(own, extra)}")
+        own.error(f"unrecognized arguments: {' '.join(extra)}{option_hint(own, extra)}")
     _SIGNALLED[0] = False
     from nsdyn.atomic import EARLIER, WRITTEN
 

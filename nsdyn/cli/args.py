@@ -354,3 +354,37 @@ def above_highest(amplitudes, where: str, command: str = "") -> str | None:
                 f"{A_HIGHEST:g} m/s² (100 g), got {big[0]:g}"
                 f"{f' (see nsdyn {command} --help)' if flag and command else ''}")  # fmt: skip
     return None
+
+
+# flags of one command alone (``nsdyn modes FRAME`` takes its frame as an argument, which a
+# scene file it names replaces: that frame is the file's)
+FLAG_COMMANDS = {"--frame": ("run",), "--fmax": ("run", "modes")}  # (sweep's: its band)
+RERUN_RESUMES = {"nsdyn study": "--fresh", "nsdyn sweep": "--restart"}  # (rerun: resumed)
+
+
+def option_hint(parser: argparse.ArgumentParser, extra: list[str]) -> str:
+    """The hint "; did you mean '--resume'?" for the first unknown long option near one of the
+    command's own (options are never abbreviated: a prefix is an error, with this hint)."""
+    import difflib
+
+    known = [o for a in parser._actions for o in a.option_strings if o.startswith("--")]
+    places = {a.dest: a.metavar or a.dest for a in parser._actions if not a.option_strings}
+    for word in extra:
+        if word.startswith("--"):
+            name = word.split("=", 1)[0]
+            if name[2:].replace("-", "_") in places and name not in known:  # (`modes --frame`:
+                what = places[name[2:].replace("-", "_")]  # a flag of `run`, here the argument)
+                return f"; {what} is this command's argument ({parser.prog} {what.upper()})"
+            if "--resume".startswith(name) and len(name) > 4 and parser.prog in RERUN_RESUMES:
+                return (
+                    f"; {parser.prog} resumes by being run again as before (what finished "
+                    f"is kept; {RERUN_RESUMES[parser.prog]} starts over)"
+                )  # (a study's hint was "did you mean '--fresh'?", which starts over)
+            if name in FLAG_COMMANDS:  # (`sweep --frame`: "did you mean '--fmin'?")
+                runs = " and ".join(f"nsdyn {c}" for c in FLAG_COMMANDS[name])
+                return f"; {name} is a flag of {runs} alone (a scene's scene.frame names a frame)"
+            starts = [o for o in known if o.startswith(name)]
+            close = starts or difflib.get_close_matches(name, known, n=1)
+            if close:
+                return f"; did you mean {' or '.join(repr(o) for o in close[:3])}?"
+    return ""

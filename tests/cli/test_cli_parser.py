@@ -86,3 +86,17 @@ def test_the_run_help_names_every_scene_kind_it_runs():
     for argv in (["--help"], ["run", "--help"]):
         text = " ".join(_help(build_parser(), argv).split())
         assert all(w in text for w in words.values()), (argv, text)
+
+
+@pytest.mark.parametrize(("name", "fresh"), [("study", "--fresh"), ("sweep", "--restart")])
+def test_resume_on_a_command_that_resumes_by_rerunning_says_so(name, fresh, capsys):
+    # `nsdyn study S --resume` was answered "did you mean '--fresh'?": the one flag that
+    # deletes the results it meant to continue
+    from nsdyn.cli.app import main
+
+    for flag in ("--resume", "--res"):
+        with pytest.raises(SystemExit):
+            main([name, "s.toml", flag] if name == "study" else [name, flag])
+        err = capsys.readouterr().err
+        assert f"; nsdyn {name} resumes by being run again as before" in err, err
+        assert f"{fresh} starts over)" in err and "did you mean" not in err
