@@ -236,7 +236,14 @@ def _interrupt_line(args: argparse.Namespace) -> str:
             wrote = f"; {files} {verb} this run's, its other files were not written" * bool(files)
             return f"{done}{wrote}; a {kind} scene's run keeps no checkpoint, a rerun starts over"
         return f"{done}; it stopped before its first checkpoint, a rerun starts over"
-    if args.command == "study":  # (stopped before its tasks started: the study's own line)
+    if args.command == "study":  # (stopped outside its tasks' own handler)
+        from nsdyn.cli.study import STARTED
+        from nsdyn.studies.table import RESULTS
+
+        if STARTED and (Path(STARTED[0]) / RESULTS).is_file():  # (stopped after its tasks: it
+            # said "before its tasks started ... a rerun runs them" of a finished study)
+            return f"nsdyn study: interrupted; finished tasks are kept in {STARTED[0]}, rerun " \
+                   "to resume"  # fmt: skip
         return ("nsdyn study: interrupted before its tasks started; the results folder is as "
                 "it was (a rerun runs them)")  # fmt: skip
     if args.command in WRITES_AT_END:

@@ -16,6 +16,7 @@ from nsdyn.atomic import output_dir
 from nsdyn.cli.args import EXIT_INTERRUPTED, EXIT_NUMERICS, fail, json_report, out_dir, workers
 
 DEFAULT_OUT = "nsdyn-study"  # output directory (a subdirectory per study name)
+STARTED: list[str] = []  # this command's results folder once its tasks start (an interrupt's line)
 MAX_FAILED_LINES = 10  # failed tasks named one per line on the console (all are in the table)
 
 
@@ -214,6 +215,7 @@ def run(args: argparse.Namespace) -> int:
     from nsdyn.studies.study import load_study
     from nsdyn.studies.table import PARQUET
 
+    STARTED.clear()
     if args.fresh and args.retry_failed:  # (it was accepted and did nothing: fresh runs all)
         return fail(args, "--retry-failed: with --fresh every task runs anew; give one or the "
                     "other")  # fmt: skip
@@ -228,6 +230,7 @@ def run(args: argparse.Namespace) -> int:
     parquet = args.parquet or (out / PARQUET).is_file()  # (once asked: a run on another grid
     # removes the copy with the old grid's analyses, and it is written anew after the run)
     old = signal.signal(signal.SIGTERM, _on_sigterm)
+    STARTED[:] = [str(out)]
     try:
         with output_dir(out, "study"):  # (locked while the study runs and its analyses write)
             with ctx as executor:

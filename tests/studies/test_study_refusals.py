@@ -155,6 +155,22 @@ def test_a_study_interrupted_before_its_first_task_leaves_no_folder(tmp_path, mo
     assert capsys.readouterr().err.strip() == before and not out.exists()
 
 
+def test_a_study_stopped_after_its_tasks_says_they_are_kept(tmp_path, monkeypatch, capsys):
+    # stopped after its tasks (its report being printed, or an analysis failing under the
+    # signal), a study said "interrupted before its tasks started; ... a rerun runs them" of
+    # a table that held every task
+    import nsdyn.cli.study as cli_study
+
+    def stopped(*a, **kw):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli_study, "_format", stopped)
+    path, out = _write(tmp_path, HEAD + PARAMS + RECORDS), tmp_path / "o"
+    assert main(["study", str(path), "--out", str(out), "--no-figures"]) == 130
+    said = f"nsdyn study: interrupted; finished tasks are kept in {out}, rerun to resume"
+    assert capsys.readouterr().err.strip().endswith(said) and (out / "results.csv").is_file()
+
+
 def test_a_json_summary_of_a_study_with_failed_tasks_says_its_status(tmp_path, capsys):
     # every task fails (a budget of 5 steps): exit 3, and --json said no status where a refused
     # study's said {"status": 2, ...}
