@@ -49,7 +49,8 @@ def _check_polygon(verts: np.ndarray, field: str) -> np.ndarray:
     area2 = float(np.sum(p[:, 0] * np.roll(p[:, 1], -1) - np.roll(p[:, 0], -1) * p[:, 1]))
     size = float(np.ptp(p, axis=0).max())
     if abs(area2) <= COLLINEAR_TOL * size**2:
-        raise ValueError(f"{field}: polygon has zero area")
+        raise ValueError(f"{field}: polygon has zero area (its vertices collinear, or its edges "
+                         "crossing: expected a convex polygon, vertices in order)")  # fmt: skip
     if area2 < 0:
         p = p[::-1].copy()
     for k in range(n):
