@@ -126,7 +126,8 @@ class _Reader:
             self.fail(path, expected, v)
         if positive and np.any(arr <= 0) or nonneg and np.any(arr < 0):
             bad = next(x for x in vals if (x <= 0 if positive else x < 0))
-            self.fail(path, expected, f"{_describe(v)} (contains {bad:g})", raw=True)
+            said = _describe(v) + (f" (contains {bad:g})" if isinstance(v, list) else "")
+            self.fail(path, expected, said, raw=True)  # (a scalar was echoed twice)
 
 
 def _is_number(x) -> bool:

@@ -78,6 +78,14 @@ def test_bad_file_names_file_and_field(tmp_path, old, new, field, words):
     assert field in msg and words in msg, msg
 
 
+def test_a_negative_scalar_is_quoted_once(tmp_path):
+    # "got -0.0493 (contains -0.0493)": the list's note followed a single number too
+    p = tmp_path / "bad.toml"
+    p.write_text(GOOD.replace("E = 2.1e11\nA = 0.01", "E = 2.1e11\nA = -0.01", 1))
+    with pytest.raises(FrameFileError, match=r"frame\.beams\.A: expected .*, got -0\.01$"):
+        load_frame(p)
+
+
 def test_wrong_list_length_message(tmp_path):
     # The message format promised in the docs: file, dotted field, expectation, what came.
     p = tmp_path / "office-11.toml"
