@@ -281,6 +281,8 @@ class PlaneResult(Tabular):
             )
         stats = {"steps": int(info[kr.I_NSTEP]), "rejected": int(info[kr.I_NREJ]),
                  "evaluations": int(info[kr.I_NFEV]), "events": int(info[kr.I_NEV])}  # fmt: skip
+        if uplift and not located:  # (a fixed-step loop's grid rows past the instant: dropped)
+            nout = max(1, int(np.searchsorted(t[:nout], uplift["t_s"], side="right")))
         k = slice(0, nout)
         tension = contact_tension(t[k], NO[k], info) if contact == "bilateral" else None
         if tension is not None:
