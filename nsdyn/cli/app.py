@@ -237,13 +237,10 @@ def _interrupt_line(args: argparse.Namespace) -> str:
             return f"{done}{wrote}; a {kind} scene's run keeps no checkpoint, a rerun starts over"
         return f"{done}; it stopped before its first checkpoint, a rerun starts over"
     if args.command == "study":  # (stopped outside its tasks' own handler)
-        from nsdyn.cli.study import STARTED
-        from nsdyn.studies.table import RESULTS
+        from nsdyn.cli.study import STARTED, stopped_line
 
-        if STARTED and (Path(STARTED[0]) / RESULTS).is_file():  # (stopped after its tasks: it
-            # said "before its tasks started ... a rerun runs them" of a finished study)
-            return f"nsdyn study: interrupted; finished tasks are kept in {STARTED[0]}, rerun " \
-                   "to resume"  # fmt: skip
+        if STARTED:  # (its tasks had started: it said "before its tasks started ... a rerun
+            return f"nsdyn study: {stopped_line(STARTED[0])}"  # runs them" of finished ones)
         return ("nsdyn study: interrupted before its tasks started; the results folder is as "
                 "it was (a rerun runs them)")  # fmt: skip
     if args.command in WRITES_AT_END:

@@ -209,6 +209,21 @@ def announce_compile(study) -> bool:
     return warm_isolated(method, law)  # auto: radau for a frame of a few modes
 
 
+def kept_tasks(out) -> bool:
+    """Whether the results folder ``out`` holds anything beside its lock owner's file: the
+    finished tasks (``parts/`` while running, the table after) that a rerun resumes."""
+    from nsdyn.studies.table import OWNER
+
+    return Path(out).is_dir() and any(p.name != OWNER for p in Path(out).iterdir())
+
+
+def stopped_line(out) -> str:
+    """What an interrupted study says of the results folder ``out`` it was running into."""
+    if kept_tasks(out):
+        return f"interrupted; finished tasks are kept in {out}, rerun to resume"
+    return "interrupted before its first task finished; a rerun starts over"
+
+
 def run(args: argparse.Namespace) -> int:
     from nsdyn.studies.analyses import run_analyses
     from nsdyn.studies.execute import dask_executor, run_study, stderr_progress
@@ -247,16 +262,12 @@ def run(args: argparse.Namespace) -> int:
     except KeyboardInterrupt:
         from nsdyn.studies.table import OWNER
 
-        kept = Path(out).is_dir() and any(p.name != OWNER for p in Path(out).iterdir())
+        kept = kept_tasks(out)
         if made and not kept and Path(out).is_dir():  # (a folder of its lock's owner alone)
             (Path(out) / OWNER).unlink(missing_ok=True)
             with contextlib.suppress(OSError):
                 Path(out).rmdir()
-        line = (
-            f"interrupted; finished tasks are kept in {out}, rerun to resume"
-            if kept
-            else "interrupted before its first task finished; a rerun starts over"
-        )
+        line = stopped_line(out)
         print(f"nsdyn study: {line}", file=sys.stderr)
         if args.json:  # (an outcome too, as every command's under --json)
             print(json.dumps({"status": EXIT_INTERRUPTED, "error": line}), flush=True)

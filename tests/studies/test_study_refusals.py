@@ -171,6 +171,28 @@ def test_a_study_stopped_after_its_tasks_says_they_are_kept(tmp_path, monkeypatc
     assert capsys.readouterr().err.strip().endswith(said) and (out / "results.csv").is_file()
 
 
+def test_a_study_whose_stop_surfaces_as_another_error_says_what_its_folder_holds(
+    tmp_path, monkeypatch, capsys
+):
+    # a signal can surface as another error (numba's, or a library's under the signal), past
+    # the study's own handler: with finished tasks in parts/ (no table yet) it said
+    # "interrupted before its tasks started ... a rerun runs them"
+    import nsdyn.studies.execute as execute
+    from nsdyn.cli.stop import SIGNALLED
+
+    def one_batch_then_stopped(study, out, **kw):
+        (out / "parts").mkdir(parents=True)
+        (out / "parts" / "part-0.csv").write_text("index\n0\n")
+        SIGNALLED[0] = True
+        raise RuntimeError("an error the signal left")
+
+    monkeypatch.setattr(execute, "run_study", one_batch_then_stopped)
+    path, out = _write(tmp_path, HEAD + PARAMS + RECORDS), tmp_path / "o"
+    assert main(["study", str(path), "--out", str(out)]) == 130
+    said = f"nsdyn study: interrupted; finished tasks are kept in {out}, rerun to resume"
+    assert capsys.readouterr().err.strip() == said
+
+
 def test_a_json_summary_of_a_study_with_failed_tasks_says_its_status(tmp_path, capsys):
     # every task fails (a budget of 5 steps): exit 3, and --json said no status where a refused
     # study's said {"status": 2, ...}
