@@ -375,7 +375,9 @@ def option_hint(parser: argparse.ArgumentParser, extra: list[str]) -> str:
             if name[2:].replace("-", "_") in places and name not in known:  # (`modes --frame`:
                 what = places[name[2:].replace("-", "_")]  # a flag of `run`, here the argument)
                 return f"; {what} is this command's argument ({parser.prog} {what.upper()})"
-            if "--resume".startswith(name) and len(name) > 4 and parser.prog in RERUN_RESUMES:
+            starts = [o for o in known if o.startswith(name)]
+            resume = "--resume".startswith(name) or difflib.get_close_matches(name, ["--resume"])
+            if not starts and len(name) > 4 and resume and parser.prog in RERUN_RESUMES:
                 return (
                     f"; {parser.prog} resumes by being run again as before (what finished "
                     f"is kept; {RERUN_RESUMES[parser.prog]} starts over)"
@@ -383,7 +385,6 @@ def option_hint(parser: argparse.ArgumentParser, extra: list[str]) -> str:
             if name in FLAG_COMMANDS:  # (`sweep --frame`: "did you mean '--fmin'?")
                 runs = " and ".join(f"nsdyn {c}" for c in FLAG_COMMANDS[name])
                 return f"; {name} is a flag of {runs} alone (a scene's scene.frame names a frame)"
-            starts = [o for o in known if o.startswith(name)]
             close = starts or difflib.get_close_matches(name, known, n=1)
             if close:
                 return f"; did you mean {' or '.join(repr(o) for o in close[:3])}?"

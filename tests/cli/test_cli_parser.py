@@ -94,7 +94,7 @@ def test_resume_on_a_command_that_resumes_by_rerunning_says_so(name, fresh, caps
     # deletes the results it meant to continue
     from nsdyn.cli.app import main
 
-    for flag in ("--resume", "--res"):
+    for flag in ("--resume", "--resumes"):  # (sweep's --res: did you mean '--restart'?)
         with pytest.raises(SystemExit):
             main([name, "s.toml", flag] if name == "study" else [name, flag])
         err = capsys.readouterr().err
