@@ -82,8 +82,10 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--dt", type=_positive_finite, metavar="S",
                    help="step of the fixed-step methods (default 0.005 s, or the record's "
                    "sampling step or 1/20 of a harmonic forcing's period if shorter)")  # fmt: skip
-    p.add_argument("--t-end", type=_positive_finite, metavar="S", help="stop at this time (a "
-                   "time past the record's end: the record's end, with a note)")  # fmt: skip
+    p.add_argument("--t-end", type=_positive_finite, metavar="S", help="stop at this time "
+                   "(past a record's end an isolated frame, deck or building stops there; a "
+                   "rocking, contact or cylinder scene runs on, the ground at rest; a note "
+                   "says which)")  # fmt: skip
     p.add_argument(
         "--max-steps",
         type=_positive_int,

@@ -149,8 +149,8 @@ class CylinderResult(Tabular):
 
     @property
     def energy_error(self) -> float:
-        """max |E_mech − E_mech(0) − W_in + E_d + E_f| / max(W_in, E_d + E_f, T, eps |E|): the
-        balance's residual against the largest energy the run moves (the ground's work, the
+        """max |E_mech − E_mech(0) − W_in + E_d + E_f| / max(W_in, E_d + E_f, T, 1e3 eps |E|):
+        the balance's residual against the largest energy the run moves (the ground's work, the
         dissipated energy, or the kinetic energy T, which free vibration exchanges), at least
         the round-off of the body's own energy E_mech, ROUNDOFF_ULPS of it (a body at rest
         moves none: its residual of 5e-30 J over a kinetic energy of 4e-35 J read 1e5; one
