@@ -376,7 +376,9 @@ def option_hint(parser: argparse.ArgumentParser, extra: list[str]) -> str:
                 what = places[name[2:].replace("-", "_")]  # a flag of `run`, here the argument)
                 return f"; {what} is this command's argument ({parser.prog} {what.upper()})"
             starts = [o for o in known if o.startswith(name)]
-            resume = "--resume".startswith(name) or difflib.get_close_matches(name, ["--resume"])
+            resume = "--resume".startswith(name) or difflib.get_close_matches(
+                name, ["--resume"], cutoff=0.85
+            )
             if not starts and len(name) > 4 and resume and parser.prog in RERUN_RESUMES:
                 return (
                     f"; {parser.prog} resumes by being run again as before (what finished "

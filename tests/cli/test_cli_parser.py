@@ -100,3 +100,10 @@ def test_resume_on_a_command_that_resumes_by_rerunning_says_so(name, fresh, caps
         err = capsys.readouterr().err
         assert f"; nsdyn {name} resumes by being run again as before" in err, err
         assert f"{fresh} starts over)" in err and "did you mean" not in err
+    # a misspelt flag of the command's own is still that flag (a loose match read --workes,
+    # --frehs or --resart as --resume)
+    over = {"--fresh": "--frehs", "--restart": "--resart"}[fresh]
+    for typo, meant in (("--workes", "--workers"), (over, fresh)):
+        with pytest.raises(SystemExit):
+            main([name, "s.toml", typo] if name == "study" else [name, typo])
+        assert f"did you mean '{meant}'?" in capsys.readouterr().err
