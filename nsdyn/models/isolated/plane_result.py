@@ -271,6 +271,8 @@ class PlaneResult(Tabular):
                 UpliftWarning,
                 stacklevel=3,
             )
+            if not located:  # (a fixed-step loop's step past the instant: not the run's)
+                contacts = [c for c in contacts if c["t_first_s"] <= uplift["t_s"]]
         for c in contacts:
             warnings.warn(
                 f"isolator {c['isolator']} reached its displacement capacity at "
