@@ -81,17 +81,20 @@ def frozen(a) -> np.ndarray:
     return v
 
 
-def _frozen_getter(fget):
-    """``fget`` returning its arrays as read-only views (:func:`frozen`)."""
+def _read_only_of(fn, convert):
+    """``fn(self)`` passed through ``convert`` (its arrays made read-only), marked as such."""
     import functools
 
-    @functools.wraps(fget)
+    @functools.wraps(fn)
     def get(self):
-        a = fget(self)
-        return frozen(a) if isinstance(a, np.ndarray) else a
+        return convert(fn(self))
 
     get._read_only = True
     return get
+
+
+def _frozen_if_array(a):
+    return frozen(a) if isinstance(a, np.ndarray) else a
 
 
 def read_only(named: dict) -> dict:
@@ -137,18 +140,11 @@ class Tabular(FrozenArrays):
         for name, attr in list(cls.__dict__.items()):  # arrays computed on access (a deck's
             # slips u, v): read-only too, where an edit in place changed nothing, silently
             if isinstance(attr, property) and not getattr(attr.fget, "_read_only", False):
-                setattr(cls, name, property(_frozen_getter(attr.fget), attr.fset, attr.fdel,
-                                            attr.__doc__))  # fmt: skip
+                getter = _read_only_of(attr.fget, _frozen_if_array)
+                setattr(cls, name, property(getter, attr.fset, attr.fdel, attr.__doc__))
         own = cls.__dict__.get("histories")
         if own is not None and not getattr(own, "_read_only", False):
-            import functools
-
-            @functools.wraps(own)
-            def histories(self) -> dict:
-                return read_only(own(self))
-
-            histories._read_only = True
-            cls.histories = histories
+            cls.histories = _read_only_of(own, read_only)
 
     def histories(self) -> dict:  # pragma: no cover - every result defines it
         raise NotImplementedError

@@ -271,8 +271,10 @@ class PlaneResult(Tabular):
                 UpliftWarning,
                 stacklevel=3,
             )
-            if not located:  # (a fixed-step loop's step past the instant: not the run's)
+            if not located:  # (a fixed-step loop's rows and rim contacts past the instant,
+                # between its alpha points: not the run's)
                 contacts = [c for c in contacts if c["t_first_s"] <= uplift["t_s"]]
+                nout = max(1, int(np.searchsorted(t[:nout], uplift["t_s"], side="right")))
         for c in contacts:
             warnings.warn(
                 f"isolator {c['isolator']} reached its displacement capacity at "
@@ -283,8 +285,6 @@ class PlaneResult(Tabular):
             )
         stats = {"steps": int(info[kr.I_NSTEP]), "rejected": int(info[kr.I_NREJ]),
                  "evaluations": int(info[kr.I_NFEV]), "events": int(info[kr.I_NEV])}  # fmt: skip
-        if uplift and not located:  # (a fixed-step loop's grid rows past the instant: dropped)
-            nout = max(1, int(np.searchsorted(t[:nout], uplift["t_s"], side="right")))
         k = slice(0, nout)
         tension = contact_tension(t[k], NO[k], info) if contact == "bilateral" else None
         if tension is not None:
