@@ -196,6 +196,26 @@ def number(name: str, value, what: str, ok=None, *, finite: bool = True) -> floa
     return v
 
 
+def real_samples(name: str, a, what: str = "real samples"):
+    """``a`` as a non-empty 1-D float64 array (a copy: the caller's array stays theirs) of
+    finite values, or ValueError naming ``name`` and expecting ``what``: text, complex numbers
+    (the imaginary part was dropped with only a numpy warning) and bools are refused, never
+    converted."""
+    import numpy as np
+
+    kind = np.asarray(a).dtype.kind
+    if kind not in "iuf":
+        got = {"c": "complex", "b": "bool", "U": "text", "S": "text"}.get(kind, "non-numeric")
+        raise ValueError(f"{name}: expected {what}, got {got} values")
+    arr = np.array(a, dtype=np.float64, order="C")
+    if arr.ndim != 1 or arr.size < 1:
+        raise ValueError(f"{name}: expected a non-empty 1-D array, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        k = int(np.flatnonzero(~np.isfinite(arr))[0])
+        raise ValueError(f"{name}: expected finite values, sample {k} is {arr[k]}")
+    return arr
+
+
 MAX_OUTPUTS = 10_000_000  # output samples of one run (of 8 columns: 640 MB)
 MAX_STEPS = 200_000_000  # fixed or least steps of one run: refused beyond (hours of stepping)
 MAX_POINTS = 10_000  # frequencies of one curve: each a periodic solve of seconds

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from nsdyn._checks import forcing_frequency, number
+from nsdyn._checks import forcing_frequency, number, real_samples
 
 G_EARTH = 9.81  # m/s², gravity acting on the models (records in g use G_STANDARD)
 
@@ -86,12 +86,34 @@ class Harmonic:
 
 @dataclass(frozen=True)
 class Table:
-    """Sampled ground acceleration (uniform ``dt``, linear interpolation, zero outside)."""
+    """Sampled ground acceleration (uniform ``dt``, linear interpolation, zero outside).
+
+    Checked as a :class:`nsdyn.ground.GroundMotion`'s samples are: ``t0`` finite, ``dt`` > 0,
+    ``a_hor`` two or more finite real samples [m/s²] (a force's [N] where a
+    :class:`ForceTable` makes the table), ``a_ver`` as many; bad input is refused naming the
+    field (``Table.dt``, ``Table.a_hor``, ...).
+    """
 
     t0: float
     dt: float
     a_hor: np.ndarray
     a_ver: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "t0", _finite("Table.t0", self.t0))
+        dt = number("Table.dt", self.dt, "a positive step [s]", lambda v: v > 0)
+        object.__setattr__(self, "dt", dt)
+        a_hor = real_samples("Table.a_hor", self.a_hor)
+        if a_hor.size < 2:  # (one sample spans no time: a run did nothing, said nothing)
+            raise ValueError(f"Table.a_hor: expected two samples or more (a table spans "
+                             f"time), got {a_hor.size}")  # fmt: skip
+        object.__setattr__(self, "a_hor", a_hor)
+        if self.a_ver is not None:
+            a_ver = real_samples("Table.a_ver", self.a_ver)
+            if a_ver.shape != a_hor.shape:
+                raise ValueError(f"Table.a_ver: expected {a_hor.size} samples (as a_hor), "
+                                 f"got {a_ver.size}")  # fmt: skip
+            object.__setattr__(self, "a_ver", a_ver)
 
     @property
     def duration(self) -> float:

@@ -29,27 +29,17 @@ from typing import Any
 
 import numpy as np
 
-from nsdyn._checks import MAX_OUTPUTS, InputWarning, number, whole
+from nsdyn._checks import MAX_OUTPUTS, InputWarning, number, real_samples, whole
 
 A_SAMPLE_MAX = 1e12  # m/s²: a sample beyond it is no acceleration at all (samples refuses it)
 
 
 def samples(name: str, a, n: int | None = None) -> np.ndarray:
     """``a`` as a non-empty 1-D float64 array of finite accelerations (``n`` of them when
-    given), or ValueError naming ``name``: text, complex numbers (the imaginary part was
-    dropped with only a numpy warning) and bools are refused, never converted."""
-    kind = np.asarray(a).dtype.kind
-    if kind not in "iuf":
-        what = {"c": "complex", "b": "bool", "U": "text", "S": "text"}.get(kind, "non-numeric")
-        raise ValueError(f"{name}: expected real accelerations [m/s²], got {what} values")
-    arr = np.array(a, dtype=np.float64, order="C")  # a copy: the caller's array stays theirs
-    if arr.ndim != 1 or arr.size < 1:
-        raise ValueError(f"{name}: expected a non-empty 1-D array, got shape {arr.shape}")
+    given), or ValueError naming ``name`` (:func:`nsdyn._checks.real_samples`)."""
+    arr = real_samples(name, a, "real accelerations [m/s²]")
     if n is not None and arr.size != n:
         raise ValueError(f"{name}: expected {n} samples (as the first component), got {arr.size}")
-    if not np.all(np.isfinite(arr)):
-        k = int(np.flatnonzero(~np.isfinite(arr))[0])
-        raise ValueError(f"{name}: expected finite values, sample {k} is {arr[k]}")
     if np.any(big := np.abs(arr) > A_SAMPLE_MAX):  # (1e308 overflowed inside a run)
         k = int(np.flatnonzero(big)[0])
         raise ValueError(f"{name}: expected accelerations [m/s²] below {A_SAMPLE_MAX:g}, "

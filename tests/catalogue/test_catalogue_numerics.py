@@ -97,9 +97,9 @@ def test_newton_divergence_names_time_step_and_remedy():
 
 @pytest.mark.parametrize("method", ["radau", "dopri5"])
 def test_non_finite_state_names_time_and_cause(method):
-    a = np.full(201, 1.0)
-    a[100:] = np.nan  # the record turns NaN at t = 1 s
-    P = _coulomb("arctan", eps=100.0, ground=Table(0.0, 0.01, a))
+    tab = Table(0.0, 0.01, np.full(201, 1.0))  # (Table refuses NaN samples: written after)
+    tab.a_hor[100:] = np.nan  # the record turns NaN at t = 1 s
+    P = _coulomb("arctan", eps=100.0, ground=tab)
     with pytest.raises(IntegrationError) as ei:
         solve(P, np.zeros(4), np.linspace(0, 2, 21), method=method)
     e = ei.value

@@ -89,3 +89,37 @@ def test_a_linear_orbit_refuses_a_text_angle():
         HarmonicPlane.linear(1.0, 1.0, angle_deg="30")
     # a whole angle of 90 degrees is exact
     assert HarmonicPlane.linear(1.0, 2.0, angle_deg=90).ax == 0.0
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        # each ran before: one sample as a run with no motion and no word (x_iso 5.7e-15 m),
+        # lists for t0 and dt failed in a run with a TypeError naming no argument, a negative
+        # dt blamed dt_out, a NaN sample failed the integration ("NaN or inf in the state")
+        ((0.0, 0.01, [1.0]), r"^Table\.a_hor: expected two samples or more .* got 1$"),
+        (([0.0, 0.02], [0.0, 1.0], [0.0, 0.0]), r"^Table\.t0: expected a finite number"),
+        ((0.0, -0.01, [1.0] * 10), r"^Table\.dt: expected a positive step \[s\], got -0\.01$"),
+        ((0.0, 0.01, [0.0, 1.0, math.nan, 0.0]), r"^Table\.a_hor: .* sample 2 is nan$"),
+        ((0.0, 0.01, [0.0, 1.0, 2.0], [0.0, 0.0]), r"^Table\.a_ver: expected 3 samples"),
+        ((0.0, 0.01, ["1", "2"]), r"^Table\.a_hor: expected real samples, got text"),
+        ((0.0, 0.01, [[1.0, 2.0], [3.0, 4.0]]), r"^Table\.a_hor: expected a non-empty 1-D"),
+    ],
+)
+def test_a_table_refuses_what_a_ground_motion_refuses(args, match):
+    from nsdyn.ground.excitation import Table
+
+    with pytest.raises(ValueError, match=match):
+        Table(*args)
+
+
+def test_a_table_keeps_its_samples_as_floats_and_the_callers_array_its_own():
+    import numpy as np
+
+    from nsdyn.ground.excitation import Table
+
+    a = np.arange(4)
+    t = Table(0, 1, a, a)
+    assert t.a_hor.dtype == np.float64 and t.a_ver.dtype == np.float64
+    a[0] = 7  # (a copy: changing the caller's array changes no table)
+    assert t.a_hor[0] == 0.0 and t.duration == 3.0 and isinstance(t.dt, float)
