@@ -186,11 +186,15 @@ def _switch_oscillator():
         (lambda: Harmonic(1.0, 0.0), r"^Harmonic\.f_hor: expected a positive frequency"),
         (lambda: Harmonic(1.0, math.nan), r"^Harmonic\.f_hor: expected a finite number"),
         (lambda: Isolation(mu=-0.1), r"^isolation\.mu: expected a finite non-negative number"),
-        (lambda: Isolation(eps=-1.0), r"^isolation\.eps: expected a finite non-negative number"),
+        (lambda: Isolation(eps=-1.0), r"^isolation\.eps: expected a finite positive number"),
         (lambda: Isolation(eps=[1.0, 2.0]), r"^isolation\.eps: expected one \(for every "),
+        # a negative value of a number that must be positive is not asked for "non-negative"
+        # (zero is refused too: the law needs a positive scale, gravity a positive value)
+        (lambda: Isolation(g=-9.81), r"^isolation\.g: expected a finite positive number"),
+        (lambda: Isolation(law="switch", eta=-1e-4), r"^isolation\.eta: expected a finite pos"),
     ],
     ids=["harmonic-f-negative", "harmonic-f-zero", "harmonic-f-nan", "mu-negative",
-         "eps-negative", "eps-a-list"],
+         "eps-negative", "eps-a-list", "g-negative", "eta-negative"],
 )  # fmt: skip
 def test_bad_excitation_or_isolator_value_is_refused_where_it_is_built(call, message):
     with pytest.raises(ValueError, match=message):

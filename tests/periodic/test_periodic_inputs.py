@@ -92,7 +92,8 @@ def test_isolation_rejects_negative_or_non_finite_parameters(field, value):
     # a list for a single-valued parameter: "one (for every isolator)"
     single = np.ndim(value) == 0 or field in ("mu", "k_lam", "c")
     one = "a " if single else r"one \(for every isolator\) "
-    with pytest.raises(ValueError, match=rf"^isolation\.{field}: expected {one}finite non-neg"):
+    sign = "positive" if field in ("g", "eps") else "non-neg"  # (the default law: arctan, eps)
+    with pytest.raises(ValueError, match=rf"^isolation\.{field}: expected {one}finite {sign}"):
         Isolation(**{field: value})
 
 

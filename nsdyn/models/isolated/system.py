@@ -97,7 +97,8 @@ class Isolation:
         if self.law not in ("arctan", "switch", "none"):
             raise ValueError(f"isolation.law: expected 'arctan', 'switch' or 'none', got "
                              f"{self.law!r}")  # fmt: skip
-        # every parameter a finite non-negative number (mu < 0 or eps < 0 would feed energy in)
+        # every number finite and >= 0 (mu < 0, eps < 0 feed energy in); g, the law's scale > 0
+        positive = ("g", {"arctan": "eps", "switch": "eta"}.get(self.law))  # (0: said below)
         for k in ISOLATION_NUMBERS:  # (text, a bool or None: refused, not converted)
             v, vals = getattr(self, k), np.array([np.nan])
             with contextlib.suppress(TypeError, ValueError):
@@ -108,8 +109,9 @@ class Isolation:
                                                                      & (vals >= 0)):  # fmt: skip
                 per = " (or one per isolator)" if k in PER_ISOLATOR else ""
                 a = "one (for every isolator)" if one else "a"
-                raise ValueError(f"isolation.{k}: expected {a} finite non-negative number{per}, "
-                                 f"got {v!r}")  # fmt: skip
+                raise ValueError(f"isolation.{k}: expected {a} finite "
+                                 f"{'positive' if k in positive else 'non-negative'} "
+                                 f"number{per}, got {v!r}")  # fmt: skip
         sharpness_in_range("isolation.eps", self.eps)
         if not self.g > 0:
             raise ValueError(f"isolation.g: expected a positive gravity [m/s²], got {self.g!r}")
@@ -301,8 +303,7 @@ class IsolatedSystem:
             unchanged(self, _MATRICES, self._built, _REBUILD)
             return pack(M, C, K, Gamma, ground=ground, g=G_EARTH)
         _, lam0 = self.static_equilibrium()
-        ni = self.n_isolators
-        frozen = iso.frozen_normal
+        ni, frozen = self.n_isolators, iso.frozen_normal
         if self.normal_force is not None:  # no contacts: the given (frozen) normal forces
             lam0, frozen = self.normal_force, True
         kw = dict(law=law or iso.law, eps=iso.eps, eta=iso.eta, alpha=iso.alpha, beta=iso.beta,
@@ -313,8 +314,7 @@ class IsolatedSystem:
     def evaluate(self, t: float, x: np.ndarray, ground=None, P=None) -> dict:
         """Accelerations, normal forces, friction forces and isolator modes at one state."""
         P = self.params(ground) if P is None else P
-        qdd = np.zeros(self.n)
-        lam = np.zeros(self.n_contacts)
+        qdd, lam = np.zeros(self.n), np.zeros(self.n_contacts)
         tau = np.zeros(self.n_isolators)
         modes = np.zeros(self.n_isolators, dtype=np.int64)
         ok = ks.evaluate(float(t), np.ascontiguousarray(x, dtype=float), P, qdd, lam, tau, modes)
