@@ -9,7 +9,14 @@ pair) and ``HarmonicPlane`` (linear, circular and elliptical harmonic orbits).
 
 from nsdyn.ground.excitation import G_EARTH, ForceTable, Harmonic, HarmonicForce, Table
 from nsdyn.ground.library import bundled_records, default_shared_dir, kobe_records
-from nsdyn.ground.motion import G_STANDARD, GroundMotion, RecordFileError, UnitWarning, unit_factor
+from nsdyn.ground.motion import (
+    G_STANDARD,
+    GroundMotion,
+    RecordFileError,
+    UnitError,
+    UnitWarning,
+    unit_factor,
+)
 from nsdyn.ground.motion3 import GroundMotion3
 from nsdyn.ground.orbit import HarmonicPlane
 from nsdyn.ground.readers import (
@@ -43,6 +50,7 @@ __all__ = [
     "HarmonicPlane",
     "RecordFileError",
     "Table",
+    "UnitError",
     "UnitWarning",
     "bundled_records",
     "bundled_records3",

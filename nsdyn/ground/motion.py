@@ -529,8 +529,9 @@ def resolve_units(explicit: str | None, stated: str | None, source: str) -> tupl
             raise UnitError(str(e)) from None
         if stated is not None and stated != name:
             warnings.warn(
-                f"{source}: units={explicit!r} given, but the header states {stated!r}; "
-                f"using the given {explicit!r}" + (f" ({name})" if name != explicit else ""),
+                f"{source}: units={explicit!r} given, but the file states {stated!r} (its header "
+                f"or column label); using the given {explicit!r}"
+                + (f" ({name})" if name != explicit else ""),
                 UnitWarning,
                 stacklevel=4,
             )

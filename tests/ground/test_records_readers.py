@@ -404,17 +404,18 @@ def test_unit_warnings(tmp_path):
     with pytest.warns(UnitWarning, match=r"probably in cm/s² \(gal\) or m/s², read as 'g'"):
         read_motion(gal, units="g")
     stated = write(tmp_path, "s.txt", "# units: g\n0.0 0.3\n0.01 -0.2\n0.02 0.1\n")
-    with pytest.warns(UnitWarning, match="header states 'g'"):
+    with pytest.warns(UnitWarning, match="the file states 'g'"):
         read_motion(stated, units="m/s2")
     # a "units:" line nsdyn cannot read is refused, naming the file and the word (it was read
     # as m/s² with "the file does not state its units"); given units win, with the warning
     odd = write(tmp_path, "odd.txt", "# units: furlongs\n0.0 0.3\n0.01 -0.2\n0.02 0.1\n")
     with pytest.raises(UnitError, match=r"odd.txt: the header states units 'furlongs'"):
         read_motion(odd)
-    with pytest.warns(UnitWarning, match="header states 'furlongs'; using the given 'g'$"):
+    with pytest.warns(UnitWarning, match="the file states 'furlongs' .*; using the given 'g'$"):
         assert read_motion(odd, units="g").pga == pytest.approx(0.3 * 9.80665)
     # an alias given is the one named (it read "units='gal' given ...; using 'cm/s2'")
-    with pytest.warns(UnitWarning, match=r"states 'g'; using the given 'gal' \(cm/s2\)$"):
+    said = r"states 'g' \(its header or column label\); using the given 'gal' \(cm/s2\)$"
+    with pytest.warns(UnitWarning, match=said):
         assert read_motion(stated, units="gal").pga == pytest.approx(0.3e-2)
     # a line that is not a units line ("time units: s") is not read as one
     timed = write(tmp_path, "tu.txt", "# time units: s\n0.0 0.3\n0.01 -0.2\n0.02 0.1\n")
