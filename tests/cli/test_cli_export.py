@@ -166,12 +166,15 @@ def test_an_output_name_ending_in_a_separator_is_a_directory(tmp_path, capsys):
         # it, refused the harmonic motion itself
         ("harmonic", "[motion]: OpenSees export needs a ground-motion record"),
         ("harmonc", "motion.kind"),  # (a misspelt kind is named as such, not as a harmonic)
+        # a force scene (no [motion] table) was refused naming [motion]
+        ("force", "[force]: OpenSees export needs a ground-motion record"),
     ],
 )
 def test_a_harmonic_scene_is_refused_at_once_for_what_it_is(kind, said, tmp_path, capsys):
     scene = tmp_path / "h.toml"
-    scene.write_text(f'[scene]\nframe = "office-11"\n[motion]\nkind = "{kind}"\n'
-                     "amplitude = 1.0\nfrequency = 1.0\n")  # fmt: skip
+    table = ("[force]\nkind = \"harmonic\"\nF = 1e4\nf = 1.0\ndofs = [0]\n" if kind == "force"
+             else f'[motion]\nkind = "{kind}"\namplitude = 1.0\nfrequency = 1.0\n')  # fmt: skip
+    scene.write_text(f'[scene]\nframe = "office-11"\n{table}')
     assert main(["export", "opensees", str(scene), "-o", str(tmp_path / "h.py")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and said in err

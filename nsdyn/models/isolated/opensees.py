@@ -135,8 +135,8 @@ def _scene_system(scene, source: str, t_end=None):
     mo = raw.get("motion") if isinstance(raw.get("motion"), dict) else {}
     if "force" in raw or mo.get("kind") == "harmonic":  # (before the scene's checks of its keys)
         raise SceneError(
-            f"{source}: [motion]: OpenSees export needs a ground-motion record "
-            "(motion.record = ...), not a harmonic motion or a force"
+            f"{source}: {'[force]' if 'force' in raw else '[motion]'}: OpenSees export needs a "
+            "ground-motion record (motion.record = ...), not a harmonic motion or a force"
         )
     if isinstance(scene, str | Path):
         cfg = load_scene(scene, {"scene": {"fidelity": "full"}} if "structure" not in raw else None)

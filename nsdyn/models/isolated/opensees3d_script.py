@@ -262,8 +262,9 @@ def run(t_end=None, out=None):
     # t_end on the record's clock, as nsdyn's (a duration before: t0 = 5 s ran it whole)
     duration = d["duration"] if t_end is None else min(float(t_end) - d["t0"], d["duration"])
     if t_end is not None and float(t_end) - d["t0"] > d["duration"] * (1 + 1e-9):  # (as export)
-        print(f"note: --t-end {float(t_end):g} s is past the record's end; the script runs "
-              f"{d['duration']:g} s", file=sys.stderr)
+        print(f"note: --t-end {float(t_end):g} s is past the end of the record this script "
+              f"holds ({d['t0'] + d['duration']:g} s); it runs {d['duration']:g} s",
+              file=sys.stderr)  # fmt: skip
     if not duration >= dt * (1 - 1e-9):  # (-1 ran -200 steps to zero peaks; NaN: a traceback;
         # within one step: none, zero peaks and "Infinity")
         raise SystemExit(f"--t-end: expected a time after the record's start ({d['t0']:g} s), "

@@ -183,7 +183,10 @@ def test_script_runs_standalone(tmp_path):
     p = subprocess.run([sys.executable, str(path), "--t-end", "100"], capture_output=True,
                        text=True, timeout=120, cwd=tmp_path)  # fmt: skip
     res = json.loads([s for s in p.stdout.splitlines() if s.startswith("{")][-1])
-    assert res["n_steps"] == 100 and "--t-end 100 s is past the record's end" in p.stderr
+    # (the end of the record the script holds, the export's window: it said "the record's
+    # end" of a script exported for 0.5 s of a 40 s record)
+    assert res["n_steps"] == 100 and "--t-end 100 s is past the end of the record this " \
+        "script holds (0.5 s); it runs 0.5 s" in p.stderr  # fmt: skip
     p = subprocess.run([sys.executable, str(path), "--bogus"], capture_output=True, text=True,
                        timeout=120, cwd=tmp_path)  # fmt: skip
     assert p.returncode == 2 and "unrecognized arguments: --bogus" in p.stderr
