@@ -34,6 +34,16 @@ def _finite(name: str, v) -> float:
     return number(name, v, "a finite number")
 
 
+def _spanning(name: str, a, what: str = "real samples") -> np.ndarray:
+    """:func:`nsdyn._checks.real_samples` of a table: two samples or more (one spans no
+    time), or ValueError naming ``name``."""
+    arr = real_samples(name, a, what)
+    if arr.size < 2:
+        raise ValueError(f"{name}: expected two samples or more (a table spans time), got "
+                         f"{arr.size}")  # fmt: skip
+    return arr
+
+
 def _frequency(name: str, f, amplitude) -> None:
     """A harmonic component's frequency: finite and >= 0, and > 0 when its amplitude is not
     zero (a component without amplitude needs no frequency)."""
@@ -88,10 +98,11 @@ class Harmonic:
 class Table:
     """Sampled ground acceleration (uniform ``dt``, linear interpolation, zero outside).
 
-    Checked as a :class:`nsdyn.ground.GroundMotion`'s samples are: ``t0`` finite, ``dt`` > 0,
-    ``a_hor`` two or more finite real samples [m/s²] (a force's [N] where a
-    :class:`ForceTable` makes the table), ``a_ver`` as many; bad input is refused naming the
-    field (``Table.dt``, ``Table.a_hor``, ...).
+    Checked where it is built: ``t0`` finite, ``dt`` > 0, ``a_hor`` two or more finite real
+    samples [m/s²] (a force's [N] where a :class:`ForceTable` makes the table), ``a_ver`` as
+    many; bad input is refused naming the field (``Table.dt``, ``Table.a_hor``, ...). Unlike a
+    :class:`nsdyn.ground.GroundMotion`'s, the samples have no magnitude bound (forces pass
+    through a table) and one sample is refused here, not by the run.
     """
 
     t0: float
@@ -103,10 +114,7 @@ class Table:
         object.__setattr__(self, "t0", _finite("Table.t0", self.t0))
         dt = number("Table.dt", self.dt, "a positive step [s]", lambda v: v > 0)
         object.__setattr__(self, "dt", dt)
-        a_hor = real_samples("Table.a_hor", self.a_hor)
-        if a_hor.size < 2:  # (one sample spans no time: a run did nothing, said nothing)
-            raise ValueError(f"Table.a_hor: expected two samples or more (a table spans "
-                             f"time), got {a_hor.size}")  # fmt: skip
+        a_hor = _spanning("Table.a_hor", self.a_hor)  # (one sample: a run without a word)
         object.__setattr__(self, "a_hor", a_hor)
         if self.a_ver is not None:
             a_ver = real_samples("Table.a_ver", self.a_ver)
@@ -202,22 +210,15 @@ class ForceTable(_ForceLoad):
     name: str = "force"
 
     def __post_init__(self) -> None:
-        try:  # (text: numpy's "could not convert string to float", naming no argument)
-            F = np.ascontiguousarray(self.F, dtype=float)
-        except (TypeError, ValueError):
-            raise ValueError(f"ForceTable.F: expected an array of forces [N], got "
-                             f"{self.F!r}"[:200]) from None  # fmt: skip
+        F = np.asarray(self.F)
         if F.ndim > 1 and max(F.shape) != F.size:  # a table of several columns
             raise ValueError(
                 f"ForceTable.F: expected one force history (shape (n,)), got shape {F.shape}; "
                 "the load pattern is the vector b (one force applied at dofs)"
             )
-        F = F.reshape(-1)
-        if F.size < 2:  # (one sample: "t_end" blamed, not given)
-            raise ValueError(f"ForceTable.F: expected two samples or more (a table spans "
-                             f"time), got {F.size}")  # fmt: skip
-        if not np.all(np.isfinite(F)):
-            raise ValueError("ForceTable.F: expected finite forces [N]")
+        # (text, complex and bools refused: complex forces lost their imaginary part with only
+        # numpy's warning; one sample: "t_end" blamed, not given)
+        F = _spanning("ForceTable.F", F.reshape(-1) if F.ndim != 1 else F, "real forces [N]")
         # (as a float: a numpy float32 step's end fell beside its last sample's time)
         dt = number("ForceTable.dt", self.dt, "a positive step [s]", lambda v: v > 0)
         object.__setattr__(self, "dt", dt)

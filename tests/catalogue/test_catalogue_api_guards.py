@@ -121,8 +121,11 @@ def test_force_tables_and_records_refuse_what_they_cannot_mean():
     with pytest.raises(ValueError, match="t0: expected a finite time"):
         nsdyn.GroundMotion(float("nan"), 0.01, np.sin(np.arange(100) * 0.1))
     # text (numpy's message, naming nothing), one sample ("t_end" blamed, never given)
-    with pytest.raises(ValueError, match=r"^ForceTable.F: expected an array of forces \[N\]"):
+    with pytest.raises(ValueError, match=r"^ForceTable.F: expected real forces \[N\], got text"):
         nsdyn.ForceTable(0.0, 0.01, "abc", dofs=[0])
+    # complex forces lost their imaginary part with only numpy's ComplexWarning
+    with pytest.raises(ValueError, match=r"^ForceTable.F: expected real forces \[N\], got compl"):
+        nsdyn.ForceTable(0.0, 0.01, np.array([1 + 2j, 3.0, 1j]), dofs=[0])
     with pytest.raises(ValueError, match=r"^ForceTable.F: expected two samples or more"):
         nsdyn.ForceTable(0.0, 0.01, 1.0, dofs=[0])
     with pytest.raises(ValueError, match=r"^ForceTable.dt: expected a positive step \[s\]"):
