@@ -246,6 +246,10 @@ class Bearing:
 MU_PLAUSIBLE = 1.0  # sliding isolators' coefficients are 0.01-0.2; above 1: a percentage?
 PRESSURE_RATIO_PLAUSIBLE = 10.0  # static pressure / p_ref beyond which the units are suspect
 RADIUS_PLAUSIBLE = 20.0  # m: a pendulum radius past this (a period of 9 s and more) is said
+# a triple pendulum's smallest friction below this is said before its run: the series model's
+# elastic stage sets its steps (the example deck, every surface at mu: its 40 s record in 18 000
+# steps at 1e-4, 540 000 (3.5 min) at 3e-5; at 1e-5 the steps collapsed after 3 min)
+MU_TFP_LOW = 1e-4
 
 
 def high_friction_note(field: str, mu: float) -> str | None:
@@ -365,8 +369,9 @@ def slip_ratio_note(bearings, peak_u) -> str | None:
 def bearing_notes(bearings, n_static) -> list[str]:
     """Inputs a run accepts that are probably mistakes, one line each: a friction coefficient
     above 1, a static contact pressure N/area more than 10× from ``p_ref`` (area in cm²,
-    p_ref in MPa?), with the friction factor it gives, or a pendulum radius above
-    :data:`RADIUS_PLAUSIBLE` (in mm?). ``bearings``: one per isolator."""
+    p_ref in MPa?), with the friction factor it gives, a friction that falls with the slip
+    speed, a triple pendulum's friction below :data:`MU_TFP_LOW` (a long run), or a pendulum
+    radius above :data:`RADIUS_PLAUSIBLE` (in mm?). ``bearings``: one per isolator."""
     n_static = np.asarray(n_static, dtype=float)
     notes: list[str] = []
     for k, v in {k: v for b in bearings for k, v in b.coefficients().items()}.items():
@@ -388,6 +393,15 @@ def bearing_notes(bearings, n_static) -> list[str]:
         if getattr(f, "mu_fast", None) is not None and f.mu_fast < f.mu_slow:
             notes.append(f"{b.where}.mu_fast = {f.mu_fast:g} < mu_slow = {f.mu_slow:g}: friction "
                          "that falls with the slip speed (PTFE's rises: swapped?)")  # fmt: skip
+            break
+    for b in bearings:
+        mu = {j: float(getattr(b, f"mu{j}")) for j in range(1, 5)} if hasattr(b, "R1") else {}
+        if mu and min(mu.values()) < MU_TFP_LOW:
+            j = min(mu, key=mu.get)
+            notes.append(f"{b.where}.mu{j} = {mu[j]:g}: far below a built bearing's friction "
+                         "(0.01-0.2); the triple pendulum's steps shrink with its smallest "
+                         "friction, and the run may take minutes or stop with its steps "
+                         "collapsed (check mu1..mu4)")  # fmt: skip
             break
     for b in bearings:  # (a radius in mm ran as a pendulum of a 94 s period, unsaid)
         if math.isfinite(b.radius) and b.radius > RADIUS_PLAUSIBLE:

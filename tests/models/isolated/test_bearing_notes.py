@@ -141,6 +141,17 @@ def test_a_friction_falling_with_slip_speed_is_noted_as_a_likely_swap():
     assert bearing_notes([Bearing(Friction(0.02, mu_fast=0.04, rate=30.0))], N[:1]) == []
 
 
+def test_a_triple_pendulum_with_friction_far_below_a_built_ones_is_noted_before_its_run():
+    # every surface at 1e-5 ran 3 min before its steps collapsed, without a word before; the
+    # smallest coefficient is named (the series model's elastic stage is min mu / u_y)
+    t = TripleBearing(**{**TFP, "mu2": 3e-5, "mu3": 5e-5}, where="bearing")
+    (note,) = bearing_notes([t, t], N)
+    assert note.startswith("bearing.mu2 = 3e-05: far below a built bearing's friction (0.01-0.2);")
+    assert "may take minutes or stop with its steps collapsed (check mu1..mu4)" in note
+    at_bound = TripleBearing(**{**TFP, "mu2": 1e-4, "mu3": 1e-4})  # (1e-4: 40 s in seconds)
+    assert bearing_notes([at_bound], N[:1]) == []
+
+
 def test_a_deck_in_millimetres_is_said_before_its_run(capsys, tmp_path):
     # the example deck (20 m x 12 m) with its positions in mm: a plan of 20 km x 12 km, which
     # no isolated building has; said as a note before the run, and by a Python call
