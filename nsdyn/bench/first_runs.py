@@ -199,14 +199,14 @@ def first_runs_markdown(rows: list[dict], load: tuple | None = None) -> str:
     for r in rows:
         miss = r["over_s"]
         ok = r["first_status"] == "ok" and r["cached_status"] == "ok"
+        what = r["what"] + ("" if ok else f" ({r['first_status']} / {r['cached_status']})")
         lines.append(
-            f"| {r['family']} | {r['what']} | {f(r['first_process_s'])} | "
+            f"| {r['family']} | {what} | {f(r['first_process_s'])} | "
             f"{f(r.get('first_compile_s'))} | {f(r.get('first_run_s'), '.2f')} | "
             f"{f(r.get('first_cpu_s'))} | {'yes' if r.get('first_notice') else 'no'} | "
             f"{f(r['cached_process_s'])} | {f(r.get('cached_start_s'))} | "
             f"{f(r.get('cached_compile_s'), '.2f')} | "
             f"{f(miss) if miss > 0 else 'met'} | {f(r['first_load_1min'], '.1f')} |"
-            + ("" if ok else f" {r['first_status']} / {r['cached_status']}")
         )
     if load is not None:
         lines.append(

@@ -47,6 +47,14 @@ def test_markdown_names_the_misses():
     md = first_runs.first_runs_markdown([row, met], (1.0, 2.0, 3.0))
     assert "| contact | event | 13.7 | 12.0 | 0.50 | - | yes | 1.5 | 1.0 | 0.20 | 3.7 |" in md
     assert "| rocking | event | 4.0 |" in md and "| met |" in md
+    # a case that ended with an error says so after its name, inside the table's 12 columns
+    # (a 13th cell after the row's last bar broke the table)
+    swept = dict(met, family="isolated", what="sweep", first_status="exit 3",
+                 cached_status="exit 3")  # fmt: skip
+    (line,) = [x for x in first_runs.first_runs_markdown([swept]).splitlines()
+               if x.startswith("| isolated")]  # fmt: skip
+    assert line.startswith("| isolated | sweep (exit 3 / exit 3) | 4.0 |") and line.endswith("|")
+    assert line.count("|") == 13
 
 
 def test_speed_takes_the_families_option():
