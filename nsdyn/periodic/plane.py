@@ -61,7 +61,7 @@ from nsdyn.models.isolated import deck_compile
 from nsdyn.models.isolated.bearings import B_MUS
 from nsdyn.models.isolated.deck import PlaneSystem, kernel_params
 from nsdyn.models.isolated.defaults import EPS, ETA
-from nsdyn.models.isolated.friction import stick_velocity, sticks
+from nsdyn.models.isolated.friction import stick_slip_note, stick_velocity, sticks
 from nsdyn.models.isolated.tolerances import arctan_atol
 from nsdyn.periodic.continuation import continue_range
 from nsdyn.periodic.curve import Curve
@@ -380,14 +380,8 @@ class PlaneProblem:
             notes.append("uplift: a normal force reaches zero in the period")
         if q.get("rim_contact"):
             notes.append("an isolator reaches its displacement capacity (rim stop)")
-        s = q.get("stick_fraction")
-        if s is not None and math.isfinite(s) and 0.0 < s < 1.0:
-            creep = (f": under the arctan law its stick phases creep at up to "
-                     f"{stick_velocity('arctan', self.eps):.2g} m/s (eps = {self.eps:g} s/m), "
-                     "and a small orbit can differ from true stick's many times over (confirm "
-                     "with --friction switch)") * (self.law == "arctan")  # fmt: skip
-            notes.append(f"stick-slip orbit (stick fraction {s:.3g}){creep}")
-        return "; ".join(notes)
+        stick_slip = stick_slip_note(q.get("stick_fraction"), self.law, self.eps)
+        return "; ".join(notes + [stick_slip] * bool(stick_slip))
 
 
 def _slip(Q: np.ndarray, pos: np.ndarray) -> np.ndarray:

@@ -29,7 +29,7 @@ import numpy as np
 from nsdyn._brief import brief_repr
 from nsdyn.ground.excitation import Harmonic, HarmonicForce
 from nsdyn.models.isolated.excitation import ground_many
-from nsdyn.models.isolated.friction import sticks
+from nsdyn.models.isolated.friction import stick_slip_note, sticks
 from nsdyn.models.isolated.params import KernelParams, pack, with_ground
 from nsdyn.periodic import _korbit as ko
 from nsdyn.periodic import _kperiodic as kp
@@ -119,16 +119,8 @@ class PeriodicProblem(MinimalStates):
         """Integrate one forcing period from ``x0`` (t = 0) with ``n_steps`` SDIRK steps."""
         N, args = self._map_args(x0, f, n_steps, disc, sens, store)
         xT, S, w, X, status, nfev, nsub = kp.period_map(*args, periodic_calls())
-        return PeriodMap(
-            xT,
-            S if sens else None,
-            w if sens else None,
-            X if store else None,
-            int(status),
-            N,
-            int(nfev),
-            int(nsub),
-        )
+        return PeriodMap(xT, S if sens else None, w if sens else None, X if store else None,
+                         int(status), N, int(nfev), int(nsub))  # fmt: skip
 
     def _map_args(self, x0, f, n_steps, disc, sens, store) -> tuple[int, tuple]:
         """The number of steps and the arguments of :func:`nsdyn.periodic._kperiodic.period_map`
@@ -193,13 +185,16 @@ class PeriodicProblem(MinimalStates):
         v = Xf[:, n:] @ sysm.D.T
         x_iso = dense_half_range(xi, v, QDD @ sysm.D.T, 1.0 / (f * N))
         kpar = KernelParams(P)
-        stick = kpar.law == "arctan" and bool(np.all(sticks(v, "arctan", kpar.eps)))
+        held = np.all(sticks(v, "arctan", kpar.eps), axis=1) if kpar.law == "arctan" else None
+        stick = held is not None and bool(held.all())
         return {
             "idr": idr,
             "acc": acc,
             "acc_floors": acc_floors,
             "x_iso": x_iso,
             "stick_all_period": stick,
+            # (the samples where every isolator sticks; the last is the period's first)
+            "stick_fraction": float(held[:-1].mean()) if held is not None else math.nan,
             "v_slip_max": float(np.max(np.abs(v))) if v.size else 0.0,
             "min_normal_force": float(LAM.min()) if LAM.size else math.nan,
             "uplift": bool(LAM.size and LAM.min() <= 0.0),
@@ -234,7 +229,8 @@ class PeriodicProblem(MinimalStates):
     ) -> tuple[dict, str]:
         """NaN quantities for a point whose period from ``x0`` could not be integrated; for
         a frame, ``uplift`` and the note come from :func:`uplift_probe` over ``periods``."""
-        keys = ("idr", "acc", "acc_floors", "x_iso", "v_slip_max", "min_normal_force")
+        keys = ("idr", "acc", "acc_floors", "x_iso", "v_slip_max", "min_normal_force",
+                "stick_fraction")  # fmt: skip
         q = dict.fromkeys(keys, math.nan)
         q["stick_all_period"] = None
         q["uplift"] = None  # unknown unless the frame's probe decides
@@ -268,7 +264,9 @@ class PeriodicProblem(MinimalStates):
                 f"reported: {quantities['acc']:.3g} m/s², those held to the velocity changes "
                 "(a smaller eps or the switch law resolves it)"
             )
-        return "; ".join(notes)
+        stick_slip = stick_slip_note(quantities.get("stick_fraction"), "arctan",
+                                     KernelParams(self.P).eps)  # fmt: skip
+        return "; ".join(notes + [stick_slip] * bool(stick_slip))  # fmt: skip
 
 
 def orbit_quantities(problem: PeriodicProblem, f: float, X: np.ndarray) -> dict:

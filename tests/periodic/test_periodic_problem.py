@@ -205,3 +205,35 @@ def test_probe_lift_off_instant_is_where_a_full_coordinate_run_loses_contact(A):
         sol = solve(P, prob.to_full(prob.x_ref.copy()), t, method="radau", uplift="warn")
     lam = evaluations(P, t, np.ascontiguousarray(sol.x))[1].min(axis=1)
     assert lam[0] > 0 and lam[1] > 0 and lam[2] < 0, lam
+
+
+def _friction_oscillator(A: float):
+    from nsdyn.models.isolated.builders import system_from_matrices
+
+    iso = Isolation(k_lam=0.0, c=0.0, mu=0.3, law="arctan", eps=7500.0)
+    osc = system_from_matrices([[1.0]], [[0.5]], [[(2 * np.pi) ** 2]], iso_dofs=[0],
+                               influence=[1.0], isolation=iso, weight=iso.g,
+                               levels=[[0]])  # fmt: skip
+    return pr.frame_problem(osc, A)
+
+
+def test_a_frame_stick_slip_orbit_says_its_stick_creeps_as_a_decks_does():
+    # The frame's orbits gave no stick-slip note (the deck's named the arctan law's creep).
+    # Exact bounds: a mass on friction mu = 0.3 sticks the whole period when the ground's
+    # peak acceleration A is below mu g (stuck, it needs a friction m |a_g| <= m A < mu m g),
+    # and cannot stick the whole period above it; at 0.2 Hz, a fifth of its natural
+    # frequency, A = 4 m/s² (1.36 mu g) slips and sticks in turn (a mass without its spring
+    # would stick while |a_g| < mu g, 53 % of the period).
+    from nsdyn.models.isolated.friction import stick_velocity
+
+    stuck = pr.continue_sequential(_friction_oscillator(1.0), [0.2]).points[0]
+    assert stuck.quantities["stick_fraction"] == 1.0 and stuck.quantities["stick_all_period"]
+    assert "stick-slip" not in stuck.note
+    p = pr.continue_sequential(_friction_oscillator(4.0), [0.2]).points[0]
+    s = p.quantities["stick_fraction"]
+    assert 0.0 < s < 1.0 and not p.quantities["stick_all_period"]
+    v = stick_velocity("arctan", 7500.0)
+    assert p.note == (f"stick-slip orbit (stick fraction {s:.3g}): under the arctan law its "
+                      f"stick phases creep at up to {v:.2g} m/s (eps = 7500 s/m), and a small "
+                      "orbit can differ from true stick's many times over (confirm with "
+                      "--friction switch)")  # fmt: skip

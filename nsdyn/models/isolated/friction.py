@@ -71,6 +71,20 @@ def stick_velocity(law: str, eps: float = EPS, eta: float = ETA) -> float:
     raise ValueError(f"friction law: expected one of {list(LAW_NAMES)}, got {law!r}")
 
 
+def stick_slip_note(stick_fraction, law: str, eps: float = EPS) -> str | None:
+    """A periodic orbit's note when it sticks over part of its period (0 < ``stick_fraction``
+    < 1; None otherwise, NaN included): under the arctan law its stick phases creep, and a
+    small orbit can differ from true stick's many times over."""
+    s = stick_fraction
+    if s is None or not 0.0 < s < 1.0:
+        return None
+    creep = (f": under the arctan law its stick phases creep at up to "
+             f"{stick_velocity('arctan', eps):.2g} m/s (eps = {eps:g} s/m), and a small "
+             "orbit can differ from true stick's many times over (confirm with --friction "
+             "switch)")  # fmt: skip
+    return f"stick-slip orbit (stick fraction {s:.3g})" + creep * (law == "arctan")  # fmt: skip
+
+
 def sticks(v, law: str, eps: float = EPS, eta: float = ETA, modes=None) -> np.ndarray:
     """Boolean array: which isolators stick, from their sliding velocities ``v`` (any shape).
 
