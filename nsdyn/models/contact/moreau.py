@@ -51,7 +51,13 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
                     g: float = G_EARTH) -> ContactResult:  # fmt: skip
     """Moreau-Jean run with step ``h``, storing every ``dt_out`` (default: every step; rounded
     to a whole number of steps, at least one: the result's ``t`` holds the times kept), from
-    rest (tilted by ``theta0`` [rad] or ``theta0_over_alpha``) or from (q0, v0)."""
+    rest (tilted by ``theta0`` [rad] or ``theta0_over_alpha``) or from (q0, v0).
+
+    The scheme is first order and passes through impacts without locating them: where the
+    body hops (``result.n_hops``) or rocks with restitution, its default step can be
+    qualitatively wrong (docs/guide/contact.md, the stability map). Repeat the run at ``h/2``
+    and compare the peaks, as a scene's step check does (``solver.step_check``), or use
+    :func:`nsdyn.models.contact.event.simulate_event`; this call itself says nothing."""
     check_parts(body, friction, motion)
     body = body.unit_mass()  # (the same motion; forces of order g in the LCPs)
     h = number("h", h, "a positive step size [s]", lambda v: v > 0)
