@@ -201,13 +201,23 @@ def real_samples(name: str, a, what: str = "real samples"):
     finite values, or ValueError naming ``name`` and expecting ``what``: text, complex numbers
     (the imaginary part was dropped with only a numpy warning) and bools are refused, never
     converted."""
+    import numbers
+
     import numpy as np
 
-    kind = np.asarray(a).dtype.kind
-    if kind not in "iuf":
+    try:  # (ragged lists: numpy's "inhomogeneous shape", naming nothing)
+        obj = np.asarray(a)
+        kind = obj.dtype.kind
+        if kind == "O":  # (Fractions, any numbers.Real: numbers; text or None among them: not)
+            real = all(isinstance(x, numbers.Real) and not isinstance(x, bool | np.bool_)
+                       for x in obj.ravel())  # fmt: skip
+            kind = "f" if real else "O"
+        arr = np.array(a, dtype=np.float64, order="C") if kind in "iuf" else None
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}: expected {what}, got {a!r}"[:200]) from None
+    if arr is None:
         got = {"c": "complex", "b": "bool", "U": "text", "S": "text"}.get(kind, "non-numeric")
         raise ValueError(f"{name}: expected {what}, got {got} values")
-    arr = np.array(a, dtype=np.float64, order="C")
     if arr.ndim != 1 or arr.size < 1:
         raise ValueError(f"{name}: expected a non-empty 1-D array, got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):

@@ -210,7 +210,11 @@ class ForceTable(_ForceLoad):
     name: str = "force"
 
     def __post_init__(self) -> None:
-        F = np.asarray(self.F)
+        try:  # (ragged lists: numpy's "inhomogeneous shape", naming nothing)
+            F = np.asarray(self.F)
+        except (TypeError, ValueError):
+            raise ValueError(f"ForceTable.F: expected real forces [N], got {self.F!r}"[:200]
+                             ) from None  # fmt: skip
         if F.ndim > 1 and max(F.shape) != F.size:  # a table of several columns
             raise ValueError(
                 f"ForceTable.F: expected one force history (shape (n,)), got shape {F.shape}; "

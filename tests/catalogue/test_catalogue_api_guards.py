@@ -120,9 +120,12 @@ def test_force_tables_and_records_refuse_what_they_cannot_mean():
     assert nsdyn.ForceTable(0.0, 0.01, F[:, :1], dofs=[0]).F.shape == (10,)  # one column
     with pytest.raises(ValueError, match="t0: expected a finite time"):
         nsdyn.GroundMotion(float("nan"), 0.01, np.sin(np.arange(100) * 0.1))
-    # text (numpy's message, naming nothing), one sample ("t_end" blamed, never given)
+    # text and ragged lists (numpy's messages, naming nothing), one sample ("t_end" blamed,
+    # never given)
     with pytest.raises(ValueError, match=r"^ForceTable.F: expected real forces \[N\], got text"):
         nsdyn.ForceTable(0.0, 0.01, "abc", dofs=[0])
+    with pytest.raises(ValueError, match=r"^ForceTable.F: expected real forces \[N\], got \[\[1"):
+        nsdyn.ForceTable(0.0, 0.01, [[1.0, 2.0], [3.0]], dofs=[0])
     # complex forces lost their imaginary part with only numpy's ComplexWarning
     with pytest.raises(ValueError, match=r"^ForceTable.F: expected real forces \[N\], got compl"):
         nsdyn.ForceTable(0.0, 0.01, np.array([1 + 2j, 3.0, 1j]), dofs=[0])

@@ -105,6 +105,7 @@ def test_a_linear_orbit_refuses_a_text_angle():
         ((0.0, 0.01, [0.0, 1.0, 2.0], [0.0, 0.0]), r"^Table\.a_ver: expected 3 samples"),
         ((0.0, 0.01, ["1", "2"]), r"^Table\.a_hor: expected real samples, got text"),
         ((0.0, 0.01, [[1.0, 2.0], [3.0, 4.0]]), r"^Table\.a_hor: expected a non-empty 1-D"),
+        ((0.0, 0.01, [[1.0, 2.0], [3.0]]), r"^Table\.a_hor: expected real samples, got \[\[1"),
     ],
 )
 def test_a_table_refuses_what_a_ground_motion_refuses(args, match):
