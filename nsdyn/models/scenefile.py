@@ -210,10 +210,16 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
     return resolve_paths(data, p.parent, str(path)) if what == "scene" else data
 
 
-def unknown_key(source: str, where: str, key: str, valid) -> SceneError:
-    """Error for a key not in ``valid``, suggesting the closest valid key if there is one."""
+def unknown_key(source: str, where: str, key: str, valid, tables=None) -> SceneError:
+    """Error for a key not in ``valid``, suggesting the closest valid key if there is one,
+    else the other tables of ``tables`` (table -> its keys) that have it: a key in the wrong
+    table (a frame scene's ``[solver] mu``, a deck's ``[bearing] law``) was only "unknown"."""
     valid = sorted(valid)
     hint = did_you_mean(key, valid)
+    here = where.rstrip(".")
+    homes = [f"[{t}]" for t, keys in (tables or {}).items() if t != here and key in (keys or ())]
+    if not hint and homes:
+        hint = f"; a key of {' or '.join(homes)}, not of [{here}];"
     return SceneError(
         f"{source}: {where}{key}: unknown field{hint or ';'} expected some of {valid}"
     )
@@ -241,7 +247,7 @@ def check_fields(cfg: Mapping, fields: Mapping, source: str, tables=None) -> Non
             raise SceneError(f"{source}: [{table}]: expected a table")
         for key in vals:
             if key not in fields[table]:
-                raise unknown_key(source, f"{table}.", key, fields[table])
+                raise unknown_key(source, f"{table}.", key, fields[table], fields)
 
 
 def scene_module(kind: str) -> str:

@@ -71,8 +71,11 @@ def test_an_unknown_method_lists_auto_among_the_choices(capsys):
 
 @pytest.mark.parametrize(
     ("key", "says"),
-    [("pga", "scene.pga: unknown field; expected some of"),
-     ("fidelty", "scene.fidelty: unknown field; did you mean 'fidelity'? expected some of")],
+    [("pga", "scene.pga: unknown field; a key of [motion], not of [scene]; expected some of"),
+     ("fidelty", "scene.fidelty: unknown field; did you mean 'fidelity'? expected some of"),
+     ("pgaa", "scene.pgaa: unknown field; expected some of"),
+     # a key in another table was only "unknown": the table it belongs in is named
+     ("mu", "scene.mu: unknown field; a key of [isolation], not of [scene]; expected some of")],
 )  # fmt: skip
 def test_an_unknown_key_is_named_with_the_valid_ones(key, says, capsys, tmp_path):
     scene = tmp_path / "s.toml"
@@ -80,6 +83,24 @@ def test_an_unknown_key_is_named_with_the_valid_ones(key, says, capsys, tmp_path
     assert main(["run", str(scene)]) == EXIT_USER_ERROR
     err = capsys.readouterr().err
     assert err.startswith(f"nsdyn run: error: {scene}: {says} [")
+
+
+@pytest.mark.parametrize(
+    ("table", "key", "says"),
+    [("bearing", "law", "bearing.law: unknown field; a key of [solver] or [sweep], not of "
+      "[bearing]; expected some of"),
+     ("deck", "dt_out", "deck.dt_out: unknown field; a key of [solver], not of [deck]; "
+      "expected some of")],
+)  # fmt: skip
+def test_a_deck_key_in_another_table_names_its_table(table, key, says, capsys, tmp_path):
+    from pathlib import Path
+
+    src = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "deck-fps4-3c.toml"
+    scene = tmp_path / "d.toml"
+    scene.write_text(src.read_text().replace(f"[{table}]\n", f"[{table}]\n{key} = 1\n", 1))
+    assert main(["run", str(scene), "--t-end", "0.1", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"nsdyn run: error: {scene}: {says} [") and err.count("\n") == 1
 
 
 # -------------------------------------------------------------- a frame file given as a scene

@@ -98,7 +98,7 @@ def _check_isolation(iso, source: str) -> None:
     fields = sorted(Isolation.__dataclass_fields__)
     for key, val in iso.items():
         if key not in fields:
-            raise unknown_key(source, "isolation.", key, fields)
+            raise unknown_key(source, "isolation.", key, fields, _FIELDS)
         if key == "contact" and val not in CONTACTS:
             raise SceneError(
                 f"{source}: isolation.contact: expected one of {list(CONTACTS)}, got {val!r}"
@@ -155,8 +155,9 @@ def _check(cfg: dict, source: str) -> dict:
             harmonic_motion(cfg["motion"], source)  # checks its own fields
             continue
         for key, val in cfg.get(table, {}).items():
-            if key not in fields:
-                raise unknown_key(source, f"{table}.", key, fields)
+            if key not in fields:  # (one of [isolation]'s: named there)
+                homes = {**_FIELDS, "isolation": Isolation.__dataclass_fields__}
+                raise unknown_key(source, f"{table}.", key, fields, homes)
             typ = fields[key]
             if typ == "tolerance":
                 pair = isinstance(val, list) and len(val) == 2
