@@ -220,8 +220,9 @@ def _friction_oscillator(A: float):
 def test_a_frame_stick_slip_orbit_says_its_stick_creeps_as_a_decks_does():
     # The frame's orbits gave no stick-slip note (the deck's named the arctan law's creep).
     # Exact bounds: a mass on friction mu = 0.3 sticks the whole period when the ground's
-    # peak acceleration A is below mu g (stuck, it needs a friction m |a_g| <= m A < mu m g),
-    # and cannot stick the whole period above it; at 0.2 Hz, a fifth of its natural
+    # peak acceleration A is below 0.9 mu g (stuck, it needs a friction m |a_g| <= m A, and
+    # the arctan law counts stick up to 90 % of mu m g, friction.STICK_UTILISATION), and
+    # cannot stick the whole period above mu g; at 0.2 Hz, a fifth of its natural
     # frequency, A = 4 m/s² (1.36 mu g) slips and sticks in turn (a mass without its spring
     # would stick while |a_g| < mu g, 53 % of the period).
     from nsdyn.models.isolated.friction import stick_velocity
@@ -229,6 +230,11 @@ def test_a_frame_stick_slip_orbit_says_its_stick_creeps_as_a_decks_does():
     stuck = pr.continue_sequential(_friction_oscillator(1.0), [0.2]).points[0]
     assert stuck.quantities["stick_fraction"] == 1.0 and stuck.quantities["stick_all_period"]
     assert "stick-slip" not in stuck.note
+    # below STICK_SLIP_MIN a "stick" share is a reversal passing the law's stick band: no note
+    from nsdyn.models.isolated.friction import STICK_SLIP_MIN, stick_slip_note
+
+    assert stick_slip_note(0.5 * STICK_SLIP_MIN, "arctan") is None
+    assert stick_slip_note(STICK_SLIP_MIN, "arctan").startswith("stick-slip orbit")
     p = pr.continue_sequential(_friction_oscillator(4.0), [0.2]).points[0]
     s = p.quantities["stick_fraction"]
     assert 0.0 < s < 1.0 and not p.quantities["stick_all_period"]

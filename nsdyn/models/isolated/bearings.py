@@ -246,9 +246,10 @@ class Bearing:
 MU_PLAUSIBLE = 1.0  # sliding isolators' coefficients are 0.01-0.2; above 1: a percentage?
 PRESSURE_RATIO_PLAUSIBLE = 10.0  # static pressure / p_ref beyond which the units are suspect
 RADIUS_PLAUSIBLE = 20.0  # m: a pendulum radius past this (a period of 9 s and more) is said
-# a triple pendulum's smallest friction below this is said before its run: the series model's
-# elastic stage sets its steps (the example deck, every surface at mu: its 40 s record in 18 000
-# steps at 1e-4, 540 000 (3.5 min) at 3e-5; at 1e-5 the steps collapsed after 3 min)
+# a triple pendulum's smallest friction below this is said before its run: its surfaces' flow
+# rule, of viscosity OVERSTRESS min mu (tfp.py; u_y barely matters), sets its steps (the
+# example deck, every surface at mu: its 40 s record in 18 000 steps at 1e-4, 540 000 (3.5 min)
+# at 3e-5; at 1e-5 the steps collapsed after 3 min)
 MU_TFP_LOW = 1e-4
 
 

@@ -71,12 +71,18 @@ def stick_velocity(law: str, eps: float = EPS, eta: float = ETA) -> float:
     raise ValueError(f"friction law: expected one of {list(LAW_NAMES)}, got {law!r}")
 
 
+# a periodic orbit's stick fraction below this is no stick phase: the samples a reversal of the
+# slip passes inside the law's stick band (the office frame's slipping orbits at 2 m/s²: one
+# at 0.0014, the next smallest 0.015, most 0.02-0.5)
+STICK_SLIP_MIN = 0.01
+
+
 def stick_slip_note(stick_fraction, law: str, eps: float = EPS) -> str | None:
-    """A periodic orbit's note when it sticks over part of its period (0 < ``stick_fraction``
-    < 1; None otherwise, NaN included): under the arctan law its stick phases creep, and a
-    small orbit can differ from true stick's many times over."""
+    """A periodic orbit's note when it sticks over part of its period (``STICK_SLIP_MIN`` <=
+    ``stick_fraction`` < 1; None otherwise, NaN included): under the arctan law its stick
+    phases creep, and a small orbit can differ from true stick's many times over."""
     s = stick_fraction
-    if s is None or not 0.0 < s < 1.0:
+    if s is None or not STICK_SLIP_MIN <= s < 1.0:
         return None
     creep = (f": under the arctan law its stick phases creep at up to "
              f"{stick_velocity('arctan', eps):.2g} m/s (eps = {eps:g} s/m), and a small "

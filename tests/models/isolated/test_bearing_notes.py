@@ -143,7 +143,7 @@ def test_a_friction_falling_with_slip_speed_is_noted_as_a_likely_swap():
 
 def test_a_triple_pendulum_with_friction_far_below_a_built_ones_is_noted_before_its_run():
     # every surface at 1e-5 ran 3 min before its steps collapsed, without a word before; the
-    # smallest coefficient is named (the series model's elastic stage is min mu / u_y)
+    # smallest coefficient is named (its flow rule's viscosity is OVERSTRESS min mu)
     t = TripleBearing(**{**TFP, "mu2": 3e-5, "mu3": 5e-5}, where="bearing")
     (note,) = bearing_notes([t, t], N)
     assert note.startswith("bearing.mu2 = 3e-05: far below a built bearing's friction (0.01-0.2);")
