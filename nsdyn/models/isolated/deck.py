@@ -71,6 +71,9 @@ PLANE_CONTACTS = {"detect": kp.CONTACT_DETECT, "bilateral": kp.CONTACT_BILATERAL
 # a plan wider than this is a deck in mm, not m (isolated buildings span tens to a few hundred
 # m; a 20 m x 12 m deck given in mm failed under the switch law with advice to use arctan)
 PLAN_PLAUSIBLE = 1000.0  # m
+# a deck lighter than this per m² of its isolators' plan is in t, not kg (a slab alone weighs
+# 300-700 kg/m²; 1500 "kg" over 30 m x 10 m ran with forces 1000x too small, unsaid)
+DECK_MASS_PLAUSIBLE = 50.0  # kg/m²
 COLLINEAR_RTOL = 1e-9  # G's smallest/largest eigenvalue below this: isolators on one line
 PLAN_MAX = 1e6  # [m] isolator positions within 1000 km of O (1e200 overflowed G)
 # default absolute tolerances (displacement [m], velocity [m/s]) per law. The switch law
@@ -313,10 +316,16 @@ def law_params(law: str, **values) -> None:
         warnings.warn(coarse, NotedWarning, stacklevel=4)
 
 
-def plan_note(positions, where: str) -> str | None:
-    """A note when the isolators' plan extent passes :data:`PLAN_PLAUSIBLE` (in mm?)."""
+def plan_note(positions, where: str, m: float | None = None) -> str | None:
+    """A note when the isolators' plan extent passes :data:`PLAN_PLAUSIBLE` (in mm?), or when
+    the mass ``m`` over their plan's bounding box is below :data:`DECK_MASS_PLAUSIBLE` (in t?)."""
     pos = np.asarray(positions, dtype=float).reshape(-1, 2)
     ext = pos.max(axis=0) - pos.min(axis=0)
+    area = float(ext[0] * ext[1]) if m is not None else 0.0
+    if ext.max() <= PLAN_PLAUSIBLE and area > 0 and m / area < DECK_MASS_PLAUSIBLE:
+        return (f"{where.rsplit('.', 1)[0]}.m = {m:g} kg over the isolators' {ext[0]:.4g} m x "
+                f"{ext[1]:.4g} m plan is {m / area:.3g} kg/m², far below any deck's or building's "
+                "(a floor slab alone weighs 300-700 kg/m²): is it in t?")  # fmt: skip
     if ext.max() <= PLAN_PLAUSIBLE:
         return None
     return (
@@ -335,7 +344,7 @@ def kernel_params(
         raise ValueError(f"law: expected one of {list(PLANE_LAWS)}, got {law!r}")
     law_params(law, eps=eps, eta=eta, kappa=kappa)
     bearing_warnings(system)
-    if plan := plan_note(system.positions, f"{system.name}.positions"):
+    if plan := plan_note(system.positions, f"{system.name}.positions", system.m):
         warnings.warn(plan, NotedWarning, stacklevel=3)
     sp = np.zeros(kp.N_SP)
     sp[kp.S_M] = system.m

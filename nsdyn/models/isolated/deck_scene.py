@@ -326,7 +326,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         f"{getattr(exc, 'name', type(exc).__name__)}")  # fmt: skip
     notes = bearing_notes(system.bearings, system.static_normal())  # (the summary's too)
     notes += build_notes(cfg, system)
-    notes += [n for n in [plan_note(system.positions, "deck.positions"),
+    notes += [n for n in [plan_note(system.positions, "deck.positions", system.m),
                           coarse_law_note(kw["law"], kw["eps"], kw["eta"]),
                           record_end_note(cfg, exc)] if n]  # fmt: skip
     for note in notes:

@@ -181,6 +181,32 @@ def test_a_deck_in_millimetres_is_said_before_its_run(capsys, tmp_path):
         simulate_plane(rigid_deck(2e6, 9.07e7, pos, b), orbit, t_end=0.05)
 
 
+def test_a_deck_in_tonnes_is_said_before_its_run(capsys, tmp_path):
+    # 1500 "kg" (1500 t) on a 30 m x 10 m plan ran with its forces 1000x too small and its
+    # slips unchanged (a pendulum's response does not depend on the mass), without a word
+    from pathlib import Path
+
+    from nsdyn._checks import NotedWarning
+    from nsdyn.models.isolated.bearings import Friction
+    from nsdyn.models.isolated.deck import DECK_MASS_PLAUSIBLE, rigid_deck, simulate_plane
+
+    src = Path(__file__).resolve().parents[3] / "examples/scenes/deck-fps4-3c.toml"
+    text = src.read_text()
+    assert "m = 2.0e6" in text  # the example deck: 2000 t on 20 m x 12 m, 8 333 kg/m²
+    scene = tmp_path / "deck.toml"
+    scene.write_text(text.replace("m = 2.0e6", "m = 2000.0", 1))
+    argv = ["run", str(scene), "--t-end", "0.05", "--no-figures", "--out", str(tmp_path / "o")]
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert err.count("deck: note: deck.m = 2000 kg over the isolators' 20 m x 12 m plan is "
+                     "8.33 kg/m², far below any deck's or building's") == 1  # fmt: skip
+    assert 8.33 < DECK_MASS_PLAUSIBLE < 8333.0  # the example passes, in t it does not
+    pos = [[-10.0, -6.0], [10.0, -6.0], [10.0, 6.0], [-10.0, 6.0]]
+    b, orbit = Bearing(Friction(0.05), radius=2.2), {"f": 1.0, "ax": 1.0, "ay": 0.0}
+    with pytest.warns(NotedWarning, match=r"\.m = 2000 kg .* is it in t\?$"):
+        simulate_plane(rigid_deck(2e3, 9.07e4, pos, b), orbit, t_end=0.05)
+
+
 def test_a_pair_system_run_warns_what_a_deck_run_notes():
     # Friction(5) (a percentage) on a PairSystem ran, stuck throughout, without a word, where
     # Isolation(mu=5) and a deck's bearings are noted
