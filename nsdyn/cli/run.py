@@ -350,7 +350,7 @@ def run(args: argparse.Namespace) -> int:
                          "a method of the smooth law ('radau', 'genalpha', …)")  # fmt: skip
     check_method(method, cfg)  # before the model's build
     system, motion, duration = build_scene_run(cfg)
-    notes = scene_notes(cfg, motion, args.json, system)
+    notes = scene_notes(cfg, motion, args.json, system, raw if args.scene else None)
     if args.compare_fixed and system.frame is None:
         raise SceneError(f"{args.scene or '<default scene>'}: --compare-fixed needs a frame; "
                          "this scene's [structure] has none")  # fmt: skip

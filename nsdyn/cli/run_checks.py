@@ -73,6 +73,27 @@ def note_unused_isolation(cfg: dict, system, law: str | None = None) -> str | No
             if unused else None)  # fmt: skip
 
 
+def note_default_isolation(cfg: dict, system, raw: dict | None) -> str | None:
+    """A frame of the user's own (a file, not a bundled frame) on isolators whose scene file
+    ``raw`` (None: the default scene, ``--frame FILE``) gives no ``k_lam``, ``c`` or ``mu``:
+    the default scene's, the seed office's design values, are used, sized for office-11's
+    weight (a scene without them ran on them, unsaid)."""
+    from nsdyn.models.isolated.defaults import C_DAMPER, K_LAM, MU
+    from nsdyn.structure.frame_toml import bundled_frames
+
+    frame = cfg.get("scene", {}).get("frame")
+    if getattr(system, "isolation", None) is None or frame is None or frame in bundled_frames():
+        return None
+    iso = (raw or {}).get("isolation") or {}
+    missing = [k for k in ("k_lam", "c", "mu") if k not in iso]
+    if not missing:
+        return None
+    vals = {"k_lam": f"k_lam = {K_LAM:g} N/m", "c": f"c = {C_DAMPER:g} N s/m", "mu": f"mu = {MU:g}"}
+    return (f"isolation.{', '.join(missing)} not given: the seed office's design values "
+            f"({', '.join(vals[k] for k in missing)}, per isolator) are used, sized for the "
+            "office-11 frame; give your isolators' own in [isolation]")  # fmt: skip
+
+
 def note_loose_atol(cfg: dict, system) -> str | None:
     """A velocity tolerance given above what the friction law tells apart: the switch law's
     stick band η (stick and slip decided below the tolerance), or the arctan law's turn
@@ -216,13 +237,15 @@ def note_no_column_lines(system) -> str | None:
     )
 
 
-def scene_notes(cfg: dict, motion, quiet: bool, system=None) -> list[str]:
-    """Every note of a loaded scene (the functions above), in one line each on stderr unless
-    ``quiet``; returned (a --json summary's ``notes``)."""
+def scene_notes(cfg: dict, motion, quiet: bool, system=None, raw=None) -> list[str]:
+    """Every note of a loaded scene (the functions above; ``raw``: the scene file as read,
+    None for the default scene), in one line each on stderr unless ``quiet``; returned (a
+    --json summary's ``notes``)."""
     notes = [note_short_record(cfg, motion), note_unused_components(motion),
              note_coarse_output(cfg, motion),
              note_unused_cutoff(cfg),
-             note_unused_isolation(cfg, system), note_loose_atol(cfg, system),
+             note_unused_isolation(cfg, system), note_default_isolation(cfg, system, raw),
+             note_loose_atol(cfg, system),
              note_no_column_lines(system), note_no_modes(system)]  # fmt: skip
     notes = [n for n in notes if n]
     from nsdyn.cli.args import SAID

@@ -968,3 +968,34 @@ def test_a_files_own_bad_end_is_not_blamed_on_the_flag_given_beside_it(tmp_path,
     assert main(["run", str(scene), "--t-end", "1", "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert "motion.t_end: expected a positive number, got -1" in err and "(--t-end)" not in err
+
+
+@pytest.mark.parametrize(
+    ("isolation", "said"),
+    [
+        ('law = "arctan"\n', "isolation.k_lam, c, mu not given: the seed office's design values "
+         "(k_lam = 50000 N/m, c = 10000 N s/m, mu = 0.03, per isolator) are used"),
+        ("k_lam = 1e5\nmu = 0.05\n", "isolation.c not given: the seed office's design values "
+         "(c = 10000 N s/m, per isolator) are used, sized for the office-11 frame"),
+        ("k_lam = 1e5\nmu = 0.05\nc = 0.0\n", None),
+    ],
+)  # fmt: skip
+def test_an_own_frame_on_the_default_isolators_is_noted(isolation, said, tmp_path, capsys):
+    # a frame of the user's own whose scene gave no k_lam, c or mu ran on the default scene's
+    # (the office's design values, sized for its 6.9 MN), without a word
+    frame = tmp_path / "myportal.toml"
+    frame.write_text((Path(__file__).resolve().parents[2] / "frames/portal.toml").read_text())
+    scene = tmp_path / "s.toml"
+    scene.write_text(f'[scene]\nframe = "myportal.toml"\nfidelity = "rigid"\n'
+                     f"[isolation]\n{isolation}[motion]\nt_end = 0.1\n")  # fmt: skip
+    assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 0
+    notes = [x for x in capsys.readouterr().err.splitlines() if "not given" in x]
+    assert len(notes) == (0 if said is None else 1)
+    if said:
+        assert notes[0].startswith(f"nsdyn run: note: {said}")
+        assert notes[0].endswith("give your isolators' own in [isolation]")
+    # a bundled frame (the office's own design) is not noted
+    scene.write_text('[scene]\nframe = "portal"\nfidelity = "rigid"\n[isolation]\n'
+                     'law = "arctan"\n[motion]\nt_end = 0.1\n')  # fmt: skip
+    assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o2")]) == 0
+    assert "not given" not in capsys.readouterr().err
