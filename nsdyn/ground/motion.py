@@ -412,6 +412,8 @@ _UNIT_PATTERNS = [
     re.compile(r"\bacc(?:eleration|\.)?\s+in\s+\(?\s*([A-Za-z][\w/^*²]*)", re.I),  # Acc. in cm/s/s
     re.compile(r"\bin\s+units\s+of\s+\(?\s*([A-Za-z][\w/^*²]*)", re.I),  # IN UNITS OF G
     re.compile(r"\bunits\s+are\s+\(?\s*([A-Za-z][\w/^*²]*)", re.I),  # The units are (g)
+    # a line of "units WORD" alone, without its colon ("units m/s^2" was "not stated")
+    re.compile(r"^\W*units?\s+\(?\s*([A-Za-z][\w/^*²]*)\)?\s*$", re.I | re.M),
 ]
 
 

@@ -522,3 +522,20 @@ def test_a_binary_file_given_as_a_record_is_said_to_be_one(tmp_path):
     path.write_bytes(b"0.0 0.1\n0.01 0.2\n" + bytes(range(256)))
     with pytest.raises(RecordFileError, match=r"bin\.csv:3: a NUL byte: a binary file"):
         read_motion(path, units="m/s2")
+
+
+def test_a_units_line_without_its_colon_states_the_units(tmp_path):
+    # "units m/s^2" (no colon) on a line of its own was read as "the file does not state its
+    # units; assuming m/s²" (a UnitWarning); a line of "units WORD" alone states WORD
+    import warnings
+
+    body = "0.0 0.3\n0.01 -0.2\n0.02 0.1\n"
+    ms2 = write(tmp_path, "a.txt", "My record, station ABC\nunits m/s^2\ntime accel\n" + body)
+    g = write(tmp_path, "b.txt", "# units g\n" + body)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UnitWarning)
+        assert read_motion(ms2).pga == 0.3
+        assert read_motion(g).pga == pytest.approx(0.3 * 9.80665, rel=1e-15)
+    # a line where "units" is followed by more words is no units line ("time units s")
+    with pytest.warns(UnitWarning, match="does not state its units"):
+        read_motion(write(tmp_path, "c.txt", "time units s\n" + body))
