@@ -138,13 +138,7 @@ def _record3(table: dict, source: str) -> GroundMotion3:
         else:
             motion = read_motion3(files.get("x"), files.get("y"), files.get("z"), **kw)
     except (OSError, ValueError) as e:  # a missing file, an unknown name, a bad record
-        key, said = _culprit(table, files, str(e)), str(e)
-        if key == "y" and "y" not in files and "missing component y" in said:  # (it read
-            # "motion.y: <the x file>: missing component y ...")
-            said = (f"missing; motion.x = {files['x']!r} holds one horizontal component: give "
-                    "the second as motion.y (and the vertical as motion.z), or as motion.x a "
-                    "CSV whose header names the columns t, ax, ay[, az]")  # fmt: skip
-        raise _err(source, key, said) from None
+        raise _err(source, _culprit(table, files, str(e)), str(e)) from None
     if not table.get("vertical", True):
         motion = motion._replace(az=None)
     if "pga" in table:
