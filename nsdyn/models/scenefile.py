@@ -210,6 +210,11 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
     return resolve_paths(data, p.parent, str(path)) if what == "scene" else data
 
 
+# keys that mean another thing in each table (a scene's kind, a bearing's type, a record's dt
+# against a solver's step): a table that has one is no hint of where it belongs
+GENERIC_KEYS = frozenset({"kind", "name", "type", "dt", "case"})
+
+
 def unknown_key(source: str, where: str, key: str, valid, tables=None) -> SceneError:
     """Error for a key not in ``valid``, suggesting the closest valid key if there is one,
     else the other tables of ``tables`` (table -> its keys) that have it: a key in the wrong
@@ -217,9 +222,11 @@ def unknown_key(source: str, where: str, key: str, valid, tables=None) -> SceneE
     valid = sorted(valid)
     hint = did_you_mean(key, valid)
     here = where.rstrip(".")
-    homes = [f"[{t}]" for t, keys in (tables or {}).items() if t != here and key in (keys or ())]
-    if not hint and homes:
-        hint = f"; a key of {' or '.join(homes)}, not of [{here}];"
+    homes = [f"[{t}]" for t, keys in (tables or {}).items()
+             if t != here and key in (keys or ()) and key not in GENERIC_KEYS]  # fmt: skip
+    if homes:  # (an exact key elsewhere before a near one here: deck.mu is no mass 'm')
+        near = f" (or{hint.removeprefix(';')})".replace("? )", "?)") if hint else ""
+        hint = f"; a key of {' or '.join(homes)}, not of [{here}]{near};"
     return SceneError(
         f"{source}: {where}{key}: unknown field{hint or ';'} expected some of {valid}"
     )
