@@ -74,18 +74,23 @@ def note_unused_isolation(cfg: dict, system, law: str | None = None) -> str | No
 
 
 def note_default_isolation(cfg: dict, system, raw: dict | None) -> str | None:
-    """A frame of the user's own (a file, not a bundled frame) on isolators whose scene file
-    ``raw`` (None: the default scene, ``--frame FILE``) gives no ``k_lam``, ``c`` or ``mu``:
-    the default scene's, the seed office's design values, are used, sized for office-11's
-    weight (a scene without them ran on them, unsaid)."""
-    from nsdyn.models.isolated.defaults import C_DAMPER, K_LAM, MU
-    from nsdyn.structure.frame_toml import bundled_frames
+    """A frame other than the office (a file of the user's, a bundled portal) on isolators
+    whose scene file ``raw`` (None: the default scene, ``--frame FILE``) gives no ``k_lam``,
+    ``c`` or ``mu`` (under a law with friction): the default scene's, the seed office's
+    design values, are used, sized for office-11's weight (they ran unsaid)."""
+    from pathlib import Path
 
-    frame = cfg.get("scene", {}).get("frame")
-    if getattr(system, "isolation", None) is None or frame is None or frame in bundled_frames():
-        return None
-    iso = (raw or {}).get("isolation") or {}
-    missing = [k for k in ("k_lam", "c", "mu") if k not in iso]
+    from nsdyn._bundled import FRAMES
+    from nsdyn.models.isolated.defaults import C_DAMPER, K_LAM, MU
+
+    frame, iso = cfg.get("scene", {}).get("frame"), getattr(system, "isolation", None)
+    office = FRAMES.find("office-11")
+    if iso is None or frame is None or frame == "office-11" or (
+            office is not None and Path(frame).resolve() == Path(str(office)).resolve()):
+        return None  # fmt: skip
+    given = (raw or {}).get("isolation") or {}
+    keys = ("k_lam", "c") + ("mu",) * (iso.law != "none")  # (the law none has no friction)
+    missing = [k for k in keys if k not in given]
     if not missing:
         return None
     vals = {"k_lam": f"k_lam = {K_LAM:g} N/m", "c": f"c = {C_DAMPER:g} N s/m", "mu": f"mu = {MU:g}"}

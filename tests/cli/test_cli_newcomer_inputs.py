@@ -978,11 +978,13 @@ def test_a_files_own_bad_end_is_not_blamed_on_the_flag_given_beside_it(tmp_path,
         ("k_lam = 1e5\nmu = 0.05\n", "isolation.c not given: the seed office's design values "
          "(c = 10000 N s/m, per isolator) are used, sized for the office-11 frame"),
         ("k_lam = 1e5\nmu = 0.05\nc = 0.0\n", None),
+        ('law = "none"\nk_lam = 1e5\nc = 0.0\n', None),  # (no friction: no mu to give)
     ],
 )  # fmt: skip
 def test_an_own_frame_on_the_default_isolators_is_noted(isolation, said, tmp_path, capsys):
     # a frame of the user's own whose scene gave no k_lam, c or mu ran on the default scene's
-    # (the office's design values, sized for its 6.9 MN), without a word
+    # (the office's design values, sized for its 6.9 MN), without a word; a law without
+    # friction needs no mu
     frame = tmp_path / "myportal.toml"
     frame.write_text((Path(__file__).resolve().parents[2] / "frames/portal.toml").read_text())
     scene = tmp_path / "s.toml"
@@ -994,8 +996,11 @@ def test_an_own_frame_on_the_default_isolators_is_noted(isolation, said, tmp_pat
     if said:
         assert notes[0].startswith(f"nsdyn run: note: {said}")
         assert notes[0].endswith("give your isolators' own in [isolation]")
-    # a bundled frame (the office's own design) is not noted
-    scene.write_text('[scene]\nframe = "portal"\nfidelity = "rigid"\n[isolation]\n'
-                     'law = "arctan"\n[motion]\nt_end = 0.1\n')  # fmt: skip
-    assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o2")]) == 0
-    assert "not given" not in capsys.readouterr().err
+    # the office frame (the values' own design) is not noted, by name or by its file's path;
+    # the bundled portal is, as its copy is
+    office = Path(__file__).resolve().parents[2] / "frames/office-11.toml"
+    for frame, noted in (("office-11", False), (str(office), False), ("portal", said)):
+        scene.write_text(f'[scene]\nframe = "{frame}"\nfidelity = "rigid"\n[isolation]\n'
+                         f'{isolation}[motion]\nt_end = 0.1\n')  # fmt: skip
+        assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o2")]) == 0
+        assert ("not given" in capsys.readouterr().err) == bool(noted)
