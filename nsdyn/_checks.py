@@ -213,7 +213,7 @@ def real_samples(name: str, a, what: str = "real samples"):
                        for x in obj.ravel())  # fmt: skip
             kind = "f" if real else "O"
         arr = np.array(a, dtype=np.float64, order="C") if kind in "iuf" else None
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int or Fraction beyond a double)
         raise ValueError(f"{name}: expected {what}, got {a!r}"[:200]) from None
     if arr is None:
         got = {"c": "complex", "b": "bool", "U": "text", "S": "text"}.get(kind, "non-numeric")

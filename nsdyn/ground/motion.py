@@ -413,7 +413,7 @@ _UNIT_PATTERNS = [
     re.compile(r"\bin\s+units\s+of\s+\(?\s*([A-Za-z][\w/^*²]*)", re.I),  # IN UNITS OF G
     re.compile(r"\bunits\s+are\s+\(?\s*([A-Za-z][\w/^*²]*)", re.I),  # The units are (g)
     # a line of "units WORD" alone, without its colon ("units m/s^2" was "not stated")
-    re.compile(r"^\W*units?\s+\(?\s*([A-Za-z][\w/^*²]*)\)?\s*$", re.I | re.M),
+    re.compile(r"^[^\w\n]*units?[ \t]+\(?[ \t]*([A-Za-z][\w/^*²]*)\)?[ \t]*$", re.I | re.M),
 ]
 
 

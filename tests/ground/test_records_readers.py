@@ -536,6 +536,8 @@ def test_a_units_line_without_its_colon_states_the_units(tmp_path):
         warnings.simplefilter("error", UnitWarning)
         assert read_motion(ms2).pga == 0.3
         assert read_motion(g).pga == pytest.approx(0.3 * 9.80665, rel=1e-15)
-    # a line where "units" is followed by more words is no units line ("time units s")
-    with pytest.warns(UnitWarning, match="does not state its units"):
-        read_motion(write(tmp_path, "c.txt", "time units s\n" + body))
+    # a line where the unit is followed by more words is no units line, nor is "units" on a
+    # line of its own above the word
+    for i, head in enumerate(("units g station 5\n", "units\ng\n")):
+        with pytest.warns(UnitWarning, match="does not state its units"):
+            read_motion(write(tmp_path, f"c{i}.txt", head + body))

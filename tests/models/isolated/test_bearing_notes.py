@@ -182,8 +182,9 @@ def test_a_deck_in_millimetres_is_said_before_its_run(capsys, tmp_path):
 
 
 def test_a_deck_in_tonnes_is_said_before_its_run(capsys, tmp_path):
-    # 1500 "kg" (1500 t) on a 30 m x 10 m plan ran with its forces 1000x too small and its
-    # slips unchanged (a pendulum's response does not depend on the mass), without a word
+    # a deck's mass in t (1500 "kg" on a 30 m x 10 m plan) ran with its forces 1000x too small
+    # and its slips unchanged (a pendulum's response does not depend on the mass), unsaid;
+    # here the example deck's 2000 t as 2000 "kg"
     from pathlib import Path
 
     from nsdyn._checks import NotedWarning
