@@ -210,8 +210,8 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
     return resolve_paths(data, p.parent, str(path)) if what == "scene" else data
 
 
-# keys that mean another thing in each table (a scene's kind, a bearing's type, a record's dt
-# against a solver's step): a table that has one is no hint of where it belongs
+# keys that tables mean their own way (a scene's kind, a bearing's type, a record's dt against a
+# solver's step): hinted only where one table other than [scene] has the key
 GENERIC_KEYS = frozenset({"kind", "name", "type", "dt", "case"})
 
 
@@ -222,8 +222,9 @@ def unknown_key(source: str, where: str, key: str, valid, tables=None) -> SceneE
     valid = sorted(valid)
     hint = did_you_mean(key, valid)
     here = where.rstrip(".")
-    homes = [f"[{t}]" for t, keys in (tables or {}).items()
-             if t != here and key in (keys or ()) and key not in GENERIC_KEYS]  # fmt: skip
+    homes = [f"[{t}]" for t, keys in (tables or {}).items() if t != here and key in (keys or ())
+             and (key not in GENERIC_KEYS or t != "scene")]  # fmt: skip
+    homes = homes if key not in GENERIC_KEYS or len(homes) == 1 else []
     if homes:  # (an exact key elsewhere before a near one here: deck.mu is no mass 'm')
         near = f" (or{hint.removeprefix(';')})".replace("? )", "?)") if hint else ""
         hint = f"; a key of {' or '.join(homes)}, not of [{here}]{near};"

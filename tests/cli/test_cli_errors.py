@@ -94,8 +94,10 @@ def test_an_unknown_key_is_named_with_the_valid_ones(key, says, capsys, tmp_path
      # the exact key elsewhere first: it only suggested the deck's mass 'm'
      ("deck", "mu", "deck.mu: unknown field; a key of [bearing], not of [deck] (or did you "
       "mean 'm'?); expected some of"),
-     # a key every table means its own way (a scene's kind, a bearing's type) is no hint
-     ("bearing", "kind", "bearing.kind: unknown field; expected some of")],
+     # a scene's kind is no hint for another table's; a key one other table has is
+     ("bearing", "kind", "bearing.kind: unknown field; expected some of"),
+     ("deck", "type", "deck.type: unknown field; a key of [bearing], not of [deck]; expected "
+      "some of")],
 )  # fmt: skip
 def test_a_deck_key_in_another_table_names_its_table(table, key, says, capsys, tmp_path):
     from pathlib import Path
