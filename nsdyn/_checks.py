@@ -189,7 +189,7 @@ def number(name: str, value, what: str, ok=None, *, finite: bool = True) -> floa
     if not isinstance(value, str | bool | np.bool_):
         try:
             v = float(value)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):  # (an int beyond a double: named)
             pass
     if not (math.isfinite(v) if finite else v == v) or (ok is not None and not ok(v)):
         raise ValueError(f"{name}: expected {what}, got {value!r}")

@@ -407,19 +407,20 @@ def unit_factor(units: str) -> tuple[str, float]:
     raise ValueError(f"unknown acceleration unit {units!r}; use 'g', 'cm/s2' (gal) or 'm/s2'")
 
 
+_S, _WORD = r"[ \t]", r"([A-Za-z][\w/^*²]*)"  # (spaces within a line: a pattern is one line's)
 _UNIT_PATTERNS = [
-    re.compile(r"\bunits?\s*[:=]\s*\(?\s*([A-Za-z][\w/^*²]*)", re.I),  # units: g / UNIT = gal
-    re.compile(r"\bacc(?:eleration|\.)?\s+in\s+\(?\s*([A-Za-z][\w/^*²]*)", re.I),  # Acc. in cm/s/s
-    re.compile(r"\bin\s+units\s+of\s+\(?\s*([A-Za-z][\w/^*²]*)", re.I),  # IN UNITS OF G
-    re.compile(r"\bunits\s+are\s+\(?\s*([A-Za-z][\w/^*²]*)", re.I),  # The units are (g)
+    re.compile(rf"\bunits?{_S}*[:=]{_S}*\(?{_S}*{_WORD}", re.I),  # units: g / UNIT = gal
+    re.compile(rf"\bacc(?:eleration|\.)?{_S}+in{_S}+\(?{_S}*{_WORD}", re.I),  # Acc. in cm/s/s
+    re.compile(rf"\bin{_S}+units{_S}+of{_S}+\(?{_S}*{_WORD}", re.I),  # IN UNITS OF G
+    re.compile(rf"\bunits{_S}+are{_S}+\(?{_S}*{_WORD}", re.I),  # The units are (g)
     # a line of "units WORD" alone, without its colon ("units m/s^2" was "not stated")
-    re.compile(r"^[^\w\n]*units?[ \t]+\(?[ \t]*([A-Za-z][\w/^*²]*)\)?[ \t]*$", re.I | re.M),
+    re.compile(rf"^[^\w\n]*units?{_S}+\(?{_S}*{_WORD}\)?{_S}*$", re.I | re.M),
 ]
 
 
 UNKNOWN_UNITS = "unknown:"  # header_units' prefix of a "units: WORD" it does not know
 # the first pattern anchored at a line's start (one source for the two)
-_UNITS_LINE = re.compile(r"^\s*" + _UNIT_PATTERNS[0].pattern.removeprefix(r"\b"), re.I | re.M)
+_UNITS_LINE = re.compile(r"^[ \t]*" + _UNIT_PATTERNS[0].pattern.removeprefix(r"\b"), re.I | re.M)
 
 
 def header_units(header: list[str]) -> str | None:

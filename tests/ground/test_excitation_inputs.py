@@ -100,6 +100,8 @@ def test_a_linear_orbit_refuses_a_text_angle():
         ((0.0, 0.01, [1.0]), r"^Table\.a_hor: expected two samples or more .* got 1$"),
         (([0.0, 0.02], 0.01, [0.0, 0.0]), r"^Table\.t0: expected a finite number"),
         ((0.0, [0.01], [0.0, 0.0]), r"^Table\.dt: expected a positive step \[s\], got \[0\.01\]"),
+        ((10**400, 0.01, [0.0, 0.0]), r"^Table\.t0: expected a finite number"),  # (OverflowError)
+        ((0.0, 0.01, [10**400, 0.0]), r"^Table\.a_hor: expected real samples, got \[1000"),
         ((0.0, -0.01, [1.0] * 10), r"^Table\.dt: expected a positive step \[s\], got -0\.01$"),
         ((0.0, 0.01, [0.0, 1.0, math.nan, 0.0]), r"^Table\.a_hor: .* sample 2 is nan$"),
         ((0.0, 0.01, [0.0, 1.0, 2.0], [0.0, 0.0]), r"^Table\.a_ver: expected 3 samples"),

@@ -538,6 +538,9 @@ def test_a_units_line_without_its_colon_states_the_units(tmp_path):
         assert read_motion(g).pga == pytest.approx(0.3 * 9.80665, rel=1e-15)
     # a line where the unit is followed by more words is no units line, nor is "units" on a
     # line of its own above the word
-    for i, head in enumerate(("units g station 5\n", "units\ng\n")):
+    # (and a "units:" line without its word reads none from the next line: "Units:" over
+    # "Station ABC" was refused as units 'Station' nsdyn does not know)
+    for i, head in enumerate(("units g station 5\n", "units\ng\n", "Units:\nStation ABC\n",
+                              "# units:\n# g\n")):
         with pytest.warns(UnitWarning, match="does not state its units"):
             read_motion(write(tmp_path, f"c{i}.txt", head + body))
