@@ -76,7 +76,7 @@ def note_unused_isolation(cfg: dict, system, law: str | None = None) -> str | No
 def note_default_isolation(cfg: dict, system, raw: dict | None) -> str | None:
     """A frame other than the office (a file of the user's, a bundled portal) on isolators
     whose scene file ``raw`` (None: the default scene, ``--frame FILE``) gives no ``k_lam``,
-    ``c`` or ``mu`` (under a law with friction): the default scene's, the seed office's
+    ``c`` or ``mu`` (``mu`` only under a law with friction): the default scene's, the office's
     design values, are used, sized for office-11's weight (they ran unsaid)."""
     from pathlib import Path
 
