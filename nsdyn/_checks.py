@@ -153,7 +153,7 @@ def finite_numbers(name: str, value, what: str, size: int | None = None):
         if ok and not isinstance(value, np.ndarray):  # [True, 1.0] is float: True is no 1.0
             flat = np.asarray(value, dtype=object).ravel().tolist()
             ok = not any(isinstance(x, bool | np.bool_) for x in flat)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a double: named)
         a, ok = np.empty(0), False
     if not (ok and a.ndim == 1 and a.size and (size is None or a.size == size)
             and np.all(np.isfinite(a))):  # fmt: skip

@@ -210,9 +210,11 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
     return resolve_paths(data, p.parent, str(path)) if what == "scene" else data
 
 
-# keys that tables mean their own way (a scene's kind, a bearing's type, a record's dt against a
-# solver's step): hinted only where one table other than [scene] has the key
+# keys that tables mean their own way (a scene's kind against a ground's, a record's dt against
+# a solver's step): no hint of where they belong, but for the homes named here (a deck's type
+# is its bearing's: no other table of its has one)
 GENERIC_KEYS = frozenset({"kind", "name", "type", "dt", "case"})
+GENERIC_HOMES = frozenset({("type", "bearing")})
 
 
 def unknown_key(source: str, where: str, key: str, valid, tables=None) -> SceneError:
@@ -223,8 +225,7 @@ def unknown_key(source: str, where: str, key: str, valid, tables=None) -> SceneE
     hint = did_you_mean(key, valid)
     here = where.rstrip(".")
     homes = [f"[{t}]" for t, keys in (tables or {}).items() if t != here and key in (keys or ())
-             and (key not in GENERIC_KEYS or t != "scene")]  # fmt: skip
-    homes = homes if key not in GENERIC_KEYS or len(homes) == 1 else []
+             and (key not in GENERIC_KEYS or (key, t) in GENERIC_HOMES)]  # fmt: skip
     if homes:  # (an exact key elsewhere before a near one here: deck.mu is no mass 'm')
         near = f" (or{hint.removeprefix(';')})".replace("? )", "?)") if hint else ""
         hint = f"; a key of {' or '.join(homes)}, not of [{here}]{near};"

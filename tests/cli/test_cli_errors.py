@@ -94,7 +94,8 @@ def test_an_unknown_key_is_named_with_the_valid_ones(key, says, capsys, tmp_path
      # the exact key elsewhere first: it only suggested the deck's mass 'm'
      ("deck", "mu", "deck.mu: unknown field; a key of [bearing], not of [deck] (or did you "
       "mean 'm'?); expected some of"),
-     # a scene's kind is no hint for another table's; a key one other table has is
+     # a scene's kind is no hint for another table's (nor a record's dt for a solver's step);
+     # a bearing's type is a deck's only one
      ("bearing", "kind", "bearing.kind: unknown field; expected some of"),
      ("deck", "type", "deck.type: unknown field; a key of [bearing], not of [deck]; expected "
       "some of")],
@@ -334,3 +335,15 @@ def test_an_output_step_longer_than_a_flag_cut_run_names_the_flag(tmp_path, caps
         assert main(["run", str(scene), "--t-end", "1", "--out", str(tmp_path / "o")]) == 2
         err = capsys.readouterr().err
         assert "solver.dt_out" in err and ("(the run ends at --t-end 1 s)" in err) is hint
+
+
+def test_a_generic_key_is_not_sent_to_a_table_that_means_it_otherwise():
+    # a rocking scene's [solver] dt was sent to [motion] (a one-column record's sample step),
+    # a contact [body] kind to [ground] (rigid or compliant)
+    from nsdyn.models.contact.scene import _FIELDS as contact
+    from nsdyn.models.rocking.scene import _FIELDS as rocking
+    from nsdyn.models.scenefile import unknown_key
+
+    for where, key, tables in (("solver.", "dt", rocking), ("body.", "kind", contact)):
+        said = str(unknown_key("s.toml", where, key, tables[where[:-1]], tables))
+        assert said.startswith(f"s.toml: {where}{key}: unknown field; expected some of [")
