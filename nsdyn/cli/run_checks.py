@@ -84,9 +84,10 @@ def note_default_isolation(cfg: dict, system, raw: dict | None) -> str | None:
     from nsdyn.models.isolated.defaults import C_DAMPER, K_LAM, MU
 
     frame, iso = cfg.get("scene", {}).get("frame"), getattr(system, "isolation", None)
-    office = FRAMES.find("office-11")
-    if iso is None or frame is None or frame == "office-11" or (
-            office is not None and Path(frame).resolve() == Path(str(office)).resolve()):
+    office = FRAMES.find("office-11")  # (a file with its text is the office: a checkout's
+    if iso is None or frame is None or frame == "office-11" or (  # frames/ beside a wheel's)
+            office is not None and Path(frame).is_file()
+            and Path(frame).read_bytes() == office.read_bytes()):
         return None  # fmt: skip
     given = (raw or {}).get("isolation") or {}
     keys = ("k_lam", "c") + ("mu",) * (iso.law != "none")  # (the law none has no friction)
