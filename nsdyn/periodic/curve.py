@@ -19,7 +19,7 @@ import numpy as np
 
 from nsdyn._brief import brief_repr
 from nsdyn._checks import did_you_mean
-from nsdyn.models.isolated.friction import STICK_SLIP_MIN
+from nsdyn.models.isolated.friction import STICK_SLIP_MIN, stick_slip
 from nsdyn.periodic.bifurcation import STABLE_MARGIN, family_note
 from nsdyn.periodic.discretisation import MORE_STEPS, Discretisation
 from nsdyn.periodic.protocol import GRAZE_TOL, PeriodicModel
@@ -414,7 +414,7 @@ def failures(curve: Curve, options: dict) -> list[dict]:
                 if 0 <= j < len(pts)]  # fmt: skip
         near = [s for s in near if s is not None and math.isfinite(s)]
         lo = STICK_SLIP_MIN  # (below it: a slip reversal passing the law's band, no stick)
-        if near and (min(near) < lo <= max(near) or any(lo <= s < 1.0 for s in near)):
+        if near and (min(near) < lo <= max(near) or any(map(stick_slip, near))):
             why.insert(0, "near a stick-slip transition")
         out.append({"f": float(p.f), "reason": "; ".join(why)})
     if options.get("continuation", "sequential") == "sequential" and not options.get(

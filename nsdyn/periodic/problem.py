@@ -264,8 +264,8 @@ class PeriodicProblem(MinimalStates):
                 f"reported: {quantities['acc']:.3g} m/s², those held to the velocity changes "
                 "(a smaller eps or the switch law resolves it)"
             )
-        stick_slip = stick_slip_note(quantities.get("stick_fraction"), "arctan",
-                                     KernelParams(self.P).eps)  # fmt: skip
+        law = KernelParams(self.P)  # (its stick fraction: NaN but under the arctan law)
+        stick_slip = stick_slip_note(quantities.get("stick_fraction"), law.law, law.eps)
         return "; ".join(notes + [stick_slip] * bool(stick_slip))  # fmt: skip
 
 

@@ -31,7 +31,7 @@ import numpy as np
 
 from nsdyn._progress import curve_count
 from nsdyn.atomic import atomic_open, differing
-from nsdyn.models.isolated.friction import STICK_SLIP_MIN
+from nsdyn.models.isolated.friction import stick_slip
 from nsdyn.models.scenefile import SceneError, number
 from nsdyn.studies.sweep import (
     CHECKPOINT_EVERY_S,
@@ -262,7 +262,7 @@ def summarise(r: dict) -> dict:
     u = np.array([x["u_peak_m"] for x in good], dtype=float)
     k = int(np.nanargmax(u)) if u.size and np.isfinite(u).any() else None
     stick = [x for x in rows if isinstance(x["stick_fraction"], float)
-             and STICK_SLIP_MIN <= x["stick_fraction"] < 1.0]  # fmt: skip
+             and stick_slip(x["stick_fraction"])]  # fmt: skip
     return {
         "A": r["A"], "points": len(rows), "resumed_points": r["resumed_points"],
         "fallback_points": sum(x["method"] == "sweep" for x in rows),

@@ -77,12 +77,18 @@ def stick_velocity(law: str, eps: float = EPS, eta: float = ETA) -> float:
 STICK_SLIP_MIN = 0.01
 
 
+def stick_slip(stick_fraction) -> bool:
+    """Whether an orbit of this stick fraction sticks over part of its period: from
+    :data:`STICK_SLIP_MIN` to below 1 (None and NaN: no)."""
+    return stick_fraction is not None and STICK_SLIP_MIN <= stick_fraction < 1.0
+
+
 def stick_slip_note(stick_fraction, law: str, eps: float = EPS) -> str | None:
     """A periodic orbit's note when it sticks over part of its period (``STICK_SLIP_MIN`` <=
     ``stick_fraction`` < 1; None otherwise, NaN included): under the arctan law its stick
     phases creep, and a small orbit can differ from true stick's many times over."""
     s = stick_fraction
-    if s is None or not STICK_SLIP_MIN <= s < 1.0:
+    if not stick_slip(s):
         return None
     creep = (f": under the arctan law its stick phases creep at up to "
              f"{stick_velocity('arctan', eps):.2g} m/s (eps = {eps:g} s/m), and a small "
