@@ -7,21 +7,30 @@ first order, robust through impact accumulations, sticking and hops; no event lo
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
-from nsdyn._checks import NumericalFailure, number, output_count, output_step, step_count
+from nsdyn._checks import (
+    AccuracyWarning,
+    NumericalFailure,
+    number,
+    output_count,
+    output_step,
+    step_count,
+)
 from nsdyn.ground import G_EARTH
 from nsdyn.models.contact import _kmoreau as km
 from nsdyn.models.contact.body import RigidBody
 from nsdyn.models.contact.event import _params, check_parts, start_state, tilt_angle
 from nsdyn.models.contact.excite import BaseMotion
 from nsdyn.models.contact.friction import FrictionLaw
-from nsdyn.models.contact.results import ContactResult
+from nsdyn.models.contact.results import MODE_NAMES, ContactResult, slenderness
 
 MODE_G_TOL = 1e-5  # output classification: on the ground when g <= MODE_G_TOL * L
 MODE_V_TOL = 1e-5  # ... slipping when |v_T| > MODE_V_TOL * sqrt(g L)
 STATUS = {-1: "contact LCP has no solution", -2: "non-finite state"}
+STEP_CHECK_RTOL = 0.1  # peaks at h and h/2 farther apart than this: the step is too long
 
 
 def check_step(h: float, motion: BaseMotion) -> None:
@@ -48,16 +57,20 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
                     t_end: float, h: float = 1e-3, theta: float = 0.5, e_n: float = 0.0,
                     theta0: float | None = None, theta0_over_alpha: float | None = None,
                     q0=None, v0=None, dt_out: float | None = None,
-                    g: float = G_EARTH) -> ContactResult:  # fmt: skip
+                    g: float = G_EARTH, step_check: bool = False) -> ContactResult:  # fmt: skip
     """Moreau-Jean run with step ``h``, storing every ``dt_out`` (default: every step; rounded
     to a whole number of steps, at least one: the result's ``t`` holds the times kept), from
     rest (tilted by ``theta0`` [rad] or ``theta0_over_alpha``) or from (q0, v0).
 
     The scheme is first order and passes through impacts without locating them: where the
-    body hops (``result.n_hops``) or rocks with restitution, its default step can be
-    qualitatively wrong (docs/guide/contact.md, the stability map). Repeat the run at ``h/2``
-    and compare the peaks, as a scene's step check does (``solver.step_check``), or use
-    :func:`nsdyn.models.contact.event.simulate_event`; this call itself says nothing."""
+    body hops (``result.n_hops``) or rocks through many impacts, its step can be qualitatively
+    wrong (docs/guide/contact.md, the stability map). ``step_check=True`` repeats the run at
+    ``h/2`` and compares the peak tilt and slide (within ``STEP_CHECK_RTOL`` above a floor of
+    1 % of the slenderness and 1e-4 of the body's size), as a scene does: the result's
+    ``step_check`` holds ``step_resolved`` (None: the run at h/2 failed), ``h_half_peaks``
+    and, unless resolved, ``step_note``, which an :class:`~nsdyn.AccuracyWarning` also says.
+    Without it, a run that hopped warns that its step is unchecked; otherwise it says nothing.
+    :func:`nsdyn.models.contact.event.simulate_event` locates every impact instead."""
     check_parts(body, friction, motion)
     body = body.unit_mass()  # (the same motion; forces of order g in the LCPs)
     h = number("h", h, "a positive step size [s]", lambda v: v > 0)
@@ -71,6 +84,7 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
     par = _params(body, friction, g)
     tilted = theta0 is not None or theta0_over_alpha is not None
     q, v = start_state(body, tilt_angle(body, theta0, theta0_over_alpha), q0, v0, tilted)
+    q_start, v_start = q.copy(), v.copy()  # (a step check restarts from them)
     n = int(round(t_end / h))
     stride = max(1, int(round((dt_out or h) / h)))
     L = par[6]
@@ -85,7 +99,54 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
                         0, t_stop if status == 1 else None, [], k, k, body.contacts,
                         MODE_G_TOL * L, first_change)  # fmt: skip
     res.n_impacts = _count_impacts(res, body, L)
+    if step_check:  # (the same outputs: only the steps halve)
+        kw = dict(t_end=t_end, theta=theta, e_n=e_n, q0=q_start, v0=v_start, g=g,
+                  dt_out=max(dt_out or h, h))  # fmt: skip
+        res.step_check = half_step_check(
+            res, body, h, lambda h2: simulate_moreau(body, friction, motion, h=h2, **kw)
+        )
+        if res.step_check["step_resolved"] is not True:
+            warnings.warn(res.step_check["step_note"], AccuracyWarning, stacklevel=2)
+    elif res.n_hops:
+        flight = (res.mode == MODE_NAMES.index("flight")).astype(np.int8)
+        t_hop = res.t[1:][np.diff(flight) > 0][0]
+        warnings.warn(f"Moreau-Jean: the body hopped {res.n_hops} times (first at t = "
+                      f"{t_hop:.4g} s); a step of h = {h:g} s passes impacts unlocated and can "
+                      "be qualitatively wrong here, and nothing checked it: pass "
+                      "step_check=True (a rerun at h/2) or use simulate_event",
+                      AccuracyWarning, stacklevel=2)  # fmt: skip
     return res
+
+
+def half_step_check(
+    res: ContactResult, body: RigidBody, h: float, rerun, h_name: str = "h",
+    instead: str = "the event-driven solver",
+) -> dict:  # fmt: skip
+    """The run ``res`` at step ``h`` against ``rerun(h / 2)`` (the scheme is first order: the
+    peaks move by about their error): ``step_resolved`` when the peak tilt and slide agree
+    within ``STEP_CHECK_RTOL`` above a floor of 1 % of the slenderness and 1e-4 of the body's
+    size (None: the rerun failed), ``h_half_peaks``, and unless resolved ``step_note`` saying
+    both and advising a smaller ``h_name`` or ``instead``."""
+    try:
+        with warnings.catch_warnings():  # (its hops are the run's own)
+            warnings.simplefilter("ignore", AccuracyWarning)
+            half = rerun(0.5 * h).summary()
+    except (ValueError, NumericalFailure) as e:  # the run stands; the check could not be made
+        return {"step_resolved": None, "step_note": f"the check at h/2 failed: {e}"}
+    s = res.summary()
+    alpha, size = slenderness(body), float(np.ptp(body.contacts, axis=0).max())
+    off = []
+    for k, floor in (("max_tilt_rad", 0.01 * alpha), ("max_slide_m", 1e-4 * size)):
+        a, b = s[k], half[k]
+        if abs(a - b) > STEP_CHECK_RTOL * max(abs(a), abs(b)) + floor:
+            off.append(f"{k} {a:.4g} at h = {h:g} s, {b:.4g} at h/2")
+    out = {"step_resolved": not off,
+           "h_half_peaks": {k: half[k] for k in ("max_tilt_rad", "max_slide_m")}}  # fmt: skip
+    if off:
+        out["step_note"] = ("the Moreau-Jean step does not resolve this response: "
+                            + "; ".join(off) + f": use a smaller {h_name} (first order: halve "
+                            f"it until the peaks settle) or {instead}")  # fmt: skip
+    return out
 
 
 def _sorted_jumps(jumps) -> np.ndarray:

@@ -50,6 +50,8 @@ class ContactResult(Tabular):
         ground when its gap is at most on_tol (None: ``slide`` is the base midpoint's shift)
     first_change : (t, mode index) of the first contact state other than rest, when the solver
         knows it (event-driven: after the mode rebuild at an event)
+    step_check : Moreau-Jean's check of its step at h/2 when asked for (``step_resolved``,
+        ``h_half_peaks``, ``step_note``; in the summary), else None
     """
 
     t: np.ndarray
@@ -67,6 +69,7 @@ class ContactResult(Tabular):
     contacts: np.ndarray | None = None
     on_tol: float = 0.0
     first_change: tuple | None = None
+    step_check: dict | None = None
 
     @property
     def slide(self) -> np.ndarray:
@@ -122,6 +125,7 @@ class ContactResult(Tabular):
             "first_motion": self.first_motion(),
             "t_first_motion_s": finite_or_none(self.t_first_motion()),
             "n_steps": int(self.n_steps),
+            **(self.step_check or {}),
         }
 
     def histories(self) -> dict:

@@ -9,6 +9,7 @@ the event-driven solver is the reference (seed 002's method, checked against Hou
 from __future__ import annotations
 
 import math
+import warnings
 
 import pytest
 
@@ -59,6 +60,33 @@ def test_a_scene_says_when_its_moreau_step_does_not_resolve_the_response(tmp_pat
     cfg["motion"]["pga"], cfg["solver"] = 0.5, {"method": "moreau", "h": 1e-3}
     quiet = run_scene(cfg, source="m.toml", out_dir=tmp_path, figures=False, quiet=True)
     assert quiet["step_resolved"] is True
+
+
+def test_a_python_moreau_run_checks_its_step_when_asked_and_warns_of_unchecked_hops():
+    # the scene's case above through the Python call: step_check=True repeats it at h/2, and
+    # the result and an AccuracyWarning say the step does not resolve it (the call said nothing)
+    gm = nsdyn.read_motion("synthetic-kt-20s").scaled_to_pga(5.0)
+    with pytest.warns(nsdyn.AccuracyWarning, match=r"^the Moreau-Jean step does not resolve "
+                                                   r"this response: max_tilt_rad"):  # fmt: skip
+        r = simulate_moreau(BODY, LAW, BaseMotion.from_motion(gm), t_end=12.0, step_check=True)
+    assert r.step_check["step_resolved"] is False and r.summary()["step_resolved"] is False
+    assert r.step_check["h_half_peaks"]["max_tilt_rad"] > 2 * r.summary()["max_tilt_rad"]
+    # free rocking of a 1 x 2 m block from alpha/2 that cannot slide (mu = 10): with e_n = 0.9
+    # it hops (the stability map's inaccurate corner), and a run that hopped unchecked warns,
+    # naming the first hop (the first impact at arccosh(2)/p = 0.513 s, Housner 1963); without
+    # restitution it rocks on its corners and says nothing
+    block, stuck = nsdyn.RigidBody.rectangle(1.0, 2.0, 1.0), nsdyn.FrictionLaw(10.0)
+    with pytest.warns(nsdyn.AccuracyWarning, match=r"^Moreau-Jean: the body hopped \d+ times "
+                                                   r"\(first at t = 0\.5\d* s\)"):  # fmt: skip
+        hops = simulate_moreau(block, stuck, t_end=2.0, h=1e-3, e_n=0.9, theta0_over_alpha=0.5)
+    assert hops.n_hops > 0 and hops.step_check is None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", nsdyn.AccuracyWarning)
+        rock = simulate_moreau(block, stuck, t_end=2.0, h=1e-3, theta0_over_alpha=0.5)
+        checked = simulate_moreau(block, stuck, t_end=2.0, h=1e-3, e_n=0.9,
+                                  theta0_over_alpha=0.5, step_check=True)  # fmt: skip
+    assert rock.n_hops == 0 and checked.n_hops == hops.n_hops
+    assert checked.step_check["step_resolved"] is True  # (its peak: the start's tilt)
 
 
 def test_a_polygon_in_other_units_than_metres_is_refused():
