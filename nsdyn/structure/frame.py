@@ -29,6 +29,7 @@ from nsdyn._checks import expect, finite_numbers, flag, number, whole
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements import element_matrices
 from nsdyn.structure.geometry import (
+    added_mass_note,
     check_geometry,
     check_stiffness_span,
     checked_base,
@@ -145,6 +146,7 @@ class Frame:
         if np.any(nm < 0) or not np.all(np.isfinite(nm)):
             raise ValueError("node_mass must be finite and >= 0")
         obj(self, "node_mass", nm)
+        added_mass_note("node masses", float(nm.sum()), float(np.sum(self.rho_A * L)))
         obj(self, "base_nodes", checked_base(self.base_nodes, nn))
         obj(self, "zeta", checked_zeta(self.zeta))
         if self.level_heights is None or len(self.level_nodes) == 0:

@@ -32,6 +32,7 @@ from nsdyn._checks import flag, mapped, number
 from nsdyn._lazy import LazyModule
 from nsdyn.structure.elements3d import global_matrices, local_axes
 from nsdyn.structure.geometry import (
+    added_mass_note,
     check_geometry,
     check_stiffness_span,
     checked_base,
@@ -203,6 +204,11 @@ class Frame3D:
         obj(self, "zeta", checked_zeta(self.zeta))
         obj(self, "diaphragms", tuple(self.diaphragms))
         self._check_diaphragms()
+        plan = sum(float(d.mass) for d in self.diaphragms)  # (in x and y; a node's in its own)
+        added = max(float(nm[:, 0].sum()) + plan, float(nm[:, 1].sum()) + plan, nm[:, 2].sum())
+        added_mass_note(
+            "node and diaphragm masses", float(added), float(np.sum(self.rho_A * self.lengths))
+        )
         if self.column_joints is not None:
             cj = frozen(self.column_joints, np.int64)
             if cj.ndim != 2 or cj.min() < 0 or cj.max() >= nn:

@@ -247,6 +247,24 @@ E_PLAUSIBLE = 1e8
 DENSITY_PLAUSIBLE = 100.0
 
 
+# the lightest added mass of a building frame as a share of its members' own: floors (slab,
+# finishes, cladding) outweigh the members that carry them, the office's six to one; masses
+# in tonnes read as kilograms are a thousandth of that (0.6 % on the office)
+ADDED_MASS_PLAUSIBLE = 0.02
+
+
+def added_mass_note(what: str, added: float, members: float) -> None:
+    """A NotedWarning when a frame's ``what`` (its node or diaphragm masses, a regular frame's
+    floor masses) sum to ``added`` [kg], less than :data:`ADDED_MASS_PLAUSIBLE` of its
+    members' ``members`` [kg] (none: a bare frame)."""
+    if 0 < added < ADDED_MASS_PLAUSIBLE * members:
+        warnings.warn(f"node_mass: the frame's {what} (a regular frame's floor_mass) sum to "
+                      f"{added:.4g} kg, {added / members:.2%} of its members' own "
+                      f"{members:.4g} kg, where a building's floors outweigh the members that "
+                      "carry them: given in tonnes? (masses are in kg)",
+                      NotedWarning, stacklevel=4)  # fmt: skip
+
+
 def section_notes(path: str, tbl, E, A, rho_A) -> None:
     """:func:`material_notes` of a frame file's section table ``tbl`` at ``path``: a value
     given as a list (one entry per storey) is named by its index, ``frame.columns.E[1]``."""

@@ -101,3 +101,27 @@ def test_a_near_massless_member_is_noted_and_a_massless_one_is_not(tmp_path):
         warnings.simplefilter("error", InputWarning)
         load_frame(bare)
     assert 10.0 < DENSITY_PLAUSIBLE < 500.0  # (below timber's, the lightest member material)
+
+
+@pytest.mark.parametrize(("name", "load", "table", "tonnes"),
+                         [("office-11.toml", load_frame, "frame", 606.5),
+                          ("office-11-3d.toml", load_frame3d, "frame3d", 2957.88)])  # fmt: skip
+def test_floor_masses_in_tonnes_are_noted_naming_their_sum(tmp_path, name, load, table, tonnes):
+    # the office's floor masses in tonnes (57.5 for 57 500 kg) ran a frame of its members'
+    # mass alone, six times lighter (the plane office's floors: 606.5 t against its members'
+    # 96.6 t), unsaid; below ADDED_MASS_PLAUSIBLE of the members' mass they are noted with
+    # the sum of the file's floor masses (10 x 57.5 + 31.5 t in the plane, 10 x 283.08 + 127.08
+    # t in 3D)
+    from nsdyn.structure.geometry import ADDED_MASS_PLAUSIBLE
+
+    text = (FRAMES / name).read_text()
+    line = re.search(r"^floor_mass = \[(.*)\]$", text, flags=re.M)
+    t = [float(v) / 1000 for v in line.group(1).split(",")]
+    p = tmp_path / name
+    p.write_text(text.replace(line.group(0), f"floor_mass = {t}"))
+    assert sum(t) == pytest.approx(tonnes, rel=1e-12)
+    with pytest.warns(InputWarning, match=rf"^{re.escape(str(p))}: {table}.node_mass: the "
+                      rf".* sum to {tonnes:.4g} kg, 0\.\d+% of its members' own"):  # fmt: skip
+        frame = load(p)
+    members = float((frame.rho_A * frame.lengths).sum())
+    assert sum(t) < ADDED_MASS_PLAUSIBLE * members < 1000 * sum(t)  # (kg: above it)
