@@ -38,8 +38,8 @@ from nsdyn.studies.sweep import (
     CheckpointMismatch,
     amplitude_tag,
     format_csv_value,
-    point_from_dict,
     point_to_dict,
+    resumed_start,
 )
 from nsdyn.studies.workers import gather, process_pool, saved_on_interrupt
 
@@ -134,16 +134,6 @@ def checkpoint_path(out_dir: Path, amplitude: float) -> Path:
     return Path(out_dir) / CHECKPOINT_NAME.format(amplitude=amplitude_tag(amplitude))
 
 
-def _load(path: Path, identity: dict) -> list | None:
-    try:
-        data = json.loads(Path(path).read_text())
-    except (OSError, ValueError):
-        return None
-    if data.get("identity") != json.loads(json.dumps(identity)):
-        return None
-    return [point_from_dict(d) for d in data.get("points", [])]
-
-
 def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweepSettings,
                   out_dir: str, restart: bool = False, quiet: bool = False) -> dict:  # fmt: skip
     """The curve at one amplitude, resumable through its checkpoint; a picklable summary
@@ -159,7 +149,7 @@ def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweep
     pb = plane_problem(sc["system"], sc["orbit"], amplitude=amplitude, **{**kw, "law": law})
     ident = _identity(cfg, amplitude, settings)
     ckpt = checkpoint_path(Path(out_dir), amplitude)
-    start = None if restart else _load(ckpt, ident)
+    start = resumed_start(ckpt, ident, amplitude, restart, quiet)
     n_resumed = len(start or [])
     done = list(start or [])
     last = [time.perf_counter()]

@@ -199,6 +199,24 @@ def load_checkpoint(path: Path, identity: dict) -> list | None:
     return [point_from_dict(d) for d in data.get("points", [])]
 
 
+def resumed_start(ckpt: Path, identity: dict, amplitude: float, restart: bool,
+                  quiet: bool) -> list | None:  # fmt: skip
+    """The points a curve resumes from its checkpoint ``ckpt`` (None: with ``restart``, or
+    none of these settings), said on stderr unless ``quiet``: how many and to which
+    frequency, or that a finished curve of other settings is started afresh (an unfinished
+    one was refused before: :func:`refuse_foreign_checkpoints`)."""
+    if restart:
+        return None
+    start = load_checkpoint(ckpt, identity)
+    if not quiet and start:
+        print(f"[A={amplitude:g}] resuming from {ckpt.name}: {len(start)} points on file, to f = "
+              f"{start[-1].f:.4g} Hz", file=sys.stderr, flush=True)  # fmt: skip
+    elif not quiet and start is None and ckpt.exists():
+        print(f"[A={amplitude:g}] {ckpt.name} holds a finished curve of other settings: "
+              "started afresh (it will be replaced)", file=sys.stderr, flush=True)  # fmt: skip
+    return start
+
+
 # ---- one amplitude (runs in a worker process) -----------------------------------------------
 def amplitude_job(
     cfg: dict,
@@ -225,7 +243,7 @@ def amplitude_job(
     load = load and replace(load, F=float(amplitude))
     ident = _identity(cfg, amplitude, settings)
     ckpt = checkpoint_path(Path(out_dir), amplitude)
-    start = None if restart else load_checkpoint(ckpt, ident)
+    start = resumed_start(ckpt, ident, amplitude, restart, quiet)
     n_resumed = len(start or [])
     pts_done: list = list(start or [])
     last_write = [time.perf_counter()]

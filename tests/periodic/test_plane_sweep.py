@@ -92,8 +92,17 @@ def test_nsdyn_sweep_on_the_example_scene_gives_the_closed_form_and_resumes(tmp_
     assert list(csv.DictReader((out / "sweep.csv").open())) == rows
     # the table says so: its wall time is this run's alone (the resumed points' not in it)
     assert nsdyn_main(argv[:-1]) == 0
-    text = capsys.readouterr().out
-    assert text.count("4 of 4 points resumed from the checkpoint (wall [s]: this run's") == 2
+    cap = capsys.readouterr()
+    assert cap.out.count("4 of 4 points resumed from the checkpoint (wall [s]: this run's") == 2
+    # ... and says so as each curve starts (an interrupted sweep's rerun began unsaid); a
+    # finished curve of other settings (3 points) is started afresh, said as well
+    for A in (A0, 1.5 * A0):
+        said = f"[A={A:g}] resuming from {checkpoint_path(out, A).name}: 4 points on file, to "
+        assert said + "f = 1.4 Hz" in cap.err
+    assert nsdyn_main([*argv[:7], "3", *argv[8:-1]]) == 0
+    err = capsys.readouterr().err
+    assert err.count("holds a finished curve of other settings: started afresh") == 2
+    assert "resuming" not in err
 
 
 def test_a_band_refused_against_the_scenes_end_names_that_end(tmp_path, capsys):
