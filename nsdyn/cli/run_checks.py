@@ -85,10 +85,18 @@ def note_default_isolation(cfg: dict, system, raw: dict | None) -> str | None:
 
     frame, iso = cfg.get("scene", {}).get("frame"), getattr(system, "isolation", None)
     office = FRAMES.find("office-11")  # (a file with its text is the office: a checkout's
-    if iso is None or frame is None or frame == "office-11" or (  # frames/ beside a wheel's)
-            office is not None and Path(frame).is_file()
-            and Path(frame).read_bytes() == office.read_bytes()):
-        return None  # fmt: skip
+    # frames/ beside a wheel's)
+    if (
+        iso is None
+        or frame is None
+        or frame == "office-11"
+        or (
+            office is not None
+            and Path(frame).is_file()
+            and Path(frame).read_bytes() == office.read_bytes()
+        )
+    ):
+        return None
     given = (raw or {}).get("isolation") or {}
     keys = ("k_lam", "c") + ("mu",) * (iso.law != "none")  # (the law none has no friction)
     missing = [k for k in keys if k not in given]

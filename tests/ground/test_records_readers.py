@@ -540,7 +540,8 @@ def test_a_units_line_without_its_colon_states_the_units(tmp_path):
     # line of its own above the word
     # (and a "units:" line without its word reads none from the next line: "Units:" over
     # "Station ABC" was refused as units 'Station' nsdyn does not know)
-    for i, head in enumerate(("units g station 5\n", "units\ng\n", "Units:\nStation ABC\n",
-                              "# units:\n# g\n")):
+    for i, head in enumerate(
+        ("units g station 5\n", "units\ng\n", "Units:\nStation ABC\n", "# units:\n# g\n")
+    ):
         with pytest.warns(UnitWarning, match="does not state its units"):
             read_motion(write(tmp_path, f"c{i}.txt", head + body))
