@@ -552,7 +552,8 @@ def simulate(
         integrated_law(system, method),
         failure,
     )
-    res.notes = record_span_notes(t_eval, motion) + result_notes(res, Pm, evaluated[0], dt,
-                                                                     motion)  # fmt: skip
+    res.notes = record_span_notes(t_eval, motion) + result_notes(
+        res, Pm, evaluated[0], dt, motion, rtol
+    )
     res.restitution = float(restitution)
     return between_steps(res, dt, uplift)
