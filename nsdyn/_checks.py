@@ -98,15 +98,17 @@ ALPHA_PARAMETERS = ("alpha", "alpha_f", "alpha_m", "beta", "gamma")
 # the tightest meaningful relative tolerance: 100 times double precision's epsilon 2**-52, the
 # floor SciPy's solve_ivp raises a smaller rtol to; below it the relative error test measures
 # round-off, and with a tiny atol no step passes (a step underflow or a spent step budget
-# whose message would blame the model)
-RTOL_MIN = 100 * 2.0**-52
+# whose message would blame the model). Rounded down to the 2.2e-14 its messages print (its
+# exact 2.22e-14 refused a 2.2e-14 "expected 2.2e-14 <= rtol")
+RTOL_MIN = 2.2e-14
 
 
 def rel_tol(name: str, value) -> float:
     """A relative tolerance ``RTOL_MIN <= value < 1`` as a float, or ValueError naming
     ``name`` (a tolerance of 1 or more lets an adaptive step accept any error: a run of
     nonsense; below ``RTOL_MIN`` the error test measures round-off)."""
-    what = f"a relative tolerance {RTOL_MIN:.2g} <= {name} < 1 (100x double precision's epsilon)"
+    what = (f"a relative tolerance {RTOL_MIN:.2g} <= {name} < 1 (about 100x double precision's "
+            "epsilon)")  # fmt: skip
     return number(name, value, what, lambda v: RTOL_MIN <= v < 1)
 
 

@@ -103,6 +103,10 @@ _ = _tiny_problem  # the no-JIT test builds its system with it (``from ... impor
 SOLVE_RTOL = 1e-6  # solve()'s relative tolerance (references; runs use the scene's)
 SOLVE_ATOL = 1e-8  # solve()'s absolute tolerance [m, m/s]
 DEFAULT_MAX_STEPS = 2_000_000  # step attempts (accepted + rejected) before giving up
+# an atol below this [m, m/s] can stall an adaptive run's steps and events near a zero
+# velocity, a failure read as the model's: the Coulomb oscillator's event run (rtol 1e-8)
+# reported chattering at atol 1e-13 to 1e-16 and ran at 1e-12 (said with such failures)
+ATOL_STALL = 1e-12
 
 # status -> message (advice). Fields: t, h, res, contact, method, max_steps, floor
 MESSAGES = {
@@ -122,7 +126,7 @@ MESSAGES = {
     ),
     ki.ST_NEWTON: (
         "Newton iteration did not converge at t = {t:.6g} s with dt = {h:.3g} s (scaled "
-        "residual {res:.3g}): use a smaller dt, or the adaptive implicit method 'radau'"
+        "residual {res:.3g}): {newton_advice}"
     ),
     ki.ST_UPLIFT: (
         "uplift at t = {t:.6g} s: the normal force of contact {contact} reached zero, so the "
@@ -436,7 +440,13 @@ def _finish(
         max_steps=opts.max_steps,
         floor=ki.MIN_STEP,
         stiff_advice=STIFF_ADVICE.get(m.name, FIXED_STEP_ADVICE),
+        newton_advice="use a smaller dt, or the adaptive implicit method 'radau'",
     )
+    if law == "switch" and m.fixed_step:  # (a smaller dt fails alike: 5 ms to 0.1 ms, 1.4 s)
+        fields["newton_advice"] = ("the switch law's stick is a set-valued force, which a fixed "
+                                   "step passes over at a velocity reversal (a smaller dt does "
+                                   "not help: 5 ms to 0.1 ms stop alike on the default scene): "
+                                   "use method 'event' (its stick exact) or 'radau'")  # fmt: skip
     small = status == ki.ST_MAX_STEPS and opts.max_steps < DEFAULT_MAX_STEPS  # a given budget
     if small:
         fields["stiff_advice"] = (f"the budget given is below the default {DEFAULT_MAX_STEPS}; "
@@ -471,7 +481,14 @@ def _finish(
             f"(eps = {eps:.3g} s/m), which a step of {fields['h']:.3g} s passes in one: a smaller "
             "eps (a softer law) or dt lets Newton follow it"
         )
-    if status in (ki.ST_NEWTON, ki.ST_STEP_UNDERFLOW) and law == "switch" and m.name != "event":
+    stalled = (ki.ST_STEP_UNDERFLOW, ki.ST_MAX_STEPS, ki.ST_EVENTS)
+    if status in stalled and not m.fixed_step and opts.atol.min() < ATOL_STALL:
+        message += (
+            f"; atol = {opts.atol.min():.3g} is far below the states' size: an error test this "
+            "tight can stall steps and events near a zero velocity (a run failing so at 1e-13 "
+            f"runs at {ATOL_STALL:g}); retry with a larger atol before reading this as the model's"
+        )
+    if status == ki.ST_STEP_UNDERFLOW and law == "switch" and m.name != "event":
         message += (
             "; the switch law is discontinuous (stick/slip decided inside the right-hand "
             "side): use method 'event'"

@@ -89,11 +89,8 @@ class Method:
 def make_options(
     x0, method, rtol, atol, dt, h0, adaptive, max_step, max_steps, uplift, rho_inf, modes0
 ) -> Options:
-    """Check the options of a run with ``method`` from state ``x0`` (length 2n).
-
-    ``atol`` may be a number, a pair (atol_q, atol_v) or 2n values. Raises ValueError naming
-    the option and the expected form.
-    """
+    """Check the options of a run with ``method`` from state ``x0`` (length 2n). ``atol`` may
+    be a number, a pair (atol_q, atol_v) or 2n values. ValueError naming the option and form."""
     n2 = x0.size
     if isinstance(rtol, str | bool) or isinstance(atol, str | bool):
         raise TypeError(f"rtol, atol: expected numbers, got {rtol!r}, {atol!r}")
@@ -109,8 +106,9 @@ def make_options(
             f"atol: expected a number, a pair (atol_q, atol_v) or {n2} values, got shape {a.shape}"
         )
     rel_tol("rtol", rtol)
-    if not (np.all(atol_arr >= 0) and np.all(np.isfinite(atol_arr))):
-        raise ValueError(f"atol: expected values >= 0, got {atol}")
+    floor = 0 if method.fixed_step or not adaptive else np.finfo(float).tiny  # (unread, or >0:
+    if not (np.all(atol_arr >= floor) and np.all(np.isfinite(atol_arr))):  # from rest, rtol|x|=0)
+        raise ValueError(f"atol: expected values > 0 (0 at a state starting from 0), got {atol}")
     if uplift not in ("raise", "warn"):
         raise ValueError(f"uplift: expected 'raise' or 'warn', got {uplift!r}")
     if (method.fixed_step or not adaptive) and (dt is None or not dt > 0):

@@ -87,12 +87,20 @@ def test_the_default_budget_spent_names_the_cause_not_the_budget(monkeypatch):
 
 
 def test_newton_divergence_names_time_step_and_remedy():
+    # the switch law's stick is set-valued: a fixed step stops at the same velocity reversal
+    # whatever its size (the times converge to one instant as dt shrinks 100-fold), so the
+    # remedy named is the event method, not a smaller dt (which the message led with)
     P = _coulomb("switch", ground=Harmonic(5.0, 1.0))
-    with pytest.raises(IntegrationError) as ei:
-        solve(P, np.zeros(4), np.linspace(0.0, 2.0, 5), method="genalpha", dt=0.05)
-    e = ei.value
-    assert e.reason == "newton_divergence" and 0.0 < e.t < 2.0
-    assert "dt = 0.05" in str(e) and "smaller dt" in str(e)
+    ts = []
+    for dt in (0.05, 0.005, 0.0005):
+        with pytest.raises(IntegrationError) as ei:
+            solve(P, np.zeros(4), np.linspace(0.0, 2.0, 5), method="genalpha", dt=dt)
+        e = ei.value
+        assert e.reason == "newton_divergence" and 0.0 < e.t < 2.0
+        assert f"dt = {dt:g}" in str(e) and "a smaller dt does not help" in str(e)
+        assert "use method 'event'" in str(e)
+        ts.append(e.t)
+    assert abs(ts[2] - ts[1]) <= 0.005 + 0.0005  # (within the coarser step of the two)
 
 
 @pytest.mark.parametrize("method", ["radau", "dopri5"])
@@ -253,3 +261,25 @@ def test_spectrum_nan_says_not_found_up_to_a_max():
         blk = RockingBlock(width=0.3, height=1.2)
         sp = overturning_spectrum(blk, [1.0], executor=ex, a_max=1.05)
     assert math.isnan(sp.a_min_ratio[0]) and sp.status == ["no overturning up to a_max"]
+
+
+def test_a_failure_under_an_atol_far_below_the_states_says_so():
+    # the Coulomb oscillator's event run (examples/scenes/isolated-coulomb-force.toml, rtol
+    # 1e-8) under atol 1e-30 stopped as "chattering stick-slip or Zeno behaviour", advising
+    # tighter tolerances, on a response with a stick fraction of 0.003; at the scene's 1e-10
+    # it runs. The failure now names the atol as a cause to rule out first
+    from pathlib import Path
+
+    from nsdyn.models.isolated.scene import build_scene, load_scene
+    from nsdyn.solve.integrate import ATOL_STALL
+    from nsdyn.solve.transient import simulate
+
+    scene = Path(__file__).resolve().parents[2] / "examples/scenes/isolated-coulomb-force.toml"
+    system, force = build_scene(load_scene(scene))
+    kw = dict(method="event", rtol=1e-8, t_end=10.0, dt_out=0.01)
+    ok = simulate(system, force, atol=1e-10, **kw)
+    assert 0.0 < ok.summary()["stick_fraction"] < 0.01
+    with pytest.raises(IntegrationError, match=r"atol = 1e-30 is far below the states' size: .*"
+                                               r"retry with a larger atol"):  # fmt: skip
+        simulate(system, force, atol=1e-30, **kw)
+    assert 1e-30 < ATOL_STALL <= 1e-10  # (between the failing atol and the scene's)

@@ -72,6 +72,17 @@ def test_the_library_refuses_the_same_tolerances():
         simulate(system, motion, t_end=1.0, rtol=1.0)
     with pytest.raises(ValueError, match="tol: expected a relative tolerance 2.2e-14 <= tol < 1"):
         simulate_rocking(RockingBlock(width=0.5, height=2.0), None, t_end=1.0, tol=3.0)
+    # atol 0 as a scene refuses it: a run from rest met no error test (rtol |x| = 0), and
+    # failed as "the right-hand side is (nearly) discontinuous"
+    with pytest.raises(ValueError, match=r"^atol: expected values > 0 \(0 at a state starting"):
+        simulate(system, motion, t_end=1.0, atol=0.0)
+    # the floor the messages print is the floor: 2.2e-14 itself was refused as "expected
+    # 2.2e-14 <= rtol" (the floor was 100 x 2**-52 = 2.22e-14)
+    from nsdyn._checks import rel_tol
+
+    assert rel_tol("rtol", 2.2e-14) == 2.2e-14
+    with pytest.raises(ValueError, match=r"expected a relative tolerance 2.2e-14 <= rtol < 1"):
+        rel_tol("rtol", 2.19e-14)
 
 
 def test_json_reports_usage_and_command_errors_too(capsys):
