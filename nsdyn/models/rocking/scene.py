@@ -72,6 +72,11 @@ METHODS = ("dopri5",)  # the rocking integrator (event-located Dormand-Prince 5(
 # seconds a first run compiles the kernels (2-core machine, empty cache): a middling hour's,
 # 1.8x the fast hour's in the family table of docs/dev/first-runs.md
 COMPILE_ABOUT_S = 4.0
+# a Housner run is repeated at TOL_CHECK x its tolerance (a run takes milliseconds): its
+# outcome and peak tilt / alpha (within TOL_CHECK_ABS + TOL_CHECK_REL of it) must agree. At
+# solver.tol = 1e-4 a 2 x 4 m block under a 0.81 Hz sine of 1 g peaked at 1.45 alpha and
+# ended "leaning past its tip-over angle", at 1e-7 and the default 1e-9 at 1.011 alpha
+TOL_CHECK, TOL_CHECK_ABS, TOL_CHECK_REL = 1e-3, 0.01, 0.02
 
 
 def kernels_cached(model) -> bool:
@@ -328,6 +333,8 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         else:
             res = blk.simulate_rocking(model, exc, t_end=t_end, tol=tol, dt_out=dt_out, **th0,
                                        **start)  # fmt: skip
+            checked = tol_check(res, tol, lambda t2: blk.simulate_rocking(
+                model, exc, t_end=t_end, tol=t2, dt_out=0.0, **th0, **start))  # fmt: skip
     if isinstance(model, CompliantBlock):
         s = res.summary()
         arrays = {"t": res.t, "y": res.y, "theta": res.theta, "thetad": res.thetad,
@@ -359,10 +366,42 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
               "theta0_rad": float(res.theta[0]) + 0.0 if res.t.size else 0.0,
               "wall_s": wall, "compile_s": compile_s, "files": files})  # fmt: skip
     s.setdefault("outcome", outcome(s)[0])  # (every block's summary has one)
+    if not isinstance(model, CompliantBlock):
+        s.update(checked)
+        if checked.get("tol_note"):
+            notes.append(checked["tol_note"])
+            say(f"rocking: note: {checked['tol_note']}")
     if notes:
         s["notes"] = notes
     say(f"rocking: done in {wall:.3f} s ({compile_note(compile_s)})")
     return s
+
+
+def tol_check(res, tol: float, rerun) -> dict:
+    """``res`` (at ``tol``) against ``rerun(TOL_CHECK * tol)``: ``tol_resolved`` when their
+    outcomes and peak tilts / alpha agree (module constants), else False with ``tol_note``
+    saying both; None when the rerun failed or ``tol`` is at the floor of tolerances."""
+    from nsdyn._checks import RTOL_MIN, NumericalFailure
+    from nsdyn.models.rocking.block import TOL
+
+    t2 = max(TOL_CHECK * tol, RTOL_MIN)
+    if t2 >= tol:
+        return {"tol_resolved": None}
+    try:
+        b = rerun(t2).summary()
+    except (ValueError, NumericalFailure) as e:  # (the run stands; the check could not be made)
+        return {"tol_resolved": None,
+                "tol_note": f"the check at solver.tol = {t2:.2g} failed: {e}"}  # fmt: skip
+    a = res.summary()
+    x, y = a["max_theta_over_alpha"], b["max_theta_over_alpha"]
+    ok = a["outcome"] == b["outcome"] and abs(x - y) <= TOL_CHECK_ABS + TOL_CHECK_REL * max(x, y)
+    out = {"tol_resolved": ok, "tol_check_peak_over_alpha": y}
+    if not ok:
+        out["tol_note"] = (f"solver.tol = {tol:.2g} does not resolve this response: peak tilt "
+                           f"{x:.4g} alpha, {a['outcome']}, against {y:.4g} alpha, "
+                           f"{b['outcome']} at {t2:.2g}; tighten solver.tol (default "
+                           f"{TOL:g})")  # fmt: skip
+    return out
 
 
 def excitation_text(exc, what: str) -> str:
