@@ -499,7 +499,8 @@ def outcome(s: dict) -> tuple[str, str]:
     ``uplift``: a normal force reached zero under ``contact = "detect"`` with ``uplift =
     "warn"`` (the run went on outside the no-uplift model); ``lift-off``: the unilateral model
     lifted an isolator off and landed it; ``would lift off``: a bilateral run whose normal
-    force turned negative (held down by the model); ``in contact`` otherwise.
+    force turned negative (held down by the model); ``contact assumed`` for fixed normal forces
+    (nothing to check); ``in contact`` otherwise.
     """
     if s.get("fidelity") == "fixed":
         return "fixed base", "fixed base (no isolators to lift off)"
@@ -523,5 +524,10 @@ def outcome(s: dict) -> tuple[str, str]:
         return "would lift off", (
             f"a normal force turned negative{at}: the bilateral model held the isolator down "
             "(rerun with isolation.contact = 'unilateral' to let it lift off)"
+        )
+    if s.get("min_normal_force_N") is None:  # (no contact rows: a shear building's)
+        return "contact assumed", (
+            "contact assumed: each isolator's normal force is fixed at "
+            "the weight it carries, so no uplift is modelled or checked"
         )
     return "in contact", "every isolator stayed in contact (no uplift)"
