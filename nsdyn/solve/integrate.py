@@ -70,6 +70,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from nsdyn._checks import NumericalFailure, number
+from nsdyn.models.isolated.bearings import ALPHA_PLAUSIBLE
 from nsdyn.models.isolated.params import KernelParams
 from nsdyn.solve import _kcommon as ki
 from nsdyn.solve.checkpoint import held_call
@@ -403,6 +404,7 @@ def solve(
         warn_uplift=contact == "detect",
         extra=extra,
         eps=kp.eps,
+        alpha=kp.alpha if contact == "unilateral" else None,
     )
     sol.contact = contact
     if carries_acc and np.all(np.isfinite(opts.acc)):  # (what the kernel left: it ran)
@@ -427,6 +429,7 @@ def _finish(
     warn_uplift=True,
     extra=None,
     eps=None,
+    alpha=None,
 ):
     status = int(stats[ki.S_STATUS])
     nout = int(stats[ki.S_NOUT])
@@ -452,6 +455,12 @@ def _finish(
         fields["stiff_advice"] = (f"the budget given is below the default {DEFAULT_MAX_STEPS}; "
                                   "raise it (if a larger one runs out too: "
                                   f"{fields['stiff_advice']})")  # fmt: skip
+    if alpha is not None and alpha > ALPHA_PLAUSIBLE:  # (the cause to rule out first)
+        fields["stiff_advice"] = (
+            f"the contacts' Baumgarte gain alpha = {alpha:g} 1/s, above "
+            f"{ALPHA_PLAUSIBLE:g}, stiffens the lifting rows: lower it "
+            f"(default 2 pi) first; else {fields['stiff_advice']}"
+        )
     message = MESSAGES[status].format(**fields)
     if small:
         message = message.removesuffix("; or increase max_steps")

@@ -283,3 +283,23 @@ def test_a_failure_under_an_atol_far_below_the_states_says_so():
                                                r"retry with a larger atol"):  # fmt: skip
         simulate(system, force, atol=1e-30, **kw)
     assert 1e-30 < ATOL_STALL <= 1e-10  # (between the failing atol and the scene's)
+
+
+def test_a_stalled_unilateral_run_under_a_huge_baumgarte_gain_names_it_first():
+    # the uplift-pocket scene with isolation.alpha = 1e8 (its stabilisation alpha^2 R q equals
+    # gravity at a gap of 1e-15 m) stopped at its first lift-off with "lower eps, or use
+    # method 'event'", advice on a law it does not have; the gain is named first now
+    from pathlib import Path
+
+    from nsdyn.models.isolated.bearings import ALPHA_PLAUSIBLE
+    from nsdyn.models.isolated.scene import build_scene, load_scene
+    from nsdyn.solve.transient import simulate
+
+    scene = Path(__file__).resolve().parents[2] / "examples/scenes/isolated-uplift-pocket.toml"
+    cfg = load_scene(scene)
+    cfg["isolation"]["alpha"] = 1e8
+    system, motion = build_scene(cfg)
+    with pytest.raises(IntegrationError, match=r"^step size fell below .*: the contacts' "
+                                               r"Baumgarte gain alpha = 1e\+08 1/s"):  # fmt: skip
+        simulate(system, motion, method="radau", t_end=13.0, contact="unilateral")
+    assert ALPHA_PLAUSIBLE < 1e8
