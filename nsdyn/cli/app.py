@@ -399,6 +399,13 @@ def _flushed() -> bool:
 
 def _main(argv: list[str]) -> int:
     only = argv[0] if argv and argv[0] in COMMANDS else ""  # no command: configure none
+    if only == "bench" and {"-h", "--help"} & set(argv):  # a benchmark's own help
+        from nsdyn.cli.bench import benchmark_help
+
+        text = benchmark_help(argv[1:])
+        if text is not None:
+            print(text)
+            return 0
     parser = build_parser(only)
     if not argv:  # `nsdyn` alone: one line, every command named
         parser.error(f"a command is required: {', '.join(COMMANDS)}")

@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import textwrap
 import warnings
 from pathlib import Path
 
@@ -56,6 +57,20 @@ _GIVEN = (
     ("--families", "families"),
     ("--curve", "curve"),
 )
+_FLAG = {option: flag for flag, option in _GIVEN}
+OPTION_HELP = {  # (the help of each; `nsdyn bench NAME --help` lists the benchmark's own)
+    "repeats": f"timed repeats per point, median quoted (default: the benchmark's own, {REPEATS} "
+    "and 1 with --quick for most; speed 5 (3), its default-run ratio at least 5, isolators 5 "
+    "(2), scale 1). rocking, contact, cylinder, stability and studies take none (rocking and "
+    "cylinder time a fixed 7 (3) and 5 (3))",
+    "records": "accuracy: comma-separated records among wn (white noise), kt (Kanai-Tajimi)",
+    "cold_compile": "speed: also time the JIT compilation with an empty numba cache (a few "
+    "minutes)",
+    "families": "speed: also the first run of every model family, each in a fresh process with "
+    "an empty numba cache, then a cached start (several minutes)",
+    "curve": "switch_shooting: instead of the points, one whole 150-point curve (--quick: 40), "
+    "switch against arctan",
+}
 EXIT_UNAVAILABLE = 1  # `all`: a benchmark module exists but does not import
 
 
@@ -90,41 +105,54 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--out", type=out_dir, default=str(DEFAULT_OUT), metavar="DIR", help="output directory"
     )
-    p.add_argument(
-        "--repeats",
-        type=positive_int,
-        default=None,
-        metavar="N",
-        help=f"timed repeats per point, median quoted (default: the benchmark's own, {REPEATS} "
-        "and 1 with --quick for most; speed 5 (3), its default-run ratio at least 5, "
-        "isolators 5 (2), scale 1). rocking, contact, cylinder, stability and studies take "
-        "none (rocking and cylinder time a fixed 7 (3) and 5 (3))",
-    )
-    p.add_argument(
-        "--records",
-        default=RECORDS_DEFAULT,
-        metavar="LIST",
-        help="accuracy: comma-separated records among wn (white noise), kt (Kanai-Tajimi)",
-    )
-    p.add_argument(
-        "--cold-compile",
-        action="store_true",
-        help="speed: also time the JIT compilation with an empty numba cache (a few minutes)",
-    )
-    p.add_argument(
-        "--families",
-        action="store_true",
-        help="speed: also the first run of every model family, each in a fresh process with an "
-        "empty numba cache, then a cached start (several minutes)",
-    )
-    p.add_argument(
-        "--curve",
-        action="store_true",
-        help="switch_shooting: instead of the points, one whole 150-point curve (--quick: "
-        "40), switch against arctan",
-    )
+    p.add_argument("--repeats", type=positive_int, default=None, metavar="N",
+                   help=OPTION_HELP["repeats"])  # fmt: skip
+    p.add_argument("--records", default=RECORDS_DEFAULT, metavar="LIST",
+                   help=OPTION_HELP["records"])  # fmt: skip
+    for option in ("cold_compile", "families", "curve"):
+        p.add_argument(_FLAG[option], action="store_true", help=OPTION_HELP[option])
     p.add_argument("--no-figures", action="store_true", help="write the CSV tables only")
     p.add_argument("--json", action="store_true", help="print one JSON summary and nothing else")
+
+
+def benchmark_help(args: list[str]) -> str | None:
+    """The help of ``nsdyn bench NAME --help`` (``args`` after ``bench``): what benchmark NAME
+    measures (its module's first two paragraphs), the options it takes and those every one
+    takes; None without a benchmark's name (the command's help then)."""
+    from nsdyn.bench import BENCHMARKS, BenchmarkUnavailable, load_benchmark
+
+    spelt = {n.replace("_", "-"): n for n in BENCHMARKS}
+    name = next((spelt[a.replace("_", "-")] for a in args if a.replace("_", "-") in spelt), None)
+    if name is None:
+        return None
+    try:
+        module = load_benchmark(name)
+    except BenchmarkUnavailable as e:
+        return f"nsdyn bench {name}: {HELP.get(name, BENCHMARKS[name])}\n\n{e}"
+    taken = getattr(module, "OPTIONS", ())
+    own = [o for o in OPTION_HELP if o in taken]
+    meta = {"repeats": " N", "records": " LIST"}
+    usage = " ".join(["usage: nsdyn bench", name, "[--quick] [--out DIR]",
+                      *(f"[{_FLAG[o]}{meta.get(o, '')}]" for o in own),
+                      "[--no-figures]" * ("figures" in taken), "[--json]"])  # fmt: skip
+    about = "\n\n".join((module.__doc__ or "").strip().split("\n\n")[:2])
+    about = about.replace("``", "`").replace("::", ":")
+
+    def option(flag: str, text: str) -> str:
+        return textwrap.fill(text, 88, initial_indent=f"  {flag:<16}", subsequent_indent=" " * 18)
+
+    lines = [textwrap.fill(usage, 88, subsequent_indent=" " * 12), "", about, "",
+             "options of this benchmark:"]  # fmt: skip
+    lines += [option(_FLAG[o] + meta.get(o, ""), OPTION_HELP[o]) for o in own]
+    lines += ["  (none of its own)"] * (not own) + ["options of every benchmark:"]
+    lines += [option("--quick", "short windows and few points (CI)"),
+              option("--out DIR", f"output directory (default {DEFAULT_OUT})")]  # fmt: skip
+    if "figures" in taken:
+        figures = ", ".join(getattr(module, "FIGURES", ()))
+        lines.append(option("--no-figures", f"write the CSV tables only, not {figures}"))
+    lines += [option("--json", "print one JSON summary and nothing else"), "",
+              "every benchmark: nsdyn bench --help; docs/guide/benchmarks.md"]  # fmt: skip
+    return "\n".join(lines)
 
 
 def _jsonable(obj):
@@ -280,6 +308,10 @@ def main(argv: list[str] | None = None) -> int:
         prog="nsdyn bench", description=nsdyn.bench.__doc__.splitlines()[0], allow_abbrev=False
     )
     configure(parser)
+    text = benchmark_help(argv or []) if {"-h", "--help"} & set(argv or []) else None
+    if text is not None:
+        print(text)
+        return 0
     return run(parser.parse_args(argv))
 
 

@@ -118,6 +118,28 @@ def test_every_registered_benchmark_has_a_line_of_help():
     assert all(not line.startswith("nsdyn.") for line in command.HELP.values())
 
 
+def test_a_benchmarks_help_lists_what_it_measures_and_the_options_it_takes(capsys):
+    """``nsdyn bench speed --help`` printed the command's help, every benchmark's options
+    alike. It now prints the benchmark's own page: its module's summary, the options it
+    takes (each of which the command accepts for it) and none it would refuse."""
+    from nsdyn.cli.app import main
+
+    for name in registry.BENCHMARKS:
+        spelt = name.replace("_", "-")
+        assert main(["bench", spelt, "--help"]) == 0
+        text = capsys.readouterr().out
+        module = registry.load_benchmark(name)
+        assert text.startswith(f"usage: nsdyn bench {name} [--quick] [--out DIR]"), name
+        assert module.__doc__.splitlines()[0].replace("``", "`") in text
+        own = text.split("options of this benchmark:")[1].split("options of every")[0]
+        for flag, option in command._GIVEN:  # listed exactly when taken (else refused)
+            assert (f"  {flag}" in own) == (option in getattr(module, "OPTIONS", ())), (name, flag)
+    with pytest.raises(SystemExit) as done:  # (without a benchmark: the command's help)
+        main(["bench", "--help"])
+    assert done.value.code == 0
+    assert capsys.readouterr().out.startswith("usage: nsdyn bench [-h]")
+
+
 def test_every_benchmark_takes_none_as_the_default_repeats():
     """The command line passes ``repeats=None`` when --repeats is not given (each benchmark's
     own default, 1 with --quick): every benchmark listing ``repeats`` takes None for it."""
