@@ -51,7 +51,7 @@ class ContactResult(Tabular):
     first_change : (t, mode index) of the first contact state other than rest, when the solver
         knows it (event-driven: after the mode rebuild at an event)
     step_check : Moreau-Jean's check of its step at h/2 when asked for (``step_resolved``,
-        ``h_half_peaks``, ``step_note``; in the summary), else None
+        ``h_half``, ``step_note``; in the summary), else None
     """
 
     t: np.ndarray
