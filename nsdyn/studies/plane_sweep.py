@@ -30,15 +30,15 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn._progress import curve_count
-from nsdyn.atomic import atomic_open, differing
+from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.friction import stick_slip
 from nsdyn.models.scenefile import SceneError, number
 from nsdyn.studies.sweep import (
     CHECKPOINT_EVERY_S,
-    CheckpointMismatch,
     amplitude_tag,
     format_csv_value,
     point_to_dict,
+    refuse_foreign,
     resumed_start,
 )
 from nsdyn.studies.workers import gather, process_pool, saved_on_interrupt
@@ -198,20 +198,8 @@ def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweep
 
 def refuse_foreign_checkpoints(cfg, amplitudes, settings, out_dir) -> None:
     """CheckpointMismatch for an unfinished checkpoint written with other settings."""
-    for a in amplitudes:
-        path = checkpoint_path(out_dir, a)
-        try:
-            data = json.loads(Path(path).read_text())
-        except (OSError, ValueError):
-            continue
-        ident = json.loads(json.dumps(_identity(cfg, a, settings)))
-        if data.get("complete") is False and data.get("identity") != ident:
-            diff = ", ".join(differing(data.get("identity"), ident))
-            raise CheckpointMismatch(
-                f"{path}: checkpoint of an interrupted sweep at A = {a:g} with other settings "
-                f"(differing: {diff}); rerun with the same settings to resume it, or pass "
-                "--restart to discard it"
-            )
+    refuse_foreign((a, checkpoint_path(out_dir, a), _identity(cfg, a, settings))
+                   for a in amplitudes)  # fmt: skip
 
 
 def sweep_plane(cfg: dict, source: str, amplitudes, settings: PlaneSweepSettings, out_dir, *,

@@ -190,30 +190,45 @@ def checkpoint_path(out_dir: Path, amplitude: float) -> Path:
 
 def load_checkpoint(path: Path, identity: dict) -> list | None:
     """Points of a checkpoint written for the same scene, amplitude and settings, else None."""
+    return _checkpoint(path, identity)[0]
+
+
+def _checkpoint(path: Path, identity: dict) -> tuple[list | None, str]:
+    """(points, "") of a checkpoint of these settings, else (None, why not): "" (no file),
+    "unreadable" or "other" (a curve of other settings, "finished" when complete)."""
     try:
         data = json.loads(Path(path).read_text())
+        if not isinstance(data, dict):
+            raise ValueError(path)
+    except FileNotFoundError:
+        return None, ""
     except (OSError, ValueError):
-        return None
+        return None, "unreadable"
     if data.get("identity") != json.loads(json.dumps(identity)):
-        return None
-    return [point_from_dict(d) for d in data.get("points", [])]
+        return None, "finished" if data.get("complete") is True else "other"
+    try:
+        return [point_from_dict(d) for d in data.get("points", [])], ""
+    except (KeyError, TypeError, ValueError):
+        return None, "unreadable"
 
 
 def resumed_start(ckpt: Path, identity: dict, amplitude: float, restart: bool,
                   quiet: bool) -> list | None:  # fmt: skip
     """The points a curve resumes from its checkpoint ``ckpt`` (None: with ``restart``, or
     none of these settings), said on stderr unless ``quiet``: how many and to which
-    frequency, or that a finished curve of other settings is started afresh (an unfinished
-    one was refused before: :func:`refuse_foreign_checkpoints`)."""
+    frequency, or why a checkpoint there is not resumed (unreadable, or a curve of other
+    settings: an unfinished one was refused before, :func:`refuse_foreign_checkpoints`)."""
     if restart:
         return None
-    start = load_checkpoint(ckpt, identity)
+    start, why = _checkpoint(ckpt, identity)
     if not quiet and start:
         print(f"[A={amplitude:g}] resuming from {ckpt.name}: {len(start)} points on file, to f = "
               f"{start[-1].f:.4g} Hz", file=sys.stderr, flush=True)  # fmt: skip
-    elif not quiet and start is None and ckpt.exists():
-        print(f"[A={amplitude:g}] {ckpt.name} holds a finished curve of other settings: "
-              "started afresh (it will be replaced)", file=sys.stderr, flush=True)  # fmt: skip
+    elif not quiet and why:
+        what = {"unreadable": "cannot be read", "finished": "holds a finished curve of other "
+                "settings", "other": "holds a curve of other settings"}[why]  # fmt: skip
+        print(f"[A={amplitude:g}] {ckpt.name} {what}: started afresh (it will be replaced)",
+              file=sys.stderr, flush=True)  # fmt: skip
     return start
 
 
@@ -365,17 +380,25 @@ def refuse_foreign_checkpoints(cfg: dict, amplitudes, settings, out_dir) -> None
     A finished sweep's checkpoint of other settings is simply replaced by the new sweep (its
     curve is complete in its CSV); an unfinished one is never mixed nor silently discarded.
     """
-    for a in amplitudes:
-        path = checkpoint_path(out_dir, float(a))
+    refuse_foreign((float(a), checkpoint_path(out_dir, float(a)),
+                    _identity(cfg, float(a), settings)) for a in amplitudes)  # fmt: skip
+
+
+def refuse_foreign(checkpoints) -> None:
+    """:class:`CheckpointMismatch` for the first of ``checkpoints`` ((amplitude, path, this
+    sweep's identity) each; a deck's sweep names its own) that is unfinished and of other
+    settings."""
+    for a, path, identity in checkpoints:
         try:
             data = json.loads(Path(path).read_text())
         except (OSError, ValueError):
             continue
-        ident = json.loads(json.dumps(_identity(cfg, float(a), settings)))
-        if data.get("complete") is False and data.get("identity") != ident:
+        ident = json.loads(json.dumps(identity))
+        if isinstance(data, dict) and data.get("complete") is False and \
+                data.get("identity") != ident:  # fmt: skip
             diff = ", ".join(differing(data.get("identity"), ident))
             raise CheckpointMismatch(
-                f"{path}: checkpoint of an interrupted sweep at A = {float(a):g} with other "
+                f"{path}: checkpoint of an interrupted sweep at A = {a:g} with other "
                 f"settings (differing: {diff}); rerun with the same "
                 "settings to resume it, or pass --restart to discard it"
             )

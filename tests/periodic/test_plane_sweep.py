@@ -103,6 +103,10 @@ def test_nsdyn_sweep_on_the_example_scene_gives_the_closed_form_and_resumes(tmp_
     err = capsys.readouterr().err
     assert err.count("holds a finished curve of other settings: started afresh") == 2
     assert "resuming" not in err
+    checkpoint_path(out, A0).write_text('{"identity": ')  # (a file cut short)
+    assert nsdyn_main([*argv[:7], "3", *argv[8:-1]]) == 0
+    err = capsys.readouterr().err
+    assert f"[A={A0:g}] {checkpoint_path(out, A0).name} cannot be read: started afresh" in err
 
 
 def test_a_band_refused_against_the_scenes_end_names_that_end(tmp_path, capsys):
