@@ -106,9 +106,9 @@ def make_options(
             f"atol: expected a number, a pair (atol_q, atol_v) or {n2} values, got shape {a.shape}"
         )
     rel_tol("rtol", rtol)
-    floor = 0 if method.fixed_step or not adaptive else np.finfo(float).tiny  # (unread, or >0:
-    if not (np.all(atol_arr >= floor) and np.all(np.isfinite(atol_arr))):  # from rest, rtol|x|=0)
-        raise ValueError(f"atol: expected values > 0 (0 at a state starting from 0), got {atol}")
+    fixed = method.fixed_step or not adaptive  # (unread; adaptive from rest: rtol |x| = 0)
+    if not (np.all(atol_arr >= 0 if fixed else atol_arr > 0) and np.all(np.isfinite(atol_arr))):
+        raise ValueError(f"atol: expected values {'>=' if fixed else '>'} 0, got {atol}")
     if uplift not in ("raise", "warn"):
         raise ValueError(f"uplift: expected 'raise' or 'warn', got {uplift!r}")
     if (method.fixed_step or not adaptive) and (dt is None or not dt > 0):

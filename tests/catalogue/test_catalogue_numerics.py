@@ -277,12 +277,12 @@ def test_a_failure_under_an_atol_far_below_the_states_says_so():
     scene = Path(__file__).resolve().parents[2] / "examples/scenes/isolated-coulomb-force.toml"
     system, force = build_scene(load_scene(scene))
     kw = dict(method="event", rtol=1e-8, t_end=10.0, dt_out=0.01)
-    ok = simulate(system, force, atol=1e-10, **kw)
-    assert 0.0 < ok.summary()["stick_fraction"] < 0.01
+    for atol in (1e-10, ATOL_STALL):  # (the scene's, and the floor the message names)
+        ok = simulate(system, force, atol=atol, **kw)
+        assert 0.0 < ok.summary()["stick_fraction"] < 0.01
     with pytest.raises(IntegrationError, match=r"atol = 1e-30 is far below the states' size: .*"
                                                r"retry with a larger atol"):  # fmt: skip
         simulate(system, force, atol=1e-30, **kw)
-    assert 1e-30 < ATOL_STALL <= 1e-10  # (between the failing atol and the scene's)
 
 
 def test_a_stalled_unilateral_run_under_a_huge_baumgarte_gain_names_it_first():
@@ -291,7 +291,6 @@ def test_a_stalled_unilateral_run_under_a_huge_baumgarte_gain_names_it_first():
     # method 'event'", advice on a law it does not have; the gain is named first now
     from pathlib import Path
 
-    from nsdyn.models.isolated.bearings import ALPHA_PLAUSIBLE
     from nsdyn.models.isolated.scene import build_scene, load_scene
     from nsdyn.solve.transient import simulate
 
@@ -302,4 +301,3 @@ def test_a_stalled_unilateral_run_under_a_huge_baumgarte_gain_names_it_first():
     with pytest.raises(IntegrationError, match=r"^step size fell below .*: the contacts' "
                                                r"Baumgarte gain alpha = 1e\+08 1/s"):  # fmt: skip
         simulate(system, motion, method="radau", t_end=13.0, contact="unilateral")
-    assert ALPHA_PLAUSIBLE < 1e8
