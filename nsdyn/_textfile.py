@@ -24,6 +24,9 @@ BOMS = (
     (codecs.BOM_UTF16_BE, "utf-16"),
 )
 
+# the file names of ground-motion records (given where a scene or frame file goes: said so)
+RECORD_SUFFIXES = (".csv", ".txt", ".at2", ".dat", ".acc")
+
 
 def decode(raw: bytes, encoding: str = "utf-8") -> str:
     """``raw`` as text: by its byte-order mark (dropped), else in ``encoding``; a byte that

@@ -414,6 +414,11 @@ def _main(argv: list[str]) -> int:
         if cmd is not None:
             rest = [a for a in argv if a != cmd]
             parser.error(f"options go after the command: nsdyn {cmd} {' '.join(rest)}")
+        from nsdyn._checks import did_you_mean  # (--versoin: "a command is required")
+
+        hint = did_you_mean(argv[0], ["--help", "--version"])
+        parser.error(f"unrecognized option {argv[0]!r}{hint} (nsdyn takes --help and "
+                     f"--version before a command: {', '.join(COMMANDS)})")  # fmt: skip
     if not only and not argv[0].startswith("-"):  # a mistyped command: the closest one
         from nsdyn._checks import did_you_mean
 

@@ -167,7 +167,7 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
     try:
         data = tomllib.loads(text := textfile.read(p))  # (a byte-order mark read and dropped)
     except tomllib.TOMLDecodeError as e:
-        if p.suffix.lower() in (".csv", ".txt", ".at2", ".dat", ".acc") and what == "scene":
+        if p.suffix.lower() in textfile.RECORD_SUFFIXES and what == "scene":
             raise SceneError(
                 f"{path}: not a scene (TOML) file; a ground-motion record is given to a scene "
                 f'as [motion] record = "{path}", or to nsdyn run as --record {path}'

@@ -399,7 +399,7 @@ def _read_frame_file(name_or_path: str | Path) -> tuple[dict, str]:
             if Path(s + ".toml").is_file():  # (portal2bay given beside portal2bay.toml)
                 there = f" (the file {s}.toml is here: give its whole name)"
             elif Path(s).is_file():  # (a record given where a frame goes: "no bundled frame")
-                record = Path(s).suffix.lower() in (".csv", ".txt", ".at2", ".dat", ".acc")
+                record = Path(s).suffix.lower() in textfile.RECORD_SUFFIXES
                 to = "; a ground-motion record goes in a scene's [motion] record" * record
                 there = f" (the file {s} here is no frame file: those are .toml files{to})"
             raise FrameFileError(f"{s}: no bundled frame of that name{there} (bundled: {known})")
@@ -411,4 +411,7 @@ def _read_frame_file(name_or_path: str | Path) -> tuple[dict, str]:
     try:
         return tomllib.loads(text), fname
     except tomllib.TOMLDecodeError as exc:
+        if Path(fname).suffix.lower() in textfile.RECORD_SUFFIXES:  # (a record given for it)
+            raise FrameFileError(f"{fname}: not a frame (TOML) file; a ground-motion record "
+                                 "goes in a scene's [motion] record") from None  # fmt: skip
         raise FrameFileError(f"{fname}: not valid TOML: {exc}") from None

@@ -1015,3 +1015,20 @@ def test_an_own_frame_on_the_default_isolators_is_noted(isolation, said, tmp_pat
                          f'{isolation}[motion]\nt_end = 0.1\n')  # fmt: skip
         assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o2")]) == 0
         assert ("not given" in capsys.readouterr().err) == bool(noted)
+
+
+def test_a_misspelt_option_before_any_command_is_named(one_line):
+    # `nsdyn --versoin` said "the following arguments are required: COMMAND"; a subcommand's
+    # misspelt flag was named with the closest one, and now so is the script's own
+    with pytest.raises(SystemExit) as done:
+        main(["--versoin"])
+    assert done.value.code == 2
+    one_line("unrecognized option '--versoin'", "did you mean '--version'?")
+
+
+def test_a_record_given_for_a_frame_is_named_as_a_record(one_line):
+    # `nsdyn modes records/….csv` said "not valid TOML: Expected '=' after a key", where a
+    # scene command names the record as what it is
+    record = Path(__file__).resolve().parents[2] / "records" / "synthetic-kt-20s.csv"
+    assert main(["modes", str(record)]) == 2
+    one_line(f"{record}: not a frame (TOML) file; a ground-motion record goes in a scene's")
