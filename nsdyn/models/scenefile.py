@@ -162,6 +162,14 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
     if p.is_dir():
         raise SceneError(f"{path}: a folder; expected a {what} file (.toml)")
     if not p.is_file():
+        from nsdyn._bundled import FRAMES
+        from nsdyn.structure import is_frame3d
+
+        if what == "scene" and FRAMES.find(str(path)) is not None:  # (office-11 for a scene)
+            key = (("[structure] frame3d", " of kind 'building3d'") if is_frame3d(str(path))
+                   else ("[scene] frame", ""))  # fmt: skip
+            raise SceneError(f"{path}: a bundled frame, not a scene; a scene{key[1]} names it "
+                             f'as {key[0]} = "{path}"')  # fmt: skip
         raise SceneError(f"{path}: no such {what} file")
     text = ""
     try:
@@ -198,8 +206,8 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
                          f'"{path}"')  # fmt: skip
     if what == "scene" and "scene" not in data and "frame" in data:
         raise SceneError(
-            f"{path}: a frame file (its [frame] table), not a scene; run it with "
-            f'nsdyn run --frame {path}, or name it in a scene as [scene] frame = "{path}"'
+            f"{path}: a frame file (its [frame] table), not a scene; a scene names it as [scene] "
+            f'frame = "{path}" (nsdyn run --frame {path} runs it on the default scene)'
         )
     if what == "scene" and "scene" not in data and "frame3d" in data:
         raise SceneError(

@@ -1032,3 +1032,11 @@ def test_a_record_given_for_a_frame_is_named_as_a_record(one_line):
     record = Path(__file__).resolve().parents[2] / "records" / "synthetic-kt-20s.csv"
     assert main(["modes", str(record)]) == 2
     one_line(f"{record}: not a frame (TOML) file; a ground-motion record goes in a scene's")
+
+
+@pytest.mark.parametrize("command", ["run", "uplift", "spectrum"])
+def test_a_bundled_frames_name_given_as_the_scene_is_named_as_a_frame(command, one_line):
+    # `nsdyn uplift office-11` said "no such scene file" (export named it as a frame)
+    assert main([command, "office-11"]) == 2
+    one_line('office-11: a bundled frame, not a scene; a scene names it as [scene] frame = '
+             '"office-11"')  # fmt: skip
