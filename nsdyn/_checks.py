@@ -396,6 +396,15 @@ def check_fixed_step(dt, motion, span: float | None = None, where: str = "dt") -
                          f"{T / STEPS_PER_PERIOD:.4g} s ({STEPS_PER_PERIOD} steps a period "
                          f"follow the forcing, {STEPS_RESOLVING} or more resolve its "
                          "peaks)")  # fmt: skip
+    if f is not None and dt * f * STEPS_RESOLVING > 1 + 1e-9:
+        import warnings
+
+        n = 1.0 / (dt * f)  # (the trapezoidal rule's period error (omega h)^2 / 12)
+        warnings.warn(f"{where}: a fixed step of {dt:g} s is T/{n:.3g} of the forcing period "
+                      f"{1 / f:.4g} s, where a second-order step's period error is about "
+                      f"(2 pi dt/T)^2/12 = {(2 * math.pi / n) ** 2 / 12:.2%}; at most "
+                      f"T/{STEPS_RESOLVING} = {1 / (STEPS_RESOLVING * f):.4g} s resolves its "
+                      "peaks", NotedWarning, stacklevel=3)  # fmt: skip
 
 
 # the fewest fixed steps per period of a harmonic forcing: at dt = 1.5 T the force was sampled

@@ -324,12 +324,20 @@ def old_figures(out: Path, names, command: str, args: argparse.Namespace) -> str
 SAID: list[tuple[str, str]] = []
 
 
+def same_said(a: str, b: str) -> bool:
+    """Whether two notes say the same of one field, named by the scene's key and by the
+    library's argument (``solver.dt: ...`` and ``dt: ...``): said once."""
+    (ha, _, ta), (hb, _, tb) = a.partition(": "), b.partition(": ")
+    return a == b or (ta == tb and " " not in ha + hb and
+                      ha.rsplit(".", 1)[-1] == hb.rsplit(".", 1)[-1])  # fmt: skip
+
+
 def with_said(s: dict) -> dict:
     """``s`` with the warnings and notes said on stderr during the command (:data:`SAID`)
     among its ``warnings`` and ``notes`` (each once): a script reading --json sees them."""
     for kind, text in SAID:
         key = "notes" if kind == "note" else "warnings"
-        if text not in s.get(key, []):
+        if not any(same_said(text, t) for t in s.get(key, [])):
             s.setdefault(key, []).append(text)
     return s
 

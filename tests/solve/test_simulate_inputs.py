@@ -275,8 +275,18 @@ def test_a_fixed_step_longer_than_an_eighth_of_the_forcing_period_is_refused(met
                 rf"expected at most T/{STEPS_PER_PERIOD}")  # fmt: skip
         with pytest.raises(ValueError, match=said):
             nsdyn.simulate(s, load, t_end=4.0, method=method, dt=dt)
-    ok = nsdyn.simulate(s, load, t_end=4.0, method=method, dt=T / STEPS_PER_PERIOD)
+    # 8 steps a period run, said with their period error (a second-order step's (w h)^2/12,
+    # the trapezoidal rule's: 5.1 % at T/8); from 20 steps a period on, nothing is said
+    from nsdyn._checks import STEPS_RESOLVING, NotedWarning
+
+    with pytest.warns(NotedWarning, match=r"is T/8 of the forcing period 0.6667 s, where a "
+                      r"second-order step's period error is about \(2 pi dt/T\)\^2/12 = "
+                      r"5.14%; at most T/20 = 0.03333 s resolves its peaks"):  # fmt: skip
+        ok = nsdyn.simulate(s, load, t_end=4.0, method=method, dt=T / STEPS_PER_PERIOD)
     assert ok.response.x_iso.max() > 0.01  # (8 steps a period: it slides, as at dt -> 0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", NotedWarning)
+        nsdyn.simulate(s, load, t_end=4.0, method=method, dt=T / STEPS_RESOLVING)
     ground = nsdyn.Harmonic(3.0, 2.0)  # (a ground acceleration's period too: 0.5 s)
     with pytest.raises(ValueError, match=r"forcing period 0.5 s"):
         nsdyn.simulate(s, ground, t_end=4.0, method=method, dt=0.1)
