@@ -32,6 +32,7 @@ from nsdyn.cli.args import (
     SAID,
     fail,
     option_hint,
+    same_said,
     with_said,
 )
 from nsdyn.cli.stop import SIGNALLED as _SIGNALLED  # (one list: app._SIGNALLED)
@@ -288,7 +289,7 @@ def _one_line_warnings(command: str, default: Callable) -> Callable:
 
         if issubclass(category, InputWarning):
             kind = "note" if issubclass(category, NotedWarning) else "warning"
-            if (kind, str(message)) in SAID:  # (a file read twice: said once)
+            if any(k == kind and same_said(str(message), m) for k, m in SAID):  # (said once)
                 return
             SAID.append((kind, str(message)))  # (--json: in the summary as well)
             print(f"nsdyn {command}: {kind}: {message}", file=sys.stderr if file is None else file)
@@ -414,11 +415,17 @@ def _main(argv: list[str]) -> int:
         if cmd is not None:
             rest = [a for a in argv if a != cmd]
             parser.error(f"options go after the command: nsdyn {cmd} {' '.join(rest)}")
-        from nsdyn._checks import did_you_mean  # (--versoin: "a command is required")
+        import difflib  # (--versoin: "a command is required")
 
-        hint = did_you_mean(argv[0], ["--help", "--version"])
-        parser.error(f"unrecognized option {argv[0]!r}{hint} (nsdyn takes --help and "
-                     f"--version before a command: {', '.join(COMMANDS)})")  # fmt: skip
+        word = argv[0].split("=", 1)[0]
+        close = difflib.get_close_matches(word, ["--help", "--version"], n=1, cutoff=0.8)
+        if word not in ("--help", "--version"):  # (--version=1: argparse's own message)
+            hint = (f"; did you mean {close[0]!r}?" if close else
+                    f"; a command's options go after it, nsdyn COMMAND {argv[0]}")  # fmt: skip
+            parser.error(
+                f"unrecognized option {argv[0]!r}{hint} (before a command nsdyn "
+                f"takes --help and --version; commands: {', '.join(COMMANDS)})"
+            )
     if not only and not argv[0].startswith("-"):  # a mistyped command: the closest one
         from nsdyn._checks import did_you_mean
 
@@ -465,6 +472,9 @@ def _main(argv: list[str]) -> int:
         raise
     except _user_errors() as exc:
         return fail(args, flagged(str(exc), args))  # one line: an input is fixed, not run
+    except MemoryError as exc:  # (dt_out = 1e-5 s on a 3D building: numpy's traceback)
+        return fail(args, f"out of memory ({exc}): ask for fewer outputs (a larger solver."
+                    "dt_out), a shorter run or a smaller model")  # fmt: skip
     except _numerics_errors() as exc:
         from nsdyn.solve.integrate import UpliftError
 
