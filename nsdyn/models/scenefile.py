@@ -150,6 +150,18 @@ def record_units(mo: dict, source: str) -> dict:
     return out
 
 
+def bundled_frame_said(name) -> str | None:
+    """The refusal of a bundled frame's name given where a scene goes (``office-11``: "no such
+    scene file"), naming the key a scene names it by; None for any other name."""
+    from nsdyn.structure import bundled_frames, is_frame3d
+
+    if str(name) not in bundled_frames():
+        return None
+    key, of = ("[structure] frame3d", " of kind 'building3d'") if is_frame3d(str(name)) else \
+        ("[scene] frame", "")  # fmt: skip
+    return f'{name}: a bundled frame, not a scene; a scene{of} names it as {key} = "{name}"'
+
+
 def read_toml(path: str | Path, what: str = "scene") -> dict:
     """The parsed TOML file, or :class:`SceneError` naming the file and the syntax error.
 
@@ -162,14 +174,9 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
     if p.is_dir():
         raise SceneError(f"{path}: a folder; expected a {what} file (.toml)")
     if not p.is_file():
-        from nsdyn._bundled import FRAMES
-        from nsdyn.structure import is_frame3d
-
-        if what == "scene" and FRAMES.find(str(path)) is not None:  # (office-11 for a scene)
-            key = (("[structure] frame3d", " of kind 'building3d'") if is_frame3d(str(path))
-                   else ("[scene] frame", ""))  # fmt: skip
-            raise SceneError(f"{path}: a bundled frame, not a scene; a scene{key[1]} names it "
-                             f'as {key[0]} = "{path}"')  # fmt: skip
+        said = bundled_frame_said(path) if what == "scene" else None
+        if said:
+            raise SceneError(said)
         raise SceneError(f"{path}: no such {what} file")
     text = ""
     try:

@@ -40,7 +40,7 @@ import scipy.linalg as sla
 
 from nsdyn._checks import default_step
 from nsdyn.models.isolated.opensees_script import HEADER, SCRIPT
-from nsdyn.models.scenefile import SceneError, scene_step
+from nsdyn.models.scenefile import SceneError, bundled_frame_said, scene_step
 
 __all__ = [
     "DEFAULT_DT",
@@ -368,14 +368,10 @@ def export_opensees(
         system, step = scene, None
     else:
         if isinstance(scene, str | Path) and not Path(scene).is_file():
-            from nsdyn.structure import bundled_frames
-
-            if str(scene) in bundled_frames():
-                raise SceneError(
-                    f"{source}: a bundled plane frame, not a scene; a scene names it as "
-                    f'[scene] frame = "{source}" (the default scene is the office frame\'s: '
-                    "nsdyn export opensees with no scene)"
-                )
+            said = bundled_frame_said(scene)
+            if said:  # (the default scene is the office frame's)
+                raise SceneError(f"{said} (the default scene is the office frame's: nsdyn "
+                                 "export opensees with no scene)")  # fmt: skip
             raise SceneError(f"{source}: no such scene file")
         system, rec, step = _scene_system(scene, source, t_end)
         motion = rec if motion is None else motion
