@@ -83,7 +83,7 @@ def drift_note(res) -> list[str]:
 def result_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None,
                  tols: tuple | None = None) -> list[str]:  # fmt: skip
     """What a run ``res`` says of its own results: an implausible drift (:func:`drift_note`);
-    a fixed-step, explicit or (given its ``tols``, rtol and atol) implicit adaptive run's
+    a fixed-step, explicit or (given its ``tols``: rtol, atol, uplift) implicit adaptive run's
     :func:`_turn_notes`, and a step
     that does not divide the sampling step of the record ``motion`` (its steps then straddle
     the samples, where the piecewise-linear input kinks, and lose an order there: the
@@ -101,7 +101,13 @@ def result_notes(res, P: tuple, QDD: np.ndarray | None, dt, motion=None,
             return said
         why = f"the tolerance rtol = {tols[0]:g} of {res.method!r} does not resolve"
         fix = "tighten rtol until they settle"
-        confirm = lambda k: _recomputed(res, P, k, *tols)  # noqa: E731
+        done: dict = {}  # (an output recomputed once for all its levels)
+
+        def confirm(k):
+            if k not in done:
+                done[k] = _recomputed(res, P, k, *tols)
+            return done[k]
+
         return said + _warned(_turn_notes(res, P, QDD, why, fix, turning=False, confirm=confirm))
     fix = "halve dt until they settle, or use an adaptive method ('radau')"
     out = _warned(_turn_notes(res, P, QDD, f"the fixed step dt = {dt:g} s does not resolve", fix))
@@ -146,7 +152,7 @@ CONFIRM = 1e-2  # an adaptive run's suspect peak is recomputed at this times its
 CONFIRM_REL = 0.1  # ... and said only when the recomputed one differs by more than this
 
 
-def _recomputed(res, P: tuple, k: int, rtol: float, atol) -> np.ndarray | None:
+def _recomputed(res, P: tuple, k: int, rtol: float, atol, uplift="raise") -> np.ndarray | None:
     """The accelerations (n,) at output ``k`` of the adaptive run ``res``, integrated again
     from output k - 1 at :data:`CONFIRM` times its tolerances (a resolved peak comes back, a
     spike its error estimate let through does not); None where that cannot be made."""
@@ -166,6 +172,7 @@ def _recomputed(res, P: tuple, k: int, rtol: float, atol) -> np.ndarray | None:
             rtol=max(CONFIRM * rtol, RTOL_MIN),
             atol=CONFIRM * np.asarray(atol, float),
             contact=res.contact,
+            uplift=uplift,  # (the run's: a peak at an uplift it went on through is its own)
         )
     except (ValueError, integrate.IntegrationError):
         return None

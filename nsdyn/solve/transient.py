@@ -553,7 +553,7 @@ def simulate(
         failure,
     )
     res.notes = record_span_notes(t_eval, motion) + result_notes(
-        res, Pm, evaluated[0], dt, motion, (rtol, atol)
+        res, Pm, evaluated[0], dt, motion, (rtol, atol, uplift)
     )
     res.restitution = float(restitution)
     return between_steps(res, dt, uplift)
