@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 import textwrap
 import warnings
@@ -122,7 +123,9 @@ def benchmark_help(args: list[str]) -> str | None:
     from nsdyn.bench import BENCHMARKS, BenchmarkUnavailable, load_benchmark
 
     spelt = {n.replace("_", "-"): n for n in BENCHMARKS}
-    name = next((spelt[a.replace("_", "-")] for a in args if a.replace("_", "-") in spelt), None)
+    valued = ("--out", "--repeats", "--records")  # (their values are no benchmark's name)
+    words = [a for i, a in enumerate(args) if i == 0 or args[i - 1] not in valued]
+    name = next((spelt[a.replace("_", "-")] for a in words if a.replace("_", "-") in spelt), None)
     if name is None:
         return None
     try:
@@ -134,14 +137,18 @@ def benchmark_help(args: list[str]) -> str | None:
     meta = {"repeats": " N", "records": " LIST"}
     usage = " ".join(["usage: nsdyn bench", name, "[--quick] [--out DIR]",
                       *(f"[{_FLAG[o]}{meta.get(o, '')}]" for o in own),
-                      "[--no-figures]" * ("figures" in taken), "[--json]"])  # fmt: skip
+                      *["[--no-figures]"] * ("figures" in taken), "[--json]"])  # fmt: skip
     about = "\n\n".join((module.__doc__ or "").strip().split("\n\n")[:2])
-    about = about.replace("``", "`").replace("::", ":")
+    about = re.sub(r":\w+:`~?([^`]+)`", r"\1", about.replace("``", "`").replace("::", ":"))
+    about = about[:-1] + " (more in its module's text)" if about.endswith(":") else about
+    about = re.sub(r"`([A-Z][A-Z0-9_]+)`", lambda m: f"{getattr(module, m[1], m[0])}", about)
 
     def option(flag: str, text: str) -> str:
-        return textwrap.fill(text, 88, initial_indent=f"  {flag:<16}", subsequent_indent=" " * 18)
+        return textwrap.fill(text, 88, initial_indent=f"  {flag:<16}", subsequent_indent=" " * 18,
+                             break_on_hyphens=False)  # fmt: skip
 
-    lines = [textwrap.fill(usage, 88, subsequent_indent=" " * 12), "", about, "",
+    lines = [textwrap.fill(usage, 88, subsequent_indent=" " * 12, break_on_hyphens=False), "",
+             about, "",
              "options of this benchmark:"]  # fmt: skip
     lines += [option(_FLAG[o] + meta.get(o, ""), OPTION_HELP[o]) for o in own]
     lines += ["  (none of its own)"] * (not own) + ["options of every benchmark:"]

@@ -134,6 +134,8 @@ def test_a_benchmarks_help_lists_what_it_measures_and_the_options_it_takes(capsy
         own = text.split("options of this benchmark:")[1].split("options of every")[0]
         for flag, option in command._GIVEN:  # listed exactly when taken (else refused)
             assert (f"  {flag}" in own) == (option in getattr(module, "OPTIONS", ())), (name, flag)
+    assert main(["bench", "--out", "speed", "isolators", "--help"]) == 0  # (--out's value)
+    assert capsys.readouterr().out.startswith("usage: nsdyn bench isolators ")
     with pytest.raises(SystemExit) as done:  # (without a benchmark: the command's help)
         main(["bench", "--help"])
     assert done.value.code == 0
