@@ -222,7 +222,7 @@ def test_misplaced_fields_and_files_are_named_as_what_they_are(tmp_path, one_lin
     assert main(["run", "--frame", scene, "--out", str(tmp_path / "o"), "--no-figures"]) == 2
     one_line(f"{scene}: a scene file", "not a frame file", f"nsdyn run {scene}")
     assert main(["export", "opensees", "office-11", "-o", str(tmp_path / "m.py")]) == 2
-    one_line("office-11: a bundled plane frame, not a scene")
+    one_line("office-11: a bundled frame, not a scene")
 
 
 def test_a_large_closure_says_what_it_measures():
@@ -1040,3 +1040,30 @@ def test_a_bundled_frames_name_given_as_the_scene_is_named_as_a_frame(command, o
     assert main([command, "office-11"]) == 2
     one_line('office-11: a bundled frame, not a scene; a scene names it as [scene] frame = '
              '"office-11"')  # fmt: skip
+
+
+def test_a_note_of_the_scene_and_of_the_library_on_one_field_is_said_once(tmp_path, capsys):
+    # a fixed step coarser than T/20 of a harmonic force is noted by the scene's check
+    # (solver.dt) and by the run's (dt): said once, on stderr and in the JSON notes
+    scene = Path(__file__).resolve().parents[2] / "examples/scenes/isolated-coulomb-force.toml"
+    text = scene.read_text().replace('method = "event"', 'method = "genalpha"\ndt = 0.04')
+    src = tmp_path / "coarse.toml"
+    src.write_text(text.replace('law = "switch"', 'law = "arctan"'))
+    assert main(["run", str(src), "--out", str(tmp_path / "o"), "--no-figures", "--json"]) == 0
+    cap = capsys.readouterr()
+    notes = [n for n in json.loads(cap.out)["notes"] if "of the forcing period" in n]
+    assert len(notes) == 1 and notes[0].startswith("solver.dt: a fixed step of 0.04 s is T/16.7")
+    assert cap.err.count("of the forcing period") == 1
+
+
+def test_a_run_out_of_memory_is_one_line_naming_the_outputs(monkeypatch, one_line):
+    # a 3D building's cb run at dt_out = 1e-5 s (4e6 outputs) ended in numpy's
+    # _ArrayMemoryError traceback; the command says it in one line, exit 2 (an input to change)
+    from nsdyn.cli import run as run_command
+
+    def no_memory(args):
+        raise MemoryError("Unable to allocate 1007. MiB for an array with shape (4000001, 33)")
+
+    monkeypatch.setattr(run_command, "run", no_memory)
+    assert main(["run", "--no-figures"]) == 2
+    one_line("out of memory (Unable to allocate 1007. MiB", "a larger solver.dt_out")
