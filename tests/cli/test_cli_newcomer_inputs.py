@@ -1040,6 +1040,10 @@ def test_a_bundled_frames_name_given_as_the_scene_is_named_as_a_frame(command, o
     assert main([command, "office-11"]) == 2
     one_line('office-11: a bundled frame, not a scene; a scene names it as [scene] frame = '
              '"office-11"')  # fmt: skip
+    # a path whose .toml sits beside it is no bundled frame: no such scene file
+    stem = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "deck-fps4-3c"
+    assert main([command, str(stem)]) == 2
+    one_line(f"{stem}: no such scene file")
 
 
 def test_a_note_of_the_scene_and_of_the_library_on_one_field_is_said_once(tmp_path, capsys):
