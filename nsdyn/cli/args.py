@@ -329,7 +329,7 @@ def same_said(a: str, b: str) -> bool:
     library's argument (``solver.dt: ...`` and ``dt: ...``): said once."""
     (ha, _, ta), (hb, _, tb) = a.partition(": "), b.partition(": ")
     return a == b or (ta == tb and " " not in ha + hb and
-                      ha.rsplit(".", 1)[-1] == hb.rsplit(".", 1)[-1])  # fmt: skip
+                      (ha.endswith(f".{hb}") or hb.endswith(f".{ha}")))  # fmt: skip
 
 
 def with_said(s: dict) -> dict:

@@ -1071,3 +1071,15 @@ def test_a_run_out_of_memory_is_one_line_naming_the_outputs(monkeypatch, one_lin
     monkeypatch.setattr(run_command, "run", no_memory)
     assert main(["run", "--no-figures"]) == 2
     one_line("out of memory (Unable to allocate 1007. MiB", "a larger solver.dt_out")
+
+
+def test_notes_are_merged_only_when_they_name_one_field_two_ways():
+    # a scene's key and the library's argument (solver.dt, dt) name one field: said once;
+    # two files, or two fields ending alike, are two notes
+    from nsdyn.cli.args import same_said
+
+    assert same_said("solver.dt: a fixed step of 0.04 s", "dt: a fixed step of 0.04 s")
+    assert not same_said("a.toml: solver.dt: X", "b.toml: solver.dt: X")
+    assert not same_said("rec1.csv: 3 samples", "rec2.csv: 3 samples")
+    assert not same_said("motion.dt: a step", "solver.dt: a step")
+    assert not same_said("solver.dt: a step", "dt: another step")
