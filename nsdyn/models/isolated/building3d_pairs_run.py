@@ -340,10 +340,11 @@ def peak_field(system, r, exc, s: dict, eps: float) -> dict:
         span = float(r.t[k] - r.t[0])
         q = info["y0"][: system.n]
         if k:
-            from nsdyn._checks import AccuracyWarning
+            from nsdyn._checks import AccuracyWarning, NotedWarning
 
-            with warnings.catch_warnings():  # (its one output, at t*, is no grid to judge)
-                warnings.simplefilter("ignore", AccuracyWarning)
+            with warnings.catch_warnings():  # (its one output, at t*, is no grid to judge;
+                warnings.simplefilter("ignore", AccuracyWarning)  # its step: the run's, said)
+                warnings.simplefilter("ignore", NotedWarning)
                 q = simulate_pairs_sparse(system, exc, dt=s["dt_s"], t_end=span, dt_out=span,
                                           eps=eps, keep_q=True).q[-1]  # fmt: skip
     return {"t_peak": float(r.t[k]), "u": info["frame"].expand(q), "what": what}

@@ -369,6 +369,9 @@ def export_opensees(
     else:
         if isinstance(scene, str | Path) and not Path(scene).is_file():
             said = bundled_frame_said(scene)
+            if said and "frame3d" in said:  # (a 3D frame exports as itself)
+                raise SceneError(f"{scene}: a bundled 3D frame, not a scene: export it with "
+                                 f"export_opensees_3d (nsdyn export opensees {scene})")  # fmt: skip
             if said:  # (the default scene is the office frame's)
                 raise SceneError(f"{said} (the default scene is the office frame's: nsdyn "
                                  "export opensees with no scene)")  # fmt: skip
