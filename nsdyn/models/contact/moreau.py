@@ -25,7 +25,7 @@ from nsdyn.models.contact.body import RigidBody
 from nsdyn.models.contact.event import _params, check_parts, start_state, tilt_angle
 from nsdyn.models.contact.excite import BaseMotion
 from nsdyn.models.contact.friction import FrictionLaw
-from nsdyn.models.contact.results import MODE_NAMES, ContactResult, slenderness
+from nsdyn.models.contact.results import ContactResult, slenderness
 
 MODE_G_TOL = 1e-5  # output classification: on the ground when g <= MODE_G_TOL * L
 MODE_V_TOL = 1e-5  # ... slipping when |v_T| > MODE_V_TOL * sqrt(g L)
@@ -109,11 +109,9 @@ def simulate_moreau(body: RigidBody, friction: FrictionLaw, motion: BaseMotion |
         if res.step_check["step_resolved"] is not True:
             warnings.warn(res.step_check["step_note"], AccuracyWarning, stacklevel=2)
     elif res.n_hops:
-        flight = (res.mode == MODE_NAMES.index("flight")).astype(np.int8)
-        t_hop = res.t[1:][np.diff(flight) > 0][0]
         warnings.warn(f"Moreau-Jean: the body hopped {res.n_hops} times (first at t = "
-                      f"{t_hop:.4g} s); a step of h = {h:g} s passes impacts unlocated and can "
-                      "be qualitatively wrong here, and nothing checked it: pass "
+                      f"{res.hop_times[0]:.4g} s); a step of h = {h:g} s passes impacts "
+                      "unlocated and can be qualitatively wrong here, and nothing checked it: pass "
                       "step_check=True (a rerun at h/2) or use simulate_event",
                       AccuracyWarning, stacklevel=2)  # fmt: skip
     return res

@@ -103,10 +103,15 @@ class ContactResult(Tabular):
         return out
 
     @property
+    def hop_times(self) -> np.ndarray:
+        """The output times at which the body entered flight."""
+        fl = self.mode == MODE_NAMES.index("flight")
+        return self.t[1:][fl[1:] & ~fl[:-1]]
+
+    @property
     def n_hops(self) -> int:
         """Number of entries into flight."""
-        fl = self.mode == MODE_NAMES.index("flight")
-        return int(np.count_nonzero(fl[1:] & ~fl[:-1]))
+        return int(self.hop_times.size)
 
     def summary(self) -> dict:
         """JSON-serialisable summary, the unit in each name (``_m``, ``_rad``, ``_s``)."""
