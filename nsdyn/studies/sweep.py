@@ -193,9 +193,8 @@ def load_checkpoint(path: Path, identity: dict) -> list | None:
     return _checkpoint(path, identity)[0]
 
 
-def _checkpoint(path: Path, identity: dict) -> tuple[list | None, str]:
-    """(points, "") of a checkpoint of these settings, else (None, why not): "" (no file),
-    "unreadable" or "other" (a curve of other settings, "finished" when complete)."""
+def _checkpoint_data(path: Path) -> tuple[dict | None, str]:
+    """(the checkpoint file's data, "") or (None, "" without a file, else "unreadable")."""
     try:
         data = json.loads(Path(path).read_text())
         if not isinstance(data, dict):
@@ -204,6 +203,15 @@ def _checkpoint(path: Path, identity: dict) -> tuple[list | None, str]:
         return None, ""
     except (OSError, ValueError):
         return None, "unreadable"
+    return data, ""
+
+
+def _checkpoint(path: Path, identity: dict) -> tuple[list | None, str]:
+    """(points, "") of a checkpoint of these settings, else (None, why not): "" (no file),
+    "unreadable" or "other" (a curve of other settings, "finished" when complete)."""
+    data, why = _checkpoint_data(path)
+    if data is None:
+        return None, why
     if data.get("identity") != json.loads(json.dumps(identity)):
         return None, "finished" if data.get("complete") is True else "other"
     try:
@@ -389,13 +397,9 @@ def refuse_foreign(checkpoints) -> None:
     sweep's identity) each; a deck's sweep names its own) that is unfinished and of other
     settings."""
     for a, path, identity in checkpoints:
-        try:
-            data = json.loads(Path(path).read_text())
-        except (OSError, ValueError):
-            continue
+        data, _ = _checkpoint_data(path)
         ident = json.loads(json.dumps(identity))
-        if isinstance(data, dict) and data.get("complete") is False and \
-                data.get("identity") != ident:  # fmt: skip
+        if data is not None and data.get("complete") is False and data.get("identity") != ident:
             diff = ", ".join(differing(data.get("identity"), ident))
             raise CheckpointMismatch(
                 f"{path}: checkpoint of an interrupted sweep at A = {a:g} with other "
