@@ -58,8 +58,8 @@ def configure(p: argparse.ArgumentParser) -> None:
         type=_positive,
         default=A_MAX,
         metavar="A",
-        help=f"largest amplitude searched [m/s² (at most 1000), or N for a force scene] "
-        f"(default {A_MAX:g})",
+        help=f"largest amplitude searched [m/s² (at most 1000), or N for a force scene, which "
+        f"needs structure.contact_rows or a frame] (default {A_MAX:g})",
     )
     p.add_argument("--fidelity", choices=["rigid", "cb", "full"], help="override the scene's")
     p.add_argument(

@@ -408,7 +408,7 @@ def uplift_error(s: dict, files: bool = True) -> str | None:
     u = s.get("uplift")
     if not u:
         return None
-    return (f"UPLIFT isolator {u['isolator']} at t = {u['t_s']:.6g} s: its normal force reached "
+    return (f"UPLIFT isolator {u['isolator']} at t = {u['t_s']:.5g} s: its normal force reached "
             "zero and the run ended there" + (" (the files hold the run up to it)" if files
                                               else ""))  # fmt: skip
 
@@ -423,21 +423,21 @@ def summary_table(head: str, s: dict, rows) -> str:
                      f"peak overshoot {c['peak_overshoot_m']:.4g} m")  # fmt: skip
     if s.get("uplift"):
         u = s["uplift"]
-        lines.append(f"  UPLIFT isolator {u['isolator']} at t = {u['t_s']:.6g} s (run ended)")
+        lines.append(f"  UPLIFT isolator {u['isolator']} at t = {u['t_s']:.5g} s (run ended)")
     if s.get("tension"):
         u = s["tension"]
-        lines.append(f"  TENSION isolator {u['isolator']} at t = {u['t_first_s']:.6g} s "
+        lines.append(f"  TENSION isolator {u['isolator']} at t = {u['t_first_s']:.5g} s "
                      f"(bilateral contact held it; {u['onsets']} onsets, min normal force "
                      f"{u['min_normal_force_N']:.4g} N over every step)")  # fmt: skip
     if s.get("lift_offs"):  # a unilateral run of a system from matrices
         lines.append(f"  LIFT-OFF {s['lift_offs']} lift-offs and {s['landings']} landings, the "
-                     f"first at t = {s['first_lift_off_s']:.6g} s, largest landing velocity "
+                     f"first at t = {s['first_lift_off_s']:.5g} s, largest landing velocity "
                      f"{s['max_landing_velocity_mps']:.3g} m/s")  # fmt: skip
     for k, label, unit in rows:
         v = s.get(k)
         if v is None:
             continue
-        text = f"{v:.6g}" if isinstance(v, float) and math.isfinite(v) else str(v)
+        text = f"{v:.4g}" if isinstance(v, float) and math.isfinite(v) else str(v)
         lines.append(f"  {label:22s} {text}" + (f" {unit}" if unit else ""))
     lines.extend(f"  {'file':22s} {f}" for f in s.get("files", []))
     return "\n".join(lines)
