@@ -173,17 +173,21 @@ def _count_below(K, M, w2) -> int | None:
 EIG_ROUNDOFF_C = 10.0
 
 
+class MechanismError(ValueError):
+    """A stiffness that is not positive definite where it must be (a mechanism)."""
+
+
 def finite_pairs(K: np.ndarray, M: np.ndarray, k: int | None = None):
     """The ``k`` (default all) lowest eigenpairs ``(lam, V)`` of finite ``lam`` of dense
     ``K phi = lam M phi`` with K positive definite and M positive semi-definite (dofs without
     mass: massless members), ascending, through the Cholesky factor of K:
     ``L^-1 M L^-T psi = mu psi``, ``lam = 1/mu``; the zero ``mu`` of massless directions
     (below :data:`EIG_ROUNDOFF_C` n eps of the largest) are dropped. ValueError when K is
-    not positive definite (a mechanism)."""
+    not positive definite (a mechanism): a :class:`MechanismError`."""
     try:
         L = sla.cholesky(K, lower=True)
     except sla.LinAlgError:
-        raise ValueError(
+        raise MechanismError(
             "the fixed-base stiffness is not positive definite (a mechanism or an unsupported part)"
         ) from None
     A = sla.solve_triangular(L, sla.solve_triangular(L, M, lower=True).T, lower=True)

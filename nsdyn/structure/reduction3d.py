@@ -37,7 +37,7 @@ import numpy as np
 from nsdyn._brief import brief_repr
 from nsdyn._checks import mapped
 from nsdyn.structure.frame3d import DOFS_PER_NODE, Frame3D
-from nsdyn.structure.reduction import CBModel, craig_bampton
+from nsdyn.structure.reduction import CBModel, MechanismError, craig_bampton
 
 __all__ = ["BOUNDARIES", "CBModel3D", "DENSE_MAX_3D", "craig_bampton_3d"]
 
@@ -142,7 +142,8 @@ def craig_bampton_3d(
     r = frame.rigid_motions()[:, :3]
     try:
         cb = craig_bampton(K, M, b, float(f_max), frame.zeta, r=r, dense_max=dense_max)
-    except RuntimeError as exc:  # singular K_ii: no factor, or Ψ r_b != r_i (NumericalFailure)
+    except (RuntimeError, MechanismError) as exc:  # singular K_ii: no factor (or one whose
+        # modes find it not positive definite), or Ψ r_b != r_i (NumericalFailure)
         raise ValueError(
             f"the frame with its interface dofs {[_NAMES[c] for c in comps]} held is a "
             f"mechanism or singular to working precision ({exc}); e.g. a plane frame on pins "
