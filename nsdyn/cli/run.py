@@ -31,11 +31,11 @@ from nsdyn.cli.run_checks import (
 )
 from nsdyn.cli.run_resume import open_checkpoint, run_identity
 from nsdyn.cli.run_summary import summary_rows
+from nsdyn.models.scene_schema import RECORD_UNITS  # --units: a scene's [motion] units
 from nsdyn.models.scenefile import SceneError
 
 DEFAULT_OUT = "nsdyn-out"  # output directory
 FIXED_PEAKS = ("idr_max", "floor_acc_max_mps2", "roof_drift_max_m")  # --compare-fixed's
-RECORD_UNITS = ("g", "gal", "cm/s2", "m/s2")  # --units: a scene's [motion] units
 FINISHED: list = []  # histories written by a run of this process (what an interrupt says)
 
 
@@ -375,7 +375,11 @@ def run(args: argparse.Namespace) -> int:
         field = str(e).split(":")[0]
         table = {"dt_out": "solver.", "t_end": "motion.", "n_periods": "motion."}
         prefix = table.get(field, "" if field == "motion" else "motion: ")
-        raise SceneError(f"{source}: {prefix}{e}") from None
+        of = (
+            f" (the run is the record's span: {motion.source}, {motion.n} samples at "
+            f"{motion.dt:g} s)"
+        ) * (field == "dt_out" and not duration and hasattr(motion, "n"))
+        raise SceneError(f"{source}: {prefix}{e}{of}") from None
     from nsdyn.solve.auto import choose_for_system, step_reason
 
     method, reason = sv.get("method", "auto"), ""

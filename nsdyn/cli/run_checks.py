@@ -33,8 +33,8 @@ def note_unused_components(motion) -> str | None:
 
 
 PLANAR_REMEDY = ("a planar model takes one horizontal component and the vertical; "
-                 "read_motion's column= and vertical= choose others; a deck or building3d "
-                 "scene takes all three")  # fmt: skip
+                 "[motion] column (read_motion's column=) chooses another; a deck or "
+                 "building3d scene takes all three")  # fmt: skip
 
 
 def note_coarse_output(cfg: dict, motion) -> str | None:

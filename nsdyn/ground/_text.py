@@ -488,17 +488,23 @@ def check_time(t: np.ndarray, linenos: np.ndarray, source: str) -> float:
     return float(f"{dt:.{DT_DIGITS}g}")
 
 
-def column_index(spec: int | str, names: list[str] | None, ncol: int, source: str) -> int:
+def column_index(spec: int | str, names: list[str] | None, ncol: int, source: str,
+                 argument: str = "column") -> int:  # fmt: skip
+    """The index of the column ``spec`` (an index, negative from the end, or a name) of a
+    table of ``ncol`` columns; a RecordFileError whose ``argument`` names the reader's key."""
     if isinstance(spec, str):
         if names is None:
             raise RecordFileError(source, None, f"expected a column named {spec!r}; the file "
-                                  f"names no columns: give an index 0..{ncol - 1}")  # fmt: skip
+                                  f"names no columns: give an index 0..{ncol - 1}",
+                                  argument)  # fmt: skip
         named = names_and_units(fields(spec))  # a name given with its unit, "acc [g]"
         key = named[0][0] if named is not None and len(named[0]) == 1 else spec.lower()
         if key not in names:
-            raise RecordFileError(source, None, f"expected a column named {spec!r}; has {names}")
+            raise RecordFileError(source, None, f"expected a column named {spec!r}; has {names}",
+                                  argument)  # fmt: skip
         return names.index(key)
     idx = int(spec)
     if not -ncol <= idx < ncol:
-        raise RecordFileError(source, None, f"expected column index < {ncol}, got {spec}")
+        raise RecordFileError(source, None, f"expected column index < {ncol}, got {spec}",
+                              argument)  # fmt: skip
     return idx % ncol

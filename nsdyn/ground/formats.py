@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -36,13 +37,14 @@ from nsdyn.ground._text import (
     to_float,
 )
 from nsdyn.ground.motion import (
+    G_STANDARD,
     UNITS_HINT,
     UNKNOWN_UNITS,
     GroundMotion,
     RecordFileError,
     UnitError,
+    UnitWarning,
     header_units,
-    resolve_units,
     unit_factor,
 )
 
@@ -81,6 +83,58 @@ def _shuffled_grid(col: np.ndarray, dt: float | None) -> bool:
     grid = np.sort(col) - col.min()
     h = grid[-1] / (col.size - 1) if dt is None else dt
     return bool(h > 0 and np.allclose(grid, h * np.arange(col.size), rtol=0.0, atol=1e-6 * h))
+
+
+G_LIKELY_BELOW = 1.0  # a peak of unstated units under it is likelier in g than in m/s²
+
+
+def resolve_units(explicit: str | None, stated: str | None, source: str,
+                  peak: float | None = None) -> tuple[str, float]:  # fmt: skip
+    """``(unit name, factor to m/s²)``: the argument, else the header's, else m/s² (warns;
+    a ``peak`` of the file's values under :data:`G_LIKELY_BELOW`, 0.1 g read as m/s², is
+    likelier in g: the warning says what the PGA would be in g).
+    Units the header states but nsdyn does not know are refused (unless given)."""
+    if stated is not None and stated.startswith(UNKNOWN_UNITS):
+        word = stated.removeprefix(UNKNOWN_UNITS)
+        if explicit is None:
+            raise UnitError(
+                f"{source}: the header states units {word!r}, which nsdyn does not "
+                f"know; expected g, gal (cm/s2), mm/s2 or m/s2 (or give them: {UNITS_HINT})"
+            )
+        stated = word  # the argument wins, with the warning below
+    if explicit is not None:
+        try:
+            name, factor = unit_factor(explicit)
+        except ValueError as e:  # the caller's argument, not the file
+            raise UnitError(str(e)) from None
+        if stated is not None and stated != name:
+            warnings.warn(
+                f"{source}: units={explicit!r} given, but the file states {stated!r} (its header "
+                f"or column label); using the given {explicit!r}"
+                + (f" ({name})" if name != explicit else ""),
+                UnitWarning,
+                stacklevel=4,
+            )
+        return name, factor
+    if stated is not None:
+        return unit_factor(stated)
+    in_g = ""
+    if peak is not None and 0.0 < peak < G_LIKELY_BELOW:  # (0.349 g read as 0.036 g ran on)
+        in_g = (f"; its peak {peak:.4g} m/s² is {peak / G_STANDARD:.3g} g, small for a record: "
+                f"if the file is in g, as most strong-motion files are, the PGA is "
+                f"{peak * G_STANDARD:.4g} m/s²")  # fmt: skip
+    warnings.warn(
+        f"{source}: the file does not state its units; assuming m/s² (give them: {UNITS_HINT})"
+        + in_g,
+        UnitWarning,
+        stacklevel=4,
+    )
+    return "m/s2", 1.0
+
+
+def _peak(values: np.ndarray) -> float:
+    """The largest magnitude of a file's acceleration values (0 for none)."""
+    return float(np.abs(values).max()) if values.size else 0.0
 
 
 def at2_header_line(lines: list[tuple[int, str]]) -> int | None:
@@ -136,7 +190,7 @@ def parse_at2(text: str, source: str, opt: ReadOptions) -> tuple[GroundMotion, s
             last,
             f"header (line {lineno}) states NPTS = {npts}, found {values.size} values",
         )
-    unit_name, factor = resolve_units(opt.units, header_units(header), source)
+    unit_name, factor = resolve_units(opt.units, header_units(header), source, _peak(values))
     title = header[1] if len(header) > 2 else header[0]
     motion = GroundMotion(
         t0=0.0,
@@ -225,7 +279,8 @@ def parse_table_motion(
                 first,
                 "expected a sampling interval: the file has no time column and its header "
                 "states no dt; give the step dt [s] (read_motion(..., dt=...); in a scene, "
-                "[motion] dt)",
+                "[motion] dt; or a header line '# dt = 0.01', which every command reads: "
+                "nsdyn run --dt is the integrator's step)",
                 argument="dt",
             )
         t0 = info.get("t0", 0.0)
@@ -235,7 +290,7 @@ def parse_table_motion(
         raise RecordFileError(source, first, "expected an acceleration column besides time")
     vcol: int | None = None
     if opt.vertical is not None:
-        vcol = column_index(opt.vertical, names, ncol, source)
+        vcol = column_index(opt.vertical, names, ncol, source, "vertical")
     elif names is not None:
         named = [j for j in acc_cols if names[j] in _VERTICAL_NAMES]
         vcol = named[0] if named else None
@@ -247,7 +302,7 @@ def parse_table_motion(
         raise RecordFileError(source, first, f"column {hcol} is the time column")
 
     stated = _stated_units(tab, info.get("units"), hcol, vcol, source, opt.units)
-    unit_name, factor = resolve_units(opt.units, stated[0], source)
+    unit_name, factor = resolve_units(opt.units, stated[0], source, _peak(data[:, hcol]))
     a_ver = None
     if vcol is not None and vcol != hcol:
         same = stated[1] == stated[0]
@@ -366,7 +421,7 @@ def parse_jma(text: str, source: str, opt: ReadOptions) -> tuple[GroundMotion, s
     values, _ = parse_values(body[1:], source)
     if values.size == 0:
         raise RecordFileError(source, lineno, "expected acceleration values after 'dt peak'")
-    unit_name, factor = resolve_units(opt.units, header_units(header), source)
+    unit_name, factor = resolve_units(opt.units, header_units(header), source, _peak(values))
     motion = GroundMotion(
         t0=0.0,
         dt=opt.dt if opt.dt is not None else dt_line,

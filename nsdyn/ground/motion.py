@@ -93,6 +93,17 @@ PGA_TARGET_MAX = 1000.0  # [m/s²]
 PGA_TARGET = f"a finite PGA from 0 to {PGA_TARGET_MAX:g} m/s² (100 g)"
 
 
+def record_pga_said(pga: float) -> str | None:
+    """The refusal of a record run as read whose PGA [m/s²] is above what ``pga`` scales to
+    (:data:`PGA_TARGET_MAX`, 100 g: a record in units it was not read in; 3e5 g ran until an
+    isolator lifted off), or None. A scene names its field before it."""
+    if not pga > PGA_TARGET_MAX:
+        return None
+    return (f"the record's PGA as read is {pga:.4g} m/s², above {PGA_TARGET_MAX:g} m/s² (100 g),"
+            " the most a scene runs: are its units right? Give them (motion.units; nsdyn run "
+            "--units), or scale the record (motion.pga; --pga)")  # fmt: skip
+
+
 def pga_target(target) -> float:
     """``target`` [m/s²] as a float if it is a PGA :func:`GroundMotion.scaled_to_pga` takes
     (:data:`PGA_TARGET`), else a ValueError naming it. One above
@@ -404,7 +415,9 @@ def unit_factor(units: str) -> tuple[str, float]:
         return "m/s2", 1.0
     if s in ("mm/s2", "mm/s/s"):
         return "mm/s2", 1e-3
-    raise ValueError(f"unknown acceleration unit {units!r}; use 'g', 'cm/s2' (gal) or 'm/s2'")
+    raise ValueError(
+        f"unknown acceleration unit {units!r}; use 'g', 'gal' (cm/s2), 'mm/s2' or 'm/s2'"
+    )
 
 
 _S, _WORD = r"[ \t]", r"([A-Za-z][\w/^*²]*)"  # (spaces within a line: a pattern is one line's)
@@ -512,38 +525,3 @@ def check_hand_pga(motion, kind: str, pga: float) -> None:
             stacklevel=4,
         )
     object.__setattr__(motion, "source", BY_HAND)
-
-
-def resolve_units(explicit: str | None, stated: str | None, source: str) -> tuple[str, float]:
-    """``(unit name, factor to m/s²)``: the argument, else the header's, else m/s² (warns).
-    Units the header states but nsdyn does not know are refused (unless given)."""
-    if stated is not None and stated.startswith(UNKNOWN_UNITS):
-        word = stated.removeprefix(UNKNOWN_UNITS)
-        if explicit is None:
-            raise UnitError(
-                f"{source}: the header states units {word!r}, which nsdyn does not "
-                f"know; expected g, gal (cm/s2), mm/s2 or m/s2 (or give them: {UNITS_HINT})"
-            )
-        stated = word  # the argument wins, with the warning below
-    if explicit is not None:
-        try:
-            name, factor = unit_factor(explicit)
-        except ValueError as e:  # the caller's argument, not the file
-            raise UnitError(str(e)) from None
-        if stated is not None and stated != name:
-            warnings.warn(
-                f"{source}: units={explicit!r} given, but the file states {stated!r} (its header "
-                f"or column label); using the given {explicit!r}"
-                + (f" ({name})" if name != explicit else ""),
-                UnitWarning,
-                stacklevel=4,
-            )
-        return name, factor
-    if stated is not None:
-        return unit_factor(stated)
-    warnings.warn(
-        f"{source}: the file does not state its units; assuming m/s² (give them: {UNITS_HINT})",
-        UnitWarning,
-        stacklevel=4,
-    )
-    return "m/s2", 1.0

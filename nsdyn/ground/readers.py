@@ -2,7 +2,8 @@
 
 ``read_motion`` takes a file or the name of a bundled record, detects the layout (see
 :mod:`nsdyn.ground.formats`), converts to m/s² and attaches a vertical component from a column,
-another file (same Δt; cut or zero-padded to n samples) or a ratio r (ü_ver = r ü_hor).
+another file (same Δt, t0 and length, or both cut to the shorter with ``trim=True``) or a
+ratio r (ü_ver = r ü_hor).
 ``write_motion`` writes the CSV that ``read_motion`` reads back bit for bit: columns
 t_k = t0 + k Δt, ü_hor[, ü_ver] in m/s², every value as its shortest round-trip repr.
 """
@@ -86,6 +87,7 @@ def read_motion(
     column: int | str | None = None,
     vertical: int | str | float | os.PathLike | None = None,
     name: str | None = None,
+    trim: bool = False,
 ) -> GroundMotion:
     """Read a ground motion from a file or by bundled name.
 
@@ -106,17 +108,21 @@ def read_motion(
         or a column name. Default: the first acceleration column that is not a vertical one.
     vertical : int, str, float or path, optional
         Vertical component: a column (index or name) of the same table; a float ratio r
-        (a_ver = r a_hor); or another file, read with the same ``units``, whose dt must match
-        and whose samples are zero-padded or cut to this record's length. Default: a table column
-        named a_ver/ver/UD/UP/z, else none.
+        (a_ver = r a_hor); or another file, read with the same ``units`` argument (None: in the
+        units its own header states), whose dt, t0 and number of samples must match this
+        record's. Default: a table column named a_ver/ver/UD/UP/z, else none.
     name : str, optional
         Record name (default: the header's ``name:`` or the file stem).
+    trim : bool
+        With a vertical file of another length, cut both to the shorter instead of refusing
+        (a station's components often differ by a few samples at the end).
 
     Raises
     ------
     RecordFileError
         Naming the file, the line and what was expected, for non-numeric rows, NaN/inf,
-        non-uniform time, empty files, NPTS mismatch, missing dt.
+        non-uniform time, empty files, NPTS mismatch, missing dt, a vertical file on
+        another time grid.
 
     Warns
     -----
@@ -155,6 +161,9 @@ def read_motion(
         motion, unit_name = parse_jma(text, source, opt)
     else:
         motion, unit_name = parse_table_motion(text, source, kind, opt)
+    if motion.n < 2:  # (a time column's file needs two rows; a header's dt took one)
+        raise RecordFileError(source, None, "a record of 1 sample spans no time; expected two "
+                              "samples or more")  # fmt: skip
     check_pga(motion, units)
     if vertical_ratio is not None:
         return motion.with_vertical(vertical_ratio)
@@ -165,11 +174,20 @@ def read_motion(
         raise RecordFileError(
             other.source, None, f"vertical dt = {other.dt:g} s, horizontal dt = {motion.dt:g} s"
         )
-    a_ver = np.zeros(motion.n)
+    if abs(other.t0 - motion.t0) > DT_RTOL * motion.dt:  # (a shifted vertical ran as if not)
+        raise RecordFileError(other.source, None, f"vertical t0 = {other.t0:g} s, horizontal "
+                              f"({motion.source}) t0 = {motion.t0:g} s; the components of "
+                              "one record start together")  # fmt: skip
+    if other.n != motion.n and not trim:  # (the shorter was zero-padded, unsaid)
+        raise RecordFileError(other.source, None, f"vertical npts = {other.n}, horizontal "
+                              f"({motion.source}) npts = {motion.n}; pass trim=True to cut "
+                              "both to the shorter")  # fmt: skip
     m = min(motion.n, other.n)
-    a_ver[:m] = other.a_hor[:m]
+    cut = {"trimmed_to": m} if m < max(motion.n, other.n) else {}
     return motion._replace(
-        a_ver=a_ver, meta_update={"vertical_source": other.source, "vertical_n": other.n}
+        a_hor=motion.a_hor[:m],
+        a_ver=other.a_hor[:m].copy(),
+        meta_update={"vertical_source": other.source, "vertical_n": other.n, **cut},
     )
 
 

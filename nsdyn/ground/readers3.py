@@ -197,6 +197,12 @@ def read_motion3(
             raise ValueError(f"read_motion3: y: expected the second horizontal file with z={z}")
         motion = _read_one_source(x, units, dt)
     else:
+        for key, other in (("y", y), ("z", z)):  # (x == y ran with both from column 0)
+            if other is not None and Path(other).is_file() and Path(x).is_file() \
+                    and Path(other).resolve() == Path(x).resolve():  # fmt: skip
+                raise ValueError(f"read_motion3: {key}: the same file as x ({x}); a file of "
+                                 "several components is given alone, as x, with columns "
+                                 "named t, ax, ay[, az]")  # fmt: skip
         motion = _read_files(x, y, z, units, dt, trim)
     if name is not None:
         motion = motion._replace(name=name)

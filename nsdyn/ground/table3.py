@@ -29,7 +29,13 @@ import math
 import warnings
 from typing import Any
 
-from nsdyn.ground.motion import G_STANDARD, PGA_MAX_PLAUSIBLE, UnitWarning, unit_factor
+from nsdyn.ground.motion import (
+    G_STANDARD,
+    PGA_MAX_PLAUSIBLE,
+    UnitWarning,
+    record_pga_said,
+    unit_factor,
+)
 from nsdyn.ground.motion3 import GroundMotion3
 from nsdyn.ground.orbit import HarmonicPlane
 from nsdyn.ground.readers3 import read_motion3
@@ -152,6 +158,8 @@ def _record3(table: dict, source: str) -> GroundMotion3:
             raise _err(source, key, text) from None
     elif "pga_component" in table:
         raise _err(source, "pga_component", "given without pga")
+    elif said := record_pga_said(motion.pga_resultant):
+        raise _err(source, "record" if "record" in table else "x", said)
     if "t_end" in table:
         t_end = _number(source, table, "t_end", positive=True)
         try:

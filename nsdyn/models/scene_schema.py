@@ -28,7 +28,8 @@ from nsdyn._checks import RTOL_MIN
 NO_DEFAULT = object()  # a key that has no default (optional, or required if ``required``)
 # a relative tolerance: RTOL_MIN <= v < 1 (nsdyn._checks.rel_tol; from 1 on, any step passes
 # the error test; below 100x double precision's epsilon it measures round-off)
-RECORD_UNITS = ("g", "gal", "cm/s2", "m/s2")  # [motion] units of a record file, every family
+# [motion] units of a record file, every family
+RECORD_UNITS = ("g", "gal", "cm/s2", "mm/s2", "m/s2")
 REL_TOL = {"lo": RTOL_MIN, "lo_open": False, "hi": 1.0, "hi_open": True}
 
 

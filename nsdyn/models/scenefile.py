@@ -119,6 +119,18 @@ def scaled_to_pga(motion, pga: float, source: str, field: str = "motion.pga"):
         raise SceneError(f"{source}: {field}: {str(e).removeprefix('target: ')}") from None
 
 
+def scaled_record(motion, mo: dict, source: str):
+    """A planar scene's record scaled to its ``[motion] pga`` when given; else as read, or a
+    SceneError for one above 100 g (:func:`nsdyn.ground.motion.record_pga_said`)."""
+    if "pga" in mo:
+        return scaled_to_pga(motion, float(mo["pga"]), source)
+    from nsdyn.ground.motion import record_pga_said
+
+    if said := record_pga_said(motion.pga):
+        raise SceneError(f"{source}: motion.record: {mo.get('record', '')}: {said}")
+    return motion
+
+
 def scene_step(dt, motion, span, source: str, hint: str = "") -> None:
     """:func:`nsdyn._checks.check_fixed_step` of a scene's ``solver.dt`` (no longer than the
     run ``span`` nor the record's sampling step), its refusal a :class:`SceneError` naming the

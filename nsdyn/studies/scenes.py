@@ -34,7 +34,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from nsdyn._checks import NotedWarning
-from nsdyn.models.scenefile import SceneError, scaled_to_pga, scene_kind, scene_module
+from nsdyn.models.scenefile import SceneError, scaled_record, scene_kind, scene_module
 from nsdyn.studies.steps import check_step_count, checked_step, fixed_step
 from nsdyn.studies.study import KINDS3C
 
@@ -45,10 +45,10 @@ _lock = threading.Lock()  # the system cache is shared by the threads of a threa
 
 
 @lru_cache(maxsize=MOTION_CACHE)
-def _read(record: str, units: str | None, dt: float | None):
+def _read(record: str, units: str | None, dt: float | None, column: int | str | None = None):
     from nsdyn.ground import read_motion
 
-    kw = {k: v for k, v in (("units", units), ("dt", dt)) if v is not None}
+    kw = {k: v for k, v in (("units", units), ("dt", dt), ("column", column)) if v is not None}
     return read_motion(record, **kw)
 
 
@@ -72,11 +72,10 @@ def scene_motion(cfg: dict, source: str = "<scene>"):
     if "simulated" in mo:
         motion = simulated_motion(mo["simulated"])
     else:
-        motion = _read(str(mo["record"]), mo.get("units"), mo.get("dt"))
+        motion = _read(str(mo["record"]), mo.get("units"), mo.get("dt"), mo.get("column"))
     if not mo.get("vertical", True):
         motion = motion.with_vertical(None)
-    if "pga" in mo:
-        motion = scaled_to_pga(motion, float(mo["pga"]), source)
+    motion = scaled_record(motion, mo, source)
     if "t_end" in mo:
         try:
             motion = motion.until(float(mo["t_end"]))

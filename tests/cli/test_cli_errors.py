@@ -170,7 +170,7 @@ def test_a_units_warning_is_one_line_naming_the_command(capsys, tmp_path):
 
     rec = tmp_path / "rec.txt"
     t = np.arange(0.0, 2.0, 0.01)
-    rec.write_text("\n".join(f"{a:.3f} {b:.6e}" for a, b in zip(t, np.sin(t), strict=True)))
+    rec.write_text("\n".join(f"{a:.3f} {b:.6e}" for a, b in zip(t, 3 * np.sin(t), strict=True)))
     with warnings.catch_warnings():
         warnings.simplefilter("always")
         rc = main(["run", "--record", str(rec), "--t-end", "1", "--json", "--no-figures",
@@ -347,3 +347,26 @@ def test_a_generic_key_is_not_sent_to_a_table_that_means_it_otherwise():
     for where, key, tables in (("solver.", "dt", rocking), ("body.", "kind", contact)):
         said = str(unknown_key("s.toml", where, key, tables[where[:-1]], tables))
         assert said.startswith(f"s.toml: {where}{key}: unknown field; expected some of [")
+
+
+@pytest.mark.parametrize(
+    ("rows", "args", "says"),
+    [  # a record the run cannot use is named with what is wrong with it, not the solver's step
+        ("time [s], acc [m/s2]\n0.0, 0.1\n0.01, 0.2\n", [],
+         r"solver.dt_out: an output step of 0.02 s is longer than the run \(0.01 s\).* \(the run "
+         r"is the record's span: .*rec.txt, 2 samples at 0.01 s\)$"),
+        ("# dt = 0.01\n# units: m/s2\n0.1\n", [],  # (a header's dt read one sample: n = 1)
+         r"motion.record \(--record\): .*rec.txt: a record of 1 sample spans no time"),
+        ("# units: m/s2\n0.1\n0.2\n0.3\n", ["--dt", "0.01"],  # --dt is not the record's step
+         r"give the step dt .* a header line '# dt = 0.01', which every command reads: nsdyn run "
+         r"--dt is the integrator's step\)$"),
+    ],
+)  # fmt: skip
+def test_a_record_too_short_or_without_its_step_is_named(rows, args, says, capsys, tmp_path):
+    rec = tmp_path / "rec.txt"
+    rec.write_text(rows)
+    argv = ["run", "--frame", "portal", "--record", str(rec), *args, "--no-figures", "--out",
+            str(tmp_path / "o")]  # fmt: skip
+    assert main(argv) == EXIT_USER_ERROR
+    errors = [ln for ln in capsys.readouterr().err.splitlines() if "error:" in ln]
+    assert len(errors) == 1 and re.search(says, errors[0]), errors

@@ -223,6 +223,7 @@ def sample(key: Key):
     return {
         "number": 1.0,
         "integer": 1,
+        "integer or string": 1,
         "boolean": True,
         "string": "x",
         "number or list": 1.0,

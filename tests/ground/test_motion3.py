@@ -301,6 +301,12 @@ def test_missing_components_are_named(tmp_path, triple):
         read_motion3(x=triple["x"], y=tmp_path / "nosuch.AT2")
     with pytest.raises(FileNotFoundError, match="neither a file nor a bundled record"):
         read_motion3("synthetic-wn-40s-y")  # a companion file is not a record of its own
+    # one file given as two components read its first column twice (x == y, unsaid)
+    with pytest.raises(ValueError, match=r"read_motion3: y: the same file as x \("):
+        read_motion3(x=triple["x"], y=triple["x"])
+    with pytest.raises(ValueError, match=r"read_motion3: z: the same file as x \("):
+        x = triple["x"]  # (the same file by another path)
+        read_motion3(x=x, y=triple["y"], z=x.parent / ".." / x.parent.name / x.name)
 
 
 # ------------------------------------------------------------------------------------------

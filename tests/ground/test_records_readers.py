@@ -545,3 +545,34 @@ def test_a_units_line_without_its_colon_states_the_units(tmp_path):
     ):
         with pytest.warns(UnitWarning, match="does not state its units"):
             read_motion(write(tmp_path, f"c{i}.txt", head + body))
+
+
+def test_a_record_in_g_read_as_assumed_m_s2_is_given_its_pga_in_g(tmp_path):
+    # 0.349 g without a units line (El Centro's file) read as m/s² is 0.0356 g, which ran with
+    # the plain "assuming m/s²" warning; the warning gives its PGA in g, 0.349 x 9.80665 m/s²
+    rec = write(tmp_path, "elc.txt", "0.0 0.349\n0.01 -0.2\n0.02 0.0\n")
+    with pytest.warns(UnitWarning, match=r"if the file is in g, .* the PGA is 3\.423 m/s²$"):
+        assert read_motion(rec).pga == 0.349
+    big = write(tmp_path, "ms2.txt", "0.0 3.49\n0.01 -0.2\n0.02 0.0\n")  # a plausible m/s²
+    with pytest.warns(UnitWarning, match=r"assuming m/s² \(give them: .* units='gal'\)$"):
+        read_motion(big)
+
+
+def test_a_vertical_file_on_another_grid_is_refused_or_cut_to_the_shorter(tmp_path):
+    # the shorter of two components was zero-padded (or the longer cut) without a word
+    hor = write(tmp_path, "h.txt", "# units: m/s2\n" + "".join(
+        f"{0.01 * k:.2f} {np.sin(k):.6f}\n" for k in range(1, 9)))  # fmt: skip
+    ver = write(tmp_path, "v.txt", "# units: m/s2\n" + "".join(
+        f"{0.01 * k:.2f} {0.5 * np.cos(k):.6f}\n" for k in range(1, 6)))  # fmt: skip
+    with pytest.raises(RecordFileError, match=r"v.txt: vertical npts = 5, horizontal .*"
+                                              r"npts = 8; pass trim=True"):  # fmt: skip
+        read_motion(hor, vertical=ver)
+    m = read_motion(hor, vertical=ver, trim=True)
+    assert m.n == 5 and m.meta["trimmed_to"] == 5
+    np.testing.assert_array_equal(m.a_hor, np.round(np.sin(np.arange(1, 6)), 6))
+    np.testing.assert_array_equal(m.a_ver, np.round(0.5 * np.cos(np.arange(1, 6)), 6))
+    late = write(tmp_path, "late.txt", "# units: m/s2\n" + "".join(
+        f"{0.01 * k:.2f} 0.1\n" for k in range(2, 10)))  # fmt: skip
+    with pytest.raises(RecordFileError, match=r"late.txt: vertical t0 = 0.02 s, horizontal .*"
+                                              r"t0 = 0.01 s"):  # fmt: skip
+        read_motion(hor, vertical=late)

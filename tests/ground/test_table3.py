@@ -125,10 +125,13 @@ def test_a_bad_component_file_is_named_by_its_own_key(tmp_path):
     x.write_text(at2 + "NPTS=    3, DT=   .0100 SEC,\n  0.01  0.02  0.03\n")
     y = tmp_path / "y.AT2"
     y.write_text(at2 + "NPTS=    3, DT=   .0200 SEC,\n  0.01  0.02  0.03\n")
+    x2 = tmp_path / "x2.AT2"  # (x's samples in another file: one file twice is refused)
+    x2.write_text(x.read_text())
     cases = [
         ({"x": str(x), "y": str(tmp_path / "nosuch.AT2")}, "y", "no such file"),
         ({"x": str(x), "y": str(y)}, "y", "dt = 0.02 s"),  # the y file's step differs from x's
-        ({"x": str(x), "y": str(x), "z": str(y)}, "z", "dt = 0.02 s"),
+        ({"x": str(x), "y": str(x2), "z": str(y)}, "z", "dt = 0.02 s"),
+        ({"x": str(x), "y": str(x)}, "y", "the same file as x"),
         ({"x": str(x)}, "y", "missing component y"),  # an AT2 file holds one component
         ({"x": str(x), "z": str(x)}, "y", "second horizontal"),
     ]

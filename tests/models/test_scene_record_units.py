@@ -8,6 +8,7 @@ without a record or outside the list refused naming the key.
 
 from __future__ import annotations
 
+import re
 import warnings
 
 import pytest
@@ -71,3 +72,61 @@ def test_units_without_a_record_or_unknown_are_refused(record, motion, match):
     motion = {k: (record if v == "RECORD" else v) for k, v in motion.items()}
     with pytest.raises(SceneError, match=match):
         build_motion({"motion": motion}, "s.toml")
+
+
+def test_a_record_above_100_g_as_read_is_refused_unless_scaled(tmp_path, capsys):
+    # a record in units it was not read in (3e5 g) ran until an isolator lifted off; pga
+    # scales only up to 100 g (1000 m/s²), so a record as read beyond it is refused by the
+    # same bound, naming the field and the file, in a planar, a study's and a 3-component scene
+    from nsdyn.cli.app import main
+    from nsdyn.ground.table3 import motion3_from_table
+    from nsdyn.studies.scenes import scene_motion
+
+    path = tmp_path / "rec.csv"
+    rows = [f"{0.01 * i:.2f},{200.0 * (i % 3 - 1)!r},{50.0 * (i % 2)!r}" for i in range(50)]
+    path.write_text("# units: g\nt,ax,ay\n" + "\n".join(rows) + "\n")
+    said = r"motion.record.*rec.csv: the record's PGA as read is 1961 m/s², above 1000 m/s²"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # (the implausible PGA's UnitWarning)
+        with pytest.raises(SceneError, match=said):
+            scene_motion({"motion": {"record": str(path)}}, "s.toml")
+        assert scene_motion({"motion": {"record": str(path), "pga": 3.0}}).pga == 3.0
+        resultant = (
+            r"s.toml: motion.record: the record's PGA as read is 2022 m/s²"  # hypot(200, 50) g
+        )
+        with pytest.raises(ValueError, match=resultant):
+            motion3_from_table({"kind": "record3", "record": str(path)}, "s.toml")
+        rc = main(["run", "--frame", "portal", "--record", str(path), "--no-figures",
+                   "--out", str(tmp_path / "o")])  # fmt: skip
+    assert rc == 2 and re.search(said, capsys.readouterr().err)
+
+
+def test_a_planar_scene_takes_the_column_it_names(tmp_path, capsys):
+    # a table of two horizontals: the planar scene ran the first (NS), and said so, with no
+    # key to take the other; [motion] column takes it by index or name, as read_motion does
+    from nsdyn.cli.app import main
+    from nsdyn.models.isolated.scene import build_scene_run, load_scene
+    from nsdyn.studies.scenes import scene_motion
+
+    path = tmp_path / "ns_ew.csv"
+    rows = [f"{0.01 * i:.2f},{2.0 * (i % 3 - 1)!r},{3.5 * (i % 2)!r}" for i in range(50)]
+    path.write_text("# units: m/s2\nt,ns,ew\n" + "\n".join(rows) + "\n")
+    scene = tmp_path / "s.toml"
+    for column, peak in ((1, 2.0), ("ns", 2.0), (2, 3.5), ("ew", 3.5)):
+        col = f'"{column}"' if isinstance(column, str) else column
+        scene.write_text(f'[scene]\nframe = "portal"\n[motion]\nrecord = "{path}"\n'
+                         f"column = {col}\n")  # fmt: skip
+        assert build_scene_run(load_scene(scene))[1].pga == peak  # exact: the file's value
+        assert scene_motion({"motion": {"record": str(path), "column": column}}).pga == peak
+    refused = [
+        (True, r"motion.column: expected a column index \(0, 1, ...\) or a column name, got true"),
+        (-1, r"motion.column: .* got -1"),
+        ('"north"', r"motion.column: .*ns_ew.csv: expected a column named 'north'; has \['t', "
+                    r"'ns', 'ew'\]"),
+        (3, r"motion.column: .*ns_ew.csv: expected column index < 3, got 3"),
+    ]  # fmt: skip
+    for column, says in refused:
+        scene.write_text(f'[scene]\nframe = "portal"\n[motion]\nrecord = "{path}"\n'
+                         f"column = {str(column).lower()}\n")  # fmt: skip
+        assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 2
+        assert re.search(says, capsys.readouterr().err)

@@ -68,7 +68,7 @@ from nsdyn.models.isolated.system import (
     isolation_from_config,
 )
 from nsdyn.models.isolated.tolerances import RUN_RTOL
-from nsdyn.models.scenefile import SceneError, read_toml, rel_tol, scaled_to_pga, unknown_key
+from nsdyn.models.scenefile import SceneError, read_toml, rel_tol, scaled_record, unknown_key
 
 DEFAULT_SCENE = {
     "scene": {"name": f"{FRAME} isolated", "frame": FRAME, "fidelity": "cb", "f_max": F_MAX},
@@ -159,6 +159,12 @@ def _check(cfg: dict, source: str) -> dict:
                 homes = {**_FIELDS, "isolation": Isolation.__dataclass_fields__}
                 raise unknown_key(source, f"{table}.", key, fields, homes)
             typ = fields[key]
+            if typ == "column":  # a table's column: an index from 0 or a name
+                if isinstance(val, bool) or not (isinstance(val, int) and val >= 0 or
+                                                 isinstance(val, str) and val.strip()):  # fmt: skip
+                    raise SceneError(f"{source}: {table}.{key}: expected a column index (0, "
+                                     f"1, ...) or a column name, got {val!r}")  # fmt: skip
+                continue
             if typ == "tolerance":
                 pair = isinstance(val, list) and len(val) == 2
                 vals = val if pair else [val]
@@ -335,11 +341,7 @@ def build_scene_run(cfg: dict):
         return system, h, duration
     if "record" not in mo:
         raise SceneError(f"{source}: motion.record: required (or kind = 'harmonic', or [force])")
-    kw = {}
-    if "units" in mo:
-        kw["units"] = mo["units"]
-    if "dt" in mo:
-        kw["dt"] = mo["dt"]
+    kw = {k: mo[k] for k in ("units", "dt", "column") if k in mo}
     try:
         motion = read_motion(mo["record"], **kw)
     except (OSError, ValueError) as e:  # a missing file, an unknown name, a bad record
@@ -348,8 +350,7 @@ def build_scene_run(cfg: dict):
     felt = bool(np.any(np.asarray(system.Gamma)[:, 1]))  # (a shear building's: not)
     if not mo.get("vertical", felt):  # unset: kept where the model feels it, without a word
         motion = motion.with_vertical(None)  # (set true where it cannot: warned by the run)
-    if "pga" in mo:
-        motion = scaled_to_pga(motion, float(mo["pga"]), source)
+    motion = scaled_record(motion, mo, source)
     if "t_end" in mo:
         try:
             motion = motion.until(float(mo["t_end"]))

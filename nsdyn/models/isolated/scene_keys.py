@@ -218,6 +218,14 @@ MOTION_RECORD = Table(
             "use the record's vertical component when it has one; unset: where the model "
             "feels it (a frame, a [structure] with vertical rows), not on a shear building",
         ),
+        Key(
+            "column",
+            "integer or string",
+            "the horizontal column of a table of several: an index over the file's columns "
+            "(time included) or a column name; unset: the first acceleration column that is "
+            "not a vertical one",
+            lo=0.0,
+        ),
         _T_END,
         _UNITS,
         _DT_REC,
@@ -419,10 +427,12 @@ _PY = {
     "boolean": bool,
     "integer": int,
     "number or pair": "tolerance",
+    "integer or string": "column",
 }
 
 
 def checked_types(*tables: Table) -> dict[str, dict[str, object]]:
     """``{table: {key: type}}`` of ``tables`` in the form the scene reader checks values by:
-    ``float``, ``str``, ``bool``, ``int`` or ``"tolerance"`` (a number or a pair)."""
+    ``float``, ``str``, ``bool``, ``int``, ``"tolerance"`` (a number or a pair) or
+    ``"column"`` (an index from 0 or a name)."""
     return {t.name: {k.name: _PY[k.type] for k in t.keys} for t in tables}
