@@ -151,3 +151,20 @@ def test_bad_helper_arguments():
         HarmonicPlane.circular(1.0, 1.0, sense=2)
     with pytest.raises(ValueError, match="A: expected an amplitude >= 0"):
         HarmonicPlane.linear(1.0, -1.0, 0.0)
+
+
+def test_an_orbit_object_without_its_phase_has_the_orbit_s_default_phase():
+    # the kernel's ground parameters of an object with f, ax, ay and no phase_y_deg took
+    # φ_y = 0 (a line), a dict or a HarmonicPlane of the same values 90° (a circle): one
+    # default, HarmonicPlane's
+    from types import SimpleNamespace
+
+    from nsdyn.models.isolated import _kplane as kp
+    from nsdyn.models.isolated.plane_ground import pack_ground
+
+    ref = pack_ground(HarmonicPlane(f=0.5, ax=2.0, ay=2.0))[1]
+    assert ref[kp.GP_PHY] == math.radians(90.0)
+    for ground in ({"f": 0.5, "ax": 2.0, "ay": 2.0}, SimpleNamespace(f=0.5, ax=2.0, ay=2.0)):
+        np.testing.assert_array_equal(pack_ground(ground)[1], ref)
+    line = pack_ground(SimpleNamespace(f=0.5, ax=2.0, ay=2.0, phase_y_deg=0.0))[1]
+    assert line[kp.GP_PHY] == 0.0

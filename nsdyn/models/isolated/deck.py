@@ -60,7 +60,7 @@ from nsdyn.models.isolated.bearings import (
     stick_range_error,
 )
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
-from nsdyn.models.isolated.plane_ground import orbit_of, pack_ground  # noqa: F401 (their home)
+from nsdyn.models.isolated.plane_ground import orbit_of, pack_ground, tfp_start_said  # noqa: F401
 from nsdyn.models.isolated.plane_result import PlaneResult
 from nsdyn.models.isolated.tfp import N_INTERNAL, TripleBearing
 from nsdyn.models.isolated.tolerances import arctan_atol
@@ -495,7 +495,8 @@ def simulate_plane(
     contact: str = "detect",
     progress=None,
 ):
-    """Integrate the system under ``ground`` from rest (or ``y0`` = [q, q̇]).
+    """Integrate the system under ``ground`` (a record, or an orbit: ``phase_y_deg`` = 90°
+    unless given) from rest (or ``y0`` = [q, q̇], a triple pendulum's element slips after).
 
     ``law``: "switch" (stick disc, events located on the dense output) or "arctan" (the
     regularised vector law). Outputs every ``dt_out`` (default: the record's step, or 1/50
@@ -545,8 +546,8 @@ def simulate_plane(
         extra = f" (or {ns} with the internal slips)" if ns > 6 else ""  # (a triple pendulum's)
         raise ValueError(f"y0: expected six finite numbers [x, y, theta, vx, vy, omega]{extra}, "
                          f"got {y0!r}")  # fmt: skip
-    if y.size < ns:  # internal slips from rest
-        y = np.concatenate([y, np.zeros(ns - y.size)])
+    tfp_start_said(y[:3], np.zeros(3), getattr(system, "has_tfp", False) and y.size < ns)
+    y = np.concatenate([y, np.zeros(ns - y.size)])  # (internal slips from rest)
     modes, dirs, cfg, X, NO, FF, FR, FO, MO, EV, stops, info = run_buffers(
         law, eps, rtol, atol, max_step, max_steps, nt, ni, ns
     )

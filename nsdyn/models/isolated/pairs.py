@@ -31,8 +31,7 @@ Statics first: under gravity alone (friction carries no force at rest) the saddl
 gives q₀ and the normal forces λ₀ (iterated on λ in the pendulum terms), solved on the free
 coordinates q = Z z (R Z = 0; Z drops the gap coordinates when each contact row picks one):
 Cholesky of Zᵀ K* Z (least squares where K* is singular there, e.g. flat sliders without
-rubber, with a consistent load), then Rᵀ λ = K* q₀ + M Γ_z g. The run starts from (q₀, 0)
-unless y0 is given.
+rubber, with a consistent load), then Rᵀ λ = K* q₀ + M Γ_z g; runs start from (q₀, 0).
 """
 
 from __future__ import annotations
@@ -61,6 +60,7 @@ from nsdyn.models.isolated.deck import (
     pack_ground,
     run_buffers,
     run_grid,
+    tfp_start_said,
 )
 from nsdyn.models.isolated.defaults import ALPHA, BETA, EPS, ETA
 from nsdyn.models.isolated.plane_result import PlaneResult
@@ -493,8 +493,8 @@ def simulate_pairs(
 ) -> PairResult:
     """Integrate ``system`` under ``ground`` from its static equilibrium (or ``y0`` = [q, q̇]).
 
-    ``ground``: what :func:`nsdyn.models.isolated.deck.pack_ground` accepts (a three-component
-    record, a harmonic orbit, raw arrays). ``law``: "switch" (stick disc, located events, on
+    ``ground``: a three-component record, a harmonic orbit or raw arrays (:func:`~nsdyn.
+    models.isolated.deck.pack_ground`). ``law``: "switch" (stick disc, located events, on
     Dormand–Prince) or "arctan" (the regularised vector law, on Radau IIA unless
     ``integrator="dopri5"``). Outputs every ``dt_out`` (default: the record's step or 1/50
     period) or at ``t_eval``; ``atol`` = (displacement [m], velocity [m/s]), the regularised
@@ -505,9 +505,8 @@ def simulate_pairs(
     "unilateral" (lift-off, flight and plastic landing, :mod:`._kpairscontact`; independent
     contact rows; on Dormand–Prince, ``integrator`` "auto" or "dopri5"; reported in
     ``result.flights``). Triple friction pendulums run with ``law="arctan"`` on Radau IIA
-    only; their element slips start from zero (``y0`` may omit them). Returns a
-    :class:`PairResult`. ``progress(t_done, t_end, wall_s)``: called every few seconds of wall
-    time while the compiled loop runs (:func:`nsdyn._progress.watched`).
+    only; their element slips start from zero (``y0`` may omit them). Returns a PairResult;
+    ``progress(t_done, t_end, wall_s)``: called every few seconds while the loop runs.
     """
     if not isinstance(system, PairSystem):
         raise TypeError(f"system: expected a PairSystem, got {type(system).__name__}")
@@ -542,6 +541,7 @@ def simulate_pairs(
             extra = f" (or {ns} with the internal slips)" if ns > 2 * n else ""
             raise ValueError(f"y0: expected {2 * n} finite numbers [q, q̇]{extra}, got "
                              f"{got_array(y0, (2 * n,), (ns,))}")  # fmt: skip
+        tfp_start_said(y[:n], q0, system.has_tfp and y.size < ns)
         y = np.concatenate([y, np.zeros(ns - y.size)])  # (internal slips from rest)
     modes, dirs, cfg, X, NO, FF, FR, FO, MO, EV, stops, info = run_buffers(
         law, eps, rtol, atol, max_step, max_steps, nt, ni, ns

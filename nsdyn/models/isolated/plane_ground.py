@@ -57,7 +57,8 @@ def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
 
     ``ground``: an object with ``t0, dt, ax, ay, az`` (a three-component record, az may be
     None), a harmonic orbit with ``f, ax, ay, phase_y_deg, az, f_z, phase_z_deg`` (object, or
-    dict read as ``HarmonicPlane(**dict)`` with its defaults and checks; a_x = A_x sin ωt,
+    dict read as ``HarmonicPlane(**dict)`` with its defaults, φ_y = 90° (a circle when
+    A_x = A_y; 0 for a line), and checks; a_x = A_x sin ωt,
     a_y = A_y sin(ωt + φ_y), a_z = A_z sin(ω_z t + φ_z), checked against its ``accel(t)``
     when it has one), or raw arrays ``(t0, dt, ax, ay, az)``.
     """
@@ -80,8 +81,11 @@ def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
                 raise ValueError(f"harmonic orbit: {name}: expected a number, got {v!r}")
             return float(v)
 
+        from nsdyn.ground.orbit import HarmonicPlane  # (its φ_y default, 90°: one orbit)
+
         f = num("f", 0.0)
-        vals = [f, num("ax", 0.0), num("ay", 0.0), math.radians(num("phase_y_deg", 0.0)),
+        phy = num("phase_y_deg", HarmonicPlane.phase_y_deg)
+        vals = [f, num("ax", 0.0), num("ay", 0.0), math.radians(phy),
                 num("az", 0.0), num("f_z", f), math.radians(num("phase_z_deg", 0.0))]  # fmt: skip
         for k, v in zip((kp.GP_F, kp.GP_AX, kp.GP_AY, kp.GP_PHY, kp.GP_AZ, kp.GP_FZ, kp.GP_PHZ),
                         vals, strict=True):  # fmt: skip
@@ -134,3 +138,20 @@ def pack_ground(ground) -> tuple[int, np.ndarray, np.ndarray, float]:
     gp[kp.GP_T0] = number("ground.t0", 0.0 if t0 is None else t0, "a finite start time [s]")
     gp[kp.GP_DT] = dt
     return kp.G_TABLE, gp, np.ascontiguousarray(np.vstack(rows)), (n - 1) * dt
+
+
+def tfp_start_said(q, q_rest, has_tfp: bool) -> None:
+    """Warn (InputWarning) when ``y0`` starts a system with triple pendulums at displacements
+    ``q`` off its rest ``q_rest`` without their element slips: the slips start at zero, so the
+    whole offset is in each bearing's elastic element (released from 0.5 m, a bearing settled
+    at -0.08 m, as no pendulum swings)."""
+    if not has_tfp or np.array_equal(np.asarray(q, dtype=float), np.asarray(q_rest, dtype=float)):
+        return
+    import warnings
+
+    from nsdyn._checks import InputWarning
+
+    warnings.warn("y0: the triple pendulums' element slips start at zero, so the offset of q "
+                  "is all in their elastic elements, a start no pendulum takes; give y0 its "
+                  "slips too (after [q, q̇]: each bearing's four (s_x, s_y), e.g. each slip "
+                  "from the backbone at the offset)", InputWarning, stacklevel=3)  # fmt: skip

@@ -244,3 +244,23 @@ def test_a_tfp_past_its_ultimate_capacity_is_reported_with_its_whole_displacemen
     assert c["beyond_m"] == pytest.approx(0.03, rel=1e-12)
     res.u = 0.9 * u  # within its capacity (0.855 m)
     assert beyond_capacity(res) == []
+
+
+def test_a_start_off_rest_without_the_element_slips_is_said():
+    # as the deck's: y0 = [q, q̇] moving a mass on a TFP off its static equilibrium starts the
+    # elements at zero slip (the whole offset in the elastic element): an InputWarning; the
+    # static equilibrium itself, or the full state with its slips, is silent
+    import warnings
+
+    from nsdyn._checks import InputWarning
+
+    s = single_mass(TripleBearing(**TYPICAL))
+    q0, _ = s.static_equilibrium()
+    kw = dict(law="arctan", t_end=0.01)
+    off = np.concatenate([q0 + [0.2, 0.0, 0.0], np.zeros(3)])
+    with pytest.warns(InputWarning, match="element slips start at zero"):
+        simulate_pairs(s, {"f": 1.0, "ax": 0.0}, y0=off, **kw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        simulate_pairs(s, {"f": 1.0, "ax": 0.0}, y0=np.concatenate([q0, np.zeros(3)]), **kw)
+        simulate_pairs(s, {"f": 1.0, "ax": 0.0}, y0=np.concatenate([off, np.zeros(8)]), **kw)

@@ -20,6 +20,7 @@ compliance, each bounded below from the model's stated constants.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -425,3 +426,34 @@ def test_a_tfp_below_its_lowest_friction_sticks_while_its_elastic_stage_moves_th
     pb = plane_problem(s, HarmonicPlane.linear(1.0, 0.15), law="arctan")
     (p,) = plane_response(pb, fmin=1.0, fmax=1.0, points=1).points
     assert p.quantities["stick_fraction"] == 1.0 and "stick-slip" not in p.note
+
+
+def test_a_release_from_an_offset_takes_the_element_slips_and_warns_without_them():
+    # y0 = [q, q̇] alone starts the four elements at zero slip, the whole offset in the
+    # elastic element: said (an InputWarning). Given the slips of the equal-friction bearing
+    # (a single pendulum of R = R1 + R4 whose elements share a slip as R̄1 : R2 : R3 : R̄4),
+    # the free release from u0 is the rigid-plastic pendulum's: its first turn at
+    # π √(R/g), to the output step (the overstress's damping ratio, 0.03 μ g / 2ω = 0.005,
+    # moves it by ~ζ²/2), at −(u0 − 2 μ R), short by at most the overstress's work:
+    # δ ≤ R · 0.03 μ · A ω π/2 (0.03 μ v² over the half cycle of amplitude A, ω = √(g/R)).
+    from nsdyn._checks import InputWarning
+
+    mu, u0, R, g = 0.05, 0.6, 4.0, 9.81
+    b = TripleBearing(R1=2.0, R2=0.4, R3=0.4, R4=2.0, mu1=mu, mu2=mu, mu3=mu, mu4=mu,
+                      d1=0.5, d2=0.1, d3=0.1, d4=0.5)  # fmt: skip
+    s = sdof_plane(1000.0, b)
+    still = {"f": 1.0, "ax": 0.0}
+    with pytest.warns(InputWarning, match="element slips start at zero"):
+        simulate_plane(s, still, law="arctan", t_end=0.01, y0=[u0, 0, 0, 0, 0, 0])
+    slips = np.zeros(8)
+    slips[0::2] = np.array([1.6, 0.4, 0.4, 1.6]) / R * u0  # R̄1 = R1 − R2, R̄4 = R4 − R3
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        r = simulate_plane(s, still, law="arctan", t_end=3.0, dt_out=1e-3,
+                           y0=[u0, 0, 0, 0, 0, 0, *slips])  # fmt: skip
+    u = r.u[:, 0, 0]
+    k = int(np.argmin(u))
+    omega, A = math.sqrt(g / R), u0 - mu * R  # (the half cycle's amplitude about its centre)
+    assert abs(r.t[k] - math.pi / omega) <= 2e-3
+    delta = R * tfp.OVERSTRESS * mu * A * omega * math.pi / 2 + 2 * b.u_y
+    assert -(u0 - 2 * mu * R) <= u[k] <= -(u0 - 2 * mu * R) + delta
