@@ -290,6 +290,7 @@ def run_pairs(sysd: dict, exc, t_end, kw: dict, dt: float | None = None, progres
     else:  # simulate_pairs' loops: Radau IIA for the regularised law, else located events
         radau = kw.get("law") == "arctan" and kw.get("contact") != "unilateral"
         s["method"] = "radau" if radau else "dopri5-events"
+        s.update(r.result.energy(exc))  # (its closure: the balance's check on the grid)
         dm = info["dropped_mass"]
         s.update({"n_modes": int(info["n_modes"]), "dropped_mass_max": float(max(dm)),
                   "modes_dropped": int(info["n_modes_below_f_max"] - info["n_modes"])})  # fmt: skip

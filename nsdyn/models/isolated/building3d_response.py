@@ -33,9 +33,8 @@ import numpy as np
 import scipy.linalg as sla
 
 from nsdyn._tabular import Tabular
-from nsdyn.models.isolated import _kplane as kp
-from nsdyn.models.isolated.deck import pack_ground
 from nsdyn.models.isolated.fixed3d import response_histories, response_peaks
+from nsdyn.models.isolated.plane_ground import ground_history
 from nsdyn.structure.storey3d import StoreyDrifts
 
 __all__ = [
@@ -45,18 +44,6 @@ __all__ = [
     "isolator_forces",
     "run_building",
 ]
-
-
-def ground_history(ground, t: np.ndarray) -> np.ndarray:
-    """Ground accelerations (3, nt) at times ``t`` as the run's kernels see them (a record
-    interpolated linearly, zero outside; an orbit's closed form)."""
-    gk, gp, tab, _ = pack_ground(ground)
-    out = np.zeros((3, len(t)))
-    ag = np.zeros(3)
-    for k, tk in enumerate(np.asarray(t, float)):
-        kp.ground(float(tk), gk, gp, tab, ag)
-        out[:, k] = ag
-    return out
 
 
 def isolator_forces(result) -> np.ndarray:

@@ -316,7 +316,7 @@ def _run_rigid(sysd, exc, t_end, kw, out_dir: Path, say) -> dict:
     wall = time.perf_counter() - w0
     for w in caught:
         say(f"building3d: warning: {w.message}")
-    s = res.summary()
+    s = {**res.summary(), **res.energy(exc)}  # (its closure: the balance on the grid)
     npz = out_dir / "building3d.npz"
     with atomic_open(npz, "wb") as fh:
         np.savez(fh, t=res.t, q=res.q, qd=res.qd, u=res.u, N=res.N, friction=res.friction,
@@ -555,6 +555,6 @@ def format_summary(s: dict) -> str:
     """A short human table of a run, every number with its unit; rim contacts and uplift
     first (never silent)."""
     head = f"building3d {s.get('name', '')}: {s['frame']}, fidelity {s['fidelity']}"
-    rows = (PGA_ROW, *ROWS[s["fidelity"]], ("t_end_s", "end time", "s"),
-            ("wall_s", "run time", "s"))  # fmt: skip
+    rows = (PGA_ROW, *ROWS[s["fidelity"]], ("energy_closure", "energy closure", ""),
+            ("t_end_s", "end time", "s"), ("wall_s", "run time", "s"))  # fmt: skip
     return summary_table(head, s, rows)

@@ -342,6 +342,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     for w in caught:
         say(f"deck: warning: {w.message}")
     s = res.summary()
+    s.update(res.energy(exc))  # (its closure: the balance's check on the output grid)
     big = slip_ratio_note(system.bearings, s["peak_resultant_displacement_per_isolator_m"])
     if big:  # (a TFP's bearings: their effective radius)
         notes.append(big)
@@ -374,6 +375,7 @@ ROWS = (
     ("min_normal_force_N", "min normal force", "N"),
     ("max_normal_force_N", "max normal force", "N"),
     ("stick_fraction", "stick fraction", ""),
+    ("energy_closure", "energy closure", ""),
     ("n_events", "switch events", ""),
     ("n_steps", "steps", ""),
     ("t_end_s", "end time", "s"),

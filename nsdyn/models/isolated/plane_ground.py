@@ -155,3 +155,15 @@ def tfp_start_said(q, q_rest, has_tfp: bool) -> None:
                   "is all in their elastic elements, a start no pendulum takes; give y0 its "
                   "slips too (after [q, q̇]: each bearing's four (s_x, s_y), e.g. each slip "
                   "from the backbone at the offset)", InputWarning, stacklevel=3)  # fmt: skip
+
+
+def ground_history(ground, t: np.ndarray) -> np.ndarray:
+    """Ground accelerations (3, nt) at times ``t`` as the run's kernels see them (a record
+    interpolated linearly, zero outside; an orbit's closed form)."""
+    gk, gp, tab, _ = pack_ground(ground)
+    out = np.zeros((3, len(t)))
+    ag = np.zeros(3)
+    for k, tk in enumerate(np.asarray(t, float)):
+        kp.ground(float(tk), gk, gp, tab, ag)
+        out[:, k] = ag
+    return out

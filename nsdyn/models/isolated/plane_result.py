@@ -403,6 +403,13 @@ class PlaneResult(Tabular):
                 out[f"s{k + 1}{name}"] = a
         return out
 
+    def energy(self, ground) -> dict:
+        """The run's work–energy balance under ``ground``, what it was run with (terms in J
+        and ``energy_closure``: :func:`~nsdyn.models.isolated.plane_energy.plane_energy`)."""
+        from nsdyn.models.isolated.plane_energy import plane_energy
+
+        return plane_energy(self, ground)
+
     def peak_resultant_displacement(self) -> np.ndarray:
         """max_t |u_i(t)| per isolator [m]."""
         return self.resultant(self.u).max(axis=0)

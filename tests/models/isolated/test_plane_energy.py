@@ -1,0 +1,64 @@
+"""The work–energy balance of decks and systems from matrices on sliding isolators.
+
+Source: the work–energy theorem of the equations of motion (module text of
+:mod:`nsdyn.models.isolated.plane_energy`): the stored energy's change equals the work of the
+ground, the weight, the damping, the isolators and the contacts. Its integrals are taken by
+the trapezoidal rule on the output grid, whose error is O(dt_out²): halving the output step
+divides the closure by 4 (3 to 5 here, the run's own error being far below it at rtol 1e-8);
+a missing or mis-signed term would leave a closure of order one at every step.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from nsdyn.models.isolated.bearings import Bearing, Friction
+from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
+from nsdyn.models.isolated.pairs import PairSystem, simulate_pairs
+
+ORBIT = {"f": 0.7, "ax": 3.0, "ay": 2.0, "phase_y_deg": 30.0, "az": 2.0, "f_z": 1.9}
+
+
+def _order(run) -> float:
+    """log2 of the closure's ratio between output steps 0.02 and 0.01 s."""
+    c = [run(dt).energy(ORBIT)["energy_closure"] for dt in (0.02, 0.01)]
+    return float(np.log2(c[0] / c[1]))
+
+
+@pytest.mark.parametrize("law", ["switch", "arctan"])
+def test_a_deck_s_energy_balance_closes_at_the_trapezoidal_rule_s_order(law):
+    # a mass on a friction pendulum with a damper, under a 2-component orbit and a vertical
+    # (which varies N: the pendulum's work is then no potential energy)
+    s = sdof_plane(1e5, Bearing(Friction(0.05), radius=2.0, c=2e4))
+
+    def run(dt):
+        return simulate_plane(s, ORBIT, law=law, t_end=8.0, dt_out=dt, rtol=1e-8)
+
+    assert 1.6 <= _order(run) <= 2.3
+    e = run(0.01).energy(ORBIT)
+    assert e["energy_friction_J"] > 0 and e["energy_other_J"] > 0  # (both dissipate)
+    assert e["energy_viscous_J"] == e["energy_contact_J"] == 0.0  # (a deck has neither)
+
+
+@pytest.mark.parametrize("law", ["switch", "arctan"])
+def test_a_structure_on_an_isolator_balances_its_weight_through_the_contact(law):
+    # a base mass on one pendulum bearing carrying a damped oscillator in x: q = (x_b, y_b,
+    # z, x_t), gravity along z, the contact row on z; the weight's work and the contact's
+    # cancel on the closed gap (R q̇ = 0, so the contact's work is the Baumgarte drift's)
+    mb, mt, k, c = 2e4, 5e4, 2e6, 2e4
+    K = np.zeros((4, 4))
+    K[np.ix_([0, 3], [0, 3])] = k * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    s = PairSystem(M=np.diag([mb, mb, mb + mt, mt]), K=K, C=K * c / k,
+                   Gamma=np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 0, 0]], float),
+                   D=np.array([[[1.0, 0, 0, 0], [0, 1.0, 0, 0]]]), R=np.array([[0, 0, 1.0, 0]]),
+                   bearings=(Bearing(Friction(0.05), radius=2.0),), positions=np.zeros((1, 2)),
+                   g=9.81)  # fmt: skip
+
+    def run(dt):
+        return simulate_pairs(s, ORBIT, law=law, t_end=8.0, dt_out=dt, rtol=1e-8)
+
+    assert 1.6 <= _order(run) <= 2.3
+    e = run(0.01).energy(ORBIT)
+    assert e["energy_viscous_J"] > 0
+    assert abs(e["energy_contact_J"]) <= 1e-9 * e["energy_input_J"]
