@@ -535,7 +535,9 @@ def run(args: argparse.Namespace) -> int:
         if args.json:
             print(json_report(s))
             return 0
-        pga = f" (PGA {s['pga_mps2']:.2f} m/s²)" if "pga_mps2" in s else ""
+        pga = f" (PGA {s['pga_mps2']:.3g} m/s²)" if "pga_mps2" in s else ""
+        if pga and "t_end" in cfg.get("motion", {}):  # (a window: not the record's PGA)
+            pga = f" (peak {s['pga_mps2']:.3g} m/s² over the run, to t_end)"
         scaled = s.get("record_pga_mps2")
         if scaled is not None and abs(scaled - s["pga_mps2"]) > 5e-3:  # a shortened record
             pga = (f" (record scaled to PGA {s['record_pga_mps2']:.2f} m/s²; peak "

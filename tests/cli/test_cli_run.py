@@ -233,3 +233,19 @@ def test_a_dense_method_on_a_sparse_only_model_is_refused_in_one_line(
     argv = ["run", "--fidelity", "full", *flags, "--t-end", "0.1", "--no-figures"]
     assert main([*argv, "--out", str(tmp_path)]) == 2
     assert re.search(says, capsys.readouterr().err)
+
+
+def test_a_shortened_unscaled_record_s_peak_is_not_called_its_pga(tmp_path, capsys):
+    # a record run as read to a t_end before its strong part printed "(PGA 0.00 m/s²)" (its
+    # first 3 s) for a record of PGA 8.18 m/s²: the window's peak is said as such
+    rec = tmp_path / "rec.txt"
+    rows = [f"{0.01 * k:.2f} {(0.001 if k < 200 else 2.5) * (-1) ** k}" for k in range(400)]
+    rec.write_text("# units: m/s2\n" + "\n".join(rows) + "\n")
+    out = str(tmp_path / "o")
+    assert main(["run", "--frame", "portal", "--record", str(rec), "--t-end", "1.5",
+                 "--no-figures", "--out", out]) == 0  # fmt: skip
+    text = capsys.readouterr().out
+    assert "(peak 0.001 m/s² over the run, to t_end)" in text and "PGA" not in text
+    assert main(["run", "--frame", "portal", "--record", str(rec), "--no-figures", "--out",
+                 out]) == 0  # fmt: skip
+    assert "(PGA 2.5 m/s²)" in capsys.readouterr().out
