@@ -200,7 +200,7 @@ def run(args: argparse.Namespace) -> int:
     from nsdyn.models.isolated.scene import SceneError, load_scene
     from nsdyn.models.scenefile import number, read_toml, scene_kind
     from nsdyn.periodic import fixed_base_response, log_frequencies
-    from nsdyn.studies.sweep import unused_scene_notes
+    from nsdyn.studies.sweep import SWITCH_A_NOTE, unused_scene_notes
 
     if args.scene is not None:
         try:
@@ -260,6 +260,7 @@ def run(args: argparse.Namespace) -> int:
     if not args.fmax > args.fmin:
         return fail(args, band_message("sweep", args.fmin, args.fmax, given))
     notes = unused_scene_notes(raw, bool(mo), args.contact) if args.scene else []
+    notes += [SWITCH_A_NOTE] * (friction == "switch")
     for note in notes if not args.json else ():
         print(f"nsdyn sweep: note: {note}", file=sys.stderr)  # (before the run, as it goes)
     settings = SweepSettings(
@@ -289,7 +290,7 @@ def run(args: argparse.Namespace) -> int:
             "wall_s": time.perf_counter() - t0,
             "compile_s": compile_s,
             "amplitudes": [summarise(r) for r in results],
-            **({"notes": [gone]} if gone else {}),  # (said: --no-figures removed the figure)
+            **({"notes": notes + [gone] * bool(gone)} if notes or gone else {}),  # (said)
         }
         if not args.no_figures:
             freqs = log_frequencies(args.fmin, args.fmax, 300)

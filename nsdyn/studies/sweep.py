@@ -41,6 +41,13 @@ CHECKPOINT_NAME = ".sweep-A{amplitude}.ckpt.json"  # one per amplitude, in the o
 SWEEP_SOLVER_KEYS = ("restitution",)  # a scene's [solver] keys a frame's sweep reads
 
 
+# said by a sweep under the switch law (its orbit's steps sample the stick onsets' jumps)
+SWITCH_A_NOTE = ("under the switch law the isolation level's acceleration jumps at each stick "
+                 "onset, and the column a (all levels) reads its peak at the orbit's steps: it "
+                 "moves with --steps-factor where the base level sets it; a_floors (the "
+                 "storeys) does not")  # fmt: skip
+
+
 def unused_scene_notes(raw: dict, harmonic_motion: bool, contact: str = "") -> list[str]:
     """One line for each table of an isolated-frame scene that its sweep does not read: a
     record's [motion] (the sweep drives harmonic base accelerations) and [solver] keys other

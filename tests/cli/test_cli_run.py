@@ -249,3 +249,25 @@ def test_a_shortened_unscaled_record_s_peak_is_not_called_its_pga(tmp_path, caps
     assert main(["run", "--frame", "portal", "--record", str(rec), "--no-figures", "--out",
                  out]) == 0  # fmt: skip
     assert "(PGA 2.5 m/s²)" in capsys.readouterr().out
+
+
+def test_a_switch_law_sweep_says_what_its_a_column_reads(tmp_path, capsys, monkeypatch):
+    # the column a (all levels) reads the isolation level's stick-onset jumps at the orbit's
+    # steps under the switch law (2.64 and 2.09 m/s² at steps factors 1 and 4, docs/guide/
+    # periodic.md), a_floors does not: said before the run; the arctan law has no such jumps
+    from nsdyn.cli import sweep
+
+    class Stop(Exception):
+        pass
+
+    def stop(*a, **k):  # (the note is said before the kernels and the curves: stop there)
+        raise Stop
+
+    monkeypatch.setattr(sweep, "prepare_kernels", stop)
+    argv = ["sweep", "--points", "2", "--no-figures", "--out", str(tmp_path / "o")]
+    for law, said in (("switch", True), ("arctan", False)):
+        with pytest.raises(Stop):
+            main([*argv, "--friction", law])
+        err = capsys.readouterr().err
+        assert ("nsdyn sweep: note: under the switch law the isolation level's acceleration "
+                "jumps at each stick onset" in err) is said  # fmt: skip
