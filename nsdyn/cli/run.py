@@ -540,8 +540,8 @@ def run(args: argparse.Namespace) -> int:
             pga = f" (peak {s['pga_mps2']:.3g} m/s² over the run, to t_end)"
         scaled = s.get("record_pga_mps2")
         if scaled is not None and abs(scaled - s["pga_mps2"]) > 5e-3:  # a shortened record
-            pga = (f" (record scaled to PGA {s['record_pga_mps2']:.2f} m/s²; peak "
-                   f"{s['pga_mps2']:.2f} m/s² over the run)")  # fmt: skip
+            pga = (f" (record scaled to PGA {s['record_pga_mps2']:.3g} m/s²; peak "
+                   f"{s['pga_mps2']:.3g} m/s² over the run)")  # fmt: skip
         print(f"outcome {text}")
         print(f"model   {s['model']}   excitation {s['record']}{pga}")
         print(f"method  {s['method']}: {s['n_steps']} steps, run {s['wall_s']:.3f} s "

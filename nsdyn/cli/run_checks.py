@@ -255,7 +255,8 @@ def scene_notes(cfg: dict, motion, quiet: bool, system=None, raw=None) -> list[s
     """Every note of a loaded scene (the functions above; ``raw``: the scene file as read,
     None for the default scene), in one line each on stderr unless ``quiet``; returned (a
     --json summary's ``notes``)."""
-    notes = [note_short_record(cfg, motion), note_unused_components(motion),
+    chose = "column" in cfg.get("motion", {})  # (the column given: the others left by choice)
+    notes = [note_short_record(cfg, motion), None if chose else note_unused_components(motion),
              note_coarse_output(cfg, motion),
              note_unused_cutoff(cfg),
              note_unused_isolation(cfg, system), note_default_isolation(cfg, system, raw),

@@ -439,8 +439,9 @@ _UNITS_LINE = re.compile(r"^[ \t]*" + _UNIT_PATTERNS[0].pattern.removeprefix(r"\
 def header_units(header: list[str]) -> str | None:
     """Units stated in a header, by the patterns above in priority order; None if not stated.
     A line "units: WORD" (it states units and nothing else) whose word is no unit gives
-    ``UNKNOWN_UNITS + WORD`` (:func:`resolve_units` refuses it); the looser phrases of the
-    patterns ("time units: s", "acc. in ...") are skipped when their word is no unit."""
+    ``UNKNOWN_UNITS + WORD`` (:func:`nsdyn.ground.formats.resolve_units` refuses it); the
+    looser phrases of the patterns ("time units: s", "acc. in ...") are skipped when their
+    word is no unit."""
     text = "\n".join(header)
     for pattern in _UNIT_PATTERNS:
         for m in pattern.finditer(text):

@@ -153,7 +153,11 @@ def read_motion(
     opt = ReadOptions(units=units, dt=dt, column=column, vertical=in_file_vertical, name=name)
     if kind == "at2":
         if column not in (None, 0) or in_file_vertical is not None:
-            raise ValueError("an AT2 file has one component: use vertical=<another file>")
+            key, val = ("column", column) if column not in (None, 0) else \
+                ("vertical", in_file_vertical)  # fmt: skip
+            raise RecordFileError(source, None, f"{key} = {val!r}: an AT2 file holds one "
+                                  "component, no columns (a vertical is another file: "
+                                  "vertical=FILE)", key)  # fmt: skip
         motion, unit_name = parse_at2(text, source, opt)
         if dt is not None and abs(dt - motion.dt) > DT_RTOL * motion.dt:
             raise RecordFileError(source, None, f"dt = {dt} given, header states {motion.dt}")

@@ -158,8 +158,10 @@ def _record3(table: dict, source: str) -> GroundMotion3:
             raise _err(source, key, text) from None
     elif "pga_component" in table:
         raise _err(source, "pga_component", "given without pga")
-    elif said := record_pga_said(motion.pga_resultant):
-        raise _err(source, "record" if "record" in table else "x", said)
+    elif said := record_pga_said(motion.pga_resultant):  # (x and y: the resultant's)
+        key = "record" if "record" in table else "x"
+        raise _err(source, key, f"{table[key]}{' and ' + table['y'] if 'y' in table else ''}: "
+                   + said)  # fmt: skip
     if "t_end" in table:
         t_end = _number(source, table, "t_end", positive=True)
         try:

@@ -120,10 +120,10 @@ def scaled_to_pga(motion, pga: float, source: str, field: str = "motion.pga"):
 
 
 def scaled_record(motion, mo: dict, source: str):
-    """A planar scene's record scaled to its ``[motion] pga`` when given; else as read, or a
+    """A scene's planar record scaled to its ``[motion] pga`` when given; else as read, or a
     SceneError for one above 100 g (:func:`nsdyn.ground.motion.record_pga_said`)."""
-    if "pga" in mo:
-        return scaled_to_pga(motion, float(mo["pga"]), source)
+    if "pga" in mo:  # (its number and range: scaled_to_pga's, named as motion.pga)
+        return scaled_to_pga(motion, mo["pga"], source)
     from nsdyn.ground.motion import record_pga_said
 
     if said := record_pga_said(motion.pga):

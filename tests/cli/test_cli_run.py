@@ -96,7 +96,7 @@ def test_a_shortened_run_reports_the_peak_it_ran_and_the_pga_it_scaled_to(tmp_pa
     assert s["record_pga_mps2"] == 3.0 and s["pga_mps2"] == ran.pga < 3.0
     assert main(["run", "--t-end", "2", "--no-figures", "--out", out]) == 0
     text = capsys.readouterr().out
-    assert f"(record scaled to PGA 3.00 m/s²; peak {ran.pga:.2f} m/s² over the run)" in text
+    assert f"(record scaled to PGA 3 m/s²; peak {ran.pga:.3g} m/s² over the run)" in text
 
 
 def test_t_end_replaces_a_harmonic_scenes_number_of_periods(tmp_path, capsys):

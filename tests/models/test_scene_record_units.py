@@ -91,11 +91,25 @@ def test_a_record_above_100_g_as_read_is_refused_unless_scaled(tmp_path, capsys)
         with pytest.raises(SceneError, match=said):
             scene_motion({"motion": {"record": str(path)}}, "s.toml")
         assert scene_motion({"motion": {"record": str(path), "pga": 3.0}}).pga == 3.0
-        resultant = (
-            r"s.toml: motion.record: the record's PGA as read is 2022 m/s²"  # hypot(200, 50) g
-        )
+        # the 3-component scene's resultant, hypot(200, 50) g
+        resultant = r"s.toml: motion.record: .*rec.csv: the record's PGA as read is 2022 m/s²"
         with pytest.raises(ValueError, match=resultant):
             motion3_from_table({"kind": "record3", "record": str(path)}, "s.toml")
+        # the rocking, contact and cylinder scenes: the same bound
+        from nsdyn.models.contact.scene import build as contact
+        from nsdyn.models.cylinder.scene import build as cylinder
+        from nsdyn.models.rocking.scene import build_motion as rocking
+
+        for family in (
+            lambda mo: rocking({"motion": mo}, "s.toml"),
+            lambda mo: contact({"scene": {"kind": "contact"}, "body": {"width": 0.5,
+                                "height": 1.5}, "friction": {"mu_s": 0.6}, "motion": mo},
+                               "s.toml"),
+            lambda mo: cylinder({"scene": {"kind": "cylinder"}, "motion": mo}, "s.toml"),
+        ):  # fmt: skip
+            with pytest.raises(SceneError, match=said):
+                family({"record": str(path)})
+            family({"record": str(path), "pga": 3.0})
         rc = main(["run", "--frame", "portal", "--record", str(path), "--no-figures",
                    "--out", str(tmp_path / "o")])  # fmt: skip
     assert rc == 2 and re.search(said, capsys.readouterr().err)
@@ -118,6 +132,11 @@ def test_a_planar_scene_takes_the_column_it_names(tmp_path, capsys):
                          f"column = {col}\n")  # fmt: skip
         assert build_scene_run(load_scene(scene))[1].pga == peak  # exact: the file's value
         assert scene_motion({"motion": {"record": str(path), "column": column}}).pga == peak
+    # the columns left out are said when the scene took the default one, not when it chose
+    for column, said in (("", True), ("column = 2\n", False)):
+        scene.write_text(f'[scene]\nframe = "portal"\n[motion]\nrecord = "{path}"\n{column}')
+        assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 0
+        assert ("the record's column(s) '" in capsys.readouterr().err) is said
     refused = [
         (True, r"motion.column: expected a column index \(0, 1, ...\) or a column name, got true"),
         (-1, r"motion.column: .* got -1"),

@@ -65,7 +65,7 @@ from nsdyn.models.scenefile import (
     record_units,
     refuse_keys,
     rel_tol,
-    scaled_to_pga,
+    scaled_record,
 )
 from nsdyn.models.tilt import leaning_past, past_tip_over, scene_tilt
 
@@ -197,8 +197,7 @@ def build(cfg: dict, source: str):
             raise SceneError(f"{source}: motion.record: cannot read {rec!r}: {e}") from None
         if mo.get("vertical", True) is False and gm.a_ver is not None:  # (as a rocking scene)
             gm = gm.with_vertical(None)
-        if "pga" in mo:
-            gm = scaled_to_pga(gm, number(source, "motion.pga", mo["pga"]), source)
+        gm = scaled_record(gm, mo, source)  # (or refused above 100 g as read)
         if gm.t0 < 0:  # (its part before t = 0, where the run starts, was not felt: "rest")
             raise SceneError(f"{source}: motion.record: the record starts at t = {gm.t0:g} s, "
                              "before t = 0 where a contact run starts; expected a record whose "

@@ -28,7 +28,7 @@ import numpy as np
 from nsdyn._checks import MAX_OUTPUTS
 from nsdyn._numba_cache import compile_note, first_compile
 from nsdyn.atomic import atomic_open, save_figure
-from nsdyn.ground.motion import PGA_TARGET, PGA_TARGET_MAX
+from nsdyn.ground.motion import PGA_TARGET, PGA_TARGET_MAX, record_pga_said
 from nsdyn.ground.synthesis import noise_step
 from nsdyn.models import scenefile
 from nsdyn.models.cylinder.design import (
@@ -292,6 +292,8 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
             raise SceneError(f"{source}: motion.pga: expected {PGA_TARGET}, got {pga:g}")
         peak = np.abs(ag[:, :2]).max()
         ag = ag * (pga / peak) if peak > 0 else ag
+    elif "record" in mo and (said := record_pga_said(float(np.abs(ag[:, :2]).max()))):
+        raise SceneError(f"{source}: motion.record: {mo['record']}: {said}")
     if "t_end" in mo:  # cut, or run on past the motion's end with the ground at rest (noted)
         t_end = number(source, "motion.t_end", mo["t_end"])
         from nsdyn.ground.formats import past_record_note

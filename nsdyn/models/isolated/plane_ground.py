@@ -153,8 +153,9 @@ def tfp_start_said(q, q_rest, has_tfp: bool) -> None:
 
     warnings.warn("y0: the triple pendulums' element slips start at zero, so the offset of q "
                   "is all in their elastic elements, a start no pendulum takes; give y0 its "
-                  "slips too (after [q, q̇]: each bearing's four (s_x, s_y), e.g. each slip "
-                  "from the backbone at the offset)", InputWarning, stacklevel=3)  # fmt: skip
+                  "slips too (after [q, q̇]: each bearing's four (s_x, s_y); with equal "
+                  "frictions s_k = R̄_k u/(R1 + R4), docs: bidirectional isolators)",
+                  InputWarning, stacklevel=3)  # fmt: skip
 
 
 def ground_history(ground, t: np.ndarray) -> np.ndarray:

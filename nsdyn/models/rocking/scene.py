@@ -59,7 +59,7 @@ from nsdyn.models.scenefile import (
     record_units,
     refuse_keys,
     rel_tol,
-    scaled_to_pga,
+    scaled_record,
 )
 from nsdyn.models.tilt import past_tip_over, scene_tilt
 
@@ -174,8 +174,7 @@ def build_motion(cfg: dict, source: str):
                     "a record or a pulse, not both")  # fmt: skip
         if mo.get("vertical", True) is False and motion.a_ver is not None:
             motion = motion.with_vertical(None)
-        if "pga" in mo:
-            motion = scaled_to_pga(motion, number(source, "motion.pga", mo["pga"]), source)
+        motion = scaled_record(motion, mo, source)  # (or refused above 100 g as read)
         t_end = t_end or motion.t0 + motion.duration
         return motion, t_end, th0, motion.name
     if "pulse" in mo:
