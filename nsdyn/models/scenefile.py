@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import difflib
 import glob
+import math
 import re
 import tomllib
 import warnings
@@ -122,8 +123,12 @@ def scaled_to_pga(motion, pga: float, source: str, field: str = "motion.pga"):
 def scaled_record(motion, mo: dict, source: str):
     """A scene's planar record scaled to its ``[motion] pga`` when given; else as read, or a
     SceneError for one above 100 g (:func:`nsdyn.ground.motion.record_pga_said`)."""
-    if "pga" in mo:  # (its number and range: scaled_to_pga's, named as motion.pga)
-        return scaled_to_pga(motion, mo["pga"], source)
+    if "pga" in mo:  # (a positive number, as every scene's; its top: scaled_to_pga's)
+        v = mo["pga"]
+        if isinstance(v, bool) or not isinstance(v, int | float) or not 0 < v < math.inf:
+            raise SceneError(f"{source}: motion.pga: expected a finite positive number, got "
+                             f"{v!r}")  # fmt: skip
+        return scaled_to_pga(motion, float(v), source)
     from nsdyn.ground.motion import record_pga_said
 
     if said := record_pga_said(motion.pga):

@@ -100,14 +100,15 @@ def test_a_record_above_100_g_as_read_is_refused_unless_scaled(tmp_path, capsys)
         from nsdyn.models.cylinder.scene import build as cylinder
         from nsdyn.models.rocking.scene import build_motion as rocking
 
-        for family in (
-            lambda mo: rocking({"motion": mo}, "s.toml"),
-            lambda mo: contact({"scene": {"kind": "contact"}, "body": {"width": 0.5,
-                                "height": 1.5}, "friction": {"mu_s": 0.6}, "motion": mo},
-                               "s.toml"),
-            lambda mo: cylinder({"scene": {"kind": "cylinder"}, "motion": mo}, "s.toml"),
+        for family, peak in (  # (the planar bodies' x column; the cylinder's resultant)
+            (lambda mo: rocking({"motion": mo}, "s.toml"), "1961"),
+            (lambda mo: contact({"scene": {"kind": "contact"}, "body": {"width": 0.5,
+                                 "height": 1.5}, "friction": {"mu_s": 0.6}, "motion": mo},
+                                "s.toml"), "1961"),
+            (lambda mo: cylinder({"scene": {"kind": "cylinder"}, "motion": mo}, "s.toml"),
+             "2022"),
         ):  # fmt: skip
-            with pytest.raises(SceneError, match=said):
+            with pytest.raises(SceneError, match=said.replace("1961", peak)):
                 family({"record": str(path)})
             family({"record": str(path), "pga": 3.0})
         rc = main(["run", "--frame", "portal", "--record", str(path), "--no-figures",
@@ -149,3 +150,23 @@ def test_a_planar_scene_takes_the_column_it_names(tmp_path, capsys):
                          f"column = {str(column).lower()}\n")  # fmt: skip
         assert main(["run", str(scene), "--no-figures", "--out", str(tmp_path / "o")]) == 2
         assert re.search(says, capsys.readouterr().err)
+
+
+@pytest.mark.parametrize("pga", [0, 0.0, -1.0, "abc", True, float("inf")])
+def test_a_record_s_pga_that_is_no_positive_number_is_refused_in_every_family(pga):
+    # a rocking or contact record at pga = 0 ran with the ground at rest (exit 0), as the
+    # pulse beside it and the isolated frame refuse it: one message, naming motion.pga
+    from nsdyn.models.contact.scene import build as contact
+    from nsdyn.models.rocking.scene import build_motion as rocking
+    from nsdyn.studies.scenes import scene_motion
+
+    mo = {"record": "synthetic-wn-40s", "pga": pga}
+    said = r"s.toml: motion.pga: expected a finite positive number, got "
+    for family in (
+        lambda: rocking({"motion": mo}, "s.toml"),
+        lambda: contact({"scene": {"kind": "contact"}, "body": {"width": 0.5, "height": 1.5},
+                         "friction": {"mu_s": 0.6}, "motion": mo}, "s.toml"),
+        lambda: scene_motion({"motion": mo}, "s.toml"),
+    ):  # fmt: skip
+        with pytest.raises(SceneError, match=said):
+            family()

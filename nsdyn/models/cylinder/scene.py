@@ -292,7 +292,7 @@ def build(cfg: dict, source: str = "<scene>") -> tuple[CylinderParams, float, np
             raise SceneError(f"{source}: motion.pga: expected {PGA_TARGET}, got {pga:g}")
         peak = np.abs(ag[:, :2]).max()
         ag = ag * (pga / peak) if peak > 0 else ag
-    elif "record" in mo and (said := record_pga_said(float(np.abs(ag[:, :2]).max()))):
+    elif "record" in mo and (said := record_pga_said(float(np.hypot(*ag[:, :2].T).max()))):
         raise SceneError(f"{source}: motion.record: {mo['record']}: {said}")
     if "t_end" in mo:  # cut, or run on past the motion's end with the ground at rest (noted)
         t_end = number(source, "motion.t_end", mo["t_end"])
