@@ -287,6 +287,8 @@ def run_pairs(sysd: dict, exc, t_end, kw: dict, dt: float | None = None, progres
               "warnings": [str(w.message) for w in caught]})  # fmt: skip
     if sparse:
         s.update(damping=info["damping"], n_damped_modes=int(system.c.size))
+        if r.result.q.shape[1]:  # (kept: the balance needs q; a lean run has none)
+            s.update(r.result.energy(exc))
     else:  # simulate_pairs' loops: Radau IIA for the regularised law, else located events
         radau = kw.get("law") == "arctan" and kw.get("contact") != "unilateral"
         s["method"] = "radau" if radau else "dopri5-events"

@@ -48,10 +48,11 @@ def plane_energy(result, ground) -> dict:
     ``energy_friction_J``, ``energy_restoring_J`` and ``energy_other_J`` (the isolators':
     friction, pendulum and rubber, damper and rim stops), ``energy_contact_J``,
     ``energy_impact_J`` (≤ 0: what plastic landings took, a unilateral run's), the stored
-    energy's ``stored_change_J`` and ``energy_closure``: the balance's error over its largest
-    term, or the stored energy above the static equilibrium at either end, or the round-off
-    of the stored energies where that is larger (the weight's prestrain is no scale: a weak
-    shaking's closure was divided by 14 by it). ValueError for a run that kept no q, q̇."""
+    energy's ``stored_change_J`` and ``energy_closure``: the balance's error over
+    ``energy_scale_J``, its largest term, or the stored energy above the static equilibrium
+    at either end, or the round-off of the stored energies where that is larger (the
+    weight's prestrain is no scale: a weak shaking's closure was divided by 14 by it).
+    ValueError for a run that kept no q, q̇."""
     system, t, q, qd = result.system, result.t, result.q, result.qd
     if q.shape[1] == 0:
         raise ValueError("result: the run kept no histories of q and q̇ (keep_q), which its "
@@ -92,5 +93,6 @@ def plane_energy(result, ground) -> dict:
         "energy_contact_J": w_con,
         "energy_impact_J": impact,
         "stored_change_J": d_e,
+        "energy_scale_J": scale,
         "energy_closure": abs(d_e - (w_in - sum(works.values()) + w_con + impact)) / scale,
     }
