@@ -338,7 +338,7 @@ def stick_range_error(b) -> str | None:
     hint = high_friction_note("mu_s", b.friction.static)  # (mu = 4: the note came too late)
     if hint is None and b.radius > RADIUS_PLAUSIBLE:  # (R = 2200 in mm: the radius is named)
         return (f"{b.where}.radius: R = {b.radius:g} m is above the {RADIUS_PLAUSIBLE:g} m of "
-                f"built pendulums (in mm?): its stick range mu_s R = {need:g} m passes the "
+                f"built pendulums (in cm or mm?): its stick range mu_s R = {need:g} m passes the "
                 f"capacity d_cap = {b.d_cap:g} m; expected R in m")  # fmt: skip
     return (f"{b.where}.d_cap: {b.d_cap:g} m is not above the pendulum's stick range mu_s R = "
             f"{need:g} m (it may rest on its rim); expected d_cap > mu_s R"

@@ -118,6 +118,12 @@ def advise_building(frame, bearings, motion, *, tol: float = DEFAULT_TOL, f_max:
                           "the cb probe; the rigid deck's rigid-plate normal forces and the "
                           "fixed base cannot see that")  # fmt: skip
         return {"fidelity": "cb", "f_max": cb.info["f_max"], "evidence": ev}
+    if kw.get("contact") == "unilateral":  # (the rigid deck refused it with a traceback)
+        ev["decision"] = (
+            "cb: contact 'unilateral' (lift-off and landing) needs the cb rung's "
+            "vertical; the rigid deck and the fixed base are vertically rigid"
+        )
+        return {"fidelity": "cb", "f_max": cb.info["f_max"], "evidence": ev}
     if stick == 1.0:
         ev["decision"] = ("the isolators stick at every output instant of the window: the base "
                           "is locked, the fixed rung answers")  # fmt: skip

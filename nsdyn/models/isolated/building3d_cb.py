@@ -195,11 +195,36 @@ def _subset(cb: CBModel, keep: np.ndarray) -> CBModel:
                    zeta=cb.zeta[keep])  # fmt: skip
 
 
+CAPTURED_LOW = 0.5  # a cb model keeping less of a horizontal direction's mass than this
+
+
+def cb_notes(info: dict) -> list[str]:
+    """The notes of a cb model (a PairSystem's ``info``): no fixed-interface mode below its
+    f_max, or under :data:`CAPTURED_LOW` of the effective mass of x, y or the torsion in the
+    modes it keeps (the portal at 5 Hz kept x1 and y1 and none of the torsion: its torsional
+    moment read 2.3x the full model's, unsaid)."""
+    if info.get("fidelity") != "cb":
+        return []
+    if info.get("n_modes", 1) == 0:
+        return [f"the cb model keeps no fixed-interface mode below f_max = {info['f_max']:g} "
+                "Hz: above the base the building is rigid in it (its drifts are round-off, its "
+                "floor accelerations a rigid body's); raise structure.f_max above the "
+                "building's first mode"]  # fmt: skip
+    got = dict(zip(("x", "y", "torsion"), np.take(info.get("captured_mass", [1.0] * 4),
+                                                  [0, 1, 3]), strict=True))  # fmt: skip
+    low = [f"{100 * v:.0f} % of the {k}" for k, v in got.items() if v < CAPTURED_LOW]
+    return [f"the cb model at f_max = {info['f_max']:g} Hz keeps only {' and '.join(low)} "
+            "effective mass in its fixed-interface modes: the building's response there (a "
+            "torsional moment, corner drifts) misses its modes above f_max; raise "
+            "structure.f_max"] if low else []  # fmt: skip
+
+
 def reduce_building(frame: Frame3D, fidelity: str = "cb", f_max: float = 5.0,
                     min_mass: float | None = MIN_MASS, base: str = "grid",
                     lumped: bool = False) -> dict:  # fmt: skip
     """The reduction of a rung: {"frame" (with its base), "cb" (CBModel), "D", "R" (the rows
-    in q), "n_modes_below_f_max", "dropped_mass" (x, y, z, torsion)}."""
+    in q), "n_modes_below_f_max", "dropped_mass" and "captured_mass" (x, y, z, torsion: the
+    effective-mass fractions of the fixed-interface modes dropped by ``min_mass``, and kept)}."""
     if fidelity not in RUNGS:
         raise ValueError(f"fidelity: expected one of {list(RUNGS)}, got {fidelity!r}")
     if base not in BASES:
@@ -230,12 +255,14 @@ def reduce_building(frame: Frame3D, fidelity: str = "cb", f_max: float = 5.0,
             raise ValueError(f"frame {frame.name!r} with its base held is a mechanism or "
                              f"singular to working precision ({e})") from None  # fmt: skip
     n = cb.n_red
-    out = {"frame": model, "n_modes_below_f_max": cb.n_modes, "dropped_mass": [0.0] * 4}
-    if fidelity == "cb" and min_mass and cb.n_modes:
+    out = {"frame": model, "n_modes_below_f_max": cb.n_modes, "dropped_mass": [0.0] * 4,
+           "captured_mass": [0.0] * 4}  # fmt: skip
+    if fidelity == "cb" and cb.n_modes:
         frac = mass_fractions(model, cb)
-        keep = frac.max(axis=1) >= min_mass
+        keep = frac.max(axis=1) >= (min_mass or 0.0)
         out["dropped_mass"] = [float(v) for v in frac[~keep].sum(axis=0)]
-        cb = _subset(cb, keep)
+        out["captured_mass"] = [float(v) for v in frac[keep].sum(axis=0)]
+        cb = _subset(cb, keep) if min_mass else cb
         n = cb.n_red
     pad = np.zeros((D.shape[0], n - D.shape[-1]))
     out.update(cb=cb, D=np.concatenate([D, np.stack([pad, pad], axis=1)], axis=-1),

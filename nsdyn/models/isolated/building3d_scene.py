@@ -415,17 +415,15 @@ def _advise(sysd, cfg, exc, kw, source: str, say) -> None:
 
 def build_notes(cfg: dict, sysd: dict) -> list[str]:
     """The notes of a run that its built rung decides (:func:`build_system`, its fidelity
-    chosen): the keys it does not read, a cb model without a fixed-interface mode."""
+    chosen): the keys it does not read, a cb model without a fixed-interface mode or with
+    too little of a direction's effective mass (:func:`~.building3d_cb.cb_notes`)."""
+    from nsdyn.models.isolated.building3d_cb import cb_notes
+
     if sysd["fidelity"] == "auto":  # (chosen by the run, from the motion)
         return []
     info = sysd["pairs"].info if sysd["pairs"] is not None else {}
     notes = [f"{k} not used: {w}" for k, w in unused_keys(cfg, sysd["fidelity"], info.get("path"))]
-    if info.get("fidelity") == "cb" and info.get("n_modes", 1) == 0:
-        notes.append(f"the cb model keeps no fixed-interface mode below f_max = "
-                     f"{info['f_max']:g} Hz: above the base the building is rigid in it (its "
-                     "drifts are round-off, its floor accelerations a rigid body's); raise "
-                     "structure.f_max above the building's first mode")  # fmt: skip
-    return notes
+    return notes + cb_notes(info)  # (no mode below f_max, or too little of a direction's)
 
 
 def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bool) -> dict:

@@ -154,7 +154,7 @@ def test_capacity_below_the_pendulums_stick_range_is_refused():
     # and a radius in mm (2200 for 2.2 m): 0.075 x 2200 = 165 m past any rim; the radius is
     # the field named (d_cap was)
     with pytest.raises(BearingError, match=r"^bearing.radius: R = 2200 m is above the 20 m of "
-                       r"built pendulums \(in mm\?\): its stick range mu_s R = 165 m passes "
+                       r"built pendulums \(in cm or mm\?\): its stick range mu_s R = 165 m passes "
                        r"the capacity d_cap = 0.35 m; expected R in m$"):  # fmt: skip
         sdof_plane(1000.0, Bearing(Friction(0.075), radius=2200.0, d_cap=0.35))
     with pytest.raises(BearingError, match=r"bearing.d_cap: expected a positive number"):

@@ -359,3 +359,31 @@ def test_triple_pendulum_slips_are_in_the_histories_file(structure, n_iso, tmp_p
             u = d["u"][..., c]
             np.testing.assert_allclose(u - s, F[..., c] / d["N"] / k_e, rtol=0,
                                        atol=1e-12 * (1 + np.abs(u).max()))  # fmt: skip
+
+
+def test_auto_with_unilateral_contact_takes_the_cb_rung(tmp_path):
+    # lift-off and landing need the building's vertical: the rigid deck (vertically rigid)
+    # refused the contact inside the advisor's probe, a traceback; the advice is the cb rung
+    cfg = _cfg(**{k: dict(v) for k, v in PORTAL.items()})
+    cfg["structure"]["fidelity"] = "auto"
+    cfg["solver"]["contact"] = "unilateral"
+    s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                  quiet=True)  # fmt: skip
+    assert s["fidelity"] == "cb" and "contact 'unilateral'" in s["advice"]["decision"]
+
+
+def test_a_cb_model_without_the_torsion_mode_says_so(tmp_path):
+    # the portal's fixed-interface modes below 5 Hz are x1 and y1 (0.97 of their effective
+    # masses) and none of its torsion (above 5 Hz): its torsional moment read 2.3x the full
+    # model's with flat sliders, unsaid. At 40 Hz every portal mode is kept: no note
+    cfg = _cfg(**{k: dict(v) for k, v in PORTAL.items()})
+    cfg["structure"].update(fidelity="cb", f_max=5.0)
+    s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                  quiet=True)  # fmt: skip
+    said = [n for n in s["notes"] if "effective mass in its fixed-interface modes" in n]
+    assert len(said) == 1 and "% of the torsion effective" in said[0]
+    assert "of the x" not in said[0] and "of the y" not in said[0]
+    cfg["structure"]["f_max"] = 40.0
+    s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                  quiet=True)  # fmt: skip
+    assert not any("effective mass in its fixed-interface" in n for n in s["notes"])
