@@ -51,6 +51,25 @@ def isolator_forces(result) -> np.ndarray:
     return result.friction + result.restoring + result.other
 
 
+def base_forces(result, centre) -> tuple[np.ndarray, np.ndarray]:
+    """The base shear (2, nt) [N], the isolators' forces summed, and their torsional moment
+    (nt,) [N m] about ``centre``, a plan point in the isolators' ``positions``' frame (the
+    centre of mass)."""
+    F = isolator_forces(result)  # (nt, ni, 2)
+    rel = result.system.positions - np.asarray(centre, dtype=float)
+    return F.sum(axis=1).T, (rel[None, :, 0] * F[..., 1] - rel[None, :, 1] * F[..., 0]).sum(axis=1)
+
+
+def base_force_peaks(result, centre) -> dict:
+    """The peaks of :func:`base_forces`: ``peak_base_shear_x_N``, ``…_y_N``, ``peak_base_shear_N``
+    (the resultant) and ``peak_torsional_moment_Nm`` (a rigid deck's, as the cb rung's)."""
+    V, T = base_forces(result, centre)
+    return {"peak_base_shear_x_N": float(np.abs(V[0]).max()),
+            "peak_base_shear_y_N": float(np.abs(V[1]).max()),
+            "peak_base_shear_N": float(np.hypot(V[0], V[1]).max()),
+            "peak_torsional_moment_Nm": float(np.abs(T).max())}  # fmt: skip
+
+
 @dataclass(frozen=True, eq=False, repr=False)
 class BuildingResponse3D(Tabular):
     """Response histories of a cb or full run (module text); ``t`` (nt,) [s].
@@ -106,9 +125,7 @@ def building_response(system, result, ground) -> BuildingResponse3D:
     drifts = StoreyDrifts(info["heights"], info["cm_points"], info["corners"],
                           info["drift_cm_map"] @ q.T, info["drift_corner_map"] @ q.T)  # fmt: skip
     floor_acc = info["floor_map"][:, :2] @ qdd.T + a[None, :2]
-    base_shear = F.sum(axis=1).T  # (2, nt)
-    rel = system.positions - (info["centre"] - info["origin"])  # isolators about c
-    torsion = (rel[None, :, 0] * F[..., 1] - rel[None, :, 1] * F[..., 0]).sum(axis=1)
+    base_shear, torsion = base_forces(result, info["centre"] - info["origin"])  # about c
     ux, uy, th = info["floor_map"][-1] @ q.T  # the roof's rigid motion about its reference
     d = info["corners"] - info["level_refs"][-1]  # (4, 2)
     roof = np.stack([ux[None] - d[:, 1:] * th[None], uy[None] + d[:, :1] * th[None]], axis=1)

@@ -25,8 +25,7 @@ above the dense full rung's limit runs the same model on sparse operators
 (:mod:`nsdyn.models.isolated.building3d_pairs_run`: the path, its step, law and damping
 ``structure.damping``); the summary's ``path`` and ``path_why`` say which ran and why. ``auto``:
 :func:`nsdyn.models.isolated.building3d_advice.advise_building` probes the rungs on the
-record, prints its evidence and runs the rung it advises. The summary (units in the key
-names) is what ``nsdyn run`` prints.
+record, prints its evidence and runs the rung it advises. ``nsdyn run`` prints the summary.
 """
 
 from __future__ import annotations
@@ -298,6 +297,7 @@ def build_motion(cfg: dict, source: str):
 def _run_rigid(sysd, exc, t_end, kw, out_dir: Path, say) -> dict:
     from nsdyn._numba_cache import first_compile
     from nsdyn._progress import reporter
+    from nsdyn.models.isolated.building3d_response import base_force_peaks
     from nsdyn.models.isolated.deck import simulate_plane
     from nsdyn.models.isolated.deck_scene import COMPILE_ABOUT_S, kernels_cached
 
@@ -316,7 +316,7 @@ def _run_rigid(sysd, exc, t_end, kw, out_dir: Path, say) -> dict:
     wall = time.perf_counter() - w0
     for w in caught:
         say(f"building3d: warning: {w.message}")
-    s = {**res.summary(), **res.energy(exc)}  # (its closure: the balance on the grid)
+    s = {**res.summary(), **res.energy(exc), **base_force_peaks(res, deck.ecc)}  # (as cb's)
     npz = out_dir / "building3d.npz"
     with atomic_open(npz, "wb") as fh:
         np.savez(fh, t=res.t, q=res.q, qd=res.qd, u=res.u, N=res.N, friction=res.friction,
@@ -504,6 +504,8 @@ ROWS = {
         ("peak_resultant_displacement_m", "peak |u| (resultant)", "m"),
         ("residual_displacement_m", "residual |u|", "m"),
         ("peak_torsion_rad", "peak twist", "rad"),
+        ("peak_base_shear_N", "peak base shear |V|", "N"),
+        ("peak_torsional_moment_Nm", "peak torsional moment", "N m"),
         ("min_normal_force_N", "min normal force", "N"),
         ("max_normal_force_N", "max normal force", "N"),
         ("stick_fraction", "stick fraction", ""),
