@@ -13,6 +13,7 @@ from __future__ import annotations
 import difflib
 import glob
 import math
+import numbers
 import re
 import tomllib
 import warnings
@@ -125,7 +126,7 @@ def scaled_record(motion, mo: dict, source: str):
     SceneError for one above 100 g (:func:`nsdyn.ground.motion.record_pga_said`)."""
     if "pga" in mo:  # (a positive number, as every scene's; its top: scaled_to_pga's)
         v = mo["pga"]
-        if isinstance(v, bool) or not isinstance(v, int | float) or not 0 < v < math.inf:
+        if isinstance(v, bool) or not isinstance(v, numbers.Real) or not 0 < v < math.inf:
             raise SceneError(f"{source}: motion.pga: expected a finite positive number, got "
                              f"{v!r}")  # fmt: skip
         return scaled_to_pga(motion, float(v), source)

@@ -170,3 +170,14 @@ def test_a_record_s_pga_that_is_no_positive_number_is_refused_in_every_family(pg
     ):  # fmt: skip
         with pytest.raises(SceneError, match=said):
             family()
+
+
+def test_a_record_s_pga_from_numpy_is_a_number():
+    # a pga from a NumPy computation (a study's grid, a script's array) is a number: its
+    # integer and single-precision kinds were refused as no number
+    import numpy as np
+
+    from nsdyn.studies.scenes import scene_motion
+
+    for pga in (np.int64(3), np.float32(3.0), np.float64(3.0), 3):
+        assert scene_motion({"motion": {"record": "synthetic-wn-40s", "pga": pga}}).pga == 3.0

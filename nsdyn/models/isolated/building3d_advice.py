@@ -118,11 +118,12 @@ def advise_building(frame, bearings, motion, *, tol: float = DEFAULT_TOL, f_max:
                           "the cb probe; the rigid deck's rigid-plate normal forces and the "
                           "fixed base cannot see that")  # fmt: skip
         return {"fidelity": "cb", "f_max": cb.info["f_max"], "evidence": ev}
-    if kw.get("contact") == "unilateral":  # (the rigid deck refused it with a traceback)
-        ev["decision"] = (
-            "cb: contact 'unilateral' (lift-off and landing) needs the cb rung's "
-            "vertical; the rigid deck and the fixed base are vertically rigid"
-        )
+    lifted = bool((res.flights or {}).get("lift_offs"))  # (a unilateral run's lift-offs)
+    if kw.get("contact") == "unilateral" and (lifted or stick < 1.0):  # (the rigid deck
+        # refused the contact with a traceback; a base stuck all along is the fixed rung's)
+        why = "an isolator lifted off in the cb probe" if lifted else "the rigid deck has none"
+        ev["decision"] = (f"cb: contact 'unilateral' (lift-off and landing) needs the cb "
+                          f"rung's vertical: {why}")  # fmt: skip
         return {"fidelity": "cb", "f_max": cb.info["f_max"], "evidence": ev}
     if stick == 1.0:
         ev["decision"] = ("the isolators stick at every output instant of the window: the base "

@@ -61,6 +61,8 @@ from dataclasses import replace
 
 import numpy as np
 import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from nsdyn._checks import expect, flag
 from nsdyn.ground.excitation import G_EARTH
@@ -186,6 +188,25 @@ def mass_fractions(frame: Frame3D, cb: CBModel) -> np.ndarray:
     return MG[cb.n_b :] ** 2 / total
 
 
+def modal_reach(frame: Frame3D, cb: CBModel, M) -> np.ndarray:
+    """(4,): the share of the rigid x, y, z and torsion masses that all the fixed-interface
+    modes together carry, the fractions of :func:`mass_fractions` summed over every mode:
+    (M r)_iᵀ M_ii⁻¹ (M r)_i over rᵀ M r (mass on the interface itself, a base slab's, is in
+    no mode: a kept share is measured against this, not against 1)."""
+    c, _, _ = mass_centre(frame)
+    r = np.column_stack([frame.rigid_motions(c)[:, :3], frame.rigid_motions(c)[:, 3]])
+    Ms = sp.csc_array(M)
+    i = np.setdiff1d(np.arange(M.shape[0]), cb.boundary)
+    i = i[Ms.diagonal()[i] > 0]  # (massless dofs, a lumped mass's rotations: in no product)
+    Mr = np.asarray(Ms @ r)
+    try:
+        x = spla.splu(Ms[i][:, i].tocsc()).solve(Mr[i])
+    except RuntimeError:  # (a singular interior mass: the share unknown, measured against 1)
+        return np.ones(4)
+    total = np.einsum("ij,ij->j", r, Mr)
+    return np.einsum("ij,ij->j", Mr[i], x) / np.where(total > 0, total, 1.0)
+
+
 def _subset(cb: CBModel, keep: np.ndarray) -> CBModel:
     """The CB model with only the fixed-interface modes ``keep`` (a Ritz subspace)."""
     nb = cb.n_b
@@ -224,7 +245,8 @@ def reduce_building(frame: Frame3D, fidelity: str = "cb", f_max: float = 5.0,
                     lumped: bool = False) -> dict:  # fmt: skip
     """The reduction of a rung: {"frame" (with its base), "cb" (CBModel), "D", "R" (the rows
     in q), "n_modes_below_f_max", "dropped_mass" and "captured_mass" (x, y, z, torsion: the
-    effective-mass fractions of the fixed-interface modes dropped by ``min_mass``, and kept)}."""
+    effective-mass fractions of the fixed-interface modes dropped by ``min_mass``, and the
+    kept modes' share of what all of them carry, :func:`modal_reach`)}."""
     if fidelity not in RUNGS:
         raise ValueError(f"fidelity: expected one of {list(RUNGS)}, got {fidelity!r}")
     if base not in BASES:
@@ -261,7 +283,11 @@ def reduce_building(frame: Frame3D, fidelity: str = "cb", f_max: float = 5.0,
         frac = mass_fractions(model, cb)
         keep = frac.max(axis=1) >= (min_mass or 0.0)
         out["dropped_mass"] = [float(v) for v in frac[~keep].sum(axis=0)]
-        out["captured_mass"] = [float(v) for v in frac[keep].sum(axis=0)]
+        reach = modal_reach(model, cb, model.reduced(lumped=lumped)[1])  # (all modes' share)
+        out["captured_mass"] = [
+            float(min(v / w, 1.0)) if w > 0 else 1.0
+            for v, w in zip(frac[keep].sum(axis=0), reach, strict=True)
+        ]
         cb = _subset(cb, keep) if min_mass else cb
         n = cb.n_red
     pad = np.zeros((D.shape[0], n - D.shape[-1]))

@@ -387,3 +387,24 @@ def test_a_cb_model_without_the_torsion_mode_says_so(tmp_path):
     s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
                   quiet=True)  # fmt: skip
     assert not any("effective mass in its fixed-interface" in n for n in s["notes"])
+
+
+def test_mass_on_the_base_is_no_mode_s_and_no_cause_for_the_note(tmp_path):
+    # 8 t on each base node is on the interface, in no fixed-interface mode: measured against
+    # the whole rigid mass the modes kept 0.45 of x with every mode kept, and the note said
+    # to raise f_max, which cannot help. Against what all the modes carry, they keep it all
+    from nsdyn.models.isolated.bearings import Bearing, Friction
+    from nsdyn.models.isolated.building3d_cb import building_pairs, cb_notes
+
+    text = (Path(__file__).resolve().parents[3] / "frames" / "portal-3d.toml").read_text()
+    heavy = text.replace("  [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0],",
+                         "  " + ", ".join(["[8000.0, 8000.0, 8000.0]"] * 4) + ",", 1)  # fmt: skip
+    assert heavy != text
+    (tmp_path / "heavy.toml").write_text(heavy)
+    frame = load_frame3d(str(tmp_path / "heavy.toml"))
+    s = building_pairs(frame, Bearing(Friction(0.05), radius=2.0), fidelity="cb",
+                       f_max=1000.0, min_mass=None)  # fmt: skip
+    assert s.info["n_modes"] == s.info["n_modes_below_f_max"]  # (every mode kept)
+    assert cb_notes(s.info) == []
+    low = building_pairs(frame, Bearing(Friction(0.05), radius=2.0), fidelity="cb", f_max=5.0)
+    assert "% of the torsion effective mass" in cb_notes(low.info)[0]
