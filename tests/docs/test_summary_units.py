@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from nsdyn.models.contact.scene import ROWS as CONTACT_ROWS
-from nsdyn.models.isolated.building3d_scene import ROWS as BUILDING_ROWS
+from nsdyn.models.isolated.building3d_scene_keys import ROWS as BUILDING_ROWS
 from nsdyn.models.isolated.deck_scene import ROWS as DECK_ROWS
 from nsdyn.models.rocking.scene import ROWS as ROCKING_ROWS
 

@@ -32,6 +32,8 @@ _API = {
     "simulate_pairs": "nsdyn.models.isolated.pairs",
     "building_deck": "nsdyn.models.isolated.building3d",
     "deck_constants": "nsdyn.models.isolated.building3d",
+    "base_forces": "nsdyn.models.isolated.building3d_response",
+    "base_force_peaks": "nsdyn.models.isolated.building3d_response",
     "FixedResponse3D": "nsdyn.models.isolated.fixed3d",
     "fixed_response_3d": "nsdyn.models.isolated.fixed3d",
 }

@@ -193,8 +193,8 @@ def modal_reach(frame: Frame3D, cb: CBModel, M) -> np.ndarray:
     modes together carry, the fractions of :func:`mass_fractions` summed over every mode:
     (M r)_iᵀ M_ii⁻¹ (M r)_i over rᵀ M r (mass on the interface itself, a base slab's, is in
     no mode: a kept share is measured against this, not against 1)."""
-    c, _, _ = mass_centre(frame)
-    r = np.column_stack([frame.rigid_motions(c)[:, :3], frame.rigid_motions(c)[:, 3]])
+    c, _, _ = mass_centre(frame, M)
+    r = frame.rigid_motions(c)  # x, y, z and the torsion about the centre of mass
     Ms = sp.csc_array(M)
     i = np.setdiff1d(np.arange(M.shape[0]), cb.boundary)
     i = i[Ms.diagonal()[i] > 0]  # (massless dofs, a lumped mass's rotations: in no product)

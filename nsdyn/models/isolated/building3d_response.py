@@ -39,6 +39,8 @@ from nsdyn.structure.storey3d import StoreyDrifts
 
 __all__ = [
     "BuildingResponse3D",
+    "base_force_peaks",
+    "base_forces",
     "building_response",
     "ground_history",
     "isolator_forces",

@@ -63,18 +63,17 @@ from nsdyn.models.isolated.building3d_scene_keys import (
     DAMPINGS,
     FIDELITIES,
     SCHEMA,
+    format_summary,
     unused_keys,
 )
 from nsdyn.models.isolated.building3d_shape import fixed_peak_shape, rigid_peak_shape, write_shape
+from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
+from nsdyn.models.isolated.deck_scene import build_solver as deck_solver
 from nsdyn.models.isolated.deck_scene import (
-    PGA_ROW,
     record_end_note,
     record_scale,
     scene_law,
-    summary_table,
 )
-from nsdyn.models.isolated.deck_scene import build_motion as deck_motion
-from nsdyn.models.isolated.deck_scene import build_solver as deck_solver
 from nsdyn.models.isolated.friction import coarse_law_note
 from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number
 
@@ -85,18 +84,13 @@ TABLES = SCHEMA.fields()
 FIGURE_MODULE = "nsdyn.plot.frames3d"  # draws the figures from building3d-shape.npz
 
 
-def _frame(t: dict, source: str):
-    from nsdyn.structure import accidental_eccentricity, load_frame3d
-
+def _eccentricity(t: dict, source: str) -> list:
+    """``structure.eccentricity`` checked (before a build's notice), and the frame's name."""
     name = t.get("frame3d")
     if not isinstance(name, str) or not name:
         got = "nothing (missing)" if name is None else repr(name)
         raise SceneError(f"{source}: structure.frame3d: expected a bundled 3D frame name "
                          f"(office-11-3d) or a 3D frame file, got {got}")  # fmt: skip
-    try:  # a file beside the scene: made findable by read_toml
-        frame = load_frame3d(name)
-    except (OSError, ValueError) as e:
-        raise SceneError(f"{source}: structure.frame3d: {' '.join(str(e).split())}") from None
     ecc = t.get("eccentricity", [0.0, 0.0])
     ok = isinstance(ecc, list) and len(ecc) == 2 and all(
         isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
@@ -105,6 +99,17 @@ def _frame(t: dict, source: str):
     if not ok:
         raise SceneError(f"{source}: structure.eccentricity: expected [f_x, f_y], fractions of "
                          f"the plan dimensions in (-0.5, 0.5), got {ecc!r}")  # fmt: skip
+    return ecc
+
+
+def _frame(t: dict, source: str):
+    from nsdyn.structure import accidental_eccentricity, load_frame3d
+
+    ecc = _eccentricity(t, source)
+    try:  # a file beside the scene: made findable by read_toml
+        frame = load_frame3d(t["frame3d"])
+    except (OSError, ValueError) as e:
+        raise SceneError(f"{source}: structure.frame3d: {' '.join(str(e).split())}") from None
     if any(ecc):
         try:
             frame = accidental_eccentricity(frame, float(ecc[0]), float(ecc[1]))
@@ -257,6 +262,7 @@ def build_system(cfg: dict, source: str, warm: bool = False, notice=None) -> dic
     if "dt" in cfg.get("solver", {}):  # the sparse full rung's step, checked on every rung
         number(source, "solver.dt", cfg["solver"]["dt"])
     bearing = _bearing(cfg, source, fid) if fid != "fixed" else None
+    _eccentricity(t, source)
     if notice is not None:  # (it came before a refused structure.base or a missing bearing)
         notice()
     frame = _frame(t, source)
@@ -332,19 +338,25 @@ def _run_rigid(sysd, exc, t_end, kw, out_dir: Path, say) -> dict:
     return s
 
 
-def _run_fixed(sysd, exc, source: str, out_dir: Path) -> dict:
+def _run_fixed(sysd, exc, source: str, out_dir: Path, say) -> dict:
     from nsdyn.models.isolated.fixed3d import few_modes_note, fixed_response_3d
+    from nsdyn.structure.modes3d import mass_centre
 
-    if not hasattr(exc, "dt"):
-        raise SceneError(f"{source}: motion.kind: the fixed rung needs a record "
-                         "(kind = 'record3'), not an orbit")  # fmt: skip
     w0 = time.perf_counter()
-    try:
-        r = fixed_response_3d(sysd["frame"], exc, n_modes=sysd["n_modes"])
-    except ValueError as e:
-        raise SceneError(f"{source}: structure: {' '.join(str(e).split())}") from None
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        warnings.simplefilter("ignore", NotedWarning)  # (the scene's notes say them)
+        try:
+            r = fixed_response_3d(sysd["frame"], exc, n_modes=sysd["n_modes"])
+        except ValueError as e:
+            raise SceneError(f"{source}: structure: {' '.join(str(e).split())}") from None
     wall = time.perf_counter() - w0
+    for w in caught:
+        say(f"building3d: warning: {w.message}")
     s = r.summary()
+    c, m, _ = mass_centre(sysd["frame"])  # (the keys the isolated rungs report)
+    s.update({"mass_kg": m, "centre_of_mass_m": [float(v) for v in c],
+              "warnings": [str(w.message) for w in caught]})  # fmt: skip
     npz = out_dir / "building3d.npz"
     with atomic_open(npz, "wb") as fh:
         np.savez(fh, t=r.t, f_hz=r.modes.f_hz, drift_cm=r.drifts.cm, drift_corner=r.drifts.corner,
@@ -386,9 +398,6 @@ def _advise(sysd, cfg, exc, kw, source: str, say) -> None:
     """fidelity "auto": the advisor's rung into ``sysd`` (its report on stderr)."""
     from nsdyn.models.isolated.building3d_advice import advise_building, elastic_probe, report
 
-    if not hasattr(exc, "dt"):
-        raise SceneError(f"{source}: structure.fidelity: 'auto' probes the rungs on a record "
-                         "(kind = 'record3'), not an orbit")  # fmt: skip
     opts = sysd["cb"]
     w0 = time.perf_counter()
     pairs = build_pairs(sysd["frame"], sysd["bearing"], "cb", opts, source)
@@ -433,6 +442,12 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     st = cfg.get("structure")
     fid = st.get("fidelity") if isinstance(st, dict) else None
     exc, t_end = build_motion(cfg, source)  # their mistakes refused before a build of seconds
+    if fid == "fixed" and not hasattr(exc, "dt"):
+        raise SceneError(f"{source}: motion.kind: the fixed rung needs a record "
+                         "(kind = 'record3'), not an orbit")  # fmt: skip
+    if fid == "auto" and not hasattr(exc, "dt"):
+        raise SceneError(f"{source}: structure.fidelity: 'auto' probes the rungs on a record "
+                         "(kind = 'record3'), not an orbit")  # fmt: skip
     kw = build_solver(cfg, source)
     slow = fid in ("cb", "full", "auto")  # a reduction or the damped modes: seconds of build
     w0 = time.perf_counter()
@@ -476,7 +491,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         with grid_fields(source):
             s = _run_pairs(sysd, exc, t_end, kw, out_dir, say, dt)
     else:
-        s = _run_fixed(sysd, exc, source, out_dir)
+        s = _run_fixed(sysd, exc, source, out_dir, say)
         few = s.pop("few_modes")
         if few:
             notes.append(few)
@@ -494,67 +509,3 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         s["advice"] = {"fidelity": sysd["fidelity"], **sysd["advice"]["evidence"]}
     say(f"building3d: done in {s['wall_s']:.3f} s")
     return s
-
-
-ROWS = {
-    "rigid": (
-        ("mass_kg", "mass", "kg"),
-        ("polar_inertia_kgm2", "polar inertia", "kg m²"),
-        ("height_of_centre_of_mass_m", "height of the CM", "m"),
-        ("peak_resultant_displacement_m", "peak |u| (resultant)", "m"),
-        ("residual_displacement_m", "residual |u|", "m"),
-        ("peak_torsion_rad", "peak twist", "rad"),
-        ("peak_base_shear_N", "peak base shear |V|", "N"),
-        ("peak_torsional_moment_Nm", "peak torsional moment", "N m"),
-        ("min_normal_force_N", "min normal force", "N"),
-        ("max_normal_force_N", "max normal force", "N"),
-        ("stick_fraction", "stick fraction", ""),
-    ),
-    "fixed": (
-        ("n_modes", "modes", ""),
-        ("f1_hz", "first frequency", "Hz"),
-        ("mass_captured_x", "mass captured x", ""),
-        ("mass_captured_y", "mass captured y", ""),
-        ("peak_drift_cm_x", "peak drift CM x", ""),
-        ("peak_drift_cm_y", "peak drift CM y", ""),
-        ("peak_drift_corner_x", "peak drift corner x", ""),
-        ("peak_drift_corner_y", "peak drift corner y", ""),
-        ("corner_amplification_x", "corner/CM x", ""),
-        ("corner_amplification_y", "corner/CM y", ""),
-        ("peak_floor_acc_x_mps2", "peak floor acc x", "m/s²"),
-        ("peak_floor_acc_y_mps2", "peak floor acc y", "m/s²"),
-        ("peak_base_shear_x_N", "peak base shear x", "N"),
-        ("peak_base_shear_y_N", "peak base shear y", "N"),
-        ("peak_torsional_moment_Nm", "peak torsional moment", "N m"),
-    ),
-}
-ROWS["cb"] = (
-    ("path", "path", ""),
-    ("path_why", "why", ""),
-    ("n_dofs", "coordinates", ""),
-    ("law", "friction law", ""),
-    ("n_modes", "fixed-interface modes", ""),
-    ("modes_dropped", "modes dropped (participation)", ""),
-    ("peak_resultant_displacement_m", "peak |u| (resultant)", "m"),
-    ("residual_displacement_m", "residual |u|", "m"),
-    ("min_normal_force_N", "min normal force", "N"),
-    ("max_normal_force_N", "max normal force", "N"),
-    ("stick_fraction", "stick fraction", ""),
-    *ROWS["fixed"][4:],
-    ("peak_base_shear_N", "peak base shear |V|", "N"),
-    ("peak_roof_corner_displacement_m", "peak roof corner |u|", "m"),
-    ("compile_s", "compile/load time", "s"),
-)
-ROWS["full"] = (*ROWS["cb"][:3], ("damping", "damping (sparse)", ""),
-                ("n_damped_modes", "damped modes (sparse)", ""),
-                ("method", "integrator", ""), ("dt_s", "time step", "s"),
-                *ROWS["cb"][3:])  # fmt: skip
-
-
-def format_summary(s: dict) -> str:
-    """A short human table of a run, every number with its unit; rim contacts and uplift
-    first (never silent)."""
-    head = f"building3d {s.get('name', '')}: {s['frame']}, fidelity {s['fidelity']}"
-    rows = (PGA_ROW, *ROWS[s["fidelity"]], ("energy_closure", "energy closure", ""),
-            ("t_end_s", "end time", "s"), ("wall_s", "run time", "s"))  # fmt: skip
-    return summary_table(head, s, rows)

@@ -4,11 +4,14 @@ Declared once as a :class:`~nsdyn.models.scene_schema.Schema`, beside the reader
 (:mod:`nsdyn.models.isolated.building3d_scene`); the documentation's scene-file reference is
 generated from it. ``[bearing]``, ``[motion]`` and ``[solver]`` are the deck scene's tables
 (:mod:`nsdyn.models.isolated.deck_scene_keys`): the rigid rung is that deck. :func:`unused_keys`
-says which keys a rung does not read.
+says which keys a rung does not read. ``ROWS`` are the summary's rows each rung prints (its
+key, label and unit), :func:`format_summary` the table. ``n_modes`` counts the fixed-base modes
+of the fixed rung and the fixed-interface modes a cb or dense full rung keeps.
 """
 
 from __future__ import annotations
 
+from nsdyn.models.isolated.deck_scene import PGA_ROW, summary_table
 from nsdyn.models.isolated.deck_scene_keys import SCHEMA as DECK
 from nsdyn.models.scene_schema import Key, Schema, Table
 
@@ -131,3 +134,68 @@ def unused_keys(cfg: dict, fid: str, path: str | None) -> list[tuple[str, str]]:
         out += [(f"[{t}]", "the fixed rung (a fixed base, modal histories)")
                 for t in ("bearing", "solver") if cfg.get(t)]  # fmt: skip
     return out
+
+
+ROWS = {
+    "rigid": (
+        ("mass_kg", "mass", "kg"),
+        ("polar_inertia_kgm2", "polar inertia", "kg m²"),
+        ("height_of_centre_of_mass_m", "height of the CM", "m"),
+        ("peak_resultant_displacement_m", "peak |u| (resultant)", "m"),
+        ("residual_displacement_m", "residual |u|", "m"),
+        ("peak_torsion_rad", "peak twist", "rad"),
+        ("peak_base_shear_N", "peak base shear |V|", "N"),
+        ("peak_torsional_moment_Nm", "peak torsional moment", "N m"),
+        ("min_normal_force_N", "min normal force", "N"),
+        ("max_normal_force_N", "max normal force", "N"),
+        ("stick_fraction", "stick fraction", ""),
+    ),
+    "fixed": (
+        ("n_modes", "fixed-base modes", ""),
+        ("f1_hz", "first frequency", "Hz"),
+        ("mass_captured_x", "mass captured x", ""),
+        ("mass_captured_y", "mass captured y", ""),
+        ("mass_captured_torsion", "mass captured torsion", ""),
+        ("peak_drift_cm_x", "peak drift CM x", ""),
+        ("peak_drift_cm_y", "peak drift CM y", ""),
+        ("peak_drift_corner_x", "peak drift corner x", ""),
+        ("peak_drift_corner_y", "peak drift corner y", ""),
+        ("corner_amplification_x", "corner/CM x", ""),
+        ("corner_amplification_y", "corner/CM y", ""),
+        ("peak_floor_acc_x_mps2", "peak floor acc x", "m/s²"),
+        ("peak_floor_acc_y_mps2", "peak floor acc y", "m/s²"),
+        ("peak_base_shear_x_N", "peak base shear x", "N"),
+        ("peak_base_shear_y_N", "peak base shear y", "N"),
+        ("peak_torsional_moment_Nm", "peak torsional moment", "N m"),
+    ),
+}
+ROWS["cb"] = (
+    ("path", "path", ""),
+    ("path_why", "why", ""),
+    ("n_dofs", "coordinates", ""),
+    ("law", "friction law", ""),
+    ("n_modes", "fixed-interface modes", ""),
+    ("modes_dropped", "modes dropped (participation)", ""),
+    ("peak_resultant_displacement_m", "peak |u| (resultant)", "m"),
+    ("residual_displacement_m", "residual |u|", "m"),
+    ("min_normal_force_N", "min normal force", "N"),
+    ("max_normal_force_N", "max normal force", "N"),
+    ("stick_fraction", "stick fraction", ""),
+    *ROWS["fixed"][5:],
+    ("peak_base_shear_N", "peak base shear |V|", "N"),
+    ("peak_roof_corner_displacement_m", "peak roof corner |u|", "m"),
+    ("compile_s", "compile/load time", "s"),
+)
+ROWS["full"] = (*ROWS["cb"][:3], ("damping", "damping (sparse)", ""),
+                ("n_damped_modes", "damped modes (sparse)", ""),
+                ("method", "integrator", ""), ("dt_s", "time step", "s"),
+                *ROWS["cb"][3:])  # fmt: skip
+
+
+def format_summary(s: dict) -> str:
+    """A short human table of a run, every number with its unit; rim contacts and uplift
+    first (never silent)."""
+    head = f"building3d {s.get('name', '')}: {s['frame']}, fidelity {s['fidelity']}"
+    rows = (PGA_ROW, *ROWS[s["fidelity"]], ("energy_closure", "energy closure", ""),
+            ("t_end_s", "end time", "s"), ("wall_s", "run time", "s"))  # fmt: skip
+    return summary_table(head, s, rows)

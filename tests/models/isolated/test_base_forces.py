@@ -14,7 +14,7 @@ def test_a_centred_deck_s_base_shear_is_its_weight_times_the_pendulum_law():
     # twist), so the base shear is Σ N_i (u/R + μ v/|v|) = m (g + a_z) (u/R + μ v/|v|) while
     # it slips (the normal forces sum to the weight and the vertical's inertia whatever the
     # overturning does), and its torsional moment about the centre of mass is round-off
-    from nsdyn.models.isolated.building3d_response import base_force_peaks, base_forces
+    from nsdyn.models.isolated import base_force_peaks, base_forces  # (the public names)
     from nsdyn.models.isolated.deck import rigid_deck
     from nsdyn.models.isolated.plane_ground import ground_history
 

@@ -62,6 +62,12 @@ def test_fixed_scene_drifts_and_torsion(tmp_path):
                   quiet=True)  # fmt: skip
     assert s["corner_amplification_x"] > 1.05
     assert s["peak_torsional_moment_Nm"] > 0
+    # the mass and its centre as the isolated rungs report them (the rigid test's sources)
+    f = load_frame3d("office-11-3d")
+    shift = 0.05 * 80.0 * sum(d.mass for d in f.diaphragms) / f.total_mass
+    assert s["mass_kg"] == pytest.approx(f.total_mass, rel=1e3 * EPS)
+    assert s["centre_of_mass_m"][1] == pytest.approx(40.0 + shift, rel=1e3 * EPS)
+    assert s["warnings"] == [] and "fixed-base modes" in format_summary(s)
     cfg["structure"]["eccentricity"] = [0.0, 0.0]
     s0 = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
                    quiet=True)  # fmt: skip
@@ -143,6 +149,31 @@ def test_the_fixed_rung_needs_a_record(tmp_path):
     with pytest.raises(SceneError, match=r"motion\.kind"):
         run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
                   quiet=True)  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("tables", "field"),
+    [
+        ({"structure": {"fidelity": "fixed"}, "bearing": None,
+          "motion": {"kind": "orbit", "orbit": "circular", "frequency": 0.5, "amplitude": 1.0,
+                     "n_periods": 2}},
+         r"motion\.kind"),
+        ({"structure": {"fidelity": "auto"},
+          "motion": {"kind": "orbit", "orbit": "circular", "frequency": 0.5, "amplitude": 1.0,
+                     "n_periods": 2}},
+         r"structure\.fidelity"),
+        ({"structure": {"fidelity": "cb", "eccentricity": [0.0, 0.7]}}, r"structure\.eccentricity"),
+    ],
+)  # fmt: skip
+def test_a_refused_scene_says_nothing_of_a_build_first(tables, field, tmp_path, capsys):
+    # refused before the run's header or its "building the cb model…" notice (they came first)
+    cfg = _cfg(**{k: v for k, v in tables.items() if k != "motion"})
+    if "motion" in tables:
+        cfg["motion"] = tables["motion"]
+    with pytest.raises(SceneError, match=field):
+        run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                  quiet=False)  # fmt: skip
+    assert capsys.readouterr().err == ""
 
 
 PORTAL = {
