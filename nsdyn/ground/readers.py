@@ -31,19 +31,22 @@ from nsdyn.ground.formats import (
 from nsdyn.ground.motion import GroundMotion, RecordFileError, check_pga
 
 _FORMATS = ("auto", "at2", "jma", "two-column", "single-column", "multi-column")
+COMPANION_SUFFIX = "-y.txt"  # the second horizontal component of a bundled record <name>.csv
 
 
 def _resolve(path_or_name: str | os.PathLike) -> tuple[str, str]:
-    """(source label, text) of a file path or a bundled record name."""
+    """(source label, text) of a file path or a bundled record name (``<name>`` or
+    ``<name>.csv``, or its second horizontal component ``<name>-y.txt``)."""
     path = Path(path_or_name)
     if path.is_file():
         return str(path), read_text(path)
     name = str(path_or_name)
     stem = name[:-4] if name.endswith(".csv") else name
     if "/" not in stem and os.sep not in stem:
-        item = RECORDS.find(stem)
-        if item is not None:
-            return f"nsdyn.data.records/{stem}.csv", item.read_text(encoding="latin-1")
+        file = name if name.endswith(COMPANION_SUFFIX) else f"{stem}{RECORDS.suffix}"
+        item = RECORDS.root() / file
+        if item.is_file():  # (labelled as bundled, both components alike)
+            return f"{RECORDS.package}/{file}", item.read_text(encoding="latin-1")
     if path.exists():
         raise RecordFileError(path, None, "expected a record file")
     raise FileNotFoundError(

@@ -459,6 +459,10 @@ def test_bundled_record_has_three_components(stem):
     assert np.array_equal(m3.ay, y.a_hor) and (m3.dt, m3.n) == (x.dt, x.n)
     # both horizontal components carry the same scale factor (the same intensity)
     assert y.meta["scale_factor"] == x.meta["scale_factor"] and y.meta["seed"] != x.meta["seed"]
+    # both components named as bundled, as the warnings of one record name them (the y file
+    # was named by its path in the source tree, the x file by its bundled name)
+    assert (x.source, m3.meta["y_source"]) == (f"nsdyn.data.records/{stem}.csv",
+                                               f"nsdyn.data.records/{stem}-y.txt")  # fmt: skip
 
 
 # ------------------------------------------------------------------------------------------
