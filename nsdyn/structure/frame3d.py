@@ -230,7 +230,10 @@ class Frame3D:
                 )
             for n in d.nodes.tolist():
                 if n in seen:
-                    raise ValueError(f"node {n} is in diaphragms {seen[n]} and {k}")
+                    raise ValueError(
+                        f"diaphragms[{k}].nodes: node {n} is also on diaphragms"
+                        f"[{seen[n]}]; expected each node on one floor at most"
+                    )
                 seen[n] = k
 
     # ---- sizes, dofs, geometry

@@ -322,7 +322,7 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
         check_geometry(nodes, np.array(el), tied=[n for g in groups for n in g], base=base,
                        groups=groups, element_name=names.__getitem__)  # fmt: skip
     except ValueError as exc:  # (a node by the table's name; an element carries its own)
-        msg = f"{P}.{exc}" if str(exc).startswith("nodes[") else str(exc)
+        msg = f"{P}.{exc}" if str(exc).startswith(("nodes[", "base_nodes")) else str(exc)
         raise FrameFileError(f"{rd.file}: {msg}", P) from None
     S = [secs[i] for i in sid]
     zeta = _zeta(rd, f)  # its own error, outside the model's checks below
@@ -343,7 +343,8 @@ def _explicit(rd: _Reader, f: Mapping, name: str) -> Frame3D:
         )
     except ValueError as exc:  # (an element by the file's name: frame3d.members[1].elements[0])
         msg = re.sub(r"\belements\[(\d+)\]", lambda m: names[int(m.group(1))], str(exc))
-        raise FrameFileError(f"{rd.file}: {msg if msg != str(exc) else f'{TABLE}: {exc}'}",
+        sep = "." if str(exc).startswith("diaphragms[") else ": "  # (a field: its path)
+        raise FrameFileError(f"{rd.file}: {msg if msg != str(exc) else f'{TABLE}{sep}{exc}'}",
                              TABLE) from None  # fmt: skip
 
 

@@ -348,8 +348,8 @@ def test_a_regular_frame_the_model_refuses_names_the_file_and_its_fields(tmp_pat
 def test_a_frame_stands_on_every_column_foot(tmp_path, base):
     # a free foot ran (the frame rocking on the rest: drift ratios of 1e10, without a word)
     p = write(tmp_path, PORTAL, "base_nodes = [0, 1, 2, 3]", f"base_nodes = {base}", "b.toml")
-    with pytest.raises(FrameFileError, match=r"base_nodes: node 3 is a column foot at the "
-                       r"base level \(0 m\) but not a base node, and nothing else holds "
+    with pytest.raises(FrameFileError, match=r"frame3d\.base_nodes: node 3 is a column foot at "
+                       r"the base level \(0 m\) but not a base node, and nothing else holds "
                        r"it"):  # fmt: skip
         load_frame3d(p)
     plane = (REPO / "frames" / "portal.toml").read_text()
@@ -428,4 +428,14 @@ def test_a_frame_listed_by_nodes_without_its_kind_is_told_so(tmp_path):
     p = write(tmp_path, PORTAL, 'kind = "explicit"\n', "", "no-kind.toml")
     with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: frame3d\.kind: missing; "
                        r"a frame listed node by node is kind = 'explicit'"):  # fmt: skip
+        load_frame3d(p)
+
+
+def test_a_node_on_two_floors_names_the_diaphragm_and_the_form(tmp_path):
+    # (it said "frame3d: node 5 is in diaphragms 0 and 1", naming no field nor what to give)
+    p = tmp_path / "two.toml"
+    p.write_text(PORTAL + "\n[[frame3d.diaphragms]]\nnodes = [5, 6]\nmass = 1000.0\n")
+    with pytest.raises(FrameFileError, match=rf"^{re.escape(str(p))}: frame3d\.diaphragms\[1\]"
+                       r"\.nodes: node 5 is also on diaphragms\[0\]; expected each node on one "
+                       r"floor at most$"):  # fmt: skip
         load_frame3d(p)
