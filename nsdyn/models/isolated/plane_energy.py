@@ -34,10 +34,18 @@ from nsdyn.models.isolated.plane_ground import ground_history
 __all__ = ["plane_energy"]
 
 
+ROWS_PER_BLOCK = 1024  # outputs per product: a temporary of this many rows, not one of q's size
+
+
 def _quad(X: np.ndarray, A) -> np.ndarray:
-    """Xᵀ A X at every output, rows of ``X`` (A dense, sparse or a function of (n, nt))."""
-    AX = A(X.T) if callable(A) else A @ X.T
-    return np.einsum("tn,nt->t", X, np.asarray(AX))
+    """Xᵀ A X at every output, rows of ``X`` (A dense, sparse or a function of (n, nt)), a
+    block of outputs at a time."""
+    out = np.empty(X.shape[0])
+    for s in range(0, X.shape[0], ROWS_PER_BLOCK):
+        b = X[s : s + ROWS_PER_BLOCK]
+        AX = A(b.T) if callable(A) else A @ b.T
+        out[s : s + ROWS_PER_BLOCK] = np.einsum("tn,nt->t", b, np.asarray(AX))
+    return out
 
 
 def plane_energy(result, ground) -> dict:
@@ -60,16 +68,15 @@ def plane_energy(result, ground) -> dict:
     a = ground_history(ground, t)  # (3, nt): a_x, a_y, a_z
     if hasattr(system, "mass_matrix"):  # a deck: q = (x, y, θ), no structure, no contacts
         M, K, C, q0 = system.mass_matrix(), None, None, np.zeros(3)
-        load = np.zeros((t.size, 3))
-        load[:, :2] = a[:2].T  # (Γ a_g: the plate's horizontal inertia)
+        MG = M @ np.diag([1.0, 1.0, 0.0])  # (Γ a_g: the plate's horizontal inertia)
         p_con = np.zeros(t.size)
     else:
         M, K, C = system.M, system.K, getattr(system, "damp", system.C)  # (C* of a sparse one)
         q0 = system.static_equilibrium()[0][: q.shape[1]]
         a[2] += system.g
-        load = (np.asarray(system.Gamma) @ a).T  # (nt, n)
+        MG = np.asarray(M @ np.asarray(system.Gamma))  # (n, 3)
         p_con = np.einsum("ct,tc->t", np.asarray(system.R @ qd.T), result.N)
-    p_in = -np.einsum("tn,nt->t", qd, np.asarray(M @ load.T))
+    p_in = -np.einsum("tk,kt->t", qd @ MG, a)  # q̇ᵀ M Γ a_g, through (nt, 3)
     v = result.v  # (nt, ni, 2)
     works = {k: _trapz(np.einsum("tic,tic->t", v, f), t)
              for k, f in (("friction", result.friction), ("restoring", result.restoring),
