@@ -34,18 +34,25 @@ _FORMATS = ("auto", "at2", "jma", "two-column", "single-column", "multi-column")
 COMPANION_SUFFIX = "-y.txt"  # the second horizontal component of a bundled record <name>.csv
 
 
+class BundledFile(str):
+    """The name of a file among the bundled records (a record's second horizontal component
+    ``<name>-y.txt``), looked up there alone: a file of that name in the working directory
+    is not it."""
+
+
 def _resolve(path_or_name: str | os.PathLike) -> tuple[str, str]:
     """(source label, text) of a file path or a bundled record name (``<name>`` or
-    ``<name>.csv``, or its second horizontal component ``<name>-y.txt``)."""
+    ``<name>.csv``), or of a :class:`BundledFile`; a bundled file labelled as such."""
     path = Path(path_or_name)
-    if path.is_file():
+    bundled = isinstance(path_or_name, BundledFile)
+    if not bundled and path.is_file():
         return str(path), read_text(path)
     name = str(path_or_name)
     stem = name[:-4] if name.endswith(".csv") else name
     if "/" not in stem and os.sep not in stem:
-        file = name if name.endswith(COMPANION_SUFFIX) else f"{stem}{RECORDS.suffix}"
+        file = name if bundled else f"{stem}{RECORDS.suffix}"
         item = RECORDS.root() / file
-        if item.is_file():  # (labelled as bundled, both components alike)
+        if item.is_file():
             return f"{RECORDS.package}/{file}", item.read_text(encoding="latin-1")
     if path.exists():
         raise RecordFileError(path, None, "expected a record file")

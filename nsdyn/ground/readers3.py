@@ -30,7 +30,13 @@ from nsdyn._checks import flag
 from nsdyn.ground._text import DT_RTOL, fields, is_comment, parse_table
 from nsdyn.ground.motion import GroundMotion, RecordFileError
 from nsdyn.ground.motion3 import GroundMotion3
-from nsdyn.ground.readers import COMPANION_SUFFIX, _resolve, _write_table, read_motion
+from nsdyn.ground.readers import (
+    COMPANION_SUFFIX,
+    BundledFile,
+    _resolve,
+    _write_table,
+    read_motion,
+)
 
 _X_NAMES = ("ax", "a_x", "x")
 _Y_NAMES = ("ay", "a_y", "y")
@@ -57,7 +63,7 @@ def _bundled3(name: str, units: str | None, dt: float | None = None) -> GroundMo
             f"{name}{COMPANION_SUFFIX}); with two: {bundled_records3()}"
         )
     x = read_motion(name, units=units, dt=dt)  # (a given dt checked against the record's)
-    y = read_motion(f"{name}{COMPANION_SUFFIX}", units=units)  # (named as bundled)
+    y = read_motion(BundledFile(f"{name}{COMPANION_SUFFIX}"), units=units)  # (not the cwd's)
     _check_same_grid(x, y, "y")
     meta = {**x.meta, "y_source": y.source, "y_seed": y.meta.get("seed")}
     return GroundMotion3(x.t0, x.dt, x.a_hor, y.a_hor, x.a_ver, x.name, x.source, meta)

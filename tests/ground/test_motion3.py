@@ -465,6 +465,17 @@ def test_bundled_record_has_three_components(stem):
                                                f"nsdyn.data.records/{stem}-y.txt")  # fmt: skip
 
 
+def test_a_file_in_the_working_directory_is_no_bundled_record_s_y_component(tmp_path, monkeypatch):
+    # a file named as the companion, beside the user: the bundled y is still the bundled one
+    stem = "synthetic-wn-40s"
+    bundled = read_motion3(stem)
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / f"{stem}-y.txt").write_text("# units: m/s2\n0.0 1.0\n0.01 2.0\n")
+    again = read_motion3(stem)
+    assert np.array_equal(again.ay, bundled.ay)
+    assert again.meta["y_source"] == f"nsdyn.data.records/{stem}-y.txt"
+
+
 # ------------------------------------------------------------------------------------------
 # A real station, read in place from the shared records (never copied into the project)
 # ------------------------------------------------------------------------------------------
