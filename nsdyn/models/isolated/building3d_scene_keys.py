@@ -11,7 +11,6 @@ of the fixed rung and the fixed-interface modes a cb or dense full rung keeps.
 
 from __future__ import annotations
 
-from nsdyn.models.isolated.deck_scene import PGA_ROW, summary_table
 from nsdyn.models.isolated.deck_scene_keys import SCHEMA as DECK
 from nsdyn.models.scene_schema import Key, Schema, Table
 
@@ -195,6 +194,8 @@ ROWS["full"] = (*ROWS["cb"][:3], ("damping", "damping (sparse)", ""),
 def format_summary(s: dict) -> str:
     """A short human table of a run, every number with its unit; rim contacts and uplift
     first (never silent)."""
+    from nsdyn.models.isolated.deck_scene import PGA_ROW, summary_table  # (the keys: no numba)
+
     head = f"building3d {s.get('name', '')}: {s['frame']}, fidelity {s['fidelity']}"
     rows = (PGA_ROW, *ROWS[s["fidelity"]], ("energy_closure", "energy closure", ""),
             ("t_end_s", "end time", "s"), ("wall_s", "run time", "s"))  # fmt: skip
