@@ -151,3 +151,46 @@ def test_the_weight_s_prestrain_is_no_scale_of_the_closure():
     terms = [abs(e[k]) for k in e if k.startswith("energy_") and k.endswith("_J")
              and k != "energy_scale_J"]  # fmt: skip
     assert max(terms) <= e["energy_scale_J"] < 0.1 * prestrain
+
+
+def test_the_balance_taken_in_blocks_of_outputs_equals_it_in_one(monkeypatch):
+    # the quadratic forms a block of outputs at a time (no temporary of q's size): the same
+    # products row by row, so the same numbers bit for bit as in one block
+    import nsdyn.models.isolated.plane_energy as pe
+
+    res = simulate_plane(_eccentric_deck(), ORBIT, t_end=2.0, dt_out=0.01)
+    d = _two_masses()
+    pair = simulate_pairs(PairSystem(**d, C=2e3 * np.eye(4)), ORBIT, law="arctan", t_end=2.0,
+                          dt_out=0.01)  # fmt: skip
+    one = [r.energy(ORBIT) for r in (res, pair)]
+    monkeypatch.setattr(pe, "ROWS_PER_BLOCK", 7)  # 201 outputs: 29 blocks, the last short
+    assert [r.energy(ORBIT) for r in (res, pair)] == one
+
+
+def test_a_unilateral_building_says_when_its_closure_is_the_grid_s_over_landings(tmp_path):
+    # the portal's cb rung lifted by a 1.4 g vertical: each landing jumps q̇ (and the weight's
+    # power m (g + a_z) v_z) inside an output step, which the trapezoid misses by up to
+    # dt_out/2 times the jump: first order in dt_out. The note says so exactly when the
+    # closure is above its threshold; at 0.1 ms (200 x finer than the default 20 ms) it is
+    # below it, as a first-order error must be
+    from nsdyn.models.isolated.building3d_scene import run_scene
+    from nsdyn.models.isolated.plane_energy import LANDING_CLOSURE_NOTE
+
+    cfg = {"scene": {"kind": "building3d"},
+           "structure": {"frame3d": "portal-3d", "fidelity": "cb"},
+           "bearing": {"type": "fps", "radius": 2.2, "mu_slow": 0.05, "mu_static": 0.06},
+           "motion": {"kind": "orbit", "orbit": "linear", "frequency": 1.0, "amplitude": 1.0,
+                      "vertical_amplitude": 14.0, "vertical_frequency": 2.0,
+                      "n_periods": 1.5},
+           "solver": {"law": "switch", "contact": "unilateral"}}  # fmt: skip
+    closures = []
+    for dt_out in (None, 1e-4):
+        if dt_out:
+            cfg["solver"]["dt_out"] = dt_out
+        s = run_scene(cfg, source=str(tmp_path / "s.toml"), out_dir=tmp_path, figures=False,
+                      quiet=True)  # fmt: skip
+        said = [n for n in s["notes"] if n.startswith("energy closure")]
+        assert s["landings"] > 0
+        assert bool(said) == (s["energy_closure"] > LANDING_CLOSURE_NOTE)
+        closures.append(s["energy_closure"])
+    assert closures[1] < LANDING_CLOSURE_NOTE and closures[1] < closures[0] / 10
