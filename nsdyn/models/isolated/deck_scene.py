@@ -425,7 +425,8 @@ def summary_table(head: str, s: dict, rows) -> str:
                      f"peak overshoot {c['peak_overshoot_m']:.4g} m")  # fmt: skip
     if s.get("uplift"):
         u = s["uplift"]
-        lines.append(f"  UPLIFT isolator {u['isolator']} at t = {u['t_s']:.5g} s (run ended)")
+        also = "".join(f", {i}" for i in u.get("also_isolators", []))
+        lines.append(f"  UPLIFT isolator {u['isolator']}{also} at t = {u['t_s']:.5g} s (run ended)")
     if s.get("tension"):
         u = s["tension"]
         lines.append(f"  TENSION isolator {u['isolator']} at t = {u['t_first_s']:.5g} s "

@@ -182,6 +182,17 @@ def flight_times(times, contacts, lifts, n: int, t_end: float, open0=None) -> np
     return flight + np.where(np.isfinite(since), t_end - since, 0.0)
 
 
+TIE_N_RTOL = 1e-9  # a normal force this close to zero (x the run's largest) at uplift: tied
+
+
+def _tied_at_zero(NO: np.ndarray, first: int) -> list[int]:
+    """The isolators other than ``first`` whose normal force in the last row (the uplift's
+    located instant) is zero to :data:`TIE_N_RTOL` of the run's largest: they lift with it."""
+    scale = float(np.abs(NO).max()) if NO.size else 0.0
+    at_zero = np.flatnonzero(NO[-1] <= TIE_N_RTOL * scale)
+    return [int(i) for i in at_zero if i != first]
+
+
 def contact_flights(t_end: float, EV: np.ndarray, info: np.ndarray, ni: int) -> dict:
     """The flight record of a unilateral run from its event table (lift-off: a mode change
     into MODE_FREE; landing: out of it, with the landing velocity R q̇⁻ and impulse in
@@ -224,7 +235,7 @@ class PlaneResult(Tabular):
     modes: np.ndarray  # (nt, ni) 0 stick, 1 slip, 2 slip-start (switch law)
     events: np.ndarray  # (ne, 6) t, isolator, old mode, new mode, slip-start direction (x, y)
     stops: list  # rim contacts: dicts isolator, t_first_s, peak_overshoot_m
-    uplift: dict | None  # {t_s, isolator} when a normal force reached zero
+    uplift: dict | None  # {t_s, isolator[, also_isolators]} when a normal force reached zero
     stats: dict
     eps: float = EPS  # the laws' parameters of this run
     eta: float = ETA
@@ -265,9 +276,13 @@ class PlaneResult(Tabular):
         uplift = None
         if status == kr.ST_UPLIFT:
             uplift = {"t_s": float(info[kr.I_TFAIL]), "isolator": int(info[kr.I_IFAIL])}
+            tied = _tied_at_zero(NO[:nout], uplift["isolator"]) if located and nout else []
+            if tied:  # (a symmetric deck's partners: one instant, the kernel names the first)
+                uplift["also_isolators"] = tied
+            also = f" (and {', '.join(map(str, tied))}, at the same instant)" if tied else ""
             warnings.warn(
                 f"uplift at t = {uplift['t_s']:.6g} s: the normal force of isolator "
-                f"{uplift['isolator']} reached zero; the run ends there",
+                f"{uplift['isolator']}{also} reached zero; the run ends there",
                 UpliftWarning,
                 stacklevel=3,
             )

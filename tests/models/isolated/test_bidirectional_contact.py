@@ -140,6 +140,26 @@ def test_bilateral_tension_starts_at_the_overturning_threshold():
     assert ten["min_normal_force_N"] == pytest.approx(n_end, abs=1e-9 * m * G)
 
 
+def test_uplift_names_the_isolators_that_lift_at_the_same_instant():
+    # the deck of the test above under the default detect: its plan is symmetric about the x
+    # axis, so the corners 1 and 2 at x = +b carry equal normal forces at every instant and
+    # reach zero together at a* = g b / h; the kernel locates one, the result names both
+    from nsdyn.models.isolated.deck_scene import summary_table
+
+    b, c, h, m, k = 1.0, 1.5, 4.0, 1.0e4, 2.0
+    pos = [(-b, -c), (b, -c), (b, c), (-b, c)]
+    d = rigid_deck(m, m, pos, Bearing(Friction(0.8), radius=3.0), h=h, g=G)
+    dt = 0.01
+    t = np.arange(0.0, 3.0 + dt / 2, dt)
+    with pytest.warns(UpliftWarning, match=r"isolator [12] \(and [12], at the same instant\)"):
+        r = simulate_plane(d, (0.0, dt, k * t, 0 * t, None))
+    assert r.uplift["t_s"] == pytest.approx(G * b / h / k, abs=1e-9)
+    assert sorted([r.uplift["isolator"], *r.uplift["also_isolators"]]) == [1, 2]
+    assert "UPLIFT isolator 1, 2 at t" in summary_table("deck", r.summary(), ()) or (
+        "UPLIFT isolator 2, 1 at t" in summary_table("deck", r.summary(), ())
+    )
+
+
 @pytest.mark.parametrize("law", ["arctan", "switch"])
 def test_bilateral_single_mass_holds_down_through_a_vertical_pulse(law):
     # a_z = A sin(ω t), A = 1.5 g: the contact holds, so the gap stays closed and λ = m (g +
