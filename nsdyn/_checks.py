@@ -74,6 +74,23 @@ def known_fields(cls, given) -> None:
                             f"({', '.join(names)}){did_you_mean(k, names)}")  # fmt: skip
 
 
+def fields_checked(cls):
+    """A dataclass ``cls`` whose misspelt keyword is named with its nearest field
+    (:func:`known_fields`), and whose signature stays that of its fields (a ``__new__`` of
+    ``*args, **kw`` had hidden them from ``help`` and ``inspect``)."""
+    import inspect
+
+    sig = inspect.signature(cls)  # (the dataclass's generated __init__'s, before __new__)
+
+    def __new__(klass, /, *args, **kw):  # (positional only: a field may be named anything)
+        known_fields(klass, kw)
+        return object.__new__(klass)
+
+    cls.__new__ = staticmethod(__new__)
+    cls.__signature__ = sig
+    return cls
+
+
 def keywords_of(func, passed_on, *, skip=(), also=(), caller: str = "") -> None:
     """Each name in ``passed_on`` (keywords a function hands on to ``func``) must be a
     parameter of ``func`` outside ``skip``; otherwise a TypeError naming the nearest of those

@@ -255,6 +255,14 @@ def test_a_misspelt_isolation_keyword_is_named_with_its_nearest_field():
     with pytest.raises(TypeError, match=r"'laww' is not one of its fields .*'law'\?$"):
         system.with_isolation(laww="switch")
     assert system.with_isolation(law="switch").isolation.law == "switch"
+    # help() and inspect read its fields (the check's __new__ of *args, **kw had hidden them),
+    # and a field named as the check's own argument (c, the damper) passes through replace
+    import dataclasses
+    import inspect
+
+    fields = [f.name for f in dataclasses.fields(nsdyn.Isolation)]
+    assert list(inspect.signature(nsdyn.Isolation).parameters) == fields
+    assert dataclasses.replace(nsdyn.Isolation(), c=2.0e4).c == 2.0e4
 
 
 @pytest.mark.parametrize("method", ["newmark", "genalpha"])

@@ -38,7 +38,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from nsdyn._brief import brief_repr
-from nsdyn._checks import InputWarning, NotedWarning, fingerprint, flag, known_fields, unchanged
+from nsdyn._checks import InputWarning, NotedWarning, fields_checked, fingerprint, flag, unchanged
 from nsdyn._lazy import LazyModule
 from nsdyn.ground.excitation import G_EARTH
 from nsdyn.models.isolated import _kernel as ks
@@ -57,6 +57,7 @@ ISOLATION_NUMBERS = ("k_lam", "c", "mu", "eps", "eta", "alpha", "beta", "kappa",
 PER_ISOLATOR = ("k_lam", "c", "mu")  # the numbers given one per isolator or one for all
 
 
+@fields_checked  # (a misspelt keyword named with its nearest field)
 @dataclass(frozen=True)
 class Isolation:
     """Isolator parameters (one value for all isolators or one per isolator); defaults are
@@ -85,10 +86,6 @@ class Isolation:
     diaphragm_EI: float = 1.0e11  # N m^2, bending stiffness of the base diaphragm beam
     g: float = G_EARTH
     contact: str = "detect"  # bilateral | detect | unilateral (CONTACTS: lift-off assumption)
-
-    def __new__(cls, *args, **kw):  # (a misspelt keyword named with its nearest field)
-        known_fields(cls, kw)
-        return super().__new__(cls)
 
     def __post_init__(self) -> None:
         if self.contact not in CONTACTS:
