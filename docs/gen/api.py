@@ -65,6 +65,44 @@ def defining_object(module: str, name: str, depth: int = 0) -> str:
     raise LookupError(f"{module}.{name}: not found")
 
 
+SUBPACKAGES = ("nsdyn.structure", "nsdyn.ground", "nsdyn.models.isolated")
+
+
+def package_all(package: str) -> list[str]:
+    """The names of ``package``'s ``__all__`` (a list, or ``sorted(_API)`` of a lazy table),
+    read from its source."""
+    tree = _tree(package)
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(
+            isinstance(t, ast.Name) and t.id == "__all__" for t in node.targets
+        ):
+            if isinstance(node.value, ast.List):
+                return [e.value for e in node.value.elts if isinstance(e, ast.Constant)]
+            for other in tree.body:  # sorted(_API): the keys of the table
+                if isinstance(other, ast.Assign) and isinstance(other.value, ast.Dict):
+                    return sorted(k.value for k in other.value.keys)
+    raise LookupError(f"{package}: no __all__")
+
+
+def subpackage_names() -> list[tuple[str, str, str]]:
+    """``(package, name, defining path)`` of the subpackages' public names that ``nsdyn``
+    itself does not export (those are on the page already, under ``nsdyn.``)."""
+    top = {defining_object(module, attr) for _, _, module, attr in public_names()}
+    out = []
+    for package in SUBPACKAGES:
+        for name in package_all(package):
+            path = defining_object(package, name)
+            if path not in top:
+                out.append((package, name, path))
+    return out
+
+
+def _entry(heading: str, target: str) -> list[str]:
+    return [f"### `{heading}`", "", f"Defined in `{target.rsplit('.', 1)[0]}`.", "",
+            f"::: {target}", "    options:", "      show_root_heading: false",
+            "      heading_level: 4", ""]  # fmt: skip
+
+
 def page() -> str:
     """The Markdown of ``reference/api.md``."""
     lines = [
@@ -81,16 +119,12 @@ def page() -> str:
         if grp != group:
             lines += [f"## {grp[:1].upper() + grp[1:]}", ""]
             group = grp
-        target = defining_object(module, attr)
-        lines += [
-            f"### `nsdyn.{public}`",
-            "",
-            f"Defined in `{target.rsplit('.', 1)[0]}`.",
-            "",
-            f"::: {target}",
-            "    options:",
-            "      show_root_heading: false",
-            "      heading_level: 4",
-            "",
-        ]
+        lines += _entry(f"nsdyn.{public}", defining_object(module, attr))
+    lines += ["## More in the subpackages", "",
+              "The public names of `nsdyn.structure` (3D frames, their modes and drifts), "
+              "`nsdyn.ground` (readers, three-component records, synthesis) and",
+              "`nsdyn.models.isolated` (bidirectional isolators, decks, systems from matrices, "
+              "3D buildings) that `nsdyn` itself does not export.", ""]  # fmt: skip
+    for package, name, path in subpackage_names():
+        lines += _entry(f"{package}.{name}", path)
     return "\n".join(lines)

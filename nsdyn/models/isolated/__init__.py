@@ -21,6 +21,7 @@ _API = {
     "system_from_matrices": "nsdyn.models.isolated.builders",
     "Bearing": "nsdyn.models.isolated.bearings",
     "Friction": "nsdyn.models.isolated.bearings",
+    "BearingError": "nsdyn.models.isolated.bearings",
     "TripleBearing": "nsdyn.models.isolated.tfp",
     "PlaneSystem": "nsdyn.models.isolated.deck",
     "rigid_deck": "nsdyn.models.isolated.deck",
