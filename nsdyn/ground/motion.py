@@ -252,7 +252,10 @@ class GroundMotion(Sampled):
     def scaled_to_pga(self, target: float, component: str = "hor") -> GroundMotion:
         """Scale both components by one factor so that max |a_component| = target [m/s²].
 
-        The vertical component stays proportional to the horizontal one.
+        ``component``: "hor" (default) scales to the horizontal peak, "ver" to the vertical
+        one; either way the two keep their ratio. ``target`` from 0 (a record at rest) to
+        1000 m/s² (100 g), else a ValueError; above 30 m/s² a UnitWarning (in gal?). A
+        ValueError too for a component that is zero at every sample.
         """
         target = pga_target(target)
         peak = float(np.max(np.abs(self._component(component))))

@@ -109,7 +109,7 @@ def read_motion(
         "auto": AT2 if the file has an NPTS/DT header line (or ends in .AT2); JMA if it starts with
         a ``;`` comment or has a "SAMPLING RATE=" line; otherwise a table ("multi-column", which
         also covers one and two columns and the CSV files written by :func:`write_motion`).
-    units : {"g", "cm/s2" (gal), "m/s2"} or None
+    units : {"g", "cm/s2" (gal), "mm/s2", "m/s2"} or None
         Units on file. None: as the header states; if it states none, m/s² with a UnitWarning.
     dt : float, optional
         Sampling interval [s] for files without a time column or header dt.
@@ -133,6 +133,12 @@ def read_motion(
         Naming the file, the line and what was expected, for non-numeric rows, NaN/inf,
         non-uniform time, empty files, NPTS mismatch, missing dt, a vertical file on
         another time grid.
+    UnitError
+        Units it does not know (given, or stated by the header and not given).
+    FileNotFoundError
+        Neither a file nor a bundled record's name.
+    ValueError
+        An unknown ``fmt``, a ``dt`` that is no positive number.
 
     Warns
     -----

@@ -174,7 +174,7 @@ def read_motion3(
         The second horizontal component's file, 90° counter-clockwise of x seen from above.
     z : path, optional
         The vertical component's file (up); None: no vertical.
-    units : {"g", "cm/s2" (gal), "m/s2"} or None
+    units : {"g", "cm/s2" (gal), "mm/s2", "m/s2"} or None
         Units on file of every component (None: as each header states, see ``read_motion``).
     dt : float, optional
         Sampling interval [s] for files that state none.
@@ -193,6 +193,8 @@ def read_motion3(
         both values), and every error of ``read_motion``.
     ValueError
         A missing component: x not given, or y not given for a one-component x.
+    UnitError, FileNotFoundError
+        As ``read_motion``: units it does not know; a file or bundled name that is not there.
     """
     flag("trim", trim)
     if x is None:

@@ -342,7 +342,7 @@ def simulate(
     chunk_s: float = CHUNK_S,
     **solver_options,
 ) -> TransientResult:
-    """Integrate ``system`` under ``motion`` from its static equilibrium (or ``x0``).
+    """Integrate the IsolatedSystem ``system`` under ``motion`` from statics (or ``x0``).
 
     Parameters
     ----------
@@ -361,7 +361,7 @@ def simulate(
     rtol, atol              tolerances (adaptive methods; ``atol`` a number or a pair
                             (displacements, velocities), default
                             :func:`nsdyn.models.isolated.tolerances.run_atol`);
-                            ``dt`` for fixed-step methods
+                            ``dt`` [s]: the step of the fixed-step methods
     t_eval : ndarray        output times (instead of t_end / n_periods / dt_out); the run
                             starts at t_eval[0] (from ``x0``, default the static
                             equilibrium), on the excitation's own clock
@@ -372,7 +372,7 @@ def simulate(
                             ``event`` or ``radau``
     restitution : float     unilateral: Newton's coefficient of a landing (0: plastic)
     progress : callable(t_done, t_end, wall_s), optional
-    checkpoint : path, optional   resume from / save to this file after each chunk
+    checkpoint : path, optional   resume from / save to it after each chunk of ``chunk_s`` [s]
     **solver_options        :func:`nsdyn.solve.integrate.solve`'s: ``max_steps``, ``h0``,
                             ``on_failure="return"`` (a result with ``summary()["failure"]``)
     """

@@ -374,7 +374,9 @@ def is_frame3d(name_or_path) -> bool:
 
 
 def load_frame3d(name_or_path: str | Path) -> Frame3D:
-    """Load a 3D frame from a TOML file or a bundled name (``"office-11-3d"``)."""
+    """Load a 3D frame from a TOML file or a bundled name (``"office-11-3d"``); a
+    :class:`FrameFileError` (a ValueError) names the file and field of a mistake, or says
+    that no such file or bundled frame exists."""
     data, fname = _read_frame_file(name_or_path)
     if "frame" in data and "frame3d" not in data:
         raise FrameFileError(

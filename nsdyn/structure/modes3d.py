@@ -123,7 +123,9 @@ def _eig_sparse(K, M, k):
 def fixed_base_modes_3d(
     frame: Frame3D, n_modes: int = 12, lumped: bool = False, method: str = "auto"
 ) -> Modes3D:
-    """The ``n_modes`` lowest fixed-base modes of ``frame`` (diaphragms applied).
+    """The ``n_modes`` (an integer >= 1, else a ValueError) lowest fixed-base modes of
+    ``frame`` (diaphragms applied), with its consistent mass matrix, or its lumped one with
+    ``lumped=True``.
 
     Only modes of finite frequency are returned: with massless parts (a singular M) there
     are at most as many as the dofs that carry mass.

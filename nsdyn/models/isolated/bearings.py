@@ -145,7 +145,10 @@ class Bearing:
     """One bidirectional isolator: a flat slider (``radius`` = inf) or a single friction
     pendulum (effective radius R [m]), with rubber ``k_lam`` [N/m], damper ``c`` [N s/m],
     displacement capacity ``d_cap`` [m] (inf: none) and optional rim stop ``k_stop`` [N/m],
-    ``c_stop`` [N s/m] (defaults from the static normal force, see the module text)."""
+    ``c_stop`` [N s/m] (defaults from the static normal force, see the module text).
+    ``area`` [m²] and ``p_ref`` [Pa], given together: friction that depends on the contact
+    pressure N/area (module text). ``where`` names the bearing in its messages. A field out
+    of range raises :class:`BearingError` (a ValueError) naming it."""
 
     friction: Friction
     radius: float = math.inf

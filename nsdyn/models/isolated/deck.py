@@ -244,18 +244,16 @@ def sdof_plane(
     return PlaneSystem(m=m, J=m, positions=np.zeros((1, 2)), bearings=(bearing,), g=g, name=name)
 
 
-def rigid_deck(
-    m: float,
-    J: float,
-    positions: Sequence,
-    bearings: Bearing | Sequence[Bearing],
-    *,
-    ecc: tuple = (0.0, 0.0),
-    h: float = 0.0,
-    g: float = G_EARTH,
-    name: str = "deck",
-) -> PlaneSystem:
-    """A rigid deck on isolators at ``positions`` (one ``Bearing`` for all, or one each)."""
+def rigid_deck(m: float, J: float, positions: Sequence, bearings: Bearing | Sequence[Bearing], *,
+               ecc: tuple = (0.0, 0.0), h: float = 0.0, g: float = G_EARTH,
+               name: str = "deck") -> PlaneSystem:  # fmt: skip
+    """A rigid deck of mass ``m`` [kg] and polar inertia ``J`` [kg m²] about its centre of
+    mass, on isolators at ``positions`` ((X_i, Y_i) [m] about the reference point O, the
+    plan's centroid for a centred deck, not a corner: the centre of mass must lie inside
+    their kern, else a BearingError), with ``bearings`` (one ``Bearing`` or ``TripleBearing``
+    for all, or one each). ``ecc`` (e_x, e_y) [m]: the centre of mass about O; ``h`` [m]: its
+    height above the sliding surfaces (the overturning); ``g`` [m/s²]; ``name`` labels its
+    messages. Returns a :class:`PlaneSystem`."""
     n = np.shape(positions)[0] if np.ndim(positions) == 2 else 1
     if isinstance(bearings, Bearing):
         bearings = (bearings,) * n
@@ -507,6 +505,9 @@ def simulate_plane(
     tolerance is capped at ``ATOL_V_EPS / eps``. ``contact``: "detect" (an uplift ends the
     run, reported in ``result.uplift`` with a warning) or "bilateral" (the contact holds in
     tension; reported in ``result.tension`` with a warning). Returns a :class:`PlaneResult`.
+    ``eps`` [s/m], ``eta`` [m/s], ``kappa`` [1/s]: the laws' parameters (the arctan law's
+    sharpness; the switch law's stick band and stick-velocity stabilisation, default 2αβ);
+    ``rtol``, ``max_step`` [s] and ``max_steps`` bound the adaptive steps.
     ``progress(t_done, t_end, wall_s)``: called every few seconds of wall time while the
     compiled loop runs (:func:`nsdyn._progress.watched`; a Ctrl-C stops the wait at once).
     """

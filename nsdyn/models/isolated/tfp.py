@@ -105,10 +105,13 @@ class TripleBearing(Bearing):
     2, 3 of the inner slider; R1 > R2, R4 > R3), friction ``mu1`` … ``mu4`` (the inner
     surfaces' no larger than the outer ones), displacement capacities ``d1`` … ``d4`` [m]
     (the outer ones no smaller than the inner ones), yield displacement ``u_y`` [m], damping
-    ratio ``zeta_e`` of the elastic stage (default ZETA_E; 0: undamped). The
+    ratio ``zeta_e`` of the elastic stage (default ZETA_E; 0: undamped). Velocity-dependent
+    friction: ``mu_fast1`` … ``mu_fast4`` (each ≥ its ``mu_j``; None: ``mu_j``) and ``rate``
+    a [s/m] of μ_j(v) = μ_fast_j − (μ_fast_j − μ_j) exp(−a |v|). The
     friction, radius and capacity of the base class are derived: min μ, R1 + R4 (the
     restoring force N u/(R1 + R4) reported apart from the rest of the bearing's force) and
-    d1 + d2 + d3 + d4."""
+    d1 + d2 + d3 + d4; giving any of them, or ``k_lam``, ``c``, ``area`` or ``p_ref`` (no
+    rubber, damper or pressure dependence), raises a BearingError naming it."""
 
     friction: Friction | None = None
     R1: float | None = None
