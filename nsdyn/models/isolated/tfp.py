@@ -137,10 +137,12 @@ class TripleBearing(Bearing):
     def __post_init__(self) -> None:
         w = self.where
         if self.area is not None or self.p_ref is not None:
-            raise BearingError(f"{w}.area: pressure-dependent friction is not modelled for a "
+            k = "area" if self.area is not None else "p_ref"  # (the field given, named)
+            raise BearingError(f"{w}.{k}: pressure-dependent friction is not modelled for a "
                                "triple friction pendulum")  # fmt: skip
         if self.k_lam != 0.0 or self.c != 0.0:
-            raise BearingError(f"{w}.k_lam: a triple friction pendulum has no rubber or damper "
+            k = "k_lam" if self.k_lam != 0.0 else "c"
+            raise BearingError(f"{w}.{k}: a triple friction pendulum has no rubber or damper "
                                "(k_lam = c = 0)")  # fmt: skip
         derived = getattr(self.friction, "_tfp", False)  # (a copy by dataclasses.replace)
         given = {"friction": self.friction is not None, "radius": self.radius != math.inf,

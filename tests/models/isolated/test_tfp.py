@@ -261,6 +261,11 @@ def test_tfp_runs_only_with_the_regularised_law():
             r"surface 4 slides \(d3 = 0\.01 m < R3 \(mu4 - mu3\) = 0\.024 m\)",
         ),
         ({"d2": 0.008}, r"deck\.bearings\[2\]\.d2: .* < R2 \(mu1 - mu2\) = 0\.012 m\)"),
+        # the field given is named (a damper was named k_lam, a reference pressure area)
+        ({"c": 1e3}, r"deck\.bearings\[2\]\.c: a triple friction pendulum has no rubber"),
+        ({"k_lam": 1e3}, r"deck\.bearings\[2\]\.k_lam: a triple friction pendulum has no"),
+        ({"p_ref": 1e6}, r"deck\.bearings\[2\]\.p_ref: pressure-dependent friction"),
+        ({"area": 0.1}, r"deck\.bearings\[2\]\.area: pressure-dependent friction"),
     ],
 )
 def test_bad_tfp_input_is_a_one_line_error_naming_the_field(change, field):
