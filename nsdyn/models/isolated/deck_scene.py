@@ -410,9 +410,10 @@ def uplift_error(s: dict, files: bool = True) -> str | None:
     u = s.get("uplift")
     if not u:
         return None
-    return (f"UPLIFT isolator {u['isolator']} at t = {u['t_s']:.5g} s: its normal force reached "
-            "zero and the run ended there" + (" (the files hold the run up to it)" if files
-                                              else ""))  # fmt: skip
+    also = "".join(f", {i}" for i in u.get("also_isolators", []))  # (at the same instant)
+    return (f"UPLIFT isolator {u['isolator']}{also} at t = {u['t_s']:.5g} s: its normal force "
+            "reached zero and the run ended there" + (" (the files hold the run up to it)"
+                                                      if files else ""))  # fmt: skip
 
 
 def summary_table(head: str, s: dict, rows) -> str:

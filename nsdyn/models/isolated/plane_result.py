@@ -277,7 +277,8 @@ class PlaneResult(Tabular):
         if status == kr.ST_UPLIFT:
             uplift = {"t_s": float(info[kr.I_TFAIL]), "isolator": int(info[kr.I_IFAIL])}
             tied = _tied_at_zero(NO[:nout], uplift["isolator"]) if located and nout else []
-            if tied:  # (a symmetric deck's partners: one instant, the kernel names the first)
+            if tied:  # (a symmetric deck's partners under the switch law; the arctan law's
+                # friction breaks the symmetry by 1e-7 to 1e-3 of N: the kernel's first alone)
                 uplift["also_isolators"] = tied
             also = f" (and {', '.join(map(str, tied))}, at the same instant)" if tied else ""
             warnings.warn(
