@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -95,3 +96,17 @@ def test_scene_toml_round_trip(tmp_path_factory, sc, iso, mo, sv):
                 assert key in user["motion"] or key not in cfg[table]  # (runs as recorded)
             elif key not in user.get(table, {}):
                 assert cfg[table][key] == val, (table, key)
+
+
+def test_overrides_are_tables_and_a_motion_of_another_kind_replaces_the_scene_s():
+    # a bare value raised a TypeError from the merge ('int' object is not a mapping); a
+    # harmonic motion over the default scene's record was refused for that record's keys
+    import nsdyn
+    from nsdyn.models.isolated.scene import SceneError
+
+    with pytest.raises(SceneError, match=r"^overrides: expected tables of keys"):
+        nsdyn.load_scene(overrides={"motion": 1})
+    harmonic = {"kind": "harmonic", "amplitude": 1.0, "frequency": 1.0, "t_end": 2.0}
+    assert nsdyn.load_scene(overrides={"motion": harmonic})["motion"] == harmonic
+    kept = nsdyn.load_scene(overrides={"motion": {"pga": 2.0}})["motion"]
+    assert kept["pga"] == 2.0 and kept["record"] == "synthetic-wn-40s"  # (the same kind)
