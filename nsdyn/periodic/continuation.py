@@ -204,6 +204,9 @@ def continue_sequential(
     (``f_a``, ``f_b``, ``change``: see :func:`_jump`).
     ``start`` resumes a curve (points already computed are kept, frequencies up to the last
     one skipped). Only the last point keeps its orbit ``X`` unless ``keep_orbits``.
+    ``freqs``: the frequencies [Hz] in order; ``x0``: the first guess (default the problem's
+    reference state); ``disc``, ``tol``, ``max_iter``: each point's :func:`~nsdyn.periodic.
+    shooting.shoot`'s; ``progress(point, count, total)`` is called after each point.
     """
     disc = _options(disc, progress, fallback, keep_orbits)
     given = freqs  # (a generator: float()'s message; text "0.3": read as 0.3 in the refusal)
@@ -330,6 +333,8 @@ def continue_arclength(
     the branch turns back below fmin by half the band (from the highest frequency reached) and
     where an orbit's half range passes ``ARC_AMP_MAX`` and ``ARC_AMP_GROWTH`` x the first's
     (a branch running off to an unbounded resonance; that point's note says so).
+    ``x0``, ``disc``, ``tol``, ``max_iter``, ``progress``, ``start`` and ``keep_orbits`` are
+    :func:`continue_sequential`'s.
     """
     disc = _options(disc, progress, fallback, keep_orbits)
     fmin, fmax, points = check_range(fmin, fmax, points)

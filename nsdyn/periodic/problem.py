@@ -394,8 +394,9 @@ def frame_problem(
     are replaced by ``amplitude`` and each frequency of the continuation).
 
     Only smooth friction laws ("arctan", "none") give a differentiable period map.
-    ``amplitude`` is finite and >= 0 (ValueError otherwise; 0, the unforced static state, is
-    not shot); the isolator parameters were checked when ``system.isolation`` was built.
+    ``amplitude`` is finite, >= 0 and, a ground acceleration, <= 1000 m/s² (100 g)
+    (ValueError otherwise; 0, the unforced static state, is not shot); the isolator
+    parameters were checked when ``system.isolation`` was built.
     """
     if not (hasattr(system, "isolation") and hasattr(system, "params")):  # (an AttributeError)
         raise TypeError(f"system: expected an IsolatedSystem (nsdyn.build_system, "

@@ -225,7 +225,9 @@ def shoot(
     the reference state in the position and velocity blocks. ``iterations`` counts Newton
     updates (a linear system converges after one). ``f`` must be a forcing frequency from
     1e-6 to 1e4 Hz (``F_LOWEST``, ``F_HIGHEST``; ValueError otherwise), ``n_steps`` at least
-    20 steps of the period.
+    20 steps of the period (default: ``disc``'s count for it; ``disc`` the one-period
+    integrator, default ``Discretisation()``). ``x0``: the start state (default the problem's
+    reference state); ``tol``: the residual to reach in at most ``max_iter`` iterations.
     """
     f = check_frequency(f)
     disc = checked_disc(disc)

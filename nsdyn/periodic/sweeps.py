@@ -82,8 +82,9 @@ def steady_state_sweep(
     the periods still needed, ``log(tol / delta_k) / log r`` (infinite for ``r >= 1``: a response
     that is not period-1, such as period doubling or a grazing-induced irregular motion); past
     twice the allowed periods it is "not steady" now. Each period is one kernel
-    call (the per-call overhead is < 0.1 % of a period). The multipliers of the last period's
-    monodromy (one extra period) are returned as an approximate stability verdict.
+    call (the per-call overhead is < 0.1 % of a period). The last period's monodromy matrix
+    (one extra period) is returned as ``result.monodromy``: its eigenvalues
+    (:func:`~nsdyn.periodic.shooting.floquet_multipliers`) are an approximate stability verdict.
     """
     f = check_frequency(f)
     x = problem.x_ref.copy() if x0 is None else check_map_args(problem.x_ref, x0, None, disc)

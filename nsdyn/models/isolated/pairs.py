@@ -493,20 +493,20 @@ def simulate_pairs(
 ) -> PairResult:
     """Integrate ``system`` under ``ground`` from its static equilibrium (or ``y0`` = [q, q̇]).
 
-    ``ground``: a three-component record, a harmonic orbit or raw arrays (:func:`~nsdyn.
-    models.isolated.deck.pack_ground`). ``law``: "switch" (stick disc, located events, on
-    Dormand–Prince) or "arctan" (the regularised vector law, on Radau IIA unless
-    ``integrator="dopri5"``). Outputs every ``dt_out`` (default: the record's step or 1/50
-    period) or at ``t_eval``; ``atol`` = (displacement [m], velocity [m/s]), the regularised
-    law's velocity tolerance capped at ATOL_V_EPS / eps; κ (stick rows) defaults to 2αβ.
-    Failures raise :class:`PlaneIntegrationError` with time and reason. ``contact``: "detect"
-    (an uplift ends the run, reported in ``result.uplift`` with a warning), "bilateral" (the
-    contacts hold in tension, λ_i < 0; reported in ``result.tension`` with a warning) or
-    "unilateral" (lift-off, flight and plastic landing, :mod:`._kpairscontact`; independent
-    contact rows; on Dormand–Prince, ``integrator`` "auto" or "dopri5"; reported in
-    ``result.flights``). Triple friction pendulums run with ``law="arctan"`` on Radau IIA
-    only; their element slips start from zero (``y0`` may omit them). Returns a PairResult;
-    ``progress(t_done, t_end, wall_s)``: called every few seconds while the loop runs.
+    ``ground``: a three-component record, a harmonic orbit or raw arrays (``pack_ground``),
+    until ``t_end`` [s]. ``law``: "switch" (stick disc of band ``eta`` [m/s], located events,
+    on Dormand–Prince) or "arctan" (the regularised vector law of sharpness ``eps`` [s/m], on
+    Radau IIA unless ``integrator="dopri5"``). Outputs every ``dt_out`` (default: the record's
+    step or 1/50 period) or at ``t_eval``; ``rtol``, ``atol`` = (displacement [m], velocity
+    [m/s]; the regularised law's velocity tolerance capped at ATOL_V_EPS / eps), ``max_step``
+    [s] and ``max_steps`` bound the steps; ``alpha`` [1/s], ``beta``: the contact rows'
+    Baumgarte gains, κ (stick rows) 2αβ by default. A failure raises PlaneIntegrationError
+    with time and reason. ``contact``: "detect" (an uplift ends the run, ``result.uplift``
+    and a warning), "bilateral" (contacts hold in tension, λ_i < 0; ``result.tension`` and a
+    warning) or "unilateral" (lift-off, flight and plastic landing, independent contact rows,
+    on Dormand–Prince; ``result.flights``). Triple friction pendulums run with the arctan law
+    on Radau IIA only, their element slips from zero (``y0`` may omit them). Returns a
+    PairResult; ``progress(t_done, t_end, wall_s)`` is called every few s while it runs.
     """
     if not isinstance(system, PairSystem):
         raise TypeError(f"system: expected a PairSystem, got {type(system).__name__}")
