@@ -411,9 +411,10 @@ def uplift_error(s: dict, files: bool = True) -> str | None:
     if not u:
         return None
     also = "".join(f", {i}" for i in u.get("also_isolators", []))  # (at the same instant)
-    return (f"UPLIFT isolator {u['isolator']}{also} at t = {u['t_s']:.5g} s: its normal force "
-            "reached zero and the run ended there" + (" (the files hold the run up to it)"
-                                                      if files else ""))  # fmt: skip
+    whose = "their normal forces" if also else "its normal force"
+    return (f"UPLIFT isolator {u['isolator']}{also} at t = {u['t_s']:.5g} s: {whose} reached "
+            "zero and the run ended there" + (" (the files hold the run up to it)" if files
+                                              else ""))  # fmt: skip
 
 
 def summary_table(head: str, s: dict, rows) -> str:

@@ -232,6 +232,10 @@ def load_scene(path: str | Path | None = None, overrides: dict | None = None) ->
     (``{"motion": {"pga": 2.0}}``), each checked as merged over the scene's; a ``motion``
     override of another ``kind`` replaces the scene's motion table. SceneError naming the
     field of a mistake."""
+    if overrides is not None and (not isinstance(overrides, dict) or not all(
+            isinstance(v, dict) for v in overrides.values())):  # fmt: skip
+        raise SceneError(f"overrides: expected tables of keys, {{'motion': {{'pga': 2.0}}}}, "
+                         f"got {overrides!r}")  # fmt: skip
     cfg = copy.deepcopy(DEFAULT_SCENE)
     source = "<default scene>"
     if path is not None:
@@ -251,10 +255,6 @@ def load_scene(path: str | Path | None = None, overrides: dict | None = None) ->
         if "force" in user or user.get("motion", {}).get("kind") == "harmonic":
             cfg["motion"] = {}  # no default record under another excitation
         cfg = merge(cfg, user)
-    if overrides is not None and (not isinstance(overrides, dict) or not all(
-            isinstance(v, dict) for v in overrides.values())):  # fmt: skip
-        raise SceneError(f"overrides: expected tables of keys, {{'motion': {{'pga': 2.0}}}}, "
-                         f"got {overrides!r}")  # fmt: skip
     kind = (overrides or {}).get("motion", {}).get("kind")
     if kind is not None and kind != cfg.get("motion", {}).get("kind", "record"):
         cfg["motion"] = {}  # (another excitation: the scene's record is none of its keys)

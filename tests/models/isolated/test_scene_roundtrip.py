@@ -9,6 +9,7 @@ renaming or dropped field.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 from hypothesis import given, settings
@@ -104,8 +105,11 @@ def test_overrides_are_tables_and_a_motion_of_another_kind_replaces_the_scene_s(
     import nsdyn
     from nsdyn.models.isolated.scene import SceneError
 
-    with pytest.raises(SceneError, match=r"^overrides: expected tables of keys"):
-        nsdyn.load_scene(overrides={"motion": 1})
+    shear = Path(__file__).resolve().parents[3] / "examples/scenes/isolated-shear-3storey.toml"
+    for path in (None, shear):  # (with a file, its branch read them first: a TypeError)
+        for bad in ({"motion": 1}, [("motion", {})], "x"):
+            with pytest.raises(SceneError, match=r"^overrides: expected tables of keys"):
+                nsdyn.load_scene(path, overrides=bad)
     harmonic = {"kind": "harmonic", "amplitude": 1.0, "frequency": 1.0, "t_end": 2.0}
     assert nsdyn.load_scene(overrides={"motion": harmonic})["motion"] == harmonic
     kept = nsdyn.load_scene(overrides={"motion": {"pga": 2.0}})["motion"]
