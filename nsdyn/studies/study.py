@@ -364,7 +364,11 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict,
         from nsdyn.models.isolated.scene import _check, as_recorded, load_scene
 
         # each [base] table as merged over the scene's own (a harmonic scene's [base.motion]
-        # n_periods was checked against a record's keys: its kind is the scene's)
+        # n_periods was checked against a record's keys: its kind is the scene's); a motion
+        # of another kind replaces the scene's, as load_scene's overrides do
+        over_kind = base_over.get("motion", {}).get("kind")
+        if over_kind is not None and over_kind != raw.get("motion", {}).get("kind", "record"):
+            merged = _merge({**raw, "motion": {}}, base_over)
         try:
             _check({t: merged.get(t, v) for t, v in base_over.items()}, f"{source}: [base]")
         except SceneError as e:  # ("[base]: [moton]: unknown table": the table's own name)

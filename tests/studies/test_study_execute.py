@@ -617,3 +617,36 @@ def test_rows_under_an_earlier_key_in_another_grid_come_back_when_it_widens(tmp_
     assert (again.n_run, again.n_skipped, again.n_outside) == (0, 4, 0)
     assert not (out / OUTSIDE).exists()
     assert sorted(r["key"] for r in read_csv(out / RESULTS)) == sorted(t.key for t in expand(wide))
+
+
+def test_a_harmonic_base_motion_replaces_a_record_scene_s_motion(tmp_path):
+    # [base.motion] kind = "harmonic" over a scene file with a record was refused for that
+    # record's keys; it now replaces the scene's motion as load_scene's overrides do, and each
+    # task is the scene run directly under that harmonic motion (the same x_iso to round-off)
+    import nsdyn
+
+    scene = Path(__file__).resolve().parents[2] / "examples/scenes/isolated-shear-3storey.toml"
+    harmonic = {"kind": "harmonic", "amplitude": 1.0, "frequency": 0.5, "t_end": 4.0}
+    p = tmp_path / "h.toml"
+    p.write_text(
+        textwrap.dedent(f"""\
+        [study]
+        name = "harmonic-base"
+        scene = "{scene.as_posix()}"
+        keep = ["x_iso_max_m"]
+        [base.motion]
+        kind = "harmonic"
+        amplitude = 1.0
+        frequency = 0.5
+        t_end = 4.0
+        [parameters]
+        "isolation.mu" = [0.02]
+        """)
+    )
+    res = run_study(load_study(p), tmp_path / "out", executor=ThreadPoolExecutor(1))
+    (row,) = res.table.rows
+    assert row["status"] == "ok", row.get("error")
+    cfg = nsdyn.load_scene(scene, overrides={"motion": harmonic, "isolation": {"mu": 0.02}})
+    system, excitation, _ = nsdyn.build_scene_run(cfg)
+    direct = nsdyn.simulate(system, excitation, t_end=4.0).summary()["x_iso_max_m"]
+    assert row["x_iso_max_m"] == pytest.approx(direct, rel=1e-12)
