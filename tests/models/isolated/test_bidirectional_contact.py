@@ -118,19 +118,25 @@ def test_bilateral_deck_in_tension_keeps_vertical_and_moment_equilibrium(law):
         assert np.all(r.modes[neg] == 3)  # (tensile isolators are free: no stick, no friction)
 
 
-def test_bilateral_tension_starts_at_the_overturning_threshold():
-    # Corners at (+-b, +-c), stuck deck (mu 0.8), ramp a_x = k t, no vertical: N = (m/4)(g -
-    # a h / b) at the unloaded corners, zero at a* = g b / h (the planar detect test's case).
-    # Bilateral: the onset located there to the event tolerance (1e-9 s), the run goes on to
-    # the end, and at the end (still stuck: absolute acceleration k t) N = (m/4)(g - k T h/b)
-    # to round-off of the 3 x 3 solve (1e-9 of m g).
-    b, c, h, m, k = 1.0, 1.5, 4.0, 1.0e4, 2.0
+def _ramped_corner_deck(contact: str, b=1.0, c=1.5, h=4.0, m=1.0e4, k=2.0):
+    """A stuck deck (mu 0.8) on corners (+-b, +-c), its centre of mass h high, under the ramp
+    a_x = k t for 3 s, no vertical: N = (m/4)(g - a h / b) at the corners at x = +b."""
     pos = [(-b, -c), (b, -c), (b, c), (-b, c)]
     d = rigid_deck(m, m, pos, Bearing(Friction(0.8), radius=3.0), h=h, g=G)
     dt = 0.01
     t = np.arange(0.0, 3.0 + dt / 2, dt)
+    return simulate_plane(d, (0.0, dt, k * t, 0 * t, None), contact=contact)
+
+
+def test_bilateral_tension_starts_at_the_overturning_threshold():
+    # The ramped corner deck: N = (m/4)(g - a h / b) at the unloaded corners, zero at
+    # a* = g b / h (the planar detect test's case). Bilateral: the onset located there to the
+    # event tolerance (1e-9 s), the run goes on to the end, and at the end (still stuck:
+    # absolute acceleration k t) N = (m/4)(g - k T h/b) to round-off of the 3 x 3 solve (1e-9
+    # of m g).
+    b, h, m, k = 1.0, 4.0, 1.0e4, 2.0  # (_ramped_corner_deck's)
     with pytest.warns(TensionWarning, match=r"isolator [12] went below zero"):
-        r = simulate_plane(d, (0.0, dt, k * t, 0 * t, None), contact="bilateral")
+        r = _ramped_corner_deck("bilateral")
     ten = r.tension
     assert ten["t_first_s"] == pytest.approx(G * b / h / k, abs=1e-9)
     assert ten["onsets"] == 1
@@ -141,18 +147,14 @@ def test_bilateral_tension_starts_at_the_overturning_threshold():
 
 
 def test_uplift_names_the_isolators_that_lift_at_the_same_instant():
-    # the deck of the test above under the default detect: its plan is symmetric about the x
+    # the ramped corner deck under the default detect: its plan is symmetric about the x
     # axis, so the corners 1 and 2 at x = +b carry equal normal forces at every instant and
     # reach zero together at a* = g b / h; the kernel locates one, the result names both
     from nsdyn.models.isolated.deck_scene import summary_table, uplift_error
 
-    b, c, h, m, k = 1.0, 1.5, 4.0, 1.0e4, 2.0
-    pos = [(-b, -c), (b, -c), (b, c), (-b, c)]
-    d = rigid_deck(m, m, pos, Bearing(Friction(0.8), radius=3.0), h=h, g=G)
-    dt = 0.01
-    t = np.arange(0.0, 3.0 + dt / 2, dt)
+    b, h, k = 1.0, 4.0, 2.0  # (_ramped_corner_deck's)
     with pytest.warns(UpliftWarning, match=r"isolator [12] \(and [12], at the same instant\)"):
-        r = simulate_plane(d, (0.0, dt, k * t, 0 * t, None))
+        r = _ramped_corner_deck("detect")
     assert r.uplift["t_s"] == pytest.approx(G * b / h / k, abs=1e-9)
     assert sorted([r.uplift["isolator"], *r.uplift["also_isolators"]]) == [1, 2]
     pair = f"{r.uplift['isolator']}, {r.uplift['also_isolators'][0]} at t"
