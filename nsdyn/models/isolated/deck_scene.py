@@ -403,6 +403,11 @@ def format_summary(s: dict) -> str:
     return text
 
 
+def _lifted(u: dict) -> str:
+    """The isolators of an uplift record: the located one, then those at zero with it."""
+    return ", ".join(str(i) for i in (u["isolator"], *u.get("also_isolators", [])))
+
+
 def uplift_error(s: dict, files: bool = True) -> str | None:
     """The error of a deck or building run ended by uplift (its normal force reached zero), or
     None: what ``nsdyn run`` reports with exit status 3 (``files``: that its files hold the
@@ -410,9 +415,8 @@ def uplift_error(s: dict, files: bool = True) -> str | None:
     u = s.get("uplift")
     if not u:
         return None
-    also = "".join(f", {i}" for i in u.get("also_isolators", []))  # (at the same instant)
-    whose = "their normal forces" if also else "its normal force"
-    return (f"UPLIFT isolator {u['isolator']}{also} at t = {u['t_s']:.5g} s: {whose} reached "
+    whose = "their normal forces" if u.get("also_isolators") else "its normal force"
+    return (f"UPLIFT isolator {_lifted(u)} at t = {u['t_s']:.5g} s: {whose} reached "
             "zero and the run ended there" + (" (the files hold the run up to it)" if files
                                               else ""))  # fmt: skip
 
@@ -427,8 +431,7 @@ def summary_table(head: str, s: dict, rows) -> str:
                      f"peak overshoot {c['peak_overshoot_m']:.4g} m")  # fmt: skip
     if s.get("uplift"):
         u = s["uplift"]
-        also = "".join(f", {i}" for i in u.get("also_isolators", []))
-        lines.append(f"  UPLIFT isolator {u['isolator']}{also} at t = {u['t_s']:.5g} s (run ended)")
+        lines.append(f"  UPLIFT isolator {_lifted(u)} at t = {u['t_s']:.5g} s (run ended)")
     if s.get("tension"):
         u = s["tension"]
         lines.append(f"  TENSION isolator {u['isolator']} at t = {u['t_first_s']:.5g} s "
