@@ -125,6 +125,30 @@ class OutputBusy(OSError):
     """Another command writes into the output directory."""
 
 
+def _busy(out: Path, fd: int) -> OutputBusy:
+    """The error naming the command that holds ``out``'s lock (open as ``fd``, closed here)."""
+    who = os.read(fd, 200).decode(errors="replace").strip() or "another nsdyn command"
+    os.close(fd)
+    return OutputBusy(f"{out}: {who} writes there; wait for it to end, or give another --out")
+
+
+def check_free(out: Path) -> None:
+    """Raise :class:`OutputBusy` as :func:`out_lock` would if another command holds ``out``
+    now, creating nothing: for a command to call before it says anything, so that a busy
+    folder's error is its one line (the lock itself is still taken by :func:`out_lock`)."""
+    try:
+        import fcntl
+
+        fd = os.open(Path(out) / LOCK, os.O_RDONLY)
+    except (ImportError, OSError):  # not POSIX, no lock file (or no folder): nobody holds it
+        return
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        raise _busy(out, fd) from None
+    os.close(fd)  # (its lock with it)
+
+
 @contextmanager
 def out_lock(out: Path, command: str) -> Iterator[None]:
     """Hold an exclusive lock on the directory ``out`` while a command writes there (a file
@@ -143,10 +167,7 @@ def out_lock(out: Path, command: str) -> Iterator[None]:
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
-            who = os.read(fd, 200).decode(errors="replace").strip() or "another nsdyn command"
-            os.close(fd)
-            raise OutputBusy(f"{out}: {who} writes there; wait for it to end, or give another "
-                             "--out") from None  # fmt: skip
+            raise _busy(out, fd) from None
         try:
             if os.stat(path).st_ino == os.fstat(fd).st_ino:
                 break

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn._numba_cache import compile_note
-from nsdyn.atomic import atomic_open, earlier_files, files_of, output_dir, save_figure
+from nsdyn.atomic import atomic_open, check_free, earlier_files, files_of, output_dir, save_figure
 from nsdyn.cli.args import EXIT_NUMERICS, PGA_HELP, json_report, named, out_dir, stale_figures
 from nsdyn.cli.args import positive_finite as _positive_finite
 from nsdyn.cli.args import positive_float as _positive_float
@@ -325,6 +325,7 @@ def run(args: argparse.Namespace) -> int:
     from nsdyn.models.scenefile import SceneError, read_toml, scene_kind
 
     FINISHED.clear()  # (this run's, not an earlier one's of this process)
+    check_free(Path(args.out))  # a folder another command writes: its one line, before any other
     if args.scene is not None:
         raw = read_toml(args.scene)
         kind = scene_kind(raw, str(args.scene))

@@ -715,6 +715,21 @@ def test_a_run_holds_its_folder_while_it_writes_its_results(tmp_path, monkeypatc
     assert seen == [tmp_path / "run.png"] and not (tmp_path / ".nsdyn.lock").exists()
 
 
+@pytest.mark.parametrize("scene", [None, "examples/scenes/deck-fps4-3c.toml"])
+def test_a_folder_another_command_writes_is_the_run_s_one_line(tmp_path, scene, one_line):
+    # the isolated frame's run said its "method  auto: …" line before the busy folder's
+    # error (docs/guide/troubleshooting.md: an input error is its one line alone)
+    from nsdyn.atomic import out_lock
+
+    root = Path(__file__).resolve().parents[2]
+    argv = ["run", *([str(root / scene)] if scene else []), "--t-end", "1", "--no-figures"]
+    with out_lock(tmp_path, "sweep"):
+        assert main([*argv, "--out", str(tmp_path)]) == 2
+    one_line(f"{tmp_path}: nsdyn sweep (process {os.getpid()}) writes there; wait for it to "
+             "end, or give another --out")  # fmt: skip
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_a_fixed_base_run_reports_no_isolator_keys(tmp_path, capsys):
     # it read "peak isolator displacement x_iso 0.0000 m" and "share of time all isolators
     # stick 1.00" of a model without isolators, and its JSON held x_iso_max_m = 0,
