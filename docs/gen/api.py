@@ -97,10 +97,40 @@ def subpackage_names() -> list[tuple[str, str, str]]:
     return out
 
 
+def constant(path: str) -> tuple[str, str] | None:
+    """``(code, note)`` of a module-level constant: ``NAME = value`` when the value is a short
+    literal (else ``NAME: annotation``), and the comment on its line or just above it; ``None``
+    for a function or a class. mkdocstrings shows neither without the root heading."""
+    module, _, name = path.rpartition(".")
+    lines = _module_file(module).read_text().splitlines()
+    for node in _tree(module).body:
+        targets = node.targets if isinstance(node, ast.Assign) else [getattr(node, "target", 0)]
+        if not any(isinstance(t, ast.Name) and t.id == name for t in targets):
+            continue
+        first = lines[node.lineno - 1]
+        code = f"{name} = {ast.unparse(node.value)}"
+        try:
+            ast.literal_eval(node.value)
+        except ValueError:
+            code = f"{name}: {ast.unparse(node.annotation)}" if node.annotation else name
+        note = first.partition("  # ")[2] if node.end_lineno == node.lineno else ""
+        if note.startswith(("fmt:", "noqa")):
+            note = ""
+        above = node.lineno - 2
+        while not note and above >= 0 and re.match(r"# (?!-)", lines[above]):
+            note, above = lines[above][2:] + " " + note, above - 1  # a block above: upwards
+        return (code if len(code) <= 100 else name), note.strip()
+    return None
+
+
 def _entry(heading: str, target: str) -> list[str]:
-    return [f"### `{heading}`", "", f"Defined in `{target.rsplit('.', 1)[0]}`.", "",
-            f"::: {target}", "    options:", "      show_root_heading: false",
-            "      heading_level: 4", ""]  # fmt: skip
+    out = [f"### `{heading}`", "", f"Defined in `{target.rsplit('.', 1)[0]}`.", ""]
+    if (const := constant(target)) is not None:
+        code, note = const
+        out += ["```python", code, "```", ""] + ([note[:1].upper() + note[1:], ""] if note else [])
+        return out
+    return out + [f"::: {target}", "    options:", "      show_root_heading: false",
+                  "      heading_level: 4", ""]  # fmt: skip
 
 
 def page() -> str:

@@ -243,6 +243,7 @@ def _run_radau(P, x0, t_eval, o: Options, X, upl_t):
     return stats, rinfo, [], None
 
 
+# the integration methods by the names `method=` and `--method` take (besides "auto")
 METHODS: dict[str, Method] = {
     # default; kernel "radau" is the flat-only loop, the general one is "radau-general"
     "radau": Method("radau", "radau", False, _run_radau),

@@ -76,3 +76,26 @@ def test_the_api_page_has_every_public_name_of_the_subpackages():
             where, _, attr = path.rpartition(".")
             assert getattr(importlib.import_module(where), attr) is getattr(mod, name)
             assert f"### `{package}.{name}`" in page or name in top, (package, name)
+
+
+def test_the_api_page_shows_each_constant_with_its_value():
+    # mkdocstrings shows no value of a module constant under an entry without its root
+    # heading: the page writes it, read from the source, and it is the value imported
+    import ast
+
+    page = api.page()
+    names = [(f"nsdyn.{p}", api.defining_object(m, a)) for _, p, m, a in api.public_names()]
+    names += [(f"{pk}.{n}", path) for pk, n, path in api.subpackage_names()]
+    shown = 0
+    for heading, path in names:
+        if (const := api.constant(path)) is None:
+            continue
+        mod, _, name = path.rpartition(".")
+        code, note = const
+        entry = page.split(f"### `{heading}`", 1)[1].split("\n### ", 1)[0]
+        assert f"```python\n{code}\n```" in entry and note, heading
+        if " = " in code:
+            value = ast.literal_eval(code.split(" = ", 1)[1])
+            assert value == getattr(importlib.import_module(mod), name), heading
+            shown += 1
+    assert shown >= 4  # G_EARTH, G_STANDARD, CONTACTS, FIDELITIES

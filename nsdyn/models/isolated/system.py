@@ -49,7 +49,7 @@ from nsdyn.models.isolated.params import pack
 
 sla = LazyModule("scipy.linalg")
 
-FIDELITIES = ("fixed", "rigid", "cb", "full")
+FIDELITIES = ("fixed", "rigid", "cb", "full")  # models of the frame, cheapest first
 DENSE_FRAME_MAX = 2000  # frames with more dofs are reduced from their sparse K, M
 CONTACTS = ("bilateral", "detect", "unilateral")  # a normal force at zero: held, stop, lift off
 ISOLATION_NUMBERS = ("k_lam", "c", "mu", "eps", "eta", "alpha", "beta", "kappa",  # each >= 0
