@@ -127,7 +127,7 @@ def _entry(heading: str, target: str) -> list[str]:
     out = [f"### `{heading}`", "", f"Defined in `{target.rsplit('.', 1)[0]}`.", ""]
     if (const := constant(target)) is not None:
         code, note = const
-        out += ["```python", code, "```", ""] + ([note[:1].upper() + note[1:], ""] if note else [])
+        out += ["```python", code, "```", ""] + ([note, ""] if note else [])
         return out
     return out + [f"::: {target}", "    options:", "      show_root_heading: false",
                   "      heading_level: 4", ""]  # fmt: skip
