@@ -54,6 +54,25 @@ def watched(run, reached, progress, t_end: float, every: float | None = None):
     return box["result"]
 
 
+def point_gate():
+    """A ``due(k, n, plain) -> bool``: whether a curve's k-th point of ``n`` gets a progress
+    line. The first and the last do, and each that is not ``plain`` (no steady state); the
+    others at most one per :data:`WATCH_S` of wall time, so that a curve of 600 points at
+    0.04 s each says a few lines, not 600 (every point is in the CSV)."""
+    import time
+
+    last = [-float("inf")]
+
+    def due(k: int, n: int, plain: bool = True) -> bool:
+        now = time.perf_counter()
+        if k <= 1 or k == n or not plain or now - last[0] >= WATCH_S:
+            last[0] = now
+            return True
+        return False
+
+    return due
+
+
 def curve_count(k: int, n: int, walls: list, continuation: str) -> tuple[str, str]:
     """(``"/150"``, the time left) of a curve's k-th point of ``n``; an arclength curve takes
     its own steps, so ``(" (arclength)", "")``: its grid's total read "16/4", past its end."""

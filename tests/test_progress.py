@@ -1,4 +1,5 @@
-"""The progress of a compiled run watched from another thread (nsdyn._progress.watched).
+"""The progress of a compiled run watched from another thread (nsdyn._progress.watched), and
+which of a curve's points get a line (nsdyn._progress.point_gate).
 
 The watcher reports while the run is still going, hands back the run's result or raises its
 exception, and changes nothing of what the run computes: a pair system's or a deck's histories
@@ -14,7 +15,7 @@ import numpy as np
 import pytest
 
 from nsdyn import _progress
-from nsdyn._progress import watched
+from nsdyn._progress import point_gate, watched
 
 
 def test_progress_is_reported_while_the_run_goes_on_and_its_result_returned():
@@ -77,3 +78,14 @@ def test_time_left_of_a_curve_is_the_mean_point_times_the_points_left():
     assert time_left([96.0], 149) == ", about 4.0 h left"
     assert time_left([90.0, float("nan"), None], 60) == ", about 90 min left"
     assert time_left([1.0], 0) == "" and time_left([], 5) == ""
+
+
+@pytest.mark.parametrize("watch", [0.0, 1.0e9])
+def test_a_curve_says_its_first_last_and_failed_points_and_others_once_a_watch(watch, monkeypatch):
+    # 600 points at 0.04 s said 600 lines; now the first and the last point and each without a
+    # steady state are said always, the others at most once a WATCH_S (0: each; 1e9: none)
+    monkeypatch.setattr(_progress, "WATCH_S", watch)
+    due = point_gate()
+    plain = [k not in (7, 300) for k in range(1, 601)]
+    said = [k for k in range(1, 601) if due(k, 600, plain[k - 1])]
+    assert said == (list(range(1, 601)) if watch == 0.0 else [1, 7, 300, 600])

@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._progress import curve_count
+from nsdyn._progress import curve_count, point_gate
 from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.friction import stick_slip
 from nsdyn.models.scenefile import SceneError, number
@@ -162,13 +162,14 @@ def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweep
         last[0] = time.perf_counter()
 
     walls = []  # this run's points' wall times (the estimate of the rest)
+    due = point_gate()
 
     def progress(pt, k, n):
         done.append(pt)
         walls.append(pt.quantities.get("wall_s"))
         if time.perf_counter() - last[0] > CHECKPOINT_EVERY_S:
             save(done)
-        if not quiet:
+        if not quiet and due(k, n, pt.converged):
             u = pt.quantities.get("u_peak_m", math.nan)
             u = f"|u|max={u:.4g} m" if pt.converged else "no steady state"
             of, left = curve_count(k, n, walls, settings.continuation)

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn._checks import InputWarning
-from nsdyn._progress import curve_count
+from nsdyn._progress import curve_count, point_gate
 from nsdyn.atomic import atomic_open, differing
 from nsdyn.models.scenefile import SceneError
 from nsdyn.studies.workers import gather, process_pool, saved_on_interrupt
@@ -288,13 +288,14 @@ def amplitude_job(
         last_write[0] = time.perf_counter()
 
     walls = []  # this run's points' wall times (the estimate of the rest)
+    due = point_gate()
 
     def progress(pt, k, n):
         pts_done.append(pt)
         walls.append(pt.quantities.get("wall_s"))
         if time.perf_counter() - last_write[0] > CHECKPOINT_EVERY_S:
             save(pts_done)
-        if not quiet:
+        if not quiet and due(k, n, pt.converged):
             q = pt.quantities
             of, left = curve_count(k, n, walls, settings.continuation)
             x = f"x_iso={q.get('x_iso', math.nan):.2e}" if pt.converged else "no steady state"

@@ -116,8 +116,11 @@ def test_a_band_refused_against_the_scenes_end_names_that_end(tmp_path, capsys):
     assert f"--fmin: expected a frequency below 2.8 Hz (sweep.f_max of {SCENE}: give" in err
 
 
-def test_an_arclength_sweep_counts_its_points_without_a_grid_total(tmp_path, capsys):
-    # the curve takes its own steps: "[A=0.981] 16/4" read as past its end
+def test_an_arclength_sweep_counts_its_points_without_a_grid_total(tmp_path, capsys, monkeypatch):
+    # the curve takes its own steps: "[A=0.981] 16/4" read as past its end (every point said)
+    from nsdyn import _progress
+
+    monkeypatch.setattr(_progress, "WATCH_S", 0.0)
     argv = ["sweep", str(SCENE), "--fmin", "0.35", "--fmax", "1.4", "--points", "2",
             "--continuation", "arclength", "--out", str(tmp_path), "--no-figures"]  # fmt: skip
     assert nsdyn_main(argv) == 0
