@@ -157,7 +157,7 @@ def check_analysis(study) -> None:
     for name, key in (("design", "objectives"), ("percentiles", "quantities")):
         spec = an.get(name)
         kept = name == "percentiles" and study.keep  # (percentiles default to the kept)
-        if spec is not None and other and not spec.get(key) and not kept:  # ([]: the default)
+        if spec is not None and other and key not in spec and not kept:  # ([]: refused below)
             raise SceneError(f"{src}: analysis.{name}.{key}: missing; the default "
                              f"({', '.join(DEFAULT_OBJECTIVES)}) is an isolated frame's, a "
                              f"{study.kind} scene has none of it (an all-NaN table)")  # fmt: skip
@@ -322,7 +322,8 @@ def _design(study, table: Table, spec: dict, out: Path, figures: bool) -> dict:
     if "x_iso_max_m" in constraints and study.kind == "isolated":
         table = _fixed_base_gap(study, table)
     empty = empty_columns(table, [*objectives, *constraints])
-    points = design_points(table, variables, objectives, constraints, spec.get("aggregate", "mean"))
+    how = spec.get("aggregate", "mean")
+    points = design_points(table, variables, objectives, constraints, how, strict=False)
     _write_rows([p.row() for p in points], out / "design.csv")
     chosen = compromise(points, objectives)
     ref = find_design(points, spec["reference"]) if spec.get("reference") else None
@@ -520,7 +521,7 @@ def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True)
         q = spec.get("quantities") or list(study.keep or DEFAULT_OBJECTIVES)
         by = spec.get("by", _grid_names(study))
         pct = tuple(spec.get("percentiles", DEFAULT_PERCENTILES))
-        rows = percentile_table(table, q, by, pct)
+        rows = percentile_table(table, q, by, pct, strict=False)  # (noted below)
         _write_rows(rows, out / "percentiles.csv")
         res["percentiles"] = {"rows": rows, "table": str(out / "percentiles.csv")}
         notes = (empty_columns(table, q, True), boolean_note(table, q), few_runs_note(rows, pct),
@@ -541,8 +542,7 @@ def run_analyses(study, table: Table, out_dir: str | Path, figures: bool = True)
         from nsdyn.studies import incidence
 
         res["incidence"] = incidence.run(study, table, an["incidence"], out, figures)
-        note = empty_columns(table, res["incidence"].get("quantities") or [])
-        if note:
+        if note := empty_columns(table, res["incidence"].get("quantities") or []):
             _add_note(res["incidence"], note)
     return _finite(res)
 

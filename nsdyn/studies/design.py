@@ -72,12 +72,38 @@ def _agg(x: np.ndarray, how: str) -> float:
 
 def bounds(constraints: dict) -> list[tuple[str, str, float]]:
     """``(name, "max" | "min", bound)`` of each constraint: a number is an upper bound, a
-    table ``{min = a, max = b}`` gives either or both."""
+    table ``{min = a, max = b}`` gives either or both; anything else is a ValueError naming
+    ``constraints[name]``."""
+    if not isinstance(constraints, dict):
+        raise TypeError(f"constraints: expected a dict of column name -> bound, got "
+                        f"{constraints!r}")  # fmt: skip
     out = []
     for k, g in constraints.items():
         for side, v in g.items() if isinstance(g, dict) else [("max", g)]:
+            if (side not in ("min", "max") or isinstance(v, bool)
+                    or not isinstance(v, int | float) or not math.isfinite(v)):  # fmt: skip
+                raise ValueError(f"constraints[{k!r}]: expected a finite number (an upper "
+                                 f"bound) or {{'min': a, 'max': b}}, got {g!r}")  # fmt: skip
             out.append((k, side, float(v)))
     return out
+
+
+def column_list(table: Table, arg: str, names, strict: bool = True, empty_ok: bool = True):
+    """``names`` as a list of ``table``'s column names: a TypeError for a bare string (one
+    column per letter) or a non-text entry, a ValueError for none where one is needed, and
+    with ``strict`` a KeyError naming the nearest column for a name no row has (a typo read
+    as NaN made every design infeasible)."""
+    from nsdyn._checks import did_you_mean
+
+    if not isinstance(names, list | tuple) or not all(isinstance(n, str) for n in names):
+        raise TypeError(f"{arg}: expected a list of column names, got {names!r}")
+    if not names and not empty_ok:
+        raise ValueError(f"{arg}: expected one column name or more, got {names!r}")
+    known = table.columns if strict and table.rows else ()
+    for n in names if known else ():
+        if n not in known:
+            raise KeyError(f"{arg}: {n!r}: no such column{did_you_mean(n, known)}")
+    return list(names)
 
 
 def design_points(
@@ -86,15 +112,25 @@ def design_points(
     objectives: list[str],
     constraints: dict,
     aggregate: str = "mean",
+    *,
+    strict: bool = True,
 ) -> list[DesignPoint]:
     """Designs of ``table`` (grouped by ``variables``), aggregated, feasibility and front set.
 
     ``constraints``: name -> upper bound, or {min = ..., max = ...} (:func:`bounds`). A design
-    with a failed task has NaN objectives and is neither feasible nor on the front.
+    with a failed task has NaN objectives and is neither feasible nor on the front. Every
+    name must be a column of ``table`` (:func:`column_list`); ``strict=False`` reads a
+    missing one as NaN (a study's analyses, whose columns a failed study may lack, say so in
+    a note). An empty table has no designs.
     """
     if aggregate not in AGGREGATES:
         raise ValueError(f"aggregate: expected one of {AGGREGATES}, got {aggregate!r}")
+    variables = column_list(table, "variables", variables, strict)
+    objectives = column_list(table, "objectives", objectives, strict, empty_ok=False)
     limits = bounds(constraints)
+    column_list(table, "constraints", list(constraints), strict)
+    if not table.rows:
+        return []
     ok = np.array([r.get("status") == "ok" for r in table.rows], dtype=bool)
     cols = {k: table.column(k, False) for k in list(objectives) + list(constraints)}
     points = []
@@ -122,9 +158,16 @@ def design_points(
 
 
 def pareto_front(F: np.ndarray, mask: np.ndarray | None = None) -> np.ndarray:
-    """Indices of the rows of ``F`` (n, k; minimised) that no other (masked-in) row dominates."""
+    """Indices of the rows of ``F`` (n, k; minimised) that no other row dominates, among the
+    rows ``mask`` (n booleans; default all) keeps."""
     F = np.asarray(F, dtype=float)
+    if F.ndim != 2:
+        raise ValueError(f"F: expected an (n, k) array of n designs' k objectives, got shape "
+                         f"{F.shape}")  # fmt: skip
     mask = np.ones(F.shape[0], dtype=bool) if mask is None else np.asarray(mask, dtype=bool)
+    if mask.shape != F.shape[:1]:
+        raise ValueError(f"mask: expected {F.shape[0]} booleans (one per row of F), got shape "
+                         f"{mask.shape}")  # fmt: skip
     idx = np.flatnonzero(mask)
     keep = []
     for i in idx:
@@ -161,10 +204,18 @@ def find_design(points: list[DesignPoint], values: dict) -> DesignPoint | None:
 
 
 def percentile_table(
-    table: Table, quantities: list[str], by: list[str], q=DEFAULT_PERCENTILES
+    table: Table, quantities: list[str], by: list[str], q=DEFAULT_PERCENTILES, *, strict=True
 ) -> list[dict]:
-    """Per group of ``by``: runs, and the ``q`` percentiles and mean of each quantity over the
-    group's successful runs (records, samples)."""
+    """Per group of ``by``: runs, and the ``q`` percentiles (a list of numbers in [0, 100])
+    and mean of each quantity over the group's successful runs (records, samples). Names and
+    ``strict`` as in :func:`design_points`."""
+    quantities = column_list(table, "quantities", quantities, strict, empty_ok=False)
+    by = column_list(table, "by", by, strict)
+    if not isinstance(q, list | tuple | np.ndarray) or not all(
+        isinstance(p, int | float | np.number) and not isinstance(p, bool) and 0 <= p <= 100
+        for p in q
+    ):
+        raise ValueError(f"q: expected a list of percentiles in [0, 100], got {q!r}")
     out = []
     ok = np.array([r.get("status") == "ok" for r in table.rows], dtype=bool)
     cols = {k: table.column(k, False) for k in quantities}

@@ -52,12 +52,17 @@ class LognormalFragility:
     log_likelihood: float
 
     def probability(self, x) -> np.ndarray:
-        """P[EDP > limit | IM = x]."""
-        return special.ndtr((np.log(np.asarray(x, dtype=float)) - math.log(self.theta)) / self.beta)
+        """P[EDP > limit | IM = x] at intensity measures ``x`` >= 0 (0 at 0)."""
+        with np.errstate(divide="ignore"):  # (ln 0 = -inf: P = 0)
+            u = np.log(_intensities(x))
+        return special.ndtr((u - math.log(self.theta)) / self.beta)
 
     def band(self, x, confidence: float = CONFIDENCE) -> tuple[np.ndarray, np.ndarray]:
-        """Pointwise (lower, upper) confidence band of the curve at ``x``."""
-        u = np.log(np.asarray(x, dtype=float))
+        """Pointwise (lower, upper) confidence band of the curve at ``x`` > 0, at the level
+        ``confidence`` in (0, 1)."""
+        if isinstance(confidence, bool) or not 0 < confidence < 1:
+            raise ValueError(f"confidence: expected a level in (0, 1), got {confidence!r}")
+        u = np.log(_intensities(x, positive=True))
         a, b = -math.log(self.theta) / self.beta, 1.0 / self.beta
         eta = a + b * u
         J = np.stack([np.ones_like(u), u], axis=-1)
@@ -68,6 +73,16 @@ class LognormalFragility:
     def as_dict(self) -> dict:
         """The scalar fields (all but ``cov_ab``)."""
         return {f.name: getattr(self, f.name) for f in fields(self) if f.name != "cov_ab"}
+
+
+def _intensities(x, positive: bool = False) -> np.ndarray:
+    """``x`` as floats, each finite and >= 0 (> 0 with ``positive``); a ValueError otherwise
+    (a negative IM gave NaN and a RuntimeWarning)."""
+    a = np.asarray(x, dtype=float)
+    if not np.all(np.isfinite(a)) or np.any(a <= 0 if positive else a < 0):
+        raise ValueError(f"x: expected finite intensity measures {'>' if positive else '>='} 0, "
+                         f"got {x!r}")  # fmt: skip
+    return a
 
 
 def _loglik(eta: np.ndarray, n: np.ndarray, z: np.ndarray) -> float:
@@ -99,7 +114,10 @@ def fit_lognormal_counts(im, n_runs, n_exceed) -> LognormalFragility:
         raise ValueError("im, n_runs, n_exceed: expected 1-D arrays of one length")
     if not np.all(x > 0) or not np.all(np.isfinite(x)):
         raise ValueError("im: expected positive finite intensity measures")
-    if np.any(z < 0) or np.any(z > n):
+    for name, c in (("n_runs", n), ("n_exceed", z)):  # (3.5 exceedances were fitted as 3)
+        if not np.all(np.isfinite(c)) or np.any(c < 0) or np.any(c != np.round(c)):
+            raise ValueError(f"{name}: expected whole counts >= 0, got {c.tolist()}")
+    if np.any(z > n):
         raise ValueError("n_exceed: expected 0 <= n_exceed <= n_runs")
     N, Z = int(n.sum()), int(z.sum())
     if Z == 0 or Z == N:
@@ -192,6 +210,8 @@ def fit_lognormal(im, exceeded) -> LognormalFragility:
     IM values equal to 12 digits counted as one level (:func:`im_levels`)."""
     x = im_levels(im)
     y = np.asarray(exceeded, dtype=bool)
+    if x.ndim != 1:
+        raise ValueError(f"im: expected a 1-D array (one value per run), got shape {x.shape}")
     if x.shape != y.shape:
         raise ValueError(f"im {x.shape} and exceeded {y.shape}: expected one outcome per run")
     levels, inv = np.unique(x, return_inverse=True)

@@ -165,3 +165,50 @@ def test_a_fixed_base_design_meets_the_default_gap(tmp_path, capsys):
         assert design["fixed"]["feasible"] in ("true", "True", True)
         assert float(design["rigid"]["x_iso_max_m_worst"]) > 0.0
     capsys.readouterr()
+
+
+@pytest.mark.parametrize(
+    ("call", "error", "message"),
+    [  # a typo read as NaN made every design infeasible; a string gave one column per letter
+        (lambda t: design_points(t, ["isolation.mu"], ["idr_mx"], {}), KeyError,
+         "objectives: 'idr_mx': no such column; did you mean 'idr_max'?"),
+        (lambda t: design_points(t, ["isolation.nu"], ["idr_max"], {}), KeyError,
+         "variables: 'isolation.nu': no such column; did you mean 'isolation.mu'?"),
+        (lambda t: design_points(t, ["isolation.mu"], ["idr_max"], {"x_iso_mx_m": 0.4}),
+         KeyError, "constraints: 'x_iso_mx_m': no such column; did you mean 'x_iso_max_m'?"),
+        (lambda t: design_points(t, ["isolation.mu"], "idr_max", {}), TypeError,
+         "objectives: expected a list of column names, got 'idr_max'"),
+        (lambda t: design_points(t, ["isolation.mu"], [], {}), ValueError,
+         "objectives: expected one column name or more, got []"),
+        (lambda t: design_points(t, ["isolation.mu"], ["idr_max"], {"x_iso_max_m": "big"}),
+         ValueError, "constraints['x_iso_max_m']: expected a finite number (an upper bound) "
+         "or {'min': a, 'max': b}, got 'big'"),
+        (lambda t: design_points(t, ["isolation.mu"], ["idr_max"], {"x_iso_max_m": {"mn": 1}}),
+         ValueError, "constraints['x_iso_max_m']: expected a finite number"),
+        (lambda t: percentile_table(t, ["idr_mx"], ["isolation.mu"]), KeyError,
+         "quantities: 'idr_mx': no such column; did you mean 'idr_max'?"),
+        (lambda t: percentile_table(t, "idr_max", ["isolation.mu"]), TypeError,
+         "quantities: expected a list of column names, got 'idr_max'"),
+        (lambda t: percentile_table(t, ["idr_max"], ["isolation.mu"], q=[150]), ValueError,
+         "q: expected a list of percentiles in [0, 100], got [150]"),
+        (lambda t: percentile_table(t, ["idr_max"], ["isolation.mu"], q=50), ValueError,
+         "q: expected a list of percentiles in [0, 100], got 50"),
+        (lambda t: pareto_front(np.array([[1.0, 2], [2, 1], [3, 3]]), [True, False]),
+         ValueError, "mask: expected 3 booleans (one per row of F), got shape (2,)"),
+        (lambda t: pareto_front(np.array([1.0, 2, 3])), ValueError,
+         "F: expected an (n, k) array of n designs' k objectives, got shape (3,)"),
+    ],
+)  # fmt: skip
+def test_a_design_or_percentile_call_with_a_bad_argument_names_it(call, error, message):
+    with pytest.raises(error) as exc:
+        call(_table())
+    assert message in str(exc.value)
+
+
+def test_a_study_s_analyses_read_a_missing_column_as_nan_and_an_empty_table_has_no_designs():
+    # strict=False: a study whose tasks all failed lacks its output columns (its note says
+    # so); an empty table has no designs (it was a reshape error)
+    t = _table()
+    pts = design_points(t, ["isolation.mu"], ["idr_mx"], {}, strict=False)
+    assert pts and all(np.isnan(p.objectives["idr_mx"]) and not p.feasible for p in pts)
+    assert design_points(Table([]), ["isolation.mu"], ["idr_max"], {}) == []

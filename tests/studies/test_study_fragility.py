@@ -328,3 +328,24 @@ def test_runs_still_falling_at_their_end_are_said_on_an_overturning_fragility(tm
     study.analysis["fragility"] = {"im": "motion.pga", "edp": "overturned"}
     note = run_analyses(study, lone, tmp_path, figures=False)["fragility"].get("note", "")
     assert note.startswith("1 run counted as not overturned ends leaning")
+
+
+def test_counts_and_levels_that_are_not_what_a_fit_takes_are_refused_naming_them():
+    # 3.5 exceedances were fitted as 3; a 2-D IM, a band at a level outside (0, 1) and a
+    # negative IM gave numpy's messages or NaN
+    with pytest.raises(ValueError, match=r"n_exceed: expected whole counts >= 0, got \[1.0, "
+                       r"2.0, 0.5\]"):  # fmt: skip
+        fit_lognormal_counts([1.0, 2.0, 3.0], [4, 4, 4], [1, 2, 0.5])
+    with pytest.raises(ValueError, match=r"n_runs: expected whole counts >= 0"):
+        fit_lognormal_counts([1.0, 2.0, 3.0], [np.nan, 4, 4], [0, 1, 2])
+    with pytest.raises(ValueError, match=r"im: expected a 1-D array \(one value per run\), got "
+                       r"shape \(2, 2\)"):  # fmt: skip
+        fit_lognormal([[1.0, 2.0], [3.0, 4.0]], [[0, 1], [0, 1]])
+    fit = fit_lognormal_counts([1.0, 2.0, 3.0, 4.0], [4, 4, 4, 4], [0, 1, 3, 4])
+    with pytest.raises(ValueError, match=r"confidence: expected a level in \(0, 1\), got 1.5"):
+        fit.band([1.0, 2.0], confidence=1.5)
+    with pytest.raises(ValueError, match=r"x: expected finite intensity measures >= 0"):
+        fit.probability([-1.0])
+    with pytest.raises(ValueError, match=r"x: expected finite intensity measures > 0"):
+        fit.band([0.0, 1.0])
+    assert fit.probability([0.0])[0] == 0.0  # the lognormal CDF at 0, without a warning

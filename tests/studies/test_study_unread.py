@@ -223,6 +223,11 @@ def test_another_study_s_folder_is_refused_not_merged(tmp_path):
         ("rocking-seed003-column.toml", "[analysis.percentiles]\n",
          r"analysis.percentiles.quantities: missing; the default \(idr_max, floor_acc_max_mps2\)"),
         ("cylinder-uplift.toml", "[analysis.design]\n", r"analysis.design.objectives: missing"),
+        # given, as an empty list: not "missing"
+        ("cylinder-uplift.toml", "[analysis.design]\nobjectives = []\n",
+         r"analysis.design.objectives: expected one column name or more, got \[\] \(drop"),
+        ("rocking-seed003-column.toml", "[analysis.percentiles]\nquantities = []\n",
+         r"analysis.percentiles.quantities: expected one column name or more, got \[\]"),
         # a deck's or 3D building's too (they ran to an all-NaN design table and a blank plot)
         ("deck-fps4-3c.toml", "[analysis.design]\n", r"analysis.design.objectives: missing; "
          r".* a deck scene has none of it"),
