@@ -85,6 +85,18 @@ def test_build_system_refuses_what_is_not_a_frame():
         nsdyn.build_system(11)
 
 
+def test_with_isolation_takes_an_isolation_in_place_of_the_system_s_and_its_changes():
+    # s.with_isolation(nsdyn.Isolation(...)) was a TypeError ("takes 1 positional argument")
+    s = nsdyn.build_system("office-11", fidelity="rigid")
+    iso = nsdyn.Isolation(mu=0.08, law="switch")
+    assert s.with_isolation(iso).isolation == iso
+    assert s.with_isolation(iso, c=0.0).isolation == dataclasses.replace(iso, c=0.0)
+    by_fields = s.with_isolation(mu=0.08, law="switch")
+    assert by_fields.isolation == dataclasses.replace(s.isolation, mu=0.08, law="switch")
+    with pytest.raises(TypeError, match=r"isolation: expected an Isolation, got dict"):
+        s.with_isolation({"mu": 0.08})
+
+
 @pytest.mark.parametrize("motion", ["synthetic-wn-40s", Path("rec.txt"), np.zeros(10)])
 def test_simulate_says_how_to_make_a_motion_from_a_name_or_an_array(motion):
     system = nsdyn.build_system("office-11", fidelity="rigid")
