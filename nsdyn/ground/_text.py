@@ -271,6 +271,13 @@ def parse_table(text: str, source: str) -> Table:
         first = i
         break
     if first is None:
+        width = len(names) if names is not None else 0  # rows of the names' width, digits in
+        rows = [(n, s) for n, s in lines if s and not is_comment(s) and len(fields(s)) == width
+                and all(any(c.isdigit() for c in t) for t in fields(s))]  # fmt: skip
+        if rows:  # every cell text ("np.float64(1.0)"): it named the file's last line
+            n, s = rows[0]
+            bad = next(t for t in fields(s) if not _is_float(t))
+            raise RecordFileError(source, n, f"expected numbers, found {bad!r} in {s.strip()!r}")
         last_line = lines[-1][0] if lines else 0
         raise RecordFileError(source, max(last_line, 1), "expected numeric data, found none")
     rows = [(n, _without_inline_comment(s)) for n, s in lines[first:]]

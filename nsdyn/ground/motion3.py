@@ -214,10 +214,11 @@ class GroundMotion3(Sampled):
             "geomean": lambda: self.pga_geomean,
         }[component]()
         if peak == 0.0:
-            raise ValueError(
-                f"record {self.name!r}: the {component} peak acceleration is zero (every "
-                "sample); it cannot be scaled to a peak"
-            )
+            why = "(every sample)"
+            if component == "geomean":  # (one component at rest makes it zero)
+                why = f"(sqrt(PGA_x PGA_y): {'x' if self.pga_x == 0.0 else 'y'} is zero everywhere)"
+            raise ValueError(f"record {self.name!r}: the {component} peak acceleration is zero "
+                             f"{why}; it cannot be scaled to a peak")  # fmt: skip
         c = target / peak
         total = c * float(self.meta.get("scale_factor", 1.0))
         az = None if self.az is None else c * self.az

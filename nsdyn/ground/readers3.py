@@ -22,6 +22,7 @@ x = 000, y = 090 is not (it is the mirror image).
 from __future__ import annotations
 
 import os
+import re
 import warnings
 from pathlib import Path
 
@@ -134,6 +135,17 @@ def _names_x_and_y(text: str) -> bool:
     return False
 
 
+_NUMBER = r"\d+(?:\.\d*)?(?:e[+-]?\d+)?"
+
+
+def _peak_said(text: str) -> float:
+    """The peak a units warning of one component quotes ("its peak 0.306 m/s²", "PGA = 300
+    m/s²"), or inf where it quotes none (a component large enough not to look like g): of
+    the x and y components' warnings the file's is the larger peak's."""
+    m = re.search(rf"(?:; its peak |PGA = )({_NUMBER})", text)
+    return float(m.group(1)) if m else float("inf")
+
+
 def _table3(path, source: str, cols: dict[str, str], units, dt) -> GroundMotion3:
     with warnings.catch_warnings(record=True) as caught:  # the file's warnings, once each
         warnings.simplefilter("always")
@@ -141,12 +153,16 @@ def _table3(path, source: str, cols: dict[str, str], units, dt) -> GroundMotion3
                         units=units, dt=dt)  # fmt: skip
         y = read_motion(path, fmt="multi-column", column=cols["y"], vertical=cols.get("z"),
                         units=units, dt=dt)  # fmt: skip
-    said = set()
+    said: dict[str, warnings.WarningMessage] = {}
     for w in caught:  # (one zero component is a motion along the other: no warning)
         text = str(w.message)
-        if text not in said and ("zero at every sample" not in text or x.pga == y.pga == 0.0):
-            said.add(text)
-            warnings.warn(w.message, stacklevel=3)
+        key = re.sub(_NUMBER, "#", text.split("; its peak ", 1)[0])  # (units: of the larger peak)
+        if key in said and _peak_said(text) <= _peak_said(str(said[key].message)):
+            continue
+        if "zero at every sample" not in text or x.pga == y.pga == 0.0:
+            said[key] = w
+    for w in said.values():
+        warnings.warn(w.message, stacklevel=3)
     meta = {**x.meta, "columns3": cols}
     return GroundMotion3(x.t0, x.dt, x.a_hor, y.a_hor, x.a_ver, x.name, source, meta)
 

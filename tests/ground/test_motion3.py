@@ -200,6 +200,11 @@ def test_scaling_bad_input(m3):
     zero = GroundMotion3(0, 0.01, np.zeros(3), np.zeros(3), name="quiet")
     with pytest.raises(ValueError, match="'quiet'.*zero"):
         zero.scaled_to_pga(1.0)
+    # a motion along x: its geomean sqrt(PGA_x PGA_y) is zero for y's sake, not every sample's
+    along_x = GroundMotion3(0, 0.01, np.array([0.0, 1.0, -0.5]), np.zeros(3), name="x-only")
+    with pytest.raises(ValueError, match=r"'x-only': the geomean peak acceleration is zero "
+                       r"\(sqrt\(PGA_x PGA_y\): y is zero everywhere\)"):  # fmt: skip
+        along_x.scaled_to_pga(1.0, "geomean")
 
 
 def test_window_and_resampling_act_on_every_component_alike(m3):
@@ -422,6 +427,22 @@ def test_a_csv_along_x_warns_once_and_not_of_a_zero_record(tmp_path):
     path.write_text("t,ax,ay\n0,0,0\n0.01,0,0\n0.02,0,0\n")  # (a zero record still warns)
     with pytest.warns(UserWarning, match="zero at every sample"):
         read_motion3(path, units="m/s2")
+
+
+@pytest.mark.parametrize(("scale", "needle"), [(1 / 9.80665, "its peak "), (100.0, "PGA = ")])
+def test_a_csv_without_units_warns_once_quoting_its_larger_component(tmp_path, scale, needle):
+    # a file in g (or gal) without units warned twice, once per component, each quoting its
+    # own peak as the record's: once now, of the larger component (y's 3 scale here)
+    import warnings
+
+    path = tmp_path / "rec.csv"
+    ax, ay = [0.5 * scale, -1.0 * scale, 0.2 * scale], [1.0 * scale, -3.0 * scale, 2.0 * scale]
+    path.write_text("t,ax,ay\n" + "".join(f"{0.01 * i:g},{ax[i]!r},{ay[i]!r}\n" for i in range(3)))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        read_motion3(path)
+    said = [str(w.message) for w in caught if needle in str(w.message)]
+    assert len(said) == 1 and f"{needle}{3.0 * scale:.4g} m/s²" in said[0], said
 
 
 def test_a_named_time_column_anywhere_and_semicolons_are_read():

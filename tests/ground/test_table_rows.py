@@ -84,6 +84,20 @@ def test_a_declined_table_is_refused_with_its_line(text, line, expected):
     assert info.value.line == line and expected in str(info.value)
 
 
+@pytest.mark.parametrize(
+    ("text", "line", "expected"),
+    [  # every row after the names of text: it named the file's last line, "found none"
+        ("t,ax\nnp.float64(0.0),np.float64(1.0)\nnp.float64(0.01),np.float64(2.0)\n", 2,
+         "expected numbers, found 'np.float64(0.0)' in 'np.float64(0.0),np.float64(1.0)'"),
+        ("t,ax\n", 1, "expected numeric data, found none"),  # names alone: none to name
+    ],
+)  # fmt: skip
+def test_a_table_without_a_row_of_numbers_names_its_first_row(text, line, expected):
+    with pytest.raises(RecordFileError) as info:
+        parse_table(text, "bad.csv")
+    assert info.value.line == line and expected in str(info.value)
+
+
 def test_the_bundled_record_reads_as_printed():
     """Every number of the bundled default record is the float its digits name."""
     from nsdyn._bundled import RECORDS
