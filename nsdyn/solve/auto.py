@@ -94,3 +94,16 @@ def sparse_path(system, method: str, contact: str | None = None) -> bool:
     from nsdyn.solve.fullorder import dense_step
 
     return not dense_step(system)
+
+
+def given_reason(system, method: str, contact: str | None = None) -> str:
+    """``"given: 'radau'"``, the reason of a method given by name; for a full-order model with
+    which operators it steps (``"given: 'genalpha-lowrank' (full-order model, 435 dofs,
+    sparse)"``, or its dense copies and why), as ``auto``'s reason says."""
+    if getattr(system, "sparse", None) is None:
+        return f"given: {method!r}"
+    from nsdyn.solve.fullorder import dense_step
+
+    how = "sparse" if sparse_path(system, method, contact) else "dense"
+    how = (method == METHOD and how == "dense" and dense_step(system)) or how
+    return f"given: {method!r} (full-order model, {system.n} dofs, {how})"

@@ -218,6 +218,11 @@ def simulate_full(
 
     if unused:
         raise ValueError(f"{sparse.METHOD}, full-order model: unknown option(s) {sorted(unused)}")
+    if getattr(system.isolation, "law", "none") not in ("arctan", "none"):  # (before dt: the
+        why = system.dense_refusal()  # law refused once dt was given; dense methods too large)
+        raise ValueError(why or f"method {sparse.METHOD!r}: friction law "
+                         f"{system.isolation.law!r} is not supported (arctan or none); use "
+                         "'radau', 'genalpha' or 'event' for the switch model")  # fmt: skip
     if dt is None or not dt > 0:
         raise ValueError(f"method {sparse.METHOD!r} needs a fixed step dt > 0 (e.g. dt=0.005)")
     if contact not in integrate.CONTACTS:

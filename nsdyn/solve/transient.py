@@ -421,8 +421,10 @@ def simulate(
             f"restitution: the coefficient of a landing, which a run with contact={contact!r} "
             "has none of; expected contact='unilateral'"
         )
-    reason = f"given: {method!r}"  # (auto's: its choice and why)
+    from nsdyn.solve.auto import given_reason, sparse_path
     from nsdyn.solve.methods import METHODS
+
+    reason = given_reason(system, method, contact)  # (auto's: its choice and why)
 
     integrate.known_method(method)  # (a KeyError deep in the run before)
     if method == "auto":
@@ -446,8 +448,6 @@ def simulate(
         atol = run_atol(method)
         if integrated_law(system, method) == "arctan" and not METHODS[method].fixed_step:
             atol = arctan_atol(atol, system.isolation.eps)
-    from nsdyn.solve.auto import sparse_path
-
     if sparse_path(system, method, contact):  # else a full-order model's dense copies
         from nsdyn.solve.fullorder import simulate_full
 
@@ -456,6 +456,8 @@ def simulate(
             progress=progress, reason=reason, result=TransientResult, checkpoint=checkpoint,
             chunk_s=chunk_s, **solver_options,
         ), dt, uplift)  # fmt: skip
+    if why := system.dense_refusal(contact):  # (the run's contact: lift-off is dense only)
+        raise ValueError(why)
     P = system.params(motion)
     given_x0 = x0 is not None
     if x0 is None:
@@ -532,26 +534,10 @@ def simulate(
     flat = methods.metrics_for(methods.kernel_for(method, Pm)) == "metrics"
     evaluated = evaluations(Pm, t, x, open_hist, flat=flat)
     resp = response(system, t, x, Pm, open_hist, carry.impact, evaluated=evaluated)
-    res = TransientResult(
-        system,
-        t,
-        x,
-        resp,
-        method,
-        carry.n_steps,
-        wall,
-        compile_s,
-        carry.stats,
-        sorted(set(carry.uplifts)),
-        describe(motion),
-        contact,
-        carry.cevents,
-        open_hist,
-        carry.impact,
-        reason,
-        integrated_law(system, method),
-        failure,
-    )
+    res = TransientResult(system, t, x, resp, method, carry.n_steps, wall, compile_s,
+                          carry.stats, sorted(set(carry.uplifts)), describe(motion), contact,
+                          carry.cevents, open_hist, carry.impact, reason,
+                          integrated_law(system, method), failure)  # fmt: skip
     res.notes = record_span_notes(t_eval, motion) + result_notes(
         res, Pm, evaluated[0], dt, motion, (rtol, atol, uplift)
     )

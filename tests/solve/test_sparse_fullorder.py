@@ -167,11 +167,25 @@ def test_large_model_stays_sparse():
     with pytest.raises(ValueError, match=r"dense kernels .*the sparse 'genalpha-lowrank' runs "
                        r"only the arctan or no friction law.*the cb fidelity"):  # fmt: skip
         s.with_isolation(law="switch").params(None)
+    # the same advice where the run asks for lift-off, or for the switch law on the sparse
+    # method (with or without its step): it said "use method 'auto' or 'genalpha-lowrank'",
+    # "use 'radau', 'genalpha' or 'event'" (each refusing the model), or "needs a fixed step"
+    advice = r"dense kernels .*the sparse 'genalpha-lowrank' runs only .*the cb fidelity"
+    g = Harmonic(1.0, 1.0)
+    switch, sparse = s.with_isolation(law="switch"), dict(method="genalpha-lowrank")
+    for system, kw in ((s, dict(contact="unilateral")),
+                       (s, dict(contact="unilateral", **sparse, dt=0.005)),
+                       (switch, sparse), (switch, dict(sparse, dt=0.005))):  # fmt: skip
+        with pytest.raises(ValueError, match=advice):
+            simulate(system, g, t_end=0.05, **kw)
     _, lam = s.static_equilibrium()
     assert lam.sum() == pytest.approx(frame.total_mass * s.isolation.g, rel=1e-9)
-    r = simulate(s, Harmonic(1.0, 1.0), t_end=0.05)
+    r = simulate(s, g, t_end=0.05)
     assert r.method == "genalpha-lowrank" and "full-order" in r.method_reason
     assert np.isfinite(r.response.x_iso_max)
+    given = simulate(s, g, t_end=0.05, method="genalpha-lowrank", dt=0.005)  # which operators
+    said = f"given: 'genalpha-lowrank' (full-order model, {s.n} dofs, sparse)"
+    assert given.method_reason == said
 
 
 def test_a_sparse_run_in_chunks_carries_the_scheme_s_acceleration(frame, monkeypatch):

@@ -271,13 +271,13 @@ class IsolatedSystem:
         return x0.copy(), lam0.copy()
 
     # ---- kernel parameters ----------------------------------------------------------------
-    def dense_refusal(self) -> str | None:
-        """Why the dense kernels cannot run this model (full-order, kept on sparse operators
-        alone: too many dofs), with what can; None when they can."""
+    def dense_refusal(self, contact: str | None = None) -> str | None:
+        """Why the dense kernels cannot run this model (full-order, on sparse operators alone:
+        too many dofs), with what can under a run's ``contact``; None when they can."""
         if isinstance(self.M, np.ndarray):
             return None
         iso = self.isolation
-        smooth = iso is None or iso.law != "switch" and iso.contact != "unilateral"
+        smooth = iso is None or iso.law != "switch" and (contact or iso.contact) != "unilateral"
         use = ("use method 'auto' or 'genalpha-lowrank' (sparse)" if smooth else "the "
                "sparse 'genalpha-lowrank' runs only the arctan or no friction law under "
                "bilateral or detect contact: use one, or the cb fidelity (fewer dofs) for "
