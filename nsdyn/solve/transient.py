@@ -3,10 +3,11 @@
 ``simulate(system, motion)`` integrates the isolated frame under the ground acceleration
 ``u''(t)`` (seed 004, eqs 8-15)::
 
-    M qdd + C qd + K q = -M Gamma [u''_hor, u''_ver + g] + R^T lam - D^T tau
+    M qdd + C* qd + K* q = -M Gamma [u''_hor, u''_ver + g] + R^T lam - D^T tau
 
-from the static gravity equilibrium with the contacts active (qd = 0 and
-``K q - R^T lam = -M Gamma [0, g]``, ``R q = 0``) or a given state, in chunks (progress after
+(C* and K* with the isolators' dampers and springs, ``system.C`` and ``system.K``) from the
+static gravity equilibrium with the contacts active (qd = 0 and
+``K* q - R^T lam = -M Gamma [0, g]``, ``R q = 0``) or a given state, in chunks (progress after
 each chunk, optional checkpoint file so an interrupted run resumes), and returns the histories
 with the metrics of :mod:`nsdyn.models.isolated.metrics`. The excitation may also be a force
 ``b F(t)`` (:class:`nsdyn.ground.HarmonicForce`, :class:`nsdyn.ground.ForceTable`).
