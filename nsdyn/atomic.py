@@ -132,20 +132,44 @@ def _busy(out: Path, fd: int) -> OutputBusy:
     return OutputBusy(f"{out}: {who} writes there; wait for it to end, or give another --out")
 
 
+PROBE_TRIES, PROBE_WAIT_S = 10, 0.02  # a probe's lock (check_free's) lasts microseconds
+try:
+    import fcntl as _fcntl  # noqa: F401  (POSIX: flock)
+
+    POSIX_LOCKS = True
+except ImportError:  # (Windows: nothing is locked)
+    POSIX_LOCKS = False
+
+
+def _locked(fd: int) -> bool:
+    """Take ``flock(LOCK_EX)`` on ``fd`` without blocking; False while another holds it,
+    after a few short waits: a probe of :func:`check_free` holds it only for an instant, and
+    a command that met one was refused for nothing."""
+    import fcntl
+    import time
+
+    for k in range(PROBE_TRIES):
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            return True
+        except BlockingIOError:
+            if k + 1 < PROBE_TRIES:
+                time.sleep(PROBE_WAIT_S)
+    return False
+
+
 def check_free(out: Path) -> None:
     """Raise :class:`OutputBusy` as :func:`out_lock` would if another command holds ``out``
     now, creating nothing: for a command to call before it says anything, so that a busy
     folder's error is its one line (the lock itself is still taken by :func:`out_lock`)."""
-    try:
-        import fcntl
-
-        fd = os.open(Path(out) / LOCK, os.O_RDONLY)
-    except (ImportError, OSError):  # not POSIX, no lock file (or no folder): nobody holds it
+    if not POSIX_LOCKS:
         return
     try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except BlockingIOError:
-        raise _busy(out, fd) from None
+        fd = os.open(Path(out) / LOCK, os.O_RDONLY)
+    except OSError:  # no lock file (or no folder): nobody holds it
+        return
+    if not _locked(fd):
+        raise _busy(out, fd)
     os.close(fd)  # (its lock with it)
 
 
@@ -156,18 +180,14 @@ def out_lock(out: Path, command: str) -> Iterator[None]:
     end), or raise :class:`OutputBusy` naming the command that holds it: two runs into one
     folder wrote over each other's results, and one deleted the other's checkpoint. Where
     ``fcntl`` is missing (not POSIX) nothing is locked."""
-    try:
-        import fcntl
-    except ImportError:
+    if not POSIX_LOCKS:
         yield
         return
     path = Path(out) / LOCK
     while True:  # a lock file its holder removed as we opened it: lock the one now there
         fd = os.open(path, os.O_RDWR | os.O_CREAT, FILE_MODE)
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            raise _busy(out, fd) from None
+        if not _locked(fd):
+            raise _busy(out, fd)
         try:
             if os.stat(path).st_ino == os.fstat(fd).st_ino:
                 break

@@ -216,3 +216,26 @@ def test_an_interrupted_command_names_an_earlier_commands_files_beside_its_own(
     assert said["status"] == 130 and said["notes"] == [f"{note}run-histories.npz"]
     assert sorted(p.name for p in out.iterdir() if not p.name.startswith(".")) == [
         "run-histories.npz"]  # fmt: skip
+
+
+def test_a_probe_of_the_folder_does_not_refuse_the_command_that_writes_there(tmp_path, monkeypatch):
+    # check_free takes the lock for an instant: a command whose out_lock met it was refused
+    # ("another nsdyn command writes there", 295 of 9 605 tries against a probing process);
+    # out_lock now waits a few short turns, as check_free does for another probe
+    import fcntl
+    import threading
+
+    import nsdyn.atomic as atomic
+
+    monkeypatch.setattr(atomic, "PROBE_TRIES", 1000)  # up to 20 s: not a timing test
+    (tmp_path / LOCK).touch()
+    fd = os.open(tmp_path / LOCK, os.O_RDONLY)
+    fcntl.flock(fd, fcntl.LOCK_EX)  # the probe, as check_free holds it
+    release = threading.Timer(0.1, lambda: os.close(fd))
+    release.start()
+    with atomic.out_lock(tmp_path, "sweep"):
+        assert (tmp_path / LOCK).read_text().startswith("nsdyn sweep")
+    release.join()
+    monkeypatch.setattr(atomic, "PROBE_TRIES", 2)  # a holder that stays: refused, named
+    with atomic.out_lock(tmp_path, "run"), pytest.raises(OutputBusy, match="nsdyn run \\(process"):
+        atomic.check_free(tmp_path)
