@@ -54,23 +54,33 @@ def watched(run, reached, progress, t_end: float, every: float | None = None):
     return box["result"]
 
 
-def point_gate():
-    """A ``due(k, n, plain) -> bool``: whether a curve's k-th point of ``n`` gets a progress
-    line. The first and the last do, and each that is not ``plain`` (no steady state); the
-    others at most one per :data:`WATCH_S` of wall time, so that a curve of 600 points at
-    0.04 s each says a few lines, not 600 (every point is in the CSV)."""
-    import time
+class PointLines:
+    """A curve's progress lines: ``lines(text, k, n, plain)`` says the line of its k-th point
+    of ``n`` when it is the first or the n-th, when it is not ``plain`` (no steady state), and
+    otherwise at most once per :data:`WATCH_S` of wall time, so that a curve of 600 points at
+    0.04 s each says a few lines, not 600 (every point is in the CSV). A line held back is
+    said by :meth:`close` if no other came after it: the curve's last point, which an
+    arclength curve (past its grid's n) or one that skipped frequencies knows only at its
+    end."""
 
-    last = [-float("inf")]
+    def __init__(self, say):
+        self.say, self.last, self.held = say, -float("inf"), None
 
-    def due(k: int, n: int, plain: bool = True) -> bool:
+    def __call__(self, text: str, k: int, n: int, plain: bool = True) -> None:
+        import time
+
         now = time.perf_counter()
-        if k <= 1 or k == n or not plain or now - last[0] >= WATCH_S:
-            last[0] = now
-            return True
-        return False
+        if k <= 1 or k == n or not plain or now - self.last >= WATCH_S:
+            self.say(text)
+            self.last, self.held = now, None
+        else:
+            self.held = text
 
-    return due
+    def close(self) -> None:
+        """Say the line held back, if any (the curve has ended)."""
+        if self.held is not None:
+            self.say(self.held)
+            self.held = None
 
 
 def curve_count(k: int, n: int, walls: list, continuation: str) -> tuple[str, str]:

@@ -1,5 +1,5 @@
 """The progress of a compiled run watched from another thread (nsdyn._progress.watched), and
-which of a curve's points get a line (nsdyn._progress.point_gate).
+which of a curve's points get a line (nsdyn._progress.PointLines).
 
 The watcher reports while the run is still going, hands back the run's result or raises its
 exception, and changes nothing of what the run computes: a pair system's or a deck's histories
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from nsdyn import _progress
-from nsdyn._progress import point_gate, watched
+from nsdyn._progress import PointLines, watched
 
 
 def test_progress_is_reported_while_the_run_goes_on_and_its_result_returned():
@@ -85,7 +85,23 @@ def test_a_curve_says_its_first_last_and_failed_points_and_others_once_a_watch(w
     # 600 points at 0.04 s said 600 lines; now the first and the last point and each without a
     # steady state are said always, the others at most once a WATCH_S (0: each; 1e9: none)
     monkeypatch.setattr(_progress, "WATCH_S", watch)
-    due = point_gate()
-    plain = [k not in (7, 300) for k in range(1, 601)]
-    said = [k for k in range(1, 601) if due(k, 600, plain[k - 1])]
+    said = []
+    lines = PointLines(said.append)
+    for k in range(1, 601):
+        lines(k, k, 600, k not in (7, 300))
+    lines.close()
     assert said == (list(range(1, 601)) if watch == 0.0 else [1, 7, 300, 600])
+
+
+def test_an_arclength_curve_s_last_point_is_said_when_it_ends(monkeypatch):
+    # an arclength curve counts past its grid's n (2 here, 12 points): its last point was not
+    # said (k == n fired mid-curve); the line held back is said when the curve ends
+    monkeypatch.setattr(_progress, "WATCH_S", 1.0e9)
+    said = []
+    lines = PointLines(said.append)
+    for k in range(1, 13):
+        lines(k, k, 2)
+    assert said == [1, 2]
+    lines.close()
+    lines.close()  # (said once)
+    assert said == [1, 2, 12]

@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nsdyn._progress import curve_count, point_gate
+from nsdyn._progress import PointLines, curve_count
 from nsdyn.atomic import atomic_open
 from nsdyn.models.isolated.friction import stick_slip
 from nsdyn.models.scenefile import SceneError, number
@@ -162,21 +162,20 @@ def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweep
         last[0] = time.perf_counter()
 
     walls = []  # this run's points' wall times (the estimate of the rest)
-    due = point_gate()
+    lines = PointLines(lambda text: print(text, file=sys.stderr, flush=True))
 
     def progress(pt, k, n):
         done.append(pt)
         walls.append(pt.quantities.get("wall_s"))
         if time.perf_counter() - last[0] > CHECKPOINT_EVERY_S:
             save(done)
-        if not quiet and due(k, n, pt.converged):
+        if not quiet:
             u = pt.quantities.get("u_peak_m", math.nan)
             u = f"|u|max={u:.4g} m" if pt.converged else "no steady state"
             of, left = curve_count(k, n, walls, settings.continuation)
-            print(f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
-                  f"it={pt.iterations:2d} {u} "
-                  f"({pt.quantities.get('wall_s', 0.0):.2f} s{left})", file=sys.stderr,
-                  flush=True)  # fmt: skip
+            lines(f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
+                  f"it={pt.iterations:2d} {u} ({pt.quantities.get('wall_s', 0.0):.2f} s{left})",
+                  k, n, pt.converged)  # fmt: skip
 
     from nsdyn.periodic.curve import EmptyCurveWarning
 
@@ -187,6 +186,7 @@ def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweep
                                points=settings.points, continuation=settings.continuation,
                                fallback=settings.fallback, progress=progress,
                                start=start)  # fmt: skip
+    lines.close()  # (the curve's last point, if its line was held back)
     save(curve.points, complete=True)
     rows = curve_rows(curve)
     for r in rows:

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from nsdyn._checks import InputWarning
-from nsdyn._progress import curve_count, point_gate
+from nsdyn._progress import PointLines, curve_count
 from nsdyn.atomic import atomic_open, differing
 from nsdyn.models.scenefile import SceneError
 from nsdyn.studies.workers import gather, process_pool, saved_on_interrupt
@@ -288,24 +288,20 @@ def amplitude_job(
         last_write[0] = time.perf_counter()
 
     walls = []  # this run's points' wall times (the estimate of the rest)
-    due = point_gate()
+    lines = PointLines(lambda text: print(text, file=sys.stderr, flush=True))
 
     def progress(pt, k, n):
         pts_done.append(pt)
         walls.append(pt.quantities.get("wall_s"))
         if time.perf_counter() - last_write[0] > CHECKPOINT_EVERY_S:
             save(pts_done)
-        if not quiet and due(k, n, pt.converged):
+        if not quiet:
             q = pt.quantities
             of, left = curve_count(k, n, walls, settings.continuation)
             x = f"x_iso={q.get('x_iso', math.nan):.2e}" if pt.converged else "no steady state"
-            print(
-                f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
-                f"it={pt.iterations:2d} {x} "
-                f"({q.get('wall_s', 0.0):.2f} s{left})",
-                file=sys.stderr,
-                flush=True,
-            )
+            lines(f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
+                  f"it={pt.iterations:2d} {x} ({q.get('wall_s', 0.0):.2f} s{left})",
+                  k, n, pt.converged)  # fmt: skip
 
     options = dict(
         fmin=settings.fmin,
@@ -333,6 +329,7 @@ def amplitude_job(
         else:
             curve = frequency_response(system, amplitude, **options)
             law = system.isolation.law
+    lines.close()  # (the curve's last point, if its line was held back)
     save(curve.points, complete=True)
     rows = curve.rows()
     for row in rows:

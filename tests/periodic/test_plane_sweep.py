@@ -117,15 +117,17 @@ def test_a_band_refused_against_the_scenes_end_names_that_end(tmp_path, capsys):
 
 
 def test_an_arclength_sweep_counts_its_points_without_a_grid_total(tmp_path, capsys, monkeypatch):
-    # the curve takes its own steps: "[A=0.981] 16/4" read as past its end (every point said)
+    # the curve takes its own steps: "[A=0.981] 16/4" read as past its end; with no point
+    # said for the time (WATCH_S), its first, its grid's second and its last (at fmax) are
     from nsdyn import _progress
 
-    monkeypatch.setattr(_progress, "WATCH_S", 0.0)
+    monkeypatch.setattr(_progress, "WATCH_S", 1.0e9)
     argv = ["sweep", str(SCENE), "--fmin", "0.35", "--fmax", "1.4", "--points", "2",
             "--continuation", "arclength", "--out", str(tmp_path), "--no-figures"]  # fmt: skip
     assert nsdyn_main(argv) == 0
     lines = [ln for ln in capsys.readouterr().err.splitlines() if ln.startswith("[A=")]
-    assert len(lines) > 2 and all("(arclength) f=" in ln and "/2 " not in ln for ln in lines)
+    assert len(lines) == 3 and all("(arclength) f=" in ln and "/2 " not in ln for ln in lines)
+    assert "f=  1.4000 Hz" in lines[-1]
 
 
 def test_default_range_and_amplitude_come_from_the_scene(tmp_path, capsys, monkeypatch):
