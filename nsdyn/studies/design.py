@@ -18,6 +18,7 @@ feasible value, so objectives of different units weigh alike).
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -74,29 +75,41 @@ def bounds(constraints: dict) -> list[tuple[str, str, float]]:
     """``(name, "max" | "min", bound)`` of each constraint: a number is an upper bound, a
     table ``{min = a, max = b}`` gives either or both; anything else is a ValueError naming
     ``constraints[name]``."""
+    if constraints is None:
+        return []
     if not isinstance(constraints, dict):
         raise TypeError(f"constraints: expected a dict of column name -> bound, got "
                         f"{constraints!r}")  # fmt: skip
     out = []
     for k, g in constraints.items():
         for side, v in g.items() if isinstance(g, dict) else [("max", g)]:
-            if (side not in ("min", "max") or isinstance(v, bool)
-                    or not isinstance(v, int | float) or not math.isfinite(v)):  # fmt: skip
-                raise ValueError(f"constraints[{k!r}]: expected a finite number (an upper "
-                                 f"bound) or {{'min': a, 'max': b}}, got {g!r}")  # fmt: skip
+            if side not in ("min", "max") or not _real(v) or math.isnan(v):
+                raise ValueError(f"constraints[{k!r}]: expected a number (an upper bound) or "
+                                 f"{{'min': a, 'max': b}}, got {g!r}")  # fmt: skip
             out.append((k, side, float(v)))
     return out
 
 
+def _real(v) -> bool:
+    """A real number (numpy's too), not a bool."""
+    return isinstance(v, numbers.Real) and not isinstance(v, bool | np.bool_)
+
+
 def column_list(table: Table, arg: str, names, strict: bool = True, empty_ok: bool = True):
-    """``names`` as a list of ``table``'s column names: a TypeError for a bare string (one
-    column per letter) or a non-text entry, a ValueError for none where one is needed, and
-    with ``strict`` a KeyError naming the nearest column for a name no row has (a typo read
-    as NaN made every design infeasible)."""
+    """``names`` (any sequence of text: a list, a tuple, an array, a pandas Index) as a list
+    of ``table``'s column names: a TypeError for a bare string (one column per letter) or a
+    non-text entry, a ValueError for none where one is needed, and with ``strict`` a KeyError
+    naming the nearest column for a name no row has (a typo read as NaN made every design
+    infeasible)."""
     from nsdyn._checks import did_you_mean
 
-    if not isinstance(names, list | tuple) or not all(isinstance(n, str) for n in names):
+    try:
+        listed = None if isinstance(names, str) else list(names)
+    except TypeError:  # (not iterable)
+        listed = None
+    if listed is None or not all(isinstance(n, str) for n in listed):
         raise TypeError(f"{arg}: expected a list of column names, got {names!r}")
+    names = listed
     if not names and not empty_ok:
         raise ValueError(f"{arg}: expected one column name or more, got {names!r}")
     known = table.columns if strict and table.rows else ()
@@ -127,6 +140,7 @@ def design_points(
         raise ValueError(f"aggregate: expected one of {AGGREGATES}, got {aggregate!r}")
     variables = column_list(table, "variables", variables, strict)
     objectives = column_list(table, "objectives", objectives, strict, empty_ok=False)
+    constraints = {} if constraints is None else constraints  # (None: none)
     limits = bounds(constraints)
     column_list(table, "constraints", list(constraints), strict)
     if not table.rows:
@@ -211,10 +225,11 @@ def percentile_table(
     ``strict`` as in :func:`design_points`."""
     quantities = column_list(table, "quantities", quantities, strict, empty_ok=False)
     by = column_list(table, "by", by, strict)
-    if not isinstance(q, list | tuple | np.ndarray) or not all(
-        isinstance(p, int | float | np.number) and not isinstance(p, bool) and 0 <= p <= 100
-        for p in q
-    ):
+    try:
+        qs = None if isinstance(q, str) else list(q)
+    except TypeError:  # (a bare number)
+        qs = None
+    if qs is None or not all(_real(p) and 0 <= p <= 100 for p in qs):
         raise ValueError(f"q: expected a list of percentiles in [0, 100], got {q!r}")
     out = []
     ok = np.array([r.get("status") == "ok" for r in table.rows], dtype=bool)
@@ -229,7 +244,7 @@ def percentile_table(
         for k in quantities:
             x = cols[k][good]
             x = x[np.isfinite(x)]
-            for p in q:
+            for p in qs:
                 row[f"{k}_p{p:g}"] = float(np.percentile(x, p)) if x.size else float("nan")
             row[f"{k}_mean"] = float(x.mean()) if x.size else float("nan")
         out.append(row)

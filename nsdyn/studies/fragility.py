@@ -76,11 +76,11 @@ class LognormalFragility:
 
 
 def _intensities(x, positive: bool = False) -> np.ndarray:
-    """``x`` as floats, each finite and >= 0 (> 0 with ``positive``); a ValueError otherwise
-    (a negative IM gave NaN and a RuntimeWarning)."""
+    """``x`` as floats, each >= 0 (> 0 with ``positive``); a ValueError otherwise (a negative
+    IM gave NaN and a RuntimeWarning). NaN stays NaN, and P(inf) = 1."""
     a = np.asarray(x, dtype=float)
-    if not np.all(np.isfinite(a)) or np.any(a <= 0 if positive else a < 0):
-        raise ValueError(f"x: expected finite intensity measures {'>' if positive else '>='} 0, "
+    if np.any(a <= 0 if positive else a < 0):
+        raise ValueError(f"x: expected intensity measures {'>' if positive else '>='} 0, "
                          f"got {x!r}")  # fmt: skip
     return a
 

@@ -181,10 +181,10 @@ def test_a_fixed_base_design_meets_the_default_gap(tmp_path, capsys):
         (lambda t: design_points(t, ["isolation.mu"], [], {}), ValueError,
          "objectives: expected one column name or more, got []"),
         (lambda t: design_points(t, ["isolation.mu"], ["idr_max"], {"x_iso_max_m": "big"}),
-         ValueError, "constraints['x_iso_max_m']: expected a finite number (an upper bound) "
+         ValueError, "constraints['x_iso_max_m']: expected a number (an upper bound) "
          "or {'min': a, 'max': b}, got 'big'"),
         (lambda t: design_points(t, ["isolation.mu"], ["idr_max"], {"x_iso_max_m": {"mn": 1}}),
-         ValueError, "constraints['x_iso_max_m']: expected a finite number"),
+         ValueError, "constraints['x_iso_max_m']: expected a number"),
         (lambda t: percentile_table(t, ["idr_mx"], ["isolation.mu"]), KeyError,
          "quantities: 'idr_mx': no such column; did you mean 'idr_max'?"),
         (lambda t: percentile_table(t, "idr_max", ["isolation.mu"]), TypeError,
@@ -212,3 +212,18 @@ def test_a_study_s_analyses_read_a_missing_column_as_nan_and_an_empty_table_has_
     pts = design_points(t, ["isolation.mu"], ["idr_mx"], {}, strict=False)
     assert pts and all(np.isnan(p.objectives["idr_mx"]) and not p.feasible for p in pts)
     assert design_points(Table([]), ["isolation.mu"], ["idr_max"], {}) == []
+
+
+def test_names_and_numbers_come_as_any_sequence_and_any_real_number():
+    # a numpy array or pandas Index of names, numpy numbers as bounds and percentiles, a
+    # range of percentiles and no constraints (None) are what they say, as before the checks
+    t = _table()
+    by_list = design_points(t, ["isolation.mu", "isolation.c"], ["idr_max"], {"x_iso_max_m": 0.4})
+    by_array = design_points(t, np.array(["isolation.mu", "isolation.c"]), ("idr_max",),
+                             {"x_iso_max_m": np.float32(0.4)})  # fmt: skip
+    assert [p.row() for p in by_list] == [p.row() for p in by_array]
+    assert all(p.feasible or p.n_failed for p in design_points(t, ["isolation.mu"], ["idr_max"],
+                                                                None))  # fmt: skip
+    rows = percentile_table(t, np.array(["idr_max"]), ["isolation.mu"], q=range(0, 101, 50))
+    same = percentile_table(t, ["idr_max"], ["isolation.mu"], q=[np.int64(0), 50, 100.0])
+    assert rows == same and "idr_max_p50" in rows[0]
