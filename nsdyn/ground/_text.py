@@ -237,6 +237,7 @@ def parse_table(text: str, source: str) -> Table:
     names: list[str] | None = None
     units: list[str | None] | None = None
     names_line = None  # the line that gave them (the header's last one, when a row follows)
+    names_at = None  # the index in ``lines`` of the first line read as names
     first = None  # index in ``lines`` of the first row of numbers
     for i, (_, s) in enumerate(lines):
         if not s:
@@ -267,12 +268,14 @@ def parse_table(text: str, source: str) -> Table:
             named = names_and_units(toks)
             if named is not None:
                 (names, units), names_line = named, s
+                names_at = i if names_at is None else names_at  # (the first such line)
             continue
         first = i
         break
     if first is None:
-        width = len(names) if names is not None else 0  # rows of the names' width, digits in
-        rows = [(n, s) for n, s in lines if s and not is_comment(s) and len(fields(s)) == width
+        width = len(names) if names is not None else 0  # rows after the names, of their
+        after = lines[names_at + 1 :] if names_at is not None else []  # width, digits in each
+        rows = [(n, s) for n, s in after if s and not is_comment(s) and len(fields(s)) == width
                 and all(any(c.isdigit() for c in t) for t in fields(s))]  # fmt: skip
         if rows:  # every cell text ("np.float64(1.0)"): it named the file's last line
             n, s = rows[0]

@@ -215,7 +215,7 @@ class GroundMotion3(Sampled):
         }[component]()
         if peak == 0.0:
             why = "(every sample)"
-            if component == "geomean":  # (one component at rest makes it zero)
+            if component == "geomean" and self.pga_resultant > 0.0:  # (one component at rest)
                 why = f"(sqrt(PGA_x PGA_y): {'x' if self.pga_x == 0.0 else 'y'} is zero everywhere)"
             raise ValueError(f"record {self.name!r}: the {component} peak acceleration is zero "
                              f"{why}; it cannot be scaled to a peak")  # fmt: skip

@@ -136,12 +136,13 @@ def _names_x_and_y(text: str) -> bool:
 
 
 _NUMBER = r"\d+(?:\.\d*)?(?:e[+-]?\d+)?"
+PEAK_SAID_RTOL = 1e-3  # a peak quoted to 4 digits is the larger component's within this
 
 
 def _peak_said(text: str) -> float:
     """The peak a units warning of one component quotes ("its peak 0.306 m/s²", "PGA = 300
-    m/s²"), or inf where it quotes none (a component large enough not to look like g): of
-    the x and y components' warnings the file's is the larger peak's."""
+    m/s²"), or inf where it quotes none: of the x and y components' warnings the record's
+    is the larger component's (a small x beside a plausible y is no sign of units)."""
     m = re.search(rf"(?:; its peak |PGA = )({_NUMBER})", text)
     return float(m.group(1)) if m else float("inf")
 
@@ -153,16 +154,16 @@ def _table3(path, source: str, cols: dict[str, str], units, dt) -> GroundMotion3
                         units=units, dt=dt)  # fmt: skip
         y = read_motion(path, fmt="multi-column", column=cols["y"], vertical=cols.get("z"),
                         units=units, dt=dt)  # fmt: skip
-    said: dict[str, warnings.WarningMessage] = {}
+    top, said = max(x.pga, y.pga), set()
     for w in caught:  # (one zero component is a motion along the other: no warning)
         text = str(w.message)
-        key = re.sub(_NUMBER, "#", text.split("; its peak ", 1)[0])  # (units: of the larger peak)
-        if key in said and _peak_said(text) <= _peak_said(str(said[key].message)):
+        peak = _peak_said(text)  # a peak's plausibility or units: the record's, the larger
+        if peak != float("inf") and abs(peak - top) > PEAK_SAID_RTOL * top:
             continue
-        if "zero at every sample" not in text or x.pga == y.pga == 0.0:
-            said[key] = w
-    for w in said.values():
-        warnings.warn(w.message, stacklevel=3)
+        key = re.sub(_NUMBER, "#", text.split("; its peak ", 1)[0])  # (once: x's and y's)
+        if key not in said and ("zero at every sample" not in text or top == 0.0):
+            said.add(key)
+            warnings.warn(w.message, stacklevel=3)
     meta = {**x.meta, "columns3": cols}
     return GroundMotion3(x.t0, x.dt, x.a_hor, y.a_hor, x.a_ver, x.name, source, meta)
 

@@ -445,6 +445,19 @@ def test_a_csv_without_units_warns_once_quoting_its_larger_component(tmp_path, s
     assert len(said) == 1 and f"{needle}{3.0 * scale:.4g} m/s²" in said[0], said
 
 
+def test_a_small_component_beside_a_plausible_one_is_no_sign_of_units(tmp_path):
+    # x peaks at 0.002 m/s^2, y at 3: "PGA = 0.002 m/s^2 < 0.01 m/s^2; the file is probably
+    # in g" was said of x, though the record's peak (y's) is plausible
+    import warnings
+
+    path = tmp_path / "rec.csv"
+    path.write_text("t,ax,ay\n0,0.001,1.0\n0.01,-0.002,-3.0\n0.02,0.001,2.0\n")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        read_motion3(path, units="m/s2")
+    assert [str(w.message) for w in caught] == []
+
+
 def test_a_named_time_column_anywhere_and_semicolons_are_read():
     # "ay,t,az,ax" said "the file has no time column"; "t;ax;ay" said "missing component y"
     import tempfile

@@ -90,6 +90,9 @@ def test_a_declined_table_is_refused_with_its_line(text, line, expected):
         ("t,ax\nnp.float64(0.0),np.float64(1.0)\nnp.float64(0.01),np.float64(2.0)\n", 2,
          "expected numbers, found 'np.float64(0.0)' in 'np.float64(0.0),np.float64(1.0)'"),
         ("t,ax\n", 1, "expected numeric data, found none"),  # names alone: none to name
+        ("t1 a1 a2\n", 1, "expected numeric data, found none"),  # (names with digits too)
+        ("1999-08-17 M7.4 330deg\nt ax ay\nnp.float64(0) np.float64(1) np.float64(2)\n", 3,
+         "expected numbers, found 'np.float64(0)'"),  # a title before the names: not named
     ],
 )  # fmt: skip
 def test_a_table_without_a_row_of_numbers_names_its_first_row(text, line, expected):
