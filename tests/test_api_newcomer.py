@@ -89,7 +89,7 @@ def test_with_isolation_takes_an_isolation_in_place_of_the_system_s_and_its_chan
     # s.with_isolation(nsdyn.Isolation(...)) was a TypeError ("takes 1 positional argument")
     s = nsdyn.build_system("office-11", fidelity="rigid")
     iso = nsdyn.Isolation(mu=0.08, law="switch")
-    assert s.with_isolation(iso).isolation == iso
+    assert s.with_isolation(iso).isolation == s.with_isolation(isolation=iso).isolation == iso
     assert s.with_isolation(iso, c=0.0).isolation == dataclasses.replace(iso, c=0.0)
     by_fields = s.with_isolation(mu=0.08, law="switch")
     assert by_fields.isolation == dataclasses.replace(s.isolation, mu=0.08, law="switch")

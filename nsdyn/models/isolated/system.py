@@ -217,16 +217,16 @@ class IsolatedSystem:
         gh = self.Gamma[:, 0]
         return float(gh @ self.M @ gh)
 
-    def with_isolation(self, isolation=None, /, *, builder=None, **changes) -> IsolatedSystem:
+    def with_isolation(self, isolation=None, *, builder=None, **changes) -> IsolatedSystem:
         """A copy with isolator or friction settings changed (matrices rebuilt if needed): an
         :class:`Isolation` in place of the system's, fields changed (``mu=0.1``), or both.
 
         ``builder(frame, isolation, fidelity=, f_max=, **kw)`` builds a model from a frame
         (default :func:`build_system`; the scenes pass one through the model cache)."""
-        if self.isolation is None:
-            raise ValueError("a fixed-base model has no isolation to change")
         if isolation is not None and not isinstance(isolation, Isolation):
             raise TypeError(f"isolation: expected an Isolation, got {type(isolation).__name__}")
+        if self.isolation is None:
+            raise ValueError("a fixed-base model has no isolation to change")
         iso = (isolation or self.isolation).changed(**changes)
         if self.frame is None:  # built from matrices: the builder kept its arguments
             return self.info["rebuild"](isolation=iso)
