@@ -112,14 +112,16 @@ def constant(path: str) -> tuple[str, str] | None:
         try:
             ast.literal_eval(node.value)
         except ValueError:
-            code = f"{name}: {ast.unparse(node.annotation)}" if node.annotation else name
+            hint = getattr(node, "annotation", None)  # (an AnnAssign's)
+            code = f"{name}: {ast.unparse(hint)}" if hint is not None else name
         note = first.partition("  # ")[2] if node.end_lineno == node.lineno else ""
         if note.startswith(("fmt:", "noqa")):
             note = ""
-        above = node.lineno - 2
+        above, block = node.lineno - 2, []
         while not note and above >= 0 and re.match(r"# (?!-)", lines[above]):
-            note, above = lines[above][2:] + " " + note, above - 1  # a block above: upwards
-        return (code if len(code) <= 100 else name), note.strip()
+            block.insert(0, lines[above][2:])  # a comment block just above: all its lines
+            above -= 1
+        return (code if len(code) <= 100 else name), (note or " ".join(block)).strip()
     return None
 
 

@@ -99,3 +99,21 @@ def test_the_api_page_shows_each_constant_with_its_value():
             assert value == getattr(importlib.import_module(mod), name), heading
             shown += 1
     assert shown >= 4  # G_EARTH, G_STANDARD, CONTACTS, FIDELITIES
+
+
+def test_a_constant_s_note_is_its_whole_comment_block_and_a_call_is_shown_by_name(
+    tmp_path, monkeypatch
+):
+    # a two-line comment above kept its last line alone; a plain assignment of a call raised
+    # AttributeError (an Assign has no annotation)
+    src = tmp_path / "mod.py"
+    src.write_text("# the first line of a block\n# that goes on here\nBLOCK = 3\n"
+                   "CALLED = dict(a=1)  # made by a call\n")  # fmt: skip
+    monkeypatch.setattr(api, "_module_file", lambda module: src)
+    api._tree.cache_clear()
+    try:
+        assert api.constant("fake.BLOCK") == ("BLOCK = 3", "the first line of a block that "
+                                              "goes on here")  # fmt: skip
+        assert api.constant("fake.CALLED") == ("CALLED", "made by a call")
+    finally:
+        api._tree.cache_clear()
