@@ -179,3 +179,19 @@ def test_a_harmonic_scene_is_refused_at_once_for_what_it_is(kind, said, tmp_path
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and said in err
     assert not (tmp_path / "h.py").exists()
+
+
+@pytest.mark.parametrize("extra", [[], ["--t-end", "0.05"], ["--fixed-base", "--t-end", "1"]])
+def test_a_building_under_an_orbit_is_refused_with_or_without_an_end(extra, tmp_path, capsys):
+    # with --t-end the orbit was cut first: AttributeError ('HarmonicPlane' object has no
+    # attribute 'until'), a traceback and status 1
+    b3 = tmp_path / "b.toml"
+    b3.write_text('[scene]\nkind = "building3d"\n[structure]\nframe3d = "portal-3d"\n'
+                  'fidelity = "rigid"\n[bearing]\nmu = 0.05\nradius = 2.0\n[motion]\n'
+                  'kind = "orbit"\norbit = "circular"\nfrequency = 0.4\namplitude = 0.5\n'
+                  'n_periods = 2\n')  # fmt: skip
+    assert main(["export", "opensees", str(b3), "-o", str(tmp_path / "m.py"), *extra]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "motion: OpenSees export needs a three-component record " \
+        "(kind = 'record3'), not an orbit" in err  # fmt: skip
+    assert not (tmp_path / "m.py").exists()

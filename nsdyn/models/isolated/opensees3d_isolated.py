@@ -315,6 +315,13 @@ def _gravity(frame, g: float) -> list:
     return (-g * (M @ rz)).reshape(frame.n_nodes, 6).tolist()
 
 
+def _need_record3(motion, source: str) -> None:
+    """SceneError unless ``motion`` is a three-component record (an orbit has no samples)."""
+    if not hasattr(motion, "dt") or getattr(motion, "ax", None) is None:
+        raise SceneError(f"{source}: motion: OpenSees export needs a three-component record "
+                         "(kind = 'record3'), not an orbit")  # fmt: skip
+
+
 def building_data(
     frame,
     bearings,
@@ -338,9 +345,7 @@ def building_data(
     g = G_EARTH if g is None else float(g)
     if not (isinstance(dt, int | float) and math.isfinite(dt) and dt > 0):
         raise SceneError(f"{source}: solver.dt: expected a positive time step [s], got {dt!r}")
-    if not hasattr(motion, "dt") or getattr(motion, "ax", None) is None:
-        raise SceneError(f"{source}: motion: OpenSees export needs a three-component record "
-                         "(kind = 'record3'), not an orbit")  # fmt: skip
+    _need_record3(motion, source)
     data = frame_data_3d(frame, "consistent")
     if base not in BASES:
         raise SceneError(f"{source}: structure.base: expected one of {list(BASES)}, got {base!r}")
@@ -494,6 +499,7 @@ def export_building_opensees(
         motion = rec if motion is None else motion
     if not fixed and bearings is None:
         raise SceneError(f"{source}: bearing: the building on isolators needs its bearings")
+    _need_record3(motion, source)  # (before t_end cuts it: an orbit has no until)
     if t_end is not None:
         if not (isinstance(t_end, int | float) and t_end > 0):
             raise SceneError(f"{source}: t_end: expected a positive end time [s], got {t_end!r}")
