@@ -4,9 +4,9 @@
 fixed-interface mode damped; :mod:`nsdyn.models.isolated.fullorder`) of the office frame under
 the bundled 40 s record (PGA 3 m/s^2) with ``genalpha-lowrank`` on its sparse operators
 (:mod:`nsdyn.solve.fullorder`) at dt 0.005 and 0.0025, radau (dense kernels) at the transient
-defaults on a window of ``RADAU_WINDOW_S`` (its time scaled to the whole record, said in the
+defaults on a window of ``RADAU_WINDOW_S`` s (its time scaled to the whole record, said in the
 row), and the CB-5 model with radau on the whole record. Wall times are medians of
-``REPEATS`` runs in one process; the factorisation (``setup_s``) and numba compilation
+``--repeats`` runs in one process; the factorisation (``setup_s``) and numba compilation
 (``warmup_s``) are reported apart. Accuracy: relative errors of the peaks (isolator
 displacement, IDR, floor acceleration) against radau on the common window::
 

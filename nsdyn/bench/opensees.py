@@ -1,7 +1,7 @@
 """The full frame in OpenSees (exported script) against nsdyn full and nsdyn's default CB-5 run.
 
 ``nsdyn bench opensees`` (``opensees.csv``): the office frame's full FE model (435 dofs) on the
-benchmark isolators under the bundled record (PGA 3 m/s^2; ``--quick``: its first 3 s),
+benchmark isolators under the bundled record (PGA 3 m/s^2; ``--quick``: its first 3 s):
 
 - OpenSees: the script of :func:`nsdyn.models.isolated.opensees.export_opensees`, run in this
   process (Newmark, flatSliderBearing; time of the step loop), with the export's modal damping

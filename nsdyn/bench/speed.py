@@ -5,8 +5,8 @@
 40 s record at PGA 3 m/s^2, radau at the scene's tolerances, output every dt_out) and, when
 ``shared/records`` is found, the four Kobe 1995 records at the same PGA, first 40 s. Per
 record: nsdyn's steps, wall time (median of 2 x ``repeats`` runs, half before and half after
-SciPy's) and errors against radau at SPEED_REF_RTOL, itself checked against
-SPEED_CHECK_RTOL::
+SciPy's) and errors against radau at rtol :data:`SPEED_REF_RTOL`, itself checked against
+:data:`SPEED_CHECK_RTOL`::
 
     err_x   = max_{t, i} |x_iso,i - x_iso,i^ref| / max |x_iso^ref|,
     err_idr = |IDR_max / IDR_max^ref - 1|;

@@ -139,9 +139,16 @@ def benchmark_help(args: list[str]) -> str | None:
                       *(f"[{_FLAG[o]}{meta.get(o, '')}]" for o in own),
                       *["[--no-figures]"] * ("figures" in taken), "[--json]"])  # fmt: skip
     about = "\n\n".join((module.__doc__ or "").strip().split("\n\n")[:2])
+
+    def value(m) -> str:  # a numeric constant's value; any other name as written
+        v = getattr(module, m[1], None)
+        return f"{v:g}" if isinstance(v, int | float) and not isinstance(v, bool) else m[1]
+
+    about = re.sub(r":data:`~?([A-Z][A-Z0-9_]+)`", value, about)  # (RECORD_S: 10.0)
     about = re.sub(r":\w+:`~?([^`]+)`", r"\1", about.replace("``", "`").replace("::", ":"))
-    about = about[:-1] + " (more in its module's text)" if about.endswith(":") else about
-    about = re.sub(r"`([A-Z][A-Z0-9_]+)`", lambda m: f"{getattr(module, m[1], m[0])}", about)
+    more = " (more in its module's text)"  # (a list follows: "...:" or "...,")
+    about = about[:-1] + more if about.endswith((":", ",")) else about
+    about = re.sub(r"`([A-Z][A-Z0-9_]+)`", value, about)
 
     def option(flag: str, text: str) -> str:
         return textwrap.fill(text, 88, initial_indent=f"  {flag:<16}", subsequent_indent=" " * 18,

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import inspect
 import json
+import re
 import sys
 
 import pytest
@@ -131,6 +132,11 @@ def test_a_benchmarks_help_lists_what_it_measures_and_the_options_it_takes(capsy
         module = registry.load_benchmark(name)
         assert text.startswith(f"usage: nsdyn bench {name} [--quick] [--out DIR]"), name
         assert module.__doc__.splitlines()[0].replace("``", "`") in text
+        about = text.split("options of this benchmark:")[0]
+        # no role left unread, no constant's name for its value ("its first RECORD_S
+        # seconds"), no sentence cut at a comma before its list
+        assert ":data:" not in about and not re.search(r"`[A-Z][A-Z0-9_]+`", about), name
+        assert not about.rstrip().endswith(","), name
         own = text.split("options of this benchmark:")[1].split("options of every")[0]
         for flag, option in command._GIVEN:  # listed exactly when taken (else refused)
             assert (f"  {flag}" in own) == (option in getattr(module, "OPTIONS", ())), (name, flag)
