@@ -247,6 +247,8 @@ def simulate_pairs_sparse(
         uu, vv = D @ q, D @ v
         UU[k], VV[k] = uu.reshape(ni, 2), vv.reshape(ni, 2)
         NO[k] = lam_o
+        parts_o = np.array(parts_o)  # (a copy: the α points' own stay as they are)
+        kz.clip_friction(bp, vv, lam_o, parts_o)  # (in the disc μN, as the law)
         FF[k], FR[k], FO[k] = parts_o[:, 0:2], parts_o[:, 2:4], parts_o[:, 4:6]
         if OUT is not None:
             OUT[k], ACC[k] = Tm @ q, Tm @ a

@@ -286,3 +286,17 @@ def test_building_response_equals_the_craig_bampton_full_rungs(runs, portal):
         assert err <= 1.5 * est
         assert est <= 1e-2  # in the asymptotic range: the h² law holds
     assert a.summary()["peak_drift_cm_x"] == pytest.approx(b.summary()["peak_drift_cm_x"], 1e-4)
+
+
+def test_the_written_friction_stays_in_its_disc_at_a_coarse_step(portal):
+    # the α points' forces carried linearly to the output times left the disc μ(|v|) N at slip
+    # onset (29 % over μN at dt = 10 ms, sharp law); the law never leaves it: each written
+    # friction is within μ(|v|) N, to the round-off of the scaling (a few eps)
+    s = building_pairs_sparse(portal, FPS)
+    r = simulate_pairs_sparse(s, ORBIT, dt=1e-2, t_end=T_END, dt_out=0.01, eps=7500.0)
+    speed = np.linalg.norm(r.v, axis=-1)  # each bearing's slip speed at the outputs
+    fric = np.linalg.norm(r.friction, axis=-1)
+    mu = FPS.friction.mu_fast - (FPS.friction.mu_fast - FPS.friction.mu_slow) * np.exp(
+        -FPS.friction.rate * speed)  # fmt: skip
+    assert np.all(fric <= mu * r.N * (1 + 8 * EPS))
+    assert np.any(fric >= 0.99 * mu * r.N)  # (it slips: the bound is reached)
