@@ -66,7 +66,9 @@ class PointLines:
     def __init__(self, say):
         self.say, self.last, self.held = say, -float("inf"), None
 
-    def __call__(self, text: str, k: int, n: int, plain: bool = True) -> None:
+    def __call__(self, text: str, k: int, n: int, plain: bool = True, final=None) -> None:
+        """``final``: the line to say instead if this one is held back and turns out the
+        curve's last (without its estimate of the time left); default ``text``."""
         import time
 
         now = time.perf_counter()
@@ -74,10 +76,11 @@ class PointLines:
             self.say(text)
             self.last, self.held = now, None
         else:
-            self.held = text
+            self.held = text if final is None else final
 
     def close(self) -> None:
-        """Say the line held back, if any (the curve has ended)."""
+        """Say the line held back, if any (the curve has ended, or stopped: an interrupt or
+        an error, after its points so far)."""
         if self.held is not None:
             self.say(self.held)
             self.held = None

@@ -105,3 +105,14 @@ def test_an_arclength_curve_s_last_point_is_said_when_it_ends(monkeypatch):
     lines.close()
     lines.close()  # (said once)
     assert said == [1, 2, 12]
+
+
+def test_a_held_last_line_is_said_without_its_time_left(monkeypatch):
+    # a curve that ended (or stopped) after a held-back point said "(0.01 s, about 0 s left)"
+    monkeypatch.setattr(_progress, "WATCH_S", 1.0e9)
+    said = []
+    lines = PointLines(said.append)
+    lines("p1 (0.01 s, about 9 s left)", 1, 6, final="p1 (0.01 s)")
+    lines("p4 (0.01 s, about 2 s left)", 4, 6, final="p4 (0.01 s)")
+    lines.close()
+    assert said == ["p1 (0.01 s, about 9 s left)", "p4 (0.01 s)"]

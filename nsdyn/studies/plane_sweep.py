@@ -18,6 +18,7 @@ the scene's orbit frequency; without amplitudes, the scene's orbit amplitude.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -173,20 +174,20 @@ def amplitude_job(cfg: dict, source: str, amplitude: float, settings: PlaneSweep
             u = pt.quantities.get("u_peak_m", math.nan)
             u = f"|u|max={u:.4g} m" if pt.converged else "no steady state"
             of, left = curve_count(k, n, walls, settings.continuation)
-            lines(f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
-                  f"it={pt.iterations:2d} {u} ({pt.quantities.get('wall_s', 0.0):.2f} s{left})",
-                  k, n, pt.converged)  # fmt: skip
+            wall = pt.quantities.get("wall_s", 0.0)
+            line = (f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
+                    f"it={pt.iterations:2d} {u} ({wall:.2f} s")  # fmt: skip
+            lines(f"{line}{left})", k, n, pt.converged, final=f"{line})")
 
     from nsdyn.periodic.curve import EmptyCurveWarning
 
     with (saved_on_interrupt(lambda: len(done) > n_resumed and save(done)),  # (for a rerun)
-          warnings.catch_warnings()):  # fmt: skip
+          warnings.catch_warnings(), contextlib.closing(lines)):  # fmt: skip
         warnings.simplefilter("ignore", EmptyCurveWarning)  # (said by its status 3)
         curve = plane_response(pb, fmin=settings.fmin, fmax=settings.fmax,
                                points=settings.points, continuation=settings.continuation,
                                fallback=settings.fallback, progress=progress,
                                start=start)  # fmt: skip
-    lines.close()  # (the curve's last point, if its line was held back)
     save(curve.points, complete=True)
     rows = curve_rows(curve)
     for r in rows:

@@ -14,6 +14,7 @@ The command line (``nsdyn sweep``) is :mod:`nsdyn.cli.sweep`.
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import json
 import math
@@ -299,9 +300,9 @@ def amplitude_job(
             q = pt.quantities
             of, left = curve_count(k, n, walls, settings.continuation)
             x = f"x_iso={q.get('x_iso', math.nan):.2e}" if pt.converged else "no steady state"
-            lines(f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
-                  f"it={pt.iterations:2d} {x} ({q.get('wall_s', 0.0):.2f} s{left})",
-                  k, n, pt.converged)  # fmt: skip
+            line = (f"[A={amplitude:g}] {k:4d}{of} f={pt.f:8.4f} Hz {pt.method:9s} "
+                    f"it={pt.iterations:2d} {x} ({q.get('wall_s', 0.0):.2f} s")  # fmt: skip
+            lines(f"{line}{left})", k, n, pt.converged, final=f"{line})")
 
     options = dict(
         fmin=settings.fmin,
@@ -318,7 +319,7 @@ def amplitude_job(
     from nsdyn.periodic.response import BilateralOrbitWarning
 
     with (saved_on_interrupt(lambda: len(pts_done) > n_resumed and save(pts_done)),
-          warnings.catch_warnings()):  # fmt: skip
+          warnings.catch_warnings(), contextlib.closing(lines)):  # fmt: skip
         warnings.simplefilter("ignore", EmptyCurveWarning)  # (said by its status 3)
         warnings.simplefilter("ignore", BilateralOrbitWarning)  # (said once: bilateral_sweep_note)
         if settings.friction == "switch":  # (interrupted: the points so far kept for a rerun)
@@ -329,7 +330,6 @@ def amplitude_job(
         else:
             curve = frequency_response(system, amplitude, **options)
             law = system.isolation.law
-    lines.close()  # (the curve's last point, if its line was held back)
     save(curve.points, complete=True)
     rows = curve.rows()
     for row in rows:
