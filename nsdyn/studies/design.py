@@ -83,7 +83,12 @@ def bounds(constraints: dict) -> list[tuple[str, str, float]]:
     out = []
     for k, g in constraints.items():
         for side, v in g.items() if isinstance(g, dict) else [("max", g)]:
-            if side not in ("min", "max") or not _real(v) or math.isnan(v):
+            if (
+                side not in ("min", "max")
+                or not _real(v)
+                or math.isnan(v)
+                or v == (-math.inf if side == "max" else math.inf)
+            ):  # (none could hold)
                 raise ValueError(f"constraints[{k!r}]: expected a number (an upper bound) or "
                                  f"{{'min': a, 'max': b}}, got {g!r}")  # fmt: skip
             out.append((k, side, float(v)))
@@ -103,13 +108,13 @@ def column_list(table: Table, arg: str, names, strict: bool = True, empty_ok: bo
     infeasible)."""
     from nsdyn._checks import did_you_mean
 
-    try:
-        listed = None if isinstance(names, str) else list(names)
+    try:  # (a set has no order: its columns came in another order each run)
+        listed = None if isinstance(names, str | set | frozenset) else list(names)
     except TypeError:  # (not iterable)
         listed = None
     if listed is None or not all(isinstance(n, str) for n in listed):
         raise TypeError(f"{arg}: expected a list of column names, got {names!r}")
-    names = listed
+    names = [str(n) for n in listed]  # (numpy's np.str_ as plain text)
     if not names and not empty_ok:
         raise ValueError(f"{arg}: expected one column name or more, got {names!r}")
     known = table.columns if strict and table.rows else ()
@@ -231,6 +236,7 @@ def percentile_table(
         qs = None
     if qs is None or not all(_real(p) and 0 <= p <= 100 for p in qs):
         raise ValueError(f"q: expected a list of percentiles in [0, 100], got {q!r}")
+    qs = [float(p) for p in qs]  # (a Fraction: numpy takes floats)
     out = []
     ok = np.array([r.get("status") == "ok" for r in table.rows], dtype=bool)
     cols = {k: table.column(k, False) for k in quantities}

@@ -62,13 +62,16 @@ class LognormalFragility:
         ``confidence`` in (0, 1)."""
         if isinstance(confidence, bool) or not 0 < confidence < 1:
             raise ValueError(f"confidence: expected a level in (0, 1), got {confidence!r}")
-        u = np.log(_intensities(x, positive=True))
+        x = _intensities(x, positive=True)
+        top = np.isposinf(x)  # (P = 1 there, band and all: it was NaN)
+        u = np.log(np.where(top, 1.0, x))
         a, b = -math.log(self.theta) / self.beta, 1.0 / self.beta
         eta = a + b * u
         J = np.stack([np.ones_like(u), u], axis=-1)
         sd = np.sqrt(np.einsum("...i,ij,...j->...", J, self.cov_ab, J))
         zc = special.ndtri(0.5 + confidence / 2)
-        return special.ndtr(eta - zc * sd), special.ndtr(eta + zc * sd)
+        lo, hi = special.ndtr(eta - zc * sd), special.ndtr(eta + zc * sd)
+        return np.where(top, 1.0, lo), np.where(top, 1.0, hi)
 
     def as_dict(self) -> dict:
         """The scalar fields (all but ``cov_ab``)."""

@@ -6,6 +6,8 @@ loop; percentiles against numpy on the group's values.
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -185,6 +187,12 @@ def test_a_fixed_base_design_meets_the_default_gap(tmp_path, capsys):
          "or {'min': a, 'max': b}, got 'big'"),
         (lambda t: design_points(t, ["isolation.mu"], ["idr_max"], {"x_iso_max_m": {"mn": 1}}),
          ValueError, "constraints['x_iso_max_m']: expected a number"),
+        (lambda t: design_points(t, {"isolation.mu"}, ["idr_max"], {}), TypeError,
+         "variables: expected a list of column names, got {'isolation.mu'}"),  # (no order)
+        (lambda t: design_points(t, ["isolation.mu"], ["idr_max"], {"idr_max": {"max": -1e999}}),
+         ValueError, "constraints['idr_max']: expected a number"),  # (no design could hold)
+        (lambda t: design_points(t, np.array(["isolation.nu"]), ["idr_max"], {}), KeyError,
+         "variables: 'isolation.nu': no such column"),  # (not np.str_('isolation.nu'))
         (lambda t: percentile_table(t, ["idr_mx"], ["isolation.mu"]), KeyError,
          "quantities: 'idr_mx': no such column; did you mean 'idr_max'?"),
         (lambda t: percentile_table(t, "idr_max", ["isolation.mu"]), TypeError,
@@ -225,5 +233,6 @@ def test_names_and_numbers_come_as_any_sequence_and_any_real_number():
     assert all(p.feasible or p.n_failed for p in design_points(t, ["isolation.mu"], ["idr_max"],
                                                                 None))  # fmt: skip
     rows = percentile_table(t, np.array(["idr_max"]), ["isolation.mu"], q=range(0, 101, 50))
-    same = percentile_table(t, ["idr_max"], ["isolation.mu"], q=[np.int64(0), 50, 100.0])
+    same = percentile_table(t, ["idr_max"], ["isolation.mu"],
+                            q=[np.int64(0), Fraction(1, 2) * 100, 100.0])  # fmt: skip
     assert rows == same and "idr_max_p50" in rows[0]

@@ -348,5 +348,7 @@ def test_counts_and_levels_that_are_not_what_a_fit_takes_are_refused_naming_them
         fit.probability([-1.0])
     with pytest.raises(ValueError, match=r"x: expected intensity measures > 0"):
         fit.band([0.0, 1.0])
+    lo, hi = fit.band([np.inf, 2.0])  # P = 1 at inf, its band too (it was NaN)
+    assert lo[0] == hi[0] == 1.0 and 0.0 < lo[1] < hi[1] < 1.0
     p = fit.probability([0.0, np.inf, np.nan])  # the lognormal CDF at 0 and inf, without a
     assert p[0] == 0.0 and p[1] == 1.0 and np.isnan(p[2])  # warning; NaN stays NaN
