@@ -229,6 +229,13 @@ def _row_with_text(toks: list[str], lines: list[tuple[int, str]], i: int) -> boo
     return step > 0 and abs((t1 - lead[0]) - step) <= 1e-6 * step
 
 
+def _plain_names(toks: list[str]) -> bool:
+    """Column names without units ("t1 a1 a2"): a names line, not a row of numbers written
+    as text ("np.float64(0.1)" reads as a name with the unit 0.1)."""
+    named = names_and_units(toks)
+    return named is not None and all(u is None for u in named[1])
+
+
 def parse_table(text: str, source: str) -> Table:
     """A header (comment lines, title lines, a line of column names) and then rows of numbers,
     every row with as many as the first; a row's trailing ``# ...`` comment is dropped."""
@@ -276,7 +283,8 @@ def parse_table(text: str, source: str) -> Table:
         width = len(names) if names is not None else 0  # rows after the names, of their
         after = lines[names_at + 1 :] if names_at is not None else []  # width, digits in each
         rows = [(n, s) for n, s in after if s and not is_comment(s) and len(fields(s)) == width
-                and all(any(c.isdigit() for c in t) for t in fields(s))]  # fmt: skip
+                and all(any(c.isdigit() for c in t) for t in fields(s))
+                and not _plain_names(fields(s))]  # fmt: skip
         if rows:  # every cell text ("np.float64(1.0)"): it named the file's last line
             n, s = rows[0]
             bad = next(t for t in fields(s) if not _is_float(t))

@@ -154,16 +154,19 @@ def _table3(path, source: str, cols: dict[str, str], units, dt) -> GroundMotion3
                         units=units, dt=dt)  # fmt: skip
         y = read_motion(path, fmt="multi-column", column=cols["y"], vertical=cols.get("z"),
                         units=units, dt=dt)  # fmt: skip
-    top, said = max(x.pga, y.pga), set()
+    top, said = max(x.pga, y.pga), {}
     for w in caught:  # (one zero component is a motion along the other: no warning)
         text = str(w.message)
         peak = _peak_said(text)  # a peak's plausibility or units: the record's, the larger
         if peak != float("inf") and abs(peak - top) > PEAK_SAID_RTOL * top:
             continue
-        key = re.sub(_NUMBER, "#", text.split("; its peak ", 1)[0])  # (once: x's and y's)
-        if key not in said and ("zero at every sample" not in text or top == 0.0):
-            said.add(key)
-            warnings.warn(w.message, stacklevel=3)
+        key = re.sub(_NUMBER, "#", text.split("; its peak ", 1)[0])  # (once: x's and y's,
+        if key in said and peak <= _peak_said(str(said[key].message)):  # the larger's)
+            continue
+        if "zero at every sample" not in text or top == 0.0:
+            said[key] = w
+    for w in said.values():
+        warnings.warn(w.message, stacklevel=3)
     meta = {**x.meta, "columns3": cols}
     return GroundMotion3(x.t0, x.dt, x.a_hor, y.a_hor, x.a_ver, x.name, source, meta)
 

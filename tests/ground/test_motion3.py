@@ -456,6 +456,13 @@ def test_a_small_component_beside_a_plausible_one_is_no_sign_of_units(tmp_path):
         warnings.simplefilter("always")
         read_motion3(path, units="m/s2")
     assert [str(w.message) for w in caught] == []
+    # two small components within the quoting's 4 digits: the larger is the one quoted
+    path.write_text("t,ax,ay\n0,0.005,0.005004\n0.01,-0.001,0.001\n0.02,0.001,0.0\n")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        read_motion3(path, units="m/s2")
+    said = [str(w.message) for w in caught]
+    assert len(said) == 1 and "PGA = 0.005004 m/s²" in said[0], said
 
 
 def test_a_named_time_column_anywhere_and_semicolons_are_read():

@@ -93,6 +93,8 @@ def test_a_declined_table_is_refused_with_its_line(text, line, expected):
         ("t1 a1 a2\n", 1, "expected numeric data, found none"),  # (names with digits too)
         ("1999-08-17 M7.4 330deg\nt ax ay\nnp.float64(0) np.float64(1) np.float64(2)\n", 3,
          "expected numbers, found 'np.float64(0)'"),  # a title before the names: not named
+        ("Kobe NS EW\nt1 a1 a2\nnp.float64(0) np.float64(1) np.float64(2)\n", 3,
+         "expected numbers, found 'np.float64(0)'"),  # nor the names line after a title
     ],
 )  # fmt: skip
 def test_a_table_without_a_row_of_numbers_names_its_first_row(text, line, expected):
