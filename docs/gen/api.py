@@ -118,10 +118,11 @@ def constant(path: str) -> tuple[str, str] | None:
         if note.startswith(("fmt:", "noqa")):
             note = ""
         above, block = node.lineno - 2, []
-        while not note and above >= 0 and re.match(r"# (?!-)", lines[above]):
+        while not note and above >= 0 and re.match(r"#( (?!-)|$)", lines[above]):
             block.insert(0, lines[above][2:])  # a comment block just above: all its lines
             above -= 1
-        return (code if len(code) <= 100 else name), (note or " ".join(block)).strip()
+        block = " ".join(b for b in block if b)  # (a bare "#" line inside it)
+        return (code if len(code) <= 100 else name), (note or block).strip()
     return None
 
 

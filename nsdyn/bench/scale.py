@@ -3,7 +3,7 @@
 ``nsdyn bench scale`` (``scale.csv``, ``scale.png``) builds regular buildings from the office
 frame's storeys and sections (:func:`scale_frame`: ``bays`` copies of its 15 m bay, floor
 masses scaled with them, every member meshed into ``k`` elements) from the 435-dof office frame
-to over 20 000 dofs, and runs each size on the same record (PGA 3 m/s^2, ``RECORD_S``):
+to over 20 000 dofs, and runs each size on the same record (PGA 3 m/s^2, its first ``RECORD_S`` s):
 
 - nsdyn ``genalpha-lowrank`` on the full-order model in nodal coordinates (sparse, factored
   once; :mod:`nsdyn.solve.fullorder`) with the stiffness-proportional damping ``beta K`` of the

@@ -140,14 +140,16 @@ def benchmark_help(args: list[str]) -> str | None:
                       *["[--no-figures]"] * ("figures" in taken), "[--json]"])  # fmt: skip
     about = "\n\n".join((module.__doc__ or "").strip().split("\n\n")[:2])
 
-    def value(m) -> str:  # a numeric constant's value; any other name as written
+    def value(m) -> str:  # a numeric constant's value (1e-9, not 1e-09); any other as written
         v = getattr(module, m[1], None)
-        return f"{v:g}" if isinstance(v, int | float) and not isinstance(v, bool) else m[1]
+        if not isinstance(v, int | float) or isinstance(v, bool):
+            return m[1]
+        return re.sub(r"e([+-])0(\d)", r"e\1\2", f"{v:g}")
 
     about = re.sub(r":data:`~?([A-Z][A-Z0-9_]+)`", value, about)  # (RECORD_S: 10.0)
     about = re.sub(r":\w+:`~?([^`]+)`", r"\1", about.replace("``", "`").replace("::", ":"))
-    more = " (more in its module's text)"  # (a list follows: "...:" or "...,")
-    about = about[:-1] + more if about.endswith((":", ",")) else about
+    if not about.endswith((".", ")")):  # (a list or formula follows: "...:", "...,", "by")
+        about = about.rstrip(" :,") + " (more in its module's text)"
     about = re.sub(r"`([A-Z][A-Z0-9_]+)`", value, about)
 
     def option(flag: str, text: str) -> str:

@@ -107,7 +107,7 @@ def test_a_constant_s_note_is_its_whole_comment_block_and_a_call_is_shown_by_nam
     # a two-line comment above kept its last line alone; a plain assignment of a call raised
     # AttributeError (an Assign has no annotation)
     src = tmp_path / "mod.py"
-    src.write_text("# the first line of a block\n# that goes on here\nBLOCK = 3\n"
+    src.write_text("# the first line of a block\n#\n# that goes on here\nBLOCK = 3\n"
                    "CALLED = dict(a=1)  # made by a call\n")  # fmt: skip
     monkeypatch.setattr(api, "_module_file", lambda module: src)
     api._tree.cache_clear()

@@ -318,8 +318,9 @@ def _gravity(frame, g: float) -> list:
 def _need_record3(motion, source: str) -> None:
     """SceneError unless ``motion`` is a three-component record (an orbit has no samples)."""
     if not hasattr(motion, "dt") or getattr(motion, "ax", None) is None:
+        what = "a planar record" if hasattr(motion, "dt") else "an orbit"
         raise SceneError(f"{source}: motion: OpenSees export needs a three-component record "
-                         "(kind = 'record3'), not an orbit")  # fmt: skip
+                         f"(kind = 'record3'), not {what}")  # fmt: skip
 
 
 def building_data(
