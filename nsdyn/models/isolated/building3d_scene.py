@@ -75,7 +75,7 @@ from nsdyn.models.isolated.deck_scene import (
     scene_law,
 )
 from nsdyn.models.isolated.friction import coarse_law_note
-from nsdyn.models.isolated.plane_energy import landing_closure_note
+from nsdyn.models.isolated.plane_energy import closure_note
 from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number
 
 __all__ = ["build_motion", "build_solver", "build_system", "format_summary", "pairs_path",
@@ -499,7 +499,7 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
             say(f"building3d: note: {few}")
     peaks = s.get("peak_resultant_displacement_per_isolator_m")
     big = slip_ratio_note(deck.bearings, peaks) if sysd["bearing"] is not None and peaks else None
-    for note in (big, landing_closure_note(s)):  # (a pendulum slip past R/4; landings)
+    for note in (big, closure_note(s)):  # (a pendulum slip past R/4; landings, a failed run)
         if note:
             notes.append(note)
             say(f"building3d: note: {note}")

@@ -56,6 +56,7 @@ from nsdyn.models.isolated.deck import (
 )
 from nsdyn.models.isolated.defaults import EPS, ETA
 from nsdyn.models.isolated.friction import LAW_KEYS, coarse_law_note, sharpness_in_range
+from nsdyn.models.isolated.plane_energy import CLOSURE_NOTE, closure_note
 from nsdyn.models.scenefile import SceneError, check_fields, grid_fields, number, rel_tol
 
 TABLES = {
@@ -344,9 +345,10 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
     s = res.summary()
     s.update(res.energy(exc))  # (its closure: the balance's check on the output grid)
     big = slip_ratio_note(system.bearings, s["peak_resultant_displacement_per_isolator_m"])
-    if big:  # (a TFP's bearings: their effective radius)
-        notes.append(big)
-        say(f"deck: note: {big}")
+    for note in (big, closure_note(s)):  # (a TFP's bearings' effective radius; a failed run)
+        if note:
+            notes.append(note)
+            say(f"deck: note: {note}")
     out_dir = Path(out_dir)
     npz = out_dir / "deck.npz"
     caps = np.array([b.d_cap for b in system.bearings])  # (a TFP: d1 + d2 + d3 + d4)
@@ -416,9 +418,13 @@ def uplift_error(s: dict, files: bool = True) -> str | None:
     if not u:
         return None
     whose = "their normal forces" if u.get("also_isolators") else "its normal force"
+    c = s.get("energy_closure")
+    doubt = (f"; its energy closure {c:.2g} up to it says the integration failed first: the "
+             "uplift may be the numerics' (tighten solver.rtol)"
+             ) if c is not None and c > CLOSURE_NOTE and not s.get("landings") else ""  # fmt: skip
     return (f"UPLIFT isolator {_lifted(u)} at t = {u['t_s']:.5g} s: {whose} reached "
             "zero and the run ended there" + (" (the files hold the run up to it)" if files
-                                              else ""))  # fmt: skip
+                                              else "") + doubt)  # fmt: skip
 
 
 def summary_table(head: str, s: dict, rows) -> str:

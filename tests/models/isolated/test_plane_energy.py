@@ -10,6 +10,9 @@ a missing or mis-signed term would leave a closure of order one at every step.
 
 from __future__ import annotations
 
+import copy
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -17,6 +20,7 @@ from nsdyn.models.isolated.bearings import Bearing, Friction
 from nsdyn.models.isolated.deck import sdof_plane, simulate_plane
 from nsdyn.models.isolated.pairs import PairSystem, simulate_pairs
 
+SCENES = Path(__file__).resolve().parents[3] / "examples" / "scenes"
 ORBIT = {"f": 0.7, "ax": 3.0, "ay": 2.0, "phase_y_deg": 30.0, "az": 2.0, "f_z": 1.9}
 
 
@@ -194,3 +198,41 @@ def test_a_unilateral_building_says_when_its_closure_is_the_grid_s_over_landings
         assert bool(said) == (s["energy_closure"] > LANDING_CLOSURE_NOTE)
         closures.append(s["energy_closure"])
     assert closures[1] < LANDING_CLOSURE_NOTE and closures[1] < closures[0] / 10
+
+
+def test_a_free_mass_at_whole_periods_closes_against_its_kinetic_energy():
+    # no friction, spring or damper: a mass the orbit shakes back to rest each period. At
+    # t = 5 s (2 periods of 0.4 Hz) the ends' stored energies and every work are ~0, and the
+    # closure, over them, read 1 for a run whose error is ~1e-3 J of ~8 kJ of kinetic energy
+    # passed through; the scale now holds the largest kinetic energy
+    m, orbit = 1e5, {"f": 0.4, "ax": 0.5, "ay": 0.5, "phase_y_deg": 90.0}
+    s = sdof_plane(m, Bearing(Friction(0.0)))
+    r = simulate_plane(s, orbit, law="arctan", t_end=5.0, dt_out=0.01, rtol=1e-8)
+    e = r.energy(orbit)
+    v_peak = 2 * 0.5 / (2 * np.pi * 0.4)  # |v| of a free mass under a circular a_g from rest
+    assert e["energy_scale_J"] >= 0.5 * m * v_peak**2 * 0.99
+    assert e["energy_closure"] < 1e-3
+
+
+def test_a_deck_whose_integration_fails_its_balance_says_so_and_doubts_its_uplift(tmp_path):
+    # eps = 1e10 at rtol 0.1: the run diverged into an "uplift" at 0.78 s with closure 1.02,
+    # reported as the structure's; now a note says the run is not to be trusted, and the
+    # uplift error says its closure
+    from nsdyn.models.isolated.deck_scene import run_scene, uplift_error
+    from nsdyn.models.isolated.plane_energy import CLOSURE_NOTE
+    from nsdyn.models.scenefile import read_toml
+
+    cfg = read_toml(str(SCENES / "deck-fps4-3c.toml"))
+    cfg["solver"] = {**cfg.get("solver", {}), "law": "arctan", "eps": 1e10, "rtol": 0.1}
+    cfg["motion"]["t_end"] = 2.0
+    s = run_scene(cfg, source=str(tmp_path / "d.toml"), out_dir=tmp_path, figures=False,
+                  quiet=True)  # fmt: skip
+    assert s["energy_closure"] > CLOSURE_NOTE
+    assert any(n.startswith("energy closure") and "not to be trusted" in n for n in s["notes"])
+    assert s.get("uplift") and "the uplift may be the numerics'" in uplift_error(s)
+    good = copy.deepcopy(cfg)
+    good["solver"]["rtol"] = 1e-3  # the same sharp law at a tolerance it needs: no note
+    s = run_scene(good, source=str(tmp_path / "d.toml"), out_dir=tmp_path, figures=False,
+                  quiet=True)  # fmt: skip
+    assert s["energy_closure"] < CLOSURE_NOTE and not s.get("uplift")
+    assert not any(n.startswith("energy closure") for n in s["notes"])
