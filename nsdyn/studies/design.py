@@ -82,16 +82,17 @@ def bounds(constraints: dict) -> list[tuple[str, str, float]]:
                         f"{constraints!r}")  # fmt: skip
     out = []
     for k, g in constraints.items():
-        for side, v in g.items() if isinstance(g, dict) else [("max", g)]:
-            if (
-                side not in ("min", "max")
-                or not _real(v)
-                or math.isnan(v)
-                or v == (-math.inf if side == "max" else math.inf)
-            ):  # (none could hold)
+        k = str(k)  # (numpy's np.str_ as plain text)
+        sides = dict(g.items() if isinstance(g, dict) else [("max", g)])
+        for side, v in sides.items():
+            if side not in ("min", "max") or not _real(v) or math.isnan(v):
                 raise ValueError(f"constraints[{k!r}]: expected a number (an upper bound) or "
                                  f"{{'min': a, 'max': b}}, got {g!r}")  # fmt: skip
             out.append((k, side, float(v)))
+        lo, hi = float(sides.get("min", -math.inf)), float(sides.get("max", math.inf))
+        if not lo <= hi or lo == math.inf or hi == -math.inf:
+            raise ValueError(f"constraints[{k!r}]: {g!r}: no design can meet it (expected "
+                             "min <= max, a finite min or max)")  # fmt: skip
     return out
 
 

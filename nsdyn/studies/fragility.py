@@ -71,7 +71,7 @@ class LognormalFragility:
         sd = np.sqrt(np.einsum("...i,ij,...j->...", J, self.cov_ab, J))
         zc = special.ndtri(0.5 + confidence / 2)
         lo, hi = special.ndtr(eta - zc * sd), special.ndtr(eta + zc * sd)
-        return np.where(top, 1.0, lo), np.where(top, 1.0, hi)
+        return np.where(top, 1.0, lo)[()], np.where(top, 1.0, hi)[()]  # (a scalar for one)
 
     def as_dict(self) -> dict:
         """The scalar fields (all but ``cov_ab``)."""

@@ -190,7 +190,10 @@ def test_a_fixed_base_design_meets_the_default_gap(tmp_path, capsys):
         (lambda t: design_points(t, {"isolation.mu"}, ["idr_max"], {}), TypeError,
          "variables: expected a list of column names, got {'isolation.mu'}"),  # (no order)
         (lambda t: design_points(t, ["isolation.mu"], ["idr_max"], {"idr_max": {"max": -1e999}}),
-         ValueError, "constraints['idr_max']: expected a number"),  # (no design could hold)
+         ValueError, "constraints['idr_max']: {'max': -inf}: no design can meet it"),
+        (lambda t: design_points(t, ["isolation.mu"], ["idr_max"],
+                                 {np.str_("idr_max"): {"min": 1.0, "max": 0.0}}),
+         ValueError, "constraints['idr_max']: {'min': 1.0, 'max': 0.0}: no design can meet it"),
         (lambda t: design_points(t, np.array(["isolation.nu"]), ["idr_max"], {}), KeyError,
          "variables: 'isolation.nu': no such column"),  # (not np.str_('isolation.nu'))
         (lambda t: percentile_table(t, ["idr_mx"], ["isolation.mu"]), KeyError,

@@ -58,8 +58,8 @@ def mu_at(bp, i, s):
 @njit(cache=True, error_model="numpy")
 def clip_friction(bp, v, lam, parts):
     """Each bearing's friction (``parts[i, 0:2]``) held to its disc μ(|v_i|) λ_i: the forces
-    carried linearly from the α points to an output time left it at slip onset (29 % over
-    μN at dt = 10 ms); the law never does."""
+    carried linearly from the α points to an output time left it at slip onset (27 % over
+    μN at dt = 10 ms on the portal's building scene); the law never does."""
     for i in range(lam.size):
         cap = mu_at(bp, i, math.hypot(v[2 * i], v[2 * i + 1])) * max(lam[i], 0.0)
         r = math.hypot(parts[i, 0], parts[i, 1])

@@ -290,7 +290,7 @@ def test_building_response_equals_the_craig_bampton_full_rungs(runs, portal):
 
 def test_the_written_friction_stays_in_its_disc_at_a_coarse_step(portal):
     # the α points' forces carried linearly to the output times left the disc μ(|v|) N at slip
-    # onset (29 % over μN at dt = 10 ms, sharp law); the law never leaves it: each written
+    # onset (10 % over μN here at dt = 10 ms); the law never leaves it: each written
     # friction is within μ(|v|) N, to the round-off of the scaling (a few eps)
     s = building_pairs_sparse(portal, FPS)
     r = simulate_pairs_sparse(s, ORBIT, dt=1e-2, t_end=T_END, dt_out=0.01, eps=7500.0)
