@@ -267,7 +267,8 @@ def _run_other_kind(args: argparse.Namespace, kind: str, cfg: dict) -> int:
     req = args.t_end or cfg.get("motion", {}).get("t_end")  # (--t-end, or the scene's)
     short = isinstance(ran, int | float) and isinstance(req, int | float) and ran < req - 1e-6
     short = short and not any(f"t_end = {req:g} s" in n for n in s.get("notes", []))  # (said)
-    if short and not s.get("uplift") and s.get("t_overturn_s") is None:  # (they end it too)
+    ended = s.get("uplift") or s.get("t_overturn_s") is not None or s.get("toppled_at")
+    if short and not ended:  # (an uplift, an overturn or a cylinder's toppling end it too)
         from nsdyn.ground.formats import past_record_note
 
         note = past_record_note(req, ran, runs_on=False, what="excitation")

@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -348,7 +349,11 @@ def warm(p: CylinderParams, dt: float, ag: np.ndarray, opts: dict) -> float:
     samples, saying so on stderr when it compiles (:func:`nsdyn._numba_cache.first_compile`);
     the seconds it took. A run and a study (before its workers start) call it."""
     tic = time.perf_counter()
-    with first_compile("cylinder", COMPILE_ABOUT_S, kernels_cached(p)):
+    with (
+        first_compile("cylinder", COMPILE_ABOUT_S, kernels_cached(p)),
+        warnings.catch_warnings(),
+    ):  # (three samples' closure is no run's: not said)
+        warnings.simplefilter("ignore")
         simulate(p, ag[:3], dt, rtol=opts["rtol"])
     return time.perf_counter() - tic
 

@@ -150,7 +150,9 @@ def test_a_run_whose_energy_balance_does_not_close_warns(monkeypatch):
 
     sim = sys.modules[simulate.__module__]  # (the package's name `simulate` is the function)
 
-    assert sim.energy_bound(1e-7) == 1e-2 and sim.energy_bound(1e-3) == pytest.approx(1.0)
+    assert sim.energy_bound(1e-7) == 1e-2 and sim.energy_bound(1e-4) == pytest.approx(0.1)
+    # at rtol 0.1 the bound was 100: a closure of 1.6 (a tilt 24x too large) went unsaid
+    assert sim.energy_bound(0.1) == sim.energy_bound(1e-3) == sim.ENERGY_WARN_MAX == 0.1
     dt, ag = earthquake(2, duration=1.0)
     res = simulate(P, ag, dt)  # (the closure of a good run: no warning)
     assert res.energy_error < 20 * sim.RTOL
