@@ -135,10 +135,25 @@ class CompliantResult(Tabular):
     n_steps: int
     wall_s: float
     t_overturn: float = math.nan
+    half_sizes: tuple = (math.nan, math.nan)  # (B, H): the corners' place on the block
 
     @property
     def theta(self) -> np.ndarray:
         return -self.y[:, 2]
+
+    def flights(self) -> dict:
+        """The block off the ground, both corners above it, on the output grid: ``n_flights``
+        (the times it left), ``max_flight_height_m`` (the lower corner's greatest height) and
+        ``t_first_flight_s`` (None: it never flew). The rigid block stops there (free flight
+        is not modelled); the compliant corners let it fly, which a summary should say."""
+        B, H = self.half_sizes
+        c, s = np.cos(self.y[:, 2]), np.sin(self.y[:, 2])
+        low = np.minimum(self.y[:, 1] + s * -B - c * H, self.y[:, 1] + s * B - c * H)
+        up = low > 0.0
+        starts = np.flatnonzero(up & ~np.concatenate(([False], up[:-1])))
+        return {"n_flights": int(starts.size),
+                "max_flight_height_m": float(low[up].max()) if up.any() else 0.0,
+                "t_first_flight_s": float(self.t[starts[0]]) if starts.size else None}  # fmt: skip
 
     @property
     def thetad(self) -> np.ndarray:
@@ -171,6 +186,7 @@ class CompliantResult(Tabular):
             "overturned": over,
             "t_overturn_s": self.t_overturn if math.isfinite(self.t_overturn) else None,
             **final_tilt(self.theta, self.thetad, self.alpha, over),
+            **self.flights(),
             "n_steps": self.n_steps,
             "wall_s": self.wall_s,
         }
@@ -283,7 +299,8 @@ def simulate_compliant(
         raise NumericalFailure(f"compliant block failed at t = {info[kc.J_TFAIL]:.6g} s: {why}")
     n = int(info[kc.J_NOUT])
     return CompliantResult(dt_out * np.arange(n), out[:n].copy(), model.alpha,
-                           int(info[kc.J_NSTEP]), wall, float(info[kc.J_TOVER]))  # fmt: skip
+                           int(info[kc.J_NSTEP]), wall, float(info[kc.J_TOVER]),
+                           (model.B, model.H))  # fmt: skip
 
 
 def effective_restitution(model: CompliantBlock, theta0_over_alpha: float = 0.5,

@@ -372,6 +372,12 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
         if checked.get("tol_note"):
             notes.append(checked["tol_note"])
             say(f"rocking: note: {checked['tol_note']}")
+    if s.get("n_flights"):  # (the compliant corners let the block fly, the rigid one stops)
+        notes.append(f"the block left the ground (both corners off it) {s['n_flights']} "
+                     f"time(s), first at t = {s['t_first_flight_s']:.4g} s, its lower corner "
+                     f"up to {s['max_flight_height_m']:.3g} m: the compliant corners let it fly "
+                     "(the rigid block stops there: free flight is not modelled)")  # fmt: skip
+        say(f"rocking: note: {notes[-1]}")
     if notes:
         s["notes"] = notes
     say(f"rocking: done in {wall:.3f} s ({compile_note(compile_s)})")

@@ -232,3 +232,33 @@ def test_a_tolerance_that_does_not_resolve_the_rocking_is_said(tmp_path):
     assert loose["max_theta_over_alpha"] - peak > 10 * TOL_CHECK_ABS
     assert abs(loose["tol_check_peak_over_alpha"] - peak) < TOL_CHECK_ABS
     assert loose["notes"][-1].startswith("solver.tol = 0.0001 does not resolve this response")
+
+
+def test_a_compliant_block_that_leaves_the_ground_says_so(tmp_path):
+    # a vertical pulse of 1.5 g pulls the ground away faster than gravity: both corners rise
+    # off it (the lower 0.27 m), which the rigid block refuses ("free flight is not
+    # modelled") and the compliant one did without a word ("standing"). Below the rocking
+    # threshold g tan(alpha) = g/2 and without a vertical no corner can leave: no flight, no
+    # note. A flight is checked against the geometry: both corners above the ground
+    from nsdyn.models.rocking.compliant import CompliantBlock, simulate_compliant
+    from nsdyn.models.rocking.scene import build_model, build_motion
+
+    cfg = {"scene": {"kind": "rocking", "model": "compliant"},
+           "block": {"width": 2.0, "height": 4.0, "mass": 124800.0, "omega_v_over_p": 300.0,
+                     "zeta": 2.0},
+           "motion": {"pulse": "sine", "a_p_g": 1.0, "f_p": 0.81, "n_cycles": 8,
+                      "ver_ratio": 1.5, "t_end": 2.0}}  # fmt: skip
+    s = run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+    assert s["n_flights"] > 0 and s["max_flight_height_m"] > 0
+    assert any(n.startswith("the block left the ground") for n in s.get("notes", []))
+    model, exc = build_model(cfg, "s.toml"), build_motion(cfg, "s.toml")[0]
+    assert isinstance(model, CompliantBlock)
+    r = simulate_compliant(model, exc, t_end=2.0)
+    k = int(np.searchsorted(r.t, s["t_first_flight_s"]))
+    y, phi = r.y[k, 1], r.y[k, 2]
+    for sj in (-1.0, 1.0):  # each bottom corner's height: y + R(phi) (sj B, -H)
+        assert y + np.sin(phi) * sj * model.B - np.cos(phi) * model.H > 0.0
+    cfg["motion"].update(ver_ratio=0.0, a_p_g=0.4)  # (0.4 g < g B/H: no rocking)
+    s = run_scene(cfg, source="s.toml", out_dir=tmp_path, figures=False, quiet=True)
+    assert s["n_flights"] == 0 and not any(n.startswith("the block left")
+                                           for n in s.get("notes", []))  # fmt: skip
