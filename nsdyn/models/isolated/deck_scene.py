@@ -421,7 +421,7 @@ def uplift_error(s: dict, files: bool = True) -> str | None:
     c, doubt = s.get("energy_closure"), ""
     if closure_note(s) and not s.get("landings"):  # (a balance off by half: said with it)
         doubt = (
-            f"; its energy closure {c:.2g} up to it: if a finer solver.dt_out does not "
+            f"; its energy closure {c:.3g} up to it: if a finer solver.dt_out does not "
             "lower it, the uplift may be the numerics' (tighten solver.rtol)"
         )
     return (f"UPLIFT isolator {_lifted(u)} at t = {u['t_s']:.5g} s: {whose} reached "
