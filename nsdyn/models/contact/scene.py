@@ -419,6 +419,9 @@ def run_scene(cfg: dict, *, source: str, out_dir: Path, figures: bool, quiet: bo
             mode=res.mode,
             slide=res.slide,
             mode_names=np.array(MODE_NAMES),
+            energy=(getattr(res, "mechanical_energy", None) or res.energy)(
+                body.mass, body.J, G_EARTH
+            ),  # (the energy history the guide asks to check: kinetic + potential [J])
         )  # mode k is mode_names[k]
     if figures:
         from nsdyn.atomic import save_figure
