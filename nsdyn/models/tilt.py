@@ -66,16 +66,11 @@ def leaning_past(end: float, rate: float, alpha: float) -> bool:
 NAMES = ("final_theta_rad", "final_thetad_rad_per_s")  # a summary's last tilt and its rate
 
 
-def final_tilt(theta, rate, alpha: float, over: bool, names: tuple[str, str] = NAMES,
-               over_at: float | None = None) -> dict:  # fmt: skip
+def final_tilt(theta, rate, alpha: float, over: bool, names: tuple[str, str] = NAMES) -> dict:
     """A summary's last tilt and its rate (keys ``names``) and ``past_tip_over_at_end``
     (:func:`leaning_past`, false for a run that ended ``over``: overturned, toppled) from the
-    histories ``theta`` [rad] and ``rate`` [rad/s]; ``over_at``: the tilt an ``over`` run
-    ended at (a block on its side, pi/2, with the last tilt's sign), where the last output
-    came before it (-1.515 rad of a block overturned at 0.3295 s, sampled at 0.325 s)."""
+    histories ``theta`` [rad] and ``rate`` [rad/s]."""
     end = float(theta[-1]) if len(theta) else 0.0
-    if over and over_at is not None:
-        end = math.copysign(over_at, end)
     turn = float(rate[-1]) if len(rate) else 0.0
     past = leaning_past(end, turn, alpha) and not over
     return {names[0]: end, names[1]: turn, "past_tip_over_at_end": past}

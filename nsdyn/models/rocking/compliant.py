@@ -185,7 +185,7 @@ class CompliantResult(Tabular):
             "outcome": "overturned" if over else "standing",  # (no impacts to rest on)
             "overturned": over,
             "t_overturn_s": self.t_overturn if math.isfinite(self.t_overturn) else None,
-            **final_tilt(self.theta, self.thetad, self.alpha, over, over_at=math.pi / 2),
+            **final_tilt(self.theta, self.thetad, self.alpha, over),
             **self.flights(),
             "n_steps": self.n_steps,
             "wall_s": self.wall_s,

@@ -112,7 +112,7 @@ class RockingResult(Tabular):
             "n_uplifts": self.n_uplifts,
             "max_theta_rad": float(self.max_abs_theta),
             "max_theta_over_alpha": float(self.max_theta_over_alpha),
-            **final_tilt(self.theta, self.thetad, self.alpha, self.overturned, over_at=math.pi / 2),
+            **final_tilt(self.theta, self.thetad, self.alpha, self.overturned),
             "n_steps": self.n_steps,
             "n_rejected": self.n_rejected,
             "wall_s": self.wall_s,
