@@ -135,6 +135,6 @@ def closure_note(s: dict) -> str | None:
             "not to be trusted (a tolerance too loose for the friction law's sharpness: "
             "tighten solver.rtol)"
         )
-    return (f"energy closure {c:.2g}: the balance's integrals on the output grid step over the "
+    return (f"energy closure {c:.3g}: the balance's integrals on the output grid step over the "
             f"{n} landings' velocity jumps, an error of the grid, first order in its step, not "
             "of the run; a finer solver.dt_out lowers it")  # fmt: skip
