@@ -22,14 +22,13 @@ x = 000, y = 090 is not (it is the mirror image).
 from __future__ import annotations
 
 import os
-import re
 import warnings
 from pathlib import Path
 
 from nsdyn._bundled import RECORDS
 from nsdyn._checks import flag
 from nsdyn.ground._text import DT_RTOL, fields, is_comment, parse_table
-from nsdyn.ground.motion import GroundMotion, RecordFileError
+from nsdyn.ground.motion import GroundMotion, RecordFileError, UnitWarning
 from nsdyn.ground.motion3 import GroundMotion3
 from nsdyn.ground.readers import (
     COMPANION_SUFFIX,
@@ -135,38 +134,27 @@ def _names_x_and_y(text: str) -> bool:
     return False
 
 
-_NUMBER = r"\d+(?:\.\d*)?(?:e[+-]?\d+)?"
-PEAK_SAID_RTOL = 1e-3  # a peak quoted to 4 digits is the larger component's within this
-
-
-def _peak_said(text: str) -> float:
-    """The peak a units warning of one component quotes ("its peak 0.306 m/s²", "PGA = 300
-    m/s²"), or inf where it quotes none: of the x and y components' warnings the record's
-    is the larger component's (a small x beside a plausible y is no sign of units)."""
-    m = re.search(rf"(?:; its peak |PGA = )({_NUMBER})", text)
-    return float(m.group(1)) if m else float("inf")
+def _read_column(path, cols: dict[str, str], key: str, units, dt) -> tuple:
+    """(the planar record of component ``key``, the warnings its read gave)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        m = read_motion(path, fmt="multi-column", column=cols[key], vertical=cols.get("z"),
+                        units=units, dt=dt)  # fmt: skip
+    return m, caught
 
 
 def _table3(path, source: str, cols: dict[str, str], units, dt) -> GroundMotion3:
-    with warnings.catch_warnings(record=True) as caught:  # the file's warnings, once each
-        warnings.simplefilter("always")
-        x = read_motion(path, fmt="multi-column", column=cols["x"], vertical=cols.get("z"),
-                        units=units, dt=dt)  # fmt: skip
-        y = read_motion(path, fmt="multi-column", column=cols["y"], vertical=cols.get("z"),
-                        units=units, dt=dt)  # fmt: skip
-    top, said = max(x.pga, y.pga), {}
-    for w in caught:  # (one zero component is a motion along the other: no warning)
-        text = str(w.message)
-        peak = _peak_said(text)  # a peak's plausibility or units: the record's, the larger
-        if peak != float("inf") and abs(peak - top) > PEAK_SAID_RTOL * top:
-            continue
-        key = re.sub(_NUMBER, "#", text.split("; its peak ", 1)[0])  # (once: x's and y's,
-        if key in said and peak <= _peak_said(str(said[key].message)):  # the larger's)
-            continue
-        if "zero at every sample" not in text or top == 0.0:
-            said[key] = w
-    for w in said.values():
-        warnings.warn(w.message, stacklevel=3)
+    (x, wx), (y, wy) = (_read_column(path, cols, k, units, dt) for k in ("x", "y"))
+    top = max(x.pga, y.pga)
+    # the file's units and peak are the larger component's: its warnings all; the other's
+    # besides its units (a small x beside a plausible y is no sign of g), none said twice
+    major, minor = (wx, wy) if x.pga >= y.pga else (wy, wx)
+    texts: list = []
+    for w in [*major, *(w for w in minor if not issubclass(w.category, UnitWarning))]:
+        text = str(w.message)  # (one zero component is a motion along the other: no warning)
+        if text not in texts and ("zero at every sample" not in text or top == 0.0):
+            texts.append(text)
+            warnings.warn(w.message, stacklevel=3)
     meta = {**x.meta, "columns3": cols}
     return GroundMotion3(x.t0, x.dt, x.a_hor, y.a_hor, x.a_ver, x.name, source, meta)
 
