@@ -425,9 +425,8 @@ def simulate(
     from nsdyn.solve.auto import given_reason, sparse_path
     from nsdyn.solve.methods import METHODS
 
-    reason = given_reason(system, method, contact)  # (auto's: its choice and why)
-
     integrate.known_method(method)  # (a KeyError deep in the run before)
+    reason = "" if method == "auto" else given_reason(system, method, contact)  # (auto's below)
     if method == "auto":
         from nsdyn.solve.auto import choose_for_system, step_reason
 

@@ -361,13 +361,12 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict,
         record_replaces_motion(kind, raw["motion"], record_replaces(kind), str(scene_path))
         merged = _merge(raw, base_over)
     if kind == "isolated":
-        from nsdyn.models.isolated.scene import _check, as_recorded, load_scene
+        from nsdyn.models.isolated.scene import _check, as_recorded, load_scene, replaces_motion
 
         # each [base] table as merged over the scene's own (a harmonic scene's [base.motion]
         # n_periods was checked against a record's keys: its kind is the scene's); a motion
         # of another kind replaces the scene's, as load_scene's overrides do
-        over_kind = base_over.get("motion", {}).get("kind")
-        if over_kind is not None and over_kind != raw.get("motion", {}).get("kind", "record"):
+        if replaces_motion(base_over, raw):
             merged = _merge({**raw, "motion": {}}, base_over)
         try:
             _check({t: merged.get(t, v) for t, v in base_over.items()}, f"{source}: [base]")

@@ -227,6 +227,14 @@ def merge(base: dict, override: dict) -> dict:
     return out
 
 
+def replaces_motion(over: dict, scene: dict) -> bool:
+    """True when the tables ``over`` give a motion of another kind than ``scene``'s (a
+    harmonic over a record): it replaces the scene's motion table, whose keys are none of
+    its own (load_scene's overrides, a study's [base.motion])."""
+    kind = over.get("motion", {}).get("kind")
+    return kind is not None and kind != scene.get("motion", {}).get("kind", "record")
+
+
 def load_scene(path: str | Path | None = None, overrides: dict | None = None) -> dict:
     """The default scene, updated by a TOML file and then by ``overrides``, tables of keys
     (``{"motion": {"pga": 2.0}}``), each checked as merged over the scene's; a ``motion``
@@ -255,8 +263,7 @@ def load_scene(path: str | Path | None = None, overrides: dict | None = None) ->
         if "force" in user or user.get("motion", {}).get("kind") == "harmonic":
             cfg["motion"] = {}  # no default record under another excitation
         cfg = merge(cfg, user)
-    kind = (overrides or {}).get("motion", {}).get("kind")
-    if kind is not None and kind != cfg.get("motion", {}).get("kind", "record"):
+    if replaces_motion(overrides or {}, cfg):
         cfg["motion"] = {}  # (another excitation: the scene's record is none of its keys)
     if overrides:  # each table checked as merged over the scene's (its motion's kind)
         if "t_end" in overrides.get("motion", {}):  # a given end replaces the scene's periods
