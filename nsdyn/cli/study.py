@@ -228,7 +228,7 @@ def run(args: argparse.Namespace) -> int:
     from nsdyn.studies.analyses import run_analyses
     from nsdyn.studies.execute import dask_executor, run_study, stderr_progress
     from nsdyn.studies.study import load_study
-    from nsdyn.studies.table import PARQUET
+    from nsdyn.studies.table import PARQUET, pyarrow_modules
 
     STARTED.clear()
     if args.fresh and args.retry_failed:  # (it was accepted and did nothing: fresh runs all)
@@ -244,6 +244,8 @@ def run(args: argparse.Namespace) -> int:
     made = not out.exists()
     parquet = args.parquet or (out / PARQUET).is_file()  # (once asked: a run on another grid
     # removes the copy with the old grid's analyses, and it is written anew after the run)
+    if parquet:
+        pyarrow_modules()  # (before the first run, not after the last)
     old = signal.signal(signal.SIGTERM, _on_sigterm)
     STARTED[:] = [str(out)]
     try:

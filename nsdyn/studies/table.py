@@ -46,6 +46,17 @@ ANALYSIS_OUTPUTS = {  # each analysis' (table, figure)
     "incidence": ("incidence.csv", "incidence.png"),
 }
 PARQUET = "results.parquet"
+
+
+def pyarrow_modules():
+    """pyarrow and pyarrow.parquet, or OSError naming the extra (asked before a study runs:
+    a missing pyarrow was said only after all its runs)."""
+    try:
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+    except ImportError:
+        raise OSError('writing Parquet needs pyarrow: pip install "nsdyn[parquet]"') from None
+    return pa, pq
 ANALYSIS_FILES = (*(f for pair in ANALYSIS_OUTPUTS.values() for f in pair), PARQUET)
 PARTS = "parts"
 OWNER = ".study.json"  # the study whose results the folder holds: {"name", "kind"}
@@ -203,11 +214,7 @@ class Table:
 
     def to_parquet(self, path: str | Path) -> Path:
         """A typed Parquet copy (needs pyarrow: ``pip install "nsdyn[parquet]"``)."""
-        try:
-            import pyarrow as pa
-            import pyarrow.parquet as pq
-        except ImportError:
-            raise OSError('writing Parquet needs pyarrow: pip install "nsdyn[parquet]"') from None
+        pa, pq = pyarrow_modules()
         cols = {c: [r.get(c) for r in self.rows] for c in self.columns}
         arrays = {}
         for c, vals in cols.items():

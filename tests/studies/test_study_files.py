@@ -376,3 +376,23 @@ def test_an_analysis_of_a_result_that_keep_drops_is_refused_for_every_scene_kind
                        r"is a result the study does not keep; add it to study.keep"):  # fmt: skip
         load_study(_write(tmp_path, text))
     load_study(_write(tmp_path, text.replace('["max_tilt"]', '["max_tilt", "max_uplift_ratio"]')))
+
+
+def test_parquet_without_pyarrow_is_refused_before_any_run(tmp_path, capsys, monkeypatch):
+    """--parquet without pyarrow was said only after the study's last run (320 of them on the
+    bundled design study): it is refused before the first, and no output folder is made."""
+    import sys
+
+    from nsdyn.cli import main
+
+    monkeypatch.setitem(sys.modules, "pyarrow", None)  # an import of it raises ImportError
+    text = (
+        '[study]\nname = "g"\n[base.scene]\nfidelity = "rigid"\n[base.motion]\nt_end = 1.0\n'
+        '[parameters]\n"isolation.mu" = [0.02]\n[records]\nnames = ["synthetic-wn-40s"]\n'
+    )
+    out = tmp_path / "o"
+    argv = ["study", str(_write(tmp_path, text)), "--out", str(out), "--parquet", "--json"]
+    assert main([*argv, "--workers", "1"]) == 2
+    cap = capsys.readouterr()
+    assert 'writing Parquet needs pyarrow: pip install "nsdyn[parquet]"' in cap.err + cap.out
+    assert not out.exists()  # no run began
