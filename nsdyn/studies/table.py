@@ -46,6 +46,11 @@ ANALYSIS_OUTPUTS = {  # each analysis' (table, figure)
     "incidence": ("incidence.csv", "incidence.png"),
 }
 PARQUET = "results.parquet"
+ANALYSIS_FILES = (*(f for pair in ANALYSIS_OUTPUTS.values() for f in pair), PARQUET)
+PARTS = "parts"
+OWNER = ".study.json"  # the study whose results the folder holds: {"name", "kind"}
+LEAD_COLUMNS = ("index", "key", "record", "sample")  # first columns, in this order
+TAIL_COLUMNS = ("status", "error", "task_s")  # after the parameters
 
 
 def pyarrow_modules():
@@ -57,11 +62,6 @@ def pyarrow_modules():
     except ImportError:
         raise OSError('writing Parquet needs pyarrow: pip install "nsdyn[parquet]"') from None
     return pa, pq
-ANALYSIS_FILES = (*(f for pair in ANALYSIS_OUTPUTS.values() for f in pair), PARQUET)
-PARTS = "parts"
-OWNER = ".study.json"  # the study whose results the folder holds: {"name", "kind"}
-LEAD_COLUMNS = ("index", "key", "record", "sample")  # first columns, in this order
-TAIL_COLUMNS = ("status", "error", "task_s")  # after the parameters
 
 
 def checked_keep(source: str, keep, parameters) -> list | None:
