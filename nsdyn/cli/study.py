@@ -209,18 +209,31 @@ def announce_compile(study) -> bool:
     return warm_isolated(method, law)  # auto: radau for a frame of a few modes
 
 
-def kept_tasks(out) -> bool:
-    """Whether the results folder ``out`` holds anything beside its lock owner's file: the
-    finished tasks (``parts/`` while running, the table after) that a rerun resumes."""
-    from nsdyn.studies.table import OWNER
+def kept_tasks(out) -> int:
+    """How many finished tasks the results folder ``out`` holds (``parts/`` while running,
+    the table after): the ones a rerun resumes."""
+    from nsdyn.studies.table import ResultsStore
 
-    return Path(out).is_dir() and any(p.name != OWNER for p in Path(out).iterdir())
+    return ResultsStore(out).n_finished() if Path(out).is_dir() else 0
+
+
+def _drop_unfilled(out: Path, made: bool) -> None:
+    """Remove the results folder ``out`` this study made if no finished task is in it (its
+    owner file and an empty ``parts/`` alone: a rerun starts over anyway)."""
+    from nsdyn.studies.table import OWNER, PARTS
+
+    if made and Path(out).is_dir() and not kept_tasks(out):
+        (Path(out) / OWNER).unlink(missing_ok=True)
+        for d in (Path(out) / PARTS, Path(out)):
+            with contextlib.suppress(OSError):
+                d.rmdir()
 
 
 def stopped_line(out) -> str:
-    """What an interrupted study says of the results folder ``out`` it was running into."""
-    if kept_tasks(out):
-        return f"interrupted; finished tasks are kept in {out}, rerun to resume"
+    """What an interrupted study says of the results folder ``out`` it was running into (its
+    count of finished tasks: the last progress line, up to 5 s old, said fewer)."""
+    if n := kept_tasks(out):
+        return f"interrupted; {n} finished task{'s' * (n != 1)} kept in {out}, rerun to resume"
     return "interrupted before its first task finished; a rerun starts over"
 
 
@@ -262,18 +275,15 @@ def run(args: argparse.Namespace) -> int:
                 summary["parquet"] = str(res.table.to_parquet(out / PARQUET))
             an = run_analyses(study, res.table, out, figures=not args.no_figures)
     except KeyboardInterrupt:
-        from nsdyn.studies.table import OWNER
-
-        kept = kept_tasks(out)
-        if made and not kept and Path(out).is_dir():  # (a folder of its lock's owner alone)
-            (Path(out) / OWNER).unlink(missing_ok=True)
-            with contextlib.suppress(OSError):
-                Path(out).rmdir()
+        _drop_unfilled(out, made)
         line = stopped_line(out)
         print(f"nsdyn study: {line}", file=sys.stderr)
         if args.json:  # (an outcome too, as every command's under --json)
             print(json.dumps({"status": EXIT_INTERRUPTED, "error": line}), flush=True)
         return EXIT_INTERRUPTED
+    except Exception:  # (a study stopped by a misspelt keep, before any task was stored)
+        _drop_unfilled(out, made)
+        raise
     finally:
         signal.signal(signal.SIGTERM, old)
     status = EXIT_NUMERICS if failed else 0  # a study with failed tasks is not a success

@@ -109,7 +109,8 @@ def _first_check(study: Study, rows: list[dict], checked: bool, say=None) -> boo
     """Whether the analyses' columns and ``keep`` are checked against a successful row:
     checked now with the first among ``rows``
     (:func:`~nsdyn.studies.analyses.check_first_row`; a kept name a typo away from a field of
-    its run's summary stops the study, its rows kept, rather than end in an empty column; one
+    its run's summary stops the study, before its rows are stored (:func:`_kept_typo`), rather
+    than end in an empty column; one
     far from every field is said to ``say`` at once, not only at the study's end)."""
     if checked:
         return True
@@ -117,13 +118,8 @@ def _first_check(study: Study, rows: list[dict], checked: bool, say=None) -> boo
     if ok is not None:
         from nsdyn.studies.analyses import check_first_row
 
+        _kept_typo(study, rows)
         check_first_row(study, ok)
-        for name, near in near_kept(ok.get("error")):
-            if name in (study.keep or ()) and is_typo(name, [near]):
-                raise SceneError(f"{study.source}: study.keep: {name!r} is not a field of the "
-                                 f"first run's summary; did you mean {near!r}? (stopped after "
-                                 "it; keep is part of each task's key, so the study runs anew "
-                                 "once the name is fixed)")  # fmt: skip
         far = [repr(k) for k in missing_names(ok.get("error")) if k in (study.keep or ())]
         if far and say is not None:  # (another rung's or kind's field, or a misspelt name)
             say(f"{study.source}: study.keep: {', '.join(far)} not in the first run's summary: "
@@ -131,6 +127,18 @@ def _first_check(study: Study, rows: list[dict], checked: bool, say=None) -> boo
                 "a name no run has (misspelt) stays an empty column, which nsdyn study names "
                 "at the end")  # fmt: skip
     return ok is not None
+
+
+def _kept_typo(study: Study, rows: list[dict]) -> None:
+    """SceneError when a name ``keep`` asks for is a typo away from a field of the first
+    successful run's summary among ``rows``."""
+    ok = next((r for r in rows if r.get("status") == "ok"), {})
+    for name, near in near_kept(ok.get("error")):
+        if name in (study.keep or ()) and is_typo(name, [near]):
+            raise SceneError(f"{study.source}: study.keep: {name!r} is not a field of the "
+                             f"first run's summary; did you mean {near!r}? (stopped after it, "
+                             "its rows not kept: keep is part of each task's key, so the study "
+                             "runs anew once the name is fixed)")  # fmt: skip
 
 
 def _n_workers(executor: Executor) -> int:
@@ -235,6 +243,8 @@ def run_study(
                         else:
                             resubmit += b
                             continue
+                    if not first:  # (rows of a misspelt kept name are never resumed: its
+                        _kept_typo(study, rows)  # fix changes every key; not stored)
                     store.append(rows)
                     prog.add(rows)
                     first = _first_check(study, rows, first, progress)

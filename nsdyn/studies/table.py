@@ -317,6 +317,12 @@ class ResultsStore:
                     rows[k] = r
         return rows
 
+    def n_finished(self) -> int:
+        """How many tasks ``results.csv`` and the parts hold (the rows a rerun resumes; not
+        ``outside-grid.csv``'s)."""
+        files = [self.out / RESULTS] if (self.out / RESULTS).is_file() else []
+        return len({str(r.get("key")) for f in files + self._part_files() for r in read_csv(f)})
+
     def append(self, rows: list[dict]) -> Path:
         """Write one part holding ``rows`` (atomically)."""
         self._n_written += 1

@@ -167,7 +167,7 @@ def test_a_study_stopped_after_its_tasks_says_they_are_kept(tmp_path, monkeypatc
     monkeypatch.setattr(cli_study, "_format", stopped)
     path, out = _write(tmp_path, HEAD + PARAMS + RECORDS), tmp_path / "o"
     assert main(["study", str(path), "--out", str(out), "--no-figures"]) == 130
-    said = f"nsdyn study: interrupted; finished tasks are kept in {out}, rerun to resume"
+    said = f"nsdyn study: interrupted; 2 finished tasks kept in {out}, rerun to resume"
     assert capsys.readouterr().err.strip().endswith(said) and (out / "results.csv").is_file()
 
 
@@ -189,7 +189,7 @@ def test_a_study_whose_stop_surfaces_as_another_error_says_what_its_folder_holds
     monkeypatch.setattr(execute, "run_study", one_batch_then_stopped)
     path, out = _write(tmp_path, HEAD + PARAMS + RECORDS), tmp_path / "o"
     assert main(["study", str(path), "--out", str(out)]) == 130
-    said = f"nsdyn study: interrupted; finished tasks are kept in {out}, rerun to resume"
+    said = f"nsdyn study: interrupted; 1 finished task kept in {out}, rerun to resume"
     assert capsys.readouterr().err.strip() == said
 
 
