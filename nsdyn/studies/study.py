@@ -370,10 +370,10 @@ def _base_scene(source: str, study_dir: Path, st: dict, base_over: dict,
             merged = _merge({**raw, "motion": {}}, base_over)
         try:
             _check({t: merged.get(t, v) for t, v in base_over.items()}, f"{source}: [base]")
-        except SceneError as e:  # ("[base]: [moton]: unknown table": the table's own name)
-            raise SceneError(
-                str(e).replace(f"{source}: [base]: [", f"{source}: [base.", 1)
-            ) from None
+        except SceneError as e:  # ("[base]: [moton]: unknown table": the table's own name;
+            msg = str(e).replace(f"{source}: [base]: [", f"{source}: [base.", 1)  # a field's
+            raise SceneError(msg.replace(f"{source}: [base]: ", f"{source}: base.", 1)) from None
+            # dotted path, as every other field of a study: "[base]: motion.kep")
         from nsdyn.models.isolated.system import isolation_from_config
 
         cfg = load_scene(scene_path, base_over)

@@ -332,6 +332,8 @@ def test_simulated_records_on_a_cylinder_scene_are_said_to_be_another_scale(tmp_
         ('[studdy]\nname = "s"\n', r"s.toml: \[studdy\]: unknown table; did you mean 'study'\?"),
         ('[base.moton]\nt_end = 3.0\n[parameters]\n"isolation.mu" = [0.03, 0.06]\n',
          r"s.toml: \[base.moton\]: unknown table; did you mean 'motion'\?"),
+        ('[base.motion]\nt_end = 3.0\nkep = 1\n[parameters]\n"isolation.mu" = [0.03]\n',
+         r"s.toml: base.motion.kep: unknown field; expected some of"),
     ],
 )  # fmt: skip
 def test_a_misspelt_study_table_is_named_as_a_table(tmp_path, body, message):
