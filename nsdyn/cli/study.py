@@ -209,32 +209,52 @@ def announce_compile(study) -> bool:
     return warm_isolated(method, law)  # auto: radau for a frame of a few modes
 
 
-def kept_tasks(out) -> int:
-    """How many finished tasks the results folder ``out`` holds (``parts/`` while running,
-    the table after): the ones a rerun resumes."""
+def kept_tasks(out) -> tuple[int, int] | None:
+    """(finished tasks, of them failed) that the results folder ``out`` holds (``parts/``
+    while running, the table after): the ones a rerun resumes; None when a file there cannot
+    be read (a count is no reason for an interrupt's report to fail)."""
+    import csv
+
     from nsdyn.studies.table import ResultsStore
 
-    return ResultsStore(out).n_finished() if Path(out).is_dir() else 0
+    if not Path(out).is_dir():
+        return 0, 0
+    try:
+        return ResultsStore(out).n_finished()
+    except (OSError, ValueError, csv.Error):
+        return None
 
 
-def _drop_unfilled(out: Path, made: bool) -> None:
-    """Remove the results folder ``out`` this study made if no finished task is in it (its
-    owner file and an empty ``parts/`` alone: a rerun starts over anyway)."""
+def _drop_unfilled(made: list[Path], kept: tuple[int, int] | None) -> None:
+    """Remove the folders this study made (``made``, deepest first: the results folder and
+    the parents ``--out`` named) when it holds no finished task (its owner file and an empty
+    ``parts/`` alone: a rerun starts over anyway)."""
     from nsdyn.studies.table import OWNER, PARTS
 
-    if made and Path(out).is_dir() and not kept_tasks(out):
-        (Path(out) / OWNER).unlink(missing_ok=True)
-        for d in (Path(out) / PARTS, Path(out)):
-            with contextlib.suppress(OSError):
-                d.rmdir()
+    if not made or kept != (0, 0):
+        return
+    (made[0] / OWNER).unlink(missing_ok=True)
+    with contextlib.suppress(OSError):
+        (made[0] / PARTS).rmdir()
+    for d in made:
+        try:
+            d.rmdir()
+        except OSError:
+            break
 
 
-def stopped_line(out) -> str:
-    """What an interrupted study says of the results folder ``out`` it was running into (its
-    count of finished tasks: the last progress line, up to 5 s old, said fewer)."""
-    if n := kept_tasks(out):
-        return f"interrupted; {n} finished task{'s' * (n != 1)} kept in {out}, rerun to resume"
-    return "interrupted before its first task finished; a rerun starts over"
+def stopped_line(out, kept: tuple[int, int] | None | bool = True) -> str:
+    """What an interrupted study says of the results folder ``out`` it was running into:
+    ``kept`` its count (:func:`kept_tasks`, counted here when True; the last progress line,
+    up to PROGRESS_S old, can say fewer)."""
+    kept = kept_tasks(out) if kept is True else kept
+    if kept is None:  # (a file there it cannot read: nothing counted)
+        return f"interrupted; finished tasks are kept in {out}, rerun to resume"
+    n, failed = kept
+    if not n:
+        return "interrupted before its first task finished; a rerun starts over"
+    of = f" ({failed} of them failed)" * bool(failed)
+    return f"interrupted; {n} finished task{'s' * (n != 1)}{of} kept in {out}, rerun to resume"
 
 
 def run(args: argparse.Namespace) -> int:
@@ -249,20 +269,27 @@ def run(args: argparse.Namespace) -> int:
                     "other")  # fmt: skip
     study = load_study(args.study)
     out = Path(args.out) if args.out else Path(DEFAULT_OUT) / study_folder(study.name)
+    parquet = args.parquet or (out / PARQUET).is_file()  # (once asked: a run on another grid
+    # removes the copy with the old grid's analyses, and it is written anew after the run)
+    try:
+        if parquet:
+            pyarrow_modules()  # (before the kernels and the first run, not after the last)
+    except OSError as e:
+        if args.parquet:
+            raise
+        raise OSError(f"{out / PARQUET}: kept in step with the table; {e}; or remove it") from None
     announce_compile(study)
     if args.dask or args.dask_local:
         ctx = dask_executor(args.dask, args.dask_local)
     else:
         ctx = nullcontext(None)
-    made = not out.exists()
-    parquet = args.parquet or (out / PARQUET).is_file()  # (once asked: a run on another grid
-    # removes the copy with the old grid's analyses, and it is written anew after the run)
-    if parquet:
-        pyarrow_modules()  # (before the first run, not after the last)
+    made = [d for d in (out, *out.parents) if not d.exists()]  # deepest first
+    entered: list[bool] = []  # (the folders are this study's once it holds their lock)
     old = signal.signal(signal.SIGTERM, _on_sigterm)
     STARTED[:] = [str(out)]
     try:
         with output_dir(out, "study"):  # (locked while the study runs and its analyses write)
+            entered.append(True)
             with ctx as executor:
                 res = run_study(study, out, executor=executor, workers=args.workers,
                                 fresh=args.fresh, retry_failed=args.retry_failed,
@@ -275,14 +302,16 @@ def run(args: argparse.Namespace) -> int:
                 summary["parquet"] = str(res.table.to_parquet(out / PARQUET))
             an = run_analyses(study, res.table, out, figures=not args.no_figures)
     except KeyboardInterrupt:
-        _drop_unfilled(out, made)
-        line = stopped_line(out)
+        kept = kept_tasks(out)
+        _drop_unfilled(made * bool(entered), kept)
+        line = stopped_line(out, kept)
         print(f"nsdyn study: {line}", file=sys.stderr)
         if args.json:  # (an outcome too, as every command's under --json)
             print(json.dumps({"status": EXIT_INTERRUPTED, "error": line}), flush=True)
         return EXIT_INTERRUPTED
     except Exception:  # (a study stopped by a misspelt keep, before any task was stored)
-        _drop_unfilled(out, made)
+        if entered:  # (not another study's folder: refused by its lock)
+            _drop_unfilled(made, kept_tasks(out))
         raise
     finally:
         signal.signal(signal.SIGTERM, old)

@@ -129,12 +129,15 @@ def _first_check(study: Study, rows: list[dict], checked: bool, say=None) -> boo
     return ok is not None
 
 
-def _kept_typo(study: Study, rows: list[dict]) -> None:
+def _kept_typo(study: Study, rows: list[dict], early=()) -> None:
     """SceneError when a name ``keep`` asks for is a typo away from a field of the first
-    successful run's summary among ``rows``."""
+    successful run's summary among ``rows``; the parts ``early`` (stored before it: failed
+    rows) are removed first."""
     ok = next((r for r in rows if r.get("status") == "ok"), {})
     for name, near in near_kept(ok.get("error")):
         if name in (study.keep or ()) and is_typo(name, [near]):
+            for part in early:
+                part.unlink(missing_ok=True)
             raise SceneError(f"{study.source}: study.keep: {name!r} is not a field of the "
                              f"first run's summary; did you mean {near!r}? (stopped after it, "
                              "its rows not kept: keep is part of each task's key, so the study "
@@ -224,6 +227,7 @@ def run_study(
     prog = _Progress(study.name, len(tasks), len(tasks) - len(todo), progress)
     t0 = time.perf_counter()
     pending: dict = {}
+    early: list = []  # parts stored before the first successful row was checked
     try:
         with Interrupts() as stop:  # signals act between waits (workers.Interrupts)
             pending = {executor.submit(run_batch, b): (b, False) for b in batches(todo, size)}
@@ -244,8 +248,9 @@ def run_study(
                             resubmit += b
                             continue
                     if not first:  # (rows of a misspelt kept name are never resumed: its
-                        _kept_typo(study, rows)  # fix changes every key; not stored)
-                    store.append(rows)
+                        _kept_typo(study, rows, early)  # fix changes every key; not stored)
+                    part = store.append(rows)
+                    early += [part] * (not first)
                     prog.add(rows)
                     first = _first_check(study, rows, first, progress)
                 if broken and own:

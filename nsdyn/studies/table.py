@@ -317,11 +317,24 @@ class ResultsStore:
                     rows[k] = r
         return rows
 
-    def n_finished(self) -> int:
-        """How many tasks ``results.csv`` and the parts hold (the rows a rerun resumes; not
-        ``outside-grid.csv``'s)."""
+    def n_finished(self) -> tuple[int, int]:
+        """(tasks, of them failed) that ``results.csv`` and the parts hold: the rows a rerun
+        resumes (a failed one runs again under --retry-failed), not ``outside-grid.csv``'s.
+        Reads the key and status cells alone (an interrupt's count: parsing every cell of
+        10⁵ rows took 6 s); OSError, ValueError or csv.Error from a file it cannot read."""
+        ok: dict[str, bool] = {}
         files = [self.out / RESULTS] if (self.out / RESULTS).is_file() else []
-        return len({str(r.get("key")) for f in files + self._part_files() for r in read_csv(f)})
+        for f in files + self._part_files():
+            with open(f, newline="") as fh:
+                cells = csv.reader(fh)
+                head = next(cells, [])
+                if "key" not in head:
+                    continue
+                k, s = head.index("key"), head.index("status") if "status" in head else -1
+                for row in cells:
+                    if len(row) > k:
+                        ok[row[k]] = ok.get(row[k], False) or 0 <= s < len(row) and row[s] == "ok"
+        return len(ok), sum(not v for v in ok.values())
 
     def append(self, rows: list[dict]) -> Path:
         """Write one part holding ``rows`` (atomically)."""

@@ -112,6 +112,22 @@ def test_a_kept_name_a_typo_away_stops_the_study_after_its_first_run(tmp_path, c
     assert "4 run now" in captured.out and "warning" not in captured.err
 
 
+def test_a_kept_typo_after_a_failed_batch_stores_no_row_and_leaves_no_folder(tmp_path, capsys):
+    # a batch of failed rows before the first successful one was stored under the misspelt
+    # name's keys (kept in outside-grid.csv for good after the fix); the parents --out named
+    # were left empty
+    from nsdyn.cli import main
+
+    study = tmp_path / "s.toml"
+    study.write_text('[study]\nname = "s"\nbatch = 1\nkeep = ["x_iso_maxx"]\n'
+                     '[base.motion]\npga = 3.0\nt_end = 1.0\n'
+                     '[parameters]\n"solver.max_steps" = [5, 100000]\n')  # fmt: skip
+    out = tmp_path / "a" / "b" / "o"
+    assert main(["study", str(study), "--out", str(out), "--workers", "1"]) == 2
+    assert "study.keep: 'x_iso_maxx' is not a field" in capsys.readouterr().err
+    assert not (tmp_path / "a").exists()
+
+
 def test_a_kept_name_far_from_every_field_is_said_at_once_and_warned_at_the_end(tmp_path, capsys):
     # a name far from every field may be another rung's: the study runs on, says so as its
     # first run ends (a long study's empty column was only said at its end), and warns

@@ -396,3 +396,54 @@ def test_parquet_without_pyarrow_is_refused_before_any_run(tmp_path, capsys, mon
     cap = capsys.readouterr()
     assert 'writing Parquet needs pyarrow: pip install "nsdyn[parquet]"' in cap.err + cap.out
     assert not out.exists()  # no run began
+
+
+def test_a_folder_with_a_parquet_copy_names_it_when_pyarrow_is_missing(
+    tmp_path, monkeypatch, capsys
+):
+    """A folder whose table has a Parquet copy keeps it in step, so a run there without pyarrow
+    is refused; the refusal named only the extra, not the copy that asks for it."""
+    import sys
+
+    from nsdyn.cli import main
+
+    monkeypatch.setitem(sys.modules, "pyarrow", None)
+    text = (
+        '[study]\nname = "g"\n[base.scene]\nfidelity = "rigid"\n[base.motion]\nt_end = 1.0\n'
+        '[parameters]\n"isolation.mu" = [0.02]\n[records]\nnames = ["synthetic-wn-40s"]\n'
+    )
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "results.parquet").write_bytes(b"PAR1")
+    assert main(["study", str(_write(tmp_path, text)), "--out", str(out), "--json"]) == 2
+    cap = capsys.readouterr()
+    said = f"{out / 'results.parquet'}: kept in step with the table; writing Parquet needs pyarrow"
+    assert said in cap.err + cap.out and sorted(p.name for p in out.iterdir()) == [
+        "results.parquet"
+    ]
+
+
+def test_a_study_refused_by_another_ones_lock_leaves_that_ones_folder(tmp_path, monkeypatch):
+    """Two studies started into one new folder: the one refused by the other's lock removed
+    the other's owner file (it had found the folder missing before it asked for the lock)."""
+    import contextlib
+
+    import nsdyn.cli.study as cli_study
+    from nsdyn.atomic import OutputBusy
+    from nsdyn.cli import main
+
+    @contextlib.contextmanager
+    def taken(out, command="command", say=None):  # the other study claims it first
+        out.mkdir(parents=True)
+        (out / ".study.json").write_text('{"name": "other", "kind": "isolated"}')
+        raise OutputBusy(f"{out}: nsdyn study (process 1) writes there")
+        yield out
+
+    monkeypatch.setattr(cli_study, "output_dir", taken)
+    text = (
+        '[study]\nname = "g"\n[base.scene]\nfidelity = "rigid"\n[base.motion]\nt_end = 1.0\n'
+        '[parameters]\n"isolation.mu" = [0.02]\n[records]\nnames = ["synthetic-wn-40s"]\n'
+    )
+    out = tmp_path / "o"
+    assert main(["study", str(_write(tmp_path, text)), "--out", str(out)]) == 2
+    assert (out / ".study.json").is_file()

@@ -13,6 +13,8 @@ is said to be one when its table is read.
 
 from __future__ import annotations
 
+import shutil
+
 import pytest
 
 from nsdyn.cli import main
@@ -180,16 +182,25 @@ def test_a_study_whose_stop_surfaces_as_another_error_says_what_its_folder_holds
     import nsdyn.studies.execute as execute
     from nsdyn.cli.stop import SIGNALLED
 
+    part = [b"index,key,status\n0,a,ok\n1,b,failed\n1,b,failed\n"]  # (b: twice, one task)
+
     def one_batch_then_stopped(study, out, **kw):
         (out / "parts").mkdir(parents=True)
-        (out / "parts" / "part-0.csv").write_text("index\n0\n")
+        (out / "parts" / "part-0.csv").write_bytes(part[0])
         SIGNALLED[0] = True
         raise RuntimeError("an error the signal left")
 
     monkeypatch.setattr(execute, "run_study", one_batch_then_stopped)
     path, out = _write(tmp_path, HEAD + PARAMS + RECORDS), tmp_path / "o"
     assert main(["study", str(path), "--out", str(out)]) == 130
-    said = f"nsdyn study: interrupted; 1 finished task kept in {out}, rerun to resume"
+    said = (f"nsdyn study: interrupted; 2 finished tasks (1 of them failed) kept in {out}, "
+            "rerun to resume")  # fmt: skip
+    assert capsys.readouterr().err.strip() == said
+    # a part it cannot read (not UTF-8): no count, no traceback in place of the report
+    part[0] = b"index,key\n0,\xff\n"
+    shutil.rmtree(out)
+    assert main(["study", str(path), "--out", str(out)]) == 130
+    said = f"nsdyn study: interrupted; finished tasks are kept in {out}, rerun to resume"
     assert capsys.readouterr().err.strip() == said
 
 

@@ -142,7 +142,7 @@ def test_a_frame_study_varying_a_key_of_another_law_is_refused(tmp_path):
 
 @pytest.mark.parametrize("key", ["n_periods = 2", "t_end = 2.0"])
 def test_a_harmonic_scene_s_base_motion_is_its_own(tmp_path, key):
-    # "[base]: motion.n_periods: unknown field; expected some of ['dt', 'pga', 'record', ...]"
+    # "base.motion.n_periods: unknown field; expected some of ['dt', 'pga', 'record', ...]"
     # and, for t_end over the scene's n_periods, "give one, not both"
     body = f'[base.motion]\n{key}\n[parameters]\n"isolation.mu" = [0.05, 0.06]\n'
     (task,) = expand(load_study(_study(tmp_path, "isolated-uplift-pocket.toml", body)))[:1]
