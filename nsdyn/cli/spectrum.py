@@ -1,6 +1,7 @@
 """``nsdyn spectrum``: overturning spectrum of a rocking block or frame scene.
 
-For each pulse frequency ω_p/p (log-spaced) the minimum pulse amplitude a_p/(g tan α) that
+For each pulse frequency ω_p/p (log-spaced) the minimum pulse amplitude a_p/(g tan α) (g α for
+a linearised model) that
 overturns the body is bracketed and bisected
 (:func:`nsdyn.models.rocking.spectra.overturning_spectrum`);
 frequencies run in parallel processes.
@@ -57,8 +58,9 @@ def configure(p: argparse.ArgumentParser) -> None:
         help="relative bisection width, from 2.2e-14 to below 1 (default 1e-4)",
     )
     p.add_argument("--a-max", type=positive_finite, default=None, metavar="RATIO",
-                   help="largest amplitude ratio a_p/(g tan α) scanned (default 30, at most "
-                   "1e6); a frequency with no overturning up to it reports '> a_max'")  # fmt: skip
+                   help="largest amplitude ratio a_p/(g tan α) (g α if linear) scanned "
+                   "(default 30, at most 1e6); a frequency with no overturning up to it "
+                   "reports '> a_max'")  # fmt: skip
     p.add_argument("--workers", type=workers, default=None, metavar="N",
                    help="parallel processes")  # fmt: skip
     p.add_argument(
@@ -147,7 +149,8 @@ def run(args: argparse.Namespace) -> int:
         return 0
     print(f"{src}: {args.shape} pulses, α = {sp.alpha:.4f} rad, p = {sp.p:.4f} 1/s")
     print(f"{args.n} frequencies, {sp.n_runs} runs, {sp.wall_s:.2f} s")
-    print("  ω_p/p    a_min/(g tan α)  mode  status")
+    unit = sp.unit.replace("alpha", "α")
+    print(f"  ω_p/p    {'a_min/(' + unit + ')':>15s}  mode  status")
     for x, a, m, s in zip(sp.omega_ratio, sp.a_min_ratio, sp.mode, sp.status, strict=True):
         a_txt = f"{a:15.5g}" if math.isfinite(a) else f"{'> ' + format(sp.a_max, 'g'):>15s}"
         s = f"{s} = {sp.a_max:g}" if s.endswith("a_max") else s  # the bound, not a word

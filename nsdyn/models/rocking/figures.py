@@ -35,7 +35,8 @@ def history_figure(t, theta, alpha: float, title: str = "", impacts=None, ground
 
 
 def spectrum_figure(spectra: dict, title: str = "") -> Figure:
-    """Minimum overturning amplitude a_p / (g tan alpha) against omega_p / p; ``spectra`` maps a
+    """Minimum overturning amplitude a_p / (g tan alpha) (g alpha if linearised) against
+    omega_p / p; ``spectra`` maps a
     label to an :class:`~nsdyn.models.rocking.spectra.OverturningSpectrum`. Frequencies without
     overturning up to a_max get a triangle at a_max (not a gap), a band safe up to a_max is
     drawn to a_max, and the search's resolution is written under the axes."""
@@ -64,7 +65,8 @@ def spectrum_figure(spectra: dict, title: str = "") -> Figure:
                      f"the overturning mode changes, edges to {sp.rtol:g}")  # fmt: skip
     fig.supxlabel("\n".join(notes), fontsize=7, color="0.3")  # below the axes, given room
     ax.set_xlabel("ω_p / p")
-    ax.set_ylabel("a_p / (g tan α)")
+    units = {sp.unit.replace("alpha", "α") for sp in spectra.values()}
+    ax.set_ylabel(f"a_p / ({units.pop()})" if len(units) == 1 else "a_p / lift-off acceleration")
     head = "minimum overturning amplitude" + (f": {next(iter(spectra))}" if one else "")
     ax.set_title(title or head, fontsize=10)
     ax.legend(fontsize=7, loc="upper left")

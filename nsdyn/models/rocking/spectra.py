@@ -1,19 +1,20 @@
 """Overturning spectra: the minimum pulse amplitude that overturns a rocking block (or frame)
 as a function of the pulse frequency, by bracketing and bisection.
 
-For each ``omega_p / p`` the amplitude ratio ``a_p / (g tan alpha)`` is scanned geometrically
-from 1 (no lift-off below) by the factor ``scan`` up to ``a_max`` (its last point); each change
-of outcome (safe <-> overturned) is then bisected to the relative width ``rtol``. Reported: the
-minimum overturning amplitude with its mode (1: overturns after at least one impact, 2: without an
-impact, Zhang & Makris 2001), and the first safe band above the minimum (for one-sine pulses
-the literature reports such a band: overturning with one impact at the minimum, then safe,
-then overturning without impact). Such a band is often narrower than one scan factor (0.1 to
-3 % of the amplitude at omega_p / p = 1 to 3), so the scan alone steps over it. It separates
-the two overturning mechanisms, so where two overturning scan points differ in mode (impact
-before, none after) the interval between them is searched by bisection on the mode: a safe
-midpoint is the band (its edges are then bisected), otherwise the half with the mode change
-is kept, down to ``rtol``. What remains unseen: a band narrower than ``rtol`` there, or one
-narrower than a scan factor where the mode does not change.
+For each ``omega_p / p`` the amplitude ratio ``a_p / a_lift`` is scanned geometrically from 1
+(no lift-off below; a_lift = g tan alpha, g alpha for a linearised model, the unit of every
+amplitude it reports: :attr:`OverturningSpectrum.unit`) by the factor ``scan`` up to ``a_max``
+(its last point); each change of outcome (safe <-> overturned) is then bisected to the relative
+width ``rtol``. Reported: the minimum overturning amplitude with its mode (1: overturns after
+at least one impact, 2: without an impact, Zhang & Makris 2001), and the first safe band above
+the minimum (for one-sine pulses the literature reports such a band: overturning with one
+impact at the minimum, then safe, then overturning without impact). Such a band is often
+narrower than one scan factor (0.1 to 3 % of the amplitude at omega_p / p = 1 to 3), so the
+scan alone steps over it. It separates the two overturning mechanisms, so where two overturning
+scan points differ in mode (impact before, none after) the interval between them is searched by
+bisection on the mode: a safe midpoint is the band (its edges are then bisected), otherwise the
+half with the mode change is kept, down to ``rtol``. What remains unseen: a band narrower than
+``rtol`` there, or one narrower than a scan factor where the mode does not change.
 
 Each frequency gets a status word, so that NaN never stands unexplained (``STATUS``):
 ``no overturning up to a_max`` (a_min NaN: none found up to the scan's end, not "absent"),
@@ -40,7 +41,7 @@ from nsdyn.models.rocking.block import OMEGA_RATIO_MAX, TOL, simulate_rocking
 
 RTOL = 1e-4  # relative width of the bisected amplitude brackets
 SCAN = 1.1  # geometric scan factor of the amplitude
-A_MAX = 30.0  # largest amplitude ratio a_p / (g tan alpha) scanned
+A_MAX = 30.0  # largest amplitude ratio a_p / a_lift scanned
 # slowest pulse: 1e-2 of p, quasi-static (the seed 003 column overturns at a_p = 1.0001 g tan
 # alpha there); omega_p / p = 1e-300 stepped through a pulse of 1e300 s until the step underflowed
 OMEGA_RATIO_MIN = 1e-2
@@ -69,7 +70,7 @@ class OverturningSpectrum:
     omega_ratio : ndarray, shape (n,)
         omega_p / p.
     a_min_ratio : ndarray, shape (n,)
-        Minimum overturning a_p / (g tan alpha) (nan: none up to a_max).
+        Minimum overturning a_p / a_lift (nan: none up to a_max); a_lift is :attr:`unit`.
     mode : ndarray of int, shape (n,)
         1: overturning after an impact, 2: without impact, 0: none found.
     safe_lo_ratio, safe_hi_ratio : ndarray, shape (n,)
@@ -78,6 +79,8 @@ class OverturningSpectrum:
         One of ``STATUS`` per frequency: what a NaN above means.
     a_max, scan, rtol : float
         The search: amplitudes scanned up to a_max (ratio) by the factor scan, edges to rtol.
+    linear : bool
+        The model was linearised: its ratios are to g alpha, not g tan alpha (:attr:`unit`).
     """
 
     omega_ratio: np.ndarray
@@ -94,21 +97,30 @@ class OverturningSpectrum:
     a_max: float = A_MAX
     scan: float = SCAN
     rtol: float = RTOL
+    linear: bool = False
 
     __repr__ = brief_repr  # arrays by shape, not in full
+
+    @property
+    def unit(self) -> str:
+        """The amplitudes' unit, the model's lift-off acceleration: "g tan alpha", or "g alpha"
+        for a linearised model (a linear frame's 1.0001 at slow pulses was printed as if in
+        g tan alpha, 20 % off at alpha = 0.7)."""
+        return "g alpha" if self.linear else "g tan alpha"
 
     COLUMNS = ("omega_ratio", "a_min_ratio", "mode", "safe_lo_ratio", "safe_hi_ratio", "status")
 
     def summary(self) -> dict:
         """The spectrum as plain values (NaN as None; what ``nsdyn spectrum --json`` prints):
         the block's ``alpha_rad`` and ``p_per_s``, the pulse ``shape``, ``n_runs``, ``wall_s``,
-        one list per column of :attr:`COLUMNS` and the ``search`` (a_max ratio, scan, rtol)."""
+        the ratios' ``amplitude_unit`` (:attr:`unit`), one list per column of :attr:`COLUMNS`
+        and the ``search`` (a_max ratio, scan, rtol)."""
 
         def plain(a):
             return [None if math.isnan(v) else float(v) for v in a]
 
         return {"shape": self.shape, "alpha_rad": self.alpha, "p_per_s": self.p,
-                "n_runs": self.n_runs, "wall_s": self.wall_s,
+                "n_runs": self.n_runs, "wall_s": self.wall_s, "amplitude_unit": self.unit,
                 "omega_ratio": self.omega_ratio.tolist(), "a_min_ratio": plain(self.a_min_ratio),
                 "mode": self.mode.tolist(), "safe_lo_ratio": plain(self.safe_lo_ratio),
                 "safe_hi_ratio": plain(self.safe_hi_ratio), "status": list(self.status or []),
@@ -172,7 +184,7 @@ def _find_gap(model, shape, w, lo, hi, rtol, tol):
 
 def spectrum_point(model, shape: str, omega_ratio: float, rtol: float = RTOL,
                    scan: float = SCAN, a_max: float = A_MAX, tol: float = TOL):  # fmt: skip
-    """(a_min, mode, safe_lo, safe_hi, runs) at one omega_p / p (amplitudes / g tan alpha)."""
+    """(a_min, mode, safe_lo, safe_hi, runs) at one omega_p / p (amplitudes / a_lift)."""
     w = omega_ratio * model.p
     a_ref = model.uplift_accel
     runs = 0
@@ -293,4 +305,5 @@ def overturning_spectrum(
         a_max=float(a_max),
         scan=float(scan),
         rtol=float(rtol),
+        linear=bool(model.linear),
     )

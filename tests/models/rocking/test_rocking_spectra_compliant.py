@@ -138,3 +138,23 @@ def test_compliant_block_past_its_balance_overturns_and_the_run_ends_there():
     still = simulate_compliant(blk, t_end=1.0, theta0=0.5 * al).summary()
     assert not still["overturned"] and still["t_overturn_s"] is None
     assert still["outcome"] == "standing"  # (as the rigid block's summary, an outcome word)
+
+
+def test_a_linearised_spectrum_says_its_ratios_are_to_g_alpha(tmp_path, capsys):
+    """A linearised model's ratios are to its lift-off g alpha (Housner's closed form above
+    holds in it); the table and the JSON called them a_p / (g tan alpha), 20 % off for a
+    frame of alpha = 0.7."""
+    from nsdyn.cli import main
+
+    blk = RockingBlock(width=0.4, height=2.0, linear=True)
+    with ThreadPoolExecutor(1) as ex:
+        sp = overturning_spectrum(blk, [2.0], shape="rect", rtol=1e-3, executor=ex)
+    assert sp.unit == "g alpha" and sp.summary()["amplitude_unit"] == "g alpha"
+    scene = tmp_path / "lin.toml"
+    scene.write_text('[scene]\nkind = "rocking"\n[block]\nwidth = 0.4\nheight = 2.0\n'
+                     'linear = true\n[motion]\npulse = "rect"\nf_p = 1.0\n'
+                     'a_p_g = 0.3\n')  # fmt: skip
+    argv = ["spectrum", str(scene), "--n", "2", "--shape", "rect", "--no-figures"]
+    assert main([*argv, "--workers", "1", "--out", str(tmp_path / "o")]) == 0
+    out = capsys.readouterr().out
+    assert "a_min/(g α)" in out and "tan" not in out.split("mode  status")[0].splitlines()[-1]
