@@ -125,8 +125,12 @@ def build_model(cfg: dict, source: str):
     if model != "frame" and "gamma" in b:
         raise SceneError(f"{source}: block.gamma: the beam-to-columns mass ratio of a rocking "
                          f"frame (scene.model = 'frame'), not of a {model}")  # fmt: skip
-    if model == "frame":
-        gamma = number(source, "block.gamma", b.get("gamma", 0.0), allow_zero=True)
+    if model == "frame":  # (without gamma it ran the bare column, saying "model frame")
+        if "gamma" not in b:
+            raise SceneError(f"{source}: block.gamma: missing; expected the frame's beam-to-"
+                             "columns mass ratio m_beam / (2 m_column) >= 0 (0: the columns "
+                             "alone)")  # fmt: skip
+        gamma = number(source, "block.gamma", b["gamma"], allow_zero=True)
         return _rocks(RockingFrame(width=w, height=h, gamma=gamma, r=r, linear=linear,
                                    g=G_EARTH, column_mass=mass), source)  # fmt: skip
     if model == "compliant":

@@ -66,9 +66,9 @@ SCHEMA = Schema(
                 Key(
                     "gamma",
                     "number",
-                    "frame only: m_beam / (2 m_column)",
+                    "frame only, and required there: m_beam / (2 m_column) (0: the columns "
+                    "alone, a block)",
                     "—",
-                    default=0.0,
                     **_NONNEG,
                 ),
                 Key(

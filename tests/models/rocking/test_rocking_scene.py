@@ -53,6 +53,9 @@ def _cfg(**block):
         ({"scene": {"kind": "rocking", "model": "frame"}, "block": {"width": 1, "height": 2,
           "zeta": 2.0}}, "block.zeta: a key of the compliant model (scene.model = 'compliant'), "
                          "not of a frame"),
+        # a frame without its beam ran the bare column, saying "model frame"
+        ({"scene": {"kind": "rocking", "model": "frame"}, "block": {"width": 1, "height": 2}},
+         "block.gamma: missing; expected the frame's beam-to-columns mass ratio"),
     ],
 )  # fmt: skip
 def test_bad_scene_input_raises_scene_error_naming_file_and_field(cfg, field):
