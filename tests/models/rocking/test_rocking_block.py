@@ -289,3 +289,24 @@ def test_any_model_with_the_documented_attributes_rocks():
     m = SimpleNamespace(p=COLUMN.p, alpha=COLUMN.alpha, restitution=0.9, linear=True, g=9.81)
     res = simulate_rocking(m, t_end=2.0, theta0=0.6 * m.alpha, dt_out=0)
     assert res.impacts[0, 0] == pytest.approx(math.acosh(1.0 / (1.0 - 0.6)) / m.p, rel=1e-8)
+
+
+@pytest.mark.parametrize("rho", [1.5, -1.5])
+@pytest.mark.parametrize("gamma", [None, 5.0])
+def test_a_ground_falling_faster_than_g_stops_the_run_at_that_instant(rho, gamma):
+    """Free flight is not modelled: the run stops where g + ü_v first reaches 0. For a one-sine
+    pulse with ü_v = rho a_p sin(w t) that is sin(w t) = -g / (rho a_p), here while the block
+    or frame rocks: it was said at the next step's start (0.0820 s for 0.0784 s)."""
+    from nsdyn import RockingFrame
+    from nsdyn._checks import NumericalFailure
+
+    g = 9.81
+    ap, w = 0.8 * g, 4 * math.pi
+    s = -g / (rho * ap)
+    x = math.asin(s) if s > 0 else math.pi - math.asin(s)  # first w t in (0, 2 pi) with sin = s
+    kw = {"width": 0.3, "height": 1.2, "g": g}
+    model = RockingBlock(**kw) if gamma is None else RockingFrame(**kw, gamma=gamma)
+    with pytest.raises(NumericalFailure, match="free flight is not modelled") as e:
+        simulate_rocking(model, one_sine(ap, w, ver_ratio=rho), t_end=1.0)
+    t_said = float(str(e.value).split("at t = ")[1].split(" s")[0])
+    assert t_said == pytest.approx(x / w, rel=1e-5)  # (the message's 6 digits)
