@@ -42,11 +42,11 @@ from nsdyn.models.rocking.rocking_compile import run_integrate
 from nsdyn.models.tilt import initial_tilt
 
 TOL = 1e-9  # default relative tolerance of the Dormand-Prince integrator
-# the most slender block: atan(width / height) >= 1e-4 rad. Housner's equations scaled by alpha
-# do not depend on it as it shrinks, and the overturning spectrum of the seed 003 column
-# (omega_p / p = 1, 4.47) is the same to 8 digits from 1e-3 to 1e-5 rad; at 1e-6 a false safe
-# band appeared, at 1e-12 no overturning up to a_max, at 1e-20 alpha printed as 0
-ALPHA_MIN = 1e-4
+# the most slender block: width / height >= 1e-4 (alpha ~ 1e-4 rad). Housner's equations scaled
+# by alpha do not depend on it as it shrinks, and the overturning spectrum of the seed 003
+# column (omega_p / p = 1, 4.47) is the same to 8 digits from 1e-3 to 1e-5 rad; at 1e-6 a false
+# safe band appeared, at 1e-12 no overturning up to a_max, at 1e-20 alpha printed as 0
+ALPHA_MIN = 1e-4  # (as width / height: a block 10 000 times as tall as wide is the last one)
 # fastest pulse or harmonic: 1e3 times the block's p (its steps scale with the pulse: omega_p / p
 # = 1e300 ran for minutes); the overturning amplitude grows with omega_p / p, past any record's
 OMEGA_RATIO_MAX = 1e3
@@ -109,12 +109,13 @@ def block_sizes(cls: str, args: tuple, width, height, B, H) -> tuple[float, floa
 
 
 def too_slender(width: float, height: float) -> str | None:
-    """Why a block of these sizes is more slender than :data:`ALPHA_MIN`, or None."""
-    alpha = math.atan2(width, height)
-    if alpha >= ALPHA_MIN:
+    """Why a block of these sizes is more slender than :data:`ALPHA_MIN` (as width / height:
+    atan(1e-4) < 1e-4 refused the block 10 000 times as tall as wide the message allowed),
+    or None."""
+    if width >= ALPHA_MIN * height * (1.0 - 1e-12):
         return None
-    return (f"a slenderness atan(width / height) = {alpha:.3g} rad; expected at least "
-            f"{ALPHA_MIN:g} rad (a block at most 10 000 times as tall as wide)")  # fmt: skip
+    return (f"width / height = {width / height:.3g}; expected at least {ALPHA_MIN:g} (a block "
+            "at most 10 000 times as tall as wide)")  # fmt: skip
 
 
 def former_positional(args: tuple, values: tuple) -> tuple:
@@ -415,8 +416,12 @@ def simulate_rocking(
                         out, imp, peaks, info, *work))  # fmt: skip
     wall = time.perf_counter() - w0
     if st != kb.ST_OK:
+        why = _STATUS.get(st, st)
+        if st == kb.ST_TOO_MANY:  # (a scene has no max_impacts to raise: its t_end it has)
+            why = (f"more than max_impacts = {max_impacts} impacts (raise it, or shorten "
+                   "t_end: a scene's motion.t_end)")  # fmt: skip
         raise NumericalFailure(f"rocking integration failed at t = {info[kb.I_TFAIL]:.6g} s: "
-                               f"{_STATUS.get(st, st)}")  # fmt: skip
+                               f"{why}")  # fmt: skip
     n = int(info[kb.I_NOUT])
     n_imp = int(info[kb.I_NIMP])
     n_pk = int(info[kb.I_NPEAK])

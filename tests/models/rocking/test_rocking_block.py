@@ -280,6 +280,18 @@ def test_housner_restitution_is_refused_where_it_is_no_restitution():
     assert RockingBlock(width=3.0, height=1.0).restitution < 0  # (a run refuses it)
 
 
+def test_the_most_slender_block_is_the_one_the_limit_names():
+    # "expected at least 1e-4 rad (a block at most 10 000 times as tall as wide)" refused the
+    # block 10 000 times as tall as wide: its atan(1e-4) is 3e-13 below 1e-4
+    from nsdyn.models.rocking.block import RockingBlock
+
+    for height in (1.0, 1.2, 3.7):
+        assert RockingBlock(width=1e-4 * height, height=height).alpha > 0
+        with pytest.raises(ValueError, match=r"width / height = 9.9e-05; expected at least 0.0001 "
+                           r"\(a block at most 10 000 times as tall as wide\)"):  # fmt: skip
+            RockingBlock(width=0.99e-4 * height, height=height)
+
+
 def test_any_model_with_the_documented_attributes_rocks():
     """simulate_rocking runs any model exposing p, alpha, restitution, linear and g (the
     module's promise): one without a given ``r`` failed once r = 0 was told from Housner's;
@@ -310,3 +322,14 @@ def test_a_ground_falling_faster_than_g_stops_the_run_at_that_instant(rho, gamma
         simulate_rocking(model, one_sine(ap, w, ver_ratio=rho), t_end=1.0)
     t_said = float(str(e.value).split("at t = ")[1].split(" s")[0])
     assert t_said == pytest.approx(x / w, rel=1e-5)  # (the message's 6 digits)
+
+
+def test_an_impact_buffer_filled_says_what_to_change():
+    # "too many impacts (raise max_impacts)" asked a scene's user for a key no scene has.
+    # Free rocking from 0.5 alpha with r = 0.9 has tens of impacts before rest: 3 fill it
+    from nsdyn._checks import NumericalFailure
+
+    blk = RockingBlock(width=0.3, height=1.2, r=0.9)
+    with pytest.raises(NumericalFailure, match=r"more than max_impacts = 3 impacts \(raise it, "
+                       r"or shorten t_end: a scene's motion.t_end\)$"):  # fmt: skip
+        simulate_rocking(blk, t_end=30.0, theta0=0.5 * blk.alpha, max_impacts=3)
