@@ -294,9 +294,9 @@ def test_a_scene_choice_is_a_parameter_whether_the_base_writes_it_or_not(tmp_pat
                      'pulse = "sine"\na_p_g = 0.4\nomega_p = 12.0\nt_end = 2.0\n')  # fmt: skip
     path = tmp_path / "s.toml"
     path.write_text(
-        f'[study]\nscene = "{scene}"\n[parameters]\n"scene.model" = ["block", "frame"]\n'
+        f'[study]\nscene = "{scene}"\n[parameters]\n"scene.model" = ["block", "compliant"]\n'
     )
-    assert [t.params["scene.model"] for t in expand(load_study(path))] == ["block", "frame"]
+    assert [t.params["scene.model"] for t in expand(load_study(path))] == ["block", "compliant"]
     path.write_text(f'[study]\nscene = "{scene}"\n[parameters]\n"scene.kind" = ["contact"]\n')
     with pytest.raises(SceneError, match=r"parameters.scene.kind: a study runs the one scene kind"):
         load_study(path)
