@@ -204,7 +204,6 @@ def integrate(
     status = ST_OK
     overturned = False
     t_stop = t_end * (1.0 - 1e-15) - 1e-300
-    t_ok = t  # the last step start with g + ü_v > 0
     while t < t_stop:
         if not rocking:
             side = 0
@@ -252,7 +251,6 @@ def integrate(
                     out[k_out, 1] = 0.0
                     k_out += 1
             rocking = True
-            t_ok = t  # (the rest checked the ground up to here)
             s = float(side)
             th = 0.0
             thd = 0.0
@@ -265,20 +263,9 @@ def integrate(
 
         # ---- one Dormand-Prince step on side s ------------------------------------------------
         if 1.0 + ground_t(t, RIGHT_LIMIT, gk, gp, tab_h, tab_v)[1] / par[P_G] <= 0.0:
-            status = ST_FLIGHT  # the ground falls faster than g under the rocking block: checked
-            a = t_ok  # at each step's start, the instant bisected in the step before (a
-            b = t  # record's samples bound the steps; a closed-form pulse's crossing was
-            for _ in range(UPLIFT_BISECT):  # said up to a step late)
-                m = 0.5 * (a + b)
-                if 1.0 + ground_t(m, RIGHT_LIMIT, gk, gp, tab_h, tab_v)[1] / par[P_G] <= 0.0:
-                    b = m
-                else:
-                    a = m
-                if b - a <= 1e-14 * (1.0 + abs(b)):
-                    break
-            info[I_TFAIL] = b
+            status = ST_FLIGHT  # the ground falls faster than g under the rocking block (checked
+            info[I_TFAIL] = t  # at each step's start: a record's samples bound the steps)
             break
-        t_ok = t
         h_before = min(h, hmax)
         hh, at_bp = step_to_breakpoint(t, h_before, t_end, gk, gp, n_tab)
         y[0] = th

@@ -37,6 +37,7 @@ from nsdyn.ground import G_EARTH, GroundMotion, Harmonic
 from nsdyn.ground.pulses import Pulse
 from nsdyn.models.rocking import _kblock as kb
 from nsdyn.models.rocking._kground import GK_NONE, GK_PULSE, GK_TABLE
+from nsdyn.models.rocking.fall import first_fall
 from nsdyn.models.rocking.results import OUTCOMES, RockingResult
 from nsdyn.models.rocking.rocking_compile import run_integrate
 from nsdyn.models.tilt import initial_tilt
@@ -114,7 +115,7 @@ def too_slender(width: float, height: float) -> str | None:
     or None."""
     if width >= ALPHA_MIN * height * (1.0 - 1e-12):
         return None
-    return (f"width / height = {width / height:.3g}; expected at least {ALPHA_MIN:g} (a block "
+    return (f"width / height = {width / height:.6g}; expected at least {ALPHA_MIN:g} (a block "
             "at most 10 000 times as tall as wide)")  # fmt: skip
 
 
@@ -302,7 +303,7 @@ def model_params(model, tol: float, h_max: float | None, v_rest: float | None, t
 
 
 _STATUS = {
-    kb.ST_TOO_MANY: "too many impacts (raise max_impacts)",
+    kb.ST_TOO_MANY: "too many impacts",  # (said with max_impacts' value below)
     kb.ST_UNDERFLOW: "step size underflow",
     kb.ST_NONFINITE: "non-finite state",
     kb.ST_FLIGHT: "vertical ground acceleration below -g: free flight is not modelled",
@@ -412,9 +413,15 @@ def simulate_rocking(
     y0 = np.array([initial_tilt(theta0, theta0_over_alpha, model.alpha), float(thetad0)])
     w0 = time.perf_counter()
     work = (np.zeros((7, 2)), np.zeros((5, 2)), np.zeros(2), np.zeros(2))
-    st = run_integrate((par, gk, gp, tab_h, tab_v, y0, float(t0), float(t_end), dt_out or 1.0,
-                        out, imp, peaks, info, *work))  # fmt: skip
+    t_fall = first_fall(gk, gp, tab_v, t0, t_end, model.g)  # (free flight: the run ends there)
+    t_run = t_end if t_fall is None else t_fall
+    st = kb.ST_OK
+    if t_run > t0:
+        st = run_integrate((par, gk, gp, tab_h, tab_v, y0, float(t0), float(t_run),
+                            dt_out or 1.0, out, imp, peaks, info, *work))  # fmt: skip
     wall = time.perf_counter() - w0
+    if st == kb.ST_OK and t_fall is not None and OUTCOMES[int(info[kb.I_OUTCOME])] != "overturned":
+        st, info[kb.I_TFAIL] = kb.ST_FLIGHT, t_fall
     if st != kb.ST_OK:
         why = _STATUS.get(st, st)
         if st == kb.ST_TOO_MANY:  # (a scene has no max_impacts to raise: its t_end it has)

@@ -308,7 +308,8 @@ def test_any_model_with_the_documented_attributes_rocks():
 def test_a_ground_falling_faster_than_g_stops_the_run_at_that_instant(rho, gamma):
     """Free flight is not modelled: the run stops where g + ü_v first reaches 0. For a one-sine
     pulse with ü_v = rho a_p sin(w t) that is sin(w t) = -g / (rho a_p), here while the block
-    or frame rocks: it was said at the next step's start (0.0820 s for 0.0784 s)."""
+    or frame rocks: it was said at the next step's start (0.0820 s for 0.0784 s)
+    (nsdyn.models.rocking.fall finds it before the run)."""
     from nsdyn import RockingFrame
     from nsdyn._checks import NumericalFailure
 
@@ -333,3 +334,49 @@ def test_an_impact_buffer_filled_says_what_to_change():
     with pytest.raises(NumericalFailure, match=r"more than max_impacts = 3 impacts \(raise it, "
                        r"or shorten t_end: a scene's motion.t_end\)$"):  # fmt: skip
         simulate_rocking(blk, t_end=30.0, theta0=0.5 * blk.alpha, max_impacts=3)
+
+
+@pytest.mark.parametrize("shape", ["sine", "cosine", "ricker"])
+def test_a_dip_below_minus_g_shorter_than_a_step_is_found(shape):
+    """A vertical peak of 1.0001 g under a rocking block: g + ü_v < 0 for ~1 % of a period,
+    less than a step, and the run went on (checked at each step's start). The instant is the
+    closed form's first root (scipy's brentq on the pulse's own formula between its start and
+    its first extreme)."""
+    from scipy.optimize import brentq
+
+    from nsdyn._checks import NumericalFailure
+
+    blk = COLUMN
+    g, w, rho = blk.g, 10.0, -1.0001 / 0.01  # a_v = -1.0001 g at the horizontal's peak
+    pulse = Pulse(shape, 0.01 * blk.g, w, 1, 0.0, rho)
+    f = {"sine": lambda t: g + rho * pulse.a_p * math.sin(w * t),
+         "cosine": lambda t: g + rho * pulse.a_p * math.cos(w * t)}  # fmt: skip
+    if shape == "ricker":
+        t_c = 1.5 * pulse.T_p
+        f["ricker"] = lambda t: g + rho * pulse.a_p * float(pulse.accel(t)) / pulse.a_p
+        exact = brentq(f["ricker"], t_c - math.sqrt(6) / w, t_c, xtol=1e-14)
+    elif shape == "sine":
+        exact = brentq(f["sine"], 0.0, 0.5 * math.pi / w, xtol=1e-14)
+    else:  # the cosine starts at its peak: from the pulse's start
+        exact = 0.0
+    with pytest.raises(NumericalFailure, match="free flight is not modelled") as e:
+        simulate_rocking(blk, pulse, t_end=pulse.duration + 0.5, theta0_over_alpha=0.5)
+    t_said = float(str(e.value).split("at t = ")[1].split(" s")[0])
+    assert t_said == pytest.approx(exact, rel=1e-5, abs=1e-12)  # (the message's 6 digits)
+
+
+def test_a_record_falling_below_minus_g_between_samples_is_said_at_its_crossing():
+    """A record is linear between samples: from -0.9 g at 1.20 s to -2.15 g at 1.25 s it
+    crosses -g at 1.204 s, under a block rocking with r = 0 that would hit the ground just
+    after (at 1.2096 s under -0.9 g); the crossing was said at the impact."""
+    from nsdyn._checks import NumericalFailure
+    from nsdyn.ground.motion import GroundMotion
+
+    g, dt = 9.81, 0.05
+    blk = RockingBlock(width=0.3, height=1.2, r=0.0, g=g)
+    av = np.full(41, -0.9 * g)
+    av[25:] = -2.15 * g  # the sample at 1.25 s and on
+    rec = GroundMotion(t0=0.0, dt=dt, a_hor=np.zeros(41), a_ver=av)
+    with pytest.raises(NumericalFailure, match="free flight is not modelled") as e:
+        simulate_rocking(blk, rec, t_end=1.9, theta0_over_alpha=0.5)
+    assert float(str(e.value).split("at t = ")[1].split(" s")[0]) == pytest.approx(1.204, rel=1e-6)
