@@ -225,22 +225,16 @@ def kept_tasks(out) -> tuple[int, int] | None:
         return None
 
 
-def _drop_unfilled(made: list[Path], kept: tuple[int, int] | None) -> None:
-    """Remove the folders this study made (``made``, deepest first: the results folder and
-    the parents ``--out`` named) when it holds no finished task (its owner file and an empty
-    ``parts/`` alone: a rerun starts over anyway)."""
+def _drop_unfilled(out: Path, made: bool, kept: tuple[int, int] | None) -> None:
+    """Empty the results folder ``out`` this study made (``made``) when it holds no finished
+    task (``kept``): its owner file and an empty ``parts/`` go, so that the folder goes with
+    the others :func:`nsdyn.atomic.output_dir` made (a rerun starts over anyway)."""
     from nsdyn.studies.table import OWNER, PARTS
 
-    if not made or kept != (0, 0):
-        return
-    (made[0] / OWNER).unlink(missing_ok=True)
-    with contextlib.suppress(OSError):
-        (made[0] / PARTS).rmdir()
-    for d in made:
-        try:
-            d.rmdir()
-        except OSError:
-            break
+    if made and kept == (0, 0):
+        (out / OWNER).unlink(missing_ok=True)
+        with contextlib.suppress(OSError):
+            (out / PARTS).rmdir()
 
 
 def stopped_line(out, kept: tuple[int, int] | None | bool = True) -> str:
@@ -283,36 +277,34 @@ def run(args: argparse.Namespace) -> int:
         ctx = dask_executor(args.dask, args.dask_local)
     else:
         ctx = nullcontext(None)
-    made = [d for d in (out, *out.parents) if not d.exists()]  # deepest first
-    entered: list[bool] = []  # (the folders are this study's once it holds their lock)
+    made = not out.exists()
+    kept: tuple[int, int] | None | bool = True  # (counted by stopped_line unless counted here)
     old = signal.signal(signal.SIGTERM, _on_sigterm)
     STARTED[:] = [str(out)]
     try:
         with output_dir(out, "study"):  # (locked while the study runs and its analyses write)
-            entered.append(True)
-            with ctx as executor:
-                res = run_study(study, out, executor=executor, workers=args.workers,
-                                fresh=args.fresh, retry_failed=args.retry_failed,
-                                progress=None if args.json else stderr_progress)  # fmt: skip
-            summary = res.as_dict()
-            failed = failures(study, res.table.rows)
-            summary["failed"] = [{"index": f["index"], "error": f["error"]} for f in failed]
-            summary["never_kept"] = never_kept(study, res.table.rows)
-            if parquet:  # (in step with the table once asked)
-                summary["parquet"] = str(res.table.to_parquet(out / PARQUET))
-            an = run_analyses(study, res.table, out, figures=not args.no_figures)
+            try:
+                with ctx as executor:
+                    res = run_study(study, out, executor=executor, workers=args.workers,
+                                    fresh=args.fresh, retry_failed=args.retry_failed,
+                                    progress=None if args.json else stderr_progress)  # fmt: skip
+                summary = res.as_dict()
+                failed = failures(study, res.table.rows)
+                summary["failed"] = [{"index": f["index"], "error": f["error"]} for f in failed]
+                summary["never_kept"] = never_kept(study, res.table.rows)
+                if parquet:  # (in step with the table once asked)
+                    summary["parquet"] = str(res.table.to_parquet(out / PARQUET))
+                an = run_analyses(study, res.table, out, figures=not args.no_figures)
+            except BaseException:  # counted, and a folder of no task emptied, under the lock
+                kept = kept_tasks(out)  # (output_dir then removes the folders it made)
+                _drop_unfilled(out, made, kept)
+                raise
     except KeyboardInterrupt:
-        kept = kept_tasks(out)
-        _drop_unfilled(made * bool(entered), kept)
         line = stopped_line(out, kept)
         print(f"nsdyn study: {line}", file=sys.stderr)
         if args.json:  # (an outcome too, as every command's under --json)
             print(json.dumps({"status": EXIT_INTERRUPTED, "error": line}), flush=True)
         return EXIT_INTERRUPTED
-    except Exception:  # (a study stopped by a misspelt keep, before any task was stored)
-        if entered:  # (not another study's folder: refused by its lock)
-            _drop_unfilled(made, kept_tasks(out))
-        raise
     finally:
         signal.signal(signal.SIGTERM, old)
     status = EXIT_NUMERICS if failed else 0  # a study with failed tasks is not a success

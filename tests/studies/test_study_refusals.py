@@ -281,3 +281,32 @@ def test_a_frame_or_a_scene_of_tables_alone_given_as_a_study_is_named_as_what_it
     # the other commands say what the file is and where it goes
     with pytest.raises(SceneError, match=said):
         load_study(_write(tmp_path, text))
+
+
+def test_an_interrupted_study_counts_and_empties_its_folder_under_its_lock(
+    tmp_path, monkeypatch, capsys
+):
+    # the count and the removal ran after the lock was let go: a study that took the folder
+    # in between lost its owner file
+    import nsdyn.cli.study as cli_study
+    import nsdyn.studies.execute as execute
+    from nsdyn.atomic import LOCK
+    from nsdyn.studies.table import OWNER
+
+    locked = []
+    count = cli_study.kept_tasks
+
+    def kept_tasks(out):
+        locked.append((out / LOCK).exists())
+        return count(out)
+
+    def claimed_then_stopped(study, out, **kw):
+        (out / OWNER).write_text("{}")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli_study, "kept_tasks", kept_tasks)
+    monkeypatch.setattr(execute, "run_study", claimed_then_stopped)
+    path, out = _write(tmp_path, HEAD + PARAMS + RECORDS), tmp_path / "a" / "o"
+    assert main(["study", str(path), "--out", str(out)]) == 130
+    assert locked == [True] and not (tmp_path / "a").exists()  # (the parents it made too)
+    assert "interrupted before its first task finished" in capsys.readouterr().err
