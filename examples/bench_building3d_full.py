@@ -130,4 +130,8 @@ if __name__ == "__main__":
     ap.add_argument("--f-damp", type=_positives, default=(50.0, 20.0, 10.0),
                     help="modal cut-offs [Hz] (50,20,10)")  # fmt: skip
     a = ap.parse_args()
+    whole = read_motion3(RECORD)
+    span = (whole.n - 1) * whole.dt
+    if a.t_end > span * (1 + 1e-12):  # (cut to the record without a word, titled 0-t_end)
+        ap.error(f"argument --t-end: the record {RECORD} spans {span:g} s; expected at most that")
     _print(main(a.t_end, a.f_damp), a.t_end)

@@ -166,6 +166,13 @@ if __name__ == "__main__":
     res = main(a.dir, a.figures)
     for path in res.get("copied", []):  # (said: "no tables" alone read as nothing done)
         print(f"copied {path}", file=sys.stderr)
+    if not {"ratios", "fidelity", "speed", "periodic"} & set(res) and not res.get("copied"):
+        ap.exit(
+            2,
+            f"{ap.prog}: error: {a.dir}: no benchmark tables or charts to redraw from "
+            "(run nsdyn bench accuracy, fidelity, speed, periodic or stability into it "
+            "first)\n",
+        )  # (it said so with status 0)
     if not {"ratios", "fidelity", "speed", "periodic"} & set(res):
         print(f"{a.dir}: no benchmark tables to redraw from (run nsdyn bench accuracy, fidelity, "
               f"speed, periodic or stability into it first); the figures already in "

@@ -127,15 +127,17 @@ if __name__ == "__main__":
     ap = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
+    from nsdyn.cli.args import out_dir
+
     ap.add_argument(
         "--out",
-        type=Path,
-        default=FIGURES,
+        type=out_dir,  # (checked before the models run: a file there was a traceback after)
+        default=str(FIGURES),
         help=f"folder for the figures (default {FIGURES}, the documentation's)",
     )
     args = ap.parse_args()
     import json
 
-    res = main(folder=args.out)
+    res = main(folder=Path(args.out))
     # histories (arrays) are printed as their shapes only
     print(json.dumps(res, indent=1, default=lambda a: f"<array {getattr(a, 'shape', '')}>"))

@@ -5,7 +5,7 @@ round-off of ``exp``, of fused multiply-adds and of BLAS's summation order (``--
 compares against a bound from an error analysis of the recipe, :func:`machine_difference`;
 tens of ulp of the PGA), so a rerun can rewrite the files' last digits: use ``--check``.
 
-Run from the repository root::
+Run from any folder (the paths are the script's own)::
 
     python examples/make_records.py            # writes records/*.csv
     python examples/make_records.py --check    # regenerates in memory and compares with records/

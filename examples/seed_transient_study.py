@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -38,11 +40,17 @@ def run_case(system, motion, **kw):
 def main(out: str | Path = "nsdyn-out/transient-study", quick: bool = False) -> dict:
     shared = default_shared_dir()
     try:  # the records first: a missing one leaves no empty output folder behind
+        if shared is None and os.environ.get("NSDYN_SHARED"):
+            raise FileNotFoundError(f"NSDYN_SHARED = {os.environ['NSDYN_SHARED']!r} is no "
+                                    "folder; set it to the shared directory")  # fmt: skip
         if shared is None:
-            raise FileNotFoundError("set NSDYN_SHARED to the shared directory")
+            raise FileNotFoundError("no shared directory beside the project, and NSDYN_SHARED "
+                                    "is not set; set it to the shared directory")  # fmt: skip
         kobe = kobe_records(shared, component="000")
-    except FileNotFoundError as e:
-        raise SystemExit(f"shared/records not found: {e}") from None
+    except FileNotFoundError as e:  # (status 2, the path tried named: it said "set
+        print(f"seed_transient_study: error: shared/records not found: {e}",  # NSDYN_SHARED"
+              file=sys.stderr)  # of a set one)  # fmt: skip
+        raise SystemExit(2) from None
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     frame = load_frame("office-11")

@@ -60,10 +60,15 @@ def main(
 
 
 if __name__ == "__main__":
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", type=out_dir, default="nsdyn-out/study-design")
-    ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--kobe", action="store_true")
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )  # (the first line alone ended mid-sentence)
+    ap.add_argument("--out", type=out_dir, default="nsdyn-out/study-design",
+                    help="results folder (default nsdyn-out/study-design)")  # fmt: skip
+    ap.add_argument("--quick", action="store_true",
+                    help="first and last value of each variable, 5 s of each record")  # fmt: skip
+    ap.add_argument("--kobe", action="store_true",
+                    help="the seed's four Kobe records from shared/records")  # fmt: skip
     a = ap.parse_args()
     try:
         res = main(a.out, a.quick, a.kobe)

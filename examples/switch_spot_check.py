@@ -393,6 +393,9 @@ def _floats(s: str) -> list[float]:
     return v
 
 
+WRITTEN: list = []  # the CSV once this run has written its first point
+
+
 def main(argv: list[str] | None = None) -> list[dict]:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="a subset (A 0.5, 2; f 0.463-2.95 Hz)")
@@ -456,6 +459,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
                 file=sys.stderr,
             )
             write_csv(Path(args.out), rows)
+            WRITTEN[:] = [args.out]
     print_table(rows)
     print(f"csv: {args.out}")
     return rows
@@ -469,5 +473,9 @@ if __name__ == "__main__":
     except BaseException as exc:  # Ctrl-C inside a kernel reaches Python as numba's SystemError
         if not caused_by_interrupt(exc):
             raise
-        print("interrupted: the CSV holds the points finished before", file=sys.stderr)
+        if WRITTEN:
+            print(f"interrupted: {WRITTEN[0]} holds the points finished before", file=sys.stderr)
+        else:  # (it said the CSV held them of none, or of an earlier run's file)
+            print("interrupted before the first point finished: no CSV written (one there is "
+                  "an earlier run's)", file=sys.stderr)  # fmt: skip
         sys.exit(130)

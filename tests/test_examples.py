@@ -130,3 +130,34 @@ def test_every_name_an_example_imports_from_nsdyn_exists():
                     if a.name.split(".")[0] == "nsdyn":
                         importlib.import_module(a.name)
     assert missing == []
+
+
+@pytest.mark.parametrize(
+    ("argv", "env", "said"),
+    [
+        # a file as --out: a traceback (status 1) after the first model had run
+        (["first_ten_minutes.py", "--out", "README.md"], {},
+         "argument --out: 'README.md' exists and is not a directory"),
+        # an empty benchmark folder: said with status 0
+        (["bench_figures.py", "empty", "--figures", "figs"], {},
+         "empty: no benchmark tables or charts to redraw from"),
+        # records missing: status 1, asking to set an NSDYN_SHARED that was set
+        (["seed_transient_study.py", "--quick", "--out", "o"], {"NSDYN_SHARED": "none"},
+         "NSDYN_SHARED = 'none' is no folder"),
+        # past the record's end: cut to it without a word, titled 0-100 s
+        (["bench_building3d_full.py", "--t-end", "100"], {},
+         "argument --t-end: the record synthetic-wn-40s spans 40 s; expected at most that"),
+    ],
+)  # fmt: skip
+def test_an_example_refuses_bad_input_in_one_line_with_status_2(tmp_path, argv, env, said):
+    import os
+    import subprocess
+    import sys
+
+    (tmp_path / "README.md").write_text("a file")
+    (tmp_path / "empty").mkdir()
+    cmd = [sys.executable, str(EXAMPLES / argv[0]), *argv[1:]]
+    r = subprocess.run(cmd, cwd=tmp_path, env={**os.environ, **env}, capture_output=True,
+                       text=True, timeout=120)  # fmt: skip
+    assert r.returncode == 2 and said in r.stderr and "Traceback" not in r.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["README.md", "empty"]  # none made
