@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -113,4 +114,13 @@ if __name__ == "__main__":
     ap.add_argument("--out", type=out_dir, default="nsdyn-out/tolerance-study")
     ap.add_argument("--quick", action="store_true", help="bundled record only, 20 s")
     a = ap.parse_args()
-    main(Path(a.out), a.quick)
+    from nsdyn.atomic import caused_by_interrupt
+
+    try:
+        main(Path(a.out), a.quick)
+    except BaseException as exc:  # Ctrl-C inside a kernel reaches Python as numba's SystemError
+        if not caused_by_interrupt(exc):
+            raise
+        print("interrupted: no table written (the CSV is written once every run is done)",
+              file=sys.stderr)  # fmt: skip
+        sys.exit(130)
