@@ -229,6 +229,21 @@ def _row_with_text(toks: list[str], lines: list[tuple[int, str]], i: int) -> boo
     return step > 0 and abs((t1 - lead[0]) - step) <= 1e-6 * step
 
 
+def _bad_first_row(toks: list[str], lines: list[tuple[int, str]], i: int) -> bool:
+    """Line ``i`` (``toks``) is the table's first row with one cell that is not a number
+    (``0,n/a`` above rows of two: read as a title, the record began a step late): as many
+    cells as each of the next two lines, all numbers there, its first a step before theirs
+    (a title ``2 components`` above rows from t = 0 is none)."""
+    nxt = _next_rows(lines, i, 2)
+    if len(nxt) < 2 or not _one_bad_cell(toks, len(toks)):
+        return False
+    if not all(len(r) == len(toks) and _all_numbers(r) for r in nxt):
+        return False
+    t0, t1, t2 = to_float(toks[0]), to_float(nxt[0][0]), to_float(nxt[1][0])
+    step = t2 - t1
+    return step > 0 and abs((t1 - t0) - step) <= 1e-6 * step
+
+
 def _plain_names(toks: list[str]) -> bool:
     """Column names without units ("t1 a1 a2"): a names line, not a row of numbers written
     as text ("np.float64(0.1)" reads as a name with the unit 0.1)."""
@@ -267,7 +282,8 @@ def parse_table(text: str, source: str) -> Table:
         except ValueError:
             after_names = names is not None and header and header[-1] is names_line
             if (after_names and _one_bad_cell(toks, len(names))  # a data row, not a title
-                    or _row_with_text(toks, lines, i)):  # fmt: skip
+                    or _row_with_text(toks, lines, i)
+                    or _bad_first_row(toks, lines, i)):  # fmt: skip
                 bad = next(t for t in toks if not _is_float(t))
                 raise RecordFileError(source, lines[i][0], f"expected numbers, found {bad!r} "
                                       f"in {s.strip()!r}") from None  # fmt: skip

@@ -37,6 +37,7 @@ from nsdyn.ground._text import (
     to_float,
 )
 from nsdyn.ground.motion import (
+    CONFLICT_UNITS,
     G_STANDARD,
     UNITS_HINT,
     UNKNOWN_UNITS,
@@ -94,6 +95,12 @@ def resolve_units(explicit: str | None, stated: str | None, source: str,
     a ``peak`` of the file's values under :data:`G_LIKELY_BELOW`, 0.1 g read as m/s², is
     likelier in g: the warning says what the PGA would be in g).
     Units the header states but nsdyn does not know are refused (unless given)."""
+    if stated is not None and stated.startswith(CONFLICT_UNITS):
+        both = stated.removeprefix(CONFLICT_UNITS)
+        if explicit is None:
+            raise UnitError(f"{source}: the header states units {both}; expected one (or "
+                            f"give them: {UNITS_HINT})")  # fmt: skip
+        stated = None  # the argument wins (which of the two it matches is the caller's)
     if stated is not None and stated.startswith(UNKNOWN_UNITS):
         word = stated.removeprefix(UNKNOWN_UNITS)
         if explicit is None:
@@ -360,17 +367,18 @@ def _stated_units(tab, header, hcol: int, vcol: int | None, source: str, given) 
     stating different units is an error naming both, unless the caller ``given`` units."""
     cols = [hcol] if vcol is None else [hcol, vcol]
     own: list[str | None] = []
-    known = header is not None and not header.startswith(UNKNOWN_UNITS)
+    known = header is not None and not header.startswith((UNKNOWN_UNITS, CONFLICT_UNITS))
     for j in cols:
         word = tab.units[j] if tab.units is not None else None
         try:
             own.append(unit_factor(word)[0] if word is not None else None)
         except ValueError:
-            # (read as m/s², "units not stated"; under a header's units a label: "acc (E/W)")
-            if given is None and header is None and _unit_like(word):
+            # (read as m/s², "units not stated"; under a header's units a label: "acc (E/W)",
+            # but a unit-like word is refused there too: "a [mg]" under "units: g" read as g)
+            if given is None and _unit_like(word):
                 raise UnitError(f"{source}: column {tab.names[j]!r} states units {word!r}, "
-                                "which nsdyn does not know; expected g, gal (cm/s2), mm/s2 or m/s2 "
-                                f"(or give them: {UNITS_HINT})") from None  # fmt: skip
+                                "which nsdyn does not know; expected g, gal (cm/s2), mm/s2 or "
+                                f"m/s2 (or give them: {UNITS_HINT})") from None  # fmt: skip
             own.append(None)
         if given is None and known and own[-1] is not None and own[-1] != header:
             raise RecordFileError(source, None, f"column {tab.names[j]!r} states units "

@@ -576,3 +576,42 @@ def test_a_vertical_file_on_another_grid_is_refused_or_cut_to_the_shorter(tmp_pa
     with pytest.raises(RecordFileError, match=r"late.txt: vertical t0 = 0.02 s, horizontal .*"
                                               r"t0 = 0.01 s"):  # fmt: skip
         read_motion(hor, vertical=late)
+
+
+@pytest.mark.parametrize(
+    ("text", "bad"),
+    [
+        ("0,n/a\n0.01,0.2\n0.02,0.1\n0.03,0.3\n", "n/a"),
+        ("0,0.1,xx\n0.01,0.2,0.1\n0.02,0.1,0.2\n", "xx"),
+        ("# units: g\ntime,acc\n0,abc\n0.01,0.2\n0.02,0.1\n", "abc"),
+    ],
+)
+def test_a_first_row_with_a_cell_not_a_number_is_refused_not_read_as_a_title(tmp_path, text, bad):
+    # "0,n/a" was taken for a title: the record began a step late and a sample short, unsaid
+    p = write(tmp_path, "r.csv", text)
+    with pytest.raises(RecordFileError, match=rf"r\.csv:\d: expected numbers, found '{bad}'"):
+        read_motion(p, units="g")
+
+
+def test_a_title_of_numbers_and_words_above_a_table_is_still_a_title(tmp_path):
+    # the rule above needs the row's time a step before the next rows': "2 components" is none
+    p = write(tmp_path, "t.csv", "2 components\n0,0.1\n0.01,0.2\n0.02,-0.3\n")
+    assert read_motion(p, units="g").n == 3
+
+
+def test_a_column_unit_nsdyn_does_not_know_is_refused_under_a_header_s_units_too(tmp_path):
+    # "a [mg]" under "# units: g" was read as g, 1000 times the file's values
+    p = write(tmp_path, "m.csv", "# units: g\ntime [s], a [mg]\n0,0.1\n0.01,0.3\n0.02,0\n")
+    with pytest.raises(UnitError, match=r"m\.csv: column 'a' states units 'mg', which nsdyn"):
+        read_motion(p)
+
+
+def test_a_header_stating_two_units_is_refused_unless_units_are_given(tmp_path):
+    # the first pattern's won, unsaid ("units: g" over "units: gal" below it)
+    p = write(tmp_path, "u.csv", "# units: g\n# units: gal\ntime,acc\n0,100\n0.01,-300\n")
+    with pytest.raises(UnitError, match=r"u\.csv: the header states units 'g' and 'cm/s2'; "
+                       r"expected one"):  # fmt: skip
+        read_motion(p)
+    assert read_motion(p, units="gal").pga == pytest.approx(3.0, rel=1e-15)
+    same = write(tmp_path, "s.csv", "# units: gal\n# Acc. in cm/s2\ntime,acc\n0,100\n0.01,-300\n")
+    assert read_motion(same).pga == pytest.approx(3.0, rel=1e-15)  # (one unit, said twice)
