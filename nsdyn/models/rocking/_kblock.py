@@ -203,7 +203,7 @@ def integrate(
     maxth = abs(th)
     status = ST_OK
     overturned = False
-    t_stop = t_end * (1.0 - 1e-15) - 1e-300
+    t_stop = t_end - 1e-15 * abs(t_end) - 1e-300  # (t_end (1 - 1e-15) lay past a negative t_end)
     while t < t_stop:
         if not rocking:
             side = 0
@@ -417,7 +417,7 @@ def integrate(
             h = min(max(h, h_before), hmax)
 
     if status == ST_OK and not overturned and not rocking:
-        while k_out < n_out and t0 + k_out * out_dt <= t_end * (1.0 + 1e-15):
+        while k_out < n_out and t0 + k_out * out_dt <= t_end + 1e-15 * abs(t_end):
             out[k_out, 0] = 0.0
             out[k_out, 1] = 0.0
             k_out += 1

@@ -146,7 +146,7 @@ def integrate(q, atol, gk, gp, tab_h, tab_v, y0, t0, t_end, out_dt, out, info):
     while k_out < n_out and t0 + k_out * out_dt <= t:
         copy_vec(out[k_out, :], y)
         k_out += 1
-    while t < t_end * (1.0 - 1e-15):
+    while t < t_end - 1e-15 * abs(t_end):  # (t_end (1 - 1e-15) lay past a negative t_end)
         if n_step + n_rej >= q[Q_BUDGET]:
             status = ST_BUDGET
             info[J_TFAIL] = t

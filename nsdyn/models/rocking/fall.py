@@ -35,16 +35,25 @@ def _table_fall(gp, tab_v, t0, t_end, g):
     if gp[2] < 0.5:  # no vertical component
         return None
     t_rec = gp[0] + gp[1] * np.arange(tab_v.size)
-    inside = (t_rec > t0) & (t_rec < t_end)
-    ts = np.concatenate(([t0], t_rec[inside], [t_end]))
-    f = g + np.interp(ts, t_rec, tab_v, left=0.0, right=0.0)  # (0 outside, as the kernel's)
+    lo, hi = max(t0, t_rec[0]), min(t_end, t_rec[-1])  # (0 outside the record, as the
+    if not lo < hi:  # kernel's: no ramp from t0 to a late record's first sample)
+        return None
+    inside = (t_rec > lo) & (t_rec < hi)
+    ts = np.concatenate(([lo], t_rec[inside], [hi]))
+    f = g + np.interp(ts, t_rec, tab_v)
     bad = np.flatnonzero(f <= 0.0)
     if bad.size == 0:
         return None
     j = int(bad[0])
-    if j == 0:
-        return float(t0)
-    return float(ts[j - 1] + (ts[j] - ts[j - 1]) * f[j - 1] / (f[j - 1] - f[j]))
+    if j == 0:  # (at a late record's first sample: the jump the kernel feels there)
+        return float(lo)
+    return _open_end(ts[j - 1] + (ts[j] - ts[j - 1]) * f[j - 1] / (f[j - 1] - f[j]), hi)
+
+
+def _open_end(t: float, hi: float) -> float | None:
+    """``t``, or None at the window's end ``hi`` itself: after a record's last sample or a
+    pulse's end the kernel feels no ground (its right limit, 0), and the run ends at t_end."""
+    return None if t >= hi else float(t)
 
 
 def _pulse_fall(gp, t0, t_end, g):
@@ -89,5 +98,5 @@ def _pulse_fall(gp, t0, t_end, g):
                     b = m
                 else:
                     a = m
-            return float(b)
+            return _open_end(b, hi)
     return None

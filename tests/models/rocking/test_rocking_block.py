@@ -380,3 +380,31 @@ def test_a_record_falling_below_minus_g_between_samples_is_said_at_its_crossing(
     with pytest.raises(NumericalFailure, match="free flight is not modelled") as e:
         simulate_rocking(blk, rec, t_end=1.9, theta0_over_alpha=0.5)
     assert float(str(e.value).split("at t = ")[1].split(" s")[0]) == pytest.approx(1.204, rel=1e-6)
+
+
+def test_a_record_falls_only_where_the_kernel_feels_its_ground():
+    """The ground is 0 before a record's first sample and after its last: a record from 1 s
+    whose first vertical sample is -1.5 g fails at 1 s (a ramp from t0 = 0 said 0.667 s), and
+    a run from that record's last sample, -1.5 g, feels none of it (0.2 s was said)."""
+    from nsdyn._checks import NumericalFailure
+    from nsdyn.ground.motion import GroundMotion
+
+    blk = RockingBlock(width=0.4, height=2.0)
+    g = blk.g
+    rec = GroundMotion(1.0, 0.01, np.zeros(21), np.array([-1.5 * g] + [0.0] * 20), source="t")
+    with pytest.raises(NumericalFailure, match=r"at t = 1 s: vertical ground acceleration"):
+        simulate_rocking(blk, rec, t_end=1.2)
+    last = GroundMotion(0.0, 0.01, np.zeros(21), np.array([0.0] * 20 + [-1.5 * g]), source="t")
+    assert simulate_rocking(blk, last, t0=0.2, t_end=1.0).outcome == "rest"
+
+
+def test_a_run_in_negative_time_ends():
+    # the kernel stopped at t_end (1 - 1e-15), past a negative t_end: it stepped for ever
+    import subprocess
+    import sys
+
+    code = ("from nsdyn import RockingBlock, simulate_rocking; b = RockingBlock(width=0.4, "
+            "height=2.0); print(simulate_rocking(b, t0=-1.0, t_end=-0.5, "
+            "theta0_over_alpha=0.5).t[-1])")  # fmt: skip
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0 and float(r.stdout) == pytest.approx(-0.5, abs=1e-12)
