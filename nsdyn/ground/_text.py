@@ -40,6 +40,8 @@ _FORTRAN_ONE = re.compile(r"[+-]?(?:\d+\.\d*|\.\d+)(?:[EeDd][+-]?\d+)?")
 
 
 def to_float(tok: str) -> float:
+    if "_" in tok:  # (Python's float reads "1_0" as 10)
+        raise ValueError(f"not a number: {tok!r}")
     return float(tok.replace("D", "E").replace("d", "e"))
 
 
@@ -405,7 +407,7 @@ def _rows_at_once(rows: list[tuple[int, str]]) -> tuple[np.ndarray | None, np.nd
     kept = [(n, s) for n, s in rows if s and not s.startswith(COMMENT_PREFIXES)]
     toks = [fields(s) for _, s in kept]
     ncol = len(toks[0])
-    if any(len(t) != ncol for t in toks):
+    if any(len(t) != ncol for t in toks) or any("_" in s for _, s in kept):  # ("1_0": 10)
         return None, np.empty(0, np.int64)
     try:
         values = np.fromiter(map(float, chain.from_iterable(toks)), np.float64, len(toks) * ncol)

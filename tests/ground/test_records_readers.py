@@ -615,3 +615,10 @@ def test_a_header_stating_two_units_is_refused_unless_units_are_given(tmp_path):
     assert read_motion(p, units="gal").pga == pytest.approx(3.0, rel=1e-15)
     same = write(tmp_path, "s.csv", "# units: gal\n# Acc. in cm/s2\ntime,acc\n0,100\n0.01,-300\n")
     assert read_motion(same).pga == pytest.approx(3.0, rel=1e-15)  # (one unit, said twice)
+
+
+def test_a_number_with_an_underscore_is_refused_at_its_line(tmp_path):
+    # Python's float reads "1_0" as 10: a PGA of 10 g from a typo, unsaid
+    p = write(tmp_path, "u.csv", "time,acc\n0,0.1\n0.01,0.2\n0.02,1_0\n0.03,0.1\n")
+    with pytest.raises(RecordFileError, match=r"u\.csv:4: expected 2 numbers per line"):
+        read_motion(p, units="g")
