@@ -231,13 +231,21 @@ def _row_with_text(toks: list[str], lines: list[tuple[int, str]], i: int) -> boo
     return step > 0 and abs((t1 - lead[0]) - step) <= 1e-6 * step
 
 
+MISSING_MARKS = {"n/a", "na", "nan", "null", "none", "-", "--", "?", "#n/a", "missing"}
+
+
 def _bad_first_row(toks: list[str], lines: list[tuple[int, str]], i: int) -> bool:
     """Line ``i`` (``toks``) is the table's first row with one cell that is not a number
     (``0,n/a`` above rows of two: read as a title, the record began a step late): as many
-    cells as each of the next two lines, all numbers there, its first a step before theirs
-    (a title ``2 components`` above rows from t = 0 is none)."""
+    cells as each of the next two lines, all numbers there, its first a step before theirs,
+    the bad cell a mangled number (a digit in it) or a missing-value mark
+    (:data:`MISSING_MARKS`). A title ``2 components`` above rows from t = 0 is none, nor
+    ``0 offset`` or ``0 NS`` above rows from t = dt (a word)."""
     nxt = _next_rows(lines, i, 2)
     if len(nxt) < 2 or not _one_bad_cell(toks, len(toks)):
+        return False
+    bad = next(t for t in toks if not _is_float(t))
+    if not (any(c.isdigit() for c in bad) or bad.lower() in MISSING_MARKS):
         return False
     if not all(len(r) == len(toks) and _all_numbers(r) for r in nxt):
         return False
@@ -283,10 +291,11 @@ def parse_table(text: str, source: str) -> Table:
                 to_float(tok)
         except ValueError:
             after_names = names is not None and header and header[-1] is names_line
-            if (after_names and _one_bad_cell(toks, len(names))  # a data row, not a title
+            row = fields(_without_inline_comment(s))  # ("0,n/a # warm-up": a title)
+            if (after_names and _one_bad_cell(row, len(names))  # a data row, not a title
                     or _row_with_text(toks, lines, i)
-                    or _bad_first_row(toks, lines, i)):  # fmt: skip
-                bad = next(t for t in toks if not _is_float(t))
+                    or _bad_first_row(row, lines, i)):  # fmt: skip
+                bad = next(t for t in row + toks if not _is_float(t))
                 raise RecordFileError(source, lines[i][0], f"expected numbers, found {bad!r} "
                                       f"in {s.strip()!r}") from None  # fmt: skip
             header.append(s)

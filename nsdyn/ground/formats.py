@@ -100,7 +100,14 @@ def resolve_units(explicit: str | None, stated: str | None, source: str,
         if explicit is None:
             raise UnitError(f"{source}: the header states units {both}; expected one (or "
                             f"give them: {UNITS_HINT})")  # fmt: skip
-        stated = None  # the argument wins (which of the two it matches is the caller's)
+        stated = None  # the argument wins, said when it is neither of the two
+        try:
+            name = unit_factor(explicit)[0]
+        except ValueError as e:
+            raise UnitError(str(e)) from None
+        if repr(name) not in both:
+            warnings.warn(f"{source}: units={explicit!r} given, but the header states {both}; "
+                          f"using the given {explicit!r}", UnitWarning, stacklevel=3)  # fmt: skip
     if stated is not None and stated.startswith(UNKNOWN_UNITS):
         word = stated.removeprefix(UNKNOWN_UNITS)
         if explicit is None:
@@ -365,6 +372,8 @@ def _stated_units(tab, header, hcol: int, vcol: int | None, source: str, given) 
     column's own (``acc [g]``), else the header's, else the other column's; None if none says.
     A bracket that is no acceleration unit (``a(t)``) states none; a column and the header
     stating different units is an error naming both, unless the caller ``given`` units."""
+    if given is None and header is not None and header.startswith(CONFLICT_UNITS):
+        resolve_units(None, header, source)  # refused: a column's own unit settles nothing
     cols = [hcol] if vcol is None else [hcol, vcol]
     own: list[str | None] = []
     known = header is not None and not header.startswith((UNKNOWN_UNITS, CONFLICT_UNITS))

@@ -442,25 +442,25 @@ _UNITS_LINE = re.compile(r"^[ \t]*" + _UNIT_PATTERNS[0].pattern.removeprefix(r"\
 
 def header_units(header: list[str]) -> str | None:
     """Units stated in a header, by the patterns above in priority order; None if not stated.
-    Two different units stated give ``CONFLICT_UNITS`` and their names (refused unless
-    units are given). A line "units: WORD" (it states units and nothing else) whose word is
-    no unit gives
-    ``UNKNOWN_UNITS + WORD`` (:func:`nsdyn.ground.formats.resolve_units` refuses it); the
-    looser phrases of the patterns ("time units: s", "acc. in ...") are skipped when their
-    word is no unit."""
+    Two different units stated by the same phrase (two ``units:`` lines) give
+    ``CONFLICT_UNITS`` and their names (refused unless units are given). A line "units:
+    WORD" (it states units and nothing else) whose word is no unit gives ``UNKNOWN_UNITS +
+    WORD`` (:func:`nsdyn.ground.formats.resolve_units` refuses it); the looser phrases of the
+    patterns ("time units: s", "acc. in ...") are skipped when their word is no unit."""
     text = "\n".join(header)
-    found: dict[float, str] = {}  # factor -> the first name stating it
-    for pattern in _UNIT_PATTERNS:
+    for pattern in _UNIT_PATTERNS:  # the first phrase that states a unit, in priority order
+        found: dict[float, str] = {}  # factor -> the first name stating it
         for m in pattern.finditer(text):
             try:
                 name, factor = unit_factor(m.group(1).rstrip("."))
             except ValueError:
                 continue
             found.setdefault(factor, name)
-    if len(found) > 1:  # ("units: g" and "units: gal": the first won, unsaid)
-        return CONFLICT_UNITS + " and ".join(repr(n) for n in found.values())
-    if found:
-        return next(iter(found.values()))
+        if len(found) > 1:  # ("units: g" and "units: gal": the first won, unsaid; a weaker
+            # phrase beside, "peak in units of g" under "acc. in cm/s/s", is no conflict)
+            return CONFLICT_UNITS + " and ".join(repr(n) for n in found.values())
+        if found:
+            return next(iter(found.values()))
     m = _UNITS_LINE.search(text)  # a line that states units and nothing else ("time units:
     return UNKNOWN_UNITS + m.group(1) if m else None  # s" is not one)
 

@@ -582,7 +582,8 @@ def test_a_vertical_file_on_another_grid_is_refused_or_cut_to_the_shorter(tmp_pa
     ("text", "bad"),
     [
         ("0,n/a\n0.01,0.2\n0.02,0.1\n0.03,0.3\n", "n/a"),
-        ("0,0.1,xx\n0.01,0.2,0.1\n0.02,0.1,0.2\n", "xx"),
+        ("0,0.1,0.1x\n0.01,0.2,0.1\n0.02,0.1,0.2\n", "0.1x"),
+        ("0,? # warm-up\n0.01,0.2\n0.02,0.1\n0.03,0.3\n", r"\?"),
         ("# units: g\ntime,acc\n0,abc\n0.01,0.2\n0.02,0.1\n", "abc"),
     ],
 )
@@ -593,9 +594,12 @@ def test_a_first_row_with_a_cell_not_a_number_is_refused_not_read_as_a_title(tmp
         read_motion(p, units="g")
 
 
-def test_a_title_of_numbers_and_words_above_a_table_is_still_a_title(tmp_path):
-    # the rule above needs the row's time a step before the next rows': "2 components" is none
-    p = write(tmp_path, "t.csv", "2 components\n0,0.1\n0.01,0.2\n0.02,-0.3\n")
+@pytest.mark.parametrize("title", ["2 components", "0 offset", "0 NS", "0.00 UTC"])
+def test_a_title_of_numbers_and_words_above_a_table_is_still_a_title(tmp_path, title):
+    # the rule above needs the row's time a step before the next rows' ("2 components" is
+    # none) and its bad cell a mangled number or a missing mark ("0 offset" above rows from
+    # t = dt is a title, as OpenSees writes them)
+    p = write(tmp_path, "t.csv", f"{title}\n0.01,0.1\n0.02,0.2\n0.03,-0.3\n")
     assert read_motion(p, units="g").n == 3
 
 
@@ -613,6 +617,14 @@ def test_a_header_stating_two_units_is_refused_unless_units_are_given(tmp_path):
                        r"expected one"):  # fmt: skip
         read_motion(p)
     assert read_motion(p, units="gal").pga == pytest.approx(3.0, rel=1e-15)
+    with pytest.warns(UnitWarning, match=r"units='m/s2' given, but the header states 'g' and"):
+        read_motion(p, units="m/s2")
+    col = write(tmp_path, "c.csv", "# units: g\n# units: gal\ntime,acc [m/s2]\n0,1\n0.01,-3\n")
+    with pytest.raises(UnitError, match=r"c\.csv: the header states units 'g' and 'cm/s2'"):
+        read_motion(col)  # (the column's own unit settles nothing: it was read in m/s²)
+    weaker = write(tmp_path, "w.txt", "# Acc. in cm/s/s\n# Peak given in units of g\n"
+                   "time acc\n0 100\n0.01 -300\n")  # fmt: skip
+    assert read_motion(weaker).pga == pytest.approx(3.0, rel=1e-15)  # (a weaker phrase beside)
     same = write(tmp_path, "s.csv", "# units: gal\n# Acc. in cm/s2\ntime,acc\n0,100\n0.01,-300\n")
     assert read_motion(same).pga == pytest.approx(3.0, rel=1e-15)  # (one unit, said twice)
 
