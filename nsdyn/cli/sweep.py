@@ -332,8 +332,9 @@ def run(args: argparse.Namespace) -> int:
             f"{s['wall_s']:8.1f}"
         )
     if any(s["stick_all_period_above_hz"] is not None for s in report["amplitudes"]):
-        print(f"   (stick above: the grid's points above it stick the whole period; a slip "
-              f"band between two of the {settings.points} points is not seen)")  # fmt: skip
+        n = max(s["points"] for s in report["amplitudes"])  # (arclength: the curve's own)
+        print(f"   (stick above: the curve's points above it stick the whole period; a slip "
+              f"band between two of its {n} points is not seen)")  # fmt: skip
     if any(s["uplift_points"] for s in report["amplitudes"]):
         print(
             "   (uplift: a normal force <= 0 somewhere in the period, or, where no period could"

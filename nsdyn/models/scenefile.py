@@ -195,7 +195,13 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
         said = bundled_frame_said(path) if what == "scene" else None
         if said:
             raise SceneError(said)
-        raise SceneError(f"{path}: no such {what} file")
+        try:  # ("--amplitudes 0.5 1": the 1 was taken for the scene)
+            float(str(path))
+            hint = ("; a number: an option's values are comma-separated "
+                    "(--amplitudes 0.5,1)")  # fmt: skip
+        except ValueError:
+            hint = ""
+        raise SceneError(f"{path}: no such {what} file{hint}")
     text = ""
     try:
         data = tomllib.loads(text := textfile.read(p))  # (a byte-order mark read and dropped)

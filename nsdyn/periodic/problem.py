@@ -184,8 +184,9 @@ class PeriodicProblem(MinimalStates):
         xi = q @ sysm.D.T
         v = Xf[:, n:] @ sysm.D.T
         x_iso = dense_half_range(xi, v, QDD @ sysm.D.T, 1.0 / (f * N))
-        kpar = KernelParams(P)
-        held = np.all(sticks(v, "arctan", kpar.eps), axis=1) if kpar.law == "arctan" else None
+        kpar = KernelParams(P)  # (no friction, no stick: mu = 0 was said to stick-slip)
+        rubs = kpar.law == "arctan" and bool(np.any(np.asarray(kpar.mu) > 0.0))
+        held = np.all(sticks(v, "arctan", kpar.eps), axis=1) if rubs else None
         stick = held is not None and bool(held.all())
         return {
             "idr": idr,

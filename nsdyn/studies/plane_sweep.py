@@ -245,7 +245,7 @@ def summarise(r: dict) -> dict:
              and stick_slip(x["stick_fraction"])]  # fmt: skip
     return {
         "A": r["A"], "points": len(rows), "resumed_points": r["resumed_points"],
-        "fallback_points": sum(x["method"] == "sweep" for x in rows),
+        "fallback_points": sum(x["method"] == "sweep" and x["converged"] for x in rows),
         "unconverged_points": sum(not x["converged"] for x in rows),
         "unstable_points": sum(x["stable"] is False for x in rows),
         "uplift_points": sum(x["uplift"] is True for x in rows),

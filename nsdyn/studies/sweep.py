@@ -278,12 +278,17 @@ def amplitude_job(
     n_resumed = len(start or [])
     pts_done: list = list(start or [])
     last_write = [time.perf_counter()]
+    # frequencies without a point (--no-fallback) a finished run left: a rerun resumed every
+    # point, said none of them and ended with status 0
+    before = (_checkpoint_data(ckpt)[0] or {}).get("skipped", []) if start else []
+    before = [x for x in before if x[0] < start[-1].f]  # (those above: this run's to try)
 
-    def save(points, complete=False):
+    def save(points, complete=False, skipped=()):
         data = {
             "identity": ident,
             "complete": complete,
             "points": [point_to_dict(p) for p in points],
+            "skipped": [list(x) for x in skipped],
         }
         _atomic_write_text(ckpt, json.dumps(data))
         last_write[0] = time.perf_counter()
@@ -330,7 +335,10 @@ def amplitude_job(
         else:
             curve = frequency_response(system, amplitude, **options)
             law = system.isolation.law
-    save(curve.points, complete=True)
+    now = list(zip(curve.info.get("skipped_hz", []), curve.info.get("skipped_why", []),
+                   strict=False))  # fmt: skip
+    skipped = sorted({float(f): (float(f), str(w)) for f, w in [*before, *now]}.values())
+    save(curve.points, complete=True, skipped=skipped)
     rows = curve.rows()
     for row in rows:
         row["law"] = law
@@ -352,8 +360,8 @@ def amplitude_job(
         "wall_above_0.1Hz_s": float(np.nansum(walls[new & (fs >= 0.1)])),
         "frame": system.frame,
         "f_max": system.f_max,
-        "skipped_hz": list(curve.info.get("skipped_hz", [])),  # (this run's; not resumed ones)
-        "skipped_why": list(curve.info.get("skipped_why", [])),  # (each one's reason)
+        "skipped_hz": [f for f, _ in skipped],  # (a finished run's before, this run's)
+        "skipped_why": [w for _, w in skipped],  # (each one's reason)
         "jumps": list(curve.info.get("jumps", [])),  # (sequential steps between two branches)
         "arclength_stop": curve.info.get("arclength_stop"),
     }
@@ -515,7 +523,8 @@ def summarise(r: dict) -> dict:
         "A": r["A"],
         "points": len(rows),
         "resumed_points": r["resumed_points"],
-        "fallback_points": int(sum(x["method"] == "sweep" for x in rows)),
+        # the points the stepped sweep answered (a failed one is counted below, not here)
+        "fallback_points": int(sum(x["method"] == "sweep" and x["converged"] for x in rows)),
         "unconverged_points": int(sum(not x["converged"] for x in rows)),
         "uplift_points": int(uplift.sum()),
         "unilateral_points": int(uni.sum()),

@@ -1083,3 +1083,75 @@ def test_notes_are_merged_only_when_they_name_one_field_two_ways():
     assert not same_said("rec1.csv: 3 samples", "rec2.csv: 3 samples")
     assert not same_said("motion.dt: a step", "solver.dt: a step")
     assert not same_said("solver.dt: a step", "dt: another step")
+
+
+def test_a_rerun_of_a_sweep_without_fallback_still_says_its_skipped_frequency(
+    tmp_path, monkeypatch, capsys
+):
+    # a finished --no-fallback sweep's skipped frequency was not in its checkpoint: a rerun
+    # resumed every point, said nothing of it and ended with status 0 (the first said 3)
+    import json
+
+    import nsdyn.periodic.continuation as cont
+
+    solve = cont._solve_point
+
+    def first_fails(problem, f, *a, **kw):  # (shooting's failure at the grid's first point)
+        return (None, "forced failure") if f < 0.5 else solve(problem, f, *a, **kw)
+
+    monkeypatch.setattr(cont, "_solve_point", first_fails)
+    scene = tmp_path / "sdof.toml"
+    scene.write_text(SDOF.replace("MU", "0.05"))
+    argv = ["sweep", str(scene), "--amplitudes", "1", "--fmin", "0.4", "--fmax", "1.6",
+            "--points", "3", "--no-fallback", "--workers", "1", "--json",
+            "--out", str(tmp_path / "o")]  # fmt: skip
+    for _ in range(2):  # the run, then the rerun resuming every point
+        assert main(argv) == 3
+        (amp,) = json.loads(capsys.readouterr().out)["amplitudes"]
+        assert amp["skipped_hz"] == [0.4] and amp["skipped_why"] == ["forced failure"]
+
+
+SDOF = ('[structure]\nkind = "matrices"\nM = [[1000.0]]\nC = [[0.0]]\nK = [[0.0]]\n'
+        "iso_dofs = [0]\ninfluence = [1.0]\nweight = 9810.0\n[isolation]\n"
+        'k_lam = 4.0e4\nc = 800.0\nmu = MU\nlaw = "arctan"\n')  # fmt: skip
+
+
+def _cell(v):  # a sweep.csv cell as the sweep wrote it: true/false, empty for None, numbers
+    if v in ("true", "false", ""):
+        return {"true": True, "false": False, "": None}[v]
+    try:
+        return float(v)
+    except ValueError:
+        return v
+
+
+def test_a_frictionless_sweep_has_no_stick_and_a_failed_fallback_is_no_fallback(tmp_path, capsys):
+    # mu = 0 under the arctan law read its slow samples as stick ("stick-slip orbit ...
+    # confirm with --friction switch"); a point the stepped sweep did not settle was counted
+    # in fallback_points, which counts the points it answered
+    import csv
+    import json
+
+    from nsdyn.studies.sweep import summarise
+
+    scene = tmp_path / "sdof.toml"
+    scene.write_text(SDOF.replace("MU", "0.0"))
+    argv = ["sweep", str(scene), "--amplitudes", "1", "--fmin", "0.5", "--fmax", "2",
+            "--points", "4", "--workers", "1", "--json", "--out", str(tmp_path / "o")]  # fmt: skip
+    assert main(argv) == 0
+    (amp,) = json.loads(capsys.readouterr().out)["amplitudes"]
+    assert amp["stick_all_period_above_hz"] is None and not amp.get("notes")
+    with open(tmp_path / "o" / "sweep.csv", newline="") as fh:
+        rows = [{k: _cell(v) for k, v in r.items()} for r in csv.DictReader(fh)]
+    rows[1].update(method="sweep", converged=False)
+    rows[2].update(method="sweep", converged=True)
+    r = {"A": 1.0, "rows": rows, "resumed_points": 0, "bifurcations": []}
+    s = summarise(r | dict.fromkeys(("wall_s", "wall_below_0.1Hz_s", "wall_above_0.1Hz_s"), 0.0))
+    assert s["fallback_points"] == 1 and s["unconverged_points"] == 1
+
+
+def test_a_number_taken_for_a_scene_is_said_to_be_one(tmp_path, one_line):
+    # "--amplitudes 0.5 1" read 1 as the scene: "1: no such scene file"
+    assert main(["sweep", "--amplitudes", "0.5", "1", "--out", str(tmp_path / "o")]) == 2
+    one_line("1: no such scene file; a number: an option's values are comma-separated "
+             "(--amplitudes 0.5,1)")  # fmt: skip
