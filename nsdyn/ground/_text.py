@@ -238,15 +238,15 @@ def _bad_first_row(toks: list[str], lines: list[tuple[int, str]], i: int) -> boo
     """Line ``i`` (``toks``) is the table's first row with one cell that is not a number
     (``0,n/a`` above rows of two: read as a title, the record began a step late): as many
     cells as each of the next two lines, all numbers there, its first a step before theirs,
-    the bad cell a mangled number (a digit in it) or a missing-value mark
-    (:data:`MISSING_MARKS`). A title ``2 components`` above rows from t = 0 is none, nor
-    ``0 offset`` or ``0 NS`` above rows from t = dt (a word)."""
+    the bad cell no word (``0.1x``, ``#VALUE!``, an empty quoted cell) or a missing-value
+    mark (:data:`MISSING_MARKS`). A title ``2 components`` above rows from t = 0 is none, nor
+    ``0 offset`` or ``0 NS`` above rows from t = dt (a word of two letters or more)."""
     nxt = _next_rows(lines, i, 2)
     if len(nxt) < 2 or not _one_bad_cell(toks, len(toks)):
         return False
     bad = next(t for t in toks if not _is_float(t))
-    if not (any(c.isdigit() for c in bad) or bad.lower() in MISSING_MARKS):
-        return False
+    if bad.isalpha() and len(bad) >= 2 and bad.lower() not in MISSING_MARKS:
+        return False  # (a title's word)
     if not all(len(r) == len(toks) and _all_numbers(r) for r in nxt):
         return False
     t0, t1, t2 = to_float(toks[0]), to_float(nxt[0][0]), to_float(nxt[1][0])
@@ -294,7 +294,8 @@ def parse_table(text: str, source: str) -> Table:
             row = fields(_without_inline_comment(s))  # ("0,n/a # warm-up": a title)
             if (after_names and _one_bad_cell(row, len(names))  # a data row, not a title
                     or _row_with_text(toks, lines, i)
-                    or _bad_first_row(row, lines, i)):  # fmt: skip
+                    or _bad_first_row(row, lines, i)  # ("0,#VALUE!": no comment)
+                    or _bad_first_row(toks, lines, i)):  # fmt: skip
                 bad = next(t for t in row + toks if not _is_float(t))
                 raise RecordFileError(source, lines[i][0], f"expected numbers, found {bad!r} "
                                       f"in {s.strip()!r}") from None  # fmt: skip

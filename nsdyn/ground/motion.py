@@ -436,31 +436,36 @@ _UNIT_PATTERNS = [
 
 UNKNOWN_UNITS = "unknown:"  # header_units' prefix of a "units: WORD" it does not know
 CONFLICT_UNITS = "conflict:"  # header_units' prefix of two different units it states
+# a unit on a line about a peak or a spectrum, not the record's samples ("Peak given in units
+# of g" in a file of cm/s/s): no conflict with the samples' unit
+_ASIDE = re.compile(r"peak|max|pga|spectr|sensor", re.I)
 # the first pattern anchored at a line's start (one source for the two)
 _UNITS_LINE = re.compile(r"^[ \t]*" + _UNIT_PATTERNS[0].pattern.removeprefix(r"\b"), re.I | re.M)
 
 
 def header_units(header: list[str]) -> str | None:
     """Units stated in a header, by the patterns above in priority order; None if not stated.
-    Two different units stated by the same phrase (two ``units:`` lines) give
+    Two different units stated by phrases not on a line about a peak (``_ASIDE``) give
     ``CONFLICT_UNITS`` and their names (refused unless units are given). A line "units:
     WORD" (it states units and nothing else) whose word is no unit gives ``UNKNOWN_UNITS +
     WORD`` (:func:`nsdyn.ground.formats.resolve_units` refuses it); the looser phrases of the
     patterns ("time units: s", "acc. in ...") are skipped when their word is no unit."""
     text = "\n".join(header)
-    for pattern in _UNIT_PATTERNS:  # the first phrase that states a unit, in priority order
-        found: dict[float, str] = {}  # factor -> the first name stating it
+    stated = []  # (aside, name, factor) in priority order: a line about a peak is an aside
+    for pattern in _UNIT_PATTERNS:
         for m in pattern.finditer(text):
             try:
                 name, factor = unit_factor(m.group(1).rstrip("."))
             except ValueError:
                 continue
-            found.setdefault(factor, name)
-        if len(found) > 1:  # ("units: g" and "units: gal": the first won, unsaid; a weaker
-            # phrase beside, "peak in units of g" under "acc. in cm/s/s", is no conflict)
-            return CONFLICT_UNITS + " and ".join(repr(n) for n in found.values())
-        if found:
-            return next(iter(found.values()))
+            line = text[text.rfind("\n", 0, m.start()) + 1 : m.end()]
+            stated.append((bool(_ASIDE.search(line)), name, factor))
+    if stated:  # the first phrase not an aside, else the first (as the patterns rank them)
+        _, name, factor = min(stated, key=lambda x: x[0])
+        other = next((n for aside, n, f in stated if not aside and f != factor), None)
+        if other is not None:  # ("units: g" over "units: gal" or "acc. in cm/s/s": the first
+            return f"{CONFLICT_UNITS}{name!r} and {other!r}"  # won, unsaid)
+        return name
     m = _UNITS_LINE.search(text)  # a line that states units and nothing else ("time units:
     return UNKNOWN_UNITS + m.group(1) if m else None  # s" is not one)
 

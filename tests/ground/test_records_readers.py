@@ -584,6 +584,8 @@ def test_a_vertical_file_on_another_grid_is_refused_or_cut_to_the_shorter(tmp_pa
         ("0,n/a\n0.01,0.2\n0.02,0.1\n0.03,0.3\n", "n/a"),
         ("0,0.1,0.1x\n0.01,0.2,0.1\n0.02,0.1,0.2\n", "0.1x"),
         ("0,? # warm-up\n0.01,0.2\n0.02,0.1\n0.03,0.3\n", r"\?"),
+        ("0,#VALUE!\n0.01,0.2\n0.02,0.1\n0.03,0.3\n", "#VALUE!"),
+        ('0,""\n0.01,0.2\n0.02,0.1\n0.03,0.3\n', ""),
         ("# units: g\ntime,acc\n0,abc\n0.01,0.2\n0.02,0.1\n", "abc"),
     ],
 )
@@ -624,7 +626,12 @@ def test_a_header_stating_two_units_is_refused_unless_units_are_given(tmp_path):
         read_motion(col)  # (the column's own unit settles nothing: it was read in m/s²)
     weaker = write(tmp_path, "w.txt", "# Acc. in cm/s/s\n# Peak given in units of g\n"
                    "time acc\n0 100\n0.01 -300\n")  # fmt: skip
-    assert read_motion(weaker).pga == pytest.approx(3.0, rel=1e-15)  # (a weaker phrase beside)
+    assert read_motion(weaker).pga == pytest.approx(3.0, rel=1e-15)  # (a peak's unit: aside)
+    pga = write(tmp_path, "p.txt", "# PGA units: gal\n# Acc. in g\ntime acc\n0 0.1\n0.01 -0.3\n")
+    assert read_motion(pga).pga == pytest.approx(0.3 * G_STANDARD, rel=1e-15)  # (the samples')
+    two = write(tmp_path, "t.txt", "# units: g\n# Acc. in cm/s/s\ntime acc\n0 100\n0.01 -3\n")
+    with pytest.raises(UnitError, match=r"the header states units 'g' and 'cm/s2'; expected"):
+        read_motion(two)  # (two phrases about the samples: the first ranked won, unsaid)
     same = write(tmp_path, "s.csv", "# units: gal\n# Acc. in cm/s2\ntime,acc\n0,100\n0.01,-300\n")
     assert read_motion(same).pga == pytest.approx(3.0, rel=1e-15)  # (one unit, said twice)
 
