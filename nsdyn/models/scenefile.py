@@ -195,12 +195,10 @@ def read_toml(path: str | Path, what: str = "scene") -> dict:
         said = bundled_frame_said(path) if what == "scene" else None
         if said:
             raise SceneError(said)
-        try:  # ("--amplitudes 0.5 1": the 1 was taken for the scene)
-            float(str(path))
-            hint = ("; a number: an option's values are comma-separated "
-                    "(--amplitudes 0.5,1)")  # fmt: skip
-        except ValueError:
-            hint = ""
+        number = re.fullmatch(r"[+-]?(\d+\.?\d*|\.\d+)", str(path)) and what == "scene"
+        # ("--amplitudes 0.5 1": the 1 was taken for the scene)
+        hint = "; a number: an option's values are comma-separated (--amplitudes 0.5,1)"
+        hint = hint if number else ""
         raise SceneError(f"{path}: no such {what} file{hint}")
     text = ""
     try:

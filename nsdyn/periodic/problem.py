@@ -184,9 +184,10 @@ class PeriodicProblem(MinimalStates):
         xi = q @ sysm.D.T
         v = Xf[:, n:] @ sysm.D.T
         x_iso = dense_half_range(xi, v, QDD @ sysm.D.T, 1.0 / (f * N))
-        kpar = KernelParams(P)  # (no friction, no stick: mu = 0 was said to stick-slip)
-        rubs = kpar.law == "arctan" and bool(np.any(np.asarray(kpar.mu) > 0.0))
-        held = np.all(sticks(v, "arctan", kpar.eps), axis=1) if rubs else None
+        kpar = KernelParams(P)  # (no friction, no stick: mu = 0 was said to stick-slip; a
+        rubs = np.asarray(kpar.mu) > 0.0  # frictionless isolator's slip hid the others' stick)
+        rubs = rubs if kpar.law == "arctan" and rubs.any() else None
+        held = None if rubs is None else np.all(sticks(v[:, rubs], "arctan", kpar.eps), axis=1)
         stick = held is not None and bool(held.all())
         return {
             "idr": idr,

@@ -248,6 +248,29 @@ def resumed_start(ckpt: Path, identity: dict, amplitude: float, restart: bool,
     return start
 
 
+def _skipped_before(ckpt: Path, start, settings) -> list:
+    """The [f, why] of the frequencies a resumed ``--no-fallback`` sequential curve left
+    without a point below its last one (a rerun does not revisit them): the grid's that no
+    resumed point holds, with the reason the checkpoint kept (a finished run's), else that
+    of an interrupted run, which kept none."""
+    if not start or settings.fallback or settings.continuation != "sequential":
+        return []
+    from nsdyn.periodic.continuation import log_frequencies
+
+    kept = (_checkpoint_data(ckpt)[0] or {}).get("skipped")  # (a malformed one: none kept)
+    kept = [x for x in (kept if isinstance(kept, list) else [])
+            if isinstance(x, list) and len(x) == 2 and isinstance(x[0], int | float)]  # fmt: skip
+    have = np.array([p.f for p in start])
+    out = []
+    for f in log_frequencies(settings.fmin, settings.fmax, settings.points):
+        if f >= have[-1] or np.any(np.abs(have - f) <= 1e-9 * f):
+            continue
+        why = next((str(w) for g, w in kept if abs(float(g) - f) <= 1e-9 * f), None)
+        out.append((float(f), why or "no periodic orbit in an earlier, interrupted run (its "
+                    "reason was not kept)"))  # fmt: skip
+    return out
+
+
 # ---- one amplitude (runs in a worker process) -----------------------------------------------
 def amplitude_job(
     cfg: dict,
@@ -280,8 +303,7 @@ def amplitude_job(
     last_write = [time.perf_counter()]
     # frequencies without a point (--no-fallback) a finished run left: a rerun resumed every
     # point, said none of them and ended with status 0
-    before = (_checkpoint_data(ckpt)[0] or {}).get("skipped", []) if start else []
-    before = [x for x in before if x[0] < start[-1].f]  # (those above: this run's to try)
+    before = _skipped_before(ckpt, start, settings)
 
     def save(points, complete=False, skipped=()):
         data = {

@@ -1109,6 +1109,15 @@ def test_a_rerun_of_a_sweep_without_fallback_still_says_its_skipped_frequency(
         assert main(argv) == 3
         (amp,) = json.loads(capsys.readouterr().out)["amplitudes"]
         assert amp["skipped_hz"] == [0.4] and amp["skipped_why"] == ["forced failure"]
+    # an interrupted run's checkpoint (written as it goes) keeps no reason: the gap is
+    # found on the grid, and said
+    (ckpt,) = (tmp_path / "o").glob(".sweep-A*.ckpt.json")
+    data = json.loads(ckpt.read_text())
+    data.pop("skipped")
+    ckpt.write_text(json.dumps({**data, "complete": False}))
+    assert main(argv) == 3
+    (amp,) = json.loads(capsys.readouterr().out)["amplitudes"]
+    assert amp["skipped_hz"] == [0.4] and "interrupted" in amp["skipped_why"][0]
 
 
 SDOF = ('[structure]\nkind = "matrices"\nM = [[1000.0]]\nC = [[0.0]]\nK = [[0.0]]\n'
