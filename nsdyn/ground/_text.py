@@ -238,15 +238,17 @@ def _bad_first_row(toks: list[str], lines: list[tuple[int, str]], i: int) -> boo
     """Line ``i`` (``toks``) is the table's first row with one cell that is not a number
     (``0,n/a`` above rows of two: read as a title, the record began a step late): as many
     cells as each of the next two lines, all numbers there, its first a step before theirs,
-    the bad cell no word (``0.1x``, ``#VALUE!``, an empty quoted cell) or a missing-value
+    the bad cell no word (``0.1x``, ``#VALUE!``, an empty quoted cell, ``x``) or a missing
     mark (:data:`MISSING_MARKS`). A title ``2 components`` above rows from t = 0 is none, nor
-    ``0 offset`` or ``0 NS`` above rows from t = dt (a word of two letters or more)."""
+    ``0 offset`` or ``0 N-S`` above rows from t = dt (two letters or more, no digit)."""
     nxt = _next_rows(lines, i, 2)
     if len(nxt) < 2 or not _one_bad_cell(toks, len(toks)):
         return False
     bad = next(t for t in toks if not _is_float(t))
-    if bad.isalpha() and len(bad) >= 2 and bad.lower() not in MISSING_MARKS:
-        return False  # (a title's word)
+    letters = sum(c.isalpha() for c in bad)
+    if (letters >= 2 and not any(c.isdigit() for c in bad) and not bad.startswith("#")
+            and bad.lower() not in MISSING_MARKS):  # fmt: skip
+        return False  # (a title's word: NS, N-S, acc., cm/s/s)
     if not all(len(r) == len(toks) and _all_numbers(r) for r in nxt):
         return False
     t0, t1, t2 = to_float(toks[0]), to_float(nxt[0][0]), to_float(nxt[1][0])

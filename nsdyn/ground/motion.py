@@ -458,8 +458,10 @@ def header_units(header: list[str]) -> str | None:
                 name, factor = unit_factor(m.group(1).rstrip("."))
             except ValueError:
                 continue
-            line = text[text.rfind("\n", 0, m.start()) + 1 : m.end()]
-            stated.append((bool(_ASIDE.search(line)), name, factor))
+            # the phrase holding the unit, from the line's last separator before it ("max =
+            # 0.3 g, units: gal": the units' phrase is no aside)
+            start = max(text.rfind(c, 0, m.start()) for c in "\n,;") + 1
+            stated.append((bool(_ASIDE.search(text[start : m.end()])), name, factor))
     if stated:  # the first phrase not an aside, else the first (as the patterns rank them)
         _, name, factor = min(stated, key=lambda x: x[0])
         other = next((n for aside, n, f in stated if not aside and f != factor), None)

@@ -188,7 +188,7 @@ class PeriodicProblem(MinimalStates):
         rubs = np.asarray(kpar.mu) > 0.0  # frictionless isolator's slip hid the others' stick)
         rubs = rubs if kpar.law == "arctan" and rubs.any() else None
         held = None if rubs is None else np.all(sticks(v[:, rubs], "arctan", kpar.eps), axis=1)
-        stick = held is not None and bool(held.all())
+        stick = held is not None and bool(held.all()) and bool(rubs.all())  # (every isolator)
         return {
             "idr": idr,
             "acc": acc,

@@ -253,7 +253,7 @@ def _skipped_before(ckpt: Path, start, settings) -> list:
     without a point below its last one (a rerun does not revisit them): the grid's that no
     resumed point holds, with the reason the checkpoint kept (a finished run's), else that
     of an interrupted run, which kept none."""
-    if not start or settings.fallback or settings.continuation != "sequential":
+    if not start or settings.fallback:
         return []
     from nsdyn.periodic.continuation import log_frequencies
 
@@ -261,6 +261,8 @@ def _skipped_before(ckpt: Path, start, settings) -> list:
     kept = [x for x in (kept if isinstance(kept, list) else [])
             if isinstance(x, list) and len(x) == 2 and isinstance(x[0], int | float)]  # fmt: skip
     have = np.array([p.f for p in start])
+    if settings.continuation != "sequential":  # (off the grid: the kept ones below the last)
+        return [(float(f), str(w)) for f, w in kept if f < have[-1]]
     out = []
     for f in log_frequencies(settings.fmin, settings.fmax, settings.points):
         if f >= have[-1] or np.any(np.abs(have - f) <= 1e-9 * f):
@@ -322,7 +324,7 @@ def amplitude_job(
         pts_done.append(pt)
         walls.append(pt.quantities.get("wall_s"))
         if time.perf_counter() - last_write[0] > CHECKPOINT_EVERY_S:
-            save(pts_done)
+            save(pts_done, skipped=before)
         if not quiet:
             q = pt.quantities
             of, left = curve_count(k, n, walls, settings.continuation)
@@ -345,7 +347,7 @@ def amplitude_job(
     from nsdyn.periodic.curve import EmptyCurveWarning
     from nsdyn.periodic.response import BilateralOrbitWarning
 
-    with (saved_on_interrupt(lambda: len(pts_done) > n_resumed and save(pts_done)),
+    with (saved_on_interrupt(lambda: len(pts_done) > n_resumed and save(pts_done, skipped=before)),
           warnings.catch_warnings(), contextlib.closing(lines)):  # fmt: skip
         warnings.simplefilter("ignore", EmptyCurveWarning)  # (said by its status 3)
         warnings.simplefilter("ignore", BilateralOrbitWarning)  # (said once: bilateral_sweep_note)

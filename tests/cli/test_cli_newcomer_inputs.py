@@ -1164,3 +1164,19 @@ def test_a_number_taken_for_a_scene_is_said_to_be_one(tmp_path, one_line):
     assert main(["sweep", "--amplitudes", "0.5", "1", "--out", str(tmp_path / "o")]) == 2
     one_line("1: no such scene file; a number: an option's values are comma-separated "
              "(--amplitudes 0.5,1)")  # fmt: skip
+
+
+def test_an_arclength_curve_keeps_the_skipped_frequencies_its_checkpoint_holds(tmp_path):
+    # a finished arclength --no-fallback curve's rerun stops at once (its last point is
+    # fmax) and saved an empty list over the kept one: the rerun said none, status 0
+    import json
+    from types import SimpleNamespace
+
+    from nsdyn.studies.sweep import _skipped_before
+
+    ckpt = tmp_path / "c.json"
+    ckpt.write_text(json.dumps({"skipped": [[0.8, "forced"], [3.0, "above"]]}))
+    settings = SimpleNamespace(fallback=False, continuation="arclength")
+    start = [SimpleNamespace(f=0.5), SimpleNamespace(f=2.0)]
+    assert _skipped_before(ckpt, start, settings) == [(0.8, "forced")]
+    assert _skipped_before(ckpt, start, SimpleNamespace(fallback=True)) == []

@@ -596,7 +596,9 @@ def test_a_first_row_with_a_cell_not_a_number_is_refused_not_read_as_a_title(tmp
         read_motion(p, units="g")
 
 
-@pytest.mark.parametrize("title", ["2 components", "0 offset", "0 NS", "0.00 UTC"])
+@pytest.mark.parametrize(
+    "title", ["2 components", "0 offset", "0 NS", "0.00 UTC", "0 N-S", "0 cm/s/s", "0 acc."]
+)
 def test_a_title_of_numbers_and_words_above_a_table_is_still_a_title(tmp_path, title):
     # the rule above needs the row's time a step before the next rows' ("2 components" is
     # none) and its bad cell a mangled number or a missing mark ("0 offset" above rows from
@@ -629,6 +631,10 @@ def test_a_header_stating_two_units_is_refused_unless_units_are_given(tmp_path):
     assert read_motion(weaker).pga == pytest.approx(3.0, rel=1e-15)  # (a peak's unit: aside)
     pga = write(tmp_path, "p.txt", "# PGA units: gal\n# Acc. in g\ntime acc\n0 0.1\n0.01 -0.3\n")
     assert read_motion(pga).pga == pytest.approx(0.3 * G_STANDARD, rel=1e-15)  # (the samples')
+    late = write(tmp_path, "l.txt", "# Acc. history, max = 0.3 g, units: gal\n# Acc. in g\n"
+                 "time acc\n0 100\n0.01 -3\n")  # fmt: skip
+    with pytest.raises(UnitError, match=r"the header states units 'cm/s2' and 'g'; expected"):
+        read_motion(late)  # (a peak earlier on the line: the units' own phrase is no aside)
     two = write(tmp_path, "t.txt", "# units: g\n# Acc. in cm/s/s\ntime acc\n0 100\n0.01 -3\n")
     with pytest.raises(UnitError, match=r"the header states units 'g' and 'cm/s2'; expected"):
         read_motion(two)  # (two phrases about the samples: the first ranked won, unsaid)
