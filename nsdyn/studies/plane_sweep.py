@@ -38,10 +38,10 @@ from nsdyn.studies.sweep import (
     CHECKPOINT_EVERY_S,
     amplitude_tag,
     format_csv_value,
-    point_to_dict,
     refuse_foreign,
     resumed_start,
 )
+from nsdyn.studies.sweep_points import point_to_dict
 from nsdyn.studies.workers import gather, process_pool, saved_on_interrupt
 
 KINDS = ("deck", "building3d")

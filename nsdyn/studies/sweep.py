@@ -32,6 +32,12 @@ from nsdyn._checks import InputWarning
 from nsdyn._progress import PointLines, curve_count
 from nsdyn.atomic import atomic_open, differing
 from nsdyn.models.scenefile import SceneError
+from nsdyn.studies.sweep_points import (
+    checkpoint_data,
+    point_from_dict,
+    point_to_dict,
+    skipped_before,
+)
 from nsdyn.studies.workers import gather, process_pool, saved_on_interrupt
 
 DEFAULT_OUT = "nsdyn-sweep"
@@ -138,55 +144,6 @@ def _atomic_write_text(path: Path, text: str) -> None:
         fh.write(text)
 
 
-def point_to_dict(p) -> dict:
-    """JSON-able record of an :class:`nsdyn.periodic.OrbitPoint` (without its orbit)."""
-    mu = np.asarray(p.multipliers)
-    return {
-        "f": p.f,
-        "x0": np.asarray(p.x0).tolist(),
-        "method": p.method,
-        "converged": bool(p.converged),
-        "iterations": int(p.iterations),
-        "residual": float(p.residual) if math.isfinite(p.residual) else None,
-        "mu_re": mu.real.tolist(),
-        "mu_im": mu.imag.tolist(),
-        "n_steps": int(p.n_steps),
-        "note": p.note,
-        "quantities": {
-            k: (
-                v
-                if v is None or isinstance(v, str)
-                else bool(v)
-                if isinstance(v, bool | np.bool_)
-                else float(v)
-            )
-            for k, v in p.quantities.items()
-        },
-        "s": None if not math.isfinite(p.s) else p.s,
-        "dlogf_ds": None if not math.isfinite(p.dlogf_ds) else p.dlogf_ds,
-    }
-
-
-def point_from_dict(d: dict):
-    from nsdyn.periodic import OrbitPoint
-
-    nan = float("nan")
-    return OrbitPoint(
-        f=float(d["f"]),
-        x0=np.asarray(d["x0"], dtype=float),
-        method=d["method"],
-        converged=bool(d["converged"]),
-        iterations=int(d["iterations"]),
-        residual=nan if d["residual"] is None else float(d["residual"]),
-        multipliers=np.asarray(d["mu_re"]) + 1j * np.asarray(d["mu_im"]),
-        n_steps=int(d["n_steps"]),
-        note=d["note"],
-        quantities=dict(d["quantities"]),
-        s=nan if d["s"] is None else float(d["s"]),
-        dlogf_ds=nan if d["dlogf_ds"] is None else float(d["dlogf_ds"]),
-    )
-
-
 def _identity(cfg: dict, amplitude: float, settings: SweepSettings) -> dict:
     scene = {k: v for k, v in cfg.items() if not k.startswith("_") and k not in ("motion",)}
     return {"scene": scene, "amplitude": amplitude, "settings": asdict(settings)}
@@ -201,23 +158,10 @@ def load_checkpoint(path: Path, identity: dict) -> list | None:
     return _checkpoint(path, identity)[0]
 
 
-def _checkpoint_data(path: Path) -> tuple[dict | None, str]:
-    """(the checkpoint file's data, "") or (None, "" without a file, else "unreadable")."""
-    try:
-        data = json.loads(Path(path).read_text())
-        if not isinstance(data, dict):
-            raise ValueError(path)
-    except FileNotFoundError:
-        return None, ""
-    except (OSError, ValueError):
-        return None, "unreadable"
-    return data, ""
-
-
 def _checkpoint(path: Path, identity: dict) -> tuple[list | None, str]:
     """(points, "") of a checkpoint of these settings, else (None, why not): "" (no file),
     "unreadable" or "other" (a curve of other settings, "finished" when complete)."""
-    data, why = _checkpoint_data(path)
+    data, why = checkpoint_data(path)
     if data is None:
         return None, why
     if data.get("identity") != json.loads(json.dumps(identity)):
@@ -246,31 +190,6 @@ def resumed_start(ckpt: Path, identity: dict, amplitude: float, restart: bool,
         print(f"[A={amplitude:g}] {ckpt.name} {what}: started afresh (it will be replaced)",
               file=sys.stderr, flush=True)  # fmt: skip
     return start
-
-
-def _skipped_before(ckpt: Path, start, settings) -> list:
-    """The [f, why] of the frequencies a resumed ``--no-fallback`` sequential curve left
-    without a point below its last one (a rerun does not revisit them): the grid's that no
-    resumed point holds, with the reason the checkpoint kept (a finished run's), else that
-    of an interrupted run, which kept none."""
-    if not start or settings.fallback:
-        return []
-    from nsdyn.periodic.continuation import log_frequencies
-
-    kept = (_checkpoint_data(ckpt)[0] or {}).get("skipped")  # (a malformed one: none kept)
-    kept = [x for x in (kept if isinstance(kept, list) else [])
-            if isinstance(x, list) and len(x) == 2 and isinstance(x[0], int | float)]  # fmt: skip
-    have = np.array([p.f for p in start])
-    if settings.continuation != "sequential":  # (off the grid: the kept ones below the last)
-        return [(float(f), str(w)) for f, w in kept if f < have[-1]]
-    out = []
-    for f in log_frequencies(settings.fmin, settings.fmax, settings.points):
-        if f >= have[-1] or np.any(np.abs(have - f) <= 1e-9 * f):
-            continue
-        why = next((str(w) for g, w in kept if abs(float(g) - f) <= 1e-9 * f), None)
-        out.append((float(f), why or "no periodic orbit in an earlier, interrupted run (its "
-                    "reason was not kept)"))  # fmt: skip
-    return out
 
 
 # ---- one amplitude (runs in a worker process) -----------------------------------------------
@@ -305,7 +224,7 @@ def amplitude_job(
     last_write = [time.perf_counter()]
     # frequencies without a point (--no-fallback) a finished run left: a rerun resumed every
     # point, said none of them and ended with status 0
-    before = _skipped_before(ckpt, start, settings)
+    before = skipped_before(ckpt, start, settings)
 
     def save(points, complete=False, skipped=()):
         data = {
@@ -434,7 +353,7 @@ def refuse_foreign(checkpoints) -> None:
     sweep's identity) each; a deck's sweep names its own) that is unfinished and of other
     settings."""
     for a, path, identity in checkpoints:
-        data, _ = _checkpoint_data(path)
+        data, _ = checkpoint_data(path)
         ident = json.loads(json.dumps(identity))
         if data is not None and data.get("complete") is False and data.get("identity") != ident:
             diff = ", ".join(differing(data.get("identity"), ident))

@@ -1172,11 +1172,11 @@ def test_an_arclength_curve_keeps_the_skipped_frequencies_its_checkpoint_holds(t
     import json
     from types import SimpleNamespace
 
-    from nsdyn.studies.sweep import _skipped_before
+    from nsdyn.studies.sweep_points import skipped_before
 
     ckpt = tmp_path / "c.json"
     ckpt.write_text(json.dumps({"skipped": [[0.8, "forced"], [3.0, "above"]]}))
     settings = SimpleNamespace(fallback=False, continuation="arclength")
     start = [SimpleNamespace(f=0.5), SimpleNamespace(f=2.0)]
-    assert _skipped_before(ckpt, start, settings) == [(0.8, "forced")]
-    assert _skipped_before(ckpt, start, SimpleNamespace(fallback=True)) == []
+    assert skipped_before(ckpt, start, settings) == [(0.8, "forced")]
+    assert skipped_before(ckpt, start, SimpleNamespace(fallback=True)) == []
